@@ -1,0 +1,143 @@
+//! The catalogue of diagnostic codes, with the explanation `alba explain CODE`
+//! prints. Ranges by stage: E1xx project files, E2xx ladder syntax,
+//! E3xx program checks, E4xx simulation inputs.
+
+use std::fmt;
+
+macro_rules! codes {
+    ($($name:ident = $num:literal, $title:literal, $explain:literal;)*) => {
+        /// A diagnostic code.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum Code { $($name,)* }
+
+        impl Code {
+            pub const ALL: &'static [Code] = &[$(Code::$name,)*];
+
+            pub fn number(self) -> u16 {
+                match self { $(Code::$name => $num,)* }
+            }
+
+            /// A one-line title.
+            pub fn title(self) -> &'static str {
+                match self { $(Code::$name => $title,)* }
+            }
+
+            /// What the code means and how to fix it.
+            pub fn explanation(self) -> &'static str {
+                match self { $(Code::$name => $explain,)* }
+            }
+        }
+    };
+}
+
+codes! {
+    Io = 100, "a file could not be read or written",
+        "Alba could not open, read or write a file of the project. The message names the file and the operating system's reason.";
+    TomlSyntax = 101, "alba.toml is not valid TOML",
+        "alba.toml must be a TOML document (https://toml.io). Check quotes, brackets and `key = value` pairs near the place shown.";
+    ConfigField = 102, "a setting in alba.toml is missing, unknown or has a bad value",
+        "alba.toml needs `name` (a string) and `programs` (a list of program files); `scan_ms` (1..=60000, default 10) is optional. Unknown keys are refused so that typos do not pass silently.";
+    ProgramFile = 103, "a program listed in alba.toml cannot be used",
+        "Each entry of `programs` must name an existing file in the project folder, once, with a known extension (`.lad` for ladder).";
+    CsvSyntax = 110, "a CSV file is malformed",
+        "CSV files use commas between fields, double quotes around fields that contain commas or quotes (a quote inside is written twice), and one record per line; every record has as many fields as the header.";
+    CsvHeader = 111, "a CSV header is wrong",
+        "tags.csv starts with the header `name,type,address,initial,retain,description` (columns other than name and type may be left out). A stimulus file starts with `time_ms,tag,value`.";
+    BadTagName = 112, "a tag name is not valid",
+        "Tag names use letters, digits and `_`, do not start with a digit, and must not read as an address (like `MW2` or `I0.0`) or a reserved word.";
+    UnknownType = 113, "unknown data type",
+        "Types are BOOL, SINT, INT, DINT, LINT, REAL, LREAL, TIME, TIMER, COUNTER and PID (case-insensitive).";
+    DuplicateTag = 114, "a tag is declared twice",
+        "Tag names are case-insensitive, as IEC 61131-3 requires: `Motor` and `MOTOR` are the same tag. Rename or remove one of them.";
+    BadAddress = 115, "an address is not valid",
+        "Addresses name the I/O image: DI:1/n DO:2/n AI:3/n AO:4/n (AuroraLD), %IXb.i %QXb.i %IWn %QWn %MXb.i %MBn %MWn %MDn (IEC 61131-3), Ib.i Qb.i AIWn AQWn Ainn Mb.i MBn MWn MDn (S7-200). Bit numbers go from 0 to 7; S7 analog word addresses are even.";
+    AddressUsedTwice = 116, "two tags use the same address",
+        "Each I/O channel or marker byte belongs to one tag. Two notations of one channel (DI:1/9 and %IX1.1) are the same address; overlapping marker words (MW0 and MD0) are too.";
+    TypeAddressMismatch = 117, "the tag's type does not fit its address",
+        "Digital I/O and marker bits hold BOOL; analog I/O holds INT or DINT; MB holds SINT, MW holds INT, MD holds DINT, REAL or TIME. Structures (TIMER, COUNTER, PID) cannot have an address.";
+    BadInitialValue = 118, "an initial value does not fit the tag's type",
+        "BOOL takes 0, 1, true or false; integers take decimal (or 16#, 8#, 2# based) numbers within the type's range; REAL takes a number; TIME takes milliseconds or a T#1m30s literal. Structures take no initial value in tags.csv: their PRE and ACC come from the instruction (TON(t,5000,0)).";
+    BadRetain = 119, "the retain column is not a boolean",
+        "`retain` is empty (not retained), 0/1, true/false or yes/no.";
+    ReservedType = 120, "a reserved type is not available yet",
+        "PID is reserved for the PID instruction, which arrives in a later version of Alba.";
+    Syntax = 200, "ladder syntax error",
+        "A rung is a sequence of instructions `NAME(operand,...)` and branches `[leg,leg,...]`, ended by `;`. A `//` comment line directly above a rung is its comment.";
+    UnknownInstruction = 201, "unknown instruction",
+        "The instruction name is not in Alba's ladder instruction set. `alba explain E201` lists the groups: bit (XIC XIO OTE OTL OTU ONS OSR OSF), timers (TON TOF RTO TP), counters (CTU CTD RES), compare (LIM EQU NEQ LES GRT LEQ GEQ MEQ), math (ADD SUB MUL DIV MOD SQR NEG ABS XPY LN LOG CPT SCP), move/logic (MOV CLR AND OR XOR NOT), trigonometry (SIN COS TAN ASN ACS ATN DEG RAD), program flow (JMP LBL AFI NOP).";
+    Unbalanced = 202, "brackets or parentheses do not match",
+        "Every `[` of a branch needs its `]`, every `(` its `)`, before the `;` that ends the rung.";
+    EmptyLeg = 203, "a branch has an empty leg",
+        "Each leg of a branch `[a,b]` holds at least one instruction.";
+    UnterminatedRung = 204, "a rung does not end with `;`",
+        "Every rung, the last one too, ends with `;`.";
+    UnknownTag = 301, "unknown tag",
+        "Operands name tags of tags.csv (case-insensitive), their members (`Delay.DN`), addresses, system tags (`S:FS`) or literals.";
+    OperandCount = 302, "wrong number of operands",
+        "Each instruction takes a fixed number of operands; the message says which.";
+    OperandType = 303, "an operand has the wrong type",
+        "The instruction needs another kind of operand here: a BOOL for contacts and coils, a number for compares and math, a TIMER or COUNTER tag for timer and counter instructions.";
+    NotWritable = 304, "an operand cannot be written",
+        "Inputs (DI, AI and tags on them), literals, system tags and the status bits of timers and counters (EN TT DN CU CD OV UN) are read-only for programs; RES clears a timer or counter.";
+    UnknownMember = 305, "a structure has no such member",
+        "TIMER has PRE ACC EN TT DN; COUNTER has PRE ACC CU CD DN OV UN.";
+    MissingLabel = 306, "JMP to a label that does not exist",
+        "A JMP names a label set by LBL(label) at the start of a rung of the same program.";
+    DuplicateLabel = 307, "a label is set twice",
+        "Each LBL name appears once per program.";
+    NoOutput = 308, "a rung has no output instruction",
+        "Every rung needs an output instruction (OTE, OTL, a timer, a counter, a math or move instruction, JMP, NOP...), and a rung or a final branch leg must end with one.";
+    LabelNotFirst = 309, "LBL is not the first instruction of its rung",
+        "A label marks the start of a rung: write LBL(name) as the rung's first instruction.";
+    BadLiteral = 310, "a literal is malformed or out of range",
+        "Integer literals are decimal or based (16#FF), reals use a dot (1.5, 2.0e3), times are T#5s or T#1m30s; the value must fit where it goes.";
+    ConflictingPreset = 311, "one timer or counter is given two different presets",
+        "The literal PRE and ACC of TON(t,pre,acc) are the structure's initial values, so every instruction on one tag must give the same ones (or `?`).";
+    Expression = 312, "a CPT expression is malformed",
+        "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, and PI and E.";
+    NotYetSupported = 313, "a reserved instruction is not available yet",
+        "PID is reserved for its own issue; until then a program using it is refused rather than run wrongly.";
+    StimulusSyntax = 401, "a stimulus row is malformed",
+        "Stimulus files have the header `time_ms,tag,value`; time_ms is a non-negative integer; values are 0/1, true/false, integers or reals.";
+    StimulusTarget = 402, "a stimulus row names something that cannot be set",
+        "A stimulus sets inputs and internal tags by name, member or address; outputs driven by the program, status bits and system tags cannot be set.";
+    TraceName = 403, "a traced name is not valid",
+        "--tags takes tag names, members (Delay.ACC), addresses (DO:2/0, %QX0.1) and system tags (S:FS), separated by commas; a whole TIMER or COUNTER is not a value: name a member.";
+    BadArgument = 404, "a command-line value is not valid",
+        "See `alba help <command>` for the accepted values.";
+}
+
+impl fmt::Display for Code {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "E{}", self.number())
+    }
+}
+
+impl std::str::FromStr for Code {
+    type Err = ();
+    fn from_str(s: &str) -> Result<Code, ()> {
+        let digits = s.trim().trim_start_matches(['E', 'e']);
+        let n: u16 = digits.parse().map_err(|_| ())?;
+        Code::ALL
+            .iter()
+            .copied()
+            .find(|c| c.number() == n)
+            .ok_or(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    #[test]
+    fn codes_are_unique_and_parse_back() {
+        let mut seen = HashSet::new();
+        for c in Code::ALL {
+            assert!(seen.insert(c.number()), "duplicate number {}", c.number());
+            assert_eq!(c.to_string().parse::<Code>(), Ok(*c));
+            assert!(!c.explanation().is_empty());
+        }
+    }
+}

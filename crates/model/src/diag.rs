@@ -1,0 +1,260 @@
+//! Diagnostics: every problem Alba reports has a code, a message, a place and
+//! (often) a hint on how to fix it.
+//!
+//! A [`Diagnostic`] points into a [`Files`] database by byte spans; rendering
+//! (terminal text, one-line form, JSON for the web editor) is separate from
+//! the diagnostic itself. The catalogue of codes lives in [`crate::codes`].
+
+use crate::codes::Code;
+use codespan_reporting::diagnostic as cs;
+use codespan_reporting::files::SimpleFiles;
+use codespan_reporting::term;
+use std::fmt;
+use std::ops::Range;
+
+/// Index of a file in a [`Files`] database.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct FileId(pub u32);
+
+/// A byte range in one file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Span {
+    pub file: FileId,
+    pub start: u32,
+    pub end: u32,
+}
+
+impl Span {
+    pub fn new(file: FileId, range: Range<usize>) -> Span {
+        Span {
+            file,
+            start: range.start as u32,
+            end: range.end as u32,
+        }
+    }
+
+    pub fn range(&self) -> Range<usize> {
+        self.start as usize..self.end as usize
+    }
+
+    /// A span covering both `self` and `other` (same file assumed).
+    pub fn to(&self, other: Span) -> Span {
+        Span {
+            file: self.file,
+            start: self.start.min(other.start),
+            end: self.end.max(other.end),
+        }
+    }
+}
+
+/// The source texts diagnostics point into.
+#[derive(Debug, Clone, Default)]
+pub struct Files {
+    files: Vec<(String, String)>,
+}
+
+impl Files {
+    pub fn new() -> Files {
+        Files::default()
+    }
+
+    /// Adds a file; `name` is what diagnostics print (usually a path).
+    pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
+        self.files.push((name.into(), text.into()));
+        FileId(self.files.len() as u32 - 1)
+    }
+
+    pub fn name(&self, id: FileId) -> &str {
+        &self.files[id.0 as usize].0
+    }
+
+    pub fn text(&self, id: FileId) -> &str {
+        &self.files[id.0 as usize].1
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    pub fn line_col(&self, id: FileId, offset: usize) -> (usize, usize) {
+        let text = self.text(id);
+        let offset = offset.min(text.len());
+        let before = &text[..floor_char_boundary(text, offset)];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let col = before[line_start..].chars().count() + 1;
+        (line, col)
+    }
+}
+
+fn floor_char_boundary(s: &str, mut i: usize) -> usize {
+    while i > 0 && !s.is_char_boundary(i) {
+        i -= 1;
+    }
+    i
+}
+
+/// A labelled place in a file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Label {
+    pub span: Span,
+    pub message: String,
+}
+
+/// One problem found in the user's input.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Diagnostic {
+    pub code: Code,
+    pub message: String,
+    /// Where the problem is; `None` for problems that are not in a file
+    /// (a missing project folder, say), whose message then names the path.
+    pub primary: Option<Label>,
+    pub secondary: Vec<Label>,
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    /// The only constructor: a code, a message and the place it is about.
+    pub fn new(
+        code: Code,
+        message: impl Into<String>,
+        span: Span,
+        label: impl Into<String>,
+    ) -> Self {
+        Diagnostic {
+            code,
+            message: message.into(),
+            primary: Some(Label {
+                span,
+                message: label.into(),
+            }),
+            secondary: Vec::new(),
+            help: None,
+        }
+    }
+
+    /// A diagnostic with no place in a file.
+    pub fn unplaced(code: Code, message: impl Into<String>) -> Self {
+        Diagnostic {
+            code,
+            message: message.into(),
+            primary: None,
+            secondary: Vec::new(),
+            help: None,
+        }
+    }
+
+    pub fn with_help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+
+    pub fn with_note(mut self, span: Span, message: impl Into<String>) -> Self {
+        self.secondary.push(Label {
+            span,
+            message: message.into(),
+        });
+        self
+    }
+
+    /// `file:line:col: error[CODE]: message` (no source excerpt).
+    pub fn short(&self, files: &Files) -> String {
+        match &self.primary {
+            Some(l) => {
+                let (line, col) = files.line_col(l.span.file, l.span.start as usize);
+                format!(
+                    "{}:{}:{}: error[{}]: {}",
+                    files.name(l.span.file),
+                    line,
+                    col,
+                    self.code,
+                    self.message
+                )
+            }
+            None => format!("error[{}]: {}", self.code, self.message),
+        }
+    }
+
+    /// The full form with a source excerpt, for terminals and logs.
+    pub fn render(&self, files: &Files) -> String {
+        let mut db = SimpleFiles::new();
+        for (name, text) in &files.files {
+            db.add(name.as_str(), text.as_str());
+        }
+        let mut labels = Vec::new();
+        if let Some(l) = &self.primary {
+            labels.push(
+                cs::Label::primary(l.span.file.0 as usize, l.span.range()).with_message(&l.message),
+            );
+        }
+        for l in &self.secondary {
+            labels.push(
+                cs::Label::secondary(l.span.file.0 as usize, l.span.range())
+                    .with_message(&l.message),
+            );
+        }
+        let mut d = cs::Diagnostic::error()
+            .with_code(self.code.to_string())
+            .with_message(&self.message)
+            .with_labels(labels);
+        if let Some(h) = &self.help {
+            d = d.with_notes(vec![format!("help: {h}")]);
+        }
+        let config = term::Config::default();
+        match term::emit_into_string(&config, &db, &d) {
+            Ok(s) => s,
+            // A span outside its file is a bug of ours; still say what we know.
+            Err(_) => format!("{}\n", self.short(files)),
+        }
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "error[{}]: {}", self.code, self.message)
+    }
+}
+
+/// Renders a list of diagnostics followed by a count line.
+pub fn render_all(diags: &[Diagnostic], files: &Files) -> String {
+    let mut out = String::new();
+    for d in diags {
+        out.push_str(&d.render(files));
+    }
+    if !diags.is_empty() {
+        let n = diags.len();
+        out.push_str(&format!("{n} error{}\n", if n == 1 { "" } else { "s" }));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_col_counts_characters_from_one() {
+        let mut files = Files::new();
+        let f = files.add("a", "ab\nñx\n");
+        assert_eq!(files.line_col(f, 0), (1, 1));
+        assert_eq!(files.line_col(f, 3), (2, 1));
+        // 'x' follows the two-byte 'ñ': column 2.
+        assert_eq!(files.line_col(f, 5), (2, 2));
+    }
+
+    #[test]
+    fn short_form_names_file_line_and_column() {
+        let mut files = Files::new();
+        let f = files.add("main.lad", "XIC(a)\nOTE(Strat);\n");
+        let d = Diagnostic::new(
+            Code::UnknownTag,
+            "unknown tag `Strat`",
+            Span::new(f, 11..16),
+            "here",
+        );
+        assert_eq!(
+            d.short(&files),
+            "main.lad:2:5: error[E301]: unknown tag `Strat`"
+        );
+        let full = d.render(&files);
+        assert!(full.contains("main.lad:2:5"), "{full}");
+        assert!(full.contains("^^^^^ here"), "{full}");
+    }
+}

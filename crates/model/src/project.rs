@@ -1,0 +1,215 @@
+//! A project folder: `alba.toml`, `tags.csv` and the program files.
+
+use crate::codes::Code;
+use crate::config::Config;
+use crate::diag::{Diagnostic, FileId, Files, Span};
+use crate::tags::TagTable;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// The language of a program file, from its extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Language {
+    /// `.lad`: Rockwell neutral text (SPEC §3.1).
+    Ladder,
+}
+
+impl Language {
+    pub fn from_path(path: &str) -> Option<Language> {
+        let ext = Path::new(path).extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "lad" => Some(Language::Ladder),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct ProgramSource {
+    /// As listed in `alba.toml`.
+    pub name: String,
+    pub language: Language,
+    pub file: FileId,
+}
+
+/// A loaded project. Loading never stops at the first problem: what could be
+/// read is here, and every problem found is in the diagnostics.
+#[derive(Debug, Clone)]
+pub struct Project {
+    pub dir: PathBuf,
+    pub files: Files,
+    pub config: Option<Config>,
+    pub tags: TagTable,
+    pub programs: Vec<ProgramSource>,
+}
+
+impl Project {
+    pub fn scan_ms(&self) -> u32 {
+        self.config
+            .as_ref()
+            .map_or(crate::config::DEFAULT_SCAN_MS, |c| c.scan_ms)
+    }
+
+    /// Loads `dir`, returning the project and all diagnostics.
+    pub fn load(dir: &Path) -> (Project, Vec<Diagnostic>) {
+        let mut files = Files::new();
+        let mut diags = Vec::new();
+        let display = |name: &str| dir.join(name).display().to_string();
+
+        let config = match read(&dir.join("alba.toml")) {
+            Ok(text) => {
+                let f = files.add(display("alba.toml"), text);
+                match Config::parse(files.text(f), f) {
+                    Ok(c) => Some((c, f)),
+                    Err(d) => {
+                        diags.extend(d);
+                        None
+                    }
+                }
+            }
+            Err(msg) => {
+                diags.push(Diagnostic::unplaced(Code::Io, msg).with_help(
+                    "a project folder holds alba.toml, tags.csv and its programs; `alba new <dir>` creates one",
+                ));
+                None
+            }
+        };
+
+        let tags = match read(&dir.join("tags.csv")) {
+            Ok(text) => {
+                let f = files.add(display("tags.csv"), text);
+                let (tags, d) = TagTable::parse(files.text(f), f);
+                diags.extend(d);
+                tags
+            }
+            Err(msg) => {
+                diags.push(Diagnostic::unplaced(Code::Io, msg));
+                TagTable::new()
+            }
+        };
+
+        let mut programs = Vec::new();
+        if let Some((cfg, _)) = &config {
+            let mut seen = HashSet::new();
+            for (name, span) in &cfg.programs {
+                if let Some(d) = check_program_entry(name, *span, &mut seen) {
+                    diags.push(d);
+                    continue;
+                }
+                let Some(language) = Language::from_path(name) else {
+                    diags.push(
+                        Diagnostic::new(
+                            Code::ProgramFile,
+                            format!("`{name}` has no known program extension"),
+                            *span,
+                            "unknown extension",
+                        )
+                        .with_help("ladder programs end in .lad"),
+                    );
+                    continue;
+                };
+                match read(&dir.join(name)) {
+                    Ok(text) => {
+                        let file = files.add(display(name), text);
+                        programs.push(ProgramSource {
+                            name: name.clone(),
+                            language,
+                            file,
+                        });
+                    }
+                    Err(msg) => diags.push(Diagnostic::new(
+                        Code::ProgramFile,
+                        msg,
+                        *span,
+                        "listed here",
+                    )),
+                }
+            }
+        }
+        let project = Project {
+            dir: dir.to_path_buf(),
+            files,
+            config: config.map(|(c, _)| c),
+            tags,
+            programs,
+        };
+        (project, diags)
+    }
+}
+
+/// Program entries are relative paths inside the project, listed once.
+fn check_program_entry(name: &str, span: Span, seen: &mut HashSet<String>) -> Option<Diagnostic> {
+    let p = Path::new(name);
+    if name.trim().is_empty()
+        || p.is_absolute()
+        || p.components()
+            .any(|c| !matches!(c, std::path::Component::Normal(_)))
+    {
+        return Some(Diagnostic::new(
+            Code::ProgramFile,
+            format!("`{name}` is not a path inside the project folder"),
+            span,
+            "expected a relative path like main.lad",
+        ));
+    }
+    if !seen.insert(name.to_ascii_lowercase()) {
+        return Some(Diagnostic::new(
+            Code::ProgramFile,
+            format!("`{name}` is listed twice"),
+            span,
+            "repeated program",
+        ));
+    }
+    None
+}
+
+fn read(path: &Path) -> Result<String, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "cannot read {}: not UTF-8 text (invalid byte at offset {})",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("alba-model-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn loads_a_project_and_reports_missing_programs() {
+        let d = tmp("load");
+        std::fs::write(d.join("alba.toml"), "name = \"t\"\nprograms = [\"main.lad\", \"gone.lad\", \"x.st\", \"../up.lad\", \"main.lad\"]\n").unwrap();
+        std::fs::write(d.join("tags.csv"), "name,type\nA,BOOL\n").unwrap();
+        std::fs::write(d.join("main.lad"), "XIC(A)OTE(A);\n").unwrap();
+        let (p, diags) = Project::load(&d);
+        assert_eq!(p.programs.len(), 1);
+        assert_eq!(p.tags.len(), 1);
+        let codes: Vec<_> = diags.iter().map(|d| d.code).collect();
+        assert_eq!(codes, [Code::ProgramFile; 4]);
+        let short: Vec<_> = diags.iter().map(|x| x.short(&p.files)).collect();
+        assert!(short[0].contains("alba.toml:2:25"), "{short:?}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn missing_folder_is_one_clear_error_per_file() {
+        let (p, diags) = Project::load(Path::new("/nonexistent/alba"));
+        assert!(p.config.is_none());
+        assert_eq!(diags.len(), 2);
+        assert!(
+            diags[0]
+                .message
+                .contains("cannot read /nonexistent/alba/alba.toml")
+        );
+    }
+}

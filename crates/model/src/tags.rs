@@ -1,0 +1,579 @@
+//! The tag table, `tags.csv` (SPEC §2.1, §10.1).
+
+use crate::address::{Address, Area};
+use crate::codes::Code;
+use crate::csv;
+use crate::diag::{Diagnostic, FileId, Span};
+use crate::types::DataType;
+use crate::value::Value;
+use std::collections::HashMap;
+
+/// The header Alba writes; reading accepts any order and leaving out the
+/// optional columns.
+pub const HEADER: &str = "name,type,address,initial,retain,description";
+const COLUMNS: [&str; 6] = [
+    "name",
+    "type",
+    "address",
+    "initial",
+    "retain",
+    "description",
+];
+
+/// Longest tag name accepted.
+pub const MAX_NAME_LEN: usize = 64;
+
+/// Words that cannot name a tag because operands or expressions use them.
+const RESERVED: &[&str] = &["TRUE", "FALSE", "MOD", "AND", "OR", "XOR", "NOT", "PI", "E"];
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tag {
+    pub name: String,
+    pub ty: DataType,
+    pub address: Option<Address>,
+    /// The address as written (kept for display and round trips).
+    pub address_text: Option<String>,
+    /// `None` means the type's zero.
+    pub initial: Option<Value>,
+    pub retain: bool,
+    pub description: String,
+    /// Where the tag's name is declared.
+    pub span: Span,
+}
+
+impl Tag {
+    /// Inputs are written by I/O drivers (or a stimulus), never by programs.
+    pub fn is_input(&self) -> bool {
+        self.address.as_ref().is_some_and(Address::is_input)
+    }
+}
+
+/// All tags of a project, looked up case-insensitively.
+#[derive(Debug, Clone, Default)]
+pub struct TagTable {
+    tags: Vec<Tag>,
+    index: HashMap<String, usize>,
+}
+
+/// Is `s` a valid identifier (letters, digits, `_`, not starting with a digit)?
+pub fn is_identifier(s: &str) -> bool {
+    let mut chars = s.chars();
+    chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Why `name` cannot be a tag name, if it cannot.
+pub fn check_tag_name(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("the tag name is empty".into());
+    }
+    if !is_identifier(name) {
+        return Err(format!(
+            "`{name}` is not a valid tag name: use letters, digits and `_`, not starting with a digit"
+        ));
+    }
+    if name.len() > MAX_NAME_LEN {
+        return Err(format!("`{name}` is longer than {MAX_NAME_LEN} characters"));
+    }
+    if RESERVED.iter().any(|r| r.eq_ignore_ascii_case(name)) {
+        return Err(format!("`{name}` is a reserved word"));
+    }
+    if !matches!(Address::parse(name), Ok(None)) {
+        return Err(format!("`{name}` reads as an address; choose another name"));
+    }
+    Ok(())
+}
+
+impl TagTable {
+    pub fn new() -> TagTable {
+        TagTable::default()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &Tag> {
+        self.tags.iter()
+    }
+
+    pub fn len(&self) -> usize {
+        self.tags.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.tags.is_empty()
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Tag> {
+        self.index
+            .get(&name.to_ascii_lowercase())
+            .map(|&i| &self.tags[i])
+    }
+
+    /// Position of a tag in declaration order.
+    pub fn position(&self, name: &str) -> Option<usize> {
+        self.index.get(&name.to_ascii_lowercase()).copied()
+    }
+
+    /// Adds a tag; the caller has checked the name is free.
+    pub fn push(&mut self, tag: Tag) {
+        self.index
+            .insert(tag.name.to_ascii_lowercase(), self.tags.len());
+        self.tags.push(tag);
+    }
+
+    /// The tag whose address overlaps `addr`, if any.
+    pub fn at_address(&self, addr: &Address) -> Option<&Tag> {
+        self.tags
+            .iter()
+            .find(|t| t.address.as_ref().is_some_and(|a| a.overlaps(addr)))
+    }
+
+    /// The closest tag name to `name`, for "did you mean" hints.
+    pub fn suggest(&self, name: &str) -> Option<&str> {
+        let lower = name.to_ascii_lowercase();
+        self.tags
+            .iter()
+            .map(|t| {
+                (
+                    edit_distance(&lower, &t.name.to_ascii_lowercase()),
+                    t.name.as_str(),
+                )
+            })
+            .filter(|(d, _)| *d <= 2.max(lower.len() / 4))
+            .min_by_key(|(d, _)| *d)
+            .map(|(_, n)| n)
+    }
+
+    /// Parses `tags.csv`. Returns every valid row, and a diagnostic for each
+    /// invalid one (all problems of the file, not only the first).
+    pub fn parse(text: &str, file: FileId) -> (TagTable, Vec<Diagnostic>) {
+        let mut table = TagTable::new();
+        let mut diags = Vec::new();
+        let span = |r: &std::ops::Range<usize>| Span::new(file, r.clone());
+        let (records, errors) = csv::read(text);
+        for e in errors {
+            diags.push(Diagnostic::new(
+                Code::CsvSyntax,
+                e.message.clone(),
+                span(&e.span),
+                "here",
+            ));
+        }
+        let mut records = records.into_iter();
+        let Some(header) = records.next() else {
+            if diags.is_empty() {
+                diags.push(
+                    Diagnostic::new(
+                        Code::CsvHeader,
+                        "tags.csv is empty",
+                        Span::new(file, 0..0),
+                        "expected a header here",
+                    )
+                    .with_help(format!("start the file with `{HEADER}`")),
+                );
+            }
+            return (table, diags);
+        };
+        // Map each column to its field position.
+        let mut cols: [Option<usize>; 6] = [None; 6];
+        for (i, f) in header.fields.iter().enumerate() {
+            let name = f.text.trim().to_ascii_lowercase();
+            match COLUMNS.iter().position(|c| *c == name) {
+                Some(c) if cols[c].is_none() => cols[c] = Some(i),
+                Some(_) => diags.push(Diagnostic::new(
+                    Code::CsvHeader,
+                    format!("column `{name}` appears twice in the header"),
+                    span(&f.span),
+                    "repeated column",
+                )),
+                None => diags.push(
+                    Diagnostic::new(
+                        Code::CsvHeader,
+                        format!("unknown column `{}` in the header", f.text.trim()),
+                        span(&f.span),
+                        "not a tags.csv column",
+                    )
+                    .with_help(format!("the columns are {HEADER}")),
+                ),
+            }
+        }
+        let (Some(c_name), Some(c_type)) = (cols[0], cols[1]) else {
+            diags.push(
+                Diagnostic::new(
+                    Code::CsvHeader,
+                    "the header of tags.csv needs the columns `name` and `type`",
+                    span(&header.span),
+                    "header",
+                )
+                .with_help(format!("start the file with `{HEADER}`")),
+            );
+            return (table, diags);
+        };
+        let width = header.fields.len();
+        let mut io_owner: HashMap<(Area, u32), usize> = HashMap::new();
+        let mut marker_owner: HashMap<u32, usize> = HashMap::new();
+        for rec in records {
+            if rec.fields.len() > width {
+                let extra = &rec.fields[width];
+                diags.push(
+                    Diagnostic::new(
+                        Code::CsvSyntax,
+                        format!(
+                            "this row has {} fields but the header has {width}",
+                            rec.fields.len()
+                        ),
+                        span(&extra.span),
+                        "extra field",
+                    )
+                    .with_help("a description with commas must be in double quotes"),
+                );
+                continue;
+            }
+            let field = |c: Option<usize>| c.and_then(|i| rec.fields.get(i));
+            let text = |c: Option<usize>| field(c).map_or("", |f| f.text.trim());
+            let fspan = |c: Option<usize>| field(c).map_or(span(&rec.end()), |f| span(&f.span));
+            let mut ok = true;
+
+            let name = text(Some(c_name)).to_string();
+            let name_span = fspan(Some(c_name));
+            if let Err(msg) = check_tag_name(&name) {
+                diags.push(Diagnostic::new(
+                    Code::BadTagName,
+                    msg,
+                    name_span,
+                    "tag name",
+                ));
+                ok = false;
+            } else if let Some(prev) = table.get(&name) {
+                diags.push(
+                    Diagnostic::new(
+                        Code::DuplicateTag,
+                        format!("tag `{name}` is declared twice"),
+                        name_span,
+                        "second declaration",
+                    )
+                    .with_note(prev.span, format!("`{}` first declared here", prev.name))
+                    .with_help("tag names are case-insensitive"),
+                );
+                ok = false;
+            }
+
+            let type_text = text(Some(c_type));
+            let ty = match DataType::parse(type_text) {
+                Some(DataType::Pid) => {
+                    diags.push(Diagnostic::new(
+                        Code::ReservedType,
+                        "type PID is reserved for the PID instruction and not available yet",
+                        fspan(Some(c_type)),
+                        "reserved type",
+                    ));
+                    None
+                }
+                Some(t) => Some(t),
+                None => {
+                    let found = if type_text.is_empty() {
+                        "nothing".to_string()
+                    } else {
+                        format!("`{type_text}`")
+                    };
+                    diags.push(
+                        Diagnostic::new(
+                            Code::UnknownType,
+                            format!("unknown type {found}"),
+                            fspan(Some(c_type)),
+                            "expected a data type",
+                        )
+                        .with_help(
+                            "types are BOOL SINT INT DINT LINT REAL LREAL TIME TIMER COUNTER PID",
+                        ),
+                    );
+                    None
+                }
+            };
+
+            let addr_text = text(cols[2]);
+            let addr_span = fspan(cols[2]);
+            let address = if addr_text.is_empty() || addr_text.eq_ignore_ascii_case("internal") {
+                None
+            } else {
+                match Address::parse(addr_text) {
+                    Ok(Some(a)) => Some(a),
+                    Ok(None) => {
+                        diags.push(
+                            Diagnostic::new(
+                                Code::BadAddress,
+                                format!("`{addr_text}` is not an address"),
+                                addr_span,
+                                "expected an address",
+                            )
+                            .with_help("for example DI:1/0, %QX0.1, I0.2, AIW0, MW10; leave empty for an internal tag"),
+                        );
+                        ok = false;
+                        None
+                    }
+                    Err(msg) => {
+                        diags.push(Diagnostic::new(
+                            Code::BadAddress,
+                            msg,
+                            addr_span,
+                            "bad address",
+                        ));
+                        ok = false;
+                        None
+                    }
+                }
+            };
+            if let (Some(t), Some(a)) = (ty, address.as_ref())
+                && (t.is_struct() || !a.allowed_types().contains(&t))
+            {
+                let allowed: Vec<_> = a.allowed_types().iter().map(|t| t.name()).collect();
+                diags.push(
+                    Diagnostic::new(
+                        Code::TypeAddressMismatch,
+                        format!("a {t} tag cannot be on {addr_text}"),
+                        addr_span,
+                        format!("this address holds {}", allowed.join(" or ")),
+                    )
+                    .with_note(fspan(Some(c_type)), "type declared here"),
+                );
+                ok = false;
+            }
+            if let Some(a) = address {
+                let (start, end) = a.footprint();
+                let owner = if a.area() == Area::Marker {
+                    (start..end).find_map(|b| marker_owner.get(&b).copied())
+                } else {
+                    io_owner.get(&(a.area(), start)).copied()
+                };
+                if let Some(i) = owner {
+                    let prev: &Tag = &table.tags[i];
+                    diags.push(
+                        Diagnostic::new(
+                            Code::AddressUsedTwice,
+                            format!(
+                                "address {addr_text} is already used by `{}` ({})",
+                                prev.name,
+                                prev.address_text.as_deref().unwrap_or("")
+                            ),
+                            addr_span,
+                            "used twice",
+                        )
+                        .with_note(prev.span, "first user"),
+                    );
+                    ok = false;
+                }
+            }
+
+            let init_text = text(cols[3]);
+            let initial = match ty {
+                Some(t) if !init_text.is_empty() => match Value::parse(init_text, t) {
+                    Ok(v) => Some(v),
+                    Err(msg) => {
+                        diags.push(Diagnostic::new(
+                            Code::BadInitialValue,
+                            format!("bad initial value for `{name}`: {msg}"),
+                            fspan(cols[3]),
+                            format!("expected a {t} value"),
+                        ));
+                        ok = false;
+                        None
+                    }
+                },
+                _ => None,
+            };
+
+            let retain_text = text(cols[4]).to_ascii_lowercase();
+            let retain = match retain_text.as_str() {
+                "" | "0" | "false" | "no" => false,
+                "1" | "true" | "yes" => true,
+                _ => {
+                    diags.push(Diagnostic::new(
+                        Code::BadRetain,
+                        format!("`{}` is not a retain flag", text(cols[4])),
+                        fspan(cols[4]),
+                        "expected 0, 1, true, false, yes or no",
+                    ));
+                    ok = false;
+                    false
+                }
+            };
+
+            let (Some(ty), true) = (ty, ok) else { continue };
+            let idx = table.tags.len();
+            if let Some(a) = address {
+                let (start, end) = a.footprint();
+                if a.area() == Area::Marker {
+                    for b in start..end {
+                        marker_owner.insert(b, idx);
+                    }
+                } else {
+                    io_owner.insert((a.area(), start), idx);
+                }
+            }
+            table.push(Tag {
+                name,
+                ty,
+                address,
+                address_text: address.map(|_| addr_text.to_string()),
+                initial,
+                retain,
+                description: text(cols[5]).to_string(),
+                span: name_span,
+            });
+        }
+        (table, diags)
+    }
+
+    /// Writes the table in `tags.csv` form (the canonical header and order).
+    pub fn to_csv(&self) -> String {
+        let mut out = String::from(HEADER);
+        out.push('\n');
+        for t in &self.tags {
+            let fields = [
+                t.name.clone(),
+                t.ty.name().to_string(),
+                t.address_text.clone().unwrap_or_default(),
+                t.initial.map(|v| v.to_string()).unwrap_or_default(),
+                if t.retain { "1".into() } else { String::new() },
+                t.description.clone(),
+            ];
+            let quoted: Vec<String> = fields.iter().map(|f| quote(f)).collect();
+            out.push_str(&quoted.join(","));
+            out.push('\n');
+        }
+        out
+    }
+}
+
+fn quote(f: &str) -> String {
+    if f.contains([',', '"', '\n', '\r']) || f.starts_with(' ') || f.ends_with(' ') {
+        format!("\"{}\"", f.replace('"', "\"\""))
+    } else {
+        f.to_string()
+    }
+}
+
+/// Levenshtein distance, for suggestions.
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            cur[j + 1] = (prev[j] + usize::from(ca != *cb))
+                .min(prev[j + 1] + 1)
+                .min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::Files;
+
+    fn parse(text: &str) -> (TagTable, Vec<Diagnostic>, Files) {
+        let mut files = Files::new();
+        let f = files.add("tags.csv", text);
+        let (t, d) = TagTable::parse(text, f);
+        (t, d, files)
+    }
+
+    #[test]
+    fn spec_example_parses() {
+        let (t, d, _) = parse(
+            "name,type,address,initial,retain,description\n\
+             Start,BOOL,DI:1/0,,,start button\n\
+             Level,DINT,AI:3/0,,,raw level 0-1023\n\
+             Delay,TIMER,,,,\n\
+             Count,DINT,,7,,\n",
+        );
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(t.len(), 4);
+        assert_eq!(t.get("count").unwrap().initial, Some(Value::Dint(7)));
+        assert_eq!(t.get("START").unwrap().address, Some(Address::DigitalIn(0)));
+        assert!(t.get("start").unwrap().is_input());
+    }
+
+    #[test]
+    fn every_bad_row_is_reported_with_its_column() {
+        let text = "name,type,address,initial,retain,description\n\
+                    Good,BOOL,,,,\n\
+                    good,BOOL,,,,\n\
+                    X,WORD,,,,\n\
+                    Y,BOOL,DI:9/0,,,\n\
+                    Z,REAL,DI:1/1,,,\n\
+                    A,INT,,99999,,\n\
+                    B,BOOL,%IX0.2,,,\n\
+                    C,BOOL,DI:1/2,,,\n\
+                    1bad,BOOL,,,,\n\
+                    D,BOOL,,,maybe,\n\
+                    P,PID,,,,\n";
+        let (t, d, files) = parse(text);
+        let got: Vec<String> = d.iter().map(|d| d.short(&files)).collect();
+        let expect = [
+            "tags.csv:3:1: error[E114]: tag `good` is declared twice",
+            "tags.csv:4:3: error[E113]: unknown type `WORD`",
+            "tags.csv:5:8: error[E115]: `DI:9/0`: DI addresses use slot 1 (DI:1/n)",
+            "tags.csv:6:8: error[E117]: a REAL tag cannot be on DI:1/1",
+            "tags.csv:7:8: error[E118]: bad initial value for `A`: 99999 is out of range for INT (-32768 to 32767)",
+            "tags.csv:9:8: error[E116]: address DI:1/2 is already used by `B` (%IX0.2)",
+            "tags.csv:10:1: error[E112]: `1bad` is not a valid tag name: use letters, digits and `_`, not starting with a digit",
+            "tags.csv:11:10: error[E119]: `maybe` is not a retain flag",
+            "tags.csv:12:3: error[E120]: type PID is reserved for the PID instruction and not available yet",
+        ];
+        assert_eq!(got, expect);
+        assert_eq!(t.len(), 2); // Good and B
+    }
+
+    #[test]
+    fn overlapping_markers_are_the_same_address() {
+        let (_, d, files) = parse("name,type,address\nW,INT,MW2\nB,BOOL,M3.0\nD,DINT,%MD1\n");
+        let got: Vec<String> = d.iter().map(|d| d.short(&files)).collect();
+        assert_eq!(
+            got,
+            ["tags.csv:3:8: error[E116]: address M3.0 is already used by `W` (MW2)"]
+        );
+    }
+
+    #[test]
+    fn header_may_reorder_and_omit_columns_but_not_invent_them() {
+        let (t, d, _) = parse("type,name\nBOOL,A\n");
+        assert!(d.is_empty());
+        assert_eq!(t.get("a").unwrap().ty, DataType::Bool);
+        let (_, d, files) = parse("name,type,colour\n");
+        assert_eq!(
+            d[0].short(&files),
+            "tags.csv:1:11: error[E111]: unknown column `colour` in the header"
+        );
+        let (_, d, _) = parse("");
+        assert_eq!(d[0].code, Code::CsvHeader);
+    }
+
+    #[test]
+    fn names_that_read_as_addresses_or_keywords_are_refused() {
+        for n in ["MW2", "I0.1", "Ain0", "true", "mod", "a-b", ""] {
+            assert!(check_tag_name(n).is_err(), "{n}");
+        }
+        for n in ["M1", "Motor_1", "_x", "Q5"] {
+            assert!(check_tag_name(n).is_ok(), "{n}");
+        }
+    }
+
+    #[test]
+    fn csv_round_trips() {
+        let text = "name,type,address,initial,retain,description\nA,BOOL,DI:1/0,1,1,\"a, b\"\nT,TIMER,,,,\n";
+        let (t, d, _) = parse(text);
+        assert!(d.is_empty());
+        assert_eq!(t.to_csv(), text);
+    }
+
+    #[test]
+    fn suggestions_find_near_names() {
+        let (t, _, _) = parse("name,type\nStart,BOOL\nStop,BOOL\n");
+        assert_eq!(t.suggest("Strat"), Some("Start"));
+        assert_eq!(t.suggest("Zzzzzz"), None);
+    }
+}
