@@ -1,14 +1,20 @@
-pub fn add(left: u64, right: u64) -> u64 {
-    left + right
-}
+//! The one intermediate representation of Alba (SPEC §11).
+//!
+//! Ladder (and later IL and state nets) compile to a [`Program`]: a flat list
+//! of [`Op`]s over typed slots laid out by [`Layout`], each op tagged with
+//! the rung and element it came from. The engine interprets it, the Arduino
+//! generator translates it and the byte code serialises it.
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+pub mod builder;
+pub mod layout;
+pub mod memory;
+pub mod op;
+pub mod program;
+pub mod symbols;
 
-    #[test]
-    fn it_works() {
-        let result = add(2, 2);
-        assert_eq!(result, 4);
-    }
-}
+pub use builder::{Builder, TempMark};
+pub use layout::{Counts, Layout, Place, Region, TagSlot};
+pub use memory::Memory;
+pub use op::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, MarkerSlot, Op, Tmr, UnOp, Width};
+pub use program::{Element, Loc, NO_ELEM, Program, RungInfo, Unit};
+pub use symbols::{Access, ResolveError, Target};

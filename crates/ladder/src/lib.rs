@@ -1,14 +1,14 @@
-pub fn add(left: u64, right: u64) -> u64 {
-    left + right
-}
+//! Ladder in Rockwell's neutral text (SPEC §3): parser with located
+//! diagnostics, canonical printer, and the checker that lowers rungs to the
+//! Alba IR.
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+pub mod ast;
+pub mod expr;
+pub mod lower;
+pub mod parse;
+pub mod print;
 
-    #[test]
-    fn it_works() {
-        let result = add(2, 2);
-        assert_eq!(result, 4);
-    }
-}
+pub use ast::{Arg, Branch, Element, Group, Instr, Mnemonic, Operand, Program, Rung};
+pub use lower::{Presets, addresses, compile, layout_for};
+pub use parse::parse;
+pub use print::print;

@@ -1,0 +1,254 @@
+//! What front ends use to emit IR: rungs, elements, ops, temporaries,
+//! constants and initial values.
+
+use crate::layout::{Layout, Place, TagSlot};
+use crate::memory::Memory;
+use crate::op::{B, D, F, I, L, Op};
+use crate::program::{Element, Loc, NO_ELEM, Program, RungInfo, Unit};
+use alba_model::{Files, Span, Value};
+use std::collections::HashMap;
+
+/// A pool of reusable temporary slots of one class: `used` of `slots` are
+/// in use; releasing to a mark frees everything taken after it.
+#[derive(Debug, Default, Clone)]
+struct Pool {
+    slots: Vec<u32>,
+    used: usize,
+}
+
+/// Temporaries in use at some point; release them with [`Builder::release`].
+#[derive(Debug, Clone, Copy)]
+pub struct TempMark([usize; 5]);
+
+pub struct Builder {
+    layout: Layout,
+    init: Memory,
+    ops: Vec<Op>,
+    locs: Vec<Loc>,
+    elements: Vec<Element>,
+    rungs: Vec<RungInfo>,
+    units: Vec<Unit>,
+    rung: u32,
+    pools: [Pool; 5],
+    const_i: HashMap<i32, I>,
+    const_f: HashMap<u32, F>,
+    const_l: HashMap<i64, L>,
+    const_d: HashMap<u64, D>,
+}
+
+impl Builder {
+    /// Starts a program over `layout`, with memory holding every tag's
+    /// initial value.
+    pub fn new(layout: Layout) -> Builder {
+        let mut init = Memory::new(layout.counts, layout.marker_bytes);
+        for (idx, tag) in layout.tags.iter().enumerate() {
+            let Some(v) = tag.initial else { continue };
+            let place = match layout.slot(idx) {
+                TagSlot::Bool(b) => Place::Bool(b),
+                TagSlot::Int(i) => Place::Int(i, tag.ty),
+                TagSlot::Real(f) => Place::Real(f),
+                TagSlot::Lint(l) => Place::Lint(l),
+                TagSlot::Lreal(d) => Place::Lreal(d),
+                TagSlot::Marker(a) => match Layout::marker_place(a, tag.ty) {
+                    Some(p) => p,
+                    None => continue,
+                },
+                TagSlot::Timer(_) | TagSlot::Counter(_) => continue,
+            };
+            init.write(place, v);
+        }
+        Builder {
+            layout,
+            init,
+            ops: Vec::new(),
+            locs: Vec::new(),
+            elements: Vec::new(),
+            rungs: Vec::new(),
+            units: Vec::new(),
+            rung: 0,
+            pools: Default::default(),
+            const_i: HashMap::new(),
+            const_f: HashMap::new(),
+            const_l: HashMap::new(),
+            const_d: HashMap::new(),
+        }
+    }
+
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// Starts a program unit (a file of the project); returns its index.
+    pub fn begin_unit(&mut self, name: &str) -> u16 {
+        let here = self.here();
+        self.units.push(Unit {
+            name: name.to_string(),
+            first_op: here,
+            end_op: here,
+        });
+        (self.units.len() - 1) as u16
+    }
+
+    pub fn end_unit(&mut self) {
+        let here = self.here();
+        if let Some(u) = self.units.last_mut() {
+            u.end_op = here;
+        }
+    }
+
+    /// Starts a rung (emits its `Rung` op); returns the rung's index.
+    pub fn begin_rung(&mut self, number: u32, span: Span) -> u32 {
+        let unit = (self.units.len().max(1) - 1) as u16;
+        self.rungs.push(RungInfo {
+            unit,
+            number,
+            span,
+            first_op: self.here(),
+        });
+        self.rung = (self.rungs.len() - 1) as u32;
+        self.emit(Op::Rung, NO_ELEM);
+        self.rung
+    }
+
+    /// Declares an element of the current rung; returns its id.
+    pub fn element(&mut self, span: Span) -> u32 {
+        self.elements.push(Element {
+            rung: self.rung,
+            span,
+        });
+        (self.elements.len() - 1) as u32
+    }
+
+    /// Index the next op will have.
+    pub fn here(&self) -> u32 {
+        self.ops.len() as u32
+    }
+
+    pub fn emit(&mut self, op: Op, elem: u32) -> u32 {
+        self.ops.push(op);
+        self.locs.push(Loc {
+            rung: self.rung,
+            elem,
+        });
+        self.ops.len() as u32 - 1
+    }
+
+    /// Sets the target of the `Jmp` at `at`.
+    pub fn patch_jump(&mut self, at: u32, target: u32) {
+        if let Some(op @ Op::Jmp(_)) = self.ops.get_mut(at as usize) {
+            *op = Op::Jmp(target);
+        }
+    }
+
+    pub fn mark(&self) -> TempMark {
+        TempMark(self.pools.each_ref().map(|p| p.used))
+    }
+
+    pub fn release(&mut self, m: TempMark) {
+        for (p, used) in self.pools.iter_mut().zip(m.0) {
+            p.used = used;
+        }
+    }
+
+    fn temp(&mut self, class: usize) -> u32 {
+        let pool = &mut self.pools[class];
+        if pool.used == pool.slots.len() {
+            let c = &mut self.layout.counts;
+            let counter = match class {
+                0 => &mut c.b,
+                1 => &mut c.i,
+                2 => &mut c.f,
+                3 => &mut c.l,
+                _ => &mut c.d,
+            };
+            pool.slots.push(*counter);
+            *counter += 1;
+            match class {
+                0 => self.init.b.push(false),
+                1 => self.init.i.push(0),
+                2 => self.init.f.push(0.0),
+                3 => self.init.l.push(0),
+                _ => self.init.d.push(0.0),
+            }
+        }
+        pool.used += 1;
+        pool.slots[pool.used - 1]
+    }
+
+    pub fn temp_b(&mut self) -> B {
+        B(self.temp(0))
+    }
+    pub fn temp_i(&mut self) -> I {
+        I(self.temp(1))
+    }
+    pub fn temp_f(&mut self) -> F {
+        F(self.temp(2))
+    }
+    pub fn temp_l(&mut self) -> L {
+        L(self.temp(3))
+    }
+    pub fn temp_d(&mut self) -> D {
+        D(self.temp(4))
+    }
+
+    /// A read-only slot holding `v` (shared by every use of the same value).
+    pub fn const_i(&mut self, v: i32) -> I {
+        if let Some(&s) = self.const_i.get(&v) {
+            return s;
+        }
+        let s = I(self.layout.counts.i);
+        self.layout.counts.i += 1;
+        self.init.i.push(v);
+        self.const_i.insert(v, s);
+        s
+    }
+    pub fn const_f(&mut self, v: f32) -> F {
+        if let Some(&s) = self.const_f.get(&v.to_bits()) {
+            return s;
+        }
+        let s = F(self.layout.counts.f);
+        self.layout.counts.f += 1;
+        self.init.f.push(v);
+        self.const_f.insert(v.to_bits(), s);
+        s
+    }
+    pub fn const_l(&mut self, v: i64) -> L {
+        if let Some(&s) = self.const_l.get(&v) {
+            return s;
+        }
+        let s = L(self.layout.counts.l);
+        self.layout.counts.l += 1;
+        self.init.l.push(v);
+        self.const_l.insert(v, s);
+        s
+    }
+    pub fn const_d(&mut self, v: f64) -> D {
+        if let Some(&s) = self.const_d.get(&v.to_bits()) {
+            return s;
+        }
+        let s = D(self.layout.counts.d);
+        self.layout.counts.d += 1;
+        self.init.d.push(v);
+        self.const_d.insert(v.to_bits(), s);
+        s
+    }
+
+    /// Sets the initial value of a place (a timer's literal preset, say).
+    pub fn set_initial(&mut self, place: Place, v: Value) {
+        self.init.write(place, v);
+    }
+
+    pub fn finish(mut self, files: Files) -> Program {
+        self.end_unit();
+        Program {
+            ops: self.ops,
+            locs: self.locs,
+            elements: self.elements,
+            rungs: self.rungs,
+            units: self.units,
+            layout: self.layout,
+            init: self.init,
+            files,
+        }
+    }
+}

@@ -1,0 +1,240 @@
+//! Where every tag lives: the typed-slot layout of program memory.
+//!
+//! Slots are allocated per storage class (bool, i32, f32, i64, f64) in a
+//! fixed order: system slots, then the I/O images (digital in, digital out,
+//! analog in, analog out), then the tags in tags.csv order, then the
+//! temporaries and constants the compiler needs. The layout is a pure
+//! function of the tag table and the I/O channels the programs use, so a
+//! recompiled program finds its tags again (see [`crate::Memory::migrate`]).
+
+use crate::op::{B, Ctr, D, F, I, L, Tmr};
+use alba_model::address::{Address, MarkerWidth};
+use alba_model::{DataType, TagTable};
+
+/// Number of slots of each class.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counts {
+    pub b: u32,
+    pub i: u32,
+    pub f: u32,
+    pub l: u32,
+    pub d: u32,
+}
+
+/// Where one tag's value is stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TagSlot {
+    Bool(B),
+    /// SINT, INT, DINT, TIME.
+    Int(I),
+    Real(F),
+    Lint(L),
+    Lreal(D),
+    Timer(Tmr),
+    Counter(Ctr),
+    /// A tag on a marker address lives in marker memory.
+    Marker(Address),
+}
+
+/// A contiguous run of slots: the I/O images.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Region {
+    pub base: u32,
+    pub len: u32,
+}
+
+/// System slots (SPEC §2.3, §2.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct System {
+    /// `S:FS`: true during the first scan after a start.
+    pub first_scan: B,
+    /// `S:MINOR`: set when a minor fault happened since the start.
+    pub minor_fault: B,
+    /// `S:FAULTCODE`: code of the last minor fault (see the engine's `FaultCode`).
+    pub fault_code: I,
+}
+
+/// The system tags: name, slot kind, description.
+pub const SYSTEM_TAGS: &[(&str, &str)] = &[
+    ("S:FS", "first scan after a start"),
+    ("S:MINOR", "a minor fault happened since the start"),
+    ("S:FAULTCODE", "code of the last minor fault"),
+];
+
+#[derive(Debug, Clone)]
+pub struct Layout {
+    pub tags: TagTable,
+    /// Parallel to `tags`.
+    pub slots: Vec<TagSlot>,
+    pub system: System,
+    pub di: Region,
+    pub dout: Region,
+    pub ai: Region,
+    pub ao: Region,
+    pub counts: Counts,
+    pub marker_bytes: u32,
+}
+
+impl Layout {
+    /// Lays out `tags`, with I/O images large enough for every address used
+    /// by a tag or listed in `used` (addresses that programs name directly).
+    pub fn new(tags: &TagTable, used: &[Address]) -> Layout {
+        let mut di = 0u32;
+        let mut dout = 0u32;
+        let mut ai = 0u32;
+        let mut ao = 0u32;
+        let mut marker = 0u32;
+        for a in tags.iter().filter_map(|t| t.address.as_ref()).chain(used) {
+            match *a {
+                Address::DigitalIn(n) => di = di.max(n + 1),
+                Address::DigitalOut(n) => dout = dout.max(n + 1),
+                Address::AnalogIn(n) => ai = ai.max(n + 1),
+                Address::AnalogOut(n) => ao = ao.max(n + 1),
+                Address::Marker { .. } => marker = marker.max(a.footprint().1.div_ceil(8)),
+            }
+        }
+        // Digital images are whole bytes, so %IXb.0..7 always exist together.
+        let di = di.next_multiple_of(8);
+        let dout = dout.next_multiple_of(8);
+        let mut c = Counts::default();
+        let system = System {
+            first_scan: B(take(&mut c.b, 1)),
+            minor_fault: B(take(&mut c.b, 1)),
+            fault_code: I(take(&mut c.i, 1)),
+        };
+        let di = Region {
+            base: take(&mut c.b, di),
+            len: di,
+        };
+        let dout = Region {
+            base: take(&mut c.b, dout),
+            len: dout,
+        };
+        let ai = Region {
+            base: take(&mut c.i, ai),
+            len: ai,
+        };
+        let ao = Region {
+            base: take(&mut c.i, ao),
+            len: ao,
+        };
+        let mut slots = Vec::with_capacity(tags.len());
+        for t in tags.iter() {
+            let slot = match (t.address, t.ty) {
+                (Some(Address::DigitalIn(n)), _) => TagSlot::Bool(B(di.base + n)),
+                (Some(Address::DigitalOut(n)), _) => TagSlot::Bool(B(dout.base + n)),
+                (Some(Address::AnalogIn(n)), _) => TagSlot::Int(I(ai.base + n)),
+                (Some(Address::AnalogOut(n)), _) => TagSlot::Int(I(ao.base + n)),
+                (Some(a @ Address::Marker { .. }), _) => TagSlot::Marker(a),
+                (None, DataType::Bool) => TagSlot::Bool(B(take(&mut c.b, 1))),
+                (None, DataType::Sint | DataType::Int | DataType::Dint | DataType::Time) => {
+                    TagSlot::Int(I(take(&mut c.i, 1)))
+                }
+                (None, DataType::Real) => TagSlot::Real(F(take(&mut c.f, 1))),
+                (None, DataType::Lint) => TagSlot::Lint(L(take(&mut c.l, 1))),
+                (None, DataType::Lreal) => TagSlot::Lreal(D(take(&mut c.d, 1))),
+                (None, DataType::Timer) => TagSlot::Timer(Tmr {
+                    i: I(take(&mut c.i, 3)),
+                    b: B(take(&mut c.b, 3)),
+                }),
+                // PID is refused by the tag table; lay it out as a counter-sized
+                // hole rather than panic if that ever changes.
+                (None, DataType::Counter | DataType::Pid) => TagSlot::Counter(Ctr {
+                    i: I(take(&mut c.i, 2)),
+                    b: B(take(&mut c.b, 5)),
+                }),
+            };
+            slots.push(slot);
+        }
+        Layout {
+            tags: tags.clone(),
+            slots,
+            system,
+            di,
+            dout,
+            ai,
+            ao,
+            counts: c,
+            marker_bytes: marker,
+        }
+    }
+
+    /// The slot of the tag at position `idx` of the tag table.
+    pub fn slot(&self, idx: usize) -> TagSlot {
+        self.slots[idx]
+    }
+
+    /// Marker place of a marker address with a given type.
+    pub fn marker_place(addr: Address, ty: DataType) -> Option<Place> {
+        let Address::Marker { byte, width } = addr else {
+            return None;
+        };
+        Some(match width {
+            MarkerWidth::Bit(bit) => Place::MBit { byte, bit },
+            MarkerWidth::Byte => Place::MByte(byte),
+            MarkerWidth::Word => Place::MWord(byte),
+            MarkerWidth::DWord if ty == DataType::Real => Place::MReal(byte),
+            MarkerWidth::DWord => Place::MDword(byte, ty),
+        })
+    }
+
+    /// The place of an address, if it is inside the image.
+    pub fn address_place(&self, addr: Address, ty: DataType) -> Option<Place> {
+        let inside = |r: Region, n: u32| (n < r.len).then_some(r.base + n);
+        Some(match addr {
+            Address::DigitalIn(n) => Place::Bool(B(inside(self.di, n)?)),
+            Address::DigitalOut(n) => Place::Bool(B(inside(self.dout, n)?)),
+            Address::AnalogIn(n) => Place::Int(I(inside(self.ai, n)?), ty),
+            Address::AnalogOut(n) => Place::Int(I(inside(self.ao, n)?), ty),
+            Address::Marker { .. } => {
+                if addr.footprint().1 > self.marker_bytes * 8 {
+                    return None;
+                }
+                Layout::marker_place(addr, ty)?
+            }
+        })
+    }
+}
+
+fn take(counter: &mut u32, n: u32) -> u32 {
+    let at = *counter;
+    *counter += n;
+    at
+}
+
+/// Where a value lives: a typed slot or a place in marker memory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Place {
+    Bool(B),
+    /// An integer slot holding a value of the given type (SINT, INT, DINT, TIME).
+    Int(I, DataType),
+    Real(F),
+    Lint(L),
+    Lreal(D),
+    MBit {
+        byte: u32,
+        bit: u8,
+    },
+    /// SINT in marker memory.
+    MByte(u32),
+    /// INT in marker memory (big-endian).
+    MWord(u32),
+    /// DINT or TIME in marker memory (big-endian).
+    MDword(u32, DataType),
+    /// REAL in marker memory (big-endian IEEE bits).
+    MReal(u32),
+}
+
+impl Place {
+    pub fn data_type(&self) -> DataType {
+        match *self {
+            Place::Bool(_) | Place::MBit { .. } => DataType::Bool,
+            Place::Int(_, t) | Place::MDword(_, t) => t,
+            Place::Real(_) | Place::MReal(_) => DataType::Real,
+            Place::Lint(_) => DataType::Lint,
+            Place::Lreal(_) => DataType::Lreal,
+            Place::MByte(_) => DataType::Sint,
+            Place::MWord(_) => DataType::Int,
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! Program memory: one array per storage class plus the marker bytes.
+
+use crate::layout::{Counts, Layout, Place, TagSlot};
+use alba_model::{DataType, Value};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Memory {
+    pub b: Vec<bool>,
+    pub i: Vec<i32>,
+    pub f: Vec<f32>,
+    pub l: Vec<i64>,
+    pub d: Vec<f64>,
+    /// Marker memory, byte addressed, multi-byte values big-endian.
+    pub m: Vec<u8>,
+}
+
+impl Memory {
+    pub fn new(c: Counts, marker_bytes: u32) -> Memory {
+        Memory {
+            b: vec![false; c.b as usize],
+            i: vec![0; c.i as usize],
+            f: vec![0.0; c.f as usize],
+            l: vec![0; c.l as usize],
+            d: vec![0.0; c.d as usize],
+            m: vec![0; marker_bytes as usize],
+        }
+    }
+
+    /// Bytes used (for memory reports).
+    pub fn size_bytes(&self) -> usize {
+        self.b.len()
+            + 4 * self.i.len()
+            + 4 * self.f.len()
+            + 8 * self.l.len()
+            + 8 * self.d.len()
+            + self.m.len()
+    }
+
+    fn m_bytes<const N: usize>(&self, at: u32) -> [u8; N] {
+        let mut out = [0u8; N];
+        let at = at as usize;
+        if let Some(src) = self.m.get(at..at + N) {
+            out.copy_from_slice(src);
+        }
+        out
+    }
+
+    fn set_m_bytes(&mut self, at: u32, bytes: &[u8]) {
+        let at = at as usize;
+        if let Some(dst) = self.m.get_mut(at..at + bytes.len()) {
+            dst.copy_from_slice(bytes);
+        }
+    }
+
+    /// Reads a value. Places come from the layout this memory was made for.
+    pub fn read(&self, p: Place) -> Value {
+        match p {
+            Place::Bool(b) => Value::Bool(self.b[b.0 as usize]),
+            Place::Int(i, ty) => int_value(self.i[i.0 as usize] as i64, ty),
+            Place::Real(f) => Value::Real(self.f[f.0 as usize]),
+            Place::Lint(l) => Value::Lint(self.l[l.0 as usize]),
+            Place::Lreal(d) => Value::Lreal(self.d[d.0 as usize]),
+            Place::MBit { byte, bit } => Value::Bool(self.m_bytes::<1>(byte)[0] >> bit & 1 == 1),
+            Place::MByte(at) => Value::Sint(self.m_bytes::<1>(at)[0] as i8),
+            Place::MWord(at) => Value::Int(i16::from_be_bytes(self.m_bytes(at))),
+            Place::MDword(at, ty) => int_value(i32::from_be_bytes(self.m_bytes(at)) as i64, ty),
+            Place::MReal(at) => Value::Real(f32::from_be_bytes(self.m_bytes(at))),
+        }
+    }
+
+    /// Writes a value, converting it to the place's type (callers check the
+    /// range first; out-of-range integers wrap).
+    pub fn write(&mut self, p: Place, v: Value) {
+        match p {
+            Place::Bool(b) => self.b[b.0 as usize] = v.as_bool(),
+            Place::Int(i, _) => self.i[i.0 as usize] = v.as_i64() as i32,
+            Place::Real(f) => self.f[f.0 as usize] = v.as_f64() as f32,
+            Place::Lint(l) => self.l[l.0 as usize] = v.as_i64(),
+            Place::Lreal(d) => self.d[d.0 as usize] = v.as_f64(),
+            Place::MBit { byte, bit } => {
+                let old = self.m_bytes::<1>(byte)[0];
+                let new = if v.as_bool() {
+                    old | 1 << bit
+                } else {
+                    old & !(1 << bit)
+                };
+                self.set_m_bytes(byte, &[new]);
+            }
+            Place::MByte(at) => self.set_m_bytes(at, &[v.as_i64() as u8]),
+            Place::MWord(at) => self.set_m_bytes(at, &(v.as_i64() as i16).to_be_bytes()),
+            Place::MDword(at, _) => self.set_m_bytes(at, &(v.as_i64() as i32).to_be_bytes()),
+            Place::MReal(at) => self.set_m_bytes(at, &(v.as_f64() as f32).to_be_bytes()),
+        }
+    }
+
+    /// Online edit: a memory for `new` that keeps the values of every tag
+    /// that exists in `old` with the same name and type (timers and counters
+    /// with their accumulators and status bits), plus the marker bytes and
+    /// I/O images. Everything else comes from `new_init`.
+    pub fn migrate(&self, old: &Layout, new: &Layout, new_init: &Memory) -> Memory {
+        let mut out = new_init.clone();
+        let n = out.m.len().min(self.m.len());
+        out.m[..n].copy_from_slice(&self.m[..n]);
+        copy_region(&self.b, old.di, &mut out.b, new.di);
+        copy_region(&self.b, old.dout, &mut out.b, new.dout);
+        copy_region(&self.i, old.ai, &mut out.i, new.ai);
+        copy_region(&self.i, old.ao, &mut out.i, new.ao);
+        out.b[new.system.minor_fault.0 as usize] = self.b[old.system.minor_fault.0 as usize];
+        out.i[new.system.fault_code.0 as usize] = self.i[old.system.fault_code.0 as usize];
+        for (idx, tag) in new.tags.iter().enumerate() {
+            let Some(oidx) = old.tags.position(&tag.name) else {
+                continue;
+            };
+            let otag = old.tags.iter().nth(oidx);
+            if otag.map(|t| t.ty) != Some(tag.ty) {
+                continue;
+            }
+            match (old.slot(oidx), new.slot(idx)) {
+                (TagSlot::Bool(a), TagSlot::Bool(b)) => out.b[b.0 as usize] = self.b[a.0 as usize],
+                (TagSlot::Int(a), TagSlot::Int(b)) => out.i[b.0 as usize] = self.i[a.0 as usize],
+                (TagSlot::Real(a), TagSlot::Real(b)) => out.f[b.0 as usize] = self.f[a.0 as usize],
+                (TagSlot::Lint(a), TagSlot::Lint(b)) => out.l[b.0 as usize] = self.l[a.0 as usize],
+                (TagSlot::Lreal(a), TagSlot::Lreal(b)) => {
+                    out.d[b.0 as usize] = self.d[a.0 as usize]
+                }
+                (TagSlot::Timer(a), TagSlot::Timer(b)) => {
+                    copy_n(&self.i, a.i.0, &mut out.i, b.i.0, 3);
+                    copy_n(&self.b, a.b.0, &mut out.b, b.b.0, 3);
+                }
+                (TagSlot::Counter(a), TagSlot::Counter(b)) => {
+                    copy_n(&self.i, a.i.0, &mut out.i, b.i.0, 2);
+                    copy_n(&self.b, a.b.0, &mut out.b, b.b.0, 5);
+                }
+                // Tags on addresses keep their value through the image/markers.
+                _ => {}
+            }
+        }
+        out
+    }
+}
+
+fn copy_region<T: Copy>(
+    src: &[T],
+    from: crate::layout::Region,
+    dst: &mut [T],
+    to: crate::layout::Region,
+) {
+    let n = from.len.min(to.len);
+    copy_n(src, from.base, dst, to.base, n);
+}
+
+fn copy_n<T: Copy>(src: &[T], from: u32, dst: &mut [T], to: u32, n: u32) {
+    let (from, to, n) = (from as usize, to as usize, n as usize);
+    dst[to..to + n].copy_from_slice(&src[from..from + n]);
+}
+
+fn int_value(v: i64, ty: DataType) -> Value {
+    match ty {
+        DataType::Sint => Value::Sint(v as i8),
+        DataType::Int => Value::Int(v as i16),
+        DataType::Time => Value::Time(v as i32),
+        DataType::Lint => Value::Lint(v),
+        _ => Value::Dint(v as i32),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn marker_words_are_big_endian_and_overlap() {
+        let mut m = Memory::new(Counts::default(), 8);
+        m.write(Place::MWord(2), Value::Int(0x1234));
+        assert_eq!(m.m[2..4], [0x12, 0x34]);
+        // MW3 overlaps MW2's low byte.
+        assert_eq!(m.read(Place::MWord(3)), Value::Int(0x3400));
+        m.write(Place::MBit { byte: 3, bit: 0 }, Value::Bool(true));
+        assert_eq!(m.read(Place::MWord(2)), Value::Int(0x1235));
+        m.write(Place::MReal(4), Value::Real(1.5));
+        assert_eq!(m.read(Place::MReal(4)), Value::Real(1.5));
+        assert_eq!(m.m[4..8], 1.5f32.to_be_bytes());
+    }
+}

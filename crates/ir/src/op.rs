@@ -1,0 +1,352 @@
+//! The operations of the IR.
+//!
+//! A program is a flat list of [`Op`]s over typed slots, evaluated with one
+//! boolean register, the *rung condition* `rc`:
+//!
+//! * rung logic (`Rung`, contacts, coils, branches) reads and writes `rc`;
+//! * compares are input instructions: `rc &= a <op> b`;
+//! * data operations (`Bin*`, `Un*`, `Cvt`, `Narrow`) act only while `rc` is
+//!   true, like Logix output instructions;
+//! * timers and counters run on every execution and read `rc`;
+//! * marker loads/stores move values between the byte-addressed marker
+//!   memory and temporary slots, unconditionally.
+//!
+//! Branches keep their state in ordinary (temporary) bool slots, so the only
+//! dynamic state of an evaluation is `rc` and the program counter: a bounded,
+//! heap-free model that an 8-bit microcontroller runs as easily as a PC.
+
+/// A BOOL slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct B(pub u32);
+/// A 32-bit integer slot (SINT, INT, DINT, TIME; narrower types are kept in
+/// range by [`Op::Narrow`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct I(pub u32);
+/// A REAL (f32) slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct F(pub u32);
+/// A LINT (i64) slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct L(pub u32);
+/// An LREAL (f64) slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct D(pub u32);
+
+/// A TIMER: integer slots `i` = PRE, `i+1` = ACC, `i+2` = start/last time
+/// (hidden, wrapping milliseconds); bool slots `b` = EN, `b+1` = TT, `b+2` = DN.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Tmr {
+    pub i: I,
+    pub b: B,
+}
+
+/// A COUNTER: integer slots `i` = PRE, `i+1` = ACC; bool slots `b` = CU,
+/// `b+1` = CD, `b+2` = DN, `b+3` = OV, `b+4` = UN.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Ctr {
+    pub i: I,
+    pub b: B,
+}
+
+/// Comparison operators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Gt,
+    Le,
+    Ge,
+}
+
+/// Two-operand operations `d = a op b`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+    /// Floating point only.
+    Pow,
+    /// Floating point only.
+    Atan2,
+    /// Integers only (bitwise).
+    And,
+    Or,
+    Xor,
+    /// Comparisons giving 1 or 0 (for CPT expressions).
+    Cmp(Cmp),
+}
+
+/// One-operand operations `d = op a`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum UnOp {
+    Mov,
+    Neg,
+    Abs,
+    /// Integers only: bitwise complement.
+    Not,
+    /// Integers only: BCD to integer.
+    Frd,
+    /// Integers only: integer to BCD.
+    Tod,
+    // Floating point only:
+    Sqrt,
+    Ln,
+    Log,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Deg,
+    Rad,
+    Trunc,
+    Round,
+}
+
+/// Conversions between storage classes. Float to integer rounds half to
+/// even and saturates (with a fault) when out of range; wide to narrow
+/// integer wraps (with a fault) when out of range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Cvt {
+    IF(I, F),
+    FI(F, I),
+    IL(I, L),
+    LI(L, I),
+    ID(I, D),
+    DI(D, I),
+    LF(L, F),
+    FL(F, L),
+    LD(L, D),
+    DL(D, L),
+    FD(F, D),
+    DF(D, F),
+}
+
+/// Width of a value kept in a 32-bit slot or in marker memory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Width {
+    W8,
+    W16,
+}
+
+/// What a marker load/store moves (big-endian in marker memory).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MarkerSlot {
+    /// MB: a signed byte into an integer slot.
+    Byte(I),
+    /// MW: a signed 16-bit word into an integer slot.
+    Word(I),
+    /// MD as DINT or TIME.
+    DWord(I),
+    /// MD as REAL.
+    Real(F),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Op {
+    /// Start of a rung: `rc = true`.
+    Rung,
+    /// Does nothing (NOP, LBL).
+    Nop,
+    /// `rc = false` (AFI).
+    Afi,
+    Xic(B),
+    Xio(B),
+    /// `b = rc`.
+    Ote(B),
+    /// `if rc { b = true }`.
+    Otl(B),
+    /// `if rc { b = false }`.
+    Otu(B),
+    /// One-shot: `out = rc && !s; s = rc; rc = out`.
+    Ons(B),
+    /// `o = rc && !s; s = rc` (rc passes on).
+    Osr(B, B),
+    /// `o = !rc && s; s = rc` (rc passes on).
+    Osf(B, B),
+    /// Branch start: `save = rc; acc = false`.
+    BrOpen {
+        save: B,
+        acc: B,
+    },
+    /// Next leg: `acc |= rc; rc = save`.
+    BrNext {
+        save: B,
+        acc: B,
+    },
+    /// Branch end: `rc |= acc`.
+    BrClose {
+        acc: B,
+    },
+    /// If `rc`, continue at the op with this index (the `Rung` of the label's rung).
+    Jmp(u32),
+    Ton(Tmr),
+    Tof(Tmr),
+    Rto(Tmr),
+    Tp(Tmr),
+    Ctu(Ctr),
+    Ctd(Ctr),
+    /// If `rc`: clear ACC and every status bit.
+    ResT(Tmr),
+    ResC(Ctr),
+    /// `rc &= a <cmp> b`.
+    CmpI(Cmp, I, I),
+    CmpF(Cmp, F, F),
+    CmpL(Cmp, L, L),
+    CmpD(Cmp, D, D),
+    /// `rc &= lim(low, test, high)` with the Logix wrap-around rule.
+    LimI(I, I, I),
+    LimF(F, F, F),
+    LimL(L, L, L),
+    LimD(D, D, D),
+    /// `rc &= (src & mask) == (cmp & mask)`.
+    MeqI(I, I, I),
+    MeqL(L, L, L),
+    /// If `rc`: `d = a op b`.
+    BinI(BinOp, I, I, I),
+    BinF(BinOp, F, F, F),
+    BinL(BinOp, L, L, L),
+    BinD(BinOp, D, D, D),
+    /// If `rc`: `d = op a`.
+    UnI(UnOp, I, I),
+    UnF(UnOp, F, F),
+    UnL(UnOp, L, L),
+    UnD(UnOp, D, D),
+    /// If `rc`: convert.
+    Cvt(Cvt),
+    /// If `rc`: wrap the slot to 8 or 16 bits (fault if it changed).
+    Narrow(I, Width),
+    /// Unconditional copy (a timer's preset read from a tag on every execution).
+    CopyI(I, I),
+    /// Marker memory bit → bool slot.
+    LdBit {
+        byte: u32,
+        bit: u8,
+        dst: B,
+    },
+    /// Bool slot → marker memory bit.
+    StBit {
+        src: B,
+        byte: u32,
+        bit: u8,
+    },
+    /// Marker memory → slot.
+    LdM {
+        byte: u32,
+        slot: MarkerSlot,
+    },
+    /// Slot → marker memory.
+    StM {
+        byte: u32,
+        slot: MarkerSlot,
+    },
+}
+
+/// A slot of any class, for visiting every slot an op touches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AnySlot {
+    B(u32),
+    I(u32),
+    F(u32),
+    L(u32),
+    D(u32),
+    /// A byte range of marker memory.
+    M(u32, u32),
+}
+
+impl Op {
+    /// Every slot the op reads or writes (for verification at load time).
+    pub fn slots(&self) -> Vec<AnySlot> {
+        use AnySlot as S;
+        let tmr = |t: &Tmr| vec![S::I(t.i.0), S::I(t.i.0 + 2), S::B(t.b.0), S::B(t.b.0 + 2)];
+        let ctr = |c: &Ctr| vec![S::I(c.i.0), S::I(c.i.0 + 1), S::B(c.b.0), S::B(c.b.0 + 4)];
+        let ms = |byte: u32, s: &MarkerSlot| match *s {
+            MarkerSlot::Byte(i) => vec![S::I(i.0), S::M(byte, 1)],
+            MarkerSlot::Word(i) => vec![S::I(i.0), S::M(byte, 2)],
+            MarkerSlot::DWord(i) => vec![S::I(i.0), S::M(byte, 4)],
+            MarkerSlot::Real(f) => vec![S::F(f.0), S::M(byte, 4)],
+        };
+        match self {
+            Op::Rung | Op::Nop | Op::Afi | Op::Jmp(_) => vec![],
+            Op::Xic(b) | Op::Xio(b) | Op::Ote(b) | Op::Otl(b) | Op::Otu(b) | Op::Ons(b) => {
+                vec![S::B(b.0)]
+            }
+            Op::Osr(a, b) | Op::Osf(a, b) => vec![S::B(a.0), S::B(b.0)],
+            Op::BrOpen { save, acc } | Op::BrNext { save, acc } => vec![S::B(save.0), S::B(acc.0)],
+            Op::BrClose { acc } => vec![S::B(acc.0)],
+            Op::Ton(t) | Op::Tof(t) | Op::Rto(t) | Op::Tp(t) | Op::ResT(t) => tmr(t),
+            Op::Ctu(c) | Op::Ctd(c) | Op::ResC(c) => ctr(c),
+            Op::CmpI(_, a, b) => vec![S::I(a.0), S::I(b.0)],
+            Op::CmpF(_, a, b) => vec![S::F(a.0), S::F(b.0)],
+            Op::CmpL(_, a, b) => vec![S::L(a.0), S::L(b.0)],
+            Op::CmpD(_, a, b) => vec![S::D(a.0), S::D(b.0)],
+            Op::LimI(a, b, c) | Op::MeqI(a, b, c) | Op::BinI(_, a, b, c) => {
+                vec![S::I(a.0), S::I(b.0), S::I(c.0)]
+            }
+            Op::LimF(a, b, c) | Op::BinF(_, a, b, c) => vec![S::F(a.0), S::F(b.0), S::F(c.0)],
+            Op::LimL(a, b, c) | Op::MeqL(a, b, c) | Op::BinL(_, a, b, c) => {
+                vec![S::L(a.0), S::L(b.0), S::L(c.0)]
+            }
+            Op::LimD(a, b, c) | Op::BinD(_, a, b, c) => vec![S::D(a.0), S::D(b.0), S::D(c.0)],
+            Op::UnI(_, a, d) | Op::CopyI(a, d) => vec![S::I(a.0), S::I(d.0)],
+            Op::UnF(_, a, d) => vec![S::F(a.0), S::F(d.0)],
+            Op::UnL(_, a, d) => vec![S::L(a.0), S::L(d.0)],
+            Op::UnD(_, a, d) => vec![S::D(a.0), S::D(d.0)],
+            Op::Narrow(a, _) => vec![S::I(a.0)],
+            Op::Cvt(c) => match *c {
+                Cvt::IF(a, b) => vec![S::I(a.0), S::F(b.0)],
+                Cvt::FI(a, b) => vec![S::F(a.0), S::I(b.0)],
+                Cvt::IL(a, b) => vec![S::I(a.0), S::L(b.0)],
+                Cvt::LI(a, b) => vec![S::L(a.0), S::I(b.0)],
+                Cvt::ID(a, b) => vec![S::I(a.0), S::D(b.0)],
+                Cvt::DI(a, b) => vec![S::D(a.0), S::I(b.0)],
+                Cvt::LF(a, b) => vec![S::L(a.0), S::F(b.0)],
+                Cvt::FL(a, b) => vec![S::F(a.0), S::L(b.0)],
+                Cvt::LD(a, b) => vec![S::L(a.0), S::D(b.0)],
+                Cvt::DL(a, b) => vec![S::D(a.0), S::L(b.0)],
+                Cvt::FD(a, b) => vec![S::F(a.0), S::D(b.0)],
+                Cvt::DF(a, b) => vec![S::D(a.0), S::F(b.0)],
+            },
+            Op::LdBit { byte, dst, .. } => vec![S::B(dst.0), S::M(*byte, 1)],
+            Op::StBit { src, byte, .. } => vec![S::B(src.0), S::M(*byte, 1)],
+            Op::LdM { byte, slot } | Op::StM { byte, slot } => ms(*byte, slot),
+        }
+    }
+
+    /// Does the op write `rc` in a way that makes it a rung *input*
+    /// (contact, compare)? Used by the ladder checker and the monitor view.
+    pub fn is_condition(&self) -> bool {
+        matches!(
+            self,
+            Op::Xic(_)
+                | Op::Xio(_)
+                | Op::Ons(_)
+                | Op::Afi
+                | Op::CmpI(..)
+                | Op::CmpF(..)
+                | Op::CmpL(..)
+                | Op::CmpD(..)
+                | Op::LimI(..)
+                | Op::LimF(..)
+                | Op::LimL(..)
+                | Op::LimD(..)
+                | Op::MeqI(..)
+                | Op::MeqL(..)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ops_stay_small() {
+        // The interpreter streams ops through the cache: keep them at 16 bytes.
+        assert_eq!(std::mem::size_of::<Op>(), 16);
+    }
+}

@@ -1,0 +1,152 @@
+//! A compiled program: ops with their source locations, the layout and the
+//! initial memory.
+
+use crate::layout::Layout;
+use crate::memory::Memory;
+use crate::op::{AnySlot, Op};
+use alba_model::{Files, Span};
+use std::fmt::Write as _;
+
+/// No element (ops that belong to the rung, not to one instruction).
+pub const NO_ELEM: u32 = u32::MAX;
+
+/// Where an op came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Loc {
+    /// Index into [`Program::rungs`].
+    pub rung: u32,
+    /// Index into [`Program::elements`], or [`NO_ELEM`].
+    pub elem: u32,
+}
+
+/// One source element whose power flow is observable: an instruction, or a
+/// branch (whose state is the OR of its legs).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Element {
+    pub rung: u32,
+    pub span: Span,
+}
+
+/// A rung (ladder) or network (IL).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RungInfo {
+    /// Index into [`Program::units`].
+    pub unit: u16,
+    /// 0-based number within its unit.
+    pub number: u32,
+    pub span: Span,
+    /// Index of its first op.
+    pub first_op: u32,
+}
+
+/// One program file of the project, run in order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Unit {
+    pub name: String,
+    pub first_op: u32,
+    pub end_op: u32,
+}
+
+#[derive(Debug, Clone)]
+pub struct Program {
+    pub ops: Vec<Op>,
+    /// Parallel to `ops`.
+    pub locs: Vec<Loc>,
+    pub elements: Vec<Element>,
+    pub rungs: Vec<RungInfo>,
+    pub units: Vec<Unit>,
+    pub layout: Layout,
+    /// Memory at start: initial values, presets, constants.
+    pub init: Memory,
+    /// Sources, for messages that point at a rung or instruction.
+    pub files: Files,
+}
+
+impl Program {
+    /// Checks every invariant the interpreter relies on: slots in range,
+    /// jumps to rung starts, one location per op. Programs built by the
+    /// builder pass; this guards programs from other sources (byte code).
+    pub fn verify(&self) -> Result<(), String> {
+        if self.locs.len() != self.ops.len() {
+            return Err(format!(
+                "{} ops but {} locations",
+                self.ops.len(),
+                self.locs.len()
+            ));
+        }
+        let m = &self.init;
+        for (pc, op) in self.ops.iter().enumerate() {
+            for s in op.slots() {
+                let ok = match s {
+                    AnySlot::B(x) => (x as usize) < m.b.len(),
+                    AnySlot::I(x) => (x as usize) < m.i.len(),
+                    AnySlot::F(x) => (x as usize) < m.f.len(),
+                    AnySlot::L(x) => (x as usize) < m.l.len(),
+                    AnySlot::D(x) => (x as usize) < m.d.len(),
+                    AnySlot::M(at, n) => (at as usize + n as usize) <= m.m.len(),
+                };
+                if !ok {
+                    return Err(format!("op {pc} ({op:?}) uses {s:?} outside memory"));
+                }
+            }
+            if let Op::Jmp(t) = op
+                && !matches!(self.ops.get(*t as usize), Some(Op::Rung))
+            {
+                return Err(format!("op {pc} jumps to {t}, which is not a rung start"));
+            }
+            let loc = self.locs[pc];
+            if loc.rung as usize >= self.rungs.len().max(1)
+                || (loc.elem != NO_ELEM && loc.elem as usize >= self.elements.len())
+            {
+                return Err(format!("op {pc} has a location outside the tables"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Bytes of program representation (ops and locations).
+    pub fn code_bytes(&self) -> usize {
+        self.ops.len() * (std::mem::size_of::<Op>() + std::mem::size_of::<Loc>())
+    }
+
+    /// A readable listing, one op per line, for golden tests and debugging.
+    pub fn dump(&self) -> String {
+        let mut out = String::new();
+        for (pc, op) in self.ops.iter().enumerate() {
+            let loc = self.locs[pc];
+            if let Some(u) = self.units.iter().find(|u| u.first_op as usize == pc) {
+                let _ = writeln!(out, "; program {}", u.name);
+            }
+            if matches!(op, Op::Rung) {
+                let r = &self.rungs[loc.rung as usize];
+                let _ = writeln!(out, "; rung {}", r.number);
+            }
+            let elem = if loc.elem == NO_ELEM {
+                "-".to_string()
+            } else {
+                format!("e{}", loc.elem)
+            };
+            let _ = writeln!(out, "{pc:04} {elem:>4}  {op:?}");
+        }
+        out
+    }
+
+    /// "main.lad rung 3 (line 7)" for a location, for fault reports.
+    pub fn describe(&self, loc: Loc) -> String {
+        let Some(rung) = self.rungs.get(loc.rung as usize) else {
+            return "unknown place".into();
+        };
+        let unit = self
+            .units
+            .get(rung.unit as usize)
+            .map_or("?", |u| u.name.as_str());
+        let span = match self.elements.get(loc.elem as usize) {
+            Some(e) => e.span,
+            None => rung.span,
+        };
+        let (line, col) = self.files.line_col(span.file, span.start as usize);
+        let what = self.files.text(span.file).get(span.range()).unwrap_or("");
+        let what: String = what.chars().take(40).collect();
+        format!("{unit} rung {} ({line}:{col} `{what}`)", rung.number)
+    }
+}

@@ -1,0 +1,247 @@
+//! Name resolution: tag names, members, addresses and system tags to places.
+//! Front ends, the simulator, and later the API and protocols all resolve
+//! names here, so every part of Alba means the same thing by a name.
+
+use crate::layout::{Layout, Place, TagSlot};
+use crate::op::{B, Ctr, I, Tmr};
+use alba_model::{Address, DataType};
+use std::fmt;
+
+/// Who may write a place.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    ReadWrite,
+    /// An input: written by the I/O driver (or a stimulus), read-only for programs.
+    Input,
+    /// Status bits and system tags.
+    ReadOnly,
+}
+
+/// What a name resolves to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    Value { place: Place, access: Access },
+    Timer(Tmr),
+    Counter(Ctr),
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ResolveError {
+    UnknownTag(String),
+    UnknownMember {
+        tag: String,
+        ty: DataType,
+        member: String,
+    },
+    NotAStructure {
+        tag: String,
+        ty: DataType,
+    },
+    BadAddress(String),
+    OutsideImage(Address),
+}
+
+impl fmt::Display for ResolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ResolveError::UnknownTag(n) => write!(f, "unknown tag `{n}`"),
+            ResolveError::UnknownMember { tag, ty, member } => {
+                let members: Vec<_> = ty.members().iter().map(|m| m.name).collect();
+                write!(
+                    f,
+                    "{ty} `{tag}` has no member `{member}` (members: {})",
+                    members.join(" ")
+                )
+            }
+            ResolveError::NotAStructure { tag, ty } => {
+                write!(f, "`{tag}` is a {ty}, not a structure with members")
+            }
+            ResolveError::BadAddress(m) => write!(f, "{m}"),
+            ResolveError::OutsideImage(a) => write!(f, "{a} is outside this project's I/O image"),
+        }
+    }
+}
+
+impl Layout {
+    /// Resolves a tag name, `tag.member`, an address in any notation, or a
+    /// system tag (`S:FS`), case-insensitively.
+    pub fn resolve(&self, text: &str) -> Result<Target, ResolveError> {
+        let name = text.trim();
+        if let Some(sys) = self.system_tag(name) {
+            return Ok(sys);
+        }
+        match Address::parse(name) {
+            Err(msg) => return Err(ResolveError::BadAddress(msg)),
+            Ok(Some(addr)) => {
+                // A tag on exactly this address gives its type and access.
+                if let Some(tag) = self.tags.iter().find(|t| t.address == Some(addr)) {
+                    return self.resolve(&tag.name);
+                }
+                let place = self
+                    .address_place(addr, addr.natural_type())
+                    .ok_or(ResolveError::OutsideImage(addr))?;
+                let access = if addr.is_input() {
+                    Access::Input
+                } else {
+                    Access::ReadWrite
+                };
+                return Ok(Target::Value { place, access });
+            }
+            Ok(None) => {}
+        }
+        let (base, member) = match name.split_once('.') {
+            Some((b, m)) => (b, Some(m)),
+            None => (name, None),
+        };
+        let idx = self
+            .tags
+            .position(base)
+            .ok_or_else(|| ResolveError::UnknownTag(base.to_string()))?;
+        let tag = self
+            .tags
+            .iter()
+            .nth(idx)
+            .ok_or_else(|| ResolveError::UnknownTag(base.to_string()))?;
+        let slot = self.slot(idx);
+        let access = if tag.is_input() {
+            Access::Input
+        } else {
+            Access::ReadWrite
+        };
+        let value = |place| Ok(Target::Value { place, access });
+        match (slot, member) {
+            (TagSlot::Bool(b), None) => value(Place::Bool(b)),
+            (TagSlot::Int(i), None) => value(Place::Int(i, tag.ty)),
+            (TagSlot::Real(f), None) => value(Place::Real(f)),
+            (TagSlot::Lint(l), None) => value(Place::Lint(l)),
+            (TagSlot::Lreal(d), None) => value(Place::Lreal(d)),
+            (TagSlot::Marker(a), None) => value(
+                Layout::marker_place(a, tag.ty)
+                    .ok_or_else(|| ResolveError::BadAddress(a.to_string()))?,
+            ),
+            (TagSlot::Timer(t), None) => Ok(Target::Timer(t)),
+            (TagSlot::Counter(c), None) => Ok(Target::Counter(c)),
+            (TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }), Some(m)) => {
+                let mem = tag
+                    .ty
+                    .member(m)
+                    .ok_or_else(|| ResolveError::UnknownMember {
+                        tag: tag.name.clone(),
+                        ty: tag.ty,
+                        member: m.to_string(),
+                    })?;
+                let place = if mem.ty == DataType::Bool {
+                    Place::Bool(B(b.0 + mem.index as u32))
+                } else {
+                    Place::Int(I(i.0 + mem.index as u32), mem.ty)
+                };
+                let access = if mem.writable {
+                    Access::ReadWrite
+                } else {
+                    Access::ReadOnly
+                };
+                Ok(Target::Value { place, access })
+            }
+            (_, Some(_)) => Err(ResolveError::NotAStructure {
+                tag: tag.name.clone(),
+                ty: tag.ty,
+            }),
+        }
+    }
+
+    fn system_tag(&self, name: &str) -> Option<Target> {
+        let upper = name.to_ascii_uppercase();
+        let place = match upper.as_str() {
+            "S:FS" => Place::Bool(self.system.first_scan),
+            "S:MINOR" => Place::Bool(self.system.minor_fault),
+            "S:FAULTCODE" => Place::Int(self.system.fault_code, DataType::Dint),
+            _ => return None,
+        };
+        Some(Target::Value {
+            place,
+            access: Access::ReadOnly,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alba_model::{Files, TagTable};
+
+    fn layout(csv: &str, used: &[Address]) -> Layout {
+        let mut files = Files::new();
+        let f = files.add("tags.csv", csv);
+        let (t, d) = TagTable::parse(csv, f);
+        assert!(d.is_empty(), "{d:?}");
+        Layout::new(&t, used)
+    }
+
+    #[test]
+    fn every_notation_resolves_to_the_tag_on_it() {
+        let l = layout(
+            "name,type,address\nStart,BOOL,DI:1/9\nLevel,DINT,AI:3/1\nW,REAL,MD4\n",
+            &[],
+        );
+        let start = l.resolve("start").unwrap();
+        assert_eq!(l.resolve("%IX1.1").unwrap(), start);
+        assert_eq!(l.resolve("I1.1").unwrap(), start);
+        assert!(matches!(
+            start,
+            Target::Value {
+                access: Access::Input,
+                ..
+            }
+        ));
+        assert_eq!(l.resolve("AIW2").unwrap(), l.resolve("Level").unwrap());
+        assert_eq!(
+            l.resolve("%MD1").unwrap(),
+            Target::Value {
+                place: Place::MReal(4),
+                access: Access::ReadWrite
+            }
+        );
+        // The digital image is whole bytes: 16 inputs for DI 9.
+        assert_eq!(l.di.len, 16);
+        assert!(l.resolve("DI:1/15").is_ok());
+        assert_eq!(
+            l.resolve("DI:1/16"),
+            Err(ResolveError::OutsideImage(Address::DigitalIn(16)))
+        );
+    }
+
+    #[test]
+    fn members_and_system_tags_have_their_access() {
+        let l = layout("name,type\nT,TIMER\nC,COUNTER\nX,DINT\n", &[]);
+        let Target::Value { place, access } = l.resolve("t.dn").unwrap() else {
+            panic!()
+        };
+        assert_eq!(access, Access::ReadOnly);
+        assert_eq!(place.data_type(), DataType::Bool);
+        let Target::Value { access, .. } = l.resolve("C.PRE").unwrap() else {
+            panic!()
+        };
+        assert_eq!(access, Access::ReadWrite);
+        assert!(matches!(l.resolve("T").unwrap(), Target::Timer(_)));
+        assert!(matches!(
+            l.resolve("s:fs").unwrap(),
+            Target::Value {
+                access: Access::ReadOnly,
+                ..
+            }
+        ));
+        assert!(matches!(
+            l.resolve("T.CU"),
+            Err(ResolveError::UnknownMember { .. })
+        ));
+        assert!(matches!(
+            l.resolve("X.PRE"),
+            Err(ResolveError::NotAStructure { .. })
+        ));
+        assert!(matches!(l.resolve("Y"), Err(ResolveError::UnknownTag(_))));
+        assert!(matches!(
+            l.resolve("DI:5/0"),
+            Err(ResolveError::BadAddress(_))
+        ));
+    }
+}

@@ -1,0 +1,1313 @@
+//! Checks a ladder program against the tag table and lowers it to the IR.
+//!
+//! Checking and lowering are one walk: each instruction's operands are
+//! resolved and checked against what the instruction expects (count, type,
+//! writability), then its ops are emitted. Every problem is reported; the
+//! emitted ops are only used when there is none.
+//!
+//! Numeric instructions compute in one *class* (DINT, LINT, REAL or LREAL)
+//! chosen from all their operands, destination included (SPEC §3.2: mixed
+//! INT/REAL arithmetic is done in REAL and converted to the destination).
+
+use crate::ast::{Arg, Element, Instr, Mnemonic, Operand, Program, Rung};
+use crate::expr::{self, BinE, Expr, Func};
+use alba_ir::{
+    Access, B, BinOp, Builder, Cmp, Ctr, Cvt, D, F, I, L, Layout, MarkerSlot, Op, Place,
+    ResolveError, Target, Tmr, UnOp, Width,
+};
+use alba_model::tags::is_identifier;
+use alba_model::{Address, Code, DataType, Diagnostic, Literal, Span, Value};
+use std::collections::HashMap;
+
+/// Literal presets and accumulators given so far, per slot, across all the
+/// programs of a project (two instructions on one timer must agree).
+#[derive(Debug, Default)]
+pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
+
+/// Compiles one ladder program into `b` as a unit named `name`.
+pub fn compile(
+    prog: &Program,
+    name: &str,
+    b: &mut Builder,
+    presets: &mut Presets,
+) -> Vec<Diagnostic> {
+    let mut c = Compiler {
+        b,
+        presets,
+        diags: Vec::new(),
+        labels: HashMap::new(),
+        jumps: Vec::new(),
+    };
+    c.b.begin_unit(name);
+    c.collect_labels(prog);
+    let mut rung_ops = Vec::with_capacity(prog.rungs.len());
+    for (n, rung) in prog.rungs.iter().enumerate() {
+        check_structure(rung, &mut c.diags);
+        rung_ops.push(c.b.begin_rung(n as u32, rung.span));
+        c.elements(&rung.elements);
+    }
+    for (at, label, span) in std::mem::take(&mut c.jumps) {
+        match c.labels.get(&label.to_ascii_uppercase()) {
+            Some(&(rung, _)) => c.b.patch_jump(at, rung_ops[rung]),
+            None if prog
+                .broken_labels
+                .iter()
+                .any(|l| l.eq_ignore_ascii_case(&label)) => {}
+            None => {
+                let mut d = Diagnostic::new(
+                    Code::MissingLabel,
+                    format!("no rung has LBL({label})"),
+                    span,
+                    "unknown label",
+                );
+                let mut all: Vec<&str> = c.labels.values().map(|(_, (n, _))| n.as_str()).collect();
+                if !all.is_empty() {
+                    all.sort_unstable();
+                    d = d.with_help(format!(
+                        "the labels of this program are: {}",
+                        all.join(", ")
+                    ));
+                }
+                c.diags.push(d);
+            }
+        }
+    }
+    c.b.end_unit();
+    c.diags
+}
+
+/// Addresses a program names directly (the layout sizes the I/O images to them).
+pub fn addresses(prog: &Program) -> Vec<Address> {
+    let mut out = Vec::new();
+    fn walk(elems: &[Element], out: &mut Vec<Address>) {
+        for e in elems {
+            match e {
+                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, out)),
+                Element::Instr(i) => {
+                    for (o, arg) in i.operands.iter().zip(i.mnemonic.args()) {
+                        if *arg == Arg::Expr {
+                            if let Ok(e) = expr::parse(&o.text, o.span.file, o.span.start as usize)
+                            {
+                                names(&e, out);
+                            }
+                        } else if let Ok(Some(a)) = Address::parse(&o.text) {
+                            out.push(a);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    fn names(e: &Expr, out: &mut Vec<Address>) {
+        match e {
+            Expr::Name(n, _) => {
+                if let Ok(Some(a)) = Address::parse(n) {
+                    out.push(a);
+                }
+            }
+            Expr::Neg(a) | Expr::Not(a, _) => names(a, out),
+            Expr::Bin(_, a, b, _) => {
+                names(a, out);
+                names(b, out);
+            }
+            Expr::Call(_, args, _) => args.iter().for_each(|a| names(a, out)),
+            Expr::Lit(..) | Expr::Const(_) => {}
+        }
+    }
+    for r in &prog.rungs {
+        walk(&r.elements, &mut out);
+    }
+    out
+}
+
+/// A rung needs an output instruction, and must end with one (as in Logix):
+/// the last element, or the last element of every leg of a final branch.
+fn check_structure(rung: &Rung, diags: &mut Vec<Diagnostic>) {
+    fn has_output(elems: &[Element]) -> bool {
+        elems.iter().any(|e| match e {
+            Element::Instr(i) => i.mnemonic.is_output(),
+            Element::Branch(b) => b.legs.iter().any(|l| has_output(l)),
+        })
+    }
+    /// The first trailing input instruction, if the sequence does not end with an output.
+    fn trailing_input(elems: &[Element]) -> Option<&Instr> {
+        match elems.last()? {
+            Element::Instr(i) if i.mnemonic.is_output() => None,
+            Element::Instr(i) => Some(i),
+            Element::Branch(b) => b.legs.iter().find_map(|l| trailing_input(l)),
+        }
+    }
+    if !has_output(&rung.elements) {
+        let span = rung.elements.first().map_or(rung.span, |e| e.span());
+        diags.push(
+            Diagnostic::new(Code::NoOutput, "this rung has no output instruction", span, "rung without output")
+                .with_help("end the rung with an output such as OTE(tag), OTL(tag), TON(timer,ms,0), MOV(src,dest) or NOP()"),
+        );
+    } else if let Some(i) = trailing_input(&rung.elements) {
+        diags.push(
+            Diagnostic::new(
+                Code::NoOutput,
+                format!(
+                    "the rung ends with the input instruction {}",
+                    i.mnemonic.name()
+                ),
+                i.span,
+                "input at the end",
+            )
+            .with_help("a rung (and each leg of a final branch) ends with an output instruction"),
+        );
+    }
+}
+
+/// A resolved operand.
+#[derive(Debug, Clone, Copy)]
+enum Opnd {
+    Lit(Literal),
+    Place(Place, Access),
+    Timer(Tmr),
+    Counter(Ctr),
+    /// `?`: no initial value given.
+    Unset,
+}
+
+/// Arithmetic class of an instruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Class {
+    I,
+    L,
+    F,
+    D,
+}
+
+/// A readable value in one class.
+#[derive(Debug, Clone, Copy)]
+enum V {
+    I(I),
+    L(L),
+    F(F),
+    D(D),
+}
+
+fn class_of_type(t: DataType) -> Class {
+    match t {
+        DataType::Lreal => Class::D,
+        DataType::Real => Class::F,
+        DataType::Lint => Class::L,
+        _ => Class::I,
+    }
+}
+
+fn class_of_lit(l: Literal) -> Class {
+    match l {
+        Literal::Real(_) => Class::F,
+        Literal::Int(v) | Literal::Time(v) if i32::try_from(v).is_err() => Class::L,
+        _ => Class::I,
+    }
+}
+
+fn promote(classes: impl IntoIterator<Item = Class>) -> Class {
+    let (mut l, mut f, mut d) = (false, false, false);
+    for c in classes {
+        match c {
+            Class::L => l = true,
+            Class::F => f = true,
+            Class::D => d = true,
+            Class::I => {}
+        }
+    }
+    if d || (f && l) {
+        Class::D
+    } else if f {
+        Class::F
+    } else if l {
+        Class::L
+    } else {
+        Class::I
+    }
+}
+
+fn float_class(c: Class) -> Class {
+    match c {
+        Class::I | Class::F => Class::F,
+        Class::L | Class::D => Class::D,
+    }
+}
+
+fn class_name(c: Class) -> &'static str {
+    match c {
+        Class::I => "DINT",
+        Class::L => "LINT",
+        Class::F => "REAL",
+        Class::D => "LREAL",
+    }
+}
+
+struct Compiler<'a> {
+    b: &'a mut Builder,
+    presets: &'a mut Presets,
+    diags: Vec<Diagnostic>,
+    /// Label (upper case) → (rung index, (name as written, span)).
+    labels: HashMap<String, (usize, (String, Span))>,
+    /// JMPs to patch: op index, label, span.
+    jumps: Vec<(u32, String, Span)>,
+}
+
+impl Compiler<'_> {
+    fn err(&mut self, code: Code, msg: impl Into<String>, span: Span, label: impl Into<String>) {
+        self.diags.push(Diagnostic::new(code, msg, span, label));
+    }
+
+    fn collect_labels(&mut self, prog: &Program) {
+        fn lbls<'p>(elems: &'p [Element], out: &mut Vec<&'p Instr>) {
+            for e in elems {
+                match e {
+                    Element::Instr(i) if i.mnemonic == Mnemonic::LBL => out.push(i),
+                    Element::Instr(_) => {}
+                    Element::Branch(b) => b.legs.iter().for_each(|l| lbls(l, out)),
+                }
+            }
+        }
+        for (n, rung) in prog.rungs.iter().enumerate() {
+            let mut found = Vec::new();
+            lbls(&rung.elements, &mut found);
+            for i in found {
+                let first =
+                    matches!(rung.elements.first(), Some(Element::Instr(f)) if std::ptr::eq(f, i));
+                if !first {
+                    self.err(
+                        Code::LabelNotFirst,
+                        "LBL must be the first instruction of its rung",
+                        i.span,
+                        "label not at the rung start",
+                    );
+                }
+                let Some(op) = i.operands.first() else {
+                    continue;
+                };
+                if !is_identifier(&op.text) {
+                    continue; // reported when the instruction is checked
+                }
+                let key = op.text.to_ascii_uppercase();
+                if let Some((_, (_, prev))) = self.labels.get(&key) {
+                    let prev = *prev;
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::DuplicateLabel,
+                            format!("label `{}` is set twice", op.text),
+                            op.span,
+                            "second LBL",
+                        )
+                        .with_note(prev, "first set here"),
+                    );
+                    continue;
+                }
+                self.labels.insert(key, (n, (op.text.clone(), op.span)));
+            }
+        }
+    }
+
+    fn elements(&mut self, elems: &[Element]) {
+        for e in elems {
+            match e {
+                Element::Instr(i) => {
+                    let elem = self.b.element(i.span);
+                    let mark = self.b.mark();
+                    self.instr(i, elem);
+                    self.b.release(mark);
+                }
+                Element::Branch(br) => {
+                    let elem = self.b.element(br.span);
+                    let mark = self.b.mark();
+                    let save = self.b.temp_b();
+                    let acc = self.b.temp_b();
+                    self.b.emit(Op::BrOpen { save, acc }, alba_ir::NO_ELEM);
+                    for (k, leg) in br.legs.iter().enumerate() {
+                        if k > 0 {
+                            self.b.emit(Op::BrNext { save, acc }, alba_ir::NO_ELEM);
+                        }
+                        self.elements(leg);
+                    }
+                    self.b.emit(Op::BrClose { acc }, elem);
+                    self.b.release(mark);
+                }
+            }
+        }
+    }
+
+    /// Resolves an operand's text to a literal, `?` or a place.
+    fn resolve(&mut self, o: &Operand) -> Option<Opnd> {
+        let t = o.text.as_str();
+        if t == "?" {
+            return Some(Opnd::Unset);
+        }
+        let upper = t.to_ascii_uppercase();
+        let looks_literal = t
+            .starts_with(|c: char| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'))
+            || upper == "TRUE"
+            || upper == "FALSE"
+            || upper.starts_with("T#")
+            || upper.starts_with("TIME#");
+        if looks_literal {
+            return match Literal::parse(t) {
+                Ok(l) => Some(Opnd::Lit(l)),
+                Err(m) => {
+                    self.err(Code::BadLiteral, m, o.span, "bad literal");
+                    None
+                }
+            };
+        }
+        match self.b.layout().resolve(t) {
+            Ok(Target::Value { place, access }) => Some(Opnd::Place(place, access)),
+            Ok(Target::Timer(tm)) => Some(Opnd::Timer(tm)),
+            Ok(Target::Counter(c)) => Some(Opnd::Counter(c)),
+            Err(e) => {
+                let code = match &e {
+                    ResolveError::UnknownTag(_) => Code::UnknownTag,
+                    ResolveError::UnknownMember { .. } => Code::UnknownMember,
+                    ResolveError::NotAStructure { .. } => Code::OperandType,
+                    ResolveError::BadAddress(_) | ResolveError::OutsideImage(_) => Code::BadAddress,
+                };
+                let mut d = Diagnostic::new(code, e.to_string(), o.span, "here");
+                if let ResolveError::UnknownTag(n) = &e {
+                    d = match self.b.layout().tags.suggest(n) {
+                        Some(s) => d.with_help(format!("did you mean `{s}`?")),
+                        None => d.with_help("declare it in tags.csv"),
+                    };
+                }
+                self.diags.push(d);
+                None
+            }
+        }
+    }
+
+    fn describe(&self, o: &Opnd) -> String {
+        match o {
+            Opnd::Lit(Literal::Bool(_)) => "a boolean literal".into(),
+            Opnd::Lit(Literal::Real(_)) => "a REAL literal".into(),
+            Opnd::Lit(_) => "an integer literal".into(),
+            Opnd::Place(p, _) => format!("a {}", p.data_type()),
+            Opnd::Timer(_) => "a TIMER".into(),
+            Opnd::Counter(_) => "a COUNTER".into(),
+            Opnd::Unset => "`?`".into(),
+        }
+    }
+
+    fn wrong(&mut self, i: &Instr, o: &Operand, r: &Opnd, expected: &str) {
+        let found = self.describe(r);
+        self.err(
+            Code::OperandType,
+            format!(
+                "{} expects {expected} here, found {found} `{}`",
+                i.mnemonic.name(),
+                o.text
+            ),
+            o.span,
+            format!("expected {expected}"),
+        );
+    }
+
+    fn not_writable(&mut self, o: &Operand, access: Access) {
+        let why = match access {
+            Access::Input => "it is an input, written only by the I/O",
+            _ => "it is read-only (a status bit or a system tag)",
+        };
+        self.err(
+            Code::NotWritable,
+            format!("`{}` cannot be written: {why}", o.text),
+            o.span,
+            "not writable",
+        );
+    }
+
+    /// Checks one operand against what its position expects.
+    fn check(&mut self, i: &Instr, o: &Operand, arg: Arg) -> Option<Opnd> {
+        if arg == Arg::Label {
+            if !is_identifier(&o.text) {
+                self.err(
+                    Code::Syntax,
+                    format!("`{}` is not a label name", o.text),
+                    o.span,
+                    "expected a name",
+                );
+                return None;
+            }
+            return Some(Opnd::Unset);
+        }
+        if arg == Arg::Expr {
+            return Some(Opnd::Unset);
+        }
+        let r = self.resolve(o)?;
+        let is_bool = |p: &Place| p.data_type() == DataType::Bool;
+        let ok = match (arg, &r) {
+            (Arg::BitIn, Opnd::Place(p, _)) => is_bool(p),
+            (Arg::BitOut, Opnd::Place(p, a)) if is_bool(p) => {
+                if *a != Access::ReadWrite {
+                    self.not_writable(o, *a);
+                    return None;
+                }
+                true
+            }
+            (Arg::Timer, Opnd::Timer(_)) | (Arg::Counter, Opnd::Counter(_)) => true,
+            (Arg::TimerOrCounter, Opnd::Timer(_) | Opnd::Counter(_)) => true,
+            (Arg::Preset, Opnd::Unset) | (Arg::Accum, Opnd::Unset) => true,
+            (Arg::Preset | Arg::Accum, Opnd::Lit(Literal::Int(v) | Literal::Time(v))) => {
+                if i32::try_from(*v).is_err() {
+                    self.err(
+                        Code::BadLiteral,
+                        format!("{v} does not fit a DINT"),
+                        o.span,
+                        "out of range",
+                    );
+                    return None;
+                }
+                if *v < 0 && matches!(i.mnemonic.group(), crate::ast::Group::Timer) {
+                    self.err(
+                        Code::BadLiteral,
+                        "a timer preset or accumulator cannot be negative",
+                        o.span,
+                        "negative time",
+                    );
+                    return None;
+                }
+                true
+            }
+            (Arg::Preset, Opnd::Place(p, _)) => {
+                class_of_type(p.data_type()) == Class::I && !is_bool(p)
+            }
+            (Arg::NumIn, Opnd::Lit(Literal::Bool(_))) => false,
+            (Arg::NumIn, Opnd::Lit(_)) => true,
+            (Arg::NumIn, Opnd::Place(p, _)) => p.data_type().is_numeric(),
+            (Arg::NumOut, Opnd::Place(p, a)) if p.data_type().is_numeric() => {
+                if *a != Access::ReadWrite {
+                    self.not_writable(o, *a);
+                    return None;
+                }
+                true
+            }
+            (Arg::Pid, _) => true,
+            _ => false,
+        };
+        if !ok {
+            let expected = match arg {
+                Arg::BitIn => "a BOOL",
+                Arg::BitOut => "a BOOL tag to write",
+                Arg::Timer => "a TIMER tag",
+                Arg::Counter => "a COUNTER tag",
+                Arg::TimerOrCounter => "a TIMER or COUNTER tag",
+                Arg::Preset => "an integer preset (literal, `?` or integer tag)",
+                Arg::Accum => "an integer literal or `?`",
+                Arg::NumIn => "a number (tag or literal)",
+                Arg::NumOut => "a numeric tag to write",
+                Arg::Label | Arg::Expr | Arg::Pid => "something else",
+            };
+            self.wrong(i, o, &r, expected);
+            return None;
+        }
+        Some(r)
+    }
+
+    fn instr(&mut self, i: &Instr, elem: u32) {
+        let m = i.mnemonic;
+        if m == Mnemonic::PID {
+            self.err(
+                Code::NotYetSupported,
+                "the PID instruction is reserved and not available yet",
+                i.name_span,
+                "reserved instruction",
+            );
+            return;
+        }
+        let args = m.args();
+        if i.operands.len() != args.len() {
+            let names: Vec<&str> = args.iter().map(|a| arg_name(*a)).collect();
+            self.err(
+                Code::OperandCount,
+                format!(
+                    "{} takes {} operand{}, found {}",
+                    m.name(),
+                    args.len(),
+                    if args.len() == 1 { "" } else { "s" },
+                    i.operands.len()
+                ),
+                i.span,
+                format!("expected {}({})", m.name(), names.join(",")),
+            );
+            return;
+        }
+        let mut ops = Vec::with_capacity(args.len());
+        let mut failed = false;
+        for (o, a) in i.operands.iter().zip(args) {
+            match self.check(i, o, *a) {
+                Some(r) => ops.push(r),
+                None => failed = true,
+            }
+        }
+        if failed {
+            return;
+        }
+        use Mnemonic as M;
+        match m {
+            M::XIC | M::XIO => {
+                let b = self.bool_in(ops[0], elem);
+                self.b
+                    .emit(if m == M::XIC { Op::Xic(b) } else { Op::Xio(b) }, elem);
+            }
+            M::OTE | M::OTL | M::OTU | M::ONS => {
+                let (b, post) = self.bool_out(ops[0], elem);
+                let op = match m {
+                    M::OTE => Op::Ote(b),
+                    M::OTL => Op::Otl(b),
+                    M::OTU => Op::Otu(b),
+                    _ => Op::Ons(b),
+                };
+                self.b.emit(op, elem);
+                self.post(post, elem);
+            }
+            M::OSR | M::OSF => {
+                let (s, p1) = self.bool_out(ops[0], elem);
+                let (o, p2) = self.bool_out(ops[1], elem);
+                self.b.emit(
+                    if m == M::OSR {
+                        Op::Osr(s, o)
+                    } else {
+                        Op::Osf(s, o)
+                    },
+                    elem,
+                );
+                self.post(p1, elem);
+                self.post(p2, elem);
+            }
+            M::TON | M::TOF | M::RTO | M::TP => {
+                let Opnd::Timer(t) = ops[0] else { return };
+                self.preset(t.i, &i.operands[1], ops[1], elem);
+                self.accum(I(t.i.0 + 1), &i.operands[2], ops[2]);
+                let op = match m {
+                    M::TON => Op::Ton(t),
+                    M::TOF => Op::Tof(t),
+                    M::RTO => Op::Rto(t),
+                    _ => Op::Tp(t),
+                };
+                self.b.emit(op, elem);
+            }
+            M::CTU | M::CTD => {
+                let Opnd::Counter(c) = ops[0] else { return };
+                self.preset(c.i, &i.operands[1], ops[1], elem);
+                self.accum(I(c.i.0 + 1), &i.operands[2], ops[2]);
+                self.b
+                    .emit(if m == M::CTU { Op::Ctu(c) } else { Op::Ctd(c) }, elem);
+            }
+            M::RES => match ops[0] {
+                Opnd::Timer(t) => {
+                    self.b.emit(Op::ResT(t), elem);
+                }
+                Opnd::Counter(c) => {
+                    self.b.emit(Op::ResC(c), elem);
+                }
+                _ => {}
+            },
+            M::EQU | M::NEQ | M::LES | M::GRT | M::LEQ | M::GEQ => {
+                let cmp = match m {
+                    M::EQU => Cmp::Eq,
+                    M::NEQ => Cmp::Ne,
+                    M::LES => Cmp::Lt,
+                    M::GRT => Cmp::Gt,
+                    M::LEQ => Cmp::Le,
+                    _ => Cmp::Ge,
+                };
+                let c = self.class(&ops);
+                let a = self.read(ops[0], c, elem);
+                let b = self.read(ops[1], c, elem);
+                let op = match (a, b) {
+                    (V::I(a), V::I(b)) => Op::CmpI(cmp, a, b),
+                    (V::F(a), V::F(b)) => Op::CmpF(cmp, a, b),
+                    (V::L(a), V::L(b)) => Op::CmpL(cmp, a, b),
+                    (V::D(a), V::D(b)) => Op::CmpD(cmp, a, b),
+                    _ => return,
+                };
+                self.b.emit(op, elem);
+            }
+            M::LIM => {
+                let c = self.class(&ops);
+                let v: Vec<V> = ops.iter().map(|o| self.read(*o, c, elem)).collect();
+                let op = match (v[0], v[1], v[2]) {
+                    (V::I(a), V::I(b), V::I(d)) => Op::LimI(a, b, d),
+                    (V::F(a), V::F(b), V::F(d)) => Op::LimF(a, b, d),
+                    (V::L(a), V::L(b), V::L(d)) => Op::LimL(a, b, d),
+                    (V::D(a), V::D(b), V::D(d)) => Op::LimD(a, b, d),
+                    _ => return,
+                };
+                self.b.emit(op, elem);
+            }
+            M::MEQ => {
+                let c = self.class(&ops);
+                if !self.integer_only(i, c) {
+                    return;
+                }
+                let v: Vec<V> = ops.iter().map(|o| self.read(*o, c, elem)).collect();
+                let op = match (v[0], v[1], v[2]) {
+                    (V::I(a), V::I(b), V::I(d)) => Op::MeqI(a, b, d),
+                    (V::L(a), V::L(b), V::L(d)) => Op::MeqL(a, b, d),
+                    _ => return,
+                };
+                self.b.emit(op, elem);
+            }
+            M::ADD | M::SUB | M::MUL | M::DIV | M::MOD | M::XPY | M::AND | M::OR | M::XOR => {
+                let op = match m {
+                    M::ADD => BinOp::Add,
+                    M::SUB => BinOp::Sub,
+                    M::MUL => BinOp::Mul,
+                    M::DIV => BinOp::Div,
+                    M::MOD => BinOp::Mod,
+                    M::XPY => BinOp::Pow,
+                    M::AND => BinOp::And,
+                    M::OR => BinOp::Or,
+                    _ => BinOp::Xor,
+                };
+                let mut c = self.class(&ops);
+                if m == M::XPY {
+                    c = float_class(c);
+                }
+                if matches!(m, M::AND | M::OR | M::XOR) && !self.integer_only(i, c) {
+                    return;
+                }
+                let a = self.read(ops[0], c, elem);
+                let b = self.read(ops[1], c, elem);
+                let Opnd::Place(dest, _) = ops[2] else { return };
+                let (d, post) = self.dest(dest, c, elem);
+                self.bin(op, a, b, d, elem);
+                self.post(post, elem);
+            }
+            M::SQR
+            | M::LN
+            | M::LOG
+            | M::SIN
+            | M::COS
+            | M::TAN
+            | M::ASN
+            | M::ACS
+            | M::ATN
+            | M::DEG
+            | M::RAD => {
+                let op = match m {
+                    M::SQR => UnOp::Sqrt,
+                    M::LN => UnOp::Ln,
+                    M::LOG => UnOp::Log,
+                    M::SIN => UnOp::Sin,
+                    M::COS => UnOp::Cos,
+                    M::TAN => UnOp::Tan,
+                    M::ASN => UnOp::Asin,
+                    M::ACS => UnOp::Acos,
+                    M::ATN => UnOp::Atan,
+                    M::DEG => UnOp::Deg,
+                    _ => UnOp::Rad,
+                };
+                let c = float_class(self.class(&ops));
+                self.unary(op, &ops, c, elem);
+            }
+            M::NEG | M::ABS | M::MOV | M::NOT => {
+                let op = match m {
+                    M::NEG => UnOp::Neg,
+                    M::ABS => UnOp::Abs,
+                    M::MOV => UnOp::Mov,
+                    _ => UnOp::Not,
+                };
+                let c = self.class(&ops);
+                if m == M::NOT && !self.integer_only(i, c) {
+                    return;
+                }
+                self.unary(op, &ops, c, elem);
+            }
+            M::CLR => {
+                let zero = [Opnd::Lit(Literal::Int(0)), ops[0]];
+                let c = self.class(&zero);
+                self.unary(UnOp::Mov, &zero, c, elem);
+            }
+            M::SCP => {
+                let c = float_class(self.class(&ops));
+                let v: Vec<V> = ops[..5].iter().map(|o| self.read(*o, c, elem)).collect();
+                let (input, in_min, in_max, sc_min, sc_max) = (v[0], v[1], v[2], v[3], v[4]);
+                let span_out = self.temp(c);
+                self.bin(BinOp::Sub, sc_max, sc_min, span_out, elem);
+                let span_in = self.temp(c);
+                self.bin(BinOp::Sub, in_max, in_min, span_in, elem);
+                let slope = self.temp(c);
+                self.bin(BinOp::Div, span_out, span_in, slope, elem);
+                let offset = self.temp(c);
+                self.bin(BinOp::Sub, input, in_min, offset, elem);
+                let scaled = self.temp(c);
+                self.bin(BinOp::Mul, offset, slope, scaled, elem);
+                let Opnd::Place(dest, _) = ops[5] else { return };
+                let (d, post) = self.dest(dest, c, elem);
+                self.bin(BinOp::Add, scaled, sc_min, d, elem);
+                self.post(post, elem);
+            }
+            M::CPT => self.cpt(i, ops[0], elem),
+            M::JMP => {
+                let at = self.b.emit(Op::Jmp(0), elem);
+                self.jumps
+                    .push((at, i.operands[0].text.clone(), i.operands[0].span));
+            }
+            M::LBL | M::NOP => {
+                self.b.emit(Op::Nop, elem);
+            }
+            M::AFI => {
+                self.b.emit(Op::Afi, elem);
+            }
+            M::PID => {}
+        }
+    }
+
+    fn integer_only(&mut self, i: &Instr, c: Class) -> bool {
+        if matches!(c, Class::F | Class::D) {
+            self.err(
+                Code::OperandType,
+                format!(
+                    "{} works on integers, but an operand is {}",
+                    i.mnemonic.name(),
+                    class_name(c)
+                ),
+                i.span,
+                "integer instruction",
+            );
+            return false;
+        }
+        true
+    }
+
+    /// The class of an instruction from all its numeric operands.
+    fn class(&self, ops: &[Opnd]) -> Class {
+        promote(ops.iter().filter_map(|o| match o {
+            Opnd::Lit(l) => Some(class_of_lit(*l)),
+            Opnd::Place(p, _) => Some(class_of_type(p.data_type())),
+            _ => None,
+        }))
+    }
+
+    fn temp(&mut self, c: Class) -> V {
+        match c {
+            Class::I => V::I(self.b.temp_i()),
+            Class::L => V::L(self.b.temp_l()),
+            Class::F => V::F(self.b.temp_f()),
+            Class::D => V::D(self.b.temp_d()),
+        }
+    }
+
+    fn post(&mut self, ops: Vec<Op>, elem: u32) {
+        for op in ops {
+            self.b.emit(op, elem);
+        }
+    }
+
+    fn bool_in(&mut self, o: Opnd, elem: u32) -> B {
+        match o {
+            Opnd::Place(Place::Bool(b), _) => b,
+            Opnd::Place(Place::MBit { byte, bit }, _) => {
+                let t = self.b.temp_b();
+                self.b.emit(Op::LdBit { byte, bit, dst: t }, elem);
+                t
+            }
+            _ => self.b.temp_b(),
+        }
+    }
+
+    /// A bool slot to write, and the ops that store it back (marker bits).
+    fn bool_out(&mut self, o: Opnd, elem: u32) -> (B, Vec<Op>) {
+        match o {
+            Opnd::Place(Place::MBit { byte, bit }, _) => {
+                let t = self.bool_in(o, elem);
+                (t, vec![Op::StBit { src: t, byte, bit }])
+            }
+            _ => (self.bool_in(o, elem), vec![]),
+        }
+    }
+
+    /// Loads a numeric place in its own class (marker values into temporaries).
+    fn load(&mut self, p: Place, elem: u32) -> V {
+        let marker = |this: &mut Self, byte: u32, f: fn(I) -> MarkerSlot| {
+            let t = this.b.temp_i();
+            this.b.emit(Op::LdM { byte, slot: f(t) }, elem);
+            V::I(t)
+        };
+        match p {
+            Place::Int(i, _) => V::I(i),
+            Place::Real(f) => V::F(f),
+            Place::Lint(l) => V::L(l),
+            Place::Lreal(d) => V::D(d),
+            Place::MByte(at) => marker(self, at, MarkerSlot::Byte),
+            Place::MWord(at) => marker(self, at, MarkerSlot::Word),
+            Place::MDword(at, _) => marker(self, at, MarkerSlot::DWord),
+            Place::MReal(at) => {
+                let t = self.b.temp_f();
+                self.b.emit(
+                    Op::LdM {
+                        byte: at,
+                        slot: MarkerSlot::Real(t),
+                    },
+                    elem,
+                );
+                V::F(t)
+            }
+            Place::Bool(_) | Place::MBit { .. } => V::I(self.b.temp_i()),
+        }
+    }
+
+    /// Reads an operand as a value of class `c`.
+    fn read(&mut self, o: Opnd, c: Class, elem: u32) -> V {
+        match o {
+            Opnd::Lit(l) => self.constant(l, c),
+            Opnd::Place(p, _) => {
+                let v = self.load(p, elem);
+                self.convert(v, c, elem)
+            }
+            _ => self.temp(c),
+        }
+    }
+
+    fn constant(&mut self, l: Literal, c: Class) -> V {
+        let (int, real) = match l {
+            Literal::Int(v) | Literal::Time(v) => (v, v as f64),
+            Literal::Real(r) => (r as i64, r),
+            Literal::Bool(b) => (b as i64, b as i64 as f64),
+        };
+        match c {
+            Class::I => V::I(self.b.const_i(int as i32)),
+            Class::L => V::L(self.b.const_l(int)),
+            Class::F => V::F(self.b.const_f(real as f32)),
+            Class::D => V::D(self.b.const_d(real)),
+        }
+    }
+
+    fn convert(&mut self, v: V, c: Class, elem: u32) -> V {
+        let t = match (v, c) {
+            (V::I(_), Class::I)
+            | (V::L(_), Class::L)
+            | (V::F(_), Class::F)
+            | (V::D(_), Class::D) => return v,
+            _ => self.temp(c),
+        };
+        let cvt = match (v, t) {
+            (V::I(a), V::F(b)) => Cvt::IF(a, b),
+            (V::I(a), V::L(b)) => Cvt::IL(a, b),
+            (V::I(a), V::D(b)) => Cvt::ID(a, b),
+            (V::F(a), V::I(b)) => Cvt::FI(a, b),
+            (V::F(a), V::L(b)) => Cvt::FL(a, b),
+            (V::F(a), V::D(b)) => Cvt::FD(a, b),
+            (V::L(a), V::I(b)) => Cvt::LI(a, b),
+            (V::L(a), V::F(b)) => Cvt::LF(a, b),
+            (V::L(a), V::D(b)) => Cvt::LD(a, b),
+            (V::D(a), V::I(b)) => Cvt::DI(a, b),
+            (V::D(a), V::F(b)) => Cvt::DF(a, b),
+            (V::D(a), V::L(b)) => Cvt::DL(a, b),
+            _ => return v,
+        };
+        self.b.emit(Op::Cvt(cvt), elem);
+        t
+    }
+
+    /// Where an instruction of class `c` writes its result for `p`, and the
+    /// ops that then convert, narrow and store it.
+    fn dest(&mut self, p: Place, c: Class, elem: u32) -> (V, Vec<Op>) {
+        let narrow = |i: I, ty: DataType| match ty {
+            DataType::Sint => vec![Op::Narrow(i, Width::W8)],
+            DataType::Int => vec![Op::Narrow(i, Width::W16)],
+            _ => vec![],
+        };
+        let (native, mut post) = match p {
+            Place::Int(i, ty) => (V::I(i), narrow(i, ty)),
+            Place::Real(f) => (V::F(f), vec![]),
+            Place::Lint(l) => (V::L(l), vec![]),
+            Place::Lreal(d) => (V::D(d), vec![]),
+            Place::MByte(at) | Place::MWord(at) | Place::MDword(at, _) | Place::MReal(at) => {
+                // Preload, so the store-back is right when the rung is false.
+                let v = self.load(p, elem);
+                let store = match (p, v) {
+                    (Place::MByte(_), V::I(t)) => vec![
+                        Op::Narrow(t, Width::W8),
+                        Op::StM {
+                            byte: at,
+                            slot: MarkerSlot::Byte(t),
+                        },
+                    ],
+                    (Place::MWord(_), V::I(t)) => vec![
+                        Op::Narrow(t, Width::W16),
+                        Op::StM {
+                            byte: at,
+                            slot: MarkerSlot::Word(t),
+                        },
+                    ],
+                    (Place::MDword(..), V::I(t)) => vec![Op::StM {
+                        byte: at,
+                        slot: MarkerSlot::DWord(t),
+                    }],
+                    (_, V::F(t)) => vec![Op::StM {
+                        byte: at,
+                        slot: MarkerSlot::Real(t),
+                    }],
+                    _ => vec![],
+                };
+                (v, store)
+            }
+            Place::Bool(_) | Place::MBit { .. } => (self.temp(c), vec![]),
+        };
+        let same = matches!(
+            (native, c),
+            (V::I(_), Class::I) | (V::L(_), Class::L) | (V::F(_), Class::F) | (V::D(_), Class::D)
+        );
+        if same {
+            return (native, post);
+        }
+        let t = self.temp(c);
+        let cvt = match (t, native) {
+            (V::I(a), V::F(b)) => Cvt::IF(a, b),
+            (V::I(a), V::L(b)) => Cvt::IL(a, b),
+            (V::I(a), V::D(b)) => Cvt::ID(a, b),
+            (V::F(a), V::I(b)) => Cvt::FI(a, b),
+            (V::F(a), V::L(b)) => Cvt::FL(a, b),
+            (V::F(a), V::D(b)) => Cvt::FD(a, b),
+            (V::L(a), V::I(b)) => Cvt::LI(a, b),
+            (V::L(a), V::F(b)) => Cvt::LF(a, b),
+            (V::L(a), V::D(b)) => Cvt::LD(a, b),
+            (V::D(a), V::I(b)) => Cvt::DI(a, b),
+            (V::D(a), V::F(b)) => Cvt::DF(a, b),
+            (V::D(a), V::L(b)) => Cvt::DL(a, b),
+            _ => return (native, post),
+        };
+        post.insert(0, Op::Cvt(cvt));
+        (t, post)
+    }
+
+    fn bin(&mut self, op: BinOp, a: V, b: V, d: V, elem: u32) {
+        let op = match (a, b, d) {
+            (V::I(a), V::I(b), V::I(d)) => Op::BinI(op, a, b, d),
+            (V::F(a), V::F(b), V::F(d)) => Op::BinF(op, a, b, d),
+            (V::L(a), V::L(b), V::L(d)) => Op::BinL(op, a, b, d),
+            (V::D(a), V::D(b), V::D(d)) => Op::BinD(op, a, b, d),
+            _ => return,
+        };
+        self.b.emit(op, elem);
+    }
+
+    fn un(&mut self, op: UnOp, a: V, d: V, elem: u32) {
+        let op = match (a, d) {
+            (V::I(a), V::I(d)) => Op::UnI(op, a, d),
+            (V::F(a), V::F(d)) => Op::UnF(op, a, d),
+            (V::L(a), V::L(d)) => Op::UnL(op, a, d),
+            (V::D(a), V::D(d)) => Op::UnD(op, a, d),
+            _ => return,
+        };
+        self.b.emit(op, elem);
+    }
+
+    /// `dest = op src` with `ops = [src, dest]`.
+    fn unary(&mut self, op: UnOp, ops: &[Opnd], c: Class, elem: u32) {
+        let a = self.read(ops[0], c, elem);
+        let Opnd::Place(dest, _) = ops[1] else { return };
+        let (d, post) = self.dest(dest, c, elem);
+        self.un(op, a, d, elem);
+        self.post(post, elem);
+    }
+
+    fn preset(&mut self, pre: I, o: &Operand, r: Opnd, elem: u32) {
+        match r {
+            Opnd::Lit(l) => self.initial(pre, o, l),
+            Opnd::Place(p, _) => {
+                if let V::I(src) = self.load(p, elem) {
+                    self.b.emit(Op::CopyI(src, pre), elem);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn accum(&mut self, acc: I, o: &Operand, r: Opnd) {
+        if let Opnd::Lit(l) = r {
+            self.initial(acc, o, l);
+        }
+    }
+
+    /// Records a literal PRE/ACC as the structure's initial value, refusing
+    /// a second, different one.
+    fn initial(&mut self, slot: I, o: &Operand, l: Literal) {
+        let v = match l {
+            Literal::Int(v) | Literal::Time(v) => v,
+            _ => return,
+        };
+        match self.presets.0.get(&(0, slot.0)) {
+            Some(&(prev, span)) if prev != v => {
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::ConflictingPreset,
+                        format!("`{}` conflicts with the value {prev} given earlier for the same structure", o.text),
+                        o.span,
+                        "different initial value",
+                    )
+                    .with_note(span, "first given here")
+                    .with_help("give the same literal in both places, or `?` in one of them"),
+                );
+            }
+            Some(_) => {}
+            None => {
+                self.presets.0.insert((0, slot.0), (v, o.span));
+                self.b
+                    .set_initial(Place::Int(slot, DataType::Dint), Value::Dint(v as i32));
+            }
+        }
+    }
+
+    fn cpt(&mut self, i: &Instr, dest: Opnd, elem: u32) {
+        let o = &i.operands[1];
+        let e = match expr::parse(&o.text, o.span.file, o.span.start as usize) {
+            Ok(e) => e,
+            Err((msg, span)) => {
+                self.err(Code::Expression, msg, span, "in this expression");
+                return;
+            }
+        };
+        // Resolve the leaves first: types decide the class.
+        let mut leaves = Vec::new();
+        let mut float_ops = false;
+        if !self.leaves(&e, &mut leaves, &mut float_ops) {
+            return;
+        }
+        let Opnd::Place(dest_place, _) = dest else {
+            return;
+        };
+        let mut classes: Vec<Class> = leaves
+            .iter()
+            .map(|(p, _)| class_of_type(p.data_type()))
+            .collect();
+        classes.push(class_of_type(dest_place.data_type()));
+        collect_literal_classes(&e, &mut classes);
+        let mut c = promote(classes);
+        if float_ops {
+            c = float_class(c);
+        }
+        let mut leaves = leaves.into_iter();
+        let Some(v) = self.expr(&e, c, &mut leaves, elem) else {
+            return;
+        };
+        let (d, post) = self.dest(dest_place, c, elem);
+        self.un(UnOp::Mov, v, d, elem);
+        self.post(post, elem);
+    }
+
+    /// Resolves every name of the expression in order; notes float-only operations.
+    fn leaves(&mut self, e: &Expr, out: &mut Vec<(Place, Span)>, float_ops: &mut bool) -> bool {
+        match e {
+            Expr::Lit(Literal::Bool(_), sp) => {
+                self.err(
+                    Code::Expression,
+                    "booleans are not values in CPT; use 1 or 0",
+                    *sp,
+                    "boolean",
+                );
+                false
+            }
+            Expr::Lit(..) => true,
+            Expr::Const(_) => {
+                *float_ops = true;
+                true
+            }
+            Expr::Name(n, sp) => {
+                let o = Operand {
+                    text: n.clone(),
+                    span: *sp,
+                };
+                match self.resolve(&o) {
+                    Some(Opnd::Place(p, _)) if p.data_type().is_numeric() => {
+                        out.push((p, *sp));
+                        true
+                    }
+                    Some(r) => {
+                        let found = self.describe(&r);
+                        self.err(
+                            Code::OperandType,
+                            format!("CPT needs numbers, found {found} `{n}`"),
+                            *sp,
+                            "not a number",
+                        );
+                        false
+                    }
+                    None => false,
+                }
+            }
+            Expr::Neg(a) | Expr::Not(a, _) => self.leaves(a, out, float_ops),
+            Expr::Bin(op, a, b, _) => {
+                if *op == BinE::Pow {
+                    *float_ops = true;
+                }
+                // Evaluate both sides even if the first fails, to report all errors.
+                let x = self.leaves(a, out, float_ops);
+                let y = self.leaves(b, out, float_ops);
+                x && y
+            }
+            Expr::Call(f, args, _) => {
+                if !matches!(
+                    f,
+                    Func::Abs | Func::Trn | Func::Round | Func::Frd | Func::Tod
+                ) {
+                    *float_ops = true;
+                }
+                let mut ok = true;
+                for a in args {
+                    ok &= self.leaves(a, out, float_ops);
+                }
+                ok
+            }
+        }
+    }
+
+    fn expr(
+        &mut self,
+        e: &Expr,
+        c: Class,
+        leaves: &mut impl Iterator<Item = (Place, Span)>,
+        elem: u32,
+    ) -> Option<V> {
+        let int_only = |this: &mut Self, what: &str, sp: Span| -> bool {
+            if matches!(c, Class::F | Class::D) {
+                this.err(
+                    Code::Expression,
+                    format!(
+                        "{what} works on integers, but this expression is computed in {}",
+                        class_name(c)
+                    ),
+                    sp,
+                    "integer operation",
+                );
+                return false;
+            }
+            true
+        };
+        Some(match e {
+            Expr::Lit(l, _) => self.constant(*l, c),
+            Expr::Const(k) => self.constant(Literal::Real(*k), c),
+            Expr::Name(..) => {
+                let (p, _) = leaves.next()?;
+                let v = self.load(p, elem);
+                self.convert(v, c, elem)
+            }
+            Expr::Neg(a) => {
+                let a = self.expr(a, c, leaves, elem)?;
+                let t = self.temp(c);
+                self.un(UnOp::Neg, a, t, elem);
+                t
+            }
+            Expr::Not(a, sp) => {
+                if !int_only(self, "NOT", *sp) {
+                    return None;
+                }
+                let a = self.expr(a, c, leaves, elem)?;
+                let t = self.temp(c);
+                self.un(UnOp::Not, a, t, elem);
+                t
+            }
+            Expr::Bin(op, a, b, sp) => {
+                let op = match op {
+                    BinE::Or => BinOp::Or,
+                    BinE::Xor => BinOp::Xor,
+                    BinE::And => BinOp::And,
+                    BinE::Eq => BinOp::Cmp(Cmp::Eq),
+                    BinE::Ne => BinOp::Cmp(Cmp::Ne),
+                    BinE::Lt => BinOp::Cmp(Cmp::Lt),
+                    BinE::Gt => BinOp::Cmp(Cmp::Gt),
+                    BinE::Le => BinOp::Cmp(Cmp::Le),
+                    BinE::Ge => BinOp::Cmp(Cmp::Ge),
+                    BinE::Add => BinOp::Add,
+                    BinE::Sub => BinOp::Sub,
+                    BinE::Mul => BinOp::Mul,
+                    BinE::Div => BinOp::Div,
+                    BinE::Mod => BinOp::Mod,
+                    BinE::Pow => BinOp::Pow,
+                };
+                if matches!(op, BinOp::And | BinOp::Or | BinOp::Xor) {
+                    let name = format!("{op:?}").to_ascii_uppercase();
+                    if !int_only(self, &name, *sp) {
+                        return None;
+                    }
+                }
+                let a = self.expr(a, c, leaves, elem)?;
+                let b = self.expr(b, c, leaves, elem)?;
+                let t = self.temp(c);
+                self.bin(op, a, b, t, elem);
+                t
+            }
+            Expr::Call(f, args, sp) => {
+                let a = self.expr(&args[0], c, leaves, elem)?;
+                let t = self.temp(c);
+                if *f == Func::Atan2 {
+                    let b = self.expr(&args[1], c, leaves, elem)?;
+                    self.bin(BinOp::Atan2, a, b, t, elem);
+                    return Some(t);
+                }
+                let float = matches!(c, Class::F | Class::D);
+                let op = match f {
+                    Func::Sqrt => UnOp::Sqrt,
+                    Func::Abs => UnOp::Abs,
+                    Func::Sin => UnOp::Sin,
+                    Func::Cos => UnOp::Cos,
+                    Func::Tan => UnOp::Tan,
+                    Func::Asn => UnOp::Asin,
+                    Func::Acs => UnOp::Acos,
+                    Func::Atn => UnOp::Atan,
+                    Func::Ln => UnOp::Ln,
+                    Func::Log => UnOp::Log,
+                    Func::Deg => UnOp::Deg,
+                    Func::Rad => UnOp::Rad,
+                    Func::Trn if float => UnOp::Trunc,
+                    Func::Round if float => UnOp::Round,
+                    Func::Trn | Func::Round => UnOp::Mov,
+                    Func::Frd | Func::Tod => {
+                        let name = if *f == Func::Frd { "FRD" } else { "TOD" };
+                        if !int_only(self, name, *sp) {
+                            return None;
+                        }
+                        if *f == Func::Frd {
+                            UnOp::Frd
+                        } else {
+                            UnOp::Tod
+                        }
+                    }
+                    Func::Atan2 => return None,
+                };
+                self.un(op, a, t, elem);
+                t
+            }
+        })
+    }
+}
+
+fn collect_literal_classes(e: &Expr, out: &mut Vec<Class>) {
+    match e {
+        Expr::Lit(l, _) => out.push(class_of_lit(*l)),
+        Expr::Neg(a) | Expr::Not(a, _) => collect_literal_classes(a, out),
+        Expr::Bin(_, a, b, _) => {
+            collect_literal_classes(a, out);
+            collect_literal_classes(b, out);
+        }
+        Expr::Call(_, args, _) => args.iter().for_each(|a| collect_literal_classes(a, out)),
+        Expr::Name(..) | Expr::Const(_) => {}
+    }
+}
+
+fn arg_name(a: Arg) -> &'static str {
+    match a {
+        Arg::BitIn | Arg::BitOut => "bit",
+        Arg::Timer => "timer",
+        Arg::Counter => "counter",
+        Arg::TimerOrCounter => "timer_or_counter",
+        Arg::Preset => "preset",
+        Arg::Accum => "accum",
+        Arg::NumIn => "source",
+        Arg::NumOut => "dest",
+        Arg::Label => "label",
+        Arg::Expr => "expression",
+        Arg::Pid => "pid",
+    }
+}
+
+/// The layout used for ladder programs: tags plus the addresses programs name.
+pub fn layout_for(tags: &alba_model::TagTable, programs: &[&Program]) -> Layout {
+    let used: Vec<Address> = programs.iter().flat_map(|p| addresses(p)).collect();
+    Layout::new(tags, &used)
+}

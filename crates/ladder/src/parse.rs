@@ -1,0 +1,390 @@
+//! Parser for Rockwell neutral text (SPEC §3.1).
+//!
+//! ```text
+//! program  := { comment | rung }
+//! rung     := { element } ";"
+//! element  := instr | branch
+//! instr    := NAME "(" [ operand { "," operand } ] ")"
+//! branch   := "[" leg { "," leg } "]"
+//! leg      := element { element }
+//! comment  := "//" text to end of line
+//! ```
+//! Whitespace may appear between any two tokens. An operand is the raw text
+//! up to the next `,` or `)` outside parentheses (so `CPT(x,ATAN2(a,b))`
+//! works); its meaning is checked later. A syntax error drops its rung and
+//! parsing resumes after the next `;`, so one pass reports every error.
+
+use crate::ast::{Branch, Element, Instr, Mnemonic, Operand, Program, Rung};
+use alba_model::tags::edit_distance;
+use alba_model::{Code, Diagnostic, FileId, Span};
+
+/// Parses a ladder program. Rungs with errors are left out of the result
+/// and reported.
+pub fn parse(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
+    let mut p = Parser {
+        src: text,
+        pos: 0,
+        file,
+        diags: Vec::new(),
+        broken_labels: Vec::new(),
+    };
+    let mut rungs = Vec::new();
+    let mut comment = Vec::new();
+    loop {
+        p.skip_ws();
+        if p.pos >= p.src.len() {
+            break;
+        }
+        if p.src[p.pos..].starts_with("//") {
+            comment.push(p.line_comment());
+            continue;
+        }
+        if let Some(r) = p.rung(std::mem::take(&mut comment)) {
+            rungs.push(r);
+        }
+    }
+    let trailing_comment = (!comment.is_empty()).then(|| comment.join("\n"));
+    let program = Program {
+        rungs,
+        trailing_comment,
+        broken_labels: p.broken_labels,
+    };
+    (program, p.diags)
+}
+
+struct Parser<'a> {
+    src: &'a str,
+    pos: usize,
+    file: FileId,
+    diags: Vec<Diagnostic>,
+    broken_labels: Vec<String>,
+}
+
+/// A syntax error was reported; the rung is abandoned.
+struct Abandon;
+
+impl Parser<'_> {
+    fn span(&self, start: usize, end: usize) -> Span {
+        Span::new(self.file, start..end)
+    }
+
+    fn peek(&self) -> Option<u8> {
+        self.src.as_bytes().get(self.pos).copied()
+    }
+
+    fn skip_ws(&mut self) {
+        while let Some(c) = self.peek() {
+            if c.is_ascii_whitespace() {
+                self.pos += 1;
+            } else {
+                break;
+            }
+        }
+    }
+
+    /// Reads a `//` comment (at `pos`) to the end of its line.
+    fn line_comment(&mut self) -> String {
+        let start = self.pos + 2;
+        let end = self.src[start..]
+            .find('\n')
+            .map_or(self.src.len(), |i| start + i);
+        self.pos = end;
+        self.src[start..end].trim().to_string()
+    }
+
+    fn error(&mut self, code: Code, msg: impl Into<String>, start: usize, end: usize, label: &str) {
+        let d = Diagnostic::new(code, msg, self.span(start, end), label);
+        self.diags.push(d);
+    }
+
+    /// Span of the character at `pos` (or an empty span at the end).
+    fn char_end(&self, pos: usize) -> usize {
+        self.src[pos..]
+            .chars()
+            .next()
+            .map_or(pos, |c| pos + c.len_utf8())
+    }
+
+    fn rung(&mut self, mut comment: Vec<String>) -> Option<Rung> {
+        let start = self.pos;
+        let mut ok = true;
+        let elements = match self.elements(false, start, &mut comment, &mut ok) {
+            Ok(e) => e,
+            Err(Abandon) => {
+                self.recover(start);
+                return None;
+            }
+        };
+        if !ok {
+            return None;
+        }
+        Some(Rung {
+            comment,
+            elements,
+            span: self.span(start, self.pos),
+        })
+    }
+
+    /// After an error: remember labels of the rung (so JMPs to them do not
+    /// report a second error) and skip past the next `;`.
+    fn recover(&mut self, start: usize) {
+        let end = self.src[self.pos..]
+            .find(';')
+            .map_or(self.src.len(), |i| self.pos + i + 1);
+        let text = self.src[start..end].to_ascii_uppercase();
+        let mut rest = text.as_str();
+        while let Some(i) = rest.find("LBL") {
+            rest = &rest[i + 3..];
+            let inner = rest.trim_start();
+            if let Some(after) = inner.strip_prefix('(')
+                && let Some(close) = after.find(')')
+            {
+                self.broken_labels.push(after[..close].trim().to_string());
+            }
+        }
+        self.pos = end;
+    }
+
+    /// Elements up to `;` (top level, consumed) or `,`/`]` (in a branch, not consumed).
+    fn elements(
+        &mut self,
+        in_branch: bool,
+        rung_start: usize,
+        comment: &mut Vec<String>,
+        ok: &mut bool,
+    ) -> Result<Vec<Element>, Abandon> {
+        let mut out = Vec::new();
+        loop {
+            self.skip_ws();
+            if self.src[self.pos..].starts_with("//") {
+                comment.push(self.line_comment());
+                continue;
+            }
+            match self.peek() {
+                None => {
+                    self.error(
+                        Code::UnterminatedRung,
+                        "this rung does not end with `;`",
+                        rung_start,
+                        self.char_end(rung_start),
+                        "rung starts here",
+                    );
+                    return Err(Abandon);
+                }
+                Some(b';') if in_branch => {
+                    self.error(
+                        Code::Unbalanced,
+                        "the branch is not closed before `;`",
+                        self.pos,
+                        self.pos + 1,
+                        "expected `]` before this",
+                    );
+                    return Err(Abandon);
+                }
+                Some(b';') => {
+                    self.pos += 1;
+                    return Ok(out);
+                }
+                Some(b',' | b']') if in_branch => return Ok(out),
+                Some(c @ (b',' | b']')) => {
+                    let what = if c == b',' {
+                        "a `,` outside a branch"
+                    } else {
+                        "a `]` without its `[`"
+                    };
+                    self.error(
+                        Code::Unbalanced,
+                        format!("unexpected {what}"),
+                        self.pos,
+                        self.pos + 1,
+                        "here",
+                    );
+                    return Err(Abandon);
+                }
+                Some(b'[') => out.push(Element::Branch(self.branch(rung_start, comment, ok)?)),
+                Some(c) if c.is_ascii_alphabetic() || c == b'_' => {
+                    if let Some(i) = self.instr(ok)? {
+                        out.push(Element::Instr(i));
+                    }
+                }
+                Some(_) => {
+                    let end = self.char_end(self.pos);
+                    let ch = &self.src[self.pos..end];
+                    self.error(
+                        Code::Syntax,
+                        format!("unexpected `{ch}`"),
+                        self.pos,
+                        end,
+                        "expected an instruction, `[`, `,`, `]` or `;`",
+                    );
+                    return Err(Abandon);
+                }
+            }
+        }
+    }
+
+    fn branch(
+        &mut self,
+        rung_start: usize,
+        comment: &mut Vec<String>,
+        ok: &mut bool,
+    ) -> Result<Branch, Abandon> {
+        let start = self.pos;
+        self.pos += 1;
+        let mut legs = Vec::new();
+        loop {
+            let leg_start = self.pos;
+            let leg = self.elements(true, rung_start, comment, ok)?;
+            if leg.is_empty() {
+                let at = self.pos;
+                self.error(
+                    Code::EmptyLeg,
+                    "empty branch leg",
+                    leg_start.min(at),
+                    self.char_end(at),
+                    "expected an instruction in this leg",
+                );
+                return Err(Abandon);
+            }
+            legs.push(leg);
+            match self.peek() {
+                Some(b',') => self.pos += 1,
+                _ => {
+                    // `]`: elements() stops only at `,` or `]` inside a branch.
+                    self.pos += 1;
+                    break;
+                }
+            }
+        }
+        Ok(Branch {
+            legs,
+            span: self.span(start, self.pos),
+        })
+    }
+
+    /// An instruction; `Ok(None)` (with `ok` cleared) for an unknown name,
+    /// so the rest of the rung is still checked for syntax errors.
+    fn instr(&mut self, ok: &mut bool) -> Result<Option<Instr>, Abandon> {
+        let start = self.pos;
+        while self
+            .peek()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_')
+        {
+            self.pos += 1;
+        }
+        let name = &self.src[start..self.pos];
+        let name_span = self.span(start, self.pos);
+        self.skip_ws();
+        if self.peek() != Some(b'(') {
+            let at = self.pos;
+            self.error(
+                Code::Syntax,
+                format!("expected `(` after `{name}`"),
+                at,
+                self.char_end(at),
+                "operands go in parentheses, like XIC(Start)",
+            );
+            return Err(Abandon);
+        }
+        let open = self.pos;
+        self.pos += 1;
+        let mut operands = Vec::new();
+        let mut depth = 0usize;
+        let mut op_start = self.pos;
+        loop {
+            match self.peek() {
+                None | Some(b';') => {
+                    self.error(
+                        Code::Unbalanced,
+                        format!("the `(` of `{name}` is not closed"),
+                        open,
+                        open + 1,
+                        "opened here",
+                    );
+                    return Err(Abandon);
+                }
+                Some(b'(' | b'[') => depth += 1,
+                Some(b')' | b']') if depth > 0 => depth -= 1,
+                Some(c @ (b',' | b')')) if depth == 0 => {
+                    let raw = &self.src[op_start..self.pos];
+                    let closing = c == b')';
+                    if !(closing && operands.is_empty() && raw.trim().is_empty()) {
+                        if raw.trim().is_empty() {
+                            self.error(
+                                Code::Syntax,
+                                format!("empty operand in `{name}`"),
+                                op_start,
+                                self.char_end(self.pos),
+                                "expected an operand here",
+                            );
+                            return Err(Abandon);
+                        }
+                        let lead = raw.len() - raw.trim_start().len();
+                        let s = op_start + lead;
+                        let e = s + raw.trim().len();
+                        operands.push(Operand {
+                            text: collapse_ws(raw),
+                            span: self.span(s, e),
+                        });
+                    }
+                    self.pos += 1;
+                    if closing {
+                        break;
+                    }
+                    op_start = self.pos;
+                    continue;
+                }
+                Some(b']') => {
+                    self.error(
+                        Code::Unbalanced,
+                        format!("`]` inside the operands of `{name}`"),
+                        self.pos,
+                        self.pos + 1,
+                        "expected `)` first",
+                    );
+                    return Err(Abandon);
+                }
+                Some(_) => {}
+            }
+            self.pos += 1;
+        }
+        let span = self.span(start, self.pos);
+        match Mnemonic::parse(name) {
+            Some(mnemonic) => Ok(Some(Instr {
+                mnemonic,
+                operands,
+                span,
+                name_span,
+            })),
+            None => {
+                let mut d = Diagnostic::new(
+                    Code::UnknownInstruction,
+                    format!("unknown instruction `{name}`"),
+                    name_span,
+                    "not an instruction",
+                );
+                if let Some(s) = suggest(name) {
+                    d = d.with_help(format!("did you mean `{s}`?"));
+                }
+                self.diags.push(d);
+                *ok = false;
+                Ok(None)
+            }
+        }
+    }
+}
+
+/// Trims and collapses runs of whitespace to one space.
+fn collapse_ws(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+fn suggest(name: &str) -> Option<&'static str> {
+    let upper = name.to_ascii_uppercase();
+    Mnemonic::ALL
+        .iter()
+        .map(|m| (edit_distance(&upper, m.name()), m.name()))
+        .filter(|(d, _)| *d <= 1 || (*d == 2 && upper.len() > 3))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, n)| n)
+}
