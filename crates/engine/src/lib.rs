@@ -1,14 +1,14 @@
-pub fn add(left: u64, right: u64) -> u64 {
-    left + right
-}
+//! The Alba scan engine: runs IR programs over typed program memory with
+//! the semantics of SPEC §3.2, records minor faults, publishes power flow
+//! on demand, and simulates in virtual time.
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+pub mod clock;
+pub mod engine;
+pub mod exec;
+pub mod fault;
+pub mod sim;
 
-    #[test]
-    fn it_works() {
-        let result = add(2, 2);
-        assert_eq!(result, 4);
-    }
-}
+pub use clock::{Clock, MonotonicClock, VirtualClock};
+pub use engine::{Engine, MajorFault};
+pub use exec::PowerFlow;
+pub use fault::{Fault, FaultCode, Faults};

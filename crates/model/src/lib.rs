@@ -6,6 +6,7 @@ pub mod codes;
 pub mod config;
 pub mod csv;
 pub mod diag;
+pub mod fsutil;
 pub mod project;
 pub mod tags;
 pub mod types;

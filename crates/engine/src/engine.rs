@@ -1,0 +1,181 @@
+//! The engine: owns program memory and runs scans (SPEC §2.3).
+
+use crate::exec::{self, PowerFlow, Runaway};
+use crate::fault::{Fault, Faults};
+use alba_ir::{Memory, Place, Program};
+use alba_model::Value;
+use std::sync::Arc;
+
+/// The engine stopped: a scan could not complete.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MajorFault {
+    pub message: String,
+    /// The op where it happened.
+    pub pc: u32,
+}
+
+/// Runs a compiled program. Time is passed in by the caller for each scan;
+/// inputs are written before a scan and outputs read after it.
+pub struct Engine {
+    prog: Arc<Program>,
+    mem: Memory,
+    faults: Faults,
+    first_scan: bool,
+    scans: u64,
+    monitor: bool,
+    pf: PowerFlow,
+    monitor_writes: u64,
+    major: Option<MajorFault>,
+}
+
+impl Engine {
+    /// Loads a program after verifying it (no op may reach outside memory).
+    pub fn new(prog: Arc<Program>) -> Result<Engine, String> {
+        prog.verify()?;
+        Ok(Engine {
+            mem: prog.init.clone(),
+            faults: Faults::default(),
+            first_scan: true,
+            scans: 0,
+            monitor: false,
+            pf: PowerFlow::default(),
+            monitor_writes: 0,
+            major: None,
+            prog,
+        })
+    }
+
+    pub fn program(&self) -> &Program {
+        &self.prog
+    }
+
+    pub fn memory(&self) -> &Memory {
+        &self.mem
+    }
+
+    pub fn read(&self, p: Place) -> Value {
+        self.mem.read(p)
+    }
+
+    /// Writes a value between scans (inputs, stimuli, operator writes).
+    pub fn write(&mut self, p: Place, v: Value) {
+        self.mem.write(p, v);
+    }
+
+    /// Scans run so far.
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    pub fn faults(&self) -> &Faults {
+        &self.faults
+    }
+
+    /// "division by zero at main.lad rung 3 (4:12 `DIV(a,b,c)`)".
+    pub fn describe_fault(&self, f: &Fault) -> String {
+        let loc = self
+            .prog
+            .locs
+            .get(f.pc as usize)
+            .copied()
+            .unwrap_or(alba_ir::Loc {
+                rung: 0,
+                elem: alba_ir::NO_ELEM,
+            });
+        format!(
+            "{} at {} (scan {})",
+            f.code,
+            self.prog.describe(loc),
+            f.scan
+        )
+    }
+
+    pub fn major_fault(&self) -> Option<&MajorFault> {
+        self.major.as_ref()
+    }
+
+    /// Turns power-flow monitoring on or off (SPEC §11). While off, scans
+    /// run an instantiation of the interpreter without any recording.
+    pub fn set_monitor(&mut self, on: bool) {
+        self.monitor = on;
+        self.pf = if on {
+            PowerFlow::new(self.prog.elements.len())
+        } else {
+            PowerFlow::default()
+        };
+    }
+
+    /// Power flow of the last scan, while monitoring.
+    pub fn power_flow(&self) -> Option<&PowerFlow> {
+        self.monitor.then_some(&self.pf)
+    }
+
+    /// Scans that recorded power flow (for tests that check monitoring costs
+    /// nothing when off).
+    pub fn monitored_scans(&self) -> u64 {
+        self.monitor_writes
+    }
+
+    /// Back to the initial memory, as after a power cycle without retention.
+    pub fn restart(&mut self) {
+        self.mem = self.prog.init.clone();
+        self.faults = Faults::default();
+        self.first_scan = true;
+        self.scans = 0;
+        self.major = None;
+    }
+
+    /// Runs one scan at time `now_ms` (milliseconds on the caller's clock).
+    pub fn scan(&mut self, now_ms: u64) -> Result<(), MajorFault> {
+        if let Some(m) = &self.major {
+            return Err(m.clone());
+        }
+        let sys = self.prog.layout.system;
+        self.mem.b[sys.first_scan.0 as usize] = self.first_scan;
+        self.faults.scan = self.scans;
+        let before = self.faults.count;
+        let now = now_ms as u32; // wrapping milliseconds, like millis()
+        let r = if self.monitor {
+            self.monitor_writes += 1;
+            exec::run::<true>(
+                &self.prog.ops,
+                &self.prog.locs,
+                &mut self.mem,
+                &mut self.faults,
+                now,
+                &mut self.pf,
+            )
+        } else {
+            exec::run::<false>(
+                &self.prog.ops,
+                &self.prog.locs,
+                &mut self.mem,
+                &mut self.faults,
+                now,
+                &mut self.pf,
+            )
+        };
+        self.first_scan = false;
+        self.scans += 1;
+        if self.faults.count != before
+            && let Some(last) = self.faults.last
+        {
+            self.mem.b[sys.minor_fault.0 as usize] = true;
+            self.mem.i[sys.fault_code.0 as usize] = last.code as i32;
+        }
+        if let Err(Runaway { pc }) = r {
+            let loc = self.prog.locs[pc as usize];
+            let m = MajorFault {
+                message: format!(
+                    "scan abandoned: more than {} backward jumps at {}",
+                    exec::BACKWARD_JUMP_LIMIT,
+                    self.prog.describe(loc)
+                ),
+                pc,
+            };
+            self.major = Some(m.clone());
+            return Err(m);
+        }
+        Ok(())
+    }
+}
