@@ -1,6 +1,6 @@
 //! The engine: owns program memory and runs scans (SPEC §2.3).
 
-use crate::exec::{self, PowerFlow, Runaway};
+use crate::exec::{self, Code, PowerFlow, Stop};
 use crate::fault::{Fault, Faults};
 use alba_ir::{Memory, Place, Program};
 use alba_model::Value;
@@ -18,6 +18,10 @@ pub struct MajorFault {
 /// inputs are written before a scan and outputs read after it.
 pub struct Engine {
     prog: Arc<Program>,
+    /// One executable op per canonical op (monitored scans).
+    plain: Code,
+    /// Fused form (unmonitored scans).
+    fast: Code,
     mem: Memory,
     faults: Faults,
     first_scan: bool,
@@ -33,6 +37,8 @@ impl Engine {
     pub fn new(prog: Arc<Program>) -> Result<Engine, String> {
         prog.verify()?;
         Ok(Engine {
+            plain: Code::new(&prog, false),
+            fast: Code::new(&prog, true),
             mem: prog.init.clone(),
             faults: Faults::default(),
             first_scan: true,
@@ -138,7 +144,7 @@ impl Engine {
         let r = if self.monitor {
             self.monitor_writes += 1;
             exec::run::<true>(
-                &self.prog.ops,
+                &self.plain,
                 &self.prog.locs,
                 &mut self.mem,
                 &mut self.faults,
@@ -147,7 +153,7 @@ impl Engine {
             )
         } else {
             exec::run::<false>(
-                &self.prog.ops,
+                &self.fast,
                 &self.prog.locs,
                 &mut self.mem,
                 &mut self.faults,
@@ -163,18 +169,29 @@ impl Engine {
             self.mem.b[sys.minor_fault.0 as usize] = true;
             self.mem.i[sys.fault_code.0 as usize] = last.code as i32;
         }
-        if let Err(Runaway { pc }) = r {
-            let loc = self.prog.locs[pc as usize];
-            let m = MajorFault {
-                message: format!(
-                    "scan abandoned: more than {} backward jumps at {}",
-                    exec::BACKWARD_JUMP_LIMIT,
-                    self.prog.describe(loc)
-                ),
-                pc,
-            };
-            self.major = Some(m.clone());
-            return Err(m);
+        match r {
+            Ok(()) => {}
+            Err(Stop::Runaway(pc)) => {
+                let loc = self.prog.locs[pc as usize];
+                let m = MajorFault {
+                    message: format!(
+                        "scan abandoned: more than {} backward jumps at {}",
+                        exec::BACKWARD_JUMP_LIMIT,
+                        self.prog.describe(loc)
+                    ),
+                    pc,
+                };
+                self.major = Some(m.clone());
+                return Err(m);
+            }
+            Err(Stop::Memory) => {
+                let m = MajorFault {
+                    message: "internal error: memory does not match the program layout".into(),
+                    pc: 0,
+                };
+                self.major = Some(m.clone());
+                return Err(m);
+            }
         }
         Ok(())
     }

@@ -1,12 +1,21 @@
-//! The interpreter: runs IR ops over program memory.
+//! The interpreter: the one semantics of every IR op (SPEC §11).
 //!
-//! This file holds the one semantics of every op (SPEC §11): the Arduino
-//! generator and the byte-code firmware are tested against it. Nothing here
-//! panics on a verified program: overflow, division by zero and invalid
-//! floating-point results give defined values and record a minor fault.
+//! The canonical IR is lowered into [`Code`], the engine's executable form:
+//! the same ops with the common ones flattened (`AddI` rather than
+//! `BinI(Add, ..)`), and, for unmonitored scans, a few fused patterns that
+//! replace several canonical ops (a rung that starts with a two-contact
+//! branch becomes one `RungOr`). Monitored scans run the unfused form, one
+//! executable op per canonical op, and record the rung condition after each
+//! element; unmonitored scans run an instantiation of the same loop with no
+//! recording at all.
+//!
+//! The Arduino generator and the byte-code firmware are tested against this
+//! file. Nothing here panics on a verified program: overflow, division by
+//! zero and invalid floating-point results give defined values and record a
+//! minor fault.
 
 use crate::fault::{FaultCode, Faults};
-use alba_ir::{BinOp, Cmp, Ctr, Cvt, Loc, MarkerSlot, Memory, NO_ELEM, Op, Tmr, UnOp, Width};
+use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, F, I, L, Loc, MarkerSlot, Memory, NO_ELEM, Op, Program, Tmr, UnOp, Width};
 
 /// Backward jumps allowed in one scan before the scan is abandoned as a
 /// runaway loop (a major fault).
@@ -27,9 +36,7 @@ impl PowerFlow {
 
     /// Is element `e` energised (the rung condition after it true)?
     pub fn get(&self, e: u32) -> bool {
-        self.bits
-            .get(e as usize / 64)
-            .is_some_and(|w| w >> (e % 64) & 1 == 1)
+        self.bits.get(e as usize / 64).is_some_and(|w| w >> (e % 64) & 1 == 1)
     }
 
     #[inline]
@@ -45,239 +52,602 @@ impl PowerFlow {
     }
 }
 
-/// The scan was abandoned: a runaway backward jump.
+/// Why a scan stopped early.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Runaway {
-    pub pc: u32,
+pub enum Stop {
+    /// A runaway loop of backward jumps, at this canonical op.
+    Runaway(u32),
+    /// The memory does not have the program's layout (a bug of the caller).
+    Memory,
 }
 
-/// Runs `ops` once. `MON` selects the monitored variant, which records the
-/// rung condition after every element in `pf`; the unmonitored variant is a
-/// separate instantiation that does no such work at all.
+/// An executable op. Slots are those of the canonical op(s) it came from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum X {
+    /// End of the code (a sentinel, so the loop needs no bounds test).
+    End,
+    Rung,
+    Nop,
+    Afi,
+    Xic(B),
+    Xio(B),
+    Ote(B),
+    Otl(B),
+    Otu(B),
+    Ons(B),
+    Osr(B, B),
+    Osf(B, B),
+    BrOpen { save: B, acc: B },
+    BrNext { save: B, acc: B },
+    BrClose { acc: B },
+    Jmp(u32),
+    Ton(Tmr),
+    Tof(Tmr),
+    Rto(Tmr),
+    Tp(Tmr),
+    Ctu(Ctr),
+    Ctd(Ctr),
+    ResT(Tmr),
+    ResC(Ctr),
+    EqI(I, I),
+    NeI(I, I),
+    LtI(I, I),
+    GtI(I, I),
+    LeI(I, I),
+    GeI(I, I),
+    CmpF(Cmp, F, F),
+    CmpL(Cmp, L, L),
+    CmpD(Cmp, alba_ir::D, alba_ir::D),
+    LimI(I, I, I),
+    LimF(F, F, F),
+    LimL(L, L, L),
+    LimD(alba_ir::D, alba_ir::D, alba_ir::D),
+    MeqI(I, I, I),
+    MeqL(L, L, L),
+    AddI(I, I, I),
+    SubI(I, I, I),
+    BinI(BinOp, I, I, I),
+    AddF(F, F, F),
+    SubF(F, F, F),
+    MulF(F, F, F),
+    BinF(BinOp, F, F, F),
+    BinL(BinOp, L, L, L),
+    BinD(BinOp, alba_ir::D, alba_ir::D, alba_ir::D),
+    MovI(I, I),
+    MovF(F, F),
+    UnI(UnOp, I, I),
+    UnF(UnOp, F, F),
+    UnL(UnOp, L, L),
+    UnD(UnOp, alba_ir::D, alba_ir::D),
+    Cvt(Cvt),
+    Narrow(I, Width),
+    CopyI(I, I),
+    LdBit { byte: u32, bit: u8, dst: B },
+    StBit { src: B, byte: u32, bit: u8 },
+    LdM { byte: u32, slot: MarkerSlot },
+    StM { byte: u32, slot: MarkerSlot },
+    // Fused (unmonitored code only):
+    /// `Rung; Xic/Xio(b)`: `rc = b != neg`.
+    RungC { b: B, neg: bool },
+    /// `Rung; [X(a), X(b)]`: `rc = (a != na) | (b != nb)`.
+    RungOr { a: B, b: B, na: bool, nb: bool },
+    /// `[X(a), X(b)]` mid-rung: `rc &= (a != na) | (b != nb)`.
+    Or { a: B, b: B, na: bool, nb: bool },
+    /// `X(a); X(b)`: `rc &= (a != na) & (b != nb)`.
+    And { a: B, b: B, na: bool, nb: bool },
+}
+
+/// Executable code for one program.
+#[derive(Debug, Clone)]
+pub struct Code {
+    pub ops: Vec<X>,
+    /// The canonical op each executable op starts at (for faults and power flow).
+    pub src: Vec<u32>,
+    /// Memory sizes the program was verified against (b, i, f, l, d, m).
+    sizes: [usize; 6],
+}
+
+fn sizes(m: &Memory) -> [usize; 6] {
+    [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()]
+}
+
+/// A contact op, as (bit, negated).
+fn contact(op: &Op) -> Option<(B, bool)> {
+    match *op {
+        Op::Xic(b) => Some((b, false)),
+        Op::Xio(b) => Some((b, true)),
+        _ => None,
+    }
+}
+
+/// `[X(a), X(b)]` at the start of `ops`: the two contacts.
+fn or2(ops: &[Op]) -> Option<(B, bool, B, bool)> {
+    match ops {
+        [Op::BrOpen { save, acc }, c1, Op::BrNext { save: s2, acc: a2 }, c2, Op::BrClose { acc: a3 }, ..]
+            if save == s2 && acc == a2 && acc == a3 =>
+        {
+            let (a, na) = contact(c1)?;
+            let (b, nb) = contact(c2)?;
+            Some((a, na, b, nb))
+        }
+        _ => None,
+    }
+}
+
+impl Code {
+    /// Lowers a program; `fuse` selects the fused (unmonitored) form. The
+    /// program must have passed [`Program::verify`].
+    pub fn new(p: &Program, fuse: bool) -> Code {
+        let ops = &p.ops;
+        let mut out = Vec::with_capacity(ops.len());
+        let mut src = Vec::with_capacity(ops.len());
+        let mut map = vec![0u32; ops.len() + 1];
+        let mut i = 0;
+        while i < ops.len() {
+            let rest = &ops[i..];
+            let (x, len) = match (fuse, rest) {
+                (true, [Op::Rung, tail @ ..]) if or2(tail).is_some() => {
+                    let (a, na, b, nb) = or2(tail).unwrap_or((B(0), false, B(0), false));
+                    (X::RungOr { a, b, na, nb }, 6)
+                }
+                (true, [Op::Rung, c, ..]) if contact(c).is_some() => {
+                    let (b, neg) = contact(c).unwrap_or((B(0), false));
+                    (X::RungC { b, neg }, 2)
+                }
+                (true, _) if or2(rest).is_some() => {
+                    let (a, na, b, nb) = or2(rest).unwrap_or((B(0), false, B(0), false));
+                    (X::Or { a, b, na, nb }, 5)
+                }
+                (true, [c1, c2, ..]) if contact(c1).is_some() && contact(c2).is_some() => {
+                    let (a, na) = contact(c1).unwrap_or((B(0), false));
+                    let (b, nb) = contact(c2).unwrap_or((B(0), false));
+                    (X::And { a, b, na, nb }, 2)
+                }
+                _ => (flatten(ops[i]), 1),
+            };
+            map[i] = out.len() as u32;
+            out.push(x);
+            src.push(i as u32);
+            i += len;
+        }
+        map[ops.len()] = out.len() as u32;
+        out.push(X::End);
+        src.push(ops.len() as u32);
+        // Jump targets are rung starts, which always begin an executable op.
+        let end = (out.len() - 1) as u32;
+        for x in &mut out {
+            if let X::Jmp(t) = x {
+                *t = map.get(*t as usize).copied().unwrap_or(end).min(end);
+            }
+        }
+        Code {
+            ops: out,
+            src,
+            sizes: sizes(&p.init),
+        }
+    }
+}
+
+fn flatten(op: Op) -> X {
+    match op {
+        Op::Rung => X::Rung,
+        Op::Nop => X::Nop,
+        Op::Afi => X::Afi,
+        Op::Xic(b) => X::Xic(b),
+        Op::Xio(b) => X::Xio(b),
+        Op::Ote(b) => X::Ote(b),
+        Op::Otl(b) => X::Otl(b),
+        Op::Otu(b) => X::Otu(b),
+        Op::Ons(b) => X::Ons(b),
+        Op::Osr(s, o) => X::Osr(s, o),
+        Op::Osf(s, o) => X::Osf(s, o),
+        Op::BrOpen { save, acc } => X::BrOpen { save, acc },
+        Op::BrNext { save, acc } => X::BrNext { save, acc },
+        Op::BrClose { acc } => X::BrClose { acc },
+        Op::Jmp(t) => X::Jmp(t),
+        Op::Ton(t) => X::Ton(t),
+        Op::Tof(t) => X::Tof(t),
+        Op::Rto(t) => X::Rto(t),
+        Op::Tp(t) => X::Tp(t),
+        Op::Ctu(c) => X::Ctu(c),
+        Op::Ctd(c) => X::Ctd(c),
+        Op::ResT(t) => X::ResT(t),
+        Op::ResC(c) => X::ResC(c),
+        Op::CmpI(c, a, b) => match c {
+            Cmp::Eq => X::EqI(a, b),
+            Cmp::Ne => X::NeI(a, b),
+            Cmp::Lt => X::LtI(a, b),
+            Cmp::Gt => X::GtI(a, b),
+            Cmp::Le => X::LeI(a, b),
+            Cmp::Ge => X::GeI(a, b),
+        },
+        Op::CmpF(c, a, b) => X::CmpF(c, a, b),
+        Op::CmpL(c, a, b) => X::CmpL(c, a, b),
+        Op::CmpD(c, a, b) => X::CmpD(c, a, b),
+        Op::LimI(a, b, c) => X::LimI(a, b, c),
+        Op::LimF(a, b, c) => X::LimF(a, b, c),
+        Op::LimL(a, b, c) => X::LimL(a, b, c),
+        Op::LimD(a, b, c) => X::LimD(a, b, c),
+        Op::MeqI(a, b, c) => X::MeqI(a, b, c),
+        Op::MeqL(a, b, c) => X::MeqL(a, b, c),
+        Op::BinI(BinOp::Add, a, b, d) => X::AddI(a, b, d),
+        Op::BinI(BinOp::Sub, a, b, d) => X::SubI(a, b, d),
+        Op::BinI(op, a, b, d) => X::BinI(op, a, b, d),
+        Op::BinF(BinOp::Add, a, b, d) => X::AddF(a, b, d),
+        Op::BinF(BinOp::Sub, a, b, d) => X::SubF(a, b, d),
+        Op::BinF(BinOp::Mul, a, b, d) => X::MulF(a, b, d),
+        Op::BinF(op, a, b, d) => X::BinF(op, a, b, d),
+        Op::BinL(op, a, b, d) => X::BinL(op, a, b, d),
+        Op::BinD(op, a, b, d) => X::BinD(op, a, b, d),
+        Op::UnI(UnOp::Mov, a, d) => X::MovI(a, d),
+        Op::UnI(op, a, d) => X::UnI(op, a, d),
+        Op::UnF(UnOp::Mov, a, d) => X::MovF(a, d),
+        Op::UnF(op, a, d) => X::UnF(op, a, d),
+        Op::UnL(op, a, d) => X::UnL(op, a, d),
+        Op::UnD(op, a, d) => X::UnD(op, a, d),
+        Op::Cvt(c) => X::Cvt(c),
+        Op::Narrow(i, w) => X::Narrow(i, w),
+        Op::CopyI(a, d) => X::CopyI(a, d),
+        Op::LdBit { byte, bit, dst } => X::LdBit { byte, bit, dst },
+        Op::StBit { src, byte, bit } => X::StBit { src, byte, bit },
+        Op::LdM { byte, slot } => X::LdM { byte, slot },
+        Op::StM { byte, slot } => X::StM { byte, slot },
+    }
+}
+
+/// Program memory as slices for one scan. Every slot index used with it
+/// comes from a program that passed `Program::verify` against memory of
+/// exactly these sizes (checked at the start of [`run`]).
+struct Mem<'a> {
+    b: &'a mut [bool],
+    i: &'a mut [i32],
+    f: &'a mut [f32],
+    l: &'a mut [i64],
+    d: &'a mut [f64],
+    m: &'a mut [u8],
+}
+
+/// Reads a slot without a bounds check.
+macro_rules! rd {
+    ($s:expr, $x:expr) => {{
+        let i = $x as usize;
+        debug_assert!(i < $s.len());
+        // SAFETY: `i` is a slot of a verified program and `run` checked that
+        // the memory has the sizes it was verified against.
+        #[allow(unsafe_code)]
+        unsafe {
+            *$s.get_unchecked(i)
+        }
+    }};
+}
+
+/// Writes a slot without a bounds check.
+macro_rules! wr {
+    ($s:expr, $x:expr, $v:expr) => {{
+        let i = $x as usize;
+        let v = $v;
+        debug_assert!(i < $s.len());
+        // SAFETY: as for `rd!`.
+        #[allow(unsafe_code)]
+        unsafe {
+            *$s.get_unchecked_mut(i) = v;
+        }
+    }};
+}
+
+/// Where faults go, with the map back to canonical ops.
+struct Sink<'a> {
+    faults: &'a mut Faults,
+    src: &'a [u32],
+}
+
+impl Sink<'_> {
+    #[cold]
+    #[inline(never)]
+    fn fault(&mut self, code: FaultCode, pc: usize) {
+        let canonical = self.src.get(pc).copied().unwrap_or(pc as u32);
+        self.faults.record(code, canonical);
+    }
+
+    #[inline(always)]
+    fn check(&mut self, code: Option<FaultCode>, pc: usize) {
+        if let Some(c) = code {
+            self.fault(c, pc);
+        }
+    }
+}
+
+/// Runs `code` once. `MON` selects the monitored instantiation, which
+/// records the rung condition after every element in `pf` (use it with
+/// unfused code, whose ops map one to one onto canonical ops).
 pub(crate) fn run<const MON: bool>(
-    ops: &[Op],
+    code: &Code,
     locs: &[Loc],
-    m: &mut Memory,
+    mem: &mut Memory,
     faults: &mut Faults,
     now: u32,
     pf: &mut PowerFlow,
-) -> Result<(), Runaway> {
+) -> Result<(), Stop> {
+    if sizes(mem) != code.sizes {
+        return Err(Stop::Memory);
+    }
     if MON {
         pf.clear();
     }
+    let m = &mut Mem {
+        b: &mut mem.b,
+        i: &mut mem.i,
+        f: &mut mem.f,
+        l: &mut mem.l,
+        d: &mut mem.d,
+        m: &mut mem.m,
+    };
+    let sink = &mut Sink { faults, src: &code.src };
+    let ops = &code.ops[..];
     let mut rc = true;
     let mut pc = 0usize;
     let mut backward = 0u32;
-    while let Some(&op) = ops.get(pc) {
+    loop {
+        debug_assert!(pc < ops.len());
+        // SAFETY: `pc` starts at 0 and only moves to the next op or to a jump
+        // target; `Code::new` ends the code with `End`, which leaves the
+        // loop, and clamps every jump target to it, so `pc < ops.len()`.
+        #[allow(unsafe_code)]
+        let op = unsafe { *ops.get_unchecked(pc) };
         let cur = pc;
         pc += 1;
         match op {
-            Op::Rung => rc = true,
-            Op::Nop => {}
-            Op::Afi => rc = false,
-            Op::Xic(b) => rc &= m.b[b.0 as usize],
-            Op::Xio(b) => rc &= !m.b[b.0 as usize],
-            Op::Ote(b) => m.b[b.0 as usize] = rc,
-            Op::Otl(b) => {
+            X::End => break,
+            X::Rung => rc = true,
+            X::Nop => {}
+            X::Afi => rc = false,
+            X::Xic(b) => rc &= rd!(m.b, b.0),
+            X::Xio(b) => rc &= !rd!(m.b, b.0),
+            X::Ote(b) => wr!(m.b, b.0, rc),
+            X::Otl(b) => {
                 if rc {
-                    m.b[b.0 as usize] = true;
+                    wr!(m.b, b.0, true);
                 }
             }
-            Op::Otu(b) => {
+            X::Otu(b) => {
                 if rc {
-                    m.b[b.0 as usize] = false;
+                    wr!(m.b, b.0, false);
                 }
             }
-            Op::Ons(s) => {
-                let s = s.0 as usize;
-                let out = rc && !m.b[s];
-                m.b[s] = rc;
+            X::Ons(s) => {
+                let out = rc && !rd!(m.b, s.0);
+                wr!(m.b, s.0, rc);
                 rc = out;
             }
-            Op::Osr(s, o) => {
-                m.b[o.0 as usize] = rc && !m.b[s.0 as usize];
-                m.b[s.0 as usize] = rc;
+            X::Osr(s, o) => {
+                wr!(m.b, o.0, rc && !rd!(m.b, s.0));
+                wr!(m.b, s.0, rc);
             }
-            Op::Osf(s, o) => {
-                m.b[o.0 as usize] = !rc && m.b[s.0 as usize];
-                m.b[s.0 as usize] = rc;
+            X::Osf(s, o) => {
+                wr!(m.b, o.0, !rc && rd!(m.b, s.0));
+                wr!(m.b, s.0, rc);
             }
-            Op::BrOpen { save, acc } => {
-                m.b[save.0 as usize] = rc;
-                m.b[acc.0 as usize] = false;
+            X::BrOpen { save, acc } => {
+                wr!(m.b, save.0, rc);
+                wr!(m.b, acc.0, false);
             }
-            Op::BrNext { save, acc } => {
-                m.b[acc.0 as usize] |= rc;
-                rc = m.b[save.0 as usize];
+            X::BrNext { save, acc } => {
+                wr!(m.b, acc.0, rd!(m.b, acc.0) | rc);
+                rc = rd!(m.b, save.0);
             }
-            Op::BrClose { acc } => rc |= m.b[acc.0 as usize],
-            Op::Jmp(t) => {
+            X::BrClose { acc } => rc |= rd!(m.b, acc.0),
+            X::Jmp(t) => {
                 if rc {
                     if MON {
-                        record(locs, cur, pf, rc);
+                        record(locs, code, cur, pf, rc);
                     }
                     if (t as usize) <= cur {
                         backward += 1;
                         if backward > BACKWARD_JUMP_LIMIT {
-                            return Err(Runaway { pc: cur as u32 });
+                            return Err(Stop::Runaway(code.src.get(cur).copied().unwrap_or(0)));
                         }
                     }
                     pc = t as usize;
                     continue;
                 }
             }
-            Op::Ton(t) => ton(m, t, rc, now, faults, cur),
-            Op::Tof(t) => tof(m, t, rc, now, faults, cur),
-            Op::Rto(t) => rto(m, t, rc, now, faults, cur),
-            Op::Tp(t) => tp(m, t, rc, now, faults, cur),
-            Op::Ctu(c) => count(m, c, rc, true),
-            Op::Ctd(c) => count(m, c, rc, false),
-            Op::ResT(t) => {
+            X::Ton(t) => ton(m, t, rc, now, sink, cur),
+            X::Tof(t) => tof(m, t, rc, now, sink, cur),
+            X::Rto(t) => rto(m, t, rc, now, sink, cur),
+            X::Tp(t) => tp(m, t, rc, now, sink, cur),
+            X::Ctu(c) => count(m, c, rc, true),
+            X::Ctd(c) => count(m, c, rc, false),
+            X::ResT(t) => {
                 if rc {
-                    m.i[t.i.0 as usize + 1] = 0;
-                    m.b[t.b.0 as usize..t.b.0 as usize + 3].fill(false);
+                    wr!(m.i, t.i.0 + 1, 0);
+                    for k in 0..3 {
+                        wr!(m.b, t.b.0 + k, false);
+                    }
                 }
             }
-            Op::ResC(c) => {
+            X::ResC(c) => {
                 if rc {
-                    m.i[c.i.0 as usize + 1] = 0;
-                    m.b[c.b.0 as usize..c.b.0 as usize + 5].fill(false);
+                    wr!(m.i, c.i.0 + 1, 0);
+                    for k in 0..5 {
+                        wr!(m.b, c.b.0 + k, false);
+                    }
                 }
             }
-            Op::CmpI(c, a, b) => rc &= cmp(c, m.i[a.0 as usize], m.i[b.0 as usize]),
-            Op::CmpF(c, a, b) => rc &= cmp(c, m.f[a.0 as usize], m.f[b.0 as usize]),
-            Op::CmpL(c, a, b) => rc &= cmp(c, m.l[a.0 as usize], m.l[b.0 as usize]),
-            Op::CmpD(c, a, b) => rc &= cmp(c, m.d[a.0 as usize], m.d[b.0 as usize]),
-            Op::LimI(lo, t, hi) => {
-                rc &= lim(m.i[lo.0 as usize], m.i[t.0 as usize], m.i[hi.0 as usize])
+            X::EqI(a, b) => rc &= rd!(m.i, a.0) == rd!(m.i, b.0),
+            X::NeI(a, b) => rc &= rd!(m.i, a.0) != rd!(m.i, b.0),
+            X::LtI(a, b) => rc &= rd!(m.i, a.0) < rd!(m.i, b.0),
+            X::GtI(a, b) => rc &= rd!(m.i, a.0) > rd!(m.i, b.0),
+            X::LeI(a, b) => rc &= rd!(m.i, a.0) <= rd!(m.i, b.0),
+            X::GeI(a, b) => rc &= rd!(m.i, a.0) >= rd!(m.i, b.0),
+            X::CmpF(c, a, b) => rc &= cmp(c, rd!(m.f, a.0), rd!(m.f, b.0)),
+            X::CmpL(c, a, b) => rc &= cmp(c, rd!(m.l, a.0), rd!(m.l, b.0)),
+            X::CmpD(c, a, b) => rc &= cmp(c, rd!(m.d, a.0), rd!(m.d, b.0)),
+            X::LimI(lo, t, hi) => rc &= lim(rd!(m.i, lo.0), rd!(m.i, t.0), rd!(m.i, hi.0)),
+            X::LimF(lo, t, hi) => rc &= lim(rd!(m.f, lo.0), rd!(m.f, t.0), rd!(m.f, hi.0)),
+            X::LimL(lo, t, hi) => rc &= lim(rd!(m.l, lo.0), rd!(m.l, t.0), rd!(m.l, hi.0)),
+            X::LimD(lo, t, hi) => rc &= lim(rd!(m.d, lo.0), rd!(m.d, t.0), rd!(m.d, hi.0)),
+            X::MeqI(s, k, c) => {
+                let k = rd!(m.i, k.0);
+                rc &= rd!(m.i, s.0) & k == rd!(m.i, c.0) & k;
             }
-            Op::LimF(lo, t, hi) => {
-                rc &= lim(m.f[lo.0 as usize], m.f[t.0 as usize], m.f[hi.0 as usize])
+            X::MeqL(s, k, c) => {
+                let k = rd!(m.l, k.0);
+                rc &= rd!(m.l, s.0) & k == rd!(m.l, c.0) & k;
             }
-            Op::LimL(lo, t, hi) => {
-                rc &= lim(m.l[lo.0 as usize], m.l[t.0 as usize], m.l[hi.0 as usize])
-            }
-            Op::LimD(lo, t, hi) => {
-                rc &= lim(m.d[lo.0 as usize], m.d[t.0 as usize], m.d[hi.0 as usize])
-            }
-            Op::MeqI(s, k, c) => {
-                let k = m.i[k.0 as usize];
-                rc &= m.i[s.0 as usize] & k == m.i[c.0 as usize] & k;
-            }
-            Op::MeqL(s, k, c) => {
-                let k = m.l[k.0 as usize];
-                rc &= m.l[s.0 as usize] & k == m.l[c.0 as usize] & k;
-            }
-            Op::BinI(op, a, b, d) => {
+            X::AddI(a, b, d) => {
                 if rc {
-                    let (v, f) = bin_i32(op, m.i[a.0 as usize], m.i[b.0 as usize]);
-                    m.i[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    let (v, o) = rd!(m.i, a.0).overflowing_add(rd!(m.i, b.0));
+                    wr!(m.i, d.0, v);
+                    if o {
+                        sink.fault(FaultCode::Overflow, cur);
+                    }
                 }
             }
-            Op::BinL(op, a, b, d) => {
+            X::SubI(a, b, d) => {
                 if rc {
-                    let (v, f) = bin_i64(op, m.l[a.0 as usize], m.l[b.0 as usize]);
-                    m.l[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    let (v, o) = rd!(m.i, a.0).overflowing_sub(rd!(m.i, b.0));
+                    wr!(m.i, d.0, v);
+                    if o {
+                        sink.fault(FaultCode::Overflow, cur);
+                    }
                 }
             }
-            Op::BinF(op, a, b, d) => {
+            X::BinI(op, a, b, d) => {
                 if rc {
-                    let (x, y) = (m.f[a.0 as usize], m.f[b.0 as usize]);
+                    let (v, f) = bin_i32(op, rd!(m.i, a.0), rd!(m.i, b.0));
+                    wr!(m.i, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::AddF(a, b, d) => {
+                if rc {
+                    let (v, f) = fix_f32(rd!(m.f, a.0) + rd!(m.f, b.0), false);
+                    wr!(m.f, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::SubF(a, b, d) => {
+                if rc {
+                    let (v, f) = fix_f32(rd!(m.f, a.0) - rd!(m.f, b.0), false);
+                    wr!(m.f, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::MulF(a, b, d) => {
+                if rc {
+                    let (v, f) = fix_f32(rd!(m.f, a.0) * rd!(m.f, b.0), false);
+                    wr!(m.f, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::BinF(op, a, b, d) => {
+                if rc {
+                    let (x, y) = (rd!(m.f, a.0), rd!(m.f, b.0));
                     let (v, f) = fix_f32(bin_f32(op, x, y), op == BinOp::Div && y == 0.0);
-                    m.f[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    wr!(m.f, d.0, v);
+                    sink.check(f, cur);
                 }
             }
-            Op::BinD(op, a, b, d) => {
+            X::BinL(op, a, b, d) => {
                 if rc {
-                    let (x, y) = (m.d[a.0 as usize], m.d[b.0 as usize]);
+                    let (v, f) = bin_i64(op, rd!(m.l, a.0), rd!(m.l, b.0));
+                    wr!(m.l, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::BinD(op, a, b, d) => {
+                if rc {
+                    let (x, y) = (rd!(m.d, a.0), rd!(m.d, b.0));
                     let (v, f) = fix_f64(bin_f64(op, x, y), op == BinOp::Div && y == 0.0);
-                    m.d[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    wr!(m.d, d.0, v);
+                    sink.check(f, cur);
                 }
             }
-            Op::UnI(op, a, d) => {
+            X::MovI(a, d) => {
                 if rc {
-                    let (v, f) = un_i32(op, m.i[a.0 as usize]);
-                    m.i[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    wr!(m.i, d.0, rd!(m.i, a.0));
                 }
             }
-            Op::UnL(op, a, d) => {
+            X::MovF(a, d) => {
                 if rc {
-                    let (v, f) = un_i64(op, m.l[a.0 as usize]);
-                    m.l[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    wr!(m.f, d.0, rd!(m.f, a.0));
                 }
             }
-            Op::UnF(op, a, d) => {
+            X::UnI(op, a, d) => {
                 if rc {
-                    let (v, f) = fix_f32(un_f32(op, m.f[a.0 as usize]), false);
-                    m.f[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    let (v, f) = un_i32(op, rd!(m.i, a.0));
+                    wr!(m.i, d.0, v);
+                    sink.check(f, cur);
                 }
             }
-            Op::UnD(op, a, d) => {
+            X::UnL(op, a, d) => {
                 if rc {
-                    let (v, f) = fix_f64(un_f64(op, m.d[a.0 as usize]), false);
-                    m.d[d.0 as usize] = v;
-                    fault(faults, f, cur);
+                    let (v, f) = un_i64(op, rd!(m.l, a.0));
+                    wr!(m.l, d.0, v);
+                    sink.check(f, cur);
                 }
             }
-            Op::Cvt(c) => {
+            X::UnF(op, a, d) => {
+                if rc {
+                    let (v, f) = fix_f32(un_f32(op, rd!(m.f, a.0)), false);
+                    wr!(m.f, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::UnD(op, a, d) => {
+                if rc {
+                    let (v, f) = fix_f64(un_f64(op, rd!(m.d, a.0)), false);
+                    wr!(m.d, d.0, v);
+                    sink.check(f, cur);
+                }
+            }
+            X::Cvt(c) => {
                 if rc {
                     let f = convert(m, c);
-                    fault(faults, f, cur);
+                    sink.check(f, cur);
                 }
             }
-            Op::Narrow(i, w) => {
+            X::Narrow(i, w) => {
                 if rc {
-                    let v = m.i[i.0 as usize];
+                    let v = rd!(m.i, i.0);
                     let n = match w {
                         Width::W8 => v as i8 as i32,
                         Width::W16 => v as i16 as i32,
                     };
-                    m.i[i.0 as usize] = n;
+                    wr!(m.i, i.0, n);
                     if n != v {
-                        fault(faults, Some(FaultCode::Overflow), cur);
+                        sink.fault(FaultCode::Overflow, cur);
                     }
                 }
             }
-            Op::CopyI(a, d) => m.i[d.0 as usize] = m.i[a.0 as usize],
-            Op::LdBit { byte, bit, dst } => {
-                m.b[dst.0 as usize] = m.m[byte as usize] >> bit & 1 == 1;
+            X::CopyI(a, d) => wr!(m.i, d.0, rd!(m.i, a.0)),
+            X::LdBit { byte, bit, dst } => wr!(m.b, dst.0, rd!(m.m, byte) >> (bit & 7) & 1 == 1),
+            X::StBit { src, byte, bit } => {
+                let mask = 1u8 << (bit & 7);
+                let old = rd!(m.m, byte);
+                wr!(m.m, byte, if rd!(m.b, src.0) { old | mask } else { old & !mask });
             }
-            Op::StBit { src, byte, bit } => {
-                let mask = 1u8 << bit;
-                let v = m.b[src.0 as usize];
-                let byte = &mut m.m[byte as usize];
-                *byte = if v { *byte | mask } else { *byte & !mask };
-            }
-            Op::LdM { byte, slot } => load_marker(m, byte as usize, slot),
-            Op::StM { byte, slot } => store_marker(m, byte as usize, slot),
+            X::LdM { byte, slot } => load_marker(m, byte as usize, slot),
+            X::StM { byte, slot } => store_marker(m, byte as usize, slot),
+            X::RungC { b, neg } => rc = rd!(m.b, b.0) != neg,
+            X::RungOr { a, b, na, nb } => rc = (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
+            X::Or { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
+            X::And { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) & (rd!(m.b, b.0) != nb),
         }
         if MON {
-            record(locs, cur, pf, rc);
+            record(locs, code, cur, pf, rc);
         }
     }
     Ok(())
 }
 
 #[inline]
-fn record(locs: &[Loc], pc: usize, pf: &mut PowerFlow, rc: bool) {
-    if let Some(l) = locs.get(pc)
+fn record(locs: &[Loc], code: &Code, pc: usize, pf: &mut PowerFlow, rc: bool) {
+    let canonical = code.src.get(pc).copied().unwrap_or(u32::MAX) as usize;
+    if let Some(l) = locs.get(canonical)
         && l.elem != NO_ELEM
     {
         pf.set(l.elem, rc);
-    }
-}
-
-#[inline]
-fn fault(faults: &mut Faults, code: Option<FaultCode>, pc: usize) {
-    if let Some(code) = code {
-        faults.record(code, pc as u32);
     }
 }
 
@@ -296,11 +666,7 @@ fn cmp<T: PartialOrd>(c: Cmp, a: T, b: T) -> bool {
 /// LIM: `low <= test <= high`, or outside-the-band when `low > high` (Logix).
 #[inline]
 fn lim<T: PartialOrd>(lo: T, t: T, hi: T) -> bool {
-    if lo <= hi {
-        lo <= t && t <= hi
-    } else {
-        t >= lo || t <= hi
-    }
+    if lo <= hi { lo <= t && t <= hi } else { t >= lo || t <= hi }
 }
 
 macro_rules! int_ops {
@@ -479,264 +845,252 @@ fn float_to_int<T>(v: f64, lo: f64, hi: f64, cast: impl Fn(f64) -> T) -> (T, Opt
     (cast(r), None)
 }
 
-fn convert(m: &mut Memory, c: Cvt) -> Option<FaultCode> {
+fn convert(m: &mut Mem, c: Cvt) -> Option<FaultCode> {
     let (imin, imax) = (i32::MIN as f64, i32::MAX as f64);
-    // i64 bounds as f64: MAX rounds up to 2^63, so compare with `<`.
+    // The largest f64 below 2^63 (i64::MAX itself rounds up to 2^63).
     let (lmin, lmax) = (i64::MIN as f64, 9_223_372_036_854_774_784.0);
     match c {
-        Cvt::IF(a, d) => m.f[d.0 as usize] = m.i[a.0 as usize] as f32,
+        Cvt::IF(a, d) => wr!(m.f, d.0, rd!(m.i, a.0) as f32),
         Cvt::FI(a, d) => {
-            let (v, f) = float_to_int(m.f[a.0 as usize] as f64, imin, imax, |v| v as i32);
-            m.i[d.0 as usize] = v;
+            let (v, f) = float_to_int(rd!(m.f, a.0) as f64, imin, imax, |v| v as i32);
+            wr!(m.i, d.0, v);
             return f;
         }
-        Cvt::IL(a, d) => m.l[d.0 as usize] = m.i[a.0 as usize] as i64,
+        Cvt::IL(a, d) => wr!(m.l, d.0, rd!(m.i, a.0) as i64),
         Cvt::LI(a, d) => {
-            let v = m.l[a.0 as usize];
-            m.i[d.0 as usize] = v as i32;
+            let v = rd!(m.l, a.0);
+            wr!(m.i, d.0, v as i32);
             if i32::try_from(v).is_err() {
                 return Some(FaultCode::Overflow);
             }
         }
-        Cvt::ID(a, d) => m.d[d.0 as usize] = m.i[a.0 as usize] as f64,
+        Cvt::ID(a, d) => wr!(m.d, d.0, rd!(m.i, a.0) as f64),
         Cvt::DI(a, d) => {
-            let (v, f) = float_to_int(m.d[a.0 as usize], imin, imax, |v| v as i32);
-            m.i[d.0 as usize] = v;
+            let (v, f) = float_to_int(rd!(m.d, a.0), imin, imax, |v| v as i32);
+            wr!(m.i, d.0, v);
             return f;
         }
-        Cvt::LF(a, d) => m.f[d.0 as usize] = m.l[a.0 as usize] as f32,
+        Cvt::LF(a, d) => wr!(m.f, d.0, rd!(m.l, a.0) as f32),
         Cvt::FL(a, d) => {
-            let (v, f) = float_to_int(m.f[a.0 as usize] as f64, lmin, lmax, |v| v as i64);
-            m.l[d.0 as usize] = v;
+            let (v, f) = float_to_int(rd!(m.f, a.0) as f64, lmin, lmax, |v| v as i64);
+            wr!(m.l, d.0, v);
             return f;
         }
-        Cvt::LD(a, d) => m.d[d.0 as usize] = m.l[a.0 as usize] as f64,
+        Cvt::LD(a, d) => wr!(m.d, d.0, rd!(m.l, a.0) as f64),
         Cvt::DL(a, d) => {
-            let (v, f) = float_to_int(m.d[a.0 as usize], lmin, lmax, |v| v as i64);
-            m.l[d.0 as usize] = v;
+            let (v, f) = float_to_int(rd!(m.d, a.0), lmin, lmax, |v| v as i64);
+            wr!(m.l, d.0, v);
             return f;
         }
-        Cvt::FD(a, d) => m.d[d.0 as usize] = m.f[a.0 as usize] as f64,
+        Cvt::FD(a, d) => wr!(m.d, d.0, rd!(m.f, a.0) as f64),
         Cvt::DF(a, d) => {
-            let (v, f) = fix_f32(m.d[a.0 as usize] as f32, false);
-            m.f[d.0 as usize] = v;
+            let (v, f) = fix_f32(rd!(m.d, a.0) as f32, false);
+            wr!(m.f, d.0, v);
             return f;
         }
     }
     None
 }
 
-fn load_marker(m: &mut Memory, at: usize, slot: MarkerSlot) {
-    let mut buf = [0u8; 4];
-    let n = match slot {
+fn marker_width(slot: MarkerSlot) -> usize {
+    match slot {
         MarkerSlot::Byte(_) => 1,
         MarkerSlot::Word(_) => 2,
         MarkerSlot::DWord(_) | MarkerSlot::Real(_) => 4,
-    };
+    }
+}
+
+fn load_marker(m: &mut Mem, at: usize, slot: MarkerSlot) {
+    let mut buf = [0u8; 4];
+    let n = marker_width(slot);
     if let Some(src) = m.m.get(at..at + n) {
         buf[..n].copy_from_slice(src);
     }
     match slot {
-        MarkerSlot::Byte(i) => m.i[i.0 as usize] = buf[0] as i8 as i32,
-        MarkerSlot::Word(i) => m.i[i.0 as usize] = i16::from_be_bytes([buf[0], buf[1]]) as i32,
-        MarkerSlot::DWord(i) => m.i[i.0 as usize] = i32::from_be_bytes(buf),
-        MarkerSlot::Real(f) => m.f[f.0 as usize] = f32::from_be_bytes(buf),
+        MarkerSlot::Byte(i) => wr!(m.i, i.0, buf[0] as i8 as i32),
+        MarkerSlot::Word(i) => wr!(m.i, i.0, i16::from_be_bytes([buf[0], buf[1]]) as i32),
+        MarkerSlot::DWord(i) => wr!(m.i, i.0, i32::from_be_bytes(buf)),
+        MarkerSlot::Real(f) => wr!(m.f, f.0, f32::from_be_bytes(buf)),
     }
 }
 
-fn store_marker(m: &mut Memory, at: usize, slot: MarkerSlot) {
-    let bytes: ([u8; 4], usize) = match slot {
-        MarkerSlot::Byte(i) => ([m.i[i.0 as usize] as u8, 0, 0, 0], 1),
+fn store_marker(m: &mut Mem, at: usize, slot: MarkerSlot) {
+    let bytes: [u8; 4] = match slot {
+        MarkerSlot::Byte(i) => [rd!(m.i, i.0) as u8, 0, 0, 0],
         MarkerSlot::Word(i) => {
-            let w = (m.i[i.0 as usize] as i16).to_be_bytes();
-            ([w[0], w[1], 0, 0], 2)
+            let w = (rd!(m.i, i.0) as i16).to_be_bytes();
+            [w[0], w[1], 0, 0]
         }
-        MarkerSlot::DWord(i) => (m.i[i.0 as usize].to_be_bytes(), 4),
-        MarkerSlot::Real(f) => (m.f[f.0 as usize].to_be_bytes(), 4),
+        MarkerSlot::DWord(i) => rd!(m.i, i.0).to_be_bytes(),
+        MarkerSlot::Real(f) => rd!(m.f, f.0).to_be_bytes(),
     };
-    if let Some(dst) = m.m.get_mut(at..at + bytes.1) {
-        dst.copy_from_slice(&bytes.0[..bytes.1]);
+    let n = marker_width(slot);
+    if let Some(dst) = m.m.get_mut(at..at + n) {
+        dst.copy_from_slice(&bytes[..n]);
     }
 }
 
 // ---- timers and counters (SPEC §3.2) ----------------------------------------
+//
+// A TIMER is integer slots PRE, ACC, LAST (the clock at its last update,
+// wrapping milliseconds) and bool slots EN, TT, DN. Time counted is always
+// clock time between scans, never a number of scans.
 
-/// A timer's slots: PRE, ACC, start time; EN, TT, DN.
-struct TimerSlots {
-    pre: usize,
-    acc: usize,
-    last: usize,
-    en: usize,
-    tt: usize,
-    dn: usize,
-}
-
-impl TimerSlots {
-    #[inline]
-    fn of(t: Tmr) -> TimerSlots {
-        let (i, b) = (t.i.0 as usize, t.b.0 as usize);
-        TimerSlots {
-            pre: i,
-            acc: i + 1,
-            last: i + 2,
-            en: b,
-            tt: b + 1,
-            dn: b + 2,
-        }
-    }
-}
+const PRE: u32 = 0;
+const ACC: u32 = 1;
+const LAST: u32 = 2;
+const EN: u32 = 0;
+const TT: u32 = 1;
+const DN: u32 = 2;
 
 /// The preset, with a fault (and 0) when negative.
-#[inline]
-fn preset(m: &Memory, s: &TimerSlots, faults: &mut Faults, pc: usize) -> i32 {
-    let pre = m.i[s.pre];
+#[inline(always)]
+fn preset(m: &Mem, t: Tmr, sink: &mut Sink, pc: usize) -> i32 {
+    let pre = rd!(m.i, t.i.0 + PRE);
     if pre < 0 {
-        faults.record(FaultCode::NegativePreset, pc as u32);
+        sink.fault(FaultCode::NegativePreset, pc);
         return 0;
     }
     pre
 }
 
 /// Adds the clock time elapsed since the timer's last update to ACC.
-#[inline]
-fn elapse(m: &mut Memory, s: &TimerSlots, now: u32) {
-    let dt = now.wrapping_sub(m.i[s.last] as u32);
-    m.i[s.last] = now as i32;
-    m.i[s.acc] = m.i[s.acc].saturating_add(dt.min(i32::MAX as u32) as i32);
+#[inline(always)]
+fn elapse(m: &mut Mem, t: Tmr, now: u32) {
+    let dt = now.wrapping_sub(rd!(m.i, t.i.0 + LAST) as u32);
+    wr!(m.i, t.i.0 + LAST, now as i32);
+    let acc = rd!(m.i, t.i.0 + ACC);
+    wr!(m.i, t.i.0 + ACC, acc.saturating_add(dt.min(i32::MAX as u32) as i32));
 }
 
-fn ton(m: &mut Memory, t: Tmr, rc: bool, now: u32, faults: &mut Faults, pc: usize) {
-    let s = TimerSlots::of(t);
-    if rc {
-        let pre = preset(m, &s, faults, pc);
-        if !m.b[s.en] {
-            m.b[s.en] = true;
-            m.i[s.acc] = 0;
-            m.i[s.last] = now as i32;
-        } else if !m.b[s.dn] {
-            elapse(m, &s, now);
-        }
-        if !m.b[s.dn] && m.i[s.acc] >= pre {
-            m.b[s.dn] = true;
-            m.i[s.acc] = pre;
-        }
-        m.b[s.tt] = !m.b[s.dn];
-    } else {
-        m.b[s.en] = false;
-        m.b[s.tt] = false;
-        m.b[s.dn] = false;
-        m.i[s.acc] = 0;
+/// Sets DN and stops ACC at PRE once reached (TON, RTO).
+#[inline(always)]
+fn done_at_preset(m: &mut Mem, t: Tmr, pre: i32) {
+    if !rd!(m.b, t.b.0 + DN) && rd!(m.i, t.i.0 + ACC) >= pre {
+        wr!(m.b, t.b.0 + DN, true);
+        wr!(m.i, t.i.0 + ACC, pre);
     }
 }
 
-fn tof(m: &mut Memory, t: Tmr, rc: bool, now: u32, faults: &mut Faults, pc: usize) {
-    let s = TimerSlots::of(t);
+/// TON: rung true → EN; ACC from 0 on the first true scan, adding clock
+/// time after; DN at PRE (ACC stops there); TT = EN ∧ ¬DN. Rung false →
+/// everything 0.
+#[inline(always)]
+fn ton(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     if rc {
-        m.b[s.en] = true;
-        m.b[s.dn] = true;
-        m.b[s.tt] = false;
-        m.i[s.acc] = 0;
+        let pre = preset(m, t, sink, pc);
+        if !rd!(m.b, t.b.0 + EN) {
+            wr!(m.b, t.b.0 + EN, true);
+            wr!(m.i, t.i.0 + ACC, 0);
+            wr!(m.i, t.i.0 + LAST, now as i32);
+        } else if !rd!(m.b, t.b.0 + DN) {
+            elapse(m, t, now);
+        }
+        done_at_preset(m, t, pre);
+        wr!(m.b, t.b.0 + TT, !rd!(m.b, t.b.0 + DN));
+    } else {
+        wr!(m.b, t.b.0 + EN, false);
+        wr!(m.b, t.b.0 + TT, false);
+        wr!(m.b, t.b.0 + DN, false);
+        wr!(m.i, t.i.0 + ACC, 0);
+    }
+}
+
+/// TOF: rung true → EN = DN = 1, TT = 0, ACC = 0. The first false scan
+/// after that starts timing from 0; at PRE, DN = TT = 0.
+fn tof(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
+    if rc {
+        wr!(m.b, t.b.0 + EN, true);
+        wr!(m.b, t.b.0 + DN, true);
+        wr!(m.b, t.b.0 + TT, false);
+        wr!(m.i, t.i.0 + ACC, 0);
         return;
     }
-    if m.b[s.en] {
-        // First false scan: timing starts at 0.
-        m.b[s.en] = false;
-        m.b[s.tt] = true;
-        m.i[s.acc] = 0;
-        m.i[s.last] = now as i32;
-    } else if m.b[s.tt] {
-        elapse(m, &s, now);
+    if rd!(m.b, t.b.0 + EN) {
+        wr!(m.b, t.b.0 + EN, false);
+        wr!(m.b, t.b.0 + TT, true);
+        wr!(m.i, t.i.0 + ACC, 0);
+        wr!(m.i, t.i.0 + LAST, now as i32);
+    } else if rd!(m.b, t.b.0 + TT) {
+        elapse(m, t, now);
     }
-    if m.b[s.tt] {
-        let pre = preset(m, &s, faults, pc);
-        if m.i[s.acc] >= pre {
-            m.b[s.dn] = false;
-            m.b[s.tt] = false;
-            m.i[s.acc] = pre;
+    if rd!(m.b, t.b.0 + TT) {
+        let pre = preset(m, t, sink, pc);
+        if rd!(m.i, t.i.0 + ACC) >= pre {
+            wr!(m.b, t.b.0 + DN, false);
+            wr!(m.b, t.b.0 + TT, false);
+            wr!(m.i, t.i.0 + ACC, pre);
         }
     }
 }
 
-fn rto(m: &mut Memory, t: Tmr, rc: bool, now: u32, faults: &mut Faults, pc: usize) {
-    let s = TimerSlots::of(t);
+/// RTO: like TON, but a false rung keeps ACC and DN; a true scan after a
+/// false one adds nothing (timing resumes then). Only RES clears it.
+fn rto(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     if rc {
-        let pre = preset(m, &s, faults, pc);
-        if !m.b[s.en] {
-            // A true scan after a false one adds nothing: timing resumes now.
-            m.b[s.en] = true;
-            m.i[s.last] = now as i32;
-        } else if !m.b[s.dn] {
-            elapse(m, &s, now);
+        let pre = preset(m, t, sink, pc);
+        if !rd!(m.b, t.b.0 + EN) {
+            wr!(m.b, t.b.0 + EN, true);
+            wr!(m.i, t.i.0 + LAST, now as i32);
+        } else if !rd!(m.b, t.b.0 + DN) {
+            elapse(m, t, now);
         }
-        if !m.b[s.dn] && m.i[s.acc] >= pre {
-            m.b[s.dn] = true;
-            m.i[s.acc] = pre;
-        }
-        m.b[s.tt] = !m.b[s.dn];
+        done_at_preset(m, t, pre);
+        wr!(m.b, t.b.0 + TT, !rd!(m.b, t.b.0 + DN));
     } else {
-        m.b[s.en] = false;
-        m.b[s.tt] = false;
+        wr!(m.b, t.b.0 + EN, false);
+        wr!(m.b, t.b.0 + TT, false);
     }
 }
 
-fn tp(m: &mut Memory, t: Tmr, rc: bool, now: u32, faults: &mut Faults, pc: usize) {
-    let s = TimerSlots::of(t);
-    let rising = rc && !m.b[s.en];
-    if m.b[s.dn] {
-        elapse(m, &s, now);
+/// TP: a rising rung starts a pulse DN = 1 of PRE ms (ACC from 0, whatever
+/// the rung does next); not retriggerable while DN; ACC = 0 once the pulse
+/// has ended and the rung is false. TT follows DN; EN is the rung.
+fn tp(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
+    let rising = rc && !rd!(m.b, t.b.0 + EN);
+    if rd!(m.b, t.b.0 + DN) {
+        elapse(m, t, now);
     } else if rising {
-        m.b[s.dn] = true;
-        m.i[s.acc] = 0;
-        m.i[s.last] = now as i32;
+        wr!(m.b, t.b.0 + DN, true);
+        wr!(m.i, t.i.0 + ACC, 0);
+        wr!(m.i, t.i.0 + LAST, now as i32);
     }
-    if m.b[s.dn] {
-        let pre = preset(m, &s, faults, pc);
-        if m.i[s.acc] >= pre {
-            m.b[s.dn] = false;
-            m.i[s.acc] = pre;
+    if rd!(m.b, t.b.0 + DN) {
+        let pre = preset(m, t, sink, pc);
+        if rd!(m.i, t.i.0 + ACC) >= pre {
+            wr!(m.b, t.b.0 + DN, false);
+            wr!(m.i, t.i.0 + ACC, pre);
         }
     }
-    if !m.b[s.dn] && !rc {
-        m.i[s.acc] = 0;
+    if !rd!(m.b, t.b.0 + DN) && !rc {
+        wr!(m.i, t.i.0 + ACC, 0);
     }
-    m.b[s.tt] = m.b[s.dn];
-    m.b[s.en] = rc;
+    wr!(m.b, t.b.0 + TT, rd!(m.b, t.b.0 + DN));
+    wr!(m.b, t.b.0 + EN, rc);
 }
 
-/// CTU (`up`) or CTD: count on the rising rung; wrap with OV/UN.
-fn count(m: &mut Memory, c: Ctr, rc: bool, up: bool) {
-    let (pre, acc) = (c.i.0 as usize, c.i.0 as usize + 1);
-    let b = c.b.0 as usize;
-    let (cu, cd, dn, ov, un) = (b, b + 1, b + 2, b + 3, b + 4);
-    let edge_bit = if up { cu } else { cd };
-    if rc && !m.b[edge_bit] {
-        let v = m.i[acc];
-        if up {
-            match v.checked_add(1) {
-                Some(n) => m.i[acc] = n,
-                None => {
-                    m.i[acc] = i32::MIN;
-                    if m.b[un] {
-                        m.b[un] = false
-                    } else {
-                        m.b[ov] = true
-                    }
-                }
-            }
-        } else {
-            match v.checked_sub(1) {
-                Some(n) => m.i[acc] = n,
-                None => {
-                    m.i[acc] = i32::MAX;
-                    if m.b[ov] {
-                        m.b[ov] = false
-                    } else {
-                        m.b[un] = true
-                    }
-                }
+/// CTU (`up`) / CTD: count on the false→true transition of the rung (CU/CD
+/// remember the last rung state); DN = ACC ≥ PRE. Wrapping past the 32-bit
+/// range sets OV (up) or UN (down), or clears the opposite flag if set.
+#[inline(always)]
+fn count(m: &mut Mem, c: Ctr, rc: bool, up: bool) {
+    let (pre, acc) = (c.i.0, c.i.0 + 1);
+    let b = c.b.0;
+    let (dn, ov, un) = (b + 2, b + 3, b + 4);
+    let edge = if up { b } else { b + 1 };
+    if rc && !rd!(m.b, edge) {
+        let v = rd!(m.i, acc);
+        let (next, wrapped) = if up { v.overflowing_add(1) } else { v.overflowing_sub(1) };
+        wr!(m.i, acc, next);
+        if wrapped {
+            let (set, clear) = if up { (ov, un) } else { (un, ov) };
+            if rd!(m.b, clear) {
+                wr!(m.b, clear, false);
+            } else {
+                wr!(m.b, set, true);
             }
         }
     }
-    m.b[edge_bit] = rc;
-    m.b[dn] = m.i[acc] >= m.i[pre];
+    wr!(m.b, edge, rc);
+    wr!(m.b, dn, rd!(m.i, acc) >= rd!(m.i, pre));
 }

@@ -3,7 +3,7 @@
 
 use crate::layout::Layout;
 use crate::memory::Memory;
-use crate::op::{AnySlot, Op};
+use crate::op::{AnySlot, BinOp, Op, UnOp};
 use alba_model::{Files, Span};
 use std::fmt::Write as _;
 
@@ -88,6 +88,15 @@ impl Program {
                 if !ok {
                     return Err(format!("op {pc} ({op:?}) uses {s:?} outside memory"));
                 }
+            }
+            let bad_kind = match op {
+                Op::LdBit { bit, .. } | Op::StBit { bit, .. } => *bit > 7,
+                Op::BinF(o, ..) | Op::BinD(o, ..) => matches!(o, BinOp::And | BinOp::Or | BinOp::Xor),
+                Op::UnF(o, ..) | Op::UnD(o, ..) => matches!(o, UnOp::Not | UnOp::Frd | UnOp::Tod),
+                _ => false,
+            };
+            if bad_kind {
+                return Err(format!("op {pc} ({op:?}) is not defined"));
             }
             if let Op::Jmp(t) = op
                 && !matches!(self.ops.get(*t as usize), Some(Op::Rung))
