@@ -158,7 +158,12 @@ fn build(n: usize) -> Result<Built, String> {
     let t1 = Instant::now();
     let layout = alba_ladder::layout_for(&tags, &[&ast]);
     let mut b = alba_ir::Builder::new(layout);
-    let d3 = alba_ladder::compile(&ast, "main.lad", &mut b, &mut alba_ladder::Presets::default());
+    let d3 = alba_ladder::compile(
+        &ast,
+        "main.lad",
+        &mut b,
+        &mut alba_ladder::Presets::default(),
+    );
     if !d3.is_empty() {
         return Err(format!("generated program does not compile: {}", d3[0]));
     }
@@ -233,10 +238,21 @@ fn time_scans(runs: usize, scans: u64, mut f: impl FnMut(u64)) -> f64 {
 pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
     let runs = if quick { 3 } else { 9 };
     println!("alba bench: engine vs native Rust, rung = [XIO(T.DN),XIC(A)]TON CTU GRT ADD OTE");
-    println!("(median of {runs} runs; time per scan includes every rung; virtual clock 1 ms/scan)\n");
+    println!(
+        "(median of {runs} runs; time per scan includes every rung; virtual clock 1 ms/scan)\n"
+    );
     println!(
         "{:>7} {:>10} {:>11} {:>13} {:>9} {:>13} {:>9} {:>7} {:>10} {:>10}",
-        "rungs", "parse ms", "compile ms", "engine ns/sc", "ns/rung", "native ns/sc", "ns/rung", "ratio", "data B/r", "code B/r"
+        "rungs",
+        "parse ms",
+        "compile ms",
+        "engine ns/sc",
+        "ns/rung",
+        "native ns/sc",
+        "ns/rung",
+        "ratio",
+        "data B/r",
+        "code B/r"
     );
     for &n in sizes {
         let n = n.max(1);
@@ -281,7 +297,11 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
             code
         );
     }
-    println!("\nparse = tags.csv + ladder text; compile = check + lower + verify; B/r = bytes per rung.");
-    println!("Reference (OpenPLC / MatIEC C, g++ -O2, same rung): 11 ns/rung at 100, 29 at 1000, 47 at 10000.");
+    println!(
+        "\nparse = tags.csv + ladder text; compile = check + lower + verify; B/r = bytes per rung."
+    );
+    println!(
+        "Reference (OpenPLC / MatIEC C, g++ -O2, same rung): 11 ns/rung at 100, 29 at 1000, 47 at 10000."
+    );
     ExitCode::SUCCESS
 }

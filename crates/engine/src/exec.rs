@@ -15,7 +15,10 @@
 //! minor fault.
 
 use crate::fault::{FaultCode, Faults};
-use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, F, I, L, Loc, MarkerSlot, Memory, NO_ELEM, Op, Program, Tmr, UnOp, Width};
+use alba_ir::{
+    B, BinOp, Cmp, Ctr, Cvt, F, I, L, Loc, MarkerSlot, Memory, NO_ELEM, Op, Program, Tmr, UnOp,
+    Width,
+};
 
 /// Backward jumps allowed in one scan before the scan is abandoned as a
 /// runaway loop (a major fault).
@@ -36,7 +39,9 @@ impl PowerFlow {
 
     /// Is element `e` energised (the rung condition after it true)?
     pub fn get(&self, e: u32) -> bool {
-        self.bits.get(e as usize / 64).is_some_and(|w| w >> (e % 64) & 1 == 1)
+        self.bits
+            .get(e as usize / 64)
+            .is_some_and(|w| w >> (e % 64) & 1 == 1)
     }
 
     #[inline]
@@ -77,9 +82,17 @@ pub enum X {
     Ons(B),
     Osr(B, B),
     Osf(B, B),
-    BrOpen { save: B, acc: B },
-    BrNext { save: B, acc: B },
-    BrClose { acc: B },
+    BrOpen {
+        save: B,
+        acc: B,
+    },
+    BrNext {
+        save: B,
+        acc: B,
+    },
+    BrClose {
+        acc: B,
+    },
     Jmp(u32),
     Ton(Tmr),
     Tof(Tmr),
@@ -122,19 +135,51 @@ pub enum X {
     Cvt(Cvt),
     Narrow(I, Width),
     CopyI(I, I),
-    LdBit { byte: u32, bit: u8, dst: B },
-    StBit { src: B, byte: u32, bit: u8 },
-    LdM { byte: u32, slot: MarkerSlot },
-    StM { byte: u32, slot: MarkerSlot },
+    LdBit {
+        byte: u32,
+        bit: u8,
+        dst: B,
+    },
+    StBit {
+        src: B,
+        byte: u32,
+        bit: u8,
+    },
+    LdM {
+        byte: u32,
+        slot: MarkerSlot,
+    },
+    StM {
+        byte: u32,
+        slot: MarkerSlot,
+    },
     // Fused (unmonitored code only):
     /// `Rung; Xic/Xio(b)`: `rc = b != neg`.
-    RungC { b: B, neg: bool },
+    RungC {
+        b: B,
+        neg: bool,
+    },
     /// `Rung; [X(a), X(b)]`: `rc = (a != na) | (b != nb)`.
-    RungOr { a: B, b: B, na: bool, nb: bool },
+    RungOr {
+        a: B,
+        b: B,
+        na: bool,
+        nb: bool,
+    },
     /// `[X(a), X(b)]` mid-rung: `rc &= (a != na) | (b != nb)`.
-    Or { a: B, b: B, na: bool, nb: bool },
+    Or {
+        a: B,
+        b: B,
+        na: bool,
+        nb: bool,
+    },
     /// `X(a); X(b)`: `rc &= (a != na) & (b != nb)`.
-    And { a: B, b: B, na: bool, nb: bool },
+    And {
+        a: B,
+        b: B,
+        na: bool,
+        nb: bool,
+    },
 }
 
 /// Executable code for one program.
@@ -148,7 +193,14 @@ pub struct Code {
 }
 
 fn sizes(m: &Memory) -> [usize; 6] {
-    [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()]
+    [
+        m.b.len(),
+        m.i.len(),
+        m.f.len(),
+        m.l.len(),
+        m.d.len(),
+        m.m.len(),
+    ]
 }
 
 /// A contact op, as (bit, negated).
@@ -163,9 +215,14 @@ fn contact(op: &Op) -> Option<(B, bool)> {
 /// `[X(a), X(b)]` at the start of `ops`: the two contacts.
 fn or2(ops: &[Op]) -> Option<(B, bool, B, bool)> {
     match ops {
-        [Op::BrOpen { save, acc }, c1, Op::BrNext { save: s2, acc: a2 }, c2, Op::BrClose { acc: a3 }, ..]
-            if save == s2 && acc == a2 && acc == a3 =>
-        {
+        [
+            Op::BrOpen { save, acc },
+            c1,
+            Op::BrNext { save: s2, acc: a2 },
+            c2,
+            Op::BrClose { acc: a3 },
+            ..,
+        ] if save == s2 && acc == a2 && acc == a3 => {
             let (a, na) = contact(c1)?;
             let (b, nb) = contact(c2)?;
             Some((a, na, b, nb))
@@ -382,7 +439,10 @@ pub(crate) fn run<const MON: bool>(
         d: &mut mem.d,
         m: &mut mem.m,
     };
-    let sink = &mut Sink { faults, src: &code.src };
+    let sink = &mut Sink {
+        faults,
+        src: &code.src,
+    };
     let ops = &code.ops[..];
     let mut rc = true;
     let mut pc = 0usize;
@@ -625,7 +685,15 @@ pub(crate) fn run<const MON: bool>(
             X::StBit { src, byte, bit } => {
                 let mask = 1u8 << (bit & 7);
                 let old = rd!(m.m, byte);
-                wr!(m.m, byte, if rd!(m.b, src.0) { old | mask } else { old & !mask });
+                wr!(
+                    m.m,
+                    byte,
+                    if rd!(m.b, src.0) {
+                        old | mask
+                    } else {
+                        old & !mask
+                    }
+                );
             }
             X::LdM { byte, slot } => load_marker(m, byte as usize, slot),
             X::StM { byte, slot } => store_marker(m, byte as usize, slot),
@@ -666,7 +734,11 @@ fn cmp<T: PartialOrd>(c: Cmp, a: T, b: T) -> bool {
 /// LIM: `low <= test <= high`, or outside-the-band when `low > high` (Logix).
 #[inline]
 fn lim<T: PartialOrd>(lo: T, t: T, hi: T) -> bool {
-    if lo <= hi { lo <= t && t <= hi } else { t >= lo || t <= hi }
+    if lo <= hi {
+        lo <= t && t <= hi
+    } else {
+        t >= lo || t <= hi
+    }
 }
 
 macro_rules! int_ops {
@@ -960,7 +1032,11 @@ fn elapse(m: &mut Mem, t: Tmr, now: u32) {
     let dt = now.wrapping_sub(rd!(m.i, t.i.0 + LAST) as u32);
     wr!(m.i, t.i.0 + LAST, now as i32);
     let acc = rd!(m.i, t.i.0 + ACC);
-    wr!(m.i, t.i.0 + ACC, acc.saturating_add(dt.min(i32::MAX as u32) as i32));
+    wr!(
+        m.i,
+        t.i.0 + ACC,
+        acc.saturating_add(dt.min(i32::MAX as u32) as i32)
+    );
 }
 
 /// Sets DN and stops ACC at PRE once reached (TON, RTO).
@@ -1080,7 +1156,11 @@ fn count(m: &mut Mem, c: Ctr, rc: bool, up: bool) {
     let edge = if up { b } else { b + 1 };
     if rc && !rd!(m.b, edge) {
         let v = rd!(m.i, acc);
-        let (next, wrapped) = if up { v.overflowing_add(1) } else { v.overflowing_sub(1) };
+        let (next, wrapped) = if up {
+            v.overflowing_add(1)
+        } else {
+            v.overflowing_sub(1)
+        };
         wr!(m.i, acc, next);
         if wrapped {
             let (set, clear) = if up { (ov, un) } else { (un, ov) };

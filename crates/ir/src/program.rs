@@ -91,7 +91,9 @@ impl Program {
             }
             let bad_kind = match op {
                 Op::LdBit { bit, .. } | Op::StBit { bit, .. } => *bit > 7,
-                Op::BinF(o, ..) | Op::BinD(o, ..) => matches!(o, BinOp::And | BinOp::Or | BinOp::Xor),
+                Op::BinF(o, ..) | Op::BinD(o, ..) => {
+                    matches!(o, BinOp::And | BinOp::Or | BinOp::Xor)
+                }
                 Op::UnF(o, ..) | Op::UnD(o, ..) => matches!(o, UnOp::Not | UnOp::Frd | UnOp::Tod),
                 _ => false,
             };

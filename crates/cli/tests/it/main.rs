@@ -1,0 +1,29 @@
+//! Integration tests of the `alba` binary.
+
+mod commands;
+mod examples;
+mod malformed;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `alba` with `args` in `cwd`.
+pub fn alba(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_alba"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("alba runs")
+}
+
+pub fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A fresh empty folder under the target directory.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("scratch dir");
+    d
+}

@@ -1,0 +1,6 @@
+//! Integration tests of the engine: golden traces, properties, power flow.
+
+mod golden;
+mod power_flow;
+mod properties;
+mod util;

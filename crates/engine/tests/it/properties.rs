@@ -1,0 +1,165 @@
+//! Properties over random ladder programs: the same stimulus gives the same
+//! trace (determinism), and the fused code of unmonitored scans computes
+//! exactly what the one-op-per-instruction code of monitored scans does.
+
+use crate::util::{compile_text, observable, simulate};
+use alba_engine::Engine;
+use alba_ir::{Place, Target};
+use alba_model::Value;
+use proptest::prelude::*;
+use std::sync::Arc;
+
+const TAGS: &str = "name,type,address,initial\n\
+I0,BOOL,DI:1/0,\nI1,BOOL,DI:1/1,\nI2,BOOL,DI:1/2,\nI3,BOOL,DI:1/3,\n\
+B0,BOOL,,\nB1,BOOL,,1\nB2,BOOL,,\nB3,BOOL,,\nQ0,BOOL,DO:2/0,\nQ1,BOOL,DO:2/1,\n\
+T0,TIMER,,\nT1,TIMER,,\nC0,COUNTER,,\nC1,COUNTER,,\n\
+D0,DINT,,3\nD1,DINT,,-7\nD2,DINT,,\nS0,INT,,100\nR0,REAL,,1.5\nR1,REAL,,\nW0,INT,MW0,\nM0,BOOL,M2.1,\n";
+
+fn contact() -> impl Strategy<Value = String> {
+    let bit = prop::sample::select(vec![
+        "I0", "I1", "I2", "I3", "B0", "B1", "B2", "B3", "Q0", "T0.DN", "T1.TT", "C0.DN", "C1.CU",
+        "M0",
+    ]);
+    let cmp = prop::sample::select(vec![
+        "GRT(D0,D1)",
+        "LES(D2,5)",
+        "EQU(C0.ACC,2)",
+        "GEQ(R0,D0)",
+        "NEQ(S0,W0)",
+        "LEQ(T0.ACC,15)",
+        "LIM(D1,D0,2)",
+        "LIM(10,D2,-10)",
+        "MEQ(D0,6,2)",
+    ]);
+    prop_oneof![
+        (prop::bool::ANY, bit).prop_map(|(n, b)| format!("{}({b})", if n { "XIO" } else { "XIC" })),
+        cmp.prop_map(str::to_string),
+        Just("ONS(B3)".to_string()),
+    ]
+}
+
+fn output() -> impl Strategy<Value = String> {
+    prop::sample::select(vec![
+        "OTE(B0)",
+        "OTE(Q0)",
+        "OTL(B2)",
+        "OTU(B2)",
+        "OTE(Q1)",
+        "OTL(M0)",
+        "OTU(B3)",
+        "OSR(B1,Q1)",
+        "OSF(B0,B3)",
+        "TON(T0,30,0)",
+        "TOF(T1,70,0)",
+        "RTO(T0,30,0)",
+        "TP(T1,70,0)",
+        "RES(T0)",
+        "RES(C1)",
+        "CTU(C0,3,0)",
+        "CTD(C0,3,0)",
+        "CTU(C1,2,0)",
+        "ADD(D0,1,D0)",
+        "SUB(D1,D0,D2)",
+        "MUL(D2,D1,D2)",
+        "DIV(D0,D2,D1)",
+        "MOD(D0,D1,D2)",
+        "MOV(R0,D2)",
+        "ADD(S0,30000,S0)",
+        "MUL(R0,1.5,R1)",
+        "DIV(R1,D2,R0)",
+        "CPT(D2,(D0+D1)*2-C0.ACC)",
+        "CPT(R1,SIN(R0)+D0/4)",
+        "SCP(D0,0,10,0.0,100.0,R1)",
+        "NEG(D1,D1)",
+        "ABS(D1,D2)",
+        "AND(D0,D1,D2)",
+        "NOT(D0,D2)",
+        "XOR(W0,D0,W0)",
+        "ADD(W0,1,W0)",
+        "CLR(D2)",
+        "SQR(D0,R1)",
+        "MOV(T0.ACC,D2)",
+        "NOP()",
+    ])
+    .prop_map(str::to_string)
+}
+
+/// A sequence of elements ending in an output (branches nest once).
+fn body(depth: u32) -> BoxedStrategy<String> {
+    let leg = if depth == 0 {
+        prop::collection::vec(contact(), 1..3)
+            .prop_map(|v| v.join(""))
+            .boxed()
+    } else {
+        prop_oneof![3 => prop::collection::vec(contact(), 1..3).prop_map(|v| v.join("")), 1 => body(depth - 1)].boxed()
+    };
+    (
+        prop::collection::vec(contact(), 0..3),
+        prop::option::of(prop::collection::vec(leg, 2..4)),
+        prop::collection::vec(contact(), 0..2),
+        prop::collection::vec(output(), 1..3),
+    )
+        .prop_map(|(pre, branch, mid, outs)| {
+            let mut s = pre.join("");
+            if let Some(legs) = branch {
+                s.push('[');
+                s.push_str(&legs.join(","));
+                s.push(']');
+            }
+            s.push_str(&mid.join(""));
+            s.push_str(&outs.join(""));
+            s
+        })
+        .boxed()
+}
+
+fn program() -> impl Strategy<Value = String> {
+    prop::collection::vec(body(1).prop_map(|b| format!("{b};\n")), 1..12).prop_map(|v| v.concat())
+}
+
+/// Input toggles: (time, input, value).
+fn stimulus() -> impl Strategy<Value = String> {
+    prop::collection::vec((0u64..600, 0usize..4, prop::bool::ANY), 0..30).prop_map(|rows| {
+        let mut s = String::from("time_ms,tag,value\n");
+        for (t, i, v) in rows {
+            s.push_str(&format!("{t},I{i},{}\n", u8::from(v)));
+        }
+        s
+    })
+}
+
+fn input(p: &alba_ir::Program, i: usize) -> Place {
+    match p.layout.resolve(&format!("I{i}")) {
+        Ok(Target::Value { place, .. }) => place,
+        _ => unreachable!(),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    #[test]
+    fn same_stimulus_same_trace(lad in program(), stim in stimulus()) {
+        let p1 = compile_text(TAGS, &lad).map_err(|e| TestCaseError::fail(format!("{lad}\n{e}")))?;
+        let p2 = compile_text(TAGS, &lad).map_err(TestCaseError::fail)?;
+        let a = simulate(p1, &stim, None, 10, 600, 10);
+        let b = simulate(p2, &stim, None, 10, 600, 10);
+        prop_assert_eq!(a, b);
+    }
+
+    #[test]
+    fn fused_code_matches_unfused_code(lad in program(), toggles in prop::collection::vec((0usize..4, prop::bool::ANY), 60)) {
+        let p = Arc::new(compile_text(TAGS, &lad).map_err(|e| TestCaseError::fail(format!("{lad}\n{e}")))?);
+        let mut fast = Engine::new(p.clone()).unwrap();
+        let mut plain = Engine::new(p.clone()).unwrap();
+        plain.set_monitor(true);
+        for (k, (i, v)) in toggles.into_iter().enumerate() {
+            for e in [&mut fast, &mut plain] {
+                e.write(input(&p, i), Value::Bool(v));
+                e.scan(k as u64 * 10).unwrap();
+            }
+            prop_assert_eq!(observable(&fast), observable(&plain), "scan {} of\n{}", k, lad);
+            prop_assert_eq!(fast.faults(), plain.faults());
+        }
+    }
+}
