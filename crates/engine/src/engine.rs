@@ -30,6 +30,9 @@ pub struct Engine {
     pf: PowerFlow,
     monitor_writes: u64,
     major: Option<MajorFault>,
+    /// Native code for unmonitored scans, once compiled.
+    #[cfg(feature = "jit")]
+    native: Option<crate::jit::Jit>,
 }
 
 impl Engine {
@@ -47,6 +50,8 @@ impl Engine {
             pf: PowerFlow::default(),
             monitor_writes: 0,
             major: None,
+            #[cfg(feature = "jit")]
+            native: None,
             prog,
         })
     }
@@ -111,6 +116,27 @@ impl Engine {
         };
     }
 
+    /// Compiles the program to machine code for unmonitored scans (see
+    /// `jit.rs`). Monitored scans keep using the interpreter. Fails, and
+    /// leaves the interpreter in charge, where native code is unavailable.
+    pub fn compile_native(&mut self) -> Result<(), String> {
+        #[cfg(feature = "jit")]
+        {
+            self.native = Some(crate::jit::Jit::compile(&self.plain)?);
+            Ok(())
+        }
+        #[cfg(not(feature = "jit"))]
+        Err("this build of Alba has no native compiler (feature `jit`)".into())
+    }
+
+    /// Are unmonitored scans running machine code?
+    pub fn is_native(&self) -> bool {
+        #[cfg(feature = "jit")]
+        return self.native.is_some();
+        #[cfg(not(feature = "jit"))]
+        false
+    }
+
     /// Power flow of the last scan, while monitoring.
     pub fn power_flow(&self) -> Option<&PowerFlow> {
         self.monitor.then_some(&self.pf)
@@ -129,6 +155,15 @@ impl Engine {
         self.first_scan = true;
         self.scans = 0;
         self.major = None;
+    }
+
+    /// An unmonitored scan: native code if compiled, else fused code.
+    fn run_unmonitored(&mut self, now: u32) -> Result<(), Stop> {
+        #[cfg(feature = "jit")]
+        if let Some(native) = &self.native {
+            return native.run(&self.plain, &mut self.mem, &mut self.faults, now);
+        }
+        exec::run::<false>(&self.fast, &self.prog.locs, &mut self.mem, &mut self.faults, now, &mut self.pf)
     }
 
     /// Runs one scan at time `now_ms` (milliseconds on the caller's clock).
@@ -152,14 +187,7 @@ impl Engine {
                 &mut self.pf,
             )
         } else {
-            exec::run::<false>(
-                &self.fast,
-                &self.prog.locs,
-                &mut self.mem,
-                &mut self.faults,
-                now,
-                &mut self.pf,
-            )
+            self.run_unmonitored(now)
         };
         self.first_scan = false;
         self.scans += 1;
@@ -196,3 +224,4 @@ impl Engine {
         Ok(())
     }
 }
+

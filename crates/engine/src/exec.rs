@@ -232,6 +232,11 @@ fn or2(ops: &[Op]) -> Option<(B, bool, B, bool)> {
 }
 
 impl Code {
+    /// Does `mem` have the sizes the program was verified against?
+    pub(crate) fn fits(&self, mem: &Memory) -> bool {
+        sizes(mem) == self.sizes
+    }
+
     /// Lowers a program; `fuse` selects the fused (unmonitored) form. The
     /// program must have passed [`Program::verify`].
     pub fn new(p: &Program, fuse: bool) -> Code {
@@ -355,13 +360,13 @@ fn flatten(op: Op) -> X {
 /// Program memory as slices for one scan. Every slot index used with it
 /// comes from a program that passed `Program::verify` against memory of
 /// exactly these sizes (checked at the start of [`run`]).
-struct Mem<'a> {
-    b: &'a mut [bool],
-    i: &'a mut [i32],
-    f: &'a mut [f32],
-    l: &'a mut [i64],
-    d: &'a mut [f64],
-    m: &'a mut [u8],
+pub(crate) struct Mem<'a> {
+    pub(crate) b: &'a mut [bool],
+    pub(crate) i: &'a mut [i32],
+    pub(crate) f: &'a mut [f32],
+    pub(crate) l: &'a mut [i64],
+    pub(crate) d: &'a mut [f64],
+    pub(crate) m: &'a mut [u8],
 }
 
 /// Reads a slot without a bounds check.
@@ -393,9 +398,9 @@ macro_rules! wr {
 }
 
 /// Where faults go, with the map back to canonical ops.
-struct Sink<'a> {
-    faults: &'a mut Faults,
-    src: &'a [u32],
+pub(crate) struct Sink<'a> {
+    pub(crate) faults: &'a mut Faults,
+    pub(crate) src: &'a [u32],
 }
 
 impl Sink<'_> {
@@ -425,7 +430,7 @@ pub(crate) fn run<const MON: bool>(
     now: u32,
     pf: &mut PowerFlow,
 ) -> Result<(), Stop> {
-    if sizes(mem) != code.sizes {
+    if !code.fits(mem) {
         return Err(Stop::Memory);
     }
     if MON {
@@ -485,7 +490,7 @@ pub(crate) fn run<const MON: bool>(
 /// Executes one op other than `End` and `Jmp`, returning the new rung
 /// condition. The interpreter loop and the JIT's fallback both call it.
 #[inline(always)]
-fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mut rc: bool) -> bool {
+pub(crate) fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mut rc: bool) -> bool {
     match op {
         X::End | X::Jmp(_) => {}
         X::Rung => rc = true,
@@ -618,7 +623,7 @@ fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mut rc: bool)
         X::BinF(op, a, b, d) => {
             if rc {
                 let (x, y) = (rd!(m.f, a.0), rd!(m.f, b.0));
-                let (v, f) = fix_f32(bin_f32(op, x, y), op == BinOp::Div && y == 0.0);
+                let (v, f) = fix_f32(bin_f32(op, x, y), matches!(op, BinOp::Div | BinOp::Mod) && y == 0.0);
                 wr!(m.f, d.0, v);
                 sink.check(f, cur);
             }
@@ -633,7 +638,7 @@ fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mut rc: bool)
         X::BinD(op, a, b, d) => {
             if rc {
                 let (x, y) = (rd!(m.d, a.0), rd!(m.d, b.0));
-                let (v, f) = fix_f64(bin_f64(op, x, y), op == BinOp::Div && y == 0.0);
+                let (v, f) = fix_f64(bin_f64(op, x, y), matches!(op, BinOp::Div | BinOp::Mod) && y == 0.0);
                 wr!(m.d, d.0, v);
                 sink.check(f, cur);
             }

@@ -6,6 +6,8 @@ pub mod clock;
 pub mod engine;
 pub mod exec;
 pub mod fault;
+#[cfg(feature = "jit")]
+pub mod jit;
 pub mod sim;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};

@@ -43,7 +43,8 @@ pub fn compile(
     let mut rung_ops = Vec::with_capacity(prog.rungs.len());
     for (n, rung) in prog.rungs.iter().enumerate() {
         check_structure(rung, &mut c.diags);
-        rung_ops.push(c.b.begin_rung(n as u32, rung.span));
+        rung_ops.push(c.b.here());
+        c.b.begin_rung(n as u32, rung.span);
         c.elements(&rung.elements);
     }
     for (at, label, span) in std::mem::take(&mut c.jumps) {

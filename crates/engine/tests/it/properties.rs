@@ -163,3 +163,76 @@ proptest! {
         }
     }
 }
+
+#[cfg(feature = "jit")]
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn native_code_matches_the_interpreter(lad in program(), toggles in prop::collection::vec((0usize..4, prop::bool::ANY), 60)) {
+        let p = Arc::new(compile_text(TAGS, &lad).map_err(|e| TestCaseError::fail(format!("{lad}\n{e}")))?);
+        let mut native = Engine::new(p.clone()).unwrap();
+        native.compile_native().map_err(TestCaseError::fail)?;
+        let mut interp = Engine::new(p.clone()).unwrap();
+        for (k, (i, v)) in toggles.into_iter().enumerate() {
+            for e in [&mut native, &mut interp] {
+                e.write(input(&p, i), Value::Bool(v));
+                e.scan(k as u64 * 10).unwrap();
+            }
+            prop_assert_eq!(observable(&native), observable(&interp), "scan {} of\n{}", k, lad);
+            prop_assert_eq!(native.faults(), interp.faults());
+        }
+    }
+}
+
+/// Jumps forward and backward, and a runaway loop, agree in every mode.
+#[test]
+fn jumps_agree_in_every_mode() {
+    let tags = "name,type,address,initial\nA,BOOL,DI:1/0,\nN,DINT,,\nK,DINT,,\nQ,BOOL,DO:2/0,\nLoop,BOOL,,\n";
+    let lad = "XIC(A)JMP(Skip);\nADD(N,1,N);\nLBL(Skip)XIO(A)OTE(Q);\n\
+               LBL(Back)XIC(Loop)LES(K,3)ADD(K,1,K)JMP(Back);\nXIC(A)MOV(0,K);\n";
+    let p = Arc::new(compile_text(tags, lad).unwrap());
+    let mut engines: Vec<Engine> = (0..3).map(|_| Engine::new(p.clone()).unwrap()).collect();
+    engines[1].set_monitor(true);
+    #[cfg(feature = "jit")]
+    engines[2].compile_native().unwrap();
+    let a = match p.layout.resolve("A") {
+        Ok(Target::Value { place, .. }) => place,
+        _ => unreachable!(),
+    };
+    let lp = match p.layout.resolve("Loop") {
+        Ok(Target::Value { place, .. }) => place,
+        _ => unreachable!(),
+    };
+    for k in 0..20u64 {
+        for e in engines.iter_mut() {
+            e.write(a, Value::Bool(k % 5 == 0));
+            e.write(lp, Value::Bool(k % 3 == 0));
+            e.scan(k * 10).unwrap();
+        }
+        let first = observable(&engines[0]);
+        for e in &engines[1..] {
+            assert_eq!(observable(e), first, "scan {k}");
+        }
+    }
+    // A loop that never ends is a major fault in every mode, at the same place.
+    let lad = "LBL(Again)XIC(Loop)JMP(Again);\n";
+    let p = Arc::new(compile_text(tags, lad).unwrap());
+    let mut engines: Vec<Engine> = (0..3).map(|_| Engine::new(p.clone()).unwrap()).collect();
+    engines[1].set_monitor(true);
+    #[cfg(feature = "jit")]
+    engines[2].compile_native().unwrap();
+    let lp = match p.layout.resolve("Loop") {
+        Ok(Target::Value { place, .. }) => place,
+        _ => unreachable!(),
+    };
+    let faults: Vec<_> = engines
+        .iter_mut()
+        .map(|e| {
+            e.write(lp, Value::Bool(true));
+            e.scan(0).unwrap_err()
+        })
+        .collect();
+    assert!(faults[0].message.contains("backward jumps"), "{}", faults[0].message);
+    assert!(faults.iter().all(|f| f == &faults[0]), "{faults:?}");
+}
