@@ -86,9 +86,7 @@ fn main() -> ExitCode {
             every,
         ),
         Command::New { dir } => new::run(&dir),
-        Command::Bench { sizes, quick } => {
-            bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick)
-        }
+        Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
     }
 }
@@ -150,7 +148,7 @@ fn simulate(
     };
     let scan_ms = c.project.scan_ms() as u64;
     let every = every.unwrap_or(scan_ms);
-    if every == 0 || every % scan_ms != 0 {
+    if every == 0 || !every.is_multiple_of(scan_ms) {
         let d = Diagnostic::unplaced(
             Code::BadArgument,
             format!("--every {every} is not a positive multiple of the scan period ({scan_ms} ms)"),
@@ -190,9 +188,7 @@ fn simulate(
     let mut engine = match Engine::new(Arc::new(program)) {
         Ok(e) => e,
         Err(e) => {
-            return fail(format!(
-                "internal error: the compiled program does not verify: {e}"
-            ));
+            return fail(format!("internal error: the compiled program does not verify: {e}"));
         }
     };
     let opt = SimOptions {
@@ -220,8 +216,7 @@ fn simulate(
         None => {
             let stdout = std::io::stdout();
             let mut w = std::io::BufWriter::new(stdout.lock());
-            sim::run(&mut engine, &stim, &cols, opt, &mut w)
-                .and_then(|()| w.flush().map_err(SimError::Io))
+            sim::run(&mut engine, &stim, &cols, opt, &mut w).and_then(|()| w.flush().map_err(SimError::Io))
         }
     };
     if let Some(f) = engine.faults().first {

@@ -4,18 +4,9 @@ use std::path::Path;
 use std::process::ExitCode;
 
 const FILES: &[(&str, &str)] = &[
-    (
-        "alba.toml",
-        include_str!("../../../examples/start-stop/alba.toml"),
-    ),
-    (
-        "tags.csv",
-        include_str!("../../../examples/start-stop/tags.csv"),
-    ),
-    (
-        "main.lad",
-        include_str!("../../../examples/start-stop/main.lad"),
-    ),
+    ("alba.toml", include_str!("../../../examples/start-stop/alba.toml")),
+    ("tags.csv", include_str!("../../../examples/start-stop/tags.csv")),
+    ("main.lad", include_str!("../../../examples/start-stop/main.lad")),
     (
         "stimulus.csv",
         include_str!("../../../examples/start-stop/stimulus.csv"),
@@ -44,9 +35,7 @@ pub fn run(dir: &Path) -> ExitCode {
         } else {
             text.to_string()
         };
-        if let Err(e) =
-            alba_model::fsutil::write_atomic(&dir.join(file), |w| w.write_all(text.as_bytes()))
-        {
+        if let Err(e) = alba_model::fsutil::write_atomic(&dir.join(file), |w| w.write_all(text.as_bytes())) {
             eprintln!("error: cannot write {}: {e}", dir.join(file).display());
             return ExitCode::FAILURE;
         }

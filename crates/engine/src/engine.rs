@@ -84,21 +84,11 @@ impl Engine {
 
     /// "division by zero at main.lad rung 3 (4:12 `DIV(a,b,c)`)".
     pub fn describe_fault(&self, f: &Fault) -> String {
-        let loc = self
-            .prog
-            .locs
-            .get(f.pc as usize)
-            .copied()
-            .unwrap_or(alba_ir::Loc {
-                rung: 0,
-                elem: alba_ir::NO_ELEM,
-            });
-        format!(
-            "{} at {} (scan {})",
-            f.code,
-            self.prog.describe(loc),
-            f.scan
-        )
+        let loc = self.prog.locs.get(f.pc as usize).copied().unwrap_or(alba_ir::Loc {
+            rung: 0,
+            elem: alba_ir::NO_ELEM,
+        });
+        format!("{} at {} (scan {})", f.code, self.prog.describe(loc), f.scan)
     }
 
     pub fn major_fault(&self) -> Option<&MajorFault> {
@@ -163,7 +153,14 @@ impl Engine {
         if let Some(native) = &self.native {
             return native.run(&self.plain, &mut self.mem, &mut self.faults, now);
         }
-        exec::run::<false>(&self.fast, &self.prog.locs, &mut self.mem, &mut self.faults, now, &mut self.pf)
+        exec::run::<false>(
+            &self.fast,
+            &self.prog.locs,
+            &mut self.mem,
+            &mut self.faults,
+            now,
+            &mut self.pf,
+        )
     }
 
     /// Runs one scan at time `now_ms` (milliseconds on the caller's clock).
@@ -225,3 +222,12 @@ impl Engine {
     }
 }
 
+#[cfg(test)]
+mod tests {
+    /// The runtime moves the engine onto its own thread.
+    #[test]
+    fn engine_is_send() {
+        fn send<T: Send>() {}
+        send::<super::Engine>();
+    }
+}

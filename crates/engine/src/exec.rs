@@ -15,10 +15,7 @@
 //! minor fault.
 
 use crate::fault::{FaultCode, Faults};
-use alba_ir::{
-    B, BinOp, Cmp, Ctr, Cvt, F, I, L, Loc, MarkerSlot, Memory, NO_ELEM, Op, Program, Tmr, UnOp,
-    Width,
-};
+use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, F, I, L, Loc, MarkerSlot, Memory, NO_ELEM, Op, Program, Tmr, UnOp, Width};
 
 /// Backward jumps allowed in one scan before the scan is abandoned as a
 /// runaway loop (a major fault).
@@ -39,9 +36,7 @@ impl PowerFlow {
 
     /// Is element `e` energised (the rung condition after it true)?
     pub fn get(&self, e: u32) -> bool {
-        self.bits
-            .get(e as usize / 64)
-            .is_some_and(|w| w >> (e % 64) & 1 == 1)
+        self.bits.get(e as usize / 64).is_some_and(|w| w >> (e % 64) & 1 == 1)
     }
 
     #[inline]
@@ -67,7 +62,7 @@ pub enum Stop {
 }
 
 /// An executable op. Slots are those of the canonical op(s) it came from.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum X {
     /// End of the code (a sentinel, so the loop needs no bounds test).
     End,
@@ -193,14 +188,7 @@ pub struct Code {
 }
 
 fn sizes(m: &Memory) -> [usize; 6] {
-    [
-        m.b.len(),
-        m.i.len(),
-        m.f.len(),
-        m.l.len(),
-        m.d.len(),
-        m.m.len(),
-    ]
+    [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()]
 }
 
 /// A contact op, as (bit, negated).
@@ -444,10 +432,7 @@ pub(crate) fn run<const MON: bool>(
         d: &mut mem.d,
         m: &mut mem.m,
     };
-    let sink = &mut Sink {
-        faults,
-        src: &code.src,
-    };
+    let sink = &mut Sink { faults, src: &code.src };
     let ops = &code.ops[..];
     let mut rc = true;
     let mut pc = 0usize;
@@ -705,15 +690,7 @@ pub(crate) fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mu
         X::StBit { src, byte, bit } => {
             let mask = 1u8 << (bit & 7);
             let old = rd!(m.m, byte);
-            wr!(
-                m.m,
-                byte,
-                if rd!(m.b, src.0) {
-                    old | mask
-                } else {
-                    old & !mask
-                }
-            );
+            wr!(m.m, byte, if rd!(m.b, src.0) { old | mask } else { old & !mask });
         }
         X::LdM { byte, slot } => load_marker(m, byte as usize, slot),
         X::StM { byte, slot } => store_marker(m, byte as usize, slot),
@@ -838,12 +815,9 @@ macro_rules! int_ops {
                     }
                     (v, None)
                 }
-                _ => float_to_int(
-                    un_f64(op, a as f64),
-                    <$t>::MIN as f64,
-                    <$t>::MAX as f64,
-                    |v| v as $t,
-                ),
+                _ => float_to_int(un_f64(op, a as f64), <$t>::MIN as f64, <$t>::MAX as f64, |v| {
+                    v as $t
+                }),
             }
         }
     };
@@ -901,11 +875,7 @@ macro_rules! float_ops {
                 (v, None)
             } else if divisor_zero {
                 (
-                    if v.is_nan() {
-                        0.0
-                    } else {
-                        <$t>::MAX.copysign(v)
-                    },
+                    if v.is_nan() { 0.0 } else { <$t>::MAX.copysign(v) },
                     Some(FaultCode::DivZero),
                 )
             } else if v.is_nan() {
@@ -1048,11 +1018,7 @@ fn elapse(m: &mut Mem, t: Tmr, now: u32) {
     let dt = now.wrapping_sub(rd!(m.i, t.i.0 + LAST) as u32);
     wr!(m.i, t.i.0 + LAST, now as i32);
     let acc = rd!(m.i, t.i.0 + ACC);
-    wr!(
-        m.i,
-        t.i.0 + ACC,
-        acc.saturating_add(dt.min(i32::MAX as u32) as i32)
-    );
+    wr!(m.i, t.i.0 + ACC, acc.saturating_add(dt.min(i32::MAX as u32) as i32));
 }
 
 /// Sets DN and stops ACC at PRE once reached (TON, RTO).
@@ -1172,11 +1138,7 @@ fn count(m: &mut Mem, c: Ctr, rc: bool, up: bool) {
     let edge = if up { b } else { b + 1 };
     if rc && !rd!(m.b, edge) {
         let v = rd!(m.i, acc);
-        let (next, wrapped) = if up {
-            v.overflowing_add(1)
-        } else {
-            v.overflowing_sub(1)
-        };
+        let (next, wrapped) = if up { v.overflowing_add(1) } else { v.overflowing_sub(1) };
         wr!(m.i, acc, next);
         if wrapped {
             let (set, clear) = if up { (ov, un) } else { (un, ov) };

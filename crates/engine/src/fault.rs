@@ -21,6 +21,18 @@ pub enum FaultCode {
 }
 
 impl FaultCode {
+    pub fn from_i32(code: i32) -> Option<FaultCode> {
+        [
+            FaultCode::Overflow,
+            FaultCode::DivZero,
+            FaultCode::Nan,
+            FaultCode::Range,
+            FaultCode::NegativePreset,
+        ]
+        .into_iter()
+        .find(|c| *c as i32 == code)
+    }
+
     pub fn describe(self) -> &'static str {
         match self {
             FaultCode::Overflow => "arithmetic overflow",
@@ -66,5 +78,18 @@ impl Faults {
         self.count += 1;
         self.first.get_or_insert(f);
         self.last = Some(f);
+    }
+
+    /// Adds `n` faults of which only the first and the last are known.
+    #[cold]
+    pub(crate) fn absorb(&mut self, n: u64, first: (FaultCode, u32), last: (FaultCode, u32)) {
+        if n == 0 {
+            return;
+        }
+        self.record(first.0, first.1);
+        if n > 1 {
+            self.count += n - 2;
+            self.record(last.0, last.1);
+        }
     }
 }

@@ -1,25 +1,31 @@
 //! Native code for unmonitored scans, with Cranelift.
 //!
-//! The JIT translates the unfused executable code ([`Code`]) into one
-//! machine-code function per program. Only the ops that dominate typical
-//! ladder are emitted inline: contacts, coils, one-shots, branches, jumps,
-//! TON, CTU/CTD, integer compares, ADD/SUB/MOV of DINTs. Each inline op
-//! first tests for its rare cases (overflow, a negative preset, a counter
-//! about to wrap) and hands those to the interpreter. Every other op is a
-//! call to the interpreter's own `step` for that single op. So the
-//! semantics stay where they are defined (`exec.rs`), and the inline fast
-//! paths are checked against the interpreter by differential tests.
+//! Programs are compiled rung by rung, by *shape*: the sequence of ops of a
+//! rung with their slot numbers taken out. Each distinct shape becomes one
+//! machine-code function that reads the slots of the rung it runs from an
+//! operand table, so a program of 10 000 similar rungs is a handful of small
+//! functions and a table, not megabytes of straight-line code; a scan is one
+//! predictable call per rung.
 //!
-//! Unsafe code here has one reason: running machine code we generate. The
-//! code only touches memory at slot indices of a program that passed
+//! Only the ops that dominate typical ladder are emitted inline: contacts,
+//! coils, one-shots, branches, jumps, TON, CTU/CTD, integer compares and
+//! ADD/SUB/MOV of DINTs. Each inline op first tests for its rare cases
+//! (overflow, a negative preset, a counter about to wrap) and hands those to
+//! the interpreter; every other op is a call to the interpreter's own `step`
+//! for that single op. So the semantics stay where they are defined
+//! (`exec.rs`), and the inline fast paths are checked against the
+//! interpreter by differential tests.
+//!
+//! Unsafe code here has one reason: running machine code we generate. It
+//! touches memory only at slot indices taken from a program that passed
 //! `Program::verify`, in memory whose sizes `run` checks first.
 #![allow(unsafe_code)]
 
 use crate::exec::{self, Code, Mem, Sink, Stop, X};
-use crate::fault::Faults;
+use crate::fault::{FaultCode, Faults};
 use alba_ir::Memory;
 use cranelift_codegen::ir::condcodes::IntCC;
-use cranelift_codegen::ir::{AbiParam, Block, InstBuilder, MemFlagsData, Signature, Type, Value, types};
+use cranelift_codegen::ir::{AbiParam, InstBuilder, MemFlagsData, SigRef, Signature, Type, Value, types};
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Variable};
 use cranelift_jit::{JITBuilder, JITModule};
@@ -38,11 +44,35 @@ pub(crate) struct JitCtx {
     m: *mut u8,
     lens: [usize; 6],
     now: u32,
+    /// The op of the last JMP taken (for runaway reports).
+    last_jump: u32,
+    /// Faults of inline code not yet in `faults`: how many, then the
+    /// (code, op) of the first and of the last.
+    fault_n: u32,
+    fault_first: [u32; 2],
+    fault_last: [u32; 2],
     ops: *const X,
     n_ops: usize,
     src: *const u32,
     n_src: usize,
     faults: *mut Faults,
+}
+
+impl JitCtx {
+    /// Moves the faults inline code noted into `faults`, in order.
+    fn flush_faults(&mut self) {
+        if self.fault_n == 0 {
+            return;
+        }
+        // SAFETY: `faults` and `src` come from live borrows held by `Jit::run`.
+        let (faults, src) = unsafe { (&mut *self.faults, std::slice::from_raw_parts(self.src, self.n_src)) };
+        let at = |[code, pc]: [u32; 2]| {
+            let code = FaultCode::from_i32(code as i32).unwrap_or(FaultCode::Overflow);
+            (code, src.get(pc as usize).copied().unwrap_or(pc))
+        };
+        faults.absorb(u64::from(self.fault_n), at(self.fault_first), at(self.fault_last));
+        self.fault_n = 0;
+    }
 }
 
 /// Runs one op in the interpreter on behalf of generated code.
@@ -51,6 +81,7 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
     // context `run` built from live, exclusive borrows; while this runs the
     // generated code is suspended, so these are the only references.
     let ctx = unsafe { &mut *ctx };
+    ctx.flush_faults();
     let (mut m, ops, src, faults) = unsafe {
         (
             Mem {
@@ -71,16 +102,39 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
     u32::from(exec::step(op, &mut m, &mut sink, ctx.now, pc as usize, rc != 0))
 }
 
+/// A shape function: `(ctx, operands, count)` runs `count` consecutive
+/// rungs of its shape, whose operands follow each other from `operands`, and
+/// returns 0 to go on after them, or `target + 1` when a JMP to rung
+/// `target` is taken.
+type ShapeFn = unsafe extern "C" fn(*mut JitCtx, *const u64, usize) -> u32;
+
+/// Consecutive rungs of one shape.
+struct Run {
+    f: ShapeFn,
+    first_rung: usize,
+    rungs: usize,
+    /// Where the operands of its first rung start, and how many each rung has.
+    operands: usize,
+    stride: usize,
+}
+
 /// A program compiled to machine code.
 pub struct Jit {
     module: Option<JITModule>,
-    func: unsafe extern "C" fn(*mut JitCtx) -> u32,
+    runs: Vec<Run>,
+    /// The run of each rung.
+    run_of: Vec<u32>,
+    /// The op where each rung starts.
+    starts: Vec<u32>,
+    operands: std::cell::RefCell<Operands>,
+    /// Distinct shapes compiled.
+    pub shapes: usize,
 }
 
 impl Drop for Jit {
     fn drop(&mut self) {
         if let Some(m) = self.module.take() {
-            // SAFETY: `func` points into this module and dies with `self`.
+            // SAFETY: the functions point into this module and die with `self`.
             unsafe { m.free_memory() };
         }
     }
@@ -88,12 +142,152 @@ impl Drop for Jit {
 
 impl std::fmt::Debug for Jit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Jit")
+        write!(
+            f,
+            "Jit({} rungs, {} runs, {} shapes)",
+            self.run_of.len(),
+            self.runs.len(),
+            self.shapes
+        )
     }
 }
 
 fn err(e: impl std::fmt::Display) -> String {
     format!("native compilation failed: {e}")
+}
+
+/// An operand of a rung: a slot (whose address goes in the table) or a
+/// number (an op index for the interpreter, a rung index for a jump).
+#[derive(Debug, Clone, Copy)]
+enum Operand {
+    Bool(u32),
+    Int(u32),
+    Number(u32),
+}
+
+/// The operands of every rung, and their values for the memory they were
+/// last resolved against (slot addresses are absolute, so generated code
+/// needs no base registers).
+#[derive(Debug, Default)]
+struct Operands {
+    items: Vec<Operand>,
+    values: Vec<u64>,
+    /// Addresses of the bool and integer arrays `values` was made for.
+    bases: (usize, usize),
+}
+
+impl Operands {
+    fn push(&mut self, o: Operand) {
+        self.items.push(o);
+    }
+
+    fn extend<const N: usize>(&mut self, os: [Operand; N]) {
+        self.items.extend(os);
+    }
+
+    fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Resolves slot operands against memory at these addresses.
+    fn rebase(&mut self, b: *mut bool, i: *mut i32) {
+        let bases = (b as usize, i as usize);
+        if self.bases == bases && self.values.len() == self.items.len() {
+            return;
+        }
+        self.values = self
+            .items
+            .iter()
+            .map(|o| match *o {
+                Operand::Bool(s) => (bases.0 + s as usize) as u64,
+                Operand::Int(s) => (bases.1 + 4 * s as usize) as u64,
+                Operand::Number(n) => u64::from(n),
+            })
+            .collect();
+        self.bases = bases;
+    }
+}
+
+/// The shape of an op: the op with every slot number zeroed, or `None` for
+/// ops left to the interpreter. Its operands go to the table. Branch ops
+/// need none: their state lives in registers.
+fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) -> Option<X> {
+    use alba_ir::{B, Ctr, I, Tmr};
+    let (b0, i0) = (B(0), I(0));
+    let out = table;
+    let bo = |b: B| Operand::Bool(b.0);
+    let io = |i: I| Operand::Int(i.0);
+    let pc = Operand::Number(pc as u32);
+    let s = match op {
+        X::Rung | X::Nop | X::Afi | X::End => op,
+        X::Xic(b) | X::Xio(b) | X::Ote(b) | X::Otl(b) | X::Otu(b) | X::Ons(b) => {
+            out.push(bo(b));
+            match op {
+                X::Xic(_) => X::Xic(b0),
+                X::Xio(_) => X::Xio(b0),
+                X::Ote(_) => X::Ote(b0),
+                X::Otl(_) => X::Otl(b0),
+                X::Otu(_) => X::Otu(b0),
+                _ => X::Ons(b0),
+            }
+        }
+        X::Osr(s, o) | X::Osf(s, o) => {
+            out.extend([bo(s), bo(o)]);
+            if matches!(op, X::Osr(..)) {
+                X::Osr(b0, b0)
+            } else {
+                X::Osf(b0, b0)
+            }
+        }
+        X::BrOpen { .. } => X::BrOpen { save: b0, acc: b0 },
+        X::BrNext { .. } => X::BrNext { save: b0, acc: b0 },
+        X::BrClose { .. } => X::BrClose { acc: b0 },
+        X::Jmp(t) => {
+            out.extend([Operand::Number(rung_of.get(&t).copied().unwrap_or(u32::MAX)), pc]);
+            X::Jmp(0)
+        }
+        X::Ton(t) => {
+            out.extend([io(t.i), bo(t.b), pc]);
+            X::Ton(Tmr { i: i0, b: b0 })
+        }
+        X::Ctu(c) | X::Ctd(c) => {
+            out.extend([io(c.i), bo(c.b), pc]);
+            let z = Ctr { i: i0, b: b0 };
+            if matches!(op, X::Ctu(_)) { X::Ctu(z) } else { X::Ctd(z) }
+        }
+        X::EqI(a, b) | X::NeI(a, b) | X::LtI(a, b) | X::GtI(a, b) | X::LeI(a, b) | X::GeI(a, b) => {
+            out.extend([io(a), io(b)]);
+            match op {
+                X::EqI(..) => X::EqI(i0, i0),
+                X::NeI(..) => X::NeI(i0, i0),
+                X::LtI(..) => X::LtI(i0, i0),
+                X::GtI(..) => X::GtI(i0, i0),
+                X::LeI(..) => X::LeI(i0, i0),
+                _ => X::GeI(i0, i0),
+            }
+        }
+        X::AddI(a, b, d) | X::SubI(a, b, d) => {
+            out.extend([io(a), io(b), io(d), pc]);
+            if matches!(op, X::AddI(..)) {
+                X::AddI(i0, i0, i0)
+            } else {
+                X::SubI(i0, i0, i0)
+            }
+        }
+        X::MovI(a, d) | X::CopyI(a, d) => {
+            out.extend([io(a), io(d)]);
+            if matches!(op, X::MovI(..)) {
+                X::MovI(i0, i0)
+            } else {
+                X::CopyI(i0, i0)
+            }
+        }
+        _ => {
+            out.push(pc);
+            return None;
+        }
+    };
+    Some(s)
 }
 
 impl Jit {
@@ -109,35 +303,88 @@ impl Jit {
             .map_err(err)?;
         let ptr = isa.pointer_type();
         let mut module = JITModule::new(JITBuilder::with_isa(isa, default_libcall_names()));
-        let mut ctx = module.make_context();
+
+        // Rungs start at `Rung` ops (jump targets are always rung starts).
+        let starts: Vec<usize> = (0..code.ops.len()).filter(|&pc| code.ops[pc] == X::Rung).collect();
+        let rung_of: HashMap<u32, u32> = starts
+            .iter()
+            .enumerate()
+            .map(|(r, &pc)| (pc as u32, r as u32))
+            .collect();
+
         let mut sig = module.make_signature();
         sig.params.push(AbiParam::new(ptr));
+        sig.params.push(AbiParam::new(ptr));
+        sig.params.push(AbiParam::new(ptr));
         sig.returns.push(AbiParam::new(types::I32));
-        ctx.func.signature = sig.clone();
-        let id = module.declare_function("alba_scan", Linkage::Local, &sig).map_err(err)?;
+        let mut shapes: HashMap<Vec<Option<X>>, cranelift_module::FuncId> = HashMap::new();
+        let mut runs: Vec<(cranelift_module::FuncId, usize, usize, usize, usize)> = Vec::new();
+        let mut run_of = Vec::with_capacity(starts.len());
+        let mut operands = Operands::default();
+        let mut ctx = module.make_context();
         let mut fctx = FunctionBuilderContext::new();
-        {
-            let mut fb = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-            let mut fallback_sig = Signature::new(module.isa().default_call_conv());
-            fallback_sig.params.push(AbiParam::new(ptr));
-            fallback_sig.params.push(AbiParam::new(types::I32));
-            fallback_sig.params.push(AbiParam::new(types::I32));
-            fallback_sig.returns.push(AbiParam::new(types::I32));
-            let fallback_sig = fb.import_signature(fallback_sig);
-            Gen::new(&mut fb, ptr, fallback_sig).emit(&code.ops);
-            fb.seal_all_blocks();
-            fb.finalize(module.target_config());
+        for (r, &start) in starts.iter().enumerate() {
+            let end = starts.get(r + 1).copied().unwrap_or(code.ops.len());
+            let offset = operands.len();
+            let key: Vec<Option<X>> = (start..end)
+                .map(|pc| shape(code.ops[pc], pc, &rung_of, &mut operands))
+                .collect();
+            let stride = operands.len() - offset;
+            let id = match shapes.get(&key) {
+                Some(&id) => id,
+                None => {
+                    let id = module
+                        .declare_function(&format!("alba_shape_{}", shapes.len()), Linkage::Local, &sig)
+                        .map_err(err)?;
+                    ctx.func.signature = sig.clone();
+                    {
+                        let mut fb = FunctionBuilder::new(&mut ctx.func, &mut fctx);
+                        let mut fallback_sig = Signature::new(module.isa().default_call_conv());
+                        fallback_sig.params.push(AbiParam::new(ptr));
+                        fallback_sig.params.push(AbiParam::new(types::I32));
+                        fallback_sig.params.push(AbiParam::new(types::I32));
+                        fallback_sig.returns.push(AbiParam::new(types::I32));
+                        let fallback_sig = fb.import_signature(fallback_sig);
+                        Gen::new(&mut fb, ptr, fallback_sig).emit(&key, stride);
+                        fb.seal_all_blocks();
+                        fb.finalize(module.target_config());
+                    }
+                    module.define_function(id, &mut ctx).map_err(err)?;
+                    module.clear_context(&mut ctx);
+                    shapes.insert(key, id);
+                    id
+                }
+            };
+            match runs.last_mut() {
+                Some((rid, _, count, _, rstride)) if *rid == id && *rstride == stride => *count += 1,
+                _ => runs.push((id, r, 1, offset, stride)),
+            }
+            run_of.push((runs.len() - 1) as u32);
         }
-        module.define_function(id, &mut ctx).map_err(err)?;
-        module.clear_context(&mut ctx);
         module.finalize_definitions().map_err(err)?;
-        let raw = module.get_finalized_function(id);
-        // SAFETY: `raw` is the function just defined with signature
-        // `fn(ptr) -> i32` in the system calling convention.
-        let func = unsafe { std::mem::transmute::<*const u8, unsafe extern "C" fn(*mut JitCtx) -> u32>(raw) };
+        let runs = runs
+            .into_iter()
+            .map(|(id, first_rung, rungs, operands, stride)| {
+                let raw = module.get_finalized_function(id);
+                // SAFETY: `raw` is a function defined above with signature
+                // `fn(ptr, ptr, ptr) -> i32` in the system calling convention.
+                let f = unsafe { std::mem::transmute::<*const u8, ShapeFn>(raw) };
+                Run {
+                    f,
+                    first_rung,
+                    rungs,
+                    operands,
+                    stride,
+                }
+            })
+            .collect();
         Ok(Jit {
             module: Some(module),
-            func,
+            runs,
+            run_of,
+            starts: starts.iter().map(|&s| s as u32).collect(),
+            operands: std::cell::RefCell::new(operands),
+            shapes: shapes.len(),
         })
     }
 
@@ -153,80 +400,134 @@ impl Jit {
             l: mem.l.as_mut_ptr(),
             d: mem.d.as_mut_ptr(),
             m: mem.m.as_mut_ptr(),
-            lens: [mem.b.len(), mem.i.len(), mem.f.len(), mem.l.len(), mem.d.len(), mem.m.len()],
+            lens: [
+                mem.b.len(),
+                mem.i.len(),
+                mem.f.len(),
+                mem.l.len(),
+                mem.d.len(),
+                mem.m.len(),
+            ],
             now,
+            last_jump: 0,
+            fault_n: 0,
+            fault_first: [0; 2],
+            fault_last: [0; 2],
             ops: code.ops.as_ptr(),
             n_ops: code.ops.len(),
             src: code.src.as_ptr(),
             n_src: code.src.len(),
             faults,
         };
-        // SAFETY: the function was generated from `code` (verified, with
-        // memory sizes checked above) and only uses `ctx` during the call.
-        let r = unsafe { (self.func)(&mut ctx) };
-        match r {
-            0 => Ok(()),
-            pc => Err(Stop::Runaway(code.src.get(pc as usize - 1).copied().unwrap_or(0))),
+        let mut table = self.operands.borrow_mut();
+        table.rebase(ctx.b, ctx.i);
+        let mut r = 0usize;
+        let mut backward = 0u32;
+        while let Some(&run) = self.run_of.get(r) {
+            let run = &self.runs[run as usize];
+            let skip = r - run.first_rung;
+            let operands = table.values[run.operands + skip * run.stride..].as_ptr();
+            // SAFETY: `run.f` was generated for the shape of these rungs,
+            // whose operands follow from `operands`, `stride` per rung; it
+            // uses `ctx` only during the call.
+            let next = unsafe { (run.f)(&mut ctx, operands, run.rungs - skip) };
+            ctx.flush_faults();
+            if next == 0 {
+                r = run.first_rung + run.rungs;
+                continue;
+            }
+            let target = next as usize - 1;
+            let from = self.starts.partition_point(|&s| s <= ctx.last_jump).saturating_sub(1);
+            if target <= from {
+                backward += 1;
+                if backward > exec::BACKWARD_JUMP_LIMIT {
+                    let pc = ctx.last_jump as usize;
+                    return Err(Stop::Runaway(code.src.get(pc).copied().unwrap_or(0)));
+                }
+            }
+            r = target;
         }
+        Ok(())
     }
 }
 
-/// Code generation state for one function.
+/// Code generation for one rung shape.
 struct Gen<'a, 'b> {
     fb: &'a mut FunctionBuilder<'b>,
     ptr: Type,
-    fallback_sig: cranelift_codegen::ir::SigRef,
+    fallback_sig: SigRef,
     ctx: Value,
-    base: [Value; 2],
+    /// Operands of the rung being generated, and the next one to read.
+    operands: Variable,
+    next: i32,
     now: Value,
     rc: Variable,
-    backward: Variable,
+    /// Open branches: (rung state at the branch, OR of the legs so far).
+    branches: Vec<(Variable, Variable)>,
     flags: MemFlagsData,
 }
 
-const B: usize = 0;
-const I: usize = 1;
-
 impl<'a, 'b> Gen<'a, 'b> {
-    fn new(fb: &'a mut FunctionBuilder<'b>, ptr: Type, fallback_sig: cranelift_codegen::ir::SigRef) -> Self {
+    fn new(fb: &'a mut FunctionBuilder<'b>, ptr: Type, fallback_sig: SigRef) -> Self {
         let entry = fb.create_block();
         fb.append_block_params_for_function_params(entry);
         fb.switch_to_block(entry);
         let ctx = fb.block_params(entry)[0];
         let flags = MemFlagsData::trusted();
-        let b = fb.ins().load(ptr, flags, ctx, offset_of!(JitCtx, b) as i32);
-        let i = fb.ins().load(ptr, flags, ctx, offset_of!(JitCtx, i) as i32);
         let now = fb.ins().load(types::I32, flags, ctx, offset_of!(JitCtx, now) as i32);
         let rc = fb.declare_var(types::I8);
-        let backward = fb.declare_var(types::I32);
         let one = fb.ins().iconst(types::I8, 1);
         fb.def_var(rc, one);
-        let zero = fb.ins().iconst(types::I32, 0);
-        fb.def_var(backward, zero);
+        let operands = fb.declare_var(ptr);
         Gen {
             fb,
             ptr,
             fallback_sig,
             ctx,
-            base: [b, i],
+            operands,
+            next: 0,
             now,
             rc,
-            backward,
+            branches: Vec::new(),
             flags,
         }
     }
 
-    fn ld_b(&mut self, slot: u32) -> Value {
-        self.fb.ins().load(types::I8, self.flags, self.base[B], slot as i32)
+    /// The next operand (a byte offset, an op index or a rung index).
+    fn operand(&mut self) -> Value {
+        let base = self.fb.use_var(self.operands);
+        let v = self.fb.ins().load(types::I64, self.flags, base, self.next * 8);
+        self.next += 1;
+        v
     }
-    fn st_b(&mut self, slot: u32, v: Value) {
-        self.fb.ins().store(self.flags, v, self.base[B], slot as i32);
+
+    /// The next operand as a 32-bit number.
+    fn operand32(&mut self) -> Value {
+        let v = self.operand();
+        self.fb.ins().ireduce(types::I32, v)
     }
-    fn ld_i(&mut self, slot: u32) -> Value {
-        self.fb.ins().load(types::I32, self.flags, self.base[I], (slot * 4) as i32)
+
+    /// Address of the bool slot named by the next operand.
+    fn b_addr(&mut self) -> Value {
+        self.operand()
     }
-    fn st_i(&mut self, slot: u32, v: Value) {
-        self.fb.ins().store(self.flags, v, self.base[I], (slot * 4) as i32);
+
+    /// Address of the integer slot named by the next operand.
+    fn i_addr(&mut self) -> Value {
+        self.operand()
+    }
+
+    fn ld8(&mut self, addr: Value, off: i32) -> Value {
+        self.fb.ins().load(types::I8, self.flags, addr, off)
+    }
+    fn st8(&mut self, addr: Value, off: i32, v: Value) {
+        self.fb.ins().store(self.flags, v, addr, off);
+    }
+    fn ld32(&mut self, addr: Value, off: i32) -> Value {
+        self.fb.ins().load(types::I32, self.flags, addr, off * 4)
+    }
+    fn st32(&mut self, addr: Value, off: i32, v: Value) {
+        self.fb.ins().store(self.flags, v, addr, off * 4);
     }
     fn rc(&mut self) -> Value {
         self.fb.use_var(self.rc)
@@ -243,15 +544,25 @@ impl<'a, 'b> Gen<'a, 'b> {
     fn not(&mut self, v: Value) -> Value {
         self.fb.ins().bxor_imm_u(v, 1)
     }
+    fn and(&mut self, a: Value, b: Value) -> Value {
+        self.fb.ins().band(a, b)
+    }
+    fn or(&mut self, a: Value, b: Value) -> Value {
+        self.fb.ins().bor(a, b)
+    }
+    fn and_rc(&mut self, v: Value) {
+        let rc = self.rc();
+        let r = self.and(rc, v);
+        self.set_rc(r);
+    }
 
-    /// Calls the interpreter for op `pc`; the rung condition it returns
-    /// becomes the current one.
-    fn call_fallback(&mut self, pc: usize) {
+    /// Calls the interpreter for the op whose index is `pc`; the rung
+    /// condition it returns becomes the current one.
+    fn call_fallback(&mut self, pc: Value) {
         let f = self.fb.ins().iconst(self.ptr, fallback as *const () as i64);
-        let pcv = self.c32(pc as i64);
         let rc = self.rc();
         let rc32 = self.fb.ins().uextend(types::I32, rc);
-        let call = self.fb.ins().call_indirect(self.fallback_sig, f, &[self.ctx, pcv, rc32]);
+        let call = self.fb.ins().call_indirect(self.fallback_sig, f, &[self.ctx, pc, rc32]);
         let r = self.fb.inst_results(call)[0];
         let r8 = self.fb.ins().ireduce(types::I8, r);
         self.set_rc(r8);
@@ -268,299 +579,317 @@ impl<'a, 'b> Gen<'a, 'b> {
         self.fb.switch_to_block(join);
     }
 
-    /// `if cond { fallback(pc) } else { fast() }` then continue.
-    fn unless_rare(&mut self, rare: Value, pc: usize, fast: impl FnOnce(&mut Self)) {
-        let slow = self.fb.create_block();
-        let quick = self.fb.create_block();
+    /// `if cond { note fault `code` at op `pc` }` (a cold path, no call).
+    fn fault_if(&mut self, cond: Value, code: FaultCode, pc: Value) {
+        let cold = self.fb.create_block();
         let join = self.fb.create_block();
-        self.fb.ins().brif(rare, slow, &[], quick, &[]);
-        self.fb.set_cold_block(slow);
-        self.fb.switch_to_block(slow);
-        self.call_fallback(pc);
-        self.fb.ins().jump(join, &[]);
-        self.fb.switch_to_block(quick);
-        fast(self);
+        self.fb.ins().brif(cond, cold, &[], join, &[]);
+        self.fb.set_cold_block(cold);
+        self.fb.switch_to_block(cold);
+        let f = self.flags;
+        let n = self
+            .fb
+            .ins()
+            .load(types::I32, f, self.ctx, offset_of!(JitCtx, fault_n) as i32);
+        let code = self.c32(code as i64);
+        let first = self.fb.create_block();
+        let rest = self.fb.create_block();
+        self.fb.ins().brif(n, rest, &[], first, &[]);
+        self.fb.switch_to_block(first);
+        self.fb
+            .ins()
+            .store(f, code, self.ctx, offset_of!(JitCtx, fault_first) as i32);
+        self.fb
+            .ins()
+            .store(f, pc, self.ctx, offset_of!(JitCtx, fault_first) as i32 + 4);
+        self.fb.ins().jump(rest, &[]);
+        self.fb.switch_to_block(rest);
+        self.fb
+            .ins()
+            .store(f, code, self.ctx, offset_of!(JitCtx, fault_last) as i32);
+        self.fb
+            .ins()
+            .store(f, pc, self.ctx, offset_of!(JitCtx, fault_last) as i32 + 4);
+        let n1 = self.fb.ins().iadd_imm_s(n, 1);
+        self.fb.ins().store(f, n1, self.ctx, offset_of!(JitCtx, fault_n) as i32);
         self.fb.ins().jump(join, &[]);
         self.fb.switch_to_block(join);
     }
 
-    fn emit(mut self, ops: &[X]) {
-        // A block for every jump target.
-        let mut targets: HashMap<u32, Block> = HashMap::new();
-        for op in ops {
-            if let X::Jmp(t) = op {
-                let b = self.fb.create_block();
-                targets.entry(*t).or_insert(b);
+    /// The function: a loop over `count` rungs of this shape.
+    fn emit(mut self, shape: &[Option<X>], stride: usize) {
+        let entry = self.fb.current_block().unwrap_or_else(|| self.fb.create_block());
+        let params = self.fb.block_params(entry).to_vec();
+        let (first, count) = (params[1], params[2]);
+        let left = self.fb.declare_var(self.ptr);
+        self.fb.def_var(self.operands, first);
+        self.fb.def_var(left, count);
+        let head = self.fb.create_block();
+        let body = self.fb.create_block();
+        let done = self.fb.create_block();
+        self.fb.ins().jump(head, &[]);
+        self.fb.switch_to_block(head);
+        let n = self.fb.use_var(left);
+        self.fb.ins().brif(n, body, &[], done, &[]);
+        self.fb.switch_to_block(body);
+        self.next = 0;
+        for op in shape {
+            match op {
+                Some(op) => self.op(*op),
+                None => {
+                    let pc = self.operand32();
+                    self.call_fallback(pc);
+                }
             }
         }
-        let exit = self.fb.create_block();
-        for (pc, &op) in ops.iter().enumerate() {
-            if let Some(&b) = targets.get(&(pc as u32)) {
-                self.fb.ins().jump(b, &[]);
-                self.fb.switch_to_block(b);
-            }
-            self.op(pc, op, &targets, exit);
-        }
-        self.fb.ins().jump(exit, &[]);
-        self.fb.switch_to_block(exit);
-        let ok = self.c32(0);
-        self.fb.ins().return_(&[ok]);
+        let base = self.fb.use_var(self.operands);
+        let following = self.fb.ins().iadd_imm_s(base, (stride * 8) as i64);
+        self.fb.def_var(self.operands, following);
+        let n = self.fb.use_var(left);
+        let n1 = self.fb.ins().iadd_imm_s(n, -1);
+        self.fb.def_var(left, n1);
+        self.fb.ins().jump(head, &[]);
+        self.fb.switch_to_block(done);
+        let zero = self.c32(0);
+        self.fb.ins().return_(&[zero]);
     }
 
-    fn op(&mut self, pc: usize, op: X, targets: &HashMap<u32, Block>, exit: Block) {
+    fn op(&mut self, op: X) {
         match op {
-            X::End => {
-                self.fb.ins().jump(exit, &[]);
-                let dead = self.fb.create_block();
-                self.fb.switch_to_block(dead);
-            }
             X::Rung => {
                 let one = self.c8(1);
                 self.set_rc(one);
             }
-            X::Nop => {}
+            X::Nop | X::End => {}
             X::Afi => {
                 let zero = self.c8(0);
                 self.set_rc(zero);
             }
-            X::Xic(b) => {
-                let v = self.ld_b(b.0);
-                let rc = self.rc();
-                let r = self.fb.ins().band(rc, v);
-                self.set_rc(r);
+            X::Xic(_) | X::Xio(_) => {
+                let a = self.b_addr();
+                let v = self.ld8(a, 0);
+                let v = if matches!(op, X::Xio(_)) { self.not(v) } else { v };
+                self.and_rc(v);
             }
-            X::Xio(b) => {
-                let v = self.ld_b(b.0);
-                let nv = self.not(v);
+            X::Ote(_) => {
+                let a = self.b_addr();
                 let rc = self.rc();
-                let r = self.fb.ins().band(rc, nv);
-                self.set_rc(r);
+                self.st8(a, 0, rc);
             }
-            X::Ote(b) => {
+            X::Otl(_) | X::Otu(_) => {
+                let a = self.b_addr();
+                let v = self.ld8(a, 0);
                 let rc = self.rc();
-                self.st_b(b.0, rc);
+                let r = if matches!(op, X::Otl(_)) {
+                    self.or(v, rc)
+                } else {
+                    let nrc = self.not(rc);
+                    self.and(v, nrc)
+                };
+                self.st8(a, 0, r);
             }
-            X::Otl(b) => {
-                let v = self.ld_b(b.0);
-                let rc = self.rc();
-                let r = self.fb.ins().bor(v, rc);
-                self.st_b(b.0, r);
-            }
-            X::Otu(b) => {
-                let v = self.ld_b(b.0);
-                let rc = self.rc();
-                let nrc = self.not(rc);
-                let r = self.fb.ins().band(v, nrc);
-                self.st_b(b.0, r);
-            }
-            X::Ons(s) => {
-                let sv = self.ld_b(s.0);
+            X::Ons(_) => {
+                let a = self.b_addr();
+                let sv = self.ld8(a, 0);
                 let rc = self.rc();
                 let nsv = self.not(sv);
-                let out = self.fb.ins().band(rc, nsv);
-                self.st_b(s.0, rc);
+                let out = self.and(rc, nsv);
+                self.st8(a, 0, rc);
                 self.set_rc(out);
             }
-            X::Osr(s, o) => {
-                let sv = self.ld_b(s.0);
+            X::Osr(..) | X::Osf(..) => {
+                let s = self.b_addr();
+                let o = self.b_addr();
+                let sv = self.ld8(s, 0);
                 let rc = self.rc();
-                let nsv = self.not(sv);
-                let out = self.fb.ins().band(rc, nsv);
-                self.st_b(o.0, out);
-                self.st_b(s.0, rc);
-            }
-            X::Osf(s, o) => {
-                let sv = self.ld_b(s.0);
-                let rc = self.rc();
-                let nrc = self.not(rc);
-                let out = self.fb.ins().band(nrc, sv);
-                self.st_b(o.0, out);
-                self.st_b(s.0, rc);
-            }
-            X::BrOpen { save, acc } => {
-                let rc = self.rc();
-                self.st_b(save.0, rc);
-                let zero = self.c8(0);
-                self.st_b(acc.0, zero);
-            }
-            X::BrNext { save, acc } => {
-                let a = self.ld_b(acc.0);
-                let rc = self.rc();
-                let na = self.fb.ins().bor(a, rc);
-                self.st_b(acc.0, na);
-                let s = self.ld_b(save.0);
-                self.set_rc(s);
-            }
-            X::BrClose { acc } => {
-                let a = self.ld_b(acc.0);
-                let rc = self.rc();
-                let r = self.fb.ins().bor(rc, a);
-                self.set_rc(r);
-            }
-            X::Jmp(t) => {
-                let target = targets.get(&t).copied().unwrap_or(exit);
-                let next = self.fb.create_block();
-                let rc = self.rc();
-                if (t as usize) <= pc {
-                    // Backward: count, and stop a runaway loop.
-                    let count = self.fb.create_block();
-                    let runaway = self.fb.create_block();
-                    self.fb.ins().brif(rc, count, &[], next, &[]);
-                    self.fb.switch_to_block(count);
-                    let n = self.fb.use_var(self.backward);
-                    let n1 = self.fb.ins().iadd_imm_s(n, 1);
-                    self.fb.def_var(self.backward, n1);
-                    let over = self.fb.ins().icmp_imm_s(IntCC::UnsignedGreaterThan, n1, exec::BACKWARD_JUMP_LIMIT as i64);
-                    self.fb.ins().brif(over, runaway, &[], target, &[]);
-                    self.fb.set_cold_block(runaway);
-                    self.fb.switch_to_block(runaway);
-                    let code = self.c32(pc as i64 + 1);
-                    self.fb.ins().return_(&[code]);
+                let out = if matches!(op, X::Osr(..)) {
+                    let nsv = self.not(sv);
+                    self.and(rc, nsv)
                 } else {
-                    self.fb.ins().brif(rc, target, &[], next, &[]);
+                    let nrc = self.not(rc);
+                    self.and(nrc, sv)
+                };
+                self.st8(o, 0, out);
+                self.st8(s, 0, rc);
+            }
+            X::BrOpen { .. } => {
+                let save = self.fb.declare_var(types::I8);
+                let acc = self.fb.declare_var(types::I8);
+                let rc = self.rc();
+                self.fb.def_var(save, rc);
+                let zero = self.c8(0);
+                self.fb.def_var(acc, zero);
+                self.branches.push((save, acc));
+            }
+            X::BrNext { .. } => {
+                if let Some(&(save, acc)) = self.branches.last() {
+                    let a = self.fb.use_var(acc);
+                    let rc = self.rc();
+                    let na = self.or(a, rc);
+                    self.fb.def_var(acc, na);
+                    let s = self.fb.use_var(save);
+                    self.set_rc(s);
                 }
-                self.fb.switch_to_block(next);
             }
-            X::Ton(t) => self.ton(pc, t.i.0, t.b.0),
-            X::Ctu(c) => self.count(pc, c.i.0, c.b.0, true),
-            X::Ctd(c) => self.count(pc, c.i.0, c.b.0, false),
-            X::EqI(a, b) => self.cmp_i(IntCC::Equal, a.0, b.0),
-            X::NeI(a, b) => self.cmp_i(IntCC::NotEqual, a.0, b.0),
-            X::LtI(a, b) => self.cmp_i(IntCC::SignedLessThan, a.0, b.0),
-            X::GtI(a, b) => self.cmp_i(IntCC::SignedGreaterThan, a.0, b.0),
-            X::LeI(a, b) => self.cmp_i(IntCC::SignedLessThanOrEqual, a.0, b.0),
-            X::GeI(a, b) => self.cmp_i(IntCC::SignedGreaterThanOrEqual, a.0, b.0),
-            X::AddI(a, b, d) | X::SubI(a, b, d) => {
-                let add = matches!(op, X::AddI(..));
+            X::BrClose { .. } => {
+                if let Some((_, acc)) = self.branches.pop() {
+                    let a = self.fb.use_var(acc);
+                    let rc = self.rc();
+                    let r = self.or(rc, a);
+                    self.set_rc(r);
+                }
+            }
+            X::Jmp(_) => {
+                let target = self.operand32();
+                let pc = self.operand32();
                 let rc = self.rc();
                 self.when(rc, |g| {
-                    let x = g.ld_i(a.0);
-                    let y = g.ld_i(b.0);
-                    let (v, of) = if add { g.fb.ins().sadd_overflow(x, y) } else { g.fb.ins().ssub_overflow(x, y) };
-                    g.unless_rare(of, pc, |g| g.st_i(d.0, v));
+                    g.fb.ins()
+                        .store(g.flags, pc, g.ctx, offset_of!(JitCtx, last_jump) as i32);
+                    let code = g.fb.ins().iadd_imm_s(target, 1);
+                    g.fb.ins().return_(&[code]);
+                    let dead = g.fb.create_block();
+                    g.fb.switch_to_block(dead);
                 });
             }
-            X::MovI(a, d) => {
+            X::Ton(_) => self.ton(),
+            X::Ctu(_) => self.count(true),
+            X::Ctd(_) => self.count(false),
+            X::EqI(..) | X::NeI(..) | X::LtI(..) | X::GtI(..) | X::LeI(..) | X::GeI(..) => {
+                let cc = match op {
+                    X::EqI(..) => IntCC::Equal,
+                    X::NeI(..) => IntCC::NotEqual,
+                    X::LtI(..) => IntCC::SignedLessThan,
+                    X::GtI(..) => IntCC::SignedGreaterThan,
+                    X::LeI(..) => IntCC::SignedLessThanOrEqual,
+                    _ => IntCC::SignedGreaterThanOrEqual,
+                };
+                let a = self.i_addr();
+                let b = self.i_addr();
+                let x = self.ld32(a, 0);
+                let y = self.ld32(b, 0);
+                let c = self.fb.ins().icmp(cc, x, y);
+                self.and_rc(c);
+            }
+            X::AddI(..) | X::SubI(..) => {
+                let a = self.i_addr();
+                let b = self.i_addr();
+                let d = self.i_addr();
+                let pc = self.operand32();
                 let rc = self.rc();
                 self.when(rc, |g| {
-                    let v = g.ld_i(a.0);
-                    g.st_i(d.0, v);
+                    let x = g.ld32(a, 0);
+                    let y = g.ld32(b, 0);
+                    let (v, of) = if matches!(op, X::AddI(..)) {
+                        g.fb.ins().sadd_overflow(x, y)
+                    } else {
+                        g.fb.ins().ssub_overflow(x, y)
+                    };
+                    // Wrapped, with an overflow fault (as `exec`).
+                    g.st32(d, 0, v);
+                    g.fault_if(of, FaultCode::Overflow, pc);
                 });
             }
-            X::CopyI(a, d) => {
-                let v = self.ld_i(a.0);
-                self.st_i(d.0, v);
+            X::MovI(..) => {
+                let a = self.i_addr();
+                let d = self.i_addr();
+                let rc = self.rc();
+                self.when(rc, |g| {
+                    let v = g.ld32(a, 0);
+                    g.st32(d, 0, v);
+                });
             }
-            // Everything else: the interpreter, one op at a time.
-            _ => self.call_fallback(pc),
+            X::CopyI(..) => {
+                let a = self.i_addr();
+                let d = self.i_addr();
+                let v = self.ld32(a, 0);
+                self.st32(d, 0, v);
+            }
+            // `shape` sends everything else to the interpreter.
+            _ => {}
         }
     }
 
-    fn cmp_i(&mut self, cc: IntCC, a: u32, b: u32) {
-        let x = self.ld_i(a);
-        let y = self.ld_i(b);
-        let c = self.fb.ins().icmp(cc, x, y);
+    /// TON, as `exec::ton`, without branches: every field is loaded once,
+    /// computed for both rung states and stored once. A negative preset on a
+    /// true rung counts as 0, with a fault.
+    fn ton(&mut self) {
+        let iv = self.i_addr();
+        let bv = self.b_addr();
+        let pc = self.operand32();
         let rc = self.rc();
-        let r = self.fb.ins().band(rc, c);
-        self.set_rc(r);
-    }
-
-    /// TON, as `exec::ton`; a negative preset goes to the interpreter.
-    fn ton(&mut self, pc: usize, i: u32, b: u32) {
-        let (pre_s, acc_s, last_s) = (i, i + 1, i + 2);
-        let (en_s, tt_s, dn_s) = (b, b + 1, b + 2);
-        let rc = self.rc();
-        let on = self.fb.create_block();
-        let off = self.fb.create_block();
-        let join = self.fb.create_block();
-        self.fb.ins().brif(rc, on, &[], off, &[]);
-
-        self.fb.switch_to_block(off);
-        let z8 = self.c8(0);
-        self.st_b(en_s, z8);
-        self.st_b(tt_s, z8);
-        self.st_b(dn_s, z8);
-        let z32 = self.c32(0);
-        self.st_i(acc_s, z32);
-        self.fb.ins().jump(join, &[]);
-
-        self.fb.switch_to_block(on);
-        let pre = self.ld_i(pre_s);
+        let pre = self.ld32(iv, 0);
+        let zero = self.c32(0);
         let negative = self.fb.ins().icmp_imm_s(IntCC::SignedLessThan, pre, 0);
-        self.unless_rare(negative, pc, |g| {
-            let en = g.ld_b(en_s);
-            let first = g.fb.create_block();
-            let running = g.fb.create_block();
-            let timing = g.fb.create_block();
-            let check = g.fb.create_block();
-            g.fb.ins().brif(en, running, &[], first, &[]);
-
-            g.fb.switch_to_block(first);
-            let one = g.c8(1);
-            g.st_b(en_s, one);
-            let z = g.c32(0);
-            g.st_i(acc_s, z);
-            g.st_i(last_s, g.now);
-            g.fb.ins().jump(check, &[]);
-
-            g.fb.switch_to_block(running);
-            let dn = g.ld_b(dn_s);
-            g.fb.ins().brif(dn, check, &[], timing, &[]);
-
-            g.fb.switch_to_block(timing);
-            let last = g.ld_i(last_s);
-            let dt = g.fb.ins().isub(g.now, last);
-            g.st_i(last_s, g.now);
-            let max = g.c32(i32::MAX as i64);
-            let dt = g.fb.ins().umin(dt, max);
-            let acc = g.ld_i(acc_s);
-            let (sum, of) = g.fb.ins().sadd_overflow(acc, dt);
-            let acc = g.fb.ins().select(of, max, sum);
-            g.st_i(acc_s, acc);
-            g.fb.ins().jump(check, &[]);
-
-            g.fb.switch_to_block(check);
-            let dn = g.ld_b(dn_s);
-            let acc = g.ld_i(acc_s);
-            let reached = g.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc, pre);
-            let ndn = g.not(dn);
-            let set = g.fb.ins().band(ndn, reached);
-            g.when(set, |g| {
-                let one = g.c8(1);
-                g.st_b(dn_s, one);
-                g.st_i(acc_s, pre);
-            });
-            let dn = g.ld_b(dn_s);
-            let tt = g.not(dn);
-            g.st_b(tt_s, tt);
-        });
-        self.fb.ins().jump(join, &[]);
-        self.fb.switch_to_block(join);
+        let bad = self.and(rc, negative);
+        self.fault_if(bad, FaultCode::NegativePreset, pc);
+        let pre = self.fb.ins().smax(pre, zero);
+        let en = self.ld8(bv, 0);
+        let dn = self.ld8(bv, 2);
+        let acc = self.ld32(iv, 1);
+        let last = self.ld32(iv, 2);
+        let first = self.not(en);
+        let ndn = self.not(dn);
+        let timing = self.and(en, ndn);
+        // ACC + time since the last update, saturating.
+        let dt = self.fb.ins().isub(self.now, last);
+        let max = self.c32(i32::MAX as i64);
+        let dt = self.fb.ins().umin(dt, max);
+        let (sum, of) = self.fb.ins().sadd_overflow(acc, dt);
+        let advanced = self.fb.ins().select(of, max, sum);
+        let acc1 = self.fb.ins().select(timing, advanced, acc);
+        let acc1 = self.fb.ins().select(first, zero, acc1);
+        let moved = self.or(first, timing);
+        let last1 = self.fb.ins().select(moved, self.now, last);
+        let reached = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc1, pre);
+        let done = self.and(ndn, reached);
+        let acc2 = self.fb.ins().select(done, pre, acc1);
+        let dn1 = self.or(dn, done);
+        // Rung false: everything cleared, LAST kept.
+        let acc_out = self.fb.ins().select(rc, acc2, zero);
+        let last_out = self.fb.ins().select(rc, last1, last);
+        let dn_out = self.and(rc, dn1);
+        let ndn1 = self.not(dn1);
+        let tt_out = self.and(rc, ndn1);
+        self.st8(bv, 0, rc);
+        self.st8(bv, 1, tt_out);
+        self.st8(bv, 2, dn_out);
+        self.st32(iv, 1, acc_out);
+        self.st32(iv, 2, last_out);
     }
 
-    /// CTU / CTD, as `exec::count`; a count that would wrap goes to the interpreter.
-    fn count(&mut self, pc: usize, i: u32, b: u32, up: bool) {
-        let (pre_s, acc_s) = (i, i + 1);
-        let edge_s = if up { b } else { b + 1 };
-        let dn_s = b + 2;
+    /// CTU / CTD, as `exec::count`: count on the rising rung; a wrap past
+    /// the 32-bit range sets OV (up) or UN (down), or clears the other one.
+    fn count(&mut self, up: bool) {
+        let iv = self.i_addr();
+        let bv = self.b_addr();
+        let _pc = self.operand32();
+        let (edge_o, dn_o) = (if up { 0 } else { 1 }, 2);
+        let (set_o, clear_o) = if up { (3, 4) } else { (4, 3) };
         let rc = self.rc();
-        let edge = self.ld_b(edge_s);
+        let edge = self.ld8(bv, edge_o);
         let nedge = self.not(edge);
-        let rising = self.fb.ins().band(rc, nedge);
-        let acc = self.ld_i(acc_s);
+        let rising = self.and(rc, nedge);
+        let acc = self.ld32(iv, 1);
+        let step = if up { 1 } else { -1 };
+        let next = self.fb.ins().iadd_imm_s(acc, step);
+        let acc1 = self.fb.ins().select(rising, next, acc);
+        self.st32(iv, 1, acc1);
         let limit = if up { i32::MAX as i64 } else { i32::MIN as i64 };
         let at_limit = self.fb.ins().icmp_imm_s(IntCC::Equal, acc, limit);
-        let wraps = self.fb.ins().band(rising, at_limit);
-        self.unless_rare(wraps, pc, |g| {
-            let step = if up { 1 } else { -1 };
-            let next = g.fb.ins().iadd_imm_s(acc, step);
-            let acc = g.fb.ins().select(rising, next, acc);
-            g.st_i(acc_s, acc);
-            let rc = g.rc();
-            g.st_b(edge_s, rc);
-            let pre = g.ld_i(pre_s);
-            let dn = g.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc, pre);
-            g.st_b(dn_s, dn);
+        let wraps = self.and(rising, at_limit);
+        self.when(wraps, |g| {
+            let clear = g.ld8(bv, clear_o);
+            let set = g.ld8(bv, set_o);
+            let nclear = g.not(clear);
+            let set1 = g.or(set, nclear);
+            g.st8(bv, set_o, set1);
+            let zero = g.c8(0);
+            g.st8(bv, clear_o, zero);
         });
+        self.st8(bv, edge_o, rc);
+        let pre = self.ld32(iv, 0);
+        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc1, pre);
+        self.st8(bv, dn_o, dn);
     }
 }

@@ -37,11 +37,7 @@ impl Stimulus {
             .collect();
         let mut records = records.into_iter();
         let header_ok = |r: &csv::Record| {
-            let names: Vec<String> = r
-                .fields
-                .iter()
-                .map(|f| f.text.trim().to_ascii_lowercase())
-                .collect();
+            let names: Vec<String> = r.fields.iter().map(|f| f.text.trim().to_ascii_lowercase()).collect();
             names == ["time_ms", "tag", "value"]
         };
         match records.next() {
@@ -74,10 +70,7 @@ impl Stimulus {
                 let at = r.fields.get(3).map_or(r.end(), |f| f.span.clone());
                 diags.push(Diagnostic::new(
                     Code::StimulusSyntax,
-                    format!(
-                        "a stimulus row has 3 fields, this one has {}",
-                        r.fields.len()
-                    ),
+                    format!("a stimulus row has 3 fields, this one has {}", r.fields.len()),
                     sp(&at),
                     "expected time_ms,tag,value",
                 ));
@@ -101,10 +94,7 @@ impl Stimulus {
                 Ok(Target::Value { .. }) => {
                     diags.push(Diagnostic::new(
                         Code::StimulusTarget,
-                        format!(
-                            "`{}` is read-only and cannot be set by a stimulus",
-                            name.text.trim()
-                        ),
+                        format!("`{}` is read-only and cannot be set by a stimulus", name.text.trim()),
                         sp(&name.span),
                         "read-only",
                     ));
@@ -124,12 +114,7 @@ impl Stimulus {
                     None
                 }
                 Err(e) => {
-                    let mut d = Diagnostic::new(
-                        Code::StimulusTarget,
-                        e.to_string(),
-                        sp(&name.span),
-                        "cannot be set",
-                    );
+                    let mut d = Diagnostic::new(Code::StimulusTarget, e.to_string(), sp(&name.span), "cannot be set");
                     if let Some(s) = layout.tags.suggest(name.text.trim()) {
                         d = d.with_help(format!("did you mean `{s}`?"));
                     }
@@ -141,11 +126,7 @@ impl Stimulus {
                 continue;
             };
             match Value::parse(val.text.trim(), place.data_type()) {
-                Ok(value) => rows.push(StimulusRow {
-                    time_ms,
-                    place,
-                    value,
-                }),
+                Ok(value) => rows.push(StimulusRow { time_ms, place, value }),
                 Err(m) => diags.push(Diagnostic::new(
                     Code::StimulusSyntax,
                     format!("bad value for `{}`: {m}", name.text.trim()),
@@ -188,9 +169,7 @@ pub fn columns(list: &str, layout: &Layout) -> Result<Vec<Column>, Vec<Diagnosti
             }),
             Ok(_) => diags.push(Diagnostic::unplaced(
                 Code::TraceName,
-                format!(
-                    "--tags: `{name}` is a structure; name a member such as {name}.ACC or {name}.DN"
-                ),
+                format!("--tags: `{name}` is a structure; name a member such as {name}.ACC or {name}.DN"),
             )),
             Err(e) => {
                 let mut d = Diagnostic::unplaced(Code::TraceName, format!("--tags: {e}"));
@@ -201,11 +180,7 @@ pub fn columns(list: &str, layout: &Layout) -> Result<Vec<Column>, Vec<Diagnosti
             }
         }
     }
-    if diags.is_empty() {
-        Ok(out)
-    } else {
-        Err(diags)
-    }
+    if diags.is_empty() { Ok(out) } else { Err(diags) }
 }
 
 /// Every tag, structures as their members, in tags.csv order.
@@ -274,7 +249,7 @@ pub fn run(
             next_row += 1;
         }
         engine.scan(t).map_err(SimError::Major)?;
-        if t % every == 0 {
+        if t.is_multiple_of(every) {
             line.clear();
             line.push_str(&t.to_string());
             for c in cols {

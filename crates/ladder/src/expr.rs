@@ -113,10 +113,7 @@ pub fn parse(text: &str, file: FileId, base: usize) -> Result<Expr, ExprError> {
     };
     let e = p.or()?;
     if let Some((t, sp)) = p.toks.get(p.pos) {
-        return Err((
-            format!("unexpected {} after the expression", describe(t)),
-            *sp,
-        ));
+        return Err((format!("unexpected {} after the expression", describe(t)), *sp));
     }
     Ok(e)
 }
@@ -143,15 +140,12 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
             i += 1;
             continue;
         }
-        let tok = if c.is_ascii_digit()
-            || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit))
-        {
+        let tok = if c.is_ascii_digit() || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit)) {
             // Digits, '.', '_', based '#', exponent with sign.
             while i < b.len() {
                 let d = b[i];
-                let exp_sign = (d == b'+' || d == b'-')
-                    && matches!(b[i - 1], b'e' | b'E')
-                    && !text[start..i].contains('#');
+                let exp_sign =
+                    (d == b'+' || d == b'-') && matches!(b[i - 1], b'e' | b'E') && !text[start..i].contains('#');
                 if d.is_ascii_alphanumeric() || d == b'.' || d == b'_' || d == b'#' || exp_sign {
                     i += 1;
                 } else {
@@ -164,20 +158,16 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
             let mut colon = false;
             while i < b.len() {
                 let d = b[i];
-                if d.is_ascii_alphanumeric() || d == b'_' || d == b'.' || d == b'%' {
-                    i += 1;
-                } else if d == b':' {
-                    colon = true;
-                    i += 1;
-                } else if d == b'/' && colon {
-                    i += 1;
-                } else if d == b'#'
-                    && matches!(text[start..i].to_ascii_uppercase().as_str(), "T" | "TIME")
-                {
-                    i += 1;
-                } else {
+                let time_prefix = || matches!(text[start..i].to_ascii_uppercase().as_str(), "T" | "TIME");
+                let part = d.is_ascii_alphanumeric()
+                    || matches!(d, b'_' | b'.' | b'%' | b':')
+                    || (d == b'/' && colon)
+                    || (d == b'#' && time_prefix());
+                if !part {
                     break;
                 }
+                colon |= d == b':';
+                i += 1;
             }
             let word = &text[start..i];
             if word.contains('#') {
@@ -204,10 +194,7 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
                     b'(' | b')' | b',' => "",
                     _ => {
                         let end = i + text[i..].chars().next().map_or(1, char::len_utf8);
-                        return Err((
-                            format!("unexpected `{}` in the expression", &text[i..end]),
-                            sp(i, end),
-                        ));
+                        return Err((format!("unexpected `{}` in the expression", &text[i..end]), sp(i, end)));
                     }
                 },
             };
@@ -250,11 +237,7 @@ impl P {
         matches!(self.peek(), Some(Tok::Ident(s)) if s.eq_ignore_ascii_case(kw))
     }
 
-    fn binary(
-        &mut self,
-        ops: &[(&str, BinE)],
-        next: fn(&mut P) -> Result<Expr, ExprError>,
-    ) -> Result<Expr, ExprError> {
+    fn binary(&mut self, ops: &[(&str, BinE)], next: fn(&mut P) -> Result<Expr, ExprError>) -> Result<Expr, ExprError> {
         let mut lhs = next(self)?;
         loop {
             let found = ops.iter().find(|(s, _)| match self.peek() {
@@ -298,10 +281,7 @@ impl P {
         self.binary(&[("+", BinE::Add), ("-", BinE::Sub)], P::product)
     }
     fn product(&mut self) -> Result<Expr, ExprError> {
-        self.binary(
-            &[("*", BinE::Mul), ("/", BinE::Div), ("MOD", BinE::Mod)],
-            P::unary,
-        )
+        self.binary(&[("*", BinE::Mul), ("/", BinE::Div), ("MOD", BinE::Mod)], P::unary)
     }
 
     fn unary(&mut self) -> Result<Expr, ExprError> {
@@ -349,9 +329,7 @@ impl P {
         };
         self.pos += 1;
         match tok {
-            Tok::Num(s) => Literal::parse(&s)
-                .map(|l| Expr::Lit(l, sp))
-                .map_err(|m| (m, sp)),
+            Tok::Num(s) => Literal::parse(&s).map(|l| Expr::Lit(l, sp)).map_err(|m| (m, sp)),
             Tok::LParen => {
                 let e = self.or()?;
                 self.expect(Tok::RParen, "`)`")?;
@@ -359,8 +337,7 @@ impl P {
             }
             Tok::Ident(name) => {
                 if self.peek() == Some(&Tok::LParen) {
-                    let func = Func::parse(&name)
-                        .ok_or_else(|| (format!("unknown function `{name}`"), sp))?;
+                    let func = Func::parse(&name).ok_or_else(|| (format!("unknown function `{name}`"), sp))?;
                     self.pos += 1;
                     let mut args = vec![self.or()?];
                     while self.peek() == Some(&Tok::Comma) {
@@ -384,9 +361,7 @@ impl P {
                 match name.to_ascii_uppercase().as_str() {
                     "PI" => Ok(Expr::Const(std::f64::consts::PI)),
                     "E" => Ok(Expr::Const(std::f64::consts::E)),
-                    "MOD" | "AND" | "OR" | "XOR" | "NOT" => {
-                        Err((format!("expected a value, found `{name}`"), sp))
-                    }
+                    "MOD" | "AND" | "OR" | "XOR" | "NOT" => Err((format!("expected a value, found `{name}`"), sp)),
                     _ => Ok(Expr::Name(name, sp)),
                 }
             }
@@ -411,10 +386,7 @@ mod tests {
             Expr::Neg(a) => format!("(-{})", show(a)),
             Expr::Not(a, _) => format!("(NOT {})", show(a)),
             Expr::Bin(op, a, b, _) => format!("({} {op:?} {})", show(a), show(b)),
-            Expr::Call(f, args, _) => format!(
-                "{f:?}({})",
-                args.iter().map(show).collect::<Vec<_>>().join(",")
-            ),
+            Expr::Call(f, args, _) => format!("{f:?}({})", args.iter().map(show).collect::<Vec<_>>().join(",")),
         }
     }
 
@@ -422,23 +394,14 @@ mod tests {
     fn precedence_and_associativity() {
         assert_eq!(show(&p("a + b * 2").unwrap()), "(a Add (b Mul Int(2)))");
         assert_eq!(show(&p("-2**2").unwrap()), "(-(Int(2) Pow Int(2)))");
-        assert_eq!(
-            show(&p("2**3**2").unwrap()),
-            "(Int(2) Pow (Int(3) Pow Int(2)))"
-        );
+        assert_eq!(show(&p("2**3**2").unwrap()), "(Int(2) Pow (Int(3) Pow Int(2)))");
         assert_eq!(show(&p("a - b - c").unwrap()), "((a Sub b) Sub c)");
         assert_eq!(
             show(&p("x mod 3 = 0 and y or z").unwrap()),
             "((((x Mod Int(3)) Eq Int(0)) And y) Or z)"
         );
-        assert_eq!(
-            show(&p("ATAN2(y, x) * 2").unwrap()),
-            "(Atan2(y,x) Mul Int(2))"
-        );
-        assert_eq!(
-            show(&p("pi*T.ACC/DI:1/0").unwrap()),
-            "((3.142 Mul T.ACC) Div DI:1/0)"
-        );
+        assert_eq!(show(&p("ATAN2(y, x) * 2").unwrap()), "(Atan2(y,x) Mul Int(2))");
+        assert_eq!(show(&p("pi*T.ACC/DI:1/0").unwrap()), "((3.142 Mul T.ACC) Div DI:1/0)");
         assert_eq!(
             show(&p("1.5e-3 + T#2s + 16#FF").unwrap()),
             "((Real(0.0015) Add Time(2000)) Add Int(255))"
@@ -452,27 +415,12 @@ mod tests {
             p("a +").unwrap_err(),
             "3..3: the expression ends too early: expected a value"
         );
-        assert_eq!(
-            p("(a + b").unwrap_err(),
-            "6..6: expected `)`, found the end"
-        );
-        assert_eq!(
-            p("a $ b").unwrap_err(),
-            "2..3: unexpected `$` in the expression"
-        );
+        assert_eq!(p("(a + b").unwrap_err(), "6..6: expected `)`, found the end");
+        assert_eq!(p("a $ b").unwrap_err(), "2..3: unexpected `$` in the expression");
         assert_eq!(p("FOO(1)").unwrap_err(), "0..3: unknown function `FOO`");
-        assert_eq!(
-            p("ATAN2(1)").unwrap_err(),
-            "0..5: `ATAN2` takes 2 argument(s), found 1"
-        );
-        assert_eq!(
-            p("a b").unwrap_err(),
-            "2..3: unexpected `b` after the expression"
-        );
+        assert_eq!(p("ATAN2(1)").unwrap_err(), "0..5: `ATAN2` takes 2 argument(s), found 1");
+        assert_eq!(p("a b").unwrap_err(), "2..3: unexpected `b` after the expression");
         assert_eq!(p("1..2").unwrap_err(), "0..4: `1..2` is not a number");
-        assert_eq!(
-            p("a * and").unwrap_err(),
-            "4..7: expected a value, found `and`"
-        );
+        assert_eq!(p("a * and").unwrap_err(), "4..7: expected a value, found `and`");
     }
 }

@@ -12,8 +12,8 @@
 use crate::ast::{Arg, Element, Instr, Mnemonic, Operand, Program, Rung};
 use crate::expr::{self, BinE, Expr, Func};
 use alba_ir::{
-    Access, B, BinOp, Builder, Cmp, Ctr, Cvt, D, F, I, L, Layout, MarkerSlot, Op, Place,
-    ResolveError, Target, Tmr, UnOp, Width,
+    Access, B, BinOp, Builder, Cmp, Ctr, Cvt, D, F, I, L, Layout, MarkerSlot, Op, Place, ResolveError, Target, Tmr,
+    UnOp, Width,
 };
 use alba_model::tags::is_identifier;
 use alba_model::{Address, Code, DataType, Diagnostic, Literal, Span, Value};
@@ -25,12 +25,7 @@ use std::collections::HashMap;
 pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
 
 /// Compiles one ladder program into `b` as a unit named `name`.
-pub fn compile(
-    prog: &Program,
-    name: &str,
-    b: &mut Builder,
-    presets: &mut Presets,
-) -> Vec<Diagnostic> {
+pub fn compile(prog: &Program, name: &str, b: &mut Builder, presets: &mut Presets) -> Vec<Diagnostic> {
     let mut c = Compiler {
         b,
         presets,
@@ -50,10 +45,7 @@ pub fn compile(
     for (at, label, span) in std::mem::take(&mut c.jumps) {
         match c.labels.get(&label.to_ascii_uppercase()) {
             Some(&(rung, _)) => c.b.patch_jump(at, rung_ops[rung]),
-            None if prog
-                .broken_labels
-                .iter()
-                .any(|l| l.eq_ignore_ascii_case(&label)) => {}
+            None if prog.broken_labels.iter().any(|l| l.eq_ignore_ascii_case(&label)) => {}
             None => {
                 let mut d = Diagnostic::new(
                     Code::MissingLabel,
@@ -64,10 +56,7 @@ pub fn compile(
                 let mut all: Vec<&str> = c.labels.values().map(|(_, (n, _))| n.as_str()).collect();
                 if !all.is_empty() {
                     all.sort_unstable();
-                    d = d.with_help(format!(
-                        "the labels of this program are: {}",
-                        all.join(", ")
-                    ));
+                    d = d.with_help(format!("the labels of this program are: {}", all.join(", ")));
                 }
                 c.diags.push(d);
             }
@@ -87,8 +76,7 @@ pub fn addresses(prog: &Program) -> Vec<Address> {
                 Element::Instr(i) => {
                     for (o, arg) in i.operands.iter().zip(i.mnemonic.args()) {
                         if *arg == Arg::Expr {
-                            if let Ok(e) = expr::parse(&o.text, o.span.file, o.span.start as usize)
-                            {
+                            if let Ok(e) = expr::parse(&o.text, o.span.file, o.span.start as usize) {
                                 names(&e, out);
                             }
                         } else if let Ok(Some(a)) = Address::parse(&o.text) {
@@ -141,17 +129,21 @@ fn check_structure(rung: &Rung, diags: &mut Vec<Diagnostic>) {
     if !has_output(&rung.elements) {
         let span = rung.elements.first().map_or(rung.span, |e| e.span());
         diags.push(
-            Diagnostic::new(Code::NoOutput, "this rung has no output instruction", span, "rung without output")
-                .with_help("end the rung with an output such as OTE(tag), OTL(tag), TON(timer,ms,0), MOV(src,dest) or NOP()"),
+            Diagnostic::new(
+                Code::NoOutput,
+                "this rung has no output instruction",
+                span,
+                "rung without output",
+            )
+            .with_help(
+                "end the rung with an output such as OTE(tag), OTL(tag), TON(timer,ms,0), MOV(src,dest) or NOP()",
+            ),
         );
     } else if let Some(i) = trailing_input(&rung.elements) {
         diags.push(
             Diagnostic::new(
                 Code::NoOutput,
-                format!(
-                    "the rung ends with the input instruction {}",
-                    i.mnemonic.name()
-                ),
+                format!("the rung ends with the input instruction {}", i.mnemonic.name()),
                 i.span,
                 "input at the end",
             )
@@ -272,8 +264,7 @@ impl Compiler<'_> {
             let mut found = Vec::new();
             lbls(&rung.elements, &mut found);
             for i in found {
-                let first =
-                    matches!(rung.elements.first(), Some(Element::Instr(f)) if std::ptr::eq(f, i));
+                let first = matches!(rung.elements.first(), Some(Element::Instr(f)) if std::ptr::eq(f, i));
                 if !first {
                     self.err(
                         Code::LabelNotFirst,
@@ -342,8 +333,7 @@ impl Compiler<'_> {
             return Some(Opnd::Unset);
         }
         let upper = t.to_ascii_uppercase();
-        let looks_literal = t
-            .starts_with(|c: char| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'))
+        let looks_literal = t.starts_with(|c: char| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'))
             || upper == "TRUE"
             || upper == "FALSE"
             || upper.starts_with("T#")
@@ -472,9 +462,7 @@ impl Compiler<'_> {
                 }
                 true
             }
-            (Arg::Preset, Opnd::Place(p, _)) => {
-                class_of_type(p.data_type()) == Class::I && !is_bool(p)
-            }
+            (Arg::Preset, Opnd::Place(p, _)) => class_of_type(p.data_type()) == Class::I && !is_bool(p),
             (Arg::NumIn, Opnd::Lit(Literal::Bool(_))) => false,
             (Arg::NumIn, Opnd::Lit(_)) => true,
             (Arg::NumIn, Opnd::Place(p, _)) => p.data_type().is_numeric(),
@@ -550,8 +538,7 @@ impl Compiler<'_> {
         match m {
             M::XIC | M::XIO => {
                 let b = self.bool_in(ops[0], elem);
-                self.b
-                    .emit(if m == M::XIC { Op::Xic(b) } else { Op::Xio(b) }, elem);
+                self.b.emit(if m == M::XIC { Op::Xic(b) } else { Op::Xio(b) }, elem);
             }
             M::OTE | M::OTL | M::OTU | M::ONS => {
                 let (b, post) = self.bool_out(ops[0], elem);
@@ -567,14 +554,8 @@ impl Compiler<'_> {
             M::OSR | M::OSF => {
                 let (s, p1) = self.bool_out(ops[0], elem);
                 let (o, p2) = self.bool_out(ops[1], elem);
-                self.b.emit(
-                    if m == M::OSR {
-                        Op::Osr(s, o)
-                    } else {
-                        Op::Osf(s, o)
-                    },
-                    elem,
-                );
+                self.b
+                    .emit(if m == M::OSR { Op::Osr(s, o) } else { Op::Osf(s, o) }, elem);
                 self.post(p1, elem);
                 self.post(p2, elem);
             }
@@ -594,8 +575,7 @@ impl Compiler<'_> {
                 let Opnd::Counter(c) = ops[0] else { return };
                 self.preset(c.i, &i.operands[1], ops[1], elem);
                 self.accum(I(c.i.0 + 1), &i.operands[2], ops[2]);
-                self.b
-                    .emit(if m == M::CTU { Op::Ctu(c) } else { Op::Ctd(c) }, elem);
+                self.b.emit(if m == M::CTU { Op::Ctu(c) } else { Op::Ctd(c) }, elem);
             }
             M::RES => match ops[0] {
                 Opnd::Timer(t) => {
@@ -678,17 +658,7 @@ impl Compiler<'_> {
                 self.bin(op, a, b, d, elem);
                 self.post(post, elem);
             }
-            M::SQR
-            | M::LN
-            | M::LOG
-            | M::SIN
-            | M::COS
-            | M::TAN
-            | M::ASN
-            | M::ACS
-            | M::ATN
-            | M::DEG
-            | M::RAD => {
+            M::SQR | M::LN | M::LOG | M::SIN | M::COS | M::TAN | M::ASN | M::ACS | M::ATN | M::DEG | M::RAD => {
                 let op = match m {
                     M::SQR => UnOp::Sqrt,
                     M::LN => UnOp::Ln,
@@ -745,8 +715,7 @@ impl Compiler<'_> {
             M::CPT => self.cpt(i, ops[0], elem),
             M::JMP => {
                 let at = self.b.emit(Op::Jmp(0), elem);
-                self.jumps
-                    .push((at, i.operands[0].text.clone(), i.operands[0].span));
+                self.jumps.push((at, i.operands[0].text.clone(), i.operands[0].span));
             }
             M::LBL | M::NOP => {
                 self.b.emit(Op::Nop, elem);
@@ -880,10 +849,7 @@ impl Compiler<'_> {
 
     fn convert(&mut self, v: V, c: Class, elem: u32) -> V {
         let t = match (v, c) {
-            (V::I(_), Class::I)
-            | (V::L(_), Class::L)
-            | (V::F(_), Class::F)
-            | (V::D(_), Class::D) => return v,
+            (V::I(_), Class::I) | (V::L(_), Class::L) | (V::F(_), Class::F) | (V::D(_), Class::D) => return v,
             _ => self.temp(c),
         };
         let cvt = match (v, t) {
@@ -1038,7 +1004,10 @@ impl Compiler<'_> {
                 self.diags.push(
                     Diagnostic::new(
                         Code::ConflictingPreset,
-                        format!("`{}` conflicts with the value {prev} given earlier for the same structure", o.text),
+                        format!(
+                            "`{}` conflicts with the value {prev} given earlier for the same structure",
+                            o.text
+                        ),
                         o.span,
                         "different initial value",
                     )
@@ -1073,10 +1042,7 @@ impl Compiler<'_> {
         let Opnd::Place(dest_place, _) = dest else {
             return;
         };
-        let mut classes: Vec<Class> = leaves
-            .iter()
-            .map(|(p, _)| class_of_type(p.data_type()))
-            .collect();
+        let mut classes: Vec<Class> = leaves.iter().map(|(p, _)| class_of_type(p.data_type())).collect();
         classes.push(class_of_type(dest_place.data_type()));
         collect_literal_classes(&e, &mut classes);
         let mut c = promote(classes);
@@ -1143,10 +1109,7 @@ impl Compiler<'_> {
                 x && y
             }
             Expr::Call(f, args, _) => {
-                if !matches!(
-                    f,
-                    Func::Abs | Func::Trn | Func::Round | Func::Frd | Func::Tod
-                ) {
+                if !matches!(f, Func::Abs | Func::Trn | Func::Round | Func::Frd | Func::Tod) {
                     *float_ops = true;
                 }
                 let mut ok = true;
@@ -1158,13 +1121,7 @@ impl Compiler<'_> {
         }
     }
 
-    fn expr(
-        &mut self,
-        e: &Expr,
-        c: Class,
-        leaves: &mut impl Iterator<Item = (Place, Span)>,
-        elem: u32,
-    ) -> Option<V> {
+    fn expr(&mut self, e: &Expr, c: Class, leaves: &mut impl Iterator<Item = (Place, Span)>, elem: u32) -> Option<V> {
         let int_only = |this: &mut Self, what: &str, sp: Span| -> bool {
             if matches!(c, Class::F | Class::D) {
                 this.err(
@@ -1263,11 +1220,7 @@ impl Compiler<'_> {
                         if !int_only(self, name, *sp) {
                             return None;
                         }
-                        if *f == Func::Frd {
-                            UnOp::Frd
-                        } else {
-                            UnOp::Tod
-                        }
+                        if *f == Func::Frd { UnOp::Frd } else { UnOp::Tod }
                     }
                     Func::Atan2 => return None,
                 };

@@ -85,9 +85,7 @@ impl Parser<'_> {
     /// Reads a `//` comment (at `pos`) to the end of its line.
     fn line_comment(&mut self) -> String {
         let start = self.pos + 2;
-        let end = self.src[start..]
-            .find('\n')
-            .map_or(self.src.len(), |i| start + i);
+        let end = self.src[start..].find('\n').map_or(self.src.len(), |i| start + i);
         self.pos = end;
         self.src[start..end].trim().to_string()
     }
@@ -99,10 +97,7 @@ impl Parser<'_> {
 
     /// Span of the character at `pos` (or an empty span at the end).
     fn char_end(&self, pos: usize) -> usize {
-        self.src[pos..]
-            .chars()
-            .next()
-            .map_or(pos, |c| pos + c.len_utf8())
+        self.src[pos..].chars().next().map_or(pos, |c| pos + c.len_utf8())
     }
 
     fn rung(&mut self, mut comment: Vec<String>) -> Option<Rung> {
@@ -223,12 +218,7 @@ impl Parser<'_> {
         }
     }
 
-    fn branch(
-        &mut self,
-        rung_start: usize,
-        comment: &mut Vec<String>,
-        ok: &mut bool,
-    ) -> Result<Branch, Abandon> {
+    fn branch(&mut self, rung_start: usize, comment: &mut Vec<String>, ok: &mut bool) -> Result<Branch, Abandon> {
         let start = self.pos;
         self.pos += 1;
         let mut legs = Vec::new();
@@ -266,10 +256,7 @@ impl Parser<'_> {
     /// so the rest of the rung is still checked for syntax errors.
     fn instr(&mut self, ok: &mut bool) -> Result<Option<Instr>, Abandon> {
         let start = self.pos;
-        while self
-            .peek()
-            .is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_')
-        {
+        while self.peek().is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_') {
             self.pos += 1;
         }
         let name = &self.src[start..self.pos];

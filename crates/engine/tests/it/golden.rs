@@ -3,7 +3,7 @@
 //! expected trace in `golden.csv`. `ALBA_BLESS=1 cargo test` rewrites the
 //! traces; review every change (`git diff`) before committing it.
 
-use crate::util::{compile, simulate};
+use crate::util::{MODES, compile, simulate_in};
 use std::path::{Path, PathBuf};
 
 /// The options of `alba sim` a golden case uses.
@@ -21,9 +21,7 @@ pub fn parse_args(text: &str) -> Args {
     };
     let mut it = text.split_whitespace();
     while let Some(k) = it.next() {
-        let v = it
-            .next()
-            .unwrap_or_else(|| panic!("golden.args: {k} needs a value"));
+        let v = it.next().unwrap_or_else(|| panic!("golden.args: {k} needs a value"));
         match k {
             "--until" => args.until = v.parse().expect("--until is a number"),
             "--every" => args.every = Some(v.parse().expect("--every is a number")),
@@ -50,45 +48,33 @@ fn every_golden_trace_matches() {
     let bless = std::env::var_os("ALBA_BLESS").is_some();
     let mut failures = Vec::new();
     let cases = cases();
-    assert!(
-        cases.len() >= 10,
-        "expected the golden cases, found {}",
-        cases.len()
-    );
+    assert!(cases.len() >= 10, "expected the golden cases, found {}", cases.len());
     for dir in cases {
-        let args =
-            parse_args(&std::fs::read_to_string(dir.join("golden.args")).expect("golden.args"));
+        let args = parse_args(&std::fs::read_to_string(dir.join("golden.args")).expect("golden.args"));
         let program = compile(&dir);
         let scan_ms = alba_model::Project::load(&dir).0.scan_ms() as u64;
         let stimulus = std::fs::read_to_string(dir.join("stimulus.csv")).unwrap_or_default();
-        let got = simulate(
-            program,
-            &stimulus,
-            args.tags.as_deref(),
-            scan_ms,
-            args.until,
-            args.every.unwrap_or(scan_ms),
-        );
+        let times = (scan_ms, args.until, args.every.unwrap_or(scan_ms));
         let golden = dir.join("golden.csv");
-        if bless {
-            std::fs::write(&golden, &got).expect("write golden");
-            continue;
-        }
         let want = std::fs::read_to_string(&golden).unwrap_or_default();
-        if got != want {
-            let diff: Vec<String> = want
-                .lines()
-                .zip(got.lines())
-                .filter(|(a, b)| a != b)
-                .take(5)
-                .map(|(a, b)| format!("  want {a}\n  got  {b}"))
-                .collect();
-            failures.push(format!("{}:\n{}", dir.display(), diff.join("\n")));
+        // Every way the engine runs a program must give the golden trace.
+        for mode in MODES {
+            let got = simulate_in(mode, program.clone(), &stimulus, args.tags.as_deref(), times);
+            if bless {
+                std::fs::write(&golden, &got).expect("write golden");
+                break;
+            }
+            if got != want {
+                let diff: Vec<String> = want
+                    .lines()
+                    .zip(got.lines())
+                    .filter(|(a, b)| a != b)
+                    .take(5)
+                    .map(|(a, b)| format!("  want {a}\n  got  {b}"))
+                    .collect();
+                failures.push(format!("{} ({mode:?}):\n{}", dir.display(), diff.join("\n")));
+            }
         }
     }
-    assert!(
-        failures.is_empty(),
-        "golden traces differ:\n{}",
-        failures.join("\n")
-    );
+    assert!(failures.is_empty(), "golden traces differ:\n{}", failures.join("\n"));
 }

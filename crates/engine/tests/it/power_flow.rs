@@ -39,14 +39,8 @@ fn monitored_scan_publishes_every_element() {
     assert!(on("XIC(A)"), "A is true");
     assert!(!on("XIC(B)"), "B is false: its leg is not energised");
     assert!(on("[XIC(A),XIC(B)]"), "the branch is the OR of its legs");
-    assert!(
-        on("XIO(C)") && on("OTE(Q)"),
-        "the rest of the rung conducts"
-    );
-    assert!(
-        on("XIC(Q)") && on("TON(T,100,0)"),
-        "a timer passes the rung on"
-    );
+    assert!(on("XIO(C)") && on("OTE(Q)"), "the rest of the rung conducts");
+    assert!(on("XIC(Q)") && on("TON(T,100,0)"), "a timer passes the rung on");
     assert!(!on("GRT(X,5)") && !on("OTE(B2)"), "X = 0 is not > 5");
     // The next scan with A off shows the change.
     e.write(place(&p, "A"), Value::Bool(false));
@@ -72,11 +66,7 @@ fn unmonitored_scans_record_nothing_and_agree_with_monitored_ones() {
         assert_eq!(observable(&quiet), observable(&watched), "scan {k}");
     }
     assert!(quiet.power_flow().is_none());
-    assert_eq!(
-        quiet.monitored_scans(),
-        0,
-        "no monitored work without monitoring"
-    );
+    assert_eq!(quiet.monitored_scans(), 0, "no monitored work without monitoring");
     assert_eq!(watched.monitored_scans(), 50);
     // Turning monitoring off stops the recording.
     watched.set_monitor(false);

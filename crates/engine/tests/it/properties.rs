@@ -17,8 +17,7 @@ D0,DINT,,3\nD1,DINT,,-7\nD2,DINT,,\nS0,INT,,100\nR0,REAL,,1.5\nR1,REAL,,\nW0,INT
 
 fn contact() -> impl Strategy<Value = String> {
     let bit = prop::sample::select(vec![
-        "I0", "I1", "I2", "I3", "B0", "B1", "B2", "B3", "Q0", "T0.DN", "T1.TT", "C0.DN", "C1.CU",
-        "M0",
+        "I0", "I1", "I2", "I3", "B0", "B1", "B2", "B3", "Q0", "T0.DN", "T1.TT", "C0.DN", "C1.CU", "M0",
     ]);
     let cmp = prop::sample::select(vec![
         "GRT(D0,D1)",
@@ -87,9 +86,7 @@ fn output() -> impl Strategy<Value = String> {
 /// A sequence of elements ending in an output (branches nest once).
 fn body(depth: u32) -> BoxedStrategy<String> {
     let leg = if depth == 0 {
-        prop::collection::vec(contact(), 1..3)
-            .prop_map(|v| v.join(""))
-            .boxed()
+        prop::collection::vec(contact(), 1..3).prop_map(|v| v.join("")).boxed()
     } else {
         prop_oneof![3 => prop::collection::vec(contact(), 1..3).prop_map(|v| v.join("")), 1 => body(depth - 1)].boxed()
     };

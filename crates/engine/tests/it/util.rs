@@ -29,12 +29,7 @@ pub fn compile_text(tags_csv: &str, ladder: &str) -> Result<Program, String> {
     let (ast, d2) = alba_ladder::parse(files.text(lf), lf);
     let layout = alba_ladder::layout_for(&tags, &[&ast]);
     let mut b = alba_ir::Builder::new(layout);
-    let d3 = alba_ladder::compile(
-        &ast,
-        "main.lad",
-        &mut b,
-        &mut alba_ladder::Presets::default(),
-    );
+    let d3 = alba_ladder::compile(&ast, "main.lad", &mut b, &mut alba_ladder::Presets::default());
     let all: Vec<_> = d1.into_iter().chain(d2).chain(d3).collect();
     if !all.is_empty() {
         return Err(alba_model::diag::render_all(&all, &files));
@@ -42,15 +37,27 @@ pub fn compile_text(tags_csv: &str, ladder: &str) -> Result<Program, String> {
     Ok(b.finish(files))
 }
 
-/// Runs a simulation and returns the trace text.
-pub fn simulate(
-    program: Program,
-    stimulus: &str,
-    tags: Option<&str>,
-    scan_ms: u64,
-    until: u64,
-    every: u64,
-) -> String {
+/// How the engine runs a program: all must give the same results.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Fused interpreter code (unmonitored scans).
+    Fused,
+    /// One op per instruction, recording power flow.
+    Monitored,
+    /// Machine code (the interpreter where the `jit` feature is off).
+    Native,
+}
+
+pub const MODES: [Mode; 3] = [Mode::Fused, Mode::Monitored, Mode::Native];
+
+/// Runs a simulation (fused code) and returns the trace text.
+pub fn simulate(program: Program, stimulus: &str, tags: Option<&str>, scan_ms: u64, until: u64, every: u64) -> String {
+    simulate_in(Mode::Fused, program, stimulus, tags, (scan_ms, until, every))
+}
+
+/// Runs a simulation in one mode; `times` is (scan_ms, until, every).
+pub fn simulate_in(mode: Mode, program: Program, stimulus: &str, tags: Option<&str>, times: (u64, u64, u64)) -> String {
+    let (scan_ms, until, every) = times;
     let mut files = Files::new();
     let f = files.add("stimulus.csv", stimulus);
     let stim = if stimulus.trim().is_empty() {
@@ -58,19 +65,23 @@ pub fn simulate(
     } else {
         match Stimulus::parse(files.text(f), f, &program.layout) {
             Ok(s) => s,
-            Err(d) => panic!(
-                "bad stimulus:\n{}",
-                alba_model::diag::render_all(&d, &files)
-            ),
+            Err(d) => panic!("bad stimulus:\n{}", alba_model::diag::render_all(&d, &files)),
         }
     };
     let cols: Vec<Column> = match tags {
-        Some(t) => {
-            sim::columns(t, &program.layout).unwrap_or_else(|d| panic!("bad --tags: {}", d[0]))
-        }
+        Some(t) => sim::columns(t, &program.layout).unwrap_or_else(|d| panic!("bad --tags: {}", d[0])),
         None => sim::all_columns(&program.layout),
     };
     let mut engine = Engine::new(Arc::new(program)).expect("program verifies");
+    match mode {
+        Mode::Fused => {}
+        Mode::Monitored => engine.set_monitor(true),
+        Mode::Native => {
+            if cfg!(feature = "jit") {
+                engine.compile_native().expect("native code");
+            }
+        }
+    }
     let mut out = Vec::new();
     let opt = SimOptions {
         scan_ms,
@@ -91,12 +102,7 @@ pub fn observable(e: &Engine) -> Vec<(String, alba_model::Value)> {
         .collect();
     let l = &p.layout;
     let m = e.memory();
-    out.extend((0..l.di.len).map(|n| {
-        (
-            format!("DI{n}"),
-            alba_model::Value::Bool(m.b[(l.di.base + n) as usize]),
-        )
-    }));
+    out.extend((0..l.di.len).map(|n| (format!("DI{n}"), alba_model::Value::Bool(m.b[(l.di.base + n) as usize]))));
     out.extend((0..l.dout.len).map(|n| {
         (
             format!("DO{n}"),
