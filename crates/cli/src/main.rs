@@ -67,7 +67,26 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            // Bad command-line input is an input error like any other.
+            let text = e.render().to_string();
+            let text = text.strip_prefix("error: ").unwrap_or(&text);
+            eprint!("error[{}]: {text}", Code::BadArgument);
+            return ExitCode::FAILURE;
+        }
+    };
     match cli.command {
         Command::Check { project, short, ir } => check(&project, short, ir),
         Command::Sim {
@@ -118,12 +137,14 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
     }
     let rungs = program.rungs.len();
     let tags = program.layout.tags.len();
+    let n = |k: usize, what: &str| format!("{k} {what}{}", if k == 1 { "" } else { "s" });
     eprintln!(
-        "{}: ok ({} program{}, {rungs} rungs, {tags} tags, {} ops)",
+        "{}: ok ({}, {}, {}, {})",
         dir.display(),
-        program.units.len(),
-        if program.units.len() == 1 { "" } else { "s" },
-        program.ops.len()
+        n(program.units.len(), "program"),
+        n(rungs, "rung"),
+        n(tags, "tag"),
+        n(program.ops.len(), "op")
     );
     ExitCode::SUCCESS
 }
@@ -161,9 +182,12 @@ fn simulate(
     let stim = match stimulus {
         None => Stimulus::default(),
         Some(path) => {
-            let text = match std::fs::read_to_string(path) {
+            let text = match alba_model::project::read_text(path) {
                 Ok(t) => t,
-                Err(e) => return fail(format!("cannot read {}: {e}", path.display())),
+                Err(msg) => {
+                    report(&[Diagnostic::unplaced(Code::Io, msg)], &files, false);
+                    return ExitCode::FAILURE;
+                }
             };
             let f = files.add(path.display().to_string(), text);
             match Stimulus::parse(files.text(f), f, layout) {

@@ -31,11 +31,9 @@ pub fn compile_dir(dir: &Path) -> Compiled {
         program_diags.retain(|d| d.code != Code::UnknownTag);
     }
     diagnostics.extend(program_diags);
-    let program = if diagnostics.is_empty() {
-        program
-    } else {
-        None
-    };
+    // In file order, then by place, so a reader meets them top to bottom.
+    diagnostics.sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start)));
+    let program = if diagnostics.is_empty() { program } else { None };
     Compiled {
         project,
         program,

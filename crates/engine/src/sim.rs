@@ -90,6 +90,18 @@ impl Stimulus {
                 }
             };
             let place = match layout.resolve(name.text.trim()) {
+                Ok(Target::Value { place, .. }) if layout.is_output(place) => {
+                    diags.push(
+                        Diagnostic::new(
+                            Code::StimulusTarget,
+                            format!("`{}` is an output, driven by the program", name.text.trim()),
+                            sp(&name.span),
+                            "output",
+                        )
+                        .with_help("a stimulus sets inputs (and internal tags); outputs come from the program"),
+                    );
+                    None
+                }
                 Ok(Target::Value { place, access }) if access != Access::ReadOnly => Some(place),
                 Ok(Target::Value { .. }) => {
                     diags.push(Diagnostic::new(
@@ -131,7 +143,7 @@ impl Stimulus {
                     Code::StimulusSyntax,
                     format!("bad value for `{}`: {m}", name.text.trim()),
                     sp(&val.span),
-                    format!("expected a {} value", place.data_type()),
+                    format!("expected {} value", place.data_type().with_article()),
                 )),
             }
         }

@@ -112,10 +112,7 @@ impl Builder {
 
     /// Declares an element of the current rung; returns its id.
     pub fn element(&mut self, span: Span) -> u32 {
-        self.elements.push(Element {
-            rung: self.rung,
-            span,
-        });
+        self.elements.push(Element { rung: self.rung, span });
         (self.elements.len() - 1) as u32
     }
 
@@ -126,10 +123,7 @@ impl Builder {
 
     pub fn emit(&mut self, op: Op, elem: u32) -> u32 {
         self.ops.push(op);
-        self.locs.push(Loc {
-            rung: self.rung,
-            elem,
-        });
+        self.locs.push(Loc { rung: self.rung, elem });
         self.ops.len() as u32 - 1
     }
 

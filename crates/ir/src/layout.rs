@@ -178,6 +178,16 @@ impl Layout {
         })
     }
 
+    /// Is `p` in the digital or analog output image?
+    pub fn is_output(&self, p: Place) -> bool {
+        let within = |r: Region, x: u32| (r.base..r.base + r.len).contains(&x);
+        match p {
+            Place::Bool(b) => within(self.dout, b.0),
+            Place::Int(i, _) => within(self.ao, i.0),
+            _ => false,
+        }
+    }
+
     /// The place of an address, if it is inside the image.
     pub fn address_place(&self, addr: Address, ty: DataType) -> Option<Place> {
         let inside = |r: Region, n: u32| (n < r.len).then_some(r.base + n);

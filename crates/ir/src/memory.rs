@@ -28,12 +28,7 @@ impl Memory {
 
     /// Bytes used (for memory reports).
     pub fn size_bytes(&self) -> usize {
-        self.b.len()
-            + 4 * self.i.len()
-            + 4 * self.f.len()
-            + 8 * self.l.len()
-            + 8 * self.d.len()
-            + self.m.len()
+        self.b.len() + 4 * self.i.len() + 4 * self.f.len() + 8 * self.l.len() + 8 * self.d.len() + self.m.len()
     }
 
     fn m_bytes<const N: usize>(&self, at: u32) -> [u8; N] {
@@ -79,11 +74,7 @@ impl Memory {
             Place::Lreal(d) => self.d[d.0 as usize] = v.as_f64(),
             Place::MBit { byte, bit } => {
                 let old = self.m_bytes::<1>(byte)[0];
-                let new = if v.as_bool() {
-                    old | 1 << bit
-                } else {
-                    old & !(1 << bit)
-                };
+                let new = if v.as_bool() { old | 1 << bit } else { old & !(1 << bit) };
                 self.set_m_bytes(byte, &[new]);
             }
             Place::MByte(at) => self.set_m_bytes(at, &[v.as_i64() as u8]),
@@ -120,9 +111,7 @@ impl Memory {
                 (TagSlot::Int(a), TagSlot::Int(b)) => out.i[b.0 as usize] = self.i[a.0 as usize],
                 (TagSlot::Real(a), TagSlot::Real(b)) => out.f[b.0 as usize] = self.f[a.0 as usize],
                 (TagSlot::Lint(a), TagSlot::Lint(b)) => out.l[b.0 as usize] = self.l[a.0 as usize],
-                (TagSlot::Lreal(a), TagSlot::Lreal(b)) => {
-                    out.d[b.0 as usize] = self.d[a.0 as usize]
-                }
+                (TagSlot::Lreal(a), TagSlot::Lreal(b)) => out.d[b.0 as usize] = self.d[a.0 as usize],
                 (TagSlot::Timer(a), TagSlot::Timer(b)) => {
                     copy_n(&self.i, a.i.0, &mut out.i, b.i.0, 3);
                     copy_n(&self.b, a.b.0, &mut out.b, b.b.0, 3);
@@ -139,12 +128,7 @@ impl Memory {
     }
 }
 
-fn copy_region<T: Copy>(
-    src: &[T],
-    from: crate::layout::Region,
-    dst: &mut [T],
-    to: crate::layout::Region,
-) {
+fn copy_region<T: Copy>(src: &[T], from: crate::layout::Region, dst: &mut [T], to: crate::layout::Region) {
     let n = from.len.min(to.len);
     copy_n(src, from.base, dst, to.base, n);
 }

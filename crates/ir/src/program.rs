@@ -68,11 +68,7 @@ impl Program {
     /// builder pass; this guards programs from other sources (byte code).
     pub fn verify(&self) -> Result<(), String> {
         if self.locs.len() != self.ops.len() {
-            return Err(format!(
-                "{} ops but {} locations",
-                self.ops.len(),
-                self.locs.len()
-            ));
+            return Err(format!("{} ops but {} locations", self.ops.len(), self.locs.len()));
         }
         let m = &self.init;
         for (pc, op) in self.ops.iter().enumerate() {
@@ -147,10 +143,7 @@ impl Program {
         let Some(rung) = self.rungs.get(loc.rung as usize) else {
             return "unknown place".into();
         };
-        let unit = self
-            .units
-            .get(rung.unit as usize)
-            .map_or("?", |u| u.name.as_str());
+        let unit = self.units.get(rung.unit as usize).map_or("?", |u| u.name.as_str());
         let span = match self.elements.get(loc.elem as usize) {
             Some(e) => e.span,
             None => rung.span,

@@ -28,15 +28,8 @@ pub enum Target {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ResolveError {
     UnknownTag(String),
-    UnknownMember {
-        tag: String,
-        ty: DataType,
-        member: String,
-    },
-    NotAStructure {
-        tag: String,
-        ty: DataType,
-    },
+    UnknownMember { tag: String, ty: DataType, member: String },
+    NotAStructure { tag: String, ty: DataType },
     BadAddress(String),
     OutsideImage(Address),
 }
@@ -115,21 +108,17 @@ impl Layout {
             (TagSlot::Real(f), None) => value(Place::Real(f)),
             (TagSlot::Lint(l), None) => value(Place::Lint(l)),
             (TagSlot::Lreal(d), None) => value(Place::Lreal(d)),
-            (TagSlot::Marker(a), None) => value(
-                Layout::marker_place(a, tag.ty)
-                    .ok_or_else(|| ResolveError::BadAddress(a.to_string()))?,
-            ),
+            (TagSlot::Marker(a), None) => {
+                value(Layout::marker_place(a, tag.ty).ok_or_else(|| ResolveError::BadAddress(a.to_string()))?)
+            }
             (TagSlot::Timer(t), None) => Ok(Target::Timer(t)),
             (TagSlot::Counter(c), None) => Ok(Target::Counter(c)),
             (TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }), Some(m)) => {
-                let mem = tag
-                    .ty
-                    .member(m)
-                    .ok_or_else(|| ResolveError::UnknownMember {
-                        tag: tag.name.clone(),
-                        ty: tag.ty,
-                        member: m.to_string(),
-                    })?;
+                let mem = tag.ty.member(m).ok_or_else(|| ResolveError::UnknownMember {
+                    tag: tag.name.clone(),
+                    ty: tag.ty,
+                    member: m.to_string(),
+                })?;
                 let place = if mem.ty == DataType::Bool {
                     Place::Bool(B(b.0 + mem.index as u32))
                 } else {
@@ -230,18 +219,9 @@ mod tests {
                 ..
             }
         ));
-        assert!(matches!(
-            l.resolve("T.CU"),
-            Err(ResolveError::UnknownMember { .. })
-        ));
-        assert!(matches!(
-            l.resolve("X.PRE"),
-            Err(ResolveError::NotAStructure { .. })
-        ));
+        assert!(matches!(l.resolve("T.CU"), Err(ResolveError::UnknownMember { .. })));
+        assert!(matches!(l.resolve("X.PRE"), Err(ResolveError::NotAStructure { .. })));
         assert!(matches!(l.resolve("Y"), Err(ResolveError::UnknownTag(_))));
-        assert!(matches!(
-            l.resolve("DI:5/0"),
-            Err(ResolveError::BadAddress(_))
-        ));
+        assert!(matches!(l.resolve("DI:5/0"), Err(ResolveError::BadAddress(_))));
     }
 }

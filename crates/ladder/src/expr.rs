@@ -110,6 +110,7 @@ pub fn parse(text: &str, file: FileId, base: usize) -> Result<Expr, ExprError> {
         pos: 0,
         file,
         end: base + text.len(),
+        depth: 0,
     };
     let e = p.or()?;
     if let Some((t, sp)) = p.toks.get(p.pos) {
@@ -220,7 +221,12 @@ struct P {
     pos: usize,
     file: FileId,
     end: usize,
+    /// Nesting of parentheses, calls and unary operators.
+    depth: usize,
 }
+
+/// Deepest nesting accepted in an expression (a bound on recursion).
+pub const MAX_DEPTH: usize = 64;
 
 impl P {
     fn peek(&self) -> Option<&Tok> {
@@ -285,6 +291,19 @@ impl P {
     }
 
     fn unary(&mut self) -> Result<Expr, ExprError> {
+        if self.depth >= MAX_DEPTH {
+            return Err((
+                format!("the expression is nested more than {MAX_DEPTH} deep"),
+                self.span_here(),
+            ));
+        }
+        self.depth += 1;
+        let e = self.unary_inner();
+        self.depth -= 1;
+        e
+    }
+
+    fn unary_inner(&mut self) -> Result<Expr, ExprError> {
         if matches!(self.peek(), Some(Tok::Op("-"))) {
             self.pos += 1;
             return Ok(Expr::Neg(Box::new(self.unary()?)));

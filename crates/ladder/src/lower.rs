@@ -466,6 +466,15 @@ impl Compiler<'_> {
             (Arg::NumIn, Opnd::Lit(Literal::Bool(_))) => false,
             (Arg::NumIn, Opnd::Lit(_)) => true,
             (Arg::NumIn, Opnd::Place(p, _)) => p.data_type().is_numeric(),
+            (Arg::NumOut | Arg::BitOut, Opnd::Lit(_)) => {
+                self.err(
+                    Code::NotWritable,
+                    format!("`{}` is a literal and cannot be written", o.text),
+                    o.span,
+                    "expected a tag to write",
+                );
+                return None;
+            }
             (Arg::NumOut, Opnd::Place(p, a)) if p.data_type().is_numeric() => {
                 if *a != Access::ReadWrite {
                     self.not_writable(o, *a);
@@ -531,7 +540,7 @@ impl Compiler<'_> {
                 None => failed = true,
             }
         }
-        if failed {
+        if failed || !self.literals_fit(i, &ops) {
             return;
         }
         use Mnemonic as M;
@@ -621,7 +630,7 @@ impl Compiler<'_> {
             }
             M::MEQ => {
                 let c = self.class(&ops);
-                if !self.integer_only(i, c) {
+                if !self.integer_only(i, &ops, c) {
                     return;
                 }
                 let v: Vec<V> = ops.iter().map(|o| self.read(*o, c, elem)).collect();
@@ -648,7 +657,7 @@ impl Compiler<'_> {
                 if m == M::XPY {
                     c = float_class(c);
                 }
-                if matches!(m, M::AND | M::OR | M::XOR) && !self.integer_only(i, c) {
+                if matches!(m, M::AND | M::OR | M::XOR) && !self.integer_only(i, &ops, c) {
                     return;
                 }
                 let a = self.read(ops[0], c, elem);
@@ -683,7 +692,7 @@ impl Compiler<'_> {
                     _ => UnOp::Not,
                 };
                 let c = self.class(&ops);
-                if m == M::NOT && !self.integer_only(i, c) {
+                if m == M::NOT && !self.integer_only(i, &ops, c) {
                     return;
                 }
                 self.unary(op, &ops, c, elem);
@@ -727,21 +736,82 @@ impl Compiler<'_> {
         }
     }
 
-    fn integer_only(&mut self, i: &Instr, c: Class) -> bool {
-        if matches!(c, Class::F | Class::D) {
-            self.err(
-                Code::OperandType,
-                format!(
-                    "{} works on integers, but an operand is {}",
-                    i.mnemonic.name(),
-                    class_name(c)
-                ),
-                i.span,
-                "integer instruction",
-            );
-            return false;
+    /// Literals must fit the instruction: an integer beyond DINT needs a LINT
+    /// or LREAL operand beside it, a real beyond REAL an LREAL one, and the
+    /// source of a MOV must fit its destination.
+    fn literals_fit(&mut self, i: &Instr, ops: &[Opnd]) -> bool {
+        let tags = promote(ops.iter().filter_map(|o| match o {
+            Opnd::Place(p, _) => Some(class_of_type(p.data_type())),
+            _ => None,
+        }));
+        let mut ok = true;
+        for (o, r) in i.operands.iter().zip(ops) {
+            let Opnd::Lit(l) = r else { continue };
+            let bad = match *l {
+                Literal::Int(v) | Literal::Time(v) => i32::try_from(v).is_err() && !matches!(tags, Class::L | Class::D),
+                Literal::Real(v) => v.abs() > f32::MAX as f64 && tags != Class::D,
+                Literal::Bool(_) => false,
+            };
+            if bad {
+                self.err(
+                    Code::BadLiteral,
+                    format!("`{}` does not fit a {}", o.text, class_name(tags)),
+                    o.span,
+                    "too large",
+                );
+                ok = false;
+            }
         }
-        true
+        if ok
+            && i.mnemonic == Mnemonic::MOV
+            && let (Opnd::Lit(l), Opnd::Place(p, _)) = (ops[0], ops[1])
+            && let Some((lo, hi)) = p.data_type().int_range()
+        {
+            // Reals are rounded half to even on the way into an integer.
+            let v = match l {
+                Literal::Int(v) | Literal::Time(v) => v as f64,
+                Literal::Real(r) => r.round_ties_even(),
+                Literal::Bool(_) => 0.0,
+            };
+            if v < lo as f64 || v > hi as f64 {
+                let (src, dest) = (&i.operands[0], &i.operands[1]);
+                self.err(
+                    Code::BadLiteral,
+                    format!(
+                        "`{}` does not fit {} `{}` ({lo} to {hi})",
+                        src.text,
+                        p.data_type(),
+                        dest.text
+                    ),
+                    src.span,
+                    "out of range",
+                );
+                ok = false;
+            }
+        }
+        ok
+    }
+
+    /// Refuses a real operand to an integer-only instruction, pointing at it.
+    fn integer_only(&mut self, i: &Instr, ops: &[Opnd], c: Class) -> bool {
+        if !matches!(c, Class::F | Class::D) {
+            return true;
+        }
+        let k = ops
+            .iter()
+            .position(|o| matches!(self.class(std::slice::from_ref(o)), Class::F | Class::D));
+        let (span, text) = match k.and_then(|k| i.operands.get(k)) {
+            Some(o) => (o.span, o.text.as_str()),
+            None => (i.span, ""),
+        };
+        let found = k.map(|k| self.describe(&ops[k])).unwrap_or_default();
+        self.err(
+            Code::OperandType,
+            format!("{} works on integers, but `{text}` is {found}", i.mnemonic.name()),
+            span,
+            "expected an integer",
+        );
+        false
     }
 
     /// The class of an instruction from all its numeric operands.

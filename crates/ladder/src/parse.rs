@@ -27,6 +27,8 @@ pub fn parse(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
         file,
         diags: Vec::new(),
         broken_labels: Vec::new(),
+        last_end: 0,
+        depth: 0,
     };
     let mut rungs = Vec::new();
     let mut comment = Vec::new();
@@ -58,7 +60,15 @@ struct Parser<'a> {
     file: FileId,
     diags: Vec<Diagnostic>,
     broken_labels: Vec<String>,
+    /// End of the last instruction or branch parsed.
+    last_end: usize,
+    /// Branches open around the current position.
+    depth: usize,
 }
+
+/// Deepest branch nesting accepted (a bound on recursion, far beyond what
+/// any editor draws).
+pub const MAX_BRANCH_DEPTH: usize = 32;
 
 /// A syntax error was reported; the rung is abandoned.
 struct Abandon;
@@ -100,10 +110,10 @@ impl Parser<'_> {
         self.src[pos..].chars().next().map_or(pos, |c| pos + c.len_utf8())
     }
 
-    fn rung(&mut self, mut comment: Vec<String>) -> Option<Rung> {
+    fn rung(&mut self, comment: Vec<String>) -> Option<Rung> {
         let start = self.pos;
         let mut ok = true;
-        let elements = match self.elements(false, start, &mut comment, &mut ok) {
+        let elements = match self.elements(false, start, &mut ok) {
             Ok(e) => e,
             Err(Abandon) => {
                 self.recover(start);
@@ -141,29 +151,35 @@ impl Parser<'_> {
     }
 
     /// Elements up to `;` (top level, consumed) or `,`/`]` (in a branch, not consumed).
-    fn elements(
-        &mut self,
-        in_branch: bool,
-        rung_start: usize,
-        comment: &mut Vec<String>,
-        ok: &mut bool,
-    ) -> Result<Vec<Element>, Abandon> {
+    fn elements(&mut self, in_branch: bool, rung_start: usize, ok: &mut bool) -> Result<Vec<Element>, Abandon> {
         let mut out = Vec::new();
         loop {
             self.skip_ws();
             if self.src[self.pos..].starts_with("//") {
-                comment.push(self.line_comment());
-                continue;
+                // A comment belongs above a rung; inside one it almost always
+                // means the `;` before it was forgotten.
+                let at = self.last_end;
+                let d = Diagnostic::new(
+                    Code::UnterminatedRung,
+                    "a comment inside a rung: the rung before it does not end with `;`",
+                    self.span(at, at),
+                    "expected `;` here",
+                )
+                .with_help("end the rung with `;`; a comment line goes directly above the rung it describes");
+                self.diags.push(d);
+                return Err(Abandon);
             }
             match self.peek() {
                 None => {
-                    self.error(
+                    let at = self.last_end.max(rung_start);
+                    let d = Diagnostic::new(
                         Code::UnterminatedRung,
-                        "this rung does not end with `;`",
-                        rung_start,
-                        self.char_end(rung_start),
-                        "rung starts here",
-                    );
+                        "the last rung does not end with `;`",
+                        self.span(at, at),
+                        "expected `;` here",
+                    )
+                    .with_note(self.span(rung_start, self.char_end(rung_start)), "the rung starts here");
+                    self.diags.push(d);
                     return Err(Abandon);
                 }
                 Some(b';') if in_branch => {
@@ -181,11 +197,11 @@ impl Parser<'_> {
                     return Ok(out);
                 }
                 Some(b',' | b']') if in_branch => return Ok(out),
-                Some(c @ (b',' | b']')) => {
-                    let what = if c == b',' {
-                        "a `,` outside a branch"
-                    } else {
-                        "a `]` without its `[`"
+                Some(c @ (b',' | b']' | b')')) => {
+                    let what = match c {
+                        b',' => "`,` outside a branch",
+                        b']' => "`]` without its `[`",
+                        _ => "`)` without its `(`",
                     };
                     self.error(
                         Code::Unbalanced,
@@ -196,7 +212,7 @@ impl Parser<'_> {
                     );
                     return Err(Abandon);
                 }
-                Some(b'[') => out.push(Element::Branch(self.branch(rung_start, comment, ok)?)),
+                Some(b'[') => out.push(Element::Branch(self.branch(rung_start, ok)?)),
                 Some(c) if c.is_ascii_alphabetic() || c == b'_' => {
                     if let Some(i) = self.instr(ok)? {
                         out.push(Element::Instr(i));
@@ -218,13 +234,30 @@ impl Parser<'_> {
         }
     }
 
-    fn branch(&mut self, rung_start: usize, comment: &mut Vec<String>, ok: &mut bool) -> Result<Branch, Abandon> {
+    fn branch(&mut self, rung_start: usize, ok: &mut bool) -> Result<Branch, Abandon> {
         let start = self.pos;
+        if self.depth >= MAX_BRANCH_DEPTH {
+            self.error(
+                Code::Unbalanced,
+                format!("branches are nested more than {MAX_BRANCH_DEPTH} deep"),
+                start,
+                start + 1,
+                "one branch too many",
+            );
+            return Err(Abandon);
+        }
+        self.depth += 1;
+        let result = self.branch_legs(start, rung_start, ok);
+        self.depth -= 1;
+        result
+    }
+
+    fn branch_legs(&mut self, start: usize, rung_start: usize, ok: &mut bool) -> Result<Branch, Abandon> {
         self.pos += 1;
         let mut legs = Vec::new();
         loop {
             let leg_start = self.pos;
-            let leg = self.elements(true, rung_start, comment, ok)?;
+            let leg = self.elements(true, rung_start, ok)?;
             if leg.is_empty() {
                 let at = self.pos;
                 self.error(
@@ -246,6 +279,7 @@ impl Parser<'_> {
                 }
             }
         }
+        self.last_end = self.pos;
         Ok(Branch {
             legs,
             span: self.span(start, self.pos),
@@ -336,6 +370,7 @@ impl Parser<'_> {
             self.pos += 1;
         }
         let span = self.span(start, self.pos);
+        self.last_end = self.pos;
         match Mnemonic::parse(name) {
             Some(mnemonic) => Ok(Some(Instr {
                 mnemonic,

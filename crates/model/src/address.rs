@@ -78,10 +78,7 @@ impl Address {
     /// Bits covered in its area: `[start, end)`.
     pub fn footprint(&self) -> (u32, u32) {
         match *self {
-            Address::DigitalIn(n)
-            | Address::DigitalOut(n)
-            | Address::AnalogIn(n)
-            | Address::AnalogOut(n) => (n, n + 1),
+            Address::DigitalIn(n) | Address::DigitalOut(n) | Address::AnalogIn(n) | Address::AnalogOut(n) => (n, n + 1),
             Address::Marker { byte, width } => {
                 let start = byte * 8;
                 match width {
@@ -160,10 +157,7 @@ fn check_digital(n: u32, original: &str) -> Result<u32, String> {
 
 fn check_analog(n: u32, original: &str) -> Result<u32, String> {
     if n >= MAX_ANALOG {
-        return Err(format!(
-            "`{original}`: analog channels go from 0 to {}",
-            MAX_ANALOG - 1
-        ));
+        return Err(format!("`{original}`: analog channels go from 0 to {}", MAX_ANALOG - 1));
     }
     Ok(n)
 }
@@ -215,21 +209,17 @@ fn parse_iec(rest: &str, original: &str) -> Result<Address, String> {
         Some(c @ ('X' | 'B' | 'W' | 'D')) => (c, &tail[1..]),
         Some(c) if c.is_ascii_digit() => ('X', tail),
         _ => {
-            return Err(format!(
-                "`{original}`: expected a size X, B, W or D after %{area}"
-            ));
+            return Err(format!("`{original}`: expected a size X, B, W or D after %{area}"));
         }
     };
     match (area, size) {
         ('I', 'X') => {
             let (b, i) = bit_of(n, original)?;
-            check_digital(b.saturating_mul(8).saturating_add(i as u32), original)
-                .map(Address::DigitalIn)
+            check_digital(b.saturating_mul(8).saturating_add(i as u32), original).map(Address::DigitalIn)
         }
         ('Q', 'X') => {
             let (b, i) = bit_of(n, original)?;
-            check_digital(b.saturating_mul(8).saturating_add(i as u32), original)
-                .map(Address::DigitalOut)
+            check_digital(b.saturating_mul(8).saturating_add(i as u32), original).map(Address::DigitalOut)
         }
         ('I', 'W') => check_analog(num(n, "word", original)?, original).map(Address::AnalogIn),
         ('Q', 'W') => check_analog(num(n, "word", original)?, original).map(Address::AnalogOut),
@@ -238,22 +228,14 @@ fn parse_iec(rest: &str, original: &str) -> Result<Address, String> {
             marker(b, MarkerWidth::Bit(i), original)
         }
         ('M', 'B') => marker(num(n, "byte", original)?, MarkerWidth::Byte, original),
-        ('M', 'W') => marker(
-            num(n, "word", original)?.saturating_mul(2),
-            MarkerWidth::Word,
-            original,
-        ),
+        ('M', 'W') => marker(num(n, "word", original)?.saturating_mul(2), MarkerWidth::Word, original),
         ('M', 'D') => marker(
             num(n, "double word", original)?.saturating_mul(4),
             MarkerWidth::DWord,
             original,
         ),
-        ('I' | 'Q' | 'M', _) => Err(format!(
-            "`{original}`: %{area}{size} is not an address Alba knows"
-        )),
-        _ => Err(format!(
-            "`{original}`: IEC addresses start with %I, %Q or %M"
-        )),
+        ('I' | 'Q' | 'M', _) => Err(format!("`{original}`: %{area}{size} is not an address Alba knows")),
+        _ => Err(format!("`{original}`: IEC addresses start with %I, %Q or %M")),
     }
 }
 
@@ -264,17 +246,13 @@ fn parse_s7(s: &str, original: &str) -> Result<Option<Address>, String> {
     let addr = if let Some(n) = s.strip_prefix("AIW").filter(|t| all_num(t)) {
         let w = num(n, "word", original)?;
         if w % 2 != 0 {
-            return Err(format!(
-                "`{original}`: S7 analog words are even (AIW0, AIW2, ...)"
-            ));
+            return Err(format!("`{original}`: S7 analog words are even (AIW0, AIW2, ...)"));
         }
         Address::AnalogIn(check_analog(w / 2, original)?)
     } else if let Some(n) = s.strip_prefix("AQW").filter(|t| all_num(t)) {
         let w = num(n, "word", original)?;
         if w % 2 != 0 {
-            return Err(format!(
-                "`{original}`: S7 analog words are even (AQW0, AQW2, ...)"
-            ));
+            return Err(format!("`{original}`: S7 analog words are even (AQW0, AQW2, ...)"));
         }
         Address::AnalogOut(check_analog(w / 2, original)?)
     } else if let Some(n) = s.strip_prefix("AIN").filter(|t| all_num(t)) {
@@ -285,10 +263,7 @@ fn parse_s7(s: &str, original: &str) -> Result<Option<Address>, String> {
         marker(num(n, "byte", original)?, MarkerWidth::Word, original)?
     } else if let Some(n) = s.strip_prefix("MD").filter(|t| all_num(t)) {
         marker(num(n, "byte", original)?, MarkerWidth::DWord, original)?
-    } else if let Some((area, n)) = s
-        .split_at_checked(1)
-        .filter(|(_, t)| starts_num(t) && all_num(t))
-    {
+    } else if let Some((area, n)) = s.split_at_checked(1).filter(|(_, t)| starts_num(t) && all_num(t)) {
         if !n.contains('.') {
             // `M1`, `Q5`: not S7 (bits need byte.bit), so free for tag names.
             return Ok(None);
@@ -296,17 +271,11 @@ fn parse_s7(s: &str, original: &str) -> Result<Option<Address>, String> {
         match area {
             "I" => {
                 let (b, i) = bit_of(n, original)?;
-                Address::DigitalIn(check_digital(
-                    b.saturating_mul(8).saturating_add(i as u32),
-                    original,
-                )?)
+                Address::DigitalIn(check_digital(b.saturating_mul(8).saturating_add(i as u32), original)?)
             }
             "Q" => {
                 let (b, i) = bit_of(n, original)?;
-                Address::DigitalOut(check_digital(
-                    b.saturating_mul(8).saturating_add(i as u32),
-                    original,
-                )?)
+                Address::DigitalOut(check_digital(b.saturating_mul(8).saturating_add(i as u32), original)?)
             }
             "M" => {
                 let (b, i) = bit_of(n, original)?;
@@ -404,9 +373,7 @@ mod tests {
 
     #[test]
     fn display_reparses_to_the_same_address() {
-        for s in [
-            "DI:1/5", "%QX2.1", "AIW6", "%QW3", "M1.2", "MB7", "%MW3", "MD8",
-        ] {
+        for s in ["DI:1/5", "%QX2.1", "AIW6", "%QW3", "M1.2", "MB7", "%MW3", "MD8"] {
             let a = p(s);
             assert_eq!(p(&a.to_string()), a);
         }

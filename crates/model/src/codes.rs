@@ -118,11 +118,7 @@ impl std::str::FromStr for Code {
     fn from_str(s: &str) -> Result<Code, ()> {
         let digits = s.trim().trim_start_matches(['E', 'e']);
         let n: u16 = digits.parse().map_err(|_| ())?;
-        Code::ALL
-            .iter()
-            .copied()
-            .find(|c| c.number() == n)
-            .ok_or(())
+        Code::ALL.iter().copied().find(|c| c.number() == n).ok_or(())
     }
 }
 

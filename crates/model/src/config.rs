@@ -50,26 +50,29 @@ struct RawBoard {
 }
 
 impl Config {
-    /// Parses and validates `alba.toml`, reporting every problem found.
-    pub fn parse(text: &str, file: FileId) -> Result<Config, Vec<Diagnostic>> {
+    /// Parses and validates `alba.toml`, reporting every problem found. The
+    /// config is `None` only when the file could not be read as settings at
+    /// all; with bad values it is returned (with defaults in their place) so
+    /// the rest of the project is still checked.
+    pub fn parse(text: &str, file: FileId) -> (Option<Config>, Vec<Diagnostic>) {
         let raw: RawConfig = match toml::from_str(text) {
             Ok(r) => r,
             Err(e) => {
                 let span = Span::new(file, e.span().unwrap_or(0..0));
                 let msg = e.message().trim().to_string();
-                let code = if msg.contains("missing field")
-                    || msg.contains("unknown field")
-                    || msg.contains("invalid type")
-                {
-                    Code::ConfigField
-                } else {
-                    Code::TomlSyntax
-                };
+                let code =
+                    if msg.contains("missing field") || msg.contains("unknown field") || msg.contains("invalid type") {
+                        Code::ConfigField
+                    } else {
+                        Code::TomlSyntax
+                    };
                 let mut d = Diagnostic::new(code, format!("alba.toml: {msg}"), span, "here");
                 if msg.contains("missing field") {
-                    d = d.with_help("the minimal alba.toml is: name = \"tank\"  scan_ms = 10  programs = [\"main.lad\"]");
+                    d = d.with_help(
+                        "the minimal alba.toml is: name = \"tank\"  scan_ms = 10  programs = [\"main.lad\"]",
+                    );
                 }
-                return Err(vec![d]);
+                return (None, vec![d]);
             }
         };
         let mut diags = Vec::new();
@@ -139,16 +142,14 @@ impl Config {
             };
             Board { model, pinmap }
         });
-        if !diags.is_empty() {
-            return Err(diags);
-        }
-        Ok(Config {
+        let config = Config {
             name,
             description: raw.description,
             scan_ms,
             programs,
             board,
-        })
+        };
+        (Some(config), diags)
     }
 }
 
@@ -160,7 +161,10 @@ mod tests {
     fn parse(text: &str) -> Result<Config, Vec<String>> {
         let mut files = Files::new();
         let f = files.add("alba.toml", text);
-        Config::parse(text, f).map_err(|ds| ds.iter().map(|d| d.short(&files)).collect())
+        match Config::parse(text, f) {
+            (Some(c), d) if d.is_empty() => Ok(c),
+            (_, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
+        }
     }
 
     #[test]
@@ -173,10 +177,7 @@ mod tests {
 
     #[test]
     fn board_placeholder_is_validated() {
-        let c = parse(
-            "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n",
-        )
-        .unwrap();
+        let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n").unwrap();
         assert_eq!(
             c.board,
             Some(Board {
@@ -184,8 +185,7 @@ mod tests {
                 pinmap: "s7".into()
             })
         );
-        let e =
-            parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"due\"\n").unwrap_err();
+        let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"due\"\n").unwrap_err();
         assert_eq!(e, ["alba.toml:4:9: error[E102]: unknown board `due`"]);
     }
 

@@ -120,8 +120,9 @@ fn read_record(text: &str, start: usize) -> Result<(Record, usize), CsvError> {
                 pos += 1;
             }
             if pos < bytes.len() && !matches!(bytes[pos], b',' | b'\n' | b'\r') {
+                let ch_len = text[pos..].chars().next().map_or(1, char::len_utf8);
                 return Err(CsvError {
-                    span: pos..pos + 1,
+                    span: pos..pos + ch_len,
                     message: "unexpected text after a closing quote; quote the whole field".into(),
                 });
             }

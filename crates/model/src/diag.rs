@@ -112,12 +112,7 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     /// The only constructor: a code, a message and the place it is about.
-    pub fn new(
-        code: Code,
-        message: impl Into<String>,
-        span: Span,
-        label: impl Into<String>,
-    ) -> Self {
+    pub fn new(code: Code, message: impl Into<String>, span: Span, label: impl Into<String>) -> Self {
         Diagnostic {
             code,
             message: message.into(),
@@ -180,15 +175,10 @@ impl Diagnostic {
         }
         let mut labels = Vec::new();
         if let Some(l) = &self.primary {
-            labels.push(
-                cs::Label::primary(l.span.file.0 as usize, l.span.range()).with_message(&l.message),
-            );
+            labels.push(cs::Label::primary(l.span.file.0 as usize, l.span.range()).with_message(&l.message));
         }
         for l in &self.secondary {
-            labels.push(
-                cs::Label::secondary(l.span.file.0 as usize, l.span.range())
-                    .with_message(&l.message),
-            );
+            labels.push(cs::Label::secondary(l.span.file.0 as usize, l.span.range()).with_message(&l.message));
         }
         let mut d = cs::Diagnostic::error()
             .with_code(self.code.to_string())
@@ -243,16 +233,8 @@ mod tests {
     fn short_form_names_file_line_and_column() {
         let mut files = Files::new();
         let f = files.add("main.lad", "XIC(a)\nOTE(Strat);\n");
-        let d = Diagnostic::new(
-            Code::UnknownTag,
-            "unknown tag `Strat`",
-            Span::new(f, 11..16),
-            "here",
-        );
-        assert_eq!(
-            d.short(&files),
-            "main.lad:2:5: error[E301]: unknown tag `Strat`"
-        );
+        let d = Diagnostic::new(Code::UnknownTag, "unknown tag `Strat`", Span::new(f, 11..16), "here");
+        assert_eq!(d.short(&files), "main.lad:2:5: error[E301]: unknown tag `Strat`");
         let full = d.render(&files);
         assert!(full.contains("main.lad:2:5"), "{full}");
         assert!(full.contains("^^^^^ here"), "{full}");

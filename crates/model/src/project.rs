@@ -56,16 +56,12 @@ impl Project {
         let mut diags = Vec::new();
         let display = |name: &str| dir.join(name).display().to_string();
 
-        let config = match read(&dir.join("alba.toml")) {
+        let config = match read_text(&dir.join("alba.toml")) {
             Ok(text) => {
                 let f = files.add(display("alba.toml"), text);
-                match Config::parse(files.text(f), f) {
-                    Ok(c) => Some((c, f)),
-                    Err(d) => {
-                        diags.extend(d);
-                        None
-                    }
-                }
+                let (config, d) = Config::parse(files.text(f), f);
+                diags.extend(d);
+                config.map(|c| (c, f))
             }
             Err(msg) => {
                 diags.push(Diagnostic::unplaced(Code::Io, msg).with_help(
@@ -75,7 +71,7 @@ impl Project {
             }
         };
 
-        let tags = match read(&dir.join("tags.csv")) {
+        let tags = match read_text(&dir.join("tags.csv")) {
             Ok(text) => {
                 let f = files.add(display("tags.csv"), text);
                 let (tags, d) = TagTable::parse(files.text(f), f);
@@ -108,7 +104,7 @@ impl Project {
                     );
                     continue;
                 };
-                match read(&dir.join(name)) {
+                match read_text(&dir.join(name)) {
                     Ok(text) => {
                         let file = files.add(display(name), text);
                         programs.push(ProgramSource {
@@ -117,12 +113,7 @@ impl Project {
                             file,
                         });
                     }
-                    Err(msg) => diags.push(Diagnostic::new(
-                        Code::ProgramFile,
-                        msg,
-                        *span,
-                        "listed here",
-                    )),
+                    Err(msg) => diags.push(Diagnostic::new(Code::ProgramFile, msg, *span, "listed here")),
                 }
             }
         }
@@ -139,20 +130,26 @@ impl Project {
 
 /// Program entries are relative paths inside the project, listed once.
 fn check_program_entry(name: &str, span: Span, seen: &mut HashSet<String>) -> Option<Diagnostic> {
+    use std::path::Component;
     let p = Path::new(name);
     if name.trim().is_empty()
         || p.is_absolute()
         || p.components()
-            .any(|c| !matches!(c, std::path::Component::Normal(_)))
+            .any(|c| !matches!(c, Component::Normal(_) | Component::CurDir))
     {
         return Some(Diagnostic::new(
             Code::ProgramFile,
-            format!("`{name}` is not a path inside the project folder"),
+            format!("`{name}` leaves the project folder"),
             span,
-            "expected a relative path like main.lad",
+            "expected a path inside the project, like main.lad or programs/main.lad",
         ));
     }
-    if !seen.insert(name.to_ascii_lowercase()) {
+    let normal: Vec<String> = p
+        .components()
+        .filter(|c| matches!(c, Component::Normal(_)))
+        .map(|c| c.as_os_str().to_string_lossy().to_ascii_lowercase())
+        .collect();
+    if !seen.insert(normal.join("/")) {
         return Some(Diagnostic::new(
             Code::ProgramFile,
             format!("`{name}` is listed twice"),
@@ -163,15 +160,21 @@ fn check_program_entry(name: &str, span: Span, seen: &mut HashSet<String>) -> Op
     None
 }
 
-fn read(path: &Path) -> Result<String, String> {
+/// Reads a text file of the project: UTF-8, with a leading byte-order mark
+/// (as Notepad writes) dropped so columns count from the first real character.
+pub fn read_text(path: &Path) -> Result<String, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    String::from_utf8(bytes).map_err(|e| {
+    let mut text = String::from_utf8(bytes).map_err(|e| {
         format!(
             "cannot read {}: not UTF-8 text (invalid byte at offset {})",
             path.display(),
             e.utf8_error().valid_up_to()
         )
-    })
+    })?;
+    if text.starts_with('\u{feff}') {
+        text.drain(..3);
+    }
+    Ok(text)
 }
 
 #[cfg(test)]
@@ -188,7 +191,11 @@ mod tests {
     #[test]
     fn loads_a_project_and_reports_missing_programs() {
         let d = tmp("load");
-        std::fs::write(d.join("alba.toml"), "name = \"t\"\nprograms = [\"main.lad\", \"gone.lad\", \"x.st\", \"../up.lad\", \"main.lad\"]\n").unwrap();
+        std::fs::write(
+            d.join("alba.toml"),
+            "name = \"t\"\nprograms = [\"main.lad\", \"gone.lad\", \"x.st\", \"../up.lad\", \"main.lad\"]\n",
+        )
+        .unwrap();
         std::fs::write(d.join("tags.csv"), "name,type\nA,BOOL\n").unwrap();
         std::fs::write(d.join("main.lad"), "XIC(A)OTE(A);\n").unwrap();
         let (p, diags) = Project::load(&d);
@@ -206,10 +213,6 @@ mod tests {
         let (p, diags) = Project::load(Path::new("/nonexistent/alba"));
         assert!(p.config.is_none());
         assert_eq!(diags.len(), 2);
-        assert!(
-            diags[0]
-                .message
-                .contains("cannot read /nonexistent/alba/alba.toml")
-        );
+        assert!(diags[0].message.contains("cannot read /nonexistent/alba/alba.toml"));
     }
 }

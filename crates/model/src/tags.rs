@@ -11,14 +11,7 @@ use std::collections::HashMap;
 /// The header Alba writes; reading accepts any order and leaving out the
 /// optional columns.
 pub const HEADER: &str = "name,type,address,initial,retain,description";
-const COLUMNS: [&str; 6] = [
-    "name",
-    "type",
-    "address",
-    "initial",
-    "retain",
-    "description",
-];
+const COLUMNS: [&str; 6] = ["name", "type", "address", "initial", "retain", "description"];
 
 /// Longest tag name accepted.
 pub const MAX_NAME_LEN: usize = 64;
@@ -58,9 +51,7 @@ pub struct TagTable {
 /// Is `s` a valid identifier (letters, digits, `_`, not starting with a digit)?
 pub fn is_identifier(s: &str) -> bool {
     let mut chars = s.chars();
-    chars
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+    chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
@@ -104,9 +95,7 @@ impl TagTable {
     }
 
     pub fn get(&self, name: &str) -> Option<&Tag> {
-        self.index
-            .get(&name.to_ascii_lowercase())
-            .map(|&i| &self.tags[i])
+        self.index.get(&name.to_ascii_lowercase()).map(|&i| &self.tags[i])
     }
 
     /// Position of a tag in declaration order.
@@ -116,8 +105,7 @@ impl TagTable {
 
     /// Adds a tag; the caller has checked the name is free.
     pub fn push(&mut self, tag: Tag) {
-        self.index
-            .insert(tag.name.to_ascii_lowercase(), self.tags.len());
+        self.index.insert(tag.name.to_ascii_lowercase(), self.tags.len());
         self.tags.push(tag);
     }
 
@@ -133,12 +121,7 @@ impl TagTable {
         let lower = name.to_ascii_lowercase();
         self.tags
             .iter()
-            .map(|t| {
-                (
-                    edit_distance(&lower, &t.name.to_ascii_lowercase()),
-                    t.name.as_str(),
-                )
-            })
+            .map(|t| (edit_distance(&lower, &t.name.to_ascii_lowercase()), t.name.as_str()))
             .filter(|(d, _)| *d <= 2.max(lower.len() / 4))
             .min_by_key(|(d, _)| *d)
             .map(|(_, n)| n)
@@ -218,10 +201,7 @@ impl TagTable {
                 diags.push(
                     Diagnostic::new(
                         Code::CsvSyntax,
-                        format!(
-                            "this row has {} fields but the header has {width}",
-                            rec.fields.len()
-                        ),
+                        format!("this row has {} fields but the header has {width}", rec.fields.len()),
                         span(&extra.span),
                         "extra field",
                     )
@@ -237,12 +217,7 @@ impl TagTable {
             let name = text(Some(c_name)).to_string();
             let name_span = fspan(Some(c_name));
             if let Err(msg) = check_tag_name(&name) {
-                diags.push(Diagnostic::new(
-                    Code::BadTagName,
-                    msg,
-                    name_span,
-                    "tag name",
-                ));
+                diags.push(Diagnostic::new(Code::BadTagName, msg, name_span, "tag name"));
                 ok = false;
             } else if let Some(prev) = table.get(&name) {
                 diags.push(
@@ -283,9 +258,7 @@ impl TagTable {
                             fspan(Some(c_type)),
                             "expected a data type",
                         )
-                        .with_help(
-                            "types are BOOL SINT INT DINT LINT REAL LREAL TIME TIMER COUNTER PID",
-                        ),
+                        .with_help("types are BOOL SINT INT DINT LINT REAL LREAL TIME TIMER COUNTER PID"),
                     );
                     None
                 }
@@ -312,12 +285,7 @@ impl TagTable {
                         None
                     }
                     Err(msg) => {
-                        diags.push(Diagnostic::new(
-                            Code::BadAddress,
-                            msg,
-                            addr_span,
-                            "bad address",
-                        ));
+                        diags.push(Diagnostic::new(Code::BadAddress, msg, addr_span, "bad address"));
                         ok = false;
                         None
                     }
@@ -373,7 +341,7 @@ impl TagTable {
                             Code::BadInitialValue,
                             format!("bad initial value for `{name}`: {msg}"),
                             fspan(cols[3]),
-                            format!("expected a {t} value"),
+                            format!("expected {} value", t.with_article()),
                         ));
                         ok = false;
                         None
@@ -460,9 +428,7 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
     for (i, ca) in a.chars().enumerate() {
         let mut cur = vec![i + 1; b.len() + 1];
         for (j, cb) in b.iter().enumerate() {
-            cur[j + 1] = (prev[j] + usize::from(ca != *cb))
-                .min(prev[j + 1] + 1)
-                .min(cur[j] + 1);
+            cur[j + 1] = (prev[j] + usize::from(ca != *cb)).min(prev[j + 1] + 1).min(cur[j] + 1);
         }
         prev = cur;
     }

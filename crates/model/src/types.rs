@@ -99,6 +99,17 @@ impl DataType {
         }
     }
 
+    /// "a BOOL", "an INT": the name with its article.
+    pub fn with_article(self) -> String {
+        let n = self.name();
+        let article = if n.starts_with(['A', 'E', 'I', 'O', 'U']) {
+            "an"
+        } else {
+            "a"
+        };
+        format!("{article} {n}")
+    }
+
     /// Parses a type name, case-insensitively.
     pub fn parse(s: &str) -> Option<DataType> {
         DataType::ALL
@@ -136,9 +147,7 @@ impl DataType {
     }
 
     pub fn member(self, name: &str) -> Option<&'static Member> {
-        self.members()
-            .iter()
-            .find(|m| m.name.eq_ignore_ascii_case(name))
+        self.members().iter().find(|m| m.name.eq_ignore_ascii_case(name))
     }
 
     /// Inclusive range of an integer type.
@@ -174,10 +183,7 @@ mod tests {
     #[test]
     fn members_resolve_case_insensitively() {
         assert_eq!(DataType::Timer.member("dn").map(|m| m.index), Some(2));
-        assert_eq!(
-            DataType::Counter.member("UN").map(|m| m.ty),
-            Some(DataType::Bool)
-        );
+        assert_eq!(DataType::Counter.member("UN").map(|m| m.ty), Some(DataType::Bool));
         assert!(DataType::Timer.member("CU").is_none());
         assert!(DataType::Dint.members().is_empty());
     }

@@ -27,11 +27,10 @@ impl Literal {
             return Ok(Literal::Bool(false));
         }
         let upper = s.to_ascii_uppercase();
-        if let Some(rest) = upper
-            .strip_prefix("T#")
-            .or_else(|| upper.strip_prefix("TIME#"))
-        {
-            return parse_duration(rest).map(Literal::Time);
+        if let Some(rest) = upper.strip_prefix("T#").or_else(|| upper.strip_prefix("TIME#")) {
+            return parse_duration(rest)
+                .map(Literal::Time)
+                .map_err(|()| format!("`{s}` is not a duration; write it like T#1m30s or T#250ms"));
         }
         let (neg, body) = match s.as_bytes().first() {
             Some(b'-') => (true, &s[1..]),
@@ -48,14 +47,12 @@ impl Literal {
                 "2" => 2,
                 "10" => 10,
                 _ => {
-                    return Err(format!(
-                        "`{s}`: the base of a based literal is 2, 8, 10 or 16"
-                    ));
+                    return Err(format!("`{s}`: the base of a based literal is 2, 8, 10 or 16"));
                 }
             };
             let digits = digits.replace('_', "");
-            let v = u64::from_str_radix(&digits, radix)
-                .map_err(|_| format!("`{s}` is not a valid base-{radix} number"))?;
+            let v =
+                u64::from_str_radix(&digits, radix).map_err(|_| format!("`{s}` is not a valid base-{radix} number"))?;
             let v = i128::from(v);
             let v = if neg { -v } else { v };
             return i64::try_from(v)
@@ -80,9 +77,7 @@ impl Literal {
         if clean.ends_with('.') || clean.contains(".e") || clean.contains(".E") {
             return Err(format!("`{s}`: write a digit after the decimal point"));
         }
-        let v: f64 = clean
-            .parse()
-            .map_err(|_| format!("`{s}` is not a number"))?;
+        let v: f64 = clean.parse().map_err(|_| format!("`{s}` is not a number"))?;
         if !v.is_finite() {
             return Err(format!("`{s}` is too large"));
         }
@@ -90,9 +85,10 @@ impl Literal {
     }
 }
 
-/// `1h2m3s4ms` style durations (d, h, m, s, ms; integers; optional `_`).
-fn parse_duration(s: &str) -> Result<i64, String> {
-    let err = || format!("`T#{s}` is not a duration; write it like T#1m30s or T#250ms");
+/// `1h2m3s4ms` style durations (d, h, m, s, ms; integers; optional `_`),
+/// upper case.
+fn parse_duration(s: &str) -> Result<i64, ()> {
+    let err = || ();
     let (neg, mut rest) = match s.strip_prefix('-') {
         Some(r) => (true, r),
         None => (false, s),
@@ -119,10 +115,11 @@ fn parse_duration(s: &str) -> Result<i64, String> {
             _ => return Err(err()),
         };
         rest = &rest[unit_len..];
-        total += n * factor;
-        if total > i64::MAX as i128 {
-            return Err(err());
-        }
+        total = n
+            .checked_mul(factor)
+            .and_then(|v| v.checked_add(total))
+            .filter(|&v| v <= i64::MAX as i128)
+            .ok_or_else(err)?;
     }
     let total = total as i64;
     Ok(if neg { -total } else { total })
@@ -175,9 +172,7 @@ impl Value {
     /// (a real into an integer, 40000 into an INT, 2 into a BOOL).
     pub fn from_literal(lit: Literal, ty: DataType) -> Result<Value, String> {
         let int = |v: i64| -> Result<Value, String> {
-            let (lo, hi) = ty
-                .int_range()
-                .ok_or_else(|| format!("{ty} does not take an integer"))?;
+            let (lo, hi) = ty.int_range().ok_or_else(|| format!("{ty} does not take an integer"))?;
             if v < lo || v > hi {
                 return Err(format!("{v} is out of range for {ty} ({lo} to {hi})"));
             }
@@ -206,9 +201,7 @@ impl Value {
                 }
             }
             (Literal::Real(v), DataType::Lreal) => Ok(Value::Lreal(v)),
-            (Literal::Real(_), t) if t.is_integer() => {
-                Err(format!("{t} takes an integer, not a real"))
-            }
+            (Literal::Real(_), t) if t.is_integer() => Err(format!("{t} takes an integer, not a real")),
             (Literal::Bool(_), t) => Err(format!("{t} takes a number, not a boolean")),
             (Literal::Time(_), t) => Err(format!("{t} does not take a duration")),
             (_, t) => Err(format!("{t} is a structure and takes no single value")),

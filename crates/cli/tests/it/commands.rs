@@ -7,19 +7,11 @@ fn new_creates_a_project_that_checks_and_runs() {
     let dir = scratch("new");
     let proj = dir.join("my-plant");
     let out = alba(&dir, &["new", "my-plant"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let toml = std::fs::read_to_string(proj.join("alba.toml")).unwrap();
     assert!(toml.contains("name = \"my-plant\""), "{toml}");
     let out = alba(&dir, &["check", "my-plant"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let out = alba(
         &dir,
         &[
@@ -58,11 +50,7 @@ fn explain_prints_a_code_and_refuses_unknown_ones() {
 #[test]
 fn check_reports_every_error_of_a_file() {
     let dir = scratch("check-all");
-    std::fs::write(
-        dir.join("alba.toml"),
-        "name = \"x\"\nprograms = [\"main.lad\"]\n",
-    )
-    .unwrap();
+    std::fs::write(dir.join("alba.toml"), "name = \"x\"\nprograms = [\"main.lad\"]\n").unwrap();
     std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\nN,DINT\nT,TIMER\n").unwrap();
     std::fs::write(
         dir.join("main.lad"),

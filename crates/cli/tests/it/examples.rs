@@ -30,11 +30,7 @@ fn every_example_matches_its_golden_trace() {
         args.extend(args_text.split_whitespace().map(str::to_string));
         let argv: Vec<&str> = args.iter().map(String::as_str).collect();
         let out = alba(&root, &argv);
-        assert!(
-            out.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
         let got = std::fs::read_to_string(&trace).unwrap();
         if bless {
             std::fs::write(dir.join("golden.csv"), &got).unwrap();

@@ -25,25 +25,23 @@ fn every_malformed_input_gets_a_located_error() {
         let out = alba(dir, &args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         if out.status.code() != Some(1) {
-            failures.push(format!(
-                "{name}: exit {:?} (want 1)\n{stderr}",
-                out.status.code()
-            ));
+            failures.push(format!("{name}: exit {:?} (want 1)\n{stderr}", out.status.code()));
             continue;
         }
         let expected = std::fs::read_to_string(dir.join("expected")).unwrap_or_default();
         for line in expected.lines().filter(|l| !l.trim().is_empty()) {
             let (place, code) = line.trim().rsplit_once(' ').unwrap_or(("-", line.trim()));
             let code_ok = stderr.contains(&format!("error[{code}]"));
-            let place_ok = place == "-" || stderr.contains(place);
+            // The place ends there: `main.lad:2:1` must not match `main.lad:2:15`.
+            let place_ok = place == "-"
+                || [":", "\n", " "]
+                    .iter()
+                    .any(|end| stderr.contains(&format!("{place}{end}")));
             if !code_ok || !place_ok {
                 failures.push(format!("{name}: expected `{line}` in stderr:\n{stderr}"));
             }
         }
     }
-    assert!(
-        count >= 30,
-        "expected at least 30 malformed cases, found {count}"
-    );
+    assert!(count >= 30, "expected at least 30 malformed cases, found {count}");
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
