@@ -66,3 +66,36 @@ fn every_example_checks_clean() {
         );
     }
 }
+
+/// The IR of every example, as `alba check --ir` prints it, against
+/// `tests/ir/<example>.ir`: a change in lowering shows up here for review.
+#[test]
+fn every_example_lowers_to_its_golden_ir() {
+    let bless = std::env::var_os("ALBA_BLESS").is_some();
+    let golden_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ir");
+    let mut checked = 0;
+    for e in std::fs::read_dir(repo().join("examples")).unwrap() {
+        let dir = e.unwrap().path();
+        if !dir.join("alba.toml").exists() {
+            continue;
+        }
+        let name = dir.file_name().unwrap().to_string_lossy().to_string();
+        let out = alba(&repo().join("examples"), &["check", &name, "--ir"]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let got = String::from_utf8(out.stdout).unwrap();
+        let golden = golden_dir.join(format!("{name}.ir"));
+        if bless {
+            std::fs::write(&golden, &got).unwrap();
+        } else {
+            let want = std::fs::read_to_string(&golden).unwrap_or_default();
+            let first = want.lines().zip(got.lines()).find(|(a, b)| a != b);
+            assert!(
+                got == want,
+                "{name}: IR differs from {}; first difference: {first:?}",
+                golden.display()
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 4);
+}

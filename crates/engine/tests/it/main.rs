@@ -1,6 +1,7 @@
 //! Integration tests of the engine: golden traces, properties, power flow.
 
 mod golden;
+mod online_edit;
 mod power_flow;
 mod properties;
 mod util;
