@@ -88,22 +88,21 @@ impl Literal {
 /// `1h2m3s4ms` style durations (d, h, m, s, ms; integers; optional `_`),
 /// upper case.
 fn parse_duration(s: &str) -> Result<i64, ()> {
-    let err = || ();
     let (neg, mut rest) = match s.strip_prefix('-') {
         Some(r) => (true, r),
         None => (false, s),
     };
     if rest.is_empty() {
-        return Err(err());
+        return Err(());
     }
     let mut total: i128 = 0;
     while !rest.is_empty() {
         rest = rest.trim_start_matches('_');
         let digits = rest.bytes().take_while(|b| b.is_ascii_digit()).count();
         if digits == 0 {
-            return Err(err());
+            return Err(());
         }
-        let n: i128 = rest[..digits].parse().map_err(|_| err())?;
+        let n: i128 = rest[..digits].parse().map_err(|_| ())?;
         rest = &rest[digits..];
         let unit_len = rest.bytes().take_while(|b| b.is_ascii_alphabetic()).count();
         let factor = match &rest[..unit_len] {
@@ -112,14 +111,14 @@ fn parse_duration(s: &str) -> Result<i64, ()> {
             "M" => 60_000,
             "S" => 1_000,
             "MS" => 1,
-            _ => return Err(err()),
+            _ => return Err(()),
         };
         rest = &rest[unit_len..];
         total = n
             .checked_mul(factor)
             .and_then(|v| v.checked_add(total))
             .filter(|&v| v <= i64::MAX as i128)
-            .ok_or_else(err)?;
+            .ok_or(())?;
     }
     let total = total as i64;
     Ok(if neg { -total } else { total })
