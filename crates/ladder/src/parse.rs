@@ -28,7 +28,7 @@ pub fn parse(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
         diags: Vec::new(),
         broken_labels: Vec::new(),
         last_end: 0,
-        depth: 0,
+        open: Vec::new(),
     };
     let mut rungs = Vec::new();
     let mut comment = Vec::new();
@@ -62,8 +62,8 @@ struct Parser<'a> {
     broken_labels: Vec<String>,
     /// End of the last instruction or branch parsed.
     last_end: usize,
-    /// Branches open around the current position.
-    depth: usize,
+    /// Where the branches open around the current position start.
+    open: Vec<usize>,
 }
 
 /// Deepest branch nesting accepted (a bound on recursion, far beyond what
@@ -110,8 +110,10 @@ impl Parser<'_> {
         self.src[pos..].chars().next().map_or(pos, |c| pos + c.len_utf8())
     }
 
-    fn rung(&mut self, comment: Vec<String>) -> Option<Rung> {
+    fn rung(&mut self, mut comment: Vec<String>) -> Option<Rung> {
         let start = self.pos;
+        self.last_end = start;
+        self.open.clear();
         let mut ok = true;
         let elements = match self.elements(false, start, &mut ok) {
             Ok(e) => e,
@@ -120,13 +122,22 @@ impl Parser<'_> {
                 return None;
             }
         };
+        // `XIC(a)OTE(b); // note` : a comment on the rung's own last line
+        // describes that rung (it is printed above it).
+        let end = self.pos;
+        let rest = &self.src[self.pos..];
+        let spaces = rest.len() - rest.trim_start_matches([' ', '\t']).len();
+        if rest[spaces..].starts_with("//") {
+            self.pos += spaces;
+            comment.push(self.line_comment());
+        }
         if !ok {
             return None;
         }
         Some(Rung {
             comment,
             elements,
-            span: self.span(start, self.pos),
+            span: self.span(start, end),
         })
     }
 
@@ -156,9 +167,20 @@ impl Parser<'_> {
         loop {
             self.skip_ws();
             if self.src[self.pos..].starts_with("//") {
-                // A comment belongs above a rung; inside one it almost always
-                // means the `;` before it was forgotten.
+                // A comment belongs above a rung; after an instruction it almost
+                // always means the `;` before it was forgotten.
                 let at = self.last_end;
+                if at <= rung_start {
+                    let d = Diagnostic::new(
+                        Code::Syntax,
+                        "a comment inside a rung",
+                        self.span(self.pos, self.pos + 2),
+                        "comment here",
+                    )
+                    .with_help("put the comment on its own line above the rung");
+                    self.diags.push(d);
+                    return Err(Abandon);
+                }
                 let d = Diagnostic::new(
                     Code::UnterminatedRung,
                     "a comment inside a rung: the rung before it does not end with `;`",
@@ -170,6 +192,17 @@ impl Parser<'_> {
                 return Err(Abandon);
             }
             match self.peek() {
+                None if !self.open.is_empty() => {
+                    let at = self.open.last().copied().unwrap_or(rung_start);
+                    self.error(
+                        Code::Unbalanced,
+                        "this branch is never closed",
+                        at,
+                        at + 1,
+                        "`[` without its `]`",
+                    );
+                    return Err(Abandon);
+                }
                 None => {
                     let at = self.last_end.max(rung_start);
                     let d = Diagnostic::new(
@@ -236,7 +269,7 @@ impl Parser<'_> {
 
     fn branch(&mut self, rung_start: usize, ok: &mut bool) -> Result<Branch, Abandon> {
         let start = self.pos;
-        if self.depth >= MAX_BRANCH_DEPTH {
+        if self.open.len() >= MAX_BRANCH_DEPTH {
             self.error(
                 Code::Unbalanced,
                 format!("branches are nested more than {MAX_BRANCH_DEPTH} deep"),
@@ -246,9 +279,9 @@ impl Parser<'_> {
             );
             return Err(Abandon);
         }
-        self.depth += 1;
+        self.open.push(start);
         let result = self.branch_legs(start, rung_start, ok);
-        self.depth -= 1;
+        self.open.pop();
         result
     }
 
@@ -409,4 +442,49 @@ fn suggest(name: &str) -> Option<&'static str> {
         .filter(|(d, _)| *d <= 1 || (*d == 2 && upper.len() > 3))
         .min_by_key(|(d, _)| *d)
         .map(|(_, n)| n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alba_model::Files;
+
+    fn short(text: &str) -> Vec<String> {
+        let mut files = Files::new();
+        let f = files.add("main.lad", text);
+        parse(files.text(f), f).1.iter().map(|d| d.short(&files)).collect()
+    }
+
+    #[test]
+    fn a_comment_on_the_rung_line_belongs_to_that_rung() {
+        let (p, d) = parse("// above\nXIC(a)OTE(b); // seal in\nXIC(c)OTE(d);\n", FileId(0));
+        assert!(d.is_empty());
+        assert_eq!(p.rungs[0].comment, ["above", "seal in"]);
+        assert!(p.rungs[1].comment.is_empty());
+        assert_eq!(crate::print(&p), "// above\n// seal in\nXIC(a)OTE(b);\nXIC(c)OTE(d);\n");
+    }
+
+    #[test]
+    fn comments_inside_rungs_are_refused_where_they_are() {
+        assert_eq!(
+            short("XIC(a)OTE(x);\n[// c\nXIC(b),XIC(c)]OTE(d);\n"),
+            ["main.lad:2:2: error[E200]: a comment inside a rung"]
+        );
+        assert_eq!(
+            short("XIC(a)OTE(x)\n// c\nXIC(b)OTE(d);\n"),
+            ["main.lad:1:13: error[E204]: a comment inside a rung: the rung before it does not end with `;`"]
+        );
+    }
+
+    #[test]
+    fn an_unclosed_branch_at_the_end_points_at_its_bracket() {
+        assert_eq!(
+            short("XIC(a)OTE(b);\nXIC(c)[XIC(a),[XIC(b)"),
+            ["main.lad:2:15: error[E202]: this branch is never closed"]
+        );
+        assert_eq!(
+            short("XIC(a)OTE(b)"),
+            ["main.lad:1:13: error[E204]: the last rung does not end with `;`"]
+        );
+    }
 }

@@ -74,10 +74,10 @@ fn run_case(path: &Path) -> Result<(), String> {
 /// The child side: does nothing unless `ALBA_FUZZ_CASE` names a file.
 #[test]
 fn child_case() {
-    if let Ok(path) = std::env::var(ENV) {
-        if let Err(e) = run_case(Path::new(&path)) {
-            panic!("{e}");
-        }
+    if let Ok(path) = std::env::var(ENV)
+        && let Err(e) = run_case(Path::new(&path))
+    {
+        panic!("{e}");
     }
 }
 

@@ -1,0 +1,27 @@
+//! Ladder parser: never panics, every diagnostic span lies inside the input
+//! on character boundaries (and renders); an accepted input has correct AST
+//! spans and survives print → parse → print unchanged.
+#![no_main]
+
+use alba_model::Files;
+use libfuzzer_sys::fuzz_target;
+
+#[path = "../../crates/ladder/tests/it/check.rs"]
+mod check;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(src) = std::str::from_utf8(data) else {
+        return;
+    };
+    match check::ladder_input(src) {
+        Ok(diags) => {
+            let mut files = Files::new();
+            files.add("main.lad", src);
+            for d in &diags {
+                let _ = d.short(&files);
+                let _ = d.render(&files);
+            }
+        }
+        Err(e) => panic!("{e}\ninput: {src:?}"),
+    }
+});
