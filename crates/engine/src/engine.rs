@@ -106,6 +106,18 @@ impl Engine {
         };
     }
 
+    /// Bytes the engine holds for its program: memory, the IR with its
+    /// locations, both executable forms and, if compiled, the native
+    /// operand table (machine code itself is shared by rung shapes and small).
+    pub fn footprint(&self) -> usize {
+        let mut bytes = self.mem.size_bytes() + self.prog.code_bytes() + self.plain.bytes() + self.fast.bytes();
+        #[cfg(feature = "jit")]
+        if let Some(n) = &self.native {
+            bytes += n.table_bytes();
+        }
+        bytes
+    }
+
     /// Compiles the program to machine code for unmonitored scans (see
     /// `jit.rs`). Monitored scans keep using the interpreter. Fails, and
     /// leaves the interpreter in charge, where native code is unavailable.

@@ -220,6 +220,11 @@ fn or2(ops: &[Op]) -> Option<(B, bool, B, bool)> {
 }
 
 impl Code {
+    /// Bytes of this executable form.
+    pub fn bytes(&self) -> usize {
+        self.ops.len() * std::mem::size_of::<X>() + self.src.len() * 4
+    }
+
     /// Does `mem` have the sizes the program was verified against?
     pub(crate) fn fits(&self, mem: &Memory) -> bool {
         sizes(mem) == self.sizes

@@ -388,6 +388,16 @@ impl Jit {
         })
     }
 
+    /// Bytes of the operand table and the run index.
+    pub fn table_bytes(&self) -> usize {
+        let t = self.operands.borrow();
+        t.items.len() * std::mem::size_of::<Operand>()
+            + t.values.len() * 8
+            + self.run_of.len() * 4
+            + self.starts.len() * 4
+            + self.runs.len() * std::mem::size_of::<Run>()
+    }
+
     /// Runs one scan of the compiled code over `mem`.
     pub(crate) fn run(&self, code: &Code, mem: &mut Memory, faults: &mut Faults, now: u32) -> Result<(), Stop> {
         if !code.fits(mem) {
