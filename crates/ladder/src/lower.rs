@@ -226,6 +226,25 @@ fn float_class(c: Class) -> Class {
     }
 }
 
+/// The op converting `from` into `to` (`None` when both have one class).
+fn conversion(from: V, to: V) -> Option<Cvt> {
+    Some(match (from, to) {
+        (V::I(a), V::F(b)) => Cvt::IF(a, b),
+        (V::I(a), V::L(b)) => Cvt::IL(a, b),
+        (V::I(a), V::D(b)) => Cvt::ID(a, b),
+        (V::F(a), V::I(b)) => Cvt::FI(a, b),
+        (V::F(a), V::L(b)) => Cvt::FL(a, b),
+        (V::F(a), V::D(b)) => Cvt::FD(a, b),
+        (V::L(a), V::I(b)) => Cvt::LI(a, b),
+        (V::L(a), V::F(b)) => Cvt::LF(a, b),
+        (V::L(a), V::D(b)) => Cvt::LD(a, b),
+        (V::D(a), V::I(b)) => Cvt::DI(a, b),
+        (V::D(a), V::F(b)) => Cvt::DF(a, b),
+        (V::D(a), V::L(b)) => Cvt::DL(a, b),
+        _ => return None,
+    })
+}
+
 fn class_name(c: Class) -> &'static str {
     match c {
         Class::I => "DINT",
@@ -922,22 +941,9 @@ impl Compiler<'_> {
             (V::I(_), Class::I) | (V::L(_), Class::L) | (V::F(_), Class::F) | (V::D(_), Class::D) => return v,
             _ => self.temp(c),
         };
-        let cvt = match (v, t) {
-            (V::I(a), V::F(b)) => Cvt::IF(a, b),
-            (V::I(a), V::L(b)) => Cvt::IL(a, b),
-            (V::I(a), V::D(b)) => Cvt::ID(a, b),
-            (V::F(a), V::I(b)) => Cvt::FI(a, b),
-            (V::F(a), V::L(b)) => Cvt::FL(a, b),
-            (V::F(a), V::D(b)) => Cvt::FD(a, b),
-            (V::L(a), V::I(b)) => Cvt::LI(a, b),
-            (V::L(a), V::F(b)) => Cvt::LF(a, b),
-            (V::L(a), V::D(b)) => Cvt::LD(a, b),
-            (V::D(a), V::I(b)) => Cvt::DI(a, b),
-            (V::D(a), V::F(b)) => Cvt::DF(a, b),
-            (V::D(a), V::L(b)) => Cvt::DL(a, b),
-            _ => return v,
-        };
-        self.b.emit(Op::Cvt(cvt), elem);
+        if let Some(cvt) = conversion(v, t) {
+            self.b.emit(Op::Cvt(cvt), elem);
+        }
         t
     }
 
@@ -994,20 +1000,8 @@ impl Compiler<'_> {
             return (native, post);
         }
         let t = self.temp(c);
-        let cvt = match (t, native) {
-            (V::I(a), V::F(b)) => Cvt::IF(a, b),
-            (V::I(a), V::L(b)) => Cvt::IL(a, b),
-            (V::I(a), V::D(b)) => Cvt::ID(a, b),
-            (V::F(a), V::I(b)) => Cvt::FI(a, b),
-            (V::F(a), V::L(b)) => Cvt::FL(a, b),
-            (V::F(a), V::D(b)) => Cvt::FD(a, b),
-            (V::L(a), V::I(b)) => Cvt::LI(a, b),
-            (V::L(a), V::F(b)) => Cvt::LF(a, b),
-            (V::L(a), V::D(b)) => Cvt::LD(a, b),
-            (V::D(a), V::I(b)) => Cvt::DI(a, b),
-            (V::D(a), V::F(b)) => Cvt::DF(a, b),
-            (V::D(a), V::L(b)) => Cvt::DL(a, b),
-            _ => return (native, post),
+        let Some(cvt) = conversion(t, native) else {
+            return (native, post);
         };
         post.insert(0, Op::Cvt(cvt));
         (t, post)

@@ -7,8 +7,9 @@
 //! By extension: `.lad` runs through the ladder checks of
 //! `check::ladder_input` (parse, spans, round trip, diagnostics render)
 //! and `check::check_and_lower` (checker and lowering against a tag table
-//! with every type); `.cpt` through the CPT expression parser; anything else through
-//! every parser. Every case must pass (a case that fails is a parser bug
+//! with every type); `.cpt` through the CPT expression parser; `.csv` through
+//! the tags.csv reader; `.toml` through the alba.toml reader; anything else
+//! through every parser. Every case must pass (a case that fails is a parser bug
 //! still to fix: see `tests/fuzz_regressions/README.md`).
 
 use crate::check::check_and_lower;
@@ -28,6 +29,8 @@ fn run_case(path: &Path) -> Result<(), String> {
     match path.extension().and_then(|e| e.to_str()) {
         Some("lad") => ladder(&src).and_then(|()| check_and_lower(&src).map(drop)),
         Some("cpt") => cpt(&src),
+        Some("csv") => tags(&src),
+        Some("toml") => toml(&src),
         _ => ladder(&src)
             .and_then(|()| cpt(&src))
             .and_then(|()| tags(&src))
