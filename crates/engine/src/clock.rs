@@ -52,3 +52,30 @@ impl Clock for MonotonicClock {
         self.origin.elapsed().as_millis() as u64
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn virtual_time_moves_only_when_told() {
+        let mut c = VirtualClock::new();
+        assert_eq!(c.now_ms(), 0);
+        c.advance(10);
+        c.advance(5);
+        assert_eq!(c.now_ms(), 15);
+        c.set(1000);
+        assert_eq!(c.now_ms(), 1000);
+    }
+
+    #[test]
+    fn monotonic_time_never_goes_back() {
+        let mut c = MonotonicClock::default();
+        let mut last = c.now_ms();
+        for _ in 0..1000 {
+            let now = c.now_ms();
+            assert!(now >= last);
+            last = now;
+        }
+    }
+}

@@ -91,10 +91,6 @@ impl Engine {
         format!("{} at {} (scan {})", f.code, self.prog.describe(loc), f.scan)
     }
 
-    pub fn major_fault(&self) -> Option<&MajorFault> {
-        self.major.as_ref()
-    }
-
     /// Turns power-flow monitoring on or off (SPEC §11). While off, scans
     /// run an instantiation of the interpreter without any recording.
     pub fn set_monitor(&mut self, on: bool) {
@@ -131,14 +127,6 @@ impl Engine {
         Err("this build of Alba has no native compiler (feature `jit`)".into())
     }
 
-    /// Are unmonitored scans running machine code?
-    pub fn is_native(&self) -> bool {
-        #[cfg(feature = "jit")]
-        return self.native.is_some();
-        #[cfg(not(feature = "jit"))]
-        false
-    }
-
     /// Power flow of the last scan, while monitoring.
     pub fn power_flow(&self) -> Option<&PowerFlow> {
         self.monitor.then_some(&self.pf)
@@ -148,15 +136,6 @@ impl Engine {
     /// nothing when off).
     pub fn monitored_scans(&self) -> u64 {
         self.monitor_writes
-    }
-
-    /// Back to the initial memory, as after a power cycle without retention.
-    pub fn restart(&mut self) {
-        self.mem = self.prog.init.clone();
-        self.faults = Faults::default();
-        self.first_scan = true;
-        self.scans = 0;
-        self.major = None;
     }
 
     /// An unmonitored scan: native code if compiled, else fused code.

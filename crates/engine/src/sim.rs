@@ -6,6 +6,7 @@
 //! after the scan at t = 0 and after every scan whose t is a multiple of
 //! `every`.
 
+use crate::clock::{Clock, VirtualClock};
 use crate::engine::{Engine, MajorFault};
 use alba_ir::{Access, Layout, Place, Target};
 use alba_model::{Code, Diagnostic, FileId, Span, Value, csv};
@@ -254,8 +255,9 @@ pub fn run(
     let scan_ms = opt.scan_ms.max(1);
     let every = opt.every_ms.max(1);
     let mut next_row = 0;
-    let mut t = 0u64;
-    while t <= opt.until_ms {
+    let mut clock = VirtualClock::new();
+    while clock.now_ms() <= opt.until_ms {
+        let t = clock.now_ms();
         while let Some(r) = stimulus.rows.get(next_row).filter(|r| r.time_ms <= t) {
             engine.write(r.place, r.value);
             next_row += 1;
@@ -271,7 +273,7 @@ pub fn run(
             line.push('\n');
             out.write_all(line.as_bytes())?;
         }
-        t += scan_ms;
+        clock.advance(scan_ms);
     }
     Ok(())
 }

@@ -316,28 +316,6 @@ impl Op {
             Op::LdM { byte, slot } | Op::StM { byte, slot } => ms(*byte, slot),
         }
     }
-
-    /// Does the op write `rc` in a way that makes it a rung *input*
-    /// (contact, compare)? Used by the ladder checker and the monitor view.
-    pub fn is_condition(&self) -> bool {
-        matches!(
-            self,
-            Op::Xic(_)
-                | Op::Xio(_)
-                | Op::Ons(_)
-                | Op::Afi
-                | Op::CmpI(..)
-                | Op::CmpF(..)
-                | Op::CmpL(..)
-                | Op::CmpD(..)
-                | Op::LimI(..)
-                | Op::LimF(..)
-                | Op::LimL(..)
-                | Op::LimD(..)
-                | Op::MeqI(..)
-                | Op::MeqL(..)
-        )
-    }
 }
 
 #[cfg(test)]

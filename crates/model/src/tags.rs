@@ -109,13 +109,6 @@ impl TagTable {
         self.tags.push(tag);
     }
 
-    /// The tag whose address overlaps `addr`, if any.
-    pub fn at_address(&self, addr: &Address) -> Option<&Tag> {
-        self.tags
-            .iter()
-            .find(|t| t.address.as_ref().is_some_and(|a| a.overlaps(addr)))
-    }
-
     /// The closest tag name to `name`, for "did you mean" hints.
     pub fn suggest(&self, name: &str) -> Option<&str> {
         let lower = name.to_ascii_lowercase();
