@@ -253,10 +253,20 @@ impl fmt::Display for Value {
             Value::Int(v) => write!(f, "{v}"),
             Value::Dint(v) | Value::Time(v) => write!(f, "{v}"),
             Value::Lint(v) => write!(f, "{v}"),
+            Value::Real(v) if exponent_form(*v as f64) => write!(f, "{v:e}"),
+            Value::Lreal(v) if exponent_form(*v) => write!(f, "{v:e}"),
             Value::Real(v) => write!(f, "{v}"),
             Value::Lreal(v) => write!(f, "{v}"),
         }
     }
+}
+
+/// Reals print with the fewest digits that read back exactly; like Python's
+/// `repr`, in exponent form outside 1e-4 ≤ |v| < 1e16 (so REAL max is
+/// `3.4028235e38`, not 39 digits).
+fn exponent_form(v: f64) -> bool {
+    let a = v.abs();
+    a != 0.0 && !(1e-4..1e16).contains(&a)
 }
 
 #[cfg(test)]
@@ -322,5 +332,11 @@ mod tests {
         assert_eq!(Value::Real(back), v);
         assert_eq!(Value::Real(1.0).to_string(), "1");
         assert_eq!(Value::Bool(true).to_string(), "1");
+        // The exponent form where it is shorter, never losing a bit.
+        for (v, text) in [(f32::MAX, "3.4028235e38"), (1e-7, "1e-7"), (100000.0, "100000"), (-0.5, "-0.5"), (2e16, "2e16")] {
+            assert_eq!(Value::Real(v).to_string(), text);
+            assert_eq!(text.parse::<f32>(), Ok(v));
+        }
+        assert_eq!(Value::Lreal(1e300).to_string(), "1e300");
     }
 }
