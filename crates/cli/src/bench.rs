@@ -158,7 +158,13 @@ fn build(n: usize) -> Result<Built, String> {
     let t1 = Instant::now();
     let layout = alba_ladder::layout_for(&tags, &[&ast]);
     let mut b = alba_ir::Builder::new(layout);
-    let d3 = alba_ladder::compile(&ast, "main.lad", &mut b, &mut alba_ladder::Presets::default());
+    let d3 = alba_ladder::compile(
+        &ast,
+        files.text(lf),
+        "main.lad",
+        &mut b,
+        &mut alba_ladder::Presets::default(),
+    );
     if !d3.is_empty() {
         return Err(format!("generated program does not compile: {}", d3[0]));
     }

@@ -23,15 +23,17 @@ pub fn run(dir: &Path) -> ExitCode {
     }
     let name = dir
         .file_name()
-        .map(|n| n.to_string_lossy().replace('"', ""))
-        .unwrap_or_else(|| "project".into());
+        .map_or_else(|| "project".into(), |n| n.to_string_lossy().to_string());
     if let Err(e) = std::fs::create_dir_all(dir) {
         eprintln!("error: cannot create {}: {e}", dir.display());
         return ExitCode::FAILURE;
     }
     for (file, text) in FILES {
         let text = if *file == "alba.toml" {
-            text.replace("name = \"start-stop\"", &format!("name = \"{name}\""))
+            text.replace(
+                "name = \"start-stop\"",
+                &format!("name = {}", alba_model::config::toml_string(&name)),
+            )
         } else {
             text.to_string()
         };

@@ -23,7 +23,8 @@ impl Compiled {
 /// Loads and compiles the project in `dir`, reporting every problem of every file.
 pub fn compile_dir(dir: &Path) -> Compiled {
     let (project, mut diagnostics) = Project::load(dir);
-    let tags_ok = diagnostics.is_empty();
+    let in_tags = |d: &Diagnostic| d.primary.as_ref().map(|l| l.span.file) == project.tags_file;
+    let tags_ok = project.tags_file.is_some() && !diagnostics.iter().any(in_tags);
     let (program, mut program_diags) = compile(&project);
     if !tags_ok {
         // With rows of tags.csv refused, "unknown tag" errors may only echo
@@ -50,16 +51,17 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
             Language::Ladder => {
                 let (ast, d) = alba_ladder::parse(project.files.text(src.file), src.file);
                 diags.extend(d);
-                ladders.push((src.name.as_str(), ast));
+                ladders.push((src.name.as_str(), src.file, ast));
             }
         }
     }
-    let asts: Vec<&alba_ladder::Program> = ladders.iter().map(|(_, a)| a).collect();
+    let asts: Vec<&alba_ladder::Program> = ladders.iter().map(|(_, _, a)| a).collect();
     let layout = alba_ladder::layout_for(&project.tags, &asts);
     let mut b = Builder::new(layout);
     let mut presets = alba_ladder::Presets::default();
-    for (name, ast) in &ladders {
-        diags.extend(alba_ladder::compile(ast, name, &mut b, &mut presets));
+    for (name, file, ast) in &ladders {
+        let src = project.files.text(*file);
+        diags.extend(alba_ladder::compile(ast, src, name, &mut b, &mut presets));
     }
     if !diags.is_empty() {
         return (None, diags);

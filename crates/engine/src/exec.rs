@@ -697,7 +697,10 @@ pub(crate) fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mu
             let old = rd!(m.m, byte);
             wr!(m.m, byte, if rd!(m.b, src.0) { old | mask } else { old & !mask });
         }
-        X::LdM { byte, slot } => load_marker(m, byte as usize, slot),
+        X::LdM { byte, slot } => {
+            let f = load_marker(m, byte as usize, slot);
+            sink.check(f, cur);
+        }
         X::StM { byte, slot } => store_marker(m, byte as usize, slot),
         X::RungC { b, neg } => rc = rd!(m.b, b.0) != neg,
         X::RungOr { a, b, na, nb } => rc = (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
@@ -855,7 +858,8 @@ macro_rules! float_ops {
                 UnOp::Mov => x,
                 UnOp::Neg => -x,
                 UnOp::Abs => x.abs(),
-                UnOp::Sqrt => x.sqrt(),
+                // Of the absolute value, as Logix SQR and SQRT do.
+                UnOp::Sqrt => x.abs().sqrt(),
                 UnOp::Ln => x.ln(),
                 UnOp::Log => x.log10(),
                 UnOp::Sin => x.sin(),
@@ -963,7 +967,9 @@ fn marker_width(slot: MarkerSlot) -> usize {
     }
 }
 
-fn load_marker(m: &mut Mem, at: usize, slot: MarkerSlot) {
+/// Loads a marker value into a slot. A REAL whose bits are NaN or ±∞ (MW
+/// writes can make any bit pattern) is cleaned like any REAL result.
+fn load_marker(m: &mut Mem, at: usize, slot: MarkerSlot) -> Option<FaultCode> {
     let mut buf = [0u8; 4];
     let n = marker_width(slot);
     if let Some(src) = m.m.get(at..at + n) {
@@ -973,8 +979,13 @@ fn load_marker(m: &mut Mem, at: usize, slot: MarkerSlot) {
         MarkerSlot::Byte(i) => wr!(m.i, i.0, buf[0] as i8 as i32),
         MarkerSlot::Word(i) => wr!(m.i, i.0, i16::from_be_bytes([buf[0], buf[1]]) as i32),
         MarkerSlot::DWord(i) => wr!(m.i, i.0, i32::from_be_bytes(buf)),
-        MarkerSlot::Real(f) => wr!(m.f, f.0, f32::from_be_bytes(buf)),
+        MarkerSlot::Real(f) => {
+            let (v, fault) = fix_f32(f32::from_be_bytes(buf), false);
+            wr!(m.f, f.0, v);
+            return fault;
+        }
     }
+    None
 }
 
 fn store_marker(m: &mut Mem, at: usize, slot: MarkerSlot) {

@@ -9,12 +9,12 @@
 //!
 //! Only the ops that dominate typical ladder are emitted inline: contacts,
 //! coils, one-shots, branches, jumps, TON, CTU/CTD, integer compares and
-//! ADD/SUB/MOV of DINTs. Each inline op first tests for its rare cases
-//! (overflow, a negative preset, a counter about to wrap) and hands those to
-//! the interpreter; every other op is a call to the interpreter's own `step`
-//! for that single op. So the semantics stay where they are defined
-//! (`exec.rs`), and the inline fast paths are checked against the
-//! interpreter by differential tests.
+//! ADD/SUB/MOV of DINTs, with their rare cases too (a wrapped sum, a negative
+//! preset, a counter wrapping to OV/UN); their faults are noted in the
+//! context and flushed into `Faults` in order. Every other op is a call to
+//! the interpreter's own `step` for that single op, so most semantics are
+//! written once (`exec.rs`), and the inline ones are held to the interpreter
+//! by differential tests.
 //!
 //! Unsafe code here has one reason: running machine code we generate. It
 //! touches memory only at slot indices taken from a program that passed

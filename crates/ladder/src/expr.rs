@@ -111,6 +111,7 @@ pub fn parse(text: &str, file: FileId, base: usize) -> Result<Expr, ExprError> {
         file,
         end: base + text.len(),
         depth: 0,
+        operators: 0,
     };
     let e = p.or()?;
     if let Some((t, sp)) = p.toks.get(p.pos) {
@@ -156,18 +157,28 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
             Tok::Num(text[start..i].to_string())
         } else if c.is_ascii_alphabetic() || c == b'_' || c == b'%' {
             // Names, members, addresses (DI:1/0, %IX0.1, S:FS) and T#5s.
-            let mut colon = false;
+            // Where a `:` was seen; a `/` then belongs to the name only in an
+            // AuroraLD address (`DI:1/0`: digits between `:` and `/`, once).
+            let mut colon: Option<usize> = None;
+            let mut slash = false;
             while i < b.len() {
                 let d = b[i];
                 let time_prefix = || matches!(text[start..i].to_ascii_uppercase().as_str(), "T" | "TIME");
+                let aurora_slash = || {
+                    colon.is_some_and(|c| i > c + 1 && b[c + 1..i].iter().all(u8::is_ascii_digit))
+                        && b.get(i + 1).is_some_and(u8::is_ascii_digit)
+                };
                 let part = d.is_ascii_alphanumeric()
                     || matches!(d, b'_' | b'.' | b'%' | b':')
-                    || (d == b'/' && colon)
+                    || (d == b'/' && !slash && aurora_slash())
                     || (d == b'#' && time_prefix());
                 if !part {
                     break;
                 }
-                colon |= d == b':';
+                if d == b':' {
+                    colon = Some(i);
+                }
+                slash |= d == b'/';
                 i += 1;
             }
             let word = &text[start..i];
@@ -223,7 +234,12 @@ struct P {
     end: usize,
     /// Nesting of parentheses, calls and unary operators.
     depth: usize,
+    /// Operators so far (a chain `a+b+c…` is a tree as deep as it is long).
+    operators: usize,
 }
+
+/// Most operators accepted in one expression.
+pub const MAX_OPERATORS: usize = 256;
 
 /// Deepest nesting accepted in an expression (a bound on recursion).
 pub const MAX_DEPTH: usize = 64;
@@ -255,6 +271,13 @@ impl P {
                 return Ok(lhs);
             };
             let sp = self.span_here();
+            self.operators += 1;
+            if self.operators > MAX_OPERATORS {
+                return Err((
+                    format!("the expression has more than {MAX_OPERATORS} operators; split it over several CPTs"),
+                    sp,
+                ));
+            }
             self.pos += 1;
             let rhs = next(self)?;
             lhs = Expr::Bin(op, Box::new(lhs), Box::new(rhs), sp);
@@ -421,11 +444,21 @@ mod tests {
         );
         assert_eq!(show(&p("ATAN2(y, x) * 2").unwrap()), "(Atan2(y,x) Mul Int(2))");
         assert_eq!(show(&p("pi*T.ACC/DI:1/0").unwrap()), "((3.142 Mul T.ACC) Div DI:1/0)");
+        assert_eq!(show(&p("S:FAULTCODE/2").unwrap()), "(S:FAULTCODE Div Int(2))");
+        assert_eq!(show(&p("AI:3/0/4").unwrap()), "(AI:3/0 Div Int(4))");
         assert_eq!(
             show(&p("1.5e-3 + T#2s + 16#FF").unwrap()),
             "((Real(0.0015) Add Time(2000)) Add Int(255))"
         );
         assert_eq!(show(&p("not a <> b").unwrap()), "((NOT a) Ne b)");
+    }
+
+    #[test]
+    fn long_expressions_are_refused_before_they_get_deep() {
+        let ok = vec!["a"; MAX_OPERATORS + 1].join("+");
+        assert!(p(&ok).is_ok());
+        let long = vec!["a"; 20_000].join("+");
+        assert!(p(&long).unwrap_err().contains("more than 256 operators"));
     }
 
     #[test]

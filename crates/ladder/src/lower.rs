@@ -24,10 +24,13 @@ use std::collections::HashMap;
 #[derive(Debug, Default)]
 pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
 
-/// Compiles one ladder program into `b` as a unit named `name`.
-pub fn compile(prog: &Program, name: &str, b: &mut Builder, presets: &mut Presets) -> Vec<Diagnostic> {
+/// Compiles one ladder program, parsed from `src`, into `b` as a unit named
+/// `name`. (`src` gives CPT expressions their exact positions: operands in
+/// the tree have their whitespace collapsed.)
+pub fn compile(prog: &Program, src: &str, name: &str, b: &mut Builder, presets: &mut Presets) -> Vec<Diagnostic> {
     let mut c = Compiler {
         b,
+        src,
         presets,
         diags: Vec::new(),
         labels: HashMap::new(),
@@ -256,6 +259,7 @@ fn class_name(c: Class) -> &'static str {
 
 struct Compiler<'a> {
     b: &'a mut Builder,
+    src: &'a str,
     presets: &'a mut Presets,
     diags: Vec<Diagnostic>,
     /// Label (upper case) → (rung index, (name as written, span)).
@@ -772,12 +776,17 @@ impl Compiler<'_> {
                 Literal::Bool(_) => false,
             };
             if bad {
-                self.err(
-                    Code::BadLiteral,
-                    format!("`{}` does not fit a {}", o.text, class_name(tags)),
-                    o.span,
-                    "too large",
-                );
+                let msg = match l {
+                    Literal::Real(_) => format!(
+                        "`{}` is beyond the REAL range; only an LREAL instruction takes it",
+                        o.text
+                    ),
+                    _ => format!(
+                        "`{}` is beyond the DINT range; only a LINT or LREAL instruction takes it",
+                        o.text
+                    ),
+                };
+                self.err(Code::BadLiteral, msg, o.span, "too large");
                 ok = false;
             }
         }
@@ -809,6 +818,36 @@ impl Compiler<'_> {
             }
         }
         ok
+    }
+
+    /// In a REAL expression, every real literal must fit a REAL.
+    fn reals_fit(&mut self, e: &Expr) -> bool {
+        match e {
+            Expr::Lit(Literal::Real(v), sp) if v.abs() > f32::MAX as f64 => {
+                let text = self.src.get(sp.range()).unwrap_or("").to_string();
+                self.err(
+                    Code::BadLiteral,
+                    format!("`{text}` is beyond the REAL range, and this expression is computed in REAL"),
+                    *sp,
+                    "too large",
+                );
+                false
+            }
+            Expr::Neg(a) | Expr::Not(a, _) => self.reals_fit(a),
+            Expr::Bin(_, a, b, _) => {
+                let x = self.reals_fit(a);
+                self.reals_fit(b) && x
+            }
+            Expr::Call(_, args, _) => {
+                // Every argument, to report every bad literal.
+                let mut ok = true;
+                for a in args {
+                    ok &= self.reals_fit(a);
+                }
+                ok
+            }
+            Expr::Lit(..) | Expr::Name(..) | Expr::Const(_) => true,
+        }
     }
 
     /// Refuses a real operand to an integer-only instruction, pointing at it.
@@ -1090,7 +1129,8 @@ impl Compiler<'_> {
 
     fn cpt(&mut self, i: &Instr, dest: Opnd, elem: u32) {
         let o = &i.operands[1];
-        let e = match expr::parse(&o.text, o.span.file, o.span.start as usize) {
+        let raw = self.src.get(o.span.range()).unwrap_or(&o.text);
+        let e = match expr::parse(raw, o.span.file, o.span.start as usize) {
             Ok(e) => e,
             Err((msg, span)) => {
                 self.err(Code::Expression, msg, span, "in this expression");
@@ -1112,6 +1152,9 @@ impl Compiler<'_> {
         let mut c = promote(classes);
         if float_ops {
             c = float_class(c);
+        }
+        if c == Class::F && !self.reals_fit(&e) {
+            return;
         }
         let mut leaves = leaves.into_iter();
         let Some(v) = self.expr(&e, c, &mut leaves, elem) else {

@@ -132,6 +132,20 @@ impl Parser<'_> {
             comment.push(self.line_comment());
         }
         if !ok {
+            // Dropped for an unknown instruction: keep its labels, so JMPs to
+            // them do not add a second, misleading error.
+            fn labels(elems: &[Element], out: &mut Vec<String>) {
+                for e in elems {
+                    match e {
+                        Element::Instr(i) if i.mnemonic == Mnemonic::LBL => {
+                            out.extend(i.operands.first().map(|o| o.text.clone()));
+                        }
+                        Element::Instr(_) => {}
+                        Element::Branch(b) => b.legs.iter().for_each(|l| labels(l, out)),
+                    }
+                }
+            }
+            labels(&elements, &mut self.broken_labels);
             return None;
         }
         Some(Rung {
@@ -474,6 +488,13 @@ mod tests {
             short("XIC(a)OTE(x)\n// c\nXIC(b)OTE(d);\n"),
             ["main.lad:1:13: error[E204]: a comment inside a rung: the rung before it does not end with `;`"]
         );
+    }
+
+    #[test]
+    fn a_label_in_a_rung_with_an_unknown_instruction_still_counts() {
+        let (p, d) = parse("XIC(A)JMP(skip);\nLBL(skip)FOO(A)OTE(B);\n", FileId(0));
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(p.broken_labels, ["skip"]);
     }
 
     #[test]

@@ -49,6 +49,11 @@ struct RawBoard {
     pinmap: Option<Spanned<String>>,
 }
 
+/// `s` as a TOML string (quoted and escaped), for writing alba.toml.
+pub fn toml_string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
 impl Config {
     /// Parses and validates `alba.toml`, reporting every problem found. The
     /// config is `None` only when the file could not be read as settings at
@@ -164,6 +169,14 @@ mod tests {
         match Config::parse(text, f) {
             (Some(c), d) if d.is_empty() => Ok(c),
             (_, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
+        }
+    }
+
+    #[test]
+    fn names_with_quotes_and_backslashes_round_trip() {
+        for name in ["plain", "a\\b", "say \"hi\"", "tab\there", "ñandú"] {
+            let text = format!("name = {}\nprograms = [\"a.lad\"]\n", toml_string(name));
+            assert_eq!(parse(&text).unwrap().name, name, "{text}");
         }
     }
 

@@ -40,6 +40,8 @@ pub struct Project {
     pub files: Files,
     pub config: Option<Config>,
     pub tags: TagTable,
+    /// The file the tag table was read from (`None` if it could not be read).
+    pub tags_file: Option<FileId>,
     pub programs: Vec<ProgramSource>,
 }
 
@@ -71,16 +73,16 @@ impl Project {
             }
         };
 
-        let tags = match read_text(&dir.join("tags.csv")) {
+        let (tags, tags_file) = match read_text(&dir.join("tags.csv")) {
             Ok(text) => {
                 let f = files.add(display("tags.csv"), text);
                 let (tags, d) = TagTable::parse(files.text(f), f);
                 diags.extend(d);
-                tags
+                (tags, Some(f))
             }
             Err(msg) => {
                 diags.push(Diagnostic::unplaced(Code::Io, msg));
-                TagTable::new()
+                (TagTable::new(), None)
             }
         };
 
@@ -122,6 +124,7 @@ impl Project {
             files,
             config: config.map(|(c, _)| c),
             tags,
+            tags_file,
             programs,
         };
         (project, diags)

@@ -333,7 +333,13 @@ mod tests {
         assert_eq!(Value::Real(1.0).to_string(), "1");
         assert_eq!(Value::Bool(true).to_string(), "1");
         // The exponent form where it is shorter, never losing a bit.
-        for (v, text) in [(f32::MAX, "3.4028235e38"), (1e-7, "1e-7"), (100000.0, "100000"), (-0.5, "-0.5"), (2e16, "2e16")] {
+        for (v, text) in [
+            (f32::MAX, "3.4028235e38"),
+            (1e-7, "1e-7"),
+            (100000.0, "100000"),
+            (-0.5, "-0.5"),
+            (2e16, "2e16"),
+        ] {
             assert_eq!(Value::Real(v).to_string(), text);
             assert_eq!(text.parse::<f32>(), Ok(v));
         }

@@ -29,7 +29,13 @@ pub fn compile_text(tags_csv: &str, ladder: &str) -> Result<Program, String> {
     let (ast, d2) = alba_ladder::parse(files.text(lf), lf);
     let layout = alba_ladder::layout_for(&tags, &[&ast]);
     let mut b = alba_ir::Builder::new(layout);
-    let d3 = alba_ladder::compile(&ast, "main.lad", &mut b, &mut alba_ladder::Presets::default());
+    let d3 = alba_ladder::compile(
+        &ast,
+        files.text(lf),
+        "main.lad",
+        &mut b,
+        &mut alba_ladder::Presets::default(),
+    );
     let all: Vec<_> = d1.into_iter().chain(d2).chain(d3).collect();
     if !all.is_empty() {
         return Err(alba_model::diag::render_all(&all, &files));

@@ -277,7 +277,7 @@ pub fn check_and_lower(src: &str) -> Result<Vec<Diagnostic>, String> {
     diag_spans(src, lf, &diags)?;
     let layout = alba_ladder::layout_for(&tags, &[&ast]);
     let mut b = alba_ir::Builder::new(layout);
-    let cd = alba_ladder::compile(&ast, "main.lad", &mut b, &mut alba_ladder::Presets::default());
+    let cd = alba_ladder::compile(&ast, src, "main.lad", &mut b, &mut alba_ladder::Presets::default());
     diag_spans(src, lf, &cd).map_err(|e| format!("checker: {e}"))?;
     let all: Vec<_> = diags.into_iter().chain(cd).collect();
     let _ = alba_model::diag::render_all(&all, &files);
