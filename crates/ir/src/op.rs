@@ -262,8 +262,23 @@ impl Op {
     /// Every slot the op reads or writes (for verification at load time).
     pub fn slots(&self) -> Vec<AnySlot> {
         use AnySlot as S;
-        let tmr = |t: &Tmr| vec![S::I(t.i.0), S::I(t.i.0 + 2), S::B(t.b.0), S::B(t.b.0 + 2)];
-        let ctr = |c: &Ctr| vec![S::I(c.i.0), S::I(c.i.0 + 1), S::B(c.b.0), S::B(c.b.0 + 4)];
+        // Saturating: a crafted slot near u32::MAX must fail verification, not overflow.
+        let tmr = |t: &Tmr| {
+            vec![
+                S::I(t.i.0),
+                S::I(t.i.0.saturating_add(2)),
+                S::B(t.b.0),
+                S::B(t.b.0.saturating_add(2)),
+            ]
+        };
+        let ctr = |c: &Ctr| {
+            vec![
+                S::I(c.i.0),
+                S::I(c.i.0.saturating_add(1)),
+                S::B(c.b.0),
+                S::B(c.b.0.saturating_add(4)),
+            ]
+        };
         let ms = |byte: u32, s: &MarkerSlot| match *s {
             MarkerSlot::Byte(i) => vec![S::I(i.0), S::M(byte, 1)],
             MarkerSlot::Word(i) => vec![S::I(i.0), S::M(byte, 2)],

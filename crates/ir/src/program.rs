@@ -70,8 +70,22 @@ impl Program {
         if self.locs.len() != self.ops.len() {
             return Err(format!("{} ops but {} locations", self.ops.len(), self.locs.len()));
         }
+        if self.ops.first().is_some_and(|op| *op != Op::Rung) {
+            return Err("the first op is not the start of a rung".into());
+        }
         let m = &self.init;
         for (pc, op) in self.ops.iter().enumerate() {
+            let bad_kind = match op {
+                Op::LdBit { bit, .. } | Op::StBit { bit, .. } => *bit > 7,
+                Op::BinF(o, ..) | Op::BinD(o, ..) => {
+                    matches!(o, BinOp::And | BinOp::Or | BinOp::Xor)
+                }
+                Op::UnF(o, ..) | Op::UnD(o, ..) => matches!(o, UnOp::Not | UnOp::Frd | UnOp::Tod),
+                _ => false,
+            };
+            if bad_kind {
+                return Err(format!("op {pc} ({op:?}) is not defined"));
+            }
             for s in op.slots() {
                 let ok = match s {
                     AnySlot::B(x) => (x as usize) < m.b.len(),
@@ -84,17 +98,6 @@ impl Program {
                 if !ok {
                     return Err(format!("op {pc} ({op:?}) uses {s:?} outside memory"));
                 }
-            }
-            let bad_kind = match op {
-                Op::LdBit { bit, .. } | Op::StBit { bit, .. } => *bit > 7,
-                Op::BinF(o, ..) | Op::BinD(o, ..) => {
-                    matches!(o, BinOp::And | BinOp::Or | BinOp::Xor)
-                }
-                Op::UnF(o, ..) | Op::UnD(o, ..) => matches!(o, UnOp::Not | UnOp::Frd | UnOp::Tod),
-                _ => false,
-            };
-            if bad_kind {
-                return Err(format!("op {pc} ({op:?}) is not defined"));
             }
             if let Op::Jmp(t) = op
                 && !matches!(self.ops.get(*t as usize), Some(Op::Rung))
@@ -152,5 +155,63 @@ impl Program {
         let what = self.files.text(span.file).get(span.range()).unwrap_or("");
         let what: String = what.chars().take(40).collect();
         format!("{unit} rung {} ({line}:{col} `{what}`)", rung.number)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::op::{B, I, Tmr};
+    use crate::{Builder, Layout};
+    use alba_model::{FileId, Span, TagTable};
+
+    /// A one-rung program: `Xic(b0) Ote(b1)` over a layout with a timer.
+    fn program() -> Program {
+        let mut files = Files::new();
+        let f = files.add("tags.csv", "name,type\nT,TIMER\n");
+        let (tags, _) = TagTable::parse(files.text(f), f);
+        let mut b = Builder::new(Layout::new(&tags, &[]));
+        b.begin_unit("main.lad");
+        b.begin_rung(0, Span::new(FileId(0), 0..0));
+        let e = b.element(Span::new(FileId(0), 0..0));
+        b.emit(Op::Xic(B(0)), e);
+        b.emit(Op::Ote(B(1)), e);
+        b.finish(files)
+    }
+
+    #[test]
+    fn verify_accepts_what_the_builder_makes() {
+        assert_eq!(program().verify(), Ok(()));
+    }
+
+    #[test]
+    fn verify_refuses_what_the_engine_must_never_run() {
+        let cases: [(&str, fn(&mut Program)); 6] = [
+            ("outside memory", |p| p.ops[1] = Op::Xic(B(1_000))),
+            ("not a rung start", |p| p.ops[2] = Op::Jmp(1)),
+            ("first op", |p| p.ops.swap(0, 1)),
+            ("outside memory", |p| {
+                p.ops[1] = Op::Ton(Tmr {
+                    i: I(u32::MAX),
+                    b: B(0),
+                })
+            }),
+            ("not defined", |p| {
+                p.ops[1] = Op::LdBit {
+                    byte: 0,
+                    bit: 8,
+                    dst: B(0),
+                }
+            }),
+            ("locations", |p| {
+                p.locs.pop();
+            }),
+        ];
+        for (want, break_it) in cases {
+            let mut p = program();
+            break_it(&mut p);
+            let e = p.verify().unwrap_err();
+            assert!(e.contains(want), "expected `{want}` in `{e}`");
+        }
     }
 }
