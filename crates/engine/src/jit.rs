@@ -787,27 +787,30 @@ impl<'a, 'b> Gen<'a, 'b> {
                 let d = self.i_addr();
                 let pc = self.operand32();
                 let rc = self.rc();
-                self.when(rc, |g| {
-                    let x = g.ld32(a, 0);
-                    let y = g.ld32(b, 0);
-                    let (v, of) = if matches!(op, X::AddI(..)) {
-                        g.fb.ins().sadd_overflow(x, y)
-                    } else {
-                        g.fb.ins().ssub_overflow(x, y)
-                    };
-                    // Wrapped, with an overflow fault (as `exec`).
-                    g.st32(d, 0, v);
-                    g.fault_if(of, FaultCode::Overflow, pc);
-                });
+                // Without a branch on the rung (shared by every rung of the
+                // shape, it would mispredict): keep the old value when false.
+                let x = self.ld32(a, 0);
+                let y = self.ld32(b, 0);
+                let old = self.ld32(d, 0);
+                let (v, of) = if matches!(op, X::AddI(..)) {
+                    self.fb.ins().sadd_overflow(x, y)
+                } else {
+                    self.fb.ins().ssub_overflow(x, y)
+                };
+                // Wrapped, with an overflow fault (as `exec`).
+                let v = self.fb.ins().select(rc, v, old);
+                self.st32(d, 0, v);
+                let fault = self.and(rc, of);
+                self.fault_if(fault, FaultCode::Overflow, pc);
             }
             X::MovI(..) => {
                 let a = self.i_addr();
                 let d = self.i_addr();
                 let rc = self.rc();
-                self.when(rc, |g| {
-                    let v = g.ld32(a, 0);
-                    g.st32(d, 0, v);
-                });
+                let v = self.ld32(a, 0);
+                let old = self.ld32(d, 0);
+                let v = self.fb.ins().select(rc, v, old);
+                self.st32(d, 0, v);
             }
             X::CopyI(..) => {
                 let a = self.i_addr();

@@ -186,7 +186,8 @@ mod tests {
 
     #[test]
     fn verify_refuses_what_the_engine_must_never_run() {
-        let cases: [(&str, fn(&mut Program)); 6] = [
+        type Breakage = fn(&mut Program);
+        let cases: [(&str, Breakage); 6] = [
             ("outside memory", |p| p.ops[1] = Op::Xic(B(1_000))),
             ("not a rung start", |p| p.ops[2] = Op::Jmp(1)),
             ("first op", |p| p.ops.swap(0, 1)),
