@@ -8,7 +8,7 @@ source scripts/common.sh
 need_rust
 echo "Building alba (release)..." >&2
 cargo build --release --locked -q -p alba-cli
-ALBA=target/release/alba
+ALBA="${CARGO_TARGET_DIR:-target}/release/alba"
 echo >&2
 echo "== The tank of AuroraLD (examples/tank): 14 s of simulated time, a row every 0.5 s ==" >&2
 echo "   S_ULT is the raw level (0-1023), Nivel_m/Nivel_L the scaled level; see examples/tank/README.md" >&2
