@@ -144,7 +144,7 @@ impl Builder {
         }
     }
 
-    fn temp(&mut self, class: usize) -> u32 {
+    fn pooled(&mut self, class: usize) -> u32 {
         let pool = &mut self.pools[class];
         if pool.used == pool.slots.len() {
             let c = &mut self.layout.counts;
@@ -170,19 +170,19 @@ impl Builder {
     }
 
     pub fn temp_b(&mut self) -> B {
-        B(self.temp(0))
+        B(self.pooled(0))
     }
     pub fn temp_i(&mut self) -> I {
-        I(self.temp(1))
+        I(self.pooled(1))
     }
     pub fn temp_f(&mut self) -> F {
-        F(self.temp(2))
+        F(self.pooled(2))
     }
     pub fn temp_l(&mut self) -> L {
-        L(self.temp(3))
+        L(self.pooled(3))
     }
     pub fn temp_d(&mut self) -> D {
-        D(self.temp(4))
+        D(self.pooled(4))
     }
 
     /// A read-only slot holding `v` (shared by every use of the same value).

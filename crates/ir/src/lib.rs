@@ -11,6 +11,7 @@ pub mod memory;
 pub mod op;
 pub mod program;
 pub mod symbols;
+pub mod values;
 
 pub use builder::{Builder, TempMark};
 pub use layout::{Counts, Layout, Place, Region, TagSlot};

@@ -11,10 +11,8 @@
 
 use crate::ast::{Arg, Element, Instr, Mnemonic, Operand, Program, Rung};
 use crate::expr::{self, BinE, Expr, Func};
-use alba_ir::{
-    Access, B, BinOp, Builder, Cmp, Ctr, Cvt, D, F, I, L, Layout, MarkerSlot, Op, Place, ResolveError, Target, Tmr,
-    UnOp, Width,
-};
+use alba_ir::values::{Class, Src, V, class_name, class_of, class_of_lit, class_of_type, float_class, promote};
+use alba_ir::{Access, B, BinOp, Builder, Cmp, Ctr, I, Layout, Op, Place, ResolveError, Target, Tmr, UnOp};
 use alba_model::tags::is_identifier;
 use alba_model::{Address, Code, DataType, Diagnostic, Literal, Span, Value};
 use std::collections::HashMap;
@@ -166,94 +164,21 @@ enum Opnd {
     Unset,
 }
 
-/// Arithmetic class of an instruction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Class {
-    I,
-    L,
-    F,
-    D,
-}
-
-/// A readable value in one class.
-#[derive(Debug, Clone, Copy)]
-enum V {
-    I(I),
-    L(L),
-    F(F),
-    D(D),
-}
-
-fn class_of_type(t: DataType) -> Class {
-    match t {
-        DataType::Lreal => Class::D,
-        DataType::Real => Class::F,
-        DataType::Lint => Class::L,
-        _ => Class::I,
+/// The value of a literal or place operand.
+fn src(o: Opnd) -> Src {
+    match o {
+        Opnd::Lit(l) => Src::Lit(l),
+        Opnd::Place(p, _) => Src::Place(p),
+        // Not a value; `check` refuses these where a value is needed.
+        Opnd::Timer(_) | Opnd::Counter(_) | Opnd::Unset => Src::Lit(Literal::Int(0)),
     }
 }
 
-fn class_of_lit(l: Literal) -> Class {
-    match l {
-        Literal::Real(_) => Class::F,
-        Literal::Int(v) | Literal::Time(v) if i32::try_from(v).is_err() => Class::L,
-        _ => Class::I,
-    }
-}
-
-fn promote(classes: impl IntoIterator<Item = Class>) -> Class {
-    let (mut l, mut f, mut d) = (false, false, false);
-    for c in classes {
-        match c {
-            Class::L => l = true,
-            Class::F => f = true,
-            Class::D => d = true,
-            Class::I => {}
-        }
-    }
-    if d || (f && l) {
-        Class::D
-    } else if f {
-        Class::F
-    } else if l {
-        Class::L
-    } else {
-        Class::I
-    }
-}
-
-fn float_class(c: Class) -> Class {
-    match c {
-        Class::I | Class::F => Class::F,
-        Class::L | Class::D => Class::D,
-    }
-}
-
-/// The op converting `from` into `to` (`None` when both have one class).
-fn conversion(from: V, to: V) -> Option<Cvt> {
-    Some(match (from, to) {
-        (V::I(a), V::F(b)) => Cvt::IF(a, b),
-        (V::I(a), V::L(b)) => Cvt::IL(a, b),
-        (V::I(a), V::D(b)) => Cvt::ID(a, b),
-        (V::F(a), V::I(b)) => Cvt::FI(a, b),
-        (V::F(a), V::L(b)) => Cvt::FL(a, b),
-        (V::F(a), V::D(b)) => Cvt::FD(a, b),
-        (V::L(a), V::I(b)) => Cvt::LI(a, b),
-        (V::L(a), V::F(b)) => Cvt::LF(a, b),
-        (V::L(a), V::D(b)) => Cvt::LD(a, b),
-        (V::D(a), V::I(b)) => Cvt::DI(a, b),
-        (V::D(a), V::F(b)) => Cvt::DF(a, b),
-        (V::D(a), V::L(b)) => Cvt::DL(a, b),
-        _ => return None,
-    })
-}
-
-fn class_name(c: Class) -> &'static str {
-    match c {
-        Class::I => "DINT",
-        Class::L => "LINT",
-        Class::F => "REAL",
-        Class::D => "LREAL",
+/// The place of a place operand (`check` has made sure it is one).
+fn place(o: Opnd) -> Place {
+    match o {
+        Opnd::Place(p, _) => p,
+        _ => Place::Bool(B(0)),
     }
 }
 
@@ -569,11 +494,11 @@ impl Compiler<'_> {
         use Mnemonic as M;
         match m {
             M::XIC | M::XIO => {
-                let b = self.bool_in(ops[0], elem);
+                let b = self.b.bool_in(place(ops[0]), elem);
                 self.b.emit(if m == M::XIC { Op::Xic(b) } else { Op::Xio(b) }, elem);
             }
             M::OTE | M::OTL | M::OTU | M::ONS => {
-                let (b, post) = self.bool_out(ops[0], elem);
+                let (b, post) = self.b.bool_out(place(ops[0]), elem);
                 let op = match m {
                     M::OTE => Op::Ote(b),
                     M::OTL => Op::Otl(b),
@@ -581,15 +506,15 @@ impl Compiler<'_> {
                     _ => Op::Ons(b),
                 };
                 self.b.emit(op, elem);
-                self.post(post, elem);
+                self.b.post(post, elem);
             }
             M::OSR | M::OSF => {
-                let (s, p1) = self.bool_out(ops[0], elem);
-                let (o, p2) = self.bool_out(ops[1], elem);
+                let (s, p1) = self.b.bool_out(place(ops[0]), elem);
+                let (o, p2) = self.b.bool_out(place(ops[1]), elem);
                 self.b
                     .emit(if m == M::OSR { Op::Osr(s, o) } else { Op::Osf(s, o) }, elem);
-                self.post(p1, elem);
-                self.post(p2, elem);
+                self.b.post(p1, elem);
+                self.b.post(p2, elem);
             }
             M::TON | M::TOF | M::RTO | M::TP => {
                 let Opnd::Timer(t) = ops[0] else { return };
@@ -628,8 +553,8 @@ impl Compiler<'_> {
                     _ => Cmp::Ge,
                 };
                 let c = self.class(&ops);
-                let a = self.read(ops[0], c, elem);
-                let b = self.read(ops[1], c, elem);
+                let a = self.b.read(src(ops[0]), c, elem);
+                let b = self.b.read(src(ops[1]), c, elem);
                 let op = match (a, b) {
                     (V::I(a), V::I(b)) => Op::CmpI(cmp, a, b),
                     (V::F(a), V::F(b)) => Op::CmpF(cmp, a, b),
@@ -641,7 +566,7 @@ impl Compiler<'_> {
             }
             M::LIM => {
                 let c = self.class(&ops);
-                let v: Vec<V> = ops.iter().map(|o| self.read(*o, c, elem)).collect();
+                let v: Vec<V> = ops.iter().map(|o| self.b.read(src(*o), c, elem)).collect();
                 let op = match (v[0], v[1], v[2]) {
                     (V::I(a), V::I(b), V::I(d)) => Op::LimI(a, b, d),
                     (V::F(a), V::F(b), V::F(d)) => Op::LimF(a, b, d),
@@ -656,7 +581,7 @@ impl Compiler<'_> {
                 if !self.integer_only(i, &ops, c) {
                     return;
                 }
-                let v: Vec<V> = ops.iter().map(|o| self.read(*o, c, elem)).collect();
+                let v: Vec<V> = ops.iter().map(|o| self.b.read(src(*o), c, elem)).collect();
                 let op = match (v[0], v[1], v[2]) {
                     (V::I(a), V::I(b), V::I(d)) => Op::MeqI(a, b, d),
                     (V::L(a), V::L(b), V::L(d)) => Op::MeqL(a, b, d),
@@ -683,12 +608,12 @@ impl Compiler<'_> {
                 if matches!(m, M::AND | M::OR | M::XOR) && !self.integer_only(i, &ops, c) {
                     return;
                 }
-                let a = self.read(ops[0], c, elem);
-                let b = self.read(ops[1], c, elem);
+                let a = self.b.read(src(ops[0]), c, elem);
+                let b = self.b.read(src(ops[1]), c, elem);
                 let Opnd::Place(dest, _) = ops[2] else { return };
-                let (d, post) = self.dest(dest, c, elem);
-                self.bin(op, a, b, d, elem);
-                self.post(post, elem);
+                let (d, post) = self.b.dest(dest, c, elem);
+                self.b.bin(op, a, b, d, elem);
+                self.b.post(post, elem);
             }
             M::SQR | M::LN | M::LOG | M::SIN | M::COS | M::TAN | M::ASN | M::ACS | M::ATN | M::DEG | M::RAD => {
                 let op = match m {
@@ -727,22 +652,22 @@ impl Compiler<'_> {
             }
             M::SCP => {
                 let c = float_class(self.class(&ops));
-                let v: Vec<V> = ops[..5].iter().map(|o| self.read(*o, c, elem)).collect();
+                let v: Vec<V> = ops[..5].iter().map(|o| self.b.read(src(*o), c, elem)).collect();
                 let (input, in_min, in_max, sc_min, sc_max) = (v[0], v[1], v[2], v[3], v[4]);
-                let span_out = self.temp(c);
-                self.bin(BinOp::Sub, sc_max, sc_min, span_out, elem);
-                let span_in = self.temp(c);
-                self.bin(BinOp::Sub, in_max, in_min, span_in, elem);
-                let slope = self.temp(c);
-                self.bin(BinOp::Div, span_out, span_in, slope, elem);
-                let offset = self.temp(c);
-                self.bin(BinOp::Sub, input, in_min, offset, elem);
-                let scaled = self.temp(c);
-                self.bin(BinOp::Mul, offset, slope, scaled, elem);
+                let span_out = self.b.temp(c);
+                self.b.bin(BinOp::Sub, sc_max, sc_min, span_out, elem);
+                let span_in = self.b.temp(c);
+                self.b.bin(BinOp::Sub, in_max, in_min, span_in, elem);
+                let slope = self.b.temp(c);
+                self.b.bin(BinOp::Div, span_out, span_in, slope, elem);
+                let offset = self.b.temp(c);
+                self.b.bin(BinOp::Sub, input, in_min, offset, elem);
+                let scaled = self.b.temp(c);
+                self.b.bin(BinOp::Mul, offset, slope, scaled, elem);
                 let Opnd::Place(dest, _) = ops[5] else { return };
-                let (d, post) = self.dest(dest, c, elem);
-                self.bin(BinOp::Add, scaled, sc_min, d, elem);
-                self.post(post, elem);
+                let (d, post) = self.b.dest(dest, c, elem);
+                self.b.bin(BinOp::Add, scaled, sc_min, d, elem);
+                self.b.post(post, elem);
             }
             M::CPT => self.cpt(i, ops[0], elem),
             M::JMP => {
@@ -875,213 +800,22 @@ impl Compiler<'_> {
     /// The class of an instruction from all its numeric operands.
     fn class(&self, ops: &[Opnd]) -> Class {
         promote(ops.iter().filter_map(|o| match o {
-            Opnd::Lit(l) => Some(class_of_lit(*l)),
-            Opnd::Place(p, _) => Some(class_of_type(p.data_type())),
+            Opnd::Lit(_) | Opnd::Place(..) => Some(class_of(src(*o))),
             _ => None,
         }))
     }
 
-    fn temp(&mut self, c: Class) -> V {
-        match c {
-            Class::I => V::I(self.b.temp_i()),
-            Class::L => V::L(self.b.temp_l()),
-            Class::F => V::F(self.b.temp_f()),
-            Class::D => V::D(self.b.temp_d()),
-        }
-    }
-
-    fn post(&mut self, ops: Vec<Op>, elem: u32) {
-        for op in ops {
-            self.b.emit(op, elem);
-        }
-    }
-
-    fn bool_in(&mut self, o: Opnd, elem: u32) -> B {
-        match o {
-            Opnd::Place(Place::Bool(b), _) => b,
-            Opnd::Place(Place::MBit { byte, bit }, _) => {
-                let t = self.b.temp_b();
-                self.b.emit(Op::LdBit { byte, bit, dst: t }, elem);
-                t
-            }
-            _ => self.b.temp_b(),
-        }
-    }
-
-    /// A bool slot to write, and the ops that store it back (marker bits).
-    fn bool_out(&mut self, o: Opnd, elem: u32) -> (B, Vec<Op>) {
-        match o {
-            Opnd::Place(Place::MBit { byte, bit }, _) => {
-                let t = self.bool_in(o, elem);
-                (t, vec![Op::StBit { src: t, byte, bit }])
-            }
-            _ => (self.bool_in(o, elem), vec![]),
-        }
-    }
-
-    /// Loads a numeric place in its own class (marker values into temporaries).
-    fn load(&mut self, p: Place, elem: u32) -> V {
-        let marker = |this: &mut Self, byte: u32, f: fn(I) -> MarkerSlot| {
-            let t = this.b.temp_i();
-            this.b.emit(Op::LdM { byte, slot: f(t) }, elem);
-            V::I(t)
-        };
-        match p {
-            Place::Int(i, _) => V::I(i),
-            Place::Real(f) => V::F(f),
-            Place::Lint(l) => V::L(l),
-            Place::Lreal(d) => V::D(d),
-            Place::MByte(at) => marker(self, at, MarkerSlot::Byte),
-            Place::MWord(at) => marker(self, at, MarkerSlot::Word),
-            Place::MDword(at, _) => marker(self, at, MarkerSlot::DWord),
-            Place::MReal(at) => {
-                let t = self.b.temp_f();
-                self.b.emit(
-                    Op::LdM {
-                        byte: at,
-                        slot: MarkerSlot::Real(t),
-                    },
-                    elem,
-                );
-                V::F(t)
-            }
-            Place::Bool(_) | Place::MBit { .. } => V::I(self.b.temp_i()),
-        }
-    }
-
-    /// Reads an operand as a value of class `c`.
-    fn read(&mut self, o: Opnd, c: Class, elem: u32) -> V {
-        match o {
-            Opnd::Lit(l) => self.constant(l, c),
-            Opnd::Place(p, _) => {
-                let v = self.load(p, elem);
-                self.convert(v, c, elem)
-            }
-            _ => self.temp(c),
-        }
-    }
-
-    fn constant(&mut self, l: Literal, c: Class) -> V {
-        let (int, real) = match l {
-            Literal::Int(v) | Literal::Time(v) => (v, v as f64),
-            Literal::Real(r) => (r as i64, r),
-            Literal::Bool(b) => (b as i64, b as i64 as f64),
-        };
-        match c {
-            Class::I => V::I(self.b.const_i(int as i32)),
-            Class::L => V::L(self.b.const_l(int)),
-            Class::F => V::F(self.b.const_f(real as f32)),
-            Class::D => V::D(self.b.const_d(real)),
-        }
-    }
-
-    fn convert(&mut self, v: V, c: Class, elem: u32) -> V {
-        let t = match (v, c) {
-            (V::I(_), Class::I) | (V::L(_), Class::L) | (V::F(_), Class::F) | (V::D(_), Class::D) => return v,
-            _ => self.temp(c),
-        };
-        if let Some(cvt) = conversion(v, t) {
-            self.b.emit(Op::Cvt(cvt), elem);
-        }
-        t
-    }
-
-    /// Where an instruction of class `c` writes its result for `p`, and the
-    /// ops that then convert, narrow and store it.
-    fn dest(&mut self, p: Place, c: Class, elem: u32) -> (V, Vec<Op>) {
-        let narrow = |i: I, ty: DataType| match ty {
-            DataType::Sint => vec![Op::Narrow(i, Width::W8)],
-            DataType::Int => vec![Op::Narrow(i, Width::W16)],
-            _ => vec![],
-        };
-        let (native, mut post) = match p {
-            Place::Int(i, ty) => (V::I(i), narrow(i, ty)),
-            Place::Real(f) => (V::F(f), vec![]),
-            Place::Lint(l) => (V::L(l), vec![]),
-            Place::Lreal(d) => (V::D(d), vec![]),
-            Place::MByte(at) | Place::MWord(at) | Place::MDword(at, _) | Place::MReal(at) => {
-                // Preload, so the store-back is right when the rung is false.
-                let v = self.load(p, elem);
-                let store = match (p, v) {
-                    (Place::MByte(_), V::I(t)) => vec![
-                        Op::Narrow(t, Width::W8),
-                        Op::StM {
-                            byte: at,
-                            slot: MarkerSlot::Byte(t),
-                        },
-                    ],
-                    (Place::MWord(_), V::I(t)) => vec![
-                        Op::Narrow(t, Width::W16),
-                        Op::StM {
-                            byte: at,
-                            slot: MarkerSlot::Word(t),
-                        },
-                    ],
-                    (Place::MDword(..), V::I(t)) => vec![Op::StM {
-                        byte: at,
-                        slot: MarkerSlot::DWord(t),
-                    }],
-                    (_, V::F(t)) => vec![Op::StM {
-                        byte: at,
-                        slot: MarkerSlot::Real(t),
-                    }],
-                    _ => vec![],
-                };
-                (v, store)
-            }
-            Place::Bool(_) | Place::MBit { .. } => (self.temp(c), vec![]),
-        };
-        let same = matches!(
-            (native, c),
-            (V::I(_), Class::I) | (V::L(_), Class::L) | (V::F(_), Class::F) | (V::D(_), Class::D)
-        );
-        if same {
-            return (native, post);
-        }
-        let t = self.temp(c);
-        let Some(cvt) = conversion(t, native) else {
-            return (native, post);
-        };
-        post.insert(0, Op::Cvt(cvt));
-        (t, post)
-    }
-
-    fn bin(&mut self, op: BinOp, a: V, b: V, d: V, elem: u32) {
-        let op = match (a, b, d) {
-            (V::I(a), V::I(b), V::I(d)) => Op::BinI(op, a, b, d),
-            (V::F(a), V::F(b), V::F(d)) => Op::BinF(op, a, b, d),
-            (V::L(a), V::L(b), V::L(d)) => Op::BinL(op, a, b, d),
-            (V::D(a), V::D(b), V::D(d)) => Op::BinD(op, a, b, d),
-            _ => return,
-        };
-        self.b.emit(op, elem);
-    }
-
-    fn un(&mut self, op: UnOp, a: V, d: V, elem: u32) {
-        let op = match (a, d) {
-            (V::I(a), V::I(d)) => Op::UnI(op, a, d),
-            (V::F(a), V::F(d)) => Op::UnF(op, a, d),
-            (V::L(a), V::L(d)) => Op::UnL(op, a, d),
-            (V::D(a), V::D(d)) => Op::UnD(op, a, d),
-            _ => return,
-        };
-        self.b.emit(op, elem);
-    }
-
     /// `dest = op src` with `ops = [src, dest]`.
     fn unary(&mut self, op: UnOp, ops: &[Opnd], c: Class, elem: u32) {
-        let a = self.read(ops[0], c, elem);
         let Opnd::Place(dest, _) = ops[1] else { return };
-        let (d, post) = self.dest(dest, c, elem);
-        self.un(op, a, d, elem);
-        self.post(post, elem);
+        self.b.unary_to(op, src(ops[0]), dest, c, elem);
     }
 
     fn preset(&mut self, pre: I, o: &Operand, r: Opnd, elem: u32) {
         match r {
             Opnd::Lit(l) => self.initial(pre, o, l),
             Opnd::Place(p, _) => {
-                if let V::I(src) = self.load(p, elem) {
+                if let V::I(src) = self.b.load(p, elem) {
                     self.b.emit(Op::CopyI(src, pre), elem);
                 }
             }
@@ -1160,9 +894,9 @@ impl Compiler<'_> {
         let Some(v) = self.expr(&e, c, &mut leaves, elem) else {
             return;
         };
-        let (d, post) = self.dest(dest_place, c, elem);
-        self.un(UnOp::Mov, v, d, elem);
-        self.post(post, elem);
+        let (d, post) = self.b.dest(dest_place, c, elem);
+        self.b.un(UnOp::Mov, v, d, elem);
+        self.b.post(post, elem);
     }
 
     /// Resolves every name of the expression in order; notes float-only operations.
@@ -1245,17 +979,17 @@ impl Compiler<'_> {
             true
         };
         Some(match e {
-            Expr::Lit(l, _) => self.constant(*l, c),
-            Expr::Const(k) => self.constant(Literal::Real(*k), c),
+            Expr::Lit(l, _) => self.b.constant(*l, c),
+            Expr::Const(k) => self.b.constant(Literal::Real(*k), c),
             Expr::Name(..) => {
                 let (p, _) = leaves.next()?;
-                let v = self.load(p, elem);
-                self.convert(v, c, elem)
+                let v = self.b.load(p, elem);
+                self.b.convert(v, c, elem)
             }
             Expr::Neg(a) => {
                 let a = self.expr(a, c, leaves, elem)?;
-                let t = self.temp(c);
-                self.un(UnOp::Neg, a, t, elem);
+                let t = self.b.temp(c);
+                self.b.un(UnOp::Neg, a, t, elem);
                 t
             }
             Expr::Not(a, sp) => {
@@ -1263,8 +997,8 @@ impl Compiler<'_> {
                     return None;
                 }
                 let a = self.expr(a, c, leaves, elem)?;
-                let t = self.temp(c);
-                self.un(UnOp::Not, a, t, elem);
+                let t = self.b.temp(c);
+                self.b.un(UnOp::Not, a, t, elem);
                 t
             }
             Expr::Bin(op, a, b, sp) => {
@@ -1293,16 +1027,16 @@ impl Compiler<'_> {
                 }
                 let a = self.expr(a, c, leaves, elem)?;
                 let b = self.expr(b, c, leaves, elem)?;
-                let t = self.temp(c);
-                self.bin(op, a, b, t, elem);
+                let t = self.b.temp(c);
+                self.b.bin(op, a, b, t, elem);
                 t
             }
             Expr::Call(f, args, sp) => {
                 let a = self.expr(&args[0], c, leaves, elem)?;
-                let t = self.temp(c);
+                let t = self.b.temp(c);
                 if *f == Func::Atan2 {
                     let b = self.expr(&args[1], c, leaves, elem)?;
-                    self.bin(BinOp::Atan2, a, b, t, elem);
+                    self.b.bin(BinOp::Atan2, a, b, t, elem);
                     return Some(t);
                 }
                 let float = matches!(c, Class::F | Class::D);
@@ -1331,7 +1065,7 @@ impl Compiler<'_> {
                     }
                     Func::Atan2 => return None,
                 };
-                self.un(op, a, t, elem);
+                self.b.un(op, a, t, elem);
                 t
             }
         })
