@@ -30,6 +30,8 @@ pub struct Engine {
     pf: PowerFlow,
     monitor_writes: u64,
     major: Option<MajorFault>,
+    /// Duration of the last scan in ms, for `SMW22` (0 in virtual time).
+    scan_time_ms: u32,
     /// Native code for unmonitored scans, once compiled.
     #[cfg(feature = "jit")]
     native: Option<crate::jit::Jit>,
@@ -50,6 +52,7 @@ impl Engine {
             pf: PowerFlow::default(),
             monitor_writes: 0,
             major: None,
+            scan_time_ms: 0,
             #[cfg(feature = "jit")]
             native: None,
             prog,
@@ -89,6 +92,12 @@ impl Engine {
             elem: alba_ir::NO_ELEM,
         });
         format!("{} at {} (scan {})", f.code, self.prog.describe(loc), f.scan)
+    }
+
+    /// Tells the engine how long the last scan took (the real-time loop
+    /// measures it), for `SMW22`.
+    pub fn set_scan_time(&mut self, ms: u32) {
+        self.scan_time_ms = ms;
     }
 
     /// Turns power-flow monitoring on or off (SPEC §11). While off, scans
@@ -160,7 +169,14 @@ impl Engine {
             return Err(m.clone());
         }
         let sys = self.prog.layout.system;
-        self.mem.b[sys.first_scan.0 as usize] = self.first_scan;
+        let b = &mut self.mem.b;
+        b[sys.first_scan.0 as usize] = self.first_scan;
+        b[sys.always_on.0 as usize] = true;
+        // From the full 64-bit time: no wrap after 65.5 s (or 49 days).
+        b[sys.clock_60s.0 as usize] = (now_ms / 30_000) % 2 == 1;
+        b[sys.clock_1s.0 as usize] = (now_ms / 500) % 2 == 1;
+        b[sys.scan_toggle.0 as usize] = self.scans % 2 == 1;
+        self.mem.i[sys.scan_time.0 as usize] = self.scan_time_ms.min(i16::MAX as u32) as i32;
         self.faults.scan = self.scans;
         let before = self.faults.count;
         let now = now_ms as u32; // wrapping milliseconds, like millis()

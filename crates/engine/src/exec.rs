@@ -15,6 +15,7 @@
 //! minor fault.
 
 use crate::fault::{FaultCode, Faults};
+use alba_ir::op::{S7Ctr, S7Tmr};
 use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, F, I, L, Loc, MarkerSlot, Memory, NO_ELEM, Op, Program, Tmr, UnOp, Width};
 
 /// Backward jumps allowed in one scan before the scan is abandoned as a
@@ -148,6 +149,22 @@ pub enum X {
         byte: u32,
         slot: MarkerSlot,
     },
+    Ld(B),
+    Ldn(B),
+    Or(B),
+    Orn(B),
+    Not,
+    True,
+    Ed(B),
+    CopyB(B, B),
+    S7Ton(S7Tmr),
+    S7Tonr(S7Tmr),
+    S7Tof(S7Tmr),
+    S7ResT(S7Tmr),
+    S7Ctu(S7Ctr),
+    S7Ctd(S7Ctr),
+    S7Ctud(S7Ctr),
+    S7ResC(S7Ctr),
     // Fused (unmonitored code only):
     /// `Rung; Xic/Xio(b)`: `rc = b != neg`.
     RungC {
@@ -162,14 +179,14 @@ pub enum X {
         nb: bool,
     },
     /// `[X(a), X(b)]` mid-rung: `rc &= (a != na) | (b != nb)`.
-    Or {
+    Or2 {
         a: B,
         b: B,
         na: bool,
         nb: bool,
     },
     /// `X(a); X(b)`: `rc &= (a != na) & (b != nb)`.
-    And {
+    And2 {
         a: B,
         b: B,
         na: bool,
@@ -251,12 +268,12 @@ impl Code {
                 }
                 (true, _) if or2(rest).is_some() => {
                     let (a, na, b, nb) = or2(rest).unwrap_or((B(0), false, B(0), false));
-                    (X::Or { a, b, na, nb }, 5)
+                    (X::Or2 { a, b, na, nb }, 5)
                 }
                 (true, [c1, c2, ..]) if contact(c1).is_some() && contact(c2).is_some() => {
                     let (a, na) = contact(c1).unwrap_or((B(0), false));
                     let (b, nb) = contact(c2).unwrap_or((B(0), false));
-                    (X::And { a, b, na, nb }, 2)
+                    (X::And2 { a, b, na, nb }, 2)
                 }
                 _ => (flatten(ops[i]), 1),
             };
@@ -347,6 +364,22 @@ fn flatten(op: Op) -> X {
         Op::StBit { src, byte, bit } => X::StBit { src, byte, bit },
         Op::LdM { byte, slot } => X::LdM { byte, slot },
         Op::StM { byte, slot } => X::StM { byte, slot },
+        Op::Ld(b) => X::Ld(b),
+        Op::Ldn(b) => X::Ldn(b),
+        Op::Or(b) => X::Or(b),
+        Op::Orn(b) => X::Orn(b),
+        Op::Not => X::Not,
+        Op::True => X::True,
+        Op::Ed(b) => X::Ed(b),
+        Op::CopyB(a, b) => X::CopyB(a, b),
+        Op::S7Ton(t) => X::S7Ton(t),
+        Op::S7Tonr(t) => X::S7Tonr(t),
+        Op::S7Tof(t) => X::S7Tof(t),
+        Op::S7ResT(t) => X::S7ResT(t),
+        Op::S7Ctu(c) => X::S7Ctu(c),
+        Op::S7Ctd(c) => X::S7Ctd(c),
+        Op::S7Ctud(c) => X::S7Ctud(c),
+        Op::S7ResC(c) => X::S7ResC(c),
     }
 }
 
@@ -702,10 +735,41 @@ pub(crate) fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mu
             sink.check(f, cur);
         }
         X::StM { byte, slot } => store_marker(m, byte as usize, slot),
+        X::Ld(b) => rc = rd!(m.b, b.0),
+        X::Ldn(b) => rc = !rd!(m.b, b.0),
+        X::Or(b) => rc |= rd!(m.b, b.0),
+        X::Orn(b) => rc |= !rd!(m.b, b.0),
+        X::Not => rc = !rc,
+        X::True => rc = true,
+        X::Ed(s) => {
+            let out = !rc && rd!(m.b, s.0);
+            wr!(m.b, s.0, rc);
+            rc = out;
+        }
+        X::CopyB(a, d) => wr!(m.b, d.0, rd!(m.b, a.0)),
+        X::S7Ton(t) => s7_timer(m, t, rc, now, S7Kind::Ton),
+        X::S7Tonr(t) => s7_timer(m, t, rc, now, S7Kind::Tonr),
+        X::S7Tof(t) => s7_timer(m, t, rc, now, S7Kind::Tof),
+        X::S7ResT(t) => {
+            if rc {
+                wr!(m.i, t.i.0, 0);
+                wr!(m.i, t.i.0 + 2, 0);
+                wr!(m.b, t.b.0, false);
+            }
+        }
+        X::S7Ctu(c) => s7_counter(m, c, rc, S7Count::Up),
+        X::S7Ctd(c) => s7_counter(m, c, rc, S7Count::Down),
+        X::S7Ctud(c) => s7_counter(m, c, rc, S7Count::UpDown),
+        X::S7ResC(c) => {
+            if rc {
+                wr!(m.i, c.i.0, 0);
+                wr!(m.b, c.b.0, false);
+            }
+        }
         X::RungC { b, neg } => rc = rd!(m.b, b.0) != neg,
         X::RungOr { a, b, na, nb } => rc = (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
-        X::Or { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
-        X::And { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) & (rd!(m.b, b.0) != nb),
+        X::Or2 { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
+        X::And2 { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) & (rd!(m.b, b.0) != nb),
     }
     rc
 }
@@ -1167,4 +1231,139 @@ fn count(m: &mut Mem, c: Ctr, rc: bool, up: bool) {
     }
     wr!(m.b, edge, rc);
     wr!(m.b, dn, rd!(m.i, acc) >= rd!(m.i, pre));
+}
+
+// ---- S7-200 timers and counters (SPEC §4) -----------------------------------
+//
+// An S7 timer counts in units of its resolution (1, 10 or 100 ms); the
+// milliseconds not yet making a unit are kept, so no time is lost between
+// scans. Its current value is a 16-bit count: TON and TONR go on counting to
+// 32767, TOF stops at PT.
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum S7Kind {
+    Ton,
+    Tonr,
+    Tof,
+}
+
+/// Adds the clock time since the last update to the count, up to `cap`.
+#[inline]
+fn s7_advance(m: &mut Mem, t: S7Tmr, now: u32, cap: i32) {
+    let (cv, rem, last) = (t.i.0, t.i.0 + 2, t.i.0 + 3);
+    let dt = now.wrapping_sub(rd!(m.i, last) as u32);
+    wr!(m.i, last, now as i32);
+    let res = u64::from(t.res.max(1));
+    let total = rd!(m.i, rem).max(0) as u64 + u64::from(dt);
+    let units = (total / res).min(i32::MAX as u64) as i32;
+    wr!(m.i, rem, (total % res) as i32);
+    wr!(m.i, cv, rd!(m.i, cv).saturating_add(units).min(cap.max(0)));
+}
+
+fn s7_timer(m: &mut Mem, t: S7Tmr, enable: bool, now: u32, kind: S7Kind) {
+    let (cv, pt, rem, last) = (t.i.0, t.i.0 + 1, t.i.0 + 2, t.i.0 + 3);
+    let (bit, en) = (t.b.0, t.b.0 + 1);
+    let was = rd!(m.b, en);
+    wr!(m.b, en, enable);
+    match kind {
+        S7Kind::Ton | S7Kind::Tonr => {
+            if enable {
+                if !was {
+                    // The first enabled execution starts timing (TON from 0,
+                    // TONR from where it stopped) and counts nothing yet.
+                    if kind == S7Kind::Ton {
+                        wr!(m.i, cv, 0);
+                        wr!(m.i, rem, 0);
+                    }
+                    wr!(m.i, last, now as i32);
+                } else {
+                    s7_advance(m, t, now, i16::MAX as i32);
+                }
+                wr!(m.b, bit, rd!(m.i, cv) >= rd!(m.i, pt));
+            } else if kind == S7Kind::Ton {
+                wr!(m.i, cv, 0);
+                wr!(m.i, rem, 0);
+                wr!(m.b, bit, false);
+            }
+        }
+        S7Kind::Tof => {
+            if enable {
+                wr!(m.b, bit, true);
+                wr!(m.i, cv, 0);
+                wr!(m.i, rem, 0);
+                return;
+            }
+            if was {
+                // The enable has just dropped: timing starts from 0.
+                wr!(m.i, cv, 0);
+                wr!(m.i, rem, 0);
+                wr!(m.i, last, now as i32);
+            } else if rd!(m.b, bit) {
+                let p = rd!(m.i, pt);
+                s7_advance(m, t, now, p);
+            }
+            if rd!(m.b, bit) && rd!(m.i, cv) >= rd!(m.i, pt) {
+                wr!(m.b, bit, false);
+            }
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum S7Count {
+    Up,
+    Down,
+    UpDown,
+}
+
+/// CTU/CTD/CTUD. `top` is the reset input (CTU, CTUD) or the load input
+/// (CTD); the count inputs were copied to `b+3` (up) and `b+4` (down).
+fn s7_counter(m: &mut Mem, c: S7Ctr, top: bool, kind: S7Count) {
+    let (cv, pv) = (c.i.0, c.i.0 + 1);
+    let (bit, cu_was, cd_was, cu, cd) = (c.b.0, c.b.0 + 1, c.b.0 + 2, c.b.0 + 3, c.b.0 + 4);
+    let up = rd!(m.b, cu) && !rd!(m.b, cu_was);
+    let down = rd!(m.b, cd) && !rd!(m.b, cd_was);
+    wr!(m.b, cu_was, rd!(m.b, cu));
+    wr!(m.b, cd_was, rd!(m.b, cd));
+    let v = rd!(m.i, cv);
+    match kind {
+        S7Count::Up => {
+            // Stops at 32767; the reset wins.
+            let v = if top {
+                0
+            } else if up {
+                (v + 1).min(i16::MAX as i32)
+            } else {
+                v
+            };
+            wr!(m.i, cv, v);
+            wr!(m.b, bit, v >= rd!(m.i, pv));
+        }
+        S7Count::Down => {
+            if top {
+                // Load: the preset, and the bit off.
+                wr!(m.i, cv, rd!(m.i, pv));
+                wr!(m.b, bit, false);
+            } else {
+                let v = if down && v > 0 { v - 1 } else { v };
+                wr!(m.i, cv, v);
+                wr!(m.b, bit, v == 0);
+            }
+        }
+        S7Count::UpDown => {
+            // Wraps at the ends of the 16-bit range; the reset wins.
+            let mut v = v;
+            if up {
+                v = if v >= i16::MAX as i32 { i16::MIN as i32 } else { v + 1 };
+            }
+            if down {
+                v = if v <= i16::MIN as i32 { i16::MAX as i32 } else { v - 1 };
+            }
+            if top {
+                v = 0;
+            }
+            wr!(m.i, cv, v);
+            wr!(m.b, bit, v >= rd!(m.i, pv));
+        }
+    }
 }

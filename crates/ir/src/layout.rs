@@ -43,23 +43,55 @@ pub struct Region {
     pub len: u32,
 }
 
-/// System slots (SPEC §2.3, §2.4).
+/// System slots (SPEC §2.3, §2.4, and the S7-200 special memory of §4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct System {
-    /// `S:FS`: true during the first scan after a start.
+    /// `S:FS` (S7 `SM0.1`): true during the first scan after a start.
     pub first_scan: B,
     /// `S:MINOR`: set when a minor fault happened since the start.
     pub minor_fault: B,
     /// `S:FAULTCODE`: code of the last minor fault (see the engine's `FaultCode`).
     pub fault_code: I,
+    /// `SM0.0`: always on.
+    pub always_on: B,
+    /// `SM0.4`: 30 s off, 30 s on.
+    pub clock_60s: B,
+    /// `SM0.5`: 0.5 s off, 0.5 s on.
+    pub clock_1s: B,
+    /// `SM0.6`: off one scan, on the next.
+    pub scan_toggle: B,
+    /// `SMW22`: duration of the last scan in ms.
+    pub scan_time: I,
 }
 
-/// The system tags: name, slot kind, description.
+/// The system tags and what they are.
 pub const SYSTEM_TAGS: &[(&str, &str)] = &[
-    ("S:FS", "first scan after a start"),
+    ("S:FS", "first scan after a start (also SM0.1)"),
     ("S:MINOR", "a minor fault happened since the start"),
     ("S:FAULTCODE", "code of the last minor fault"),
+    ("SM0.0", "always on"),
+    ("SM0.1", "first scan after a start (also S:FS)"),
+    ("SM0.4", "clock: 30 s off, 30 s on"),
+    ("SM0.5", "clock: 0.5 s off, 0.5 s on"),
+    ("SM0.6", "off one scan, on the next"),
+    ("SMW22", "duration of the last scan in ms"),
 ];
+
+/// The slots of an S7-200 timer or counter (see `S7Tmr`, `S7Ctr`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct S7Slots {
+    pub i: I,
+    pub b: B,
+}
+
+/// What the programs of a project name besides tags, gathered before the
+/// layout is made: I/O and marker addresses, S7-200 timers and counters.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Uses {
+    pub addresses: Vec<Address>,
+    pub timers: std::collections::BTreeSet<u8>,
+    pub counters: std::collections::BTreeSet<u8>,
+}
 
 #[derive(Debug, Clone)]
 pub struct Layout {
@@ -73,12 +105,16 @@ pub struct Layout {
     pub ao: Region,
     pub counts: Counts,
     pub marker_bytes: u32,
+    /// S7-200 timers `T0..T255` and counters `C0..C255` in use.
+    pub timers: std::collections::BTreeMap<u8, S7Slots>,
+    pub counters: std::collections::BTreeMap<u8, S7Slots>,
 }
 
 impl Layout {
     /// Lays out `tags`, with I/O images large enough for every address used
-    /// by a tag or listed in `used` (addresses that programs name directly).
-    pub fn new(tags: &TagTable, used: &[Address]) -> Layout {
+    /// by a tag or by a program, and the S7 timers and counters programs use.
+    pub fn new(tags: &TagTable, uses: &Uses) -> Layout {
+        let used = &uses.addresses;
         let mut di = 0u32;
         let mut dout = 0u32;
         let mut ai = 0u32;
@@ -101,6 +137,11 @@ impl Layout {
             first_scan: B(take(&mut c.b, 1)),
             minor_fault: B(take(&mut c.b, 1)),
             fault_code: I(take(&mut c.i, 1)),
+            always_on: B(take(&mut c.b, 1)),
+            clock_60s: B(take(&mut c.b, 1)),
+            clock_1s: B(take(&mut c.b, 1)),
+            scan_toggle: B(take(&mut c.b, 1)),
+            scan_time: I(take(&mut c.i, 1)),
         };
         let di = Region {
             base: take(&mut c.b, di),
@@ -146,9 +187,18 @@ impl Layout {
             };
             slots.push(slot);
         }
+        // After the tags, so tag slots do not move when timers are added.
+        let mut slots_of = |ints: u32, bools: u32| S7Slots {
+            i: I(take(&mut c.i, ints)),
+            b: B(take(&mut c.b, bools)),
+        };
+        let timers = uses.timers.iter().map(|&n| (n, slots_of(4, 2))).collect();
+        let counters = uses.counters.iter().map(|&n| (n, slots_of(2, 5))).collect();
         Layout {
             tags: tags.clone(),
             slots,
+            timers,
+            counters,
             system,
             di,
             dout,

@@ -97,6 +97,18 @@ impl Memory {
         copy_region(&self.i, old.ai, &mut out.i, new.ai);
         copy_region(&self.i, old.ao, &mut out.i, new.ao);
         out.b[new.system.minor_fault.0 as usize] = self.b[old.system.minor_fault.0 as usize];
+        for (n, s) in &new.timers {
+            if let Some(o) = old.timers.get(n) {
+                copy_n(&self.i, o.i.0, &mut out.i, s.i.0, 4);
+                copy_n(&self.b, o.b.0, &mut out.b, s.b.0, 2);
+            }
+        }
+        for (n, s) in &new.counters {
+            if let Some(o) = old.counters.get(n) {
+                copy_n(&self.i, o.i.0, &mut out.i, s.i.0, 2);
+                copy_n(&self.b, o.b.0, &mut out.b, s.b.0, 5);
+            }
+        }
         out.i[new.system.fault_code.0 as usize] = self.i[old.system.fault_code.0 as usize];
         for (idx, tag) in new.tags.iter().enumerate() {
             let Some(oidx) = old.tags.position(&tag.name) else {

@@ -48,6 +48,27 @@ pub struct Ctr {
     pub b: B,
 }
 
+/// An S7-200 timer (Instruction List): integer slots `i` = current value
+/// (in units of the resolution), `i+1` = PT, `i+2` = milliseconds not yet
+/// counted, `i+3` = clock at the last update; bool slots `b` = timer bit,
+/// `b+1` = enable at the last execution. `res` is the resolution in ms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct S7Tmr {
+    pub i: I,
+    pub b: B,
+    pub res: u16,
+}
+
+/// An S7-200 counter: integer slots `i` = current value, `i+1` = PV; bool
+/// slots `b` = counter bit, `b+1`/`b+2` = count-up/count-down input at the
+/// last execution, `b+3`/`b+4` = the count-up/count-down inputs of this
+/// execution (copied there from the logic stack).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct S7Ctr {
+    pub i: I,
+    pub b: B,
+}
+
 /// Comparison operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Cmp {
@@ -244,6 +265,35 @@ pub enum Op {
         byte: u32,
         slot: MarkerSlot,
     },
+    // Logic-stack operations of Instruction List:
+    /// `rc = b`.
+    Ld(B),
+    /// `rc = !b`.
+    Ldn(B),
+    /// `rc |= b`.
+    Or(B),
+    /// `rc |= !b`.
+    Orn(B),
+    /// `rc = !rc`.
+    Not,
+    /// `rc = true`.
+    True,
+    /// Falling edge: `out = !rc && s; s = rc; rc = out` (ED; EU is `Ons`).
+    Ed(B),
+    /// Unconditional bool copy `d = s`.
+    CopyB(B, B),
+    /// S7-200 timers and counters (see `S7Tmr`, `S7Ctr`); `rc` is the
+    /// enable (timers), the reset (CTU, CTUD) or the load input (CTD).
+    S7Ton(S7Tmr),
+    S7Tonr(S7Tmr),
+    S7Tof(S7Tmr),
+    /// If `rc`: current value, pending time and bit cleared.
+    S7ResT(S7Tmr),
+    S7Ctu(S7Ctr),
+    S7Ctd(S7Ctr),
+    S7Ctud(S7Ctr),
+    /// If `rc`: current value and bit cleared.
+    S7ResC(S7Ctr),
 }
 
 /// A slot of any class, for visiting every slot an op touches.
@@ -272,6 +322,22 @@ impl Op {
             ]
         };
         let ctr = |c: &Ctr| {
+            vec![
+                S::I(c.i.0),
+                S::I(c.i.0.saturating_add(1)),
+                S::B(c.b.0),
+                S::B(c.b.0.saturating_add(4)),
+            ]
+        };
+        let s7t = |t: &S7Tmr| {
+            vec![
+                S::I(t.i.0),
+                S::I(t.i.0.saturating_add(3)),
+                S::B(t.b.0),
+                S::B(t.b.0.saturating_add(1)),
+            ]
+        };
+        let s7c = |c: &S7Ctr| {
             vec![
                 S::I(c.i.0),
                 S::I(c.i.0.saturating_add(1)),
@@ -329,6 +395,11 @@ impl Op {
             Op::LdBit { byte, dst, .. } => vec![S::B(dst.0), S::M(*byte, 1)],
             Op::StBit { src, byte, .. } => vec![S::B(src.0), S::M(*byte, 1)],
             Op::LdM { byte, slot } | Op::StM { byte, slot } => ms(*byte, slot),
+            Op::Not | Op::True => vec![],
+            Op::Ld(b) | Op::Ldn(b) | Op::Or(b) | Op::Orn(b) | Op::Ed(b) => vec![S::B(b.0)],
+            Op::CopyB(a, b) => vec![S::B(a.0), S::B(b.0)],
+            Op::S7Ton(t) | Op::S7Tonr(t) | Op::S7Tof(t) | Op::S7ResT(t) => s7t(t),
+            Op::S7Ctu(c) | Op::S7Ctd(c) | Op::S7Ctud(c) | Op::S7ResC(c) => s7c(c),
         }
     }
 }

@@ -170,7 +170,7 @@ mod tests {
         let mut files = Files::new();
         let f = files.add("tags.csv", "name,type\nT,TIMER\n");
         let (tags, _) = TagTable::parse(files.text(f), f);
-        let mut b = Builder::new(Layout::new(&tags, &[]));
+        let mut b = Builder::new(Layout::new(&tags, &crate::layout::Uses::default()));
         b.begin_unit("main.lad");
         b.begin_rung(0, Span::new(FileId(0), 0..0));
         let e = b.element(Span::new(FileId(0), 0..0));

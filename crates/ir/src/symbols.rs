@@ -82,6 +82,11 @@ impl Layout {
             }
             Ok(None) => {}
         }
+        if self.tags.get(name).is_none()
+            && let Some(t) = self.s7_name(name)
+        {
+            return Ok(t);
+        }
         let (base, member) = match name.split_once('.') {
             Some((b, m)) => (b, Some(m)),
             None => (name, None),
@@ -140,15 +145,51 @@ impl Layout {
 
     fn system_tag(&self, name: &str) -> Option<Target> {
         let upper = name.to_ascii_uppercase();
+        let s = &self.system;
         let place = match upper.as_str() {
-            "S:FS" => Place::Bool(self.system.first_scan),
-            "S:MINOR" => Place::Bool(self.system.minor_fault),
-            "S:FAULTCODE" => Place::Int(self.system.fault_code, DataType::Dint),
+            "S:FS" | "SM0.1" => Place::Bool(s.first_scan),
+            "S:MINOR" => Place::Bool(s.minor_fault),
+            "S:FAULTCODE" => Place::Int(s.fault_code, DataType::Dint),
+            "SM0.0" => Place::Bool(s.always_on),
+            "SM0.4" => Place::Bool(s.clock_60s),
+            "SM0.5" => Place::Bool(s.clock_1s),
+            "SM0.6" => Place::Bool(s.scan_toggle),
+            "SMW22" => Place::Int(s.scan_time, DataType::Int),
             _ => return None,
         };
         Some(Target::Value {
             place,
             access: Access::ReadOnly,
+        })
+    }
+
+    /// `T37` (the timer bit) or `T37.CV` (its current value) of an S7-200
+    /// timer in use, likewise `C5`/`C5.CV` for counters.
+    pub fn s7_name(&self, name: &str) -> Option<Target> {
+        let upper = name.to_ascii_uppercase();
+        let (base, cv) = match upper.strip_suffix(".CV") {
+            Some(b) => (b, true),
+            None => (upper.as_str(), false),
+        };
+        let (table, digits) = match base.split_at_checked(1)? {
+            ("T", d) => (&self.timers, d),
+            ("C", d) => (&self.counters, d),
+            _ => return None,
+        };
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        let slots = table.get(&digits.parse::<u8>().ok()?)?;
+        Some(if cv {
+            Target::Value {
+                place: Place::Int(slots.i, DataType::Int),
+                access: Access::ReadWrite,
+            }
+        } else {
+            Target::Value {
+                place: Place::Bool(slots.b),
+                access: Access::ReadOnly,
+            }
         })
     }
 }
@@ -163,7 +204,11 @@ mod tests {
         let f = files.add("tags.csv", csv);
         let (t, d) = TagTable::parse(csv, f);
         assert!(d.is_empty(), "{d:?}");
-        Layout::new(&t, used)
+        let uses = crate::layout::Uses {
+            addresses: used.to_vec(),
+            ..Default::default()
+        };
+        Layout::new(&t, &uses)
     }
 
     #[test]

@@ -1104,5 +1104,11 @@ fn arg_name(a: Arg) -> &'static str {
 /// The layout used for ladder programs: tags plus the addresses programs name.
 pub fn layout_for(tags: &alba_model::TagTable, programs: &[&Program]) -> Layout {
     let used: Vec<Address> = programs.iter().flat_map(|p| addresses(p)).collect();
-    Layout::new(tags, &used)
+    Layout::new(
+        tags,
+        &alba_ir::layout::Uses {
+            addresses: used,
+            ..Default::default()
+        },
+    )
 }
