@@ -1,7 +1,8 @@
 //! Loads a project folder and compiles every program in it, in the order of
 //! `alba.toml`, into one IR program over one layout.
 
-use alba_ir::{Builder, Program};
+use alba_ir::layout::Uses;
+use alba_ir::{Builder, Layout, Program};
 use alba_model::{Code, Diagnostic, Files, Language, Project};
 use std::path::Path;
 
@@ -42,26 +43,50 @@ pub fn compile_dir(dir: &Path) -> Compiled {
     }
 }
 
-/// Compiles the programs of a loaded project.
+enum Ast {
+    Ladder(alba_ladder::Program),
+    Il(alba_il::Program),
+}
+
+/// Compiles the programs of a loaded project: the control programs in the
+/// order of `alba.toml`, then the plant models.
 pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
     let mut diags = Vec::new();
-    let mut ladders = Vec::new();
+    let mut uses = Uses::default();
+    let mut asts = Vec::new();
     for src in &project.programs {
-        match src.language {
+        let text = project.files.text(src.file);
+        let ast = match src.language {
             Language::Ladder => {
-                let (ast, d) = alba_ladder::parse(project.files.text(src.file), src.file);
+                let (ast, d) = alba_ladder::parse(text, src.file);
                 diags.extend(d);
-                ladders.push((src.name.as_str(), src.file, ast));
+                uses.addresses.extend(alba_ladder::addresses(&ast));
+                Ast::Ladder(ast)
             }
-        }
+            Language::Il => {
+                let (ast, d) = alba_il::parse(text, src.file);
+                diags.extend(d);
+                let u = alba_il::uses(&ast);
+                uses.addresses.extend(u.addresses);
+                uses.timers.extend(u.timers);
+                uses.counters.extend(u.counters);
+                Ast::Il(ast)
+            }
+        };
+        asts.push((src, ast));
     }
-    let asts: Vec<&alba_ladder::Program> = ladders.iter().map(|(_, _, a)| a).collect();
-    let layout = alba_ladder::layout_for(&project.tags, &asts);
-    let mut b = Builder::new(layout);
+    let mut b = Builder::new(Layout::new(&project.tags, &uses));
     let mut presets = alba_ladder::Presets::default();
-    for (name, file, ast) in &ladders {
-        let src = project.files.text(*file);
-        diags.extend(alba_ladder::compile(ast, src, name, &mut b, &mut presets));
+    let mut shared = alba_il::Shared::default();
+    for (src, ast) in &asts {
+        if src.plant {
+            b.begin_plant();
+        }
+        let text = project.files.text(src.file);
+        diags.extend(match ast {
+            Ast::Ladder(ast) => alba_ladder::compile(ast, text, &src.name, &mut b, &mut presets),
+            Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
+        });
     }
     if !diags.is_empty() {
         return (None, diags);

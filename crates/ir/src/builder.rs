@@ -85,8 +85,15 @@ impl Builder {
             name: name.to_string(),
             first_op: here,
             end_op: here,
+            plant: self.layout.plant,
         });
         (self.units.len() - 1) as u16
+    }
+
+    /// From now on, units are plant models: names resolve with plant access
+    /// (inputs writable, outputs read-only). Plant units come last.
+    pub fn begin_plant(&mut self) {
+        self.layout.plant = true;
     }
 
     pub fn end_unit(&mut self) {
@@ -172,6 +179,15 @@ impl Builder {
     pub fn temp_b(&mut self) -> B {
         B(self.pooled(0))
     }
+
+    /// A bool slot of its own, initially false, that keeps its value from
+    /// scan to scan (the memory of an edge detector).
+    pub fn state_b(&mut self) -> B {
+        let s = B(self.layout.counts.b);
+        self.layout.counts.b += 1;
+        self.init.b.push(false);
+        s
+    }
     pub fn temp_i(&mut self) -> I {
         I(self.pooled(1))
     }
@@ -234,6 +250,7 @@ impl Builder {
 
     pub fn finish(mut self, files: Files) -> Program {
         self.end_unit();
+        self.layout.plant = false;
         Program {
             ops: self.ops,
             locs: self.locs,

@@ -108,6 +108,9 @@ pub struct Layout {
     /// S7-200 timers `T0..T255` and counters `C0..C255` in use.
     pub timers: std::collections::BTreeMap<u8, S7Slots>,
     pub counters: std::collections::BTreeMap<u8, S7Slots>,
+    /// Names resolve for a plant model (see [`Access::Output`]) while its
+    /// programs compile.
+    pub plant: bool,
 }
 
 impl Layout {
@@ -199,6 +202,7 @@ impl Layout {
             slots,
             timers,
             counters,
+            plant: false,
             system,
             di,
             dout,

@@ -45,6 +45,9 @@ pub struct Unit {
     pub name: String,
     pub first_op: u32,
     pub end_op: u32,
+    /// A plant model: it runs in simulation, after the control programs,
+    /// and is left out when the program drives real I/O.
+    pub plant: bool,
 }
 
 #[derive(Debug, Clone)]

@@ -15,6 +15,20 @@ pub enum Access {
     Input,
     /// Status bits and system tags.
     ReadOnly,
+    /// An output, seen from a plant model: the control program drives it.
+    Output,
+}
+
+impl Access {
+    /// Why a program may not write a place with this access.
+    pub fn why_not_writable(self) -> &'static str {
+        match self {
+            Access::ReadWrite => "",
+            Access::Input => "it is an input, written only by the I/O (or a plant model)",
+            Access::ReadOnly => "it is read-only (a status bit or a system tag)",
+            Access::Output => "it is an output: a plant model reads outputs and writes inputs",
+        }
+    }
 }
 
 /// What a name resolves to.
@@ -73,12 +87,10 @@ impl Layout {
                 let place = self
                     .address_place(addr, addr.natural_type())
                     .ok_or(ResolveError::OutsideImage(addr))?;
-                let access = if addr.is_input() {
-                    Access::Input
-                } else {
-                    Access::ReadWrite
-                };
-                return Ok(Target::Value { place, access });
+                return Ok(Target::Value {
+                    place,
+                    access: self.io_access(Some(addr)),
+                });
             }
             Ok(None) => {}
         }
@@ -101,11 +113,7 @@ impl Layout {
             .nth(idx)
             .ok_or_else(|| ResolveError::UnknownTag(base.to_string()))?;
         let slot = self.slot(idx);
-        let access = if tag.is_input() {
-            Access::Input
-        } else {
-            Access::ReadWrite
-        };
+        let access = self.io_access(tag.address);
         let value = |place| Ok(Target::Value { place, access });
         match (slot, member) {
             (TagSlot::Bool(b), None) => value(Place::Bool(b)),
@@ -140,6 +148,16 @@ impl Layout {
                 tag: tag.name.clone(),
                 ty: tag.ty,
             }),
+        }
+    }
+
+    /// Who may write a value at `addr`: inputs belong to the I/O, except
+    /// for a plant model, which writes inputs and only reads outputs.
+    fn io_access(&self, addr: Option<Address>) -> Access {
+        match addr {
+            Some(a) if a.is_input() && !self.plant => Access::Input,
+            Some(Address::DigitalOut(_) | Address::AnalogOut(_)) if self.plant => Access::Output,
+            _ => Access::ReadWrite,
         }
     }
 

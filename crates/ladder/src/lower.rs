@@ -346,13 +346,9 @@ impl Compiler<'_> {
     }
 
     fn not_writable(&mut self, o: &Operand, access: Access) {
-        let why = match access {
-            Access::Input => "it is an input, written only by the I/O",
-            _ => "it is read-only (a status bit or a system tag)",
-        };
         self.err(
             Code::NotWritable,
-            format!("`{}` cannot be written: {why}", o.text),
+            format!("`{}` cannot be written: {}", o.text, access.why_not_writable()),
             o.span,
             "not writable",
         );

@@ -71,6 +71,18 @@ codes! {
         "Each leg of a branch `[a,b]` holds at least one instruction.";
     UnterminatedRung = 204, "a rung does not end with `;`",
         "Every rung, the last one too, ends with `;`.";
+    IlSyntax = 210, "Instruction List syntax error",
+        "An AWL line holds one instruction: a mnemonic and its operands separated by commas (`LD I0.0`, `MOVW +5, MW2`). `NETWORK n` and `TITLE =` lines, `//` and `/* */` comments and the ORGANIZATION_BLOCK frame of STEP 7-Micro/WIN exports are accepted.";
+    UnknownMnemonic = 211, "unknown AWL instruction",
+        "The mnemonic is not in Alba's S7-200 instruction set. Bit logic: LD LDN A AN O ON NOT = S R EU ED; stack: ALD OLD LPS LRD LPP LDS; compares: LDW= AW= OW= (and <> < > <= >=), LDD…/AD…/OD… for double words, LDR…/AR…/OR… for reals; math: +I -I *I /I, +D -D *D /D, +R -R *R /R, INCW DECW INCD DECD; moves: MOVB MOVW MOVD MOVR; timers: TON TONR TOF (TOFF); counters: CTU CTD CTUD; flow: FOR NEXT JMP LBL NOP.";
+    LogicStack = 212, "the logic stack does not hold what the instruction needs",
+        "S7-200 logic works on a stack: LD, LDN, compares and LDS push a value; A, O, =, boxes and timers use the top; ALD, OLD, LPP combine or pop two levels; counters take their inputs from two or three levels. A network (and the code after a label) starts with an empty stack: begin it with a load instruction. The stack has 9 levels: a tenth load drops the oldest value, which no instruction may then reach.";
+    S7Timer = 213, "a timer or counter number does not fit the instruction",
+        "S7-200 timer numbers fix the kind and resolution: TONR uses T0–T31 and T64–T95, TON and TOF use T32–T63 and T96–T255, and one number serves one kind of timer. Counters are C0–C255, one counter per number.";
+    LoopStructure = 214, "FOR and NEXT do not match",
+        "Every FOR has its NEXT later in the same program, and loops nest at most 8 deep.";
+    IlNotSupported = 215, "an S7-200 feature Alba does not have yet",
+        "Subroutines and interrupt routines, local variables, and the byte forms INCB, DECB and LDB= … are not available yet; use M markers, words and one main program.";
     UnknownTag = 301, "unknown tag",
         "Operands name tags of tags.csv (case-insensitive), their members (`Delay.DN`), addresses, system tags (`S:FS`) or literals.";
     OperandCount = 302, "wrong number of operands",

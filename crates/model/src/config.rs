@@ -21,6 +21,8 @@ pub struct Config {
     pub scan_ms: u32,
     /// Program files in execution order, with where each is listed.
     pub programs: Vec<(String, Span)>,
+    /// Plant-model programs, run after `programs` in simulation.
+    pub plant: Vec<(String, Span)>,
     pub board: Option<Board>,
 }
 
@@ -39,6 +41,8 @@ struct RawConfig {
     description: String,
     scan_ms: Option<Spanned<i64>>,
     programs: Spanned<Vec<Spanned<String>>>,
+    #[serde(default)]
+    plant: Vec<Spanned<String>>,
     board: Option<RawBoard>,
 }
 
@@ -114,12 +118,9 @@ impl Config {
                 "expected at least one program file",
             ));
         }
-        let programs = raw
-            .programs
-            .into_inner()
-            .into_iter()
-            .map(|p| (p.get_ref().clone(), sp(p.span())))
-            .collect();
+        let listed = |v: Vec<Spanned<String>>| v.into_iter().map(|p| (p.get_ref().clone(), sp(p.span()))).collect();
+        let programs = listed(raw.programs.into_inner());
+        let plant = listed(raw.plant);
         let board = raw.board.map(|b| {
             let model = b.model.get_ref().to_ascii_lowercase();
             if !BOARDS.contains(&model.as_str()) {
@@ -152,6 +153,7 @@ impl Config {
             description: raw.description,
             scan_ms,
             programs,
+            plant,
             board,
         };
         (Some(config), diags)

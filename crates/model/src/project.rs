@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 pub enum Language {
     /// `.lad`: Rockwell neutral text (SPEC §3.1).
     Ladder,
+    /// `.awl`: Siemens S7-200 Instruction List (SPEC §4).
+    Il,
 }
 
 impl Language {
@@ -19,6 +21,7 @@ impl Language {
         let ext = Path::new(path).extension()?.to_str()?.to_ascii_lowercase();
         match ext.as_str() {
             "lad" => Some(Language::Ladder),
+            "awl" => Some(Language::Il),
             _ => None,
         }
     }
@@ -30,6 +33,9 @@ pub struct ProgramSource {
     pub name: String,
     pub language: Language,
     pub file: FileId,
+    /// A plant model (listed under `plant`): it runs after the control
+    /// programs, reads their outputs and writes the inputs.
+    pub plant: bool,
 }
 
 /// A loaded project. Loading never stops at the first problem: what could be
@@ -89,7 +95,8 @@ impl Project {
         let mut programs = Vec::new();
         if let Some((cfg, _)) = &config {
             let mut seen = HashSet::new();
-            for (name, span) in &cfg.programs {
+            let listed = cfg.programs.iter().map(|p| (p, false));
+            for ((name, span), plant) in listed.chain(cfg.plant.iter().map(|p| (p, true))) {
                 if let Some(d) = check_program_entry(name, *span, &mut seen) {
                     diags.push(d);
                     continue;
@@ -102,7 +109,7 @@ impl Project {
                             *span,
                             "unknown extension",
                         )
-                        .with_help("ladder programs end in .lad"),
+                        .with_help("ladder programs end in .lad, Instruction List programs in .awl"),
                     );
                     continue;
                 };
@@ -113,6 +120,7 @@ impl Project {
                             name: name.clone(),
                             language,
                             file,
+                            plant,
                         });
                     }
                     Err(msg) => diags.push(Diagnostic::new(Code::ProgramFile, msg, *span, "listed here")),
