@@ -151,7 +151,9 @@ pub fn compile(prog: &Program, name: &str, b: &mut Builder, shared: &mut Shared)
     for item in &prog.items {
         match item {
             Item::Network { number, span } => {
-                c.network = number.unwrap_or(c.network + 1);
+                // An unnumbered network follows the one before (`NETWORK
+                // 4294967295` then `NETWORK` stays at the last number).
+                c.network = number.unwrap_or(c.network.saturating_add(1));
                 c.new_rung(*span);
                 c.poisoned = false;
             }
@@ -576,7 +578,9 @@ impl Compiler<'_> {
     }
 
     fn label(&mut self, i: &Instr) {
-        let Some(o) = i.operands.first() else {
+        // Not checked by `instr` (labels are handled before it): `LBL 4, 5`
+        // is as wrong as `LBL`.
+        let [o] = i.operands.as_slice() else {
             self.err(
                 Code::OperandCount,
                 "LBL takes one operand, the label number",
@@ -705,8 +709,12 @@ impl Compiler<'_> {
                     return;
                 }
                 let Src::Place(dest) = out else { return };
-                // OUT = OUT op IN1 (IN2 is OUT).
-                self.b.binary_to(bop, out, in1, dest, class(ty), elem);
+                if bop == BinOp::Div {
+                    self.divide(in1, dest, class(ty), elem);
+                } else {
+                    // OUT = OUT op IN1 (IN2 is OUT).
+                    self.b.binary_to(bop, out, in1, dest, class(ty), elem);
+                }
             }
             Mn::Inc { ty, down } => {
                 if ty == Ty::B {
@@ -755,6 +763,27 @@ impl Compiler<'_> {
                 self.b.emit(Op::Nop, elem);
             }
         }
+    }
+
+    /// OUT = OUT / IN1, leaving OUT unchanged when IN1 is 0, as the S7-200
+    /// does (the engine still records the division by zero as a minor fault).
+    fn divide(&mut self, in1: Src, dest: Place, c: Class, elem: u32) {
+        let enable = self.b.temp_b();
+        self.b.emit(Op::Ote(enable), elem);
+        let a = self.b.read(Src::Place(dest), c, elem);
+        let b = self.b.read(in1, c, elem);
+        let q = self.b.temp(c);
+        self.b.bin(BinOp::Div, a, b, q, elem);
+        let zero = self.b.constant(Literal::Int(0), c);
+        match (b, zero) {
+            (V::I(b), V::I(z)) => self.b.emit(Op::CmpI(Cmp::Ne, b, z), elem),
+            (V::F(b), V::F(z)) => self.b.emit(Op::CmpF(Cmp::Ne, b, z), elem),
+            _ => return,
+        };
+        let (d, post) = self.b.dest(dest, c, elem);
+        self.b.un(UnOp::Mov, q, d, elem);
+        self.b.post(post, elem);
+        self.b.emit(Op::Ld(enable), elem);
     }
 
     fn compare(&mut self, i: &Instr, how: How, ty: Ty, cmp: Cmp, elem: u32) {
@@ -925,7 +954,7 @@ impl Compiler<'_> {
         } else {
             self.shared.timers.insert(n, (kind, i.operands[0].span));
         }
-        let Some(pt) = self.value(i, &i.operands[1], Ty::W, false) else {
+        let Some(pt) = self.preset_time(i, n, res) else {
             return;
         };
         if let Src::Lit(Literal::Int(v)) = pt
@@ -956,6 +985,34 @@ impl Compiler<'_> {
             },
             elem,
         );
+    }
+
+    /// The PT of timer `n`: a count of its resolution, or a duration
+    /// (`T#5s`) that is a whole number of them.
+    fn preset_time(&mut self, i: &Instr, n: u8, res: u16) -> Option<Src> {
+        let o = &i.operands[1];
+        let Ok(Literal::Time(ms)) = Literal::parse(&o.text) else {
+            return self.value(i, o, Ty::W, false);
+        };
+        let units = ms / res as i64;
+        if ms % res as i64 != 0 || !(0..=i16::MAX as i64).contains(&units) {
+            let d = Diagnostic::new(
+                Code::BadLiteral,
+                format!(
+                    "`{}` is not a preset of T{n}, which counts {res} ms from 0 to 32767 times",
+                    o.text
+                ),
+                o.span,
+                "not a whole number of units",
+            )
+            .with_help(format!(
+                "T{n} can time {res} ms to {} s",
+                res as i64 * i16::MAX as i64 / 1000
+            ));
+            self.diags.push(d);
+            return None;
+        }
+        Some(Src::Lit(Literal::Int(units)))
     }
 
     fn counter(&mut self, i: &Instr, kind: CounterKind, elem: u32) {
@@ -1112,6 +1169,30 @@ mod tests {
         assert_eq!(resolution(TimerKind::Tof, 100), Ok(10));
         assert_eq!(resolution(TimerKind::Ton, 255), Ok(100));
         assert!(resolution(TimerKind::Ton, 31).is_err());
+    }
+
+    fn check(text: &str) -> Vec<String> {
+        let (prog, mut diags) = crate::parse(text, alba_model::FileId(0));
+        let layout = alba_ir::Layout::new(&alba_model::TagTable::default(), &uses(&prog));
+        let mut b = Builder::new(layout);
+        diags.extend(compile(&prog, "main.awl", &mut b, &mut Shared::default()));
+        diags.iter().map(|d| format!("{} {}", d.code, d.message)).collect()
+    }
+
+    #[test]
+    fn a_label_takes_exactly_one_operand() {
+        assert_eq!(
+            check("LBL\nLBL 4, 5\n")[..2],
+            [
+                "E302 LBL takes one operand, the label number",
+                "E302 LBL takes one operand, the label number",
+            ]
+        );
+    }
+
+    #[test]
+    fn unnumbered_networks_after_the_last_number_do_not_overflow() {
+        assert!(check("NETWORK 4294967295\nLD I0.0\n= Q0.0\nNETWORK\nLD I0.1\n= Q0.1\n").is_empty());
     }
 
     #[test]

@@ -1,11 +1,55 @@
-//! `alba sim` on every example matches its golden trace. Each example has
-//! `stimulus.csv`, `golden.args` (the other options of `alba sim`) and
-//! `golden.csv`; `ALBA_BLESS=1` rewrites the traces (review the diff).
+//! `alba sim` on every example matches its golden traces. A case is
+//! `golden.args` (the other options of `alba sim`) with `stimulus.csv` and
+//! `golden.csv`, or, for an example with several cases,
+//! `golden-<case>.args` with `stimulus-<case>.csv` and `golden-<case>.csv`.
+//! `ALBA_BLESS=1` rewrites the traces (review the diff).
 
 use crate::{alba, repo, scratch};
+use std::path::{Path, PathBuf};
+
+/// The cases of an example: (case name, args, stimulus, golden) files.
+fn cases(dir: &Path) -> Vec<(String, PathBuf, PathBuf, PathBuf)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).expect("example folder") {
+        let name = e.expect("directory entry").file_name().to_string_lossy().to_string();
+        let Some(case) = name.strip_suffix(".args").and_then(|s| s.strip_prefix("golden")) else {
+            continue;
+        };
+        out.push((
+            case.trim_start_matches('-').to_string(),
+            dir.join(&name),
+            dir.join(format!("stimulus{case}.csv")),
+            dir.join(format!("golden{case}.csv")),
+        ));
+    }
+    out.sort();
+    out
+}
+
+/// Runs `alba sim` on an example with a stimulus and options, returning the trace.
+pub fn simulate(dir: &Path, stimulus: &Path, args_text: &str, trace: &Path) -> String {
+    let mut args = vec![
+        "sim".to_string(),
+        dir.display().to_string(),
+        "--stimulus".into(),
+        stimulus.display().to_string(),
+        "--trace".into(),
+        trace.display().to_string(),
+    ];
+    args.extend(args_text.split_whitespace().map(str::to_string));
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = alba(dir, &argv);
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        dir.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::read_to_string(trace).expect("alba sim wrote the trace")
+}
 
 #[test]
-fn every_example_matches_its_golden_trace() {
+fn every_example_matches_its_golden_traces() {
     let root = repo().join("examples");
     let mut dirs: Vec<_> = std::fs::read_dir(&root)
         .unwrap()
@@ -15,38 +59,28 @@ fn every_example_matches_its_golden_trace() {
     let bless = std::env::var_os("ALBA_BLESS").is_some();
     let out_dir = scratch("examples");
     let mut checked = 0;
-    for dir in dirs.iter().filter(|d| d.join("golden.args").exists()) {
+    for dir in &dirs {
         let name = dir.file_name().unwrap().to_string_lossy().to_string();
-        let trace = out_dir.join(format!("{name}.csv"));
-        let args_text = std::fs::read_to_string(dir.join("golden.args")).unwrap();
-        let mut args = vec![
-            "sim".to_string(),
-            dir.display().to_string(),
-            "--stimulus".into(),
-            dir.join("stimulus.csv").display().to_string(),
-            "--trace".into(),
-            trace.display().to_string(),
-        ];
-        args.extend(args_text.split_whitespace().map(str::to_string));
-        let argv: Vec<&str> = args.iter().map(String::as_str).collect();
-        let out = alba(&root, &argv);
-        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
-        let got = std::fs::read_to_string(&trace).unwrap();
-        if bless {
-            std::fs::write(dir.join("golden.csv"), &got).unwrap();
-        } else {
-            let want = std::fs::read_to_string(dir.join("golden.csv")).unwrap_or_default();
-            let first = want.lines().zip(got.lines()).find(|(a, b)| a != b);
-            assert!(
-                got == want,
-                "{name}: trace differs from golden.csv; first difference: {first:?}"
-            );
+        for (case, args, stimulus, golden) in cases(dir) {
+            let trace = out_dir.join(format!("{name}-{case}.csv"));
+            let got = simulate(dir, &stimulus, &std::fs::read_to_string(&args).unwrap(), &trace);
+            if bless {
+                std::fs::write(&golden, &got).unwrap();
+            } else {
+                let want = std::fs::read_to_string(&golden).unwrap_or_default();
+                let first = want.lines().zip(got.lines()).find(|(a, b)| a != b);
+                assert!(
+                    got == want,
+                    "{name} {case}: trace differs from {}; first difference: {first:?}",
+                    golden.display()
+                );
+            }
+            checked += 1;
         }
-        checked += 1;
     }
     assert!(
-        checked >= 4,
-        "expected at least 4 examples with golden traces, found {checked}"
+        checked >= 7,
+        "expected at least 7 golden traces of examples, found {checked}"
     );
 }
 
@@ -98,4 +132,29 @@ fn every_example_lowers_to_its_golden_ir() {
         checked += 1;
     }
     assert!(checked >= 4);
+}
+
+/// The Festo program as published (`source-original.awl`) passes a bad part
+/// on after a good one; the repaired `station.awl` rejects it.
+#[test]
+fn festo_station_source_program_shows_the_repaired_bug() {
+    let example = repo().join("examples/festo-station");
+    let dir = scratch("festo-original");
+    for f in ["tags.csv", "plant.lad", "stimulus-good-then-bad.csv"] {
+        std::fs::copy(example.join(f), dir.join(f)).unwrap();
+    }
+    let toml = "name = \"original\"\nprograms = [\"main.awl\"]\nplant = [\"plant.lad\"]\n";
+    std::fs::write(dir.join("alba.toml"), toml).unwrap();
+    std::fs::copy(example.join("source-original.awl"), dir.join("main.awl")).unwrap();
+    let last_row = |trace: &str| trace.lines().last().unwrap_or_default().to_string();
+    let args = "--until 14000 --every 100 --tags Measured,Delivered,Rejected";
+    let stimulus = dir.join("stimulus-good-then-bad.csv");
+    let original = simulate(&dir, &stimulus, args, &dir.join("original.csv"));
+    assert_eq!(
+        last_row(&original),
+        "14000,228,2,0",
+        "the source passes the 228 part on"
+    );
+    let repaired = simulate(&example, &stimulus, args, &dir.join("repaired.csv"));
+    assert_eq!(last_row(&repaired), "14000,228,1,1", "station.awl rejects it");
 }
