@@ -219,8 +219,17 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
     let io = |i: I| Operand::Int(i.0);
     let pc = Operand::Number(pc as u32);
     let s = match op {
-        X::Rung | X::Nop | X::Afi | X::End => op,
-        X::Xic(b) | X::Xio(b) | X::Ote(b) | X::Otl(b) | X::Otu(b) | X::Ons(b) => {
+        X::Rung | X::Nop | X::Afi | X::End | X::Not | X::True => op,
+        X::Xic(b)
+        | X::Xio(b)
+        | X::Ote(b)
+        | X::Otl(b)
+        | X::Otu(b)
+        | X::Ons(b)
+        | X::Ld(b)
+        | X::Ldn(b)
+        | X::Or(b)
+        | X::Orn(b) => {
             out.push(bo(b));
             match op {
                 X::Xic(_) => X::Xic(b0),
@@ -228,6 +237,10 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
                 X::Ote(_) => X::Ote(b0),
                 X::Otl(_) => X::Otl(b0),
                 X::Otu(_) => X::Otu(b0),
+                X::Ld(_) => X::Ld(b0),
+                X::Ldn(_) => X::Ldn(b0),
+                X::Or(_) => X::Or(b0),
+                X::Orn(_) => X::Orn(b0),
                 _ => X::Ons(b0),
             }
         }
@@ -685,6 +698,32 @@ impl<'a, 'b> Gen<'a, 'b> {
                 let a = self.b_addr();
                 let rc = self.rc();
                 self.st8(a, 0, rc);
+            }
+            // The logic stack of Instruction List.
+            X::Ld(_) | X::Ldn(_) | X::Or(_) | X::Orn(_) => {
+                let a = self.b_addr();
+                let v = self.ld8(a, 0);
+                let v = if matches!(op, X::Ldn(_) | X::Orn(_)) {
+                    self.not(v)
+                } else {
+                    v
+                };
+                let v = if matches!(op, X::Or(_) | X::Orn(_)) {
+                    let rc = self.rc();
+                    self.or(rc, v)
+                } else {
+                    v
+                };
+                self.set_rc(v);
+            }
+            X::Not => {
+                let rc = self.rc();
+                let n = self.not(rc);
+                self.set_rc(n);
+            }
+            X::True => {
+                let one = self.c8(1);
+                self.set_rc(one);
             }
             X::Otl(_) | X::Otu(_) => {
                 let a = self.b_addr();
