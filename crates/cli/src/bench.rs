@@ -340,5 +340,138 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
     println!("data = program memory per rung; code = everything else the engine holds per rung: the IR with");
     println!("its source locations, the two executable forms and the native operand table.");
     println!("Reference (OpenPLC v3 / MatIEC C, g++ -O2, same rung): 11 ns/rung at 100, 29 at 1000, 47 at 10000.");
+    il_vs_ladder(sizes, runs, quick)
+}
+
+/// The same logic as ladder rungs and as AWL networks (stack operations
+/// included): one network `LD A; O B; LPS; AN C; = Q; LPP; A D; = R`.
+fn il_vs_ladder(sizes: &[usize], runs: usize, quick: bool) -> ExitCode {
+    println!("\nInstruction List against Ladder, the same logic:");
+    println!("  ladder: [XIC(A),XIC(B)][XIO(C)OTE(Q),XIC(D)OTE(R)];");
+    println!("  AWL:    LD A / O B / LPS / AN C / = Q / LPP / A D / = R");
+    println!(
+        "{:>6} | {:>18} | {:>18}\n{:>6} | {:>8} {:>9} | {:>8} {:>9}",
+        "rungs", "interpreter ns/rung", "native ns/rung", "", "ladder", "AWL", "ladder", "AWL"
+    );
+    for &n in sizes {
+        let n = n.max(1);
+        let (tags, lad, awl) = generate_logic(n);
+        let (Ok(ladder), Ok(il)) = (
+            compile_text(&tags, "main.lad", &lad),
+            compile_text(&tags, "main.awl", &awl),
+        ) else {
+            eprintln!("error: the generated logic programs do not compile");
+            return ExitCode::FAILURE;
+        };
+        let scans = ((20_000_000 / (n as u64 * 10)).max(10)) / if quick { 4 } else { 1 };
+        let mut engines = Vec::new();
+        for p in [&ladder, &il] {
+            for native in [false, true] {
+                let Ok(mut e) = Engine::new(p.clone()) else {
+                    return ExitCode::FAILURE;
+                };
+                if native && e.compile_native().is_err() {
+                    eprintln!("native code unavailable");
+                    return ExitCode::FAILURE;
+                }
+                engines.push(e);
+            }
+        }
+        // Both languages must compute the same outputs.
+        for e in &mut engines {
+            let _ = e.scan(0);
+        }
+        for i in (0..n).step_by((n / 10).max(1)) {
+            for name in [format!("Q_{i}"), format!("R_{i}")] {
+                let values: Vec<Value> = [(&ladder, 0), (&ladder, 1), (&il, 2), (&il, 3)]
+                    .iter()
+                    .map(|(p, k)| place(p, &name).map(|pl| engines[*k].read(pl)))
+                    .collect::<Result<_, _>>()
+                    .unwrap_or_default();
+                if values.windows(2).any(|w| w[0] != w[1]) {
+                    eprintln!("error: ladder and AWL disagree on {name}: {values:?}");
+                    return ExitCode::FAILURE;
+                }
+            }
+        }
+        let [e0, e1, e2, e3] = &mut engines[..] else {
+            return ExitCode::FAILURE;
+        };
+        let ns = time_rounds(
+            runs,
+            scans.max(3),
+            &mut [
+                &mut |k| {
+                    let _ = e0.scan(black_box(k));
+                },
+                &mut |k| {
+                    let _ = e2.scan(black_box(k));
+                },
+                &mut |k| {
+                    let _ = e1.scan(black_box(k));
+                },
+                &mut |k| {
+                    let _ = e3.scan(black_box(k));
+                },
+            ],
+        )
+        .map(|t| t / n as f64);
+        println!("{n:>6} | {:>8.2} {:>9.2} | {:>8.2} {:>9.2}", ns[0], ns[1], ns[2], ns[3]);
+    }
     ExitCode::SUCCESS
+}
+
+/// Tags, ladder and AWL text of `n` copies of the logic network.
+fn generate_logic(n: usize) -> (String, String, String) {
+    let mut tags = String::from("name,type,address,initial,retain,description\n");
+    let (mut lad, mut awl) = (String::new(), String::new());
+    for i in 0..n {
+        let bit = |k: usize| u8::from((i >> k) & 1 == 1);
+        tags.push_str(&format!(
+            "A_{i},BOOL,,{},,\nB_{i},BOOL,,{},,\nC_{i},BOOL,,{},,\nD_{i},BOOL,,{},,\nQ_{i},BOOL,,,,\nR_{i},BOOL,,,,\n",
+            bit(0),
+            bit(1),
+            bit(2),
+            bit(3)
+        ));
+        lad.push_str(&format!(
+            "[XIC(A_{i}),XIC(B_{i})][XIO(C_{i})OTE(Q_{i}),XIC(D_{i})OTE(R_{i})];\n"
+        ));
+        awl.push_str(&format!(
+            "NETWORK\nLD A_{i}\nO B_{i}\nLPS\nAN C_{i}\n= Q_{i}\nLPP\nA D_{i}\n= R_{i}\n"
+        ));
+    }
+    (tags, lad, awl)
+}
+
+/// Compiles one generated program (ladder or AWL by `name`).
+fn compile_text(tags_csv: &str, name: &str, text: &str) -> Result<Arc<Program>, String> {
+    let mut files = Files::new();
+    let tf = files.add("tags.csv", tags_csv);
+    let f = files.add(name, text);
+    let (tags, mut diags) = TagTable::parse(files.text(tf), tf);
+    let program = if name.ends_with(".awl") {
+        let (ast, d) = alba_il::parse(files.text(f), f);
+        diags.extend(d);
+        let mut b = alba_ir::Builder::new(alba_ir::Layout::new(&tags, &alba_il::uses(&ast)));
+        diags.extend(alba_il::compile(&ast, name, &mut b, &mut alba_il::Shared::default()));
+        b.finish(files)
+    } else {
+        let (ast, d) = alba_ladder::parse(files.text(f), f);
+        diags.extend(d);
+        let mut b = alba_ir::Builder::new(alba_ladder::layout_for(&tags, &[&ast]));
+        let src = files.text(f).to_string();
+        diags.extend(alba_ladder::compile(
+            &ast,
+            &src,
+            name,
+            &mut b,
+            &mut alba_ladder::Presets::default(),
+        ));
+        b.finish(files)
+    };
+    match diags.first() {
+        Some(d) => Err(d.message.clone()),
+        None => Ok(Arc::new(program)),
+    }
 }

@@ -217,6 +217,25 @@ fn contact(op: &Op) -> Option<(B, bool)> {
     }
 }
 
+/// An Instruction List load right after `Rung` (where `rc` is true, so it
+/// is a contact): `LD a` / `LDN a`.
+fn load(op: &Op) -> Option<(B, bool)> {
+    match *op {
+        Op::Ld(b) => Some((b, false)),
+        Op::Ldn(b) => Some((b, true)),
+        _ => None,
+    }
+}
+
+/// `O b` / `ON b`.
+fn or_with(op: &Op) -> Option<(B, bool)> {
+    match *op {
+        Op::Or(b) => Some((b, false)),
+        Op::Orn(b) => Some((b, true)),
+        _ => None,
+    }
+}
+
 /// `[X(a), X(b)]` at the start of `ops`: the two contacts.
 fn or2(ops: &[Op]) -> Option<(B, bool, B, bool)> {
     match ops {
@@ -262,8 +281,13 @@ impl Code {
                     let (a, na, b, nb) = or2(tail).unwrap_or((B(0), false, B(0), false));
                     (X::RungOr { a, b, na, nb }, 6)
                 }
-                (true, [Op::Rung, c, ..]) if contact(c).is_some() => {
-                    let (b, neg) = contact(c).unwrap_or((B(0), false));
+                (true, [Op::Rung, l, o, ..]) if load(l).is_some() && or_with(o).is_some() => {
+                    let (a, na) = load(l).unwrap_or((B(0), false));
+                    let (b, nb) = or_with(o).unwrap_or((B(0), false));
+                    (X::RungOr { a, b, na, nb }, 3)
+                }
+                (true, [Op::Rung, c, ..]) if contact(c).or_else(|| load(c)).is_some() => {
+                    let (b, neg) = contact(c).or_else(|| load(c)).unwrap_or((B(0), false));
                     (X::RungC { b, neg }, 2)
                 }
                 (true, _) if or2(rest).is_some() => {

@@ -1,6 +1,7 @@
 //! Integration tests of the `alba` binary.
 
 mod commands;
+mod differential;
 mod examples;
 mod malformed;
 
