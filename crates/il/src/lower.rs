@@ -509,30 +509,19 @@ impl Compiler<'_> {
         }
     }
 
-    fn timer_slots(&mut self, o: &Operand) -> Option<(u8, S7Slots)> {
+    /// The number and slots of timer (`kind` 'T') or counter ('C') operand `o`.
+    fn s7_slots(&mut self, o: &Operand, kind: char) -> Option<(u8, S7Slots)> {
+        let layout = self.b.layout();
+        let table = if kind == 'T' { &layout.timers } else { &layout.counters };
         match timer_or_counter(&o.text) {
-            Some(('T', n)) => self.b.layout().timers.get(&n).map(|s| (n, *s)),
+            Some((k, n)) if k == kind => table.get(&n).map(|s| (n, *s)),
             _ => {
+                let what = if kind == 'T' { "timer" } else { "counter" };
                 self.err(
                     Code::OperandType,
-                    format!("`{}` is not a timer: timers are T0 to T255", o.text),
+                    format!("`{}` is not a {what}: {what}s are {kind}0 to {kind}255", o.text),
                     o.span,
-                    "expected Txxx",
-                );
-                None
-            }
-        }
-    }
-
-    fn counter_slots(&mut self, o: &Operand) -> Option<(u8, S7Slots)> {
-        match timer_or_counter(&o.text) {
-            Some(('C', n)) => self.b.layout().counters.get(&n).map(|s| (n, *s)),
-            _ => {
-                self.err(
-                    Code::OperandType,
-                    format!("`{}` is not a counter: counters are C0 to C255", o.text),
-                    o.span,
-                    "expected Cxxx",
+                    format!("expected {kind}xxx"),
                 );
                 None
             }
@@ -928,7 +917,7 @@ impl Compiler<'_> {
     }
 
     fn timer(&mut self, i: &Instr, kind: TimerKind, elem: u32) {
-        let Some((n, slots)) = self.timer_slots(&i.operands[0]) else {
+        let Some((n, slots)) = self.s7_slots(&i.operands[0], 'T') else {
             return;
         };
         let res = match resolution(kind, n) {
@@ -1016,7 +1005,7 @@ impl Compiler<'_> {
     }
 
     fn counter(&mut self, i: &Instr, kind: CounterKind, elem: u32) {
-        let Some((n, slots)) = self.counter_slots(&i.operands[0]) else {
+        let Some((n, slots)) = self.s7_slots(&i.operands[0], 'C') else {
             return;
         };
         if let Some(&(k, span)) = self.shared.counters.get(&n) {

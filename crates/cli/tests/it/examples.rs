@@ -26,6 +26,21 @@ fn cases(dir: &Path) -> Vec<(String, PathBuf, PathBuf, PathBuf)> {
     out
 }
 
+/// `got` must equal the golden file (rewritten instead with `ALBA_BLESS=1`).
+fn check_golden(golden: &Path, got: &str, what: &str) {
+    if std::env::var_os("ALBA_BLESS").is_some() {
+        std::fs::write(golden, got).expect("write the golden file");
+        return;
+    }
+    let want = std::fs::read_to_string(golden).unwrap_or_default();
+    let first = want.lines().zip(got.lines()).find(|(a, b)| a != b);
+    assert!(
+        got == want,
+        "{what}: output differs from {}; first difference: {first:?}",
+        golden.display()
+    );
+}
+
 /// Runs `alba sim` on an example with a stimulus and options, returning the trace.
 pub fn simulate(dir: &Path, stimulus: &Path, args_text: &str, trace: &Path) -> String {
     let mut args = vec![
@@ -56,7 +71,6 @@ fn every_example_matches_its_golden_traces() {
         .filter_map(|e| e.ok().map(|e| e.path()))
         .collect();
     dirs.sort();
-    let bless = std::env::var_os("ALBA_BLESS").is_some();
     let out_dir = scratch("examples");
     let mut checked = 0;
     for dir in &dirs {
@@ -64,17 +78,7 @@ fn every_example_matches_its_golden_traces() {
         for (case, args, stimulus, golden) in cases(dir) {
             let trace = out_dir.join(format!("{name}-{case}.csv"));
             let got = simulate(dir, &stimulus, &std::fs::read_to_string(&args).unwrap(), &trace);
-            if bless {
-                std::fs::write(&golden, &got).unwrap();
-            } else {
-                let want = std::fs::read_to_string(&golden).unwrap_or_default();
-                let first = want.lines().zip(got.lines()).find(|(a, b)| a != b);
-                assert!(
-                    got == want,
-                    "{name} {case}: trace differs from {}; first difference: {first:?}",
-                    golden.display()
-                );
-            }
+            check_golden(&golden, &got, &format!("{name} {case}"));
             checked += 1;
         }
     }
@@ -105,7 +109,6 @@ fn every_example_checks_clean() {
 /// `tests/ir/<example>.ir`: a change in lowering shows up here for review.
 #[test]
 fn every_example_lowers_to_its_golden_ir() {
-    let bless = std::env::var_os("ALBA_BLESS").is_some();
     let golden_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ir");
     let mut checked = 0;
     for e in std::fs::read_dir(repo().join("examples")).unwrap() {
@@ -117,18 +120,7 @@ fn every_example_lowers_to_its_golden_ir() {
         let out = alba(&repo().join("examples"), &["check", &name, "--ir"]);
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
         let got = String::from_utf8(out.stdout).unwrap();
-        let golden = golden_dir.join(format!("{name}.ir"));
-        if bless {
-            std::fs::write(&golden, &got).unwrap();
-        } else {
-            let want = std::fs::read_to_string(&golden).unwrap_or_default();
-            let first = want.lines().zip(got.lines()).find(|(a, b)| a != b);
-            assert!(
-                got == want,
-                "{name}: IR differs from {}; first difference: {first:?}",
-                golden.display()
-            );
-        }
+        check_golden(&golden_dir.join(format!("{name}.ir")), &got, &name);
         checked += 1;
     }
     assert!(checked >= 4);
