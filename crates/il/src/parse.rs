@@ -40,21 +40,26 @@ pub fn parse(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
                 }
                 continue;
             }
-            let line_comment = rest.find("//");
-            let block = rest.find("/*");
-            match (line_comment, block) {
-                (Some(l), b) if b.is_none_or(|b| l < b) => {
+            // The first `//` or `/*`: searching for each one through the
+            // whole rest of the line on every comment made a line of many
+            // comments quadratic.
+            let opener = rest
+                .match_indices('/')
+                .map(|(i, _)| (i, rest.as_bytes().get(i + 1)))
+                .find(|(_, next)| matches!(next, Some(b'/' | b'*')));
+            match opener {
+                Some((l, Some(b'/'))) => {
                     code.push_str(&rest[..l]);
                     rest = "";
                 }
-                (_, Some(b)) => {
+                Some((b, _)) => {
                     code.push_str(&rest[..b]);
                     code.push_str("  ");
                     in_block = Some(pos + b);
                     rest = &rest[b + 2..];
                     pos += b + 2;
                 }
-                _ => {
+                None => {
                     code.push_str(rest);
                     rest = "";
                 }
@@ -265,6 +270,21 @@ mod tests {
                 ("S".into(), vec!["Q0.0".into(), "1".into()]),
                 ("LDW>".into(), vec!["215".into(), "MW3".into()]),
                 ("ald".into(), vec![]),
+            ]
+        );
+    }
+
+    #[test]
+    fn the_first_comment_opener_wins() {
+        let p =
+            parse_ok("LD I0.0 /* a // b */ /**/ // c /* d\n= Q0.0 /*x*//*y*/ // z\nA I0.1///*\nS Q0.1, 1 /* /* */\n");
+        assert_eq!(
+            instrs(&p),
+            [
+                ("LD".into(), vec!["I0.0".into()]),
+                ("=".into(), vec!["Q0.0".into()]),
+                ("A".into(), vec!["I0.1".into()]),
+                ("S".into(), vec!["Q0.1".into(), "1".into()]),
             ]
         );
     }
