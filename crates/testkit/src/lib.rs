@@ -6,7 +6,7 @@
 //! endless loop in one case is reported with its file name instead of
 //! killing or hanging the whole run. A crate's test module holds two tests:
 //!
-//! ```ignore
+//! ```text
 //! #[test]
 //! fn child_case() {
 //!     alba_testkit::child_case(run_case); // does nothing in the parent run
