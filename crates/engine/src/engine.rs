@@ -63,6 +63,11 @@ impl Engine {
         &self.prog
     }
 
+    /// The program, shared (for snapshots that outlive an online edit).
+    pub fn shared_program(&self) -> Arc<Program> {
+        self.prog.clone()
+    }
+
     pub fn memory(&self) -> &Memory {
         &self.mem
     }
@@ -98,6 +103,53 @@ impl Engine {
     /// measures it), for `SMW22`.
     pub fn set_scan_time(&mut self, ms: u32) {
         self.scan_time_ms = ms;
+    }
+
+    /// Writes the scan statistics the real-time loop measures into their
+    /// system tags (`S:SCANTIME` … `S:OVERRUNS`, see `alba_ir::layout::STAT_TAGS`).
+    pub fn set_stats(&mut self, stats: [i32; 6]) {
+        let base = self.prog.layout.system.stats.0 as usize;
+        if let Some(slots) = self.mem.i.get_mut(base..base + stats.len()) {
+            slots.copy_from_slice(&stats);
+        }
+    }
+
+    /// Prepares a new start after a stop: the next scan is a first scan
+    /// again and a major fault is cleared; memory is kept.
+    pub fn restart(&mut self) {
+        self.first_scan = true;
+        self.major = None;
+    }
+
+    /// The major fault that stopped the engine, if any.
+    pub fn major_fault(&self) -> Option<&MajorFault> {
+        self.major.as_ref()
+    }
+
+    /// Online edit: runs `prog` from the next scan, with the memory migrated
+    /// (every tag that exists in both programs with the same name and type
+    /// keeps its value, timers and counters included; see
+    /// `Memory::migrate`). Fails, changing nothing, if `prog` does not verify
+    /// or native code for it cannot be built.
+    pub fn replace(&mut self, prog: Arc<Program>) -> Result<(), String> {
+        prog.verify()?;
+        let plain = Code::new(&prog, false);
+        #[cfg(feature = "jit")]
+        let native = match self.native {
+            Some(_) => Some(crate::jit::Jit::compile(&plain)?),
+            None => None,
+        };
+        self.mem = self.mem.migrate(&self.prog.layout, &prog.layout, &prog.init);
+        self.fast = Code::new(&prog, true);
+        self.plain = plain;
+        #[cfg(feature = "jit")]
+        {
+            self.native = native;
+        }
+        self.faults = Faults::default();
+        self.prog = prog;
+        self.set_monitor(self.monitor);
+        Ok(())
     }
 
     /// Turns power-flow monitoring on or off (SPEC §11). While off, scans

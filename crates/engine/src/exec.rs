@@ -35,6 +35,11 @@ impl PowerFlow {
         }
     }
 
+    /// The bits: element `e` is bit `e % 64` of word `e / 64`.
+    pub fn words(&self) -> &[u64] {
+        &self.bits
+    }
+
     /// Is element `e` energised (the rung condition after it true)?
     pub fn get(&self, e: u32) -> bool {
         self.bits.get(e as usize / 64).is_some_and(|w| w >> (e % 64) & 1 == 1)

@@ -62,7 +62,21 @@ pub struct System {
     pub scan_toggle: B,
     /// `SMW22`: duration of the last scan in ms.
     pub scan_time: I,
+    /// Scan statistics set by the real-time runtime, six DINTs from here:
+    /// `S:SCANTIME`, `S:SCANMIN`, `S:SCANMAX`, `S:SCANAVG`, `S:JITTER` (µs)
+    /// and `S:OVERRUNS` (see [`STAT_TAGS`]).
+    pub stats: I,
 }
+
+/// The scan-statistics tags, in slot order from [`System::stats`].
+pub const STAT_TAGS: [&str; 6] = [
+    "S:SCANTIME",
+    "S:SCANMIN",
+    "S:SCANMAX",
+    "S:SCANAVG",
+    "S:JITTER",
+    "S:OVERRUNS",
+];
 
 /// The system tags and what they are.
 pub const SYSTEM_TAGS: &[(&str, &str)] = &[
@@ -75,6 +89,12 @@ pub const SYSTEM_TAGS: &[(&str, &str)] = &[
     ("SM0.5", "clock: 0.5 s off, 0.5 s on"),
     ("SM0.6", "off one scan, on the next"),
     ("SMW22", "duration of the last scan in ms"),
+    ("S:SCANTIME", "duration of the last scan in µs (real time)"),
+    ("S:SCANMIN", "shortest scan since the last run, µs"),
+    ("S:SCANMAX", "longest scan since the last run, µs"),
+    ("S:SCANAVG", "mean scan time since the last run, µs"),
+    ("S:JITTER", "largest lateness of a scan start since the last run, µs"),
+    ("S:OVERRUNS", "scan deadlines missed since the last run"),
 ];
 
 /// The slots of an S7-200 timer or counter (see `S7Tmr`, `S7Ctr`).
@@ -145,6 +165,7 @@ impl Layout {
             clock_1s: B(take(&mut c.b, 1)),
             scan_toggle: B(take(&mut c.b, 1)),
             scan_time: I(take(&mut c.i, 1)),
+            stats: I(take(&mut c.i, STAT_TAGS.len() as u32)),
         };
         let di = Region {
             base: take(&mut c.b, di),

@@ -173,7 +173,10 @@ impl Layout {
             "SM0.5" => Place::Bool(s.clock_1s),
             "SM0.6" => Place::Bool(s.scan_toggle),
             "SMW22" => Place::Int(s.scan_time, DataType::Int),
-            _ => return None,
+            _ => {
+                let k = crate::layout::STAT_TAGS.iter().position(|t| *t == upper)?;
+                Place::Int(I(s.stats.0 + k as u32), DataType::Dint)
+            }
         };
         Some(Target::Value {
             place,

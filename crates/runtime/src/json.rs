@@ -1,0 +1,118 @@
+//! Tag values as JSON (docs/api.md "Values"): what the API sends and
+//! accepts, and what the retain file stores.
+
+use alba_model::{DataType, Value};
+use serde_json::Value as Json;
+
+/// A value as JSON: booleans, integers, and numbers for reals (`null` for a
+/// non-finite real, which JSON cannot hold).
+pub fn to_json(v: Value) -> Json {
+    match v {
+        Value::Bool(b) => Json::Bool(b),
+        Value::Sint(x) => x.into(),
+        Value::Int(x) => x.into(),
+        Value::Dint(x) | Value::Time(x) => x.into(),
+        Value::Lint(x) => x.into(),
+        Value::Real(x) => serde_json::Number::from_f64(f64::from(x)).map_or(Json::Null, Json::Number),
+        Value::Lreal(x) => serde_json::Number::from_f64(x).map_or(Json::Null, Json::Number),
+    }
+}
+
+/// A JSON value for a place of type `ty`, or why it does not fit.
+pub fn from_json(j: &Json, ty: DataType) -> Result<Value, String> {
+    let int_range = |lo: i64, hi: i64| -> Result<i64, String> {
+        let v = match j {
+            Json::Number(n) => n.as_i64().or_else(|| {
+                n.as_f64()
+                    .filter(|f| f.fract() == 0.0 && f.abs() < 9.2e18)
+                    .map(|f| f as i64)
+            }),
+            Json::Bool(b) if ty == DataType::Bool => Some(i64::from(*b)),
+            _ => None,
+        }
+        .ok_or_else(|| format!("expected an integer for a {ty}, got {}", kind(j)))?;
+        if (lo..=hi).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{v} is out of range for {ty} ({lo} to {hi})"))
+        }
+    };
+    Ok(match ty {
+        DataType::Bool => match j {
+            Json::Bool(b) => Value::Bool(*b),
+            Json::Number(_) => Value::Bool(int_range(0, 1)? == 1),
+            _ => return Err(format!("expected true, false, 0 or 1 for a BOOL, got {}", kind(j))),
+        },
+        DataType::Sint => Value::Sint(int_range(i8::MIN.into(), i8::MAX.into())? as i8),
+        DataType::Int => Value::Int(int_range(i16::MIN.into(), i16::MAX.into())? as i16),
+        DataType::Dint => Value::Dint(int_range(i32::MIN.into(), i32::MAX.into())? as i32),
+        DataType::Time => Value::Time(int_range(i32::MIN.into(), i32::MAX.into())? as i32),
+        DataType::Lint => Value::Lint(int_range(i64::MIN, i64::MAX)?),
+        DataType::Real | DataType::Lreal => {
+            let f = j
+                .as_f64()
+                .ok_or_else(|| format!("expected a number for a {ty}, got {}", kind(j)))?;
+            if ty == DataType::Real {
+                if f.is_finite() && f.abs() > f64::from(f32::MAX) {
+                    return Err(format!("{f:e} is out of range for REAL"));
+                }
+                Value::Real(f as f32)
+            } else {
+                Value::Lreal(f)
+            }
+        }
+        other => return Err(format!("a {other} is a structure: write one of its members")),
+    })
+}
+
+fn kind(j: &Json) -> &'static str {
+    match j {
+        Json::Null => "null",
+        Json::Bool(_) => "a boolean",
+        Json::Number(_) => "a number",
+        Json::String(_) => "a string",
+        Json::Array(_) => "an array",
+        Json::Object(_) => "an object",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn values_round_trip_and_bad_ones_are_refused_with_reasons() {
+        for (j, ty, v) in [
+            (json!(true), DataType::Bool, Value::Bool(true)),
+            (json!(0), DataType::Bool, Value::Bool(false)),
+            (json!(-7), DataType::Int, Value::Int(-7)),
+            (json!(5.0), DataType::Dint, Value::Dint(5)),
+            (json!(1.5), DataType::Real, Value::Real(1.5)),
+            (json!(3), DataType::Lreal, Value::Lreal(3.0)),
+        ] {
+            assert_eq!(from_json(&j, ty), Ok(v), "{j}");
+        }
+        assert_eq!(to_json(Value::Real(1.5)), json!(1.5));
+        assert_eq!(to_json(Value::Real(f32::NAN)), Json::Null);
+        let err = |j: Json, ty| from_json(&j, ty).unwrap_err();
+        assert_eq!(
+            err(json!(40000), DataType::Int),
+            "40000 is out of range for INT (-32768 to 32767)"
+        );
+        assert_eq!(
+            err(json!("5"), DataType::Dint),
+            "expected an integer for a DINT, got a string"
+        );
+        assert_eq!(
+            err(json!(1.5), DataType::Dint),
+            "expected an integer for a DINT, got a number"
+        );
+        assert_eq!(err(json!(2), DataType::Bool), "2 is out of range for BOOL (0 to 1)");
+        assert_eq!(err(json!(1e39), DataType::Real), "1e39 is out of range for REAL");
+        assert_eq!(
+            err(json!(1), DataType::Timer),
+            "a TIMER is a structure: write one of its members"
+        );
+    }
+}

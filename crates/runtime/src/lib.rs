@@ -1,0 +1,681 @@
+//! The real-time runtime (SPEC §2.3): the engine on a thread of its own,
+//! scanning on absolute deadlines of a monotonic clock.
+//!
+//! The engine thread owns program memory. Everything else talks to it
+//! through a [`Handle`]: requests (writes, forces, run/stop, online edit,
+//! monitoring) go through a channel and are applied **between two scans**;
+//! after every scan the thread publishes an immutable [`Snapshot`] (memory,
+//! power flow, statistics) on a `watch` channel, which readers take without
+//! ever holding a lock across a scan. A reader that is slow simply sees a
+//! later snapshot: nothing it does can delay the engine.
+//!
+//! Each scan: apply queued requests → I/O reads the inputs → forced inputs
+//! → scan → forced outputs → I/O writes the outputs → statistics → publish.
+//! A deadline missed is counted as an overrun and skipped (late scans are
+//! not run back to back); a scan longer than the watchdog stops the runtime
+//! with a fault and the outputs in their safe state (off).
+
+pub mod json;
+pub mod retain;
+
+use alba_engine::Engine;
+use alba_ir::{Layout, Memory, Place, Program};
+use alba_model::Value;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use tokio::sync::{oneshot, watch};
+
+/// How the runtime runs.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Scan period.
+    pub scan_ms: u32,
+    /// A scan longer than this stops the runtime with a fault.
+    pub watchdog_ms: u32,
+    /// Where retentive data is kept (`None`: not kept).
+    pub retain_file: Option<PathBuf>,
+    /// How often retentive data is saved while running (and on stop).
+    pub retain_interval_ms: u64,
+    /// Compile the program to native code.
+    pub native: bool,
+    /// Start scanning at once (else wait for `run`).
+    pub start_running: bool,
+}
+
+impl Options {
+    pub fn new(scan_ms: u32) -> Options {
+        Options {
+            scan_ms,
+            watchdog_ms: (scan_ms.saturating_mul(10)).max(500),
+            retain_file: None,
+            retain_interval_ms: 1000,
+            native: true,
+            start_running: true,
+        }
+    }
+}
+
+impl Options {
+    /// The same, keeping retentive data in `file`.
+    pub fn with_retain(mut self, file: PathBuf) -> Options {
+        self.retain_file = Some(file);
+        self
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunState {
+    Running,
+    Stopped,
+    Faulted,
+}
+
+impl RunState {
+    pub fn name(self) -> &'static str {
+        match self {
+            RunState::Running => "running",
+            RunState::Stopped => "stopped",
+            RunState::Faulted => "faulted",
+        }
+    }
+}
+
+/// Scan statistics since the last run (µs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Stats {
+    pub last_us: u64,
+    pub min_us: u64,
+    pub max_us: u64,
+    pub mean_us: u64,
+    /// Largest lateness of a scan start.
+    pub jitter_us: u64,
+    pub overruns: u64,
+    /// Scans since the last run.
+    pub scans: u64,
+}
+
+impl Stats {
+    fn record(&mut self, scan_us: u64, late_us: u64) {
+        self.min_us = if self.scans == 0 {
+            scan_us
+        } else {
+            self.min_us.min(scan_us)
+        };
+        self.max_us = self.max_us.max(scan_us);
+        self.mean_us = (self.mean_us * self.scans + scan_us) / (self.scans + 1);
+        self.scans += 1;
+        self.last_us = scan_us;
+        self.jitter_us = self.jitter_us.max(late_us);
+    }
+
+    /// As the six DINTs of the statistics tags (`S:SCANTIME` …).
+    fn as_tags(&self) -> [i32; 6] {
+        let c = |v: u64| v.min(i32::MAX as u64) as i32;
+        [
+            c(self.last_us),
+            c(self.min_us),
+            c(self.max_us),
+            c(self.mean_us),
+            c(self.jitter_us),
+            c(self.overruns),
+        ]
+    }
+}
+
+/// A forced input or output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Force {
+    pub name: String,
+    pub place: Place,
+    pub value: Value,
+    /// An input (forced before the scan) or an output (after it).
+    pub input: bool,
+}
+
+/// What the runtime published after a scan (or a state change).
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    pub program: Arc<Program>,
+    pub memory: Memory,
+    /// Scans since the runtime started.
+    pub scans: u64,
+    /// Engine clock (ms since the runtime started).
+    pub clock_ms: u64,
+    /// Unix time of the publication, ms.
+    pub unix_ms: i64,
+    pub state: RunState,
+    /// Why it is faulted.
+    pub fault: Option<String>,
+    pub stats: Stats,
+    pub minor_faults: u64,
+    /// Energised elements (bit e of word e / 64), while monitoring.
+    pub power: Option<Arc<Vec<u64>>>,
+    pub forces: Arc<Vec<Force>>,
+}
+
+impl Snapshot {
+    pub fn read(&self, p: Place) -> Value {
+        self.memory.read(p)
+    }
+
+    pub fn energised(&self, element: u32) -> Option<bool> {
+        let bits = self.power.as_ref()?;
+        Some(
+            bits.get(element as usize / 64)
+                .is_some_and(|w| w >> (element % 64) & 1 == 1),
+        )
+    }
+}
+
+/// Reads and writes the physical I/O around each scan. The simulated I/O
+/// does nothing: the inputs are driven by the plant models of the project
+/// (`plant = [...]`), forces and operator writes.
+pub trait Io: Send {
+    fn name(&self) -> &str;
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String>;
+    fn write_outputs(&mut self, engine: &Engine) -> Result<(), String>;
+}
+
+/// `--io sim`.
+pub struct SimIo;
+
+impl Io for SimIo {
+    fn name(&self) -> &str {
+        "sim"
+    }
+    fn read_inputs(&mut self, _: &mut Engine) -> Result<(), String> {
+        Ok(())
+    }
+    fn write_outputs(&mut self, _: &Engine) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// A request to the engine thread.
+enum Req {
+    Write(Place, Value),
+    Force(Force),
+    Unforce(Option<String>),
+    Run,
+    Stop,
+    Replace(Arc<Program>),
+    /// +1 / −1 watcher of power flow.
+    Monitor(bool),
+    Shutdown,
+}
+
+type Reply = oneshot::Sender<Result<(), String>>;
+
+/// Talks to a running runtime; cheap to clone.
+#[derive(Clone)]
+pub struct Handle {
+    tx: mpsc::Sender<(Req, Option<Reply>)>,
+    snapshots: watch::Receiver<Arc<Snapshot>>,
+}
+
+impl Handle {
+    /// The latest snapshot.
+    pub fn snapshot(&self) -> Arc<Snapshot> {
+        self.snapshots.borrow().clone()
+    }
+
+    /// A receiver that wakes at every new snapshot (coalescing: a slow
+    /// reader sees the latest one).
+    pub fn subscribe(&self) -> watch::Receiver<Arc<Snapshot>> {
+        self.snapshots.clone()
+    }
+
+    async fn ask(&self, req: Req) -> Result<(), String> {
+        let (tx, rx) = oneshot::channel();
+        self.tx
+            .send((req, Some(tx)))
+            .map_err(|_| "the runtime has stopped".to_string())?;
+        rx.await.map_err(|_| "the runtime has stopped".to_string())?
+    }
+
+    fn tell(&self, req: Req) {
+        let _ = self.tx.send((req, None));
+    }
+
+    /// Writes a place at the next scan boundary; answers once applied.
+    pub async fn write(&self, place: Place, value: Value) -> Result<(), String> {
+        self.ask(Req::Write(place, value)).await
+    }
+
+    /// Forces an input or output (the caller checks it is one).
+    pub async fn force(&self, name: String, place: Place, value: Value) -> Result<(), String> {
+        self.ask(Req::Force(Force {
+            name,
+            place,
+            value,
+            input: false,
+        }))
+        .await
+    }
+
+    /// Removes the force on `name` (`None`: every force).
+    pub async fn unforce(&self, name: Option<String>) -> Result<(), String> {
+        self.ask(Req::Unforce(name)).await
+    }
+
+    pub async fn run(&self) -> Result<(), String> {
+        self.ask(Req::Run).await
+    }
+
+    pub async fn stop(&self) -> Result<(), String> {
+        self.ask(Req::Stop).await
+    }
+
+    /// Online edit: the new program runs from the next scan, memory migrated.
+    pub async fn replace(&self, program: Arc<Program>) -> Result<(), String> {
+        self.ask(Req::Replace(program)).await
+    }
+
+    /// One more (or one fewer) watcher of power flow; monitoring runs while
+    /// there is at least one.
+    pub fn monitor(&self, on: bool) {
+        self.tell(Req::Monitor(on));
+    }
+}
+
+/// The runtime: its thread and a handle to it.
+pub struct Runtime {
+    handle: Handle,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Runtime {
+    /// Starts the engine thread for `program`, restoring retentive data
+    /// first. Fails if the program does not verify or the retain file is
+    /// not one.
+    pub fn start(program: Arc<Program>, opts: Options, io: Box<dyn Io>) -> Result<Runtime, String> {
+        let mut engine = Engine::new(program.clone())?;
+        if opts.native {
+            // Where native code is unavailable the interpreter runs instead.
+            let _ = engine.compile_native();
+        }
+        if let Some(path) = &opts.retain_file {
+            retain::load(path, &program, |p, v| engine.write(p, v))?;
+        }
+        let (tx, rx) = mpsc::channel();
+        let first = Arc::new(Snapshot {
+            program: program.clone(),
+            memory: engine.memory().clone(),
+            scans: 0,
+            clock_ms: 0,
+            unix_ms: unix_ms(),
+            state: RunState::Stopped,
+            fault: None,
+            stats: Stats::default(),
+            minor_faults: 0,
+            power: None,
+            forces: Arc::new(Vec::new()),
+        });
+        let (snap_tx, snap_rx) = watch::channel(first);
+        let saver = match &opts.retain_file {
+            Some(p) => Some(Saver::start(p.clone())?),
+            None => None,
+        };
+        let state = Worker {
+            retained: retain::retained(&program),
+            saver,
+            engine,
+            io,
+            opts,
+            state: RunState::Stopped,
+            fault: None,
+            stats: Stats::default(),
+            forces: Arc::new(Vec::new()),
+            watchers: 0,
+            snapshots: snap_tx,
+            epoch: Instant::now(),
+            last_retain: Instant::now(),
+        };
+        let thread = std::thread::Builder::new()
+            .name("alba-engine".into())
+            .spawn(move || state.run(rx))
+            .map_err(|e| format!("cannot start the engine thread: {e}"))?;
+        Ok(Runtime {
+            handle: Handle { tx, snapshots: snap_rx },
+            thread: Some(thread),
+        })
+    }
+
+    pub fn handle(&self) -> Handle {
+        self.handle.clone()
+    }
+
+    /// Stops scanning, saves retentive data and ends the thread.
+    pub fn shutdown(mut self) {
+        self.handle.tell(Req::Shutdown);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Runtime {
+    fn drop(&mut self) {
+        if let Some(t) = self.thread.take() {
+            self.handle.tell(Req::Shutdown);
+            let _ = t.join();
+        }
+    }
+}
+
+fn unix_ms() -> i64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as i64)
+}
+
+/// Is `p` in the input images (forced before the scan) or not (after)?
+fn is_input(layout: &Layout, p: Place) -> bool {
+    let within = |r: alba_ir::Region, s: u32| (r.base..r.base + r.len).contains(&s);
+    match p {
+        Place::Bool(b) => within(layout.di, b.0),
+        Place::Int(i, _) => within(layout.ai, i.0),
+        _ => false,
+    }
+}
+
+/// The engine thread.
+struct Worker {
+    engine: Engine,
+    io: Box<dyn Io>,
+    opts: Options,
+    state: RunState,
+    fault: Option<String>,
+    stats: Stats,
+    forces: Arc<Vec<Force>>,
+    watchers: u32,
+    retained: Vec<(String, Place)>,
+    saver: Option<Saver>,
+    snapshots: watch::Sender<Arc<Snapshot>>,
+    /// Zero of the engine clock.
+    epoch: Instant,
+    last_retain: Instant,
+}
+
+impl Worker {
+    fn run(mut self, rx: mpsc::Receiver<(Req, Option<Reply>)>) {
+        if self.opts.start_running {
+            self.start();
+        }
+        self.publish();
+        let period = Duration::from_millis(u64::from(self.opts.scan_ms.max(1)));
+        let mut deadline = Instant::now();
+        loop {
+            // Wait for the deadline (or, stopped, for a request), applying
+            // requests as they come: no scan is running meanwhile.
+            loop {
+                let wait = if self.state == RunState::Running {
+                    deadline.saturating_duration_since(Instant::now())
+                } else {
+                    Duration::from_millis(200)
+                };
+                let (req, reply) = match rx.recv_timeout(wait) {
+                    Ok(r) => r,
+                    Err(RecvTimeoutError::Timeout) => {
+                        if self.state == RunState::Running {
+                            break;
+                        }
+                        continue;
+                    }
+                    Err(RecvTimeoutError::Disconnected) => {
+                        self.finish();
+                        return;
+                    }
+                };
+                if matches!(req, Req::Shutdown) {
+                    self.finish();
+                    return;
+                }
+                let was = self.state;
+                let r = self.apply(req);
+                if self.state == RunState::Running && was != RunState::Running {
+                    deadline = Instant::now();
+                }
+                // Published before the answer: the caller sees its effect.
+                self.publish();
+                if let Some(reply) = reply {
+                    let _ = reply.send(r);
+                }
+                if self.state == RunState::Running && Instant::now() >= deadline {
+                    break;
+                }
+            }
+            let started = Instant::now();
+            let late = started.saturating_duration_since(deadline);
+            self.scan(late);
+            // Next deadline; missed ones are counted and skipped.
+            deadline += period;
+            let now = Instant::now();
+            if now > deadline {
+                let missed = (now - deadline).as_nanos() / period.as_nanos() + 1;
+                self.stats.overruns += missed as u64;
+                deadline += period * missed as u32;
+            }
+            if self.saver.is_some() && self.last_retain.elapsed() >= Duration::from_millis(self.opts.retain_interval_ms)
+            {
+                self.save_retained();
+            }
+        }
+    }
+
+    fn clock_ms(&self) -> u64 {
+        self.epoch.elapsed().as_millis() as u64
+    }
+
+    fn start(&mut self) {
+        self.engine.restart();
+        self.state = RunState::Running;
+        self.fault = None;
+        self.stats = Stats::default();
+    }
+
+    /// One scan with its I/O, forces, statistics and publication.
+    fn scan(&mut self, late: Duration) {
+        let t0 = Instant::now();
+        if let Err(e) = self.io.read_inputs(&mut self.engine) {
+            return self.halt(format!("I/O ({}): {e}", self.io.name()));
+        }
+        let forces = self.forces.clone();
+        for f in forces.iter().filter(|f| f.input) {
+            self.engine.write(f.place, f.value);
+        }
+        let now = self.clock_ms();
+        if let Err(m) = self.engine.scan(now) {
+            return self.halt(m.message);
+        }
+        for f in forces.iter().filter(|f| !f.input) {
+            self.engine.write(f.place, f.value);
+        }
+        if let Err(e) = self.io.write_outputs(&self.engine) {
+            return self.halt(format!("I/O ({}): {e}", self.io.name()));
+        }
+        let took = t0.elapsed();
+        self.stats.record(took.as_micros() as u64, late.as_micros() as u64);
+        self.engine.set_scan_time(took.as_millis() as u32);
+        self.engine.set_stats(self.stats.as_tags());
+        if took > Duration::from_millis(u64::from(self.opts.watchdog_ms)) {
+            return self.halt(format!(
+                "watchdog: a scan took {} ms (limit {} ms)",
+                took.as_millis(),
+                self.opts.watchdog_ms
+            ));
+        }
+        self.publish();
+    }
+
+    /// Stops with a fault: outputs off.
+    fn halt(&mut self, why: String) {
+        self.state = RunState::Faulted;
+        self.fault = Some(why);
+        self.safe_outputs();
+        self.save_retained();
+        self.publish();
+    }
+
+    /// Outputs in their safe state: every digital output off, analog 0.
+    fn safe_outputs(&mut self) {
+        let l = self.engine.program().layout.clone();
+        for b in l.dout.base..l.dout.base + l.dout.len {
+            self.engine.write(Place::Bool(alba_ir::B(b)), Value::Bool(false));
+        }
+        for i in l.ao.base..l.ao.base + l.ao.len {
+            self.engine
+                .write(Place::Int(alba_ir::I(i), alba_model::DataType::Int), Value::Int(0));
+        }
+        let _ = self.io.write_outputs(&self.engine);
+    }
+
+    fn apply(&mut self, req: Req) -> Result<(), String> {
+        match req {
+            Req::Write(p, v) => {
+                self.engine.write(p, v);
+                Ok(())
+            }
+            Req::Force(mut f) => {
+                f.input = is_input(&self.engine.program().layout, f.place);
+                let mut fs = (*self.forces).clone();
+                fs.retain(|x| !x.name.eq_ignore_ascii_case(&f.name) && x.place != f.place);
+                // Visible at once, also while stopped.
+                self.engine.write(f.place, f.value);
+                fs.push(f);
+                self.forces = Arc::new(fs);
+                Ok(())
+            }
+            Req::Unforce(name) => {
+                let mut fs = (*self.forces).clone();
+                match name {
+                    Some(n) => fs.retain(|x| !x.name.eq_ignore_ascii_case(&n)),
+                    None => fs.clear(),
+                }
+                self.forces = Arc::new(fs);
+                Ok(())
+            }
+            Req::Run => {
+                if self.state != RunState::Running {
+                    self.start();
+                }
+                Ok(())
+            }
+            Req::Stop => {
+                if self.state == RunState::Running {
+                    self.state = RunState::Stopped;
+                    self.safe_outputs();
+                    self.save_retained();
+                }
+                Ok(())
+            }
+            Req::Replace(p) => {
+                self.engine.replace(p.clone())?;
+                self.retained = retain::retained(&p);
+                let layout = &p.layout;
+                // Forces follow their names into the new layout.
+                let fs = self
+                    .forces
+                    .iter()
+                    .filter_map(|f| match layout.resolve(&f.name) {
+                        Ok(alba_ir::Target::Value { place, .. }) => Some(Force {
+                            place,
+                            input: is_input(layout, place),
+                            ..f.clone()
+                        }),
+                        _ => None,
+                    })
+                    .collect();
+                self.forces = Arc::new(fs);
+                Ok(())
+            }
+            Req::Monitor(on) => {
+                self.watchers = if on {
+                    self.watchers + 1
+                } else {
+                    self.watchers.saturating_sub(1)
+                };
+                self.engine.set_monitor(self.watchers > 0);
+                Ok(())
+            }
+            Req::Shutdown => Ok(()),
+        }
+    }
+
+    fn publish(&mut self) {
+        let power = self.engine.power_flow().map(|pf| Arc::new(pf.words().to_vec()));
+        let snap = Snapshot {
+            program: self.engine.shared_program(),
+            memory: self.engine.memory().clone(),
+            scans: self.engine.scans(),
+            clock_ms: self.clock_ms(),
+            unix_ms: unix_ms(),
+            state: self.state,
+            fault: self.fault.clone(),
+            stats: self.stats,
+            minor_faults: self.engine.faults().count,
+            power,
+            forces: self.forces.clone(),
+        };
+        self.snapshots.send_replace(Arc::new(snap));
+    }
+
+    /// Hands the retained values to the saver thread (the file is written
+    /// there, so an fsync never delays a scan).
+    fn save_retained(&mut self) {
+        self.last_retain = Instant::now();
+        let Some(saver) = &self.saver else { return };
+        let values: Vec<(String, Value)> = self
+            .retained
+            .iter()
+            .map(|(n, p)| (n.clone(), self.engine.read(*p)))
+            .collect();
+        if !values.is_empty() {
+            let _ = saver.tx.send(values);
+        }
+    }
+
+    fn finish(&mut self) {
+        if self.state == RunState::Running {
+            self.state = RunState::Stopped;
+            self.safe_outputs();
+        }
+        self.save_retained();
+        if let Some(s) = self.saver.take() {
+            drop(s.tx);
+            let _ = s.thread.join();
+        }
+        self.publish();
+    }
+}
+
+/// The thread that writes the retain file: it saves the latest values it
+/// was given (atomically: an interrupted save leaves the previous file).
+struct Saver {
+    tx: mpsc::Sender<Vec<(String, Value)>>,
+    thread: JoinHandle<()>,
+}
+
+impl Saver {
+    fn start(path: PathBuf) -> Result<Saver, String> {
+        let (tx, rx) = mpsc::channel::<Vec<(String, Value)>>();
+        let thread = std::thread::Builder::new()
+            .name("alba-retain".into())
+            .spawn(move || {
+                while let Ok(mut values) = rx.recv() {
+                    // Only the latest matters.
+                    while let Ok(v) = rx.try_recv() {
+                        values = v;
+                    }
+                    if let Err(e) = retain::save(&path, &values, unix_ms()) {
+                        eprintln!("warning: cannot save retentive data to {}: {e}", path.display());
+                    }
+                }
+            })
+            .map_err(|e| format!("cannot start the retain thread: {e}"))?;
+        Ok(Saver { tx, thread })
+    }
+}

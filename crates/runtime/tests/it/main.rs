@@ -1,0 +1,238 @@
+//! The runtime in real time: deadlines, statistics, requests at the scan
+//! boundary, forces, run/stop, online edit, watchdog, retentive data.
+//! Times are only bounded generously (the machine is shared): tests check
+//! what happened, never how fast.
+
+use alba_ir::{Place, Program, Target};
+use alba_model::{Files, Value};
+use alba_runtime::{Options, RunState, Runtime, SimIo, Snapshot};
+use std::sync::Arc;
+use std::time::Duration;
+
+fn compile(tags: &str, lad: &str) -> Arc<Program> {
+    let mut files = Files::new();
+    let tf = files.add("tags.csv", tags);
+    let lf = files.add("main.lad", lad);
+    let (t, d1) = alba_model::TagTable::parse(files.text(tf), tf);
+    let (ast, d2) = alba_ladder::parse(files.text(lf), lf);
+    let mut b = alba_ir::Builder::new(alba_ladder::layout_for(&t, &[&ast]));
+    let src = files.text(lf).to_string();
+    let d3 = alba_ladder::compile(&ast, &src, "main.lad", &mut b, &mut alba_ladder::Presets::default());
+    assert!(d1.is_empty() && d2.is_empty() && d3.is_empty(), "{d1:?} {d2:?} {d3:?}");
+    Arc::new(b.finish(files))
+}
+
+fn place(p: &Program, name: &str) -> Place {
+    match p.layout.resolve(name) {
+        Ok(Target::Value { place, .. }) => place,
+        other => panic!("{name}: {other:?}"),
+    }
+}
+
+fn value(s: &Snapshot, name: &str) -> Value {
+    s.read(place(&s.program, name))
+}
+
+/// Waits (up to 5 s) for a snapshot that satisfies `f`.
+async fn until(rt: &Runtime, what: &str, f: impl Fn(&Snapshot) -> bool) -> Arc<Snapshot> {
+    let mut rx = rt.handle().subscribe();
+    let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
+    loop {
+        let s = rx.borrow_and_update().clone();
+        if f(&s) {
+            return s;
+        }
+        if tokio::time::timeout_at(deadline, rx.changed()).await.is_err() {
+            panic!(
+                "timed out waiting for {what}; last state {:?}, scans {}",
+                s.state, s.scans
+            );
+        }
+    }
+}
+
+const TAGS: &str = "name,type,address,initial,retain,description\n\
+In,BOOL,DI:1/0,,,\nOut,BOOL,DO:2/0,,,\nA,BOOL,,,,\nCount,DINT,,,,\nKept,DINT,,,1,\nDelay,TIMER,,,,\nAcc,TIMER,,,,\n";
+const LAD: &str =
+    "XIC(In)OTE(Out);\nADD(Count,1,Count);\nADD(Kept,1,Kept);\nXIC(A)TON(Delay,100000,0);\nRTO(Acc,100000,0);\n";
+
+fn opts(scan_ms: u32) -> Options {
+    let mut o = Options::new(scan_ms);
+    o.native = false;
+    o
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn scans_on_deadlines_and_publishes_statistics_as_tags() {
+    let rt = Runtime::start(compile(TAGS, LAD), opts(5), Box::new(SimIo)).unwrap();
+    let s = until(&rt, "20 scans", |s| s.scans >= 20).await;
+    assert_eq!(s.state, RunState::Running);
+    assert_eq!(value(&s, "Count"), Value::Dint(s.scans as i32));
+    // 20 scans of 5 ms take about 100 ms of clock.
+    assert!(s.clock_ms >= 90, "{} scans in {} ms", s.scans, s.clock_ms);
+    assert!(s.stats.max_us >= s.stats.min_us && s.stats.scans + 1 >= s.scans);
+    assert_eq!(value(&s, "S:SCANMAX"), Value::Dint(s.stats.max_us as i32));
+    assert_eq!(value(&s, "S:OVERRUNS"), Value::Dint(s.stats.overruns as i32));
+    rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn writes_forces_and_stop_apply_between_scans() {
+    let rt = Runtime::start(compile(TAGS, LAD), opts(2), Box::new(SimIo)).unwrap();
+    let h = rt.handle();
+    let p = h.snapshot().program.clone();
+    // An internal write is applied and then seen by the program.
+    h.write(place(&p, "Count"), Value::Dint(-1000)).await.unwrap();
+    let s = h.snapshot();
+    assert!(
+        matches!(value(&s, "Count"), Value::Dint(v) if v < 0),
+        "{:?}",
+        value(&s, "Count")
+    );
+    // A forced input drives the program; a forced output holds whatever the program says.
+    h.force("In".into(), place(&p, "In"), Value::Bool(true)).await.unwrap();
+    until(&rt, "Out on", |s| value(s, "Out") == Value::Bool(true)).await;
+    h.force("In".into(), place(&p, "In"), Value::Bool(false)).await.unwrap();
+    h.force("Out".into(), place(&p, "Out"), Value::Bool(true))
+        .await
+        .unwrap();
+    let s = until(&rt, "a scan with In off", |s| {
+        value(s, "In") == Value::Bool(false) && s.forces.len() == 2
+    })
+    .await;
+    assert_eq!(value(&s, "Out"), Value::Bool(true), "the forced output stays on");
+    assert!(s.forces.iter().any(|f| f.name == "In" && f.input));
+    assert!(s.forces.iter().any(|f| f.name == "Out" && !f.input));
+    h.unforce(None).await.unwrap();
+    until(&rt, "Out off once unforced", |s| {
+        value(s, "Out") == Value::Bool(false) && s.forces.is_empty()
+    })
+    .await;
+    // Stop: outputs to their safe state, and nothing scans.
+    h.force("In".into(), place(&p, "In"), Value::Bool(true)).await.unwrap();
+    until(&rt, "Out on", |s| value(s, "Out") == Value::Bool(true)).await;
+    h.stop().await.unwrap();
+    let s = h.snapshot();
+    assert_eq!(s.state, RunState::Stopped);
+    assert_eq!(value(&s, "Out"), Value::Bool(false));
+    let scans = s.scans;
+    tokio::time::sleep(Duration::from_millis(50)).await;
+    assert_eq!(h.snapshot().scans, scans);
+    // Run again: a first scan, memory kept.
+    h.run().await.unwrap();
+    let s = until(&rt, "running", |s| s.scans > scans + 2).await;
+    assert_eq!(value(&s, "Out"), Value::Bool(true));
+    rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn online_edit_keeps_timers_counters_and_values() {
+    let rt = Runtime::start(compile(TAGS, LAD), opts(2), Box::new(SimIo)).unwrap();
+    let h = rt.handle();
+    let p = h.snapshot().program.clone();
+    h.write(place(&p, "A"), Value::Bool(true)).await.unwrap();
+    let before = until(
+        &rt,
+        "Delay timing",
+        |s| matches!(value(s, "Delay.ACC"), Value::Dint(v) if v >= 20),
+    )
+    .await;
+    // The new program adds a rung before the others and drops the RTO.
+    let edited = compile(
+        TAGS,
+        "XIC(A)OTE(Out);\nADD(Count,1,Count);\nADD(Kept,1,Kept);\nXIC(A)TON(Delay,100000,0);\n",
+    );
+    h.replace(edited.clone()).await.unwrap();
+    let after = until(&rt, "a scan of the new program", |s| {
+        Arc::ptr_eq(&s.program, &edited) && s.scans > before.scans + 2
+    })
+    .await;
+    let acc = |s: &Snapshot| match value(s, "Delay.ACC") {
+        Value::Dint(v) => v,
+        v => panic!("{v:?}"),
+    };
+    assert!(
+        acc(&after) >= acc(&before),
+        "Delay.ACC went from {} to {}",
+        acc(&before),
+        acc(&after)
+    );
+    assert_eq!(value(&after, "Out"), Value::Bool(true), "the new rung runs");
+    assert!(matches!(value(&after, "Count"), Value::Dint(v) if v as u64 >= before.scans));
+    rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn a_scan_longer_than_the_watchdog_faults_with_outputs_off() {
+    // A backward-jump loop of 200 000 passes: far longer than 1 ms.
+    let tags = "name,type,address,initial,retain,description\nOut,BOOL,DO:2/0,,,\nI,DINT,,,,\n";
+    let lad = "OTE(Out);\nCLR(I);\nLBL(top)ADD(I,1,I);\nLES(I,200000)JMP(top);\n";
+    let mut o = opts(10);
+    o.watchdog_ms = 1;
+    let rt = Runtime::start(compile(tags, lad), o, Box::new(SimIo)).unwrap();
+    let s = until(&rt, "the watchdog", |s| s.state == RunState::Faulted).await;
+    let fault = s.fault.clone().unwrap_or_default();
+    assert!(fault.starts_with("watchdog: a scan took"), "{fault}");
+    assert_eq!(value(&s, "Out"), Value::Bool(false));
+    // Run clears the fault.
+    rt.handle().run().await.unwrap();
+    assert_eq!(rt.handle().snapshot().state, RunState::Running);
+    rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn overruns_are_counted_and_skipped() {
+    // About 20 000 loop passes per scan against a 1 ms period.
+    let tags = "name,type,address,initial,retain,description\nI,DINT,,,,\n";
+    let lad = "CLR(I);\nLBL(top)ADD(I,1,I);\nLES(I,20000)JMP(top);\n";
+    let mut o = opts(1);
+    o.watchdog_ms = 10_000;
+    let rt = Runtime::start(compile(tags, lad), o, Box::new(SimIo)).unwrap();
+    let s = until(&rt, "overruns", |s| s.stats.overruns > 0 && s.scans > 10).await;
+    // Every scan started late or on time, never more than one per period:
+    // scans + overruns ≈ elapsed periods.
+    assert!(
+        s.scans + s.stats.overruns <= s.clock_ms + 2,
+        "{} scans, {} overruns, {} ms",
+        s.scans,
+        s.stats.overruns,
+        s.clock_ms
+    );
+    rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn retentive_values_survive_a_restart() {
+    let dir = std::env::temp_dir().join(format!("alba-retain-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let file = dir.join("retain.json");
+    let mut o = opts(2);
+    o.retain_file = Some(file.clone());
+    o.retain_interval_ms = 20;
+    let program = compile(TAGS, LAD);
+    let rt = Runtime::start(program.clone(), o.clone(), Box::new(SimIo)).unwrap();
+    let s = until(&rt, "50 scans", |s| s.scans >= 50).await;
+    let kept = value(&s, "Kept");
+    rt.shutdown();
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("\"Kept\"") && text.contains("\"Acc.ACC\""), "{text}");
+    assert!(!text.contains("\"Count\""), "Count is not retained: {text}");
+    // A new runtime starts from the saved values (Kept: retain; Acc: RTO).
+    o.start_running = false;
+    let rt = Runtime::start(program, o, Box::new(SimIo)).unwrap();
+    let s = rt.handle().snapshot();
+    assert!(
+        matches!((value(&s, "Kept"), kept), (Value::Dint(a), Value::Dint(b)) if a >= b),
+        "{:?} < {kept:?}",
+        value(&s, "Kept")
+    );
+    assert_eq!(value(&s, "Count"), Value::Dint(0));
+    assert!(matches!(value(&s, "Acc.ACC"), Value::Dint(v) if v > 0));
+    rt.shutdown();
+    // Not a retain file: refused, and left alone.
+    std::fs::write(&file, "{\"hello\": 1}").unwrap();
+    let err = Runtime::start(compile(TAGS, LAD), opts(2).with_retain(file.clone()), Box::new(SimIo)).err();
+    assert!(err.is_some_and(|e| e.contains("not an Alba retain file")));
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "{\"hello\": 1}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
