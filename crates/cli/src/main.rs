@@ -2,6 +2,7 @@
 
 mod bench;
 mod new;
+mod run;
 
 use alba_engine::sim::{self, SimOptions, Stimulus};
 use alba_engine::{Engine, sim::SimError};
@@ -64,6 +65,19 @@ enum Command {
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
+    /// Run a project in real time and serve the studio and the API.
+    Run {
+        project: PathBuf,
+        /// Address to serve on (loopback by default).
+        #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:8080")]
+        http: std::net::SocketAddr,
+        /// I/O driver: `sim` (plant models of the project, forces and writes).
+        #[arg(long, default_value = "sim")]
+        io: String,
+        /// Interpret instead of compiling the program to native code.
+        #[arg(long)]
+        no_native: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -107,6 +121,12 @@ fn main() -> ExitCode {
         Command::New { dir } => new::run(&dir),
         Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
+        Command::Run {
+            project,
+            http,
+            io,
+            no_native,
+        } => run::run(&project, http, &io, !no_native, None),
     }
 }
 

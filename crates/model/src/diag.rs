@@ -68,6 +68,13 @@ impl Files {
         &self.files[id.0 as usize].0
     }
 
+    /// Replaces the text of a file (an edited program checked in place).
+    pub fn replace(&mut self, id: FileId, text: impl Into<String>) {
+        if let Some(f) = self.files.get_mut(id.0 as usize) {
+            f.1 = text.into();
+        }
+    }
+
     pub fn text(&self, id: FileId) -> &str {
         &self.files[id.0 as usize].1
     }

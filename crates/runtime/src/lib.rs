@@ -133,6 +133,10 @@ pub struct Force {
     pub value: Value,
     /// An input (forced before the scan) or an output (after it).
     pub input: bool,
+    /// The value before the force: an input gets it back when the force
+    /// is removed (a real I/O driver overwrites it at its next read; the
+    /// simulated one does not).
+    pub prior: Value,
 }
 
 /// What the runtime published after a scan (or a state change).
@@ -252,6 +256,7 @@ impl Handle {
             place,
             value,
             input: false,
+            prior: value,
         }))
         .await
     }
@@ -330,6 +335,7 @@ impl Runtime {
             stats: Stats::default(),
             forces: Arc::new(Vec::new()),
             watchers: 0,
+            power_fresh: false,
             snapshots: snap_tx,
             epoch: Instant::now(),
             last_retain: Instant::now(),
@@ -372,14 +378,21 @@ fn unix_ms() -> i64 {
         .map_or(0, |d| d.as_millis() as i64)
 }
 
-/// Is `p` in the input images (forced before the scan) or not (after)?
-fn is_input(layout: &Layout, p: Place) -> bool {
+/// Is `p` an input (`Some(true)`), an output (`Some(false)`) or neither?
+/// Only I/O can be forced.
+pub fn io_kind(layout: &Layout, p: Place) -> Option<bool> {
     let within = |r: alba_ir::Region, s: u32| (r.base..r.base + r.len).contains(&s);
     match p {
-        Place::Bool(b) => within(layout.di, b.0),
-        Place::Int(i, _) => within(layout.ai, i.0),
-        _ => false,
+        Place::Bool(b) if within(layout.di, b.0) => Some(true),
+        Place::Bool(b) if within(layout.dout, b.0) => Some(false),
+        Place::Int(i, _) if within(layout.ai, i.0) => Some(true),
+        Place::Int(i, _) if within(layout.ao, i.0) => Some(false),
+        _ => None,
     }
+}
+
+fn is_input(layout: &Layout, p: Place) -> bool {
+    io_kind(layout, p) == Some(true)
 }
 
 /// The engine thread.
@@ -392,6 +405,8 @@ struct Worker {
     stats: Stats,
     forces: Arc<Vec<Force>>,
     watchers: u32,
+    /// The power flow was computed by the last scan.
+    power_fresh: bool,
     retained: Vec<(String, Place)>,
     saver: Option<Saver>,
     snapshots: watch::Sender<Arc<Snapshot>>,
@@ -497,6 +512,7 @@ impl Worker {
         if let Err(e) = self.io.write_outputs(&self.engine) {
             return self.halt(format!("I/O ({}): {e}", self.io.name()));
         }
+        self.power_fresh = self.watchers > 0;
         let took = t0.elapsed();
         self.stats.record(took.as_micros() as u64, late.as_micros() as u64);
         self.engine.set_scan_time(took.as_millis() as u32);
@@ -522,6 +538,7 @@ impl Worker {
 
     /// Outputs in their safe state: every digital output off, analog 0.
     fn safe_outputs(&mut self) {
+        self.power_fresh = false;
         let l = self.engine.program().layout.clone();
         for b in l.dout.base..l.dout.base + l.dout.len {
             self.engine.write(Place::Bool(alba_ir::B(b)), Value::Bool(false));
@@ -542,7 +559,11 @@ impl Worker {
             Req::Force(mut f) => {
                 f.input = is_input(&self.engine.program().layout, f.place);
                 let mut fs = (*self.forces).clone();
-                fs.retain(|x| !x.name.eq_ignore_ascii_case(&f.name) && x.place != f.place);
+                f.prior = match fs.iter().position(|x| x.place == f.place) {
+                    Some(i) => fs.remove(i).prior,
+                    None => self.engine.read(f.place),
+                };
+                fs.retain(|x| !x.name.eq_ignore_ascii_case(&f.name));
                 // Visible at once, also while stopped.
                 self.engine.write(f.place, f.value);
                 fs.push(f);
@@ -550,12 +571,15 @@ impl Worker {
                 Ok(())
             }
             Req::Unforce(name) => {
-                let mut fs = (*self.forces).clone();
-                match name {
-                    Some(n) => fs.retain(|x| !x.name.eq_ignore_ascii_case(&n)),
-                    None => fs.clear(),
+                let (gone, kept): (Vec<Force>, Vec<Force>) = self
+                    .forces
+                    .iter()
+                    .cloned()
+                    .partition(|x| name.as_ref().is_none_or(|n| x.name.eq_ignore_ascii_case(n)));
+                for f in gone.iter().filter(|f| f.input) {
+                    self.engine.write(f.place, f.prior);
                 }
-                self.forces = Arc::new(fs);
+                self.forces = Arc::new(kept);
                 Ok(())
             }
             Req::Run => {
@@ -598,6 +622,10 @@ impl Worker {
                 } else {
                     self.watchers.saturating_sub(1)
                 };
+                if on && self.watchers == 1 {
+                    // No power flow until a scan has computed it.
+                    self.power_fresh = false;
+                }
                 self.engine.set_monitor(self.watchers > 0);
                 Ok(())
             }
@@ -606,7 +634,11 @@ impl Worker {
     }
 
     fn publish(&mut self) {
-        let power = self.engine.power_flow().map(|pf| Arc::new(pf.words().to_vec()));
+        let power = self
+            .engine
+            .power_flow()
+            .filter(|_| self.power_fresh)
+            .map(|pf| Arc::new(pf.words().to_vec()));
         let snap = Snapshot {
             program: self.engine.shared_program(),
             memory: self.engine.memory().clone(),

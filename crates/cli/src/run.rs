@@ -1,0 +1,73 @@
+//! `alba run`: the project in real time behind the studio's server.
+
+use alba_model::diag::render_all;
+use std::net::SocketAddr;
+use std::path::Path;
+use std::process::ExitCode;
+
+pub fn run(dir: &Path, addr: SocketAddr, io: &str, native: bool, banner: Option<&str>) -> ExitCode {
+    let rt = match tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+    {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("error: cannot start: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let opts = alba_server::Options {
+        addr,
+        io: io.to_string(),
+        native,
+    };
+    let banner = banner.map(str::to_string);
+    let result = rt.block_on(alba_server::run(
+        dir,
+        opts,
+        |local| {
+            if let Some(b) = banner {
+                println!("{b}");
+            }
+            println!(
+                "Alba studio: http://{local}/  (project {}; Ctrl-C stops)",
+                dir.display()
+            );
+        },
+        shutdown_signal(),
+    ));
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(alba_server::RunError::Compile(c)) => {
+            eprint!("{}", render_all(&c.diagnostics, &c.project.files));
+            ExitCode::FAILURE
+        }
+        Err(alba_server::RunError::Other(m)) => {
+            eprintln!("error: {m}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Ctrl-C or SIGTERM.
+async fn shutdown_signal() {
+    let ctrl_c = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let term = std::future::pending::<()>();
+    tokio::select! {
+        () = ctrl_c => {},
+        () = term => {},
+    }
+}

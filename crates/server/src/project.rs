@@ -1,0 +1,238 @@
+//! The project behind the server: its files as last saved, compiling them
+//! with an edit in place, saving edits atomically, and the JSON views of
+//! programs (rungs with their element ids) and of diagnostics.
+
+use alba_ir::Program;
+use alba_model::fsutil::write_atomic;
+use alba_model::{Diagnostic, FileId, Files, Language, Project, TagTable};
+use serde_json::{Value as Json, json};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// An edit to check or apply: a program's new text, or the tag table's.
+pub enum Edit<'a> {
+    Program { name: &'a str, text: &'a str },
+    Tags(&'a str),
+}
+
+/// The project with an edit in place, compiled.
+pub struct Compiled {
+    pub project: Project,
+    pub program: Option<Program>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Loads and compiles `dir`.
+pub fn load(dir: &Path) -> Compiled {
+    let c = alba_compiler::compile_dir(dir);
+    Compiled {
+        project: c.project,
+        program: c.program,
+        diagnostics: c.diagnostics,
+    }
+}
+
+/// Compiles `project` with `edit` in place (nothing is saved).
+pub fn compile_with(project: &Project, edit: Option<&Edit>) -> Result<Compiled, String> {
+    let mut p = project.clone();
+    let mut diagnostics = Vec::new();
+    match edit {
+        Some(Edit::Program { name, text }) => {
+            let file = find(&p, name)?.file;
+            p.files.replace(file, *text);
+        }
+        Some(Edit::Tags(text)) => {
+            let file = p.tags_file.ok_or("the project has no tags.csv")?;
+            p.files.replace(file, *text);
+            let (tags, d) = TagTable::parse(p.files.text(file), file);
+            p.tags = tags;
+            diagnostics.extend(d);
+        }
+        None => {}
+    }
+    let (program, d) = alba_compiler::compile(&p);
+    diagnostics.extend(d);
+    let program = if diagnostics.is_empty() { program } else { None };
+    Ok(Compiled {
+        project: p,
+        program,
+        diagnostics,
+    })
+}
+
+/// The program listed as `name` (case-insensitively).
+pub fn find<'a>(p: &'a Project, name: &str) -> Result<&'a alba_model::project::ProgramSource, String> {
+    p.programs
+        .iter()
+        .find(|s| s.name.eq_ignore_ascii_case(name))
+        .ok_or_else(|| format!("no program `{name}` in this project"))
+}
+
+/// Saves the edited file of `c` (the program or tags.csv) atomically.
+pub fn save(c: &Compiled, edit: &Edit) -> Result<(), String> {
+    let (rel, file) = match edit {
+        Edit::Program { name, .. } => {
+            let s = find(&c.project, name)?;
+            (s.name.clone(), s.file)
+        }
+        Edit::Tags(_) => ("tags.csv".to_string(), c.project.tags_file.ok_or("no tags.csv")?),
+    };
+    let path = c.project.dir.join(&rel);
+    let text = c.project.files.text(file);
+    write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(|e| format!("cannot save {}: {e}", path.display()))
+}
+
+pub fn language_name(l: Language) -> &'static str {
+    match l {
+        Language::Ladder => "ladder",
+        Language::Il => "il",
+    }
+}
+
+/// A diagnostic as JSON (docs/api.md).
+pub fn diagnostic_json(d: &Diagnostic, files: &Files) -> Json {
+    let place = d.primary.as_ref().map(|l| {
+        let s = l.span;
+        let (line, col) = files.line_col(s.file, s.start as usize);
+        let (end_line, end_col) = files.line_col(s.file, s.end as usize);
+        let name = files.name(s.file);
+        let file = Path::new(name)
+            .file_name()
+            .map_or(name.to_string(), |f| f.to_string_lossy().to_string());
+        (file, line, col, end_line, end_col)
+    });
+    json!({
+        "code": d.code.to_string(),
+        "severity": "error",
+        "message": d.message,
+        "file": place.as_ref().map(|p| p.0.clone()),
+        "line": place.as_ref().map(|p| p.1),
+        "col": place.as_ref().map(|p| p.2),
+        "end_line": place.as_ref().map(|p| p.3),
+        "end_col": place.as_ref().map(|p| p.4),
+        "help": d.help,
+    })
+}
+
+pub fn diagnostics_json(ds: &[Diagnostic], files: &Files) -> Json {
+    Json::Array(ds.iter().map(|d| diagnostic_json(d, files)).collect())
+}
+
+/// Element ids of the compiled program by the span of their source.
+fn element_ids(program: Option<&Program>, file: FileId) -> HashMap<(u32, u32), u32> {
+    program.map_or_else(HashMap::new, |p| {
+        p.elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.span.file == file)
+            .map(|(id, e)| ((e.span.start, e.span.end), id as u32))
+            .collect()
+    })
+}
+
+/// `GET /api/programs/{name}`: the text, its diagnostics and its structure
+/// (rungs of elements for ladder, instruction lines for IL) with the ids
+/// of the compiled program's elements.
+pub fn program_json(
+    project: &Project,
+    program: Option<&Program>,
+    name: &str,
+    diags: &[Diagnostic],
+) -> Result<Json, String> {
+    let src = find(project, name)?;
+    let files = &project.files;
+    let text = files.text(src.file);
+    let ids = element_ids(program, src.file);
+    let id_of = |s: alba_model::Span| ids.get(&(s.start, s.end)).copied();
+    let lc = |s: alba_model::Span| files.line_col(src.file, s.start as usize);
+    let mine: Vec<&Diagnostic> = diags
+        .iter()
+        .filter(|d| d.primary.as_ref().is_some_and(|l| l.span.file == src.file))
+        .collect();
+    let mut out = json!({
+        "name": src.name,
+        "language": language_name(src.language),
+        "plant": src.plant,
+        "text": text,
+        "diagnostics": mine.iter().map(|d| diagnostic_json(d, files)).collect::<Vec<_>>(),
+    });
+    match src.language {
+        Language::Ladder => {
+            let (ast, _) = alba_ladder::parse(text, src.file);
+            let rungs: Vec<Json> = ast
+                .rungs
+                .iter()
+                .enumerate()
+                .map(|(n, r)| {
+                    json!({
+                        "number": n,
+                        "comment": r.comment,
+                        "line": lc(r.elements.first().map_or(r.span, |e| e.span())).0,
+                        "elements": elements_json(&r.elements, &id_of, &lc),
+                    })
+                })
+                .collect();
+            out["rungs"] = Json::Array(rungs);
+        }
+        Language::Il => {
+            let (ast, _) = alba_il::parse(text, src.file);
+            let lines: Vec<Json> = ast
+                .items
+                .iter()
+                .filter_map(|i| match i {
+                    alba_il::ast::Item::Instr(i) => Some(json!({"line": lc(i.span).0, "id": id_of(i.span)})),
+                    _ => None,
+                })
+                .collect();
+            out["lines"] = Json::Array(lines);
+        }
+    }
+    Ok(out)
+}
+
+fn elements_json(
+    elems: &[alba_ladder::Element],
+    id_of: &dyn Fn(alba_model::Span) -> Option<u32>,
+    lc: &dyn Fn(alba_model::Span) -> (usize, usize),
+) -> Vec<Json> {
+    elems
+        .iter()
+        .map(|e| {
+            let (line, col) = lc(e.span());
+            match e {
+                alba_ladder::Element::Instr(i) => json!({
+                    "kind": "instr",
+                    "id": id_of(i.span),
+                    "mnemonic": i.mnemonic.name(),
+                    "operands": i.operands.iter().map(|o| o.text.clone()).collect::<Vec<_>>(),
+                    "line": line,
+                    "col": col,
+                }),
+                alba_ladder::Element::Branch(b) => json!({
+                    "kind": "branch",
+                    "id": id_of(b.span),
+                    "line": line,
+                    "col": col,
+                    "legs": b.legs.iter().map(|l| elements_json(l, id_of, lc)).collect::<Vec<_>>(),
+                }),
+            }
+        })
+        .collect()
+}
+
+/// The element ids of each program unit (for monitoring by program).
+pub fn unit_elements(p: &Program) -> Vec<std::ops::Range<u32>> {
+    // (first, end) of each unit; (MAX, 0) for a unit with no element.
+    let mut ranges = vec![(u32::MAX, 0); p.units.len()];
+    for (id, e) in p.elements.iter().enumerate() {
+        let unit = p.rungs.get(e.rung as usize).map_or(0, |r| r.unit as usize);
+        if let Some(r) = ranges.get_mut(unit) {
+            r.0 = r.0.min(id as u32);
+            r.1 = r.1.max(id as u32 + 1);
+        }
+    }
+    ranges
+        .into_iter()
+        .map(|(start, end)| if start > end { 0..0 } else { start..end })
+        .collect()
+}

@@ -1,0 +1,157 @@
+//! Tags as the API shows them: definitions with live values, members of
+//! structures, system tags, and the names a client may subscribe to.
+
+use alba_ir::layout::SYSTEM_TAGS;
+use alba_ir::{Access, Ctr, Layout, Place, TagSlot, Target, Tmr};
+use alba_model::DataType;
+use alba_runtime::Snapshot;
+use alba_runtime::json::to_json;
+use serde_json::{Map, Value as Json, json};
+
+/// The places of a TIMER or COUNTER's members, by member name.
+pub fn members(ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Vec<(&'static str, Place)> {
+    ty.members()
+        .iter()
+        .map(|m| {
+            let place = if m.ty == DataType::Bool {
+                Place::Bool(alba_ir::B(b.0 + m.index as u32))
+            } else {
+                Place::Int(alba_ir::I(i.0 + m.index as u32), m.ty)
+            };
+            (m.name, place)
+        })
+        .collect()
+}
+
+/// A structure's value: an object of its members.
+fn structure(s: &Snapshot, ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Json {
+    let m: Map<String, Json> = members(ty, i, b)
+        .into_iter()
+        .map(|(n, p)| (n.to_string(), to_json(s.read(p))))
+        .collect();
+    Json::Object(m)
+}
+
+/// The value of whatever `target` names.
+pub fn target_value(s: &Snapshot, target: Target) -> Json {
+    match target {
+        Target::Value { place, .. } => to_json(s.read(place)),
+        Target::Timer(Tmr { i, b }) => structure(s, DataType::Timer, i, b),
+        Target::Counter(Ctr { i, b }) => structure(s, DataType::Counter, i, b),
+    }
+}
+
+pub fn access_name(a: Access) -> &'static str {
+    match a {
+        Access::ReadWrite => "readwrite",
+        Access::Input => "input",
+        Access::ReadOnly | Access::Output => "readonly",
+    }
+}
+
+fn forced(s: &Snapshot, name: &str) -> Json {
+    s.forces
+        .iter()
+        .find(|f| f.name.eq_ignore_ascii_case(name))
+        .map_or(Json::Null, |f| to_json(f.value))
+}
+
+/// `GET /api/tags`: every tag in file order, then the system tags.
+pub fn all(s: &Snapshot) -> Json {
+    let layout = &s.program.layout;
+    let mut out = Vec::new();
+    for tag in layout.tags.iter() {
+        let Ok(target) = layout.resolve(&tag.name) else {
+            continue;
+        };
+        let access = match target {
+            Target::Value { access, .. } => access,
+            _ => Access::ReadWrite,
+        };
+        out.push(json!({
+            "name": tag.name,
+            "type": tag.ty.name(),
+            "address": tag.address.map(|a| a.to_string()),
+            "description": tag.description,
+            "retain": tag.retain,
+            "access": access_name(access),
+            "value": target_value(s, target),
+            "forced": forced(s, &tag.name),
+        }));
+    }
+    for (name, what) in SYSTEM_TAGS {
+        if let Ok(target @ Target::Value { place, .. }) = layout.resolve(name) {
+            out.push(json!({
+                "name": name,
+                "type": place.data_type().name(),
+                "address": null,
+                "description": what,
+                "retain": false,
+                "access": "readonly",
+                "value": target_value(s, target),
+                "forced": null,
+            }));
+        }
+    }
+    Json::Array(out)
+}
+
+/// `GET /api/tags/{name}` for a tag, member or address.
+pub fn one(s: &Snapshot, name: &str) -> Option<Json> {
+    let layout = &s.program.layout;
+    let target = layout.resolve(name).ok()?;
+    if let Some(tag) = layout.tags.get(name) {
+        let access = match target {
+            Target::Value { access, .. } => access,
+            _ => Access::ReadWrite,
+        };
+        return Some(json!({
+            "name": tag.name,
+            "type": tag.ty.name(),
+            "address": tag.address.map(|a| a.to_string()),
+            "description": tag.description,
+            "retain": tag.retain,
+            "access": access_name(access),
+            "value": target_value(s, target),
+            "forced": forced(s, &tag.name),
+        }));
+    }
+    let (ty, access) = match target {
+        Target::Value { place, access } => (place.data_type(), access),
+        Target::Timer(_) => (DataType::Timer, Access::ReadWrite),
+        Target::Counter(_) => (DataType::Counter, Access::ReadWrite),
+    };
+    Some(json!({
+        "name": name,
+        "type": ty.name(),
+        "access": access_name(access),
+        "value": target_value(s, target),
+        "forced": forced(s, name),
+    }))
+}
+
+/// Every name `subscribe "*"` covers: tags (structures as their members)
+/// and the system tags, with their places.
+pub fn every_value(layout: &Layout) -> Vec<(String, Place)> {
+    let mut out = Vec::new();
+    for (idx, tag) in layout.tags.iter().enumerate() {
+        match layout.slot(idx) {
+            TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }) => {
+                for (m, p) in members(tag.ty, i, b) {
+                    out.push((format!("{}.{m}", tag.name), p));
+                }
+            }
+            _ => {
+                if let Ok(Target::Value { place, .. }) = layout.resolve(&tag.name) {
+                    out.push((tag.name.clone(), place));
+                }
+            }
+        }
+    }
+    for (name, _) in SYSTEM_TAGS {
+        if let Ok(Target::Value { place, .. }) = layout.resolve(name) {
+            out.push((name.to_string(), place));
+        }
+    }
+    out
+}

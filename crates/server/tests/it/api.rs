@@ -1,0 +1,428 @@
+use crate::Server;
+use reqwest::{Method, StatusCode};
+use serde_json::{Value as Json, json};
+
+fn files(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_tags_members_and_addresses() {
+    let s = Server::start("tank", "status").await;
+    s.wait_scans(3).await;
+    let st = s.get("/api/status").await;
+    assert_eq!(st["project"], "tank");
+    assert_eq!(st["state"], "running");
+    assert_eq!(st["scan_ms"], 10);
+    assert_eq!(st["programs"], json!(["main.lad"]));
+    assert!(st["stats"]["max_us"].as_u64().expect("max") >= st["stats"]["min_us"].as_u64().expect("min"));
+
+    let tags = s.get("/api/tags").await;
+    let tags = tags.as_array().expect("array");
+    assert_eq!(tags[0]["name"], "Bomba1");
+    let ct = tags.iter().find(|t| t["name"] == "CT_STP").expect("CT_STP");
+    assert_eq!(ct["type"], "COUNTER");
+    assert_eq!(ct["value"]["PRE"], 2);
+    let stop = tags.iter().find(|t| t["name"] == "STOP").expect("STOP");
+    assert_eq!(stop["access"], "input");
+    assert_eq!(stop["address"], "DI:1/0");
+    assert!(
+        tags.iter()
+            .any(|t| t["name"] == "S:SCANTIME" && t["access"] == "readonly")
+    );
+
+    assert_eq!(s.value("CT_STP.PRE").await, 2);
+    assert_eq!(s.value("S_ULT").await, 575);
+    // Every address notation names the same place.
+    for a in ["DI:1/0", "%IX0.0", "I0.0"] {
+        assert_eq!(s.value(&a.replace('%', "%25").replace('/', "%2F")).await, false, "{a}");
+    }
+    let level = s.value("Nivel_L").await.as_f64().expect("real");
+    assert!((level - 33.724_34).abs() < 1e-4, "{level}");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn writes_are_checked_and_bad_requests_change_nothing() {
+    let s = Server::start("tank", "writes").await;
+    let (code, j) = s
+        .call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": true})))
+        .await;
+    assert_eq!((code, &j), (StatusCode::OK, &json!({"name": "Llenar", "value": true})));
+    let (code, _) = s
+        .call(Method::PUT, "/api/tags/CT_STP.PRE", Some(json!({"value": 7})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    let before = s.scans().await;
+
+    let cases: Vec<(&str, Json, StatusCode, &str)> = vec![
+        ("Nope", json!({"value": 1}), StatusCode::NOT_FOUND, "unknown tag `Nope`"),
+        (
+            "STOP",
+            json!({"value": true}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "is an input",
+        ),
+        (
+            "DI:1%2F0",
+            json!({"value": true}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "is an input",
+        ),
+        (
+            "Llenar",
+            json!({"value": "yes"}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "BOOL",
+        ),
+        ("Llenar", json!({"value": 2}), StatusCode::UNPROCESSABLE_ENTITY, "BOOL"),
+        (
+            "CT_STP.PRE",
+            json!({"value": 1.5}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "`CT_STP.PRE`",
+        ),
+        (
+            "CT_STP.PRE",
+            json!({"value": 1e12}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "`CT_STP.PRE`",
+        ),
+        (
+            "CT_STP.DN",
+            json!({"value": true}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "read-only",
+        ),
+        (
+            "CT_STP",
+            json!({"value": 1}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "is a structure",
+        ),
+        (
+            "S:SCANTIME",
+            json!({"value": 1}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "read-only",
+        ),
+        ("Llenar", json!({"val": false}), StatusCode::BAD_REQUEST, "`value`"),
+    ];
+    for (name, body, want, msg) in cases {
+        let (code, j) = s
+            .call(Method::PUT, &format!("/api/tags/{name}"), Some(body.clone()))
+            .await;
+        assert_eq!(code, want, "{name} {body}: {j}");
+        let e = j["error"].as_str().expect("error message");
+        assert!(e.contains(msg), "{name} {body}: {e}");
+    }
+    let (code, j) = s
+        .raw(
+            Method::PUT,
+            "/api/tags/Llenar",
+            "application/json",
+            b"{\"value\": tru".to_vec(),
+        )
+        .await;
+    assert_eq!(code, StatusCode::BAD_REQUEST, "{j}");
+    assert!(
+        j["error"].as_str().expect("msg").starts_with("malformed JSON body"),
+        "{j}"
+    );
+    let (code, _) = s
+        .raw(
+            Method::PUT,
+            "/api/tags/Llenar",
+            "text/plain",
+            b"{\"value\": false}".to_vec(),
+        )
+        .await;
+    assert_eq!(code, StatusCode::BAD_REQUEST);
+    let big = format!("{{\"value\": false, \"pad\": \"{}\"}}", "x".repeat(100_000));
+    let (code, j) = s
+        .raw(Method::PUT, "/api/tags/Llenar", "application/json", big.into_bytes())
+        .await;
+    assert_eq!(code, StatusCode::PAYLOAD_TOO_LARGE, "{j}");
+    assert!(j["error"].is_string());
+    let (code, j) = s.call(Method::GET, "/api/nothing/here", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    assert_eq!(j["error"], "no such endpoint");
+
+    // The engine went on and nothing was written.
+    s.wait_scans(2).await;
+    assert!(s.scans().await > before);
+    assert_eq!(s.get("/api/status").await["state"], "running");
+    assert_eq!(s.value("Llenar").await, true);
+    assert_eq!(s.value("CT_STP.PRE").await, 7);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn forces_hold_inputs_and_only_io_can_be_forced() {
+    let s = Server::start("tank", "forces").await;
+    assert_eq!(s.value("L_RUN").await, true);
+    // One press of STOP (held by a force) stops the system.
+    let (code, j) = s
+        .call(Method::PUT, "/api/forces/STOP", Some(json!({"value": true})))
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    s.wait_scans(3).await;
+    assert_eq!(s.value("STOP").await, true);
+    assert_eq!(s.value("CT_STP.ACC").await, 1);
+    assert_eq!(s.value("L_STP").await, true);
+    assert_eq!(s.value("L_RUN").await, false);
+    let tags = s.get("/api/tags").await;
+    let stop = tags
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|t| t["name"] == "STOP")
+        .cloned();
+    assert_eq!(stop.expect("STOP")["forced"], true);
+    // An output forced on whatever the program says.
+    let (code, _) = s
+        .call(Method::PUT, "/api/forces/Bomba1", Some(json!({"value": 1})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    s.wait_scans(2).await;
+    assert_eq!(s.value("Bomba1").await, true);
+    assert_eq!(
+        s.get("/api/forces").await,
+        json!([{"name": "STOP", "value": true}, {"name": "Bomba1", "value": true}])
+    );
+
+    let (code, j) = s
+        .call(Method::PUT, "/api/forces/Llenar", Some(json!({"value": true})))
+        .await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(
+        j["error"].as_str().expect("msg").contains("only I/O can be forced"),
+        "{j}"
+    );
+    let (code, _) = s
+        .call(Method::PUT, "/api/forces/Nope", Some(json!({"value": true})))
+        .await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    let (code, _) = s
+        .call(Method::PUT, "/api/forces/S_ULT", Some(json!({"value": 99999})))
+        .await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY);
+
+    let (code, _) = s.call(Method::DELETE, "/api/forces/STOP", None).await;
+    assert_eq!(code, StatusCode::NO_CONTENT);
+    let (code, _) = s.call(Method::DELETE, "/api/forces/STOP", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    let (code, _) = s.call(Method::DELETE, "/api/forces", None).await;
+    assert_eq!(code, StatusCode::NO_CONTENT);
+    s.wait_scans(2).await;
+    assert_eq!(s.get("/api/forces").await, json!([]));
+    assert_eq!(s.value("STOP").await, false, "the input is the I/O's again");
+    assert_eq!(s.value("Bomba1").await, false, "the output is the program's again");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn run_and_stop() {
+    let s = Server::start("tank", "runstop").await;
+    let (code, j) = s.call(Method::POST, "/api/stop", None).await;
+    assert_eq!(code, StatusCode::OK);
+    assert_eq!(j["state"], "stopped");
+    assert_eq!(s.value("L_RUN").await, false, "outputs off when stopped");
+    let n = s.scans().await;
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    assert_eq!(s.scans().await, n, "no scan while stopped");
+    let (code, j) = s.call(Method::POST, "/api/run", None).await;
+    assert_eq!(code, StatusCode::OK);
+    assert_eq!(j["state"], "running");
+    s.wait_scans(2).await;
+    assert_eq!(s.value("L_RUN").await, true);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn programs_are_checked_saved_atomically_and_applied_online() {
+    let s = Server::start("tank", "programs").await;
+    assert_eq!(
+        s.get("/api/programs").await,
+        json!([{"name": "main.lad", "language": "ladder", "plant": false}])
+    );
+    let p = s.get("/api/programs/main.lad").await;
+    let text = p["text"].as_str().expect("text").to_string();
+    let rungs = p["rungs"].as_array().expect("rungs");
+    assert_eq!(rungs.len(), 11);
+    let r8 = &rungs[7];
+    assert_eq!(
+        r8["comment"][0],
+        "Rung 8: pump B1 and its LED while filling is requested and the system is not stopped"
+    );
+    let kinds: Vec<&str> = r8["elements"]
+        .as_array()
+        .expect("elements")
+        .iter()
+        .map(|e| e["kind"].as_str().expect("kind"))
+        .collect();
+    assert_eq!(kinds, ["instr", "instr", "branch"]);
+    assert_eq!(r8["elements"][2]["legs"][1][0]["operands"], json!(["L_FILL"]));
+    assert!(r8["elements"][0]["id"].is_u64());
+    let (code, _) = s.call(Method::GET, "/api/programs/nope.lad", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+
+    let file = s.dir.join("main.lad");
+    let on_disk = std::fs::read_to_string(&file).expect("read");
+    let listing = files(&s.dir);
+
+    // Invalid text: located diagnostics; nothing saved, nothing applied.
+    let bad = text.replace("OTE(L_RUN)", "OTE(L_RUM)");
+    for (m, path) in [
+        (Method::POST, "/api/check/main.lad"),
+        (Method::PUT, "/api/programs/main.lad"),
+    ] {
+        let (code, j) = s.call(m, path, Some(json!({"text": bad, "online": true}))).await;
+        assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+        assert_eq!(j["error"], "1 error");
+        let d = &j["diagnostics"][0];
+        assert_eq!(
+            (d["code"].as_str(), d["line"].as_u64(), d["col"].as_u64()),
+            (Some("E301"), Some(10), Some(15)),
+            "{d}"
+        );
+        assert_eq!(d["file"], "main.lad");
+    }
+    let (code, j) = s
+        .call(
+            Method::PUT,
+            "/api/programs/main.lad",
+            Some(json!({"text": "XIC(", "online": true})),
+        )
+        .await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    let (code, _) = s
+        .call(Method::PUT, "/api/programs/main.lad", Some(json!({"txt": text})))
+        .await;
+    assert_eq!(code, StatusCode::BAD_REQUEST);
+    let (code, _) = s
+        .call(Method::PUT, "/api/programs/main.lad", Some(json!({"text": 5})))
+        .await;
+    assert_eq!(code, StatusCode::BAD_REQUEST);
+    let (code, _) = s
+        .call(Method::PUT, "/api/programs/other.lad", Some(json!({"text": text})))
+        .await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), on_disk);
+    assert_eq!(files(&s.dir), listing, "no temporary file left behind");
+    assert_eq!(s.get("/api/programs/main.lad").await["text"], text.as_str());
+
+    // A valid check saves nothing.
+    let extra = format!("{text}// Rung 12: added online\nXIC(Llenar)OTE(L_FILL);\n");
+    let (code, j) = s
+        .call(Method::POST, "/api/check/main.lad", Some(json!({"text": extra})))
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    assert_eq!(j["rungs"].as_array().expect("rungs").len(), 12);
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), on_disk);
+
+    // State to keep across the online edit: a written bit, a written preset, a counted press.
+    for (tag, v) in [("Llenar", json!(true)), ("CT_STP.PRE", json!(5))] {
+        let (code, _) = s
+            .call(Method::PUT, &format!("/api/tags/{tag}"), Some(json!({"value": v})))
+            .await;
+        assert_eq!(code, StatusCode::OK);
+    }
+    s.call(Method::PUT, "/api/forces/STOP", Some(json!({"value": true})))
+        .await;
+    s.wait_scans(2).await;
+    s.call(Method::DELETE, "/api/forces/STOP", None).await;
+    s.wait_scans(2).await;
+    assert_eq!(s.value("CT_STP.ACC").await, 1);
+    let scans = s.scans().await;
+
+    let (code, j) = s
+        .call(
+            Method::PUT,
+            "/api/programs/main.lad",
+            Some(json!({"text": extra, "online": true})),
+        )
+        .await;
+    assert_eq!(
+        (code, &j),
+        (StatusCode::OK, &json!({"diagnostics": [], "applied": true}))
+    );
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), extra);
+    assert_eq!(files(&s.dir), listing, "no temporary file left behind");
+    assert!(s.scans().await >= scans, "the scan count goes on");
+    assert_eq!(s.get("/api/status").await["state"], "running");
+    assert_eq!(s.value("Llenar").await, true);
+    assert_eq!(s.value("CT_STP.PRE").await, 5);
+    assert_eq!(s.value("CT_STP.ACC").await, 1);
+    let p = s.get("/api/programs/main.lad").await;
+    assert_eq!(p["rungs"].as_array().expect("rungs").len(), 12);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn tags_csv_round_trip_and_validation() {
+    let s = Server::start("tank", "tagscsv").await;
+    let res = s.http.get(s.url("/api/tags.csv")).send().await.expect("get");
+    assert!(
+        res.headers()["content-type"]
+            .to_str()
+            .expect("ct")
+            .starts_with("text/csv")
+    );
+    let text = res.text().await.expect("text");
+    let file = s.dir.join("tags.csv");
+    assert_eq!(text, std::fs::read_to_string(&file).expect("read"));
+
+    let bad = format!("{text}Extra,FLOAT,,,,a tag of no known type\n");
+    let (code, j) = s.raw(Method::PUT, "/api/tags.csv", "text/csv", bad.into_bytes()).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    let d = &j["diagnostics"][0];
+    assert_eq!(
+        (d["file"].as_str(), d["line"].as_u64()),
+        (Some("tags.csv"), Some(19)),
+        "{d}"
+    );
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), text);
+
+    s.call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": true})))
+        .await;
+    let good = format!("{text}Extra,DINT,,42,,added from the tag table\n");
+    let (code, j) = s
+        .raw(Method::PUT, "/api/tags.csv", "text/csv", good.clone().into_bytes())
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    assert_eq!(std::fs::read_to_string(&file).expect("read"), good);
+    assert_eq!(s.value("Extra").await, 42);
+    assert_eq!(s.value("Llenar").await, true, "values of unchanged tags are kept");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn instruction_palette_has_the_eight_groups_in_order() {
+    let s = Server::start("tank", "palette").await;
+    let list = s.get("/api/instructions").await;
+    let mut groups: Vec<String> = Vec::new();
+    for i in list.as_array().expect("array") {
+        let g = i["group"].as_str().expect("group").to_string();
+        if groups.last() != Some(&g) {
+            groups.push(g);
+        }
+    }
+    assert_eq!(
+        groups,
+        ["bit", "timer", "counter", "compare", "math", "move", "trig", "flow"]
+    );
+    let ton = list
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|i| i["mnemonic"] == "TON")
+        .cloned();
+    assert_eq!(ton.expect("TON")["args"], json!(["timer", "preset", "accum"]));
+    s.stop().await;
+}

@@ -1,0 +1,91 @@
+use crate::Server;
+use futures_util::{SinkExt, StreamExt};
+use reqwest::Method;
+use serde_json::{Value as Json, json};
+use std::time::Duration;
+use tokio_tungstenite::tungstenite::Message;
+
+type Ws = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+async fn connect(s: &Server) -> Ws {
+    let (ws, _) = tokio_tungstenite::connect_async(format!("ws://{}/api/ws", s.addr))
+        .await
+        .expect("connect");
+    ws
+}
+
+async fn send(ws: &mut Ws, j: Json) {
+    ws.send(Message::Text(j.to_string().into())).await.expect("send");
+}
+
+/// The next message of `kind` that satisfies `ok`, within 5 s.
+async fn next(ws: &mut Ws, kind: &str, ok: impl Fn(&Json) -> bool) -> Json {
+    let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
+    loop {
+        let m = tokio::time::timeout_at(deadline, ws.next())
+            .await
+            .unwrap_or_else(|_| panic!("no `{kind}` message in 5 s"))
+            .expect("open")
+            .expect("message");
+        if let Message::Text(t) = m {
+            let j: Json = serde_json::from_str(t.as_str()).expect("JSON message");
+            if j["type"] == kind && ok(&j) {
+                return j;
+            }
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn values_are_streamed_on_change_only() {
+    let s = Server::start("tank", "wsvalues").await;
+    let mut ws = connect(&s).await;
+    send(&mut ws, json!({"subscribe": ["Llenar", "CT_STP", "Nivel_L"]})).await;
+    let first = next(&mut ws, "values", |_| true).await;
+    let v = &first["values"];
+    assert_eq!(v["Llenar"], false);
+    assert_eq!(v["CT_STP.PRE"], 2);
+    assert!(v["Nivel_L"].is_number());
+    assert!(first["scan"].is_u64() && first["t_ms"].is_u64());
+
+    s.call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": true})))
+        .await;
+    let m = next(&mut ws, "values", |j| j["values"].get("Llenar").is_some()).await;
+    assert_eq!(m["values"], json!({"Llenar": true}), "only what changed");
+
+    // Status arrives periodically; errors come back as messages.
+    let st = next(&mut ws, "status", |_| true).await;
+    assert_eq!(st["state"], "running");
+    assert_eq!(st["clients"], 1);
+    send(&mut ws, json!({"subscribe": ["Nope"]})).await;
+    let e = next(&mut ws, "error", |_| true).await;
+    assert!(e["error"].as_str().expect("msg").contains("Nope"));
+    ws.send(Message::Text("{not json".into())).await.expect("send");
+    next(&mut ws, "error", |j| j["error"] == "malformed JSON command").await;
+    send(&mut ws, json!({"subscribe": "*"})).await;
+    let all = next(&mut ws, "values", |j| j["values"].get("S_ULT").is_some()).await;
+    assert!(all["values"].get("CT_STP.ACC").is_some() && all["values"].get("S:SCANTIME").is_some());
+    // The server stops although a client is connected.
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn monitoring_streams_power_flow() {
+    let s = Server::start("tank", "wspower").await;
+    let p = s.get("/api/programs/main.lad").await;
+    // Rung 5: XIO(L_STP)OTE(L_RUN): both energised while running.
+    let r5 = &p["rungs"][4]["elements"];
+    let (xio, ote) = (r5[0]["id"].as_u64().expect("id"), r5[1]["id"].as_u64().expect("id"));
+    let mut ws = connect(&s).await;
+    send(&mut ws, json!({"monitor": ["main.lad"]})).await;
+    let on = |j: &Json, id: u64| j["on"].as_array().expect("on").iter().any(|x| x.as_u64() == Some(id));
+    let m = next(&mut ws, "power", |j| j["program"] == "main.lad").await;
+    assert!(on(&m, xio) && on(&m, ote), "{m}");
+    // STOP pressed: L_STP on, so rung 5 goes dead.
+    s.call(Method::PUT, "/api/forces/STOP", Some(json!({"value": true})))
+        .await;
+    let m = next(&mut ws, "power", |j| !on(j, xio)).await;
+    assert!(!on(&m, ote), "{m}");
+    drop(ws);
+    s.stop().await;
+}
