@@ -1,6 +1,7 @@
 //! `alba`: the command-line front of Alba.
 
 mod bench;
+mod demo;
 mod new;
 mod run;
 
@@ -78,6 +79,15 @@ enum Command {
         #[arg(long)]
         no_native: bool,
     },
+    /// Start the studio on the tank example with its simulated plant.
+    Demo {
+        /// Project folder: written on the first run, reused after (your edits are kept).
+        #[arg(long, default_value = "alba-demo")]
+        dir: PathBuf,
+        /// Address to serve on (loopback by default).
+        #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:8080")]
+        http: std::net::SocketAddr,
+    },
 }
 
 fn main() -> ExitCode {
@@ -127,6 +137,7 @@ fn main() -> ExitCode {
             io,
             no_native,
         } => run::run(&project, http, &io, !no_native, None),
+        Command::Demo { dir, http } => demo::run(&dir, http, true),
     }
 }
 

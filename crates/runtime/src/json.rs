@@ -13,7 +13,13 @@ pub fn to_json(v: Value) -> Json {
         Value::Int(x) => x.into(),
         Value::Dint(x) | Value::Time(x) => x.into(),
         Value::Lint(x) => x.into(),
-        Value::Real(x) => serde_json::Number::from_f64(f64::from(x)).map_or(Json::Null, Json::Number),
+        // The shortest decimal that reads back as the same f32 (0.1, not 0.10000000149011612).
+        Value::Real(x) => x
+            .to_string()
+            .parse::<f64>()
+            .ok()
+            .and_then(serde_json::Number::from_f64)
+            .map_or(Json::Null, Json::Number),
         Value::Lreal(x) => serde_json::Number::from_f64(x).map_or(Json::Null, Json::Number),
     }
 }
@@ -94,6 +100,8 @@ mod tests {
             assert_eq!(from_json(&j, ty), Ok(v), "{j}");
         }
         assert_eq!(to_json(Value::Real(1.5)), json!(1.5));
+        assert_eq!(to_json(Value::Real(0.1)), json!(0.1));
+        assert_eq!(to_json(Value::Real(37.503746)), json!(37.503746));
         assert_eq!(to_json(Value::Real(f32::NAN)), Json::Null);
         let err = |j: Json, ty| from_json(&j, ty).unwrap_err();
         assert_eq!(

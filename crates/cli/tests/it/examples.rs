@@ -150,3 +150,12 @@ fn festo_station_source_program_shows_the_repaired_bug() {
     let repaired = simulate(&example, &stimulus, args, &dir.join("repaired.csv"));
     assert_eq!(last_row(&repaired), "14000,228,1,1", "station.awl rejects it");
 }
+
+/// The demo runs the tank's own program, unchanged, against its plant.
+#[test]
+fn tank_plant_runs_the_tank_program() {
+    let read = |p: &str| std::fs::read_to_string(repo().join(p)).expect("read");
+    assert_eq!(read("examples/tank-plant/main.lad"), read("examples/tank/main.lad"));
+    let tags = read("examples/tank/tags.csv").replace("S_ULT,INT,AI:3/0,575,", "S_ULT,INT,AI:3/0,,");
+    assert!(read("examples/tank-plant/tags.csv").starts_with(&tags));
+}

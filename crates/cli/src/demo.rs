@@ -1,0 +1,46 @@
+//! `alba demo`: the studio on the tank with its simulated plant
+//! (examples/tank-plant), in a project folder of the user's.
+
+use std::net::SocketAddr;
+use std::path::Path;
+use std::process::ExitCode;
+
+const FILES: &[(&str, &str)] = &[
+    ("alba.toml", include_str!("../../../examples/tank-plant/alba.toml")),
+    ("tags.csv", include_str!("../../../examples/tank-plant/tags.csv")),
+    ("main.lad", include_str!("../../../examples/tank-plant/main.lad")),
+    ("plant.lad", include_str!("../../../examples/tank-plant/plant.lad")),
+    ("README.md", include_str!("../../../examples/tank-plant/README.md")),
+];
+
+/// Writes the demo project into `dir` unless it holds one already (edits
+/// made in the studio are kept between runs), then runs it.
+pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
+    let fresh = !dir.join("alba.toml").exists();
+    if fresh {
+        if dir.exists() && std::fs::read_dir(dir).map_or(true, |mut d| d.next().is_some()) {
+            eprintln!(
+                "error: {} exists and is neither empty nor an Alba project; choose another folder with --dir",
+                dir.display()
+            );
+            return ExitCode::FAILURE;
+        }
+        if let Err(e) = std::fs::create_dir_all(dir) {
+            eprintln!("error: cannot create {}: {e}", dir.display());
+            return ExitCode::FAILURE;
+        }
+        for (file, text) in FILES {
+            let path = dir.join(file);
+            if let Err(e) = alba_model::fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())) {
+                eprintln!("error: cannot write {}: {e}", path.display());
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    let banner = format!(
+        "The tank of AuroraLD with a simulated plant, {} in {} (edits are saved there).",
+        if fresh { "written" } else { "as last saved" },
+        dir.display()
+    );
+    crate::run::run(dir, addr, "sim", native, Some(&banner))
+}
