@@ -36,7 +36,7 @@ codes! {
     TomlSyntax = 101, "alba.toml is not valid TOML",
         "alba.toml must be a TOML document (https://toml.io). Check quotes, brackets and `key = value` pairs near the place shown.";
     ConfigField = 102, "a setting in alba.toml is missing, unknown or has a bad value",
-        "alba.toml needs `name` (a string) and `programs` (a list of program files); `scan_ms` (1..=60000, default 10), `description` and a `[board]` table (`model` = uno, nano or mega; `pinmap` = aurora, s7 or openplc) are optional. Unknown keys are refused so that typos do not pass silently.";
+        "alba.toml needs `name` (a string) and `programs` (a list of program files); `scan_ms` (1..=60000, default 10), `retain_ms` (10..=3600000, default 1000), `description`, a `[history]` table (`enabled`, `retention_days` 0..=36500, `sample_ms`, `deadband` ≥ 0) and a `[board]` table (`model` = uno, nano or mega; `pinmap` = aurora, s7 or openplc) are optional. Unknown keys are refused so that typos do not pass silently.";
     ProgramFile = 103, "a program listed in alba.toml cannot be used",
         "Each entry of `programs` must name an existing file in the project folder, once, with a known extension (`.lad` for ladder).";
     CsvSyntax = 110, "a CSV file is malformed",

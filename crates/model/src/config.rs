@@ -7,6 +7,31 @@ use toml::Spanned;
 
 pub const DEFAULT_SCAN_MS: u32 = 10;
 pub const MAX_SCAN_MS: u32 = 60_000;
+pub const DEFAULT_RETAIN_MS: u32 = 1_000;
+
+/// `[history]`: what the historian of `alba run` keeps (docs/historian.md).
+#[derive(Debug, Clone, PartialEq)]
+pub struct History {
+    /// Record at all.
+    pub enabled: bool,
+    /// Samples older than this are deleted; 0 keeps everything.
+    pub retention_days: u32,
+    /// A value is also stored this often when it does not change.
+    pub sample_ms: u32,
+    /// A REAL is stored on change only when it moved more than this.
+    pub deadband: f64,
+}
+
+impl Default for History {
+    fn default() -> History {
+        History {
+            enabled: true,
+            retention_days: 30,
+            sample_ms: 10_000,
+            deadband: 0.0,
+        }
+    }
+}
 
 /// Boards Alba knows (used by the Arduino issue; validated now so a typo
 /// does not wait until then).
@@ -24,6 +49,9 @@ pub struct Config {
     /// Plant-model programs, run after `programs` in simulation.
     pub plant: Vec<(String, Span)>,
     pub board: Option<Board>,
+    /// How often `alba run` saves retentive data (also on stop).
+    pub retain_ms: u32,
+    pub history: History,
 }
 
 /// Placeholder for the Arduino issue: which board and pin map.
@@ -44,6 +72,17 @@ struct RawConfig {
     #[serde(default)]
     plant: Vec<Spanned<String>>,
     board: Option<RawBoard>,
+    retain_ms: Option<Spanned<i64>>,
+    history: Option<RawHistory>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawHistory {
+    enabled: Option<bool>,
+    retention_days: Option<Spanned<i64>>,
+    sample_ms: Option<Spanned<i64>>,
+    deadband: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -95,21 +134,61 @@ impl Config {
                 "empty name",
             ));
         }
-        let scan_ms = match raw.scan_ms {
-            None => DEFAULT_SCAN_MS,
-            Some(s) => match u32::try_from(*s.get_ref()) {
-                Ok(v) if (1..=MAX_SCAN_MS).contains(&v) => v,
-                _ => {
+        // An integer setting within `range`, or the default with a diagnostic.
+        let mut int =
+            |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
+                let Some(s) = v else { return default };
+                match u32::try_from(*s.get_ref()) {
+                    Ok(v) if range.contains(&v) => v,
+                    _ => {
+                        diags.push(Diagnostic::new(
+                            Code::ConfigField,
+                            format!("{key} = {} is out of range", s.get_ref()),
+                            sp(s.span()),
+                            format!("expected {} to {} {unit}", range.start(), range.end()),
+                        ));
+                        default
+                    }
+                }
+            };
+        let scan_ms = int("scan_ms", raw.scan_ms, 1..=MAX_SCAN_MS, DEFAULT_SCAN_MS, "milliseconds");
+        let retain_ms = int(
+            "retain_ms",
+            raw.retain_ms,
+            10..=3_600_000,
+            DEFAULT_RETAIN_MS,
+            "milliseconds",
+        );
+        let mut history = History::default();
+        if let Some(h) = raw.history {
+            history.enabled = h.enabled.unwrap_or(true);
+            history.retention_days = int(
+                "retention_days",
+                h.retention_days,
+                0..=36_500,
+                history.retention_days,
+                "days",
+            );
+            history.sample_ms = int(
+                "sample_ms",
+                h.sample_ms,
+                10..=86_400_000,
+                history.sample_ms,
+                "milliseconds",
+            );
+            if let Some(d) = h.deadband {
+                if d.get_ref().is_finite() && *d.get_ref() >= 0.0 {
+                    history.deadband = *d.get_ref();
+                } else {
                     diags.push(Diagnostic::new(
                         Code::ConfigField,
-                        format!("scan_ms = {} is out of range", s.get_ref()),
-                        sp(s.span()),
-                        format!("expected 1 to {MAX_SCAN_MS} milliseconds"),
+                        format!("deadband = {} is out of range", d.get_ref()),
+                        sp(d.span()),
+                        "expected a number ≥ 0",
                     ));
-                    DEFAULT_SCAN_MS
                 }
-            },
-        };
+            }
+        }
         if raw.programs.get_ref().is_empty() {
             diags.push(Diagnostic::new(
                 Code::ConfigField,
@@ -155,6 +234,8 @@ impl Config {
             programs,
             plant,
             board,
+            retain_ms,
+            history,
         };
         (Some(config), diags)
     }
@@ -188,6 +269,40 @@ mod tests {
         assert_eq!(c.scan_ms, 10);
         assert_eq!(c.programs[0].0, "main.lad");
         assert!(c.board.is_none());
+    }
+
+    #[test]
+    fn retain_and_history_settings() {
+        let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
+        assert_eq!((c.retain_ms, c.history.clone()), (1000, History::default()));
+        let c = parse(
+            "name = \"x\"\nretain_ms = 250\nprograms = [\"a.lad\"]\n[history]\nretention_days = 0\nsample_ms = 500\ndeadband = 0.5\n",
+        )
+        .unwrap();
+        assert_eq!(c.retain_ms, 250);
+        assert_eq!(
+            c.history,
+            History {
+                enabled: true,
+                retention_days: 0,
+                sample_ms: 500,
+                deadband: 0.5
+            }
+        );
+        let e = parse(
+            "name = \"x\"\nretain_ms = 5\nprograms = [\"a.lad\"]\n[history]\nretention_days = -1\ndeadband = -1.0\n",
+        )
+        .unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:2:13: error[E102]: retain_ms = 5 is out of range",
+                "alba.toml:5:18: error[E102]: retention_days = -1 is out of range",
+                "alba.toml:6:12: error[E102]: deadband = -1 is out of range",
+            ]
+        );
+        let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nkeep = 3\n").unwrap_err();
+        assert!(e[0].contains("unknown field `keep`"), "{e:?}");
     }
 
     #[test]

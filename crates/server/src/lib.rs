@@ -443,6 +443,9 @@ pub async fn run(
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
+    if let Some(c) = &compiled.project.config {
+        ro.retain_interval_ms = u64::from(c.retain_ms);
+    }
     let io: Box<dyn alba_runtime::Io> = match opts.io.as_str() {
         "sim" => Box::new(alba_runtime::SimIo),
         other => {

@@ -4,6 +4,7 @@ mod commands;
 mod differential;
 mod examples;
 mod malformed;
+mod retain;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
