@@ -8,12 +8,13 @@
 
 use crate::{AppState, project, status_json, tags};
 use alba_ir::{Place, Program, Target};
+use alba_model::Value;
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
 use axum::extract::State;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::response::Response;
-use serde_json::{Map, Value as Json, json};
+use serde_json::{Value as Json, json};
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -33,13 +34,20 @@ enum Wanted {
     Names(Vec<String>),
 }
 
+/// A subscribed value and what this client was last sent of it.
+struct Sub {
+    /// The name as a JSON key: `"Level":`.
+    key: String,
+    place: Place,
+    sent: Option<Value>,
+}
+
 /// One client's view: what it asked for and what it was last sent.
 struct Client {
     wanted: Wanted,
     /// Resolved for `program`.
-    places: Vec<(String, Place)>,
+    subs: Vec<Sub>,
     program: Option<Arc<Program>>,
-    sent: HashMap<String, Json>,
     monitor: Vec<String>,
     /// Element ids of each unit of `program`.
     units: Vec<std::ops::Range<u32>>,
@@ -54,7 +62,7 @@ impl Client {
     fn resolve(&mut self, program: &Arc<Program>) -> Vec<String> {
         let layout = &program.layout;
         let mut unknown = Vec::new();
-        self.places = match &self.wanted {
+        let places = match &self.wanted {
             Wanted::Nothing => Vec::new(),
             Wanted::All => tags::every_value(layout),
             Wanted::Names(names) => names
@@ -76,28 +84,47 @@ impl Client {
                 })
                 .collect(),
         };
+        // What was sent under a name stays sent (an online edit re-sends only what changed).
+        let mut sent: HashMap<String, Value> = std::mem::take(&mut self.subs)
+            .into_iter()
+            .filter_map(|s| Some((s.key, s.sent?)))
+            .collect();
+        self.subs = places
+            .into_iter()
+            .map(|(name, place)| {
+                let key = format!("{}:", Json::String(name));
+                let sent = sent.remove(&key);
+                Sub { key, place, sent }
+            })
+            .collect();
         self.units = project::unit_elements(program);
         self.program = Some(program.clone());
         unknown
     }
 
     /// The messages `s` calls for.
-    fn updates(&mut self, s: &Snapshot, st: &AppState) -> Vec<Json> {
+    fn updates(&mut self, s: &Snapshot, st: &AppState) -> Vec<String> {
         let mut out = Vec::new();
         if !self.program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &s.program)) {
             self.resolve(&s.program);
             self.power_sent.clear();
         }
-        let mut values = Map::new();
-        for (name, place) in &self.places {
-            let v = to_json(s.read(*place));
-            if self.sent.get(name) != Some(&v) {
-                self.sent.insert(name.clone(), v.clone());
-                values.insert(name.clone(), v);
+        // Written directly: with 10 000 tags this runs 100 times a second per client.
+        let mut values = String::new();
+        for sub in &mut self.subs {
+            let v = s.read(sub.place);
+            if sub.sent != Some(v) {
+                sub.sent = Some(v);
+                values.push(if values.is_empty() { '{' } else { ',' });
+                values.push_str(&sub.key);
+                values.push_str(&to_json(v).to_string());
             }
         }
         if !values.is_empty() {
-            out.push(json!({"type": "values", "scan": s.scans, "t_ms": s.unix_ms, "values": values}));
+            out.push(format!(
+                "{{\"type\":\"values\",\"scan\":{},\"t_ms\":{},\"values\":{values}}}}}",
+                s.scans, s.unix_ms
+            ));
         }
         // Not running: nothing is energised.
         if s.power.is_some() || s.state != alba_runtime::RunState::Running {
@@ -108,7 +135,7 @@ impl Client {
                 let range = self.units.get(unit).cloned().unwrap_or(0..0);
                 let on: Vec<u32> = range.filter(|e| s.energised(*e) == Some(true)).collect();
                 if self.power_sent.get(name) != Some(&on) {
-                    out.push(json!({"type": "power", "scan": s.scans, "program": name, "on": on}));
+                    out.push(json!({"type": "power", "scan": s.scans, "program": name, "on": on}).to_string());
                     self.power_sent.insert(name.clone(), on);
                 }
             }
@@ -117,7 +144,7 @@ impl Client {
         if state != self.status_state || self.status_at.is_none_or(|t| t.elapsed() >= STATUS_EVERY) {
             let mut j = status_json(s, st);
             j["type"] = json!("status");
-            out.push(j);
+            out.push(j.to_string());
             self.status_at = Some(Instant::now());
             self.status_state = state;
         }
@@ -125,9 +152,9 @@ impl Client {
     }
 }
 
-async fn send(socket: &mut WebSocket, msgs: Vec<Json>) -> bool {
+async fn send(socket: &mut WebSocket, msgs: Vec<String>) -> bool {
     for m in msgs {
-        let sent = tokio::time::timeout(SEND_TIMEOUT, socket.send(Message::Text(m.to_string().into()))).await;
+        let sent = tokio::time::timeout(SEND_TIMEOUT, socket.send(Message::Text(m.into()))).await;
         if !matches!(sent, Ok(Ok(()))) {
             return false;
         }
@@ -140,9 +167,8 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>) {
     let mut rx = st.runtime.subscribe();
     let mut c = Client {
         wanted: Wanted::Nothing,
-        places: Vec::new(),
+        subs: Vec::new(),
         program: None,
-        sent: HashMap::new(),
         monitor: Vec::new(),
         units: Vec::new(),
         power_sent: HashMap::new(),
@@ -187,8 +213,8 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>) {
 }
 
 /// Applies a client command; answers with error messages if any.
-fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<Json> {
-    let err = |m: String| vec![json!({"type": "error", "error": m})];
+fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<String> {
+    let err = |m: String| vec![json!({"type": "error", "error": m}).to_string()];
     let Ok(j) = serde_json::from_str::<Json>(text) else {
         return err("malformed JSON command".into());
     };
@@ -198,7 +224,7 @@ fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<Json> {
             Json::Array(a) => Wanted::Names(a.iter().filter_map(|v| v.as_str().map(str::to_string)).collect()),
             _ => return err("`subscribe` takes \"*\" or an array of tag names".into()),
         };
-        c.sent.clear();
+        c.subs.clear();
         let program = st.runtime.snapshot().program.clone();
         let unknown = c.resolve(&program);
         if !unknown.is_empty() {
