@@ -1,0 +1,42 @@
+//! The error type of the historian.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong opening, writing or reading a history database.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The file could not be opened or created (missing directory, permissions, …).
+    #[error("{}: cannot open history database: {source}", path.display())]
+    Open {
+        /// The database file.
+        path: PathBuf,
+        /// What SQLite reported.
+        #[source]
+        source: rusqlite::Error,
+    },
+    /// The file exists but is not a history database this program can use: not SQLite,
+    /// corrupt, another application's SQLite database or a newer schema version.
+    #[error("{}: not a usable history database: {reason}", path.display())]
+    NotHistory {
+        /// The database file.
+        path: PathBuf,
+        /// Why it was refused.
+        reason: String,
+    },
+    /// A query named a tag that has never been recorded.
+    #[error("unknown tag `{0}`")]
+    UnknownTag(String),
+    /// An argument is out of range: `points` of 0, a time outside ±2^53 ms, an empty tag
+    /// name, a CSV step of 0 ms or an export of too many rows.
+    #[error("invalid argument: {0}")]
+    InvalidArgument(String),
+    /// An SQLite error while reading or writing an open database.
+    #[error("history database error: {0}")]
+    Sqlite(#[from] rusqlite::Error),
+    /// Writing an export failed.
+    #[error("export write error: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// The result type of the historian.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
