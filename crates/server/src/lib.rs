@@ -8,6 +8,7 @@
 //! online by swapping the program between two scans.
 
 mod assets;
+mod history;
 pub mod project;
 pub mod tags;
 mod ws;
@@ -42,10 +43,17 @@ pub struct AppState {
     pub clients: AtomicUsize,
     /// Set when the server shuts down: WebSocket clients close.
     pub closing: tokio::sync::watch::Sender<bool>,
+    /// `None` when history is off.
+    pub history: Option<alba_historian::Historian>,
 }
 
 impl AppState {
-    pub fn new(runtime: Handle, compiled: project::Compiled, io: &str) -> Arc<AppState> {
+    pub fn new(
+        runtime: Handle,
+        compiled: project::Compiled,
+        io: &str,
+        history: Option<alba_historian::Historian>,
+    ) -> Arc<AppState> {
         let project = &compiled.project;
         Arc::new(AppState {
             runtime,
@@ -55,6 +63,7 @@ impl AppState {
             io: io.to_string(),
             clients: AtomicUsize::new(0),
             closing: tokio::sync::watch::Sender::new(false),
+            history,
         })
     }
 }
@@ -412,6 +421,9 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/programs", get(list_programs))
         .route("/api/instructions", get(instructions))
         .route("/api/ws", get(ws::upgrade))
+        .route("/api/history/tags", get(history::list))
+        .route("/api/history", get(history::query))
+        .route("/api/history.csv", get(history::csv))
         .route("/api/{*rest}", axum::routing::any(fallback_api))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
@@ -454,8 +466,27 @@ pub async fn run(
             )));
         }
     };
+    let hist_cfg = compiled
+        .project
+        .config
+        .as_ref()
+        .map(|c| c.history.clone())
+        .unwrap_or_default();
+    let historian = if hist_cfg.enabled {
+        Some(history::open(dir, &hist_cfg).map_err(RunError::Other)?)
+    } else {
+        None
+    };
     let runtime = alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(RunError::Other)?;
-    let state = AppState::new(runtime.handle(), compiled, &opts.io);
+    let recorder = historian.clone().map(|h| {
+        history::record(
+            h,
+            hist_cfg,
+            runtime.handle().subscribe(),
+            tokio::runtime::Handle::current(),
+        )
+    });
+    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian);
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
@@ -471,9 +502,15 @@ pub async fn run(
         .await
         .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.
-    tokio::task::spawn_blocking(move || runtime.shutdown())
-        .await
-        .map_err(|e| RunError::Other(e.to_string()))?;
+    // The recorder ends when the runtime's snapshot channel closes.
+    tokio::task::spawn_blocking(move || {
+        runtime.shutdown();
+        if let Some(r) = recorder {
+            let _ = r.join();
+        }
+    })
+    .await
+    .map_err(|e| RunError::Other(e.to_string()))?;
     served
 }
 

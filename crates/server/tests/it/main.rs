@@ -2,6 +2,7 @@
 //! copy of an example project.
 
 mod api;
+mod history;
 mod ws;
 
 use reqwest::{Client, Method, StatusCode};

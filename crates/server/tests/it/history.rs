@@ -1,0 +1,119 @@
+use crate::Server;
+use reqwest::{Method, StatusCode};
+use std::time::Duration;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn every_tag_is_recorded_and_queried_downsampled() {
+    let s = Server::start("tank-plant", "history").await;
+    let t0 = s.get("/api/status").await;
+    assert_eq!(t0["state"], "running");
+    // The plant fills the tank: the level rises for the first 20 s.
+    tokio::time::sleep(Duration::from_millis(1500)).await;
+    let tags = s.get("/api/history/tags").await;
+    let level = tags
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|t| t["name"] == "Nivel_L")
+        .cloned()
+        .expect("Nivel_L recorded");
+    let (first, last) = (
+        level["first_ms"].as_i64().expect("ms"),
+        level["last_ms"].as_i64().expect("ms"),
+    );
+    assert!(last - first >= 500, "{level}");
+    assert!(
+        tags.as_array()
+            .expect("array")
+            .iter()
+            .any(|t| t["name"] == "CT_STP.ACC"),
+        "members too"
+    );
+
+    let q = s
+        .get(&format!("/api/history?tag=Nivel_L&from={first}&to={last}&points=10"))
+        .await;
+    let b = q["buckets"].as_array().expect("buckets");
+    assert!(!b.is_empty() && b.len() <= 10, "{q}");
+    for w in b.windows(2) {
+        assert!(w[0][0].as_i64() < w[1][0].as_i64(), "buckets in time order: {q}");
+    }
+    let num = |v: &serde_json::Value| v.as_f64().expect("number");
+    for x in b {
+        let (min, max, f, l) = (num(&x[1]), num(&x[2]), num(&x[3]), num(&x[4]));
+        assert!(
+            min <= f && f <= max && min <= l && l <= max && (0.0..=60.0).contains(&min),
+            "{x}"
+        );
+    }
+    assert!(
+        num(&b[b.len() - 1][4]) > num(&b[0][3]),
+        "the level rises while B1 fills: {q}"
+    );
+
+    let res = s
+        .http
+        .get(s.url(&format!(
+            "/api/history.csv?tags=Nivel_L,Bomba1&from={first}&to={last}&step=100"
+        )))
+        .send()
+        .await
+        .expect("csv");
+    assert_eq!(res.status(), StatusCode::OK);
+    let text = res.text().await.expect("text");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("Time (ms),Nivel_L,Bomba1"));
+    let row: Vec<&str> = lines.next().expect("a row").split(',').collect();
+    assert_eq!(row[0], "0");
+    assert_eq!(row[2], "1", "B1 runs from the start");
+    assert!(text.lines().count() >= 6);
+
+    let bad: [(&str, StatusCode, &str); 7] = [
+        ("/api/history?from=0&to=1", StatusCode::BAD_REQUEST, "`tag`"),
+        (
+            "/api/history?tag=Nivel_L&from=x&to=1",
+            StatusCode::BAD_REQUEST,
+            "`from` must be an integer",
+        ),
+        (
+            "/api/history?tag=Nope&from=0&to=1",
+            StatusCode::NOT_FOUND,
+            "no history for `Nope`",
+        ),
+        (
+            "/api/history?tag=Nivel_L&from=0&to=1&points=0",
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "points",
+        ),
+        ("/api/history.csv?tags=&from=0&to=1", StatusCode::BAD_REQUEST, "no tag"),
+        (
+            "/api/history.csv?tags=Nivel_L&from=0&to=100000000&step=1",
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "rows",
+        ),
+        (
+            "/api/history.csv?tags=Nivel_L&from=0&to=1&step=0",
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "`step`",
+        ),
+    ];
+    for (path, want, msg) in bad {
+        let (code, j) = s.call(Method::GET, path, None).await;
+        assert_eq!(code, want, "{path}: {j}");
+        assert!(j["error"].as_str().expect("error").contains(msg), "{path}: {j}");
+    }
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn history_can_be_turned_off() {
+    let dir = crate::copy_example("start-stop", "nohistory");
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(dir.join("alba.toml"), format!("{toml}\n[history]\nenabled = false\n")).expect("write");
+    let s = Server::start_in(dir).await;
+    let (code, j) = s.call(Method::GET, "/api/history/tags", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    assert!(j["error"].as_str().expect("msg").contains("history is off"));
+    assert!(!s.dir.join(".alba/history.db").exists());
+    s.stop().await;
+}
