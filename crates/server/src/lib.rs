@@ -344,7 +344,13 @@ async fn check_program(
     let c = check_edit(&st, &edit).await?;
     let view =
         project::program_json(&c.project, c.program.as_ref(), &name, &c.diagnostics).map_err(ApiError::not_found)?;
-    ok(json!({"diagnostics": [], "rungs": view.get("rungs"), "lines": view.get("lines")}))
+    let mut out = json!({"diagnostics": []});
+    for key in ["rungs", "lines"] {
+        if let Some(v) = view.get(key) {
+            out[key] = v.clone();
+        }
+    }
+    ok(out)
 }
 
 /// Saves a checked edit and, if asked while running, applies it online.

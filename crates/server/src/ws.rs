@@ -238,6 +238,16 @@ fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<String> {
         };
         c.monitor = a.iter().filter_map(|v| v.as_str().map(str::to_string)).collect();
         c.power_sent.clear();
+        let program = st.runtime.snapshot().program.clone();
+        let unknown: Vec<&str> = c
+            .monitor
+            .iter()
+            .filter(|n| !program.units.iter().any(|u| u.name.eq_ignore_ascii_case(n)))
+            .map(String::as_str)
+            .collect();
+        if !unknown.is_empty() {
+            return err(format!("unknown programs: {}", unknown.join(", ")));
+        }
         return Vec::new();
     }
     err("unknown command: expected `subscribe` or `monitor`".into())

@@ -77,6 +77,8 @@ async fn monitoring_streams_power_flow() {
     let r5 = &p["rungs"][4]["elements"];
     let (xio, ote) = (r5[0]["id"].as_u64().expect("id"), r5[1]["id"].as_u64().expect("id"));
     let mut ws = connect(&s).await;
+    send(&mut ws, json!({"monitor": ["nope.lad"]})).await;
+    next(&mut ws, "error", |j| j["error"] == "unknown programs: nope.lad").await;
     send(&mut ws, json!({"monitor": ["main.lad"]})).await;
     let on = |j: &Json, id: u64| j["on"].as_array().expect("on").iter().any(|x| x.as_u64() == Some(id));
     let m = next(&mut ws, "power", |j| j["program"] == "main.lad").await;
