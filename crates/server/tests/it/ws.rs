@@ -91,3 +91,51 @@ async fn monitoring_streams_power_flow() {
     drop(ws);
     s.stop().await;
 }
+
+/// A client that stops reading is disconnected (after its send times out)
+/// while the engine and the other clients go on.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_that_does_not_read_is_dropped() {
+    // 5 000 tags changing every scan: megabytes per second for a client of "*".
+    let dir = crate::copy_example("start-stop", "wsslow");
+    let mut tags = String::from("name,type,address,initial,retain,description\n");
+    let mut lad = String::new();
+    for i in 0..5000 {
+        tags.push_str(&format!("T{i},DINT,,,,\n"));
+        lad.push_str(&format!("ADD(T{i},1,T{i});\n"));
+    }
+    std::fs::write(dir.join("tags.csv"), tags).expect("write");
+    std::fs::write(dir.join("main.lad"), lad).expect("write");
+    std::fs::write(
+        dir.join("alba.toml"),
+        "name = \"slow\"\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n",
+    )
+    .expect("write");
+    let s = Server::start_in(dir).await;
+    let mut stalled = connect(&s).await;
+    send(&mut stalled, json!({"subscribe": "*"})).await;
+    let mut reader = connect(&s).await;
+    send(&mut reader, json!({"subscribe": ["T0"]})).await;
+    next(&mut reader, "values", |_| true).await;
+    let clients = |j: &Json| j["clients"].as_u64().expect("clients");
+    assert_eq!(clients(&s.get("/api/status").await), 2);
+    let scans = s.scans().await;
+    // `stalled` is never read again: its socket buffers fill, its sends time out.
+    let deadline = tokio::time::Instant::now() + Duration::from_secs(60);
+    loop {
+        // The reading client keeps getting values meanwhile.
+        next(&mut reader, "values", |_| true).await;
+        if clients(&s.get("/api/status").await) == 1 {
+            break;
+        }
+        assert!(
+            tokio::time::Instant::now() < deadline,
+            "the stalled client is still connected after 60 s"
+        );
+    }
+    let st = s.get("/api/status").await;
+    assert_eq!(st["state"], "running");
+    assert!(st["scans"].as_u64().expect("scans") > scans);
+    drop(stalled);
+    s.stop().await;
+}
