@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Second command of the README: run every test of Alba.
-#   formatting and lints, unit/integration/property tests of every crate
-#   (golden traces in all engine modes, examples, the malformed-input corpus,
-#   fuzz regressions), then a smoke run of the demo and of `alba bench`.
+#   formatting and lints; the studio's type check, unit tests (Vitest) and build;
+#   unit/integration/property tests of every crate (golden traces in all engine
+#   modes, examples, the malformed-input corpus, fuzz regressions, the HTTP API,
+#   kill -9 of retentive data); end-to-end tests in a real browser (Chromium driven
+#   by playwright-core); smoke runs of the simulator and of `alba bench`.
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/common.sh
@@ -11,10 +13,19 @@ step() { printf '\n== %s\n' "$*"; }
 
 step "format"
 cargo fmt --all -- --check
+step "studio: npm packages, build (with its type check), unit tests"
+build_web
+(cd web && npm test --silent)
 step "lints"
 cargo clippy --workspace --all-targets --locked -q -- -D warnings
 step "tests"
 cargo test --workspace --locked
+step "browser end-to-end tests (screenshots in target/e2e/)"
+need_chromium
+cargo build -q --locked -p alba-cli
+TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
+mkdir -p target/e2e
+(cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
 step "demo and benchmark smoke runs"
 cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \
     | diff - <(printf 'time_ms,Nivel_m,Nivel_L\n0,0.8431085,33.72434\n1000,0.8431085,33.72434\n2000,0.8431085,33.72434\n')

@@ -18,3 +18,48 @@ need_rust() {
         fi
     done
 }
+
+# Installs Debian packages (as root, or through sudo) when a command is missing.
+apt_install() {
+    local sudo=""
+    if [ "$(id -u)" != 0 ]; then
+        if command -v sudo >/dev/null 2>&1; then sudo="sudo"; else
+            echo "need root to install $*: run 'apt-get install -y $*' as root, then run this again." >&2
+            exit 1
+        fi
+    fi
+    echo "Installing $* (Debian packages)..." >&2
+    $sudo apt-get update -qq >&2 || true
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "$@" >&2
+}
+
+# Node.js and npm build the browser studio (web/).
+need_node() {
+    if ! command -v npm >/dev/null 2>&1; then
+        apt_install nodejs npm
+    fi
+}
+
+# Builds the studio into web/dist (embedded into the alba binary by its build
+# script); skipped when the build is newer than every source file.
+build_web() {
+    need_node
+    (
+        cd web
+        if [ ! -d node_modules ] || [ package-lock.json -nt node_modules/.package-lock.json ]; then
+            echo "Installing the studio's npm packages..." >&2
+            npm ci --no-audit --no-fund --loglevel=error >&2
+        fi
+        if [ ! -f dist/index.html ] || [ -n "$(find src index.html package-lock.json vite.config.ts -newer dist/index.html -print -quit 2>/dev/null)" ]; then
+            echo "Building the studio (web/dist)..." >&2
+            npm run -s build >&2
+        fi
+    )
+}
+
+# Debian's Chromium drives the end-to-end tests (through playwright-core).
+need_chromium() {
+    if ! command -v chromium >/dev/null 2>&1; then
+        apt_install chromium
+    fi
+}

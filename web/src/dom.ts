@@ -1,0 +1,77 @@
+// A tiny hyperscript helper: h('div', {class: 'x', onclick: f}, child, …).
+
+type Attrs = Record<string, unknown>;
+export type Child = Node | string | number | null | undefined | false | Child[];
+
+function append(el: Element, c: Child): void {
+  if (c === null || c === undefined || c === false) return;
+  if (Array.isArray(c)) c.forEach((x) => append(el, x));
+  else el.append(c instanceof Node ? c : document.createTextNode(String(c)));
+}
+
+function setAttrs(el: Element, attrs: Attrs | null | undefined): void {
+  if (!attrs) return;
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === undefined || v === null || v === false) continue;
+    if (k.startsWith('on') && typeof v === 'function') {
+      el.addEventListener(k.slice(2).toLowerCase(), v as EventListener);
+    } else if (k === 'style' && typeof v === 'object') {
+      Object.assign((el as HTMLElement).style, v);
+    } else if (k === 'value' && 'value' in el) {
+      (el as HTMLInputElement).value = String(v);
+    } else if (k === 'checked' && 'checked' in el) {
+      (el as HTMLInputElement).checked = Boolean(v);
+    } else {
+      el.setAttribute(k, v === true ? '' : String(v));
+    }
+  }
+}
+
+export function h<K extends keyof HTMLElementTagNameMap>(tag: K, attrs?: Attrs | null, ...children: Child[]): HTMLElementTagNameMap[K] {
+  const el = document.createElement(tag);
+  setAttrs(el, attrs);
+  children.forEach((c) => append(el, c));
+  return el;
+}
+
+const SVG_NS = 'http://www.w3.org/2000/svg';
+
+export function s<K extends keyof SVGElementTagNameMap>(tag: K, attrs?: Attrs | null, ...children: Child[]): SVGElementTagNameMap[K] {
+  const el = document.createElementNS(SVG_NS, tag);
+  setAttrs(el, attrs);
+  children.forEach((c) => append(el, c));
+  return el;
+}
+
+/** Appends children (nested arrays, null and false allowed). */
+export function add(el: Element, ...children: Child[]): void {
+  children.forEach((c) => append(el, c));
+}
+
+export function clear(el: Element): void {
+  el.replaceChildren();
+}
+
+/** Formats a live value for display. */
+export function fmt(v: unknown): string {
+  if (v === undefined) return '…';
+  if (v === null) return '—';
+  if (typeof v === 'boolean') return v ? '1' : '0';
+  if (typeof v === 'number') {
+    if (Number.isInteger(v)) return String(v);
+    const a = Math.abs(v);
+    return a !== 0 && (a >= 1e6 || a < 1e-3) ? v.toExponential(3) : String(Number(v.toFixed(4)));
+  }
+  if (typeof v === 'object') return JSON.stringify(v);
+  return String(v);
+}
+
+/** Triggers the download of a URL (same origin) or of text. */
+export function download(filename: string, urlOrText: string, isText = false): void {
+  const href = isText ? URL.createObjectURL(new Blob([urlOrText], { type: 'text/csv' })) : urlOrText;
+  const a = h('a', { href, download: filename, style: { display: 'none' } });
+  document.body.append(a);
+  a.click();
+  a.remove();
+  if (isText) setTimeout(() => URL.revokeObjectURL(href), 1000);
+}

@@ -1,0 +1,689 @@
+// The ladder tab of one program: graphical editor and online monitor, text
+// view, palette, operand editor with the tag picker, problems list.
+//
+// The program text is the model. The graphical view is derived from it by
+// the client parser (parse.ts); a graphical edit re-prints only the edited
+// rung (print.ts) and splices it into the text. Every change is checked by
+// the server (POST /api/check) and saved with PUT /api/programs/{name}.
+// Element ids (the power-flow keys) come from the running program, so
+// they are shown only while the text is the saved one.
+import { ApiError, api } from '../api';
+import type { Ctx } from '../ctx';
+import { add, clear, h } from '../dom';
+import type { Diagnostic, Instruction, RungJson } from '../types';
+import { closeMenu, showMenu } from '../ui/menu';
+import { tagMenuItems } from '../ui/tagActions';
+import { type Elem, type Instr, type Path, operandLabels, operandTags, shapeOf, walk } from './ast';
+import { type Edited, addLeg, getAt, insert, move, newInstr, remove, setInstr, wrapInBranch } from './edit';
+import { layoutRung } from './layout';
+import { attachIds, locate } from './locate';
+import { type ProgramDoc, joinProgram, parseProgram } from './parse';
+import { printRung } from './print';
+import { type RungView, pathFromEvent, renderRung } from './render';
+
+const GROUP_NAMES: Record<string, string> = {
+  bit: 'Bit',
+  timer: 'Timer',
+  counter: 'Counter',
+  compare: 'Compare',
+  math: 'Math',
+  move: 'Move/Logic',
+  trig: 'Trig',
+  flow: 'Flow',
+};
+
+interface Selection {
+  rung: number;
+  /** Element path ("0.1.2"), or null for the rung itself. */
+  path: string | null;
+}
+
+const toPath = (p: string): Path => (p === '' ? [] : p.split('.').map(Number));
+
+export class LadderView {
+  readonly el: HTMLElement;
+  private savedText = '';
+  private text = '';
+  private doc: ProgramDoc = { rungs: [], tail: '', tailError: null };
+  private serverRungs: RungJson[] = [];
+  private diagnostics: Diagnostic[] = [];
+  private savedDiagnostics: Diagnostic[] = [];
+  private checking = false;
+  private sel: Selection | null = null;
+  private where: 'before' | 'after' = 'after';
+  private group = 'bit';
+  private views: RungView[] = [];
+  private on = new Set<number>();
+  private mode: 'graphic' | 'text' = 'graphic';
+  private checkTimer: ReturnType<typeof setTimeout> | null = null;
+  private active = false;
+  private wasDisconnected = false;
+  private unlisten: (() => void)[] = [];
+  private readonly rungsEl = h('div', { class: 'rungs', 'data-testid': 'rungs', tabindex: '0' });
+  private readonly textEl = h('textarea', { class: 'editor-text', 'data-testid': 'editor-text', spellcheck: 'false', wrap: 'off' });
+  private readonly problemsEl = h('ul', { class: 'problems', 'data-testid': 'diagnostics' });
+  private readonly propsEl = h('div', { class: 'props', 'data-testid': 'properties' });
+  private readonly paletteEl = h('div', { class: 'palette', 'data-testid': 'palette' });
+  private readonly stateEl = h('span', { class: 'edit-state', 'data-testid': 'edit-state' });
+  private readonly datalists = h('div', { hidden: true });
+
+  constructor(
+    private readonly ctx: Ctx,
+    readonly program: string,
+  ) {
+    this.textEl.addEventListener('input', () => this.setText(this.textEl.value, null, true));
+    this.rungsEl.addEventListener('click', (e) => this.onClick(e));
+    this.rungsEl.addEventListener('contextmenu', (e) => this.onContextMenu(e));
+    this.rungsEl.addEventListener('keydown', (e) => this.onKey(e));
+    const modeBtn = (m: 'graphic' | 'text', label: string) =>
+      h('button', { class: 'mode', 'data-testid': `view-${m}`, onclick: () => this.setMode(m) }, label);
+    const tool = (label: string, testid: string, title: string, action: () => void) =>
+      h('button', { 'data-testid': testid, title, onclick: action }, label);
+    this.el = h(
+      'section',
+      { class: 'ladder-view', 'data-testid': `ladder-${program}` },
+      h(
+        'div',
+        { class: 'toolbar' },
+        h('span', { class: 'seg' }, modeBtn('graphic', 'Graphic'), modeBtn('text', 'Text')),
+        h(
+          'span',
+          { class: 'seg' },
+          h('label', { title: 'Where the palette inserts, relative to the selected element' }, 'Insert ',
+            h('select', {
+              'data-testid': 'insert-where',
+              onchange: (e: Event) => (this.where = (e.target as HTMLSelectElement).value as 'before' | 'after'),
+            }, h('option', { value: 'after' }, 'after'), h('option', { value: 'before' }, 'before'))),
+        ),
+        h(
+          'span',
+          { class: 'seg' },
+          tool('Branch', 'btn-branch', 'Put the selected element in a branch, or add a leg to the selected branch', () => this.branch()),
+          tool('◀', 'btn-move-left', 'Move the selected element left', () => this.moveElement(-1)),
+          tool('▶', 'btn-move-right', 'Move the selected element right', () => this.moveElement(1)),
+          tool('✕ Delete', 'btn-delete', 'Delete the selected element (or rung)', () => this.deleteSelected()),
+        ),
+        h(
+          'span',
+          { class: 'seg' },
+          'Rung ',
+          tool('+ Add', 'btn-rung-add', 'Add a rung after the selected one', () => this.addRung()),
+          tool('▲', 'btn-rung-up', 'Move the selected rung up', () => this.moveRung(-1)),
+          tool('▼', 'btn-rung-down', 'Move the selected rung down', () => this.moveRung(1)),
+          tool('✕', 'btn-rung-delete', 'Delete the selected rung', () => this.deleteRung()),
+        ),
+        this.stateEl,
+      ),
+      this.paletteEl,
+      h(
+        'div',
+        { class: 'ladder-body' },
+        h('div', { class: 'ladder-main' }, this.rungsEl, this.textEl),
+        h('aside', { class: 'ladder-side' }, this.propsEl, h('h3', null, 'Problems'), this.problemsEl),
+      ),
+      this.datalists,
+    );
+    this.renderPalette();
+    this.setMode('graphic');
+  }
+
+  /** Loads the program from the server (the running version). */
+  async load(): Promise<void> {
+    const p = await api.program(this.program);
+    this.savedText = p.text;
+    this.serverRungs = p.rungs ?? [];
+    this.savedDiagnostics = p.diagnostics;
+    this.diagnostics = p.diagnostics;
+    this.setText(p.text, null, false, false);
+  }
+
+  show(): void {
+    this.active = true;
+    this.unlisten.push(
+      this.ctx.live.onBatch((b) => {
+        const on = b.power.get(this.program);
+        if (on) this.on = new Set(on);
+        if (on || b.status) this.paintPower();
+      }),
+      this.ctx.live.onState((st) => {
+        // the server may have restarted with another program: reload the running version
+        if (st === 'reconnecting') this.wasDisconnected = true;
+        else if (st === 'connected' && this.wasDisconnected) {
+          this.wasDisconnected = false;
+          if (!this.dirty) void this.load().catch(() => undefined);
+        }
+      }),
+      this.ctx.tags.onChange(() => {
+        this.renderDatalists();
+        this.render();
+      }),
+    );
+    this.ctx.live.monitor(`ladder`, [this.program]);
+    this.subscribe();
+    this.renderDatalists();
+  }
+
+  hide(): void {
+    this.active = false;
+    this.unlisten.forEach((f) => f());
+    this.unlisten = [];
+    this.ctx.live.monitor('ladder', null);
+    this.ctx.live.subscribe('ladder', null);
+    closeMenu();
+  }
+
+  get dirty(): boolean {
+    return this.text !== this.savedText;
+  }
+
+  // ---- text and checking -------------------------------------------------
+
+  private setText(text: string, select: Selection | null, fromTextArea = false, check = true): void {
+    this.text = text;
+    this.doc = parseProgram(text);
+    if (!this.dirty) attachIds(this.doc, this.serverRungs);
+    if (!fromTextArea && this.textEl.value !== text) this.textEl.value = text;
+    if (select !== null) this.sel = select;
+    if (this.sel && this.sel.rung >= this.doc.rungs.length) this.sel = null;
+    if (check && this.dirty) this.scheduleCheck();
+    if (!this.dirty) this.diagnostics = this.savedDiagnostics;
+    this.render();
+    if (this.active) this.subscribe();
+  }
+
+  private scheduleCheck(): void {
+    if (this.checkTimer) clearTimeout(this.checkTimer);
+    this.checkTimer = setTimeout(() => void this.check(), 400);
+  }
+
+  /** POST /api/check with the current text; updates the problems. */
+  async check(): Promise<boolean> {
+    if (this.checkTimer) clearTimeout(this.checkTimer);
+    this.checkTimer = null;
+    const text = this.text;
+    this.checking = true;
+    this.renderState();
+    try {
+      await api.check(this.program, text);
+      if (text === this.text) this.diagnostics = [];
+      return true;
+    } catch (e) {
+      if (!(e instanceof ApiError)) throw e;
+      if (text === this.text) {
+        this.diagnostics = e.diagnostics.length
+          ? e.diagnostics
+          : [{ code: '', severity: 'error', message: e.message, file: null, line: null, col: null, end_line: null, end_col: null, help: null }];
+      }
+      return false;
+    } finally {
+      this.checking = false;
+      this.render();
+    }
+  }
+
+  /** PUT /api/programs/{name} online; reloads the running version on success. */
+  async save(): Promise<boolean> {
+    try {
+      const r = await api.saveProgram(this.program, this.text, true);
+      this.ctx.notify(r.applied ? `${this.program} saved and applied online` : `${this.program} saved`);
+      await this.load();
+      return true;
+    } catch (e) {
+      if (!(e instanceof ApiError)) throw e;
+      this.diagnostics = e.diagnostics;
+      this.ctx.notify(`${this.program} not saved: ${e.message}`, 'error');
+      this.render();
+      return false;
+    }
+  }
+
+  private subscribe(): void {
+    const names = new Set<string>();
+    for (const r of this.doc.rungs) {
+      if (!r.elements) continue;
+      walk(r.elements, (e) => {
+        if (e.kind !== 'instr') return;
+        for (const op of operandTags(e)) {
+          const ref = this.ctx.tags.resolve(op);
+          if (ref) names.add(op);
+        }
+      });
+    }
+    this.ctx.live.subscribe('ladder', [...names]);
+  }
+
+  // ---- rendering ----------------------------------------------------------
+
+  private setMode(m: 'graphic' | 'text'): void {
+    this.mode = m;
+    this.el.dataset.mode = m;
+    this.el.querySelectorAll('button.mode').forEach((b) => b.classList.toggle('active', (b as HTMLElement).dataset.testid === `view-${m}`));
+    if (m === 'text') this.textEl.value = this.text;
+    else if (this.graphicStale) this.render();
+  }
+
+  private problemsByRung(): Map<number, Map<string, string[]>> {
+    const out = new Map<number, Map<string, string[]>>();
+    for (const d of this.mine()) {
+      if (d.line === null || d.col === null) continue;
+      const at = locate(this.doc, d.line, d.col);
+      if (!at) continue;
+      let m = out.get(at.rung);
+      if (!m) out.set(at.rung, (m = new Map()));
+      const list = m.get(at.path) ?? [];
+      list.push(`${d.code ? d.code + ': ' : ''}${d.message}${d.help ? ` (${d.help})` : ''}`);
+      m.set(at.path, list);
+    }
+    this.doc.rungs.forEach((r, i) => {
+      if (r.error) {
+        let m = out.get(i);
+        if (!m) out.set(i, (m = new Map()));
+        if (!m.has('')) m.set('', [r.error.message]);
+      }
+    });
+    return out;
+  }
+
+  /** Diagnostics of this program's file (or with no file). */
+  private mine(): Diagnostic[] {
+    const base = this.program.split('/').pop()!.toLowerCase();
+    return this.diagnostics.filter((d) => !d.file || d.file.toLowerCase() === base || d.file.toLowerCase() === this.program.toLowerCase());
+  }
+
+  private rendering = false;
+  private graphicStale = false;
+
+  private render(): void {
+    // Removing a focused input fires blur/change, which may ask for another render.
+    if (this.rendering) {
+      queueMicrotask(() => this.render());
+      return;
+    }
+    this.rendering = true;
+    try {
+      this.renderNow();
+    } finally {
+      this.rendering = false;
+    }
+  }
+
+  private renderNow(): void {
+    if (this.mode === 'text') {
+      // the diagram is redrawn when the graphic view comes back
+      this.graphicStale = true;
+      this.renderProblems();
+      this.renderState();
+      return;
+    }
+    this.graphicStale = false;
+    this.views.forEach((v) => v.dispose());
+    this.views = [];
+    clear(this.rungsEl);
+    const problems = this.problemsByRung();
+    const minRail = Math.max(400, (this.rungsEl.clientWidth || 900) - 70);
+    const live = { watch: (n: string, cb: (v: import('../types').Json) => void) => this.ctx.live.store.watch(n, cb) };
+    const forced = new Set(this.ctx.tags.forced.keys());
+    // one right rail for every rung: the widest rung decides
+    const layouts = this.doc.rungs.map((r) => (r.elements ? layoutRung(r.elements, r.comment.length, minRail) : null));
+    const rail = Math.max(minRail, ...layouts.map((l) => l?.rail ?? 0));
+    this.doc.rungs.forEach((r, i) => {
+      const selected = this.sel?.rung === i;
+      const box = h('div', {
+        class: `rung${selected && this.sel?.path === null ? ' selected' : ''}${problems.get(i) ? ' has-error' : ''}`,
+        'data-testid': `rung-${i}`,
+        'data-rung': String(i),
+      });
+      if (r.elements) {
+        const l = layoutRung(r.elements, r.comment.length, rail);
+        const v = renderRung(
+          l,
+          { number: i, comment: r.comment, problems: problems.get(i) ?? new Map(), selected: selected ? this.sel!.path : null, forced },
+          live,
+        );
+        this.views.push(v);
+        box.append(v.svg);
+      } else {
+        box.append(
+          h('div', { class: 'rung-raw' },
+            h('span', { class: 'rung-number' }, String(i)),
+            h('pre', { title: r.error?.message ?? '' }, r.own.trimEnd()),
+            h('div', { class: 'rung-raw-error' }, `${r.error?.line}:${r.error?.col} ${r.error?.message}`)),
+        );
+      }
+      this.rungsEl.append(box);
+    });
+    if (this.doc.tail.trim()) {
+      this.rungsEl.append(h('div', { class: 'rung tail', 'data-testid': 'rung-tail' }, h('pre', null, this.doc.tail.trimEnd())));
+    }
+    this.rungsEl.append(
+      h('div', { class: 'end-rung' }, h('button', { 'data-testid': 'btn-rung-append', onclick: () => this.addRung(true) }, '+ rung'), ' (end)'),
+    );
+    this.paintPower();
+    this.renderProblems();
+    this.renderProps();
+    this.renderState();
+  }
+
+  private paintPower(): void {
+    const running = !this.dirty && this.ctx.live.status?.state === 'running' && this.ctx.live.state === 'connected';
+    this.views.forEach((v) => v.setPower(this.on, running));
+  }
+
+  private renderState(): void {
+    const n = this.mine().length;
+    this.stateEl.textContent = `${this.dirty ? 'edited — not saved (monitoring paused)' : 'online'}${this.checking ? ' · checking…' : ''}${n ? ` · ${n} problem${n > 1 ? 's' : ''}` : ''}`;
+    this.stateEl.className = `edit-state${this.dirty ? ' dirty' : ''}${n ? ' bad' : ''}`;
+    this.el.dataset.dirty = String(this.dirty);
+  }
+
+  private renderProblems(): void {
+    clear(this.problemsEl);
+    const all: { text: string; line: number | null; col: number | null; code: string }[] = this.mine().map((d) => ({
+      text: `${d.message}${d.help ? ` — ${d.help}` : ''}`,
+      line: d.line,
+      col: d.col,
+      code: d.code,
+    }));
+    // local syntax errors the server has not seen yet
+    if (this.dirty && this.diagnostics.length === 0) {
+      this.doc.rungs.forEach((r) => r.error && all.push({ text: r.error.message, line: r.error.line, col: r.error.col, code: 'syntax' }));
+      if (this.doc.tailError) all.push({ text: this.doc.tailError.message, line: this.doc.tailError.line, col: this.doc.tailError.col, code: 'syntax' });
+    }
+    if (all.length === 0) {
+      this.problemsEl.append(h('li', { class: 'none' }, 'No problems'));
+      return;
+    }
+    all.forEach((d, k) =>
+      this.problemsEl.append(
+        h('li', {
+          class: 'problem',
+          'data-testid': `diagnostic-${k}`,
+          onclick: () => {
+            if (d.line === null || d.col === null) return;
+            const at = locate(this.doc, d.line, d.col);
+            if (at) this.select({ rung: at.rung, path: at.path === '' ? null : at.path }, true);
+            if (this.mode === 'text') this.focusText(d.line, d.col);
+          },
+        },
+        h('span', { class: 'code' }, d.code),
+        ' ',
+        d.line !== null ? h('span', { class: 'where' }, `${d.line}:${d.col}`) : null,
+        ' ',
+        d.text),
+      ),
+    );
+  }
+
+  private focusText(line: number, col: number): void {
+    const lines = this.text.split('\n');
+    let off = 0;
+    for (let k = 0; k < line - 1 && k < lines.length; k++) off += lines[k].length + 1;
+    off += Math.max(0, col - 1);
+    this.textEl.focus();
+    this.textEl.setSelectionRange(off, off);
+  }
+
+  private renderPalette(): void {
+    clear(this.paletteEl);
+    const groups = Object.keys(GROUP_NAMES);
+    const instrs = this.ctx.instructions;
+    add(
+      this.paletteEl,
+      h('div', { class: 'groups' },
+        groups.map((g) =>
+          h('button', {
+            class: `group${g === this.group ? ' active' : ''}`,
+            'data-testid': `palette-group-${g}`,
+            onclick: () => {
+              this.group = g;
+              this.renderPalette();
+            },
+          }, GROUP_NAMES[g]))),
+      h('div', { class: 'items' },
+        instrs.filter((i) => i.group === this.group).map((i) =>
+          h('button', {
+            class: 'instr',
+            'data-testid': `palette-${i.mnemonic}`,
+            title: `${i.mnemonic}(${i.args.join(', ')}) — ${i.doc}`,
+            onclick: () => this.insertInstr(i),
+          }, i.mnemonic))),
+    );
+  }
+
+  private renderDatalists(): void {
+    clear(this.datalists);
+    const kinds = new Set(this.ctx.instructions.flatMap((i) => i.args));
+    for (const k of kinds) {
+      this.datalists.append(h('datalist', { id: `tags-${this.program}-${k}` }, this.ctx.tags.choices(k).map((n) => h('option', { value: n }))));
+    }
+  }
+
+  private renderProps(): void {
+    clear(this.propsEl);
+    const sel = this.sel;
+    if (!sel) {
+      this.propsEl.append(h('p', { class: 'hint' }, 'Click an element to select it, right-click to force or toggle its tag. Choose an instruction in the palette to insert it after (or before) the selection.'));
+      return;
+    }
+    const rung = this.doc.rungs[sel.rung];
+    if (!rung) return;
+    if (sel.path === null) {
+      const ta = h('textarea', { class: 'comment-input', 'data-testid': 'rung-comment-input', rows: '3' });
+      ta.value = rung.comment.join('\n');
+      this.propsEl.append(
+        h('h3', null, `Rung ${sel.rung}`),
+        h('label', null, 'Comment'),
+        ta,
+        h('button', { 'data-testid': 'rung-comment-apply', onclick: () => this.setComment(sel.rung, ta.value) }, 'Apply comment'),
+      );
+      return;
+    }
+    const el = rung.elements && getAt(rung.elements, toPath(sel.path));
+    if (!el) return;
+    if (el.kind === 'branch') {
+      this.propsEl.append(h('h3', null, `Branch (${el.legs.length} legs)`), h('p', { class: 'hint' }, '“Branch” adds a leg.'));
+      return;
+    }
+    const info = this.ctx.instructions.find((i) => i.mnemonic === el.mnemonic.toUpperCase());
+    const labels = operandLabels(el.mnemonic, el.operands.length);
+    const same = this.ctx.instructions.filter((i) => info && i.args.join() === info.args.join());
+    const inputs = el.operands.map((op, k) => {
+      const input = h('input', {
+        'data-testid': `operand-${k}`,
+        value: op,
+        list: info ? `tags-${this.program}-${info.args[k]}` : undefined,
+        autocomplete: 'off',
+        spellcheck: 'false',
+      });
+      input.addEventListener('change', () => this.setOperands(sel, inputs.map((i) => i.value)));
+      input.addEventListener('keydown', (e) => {
+        if (e.key === 'Enter') input.dispatchEvent(new Event('change'));
+      });
+      return input;
+    });
+    add(
+      this.propsEl,
+      h('h3', null, `${el.mnemonic}`, info ? h('small', null, ` ${info.doc}`) : null),
+      same.length > 1
+        ? h('label', null, 'Instruction ',
+            h('select', {
+              'data-testid': 'mnemonic-select',
+              onchange: (e: Event) => this.setOperands(sel, el.operands, (e.target as HTMLSelectElement).value),
+            }, same.map((i) => h('option', { value: i.mnemonic, selected: i.mnemonic === el.mnemonic.toUpperCase() }, i.mnemonic))))
+        : null,
+      inputs.map((input, k) => h('label', { class: 'operand-field' }, h('span', null, labels[k], info ? h('small', null, ` ${info.args[k]}`) : null), input)),
+    );
+  }
+
+  // ---- selection and events ----------------------------------------------
+
+  private select(sel: Selection | null, scroll = false): void {
+    this.sel = sel;
+    this.render();
+    if (scroll && sel) this.rungsEl.querySelector(`[data-rung="${sel.rung}"]`)?.scrollIntoView({ block: 'nearest' });
+  }
+
+  private targetOf(e: Event): Selection | null {
+    const rungEl = (e.target as Element).closest?.('[data-rung]');
+    if (!rungEl) return null;
+    const rung = Number(rungEl.getAttribute('data-rung'));
+    return { rung, path: pathFromEvent(e) };
+  }
+
+  private onClick(e: MouseEvent): void {
+    const t = this.targetOf(e);
+    if (!t) return;
+    this.rungsEl.focus({ preventScroll: true });
+    this.select(t);
+  }
+
+  private onContextMenu(e: MouseEvent): void {
+    const t = this.targetOf(e);
+    if (!t || t.path === null) return;
+    const r = this.doc.rungs[t.rung];
+    const el = r?.elements && getAt(r.elements, toPath(t.path));
+    if (!el || el.kind !== 'instr') return;
+    e.preventDefault();
+    const ops = operandTags(el);
+    const single = shapeOf(el.mnemonic) !== 'box' || ops.length <= 1;
+    const items = single ? (ops[0] ? tagMenuItems(this.ctx, ops[0]) : []) : ops.flatMap((o) => tagMenuItems(this.ctx, o, `-${o}`));
+    showMenu(e.clientX, e.clientY, `${el.mnemonic}(${el.operands.join(',')})`, items);
+  }
+
+  private onKey(e: KeyboardEvent): void {
+    if ((e.target as HTMLElement).closest('input,textarea,select')) return;
+    if (e.key === 'Delete' || e.key === 'Backspace') {
+      e.preventDefault();
+      this.deleteSelected();
+    } else if (e.key === 'Escape') this.select(null);
+  }
+
+  // ---- edits ----------------------------------------------------------------
+
+  private chunks(): string[] {
+    return this.doc.rungs.map((r) => {
+      const t = r.lead + r.own;
+      return t.endsWith('\n') ? t : t + '\n';
+    });
+  }
+
+  private setChunks(chunks: string[], select: Selection | null): void {
+    this.setText(chunks.join('') + this.doc.tail, select);
+  }
+
+  private editRung(rung: number, f: (els: Elem[]) => Edited): void {
+    const r = this.doc.rungs[rung];
+    if (!r || !r.elements) {
+      this.ctx.notify('This rung does not parse: fix it in the text view first', 'error');
+      return;
+    }
+    let ed: Edited;
+    try {
+      ed = f(r.elements);
+    } catch (err) {
+      this.ctx.notify(String(err), 'error');
+      return;
+    }
+    const chunks = this.chunks();
+    chunks[rung] = r.lead + printRung({ comment: r.comment, elements: ed.elements }) + '\n';
+    const select = { rung, path: ed.select ? ed.select.join('.') : null };
+    if (chunks.join('') + this.doc.tail === this.text) {
+      // nothing changed (e.g. a change event repeated on blur)
+      if (this.sel?.rung !== select.rung || this.sel?.path !== select.path) this.select(select);
+      return;
+    }
+    this.setChunks(chunks, select);
+  }
+
+  private insertInstr(i: Instruction): void {
+    const sel = this.sel;
+    if (!sel) {
+      this.ctx.notify('Select a rung or an element first', 'error');
+      return;
+    }
+    const el = newInstr(i.mnemonic, i.args.length);
+    if (sel.path === null) {
+      // on a rung: inputs go first, outputs last
+      this.editRung(sel.rung, (els) => insert(els, null, el, i.output ? 'after' : 'before'));
+    } else {
+      this.editRung(sel.rung, (els) => insert(els, toPath(sel.path!), el, this.where));
+    }
+    // focus the first operand of the new instruction
+    queueMicrotask(() => (this.propsEl.querySelector('[data-testid="operand-0"]') as HTMLInputElement | null)?.select());
+  }
+
+  private branch(): void {
+    const sel = this.sel;
+    if (!sel || sel.path === null) {
+      this.ctx.notify('Select an element to branch around', 'error');
+      return;
+    }
+    const r = this.doc.rungs[sel.rung];
+    const el = r?.elements && getAt(r.elements, toPath(sel.path));
+    if (!el) return;
+    const output = el.kind === 'instr' && this.ctx.instructions.find((i) => i.mnemonic === el.mnemonic.toUpperCase())?.output;
+    const leg = newInstr(output ? 'OTE' : 'XIC', 1);
+    this.editRung(sel.rung, (els) => (el.kind === 'branch' ? addLeg(els, toPath(sel.path!), leg) : wrapInBranch(els, toPath(sel.path!), leg)));
+  }
+
+  private moveElement(delta: number): void {
+    const sel = this.sel;
+    if (!sel || sel.path === null) return;
+    this.editRung(sel.rung, (els) => move(els, toPath(sel.path!), delta));
+  }
+
+  private deleteSelected(): void {
+    const sel = this.sel;
+    if (!sel) return;
+    if (sel.path === null) this.deleteRung();
+    else this.editRung(sel.rung, (els) => remove(els, toPath(sel.path!)));
+  }
+
+  private setOperands(sel: Selection, operands: string[], mnemonic?: string): void {
+    if (sel.path === null) return;
+    this.editRung(sel.rung, (els) => setInstr(els, toPath(sel.path!), operands, mnemonic));
+  }
+
+  private setComment(rung: number, text: string): void {
+    const r = this.doc.rungs[rung];
+    if (!r) return;
+    const comment = text.split('\n').map((l) => l.trim()).filter((l, k, all) => l !== '' || k < all.length - 1);
+    const chunks = this.chunks();
+    if (r.elements) chunks[rung] = r.lead + printRung({ comment, elements: r.elements }) + '\n';
+    else chunks[rung] = r.lead + [...comment.map((c) => `// ${c}`), r.body.trim() + ';'].join('\n') + '\n';
+    this.setChunks(chunks, { rung, path: null });
+  }
+
+  private addRung(atEnd = false): void {
+    const chunks = this.chunks();
+    const at = atEnd || !this.sel ? chunks.length : this.sel.rung + 1;
+    chunks.splice(at, 0, 'NOP();\n');
+    this.setChunks(chunks, { rung: at, path: null });
+  }
+
+  private moveRung(delta: number): void {
+    const sel = this.sel;
+    if (!sel) return;
+    const to = sel.rung + delta;
+    const chunks = this.chunks();
+    if (to < 0 || to >= chunks.length) return;
+    const [c] = chunks.splice(sel.rung, 1);
+    chunks.splice(to, 0, c);
+    this.setChunks(chunks, { rung: to, path: null });
+  }
+
+  private deleteRung(): void {
+    const sel = this.sel;
+    if (!sel) return;
+    const chunks = this.chunks();
+    chunks.splice(sel.rung, 1);
+    this.setChunks(chunks, chunks.length ? { rung: Math.min(sel.rung, chunks.length - 1), path: null } : null);
+  }
+
+  /** The whole text, for tests and the top bar. */
+  get source(): string {
+    return joinProgram(this.doc);
+  }
+}
+
+export type { Instr };

@@ -1,0 +1,153 @@
+// The studio: top bar, tabs (one per ladder program, Tags, Trends), status
+// bar and notifications. Routes with the URL hash (#/program/main.lad,
+// #/tags, #/trends).
+import './style.css';
+import { ApiError, api } from './api';
+import { type Ctx, TagCache } from './ctx';
+import { clear, h } from './dom';
+import { LadderView } from './ladder/view';
+import { LiveClient } from './live/client';
+import { TagsView } from './tags/view';
+import { TrendsView } from './trends/view';
+import type { ProgramRef } from './types';
+import { StatusBar } from './ui/statusbar';
+
+interface View {
+  el: HTMLElement;
+  show(): void;
+  hide(): void;
+}
+
+const toasts = h('div', { class: 'toasts', 'data-testid': 'toasts' });
+
+function notify(message: string, kind: 'info' | 'error' = 'info'): void {
+  const t = h('div', { class: `toast ${kind}`, role: kind === 'error' ? 'alert' : 'status', 'data-testid': `toast-${kind}` }, message);
+  toasts.append(t);
+  setTimeout(() => t.remove(), kind === 'error' ? 8000 : 4000);
+}
+
+async function start(): Promise<void> {
+  const live = new LiveClient();
+  const tags = new TagCache();
+  const statusBar = new StatusBar();
+  const projectName = h('span', { class: 'project', 'data-testid': 'project-name' }, '…');
+  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: 'Start scanning' }, '▶ Run');
+  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: 'Stop scanning (outputs off)' }, '■ Stop');
+  const compileBtn = h('button', { 'data-testid': 'btn-compile', title: 'Check the program being edited' }, 'Compile');
+  const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: 'Save the program and apply it online' }, 'Save');
+  const nav = h('nav', { class: 'tabs', 'data-testid': 'tabs' });
+  const main = h('main', { class: 'content' });
+  document.body.append(
+    h('header', { class: 'topbar' },
+      h('span', { class: 'logo' }, 'Alba'), projectName,
+      h('span', { class: 'seg' }, runBtn, stopBtn),
+      h('span', { class: 'seg' }, compileBtn, saveBtn)),
+    nav,
+    main,
+    statusBar.el,
+    toasts,
+  );
+
+  let lost = false;
+  live.onState((s) => {
+    statusBar.conn(s);
+    // after a reconnection the tag table may have changed
+    if (s === 'reconnecting') lost = true;
+    else if (s === 'connected' && lost) {
+      lost = false;
+      void tags.refresh().catch(() => undefined);
+    }
+  });
+  live.onBatch((b) => {
+    if (b.status) {
+      statusBar.status(b.status);
+      runBtn.disabled = b.status.state === 'running';
+      stopBtn.disabled = b.status.state !== 'running';
+    }
+    b.errors.forEach((e) => console.warn('server:', e));
+  });
+  live.connect();
+
+  const runState = async (f: () => Promise<unknown>) => {
+    try {
+      const s = (await f()) as import('./types').Status;
+      statusBar.status(s);
+      live.status = s;
+      runBtn.disabled = s.state === 'running';
+      stopBtn.disabled = s.state !== 'running';
+    } catch (e) {
+      notify(e instanceof ApiError ? e.message : String(e), 'error');
+    }
+  };
+  runBtn.onclick = () => void runState(api.run);
+  stopBtn.onclick = () => void runState(api.stop);
+
+  let status, programs: ProgramRef[], instructions;
+  try {
+    [status, programs, instructions] = await Promise.all([api.status(), api.programs(), api.instructions(), tags.refresh()]);
+  } catch (e) {
+    main.append(h('p', { class: 'fatal' }, `Cannot load the project: ${e instanceof Error ? e.message : String(e)}`));
+    return;
+  }
+  projectName.textContent = status.project;
+  document.title = `${status.project} — Alba`;
+  statusBar.status(status);
+  live.status = status;
+  runBtn.disabled = status.state === 'running';
+  stopBtn.disabled = status.state !== 'running';
+
+  const ctx: Ctx = { live, tags, instructions, notify };
+  const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();
+  for (const p of programs) {
+    if (p.language !== 'ladder') continue;
+    views.set(`program/${p.name}`, {
+      label: p.plant ? `${p.name} (plant)` : p.name,
+      testid: `tab-program-${p.name}`,
+      make: () => {
+        const v = new LadderView(ctx, p.name);
+        v.load().catch((e) => notify(`${p.name}: ${e.message}`, 'error'));
+        return v;
+      },
+    });
+  }
+  views.set('tags', { label: 'Tags', testid: 'tab-tags', make: () => new TagsView(ctx) });
+  // made at once: its pens record in the background from the start
+  const trends = new TrendsView(ctx);
+  views.set('trends', { label: 'Trends', testid: 'tab-trends', make: () => trends, view: trends });
+  const skipped = programs.filter((p) => p.language !== 'ladder');
+
+  let current: View | null = null;
+  const go = () => {
+    const key = decodeURIComponent(location.hash.replace(/^#\/?/, '')) || [...views.keys()][0];
+    const entry = views.get(key) ?? views.get([...views.keys()][0])!;
+    current?.hide();
+    entry.view ??= entry.make();
+    current = entry.view;
+    clear(main);
+    main.append(current.el);
+    current.show();
+    nav.querySelectorAll('a').forEach((a) => a.classList.toggle('active', a.dataset.key === key));
+    const ladder = current instanceof LadderView ? current : null;
+    compileBtn.disabled = saveBtn.disabled = !ladder;
+  };
+  for (const [key, v] of views) {
+    nav.append(h('a', { href: `#/${encodeURIComponent(key).replace(/%2F/g, '/')}`, 'data-key': key, 'data-testid': v.testid }, v.label));
+  }
+  if (skipped.length) nav.append(h('span', { class: 'hint', title: 'Instruction List programs are not shown in this version' }, `+ ${skipped.map((p) => p.name).join(', ')} (IL)`));
+  window.addEventListener('hashchange', go);
+  go();
+
+  compileBtn.onclick = async () => {
+    if (!(current instanceof LadderView)) return;
+    const ok = await current.check();
+    notify(ok ? `${current.program}: no problems` : `${current.program}: see the problems list`, ok ? 'info' : 'error');
+  };
+  saveBtn.onclick = () => {
+    if (current instanceof LadderView) void current.save();
+  };
+  window.addEventListener('beforeunload', (e) => {
+    if ([...views.values()].some((v) => v.view instanceof LadderView && v.view.dirty)) e.preventDefault();
+  });
+}
+
+void start();

@@ -1,0 +1,339 @@
+// The tag table: live values, writes, forces, definitions (tags.csv) with
+// add/edit/delete, CSV import and export.
+import { ApiError, api } from '../api';
+import type { Ctx } from '../ctx';
+import { clear, fmt, h } from '../dom';
+import type { Diagnostic, Json, TagInfo } from '../types';
+import { parseValue } from '../ui/tagActions';
+import { type TagDef, type TagsFile, TYPES, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
+
+const MEMBERS: Record<string, string[]> = {
+  TIMER: ['PRE', 'ACC', 'EN', 'TT', 'DN'],
+  COUNTER: ['PRE', 'ACC', 'CU', 'CD', 'DN', 'OV', 'UN'],
+};
+
+interface Row {
+  name: string;
+  type: string;
+  access: 'readwrite' | 'input' | 'readonly';
+  io: boolean;
+  tag: TagInfo | null;
+  member: boolean;
+  search: string;
+}
+
+/** The rows of the table: each tag, then the members of TIMER/COUNTER tags. */
+export function tableRows(tags: TagInfo[]): Row[] {
+  const rows: Row[] = [];
+  for (const t of tags) {
+    const io = !!t.address && t.access !== 'readonly';
+    const search = `${t.name} ${t.type} ${t.address ?? ''} ${t.description}`.toLowerCase();
+    rows.push({ name: t.name, type: t.type, access: t.access, io, tag: t, member: false, search });
+    for (const m of MEMBERS[t.type] ?? []) {
+      const numeric = m === 'PRE' || m === 'ACC';
+      rows.push({
+        name: `${t.name}.${m}`,
+        type: numeric ? 'DINT' : 'BOOL',
+        access: numeric ? 'readwrite' : 'readonly',
+        io: false,
+        tag: null,
+        member: true,
+        search: `${t.name}.${m} ${search}`.toLowerCase(),
+      });
+    }
+  }
+  return rows;
+}
+
+export function matches(row: { search: string }, filter: string): boolean {
+  const words = filter.toLowerCase().split(/\s+/).filter(Boolean);
+  return words.every((w) => row.search.includes(w));
+}
+
+export class TagsView {
+  readonly el: HTMLElement;
+  private readonly body = h('tbody');
+  private readonly filterEl = h('input', { type: 'search', placeholder: 'Filter by name, type, address, description', 'data-testid': 'tag-filter' });
+  private readonly formEl = h('div', { class: 'tag-form', hidden: true, 'data-testid': 'tag-form' });
+  private readonly diagEl = h('ul', { class: 'problems', 'data-testid': 'tags-diagnostics' });
+  private rows: { row: Row; tr: HTMLTableRowElement }[] = [];
+  private unwatch: (() => void)[] = [];
+  private unlisten: (() => void)[] = [];
+  private file: TagsFile | null = null;
+
+  constructor(private readonly ctx: Ctx) {
+    this.filterEl.addEventListener('input', () => this.applyFilter());
+    const importInput = h('input', { type: 'file', accept: '.csv,text/csv', 'data-testid': 'tags-import', hidden: true });
+    importInput.addEventListener('change', async () => {
+      const f = importInput.files?.[0];
+      importInput.value = '';
+      if (f) await this.putCsv(await f.text(), `Imported ${f.name}`);
+    });
+    this.el = h(
+      'section',
+      { class: 'tags-view', 'data-testid': 'tags-view' },
+      h(
+        'div',
+        { class: 'toolbar' },
+        this.filterEl,
+        h('button', { 'data-testid': 'tag-add', onclick: () => void this.openForm(null) }, '+ New tag'),
+        h('button', { 'data-testid': 'tags-import-button', onclick: () => importInput.click() }, 'Import CSV…'),
+        importInput,
+        h('a', { class: 'button', href: '/api/tags.csv', download: 'tags.csv', 'data-testid': 'tags-export' }, 'Export CSV'),
+      ),
+      this.formEl,
+      this.diagEl,
+      h(
+        'div',
+        { class: 'table-wrap' },
+        h(
+          'table',
+          { class: 'tags', 'data-testid': 'tag-table' },
+          h('thead', null, h('tr', null, ['Name', 'Type', 'Address', 'Value', 'Force', 'Description', ''].map((c) => h('th', null, c)))),
+          this.body,
+        ),
+      ),
+    );
+  }
+
+  show(): void {
+    this.ctx.live.subscribe('tags', '*');
+    this.unlisten.push(this.ctx.tags.onChange(() => this.render()));
+    this.render();
+    void this.ctx.tags.refresh().catch((e) => this.ctx.notify(String(e), 'error'));
+  }
+
+  hide(): void {
+    this.ctx.live.subscribe('tags', null);
+    this.unlisten.forEach((f) => f());
+    this.unlisten = [];
+  }
+
+  private applyFilter(): void {
+    const f = this.filterEl.value;
+    for (const { row, tr } of this.rows) tr.hidden = !matches(row, f);
+  }
+
+  private render(): void {
+    this.unwatch.forEach((f) => f());
+    this.unwatch = [];
+    clear(this.body);
+    this.rows = tableRows(this.ctx.tags.list).map((row) => ({ row, tr: this.renderRow(row) }));
+    this.rows.forEach(({ tr }) => this.body.append(tr));
+    this.applyFilter();
+  }
+
+  private renderRow(row: Row): HTMLTableRowElement {
+    const t = row.tag;
+    const valueText = document.createTextNode('…');
+    const valueSpan = h('span', { class: 'value', 'data-testid': `tag-value-${row.name}` }, valueText);
+    const valueCell = h('td', { class: 'value-cell' }, valueSpan);
+    const errorEl = h('div', { class: 'inline-error', 'data-testid': `tag-error-${row.name}`, hidden: true });
+    const structured = !!MEMBERS[row.type];
+    if (!structured) {
+      this.unwatch.push(
+        this.ctx.live.store.watch(row.name, (v) => {
+          const s = fmt(v);
+          if (valueText.data !== s) valueText.data = s;
+          valueSpan.classList.toggle('bool-on', v === true);
+        }),
+      );
+    } else valueText.data = '';
+    const showError = (msg: string | null) => {
+      errorEl.hidden = msg === null;
+      errorEl.textContent = msg ?? '';
+    };
+    const write = async (value: Json) => {
+      try {
+        await api.writeTag(row.name, value);
+        showError(null);
+        return true;
+      } catch (e) {
+        showError(e instanceof ApiError ? e.message : String(e));
+        return false;
+      }
+    };
+    if (!structured && row.access === 'readwrite' && !row.io) {
+      if (row.type === 'BOOL') {
+        valueCell.append(
+          h('button', { class: 'small', 'data-testid': `tag-toggle-${row.name}`, onclick: () => void write(!(this.ctx.live.store.get(row.name) === true)) }, 'Toggle'),
+        );
+      } else {
+        const edit = () => {
+          const input = h('input', { class: 'value-input', 'data-testid': `tag-input-${row.name}`, value: fmt(this.ctx.live.store.get(row.name)) });
+          const done = () => {
+            input.remove();
+            valueSpan.hidden = false;
+          };
+          input.addEventListener('keydown', async (e) => {
+            if (e.key === 'Enter') {
+              if (await write(parseValue(row.type, input.value))) done();
+            } else if (e.key === 'Escape') {
+              showError(null);
+              done();
+            }
+          });
+          input.addEventListener('blur', () => setTimeout(() => input.isConnected && errorEl.hidden && done(), 150));
+          valueSpan.hidden = true;
+          valueCell.prepend(input);
+          input.focus();
+          input.select();
+        };
+        valueCell.append(h('button', { class: 'small', title: 'Edit the value', 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'));
+      }
+    }
+    valueCell.append(errorEl);
+
+    const forceCell = h('td', { class: 'force-cell' });
+    if (row.io) {
+      const forced = this.ctx.tags.forced.get(row.name.toUpperCase());
+      const isForced = forced !== undefined;
+      const force = async (v: Json | null) => {
+        try {
+          if (v === null) await api.unforce(row.name);
+          else await api.force(row.name, v);
+          showError(null);
+          await this.ctx.tags.refreshForces();
+        } catch (e) {
+          showError(e instanceof ApiError ? e.message : String(e));
+        }
+      };
+      if (isForced) forceCell.append(h('span', { class: 'forced', 'data-testid': `tag-forced-${row.name}` }, `F=${fmt(forced)}`), ' ');
+      if (row.type === 'BOOL') {
+        forceCell.append(
+          h('button', { class: 'small', 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'),
+          h('button', { class: 'small', 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'),
+        );
+      } else {
+        const input = h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: 'value', size: 6 });
+        forceCell.append(input, h('button', { class: 'small', 'data-testid': `force-apply-${row.name}`, onclick: () => void force(parseValue(row.type, input.value)) }, 'Force'));
+      }
+      forceCell.append(h('button', { class: 'small', 'data-testid': `unforce-${row.name}`, disabled: !isForced, onclick: () => void force(null) }, 'Unforce'));
+    }
+
+    const actions = h('td', { class: 'actions' });
+    if (t && t.access !== 'readonly' && !t.name.includes(':')) {
+      actions.append(
+        h('button', { class: 'small', 'data-testid': `tag-def-edit-${row.name}`, onclick: () => void this.openForm(row.name) }, 'Edit'),
+        h('button', { class: 'small danger', 'data-testid': `tag-def-delete-${row.name}`, onclick: () => void this.deleteDef(row.name) }, 'Delete'),
+      );
+    }
+    return h(
+      'tr',
+      { class: `${row.member ? 'member' : ''} access-${row.access}`, 'data-testid': `tag-row-${row.name}` },
+      h('td', { class: 'name' }, row.name),
+      h('td', null, row.type),
+      h('td', null, t?.address ?? ''),
+      valueCell,
+      forceCell,
+      h('td', { class: 'desc' }, t?.description ?? ''),
+      actions,
+    );
+  }
+
+  // ---- definitions (tags.csv) --------------------------------------------------
+
+  private async loadFile(): Promise<TagsFile> {
+    this.file = parseTagsCsv(await api.tagsCsv());
+    return this.file;
+  }
+
+  private async openForm(name: string | null): Promise<void> {
+    const file = await this.loadFile();
+    const idx = name === null ? -1 : file.defs.findIndex((d) => d.name.toUpperCase() === name.toUpperCase());
+    const def: TagDef = idx >= 0 ? { ...file.defs[idx] } : { name: '', type: 'BOOL', address: '', initial: '', retain: '', description: '' };
+    const field = (k: keyof TagDef, label: string, input: HTMLInputElement | HTMLSelectElement) => {
+      input.setAttribute('data-testid', `tag-form-${k}`);
+      return h('label', null, h('span', null, label), input);
+    };
+    const nameIn = h('input', { value: def.name, autocomplete: 'off' });
+    const typeIn = h('select', null, TYPES.map((t) => h('option', { value: t, selected: t === def.type.toUpperCase() }, t)));
+    const addrIn = h('input', { value: def.address, placeholder: 'internal, or DI:1/0, %QX0.1, AI:3/0…' });
+    const initIn = h('input', { value: def.initial });
+    const retainIn = h('input', { type: 'checkbox', checked: /^(1|true|yes)$/i.test(def.retain) });
+    const descIn = h('input', { value: def.description, size: 40 });
+    const err = h('div', { class: 'inline-error', 'data-testid': 'tag-form-error', hidden: true });
+    const save = async () => {
+      const nd: TagDef = {
+        name: nameIn.value.trim(),
+        type: typeIn.value,
+        address: addrIn.value.trim(),
+        initial: initIn.value.trim(),
+        retain: retainIn.checked ? '1' : '',
+        description: descIn.value,
+      };
+      const others = file.defs.filter((_, k) => k !== idx);
+      const problem = validateDef(nd, others);
+      if (problem) {
+        err.hidden = false;
+        err.textContent = problem;
+        return;
+      }
+      const defs = [...file.defs];
+      if (idx >= 0) defs[idx] = nd;
+      else defs.push(nd);
+      const next = { columns: file.columns, defs };
+      if (await this.putCsv(tagsCsv(next), idx >= 0 ? `Tag ${nd.name} changed` : `Tag ${nd.name} added`, next)) this.closeForm();
+    };
+    clear(this.formEl);
+    this.formEl.append(
+      h('h3', null, idx >= 0 ? `Edit ${def.name}` : 'New tag'),
+      h('div', { class: 'fields' },
+        field('name', 'Name', nameIn),
+        field('type', 'Type', typeIn),
+        field('address', 'Address', addrIn),
+        field('initial', 'Initial', initIn),
+        field('retain', 'Retain', retainIn),
+        field('description', 'Description', descIn)),
+      err,
+      h('div', { class: 'buttons' },
+        h('button', { class: 'primary', 'data-testid': 'tag-form-save', onclick: () => void save() }, 'Save to tags.csv'),
+        h('button', { 'data-testid': 'tag-form-cancel', onclick: () => this.closeForm() }, 'Cancel')),
+    );
+    this.formEl.hidden = false;
+    nameIn.focus();
+  }
+
+  private closeForm(): void {
+    this.formEl.hidden = true;
+    clear(this.formEl);
+  }
+
+  private async deleteDef(name: string): Promise<void> {
+    if (!confirm(`Delete the tag ${name} from tags.csv?`)) return;
+    const file = await this.loadFile();
+    const defs = file.defs.filter((d) => d.name.toUpperCase() !== name.toUpperCase());
+    const next = { columns: file.columns, defs };
+    await this.putCsv(tagsCsv(next), `Tag ${name} deleted`, next);
+  }
+
+  /** PUT /api/tags.csv; shows the diagnostics (with the row they point at) on failure. */
+  private async putCsv(text: string, done: string, file?: TagsFile): Promise<boolean> {
+    clear(this.diagEl);
+    try {
+      await api.saveTagsCsv(text);
+      this.ctx.notify(done);
+      await this.ctx.tags.refresh();
+      return true;
+    } catch (e) {
+      const err = e instanceof ApiError ? e : new ApiError(0, String(e));
+      const lines = file ? lineOfDefs(file) : [];
+      const rowName = (d: Diagnostic) => {
+        if (!file || d.line === null) return '';
+        const k = lines.indexOf(d.line);
+        return k >= 0 ? ` (tag ${file.defs[k].name || '#' + (k + 1)})` : '';
+      };
+      this.diagEl.append(h('li', { class: 'problem head' }, `tags.csv not saved: ${err.message}`));
+      err.diagnostics.forEach((d, k) =>
+        this.diagEl.append(
+          h('li', { class: 'problem', 'data-testid': `tags-diagnostic-${k}` },
+            h('span', { class: 'code' }, d.code), ' ',
+            d.file ? `${d.file}:${d.line ?? ''}:${d.col ?? ''} ` : '',
+            d.message, rowName(d), d.help ? ` — ${d.help}` : ''),
+        ),
+      );
+      this.ctx.notify(`tags.csv not saved: ${err.message}`, 'error');
+      return false;
+    }
+  }
+}

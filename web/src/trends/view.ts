@@ -1,0 +1,491 @@
+// Trends: pens, a live scrolling window from WebSocket values (backfilled
+// from /api/history when a pen is added, the view opens or the WebSocket
+// reconnects), history (zoom by dragging, wheel, pan and zoom-out buttons)
+// from /api/history with a min/max band per pen, CSV export from
+// /api/history.csv. The plot element carries data-points (points plotted)
+// and data-last-t (time of the last live sample) for end-to-end tests.
+import uPlot from 'uplot';
+import 'uplot/dist/uPlot.min.css';
+import { ApiError, api } from '../api';
+import type { Ctx } from '../ctx';
+import { clear, download, h } from '../dom';
+import type { History } from '../types';
+import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
+
+const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#7f7f7f', '#bcbd22'];
+const WINDOWS: [string, number][] = [
+  ['30 s', 30e3],
+  ['1 min', 60e3],
+  ['5 min', 300e3],
+  ['15 min', 900e3],
+  ['1 h', 3600e3],
+];
+const RANGES: [string, number][] = [
+  ['last 15 min', 900e3],
+  ['last 1 h', 3600e3],
+  ['last 8 h', 8 * 3600e3],
+  ['last 24 h', 24 * 3600e3],
+  ['last 7 days', 7 * 24 * 3600e3],
+];
+const STORE_KEY = 'alba.trends.pens';
+/** How far before a backfilled window to look for the value held at its start. */
+const HELD_LOOKBACK_MS = 3600e3;
+
+type Mode = { kind: 'live' } | { kind: 'range'; from: number; to: number };
+
+export class TrendsView {
+  readonly el: HTMLElement;
+  private pens: string[] = [];
+  private readonly logs = new Map<string, PenLog>();
+  /** Per pen (upper case): the time of the first live sample since the pen was added or the WebSocket (re)connected. */
+  private readonly liveSince = new Map<string, number>();
+  /** Counts WebSocket reconnections: a backfill started before one is dropped. */
+  private epoch = 0;
+  /** Time of the latest live sample of any pen (ms), 0 before the first. */
+  private lastLiveT = 0;
+  private attrs: { points: number; lastT: number; to: number } | null = null;
+  private attrsFrame = 0;
+  private mode: Mode = { kind: 'live' };
+  private windowMs = 60e3;
+  private plot: uPlot | null = null;
+  private plotKey = '';
+  /** The plot has the history layout (line, max, min per pen). */
+  private plotHistory = false;
+  /** Server clock minus local clock (ms), from the latest values message. */
+  private offset = 0;
+  private historyAvailable: boolean | null = null;
+  private timer: ReturnType<typeof setInterval> | null = null;
+  private fetchSeq = 0;
+  private wheelTimer: ReturnType<typeof setTimeout> | null = null;
+  private readonly plotEl = h('div', { class: 'trend-plot', 'data-testid': 'trend-plot' });
+  private readonly pensEl = h('div', { class: 'pens', 'data-testid': 'trend-pens' });
+  private readonly statusEl = h('span', { class: 'trend-status', 'data-testid': 'trend-status' });
+  private readonly penInput = h('input', { list: 'trend-tags', placeholder: 'Tag to plot', 'data-testid': 'trend-pen-input', autocomplete: 'off' });
+  private readonly datalist = h('datalist', { id: 'trend-tags' });
+  private readonly resize = new ResizeObserver(() => this.fit());
+
+  constructor(private readonly ctx: Ctx) {
+    try {
+      const saved = JSON.parse(localStorage.getItem(STORE_KEY) ?? '[]');
+      if (Array.isArray(saved)) this.pens = saved.filter((p) => typeof p === 'string');
+    } catch {
+      /* ignore */
+    }
+    this.penInput.addEventListener('keydown', (e) => e.key === 'Enter' && this.addPen(this.penInput.value));
+    const windowSel = h(
+      'select',
+      { 'data-testid': 'trend-window', onchange: (e: Event) => this.setWindow(Number((e.target as HTMLSelectElement).value)) },
+      WINDOWS.map(([l, ms]) => h('option', { value: ms, selected: ms === this.windowMs }, l)),
+    );
+    const rangeSel = h(
+      'select',
+      {
+        'data-testid': 'trend-range',
+        onchange: (e: Event) => {
+          const sel = e.target as HTMLSelectElement;
+          const ms = Number(sel.value);
+          sel.value = '';
+          if (ms) {
+            const now = this.now();
+            this.setRange(now - ms, now);
+          }
+        },
+      },
+      h('option', { value: '' }, 'History…'),
+      RANGES.map(([l, ms]) => h('option', { value: ms }, l)),
+    );
+    this.el = h(
+      'section',
+      { class: 'trends-view', 'data-testid': 'trends-view' },
+      h(
+        'div',
+        { class: 'toolbar' },
+        this.penInput,
+        this.datalist,
+        h('button', { 'data-testid': 'trend-pen-add', onclick: () => this.addPen(this.penInput.value) }, '+ Pen'),
+        h('span', { class: 'seg' },
+          h('button', { 'data-testid': 'trend-live', onclick: () => this.setLive() }, '● Live'),
+          ' window ', windowSel),
+        h('span', { class: 'seg' },
+          rangeSel,
+          h('button', { 'data-testid': 'trend-pan-left', title: 'Earlier', onclick: () => this.pan(-0.5) }, '◀'),
+          h('button', { 'data-testid': 'trend-pan-right', title: 'Later', onclick: () => this.pan(0.5) }, '▶'),
+          h('button', { 'data-testid': 'trend-zoom-out', title: 'Zoom out', onclick: () => this.zoom(2) }, '−'),
+          h('button', { 'data-testid': 'trend-zoom-in', title: 'Zoom in', onclick: () => this.zoom(0.5) }, '+')),
+        h('button', { 'data-testid': 'trend-export-csv', onclick: () => void this.exportCsv() }, 'Export CSV'),
+        this.statusEl,
+      ),
+      this.pensEl,
+      this.plotEl,
+      h('p', { class: 'hint' }, 'Drag across the plot to zoom into the history; the wheel zooms, ◀ ▶ pan, Live returns to the scrolling view.'),
+    );
+    ctx.live.onRaw((m) => {
+      if (m.type !== 'values') return;
+      this.offset = m.t_ms - Date.now();
+      for (const [name, v] of Object.entries(m.values)) {
+        const k = name.toUpperCase();
+        const log = this.logs.get(k);
+        if (!log) continue;
+        log.push(m.t_ms, plotValue(v));
+        if (!this.liveSince.has(k)) this.liveSince.set(k, m.t_ms);
+        if (m.t_ms > this.lastLiveT) this.lastLiveT = m.t_ms;
+      }
+    });
+    let prev = ctx.live.state;
+    ctx.live.onState((st) => {
+      if (st === 'connected' && prev === 'reconnecting') {
+        // the gap while disconnected: live data starts again with the next message
+        this.epoch++;
+        this.liveSince.clear();
+        this.backfill(this.pens);
+      }
+      prev = st;
+    });
+    this.syncSubscription();
+  }
+
+  show(): void {
+    this.renderPens();
+    this.renderDatalist();
+    this.resize.observe(this.plotEl);
+    this.timer = setInterval(() => this.mode.kind === 'live' && this.redraw(), 250);
+    this.rebuild();
+    this.backfill(this.pens);
+    if (this.historyAvailable === null) {
+      api.historyTags().then(
+        () => (this.historyAvailable = true),
+        (e) => {
+          if (e instanceof ApiError && historyFailure(e.status, e.message) === 'off') this.historyAvailable = false;
+          this.renderStatus();
+        },
+      );
+    }
+  }
+
+  hide(): void {
+    if (this.timer) clearInterval(this.timer);
+    this.timer = null;
+    this.resize.disconnect();
+  }
+
+  private now(): number {
+    return Date.now() + this.offset;
+  }
+
+  private syncSubscription(): void {
+    for (const p of this.pens) if (!this.logs.has(p.toUpperCase())) this.logs.set(p.toUpperCase(), new PenLog());
+    for (const k of [...this.logs.keys()]) {
+      if (!this.pens.some((p) => p.toUpperCase() === k)) {
+        this.logs.delete(k);
+        this.liveSince.delete(k);
+      }
+    }
+    this.ctx.live.subscribe('trends', this.pens.length ? [...this.pens] : null);
+    localStorage.setItem(STORE_KEY, JSON.stringify(this.pens));
+  }
+
+  private addPen(name: string): void {
+    const n = name.trim();
+    if (!n) return;
+    const ref = this.ctx.tags.resolve(n);
+    if (!ref || ref.type === 'TIMER' || ref.type === 'COUNTER') {
+      this.ctx.notify(`${n}: not a tag or member that can be plotted (pick a BOOL or a number)`, 'error');
+      return;
+    }
+    const added = !this.pens.some((p) => p.toUpperCase() === ref.name.toUpperCase());
+    if (added) this.pens.push(ref.name);
+    this.penInput.value = '';
+    this.syncSubscription();
+    this.renderPens();
+    this.rebuild();
+    if (added) this.backfill([ref.name]);
+  }
+
+  private removePen(name: string): void {
+    this.pens = this.pens.filter((p) => p !== name);
+    this.syncSubscription();
+    this.renderPens();
+    this.rebuild();
+  }
+
+  private renderPens(): void {
+    clear(this.pensEl);
+    this.pens.forEach((p, k) =>
+      this.pensEl.append(
+        h('span', { class: 'pen', 'data-testid': `trend-pen-${p}`, style: { borderColor: COLORS[k % COLORS.length] } },
+          h('span', { class: 'swatch', style: { background: COLORS[k % COLORS.length] } }),
+          p,
+          h('button', { class: 'small', title: `Remove ${p}`, 'data-testid': `trend-pen-remove-${p}`, onclick: () => this.removePen(p) }, '×')),
+      ),
+    );
+    if (this.pens.length === 0) this.pensEl.append(h('span', { class: 'hint' }, 'No pens: add a tag to plot.'));
+  }
+
+  private renderDatalist(): void {
+    clear(this.datalist);
+    const names = [...this.ctx.tags.choices('num_in'), ...this.ctx.tags.choices('bit_in')];
+    [...new Set(names)].forEach((n) => this.datalist.append(h('option', { value: n })));
+  }
+
+  private renderStatus(text?: string): void {
+    let s: string;
+    if (text) s = text;
+    else if (this.mode.kind === 'live') s = `live, last ${WINDOWS.find(([, ms]) => ms === this.windowMs)?.[0] ?? ''}`;
+    else s = `${new Date(this.mode.from).toLocaleString()} – ${new Date(this.mode.to).toLocaleTimeString()}`;
+    if (this.historyAvailable === false) s += ' · history not available on this server (live buffer only)';
+    this.statusEl.textContent = s;
+  }
+
+  private setWindow(ms: number): void {
+    const longer = ms > this.windowMs;
+    this.windowMs = ms;
+    this.setLive();
+    if (longer) this.backfill(this.pens);
+  }
+
+  private setLive(): void {
+    this.mode = { kind: 'live' };
+    this.rebuild();
+  }
+
+  private range(): [number, number] {
+    if (this.mode.kind === 'range') return [this.mode.from, this.mode.to];
+    const now = this.now();
+    return [now - this.windowMs, now];
+  }
+
+  private setRange(from: number, to: number): void {
+    if (!(to > from)) return;
+    this.mode = { kind: 'range', from, to };
+    this.rebuild();
+  }
+
+  private pan(f: number): void {
+    const [a, b] = this.range();
+    const d = (b - a) * f;
+    this.setRange(a + d, b + d);
+  }
+
+  private zoom(f: number, center?: number): void {
+    const [a, b] = this.range();
+    const c = center ?? (a + b) / 2;
+    this.setRange(c - (c - a) * f, c + (b - c) * f);
+  }
+
+  // ---- plotting ---------------------------------------------------------------
+
+  private fit(): void {
+    if (!this.plot) return;
+    const w = Math.max(300, this.plotEl.clientWidth);
+    this.plot.setSize({ width: w, height: this.height() });
+  }
+
+  private height(): number {
+    return Math.max(260, Math.min(520, window.innerHeight - 260));
+  }
+
+  /** (Re)creates the plot for the current pens and mode, and fills it. */
+  private rebuild(): void {
+    this.renderStatus();
+    const history = this.mode.kind === 'range' && this.historyAvailable !== false;
+    const key = `${history}:${this.pens.join('|')}`;
+    if (key !== this.plotKey || !this.plot) {
+      this.plot?.destroy();
+      this.plot = null;
+      clear(this.plotEl);
+      this.plotKey = key;
+      this.plotHistory = history;
+      if (this.pens.length) this.plot = this.makePlot(history);
+      else this.markPlot(0, 0);
+    }
+    if (history) void this.fetchHistory();
+    else this.redraw();
+  }
+
+  private makePlot(history: boolean): uPlot {
+    const series: uPlot.Series[] = [{ label: 'time' }];
+    const bands: uPlot.Band[] = [];
+    this.pens.forEach((p, k) => {
+      const color = COLORS[k % COLORS.length];
+      series.push({ label: p, stroke: color, width: 1.5, spanGaps: history, paths: history ? undefined : uPlot.paths.stepped!({ align: 1 }), points: { show: false } });
+      if (history) {
+        const i = series.length;
+        series.push({ label: `${p} max`, stroke: 'transparent', width: 0, points: { show: false }, spanGaps: true });
+        series.push({ label: `${p} min`, stroke: 'transparent', width: 0, points: { show: false }, spanGaps: true });
+        bands.push({ series: [i, i + 1], fill: `${color}33` });
+      }
+    });
+    const opts: uPlot.Options = {
+      width: Math.max(300, this.plotEl.clientWidth),
+      height: this.height(),
+      ms: 1,
+      series,
+      bands,
+      scales: { x: { time: true } },
+      legend: { live: true },
+      cursor: { drag: { x: true, y: false, setScale: false } },
+      hooks: {
+        setSelect: [
+          (u) => {
+            if (u.select.width < 5) return;
+            const from = u.posToVal(u.select.left, 'x');
+            const to = u.posToVal(u.select.left + u.select.width, 'x');
+            u.setSelect({ left: 0, top: 0, width: 0, height: 0 }, false);
+            this.setRange(from, to);
+          },
+        ],
+      },
+    };
+    const u = new uPlot(opts, [[]], this.plotEl);
+    u.over.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      const [a, b] = this.range();
+      const center = u.posToVal(e.offsetX, 'x');
+      const f = e.deltaY > 0 ? 1.25 : 0.8;
+      const na = center - (center - a) * f;
+      const nb = center + (b - center) * f;
+      this.mode = { kind: 'range', from: na, to: nb };
+      this.renderStatus();
+      // show the buffer at once, fetch the history when the wheel rests
+      this.drawBuffer(na, nb);
+      if (this.wheelTimer) clearTimeout(this.wheelTimer);
+      this.wheelTimer = setTimeout(() => this.rebuild(), 250);
+    }, { passive: false });
+    return u;
+  }
+
+  private drawBuffer(from: number, to: number): void {
+    if (!this.plot || this.plotHistory) return;
+    const logs = this.pens.map((p) => this.logs.get(p.toUpperCase())!);
+    const data = alignLogs(logs, from, to) as uPlot.AlignedData;
+    this.plot.setData(data, false);
+    this.plot.setScale('x', { min: from, max: to });
+    this.markPlot(data[0].length, to);
+  }
+
+  /** data-points / data-last-t / data-to on the plot element, written at most once per animation frame. */
+  private markPlot(points: number, to: number): void {
+    this.attrs = { points, lastT: this.lastLiveT, to };
+    if (this.attrsFrame) return;
+    this.attrsFrame = requestAnimationFrame(() => {
+      this.attrsFrame = 0;
+      const a = this.attrs;
+      if (!a) return;
+      this.plotEl.dataset.points = String(a.points);
+      this.plotEl.dataset.lastT = String(a.lastT);
+      this.plotEl.dataset.to = String(Math.round(a.to));
+    });
+  }
+
+  /** The plot area's width in CSS pixels: one history bucket each. */
+  private plotWidth(): number {
+    const w = this.plot ? Math.round(this.plot.bbox.width / (window.devicePixelRatio || 1)) : 0;
+    return Math.max(50, w || this.plotEl.clientWidth || 800);
+  }
+
+  /**
+   * Seeds the live buffers of `pens` with the last window of history, so that
+   * the live view is full at once; the buffer keeps what arrived live (see
+   * mergeBackfill). Without history (off, unknown tag, an error) the buffer
+   * stays as it is.
+   */
+  private backfill(pens: string[]): void {
+    if (this.historyAvailable === false || pens.length === 0) return;
+    const to = this.now();
+    const from = to - this.windowMs;
+    const points = this.plotWidth();
+    const epoch = this.epoch;
+    for (const pen of pens) {
+      const k = pen.toUpperCase();
+      const log = this.logs.get(k);
+      if (!log) continue;
+      // the value held at the window's start: the last one recorded in the hour before it
+      const before = api.history(pen, from - HELD_LOOKBACK_MS, from - 1, 1).catch(() => null);
+      Promise.all([api.history(pen, from, to, points), before]).then(
+        ([hist, prior]) => {
+          if (epoch !== this.epoch || this.logs.get(k) !== log) return; // removed, re-added or reconnected since
+          const held = prior?.buckets[prior.buckets.length - 1]?.[4];
+          const samples = historySamples(hist.buckets, hist.from, hist.to, points, held);
+          log.replace(mergeBackfill(samples, log.samples(), this.liveSince.get(k) ?? Infinity));
+          if (this.mode.kind === 'live') this.redraw();
+        },
+        (e) => {
+          const kind = e instanceof ApiError ? historyFailure(e.status, e.message) : 'error';
+          if (kind === 'off' && this.historyAvailable !== false) {
+            this.historyAvailable = false;
+            this.renderStatus();
+          }
+          // 'no-data': nothing recorded for this tag yet; 'error': keep the live buffer only
+        },
+      );
+    }
+  }
+
+  /** Live (or range without history): the ring buffers. */
+  private redraw(): void {
+    if (!this.plot) return;
+    const [from, to] = this.range();
+    this.drawBuffer(from, to);
+  }
+
+  private async fetchHistory(): Promise<void> {
+    if (this.mode.kind !== 'range' || !this.plot) return;
+    const { from, to } = this.mode;
+    const seq = ++this.fetchSeq;
+    const points = this.plotWidth();
+    this.renderStatus('loading history…');
+    let hs: History[];
+    try {
+      hs = await Promise.all(
+        this.pens.map((p) =>
+          api.history(p, from, to, points).catch((e) => {
+            // a tag with nothing recorded is an empty pen, not a failure
+            if (e instanceof ApiError && historyFailure(e.status, e.message) === 'no-data') return { tag: p, from, to, buckets: [] };
+            throw e;
+          }),
+        ),
+      );
+    } catch (e) {
+      if (seq !== this.fetchSeq) return;
+      if (e instanceof ApiError && historyFailure(e.status, e.message) === 'off') {
+        this.historyAvailable = false;
+        this.rebuild(); // falls back to the live buffer
+        return;
+      }
+      this.renderStatus(`history: ${e instanceof Error ? e.message : String(e)}`);
+      return;
+    }
+    if (seq !== this.fetchSeq || !this.plot) return;
+    const j = joinHistories(hs);
+    const data: (number | null)[][] = [j.xs];
+    j.pens.forEach((p) => data.push(p.line, p.max, p.min));
+    this.plot.setData(data as uPlot.AlignedData, false);
+    this.plot.setScale('x', { min: from, max: to });
+    this.markPlot(j.xs.length, to);
+    this.renderStatus();
+  }
+
+  private async exportCsv(): Promise<void> {
+    if (this.pens.length === 0) {
+      this.ctx.notify('Add a pen first', 'error');
+      return;
+    }
+    const [from, to] = this.range();
+    const url = api.historyCsvUrl(this.pens, from, to, exportStep(from, to));
+    try {
+      const res = await fetch(url);
+      if (!res.ok) {
+        let msg = `${res.status} ${res.statusText}`;
+        try {
+          msg = (await res.json()).error ?? msg;
+        } catch {
+          /* not JSON */
+        }
+        throw new Error(msg);
+      }
+      download('trend.csv', await res.text(), true);
+    } catch (e) {
+      this.ctx.notify(`CSV export failed: ${(e as Error).message}`, 'error');
+    }
+  }
+}

@@ -1,0 +1,53 @@
+// The status bar: run state, scan times, overruns, connection.
+import type { ConnState } from '../live/client';
+import { h } from '../dom';
+import type { Status } from '../types';
+
+export class StatusBar {
+  readonly el: HTMLElement;
+  private readonly fields: Record<string, Text> = {};
+  private readonly spans: Record<string, HTMLElement> = {};
+
+  constructor() {
+    const field = (key: string, label: string) => {
+      const t = document.createTextNode('—');
+      this.fields[key] = t;
+      const span = h('span', { class: `field ${key}`, 'data-testid': `status-${key}` }, t);
+      this.spans[key] = span;
+      return h('span', { class: 'status-item' }, label ? h('span', { class: 'label' }, label) : null, span);
+    };
+    this.el = h(
+      'footer',
+      { class: 'statusbar', 'data-testid': 'statusbar' },
+      field('state', ''),
+      field('scan-last', 'scan'),
+      field('scan-max', 'max'),
+      field('overruns', 'overruns'),
+      field('scans', 'scans'),
+      field('fault', ''),
+      h('span', { class: 'spacer' }),
+      field('conn', ''),
+    );
+  }
+
+  private set(key: string, text: string): void {
+    const t = this.fields[key];
+    if (t.data !== text) t.data = text;
+  }
+
+  status(s: Status): void {
+    this.set('state', s.state);
+    this.spans.state.dataset.state = s.state;
+    this.set('scan-last', `${s.stats.last_us} µs`);
+    this.set('scan-max', `${s.stats.max_us} µs`);
+    this.set('overruns', String(s.stats.overruns));
+    this.set('scans', String(s.scans));
+    this.set('fault', s.fault ?? '');
+    this.spans.fault.hidden = !s.fault;
+  }
+
+  conn(c: ConnState): void {
+    this.set('conn', c);
+    this.spans.conn.dataset.conn = c;
+  }
+}

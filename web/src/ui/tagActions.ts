@@ -1,0 +1,69 @@
+// Writing, toggling and forcing a tag from a menu (ladder elements).
+import { ApiError, api } from '../api';
+import type { Ctx } from '../ctx';
+import type { Json } from '../types';
+import type { MenuItem } from './menu';
+
+async function act(ctx: Ctx, what: Promise<unknown>, forces: boolean): Promise<void> {
+  try {
+    await what;
+    if (forces) await ctx.tags.refreshForces();
+  } catch (e) {
+    ctx.notify(e instanceof ApiError ? e.message : String(e), 'error');
+  }
+}
+
+/** Parses what a user typed for a tag of `type` (numbers as numbers, BOOL as true/false). */
+export function parseValue(type: string, text: string): Json {
+  const t = text.trim();
+  if (type === 'BOOL') {
+    if (/^(1|true|on)$/i.test(t)) return true;
+    if (/^(0|false|off)$/i.test(t)) return false;
+  }
+  if (t !== '' && !Number.isNaN(Number(t))) return Number(t);
+  return t;
+}
+
+/** Menu items for one operand; `suffix` (e.g. "-Start") tells apart several operands of one box. */
+export function tagMenuItems(ctx: Ctx, operand: string, suffix = ''): MenuItem[] {
+  const ref = ctx.tags.resolve(operand);
+  if (!ref) return [];
+  const items: MenuItem[] = [];
+  const name = ref.name;
+  const label = suffix ? ` ${name}` : '';
+  const isForced = ctx.tags.forced.has(name.toUpperCase());
+  if (ref.io) {
+    if (ref.type === 'BOOL') {
+      items.push({ label: `Force ON${label}`, testid: `menu-force-on${suffix}`, action: () => void act(ctx, api.force(name, true), true) });
+      items.push({ label: `Force OFF${label}`, testid: `menu-force-off${suffix}`, action: () => void act(ctx, api.force(name, false), true) });
+    } else {
+      items.push({
+        label: `Force value…${label}`,
+        testid: `menu-force-value${suffix}`,
+        action: () => {
+          const v = prompt(`Force ${name} (${ref.type}) to:`);
+          if (v !== null) void act(ctx, api.force(name, parseValue(ref.type, v)), true);
+        },
+      });
+    }
+    items.push({ label: `Unforce${label}`, testid: `menu-unforce${suffix}`, disabled: !isForced, action: () => void act(ctx, api.unforce(name), true) });
+  }
+  if (ref.access === 'readwrite' && ref.type === 'BOOL' && !ref.io) {
+    items.push({
+      label: `Toggle${label}`,
+      testid: `menu-toggle${suffix}`,
+      action: () => void act(ctx, api.writeTag(name, !(ctx.live.store.get(name) === true)), false),
+    });
+  }
+  if (ref.access === 'readwrite' && ref.type !== 'BOOL') {
+    items.push({
+      label: `Set value…${label}`,
+      testid: `menu-set-value${suffix}`,
+      action: () => {
+        const v = prompt(`New value of ${name} (${ref.type}):`, String(ctx.live.store.get(name) ?? ''));
+        if (v !== null) void act(ctx, api.writeTag(name, parseValue(ref.type, v)), false);
+      },
+    });
+  }
+  return items;
+}
