@@ -148,6 +148,45 @@ test('a rung edited online is applied between scans and keeps the state', async 
   await page.waitForFunction(() => document.querySelector('[data-testid^="ladder-"]')?.getAttribute('data-dirty') === 'false');
 });
 
+test('graphical editing: palette, tag picker, branch, rung move, saved online', async () => {
+  const { page, tid } = b;
+  const text = async () => {
+    await tid('view-text').click();
+    const t = await tid('editor-text').inputValue();
+    await tid('view-graphic').click();
+    return t;
+  };
+  const rungText = (t, start) => t.split('\n').find((l) => l.startsWith(start));
+  const fill = elementId(await alba.json('/api/programs/main.lad'), 'XIC', ['FILL']);
+  await tid('tab-program-main.lad').click();
+  await tid('view-graphic').click();
+  await el(fill).click();
+  await tid('palette-group-bit').click();
+  await tid('palette-XIC').click();
+  await tid('operand-0').fill('S_REC');
+  await tid('operand-0').press('Enter');
+  await tid('btn-branch').click();
+  await tid('operand-0').fill('S_CAP');
+  await tid('operand-0').press('Enter');
+  const edited = rungText(await text(), 'XIC(FILL)');
+  assert.equal(edited, 'XIC(FILL)[XIC(S_REC),XIC(S_CAP)]XIO(L_STP)GRT(Nivel_L,10.0)XIO(Bomba1)XIC(S_REC)XIO(S_CAP)OTL(Descargar);');
+  // The last rung moves up one place.
+  await tid('rung-10').click({ position: { x: 20, y: 10 } });
+  await tid('btn-rung-up').click();
+  const lines = (await text()).split('\n').filter((l) => l && !l.startsWith('//'));
+  assert.equal(lines[9], 'XIC(S_CAP)OTU(Descargar);');
+  assert.equal(lines[10], 'XIC(Descargar)XIO(L_STP)[OTE(Bomba2),OTE(L_REFILL)];');
+  await tid('btn-save').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid^="ladder-"]')?.getAttribute('data-dirty') === 'false');
+  const saved = await alba.json('/api/programs/main.lad');
+  assert.equal(rungText(saved.text, 'XIC(FILL)'), edited);
+  assert.equal(saved.diagnostics.length, 0);
+  // Monitoring resumes: the rung of L_RUN is energised in the new program.
+  await el(elementId(saved, 'OTE', ['L_RUN']), true).waitFor();
+  await tid('rung-8').scrollIntoViewIfNeeded();
+  await b.shot('ladder-edited');
+});
+
 test('tag table: live values, an inline error for a bad write, forcing I/O', async () => {
   const { page, tid } = b;
   await tid('tab-tags').click();
@@ -164,7 +203,23 @@ test('tag table: live values, an inline error for a bad write, forcing I/O', asy
   assert.deepEqual(await alba.json('/api/forces'), [{ name: 'S_REC', value: true }]);
   await tid('unforce-S_REC').click();
   await tid('tag-forced-S_REC').waitFor({ state: 'detached' });
+  // A new tag: the server refuses an address already used, then accepts it without one.
+  await tid('tag-add').click();
+  await tid('tag-form-name').fill('Batches');
+  await tid('tag-form-type').selectOption('DINT');
+  await tid('tag-form-address').fill('DI:1/0');
+  await tid('tag-form-save').click();
+  await tid('tags-diagnostic-0').waitFor();
+  assert.ok(!readFileSync(join(alba.dir, 'tags.csv'), 'utf8').includes('Batches'), 'nothing saved');
+  await tid('tag-form-address').fill('');
+  await tid('tag-form-save').click();
+  await tid('tag-row-Batches').waitFor();
+  assert.match(readFileSync(join(alba.dir, 'tags.csv'), 'utf8'), /\nBatches,DINT,/);
+  assert.equal((await alba.json('/api/tags/Batches')).value, 0);
   await b.shot('tags');
+  await tid('tag-def-delete-Batches').click();
+  await tid('tag-row-Batches').waitFor({ state: 'detached' });
+  assert.ok(!readFileSync(join(alba.dir, 'tags.csv'), 'utf8').includes('Batches'));
 });
 
 // A measurement, not a pass/fail on time: engine → DOM latency of a value that
