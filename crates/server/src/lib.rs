@@ -115,6 +115,13 @@ fn field<'a>(j: &'a Json, name: &str) -> Result<&'a Json, ApiError> {
         .ok_or_else(|| ApiError::bad(format!("the body needs a `{name}` field")))
 }
 
+/// The program text of a check or save request.
+fn text_field(j: &Json) -> Result<&str, ApiError> {
+    field(j, "text")?
+        .as_str()
+        .ok_or_else(|| ApiError::bad("`text` must be a string"))
+}
+
 /// `GET /api/status` body.
 pub fn status_json(s: &Snapshot, state: &AppState) -> Json {
     let st = s.stats;
@@ -337,10 +344,10 @@ async fn check_program(
     b: Result<axum::Json<Json>, JsonRejection>,
 ) -> ApiResult {
     let j = body(b)?;
-    let text = field(&j, "text")?
-        .as_str()
-        .ok_or_else(|| ApiError::bad("`text` must be a string"))?;
-    let edit = project::Edit::Program { name: &name, text };
+    let edit = project::Edit::Program {
+        name: &name,
+        text: text_field(&j)?,
+    };
     let c = check_edit(&st, &edit).await?;
     let view =
         project::program_json(&c.project, c.program.as_ref(), &name, &c.diagnostics).map_err(ApiError::not_found)?;
@@ -382,11 +389,16 @@ async fn put_program(
     b: Result<axum::Json<Json>, JsonRejection>,
 ) -> ApiResult {
     let j = body(b)?;
-    let text = field(&j, "text")?
-        .as_str()
-        .ok_or_else(|| ApiError::bad("`text` must be a string"))?;
     let online = j.get("online").and_then(Json::as_bool).unwrap_or(false);
-    apply(&st, project::Edit::Program { name: &name, text }, online).await
+    apply(
+        &st,
+        project::Edit::Program {
+            name: &name,
+            text: text_field(&j)?,
+        },
+        online,
+    )
+    .await
 }
 
 async fn get_tags_csv(State(st): State<Arc<AppState>>) -> ApiResult {

@@ -56,6 +56,24 @@ fn forced(s: &Snapshot, name: &str) -> Json {
         .map_or(Json::Null, |f| to_json(f.value))
 }
 
+/// A tag of `tags.csv` as the API shows it.
+fn tag_json(s: &Snapshot, tag: &alba_model::Tag, target: Target) -> Json {
+    let access = match target {
+        Target::Value { access, .. } => access,
+        _ => Access::ReadWrite,
+    };
+    json!({
+        "name": tag.name,
+        "type": tag.ty.name(),
+        "address": tag.address.map(|a| a.to_string()),
+        "description": tag.description,
+        "retain": tag.retain,
+        "access": access_name(access),
+        "value": target_value(s, target),
+        "forced": forced(s, &tag.name),
+    })
+}
+
 /// `GET /api/tags`: every tag in file order, then the system tags.
 pub fn all(s: &Snapshot) -> Json {
     let layout = &s.program.layout;
@@ -64,20 +82,7 @@ pub fn all(s: &Snapshot) -> Json {
         let Ok(target) = layout.resolve(&tag.name) else {
             continue;
         };
-        let access = match target {
-            Target::Value { access, .. } => access,
-            _ => Access::ReadWrite,
-        };
-        out.push(json!({
-            "name": tag.name,
-            "type": tag.ty.name(),
-            "address": tag.address.map(|a| a.to_string()),
-            "description": tag.description,
-            "retain": tag.retain,
-            "access": access_name(access),
-            "value": target_value(s, target),
-            "forced": forced(s, &tag.name),
-        }));
+        out.push(tag_json(s, tag, target));
     }
     for (name, what) in SYSTEM_TAGS {
         if let Ok(target @ Target::Value { place, .. }) = layout.resolve(name) {
@@ -101,20 +106,7 @@ pub fn one(s: &Snapshot, name: &str) -> Option<Json> {
     let layout = &s.program.layout;
     let target = layout.resolve(name).ok()?;
     if let Some(tag) = layout.tags.get(name) {
-        let access = match target {
-            Target::Value { access, .. } => access,
-            _ => Access::ReadWrite,
-        };
-        return Some(json!({
-            "name": tag.name,
-            "type": tag.ty.name(),
-            "address": tag.address.map(|a| a.to_string()),
-            "description": tag.description,
-            "retain": tag.retain,
-            "access": access_name(access),
-            "value": target_value(s, target),
-            "forced": forced(s, &tag.name),
-        }));
+        return Some(tag_json(s, tag, target));
     }
     let (ty, access) = match target {
         Target::Value { place, access } => (place.data_type(), access),
