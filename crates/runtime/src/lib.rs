@@ -312,7 +312,12 @@ impl Runtime {
             scans: 0,
             clock_ms: 0,
             unix_ms: unix_ms(),
-            state: RunState::Stopped,
+            // What readers see until the thread's first publication.
+            state: if opts.start_running {
+                RunState::Running
+            } else {
+                RunState::Stopped
+            },
             fault: None,
             stats: Stats::default(),
             minor_faults: 0,

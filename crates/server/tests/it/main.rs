@@ -70,13 +70,16 @@ impl Server {
             }
         });
         let addr = ready_rx.await.expect("server started");
-        Server {
+        let s = Server {
             addr,
             dir,
             http: Client::new(),
             stop: Some(stop),
             task: Some(task),
-        }
+        };
+        // Tests start from a scanned program, not from its initial memory.
+        s.wait_scans(2).await;
+        s
     }
 
     pub fn url(&self, path: &str) -> String {
