@@ -1,5 +1,6 @@
 //! `alba.toml`, the project settings (SPEC §10.1).
 
+use crate::board::{Dir, Model, PRESETS, Pin, PinMap};
 use crate::codes::Code;
 use crate::diag::{Diagnostic, FileId, Span};
 use serde::Deserialize;
@@ -33,12 +34,6 @@ impl Default for History {
     }
 }
 
-/// Boards Alba knows (used by the Arduino issue; validated now so a typo
-/// does not wait until then).
-pub const BOARDS: &[&str] = &["uno", "nano", "mega"];
-/// Pin map presets (SPEC §7.1).
-pub const PIN_MAPS: &[&str] = &["aurora", "s7", "openplc"];
-
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
     pub name: String,
@@ -54,11 +49,16 @@ pub struct Config {
     pub history: History,
 }
 
-/// Placeholder for the Arduino issue: which board and pin map.
+/// `[board]`: the Arduino board and its wiring (SPEC §7.1, docs/file-formats.md).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Board {
-    pub model: String,
+    pub model: Model,
+    /// The preset the map started from.
     pub pinmap: String,
+    /// The preset with the directions `[board]` lists replaced.
+    pub map: PinMap,
+    /// Outputs are on when the pin is low.
+    pub active_low: bool,
 }
 
 #[derive(Deserialize)]
@@ -90,6 +90,12 @@ struct RawHistory {
 struct RawBoard {
     model: Spanned<String>,
     pinmap: Option<Spanned<String>>,
+    di: Option<Spanned<Vec<Spanned<String>>>>,
+    r#do: Option<Spanned<Vec<Spanned<String>>>>,
+    ai: Option<Spanned<Vec<Spanned<String>>>>,
+    ao: Option<Spanned<Vec<Spanned<String>>>>,
+    #[serde(default)]
+    active_low: bool,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -201,31 +207,84 @@ impl Config {
         let programs = listed(raw.programs.into_inner());
         let plant = listed(raw.plant);
         let board = raw.board.map(|b| {
-            let model = b.model.get_ref().to_ascii_lowercase();
-            if !BOARDS.contains(&model.as_str()) {
+            let model = Model::parse(b.model.get_ref()).unwrap_or_else(|| {
                 diags.push(Diagnostic::new(
                     Code::ConfigField,
                     format!("unknown board `{}`", b.model.get_ref()),
                     sp(b.model.span()),
-                    format!("expected one of {}", BOARDS.join(", ")),
+                    format!(
+                        "expected one of {}",
+                        Model::ALL.iter().map(|m| m.name()).collect::<Vec<_>>().join(", ")
+                    ),
                 ));
-            }
-            let pinmap = match &b.pinmap {
-                Some(p) => {
-                    let v = p.get_ref().to_ascii_lowercase();
-                    if !PIN_MAPS.contains(&v.as_str()) {
+                Model::Uno
+            });
+            let (pinmap, mut map) = match &b.pinmap {
+                Some(p) => match PinMap::preset(p.get_ref()) {
+                    Some(m) => (p.get_ref().to_ascii_lowercase(), m),
+                    None => {
                         diags.push(Diagnostic::new(
                             Code::ConfigField,
                             format!("unknown pin map `{}`", p.get_ref()),
                             sp(p.span()),
-                            format!("expected one of {}", PIN_MAPS.join(", ")),
+                            format!("expected one of {}", PRESETS.join(", ")),
                         ));
+                        ("aurora".to_string(), PinMap::preset("aurora").unwrap_or_default())
                     }
-                    v
-                }
-                None => "aurora".to_string(),
+                },
+                None => ("aurora".to_string(), PinMap::preset("aurora").unwrap_or_default()),
             };
-            Board { model, pinmap }
+            for (dir, list) in [
+                (Dir::DigitalIn, b.di),
+                (Dir::DigitalOut, b.r#do),
+                (Dir::AnalogIn, b.ai),
+                (Dir::AnalogOut, b.ao),
+            ] {
+                let Some(list) = list else { continue };
+                let mut pins = Vec::new();
+                for item in list.into_inner() {
+                    let pin = Pin::parse(item.get_ref());
+                    match pin.map(|p| (p, model.refuses(p, dir))) {
+                        Some((p, None)) if !pins.contains(&p) => pins.push(p),
+                        Some((p, None)) => diags.push(Diagnostic::new(
+                            Code::ConfigField,
+                            format!("pin {p} is wired twice"),
+                            sp(item.span()),
+                            "a pin serves one channel",
+                        )),
+                        Some((_, Some(why))) => diags.push(Diagnostic::new(
+                            Code::ConfigField,
+                            why,
+                            sp(item.span()),
+                            format!("not a pin for `{}`", dir.key()),
+                        )),
+                        None => diags.push(Diagnostic::new(
+                            Code::ConfigField,
+                            format!("`{}` is not a pin name", item.get_ref()),
+                            sp(item.span()),
+                            "expected D<n> or A<n>, as the Arduino IDE names pins",
+                        )),
+                    }
+                }
+                *map.pins_mut(dir) = pins;
+            }
+            if let Some(p) = map.shared() {
+                diags.push(
+                    Diagnostic::new(
+                        Code::ConfigField,
+                        format!("pin {p} is wired to two channels"),
+                        sp(b.model.span()),
+                        "in this board's pin map",
+                    )
+                    .with_help("list the pins of each direction (`di`, `do`, `ai`, `ao`) so that no pin appears twice"),
+                );
+            }
+            Board {
+                model,
+                pinmap,
+                map,
+                active_low: b.active_low,
+            }
         });
         let config = Config {
             name,
@@ -306,17 +365,36 @@ mod tests {
     }
 
     #[test]
-    fn board_placeholder_is_validated() {
+    fn boards_and_pin_maps() {
         let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n").unwrap();
-        assert_eq!(
-            c.board,
-            Some(Board {
-                model: "nano".into(),
-                pinmap: "s7".into()
-            })
-        );
+        let b = c.board.unwrap();
+        assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", false));
+        assert_eq!(b.map, PinMap::preset("s7").unwrap());
+        // A custom list replaces one direction of the preset.
+        let c = parse(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\nai = [\"A4\", \"A5\"]\nactive_low = true\n",
+        )
+        .unwrap();
+        let b = c.board.unwrap();
+        assert_eq!(b.map.ai, [Pin::A(4), Pin::A(5)]);
+        assert_eq!(b.map.di, PinMap::preset("aurora").unwrap().di);
+        assert!(b.active_low);
         let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"due\"\n").unwrap_err();
         assert_eq!(e, ["alba.toml:4:9: error[E102]: unknown board `due`"]);
+        let e = parse(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\nao = [\"D7\", \"Q3\", \"D9\", \"D9\"]\n",
+        )
+        .unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:5:7: error[E102]: D7 has no PWM, so it cannot be an analog output",
+                "alba.toml:5:13: error[E102]: `Q3` is not a pin name",
+                "alba.toml:5:25: error[E102]: pin D9 is wired twice",
+            ]
+        );
+        let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\ndi = [\"D12\"]\n").unwrap_err();
+        assert_eq!(e, ["alba.toml:4:9: error[E102]: pin D12 is wired to two channels"]);
     }
 
     #[test]

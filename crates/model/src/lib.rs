@@ -2,6 +2,7 @@
 //! table and project files. Every other crate builds on these.
 
 pub mod address;
+pub mod board;
 pub mod codes;
 pub mod config;
 pub mod csv;

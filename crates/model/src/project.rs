@@ -127,6 +127,24 @@ impl Project {
                 }
             }
         }
+        if let Some(board) = config.as_ref().and_then(|(c, _)| c.board.as_ref()) {
+            for tag in tags.iter() {
+                let Some(Err(why)) = tag.address.and_then(|a| board.map.pin_of(board.model, a)) else {
+                    continue;
+                };
+                let why = why.split_once(' ').map_or(why.clone(), |(_, rest)| rest.to_string());
+                let text = tag.address_text.as_deref().unwrap_or("");
+                diags.push(
+                    Diagnostic::new(
+                        Code::BoardPin,
+                        format!("`{}` ({text}) {why}", tag.name),
+                        tag.span,
+                        format!("no pin on the {}", board.model.title()),
+                    )
+                    .with_help("see [board] in alba.toml and docs/file-formats.md for the pin maps"),
+                );
+            }
+        }
         let project = Project {
             dir: dir.to_path_buf(),
             files,
