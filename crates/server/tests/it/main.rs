@@ -147,7 +147,8 @@ impl Server {
         panic!("the engine does not scan");
     }
 
-    /// Stops the server and waits for it (retentive data saved).
+    /// Stops the server, waits for it (retentive data saved) and removes
+    /// its project copy.
     pub async fn stop(mut self) {
         if let Some(s) = self.stop.take() {
             let _ = s.send(());
@@ -158,5 +159,6 @@ impl Server {
                 .expect("server stops within 10 s")
                 .expect("server task");
         }
+        let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
