@@ -4,7 +4,8 @@
 #   unit/integration/property tests of every crate (golden traces in all engine
 #   modes, examples, the malformed-input corpus, fuzz regressions, the HTTP API,
 #   kill -9 of retentive data); end-to-end tests in a real browser (Chromium driven
-#   by playwright-core); smoke runs of the simulator and of `alba bench`.
+#   by playwright-core); the AVR toolchain building for every board; smoke runs
+#   of the simulator and of `alba bench`.
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/common.sh
@@ -26,6 +27,12 @@ cargo build -q --locked -p alba-cli
 TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 mkdir -p target/e2e
 (cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
+step "Arduino toolchain: the core and a sketch build for uno, nano and mega (no warnings)"
+source scripts/avr.sh
+need_avr
+for board in uno nano mega; do
+    build_sketch scripts/avr-smoke.cpp "$board" "target/avr/smoke-$board"
+done
 step "demo and benchmark smoke runs"
 cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \
     | diff - <(printf 'time_ms,Nivel_m,Nivel_L\n0,0.8431085,33.72434\n1000,0.8431085,33.72434\n2000,0.8431085,33.72434\n')
