@@ -27,12 +27,13 @@ cargo build -q --locked -p alba-cli
 TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 mkdir -p target/e2e
 (cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
-step "Arduino toolchain: the core and a sketch build for uno, nano and mega (no warnings)"
+step "Arduino: a sketch builds for uno, nano and mega (no warnings) and runs as expected in simavr"
 source scripts/avr.sh
 need_avr
 for board in uno nano mega; do
     build_sketch scripts/avr-smoke.cpp "$board" "target/avr/smoke-$board"
 done
+tools/simavr/test.sh
 step "demo and benchmark smoke runs"
 cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \
     | diff - <(printf 'time_ms,Nivel_m,Nivel_L\n0,0.8431085,33.72434\n1000,0.8431085,33.72434\n2000,0.8431085,33.72434\n')
