@@ -8,8 +8,8 @@ AVR_CORE=/usr/share/arduino/hardware/arduino/avr
 
 need_avr() {
     if ! command -v avr-g++ >/dev/null 2>&1 || [ ! -d "$AVR_CORE/cores/arduino" ] \
-        || ! command -v simavr >/dev/null 2>&1 || [ ! -d /usr/include/simavr ]; then
-        apt_install gcc-avr avr-libc arduino-core-avr simavr libsimavr-dev
+        || ! command -v simavr >/dev/null 2>&1 || [ ! -d /usr/include/simavr ] || [ ! -f /usr/include/libelf.h ]; then
+        apt_install gcc-avr avr-libc arduino-core-avr simavr libsimavr-dev libelf-dev
     fi
 }
 
