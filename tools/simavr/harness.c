@@ -1,12 +1,12 @@
 /* alba-simavr: runs an Arduino firmware (ELF) on simavr's emulated ATmega328P
- * (Uno, Nano) in simulated time, drives its input pins and analog inputs from a
+ * (Uno, Nano) or ATmega2560 (Mega, `-m atmega2560`) in simulated time, drives its input pins and analog inputs from a
  * stimulus and samples its pins into a trace, the way `alba sim` does for the
  * PC engine.
  *
- *   alba-simavr FIRMWARE.elf --until MS --every MS --pins D13,D8 [--stimulus FILE]
+ *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] --until MS --every MS --pins D13,D8 [--stimulus FILE]
  *
  * Stimulus lines: `time_ms,pin,value` (header line optional): a digital pin gets
- * 0/1, an analog pin A0-A7 a reading 0-1023 (converted to the millivolts that
+ * 0/1, an analog pin (A0-A7, A0-A15 on the Mega) a reading 0-1023 (converted to the millivolts that
  * make analogRead return it). Trace: `time_ms,<pins>` rows at every multiple of
  * --every up to --until, each pin's level (0/1). Time is the simulated cycle
  * count at 16 MHz, never the wall clock; the cycles simulated go to stderr.
@@ -28,11 +28,12 @@
 typedef struct { int analog; int n; } pin_t; /* D<n> or A<n> */
 typedef struct { unsigned long t; pin_t pin; int value; } stim_t;
 
-/* simavr's messages go to stderr (its default logger writes to stdout, which
- * is the trace). */
+/* simavr's errors go to stderr (its default logger writes to stdout, which is
+ * the trace); its warnings are left out (on the Mega it warns about every
+ * analogWrite to a timer mode it does not emulate). */
 static void to_stderr(struct avr_t *avr, const int level, const char *format, va_list ap) {
     (void)avr;
-    if (level <= LOG_WARNING) vfprintf(stderr, format, ap);
+    if (level <= LOG_ERROR) vfprintf(stderr, format, ap);
 }
 
 static int die(const char *msg, const char *arg) {
@@ -40,18 +41,31 @@ static int die(const char *msg, const char *arg) {
     exit(1);
 }
 
+static int mega;
+
+/* The Arduino Mega's D0-D53 then A0-A15 (D54-D69): port and bit, from the
+ * core's variants/mega/pins_arduino.h. */
+static const char MEGA_PORT[] = "EEEEGEHHHHBBBBJJHHDDDDAAAAAAAACCCCCCCCDGGGLLLLLLLLBBBBFFFFFFFFKKKKKKKK";
+static const char MEGA_BIT[] = "0145533456456710103210012345677654321072107654321032100123456701234567";
+
 static pin_t parse_pin(const char *s) {
     pin_t p;
     char *end;
     if ((s[0] != 'D' && s[0] != 'A') || !s[1]) die("not a pin name: ", s);
     p.analog = s[0] == 'A';
     p.n = (int)strtol(s + 1, &end, 10);
-    if (*end || p.n < 0 || (p.analog ? p.n > 7 : p.n > 13)) die("no such pin on an ATmega328P board: ", s);
+    int max = p.analog ? (mega ? 15 : 7) : (mega ? 53 : 13);
+    if (*end || p.n < 0 || p.n > max) die("no such pin on this board: ", s);
     return p;
 }
 
-/* The port and bit of a digital function of a pin (A6/A7 have none). */
+/* The port and bit of a digital function of a pin (A6/A7 of a 328P have none). */
 static int port_of(pin_t p, char *port) {
+    if (mega) {
+        int i = p.analog ? 54 + p.n : p.n;
+        *port = MEGA_PORT[i];
+        return MEGA_BIT[i] - '0';
+    }
     if (p.analog) {
         if (p.n > 5) return -1;
         *port = 'C';
@@ -77,6 +91,11 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--every") && i + 1 < argc) every = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(argv[i], "--pins") && i + 1 < argc) pins_arg = argv[++i];
         else if (!strcmp(argv[i], "--stimulus") && i + 1 < argc) stim_file = argv[++i];
+        else if (!strcmp(argv[i], "-m") && i + 1 < argc) {
+            const char *m = argv[++i];
+            if (!strcmp(m, "atmega2560")) mega = 1;
+            else if (strcmp(m, "atmega328p")) die("unknown MCU (atmega328p or atmega2560): ", m);
+        }
         else if (argv[i][0] != '-' && !elf) elf = argv[i];
         else die("unknown argument: ", argv[i]);
     }
@@ -123,8 +142,8 @@ int main(int argc, char **argv) {
     elf_firmware_t fw;
     memset(&fw, 0, sizeof fw);
     if (elf_read_firmware(elf, &fw) != 0) die("cannot load the firmware ", elf);
-    avr_t *avr = avr_make_mcu_by_name("atmega328p");
-    if (!avr) die("simavr knows no atmega328p", NULL);
+    avr_t *avr = avr_make_mcu_by_name(mega ? "atmega2560" : "atmega328p");
+    if (!avr) die("simavr does not know the MCU", NULL);
     avr_init(avr);
     avr->frequency = F_CPU;
     avr->avcc = avr->vcc = avr->aref = 5000;
