@@ -1,5 +1,6 @@
 // What every view shares: the live connection, the tag definitions, the
 // instruction table, and notifications.
+import { apiAddress } from './address';
 import { api } from './api';
 import type { LiveClient } from './live/client';
 import type { Instruction, Json, TagInfo } from './types';
@@ -53,7 +54,7 @@ export class TagCache {
   /** What an operand names: a tag, a member of one, or the tag on an address. */
   resolve(operand: string): TagRef | null {
     const op = operand.trim();
-    const t = this.byName.get(op.toUpperCase()) ?? this.byAddr.get(op.toUpperCase());
+    const t = this.byName.get(op.toUpperCase()) ?? this.byAddr.get(apiAddress(op));
     if (t) return { name: t.name, type: t.type, access: t.access, io: !!t.address && t.access !== 'readonly', tag: t };
     const dot = op.lastIndexOf('.');
     if (dot > 0) {

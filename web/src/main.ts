@@ -1,10 +1,11 @@
-// The studio: top bar, tabs (one per ladder program, Tags, Trends), status
+// The studio: top bar, tabs (one per program, ladder or IL, Tags, Trends), status
 // bar and notifications. Routes with the URL hash (#/program/main.lad,
 // #/tags, #/trends).
 import './style.css';
 import { ApiError, api } from './api';
 import { type Ctx, TagCache } from './ctx';
 import { clear, h } from './dom';
+import { IlView } from './il/view';
 import { LadderView } from './ladder/view';
 import { LiveClient } from './live/client';
 import { TagsView } from './tags/view';
@@ -17,6 +18,10 @@ interface View {
   show(): void;
   hide(): void;
 }
+
+/** A program tab (ladder or IL): the top bar's Compile/Save act on it. */
+type Editor = LadderView | IlView;
+const isEditor = (v: View | null | undefined): v is Editor => v instanceof LadderView || v instanceof IlView;
 
 const toasts = h('div', { class: 'toasts', 'data-testid': 'toasts' });
 
@@ -99,12 +104,11 @@ async function start(): Promise<void> {
   const ctx: Ctx = { live, tags, instructions, notify };
   const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();
   for (const p of programs) {
-    if (p.language !== 'ladder') continue;
     views.set(`program/${p.name}`, {
       label: p.plant ? `${p.name} (plant)` : p.name,
       testid: `tab-program-${p.name}`,
       make: () => {
-        const v = new LadderView(ctx, p.name);
+        const v = p.language === 'il' ? new IlView(ctx, p.name) : new LadderView(ctx, p.name);
         v.load().catch((e) => notify(`${p.name}: ${e.message}`, 'error'));
         return v;
       },
@@ -114,7 +118,6 @@ async function start(): Promise<void> {
   // made at once: its pens record in the background from the start
   const trends = new TrendsView(ctx);
   views.set('trends', { label: 'Trends', testid: 'tab-trends', make: () => trends, view: trends });
-  const skipped = programs.filter((p) => p.language !== 'ladder');
 
   let current: View | null = null;
   const go = () => {
@@ -127,26 +130,24 @@ async function start(): Promise<void> {
     main.append(current.el);
     current.show();
     nav.querySelectorAll('a').forEach((a) => a.classList.toggle('active', a.dataset.key === key));
-    const ladder = current instanceof LadderView ? current : null;
-    compileBtn.disabled = saveBtn.disabled = !ladder;
+    compileBtn.disabled = saveBtn.disabled = !isEditor(current);
   };
   for (const [key, v] of views) {
     nav.append(h('a', { href: `#/${encodeURIComponent(key).replace(/%2F/g, '/')}`, 'data-key': key, 'data-testid': v.testid }, v.label));
   }
-  if (skipped.length) nav.append(h('span', { class: 'hint', title: 'Instruction List programs are not shown in this version' }, `+ ${skipped.map((p) => p.name).join(', ')} (IL)`));
   window.addEventListener('hashchange', go);
   go();
 
   compileBtn.onclick = async () => {
-    if (!(current instanceof LadderView)) return;
+    if (!isEditor(current)) return;
     const ok = await current.check();
     notify(ok ? `${current.program}: no problems` : `${current.program}: see the problems list`, ok ? 'info' : 'error');
   };
   saveBtn.onclick = () => {
-    if (current instanceof LadderView) void current.save();
+    if (isEditor(current)) void current.save();
   };
   window.addEventListener('beforeunload', (e) => {
-    if ([...views.values()].some((v) => v.view instanceof LadderView && v.view.dirty)) e.preventDefault();
+    if ([...views.values()].some((v) => isEditor(v.view) && v.view.dirty)) e.preventDefault();
   });
 }
 

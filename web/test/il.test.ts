@@ -1,0 +1,43 @@
+import { describe, expect, it } from 'vitest';
+import { apiAddress } from '../src/address';
+import { ilOperands, parseIl, powerByLine, stripComments } from '../src/il/parse';
+
+describe('IL operands', () => {
+  it('takes the places after the mnemonic, not constants or comments', () => {
+    expect(ilOperands(stripComments('LD    I0.1        // platform at position 1').code)).toEqual({ mnemonic: 'LD', operands: ['I0.1'] });
+    expect(ilOperands('S     Q0.0, 1').operands).toEqual(['Q0.0']);
+    expect(ilOperands('MOVW  AIW0, VW100').operands).toEqual(['AIW0', 'VW100']);
+    expect(ilOperands('AW<   195, MW3').operands).toEqual(['MW3']);
+    expect(ilOperands('TON   T37, T#5s').operands).toEqual(['T37']);
+    expect(ilOperands('ALD').operands).toEqual([]);
+    expect(ilOperands('NETWORK 2').mnemonic).toBeNull();
+  });
+  it('keeps quoted symbols whole, even with // inside', () => {
+    expect(ilOperands(stripComments('LDN "Stop Button" // stop').code)).toEqual({ mnemonic: 'LDN', operands: ['Stop Button'] });
+    expect(stripComments('= "a//b" // c').code.trim()).toBe('= "a//b"');
+  });
+  it('follows /* */ comments across lines', () => {
+    const lines = parseIl('LD I0.0 /* x\nA I0.1\n*/ = Q0.0\n');
+    expect(lines.map((l) => [l.mnemonic, l.operands])).toEqual([['LD', ['I0.0']], [null, []], ['=', ['Q0.0']], [null, []]]);
+  });
+  it('maps Ain n to AIW 2n', () => {
+    expect(apiAddress('Ain3')).toBe('AI:3/3');
+    expect(apiAddress('AIW6')).toBe('AI:3/3');
+    expect(apiAddress('I0.1')).toBe('DI:1/1');
+    expect(apiAddress('q1.2')).toBe('DO:2/10');
+    expect(apiAddress('%IX1.7')).toBe('DI:1/15');
+    expect(apiAddress('%QW2')).toBe('AO:4/2');
+    expect(apiAddress('%MX0.4')).toBe('M0.4');
+    expect(apiAddress('%MW2')).toBe('MW2');
+    expect(apiAddress('AIW3')).toBe('AIW3');
+    expect(apiAddress('MW3')).toBe('MW3');
+    expect(apiAddress('DI:1/2')).toBe('DI:1/2');
+  });
+});
+
+describe('IL power', () => {
+  it('lights the lines whose id is on', () => {
+    const m = powerByLine([{ line: 3, id: 7 }, { line: 4, id: 8 }, { line: 5, id: null }], [8]);
+    expect([...m]).toEqual([[3, false], [4, true], [5, false]]);
+  });
+});
