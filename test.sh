@@ -30,9 +30,6 @@ mkdir -p target/e2e
 step "Arduino: a sketch builds for uno, nano and mega (no warnings) and runs as expected in simavr"
 source scripts/avr.sh
 need_avr
-for board in uno nano mega; do
-    build_sketch scripts/avr-smoke.cpp "$board" "target/avr/smoke-$board"
-done
 tools/simavr/test.sh
 step "demo and benchmark smoke runs"
 cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \

@@ -69,3 +69,14 @@ build_sketch() {
         return 1
     fi
 }
+
+# build_harness OUT: the simavr harness (tools/simavr/harness.c), rebuilt when the source is newer.
+build_harness() {
+    local out="$1" src
+    src="$(dirname "${BASH_SOURCE[0]}")/../tools/simavr/harness.c"
+    if [ ! -x "$out" ] || [ "$src" -nt "$out" ]; then
+        # shellcheck disable=SC2046
+        gcc -O2 -Wall -Wextra -Werror -std=gnu11 $(pkg-config --cflags simavr) -o "$out" "$src" \
+            $(pkg-config --libs simavr) -lelf
+    fi
+}

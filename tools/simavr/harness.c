@@ -1,105 +1,185 @@
-/* alba-simavr: runs an Arduino firmware (ELF) on simavr's emulated ATmega328P
- * (Uno, Nano) or ATmega2560 (Mega, `-m atmega2560`) in simulated time, drives its input pins and analog inputs from a
- * stimulus and samples its pins into a trace, the way `alba sim` does for the
- * PC engine.
+/* alba-simavr: runs an Arduino firmware ELF on simavr (ATmega328P: Uno/Nano,
+ * ATmega2560: Mega) in simulated time, drives inputs from a stimulus and writes
+ * a trace of pins (SPEC §7.5).
  *
- *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] --until MS --every MS --pins D13,D8 [--stimulus FILE]
+ *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
+ *               --pins D13,D12,D6:pwm,A0 [--stimulus FILE] [-o TRACE.csv]
  *
- * Stimulus lines: `time_ms,pin,value` (header line optional): a digital pin gets
- * 0/1, an analog pin (A0-A7, A0-A15 on the Mega) a reading 0-1023 (converted to the millivolts that
- * make analogRead return it). Trace: `time_ms,<pins>` rows at every multiple of
- * --every up to --until, each pin's level (0/1). Time is the simulated cycle
- * count at 16 MHz, never the wall clock; the cycles simulated go to stderr.
- * Exit 1 with a message on bad arguments, a bad stimulus line or a crashed CPU.
+ * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
+ * skipped; times never go back). Digital pin: 0/1 driven on the pin. Analog pin
+ * (A0-A7, Mega A0-A15): the reading 0-1023 that analogRead returns (the
+ * millivolts are ceil(value*5000/1023), which simavr scales back exactly).
+ * Trace: header `time_ms,<pins>` then a row at every multiple of --every up to
+ * --until: the pin's level 0/1, or for `Dn:pwm` the analogWrite duty 0-255 read
+ * from the timer's compare register while its output is connected (0/255 from
+ * the port otherwise). At each time, inputs of that time are applied first,
+ * then the row is sampled, then the CPU runs on. Time = cycles * 1000 / HZ.
+ * Total cycles go to stderr. Exit 1 on bad arguments or a stopped CPU.
  */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <simavr/sim_avr.h>
-#include <simavr/sim_elf.h>
-#include <simavr/avr_ioport.h>
-#include <simavr/avr_adc.h>
+#include <unistd.h>
+#include <sim_avr.h>
+#include <sim_elf.h>
+#include <sim_irq.h>
+#include <sim_io.h>
+#include <avr_ioport.h>
+#include <avr_adc.h>
 
-#define F_CPU 16000000UL
-#define MAX_PINS 32
-#define MAX_STIM 100000
+#define MAX_PINS 64
 
-typedef struct { int analog; int n; } pin_t; /* D<n> or A<n> */
+typedef struct { int analog, n, pwm; } pin_t;
 typedef struct { unsigned long t; pin_t pin; int value; } stim_t;
 
-/* simavr's errors go to stderr (its default logger writes to stdout, which is
- * the trace); its warnings are left out (on the Mega it warns about every
- * analogWrite to a timer mode it does not emulate). */
-static void to_stderr(struct avr_t *avr, const int level, const char *format, va_list ap) {
-    (void)avr;
-    if (level <= LOG_ERROR) vfprintf(stderr, format, ap);
-}
+static int mega;
+static avr_t *avr;
 
-static int die(const char *msg, const char *arg) {
+static void die(const char *msg, const char *arg) {
     fprintf(stderr, "alba-simavr: %s%s\n", msg, arg ? arg : "");
     exit(1);
 }
 
-static int mega;
+/* simavr logs to stdout by default; errors go to stderr, the rest is dropped
+ * (Arduino's phase-correct PWM modes are not emulated and warn on every write). */
+static void logger(avr_t *a, const int level, const char *fmt, va_list ap) {
+    (void)a;
+    if (level <= LOG_ERROR) vfprintf(stderr, fmt, ap);
+}
 
-/* The Arduino Mega's D0-D53 then A0-A15 (D54-D69): port and bit, from the
- * core's variants/mega/pins_arduino.h. */
+/* simavr's default sleep callback usleep()s to keep real time: not here. */
+static void no_sleep(avr_t *a, avr_cycle_count_t how_long) { (void)a; (void)how_long; }
+
+/* Arduino Mega D0-D69 (A0-A15 = D54-D69): port letter and bit, from the core's
+ * variants/mega/pins_arduino.h digital_pin_to_port_PGM / _bit_mask_PGM. */
 static const char MEGA_PORT[] = "EEEEGEHHHHBBBBJJHHDDDDAAAAAAAACCCCCCCCDGGGLLLLLLLLBBBBFFFFFFFFKKKKKKKK";
 static const char MEGA_BIT[] = "0145533456456710103210012345677654321072107654321032100123456701234567";
 
+/* PWM: for each digital pin, "timer channel" (0 = none), from digital_pin_to_timer_PGM. */
+static const char *pwm_of(int d) {
+    static const char *uno[14] = {0, 0, 0, "2B", 0, "0B", "0A", 0, 0, "1A", "1B", "2A", 0, 0};
+    static const char *mg[14] = {0, 0, "3B", "3C", "0B", "3A", "4A", "4B", "4C", "2B", "2A", "1A", "1B", "0A"};
+    if (mega) {
+        if (d < 14) return mg[d];
+        if (d == 44) return "5C";
+        if (d == 45) return "5B";
+        if (d == 46) return "5A";
+        return 0;
+    }
+    return d < 14 ? uno[d] : 0;
+}
+
 static pin_t parse_pin(const char *s) {
-    pin_t p;
+    pin_t p = {0, 0, 0};
     char *end;
-    if ((s[0] != 'D' && s[0] != 'A') || !s[1]) die("not a pin name: ", s);
+    if ((s[0] != 'D' && s[0] != 'A') || s[1] < '0' || s[1] > '9') die("not a pin name: ", s);
     p.analog = s[0] == 'A';
     p.n = (int)strtol(s + 1, &end, 10);
+    if (!strcmp(end, ":pwm")) {
+        p.pwm = 1;
+        if (p.analog || !pwm_of(p.n)) die("not a PWM pin: ", s);
+    } else if (*end) die("not a pin name: ", s);
     int max = p.analog ? (mega ? 15 : 7) : (mega ? 53 : 13);
-    if (*end || p.n < 0 || p.n > max) die("no such pin on this board: ", s);
+    if (p.n > max) die("no such pin on this MCU: ", s);
     return p;
 }
 
-/* The port and bit of a digital function of a pin (A6/A7 of a 328P have none). */
+/* Port and bit of a pin's digital function; -1 for the 328P's A6/A7 (ADC only). */
 static int port_of(pin_t p, char *port) {
     if (mega) {
         int i = p.analog ? 54 + p.n : p.n;
         *port = MEGA_PORT[i];
         return MEGA_BIT[i] - '0';
     }
-    if (p.analog) {
-        if (p.n > 5) return -1;
-        *port = 'C';
-        return p.n;
-    }
+    if (p.analog) { *port = 'C'; return p.n > 5 ? -1 : p.n; }
     if (p.n < 8) { *port = 'D'; return p.n; }
     *port = 'B';
     return p.n - 8;
 }
 
-static avr_irq_t *pin_irq(avr_t *avr, pin_t p) {
+/* Level of a pin: PORT bit when it is an output, else the PIN bit. */
+static int level(pin_t p) {
     char port;
     int bit = port_of(p, &port);
-    if (bit < 0) return NULL;
-    return avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit);
+    if (bit < 0) return 0;
+    avr_ioport_state_t st;
+    if (avr_ioctl(avr, AVR_IOCTL_IOPORT_GETSTATE(port), &st) != 0) return 0;
+    return (((st.ddr >> bit) & 1) ? (st.port >> bit) : (st.pin >> bit)) & 1;
+}
+
+/* analogWrite duty: data-space addresses of TCCRnA and OCRnxL are the same on
+ * both MCUs; COMnx1 is bit 7/5/3 of TCCRnA for channel A/B/C. */
+static int duty(pin_t p) {
+    const char *tc = pwm_of(p.n);
+    static const int tccr[6] = {0x44, 0x80, 0xB0, 0x90, 0xA0, 0x120};
+    static const int ocr8[2] = {0x47, 0xB3}; /* timers 0 and 2: OCRnA, OCRnB = +1 */
+    int timer = tc[0] - '0', ch = tc[1] - 'A';
+    if ((avr->data[tccr[timer]] >> (7 - 2 * ch)) & 1) {
+        if (timer == 0) return avr->data[ocr8[0] + ch];
+        if (timer == 2) return avr->data[ocr8[1] + ch];
+        return avr->data[tccr[timer] + 8 + 2 * ch]; /* OCRnxL: 8-bit PWM in Arduino */
+    }
+    return level(p) ? 255 : 0;
+}
+
+/* ADC. simavr 1.6 keeps adc_values[8] only, so ADC8-15 (Mega A8-A15) cannot be
+ * set through ADC_IRQ_ADC8+: their mux entries are turned into "temperature
+ * sensor" reads whose value is set when a conversion of that channel starts. */
+static avr_adc_t *adc;
+static uint32_t adc_mv[16];
+
+static void adc_started(avr_irq_t *irq, uint32_t value, void *param) {
+    (void)irq; (void)param;
+    union { avr_adc_mux_t mux; uint32_t v; } e = { .v = value };
+    if (e.mux.kind == ADC_MUX_TEMP && e.mux.src >= 8 && e.mux.src < 16)
+        adc->temp = (uint16_t)adc_mv[e.mux.src];
+}
+
+static void adc_setup(void) {
+    for (avr_io_t *io = avr->io_port; io; io = io->next)
+        if (!strcmp(io->kind, "adc")) adc = (avr_adc_t *)io;
+    if (!adc) die("simavr has no ADC for this MCU", NULL);
+    for (int i = 0; i < 64; i++)
+        if (adc->muxmode[i].kind == ADC_MUX_SINGLE && adc->muxmode[i].src >= 8)
+            adc->muxmode[i].kind = ADC_MUX_TEMP;
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_started, NULL);
+}
+
+static void apply(const stim_t *s) {
+    if (s->pin.analog) {
+        if (s->value < 0 || s->value > 1023) die("an analog reading is 0 to 1023", NULL);
+        uint32_t mv = (uint32_t)((s->value * 5000UL + 1022) / 1023);
+        adc_mv[s->pin.n] = mv;
+        if (s->pin.n < 8) avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + s->pin.n), mv);
+        return;
+    }
+    char port;
+    int bit = port_of(s->pin, &port);
+    avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), s->value ? 1 : 0);
 }
 
 int main(int argc, char **argv) {
-    const char *elf = NULL, *stim_file = NULL, *pins_arg = NULL;
-    unsigned long until = 0, every = 0;
+    const char *elf = NULL, *stim_file = NULL, *pins_arg = NULL, *out_file = NULL, *mcu = "atmega328p";
+    unsigned long until = 0, every = 0, freq = 16000000UL;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--until") && i + 1 < argc) until = strtoul(argv[++i], NULL, 10);
-        else if (!strcmp(argv[i], "--every") && i + 1 < argc) every = strtoul(argv[++i], NULL, 10);
-        else if (!strcmp(argv[i], "--pins") && i + 1 < argc) pins_arg = argv[++i];
-        else if (!strcmp(argv[i], "--stimulus") && i + 1 < argc) stim_file = argv[++i];
-        else if (!strcmp(argv[i], "-m") && i + 1 < argc) {
-            const char *m = argv[++i];
-            if (!strcmp(m, "atmega2560")) mega = 1;
-            else if (strcmp(m, "atmega328p")) die("unknown MCU (atmega328p or atmega2560): ", m);
-        }
-        else if (argv[i][0] != '-' && !elf) elf = argv[i];
-        else die("unknown argument: ", argv[i]);
+        const char *a = argv[i];
+        int more = i + 1 < argc;
+        if (!strcmp(a, "--until") && more) until = strtoul(argv[++i], NULL, 10);
+        else if (!strcmp(a, "--every") && more) every = strtoul(argv[++i], NULL, 10);
+        else if (!strcmp(a, "--pins") && more) pins_arg = argv[++i];
+        else if (!strcmp(a, "--stimulus") && more) stim_file = argv[++i];
+        else if (!strcmp(a, "-o") && more) out_file = argv[++i];
+        else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
+        else if (!strcmp(a, "-m") && more) mcu = argv[++i];
+        else if (a[0] != '-' && !elf) elf = a;
+        else die("unknown argument: ", a);
     }
-    if (!elf || !pins_arg || !every) die("usage: alba-simavr FIRMWARE.elf --until MS --every MS --pins D13,D8 [--stimulus FILE]", NULL);
+    if (!elf || !pins_arg || !every || !freq)
+        die("usage: alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS "
+            "--pins D13,D6:pwm,A0 [--stimulus FILE] [-o TRACE]", NULL);
+    if (!strcmp(mcu, "atmega2560")) mega = 1;
+    else if (strcmp(mcu, "atmega328p")) die("unknown MCU (atmega328p or atmega2560): ", mcu);
 
     pin_t pins[MAX_PINS];
     int npins = 0;
@@ -109,20 +189,19 @@ int main(int argc, char **argv) {
         pins[npins++] = parse_pin(tok);
     }
 
-    static stim_t stim[MAX_STIM];
-    int nstim = 0;
+    stim_t *stim = NULL;
+    size_t nstim = 0, cap = 0;
     if (stim_file) {
         FILE *f = fopen(stim_file, "r");
         if (!f) die("cannot read ", stim_file);
-        char line[256];
+        char line[256], name[32];
         int lineno = 0;
         while (fgets(line, sizeof line, f)) {
             lineno++;
-            char name[32];
             unsigned long t;
             int v;
-            if (line[0] == '\n' || !strncmp(line, "time_ms", 7)) continue;
-            if (sscanf(line, "%lu,%31[^,],%d", &t, name, &v) != 3 || nstim == MAX_STIM) {
+            if (line[0] == '\n' || line[0] == '\r' || line[0] == '#' || !strncmp(line, "time_ms", 7)) continue;
+            if (sscanf(line, "%lu,%31[^,],%d", &t, name, &v) != 3) {
                 fprintf(stderr, "alba-simavr: %s:%d: expected time_ms,pin,value\n", stim_file, lineno);
                 return 1;
             }
@@ -130,55 +209,63 @@ int main(int argc, char **argv) {
                 fprintf(stderr, "alba-simavr: %s:%d: times must not go back\n", stim_file, lineno);
                 return 1;
             }
+            if (nstim == cap) stim = realloc(stim, (cap = cap ? 2 * cap : 256) * sizeof *stim);
             stim[nstim].t = t;
             stim[nstim].pin = parse_pin(name);
             stim[nstim].value = v;
+            if (!stim[nstim].pin.analog && v != 0 && v != 1) die("a digital input is 0 or 1: ", name);
             nstim++;
         }
         fclose(f);
     }
 
-    avr_global_logger_set(to_stderr);
+    /* The trace goes to -o or to the original stdout; anything simavr prints goes to stderr. */
+    FILE *trace = out_file ? fopen(out_file, "w") : fdopen(dup(1), "w");
+    if (!trace) die("cannot write ", out_file);
+    dup2(2, 1);
+
+    avr_global_logger_set(logger);
     elf_firmware_t fw;
     memset(&fw, 0, sizeof fw);
     if (elf_read_firmware(elf, &fw) != 0) die("cannot load the firmware ", elf);
-    avr_t *avr = avr_make_mcu_by_name(mega ? "atmega2560" : "atmega328p");
-    if (!avr) die("simavr does not know the MCU", NULL);
+    avr = avr_make_mcu_by_name(mcu);
+    if (!avr) die("simavr does not know the MCU ", mcu);
     avr_init(avr);
-    avr->frequency = F_CPU;
-    avr->avcc = avr->vcc = avr->aref = 5000;
     avr_load_firmware(avr, &fw);
+    avr->frequency = (uint32_t)freq;
+    avr->vcc = avr->avcc = avr->aref = 5000;
+    avr->sleep = no_sleep;
+    adc_setup();
 
-    printf("time_ms");
-    for (int i = 0; i < npins; i++) printf(",%c%d", pins[i].analog ? 'A' : 'D', pins[i].n);
-    printf("\n");
-    int next_stim = 0;
-    for (unsigned long t = 0; t <= until; t++) {
-        /* Inputs of this millisecond, then run the millisecond. */
-        while (next_stim < nstim && stim[next_stim].t <= t) {
-            stim_t *s = &stim[next_stim++];
-            if (s->pin.analog) {
-                if (s->value < 0 || s->value > 1023) die("an analog reading is 0 to 1023", NULL);
-                uint32_t mv = (uint32_t)((s->value * 5000UL + 1022) / 1023);
-                avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_ADC0 + s->pin.n), mv);
-            } else {
-                avr_raise_irq(pin_irq(avr, s->pin), s->value ? 1 : 0);
+    fprintf(trace, "time_ms");
+    for (int i = 0; i < npins; i++)
+        fprintf(trace, ",%c%d%s", pins[i].analog ? 'A' : 'D', pins[i].n, pins[i].pwm ? ":pwm" : "");
+    fprintf(trace, "\n");
+
+    size_t next = 0;
+    for (unsigned long t = 0; t <= until; t += every) {
+        avr_cycle_count_t target = (avr_cycle_count_t)t * freq / 1000;
+        /* run up to t, stopping at each stimulus time on the way */
+        for (;;) {
+            avr_cycle_count_t stop = target;
+            if (next < nstim && stim[next].t <= t) stop = (avr_cycle_count_t)stim[next].t * freq / 1000;
+            while (avr->cycle < stop) {
+                int st = avr_run(avr);
+                if (st == cpu_Done || st == cpu_Crashed) die("the CPU stopped (crashed, or sleeping with interrupts off)", NULL);
             }
+            if (next < nstim && stim[next].t <= t) apply(&stim[next++]);
+            else break;
         }
-        if (t % every == 0) {
-            printf("%lu", t);
-            for (int i = 0; i < npins; i++) {
-                avr_irq_t *irq = pin_irq(avr, pins[i]);
-                printf(",%d", irq ? (int)(irq->value & 1) : 0);
-            }
-            printf("\n");
+        fprintf(trace, "%lu", t);
+        for (int i = 0; i < npins; i++) {
+            if (pins[i].pwm) fprintf(trace, ",%d", duty(pins[i]));
+            else if (pins[i].analog && port_of(pins[i], &(char){0}) < 0) fprintf(trace, ",0");
+            else fprintf(trace, ",%d", level(pins[i]));
         }
-        avr_cycle_count_t end = (avr_cycle_count_t)(t + 1) * (F_CPU / 1000);
-        while (avr->cycle < end) {
-            int state = avr_run(avr);
-            if (state == cpu_Done || state == cpu_Crashed) die("the CPU stopped (crashed or sleeping with interrupts off)", NULL);
-        }
+        fprintf(trace, "\n");
     }
-    fprintf(stderr, "alba-simavr: %llu cycles simulated\n", (unsigned long long)avr->cycle);
+    fclose(trace);
+    fprintf(stderr, "alba-simavr: %llu cycles simulated (%.3f ms at %lu Hz)\n",
+            (unsigned long long)avr->cycle, avr->cycle * 1000.0 / freq, freq);
     return 0;
 }
