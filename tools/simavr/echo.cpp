@@ -14,6 +14,7 @@ void setup() {
 }
 
 void loop() {
+    GPIOR0 = 1;  // scan profile (the harness counts cycles between 1 and 0)
     int in = digitalRead(2);
     digitalWrite(13, in);
     digitalWrite(12, !in);
@@ -23,4 +24,5 @@ void loop() {
         last += 100;
         digitalWrite(8, !digitalRead(8));
     }
+    GPIOR0 = 0;
 }

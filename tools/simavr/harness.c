@@ -3,7 +3,7 @@
  * a trace of pins (SPEC §7.5).
  *
  *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
- *               --pins D13,D12,D6:pwm,A0 [--stimulus FILE] [-o TRACE.csv]
+ *               [--lag US] --pins D13,D12,D6:pwm,A0 [--stimulus FILE] [-o TRACE.csv]
  *
  * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
  * skipped; times never go back). Digital pin: 0/1 driven on the pin. Analog pin
@@ -14,6 +14,14 @@
  * from the timer's compare register while its output is connected (0/255 from
  * the port otherwise). At each time, inputs of that time are applied first,
  * then the row is sampled, then the CPU runs on. Time = cycles * 1000 / HZ.
+ * With --lag US, the row of time t is sampled US microseconds after t (stimuli
+ * up to that moment applied first): a firmware that scans at t has written its
+ * outputs by then, so the row shows the outputs of the scan at t, like
+ * `alba sim`'s trace.
+ * Scan profile: a firmware that writes 1 to GPIOR0 when a scan starts and 0
+ * when it ends (Alba's sketches do) gets its scans counted and timed in CPU
+ * cycles; the count and min/mean/max cycles go to stderr as a line
+ * `alba-simavr: scans N cycles min A mean B max C`.
  * Total cycles go to stderr. Exit 1 on bad arguments or a stopped CPU.
  */
 #include <stdarg.h>
@@ -146,6 +154,24 @@ static void adc_setup(void) {
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_ADC_GETIRQ, ADC_IRQ_OUT_TRIGGER), adc_started, NULL);
 }
 
+/* GPIOR0 (I/O 0x1E, data 0x3E on both MCUs): scan start (1) and end (0). */
+static avr_cycle_count_t scan_start, scan_min = (avr_cycle_count_t)-1, scan_max, scan_sum;
+static unsigned long scans;
+
+static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
+    (void)param;
+    a->data[addr] = v;
+    if (v == 1) scan_start = a->cycle;
+    else if (v == 0 && scan_start) {
+        avr_cycle_count_t c = a->cycle - scan_start;
+        scans++;
+        scan_sum += c;
+        if (c < scan_min) scan_min = c;
+        if (c > scan_max) scan_max = c;
+        scan_start = 0;
+    }
+}
+
 static void apply(const stim_t *s) {
     if (s->pin.analog) {
         if (s->value < 0 || s->value > 1023) die("an analog reading is 0 to 1023", NULL);
@@ -161,12 +187,13 @@ static void apply(const stim_t *s) {
 
 int main(int argc, char **argv) {
     const char *elf = NULL, *stim_file = NULL, *pins_arg = NULL, *out_file = NULL, *mcu = "atmega328p";
-    unsigned long until = 0, every = 0, freq = 16000000UL;
+    unsigned long until = 0, every = 0, lag = 0, freq = 16000000UL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         int more = i + 1 < argc;
         if (!strcmp(a, "--until") && more) until = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--every") && more) every = strtoul(argv[++i], NULL, 10);
+        else if (!strcmp(a, "--lag") && more) lag = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--pins") && more) pins_arg = argv[++i];
         else if (!strcmp(a, "--stimulus") && more) stim_file = argv[++i];
         else if (!strcmp(a, "-o") && more) out_file = argv[++i];
@@ -176,7 +203,7 @@ int main(int argc, char **argv) {
         else die("unknown argument: ", a);
     }
     if (!elf || !pins_arg || !every || !freq)
-        die("usage: alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS "
+        die("usage: alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS [--lag US] "
             "--pins D13,D6:pwm,A0 [--stimulus FILE] [-o TRACE]", NULL);
     if (!strcmp(mcu, "atmega2560")) mega = 1;
     else if (strcmp(mcu, "atmega328p")) die("unknown MCU (atmega328p or atmega2560): ", mcu);
@@ -236,6 +263,7 @@ int main(int argc, char **argv) {
     avr->vcc = avr->avcc = avr->aref = 5000;
     avr->sleep = no_sleep;
     adc_setup();
+    avr_register_io_write(avr, 0x3E, gpior0_write, NULL);
 
     fprintf(trace, "time_ms");
     for (int i = 0; i < npins; i++)
@@ -244,16 +272,18 @@ int main(int argc, char **argv) {
 
     size_t next = 0;
     for (unsigned long t = 0; t <= until; t += every) {
-        avr_cycle_count_t target = (avr_cycle_count_t)t * freq / 1000;
+        avr_cycle_count_t target = (avr_cycle_count_t)t * freq / 1000 + (avr_cycle_count_t)lag * freq / 1000000;
         /* run up to t, stopping at each stimulus time on the way */
         for (;;) {
             avr_cycle_count_t stop = target;
-            if (next < nstim && stim[next].t <= t) stop = (avr_cycle_count_t)stim[next].t * freq / 1000;
+            avr_cycle_count_t at = next < nstim ? (avr_cycle_count_t)stim[next].t * freq / 1000 : 0;
+            int due = next < nstim && at <= target;
+            if (due) stop = at;
             while (avr->cycle < stop) {
                 int st = avr_run(avr);
                 if (st == cpu_Done || st == cpu_Crashed) die("the CPU stopped (crashed, or sleeping with interrupts off)", NULL);
             }
-            if (next < nstim && stim[next].t <= t) apply(&stim[next++]);
+            if (due) apply(&stim[next++]);
             else break;
         }
         fprintf(trace, "%lu", t);
@@ -265,6 +295,9 @@ int main(int argc, char **argv) {
         fprintf(trace, "\n");
     }
     fclose(trace);
+    if (scans)
+        fprintf(stderr, "alba-simavr: scans %lu cycles min %llu mean %llu max %llu\n", scans,
+                (unsigned long long)scan_min, (unsigned long long)(scan_sum / scans), (unsigned long long)scan_max);
     fprintf(stderr, "alba-simavr: %llu cycles simulated (%.3f ms at %lu Hz)\n",
             (unsigned long long)avr->cycle, avr->cycle * 1000.0 / freq, freq);
     return 0;

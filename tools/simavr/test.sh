@@ -20,7 +20,9 @@ for board in uno:atmega328p nano:atmega328p mega:atmega2560; do
     b=${board%%:*} mcu=${board##*:}
     build_sketch "$here/echo.cpp" "$b" "$out/echo-$b"
     "$out/alba-simavr" "$out/echo-$b/sketch.elf" -m "$mcu" --until 400 --every 10 \
-        --pins D13,D12,D8,D6:pwm --stimulus "$here/echo-stimulus.csv" -o "$out/echo-$b.csv"
+        --pins D13,D12,D8,D6:pwm --stimulus "$here/echo-stimulus.csv" -o "$out/echo-$b.csv" 2>"$out/echo-$b.log"
+    grep -q "^alba-simavr: scans [1-9][0-9]* cycles min [1-9]" "$out/echo-$b.log" \
+        || { cat "$out/echo-$b.log"; echo "no scan profile from echo.cpp" >&2; exit 1; }
     diff "$here/echo-expected.csv" "$out/echo-$b.csv"
     echo "simavr ($b): echo.cpp's trace is as expected"
 done
