@@ -1,6 +1,6 @@
 //! The catalogue of diagnostic codes, with the explanation `alba explain CODE`
 //! prints. Ranges by stage: E1xx project files, E2xx ladder syntax,
-//! E3xx program checks, E4xx simulation inputs.
+//! E3xx program checks, E4xx simulation inputs, E5xx firmware.
 
 use std::fmt;
 
@@ -119,6 +119,12 @@ codes! {
         "--tags takes tag names, members (Delay.ACC), addresses (DO:2/0, %QX0.1) and system tags (S:FS), separated by commas; a whole TIMER or COUNTER is not a value: name a member.";
     BadArgument = 404, "a command-line value is not valid",
         "See `alba help <command>` for the accepted values.";
+    NotOnBoard = 501, "the program cannot run on the board",
+        "Firmware for an Arduino runs the control program with 32-bit REALs and no 64-bit floating point: LREAL tags and LREAL arithmetic are refused, with the instruction responsible. Use REAL, or run the program on the PC with the board as remote I/O (controller mode).";
+    DoesNotFit = 502, "the firmware does not fit the board",
+        "The built firmware needs more flash or RAM than the board has (the report gives both against the board's limits). Shorten the program, use fewer tags, or choose a board with more memory (the Mega has 8 KiB of RAM and 248 KiB of flash).";
+    Toolchain = 503, "the firmware could not be built or uploaded",
+        "Building needs Debian's gcc-avr, avr-libc and arduino-core-avr (./test.sh installs them); uploading needs avrdude and the board on the named serial port. The message gives the tool's own error.";
 }
 
 impl fmt::Display for Code {
