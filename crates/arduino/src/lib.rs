@@ -4,6 +4,8 @@
 //! an emulated MCU in simavr with the same stimulus and trace as `alba sim`
 //! ([`simavr`]).
 
+pub mod simavr;
 pub mod sketch;
+pub mod toolchain;
 
 pub use sketch::{Sketch, Target, generate};

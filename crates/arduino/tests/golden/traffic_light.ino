@@ -108,9 +108,7 @@ static void scan() {
     I[1] = scan_ms < 32767 ? (int32_t)scan_ms : 32767;
     alba_fault_code = 0;
     uint32_t t0 = micros();
-    GPIOR0 = 1;
     uint16_t stop = run(vnow);
-    GPIOR0 = 0;
     scan_ms = (micros() - t0) / 1000;
     first_scan = false;
     scans++;
@@ -160,9 +158,11 @@ void loop() {
         overruns += missed;
         advance(missed * SCAN_MS);
     }
+    GPIOR0 = 1;  // the scan starts (simavr's harness counts its cycles)
     read_inputs();
     scan();
     if (major) outputs_off();
     else write_outputs();
+    GPIOR0 = 0;
     advance(SCAN_MS);
 }

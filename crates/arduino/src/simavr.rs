@@ -1,0 +1,279 @@
+//! Firmware in simavr (SPEC §7.5): the harness `tools/simavr/harness.c`
+//! (embedded, built once into the cache) runs a built sketch on the emulated
+//! MCU with the stimulus of `alba sim` turned into pin levels and ADC
+//! readings through the pin map, and its pin trace turned back into tag
+//! values, so the result is a trace in `alba sim`'s form.
+//!
+//! Rows are sampled just before the next scan's deadline (`--lag`), when the
+//! outputs of the scan at `t` are on the pins: the row of `t` is the state
+//! after the scan at `t`, as in the simulator.
+
+use crate::sketch::Wire;
+use crate::toolchain::{cache_dir, run, temp_sibling, tool_error};
+use alba_ir::Place;
+use alba_model::address::Address;
+use alba_model::board::{Model, Pin};
+use alba_model::{Code, Diagnostic, Value};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const HARNESS: &str = include_str!("../../../tools/simavr/harness.c");
+
+/// The harness binary, built from the embedded source on first use (a new
+/// source gets a new binary: the name carries a hash of it).
+pub fn harness() -> Result<PathBuf, Diagnostic> {
+    let hash = HARNESS.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    });
+    let dir = cache_dir();
+    let bin = dir.join(format!("alba-simavr-{hash:016x}"));
+    if bin.is_file() {
+        return Ok(bin);
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| tool_error(format!("cannot create {}: {e}", dir.display())))?;
+    let src = temp_sibling(&dir.join("harness.c"));
+    std::fs::write(&src, HARNESS).map_err(|e| tool_error(format!("cannot write {}: {e}", src.display())))?;
+    let flags = run(
+        Command::new("pkg-config").args(["--cflags", "--libs", "simavr"]),
+        "finding simavr",
+    )
+    .map_err(|_| tool_error("simavr's development files were not found: install simavr and libsimavr-dev (Debian)"))?;
+    let tmp = temp_sibling(&bin);
+    let built = run(
+        Command::new("gcc")
+            .args(["-O2", "-Wall", "-Wextra", "-std=gnu11", "-x", "c", "-o"])
+            .arg(&tmp)
+            .arg(&src)
+            .args(flags.split_whitespace())
+            .arg("-lelf"),
+        "building the simavr harness",
+    );
+    let _ = std::fs::remove_file(&src);
+    built?;
+    std::fs::rename(&tmp, &bin).map_err(|e| tool_error(format!("cannot install the harness: {e}")))?;
+    Ok(bin)
+}
+
+/// A traced column: its name as given and where the value lives.
+#[derive(Debug, Clone)]
+pub struct Column {
+    pub name: String,
+    pub place: Place,
+}
+
+/// Timing of the run, as for `alba sim`.
+#[derive(Debug, Clone, Copy)]
+pub struct Timing {
+    pub scan_ms: u64,
+    pub until_ms: u64,
+    pub every_ms: u64,
+}
+
+/// What the harness measured of the scans (CPU cycles of `run()`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Profile {
+    pub scans: u64,
+    pub min: u64,
+    pub mean: u64,
+    pub max: u64,
+}
+
+/// A finished run: the trace CSV (`alba sim`'s form) and the scan profile.
+#[derive(Debug, Clone)]
+pub struct Run {
+    pub trace: String,
+    pub profile: Profile,
+}
+
+fn pin_name(p: Pin) -> String {
+    p.to_string()
+}
+
+/// The wire of an image slot.
+fn wire_of(wiring: &[Wire], place: Place) -> Option<&Wire> {
+    wiring.iter().find(|w| match (w.address, place) {
+        (Address::DigitalIn(_) | Address::DigitalOut(_), Place::Bool(b)) => w.slot == b.0,
+        (Address::AnalogIn(_) | Address::AnalogOut(_), Place::Int(i, _)) => w.slot == i.0,
+        _ => false,
+    })
+}
+
+/// Runs the firmware `elf` for `model` in simavr with stimulus rows
+/// `(time_ms, place, value)` (inputs wired to pins) and returns the trace
+/// of `cols` (I/O wired to pins). Until the stimulus sets it, an input pin
+/// holds its tag's initial value from `init` (what the simulator starts with).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate(
+    elf: &Path,
+    model: Model,
+    wiring: &[Wire],
+    active_low: bool,
+    init: &alba_ir::Memory,
+    stimulus: &[(u64, Place, Value)],
+    cols: &[Column],
+    timing: Timing,
+) -> Result<Run, Vec<Diagnostic>> {
+    let mut diags = Vec::new();
+    let mut stim = String::from("time_ms,pin,value\n");
+    // The value given to each input, echoed in its column (what the scan read).
+    let mut given: Vec<(u64, Address, i64)> = Vec::new();
+    let initial = wiring.iter().filter_map(|w| match w.address {
+        Address::DigitalIn(_) => init
+            .b
+            .get(w.slot as usize)
+            .map(|b| (0, Place::Bool(alba_ir::B(w.slot)), Value::Bool(*b))),
+        Address::AnalogIn(_) => init.i.get(w.slot as usize).map(|v| {
+            (
+                0,
+                Place::Int(alba_ir::I(w.slot), alba_model::DataType::Dint),
+                Value::Dint(*v),
+            )
+        }),
+        _ => None,
+    });
+    let rows: Vec<(u64, Place, Value)> = initial.chain(stimulus.iter().copied()).collect();
+    for (t, place, value) in &rows {
+        let Some(w) =
+            wire_of(wiring, *place).filter(|w| matches!(w.address, Address::DigitalIn(_) | Address::AnalogIn(_)))
+        else {
+            diags.push(Diagnostic::unplaced(
+                Code::StimulusTarget,
+                format!("the stimulus sets {value} at {t} ms on something that is not an input wired to a pin; firmware runs take only DI and AI inputs"),
+            ));
+            continue;
+        };
+        let v = match (w.address, value) {
+            (Address::DigitalIn(_), Value::Bool(b)) => i64::from(*b),
+            (Address::AnalogIn(_), Value::Sint(v)) => i64::from(*v),
+            (Address::AnalogIn(_), Value::Int(v)) => i64::from(*v),
+            (Address::AnalogIn(_), Value::Dint(v)) => i64::from(*v),
+            _ => -1,
+        };
+        if matches!(w.address, Address::AnalogIn(_)) && !(0..=1023).contains(&v) {
+            diags.push(Diagnostic::unplaced(
+                Code::StimulusTarget,
+                format!(
+                    "{} reads {value} at {t} ms, but an analog input of the board reads 0 to 1023",
+                    w.address
+                ),
+            ));
+            continue;
+        }
+        // A row applies before the first scan at or after its time: on the
+        // board, at that scan's deadline (millis() lags real time by up to a
+        // millisecond, so a change just after a deadline could otherwise
+        // reach the scan of that deadline).
+        let at = t.div_ceil(timing.scan_ms.max(1)) * timing.scan_ms.max(1);
+        given.push((at, w.address, v));
+        let _ = writeln!(stim, "{at},{},{v}", pin_name(w.pin));
+    }
+    let mut pins = Vec::new();
+    for c in cols {
+        match wire_of(wiring, c.place) {
+            Some(w) if matches!(w.address, Address::AnalogOut(_)) => pins.push(format!("{}:pwm", pin_name(w.pin))),
+            Some(w) => pins.push(pin_name(w.pin)),
+            None => diags.push(Diagnostic::unplaced(
+                Code::TraceName,
+                format!(
+                    "`{}` is not on a pin of the board: a firmware trace shows I/O wired to pins",
+                    c.name
+                ),
+            )),
+        }
+    }
+    if !diags.is_empty() {
+        return Err(diags);
+    }
+    let harness = harness().map_err(|d| vec![d])?;
+    let work = temp_sibling(&elf.with_file_name("simavr"));
+    std::fs::create_dir_all(&work).map_err(|e| vec![tool_error(format!("cannot create {}: {e}", work.display()))])?;
+    let stim_file = work.join("stimulus.csv");
+    let trace_file = work.join("trace.csv");
+    let result = (|| {
+        std::fs::write(&stim_file, &stim).map_err(|e| tool_error(format!("cannot write the stimulus: {e}")))?;
+        let lag_us = (timing.scan_ms * 1000).saturating_sub(10);
+        let out = Command::new(&harness)
+            .arg(elf)
+            .args(["-m", model.mcu(), "--until", &timing.until_ms.to_string()])
+            .args(["--every", &timing.every_ms.to_string(), "--lag", &lag_us.to_string()])
+            .args(["--pins", &pins.join(",")])
+            .arg("--stimulus")
+            .arg(&stim_file)
+            .arg("-o")
+            .arg(&trace_file)
+            .output()
+            .map_err(|e| tool_error(format!("cannot run the simavr harness: {e}")))?;
+        let log = String::from_utf8_lossy(&out.stderr).into_owned();
+        if !out.status.success() {
+            return Err(tool_error(format!(
+                "the firmware run in simavr failed:\n{}",
+                log.trim_end()
+            )));
+        }
+        let text =
+            std::fs::read_to_string(&trace_file).map_err(|e| tool_error(format!("cannot read the pin trace: {e}")))?;
+        Ok((text, profile(&log)))
+    })();
+    let _ = std::fs::remove_dir_all(&work);
+    let (pin_trace, profile) = result.map_err(|d| vec![d])?;
+    let trace = tag_trace(&pin_trace, wiring, active_low, &given, cols).map_err(|d| vec![d])?;
+    Ok(Run { trace, profile })
+}
+
+fn profile(log: &str) -> Profile {
+    log.lines()
+        .find_map(|l| {
+            let rest = l.strip_prefix("alba-simavr: scans ")?;
+            let n: Vec<u64> = rest.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+            (n.len() == 4).then(|| Profile {
+                scans: n[0],
+                min: n[1],
+                mean: n[2],
+                max: n[3],
+            })
+        })
+        .unwrap_or_default()
+}
+
+/// The pin trace as tag values: outputs through active-low, analog outputs as
+/// duty, inputs as the value last given.
+fn tag_trace(
+    pin_trace: &str,
+    wiring: &[Wire],
+    active_low: bool,
+    given: &[(u64, Address, i64)],
+    cols: &[Column],
+) -> Result<String, Diagnostic> {
+    let mut out = String::from("time_ms");
+    for c in cols {
+        out.push(',');
+        out.push_str(&c.name);
+    }
+    out.push('\n');
+    for line in pin_trace.lines().skip(1) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let bad = || tool_error(format!("the harness wrote a malformed row: `{line}`"));
+        if fields.len() != cols.len() + 1 {
+            return Err(bad());
+        }
+        let t: u64 = fields[0].parse().map_err(|_| bad())?;
+        out.push_str(fields[0]);
+        for (c, f) in cols.iter().zip(&fields[1..]) {
+            let v: i64 = f.parse().map_err(|_| bad())?;
+            let w = wire_of(wiring, c.place).ok_or_else(bad)?;
+            let v = match w.address {
+                Address::DigitalOut(_) => v ^ i64::from(active_low),
+                Address::DigitalIn(_) | Address::AnalogIn(_) => given
+                    .iter()
+                    .rev()
+                    .find(|(at, a, _)| *at <= t && *a == w.address)
+                    .map_or(0, |a| a.2),
+                _ => v,
+            };
+            let _ = write!(out, ",{v}");
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}
