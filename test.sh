@@ -17,6 +17,10 @@ cargo fmt --all -- --check
 step "studio: npm packages, build (with its type check), unit tests"
 build_web
 (cd web && npm test --silent)
+step "AVR toolchain and simavr (the firmware tests of cargo test use them)"
+source scripts/avr.sh
+need_avr
+export ALBA_AVR_CACHE="$PWD/target/avr/cache"
 step "lints"
 cargo clippy --workspace --all-targets --locked -q -- -D warnings
 step "tests"
@@ -27,9 +31,14 @@ cargo build -q --locked -p alba-cli
 TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 mkdir -p target/e2e
 (cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
-step "Arduino: a sketch builds for uno, nano and mega (no warnings) and runs as expected in simavr"
-source scripts/avr.sh
-need_avr
+step "Arduino: every example's sketch builds for uno, nano and mega (no warnings); the simavr harness checks itself"
+for ex in examples/*/; do
+    for board in uno nano mega; do
+        out=$("$TARGET/debug/alba" export arduino "$ex" --board "$board" -o "target/avr/export/$board" --build 2>&1) \
+            || { echo "$out"; exit 1; }
+        echo "$(basename "$ex") $(tail -1 <<<"$out")"
+    done
+done
 tools/simavr/test.sh
 step "demo and benchmark smoke runs"
 cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \

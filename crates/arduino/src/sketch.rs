@@ -74,6 +74,16 @@ pub fn control_ops(prog: &Program) -> &[Op] {
     &prog.ops[..end.min(prog.ops.len())]
 }
 
+/// The program without its plant models: what a board runs.
+pub fn control_program(prog: &Program) -> Program {
+    let mut p = prog.clone();
+    let n = control_ops(prog).len();
+    p.ops.truncate(n);
+    p.locs.truncate(n);
+    p.units.retain(|u| !u.plant);
+    p
+}
+
 /// Generates the sketch, or says why the program cannot run on the board
 /// (each refusal located at the instruction or tag responsible).
 pub fn generate(prog: &Program, project: &str, t: &Target) -> Result<Sketch, Vec<Diagnostic>> {

@@ -220,7 +220,15 @@ pub fn build(sketch: &Path, model: Model, out: &Path) -> Result<Built, Diagnosti
     run(
         Command::new("avr-gcc")
             .arg(format!("-mmcu={}", model.mcu()))
-            .args(["-Os", "-Wl,--gc-sections", "-o"])
+            .args(["-Os", "-Wl,--gc-sections"])
+            // Regions larger than any board, so a firmware that does not fit
+            // still links and is measured: the check below reports it (E502)
+            // with its sizes, rather than the linker's region errors.
+            .args([
+                "-Wl,--defsym=__TEXT_REGION_LENGTH__=0x100000",
+                "-Wl,--defsym=__DATA_REGION_LENGTH__=0xff00",
+                "-o",
+            ])
             .arg(&elf)
             .arg(&obj)
             .arg(&core)

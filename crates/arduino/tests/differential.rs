@@ -10,7 +10,7 @@
 //! them); without them the tests say so and pass, except under `CI=true`.
 
 use alba_arduino::simavr::{self, Column, Timing};
-use alba_arduino::sketch::{Target, Wire, control_ops, generate};
+use alba_arduino::sketch::{Target, Wire, control_program, generate};
 use alba_arduino::toolchain;
 use alba_engine::Engine;
 use alba_engine::sim::{self, SimOptions, Stimulus};
@@ -46,16 +46,6 @@ fn work_dir(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("work dir");
     d
-}
-
-/// The program without its plant models (what the board runs).
-fn control_only(prog: &Program) -> Program {
-    let mut p = prog.clone();
-    let n = control_ops(prog).len();
-    p.ops.truncate(n);
-    p.locs.truncate(n);
-    p.units.retain(|u| !u.plant);
-    p
 }
 
 struct Case {
@@ -199,7 +189,7 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
         active_low: false,
         scan_ms: case.scan_ms as u32,
     };
-    let prog = control_only(&case.prog);
+    let prog = control_program(&case.prog);
     let sketch = generate(&prog, &case.name, &target).unwrap_or_else(|d| panic!("{}: {d:?}", case.name));
     let dir = work_dir(&format!("{}-{}-{seed}", case.name, model.name()));
     for (name, text) in &sketch.files {

@@ -2,6 +2,7 @@
 
 mod bench;
 mod demo;
+mod firmware;
 mod new;
 mod run;
 
@@ -52,6 +53,17 @@ enum Command {
         /// Record every MS milliseconds (a multiple of the scan period; default: every scan).
         #[arg(long, value_name = "MS")]
         every: Option<u64>,
+        /// Run the generated Arduino firmware on an emulated MCU (simavr) instead of the
+        /// engine: same stimulus, same trace form (I/O wired to pins only).
+        #[arg(long)]
+        firmware: bool,
+        #[command(flatten)]
+        board: firmware::BoardArgs,
+    },
+    /// Export the project to another form.
+    Export {
+        #[command(subcommand)]
+        to: Export,
     },
     /// Create a runnable start/stop project in a new folder.
     New { dir: PathBuf },
@@ -90,6 +102,25 @@ enum Command {
     },
 }
 
+#[derive(Subcommand)]
+enum Export {
+    /// An Arduino sketch of the control program (plant models left out).
+    Arduino {
+        project: PathBuf,
+        #[command(flatten)]
+        board: firmware::BoardArgs,
+        /// Folder to write the sketch folder `<name>/` into.
+        #[arg(short, long, value_name = "DIR", default_value = ".")]
+        out: PathBuf,
+        /// Build with avr-gcc and report flash and RAM against the board.
+        #[arg(long)]
+        build: bool,
+        /// Build, then upload with avrdude to this serial port.
+        #[arg(long, value_name = "PORT")]
+        upload: Option<String>,
+    },
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
@@ -120,6 +151,8 @@ fn main() -> ExitCode {
             trace,
             tags,
             every,
+            firmware,
+            board,
         } => simulate(
             &project,
             until,
@@ -127,7 +160,18 @@ fn main() -> ExitCode {
             trace.as_deref(),
             tags.as_deref(),
             every,
+            firmware.then_some(&board),
         ),
+        Command::Export {
+            to:
+                Export::Arduino {
+                    project,
+                    board,
+                    out,
+                    build,
+                    upload,
+                },
+        } => firmware::export(&project, &board, &out, build, upload.as_deref()),
         Command::New { dir } => new::run(&dir),
         Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
@@ -192,6 +236,7 @@ fn simulate(
     trace: Option<&Path>,
     tags: Option<&str>,
     every: Option<u64>,
+    firmware: Option<&firmware::BoardArgs>,
 ) -> ExitCode {
     let c = alba_compiler::compile_dir(dir);
     let Some(program) = c.program else {
@@ -240,6 +285,25 @@ fn simulate(
         },
         None => sim::all_columns(layout),
     };
+    if let Some(board) = firmware {
+        let timing = alba_arduino::simavr::Timing {
+            scan_ms,
+            until_ms: until,
+            every_ms: every,
+        };
+        let text = match firmware::simulate(dir, board, &stim, &cols, timing) {
+            Ok(t) => t,
+            Err(code) => return code,
+        };
+        let written = match trace {
+            Some(path) => fsutil::write_atomic(path, |w| w.write_all(text.as_bytes())),
+            None => std::io::stdout().write_all(text.as_bytes()),
+        };
+        return match written {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => fail(format!("cannot write the trace: {e}")),
+        };
+    }
     let mut engine = match Engine::new(Arc::new(program)) {
         Ok(e) => e,
         Err(e) => {
