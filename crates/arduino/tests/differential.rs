@@ -319,8 +319,8 @@ fn random_program(seed: u64) -> Case {
     let outs = ["Q0", "Q1", "Q2", "Q3", "Q4", "Q5", "M0", "M1", "M2", "M3", "M4", "M5"];
     let nums = ["A0", "A1", "N0", "N1", "N2", "T0.ACC", "C0.ACC", "C1.ACC"];
     let reals = ["R0", "R1", "R2"];
-    let mut pick = |r: &mut Rng, xs: &[&'static str]| xs[r.below(xs.len() as u64) as usize];
-    let mut contact = |r: &mut Rng| {
+    let pick = |r: &mut Rng, xs: &[&'static str]| xs[r.below(xs.len() as u64) as usize];
+    let contact = |r: &mut Rng| {
         let b = pick(r, &bits);
         match r.below(10) {
             0..=4 => format!("XIC({b})"),
