@@ -47,8 +47,16 @@ fn build(dir: &Path, name: &str) -> Result<(alba_ir::Program, alba_arduino::Sket
 
 fn project(name: &str, tags: &str, lad: &str) -> PathBuf {
     let dir = work(name);
-    std::fs::write(dir.join("alba.toml"), format!("name = \"{name}\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n")).expect("write");
-    std::fs::write(dir.join("tags.csv"), format!("name,type,address,initial,retain,description\n{tags}")).expect("write");
+    std::fs::write(
+        dir.join("alba.toml"),
+        format!("name = \"{name}\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n"),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("tags.csv"),
+        format!("name,type,address,initial,retain,description\n{tags}"),
+    )
+    .expect("write");
     std::fs::write(dir.join("main.lad"), lad).expect("write");
     dir
 }
@@ -59,7 +67,11 @@ fn logic(n: usize) -> (String, String) {
     let mut lad = String::new();
     for i in 0..n {
         tags += &format!("A_{i},BOOL,,,,\nQ_{i},BOOL,,,,\n");
-        let prev = if i == 0 { "In".to_string() } else { format!("Q_{}", i - 1) };
+        let prev = if i == 0 {
+            "In".to_string()
+        } else {
+            format!("Q_{}", i - 1)
+        };
         lad += &format!("[XIC({prev}),XIC(A_{i})]XIO(Out)OTE(Q_{i})OTE(A_{i});\n");
     }
     lad += &format!("XIC(Q_{})OTE(Out);\n", n.max(1) - 1);
@@ -72,7 +84,11 @@ fn timers(n: usize) -> (String, String) {
     let mut lad = String::new();
     for i in 0..n {
         tags += &format!("T_{i},TIMER,,,,\nC_{i},COUNTER,,,,\nV_{i},DINT,,,,\n");
-        lad += &format!("[XIO(T_{i}.DN),XIC(In)]TON(T_{i},{},0)CTU(C_{i},1000,0)GRT(C_{i}.ACC,{})ADD(V_{i},1,V_{i})OTE(Out);\n", 5 + i % 7, i % 5);
+        lad += &format!(
+            "[XIO(T_{i}.DN),XIC(In)]TON(T_{i},{},0)CTU(C_{i},1000,0)GRT(C_{i}.ACC,{})ADD(V_{i},1,V_{i})OTE(Out);\n",
+            5 + i % 7,
+            i % 5
+        );
     }
     (tags, lad)
 }
@@ -107,7 +123,10 @@ fn largest(kind: &str, make: fn(usize) -> (String, String)) {
     if why.is_empty() {
         why = fits(hi).err().unwrap_or_default();
     }
-    println!("largest {kind} program that fits an Uno: {lo} rungs ({})", best.report());
+    println!(
+        "largest {kind} program that fits an Uno: {lo} rungs ({})",
+        best.report()
+    );
     println!("  with {hi}: {why}");
 }
 
@@ -117,7 +136,14 @@ fn main() {
         std::process::exit(1);
     }
     println!("example        | flash B | RAM B (of 2048) | cycles/scan min/mean/max | mean µs at 16 MHz");
-    for ex in ["start-stop", "traffic-light", "star-delta", "tank", "tank-plant", "festo-station"] {
+    for ex in [
+        "start-stop",
+        "traffic-light",
+        "star-delta",
+        "tank",
+        "tank-plant",
+        "festo-station",
+    ] {
         let (prog, s, b) = build(&root().join("examples").join(ex), ex).expect("example builds");
         // Every output traced, no stimulus: 2 s of scans.
         let cols: Vec<Column> = s
