@@ -28,6 +28,7 @@ fn uno(scan_ms: u32) -> Target {
         map: PinMap::preset("aurora").expect("preset"),
         active_low: false,
         scan_ms,
+        monitor: true,
     }
 }
 

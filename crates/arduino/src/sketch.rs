@@ -19,6 +19,14 @@ use std::fmt::Write as _;
 
 /// The runtime every sketch includes.
 pub const RUNTIME: &str = include_str!("../runtime/alba_rt.h");
+/// The monitoring link (a Modbus RTU slave serving program memory).
+pub const LINK: &str = include_str!("../runtime/alba_link.h");
+
+/// The monitoring link's serial settings.
+pub const LINK_BAUD: u32 = 115_200;
+pub const LINK_SLAVE: u8 = 1;
+/// First word of the link's input registers (its identity).
+pub const LINK_MAGIC: u16 = 0xA1BA;
 
 /// Backward jumps allowed in one scan (as the engine's `BACKWARD_JUMP_LIMIT`).
 const BACKWARD_JUMP_LIMIT: u32 = 1_000_000;
@@ -30,6 +38,8 @@ pub struct Target {
     pub map: PinMap,
     pub active_low: bool,
     pub scan_ms: u32,
+    /// Serve the monitoring link on the serial port (about 350 bytes of RAM).
+    pub monitor: bool,
 }
 
 /// A generated sketch: an Arduino IDE folder `<name>/` with `<name>.ino` and
@@ -41,6 +51,9 @@ pub struct Sketch {
     pub files: Vec<(String, String)>,
     /// The I/O channels wired, in the order of the image.
     pub wiring: Vec<Wire>,
+    /// Identifies the program and its memory layout: the monitoring link
+    /// reports it, so a host knows the board runs what it compiled.
+    pub program_id: u32,
 }
 
 /// One wired I/O channel.
@@ -134,12 +147,64 @@ pub fn generate(prog: &Program, project: &str, t: &Target) -> Result<Sketch, Vec
         return Err(diags);
     }
     let name = sketch_name(project);
-    let ino = render(prog, &name, project, t, &wiring, &body);
+    let m = &prog.init;
+    let program_id = fnv1a(
+        format!(
+            "{body}|{}|{}|{}|{}|{}|{:?}",
+            m.b.len(),
+            m.i.len(),
+            m.f.len(),
+            m.l.len(),
+            m.m.len(),
+            wiring
+        )
+        .as_bytes(),
+    );
+    let ino = render(prog, &name, project, t, &wiring, &body, program_id);
+    let mut files = vec![(format!("{name}.ino"), ino), ("alba_rt.h".into(), RUNTIME.into())];
+    if t.monitor {
+        files.push(("alba_link.h".into(), LINK.into()));
+    }
     Ok(Sketch {
-        files: vec![(format!("{name}.ino"), ino), ("alba_rt.h".into(), RUNTIME.into())],
+        files,
         name,
         wiring,
+        program_id,
     })
+}
+
+fn fnv1a(bytes: &[u8]) -> u32 {
+    bytes
+        .iter()
+        .fold(0x811c_9dc5u32, |h, b| (h ^ u32::from(*b)).wrapping_mul(0x0100_0193))
+}
+
+/// Holding-register layout of the link: where each class starts (registers).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LinkMap {
+    pub i: u32,
+    pub f: u32,
+    pub l: u32,
+    pub m: u32,
+    pub end: u32,
+}
+
+impl LinkMap {
+    /// I slots (2 registers each, high word first), then F (the IEEE bits,
+    /// 2 each), L (4 each), marker bytes (2 per register, first byte high).
+    pub fn of(m: &alba_ir::Memory) -> LinkMap {
+        let i = 0;
+        let f = i + 2 * m.i.len() as u32;
+        let l = f + 2 * m.f.len() as u32;
+        let mm = l + 4 * m.l.len() as u32;
+        LinkMap {
+            i,
+            f,
+            l,
+            m: mm,
+            end: mm + (m.m.len() as u32).div_ceil(2),
+        }
+    }
 }
 
 fn located(prog: &Program, loc: Loc, code: Code, why: String) -> Diagnostic {
@@ -484,7 +549,120 @@ fn float_lit(v: f32) -> String {
     format!("{v:e}f")
 }
 
-fn render(prog: &Program, name: &str, project: &str, t: &Target, wiring: &[Wire], body: &str) -> String {
+/// The monitoring link's callbacks over this program's memory.
+fn link_code(m: &alba_ir::Memory, program_id: u32) -> String {
+    let map = LinkMap::of(m);
+    let mut bytes = String::new();
+    let mut wbytes = String::new();
+    // Byte `k` (0 = most significant) of the big-endian register file.
+    let mut class = |arr: &str, slots: usize, width: u32, base: u32, conv: &str| {
+        if slots == 0 {
+            return;
+        }
+        let (lo, hi) = (2 * base, 2 * base + width * slots as u32);
+        let _ = writeln!(
+            bytes,
+            "    if (at >= {lo}UL && at < {hi}UL) {{ uint32_t k = at - {lo}UL; {conv} x; memcpy(&x, &{arr}[k / {width}], {width}); return (uint8_t)(x >> (8 * ({width} - 1 - k % {width}))); }}"
+        );
+        let _ = writeln!(
+            wbytes,
+            "    if (at >= {lo}UL && at < {hi}UL) {{ uint32_t k = at - {lo}UL; {conv} x; memcpy(&x, &{arr}[k / {width}], {width}); uint8_t sh = 8 * ({width} - 1 - k % {width}); x = (x & ~(({conv})0xFF << sh)) | (({conv})v << sh); memcpy(&{arr}[k / {width}], &x, {width}); return true; }}"
+        );
+    };
+    class("I", m.i.len(), 4, map.i, "uint32_t");
+    class("F", m.f.len(), 4, map.f, "uint32_t");
+    class("L", m.l.len(), 8, map.l, "uint64_t");
+    if !m.m.is_empty() {
+        let (lo, hi) = (2 * map.m, 2 * map.m + m.m.len() as u32);
+        let _ = writeln!(bytes, "    if (at >= {lo}UL && at < {hi}UL) return M[at - {lo}UL];");
+        let _ = writeln!(
+            wbytes,
+            "    if (at >= {lo}UL && at < {hi}UL) {{ M[at - {lo}UL] = v; return true; }}"
+        );
+    }
+    format!(
+        r#"
+// ---- monitoring link (docs/arduino.md): Modbus RTU slave {slave}, {baud} 8N1 ----
+// coils 0-{last_b}: the BOOL slots; holding registers 0-{last_h}: the I, F, L and M slots
+// as a big-endian register file (I from {hi}, F from {hf}, L from {hl}, M from {hm});
+// input registers 0-11: identity and state.
+#define ALBA_LINK_SLAVE {slave}
+#define ALBA_LINK_BAUD {baud}UL
+#include "alba_link.h"
+#include <string.h>
+
+static uint8_t mem_byte(uint32_t at) {{
+{bytes}    return 0;
+}}
+
+static bool set_mem_byte(uint32_t at, uint8_t v) {{
+{wbytes}    (void)v;
+    return false;
+}}
+
+static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {{
+    if (fc != 1 || at >= sizeof B) return 2;
+    *v = B[at];
+    return 0;
+}}
+
+static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {{
+    if (fc == 4) {{
+        const uint16_t info[12] = {{0x{magic:04X}, 1, sizeof B, {ni}, {nf}, {nl}, {nm}, SCAN_MS,
+            0x{id_hi:04X}, 0x{id_lo:04X}, (uint16_t)(scans >> 16), (uint16_t)scans}};
+        if (at < 12) *v = info[at];
+        else if (at == 12) *v = major ? 1 : 0;
+        else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
+        else return 2;
+        return 0;
+    }}
+    if (at >= {end}) return 2;
+    *v = (uint16_t)mem_byte(2UL * at) << 8 | mem_byte(2UL * at + 1);
+    return 0;
+}}
+
+static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {{
+    if ((uint32_t)at + n > sizeof B) return 2;
+    for (uint16_t k = 0; k < n; k++) B[at + k] = (packed[k / 8] >> (k % 8)) & 1;
+    return 0;
+}}
+
+static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {{
+    if ((uint32_t)at + n > {end}) return 2;
+    for (uint16_t k = 0; k < 2 * n; k++)
+        if (!set_mem_byte(2UL * at + k, be[k])) return 2;
+    return 0;
+}}
+"#,
+        slave = LINK_SLAVE,
+        baud = LINK_BAUD,
+        last_b = m.b.len().saturating_sub(1),
+        last_h = map.end.saturating_sub(1),
+        hi = map.i,
+        hf = map.f,
+        hl = map.l,
+        hm = map.m,
+        magic = LINK_MAGIC,
+        ni = m.i.len(),
+        nf = m.f.len(),
+        nl = m.l.len(),
+        nm = m.m.len(),
+        id_hi = program_id >> 16,
+        id_lo = program_id & 0xFFFF,
+        end = map.end,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn render(
+    prog: &Program,
+    name: &str,
+    project: &str,
+    t: &Target,
+    wiring: &[Wire],
+    body: &str,
+    program_id: u32,
+) -> String {
     let m = &prog.init;
     let sys = prog.layout.system;
     let bools: Vec<u8> = m.b.iter().map(|b| u8::from(*b)).collect();
@@ -618,6 +796,7 @@ static void scan() {{
     if (stop) major = true;
 }}
 
+{link}
 static void advance(uint32_t ms) {{
     next_ms += ms;
     vnow += ms;
@@ -629,11 +808,11 @@ static void advance(uint32_t ms) {{
 }}
 
 void setup() {{
-{setup}    next_ms = millis();
+{setup}{serial}    next_ms = millis();
 }}
 
 void loop() {{
-    if (major) {{
+{poll}    if (major) {{
         outputs_off();
         return;
     }}
@@ -666,5 +845,20 @@ void loop() {{
         code = sys.fault_code.0,
         ovr = sys.stats.0 + 5,
         smw22 = sys.scan_time.0,
+        link = if t.monitor {
+            link_code(m, program_id)
+        } else {
+            String::new()
+        },
+        serial = if t.monitor {
+            format!("    Serial.begin({LINK_BAUD}UL);\n")
+        } else {
+            String::new()
+        },
+        poll = if t.monitor {
+            "    alba_link_poll();  // between scans: the link never delays one\n"
+        } else {
+            ""
+        },
     )
 }

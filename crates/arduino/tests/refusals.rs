@@ -31,6 +31,7 @@ fn uno() -> Target {
         map: PinMap::preset("aurora").expect("preset"),
         active_low: false,
         scan_ms: 10,
+        monitor: true,
     }
 }
 

@@ -15,6 +15,7 @@ fn target(scan_ms: u32) -> Target {
         map: PinMap::preset("aurora").expect("preset"),
         active_low: false,
         scan_ms,
+        monitor: true,
     }
 }
 

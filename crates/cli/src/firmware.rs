@@ -20,6 +20,9 @@ pub struct BoardArgs {
     /// Pin map preset: aurora, s7 or openplc (default: `[board]`, else aurora).
     #[arg(long, value_name = "PRESET")]
     pub pinmap: Option<String>,
+    /// Leave out the monitoring link (frees about 350 bytes of RAM and the serial port).
+    #[arg(long)]
+    pub no_monitor: bool,
 }
 
 fn bad(msg: String) -> Diagnostic {
@@ -53,6 +56,7 @@ pub fn target(c: &Compiled, args: &BoardArgs) -> Result<Target, Diagnostic> {
         map,
         active_low: board.is_some_and(|b| b.active_low),
         scan_ms: c.project.scan_ms(),
+        monitor: !args.no_monitor,
     })
 }
 

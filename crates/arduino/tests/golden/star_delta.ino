@@ -96,6 +96,61 @@ static void scan() {
     if (stop) major = true;
 }
 
+
+// ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
+// coils 0-29: the BOOL slots; holding registers 0-27: the I, F, L and M slots
+// as a big-endian register file (I from 0, F from 28, L from 28, M from 28);
+// input registers 0-11: identity and state.
+#define ALBA_LINK_SLAVE 1
+#define ALBA_LINK_BAUD 115200UL
+#include "alba_link.h"
+#include <string.h>
+
+static uint8_t mem_byte(uint32_t at) {
+    if (at >= 0UL && at < 56UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    return 0;
+}
+
+static bool set_mem_byte(uint32_t at, uint8_t v) {
+    if (at >= 0UL && at < 56UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
+    (void)v;
+    return false;
+}
+
+static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
+    if (fc != 1 || at >= sizeof B) return 2;
+    *v = B[at];
+    return 0;
+}
+
+static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
+    if (fc == 4) {
+        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 14, 0, 0, 0, SCAN_MS,
+            0xF11A, 0xFD4F, (uint16_t)(scans >> 16), (uint16_t)scans};
+        if (at < 12) *v = info[at];
+        else if (at == 12) *v = major ? 1 : 0;
+        else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
+        else return 2;
+        return 0;
+    }
+    if (at >= 28) return 2;
+    *v = (uint16_t)mem_byte(2UL * at) << 8 | mem_byte(2UL * at + 1);
+    return 0;
+}
+
+static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {
+    if ((uint32_t)at + n > sizeof B) return 2;
+    for (uint16_t k = 0; k < n; k++) B[at + k] = (packed[k / 8] >> (k % 8)) & 1;
+    return 0;
+}
+
+static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {
+    if ((uint32_t)at + n > 28) return 2;
+    for (uint16_t k = 0; k < 2 * n; k++)
+        if (!set_mem_byte(2UL * at + k, be[k])) return 2;
+    return 0;
+}
+
 static void advance(uint32_t ms) {
     next_ms += ms;
     vnow += ms;
@@ -115,10 +170,12 @@ void setup() {
     pinMode(13, OUTPUT);
     digitalWrite(A0, LOW);
     pinMode(A0, OUTPUT);
+    Serial.begin(115200UL);
     next_ms = millis();
 }
 
 void loop() {
+    alba_link_poll();  // between scans: the link never delays one
     if (major) {
         outputs_off();
         return;
