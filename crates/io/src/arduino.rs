@@ -112,7 +112,8 @@ impl Config {
             };
             match k {
                 "link" => {
-                    c.link = Link::parse(v).ok_or_else(|| format!("--io arduino: unknown link `{v}` (modbus, aurora)"))?
+                    c.link =
+                        Link::parse(v).ok_or_else(|| format!("--io arduino: unknown link `{v}` (modbus, aurora)"))?
                 }
                 "slave" => {
                     c.slave = match num()? {
@@ -187,6 +188,14 @@ impl Shared {
         self.errors.fetch_add(1, Ordering::Relaxed);
         let mut s = lock(&self.status);
         s.ok = false;
+        s.errors += 1;
+        s.last_error = Some(why);
+    }
+
+    /// An attempt failed but the link may still hold (a retry follows).
+    fn count_error(&self, why: String) {
+        self.errors.fetch_add(1, Ordering::Relaxed);
+        let mut s = lock(&self.status);
         s.errors += 1;
         s.last_error = Some(why);
     }
@@ -321,8 +330,7 @@ impl alba_runtime::Io for ArduinoIo {
         let mem = engine.memory();
         let mut o = lock(&self.shared.outputs);
         for (n, d) in o.r#do.iter_mut().enumerate() {
-            *d = n < layout.dout.len as usize
-                && mem.b.get(layout.dout.base as usize + n).copied().unwrap_or(false);
+            *d = n < layout.dout.len as usize && mem.b.get(layout.dout.base as usize + n).copied().unwrap_or(false);
         }
         for (n, a) in o.ao.iter_mut().enumerate() {
             let v = if n < layout.ao.len as usize {
@@ -494,7 +502,7 @@ fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Re
                 if attempt >= cfg.retries {
                     return Err(LinkError::Frame(e));
                 }
-                shared.fail(e);
+                shared.count_error(e);
                 attempt += 1;
                 // Let the line fall silent so the slave sees a new frame.
                 quiet(port, Duration::from_millis(5))?;
@@ -539,11 +547,7 @@ fn exchange(port: &mut Port, cfg: &Config, req: &Request, frame: &[u8]) -> Resul
             return Err(LinkError::Frame(if buf.is_empty() {
                 format!("no answer within {} ms", cfg.timeout.as_millis())
             } else {
-                FrameError::Truncated {
-                    got: buf.len(),
-                    want,
-                }
-                .to_string()
+                FrameError::Truncated { got: buf.len(), want }.to_string()
             }));
         }
         let _ = port.set_timeout(deadline - now);
@@ -571,5 +575,91 @@ fn describe(req: &Request) -> String {
         Request::WriteMultipleCoils { values, .. } => format!("writing {} digital outputs", values.len()),
         Request::WriteMultipleRegisters { values, .. } => format!("writing {} analog outputs", values.len()),
         other => format!("function {}", other.function()),
+    }
+}
+
+/// The driver for `--io arduino:<port>[,options]` (`spec` is the whole
+/// option). The board's channels come from the project's `[board]`; a
+/// project without one is taken to be wired as the AuroraLD PLC1805 (the
+/// `aurora` map on a Nano: 6 DI, 6 DO, 4 AI, 4 AO).
+pub fn driver(spec: &str, board: Option<&alba_model::config::Board>) -> Result<Box<dyn alba_runtime::Io>, String> {
+    let rest = spec
+        .strip_prefix("arduino:")
+        .ok_or_else(|| format!("`{spec}` is not arduino:<serial port>[,options]"))?;
+    let counts = match board {
+        Some(b) => Counts::of(&b.map),
+        None => Counts::of(&PinMap::preset("aurora").unwrap_or_default()),
+    };
+    let cfg = Config::parse(rest, counts)?;
+    Ok(Box::new(ArduinoIo::start(cfg)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const C: Counts = Counts {
+        di: 6,
+        r#do: 6,
+        ai: 4,
+        ao: 4,
+    };
+
+    #[test]
+    fn io_options() {
+        let c = Config::parse("/dev/ttyUSB0", C).expect("config");
+        assert_eq!(
+            (c.port.as_str(), c.link, c.slave, c.baud),
+            ("/dev/ttyUSB0", Link::Modbus, 1, 115_200)
+        );
+        assert_eq!(c.reset_delay, Duration::from_millis(2000));
+        let c = Config::parse("COM3,link=aurora,reset_ms=0,timeout_ms=50,retries=5,slave=7", C).expect("config");
+        assert_eq!((c.link, c.slave, c.retries), (Link::Aurora, 7, 5));
+        assert_eq!((c.reset_delay, c.timeout), (Duration::ZERO, Duration::from_millis(50)));
+        assert!(Config::parse("", C).unwrap_err().contains("the port is missing"));
+        assert!(
+            Config::parse("/dev/x,link=can", C)
+                .unwrap_err()
+                .contains("unknown link `can`")
+        );
+        assert!(Config::parse("/dev/x,slave=0", C).unwrap_err().contains("1-247"));
+        assert!(
+            Config::parse("/dev/x,speed=9600", C)
+                .unwrap_err()
+                .contains("unknown option `speed`")
+        );
+        assert!(
+            Config::parse("/dev/x,retries", C)
+                .unwrap_err()
+                .contains("not option=value")
+        );
+        assert!(
+            Config::parse("/dev/x,retries=-1", C)
+                .unwrap_err()
+                .contains("not a whole number")
+        );
+        assert!(driver("sim", None).is_err());
+    }
+
+    /// A port that does not exist: the driver reports the loss through its
+    /// status and keeps trying; the engine side never waits.
+    #[test]
+    fn missing_port_is_a_status_not_a_failure() {
+        let mut cfg = Config::parse("/nonexistent/alba-tty,backoff_ms=5,backoff_max_ms=20", C).expect("config");
+        cfg.reset_delay = Duration::ZERO;
+        let io = ArduinoIo::start(cfg).expect("driver");
+        let t0 = Instant::now();
+        while io.status().errors < 3 {
+            assert!(t0.elapsed() < Duration::from_secs(5), "no retries");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let s = io.status();
+        assert!(!s.ok && s.opens == 0);
+        assert!(
+            s.last_error
+                .as_deref()
+                .is_some_and(|e| e.contains("cannot open /nonexistent/alba-tty"))
+        );
+        assert_eq!(io.inputs(), (vec![], vec![]));
     }
 }

@@ -30,7 +30,10 @@ pub fn parse_line(line: &str, c: Counts) -> Result<(Vec<bool>, Vec<u16>), String
             c.ai
         ));
     }
-    let num = |s: &str| s.parse::<u32>().map_err(|_| format!("board line: `{}` is not a number", s.escape_debug()));
+    let num = |s: &str| {
+        s.parse::<u32>()
+            .map_err(|_| format!("board line: `{}` is not a number", s.escape_debug()))
+    };
     let mut di = Vec::with_capacity(c.di);
     for f in &fields[..c.di] {
         match num(f)? {
@@ -48,7 +51,9 @@ pub fn parse_line(line: &str, c: Counts) -> Result<(Vec<bool>, Vec<u16>), String
     }
     let id = num(fields[want - 1])?;
     if id != AURORA_ID {
-        return Err(format!("board id {id}, expected {AURORA_ID} (not an AuroraLD remote-I/O board?)"));
+        return Err(format!(
+            "board id {id}, expected {AURORA_ID} (not an AuroraLD remote-I/O board?)"
+        ));
     }
     Ok((di, ai))
 }
@@ -90,7 +95,10 @@ pub(crate) fn cycle(
         }
         let now = Instant::now();
         if now >= deadline {
-            return Err(LinkError::Frame(format!("no line from the board within {} ms", timeout.as_millis())));
+            return Err(LinkError::Frame(format!(
+                "no line from the board within {} ms",
+                timeout.as_millis()
+            )));
         }
         let _ = port.set_timeout(deadline - now);
         let mut chunk = [0u8; 128];
@@ -122,11 +130,31 @@ mod tests {
             parse_line("1,0,0,1,0,1,1023,0,512,7,5518", C),
             Ok((vec![true, false, false, true, false, true], vec![1023, 0, 512, 7]))
         );
-        assert!(parse_line("1,0,0,1,0,1,1023,0,512,7,5517", C).unwrap_err().contains("board id 5517"));
-        assert!(parse_line("1,0,0,1,0,1,1023,0,512,5518", C).unwrap_err().contains("10 fields"));
-        assert!(parse_line("1,0,2,1,0,1,1023,0,512,7,5518", C).unwrap_err().contains("not 0 or 1"));
-        assert!(parse_line("1,0,0,1,0,1,1024,0,512,7,5518", C).unwrap_err().contains("not 0-1023"));
-        assert!(parse_line("1,0,0,1,0,x,1023,0,512,7,5518", C).unwrap_err().contains("`x`"));
+        assert!(
+            parse_line("1,0,0,1,0,1,1023,0,512,7,5517", C)
+                .unwrap_err()
+                .contains("board id 5517")
+        );
+        assert!(
+            parse_line("1,0,0,1,0,1,1023,0,512,5518", C)
+                .unwrap_err()
+                .contains("10 fields")
+        );
+        assert!(
+            parse_line("1,0,2,1,0,1,1023,0,512,7,5518", C)
+                .unwrap_err()
+                .contains("not 0 or 1")
+        );
+        assert!(
+            parse_line("1,0,0,1,0,1,1024,0,512,7,5518", C)
+                .unwrap_err()
+                .contains("not 0-1023")
+        );
+        assert!(
+            parse_line("1,0,0,1,0,x,1023,0,512,7,5518", C)
+                .unwrap_err()
+                .contains("`x`")
+        );
         assert!(parse_line("", C).is_err());
     }
 

@@ -183,7 +183,10 @@ mod tests {
             std::fs::write(&path, text).expect("bless");
         }
         let want = std::fs::read_to_string(&path).expect("golden");
-        assert!(want == text, "{name} differs from its golden file (ALBA_BLESS=1 to re-bless)");
+        assert!(
+            want == text,
+            "{name} differs from its golden file (ALBA_BLESS=1 to re-bless)"
+        );
     }
 
     #[test]

@@ -67,8 +67,14 @@ pub enum Response {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum FrameError {
     /// Shorter than the frame must be.
-    Truncated { got: usize, want: usize },
-    BadCrc { got: u16, want: u16 },
+    Truncated {
+        got: usize,
+        want: usize,
+    },
+    BadCrc {
+        got: u16,
+        want: u16,
+    },
     WrongSlave(u8),
     WrongFunction(u8),
     /// The slave answered with an exception code (1 illegal function, 2
@@ -208,7 +214,10 @@ pub fn decode_response(slave: u8, req: &Request, frame: &[u8]) -> Result<Respons
     let fc = body[1];
     if fc == req.function() | 0x80 {
         if frame.len() != 5 {
-            return Err(FrameError::Malformed(format!("exception reply of {} bytes", frame.len())));
+            return Err(FrameError::Malformed(format!(
+                "exception reply of {} bytes",
+                frame.len()
+            )));
         }
         return Err(FrameError::Exception(body[2]));
     }
@@ -230,7 +239,9 @@ pub fn decode_response(slave: u8, req: &Request, frame: &[u8]) -> Result<Respons
             if usize::from(data[0]) != n.div_ceil(8) {
                 return Err(FrameError::Malformed(format!("byte count {}", data[0])));
             }
-            Ok(Response::Bits((0..n).map(|i| data[1 + i / 8] >> (i % 8) & 1 == 1).collect()))
+            Ok(Response::Bits(
+                (0..n).map(|i| data[1 + i / 8] >> (i % 8) & 1 == 1).collect(),
+            ))
         }
         Request::ReadHoldingRegisters { qty, .. } | Request::ReadInputRegisters { qty, .. } => {
             let n = usize::from(*qty);
@@ -339,7 +350,10 @@ mod tests {
         assert!(matches!(decode_response(1, &w, &other), Err(FrameError::Malformed(_))));
         let regs = Request::ReadInputRegisters { addr: 0, qty: 2 };
         let wrong_count = with_crc(vec![1, 4, 3, 0, 1, 0, 2]);
-        assert!(matches!(decode_response(1, &regs, &wrong_count), Err(FrameError::Malformed(_))));
+        assert!(matches!(
+            decode_response(1, &regs, &wrong_count),
+            Err(FrameError::Malformed(_))
+        ));
     }
 
     fn request() -> impl Strategy<Value = Request> {
@@ -362,7 +376,7 @@ mod tests {
         /// accepts a frame only when its CRC is right.
         #[test]
         fn decoder_never_panics(req in request(), bytes in prop::collection::vec(any::<u8>(), 0..300), slave in any::<u8>()) {
-            if let Ok(_) = decode_response(slave, &req, &bytes) {
+            if decode_response(slave, &req, &bytes).is_ok() {
                 let n = bytes.len();
                 prop_assert_eq!(crc16(&bytes[..n - 2]).to_le_bytes(), [bytes[n - 2], bytes[n - 1]]);
             }

@@ -132,9 +132,15 @@ fn end_to_end(link: Link) {
     wait("Idle on the pin", 5, || board.get()[1] == 1);
     let t = Instant::now();
     board.set("D2", 1);
-    wait("Start in the program", 5, || value(&snap(), "Start") == Value::Bool(true));
+    wait("Start in the program", 5, || {
+        value(&snap(), "Start") == Value::Bool(true)
+    });
     wait("Motor on its pin", 5, || board.get()[0] == 1);
-    println!("{}: input pin to output pin {} ms", link.name(), t.elapsed().as_millis());
+    println!(
+        "{}: input pin to output pin {} ms",
+        link.name(),
+        t.elapsed().as_millis()
+    );
     board.set("D3", 1);
     board.set("D8", 1);
     wait("Idle off and Lamp on", 5, || {

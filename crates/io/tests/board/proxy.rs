@@ -59,7 +59,11 @@ impl Proxy {
         let stop = Arc::new(AtomicBool::new(false));
         let mut threads = Vec::new();
         let pairs: [(TTYPort, TTYPort, bool); 2] = [
-            (master.try_clone_native().expect("clone"), board.try_clone_native().expect("clone"), false),
+            (
+                master.try_clone_native().expect("clone"),
+                board.try_clone_native().expect("clone"),
+                false,
+            ),
             (board, master, true),
         ];
         for (from, to, answers) in pairs {
@@ -120,7 +124,7 @@ fn forward(mut from: TTYPort, mut to: TTYPort, answers: bool, fault: &AtomicU8, 
                 out[at] ^= 0x40;
             }
             Fault::BadCrcSometimes => {
-                if answers && count % 3 == 0 {
+                if answers && count.is_multiple_of(3) {
                     let last = out.len() - 1;
                     out[last] ^= 0x01;
                 }
