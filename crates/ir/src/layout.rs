@@ -174,8 +174,9 @@ impl Layout {
             scan_toggle: B(take(&mut c.b, 1)),
             scan_time: I(take(&mut c.i, 1)),
             stats: I(take(&mut c.i, STAT_TAGS.len() as u32)),
-            io_ok: B(take(&mut c.b, 1)),
-            io_errors: I(take(&mut c.i, 1)),
+            // Placed after everything else, below.
+            io_ok: B(0),
+            io_errors: I(0),
         };
         let di = Region {
             base: take(&mut c.b, di),
@@ -228,6 +229,11 @@ impl Layout {
         };
         let timers = uses.timers.iter().map(|&n| (n, slots_of(4, 2))).collect();
         let counters = uses.counters.iter().map(|&n| (n, slots_of(2, 5))).collect();
+        // The I/O link status came later than the rest: last, so that no
+        // other slot moved when it was added.
+        let mut system = system;
+        system.io_ok = B(take(&mut c.b, 1));
+        system.io_errors = I(take(&mut c.i, 1));
         Layout {
             tags: tags.clone(),
             slots,
