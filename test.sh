@@ -40,6 +40,8 @@ for ex in examples/*/; do
     done
 done
 tools/simavr/test.sh
+step "Arduino controller mode: remote-I/O firmware for every board and link; the host driver against it in simavr, with faults"
+tools/simavr/controller.sh
 step "demo and benchmark smoke runs"
 cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \
     | diff - <(printf 'time_ms,Nivel_m,Nivel_L\n0,0.8431085,33.72434\n1000,0.8431085,33.72434\n2000,0.8431085,33.72434\n')

@@ -1,5 +1,6 @@
 # AVR toolchain for Arduino firmware (sourced after scripts/common.sh).
 #   need_avr                         install avr-gcc, the Arduino AVR core and simavr (Debian)
+#   build_board OUT                  the emulated remote-I/O board (tools/simavr/board.c)
 #   build_sketch SKETCH BOARD OUTDIR build SKETCH (.cpp/.ino) for uno|nano|mega into
 #                                    OUTDIR/sketch.{elf,hex}; prints flash/RAM use and
 #                                    fails on a warning (-Wall -Werror) or a board that is too small
@@ -74,7 +75,20 @@ build_sketch() {
 build_harness() {
     local out="$1" src
     src="$(dirname "${BASH_SOURCE[0]}")/../tools/simavr/harness.c"
-    if [ ! -x "$out" ] || [ "$src" -nt "$out" ]; then
+    if [ ! -x "$out" ] || [ "$src" -nt "$out" ] || [ "$(dirname "$src")/pins.h" -nt "$out" ]; then
+        # shellcheck disable=SC2046
+        gcc -O2 -Wall -Wextra -Werror -std=gnu11 $(pkg-config --cflags simavr) -o "$out" "$src" \
+            $(pkg-config --libs simavr) -lelf
+    fi
+}
+
+# build_board OUT: the emulated remote-I/O board (tools/simavr/board.c: firmware in
+# simavr paced to real time, its UART on a pty), rebuilt when the source is newer.
+build_board() {
+    local out="$1" src
+    src="$(dirname "${BASH_SOURCE[0]}")/../tools/simavr/board.c"
+    if [ ! -x "$out" ] || [ "$src" -nt "$out" ] || [ "$(dirname "$src")/pins.h" -nt "$out" ]; then
+        mkdir -p "$(dirname "$out")"
         # shellcheck disable=SC2046
         gcc -O2 -Wall -Wextra -Werror -std=gnu11 $(pkg-config --cflags simavr) -o "$out" "$src" \
             $(pkg-config --libs simavr) -lelf

@@ -19,21 +19,30 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const HARNESS: &str = include_str!("../../../tools/simavr/harness.c");
+/// The pin tables `harness.c` includes.
+const PINS: &str = include_str!("../../../tools/simavr/pins.h");
 
 /// The harness binary, built from the embedded source on first use (a new
 /// source gets a new binary: the name carries a hash of it).
 pub fn harness() -> Result<PathBuf, Diagnostic> {
-    let hash = HARNESS.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-    });
+    let hash = HARNESS
+        .bytes()
+        .chain(PINS.bytes())
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        });
     let dir = cache_dir();
     let bin = dir.join(format!("alba-simavr-{hash:016x}"));
     if bin.is_file() {
         return Ok(bin);
     }
     std::fs::create_dir_all(&dir).map_err(|e| tool_error(format!("cannot create {}: {e}", dir.display())))?;
-    let src = temp_sibling(&dir.join("harness.c"));
-    std::fs::write(&src, HARNESS).map_err(|e| tool_error(format!("cannot write {}: {e}", src.display())))?;
+    let src_dir = temp_sibling(&dir.join("harness-src"));
+    let src = src_dir.join("harness.c");
+    std::fs::create_dir_all(&src_dir)
+        .and_then(|()| std::fs::write(&src, HARNESS))
+        .and_then(|()| std::fs::write(src_dir.join("pins.h"), PINS))
+        .map_err(|e| tool_error(format!("cannot write the harness source in {}: {e}", src_dir.display())))?;
     let flags = run(
         Command::new("pkg-config").args(["--cflags", "--libs", "simavr"]),
         "finding simavr",
@@ -49,7 +58,7 @@ pub fn harness() -> Result<PathBuf, Diagnostic> {
             .arg("-lelf"),
         "building the simavr harness",
     );
-    let _ = std::fs::remove_file(&src);
+    let _ = std::fs::remove_dir_all(&src_dir);
     built?;
     std::fs::rename(&tmp, &bin).map_err(|e| tool_error(format!("cannot install the harness: {e}")))?;
     Ok(bin)

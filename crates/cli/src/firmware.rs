@@ -1,218 +1,106 @@
-//! `alba export arduino` and `alba sim --firmware`: the project's control
-//! program as an Arduino sketch, built, uploaded, or run in simavr.
+//! `alba firmware`: the remote-I/O firmware of controller mode (SPEC §7.2).
 
-use crate::report;
-use alba_arduino::sketch::{self, Sketch, Target};
-use alba_arduino::{simavr, toolchain};
-use alba_compiler::Compiled;
-use alba_model::address::Address;
-use alba_model::board::{Model, PRESETS, PinMap};
-use alba_model::{Code, Diagnostic, fsutil};
-use std::path::{Path, PathBuf};
+use alba_io::firmware::{self, Link, Spec};
+use alba_model::board::{Model, PinMap};
+use alba_model::diag::render_all;
+use alba_model::{Code, Diagnostic, Files};
+use std::path::Path;
 use std::process::ExitCode;
 
-/// Board options of the command line; what is not given comes from `[board]`.
-#[derive(clap::Args, Debug, Clone, Default)]
-pub struct BoardArgs {
-    /// Board: uno, nano or mega (default: `[board]` of alba.toml).
-    #[arg(long, value_name = "MODEL")]
-    pub board: Option<String>,
-    /// Pin map preset: aurora, s7 or openplc (default: `[board]`, else aurora).
-    #[arg(long, value_name = "PRESET")]
-    pub pinmap: Option<String>,
-    /// Leave out the monitoring link (frees about 350 bytes of RAM and the serial port).
-    #[arg(long)]
-    pub no_monitor: bool,
+pub struct Args<'a> {
+    pub project: Option<&'a Path>,
+    pub board: Option<&'a str>,
+    pub pinmap: Option<&'a str>,
+    pub link: &'a str,
+    pub slave: u8,
+    pub watchdog_ms: u32,
+    pub active_low: bool,
+    pub out: &'a Path,
 }
 
-fn bad(msg: String) -> Diagnostic {
-    Diagnostic::unplaced(Code::BadArgument, msg)
-}
-
-/// The board to build for: the command line over `[board]`.
-pub fn target(c: &Compiled, args: &BoardArgs) -> Result<Target, Diagnostic> {
-    let cfg = c.project.config.as_ref();
-    let board = cfg.and_then(|c| c.board.as_ref());
-    let model = match (&args.board, board) {
-        (Some(name), _) => {
-            Model::parse(name).ok_or_else(|| bad(format!("--board {name}: the boards are uno, nano and mega")))?
-        }
-        (None, Some(b)) => b.model,
-        (None, None) => {
-            return Err(bad(
-                "no board: give --board uno|nano|mega or a [board] section in alba.toml".into(),
-            ));
-        }
-    };
-    let map = match (&args.pinmap, board) {
-        (Some(p), _) => {
-            PinMap::preset(p).ok_or_else(|| bad(format!("--pinmap {p}: the presets are {}", PRESETS.join(", "))))?
-        }
-        (None, Some(b)) => b.map.clone(),
-        (None, None) => PinMap::preset("aurora").ok_or_else(|| bad("the aurora preset is missing".into()))?,
-    };
-    Ok(Target {
-        model,
-        map,
-        active_low: board.is_some_and(|b| b.active_low),
-        scan_ms: c.project.scan_ms(),
-        monitor: !args.no_monitor,
-    })
-}
-
-/// Compiles and generates, reporting any problem.
-fn sketch_of(dir: &Path, args: &BoardArgs) -> Result<(Compiled, Target, alba_ir::Program, Sketch), ExitCode> {
-    let c = alba_compiler::compile_dir(dir);
-    let Some(program) = &c.program else {
-        report(&c.diagnostics, c.files(), false);
-        return Err(ExitCode::FAILURE);
-    };
-    let t = match target(&c, args) {
-        Ok(t) => t,
-        Err(d) => {
-            report(&[d], c.files(), false);
-            return Err(ExitCode::FAILURE);
-        }
-    };
-    let prog = sketch::control_program(program);
-    let name = c
-        .project
-        .config
-        .as_ref()
-        .map_or("alba", |c| c.name.as_str())
-        .to_string();
-    match sketch::generate(&prog, &name, &t) {
-        Ok(s) => Ok((c, t, prog, s)),
-        Err(d) => {
-            report(&d, c.files(), false);
-            Err(ExitCode::FAILURE)
-        }
-    }
-}
-
-fn wiring_table(s: &Sketch, prog: &alba_ir::Program) -> String {
-    let mut out = String::new();
-    for w in &s.wiring {
-        let tag = prog
-            .layout
-            .tags
-            .iter()
-            .find(|t| t.address == Some(w.address))
-            .map_or(String::new(), |t| format!("  {}", t.name));
-        let dir = match w.address {
-            Address::DigitalIn(_) | Address::AnalogIn(_) => "in ",
-            _ => "out",
-        };
-        out.push_str(&format!(
-            "  {dir} {:<8} {:<4}{tag}\n",
-            w.address.to_string(),
-            w.pin.to_string()
-        ));
-    }
-    out
-}
-
-/// `alba export arduino`.
-pub fn export(dir: &Path, args: &BoardArgs, out: &Path, build: bool, upload: Option<&str>) -> ExitCode {
-    let (c, t, prog, s) = match sketch_of(dir, args) {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
-    let folder = out.join(&s.name);
-    for (name, text) in &s.files {
-        let path = folder.join(name);
-        let written = std::fs::create_dir_all(&folder)
-            .and_then(|()| fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())));
-        if let Err(e) = written {
-            report(
-                &[Diagnostic::unplaced(
-                    Code::Io,
-                    format!("cannot write {}: {e}", path.display()),
-                )],
-                c.files(),
-                false,
-            );
-            return ExitCode::FAILURE;
-        }
-    }
-    eprintln!(
-        "wrote {} for the {} (scan {} ms), wired:\n{}",
-        folder.join(&s.files[0].0).display(),
-        t.model.title(),
-        t.scan_ms,
-        wiring_table(&s, &prog)
+fn refuse(msg: String) -> ExitCode {
+    eprint!(
+        "{}",
+        render_all(&[Diagnostic::unplaced(Code::BadArgument, msg)], &Files::new())
     );
-    if !build && upload.is_none() {
-        return ExitCode::SUCCESS;
-    }
-    let built = match toolchain::build(&folder.join(&s.files[0].0), t.model, &folder.join("build")) {
-        Ok(b) => b,
-        Err(d) => {
-            report(&[d], c.files(), false);
-            return ExitCode::FAILURE;
-        }
-    };
-    eprintln!("built {}\n{}", built.hex.display(), built.report());
-    if let Some(port) = upload {
-        if let Err(d) = toolchain::upload(&built, port) {
-            report(&[d], c.files(), false);
-            return ExitCode::FAILURE;
-        }
-        eprintln!("uploaded to {port}");
-    }
-    ExitCode::SUCCESS
+    ExitCode::FAILURE
 }
 
-/// `alba sim --firmware`: the trace of the generated firmware in simavr.
-pub fn simulate(
-    dir: &Path,
-    args: &BoardArgs,
-    stimulus: &alba_engine::sim::Stimulus,
-    cols: &[alba_engine::sim::Column],
-    timing: simavr::Timing,
-) -> Result<String, ExitCode> {
-    let (c, t, prog, s) = sketch_of(dir, args)?;
-    let work: PathBuf = std::env::temp_dir().join(format!("alba-firmware-{}", std::process::id()));
-    let folder = work.join(&s.name);
-    let result = (|| -> Result<String, Vec<Diagnostic>> {
-        std::fs::create_dir_all(&folder).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
-        for (name, text) in &s.files {
-            std::fs::write(folder.join(name), text).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
+pub fn run(a: Args) -> ExitCode {
+    let Some(link) = Link::parse(a.link) else {
+        return refuse(format!("unknown link `{}` (modbus or aurora)", a.link));
+    };
+    // The project's [board], then the options on top of it.
+    let (mut model, mut pinmap, mut map, mut active_low) = (None, "aurora".to_string(), None, a.active_low);
+    if let Some(dir) = a.project {
+        let (project, diags) = alba_model::Project::load(dir);
+        if !diags.is_empty() {
+            eprint!("{}", render_all(&diags, &project.files));
+            return ExitCode::FAILURE;
         }
-        let built =
-            toolchain::build(&folder.join(&s.files[0].0), t.model, &folder.join("build")).map_err(|d| vec![d])?;
-        let rows: Vec<_> = stimulus.rows.iter().map(|r| (r.time_ms, r.place, r.value)).collect();
-        let cols: Vec<simavr::Column> = cols
-            .iter()
-            .map(|c| simavr::Column {
-                name: c.name.clone(),
-                place: c.place,
-            })
-            .collect();
-        let run = simavr::simulate(
-            &built.elf,
-            t.model,
-            &s.wiring,
-            t.active_low,
-            &prog.init,
-            &rows,
-            &cols,
-            timing,
-        )?;
-        eprintln!(
-            "{} | {} scans in simavr, CPU cycles per scan min {} mean {} max {} ({:.1} µs mean at 16 MHz)",
-            built.report(),
-            run.profile.scans,
-            run.profile.min,
-            run.profile.mean,
-            run.profile.max,
-            run.profile.mean as f64 / 16.0
-        );
-        Ok(run.trace)
-    })();
-    let _ = std::fs::remove_dir_all(&work);
-    result.map_err(|d| {
-        report(&d, c.files(), false);
-        ExitCode::FAILURE
-    })
+        match project.config.as_ref().and_then(|c| c.board.as_ref()) {
+            Some(b) => {
+                model = Some(b.model);
+                pinmap = b.pinmap.clone();
+                map = Some(b.map.clone());
+                active_low |= b.active_low;
+            }
+            None if a.board.is_none() => {
+                return refuse(format!(
+                    "{} has no [board] in alba.toml: add one or give --board (and --pinmap)",
+                    dir.display()
+                ));
+            }
+            None => {}
+        }
+    }
+    if let Some(b) = a.board {
+        match Model::parse(b) {
+            Some(m) => model = Some(m),
+            None => return refuse(format!("unknown board `{b}` (uno, nano or mega)")),
+        }
+    }
+    if let Some(p) = a.pinmap {
+        match PinMap::preset(p) {
+            Some(m) => {
+                pinmap = p.to_ascii_lowercase();
+                map = Some(m);
+            }
+            None => return refuse(format!("unknown pin map `{p}` (aurora, s7 or openplc)")),
+        }
+    }
+    let Some(model) = model else {
+        return refuse("which board? give --board uno|nano|mega, or a project with [board]".into());
+    };
+    let map = match map {
+        Some(m) => m,
+        None => PinMap::preset(&pinmap).unwrap_or_default(),
+    };
+    let mut spec = Spec::new(model, &pinmap, map, link);
+    spec.slave = a.slave;
+    spec.watchdog_ms = a.watchdog_ms;
+    spec.active_low = active_low;
+    match firmware::write(&spec, a.out) {
+        Ok(path) => {
+            let c = alba_io::arduino::Counts::of(&spec.map);
+            let what = match link {
+                Link::Modbus => format!("Modbus RTU slave {}", spec.slave),
+                Link::Aurora => "AuroraLD text link".to_string(),
+            };
+            println!(
+                "wrote {} ({what}, {} 8N1; {}, pin map {}: {} DI, {} DO, {} AI, {} AO; watchdog {} ms)",
+                path.display(),
+                firmware::BAUD,
+                model.title(),
+                spec.pinmap,
+                c.di,
+                c.r#do,
+                c.ai,
+                c.ao,
+                spec.watchdog_ms
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => refuse(e),
+    }
 }

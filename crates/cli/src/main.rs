@@ -2,6 +2,7 @@
 
 mod bench;
 mod demo;
+mod export;
 mod firmware;
 mod new;
 mod run;
@@ -58,7 +59,7 @@ enum Command {
         #[arg(long)]
         firmware: bool,
         #[command(flatten)]
-        board: firmware::BoardArgs,
+        board: export::BoardArgs,
     },
     /// Export the project to another form.
     Export {
@@ -84,12 +85,41 @@ enum Command {
         /// Address to serve on (loopback by default).
         #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:8080")]
         http: std::net::SocketAddr,
-        /// I/O driver: `sim` (plant models of the project, forces and writes).
+        /// I/O driver: `sim` (plant models of the project, forces and writes) or
+        /// `arduino:PORT[,link=modbus|aurora,reset_ms=N,timeout_ms=N,retries=N,slave=N]`
+        /// (a board running `alba firmware`; see docs/arduino.md).
         #[arg(long, default_value = "sim")]
         io: String,
         /// Interpret instead of compiling the program to native code.
         #[arg(long)]
         no_native: bool,
+    },
+    /// Generate the remote-I/O firmware of an Arduino for controller mode
+    /// (`alba run PROJECT --io arduino:PORT`).
+    Firmware {
+        /// A project whose `[board]` gives the board and its pin map.
+        project: Option<PathBuf>,
+        /// The board: uno, nano or mega (overrides the project's).
+        #[arg(long)]
+        board: Option<String>,
+        /// Preset pin map: aurora, s7 or openplc (overrides the project's; default aurora).
+        #[arg(long)]
+        pinmap: Option<String>,
+        /// Serial protocol: modbus (Modbus RTU slave) or aurora (AuroraLD text link).
+        #[arg(long, default_value = "modbus")]
+        link: String,
+        /// Modbus slave id.
+        #[arg(long, default_value_t = 1)]
+        slave: u8,
+        /// Outputs go off when no valid request came for this long.
+        #[arg(long, value_name = "MS", default_value_t = alba_io::firmware::WATCHDOG_MS)]
+        watchdog_ms: u32,
+        /// Digital outputs are on when the pin is low (relay boards).
+        #[arg(long)]
+        active_low: bool,
+        /// Folder to write the sketch into (as FOLDER/FOLDER.ino, as the Arduino IDE wants).
+        #[arg(short, long, value_name = "DIR")]
+        out: PathBuf,
     },
     /// Start the studio on the tank example with its simulated plant.
     Demo {
@@ -108,7 +138,7 @@ enum Export {
     Arduino {
         project: PathBuf,
         #[command(flatten)]
-        board: firmware::BoardArgs,
+        board: export::BoardArgs,
         /// Folder to write the sketch folder `<name>/` into.
         #[arg(short, long, value_name = "DIR", default_value = ".")]
         out: PathBuf,
@@ -171,7 +201,7 @@ fn main() -> ExitCode {
                     build,
                     upload,
                 },
-        } => firmware::export(&project, &board, &out, build, upload.as_deref()),
+        } => export::export(&project, &board, &out, build, upload.as_deref()),
         Command::New { dir } => new::run(&dir),
         Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
@@ -182,6 +212,25 @@ fn main() -> ExitCode {
             no_native,
         } => run::run(&project, http, &io, !no_native, None),
         Command::Demo { dir, http } => demo::run(&dir, http, true),
+        Command::Firmware {
+            project,
+            board,
+            pinmap,
+            link,
+            slave,
+            watchdog_ms,
+            active_low,
+            out,
+        } => firmware::run(firmware::Args {
+            project: project.as_deref(),
+            board: board.as_deref(),
+            pinmap: pinmap.as_deref(),
+            link: &link,
+            slave,
+            watchdog_ms,
+            active_low,
+            out: &out,
+        }),
     }
 }
 
@@ -236,7 +285,7 @@ fn simulate(
     trace: Option<&Path>,
     tags: Option<&str>,
     every: Option<u64>,
-    firmware: Option<&firmware::BoardArgs>,
+    firmware: Option<&export::BoardArgs>,
 ) -> ExitCode {
     let c = alba_compiler::compile_dir(dir);
     let Some(program) = c.program else {
@@ -291,7 +340,7 @@ fn simulate(
             until_ms: until,
             every_ms: every,
         };
-        let text = match firmware::simulate(dir, board, &stim, &cols, timing) {
+        let text = match export::simulate(dir, board, &stim, &cols, timing) {
             Ok(t) => t,
             Err(code) => return code,
         };

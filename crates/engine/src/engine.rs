@@ -32,6 +32,9 @@ pub struct Engine {
     major: Option<MajorFault>,
     /// Duration of the last scan in ms, for `SMW22` (0 in virtual time).
     scan_time_ms: u32,
+    /// `S:IOOK` and `S:IOERRORS`, as the I/O driver last reported them.
+    io_ok: bool,
+    io_errors: i32,
     /// Native code for unmonitored scans, once compiled.
     #[cfg(feature = "jit")]
     native: Option<crate::jit::Jit>,
@@ -53,6 +56,8 @@ impl Engine {
             monitor_writes: 0,
             major: None,
             scan_time_ms: 0,
+            io_ok: true,
+            io_errors: 0,
             #[cfg(feature = "jit")]
             native: None,
             prog,
@@ -111,6 +116,20 @@ impl Engine {
         let base = self.prog.layout.system.stats.0 as usize;
         if let Some(slots) = self.mem.i.get_mut(base..base + stats.len()) {
             slots.copy_from_slice(&stats);
+        }
+    }
+
+    /// The I/O link status for `S:IOOK` and `S:IOERRORS` (an I/O driver
+    /// calls this from `read_inputs`; visible at once and kept by scans).
+    pub fn set_io_status(&mut self, ok: bool, errors: i32) {
+        self.io_ok = ok;
+        self.io_errors = errors;
+        let sys = self.prog.layout.system;
+        if let Some(b) = self.mem.b.get_mut(sys.io_ok.0 as usize) {
+            *b = ok;
+        }
+        if let Some(i) = self.mem.i.get_mut(sys.io_errors.0 as usize) {
+            *i = errors;
         }
     }
 
@@ -229,6 +248,8 @@ impl Engine {
         b[sys.clock_1s.0 as usize] = (now_ms / 500) % 2 == 1;
         b[sys.scan_toggle.0 as usize] = self.scans % 2 == 1;
         self.mem.i[sys.scan_time.0 as usize] = self.scan_time_ms.min(i16::MAX as u32) as i32;
+        b[sys.io_ok.0 as usize] = self.io_ok;
+        self.mem.i[sys.io_errors.0 as usize] = self.io_errors;
         self.faults.scan = self.scans;
         let before = self.faults.count;
         let now = now_ms as u32; // wrapping milliseconds, like millis()

@@ -66,6 +66,12 @@ pub struct System {
     /// `S:SCANTIME`, `S:SCANMIN`, `S:SCANMAX`, `S:SCANAVG`, `S:JITTER` (µs)
     /// and `S:OVERRUNS` (see [`STAT_TAGS`]).
     pub stats: I,
+    /// `S:IOOK`: the I/O driver's link is healthy (always on with the
+    /// simulated I/O).
+    pub io_ok: B,
+    /// `S:IOERRORS`: I/O link errors (timeouts, bad frames, lost ports)
+    /// since the runtime started.
+    pub io_errors: I,
 }
 
 /// The scan-statistics tags, in slot order from [`System::stats`].
@@ -95,6 +101,8 @@ pub const SYSTEM_TAGS: &[(&str, &str)] = &[
     ("S:SCANAVG", "mean scan time since the last run, µs"),
     ("S:JITTER", "largest lateness of a scan start since the last run, µs"),
     ("S:OVERRUNS", "scan deadlines missed since the last run"),
+    ("S:IOOK", "the I/O link is healthy (always on with simulated I/O)"),
+    ("S:IOERRORS", "I/O link errors since the runtime started"),
 ];
 
 /// The slots of an S7-200 timer or counter (see `S7Tmr`, `S7Ctr`).
@@ -166,6 +174,9 @@ impl Layout {
             scan_toggle: B(take(&mut c.b, 1)),
             scan_time: I(take(&mut c.i, 1)),
             stats: I(take(&mut c.i, STAT_TAGS.len() as u32)),
+            // Placed after everything else, below.
+            io_ok: B(0),
+            io_errors: I(0),
         };
         let di = Region {
             base: take(&mut c.b, di),
@@ -218,6 +229,11 @@ impl Layout {
         };
         let timers = uses.timers.iter().map(|&n| (n, slots_of(4, 2))).collect();
         let counters = uses.counters.iter().map(|&n| (n, slots_of(2, 5))).collect();
+        // The I/O link status came later than the rest: last, so that no
+        // other slot moved when it was added.
+        let mut system = system;
+        system.io_ok = B(take(&mut c.b, 1));
+        system.io_errors = I(take(&mut c.i, 1));
         Layout {
             tags: tags.clone(),
             slots,

@@ -173,6 +173,8 @@ impl Layout {
             "SM0.5" => Place::Bool(s.clock_1s),
             "SM0.6" => Place::Bool(s.scan_toggle),
             "SMW22" => Place::Int(s.scan_time, DataType::Int),
+            "S:IOOK" => Place::Bool(s.io_ok),
+            "S:IOERRORS" => Place::Int(s.io_errors, DataType::Dint),
             _ => {
                 let k = crate::layout::STAT_TAGS.iter().position(|t| *t == upper)?;
                 Place::Int(I(s.stats.0 + k as u32), DataType::Dint)

@@ -478,9 +478,13 @@ pub async fn run(
     }
     let io: Box<dyn alba_runtime::Io> = match opts.io.as_str() {
         "sim" => Box::new(alba_runtime::SimIo),
+        arduino if arduino.starts_with("arduino:") => {
+            let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
+            alba_io::arduino::driver(arduino, board).map_err(RunError::Other)?
+        }
         other => {
             return Err(RunError::Other(format!(
-                "unknown I/O driver `{other}` (available: sim)"
+                "unknown I/O driver `{other}` (available: sim, arduino:<serial port>[,link=modbus|aurora,…])"
             )));
         }
     };

@@ -9,9 +9,9 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[30] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-static int32_t I[14] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 100, 0, 0};
+static bool B[31] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+static int32_t I[15] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 100, 0, 0, 0};
 
 static inline uint8_t alba_duty(int32_t v) { return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }
 
@@ -41,11 +41,11 @@ static uint16_t run(uint32_t now) {
     (void)back;
     // main.lad rung 1: [XIC(Start),XIC(K_Line)]XIO(Stop)OTE(K_Line);
     rc = 1;
-    B[28] = rc; B[29] = 0;
+    B[29] = rc; B[30] = 0;
     rc &= B[6];
-    B[29] |= rc; rc = B[28];
+    B[30] |= rc; rc = B[29];
     rc &= B[15];
-    rc |= B[29];
+    rc |= B[30];
     rc &= !B[7];
     B[15] = rc;
     // main.lad rung 2: XIC(K_Line)TON(T_Star,5000,0);
@@ -98,8 +98,8 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-29: the BOOL slots; holding registers 0-27: the I, F, L and M slots
-// as a big-endian register file (I from 0, F from 28, L from 28, M from 28);
+// coils 0-30: the BOOL slots; holding registers 0-29: the I, F, L and M slots
+// as a big-endian register file (I from 0, F from 30, L from 30, M from 30);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
 #define ALBA_LINK_BAUD 115200UL
@@ -107,12 +107,12 @@ static void scan() {
 #include <string.h>
 
 static uint8_t mem_byte(uint32_t at) {
-    if (at >= 0UL && at < 56UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    if (at >= 0UL && at < 60UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
     return 0;
 }
 
 static bool set_mem_byte(uint32_t at, uint8_t v) {
-    if (at >= 0UL && at < 56UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
+    if (at >= 0UL && at < 60UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
     (void)v;
     return false;
 }
@@ -125,15 +125,15 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
-        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 14, 0, 0, 0, SCAN_MS,
-            0xF11A, 0xFD4F, (uint16_t)(scans >> 16), (uint16_t)scans};
+        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 15, 0, 0, 0, SCAN_MS,
+            0x6AA7, 0x7C3D, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
         else return 2;
         return 0;
     }
-    if (at >= 28) return 2;
+    if (at >= 30) return 2;
     *v = (uint16_t)mem_byte(2UL * at) << 8 | mem_byte(2UL * at + 1);
     return 0;
 }
@@ -145,7 +145,7 @@ static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {
 }
 
 static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {
-    if ((uint32_t)at + n > 28) return 2;
+    if ((uint32_t)at + n > 30) return 2;
     for (uint16_t k = 0; k < 2 * n; k++)
         if (!set_mem_byte(2UL * at + k, be[k])) return 2;
     return 0;

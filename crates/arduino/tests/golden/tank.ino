@@ -9,9 +9,10 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[32] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-static int32_t I[12] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 575, 2, 0, 1};
+static bool B[33] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0};
+static int32_t I[13] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 575, 2, 0, 0, 1};
 static float F[13] __attribute__((unused)) = {0e0f, 0e0f, 0e0f, 0e0f, 1.023e3f, 1.5e0f, 0e0f, 0e0f, 0e0f, 0e0f, 0e0f, 6e1f, 1e1f};
 
 static inline uint8_t alba_duty(int32_t v) { return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }
@@ -76,7 +77,7 @@ static uint16_t run(uint32_t now) {
     if (rc) alba_res_c(&I[9], &B[22]);
     // main.lad rung 4: EQU(CT_STP.ACC,1)OTE(L_STP);
     rc = 1;
-    rc &= I[10] == I[11];
+    rc &= I[10] == I[12];
     B[16] = rc;
     // main.lad rung 5: XIO(L_STP)OTE(L_RUN);
     rc = 1;
@@ -94,11 +95,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[28];
     rc &= !B[16];
-    B[30] = rc; B[31] = 0;
+    B[31] = rc; B[32] = 0;
     B[14] = rc;
-    B[31] |= rc; rc = B[30];
+    B[32] |= rc; rc = B[31];
     B[19] = rc;
-    rc |= B[31];
+    rc |= B[32];
     // main.lad rung 9: XIC(FILL)XIO(L_STP)GRT(Nivel_L,10.0)XIO(Bomba1)XIC(S_REC)XIO(S_CAP)OTL(Descargar);
     rc = 1;
     rc &= B[7];
@@ -112,11 +113,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[29];
     rc &= !B[16];
-    B[30] = rc; B[31] = 0;
+    B[31] = rc; B[32] = 0;
     B[15] = rc;
-    B[31] |= rc; rc = B[30];
+    B[32] |= rc; rc = B[31];
     B[18] = rc;
-    rc |= B[31];
+    rc |= B[32];
     // main.lad rung 11: XIC(S_CAP)OTU(Descargar);
     rc = 1;
     rc &= B[8];
@@ -150,8 +151,8 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-31: the BOOL slots; holding registers 0-49: the I, F, L and M slots
-// as a big-endian register file (I from 0, F from 24, L from 50, M from 50);
+// coils 0-32: the BOOL slots; holding registers 0-51: the I, F, L and M slots
+// as a big-endian register file (I from 0, F from 26, L from 52, M from 52);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
 #define ALBA_LINK_BAUD 115200UL
@@ -159,14 +160,14 @@ static void scan() {
 #include <string.h>
 
 static uint8_t mem_byte(uint32_t at) {
-    if (at >= 0UL && at < 48UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
-    if (at >= 48UL && at < 100UL) { uint32_t k = at - 48UL; uint32_t x; memcpy(&x, &F[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    if (at >= 0UL && at < 52UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    if (at >= 52UL && at < 104UL) { uint32_t k = at - 52UL; uint32_t x; memcpy(&x, &F[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
     return 0;
 }
 
 static bool set_mem_byte(uint32_t at, uint8_t v) {
-    if (at >= 0UL && at < 48UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
-    if (at >= 48UL && at < 100UL) { uint32_t k = at - 48UL; uint32_t x; memcpy(&x, &F[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&F[k / 4], &x, 4); return true; }
+    if (at >= 0UL && at < 52UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
+    if (at >= 52UL && at < 104UL) { uint32_t k = at - 52UL; uint32_t x; memcpy(&x, &F[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&F[k / 4], &x, 4); return true; }
     (void)v;
     return false;
 }
@@ -179,15 +180,15 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
-        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 12, 13, 0, 0, SCAN_MS,
-            0xEF4D, 0x1AA4, (uint16_t)(scans >> 16), (uint16_t)scans};
+        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 13, 13, 0, 0, SCAN_MS,
+            0xFEBE, 0xA5E7, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
         else return 2;
         return 0;
     }
-    if (at >= 50) return 2;
+    if (at >= 52) return 2;
     *v = (uint16_t)mem_byte(2UL * at) << 8 | mem_byte(2UL * at + 1);
     return 0;
 }
@@ -199,7 +200,7 @@ static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {
 }
 
 static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {
-    if ((uint32_t)at + n > 50) return 2;
+    if ((uint32_t)at + n > 52) return 2;
     for (uint16_t k = 0; k < 2 * n; k++)
         if (!set_mem_byte(2UL * at + k, be[k])) return 2;
     return 0;

@@ -9,11 +9,11 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[42] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+static bool B[43] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-static int32_t I[21] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 3000, 0, 0, 2000, 0,
-    0, 15000, 0, 0, 1};
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+static int32_t I[22] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 3000, 0, 0, 2000, 0,
+    0, 15000, 0, 0, 0, 1};
 static float F[18] __attribute__((unused)) = {0e0f, 0e0f, 3.4e1f, 0e0f, 0e0f, 0e0f, 1.023e3f, 1.5e0f, 0e0f, 0e0f, 0e0f, 0e0f, 0e0f, 6e1f, 1e1f, 3e-2f,
     6e-3f, 1e-2f};
 
@@ -79,7 +79,7 @@ static uint16_t run(uint32_t now) {
     if (rc) alba_res_c(&I[9], &B[22]);
     // main.lad rung 4: EQU(CT_STP.ACC,1)OTE(L_STP);
     rc = 1;
-    rc &= I[10] == I[20];
+    rc &= I[10] == I[21];
     B[16] = rc;
     // main.lad rung 5: XIO(L_STP)OTE(L_RUN);
     rc = 1;
@@ -97,11 +97,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[28];
     rc &= !B[16];
-    B[40] = rc; B[41] = 0;
+    B[41] = rc; B[42] = 0;
     B[14] = rc;
-    B[41] |= rc; rc = B[40];
+    B[42] |= rc; rc = B[41];
     B[19] = rc;
-    rc |= B[41];
+    rc |= B[42];
     // main.lad rung 9: XIC(FILL)XIO(L_STP)GRT(Nivel_L,10.0)XIO(Bomba1)XIC(S_REC)XIO(S_CAP)OTL(Descargar);
     rc = 1;
     rc &= B[7];
@@ -115,11 +115,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[29];
     rc &= !B[16];
-    B[40] = rc; B[41] = 0;
+    B[41] = rc; B[42] = 0;
     B[15] = rc;
-    B[41] |= rc; rc = B[40];
+    B[42] |= rc; rc = B[41];
     B[18] = rc;
-    rc |= B[41];
+    rc |= B[42];
     // main.lad rung 11: XIC(S_CAP)OTU(Descargar);
     rc = 1;
     rc &= B[8];
@@ -153,8 +153,8 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-41: the BOOL slots; holding registers 0-77: the I, F, L and M slots
-// as a big-endian register file (I from 0, F from 42, L from 78, M from 78);
+// coils 0-42: the BOOL slots; holding registers 0-79: the I, F, L and M slots
+// as a big-endian register file (I from 0, F from 44, L from 80, M from 80);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
 #define ALBA_LINK_BAUD 115200UL
@@ -162,14 +162,14 @@ static void scan() {
 #include <string.h>
 
 static uint8_t mem_byte(uint32_t at) {
-    if (at >= 0UL && at < 84UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
-    if (at >= 84UL && at < 156UL) { uint32_t k = at - 84UL; uint32_t x; memcpy(&x, &F[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    if (at >= 0UL && at < 88UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    if (at >= 88UL && at < 160UL) { uint32_t k = at - 88UL; uint32_t x; memcpy(&x, &F[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
     return 0;
 }
 
 static bool set_mem_byte(uint32_t at, uint8_t v) {
-    if (at >= 0UL && at < 84UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
-    if (at >= 84UL && at < 156UL) { uint32_t k = at - 84UL; uint32_t x; memcpy(&x, &F[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&F[k / 4], &x, 4); return true; }
+    if (at >= 0UL && at < 88UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
+    if (at >= 88UL && at < 160UL) { uint32_t k = at - 88UL; uint32_t x; memcpy(&x, &F[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&F[k / 4], &x, 4); return true; }
     (void)v;
     return false;
 }
@@ -182,15 +182,15 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
-        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 21, 18, 0, 0, SCAN_MS,
-            0xAAE5, 0x7476, (uint16_t)(scans >> 16), (uint16_t)scans};
+        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 22, 18, 0, 0, SCAN_MS,
+            0x40F3, 0xF88D, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
         else return 2;
         return 0;
     }
-    if (at >= 78) return 2;
+    if (at >= 80) return 2;
     *v = (uint16_t)mem_byte(2UL * at) << 8 | mem_byte(2UL * at + 1);
     return 0;
 }
@@ -202,7 +202,7 @@ static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {
 }
 
 static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {
-    if ((uint32_t)at + n > 78) return 2;
+    if ((uint32_t)at + n > 80) return 2;
     for (uint16_t k = 0; k < 2 * n; k++)
         if (!set_mem_byte(2UL * at + k, be[k])) return 2;
     return 0;

@@ -9,11 +9,11 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[36] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+static bool B[37] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0};
-static int32_t I[20] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 2000, 0, 0, 5000, 0,
-    0, 2000, 0, 0};
+    0, 0, 0, 0, 0};
+static int32_t I[21] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 2000, 0, 0, 5000, 0,
+    0, 2000, 0, 0, 0};
 
 static inline uint8_t alba_duty(int32_t v) { return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }
 
@@ -67,11 +67,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[6];
     rc &= !B[27];
-    B[34] = rc; B[35] = 0;
+    B[35] = rc; B[36] = 0;
     B[14] = rc;
-    B[35] |= rc; rc = B[34];
+    B[36] |= rc; rc = B[35];
     B[19] = rc;
-    rc |= B[35];
+    rc |= B[36];
     // main.lad rung 6: XIC(Switch)XIC(T0.DN)XIO(T1.DN)OTE(A_Amber);
     rc = 1;
     rc &= B[6];
@@ -82,11 +82,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[6];
     rc &= B[27];
-    B[34] = rc; B[35] = 0;
+    B[35] = rc; B[36] = 0;
     B[16] = rc;
-    B[35] |= rc; rc = B[34];
+    B[36] |= rc; rc = B[35];
     B[17] = rc;
-    rc |= B[35];
+    rc |= B[36];
     // main.lad rung 8: XIC(Switch)XIC(T2.DN)OTE(B_Amber);
     rc = 1;
     rc &= B[6];
@@ -121,8 +121,8 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-35: the BOOL slots; holding registers 0-39: the I, F, L and M slots
-// as a big-endian register file (I from 0, F from 40, L from 40, M from 40);
+// coils 0-36: the BOOL slots; holding registers 0-41: the I, F, L and M slots
+// as a big-endian register file (I from 0, F from 42, L from 42, M from 42);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
 #define ALBA_LINK_BAUD 115200UL
@@ -130,12 +130,12 @@ static void scan() {
 #include <string.h>
 
 static uint8_t mem_byte(uint32_t at) {
-    if (at >= 0UL && at < 80UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
+    if (at >= 0UL && at < 84UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); return (uint8_t)(x >> (8 * (4 - 1 - k % 4))); }
     return 0;
 }
 
 static bool set_mem_byte(uint32_t at, uint8_t v) {
-    if (at >= 0UL && at < 80UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
+    if (at >= 0UL && at < 84UL) { uint32_t k = at - 0UL; uint32_t x; memcpy(&x, &I[k / 4], 4); uint8_t sh = 8 * (4 - 1 - k % 4); x = (x & ~((uint32_t)0xFF << sh)) | ((uint32_t)v << sh); memcpy(&I[k / 4], &x, 4); return true; }
     (void)v;
     return false;
 }
@@ -148,15 +148,15 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
-        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 20, 0, 0, 0, SCAN_MS,
-            0x1EB9, 0x401F, (uint16_t)(scans >> 16), (uint16_t)scans};
+        const uint16_t info[12] = {0xA1BA, 1, sizeof B, 21, 0, 0, 0, SCAN_MS,
+            0x5433, 0x05A5, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
         else return 2;
         return 0;
     }
-    if (at >= 40) return 2;
+    if (at >= 42) return 2;
     *v = (uint16_t)mem_byte(2UL * at) << 8 | mem_byte(2UL * at + 1);
     return 0;
 }
@@ -168,7 +168,7 @@ static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {
 }
 
 static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {
-    if ((uint32_t)at + n > 40) return 2;
+    if ((uint32_t)at + n > 42) return 2;
     for (uint16_t k = 0; k < 2 * n; k++)
         if (!set_mem_byte(2UL * at + k, be[k])) return 2;
     return 0;

@@ -1,0 +1,665 @@
+//! `--io arduino:<port>[,option=value…]`: an Arduino running the
+//! remote-I/O firmware of [`crate::firmware`] is the I/O of the runtime
+//! (controller mode, SPEC §7.2).
+//!
+//! A link thread owns the serial port. It polls the board as fast as the
+//! link allows and keeps two small images in shared memory: the latest
+//! inputs it read and the latest outputs the engine wrote. The engine
+//! thread's `read_inputs`/`write_outputs` only copy those images (a mutex
+//! held for the copy, never across I/O), so a slow, silent or unplugged
+//! board never delays a scan.
+//!
+//! Link loss (no valid answer after the retries, or the port gone): the
+//! status tag `S:IOOK` goes false and `S:IOERRORS` counts; the inputs keep
+//! their last value; the board's own watchdog puts its outputs in the safe
+//! state (off) when it hears no valid request for its watchdog time. The
+//! thread reopens the port with exponential back-off until the board
+//! answers again, then writes the current outputs at once.
+
+use crate::aurora;
+use crate::firmware::{BAUD, Link};
+use crate::modbus::{self, FrameError, Request, Response};
+use alba_engine::Engine;
+use alba_ir::{B, I, Place};
+use alba_model::board::{Dir, PinMap};
+use alba_model::{DataType, Value};
+use std::io::{Read, Write};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// Channels of each direction on the board.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Counts {
+    pub di: usize,
+    pub r#do: usize,
+    pub ai: usize,
+    pub ao: usize,
+}
+
+impl Counts {
+    pub fn of(map: &PinMap) -> Counts {
+        Counts {
+            di: map.pins(Dir::DigitalIn).len(),
+            r#do: map.pins(Dir::DigitalOut).len(),
+            ai: map.pins(Dir::AnalogIn).len(),
+            ao: map.pins(Dir::AnalogOut).len(),
+        }
+    }
+}
+
+/// How to reach the board.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Config {
+    /// Serial device (`/dev/ttyUSB0`, `/dev/serial/by-id/…`, `COM3`).
+    pub port: String,
+    pub link: Link,
+    pub baud: u32,
+    /// Modbus slave id.
+    pub slave: u8,
+    /// How long an answer may take (Modbus), or the longest gap between two
+    /// lines of the board (AuroraLD).
+    pub timeout: Duration,
+    /// Further attempts of a failed Modbus transaction.
+    pub retries: u32,
+    /// Wait after opening the port: opening asserts DTR, which resets an
+    /// Uno or Nano into its bootloader for a second or two.
+    pub reset_delay: Duration,
+    /// First and largest wait between two attempts to reopen the port.
+    pub backoff_min: Duration,
+    pub backoff_max: Duration,
+    /// Failed cycles in a row after which the port is closed and reopened.
+    pub reopen_after: u32,
+    pub counts: Counts,
+}
+
+impl Config {
+    pub fn new(port: &str, counts: Counts) -> Config {
+        Config {
+            port: port.to_string(),
+            link: Link::Modbus,
+            baud: BAUD,
+            slave: 1,
+            timeout: Duration::from_millis(100),
+            retries: 2,
+            reset_delay: Duration::from_millis(2000),
+            backoff_min: Duration::from_millis(100),
+            backoff_max: Duration::from_millis(3000),
+            reopen_after: 3,
+            counts,
+        }
+    }
+
+    /// Parses what follows `arduino:` in `--io`: the port, then options
+    /// `link=modbus|aurora`, `slave=N`, `baud=N`, `timeout_ms=N`,
+    /// `retries=N`, `reset_ms=N`, `backoff_ms=N`, `backoff_max_ms=N`.
+    pub fn parse(spec: &str, counts: Counts) -> Result<Config, String> {
+        let mut parts = spec.split(',');
+        let port = parts.next().unwrap_or("").trim();
+        if port.is_empty() {
+            return Err("--io arduino:<serial port>[,link=modbus|aurora,…]: the port is missing".into());
+        }
+        let mut c = Config::new(port, counts);
+        for opt in parts {
+            let (k, v) = opt
+                .split_once('=')
+                .ok_or_else(|| format!("--io arduino: `{opt}` is not option=value"))?;
+            let (k, v) = (k.trim(), v.trim());
+            let num = || {
+                v.parse::<u64>()
+                    .map_err(|_| format!("--io arduino: {k}={v}: not a whole number"))
+            };
+            match k {
+                "link" => {
+                    c.link =
+                        Link::parse(v).ok_or_else(|| format!("--io arduino: unknown link `{v}` (modbus, aurora)"))?
+                }
+                "slave" => {
+                    c.slave = match num()? {
+                        n @ 1..=247 => n as u8,
+                        _ => return Err(format!("--io arduino: slave={v}: a slave id is 1-247")),
+                    }
+                }
+                "baud" => c.baud = num()?.clamp(1, 4_000_000) as u32,
+                "timeout_ms" => c.timeout = Duration::from_millis(num()?.max(1)),
+                "retries" => c.retries = num()?.min(100) as u32,
+                "reset_ms" => c.reset_delay = Duration::from_millis(num()?),
+                "backoff_ms" => c.backoff_min = Duration::from_millis(num()?.max(1)),
+                "backoff_max_ms" => c.backoff_max = Duration::from_millis(num()?.max(1)),
+                _ => {
+                    return Err(format!(
+                        "--io arduino: unknown option `{k}` (link, slave, baud, timeout_ms, retries, reset_ms, backoff_ms, backoff_max_ms)"
+                    ));
+                }
+            }
+        }
+        c.backoff_max = c.backoff_max.max(c.backoff_min);
+        Ok(c)
+    }
+}
+
+/// What the link thread reports.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Status {
+    /// The last cycle reached the board and back.
+    pub ok: bool,
+    /// Failed attempts (timeouts, bad frames, port errors) so far.
+    pub errors: u64,
+    /// Complete cycles (inputs read and outputs written).
+    pub cycles: u64,
+    /// Times the port was (re)opened.
+    pub opens: u64,
+    pub last_error: Option<String>,
+    /// Duration of the last complete cycle.
+    pub last_cycle: Option<Duration>,
+}
+
+#[derive(Default)]
+struct Inputs {
+    di: Vec<bool>,
+    ai: Vec<u16>,
+    /// At least one cycle has delivered inputs.
+    valid: bool,
+}
+
+#[derive(Default, Clone)]
+pub(crate) struct Outputs {
+    pub(crate) r#do: Vec<bool>,
+    pub(crate) ao: Vec<u16>,
+}
+
+struct Shared {
+    inputs: Mutex<Inputs>,
+    outputs: Mutex<Outputs>,
+    status: Mutex<Status>,
+    ok: AtomicBool,
+    errors: AtomicU64,
+    stop: AtomicBool,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl Shared {
+    fn fail(&self, why: String) {
+        self.ok.store(false, Ordering::Relaxed);
+        self.errors.fetch_add(1, Ordering::Relaxed);
+        let mut s = lock(&self.status);
+        s.ok = false;
+        s.errors += 1;
+        s.last_error = Some(why);
+    }
+
+    /// An attempt failed but the link may still hold (a retry follows).
+    fn count_error(&self, why: String) {
+        self.errors.fetch_add(1, Ordering::Relaxed);
+        let mut s = lock(&self.status);
+        s.errors += 1;
+        s.last_error = Some(why);
+    }
+
+    fn stopping(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    /// Sleeps `d` unless asked to stop meanwhile.
+    fn sleep(&self, d: Duration) {
+        let end = Instant::now() + d;
+        while !self.stopping() {
+            let now = Instant::now();
+            if now >= end {
+                break;
+            }
+            std::thread::sleep((end - now).min(Duration::from_millis(20)));
+        }
+    }
+}
+
+/// The driver: `alba_runtime::Io` for an Arduino remote-I/O board.
+pub struct ArduinoIo {
+    name: String,
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+    /// Scratch copies of the input image (no allocation per scan).
+    di: Vec<bool>,
+    ai: Vec<u16>,
+}
+
+impl ArduinoIo {
+    /// Starts the link thread (it opens the port itself, so a board that is
+    /// not plugged in yet is not an error: the link comes up when it is).
+    pub fn start(cfg: Config) -> Result<ArduinoIo, String> {
+        let shared = Arc::new(Shared {
+            inputs: Mutex::new(Inputs::default()),
+            outputs: Mutex::new(Outputs {
+                r#do: vec![false; cfg.counts.r#do],
+                ao: vec![0; cfg.counts.ao],
+            }),
+            status: Mutex::new(Status::default()),
+            ok: AtomicBool::new(false),
+            errors: AtomicU64::new(0),
+            stop: AtomicBool::new(false),
+        });
+        let name = format!("arduino:{} ({})", cfg.port, cfg.link.name());
+        let counts = cfg.counts;
+        let s = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("alba-io-arduino".into())
+            .spawn(move || link_thread(cfg, s))
+            .map_err(|e| format!("cannot start the I/O link thread: {e}"))?;
+        Ok(ArduinoIo {
+            name,
+            shared,
+            thread: Some(thread),
+            di: Vec::with_capacity(counts.di),
+            ai: Vec::with_capacity(counts.ai),
+        })
+    }
+
+    pub fn status(&self) -> Status {
+        lock(&self.shared.status).clone()
+    }
+
+    /// The latest input image: DI levels and AI readings (empty before the
+    /// first complete cycle).
+    pub fn inputs(&self) -> (Vec<bool>, Vec<u16>) {
+        let i = lock(&self.shared.inputs);
+        (i.di.clone(), i.ai.clone())
+    }
+
+    /// Sets the outputs the link writes (what `write_outputs` does from an
+    /// engine), for tools and tests that drive the board without a program.
+    pub fn set_outputs(&self, r#do: &[bool], ao: &[u16]) {
+        let mut o = lock(&self.shared.outputs);
+        for (d, s) in o.r#do.iter_mut().zip(r#do) {
+            *d = *s;
+        }
+        for (d, s) in o.ao.iter_mut().zip(ao) {
+            *d = *s;
+        }
+    }
+}
+
+impl Drop for ArduinoIo {
+    fn drop(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl alba_runtime::Io for ArduinoIo {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
+        let errors = self.shared.errors.load(Ordering::Relaxed).min(i32::MAX as u64) as i32;
+        engine.set_io_status(self.shared.ok.load(Ordering::Relaxed), errors);
+        let (di_at, ai_at) = {
+            let l = &engine.program().layout;
+            (l.di, l.ai)
+        };
+        {
+            // Only a copy under the lock: the link thread never holds it
+            // across I/O either.
+            let i = lock(&self.shared.inputs);
+            if !i.valid {
+                return Ok(());
+            }
+            self.di.clone_from(&i.di);
+            self.ai.clone_from(&i.ai);
+        }
+        for (n, v) in self.di.iter().enumerate().take(di_at.len as usize) {
+            engine.write(Place::Bool(B(di_at.base + n as u32)), Value::Bool(*v));
+        }
+        for (n, v) in self.ai.iter().enumerate().take(ai_at.len as usize) {
+            engine.write(
+                Place::Int(I(ai_at.base + n as u32), DataType::Int),
+                Value::Int(i16::try_from(*v).unwrap_or(i16::MAX)),
+            );
+        }
+        Ok(())
+    }
+
+    fn write_outputs(&mut self, engine: &Engine) -> Result<(), String> {
+        let layout = &engine.program().layout;
+        let mem = engine.memory();
+        let mut o = lock(&self.shared.outputs);
+        for (n, d) in o.r#do.iter_mut().enumerate() {
+            *d = n < layout.dout.len as usize && mem.b.get(layout.dout.base as usize + n).copied().unwrap_or(false);
+        }
+        for (n, a) in o.ao.iter_mut().enumerate() {
+            let v = if n < layout.ao.len as usize {
+                mem.i.get(layout.ao.base as usize + n).copied().unwrap_or(0)
+            } else {
+                0
+            };
+            *a = v.clamp(0, i32::from(u16::MAX)) as u16;
+        }
+        Ok(())
+    }
+}
+
+/// Why a cycle failed.
+pub(crate) enum LinkError {
+    /// The port itself failed (unplugged, closed): reopen it.
+    Port(String),
+    /// No valid answer (timeout, bad frame): worth retrying.
+    Frame(String),
+    /// The board refused the request (an exception reply): retrying does
+    /// not help (the board's map has fewer channels than the project's).
+    Refused(String),
+}
+
+type Port = Box<dyn serialport::SerialPort>;
+
+fn open(cfg: &Config) -> Result<Port, String> {
+    serialport::new(&cfg.port, cfg.baud)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::None)
+        .stop_bits(serialport::StopBits::One)
+        .flow_control(serialport::FlowControl::None)
+        // Opening raises DTR (an Uno resets); failures are ignored, as on a pty.
+        .dtr_on_open(true)
+        .timeout(cfg.timeout)
+        .open()
+        .map_err(|e| format!("cannot open {}: {e}", cfg.port))
+}
+
+fn link_thread(cfg: Config, shared: Arc<Shared>) {
+    let mut backoff = cfg.backoff_min;
+    while !shared.stopping() {
+        let mut port = match open(&cfg) {
+            Ok(p) => p,
+            Err(e) => {
+                shared.fail(e);
+                shared.sleep(backoff);
+                backoff = (backoff * 2).min(cfg.backoff_max);
+                continue;
+            }
+        };
+        lock(&shared.status).opens += 1;
+        shared.sleep(cfg.reset_delay);
+        let _ = port.clear(serialport::ClearBuffer::All);
+        let mut failed = 0u32;
+        let mut session = match cfg.link {
+            Link::Modbus => Session::Modbus,
+            Link::Aurora => Session::Aurora(aurora::Reader::default()),
+        };
+        while !shared.stopping() {
+            let t0 = Instant::now();
+            let outputs = lock(&shared.outputs).clone();
+            let r = match &mut session {
+                Session::Modbus => modbus_cycle(&mut port, &cfg, &shared, &outputs),
+                Session::Aurora(reader) => aurora::cycle(&mut port, &cfg, reader, &outputs),
+            };
+            match r {
+                Ok((di, ai)) => {
+                    {
+                        let mut i = lock(&shared.inputs);
+                        i.di = di;
+                        i.ai = ai;
+                        i.valid = true;
+                    }
+                    shared.ok.store(true, Ordering::Relaxed);
+                    let mut s = lock(&shared.status);
+                    s.ok = true;
+                    s.cycles += 1;
+                    s.last_cycle = Some(t0.elapsed());
+                    failed = 0;
+                    backoff = cfg.backoff_min;
+                }
+                Err(LinkError::Port(e)) => {
+                    shared.fail(e);
+                    break;
+                }
+                Err(LinkError::Frame(e) | LinkError::Refused(e)) => {
+                    shared.fail(e);
+                    failed += 1;
+                    if failed >= cfg.reopen_after {
+                        break;
+                    }
+                }
+            }
+        }
+        drop(port);
+        if !shared.stopping() {
+            shared.sleep(backoff);
+            backoff = (backoff * 2).min(cfg.backoff_max);
+        }
+    }
+}
+
+enum Session {
+    Modbus,
+    Aurora(aurora::Reader),
+}
+
+/// One Modbus cycle: read DI and AI, write DO and AO.
+fn modbus_cycle(
+    port: &mut Port,
+    cfg: &Config,
+    shared: &Shared,
+    out: &Outputs,
+) -> Result<(Vec<bool>, Vec<u16>), LinkError> {
+    let c = cfg.counts;
+    let mut di = Vec::new();
+    let mut ai = Vec::new();
+    if c.di > 0 {
+        let req = Request::ReadDiscreteInputs {
+            addr: 0,
+            qty: c.di as u16,
+        };
+        if let Response::Bits(b) = transact(port, cfg, shared, &req)? {
+            di = b;
+        }
+    }
+    if c.ai > 0 {
+        let req = Request::ReadInputRegisters {
+            addr: 0,
+            qty: c.ai as u16,
+        };
+        if let Response::Registers(r) = transact(port, cfg, shared, &req)? {
+            ai = r;
+        }
+    }
+    if c.r#do > 0 {
+        let req = Request::WriteMultipleCoils {
+            addr: 0,
+            values: out.r#do.clone(),
+        };
+        transact(port, cfg, shared, &req)?;
+    }
+    if c.ao > 0 {
+        let req = Request::WriteMultipleRegisters {
+            addr: 0,
+            values: out.ao.clone(),
+        };
+        transact(port, cfg, shared, &req)?;
+    }
+    if c == Counts::default() {
+        // Nothing to exchange: do not spin.
+        std::thread::sleep(cfg.timeout);
+    }
+    Ok((di, ai))
+}
+
+/// A request and its answer, with retries. Every failed attempt but the
+/// last is counted here; the caller counts the last.
+fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Result<Response, LinkError> {
+    let frame = req.encode(cfg.slave);
+    let mut attempt = 0;
+    loop {
+        let r = exchange(port, cfg, req, &frame);
+        match r {
+            Ok(resp) => return Ok(resp),
+            Err(e @ (LinkError::Port(_) | LinkError::Refused(_))) => return Err(e),
+            Err(LinkError::Frame(e)) => {
+                if attempt >= cfg.retries {
+                    return Err(LinkError::Frame(e));
+                }
+                shared.count_error(e);
+                attempt += 1;
+                // Let the line fall silent so the slave sees a new frame.
+                quiet(port, Duration::from_millis(5))?;
+            }
+        }
+    }
+}
+
+fn port_error(e: std::io::Error) -> LinkError {
+    LinkError::Port(format!("serial port: {e}"))
+}
+
+/// Discards what arrives until `gap` passes without a byte (bounded).
+fn quiet(port: &mut Port, gap: Duration) -> Result<(), LinkError> {
+    let _ = port.set_timeout(gap);
+    let mut buf = [0u8; 64];
+    let until = Instant::now() + Duration::from_millis(200);
+    while Instant::now() < until {
+        match port.read(&mut buf) {
+            Ok(0) => return Err(LinkError::Port("serial port: end of file".into())),
+            Ok(_) => continue,
+            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => break,
+            Err(e) => return Err(port_error(e)),
+        }
+    }
+    Ok(())
+}
+
+fn exchange(port: &mut Port, cfg: &Config, req: &Request, frame: &[u8]) -> Result<Response, LinkError> {
+    let _ = port.clear(serialport::ClearBuffer::Input);
+    port.write_all(frame).map_err(port_error)?;
+    port.flush().map_err(port_error)?;
+    let deadline = Instant::now() + cfg.timeout;
+    let mut buf = Vec::with_capacity(req.response_len());
+    loop {
+        let want = req.expected_len(&buf).unwrap_or(2);
+        if buf.len() >= want {
+            break;
+        }
+        let now = Instant::now();
+        if now >= deadline {
+            return Err(LinkError::Frame(if buf.is_empty() {
+                format!("no answer within {} ms", cfg.timeout.as_millis())
+            } else {
+                FrameError::Truncated { got: buf.len(), want }.to_string()
+            }));
+        }
+        let _ = port.set_timeout(deadline - now);
+        let mut chunk = [0u8; modbus::MAX_FRAME];
+        match port.read(&mut chunk[..want - buf.len()]) {
+            Ok(0) => return Err(LinkError::Port("serial port: end of file".into())),
+            Ok(n) => buf.extend_from_slice(&chunk[..n]),
+            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => continue,
+            Err(e) => return Err(port_error(e)),
+        }
+    }
+    modbus::decode_response(cfg.slave, req, &buf).map_err(|e| match e {
+        FrameError::Exception(_) => LinkError::Refused(format!(
+            "the board refused {}: {e} (does its firmware have the pin map of alba.toml?)",
+            describe(req)
+        )),
+        e => LinkError::Frame(e.to_string()),
+    })
+}
+
+fn describe(req: &Request) -> String {
+    match req {
+        Request::ReadDiscreteInputs { qty, .. } => format!("reading {qty} digital inputs"),
+        Request::ReadInputRegisters { qty, .. } => format!("reading {qty} analog inputs"),
+        Request::WriteMultipleCoils { values, .. } => format!("writing {} digital outputs", values.len()),
+        Request::WriteMultipleRegisters { values, .. } => format!("writing {} analog outputs", values.len()),
+        other => format!("function {}", other.function()),
+    }
+}
+
+/// The driver for `--io arduino:<port>[,options]` (`spec` is the whole
+/// option). The board's channels come from the project's `[board]`; a
+/// project without one is taken to be wired as the AuroraLD PLC1805 (the
+/// `aurora` map on a Nano: 6 DI, 6 DO, 4 AI, 4 AO).
+pub fn driver(spec: &str, board: Option<&alba_model::config::Board>) -> Result<Box<dyn alba_runtime::Io>, String> {
+    let rest = spec
+        .strip_prefix("arduino:")
+        .ok_or_else(|| format!("`{spec}` is not arduino:<serial port>[,options]"))?;
+    let counts = match board {
+        Some(b) => Counts::of(&b.map),
+        None => Counts::of(&PinMap::preset("aurora").unwrap_or_default()),
+    };
+    let cfg = Config::parse(rest, counts)?;
+    Ok(Box::new(ArduinoIo::start(cfg)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const C: Counts = Counts {
+        di: 6,
+        r#do: 6,
+        ai: 4,
+        ao: 4,
+    };
+
+    #[test]
+    fn io_options() {
+        let c = Config::parse("/dev/ttyUSB0", C).expect("config");
+        assert_eq!(
+            (c.port.as_str(), c.link, c.slave, c.baud),
+            ("/dev/ttyUSB0", Link::Modbus, 1, 115_200)
+        );
+        assert_eq!(c.reset_delay, Duration::from_millis(2000));
+        let c = Config::parse("COM3,link=aurora,reset_ms=0,timeout_ms=50,retries=5,slave=7", C).expect("config");
+        assert_eq!((c.link, c.slave, c.retries), (Link::Aurora, 7, 5));
+        assert_eq!((c.reset_delay, c.timeout), (Duration::ZERO, Duration::from_millis(50)));
+        assert!(Config::parse("", C).unwrap_err().contains("the port is missing"));
+        assert!(
+            Config::parse("/dev/x,link=can", C)
+                .unwrap_err()
+                .contains("unknown link `can`")
+        );
+        assert!(Config::parse("/dev/x,slave=0", C).unwrap_err().contains("1-247"));
+        assert!(
+            Config::parse("/dev/x,speed=9600", C)
+                .unwrap_err()
+                .contains("unknown option `speed`")
+        );
+        assert!(
+            Config::parse("/dev/x,retries", C)
+                .unwrap_err()
+                .contains("not option=value")
+        );
+        assert!(
+            Config::parse("/dev/x,retries=-1", C)
+                .unwrap_err()
+                .contains("not a whole number")
+        );
+        assert!(driver("sim", None).is_err());
+    }
+
+    /// A port that does not exist: the driver reports the loss through its
+    /// status and keeps trying; the engine side never waits.
+    #[test]
+    fn missing_port_is_a_status_not_a_failure() {
+        let mut cfg = Config::parse("/nonexistent/alba-tty,backoff_ms=5,backoff_max_ms=20", C).expect("config");
+        cfg.reset_delay = Duration::ZERO;
+        let io = ArduinoIo::start(cfg).expect("driver");
+        let t0 = Instant::now();
+        while io.status().errors < 3 {
+            assert!(t0.elapsed() < Duration::from_secs(5), "no retries");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let s = io.status();
+        assert!(!s.ok && s.opens == 0);
+        assert!(
+            s.last_error
+                .as_deref()
+                .is_some_and(|e| e.contains("cannot open /nonexistent/alba-tty"))
+        );
+        assert_eq!(io.inputs(), (vec![], vec![]));
+    }
+}

@@ -1,0 +1,14 @@
+//! I/O drivers of the runtime (the `alba_runtime::Io` seam).
+//!
+//! - [`modbus`]: the Modbus RTU codec (CRC-16, request and response frames)
+//!   shared by the host driver and the tests.
+//! - [`firmware`]: generates the remote-I/O firmware of an Arduino board
+//!   (`alba firmware`): a Modbus RTU slave or the AuroraLD text link.
+//! - [`arduino`]: the host driver, `alba run --io arduino:<port>`: a link
+//!   thread owns the serial port and polls the board; the engine thread
+//!   only exchanges the latest images with it and never waits on the port.
+
+pub mod arduino;
+pub mod aurora;
+pub mod firmware;
+pub mod modbus;

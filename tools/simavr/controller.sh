@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Controller mode (docs/arduino.md, SPEC 7.2), checked without hardware:
+#  - `alba firmware` generates the remote-I/O firmware for uno, nano and mega with
+#    both links (Modbus RTU, AuroraLD), and each builds with -Wall -Werror and fits;
+#  - the host driver runs end to end against the firmware in simavr through a
+#    pseudo-terminal (tools/simavr/board.c): inputs reach the program, outputs the
+#    pins; unplug/replug; fault injection (bad CRC, truncated frames, silence,
+#    garbage) with the outputs in the safe state during the loss and recovery after.
+# Prints flash/RAM per board and the measured round trip, cycle rate and recovery
+# times. Used by ./test.sh (after need_avr).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+cd "$here/../.."
+source scripts/common.sh
+source scripts/avr.sh
+need_avr
+out=target/avr/firmware
+mkdir -p "$out"
+cargo build -q --locked -p alba-cli
+alba="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/debug/alba"
+for link in modbus aurora; do
+    for bm in uno:openplc nano:aurora mega:aurora; do
+        b=${bm%%:*} map=${bm##*:}
+        "$alba" firmware --board "$b" --pinmap "$map" --link "$link" -o "$out/$link-$b" >/dev/null
+        printf '%s link, ' "$link"
+        build_sketch "$out/$link-$b/$link-$b.ino" "$b" "$out/build-$link-$b"
+    done
+done
+cargo test -q --locked -p alba-io --test board -- --ignored --nocapture 2>&1 \
+    | grep -v -e '^$' -e '^running' -e '^test result' -e '^nano: flash'
