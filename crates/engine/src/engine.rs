@@ -81,6 +81,21 @@ impl Engine {
         self.mem.read(p)
     }
 
+    /// Replaces the whole memory (attach mode: the board's memory, read over
+    /// its monitoring link). Refused when the sizes are not the program's.
+    pub fn load_memory(&mut self, m: &Memory) -> Result<(), String> {
+        let sizes = |m: &Memory| [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()];
+        if sizes(m) != sizes(&self.mem) {
+            return Err(format!(
+                "the memory has sizes {:?}, the program {:?}",
+                sizes(m),
+                sizes(&self.mem)
+            ));
+        }
+        self.mem.clone_from(m);
+        Ok(())
+    }
+
     /// Writes a value between scans (inputs, stimuli, operator writes).
     pub fn write(&mut self, p: Place, v: Value) {
         self.mem.write(p, v);

@@ -181,6 +181,18 @@ pub trait Io: Send {
     fn name(&self) -> &str;
     fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String>;
     fn write_outputs(&mut self, engine: &Engine) -> Result<(), String>;
+    /// Attach mode: the board runs the program itself (a sketch exported
+    /// with its monitoring link). `read_inputs` then loads the board's whole
+    /// memory into the engine, which does not scan, and outputs are the
+    /// board's own; writes go to the board through [`Io::write_remote`].
+    fn runs_program(&self) -> bool {
+        false
+    }
+    /// An operator's write, applied on the board (attach mode). `None`: the
+    /// driver has no remote memory, and the write is applied locally.
+    fn write_remote(&mut self, _place: Place, _value: Value) -> Option<Result<(), String>> {
+        None
+    }
 }
 
 /// `--io sim`.
@@ -503,6 +515,12 @@ impl Worker {
         if let Err(e) = self.io.read_inputs(&mut self.engine) {
             return self.halt(format!("I/O ({}): {e}", self.io.name()));
         }
+        if self.io.runs_program() {
+            // Attach mode: the memory just read is the board's; nothing to run.
+            self.stats
+                .record(t0.elapsed().as_micros() as u64, late.as_micros() as u64);
+            return self.publish();
+        }
         let forces = self.forces.clone();
         for f in forces.iter().filter(|f| f.input) {
             self.engine.write(f.place, f.value);
@@ -542,8 +560,12 @@ impl Worker {
     }
 
     /// Outputs in their safe state: every digital output off, analog 0.
+    /// (In attach mode the board keeps its outputs: it runs on its own.)
     fn safe_outputs(&mut self) {
         self.power_fresh = false;
+        if self.io.runs_program() {
+            return;
+        }
         let l = self.engine.program().layout.clone();
         for b in l.dout.base..l.dout.base + l.dout.len {
             self.engine.write(Place::Bool(alba_ir::B(b)), Value::Bool(false));
@@ -558,9 +580,16 @@ impl Worker {
     fn apply(&mut self, req: Req) -> Result<(), String> {
         match req {
             Req::Write(p, v) => {
+                if let Some(r) = self.io.write_remote(p, v) {
+                    r?;
+                }
                 self.engine.write(p, v);
                 Ok(())
             }
+            Req::Force(_) | Req::Replace(_) | Req::Stop if self.io.runs_program() => Err(format!(
+                "the board runs the program ({}): forces, online edits and stop are done on a board by exporting and uploading again; writes work",
+                self.io.name()
+            )),
             Req::Force(mut f) => {
                 f.input = is_input(&self.engine.program().layout, f.place);
                 let mut fs = (*self.forces).clone();
@@ -664,6 +693,9 @@ impl Worker {
     /// there, so an fsync never delays a scan).
     fn save_retained(&mut self) {
         self.last_retain = Instant::now();
+        if self.io.runs_program() {
+            return; // the board's memory is not this runtime's to keep
+        }
         let Some(saver) = &self.saver else { return };
         let values: Vec<(String, Value)> = self
             .retained

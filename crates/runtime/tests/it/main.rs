@@ -236,3 +236,75 @@ async fn retentive_values_survive_a_restart() {
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "{\"hello\": 1}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Attach mode with a board whose memory is a shared `Memory`: the program
+/// counts `Count` up on every scan, but the board's memory holds 7 and does
+/// not move, so a snapshot showing 7 proves the engine mirrored and did not scan.
+struct Board {
+    mem: Arc<std::sync::Mutex<alba_ir::Memory>>,
+    writes: Arc<std::sync::Mutex<Vec<(Place, Value)>>>,
+}
+
+impl alba_runtime::Io for Board {
+    fn name(&self) -> &str {
+        "test board"
+    }
+    fn read_inputs(&mut self, engine: &mut alba_engine::Engine) -> Result<(), String> {
+        let m = self.mem.lock().map_err(|e| e.to_string())?.clone();
+        engine.load_memory(&m)
+    }
+    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), String> {
+        Err("attach mode never writes outputs".into())
+    }
+    fn runs_program(&self) -> bool {
+        true
+    }
+    fn write_remote(&mut self, place: Place, value: Value) -> Option<Result<(), String>> {
+        if value == Value::Dint(-1) {
+            return Some(Err("the board refused".into()));
+        }
+        self.writes.lock().ok()?.push((place, value));
+        if let Ok(mut m) = self.mem.lock() {
+            m.write(place, value);
+        }
+        Some(Ok(()))
+    }
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn attach_mode_mirrors_the_board_and_sends_writes_to_it() {
+    let program = compile(TAGS, LAD);
+    let mut board_mem = program.init.clone();
+    board_mem.write(place(&program, "Count"), Value::Dint(7));
+    board_mem.write(place(&program, "Out"), Value::Bool(true));
+    let board = Board {
+        mem: Arc::new(std::sync::Mutex::new(board_mem)),
+        writes: Arc::default(),
+    };
+    let writes = board.writes.clone();
+    let rt = Runtime::start(program.clone(), opts(2), Box::new(board)).unwrap();
+    let s = until(&rt, "10 mirror cycles", |s| s.stats.scans >= 10).await;
+    assert_eq!(
+        value(&s, "Count"),
+        Value::Dint(7),
+        "the engine scanned instead of mirroring"
+    );
+    assert_eq!(value(&s, "Out"), Value::Bool(true));
+    assert_eq!(s.state, RunState::Running, "{:?}", s.fault);
+    let h = rt.handle();
+    h.write(place(&program, "Kept"), Value::Dint(42)).await.unwrap();
+    assert_eq!(*writes.lock().unwrap(), [(place(&program, "Kept"), Value::Dint(42))]);
+    until(&rt, "the written value read back from the board", |s| {
+        value(s, "Kept") == Value::Dint(42)
+    })
+    .await;
+    let err = h.write(place(&program, "Kept"), Value::Dint(-1)).await.unwrap_err();
+    assert!(err.contains("the board refused"), "{err}");
+    let err = h
+        .force("In".into(), place(&program, "In"), Value::Bool(true))
+        .await
+        .unwrap_err();
+    assert!(err.contains("the board runs the program"), "{err}");
+    assert!(h.stop().await.is_err());
+    rt.shutdown();
+}
