@@ -355,9 +355,9 @@ pub(crate) enum LinkError {
     Refused(String),
 }
 
-type Port = Box<dyn serialport::SerialPort>;
+pub(crate) type Port = Box<dyn serialport::SerialPort>;
 
-fn open(cfg: &Config) -> Result<Port, String> {
+pub(crate) fn open(cfg: &Config) -> Result<Port, String> {
     serialport::new(&cfg.port, cfg.baud)
         .data_bits(serialport::DataBits::Eight)
         .parity(serialport::Parity::None)
@@ -516,7 +516,7 @@ fn port_error(e: std::io::Error) -> LinkError {
 }
 
 /// Discards what arrives until `gap` passes without a byte (bounded).
-fn quiet(port: &mut Port, gap: Duration) -> Result<(), LinkError> {
+pub(crate) fn quiet(port: &mut Port, gap: Duration) -> Result<(), LinkError> {
     let _ = port.set_timeout(gap);
     let mut buf = [0u8; 64];
     let until = Instant::now() + Duration::from_millis(200);
@@ -531,7 +531,7 @@ fn quiet(port: &mut Port, gap: Duration) -> Result<(), LinkError> {
     Ok(())
 }
 
-fn exchange(port: &mut Port, cfg: &Config, req: &Request, frame: &[u8]) -> Result<Response, LinkError> {
+pub(crate) fn exchange(port: &mut Port, cfg: &Config, req: &Request, frame: &[u8]) -> Result<Response, LinkError> {
     let _ = port.clear(serialport::ClearBuffer::Input);
     port.write_all(frame).map_err(port_error)?;
     port.flush().map_err(port_error)?;

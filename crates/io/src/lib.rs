@@ -7,8 +7,11 @@
 //! - [`arduino`]: the host driver, `alba run --io arduino:<port>`: a link
 //!   thread owns the serial port and polls the board; the engine thread
 //!   only exchanges the latest images with it and never waits on the port.
+//! - [`attach`]: `alba run --io board:<port>`: the board runs the exported
+//!   sketch and the runtime mirrors its memory over the monitoring link.
 
 pub mod arduino;
+pub mod attach;
 pub mod aurora;
 pub mod firmware;
 pub mod modbus;

@@ -482,9 +482,23 @@ pub async fn run(
             let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
             alba_io::arduino::driver(arduino, board).map_err(RunError::Other)?
         }
+        attach if attach.starts_with("board:") => {
+            let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
+            let target = alba_arduino::sketch::Target {
+                model: board.map_or(alba_model::board::Model::Nano, |b| b.model),
+                map: board.map_or_else(
+                    || alba_model::board::PinMap::preset("aurora").unwrap_or_default(),
+                    |b| b.map.clone(),
+                ),
+                active_low: board.is_some_and(|b| b.active_low),
+                scan_ms: compiled.project.scan_ms(),
+                monitor: true,
+            };
+            alba_io::attach::driver(attach, &program, &target).map_err(RunError::Other)?
+        }
         other => {
             return Err(RunError::Other(format!(
-                "unknown I/O driver `{other}` (available: sim, arduino:<serial port>[,link=modbus|aurora,…])"
+                "unknown I/O driver `{other}` (available: sim, arduino:<serial port>[,link=modbus|aurora,…], board:<serial port>)"
             )));
         }
     };

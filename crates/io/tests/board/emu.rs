@@ -15,6 +15,11 @@ pub fn target_dir() -> PathBuf {
     std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| repo().join("target"), PathBuf::from)
 }
 
+/// The board program alone (`tools/simavr/board.c`), built once.
+pub fn board_program() -> PathBuf {
+    built(Link::Modbus).0
+}
+
 /// Builds (once per link) the board program and the firmware for a Nano
 /// with the aurora map; returns (board program, firmware ELF).
 fn built(link: Link) -> (PathBuf, PathBuf) {
@@ -62,6 +67,11 @@ impl Emu {
     /// Starts the board with `tty` as its port's name and `pins` sampled by `get`.
     pub fn start(link: Link, tty: &Path, pins: &str) -> Emu {
         let (bin, elf) = built(link);
+        Emu::run(&bin, &elf, tty, pins)
+    }
+
+    /// Starts the board program `bin` on the firmware `elf` (a Nano).
+    pub fn run(bin: &Path, elf: &Path, tty: &Path, pins: &str) -> Emu {
         let mut child = Command::new(bin)
             .arg(elf)
             .arg("--tty")

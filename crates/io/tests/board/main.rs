@@ -10,6 +10,7 @@
 //! --ignored`). They print the measured round trip, cycle rate and
 //! recovery times; they never assert a duration.
 
+mod attach;
 mod emu;
 mod proxy;
 
