@@ -87,7 +87,8 @@ enum Command {
         http: std::net::SocketAddr,
         /// I/O driver: `sim` (plant models of the project, forces and writes) or
         /// `arduino:PORT[,link=modbus|aurora,reset_ms=N,timeout_ms=N,retries=N,slave=N]`
-        /// (a board running `alba firmware`; see docs/arduino.md).
+        /// (a board running `alba firmware`), or `board:PORT[,options]` (attach to a board
+        /// running the project's exported sketch; see docs/arduino.md).
         #[arg(long, default_value = "sim")]
         io: String,
         /// Interpret instead of compiling the program to native code.
