@@ -3,7 +3,8 @@
  * a trace of pins (SPEC §7.5).
  *
  *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
- *               [--lag US] --pins D13,D12,D6:pwm,A0 [--stimulus FILE] [-o TRACE.csv]
+ *               [--lag US] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
+ *               [--stimulus FILE] [-o TRACE.csv]
  *
  * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
  * skipped; times never go back). Digital pin: 0/1 driven on the pin. Analog pin
@@ -18,6 +19,10 @@
  * up to that moment applied first): a firmware that scans at t has written its
  * outputs by then, so the row shows the outputs of the scan at t, like
  * `alba sim`'s trace.
+ * With --mem, each row also holds, per region (a data-space address and a
+ * length, decimal), the region's bytes in hex: a column `mADDR` (the firmware's
+ * memory, for comparing every variable and not only pins). --pins may then be
+ * empty.
  * Scan profile: a firmware that writes 1 to GPIOR0 when a scan starts and 0
  * when it ends (Alba's sketches do) gets its scans counted and timed in CPU
  * cycles; the count and min/mean/max cycles go to stderr as a line
@@ -49,7 +54,7 @@ static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
 static void apply(const stim_t *s) { set_input(s->pin, s->value); }
 
 int main(int argc, char **argv) {
-    const char *elf = NULL, *stim_file = NULL, *pins_arg = NULL, *out_file = NULL, *mcu = "atmega328p";
+    const char *elf = NULL, *stim_file = NULL, *pins_arg = "", *mem_arg = "", *out_file = NULL, *mcu = "atmega328p";
     unsigned long until = 0, every = 0, lag = 0, freq = 16000000UL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -58,6 +63,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--every") && more) every = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--lag") && more) lag = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--pins") && more) pins_arg = argv[++i];
+        else if (!strcmp(a, "--mem") && more) mem_arg = argv[++i];
         else if (!strcmp(a, "--stimulus") && more) stim_file = argv[++i];
         else if (!strcmp(a, "-o") && more) out_file = argv[++i];
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
@@ -65,9 +71,9 @@ int main(int argc, char **argv) {
         else if (a[0] != '-' && !elf) elf = a;
         else die("unknown argument: ", a);
     }
-    if (!elf || !pins_arg || !every || !freq)
+    if (!elf || (!*pins_arg && !*mem_arg) || !every || !freq)
         die("usage: alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS [--lag US] "
-            "--pins D13,D6:pwm,A0 [--stimulus FILE] [-o TRACE]", NULL);
+            "--pins D13,D6:pwm,A0 [--mem ADDR:LEN,...] [--stimulus FILE] [-o TRACE]", NULL);
     if (!strcmp(mcu, "atmega2560")) mega = 1;
     else if (strcmp(mcu, "atmega328p")) die("unknown MCU (atmega328p or atmega2560): ", mcu);
 
@@ -77,6 +83,18 @@ int main(int argc, char **argv) {
     for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
         if (npins == MAX_PINS) die("too many pins", NULL);
         pins[npins++] = parse_pin(tok);
+    }
+
+    unsigned long mem_at[MAX_PINS], mem_len[MAX_PINS];
+    int nmem = 0;
+    char *mlist = strdup(mem_arg);
+    for (char *tok = strtok(mlist, ","); tok; tok = strtok(NULL, ",")) {
+        char *colon;
+        if (nmem == MAX_PINS) die("too many memory regions", NULL);
+        mem_at[nmem] = strtoul(tok, &colon, 10);
+        if (*colon != ':') die("a memory region is ADDR:LEN: ", tok);
+        mem_len[nmem] = strtoul(colon + 1, NULL, 10);
+        nmem++;
     }
 
     stim_t *stim = NULL;
@@ -131,6 +149,10 @@ int main(int argc, char **argv) {
     fprintf(trace, "time_ms");
     for (int i = 0; i < npins; i++)
         fprintf(trace, ",%c%d%s", pins[i].analog ? 'A' : 'D', pins[i].n, pins[i].pwm ? ":pwm" : "");
+    for (int i = 0; i < nmem; i++) {
+        if (mem_at[i] + mem_len[i] > (unsigned long)avr->ramend + 1) die("a memory region is outside the MCU's RAM", NULL);
+        fprintf(trace, ",m%lu", mem_at[i]);
+    }
     fprintf(trace, "\n");
 
     size_t next = 0;
@@ -151,6 +173,10 @@ int main(int argc, char **argv) {
         }
         fprintf(trace, "%lu", t);
         for (int i = 0; i < npins; i++) fprintf(trace, ",%d", sample(pins[i]));
+        for (int i = 0; i < nmem; i++) {
+            fputc(',', trace);
+            for (unsigned long k = 0; k < mem_len[i]; k++) fprintf(trace, "%02x", avr->data[mem_at[i] + k]);
+        }
         fprintf(trace, "\n");
     }
     fclose(trace);

@@ -1,8 +1,9 @@
 //! Firmware in simavr (SPEC §7.5): the harness `tools/simavr/harness.c`
 //! (embedded, built once into the cache) runs a built sketch on the emulated
 //! MCU with the stimulus of `alba sim` turned into pin levels and ADC
-//! readings through the pin map, and its pin trace turned back into tag
-//! values, so the result is a trace in `alba sim`'s form.
+//! readings through the pin map; wired I/O is read back on the pins and
+//! every other value in the sketch's memory arrays, so the result is a
+//! trace in `alba sim`'s form for any list of tags.
 //!
 //! Rows are sampled just before the next scan's deadline (`--lag`), when the
 //! outputs of the scan at `t` are on the pins: the row of `t` is the state
@@ -177,23 +178,28 @@ pub fn simulate(
         given.push((at, w.address, v));
         let _ = writeln!(stim, "{at},{},{v}", pin_name(w.pin));
     }
+    // Wired I/O is read on the pins; everything else in the firmware's memory.
     let mut pins = Vec::new();
     for c in cols {
         match wire_of(wiring, c.place) {
             Some(w) if matches!(w.address, Address::AnalogOut(_)) => pins.push(format!("{}:pwm", pin_name(w.pin))),
             Some(w) => pins.push(pin_name(w.pin)),
-            None => diags.push(Diagnostic::unplaced(
+            None if matches!(c.place, Place::Lreal(_)) => diags.push(Diagnostic::unplaced(
                 Code::TraceName,
-                format!(
-                    "`{}` is not on a pin of the board: a firmware trace shows I/O wired to pins",
-                    c.name
-                ),
+                format!("`{}` is an LREAL, which the board has not", c.name),
             )),
+            None => {}
         }
     }
     if !diags.is_empty() {
         return Err(diags);
     }
+    let regions = if pins.len() < cols.len() {
+        memory_regions(elf, init).map_err(|d| vec![d])?
+    } else {
+        Vec::new()
+    };
+    let mem_arg: Vec<String> = regions.iter().map(|r| format!("{}:{}", r.1, r.2)).collect();
     let harness = harness().map_err(|d| vec![d])?;
     let work = temp_sibling(&elf.with_file_name("simavr"));
     std::fs::create_dir_all(&work).map_err(|e| vec![tool_error(format!("cannot create {}: {e}", work.display()))])?;
@@ -207,6 +213,7 @@ pub fn simulate(
             .args(["-m", model.mcu(), "--until", &timing.until_ms.to_string()])
             .args(["--every", &timing.every_ms.to_string(), "--lag", &lag_us.to_string()])
             .args(["--pins", &pins.join(",")])
+            .args(["--mem", &mem_arg.join(",")])
             .arg("--stimulus")
             .arg(&stim_file)
             .arg("-o")
@@ -226,7 +233,7 @@ pub fn simulate(
     })();
     let _ = std::fs::remove_dir_all(&work);
     let (pin_trace, profile) = result.map_err(|d| vec![d])?;
-    let trace = tag_trace(&pin_trace, wiring, active_low, &given, cols).map_err(|d| vec![d])?;
+    let trace = tag_trace(&pin_trace, wiring, active_low, &given, cols, &regions, init).map_err(|d| vec![d])?;
     Ok(Run { trace, profile })
 }
 
@@ -247,12 +254,83 @@ fn profile(log: &str) -> Profile {
 
 /// The pin trace as tag values: outputs through active-low, analog outputs as
 /// duty, inputs as the value last given.
+/// The firmware's memory arrays (`B`, `I`, `F`, `L`, `M` of the sketch) as
+/// (class, data-space address, bytes), from the ELF's symbols, checked
+/// against the program's memory sizes.
+fn memory_regions(elf: &Path, init: &alba_ir::Memory) -> Result<Vec<(char, u32, u32)>, Diagnostic> {
+    let nm = run(
+        Command::new("avr-nm").arg("-S").arg(elf),
+        "reading the firmware's symbols",
+    )?;
+    let want = [
+        ('B', init.b.len()),
+        ('I', 4 * init.i.len()),
+        ('F', 4 * init.f.len()),
+        ('L', 8 * init.l.len()),
+        ('M', init.m.len()),
+    ];
+    let mut out = Vec::new();
+    for (class, size) in want.into_iter().filter(|w| w.1 > 0) {
+        let name = format!("_ZL1{class}");
+        let found = nm.lines().find_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            (f.len() == 4 && f[3] == name)
+                .then(|| (u32::from_str_radix(f[0], 16).ok(), u32::from_str_radix(f[1], 16).ok()))
+        });
+        match found {
+            // Data-space addresses carry avr-gcc's 0x800000 offset.
+            Some((Some(addr), Some(len))) if len as usize == size => out.push((class, addr & 0xFFFF, len)),
+            _ => {
+                return Err(tool_error(format!(
+                    "the firmware has no memory array {class} of {size} bytes: is it an Alba sketch of this program?"
+                )));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A memory image from the harness's hex dumps (AVR: little-endian).
+fn memory_of(dumps: &[&str], regions: &[(char, u32, u32)], init: &alba_ir::Memory) -> Option<alba_ir::Memory> {
+    let mut m = init.clone();
+    for (hex, (class, _, _)) in dumps.iter().zip(regions) {
+        let bytes: Vec<u8> = (0..hex.len() / 2)
+            .map(|k| u8::from_str_radix(hex.get(2 * k..2 * k + 2)?, 16).ok())
+            .collect::<Option<_>>()?;
+        match class {
+            'B' => m.b = bytes.iter().map(|b| *b != 0).collect(),
+            'I' => {
+                m.i = bytes
+                    .chunks(4)
+                    .map(|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                    .collect()
+            }
+            'F' => {
+                m.f = bytes
+                    .chunks(4)
+                    .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                    .collect()
+            }
+            'L' => {
+                m.l = bytes
+                    .chunks(8)
+                    .map(|c| i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+                    .collect()
+            }
+            _ => m.m = bytes,
+        }
+    }
+    Some(m)
+}
+
 fn tag_trace(
     pin_trace: &str,
     wiring: &[Wire],
     active_low: bool,
     given: &[(u64, Address, i64)],
     cols: &[Column],
+    regions: &[(char, u32, u32)],
+    init: &alba_ir::Memory,
 ) -> Result<String, Diagnostic> {
     let mut out = String::from("time_ms");
     for c in cols {
@@ -263,14 +341,22 @@ fn tag_trace(
     for line in pin_trace.lines().skip(1) {
         let fields: Vec<&str> = line.split(',').collect();
         let bad = || tool_error(format!("the harness wrote a malformed row: `{line}`"));
-        if fields.len() != cols.len() + 1 {
-            return Err(bad());
-        }
+        let npins = fields.len().checked_sub(1 + regions.len()).ok_or_else(bad)?;
+        let mem = if regions.is_empty() {
+            None
+        } else {
+            Some(memory_of(&fields[1 + npins..], regions, init).ok_or_else(bad)?)
+        };
         let t: u64 = fields[0].parse().map_err(|_| bad())?;
         out.push_str(fields[0]);
-        for (c, f) in cols.iter().zip(&fields[1..]) {
-            let v: i64 = f.parse().map_err(|_| bad())?;
-            let w = wire_of(wiring, c.place).ok_or_else(bad)?;
+        let mut pin_fields = fields[1..1 + npins].iter();
+        for c in cols {
+            let Some(w) = wire_of(wiring, c.place) else {
+                let m = mem.as_ref().ok_or_else(bad)?;
+                let _ = write!(out, ",{}", m.read(c.place));
+                continue;
+            };
+            let v: i64 = pin_fields.next().ok_or_else(bad)?.parse().map_err(|_| bad())?;
             let v = match w.address {
                 Address::DigitalOut(_) => v ^ i64::from(active_low),
                 Address::DigitalIn(_) | Address::AnalogIn(_) => given

@@ -202,7 +202,23 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
     let stim_text = stimulus.map_or_else(|| random_stimulus(&sketch.wiring, layout, until, seed), str::to_string);
     let stim =
         Stimulus::parse(&stim_text, FileId(0), layout).unwrap_or_else(|d| panic!("{}: stimulus {d:?}", case.name));
-    let cols = io_columns(&sketch.wiring, layout);
+    // Every I/O channel from its pin, every tag and member and the fault
+    // flags from the firmware's memory.
+    let mut cols = io_columns(&sketch.wiring, layout);
+    for c in sim::all_columns(layout) {
+        cols.push(Column {
+            name: c.name,
+            place: c.place,
+        });
+    }
+    for name in ["S:FS", "S:MINOR", "S:FAULTCODE", "SM0.5", "SM0.6"] {
+        if let Ok(alba_ir::Target::Value { place, .. }) = layout.resolve(name) {
+            cols.push(Column {
+                name: name.into(),
+                place,
+            });
+        }
+    }
     let timing = Timing {
         scan_ms: case.scan_ms,
         until_ms: until,
@@ -225,11 +241,21 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
         std::fs::write(dir.join("engine.csv"), &want).expect("write");
         std::fs::write(dir.join("firmware.csv"), &run.trace).expect("write");
         std::fs::write(dir.join("stimulus.csv"), &stim_text).expect("write");
+        let names: Vec<&str> = want.lines().next().unwrap_or("").split(',').collect();
         let first = want
             .lines()
             .zip(run.trace.lines())
             .find(|(a, b)| a != b)
-            .map(|(a, b)| format!("engine:   {a}\nfirmware: {b}"))
+            .map(|(a, b)| {
+                let cols: Vec<String> = a
+                    .split(',')
+                    .zip(b.split(','))
+                    .zip(&names)
+                    .filter(|((x, y), _)| x != y)
+                    .map(|((x, y), n)| format!("{n}: engine {x}, firmware {y}"))
+                    .collect();
+                format!("at {} ms: {}", a.split(',').next().unwrap_or("?"), cols.join("; "))
+            })
             .unwrap_or_else(|| "different lengths".into());
         panic!(
             "{} on the {}: the firmware's trace differs from the engine's (files in {}):\n{first}",
