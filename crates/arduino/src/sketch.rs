@@ -106,13 +106,15 @@ pub fn generate(prog: &Program, project: &str, t: &Target) -> Result<Sketch, Vec
     let lay = &prog.layout;
     for tag in lay.tags.iter().filter(|tag| tag.ty == alba_model::DataType::Lreal) {
         diags.push(
-            Diagnostic::unplaced(
+            Diagnostic::new(
                 Code::NotOnBoard,
                 format!(
                     "`{}` is an LREAL, which the {} cannot hold: avr-gcc's double has 32 bits",
                     tag.name,
                     t.model.title()
                 ),
+                tag.span,
+                "LREAL",
             )
             .with_help("use REAL (32-bit) for the board"),
         );
@@ -140,7 +142,13 @@ pub fn generate(prog: &Program, project: &str, t: &Target) -> Result<Sketch, Vec
             Ok(code) => {
                 let _ = writeln!(body, "    {code}");
             }
-            Err(why) => diags.push(located(prog, loc, Code::NotOnBoard, why)),
+            Err(why) => {
+                // One refusal per instruction (an LREAL ADD lowers to a conversion and an add).
+                let d = located(prog, loc, Code::NotOnBoard, why);
+                if !diags.contains(&d) {
+                    diags.push(d);
+                }
+            }
         }
     }
     if !diags.is_empty() {
@@ -287,10 +295,8 @@ fn wire(prog: &Program, ops: &[Op], t: &Target, diags: &mut Vec<Diagnostic>) -> 
             Some(Err(why)) => {
                 // The tag's own E104 is reported when the project loads with a
                 // [board]; here the board may come from the command line.
-                let d = if let Some(&idx) = tag_of.get(&(dir, n)) {
-                    let tag = &lay.tags.iter().nth(idx);
-                    let name = tag.map_or("?", |t| t.name.as_str());
-                    Diagnostic::unplaced(Code::BoardPin, format!("`{name}` ({why})"))
+                let d = if let Some(tag) = tag_of.get(&(dir, n)).and_then(|&idx| lay.tags.iter().nth(idx)) {
+                    Diagnostic::new(Code::BoardPin, format!("`{}`: {why}", tag.name), tag.span, "no pin")
                 } else {
                     let pc = first_use.get(&(dir, n)).copied().unwrap_or(0);
                     let loc = prog.locs.get(pc).copied().unwrap_or(Loc {

@@ -54,7 +54,7 @@ fn missing_pins_are_refused_on_the_tag_or_the_instruction() {
         m,
         [
             "E104: DO:2/7 is not wired: the pin map has 6 channels there (DO:2/0 to DO:2/5)",
-            "E104: `Level` (AI:3/2 is pin A6, but the Arduino Uno has no pin A6 (A0-A5); A6 and A7 are on the Nano)",
+            "E104: `Level`: AI:3/2 is pin A6, but the Arduino Uno has no pin A6 (A0-A5); A6 and A7 are on the Nano",
         ]
     );
     // The Nano has A6; channel 7 of DO is still unwired.
