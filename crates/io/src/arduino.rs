@@ -426,6 +426,15 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
                 }
             }
         }
+        if shared.stopping() && failed == 0 {
+            // A last write of the outputs the engine left (off, after a
+            // stop), so the board does not wait for its watchdog.
+            let outputs = lock(&shared.outputs).clone();
+            let _ = match &mut session {
+                Session::Modbus => modbus_cycle(&mut port, &cfg, &shared, &outputs).map(|_| ()),
+                Session::Aurora(reader) => aurora::cycle(&mut port, &cfg, reader, &outputs).map(|_| ()),
+            };
+        }
         drop(port);
         if !shared.stopping() {
             shared.sleep(backoff);

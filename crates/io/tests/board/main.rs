@@ -355,3 +355,88 @@ fn status_tags_follow_the_link() {
     wait("Motor on again", 5, || board.get()[0] == 1);
     rt.shutdown();
 }
+
+/// GET `path` from the server at `addr` (HTTP/1.1, connection closed), the body.
+fn http_get(addr: &str, path: &str) -> String {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(addr).expect("connect");
+    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").expect("request");
+    let mut r = String::new();
+    s.read_to_string(&mut r).expect("response");
+    let (head, body) = r.split_once("\r\n\r\n").expect("a response");
+    assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+    // Chunked or not, the JSON object of a tag is found by its name.
+    body.to_string()
+}
+
+/// The value in `/api/tags` of the tag `name` (as JSON text).
+fn api_value(body: &str, name: &str) -> Option<String> {
+    let at = body.find(&format!("\"name\":\"{name}\""))?;
+    let obj_start = body[..at].rfind('{')?;
+    let obj = &body[obj_start..];
+    let obj = &obj[..obj.find('}')? + 1];
+    let v = obj.find("\"value\":")? + "\"value\":".len();
+    let rest = &obj[v..];
+    let end = rest.find([',', '}'])?;
+    Some(rest[..end].to_string())
+}
+
+/// The real command: `alba run PROJECT --io arduino:PORT,reset_ms=0` serves
+/// the board's pins as the project's I/O; the API shows them and `S:IOOK`.
+#[test]
+#[ignore = "needs avr-gcc, simavr and the alba binary: run by test.sh's Arduino step"]
+fn alba_run_with_the_board() {
+    use std::io::BufRead;
+    let _g = serial();
+    let dir = tmp("alba-run");
+    project(&dir.join("project"));
+    let tty = dir.join("board.tty");
+    let mut board = Emu::start(Link::Modbus, &tty, PINS);
+    let alba = emu::target_dir().join("debug").join("alba");
+    assert!(alba.exists(), "{} is missing: cargo build -p alba-cli", alba.display());
+    let mut child = std::process::Command::new(&alba)
+        .arg("run")
+        .arg(dir.join("project"))
+        .args(["--http", "127.0.0.1:0", "--io"])
+        .arg(format!("arduino:{},reset_ms=0", tty.display()))
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("alba run");
+    let mut out = std::io::BufReader::new(child.stdout.take().expect("stdout"));
+    let mut line = String::new();
+    out.read_line(&mut line).expect("banner");
+    let addr = line
+        .split("http://")
+        .nth(1)
+        .and_then(|s| s.split('/').next())
+        .unwrap_or_else(|| panic!("no address in `{line}`"))
+        .to_string();
+    let tags = || http_get(&addr, "/api/tags");
+    wait("S:IOOK in the API", 10, || {
+        api_value(&tags(), "S:IOOK").as_deref() == Some("true")
+    });
+    board.set("D2", 1);
+    board.set("A4", 400);
+    wait("Start and Level in the API", 10, || {
+        let t = tags();
+        api_value(&t, "Start").as_deref() == Some("true") && api_value(&t, "Level").as_deref() == Some("400")
+    });
+    wait("Motor and Valve on the pins", 5, || {
+        let p = board.get();
+        p[0] == 1 && p[6] == 100
+    });
+    board.unplug();
+    wait("S:IOOK false in the API", 10, || {
+        api_value(&tags(), "S:IOOK").as_deref() == Some("false")
+    });
+    board.plug();
+    wait("S:IOOK again", 10, || {
+        api_value(&tags(), "S:IOOK").as_deref() == Some("true")
+    });
+    // SIGTERM: the runtime stops with its outputs off, written to the board.
+    let _ = std::process::Command::new("kill").arg(child.id().to_string()).status();
+    let _ = child.wait();
+    let t = Instant::now();
+    wait("the outputs off after the stop", 5, || board.get()[0] == 0);
+    println!("alba run: outputs off {} ms after it exited", t.elapsed().as_millis());
+}
