@@ -12,6 +12,7 @@
 
 mod emu;
 mod proxy;
+mod slave;
 
 use alba_io::arduino::{ArduinoIo, Config, Counts, Status};
 use alba_io::firmware::Link;
