@@ -299,13 +299,14 @@ fn faults(link: Link) {
         let s0 = io.status();
         let t0 = Instant::now();
         proxy.set(Fault::BadCrcSometimes);
-        std::thread::sleep(Duration::from_millis(1500));
+        wait("cycles through the damaged answers", 30, || {
+            io.status().cycles > s0.cycles + 20
+        });
         let s = io.status();
         proxy.set(Fault::None);
-        assert!(s.cycles > s0.cycles + 5, "the retries did not keep the link going");
-        assert!(s.errors > s0.errors);
+        assert!(s.errors > s0.errors, "the damaged answers were not counted");
         report("modbus with one answer in three damaged", &s, t0, s0.cycles);
-        assert_eq!(board.get()[0], 1, "outputs stayed on through recoverable errors");
+        wait("the outputs on", 5, || board.get()[0] == 1);
     }
     drop(io);
     drop(proxy);
