@@ -157,11 +157,17 @@ fn frames_a_master_should_not_send() {
     .encode(0);
     assert_eq!(ask(&mut port, &all_on, t), Vec::<u8>::new());
     assert_eq!(&board.get()[..6], [1; 6]);
-    // Two requests without the 3.5-character silence between them are one
-    // frame with a bad CRC: no answer.
-    let mut two = Request::ReadCoils { addr: 0, qty: 6 }.encode(1);
-    two.extend(Request::ReadCoils { addr: 0, qty: 6 }.encode(1));
-    assert_eq!(ask(&mut port, &two, t), Vec::<u8>::new());
+    // Two requests without the 3.5-character silence between them: each is
+    // answered as soon as it is complete and its CRC checks.
+    let read = Request::ReadCoils { addr: 0, qty: 6 };
+    let mut two = read.encode(1);
+    two.extend(read.encode(1));
+    let answer = alba_io::modbus::encode_response(1, &read, &[true; 6], &[]);
+    assert_eq!(ask(&mut port, &two, t), [answer.clone(), answer].concat());
+    // A request with garbage before it is one frame with a bad CRC: no answer.
+    let mut noisy = vec![0x55, 0x01];
+    noisy.extend(read.encode(1));
+    assert_eq!(ask(&mut port, &noisy, t), Vec::<u8>::new());
     // A frame longer than 256 bytes: dropped whole.
     let mut long = vec![1u8, 16, 0, 0, 0, 4, 8];
     long.resize(300, 0);
@@ -169,7 +175,6 @@ fn frames_a_master_should_not_send() {
     long.extend_from_slice(&c.to_le_bytes());
     assert_eq!(ask(&mut port, &long, t), Vec::<u8>::new());
     // And the board still answers a good request.
-    let read = Request::ReadCoils { addr: 0, qty: 6 };
     let got = ask(&mut port, &read.encode(1), t);
     assert_eq!(
         alba_io::modbus::decode_response(1, &read, &got),
