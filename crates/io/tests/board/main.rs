@@ -463,3 +463,24 @@ fn alba_run_with_the_board() {
     wait("the outputs off after the stop", 5, || board.get()[0] == 0);
     println!("alba run: outputs off {} ms after it exited", t.elapsed().as_millis());
 }
+
+/// Relay boards: with active-low outputs, off is HIGH at power-up, on is
+/// LOW, and the watchdog's safe state is HIGH again. PWM is not inverted.
+#[test]
+#[ignore = "needs avr-gcc and simavr: run by test.sh's Arduino step"]
+fn active_low_outputs() {
+    let _g = serial();
+    let dir = tmp("active-low");
+    let tty = dir.join("board.tty");
+    let mut board = Emu::start_with(Link::Modbus, true, &tty, PINS);
+    wait("power-up: every output off, HIGH", 5, || board.get()[..6] == [1; 6]);
+    let io = ArduinoIo::start(config(&tty, Link::Modbus)).expect("driver");
+    io.set_outputs(&[true, false, false, false, false, true], &[30, 0, 0, 0]);
+    wait("on = LOW", 10, || board.get() == [0, 1, 1, 1, 1, 0, 30, 0, 0, 0]);
+    drop(io);
+    // The driver's last write leaves the outputs as they were set; the
+    // watchdog then turns them off: HIGH.
+    wait("the safe state, HIGH", 5, || {
+        board.get() == [1, 1, 1, 1, 1, 1, 0, 0, 0, 0]
+    });
+}
