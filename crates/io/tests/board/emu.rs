@@ -15,10 +15,13 @@ pub fn target_dir() -> PathBuf {
     std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| repo().join("target"), PathBuf::from)
 }
 
+/// The board program and a firmware ELF.
+type Built = (PathBuf, PathBuf);
+
 /// Builds (once per firmware) the board program and the firmware for a
 /// Nano with the aurora map; returns (board program, firmware ELF).
-fn built(link: Link, active_low: bool) -> (PathBuf, PathBuf) {
-    static BUILT: Mutex<Vec<((Link, bool), (PathBuf, PathBuf))>> = Mutex::new(Vec::new());
+fn built(link: Link, active_low: bool) -> Built {
+    static BUILT: Mutex<Vec<((Link, bool), Built)>> = Mutex::new(Vec::new());
     let mut done = BUILT.lock().unwrap_or_else(|p| p.into_inner());
     if let Some((_, r)) = done.iter().find(|(k, _)| *k == (link, active_low)) {
         return r.clone();
