@@ -115,6 +115,26 @@ static void pump_pty(void) {
     }
 }
 
+/* A digital input driven from outside stays at its level even when the
+ * firmware writes its port (simavr re-raises the internal pull-up of every
+ * input pin on each PORT write, which would undo the drive): the driven pins
+ * are the port's "external" pins. */
+static uint8_t ext_mask[128], ext_value[128];
+
+static void drive(pin_t p, int v) {
+    set_input(p, v);
+    if (p.analog) return;
+    char port;
+    int bit = port_of(p, &port);
+    if (bit < 0) return;
+    unsigned char k = (unsigned char)port & 127;
+    ext_mask[k] |= (uint8_t)(1 << bit);
+    if (v) ext_value[k] |= (uint8_t)(1 << bit);
+    else ext_value[k] &= (uint8_t)~(1 << bit);
+    avr_ioport_external_t e = {.name = (unsigned long)port & 127, .mask = ext_mask[k], .value = ext_value[k]};
+    avr_ioctl(avr, AVR_IOCTL_IOPORT_SET_EXTERNAL(port), &e);
+}
+
 static pin_t pins[MAX_PINS];
 static int npins;
 static char cmd[256];
@@ -137,7 +157,7 @@ static int command(char *line) {
             fprintf(ctl, "error value out of range\n");
             return 1;
         }
-        set_input(p, v);
+        drive(p, v);
         fprintf(ctl, "ok\n");
     } else if (!strcmp(line, "get")) {
         fprintf(ctl, "pins");

@@ -8,7 +8,7 @@
 // 1 2 3 4 5 6 15 16; anything else is answered with exception 1, a bad
 // address with 2, a bad value with 3.
 // Map (0-based, OpenPLC-compatible):
-//   discrete inputs 0-@LAST_DI@  DI channels (digitalRead)
+//   discrete inputs 0-@LAST_DI@  DI channels (digitalRead@PULLUP_NOTE@)
 //   coils           0-@LAST_DO@  DO channels (digitalWrite@ACTIVE_NOTE@)
 //   input registers 0-@LAST_AI@  AI channels (analogRead, 0-1023)
 //   holding regs    0-@LAST_AO@  AO channels (analogWrite duty 0-255, larger values clamp to 255)
@@ -21,6 +21,7 @@
 #define ALBA_BAUD @BAUD@UL
 #define ALBA_WATCHDOG_MS @WATCHDOG_MS@UL
 #define ALBA_ACTIVE_LOW @ACTIVE_LOW@
+#define ALBA_PULLUP @PULLUP@  // inputs: INPUT_PULLUP, on when the pin is LOW
 #define N_DI @N_DI@
 #define N_DO @N_DO@
 #define N_AI @N_AI@
@@ -86,7 +87,7 @@ static void exception(uint8_t code) {
 
 static bool read_bit(uint8_t fc, uint16_t i) {
     if (fc == 1) return coil[i] != 0;
-    return digitalRead(DI_PIN[i]) == HIGH;
+    return (digitalRead(DI_PIN[i]) == HIGH) != ALBA_PULLUP;
 }
 
 static uint16_t read_register(uint8_t fc, uint16_t i) {
@@ -206,7 +207,7 @@ static void end_frame(void) {
 }
 
 void setup() {
-    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], INPUT);
+    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], ALBA_PULLUP ? INPUT_PULLUP : INPUT);
     safe_outputs();  // the level first, so an active-low relay does not click on
     for (uint8_t i = 0; i < N_DO; i++) pinMode(DO_PIN[i], OUTPUT);
     for (uint8_t i = 0; i < N_AO; i++) pinMode(AO_PIN[i], OUTPUT);

@@ -20,10 +20,11 @@ type Built = (PathBuf, PathBuf);
 
 /// Builds (once per firmware) the board program and the firmware for a
 /// Nano with the aurora map; returns (board program, firmware ELF).
-fn built(link: Link, active_low: bool) -> Built {
-    static BUILT: Mutex<Vec<((Link, bool), Built)>> = Mutex::new(Vec::new());
+fn built(link: Link, active_low: bool, pullup: bool) -> Built {
+    type Key = (Link, bool, bool);
+    static BUILT: Mutex<Vec<(Key, Built)>> = Mutex::new(Vec::new());
     let mut done = BUILT.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some((_, r)) = done.iter().find(|(k, _)| *k == (link, active_low)) {
+    if let Some((_, r)) = done.iter().find(|(k, _)| *k == (link, active_low, pullup)) {
         return r.clone();
     }
     let out = target_dir().join("avr").join("ctl");
@@ -31,7 +32,13 @@ fn built(link: Link, active_low: bool) -> Built {
     let map = PinMap::preset("aurora").expect("preset");
     let mut spec = Spec::new(Model::Nano, "aurora", map, link);
     spec.active_low = active_low;
-    let name = format!("remote_io_{}{}", link.name(), if active_low { "_low" } else { "" });
+    spec.pullup = pullup;
+    let name = format!(
+        "remote_io_{}{}{}",
+        link.name(),
+        if active_low { "_low" } else { "" },
+        if pullup { "_pullup" } else { "" }
+    );
     let sketch = firmware::write(&spec, &out.join(&name)).expect("firmware");
     let build = out.join(format!("build-{name}"));
     let st = Command::new("bash")
@@ -48,7 +55,7 @@ fn built(link: Link, active_low: bool) -> Built {
         .expect("bash");
     assert!(st.success(), "building the board or the {name} firmware failed");
     let r = (bin, build.join("sketch.elf"));
-    done.push(((link, active_low), r.clone()));
+    done.push(((link, active_low, pullup), r.clone()));
     r
 }
 
@@ -61,12 +68,13 @@ pub struct Emu {
 impl Emu {
     /// Starts the board with `tty` as its port's name and `pins` sampled by `get`.
     pub fn start(link: Link, tty: &Path, pins: &str) -> Emu {
-        Emu::start_with(link, false, tty, pins)
+        Emu::start_with(link, false, false, tty, pins)
     }
 
-    /// The same, with a firmware whose outputs are active low.
-    pub fn start_with(link: Link, active_low: bool, tty: &Path, pins: &str) -> Emu {
-        let (bin, elf) = built(link, active_low);
+    /// The same, with a firmware whose outputs are active low, or whose
+    /// inputs use their pull-up (on = LOW).
+    pub fn start_with(link: Link, active_low: bool, pullup: bool, tty: &Path, pins: &str) -> Emu {
+        let (bin, elf) = built(link, active_low, pullup);
         let mut child = Command::new(bin)
             .arg(elf)
             .arg("--tty")

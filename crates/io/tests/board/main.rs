@@ -472,7 +472,7 @@ fn active_low_outputs() {
     let _g = serial();
     let dir = tmp("active-low");
     let tty = dir.join("board.tty");
-    let mut board = Emu::start_with(Link::Modbus, true, &tty, PINS);
+    let mut board = Emu::start_with(Link::Modbus, true, false, &tty, PINS);
     wait("power-up: every output off, HIGH", 5, || board.get()[..6] == [1; 6]);
     let io = ArduinoIo::start(config(&tty, Link::Modbus)).expect("driver");
     io.set_outputs(&[true, false, false, false, false, true], &[30, 0, 0, 0]);
@@ -483,4 +483,30 @@ fn active_low_outputs() {
     wait("the safe state, HIGH", 5, || {
         board.get() == [1, 1, 1, 1, 1, 1, 0, 0, 0, 0]
     });
+}
+
+/// Inputs with their pull-up: a contact to GND (the pin LOW) is on, on
+/// both links.
+#[test]
+#[ignore = "needs avr-gcc and simavr: run by test.sh's Arduino step"]
+fn input_pullup() {
+    let _g = serial();
+    for link in [Link::Modbus, Link::Aurora] {
+        let dir = tmp(&format!("pullup-{}", link.name()));
+        let tty = dir.join("board.tty");
+        let mut board = Emu::start_with(link, false, true, &tty, PINS);
+        for pin in ["D2", "D3", "D4", "D5", "D7", "D8"] {
+            board.set(pin, 1);
+        }
+        board.set("D3", 0);
+        let io = ArduinoIo::start(config(&tty, link)).expect("driver");
+        wait("the inputs", 10, || {
+            io.inputs().0 == [false, true, false, false, false, false]
+        });
+        board.set("D3", 1);
+        board.set("D8", 0);
+        wait("the inputs again", 10, || {
+            io.inputs().0 == [false, false, false, false, false, true]
+        });
+    }
 }

@@ -21,6 +21,7 @@
 #define ALBA_BAUD 115200UL
 #define ALBA_WATCHDOG_MS 500UL
 #define ALBA_ACTIVE_LOW 0
+#define ALBA_PULLUP 0  // inputs: INPUT_PULLUP, on when the pin is LOW
 #define N_DI 6
 #define N_DO 6
 #define N_AI 4
@@ -86,7 +87,7 @@ static void exception(uint8_t code) {
 
 static bool read_bit(uint8_t fc, uint16_t i) {
     if (fc == 1) return coil[i] != 0;
-    return digitalRead(DI_PIN[i]) == HIGH;
+    return (digitalRead(DI_PIN[i]) == HIGH) != ALBA_PULLUP;
 }
 
 static uint16_t read_register(uint8_t fc, uint16_t i) {
@@ -206,7 +207,7 @@ static void end_frame(void) {
 }
 
 void setup() {
-    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], INPUT);
+    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], ALBA_PULLUP ? INPUT_PULLUP : INPUT);
     safe_outputs();  // the level first, so an active-low relay does not click on
     for (uint8_t i = 0; i < N_DO; i++) pinMode(DO_PIN[i], OUTPUT);
     for (uint8_t i = 0; i < N_AO; i++) pinMode(AO_PIN[i], OUTPUT);
