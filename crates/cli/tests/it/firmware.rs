@@ -24,6 +24,24 @@ fn firmware_from_options_and_from_a_project() {
     let sketch = std::fs::read_to_string(d.join("uno_io/uno_io.ino")).expect("sketch");
     assert!(sketch.contains("static const uint8_t DO_PIN[N_DO + 1] = {7, 8, 12, 13};"));
     assert!(sketch.contains("#define ALBA_SLAVE 1"));
+    assert!(sketch.contains("#define ALBA_PULLUP 0"));
+    let o = alba(
+        &d,
+        &[
+            "firmware",
+            "--board",
+            "nano",
+            "--input-pullup",
+            "--slave",
+            "9",
+            "-o",
+            "nano_io",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o).1);
+    let sketch = std::fs::read_to_string(d.join("nano_io/nano_io.ino")).expect("sketch");
+    assert!(sketch.contains("#define ALBA_PULLUP 1") && sketch.contains("#define ALBA_SLAVE 9"));
+    assert!(sketch.contains("DI channels (digitalRead, pull-up: on = LOW)"));
 
     std::fs::create_dir_all(d.join("plant")).expect("mkdir");
     std::fs::write(
