@@ -288,6 +288,7 @@ fn faults(link: Link) {
         let p = board.get();
         p[0] == 1 && p[1] == 1 && p[6] == 100
     });
+    wait("a complete cycle", 10, || io.status().ok);
     for fault in [Fault::BadCrc, Fault::Truncate, Fault::Silence, Fault::Garbage] {
         let e0 = io.status().errors;
         proxy.set(fault);
