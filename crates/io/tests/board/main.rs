@@ -230,6 +230,7 @@ fn unplug_replug(link: Link) {
         let p = board.get();
         p[0] == 1 && p[5] == 1 && p[6] == 200 && p[9] == 7
     });
+    wait("a complete cycle", 10, || io.status().ok);
     let e0 = io.status().errors;
     board.unplug();
     let lost = Instant::now();
