@@ -1,5 +1,5 @@
 # AVR toolchain for Arduino firmware (sourced after scripts/common.sh).
-#   need_avr                         install avr-gcc, the Arduino AVR core and simavr (Debian)
+#   need_avr                         install avr-gcc, the Arduino AVR core, simavr and mbpoll (Debian)
 #   build_board OUT                  the emulated remote-I/O board (tools/simavr/board.c)
 #   build_sketch SKETCH BOARD OUTDIR build SKETCH (.cpp/.ino) for uno|nano|mega into
 #                                    OUTDIR/sketch.{elf,hex}; prints flash/RAM use and
@@ -9,8 +9,10 @@ AVR_CORE=/usr/share/arduino/hardware/arduino/avr
 
 need_avr() {
     if ! command -v avr-g++ >/dev/null 2>&1 || [ ! -d "$AVR_CORE/cores/arduino" ] \
-        || ! command -v simavr >/dev/null 2>&1 || [ ! -d /usr/include/simavr ] || [ ! -f /usr/include/libelf.h ]; then
-        apt_install gcc-avr avr-libc arduino-core-avr simavr libsimavr-dev libelf-dev
+        || ! command -v simavr >/dev/null 2>&1 || [ ! -d /usr/include/simavr ] || [ ! -f /usr/include/libelf.h ] \
+        || ! command -v mbpoll >/dev/null 2>&1 || ! command -v pkg-config >/dev/null 2>&1; then
+        # mbpoll (libmodbus): a third-party Modbus RTU master for the remote-I/O firmware's tests.
+        apt_install gcc-avr avr-libc arduino-core-avr simavr libsimavr-dev libelf-dev pkg-config mbpoll
     fi
 }
 

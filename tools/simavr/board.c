@@ -19,8 +19,10 @@
  * At start, once the pty exists: `ready /dev/pts/N`. Errors: `error TEXT`.
  *
  * Time: the CPU runs at most 1 ms of simulated time between two services of
- * the pty and stdin, and never ahead of the wall clock (it may fall behind on
- * a loaded machine: then everything, the UART included, is just slower).
+ * the pty and stdin, and never ahead of the wall clock. On a loaded machine
+ * it falls behind and then lags rather than racing to catch up, so the
+ * firmware never runs faster than real time (everything, the UART included,
+ * is just slower).
  * Bytes from the host enter the UART at its baud rate (simavr's receive
  * FIFO paces them); bytes the firmware sends go to the pty as written.
  */
@@ -115,6 +117,26 @@ static void pump_pty(void) {
     }
 }
 
+/* A digital input driven from outside stays at its level even when the
+ * firmware writes its port (simavr re-raises the internal pull-up of every
+ * input pin on each PORT write, which would undo the drive): the driven pins
+ * are the port's "external" pins. */
+static uint8_t ext_mask[128], ext_value[128];
+
+static void drive(pin_t p, int v) {
+    set_input(p, v);
+    if (p.analog) return;
+    char port;
+    int bit = port_of(p, &port);
+    if (bit < 0) return;
+    unsigned char k = (unsigned char)port & 127;
+    ext_mask[k] |= (uint8_t)(1 << bit);
+    if (v) ext_value[k] |= (uint8_t)(1 << bit);
+    else ext_value[k] &= (uint8_t)~(1 << bit);
+    avr_ioport_external_t e = {.name = (unsigned long)port & 127, .mask = ext_mask[k], .value = ext_value[k]};
+    avr_ioctl(avr, AVR_IOCTL_IOPORT_SET_EXTERNAL(port), &e);
+}
+
 static pin_t pins[MAX_PINS];
 static int npins;
 static char cmd[256];
@@ -137,7 +159,7 @@ static int command(char *line) {
             fprintf(ctl, "error value out of range\n");
             return 1;
         }
-        set_input(p, v);
+        drive(p, v);
         fprintf(ctl, "ok\n");
     } else if (!strcmp(line, "get")) {
         fprintf(ctl, "pins");
@@ -237,7 +259,15 @@ int main(int argc, char **argv) {
     uint64_t start = now_us();
     avr_cycle_count_t slice = freq / 1000;
     for (;;) {
-        avr_cycle_count_t due = (avr_cycle_count_t)((now_us() - start) * (freq / 1000) / 1000);
+        uint64_t now = now_us();
+        avr_cycle_count_t due = (avr_cycle_count_t)((now - start) * (freq / 1000) / 1000);
+        if (due > avr->cycle + 2 * slice) {
+            /* Fallen behind (a busy machine): simulated time does not race to
+             * catch up, it lags, so the firmware's timing is never faster
+             * than real time. */
+            start = now - (uint64_t)(avr->cycle * 1000 / (freq / 1000));
+            due = avr->cycle;
+        }
         avr_cycle_count_t stop = due < avr->cycle + slice ? due : avr->cycle + slice;
         while (avr->cycle < stop) {
             int st = avr_run(avr);

@@ -15,6 +15,7 @@ pub struct Args<'a> {
     pub slave: u8,
     pub watchdog_ms: u32,
     pub active_low: bool,
+    pub pullup: bool,
     pub out: &'a Path,
 }
 
@@ -80,6 +81,7 @@ pub fn run(a: Args) -> ExitCode {
     spec.slave = a.slave;
     spec.watchdog_ms = a.watchdog_ms;
     spec.active_low = active_low;
+    spec.pullup = a.pullup;
     match firmware::write(&spec, a.out) {
         Ok(path) => {
             let c = alba_io::arduino::Counts::of(&spec.map);

@@ -118,6 +118,10 @@ enum Command {
         /// Digital outputs are on when the pin is low (relay boards).
         #[arg(long)]
         active_low: bool,
+        /// Digital inputs use the pin's pull-up and are on when the pin is low
+        /// (a button or contact to GND).
+        #[arg(long)]
+        input_pullup: bool,
         /// Folder to write the sketch into (as FOLDER/FOLDER.ino, as the Arduino IDE wants).
         #[arg(short, long, value_name = "DIR")]
         out: PathBuf,
@@ -221,6 +225,7 @@ fn main() -> ExitCode {
             slave,
             watchdog_ms,
             active_low,
+            input_pullup,
             out,
         } => firmware::run(firmware::Args {
             project: project.as_deref(),
@@ -230,6 +235,7 @@ fn main() -> ExitCode {
             slave,
             watchdog_ms,
             active_low,
+            pullup: input_pullup,
             out: &out,
         }),
     }

@@ -370,12 +370,41 @@ pub(crate) fn open(cfg: &Config) -> Result<Port, String> {
         .map_err(|e| format!("cannot open {}: {e}", cfg.port))
 }
 
+/// Tells the user on stderr when the link comes up or goes down (not at
+/// every error: those are counted in `S:IOERRORS`).
+struct Announcer {
+    name: String,
+    up: Option<bool>,
+}
+
+impl Announcer {
+    fn up(&mut self) {
+        if self.up != Some(true) {
+            eprintln!("I/O {}: link up", self.name);
+            self.up = Some(true);
+        }
+    }
+
+    fn down(&mut self, why: &str) {
+        if self.up != Some(false) {
+            let what = if self.up.is_none() { "no link yet" } else { "link lost" };
+            eprintln!("I/O {}: {what} ({why}); retrying", self.name);
+            self.up = Some(false);
+        }
+    }
+}
+
 fn link_thread(cfg: Config, shared: Arc<Shared>) {
+    let mut say = Announcer {
+        name: format!("arduino:{}", cfg.port),
+        up: None,
+    };
     let mut backoff = cfg.backoff_min;
     while !shared.stopping() {
         let mut port = match open(&cfg) {
             Ok(p) => p,
             Err(e) => {
+                say.down(&e);
                 shared.fail(e);
                 shared.sleep(backoff);
                 backoff = (backoff * 2).min(cfg.backoff_max);
@@ -412,12 +441,16 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
                     s.last_cycle = Some(t0.elapsed());
                     failed = 0;
                     backoff = cfg.backoff_min;
+                    drop(s);
+                    say.up();
                 }
                 Err(LinkError::Port(e)) => {
+                    say.down(&e);
                     shared.fail(e);
                     break;
                 }
                 Err(LinkError::Frame(e) | LinkError::Refused(e)) => {
+                    say.down(&e);
                     shared.fail(e);
                     failed += 1;
                     if failed >= cfg.reopen_after {
@@ -425,6 +458,15 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
                     }
                 }
             }
+        }
+        if shared.stopping() && failed == 0 {
+            // A last write of the outputs the engine left (off, after a
+            // stop), so the board does not wait for its watchdog.
+            let outputs = lock(&shared.outputs).clone();
+            let _ = match &mut session {
+                Session::Modbus => modbus_cycle(&mut port, &cfg, &shared, &outputs).map(|_| ()),
+                Session::Aurora(reader) => aurora::cycle(&mut port, &cfg, reader, &outputs).map(|_| ()),
+            };
         }
         drop(port);
         if !shared.stopping() {

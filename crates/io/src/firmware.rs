@@ -50,6 +50,9 @@ pub struct Spec {
     pub pinmap: String,
     pub map: PinMap,
     pub active_low: bool,
+    /// Inputs use the pin's pull-up and are on when the pin is LOW (a
+    /// button or a contact to GND).
+    pub pullup: bool,
     pub link: Link,
     /// Modbus slave id (1-247).
     pub slave: u8,
@@ -64,6 +67,7 @@ impl Spec {
             pinmap: pinmap.to_string(),
             map,
             active_low: false,
+            pullup: false,
             link,
             slave: 1,
             watchdog_ms: WATCHDOG_MS,
@@ -129,6 +133,11 @@ pub fn generate(spec: &Spec) -> Result<String, String> {
         ("@PERIOD_MS@", AURORA_PERIOD_MS.to_string()),
         ("@BOARD_ID@", AURORA_ID.to_string()),
         ("@ACTIVE_LOW@", u8::from(spec.active_low).to_string()),
+        ("@PULLUP@", u8::from(spec.pullup).to_string()),
+        (
+            "@PULLUP_NOTE@",
+            if spec.pullup { ", pull-up: on = LOW" } else { "" }.to_string(),
+        ),
         (
             "@ACTIVE_NOTE@",
             if spec.active_low { ", active low: on = LOW" } else { "" }.to_string(),

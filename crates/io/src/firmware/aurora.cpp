@@ -3,7 +3,7 @@
 // Regenerate rather than edit: the PC side reads the same map.
 //
 // Serial @BAUD@ 8N1, lines ended by CR LF.
-// Board -> PC every @PERIOD_MS@ ms: the @N_DI@ DI levels (0/1), the @N_AI@ AI readings
+// Board -> PC every @PERIOD_MS@ ms: the @N_DI@ DI levels (0/1@PULLUP_NOTE@), the @N_AI@ AI readings
 // (0-1023) and the board id, comma-separated: `d0,...,a0,...,@BOARD_ID@`.
 // PC -> board: the @N_DO@ DO states (0/1) then the @N_AO@ AO duties (0-255, larger
 // values clamp to 255), comma-separated, one line each time: `q0,...,ao0,...`.
@@ -18,6 +18,7 @@
 #define ALBA_PERIOD_MS @PERIOD_MS@UL
 #define ALBA_BOARD_ID @BOARD_ID@
 #define ALBA_ACTIVE_LOW @ACTIVE_LOW@
+#define ALBA_PULLUP @PULLUP@  // inputs: INPUT_PULLUP, on when the pin is LOW
 #define N_DI @N_DI@
 #define N_DO @N_DO@
 #define N_AI @N_AI@
@@ -89,7 +90,7 @@ static void handle_line(void) {
 
 static void report(void) {
     for (uint8_t i = 0; i < N_DI; i++) {
-        Serial.print(digitalRead(DI_PIN[i]) == HIGH ? 1 : 0);
+        Serial.print((digitalRead(DI_PIN[i]) == HIGH) != ALBA_PULLUP ? 1 : 0);
         Serial.print(',');
     }
     for (uint8_t i = 0; i < N_AI; i++) {
@@ -101,7 +102,7 @@ static void report(void) {
 }
 
 void setup() {
-    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], INPUT);
+    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], ALBA_PULLUP ? INPUT_PULLUP : INPUT);
     safe_outputs();
     for (uint8_t i = 0; i < N_DO; i++) pinMode(DO_PIN[i], OUTPUT);
     for (uint8_t i = 0; i < N_AO; i++) pinMode(AO_PIN[i], OUTPUT);

@@ -5,7 +5,7 @@ use alba_model::board::{Model, PinMap};
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
-use std::sync::OnceLock;
+use std::sync::Mutex;
 
 pub fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -17,44 +17,51 @@ pub fn target_dir() -> PathBuf {
 
 /// The board program alone (`tools/simavr/board.c`), built once.
 pub fn board_program() -> PathBuf {
-    built(Link::Modbus).0
+    built(Link::Modbus, false, false).0
 }
 
-/// Builds (once per link) the board program and the firmware for a Nano
-/// with the aurora map; returns (board program, firmware ELF).
-fn built(link: Link) -> (PathBuf, PathBuf) {
-    static MODBUS: OnceLock<(PathBuf, PathBuf)> = OnceLock::new();
-    static AURORA: OnceLock<(PathBuf, PathBuf)> = OnceLock::new();
-    let cell = match link {
-        Link::Modbus => &MODBUS,
-        Link::Aurora => &AURORA,
-    };
-    cell.get_or_init(|| {
-        let out = target_dir().join("avr").join("ctl");
-        let bin = out.join("alba-board");
-        let map = PinMap::preset("aurora").expect("preset");
-        let sketch = firmware::write(
-            &Spec::new(Model::Nano, "aurora", map, link),
-            &out.join(format!("remote_io_{}", link.name())),
-        )
-        .expect("firmware");
-        let build = out.join(format!("build-{}", link.name()));
-        let st = Command::new("bash")
-            .current_dir(repo())
-            .args([
-                "-c",
-                "set -e; source scripts/common.sh; source scripts/avr.sh; build_board \"$1\"; build_sketch \"$2\" nano \"$3\"",
-                "_",
-            ])
-            .arg(&bin)
-            .arg(&sketch)
-            .arg(&build)
-            .status()
-            .expect("bash");
-        assert!(st.success(), "building the board or the {} firmware failed", link.name());
-        (bin, build.join("sketch.elf"))
-    })
-    .clone()
+/// The board program and a firmware ELF.
+type Built = (PathBuf, PathBuf);
+
+/// Builds (once per firmware) the board program and the firmware for a
+/// Nano with the aurora map; returns (board program, firmware ELF).
+fn built(link: Link, active_low: bool, pullup: bool) -> Built {
+    type Key = (Link, bool, bool);
+    static BUILT: Mutex<Vec<(Key, Built)>> = Mutex::new(Vec::new());
+    let mut done = BUILT.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some((_, r)) = done.iter().find(|(k, _)| *k == (link, active_low, pullup)) {
+        return r.clone();
+    }
+    let out = target_dir().join("avr").join("ctl");
+    let bin = out.join("alba-board");
+    let map = PinMap::preset("aurora").expect("preset");
+    let mut spec = Spec::new(Model::Nano, "aurora", map, link);
+    spec.active_low = active_low;
+    spec.pullup = pullup;
+    let name = format!(
+        "remote_io_{}{}{}",
+        link.name(),
+        if active_low { "_low" } else { "" },
+        if pullup { "_pullup" } else { "" }
+    );
+    let sketch = firmware::write(&spec, &out.join(&name)).expect("firmware");
+    let build = out.join(format!("build-{name}"));
+    let st = Command::new("bash")
+        .current_dir(repo())
+        .args([
+            "-c",
+            "set -e; source scripts/common.sh; source scripts/avr.sh; build_board \"$1\"; build_sketch \"$2\" nano \"$3\"",
+            "_",
+        ])
+        .arg(&bin)
+        .arg(&sketch)
+        .arg(&build)
+        .status()
+        .expect("bash");
+    assert!(st.success(), "building the board or the {name} firmware failed");
+    let r = (bin, build.join("sketch.elf"));
+    done.push(((link, active_low, pullup), r.clone()));
+    r
 }
 
 pub struct Emu {
@@ -66,7 +73,13 @@ pub struct Emu {
 impl Emu {
     /// Starts the board with `tty` as its port's name and `pins` sampled by `get`.
     pub fn start(link: Link, tty: &Path, pins: &str) -> Emu {
-        let (bin, elf) = built(link);
+        Emu::start_with(link, false, false, tty, pins)
+    }
+
+    /// The same, with a firmware whose outputs are active low, or whose
+    /// inputs use their pull-up (on = LOW).
+    pub fn start_with(link: Link, active_low: bool, pullup: bool, tty: &Path, pins: &str) -> Emu {
+        let (bin, elf) = built(link, active_low, pullup);
         Emu::run(&bin, &elf, tty, pins)
     }
 

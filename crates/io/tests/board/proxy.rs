@@ -1,6 +1,6 @@
 //! A man in the middle between the driver and the board: it forwards what
 //! each side sends, frame by frame (a frame ends when the line falls
-//! silent for a millisecond), damaged as the current fault says.
+//! silent for two milliseconds), damaged as the current fault says.
 
 use serialport::{SerialPort, TTYPort};
 use std::io::{Read, Write};
@@ -52,7 +52,7 @@ impl Proxy {
         let _ = std::fs::remove_file(link);
         std::os::unix::fs::symlink(&name, link).expect("symlink");
         let board = serialport::new(board.to_string_lossy(), 115_200)
-            .timeout(Duration::from_millis(1))
+            .timeout(Duration::from_millis(2))
             .open_native()
             .expect("the board's pty");
         let fault = Arc::new(AtomicU8::new(Fault::None as u8));
@@ -95,7 +95,7 @@ impl Drop for Proxy {
 }
 
 fn forward(mut from: TTYPort, mut to: TTYPort, answers: bool, fault: &AtomicU8, stop: &AtomicBool) {
-    let _ = from.set_timeout(Duration::from_millis(1));
+    let _ = from.set_timeout(Duration::from_millis(2));
     let mut frame = Vec::new();
     let mut buf = [0u8; 512];
     let mut count = 0u64;

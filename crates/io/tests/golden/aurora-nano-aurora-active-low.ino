@@ -18,6 +18,7 @@
 #define ALBA_PERIOD_MS 20UL
 #define ALBA_BOARD_ID 5518
 #define ALBA_ACTIVE_LOW 1
+#define ALBA_PULLUP 0  // inputs: INPUT_PULLUP, on when the pin is LOW
 #define N_DI 6
 #define N_DO 6
 #define N_AI 4
@@ -89,7 +90,7 @@ static void handle_line(void) {
 
 static void report(void) {
     for (uint8_t i = 0; i < N_DI; i++) {
-        Serial.print(digitalRead(DI_PIN[i]) == HIGH ? 1 : 0);
+        Serial.print((digitalRead(DI_PIN[i]) == HIGH) != ALBA_PULLUP ? 1 : 0);
         Serial.print(',');
     }
     for (uint8_t i = 0; i < N_AI; i++) {
@@ -101,7 +102,7 @@ static void report(void) {
 }
 
 void setup() {
-    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], INPUT);
+    for (uint8_t i = 0; i < N_DI; i++) pinMode(DI_PIN[i], ALBA_PULLUP ? INPUT_PULLUP : INPUT);
     safe_outputs();
     for (uint8_t i = 0; i < N_DO; i++) pinMode(DO_PIN[i], OUTPUT);
     for (uint8_t i = 0; i < N_AO; i++) pinMode(AO_PIN[i], OUTPUT);
