@@ -29,6 +29,7 @@ fn uno(scan_ms: u32) -> Target {
         active_low: false,
         scan_ms,
         monitor: true,
+        power_up_on: Vec::new(),
     }
 }
 

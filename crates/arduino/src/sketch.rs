@@ -40,6 +40,9 @@ pub struct Target {
     pub scan_ms: u32,
     /// Serve the monitoring link on the serial port (about 350 bytes of RAM).
     pub monitor: bool,
+    /// Digital output pins on at power-up (until the first scan writes the
+    /// outputs) and after a major fault; the others are off.
+    pub power_up_on: Vec<Pin>,
 }
 
 /// A generated sketch: an Arduino IDE folder `<name>/` with `<name>.ino` and
@@ -718,20 +721,16 @@ fn render(
                 let _ = writeln!(read, "    B[{}] = digitalRead({pin}) == HIGH;", w.slot);
             }
             Address::DigitalOut(_) => {
-                // The off level first, so the pin never glitches on at power-up.
-                let _ = writeln!(
-                    setup,
-                    "    digitalWrite({pin}, {});\n    pinMode({pin}, OUTPUT);",
-                    lvl(false)
-                );
+                // The power-up level first, so the pin never glitches.
+                let up = lvl(t.power_up_on.contains(&w.pin));
+                let _ = writeln!(setup, "    digitalWrite({pin}, {up});\n    pinMode({pin}, OUTPUT);");
+                let on_off = (lvl(true), lvl(false));
                 let _ = writeln!(
                     write,
                     "    digitalWrite({pin}, B[{}] ? {} : {});",
-                    w.slot,
-                    lvl(true),
-                    lvl(false)
+                    w.slot, on_off.0, on_off.1
                 );
-                let _ = writeln!(safe, "    digitalWrite({pin}, {});", lvl(false));
+                let _ = writeln!(safe, "    digitalWrite({pin}, {up});");
             }
             Address::AnalogIn(_) => {
                 let _ = writeln!(read, "    I[{}] = analogRead({pin});", w.slot);
@@ -765,7 +764,8 @@ static void read_inputs() {{
 static void write_outputs() {{
 {write}}}
 
-static void outputs_off() {{
+// The power-up state (after a major fault too).
+static void outputs_safe() {{
 {safe}}}
 
 // One scan of the control program at time `now` (ms). Returns 0, or the op of a
@@ -819,7 +819,7 @@ void setup() {{
 
 void loop() {{
 {poll}    if (major) {{
-        outputs_off();
+        outputs_safe();
         return;
     }}
     uint32_t late = millis() - next_ms;
@@ -832,7 +832,7 @@ void loop() {{
     GPIOR0 = 1;  // the scan starts (simavr's harness counts its cycles)
     read_inputs();
     scan();
-    if (major) outputs_off();
+    if (major) outputs_safe();
     else write_outputs();
     GPIOR0 = 0;
     advance(SCAN_MS);

@@ -189,6 +189,7 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
         active_low: false,
         scan_ms: case.scan_ms as u32,
         monitor: true,
+        power_up_on: Vec::new(),
     };
     let prog = control_program(&case.prog);
     let sketch = generate(&prog, &case.name, &target).unwrap_or_else(|d| panic!("{}: {d:?}", case.name));

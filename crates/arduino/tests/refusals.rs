@@ -32,6 +32,7 @@ fn uno() -> Target {
         active_low: false,
         scan_ms: 10,
         monitor: true,
+        power_up_on: Vec::new(),
     }
 }
 

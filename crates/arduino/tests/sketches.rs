@@ -16,6 +16,7 @@ fn target(scan_ms: u32) -> Target {
         active_low: false,
         scan_ms,
         monitor: true,
+        power_up_on: Vec::new(),
     }
 }
 
@@ -49,4 +50,26 @@ fn examples_golden_sketches() {
             );
         }
     }
+}
+
+#[test]
+fn power_up_state_and_active_low() {
+    let c = alba_compiler::compile_dir(&root().join("examples/start-stop"));
+    let prog = c.program.expect("compiles");
+    let mut t = target(10);
+    t.power_up_on = vec![alba_model::board::Pin::D(13)];
+    t.active_low = true;
+    let ino = &generate(&prog, "start-stop", &t).expect("sketch").files[0].1;
+    // Lamp (D13) is on at power-up and after a major fault: LOW on an active-low board.
+    assert!(
+        ino.contains("    digitalWrite(13, LOW);\n    pinMode(13, OUTPUT);"),
+        "{ino}"
+    );
+    assert!(
+        ino.contains("    digitalWrite(12, HIGH);\n    pinMode(12, OUTPUT);"),
+        "{ino}"
+    );
+    let safe = &ino[ino.find("static void outputs_safe()").expect("outputs_safe")..];
+    assert!(safe.contains("digitalWrite(13, LOW);") && safe.contains("digitalWrite(12, HIGH);"));
+    assert!(ino.contains("digitalWrite(13, B[15] ? LOW : HIGH);"), "{ino}");
 }

@@ -57,6 +57,7 @@ pub fn target(c: &Compiled, args: &BoardArgs) -> Result<Target, Diagnostic> {
         active_low: board.is_some_and(|b| b.active_low),
         scan_ms: c.project.scan_ms(),
         monitor: !args.no_monitor,
+        power_up_on: board.map_or_else(Vec::new, |b| b.power_up_on.clone()),
     })
 }
 

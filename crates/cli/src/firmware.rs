@@ -33,6 +33,7 @@ pub fn run(a: Args) -> ExitCode {
     };
     // The project's [board], then the options on top of it.
     let (mut model, mut pinmap, mut map, mut active_low) = (None, "aurora".to_string(), None, a.active_low);
+    let mut power_up_on = Vec::new();
     if let Some(dir) = a.project {
         let (project, diags) = alba_model::Project::load(dir);
         if !diags.is_empty() {
@@ -45,6 +46,7 @@ pub fn run(a: Args) -> ExitCode {
                 pinmap = b.pinmap.clone();
                 map = Some(b.map.clone());
                 active_low |= b.active_low;
+                power_up_on.clone_from(&b.power_up_on);
             }
             None if a.board.is_none() => {
                 return refuse(format!(
@@ -82,6 +84,7 @@ pub fn run(a: Args) -> ExitCode {
     spec.watchdog_ms = a.watchdog_ms;
     spec.active_low = active_low;
     spec.pullup = a.pullup;
+    spec.power_up_on = power_up_on;
     match firmware::write(&spec, a.out) {
         Ok(path) => {
             let c = alba_io::arduino::Counts::of(&spec.map);

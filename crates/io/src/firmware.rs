@@ -58,6 +58,8 @@ pub struct Spec {
     pub slave: u8,
     /// Outputs go off when no valid request came for this long.
     pub watchdog_ms: u32,
+    /// Digital output pins on at power-up and in the safe state.
+    pub power_up_on: Vec<Pin>,
 }
 
 impl Spec {
@@ -71,6 +73,7 @@ impl Spec {
             link,
             slave: 1,
             watchdog_ms: WATCHDOG_MS,
+            power_up_on: Vec::new(),
         }
     }
 
@@ -152,6 +155,15 @@ pub fn generate(spec: &Spec) -> Result<String, String> {
         ("@LAST_AO@", last(Dir::AnalogOut)),
         ("@DI_PINS@", pins(Dir::DigitalIn)),
         ("@DO_PINS@", pins(Dir::DigitalOut)),
+        (
+            "@DO_POWER_UP@",
+            spec.map
+                .pins(Dir::DigitalOut)
+                .iter()
+                .map(|p| if spec.power_up_on.contains(p) { "1" } else { "0" })
+                .collect::<Vec<_>>()
+                .join(", "),
+        ),
         ("@AI_PINS@", pins(Dir::AnalogIn)),
         ("@AO_PINS@", pins(Dir::AnalogOut)),
     ];
@@ -212,8 +224,11 @@ mod tests {
         let map = PinMap::preset("aurora").expect("preset");
         let mut spec = Spec::new(Model::Nano, "aurora", map, Link::Aurora);
         spec.active_low = true;
+        spec.power_up_on = vec![Pin::D(13), Pin::A(2)];
         let text = generate(&spec).expect("sketch");
         assert!(text.contains("#define ALBA_ACTIVE_LOW 1"));
+        // DO pins D12 D13 A0 A1 A2 A3: D13 and A2 power up on.
+        assert!(text.contains("DO_POWER_UP[N_DO + 1] = {0, 1, 0, 0, 1, 0};"), "{text}");
         golden("aurora-nano-aurora-active-low.ino", &text);
     }
 

@@ -59,6 +59,9 @@ pub struct Board {
     pub map: PinMap,
     /// Outputs are on when the pin is low.
     pub active_low: bool,
+    /// Digital output pins that are on at power-up (and in the remote-I/O
+    /// firmware's safe state); every other output is off.
+    pub power_up_on: Vec<Pin>,
 }
 
 #[derive(Deserialize)]
@@ -96,6 +99,7 @@ struct RawBoard {
     ao: Option<Spanned<Vec<Spanned<String>>>>,
     #[serde(default)]
     active_low: bool,
+    power_up_on: Option<Vec<Spanned<String>>>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -279,11 +283,30 @@ impl Config {
                     .with_help("list the pins of each direction (`di`, `do`, `ai`, `ao`) so that no pin appears twice"),
                 );
             }
+            let mut power_up_on = Vec::new();
+            for item in b.power_up_on.unwrap_or_default() {
+                match Pin::parse(item.get_ref()) {
+                    Some(p) if map.pins(Dir::DigitalOut).contains(&p) => power_up_on.push(p),
+                    Some(p) => diags.push(Diagnostic::new(
+                        Code::ConfigField,
+                        format!("pin {p} is not a digital output of this board's pin map"),
+                        sp(item.span()),
+                        "not in `do`",
+                    )),
+                    None => diags.push(Diagnostic::new(
+                        Code::ConfigField,
+                        format!("`{}` is not a pin name", item.get_ref()),
+                        sp(item.span()),
+                        "expected D<n> or A<n>, as the Arduino IDE names pins",
+                    )),
+                }
+            }
             Board {
                 model,
                 pinmap,
                 map,
                 active_low: b.active_low,
+                power_up_on,
             }
         });
         let config = Config {
@@ -379,6 +402,20 @@ mod tests {
         assert_eq!(b.map.ai, [Pin::A(4), Pin::A(5)]);
         assert_eq!(b.map.di, PinMap::preset("aurora").unwrap().di);
         assert!(b.active_low);
+        // Outputs on at power-up: digital outputs of the map only.
+        let c =
+            parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"A0\"]\n").unwrap();
+        assert_eq!(c.board.unwrap().power_up_on, [Pin::A(0)]);
+        let e =
+            parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"D2\", \"X\"]\n")
+                .unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:5:16: error[E102]: pin D2 is not a digital output of this board's pin map",
+                "alba.toml:5:22: error[E102]: `X` is not a pin name",
+            ]
+        );
         let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"due\"\n").unwrap_err();
         assert_eq!(e, ["alba.toml:4:9: error[E102]: unknown board `due`"]);
         let e = parse(

@@ -493,6 +493,7 @@ pub async fn run(
                 active_low: board.is_some_and(|b| b.active_low),
                 scan_ms: compiled.project.scan_ms(),
                 monitor: true,
+                power_up_on: board.map_or_else(Vec::new, |b| b.power_up_on.clone()),
             };
             alba_io::attach::driver(attach, &program, &target).map_err(RunError::Other)?
         }

@@ -26,7 +26,8 @@ static void write_outputs() {
     digitalWrite(A0, B[16] ? HIGH : LOW);
 }
 
-static void outputs_off() {
+// The power-up state (after a major fault too).
+static void outputs_safe() {
     digitalWrite(12, LOW);
     digitalWrite(13, LOW);
     digitalWrite(A0, LOW);
@@ -177,7 +178,7 @@ void setup() {
 void loop() {
     alba_link_poll();  // between scans: the link never delays one
     if (major) {
-        outputs_off();
+        outputs_safe();
         return;
     }
     uint32_t late = millis() - next_ms;
@@ -190,7 +191,7 @@ void loop() {
     GPIOR0 = 1;  // the scan starts (simavr's harness counts its cycles)
     read_inputs();
     scan();
-    if (major) outputs_off();
+    if (major) outputs_safe();
     else write_outputs();
     GPIOR0 = 0;
     advance(SCAN_MS);

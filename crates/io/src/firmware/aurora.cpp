@@ -9,7 +9,7 @@
 // values clamp to 255), comma-separated, one line each time: `q0,...,ao0,...`.
 // A line that is not exactly that (wrong field count, not a number) is ignored.
 // Watchdog: when no valid line has come for @WATCHDOG_MS@ ms, every output
-// returns to its power-up state (off) until the next line.
+// returns to its power-up state (off, except `power_up_on` pins) until the next line.
 
 #include <Arduino.h>
 
@@ -28,6 +28,8 @@
 // One spare element each, so that a direction without channels still compiles.
 static const uint8_t DI_PIN[N_DI + 1] = {@DI_PINS@};
 static const uint8_t DO_PIN[N_DO + 1] = {@DO_PINS@};
+// 1: the output is on at power-up and in the safe state (`power_up_on` in [board]).
+static const uint8_t DO_POWER_UP[N_DO + 1] = {@DO_POWER_UP@};
 static const uint8_t AI_PIN[N_AI + 1] = {@AI_PINS@};
 static const uint8_t AO_PIN[N_AO + 1] = {@AO_PINS@};
 
@@ -48,7 +50,7 @@ static void apply_outputs(void) {
 }
 
 static void safe_outputs(void) {
-    for (uint8_t i = 0; i < N_DO; i++) coil[i] = 0;
+    for (uint8_t i = 0; i < N_DO; i++) coil[i] = DO_POWER_UP[i];
     for (uint8_t i = 0; i < N_AO; i++) duty[i] = 0;
     apply_outputs();
 }

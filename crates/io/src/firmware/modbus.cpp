@@ -13,7 +13,7 @@
 //   input registers 0-@LAST_AI@  AI channels (analogRead, 0-1023)
 //   holding regs    0-@LAST_AO@  AO channels (analogWrite duty 0-255, larger values clamp to 255)
 // Watchdog: when no valid request has come for @WATCHDOG_MS@ ms, every output
-// returns to its power-up state (off) until the next write.
+// returns to its power-up state (off, except `power_up_on` pins) until the next write.
 
 #include <Arduino.h>
 
@@ -30,6 +30,8 @@
 // One spare element each, so that a direction without channels still compiles.
 static const uint8_t DI_PIN[N_DI + 1] = {@DI_PINS@};
 static const uint8_t DO_PIN[N_DO + 1] = {@DO_PINS@};
+// 1: the output is on at power-up and in the safe state (`power_up_on` in [board]).
+static const uint8_t DO_POWER_UP[N_DO + 1] = {@DO_POWER_UP@};
 static const uint8_t AI_PIN[N_AI + 1] = {@AI_PINS@};
 static const uint8_t AO_PIN[N_AO + 1] = {@AO_PINS@};
 
@@ -52,9 +54,9 @@ static void apply_outputs(void) {
     for (uint8_t i = 0; i < N_AO; i++) analogWrite(AO_PIN[i], duty[i]);
 }
 
-// Power-up and link-loss state: every output off.
+// Power-up and link-loss state: outputs off, except the power_up_on pins.
 static void safe_outputs(void) {
-    for (uint8_t i = 0; i < N_DO; i++) coil[i] = 0;
+    for (uint8_t i = 0; i < N_DO; i++) coil[i] = DO_POWER_UP[i];
     for (uint8_t i = 0; i < N_AO; i++) duty[i] = 0;
     apply_outputs();
 }

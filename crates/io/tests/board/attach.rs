@@ -22,6 +22,7 @@ fn target() -> Target {
         active_low: false,
         scan_ms: 10,
         monitor: true,
+        power_up_on: Vec::new(),
     }
 }
 
