@@ -8,6 +8,7 @@ pub mod exec;
 pub mod fault;
 #[cfg(feature = "jit")]
 pub mod jit;
+pub mod pid;
 pub mod sim;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};

@@ -62,7 +62,9 @@ codes! {
     BadRetain = 119, "the retain column is not a boolean",
         "`retain` is empty (not retained), 0/1, true/false or yes/no.";
     ReservedType = 120, "a reserved type is not available yet",
-        "PID is reserved for the PID instruction, which arrives in a later version of Alba.";
+        "No type is reserved at present (PID, once reserved, is available). The code is kept so that old reports keep their meaning.";
+    PidParameter = 121, "a PID parameter in tags.csv is invalid",
+        "The `initial` field of a PID tag is a list of `MEMBER=value` pairs separated by `;` (for example `KP=5;KI=0.8;UPD=640;MAXS=10`). Each member must exist and be writable, each value must be a number, and together with the defaults they must make a valid loop: UPD > 0 ms, gains and times (KP KI KD KC TI TD) not negative, MINS <= MAXS, 0 <= DB <= MAXS-MINS, MINO <= MAXO, DFN >= 0, FORM 0 to 4, no NaN or infinity. The SLC 500 reports the same conditions at run time as PID errors 11H 12H 13H 14H 23H 41H 52H; Alba reports them when the project is checked, and at run time (ERRC, a minor fault) when a program writes such a value.";
     Syntax = 200, "ladder syntax error",
         "A rung is a sequence of instructions `NAME(operand,...)` and branches `[leg,leg,...]`, ended by `;`. A `//` comment line directly above a rung is its comment.";
     UnknownInstruction = 201, "unknown instruction",

@@ -2,6 +2,7 @@
 
 mod golden;
 mod online_edit;
+mod pid;
 mod power_flow;
 mod properties;
 mod util;
