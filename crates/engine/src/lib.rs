@@ -9,6 +9,7 @@ pub mod fault;
 #[cfg(feature = "jit")]
 pub mod jit;
 pub mod pid;
+pub mod plant;
 pub mod sim;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};

@@ -34,6 +34,7 @@ pub struct Builder {
     const_f: HashMap<u32, F>,
     const_l: HashMap<i64, L>,
     const_d: HashMap<u64, D>,
+    plants: Vec<crate::program::PlantSpec>,
 }
 
 impl Builder {
@@ -86,6 +87,7 @@ impl Builder {
             const_f: HashMap::new(),
             const_l: HashMap::new(),
             const_d: HashMap::new(),
+            plants: Vec::new(),
         }
     }
 
@@ -263,6 +265,11 @@ impl Builder {
         self.init.write(place, v);
     }
 
+    /// Attaches a plant model (see `Program::plants`).
+    pub fn add_plant(&mut self, p: crate::program::PlantSpec) {
+        self.plants.push(p);
+    }
+
     pub fn finish(mut self, files: Files) -> Program {
         self.end_unit();
         self.layout.plant = false;
@@ -275,6 +282,7 @@ impl Builder {
             layout: self.layout,
             init: self.init,
             files,
+            plants: self.plants,
         }
     }
 }

@@ -41,6 +41,8 @@ codes! {
         "Each entry of `programs` must name an existing file in the project folder, once, with a known extension (`.lad` for ladder).";
     BoardPin = 104, "an I/O address has no pin on the board",
         "With a `[board]` in alba.toml, every I/O channel a tag uses must be wired by the pin map to a pin the board has and that can serve it: a digital pin for DI/DO (not D0/D1, the serial link), an analog pin for AI, a PWM pin for AO. Use another channel, another pin map or board, or list the pins in `[board]` (`di`, `do`, `ai`, `ao`).";
+    PlantModel = 105, "a plant model in alba.toml is invalid",
+        "Each `[[plant_model]]` table of alba.toml simulates a process on the I/O: `kind` is first_order (gain, tau), second_order (gain, den = [a2, a1, a0]), tank (area, inflow, outflow, sensor, max_level) or motor (r, l, kt, ke, j, b, sensor); `input` and `output` name the actuator signal it reads and the measurement it writes (a tag, member or address; the output must be an input or an internal tag). Optional: input_scale and output_scale = [raw_lo, raw_hi, lo, hi], saturation = [lo, hi] (actuator limits), dead_time (0 to 600 s), noise (standard deviation) with seed, initial (the measurement at the start). Times and coefficients must be positive numbers; parameters of another kind are refused. See docs/pid.md.";
     CsvSyntax = 110, "a CSV file is malformed",
         "CSV files use commas between fields, double quotes around fields that contain commas or quotes (a quote inside is written twice), and one record per line; every record has as many fields as the header.";
     CsvHeader = 111, "a CSV header is wrong",

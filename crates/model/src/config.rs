@@ -47,6 +47,8 @@ pub struct Config {
     /// How often `alba run` saves retentive data (also on stop).
     pub retain_ms: u32,
     pub history: History,
+    /// `[[plant_model]]`: simulated processes on the I/O.
+    pub models: Vec<crate::plant::PlantModel>,
 }
 
 /// `[board]`: the Arduino board and its wiring (SPEC §7.1, docs/file-formats.md).
@@ -74,6 +76,8 @@ struct RawConfig {
     board: Option<RawBoard>,
     retain_ms: Option<Spanned<i64>>,
     history: Option<RawHistory>,
+    #[serde(default)]
+    plant_model: Vec<crate::plant::RawPlant>,
 }
 
 #[derive(Deserialize)]
@@ -286,7 +290,13 @@ impl Config {
                 active_low: b.active_low,
             }
         });
+        let models = raw
+            .plant_model
+            .into_iter()
+            .filter_map(|m| m.check(file, &mut diags))
+            .collect();
         let config = Config {
+            models,
             name,
             description: raw.description,
             scan_ms,
