@@ -2,6 +2,7 @@
 //! the semantics of SPEC §3.2, records minor faults, publishes power flow
 //! on demand, and simulates in virtual time.
 
+pub mod analysis;
 pub mod clock;
 pub mod engine;
 pub mod exec;
