@@ -4,6 +4,7 @@ mod bench;
 mod demo;
 mod new;
 mod run;
+mod tune;
 
 use alba_engine::sim::{self, SimOptions, Stimulus};
 use alba_engine::{Engine, sim::SimError};
@@ -70,6 +71,31 @@ enum Command {
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
+    /// Autotune a PID loop by relay feedback against the project's plant models (docs/pid.md).
+    Tune {
+        project: PathBuf,
+        /// The PID tag to tune.
+        #[arg(long = "loop", value_name = "TAG")]
+        pid: String,
+        /// Setpoint for the experiment (default: the loop's SP).
+        #[arg(long, value_name = "SP")]
+        sp: Option<f64>,
+        /// Relay amplitude, % of CV.
+        #[arg(long, default_value_t = 20.0)]
+        amplitude: f64,
+        /// Relay centre, % of CV (about the output that holds PV at SP).
+        #[arg(long, default_value_t = 50.0)]
+        bias: f64,
+        /// Relay hysteresis, engineering units of the error (use it against noise).
+        #[arg(long, default_value_t = 0.0)]
+        hysteresis: f64,
+        /// Give up after this long in virtual time, ms.
+        #[arg(long, value_name = "MS", default_value_t = 600_000)]
+        until: u64,
+        /// Whole cycles to average after two cycles of transient.
+        #[arg(long, default_value_t = 4)]
+        cycles: usize,
+    },
     /// Run a project in real time and serve the studio and the API.
     Run {
         project: PathBuf,
@@ -137,6 +163,25 @@ fn main() -> ExitCode {
         Command::New { dir } => new::run(&dir),
         Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
+        Command::Tune {
+            project,
+            pid,
+            sp,
+            amplitude,
+            bias,
+            hysteresis,
+            until,
+            cycles,
+        } => tune::run(tune::TuneArgs {
+            dir: &project,
+            pid: &pid,
+            sp,
+            amplitude,
+            bias,
+            hysteresis,
+            until,
+            cycles,
+        }),
         Command::Run {
             project,
             http,

@@ -3,6 +3,7 @@
 //! on demand, and simulates in virtual time.
 
 pub mod analysis;
+pub mod autotune;
 pub mod clock;
 pub mod engine;
 pub mod exec;

@@ -1,5 +1,6 @@
 //! Integration tests of the engine: golden traces, properties, power flow.
 
+mod autotune;
 mod golden;
 mod online_edit;
 mod pid;
