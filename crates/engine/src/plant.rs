@@ -33,7 +33,10 @@ struct Sim {
 pub struct Plants {
     sims: Vec<Sim>,
     last_ms: Option<u64>,
+    /// The real time of the last `step_now`.
     epoch: Option<std::time::Instant>,
+    /// Plant time on the real-time clock, µs (gaps capped at 1 s).
+    real_us: u64,
 }
 
 impl Plants {
@@ -42,6 +45,7 @@ impl Plants {
             sims: specs.iter().map(Sim::new).collect(),
             last_ms: None,
             epoch: None,
+            real_us: 0,
         }
     }
 
@@ -76,9 +80,15 @@ impl Plants {
     }
 
     /// `step` on a monotonic real-time clock started by the first call.
+    /// A gap of more than a second between calls (the engine was stopped)
+    /// counts as one second: a paused engine pauses its plant, and a
+    /// restart never integrates hours in one scan.
     pub fn step_now(&mut self, mem: &mut Memory) {
-        let epoch = *self.epoch.get_or_insert_with(std::time::Instant::now);
-        self.step(mem, epoch.elapsed().as_millis() as u64);
+        let now = std::time::Instant::now();
+        let last = *self.epoch.get_or_insert(now);
+        self.epoch = Some(now);
+        self.real_us += (now - last).as_micros().min(1_000_000) as u64;
+        self.step(mem, self.real_us / 1000);
     }
 }
 

@@ -262,6 +262,16 @@ impl PidParams {
                 ),
             ));
         }
+        if self.form == 3.0 && self.upd < 10.0 {
+            return Some((
+                E::FORM,
+                "UPD",
+                format!(
+                    "PID parameter UPD = {} with FORM 3: the 16-bit s-plane form counts T in hundredths of a second, so UPD must be 10 ms or more",
+                    self.upd
+                ),
+            ));
+        }
         if !(0.0..=4.0).contains(&self.form) || self.form.fract() != 0.0 {
             return Some((
                 E::FORM,
