@@ -47,7 +47,8 @@ describe('CSV', () => {
     expect(validateDef(def({ name: '1x' }), others)).toMatch(/digit/);
     expect(validateDef(def({ name: 'bomba1' }), others)).toMatch(/already/);
     expect(validateDef(def({ name: 'MOD' }), others)).toMatch(/reserved/);
-    expect(validateDef(def({ name: 'X', type: 'PID' }), others)).toMatch(/Unknown type/);
+    expect(validateDef(def({ name: 'X', type: 'WORD' }), others)).toMatch(/Unknown type/);
+    expect(validateDef(def({ name: 'X', type: 'PID' }), others)).toBeNull();
   });
 });
 

@@ -527,6 +527,12 @@ fn emit(op: &Op, pc: u32) -> Result<String, String> {
         Op::S7Ctud(c) => format!("alba_s7_counter({}, rc, 2);", s7c(&c)),
         Op::S7ResC(c) => format!("if (rc) alba_s7_res_c({});", s7c(&c)),
         Op::CmpD(..) | Op::LimD(..) | Op::BinD(..) | Op::UnD(..) => return Err(LREAL.into()),
+        Op::Pid(_) => {
+            return Err(
+                "PID does not run on the board yet: run the loop on the PC with the board as remote I/O (controller mode)"
+                    .into(),
+            );
+        }
     })
 }
 

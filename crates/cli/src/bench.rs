@@ -340,7 +340,75 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
     println!("data = program memory per rung; code = everything else the engine holds per rung: the IR with");
     println!("its source locations, the two executable forms and the native operand table.");
     println!("Reference (OpenPLC v3 / MatIEC C, g++ -O2, same rung): 11 ns/rung at 100, 29 at 1000, 47 at 10000.");
-    il_vs_ladder(sizes, runs, quick)
+    if il_vs_ladder(sizes, runs, quick) != ExitCode::SUCCESS {
+        return ExitCode::FAILURE;
+    }
+    pid_loops(sizes, runs, quick)
+}
+
+/// The cost of the PID instruction: N rungs `PID(L_i,PV_i,CV_i);` (a REAL
+/// PV moved in, the output moved out), updating on every scan (UPD = the
+/// scan period) or every 100 scans.
+fn pid_loops(sizes: &[usize], runs: usize, quick: bool) -> ExitCode {
+    println!(
+        "\nPID loops: rung = PID(L,PV,CV); (PV REAL in, CV REAL out; PID with KP KI KD, derivative filter, limits)"
+    );
+    println!(
+        "{:>6} | {:>5} | {:>11} | {:>11}",
+        "loops", "UPD", "interpreter", "native code"
+    );
+    println!("{:>6} | {:>5} | {:>11} | {:>11}", "", "ms", "ns/loop", "ns/loop");
+    for &n in sizes {
+        let n = n.max(1);
+        for upd in [1, 100] {
+            let mut tags = String::from("name,type,address,initial,retain,description\n");
+            let mut lad = String::new();
+            for i in 0..n {
+                tags.push_str(&format!(
+                    "L_{i},PID,,\"KP=1.5;KI=0.4;KD=0.1;UPD={upd};SP=50\",,\nPV_{i},REAL,,{},,\nCV_{i},REAL,,,,\n",
+                    (i % 97) as f32
+                ));
+                lad.push_str(&format!("PID(L_{i},PV_{i},CV_{i});\n"));
+            }
+            let p = match compile_text(&tags, "main.lad", &lad) {
+                Ok(p) => p,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let (Ok(mut engine), Ok(mut jit)) = (Engine::new(p.clone()), Engine::new(p.clone())) else {
+                return ExitCode::FAILURE;
+            };
+            let _ = jit.compile_native();
+            let scans = ((5_000_000 / (n as u64 * 50)).max(10)) / if quick { 4 } else { 1 };
+            let [engine_ns, jit_ns] = time_rounds(
+                runs,
+                scans.max(3),
+                &mut [
+                    &mut |k| {
+                        let _ = engine.scan(black_box(k * SCAN_MS));
+                    },
+                    &mut |k| {
+                        let _ = jit.scan(black_box(k * SCAN_MS));
+                    },
+                ],
+            );
+            if engine.memory() != jit.memory() {
+                eprintln!("error: interpreter and native code disagree on the PID loops");
+                return ExitCode::FAILURE;
+            }
+            println!(
+                "{:>6} | {:>5} | {:>11.2} | {:>11.2}",
+                n,
+                upd,
+                engine_ns / n as f64,
+                jit_ns / n as f64
+            );
+        }
+    }
+    println!("UPD 1 = every scan computes (worst case); UPD 100 = the loop waits 99 scans of 100 (gating only).");
+    ExitCode::SUCCESS
 }
 
 /// The same logic as ladder rungs and as AWL networks (stack operations

@@ -6,6 +6,7 @@ mod export;
 mod firmware;
 mod new;
 mod run;
+mod tune;
 
 use alba_engine::sim::{self, SimOptions, Stimulus};
 use alba_engine::{Engine, sim::SimError};
@@ -55,11 +56,15 @@ enum Command {
         #[arg(long, value_name = "MS")]
         every: Option<u64>,
         /// Run the generated Arduino firmware on an emulated MCU (simavr) instead of the
-        /// engine: same stimulus, same trace form (I/O wired to pins only).
+        /// engine: same stimulus, same trace form (I/O read on the pins, the rest in memory).
         #[arg(long)]
         firmware: bool,
         #[command(flatten)]
         board: export::BoardArgs,
+        /// Step-response figures of traced signals: SIGNAL or SIGNAL:REFERENCE, comma-separated
+        /// (overshoot, rise time, 98 % settling time, IAE); printed after the run.
+        #[arg(long, value_name = "LIST")]
+        summary: Option<String>,
     },
     /// Export the project to another form.
     Export {
@@ -79,6 +84,31 @@ enum Command {
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
+    /// Autotune a PID loop by relay feedback against the project's plant models (docs/pid.md).
+    Tune {
+        project: PathBuf,
+        /// The PID tag to tune.
+        #[arg(long = "loop", value_name = "TAG")]
+        pid: String,
+        /// Setpoint for the experiment (default: the loop's SP).
+        #[arg(long, value_name = "SP")]
+        sp: Option<f64>,
+        /// Relay amplitude, % of CV.
+        #[arg(long, default_value_t = 20.0)]
+        amplitude: f64,
+        /// Relay centre, % of CV (about the output that holds PV at SP).
+        #[arg(long, default_value_t = 50.0)]
+        bias: f64,
+        /// Relay hysteresis, engineering units of the error (use it against noise).
+        #[arg(long, default_value_t = 0.0)]
+        hysteresis: f64,
+        /// Give up after this long in virtual time, ms.
+        #[arg(long, value_name = "MS", default_value_t = 600_000)]
+        until: u64,
+        /// Whole cycles to average after two cycles of transient.
+        #[arg(long, default_value_t = 4)]
+        cycles: usize,
+    },
     /// Run a project in real time and serve the studio and the API.
     Run {
         project: PathBuf,
@@ -188,14 +218,18 @@ fn main() -> ExitCode {
             every,
             firmware,
             board,
+            summary,
         } => simulate(
             &project,
-            until,
-            stimulus.as_deref(),
-            trace.as_deref(),
-            tags.as_deref(),
-            every,
-            firmware.then_some(&board),
+            SimArgs {
+                until,
+                stimulus: stimulus.as_deref(),
+                trace: trace.as_deref(),
+                tags: tags.as_deref(),
+                every,
+                firmware: firmware.then_some(&board),
+                summary: summary.as_deref(),
+            },
         ),
         Command::Export {
             to:
@@ -210,6 +244,25 @@ fn main() -> ExitCode {
         Command::New { dir } => new::run(&dir),
         Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
+        Command::Tune {
+            project,
+            pid,
+            sp,
+            amplitude,
+            bias,
+            hysteresis,
+            until,
+            cycles,
+        } => tune::run(tune::TuneArgs {
+            dir: &project,
+            pid: &pid,
+            sp,
+            amplitude,
+            bias,
+            hysteresis,
+            until,
+            cycles,
+        }),
         Command::Run {
             project,
             http,
@@ -285,15 +338,28 @@ fn fail(msg: impl std::fmt::Display) -> ExitCode {
     ExitCode::FAILURE
 }
 
-fn simulate(
-    dir: &Path,
+/// The options of `alba sim`.
+struct SimArgs<'a> {
     until: u64,
-    stimulus: Option<&Path>,
-    trace: Option<&Path>,
-    tags: Option<&str>,
+    stimulus: Option<&'a Path>,
+    trace: Option<&'a Path>,
+    tags: Option<&'a str>,
     every: Option<u64>,
-    firmware: Option<&export::BoardArgs>,
-) -> ExitCode {
+    /// Run the exported firmware in simavr instead of the engine.
+    firmware: Option<&'a export::BoardArgs>,
+    summary: Option<&'a str>,
+}
+
+fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
+    let SimArgs {
+        until,
+        stimulus,
+        trace,
+        tags,
+        every,
+        firmware,
+        summary,
+    } = a;
     let c = alba_compiler::compile_dir(dir);
     let Some(program) = c.program else {
         report(&c.diagnostics, &c.project.files, false);
@@ -355,9 +421,10 @@ fn simulate(
             Some(path) => fsutil::write_atomic(path, |w| w.write_all(text.as_bytes())),
             None => std::io::stdout().write_all(text.as_bytes()),
         };
-        return match written {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => fail(format!("cannot write the trace: {e}")),
+        return match (written, summary) {
+            (Err(e), _) => fail(format!("cannot write the trace: {e}")),
+            (Ok(()), Some(list)) => print_summary(&text, list, trace.is_some()),
+            (Ok(()), None) => ExitCode::SUCCESS,
         };
     }
     let mut engine = match Engine::new(Arc::new(program)) {
@@ -371,6 +438,34 @@ fn simulate(
         until_ms: until,
         every_ms: every,
     };
+    if let Some(list) = summary {
+        // The trace is kept in memory, written as usual, then summarised.
+        let mut buf = Vec::new();
+        let result = sim::run(&mut engine, &stim, &cols, opt, &mut buf);
+        if let Err(e) = result {
+            return match e {
+                SimError::Io(e) => fail(format!("cannot write the trace: {e}")),
+                SimError::Major(m) => fail(format!("major fault: {}", m.message)),
+            };
+        }
+        let written = match trace {
+            Some(path) => fsutil::write_atomic(path, |w| w.write_all(&buf)),
+            None => std::io::stdout().lock().write_all(&buf),
+        };
+        if let Err(e) = written
+            && e.kind() != std::io::ErrorKind::BrokenPipe
+        {
+            return fail(format!("cannot write the trace: {e}"));
+        }
+        if let Some(f) = engine.faults().first {
+            eprintln!(
+                "warning: {} minor fault(s); first: {}",
+                engine.faults().count,
+                engine.describe_fault(&f)
+            );
+        }
+        return print_summary(&String::from_utf8_lossy(&buf), list, trace.is_some());
+    }
     let result = match trace {
         Some(path) => {
             let mut outcome = Ok(());
@@ -407,6 +502,38 @@ fn simulate(
         Err(SimError::Io(e)) => fail(format!("cannot write the trace: {e}")),
         Err(SimError::Major(m)) => fail(format!("major fault: {}", m.message)),
     }
+}
+
+/// `--summary A,B:REF`: the step-response figures of each signal, on
+/// standard output when the trace went to a file, else on standard error.
+fn print_summary(trace: &str, list: &str, to_stdout: bool) -> ExitCode {
+    for item in list.split(',').map(str::trim) {
+        let (sig, reference) = match item.split_once(':') {
+            // `S:FS`-like names contain a colon: a reference follows only the last one
+            // that leaves a traced name on both sides; try the whole item first.
+            Some((a, b)) if alba_engine::analysis::columns(trace, &[item]).is_err() => (a, Some(b)),
+            _ => (item, None),
+        };
+        let names: Vec<&str> = std::iter::once(sig).chain(reference).collect();
+        let (t, cols) = match alba_engine::analysis::columns(trace, &names) {
+            Ok(v) => v,
+            Err(e) => {
+                let d = Diagnostic::unplaced(Code::BadArgument, format!("--summary: {e}"));
+                report(&[d], &Files::new(), false);
+                return ExitCode::FAILURE;
+            }
+        };
+        let line = match alba_engine::analysis::step_info(&t, &cols[0], cols.get(1).map(Vec::as_slice)) {
+            Some(s) => format!("{item}: {s}"),
+            None => format!("{item}: no step (the signal ends where it starts)"),
+        };
+        if to_stdout {
+            println!("{line}");
+        } else {
+            eprintln!("{line}");
+        }
+    }
+    ExitCode::SUCCESS
 }
 
 fn explain(code: &str) -> ExitCode {

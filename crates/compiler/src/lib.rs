@@ -88,8 +88,68 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
             Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
         });
     }
+    if let Some(cfg) = &project.config {
+        for m in &cfg.models {
+            if let Some(spec) = resolve_plant(&b, m, &mut diags) {
+                b.add_plant(spec);
+            }
+        }
+    }
     if !diags.is_empty() {
         return (None, diags);
     }
     (Some(b.finish(project.files.clone())), diags)
+}
+
+/// Resolves the signals of a plant model: the input may be any number; the
+/// output must be a number the model may write (an input, or an internal tag).
+fn resolve_plant(
+    b: &Builder,
+    m: &alba_model::plant::PlantModel,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<alba_ir::PlantSpec> {
+    use alba_ir::{Access, Target};
+    let layout = b.layout();
+    let mut place = |(name, span): &(String, alba_model::Span), output: bool| {
+        let bad = |msg: String| Diagnostic::new(Code::PlantModel, msg, *span, "plant signal");
+        match layout.resolve(name) {
+            Ok(Target::Value { place, access }) if place.data_type().is_numeric() => {
+                if output && (access == Access::ReadOnly || layout.is_output(place)) {
+                    diags.push(bad(format!(
+                        "a plant model cannot write `{name}`: it is {}",
+                        if access == Access::ReadOnly {
+                            "read-only"
+                        } else {
+                            "an output of the program"
+                        }
+                    )));
+                    None
+                } else {
+                    Some(place)
+                }
+            }
+            Ok(Target::Value { place, .. }) => {
+                diags.push(bad(format!(
+                    "`{name}` is {}, not a number",
+                    place.data_type().with_article()
+                )));
+                None
+            }
+            Ok(_) => {
+                diags.push(bad(format!("`{name}` is a structure; name a member")));
+                None
+            }
+            Err(e) => {
+                diags.push(bad(e.to_string()));
+                None
+            }
+        }
+    };
+    let input = place(&m.input, false);
+    let output = place(&m.output, true);
+    Some(alba_ir::PlantSpec {
+        model: m.clone(),
+        input: input?,
+        output: output?,
+    })
 }

@@ -38,6 +38,8 @@ pub struct Engine {
     /// Native code for unmonitored scans, once compiled.
     #[cfg(feature = "jit")]
     native: Option<crate::jit::Jit>,
+    /// The program's plant models (`[[plant_model]]`) and their state.
+    plants: crate::plant::Plants,
 }
 
 impl Engine {
@@ -60,6 +62,7 @@ impl Engine {
             io_errors: 0,
             #[cfg(feature = "jit")]
             native: None,
+            plants: crate::plant::Plants::new(&prog.plants),
             prog,
         })
     }
@@ -99,6 +102,22 @@ impl Engine {
     /// Writes a value between scans (inputs, stimuli, operator writes).
     pub fn write(&mut self, p: Place, v: Value) {
         self.mem.write(p, v);
+    }
+
+    /// Advances the plant models to `now_ms` (the simulator's clock) and
+    /// writes their measurements; call it between scans, before inputs are
+    /// forced or stimulated.
+    pub fn step_plants(&mut self, now_ms: u64) {
+        if !self.plants.is_empty() {
+            self.plants.step(&mut self.mem, now_ms);
+        }
+    }
+
+    /// `step_plants` on a real-time clock (the simulated I/O driver).
+    pub fn step_plants_now(&mut self) {
+        if !self.plants.is_empty() {
+            self.plants.step_now(&mut self.mem);
+        }
     }
 
     /// Scans run so far.
@@ -181,6 +200,9 @@ impl Engine {
             self.native = native;
         }
         self.faults = Faults::default();
+        if self.plants.specs() != prog.plants {
+            self.plants = crate::plant::Plants::new(&prog.plants);
+        }
         self.prog = prog;
         self.set_monitor(self.monitor);
         Ok(())

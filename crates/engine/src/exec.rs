@@ -170,6 +170,7 @@ pub enum X {
     S7Ctd(S7Ctr),
     S7Ctud(S7Ctr),
     S7ResC(S7Ctr),
+    Pid(alba_ir::Pidt),
     // Fused (unmonitored code only):
     /// `Rung; Xic/Xio(b)`: `rc = b != neg`.
     RungC {
@@ -409,6 +410,7 @@ fn flatten(op: Op) -> X {
         Op::S7Ctd(c) => X::S7Ctd(c),
         Op::S7Ctud(c) => X::S7Ctud(c),
         Op::S7ResC(c) => X::S7ResC(c),
+        Op::Pid(p) => X::Pid(p),
     }
 }
 
@@ -461,7 +463,7 @@ pub(crate) struct Sink<'a> {
 impl Sink<'_> {
     #[cold]
     #[inline(never)]
-    fn fault(&mut self, code: FaultCode, pc: usize) {
+    pub(crate) fn fault(&mut self, code: FaultCode, pc: usize) {
         let canonical = self.src.get(pc).copied().unwrap_or(pc as u32);
         self.faults.record(code, canonical);
     }
@@ -795,6 +797,7 @@ pub(crate) fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mu
                 wr!(m.b, c.b.0, false);
             }
         }
+        X::Pid(p) => crate::pid::pid(m, p, rc, now, sink, cur),
         X::RungC { b, neg } => rc = rd!(m.b, b.0) != neg,
         X::RungOr { a, b, na, nb } => rc = (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),
         X::Or2 { a, b, na, nb } => rc &= (rd!(m.b, a.0) != na) | (rd!(m.b, b.0) != nb),

@@ -18,6 +18,9 @@ pub enum FaultCode {
     Range = 4,
     /// A timer preset below zero (the timer used 0).
     NegativePreset = 5,
+    /// A PID loop parameter is invalid (the loop's ERRC says which; the
+    /// output holds).
+    PidParameter = 6,
 }
 
 impl FaultCode {
@@ -28,6 +31,7 @@ impl FaultCode {
             FaultCode::Nan,
             FaultCode::Range,
             FaultCode::NegativePreset,
+            FaultCode::PidParameter,
         ]
         .into_iter()
         .find(|c| *c as i32 == code)
@@ -40,6 +44,7 @@ impl FaultCode {
             FaultCode::Nan => "invalid floating-point result (NaN)",
             FaultCode::Range => "value out of range for the conversion",
             FaultCode::NegativePreset => "negative timer preset",
+            FaultCode::PidParameter => "invalid PID parameter (see the loop's ERRC)",
         }
     }
 }

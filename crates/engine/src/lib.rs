@@ -2,12 +2,16 @@
 //! the semantics of SPEC §3.2, records minor faults, publishes power flow
 //! on demand, and simulates in virtual time.
 
+pub mod analysis;
+pub mod autotune;
 pub mod clock;
 pub mod engine;
 pub mod exec;
 pub mod fault;
 #[cfg(feature = "jit")]
 pub mod jit;
+pub mod pid;
+pub mod plant;
 pub mod sim;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};

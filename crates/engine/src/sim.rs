@@ -258,6 +258,7 @@ pub fn run(
     let mut clock = VirtualClock::new();
     while clock.now_ms() <= opt.until_ms {
         let t = clock.now_ms();
+        engine.step_plants(t);
         while let Some(r) = stimulus.rows.get(next_row).filter(|r| r.time_ms <= t) {
             engine.write(r.place, r.value);
             next_row += 1;

@@ -34,6 +34,7 @@ pub struct Builder {
     const_f: HashMap<u32, F>,
     const_l: HashMap<i64, L>,
     const_d: HashMap<u64, D>,
+    plants: Vec<crate::program::PlantSpec>,
 }
 
 impl Builder {
@@ -42,6 +43,21 @@ impl Builder {
     pub fn new(layout: Layout) -> Builder {
         let mut init = Memory::new(layout.counts, layout.marker_bytes);
         for (idx, tag) in layout.tags.iter().enumerate() {
+            if let TagSlot::Pid(p) = layout.slot(idx) {
+                let defaults = alba_model::types::PID_DEFAULTS.iter().map(|(n, v)| (*n, *v));
+                let given = tag.members.iter().map(|(n, v)| (n.as_str(), v.as_f64()));
+                for (name, v) in defaults.chain(given) {
+                    let Some(m) = tag.ty.member(name) else { continue };
+                    let place = p.member(m);
+                    let value = match m.ty {
+                        alba_model::DataType::Bool => Value::Bool(v != 0.0),
+                        alba_model::DataType::Real => Value::Real(v as f32),
+                        _ => Value::Dint(v as i32),
+                    };
+                    init.write(place, value);
+                }
+                continue;
+            }
             let Some(v) = tag.initial else { continue };
             let place = match layout.slot(idx) {
                 TagSlot::Bool(b) => Place::Bool(b),
@@ -53,7 +69,7 @@ impl Builder {
                     Some(p) => p,
                     None => continue,
                 },
-                TagSlot::Timer(_) | TagSlot::Counter(_) => continue,
+                TagSlot::Timer(_) | TagSlot::Counter(_) | TagSlot::Pid(_) => continue,
             };
             init.write(place, v);
         }
@@ -71,6 +87,7 @@ impl Builder {
             const_f: HashMap::new(),
             const_l: HashMap::new(),
             const_d: HashMap::new(),
+            plants: Vec::new(),
         }
     }
 
@@ -248,6 +265,11 @@ impl Builder {
         self.init.write(place, v);
     }
 
+    /// Attaches a plant model (see `Program::plants`).
+    pub fn add_plant(&mut self, p: crate::program::PlantSpec) {
+        self.plants.push(p);
+    }
+
     pub fn finish(mut self, files: Files) -> Program {
         self.end_unit();
         self.layout.plant = false;
@@ -260,6 +282,7 @@ impl Builder {
             layout: self.layout,
             init: self.init,
             files,
+            plants: self.plants,
         }
     }
 }

@@ -7,7 +7,7 @@
 //! function of the tag table and the I/O channels the programs use, so a
 //! recompiled program finds its tags again (see [`crate::Memory::migrate`]).
 
-use crate::op::{B, Ctr, D, F, I, L, Tmr};
+use crate::op::{B, Ctr, D, F, I, L, PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS, Pidt, Tmr};
 use alba_model::address::{Address, MarkerWidth};
 use alba_model::{DataType, TagTable};
 
@@ -32,6 +32,7 @@ pub enum TagSlot {
     Lreal(D),
     Timer(Tmr),
     Counter(Ctr),
+    Pid(Pidt),
     /// A tag on a marker address lives in marker memory.
     Marker(Address),
 }
@@ -213,11 +214,14 @@ impl Layout {
                     i: I(take(&mut c.i, 3)),
                     b: B(take(&mut c.b, 3)),
                 }),
-                // PID is refused by the tag table; lay it out as a counter-sized
-                // hole rather than panic if that ever changes.
-                (None, DataType::Counter | DataType::Pid) => TagSlot::Counter(Ctr {
+                (None, DataType::Counter) => TagSlot::Counter(Ctr {
                     i: I(take(&mut c.i, 2)),
                     b: B(take(&mut c.b, 5)),
+                }),
+                (None, DataType::Pid) => TagSlot::Pid(Pidt {
+                    f: F(take(&mut c.f, PID_F_SLOTS)),
+                    i: I(take(&mut c.i, PID_I_SLOTS)),
+                    b: B(take(&mut c.b, PID_B_SLOTS)),
                 }),
             };
             slots.push(slot);

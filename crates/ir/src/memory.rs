@@ -132,6 +132,12 @@ impl Memory {
                     copy_n(&self.i, a.i.0, &mut out.i, b.i.0, 2);
                     copy_n(&self.b, a.b.0, &mut out.b, b.b.0, 5);
                 }
+                (TagSlot::Pid(a), TagSlot::Pid(b)) => {
+                    use crate::op::{PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS};
+                    copy_n(&self.f, a.f.0, &mut out.f, b.f.0, PID_F_SLOTS);
+                    copy_n(&self.i, a.i.0, &mut out.i, b.i.0, PID_I_SLOTS);
+                    copy_n(&self.b, a.b.0, &mut out.b, b.b.0, PID_B_SLOTS);
+                }
                 // Tags on addresses keep their value through the image/markers.
                 _ => {}
             }

@@ -48,6 +48,53 @@ pub struct Ctr {
     pub b: B,
 }
 
+/// A PID loop (SPEC §6): REAL slots from `f`, DINT slots from `i`, BOOL
+/// slots from `b`. The first slots of each class are the members of
+/// `alba_model::types::PID_MEMBERS` in their order; hidden state follows
+/// (see the `PID_*` constants). The instruction reads its raw input from
+/// `f + PID_F_IN` and leaves its raw output in `f + PID_F_OUT`: the front
+/// end moves the operands there and back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Pidt {
+    pub f: F,
+    pub i: I,
+    pub b: B,
+}
+
+/// REAL members (SP … DFN).
+pub const PID_F_MEMBERS: u32 = 21;
+/// Hidden REAL slots, after the members.
+pub const PID_F_IN: u32 = 21;
+pub const PID_F_OUT: u32 = 22;
+/// Integral term (%), or u(k-1) of the velocity forms.
+pub const PID_F_INT: u32 = 23;
+/// Previous derivative input (PV or error, %).
+pub const PID_F_DPREV: u32 = 24;
+/// Filtered derivative term (%).
+pub const PID_F_DTERM: u32 = 25;
+/// e(k-1) and e(k-2) of the velocity forms (%).
+pub const PID_F_E1: u32 = 26;
+pub const PID_F_E2: u32 = 27;
+/// The last valid setpoint (used while SP is out of range).
+pub const PID_F_SPLAST: u32 = 28;
+/// The previous error, for the zero-crossing deadband.
+pub const PID_F_EPREV: u32 = 29;
+pub const PID_F_SLOTS: u32 = 30;
+/// DINT members (UPD ERRC FORM), then hidden: clock of the next update,
+/// and e(k-1), e(k-2), u(k-1) of the 16-bit forms.
+pub const PID_I_MEMBERS: u32 = 3;
+pub const PID_I_DUE: u32 = 3;
+pub const PID_I_E1: u32 = 4;
+pub const PID_I_E2: u32 = 5;
+pub const PID_I_U1: u32 = 6;
+pub const PID_I_SLOTS: u32 = 7;
+/// BOOL members (EN … OL), then hidden: running (initialised), manual at
+/// the last execution.
+pub const PID_B_MEMBERS: u32 = 13;
+pub const PID_B_RUN: u32 = 13;
+pub const PID_B_WASMAN: u32 = 14;
+pub const PID_B_SLOTS: u32 = 15;
+
 /// An S7-200 timer (Instruction List): integer slots `i` = current value
 /// (in units of the resolution), `i+1` = PT, `i+2` = milliseconds not yet
 /// counted, `i+3` = clock at the last update; bool slots `b` = timer bit,
@@ -294,6 +341,8 @@ pub enum Op {
     S7Ctud(S7Ctr),
     /// If `rc`: current value and bit cleared.
     S7ResC(S7Ctr),
+    /// The PID loop: runs on every execution and reads `rc` (see `Pidt`).
+    Pid(Pidt),
 }
 
 /// A slot of any class, for visiting every slot an op touches.
@@ -400,6 +449,14 @@ impl Op {
             Op::CopyB(a, b) => vec![S::B(a.0), S::B(b.0)],
             Op::S7Ton(t) | Op::S7Tonr(t) | Op::S7Tof(t) | Op::S7ResT(t) => s7t(t),
             Op::S7Ctu(c) | Op::S7Ctd(c) | Op::S7Ctud(c) | Op::S7ResC(c) => s7c(c),
+            Op::Pid(p) => vec![
+                S::F(p.f.0),
+                S::F(p.f.0.saturating_add(PID_F_SLOTS - 1)),
+                S::I(p.i.0),
+                S::I(p.i.0.saturating_add(PID_I_SLOTS - 1)),
+                S::B(p.b.0),
+                S::B(p.b.0.saturating_add(PID_B_SLOTS - 1)),
+            ],
         }
     }
 }

@@ -63,6 +63,19 @@ pub struct Program {
     pub init: Memory,
     /// Sources, for messages that point at a rung or instruction.
     pub files: Files,
+    /// Simulated processes on the I/O (`[[plant_model]]`), run by the
+    /// simulator and the simulated I/O driver, not by the scan.
+    pub plants: Vec<PlantSpec>,
+}
+
+/// A plant model with its signals resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantSpec {
+    pub model: alba_model::plant::PlantModel,
+    /// Where it reads the actuator signal.
+    pub input: crate::layout::Place,
+    /// Where it writes the measurement.
+    pub output: crate::layout::Place,
 }
 
 impl Program {

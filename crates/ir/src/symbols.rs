@@ -3,7 +3,7 @@
 //! names here, so every part of Alba means the same thing by a name.
 
 use crate::layout::{Layout, Place, TagSlot};
-use crate::op::{B, Ctr, I, Tmr};
+use crate::op::{B, Ctr, F, I, Pidt, Tmr};
 use alba_model::{Address, DataType};
 use std::fmt;
 
@@ -37,6 +37,7 @@ pub enum Target {
     Value { place: Place, access: Access },
     Timer(Tmr),
     Counter(Ctr),
+    Pid(Pidt),
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -65,6 +66,18 @@ impl fmt::Display for ResolveError {
             }
             ResolveError::BadAddress(m) => write!(f, "{m}"),
             ResolveError::OutsideImage(a) => write!(f, "{a} is outside this project's I/O image"),
+        }
+    }
+}
+
+impl Pidt {
+    /// The place of a member of `alba_model::types::PID_MEMBERS`.
+    pub fn member(&self, m: &alba_model::types::Member) -> Place {
+        let k = m.index as u32;
+        match m.ty {
+            DataType::Bool => Place::Bool(B(self.b.0 + k)),
+            DataType::Real => Place::Real(F(self.f.0 + k)),
+            t => Place::Int(I(self.i.0 + k), t),
         }
     }
 }
@@ -126,6 +139,22 @@ impl Layout {
             }
             (TagSlot::Timer(t), None) => Ok(Target::Timer(t)),
             (TagSlot::Counter(c), None) => Ok(Target::Counter(c)),
+            (TagSlot::Pid(p), None) => Ok(Target::Pid(p)),
+            (TagSlot::Pid(p), Some(m)) => {
+                let mem = tag.ty.member(m).ok_or_else(|| ResolveError::UnknownMember {
+                    tag: tag.name.clone(),
+                    ty: tag.ty,
+                    member: m.to_string(),
+                })?;
+                Ok(Target::Value {
+                    place: p.member(mem),
+                    access: if mem.writable {
+                        Access::ReadWrite
+                    } else {
+                        Access::ReadOnly
+                    },
+                })
+            }
             (TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }), Some(m)) => {
                 let mem = tag.ty.member(m).ok_or_else(|| ResolveError::UnknownMember {
                     tag: tag.name.clone(),

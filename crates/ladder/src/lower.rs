@@ -160,6 +160,7 @@ enum Opnd {
     Place(Place, Access),
     Timer(Tmr),
     Counter(Ctr),
+    Pid(alba_ir::Pidt),
     /// `?`: no initial value given.
     Unset,
 }
@@ -170,7 +171,7 @@ fn src(o: Opnd) -> Src {
         Opnd::Lit(l) => Src::Lit(l),
         Opnd::Place(p, _) => Src::Place(p),
         // Not a value; `check` refuses these where a value is needed.
-        Opnd::Timer(_) | Opnd::Counter(_) | Opnd::Unset => Src::Lit(Literal::Int(0)),
+        Opnd::Timer(_) | Opnd::Counter(_) | Opnd::Pid(_) | Opnd::Unset => Src::Lit(Literal::Int(0)),
     }
 }
 
@@ -299,6 +300,7 @@ impl Compiler<'_> {
             Ok(Target::Value { place, access }) => Some(Opnd::Place(place, access)),
             Ok(Target::Timer(tm)) => Some(Opnd::Timer(tm)),
             Ok(Target::Counter(c)) => Some(Opnd::Counter(c)),
+            Ok(Target::Pid(p)) => Some(Opnd::Pid(p)),
             Err(e) => {
                 let code = match &e {
                     ResolveError::UnknownTag(_) => Code::UnknownTag,
@@ -327,6 +329,7 @@ impl Compiler<'_> {
             Opnd::Place(p, _) => format!("a {}", p.data_type()),
             Opnd::Timer(_) => "a TIMER".into(),
             Opnd::Counter(_) => "a COUNTER".into(),
+            Opnd::Pid(_) => "a PID".into(),
             Opnd::Unset => "`?`".into(),
         }
     }
@@ -426,7 +429,7 @@ impl Compiler<'_> {
                 }
                 true
             }
-            (Arg::Pid, _) => true,
+            (Arg::Pid, Opnd::Pid(_)) => true,
             _ => false,
         };
         if !ok {
@@ -440,7 +443,8 @@ impl Compiler<'_> {
                 Arg::Accum => "an integer literal or `?`",
                 Arg::NumIn => "a number (tag or literal)",
                 Arg::NumOut => "a numeric tag to write",
-                Arg::Label | Arg::Expr | Arg::Pid => "something else",
+                Arg::Pid => "a PID tag",
+                Arg::Label | Arg::Expr => "something else",
             };
             self.wrong(i, o, &r, expected);
             return None;
@@ -450,15 +454,6 @@ impl Compiler<'_> {
 
     fn instr(&mut self, i: &Instr, elem: u32) {
         let m = i.mnemonic;
-        if m == Mnemonic::PID {
-            self.err(
-                Code::NotYetSupported,
-                "the PID instruction is reserved and not available yet",
-                i.name_span,
-                "reserved instruction",
-            );
-            return;
-        }
         let args = m.args();
         if i.operands.len() != args.len() {
             let names: Vec<&str> = args.iter().map(|a| arg_name(*a)).collect();
@@ -676,7 +671,24 @@ impl Compiler<'_> {
             M::AFI => {
                 self.b.emit(Op::Afi, elem);
             }
-            M::PID => {}
+            M::PID => {
+                use alba_ir::op::{PID_F_IN, PID_F_OUT};
+                let Opnd::Pid(p) = ops[0] else { return };
+                let pv = self.b.read(src(ops[1]), Class::F, elem);
+                let input = alba_ir::F(p.f.0 + PID_F_IN);
+                if let V::F(pv) = pv {
+                    self.b.emit(Op::UnF(UnOp::Mov, pv, input), elem);
+                }
+                self.b.emit(Op::Pid(p), elem);
+                let Opnd::Place(dest, _) = ops[2] else { return };
+                let (d, post) = self.b.dest(dest, Class::F, elem);
+                let output = alba_ir::F(p.f.0 + PID_F_OUT);
+                // `dest` in class F is a REAL slot (converted back by `post`).
+                if let V::F(d) = d {
+                    self.b.emit(Op::UnF(UnOp::Mov, output, d), elem);
+                }
+                self.b.post(post, elem);
+            }
         }
     }
 

@@ -41,6 +41,8 @@ codes! {
         "Each entry of `programs` must name an existing file in the project folder, once, with a known extension (`.lad` for ladder).";
     BoardPin = 104, "an I/O address has no pin on the board",
         "With a `[board]` in alba.toml, every I/O channel a tag uses must be wired by the pin map to a pin the board has and that can serve it: a digital pin for DI/DO (not D0/D1, the serial link), an analog pin for AI, a PWM pin for AO. Use another channel, another pin map or board, or list the pins in `[board]` (`di`, `do`, `ai`, `ao`).";
+    PlantModel = 105, "a plant model in alba.toml is invalid",
+        "Each `[[plant_model]]` table of alba.toml simulates a process on the I/O: `kind` is first_order (gain, tau), second_order (gain, den = [a2, a1, a0]), tank (area, inflow, outflow, sensor, max_level) or motor (r, l, kt, ke, j, b, sensor); `input` and `output` name the actuator signal it reads and the measurement it writes (a tag, member or address; the output must be an input or an internal tag). Optional: input_scale and output_scale = [raw_lo, raw_hi, lo, hi], saturation = [lo, hi] (actuator limits), dead_time (0 to 600 s), noise (standard deviation) with seed, initial (the measurement at the start). Times and coefficients must be positive numbers; parameters of another kind are refused. See docs/pid.md.";
     CsvSyntax = 110, "a CSV file is malformed",
         "CSV files use commas between fields, double quotes around fields that contain commas or quotes (a quote inside is written twice), and one record per line; every record has as many fields as the header.";
     CsvHeader = 111, "a CSV header is wrong",
@@ -62,7 +64,9 @@ codes! {
     BadRetain = 119, "the retain column is not a boolean",
         "`retain` is empty (not retained), 0/1, true/false or yes/no.";
     ReservedType = 120, "a reserved type is not available yet",
-        "PID is reserved for the PID instruction, which arrives in a later version of Alba.";
+        "No type is reserved at present (PID, once reserved, is available). The code is kept so that old reports keep their meaning.";
+    PidParameter = 121, "a PID parameter in tags.csv is invalid",
+        "The `initial` field of a PID tag is a list of `MEMBER=value` pairs separated by `;` (for example `KP=5;KI=0.8;UPD=640;MAXS=10`). Each member must exist and be writable, each value must be a number, and together with the defaults they must make a valid loop: UPD > 0 ms, gains and times (KP KI KD KC TI TD) not negative, MINS <= MAXS, 0 <= DB <= MAXS-MINS, MINO <= MAXO, DFN >= 0, FORM 0 to 4 (FORM 3 with UPD >= 10 ms), no NaN or infinity. The SLC 500 reports the same conditions at run time as PID errors 11H 12H 13H 14H 23H 41H 52H; Alba reports them when the project is checked, and at run time (ERRC, a minor fault) when a program writes such a value.";
     Syntax = 200, "ladder syntax error",
         "A rung is a sequence of instructions `NAME(operand,...)` and branches `[leg,leg,...]`, ended by `;`. A `//` comment line directly above a rung is its comment.";
     UnknownInstruction = 201, "unknown instruction",

@@ -47,6 +47,8 @@ pub struct Config {
     /// How often `alba run` saves retentive data (also on stop).
     pub retain_ms: u32,
     pub history: History,
+    /// `[[plant_model]]`: simulated processes on the I/O.
+    pub models: Vec<crate::plant::PlantModel>,
 }
 
 /// `[board]`: the Arduino board and its wiring (SPEC §7.1, docs/file-formats.md).
@@ -77,6 +79,8 @@ struct RawConfig {
     board: Option<RawBoard>,
     retain_ms: Option<Spanned<i64>>,
     history: Option<RawHistory>,
+    #[serde(default)]
+    plant_model: Vec<crate::plant::RawPlant>,
 }
 
 #[derive(Deserialize)]
@@ -309,7 +313,13 @@ impl Config {
                 power_up_on,
             }
         });
+        let models = raw
+            .plant_model
+            .into_iter()
+            .filter_map(|m| m.check(file, &mut diags))
+            .collect();
         let config = Config {
+            models,
             name,
             description: raw.description,
             scan_ms,
@@ -455,5 +465,30 @@ mod tests {
         assert!(e[0].contains("missing field `name`"), "{e:?}");
         let e = parse("name = 5\nprograms = [\"a.lad\"]\n").unwrap_err();
         assert!(e[0].starts_with("alba.toml:1:8: error[E102]"), "{e:?}");
+    }
+
+    #[test]
+    fn plant_models_are_checked_with_their_places() {
+        let head = "name = \"p\"\nprograms = [\"a.lad\"]\n";
+        let ok = format!(
+            "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"AO:4/0\"\noutput = \"AI:3/0\"\ntau = 10.0\ninput_scale = [0, 10000, 0, 10]\ndead_time = 0.5\n"
+        );
+        let c = parse(&ok).unwrap();
+        assert_eq!(c.models.len(), 1);
+        assert_eq!(c.models[0].dead_time, 0.5);
+        let bad = format!(
+            "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"U\"\noutput = \"Y\"\ntau = -1.0\narea = 2.0\nsaturation = [5, 1]\n\n[[plant_model]]\nkind = \"third\"\ninput = \"U\"\noutput = \"Y\"\n\n[[plant_model]]\nkind = \"second_order\"\ninput = \"U\"\noutput = \"Y\"\nden = [1, 2]\n"
+        );
+        let e = parse(&bad).unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:7:7: error[E105]: tau = -1 must be a number more than 0",
+                "alba.toml:8:8: error[E105]: `area` is not a parameter of a first_order model",
+                "alba.toml:9:14: error[E105]: saturation must be [lo, hi] with lo <= hi",
+                "alba.toml:12:8: error[E105]: unknown plant model kind `third`",
+                "alba.toml:20:7: error[E105]: den must be three numbers [a2, a1, a0] for gain/(a2·s² + a1·s + a0)",
+            ]
+        );
     }
 }

@@ -8,6 +8,7 @@ pub mod config;
 pub mod csv;
 pub mod diag;
 pub mod fsutil;
+pub mod plant;
 pub mod project;
 pub mod tags;
 pub mod types;

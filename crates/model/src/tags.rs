@@ -28,6 +28,9 @@ pub struct Tag {
     pub address_text: Option<String>,
     /// `None` means the type's zero.
     pub initial: Option<Value>,
+    /// Initial values of structure members (PID tags: `KP=5;UPD=640`), by
+    /// canonical member name.
+    pub members: Vec<(String, Value)>,
     pub retain: bool,
     pub description: String,
     /// Where the tag's name is declared.
@@ -53,6 +56,34 @@ pub fn is_identifier(s: &str) -> bool {
     let mut chars = s.chars();
     chars.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Parses `MEMBER=value;MEMBER=value` for the writable members of a
+/// structure type.
+pub fn parse_members(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, String> {
+    let mut out: Vec<(String, Value)> = Vec::new();
+    for item in text.split(';').map(str::trim).filter(|s| !s.is_empty()) {
+        let Some((name, value)) = item.split_once('=') else {
+            return Err(format!("`{item}` is not MEMBER=value"));
+        };
+        let name = name.trim();
+        let Some(m) = ty.member(name) else {
+            let all: Vec<&str> = ty.members().iter().filter(|m| m.writable).map(|m| m.name).collect();
+            return Err(format!(
+                "{ty} has no member `{name}` (writable members: {})",
+                all.join(" ")
+            ));
+        };
+        if !m.writable {
+            return Err(format!("{ty} member {} is a status set by the instruction", m.name));
+        }
+        if out.iter().any(|(n, _)| n == m.name) {
+            return Err(format!("member {} is given twice", m.name));
+        }
+        let v = Value::parse(value.trim(), m.ty).map_err(|e| format!("bad value for {}: {e}", m.name))?;
+        out.push((m.name.to_string(), v));
+    }
+    Ok(out)
 }
 
 /// Why `name` cannot be a tag name, if it cannot.
@@ -228,15 +259,6 @@ impl TagTable {
 
             let type_text = text(Some(c_type));
             let ty = match DataType::parse(type_text) {
-                Some(DataType::Pid) => {
-                    diags.push(Diagnostic::new(
-                        Code::ReservedType,
-                        "type PID is reserved for the PID instruction and not available yet",
-                        fspan(Some(c_type)),
-                        "reserved type",
-                    ));
-                    None
-                }
                 Some(t) => Some(t),
                 None => {
                     let found = if type_text.is_empty() {
@@ -326,7 +348,30 @@ impl TagTable {
             }
 
             let init_text = text(cols[3]);
+            let mut members = Vec::new();
+            if ty == Some(DataType::Pid) && !init_text.is_empty() {
+                match parse_members(init_text, DataType::Pid) {
+                    Ok(m) => {
+                        if let Some((_, _, msg)) = crate::types::PidParams::from_members(&m).check() {
+                            diags.push(
+                                Diagnostic::new(Code::PidParameter, msg, fspan(cols[3]), "invalid loop parameter")
+                                    .with_help("the PID section of docs/ladder.md lists the members and their ranges"),
+                            );
+                            ok = false;
+                        }
+                        members = m;
+                    }
+                    Err(msg) => {
+                        diags.push(
+                            Diagnostic::new(Code::PidParameter, msg, fspan(cols[3]), "bad PID parameter list")
+                                .with_help("write MEMBER=value pairs separated by `;`, e.g. `KP=5;KI=0.8;UPD=640`"),
+                        );
+                        ok = false;
+                    }
+                }
+            }
             let initial = match ty {
+                Some(DataType::Pid) => None,
                 Some(t) if !init_text.is_empty() => match Value::parse(init_text, t) {
                     Ok(v) => Some(v),
                     Err(msg) => {
@@ -377,6 +422,7 @@ impl TagTable {
                 address,
                 address_text: address.map(|_| addr_text.to_string()),
                 initial,
+                members,
                 retain,
                 description: text(cols[5]).to_string(),
                 span: name_span,
@@ -394,7 +440,15 @@ impl TagTable {
                 t.name.clone(),
                 t.ty.name().to_string(),
                 t.address_text.clone().unwrap_or_default(),
-                t.initial.map(|v| v.to_string()).unwrap_or_default(),
+                if t.members.is_empty() {
+                    t.initial.map(|v| v.to_string()).unwrap_or_default()
+                } else {
+                    t.members
+                        .iter()
+                        .map(|(m, v)| format!("{m}={v}"))
+                        .collect::<Vec<_>>()
+                        .join(";")
+                },
                 if t.retain { "1".into() } else { String::new() },
                 t.description.clone(),
             ];
@@ -469,7 +523,8 @@ mod tests {
                     C,BOOL,DI:1/2,,,\n\
                     1bad,BOOL,,,,\n\
                     D,BOOL,,,maybe,\n\
-                    P,PID,,,,\n";
+                    P,PID,,UPD=0,,\n\
+                    Q,PID,,KP=1;KQ=2,,\n";
         let (t, d, files) = parse(text);
         let got: Vec<String> = d.iter().map(|d| d.short(&files)).collect();
         let expect = [
@@ -481,7 +536,8 @@ mod tests {
             "tags.csv:9:8: error[E116]: address DI:1/2 is already used by `B` (%IX0.2)",
             "tags.csv:10:1: error[E112]: `1bad` is not a valid tag name: use letters, digits and `_`, not starting with a digit",
             "tags.csv:11:10: error[E119]: `maybe` is not a retain flag",
-            "tags.csv:12:3: error[E120]: type PID is reserved for the PID instruction and not available yet",
+            "tags.csv:12:8: error[E121]: PID parameter UPD = 0: the loop update time must be more than 0 ms (SLC error 11H)",
+            "tags.csv:13:8: error[E121]: PID has no member `KQ` (writable members: SP CV KP KI KD KC TI TD BIAS MAXO MINO MAXS MINS MAXI MINI MAXCV MINCV DB DFN UPD FORM MAN DIRECT DOE DEP OL)",
         ];
         assert_eq!(got, expect);
         assert_eq!(t.len(), 2); // Good and B

@@ -22,7 +22,7 @@ pub enum DataType {
     Time,
     Timer,
     Counter,
-    /// Reserved for the PID instruction.
+    /// The PID loop structure (SPEC §6, see [`PID_MEMBERS`]).
     Pid,
 }
 
@@ -67,6 +67,257 @@ pub const COUNTER_MEMBERS: &[Member] = &[
     m("OV", DataType::Bool, false, 3),
     m("UN", DataType::Bool, false, 4),
 ];
+
+/// PID: REAL slots SP … DFN, DINT slots UPD ERRC FORM, BOOL slots EN … OL
+/// (and hidden state after the members of each class, see `alba_ir::Pidt`).
+/// Status bits are set by the instruction; the SLC 500's SP/PV/DB status
+/// bits are `SPOR`, `PVOR` and `INDB` here because `SP`, `PV` and `DB` name
+/// the setpoint, the process variable and the deadband.
+pub const PID_MEMBERS: &[Member] = &[
+    m("SP", DataType::Real, true, 0),
+    m("PV", DataType::Real, false, 1),
+    m("ERR", DataType::Real, false, 2),
+    m("CV", DataType::Real, true, 3),
+    m("KP", DataType::Real, true, 4),
+    m("KI", DataType::Real, true, 5),
+    m("KD", DataType::Real, true, 6),
+    m("KC", DataType::Real, true, 7),
+    m("TI", DataType::Real, true, 8),
+    m("TD", DataType::Real, true, 9),
+    m("BIAS", DataType::Real, true, 10),
+    m("MAXO", DataType::Real, true, 11),
+    m("MINO", DataType::Real, true, 12),
+    m("MAXS", DataType::Real, true, 13),
+    m("MINS", DataType::Real, true, 14),
+    m("MAXI", DataType::Real, true, 15),
+    m("MINI", DataType::Real, true, 16),
+    m("MAXCV", DataType::Real, true, 17),
+    m("MINCV", DataType::Real, true, 18),
+    m("DB", DataType::Real, true, 19),
+    m("DFN", DataType::Real, true, 20),
+    m("UPD", DataType::Dint, true, 0),
+    m("ERRC", DataType::Dint, false, 1),
+    m("FORM", DataType::Dint, true, 2),
+    m("EN", DataType::Bool, false, 0),
+    m("DN", DataType::Bool, false, 1),
+    m("UL", DataType::Bool, false, 2),
+    m("LL", DataType::Bool, false, 3),
+    m("SPOR", DataType::Bool, false, 4),
+    m("PVOR", DataType::Bool, false, 5),
+    m("INDB", DataType::Bool, false, 6),
+    m("TF", DataType::Bool, false, 7),
+    m("MAN", DataType::Bool, true, 8),
+    m("DIRECT", DataType::Bool, true, 9),
+    m("DOE", DataType::Bool, true, 10),
+    m("DEP", DataType::Bool, true, 11),
+    m("OL", DataType::Bool, true, 12),
+];
+
+/// Default values of PID members that are not zero (a new loop limits its
+/// output to 0-100 %, filters its derivative with N = 10 and updates every
+/// 100 ms).
+pub const PID_DEFAULTS: &[(&str, f64)] = &[("MAXO", 100.0), ("DFN", 10.0), ("UPD", 100.0), ("OL", 1.0)];
+
+/// The parameters of a PID loop that can be wrong, for the checks done
+/// when a project is checked (constant initial values) and by the
+/// instruction at run time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PidParams {
+    pub kp: f64,
+    pub ki: f64,
+    pub kd: f64,
+    pub kc: f64,
+    pub ti: f64,
+    pub td: f64,
+    pub maxs: f64,
+    pub mins: f64,
+    pub db: f64,
+    pub maxo: f64,
+    pub mino: f64,
+    pub dfn: f64,
+    pub maxi: f64,
+    pub mini: f64,
+    pub maxcv: f64,
+    pub mincv: f64,
+    pub bias: f64,
+    pub upd: f64,
+    pub form: f64,
+}
+
+/// Error codes of a PID loop (`ERRC`): the SLC 500's where it has one.
+pub mod pid_error {
+    /// Loop update time not more than 0.
+    pub const UPD: i32 = 0x11;
+    /// Proportional gain (KP, or KC with DEP) below 0.
+    pub const GAIN: i32 = 0x12;
+    /// Integral gain or time below 0.
+    pub const INTEGRAL: i32 = 0x13;
+    /// Derivative gain or time below 0.
+    pub const DERIVATIVE: i32 = 0x14;
+    /// MINS above MAXS.
+    pub const SCALE: i32 = 0x23;
+    /// Deadband below 0 or above MAXS-MINS.
+    pub const DEADBAND: i32 = 0x41;
+    /// MINO above MAXO.
+    pub const LIMITS: i32 = 0x52;
+    /// A parameter is NaN or infinite (Alba's own code).
+    pub const NAN: i32 = 0x70;
+    /// DFN below 0 (Alba's own code).
+    pub const FILTER: i32 = 0x71;
+    /// FORM not 0 to 4 (Alba's own code).
+    pub const FORM: i32 = 0x72;
+}
+
+impl PidParams {
+    /// The first problem, as (ERRC code, member, message), or `None`.
+    pub fn check(&self) -> Option<(i32, &'static str, String)> {
+        use pid_error as E;
+        let all = [
+            ("KP", self.kp),
+            ("KI", self.ki),
+            ("KD", self.kd),
+            ("KC", self.kc),
+            ("TI", self.ti),
+            ("TD", self.td),
+            ("MAXS", self.maxs),
+            ("MINS", self.mins),
+            ("DB", self.db),
+            ("MAXO", self.maxo),
+            ("MINO", self.mino),
+            ("DFN", self.dfn),
+            ("MAXI", self.maxi),
+            ("MINI", self.mini),
+            ("MAXCV", self.maxcv),
+            ("MINCV", self.mincv),
+            ("BIAS", self.bias),
+        ];
+        if let Some((n, v)) = all.iter().find(|(_, v)| !v.is_finite()) {
+            return Some((E::NAN, n, format!("PID parameter {n} is {v}, not a number")));
+        }
+        if self.upd <= 0.0 {
+            return Some((
+                E::UPD,
+                "UPD",
+                format!(
+                    "PID parameter UPD = {}: the loop update time must be more than 0 ms (SLC error 11H)",
+                    self.upd
+                ),
+            ));
+        }
+        for (n, v, code, what) in [
+            ("KP", self.kp, E::GAIN, "a gain"),
+            ("KC", self.kc, E::GAIN, "a gain"),
+            ("KI", self.ki, E::INTEGRAL, "an integral gain"),
+            ("TI", self.ti, E::INTEGRAL, "an integral time"),
+            ("KD", self.kd, E::DERIVATIVE, "a derivative gain"),
+            ("TD", self.td, E::DERIVATIVE, "a derivative time"),
+        ] {
+            if v < 0.0 {
+                let slc = format!("{code:X}H");
+                return Some((
+                    code,
+                    n,
+                    format!("PID parameter {n} = {v}: {what} cannot be negative (SLC error {slc})"),
+                ));
+            }
+        }
+        if self.mins > self.maxs {
+            return Some((
+                E::SCALE,
+                "MINS",
+                format!(
+                    "PID parameter MINS = {} is more than MAXS = {} (SLC error 23H)",
+                    self.mins, self.maxs
+                ),
+            ));
+        }
+        let span = self.maxs - self.mins;
+        if self.db < 0.0 || (span > 0.0 && self.db > span) {
+            return Some((
+                E::DEADBAND,
+                "DB",
+                format!(
+                    "PID parameter DB = {}: the deadband must be from 0 to MAXS-MINS = {span} (SLC error 41H)",
+                    self.db
+                ),
+            ));
+        }
+        if self.mino > self.maxo {
+            return Some((
+                E::LIMITS,
+                "MINO",
+                format!(
+                    "PID parameter MINO = {} is more than MAXO = {} (SLC error 52H)",
+                    self.mino, self.maxo
+                ),
+            ));
+        }
+        if self.dfn < 0.0 {
+            return Some((
+                E::FILTER,
+                "DFN",
+                format!(
+                    "PID parameter DFN = {}: the derivative filter factor cannot be negative",
+                    self.dfn
+                ),
+            ));
+        }
+        if self.form == 3.0 && self.upd < 10.0 {
+            return Some((
+                E::FORM,
+                "UPD",
+                format!(
+                    "PID parameter UPD = {} with FORM 3: the 16-bit s-plane form counts T in hundredths of a second, so UPD must be 10 ms or more",
+                    self.upd
+                ),
+            ));
+        }
+        if !(0.0..=4.0).contains(&self.form) || self.form.fract() != 0.0 {
+            return Some((
+                E::FORM,
+                "FORM",
+                format!(
+                    "PID parameter FORM = {}: the algorithm is 0 (positional), 1 or 2 (velocity, s- or z-plane) or 3 or 4 (the same with 16-bit SLC arithmetic)",
+                    self.form
+                ),
+            ));
+        }
+        None
+    }
+
+    /// The parameters given as `MEMBER=value` pairs over the defaults.
+    pub fn from_members(members: &[(String, crate::Value)]) -> PidParams {
+        let get = |n: &str| {
+            members
+                .iter()
+                .find(|(m, _)| m.eq_ignore_ascii_case(n))
+                .map(|(_, v)| v.as_f64())
+                .or_else(|| PID_DEFAULTS.iter().find(|(m, _)| *m == n).map(|(_, v)| *v))
+                .unwrap_or(0.0)
+        };
+        PidParams {
+            kp: get("KP"),
+            ki: get("KI"),
+            kd: get("KD"),
+            kc: get("KC"),
+            ti: get("TI"),
+            td: get("TD"),
+            maxs: get("MAXS"),
+            mins: get("MINS"),
+            db: get("DB"),
+            maxo: get("MAXO"),
+            mino: get("MINO"),
+            dfn: get("DFN"),
+            maxi: get("MAXI"),
+            mini: get("MINI"),
+            maxcv: get("MAXCV"),
+            mincv: get("MINCV"),
+            bias: get("BIAS"),
+            upd: get("UPD"),
+            form: get("FORM"),
+        }
+    }
+}
 
 impl DataType {
     pub const ALL: &'static [DataType] = &[
@@ -142,6 +393,7 @@ impl DataType {
         match self {
             DataType::Timer => TIMER_MEMBERS,
             DataType::Counter => COUNTER_MEMBERS,
+            DataType::Pid => PID_MEMBERS,
             _ => &[],
         }
     }

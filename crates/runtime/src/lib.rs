@@ -175,8 +175,9 @@ impl Snapshot {
 }
 
 /// Reads and writes the physical I/O around each scan. The simulated I/O
-/// does nothing: the inputs are driven by the plant models of the project
-/// (`plant = [...]`), forces and operator writes.
+/// steps the project's `[[plant_model]]`s in real time; otherwise inputs
+/// are driven by the plant programs (`plant = [...]`), forces and operator
+/// writes.
 pub trait Io: Send {
     fn name(&self) -> &str;
     fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String>;
@@ -202,7 +203,8 @@ impl Io for SimIo {
     fn name(&self) -> &str {
         "sim"
     }
-    fn read_inputs(&mut self, _: &mut Engine) -> Result<(), String> {
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
+        engine.step_plants_now();
         Ok(())
     }
     fn write_outputs(&mut self, _: &Engine) -> Result<(), String> {

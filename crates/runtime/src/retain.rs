@@ -25,7 +25,7 @@ pub fn retained(p: &Program) -> Vec<(String, Place)> {
             continue;
         }
         match layout.slot(idx) {
-            TagSlot::Timer(_) | TagSlot::Counter(_) => {
+            TagSlot::Timer(_) | TagSlot::Counter(_) | TagSlot::Pid(_) => {
                 names.extend(tag.ty.members().iter().map(|m| format!("{}.{}", tag.name, m.name)));
             }
             _ => {

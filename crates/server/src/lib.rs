@@ -175,6 +175,9 @@ fn writable(s: &Snapshot, name: &str) -> Result<alba_ir::Place, ApiError> {
         Ok(Target::Timer(_) | Target::Counter(_)) => Err(ApiError::unprocessable(format!(
             "`{name}` is a structure: write one of its members (`{name}.PRE`, `{name}.ACC`)"
         ))),
+        Ok(Target::Pid(_)) => Err(ApiError::unprocessable(format!(
+            "`{name}` is a structure: write one of its members (`{name}.SP`, `{name}.KP`, `{name}.MAN`)"
+        ))),
         Ok(Target::Value { place, access }) => match access {
             Access::ReadWrite => Ok(place),
             Access::Input => Err(ApiError::unprocessable(format!(

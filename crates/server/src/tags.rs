@@ -23,6 +23,11 @@ pub fn members(ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Vec<(&'static str,
         .collect()
 }
 
+/// The places of a PID's members, by member name.
+pub fn pid_members(p: alba_ir::Pidt) -> Vec<(&'static str, Place)> {
+    DataType::Pid.members().iter().map(|m| (m.name, p.member(m))).collect()
+}
+
 /// A structure's value: an object of its members.
 fn structure(s: &Snapshot, ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Json {
     let m: Map<String, Json> = members(ty, i, b)
@@ -38,6 +43,12 @@ pub fn target_value(s: &Snapshot, target: Target) -> Json {
         Target::Value { place, .. } => to_json(s.read(place)),
         Target::Timer(Tmr { i, b }) => structure(s, DataType::Timer, i, b),
         Target::Counter(Ctr { i, b }) => structure(s, DataType::Counter, i, b),
+        Target::Pid(p) => Json::Object(
+            pid_members(p)
+                .into_iter()
+                .map(|(n, pl)| (n.to_string(), to_json(s.read(pl))))
+                .collect(),
+        ),
     }
 }
 
@@ -112,6 +123,7 @@ pub fn one(s: &Snapshot, name: &str) -> Option<Json> {
         Target::Value { place, access } => (place.data_type(), access),
         Target::Timer(_) => (DataType::Timer, Access::ReadWrite),
         Target::Counter(_) => (DataType::Counter, Access::ReadWrite),
+        Target::Pid(_) => (DataType::Pid, Access::ReadWrite),
     };
     Some(json!({
         "name": name,
@@ -130,6 +142,11 @@ pub fn every_value(layout: &Layout) -> Vec<(String, Place)> {
         match layout.slot(idx) {
             TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }) => {
                 for (m, p) in members(tag.ty, i, b) {
+                    out.push((format!("{}.{m}", tag.name), p));
+                }
+            }
+            TagSlot::Pid(pid) => {
+                for (m, p) in pid_members(pid) {
                     out.push((format!("{}.{m}", tag.name), p));
                 }
             }

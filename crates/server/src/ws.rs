@@ -77,6 +77,10 @@ impl Client {
                         .into_iter()
                         .map(|(m, p)| (format!("{n}.{m}"), p))
                         .collect(),
+                    Ok(Target::Pid(pid)) => tags::pid_members(pid)
+                        .into_iter()
+                        .map(|(m, p)| (format!("{n}.{m}"), p))
+                        .collect(),
                     Err(_) => {
                         unknown.push(n.clone());
                         Vec::new()

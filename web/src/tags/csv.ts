@@ -6,7 +6,7 @@ export const COLUMNS = ['name', 'type', 'address', 'initial', 'retain', 'descrip
 export type Column = (typeof COLUMNS)[number];
 export type TagDef = Record<Column, string>;
 
-export const TYPES = ['BOOL', 'SINT', 'INT', 'DINT', 'LINT', 'REAL', 'LREAL', 'TIME', 'TIMER', 'COUNTER'];
+export const TYPES = ['BOOL', 'SINT', 'INT', 'DINT', 'LINT', 'REAL', 'LREAL', 'TIME', 'TIMER', 'COUNTER', 'PID'];
 
 /** Splits CSV text into records of fields (quotes and doubled quotes, CRLF or LF, blank lines dropped). */
 export function parseCsv(text: string): string[][] {

@@ -73,3 +73,52 @@ fn check_reports_every_error_of_a_file() {
         assert!(err.contains(want), "missing `{want}` in:\n{err}");
     }
 }
+
+#[test]
+fn tune_runs_a_relay_experiment_and_summary_measures_a_step() {
+    let root = crate::repo();
+    let gp1 = root.join("examples/pid-gp1");
+    let gp1 = gp1.to_str().unwrap();
+    let out = alba(&root, &["tune", gp1, "--loop", "Loop", "--sp", "5"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        text.contains("Ku = ") && text.contains("| Tyreus-Luyben PI |"),
+        "{text}"
+    );
+    let out = alba(&root, &["tune", gp1, "--loop", "Meas"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("`Meas` is not a PID tag"));
+    // --summary on the z-tuned case: the figures of docs/pid.md.
+    let dir = scratch("summary");
+    let trace = dir.join("t.csv");
+    let stim = root.join("examples/pid-gp1/stimulus-z-tuned.csv");
+    let args = [
+        "sim",
+        gp1,
+        "--until",
+        "60000",
+        "--every",
+        "320",
+        "--stimulus",
+        stim.to_str().unwrap(),
+        "--tags",
+        "Loop.SP,Loop.PV",
+        "--trace",
+        trace.to_str().unwrap(),
+        "--summary",
+        "Loop.PV:Loop.SP",
+    ];
+    let out = alba(&root, &args);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        text.contains("overshoot 0.04 %") && text.contains("settling time (98 %) 11.52 s"),
+        "{text}"
+    );
+    let mut bad = args;
+    bad[13] = "Loop.CV";
+    let out = alba(&root, &bad);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not traced"));
+}

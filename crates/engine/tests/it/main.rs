@@ -1,7 +1,9 @@
 //! Integration tests of the engine: golden traces, properties, power flow.
 
+mod autotune;
 mod golden;
 mod online_edit;
+mod pid;
 mod power_flow;
 mod properties;
 mod util;

@@ -13,11 +13,13 @@ const TAGS: &str = "name,type,address,initial\n\
 I0,BOOL,DI:1/0,\nI1,BOOL,DI:1/1,\nI2,BOOL,DI:1/2,\nI3,BOOL,DI:1/3,\n\
 B0,BOOL,,\nB1,BOOL,,1\nB2,BOOL,,\nB3,BOOL,,\nQ0,BOOL,DO:2/0,\nQ1,BOOL,DO:2/1,\n\
 T0,TIMER,,\nT1,TIMER,,\nC0,COUNTER,,\nC1,COUNTER,,\n\
-D0,DINT,,3\nD1,DINT,,-7\nD2,DINT,,\nS0,INT,,100\nR0,REAL,,1.5\nR1,REAL,,\nW0,INT,MW0,\nM0,BOOL,M2.1,\n";
+D0,DINT,,3\nD1,DINT,,-7\nD2,DINT,,\nS0,INT,,100\nR0,REAL,,1.5\nR1,REAL,,\nW0,INT,MW0,\nM0,BOOL,M2.1,\n\
+P0,PID,,\"KP=1;KI=0.5;KD=0.1;UPD=20;MAXO=80\"\n";
 
 fn contact() -> impl Strategy<Value = String> {
     let bit = prop::sample::select(vec![
-        "I0", "I1", "I2", "I3", "B0", "B1", "B2", "B3", "Q0", "T0.DN", "T1.TT", "C0.DN", "C1.CU", "M0",
+        "I0", "I1", "I2", "I3", "B0", "B1", "B2", "B3", "Q0", "T0.DN", "T1.TT", "C0.DN", "C1.CU", "M0", "P0.DN",
+        "P0.UL",
     ]);
     let cmp = prop::sample::select(vec![
         "GRT(D0,D1)",
@@ -40,6 +42,10 @@ fn contact() -> impl Strategy<Value = String> {
 fn output() -> impl Strategy<Value = String> {
     prop::sample::select(vec![
         "OTE(B0)",
+        "PID(P0,D0,R1)",
+        "PID(P0,R0,D2)",
+        "MOV(D1,P0.SP)",
+        "OTE(P0.MAN)",
         "OTE(Q0)",
         "OTL(B2)",
         "OTU(B2)",

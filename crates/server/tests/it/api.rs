@@ -426,3 +426,40 @@ async fn instruction_palette_has_the_eight_groups_in_order() {
     assert_eq!(ton.expect("TON")["args"], json!(["timer", "preset", "accum"]));
     s.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pid_members_over_the_api_and_a_plant_in_real_time() {
+    let s = Server::start("pid-level", "pid").await;
+    let tags = s.get("/api/tags").await;
+    let lp = tags
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|t| t["name"] == "Loop")
+        .expect("Loop")
+        .clone();
+    assert_eq!(lp["type"], "PID");
+    assert_eq!(lp["value"]["UPD"], 250);
+    assert!((lp["value"]["KP"].as_f64().expect("KP") - 7.14).abs() < 1e-5);
+    // Set a higher level; the simulated tank (a [[plant_model]]) follows in real time.
+    let (code, _) = s
+        .call(Method::PUT, "/api/tags/Loop.SP", Some(json!({"value": 3.0})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    for (name, body) in [("Loop.PV", json!({"value": 1.0})), ("Loop", json!({"value": 1}))] {
+        let (code, j) = s.call(Method::PUT, &format!("/api/tags/{name}"), Some(body)).await;
+        assert!(code.is_client_error(), "{name}: {code} {j}");
+    }
+    let start = s.value("Level").await.as_f64().expect("level");
+    let mut level = start;
+    for _ in 0..100 {
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+        level = s.value("Level").await.as_f64().expect("level");
+        if level > 2000.0 {
+            break;
+        }
+    }
+    assert!(level > 2000.0, "the level rose from {start} to only {level}");
+    assert_eq!(s.value("Loop.SP").await, 3.0);
+    s.stop().await;
+}

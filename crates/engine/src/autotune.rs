@@ -1,0 +1,190 @@
+//! Relay-feedback autotuning (Åström–Hägglund) of a PID loop in simulation
+//! (`alba tune`), with Ziegler–Nichols and Tyreus–Luyben rules.
+//!
+//! The loop is put in manual and its output driven by a relay around a bias:
+//! `CV = bias + d` while the error is above `+h`, `bias − d` below `−h`
+//! (hysteresis `h` against noise), otherwise unchanged. The plant then
+//! oscillates at about its ultimate period. From the last whole cycles the
+//! period Pu is the mean time between rising relay switches, and the
+//! amplitude is taken from the **fundamental** of the measured PV over those
+//! cycles (a Fourier coefficient), not from its peaks: the relay's square
+//! wave has the fundamental 4d/π, so Ku = 4d/(π·a₁) is the describing
+//! function without the error that the harmonics of a non-sinusoidal PV
+//! bring into the peak method. With hysteresis, a₁ is replaced by
+//! √(a₁² − h²) as in Åström–Hägglund.
+
+use crate::engine::Engine;
+use alba_ir::{Place, Target};
+use alba_model::Value;
+
+/// How to run the experiment.
+#[derive(Debug, Clone, Copy)]
+pub struct RelayOptions {
+    /// Scan period, ms.
+    pub scan_ms: u64,
+    /// Relay amplitude d, % of CV.
+    pub amplitude: f64,
+    /// Relay centre, % of CV.
+    pub bias: f64,
+    /// Hysteresis h, in the units of the error (engineering units).
+    pub hysteresis: f64,
+    /// Give up after this long, ms.
+    pub until_ms: u64,
+    /// Whole cycles to average once the oscillation has settled.
+    pub cycles: usize,
+}
+
+/// What the experiment found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RelayResult {
+    /// Ultimate gain, %CV per % of the PV span (the loop's gain units).
+    pub ku: f64,
+    /// Ultimate period, s.
+    pub pu: f64,
+    /// Amplitude of the PV's fundamental, engineering units.
+    pub a: f64,
+    /// Peak-to-peak half amplitude of the PV, engineering units (for comparison).
+    pub a_peak: f64,
+    pub cycles: usize,
+}
+
+/// A tuning rule's gains.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gains {
+    pub rule: &'static str,
+    pub kc: f64,
+    /// s (0: none).
+    pub ti: f64,
+    /// s (0: none).
+    pub td: f64,
+}
+
+impl Gains {
+    /// Independent gains: KP, KI (1/s), KD (s).
+    pub fn independent(&self) -> (f64, f64, f64) {
+        let ki = if self.ti > 0.0 { self.kc / self.ti } else { 0.0 };
+        (self.kc, ki, self.kc * self.td)
+    }
+}
+
+/// Ziegler–Nichols and Tyreus–Luyben settings from Ku and Pu.
+pub fn rules(ku: f64, pu: f64) -> Vec<Gains> {
+    let g = |rule, kc, ti, td| Gains { rule, kc, ti, td };
+    vec![
+        g("Ziegler-Nichols P", 0.5 * ku, 0.0, 0.0),
+        g("Ziegler-Nichols PI", 0.45 * ku, pu / 1.2, 0.0),
+        g("Ziegler-Nichols PID", 0.6 * ku, pu / 2.0, pu / 8.0),
+        g("Tyreus-Luyben PI", ku / 3.2, 2.2 * pu, 0.0),
+        g("Tyreus-Luyben PID", ku / 2.2, 2.2 * pu, pu / 6.3),
+    ]
+}
+
+fn place(engine: &Engine, name: &str) -> Result<Place, String> {
+    match engine.program().layout.resolve(name) {
+        Ok(Target::Value { place, .. }) => Ok(place),
+        Ok(_) => Err(format!("`{name}` is not a value")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Runs the relay experiment on the PID tag `pid` of a running simulation
+/// (plants attached), from virtual time 0.
+pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayResult, String> {
+    let p = |m: &str| place(engine, &format!("{pid}.{m}"));
+    let (sp, pv, cv, man, direct, maxs, mins) = (
+        p("SP")?,
+        p("PV")?,
+        p("CV")?,
+        p("MAN")?,
+        p("DIRECT")?,
+        p("MAXS")?,
+        p("MINS")?,
+    );
+    if !(opt.amplitude > 0.0 && opt.hysteresis >= 0.0 && opt.scan_ms > 0) {
+        return Err("the relay amplitude must be more than 0 and the hysteresis 0 or more".into());
+    }
+    let mut t = 0u64;
+    let mut high = true;
+    let mut times = Vec::new();
+    let mut pvs = Vec::new();
+    let mut rises: Vec<usize> = Vec::new();
+    let mut us = Vec::new();
+    while t <= opt.until_ms {
+        engine.step_plants(t);
+        let sign = if engine.read(direct).as_bool() { -1.0 } else { 1.0 };
+        let e = sign * (engine.read(sp).as_f64() - engine.read(pv).as_f64());
+        if high && e < -opt.hysteresis {
+            high = false;
+        } else if !high && e > opt.hysteresis {
+            high = true;
+            rises.push(times.len());
+        }
+        let u = opt.bias + if high { opt.amplitude } else { -opt.amplitude };
+        engine.write(man, Value::Bool(true));
+        engine.write(cv, Value::Real(u as f32));
+        engine.scan(t).map_err(|m| m.message)?;
+        times.push(t);
+        pvs.push(engine.read(pv).as_f64());
+        us.push(u);
+        // Enough cycles: the first two are the transient.
+        if rises.len() > opt.cycles + 2 {
+            break;
+        }
+        t += opt.scan_ms;
+    }
+    if rises.len() < opt.cycles + 2 {
+        return Err(format!(
+            "no sustained oscillation within {} s ({} relay cycles): increase the amplitude, lower the hysteresis or check the bias",
+            opt.until_ms / 1000,
+            rises.len().saturating_sub(1)
+        ));
+    }
+    let last = &rises[rises.len() - 1 - opt.cycles..];
+    let (i0, i1) = (last[0], last[last.len() - 1]);
+    let span_s = (times[i1] - times[i0]) as f64 / 1000.0;
+    let pu = span_s / opt.cycles as f64;
+    // Fundamental of PV over the whole cycles [i0, i1).
+    let w = std::f64::consts::TAU / pu;
+    let n = (i1 - i0) as f64;
+    let mean = pvs[i0..i1].iter().sum::<f64>() / n;
+    let (mut c, mut s) = (0.0, 0.0);
+    for k in i0..i1 {
+        let tk = (times[k] - times[i0]) as f64 / 1000.0;
+        c += (pvs[k] - mean) * (w * tk).cos();
+        s += (pvs[k] - mean) * (w * tk).sin();
+    }
+    let a1 = 2.0 * (c * c + s * s).sqrt() / n;
+    let (lo, hi) = pvs[i0..i1]
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(*v), h.max(*v)));
+    let a_eff = (a1 * a1 - opt.hysteresis * opt.hysteresis).max(0.0).sqrt();
+    if a_eff <= 0.0 {
+        return Err("the oscillation is smaller than the hysteresis".into());
+    }
+    let span = engine.read(maxs).as_f64() - engine.read(mins).as_f64();
+    let a_pct = if span > 0.0 { a_eff * 100.0 / span } else { a_eff };
+    Ok(RelayResult {
+        ku: 4.0 * opt.amplitude / (std::f64::consts::PI * a_pct),
+        pu,
+        a: a1,
+        a_peak: (hi - lo) / 2.0,
+        cycles: opt.cycles,
+    })
+}
+
+/// The ultimate gain and period of K·e^(−Ls)/(τs + 1): the frequency where
+/// the phase is −π (bisection), Ku = √(1 + (ωτ)²)/K, Pu = 2π/ω.
+pub fn fopdt_ultimate(k: f64, tau: f64, dead: f64) -> (f64, f64) {
+    let phase = |w: f64| -w * dead - (w * tau).atan();
+    let (mut lo, mut hi) = (1e-9, std::f64::consts::PI / dead);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if phase(mid) > -std::f64::consts::PI {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let w = 0.5 * (lo + hi);
+    ((1.0 + (w * tau).powi(2)).sqrt() / k, std::f64::consts::TAU / w)
+}
