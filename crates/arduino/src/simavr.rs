@@ -13,7 +13,7 @@ use crate::sketch::Wire;
 use crate::toolchain::{cache_dir, run, temp_sibling, tool_error};
 use alba_ir::Place;
 use alba_model::address::Address;
-use alba_model::board::{Model, Pin};
+use alba_model::board::Model;
 use alba_model::{Code, Diagnostic, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -96,10 +96,6 @@ pub struct Run {
     pub profile: Profile,
 }
 
-fn pin_name(p: Pin) -> String {
-    p.to_string()
-}
-
 /// The wire of an image slot.
 fn wire_of(wiring: &[Wire], place: Place) -> Option<&Wire> {
     wiring.iter().find(|w| match (w.address, place) {
@@ -111,7 +107,8 @@ fn wire_of(wiring: &[Wire], place: Place) -> Option<&Wire> {
 
 /// Runs the firmware `elf` for `model` in simavr with stimulus rows
 /// `(time_ms, place, value)` (inputs wired to pins) and returns the trace
-/// of `cols` (I/O wired to pins). Until the stimulus sets it, an input pin
+/// of `cols` (wired I/O read on the pins, everything else in the firmware's
+/// memory). Until the stimulus sets it, an input pin
 /// holds its tag's initial value from `init` (what the simulator starts with).
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
@@ -176,14 +173,14 @@ pub fn simulate(
         // reach the scan of that deadline).
         let at = t.div_ceil(timing.scan_ms.max(1)) * timing.scan_ms.max(1);
         given.push((at, w.address, v));
-        let _ = writeln!(stim, "{at},{},{v}", pin_name(w.pin));
+        let _ = writeln!(stim, "{at},{},{v}", w.pin);
     }
     // Wired I/O is read on the pins; everything else in the firmware's memory.
     let mut pins = Vec::new();
     for c in cols {
         match wire_of(wiring, c.place) {
-            Some(w) if matches!(w.address, Address::AnalogOut(_)) => pins.push(format!("{}:pwm", pin_name(w.pin))),
-            Some(w) => pins.push(pin_name(w.pin)),
+            Some(w) if matches!(w.address, Address::AnalogOut(_)) => pins.push(format!("{}:pwm", w.pin)),
+            Some(w) => pins.push(w.pin.to_string()),
             None if matches!(c.place, Place::Lreal(_)) => diags.push(Diagnostic::unplaced(
                 Code::TraceName,
                 format!("`{}` is an LREAL, which the board has not", c.name),
