@@ -21,9 +21,8 @@ alba="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/debug/alba"
 for link in modbus aurora; do
     for bm in uno:openplc nano:aurora mega:aurora; do
         b=${bm%%:*} map=${bm##*:}
-        "$alba" firmware --board "$b" --pinmap "$map" --link "$link" -o "$out/$link-$b" >/dev/null
         printf '%s link, ' "$link"
-        build_sketch "$out/$link-$b/$link-$b.ino" "$b" "$out/build-$link-$b"
+        "$alba" firmware --board "$b" --pinmap "$map" --link "$link" -o "$out/$link-$b" --build 2>&1 >/dev/null | tail -1
     done
 done
 cargo test -q --locked -p alba-io --test board -- --ignored --nocapture 2>&1 \

@@ -146,17 +146,25 @@ pub fn export(dir: &Path, args: &BoardArgs, out: &Path, build: bool, upload: Opt
     if !build && upload.is_none() {
         return ExitCode::SUCCESS;
     }
-    let built = match toolchain::build(&folder.join(&s.files[0].0), t.model, &folder.join("build")) {
+    build_and_upload(&folder.join(&s.files[0].0), t.model, upload)
+}
+
+/// Builds a sketch into `build/` beside it, reports its size, and uploads it
+/// when a port is given (`alba export arduino`, `alba firmware`).
+pub fn build_and_upload(sketch: &Path, model: Model, upload: Option<&str>) -> ExitCode {
+    let files = alba_model::Files::new();
+    let dir = sketch.parent().unwrap_or(Path::new("."));
+    let built = match toolchain::build(sketch, model, &dir.join("build")) {
         Ok(b) => b,
         Err(d) => {
-            report(&[d], c.files(), false);
+            report(&[d], &files, false);
             return ExitCode::FAILURE;
         }
     };
     eprintln!("built {}\n{}", built.hex.display(), built.report());
     if let Some(port) = upload {
         if let Err(d) = toolchain::upload(&built, port) {
-            report(&[d], c.files(), false);
+            report(&[d], &files, false);
             return ExitCode::FAILURE;
         }
         eprintln!("uploaded to {port}");

@@ -17,6 +17,9 @@ pub struct Args<'a> {
     pub active_low: bool,
     pub pullup: bool,
     pub out: &'a Path,
+    /// Build with avr-gcc (and upload to this port).
+    pub build: bool,
+    pub upload: Option<&'a str>,
 }
 
 fn refuse(msg: String) -> ExitCode {
@@ -104,6 +107,9 @@ pub fn run(a: Args) -> ExitCode {
                 c.ao,
                 spec.watchdog_ms
             );
+            if a.build {
+                return crate::export::build_and_upload(&path, model, a.upload);
+            }
             ExitCode::SUCCESS
         }
         Err(e) => refuse(e),

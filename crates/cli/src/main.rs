@@ -155,6 +155,12 @@ enum Command {
         /// Folder to write the sketch into (as FOLDER/FOLDER.ino, as the Arduino IDE wants).
         #[arg(short, long, value_name = "DIR")]
         out: PathBuf,
+        /// Build with avr-gcc and report flash and RAM against the board.
+        #[arg(long)]
+        build: bool,
+        /// Build, then upload with avrdude to this serial port.
+        #[arg(long, value_name = "PORT")]
+        upload: Option<String>,
     },
     /// Start the studio on the tank example with its simulated plant.
     Demo {
@@ -280,6 +286,8 @@ fn main() -> ExitCode {
             active_low,
             input_pullup,
             out,
+            build,
+            upload,
         } => firmware::run(firmware::Args {
             project: project.as_deref(),
             board: board.as_deref(),
@@ -290,6 +298,8 @@ fn main() -> ExitCode {
             active_low,
             pullup: input_pullup,
             out: &out,
+            build: build || upload.is_some(),
+            upload: upload.as_deref(),
         }),
     }
 }
