@@ -3,6 +3,7 @@
 mod commands;
 mod differential;
 mod examples;
+mod export;
 mod firmware;
 mod malformed;
 mod retain;

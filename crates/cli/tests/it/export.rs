@@ -1,0 +1,104 @@
+//! `alba export arduino`: the sketch folder of a project, the wiring table,
+//! the board from the command line or `[board]`, and refusals with codes.
+//! (Builds and behaviour: crates/arduino's differential tests and test.sh.)
+
+use crate::{alba, scratch};
+
+#[test]
+fn export_writes_the_sketch_folder_and_the_wiring() {
+    let d = scratch("export");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/start-stop");
+    let o = alba(
+        &d,
+        &[
+            "export",
+            "arduino",
+            &root.to_string_lossy(),
+            "--board",
+            "uno",
+            "-o",
+            "out",
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("for the Arduino Uno (scan 10 ms), wired:"), "{err}");
+    assert!(
+        err.contains("in  DI:1/0   D2    Start") && err.contains("out DO:2/1   D13   Lamp"),
+        "{err}"
+    );
+    let ino = std::fs::read_to_string(d.join("out/start_stop/start_stop.ino")).expect("sketch");
+    let golden = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../arduino/tests/golden/start_stop.ino"),
+    )
+    .expect("golden");
+    assert_eq!(
+        ino, golden,
+        "the CLI writes the sketch the generator's golden test reviews"
+    );
+    for f in ["alba_rt.h", "alba_link.h"] {
+        assert!(d.join("out/start_stop").join(f).is_file(), "{f}");
+    }
+    // Without the monitoring link there is no alba_link.h and no Serial.
+    let o = alba(
+        &d,
+        &[
+            "export",
+            "arduino",
+            &root.to_string_lossy(),
+            "--board",
+            "nano",
+            "--no-monitor",
+            "-o",
+            "plain",
+        ],
+    );
+    assert!(o.status.success());
+    let ino = std::fs::read_to_string(d.join("plain/start_stop/start_stop.ino")).expect("sketch");
+    assert!(!ino.contains("Serial") && !d.join("plain/start_stop/alba_link.h").exists());
+}
+
+#[test]
+fn export_refusals_have_codes() {
+    let d = scratch("export-refusals");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let run = |args: &[&str]| {
+        let o = alba(&d, args);
+        (o.status.code(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let start_stop = root.join("start-stop").to_string_lossy().into_owned();
+    let (code, err) = run(&["export", "arduino", &start_stop, "-o", "x"]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("error[E404]: no board: give --board uno|nano|mega"),
+        "{err}"
+    );
+    let (_, err) = run(&["export", "arduino", &start_stop, "--board", "due", "-o", "x"]);
+    assert!(
+        err.contains("error[E404]: --board due: the boards are uno, nano and mega"),
+        "{err}"
+    );
+    let (_, err) = run(&[
+        "export",
+        "arduino",
+        &start_stop,
+        "--board",
+        "uno",
+        "--pinmap",
+        "x",
+        "-o",
+        "x",
+    ]);
+    assert!(
+        err.contains("error[E404]: --pinmap x: the presets are aurora, s7, openplc"),
+        "{err}"
+    );
+    let pid = root.join("pid-gp1").to_string_lossy().into_owned();
+    let (code, err) = run(&["export", "arduino", &pid, "--board", "uno", "-o", "x"]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("error[E501]: PID does not run on the board yet") && err.contains("main.lad:2:1"),
+        "{err}"
+    );
+    assert!(!d.join("x").exists(), "nothing written for a refused program");
+}
