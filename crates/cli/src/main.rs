@@ -78,6 +78,9 @@ enum Command {
         /// Interpret instead of compiling the program to native code.
         #[arg(long)]
         no_native: bool,
+        /// Serve Modbus TCP (OpenPLC v3's address map) on this address (default: `[modbus] listen` of alba.toml, else off).
+        #[arg(long, value_name = "ADDR:PORT")]
+        modbus: Option<std::net::SocketAddr>,
     },
     /// Start the studio on the tank example with its simulated plant.
     Demo {
@@ -136,7 +139,8 @@ fn main() -> ExitCode {
             http,
             io,
             no_native,
-        } => run::run(&project, http, &io, !no_native, None),
+            modbus,
+        } => run::run(&project, http, &io, !no_native, modbus, None),
         Command::Demo { dir, http } => demo::run(&dir, http, true),
     }
 }

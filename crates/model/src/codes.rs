@@ -36,11 +36,13 @@ codes! {
     TomlSyntax = 101, "alba.toml is not valid TOML",
         "alba.toml must be a TOML document (https://toml.io). Check quotes, brackets and `key = value` pairs near the place shown.";
     ConfigField = 102, "a setting in alba.toml is missing, unknown or has a bad value",
-        "alba.toml needs `name` (a string) and `programs` (a list of program files); `scan_ms` (1..=60000, default 10), `retain_ms` (10..=3600000, default 1000), `description`, a `[history]` table (`enabled`, `retention_days` 0..=36500, `sample_ms`, `deadband` ≥ 0) and a `[board]` table (`model` = uno, nano or mega; `pinmap` = aurora, s7 or openplc) are optional. Unknown keys are refused so that typos do not pass silently.";
+        "alba.toml needs `name` (a string) and `programs` (a list of program files); `scan_ms` (1..=60000, default 10), `retain_ms` (10..=3600000, default 1000), `description`, a `[history]` table (`enabled`, `retention_days` 0..=36500, `sample_ms`, `deadband` ≥ 0), a `[modbus]` table (`listen` = \"IP:PORT\", `max_connections` 1..=4096, `idle_timeout_s` 0..=86400, `unit_id` 0..=255, and `[modbus.tags]` with addresses like \"hr 8192\") and a `[board]` table (`model` = uno, nano or mega; `pinmap` = aurora, s7 or openplc) are optional. Unknown keys are refused so that typos do not pass silently.";
     ProgramFile = 103, "a program listed in alba.toml cannot be used",
         "Each entry of `programs` must name an existing file in the project folder, once, with a known extension (`.lad` for ladder).";
     BoardPin = 104, "an I/O address has no pin on the board",
         "With a `[board]` in alba.toml, every I/O channel a tag uses must be wired by the pin map to a pin the board has and that can serve it: a digital pin for DI/DO (not D0/D1, the serial link), an analog pin for AI, a PWM pin for AO. Use another channel, another pin map or board, or list the pins in `[board]` (`di`, `do`, `ai`, `ao`).";
+    ModbusTag = 105, "a [modbus.tags] entry cannot be used",
+        "Each entry of `[modbus.tags]` in alba.toml gives a tag (or `Tag.MEMBER`, or a system tag like `S:SCANMAX`) an explicit Modbus address after OpenPLC's map: `Name = \"hr 8192\"`. The name must exist; BOOL goes on a coil or discrete input (`coil`, `di`), numbers on registers (`hr`, `ir`: 1 register for SINT/INT, 2 for DINT/REAL/TIME, 4 for LINT/LREAL, high word first); coils and holding registers are written by clients, so inputs and read-only tags go on `di` or `ir`; two entries may not share a bit or register. See docs/protocols.md.";
     CsvSyntax = 110, "a CSV file is malformed",
         "CSV files use commas between fields, double quotes around fields that contain commas or quotes (a quote inside is written twice), and one record per line; every record has as many fields as the header.";
     CsvHeader = 111, "a CSV header is wrong",

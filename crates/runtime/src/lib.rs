@@ -201,6 +201,8 @@ impl Io for SimIo {
 /// A request to the engine thread.
 enum Req {
     Write(Place, Value),
+    /// Several writes applied together, between the same two scans.
+    WriteMany(Vec<(Place, Value)>),
     Force(Force),
     Unforce(Option<String>),
     Run,
@@ -247,6 +249,12 @@ impl Handle {
     /// Writes a place at the next scan boundary; answers once applied.
     pub async fn write(&self, place: Place, value: Value) -> Result<(), String> {
         self.ask(Req::Write(place, value)).await
+    }
+
+    /// Writes several places at the same scan boundary (no scan sees some
+    /// of them without the others); answers once applied.
+    pub async fn write_many(&self, writes: Vec<(Place, Value)>) -> Result<(), String> {
+        self.ask(Req::WriteMany(writes)).await
     }
 
     /// Forces an input or output (the caller checks it is one).
@@ -559,6 +567,12 @@ impl Worker {
         match req {
             Req::Write(p, v) => {
                 self.engine.write(p, v);
+                Ok(())
+            }
+            Req::WriteMany(ws) => {
+                for (p, v) in ws {
+                    self.engine.write(p, v);
+                }
                 Ok(())
             }
             Req::Force(mut f) => {
