@@ -1,6 +1,7 @@
 //! `alba`: the command-line front of Alba.
 
 mod bench;
+mod bench_modbus;
 mod demo;
 mod new;
 mod run;
@@ -63,6 +64,21 @@ enum Command {
         /// Fewer repetitions, for a quick look.
         #[arg(long)]
         quick: bool,
+        /// Benchmark the Modbus TCP server instead (FC3 x 10 registers; see docs/performance.md).
+        #[arg(long)]
+        modbus: bool,
+        /// With --modbus: client counts to run (default 1,4,16).
+        #[arg(long, value_delimiter = ',', value_name = "N,...")]
+        clients: Option<Vec<usize>>,
+        /// With --modbus: seconds per client count.
+        #[arg(long, value_name = "S", default_value = "5")]
+        seconds: f64,
+        /// With --modbus: load this server (HOST:PORT) instead of starting Alba's own.
+        #[arg(long, value_name = "ADDR:PORT")]
+        target: Option<std::net::SocketAddr>,
+        /// With --modbus: the first holding register read (default 8192 on Alba's own, 0 on --target).
+        #[arg(long, value_name = "N")]
+        start: Option<u16>,
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
@@ -132,7 +148,15 @@ fn main() -> ExitCode {
             every,
         ),
         Command::New { dir } => new::run(&dir),
-        Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
+        Command::Bench {
+            modbus: true,
+            clients,
+            seconds,
+            target,
+            start,
+            ..
+        } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
+        Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
         Command::Run {
             project,

@@ -70,6 +70,9 @@ pub struct Server {
     pub counters: Counters,
 }
 
+/// A connection's copy of the map and the program it was made for.
+type MapCache = Option<(Arc<Program>, Arc<Map>)>;
+
 /// A reply never waits longer than this for the client to take it.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(10);
 
@@ -84,7 +87,20 @@ impl Server {
         })
     }
 
-    fn map_for(&self, program: &Arc<Program>) -> Arc<Map> {
+    /// The map for `program`: the connection's own copy while the program
+    /// is the same (no lock per request), else the shared one.
+    fn map_for(&self, program: &Arc<Program>, cache: &mut Option<(Arc<Program>, Arc<Map>)>) -> Arc<Map> {
+        if let Some((p, map)) = cache.as_ref()
+            && Arc::ptr_eq(p, program)
+        {
+            return map.clone();
+        }
+        let map = self.shared_map(program);
+        *cache = Some((program.clone(), map.clone()));
+        map
+    }
+
+    fn shared_map(&self, program: &Arc<Program>) -> Arc<Map> {
         let mut m = self.map.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((p, map)) = m.as_ref()
             && Arc::ptr_eq(p, program)
@@ -137,6 +153,7 @@ impl Server {
         let mut out: Vec<u8> = Vec::with_capacity(8192);
         let idle = self.settings.idle_timeout;
         let mut deadline = idle.map(|d| Instant::now() + d);
+        let mut cache = None;
         loop {
             // Every complete request in the buffer, answered in order.
             let mut pos = 0;
@@ -149,7 +166,7 @@ impl Server {
                         break;
                     }
                     Split::Frame { header, pdu, len } => {
-                        self.request(header, pdu, &mut out).await;
+                        self.request(header, pdu, &mut out, &mut cache).await;
                         pos += len;
                     }
                 }
@@ -190,14 +207,14 @@ impl Server {
     }
 
     /// Answers one request onto `out`.
-    async fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>) {
+    async fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
         self.counters.requests.fetch_add(1, Ordering::Relaxed);
         let fc = pdu.first().copied().unwrap_or(0);
         let at = frame::begin(out, h, fc);
         let result = match self.settings.unit_id {
             Some(u) if h.unit != u && h.unit != 0 && h.unit != 255 => Err(Exception::GatewayTargetFailed),
             _ => match frame::parse(pdu) {
-                Ok(req) => self.answer(req, out).await,
+                Ok(req) => self.answer(req, out, cache).await,
                 Err(e) => Err(e),
             },
         };
@@ -211,9 +228,9 @@ impl Server {
     }
 
     /// The data of the reply to `req` (after the function code).
-    async fn answer(&self, req: Request<'_>, out: &mut Vec<u8>) -> Result<(), Exception> {
+    async fn answer(&self, req: Request<'_>, out: &mut Vec<u8>, cache: &mut MapCache) -> Result<(), Exception> {
         let snap = self.handle.snapshot();
-        let map = self.map_for(&snap.program);
+        let map = self.map_for(&snap.program, cache);
         let mem = &snap.memory;
         let sc = &self.scratch;
         let bits = |area, start, count: u16, out: &mut Vec<u8>| {
@@ -281,7 +298,7 @@ impl Server {
                 self.apply(w).await?;
                 // The read sees the write: the engine published before answering.
                 let snap = self.handle.snapshot();
-                let map = self.map_for(&snap.program);
+                let map = self.map_for(&snap.program, cache);
                 regs(
                     &map,
                     &snap.memory,
