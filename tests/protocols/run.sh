@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
-# pymodbus and a libmodbus C client against `alba run --modbus`.
+# pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
+# `alba run --opcua`.
 # Installs what it needs: Debian's libmodbus-dev, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
 set -euo pipefail
@@ -19,3 +20,7 @@ cc -O2 -Wall -Wextra -Werror -o "$OUT/libmodbus_smoke" tests/protocols/libmodbus
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"
 "$OUT/venv/bin/python" tests/protocols/modbus_clients.py "$ALBA" "$OUT/plant" "$OUT/libmodbus_smoke"
+# The OPC UA server against asyncua (a fresh copy again).
+rm -rf "$OUT/plant"
+cp -r tests/protocols/plant "$OUT/plant"
+"$OUT/venv/bin/python" tests/protocols/opcua_client.py "$ALBA" "$OUT/plant"

@@ -97,6 +97,9 @@ enum Command {
         /// Serve Modbus TCP (OpenPLC v3's address map) on this address (default: `[modbus] listen` of alba.toml, else off).
         #[arg(long, value_name = "ADDR:PORT")]
         modbus: Option<std::net::SocketAddr>,
+        /// Serve OPC UA on this address (security None, anonymous: use loopback), e.g. 127.0.0.1:4840.
+        #[arg(long, value_name = "ADDR:PORT")]
+        opcua: Option<std::net::SocketAddr>,
     },
     /// Start the studio on the tank example with its simulated plant.
     Demo {
@@ -164,7 +167,8 @@ fn main() -> ExitCode {
             io,
             no_native,
             modbus,
-        } => run::run(&project, http, &io, !no_native, modbus, None),
+            opcua,
+        } => run::run(&project, http, &io, !no_native, modbus, opcua, None),
         Command::Demo { dir, http } => demo::run(&dir, http, true),
     }
 }

@@ -11,6 +11,7 @@ pub fn run(
     io: &str,
     native: bool,
     modbus: Option<SocketAddr>,
+    opcua: Option<SocketAddr>,
     banner: Option<&str>,
 ) -> ExitCode {
     let rt = match tokio::runtime::Builder::new_multi_thread()
@@ -29,6 +30,7 @@ pub fn run(
         io: io.to_string(),
         native,
         modbus,
+        opcua,
     };
     let banner = banner.map(str::to_string);
     let result = rt.block_on(alba_server::run(

@@ -457,6 +457,8 @@ pub struct Options {
     pub native: bool,
     /// Serve Modbus TCP here (else where `[modbus] listen` says, if it does).
     pub modbus: Option<std::net::SocketAddr>,
+    /// Serve OPC UA here (security None, anonymous: for loopback).
+    pub opcua: Option<std::net::SocketAddr>,
 }
 
 /// Runs `dir` until `shutdown` completes: loads and compiles it (its
@@ -521,6 +523,16 @@ pub async fn run(
         let server = alba_modbus::Server::new(runtime.handle(), settings);
         tokio::spawn(server.serve(l, state.closing.subscribe()));
         println!("Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)");
+    }
+    if let Some(addr) = opts.opcua {
+        let pki = dir.join(".alba").join("pki");
+        let bound = alba_opcua::serve(runtime.handle(), &state.name, addr, pki, state.closing.subscribe())
+            .await
+            .map_err(RunError::Other)?;
+        println!(
+            "OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{}/Tags)",
+            state.name
+        );
     }
     ready(local);
     let closing = state.closing.clone();

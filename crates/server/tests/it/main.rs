@@ -49,6 +49,7 @@ impl Server {
             io: "sim".into(),
             native: false,
             modbus: None,
+            opcua: None,
         };
         let d = dir.clone();
         let task = tokio::spawn(async move {
