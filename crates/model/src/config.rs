@@ -49,6 +49,15 @@ pub struct Config {
     pub history: History,
     /// `[modbus]`: the Modbus TCP server of `alba run` (docs/protocols.md).
     pub modbus: Option<Modbus>,
+    /// `[opcua]`: the OPC UA server of `alba run` (docs/protocols.md).
+    pub opcua: Option<Opcua>,
+}
+
+/// `[opcua]`: the OPC UA server (docs/protocols.md).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Opcua {
+    /// Where to listen (`None`: only with `alba run --opcua`).
+    pub listen: Option<std::net::SocketAddr>,
 }
 
 /// `[modbus]`: the Modbus TCP server (docs/protocols.md).
@@ -199,6 +208,13 @@ struct RawConfig {
     retain_ms: Option<Spanned<i64>>,
     history: Option<RawHistory>,
     modbus: Option<RawModbus>,
+    opcua: Option<RawOpcua>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOpcua {
+    listen: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -423,6 +439,9 @@ impl Config {
             }
         });
         let modbus = raw.modbus.map(|m| modbus(m, file, &mut diags));
+        let opcua = raw.opcua.map(|o| Opcua {
+            listen: o.listen.and_then(|l| listen(&l, file, &mut diags)),
+        });
         let config = Config {
             name,
             description: raw.description,
@@ -433,26 +452,32 @@ impl Config {
             retain_ms,
             history,
             modbus,
+            opcua,
         };
         (Some(config), diags)
+    }
+}
+
+/// An `IP:PORT` setting, or a diagnostic.
+fn listen(l: &Spanned<String>, file: FileId, diags: &mut Vec<Diagnostic>) -> Option<std::net::SocketAddr> {
+    match l.get_ref().parse::<std::net::SocketAddr>() {
+        Ok(a) => Some(a),
+        Err(_) => {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("listen = \"{}\" is not an address and port", l.get_ref()),
+                Span::new(file, l.span()),
+                "expected IP:PORT, like \"127.0.0.1:5020\"",
+            ));
+            None
+        }
     }
 }
 
 /// Validates `[modbus]`.
 fn modbus(m: RawModbus, file: FileId, diags: &mut Vec<Diagnostic>) -> Modbus {
     let sp = |r: std::ops::Range<usize>| Span::new(file, r);
-    let mut listen = None;
-    if let Some(l) = m.listen {
-        match l.get_ref().parse::<std::net::SocketAddr>() {
-            Ok(a) => listen = Some(a),
-            Err(_) => diags.push(Diagnostic::new(
-                Code::ConfigField,
-                format!("listen = \"{}\" is not an address and port", l.get_ref()),
-                sp(l.span()),
-                "expected IP:PORT, like \"127.0.0.1:5020\"",
-            )),
-        }
-    }
+    let listen = m.listen.and_then(|l| listen(&l, file, diags));
     let mut int =
         |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
             let Some(s) = v else { return default };
@@ -610,7 +635,14 @@ mod tests {
     #[test]
     fn modbus_settings_and_explicit_addresses() {
         let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-        assert!(c.modbus.is_none());
+        assert!(c.modbus.is_none() && c.opcua.is_none());
+        let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n").unwrap();
+        assert_eq!(c.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
+        let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"4840\"\n").unwrap_err();
+        assert_eq!(
+            e,
+            ["alba.toml:4:10: error[E102]: listen = \"4840\" is not an address and port"]
+        );
         let c = parse(
             "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"127.0.0.1:5020\"\nunit_id = 3\n[modbus.tags]\nSpeed = \"hr 8192\"\n\"Delay.PRE\" = \"HR:9000\"\nRunning = \"coil8192\"\n",
         )

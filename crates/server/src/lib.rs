@@ -457,7 +457,7 @@ pub struct Options {
     pub native: bool,
     /// Serve Modbus TCP here (else where `[modbus] listen` says, if it does).
     pub modbus: Option<std::net::SocketAddr>,
-    /// Serve OPC UA here (security None, anonymous: for loopback).
+    /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None, anonymous: for loopback).
     pub opcua: Option<std::net::SocketAddr>,
 }
 
@@ -524,7 +524,15 @@ pub async fn run(
         tokio::spawn(server.serve(l, state.closing.subscribe()));
         println!("Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)");
     }
-    if let Some(addr) = opts.opcua {
+    let opcua_cfg = {
+        let p = state.project.lock().await;
+        p.project
+            .config
+            .as_ref()
+            .and_then(|c| c.opcua.as_ref())
+            .and_then(|o| o.listen)
+    };
+    if let Some(addr) = opts.opcua.or(opcua_cfg) {
         let pki = dir.join(".alba").join("pki");
         let bound = alba_opcua::serve(runtime.handle(), &state.name, addr, pki, state.closing.subscribe())
             .await
