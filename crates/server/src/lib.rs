@@ -541,6 +541,11 @@ pub async fn run(
             "OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{}/Tags)",
             state.name
         );
+        if !bound.ip().is_loopback() {
+            eprintln!(
+                "warning: the OPC UA server on {bound} has security None and anonymous access: anyone who can reach it can write tags"
+            );
+        }
     }
     ready(local);
     let closing = state.closing.clone();
