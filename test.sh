@@ -5,7 +5,8 @@
 #   modes, examples, the malformed-input corpus, fuzz regressions, the HTTP API,
 #   kill -9 of retentive data); end-to-end tests in a real browser (Chromium driven
 #   by playwright-core); the AVR toolchain building for every board; smoke runs
-#   of the simulator and of `alba bench`.
+#   of the simulator and of `alba bench`; the Modbus TCP server against pymodbus
+#   and libmodbus clients, the OPC UA server against asyncua (tests/protocols/).
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/common.sh
@@ -31,6 +32,8 @@ cargo build -q --locked -p alba-cli
 TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 mkdir -p target/e2e
 (cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
+step "protocols: pymodbus, libmodbus and asyncua clients against alba run --modbus --opcua"
+tests/protocols/run.sh "$TARGET/debug/alba"
 step "Arduino: every example's sketch builds for uno, nano and mega (no warnings); the simavr harness checks itself"
 # (The PID examples are refused, E501, until the PID instruction runs on the board.)
 for ex in examples/*/; do

@@ -63,3 +63,21 @@ need_chromium() {
         apt_install chromium
     fi
 }
+
+# A Python virtual environment at $1 with the pinned packages of requirements
+# file $2 (Debian's python3-venv when venv is missing); re-installed only
+# when the requirements change.
+need_pyvenv() {
+    local venv="$1" req="$2"
+    if ! command -v python3 >/dev/null 2>&1; then
+        apt_install python3 python3-venv
+    fi
+    if [ ! -x "$venv/bin/python" ]; then
+        python3 -m venv "$venv" 2>/dev/null || { apt_install python3-venv; python3 -m venv "$venv"; }
+    fi
+    if ! cmp -s "$req" "$venv/requirements.txt"; then
+        echo "Installing Python packages ($req)..." >&2
+        "$venv/bin/pip" install -q --disable-pip-version-check -r "$req" >&2
+        cp "$req" "$venv/requirements.txt"
+    fi
+}

@@ -513,7 +513,7 @@ fn generate_logic(n: usize) -> (String, String, String) {
 }
 
 /// Compiles one generated program (ladder or AWL by `name`).
-fn compile_text(tags_csv: &str, name: &str, text: &str) -> Result<Arc<Program>, String> {
+pub fn compile_text(tags_csv: &str, name: &str, text: &str) -> Result<Arc<Program>, String> {
     let mut files = Files::new();
     let tf = files.add("tags.csv", tags_csv);
     let f = files.add(name, text);

@@ -42,5 +42,5 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         if fresh { "written" } else { "as last saved" },
         dir.display()
     );
-    crate::run::run(dir, addr, "sim", native, Some(&banner))
+    crate::run::run(dir, addr, "sim", native, None, None, Some(&banner))
 }

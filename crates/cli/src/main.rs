@@ -1,6 +1,7 @@
 //! `alba`: the command-line front of Alba.
 
 mod bench;
+mod bench_modbus;
 mod demo;
 mod export;
 mod firmware;
@@ -81,6 +82,21 @@ enum Command {
         /// Fewer repetitions, for a quick look.
         #[arg(long)]
         quick: bool,
+        /// Benchmark the Modbus TCP server instead (FC3 x 10 registers; see docs/performance.md).
+        #[arg(long)]
+        modbus: bool,
+        /// With --modbus: client counts to run (default 1,4,16).
+        #[arg(long, value_delimiter = ',', value_name = "N,...")]
+        clients: Option<Vec<usize>>,
+        /// With --modbus: seconds per client count.
+        #[arg(long, value_name = "S", default_value = "5")]
+        seconds: f64,
+        /// With --modbus: load this server (HOST:PORT) instead of starting Alba's own.
+        #[arg(long, value_name = "ADDR:PORT")]
+        target: Option<std::net::SocketAddr>,
+        /// With --modbus: the first holding register read (default 8192 on Alba's own, 0 on --target).
+        #[arg(long, value_name = "N")]
+        start: Option<u16>,
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
@@ -124,6 +140,12 @@ enum Command {
         /// Interpret instead of compiling the program to native code.
         #[arg(long)]
         no_native: bool,
+        /// Serve Modbus TCP (OpenPLC v3's address map) on this address (default: `[modbus] listen` of alba.toml, else off).
+        #[arg(long, value_name = "ADDR:PORT")]
+        modbus: Option<std::net::SocketAddr>,
+        /// Serve OPC UA on this address (security None, anonymous: use loopback), e.g. 127.0.0.1:4840.
+        #[arg(long, value_name = "ADDR:PORT")]
+        opcua: Option<std::net::SocketAddr>,
     },
     /// Generate the remote-I/O firmware of an Arduino for controller mode
     /// (`alba run PROJECT --io arduino:PORT`).
@@ -248,7 +270,15 @@ fn main() -> ExitCode {
                 },
         } => export::export(&project, &board, &out, build, upload.as_deref()),
         Command::New { dir } => new::run(&dir),
-        Command::Bench { sizes, quick } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
+        Command::Bench {
+            modbus: true,
+            clients,
+            seconds,
+            target,
+            start,
+            ..
+        } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
+        Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
         Command::Tune {
             project,
@@ -274,7 +304,9 @@ fn main() -> ExitCode {
             http,
             io,
             no_native,
-        } => run::run(&project, http, &io, !no_native, None),
+            modbus,
+            opcua,
+        } => run::run(&project, http, &io, !no_native, modbus, opcua, None),
         Command::Demo { dir, http } => demo::run(&dir, http, true),
         Command::Firmware {
             project,

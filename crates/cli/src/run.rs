@@ -5,7 +5,15 @@ use std::net::SocketAddr;
 use std::path::Path;
 use std::process::ExitCode;
 
-pub fn run(dir: &Path, addr: SocketAddr, io: &str, native: bool, banner: Option<&str>) -> ExitCode {
+pub fn run(
+    dir: &Path,
+    addr: SocketAddr,
+    io: &str,
+    native: bool,
+    modbus: Option<SocketAddr>,
+    opcua: Option<SocketAddr>,
+    banner: Option<&str>,
+) -> ExitCode {
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -21,6 +29,8 @@ pub fn run(dir: &Path, addr: SocketAddr, io: &str, native: bool, banner: Option<
         addr,
         io: io.to_string(),
         native,
+        modbus,
+        opcua,
     };
     let banner = banner.map(str::to_string);
     let result = rt.block_on(alba_server::run(

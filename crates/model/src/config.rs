@@ -49,6 +49,139 @@ pub struct Config {
     pub history: History,
     /// `[[plant_model]]`: simulated processes on the I/O.
     pub models: Vec<crate::plant::PlantModel>,
+    /// `[modbus]`: the Modbus TCP server of `alba run` (docs/protocols.md).
+    pub modbus: Option<Modbus>,
+    /// `[opcua]`: the OPC UA server of `alba run` (docs/protocols.md).
+    pub opcua: Option<Opcua>,
+}
+
+/// `[opcua]`: the OPC UA server (docs/protocols.md).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Opcua {
+    /// Where to listen (`None`: only with `alba run --opcua`).
+    pub listen: Option<std::net::SocketAddr>,
+}
+
+/// `[modbus]`: the Modbus TCP server (docs/protocols.md).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Modbus {
+    /// Where to listen (`None`: only with `alba run --modbus`).
+    pub listen: Option<std::net::SocketAddr>,
+    /// Connections served at once; more are closed at once.
+    pub max_connections: u32,
+    /// A connection that sends no complete request for this long is closed; 0: never.
+    pub idle_timeout_s: u32,
+    /// Answer only this unit id (and 0 and 255); `None`: every unit id.
+    pub unit_id: Option<u8>,
+    /// `[modbus.tags]`: explicit addresses of tags outside OpenPLC's map.
+    pub tags: Vec<ModbusTag>,
+}
+
+pub const DEFAULT_MODBUS_CONNECTIONS: u32 = 32;
+pub const DEFAULT_MODBUS_IDLE_S: u32 = 60;
+
+impl Default for Modbus {
+    fn default() -> Modbus {
+        Modbus {
+            listen: None,
+            max_connections: DEFAULT_MODBUS_CONNECTIONS,
+            idle_timeout_s: DEFAULT_MODBUS_IDLE_S,
+            unit_id: None,
+            tags: Vec::new(),
+        }
+    }
+}
+
+/// The four Modbus data areas.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ModbusArea {
+    Coil,
+    DiscreteInput,
+    InputRegister,
+    HoldingRegister,
+}
+
+impl ModbusArea {
+    /// The short name used in `[modbus.tags]`.
+    pub fn key(self) -> &'static str {
+        match self {
+            ModbusArea::Coil => "coil",
+            ModbusArea::DiscreteInput => "di",
+            ModbusArea::InputRegister => "ir",
+            ModbusArea::HoldingRegister => "hr",
+        }
+    }
+
+    /// The first number after OpenPLC's map in this area: explicit
+    /// addresses start here.
+    pub fn first_free(self) -> u32 {
+        match self {
+            ModbusArea::Coil | ModbusArea::DiscreteInput | ModbusArea::HoldingRegister => 8192,
+            ModbusArea::InputRegister => 1024,
+        }
+    }
+
+    /// Bits (coils, discrete inputs) or 16-bit registers.
+    pub fn is_bits(self) -> bool {
+        matches!(self, ModbusArea::Coil | ModbusArea::DiscreteInput)
+    }
+
+    /// Clients can write it (coils, holding registers).
+    pub fn is_writable(self) -> bool {
+        matches!(self, ModbusArea::Coil | ModbusArea::HoldingRegister)
+    }
+
+    /// Parses `hr 8192`, `hr8192` or `hr:8192` (area names case-insensitive;
+    /// `coil`/`co`, `di`, `ir`, `hr`).
+    pub fn parse_address(text: &str) -> Result<(ModbusArea, u16), String> {
+        let t = text.trim();
+        let split = t.find(|c: char| c.is_ascii_digit()).unwrap_or(t.len());
+        let (area, num) = t.split_at(split);
+        let area = area.trim().trim_end_matches(':').trim().to_ascii_lowercase();
+        let area = match area.as_str() {
+            "coil" | "co" => ModbusArea::Coil,
+            "di" => ModbusArea::DiscreteInput,
+            "ir" => ModbusArea::InputRegister,
+            "hr" => ModbusArea::HoldingRegister,
+            _ => {
+                return Err(format!(
+                    "`{t}` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`"
+                ));
+            }
+        };
+        let n: u32 = match num.parse() {
+            Ok(n) if num.bytes().all(|b| b.is_ascii_digit()) => n,
+            _ => {
+                return Err(format!(
+                    "`{t}`: expected a number from 0 to 65535 after `{}`",
+                    area.key()
+                ));
+            }
+        };
+        if n > 65535 {
+            return Err(format!("`{t}`: Modbus addresses go from 0 to 65535"));
+        }
+        if n < area.first_free() {
+            return Err(format!(
+                "`{t}` is inside OpenPLC's map ({} 0 to {}, which the I/O image and markers use)",
+                area.key(),
+                area.first_free() - 1
+            ));
+        }
+        Ok((area, n as u16))
+    }
+}
+
+/// One entry of `[modbus.tags]`: `Name = "hr 8192"`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModbusTag {
+    /// A tag, `Tag.MEMBER` or a system tag.
+    pub name: String,
+    pub name_span: Span,
+    pub area: ModbusArea,
+    pub start: u16,
+    /// Where the address is written.
+    pub span: Span,
 }
 
 /// `[board]`: the Arduino board and its wiring (SPEC §7.1, docs/file-formats.md).
@@ -81,6 +214,25 @@ struct RawConfig {
     history: Option<RawHistory>,
     #[serde(default)]
     plant_model: Vec<crate::plant::RawPlant>,
+    modbus: Option<RawModbus>,
+    opcua: Option<RawOpcua>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawOpcua {
+    listen: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawModbus {
+    listen: Option<Spanned<String>>,
+    max_connections: Option<Spanned<i64>>,
+    idle_timeout_s: Option<Spanned<i64>>,
+    unit_id: Option<Spanned<i64>>,
+    #[serde(default)]
+    tags: std::collections::BTreeMap<Spanned<String>, Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -318,6 +470,10 @@ impl Config {
             .into_iter()
             .filter_map(|m| m.check(file, &mut diags))
             .collect();
+        let modbus = raw.modbus.map(|m| modbus(m, file, &mut diags));
+        let opcua = raw.opcua.map(|o| Opcua {
+            listen: o.listen.and_then(|l| listen(&l, file, &mut diags)),
+        });
         let config = Config {
             models,
             name,
@@ -328,9 +484,88 @@ impl Config {
             board,
             retain_ms,
             history,
+            modbus,
+            opcua,
         };
         (Some(config), diags)
     }
+}
+
+/// An `IP:PORT` setting, or a diagnostic.
+fn listen(l: &Spanned<String>, file: FileId, diags: &mut Vec<Diagnostic>) -> Option<std::net::SocketAddr> {
+    match l.get_ref().parse::<std::net::SocketAddr>() {
+        Ok(a) => Some(a),
+        Err(_) => {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("listen = \"{}\" is not an address and port", l.get_ref()),
+                Span::new(file, l.span()),
+                "expected IP:PORT, like \"127.0.0.1:5020\"",
+            ));
+            None
+        }
+    }
+}
+
+/// Validates `[modbus]`.
+fn modbus(m: RawModbus, file: FileId, diags: &mut Vec<Diagnostic>) -> Modbus {
+    let sp = |r: std::ops::Range<usize>| Span::new(file, r);
+    let listen = m.listen.and_then(|l| listen(&l, file, diags));
+    let mut int =
+        |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
+            let Some(s) = v else { return default };
+            match u32::try_from(*s.get_ref()) {
+                Ok(v) if range.contains(&v) => v,
+                _ => {
+                    diags.push(Diagnostic::new(
+                        Code::ConfigField,
+                        format!("{key} = {} is out of range", s.get_ref()),
+                        sp(s.span()),
+                        format!("expected {} to {} {unit}", range.start(), range.end()),
+                    ));
+                    default
+                }
+            }
+        };
+    let mut out = Modbus {
+        listen,
+        max_connections: int(
+            "max_connections",
+            m.max_connections,
+            1..=4096,
+            DEFAULT_MODBUS_CONNECTIONS,
+            "connections",
+        ),
+        idle_timeout_s: int(
+            "idle_timeout_s",
+            m.idle_timeout_s,
+            0..=86_400,
+            DEFAULT_MODBUS_IDLE_S,
+            "seconds",
+        ),
+        ..Modbus::default()
+    };
+    if m.unit_id.is_some() {
+        out.unit_id = Some(int("unit_id", m.unit_id, 0..=255, 1, "(a unit id)") as u8);
+    }
+    for (name, addr) in m.tags {
+        match ModbusArea::parse_address(addr.get_ref()) {
+            Ok((area, start)) => out.tags.push(ModbusTag {
+                name: name.get_ref().trim().to_string(),
+                name_span: sp(name.span()),
+                area,
+                start,
+                span: sp(addr.span()),
+            }),
+            Err(msg) => diags.push(
+                Diagnostic::new(Code::ConfigField, msg, sp(addr.span()), "in [modbus.tags]").with_help(
+                    "explicit addresses lie after OpenPLC's map: coil/di from 8192, ir from 1024, hr from 8192",
+                ),
+            ),
+        }
+    }
+    out.tags.sort_by_key(|t| t.name_span.start);
+    out
 }
 
 #[cfg(test)]
@@ -442,6 +677,49 @@ mod tests {
         );
         let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\ndi = [\"D12\"]\n").unwrap_err();
         assert_eq!(e, ["alba.toml:4:9: error[E102]: pin D12 is wired to two channels"]);
+    }
+
+    #[test]
+    fn modbus_settings_and_explicit_addresses() {
+        let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
+        assert!(c.modbus.is_none() && c.opcua.is_none());
+        let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n").unwrap();
+        assert_eq!(c.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
+        let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"4840\"\n").unwrap_err();
+        assert_eq!(
+            e,
+            ["alba.toml:4:10: error[E102]: listen = \"4840\" is not an address and port"]
+        );
+        let c = parse(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"127.0.0.1:5020\"\nunit_id = 3\n[modbus.tags]\nSpeed = \"hr 8192\"\n\"Delay.PRE\" = \"HR:9000\"\nRunning = \"coil8192\"\n",
+        )
+        .unwrap();
+        let m = c.modbus.unwrap();
+        assert_eq!(m.listen, Some("127.0.0.1:5020".parse().unwrap()));
+        assert_eq!((m.unit_id, m.max_connections, m.idle_timeout_s), (Some(3), 32, 60));
+        let tags: Vec<_> = m.tags.iter().map(|t| (t.name.as_str(), t.area, t.start)).collect();
+        assert_eq!(
+            tags,
+            [
+                ("Speed", ModbusArea::HoldingRegister, 8192),
+                ("Delay.PRE", ModbusArea::HoldingRegister, 9000),
+                ("Running", ModbusArea::Coil, 8192),
+            ]
+        );
+        let e = parse(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"localhost\"\nmax_connections = 0\n[modbus.tags]\nA = \"hr 100\"\nB = \"xx 9000\"\nC = \"ir 70000\"\n",
+        )
+        .unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:4:10: error[E102]: listen = \"localhost\" is not an address and port",
+                "alba.toml:5:19: error[E102]: max_connections = 0 is out of range",
+                "alba.toml:7:5: error[E102]: `hr 100` is inside OpenPLC's map (hr 0 to 8191, which the I/O image and markers use)",
+                "alba.toml:8:5: error[E102]: `xx 9000` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`",
+                "alba.toml:9:5: error[E102]: `ir 70000`: Modbus addresses go from 0 to 65535",
+            ]
+        );
     }
 
     #[test]

@@ -215,6 +215,8 @@ impl Io for SimIo {
 /// A request to the engine thread.
 enum Req {
     Write(Place, Value),
+    /// Several writes applied together, between the same two scans.
+    WriteMany(Vec<(Place, Value)>),
     Force(Force),
     Unforce(Option<String>),
     Run,
@@ -261,6 +263,12 @@ impl Handle {
     /// Writes a place at the next scan boundary; answers once applied.
     pub async fn write(&self, place: Place, value: Value) -> Result<(), String> {
         self.ask(Req::Write(place, value)).await
+    }
+
+    /// Writes several places at the same scan boundary (no scan sees some
+    /// of them without the others); answers once applied.
+    pub async fn write_many(&self, writes: Vec<(Place, Value)>) -> Result<(), String> {
+        self.ask(Req::WriteMany(writes)).await
     }
 
     /// Forces an input or output (the caller checks it is one).
@@ -592,6 +600,15 @@ impl Worker {
                 "the board runs the program ({}): forces, online edits and stop are done on a board by exporting and uploading again; writes work",
                 self.io.name()
             )),
+            Req::WriteMany(ws) => {
+                for (p, v) in ws {
+                    if let Some(r) = self.io.write_remote(p, v) {
+                        r?;
+                    }
+                    self.engine.write(p, v);
+                }
+                Ok(())
+            }
             Req::Force(mut f) => {
                 f.input = is_input(&self.engine.program().layout, f.place);
                 let mut fs = (*self.forces).clone();

@@ -458,6 +458,10 @@ pub struct Options {
     pub addr: std::net::SocketAddr,
     pub io: String,
     pub native: bool,
+    /// Serve Modbus TCP here (else where `[modbus] listen` says, if it does).
+    pub modbus: Option<std::net::SocketAddr>,
+    /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None, anonymous: for loopback).
+    pub opcua: Option<std::net::SocketAddr>,
 }
 
 /// Runs `dir` until `shutdown` completes: loads and compiles it (its
@@ -531,6 +535,40 @@ pub async fn run(
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
+    let modbus_cfg = state_modbus(&state).await;
+    if let Some(addr) = opts.modbus.or(modbus_cfg.as_ref().and_then(|m| m.listen)) {
+        let l = tokio::net::TcpListener::bind(addr)
+            .await
+            .map_err(|e| RunError::Other(format!("cannot listen for Modbus TCP on {addr}: {e}")))?;
+        let bound = l.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
+        let settings = modbus_cfg.as_ref().map(alba_modbus::Settings::from).unwrap_or_default();
+        let server = alba_modbus::Server::new(runtime.handle(), settings);
+        tokio::spawn(server.serve(l, state.closing.subscribe()));
+        println!("Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)");
+    }
+    let opcua_cfg = {
+        let p = state.project.lock().await;
+        p.project
+            .config
+            .as_ref()
+            .and_then(|c| c.opcua.as_ref())
+            .and_then(|o| o.listen)
+    };
+    if let Some(addr) = opts.opcua.or(opcua_cfg) {
+        let pki = dir.join(".alba").join("pki");
+        let bound = alba_opcua::serve(runtime.handle(), &state.name, addr, pki, state.closing.subscribe())
+            .await
+            .map_err(RunError::Other)?;
+        println!(
+            "OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{}/Tags)",
+            state.name
+        );
+        if !bound.ip().is_loopback() {
+            eprintln!(
+                "warning: the OPC UA server on {bound} has security None and anonymous access: anyone who can reach it can write tags"
+            );
+        }
+    }
     ready(local);
     let closing = state.closing.clone();
     let shutdown = async move {
@@ -552,6 +590,12 @@ pub async fn run(
     .await
     .map_err(|e| RunError::Other(e.to_string()))?;
     served
+}
+
+/// The `[modbus]` settings of the project as loaded.
+async fn state_modbus(state: &AppState) -> Option<alba_model::config::Modbus> {
+    let p = state.project.lock().await;
+    p.project.config.as_ref().and_then(|c| c.modbus.clone())
 }
 
 pub enum RunError {

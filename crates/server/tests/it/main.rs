@@ -48,6 +48,8 @@ impl Server {
             addr: "127.0.0.1:0".parse().expect("addr"),
             io: "sim".into(),
             native: false,
+            modbus: None,
+            opcua: None,
         };
         let d = dir.clone();
         let task = tokio::spawn(async move {

@@ -1,0 +1,335 @@
+//! The Modbus TCP server: one task per connection on the caller's tokio
+//! runtime, reading the runtime's latest snapshot and sending writes to the
+//! engine thread, which applies them between two scans.
+//!
+//! Nothing here holds a lock the engine thread takes: reads borrow the
+//! published snapshot (an `Arc`), writes wait for the engine's answer on a
+//! oneshot channel, so a slow or hostile client delays only itself.
+
+use crate::frame::{self, Exception, Header, Request, Split};
+use crate::map::{Map, Scratch, Write};
+use alba_ir::Program;
+use alba_model::config::{Modbus, ModbusArea, ModbusTag};
+use alba_runtime::Handle;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{Semaphore, watch};
+use tokio::time::Instant;
+
+/// How the server behaves (from `[modbus]`).
+#[derive(Debug, Clone)]
+pub struct Settings {
+    pub max_connections: usize,
+    /// Close a connection with no complete request for this long.
+    pub idle_timeout: Option<Duration>,
+    /// Answer only this unit id (and 0 and 255).
+    pub unit_id: Option<u8>,
+    pub tags: Vec<ModbusTag>,
+}
+
+impl From<&Modbus> for Settings {
+    fn from(m: &Modbus) -> Settings {
+        Settings {
+            max_connections: m.max_connections as usize,
+            idle_timeout: (m.idle_timeout_s > 0).then(|| Duration::from_secs(u64::from(m.idle_timeout_s))),
+            unit_id: m.unit_id,
+            tags: m.tags.clone(),
+        }
+    }
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings::from(&Modbus::default())
+    }
+}
+
+/// Counters, for tests and status.
+#[derive(Debug, Default)]
+pub struct Counters {
+    pub connections: AtomicU64,
+    /// Connections closed at once because `max_connections` were open.
+    pub refused: AtomicU64,
+    pub requests: AtomicU64,
+    pub exceptions: AtomicU64,
+    /// Connections closed for a frame that is not Modbus TCP.
+    pub invalid: AtomicU64,
+    pub timeouts: AtomicU64,
+}
+
+/// A server over one runtime.
+pub struct Server {
+    handle: Handle,
+    settings: Settings,
+    scratch: Scratch,
+    /// The map of the program last seen (rebuilt after an online edit).
+    map: Mutex<Option<(Arc<Program>, Arc<Map>)>>,
+    pub counters: Counters,
+}
+
+/// A connection's copy of the map and the program it was made for.
+type MapCache = Option<(Arc<Program>, Arc<Map>)>;
+
+/// A reply never waits longer than this for the client to take it.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(10);
+
+impl Server {
+    pub fn new(handle: Handle, settings: Settings) -> Arc<Server> {
+        Arc::new(Server {
+            handle,
+            settings,
+            scratch: Scratch::default(),
+            map: Mutex::new(None),
+            counters: Counters::default(),
+        })
+    }
+
+    /// The map for `program`: the connection's own copy while the program
+    /// is the same (no lock per request), else the shared one.
+    fn map_for(&self, program: &Arc<Program>, cache: &mut Option<(Arc<Program>, Arc<Map>)>) -> Arc<Map> {
+        if let Some((p, map)) = cache.as_ref()
+            && Arc::ptr_eq(p, program)
+        {
+            return map.clone();
+        }
+        let map = self.shared_map(program);
+        *cache = Some((program.clone(), map.clone()));
+        map
+    }
+
+    fn shared_map(&self, program: &Arc<Program>) -> Arc<Map> {
+        let mut m = self.map.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((p, map)) = m.as_ref()
+            && Arc::ptr_eq(p, program)
+        {
+            return map.clone();
+        }
+        // The compiler checked the entries (E106); any refused here are left out.
+        let map = Arc::new(Map::build(&program.layout, &self.settings.tags).0);
+        *m = Some((program.clone(), map.clone()));
+        map
+    }
+
+    /// Accepts connections until `closing` turns true.
+    pub async fn serve(self: Arc<Self>, listener: TcpListener, mut closing: watch::Receiver<bool>) {
+        let slots = Arc::new(Semaphore::new(self.settings.max_connections));
+        loop {
+            if *closing.borrow() {
+                return;
+            }
+            let accepted = tokio::select! {
+                r = listener.accept() => r,
+                _ = closing.changed() => return,
+            };
+            let sock = match accepted {
+                Ok((s, _)) => s,
+                Err(_) => {
+                    // Out of file descriptors and the like: wait, do not spin.
+                    tokio::time::sleep(Duration::from_millis(20)).await;
+                    continue;
+                }
+            };
+            let Ok(permit) = slots.clone().try_acquire_owned() else {
+                self.counters.refused.fetch_add(1, Ordering::Relaxed);
+                drop(sock);
+                continue;
+            };
+            self.counters.connections.fetch_add(1, Ordering::Relaxed);
+            let me = self.clone();
+            let closing = closing.clone();
+            tokio::spawn(async move {
+                me.connection(sock, closing).await;
+                drop(permit);
+            });
+        }
+    }
+
+    async fn connection(&self, mut sock: TcpStream, mut closing: watch::Receiver<bool>) {
+        let _ = sock.set_nodelay(true);
+        let mut buf: Vec<u8> = Vec::with_capacity(8192);
+        let mut out: Vec<u8> = Vec::with_capacity(8192);
+        let idle = self.settings.idle_timeout;
+        let mut deadline = idle.map(|d| Instant::now() + d);
+        let mut cache = None;
+        loop {
+            // Every complete request in the buffer, answered in order.
+            let mut pos = 0;
+            let mut invalid = false;
+            loop {
+                match frame::split(&buf[pos..]) {
+                    Split::Incomplete => break,
+                    Split::Invalid(_) => {
+                        invalid = true;
+                        break;
+                    }
+                    Split::Frame { header, pdu, len } => {
+                        self.request(header, pdu, &mut out, &mut cache).await;
+                        pos += len;
+                    }
+                }
+            }
+            if pos > 0 {
+                buf.drain(..pos);
+                deadline = idle.map(|d| Instant::now() + d);
+            }
+            if !out.is_empty() {
+                match tokio::time::timeout(WRITE_TIMEOUT, sock.write_all(&out)).await {
+                    Ok(Ok(())) => out.clear(),
+                    _ => return,
+                }
+            }
+            if invalid {
+                self.counters.invalid.fetch_add(1, Ordering::Relaxed);
+                return;
+            }
+            buf.reserve(4096);
+            let sleep = async {
+                match deadline {
+                    Some(d) => tokio::time::sleep_until(d).await,
+                    None => std::future::pending().await,
+                }
+            };
+            tokio::select! {
+                r = sock.read_buf(&mut buf) => match r {
+                    Ok(0) | Err(_) => return,
+                    Ok(_) => {}
+                },
+                () = sleep => {
+                    self.counters.timeouts.fetch_add(1, Ordering::Relaxed);
+                    return;
+                }
+                _ = closing.changed() => return,
+            }
+        }
+    }
+
+    /// Answers one request onto `out`.
+    async fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
+        self.counters.requests.fetch_add(1, Ordering::Relaxed);
+        let fc = pdu.first().copied().unwrap_or(0);
+        let at = frame::begin(out, h, fc);
+        let result = match self.settings.unit_id {
+            Some(u) if h.unit != u && h.unit != 0 && h.unit != 255 => Err(Exception::GatewayTargetFailed),
+            _ => match frame::parse(pdu) {
+                Ok(req) => self.answer(req, out, cache).await,
+                Err(e) => Err(e),
+            },
+        };
+        match result {
+            Ok(()) => frame::end(out, at),
+            Err(e) => {
+                self.counters.exceptions.fetch_add(1, Ordering::Relaxed);
+                frame::exception(out, at, h, fc, e);
+            }
+        }
+    }
+
+    /// The data of the reply to `req` (after the function code).
+    async fn answer(&self, req: Request<'_>, out: &mut Vec<u8>, cache: &mut MapCache) -> Result<(), Exception> {
+        let snap = self.handle.snapshot();
+        let map = self.map_for(&snap.program, cache);
+        let mem = &snap.memory;
+        let sc = &self.scratch;
+        let bits = |area, start, count: u16, out: &mut Vec<u8>| {
+            out.push(count.div_ceil(8) as u8);
+            map.read_bits(area, mem, sc, start, count, out)
+        };
+        let regs = |map: &Map, mem: &alba_ir::Memory, area, start, count: u16, out: &mut Vec<u8>| {
+            out.push((2 * count) as u8);
+            map.read_regs(area, mem, sc, start, count, out)
+        };
+        match req {
+            Request::ReadCoils { start, count } => bits(ModbusArea::Coil, start, count, out),
+            Request::ReadDiscreteInputs { start, count } => bits(ModbusArea::DiscreteInput, start, count, out),
+            Request::ReadHoldingRegisters { start, count } => {
+                regs(&map, mem, ModbusArea::HoldingRegister, start, count, out)
+            }
+            Request::ReadInputRegisters { start, count } => {
+                regs(&map, mem, ModbusArea::InputRegister, start, count, out)
+            }
+            Request::WriteSingleCoil { addr, value } => {
+                let mut w = Vec::with_capacity(1);
+                map.plan_coils(addr, std::iter::once(value), &mut w)?;
+                self.apply(w).await?;
+                out.extend_from_slice(&addr.to_be_bytes());
+                out.extend_from_slice(if value { &[0xFF, 0] } else { &[0, 0] });
+                Ok(())
+            }
+            Request::WriteSingleRegister { addr, value } => {
+                let mut w = Vec::with_capacity(1);
+                map.plan_regs(addr, &[value], &mut w)?;
+                self.apply(w).await?;
+                out.extend_from_slice(&addr.to_be_bytes());
+                out.extend_from_slice(&value.to_be_bytes());
+                Ok(())
+            }
+            Request::WriteMultipleCoils { start, count, bits } => {
+                let mut w = Vec::with_capacity(usize::from(count));
+                map.plan_coils(start, (0..usize::from(count)).map(|i| frame::bit(bits, i)), &mut w)?;
+                self.apply(w).await?;
+                out.extend_from_slice(&start.to_be_bytes());
+                out.extend_from_slice(&count.to_be_bytes());
+                Ok(())
+            }
+            Request::WriteMultipleRegisters { start, values } => {
+                let values: Vec<u16> = frame::registers(values).collect();
+                let mut w = Vec::with_capacity(values.len());
+                map.plan_regs(start, &values, &mut w)?;
+                self.apply(w).await?;
+                out.extend_from_slice(&start.to_be_bytes());
+                out.extend_from_slice(&(values.len() as u16).to_be_bytes());
+                Ok(())
+            }
+            Request::ReadWriteRegisters {
+                read_start,
+                read_count,
+                write_start,
+                values,
+            } => {
+                // Both halves are checked before anything is written.
+                let mut probe = Vec::new();
+                map.read_regs(ModbusArea::HoldingRegister, mem, sc, read_start, read_count, &mut probe)?;
+                let values: Vec<u16> = frame::registers(values).collect();
+                let mut w = Vec::with_capacity(values.len());
+                map.plan_regs(write_start, &values, &mut w)?;
+                self.apply(w).await?;
+                // The read sees the write: the engine published before answering.
+                let snap = self.handle.snapshot();
+                let map = self.map_for(&snap.program, cache);
+                regs(
+                    &map,
+                    &snap.memory,
+                    ModbusArea::HoldingRegister,
+                    read_start,
+                    read_count,
+                    out,
+                )
+            }
+        }
+    }
+
+    /// Applies checked writes: engine places at the next scan boundary (all
+    /// of them at the same one), Modbus-only storage at once.
+    async fn apply(&self, writes: Vec<Write>) -> Result<(), Exception> {
+        let engine: Vec<_> = writes
+            .iter()
+            .filter_map(|w| match *w {
+                Write::Engine(p, v) => Some((p, v)),
+                _ => None,
+            })
+            .collect();
+        if !engine.is_empty() {
+            self.handle
+                .write_many(engine)
+                .await
+                .map_err(|_| Exception::ServerDeviceFailure)?;
+        }
+        for w in &writes {
+            self.scratch.apply(w);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,248 @@
+//! Alba's OPC UA server (SPEC §9, docs/protocols.md), on `async-opcua`.
+//!
+//! Every tag of the running program is a typed variable node under
+//! `Objects/Alba/<project>/Tags` (node ids `ns=<alba>;s=<tag name>`); a
+//! TIMER or COUNTER is an object whose members are variables
+//! (`s=Delay.PRE`). The scan statistics and system tags are read-only
+//! variables under `Objects/Alba/<project>/System`. Reads and subscription
+//! samples come from the runtime's latest snapshot; a write goes to the
+//! engine thread and is answered once applied between two scans. Who may
+//! write follows the HTTP API: inputs, status members and system tags are
+//! read-only (their access level says so, and a write is `BadNotWritable`).
+//! Security: endpoint `None` with anonymous users, for loopback use.
+
+use alba_ir::{Access, Place, Target};
+use alba_model::{DataType, Value};
+use alba_runtime::Handle;
+use opcua::nodes::{AccessLevel, ObjectBuilder, VariableBuilder};
+use opcua::server::ServerBuilder;
+use opcua::server::diagnostics::NamespaceMetadata;
+use opcua::server::node_manager::memory::{SimpleNodeManager, simple_node_manager};
+use opcua::types::{
+    DataTypeId, DataValue, DateTime, NodeId, NumericRange, ObjectId, QualifiedName, StatusCode, TimestampsToReturn,
+    Variant,
+};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+
+/// The namespace of a project's nodes.
+pub fn namespace_uri(project: &str) -> String {
+    format!("urn:alba:{project}")
+}
+
+/// The OPC UA type of an Alba type.
+fn data_type(t: DataType) -> DataTypeId {
+    match t {
+        DataType::Bool => DataTypeId::Boolean,
+        DataType::Sint => DataTypeId::SByte,
+        DataType::Int => DataTypeId::Int16,
+        DataType::Lint => DataTypeId::Int64,
+        DataType::Real => DataTypeId::Float,
+        DataType::Lreal => DataTypeId::Double,
+        // DINT and TIME (milliseconds).
+        _ => DataTypeId::Int32,
+    }
+}
+
+fn variant(v: Value) -> Variant {
+    match v {
+        Value::Bool(b) => Variant::Boolean(b),
+        Value::Sint(x) => Variant::SByte(x),
+        Value::Int(x) => Variant::Int16(x),
+        Value::Dint(x) | Value::Time(x) => Variant::Int32(x),
+        Value::Lint(x) => Variant::Int64(x),
+        Value::Real(x) => Variant::Float(x),
+        Value::Lreal(x) => Variant::Double(x),
+    }
+}
+
+/// A written variant as a value of type `t`, if it is one (exact types, as
+/// the node's DataType says; non-finite reals refused).
+fn value_of(v: &Variant, t: DataType) -> Option<Value> {
+    Some(match (v, t) {
+        (Variant::Boolean(b), DataType::Bool) => Value::Bool(*b),
+        (Variant::SByte(x), DataType::Sint) => Value::Sint(*x),
+        (Variant::Int16(x), DataType::Int) => Value::Int(*x),
+        (Variant::Int32(x), DataType::Dint) => Value::Dint(*x),
+        (Variant::Int32(x), DataType::Time) => Value::Time(*x),
+        (Variant::Int64(x), DataType::Lint) => Value::Lint(*x),
+        (Variant::Float(x), DataType::Real) if x.is_finite() => Value::Real(*x),
+        (Variant::Double(x), DataType::Lreal) if x.is_finite() => Value::Lreal(*x),
+        _ => return None,
+    })
+}
+
+/// The place and access of `name` in the latest program (resolved at each
+/// use, so the node follows its tag through online edits).
+fn resolve(handle: &Handle, name: &str) -> Option<(Place, Access)> {
+    match handle.snapshot().program.layout.resolve(name) {
+        Ok(Target::Value { place, access }) => Some((place, access)),
+        _ => None,
+    }
+}
+
+fn read_cb(
+    handle: Handle,
+    name: String,
+) -> impl Fn(&NumericRange, TimestampsToReturn, f64) -> Result<DataValue, StatusCode> + Send + Sync + 'static {
+    move |_, _, _| {
+        let snap = handle.snapshot();
+        let Ok(Target::Value { place, .. }) = snap.program.layout.resolve(&name) else {
+            return Err(StatusCode::BadNodeIdUnknown);
+        };
+        let now = DateTime::now();
+        Ok(DataValue {
+            value: Some(variant(snap.read(place))),
+            status: Some(StatusCode::Good),
+            source_timestamp: Some(now),
+            server_timestamp: Some(now),
+            ..Default::default()
+        })
+    }
+}
+
+fn write_cb(handle: Handle, name: String) -> impl Fn(DataValue, &NumericRange) -> StatusCode + Send + Sync + 'static {
+    move |dv, range| {
+        if !matches!(range, NumericRange::None) {
+            return StatusCode::BadIndexRangeInvalid;
+        }
+        let Some((place, access)) = resolve(&handle, &name) else {
+            return StatusCode::BadNodeIdUnknown;
+        };
+        if access != Access::ReadWrite {
+            return StatusCode::BadNotWritable;
+        }
+        let Some(v) = dv.value.as_ref().and_then(|v| value_of(v, place.data_type())) else {
+            return StatusCode::BadTypeMismatch;
+        };
+        // Answered once the engine thread applied it between two scans
+        // (at most one scan's wait; this worker thread is handed over).
+        let h = handle.clone();
+        let done = match tokio::runtime::Handle::try_current() {
+            Ok(rt) if rt.runtime_flavor() == tokio::runtime::RuntimeFlavor::MultiThread => {
+                tokio::task::block_in_place(|| rt.block_on(h.write(place, v)))
+            }
+            _ => Err("no multi-threaded runtime".to_string()),
+        };
+        match done {
+            Ok(()) => StatusCode::Good,
+            Err(_) => StatusCode::BadServerHalted,
+        }
+    }
+}
+
+/// Adds one variable for `name` (a tag, member or system tag) under `parent`.
+fn add_variable(nm: &SimpleNodeManager, ns: u16, handle: &Handle, name: &str, browse: &str, parent: &NodeId) {
+    let Some((place, access)) = resolve(handle, name) else {
+        return;
+    };
+    let id = NodeId::new(ns, name.to_string());
+    let writable = access == Access::ReadWrite;
+    let level = if writable {
+        AccessLevel::CURRENT_READ | AccessLevel::CURRENT_WRITE
+    } else {
+        AccessLevel::CURRENT_READ
+    };
+    let initial = variant(handle.snapshot().read(place));
+    {
+        let mut space = nm.address_space().write();
+        VariableBuilder::new(&id, QualifiedName::new(ns, browse), browse)
+            .data_type(data_type(place.data_type()))
+            .value(initial)
+            .access_level(level)
+            .user_access_level(level)
+            .component_of(parent.clone())
+            .insert(&mut *space);
+    }
+    nm.inner()
+        .add_read_callback(id.clone(), read_cb(handle.clone(), name.to_string()));
+    if writable {
+        nm.inner()
+            .add_write_callback(id, write_cb(handle.clone(), name.to_string()));
+    }
+}
+
+/// Starts the server on `listener`'s address (the listener itself is
+/// handed to the server). Returns once it serves; it stops when `closing`
+/// turns true.
+pub async fn serve(
+    handle: Handle,
+    project: &str,
+    addr: SocketAddr,
+    pki_dir: PathBuf,
+    mut closing: tokio::sync::watch::Receiver<bool>,
+) -> Result<SocketAddr, String> {
+    let listener = tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|e| format!("cannot listen for OPC UA on {addr}: {e}"))?;
+    let bound = listener.local_addr().map_err(|e| e.to_string())?;
+    let uri = namespace_uri(project);
+    let (server, sh) = ServerBuilder::new_anonymous("Alba")
+        .application_uri("urn:alba")
+        .product_uri("urn:alba")
+        .host(bound.ip().to_string())
+        .port(bound.port())
+        .pki_dir(pki_dir)
+        .create_sample_keypair(true)
+        .discovery_urls(vec![format!("opc.tcp://{bound}/")])
+        .with_node_manager(simple_node_manager(
+            NamespaceMetadata {
+                namespace_uri: uri.clone(),
+                ..Default::default()
+            },
+            "alba",
+        ))
+        .build()?;
+    let nm = sh
+        .node_managers()
+        .get_of_type::<SimpleNodeManager>()
+        .ok_or("the OPC UA node manager is missing")?;
+    let ns = sh.get_namespace_index(&uri).ok_or("the OPC UA namespace is missing")?;
+    let alba = NodeId::new(ns, "Alba");
+    let proj = NodeId::new(ns, format!("Alba/{project}"));
+    let tags = NodeId::new(ns, format!("Alba/{project}/Tags"));
+    let system = NodeId::new(ns, format!("Alba/{project}/System"));
+    {
+        let mut space = nm.address_space().write();
+        let q = |n: &str| QualifiedName::new(ns, n);
+        space.add_folder(&alba, q("Alba"), "Alba", &ObjectId::ObjectsFolder.into());
+        space.add_folder(&proj, q(project), project, &alba);
+        space.add_folder(&tags, q("Tags"), "Tags", &proj);
+        space.add_folder(&system, q("System"), "System", &proj);
+    }
+    let snap = handle.snapshot();
+    for tag in snap.program.layout.tags.iter() {
+        if tag.ty.members().is_empty() {
+            add_variable(&nm, ns, &handle, &tag.name, &tag.name, &tags);
+            continue;
+        }
+        let obj = NodeId::new(ns, tag.name.clone());
+        {
+            let mut space = nm.address_space().write();
+            ObjectBuilder::new(&obj, QualifiedName::new(ns, tag.name.as_str()), tag.name.as_str())
+                .organized_by(tags.clone())
+                .insert(&mut *space);
+        }
+        for m in tag.ty.members() {
+            add_variable(&nm, ns, &handle, &format!("{}.{}", tag.name, m.name), m.name, &obj);
+        }
+    }
+    for (name, _) in alba_ir::layout::SYSTEM_TAGS {
+        add_variable(&nm, ns, &handle, name, name, &system);
+    }
+    let token = sh.token().clone();
+    tokio::spawn(async move {
+        while !*closing.borrow() {
+            if closing.changed().await.is_err() {
+                break;
+            }
+        }
+        token.cancel();
+    });
+    tokio::spawn(async move {
+        if let Err(e) = server.run_with(listener).await {
+            eprintln!("OPC UA server: {e}");
+        }
+    });
+    Ok(bound)
+}

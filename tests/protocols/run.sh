@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Alba's protocol servers against clients written elsewhere (called by test.sh):
+# pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
+# `alba run --opcua`.
+# Installs what it needs: Debian's libmodbus-dev, and the PyPI packages of
+# requirements.txt in a virtual environment under target/.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+source scripts/common.sh
+ALBA="${1:?usage: tests/protocols/run.sh ALBA_BINARY}"
+OUT=target/protocols
+mkdir -p "$OUT"
+need_pyvenv "$OUT/venv" tests/protocols/requirements.txt
+if ! pkg-config --exists libmodbus 2>/dev/null; then
+    apt_install libmodbus-dev pkg-config
+fi
+cc -O2 -Wall -Wextra -Werror -o "$OUT/libmodbus_smoke" tests/protocols/libmodbus_smoke.c \
+    $(pkg-config --cflags --libs libmodbus)
+# A fresh copy of the fixture project (alba run keeps retentive data in it).
+rm -rf "$OUT/plant"
+cp -r tests/protocols/plant "$OUT/plant"
+"$OUT/venv/bin/python" tests/protocols/modbus_clients.py "$ALBA" "$OUT/plant" "$OUT/libmodbus_smoke"
+# The OPC UA server against asyncua (a fresh copy again).
+rm -rf "$OUT/plant"
+cp -r tests/protocols/plant "$OUT/plant"
+"$OUT/venv/bin/python" tests/protocols/opcua_client.py "$ALBA" "$OUT/plant"
