@@ -271,7 +271,11 @@ impl ModbusMasterIo {
     }
 
     fn errors(&self) -> u64 {
-        self.shared.devices.iter().map(|d| d.errors.load(Ordering::Relaxed)).sum()
+        self.shared
+            .devices
+            .iter()
+            .map(|d| d.errors.load(Ordering::Relaxed))
+            .sum()
     }
 
     /// The latest input image (DI levels, AI registers).
@@ -504,7 +508,13 @@ fn write_request(b: &Block, out: &Outputs, zero: bool) -> Request {
             values: b
                 .locals
                 .iter()
-                .map(|&l| if zero { 0 } else { out.ao.get(l as usize).copied().unwrap_or(0) })
+                .map(|&l| {
+                    if zero {
+                        0
+                    } else {
+                        out.ao.get(l as usize).copied().unwrap_or(0)
+                    }
+                })
                 .collect(),
         }
     }
@@ -670,7 +680,12 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>) {
         if d.shared.stopping() {
             // Leave the slave's outputs off (one attempt each).
             let out = lock(&d.shared.outputs);
-            let reqs: Vec<Request> = d.blocks.iter().filter(|b| b.write).map(|b| write_request(b, &out, true)).collect();
+            let reqs: Vec<Request> = d
+                .blocks
+                .iter()
+                .filter(|b| b.write)
+                .map(|b| write_request(b, &out, true))
+                .collect();
             drop(out);
             for r in reqs {
                 if conn.transact(&r).is_err() {
@@ -766,6 +781,12 @@ mod tests {
             std::thread::sleep(Duration::from_millis(5));
         }
         assert!(!io.all_ok());
-        assert!(io.status()[0].1.last_error.as_deref().is_some_and(|e| e.contains("cannot connect")));
+        assert!(
+            io.status()[0]
+                .1
+                .last_error
+                .as_deref()
+                .is_some_and(|e| e.contains("cannot connect"))
+        );
     }
 }

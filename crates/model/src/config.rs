@@ -169,8 +169,8 @@ impl ModbusArea {
     }
 
     /// Parses `hr 8192`, `hr8192` or `hr:8192` (area names case-insensitive;
-    /// `coil`/`co`, `di`, `ir`, `hr`).
-    pub fn parse_address(text: &str) -> Result<(ModbusArea, u16), String> {
+    /// `coil`/`co`, `di`, `ir`, `hr`), any number from 0 to 65535.
+    pub fn parse_any(text: &str) -> Result<(ModbusArea, u16), String> {
         let t = text.trim();
         let split = t.find(|c: char| c.is_ascii_digit()).unwrap_or(t.len());
         let (area, num) = t.split_at(split);
@@ -198,6 +198,14 @@ impl ModbusArea {
         if n > 65535 {
             return Err(format!("`{t}`: Modbus addresses go from 0 to 65535"));
         }
+        Ok((area, n as u16))
+    }
+
+    /// [`Self::parse_any`], refused inside OpenPLC's map (`[modbus.tags]`).
+    pub fn parse_address(text: &str) -> Result<(ModbusArea, u16), String> {
+        let t = text.trim();
+        let (area, n) = Self::parse_any(t)?;
+        let n = u32::from(n);
         if n < area.first_free() {
             return Err(format!(
                 "`{t}` is inside OpenPLC's map ({} 0 to {}, which the I/O image and markers use)",
@@ -600,9 +608,21 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
             };
         let unit = int("unit", d.unit, 0..=255, 1, "(a unit id)") as u8;
         let poll_ms = int("poll_ms", d.poll_ms, 1..=3_600_000, DEFAULT_POLL_MS, "milliseconds");
-        let timeout_ms = int("timeout_ms", d.timeout_ms, 1..=60_000, DEFAULT_TIMEOUT_MS, "milliseconds");
+        let timeout_ms = int(
+            "timeout_ms",
+            d.timeout_ms,
+            1..=60_000,
+            DEFAULT_TIMEOUT_MS,
+            "milliseconds",
+        );
         let retries = int("retries", d.retries, 0..=10, 1, "retries");
-        let refresh_ms = int("refresh_ms", d.refresh_ms, 1..=3_600_000, DEFAULT_REFRESH_MS, "milliseconds");
+        let refresh_ms = int(
+            "refresh_ms",
+            d.refresh_ms,
+            1..=3_600_000,
+            DEFAULT_REFRESH_MS,
+            "milliseconds",
+        );
         let name = d.name.get_ref().trim().to_string();
         if name.is_empty() || out.iter().any(|o: &ModbusDevice| o.name == name) {
             diags.push(Diagnostic::new(
@@ -635,7 +655,7 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
             let bad = |msg: String, at: std::ops::Range<usize>, label: &str| {
                 Diagnostic::new(Code::ConfigField, msg, sp(at), label.to_string())
             };
-            let (area, start) = match ModbusArea::parse_address(m.remote.get_ref()) {
+            let (area, start) = match ModbusArea::parse_any(m.remote.get_ref()) {
                 Ok(a) => a,
                 Err(msg) => {
                     diags.push(bad(msg, m.remote.span(), "the remote address"));
@@ -697,7 +717,10 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
             let (first, _) = at.footprint();
             if let Some(owner) = (0..u32::from(count)).find_map(|k| taken.get(&(at.area(), first + k))) {
                 diags.push(bad(
-                    format!("channels from `{}` are already mapped by device `{owner}`", m.at.get_ref()),
+                    format!(
+                        "channels from `{}` are already mapped by device `{owner}`",
+                        m.at.get_ref()
+                    ),
                     m.at.span(),
                     "a local channel has one source",
                 ));
