@@ -878,6 +878,60 @@ mod tests {
     }
 
     #[test]
+    fn modbus_devices_and_their_maps() {
+        let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
+        let c = parse(&format!(
+            "{head}[[modbus_device]]\nname = \"rack\"\ntcp = \"10.0.0.5:502\"\nmap = [\n  {{ remote = \"di 0\", count = 8, at = \"%IX0.0\" }},\n  {{ remote = \"hr 100\", at = \"AO:4/2\" }},\n]\n"
+        ))
+        .unwrap();
+        let d = &c.modbus_devices[0];
+        assert_eq!(
+            (
+                d.name.as_str(),
+                d.tcp.as_str(),
+                d.unit,
+                d.poll_ms,
+                d.timeout_ms,
+                d.retries,
+                d.refresh_ms
+            ),
+            ("rack", "10.0.0.5:502", 1, 100, 500, 1, 1000)
+        );
+        let m: Vec<_> = d.map.iter().map(|m| (m.area, m.start, m.count, m.at)).collect();
+        assert_eq!(
+            m,
+            [
+                (ModbusArea::DiscreteInput, 0, 8, crate::address::Address::DigitalIn(0)),
+                (
+                    ModbusArea::HoldingRegister,
+                    100,
+                    1,
+                    crate::address::Address::AnalogOut(2)
+                ),
+            ]
+        );
+        let e = parse(&format!(
+            "{head}[[modbus_device]]\nname = \"a\"\ntcp = \"nowhere\"\npoll_ms = 0\nunit = 300\nmap = [\n  {{ remote = \"di 0\", count = 4, at = \"AI:3/0\" }},\n  {{ remote = \"ir 0\", at = \"AO:4/0\" }},\n  {{ remote = \"coil 65535\", count = 2, at = \"DO:2/0\" }},\n  {{ remote = \"coil 0\", at = \"MW0\" }},\n  {{ remote = \"zz 1\", at = \"DI:1/0\" }},\n  {{ remote = \"di 0\", count = 2, at = \"DI:1/0\" }},\n]\n[[modbus_device]]\nname = \"a\"\ntcp = \"h:1\"\nmap = [{{ remote = \"coil 4\", at = \"DI:1/1\" }}]\n"
+        ))
+        .unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:7:8: error[E102]: unit = 300 is out of range",
+                "alba.toml:6:11: error[E102]: poll_ms = 0 is out of range",
+                "alba.toml:5:7: error[E102]: tcp = \"nowhere\" is not a host and port",
+                "alba.toml:9:38: error[E102]: bits `di 0` cannot feed `AI:3/0`",
+                "alba.toml:10:14: error[E102]: `ir 0` cannot be written",
+                "alba.toml:11:36: error[E102]: count = 2 is out of range",
+                "alba.toml:12:29: error[E102]: `MW0` is not an I/O channel",
+                "alba.toml:13:14: error[E102]: `zz 1` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`",
+                "alba.toml:17:8: error[E102]: two Modbus devices are named `a`",
+                "alba.toml:19:34: error[E102]: channels from `DI:1/1` are already mapped by device `a`",
+            ]
+        );
+    }
+
+    #[test]
     fn boards_and_pin_maps() {
         let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n").unwrap();
         let b = c.board.unwrap();
