@@ -29,7 +29,7 @@ use crate::modbus::{self, FrameError, Request, Response};
 use alba_engine::Engine;
 use alba_ir::{B, I, Place};
 use alba_model::address::Address;
-use alba_model::config::{ModbusArea, ModbusDevice};
+use alba_model::config::{DeviceLink, ModbusArea, ModbusDevice};
 use alba_model::{DataType, Value};
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
@@ -236,11 +236,17 @@ impl ModbusMasterIo {
         let names: Vec<String> = devices.iter().map(|d| d.name.clone()).collect();
         let name = format!("modbus ({})", names.join(", "));
         let mut threads = Vec::new();
+        // Devices on one serial port share it (one transaction at a time).
+        let mut buses: std::collections::HashMap<String, Arc<Mutex<Option<Port>>>> = Default::default();
         for (i, dev) in devices.into_iter().enumerate() {
             let s = shared.clone();
+            let bus = match &dev.link {
+                DeviceLink::Rtu { port, .. } => Some(buses.entry(port.clone()).or_default().clone()),
+                DeviceLink::Tcp(_) => None,
+            };
             let t = std::thread::Builder::new()
                 .name(format!("alba-io-modbus-{i}"))
-                .spawn(move || link_thread(dev, i, s))
+                .spawn(move || link_thread(dev, i, s, bus))
                 .map_err(|e| format!("cannot start a Modbus link thread: {e}"))?;
             threads.push(t);
         }
@@ -360,12 +366,125 @@ impl alba_runtime::Io for ModbusMasterIo {
     }
 }
 
-/// One TCP connection to a slave, with MBAP framing.
-struct Conn {
+type Port = Box<dyn serialport::SerialPort>;
+
+/// How one device is reached: its own TCP connection (MBAP framing), or a
+/// serial bus shared with the other devices on that port (RTU framing).
+enum Conn {
+    Tcp(TcpConn),
+    Rtu(RtuConn),
+}
+
+struct TcpConn {
     stream: TcpStream,
     tid: u16,
     unit: u8,
     timeout: Duration,
+}
+
+struct RtuConn {
+    bus: Arc<Mutex<Option<Port>>>,
+    port: String,
+    baud: u32,
+    unit: u8,
+    timeout: Duration,
+}
+
+impl Conn {
+    fn open(dev: &ModbusDevice, bus: Option<&Arc<Mutex<Option<Port>>>>) -> Result<Conn, String> {
+        match (&dev.link, bus) {
+            (DeviceLink::Rtu { port, baud }, Some(bus)) => {
+                let c = RtuConn {
+                    bus: bus.clone(),
+                    port: port.clone(),
+                    baud: *baud,
+                    unit: dev.unit,
+                    timeout: Duration::from_millis(u64::from(dev.timeout_ms)),
+                };
+                c.ensure_open()?;
+                Ok(Conn::Rtu(c))
+            }
+            _ => TcpConn::open(dev).map(Conn::Tcp),
+        }
+    }
+
+    fn transact(&mut self, req: &Request) -> Result<Response, LinkError> {
+        match self {
+            Conn::Tcp(c) => c.transact(req),
+            Conn::Rtu(c) => c.transact(req),
+        }
+    }
+}
+
+impl RtuConn {
+    fn ensure_open(&self) -> Result<(), String> {
+        let mut bus = lock(&self.bus);
+        if bus.is_none() {
+            let p = serialport::new(&self.port, self.baud)
+                .data_bits(serialport::DataBits::Eight)
+                .parity(serialport::Parity::None)
+                .stop_bits(serialport::StopBits::One)
+                .flow_control(serialport::FlowControl::None)
+                .timeout(self.timeout)
+                .open()
+                .map_err(|e| format!("cannot open {}: {e}", self.port))?;
+            *bus = Some(p);
+        }
+        Ok(())
+    }
+
+    /// One RTU transaction with the bus held; a port error closes the port
+    /// (the next connection attempt reopens it).
+    fn transact(&mut self, req: &Request) -> Result<Response, LinkError> {
+        let mut bus = lock(&self.bus);
+        let Some(port) = bus.as_mut() else {
+            return Err(LinkError::Conn(format!("{} is closed", self.port)));
+        };
+        let r = rtu_exchange(port, self.unit, self.timeout, req);
+        // The silence between frames: 3.5 characters (11 bits each), at least 2 ms.
+        let gap = Duration::from_micros(38_500_000 / u64::from(self.baud.max(1))).max(Duration::from_millis(2));
+        std::thread::sleep(gap);
+        if matches!(r, Err(LinkError::Conn(_))) {
+            *bus = None;
+        }
+        r
+    }
+}
+
+fn rtu_exchange(port: &mut Port, unit: u8, timeout: Duration, req: &Request) -> Result<Response, LinkError> {
+    let perr = |e: std::io::Error| LinkError::Conn(format!("serial port: {e}"));
+    let _ = port.clear(serialport::ClearBuffer::Input);
+    port.write_all(&req.encode(unit)).map_err(perr)?;
+    port.flush().map_err(perr)?;
+    let deadline = Instant::now() + timeout;
+    let mut buf = Vec::with_capacity(req.response_len());
+    loop {
+        let want = req.expected_len(&buf).unwrap_or(2);
+        if buf.len() >= want {
+            break;
+        }
+        let now = Instant::now();
+        if now >= deadline {
+            return Err(LinkError::Timeout(if buf.is_empty() {
+                format!("no answer within {} ms", timeout.as_millis())
+            } else {
+                FrameError::Truncated { got: buf.len(), want }.to_string()
+            }));
+        }
+        let _ = port.set_timeout(deadline - now);
+        let mut chunk = [0u8; modbus::MAX_FRAME];
+        match port.read(&mut chunk[..(want - buf.len()).min(modbus::MAX_FRAME)]) {
+            Ok(0) => return Err(LinkError::Conn("serial port: end of file".into())),
+            Ok(n) => buf.extend_from_slice(&chunk[..n]),
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::TimedOut | std::io::ErrorKind::Interrupted) => {}
+            Err(e) => return Err(perr(e)),
+        }
+    }
+    modbus::decode_response(unit, req, &buf).map_err(|e| match e {
+        FrameError::Exception(_) => LinkError::Refused(format!("the slave refused {}: {e}", describe(req))),
+        // A corrupted frame on a serial line: worth a retry.
+        e => LinkError::Timeout(format!("bad answer to {}: {e}", describe(req))),
+    })
 }
 
 enum LinkError {
@@ -385,27 +504,27 @@ impl LinkError {
     }
 }
 
-impl Conn {
-    fn open(dev: &ModbusDevice) -> Result<Conn, String> {
+impl TcpConn {
+    fn open(dev: &ModbusDevice) -> Result<TcpConn, String> {
         let timeout = Duration::from_millis(u64::from(dev.timeout_ms));
-        let addrs: Vec<_> = dev
-            .tcp
+        let tcp = dev.link.describe();
+        let addrs: Vec<_> = tcp
             .to_socket_addrs()
-            .map_err(|e| format!("cannot resolve {}: {e}", dev.tcp))?
+            .map_err(|e| format!("cannot resolve {tcp}: {e}"))?
             .collect();
-        let mut last = format!("{} resolves to no address", dev.tcp);
+        let mut last = format!("{tcp} resolves to no address");
         for a in addrs {
             match TcpStream::connect_timeout(&a, timeout) {
                 Ok(stream) => {
                     let _ = stream.set_nodelay(true);
-                    return Ok(Conn {
+                    return Ok(TcpConn {
                         stream,
                         tid: 0,
                         unit: dev.unit,
                         timeout,
                     });
                 }
-                Err(e) => last = format!("cannot connect to {}: {e}", dev.tcp),
+                Err(e) => last = format!("cannot connect to {tcp}: {e}"),
             }
         }
         Err(last)
@@ -609,7 +728,7 @@ impl Device {
     }
 }
 
-fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>) {
+fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option<Arc<Mutex<Option<Port>>>>) {
     let blocks = plan(&dev);
     let d = Device {
         dev,
@@ -630,7 +749,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>) {
         }
     };
     while !d.shared.stopping() {
-        let mut conn = match Conn::open(&d.dev) {
+        let mut conn = match Conn::open(&d.dev, bus.as_ref()) {
             Ok(c) => c,
             Err(e) => {
                 d.error(&e, true);
@@ -657,7 +776,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>) {
                     drop(s);
                     backoff = backoff_min;
                     if up != Some(true) {
-                        eprintln!("I/O modbus device {}: link up ({})", d.dev.name, d.dev.tcp);
+                        eprintln!("I/O modbus device {}: link up ({})", d.dev.name, d.dev.link.describe());
                         up = Some(true);
                     }
                 }
@@ -724,7 +843,7 @@ mod tests {
     fn device(map: Vec<ModbusMapping>) -> ModbusDevice {
         ModbusDevice {
             name: "d".into(),
-            tcp: "127.0.0.1:1".into(),
+            link: DeviceLink::Tcp("127.0.0.1:1".into()),
             unit: 1,
             poll_ms: 10,
             timeout_ms: 50,
@@ -773,7 +892,7 @@ mod tests {
         let addr = l.local_addr().expect("addr");
         drop(l);
         let mut d = device(vec![mapping(ModbusArea::DiscreteInput, 0, 1, Address::DigitalIn(0))]);
-        d.tcp = addr.to_string();
+        d.link = DeviceLink::Tcp(addr.to_string());
         let io = ModbusMasterIo::start(vec![d]).expect("driver");
         let t0 = Instant::now();
         while io.status()[0].1.errors < 2 {

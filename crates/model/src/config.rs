@@ -63,8 +63,8 @@ pub struct Config {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModbusDevice {
     pub name: String,
-    /// `host:port` of the slave (resolved when the driver connects).
-    pub tcp: String,
+    /// How the slave is reached.
+    pub link: DeviceLink,
     pub unit: u8,
     pub poll_ms: u32,
     pub timeout_ms: u32,
@@ -76,7 +76,27 @@ pub struct ModbusDevice {
     pub span: Span,
 }
 
+/// `tcp = "host:port"` or `rtu = "/dev/ttyUSB0"` (with `baud`, 8N1).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum DeviceLink {
+    /// `host:port` of the slave (resolved when the driver connects).
+    Tcp(String),
+    /// A serial port; devices on the same port share the bus.
+    Rtu { port: String, baud: u32 },
+}
+
+impl DeviceLink {
+    /// `host:port` or `port@baud`, for messages.
+    pub fn describe(&self) -> String {
+        match self {
+            DeviceLink::Tcp(a) => a.clone(),
+            DeviceLink::Rtu { port, baud } => format!("{port}@{baud}"),
+        }
+    }
+}
+
 pub const DEFAULT_POLL_MS: u32 = 100;
+pub const DEFAULT_RTU_BAUD: u32 = 19_200;
 pub const DEFAULT_TIMEOUT_MS: u32 = 500;
 pub const DEFAULT_REFRESH_MS: u32 = 1000;
 
@@ -269,7 +289,9 @@ struct RawConfig {
 #[serde(deny_unknown_fields)]
 struct RawDevice {
     name: Spanned<String>,
-    tcp: Spanned<String>,
+    tcp: Option<Spanned<String>>,
+    rtu: Option<Spanned<String>>,
+    baud: Option<Spanned<i64>>,
     unit: Option<Spanned<i64>>,
     poll_ms: Option<Spanned<i64>>,
     timeout_ms: Option<Spanned<i64>>,
@@ -623,6 +645,7 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
             DEFAULT_REFRESH_MS,
             "milliseconds",
         );
+        let baud = int("baud", d.baud.clone(), 300..=4_000_000, DEFAULT_RTU_BAUD, "bits/s");
         let name = d.name.get_ref().trim().to_string();
         if name.is_empty() || out.iter().any(|o: &ModbusDevice| o.name == name) {
             diags.push(Diagnostic::new(
@@ -636,18 +659,44 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
                 "a device needs a name of its own",
             ));
         }
-        let tcp = d.tcp.get_ref().trim().to_string();
-        let port_ok = tcp
-            .rsplit_once(':')
-            .is_some_and(|(h, p)| !h.is_empty() && p.parse::<u16>().is_ok_and(|p| p > 0));
-        if !port_ok {
-            diags.push(Diagnostic::new(
-                Code::ConfigField,
-                format!("tcp = \"{tcp}\" is not a host and port"),
-                sp(d.tcp.span()),
-                "expected HOST:PORT, like \"192.168.1.20:502\"",
-            ));
-        }
+        let link = match (&d.tcp, &d.rtu) {
+            (Some(t), None) => {
+                let tcp = t.get_ref().trim().to_string();
+                let port_ok = tcp
+                    .rsplit_once(':')
+                    .is_some_and(|(h, p)| !h.is_empty() && p.parse::<u16>().is_ok_and(|p| p > 0));
+                if !port_ok {
+                    diags.push(Diagnostic::new(
+                        Code::ConfigField,
+                        format!("tcp = \"{tcp}\" is not a host and port"),
+                        sp(t.span()),
+                        "expected HOST:PORT, like \"192.168.1.20:502\"",
+                    ));
+                }
+                if let Some(b) = &d.baud {
+                    diags.push(Diagnostic::new(
+                        Code::ConfigField,
+                        "`baud` is a setting of serial (rtu) devices",
+                        sp(b.span()),
+                        "not with tcp",
+                    ));
+                }
+                DeviceLink::Tcp(tcp)
+            }
+            (None, Some(r)) if !r.get_ref().trim().is_empty() => DeviceLink::Rtu {
+                port: r.get_ref().trim().to_string(),
+                baud,
+            },
+            (t, r) => {
+                diags.push(Diagnostic::new(
+                    Code::ConfigField,
+                    format!("device `{name}` needs exactly one of `tcp` and `rtu`"),
+                    sp(t.as_ref().or(r.as_ref()).map_or(d.name.span(), |x| x.span())),
+                    "tcp = \"HOST:PORT\" or rtu = \"/dev/ttyUSB0\"",
+                ));
+                DeviceLink::Tcp(String::new())
+            }
+        };
         let mut map = Vec::new();
         for m in d.map {
             let mspan = sp(m.span());
@@ -739,7 +788,7 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
         }
         out.push(ModbusDevice {
             name,
-            tcp,
+            link,
             unit,
             poll_ms,
             timeout_ms,
@@ -888,14 +937,14 @@ mod tests {
         assert_eq!(
             (
                 d.name.as_str(),
-                d.tcp.as_str(),
+                &d.link,
                 d.unit,
                 d.poll_ms,
                 d.timeout_ms,
                 d.retries,
                 d.refresh_ms
             ),
-            ("rack", "10.0.0.5:502", 1, 100, 500, 1, 1000)
+            ("rack", &DeviceLink::Tcp("10.0.0.5:502".into()), 1, 100, 500, 1, 1000)
         );
         let m: Vec<_> = d.map.iter().map(|m| (m.area, m.start, m.count, m.at)).collect();
         assert_eq!(
@@ -908,6 +957,28 @@ mod tests {
                     1,
                     crate::address::Address::AnalogOut(2)
                 ),
+            ]
+        );
+        let c = parse(&format!(
+            "{head}[[modbus_device]]\nname = \"bus\"\nrtu = \"/dev/ttyUSB0\"\nbaud = 9600\n"
+        ))
+        .unwrap();
+        assert_eq!(
+            c.modbus_devices[0].link,
+            DeviceLink::Rtu {
+                port: "/dev/ttyUSB0".into(),
+                baud: 9600
+            }
+        );
+        let e = parse(&format!(
+            "{head}[[modbus_device]]\nname = \"b\"\nrtu = \"/dev/x\"\ntcp = \"h:1\"\n[[modbus_device]]\nname = \"c\"\ntcp = \"h:1\"\nbaud = 9600\n"
+        ))
+        .unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:6:7: error[E102]: device `b` needs exactly one of `tcp` and `rtu`",
+                "alba.toml:10:8: error[E102]: `baud` is a setting of serial (rtu) devices",
             ]
         );
         let e = parse(&format!(
