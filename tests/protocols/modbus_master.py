@@ -17,16 +17,19 @@ recovery time.
 
 import asyncio
 import json
+import os
 import re
 import socket
 import subprocess
 import sys
 import threading
 import time
+import tty
 import urllib.request
 
 from pymodbus.datastore import ModbusDeviceContext, ModbusSequentialDataBlock, ModbusServerContext
-from pymodbus.server import ModbusTcpServer
+from pymodbus import FramerType
+from pymodbus.server import ModbusSerialServer, ModbusTcpServer
 
 failures = []
 
@@ -50,8 +53,9 @@ def until(what, f, timeout=10.0):
 class Slave:
     """A pymodbus TCP slave on its own event loop thread; counts requests."""
 
-    def __init__(self, port):
+    def __init__(self, port, serial=None):
         self.port = port
+        self.serial = serial
         self.requests = 0
         self.loop = asyncio.new_event_loop()
         threading.Thread(target=self.loop.run_forever, daemon=True).start()
@@ -74,11 +78,12 @@ class Slave:
                     self.requests += 1
                 return pdu
 
-            self.server = ModbusTcpServer(
-                ModbusServerContext(devices=dev, single=True),
-                address=("127.0.0.1", self.port),
-                trace_pdu=trace,
-            )
+            ctx = ModbusServerContext(devices=dev, single=True)
+            if self.serial:
+                self.server = ModbusSerialServer(ctx, framer=FramerType.RTU, port=self.serial,
+                                                 baudrate=19200, trace_pdu=trace)
+            else:
+                self.server = ModbusTcpServer(ctx, address=("127.0.0.1", self.port), trace_pdu=trace)
             await self.server.serve_forever(background=True)
 
         self._run(go())
@@ -156,6 +161,60 @@ def free_port():
     return port
 
 
+def serial_line():
+    """Two ptys joined back to back (a null-modem cable): returns their paths."""
+    ends = []
+    for _ in range(2):
+        master, slave = os.openpty()
+        tty.setraw(slave)
+        ends.append((master, slave, os.ttyname(slave)))
+
+    def pump(a, b):
+        while True:
+            try:
+                data = os.read(a, 4096)
+                if not data:
+                    return
+                os.write(b, data)
+            except OSError:
+                time.sleep(0.01)
+
+    threading.Thread(target=pump, args=(ends[0][0], ends[1][0]), daemon=True).start()
+    threading.Thread(target=pump, args=(ends[1][0], ends[0][0]), daemon=True).start()
+    return ends[0][2], ends[1][2]
+
+
+def rtu(binary, project):
+    """The same project with the device on a serial line (Modbus RTU)."""
+    alba_end, slave_end = serial_line()
+    toml = f"{project}/alba.toml"
+    text = open(toml).read()
+    open(toml, "w").write(re.sub(r'tcp = "[^"]*"', f'rtu = "{alba_end}"\nbaud = 19200', text))
+    slave = Slave(0, serial=slave_end)
+    slave.start()
+    alba = Alba(binary, project)
+    try:
+        print(f"modbus master RTU ({alba_end} <-> {slave_end}): inputs to outputs", flush=True)
+        until("S:IOOK (RTU)", lambda: alba.tag("S:IOOK") is True)
+        slave.set(2, 0, [True, False, True, True])
+        slave.set(4, 0, [300, 5])
+        until("coils 0-3 (RTU)", lambda: slave.get(1, 0, 4) == [True, True, True, True])
+        until("holding registers 10-11 (RTU)", lambda: slave.get(3, 10, 2) == [300, 6])
+        n0, t0 = slave.requests, time.time()
+        time.sleep(2)
+        print(f"  slave served {(slave.requests - n0) / (time.time() - t0):.0f} requests/s at 19200 baud", flush=True)
+        slave.stop()
+        until("S:IOOK false (RTU)", lambda: alba.tag("S:IOOK") is False)
+        slave.start()
+        t_up = time.time()
+        until("S:IOOK true again (RTU)", lambda: alba.tag("S:IOOK") is True)
+        until("outputs restored (RTU)", lambda: slave.get(1, 0, 4) == [False, True, False, True])
+        print(f"  recovered {time.time() - t_up:.3f} s after the slave restarted", flush=True)
+    finally:
+        alba.stop()
+        slave.stop()
+
+
 def main():
     binary, project = sys.argv[1], sys.argv[2]
     port = free_port()
@@ -223,6 +282,9 @@ def main():
     if failures:
         print("".join(alba.log[-30:]))
         raise SystemExit(f"modbus master: {len(failures)} failure(s)")
+    rtu(binary, project)
+    if failures:
+        raise SystemExit(f"modbus master RTU: {len(failures)} failure(s)")
     print("modbus master: all passed", flush=True)
 
 
