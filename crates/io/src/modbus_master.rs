@@ -1,6 +1,8 @@
-//! `--io modbus`: Alba as a Modbus TCP master. Every `[[modbus_device]]` of
-//! alba.toml is a remote slave whose coils, discrete inputs and registers
-//! are mapped onto the I/O image (docs/protocols.md, "Modbus master I/O").
+//! `--io modbus`: Alba as a Modbus master, TCP or RTU. Every
+//! `[[modbus_device]]` of alba.toml is a remote slave whose coils, discrete
+//! inputs and registers are mapped onto the I/O image (docs/protocols.md,
+//! "Modbus master I/O"). RTU devices on one serial port share it: each
+//! transaction takes the port's mutex (link threads only, never the engine).
 //!
 //! The design is the one of [`crate::arduino`]: one link thread per device
 //! owns its TCP connection and polls at the device's period; the engine
