@@ -17,6 +17,7 @@ recovery time.
 
 import asyncio
 import json
+import logging
 import os
 import re
 import socket
@@ -32,6 +33,8 @@ from pymodbus import FramerType
 from pymodbus.server import ModbusSerialServer, ModbusTcpServer
 
 failures = []
+# pymodbus 3.16 warns that its classic datastore is deprecated (v4 replaces it).
+logging.getLogger("pymodbus.logging").setLevel(logging.ERROR)
 
 
 def check(cond, what):
