@@ -72,6 +72,7 @@ async fn master_against_albas_own_server() {
         ],
         span: Span::new(FileId(0), 0..0),
     };
+    let dev2 = dev.clone();
     let io = tokio::task::spawn_blocking(move || {
         let io = ModbusMasterIo::start(vec![dev]).expect("driver");
         wait("the link", || io.all_ok());
@@ -90,6 +91,27 @@ async fn master_against_albas_own_server() {
         let rate = (io.status()[0].1.cycles - c0) as f64 / t0.elapsed().as_secs_f64();
         let last = io.status()[0].1.last_cycle;
         println!("poll_ms = 1 against Alba's Modbus server: {rate:.0} polls/s (2 requests each), last poll {last:?}");
+        assert!(io.all_ok(), "{:?}", io.status());
+        // A device mapping an address the slave does not have: the slave's
+        // exception reply makes it unhealthy (S:IOOK false) but keeps the
+        // connection, and the healthy device goes on.
+        let mut bad = ModbusDevice {
+            name: "bad".into(),
+            map: vec![mapping(ModbusArea::InputRegister, 5000, 1, Address::AnalogIn(1))],
+            ..dev2
+        };
+        bad.poll_ms = 5;
+        let both = ModbusMasterIo::start(vec![bad]).expect("driver");
+        wait("the refusal", || both.status()[0].1.errors >= 3);
+        let s = &both.status()[0].1;
+        assert!(!s.ok && !both.all_ok() && s.connects == 1, "{s:?}");
+        assert!(
+            s.last_error.as_deref().is_some_and(
+                |e| e.contains("refused reading 1 input registers from 5000") && e.contains("illegal data address")
+            ),
+            "{s:?}"
+        );
+        drop(both);
         assert!(io.all_ok(), "{:?}", io.status());
         io
     })
