@@ -6,7 +6,8 @@
 #   kill -9 of retentive data); end-to-end tests in a real browser (Chromium driven
 #   by playwright-core); the AVR toolchain building for every board; smoke runs
 #   of the simulator and of `alba bench`; the Modbus TCP server against pymodbus
-#   and libmodbus clients, the OPC UA server against asyncua (tests/protocols/).
+#   and libmodbus clients, the OPC UA server against asyncua, the Modbus master
+#   (--io modbus) against pymodbus slaves over TCP and RTU (tests/protocols/).
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/common.sh
@@ -32,7 +33,7 @@ cargo build -q --locked -p alba-cli
 TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 mkdir -p target/e2e
 (cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
-step "protocols: pymodbus, libmodbus and asyncua clients against alba run --modbus --opcua"
+step "protocols: pymodbus, libmodbus and asyncua clients against alba run --modbus --opcua; alba run --io modbus against pymodbus slaves"
 tests/protocols/run.sh "$TARGET/debug/alba"
 step "Arduino: every example's sketch builds for uno, nano and mega (no warnings); the simavr harness checks itself"
 # (The PID examples are refused, E501, until the PID instruction runs on the board.)

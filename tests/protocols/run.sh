@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
 # pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
-# `alba run --opcua`.
+# `alba run --opcua`; a pymodbus slave polled by `alba run --io modbus`.
 # Installs what it needs: Debian's libmodbus-dev, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
 set -euo pipefail
@@ -24,3 +24,7 @@ cp -r tests/protocols/plant "$OUT/plant"
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"
 "$OUT/venv/bin/python" tests/protocols/opcua_client.py "$ALBA" "$OUT/plant"
+# Alba as a Modbus TCP master (--io modbus) against a pymodbus slave.
+rm -rf "$OUT/master"
+cp -r tests/protocols/master "$OUT/master"
+"$OUT/venv/bin/python" tests/protocols/modbus_master.py "$ALBA" "$OUT/master"

@@ -134,7 +134,8 @@ enum Command {
         /// I/O driver: `sim` (plant models of the project, forces and writes) or
         /// `arduino:PORT[,link=modbus|aurora,reset_ms=N,timeout_ms=N,retries=N,slave=N]`
         /// (a board running `alba firmware`), or `board:PORT[,options]` (attach to a board
-        /// running the project's exported sketch; see docs/arduino.md).
+        /// running the project's exported sketch; see docs/arduino.md), or `modbus` (poll the
+        /// `[[modbus_device]]` slaves of alba.toml; see docs/protocols.md).
         #[arg(long, default_value = "sim")]
         io: String,
         /// Interpret instead of compiling the program to native code.

@@ -7,6 +7,8 @@
 //! - [`arduino`]: the host driver, `alba run --io arduino:<port>`: a link
 //!   thread owns the serial port and polls the board; the engine thread
 //!   only exchanges the latest images with it and never waits on the port.
+//! - [`modbus_master`]: `alba run --io modbus`: Alba polls the Modbus TCP
+//!   slaves of `[[modbus_device]]` as its I/O.
 //! - [`attach`]: `alba run --io board:<port>`: the board runs the exported
 //!   sketch and the runtime mirrors its memory over the monitoring link.
 
@@ -15,3 +17,4 @@ pub mod attach;
 pub mod aurora;
 pub mod firmware;
 pub mod modbus;
+pub mod modbus_master;

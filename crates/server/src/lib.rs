@@ -489,6 +489,15 @@ pub async fn run(
             let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
             alba_io::arduino::driver(arduino, board).map_err(RunError::Other)?
         }
+        "modbus" => {
+            let devices = compiled
+                .project
+                .config
+                .as_ref()
+                .map(|c| c.modbus_devices.as_slice())
+                .unwrap_or_default();
+            alba_io::modbus_master::driver(devices).map_err(RunError::Other)?
+        }
         attach if attach.starts_with("board:") => {
             let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
             let target = alba_arduino::sketch::Target {
@@ -506,7 +515,7 @@ pub async fn run(
         }
         other => {
             return Err(RunError::Other(format!(
-                "unknown I/O driver `{other}` (available: sim, arduino:<serial port>[,link=modbus|aurora,…], board:<serial port>)"
+                "unknown I/O driver `{other}` (available: sim, arduino:<serial port>[,link=modbus|aurora,…], board:<serial port>, modbus)"
             )));
         }
     };
