@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
 # pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
-# `alba run --opcua`.
+# `alba run --opcua` (and its security: tests/protocols/opcua_security.py).
 # Installs what it needs: Debian's libmodbus-dev, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
 set -euo pipefail
@@ -24,3 +24,7 @@ cp -r tests/protocols/plant "$OUT/plant"
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"
 "$OUT/venv/bin/python" tests/protocols/opcua_client.py "$ALBA" "$OUT/plant"
+# OPC UA security (users, Basic256Sha256, certificate trust) against asyncua.
+rm -rf "$OUT/plant"
+cp -r tests/protocols/plant "$OUT/plant"
+"$OUT/venv/bin/python" tests/protocols/opcua_security.py "$ALBA" "$OUT/plant"
