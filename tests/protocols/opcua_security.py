@@ -10,7 +10,8 @@ makes. Then:
    Sign / SignAndEncrypt; Basic256Sha256 + SignAndEncrypt with the user name
    and password reads and writes (and an input stays read-only); Sign works
    too; a wrong password, an unknown user and anonymous on a secure endpoint
-   are refused; None + anonymous works. Prints the handshake time and the
+   are refused; None + anonymous works; the server's key pair was created,
+   its private key mode 0600. Prints the handshake time and the
    read rate with SignAndEncrypt and with None.
 2. Bound to 0.0.0.0 (the client still talks to 127.0.0.1): no None endpoint
    is offered and a None connection is refused; an unknown client
@@ -182,6 +183,9 @@ async def loopback(binary, project, cert, key):
     proc, port, http = start(binary, project, "127.0.0.2:0")
     url = f"opc.tcp://127.0.0.2:{port}/"
     try:
+        key_file = Path(project) / ".alba" / "pki" / "private" / "private.pem"
+        check(key_file.is_file() and key_file.stat().st_mode & 0o777 == 0o600,
+              "the server's private key was created on first run, readable by its owner only")
         async with Client(url=url, timeout=10) as probe:
             eps = await probe.get_endpoints()
         kinds = sorted((e.SecurityPolicyUri.split("#")[-1], e.SecurityMode.name) for e in eps)

@@ -189,6 +189,7 @@ pub async fn serve(
         .map_err(|e| format!("cannot listen for OPC UA on {addr}: {e}"))?;
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     let uri = namespace_uri(project);
+    security::protect_private_key(&pki_dir)?;
     let local = security::is_local(bound.ip());
     let mut builder = ServerBuilder::new()
         .application_name("Alba")
@@ -206,7 +207,7 @@ pub async fn serve(
         .product_uri("urn:alba")
         .host(bound.ip().to_string())
         .port(bound.port())
-        .pki_dir(pki_dir)
+        .pki_dir(pki_dir.clone())
         .create_sample_keypair(true)
         .discovery_urls(vec![format!("opc.tcp://{bound}/")])
         .with_node_manager(simple_node_manager(
@@ -217,6 +218,7 @@ pub async fn serve(
             "alba",
         ))
         .build()?;
+    security::protect_private_key(&pki_dir)?;
     let nm = sh
         .node_managers()
         .get_of_type::<SimpleNodeManager>()

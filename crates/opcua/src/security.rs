@@ -88,6 +88,9 @@ fn dummy_hash() -> String {
 pub struct Auth {
     local: bool,
     users: Arc<BTreeMap<String, String>>,
+    /// One argon2 check at a time: a flood of logins costs one core at
+    /// most, never both (the engine thread keeps its own).
+    checking: tokio::sync::Semaphore,
 }
 
 impl Auth {
@@ -95,6 +98,7 @@ impl Auth {
         Auth {
             local: is_local(ip),
             users: Arc::new(users.iter().map(|u| (u.name.clone(), u.hash.clone())).collect()),
+            checking: tokio::sync::Semaphore::new(1),
         }
     }
 
@@ -134,6 +138,11 @@ impl AuthManager for Auth {
                 "user names and passwords are accepted on Basic256Sha256 endpoints only",
             ));
         }
+        let _turn = self
+            .checking
+            .acquire()
+            .await
+            .map_err(|_| rejected("the server is stopping"))?;
         let hash = self.users.get(username).cloned();
         let known = hash.is_some();
         let hash = match hash {
@@ -175,6 +184,28 @@ impl AuthManager for Auth {
         }
         out
     }
+}
+
+/// Makes the PKI folder's `private/` readable by its owner only (the
+/// server's private key lives there): before the server creates the key,
+/// and again after for a key made by an older version.
+pub fn protect_private_key(pki_dir: &std::path::Path) -> Result<(), String> {
+    let private = pki_dir.join("private");
+    std::fs::create_dir_all(&private).map_err(|e| format!("cannot create {}: {e}", private.display()))?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let set = |p: &std::path::Path, mode: u32| {
+            std::fs::set_permissions(p, std::fs::Permissions::from_mode(mode))
+                .map_err(|e| format!("cannot restrict {}: {e}", p.display()))
+        };
+        set(&private, 0o700)?;
+        let key = private.join("private.pem");
+        if key.exists() {
+            set(&key, 0o600)?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -244,5 +275,19 @@ mod tests {
                 assert!(login("nobody", "pw").is_err());
             }
         }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn the_private_key_is_the_owners_only() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("alba-pki-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("private")).unwrap();
+        std::fs::write(dir.join("private/private.pem"), "key").unwrap();
+        protect_private_key(&dir).unwrap();
+        let mode = |p: &str| std::fs::metadata(dir.join(p)).unwrap().permissions().mode() & 0o777;
+        assert_eq!((mode("private"), mode("private/private.pem")), (0o700, 0o600));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
