@@ -9,7 +9,7 @@ makes. Then:
 1. Bound to loopback (127.0.0.2): the endpoints are None and Basic256Sha256
    Sign / SignAndEncrypt; Basic256Sha256 + SignAndEncrypt with the user name
    and password reads and writes (and an input stays read-only); Sign works
-   too; a wrong password, an unknown user and anonymous on a secure endpoint
+   too; a read-only user reads and may not write; a wrong password, an unknown user and anonymous on a secure endpoint
    are refused; None + anonymous works; the server's key pair was created,
    its private key mode 0600. Prints the handshake time and the
    read rate with SignAndEncrypt and with None.
@@ -203,6 +203,17 @@ async def loopback(binary, project, cert, key):
         c = await secure_client(url, cert, key, "operator", PASSWORD, mode=ua.MessageSecurityMode.Sign)
         async with c:
             await read_write(c, http, ns, 4321)
+        # A read-only user reads, and its writes are refused.
+        c = await secure_client(url, cert, key, "viewer", PASSWORD)
+        async with c:
+            speed = c.get_node(f"ns={ns};s=Speed")
+            check(await speed.read_value() == 4321, "the read-only user reads")
+            try:
+                await speed.write_value(ua.DataValue(ua.Variant(1, ua.VariantType.Int32)))
+                check(False, "a read-only user wrote Speed")
+            except ua.UaStatusCodeError as e:
+                check(e.code == ua.StatusCodes.BadUserAccessDenied, f"read-only write refused with {e}")
+            check(api(http, "/api/tags/Speed")["value"] == 4321, "a refused write changes nothing")
         await refused(lambda: secure_client(url, cert, key, "operator", "wrong"), "a wrong password")
         await refused(lambda: secure_client(url, cert, key, "nobody", PASSWORD), "an unknown user")
         await refused(lambda: secure_client(url, cert, key), "anonymous on Basic256Sha256")
@@ -268,7 +279,7 @@ async def main():
     digest = h.stdout.strip()
     check(digest.startswith("$argon2id$"), f"alba hash-password: {digest}")
     with open(Path(project) / "alba.toml", "a") as f:
-        f.write(f'\n[opcua.users]\noperator = "{digest}"\n')
+        f.write(f'\n[opcua]\nread_only = ["viewer"]\n[opcua.users]\noperator = "{digest}"\nviewer = "{digest}"\n')
     out = Path(project) / "client-pki"
     out.mkdir(exist_ok=True)
     cert, key = out / "client.der", out / "client.pem"

@@ -72,6 +72,9 @@ pub struct OpcuaUser {
     /// The password's argon2 hash as a PHC string (checked to parse).
     pub hash: String,
     pub span: Span,
+    /// May write tags (what the HTTP API lets anyone write); `false` for
+    /// the names listed in `[opcua] read_only`.
+    pub write: bool,
 }
 
 /// Checks a `[opcua.users]` entry's value is an argon2 PHC hash; the error
@@ -260,6 +263,8 @@ struct RawOpcua {
     listen: Option<Spanned<String>>,
     #[serde(default)]
     users: std::collections::BTreeMap<Spanned<String>, Spanned<String>>,
+    #[serde(default)]
+    read_only: Vec<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -568,6 +573,7 @@ fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> Opcua {
                 name: n.clone(),
                 hash: hash.get_ref().clone(),
                 span: sp(name.span()),
+                write: true,
             }),
             Err(msg) => diags.push(
                 Diagnostic::new(
@@ -578,6 +584,17 @@ fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> Opcua {
                 )
                 .with_help("make one with `alba hash-password` (it reads the password from stdin)"),
             ),
+        }
+    }
+    for r in &o.read_only {
+        match users.iter_mut().find(|u| u.name == *r.get_ref()) {
+            Some(u) => u.write = false,
+            None => diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("`{}` is not in [opcua.users]", r.get_ref()),
+                sp(r.span()),
+                "read_only lists user names of [opcua.users]",
+            )),
         }
     }
     if let (Some(a), Some(l)) = (addr, o.listen.as_ref())
@@ -793,6 +810,24 @@ mod tests {
         let names: Vec<_> = o.users.iter().map(|u| u.name.as_str()).collect();
         assert_eq!(names, ["operator", "admin"], "in file order");
         assert_eq!(o.users[0].hash, h);
+        assert!(o.users.iter().all(|u| u.write));
+        let c = parse(&format!(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"viewer\"]\n[opcua.users]\noperator = \"{h}\"\nviewer = \"{h}\"\n"
+        ))
+        .unwrap();
+        let w: Vec<_> = c
+            .opcua
+            .unwrap()
+            .users
+            .iter()
+            .map(|u| (u.name.clone(), u.write))
+            .collect();
+        assert_eq!(w, [("operator".to_string(), true), ("viewer".to_string(), false)]);
+        let e = parse(&format!(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"ghost\"]\n[opcua.users]\noperator = \"{h}\"\n"
+        ))
+        .unwrap_err();
+        assert_eq!(e, ["alba.toml:4:14: error[E102]: `ghost` is not in [opcua.users]"]);
         // Loopback needs no users.
         let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.2:4840\"\n").unwrap();
         assert!(c.opcua.unwrap().users.is_empty());

@@ -16,11 +16,12 @@ use alba_model::config::OpcuaUser;
 use argon2::password_hash::{PasswordHash, PasswordHasher, PasswordVerifier, SaltString};
 use async_trait::async_trait;
 use opcua::crypto::SecurityPolicy;
+use opcua::nodes::AccessLevel;
 use opcua::server::ServerEndpoint;
 use opcua::server::authenticator::{
     AuthManager, Password, UserToken, user_pass_security_policy_id, user_pass_security_policy_uri,
 };
-use opcua::types::{Error, MessageSecurityMode, StatusCode, UAString, UserTokenPolicy, UserTokenType};
+use opcua::types::{Error, MessageSecurityMode, NodeId, StatusCode, UAString, UserTokenPolicy, UserTokenType};
 use std::collections::BTreeMap;
 use std::net::IpAddr;
 use std::sync::Arc;
@@ -88,6 +89,8 @@ fn dummy_hash() -> String {
 pub struct Auth {
     local: bool,
     users: Arc<BTreeMap<String, String>>,
+    /// Users of `[opcua] read_only`: their sessions write nothing.
+    readers: std::collections::BTreeSet<String>,
     /// One argon2 check at a time: a flood of logins costs one core at
     /// most, never both (the engine thread keeps its own).
     checking: tokio::sync::Semaphore,
@@ -98,6 +101,7 @@ impl Auth {
         Auth {
             local: is_local(ip),
             users: Arc::new(users.iter().map(|u| (u.name.clone(), u.hash.clone())).collect()),
+            readers: users.iter().filter(|u| !u.write).map(|u| u.name.clone()).collect(),
             checking: tokio::sync::Semaphore::new(1),
         }
     }
@@ -159,6 +163,17 @@ impl AuthManager for Auth {
         } else {
             eprintln!("OPC UA: login refused for user `{username}`");
             Err(rejected(format!("wrong user name or password for `{username}`")))
+        }
+    }
+
+    /// A read-only user's sessions see (and get) no write access; everyone
+    /// else keeps the node's own access level (inputs, status members and
+    /// system tags are read-only for all, as in the HTTP API).
+    fn effective_user_access_level(&self, token: &UserToken, level: AccessLevel, _node: &NodeId) -> AccessLevel {
+        if self.readers.contains(&token.0) {
+            level - AccessLevel::CURRENT_WRITE
+        } else {
+            level
         }
     }
 
@@ -256,6 +271,7 @@ mod tests {
             name: "op".into(),
             hash: h,
             span: alba_model::diag::Span::new(alba_model::diag::FileId(0), 0..0),
+            write: true,
         }];
         for (ip, none_anonymous) in [("127.0.0.1", true), ("0.0.0.0", false), ("10.0.0.1", false)] {
             let ip: IpAddr = ip.parse().unwrap();
@@ -274,6 +290,19 @@ mod tests {
                 assert!(login("op", "wrong").is_err());
                 assert!(login("nobody", "pw").is_err());
             }
+            let rw = AccessLevel::CURRENT_READ | AccessLevel::CURRENT_WRITE;
+            let n = NodeId::new(1, "Speed");
+            assert_eq!(
+                auth.effective_user_access_level(&UserToken("op".into()), rw, &n).bits(),
+                rw.bits()
+            );
+            let mut viewer = users.clone();
+            viewer[0].write = false;
+            let ro = Auth::new(ip, &viewer);
+            assert_eq!(
+                ro.effective_user_access_level(&UserToken("op".into()), rw, &n).bits(),
+                AccessLevel::CURRENT_READ.bits()
+            );
         }
     }
 
