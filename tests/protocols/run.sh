@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
 # pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
-# `alba run --opcua`; a pymodbus slave polled by `alba run --io modbus`.
+# `alba run --opcua` (and its security: tests/protocols/opcua_security.py); a pymodbus slave
+# polled by `alba run --io modbus`.
 # Installs what it needs: Debian's libmodbus-dev, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
 set -euo pipefail
@@ -28,3 +29,7 @@ cp -r tests/protocols/plant "$OUT/plant"
 rm -rf "$OUT/master"
 cp -r tests/protocols/master "$OUT/master"
 "$OUT/venv/bin/python" tests/protocols/modbus_master.py "$ALBA" "$OUT/master"
+# OPC UA security (users, Basic256Sha256, certificate trust) against asyncua.
+rm -rf "$OUT/plant"
+cp -r tests/protocols/plant "$OUT/plant"
+"$OUT/venv/bin/python" tests/protocols/opcua_security.py "$ALBA" "$OUT/plant"

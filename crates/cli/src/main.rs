@@ -144,7 +144,7 @@ enum Command {
         /// Serve Modbus TCP (OpenPLC v3's address map) on this address (default: `[modbus] listen` of alba.toml, else off).
         #[arg(long, value_name = "ADDR:PORT")]
         modbus: Option<std::net::SocketAddr>,
-        /// Serve OPC UA on this address (security None, anonymous: use loopback), e.g. 127.0.0.1:4840.
+        /// Serve OPC UA on this address, e.g. 127.0.0.1:4840 (security None only on loopback; elsewhere Basic256Sha256 with `[opcua.users]`).
         #[arg(long, value_name = "ADDR:PORT")]
         opcua: Option<std::net::SocketAddr>,
     },
@@ -194,6 +194,8 @@ enum Command {
         #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:8080")]
         http: std::net::SocketAddr,
     },
+    /// Print the argon2 hash of a password read from stdin, for `[opcua.users]` in alba.toml.
+    HashPassword,
 }
 
 #[derive(Subcommand)]
@@ -309,6 +311,7 @@ fn main() -> ExitCode {
             opcua,
         } => run::run(&project, http, &io, !no_native, modbus, opcua, None),
         Command::Demo { dir, http } => demo::run(&dir, http, true),
+        Command::HashPassword => hash_password(),
         Command::Firmware {
             project,
             board,
@@ -590,6 +593,32 @@ fn explain(code: &str) -> ExitCode {
             for c in Code::ALL {
                 eprintln!("  {c}  {}", c.title());
             }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `alba hash-password`: reads one line (the password) from stdin and
+/// prints its argon2id hash for `[opcua.users]`.
+fn hash_password() -> ExitCode {
+    let mut line = String::new();
+    if let Err(e) = std::io::stdin().read_line(&mut line) {
+        eprintln!("error: cannot read the password from stdin: {e}");
+        return ExitCode::FAILURE;
+    }
+    let pw = line.strip_suffix('\n').unwrap_or(&line);
+    let pw = pw.strip_suffix('\r').unwrap_or(pw);
+    if pw.is_empty() {
+        eprintln!("error: the password is empty (give it on stdin, e.g. `printf %s 'secret' | alba hash-password`)");
+        return ExitCode::FAILURE;
+    }
+    match alba_opcua::security::hash_password(pw) {
+        Ok(h) => {
+            println!("{h}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::FAILURE
         }
     }

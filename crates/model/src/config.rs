@@ -117,6 +117,45 @@ pub struct ModbusMapping {
 pub struct Opcua {
     /// Where to listen (`None`: only with `alba run --opcua`).
     pub listen: Option<std::net::SocketAddr>,
+    /// `[opcua.users]`: who may log in with a user name and password, each
+    /// with the argon2 hash (PHC string) of the password; never the password.
+    pub users: Vec<OpcuaUser>,
+}
+
+/// One entry of `[opcua.users]`: `operator = "$argon2id$v=19$..."`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OpcuaUser {
+    pub name: String,
+    /// The password's argon2 hash as a PHC string (checked to parse).
+    pub hash: String,
+    pub span: Span,
+    /// May write tags (what the HTTP API lets anyone write); `false` for
+    /// the names listed in `[opcua] read_only`.
+    pub write: bool,
+}
+
+/// Checks a `[opcua.users]` entry's value is an argon2 PHC hash; the error
+/// says what is wrong (a plain-text password is called one).
+pub fn check_password_hash(text: &str) -> Result<(), String> {
+    if !text.starts_with('$') {
+        return Err(
+            "this is not a password hash: [opcua.users] holds argon2 hashes, never plain-text passwords".to_string(),
+        );
+    }
+    let hash = argon2::PasswordHash::new(text).map_err(|e| format!("`{text}` is not a valid password hash ({e})"))?;
+    match hash.algorithm.as_str() {
+        "argon2id" | "argon2i" | "argon2d" => {}
+        other => {
+            return Err(format!(
+                "`{other}` hashes are not accepted: use argon2 (`$argon2id$...`)"
+            ));
+        }
+    }
+    if hash.hash.is_none() || hash.salt.is_none() {
+        return Err(format!("`{text}` has no salt or no hash output"));
+    }
+    argon2::Params::try_from(&hash).map_err(|e| format!("`{text}` has bad argon2 parameters ({e})"))?;
+    Ok(())
 }
 
 /// `[modbus]`: the Modbus TCP server (docs/protocols.md).
@@ -313,6 +352,10 @@ struct RawMapping {
 #[serde(deny_unknown_fields)]
 struct RawOpcua {
     listen: Option<Spanned<String>>,
+    #[serde(default)]
+    users: std::collections::BTreeMap<Spanned<String>, Spanned<String>>,
+    #[serde(default)]
+    read_only: Vec<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -562,9 +605,7 @@ impl Config {
             .filter_map(|m| m.check(file, &mut diags))
             .collect();
         let modbus = raw.modbus.map(|m| modbus(m, file, &mut diags));
-        let opcua = raw.opcua.map(|o| Opcua {
-            listen: o.listen.and_then(|l| listen(&l, file, &mut diags)),
-        });
+        let opcua = raw.opcua.map(|o| opcua(o, file, &mut diags));
         let modbus_devices = devices(raw.modbus_device, file, &mut diags);
         let config = Config {
             modbus_devices,
@@ -799,6 +840,72 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
         });
     }
     out
+}
+
+/// Validates `[opcua]`: user names and password hashes, and that a
+/// listen address beyond loopback has users (nobody could log in otherwise:
+/// such an address serves no anonymous endpoint).
+fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> Opcua {
+    let sp = |r: std::ops::Range<usize>| Span::new(file, r);
+    let addr = o.listen.as_ref().and_then(|l| listen(l, file, diags));
+    let mut users = Vec::new();
+    let mut entries: Vec<_> = o.users.into_iter().collect();
+    entries.sort_by_key(|(name, _)| name.span().start);
+    for (name, hash) in entries {
+        let n = name.get_ref();
+        if n.is_empty() || n.chars().any(|c| c.is_whitespace() || c.is_control()) {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("`{n}` is not a user name"),
+                sp(name.span()),
+                "in [opcua.users]: a user name is not empty and has no spaces",
+            ));
+            continue;
+        }
+        match check_password_hash(hash.get_ref()) {
+            Ok(()) => users.push(OpcuaUser {
+                name: n.clone(),
+                hash: hash.get_ref().clone(),
+                span: sp(name.span()),
+                write: true,
+            }),
+            Err(msg) => diags.push(
+                Diagnostic::new(
+                    Code::ConfigField,
+                    msg,
+                    sp(hash.span()),
+                    format!("the password hash of `{n}`"),
+                )
+                .with_help("make one with `alba hash-password` (it reads the password from stdin)"),
+            ),
+        }
+    }
+    for r in &o.read_only {
+        match users.iter_mut().find(|u| u.name == *r.get_ref()) {
+            Some(u) => u.write = false,
+            None => diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("`{}` is not in [opcua.users]", r.get_ref()),
+                sp(r.span()),
+                "read_only lists user names of [opcua.users]",
+            )),
+        }
+    }
+    if let (Some(a), Some(l)) = (addr, o.listen.as_ref())
+        && !a.ip().is_loopback()
+        && users.is_empty()
+    {
+        diags.push(
+            Diagnostic::new(
+                Code::ConfigField,
+                format!("listen = \"{a}\" is not a loopback address, so it needs [opcua.users]"),
+                sp(l.span()),
+                "beyond loopback only Basic256Sha256 with a user name and password is served",
+            )
+            .with_help("add `[opcua.users]` with `name = \"<hash from alba hash-password>\"`, or listen on 127.0.0.1"),
+        );
+    }
+    Opcua { listen: addr, users }
 }
 
 /// Validates `[modbus]`.
@@ -1047,6 +1154,84 @@ mod tests {
         );
         let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\ndi = [\"D12\"]\n").unwrap_err();
         assert_eq!(e, ["alba.toml:4:9: error[E102]: pin D12 is wired to two channels"]);
+    }
+
+    /// A real argon2id hash of `pw` (small parameters: a test).
+    fn test_hash(pw: &str) -> String {
+        use argon2::password_hash::{PasswordHasher, SaltString};
+        let a = argon2::Argon2::new(
+            argon2::Algorithm::Argon2id,
+            argon2::Version::V0x13,
+            argon2::Params::new(8, 1, 1, None).unwrap(),
+        );
+        let salt = SaltString::encode_b64(b"alba-test-salt").unwrap();
+        a.hash_password(pw.as_bytes(), &salt).unwrap().to_string()
+    }
+
+    #[test]
+    fn opcua_users_hold_argon2_hashes() {
+        let h = test_hash("secret");
+        let c = parse(&format!(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n[opcua.users]\noperator = \"{h}\"\nadmin = \"{h}\"\n"
+        ))
+        .unwrap();
+        let o = c.opcua.unwrap();
+        assert_eq!(o.listen, Some("0.0.0.0:4840".parse().unwrap()));
+        let names: Vec<_> = o.users.iter().map(|u| u.name.as_str()).collect();
+        assert_eq!(names, ["operator", "admin"], "in file order");
+        assert_eq!(o.users[0].hash, h);
+        assert!(o.users.iter().all(|u| u.write));
+        let c = parse(&format!(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"viewer\"]\n[opcua.users]\noperator = \"{h}\"\nviewer = \"{h}\"\n"
+        ))
+        .unwrap();
+        let w: Vec<_> = c
+            .opcua
+            .unwrap()
+            .users
+            .iter()
+            .map(|u| (u.name.clone(), u.write))
+            .collect();
+        assert_eq!(w, [("operator".to_string(), true), ("viewer".to_string(), false)]);
+        let e = parse(&format!(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"ghost\"]\n[opcua.users]\noperator = \"{h}\"\n"
+        ))
+        .unwrap_err();
+        assert_eq!(e, ["alba.toml:4:14: error[E102]: `ghost` is not in [opcua.users]"]);
+        // Loopback needs no users.
+        let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.2:4840\"\n").unwrap();
+        assert!(c.opcua.unwrap().users.is_empty());
+        // Errors, each located on the offending value.
+        let e = parse(&format!(
+            "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n[opcua.users]\nplain = \"hunter2\"\nmd5 = \"$1$abc$def\"\n\"two words\" = \"{h}\"\nbroken = \"$argon2id$v=19$m=8,t=1,p=1$\"\nweak = \"$argon2id$v=19$m=1,t=1,p=1$YWxiYS10ZXN0LXNhbHQ$AAAAAAAAAAAAAAAAAAAAAA\"\n"
+        ))
+        .unwrap_err();
+        assert_eq!(e.len(), 5, "{e:#?}");
+        assert_eq!(
+            e[0],
+            "alba.toml:6:9: error[E102]: this is not a password hash: [opcua.users] holds argon2 hashes, never plain-text passwords"
+        );
+        assert!(e[1].starts_with("alba.toml:7:7: error[E102]: `$1$abc$def`"), "{}", e[1]);
+        assert_eq!(e[2], "alba.toml:8:1: error[E102]: `two words` is not a user name");
+        assert!(
+            e[3].starts_with("alba.toml:9:10: error[E102]: `$argon2id$v=19$m=8,t=1,p=1$`"),
+            "{}",
+            e[3]
+        );
+        assert!(
+            e[4].starts_with("alba.toml:10:8: error[E102]: `$argon2id$v=19$m=1,t=1,p=1$"),
+            "{}",
+            e[4]
+        );
+        // Beyond loopback without users nobody could log in.
+        let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap_err();
+        assert_eq!(
+            e,
+            [
+                "alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs [opcua.users]"
+            ]
+        );
+        assert!(check_password_hash(&h).is_ok());
     }
 
     #[test]

@@ -9,7 +9,13 @@
 //! engine thread and is answered once applied between two scans. Who may
 //! write follows the HTTP API: inputs, status members and system tags are
 //! read-only (their access level says so, and a write is `BadNotWritable`).
-//! Security: endpoint `None` with anonymous users, for loopback use.
+//! Security ([`security`]): `None` with anonymous access only when bound to
+//! a loopback address; Basic256Sha256 (Sign, SignAndEncrypt) with the user
+//! names and argon2-hashed passwords of `[opcua.users]` always, and alone
+//! elsewhere. The server's certificate is created in the PKI folder on
+//! first run.
+
+pub mod security;
 
 use alba_ir::{Access, Place, Target};
 use alba_model::{DataType, Value};
@@ -170,19 +176,38 @@ pub async fn serve(
     project: &str,
     addr: SocketAddr,
     pki_dir: PathBuf,
+    users: &[alba_model::config::OpcuaUser],
     mut closing: tokio::sync::watch::Receiver<bool>,
 ) -> Result<SocketAddr, String> {
+    if !security::is_local(addr.ip()) && users.is_empty() {
+        return Err(format!(
+            "OPC UA on {addr} (not loopback) serves only Basic256Sha256 with a user name and password, and alba.toml has no [opcua.users]: add users (docs/protocols.md, \"OPC UA security\") or listen on 127.0.0.1"
+        ));
+    }
     let listener = tokio::net::TcpListener::bind(addr)
         .await
         .map_err(|e| format!("cannot listen for OPC UA on {addr}: {e}"))?;
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     let uri = namespace_uri(project);
-    let (server, sh) = ServerBuilder::new_anonymous("Alba")
+    security::protect_private_key(&pki_dir)?;
+    let local = security::is_local(bound.ip());
+    let mut builder = ServerBuilder::new()
+        .application_name("Alba")
+        .with_authenticator(std::sync::Arc::new(security::Auth::new(bound.ip(), users)))
+        // Loopback: only this machine can connect, its client certificates
+        // are trusted on first use; elsewhere an unknown certificate is
+        // refused and kept in pki/rejected/ for an administrator to trust.
+        .trust_client_certs(local);
+    for (id, endpoint) in security::endpoints(bound.ip()) {
+        builder = builder.add_endpoint(id, endpoint);
+    }
+    let (server, sh) = builder
+        .default_endpoint(if local { "none" } else { "basic256sha256_sign_encrypt" })
         .application_uri("urn:alba")
         .product_uri("urn:alba")
         .host(bound.ip().to_string())
         .port(bound.port())
-        .pki_dir(pki_dir)
+        .pki_dir(pki_dir.clone())
         .create_sample_keypair(true)
         .discovery_urls(vec![format!("opc.tcp://{bound}/")])
         .with_node_manager(simple_node_manager(
@@ -193,6 +218,7 @@ pub async fn serve(
             "alba",
         ))
         .build()?;
+    security::protect_private_key(&pki_dir)?;
     let nm = sh
         .node_managers()
         .get_of_type::<SimpleNodeManager>()

@@ -452,6 +452,11 @@ pub fn router(state: Arc<AppState>) -> Router {
         .with_state(state)
 }
 
+/// Where the OPC UA certificates of the project in `dir` live, for messages.
+fn pki_dir_note(dir: &std::path::Path) -> String {
+    dir.join(".alba").join("pki").display().to_string()
+}
+
 /// What `alba run` starts: the runtime for a compiled project and the
 /// server in front of it.
 pub struct Options {
@@ -460,7 +465,7 @@ pub struct Options {
     pub native: bool,
     /// Serve Modbus TCP here (else where `[modbus] listen` says, if it does).
     pub modbus: Option<std::net::SocketAddr>,
-    /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None, anonymous: for loopback).
+    /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None only on loopback).
     pub opcua: Option<std::net::SocketAddr>,
 }
 
@@ -565,16 +570,37 @@ pub async fn run(
     };
     if let Some(addr) = opts.opcua.or(opcua_cfg) {
         let pki = dir.join(".alba").join("pki");
-        let bound = alba_opcua::serve(runtime.handle(), &state.name, addr, pki, state.closing.subscribe())
-            .await
-            .map_err(RunError::Other)?;
+        let users = {
+            let p = state.project.lock().await;
+            p.project
+                .config
+                .as_ref()
+                .and_then(|c| c.opcua.as_ref())
+                .map(|o| o.users.clone())
+                .unwrap_or_default()
+        };
+        let bound = alba_opcua::serve(
+            runtime.handle(),
+            &state.name,
+            addr,
+            pki,
+            &users,
+            state.closing.subscribe(),
+        )
+        .await
+        .map_err(RunError::Other)?;
         println!(
             "OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{}/Tags)",
             state.name
         );
-        if !bound.ip().is_loopback() {
-            eprintln!(
-                "warning: the OPC UA server on {bound} has security None and anonymous access: anyone who can reach it can write tags"
+        if alba_opcua::security::is_local(bound.ip()) {
+            println!(
+                "  security: None (anonymous) and Basic256Sha256 with user names and passwords; client certificates trusted on first use"
+            );
+        } else {
+            println!(
+                "  security: Basic256Sha256 with user names and passwords only; unknown client certificates go to {}/rejected/",
+                pki_dir_note(dir)
             );
         }
     }

@@ -122,3 +122,46 @@ fn tune_runs_a_relay_experiment_and_summary_measures_a_step() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("not traced"));
 }
+
+#[test]
+fn hash_password_makes_a_hash_that_opcua_users_accept() {
+    use std::io::Write;
+    let dir = scratch("hash-password");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_alba"))
+        .arg("hash-password")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(b"s3cret pass\n").unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    let hash = String::from_utf8(out.stdout).unwrap().trim().to_string();
+    assert!(hash.starts_with("$argon2id$v=19$"), "{hash}");
+    assert!(alba_opcua::security::verify_password(&hash, "s3cret pass"));
+    assert!(!alba_opcua::security::verify_password(&hash, "s3cret pass\n"));
+    std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\n").unwrap();
+    std::fs::write(dir.join("main.lad"), "XIC(A)OTE(A);\n").unwrap();
+    let toml = |users: &str| {
+        format!("name = \"x\"\nprograms = [\"main.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n[opcua.users]\n{users}\n")
+    };
+    std::fs::write(dir.join("alba.toml"), toml(&format!("operator = \"{hash}\""))).unwrap();
+    let out = alba(&dir, &["check", ".", "--short"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A plain-text password is refused, located on it.
+    std::fs::write(dir.join("alba.toml"), toml("operator = \"s3cret pass\"")).unwrap();
+    let out = alba(&dir, &["check", ".", "--short"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("./alba.toml:6:12: error[E102]: this is not a password hash"),
+        "{err}"
+    );
+    // An empty password is refused.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_alba"))
+        .arg("hash-password")
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+}
