@@ -116,7 +116,7 @@ codes! {
     Expression = 312, "a CPT expression is malformed",
         "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, and PI and E.";
     NotYetSupported = 313, "a reserved instruction is not available yet",
-        "PID is reserved for its own issue; until then a program using it is refused rather than run wrongly.";
+        "No instruction is reserved at present (PID, once reserved, is available; see ladder.md and pid.md). The code is kept so that old reports keep their meaning.";
     StimulusSyntax = 401, "a stimulus row is malformed",
         "Stimulus files have the header `time_ms,tag,value`; time_ms is a non-negative integer; values are 0/1, true/false, integers or reals.";
     StimulusTarget = 402, "a stimulus row names something that cannot be set",
