@@ -18,6 +18,7 @@
 
 use crate::aurora;
 use crate::firmware::{BAUD, Link};
+use crate::link::{Stop, lock};
 use crate::modbus::{self, FrameError, Request, Response};
 use alba_engine::Engine;
 use alba_ir::{B, I, Place};
@@ -25,7 +26,7 @@ use alba_model::board::{Dir, PinMap};
 use alba_model::{DataType, Value};
 use std::io::{Read, Write};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -175,11 +176,7 @@ struct Shared {
     status: Mutex<Status>,
     ok: AtomicBool,
     errors: AtomicU64,
-    stop: AtomicBool,
-}
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
+    stop: Stop,
 }
 
 impl Shared {
@@ -198,22 +195,6 @@ impl Shared {
         let mut s = lock(&self.status);
         s.errors += 1;
         s.last_error = Some(why);
-    }
-
-    fn stopping(&self) -> bool {
-        self.stop.load(Ordering::Relaxed)
-    }
-
-    /// Sleeps `d` unless asked to stop meanwhile.
-    fn sleep(&self, d: Duration) {
-        let end = Instant::now() + d;
-        while !self.stopping() {
-            let now = Instant::now();
-            if now >= end {
-                break;
-            }
-            std::thread::sleep((end - now).min(Duration::from_millis(20)));
-        }
     }
 }
 
@@ -240,7 +221,7 @@ impl ArduinoIo {
             status: Mutex::new(Status::default()),
             ok: AtomicBool::new(false),
             errors: AtomicU64::new(0),
-            stop: AtomicBool::new(false),
+            stop: Stop::default(),
         });
         let name = format!("arduino:{} ({})", cfg.port, cfg.link.name());
         let counts = cfg.counts;
@@ -284,7 +265,7 @@ impl ArduinoIo {
 
 impl Drop for ArduinoIo {
     fn drop(&mut self) {
-        self.shared.stop.store(true, Ordering::Relaxed);
+        self.shared.stop.request();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
@@ -400,26 +381,26 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
         up: None,
     };
     let mut backoff = cfg.backoff_min;
-    while !shared.stopping() {
+    while !shared.stop.stopping() {
         let mut port = match open(&cfg) {
             Ok(p) => p,
             Err(e) => {
                 say.down(&e);
                 shared.fail(e);
-                shared.sleep(backoff);
+                shared.stop.sleep(backoff);
                 backoff = (backoff * 2).min(cfg.backoff_max);
                 continue;
             }
         };
         lock(&shared.status).opens += 1;
-        shared.sleep(cfg.reset_delay);
+        shared.stop.sleep(cfg.reset_delay);
         let _ = port.clear(serialport::ClearBuffer::All);
         let mut failed = 0u32;
         let mut session = match cfg.link {
             Link::Modbus => Session::Modbus,
             Link::Aurora => Session::Aurora(aurora::Reader::default()),
         };
-        while !shared.stopping() {
+        while !shared.stop.stopping() {
             let t0 = Instant::now();
             let outputs = lock(&shared.outputs).clone();
             let r = match &mut session {
@@ -459,7 +440,7 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
                 }
             }
         }
-        if shared.stopping() && failed == 0 {
+        if shared.stop.stopping() && failed == 0 {
             // A last write of the outputs the engine left (off, after a
             // stop), so the board does not wait for its watchdog.
             let outputs = lock(&shared.outputs).clone();
@@ -469,8 +450,8 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
             };
         }
         drop(port);
-        if !shared.stopping() {
-            shared.sleep(backoff);
+        if !shared.stop.stopping() {
+            shared.stop.sleep(backoff);
             backoff = (backoff * 2).min(cfg.backoff_max);
         }
     }
@@ -496,7 +477,7 @@ fn modbus_cycle(
             addr: 0,
             qty: c.di as u16,
         };
-        if let Response::Bits(b) = transact(port, cfg, shared, &req)? {
+        if let Response::Bits(b) = transact(port, cfg, &req, |e| shared.count_error(e))? {
             di = b;
         }
     }
@@ -505,7 +486,7 @@ fn modbus_cycle(
             addr: 0,
             qty: c.ai as u16,
         };
-        if let Response::Registers(r) = transact(port, cfg, shared, &req)? {
+        if let Response::Registers(r) = transact(port, cfg, &req, |e| shared.count_error(e))? {
             ai = r;
         }
     }
@@ -514,14 +495,14 @@ fn modbus_cycle(
             addr: 0,
             values: out.r#do.clone(),
         };
-        transact(port, cfg, shared, &req)?;
+        transact(port, cfg, &req, |e| shared.count_error(e))?;
     }
     if c.ao > 0 {
         let req = Request::WriteMultipleRegisters {
             addr: 0,
             values: out.ao.clone(),
         };
-        transact(port, cfg, shared, &req)?;
+        transact(port, cfg, &req, |e| shared.count_error(e))?;
     }
     if c == Counts::default() {
         // Nothing to exchange: do not spin.
@@ -532,7 +513,15 @@ fn modbus_cycle(
 
 /// A request and its answer, with retries. Every failed attempt but the
 /// last is counted here; the caller counts the last.
-fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Result<Response, LinkError> {
+/// One Modbus RTU transaction with `cfg.retries` further attempts after a
+/// bad or missing answer (`on_retry` hears why), the line let fall silent
+/// between them so the slave sees a new frame.
+pub(crate) fn transact(
+    port: &mut Port,
+    cfg: &Config,
+    req: &Request,
+    mut on_retry: impl FnMut(String),
+) -> Result<Response, LinkError> {
     let frame = req.encode(cfg.slave);
     let mut attempt = 0;
     loop {
@@ -544,9 +533,8 @@ fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Re
                 if attempt >= cfg.retries {
                     return Err(LinkError::Frame(e));
                 }
-                shared.count_error(e);
+                on_retry(e);
                 attempt += 1;
-                // Let the line fall silent so the slave sees a new frame.
                 quiet(port, Duration::from_millis(5))?;
             }
         }

@@ -16,7 +16,8 @@
 //! stay, the port is reopened with back-off. A board running another
 //! program stops the runtime with a message saying so.
 
-use crate::arduino::{Config, Counts, LinkError, Port, exchange, open, quiet};
+use crate::arduino::{self, Config, Counts, LinkError, Port, open};
+use crate::link::{Stop, lock};
 use crate::modbus::{Request, Response};
 use alba_arduino::sketch::{self, LINK_MAGIC, LinkMap, Target};
 use alba_engine::Engine;
@@ -24,9 +25,9 @@ use alba_ir::{Memory, Place, Program};
 use alba_model::Value;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// What the board must report to be attached to.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -60,17 +61,13 @@ impl Identity {
 type WriteReq = (Place, Value, Sender<Result<(), String>>);
 
 struct Shared {
-    stop: AtomicBool,
+    stop: Stop,
     ok: AtomicBool,
     errors: AtomicU64,
     /// Memory read from the board, taken by the engine thread.
     memory: Mutex<Option<Memory>>,
     /// Why attaching is impossible (another program on the board).
     fatal: Mutex<Option<String>>,
-}
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
 pub struct AttachIo {
@@ -84,7 +81,7 @@ impl AttachIo {
     pub fn start(cfg: Config, prog: &Program, target: &Target) -> Result<AttachIo, String> {
         let (id, map) = Identity::of(prog, target)?;
         let shared = Arc::new(Shared {
-            stop: AtomicBool::new(false),
+            stop: Stop::default(),
             ok: AtomicBool::new(false),
             errors: AtomicU64::new(0),
             memory: Mutex::new(None),
@@ -109,7 +106,7 @@ impl AttachIo {
 
 impl Drop for AttachIo {
     fn drop(&mut self) {
-        self.shared.stop.store(true, Ordering::Relaxed);
+        self.shared.stop.request();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
@@ -162,10 +159,10 @@ fn link_thread(
     writes: Receiver<WriteReq>,
 ) {
     let mut backoff = cfg.backoff_min;
-    while !shared.stop.load(Ordering::Relaxed) {
+    while !shared.stop.stopping() {
         let failed = match open(&cfg) {
             Ok(mut port) => {
-                sleep(&shared, cfg.reset_delay);
+                shared.stop.sleep(cfg.reset_delay);
                 let r = session(&mut port, &cfg, &id, map, &template, &shared, &writes);
                 shared.ok.store(false, Ordering::Relaxed);
                 match r {
@@ -180,15 +177,8 @@ fn link_thread(
         while let Ok((_, _, reply)) = writes.try_recv() {
             let _ = reply.send(Err(format!("no link to the board: {failed}")));
         }
-        sleep(&shared, backoff);
+        shared.stop.sleep(backoff);
         backoff = (backoff * 2).min(cfg.backoff_max);
-    }
-}
-
-fn sleep(shared: &Shared, d: Duration) {
-    let until = Instant::now() + d;
-    while !shared.stop.load(Ordering::Relaxed) && Instant::now() < until {
-        std::thread::sleep(Duration::from_millis(10).min(until - Instant::now()));
     }
 }
 
@@ -226,7 +216,7 @@ fn session(
         return Err(why);
     }
     let mut failures = 0;
-    while !shared.stop.load(Ordering::Relaxed) {
+    while !shared.stop.stopping() {
         while let Ok((place, value, reply)) = writes.try_recv() {
             let r = write(port, cfg, shared, map, place, value);
             let link_down = matches!(r, Err(ref e) if e.starts_with("serial port"));
@@ -254,24 +244,17 @@ fn session(
 }
 
 fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Result<Response, String> {
-    let frame = req.encode(cfg.slave);
-    let mut attempt = 0;
-    loop {
-        match exchange(port, cfg, req, &frame) {
-            Ok(r) => return Ok(r),
-            Err(LinkError::Port(e) | LinkError::Refused(e)) => return Err(e),
-            Err(LinkError::Frame(e)) => {
-                shared.errors.fetch_add(1, Ordering::Relaxed);
-                if attempt >= cfg.retries {
-                    return Err(e);
-                }
-                attempt += 1;
-                quiet(port, Duration::from_millis(5)).map_err(|e| match e {
-                    LinkError::Port(e) | LinkError::Frame(e) | LinkError::Refused(e) => e,
-                })?;
-            }
+    arduino::transact(port, cfg, req, |_| {
+        shared.errors.fetch_add(1, Ordering::Relaxed);
+    })
+    .map_err(|e| {
+        if matches!(e, LinkError::Frame(_)) {
+            shared.errors.fetch_add(1, Ordering::Relaxed);
         }
-    }
+        match e {
+            LinkError::Port(e) | LinkError::Frame(e) | LinkError::Refused(e) => e,
+        }
+    })
 }
 
 fn regs(port: &mut Port, cfg: &Config, shared: &Shared, req: Request) -> Result<Vec<u16>, String> {

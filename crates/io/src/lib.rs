@@ -16,5 +16,6 @@ pub mod arduino;
 pub mod attach;
 pub mod aurora;
 pub mod firmware;
+mod link;
 pub mod modbus;
 pub mod modbus_master;

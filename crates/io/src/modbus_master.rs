@@ -27,6 +27,7 @@
 //!   it stops (`alba run` ends), and after a recovery it writes the
 //!   engine's current outputs before anything else.
 
+use crate::link::{Stop, lock};
 use crate::modbus::{self, FrameError, Request, Response};
 use alba_engine::Engine;
 use alba_ir::{B, I, Place};
@@ -36,7 +37,7 @@ use alba_model::{DataType, Value};
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -151,28 +152,7 @@ struct Shared {
     inputs: Mutex<Image>,
     outputs: Mutex<Outputs>,
     devices: Vec<DeviceShared>,
-    stop: AtomicBool,
-}
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
-}
-
-impl Shared {
-    fn stopping(&self) -> bool {
-        self.stop.load(Ordering::Relaxed)
-    }
-
-    fn sleep(&self, d: Duration) {
-        let end = Instant::now() + d;
-        while !self.stopping() {
-            let now = Instant::now();
-            if now >= end {
-                break;
-            }
-            std::thread::sleep((end - now).min(Duration::from_millis(20)));
-        }
-    }
+    stop: Stop,
 }
 
 /// The driver: `alba_runtime::Io` over the `[[modbus_device]]` slaves.
@@ -233,7 +213,7 @@ impl ModbusMasterIo {
                     errors: AtomicU64::new(0),
                 })
                 .collect(),
-            stop: AtomicBool::new(false),
+            stop: Stop::default(),
         });
         let names: Vec<String> = devices.iter().map(|d| d.name.clone()).collect();
         let name = format!("modbus ({})", names.join(", "));
@@ -306,7 +286,7 @@ impl ModbusMasterIo {
 
 impl Drop for ModbusMasterIo {
     fn drop(&mut self) {
-        self.shared.stop.store(true, Ordering::Relaxed);
+        self.shared.stop.request();
         for t in self.threads.drain(..) {
             let _ = t.join();
         }
@@ -673,7 +653,7 @@ impl Device {
         loop {
             match conn.transact(req) {
                 Ok(r) => return Ok(r),
-                Err(LinkError::Timeout(e)) if attempt < self.dev.retries && !self.shared.stopping() => {
+                Err(LinkError::Timeout(e)) if attempt < self.dev.retries && !self.shared.stop.stopping() => {
                     self.error(&e, false);
                     attempt += 1;
                 }
@@ -750,13 +730,13 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
             *up = Some(false);
         }
     };
-    while !d.shared.stopping() {
+    while !d.shared.stop.stopping() {
         let mut conn = match Conn::open(&d.dev, bus.as_ref()) {
             Ok(c) => c,
             Err(e) => {
                 d.error(&e, true);
                 down(&mut up, &e);
-                d.shared.sleep(backoff);
+                d.shared.stop.sleep(backoff);
                 backoff = (backoff * 2).min(backoff_max);
                 continue;
             }
@@ -765,7 +745,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
         // After a (re)connection every output block is written at once.
         let mut written: Vec<Option<(Request, Instant)>> = vec![None; d.blocks.len()];
         let mut next = Instant::now();
-        while !d.shared.stopping() {
+        while !d.shared.stop.stopping() {
             let t0 = Instant::now();
             match d.poll(&mut conn, &mut written) {
                 Ok(()) => {
@@ -793,12 +773,12 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
             next += period;
             let now = Instant::now();
             if next > now {
-                d.shared.sleep(next - now);
+                d.shared.stop.sleep(next - now);
             } else {
                 next = now;
             }
         }
-        if d.shared.stopping() {
+        if d.shared.stop.stopping() {
             // Leave the slave's outputs off (one attempt each).
             let out = lock(&d.shared.outputs);
             let reqs: Vec<Request> = d
@@ -816,7 +796,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
             break;
         }
         drop(conn);
-        d.shared.sleep(backoff);
+        d.shared.stop.sleep(backoff);
         backoff = (backoff * 2).min(backoff_max);
     }
 }
