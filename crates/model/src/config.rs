@@ -437,19 +437,7 @@ impl Config {
         // An integer setting within `range`, or the default with a diagnostic.
         let mut int =
             |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
-                let Some(s) = v else { return default };
-                match u32::try_from(*s.get_ref()) {
-                    Ok(v) if range.contains(&v) => v,
-                    _ => {
-                        diags.push(Diagnostic::new(
-                            Code::ConfigField,
-                            format!("{key} = {} is out of range", s.get_ref()),
-                            sp(s.span()),
-                            format!("expected {} to {} {unit}", range.start(), range.end()),
-                        ));
-                        default
-                    }
-                }
+                int_setting(key, v, range, default, unit, file, &mut diags)
             };
         let scan_ms = int("scan_ms", raw.scan_ms, 1..=MAX_SCAN_MS, DEFAULT_SCAN_MS, "milliseconds");
         let retain_ms = int(
@@ -625,6 +613,31 @@ impl Config {
     }
 }
 
+/// An integer setting within `range`, or `default` with a located E102.
+fn int_setting(
+    key: &str,
+    v: Option<Spanned<i64>>,
+    range: std::ops::RangeInclusive<u32>,
+    default: u32,
+    unit: &str,
+    file: FileId,
+    diags: &mut Vec<Diagnostic>,
+) -> u32 {
+    let Some(s) = v else { return default };
+    match u32::try_from(*s.get_ref()) {
+        Ok(v) if range.contains(&v) => v,
+        _ => {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("{key} = {} is out of range", s.get_ref()),
+                Span::new(file, s.span()),
+                format!("expected {} to {} {unit}", range.start(), range.end()),
+            ));
+            default
+        }
+    }
+}
+
 /// An `IP:PORT` setting, or a diagnostic.
 fn listen(l: &Spanned<String>, file: FileId, diags: &mut Vec<Diagnostic>) -> Option<std::net::SocketAddr> {
     match l.get_ref().parse::<std::net::SocketAddr>() {
@@ -655,19 +668,7 @@ fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Vec<Diagnosti
         let d = d.into_inner();
         let mut int =
             |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
-                let Some(s) = v else { return default };
-                match u32::try_from(*s.get_ref()) {
-                    Ok(v) if range.contains(&v) => v,
-                    _ => {
-                        diags.push(Diagnostic::new(
-                            Code::ConfigField,
-                            format!("{key} = {} is out of range", s.get_ref()),
-                            sp(s.span()),
-                            format!("expected {} to {} {unit}", range.start(), range.end()),
-                        ));
-                        default
-                    }
-                }
+                int_setting(key, v, range, default, unit, file, diags)
             };
         let unit = int("unit", d.unit, 0..=255, 1, "(a unit id)") as u8;
         let poll_ms = int("poll_ms", d.poll_ms, 1..=3_600_000, DEFAULT_POLL_MS, "milliseconds");
@@ -914,19 +915,7 @@ fn modbus(m: RawModbus, file: FileId, diags: &mut Vec<Diagnostic>) -> Modbus {
     let listen = m.listen.and_then(|l| listen(&l, file, diags));
     let mut int =
         |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
-            let Some(s) = v else { return default };
-            match u32::try_from(*s.get_ref()) {
-                Ok(v) if range.contains(&v) => v,
-                _ => {
-                    diags.push(Diagnostic::new(
-                        Code::ConfigField,
-                        format!("{key} = {} is out of range", s.get_ref()),
-                        sp(s.span()),
-                        format!("expected {} to {} {unit}", range.start(), range.end()),
-                    ));
-                    default
-                }
-            }
+            int_setting(key, v, range, default, unit, file, diags)
         };
     let mut out = Modbus {
         listen,
