@@ -3,8 +3,9 @@
 //! (`fuzz/fuzz_targets/modbus_frame.rs`) and the fuzz regression test run
 //! it; it checks the invariants the server relies on.
 
-use crate::frame::{self, Exception, Request, Split};
-use crate::map::{Map, Scratch, Write};
+use crate::frame::{self, Exception, Split};
+use crate::map::{Map, Scratch};
+use crate::server::{Plan, Then, plan, read};
 use alba_ir::Memory;
 use alba_model::config::ModbusArea;
 
@@ -35,72 +36,22 @@ pub fn answer_stream(input: &[u8], map: &Map, mem: &Memory, scratch: &Scratch) -
 }
 
 fn answer(pdu: &[u8], map: &Map, mem: &Memory, sc: &Scratch, out: &mut Vec<u8>) -> Result<(), Exception> {
-    let read = |out: &mut Vec<u8>, bits: bool, area, start, count: u16| {
-        let at = out.len();
-        out.push(0);
-        if bits {
-            map.read_bits(area, mem, sc, start, count, out)?;
-        } else {
-            map.read_regs(area, mem, sc, start, count, out)?;
-        }
-        let n = out.len() - at - 1;
-        assert!(n <= 250, "{n} data bytes");
-        out[at] = n as u8;
-        Ok(())
+    let at = out.len();
+    let Plan::Write { writes, then } = plan(frame::parse(pdu)?, map, mem, sc, out)? else {
+        // A read: its byte count is what follows it.
+        assert_eq!(usize::from(out[at]), out.len() - at - 1, "a read's byte count");
+        return Ok(());
     };
-    let apply = |w: &[Write]| {
-        for x in w {
-            sc.apply(x);
-        }
-    };
-    match frame::parse(pdu)? {
-        Request::ReadCoils { start, count } => read(out, true, ModbusArea::Coil, start, count),
-        Request::ReadDiscreteInputs { start, count } => read(out, true, ModbusArea::DiscreteInput, start, count),
-        Request::ReadHoldingRegisters { start, count } => read(out, false, ModbusArea::HoldingRegister, start, count),
-        Request::ReadInputRegisters { start, count } => read(out, false, ModbusArea::InputRegister, start, count),
-        Request::WriteSingleCoil { addr, value } => {
-            let mut w = Vec::new();
-            map.plan_coils(addr, std::iter::once(value), &mut w)?;
-            assert_eq!(w.len(), 1);
-            apply(&w);
-            out.extend_from_slice(&pdu[1..5]);
+    for w in &writes {
+        sc.apply(w);
+    }
+    match then {
+        Then::Echo(echo) => {
+            assert_eq!(echo, pdu[1..5], "a write echoes its request");
+            out.extend_from_slice(&echo);
             Ok(())
         }
-        Request::WriteSingleRegister { addr, value } => {
-            let mut w = Vec::new();
-            map.plan_regs(addr, &[value], &mut w)?;
-            apply(&w);
-            out.extend_from_slice(&pdu[1..5]);
-            Ok(())
-        }
-        Request::WriteMultipleCoils { start, count, bits } => {
-            let mut w = Vec::new();
-            map.plan_coils(start, (0..usize::from(count)).map(|i| frame::bit(bits, i)), &mut w)?;
-            assert_eq!(w.len(), usize::from(count));
-            apply(&w);
-            out.extend_from_slice(&pdu[1..5]);
-            Ok(())
-        }
-        Request::WriteMultipleRegisters { start, values } => {
-            let v: Vec<u16> = frame::registers(values).collect();
-            let mut w = Vec::new();
-            map.plan_regs(start, &v, &mut w)?;
-            apply(&w);
-            out.extend_from_slice(&pdu[1..5]);
-            Ok(())
-        }
-        Request::ReadWriteRegisters {
-            read_start,
-            read_count,
-            write_start,
-            values,
-        } => {
-            let v: Vec<u16> = frame::registers(values).collect();
-            let mut w = Vec::new();
-            map.plan_regs(write_start, &v, &mut w)?;
-            apply(&w);
-            read(out, false, ModbusArea::HoldingRegister, read_start, read_count)
-        }
+        Then::ReadRegs { start, count } => read(map, mem, sc, ModbusArea::HoldingRegister, start, count, out),
     }
 }
 

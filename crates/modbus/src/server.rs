@@ -231,80 +231,26 @@ impl Server {
     async fn answer(&self, req: Request<'_>, out: &mut Vec<u8>, cache: &mut MapCache) -> Result<(), Exception> {
         let snap = self.handle.snapshot();
         let map = self.map_for(&snap.program, cache);
-        let mem = &snap.memory;
-        let sc = &self.scratch;
-        let bits = |area, start, count: u16, out: &mut Vec<u8>| {
-            out.push(count.div_ceil(8) as u8);
-            map.read_bits(area, mem, sc, start, count, out)
+        let Plan::Write { writes, then } = plan(req, &map, &snap.memory, &self.scratch, out)? else {
+            return Ok(());
         };
-        let regs = |map: &Map, mem: &alba_ir::Memory, area, start, count: u16, out: &mut Vec<u8>| {
-            out.push((2 * count) as u8);
-            map.read_regs(area, mem, sc, start, count, out)
-        };
-        match req {
-            Request::ReadCoils { start, count } => bits(ModbusArea::Coil, start, count, out),
-            Request::ReadDiscreteInputs { start, count } => bits(ModbusArea::DiscreteInput, start, count, out),
-            Request::ReadHoldingRegisters { start, count } => {
-                regs(&map, mem, ModbusArea::HoldingRegister, start, count, out)
-            }
-            Request::ReadInputRegisters { start, count } => {
-                regs(&map, mem, ModbusArea::InputRegister, start, count, out)
-            }
-            Request::WriteSingleCoil { addr, value } => {
-                let mut w = Vec::with_capacity(1);
-                map.plan_coils(addr, std::iter::once(value), &mut w)?;
-                self.apply(w).await?;
-                out.extend_from_slice(&addr.to_be_bytes());
-                out.extend_from_slice(if value { &[0xFF, 0] } else { &[0, 0] });
+        self.apply(writes).await?;
+        match then {
+            Then::Echo(echo) => {
+                out.extend_from_slice(&echo);
                 Ok(())
             }
-            Request::WriteSingleRegister { addr, value } => {
-                let mut w = Vec::with_capacity(1);
-                map.plan_regs(addr, &[value], &mut w)?;
-                self.apply(w).await?;
-                out.extend_from_slice(&addr.to_be_bytes());
-                out.extend_from_slice(&value.to_be_bytes());
-                Ok(())
-            }
-            Request::WriteMultipleCoils { start, count, bits } => {
-                let mut w = Vec::with_capacity(usize::from(count));
-                map.plan_coils(start, (0..usize::from(count)).map(|i| frame::bit(bits, i)), &mut w)?;
-                self.apply(w).await?;
-                out.extend_from_slice(&start.to_be_bytes());
-                out.extend_from_slice(&count.to_be_bytes());
-                Ok(())
-            }
-            Request::WriteMultipleRegisters { start, values } => {
-                let values: Vec<u16> = frame::registers(values).collect();
-                let mut w = Vec::with_capacity(values.len());
-                map.plan_regs(start, &values, &mut w)?;
-                self.apply(w).await?;
-                out.extend_from_slice(&start.to_be_bytes());
-                out.extend_from_slice(&(values.len() as u16).to_be_bytes());
-                Ok(())
-            }
-            Request::ReadWriteRegisters {
-                read_start,
-                read_count,
-                write_start,
-                values,
-            } => {
-                // Both halves are checked before anything is written.
-                let mut probe = Vec::new();
-                map.read_regs(ModbusArea::HoldingRegister, mem, sc, read_start, read_count, &mut probe)?;
-                let values: Vec<u16> = frame::registers(values).collect();
-                let mut w = Vec::with_capacity(values.len());
-                map.plan_regs(write_start, &values, &mut w)?;
-                self.apply(w).await?;
+            Then::ReadRegs { start, count } => {
                 // The read sees the write: the engine published before answering.
                 let snap = self.handle.snapshot();
                 let map = self.map_for(&snap.program, cache);
-                regs(
+                read(
                     &map,
                     &snap.memory,
+                    &self.scratch,
                     ModbusArea::HoldingRegister,
-                    read_start,
-                    read_count,
+                    start,
+                    count,
                     out,
                 )
             }
@@ -331,5 +277,109 @@ impl Server {
             self.scratch.apply(w);
         }
         Ok(())
+    }
+}
+
+/// What a request needs once it is checked: nothing more (a read, answered
+/// onto `out`), or writes to apply, then an echo of the request's address
+/// and count or value (FC 5, 6, 15, 16) or a read of holding registers (FC 23).
+pub(crate) enum Plan {
+    Done,
+    Write { writes: Vec<Write>, then: Then },
+}
+
+pub(crate) enum Then {
+    Echo([u8; 4]),
+    ReadRegs { start: u16, count: u16 },
+}
+
+/// Reads answer from `mem` onto `out`; writes are checked and planned, not
+/// applied. Shared by the server and the synchronous path the fuzz target
+/// runs (`offline`), so both answer every request the same way.
+pub(crate) fn plan(
+    req: Request<'_>,
+    map: &Map,
+    mem: &alba_ir::Memory,
+    sc: &Scratch,
+    out: &mut Vec<u8>,
+) -> Result<Plan, Exception> {
+    let echo = |a: u16, b: u16| {
+        let (a, b) = (a.to_be_bytes(), b.to_be_bytes());
+        Then::Echo([a[0], a[1], b[0], b[1]])
+    };
+    let (writes, then) = match req {
+        Request::ReadCoils { start, count } => {
+            return read(map, mem, sc, ModbusArea::Coil, start, count, out).map(|()| Plan::Done);
+        }
+        Request::ReadDiscreteInputs { start, count } => {
+            return read(map, mem, sc, ModbusArea::DiscreteInput, start, count, out).map(|()| Plan::Done);
+        }
+        Request::ReadHoldingRegisters { start, count } => {
+            return read(map, mem, sc, ModbusArea::HoldingRegister, start, count, out).map(|()| Plan::Done);
+        }
+        Request::ReadInputRegisters { start, count } => {
+            return read(map, mem, sc, ModbusArea::InputRegister, start, count, out).map(|()| Plan::Done);
+        }
+        Request::WriteSingleCoil { addr, value } => {
+            let mut w = Vec::with_capacity(1);
+            map.plan_coils(addr, std::iter::once(value), &mut w)?;
+            (w, echo(addr, if value { 0xFF00 } else { 0 }))
+        }
+        Request::WriteSingleRegister { addr, value } => {
+            let mut w = Vec::with_capacity(1);
+            map.plan_regs(addr, &[value], &mut w)?;
+            (w, echo(addr, value))
+        }
+        Request::WriteMultipleCoils { start, count, bits } => {
+            let mut w = Vec::with_capacity(usize::from(count));
+            map.plan_coils(start, (0..usize::from(count)).map(|i| frame::bit(bits, i)), &mut w)?;
+            (w, echo(start, count))
+        }
+        Request::WriteMultipleRegisters { start, values } => {
+            let values: Vec<u16> = frame::registers(values).collect();
+            let mut w = Vec::with_capacity(values.len());
+            map.plan_regs(start, &values, &mut w)?;
+            (w, echo(start, values.len() as u16))
+        }
+        Request::ReadWriteRegisters {
+            read_start,
+            read_count,
+            write_start,
+            values,
+        } => {
+            // Both halves are checked before anything is written.
+            let mut probe = Vec::new();
+            map.read_regs(ModbusArea::HoldingRegister, mem, sc, read_start, read_count, &mut probe)?;
+            let values: Vec<u16> = frame::registers(values).collect();
+            let mut w = Vec::with_capacity(values.len());
+            map.plan_regs(write_start, &values, &mut w)?;
+            (
+                w,
+                Then::ReadRegs {
+                    start: read_start,
+                    count: read_count,
+                },
+            )
+        }
+    };
+    Ok(Plan::Write { writes, then })
+}
+
+/// A read's reply data: the byte count, then the bits or registers.
+pub(crate) fn read(
+    map: &Map,
+    mem: &alba_ir::Memory,
+    sc: &Scratch,
+    area: ModbusArea,
+    start: u16,
+    count: u16,
+    out: &mut Vec<u8>,
+) -> Result<(), Exception> {
+    if area.is_bits() {
+        out.push(count.div_ceil(8) as u8);
+        map.read_bits(area, mem, sc, start, count, out)
+    } else {
+        out.push((2 * count) as u8);
+        map.read_regs(area, mem, sc, start, count, out)
     }
 }
