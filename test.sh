@@ -23,23 +23,27 @@ step "AVR toolchain and simavr (the firmware tests of cargo test use them)"
 source scripts/avr.sh
 need_avr
 export ALBA_AVR_CACHE="$PWD/target/avr/cache"
-step "lints"
-cargo clippy --workspace --all-targets --locked -q -- -D warnings
-step "tests"
+step "lints: clippy on every crate and target (a few minutes on a first run)"
+cargo clippy --workspace --all-targets --locked -- -D warnings
+step "tests: every crate's unit, integration, golden, property and fuzz-regression tests"
 cargo test --workspace --locked
+# `cargo test` built the `alba` binary for the CLI's integration tests; every
+# step below uses that one (a separate `cargo build -p alba-cli` would unify
+# features differently and rebuild dozens of crates).
+TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
+ALBA="$TARGET/debug/alba"
+[ -x "$ALBA" ] || { echo "error: cargo test did not leave $ALBA" >&2; exit 1; }
 step "browser end-to-end tests (screenshots in target/e2e/)"
 need_chromium
-cargo build -q --locked -p alba-cli
-TARGET="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 mkdir -p target/e2e
-(cd web && ALBA_BIN="$TARGET/debug/alba" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
+(cd web && ALBA_BIN="$ALBA" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
 step "protocols: pymodbus, libmodbus and asyncua clients against alba run --modbus --opcua; alba run --io modbus against pymodbus slaves"
-tests/protocols/run.sh "$TARGET/debug/alba"
+tests/protocols/run.sh "$ALBA"
 step "Arduino: every example's sketch builds for uno, nano and mega (no warnings); the simavr harness checks itself"
 # (The PID examples are refused, E501, until the PID instruction runs on the board.)
 for ex in examples/*/; do
     for board in uno nano mega; do
-        if out=$("$TARGET/debug/alba" export arduino "$ex" --board "$board" -o "target/avr/export/$board" --build 2>&1); then
+        if out=$("$ALBA" export arduino "$ex" --board "$board" -o "target/avr/export/$board" --build 2>&1); then
             echo "$(basename "$ex") $(tail -1 <<<"$out")"
         elif grep -q '^error\[E501\]: PID does not run on the board' <<<"$out" && grep -q 'PID(' "$ex"/*.lad; then
             echo "$(basename "$ex"): refused, as it should be (PID is not on the board yet)"
@@ -52,9 +56,9 @@ for ex in examples/*/; do
 done
 tools/simavr/test.sh
 step "Arduino controller mode: remote-I/O firmware for every board and link; the host driver against it in simavr, with faults"
-tools/simavr/controller.sh
+ALBA="$ALBA" tools/simavr/controller.sh
 step "demo and benchmark smoke runs"
-cargo run -q --locked -p alba-cli -- sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \
+"$ALBA" sim examples/tank --until 2000 --every 1000 --tags Nivel_m,Nivel_L \
     | diff - <(printf 'time_ms,Nivel_m,Nivel_L\n0,0.8431085,33.72434\n1000,0.8431085,33.72434\n2000,0.8431085,33.72434\n')
-cargo run -q --locked -p alba-cli -- bench --quick --sizes 100 >/dev/null
+"$ALBA" bench --quick --sizes 100 >/dev/null
 step "all tests passed"

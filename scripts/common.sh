@@ -20,6 +20,9 @@ need_rust() {
 }
 
 # Installs Debian packages (as root, or through sudo) when a command is missing.
+# Waits up to 5 minutes for a package manager that another process holds,
+# retries once (after refreshing the package lists), and on failure names the
+# packages that are still missing.
 apt_install() {
     local sudo=""
     if [ "$(id -u)" != 0 ]; then
@@ -28,9 +31,23 @@ apt_install() {
             exit 1
         fi
     fi
-    echo "Installing $* (Debian packages)..." >&2
-    $sudo apt-get update -qq >&2 || true
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "$@" >&2
+    local lock=(-o DPkg::Lock::Timeout=300)
+    echo "Installing $* (Debian packages; waiting for the package manager if it is busy)..." >&2
+    local try
+    for try in 1 2; do
+        $sudo apt-get "${lock[@]}" update -qq >&2 || echo "apt-get update failed (try $try); going on with the package lists we have" >&2
+        if DEBIAN_FRONTEND=noninteractive $sudo apt-get "${lock[@]}" install -y -qq --no-install-recommends "$@" >&2; then
+            return 0
+        fi
+        [ "$try" = 1 ] && { echo "apt-get install $* failed; retrying once in 10 s..." >&2; sleep 10; }
+    done
+    local missing=() p
+    for p in "$@"; do
+        dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+    done
+    echo "error: could not install the Debian package(s): ${missing[*]:-$*}" >&2
+    echo "  try by hand: ${sudo:+sudo }apt-get install -y ${missing[*]:-$*}" >&2
+    exit 1
 }
 
 # Node.js and npm build the browser studio (web/).

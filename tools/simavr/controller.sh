@@ -16,8 +16,14 @@ source scripts/avr.sh
 need_avr
 out=target/avr/firmware
 mkdir -p "$out"
-cargo build -q --locked -p alba-cli
-alba="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/debug/alba"
+# ./test.sh passes the binary its `cargo test --workspace` built (ALBA); run
+# alone, this builds it. Cargo runs with --workspace so that features unify as
+# in `cargo test --workspace` and nothing already built is compiled again.
+if [ -z "${ALBA:-}" ]; then
+    cargo build -q --locked --workspace --bin alba
+    ALBA="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/debug/alba"
+fi
+alba="$ALBA"
 for link in modbus aurora; do
     for bm in uno:openplc nano:aurora mega:aurora; do
         b=${bm%%:*} map=${bm##*:}
@@ -25,5 +31,5 @@ for link in modbus aurora; do
         "$alba" firmware --board "$b" --pinmap "$map" --link "$link" -o "$out/$link-$b" --build 2>&1 >/dev/null | tail -1
     done
 done
-cargo test -q --locked -p alba-io --test board -- --ignored --nocapture 2>&1 \
+cargo test -q --locked --workspace --test board -- --ignored --nocapture 2>&1 \
     | grep -v -e '^$' -e '^running' -e '^test result' -e '^nano: flash'
