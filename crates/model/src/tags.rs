@@ -1,11 +1,11 @@
 //! The tag table, `tags.csv` (SPEC §2.1, §10.1).
 
 use crate::address::{Address, Area};
-use crate::codes::Code;
 use crate::csv;
-use crate::diag::{Diagnostic, FileId, Span};
 use crate::types::DataType;
 use crate::value::Value;
+use alba_diag::Code;
+use alba_diag::{Diagnostic, FileId, Span};
 use std::collections::HashMap;
 
 /// The header Alba writes; reading accepts any order and leaving out the
@@ -485,7 +485,7 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::Files;
+    use alba_diag::Files;
 
     fn parse(text: &str) -> (TagTable, Vec<Diagnostic>, Files) {
         let mut files = Files::new();
