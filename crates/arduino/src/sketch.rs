@@ -1,6 +1,6 @@
 //! IR → Arduino sketch: the control program's ops as straight-line C++ over
 //! the same typed slots the engine uses, with the runtime of `alba_rt.h`
-//! (timers, counters, checked arithmetic) mirroring `crates/engine/src/exec.rs`.
+//! (timers, counters, checked arithmetic) mirroring `crates/engine/src/exec/`.
 //!
 //! The sketch scans every `scan_ms` on deadlines kept with `millis()` and
 //! passes the *scheduled* time to the program (scan k sees k·scan_ms, as in
