@@ -14,13 +14,13 @@
 //! zero and invalid floating-point results give defined values and record a
 //! minor fault.
 //!
-//! The modules: [`code`] (the executable form and fusion), `step` (what
+//! The modules: `code` (the executable form and fusion), `step` (what
 //! each op does), `arith` (arithmetic and conversions), `markers` (marker
 //! bytes), `timers` (timers and counters); program memory and the fault
 //! sink are in `crate::mem`, the PID instruction in `crate::pid`.
 
 mod arith;
-pub mod code;
+mod code;
 mod markers;
 mod step;
 mod timers;
