@@ -2,8 +2,8 @@
 //! input on character boundaries, and each diagnostic renders.
 #![no_main]
 
-use alba_model::Files;
-use alba_model::config::Config;
+use alba_diag::Files;
+use alba_project::config::Config;
 use libfuzzer_sys::fuzz_target;
 
 #[path = "../../crates/ladder/tests/it/check.rs"]

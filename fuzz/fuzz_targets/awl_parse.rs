@@ -3,7 +3,7 @@
 //! every span of the parsed program covers what it claims.
 #![no_main]
 
-use alba_model::Files;
+use alba_diag::Files;
 use libfuzzer_sys::fuzz_target;
 
 #[path = "../../crates/il/tests/it/check.rs"]

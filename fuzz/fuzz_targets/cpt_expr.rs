@@ -3,7 +3,7 @@
 //! boundaries.
 #![no_main]
 
-use alba_model::FileId;
+use alba_diag::FileId;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

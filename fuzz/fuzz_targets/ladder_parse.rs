@@ -3,7 +3,7 @@
 //! spans and survives print → parse → print unchanged.
 #![no_main]
 
-use alba_model::Files;
+use alba_diag::Files;
 use libfuzzer_sys::fuzz_target;
 
 #[path = "../../crates/ladder/tests/it/check.rs"]

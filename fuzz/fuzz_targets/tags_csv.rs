@@ -6,7 +6,8 @@
 //! bugs while a known one is not fixed yet.
 #![no_main]
 
-use alba_model::{Files, TagTable};
+use alba_diag::Files;
+use alba_model::TagTable;
 use libfuzzer_sys::fuzz_target;
 use std::sync::OnceLock;
 

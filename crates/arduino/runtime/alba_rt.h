@@ -1,4 +1,4 @@
-// Alba runtime for generated sketches: the semantics of crates/engine/src/exec.rs,
+// Alba runtime for generated sketches: the semantics of crates/engine/src/exec/,
 // function by function, in C++ that avr-gcc 5.4 (gnu++11, int = 16 bits, double =
 // float) and a host g++ both build. Timers count wrapping milliseconds of the scan
 // clock; faults never stop a scan: they give the interpreter's defined result and

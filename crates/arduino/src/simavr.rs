@@ -11,10 +11,11 @@
 
 use crate::sketch::Wire;
 use crate::toolchain::{cache_dir, run, temp_sibling, tool_error};
+use alba_diag::{Code, Diagnostic};
 use alba_ir::Place;
+use alba_model::Value;
 use alba_model::address::Address;
 use alba_model::board::Model;
-use alba_model::{Code, Diagnostic, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;

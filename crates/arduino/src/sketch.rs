@@ -1,6 +1,6 @@
 //! IR → Arduino sketch: the control program's ops as straight-line C++ over
 //! the same typed slots the engine uses, with the runtime of `alba_rt.h`
-//! (timers, counters, checked arithmetic) mirroring `crates/engine/src/exec.rs`.
+//! (timers, counters, checked arithmetic) mirroring `crates/engine/src/exec/`.
 //!
 //! The sketch scans every `scan_ms` on deadlines kept with `millis()` and
 //! passes the *scheduled* time to the program (scan k sees k·scan_ms, as in
@@ -9,11 +9,11 @@
 //! read into the image before each scan and outputs written after it, through
 //! the board's pin map.
 
+use alba_diag::{Code, Diagnostic};
 use alba_ir::op::{AnySlot, MarkerSlot, S7Ctr, S7Tmr};
 use alba_ir::{BinOp, Cmp, Ctr, Cvt, Loc, Op, Program, Region, Tmr, UnOp, Width};
 use alba_model::address::Address;
 use alba_model::board::{Model, Pin, PinMap};
-use alba_model::{Code, Diagnostic};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 

@@ -7,8 +7,8 @@
 //! built once per board into a cache (its own warnings silenced), the sketch
 //! with `-Wall -Werror`.
 
+use alba_diag::{Code, Diagnostic};
 use alba_model::board::Model;
-use alba_model::{Code, Diagnostic};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -12,12 +12,13 @@
 use alba_arduino::simavr::{self, Column, Timing};
 use alba_arduino::sketch::{Target, Wire, control_program, generate};
 use alba_arduino::toolchain;
+use alba_diag::FileId;
 use alba_engine::Engine;
 use alba_engine::sim::{self, SimOptions, Stimulus};
 use alba_ir::{Layout, Place, Program};
+use alba_model::Value;
 use alba_model::address::Address;
 use alba_model::board::{Model, PinMap};
-use alba_model::{FileId, Value};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

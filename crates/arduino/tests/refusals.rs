@@ -121,7 +121,7 @@ fn a_program_too_large_for_the_uno_is_refused() {
     }
     let err = alba_arduino::toolchain::build(&dir.join(&s.files[0].0), Model::Uno, &dir.join("build"))
         .expect_err("300 REAL timers do not fit an Uno");
-    assert_eq!(err.code, alba_model::Code::DoesNotFit, "{}", err.message);
+    assert_eq!(err.code, alba_diag::Code::DoesNotFit, "{}", err.message);
     assert!(
         err.message.contains("the Arduino Uno has 32256 and 2048"),
         "{}",

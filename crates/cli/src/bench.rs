@@ -13,9 +13,10 @@
 //! before timing, both run from the same start and their results are
 //! compared tag by tag.
 
+use alba_diag::Files;
 use alba_engine::Engine;
 use alba_ir::{Place, Program, Target};
-use alba_model::{Files, TagTable, Value};
+use alba_model::{TagTable, Value};
 use std::hint::black_box;
 use std::process::ExitCode;
 use std::sync::Arc;

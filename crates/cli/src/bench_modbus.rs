@@ -16,7 +16,7 @@
 //! 8192-8201). `--target HOST:PORT` loads another server instead (OpenPLC,
 //! say) with the same client.
 
-use alba_model::config::{ModbusArea, ModbusTag};
+use alba_project::config::{ModbusArea, ModbusTag};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::process::ExitCode;
@@ -172,10 +172,10 @@ fn own_server(clients: &[usize], secs: f64, start: u16) -> Result<(), String> {
     let tags: Vec<ModbusTag> = (0..5)
         .map(|k| ModbusTag {
             name: format!("V_{k}"),
-            name_span: alba_model::Span::new(alba_model::FileId(0), 0..0),
+            name_span: alba_diag::Span::new(alba_diag::FileId(0), 0..0),
             area: ModbusArea::HoldingRegister,
             start: 8192 + 2 * k as u16,
-            span: alba_model::Span::new(alba_model::FileId(0), 0..0),
+            span: alba_diag::Span::new(alba_diag::FileId(0), 0..0),
         })
         .collect();
     let settings = alba_modbus::Settings {

@@ -5,9 +5,10 @@ use crate::report;
 use alba_arduino::sketch::{self, Sketch, Target};
 use alba_arduino::{simavr, toolchain};
 use alba_compiler::Compiled;
+use alba_diag::{Code, Diagnostic};
 use alba_model::address::Address;
 use alba_model::board::{Model, PRESETS, PinMap};
-use alba_model::{Code, Diagnostic, fsutil};
+use alba_model::fsutil;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -152,7 +153,7 @@ pub fn export(dir: &Path, args: &BoardArgs, out: &Path, build: bool, upload: Opt
 /// Builds a sketch into `build/` beside it, reports its size, and uploads it
 /// when a port is given (`alba export arduino`, `alba firmware`).
 pub fn build_and_upload(sketch: &Path, model: Model, upload: Option<&str>) -> ExitCode {
-    let files = alba_model::Files::new();
+    let files = alba_diag::Files::new();
     let dir = sketch.parent().unwrap_or(Path::new("."));
     let built = match toolchain::build(sketch, model, &dir.join("build")) {
         Ok(b) => b,

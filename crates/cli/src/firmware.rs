@@ -1,9 +1,9 @@
 //! `alba firmware`: the remote-I/O firmware of controller mode (SPEC §7.2).
 
+use alba_diag::render_all;
+use alba_diag::{Code, Diagnostic, Files};
 use alba_io::firmware::{self, Link, Spec};
 use alba_model::board::{Model, PinMap};
-use alba_model::diag::render_all;
-use alba_model::{Code, Diagnostic, Files};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -38,7 +38,7 @@ pub fn run(a: Args) -> ExitCode {
     let (mut model, mut pinmap, mut map, mut active_low) = (None, "aurora".to_string(), None, a.active_low);
     let mut power_up_on = Vec::new();
     if let Some(dir) = a.project {
-        let (project, diags) = alba_model::Project::load(dir);
+        let (project, diags) = alba_project::Project::load(dir);
         if !diags.is_empty() {
             eprint!("{}", render_all(&diags, &project.files));
             return ExitCode::FAILURE;

@@ -9,9 +9,10 @@ mod new;
 mod run;
 mod tune;
 
+use alba_diag::{Code, Diagnostic, Files, render_all};
 use alba_engine::sim::{self, SimOptions, Stimulus};
 use alba_engine::{Engine, sim::SimError};
-use alba_model::{Code, Diagnostic, Files, diag::render_all, fsutil};
+use alba_model::fsutil;
 use clap::{Parser, Subcommand};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -426,7 +427,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
     let stim = match stimulus {
         None => Stimulus::default(),
         Some(path) => {
-            let text = match alba_model::project::read_text(path) {
+            let text = match alba_project::read_text(path) {
                 Ok(t) => t,
                 Err(msg) => {
                     report(&[Diagnostic::unplaced(Code::Io, msg)], &files, false);

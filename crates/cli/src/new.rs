@@ -32,7 +32,7 @@ pub fn run(dir: &Path) -> ExitCode {
         let text = if *file == "alba.toml" {
             text.replace(
                 "name = \"start-stop\"",
-                &format!("name = {}", alba_model::config::toml_string(&name)),
+                &format!("name = {}", alba_project::config::toml_string(&name)),
             )
         } else {
             text.to_string()

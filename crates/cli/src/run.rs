@@ -1,6 +1,6 @@
 //! `alba run`: the project in real time behind the studio's server.
 
-use alba_model::diag::render_all;
+use alba_diag::render_all;
 use std::net::SocketAddr;
 use std::path::Path;
 use std::process::ExitCode;

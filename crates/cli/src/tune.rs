@@ -1,10 +1,11 @@
 //! `alba tune`: relay-feedback autotuning of a PID loop against the
 //! project's plant models, in virtual time (docs/pid.md §6).
 
+use alba_diag::{Code, Diagnostic};
 use alba_engine::Engine;
 use alba_engine::autotune::{RelayOptions, relay, rules};
 use alba_ir::Target;
-use alba_model::{Code, Diagnostic, Value};
+use alba_model::Value;
 use std::path::Path;
 use std::process::ExitCode;
 use std::sync::Arc;

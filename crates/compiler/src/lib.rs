@@ -1,9 +1,10 @@
 //! Loads a project folder and compiles every program in it, in the order of
 //! `alba.toml`, into one IR program over one layout.
 
+use alba_diag::{Code, Diagnostic, Files};
 use alba_ir::layout::Uses;
 use alba_ir::{Builder, Layout, Program};
-use alba_model::{Code, Diagnostic, Files, Language, Project};
+use alba_project::{Language, Project};
 use std::path::Path;
 
 /// A project and what compiling it gave.
@@ -116,7 +117,7 @@ fn resolve_plant(
 ) -> Option<alba_ir::PlantSpec> {
     use alba_ir::{Access, Target};
     let layout = b.layout();
-    let mut place = |(name, span): &(String, alba_model::Span), output: bool| {
+    let mut place = |(name, span): &(String, alba_diag::Span), output: bool| {
         let bad = |msg: String| Diagnostic::new(Code::PlantModel, msg, *span, "plant signal");
         match layout.resolve(name) {
             Ok(Target::Value { place, access }) if place.data_type().is_numeric() => {

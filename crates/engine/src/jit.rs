@@ -13,7 +13,7 @@
 //! preset, a counter wrapping to OV/UN); their faults are noted in the
 //! context and flushed into `Faults` in order. Every other op is a call to
 //! the interpreter's own `step` for that single op, so most semantics are
-//! written once (`exec.rs`), and the inline ones are held to the interpreter
+//! written once (`exec/`), and the inline ones are held to the interpreter
 //! by differential tests.
 //!
 //! Unsafe code here has one reason: running machine code we generate. It
@@ -21,8 +21,9 @@
 //! `Program::verify`, in memory whose sizes `run` checks first.
 #![allow(unsafe_code)]
 
-use crate::exec::{self, Code, Mem, Sink, Stop, X};
+use crate::exec::{self, Code, Stop, X};
 use crate::fault::{FaultCode, Faults};
+use crate::mem::{Mem, Sink};
 use alba_ir::Memory;
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{AbiParam, InstBuilder, MemFlagsData, SigRef, Signature, Type, Value, types};
@@ -862,7 +863,7 @@ impl<'a, 'b> Gen<'a, 'b> {
         }
     }
 
-    /// TON, as `exec::ton`, without branches: every field is loaded once,
+    /// TON, as `exec/timers.rs`'s `ton`, without branches: every field is loaded once,
     /// computed for both rung states and stored once. A negative preset on a
     /// true rung counts as 0, with a fault.
     fn ton(&mut self) {
@@ -910,7 +911,7 @@ impl<'a, 'b> Gen<'a, 'b> {
         self.st32(iv, 2, last_out);
     }
 
-    /// CTU / CTD, as `exec::count`: count on the rising rung; a wrap past
+    /// CTU / CTD, as `exec/timers.rs`'s `count`: count on the rising rung; a wrap past
     /// the 32-bit range sets OV (up) or UN (down), or clears the other one.
     fn count(&mut self, up: bool) {
         let iv = self.i_addr();

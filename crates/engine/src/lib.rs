@@ -10,6 +10,7 @@ pub mod exec;
 pub mod fault;
 #[cfg(feature = "jit")]
 pub mod jit;
+mod mem;
 pub mod pid;
 pub mod plant;
 pub mod sim;

@@ -41,8 +41,8 @@
 //!    set), left in the hidden output slot for the front end to move to
 //!    the CV operand.
 
-use crate::exec::{Mem, Sink};
 use crate::fault::FaultCode;
+use crate::mem::{Mem, Sink};
 use alba_ir::Pidt;
 use alba_ir::op::*;
 use alba_model::types::PidParams;

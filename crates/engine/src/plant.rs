@@ -240,9 +240,9 @@ impl Sim {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use alba_diag::{FileId, Span};
     use alba_ir::{F, I};
     use alba_model::plant::{PlantModel, Scale};
-    use alba_model::{FileId, Span};
 
     fn spec(d: Dynamics, dead: f64) -> (PlantSpec, Memory) {
         let sp = Span::new(FileId(0), 0..0);

@@ -8,8 +8,9 @@
 
 use crate::clock::{Clock, VirtualClock};
 use crate::engine::{Engine, MajorFault};
+use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::{Access, Layout, Place, Target};
-use alba_model::{Code, Diagnostic, FileId, Span, Value, csv};
+use alba_model::{Value, csv};
 use std::io::{self, Write};
 
 /// One stimulus row, resolved.

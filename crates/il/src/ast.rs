@@ -1,9 +1,9 @@
 //! The AWL program as parsed: networks and instructions, with the S7-200
 //! instruction table.
 
+use alba_diag::Span;
 use alba_ir::Cmp;
 use alba_ir::op::BinOp;
-use alba_model::Span;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Program {

@@ -11,12 +11,13 @@
 //! empty stack.
 
 use crate::ast::{CounterKind, How, Instr, Item, Mn, Operand, Program, TimerKind, Ty};
+use alba_diag::{Code, Diagnostic, Span};
 use alba_ir::layout::{S7Slots, Uses};
 use alba_ir::op::{S7Ctr, S7Tmr};
 use alba_ir::values::{Class, Src, V};
 use alba_ir::{Access, B, BinOp, Builder, Cmp, I, Op, Place, Target, UnOp};
 use alba_model::address::{MARKER_BYTES, MAX_DIGITAL, MarkerWidth};
-use alba_model::{Address, Code, DataType, Diagnostic, Literal, Span, Value};
+use alba_model::{Address, DataType, Literal, Value};
 use std::collections::HashMap;
 
 /// Levels of the S7-200 logic stack.
@@ -1161,7 +1162,7 @@ mod tests {
     }
 
     fn check(text: &str) -> Vec<String> {
-        let (prog, mut diags) = crate::parse(text, alba_model::FileId(0));
+        let (prog, mut diags) = crate::parse(text, alba_diag::FileId(0));
         let layout = alba_ir::Layout::new(&alba_model::TagTable::default(), &uses(&prog));
         let mut b = Builder::new(layout);
         diags.extend(compile(&prog, "main.awl", &mut b, &mut Shared::default()));

@@ -6,8 +6,8 @@
 //! reported and skipped; parsing goes on, so every error is found.
 
 use crate::ast::{Instr, Item, MNEMONICS, Mn, Operand, Program};
+use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_model::tags::edit_distance;
-use alba_model::{Code, Diagnostic, FileId, Span};
 
 pub fn parse(text: &str, file: FileId) -> (Program, Vec<Diagnostic>) {
     let mut items = Vec::new();
@@ -234,7 +234,7 @@ fn suggest(name: &str) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_model::Files;
+    use alba_diag::Files;
 
     fn parse_ok(text: &str) -> Program {
         let (p, d) = parse(text, FileId(0));

@@ -612,7 +612,7 @@ fn describe(req: &Request) -> String {
 /// option). The board's channels come from the project's `[board]`; a
 /// project without one is taken to be wired as the AuroraLD PLC1805 (the
 /// `aurora` map on a Nano: 6 DI, 6 DO, 4 AI, 4 AO).
-pub fn driver(spec: &str, board: Option<&alba_model::config::Board>) -> Result<Box<dyn alba_runtime::Io>, String> {
+pub fn driver(spec: &str, board: Option<&alba_project::config::Board>) -> Result<Box<dyn alba_runtime::Io>, String> {
     let rest = spec
         .strip_prefix("arduino:")
         .ok_or_else(|| format!("`{spec}` is not arduino:<serial port>[,options]"))?;

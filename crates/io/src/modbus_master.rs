@@ -32,8 +32,8 @@ use crate::modbus::{self, FrameError, Request, Response};
 use alba_engine::Engine;
 use alba_ir::{B, I, Place};
 use alba_model::address::Address;
-use alba_model::config::{DeviceLink, ModbusArea, ModbusDevice};
 use alba_model::{DataType, Value};
+use alba_project::config::{DeviceLink, ModbusArea, ModbusDevice};
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -809,8 +809,8 @@ pub fn driver(devices: &[ModbusDevice]) -> Result<Box<dyn alba_runtime::Io>, Str
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_model::config::ModbusMapping;
-    use alba_model::diag::{FileId, Span};
+    use alba_diag::{FileId, Span};
+    use alba_project::config::ModbusMapping;
 
     fn mapping(area: ModbusArea, start: u16, count: u16, at: Address) -> ModbusMapping {
         ModbusMapping {

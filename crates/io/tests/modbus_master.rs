@@ -4,11 +4,11 @@
 //! `poll_ms = 1`. (The third-party slave, pymodbus over TCP and RTU, is
 //! driven by tests/protocols/modbus_master.py from test.sh.)
 
+use alba_diag::{FileId, Span};
 use alba_io::modbus_master::ModbusMasterIo;
 use alba_modbus::{Server, Settings};
 use alba_model::address::Address;
-use alba_model::config::{DeviceLink, ModbusArea, ModbusDevice, ModbusMapping};
-use alba_model::diag::{FileId, Span};
+use alba_project::config::{DeviceLink, ModbusArea, ModbusDevice, ModbusMapping};
 use alba_runtime::{Options, Runtime, SimIo};
 use std::sync::Arc;
 use std::time::{Duration, Instant};

@@ -5,7 +5,8 @@ use crate::layout::{Layout, Place, TagSlot};
 use crate::memory::Memory;
 use crate::op::{B, D, F, I, L, Op};
 use crate::program::{Element, Loc, NO_ELEM, Program, RungInfo, Unit};
-use alba_model::{Files, Span, Value};
+use alba_diag::{Files, Span};
+use alba_model::Value;
 use std::collections::HashMap;
 
 /// A pool of reusable temporary slots of one class: `used` of `slots` are

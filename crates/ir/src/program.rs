@@ -4,7 +4,7 @@
 use crate::layout::Layout;
 use crate::memory::Memory;
 use crate::op::{AnySlot, BinOp, Op, UnOp};
-use alba_model::{Files, Span};
+use alba_diag::{Files, Span};
 use std::fmt::Write as _;
 
 /// No element (ops that belong to the rung, not to one instruction).
@@ -179,7 +179,8 @@ mod tests {
     use super::*;
     use crate::op::{B, I, Tmr};
     use crate::{Builder, Layout};
-    use alba_model::{FileId, Span, TagTable};
+    use alba_diag::{FileId, Span};
+    use alba_model::TagTable;
 
     /// A one-rung program: `Xic(b0) Ote(b1)` over a layout with a timer.
     fn program() -> Program {

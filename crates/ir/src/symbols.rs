@@ -249,7 +249,8 @@ impl Layout {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_model::{Files, TagTable};
+    use alba_diag::Files;
+    use alba_model::TagTable;
 
     fn layout(csv: &str, used: &[Address]) -> Layout {
         let mut files = Files::new();

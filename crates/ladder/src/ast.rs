@@ -1,6 +1,6 @@
 //! The ladder syntax tree and the instruction table (SPEC §3.2).
 
-use alba_model::Span;
+use alba_diag::Span;
 
 /// A ladder program: rungs in order.
 #[derive(Debug, Clone, PartialEq)]

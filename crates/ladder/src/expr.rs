@@ -5,7 +5,8 @@
 //! (right-associative, so `-2**2` is `-(2**2)` and `2**-1` works).
 //! Keywords, functions and the constants `PI` and `E` are case-insensitive.
 
-use alba_model::{FileId, Literal, Span};
+use alba_diag::{FileId, Span};
+use alba_model::Literal;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Func {

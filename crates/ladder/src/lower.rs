@@ -11,10 +11,11 @@
 
 use crate::ast::{Arg, Element, Instr, Mnemonic, Operand, Program, Rung};
 use crate::expr::{self, BinE, Expr, Func};
+use alba_diag::{Code, Diagnostic, Span};
 use alba_ir::values::{Class, Src, V, class_name, class_of, class_of_lit, class_of_type, float_class, promote};
 use alba_ir::{Access, B, BinOp, Builder, Cmp, Ctr, I, Layout, Op, Place, ResolveError, Target, Tmr, UnOp};
 use alba_model::tags::is_identifier;
-use alba_model::{Address, Code, DataType, Diagnostic, Literal, Span, Value};
+use alba_model::{Address, DataType, Literal, Value};
 use std::collections::HashMap;
 
 /// Literal presets and accumulators given so far, per slot, across all the

@@ -15,8 +15,8 @@
 //! parsing resumes after the next `;`, so one pass reports every error.
 
 use crate::ast::{Branch, Element, Instr, Mnemonic, Operand, Program, Rung};
+use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_model::tags::edit_distance;
-use alba_model::{Code, Diagnostic, FileId, Span};
 
 /// Parses a ladder program. Rungs with errors are left out of the result
 /// and reported.
@@ -461,7 +461,7 @@ fn suggest(name: &str) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_model::Files;
+    use alba_diag::Files;
 
     fn short(text: &str) -> Vec<String> {
         let mut files = Files::new();

@@ -7,7 +7,7 @@ use crate::frame::{self, Exception, Split};
 use crate::map::{Map, Scratch};
 use crate::server::{Plan, Then, plan, read};
 use alba_ir::Memory;
-use alba_model::config::ModbusArea;
+use alba_project::config::ModbusArea;
 
 /// Answers every complete request of `input` like the server does (writes
 /// to program memory are planned, not applied). Returns the replies and
@@ -58,8 +58,9 @@ fn answer(pdu: &[u8], map: &Map, mem: &Memory, sc: &Scratch, out: &mut Vec<u8>) 
 /// A map with a bit of everything, for the fuzz target and its regressions:
 /// I/O of every kind, markers, and explicit entries of every width.
 pub fn sample() -> (Map, Memory) {
-    use alba_model::config::ModbusTag;
-    use alba_model::{Files, Span, TagTable};
+    use alba_diag::{Files, Span};
+    use alba_model::TagTable;
+    use alba_project::config::ModbusTag;
     let csv = "name,type,address\nI,BOOL,%IX1.3\nQ,BOOL,%QX2.1\nAi,INT,%IW5\nAo,DINT,%QW3\nW,INT,%MW10\nR,REAL,%MD7\n\
 B,SINT,MB41\nX,BOOL,%MX50.1\nD,DINT,\nF,REAL,\nL,LINT,\nLr,LREAL,\nS,SINT,\nT,TIME,\nFlag,BOOL,\nTm,TIMER,\n";
     let mut files = Files::new();

@@ -9,7 +9,7 @@
 use crate::frame::{self, Exception, Header, Request, Split};
 use crate::map::{Map, Scratch, Write};
 use alba_ir::Program;
-use alba_model::config::{Modbus, ModbusArea, ModbusTag};
+use alba_project::config::{Modbus, ModbusArea, ModbusTag};
 use alba_runtime::Handle;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};

@@ -1,11 +1,11 @@
 //! The tag table, `tags.csv` (SPEC §2.1, §10.1).
 
 use crate::address::{Address, Area};
-use crate::codes::Code;
 use crate::csv;
-use crate::diag::{Diagnostic, FileId, Span};
-use crate::types::DataType;
+use crate::types::{DataType, PID_DEFAULTS, PidParams};
 use crate::value::Value;
+use alba_diag::Code;
+use alba_diag::{Diagnostic, FileId, Span};
 use std::collections::HashMap;
 
 /// The header Alba writes; reading accepts any order and leaving out the
@@ -352,7 +352,7 @@ impl TagTable {
             if ty == Some(DataType::Pid) && !init_text.is_empty() {
                 match parse_members(init_text, DataType::Pid) {
                     Ok(m) => {
-                        if let Some((_, _, msg)) = crate::types::PidParams::from_members(&m).check() {
+                        if let Some((_, _, msg)) = pid_params(&m).check() {
                             diags.push(
                                 Diagnostic::new(Code::PidParameter, msg, fspan(cols[3]), "invalid loop parameter")
                                     .with_help("the PID section of docs/ladder.md lists the members and their ranges"),
@@ -482,10 +482,44 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
+/// The parameters of a PID loop given as `MEMBER=value` pairs over the
+/// defaults (kept here rather than in `types`, which `value` imports).
+fn pid_params(members: &[(String, Value)]) -> PidParams {
+    let get = |n: &str| {
+        members
+            .iter()
+            .find(|(m, _)| m.eq_ignore_ascii_case(n))
+            .map(|(_, v)| v.as_f64())
+            .or_else(|| PID_DEFAULTS.iter().find(|(m, _)| *m == n).map(|(_, v)| *v))
+            .unwrap_or(0.0)
+    };
+    PidParams {
+        kp: get("KP"),
+        ki: get("KI"),
+        kd: get("KD"),
+        kc: get("KC"),
+        ti: get("TI"),
+        td: get("TD"),
+        maxs: get("MAXS"),
+        mins: get("MINS"),
+        db: get("DB"),
+        maxo: get("MAXO"),
+        mino: get("MINO"),
+        dfn: get("DFN"),
+        maxi: get("MAXI"),
+        mini: get("MINI"),
+        maxcv: get("MAXCV"),
+        mincv: get("MINCV"),
+        bias: get("BIAS"),
+        upd: get("UPD"),
+        form: get("FORM"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::Files;
+    use alba_diag::Files;
 
     fn parse(text: &str) -> (TagTable, Vec<Diagnostic>, Files) {
         let mut files = Files::new();

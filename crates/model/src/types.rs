@@ -284,39 +284,6 @@ impl PidParams {
         }
         None
     }
-
-    /// The parameters given as `MEMBER=value` pairs over the defaults.
-    pub fn from_members(members: &[(String, crate::Value)]) -> PidParams {
-        let get = |n: &str| {
-            members
-                .iter()
-                .find(|(m, _)| m.eq_ignore_ascii_case(n))
-                .map(|(_, v)| v.as_f64())
-                .or_else(|| PID_DEFAULTS.iter().find(|(m, _)| *m == n).map(|(_, v)| *v))
-                .unwrap_or(0.0)
-        };
-        PidParams {
-            kp: get("KP"),
-            ki: get("KI"),
-            kd: get("KD"),
-            kc: get("KC"),
-            ti: get("TI"),
-            td: get("TD"),
-            maxs: get("MAXS"),
-            mins: get("MINS"),
-            db: get("DB"),
-            maxo: get("MAXO"),
-            mino: get("MINO"),
-            dfn: get("DFN"),
-            maxi: get("MAXI"),
-            mini: get("MINI"),
-            maxcv: get("MAXCV"),
-            mincv: get("MINCV"),
-            bias: get("BIAS"),
-            upd: get("UPD"),
-            form: get("FORM"),
-        }
-    }
 }
 
 impl DataType {

@@ -176,7 +176,7 @@ pub async fn serve(
     project: &str,
     addr: SocketAddr,
     pki_dir: PathBuf,
-    users: &[alba_model::config::OpcuaUser],
+    users: &[alba_project::config::OpcuaUser],
     mut closing: tokio::sync::watch::Receiver<bool>,
 ) -> Result<SocketAddr, String> {
     if !security::is_local(addr.ip()) && users.is_empty() {

@@ -12,7 +12,7 @@
 //!
 //! Passwords are checked against the argon2 hashes of `[opcua.users]`.
 
-use alba_model::config::OpcuaUser;
+use alba_project::config::OpcuaUser;
 use argon2::password_hash::{PasswordHash, PasswordHasher, PasswordVerifier, SaltString};
 use async_trait::async_trait;
 use opcua::crypto::SecurityPolicy;
@@ -233,7 +233,7 @@ mod tests {
         let b = hash_password("correct horse").unwrap();
         assert_ne!(a, b, "salted");
         assert!(a.starts_with("$argon2id$"));
-        assert!(alba_model::config::check_password_hash(&a).is_ok());
+        assert!(alba_project::config::check_password_hash(&a).is_ok());
         assert!(verify_password(&a, "correct horse"));
         assert!(!verify_password(&a, "correct horse "));
         assert!(!verify_password("not a hash", "x"));
@@ -270,7 +270,7 @@ mod tests {
         let users = vec![OpcuaUser {
             name: "op".into(),
             hash: h,
-            span: alba_model::diag::Span::new(alba_model::diag::FileId(0), 0..0),
+            span: alba_diag::Span::new(alba_diag::FileId(0), 0..0),
             write: true,
         }];
         for (ip, none_anonymous) in [("127.0.0.1", true), ("0.0.0.0", false), ("10.0.0.1", false)] {

@@ -39,7 +39,7 @@ fn as_f64(v: Value) -> f64 {
 }
 
 /// Opens the project's history database.
-pub fn open(dir: &std::path::Path, cfg: &alba_model::config::History) -> Result<Historian, String> {
+pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History) -> Result<Historian, String> {
     let path = dir.join(".alba").join("history.db");
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
@@ -54,7 +54,7 @@ pub fn open(dir: &std::path::Path, cfg: &alba_model::config::History) -> Result<
 /// Records every snapshot `rx` publishes until the runtime stops.
 pub fn record(
     h: Historian,
-    cfg: alba_model::config::History,
+    cfg: alba_project::config::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
     rt: tokio::runtime::Handle,
 ) -> std::thread::JoinHandle<()> {

@@ -628,7 +628,7 @@ pub async fn run(
 }
 
 /// The `[modbus]` settings of the project as loaded.
-async fn state_modbus(state: &AppState) -> Option<alba_model::config::Modbus> {
+async fn state_modbus(state: &AppState) -> Option<alba_project::config::Modbus> {
     let p = state.project.lock().await;
     p.project.config.as_ref().and_then(|c| c.modbus.clone())
 }

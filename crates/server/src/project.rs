@@ -2,9 +2,11 @@
 //! with an edit in place, saving edits atomically, and the JSON views of
 //! programs (rungs with their element ids) and of diagnostics.
 
+use alba_diag::{Diagnostic, FileId, Files};
 use alba_ir::Program;
+use alba_model::TagTable;
 use alba_model::fsutil::write_atomic;
-use alba_model::{Diagnostic, FileId, Files, Language, Project, TagTable};
+use alba_project::{Language, Project};
 use serde_json::{Value as Json, json};
 use std::collections::HashMap;
 use std::path::Path;
@@ -61,7 +63,7 @@ pub fn compile_with(project: &Project, edit: Option<&Edit>) -> Result<Compiled, 
 }
 
 /// The program listed as `name` (case-insensitively).
-pub fn find<'a>(p: &'a Project, name: &str) -> Result<&'a alba_model::project::ProgramSource, String> {
+pub fn find<'a>(p: &'a Project, name: &str) -> Result<&'a alba_project::ProgramSource, String> {
     p.programs
         .iter()
         .find(|s| s.name.eq_ignore_ascii_case(name))
@@ -143,8 +145,8 @@ pub fn program_json(
     let files = &project.files;
     let text = files.text(src.file);
     let ids = element_ids(program, src.file);
-    let id_of = |s: alba_model::Span| ids.get(&(s.start, s.end)).copied();
-    let lc = |s: alba_model::Span| files.line_col(src.file, s.start as usize);
+    let id_of = |s: alba_diag::Span| ids.get(&(s.start, s.end)).copied();
+    let lc = |s: alba_diag::Span| files.line_col(src.file, s.start as usize);
     let mine: Vec<&Diagnostic> = diags
         .iter()
         .filter(|d| d.primary.as_ref().is_some_and(|l| l.span.file == src.file))
@@ -192,8 +194,8 @@ pub fn program_json(
 
 fn elements_json(
     elems: &[alba_ladder::Element],
-    id_of: &dyn Fn(alba_model::Span) -> Option<u32>,
-    lc: &dyn Fn(alba_model::Span) -> (usize, usize),
+    id_of: &dyn Fn(alba_diag::Span) -> Option<u32>,
+    lc: &dyn Fn(alba_diag::Span) -> (usize, usize),
 ) -> Vec<Json> {
     elems
         .iter()

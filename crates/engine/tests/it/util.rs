@@ -1,9 +1,9 @@
 //! Helpers shared by the engine's integration tests.
 
+use alba_diag::Files;
 use alba_engine::Engine;
 use alba_engine::sim::{self, Column, SimOptions, Stimulus};
 use alba_ir::Program;
-use alba_model::Files;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -15,7 +15,7 @@ pub fn compile(dir: &Path) -> Program {
         None => panic!(
             "{} does not compile:\n{}",
             dir.display(),
-            alba_model::diag::render_all(&c.diagnostics, &c.project.files)
+            alba_diag::render_all(&c.diagnostics, &c.project.files)
         ),
     }
 }
@@ -38,7 +38,7 @@ pub fn compile_text(tags_csv: &str, ladder: &str) -> Result<Program, String> {
     );
     let all: Vec<_> = d1.into_iter().chain(d2).chain(d3).collect();
     if !all.is_empty() {
-        return Err(alba_model::diag::render_all(&all, &files));
+        return Err(alba_diag::render_all(&all, &files));
     }
     Ok(b.finish(files))
 }
@@ -71,7 +71,7 @@ pub fn simulate_in(mode: Mode, program: Program, stimulus: &str, tags: Option<&s
     } else {
         match Stimulus::parse(files.text(f), f, &program.layout) {
             Ok(s) => s,
-            Err(d) => panic!("bad stimulus:\n{}", alba_model::diag::render_all(&d, &files)),
+            Err(d) => panic!("bad stimulus:\n{}", alba_diag::render_all(&d, &files)),
         }
     };
     let cols: Vec<Column> = match tags {

@@ -1,6 +1,6 @@
 //! Checks shared by the integration tests and the cargo-fuzz targets
 //! (`fuzz/fuzz_targets/awl_*.rs` include this file with `#[path]`, so it
-//! must depend on nothing but `alba_il`, `alba_ir` and `alba_model`).
+//! must depend on nothing but `alba_il`, `alba_ir`, `alba_diag` and `alba_model`).
 //!
 //! - [`diag_spans`]: every span of every diagnostic lies inside the input,
 //!   on character boundaries, in the right file.
@@ -13,9 +13,9 @@
 
 #![allow(dead_code)]
 
+use alba_diag::{Diagnostic, FileId, Span};
 use alba_il::Program;
 use alba_il::ast::{Item, Mn};
-use alba_model::{Diagnostic, FileId, Span};
 
 fn span_in(src: &str, file: FileId, sp: Span, what: &str) -> Result<(), String> {
     let (s, e) = (sp.start as usize, sp.end as usize);
@@ -150,7 +150,7 @@ Big,LINT,,,,\nWide,LREAL,,,,\nTm,TIME,,T#2s,,\nTmr,TIMER,,,,\nCtr,COUNTER,,,,\n"
 /// every diagnostic must render. Without diagnostics, the finished program
 /// must pass `Program::verify`. Returns all the diagnostics.
 pub fn check_and_lower(src: &str) -> Result<Vec<Diagnostic>, String> {
-    let mut files = alba_model::Files::new();
+    let mut files = alba_diag::Files::new();
     let tf = files.add("tags.csv", TAGS);
     let lf = files.add("main.awl", src);
     let (tags, td) = alba_model::TagTable::parse(TAGS, tf);
@@ -164,7 +164,7 @@ pub fn check_and_lower(src: &str) -> Result<Vec<Diagnostic>, String> {
     let cd = alba_il::compile(&ast, "main.awl", &mut b, &mut alba_il::Shared::default());
     diag_spans(src, lf, &cd).map_err(|e| format!("checker: {e}"))?;
     let all: Vec<_> = diags.into_iter().chain(cd).collect();
-    let _ = alba_model::diag::render_all(&all, &files);
+    let _ = alba_diag::render_all(&all, &files);
     if all.is_empty() {
         let program = b.finish(files);
         program

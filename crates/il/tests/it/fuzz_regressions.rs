@@ -12,7 +12,7 @@
 //! `tests/fuzz_regressions/README.md`).
 
 use crate::check::{awl_input, check_and_lower};
-use alba_model::Files;
+use alba_diag::Files;
 use std::path::Path;
 
 /// Runs `src` through the parser checks, then renders its diagnostics.

@@ -1,6 +1,6 @@
 //! Checks shared by the property tests and the cargo-fuzz targets
 //! (`fuzz/fuzz_targets/*.rs` include this file with `#[path]`, so it must
-//! depend on nothing but `alba_ladder` and `alba_model`).
+//! depend on nothing but `alba_ladder`, `alba_diag` and `alba_model`).
 //!
 //! - [`ast_diff`]: structural comparison of two programs that ignores spans.
 //! - [`diag_spans`]: every span of every diagnostic lies inside the input,
@@ -11,8 +11,8 @@
 
 #![allow(dead_code)]
 
+use alba_diag::{Diagnostic, FileId, Span};
 use alba_ladder::{Element, Instr, Program};
-use alba_model::{Diagnostic, FileId, Span};
 
 /// The first difference between two programs, ignoring every span, as a
 /// path (`rung 2 / element 1 / leg 0 / ...`) and the two values; `None` if
@@ -266,7 +266,7 @@ R0,REAL,,1.5,,\nR1,REAL,,,,\nF0,LREAL,,,,\nTm,TIME,,T#2s,,\n";
 /// lowers it against [`TAGS`]; every diagnostic span must lie inside the
 /// input and every diagnostic must render. Returns all the diagnostics.
 pub fn check_and_lower(src: &str) -> Result<Vec<Diagnostic>, String> {
-    let mut files = alba_model::Files::new();
+    let mut files = alba_diag::Files::new();
     let tf = files.add("tags.csv", TAGS);
     let lf = files.add("main.lad", src);
     let (tags, td) = alba_model::TagTable::parse(TAGS, tf);
@@ -280,7 +280,7 @@ pub fn check_and_lower(src: &str) -> Result<Vec<Diagnostic>, String> {
     let cd = alba_ladder::compile(&ast, src, "main.lad", &mut b, &mut alba_ladder::Presets::default());
     diag_spans(src, lf, &cd).map_err(|e| format!("checker: {e}"))?;
     let all: Vec<_> = diags.into_iter().chain(cd).collect();
-    let _ = alba_model::diag::render_all(&all, &files);
+    let _ = alba_diag::render_all(&all, &files);
     if all.is_empty() {
         let _ = b.finish(files);
     }

@@ -4,8 +4,8 @@
 
 use crate::check::{ast_diff, ast_spans};
 use crate::strategies::{config, noisy, program};
+use alba_diag::FileId;
 use alba_ladder::{parse, print};
-use alba_model::FileId;
 use proptest::prelude::*;
 
 proptest! {

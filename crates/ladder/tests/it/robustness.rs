@@ -5,9 +5,10 @@
 
 use crate::check::{diag_spans, ladder_input};
 use crate::strategies::{config, expr, mutate, mutation, noisy, program, soup};
+use alba_diag::{Diagnostic, FileId, Files};
 use alba_ladder::print;
-use alba_model::config::Config;
-use alba_model::{Diagnostic, FileId, Files, TagTable};
+use alba_model::TagTable;
+use alba_project::config::Config;
 use proptest::prelude::*;
 
 /// Runs `src` through the ladder parser and checks it (see

@@ -4,8 +4,8 @@
 
 use crate::check::{ast_diff, ast_spans, ladder_input};
 use crate::strategies::{config, expr, program};
+use alba_diag::FileId;
 use alba_ladder::{parse, print};
-use alba_model::FileId;
 use proptest::prelude::*;
 use std::path::Path;
 

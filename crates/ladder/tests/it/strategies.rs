@@ -2,8 +2,8 @@
 //! operands in canonical text, and a "noisy" printer that writes a program in
 //! a legal but non-canonical way.
 
+use alba_diag::{FileId, Span};
 use alba_ladder::{Arg, Branch, Element, Instr, Mnemonic, Operand, Program, Rung};
-use alba_model::{FileId, Span};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 

@@ -3,8 +3,9 @@
 //! Times are only bounded generously (the machine is shared): tests check
 //! what happened, never how fast.
 
+use alba_diag::Files;
 use alba_ir::{Place, Program, Target};
-use alba_model::{Files, Value};
+use alba_model::Value;
 use alba_runtime::{Options, RunState, Runtime, SimIo, Snapshot};
 use std::sync::Arc;
 use std::time::Duration;

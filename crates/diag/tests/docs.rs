@@ -5,7 +5,7 @@
 //! mentioned anywhere on the page. When this fails after a change to
 //! `codes.rs`, update `docs/diagnostics.md`.
 
-use alba_model::Code;
+use alba_diag::Code;
 use std::collections::BTreeMap;
 use std::path::Path;
 

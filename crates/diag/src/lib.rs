@@ -3,9 +3,15 @@
 //!
 //! A [`Diagnostic`] points into a [`Files`] database by byte spans; rendering
 //! (terminal text, one-line form, JSON for the web editor) is separate from
-//! the diagnostic itself. The catalogue of codes lives in [`crate::codes`].
+//! the diagnostic itself. The catalogue of codes lives in [`codes`].
+//!
+//! This crate stands apart from the data model (`alba-model`) and from the
+//! project settings (`alba-project`): every stage reports through it, and it
+//! depends on nothing of Alba.
 
-use crate::codes::Code;
+pub mod codes;
+
+pub use codes::Code;
 use codespan_reporting::diagnostic as cs;
 use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term;

@@ -1,9 +1,8 @@
 //! A project folder: `alba.toml`, `tags.csv` and the program files.
 
-use crate::codes::Code;
 use crate::config::Config;
-use crate::diag::{Diagnostic, FileId, Files, Span};
-use crate::tags::TagTable;
+use alba_diag::{Code, Diagnostic, FileId, Files, Span};
+use alba_model::TagTable;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 

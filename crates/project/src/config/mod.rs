@@ -1,0 +1,171 @@
+//! `alba.toml`, the project settings (SPEC §10.1): one module per table,
+//! each with its types, its raw (serde) form and its checks; this module
+//! holds the top level and [`Config::parse`].
+
+mod board;
+mod history;
+mod modbus;
+mod modbus_device;
+mod opcua;
+mod plant;
+mod setting;
+#[cfg(test)]
+mod tests;
+
+pub use board::Board;
+pub use history::History;
+pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, Modbus, ModbusArea, ModbusTag};
+pub use modbus_device::{
+    DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
+};
+pub use opcua::{Opcua, OpcuaUser, check_password_hash};
+
+use alba_diag::{Code, Diagnostic, FileId, Span};
+use serde::Deserialize;
+use setting::int_setting;
+use toml::Spanned;
+
+pub const DEFAULT_SCAN_MS: u32 = 10;
+pub const MAX_SCAN_MS: u32 = 60_000;
+pub const DEFAULT_RETAIN_MS: u32 = 1_000;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Config {
+    pub name: String,
+    pub description: String,
+    pub scan_ms: u32,
+    /// Program files in execution order, with where each is listed.
+    pub programs: Vec<(String, Span)>,
+    /// Plant-model programs, run after `programs` in simulation.
+    pub plant: Vec<(String, Span)>,
+    pub board: Option<Board>,
+    /// How often `alba run` saves retentive data (also on stop).
+    pub retain_ms: u32,
+    pub history: History,
+    /// `[[plant_model]]`: simulated processes on the I/O.
+    pub models: Vec<alba_model::plant::PlantModel>,
+    /// `[modbus]`: the Modbus TCP server of `alba run` (docs/protocols.md).
+    pub modbus: Option<Modbus>,
+    /// `[opcua]`: the OPC UA server of `alba run` (docs/protocols.md).
+    pub opcua: Option<Opcua>,
+    /// `[[modbus_device]]`: remote Modbus slaves polled by `alba run --io
+    /// modbus` (docs/protocols.md, "Modbus master I/O").
+    pub modbus_devices: Vec<ModbusDevice>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConfig {
+    name: Spanned<String>,
+    #[serde(default)]
+    description: String,
+    scan_ms: Option<Spanned<i64>>,
+    programs: Spanned<Vec<Spanned<String>>>,
+    #[serde(default)]
+    plant: Vec<Spanned<String>>,
+    board: Option<board::RawBoard>,
+    retain_ms: Option<Spanned<i64>>,
+    history: Option<history::RawHistory>,
+    #[serde(default)]
+    plant_model: Vec<plant::RawPlant>,
+    modbus: Option<modbus::RawModbus>,
+    opcua: Option<opcua::RawOpcua>,
+    #[serde(default)]
+    modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
+}
+
+/// `s` as a TOML string (quoted and escaped), for writing alba.toml.
+pub fn toml_string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+impl Config {
+    /// Parses and validates `alba.toml`, reporting every problem found. The
+    /// config is `None` only when the file could not be read as settings at
+    /// all; with bad values it is returned (with defaults in their place) so
+    /// the rest of the project is still checked.
+    pub fn parse(text: &str, file: FileId) -> (Option<Config>, Vec<Diagnostic>) {
+        let raw: RawConfig = match toml::from_str(text) {
+            Ok(r) => r,
+            Err(e) => {
+                let span = Span::new(file, e.span().unwrap_or(0..0));
+                let msg = e.message().trim().to_string();
+                let code =
+                    if msg.contains("missing field") || msg.contains("unknown field") || msg.contains("invalid type") {
+                        Code::ConfigField
+                    } else {
+                        Code::TomlSyntax
+                    };
+                let mut d = Diagnostic::new(code, format!("alba.toml: {msg}"), span, "here");
+                if msg.contains("missing field") {
+                    d = d.with_help(
+                        "the minimal alba.toml is: name = \"tank\"  scan_ms = 10  programs = [\"main.lad\"]",
+                    );
+                }
+                return (None, vec![d]);
+            }
+        };
+        let mut diags = Vec::new();
+        let sp = |r: std::ops::Range<usize>| Span::new(file, r);
+        let name = raw.name.get_ref().trim().to_string();
+        if name.is_empty() {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                "the project name is empty",
+                sp(raw.name.span()),
+                "empty name",
+            ));
+        }
+        // An integer setting within `range`, or the default with a diagnostic.
+        let mut int =
+            |key: &str, v: Option<Spanned<i64>>, range: std::ops::RangeInclusive<u32>, default: u32, unit: &str| {
+                int_setting(key, v, range, default, unit, file, &mut diags)
+            };
+        let scan_ms = int("scan_ms", raw.scan_ms, 1..=MAX_SCAN_MS, DEFAULT_SCAN_MS, "milliseconds");
+        let retain_ms = int(
+            "retain_ms",
+            raw.retain_ms,
+            10..=3_600_000,
+            DEFAULT_RETAIN_MS,
+            "milliseconds",
+        );
+        let history = raw
+            .history
+            .map_or_else(History::default, |h| history::history(h, file, &mut diags));
+        if raw.programs.get_ref().is_empty() {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                "`programs` is empty",
+                sp(raw.programs.span()),
+                "expected at least one program file",
+            ));
+        }
+        let listed = |v: Vec<Spanned<String>>| v.into_iter().map(|p| (p.get_ref().clone(), sp(p.span()))).collect();
+        let programs = listed(raw.programs.into_inner());
+        let plant = listed(raw.plant);
+        let board = raw.board.map(|b| board::board(b, file, &mut diags));
+        let models = raw
+            .plant_model
+            .into_iter()
+            .filter_map(|m| m.check(file, &mut diags))
+            .collect();
+        let modbus = raw.modbus.map(|m| modbus::modbus(m, file, &mut diags));
+        let opcua = raw.opcua.map(|o| opcua::opcua(o, file, &mut diags));
+        let modbus_devices = modbus_device::devices(raw.modbus_device, file, &mut diags);
+        let config = Config {
+            modbus_devices,
+            models,
+            name,
+            description: raw.description,
+            scan_ms,
+            programs,
+            plant,
+            board,
+            retain_ms,
+            history,
+            modbus,
+            opcua,
+        };
+        (Some(config), diags)
+    }
+}

@@ -1,0 +1,356 @@
+//! Tests of `alba.toml` parsing, table by table.
+
+use super::*;
+use alba_diag::Files;
+use alba_model::board::{Model, Pin, PinMap};
+
+fn parse(text: &str) -> Result<Config, Vec<String>> {
+    let mut files = Files::new();
+    let f = files.add("alba.toml", text);
+    match Config::parse(text, f) {
+        (Some(c), d) if d.is_empty() => Ok(c),
+        (_, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
+    }
+}
+
+#[test]
+fn names_with_quotes_and_backslashes_round_trip() {
+    for name in ["plain", "a\\b", "say \"hi\"", "tab\there", "ñandú"] {
+        let text = format!("name = {}\nprograms = [\"a.lad\"]\n", toml_string(name));
+        assert_eq!(parse(&text).unwrap().name, name, "{text}");
+    }
+}
+
+#[test]
+fn minimal_config_takes_defaults() {
+    let c = parse("name = \"tank\"\nprograms = [\"main.lad\"]\n").unwrap();
+    assert_eq!(c.scan_ms, 10);
+    assert_eq!(c.programs[0].0, "main.lad");
+    assert!(c.board.is_none());
+}
+
+#[test]
+fn retain_and_history_settings() {
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
+    assert_eq!((c.retain_ms, c.history.clone()), (1000, History::default()));
+    let c = parse(
+        "name = \"x\"\nretain_ms = 250\nprograms = [\"a.lad\"]\n[history]\nretention_days = 0\nsample_ms = 500\ndeadband = 0.5\n",
+    )
+    .unwrap();
+    assert_eq!(c.retain_ms, 250);
+    assert_eq!(
+        c.history,
+        History {
+            enabled: true,
+            retention_days: 0,
+            sample_ms: 500,
+            deadband: 0.5
+        }
+    );
+    let e =
+        parse("name = \"x\"\nretain_ms = 5\nprograms = [\"a.lad\"]\n[history]\nretention_days = -1\ndeadband = -1.0\n")
+            .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:2:13: error[E102]: retain_ms = 5 is out of range",
+            "alba.toml:5:18: error[E102]: retention_days = -1 is out of range",
+            "alba.toml:6:12: error[E102]: deadband = -1 is out of range",
+        ]
+    );
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nkeep = 3\n").unwrap_err();
+    assert!(e[0].contains("unknown field `keep`"), "{e:?}");
+}
+
+#[test]
+fn modbus_devices_and_their_maps() {
+    let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
+    let c = parse(&format!(
+        "{head}[[modbus_device]]\nname = \"rack\"\ntcp = \"10.0.0.5:502\"\nmap = [\n  {{ remote = \"di 0\", count = 8, at = \"%IX0.0\" }},\n  {{ remote = \"hr 100\", at = \"AO:4/2\" }},\n]\n"
+    ))
+    .unwrap();
+    let d = &c.modbus_devices[0];
+    assert_eq!(
+        (
+            d.name.as_str(),
+            &d.link,
+            d.unit,
+            d.poll_ms,
+            d.timeout_ms,
+            d.retries,
+            d.refresh_ms
+        ),
+        ("rack", &DeviceLink::Tcp("10.0.0.5:502".into()), 1, 100, 500, 1, 1000)
+    );
+    let m: Vec<_> = d.map.iter().map(|m| (m.area, m.start, m.count, m.at)).collect();
+    assert_eq!(
+        m,
+        [
+            (
+                ModbusArea::DiscreteInput,
+                0,
+                8,
+                alba_model::address::Address::DigitalIn(0)
+            ),
+            (
+                ModbusArea::HoldingRegister,
+                100,
+                1,
+                alba_model::address::Address::AnalogOut(2)
+            ),
+        ]
+    );
+    let c = parse(&format!(
+        "{head}[[modbus_device]]\nname = \"bus\"\nrtu = \"/dev/ttyUSB0\"\nbaud = 9600\n"
+    ))
+    .unwrap();
+    assert_eq!(
+        c.modbus_devices[0].link,
+        DeviceLink::Rtu {
+            port: "/dev/ttyUSB0".into(),
+            baud: 9600
+        }
+    );
+    let e = parse(&format!(
+        "{head}[[modbus_device]]\nname = \"b\"\nrtu = \"/dev/x\"\ntcp = \"h:1\"\n[[modbus_device]]\nname = \"c\"\ntcp = \"h:1\"\nbaud = 9600\n"
+    ))
+    .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:6:7: error[E102]: device `b` needs exactly one of `tcp` and `rtu`",
+            "alba.toml:10:8: error[E102]: `baud` is a setting of serial (rtu) devices",
+        ]
+    );
+    let e = parse(&format!(
+        "{head}[[modbus_device]]\nname = \"a\"\ntcp = \"nowhere\"\npoll_ms = 0\nunit = 300\nmap = [\n  {{ remote = \"di 0\", count = 4, at = \"AI:3/0\" }},\n  {{ remote = \"ir 0\", at = \"AO:4/0\" }},\n  {{ remote = \"coil 65535\", count = 2, at = \"DO:2/0\" }},\n  {{ remote = \"coil 0\", at = \"MW0\" }},\n  {{ remote = \"zz 1\", at = \"DI:1/0\" }},\n  {{ remote = \"di 0\", count = 2, at = \"DI:1/0\" }},\n]\n[[modbus_device]]\nname = \"a\"\ntcp = \"h:1\"\nmap = [{{ remote = \"coil 4\", at = \"DI:1/1\" }}]\n"
+    ))
+    .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:7:8: error[E102]: unit = 300 is out of range",
+            "alba.toml:6:11: error[E102]: poll_ms = 0 is out of range",
+            "alba.toml:5:7: error[E102]: tcp = \"nowhere\" is not a host and port",
+            "alba.toml:9:38: error[E102]: bits `di 0` cannot feed `AI:3/0`",
+            "alba.toml:10:14: error[E102]: `ir 0` cannot be written",
+            "alba.toml:11:36: error[E102]: count = 2 is out of range",
+            "alba.toml:12:29: error[E102]: `MW0` is not an I/O channel",
+            "alba.toml:13:14: error[E102]: `zz 1` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`",
+            "alba.toml:17:8: error[E102]: two Modbus devices are named `a`",
+            "alba.toml:19:34: error[E102]: channels from `DI:1/1` are already mapped by device `a`",
+        ]
+    );
+}
+
+#[test]
+fn boards_and_pin_maps() {
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n").unwrap();
+    let b = c.board.unwrap();
+    assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", false));
+    assert_eq!(b.map, PinMap::preset("s7").unwrap());
+    // A custom list replaces one direction of the preset.
+    let c = parse(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\nai = [\"A4\", \"A5\"]\nactive_low = true\n",
+    )
+    .unwrap();
+    let b = c.board.unwrap();
+    assert_eq!(b.map.ai, [Pin::A(4), Pin::A(5)]);
+    assert_eq!(b.map.di, PinMap::preset("aurora").unwrap().di);
+    assert!(b.active_low);
+    // Outputs on at power-up: digital outputs of the map only.
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"A0\"]\n").unwrap();
+    assert_eq!(c.board.unwrap().power_up_on, [Pin::A(0)]);
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"D2\", \"X\"]\n")
+        .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:5:16: error[E102]: pin D2 is not a digital output of this board's pin map",
+            "alba.toml:5:22: error[E102]: `X` is not a pin name",
+        ]
+    );
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"due\"\n").unwrap_err();
+    assert_eq!(e, ["alba.toml:4:9: error[E102]: unknown board `due`"]);
+    let e = parse(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\nao = [\"D7\", \"Q3\", \"D9\", \"D9\"]\n",
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:5:7: error[E102]: D7 has no PWM, so it cannot be an analog output",
+            "alba.toml:5:13: error[E102]: `Q3` is not a pin name",
+            "alba.toml:5:25: error[E102]: pin D9 is wired twice",
+        ]
+    );
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\ndi = [\"D12\"]\n").unwrap_err();
+    assert_eq!(e, ["alba.toml:4:9: error[E102]: pin D12 is wired to two channels"]);
+}
+
+/// A real argon2id hash of `pw` (small parameters: a test).
+fn test_hash(pw: &str) -> String {
+    use argon2::password_hash::{PasswordHasher, SaltString};
+    let a = argon2::Argon2::new(
+        argon2::Algorithm::Argon2id,
+        argon2::Version::V0x13,
+        argon2::Params::new(8, 1, 1, None).unwrap(),
+    );
+    let salt = SaltString::encode_b64(b"alba-test-salt").unwrap();
+    a.hash_password(pw.as_bytes(), &salt).unwrap().to_string()
+}
+
+#[test]
+fn opcua_users_hold_argon2_hashes() {
+    let h = test_hash("secret");
+    let c = parse(&format!(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n[opcua.users]\noperator = \"{h}\"\nadmin = \"{h}\"\n"
+    ))
+    .unwrap();
+    let o = c.opcua.unwrap();
+    assert_eq!(o.listen, Some("0.0.0.0:4840".parse().unwrap()));
+    let names: Vec<_> = o.users.iter().map(|u| u.name.as_str()).collect();
+    assert_eq!(names, ["operator", "admin"], "in file order");
+    assert_eq!(o.users[0].hash, h);
+    assert!(o.users.iter().all(|u| u.write));
+    let c = parse(&format!(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"viewer\"]\n[opcua.users]\noperator = \"{h}\"\nviewer = \"{h}\"\n"
+    ))
+    .unwrap();
+    let w: Vec<_> = c
+        .opcua
+        .unwrap()
+        .users
+        .iter()
+        .map(|u| (u.name.clone(), u.write))
+        .collect();
+    assert_eq!(w, [("operator".to_string(), true), ("viewer".to_string(), false)]);
+    let e = parse(&format!(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"ghost\"]\n[opcua.users]\noperator = \"{h}\"\n"
+    ))
+    .unwrap_err();
+    assert_eq!(e, ["alba.toml:4:14: error[E102]: `ghost` is not in [opcua.users]"]);
+    // Loopback needs no users.
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.2:4840\"\n").unwrap();
+    assert!(c.opcua.unwrap().users.is_empty());
+    // Errors, each located on the offending value.
+    let e = parse(&format!(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n[opcua.users]\nplain = \"hunter2\"\nmd5 = \"$1$abc$def\"\n\"two words\" = \"{h}\"\nbroken = \"$argon2id$v=19$m=8,t=1,p=1$\"\nweak = \"$argon2id$v=19$m=1,t=1,p=1$YWxiYS10ZXN0LXNhbHQ$AAAAAAAAAAAAAAAAAAAAAA\"\n"
+    ))
+    .unwrap_err();
+    assert_eq!(e.len(), 5, "{e:#?}");
+    assert_eq!(
+        e[0],
+        "alba.toml:6:9: error[E102]: this is not a password hash: [opcua.users] holds argon2 hashes, never plain-text passwords"
+    );
+    assert!(e[1].starts_with("alba.toml:7:7: error[E102]: `$1$abc$def`"), "{}", e[1]);
+    assert_eq!(e[2], "alba.toml:8:1: error[E102]: `two words` is not a user name");
+    assert!(
+        e[3].starts_with("alba.toml:9:10: error[E102]: `$argon2id$v=19$m=8,t=1,p=1$`"),
+        "{}",
+        e[3]
+    );
+    assert!(
+        e[4].starts_with("alba.toml:10:8: error[E102]: `$argon2id$v=19$m=1,t=1,p=1$"),
+        "{}",
+        e[4]
+    );
+    // Beyond loopback without users nobody could log in.
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap_err();
+    assert_eq!(
+        e,
+        ["alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs [opcua.users]"]
+    );
+    assert!(check_password_hash(&h).is_ok());
+}
+
+#[test]
+fn modbus_settings_and_explicit_addresses() {
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
+    assert!(c.modbus.is_none() && c.opcua.is_none());
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n").unwrap();
+    assert_eq!(c.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"4840\"\n").unwrap_err();
+    assert_eq!(
+        e,
+        ["alba.toml:4:10: error[E102]: listen = \"4840\" is not an address and port"]
+    );
+    let c = parse(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"127.0.0.1:5020\"\nunit_id = 3\n[modbus.tags]\nSpeed = \"hr 8192\"\n\"Delay.PRE\" = \"HR:9000\"\nRunning = \"coil8192\"\n",
+    )
+    .unwrap();
+    let m = c.modbus.unwrap();
+    assert_eq!(m.listen, Some("127.0.0.1:5020".parse().unwrap()));
+    assert_eq!((m.unit_id, m.max_connections, m.idle_timeout_s), (Some(3), 32, 60));
+    let tags: Vec<_> = m.tags.iter().map(|t| (t.name.as_str(), t.area, t.start)).collect();
+    assert_eq!(
+        tags,
+        [
+            ("Speed", ModbusArea::HoldingRegister, 8192),
+            ("Delay.PRE", ModbusArea::HoldingRegister, 9000),
+            ("Running", ModbusArea::Coil, 8192),
+        ]
+    );
+    let e = parse(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"localhost\"\nmax_connections = 0\n[modbus.tags]\nA = \"hr 100\"\nB = \"xx 9000\"\nC = \"ir 70000\"\n",
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:4:10: error[E102]: listen = \"localhost\" is not an address and port",
+            "alba.toml:5:19: error[E102]: max_connections = 0 is out of range",
+            "alba.toml:7:5: error[E102]: `hr 100` is inside OpenPLC's map (hr 0 to 8191, which the I/O image and markers use)",
+            "alba.toml:8:5: error[E102]: `xx 9000` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`",
+            "alba.toml:9:5: error[E102]: `ir 70000`: Modbus addresses go from 0 to 65535",
+        ]
+    );
+}
+
+#[test]
+fn bad_configs_are_located() {
+    let e = parse("name = \"x\"\nscan_m = 5\nprograms = [\"a.lad\"]\n").unwrap_err();
+    assert!(
+        e[0].starts_with("alba.toml:2:1: error[E102]: alba.toml: unknown field `scan_m`"),
+        "{e:?}"
+    );
+    let e = parse("name = \"x\"\nscan_ms = 0\nprograms = []\n").unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:2:11: error[E102]: scan_ms = 0 is out of range",
+            "alba.toml:3:12: error[E102]: `programs` is empty"
+        ]
+    );
+    let e = parse("name = \"x\nprograms = [\"a.lad\"]\n").unwrap_err();
+    assert!(e[0].contains("error[E101]"), "{e:?}");
+    let e = parse("programs = [\"a.lad\"]\n").unwrap_err();
+    assert!(e[0].contains("missing field `name`"), "{e:?}");
+    let e = parse("name = 5\nprograms = [\"a.lad\"]\n").unwrap_err();
+    assert!(e[0].starts_with("alba.toml:1:8: error[E102]"), "{e:?}");
+}
+
+#[test]
+fn plant_models_are_checked_with_their_places() {
+    let head = "name = \"p\"\nprograms = [\"a.lad\"]\n";
+    let ok = format!(
+        "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"AO:4/0\"\noutput = \"AI:3/0\"\ntau = 10.0\ninput_scale = [0, 10000, 0, 10]\ndead_time = 0.5\n"
+    );
+    let c = parse(&ok).unwrap();
+    assert_eq!(c.models.len(), 1);
+    assert_eq!(c.models[0].dead_time, 0.5);
+    let bad = format!(
+        "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"U\"\noutput = \"Y\"\ntau = -1.0\narea = 2.0\nsaturation = [5, 1]\n\n[[plant_model]]\nkind = \"third\"\ninput = \"U\"\noutput = \"Y\"\n\n[[plant_model]]\nkind = \"second_order\"\ninput = \"U\"\noutput = \"Y\"\nden = [1, 2]\n"
+    );
+    let e = parse(&bad).unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:7:7: error[E105]: tau = -1 must be a number more than 0",
+            "alba.toml:8:8: error[E105]: `area` is not a parameter of a first_order model",
+            "alba.toml:9:14: error[E105]: saturation must be [lo, hi] with lo <= hi",
+            "alba.toml:12:8: error[E105]: unknown plant model kind `third`",
+            "alba.toml:20:7: error[E105]: den must be three numbers [a2, a1, a0] for gain/(a2·s² + a1·s + a0)",
+        ]
+    );
+}
