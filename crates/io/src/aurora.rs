@@ -3,8 +3,8 @@
 //! the outputs `q0,…,ao0,…` CR LF. A line is checked (field count, 0/1
 //! levels, readings 0-1023, board id 5518) before it is believed.
 
-use crate::arduino::{Config, Counts, LinkError};
 use crate::firmware::{AURORA_ID, AURORA_PERIOD_MS};
+use crate::serial::{Config, Counts, LinkError, Outputs};
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -110,8 +110,6 @@ pub(crate) fn cycle(
         }
     }
 }
-
-pub(crate) use crate::arduino::Outputs;
 
 #[cfg(test)]
 mod tests {

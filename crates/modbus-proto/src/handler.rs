@@ -70,7 +70,15 @@ pub fn plan(req: Request<'_>, map: &Map, mem: &Memory, sc: &Scratch, out: &mut V
         } => {
             // Both halves are checked before anything is written.
             let mut probe = Vec::new();
-            read(map, mem, sc, ModbusArea::HoldingRegister, read_start, read_count, &mut probe)?;
+            read(
+                map,
+                mem,
+                sc,
+                ModbusArea::HoldingRegister,
+                read_start,
+                read_count,
+                &mut probe,
+            )?;
             let values: Vec<u16> = pdu::registers(&values).collect();
             let mut w = Vec::with_capacity(values.len());
             map.plan_regs(write_start, &values, &mut w)?;

@@ -66,7 +66,11 @@ pub enum Request<'a> {
     /// FC 6.
     WriteSingleRegister { addr: u16, value: u16 },
     /// FC 15: `count` bits packed LSB first in `bits`.
-    WriteMultipleCoils { start: u16, count: u16, bits: Cow<'a, [u8]> },
+    WriteMultipleCoils {
+        start: u16,
+        count: u16,
+        bits: Cow<'a, [u8]>,
+    },
     /// FC 16: big-endian register values.
     WriteMultipleRegisters { start: u16, values: Cow<'a, [u8]> },
     /// FC 23: the write happens before the read.
@@ -379,7 +383,9 @@ pub fn encode_reply(req: &Request<'_>, bits: &[bool], regs: &[u16], out: &mut Ve
         Request::ReadCoils { .. } | Request::ReadDiscreteInputs { .. } => {
             let _ = put_bits(out, bits.len() as u16, |i| Ok::<_, ()>(bits[usize::from(i)]));
         }
-        Request::ReadHoldingRegisters { .. } | Request::ReadInputRegisters { .. } | Request::ReadWriteRegisters { .. } => {
+        Request::ReadHoldingRegisters { .. }
+        | Request::ReadInputRegisters { .. }
+        | Request::ReadWriteRegisters { .. } => {
             let _ = put_registers(out, regs.len() as u16, |i| Ok::<_, ()>(regs[usize::from(i)]));
         }
         _ => out.extend_from_slice(&req.echo().unwrap_or_default()),
@@ -401,8 +407,14 @@ pub enum Response {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum FrameError {
     /// Shorter than the frame must be.
-    Truncated { got: usize, want: usize },
-    BadCrc { got: u16, want: u16 },
+    Truncated {
+        got: usize,
+        want: usize,
+    },
+    BadCrc {
+        got: u16,
+        want: u16,
+    },
     WrongSlave(u8),
     WrongFunction(u8),
     /// The slave answered with an exception code (1 illegal function, 2
@@ -461,7 +473,9 @@ pub fn decode_reply(req: &Request<'_>, pdu: &[u8]) -> Result<Response, FrameErro
             byte_count(n.div_ceil(8))?;
             Ok(Response::Bits((0..n).map(|i| bit(&data[1..], i)).collect()))
         }
-        Request::ReadHoldingRegisters { .. } | Request::ReadInputRegisters { .. } | Request::ReadWriteRegisters { .. } => {
+        Request::ReadHoldingRegisters { .. }
+        | Request::ReadInputRegisters { .. }
+        | Request::ReadWriteRegisters { .. } => {
             byte_count(2 * n)?;
             Ok(Response::Registers(registers(&data[1..]).collect()))
         }
@@ -592,16 +606,28 @@ mod tests {
             Ok(Response::Bits(vec![true, false, false, true, true, false]))
         );
         assert_eq!(decode_reply(&req, &[0x82, 2]), Err(FrameError::Exception(2)));
-        assert!(matches!(decode_reply(&req, &[0x82, 2, 0]), Err(FrameError::Malformed(_))));
+        assert!(matches!(
+            decode_reply(&req, &[0x82, 2, 0]),
+            Err(FrameError::Malformed(_))
+        ));
         assert_eq!(decode_reply(&req, &[3, 1, 0]), Err(FrameError::WrongFunction(3)));
         assert!(matches!(decode_reply(&req, &[2, 2, 0]), Err(FrameError::Malformed(_))));
         assert!(decode_reply(&req, &[]).is_err());
         let w = Request::WriteSingleCoil { addr: 3, value: true };
         assert_eq!(decode_reply(&w, &[5, 0, 3, 0xFF, 0]), Ok(Response::Written));
-        assert!(matches!(decode_reply(&w, &[5, 0, 4, 0xFF, 0]), Err(FrameError::Malformed(_))));
+        assert!(matches!(
+            decode_reply(&w, &[5, 0, 4, 0xFF, 0]),
+            Err(FrameError::Malformed(_))
+        ));
         let regs = Request::ReadInputRegisters { start: 0, count: 2 };
-        assert_eq!(decode_reply(&regs, &[4, 4, 0, 1, 0, 2]), Ok(Response::Registers(vec![1, 2])));
-        assert!(matches!(decode_reply(&regs, &[4, 3, 0, 1, 0, 2]), Err(FrameError::Malformed(_))));
+        assert_eq!(
+            decode_reply(&regs, &[4, 4, 0, 1, 0, 2]),
+            Ok(Response::Registers(vec![1, 2]))
+        );
+        assert!(matches!(
+            decode_reply(&regs, &[4, 3, 0, 1, 0, 2]),
+            Err(FrameError::Malformed(_))
+        ));
     }
 
     #[test]
@@ -610,7 +636,10 @@ mod tests {
         put_bits(&mut out, 10, |i| Ok::<_, ()>(i % 3 == 0)).expect("bits");
         assert_eq!(out, [2, 0b0100_1001, 0b10]);
         out.clear();
-        assert_eq!(put_registers(&mut out, 3, |i| if i < 2 { Ok(i + 7) } else { Err(i) }), Err(2));
+        assert_eq!(
+            put_registers(&mut out, 3, |i| if i < 2 { Ok(i + 7) } else { Err(i) }),
+            Err(2)
+        );
         exception(&mut out, 3, Exception::IllegalDataAddress);
         assert_eq!(&out[out.len() - 2..], [0x83, 2]);
         assert_eq!(registers(&[0x12, 0x34, 0, 1]).collect::<Vec<_>>(), [0x1234, 1]);

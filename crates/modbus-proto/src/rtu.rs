@@ -88,7 +88,10 @@ pub fn decode_response(slave: u8, req: &Request<'_>, frame: &[u8]) -> Result<Res
         )));
     }
     if pdu[0] == req.function() | 0x80 && frame.len() != 5 {
-        return Err(FrameError::Malformed(format!("exception reply of {} bytes", frame.len())));
+        return Err(FrameError::Malformed(format!(
+            "exception reply of {} bytes",
+            frame.len()
+        )));
     }
     pdu::decode_reply(req, pdu)
 }
@@ -115,7 +118,13 @@ mod tests {
         );
         // Modbus spec example: slave 0x11, read coils 0x13 x 0x25 → CRC 0E84.
         assert_eq!(
-            encode(0x11, &Request::ReadCoils { start: 0x13, count: 0x25 }),
+            encode(
+                0x11,
+                &Request::ReadCoils {
+                    start: 0x13,
+                    count: 0x25
+                }
+            ),
             [0x11, 0x01, 0x00, 0x13, 0x00, 0x25, 0x0E, 0x84]
         );
         assert_eq!(crc16(b"123456789"), 0x4B37);

@@ -6,11 +6,11 @@
 //! published snapshot (an `Arc`), writes wait for the engine's answer on a
 //! oneshot channel, so a slow or hostile client delays only itself.
 
+use alba_ir::Program;
 use alba_modbus_proto::handler::{Plan, Then, plan, read};
 use alba_modbus_proto::map::{Map, Scratch, Write};
 use alba_modbus_proto::mbap::{self, Header, Split};
 use alba_modbus_proto::pdu::{self, Exception, Request};
-use alba_ir::Program;
 use alba_model::config::{Modbus, ModbusArea, ModbusTag};
 use alba_runtime::Handle;
 use std::sync::atomic::{AtomicU64, Ordering};
