@@ -19,13 +19,11 @@
 use crate::Error;
 use crate::aurora;
 use crate::firmware::Link;
-use crate::link::{Stop, lock};
-use crate::serial::{LinkError, Outputs, Port, open, transact};
+use crate::link::{Outputs, Stop, load_inputs, lock};
+use crate::serial::{LinkError, Port, open, transact};
 use alba_engine::Engine;
-use alba_ir::{B, I, Place};
 use alba_modbus_proto::pdu::{Request, Response};
 use alba_model::board::PinMap;
-use alba_model::{DataType, Value};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -101,10 +99,7 @@ impl ArduinoIo {
     pub fn start(cfg: Config) -> Result<ArduinoIo, Error> {
         let shared = Arc::new(Shared {
             inputs: Mutex::new(Inputs::default()),
-            outputs: Mutex::new(Outputs {
-                r#do: vec![false; cfg.counts.r#do],
-                ao: vec![0; cfg.counts.ao],
-            }),
+            outputs: Mutex::new(Outputs::new(cfg.counts.r#do, cfg.counts.ao)),
             status: Mutex::new(Status::default()),
             ok: AtomicBool::new(false),
             errors: AtomicU64::new(0),
@@ -143,13 +138,7 @@ impl ArduinoIo {
     /// Sets the outputs the link writes (what `write_outputs` does from an
     /// engine), for tools and tests that drive the board without a program.
     pub fn set_outputs(&self, r#do: &[bool], ao: &[u16]) {
-        let mut o = lock(&self.shared.outputs);
-        for (d, s) in o.r#do.iter_mut().zip(r#do) {
-            *d = *s;
-        }
-        for (d, s) in o.ao.iter_mut().zip(ao) {
-            *d = *s;
-        }
+        lock(&self.shared.outputs).set(r#do, ao);
     }
 }
 
@@ -170,10 +159,6 @@ impl alba_runtime::Io for ArduinoIo {
     fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
         let errors = self.shared.errors.load(Ordering::Relaxed).min(i32::MAX as u64) as i32;
         engine.set_io_status(self.shared.ok.load(Ordering::Relaxed), errors);
-        let (di_at, ai_at) = {
-            let l = &engine.program().layout;
-            (l.di, l.ai)
-        };
         {
             // Only a copy under the lock: the link thread never holds it
             // across I/O either.
@@ -184,33 +169,19 @@ impl alba_runtime::Io for ArduinoIo {
             self.di.clone_from(&i.di);
             self.ai.clone_from(&i.ai);
         }
-        for (n, v) in self.di.iter().enumerate().take(di_at.len as usize) {
-            engine.write(Place::Bool(B(di_at.base + n as u32)), Value::Bool(*v));
-        }
-        for (n, v) in self.ai.iter().enumerate().take(ai_at.len as usize) {
-            engine.write(
-                Place::Int(I(ai_at.base + n as u32), DataType::Int),
-                Value::Int(i16::try_from(*v).unwrap_or(i16::MAX)),
-            );
-        }
+        load_inputs(
+            engine,
+            self.di.iter().copied().enumerate(),
+            self.ai
+                .iter()
+                .map(|v| i16::try_from(*v).unwrap_or(i16::MAX))
+                .enumerate(),
+        );
         Ok(())
     }
 
     fn write_outputs(&mut self, engine: &Engine) -> Result<(), String> {
-        let layout = &engine.program().layout;
-        let mem = engine.memory();
-        let mut o = lock(&self.shared.outputs);
-        for (n, d) in o.r#do.iter_mut().enumerate() {
-            *d = n < layout.dout.len as usize && mem.b.get(layout.dout.base as usize + n).copied().unwrap_or(false);
-        }
-        for (n, a) in o.ao.iter_mut().enumerate() {
-            let v = if n < layout.ao.len as usize {
-                mem.i.get(layout.ao.base as usize + n).copied().unwrap_or(0)
-            } else {
-                0
-            };
-            *a = v.clamp(0, i32::from(u16::MAX)) as u16;
-        }
+        lock(&self.shared.outputs).copy_from(engine, |v| v.clamp(0, i32::from(u16::MAX)) as u16);
         Ok(())
     }
 }
@@ -389,60 +360,10 @@ pub fn driver(spec: &str, board: Option<&alba_model::config::Board>) -> Result<B
 mod tests {
     use super::*;
 
-    const C: Counts = Counts {
-        di: 6,
-        r#do: 6,
-        ai: 4,
-        ao: 4,
-    };
+    use crate::serial::tests::C;
 
     #[test]
-    fn io_options() {
-        let c = Config::parse("/dev/ttyUSB0", C).expect("config");
-        assert_eq!(
-            (c.port.as_str(), c.link, c.slave, c.baud),
-            ("/dev/ttyUSB0", Link::Modbus, 1, 115_200)
-        );
-        assert_eq!(c.reset_delay, Duration::from_millis(2000));
-        let c = Config::parse("COM3,link=aurora,reset_ms=0,timeout_ms=50,retries=5,slave=7", C).expect("config");
-        assert_eq!((c.link, c.slave, c.retries), (Link::Aurora, 7, 5));
-        assert_eq!((c.reset_delay, c.timeout), (Duration::ZERO, Duration::from_millis(50)));
-        assert!(
-            Config::parse("", C)
-                .unwrap_err()
-                .to_string()
-                .contains("the port is missing")
-        );
-        assert!(
-            Config::parse("/dev/x,link=can", C)
-                .unwrap_err()
-                .to_string()
-                .contains("unknown link `can`")
-        );
-        assert!(
-            Config::parse("/dev/x,slave=0", C)
-                .unwrap_err()
-                .to_string()
-                .contains("1-247")
-        );
-        assert!(
-            Config::parse("/dev/x,speed=9600", C)
-                .unwrap_err()
-                .to_string()
-                .contains("unknown option `speed`")
-        );
-        assert!(
-            Config::parse("/dev/x,retries", C)
-                .unwrap_err()
-                .to_string()
-                .contains("not option=value")
-        );
-        assert!(
-            Config::parse("/dev/x,retries=-1", C)
-                .unwrap_err()
-                .to_string()
-                .contains("not a whole number")
-        );
+    fn only_arduino_specs() {
         assert!(driver("sim", None).is_err());
     }
 

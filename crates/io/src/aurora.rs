@@ -4,7 +4,8 @@
 //! levels, readings 0-1023, board id 5518) before it is believed.
 
 use crate::firmware::{AURORA_ID, AURORA_PERIOD_MS};
-use crate::serial::{Config, Counts, LinkError, Outputs};
+use crate::link::Outputs;
+use crate::serial::{Config, Counts, LinkError};
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -115,12 +116,7 @@ pub(crate) fn cycle(
 mod tests {
     use super::*;
 
-    const C: Counts = Counts {
-        di: 6,
-        r#do: 6,
-        ai: 4,
-        ao: 4,
-    };
+    use crate::serial::tests::C;
 
     #[test]
     fn board_lines() {

@@ -28,15 +28,13 @@
 //!   engine's current outputs before anything else.
 
 use crate::Error;
-use crate::link::{Stop, lock};
+use crate::link::{Outputs, Stop, load_inputs, lock};
 use crate::serial::{Port, RtuError, rtu_exchange};
 use alba_engine::Engine;
-use alba_ir::{B, I, Place};
 use alba_modbus_proto::mbap::{self, Header};
 use alba_modbus_proto::pdu::{self, FrameError, Request, Response};
 use alba_model::address::Address;
 use alba_model::config::{DeviceLink, ModbusArea, ModbusDevice};
-use alba_model::{DataType, Value};
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -136,11 +134,6 @@ struct Image {
     ai_known: Vec<bool>,
 }
 
-struct Outputs {
-    r#do: Vec<bool>,
-    ao: Vec<u16>,
-}
-
 struct DeviceShared {
     status: Mutex<Status>,
     ok: AtomicBool,
@@ -198,10 +191,7 @@ impl ModbusMasterIo {
                 di_known: vec![false; ndi],
                 ai_known: vec![false; nai],
             }),
-            outputs: Mutex::new(Outputs {
-                r#do: vec![false; ndo],
-                ao: vec![0; nao],
-            }),
+            outputs: Mutex::new(Outputs::new(ndo, nao)),
             devices: devices
                 .iter()
                 .map(|_| DeviceShared {
@@ -274,13 +264,7 @@ impl ModbusMasterIo {
 
     /// Sets the outputs (what `write_outputs` does from an engine).
     pub fn set_outputs(&self, r#do: &[bool], ao: &[u16]) {
-        let mut o = lock(&self.shared.outputs);
-        for (d, s) in o.r#do.iter_mut().zip(r#do) {
-            *d = *s;
-        }
-        for (d, s) in o.ao.iter_mut().zip(ao) {
-            *d = *s;
-        }
+        lock(&self.shared.outputs).set(r#do, ao);
     }
 }
 
@@ -301,10 +285,6 @@ impl alba_runtime::Io for ModbusMasterIo {
     fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
         let errors = self.errors().min(i32::MAX as u64) as i32;
         engine.set_io_status(self.all_ok(), errors);
-        let (di_at, ai_at) = {
-            let l = &engine.program().layout;
-            (l.di, l.ai)
-        };
         {
             let i = lock(&self.shared.inputs);
             self.di.clone_from(&i.di);
@@ -312,38 +292,24 @@ impl alba_runtime::Io for ModbusMasterIo {
             self.di_known.clone_from(&i.di_known);
             self.ai_known.clone_from(&i.ai_known);
         }
-        for (n, v) in self.di.iter().enumerate().take(di_at.len as usize) {
-            if self.di_known[n] {
-                engine.write(Place::Bool(B(di_at.base + n as u32)), Value::Bool(*v));
-            }
-        }
-        for (n, v) in self.ai.iter().enumerate().take(ai_at.len as usize) {
-            if self.ai_known[n] {
-                // A register is a two's complement INT.
-                engine.write(
-                    Place::Int(I(ai_at.base + n as u32), DataType::Int),
-                    Value::Int(*v as i16),
-                );
-            }
-        }
+        let (di_known, ai_known) = (&self.di_known, &self.ai_known);
+        load_inputs(
+            engine,
+            self.di.iter().copied().enumerate().filter(|(n, _)| di_known[*n]),
+            // A register is a two's complement INT.
+            self.ai
+                .iter()
+                .map(|v| *v as i16)
+                .enumerate()
+                .filter(|(n, _)| ai_known[*n]),
+        );
         Ok(())
     }
 
     fn write_outputs(&mut self, engine: &Engine) -> Result<(), String> {
-        let layout = &engine.program().layout;
-        let mem = engine.memory();
-        let mut o = lock(&self.shared.outputs);
-        for (n, d) in o.r#do.iter_mut().enumerate() {
-            *d = n < layout.dout.len as usize && mem.b.get(layout.dout.base as usize + n).copied().unwrap_or(false);
-        }
-        for (n, a) in o.ao.iter_mut().enumerate() {
-            let v = if n < layout.ao.len as usize {
-                mem.i.get(layout.ao.base as usize + n).copied().unwrap_or(0)
-            } else {
-                0
-            };
-            *a = v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16 as u16;
-        }
+        lock(&self.shared.outputs).copy_from(engine, |v| {
+            v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16 as u16
+        });
         Ok(())
     }
 }

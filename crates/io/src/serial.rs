@@ -123,13 +123,6 @@ impl Config {
     }
 }
 
-/// The outputs a link writes to the board.
-#[derive(Default, Clone)]
-pub(crate) struct Outputs {
-    pub(crate) r#do: Vec<bool>,
-    pub(crate) ao: Vec<u16>,
-}
-
 /// Why a cycle failed.
 pub(crate) enum LinkError {
     /// The port itself failed (unplugged, closed): reopen it.
@@ -268,5 +261,67 @@ fn describe(req: &Request<'_>) -> String {
         Request::WriteMultipleCoils { .. } => format!("writing {n} digital outputs"),
         Request::WriteMultipleRegisters { .. } => format!("writing {n} analog outputs"),
         other => format!("function {}", other.function()),
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// The channels of the `aurora` map on a Nano.
+    pub(crate) const C: Counts = Counts {
+        di: 6,
+        r#do: 6,
+        ai: 4,
+        ao: 4,
+    };
+
+    #[test]
+    fn io_options() {
+        let c = Config::parse("/dev/ttyUSB0", C).expect("config");
+        assert_eq!(
+            (c.port.as_str(), c.link, c.slave, c.baud),
+            ("/dev/ttyUSB0", Link::Modbus, 1, 115_200)
+        );
+        assert_eq!(c.reset_delay, Duration::from_millis(2000));
+        let c = Config::parse("COM3,link=aurora,reset_ms=0,timeout_ms=50,retries=5,slave=7", C).expect("config");
+        assert_eq!((c.link, c.slave, c.retries), (Link::Aurora, 7, 5));
+        assert_eq!((c.reset_delay, c.timeout), (Duration::ZERO, Duration::from_millis(50)));
+        assert!(
+            Config::parse("", C)
+                .unwrap_err()
+                .to_string()
+                .contains("the port is missing")
+        );
+        assert!(
+            Config::parse("/dev/x,link=can", C)
+                .unwrap_err()
+                .to_string()
+                .contains("unknown link `can`")
+        );
+        assert!(
+            Config::parse("/dev/x,slave=0", C)
+                .unwrap_err()
+                .to_string()
+                .contains("1-247")
+        );
+        assert!(
+            Config::parse("/dev/x,speed=9600", C)
+                .unwrap_err()
+                .to_string()
+                .contains("unknown option `speed`")
+        );
+        assert!(
+            Config::parse("/dev/x,retries", C)
+                .unwrap_err()
+                .to_string()
+                .contains("not option=value")
+        );
+        assert!(
+            Config::parse("/dev/x,retries=-1", C)
+                .unwrap_err()
+                .to_string()
+                .contains("not a whole number")
+        );
     }
 }

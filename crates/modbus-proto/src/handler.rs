@@ -63,32 +63,18 @@ pub fn plan(req: Request<'_>, map: &Map, mem: &Memory, sc: &Scratch, out: &mut V
             (w, echo)
         }
         Request::ReadWriteRegisters {
-            read_start,
-            read_count,
+            read_start: start,
+            read_count: count,
             write_start,
             values,
         } => {
             // Both halves are checked before anything is written.
             let mut probe = Vec::new();
-            read(
-                map,
-                mem,
-                sc,
-                ModbusArea::HoldingRegister,
-                read_start,
-                read_count,
-                &mut probe,
-            )?;
+            read(map, mem, sc, ModbusArea::HoldingRegister, start, count, &mut probe)?;
             let values: Vec<u16> = pdu::registers(&values).collect();
             let mut w = Vec::with_capacity(values.len());
             map.plan_regs(write_start, &values, &mut w)?;
-            (
-                w,
-                Then::ReadRegs {
-                    start: read_start,
-                    count: read_count,
-                },
-            )
+            (w, Then::ReadRegs { start, count })
         }
     };
     Ok(Plan::Write { writes, then })
