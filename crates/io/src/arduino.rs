@@ -16,8 +16,8 @@
 //! thread reopens the port with exponential back-off until the board
 //! answers again, then writes the current outputs at once.
 
-use crate::Error;
 use crate::aurora;
+use crate::error::Error;
 use crate::firmware::Link;
 use crate::link::{Outputs, Stop, load_inputs, lock};
 use crate::serial::{LinkError, Port, open, transact};

@@ -16,7 +16,7 @@
 //! stay, the port is reopened with back-off. A board running another
 //! program stops the runtime with a message saying so.
 
-use crate::Error;
+use crate::error::Error;
 use crate::link::{Stop, lock};
 use crate::serial::{self, Config, Counts, LinkError, Port, open};
 use alba_arduino::sketch::{self, LINK_MAGIC, LinkMap, Target};

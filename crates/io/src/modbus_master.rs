@@ -4,7 +4,7 @@
 //! "Modbus master I/O"). RTU devices on one serial port share it: each
 //! transaction takes the port's mutex (link threads only, never the engine).
 //!
-//! The design is the one of [`crate::arduino`]: one link thread per device
+//! The design is the one of the Arduino driver (`arduino.rs`): one link thread per device
 //! owns its TCP connection and polls at the device's period; the engine
 //! thread's `read_inputs`/`write_outputs` only copy shared images (a mutex
 //! held for the copy, never across I/O), so a slow or dead slave never
@@ -27,7 +27,7 @@
 //!   it stops (`alba run` ends), and after a recovery it writes the
 //!   engine's current outputs before anything else.
 
-use crate::Error;
+use crate::error::Error;
 use crate::link::{Outputs, Stop, load_inputs, lock};
 use crate::serial::{Port, RtuError, rtu_exchange};
 use alba_engine::Engine;

@@ -3,7 +3,7 @@
 //! Modbus RTU transactions over it (framed by `alba_modbus_proto::rtu`),
 //! which the Modbus master's RTU devices use too.
 
-use crate::Error;
+use crate::error::Error;
 use crate::firmware::{BAUD, Link};
 use alba_modbus_proto::pdu::{FrameError, Request, Response};
 use alba_modbus_proto::rtu;

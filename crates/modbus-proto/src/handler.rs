@@ -1,7 +1,7 @@
 //! The server's request handler, without sockets or a runtime: what a
 //! decoded request reads from program memory and the map, and what it
 //! writes. The Modbus TCP server (`alba-modbus`) and the synchronous path
-//! the fuzz target runs ([`crate::offline`]) both answer through [`plan`],
+//! the fuzz target runs (the `offline` module) both answer through [`plan`],
 //! so they answer every request the same way.
 
 use crate::map::{Map, Scratch, Write};

@@ -3,7 +3,7 @@
 //! requests ([`parse`]) and encodes replies ([`put_bits`],
 //! [`put_registers`], [`Request::echo`], [`exception`]); a master encodes
 //! requests ([`Request::encode`]) and decodes replies ([`decode_reply`]).
-//! [`crate::mbap`] and [`crate::rtu`] wrap these PDUs for TCP and serial
+//! The `mbap` and `rtu` modules wrap these PDUs for TCP and serial
 //! lines.
 //!
 //! Pure functions over byte slices; decoding never panics on any input and
