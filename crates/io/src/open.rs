@@ -39,3 +39,38 @@ pub fn open(spec: &str, config: Option<&Config>, program: &Program) -> Result<Bo
         other => Err(Error::UnknownDriver(other.to_string())),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn example(name: &str) -> (Program, Option<Config>) {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples")
+            .join(name);
+        let c = alba_compiler::compile_dir(&dir);
+        let program = c.program.unwrap_or_else(|| panic!("{name}: {:?}", c.diagnostics));
+        (program, c.project.config)
+    }
+
+    #[test]
+    fn the_io_string_names_the_driver() {
+        let (program, config) = example("start-stop");
+        let open = |spec: &str| open(spec, config.as_ref(), &program);
+        assert_eq!(open("sim").map(|io| io.name().to_string()).ok().as_deref(), Some("sim"));
+        let e = open("can:0").err();
+        assert!(matches!(&e, Some(Error::UnknownDriver(s)) if s == "can:0"), "{e:?}");
+        assert!(e.is_some_and(|e| {
+            e.to_string()
+                .starts_with("unknown I/O driver `can:0` (available: sim, arduino:")
+        }));
+        assert!(matches!(open("modbus").err(), Some(Error::NoModbusDevices)));
+        assert!(matches!(open("modbus").err(), Some(e) if e.to_string().contains("no [[modbus_device]]")));
+        let e = open("arduino:/dev/x,speed=1").err();
+        assert!(
+            matches!(&e, Some(Error::Options(m)) if m.contains("unknown option `speed`")),
+            "{e:?}"
+        );
+        assert!(matches!(open("board:").err(), Some(Error::Options(m)) if m.contains("the port is missing")));
+    }
+}
