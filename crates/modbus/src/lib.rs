@@ -9,5 +9,4 @@
 
 pub mod server;
 
-pub use alba_modbus_proto::Map;
 pub use server::{Server, Settings};
