@@ -100,7 +100,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
     if let Some(m) = project.config.as_ref().and_then(|c| c.modbus.as_ref()) {
         let mut layout = b.layout().clone();
         layout.plant = false;
-        diags.extend(alba_modbus::Map::build(&layout, &m.tags).1);
+        diags.extend(alba_modbus_proto::Map::build(&layout, &m.tags).1);
     }
     if !diags.is_empty() {
         return (None, diags);

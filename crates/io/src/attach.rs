@@ -16,12 +16,13 @@
 //! stay, the port is reopened with back-off. A board running another
 //! program stops the runtime with a message saying so.
 
-use crate::arduino::{self, Config, Counts, LinkError, Port, open};
+use crate::error::Error;
 use crate::link::{Stop, lock};
-use crate::modbus::{Request, Response};
+use crate::serial::{self, Config, Counts, LinkError, Port, open};
 use alba_arduino::sketch::{self, LINK_MAGIC, LinkMap, Target};
 use alba_engine::Engine;
 use alba_ir::{Memory, Place, Program};
+use alba_modbus_proto::pdu::{Request, Response};
 use alba_model::Value;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
@@ -39,12 +40,10 @@ pub struct Identity {
 
 impl Identity {
     /// The identity of `prog` exported for `target`.
-    pub fn of(prog: &Program, target: &Target) -> Result<(Identity, LinkMap), String> {
+    pub fn of(prog: &Program, target: &Target) -> Result<(Identity, LinkMap), Error> {
         let control = sketch::control_program(prog);
-        let s = sketch::generate(&control, "attach", target).map_err(|d| {
-            let first = d.first().map_or(String::new(), |d| d.message.clone());
-            format!("this project cannot run on the board: {first}")
-        })?;
+        let s = sketch::generate(&control, "attach", target)
+            .map_err(|d| Error::NotForBoard(d.first().map_or(String::new(), |d| d.message.clone())))?;
         let m = &control.init;
         Ok((
             Identity {
@@ -78,7 +77,7 @@ pub struct AttachIo {
 }
 
 impl AttachIo {
-    pub fn start(cfg: Config, prog: &Program, target: &Target) -> Result<AttachIo, String> {
+    pub fn start(cfg: Config, prog: &Program, target: &Target) -> Result<AttachIo, Error> {
         let (id, map) = Identity::of(prog, target)?;
         let shared = Arc::new(Shared {
             stop: Stop::default(),
@@ -94,7 +93,10 @@ impl AttachIo {
         let thread = std::thread::Builder::new()
             .name("alba-attach".into())
             .spawn(move || link_thread(cfg, id, map, template, s, rx))
-            .map_err(|e| format!("cannot start the link thread: {e}"))?;
+            .map_err(|source| Error::Thread {
+                what: "the link thread",
+                source,
+            })?;
         Ok(AttachIo {
             name,
             shared,
@@ -193,7 +195,7 @@ fn session(
     shared: &Shared,
     writes: &Receiver<WriteReq>,
 ) -> Result<(), String> {
-    let info = regs(port, cfg, shared, Request::ReadInputRegisters { addr: 0, qty: 12 })?;
+    let info = regs(port, cfg, shared, Request::ReadInputRegisters { start: 0, count: 12 })?;
     let got = Identity {
         sizes: [info[2], info[3], info[4], info[5], info[6]].map(usize::from),
         scan_ms: info[7],
@@ -243,8 +245,8 @@ fn session(
     Ok(())
 }
 
-fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Result<Response, String> {
-    arduino::transact(port, cfg, req, |_| {
+fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request<'_>) -> Result<Response, String> {
+    serial::transact(port, cfg, req, |_| {
         shared.errors.fetch_add(1, Ordering::Relaxed);
     })
     .map_err(|e| {
@@ -257,7 +259,7 @@ fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request) -> Re
     })
 }
 
-fn regs(port: &mut Port, cfg: &Config, shared: &Shared, req: Request) -> Result<Vec<u16>, String> {
+fn regs(port: &mut Port, cfg: &Config, shared: &Shared, req: Request<'_>) -> Result<Vec<u16>, String> {
     match transact(port, cfg, shared, &req)? {
         Response::Registers(r) => Ok(r),
         other => Err(format!("unexpected answer {other:?}")),
@@ -280,7 +282,7 @@ fn read_memory(
     let mut at = 0u16;
     while at < nb {
         let qty = (nb - at).min(MAX_BITS);
-        match transact(port, cfg, shared, &Request::ReadCoils { addr: at, qty })? {
+        match transact(port, cfg, shared, &Request::ReadCoils { start: at, count: qty })? {
             Response::Bits(bits) => {
                 for (k, b) in bits.into_iter().take(qty as usize).enumerate() {
                     m.b[at as usize + k] = b;
@@ -295,7 +297,12 @@ fn read_memory(
     let end = map.end.min(u32::from(u16::MAX)) as u16;
     while r < end {
         let qty = (end - r).min(MAX_REGS);
-        for v in regs(port, cfg, shared, Request::ReadHoldingRegisters { addr: r, qty })? {
+        for v in regs(
+            port,
+            cfg,
+            shared,
+            Request::ReadHoldingRegisters { start: r, count: qty },
+        )? {
             bytes.extend_from_slice(&v.to_be_bytes());
         }
         r += qty;
@@ -350,8 +357,8 @@ fn write_bytes(port: &mut Port, cfg: &Config, shared: &Shared, at: usize, data: 
             cfg,
             shared,
             Request::ReadHoldingRegisters {
-                addr: first as u16,
-                qty,
+                start: first as u16,
+                count: qty,
             },
         )?
         .iter()
@@ -359,14 +366,13 @@ fn write_bytes(port: &mut Port, cfg: &Config, shared: &Shared, at: usize, data: 
         .collect()
     };
     buf[at - 2 * first..at - 2 * first + data.len()].copy_from_slice(data);
-    let values = buf.chunks(2).map(|c| u16::from_be_bytes([c[0], c[1]])).collect();
     transact(
         port,
         cfg,
         shared,
         &Request::WriteMultipleRegisters {
-            addr: first as u16,
-            values,
+            start: first as u16,
+            values: buf.into(),
         },
     )
     .map(|_| ())
@@ -433,8 +439,8 @@ fn write(
                 cfg,
                 shared,
                 Request::ReadHoldingRegisters {
-                    addr: ((mbase + byte as usize) / 2) as u16,
-                    qty: 1,
+                    start: ((mbase + byte as usize) / 2) as u16,
+                    count: 1,
                 },
             )?;
             let mut b = r.first().copied().unwrap_or(0).to_be_bytes()[(mbase + byte as usize) % 2];
@@ -468,10 +474,10 @@ fn write(
 /// `arduino:` (`slave`, `timeout_ms`, `retries`, `reset_ms`, `backoff_ms`,
 /// `backoff_max_ms`); the board and its pin map from the project's
 /// `[board]` (else a Nano with the aurora map), as for the export.
-pub fn driver(spec: &str, prog: &Program, target: &Target) -> Result<Box<dyn alba_runtime::Io>, String> {
+pub fn driver(spec: &str, prog: &Program, target: &Target) -> Result<Box<dyn alba_runtime::Io>, Error> {
     let rest = spec
         .strip_prefix("board:")
-        .ok_or_else(|| format!("`{spec}` is not board:<serial port>[,options]"))?;
+        .ok_or_else(|| Error::Options(format!("`{spec}` is not board:<serial port>[,options]")))?;
     let cfg = Config::parse(rest, Counts::default())?;
     Ok(Box::new(AttachIo::start(cfg, prog, target)?))
 }

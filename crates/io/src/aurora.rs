@@ -3,8 +3,9 @@
 //! the outputs `q0,…,ao0,…` CR LF. A line is checked (field count, 0/1
 //! levels, readings 0-1023, board id 5518) before it is believed.
 
-use crate::arduino::{Config, Counts, LinkError};
 use crate::firmware::{AURORA_ID, AURORA_PERIOD_MS};
+use crate::link::Outputs;
+use crate::serial::{Config, Counts, LinkError};
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -111,18 +112,11 @@ pub(crate) fn cycle(
     }
 }
 
-pub(crate) use crate::arduino::Outputs;
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const C: Counts = Counts {
-        di: 6,
-        r#do: 6,
-        ai: 4,
-        ao: 4,
-    };
+    use crate::serial::tests::C;
 
     #[test]
     fn board_lines() {

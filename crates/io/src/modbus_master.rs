@@ -4,7 +4,7 @@
 //! "Modbus master I/O"). RTU devices on one serial port share it: each
 //! transaction takes the port's mutex (link threads only, never the engine).
 //!
-//! The design is the one of [`crate::arduino`]: one link thread per device
+//! The design is the one of the Arduino driver (`arduino.rs`): one link thread per device
 //! owns its TCP connection and polls at the device's period; the engine
 //! thread's `read_inputs`/`write_outputs` only copy shared images (a mutex
 //! held for the copy, never across I/O), so a slow or dead slave never
@@ -27,12 +27,13 @@
 //!   it stops (`alba run` ends), and after a recovery it writes the
 //!   engine's current outputs before anything else.
 
-use crate::link::{Stop, lock};
-use crate::modbus::{self, FrameError, Request, Response};
+use crate::error::Error;
+use crate::link::{Outputs, Stop, load_inputs, lock};
+use crate::serial::{Port, RtuError, rtu_exchange};
 use alba_engine::Engine;
-use alba_ir::{B, I, Place};
+use alba_modbus_proto::mbap::{self, Header};
+use alba_modbus_proto::pdu::{self, FrameError, Request, Response};
 use alba_model::address::Address;
-use alba_model::{DataType, Value};
 use alba_project::config::{DeviceLink, ModbusArea, ModbusDevice};
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
@@ -41,11 +42,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// Largest quantities per request (Modbus application protocol v1.1b3).
-pub const MAX_READ_BITS: u16 = 2000;
-pub const MAX_READ_REGS: u16 = 125;
-pub const MAX_WRITE_BITS: u16 = 1968;
-pub const MAX_WRITE_REGS: u16 = 123;
+use alba_modbus_proto::pdu::{MAX_READ_BITS, MAX_READ_REGS, MAX_WRITE_BITS, MAX_WRITE_REGS};
 
 /// One request's worth of contiguous remote items and the local channel of
 /// each.
@@ -69,13 +66,13 @@ impl Block {
         }
     }
 
-    fn read_request(&self) -> Request {
-        let (addr, qty) = (self.addr, self.locals.len() as u16);
+    fn read_request(&self) -> Request<'static> {
+        let (start, count) = (self.addr, self.locals.len() as u16);
         match self.area {
-            ModbusArea::Coil => Request::ReadCoils { addr, qty },
-            ModbusArea::DiscreteInput => Request::ReadDiscreteInputs { addr, qty },
-            ModbusArea::HoldingRegister => Request::ReadHoldingRegisters { addr, qty },
-            ModbusArea::InputRegister => Request::ReadInputRegisters { addr, qty },
+            ModbusArea::Coil => Request::ReadCoils { start, count },
+            ModbusArea::DiscreteInput => Request::ReadDiscreteInputs { start, count },
+            ModbusArea::HoldingRegister => Request::ReadHoldingRegisters { start, count },
+            ModbusArea::InputRegister => Request::ReadInputRegisters { start, count },
         }
     }
 }
@@ -137,11 +134,6 @@ struct Image {
     ai_known: Vec<bool>,
 }
 
-struct Outputs {
-    r#do: Vec<bool>,
-    ao: Vec<u16>,
-}
-
 struct DeviceShared {
     status: Mutex<Status>,
     ok: AtomicBool,
@@ -187,11 +179,9 @@ fn image_sizes(devices: &[ModbusDevice]) -> [usize; 4] {
 impl ModbusMasterIo {
     /// Starts one link thread per device (they connect themselves: a slave
     /// that is not up yet is a status, not an error).
-    pub fn start(devices: Vec<ModbusDevice>) -> Result<ModbusMasterIo, String> {
+    pub fn start(devices: Vec<ModbusDevice>) -> Result<ModbusMasterIo, Error> {
         if devices.is_empty() {
-            return Err(
-                "--io modbus: alba.toml has no [[modbus_device]] (see docs/protocols.md, \"Modbus master I/O\")".into(),
-            );
+            return Err(Error::NoModbusDevices);
         }
         let [ndi, ndo, nai, nao] = image_sizes(&devices);
         let shared = Arc::new(Shared {
@@ -201,10 +191,7 @@ impl ModbusMasterIo {
                 di_known: vec![false; ndi],
                 ai_known: vec![false; nai],
             }),
-            outputs: Mutex::new(Outputs {
-                r#do: vec![false; ndo],
-                ao: vec![0; nao],
-            }),
+            outputs: Mutex::new(Outputs::new(ndo, nao)),
             devices: devices
                 .iter()
                 .map(|_| DeviceShared {
@@ -229,7 +216,10 @@ impl ModbusMasterIo {
             let t = std::thread::Builder::new()
                 .name(format!("alba-io-modbus-{i}"))
                 .spawn(move || link_thread(dev, i, s, bus))
-                .map_err(|e| format!("cannot start a Modbus link thread: {e}"))?;
+                .map_err(|source| Error::Thread {
+                    what: "a Modbus link thread",
+                    source,
+                })?;
             threads.push(t);
         }
         Ok(ModbusMasterIo {
@@ -274,13 +264,7 @@ impl ModbusMasterIo {
 
     /// Sets the outputs (what `write_outputs` does from an engine).
     pub fn set_outputs(&self, r#do: &[bool], ao: &[u16]) {
-        let mut o = lock(&self.shared.outputs);
-        for (d, s) in o.r#do.iter_mut().zip(r#do) {
-            *d = *s;
-        }
-        for (d, s) in o.ao.iter_mut().zip(ao) {
-            *d = *s;
-        }
+        lock(&self.shared.outputs).set(r#do, ao);
     }
 }
 
@@ -301,10 +285,6 @@ impl alba_runtime::Io for ModbusMasterIo {
     fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
         let errors = self.errors().min(i32::MAX as u64) as i32;
         engine.set_io_status(self.all_ok(), errors);
-        let (di_at, ai_at) = {
-            let l = &engine.program().layout;
-            (l.di, l.ai)
-        };
         {
             let i = lock(&self.shared.inputs);
             self.di.clone_from(&i.di);
@@ -312,43 +292,27 @@ impl alba_runtime::Io for ModbusMasterIo {
             self.di_known.clone_from(&i.di_known);
             self.ai_known.clone_from(&i.ai_known);
         }
-        for (n, v) in self.di.iter().enumerate().take(di_at.len as usize) {
-            if self.di_known[n] {
-                engine.write(Place::Bool(B(di_at.base + n as u32)), Value::Bool(*v));
-            }
-        }
-        for (n, v) in self.ai.iter().enumerate().take(ai_at.len as usize) {
-            if self.ai_known[n] {
-                // A register is a two's complement INT.
-                engine.write(
-                    Place::Int(I(ai_at.base + n as u32), DataType::Int),
-                    Value::Int(*v as i16),
-                );
-            }
-        }
+        let (di_known, ai_known) = (&self.di_known, &self.ai_known);
+        load_inputs(
+            engine,
+            self.di.iter().copied().enumerate().filter(|(n, _)| di_known[*n]),
+            // A register is a two's complement INT.
+            self.ai
+                .iter()
+                .map(|v| *v as i16)
+                .enumerate()
+                .filter(|(n, _)| ai_known[*n]),
+        );
         Ok(())
     }
 
     fn write_outputs(&mut self, engine: &Engine) -> Result<(), String> {
-        let layout = &engine.program().layout;
-        let mem = engine.memory();
-        let mut o = lock(&self.shared.outputs);
-        for (n, d) in o.r#do.iter_mut().enumerate() {
-            *d = n < layout.dout.len as usize && mem.b.get(layout.dout.base as usize + n).copied().unwrap_or(false);
-        }
-        for (n, a) in o.ao.iter_mut().enumerate() {
-            let v = if n < layout.ao.len as usize {
-                mem.i.get(layout.ao.base as usize + n).copied().unwrap_or(0)
-            } else {
-                0
-            };
-            *a = v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16 as u16;
-        }
+        lock(&self.shared.outputs).copy_from(engine, |v| {
+            v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16 as u16
+        });
         Ok(())
     }
 }
-
-type Port = Box<dyn serialport::SerialPort>;
 
 /// How one device is reached: its own TCP connection (MBAP framing), or a
 /// serial bus shared with the other devices on that port (RTU framing).
@@ -390,7 +354,7 @@ impl Conn {
         }
     }
 
-    fn transact(&mut self, req: &Request) -> Result<Response, LinkError> {
+    fn transact(&mut self, req: &Request<'_>) -> Result<Response, LinkError> {
         match self {
             Conn::Tcp(c) => c.transact(req),
             Conn::Rtu(c) => c.transact(req),
@@ -417,12 +381,20 @@ impl RtuConn {
 
     /// One RTU transaction with the bus held; a port error closes the port
     /// (the next connection attempt reopens it).
-    fn transact(&mut self, req: &Request) -> Result<Response, LinkError> {
+    fn transact(&mut self, req: &Request<'_>) -> Result<Response, LinkError> {
         let mut bus = lock(&self.bus);
         let Some(port) = bus.as_mut() else {
             return Err(LinkError::Conn(format!("{} is closed", self.port)));
         };
-        let r = rtu_exchange(port, self.unit, self.timeout, req);
+        let r = rtu_exchange(port, self.unit, self.timeout, req).map_err(|e| match e {
+            RtuError::Port(m) => LinkError::Conn(m),
+            RtuError::NoAnswer(m) => LinkError::Timeout(m),
+            RtuError::Answer(e @ FrameError::Exception(_)) => {
+                LinkError::Refused(format!("the slave refused {}: {e}", describe(req)))
+            }
+            // A corrupted frame on a serial line: worth a retry.
+            RtuError::Answer(e) => LinkError::Timeout(format!("bad answer to {}: {e}", describe(req))),
+        });
         // The silence between frames: 3.5 characters (11 bits each), at least 2 ms.
         let gap = Duration::from_micros(38_500_000 / u64::from(self.baud.max(1))).max(Duration::from_millis(2));
         std::thread::sleep(gap);
@@ -431,42 +403,6 @@ impl RtuConn {
         }
         r
     }
-}
-
-fn rtu_exchange(port: &mut Port, unit: u8, timeout: Duration, req: &Request) -> Result<Response, LinkError> {
-    let perr = |e: std::io::Error| LinkError::Conn(format!("serial port: {e}"));
-    let _ = port.clear(serialport::ClearBuffer::Input);
-    port.write_all(&req.encode(unit)).map_err(perr)?;
-    port.flush().map_err(perr)?;
-    let deadline = Instant::now() + timeout;
-    let mut buf = Vec::with_capacity(req.response_len());
-    loop {
-        let want = req.expected_len(&buf).unwrap_or(2);
-        if buf.len() >= want {
-            break;
-        }
-        let now = Instant::now();
-        if now >= deadline {
-            return Err(LinkError::Timeout(if buf.is_empty() {
-                format!("no answer within {} ms", timeout.as_millis())
-            } else {
-                FrameError::Truncated { got: buf.len(), want }.to_string()
-            }));
-        }
-        let _ = port.set_timeout(deadline - now);
-        let mut chunk = [0u8; modbus::MAX_FRAME];
-        match port.read(&mut chunk[..(want - buf.len()).min(modbus::MAX_FRAME)]) {
-            Ok(0) => return Err(LinkError::Conn("serial port: end of file".into())),
-            Ok(n) => buf.extend_from_slice(&chunk[..n]),
-            Err(e) if matches!(e.kind(), std::io::ErrorKind::TimedOut | std::io::ErrorKind::Interrupted) => {}
-            Err(e) => return Err(perr(e)),
-        }
-    }
-    modbus::decode_response(unit, req, &buf).map_err(|e| match e {
-        FrameError::Exception(_) => LinkError::Refused(format!("the slave refused {}: {e}", describe(req))),
-        // A corrupted frame on a serial line: worth a retry.
-        e => LinkError::Timeout(format!("bad answer to {}: {e}", describe(req))),
-    })
 }
 
 enum LinkError {
@@ -513,41 +449,43 @@ impl TcpConn {
     }
 
     /// Sends `req`, waits for its answer (skipping stale answers of earlier
-    /// timed-out transactions) and decodes it with the RTU codec.
-    fn transact(&mut self, req: &Request) -> Result<Response, LinkError> {
+    /// timed-out transactions) and decodes it.
+    fn transact(&mut self, req: &Request<'_>) -> Result<Response, LinkError> {
         self.tid = self.tid.wrapping_add(1);
-        let rtu = req.encode(self.unit);
-        let pdu = &rtu[1..rtu.len() - 2];
-        let mut frame = Vec::with_capacity(7 + pdu.len());
-        frame.extend_from_slice(&self.tid.to_be_bytes());
-        frame.extend_from_slice(&[0, 0]);
-        frame.extend_from_slice(&((pdu.len() + 1) as u16).to_be_bytes());
-        frame.push(self.unit);
-        frame.extend_from_slice(pdu);
+        let frame = mbap::request(
+            Header {
+                transaction: self.tid,
+                unit: self.unit,
+            },
+            req,
+        );
         let io = |e: std::io::Error| LinkError::Conn(format!("connection: {e}"));
         self.stream.write_all(&frame).map_err(io)?;
         let deadline = Instant::now() + self.timeout;
+        let mut adu = Vec::with_capacity(mbap::MAX_ADU);
         loop {
-            let mut head = [0u8; 7];
-            self.read_exact_by(&mut head, deadline)?;
-            let tid = u16::from_be_bytes([head[0], head[1]]);
-            let len = usize::from(u16::from_be_bytes([head[4], head[5]]));
-            if head[2..4] != [0, 0] || !(2..=254).contains(&len) {
+            adu.resize(mbap::MBAP_LEN, 0);
+            self.read_exact_by(&mut adu, deadline)?;
+            let Ok(Some(len)) = mbap::adu_len(&adu) else {
                 return Err(LinkError::Conn(format!(
-                    "malformed MBAP header {head:02X?} from the slave"
+                    "malformed MBAP header {:02X?} from the slave",
+                    &adu[..]
                 )));
-            }
-            let mut body = vec![0u8; len - 1];
-            self.read_exact_by(&mut body, deadline)?;
-            if tid != self.tid {
+            };
+            adu.resize(len, 0);
+            self.read_exact_by(&mut adu[mbap::MBAP_LEN..], deadline)?;
+            let mbap::Split::Frame { header, pdu, .. } = mbap::split(&adu) else {
+                return Err(LinkError::Conn("malformed MBAP frame from the slave".into()));
+            };
+            if header.transaction != self.tid {
                 // The late answer of a transaction that timed out.
                 continue;
             }
-            let mut rtu = Vec::with_capacity(len + 2);
-            rtu.push(self.unit);
-            rtu.extend_from_slice(&body);
-            let rtu = modbus::with_crc(rtu);
-            return modbus::decode_response(self.unit, req, &rtu).map_err(|e| match e {
+            if header.unit != self.unit {
+                let e = FrameError::WrongSlave(header.unit);
+                return Err(LinkError::Conn(format!("bad answer to {}: {e}", describe(req))));
+            }
+            return pdu::decode_reply(req, pdu).map_err(|e| match e {
                 FrameError::Exception(_) => LinkError::Refused(format!("the slave refused {}: {e}", describe(req))),
                 e => LinkError::Conn(format!("bad answer to {}: {e}", describe(req))),
             });
@@ -577,47 +515,42 @@ impl TcpConn {
     }
 }
 
-fn describe(req: &Request) -> String {
+fn describe(req: &Request<'_>) -> String {
+    let n = req.count();
     match req {
-        Request::ReadCoils { addr, qty } => format!("reading {qty} coils from {addr}"),
-        Request::ReadDiscreteInputs { addr, qty } => format!("reading {qty} discrete inputs from {addr}"),
-        Request::ReadHoldingRegisters { addr, qty } => format!("reading {qty} holding registers from {addr}"),
-        Request::ReadInputRegisters { addr, qty } => format!("reading {qty} input registers from {addr}"),
-        Request::WriteMultipleCoils { addr, values } => format!("writing {} coils from {addr}", values.len()),
-        Request::WriteMultipleRegisters { addr, values } => {
-            format!("writing {} holding registers from {addr}", values.len())
-        }
+        Request::ReadCoils { start, .. } => format!("reading {n} coils from {start}"),
+        Request::ReadDiscreteInputs { start, .. } => format!("reading {n} discrete inputs from {start}"),
+        Request::ReadHoldingRegisters { start, .. } => format!("reading {n} holding registers from {start}"),
+        Request::ReadInputRegisters { start, .. } => format!("reading {n} input registers from {start}"),
+        Request::WriteMultipleCoils { start, .. } => format!("writing {n} coils from {start}"),
+        Request::WriteMultipleRegisters { start, .. } => format!("writing {n} holding registers from {start}"),
         other => format!("function {}", other.function()),
     }
 }
 
 /// The write request of an output block with the current values (`zero`:
 /// the safe values).
-fn write_request(b: &Block, out: &Outputs, zero: bool) -> Request {
+fn write_request(b: &Block, out: &Outputs, zero: bool) -> Request<'static> {
     if b.area.is_bits() {
-        Request::WriteMultipleCoils {
-            addr: b.addr,
-            values: b
-                .locals
-                .iter()
-                .map(|&l| !zero && out.r#do.get(l as usize).copied().unwrap_or(false))
-                .collect(),
-        }
+        let values: Vec<bool> = b
+            .locals
+            .iter()
+            .map(|&l| !zero && out.r#do.get(l as usize).copied().unwrap_or(false))
+            .collect();
+        Request::write_coils(b.addr, &values)
     } else {
-        Request::WriteMultipleRegisters {
-            addr: b.addr,
-            values: b
-                .locals
-                .iter()
-                .map(|&l| {
-                    if zero {
-                        0
-                    } else {
-                        out.ao.get(l as usize).copied().unwrap_or(0)
-                    }
-                })
-                .collect(),
-        }
+        let values: Vec<u16> = b
+            .locals
+            .iter()
+            .map(|&l| {
+                if zero {
+                    0
+                } else {
+                    out.ao.get(l as usize).copied().unwrap_or(0)
+                }
+            })
+            .collect();
+        Request::write_registers(b.addr, &values)
     }
 }
 
@@ -648,7 +581,7 @@ impl Device {
     }
 
     /// A transaction with retries; every failed attempt is counted.
-    fn transact(&self, conn: &mut Conn, req: &Request) -> Result<Response, LinkError> {
+    fn transact(&self, conn: &mut Conn, req: &Request<'_>) -> Result<Response, LinkError> {
         let mut attempt = 0;
         loop {
             match conn.transact(req) {
@@ -663,7 +596,7 @@ impl Device {
     }
 
     /// One poll: every read block, then every output block due.
-    fn poll(&self, conn: &mut Conn, written: &mut [Option<(Request, Instant)>]) -> Result<(), LinkError> {
+    fn poll(&self, conn: &mut Conn, written: &mut [Option<(Request<'static>, Instant)>]) -> Result<(), LinkError> {
         let refresh = Duration::from_millis(u64::from(self.dev.refresh_ms));
         for (b, last) in self.blocks.iter().zip(written.iter_mut()) {
             if b.write {
@@ -743,7 +676,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
         };
         lock(&d.me().status).connects += 1;
         // After a (re)connection every output block is written at once.
-        let mut written: Vec<Option<(Request, Instant)>> = vec![None; d.blocks.len()];
+        let mut written: Vec<Option<(Request<'static>, Instant)>> = vec![None; d.blocks.len()];
         let mut next = Instant::now();
         while !d.shared.stop.stopping() {
             let t0 = Instant::now();
@@ -781,7 +714,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
         if d.shared.stop.stopping() {
             // Leave the slave's outputs off (one attempt each).
             let out = lock(&d.shared.outputs);
-            let reqs: Vec<Request> = d
+            let reqs: Vec<Request<'static>> = d
                 .blocks
                 .iter()
                 .filter(|b| b.write)
@@ -802,15 +735,15 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
 }
 
 /// The driver for `--io modbus`: the devices of alba.toml.
-pub fn driver(devices: &[ModbusDevice]) -> Result<Box<dyn alba_runtime::Io>, String> {
+pub fn driver(devices: &[ModbusDevice]) -> Result<Box<dyn alba_runtime::Io>, Error> {
     Ok(Box::new(ModbusMasterIo::start(devices.to_vec())?))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_diag::{FileId, Span};
     use alba_project::config::ModbusMapping;
+    use alba_diag::{FileId, Span};
 
     fn mapping(area: ModbusArea, start: u16, count: u16, at: Address) -> ModbusMapping {
         ModbusMapping {

@@ -6,7 +6,8 @@
 #![cfg(unix)]
 
 use alba_io::arduino::{ArduinoIo, Config, Counts};
-use alba_io::modbus::{Request, crc16, encode_response, with_crc};
+use alba_modbus_proto::pdu::{self, Request};
+use alba_modbus_proto::rtu::{self, encode_response, with_crc};
 use serialport::{SerialPort, TTYPort};
 use std::io::{Read, Write};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -35,31 +36,10 @@ struct Script {
     regs: Mutex<Vec<u16>>,
 }
 
-fn be(f: &[u8], i: usize) -> u16 {
-    u16::from_be_bytes([f[i], f[i + 1]])
-}
-
 /// The request in a frame from the master (CRC checked).
-fn parse(f: &[u8]) -> Option<Request> {
-    if f.len() < 8 || crc16(&f[..f.len() - 2]).to_le_bytes() != [f[f.len() - 2], f[f.len() - 1]] {
-        return None;
-    }
-    let (addr, qty) = (be(f, 2), be(f, 4));
-    Some(match f[1] {
-        2 => Request::ReadDiscreteInputs { addr, qty },
-        4 => Request::ReadInputRegisters { addr, qty },
-        15 => Request::WriteMultipleCoils {
-            addr,
-            values: (0..usize::from(qty))
-                .map(|i| f[7 + i / 8] >> (i % 8) & 1 == 1)
-                .collect(),
-        },
-        16 => Request::WriteMultipleRegisters {
-            addr,
-            values: (0..usize::from(qty)).map(|i| be(f, 7 + 2 * i)).collect(),
-        },
-        _ => return None,
-    })
+fn parse(f: &[u8]) -> Option<Request<'_>> {
+    let (_, p) = rtu::check(f).ok()?;
+    pdu::parse(p).ok()
 }
 
 fn slave(mut port: TTYPort, s: Arc<Script>, stop: Arc<AtomicBool>) {
@@ -85,8 +65,12 @@ fn slave(mut port: TTYPort, s: Arc<Script>, stop: Arc<AtomicBool>) {
         let mut answer = match s.exception.load(Ordering::SeqCst) {
             0 => {
                 match &req {
-                    Request::WriteMultipleCoils { values, .. } => *s.coils.lock().expect("coils") = values.clone(),
-                    Request::WriteMultipleRegisters { values, .. } => *s.regs.lock().expect("regs") = values.clone(),
+                    Request::WriteMultipleCoils { count, bits, .. } => {
+                        *s.coils.lock().expect("coils") = (0..usize::from(*count)).map(|i| pdu::bit(bits, i)).collect()
+                    }
+                    Request::WriteMultipleRegisters { values, .. } => {
+                        *s.regs.lock().expect("regs") = pdu::registers(values).collect()
+                    }
                     _ => {}
                 }
                 encode_response(1, &req, &[true, false, true], &[512, 1023])

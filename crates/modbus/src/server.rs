@@ -6,9 +6,11 @@
 //! published snapshot (an `Arc`), writes wait for the engine's answer on a
 //! oneshot channel, so a slow or hostile client delays only itself.
 
-use crate::frame::{self, Exception, Header, Request, Split};
-use crate::map::{Map, Scratch, Write};
 use alba_ir::Program;
+use alba_modbus_proto::handler::{Plan, Then, plan, read};
+use alba_modbus_proto::map::{Map, Scratch, Write};
+use alba_modbus_proto::mbap::{self, Header, Split};
+use alba_modbus_proto::pdu::{self, Exception, Request};
 use alba_project::config::{Modbus, ModbusArea, ModbusTag};
 use alba_runtime::Handle;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -159,7 +161,7 @@ impl Server {
             let mut pos = 0;
             let mut invalid = false;
             loop {
-                match frame::split(&buf[pos..]) {
+                match mbap::split(&buf[pos..]) {
                     Split::Incomplete => break,
                     Split::Invalid(_) => {
                         invalid = true;
@@ -210,19 +212,20 @@ impl Server {
     async fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
         self.counters.requests.fetch_add(1, Ordering::Relaxed);
         let fc = pdu.first().copied().unwrap_or(0);
-        let at = frame::begin(out, h, fc);
+        let at = mbap::begin(out, h);
+        out.push(fc);
         let result = match self.settings.unit_id {
             Some(u) if h.unit != u && h.unit != 0 && h.unit != 255 => Err(Exception::GatewayTargetFailed),
-            _ => match frame::parse(pdu) {
+            _ => match pdu::parse(pdu) {
                 Ok(req) => self.answer(req, out, cache).await,
                 Err(e) => Err(e),
             },
         };
         match result {
-            Ok(()) => frame::end(out, at),
+            Ok(()) => mbap::end(out, at),
             Err(e) => {
                 self.counters.exceptions.fetch_add(1, Ordering::Relaxed);
-                frame::exception(out, at, h, fc, e);
+                mbap::exception(out, at, h, fc, e);
             }
         }
     }
@@ -277,109 +280,5 @@ impl Server {
             self.scratch.apply(w);
         }
         Ok(())
-    }
-}
-
-/// What a request needs once it is checked: nothing more (a read, answered
-/// onto `out`), or writes to apply, then an echo of the request's address
-/// and count or value (FC 5, 6, 15, 16) or a read of holding registers (FC 23).
-pub(crate) enum Plan {
-    Done,
-    Write { writes: Vec<Write>, then: Then },
-}
-
-pub(crate) enum Then {
-    Echo([u8; 4]),
-    ReadRegs { start: u16, count: u16 },
-}
-
-/// Reads answer from `mem` onto `out`; writes are checked and planned, not
-/// applied. Shared by the server and the synchronous path the fuzz target
-/// runs (`offline`), so both answer every request the same way.
-pub(crate) fn plan(
-    req: Request<'_>,
-    map: &Map,
-    mem: &alba_ir::Memory,
-    sc: &Scratch,
-    out: &mut Vec<u8>,
-) -> Result<Plan, Exception> {
-    let echo = |a: u16, b: u16| {
-        let (a, b) = (a.to_be_bytes(), b.to_be_bytes());
-        Then::Echo([a[0], a[1], b[0], b[1]])
-    };
-    let (writes, then) = match req {
-        Request::ReadCoils { start, count } => {
-            return read(map, mem, sc, ModbusArea::Coil, start, count, out).map(|()| Plan::Done);
-        }
-        Request::ReadDiscreteInputs { start, count } => {
-            return read(map, mem, sc, ModbusArea::DiscreteInput, start, count, out).map(|()| Plan::Done);
-        }
-        Request::ReadHoldingRegisters { start, count } => {
-            return read(map, mem, sc, ModbusArea::HoldingRegister, start, count, out).map(|()| Plan::Done);
-        }
-        Request::ReadInputRegisters { start, count } => {
-            return read(map, mem, sc, ModbusArea::InputRegister, start, count, out).map(|()| Plan::Done);
-        }
-        Request::WriteSingleCoil { addr, value } => {
-            let mut w = Vec::with_capacity(1);
-            map.plan_coils(addr, std::iter::once(value), &mut w)?;
-            (w, echo(addr, if value { 0xFF00 } else { 0 }))
-        }
-        Request::WriteSingleRegister { addr, value } => {
-            let mut w = Vec::with_capacity(1);
-            map.plan_regs(addr, &[value], &mut w)?;
-            (w, echo(addr, value))
-        }
-        Request::WriteMultipleCoils { start, count, bits } => {
-            let mut w = Vec::with_capacity(usize::from(count));
-            map.plan_coils(start, (0..usize::from(count)).map(|i| frame::bit(bits, i)), &mut w)?;
-            (w, echo(start, count))
-        }
-        Request::WriteMultipleRegisters { start, values } => {
-            let values: Vec<u16> = frame::registers(values).collect();
-            let mut w = Vec::with_capacity(values.len());
-            map.plan_regs(start, &values, &mut w)?;
-            (w, echo(start, values.len() as u16))
-        }
-        Request::ReadWriteRegisters {
-            read_start,
-            read_count,
-            write_start,
-            values,
-        } => {
-            // Both halves are checked before anything is written.
-            let mut probe = Vec::new();
-            map.read_regs(ModbusArea::HoldingRegister, mem, sc, read_start, read_count, &mut probe)?;
-            let values: Vec<u16> = frame::registers(values).collect();
-            let mut w = Vec::with_capacity(values.len());
-            map.plan_regs(write_start, &values, &mut w)?;
-            (
-                w,
-                Then::ReadRegs {
-                    start: read_start,
-                    count: read_count,
-                },
-            )
-        }
-    };
-    Ok(Plan::Write { writes, then })
-}
-
-/// A read's reply data: the byte count, then the bits or registers.
-pub(crate) fn read(
-    map: &Map,
-    mem: &alba_ir::Memory,
-    sc: &Scratch,
-    area: ModbusArea,
-    start: u16,
-    count: u16,
-    out: &mut Vec<u8>,
-) -> Result<(), Exception> {
-    if area.is_bits() {
-        out.push(count.div_ceil(8) as u8);
-        map.read_bits(area, mem, sc, start, count, out)
-    } else {
-        out.push((2 * count) as u8);
-        map.read_regs(area, mem, sc, start, count, out)
     }
 }

@@ -488,42 +488,8 @@ pub async fn run(
     if let Some(c) = &compiled.project.config {
         ro.retain_interval_ms = u64::from(c.retain_ms);
     }
-    let io: Box<dyn alba_runtime::Io> = match opts.io.as_str() {
-        "sim" => Box::new(alba_runtime::SimIo),
-        arduino if arduino.starts_with("arduino:") => {
-            let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
-            alba_io::arduino::driver(arduino, board).map_err(RunError::Other)?
-        }
-        "modbus" => {
-            let devices = compiled
-                .project
-                .config
-                .as_ref()
-                .map(|c| c.modbus_devices.as_slice())
-                .unwrap_or_default();
-            alba_io::modbus_master::driver(devices).map_err(RunError::Other)?
-        }
-        attach if attach.starts_with("board:") => {
-            let board = compiled.project.config.as_ref().and_then(|c| c.board.as_ref());
-            let target = alba_arduino::sketch::Target {
-                model: board.map_or(alba_model::board::Model::Nano, |b| b.model),
-                map: board.map_or_else(
-                    || alba_model::board::PinMap::preset("aurora").unwrap_or_default(),
-                    |b| b.map.clone(),
-                ),
-                active_low: board.is_some_and(|b| b.active_low),
-                scan_ms: compiled.project.scan_ms(),
-                monitor: true,
-                power_up_on: board.map_or_else(Vec::new, |b| b.power_up_on.clone()),
-            };
-            alba_io::attach::driver(attach, &program, &target).map_err(RunError::Other)?
-        }
-        other => {
-            return Err(RunError::Other(format!(
-                "unknown I/O driver `{other}` (available: sim, arduino:<serial port>[,link=modbus|aurora,…], board:<serial port>, modbus)"
-            )));
-        }
-    };
+    let io = alba_io::open(&opts.io, compiled.project.config.as_ref(), &program)
+        .map_err(|e| RunError::Other(e.to_string()))?;
     let hist_cfg = compiled
         .project
         .config

@@ -5,7 +5,8 @@
 use crate::emu::Emu;
 use crate::{PINS, serial, tmp, wait};
 use alba_io::firmware::Link;
-use alba_io::modbus::{Request, crc16, with_crc};
+use alba_modbus_proto::pdu::{Request, Response};
+use alba_modbus_proto::rtu::{self, crc16, with_crc};
 use std::io::{Read, Write};
 use std::path::Path;
 use std::process::Command;
@@ -128,7 +129,7 @@ fn frames_a_master_should_not_send() {
     let t = Duration::from_millis(60);
     let exc = |fc: u8, code: u8| with_crc(vec![1, fc | 0x80, code]);
     // A bad CRC: ignored, no answer.
-    let mut bad = Request::WriteSingleCoil { addr: 0, value: true }.encode(1);
+    let mut bad = rtu::encode(1, &Request::WriteSingleCoil { addr: 0, value: true });
     bad[6] ^= 1;
     assert_eq!(ask(&mut port, &bad, t), Vec::<u8>::new());
     assert_eq!(board.get()[0], 0);
@@ -150,23 +151,19 @@ fn frames_a_master_should_not_send() {
     // An unknown function: exception 1.
     assert_eq!(ask(&mut port, &with_crc(vec![1, 43, 14, 1, 0]), t), exc(43, 1));
     // A broadcast write is carried out without an answer.
-    let all_on = Request::WriteMultipleCoils {
-        addr: 0,
-        values: vec![true; 6],
-    }
-    .encode(0);
+    let all_on = rtu::encode(0, &Request::write_coils(0, &[true; 6]));
     assert_eq!(ask(&mut port, &all_on, t), Vec::<u8>::new());
     assert_eq!(&board.get()[..6], [1; 6]);
     // Two requests without the 3.5-character silence between them: each is
     // answered as soon as it is complete and its CRC checks.
-    let read = Request::ReadCoils { addr: 0, qty: 6 };
-    let mut two = read.encode(1);
-    two.extend(read.encode(1));
-    let answer = alba_io::modbus::encode_response(1, &read, &[true; 6], &[]);
+    let read = Request::ReadCoils { start: 0, count: 6 };
+    let mut two = rtu::encode(1, &read);
+    two.extend(rtu::encode(1, &read));
+    let answer = rtu::encode_response(1, &read, &[true; 6], &[]);
     assert_eq!(ask(&mut port, &two, t), [answer.clone(), answer].concat());
     // A request with garbage before it is one frame with a bad CRC: no answer.
     let mut noisy = vec![0x55, 0x01];
-    noisy.extend(read.encode(1));
+    noisy.extend(rtu::encode(1, &read));
     assert_eq!(ask(&mut port, &noisy, t), Vec::<u8>::new());
     // A frame longer than 256 bytes: dropped whole.
     let mut long = vec![1u8, 16, 0, 0, 0, 4, 8];
@@ -175,9 +172,6 @@ fn frames_a_master_should_not_send() {
     long.extend_from_slice(&c.to_le_bytes());
     assert_eq!(ask(&mut port, &long, t), Vec::<u8>::new());
     // And the board still answers a good request.
-    let got = ask(&mut port, &read.encode(1), t);
-    assert_eq!(
-        alba_io::modbus::decode_response(1, &read, &got),
-        Ok(alba_io::modbus::Response::Bits(vec![true; 6]))
-    );
+    let got = ask(&mut port, &rtu::encode(1, &read), t);
+    assert_eq!(rtu::decode_response(1, &read, &got), Ok(Response::Bits(vec![true; 6])));
 }

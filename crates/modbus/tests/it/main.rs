@@ -4,9 +4,8 @@
 //! written elsewhere — pymodbus, libmodbus — are driven by `tests/clients/`
 //! from test.sh.)
 
-mod fuzz_regressions;
-
 use alba_modbus::{Server, Settings};
+use alba_modbus_proto::mbap;
 use alba_runtime::{Options, Runtime, SimIo};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -76,13 +75,8 @@ async fn start(test: &str, tweak: impl FnOnce(&mut Settings)) -> Fixture {
     }
 }
 
-fn adu(tid: u16, unit: u8, pdu: &[u8]) -> Vec<u8> {
-    let mut v = tid.to_be_bytes().to_vec();
-    v.extend_from_slice(&[0, 0]);
-    v.extend_from_slice(&((pdu.len() + 1) as u16).to_be_bytes());
-    v.push(unit);
-    v.extend_from_slice(pdu);
-    v
+fn adu(transaction: u16, unit: u8, pdu: &[u8]) -> Vec<u8> {
+    mbap::adu(mbap::Header { transaction, unit }, pdu)
 }
 
 /// Reads one reply: (transaction, unit, pdu).

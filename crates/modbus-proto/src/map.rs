@@ -22,11 +22,11 @@
 //! not see it). After these ranges come the explicit addresses of
 //! `[modbus.tags]`; any other address is an illegal data address.
 
-use crate::frame::Exception;
-use alba_diag::{Code, Diagnostic};
+use crate::pdu::Exception;
 use alba_ir::{Access, Layout, Memory, Place, Region, Target};
-use alba_model::{Address, DataType, Value};
 use alba_project::config::{ModbusArea, ModbusTag};
+use alba_diag::{Code, Diagnostic};
+use alba_model::{Address, DataType, Value};
 use std::sync::atomic::{AtomicBool, AtomicU16, Ordering};
 
 /// OpenPLC's ranges.
@@ -297,32 +297,6 @@ impl Map {
         Ok(mem.read(e.place).as_bool())
     }
 
-    /// Packs `count` bits from `start`, LSB first, onto `out`.
-    pub fn read_bits(
-        &self,
-        area: ModbusArea,
-        mem: &Memory,
-        scratch: &Scratch,
-        start: u16,
-        count: u16,
-        out: &mut Vec<u8>,
-    ) -> Result<(), Exception> {
-        let mut byte = 0u8;
-        for i in 0..u32::from(count) {
-            if self.bit(area, mem, scratch, u32::from(start) + i)? {
-                byte |= 1 << (i % 8);
-            }
-            if i % 8 == 7 {
-                out.push(byte);
-                byte = 0;
-            }
-        }
-        if !count.is_multiple_of(8) {
-            out.push(byte);
-        }
-        Ok(())
-    }
-
     fn marker_reg(&self, mem: &Memory, scratch: &Scratch, addr: u32, byte: u32) -> u16 {
         if byte >= self.marker_bytes {
             return scratch.regs[addr as usize].load(Ordering::Relaxed);
@@ -360,23 +334,6 @@ impl Map {
                 Ok(words[(addr - e.start) as usize])
             }
         }
-    }
-
-    /// `count` registers from `start`, big-endian, onto `out`.
-    pub fn read_regs(
-        &self,
-        area: ModbusArea,
-        mem: &Memory,
-        scratch: &Scratch,
-        start: u16,
-        count: u16,
-        out: &mut Vec<u8>,
-    ) -> Result<(), Exception> {
-        for i in 0..u32::from(count) {
-            let r = self.reg(area, mem, scratch, u32::from(start) + i)?;
-            out.extend_from_slice(&r.to_be_bytes());
-        }
-        Ok(())
     }
 
     /// Checks a write of coils and says what to write; nothing is written

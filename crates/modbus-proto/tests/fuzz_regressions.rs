@@ -1,9 +1,9 @@
 //! Inputs the fuzz target `modbus_frame` found (or that guard its corners),
-//! replayed through the same harness (`alba_modbus::offline`): each must be
+//! replayed through the same harness (`alba_modbus_proto::offline`): each must be
 //! answered without a panic. See `tests/fuzz_regressions/README.md`.
 
-use alba_modbus::map::Scratch;
-use alba_modbus::offline::{answer_stream, sample};
+use alba_modbus_proto::map::Scratch;
+use alba_modbus_proto::offline::{answer_stream, sample};
 use std::path::Path;
 
 #[test]

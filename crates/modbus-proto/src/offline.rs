@@ -3,9 +3,10 @@
 //! (`fuzz/fuzz_targets/modbus_frame.rs`) and the fuzz regression test run
 //! it; it checks the invariants the server relies on.
 
-use crate::frame::{self, Exception, Split};
+use crate::handler::{Plan, Then, plan, read};
 use crate::map::{Map, Scratch};
-use crate::server::{Plan, Then, plan, read};
+use crate::mbap::{self, Split};
+use crate::pdu::{self, Exception};
 use alba_ir::Memory;
 use alba_project::config::ModbusArea;
 
@@ -17,19 +18,20 @@ use alba_project::config::ModbusArea;
 pub fn answer_stream(input: &[u8], map: &Map, mem: &Memory, scratch: &Scratch) -> Vec<u8> {
     let mut out = Vec::new();
     let mut pos = 0;
-    while let Split::Frame { header, pdu, len } = frame::split(&input[pos..]) {
-        assert!(len <= frame::MAX_ADU && pos + len <= input.len());
+    while let Split::Frame { header, pdu, len } = mbap::split(&input[pos..]) {
+        assert!(len <= mbap::MAX_ADU && pos + len <= input.len());
         let fc = pdu[0];
-        let at = frame::begin(&mut out, header, fc);
+        let at = mbap::begin(&mut out, header);
+        out.push(fc);
         match answer(pdu, map, mem, scratch, &mut out) {
-            Ok(()) => frame::end(&mut out, at),
-            Err(e) => frame::exception(&mut out, at, header, fc, e),
+            Ok(()) => mbap::end(&mut out, at),
+            Err(e) => mbap::exception(&mut out, at, header, fc, e),
         }
         let reply = &out[at..];
         assert_eq!(usize::from(u16::from_be_bytes([reply[4], reply[5]])), reply.len() - 6);
         assert_eq!(&reply[..2], &header.transaction.to_be_bytes());
         assert_eq!(reply[6], header.unit);
-        assert!(reply.len() <= frame::MAX_ADU, "reply of {} bytes", reply.len());
+        assert!(reply.len() <= mbap::MAX_ADU, "reply of {} bytes", reply.len());
         pos += len;
     }
     out
@@ -37,7 +39,7 @@ pub fn answer_stream(input: &[u8], map: &Map, mem: &Memory, scratch: &Scratch) -
 
 fn answer(pdu: &[u8], map: &Map, mem: &Memory, sc: &Scratch, out: &mut Vec<u8>) -> Result<(), Exception> {
     let at = out.len();
-    let Plan::Write { writes, then } = plan(frame::parse(pdu)?, map, mem, sc, out)? else {
+    let Plan::Write { writes, then } = plan(pdu::parse(pdu)?, map, mem, sc, out)? else {
         // A read: its byte count is what follows it.
         assert_eq!(usize::from(out[at]), out.len() - at - 1, "a read's byte count");
         return Ok(());
@@ -108,7 +110,7 @@ mod tests {
         let (map, mem) = sample();
         let sc = Scratch::default();
         let mut input = Vec::new();
-        for (tid, pdu) in [
+        for (transaction, pdu) in [
             (1u16, &[3u8, 0x20, 0x00, 0, 2][..]),
             (2, &[3, 0xFF, 0xFF, 0, 1]),
             (3, &[4, 0xFF, 0xFE, 0, 2]),
@@ -116,11 +118,7 @@ mod tests {
             (5, &[1, 0xFF, 0xFF, 0, 1]),
             (6, &[99]),
         ] {
-            input.extend_from_slice(&tid.to_be_bytes());
-            input.extend_from_slice(&[0, 0]);
-            input.extend_from_slice(&((pdu.len() + 1) as u16).to_be_bytes());
-            input.push(1);
-            input.extend_from_slice(pdu);
+            input.extend(mbap::adu(mbap::Header { transaction, unit: 1 }, pdu));
         }
         let out = answer_stream(&input, &map, &mem, &sc);
         // Six replies, the last an illegal function.
