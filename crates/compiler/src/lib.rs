@@ -6,6 +6,10 @@ use alba_ir::{Builder, Layout, Program};
 use alba_model::{Code, Diagnostic, Files, Language, Project};
 use std::path::Path;
 
+/// The front ends, for views of a program's structure (the studio's API).
+pub use alba_il as il;
+pub use alba_ladder as ladder;
+
 /// A project and what compiling it gave.
 pub struct Compiled {
     pub project: Project,

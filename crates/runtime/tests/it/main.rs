@@ -299,12 +299,14 @@ async fn attach_mode_mirrors_the_board_and_sends_writes_to_it() {
     })
     .await;
     let err = h.write(place(&program, "Kept"), Value::Dint(-1)).await.unwrap_err();
-    assert!(err.contains("the board refused"), "{err}");
+    assert!(matches!(err, alba_runtime::Error::Io { .. }), "{err}");
+    assert!(err.to_string().contains("the board refused"), "{err}");
     let err = h
         .force("In".into(), place(&program, "In"), Value::Bool(true))
         .await
         .unwrap_err();
-    assert!(err.contains("the board runs the program"), "{err}");
-    assert!(h.stop().await.is_err());
+    assert!(matches!(err, alba_runtime::Error::Attached { .. }), "{err}");
+    assert!(err.to_string().contains("the board runs the program"), "{err}");
+    assert!(matches!(h.stop().await, Err(alba_runtime::Error::Attached { .. })));
     rt.shutdown();
 }
