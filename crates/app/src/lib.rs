@@ -10,6 +10,7 @@
 //! that spawns it on `state.closing()` (and, to follow online edits,
 //! `state.subscribe_edits()`), and one line in [`run`] calling it.
 
+mod edits;
 mod history;
 mod io;
 mod modbus;
@@ -103,6 +104,7 @@ pub async fn run(
     let service = Service { dir, config, state: &state };
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
+    edits::start(&service);
 
     ready(local);
     let closing = state.closing.clone();
