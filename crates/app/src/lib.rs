@@ -101,7 +101,11 @@ pub async fn run(
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
 
-    let service = Service { dir, config, state: &state };
+    let service = Service {
+        dir,
+        config,
+        state: &state,
+    };
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
     edits::start(&service);

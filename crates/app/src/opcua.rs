@@ -11,7 +11,15 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
     let pki = s.dir.join(".alba").join("pki");
     let users = cfg.map(|o| o.users.clone()).unwrap_or_default();
     let name = &s.state.name;
-    let bound = alba_opcua::serve(s.state.runtime.clone(), name, addr, pki.clone(), &users, s.state.closing()).await?;
+    let bound = alba_opcua::serve(
+        s.state.runtime.clone(),
+        name,
+        addr,
+        pki.clone(),
+        &users,
+        s.state.closing(),
+    )
+    .await?;
     println!("OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{name}/Tags)");
     if alba_opcua::security::is_local(bound.ip()) {
         println!(

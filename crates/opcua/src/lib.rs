@@ -130,7 +130,11 @@ fn write_cb(handle: Handle, name: String) -> impl Fn(DataValue, &NumericRange) -
             }
             _ => false, // no multi-threaded runtime
         };
-        if done { StatusCode::Good } else { StatusCode::BadServerHalted }
+        if done {
+            StatusCode::Good
+        } else {
+            StatusCode::BadServerHalted
+        }
     }
 }
 

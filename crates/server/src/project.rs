@@ -102,7 +102,10 @@ pub fn save(c: &Compiled, edit: &Edit) -> Result<(), EditError> {
             let s = find(&c.project, name)?;
             (s.name.clone(), s.file)
         }
-        Edit::Tags(_) => ("tags.csv".to_string(), c.project.tags_file.ok_or(EditError::NoTagsFile)?),
+        Edit::Tags(_) => (
+            "tags.csv".to_string(),
+            c.project.tags_file.ok_or(EditError::NoTagsFile)?,
+        ),
     };
     let path = c.project.dir.join(&rel);
     let text = c.project.files.text(file);

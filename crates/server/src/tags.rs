@@ -1,12 +1,12 @@
 //! Tags as the API shows them: definitions with live values, members of
 //! structures, system tags, and the names a client may subscribe to.
 
+use crate::reply::{self, TagInfo, TagReply, TagValue};
 use alba_ir::layout::SYSTEM_TAGS;
 use alba_ir::{Access, Ctr, Layout, Place, TagSlot, Target, Tmr};
 use alba_model::DataType;
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
-use crate::reply::{self, TagInfo, TagReply, TagValue};
 use serde_json::{Map, Value as Json};
 
 /// The places of a TIMER or COUNTER's members, by member name.

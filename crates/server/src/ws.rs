@@ -232,7 +232,12 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>) {
 
 /// Applies a client command; answers with error messages if any.
 fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<String> {
-    let err = |m: String| vec![json_text(&ErrorMsg { kind: "error", error: m })];
+    let err = |m: String| {
+        vec![json_text(&ErrorMsg {
+            kind: "error",
+            error: m,
+        })]
+    };
     let Ok(j) = serde_json::from_str::<Json>(text) else {
         return err("malformed JSON command".into());
     };

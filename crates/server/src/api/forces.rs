@@ -37,9 +37,13 @@ pub async fn put(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: B
             "`{name}` is not an input or an output: only I/O can be forced (write internal tags instead)"
         )));
     }
-    let v = from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
+    let v =
+        from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
     st.runtime.force(name.clone(), place, v).await?;
-    Ok(Json(Force { name, value: to_json(v) }))
+    Ok(Json(Force {
+        name,
+        value: to_json(v),
+    }))
 }
 
 pub async fn delete(State(st): State<Arc<AppState>>, Path(name): Path<String>) -> ApiResult<StatusCode> {

@@ -25,9 +25,7 @@ pub type Body = Result<axum::Json<Json>, JsonRejection>;
 pub fn body(b: Body) -> Result<Json, ApiError> {
     match b {
         Ok(axum::Json(j)) => Ok(j),
-        Err(JsonRejection::BytesRejection(e)) if e.status() == StatusCode::PAYLOAD_TOO_LARGE => {
-            Err(ApiError::TooLarge)
-        }
+        Err(JsonRejection::BytesRejection(e)) if e.status() == StatusCode::PAYLOAD_TOO_LARGE => Err(ApiError::TooLarge),
         Err(e) => Err(ApiError::Malformed(format!("malformed JSON body: {}", e.body_text()))),
     }
 }

@@ -92,7 +92,9 @@ async fn apply(st: &AppState, edit: project::Edit<'_>, online: bool) -> Result<S
     }
     *p = c;
     let file = match edit {
-        project::Edit::Program { name, .. } => project::find(&p.project, name).map_or(name.to_string(), |s| s.name.clone()),
+        project::Edit::Program { name, .. } => {
+            project::find(&p.project, name).map_or(name.to_string(), |s| s.name.clone())
+        }
         project::Edit::Tags(_) => "tags.csv".to_string(),
     };
     // Nobody listening is fine.

@@ -46,7 +46,8 @@ pub async fn put(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: B
     let j = body(b)?;
     let s = st.runtime.snapshot();
     let place = writable(&s, &name)?;
-    let v = from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
+    let v =
+        from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
     st.runtime.write(place, v).await?;
     Ok(Json(Force {
         name,

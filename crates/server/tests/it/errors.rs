@@ -62,7 +62,12 @@ async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) 
 async fn status_400_malformed_request() {
     let s = Server::start("tank", "e400").await;
     let (code, j) = s
-        .raw(Method::PUT, "/api/tags/Llenar", "application/json", b"{\"value\"".to_vec())
+        .raw(
+            Method::PUT,
+            "/api/tags/Llenar",
+            "application/json",
+            b"{\"value\"".to_vec(),
+        )
         .await;
     assert_eq!(code, StatusCode::BAD_REQUEST, "{j}");
     let (code, j) = s
@@ -97,7 +102,10 @@ async fn status_409_conflict_in_attach_mode() {
         let (code, j) = s.call(m, path, body).await;
         assert_eq!(code, StatusCode::CONFLICT, "{path}: {j}");
         assert!(
-            j["error"].as_str().expect("error").contains("the board runs the program"),
+            j["error"]
+                .as_str()
+                .expect("error")
+                .contains("the board runs the program"),
             "{j}"
         );
     }
@@ -112,7 +120,10 @@ async fn status_409_conflict_in_attach_mode() {
         .await;
     assert_eq!(code, StatusCode::CONFLICT, "{j}");
     assert!(
-        j["error"].as_str().expect("error").starts_with("saved, but not applied"),
+        j["error"]
+            .as_str()
+            .expect("error")
+            .starts_with("saved, but not applied"),
         "{j}"
     );
     s.stop().await;
@@ -134,9 +145,7 @@ async fn status_413_body_too_large() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn status_422_invalid_value_or_program() {
     let s = Server::start("tank", "e422").await;
-    let (code, j) = s
-        .call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": 2})))
-        .await;
+    let (code, j) = s.call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": 2}))).await;
     assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
     let (code, j) = s
         .call(Method::POST, "/api/check/main.lad", Some(json!({"text": "XIC("})))
