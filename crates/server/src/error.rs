@@ -86,3 +86,53 @@ impl IntoResponse for ApiError {
 }
 
 pub type ApiResult<T> = Result<T, ApiError>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alba_runtime::Error as R;
+
+    /// The cases the API tests cannot provoke with a simulated project.
+    #[test]
+    fn statuses_of_runtime_edit_and_history_errors() {
+        let io = R::Io {
+            io: "board:x".into(),
+            message: "the link to the board has stopped".into(),
+        };
+        let cases = [
+            (ApiError::Runtime(io.clone()), StatusCode::SERVICE_UNAVAILABLE),
+            (
+                ApiError::Edit(EditError::NotApplied(io)),
+                StatusCode::SERVICE_UNAVAILABLE,
+            ),
+            (
+                ApiError::Runtime(R::Rejected("no".into())),
+                StatusCode::UNPROCESSABLE_ENTITY,
+            ),
+            (
+                ApiError::Edit(EditError::NotApplied(R::Stopped)),
+                StatusCode::SERVICE_UNAVAILABLE,
+            ),
+            (ApiError::Edit(EditError::NoTagsFile), StatusCode::NOT_FOUND),
+            (
+                ApiError::Edit(EditError::Save {
+                    path: "main.lad".into(),
+                    source: std::io::Error::other("disk full"),
+                }),
+                StatusCode::INTERNAL_SERVER_ERROR,
+            ),
+            (
+                ApiError::History(alba_historian::Error::UnknownTag("X".into())),
+                StatusCode::NOT_FOUND,
+            ),
+            (
+                ApiError::History(alba_historian::Error::InvalidArgument("points".into())),
+                StatusCode::UNPROCESSABLE_ENTITY,
+            ),
+            (ApiError::HistoryOff, StatusCode::NOT_FOUND),
+        ];
+        for (e, want) in cases {
+            assert_eq!(status(&e), want, "{e}");
+        }
+    }
+}

@@ -14,11 +14,11 @@ use axum::body::Bytes;
 use axum::extract::{Path, State};
 use axum::http::header;
 use axum::response::IntoResponse;
-use serde_json::Value as Json_;
+use serde_json::Value;
 use std::sync::Arc;
 
 /// The program text of a check or save request.
-fn text_field(j: &Json_) -> Result<&str, ApiError> {
+fn text_field(j: &Value) -> Result<&str, ApiError> {
     field(j, "text")?
         .as_str()
         .ok_or_else(|| ApiError::Malformed("`text` must be a string".into()))
@@ -111,7 +111,7 @@ async fn apply(st: &AppState, edit: project::Edit<'_>, online: bool) -> Result<S
 
 pub async fn put(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: Body) -> ApiResult<Json<Saved>> {
     let j = body(b)?;
-    let online = j.get("online").and_then(Json_::as_bool).unwrap_or(false);
+    let online = j.get("online").and_then(Value::as_bool).unwrap_or(false);
     let edit = project::Edit::Program {
         name: &name,
         text: text_field(&j)?,
