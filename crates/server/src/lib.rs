@@ -10,7 +10,9 @@
 //! other services on [`AppState::edits`].
 //!
 //! Add a route: a handler in `api/<area>.rs` answering a type of
-//! `reply.rs`, and one `.route` line below.
+//! `reply.rs` (listed in `reply::typescript`; then `UPDATE_BINDINGS=1
+//! cargo test -p alba-server contract` regenerates web/src/api.gen.ts),
+//! and one `.route` line below.
 
 mod api;
 mod assets;
