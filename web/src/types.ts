@@ -1,136 +1,43 @@
-// The JSON shapes of docs/api.md.
+// The JSON shapes of docs/api.md. The replies are generated from the
+// server's types (crates/server/src/reply.rs → api.gen.ts, checked by
+// `cargo test -p alba-server contract`); this file keeps the studio's names.
 
-export type Json = null | boolean | number | string | Json[] | { [k: string]: Json };
+import type * as G from './api.gen';
 
-export interface Stats {
-  last_us: number;
-  min_us: number;
-  max_us: number;
-  mean_us: number;
-  jitter_us: number;
-  overruns: number;
-}
-
-export interface Status {
-  project: string;
-  state: 'running' | 'stopped' | 'faulted';
-  fault: string | null;
-  scan_ms: number;
-  scans: number;
-  time_ms: number;
-  stats: Stats;
-  minor_faults: number;
-  io: string;
-  programs: string[];
-  clients: number;
-}
-
-export type Access = 'readwrite' | 'input' | 'readonly';
-
-export interface TagInfo {
-  name: string;
-  type: string;
-  address: string | null;
-  description: string;
-  retain: boolean;
-  access: Access;
-  value: Json;
-  forced: Json;
-}
-
-export interface Force {
-  name: string;
-  value: Json;
-}
-
-export interface ProgramRef {
-  name: string;
-  language: 'ladder' | 'il';
-  plant: boolean;
-}
-
-export interface Diagnostic {
-  code: string;
-  severity: string;
-  message: string;
-  file: string | null;
-  line: number | null;
-  col: number | null;
-  end_line: number | null;
-  end_col: number | null;
-  help: string | null;
-}
-
-export interface InstrJson {
-  kind: 'instr';
-  id: number | null;
-  mnemonic: string;
-  operands: string[];
-  line: number;
-  col: number;
-}
-
-export interface BranchJson {
-  kind: 'branch';
-  id: number | null;
-  line: number;
-  col: number;
-  legs: ElementJson[][];
-}
-
-export type ElementJson = InstrJson | BranchJson;
-
-export interface RungJson {
-  number: number;
-  comment: string[];
-  line: number;
-  elements: ElementJson[];
-}
-
-export interface Program {
-  name: string;
-  language: 'ladder' | 'il';
-  plant: boolean;
-  text: string;
-  diagnostics: Diagnostic[];
-  rungs?: RungJson[];
-  lines?: { line: number; id: number | null }[];
-}
-
-export interface Instruction {
-  mnemonic: string;
-  group: string;
-  output: boolean;
-  args: string[];
-  doc: string;
-}
-
+export type Json = G.Json;
+export type Stats = G.Stats;
+export type Status = G.Status;
+export type Access = G.Access;
+export type TagInfo = G.TagInfo;
+/** `GET /api/tags/{name}`: a tag of tags.csv, or a member or an address. */
+export type TagReply = G.TagReply;
+export type Force = G.Force;
+export type ProgramRef = G.ProgramRef;
+export type Diagnostic = G.Diagnostic;
+export type ElementJson = G.ElementJson;
+export type InstrJson = Extract<ElementJson, { kind: 'instr' }>;
+export type BranchJson = Extract<ElementJson, { kind: 'branch' }>;
+export type RungJson = G.RungJson;
+export type Program = G.Program;
+export type Checked = G.Checked;
+export type Saved = G.Saved;
+export type Instruction = G.Instruction;
 /** One history bucket: [t_ms, min, max, first, last]. */
-export type Bucket = [number, number | null, number | null, number | null, number | null];
+export type Bucket = G.Bucket;
+export type History = G.History;
+export type HistoryTag = G.HistoryTag;
+/** Every error reply: `{error}`, with `diagnostics` for an edit that does not compile. */
+export type ErrorReply = G.ErrorReply;
 
-export interface History {
-  tag: string;
-  from: number;
-  to: number;
-  buckets: Bucket[];
-}
-
-// WebSocket messages (server → client).
+// WebSocket messages (server → client). `values` is written by hand on the
+// server (crates/server/src/ws.rs, for speed): its shape is kept here.
 export interface ValuesMsg {
   type: 'values';
   scan: number;
   t_ms: number;
   values: Record<string, Json>;
 }
-export interface PowerMsg {
-  type: 'power';
-  scan: number;
-  program: string;
-  on: number[];
-}
-export type StatusMsg = Status & { type: 'status' };
-export interface ErrorMsg {
-  type: 'error';
-  error: string;
-}
+export type PowerMsg = G.PowerMsg;
+export type StatusMsg = G.StatusMsg;
+export type ErrorMsg = G.ErrorMsg;
 export type ServerMsg = ValuesMsg | PowerMsg | StatusMsg | ErrorMsg;

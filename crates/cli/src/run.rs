@@ -1,4 +1,5 @@
-//! `alba run`: the project in real time behind the studio's server.
+//! `alba run`: the command line of the application layer (alba-app), with
+//! Ctrl-C and SIGTERM as its shutdown signal.
 
 use alba_diag::render_all;
 use std::net::SocketAddr;
@@ -25,7 +26,7 @@ pub fn run(
             return ExitCode::FAILURE;
         }
     };
-    let opts = alba_server::Options {
+    let opts = alba_app::Options {
         addr,
         io: io.to_string(),
         native,
@@ -33,7 +34,7 @@ pub fn run(
         opcua,
     };
     let banner = banner.map(str::to_string);
-    let result = rt.block_on(alba_server::run(
+    let result = rt.block_on(alba_app::run(
         dir,
         opts,
         |local| {
@@ -49,11 +50,11 @@ pub fn run(
     ));
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(alba_server::RunError::Compile(c)) => {
+        Err(alba_app::RunError::Compile(c)) => {
             eprint!("{}", render_all(&c.diagnostics, &c.project.files));
             ExitCode::FAILURE
         }
-        Err(alba_server::RunError::Other(m)) => {
+        Err(alba_app::RunError::Other(m)) => {
             eprintln!("error: {m}");
             ExitCode::FAILURE
         }

@@ -7,6 +7,15 @@ use alba_ir::{Builder, Layout, Program};
 use alba_project::{Language, Project};
 use std::path::Path;
 
+/// The crates of the compiler's public API — project loading, diagnostics and
+/// the front ends (for views of a program's structure) — so that a user of
+/// the compiler (the studio's API) names one crate for the path from a
+/// folder to a program.
+pub use alba_diag as diag;
+pub use alba_il as il;
+pub use alba_ladder as ladder;
+pub use alba_project as project;
+
 /// A project and what compiling it gave.
 pub struct Compiled {
     pub project: Project,

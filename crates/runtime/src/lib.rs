@@ -227,7 +227,27 @@ enum Req {
     Shutdown,
 }
 
-type Reply = oneshot::Sender<Result<(), String>>;
+/// Why a request to the runtime was refused (see [`Handle`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Error {
+    /// The engine thread has ended: nothing can be asked of it any more.
+    #[error("the runtime has stopped")]
+    Stopped,
+    /// Attach mode: the board runs the program, so this request cannot be
+    /// done here (forces, online edits and stop).
+    #[error(
+        "the board runs the program ({io}): forces, online edits and stop are done on a board by exporting and uploading again; writes work"
+    )]
+    Attached { io: String },
+    /// The I/O driver could not apply an operator's write (attach mode).
+    #[error("{message}")]
+    Io { io: String, message: String },
+    /// The new program of an online edit cannot replace the running one.
+    #[error("{0}")]
+    Rejected(String),
+}
+
+type Reply = oneshot::Sender<Result<(), Error>>;
 
 /// Talks to a running runtime; cheap to clone.
 #[derive(Clone)]
@@ -248,12 +268,10 @@ impl Handle {
         self.snapshots.clone()
     }
 
-    async fn ask(&self, req: Req) -> Result<(), String> {
+    async fn ask(&self, req: Req) -> Result<(), Error> {
         let (tx, rx) = oneshot::channel();
-        self.tx
-            .send((req, Some(tx)))
-            .map_err(|_| "the runtime has stopped".to_string())?;
-        rx.await.map_err(|_| "the runtime has stopped".to_string())?
+        self.tx.send((req, Some(tx))).map_err(|_| Error::Stopped)?;
+        rx.await.map_err(|_| Error::Stopped)?
     }
 
     fn tell(&self, req: Req) {
@@ -261,18 +279,18 @@ impl Handle {
     }
 
     /// Writes a place at the next scan boundary; answers once applied.
-    pub async fn write(&self, place: Place, value: Value) -> Result<(), String> {
+    pub async fn write(&self, place: Place, value: Value) -> Result<(), Error> {
         self.ask(Req::Write(place, value)).await
     }
 
     /// Writes several places at the same scan boundary (no scan sees some
     /// of them without the others); answers once applied.
-    pub async fn write_many(&self, writes: Vec<(Place, Value)>) -> Result<(), String> {
+    pub async fn write_many(&self, writes: Vec<(Place, Value)>) -> Result<(), Error> {
         self.ask(Req::WriteMany(writes)).await
     }
 
     /// Forces an input or output (the caller checks it is one).
-    pub async fn force(&self, name: String, place: Place, value: Value) -> Result<(), String> {
+    pub async fn force(&self, name: String, place: Place, value: Value) -> Result<(), Error> {
         self.ask(Req::Force(Force {
             name,
             place,
@@ -284,20 +302,20 @@ impl Handle {
     }
 
     /// Removes the force on `name` (`None`: every force).
-    pub async fn unforce(&self, name: Option<String>) -> Result<(), String> {
+    pub async fn unforce(&self, name: Option<String>) -> Result<(), Error> {
         self.ask(Req::Unforce(name)).await
     }
 
-    pub async fn run(&self) -> Result<(), String> {
+    pub async fn run(&self) -> Result<(), Error> {
         self.ask(Req::Run).await
     }
 
-    pub async fn stop(&self) -> Result<(), String> {
+    pub async fn stop(&self) -> Result<(), Error> {
         self.ask(Req::Stop).await
     }
 
     /// Online edit: the new program runs from the next scan, memory migrated.
-    pub async fn replace(&self, program: Arc<Program>) -> Result<(), String> {
+    pub async fn replace(&self, program: Arc<Program>) -> Result<(), Error> {
         self.ask(Req::Replace(program)).await
     }
 
@@ -587,24 +605,30 @@ impl Worker {
         let _ = self.io.write_outputs(&self.engine);
     }
 
-    fn apply(&mut self, req: Req) -> Result<(), String> {
+    /// An operator's write through the I/O driver, if it has remote memory.
+    fn write_remote(&mut self, p: Place, v: Value) -> Result<(), Error> {
+        match self.io.write_remote(p, v) {
+            Some(Err(message)) => Err(Error::Io {
+                io: self.io.name().to_string(),
+                message,
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    fn apply(&mut self, req: Req) -> Result<(), Error> {
         match req {
             Req::Write(p, v) => {
-                if let Some(r) = self.io.write_remote(p, v) {
-                    r?;
-                }
+                self.write_remote(p, v)?;
                 self.engine.write(p, v);
                 Ok(())
             }
-            Req::Force(_) | Req::Replace(_) | Req::Stop if self.io.runs_program() => Err(format!(
-                "the board runs the program ({}): forces, online edits and stop are done on a board by exporting and uploading again; writes work",
-                self.io.name()
-            )),
+            Req::Force(_) | Req::Replace(_) | Req::Stop if self.io.runs_program() => Err(Error::Attached {
+                io: self.io.name().to_string(),
+            }),
             Req::WriteMany(ws) => {
                 for (p, v) in ws {
-                    if let Some(r) = self.io.write_remote(p, v) {
-                        r?;
-                    }
+                    self.write_remote(p, v)?;
                     self.engine.write(p, v);
                 }
                 Ok(())
@@ -650,7 +674,7 @@ impl Worker {
                 Ok(())
             }
             Req::Replace(p) => {
-                self.engine.replace(p.clone())?;
+                self.engine.replace(p.clone()).map_err(Error::Rejected)?;
                 self.retained = retain::retained(&p);
                 let layout = &p.layout;
                 // Forces follow their names into the new layout.

@@ -2,14 +2,41 @@
 //! with an edit in place, saving edits atomically, and the JSON views of
 //! programs (rungs with their element ids) and of diagnostics.
 
-use alba_diag::{Diagnostic, FileId, Files};
+use crate::reply;
+use alba_compiler::{il as alba_il, ladder as alba_ladder};
 use alba_ir::Program;
-use alba_model::TagTable;
 use alba_model::fsutil::write_atomic;
-use alba_project::{Language, Project};
-use serde_json::{Value as Json, json};
+use alba_compiler::diag::{Diagnostic, FileId, Files};
+use alba_model::TagTable;
+use alba_compiler::project::{Language, Project};
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Why an edit was not checked, saved or applied.
+#[derive(Debug, thiserror::Error)]
+pub enum EditError {
+    #[error("no program `{0}` in this project")]
+    UnknownProgram(String),
+    #[error("the project has no tags.csv")]
+    NoTagsFile,
+    /// The edited project does not compile: its diagnostics.
+    #[error("{} error{}", .diagnostics.len(), if .diagnostics.len() == 1 { "" } else { "s" })]
+    DoesNotCompile { diagnostics: Vec<reply::Diagnostic> },
+    #[error("cannot save {}: {source}", .path.display())]
+    Save { path: PathBuf, source: std::io::Error },
+    /// Saved, but the runtime refused the new program.
+    #[error("saved, but not applied: {0}")]
+    NotApplied(alba_runtime::Error),
+}
+
+impl EditError {
+    /// The error of a project that does not compile.
+    pub fn does_not_compile(c: &Compiled) -> EditError {
+        EditError::DoesNotCompile {
+            diagnostics: diagnostics_json(&c.diagnostics, &c.project.files),
+        }
+    }
+}
 
 /// An edit to check or apply: a program's new text, or the tag table's.
 pub enum Edit<'a> {
@@ -35,7 +62,7 @@ pub fn load(dir: &Path) -> Compiled {
 }
 
 /// Compiles `project` with `edit` in place (nothing is saved).
-pub fn compile_with(project: &Project, edit: Option<&Edit>) -> Result<Compiled, String> {
+pub fn compile_with(project: &Project, edit: Option<&Edit>) -> Result<Compiled, EditError> {
     let mut p = project.clone();
     let mut diagnostics = Vec::new();
     match edit {
@@ -44,7 +71,7 @@ pub fn compile_with(project: &Project, edit: Option<&Edit>) -> Result<Compiled, 
             p.files.replace(file, *text);
         }
         Some(Edit::Tags(text)) => {
-            let file = p.tags_file.ok_or("the project has no tags.csv")?;
+            let file = p.tags_file.ok_or(EditError::NoTagsFile)?;
             p.files.replace(file, *text);
             let (tags, d) = TagTable::parse(p.files.text(file), file);
             p.tags = tags;
@@ -63,36 +90,39 @@ pub fn compile_with(project: &Project, edit: Option<&Edit>) -> Result<Compiled, 
 }
 
 /// The program listed as `name` (case-insensitively).
-pub fn find<'a>(p: &'a Project, name: &str) -> Result<&'a alba_project::ProgramSource, String> {
+pub fn find<'a>(p: &'a Project, name: &str) -> Result<&'a alba_compiler::project::ProgramSource, EditError> {
     p.programs
         .iter()
         .find(|s| s.name.eq_ignore_ascii_case(name))
-        .ok_or_else(|| format!("no program `{name}` in this project"))
+        .ok_or_else(|| EditError::UnknownProgram(name.to_string()))
 }
 
 /// Saves the edited file of `c` (the program or tags.csv) atomically.
-pub fn save(c: &Compiled, edit: &Edit) -> Result<(), String> {
+pub fn save(c: &Compiled, edit: &Edit) -> Result<(), EditError> {
     let (rel, file) = match edit {
         Edit::Program { name, .. } => {
             let s = find(&c.project, name)?;
             (s.name.clone(), s.file)
         }
-        Edit::Tags(_) => ("tags.csv".to_string(), c.project.tags_file.ok_or("no tags.csv")?),
+        Edit::Tags(_) => (
+            "tags.csv".to_string(),
+            c.project.tags_file.ok_or(EditError::NoTagsFile)?,
+        ),
     };
     let path = c.project.dir.join(&rel);
     let text = c.project.files.text(file);
-    write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(|e| format!("cannot save {}: {e}", path.display()))
+    write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(|source| EditError::Save { path, source })
 }
 
-pub fn language_name(l: Language) -> &'static str {
+pub fn language(l: Language) -> reply::Language {
     match l {
-        Language::Ladder => "ladder",
-        Language::Il => "il",
+        Language::Ladder => reply::Language::Ladder,
+        Language::Il => reply::Language::Il,
     }
 }
 
-/// A diagnostic as JSON (docs/api.md).
-pub fn diagnostic_json(d: &Diagnostic, files: &Files) -> Json {
+/// A diagnostic as the API shows it (docs/api.md).
+pub fn diagnostic_json(d: &Diagnostic, files: &Files) -> reply::Diagnostic {
     let place = d.primary.as_ref().map(|l| {
         let s = l.span;
         let (line, col) = files.line_col(s.file, s.start as usize);
@@ -103,21 +133,21 @@ pub fn diagnostic_json(d: &Diagnostic, files: &Files) -> Json {
             .map_or(name.to_string(), |f| f.to_string_lossy().to_string());
         (file, line, col, end_line, end_col)
     });
-    json!({
-        "code": d.code.to_string(),
-        "severity": "error",
-        "message": d.message,
-        "file": place.as_ref().map(|p| p.0.clone()),
-        "line": place.as_ref().map(|p| p.1),
-        "col": place.as_ref().map(|p| p.2),
-        "end_line": place.as_ref().map(|p| p.3),
-        "end_col": place.as_ref().map(|p| p.4),
-        "help": d.help,
-    })
+    reply::Diagnostic {
+        code: d.code.to_string(),
+        severity: "error".into(),
+        message: d.message.clone(),
+        file: place.as_ref().map(|p| p.0.clone()),
+        line: place.as_ref().map(|p| p.1),
+        col: place.as_ref().map(|p| p.2),
+        end_line: place.as_ref().map(|p| p.3),
+        end_col: place.as_ref().map(|p| p.4),
+        help: d.help.clone(),
+    }
 }
 
-pub fn diagnostics_json(ds: &[Diagnostic], files: &Files) -> Json {
-    Json::Array(ds.iter().map(|d| diagnostic_json(d, files)).collect())
+pub fn diagnostics_json(ds: &[Diagnostic], files: &Files) -> Vec<reply::Diagnostic> {
+    ds.iter().map(|d| diagnostic_json(d, files)).collect()
 }
 
 /// Element ids of the compiled program by the span of their source.
@@ -140,53 +170,56 @@ pub fn program_json(
     program: Option<&Program>,
     name: &str,
     diags: &[Diagnostic],
-) -> Result<Json, String> {
+) -> Result<reply::Program, EditError> {
     let src = find(project, name)?;
     let files = &project.files;
     let text = files.text(src.file);
     let ids = element_ids(program, src.file);
-    let id_of = |s: alba_diag::Span| ids.get(&(s.start, s.end)).copied();
-    let lc = |s: alba_diag::Span| files.line_col(src.file, s.start as usize);
-    let mine: Vec<&Diagnostic> = diags
-        .iter()
-        .filter(|d| d.primary.as_ref().is_some_and(|l| l.span.file == src.file))
-        .collect();
-    let mut out = json!({
-        "name": src.name,
-        "language": language_name(src.language),
-        "plant": src.plant,
-        "text": text,
-        "diagnostics": mine.iter().map(|d| diagnostic_json(d, files)).collect::<Vec<_>>(),
-    });
+    let id_of = |s: alba_compiler::diag::Span| ids.get(&(s.start, s.end)).copied();
+    let lc = |s: alba_compiler::diag::Span| files.line_col(src.file, s.start as usize);
+    let mut out = reply::Program {
+        name: src.name.clone(),
+        language: language(src.language),
+        plant: src.plant,
+        text: text.to_string(),
+        diagnostics: diags
+            .iter()
+            .filter(|d| d.primary.as_ref().is_some_and(|l| l.span.file == src.file))
+            .map(|d| diagnostic_json(d, files))
+            .collect(),
+        rungs: None,
+        lines: None,
+    };
     match src.language {
         Language::Ladder => {
             let (ast, _) = alba_ladder::parse(text, src.file);
-            let rungs: Vec<Json> = ast
+            let rungs = ast
                 .rungs
                 .iter()
                 .enumerate()
-                .map(|(n, r)| {
-                    json!({
-                        "number": n,
-                        "comment": r.comment,
-                        "line": lc(r.elements.first().map_or(r.span, |e| e.span())).0,
-                        "elements": elements_json(&r.elements, &id_of, &lc),
-                    })
+                .map(|(n, r)| reply::RungJson {
+                    number: n,
+                    comment: r.comment.clone(),
+                    line: lc(r.elements.first().map_or(r.span, |e| e.span())).0,
+                    elements: elements_json(&r.elements, &id_of, &lc),
                 })
                 .collect();
-            out["rungs"] = Json::Array(rungs);
+            out.rungs = Some(rungs);
         }
         Language::Il => {
             let (ast, _) = alba_il::parse(text, src.file);
-            let lines: Vec<Json> = ast
+            let lines = ast
                 .items
                 .iter()
                 .filter_map(|i| match i {
-                    alba_il::ast::Item::Instr(i) => Some(json!({"line": lc(i.span).0, "id": id_of(i.span)})),
+                    alba_il::ast::Item::Instr(i) => Some(reply::IlLine {
+                        line: lc(i.span).0,
+                        id: id_of(i.span),
+                    }),
                     _ => None,
                 })
                 .collect();
-            out["lines"] = Json::Array(lines);
+            out.lines = Some(lines);
         }
     }
     Ok(out)
@@ -194,28 +227,26 @@ pub fn program_json(
 
 fn elements_json(
     elems: &[alba_ladder::Element],
-    id_of: &dyn Fn(alba_diag::Span) -> Option<u32>,
-    lc: &dyn Fn(alba_diag::Span) -> (usize, usize),
-) -> Vec<Json> {
+    id_of: &dyn Fn(alba_compiler::diag::Span) -> Option<u32>,
+    lc: &dyn Fn(alba_compiler::diag::Span) -> (usize, usize),
+) -> Vec<reply::ElementJson> {
     elems
         .iter()
         .map(|e| {
             let (line, col) = lc(e.span());
             match e {
-                alba_ladder::Element::Instr(i) => json!({
-                    "kind": "instr",
-                    "id": id_of(i.span),
-                    "mnemonic": i.mnemonic.name(),
-                    "operands": i.operands.iter().map(|o| o.text.clone()).collect::<Vec<_>>(),
-                    "line": line,
-                    "col": col,
+                alba_ladder::Element::Instr(i) => reply::ElementJson::Instr(reply::InstrJson {
+                    id: id_of(i.span),
+                    mnemonic: i.mnemonic.name().to_string(),
+                    operands: i.operands.iter().map(|o| o.text.clone()).collect(),
+                    line,
+                    col,
                 }),
-                alba_ladder::Element::Branch(b) => json!({
-                    "kind": "branch",
-                    "id": id_of(b.span),
-                    "line": line,
-                    "col": col,
-                    "legs": b.legs.iter().map(|l| elements_json(l, id_of, lc)).collect::<Vec<_>>(),
+                alba_ladder::Element::Branch(b) => reply::ElementJson::Branch(reply::BranchJson {
+                    id: id_of(b.span),
+                    line,
+                    col,
+                    legs: b.legs.iter().map(|l| elements_json(l, id_of, lc)).collect(),
                 }),
             }
         })

@@ -1,12 +1,13 @@
 //! Tags as the API shows them: definitions with live values, members of
 //! structures, system tags, and the names a client may subscribe to.
 
+use crate::reply::{self, TagInfo, TagReply, TagValue};
 use alba_ir::layout::SYSTEM_TAGS;
 use alba_ir::{Access, Ctr, Layout, Place, TagSlot, Target, Tmr};
 use alba_model::DataType;
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
-use serde_json::{Map, Value as Json, json};
+use serde_json::{Map, Value as Json};
 
 /// The places of a TIMER or COUNTER's members, by member name.
 pub fn members(ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Vec<(&'static str, Place)> {
@@ -52,11 +53,11 @@ pub fn target_value(s: &Snapshot, target: Target) -> Json {
     }
 }
 
-pub fn access_name(a: Access) -> &'static str {
+pub fn access(a: Access) -> reply::Access {
     match a {
-        Access::ReadWrite => "readwrite",
-        Access::Input => "input",
-        Access::ReadOnly | Access::Output => "readonly",
+        Access::ReadWrite => reply::Access::Readwrite,
+        Access::Input => reply::Access::Input,
+        Access::ReadOnly | Access::Output => reply::Access::Readonly,
     }
 }
 
@@ -68,25 +69,25 @@ fn forced(s: &Snapshot, name: &str) -> Json {
 }
 
 /// A tag of `tags.csv` as the API shows it.
-fn tag_json(s: &Snapshot, tag: &alba_model::Tag, target: Target) -> Json {
-    let access = match target {
+fn tag_json(s: &Snapshot, tag: &alba_model::Tag, target: Target) -> TagInfo {
+    let a = match target {
         Target::Value { access, .. } => access,
         _ => Access::ReadWrite,
     };
-    json!({
-        "name": tag.name,
-        "type": tag.ty.name(),
-        "address": tag.address.map(|a| a.to_string()),
-        "description": tag.description,
-        "retain": tag.retain,
-        "access": access_name(access),
-        "value": target_value(s, target),
-        "forced": forced(s, &tag.name),
-    })
+    TagInfo {
+        name: tag.name.clone(),
+        ty: tag.ty.name().to_string(),
+        address: tag.address.map(|a| a.to_string()),
+        description: tag.description.clone(),
+        retain: tag.retain,
+        access: access(a),
+        value: target_value(s, target),
+        forced: forced(s, &tag.name),
+    }
 }
 
 /// `GET /api/tags`: every tag in file order, then the system tags.
-pub fn all(s: &Snapshot) -> Json {
+pub fn all(s: &Snapshot) -> Vec<TagInfo> {
     let layout = &s.program.layout;
     let mut out = Vec::new();
     for tag in layout.tags.iter() {
@@ -97,40 +98,40 @@ pub fn all(s: &Snapshot) -> Json {
     }
     for (name, what) in SYSTEM_TAGS {
         if let Ok(target @ Target::Value { place, .. }) = layout.resolve(name) {
-            out.push(json!({
-                "name": name,
-                "type": place.data_type().name(),
-                "address": null,
-                "description": what,
-                "retain": false,
-                "access": "readonly",
-                "value": target_value(s, target),
-                "forced": null,
-            }));
+            out.push(TagInfo {
+                name: name.to_string(),
+                ty: place.data_type().name().to_string(),
+                address: None,
+                description: what.to_string(),
+                retain: false,
+                access: reply::Access::Readonly,
+                value: target_value(s, target),
+                forced: Json::Null,
+            });
         }
     }
-    Json::Array(out)
+    out
 }
 
 /// `GET /api/tags/{name}` for a tag, member or address.
-pub fn one(s: &Snapshot, name: &str) -> Option<Json> {
+pub fn one(s: &Snapshot, name: &str) -> Option<TagReply> {
     let layout = &s.program.layout;
     let target = layout.resolve(name).ok()?;
     if let Some(tag) = layout.tags.get(name) {
-        return Some(tag_json(s, tag, target));
+        return Some(TagReply::Tag(tag_json(s, tag, target)));
     }
-    let (ty, access) = match target {
+    let (ty, a) = match target {
         Target::Value { place, access } => (place.data_type(), access),
         Target::Timer(_) => (DataType::Timer, Access::ReadWrite),
         Target::Counter(_) => (DataType::Counter, Access::ReadWrite),
         Target::Pid(_) => (DataType::Pid, Access::ReadWrite),
     };
-    Some(json!({
-        "name": name,
-        "type": ty.name(),
-        "access": access_name(access),
-        "value": target_value(s, target),
-        "forced": forced(s, name),
+    Some(TagReply::Other(TagValue {
+        name: name.to_string(),
+        ty: ty.name().to_string(),
+        access: access(a),
+        value: target_value(s, target),
+        forced: forced(s, name),
     }))
 }
 

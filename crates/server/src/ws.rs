@@ -6,7 +6,10 @@
 //! grows and the engine never waits. A client that cannot take a message
 //! for 5 s is disconnected.
 
-use crate::{AppState, project, status_json, tags};
+use crate::api::status::status_of;
+use crate::reply::{ErrorMsg, PowerMsg, StatusMsg};
+use crate::state::AppState;
+use crate::{project, tags};
 use alba_ir::{Place, Program, Target};
 use alba_model::Value;
 use alba_runtime::Snapshot;
@@ -14,7 +17,7 @@ use alba_runtime::json::to_json;
 use axum::extract::State;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::response::Response;
-use serde_json::{Value as Json, json};
+use serde_json::Value as Json;
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -139,21 +142,32 @@ impl Client {
                 let range = self.units.get(unit).cloned().unwrap_or(0..0);
                 let on: Vec<u32> = range.filter(|e| s.energised(*e) == Some(true)).collect();
                 if self.power_sent.get(name) != Some(&on) {
-                    out.push(json!({"type": "power", "scan": s.scans, "program": name, "on": on}).to_string());
+                    out.push(json_text(&PowerMsg {
+                        kind: "power",
+                        scan: s.scans,
+                        program: name.clone(),
+                        on: on.clone(),
+                    }));
                     self.power_sent.insert(name.clone(), on);
                 }
             }
         }
         let state = s.state.name();
         if state != self.status_state || self.status_at.is_none_or(|t| t.elapsed() >= STATUS_EVERY) {
-            let mut j = status_json(s, st);
-            j["type"] = json!("status");
-            out.push(j.to_string());
+            out.push(json_text(&StatusMsg {
+                kind: "status",
+                status: status_of(s, st),
+            }));
             self.status_at = Some(Instant::now());
             self.status_state = state;
         }
         out
     }
+}
+
+/// A message as JSON text (these types always serialize).
+fn json_text(m: &impl serde::Serialize) -> String {
+    serde_json::to_string(m).unwrap_or_default()
 }
 
 async fn send(socket: &mut WebSocket, msgs: Vec<String>) -> bool {
@@ -218,7 +232,12 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>) {
 
 /// Applies a client command; answers with error messages if any.
 fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<String> {
-    let err = |m: String| vec![json!({"type": "error", "error": m}).to_string()];
+    let err = |m: String| {
+        vec![json_text(&ErrorMsg {
+            kind: "error",
+            error: m,
+        })]
+    };
     let Ok(j) = serde_json::from_str::<Json>(text) else {
         return err("malformed JSON command".into());
     };

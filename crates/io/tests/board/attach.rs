@@ -106,7 +106,8 @@ fn the_studio_watches_and_writes_a_running_board() {
     let err = rtk
         .block_on(h.force("Start".into(), place(&rt, "Start"), Value::Bool(true)))
         .expect_err("no forces on a board");
-    assert!(err.contains("the board runs the program"), "{err}");
+    assert!(matches!(err, alba_runtime::Error::Attached { .. }), "{err}");
+    assert!(err.to_string().contains("the board runs the program"), "{err}");
     // Stop on D3 stops the motor on the board; the mirror follows.
     board.set("D3", 1);
     wait("Motor off in the mirror", 5, || {

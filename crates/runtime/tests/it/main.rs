@@ -300,12 +300,26 @@ async fn attach_mode_mirrors_the_board_and_sends_writes_to_it() {
     })
     .await;
     let err = h.write(place(&program, "Kept"), Value::Dint(-1)).await.unwrap_err();
-    assert!(err.contains("the board refused"), "{err}");
+    assert!(matches!(err, alba_runtime::Error::Io { .. }), "{err}");
+    assert!(err.to_string().contains("the board refused"), "{err}");
     let err = h
         .force("In".into(), place(&program, "In"), Value::Bool(true))
         .await
         .unwrap_err();
-    assert!(err.contains("the board runs the program"), "{err}");
-    assert!(h.stop().await.is_err());
+    assert!(matches!(err, alba_runtime::Error::Attached { .. }), "{err}");
+    assert!(err.to_string().contains("the board runs the program"), "{err}");
+    assert!(matches!(h.stop().await, Err(alba_runtime::Error::Attached { .. })));
     rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn a_handle_to_a_runtime_that_ended_says_so() {
+    let program = compile(TAGS, LAD);
+    let rt = Runtime::start(program.clone(), opts(2), Box::new(SimIo)).unwrap();
+    let h = rt.handle();
+    rt.shutdown();
+    let err = h.write(place(&program, "Kept"), Value::Dint(1)).await.unwrap_err();
+    assert_eq!(err, alba_runtime::Error::Stopped);
+    assert_eq!(err.to_string(), "the runtime has stopped");
+    assert_eq!(h.run().await, Err(alba_runtime::Error::Stopped));
 }

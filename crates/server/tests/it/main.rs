@@ -2,6 +2,8 @@
 //! copy of an example project.
 
 mod api;
+mod contract;
+mod errors;
 mod history;
 mod ws;
 
@@ -44,7 +46,7 @@ impl Server {
     pub async fn start_in(dir: PathBuf) -> Server {
         let (ready_tx, ready_rx) = oneshot::channel();
         let (stop, stop_rx) = oneshot::channel::<()>();
-        let opts = alba_server::Options {
+        let opts = alba_app::Options {
             addr: "127.0.0.1:0".parse().expect("addr"),
             io: "sim".into(),
             native: false,
@@ -53,7 +55,7 @@ impl Server {
         };
         let d = dir.clone();
         let task = tokio::spawn(async move {
-            let r = alba_server::run(
+            let r = alba_app::run(
                 &d,
                 opts,
                 move |a| {
@@ -66,8 +68,8 @@ impl Server {
             .await;
             if let Err(e) = r {
                 match e {
-                    alba_server::RunError::Compile(c) => panic!("does not compile: {:?}", c.diagnostics),
-                    alba_server::RunError::Other(m) => panic!("{m}"),
+                    alba_app::RunError::Compile(c) => panic!("does not compile: {:?}", c.diagnostics),
+                    alba_app::RunError::Other(m) => panic!("{m}"),
                 }
             }
         });

@@ -1,0 +1,132 @@
+//! The application layer: assembles `alba run`.
+//!
+//! [`run`] loads and compiles the project, opens its I/O driver and its
+//! historian, starts the runtime, then the services in front of it — the
+//! HTTP/WebSocket API (alba-server), the historian's recorder, the Modbus
+//! TCP and OPC UA servers — and stops them all on one shutdown signal
+//! (`AppState::closing`), the runtime last (retentive data saved).
+//!
+//! Add a service: a file beside `modbus.rs` with a `start(&Service, …)`
+//! that spawns it on `state.closing()` (and, to follow online edits,
+//! `state.subscribe_edits()`), and one line in [`run`] calling it.
+
+mod edits;
+mod history;
+mod modbus;
+mod opcua;
+
+use alba_project::config::Config;
+use alba_server::AppState;
+use alba_server::project::{self, Compiled};
+use std::net::SocketAddr;
+use std::path::Path;
+use std::sync::Arc;
+
+/// What `alba run` starts, from its command line.
+pub struct Options {
+    pub addr: SocketAddr,
+    /// The I/O driver (`--io`): `sim`, `arduino:…`, `board:…`, `modbus`.
+    pub io: String,
+    pub native: bool,
+    /// Serve Modbus TCP here (else where `[modbus] listen` says, if it does).
+    pub modbus: Option<SocketAddr>,
+    /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None only on loopback).
+    pub opcua: Option<SocketAddr>,
+}
+
+pub enum RunError {
+    /// The project does not compile.
+    Compile(Box<Compiled>),
+    Other(String),
+}
+
+/// What a service of `alba run` is started with: the project folder, its
+/// configuration as loaded, and the server's state (the runtime's handle,
+/// the shutdown signal `closing()`, saved edits `subscribe_edits()`).
+pub(crate) struct Service<'a> {
+    pub dir: &'a Path,
+    pub config: Option<&'a Config>,
+    pub state: &'a Arc<AppState>,
+}
+
+/// Whether a service was started (its configuration may leave it off).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Started {
+    On,
+    Off,
+}
+
+/// Runs `dir` until `shutdown` completes: loads and compiles it (its
+/// diagnostics are the error), restores retentive data, starts the runtime
+/// and every service. Calls `ready` with the bound address of the studio.
+pub async fn run(
+    dir: &Path,
+    opts: Options,
+    ready: impl FnOnce(SocketAddr),
+    shutdown: impl std::future::Future<Output = ()> + Send + 'static,
+) -> Result<(), RunError> {
+    let compiled = project::load(dir);
+    let Some(program) = compiled.program.clone() else {
+        return Err(RunError::Compile(Box::new(compiled)));
+    };
+    let config = compiled.project.config.clone();
+    let config = config.as_ref();
+    let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
+    ro.native = opts.native;
+    ro.retain_file = Some(dir.join(".alba").join("retain.json"));
+    if let Some(c) = config {
+        ro.retain_interval_ms = u64::from(c.retain_ms);
+    }
+    let io = alba_io::open(&opts.io, config, &program).map_err(|e| RunError::Other(e.to_string()))?;
+    let hist_cfg = config.map(|c| c.history.clone()).unwrap_or_default();
+    let historian = if hist_cfg.enabled {
+        Some(history::open(dir, &hist_cfg).map_err(RunError::Other)?)
+    } else {
+        None
+    };
+    let runtime = alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(RunError::Other)?;
+    // The recorder ends when the runtime's snapshot channel closes.
+    let recorder = historian.clone().map(|h| {
+        history::record(
+            h,
+            hist_cfg,
+            runtime.handle().subscribe(),
+            tokio::runtime::Handle::current(),
+        )
+    });
+    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian);
+    let listener = tokio::net::TcpListener::bind(opts.addr)
+        .await
+        .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
+    let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
+
+    let service = Service {
+        dir,
+        config,
+        state: &state,
+    };
+    modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
+    opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
+    edits::start(&service);
+
+    ready(local);
+    let closing = state.closing.clone();
+    let shutdown = async move {
+        shutdown.await;
+        closing.send_replace(true);
+    };
+    let served = axum::serve(listener, alba_server::router(state))
+        .with_graceful_shutdown(shutdown)
+        .await
+        .map_err(|e| RunError::Other(format!("server: {e}")));
+    // Stops scanning and saves retentive data.
+    tokio::task::spawn_blocking(move || {
+        runtime.shutdown();
+        if let Some(r) = recorder {
+            let _ = r.join();
+        }
+    })
+    .await
+    .map_err(|e| RunError::Other(e.to_string()))?;
+    served
+}

@@ -1,0 +1,22 @@
+//! The Modbus TCP server of `alba run` (OpenPLC v3 address map,
+//! docs/protocols.md): on `--modbus`, else where `[modbus] listen` says.
+
+use crate::{Service, Started};
+
+pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -> Result<Started, String> {
+    let cfg = s.config.and_then(|c| c.modbus.as_ref());
+    let Some(addr) = addr.or(cfg.and_then(|m| m.listen)) else {
+        return Ok(Started::Off);
+    };
+    let l = tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|e| format!("cannot listen for Modbus TCP on {addr}: {e}"))?;
+    let bound = l.local_addr().map_err(|e| e.to_string())?;
+    let settings = cfg.map(alba_modbus::Settings::from).unwrap_or_default();
+    let server = alba_modbus::Server::new(s.state.runtime.clone(), settings);
+    // The server follows online edits itself: it rebuilds its map when the
+    // runtime's program changes (seen in its snapshots).
+    tokio::spawn(server.serve(l, s.state.closing()));
+    println!("Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)");
+    Ok(Started::On)
+}

@@ -1,0 +1,41 @@
+//! The handlers of `/api`, one file per area. Each handler parses its
+//! request here, answers with a type of `crate::reply` and fails with an
+//! [`ApiError`] (statuses: `crate::error::status`).
+
+pub mod forces;
+pub mod history;
+pub mod instructions;
+pub mod programs;
+pub mod status;
+pub mod tags;
+
+use crate::error::ApiError;
+use axum::extract::rejection::JsonRejection;
+use axum::http::StatusCode;
+use serde_json::Value as Json;
+
+/// Body limits (docs/api.md).
+pub const SMALL_BODY: usize = 64 * 1024;
+pub const FILE_BODY: usize = 1024 * 1024;
+
+/// A JSON body as the extractor gives it.
+pub type Body = Result<axum::Json<Json>, JsonRejection>;
+
+/// A JSON body, with malformed input and oversized bodies as API errors.
+pub fn body(b: Body) -> Result<Json, ApiError> {
+    match b {
+        Ok(axum::Json(j)) => Ok(j),
+        Err(JsonRejection::BytesRejection(e)) if e.status() == StatusCode::PAYLOAD_TOO_LARGE => Err(ApiError::TooLarge),
+        Err(e) => Err(ApiError::Malformed(format!("malformed JSON body: {}", e.body_text()))),
+    }
+}
+
+pub fn field<'a>(j: &'a Json, name: &str) -> Result<&'a Json, ApiError> {
+    j.get(name)
+        .ok_or_else(|| ApiError::Malformed(format!("the body needs a `{name}` field")))
+}
+
+/// Any other path under `/api`.
+pub async fn fallback() -> ApiError {
+    ApiError::NotFound("no such endpoint".into())
+}

@@ -1,0 +1,49 @@
+//! `GET /api/status`, `POST /api/run`, `POST /api/stop`.
+
+use crate::error::ApiResult;
+use crate::reply::{Stats, Status};
+use crate::state::AppState;
+use alba_runtime::Snapshot;
+use axum::Json;
+use axum::extract::State;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+
+/// The status of the runtime behind `state` as of snapshot `s`.
+pub fn status_of(s: &Snapshot, state: &AppState) -> Status {
+    let st = s.stats;
+    Status {
+        project: state.name.clone(),
+        state: s.state.into(),
+        fault: s.fault.clone(),
+        scan_ms: state.scan_ms,
+        scans: s.scans,
+        time_ms: s.clock_ms,
+        stats: Stats {
+            last_us: st.last_us,
+            min_us: st.min_us,
+            max_us: st.max_us,
+            mean_us: st.mean_us,
+            jitter_us: st.jitter_us,
+            overruns: st.overruns,
+        },
+        minor_faults: s.minor_faults,
+        io: state.io.clone(),
+        programs: s.program.units.iter().map(|u| u.name.clone()).collect(),
+        clients: state.clients.load(Ordering::Relaxed),
+    }
+}
+
+pub async fn get(State(st): State<Arc<AppState>>) -> Json<Status> {
+    Json(status_of(&st.runtime.snapshot(), &st))
+}
+
+pub async fn run(State(st): State<Arc<AppState>>) -> ApiResult<Json<Status>> {
+    st.runtime.run().await?;
+    Ok(get(State(st)).await)
+}
+
+pub async fn stop(State(st): State<Arc<AppState>>) -> ApiResult<Json<Status>> {
+    st.runtime.stop().await?;
+    Ok(get(State(st)).await)
+}

@@ -1,0 +1,56 @@
+//! `GET /api/tags`, `GET|PUT /api/tags/{name}`.
+
+use super::{Body, body, field};
+use crate::error::{ApiError, ApiResult};
+use crate::reply::{Force, TagInfo, TagReply};
+use crate::state::AppState;
+use crate::tags;
+use alba_ir::{Access, Target};
+use alba_runtime::Snapshot;
+use alba_runtime::json::{from_json, to_json};
+use axum::Json;
+use axum::extract::{Path, State};
+use std::sync::Arc;
+
+pub async fn list(State(st): State<Arc<AppState>>) -> Json<Vec<TagInfo>> {
+    Json(tags::all(&st.runtime.snapshot()))
+}
+
+pub async fn get(State(st): State<Arc<AppState>>, Path(name): Path<String>) -> ApiResult<Json<TagReply>> {
+    tags::one(&st.runtime.snapshot(), &name)
+        .map(Json)
+        .ok_or_else(|| ApiError::NotFound(format!("unknown tag `{name}`")))
+}
+
+/// Resolves `name` for a write, or says why it cannot be written.
+fn writable(s: &Snapshot, name: &str) -> Result<alba_ir::Place, ApiError> {
+    match s.program.layout.resolve(name) {
+        Err(e) => Err(ApiError::NotFound(e.to_string())),
+        Ok(Target::Timer(_) | Target::Counter(_)) => Err(ApiError::Invalid(format!(
+            "`{name}` is a structure: write one of its members (`{name}.PRE`, `{name}.ACC`)"
+        ))),
+        Ok(Target::Pid(_)) => Err(ApiError::Invalid(format!(
+            "`{name}` is a structure: write one of its members (`{name}.SP`, `{name}.KP`, `{name}.MAN`)"
+        ))),
+        Ok(Target::Value { place, access }) => match access {
+            Access::ReadWrite => Ok(place),
+            Access::Input => Err(ApiError::Invalid(format!(
+                "`{name}` is an input, written by the I/O: force it instead"
+            ))),
+            Access::ReadOnly | Access::Output => Err(ApiError::Invalid(format!("`{name}` is read-only"))),
+        },
+    }
+}
+
+pub async fn put(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: Body) -> ApiResult<Json<Force>> {
+    let j = body(b)?;
+    let s = st.runtime.snapshot();
+    let place = writable(&s, &name)?;
+    let v =
+        from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
+    st.runtime.write(place, v).await?;
+    Ok(Json(Force {
+        name,
+        value: to_json(st.runtime.snapshot().read(place)),
+    }))
+}

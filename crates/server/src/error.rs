@@ -1,0 +1,138 @@
+//! API errors and the one function that maps them to HTTP statuses (the
+//! table of docs/api.md, "Errors").
+
+use crate::project::EditError;
+use crate::reply::ErrorReply;
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+
+/// Why a request failed. The body is always `{"error": message}` (with
+/// `diagnostics` for an edit that does not compile).
+#[derive(Debug, thiserror::Error)]
+pub enum ApiError {
+    /// The request itself is malformed: bad JSON, a missing field, a bad query.
+    #[error("{0}")]
+    Malformed(String),
+    /// No such tag, program, force or endpoint.
+    #[error("{0}")]
+    NotFound(String),
+    /// A value or request the target refuses (wrong type, out of range, read-only).
+    #[error("{0}")]
+    Invalid(String),
+    #[error("the request body is too large")]
+    TooLarge,
+    /// A request to the runtime.
+    #[error(transparent)]
+    Runtime(#[from] alba_runtime::Error),
+    /// Checking, saving or applying a project edit.
+    #[error(transparent)]
+    Edit(#[from] EditError),
+    /// A query of the historian.
+    #[error("{}", history_message(.0))]
+    History(#[from] alba_historian::Error),
+    /// History is off for this project.
+    #[error("history is off for this project (`[history] enabled = false` in alba.toml)")]
+    HistoryOff,
+    /// A fault of the server (a task that did not finish).
+    #[error("{0}")]
+    Internal(String),
+}
+
+/// The HTTP status of an error: the only place where errors meet statuses.
+pub fn status(e: &ApiError) -> StatusCode {
+    use alba_historian::Error as H;
+    use alba_runtime::Error as R;
+    match e {
+        ApiError::Malformed(_) => StatusCode::BAD_REQUEST,
+        ApiError::NotFound(_) | ApiError::HistoryOff => StatusCode::NOT_FOUND,
+        ApiError::Invalid(_) => StatusCode::UNPROCESSABLE_ENTITY,
+        ApiError::TooLarge => StatusCode::PAYLOAD_TOO_LARGE,
+        ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
+            R::Stopped | R::Io { .. } => StatusCode::SERVICE_UNAVAILABLE,
+            R::Attached { .. } => StatusCode::CONFLICT,
+            R::Rejected(_) => StatusCode::UNPROCESSABLE_ENTITY,
+        },
+        ApiError::Edit(EditError::UnknownProgram(_) | EditError::NoTagsFile) => StatusCode::NOT_FOUND,
+        ApiError::Edit(EditError::DoesNotCompile { .. }) => StatusCode::UNPROCESSABLE_ENTITY,
+        ApiError::Edit(EditError::Save { .. }) | ApiError::Internal(_) => StatusCode::INTERNAL_SERVER_ERROR,
+        ApiError::History(h) => match h {
+            H::UnknownTag(_) => StatusCode::NOT_FOUND,
+            H::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
+            _ => StatusCode::INTERNAL_SERVER_ERROR,
+        },
+    }
+}
+
+fn history_message(e: &alba_historian::Error) -> String {
+    match e {
+        alba_historian::Error::UnknownTag(t) => format!("no history for `{t}`"),
+        alba_historian::Error::InvalidArgument(m) => m.clone(),
+        e => e.to_string(),
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let diagnostics = match &self {
+            ApiError::Edit(EditError::DoesNotCompile { diagnostics }) => Some(diagnostics.clone()),
+            _ => None,
+        };
+        let body = ErrorReply {
+            error: self.to_string(),
+            diagnostics,
+        };
+        (status(&self), axum::Json(body)).into_response()
+    }
+}
+
+pub type ApiResult<T> = Result<T, ApiError>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alba_runtime::Error as R;
+
+    /// The cases the API tests cannot provoke with a simulated project.
+    #[test]
+    fn statuses_of_runtime_edit_and_history_errors() {
+        let io = R::Io {
+            io: "board:x".into(),
+            message: "the link to the board has stopped".into(),
+        };
+        let cases = [
+            (ApiError::Runtime(io.clone()), StatusCode::SERVICE_UNAVAILABLE),
+            (
+                ApiError::Edit(EditError::NotApplied(io)),
+                StatusCode::SERVICE_UNAVAILABLE,
+            ),
+            (
+                ApiError::Runtime(R::Rejected("no".into())),
+                StatusCode::UNPROCESSABLE_ENTITY,
+            ),
+            (
+                ApiError::Edit(EditError::NotApplied(R::Stopped)),
+                StatusCode::SERVICE_UNAVAILABLE,
+            ),
+            (ApiError::Edit(EditError::NoTagsFile), StatusCode::NOT_FOUND),
+            (
+                ApiError::Edit(EditError::Save {
+                    path: "main.lad".into(),
+                    source: std::io::Error::other("disk full"),
+                }),
+                StatusCode::INTERNAL_SERVER_ERROR,
+            ),
+            (
+                ApiError::History(alba_historian::Error::UnknownTag("X".into())),
+                StatusCode::NOT_FOUND,
+            ),
+            (
+                ApiError::History(alba_historian::Error::InvalidArgument("points".into())),
+                StatusCode::UNPROCESSABLE_ENTITY,
+            ),
+            (ApiError::HistoryOff, StatusCode::NOT_FOUND),
+        ];
+        for (e, want) in cases {
+            assert_eq!(status(&e), want, "{e}");
+        }
+    }
+}

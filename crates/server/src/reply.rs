@@ -1,0 +1,356 @@
+//! The JSON of every API reply (docs/api.md), as serde types.
+//!
+//! The same types, rendered to TypeScript by `ts-rs`, are the studio's
+//! `web/src/api.gen.ts`; a test (`tests/it/contract.rs`) fails when the
+//! committed file and these types disagree (`UPDATE_BINDINGS=1 cargo test
+//! -p alba-server` rewrites it). `Json` in TypeScript is any JSON value.
+
+use serde::Serialize;
+use serde_json::Value as Json;
+use ts_rs::TS;
+
+/// Scan statistics since the last run (µs).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Stats {
+    pub last_us: u64,
+    pub min_us: u64,
+    pub max_us: u64,
+    pub mean_us: u64,
+    pub jitter_us: u64,
+    pub overruns: u64,
+}
+
+/// The runtime's state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
+#[serde(rename_all = "lowercase")]
+pub enum RunState {
+    Running,
+    Stopped,
+    Faulted,
+}
+
+impl From<alba_runtime::RunState> for RunState {
+    fn from(s: alba_runtime::RunState) -> RunState {
+        match s {
+            alba_runtime::RunState::Running => RunState::Running,
+            alba_runtime::RunState::Stopped => RunState::Stopped,
+            alba_runtime::RunState::Faulted => RunState::Faulted,
+        }
+    }
+}
+
+/// `GET /api/status`, `POST /api/run`, `POST /api/stop`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Status {
+    pub project: String,
+    pub state: RunState,
+    pub fault: Option<String>,
+    pub scan_ms: u32,
+    pub scans: u64,
+    pub time_ms: u64,
+    pub stats: Stats,
+    pub minor_faults: u64,
+    pub io: String,
+    pub programs: Vec<String>,
+    pub clients: usize,
+}
+
+/// Who may write a tag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
+#[serde(rename_all = "lowercase")]
+pub enum Access {
+    Readwrite,
+    Input,
+    Readonly,
+}
+
+/// A tag of `tags.csv` (or a system tag) with its live value: `GET /api/tags`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct TagInfo {
+    pub name: String,
+    #[serde(rename = "type")]
+    #[ts(rename = "type")]
+    pub ty: String,
+    pub address: Option<String>,
+    pub description: String,
+    pub retain: bool,
+    pub access: Access,
+    /// A value, or an object of a structure's members.
+    #[ts(type = "Json")]
+    pub value: Json,
+    /// The forced value, `null` if not forced.
+    #[ts(type = "Json")]
+    pub forced: Json,
+}
+
+/// A member or an address (not a tag of `tags.csv`) with its live value.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct TagValue {
+    pub name: String,
+    #[serde(rename = "type")]
+    #[ts(rename = "type")]
+    pub ty: String,
+    pub access: Access,
+    #[ts(type = "Json")]
+    pub value: Json,
+    #[ts(type = "Json")]
+    pub forced: Json,
+}
+
+/// `GET /api/tags/{name}`: a tag, or a member or address.
+#[derive(Debug, Clone, Serialize, TS)]
+#[serde(untagged)]
+pub enum TagReply {
+    Tag(TagInfo),
+    Other(TagValue),
+}
+
+/// A name and a value: a force (`GET /api/forces`, `PUT /api/forces/{name}`)
+/// or a written tag (`PUT /api/tags/{name}`).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Force {
+    pub name: String,
+    #[ts(type = "Json")]
+    pub value: Json,
+}
+
+/// A program's language.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
+#[serde(rename_all = "lowercase")]
+pub enum Language {
+    Ladder,
+    Il,
+}
+
+/// `GET /api/programs`: one program of the project.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct ProgramRef {
+    pub name: String,
+    pub language: Language,
+    pub plant: bool,
+}
+
+/// A located diagnostic.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Diagnostic {
+    pub code: String,
+    pub severity: String,
+    pub message: String,
+    pub file: Option<String>,
+    pub line: Option<usize>,
+    pub col: Option<usize>,
+    pub end_line: Option<usize>,
+    pub end_col: Option<usize>,
+    pub help: Option<String>,
+}
+
+/// A ladder instruction in a rung.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct InstrJson {
+    /// The id of the compiled element (power flow), if compiled.
+    pub id: Option<u32>,
+    pub mnemonic: String,
+    pub operands: Vec<String>,
+    pub line: usize,
+    pub col: usize,
+}
+
+/// A parallel branch in a rung.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct BranchJson {
+    pub id: Option<u32>,
+    pub line: usize,
+    pub col: usize,
+    pub legs: Vec<Vec<ElementJson>>,
+}
+
+/// An element of a rung.
+#[derive(Debug, Clone, Serialize, TS)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum ElementJson {
+    Instr(InstrJson),
+    Branch(BranchJson),
+}
+
+/// A rung of a ladder program.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct RungJson {
+    pub number: usize,
+    pub comment: Vec<String>,
+    pub line: usize,
+    pub elements: Vec<ElementJson>,
+}
+
+/// An instruction line of an IL program.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct IlLine {
+    pub line: usize,
+    pub id: Option<u32>,
+}
+
+/// `GET /api/programs/{name}`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Program {
+    pub name: String,
+    pub language: Language,
+    pub plant: bool,
+    pub text: String,
+    pub diagnostics: Vec<Diagnostic>,
+    /// Ladder programs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub rungs: Option<Vec<RungJson>>,
+    /// IL programs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub lines: Option<Vec<IlLine>>,
+}
+
+/// `POST /api/check/{name}` of a program that compiles.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Checked {
+    /// Always empty (a program that does not compile is an error reply).
+    pub diagnostics: Vec<Diagnostic>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub rungs: Option<Vec<RungJson>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub lines: Option<Vec<IlLine>>,
+}
+
+/// `PUT /api/programs/{name}`, `PUT /api/tags.csv`: saved, and applied online or not.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Saved {
+    pub diagnostics: Vec<Diagnostic>,
+    pub applied: bool,
+}
+
+/// `GET /api/instructions`: an instruction of the palette.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Instruction {
+    pub mnemonic: String,
+    pub group: String,
+    pub output: bool,
+    pub args: Vec<String>,
+    pub doc: String,
+}
+
+/// `GET /api/history/tags`: a recorded tag and the span of its samples.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct HistoryTag {
+    pub name: String,
+    pub first_ms: i64,
+    pub last_ms: i64,
+}
+
+/// One history bucket: `[t_ms, min, max, first, last]` (`null` where a
+/// value is not a number).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Bucket(
+    pub i64,
+    #[ts(type = "number | null")] pub f64,
+    #[ts(type = "number | null")] pub f64,
+    #[ts(type = "number | null")] pub f64,
+    #[ts(type = "number | null")] pub f64,
+);
+
+/// `GET /api/history`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct History {
+    pub tag: String,
+    pub from: i64,
+    pub to: i64,
+    pub buckets: Vec<Bucket>,
+}
+
+/// Every error reply: a message, and the diagnostics of an edit that does
+/// not compile.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct ErrorReply {
+    pub error: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub diagnostics: Option<Vec<Diagnostic>>,
+}
+
+/// WebSocket: power flow of a monitored program.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct PowerMsg {
+    #[ts(type = "'power'")]
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    pub scan: u64,
+    pub program: String,
+    pub on: Vec<u32>,
+}
+
+/// WebSocket: an error answering a command.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct ErrorMsg {
+    #[ts(type = "'error'")]
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    pub error: String,
+}
+
+/// WebSocket: the status, every 500 ms and at each change of state.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct StatusMsg {
+    #[ts(type = "'status'")]
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    #[serde(flatten)]
+    #[ts(flatten)]
+    pub status: Status,
+}
+
+/// The TypeScript of every reply type, as `web/src/api.gen.ts` holds it.
+pub fn typescript() -> String {
+    let cfg = ts_rs::Config::new().with_large_int("number");
+    let mut out = String::from(
+        "// Generated from crates/server/src/reply.rs by `UPDATE_BINDINGS=1 cargo test -p alba-server`: do not edit.\n\n\
+         /** Any JSON value. */\n\
+         export type Json = null | boolean | number | string | Json[] | { [k: string]: Json };\n",
+    );
+    macro_rules! decl {
+        ($($t:ty),* $(,)?) => {
+            $(
+                out.push('\n');
+                out.push_str("export ");
+                out.push_str(&<$t as TS>::decl(&cfg));
+                out.push('\n');
+            )*
+        };
+    }
+    decl!(
+        Stats,
+        RunState,
+        Status,
+        Access,
+        TagInfo,
+        TagValue,
+        TagReply,
+        Force,
+        Language,
+        ProgramRef,
+        Diagnostic,
+        InstrJson,
+        BranchJson,
+        ElementJson,
+        RungJson,
+        IlLine,
+        Program,
+        Checked,
+        Saved,
+        Instruction,
+        HistoryTag,
+        Bucket,
+        History,
+        ErrorReply,
+        PowerMsg,
+        ErrorMsg,
+        StatusMsg,
+    );
+    out
+}

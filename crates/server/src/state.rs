@@ -1,0 +1,70 @@
+//! What every handler shares: the runtime's handle, the project as last
+//! saved (edits hold its lock from check to apply), and the hooks other
+//! services of `alba run` subscribe to.
+
+use crate::project::Compiled;
+use alba_ir::Program;
+use std::sync::Arc;
+use std::sync::atomic::AtomicUsize;
+use tokio::sync::{broadcast, watch};
+
+/// A project edit the server saved: the file, the program it compiles to,
+/// and whether it was applied online (the runtime then runs `program`).
+#[derive(Debug, Clone)]
+pub struct Edited {
+    pub file: String,
+    pub program: Arc<Program>,
+    pub applied: bool,
+}
+
+pub struct AppState {
+    pub runtime: alba_runtime::Handle,
+    /// The project's name and scan period (fixed while it runs).
+    pub name: String,
+    pub scan_ms: u32,
+    /// The project as last saved; edits hold this lock from check to apply.
+    pub project: tokio::sync::Mutex<Compiled>,
+    /// The I/O driver, as `GET /api/status` names it.
+    pub io: String,
+    /// WebSocket clients connected.
+    pub clients: AtomicUsize,
+    /// Set when the server shuts down: WebSocket clients close.
+    pub closing: watch::Sender<bool>,
+    /// `None` when history is off.
+    pub history: Option<alba_historian::Historian>,
+    /// Every saved edit ("program replaced"), for services that follow the program.
+    pub edits: broadcast::Sender<Edited>,
+}
+
+impl AppState {
+    pub fn new(
+        runtime: alba_runtime::Handle,
+        compiled: Compiled,
+        io: &str,
+        history: Option<alba_historian::Historian>,
+    ) -> Arc<AppState> {
+        let project = &compiled.project;
+        Arc::new(AppState {
+            runtime,
+            name: project.config.as_ref().map(|c| c.name.clone()).unwrap_or_default(),
+            scan_ms: project.scan_ms(),
+            project: tokio::sync::Mutex::new(compiled),
+            io: io.to_string(),
+            clients: AtomicUsize::new(0),
+            closing: watch::Sender::new(false),
+            history,
+            edits: broadcast::Sender::new(16),
+        })
+    }
+
+    /// Saved edits from now on (a receiver that falls 16 edits behind
+    /// skips the oldest).
+    pub fn subscribe_edits(&self) -> broadcast::Receiver<Edited> {
+        self.edits.subscribe()
+    }
+
+    /// Turns true when the server shuts down.
+    pub fn closing(&self) -> watch::Receiver<bool> {
+        self.closing.subscribe()
+    }
+}

@@ -1,0 +1,173 @@
+//! One test per error status of docs/api.md ("Errors"): each fails if
+//! `crate::error::status` maps its case to another status.
+
+use crate::{Server, copy_example};
+use alba_runtime::{Io, Options, Runtime};
+use reqwest::{Client, Method, StatusCode};
+use serde_json::json;
+use std::sync::Arc;
+use tokio::sync::oneshot;
+
+/// An I/O driver in attach mode: the "board" runs the program.
+struct Board;
+
+impl Io for Board {
+    fn name(&self) -> &str {
+        "board:test"
+    }
+    fn read_inputs(&mut self, _: &mut alba_engine::Engine) -> Result<(), String> {
+        Ok(())
+    }
+    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), String> {
+        Ok(())
+    }
+    fn runs_program(&self) -> bool {
+        true
+    }
+}
+
+/// The server over a runtime of the test's own (its I/O, its lifetime).
+async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) {
+    let dir = copy_example(example, test);
+    let compiled = alba_server::project::load(&dir);
+    let program = compiled.program.clone().expect("the example compiles");
+    let mut ro = Options::new(compiled.project.scan_ms());
+    ro.native = false;
+    let runtime = Runtime::start(Arc::new(program), ro, io).expect("runtime");
+    let state = alba_server::AppState::new(runtime.handle(), compiled, "test", None);
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
+    let addr = listener.local_addr().expect("addr");
+    let (stop, stop_rx) = oneshot::channel::<()>();
+    let closing = state.closing.clone();
+    let task = tokio::spawn(async move {
+        axum::serve(listener, alba_server::router(state))
+            .with_graceful_shutdown(async move {
+                let _ = stop_rx.await;
+                closing.send_replace(true);
+            })
+            .await
+            .expect("serve");
+    });
+    let s = Server {
+        addr,
+        dir,
+        http: Client::new(),
+        stop: Some(stop),
+        task: Some(task),
+    };
+    (s, runtime)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_400_malformed_request() {
+    let s = Server::start("tank", "e400").await;
+    let (code, j) = s
+        .raw(
+            Method::PUT,
+            "/api/tags/Llenar",
+            "application/json",
+            b"{\"value\"".to_vec(),
+        )
+        .await;
+    assert_eq!(code, StatusCode::BAD_REQUEST, "{j}");
+    let (code, j) = s
+        .call(Method::POST, "/api/check/main.lad", Some(json!({"txt": ""})))
+        .await;
+    assert_eq!(code, StatusCode::BAD_REQUEST, "{j}");
+    assert!(j["error"].as_str().expect("error").contains("`text`"), "{j}");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_404_unknown_tag_or_program() {
+    let s = Server::start("tank", "e404").await;
+    let (code, j) = s.call(Method::GET, "/api/tags/Nope", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
+    assert_eq!(j["error"], "unknown tag `Nope`");
+    let (code, j) = s
+        .call(Method::POST, "/api/check/nope.lad", Some(json!({"text": ""})))
+        .await;
+    assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
+    assert_eq!(j["error"], "no program `nope.lad` in this project");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_409_conflict_in_attach_mode() {
+    let (s, runtime) = serve("tank", "e409", Box::new(Board)).await;
+    for (m, path, body) in [
+        (Method::PUT, "/api/forces/STOP", Some(json!({"value": true}))),
+        (Method::POST, "/api/stop", None),
+    ] {
+        let (code, j) = s.call(m, path, body).await;
+        assert_eq!(code, StatusCode::CONFLICT, "{path}: {j}");
+        assert!(
+            j["error"]
+                .as_str()
+                .expect("error")
+                .contains("the board runs the program"),
+            "{j}"
+        );
+    }
+    // An online edit is saved, not applied.
+    let text = s.get("/api/programs/main.lad").await["text"].clone();
+    let (code, j) = s
+        .call(
+            Method::PUT,
+            "/api/programs/main.lad",
+            Some(json!({"text": text, "online": true})),
+        )
+        .await;
+    assert_eq!(code, StatusCode::CONFLICT, "{j}");
+    assert!(
+        j["error"]
+            .as_str()
+            .expect("error")
+            .starts_with("saved, but not applied"),
+        "{j}"
+    );
+    s.stop().await;
+    runtime.shutdown();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_413_body_too_large() {
+    let s = Server::start("tank", "e413").await;
+    let big = format!("{{\"value\": false, \"pad\": \"{}\"}}", "x".repeat(100_000));
+    let (code, j) = s
+        .raw(Method::PUT, "/api/tags/Llenar", "application/json", big.into_bytes())
+        .await;
+    assert_eq!(code, StatusCode::PAYLOAD_TOO_LARGE, "{j}");
+    assert_eq!(j["error"], "the request body is too large");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_422_invalid_value_or_program() {
+    let s = Server::start("tank", "e422").await;
+    let (code, j) = s.call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": 2}))).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    let (code, j) = s
+        .call(Method::POST, "/api/check/main.lad", Some(json!({"text": "XIC("})))
+        .await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    assert!(j["diagnostics"].as_array().is_some_and(|d| !d.is_empty()), "{j}");
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_503_runtime_not_running() {
+    let (s, runtime) = serve("tank", "e503", Box::new(alba_runtime::SimIo)).await;
+    assert_eq!(s.get("/api/status").await["project"], "tank");
+    runtime.shutdown();
+    for (m, path, body) in [
+        (Method::POST, "/api/run", None),
+        (Method::PUT, "/api/tags/Llenar", Some(json!({"value": true}))),
+        (Method::DELETE, "/api/forces", None),
+    ] {
+        let (code, j) = s.call(m, path, body).await;
+        assert_eq!(code, StatusCode::SERVICE_UNAVAILABLE, "{path}: {j}");
+        assert_eq!(j["error"], "the runtime has stopped");
+    }
+    s.stop().await;
+}
