@@ -3,6 +3,7 @@
 //! Alba IR.
 
 pub mod ast;
+pub mod domain;
 pub mod expr;
 pub mod lower;
 pub mod parse;

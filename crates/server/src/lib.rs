@@ -8,6 +8,7 @@
 //! online by swapping the program between two scans.
 
 mod assets;
+mod domain;
 mod history;
 pub mod project;
 pub mod tags;
@@ -271,54 +272,6 @@ async fn get_program(State(st): State<Arc<AppState>>, Path(name): Path<String>) 
         .map_err(ApiError::not_found)
 }
 
-fn arg_name(a: alba_ladder::Arg) -> &'static str {
-    use alba_ladder::Arg;
-    match a {
-        Arg::BitIn => "bit_in",
-        Arg::BitOut => "bit_out",
-        Arg::Timer => "timer",
-        Arg::Counter => "counter",
-        Arg::TimerOrCounter => "timer_or_counter",
-        Arg::Preset => "preset",
-        Arg::Accum => "accum",
-        Arg::NumIn => "num_in",
-        Arg::NumOut => "num_out",
-        Arg::Label => "label",
-        Arg::Expr => "expr",
-        Arg::Pid => "pid",
-    }
-}
-
-async fn instructions() -> ApiResult {
-    use alba_ladder::ast::Group;
-    let group = |g: Group| match g {
-        Group::Bit => "bit",
-        Group::Timer => "timer",
-        Group::Counter => "counter",
-        Group::Compare => "compare",
-        Group::Math => "math",
-        Group::MoveLogic => "move",
-        Group::Trig => "trig",
-        Group::Flow => "flow",
-        Group::Special => "special",
-    };
-    ok(Json::Array(
-        alba_ladder::Mnemonic::ALL
-            .iter()
-            .filter(|m| m.group() != Group::Special)
-            .map(|m| {
-                json!({
-                    "mnemonic": m.name(),
-                    "group": group(m.group()),
-                    "output": m.is_output(),
-                    "args": m.args().iter().map(|a| arg_name(*a)).collect::<Vec<_>>(),
-                    "doc": m.doc(),
-                })
-            })
-            .collect(),
-    ))
-}
-
 /// Compiles the project with `edit`; `Err` with the diagnostics if it does not compile.
 async fn check_edit(st: &AppState, edit: &project::Edit<'_>) -> Result<project::Compiled, ApiError> {
     let p = st.project.lock().await;
@@ -440,7 +393,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/forces", get(list_forces).delete(delete_forces))
         .route("/api/forces/{name}", put(put_force).delete(delete_force))
         .route("/api/programs", get(list_programs))
-        .route("/api/instructions", get(instructions))
+        .route("/api/instructions", get(domain::instructions))
+        .route("/api/domain", get(domain::get))
         .route("/api/ws", get(ws::upgrade))
         .route("/api/history/tags", get(history::list))
         .route("/api/history", get(history::query))

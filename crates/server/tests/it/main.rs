@@ -2,6 +2,7 @@
 //! copy of an example project.
 
 mod api;
+mod domain;
 mod history;
 mod ws;
 
