@@ -31,6 +31,8 @@ export interface TagInfo {
   name: string;
   type: string;
   address: string | null;
+  /** Every notation of the address (AuroraLD, IEC, S7), upper case; empty without one. */
+  notations: string[];
   description: string;
   retain: boolean;
   access: Access;
@@ -95,14 +97,6 @@ export interface Program {
   diagnostics: Diagnostic[];
   rungs?: RungJson[];
   lines?: { line: number; id: number | null }[];
-}
-
-export interface Instruction {
-  mnemonic: string;
-  group: string;
-  output: boolean;
-  args: string[];
-  doc: string;
 }
 
 /** One history bucket: [t_ms, min, max, first, last]. */
