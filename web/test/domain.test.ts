@@ -36,6 +36,23 @@ const TAGS: TagInfo[] = [
 ];
 
 describe('the domain from the server', () => {
+  it('has exactly the fields domain.ts declares (the fixture is the server reply)', () => {
+    const keys = (o: object) => Object.keys(o).sort();
+    const d = domain();
+    expect(keys(d)).toEqual(['args', 'groups', 'instructions', 'types']);
+    for (const t of d.types) {
+      expect(keys(t)).toEqual(['kind', 'members', 'name']);
+      expect(['bool', 'integer', 'real', 'structure']).toContain(t.kind);
+      for (const m of t.members) expect(keys(m)).toEqual(['name', 'type', 'writable']);
+    }
+    for (const g of d.groups) expect(keys(g)).toEqual(['name', 'title']);
+    for (const a of d.args) expect(keys(a)).toEqual(['doc', 'members', 'name', 'tag', 'types', 'writable']);
+    for (const i of d.instructions) {
+      expect(keys(i)).toEqual(['args', 'bits', 'doc', 'group', 'labels', 'mnemonic', 'output', 'shape', 'shows', 'title']);
+      expect(['contact', 'coil', 'box']).toContain(i.shape);
+    }
+  });
+
   it('has the palette groups in order, PID back in the last one', () => {
     expect(domain().groups.map((g) => g.name)).toEqual(['bit', 'timer', 'counter', 'compare', 'math', 'move', 'trig', 'flow', 'special']);
     const pid = instruction('pid')!;
