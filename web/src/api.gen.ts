@@ -11,7 +11,11 @@ export type Status = { project: string, state: RunState, fault: string | null, s
 
 export type Access = "readwrite" | "input" | "readonly";
 
-export type TagInfo = { name: string, type: string, address: string | null, description: string, retain: boolean, access: Access, 
+export type TagInfo = { name: string, type: string, address: string | null, 
+/**
+ * Every notation of the address (AuroraLD, IEC, S7), upper case; empty without one.
+ */
+notations: Array<string>, description: string, retain: boolean, access: Access, 
 /**
  * A value, or an object of a structure's members.
  */
@@ -65,7 +69,93 @@ diagnostics: Array<Diagnostic>, rungs?: Array<RungJson>, lines?: Array<IlLine>, 
 
 export type Saved = { diagnostics: Array<Diagnostic>, applied: boolean, };
 
-export type Instruction = { mnemonic: string, group: string, output: boolean, args: Array<string>, doc: string, };
+export type Domain = { 
+/**
+ * Every data type a tag may have, elementary ones first.
+ */
+types: Array<TypeInfo>, 
+/**
+ * Palette groups in palette order.
+ */
+groups: Array<GroupInfo>, 
+/**
+ * Kinds of operands (the `args` of instructions).
+ */
+args: Array<ArgInfo>, 
+/**
+ * Every ladder instruction, grouped in palette order.
+ */
+instructions: Array<InstructionInfo>, };
+
+export type TypeInfo = { name: string, 
+/**
+ * `bool`, `integer`, `real` or `structure`.
+ */
+kind: 'bool' | 'integer' | 'real' | 'structure', 
+/**
+ * Members of a structure, in order (empty for elementary types).
+ */
+members: Array<MemberInfo>, };
+
+export type MemberInfo = { name: string, type: string, 
+/**
+ * Programs and the API may write it (else the instruction sets it).
+ */
+writable: boolean, };
+
+export type GroupInfo = { name: string, title: string, };
+
+export type ArgInfo = { name: string, 
+/**
+ * What the checker expects there.
+ */
+doc: string, 
+/**
+ * Types of the tags (and members) that fit; empty when only literals or
+ * labels do.
+ */
+types: Array<string>, 
+/**
+ * Only writable tags and members fit.
+ */
+writable: boolean, 
+/**
+ * Members of structures of those types fit too (`T1.DN`, `T1.PRE`).
+ */
+members: boolean, 
+/**
+ * The operand names one tag, member or address whose value can be shown
+ * (false for labels, expressions and literal-only places).
+ */
+tag: boolean, };
+
+export type InstructionInfo = { mnemonic: string, group: string, 
+/**
+ * Output instructions may end a rung; inputs are conditions.
+ */
+output: boolean, 
+/**
+ * How the ladder diagram draws it: `contact`, `coil` or `box`.
+ */
+shape: 'contact' | 'coil' | 'box', 
+/**
+ * One argument kind per operand (names of `args`).
+ */
+args: Array<string>, 
+/**
+ * One label per operand.
+ */
+labels: Array<string>, title: string, doc: string, 
+/**
+ * Status bits of the structure in the first operand, shown in the box header.
+ */
+bits: Array<string>, 
+/**
+ * Per operand, the live value shown beside it: `null` none, `""` the
+ * operand's own value, else that member of the first operand (a
+ * timer's literal preset row shows `PRE`).
+ */
+shows: Array<string | null>, };
 
 export type HistoryTag = { name: string, first_ms: number, last_ms: number, };
 

@@ -1,6 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
-import type { Diagnostic, Force, History, Instruction, Json, Program, ProgramRef, RungJson, Status, TagInfo } from './types';
+import type { Domain } from './domain';
+import type { Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -58,7 +59,7 @@ export const api = {
   unforce: (name: string) => json<void>('DELETE', `/api/forces/${enc(name)}`),
   programs: () => json<ProgramRef[]>('GET', '/api/programs'),
   program: (name: string) => json<Program>('GET', `/api/programs/${enc(name)}`),
-  instructions: () => json<Instruction[]>('GET', '/api/instructions'),
+  domain: () => json<Domain>('GET', '/api/domain'),
   check: (name: string, text: string) =>
     json<{ diagnostics: Diagnostic[]; rungs?: RungJson[] }>('POST', `/api/check/${enc(name)}`, { text }),
   saveProgram: (name: string, text: string, online = true) =>

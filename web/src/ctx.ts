@@ -1,9 +1,10 @@
-// What every view shares: the live connection, the tag definitions, the
-// instruction table, and notifications.
-import { apiAddress } from './address';
+// What every view shares: the live connection, the tag definitions and
+// notifications. (The language itself — types, members, instructions — is
+// in domain.ts.)
 import { api } from './api';
+import { argInfo, membersOf } from './domain';
 import type { LiveClient } from './live/client';
-import type { Instruction, Json, TagInfo } from './types';
+import type { Force, Json, TagInfo } from './types';
 
 export interface TagRef {
   /** The canonical name to read, write, force or subscribe. */
@@ -15,10 +16,10 @@ export interface TagRef {
   tag: TagInfo | null;
 }
 
-const MEMBERS: Record<string, Record<string, string>> = {
-  TIMER: { PRE: 'DINT', ACC: 'DINT', EN: 'BOOL', TT: 'BOOL', DN: 'BOOL' },
-  COUNTER: { PRE: 'DINT', ACC: 'DINT', CU: 'BOOL', CD: 'BOOL', DN: 'BOOL', OV: 'BOOL', UN: 'BOOL' },
-};
+/** An address as the index of notations keys it: upper case, numbers without leading zeros. */
+export function addressKey(text: string): string {
+  return text.trim().toUpperCase().replace(/\d+/g, (d) => String(Number(d)));
+}
 
 export class TagCache {
   list: TagInfo[] = [];
@@ -29,9 +30,15 @@ export class TagCache {
 
   async refresh(): Promise<void> {
     const [tags, forces] = await Promise.all([api.tags(), api.forces().catch(() => [])]);
+    this.set(tags, forces);
+  }
+
+  /** Uses these tags and forces (as GET /api/tags and /api/forces answer). */
+  set(tags: TagInfo[], forces: Force[] = []): void {
     this.list = tags;
     this.byName = new Map(tags.map((t) => [t.name.toUpperCase(), t]));
-    this.byAddr = new Map(tags.filter((t) => t.address).map((t) => [t.address!.toUpperCase(), t]));
+    // every notation of each tag's address (DI:1/5, %IX0.5, I0.5 …), as the server lists them
+    this.byAddr = new Map(tags.flatMap((t) => [t.address ?? '', ...(t.notations ?? [])].filter(Boolean).map((a) => [addressKey(a), t])));
     this.forced = new Map(forces.map((f) => [f.name.toUpperCase(), f.value]));
     this.listeners.forEach((f) => f());
   }
@@ -54,56 +61,29 @@ export class TagCache {
   /** What an operand names: a tag, a member of one, or the tag on an address. */
   resolve(operand: string): TagRef | null {
     const op = operand.trim();
-    const t = this.byName.get(op.toUpperCase()) ?? this.byAddr.get(apiAddress(op));
+    const t = this.byName.get(op.toUpperCase()) ?? this.byAddr.get(addressKey(op));
     if (t) return { name: t.name, type: t.type, access: t.access, io: !!t.address && t.access !== 'readonly', tag: t };
     const dot = op.lastIndexOf('.');
     if (dot > 0) {
       const base = this.byName.get(op.slice(0, dot).toUpperCase());
       const member = op.slice(dot + 1).toUpperCase();
-      const ty = base && MEMBERS[base.type]?.[member];
-      if (base && ty) {
-        return { name: `${base.name}.${member}`, type: ty, access: ty === 'BOOL' ? 'readonly' : 'readwrite', io: false, tag: null };
+      const m = base && membersOf(base.type).find((x) => x.name === member);
+      if (base && m) {
+        return { name: `${base.name}.${m.name}`, type: m.type, access: m.writable ? 'readwrite' : 'readonly', io: false, tag: null };
       }
     }
     return null;
   }
 
-  /** Names for the tag picker, for an argument kind of /api/instructions. */
+  /** Names for the tag picker, for an argument kind of the domain (every tag for an unknown kind). */
   choices(kind: string): string[] {
+    const arg = argInfo(kind);
+    if (!arg) return this.list.map((t) => t.name);
+    const fits = (type: string, writable: boolean) => arg.types.includes(type) && (writable || !arg.writable);
     const out: string[] = [];
-    const numeric = (ty: string) => ['SINT', 'INT', 'DINT', 'LINT', 'REAL', 'LREAL', 'TIME'].includes(ty);
     for (const t of this.list) {
-      const writable = t.access === 'readwrite';
-      const members = MEMBERS[t.type];
-      switch (kind) {
-        case 'bit_in':
-          if (t.type === 'BOOL') out.push(t.name);
-          if (members) for (const [m, ty] of Object.entries(members)) if (ty === 'BOOL') out.push(`${t.name}.${m}`);
-          break;
-        case 'bit_out':
-          if (t.type === 'BOOL' && writable) out.push(t.name);
-          break;
-        case 'timer':
-          if (t.type === 'TIMER') out.push(t.name);
-          break;
-        case 'counter':
-          if (t.type === 'COUNTER') out.push(t.name);
-          break;
-        case 'timer_or_counter':
-          if (members) out.push(t.name);
-          break;
-        case 'num_in':
-        case 'preset':
-          if (numeric(t.type)) out.push(t.name);
-          if (members) out.push(`${t.name}.PRE`, `${t.name}.ACC`);
-          break;
-        case 'num_out':
-          if (numeric(t.type) && writable) out.push(t.name);
-          if (members) out.push(`${t.name}.PRE`, `${t.name}.ACC`);
-          break;
-        default:
-          out.push(t.name);
-      }
+      if (fits(t.type, t.access === 'readwrite')) out.push(t.name);
+      if (arg.members) for (const m of membersOf(t.type)) if (fits(m.type, m.writable)) out.push(`${t.name}.${m.name}`);
     }
     return out;
   }
@@ -112,6 +92,5 @@ export class TagCache {
 export interface Ctx {
   live: LiveClient;
   tags: TagCache;
-  instructions: Instruction[];
   notify(message: string, kind?: 'info' | 'error'): void;
 }

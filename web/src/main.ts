@@ -5,6 +5,7 @@ import './style.css';
 import { ApiError, api } from './api';
 import { type Ctx, TagCache } from './ctx';
 import { clear, h } from './dom';
+import { setDomain } from './domain';
 import { IlView } from './il/view';
 import { LadderView } from './ladder/view';
 import { LiveClient } from './live/client';
@@ -87,9 +88,11 @@ async function start(): Promise<void> {
   runBtn.onclick = () => void runState(api.run);
   stopBtn.onclick = () => void runState(api.stop);
 
-  let status, programs: ProgramRef[], instructions;
+  let status, programs: ProgramRef[];
   try {
-    [status, programs, instructions] = await Promise.all([api.status(), api.programs(), api.instructions(), tags.refresh()]);
+    let domain;
+    [status, programs, domain] = await Promise.all([api.status(), api.programs(), api.domain(), tags.refresh()]);
+    setDomain(domain);
   } catch (e) {
     main.append(h('p', { class: 'fatal' }, `Cannot load the project: ${e instanceof Error ? e.message : String(e)}`));
     return;
@@ -101,7 +104,7 @@ async function start(): Promise<void> {
   runBtn.disabled = status.state === 'running';
   stopBtn.disabled = status.state !== 'running';
 
-  const ctx: Ctx = { live, tags, instructions, notify };
+  const ctx: Ctx = { live, tags, notify };
   const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();
   for (const p of programs) {
     views.set(`program/${p.name}`, {

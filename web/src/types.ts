@@ -21,7 +21,6 @@ export type RungJson = G.RungJson;
 export type Program = G.Program;
 export type Checked = G.Checked;
 export type Saved = G.Saved;
-export type Instruction = G.Instruction;
 /** One history bucket: [t_ms, min, max, first, last]. */
 export type Bucket = G.Bucket;
 export type History = G.History;

@@ -1,5 +1,4 @@
 import { describe, expect, it } from 'vitest';
-import { apiAddress } from '../src/address';
 import { ilOperands, parseIl, powerByLine, stripComments } from '../src/il/parse';
 
 describe('IL operands', () => {
@@ -19,19 +18,6 @@ describe('IL operands', () => {
   it('follows /* */ comments across lines', () => {
     const lines = parseIl('LD I0.0 /* x\nA I0.1\n*/ = Q0.0\n');
     expect(lines.map((l) => [l.mnemonic, l.operands])).toEqual([['LD', ['I0.0']], [null, []], ['=', ['Q0.0']], [null, []]]);
-  });
-  it('maps Ain n to AIW 2n', () => {
-    expect(apiAddress('Ain3')).toBe('AI:3/3');
-    expect(apiAddress('AIW6')).toBe('AI:3/3');
-    expect(apiAddress('I0.1')).toBe('DI:1/1');
-    expect(apiAddress('q1.2')).toBe('DO:2/10');
-    expect(apiAddress('%IX1.7')).toBe('DI:1/15');
-    expect(apiAddress('%QW2')).toBe('AO:4/2');
-    expect(apiAddress('%MX0.4')).toBe('M0.4');
-    expect(apiAddress('%MW2')).toBe('MW2');
-    expect(apiAddress('AIW3')).toBe('AIW3');
-    expect(apiAddress('MW3')).toBe('MW3');
-    expect(apiAddress('DI:1/2')).toBe('DI:1/2');
   });
 });
 

@@ -54,9 +54,9 @@ describe('CSV', () => {
 
 describe('tag table rows', () => {
   const tags: TagInfo[] = [
-    { name: 'Start', type: 'BOOL', address: 'DI:1/0', description: 'start button', retain: false, access: 'input', value: false, forced: null },
-    { name: 'Delay', type: 'TIMER', address: null, description: '', retain: false, access: 'readwrite', value: {}, forced: null },
-    { name: 'S:FS', type: 'BOOL', address: null, description: 'first scan', retain: false, access: 'readonly', value: false, forced: null },
+    { name: 'Start', type: 'BOOL', address: 'DI:1/0', notations: ['DI:1/0', '%IX0.0', '%I0.0', 'I0.0'], description: 'start button', retain: false, access: 'input', value: false, forced: null },
+    { name: 'Delay', type: 'TIMER', address: null, notations: [], description: '', retain: false, access: 'readwrite', value: {}, forced: null },
+    { name: 'S:FS', type: 'BOOL', address: null, notations: [], description: 'first scan', retain: false, access: 'readonly', value: false, forced: null },
   ];
 
   it('lists structure members after their tag, with their access', () => {

@@ -742,8 +742,8 @@ pub fn driver(devices: &[ModbusDevice]) -> Result<Box<dyn alba_runtime::Io>, Err
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_project::config::ModbusMapping;
     use alba_diag::{FileId, Span};
+    use alba_project::config::ModbusMapping;
 
     fn mapping(area: ModbusArea, start: u16, count: u16, at: Address) -> ModbusMapping {
         ModbusMapping {

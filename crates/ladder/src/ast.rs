@@ -61,7 +61,7 @@ pub struct Branch {
     pub span: Span,
 }
 
-/// The eight palette groups of the source (AuroraLD), plus the reserved PID.
+/// The eight palette groups of the source (AuroraLD), plus `Special` (PID).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Group {
     Bit,
@@ -97,12 +97,12 @@ pub enum Arg {
     Label,
     /// A CPT expression.
     Expr,
-    /// The PID structure (reserved).
+    /// The PID structure.
     Pid,
 }
 
 macro_rules! instructions {
-    ($($m:ident: $group:ident, $output:literal, [$($arg:ident),*], $doc:literal;)*) => {
+    ($($m:ident: $group:ident, $output:literal, [$($arg:ident $label:literal),*], $title:literal, $doc:literal;)*) => {
         /// A ladder instruction.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
         pub enum Mnemonic { $($m,)* }
@@ -127,6 +127,16 @@ macro_rules! instructions {
                 match self { $(Mnemonic::$m => &[$(Arg::$arg),*],)* }
             }
 
+            /// The operand names shown in boxes and the properties panel, one per argument.
+            pub fn labels(self) -> &'static [&'static str] {
+                match self { $(Mnemonic::$m => &[$($label),*],)* }
+            }
+
+            /// The full name (box titles).
+            pub fn title(self) -> &'static str {
+                match self { $(Mnemonic::$m => $title,)* }
+            }
+
             /// One line on what it does.
             pub fn doc(self) -> &'static str {
                 match self { $(Mnemonic::$m => $doc,)* }
@@ -136,61 +146,61 @@ macro_rules! instructions {
 }
 
 instructions! {
-    XIC: Bit, false, [BitIn], "examine if closed: passes the rung when the bit is 1";
-    XIO: Bit, false, [BitIn], "examine if open: passes the rung when the bit is 0";
-    OTE: Bit, true, [BitOut], "output energise: bit = rung";
-    OTL: Bit, true, [BitOut], "output latch: sets the bit while the rung is true";
-    OTU: Bit, true, [BitOut], "output unlatch: clears the bit while the rung is true";
-    ONS: Bit, false, [BitOut], "one shot: passes one scan on a rising rung (storage bit)";
-    OSR: Bit, true, [BitOut, BitOut], "one shot rising: output bit true for one scan on a rising rung";
-    OSF: Bit, true, [BitOut, BitOut], "one shot falling: output bit true for one scan on a falling rung";
-    TON: Timer, true, [Timer, Preset, Accum], "on-delay timer (ms)";
-    TOF: Timer, true, [Timer, Preset, Accum], "off-delay timer (ms)";
-    RTO: Timer, true, [Timer, Preset, Accum], "retentive on-delay timer (ms), cleared by RES";
-    TP: Timer, true, [Timer, Preset, Accum], "pulse timer: DN for PRE ms from a rising rung";
-    CTU: Counter, true, [Counter, Preset, Accum], "count up on a rising rung";
-    CTD: Counter, true, [Counter, Preset, Accum], "count down on a rising rung";
-    RES: Counter, true, [TimerOrCounter], "reset a timer or counter";
-    LIM: Compare, false, [NumIn, NumIn, NumIn], "limit test: low <= test <= high (wraps when low > high)";
-    EQU: Compare, false, [NumIn, NumIn], "equal";
-    NEQ: Compare, false, [NumIn, NumIn], "not equal";
-    LES: Compare, false, [NumIn, NumIn], "less than";
-    GRT: Compare, false, [NumIn, NumIn], "greater than";
-    LEQ: Compare, false, [NumIn, NumIn], "less than or equal";
-    GEQ: Compare, false, [NumIn, NumIn], "greater than or equal";
-    MEQ: Compare, false, [NumIn, NumIn, NumIn], "masked equal: (src AND mask) = (compare AND mask)";
-    ADD: Math, true, [NumIn, NumIn, NumOut], "dest = a + b";
-    SUB: Math, true, [NumIn, NumIn, NumOut], "dest = a - b";
-    MUL: Math, true, [NumIn, NumIn, NumOut], "dest = a * b";
-    DIV: Math, true, [NumIn, NumIn, NumOut], "dest = a / b";
-    MOD: Math, true, [NumIn, NumIn, NumOut], "dest = a modulo b (sign of a)";
-    SQR: Math, true, [NumIn, NumOut], "dest = square root of src";
-    NEG: Math, true, [NumIn, NumOut], "dest = -src";
-    ABS: Math, true, [NumIn, NumOut], "dest = |src|";
-    XPY: Math, true, [NumIn, NumIn, NumOut], "dest = a to the power b";
-    LN: Math, true, [NumIn, NumOut], "dest = natural logarithm of src";
-    LOG: Math, true, [NumIn, NumOut], "dest = base-10 logarithm of src";
-    CPT: Math, true, [NumOut, Expr], "compute: dest = expression";
-    SCP: Math, true, [NumIn, NumIn, NumIn, NumIn, NumIn, NumOut], "scale with parameters: (in-inMin)*((scMax-scMin)/(inMax-inMin))+scMin";
-    MOV: MoveLogic, true, [NumIn, NumOut], "dest = src";
-    CLR: MoveLogic, true, [NumOut], "dest = 0";
-    AND: MoveLogic, true, [NumIn, NumIn, NumOut], "bitwise and";
-    OR: MoveLogic, true, [NumIn, NumIn, NumOut], "bitwise or";
-    XOR: MoveLogic, true, [NumIn, NumIn, NumOut], "bitwise exclusive or";
-    NOT: MoveLogic, true, [NumIn, NumOut], "bitwise complement";
-    SIN: Trig, true, [NumIn, NumOut], "sine (radians)";
-    COS: Trig, true, [NumIn, NumOut], "cosine (radians)";
-    TAN: Trig, true, [NumIn, NumOut], "tangent (radians)";
-    ASN: Trig, true, [NumIn, NumOut], "arc sine (radians)";
-    ACS: Trig, true, [NumIn, NumOut], "arc cosine (radians)";
-    ATN: Trig, true, [NumIn, NumOut], "arc tangent (radians)";
-    DEG: Trig, true, [NumIn, NumOut], "radians to degrees";
-    RAD: Trig, true, [NumIn, NumOut], "degrees to radians";
-    JMP: Flow, true, [Label], "jump to the rung with LBL(label) while the rung is true";
-    LBL: Flow, false, [Label], "label: the target of JMP, first instruction of its rung";
-    AFI: Flow, false, [], "always false";
-    NOP: Flow, true, [], "no operation";
-    PID: Special, true, [Pid, NumIn, NumOut], "PID loop (reserved)";
+    XIC: Bit, false, [BitIn "Bit"], "Examine If Closed", "examine if closed: passes the rung when the bit is 1";
+    XIO: Bit, false, [BitIn "Bit"], "Examine If Open", "examine if open: passes the rung when the bit is 0";
+    OTE: Bit, true, [BitOut "Bit"], "Output Energize", "output energise: bit = rung";
+    OTL: Bit, true, [BitOut "Bit"], "Output Latch", "output latch: sets the bit while the rung is true";
+    OTU: Bit, true, [BitOut "Bit"], "Output Unlatch", "output unlatch: clears the bit while the rung is true";
+    ONS: Bit, false, [BitOut "Storage Bit"], "One Shot", "one shot: passes one scan on a rising rung (storage bit)";
+    OSR: Bit, true, [BitOut "Storage Bit", BitOut "Output Bit"], "One Shot Rising", "one shot rising: output bit true for one scan on a rising rung";
+    OSF: Bit, true, [BitOut "Storage Bit", BitOut "Output Bit"], "One Shot Falling", "one shot falling: output bit true for one scan on a falling rung";
+    TON: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Timer On Delay", "on-delay timer (ms)";
+    TOF: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Timer Off Delay", "off-delay timer (ms)";
+    RTO: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Retentive Timer On", "retentive on-delay timer (ms), cleared by RES";
+    TP: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Pulse Timer", "pulse timer: DN for PRE ms from a rising rung";
+    CTU: Counter, true, [Counter "Counter", Preset "Preset", Accum "Accum"], "Count Up", "count up on a rising rung";
+    CTD: Counter, true, [Counter "Counter", Preset "Preset", Accum "Accum"], "Count Down", "count down on a rising rung";
+    RES: Counter, true, [TimerOrCounter "Structure"], "Reset", "reset a timer or counter";
+    LIM: Compare, false, [NumIn "Low Limit", NumIn "Test", NumIn "High Limit"], "Limit Test", "limit test: low <= test <= high (wraps when low > high)";
+    EQU: Compare, false, [NumIn "Source A", NumIn "Source B"], "Equal", "equal";
+    NEQ: Compare, false, [NumIn "Source A", NumIn "Source B"], "Not Equal", "not equal";
+    LES: Compare, false, [NumIn "Source A", NumIn "Source B"], "Less Than", "less than";
+    GRT: Compare, false, [NumIn "Source A", NumIn "Source B"], "Greater Than", "greater than";
+    LEQ: Compare, false, [NumIn "Source A", NumIn "Source B"], "Less Than or Equal", "less than or equal";
+    GEQ: Compare, false, [NumIn "Source A", NumIn "Source B"], "Greater Than or Equal", "greater than or equal";
+    MEQ: Compare, false, [NumIn "Source", NumIn "Mask", NumIn "Compare"], "Masked Equal", "masked equal: (src AND mask) = (compare AND mask)";
+    ADD: Math, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Add", "dest = a + b";
+    SUB: Math, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Subtract", "dest = a - b";
+    MUL: Math, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Multiply", "dest = a * b";
+    DIV: Math, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Divide", "dest = a / b";
+    MOD: Math, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Modulo", "dest = a modulo b (sign of a)";
+    SQR: Math, true, [NumIn "Source", NumOut "Dest"], "Square Root", "dest = square root of src";
+    NEG: Math, true, [NumIn "Source", NumOut "Dest"], "Negate", "dest = -src";
+    ABS: Math, true, [NumIn "Source", NumOut "Dest"], "Absolute Value", "dest = |src|";
+    XPY: Math, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "X to the Power of Y", "dest = a to the power b";
+    LN: Math, true, [NumIn "Source", NumOut "Dest"], "Natural Log", "dest = natural logarithm of src";
+    LOG: Math, true, [NumIn "Source", NumOut "Dest"], "Log Base 10", "dest = base-10 logarithm of src";
+    CPT: Math, true, [NumOut "Dest", Expr "Expression"], "Compute", "compute: dest = expression";
+    SCP: Math, true, [NumIn "Input", NumIn "Input Min", NumIn "Input Max", NumIn "Scaled Min", NumIn "Scaled Max", NumOut "Output"], "Scale with Parameters", "scale with parameters: (in-inMin)*((scMax-scMin)/(inMax-inMin))+scMin";
+    MOV: MoveLogic, true, [NumIn "Source", NumOut "Dest"], "Move", "dest = src";
+    CLR: MoveLogic, true, [NumOut "Dest"], "Clear", "dest = 0";
+    AND: MoveLogic, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Bitwise AND", "bitwise and";
+    OR: MoveLogic, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Bitwise OR", "bitwise or";
+    XOR: MoveLogic, true, [NumIn "Source A", NumIn "Source B", NumOut "Dest"], "Bitwise XOR", "bitwise exclusive or";
+    NOT: MoveLogic, true, [NumIn "Source", NumOut "Dest"], "Bitwise NOT", "bitwise complement";
+    SIN: Trig, true, [NumIn "Source", NumOut "Dest"], "Sine", "sine (radians)";
+    COS: Trig, true, [NumIn "Source", NumOut "Dest"], "Cosine", "cosine (radians)";
+    TAN: Trig, true, [NumIn "Source", NumOut "Dest"], "Tangent", "tangent (radians)";
+    ASN: Trig, true, [NumIn "Source", NumOut "Dest"], "Arc Sine", "arc sine (radians)";
+    ACS: Trig, true, [NumIn "Source", NumOut "Dest"], "Arc Cosine", "arc cosine (radians)";
+    ATN: Trig, true, [NumIn "Source", NumOut "Dest"], "Arc Tangent", "arc tangent (radians)";
+    DEG: Trig, true, [NumIn "Source", NumOut "Dest"], "Radians to Degrees", "radians to degrees";
+    RAD: Trig, true, [NumIn "Source", NumOut "Dest"], "Degrees to Radians", "degrees to radians";
+    JMP: Flow, true, [Label "Label"], "Jump to Label", "jump to the rung with LBL(label) while the rung is true";
+    LBL: Flow, false, [Label "Label"], "Label", "label: the target of JMP, first instruction of its rung";
+    AFI: Flow, false, [], "Always False", "always false";
+    NOP: Flow, true, [], "No Operation", "no operation";
+    PID: Special, true, [Pid "PID", NumIn "Process Var", NumOut "Control Var"], "PID Loop", "PID loop: drives the control output from the process value (docs/pid.md)";
 }
 
 impl Mnemonic {

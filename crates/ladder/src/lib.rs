@@ -1,8 +1,10 @@
 //! Ladder in Rockwell's neutral text (SPEC §3): parser with located
 //! diagnostics, canonical printer, and the checker that lowers rungs to the
-//! Alba IR.
+//! Alba IR; `domain` describes the language (types, instructions, operand
+//! kinds, address notations) for the browser studio.
 
 pub mod ast;
+pub mod domain;
 pub mod expr;
 pub mod lower;
 pub mod parse;

@@ -23,10 +23,10 @@
 //! `[modbus.tags]`; any other address is an illegal data address.
 
 use crate::pdu::Exception;
-use alba_ir::{Access, Layout, Memory, Place, Region, Target};
-use alba_project::config::{ModbusArea, ModbusTag};
 use alba_diag::{Code, Diagnostic};
+use alba_ir::{Access, Layout, Memory, Place, Region, Target};
 use alba_model::{Address, DataType, Value};
+use alba_project::config::{ModbusArea, ModbusTag};
 use std::sync::atomic::{AtomicBool, AtomicU16, Ordering};
 
 /// OpenPLC's ranges.

@@ -26,7 +26,7 @@ mod ws;
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, forces, history, instructions, programs, status};
+use api::{FILE_BODY, SMALL_BODY, domain, forces, history, programs, status};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::routing::{any, get, post, put};
@@ -48,7 +48,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/forces", get(forces::list).delete(forces::delete_all))
         .route("/api/forces/{name}", put(forces::put).delete(forces::delete))
         .route("/api/programs", get(programs::list))
-        .route("/api/instructions", get(instructions::list))
+        .route("/api/instructions", get(domain::instructions))
+        .route("/api/domain", get(domain::get))
         .route("/api/ws", get(ws::upgrade))
         .route("/api/history/tags", get(history::list))
         .route("/api/history", get(history::query))

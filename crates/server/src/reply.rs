@@ -5,6 +5,7 @@
 //! committed file and these types disagree (`UPDATE_BINDINGS=1 cargo test
 //! -p alba-server` rewrites it). `Json` in TypeScript is any JSON value.
 
+use alba_compiler::ladder::domain::{ArgInfo, Domain, GroupInfo, InstructionInfo, MemberInfo, TypeInfo};
 use serde::Serialize;
 use serde_json::Value as Json;
 use ts_rs::TS;
@@ -72,6 +73,8 @@ pub struct TagInfo {
     #[ts(rename = "type")]
     pub ty: String,
     pub address: Option<String>,
+    /// Every notation of the address (AuroraLD, IEC, S7), upper case; empty without one.
+    pub notations: Vec<String>,
     pub description: String,
     pub retain: bool,
     pub access: Access,
@@ -226,16 +229,6 @@ pub struct Saved {
     pub applied: bool,
 }
 
-/// `GET /api/instructions`: an instruction of the palette.
-#[derive(Debug, Clone, Serialize, TS)]
-pub struct Instruction {
-    pub mnemonic: String,
-    pub group: String,
-    pub output: bool,
-    pub args: Vec<String>,
-    pub doc: String,
-}
-
 /// `GET /api/history/tags`: a recorded tag and the span of its samples.
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct HistoryTag {
@@ -343,7 +336,12 @@ pub fn typescript() -> String {
         Program,
         Checked,
         Saved,
-        Instruction,
+        Domain,
+        TypeInfo,
+        MemberInfo,
+        GroupInfo,
+        ArgInfo,
+        InstructionInfo,
         HistoryTag,
         Bucket,
         History,

@@ -78,6 +78,10 @@ fn tag_json(s: &Snapshot, tag: &alba_model::Tag, target: Target) -> TagInfo {
         name: tag.name.clone(),
         ty: tag.ty.name().to_string(),
         address: tag.address.map(|a| a.to_string()),
+        notations: tag
+            .address
+            .map(alba_compiler::ladder::domain::notations)
+            .unwrap_or_default(),
         description: tag.description.clone(),
         retain: tag.retain,
         access: access(a),
@@ -102,6 +106,7 @@ pub fn all(s: &Snapshot) -> Vec<TagInfo> {
                 name: name.to_string(),
                 ty: place.data_type().name().to_string(),
                 address: None,
+                notations: Vec::new(),
                 description: what.to_string(),
                 retain: false,
                 access: reply::Access::Readonly,

@@ -6,7 +6,8 @@
 // A branch stacks its legs; the first leg's wire is the branch's wire, and
 // vertical rails join the legs on the left (fed by the branch's input) and
 // on the right (each segment fed by the legs below it).
-import { type Branch, type Elem, type Instr, type Path, isCounter, isTimer, operandLabels, shapeOf } from './ast';
+import { instruction } from '../domain';
+import { type Branch, type Elem, type Instr, type Path, operandLabels, shapeOf } from './ast';
 
 export const G = {
   /** Wire before each element. */
@@ -98,11 +99,9 @@ export function boxRows(i: Instr): [string, string][] {
   return i.operands.map((o, k) => [labels[k], o]);
 }
 
-/** Extra value rows of timers and counters (live `.ACC`/`.PRE` are shown beside the operands). */
+/** Status bits of the structure operand shown in the box header (timers, counters, PID). */
 export function boxStatusBits(i: Instr): string[] {
-  if (isTimer(i.mnemonic)) return ['EN', 'TT', 'DN'];
-  if (isCounter(i.mnemonic)) return [i.mnemonic.toUpperCase() === 'CTD' ? 'CD' : 'CU', 'DN'];
-  return [];
+  return instruction(i.mnemonic)?.bits ?? [];
 }
 
 /** Columns of a box, relative to its frame: label, operand, live value. */

@@ -3,7 +3,8 @@
 // whose state changed are touched.
 import { s, fmt } from '../dom';
 import type { Json } from '../types';
-import { type Elem, type Path, TITLES, isCounter, isTimer, operandTags } from './ast';
+import { instruction } from '../domain';
+import { type Elem, type Path, operandTags, titleOf } from './ast';
 import { G, type Placed, type PlacedInstr, type RungLayout, type Src, type Wire, boxColumns, boxRows, boxStatusBits, powered } from './layout';
 
 export const GUTTER = 46;
@@ -189,7 +190,7 @@ function drawInstr(
   g.append(s('text', { class: 'mn', x: bx + 6, y: top + 12 }, m));
   const bits = boxStatusBits(i);
   const titleX = bx + 6 + m.length * G.charW + 8;
-  const title = TITLES[m];
+  const title = titleOf(m);
   const titleRoom = bw - (titleX - bx) - 6 - bits.length * 24;
   if (title && title.length * 5.6 <= titleRoom) g.append(s('text', { class: 'title', x: titleX, y: top + 12 }, title));
   const base = i.operands[0]?.trim() ?? '';
@@ -200,17 +201,18 @@ function drawInstr(
   });
   g.append(s('line', { class: 'box-sep', x1: bx, y1: top + G.boxHeader, x2: bx + bw, y2: top + G.boxHeader }));
   const tags = new Set(operandTags(i));
-  const struct = isTimer(m) || isCounter(m);
+  const shows = instruction(m)?.shows;
   rows.forEach(([label, op], k) => {
     const y = top + G.boxHeader + (k + 1) * G.boxRow - 4;
     g.append(s('text', { class: 'label', x: bx + 6, y }, label));
     const shown = Array.from(op).length > cols.operandChars ? Array.from(op).slice(0, cols.operandChars - 1).join('') + '…' : op;
     g.append(s('text', { class: 'operand', x: bx + cols.operandX, y }, shown, shown !== op ? s('title', null, op) : null));
-    // live value: timers/counters show .PRE/.ACC beside the literal; others their tag operands
+    // live value (the domain's `shows`): timers/counters show .PRE/.ACC beside the
+    // literal, structure operands nothing, other operands their tag's value
+    const show = shows && k < shows.length ? shows[k] : '';
     let watchName: string | null = null;
-    if (struct && base && k === 1) watchName = `${base}.PRE`;
-    else if (struct && base && k === 2) watchName = `${base}.ACC`;
-    else if (!struct && m !== 'RES' && tags.has(op.trim())) watchName = op.trim();
+    if (show && base) watchName = `${base}.${show}`;
+    else if (show === '' && tags.has(op.trim())) watchName = op.trim();
     if (watchName && live) {
       const node = document.createTextNode('…');
       g.append(s('text', { class: 'val', x: bx + cols.valueRight, y, 'text-anchor': 'end', 'data-tag': watchName }, node));

@@ -6,11 +6,13 @@
 // rung (print.ts) and splices it into the text. Every change is checked by
 // the server (POST /api/check) and saved with PUT /api/programs/{name}.
 // Element ids (the power-flow keys) come from the running program, so
-// they are shown only while the text is the saved one.
-import { ApiError, api } from '../api';
+// they are shown only while the text is the saved one. Loading, checking,
+// saving and the problems list are the shared ProgramEditor's.
 import type { Ctx } from '../ctx';
 import { add, clear, h } from '../dom';
-import type { Diagnostic, Instruction, RungJson } from '../types';
+import { type InstructionInfo, argInfo, domain, instruction } from '../domain';
+import { type Problem, ProgramEditor, problemTip } from '../editor/program';
+import type { RungJson } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { type Elem, type Instr, type Path, operandLabels, operandTags, shapeOf, walk } from './ast';
@@ -20,17 +22,6 @@ import { attachIds, locate } from './locate';
 import { type ProgramDoc, joinProgram, parseProgram } from './parse';
 import { printRung } from './print';
 import { type RungView, pathFromEvent, renderRung } from './render';
-
-const GROUP_NAMES: Record<string, string> = {
-  bit: 'Bit',
-  timer: 'Timer',
-  counter: 'Counter',
-  compare: 'Compare',
-  math: 'Math',
-  move: 'Move/Logic',
-  trig: 'Trig',
-  flow: 'Flow',
-};
 
 interface Selection {
   rung: number;
@@ -42,36 +33,30 @@ const toPath = (p: string): Path => (p === '' ? [] : p.split('.').map(Number));
 
 export class LadderView {
   readonly el: HTMLElement;
-  private savedText = '';
-  private text = '';
+  private readonly ed: ProgramEditor;
   private doc: ProgramDoc = { rungs: [], tail: '', tailError: null };
   private serverRungs: RungJson[] = [];
-  private diagnostics: Diagnostic[] = [];
-  private savedDiagnostics: Diagnostic[] = [];
-  private checking = false;
   private sel: Selection | null = null;
   private where: 'before' | 'after' = 'after';
   private group = 'bit';
   private views: RungView[] = [];
-  private on = new Set<number>();
   private mode: 'graphic' | 'text' = 'graphic';
-  private checkTimer: ReturnType<typeof setTimeout> | null = null;
   private active = false;
-  private wasDisconnected = false;
   private unlisten: (() => void)[] = [];
   private readonly rungsEl = h('div', { class: 'rungs', 'data-testid': 'rungs', tabindex: '0' });
-  private readonly textEl = h('textarea', { class: 'editor-text', 'data-testid': 'editor-text', spellcheck: 'false', wrap: 'off' });
-  private readonly problemsEl = h('ul', { class: 'problems', 'data-testid': 'diagnostics' });
   private readonly propsEl = h('div', { class: 'props', 'data-testid': 'properties' });
   private readonly paletteEl = h('div', { class: 'palette', 'data-testid': 'palette' });
-  private readonly stateEl = h('span', { class: 'edit-state', 'data-testid': 'edit-state' });
   private readonly datalists = h('div', { hidden: true });
 
   constructor(
     private readonly ctx: Ctx,
     readonly program: string,
   ) {
-    this.textEl.addEventListener('input', () => this.setText(this.textEl.value, null, true));
+    this.ed = new ProgramEditor(ctx, program, {
+      loaded: (p) => (this.serverRungs = p.rungs ?? []),
+      textChanged: () => this.textChanged(),
+      changed: () => this.render(),
+    });
     this.rungsEl.addEventListener('click', (e) => this.onClick(e));
     this.rungsEl.addEventListener('contextmenu', (e) => this.onContextMenu(e));
     this.rungsEl.addEventListener('keydown', (e) => this.onKey(e));
@@ -112,47 +97,31 @@ export class LadderView {
           tool('▼', 'btn-rung-down', 'Move the selected rung down', () => this.moveRung(1)),
           tool('✕', 'btn-rung-delete', 'Delete the selected rung', () => this.deleteRung()),
         ),
-        this.stateEl,
+        this.ed.stateEl,
       ),
       this.paletteEl,
       h(
         'div',
         { class: 'ladder-body' },
-        h('div', { class: 'ladder-main' }, this.rungsEl, this.textEl),
-        h('aside', { class: 'ladder-side' }, this.propsEl, h('h3', null, 'Problems'), this.problemsEl),
+        h('div', { class: 'ladder-main' }, this.rungsEl, this.ed.textEl),
+        h('aside', { class: 'ladder-side' }, this.propsEl, h('h3', null, 'Problems'), this.ed.problemsEl),
       ),
       this.datalists,
     );
+    this.ed.section = this.el;
     this.renderPalette();
     this.setMode('graphic');
   }
 
   /** Loads the program from the server (the running version). */
-  async load(): Promise<void> {
-    const p = await api.program(this.program);
-    this.savedText = p.text;
-    this.serverRungs = p.rungs ?? [];
-    this.savedDiagnostics = p.diagnostics;
-    this.diagnostics = p.diagnostics;
-    this.setText(p.text, null, false, false);
+  load(): Promise<void> {
+    return this.ed.load();
   }
 
   show(): void {
     this.active = true;
     this.unlisten.push(
-      this.ctx.live.onBatch((b) => {
-        const on = b.power.get(this.program);
-        if (on) this.on = new Set(on);
-        if (on || b.status) this.paintPower();
-      }),
-      this.ctx.live.onState((st) => {
-        // the server may have restarted with another program: reload the running version
-        if (st === 'reconnecting') this.wasDisconnected = true;
-        else if (st === 'connected' && this.wasDisconnected) {
-          this.wasDisconnected = false;
-          if (!this.dirty) void this.load().catch(() => undefined);
-        }
-      }),
+      ...this.ed.watch(() => this.paintPower()),
       this.ctx.tags.onChange(() => {
         this.renderDatalists();
         this.render();
@@ -173,68 +142,33 @@ export class LadderView {
   }
 
   get dirty(): boolean {
-    return this.text !== this.savedText;
+    return this.ed.dirty;
   }
 
   // ---- text and checking -------------------------------------------------
 
-  private setText(text: string, select: Selection | null, fromTextArea = false, check = true): void {
-    this.text = text;
-    this.doc = parseProgram(text);
-    if (!this.dirty) attachIds(this.doc, this.serverRungs);
-    if (!fromTextArea && this.textEl.value !== text) this.textEl.value = text;
+  /** Sets the text (an edit of the view); selects `select` if given. */
+  private setText(text: string, select: Selection | null): void {
     if (select !== null) this.sel = select;
+    this.ed.setText(text);
+  }
+
+  private textChanged(): void {
+    this.doc = parseProgram(this.ed.text);
+    if (!this.dirty) attachIds(this.doc, this.serverRungs);
     if (this.sel && this.sel.rung >= this.doc.rungs.length) this.sel = null;
-    if (check && this.dirty) this.scheduleCheck();
-    if (!this.dirty) this.diagnostics = this.savedDiagnostics;
     this.render();
     if (this.active) this.subscribe();
   }
 
-  private scheduleCheck(): void {
-    if (this.checkTimer) clearTimeout(this.checkTimer);
-    this.checkTimer = setTimeout(() => void this.check(), 400);
-  }
-
   /** POST /api/check with the current text; updates the problems. */
-  async check(): Promise<boolean> {
-    if (this.checkTimer) clearTimeout(this.checkTimer);
-    this.checkTimer = null;
-    const text = this.text;
-    this.checking = true;
-    this.renderState();
-    try {
-      await api.check(this.program, text);
-      if (text === this.text) this.diagnostics = [];
-      return true;
-    } catch (e) {
-      if (!(e instanceof ApiError)) throw e;
-      if (text === this.text) {
-        this.diagnostics = e.diagnostics.length
-          ? e.diagnostics
-          : [{ code: '', severity: 'error', message: e.message, file: null, line: null, col: null, end_line: null, end_col: null, help: null }];
-      }
-      return false;
-    } finally {
-      this.checking = false;
-      this.render();
-    }
+  check(): Promise<boolean> {
+    return this.ed.check();
   }
 
   /** PUT /api/programs/{name} online; reloads the running version on success. */
-  async save(): Promise<boolean> {
-    try {
-      const r = await api.saveProgram(this.program, this.text, true);
-      this.ctx.notify(r.applied ? `${this.program} saved and applied online` : `${this.program} saved`);
-      await this.load();
-      return true;
-    } catch (e) {
-      if (!(e instanceof ApiError)) throw e;
-      this.diagnostics = e.diagnostics;
-      this.ctx.notify(`${this.program} not saved: ${e.message}`, 'error');
-      this.render();
-      return false;
-    }
+  save(): Promise<boolean> {
+    return this.ed.save();
   }
 
   private subscribe(): void {
@@ -258,20 +192,20 @@ export class LadderView {
     this.mode = m;
     this.el.dataset.mode = m;
     this.el.querySelectorAll('button.mode').forEach((b) => b.classList.toggle('active', (b as HTMLElement).dataset.testid === `view-${m}`));
-    if (m === 'text') this.textEl.value = this.text;
+    if (m === 'text') this.ed.textEl.value = this.ed.text;
     else if (this.graphicStale) this.render();
   }
 
   private problemsByRung(): Map<number, Map<string, string[]>> {
     const out = new Map<number, Map<string, string[]>>();
-    for (const d of this.mine()) {
+    for (const d of this.ed.mine()) {
       if (d.line === null || d.col === null) continue;
       const at = locate(this.doc, d.line, d.col);
       if (!at) continue;
       let m = out.get(at.rung);
       if (!m) out.set(at.rung, (m = new Map()));
       const list = m.get(at.path) ?? [];
-      list.push(`${d.code ? d.code + ': ' : ''}${d.message}${d.help ? ` (${d.help})` : ''}`);
+      list.push(problemTip(d));
       m.set(at.path, list);
     }
     this.doc.rungs.forEach((r, i) => {
@@ -282,12 +216,6 @@ export class LadderView {
       }
     });
     return out;
-  }
-
-  /** Diagnostics of this program's file (or with no file). */
-  private mine(): Diagnostic[] {
-    const base = this.program.split('/').pop()!.toLowerCase();
-    return this.diagnostics.filter((d) => !d.file || d.file.toLowerCase() === base || d.file.toLowerCase() === this.program.toLowerCase());
   }
 
   private rendering = false;
@@ -312,7 +240,7 @@ export class LadderView {
       // the diagram is redrawn when the graphic view comes back
       this.graphicStale = true;
       this.renderProblems();
-      this.renderState();
+      this.ed.renderState();
       return;
     }
     this.graphicStale = false;
@@ -361,90 +289,50 @@ export class LadderView {
     this.paintPower();
     this.renderProblems();
     this.renderProps();
-    this.renderState();
+    this.ed.renderState();
   }
 
   private paintPower(): void {
-    const running = !this.dirty && this.ctx.live.status?.state === 'running' && this.ctx.live.state === 'connected';
-    this.views.forEach((v) => v.setPower(this.on, running));
-  }
-
-  private renderState(): void {
-    const n = this.mine().length;
-    this.stateEl.textContent = `${this.dirty ? 'edited — not saved (monitoring paused)' : 'online'}${this.checking ? ' · checking…' : ''}${n ? ` · ${n} problem${n > 1 ? 's' : ''}` : ''}`;
-    this.stateEl.className = `edit-state${this.dirty ? ' dirty' : ''}${n ? ' bad' : ''}`;
-    this.el.dataset.dirty = String(this.dirty);
+    const running = this.ed.monitoring;
+    this.views.forEach((v) => v.setPower(this.ed.on, running));
   }
 
   private renderProblems(): void {
-    clear(this.problemsEl);
-    const all: { text: string; line: number | null; col: number | null; code: string }[] = this.mine().map((d) => ({
-      text: `${d.message}${d.help ? ` — ${d.help}` : ''}`,
-      line: d.line,
-      col: d.col,
-      code: d.code,
-    }));
     // local syntax errors the server has not seen yet
-    if (this.dirty && this.diagnostics.length === 0) {
-      this.doc.rungs.forEach((r) => r.error && all.push({ text: r.error.message, line: r.error.line, col: r.error.col, code: 'syntax' }));
-      if (this.doc.tailError) all.push({ text: this.doc.tailError.message, line: this.doc.tailError.line, col: this.doc.tailError.col, code: 'syntax' });
+    const local: Problem[] = [];
+    if (this.dirty && this.ed.diagnostics.length === 0) {
+      this.doc.rungs.forEach((r) => r.error && local.push({ text: r.error.message, line: r.error.line, col: r.error.col, code: 'syntax' }));
+      if (this.doc.tailError) local.push({ text: this.doc.tailError.message, line: this.doc.tailError.line, col: this.doc.tailError.col, code: 'syntax' });
     }
-    if (all.length === 0) {
-      this.problemsEl.append(h('li', { class: 'none' }, 'No problems'));
-      return;
-    }
-    all.forEach((d, k) =>
-      this.problemsEl.append(
-        h('li', {
-          class: 'problem',
-          'data-testid': `diagnostic-${k}`,
-          onclick: () => {
-            if (d.line === null || d.col === null) return;
-            const at = locate(this.doc, d.line, d.col);
-            if (at) this.select({ rung: at.rung, path: at.path === '' ? null : at.path }, true);
-            if (this.mode === 'text') this.focusText(d.line, d.col);
-          },
-        },
-        h('span', { class: 'code' }, d.code),
-        ' ',
-        d.line !== null ? h('span', { class: 'where' }, `${d.line}:${d.col}`) : null,
-        ' ',
-        d.text),
-      ),
-    );
-  }
-
-  private focusText(line: number, col: number): void {
-    const lines = this.text.split('\n');
-    let off = 0;
-    for (let k = 0; k < line - 1 && k < lines.length; k++) off += lines[k].length + 1;
-    off += Math.max(0, col - 1);
-    this.textEl.focus();
-    this.textEl.setSelectionRange(off, off);
+    this.ed.renderProblems(local, (line, col) => {
+      if (col === null) return;
+      const at = locate(this.doc, line, col);
+      if (at) this.select({ rung: at.rung, path: at.path === '' ? null : at.path }, true);
+      if (this.mode === 'text') this.ed.focusText(line, col);
+    });
   }
 
   private renderPalette(): void {
     clear(this.paletteEl);
-    const groups = Object.keys(GROUP_NAMES);
-    const instrs = this.ctx.instructions;
+    const { groups, instructions: instrs } = domain();
     add(
       this.paletteEl,
       h('div', { class: 'groups' },
         groups.map((g) =>
           h('button', {
-            class: `group${g === this.group ? ' active' : ''}`,
-            'data-testid': `palette-group-${g}`,
+            class: `group${g.name === this.group ? ' active' : ''}`,
+            'data-testid': `palette-group-${g.name}`,
             onclick: () => {
-              this.group = g;
+              this.group = g.name;
               this.renderPalette();
             },
-          }, GROUP_NAMES[g]))),
+          }, g.title))),
       h('div', { class: 'items' },
         instrs.filter((i) => i.group === this.group).map((i) =>
           h('button', {
             class: 'instr',
             'data-testid': `palette-${i.mnemonic}`,
-            title: `${i.mnemonic}(${i.args.join(', ')}) — ${i.doc}`,
+            title: `${i.mnemonic}(${i.labels.join(', ')}) — ${i.title}: ${i.doc}`,
             onclick: () => this.insertInstr(i),
           }, i.mnemonic))),
     );
@@ -452,7 +340,7 @@ export class LadderView {
 
   private renderDatalists(): void {
     clear(this.datalists);
-    const kinds = new Set(this.ctx.instructions.flatMap((i) => i.args));
+    const kinds = new Set(domain().instructions.flatMap((i) => i.args));
     for (const k of kinds) {
       this.datalists.append(h('datalist', { id: `tags-${this.program}-${k}` }, this.ctx.tags.choices(k).map((n) => h('option', { value: n }))));
     }
@@ -484,9 +372,9 @@ export class LadderView {
       this.propsEl.append(h('h3', null, `Branch (${el.legs.length} legs)`), h('p', { class: 'hint' }, '“Branch” adds a leg.'));
       return;
     }
-    const info = this.ctx.instructions.find((i) => i.mnemonic === el.mnemonic.toUpperCase());
+    const info = instruction(el.mnemonic);
     const labels = operandLabels(el.mnemonic, el.operands.length);
-    const same = this.ctx.instructions.filter((i) => info && i.args.join() === info.args.join());
+    const same = domain().instructions.filter((i) => info && i.args.join() === info.args.join());
     const inputs = el.operands.map((op, k) => {
       const input = h('input', {
         'data-testid': `operand-${k}`,
@@ -511,7 +399,7 @@ export class LadderView {
               onchange: (e: Event) => this.setOperands(sel, el.operands, (e.target as HTMLSelectElement).value),
             }, same.map((i) => h('option', { value: i.mnemonic, selected: i.mnemonic === el.mnemonic.toUpperCase() }, i.mnemonic))))
         : null,
-      inputs.map((input, k) => h('label', { class: 'operand-field' }, h('span', null, labels[k], info ? h('small', null, ` ${info.args[k]}`) : null), input)),
+      inputs.map((input, k) => h('label', { class: 'operand-field' }, h('span', { title: info ? (argInfo(info.args[k] ?? '')?.doc ?? '') : '' }, labels[k], info ? h('small', null, ` ${info.args[k]}`) : null), input)),
     );
   }
 
@@ -587,7 +475,7 @@ export class LadderView {
     const chunks = this.chunks();
     chunks[rung] = r.lead + printRung({ comment: r.comment, elements: ed.elements }) + '\n';
     const select = { rung, path: ed.select ? ed.select.join('.') : null };
-    if (chunks.join('') + this.doc.tail === this.text) {
+    if (chunks.join('') + this.doc.tail === this.ed.text) {
       // nothing changed (e.g. a change event repeated on blur)
       if (this.sel?.rung !== select.rung || this.sel?.path !== select.path) this.select(select);
       return;
@@ -595,7 +483,7 @@ export class LadderView {
     this.setChunks(chunks, select);
   }
 
-  private insertInstr(i: Instruction): void {
+  private insertInstr(i: InstructionInfo): void {
     const sel = this.sel;
     if (!sel) {
       this.ctx.notify('Select a rung or an element first', 'error');
@@ -621,7 +509,7 @@ export class LadderView {
     const r = this.doc.rungs[sel.rung];
     const el = r?.elements && getAt(r.elements, toPath(sel.path));
     if (!el) return;
-    const output = el.kind === 'instr' && this.ctx.instructions.find((i) => i.mnemonic === el.mnemonic.toUpperCase())?.output;
+    const output = el.kind === 'instr' && instruction(el.mnemonic)?.output;
     const leg = newInstr(output ? 'OTE' : 'XIC', 1);
     this.editRung(sel.rung, (els) => (el.kind === 'branch' ? addLeg(els, toPath(sel.path!), leg) : wrapInBranch(els, toPath(sel.path!), leg)));
   }

@@ -1,12 +1,11 @@
 // tags.csv (docs/file-formats.md §3): RFC 4180 fields, a header naming the
 // columns in any order. The tag table edits definitions and writes the
 // whole file back in the header's column order.
+import { typeInfo } from '../domain';
 
 export const COLUMNS = ['name', 'type', 'address', 'initial', 'retain', 'description'] as const;
 export type Column = (typeof COLUMNS)[number];
 export type TagDef = Record<Column, string>;
-
-export const TYPES = ['BOOL', 'SINT', 'INT', 'DINT', 'LINT', 'REAL', 'LREAL', 'TIME', 'TIMER', 'COUNTER', 'PID'];
 
 /** Splits CSV text into records of fields (quotes and doubled quotes, CRLF or LF, blank lines dropped). */
 export function parseCsv(text: string): string[][] {
@@ -98,7 +97,7 @@ export function validateDef(d: TagDef, others: TagDef[]): string | null {
   if (name.length > 64) return 'A name has at most 64 characters';
   if (RESERVED.has(name.toUpperCase())) return `${name} is a reserved word`;
   if (others.some((o) => o.name.trim().toUpperCase() === name.toUpperCase())) return `There is already a tag ${name}`;
-  if (!TYPES.includes(d.type.trim().toUpperCase())) return `Unknown type ${d.type}`;
+  if (!typeInfo(d.type.trim())) return `Unknown type ${d.type}`;
   return null;
 }
 

@@ -4,13 +4,9 @@ import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
 import { clear, fmt, h } from '../dom';
 import type { Diagnostic, Json, TagInfo } from '../types';
+import { domain, isStructure, membersOf } from '../domain';
 import { parseValue } from '../ui/tagActions';
-import { type TagDef, type TagsFile, TYPES, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
-
-const MEMBERS: Record<string, string[]> = {
-  TIMER: ['PRE', 'ACC', 'EN', 'TT', 'DN'],
-  COUNTER: ['PRE', 'ACC', 'CU', 'CD', 'DN', 'OV', 'UN'],
-};
+import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 
 interface Row {
   name: string;
@@ -22,23 +18,22 @@ interface Row {
   search: string;
 }
 
-/** The rows of the table: each tag, then the members of TIMER/COUNTER tags. */
+/** The rows of the table: each tag, then the members of structures (TIMER, COUNTER, PID). */
 export function tableRows(tags: TagInfo[]): Row[] {
   const rows: Row[] = [];
   for (const t of tags) {
     const io = !!t.address && t.access !== 'readonly';
     const search = `${t.name} ${t.type} ${t.address ?? ''} ${t.description}`.toLowerCase();
     rows.push({ name: t.name, type: t.type, access: t.access, io, tag: t, member: false, search });
-    for (const m of MEMBERS[t.type] ?? []) {
-      const numeric = m === 'PRE' || m === 'ACC';
+    for (const m of membersOf(t.type)) {
       rows.push({
-        name: `${t.name}.${m}`,
-        type: numeric ? 'DINT' : 'BOOL',
-        access: numeric ? 'readwrite' : 'readonly',
+        name: `${t.name}.${m.name}`,
+        type: m.type,
+        access: m.writable ? 'readwrite' : 'readonly',
         io: false,
         tag: null,
         member: true,
-        search: `${t.name}.${m} ${search}`.toLowerCase(),
+        search: `${t.name}.${m.name} ${search}`.toLowerCase(),
       });
     }
   }
@@ -129,7 +124,7 @@ export class TagsView {
     const valueSpan = h('span', { class: 'value', 'data-testid': `tag-value-${row.name}` }, valueText);
     const valueCell = h('td', { class: 'value-cell' }, valueSpan);
     const errorEl = h('div', { class: 'inline-error', 'data-testid': `tag-error-${row.name}`, hidden: true });
-    const structured = !!MEMBERS[row.type];
+    const structured = isStructure(row.type);
     if (!structured) {
       this.unwatch.push(
         this.ctx.live.store.watch(row.name, (v) => {
@@ -247,7 +242,7 @@ export class TagsView {
       return h('label', null, h('span', null, label), input);
     };
     const nameIn = h('input', { value: def.name, autocomplete: 'off' });
-    const typeIn = h('select', null, TYPES.map((t) => h('option', { value: t, selected: t === def.type.toUpperCase() }, t)));
+    const typeIn = h('select', null, domain().types.map(({ name: t }) => h('option', { value: t, selected: t === def.type.toUpperCase() }, t)));
     const addrIn = h('input', { value: def.address, placeholder: 'internal, or DI:1/0, %QX0.1, AI:3/0…' });
     const initIn = h('input', { value: def.initial });
     const retainIn = h('input', { type: 'checkbox', checked: /^(1|true|yes)$/i.test(def.retain) });

@@ -9,6 +9,7 @@ import 'uplot/dist/uPlot.min.css';
 import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
 import { clear, download, h } from '../dom';
+import { isStructure } from '../domain';
 import type { History } from '../types';
 import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
 
@@ -188,7 +189,7 @@ export class TrendsView {
     const n = name.trim();
     if (!n) return;
     const ref = this.ctx.tags.resolve(n);
-    if (!ref || ref.type === 'TIMER' || ref.type === 'COUNTER') {
+    if (!ref || isStructure(ref.type)) {
       this.ctx.notify(`${n}: not a tag or member that can be plotted (pick a BOOL or a number)`, 'error');
       return;
     }

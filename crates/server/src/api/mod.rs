@@ -2,9 +2,9 @@
 //! request here, answers with a type of `crate::reply` and fails with an
 //! [`ApiError`] (statuses: `crate::error::status`).
 
+pub mod domain;
 pub mod forces;
 pub mod history;
-pub mod instructions;
 pub mod programs;
 pub mod status;
 pub mod tags;

@@ -403,7 +403,7 @@ async fn tags_csv_round_trip_and_validation() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn instruction_palette_has_the_eight_groups_in_order() {
+async fn instruction_palette_has_the_eight_groups_in_order_then_pid() {
     let s = Server::start("tank", "palette").await;
     let list = s.get("/api/instructions").await;
     let mut groups: Vec<String> = Vec::new();
@@ -415,8 +415,17 @@ async fn instruction_palette_has_the_eight_groups_in_order() {
     }
     assert_eq!(
         groups,
-        ["bit", "timer", "counter", "compare", "math", "move", "trig", "flow"]
+        [
+            "bit", "timer", "counter", "compare", "math", "move", "trig", "flow", "special"
+        ]
     );
+    let pid = list
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|i| i["mnemonic"] == "PID")
+        .cloned();
+    assert_eq!(pid.expect("PID")["args"], json!(["pid", "num_in", "num_out"]));
     let ton = list
         .as_array()
         .expect("array")

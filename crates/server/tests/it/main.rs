@@ -3,6 +3,7 @@
 
 mod api;
 mod contract;
+mod domain;
 mod errors;
 mod history;
 mod ws;

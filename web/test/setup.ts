@@ -1,0 +1,7 @@
+// Every unit test runs with the domain the server serves (GET /api/domain),
+// from a copy of its reply that the server's tests keep equal to it
+// (crates/server/tests/it/domain.rs; ALBA_BLESS=1 rewrites it).
+import { type Domain, setDomain } from '../src/domain';
+import domain from './fixtures/domain.json';
+
+setDomain(domain as Domain);
