@@ -5,20 +5,10 @@
 //! `async fn put(who: Who, …)`. The session layer inserts it into the
 //! request's extensions before any handler runs.
 
+pub use alba_auth::Role;
 use axum::extract::FromRequestParts;
 use axum::http::request::Parts;
 use std::net::SocketAddr;
-
-/// Placeholder until `alba_auth::Role` exists (the `users` part):
-/// viewer < operator < engineer < admin, each including the one before.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Role {
-    Viewer,
-    Operator,
-    Engineer,
-    Admin,
-}
 
 /// The identity of a request: the logged-in user (`None` when no users
 /// are configured and the request acts with full rights on loopback), its
