@@ -34,6 +34,8 @@ pub struct AppState {
     pub history: Option<alba_historian::Historian>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
+    /// Users, sessions, login back-off (`crate::auth`).
+    pub auth: crate::auth::Auth,
 }
 
 impl AppState {
@@ -42,6 +44,7 @@ impl AppState {
         compiled: Compiled,
         io: &str,
         history: Option<alba_historian::Historian>,
+        auth: crate::auth::Auth,
     ) -> Arc<AppState> {
         let project = &compiled.project;
         Arc::new(AppState {
@@ -54,6 +57,7 @@ impl AppState {
             closing: watch::Sender::new(false),
             history,
             edits: broadcast::Sender::new(16),
+            auth,
         })
     }
 
