@@ -28,18 +28,26 @@ fn add_users(dir: &Path) {
     users.save(dir).expect("save users.toml");
 }
 
-/// The server over the tank with a user per role, on `clock`.
-async fn serve(test: &str, clock: Arc<ManualClock>) -> (Server, Runtime) {
-    let dir = copy_example("tank", test);
-    add_users(&dir);
-    let compiled = alba_server::project::load(&dir);
+/// The server's state over the tank in `dir`, with `auth`.
+fn state(dir: &Path, auth: Auth) -> (Arc<alba_server::AppState>, Runtime) {
+    let compiled = alba_server::project::load(dir);
     let program = compiled.program.clone().expect("the example compiles");
     let mut ro = Options::new(compiled.project.scan_ms());
     ro.native = false;
     let runtime = Runtime::start(Arc::new(program), ro, Box::new(SimIo)).expect("runtime");
+    (
+        alba_server::AppState::new(runtime.handle(), compiled, "sim", None, auth),
+        runtime,
+    )
+}
+
+/// The server over the tank with a user per role, on `clock`.
+async fn serve(test: &str, clock: Arc<ManualClock>) -> (Server, Runtime) {
+    let dir = copy_example("tank", test);
+    add_users(&dir);
     let users = Users::load(&dir).expect("users.toml");
     let auth = Auth::new(Arc::new(users), Limits { idle: IDLE, max: MAX }).with_clock(clock);
-    let state = alba_server::AppState::new(runtime.handle(), compiled, "sim", None, auth);
+    let (state, runtime) = state(&dir, auth);
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
     let addr = listener.local_addr().expect("addr");
     let (stop, stop_rx) = oneshot::channel::<()>();
@@ -521,4 +529,56 @@ async fn without_users_loopback_clients_have_full_rights() {
     assert!(j["error"].as_str().expect("error").contains("no users"), "{j}");
     assert_eq!(s.call(Method::POST, "/api/stop", None).await.0, StatusCode::OK);
     s.stop().await;
+}
+
+/// A request from `peer`, as the server sees it (the client address
+/// comes from the connection).
+async fn from(app: &axum::Router, peer: [u8; 4], path: &str, bearer: Option<&str>) -> StatusCode {
+    use tower::ServiceExt;
+    let mut req =
+        axum::http::Request::get(path).extension(axum::extract::ConnectInfo(std::net::SocketAddr::from((peer, 40000))));
+    if let Some(t) = bearer {
+        req = req.header("authorization", format!("Bearer {t}"));
+    }
+    let res = app
+        .clone()
+        .oneshot(req.body(axum::body::Body::empty()).expect("request"))
+        .await
+        .expect("answer");
+    StatusCode::from_u16(res.status().as_u16()).expect("status")
+}
+
+/// Without users only loopback clients are served, even by a server
+/// started on another address despite the rule of `alba run`; with users,
+/// a session is what counts, from anywhere.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn without_users_remote_clients_are_refused() {
+    let dir = copy_example("tank", "remote");
+    let (st, runtime) = state(&dir, Auth::open());
+    let app = alba_server::router(st);
+    assert_eq!(from(&app, [127, 0, 0, 1], "/api/status", None).await, StatusCode::OK);
+    assert_eq!(
+        from(&app, [10, 0, 0, 5], "/api/status", None).await,
+        StatusCode::FORBIDDEN
+    );
+    assert_eq!(from(&app, [10, 0, 0, 5], "/api/ws", None).await, StatusCode::FORBIDDEN);
+    drop(runtime);
+
+    add_users(&dir);
+    let users = Users::load(&dir).expect("users.toml");
+    let auth = Auth::new(Arc::new(users), Limits { idle: IDLE, max: MAX });
+    let t = auth
+        .login("viewer", PASSWORD, std::net::SocketAddr::from(([10, 0, 0, 5], 1)))
+        .await
+        .expect("login")
+        .token;
+    let (st, runtime) = state(&dir, auth);
+    let app = alba_server::router(st);
+    assert_eq!(
+        from(&app, [127, 0, 0, 1], "/api/status", None).await,
+        StatusCode::UNAUTHORIZED
+    );
+    assert_eq!(from(&app, [10, 0, 0, 5], "/api/status", Some(&t)).await, StatusCode::OK);
+    drop(runtime);
+    let _ = std::fs::remove_dir_all(&dir);
 }
