@@ -265,7 +265,7 @@ impl Auth {
     /// unknown users alike.
     pub async fn login(&self, user: &str, password: &str, addr: SocketAddr) -> Result<LoggedIn, ApiError> {
         let user_key = format!("user:{user}");
-        let addr_key = format!("addr:{}", addr.ip());
+        let addr_key = format!("addr:{}", addr.ip().to_canonical());
         // Queued logins see the failures of those before them.
         let _permit = self
             .verifying
@@ -405,7 +405,8 @@ pub fn needed(table: &[(&str, &str, Access)], method: &Method, route: Option<&st
 /// ended or unknown session.
 fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option<Who>, ApiError> {
     if !auth.has_users() {
-        return Ok(addr.ip().is_loopback().then_some(Who {
+        // (An IPv4 client of a dual-stack listener shows as ::ffff:a.b.c.d.)
+        return Ok(addr.ip().to_canonical().is_loopback().then_some(Who {
             user: None,
             role: Role::Admin,
             addr,
