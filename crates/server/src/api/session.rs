@@ -2,7 +2,7 @@
 //! "Sessions"); the sessions themselves are `crate::auth`.
 
 use super::{Body, body, field};
-use crate::auth::{Who, token};
+use crate::auth::{Who, cleared_cookie, cookie, token};
 use crate::error::ApiError;
 use crate::reply::{Login, Me};
 use crate::state::AppState;
@@ -12,6 +12,7 @@ use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use std::net::SocketAddr;
 use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 /// A string field of at most `max` bytes.
 fn text<'a>(j: &'a serde_json::Value, name: &str, max: usize) -> Result<&'a str, ApiError> {
@@ -41,7 +42,7 @@ pub async fn login(
         ));
     }
     let s = st.auth.login(user, password, addr).await?;
-    let cookie = st.auth.cookie(&s.token);
+    let cookie = cookie(&s.token, st.https.load(Ordering::Relaxed));
     let reply = Login {
         token: s.token,
         user: s.user,
@@ -55,7 +56,11 @@ pub async fn logout(State(st): State<Arc<AppState>>, headers: HeaderMap) -> Resp
     if let Some(t) = token(&headers) {
         st.auth.logout(&t);
     }
-    (StatusCode::NO_CONTENT, [(header::SET_COOKIE, st.auth.cleared_cookie())]).into_response()
+    (
+        StatusCode::NO_CONTENT,
+        [(header::SET_COOKIE, cleared_cookie(st.https.load(Ordering::Relaxed)))],
+    )
+        .into_response()
 }
 
 /// Who the request acts as.

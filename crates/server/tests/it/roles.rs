@@ -582,3 +582,70 @@ async fn without_users_remote_clients_are_refused() {
     drop(runtime);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Waits for the server to close `ws` (1008, "session ended").
+async fn closed_for_session<S>(ws: &mut S)
+where
+    S: futures_util::Stream<
+            Item = Result<tokio_tungstenite::tungstenite::Message, tokio_tungstenite::tungstenite::Error>,
+        > + Unpin,
+{
+    use futures_util::StreamExt;
+    use tokio_tungstenite::tungstenite::Message;
+    let deadline = tokio::time::Instant::now() + Duration::from_secs(10);
+    loop {
+        let m = tokio::time::timeout_at(deadline, ws.next())
+            .await
+            .expect("closed within 10 s");
+        match m {
+            Some(Ok(Message::Close(Some(f)))) => {
+                assert_eq!(u16::from(f.code), 1008);
+                assert!(f.reason.contains("session ended"), "{}", f.reason);
+                return;
+            }
+            Some(Ok(Message::Close(None))) | None | Some(Err(_)) => panic!("closed without a reason"),
+            Some(Ok(_)) => {}
+        }
+    }
+}
+
+/// A WebSocket lives as long as its session: logout or expiry closes it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_websocket_closes_when_its_session_ends() {
+    use futures_util::SinkExt;
+    let clock = Arc::new(ManualClock::new());
+    let (s, runtime) = serve("wsend", clock.clone()).await;
+    let open = |t: &str| {
+        let mut req = format!("ws://{}/api/ws", s.addr)
+            .into_client_request()
+            .expect("request");
+        req.headers_mut()
+            .insert("authorization", format!("Bearer {t}").parse().expect("header"));
+        req
+    };
+    // Logout.
+    let t = token(&s, "viewer").await;
+    let (mut ws, _) = tokio_tungstenite::connect_async(open(&t)).await.expect("connect");
+    ws.send(tokio_tungstenite::tungstenite::Message::Text(
+        r#"{"subscribe": "*"}"#.into(),
+    ))
+    .await
+    .expect("subscribe");
+    assert_eq!(
+        call(&s, &Caller::Bearer(t), Method::POST, "/api/logout", None).await.0,
+        StatusCode::NO_CONTENT
+    );
+    closed_for_session(&mut ws).await;
+    // Idle expiry: streaming values is not activity.
+    let t = token(&s, "viewer").await;
+    let (mut ws, _) = tokio_tungstenite::connect_async(open(&t)).await.expect("connect");
+    ws.send(tokio_tungstenite::tungstenite::Message::Text(
+        r#"{"subscribe": "*"}"#.into(),
+    ))
+    .await
+    .expect("subscribe");
+    clock.advance(IDLE);
+    closed_for_session(&mut ws).await;
+    s.stop().await;
+    drop(runtime);
+}
