@@ -359,6 +359,13 @@ fn report(diags: &[Diagnostic], files: &Files, short: bool) {
 
 fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
     let c = alba_compiler::compile_dir(dir);
+    for w in &c.project.warnings {
+        if short {
+            eprintln!("{}", w.short(c.files()).replacen(": error[", ": warning[", 1));
+        } else {
+            eprint!("{}", w.render_warning(c.files()));
+        }
+    }
     let Some(program) = &c.program else {
         report(&c.diagnostics, c.files(), short);
         return ExitCode::FAILURE;

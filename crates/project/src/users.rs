@@ -247,6 +247,26 @@ pub fn opcua_users_warning(config: &Config) -> Option<Diagnostic> {
     )
 }
 
+/// The error for an OPC UA `listen` address beyond loopback in a project
+/// without users: such an address serves no anonymous endpoint, so nobody
+/// could log in.
+pub fn opcua_listen_needs_users(config: &Config, has_users: bool) -> Option<Diagnostic> {
+    let o = config.opcua.as_ref()?;
+    let (a, span) = (o.listen?, o.listen_span?);
+    if a.ip().is_loopback() || has_users {
+        return None;
+    }
+    Some(
+        Diagnostic::new(
+            Code::ConfigField,
+            format!("listen = \"{a}\" is not a loopback address, so it needs users"),
+            span,
+            "beyond loopback only Basic256Sha256 with a user name and password is served",
+        )
+        .with_help("add users with `alba user add <project> <name> --role operator`, or listen on 127.0.0.1"),
+    )
+}
+
 /// A project's user store as read from its folder: users.toml (when
 /// present) merged with the deprecated `[opcua.users]` of alba.toml.
 #[derive(Debug, Default)]
