@@ -338,12 +338,22 @@ pub fn users_toml(users: &[User]) -> String {
     for u in sorted {
         out.push_str(&format!(
             "\n[users.{}]\nrole = \"{}\"\npassword = {}\n",
-            crate::config::toml_string(&u.name),
+            toml_key(&u.name),
             u.role,
             crate::config::toml_string(&u.hash)
         ));
     }
     out
+}
+
+/// `name` as a TOML key: bare when it can be, else quoted.
+fn toml_key(name: &str) -> String {
+    let bare = !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare {
+        name.to_string()
+    } else {
+        crate::config::toml_string(name)
+    }
 }
 
 /// Saves `users` as the users.toml of `dir`: atomically, readable and
@@ -442,6 +452,11 @@ mod tests {
         assert!(loaded.has_file);
         let got: Vec<_> = loaded.users.iter().map(|u| (u.name.as_str(), u.role)).collect();
         assert_eq!(got, [("ann.o", Role::Admin), ("zed", Role::Viewer)]);
+        let text = std::fs::read_to_string(dir.join(USERS_FILE)).unwrap();
+        assert!(
+            text.contains("[users.\"ann.o\"]\nrole = \"admin\"\n") && text.contains("[users.zed]\n"),
+            "{text}"
+        );
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;
