@@ -231,6 +231,33 @@ mod tests {
         assert!(!verify_password("not a hash", "x"));
     }
 
+    /// An unknown name costs what a wrong password costs (one argon2
+    /// verification at the same parameters): medians of alternated runs.
+    #[test]
+    fn unknown_user_and_wrong_password_cost_the_same() {
+        let u = Users::from_users(vec![User {
+            name: "alice".into(),
+            role: Role::Admin,
+            hash: hash_password("correct horse battery").unwrap(),
+            span: Span::new(FileId(0), 0..0),
+            from_opcua: false,
+        }]);
+        let time = |name: &str| {
+            let t = std::time::Instant::now();
+            assert_eq!(u.verify(name, "wrong guess at it"), None);
+            t.elapsed()
+        };
+        let (mut known, mut unknown) = (Vec::new(), Vec::new());
+        for _ in 0..7 {
+            known.push(time("alice"));
+            unknown.push(time("mallory"));
+        }
+        known.sort();
+        unknown.sort();
+        let ratio = unknown[3].as_secs_f64() / known[3].as_secs_f64();
+        assert!((0.5..2.0).contains(&ratio), "unknown {:?} vs wrong {:?}", unknown[3], known[3]);
+    }
+
     #[test]
     fn a_missing_file_is_an_empty_store_and_a_bad_one_an_error() {
         let d = tmp("empty");
