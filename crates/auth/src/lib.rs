@@ -255,7 +255,12 @@ mod tests {
         known.sort();
         unknown.sort();
         let ratio = unknown[3].as_secs_f64() / known[3].as_secs_f64();
-        assert!((0.5..2.0).contains(&ratio), "unknown {:?} vs wrong {:?}", unknown[3], known[3]);
+        assert!(
+            (0.5..2.0).contains(&ratio),
+            "unknown {:?} vs wrong {:?}",
+            unknown[3],
+            known[3]
+        );
     }
 
     #[test]

@@ -26,9 +26,9 @@ fn project(name: &str, extra_toml: &str) -> std::path::PathBuf {
         dir.join("alba.toml"),
         format!("name = \"x\"\nprograms = [\"main.lad\"]\n{extra_toml}"),
     )
-    .unwrap();
-    std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\n").unwrap();
-    std::fs::write(dir.join("main.lad"), "XIC(A)OTE(A);\n").unwrap();
+    .expect("alba.toml");
+    std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\n").expect("tags.csv");
+    std::fs::write(dir.join("main.lad"), "XIC(A)OTE(A);\n").expect("main.lad");
     dir
 }
 
