@@ -150,6 +150,7 @@ impl Project {
         // users.toml is optional; when present it is checked with the rest.
         let users_path = dir.join(crate::users::USERS_FILE);
         let mut has_users = false;
+        let mut warnings = Vec::new();
         if users_path.exists() {
             match read_text(&users_path) {
                 Ok(text) => {
@@ -157,6 +158,7 @@ impl Project {
                     let (users, d) = crate::users::parse_users(files.text(f), f);
                     has_users = !users.is_empty();
                     diags.extend(d);
+                    warnings.extend(crate::users::permission_warning(&users_path));
                 }
                 Err(msg) => diags.push(Diagnostic::unplaced(Code::Io, msg)),
             }
@@ -165,11 +167,7 @@ impl Project {
             let opcua_users = c.opcua.as_ref().is_some_and(|o| !o.users.is_empty());
             diags.extend(crate::users::opcua_listen_needs_users(c, has_users || opcua_users));
         }
-        let warnings = config
-            .as_ref()
-            .and_then(|(c, _)| crate::users::opcua_users_warning(c))
-            .into_iter()
-            .collect();
+        warnings.extend(config.as_ref().and_then(|(c, _)| crate::users::opcua_users_warning(c)));
         let project = Project {
             warnings,
             dir: dir.to_path_buf(),
@@ -287,6 +285,17 @@ mod tests {
             format!("[users.op]\nrole = \"operator\"\npassword = \"{HASH}\"\n"),
         )
         .unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let f = d.join("users.toml");
+            std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o644)).unwrap();
+            let (p, diags) = Project::load(&d);
+            assert!(diags.is_empty(), "a users.toml open to others is a warning: {diags:?}");
+            assert_eq!(p.warnings.len(), 1);
+            assert!(p.warnings[0].render_warning(&p.files).contains("warning[E108]"));
+            std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o600)).unwrap();
+        }
         let (p, diags) = Project::load(&d);
         assert!(diags.is_empty() && p.warnings.is_empty(), "{diags:?}");
         std::fs::write(d.join("users.toml"), "[users.op]\nrole = \"god\"\npassword = \"x\"\n").unwrap();
