@@ -13,7 +13,9 @@ use std::process::ExitCode;
 pub enum UserCmd {
     /// Add a user; the password is prompted for (or read as one line from stdin).
     Add {
+        /// The project folder (with alba.toml).
         project: PathBuf,
+        /// The user name: 1 to 64 letters, digits and `_ . - @`.
         name: String,
         /// viewer, operator, engineer or admin (each includes the ones before).
         #[arg(long)]
