@@ -190,6 +190,26 @@ impl Users {
         self.users.iter().any(|u| u.from_opcua)
     }
 
+    /// Loads the store of `dir`, applies `change` and saves it, unless
+    /// users.toml changed meanwhile (another `alba user`, an admin's edit):
+    /// then it starts again from the new file, a few times, so that two
+    /// concurrent edits do not lose one. `change`'s value is returned.
+    pub fn edit<T>(dir: &Path, mut change: impl FnMut(&mut Users) -> Result<T, String>) -> Result<T, String> {
+        let path = dir.join(USERS_FILE);
+        let read = || std::fs::read(&path).ok();
+        for _ in 0..5 {
+            let before = read();
+            let mut users = Users::load(dir)?;
+            let out = change(&mut users)?;
+            if read() != before {
+                continue;
+            }
+            users.save(dir)?;
+            return Ok(out);
+        }
+        Err(format!("{} keeps changing: try again", path.display()))
+    }
+
     /// Writes the store as `dir`/users.toml (atomically, mode 0600 on Unix).
     /// Users of `[opcua.users]` are written too: saving migrates them (alba.toml
     /// is left as it is; its entries are then shadowed by users.toml's).
@@ -317,6 +337,25 @@ mod tests {
         let u = Users::load(&d).unwrap();
         assert_eq!(u.list(), [("bob".to_string(), Role::Operator)]);
         assert_eq!(u.verify("bob", "a new long password"), Some(Role::Operator));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn an_edit_starts_again_when_the_file_changed_meanwhile() {
+        let d = tmp("race");
+        let mut runs = 0;
+        Users::edit(&d, |u| {
+            runs += 1;
+            if runs == 1 {
+                // Another process adds a user while this edit is under way.
+                Users::edit(&d, |other| other.add("first", Role::Viewer, "a long secret one"))?;
+            }
+            u.add("second", Role::Admin, "another long secret")
+        })
+        .unwrap();
+        assert_eq!(runs, 2);
+        let names: Vec<_> = Users::load(&d).unwrap().list().into_iter().map(|(n, _)| n).collect();
+        assert_eq!(names, ["first", "second"], "neither edit lost");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -46,7 +46,8 @@ pub fn run(cmd: UserCmd) -> ExitCode {
 fn user(cmd: UserCmd) -> Result<(), String> {
     match cmd {
         UserCmd::Add { project, name, role } => {
-            let mut users = load(&project)?;
+            // Checked before the password is asked for, and again on saving.
+            let users = load(&project)?;
             alba_auth::check_user_name(&name).map_err(|why| format!("`{name}` is not a valid user name: {why}"))?;
             if users.get(&name).is_some() {
                 return Err(format!(
@@ -54,30 +55,28 @@ fn user(cmd: UserCmd) -> Result<(), String> {
                 ));
             }
             let pw = password(&name)?;
-            users.add(&name, role, &pw)?;
-            save(&project, &users)?;
+            Users::edit(&project, |users| users.add(&name, role, &pw))?;
             println!("added user `{name}` ({role})");
             Ok(())
         }
         UserCmd::Passwd { project, name } => {
-            let mut users = load(&project)?;
-            known(&users, &name)?;
+            known(&load(&project)?, &name)?;
             let pw = password(&name)?;
-            users.set_password(&name, &pw)?;
-            save(&project, &users)?;
+            Users::edit(&project, |users| users.set_password(&name, &pw))?;
             println!("password of `{name}` changed");
             Ok(())
         }
         UserCmd::Remove { project, name } => {
-            let mut users = load(&project)?;
-            known(&users, &name)?;
-            if users.get(&name).is_some_and(|u| u.from_opcua) {
-                return Err(format!(
-                    "`{name}` is defined in [opcua.users] of alba.toml (deprecated): delete it there"
-                ));
-            }
-            users.remove(&name)?;
-            save(&project, &users)?;
+            load(&project)?;
+            Users::edit(&project, |users| {
+                known(users, &name)?;
+                if users.get(&name).is_some_and(|u| u.from_opcua) {
+                    return Err(format!(
+                        "`{name}` is defined in [opcua.users] of alba.toml (deprecated): delete it there"
+                    ));
+                }
+                users.remove(&name).map(drop)
+            })?;
             // A name also in [opcua.users] comes back from alba.toml.
             if load(&project)?.get(&name).is_some() {
                 return Err(format!(
@@ -106,26 +105,28 @@ fn user(cmd: UserCmd) -> Result<(), String> {
             Ok(())
         }
         UserCmd::Role { project, name, role } => {
-            let mut users = load(&project)?;
-            known(&users, &name)?;
-            users.set_role(&name, role)?;
-            save(&project, &users)?;
+            load(&project)?;
+            Users::edit(&project, |users| {
+                known(users, &name)?;
+                users.set_role(&name, role)
+            })?;
             println!("`{name}` is now {role}");
             Ok(())
         }
         UserCmd::Migrate { project } => {
             let users = load(&project)?;
-            let moved: Vec<String> = users
-                .users()
-                .iter()
-                .filter(|u| u.from_opcua)
-                .map(|u| u.name.clone())
-                .collect();
-            if moved.is_empty() {
+            if !users.has_opcua_users() {
                 println!("nothing to migrate: alba.toml has no [opcua.users]");
                 return Ok(());
             }
-            save(&project, &users)?;
+            let moved = Users::edit(&project, |users| {
+                Ok(users
+                    .users()
+                    .iter()
+                    .filter(|u| u.from_opcua)
+                    .map(|u| u.name.clone())
+                    .collect::<Vec<_>>())
+            })?;
             println!(
                 "copied {} into users.toml: {}\nnow delete [opcua.users] and read_only from the [opcua] table of alba.toml",
                 if moved.len() == 1 { "1 user" } else { "the users" },
@@ -136,7 +137,9 @@ fn user(cmd: UserCmd) -> Result<(), String> {
     }
 }
 
-/// The user store of `project`, which must be a project folder.
+/// The user store of `project`, which must be a project folder. (Edits go
+/// through `Users::edit`, which saves users of `[opcua.users]` too: they
+/// are then in users.toml, which takes precedence.)
 fn load(project: &Path) -> Result<Users, String> {
     if !project.join("alba.toml").is_file() {
         return Err(format!(
@@ -152,13 +155,6 @@ fn known(users: &Users, name: &str) -> Result<(), String> {
         Some(_) => Ok(()),
         None => Err(format!("there is no user `{name}` (`alba user list` lists them)")),
     }
-}
-
-/// Saves the store, users of `[opcua.users]` included (they are then in
-/// users.toml, which takes precedence).
-fn save(project: &Path, users: &Users) -> Result<(), String> {
-    users.save(project)?;
-    Ok(())
 }
 
 /// The new password of `name`: prompted twice without echo on a terminal,
