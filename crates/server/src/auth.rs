@@ -252,7 +252,7 @@ impl Auth {
     /// unknown users alike.
     pub async fn login(&self, user: &str, password: &str, addr: SocketAddr) -> Result<LoggedIn, ApiError> {
         let user_key = format!("user:{user}");
-        let addr_key = format!("addr:{}", addr.ip().to_canonical());
+        let addr_key = format!("addr:{}", client_key(addr.ip()));
         // Queued logins see the failures of those before them.
         let _permit = self
             .verifying
@@ -359,6 +359,19 @@ pub fn cookie(token: &str, secure: bool) -> String {
 pub fn cleared_cookie(secure: bool) -> String {
     let secure = if secure { "; Secure" } else { "" };
     format!("{COOKIE}=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0{secure}")
+}
+
+/// The client a failed login is counted against: its IPv4 address, or
+/// the /64 network of an IPv6 address (one host usually holds a whole
+/// /64, and could otherwise change address at every attempt).
+fn client_key(ip: std::net::IpAddr) -> String {
+    match ip.to_canonical() {
+        std::net::IpAddr::V4(v4) => v4.to_string(),
+        std::net::IpAddr::V6(v6) => {
+            let s = v6.segments();
+            format!("{:x}:{:x}:{:x}:{:x}::/64", s[0], s[1], s[2], s[3])
+        }
+    }
 }
 
 /// The session token a request carries: `Authorization: Bearer`, else the
@@ -576,6 +589,19 @@ mod tests {
         assert!(matches!(e, ApiError::TooManyAttempts(_)), "{e}");
         clock.advance(Duration::from_secs(120));
         a.login("ann", "right", addr(1)).await.expect("after the wait");
+    }
+
+    #[test]
+    fn failed_logins_count_per_ipv4_address_and_ipv6_network() {
+        let ip = |s: &str| s.parse::<std::net::IpAddr>().expect("ip");
+        assert_eq!(client_key(ip("10.0.0.7")), "10.0.0.7");
+        assert_eq!(client_key(ip("::ffff:10.0.0.7")), "10.0.0.7");
+        assert_eq!(client_key(ip("2001:db8:1:2:aaaa::1")), "2001:db8:1:2::/64");
+        assert_eq!(
+            client_key(ip("2001:db8:1:2:bbbb::9")),
+            client_key(ip("2001:db8:1:2::1"))
+        );
+        assert_ne!(client_key(ip("2001:db8:1:3::1")), client_key(ip("2001:db8:1:2::1")));
     }
 
     #[test]
