@@ -291,7 +291,7 @@ mod tests {
         assert_eq!(u.verify("anyone", "anything"), None);
         std::fs::write(d.join(USERS_FILE), "[users.a]\nrole = \"king\"\npassword = \"x\"\n").unwrap();
         let err = Users::load(&d).unwrap_err();
-        assert!(err.contains("E108") && err.contains("users.toml:2:8"), "{err}");
+        assert!(err.contains("E107") && err.contains("users.toml:2:8"), "{err}");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -293,7 +293,7 @@ mod tests {
             let (p, diags) = Project::load(&d);
             assert!(diags.is_empty(), "a users.toml open to others is a warning: {diags:?}");
             assert_eq!(p.warnings.len(), 1);
-            assert!(p.warnings[0].render_warning(&p.files).contains("warning[E108]"));
+            assert!(p.warnings[0].render_warning(&p.files).contains("warning[E107]"));
             std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o600)).unwrap();
         }
         let (p, diags) = Project::load(&d);
@@ -301,7 +301,7 @@ mod tests {
         std::fs::write(d.join("users.toml"), "[users.op]\nrole = \"god\"\npassword = \"x\"\n").unwrap();
         let e = short(Project::load(&d));
         assert_eq!(e.len(), 3, "{e:?}");
-        assert!(e[0].contains("users.toml:2:8: error[E108]"), "{e:?}");
+        assert!(e[0].contains("users.toml:2:8: error[E107]"), "{e:?}");
         // [opcua.users] still loads, with a warning that is not an error.
         std::fs::remove_file(d.join("users.toml")).unwrap();
         std::fs::write(d.join("alba.toml"), format!("{toml}[opcua.users]\nop = \"{HASH}\"\n")).unwrap();

@@ -136,7 +136,7 @@ struct RawUser {
 }
 
 /// Parses and checks the text of users.toml; every problem found is a
-/// diagnostic (code E108), and the users that passed are returned.
+/// diagnostic (code E107), and the users that passed are returned.
 pub fn parse_users(text: &str, file: FileId) -> (Vec<User>, Vec<Diagnostic>) {
     let sp = |r: std::ops::Range<usize>| Span::new(file, r);
     let raw: RawFile = match toml::from_str(text) {

@@ -155,7 +155,7 @@ fn refusals_are_clear_and_fail() {
     let out = alba(&dir, &["check", ".", "--short"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        text(&out.stderr).contains("users.toml:2:8: error[E108]"),
+        text(&out.stderr).contains("users.toml:2:8: error[E107]"),
         "{}",
         text(&out.stderr)
     );
