@@ -138,6 +138,9 @@ async fn ws_handshake(s: &Server, who: &Caller) -> u16 {
     let mut req = format!("ws://{}/api/ws", s.addr)
         .into_client_request()
         .expect("request");
+    // The studio's own origin, as a browser sends it (the guard refuses others).
+    req.headers_mut()
+        .insert("origin", format!("http://{}", s.addr).parse().expect("header"));
     match who {
         Caller::Nobody => {}
         Caller::Bearer(t) => {
@@ -442,6 +445,7 @@ async fn sessions_expire_idle_and_at_their_age_and_logout_ends_them() {
         .http
         .post(s.url("/api/logout"))
         .header(COOKIE, format!("alba_session={t}"))
+        .json(&json!({}))
         .send()
         .await
         .expect("logout");
@@ -546,8 +550,9 @@ async fn without_users_loopback_clients_have_full_rights() {
 /// comes from the connection).
 async fn from(app: &axum::Router, peer: [u8; 4], path: &str, bearer: Option<&str>) -> StatusCode {
     use tower::ServiceExt;
-    let mut req =
-        axum::http::Request::get(path).extension(axum::extract::ConnectInfo(std::net::SocketAddr::from((peer, 40000))));
+    let mut req = axum::http::Request::get(path)
+        .header("host", "127.0.0.1")
+        .extension(axum::extract::ConnectInfo(std::net::SocketAddr::from((peer, 40000))));
     if let Some(t) = bearer {
         req = req.header("authorization", format!("Bearer {t}"));
     }
@@ -630,6 +635,8 @@ async fn a_websocket_closes_when_its_session_ends() {
         let mut req = format!("ws://{}/api/ws", s.addr)
             .into_client_request()
             .expect("request");
+        req.headers_mut()
+            .insert("origin", format!("http://{}", s.addr).parse().expect("header"));
         req.headers_mut()
             .insert("authorization", format!("Bearer {t}").parse().expect("header"));
         req
