@@ -5,6 +5,7 @@ mod differential;
 mod examples;
 mod export;
 mod firmware;
+mod listen;
 mod malformed;
 mod retain;
 mod users;
