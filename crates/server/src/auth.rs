@@ -392,21 +392,24 @@ pub fn token(headers: &HeaderMap) -> Option<String> {
         .filter(|v| !v.is_empty())
 }
 
-/// The role a request needs: its route's entry in `table` (method `*`
-/// matches any), else viewer for a read (GET, HEAD) and admin for
-/// anything else (a route nobody classified stays closed); paths outside
-/// `/api` (the studio's files) are public.
+/// The role a request needs: the entry of the route that serves it in
+/// `table` (method `*` matches any), else viewer for a read (GET, HEAD)
+/// and admin for anything else (a route nobody classified stays closed).
+/// A request no route serves goes to the studio's files: public, unless
+/// its path is under `/api` (then as an unclassified route).
 pub fn needed(table: &[(&str, &str, Access)], method: &Method, route: Option<&str>, path: &str) -> Access {
-    if !path.starts_with("/api/") && path != "/api" {
-        return Access::Public;
-    }
     let method = if *method == Method::HEAD { &Method::GET } else { method };
-    if let Some(route) = route
-        && let Some((_, _, access)) = table
-            .iter()
-            .find(|(m, r, _)| *r == route && (*m == "*" || *m == method.as_str()))
-    {
-        return *access;
+    match route {
+        Some(route) => {
+            if let Some((_, _, access)) = table
+                .iter()
+                .find(|(m, r, _)| *r == route && (*m == "*" || *m == method.as_str()))
+            {
+                return *access;
+            }
+        }
+        None if !path.starts_with("/api/") && path != "/api" => return Access::Public,
+        None => {}
     }
     if *method == Method::GET {
         Access::Role(Role::Viewer)
@@ -602,6 +605,34 @@ mod tests {
             client_key(ip("2001:db8:1:2::1"))
         );
         assert_ne!(client_key(ip("2001:db8:1:3::1")), client_key(ip("2001:db8:1:2::1")));
+    }
+
+    #[test]
+    fn the_route_decides_not_the_path() {
+        let table = [
+            ("POST", "/api/run", Access::Role(Role::Engineer)),
+            ("POST", "/api/login", Access::Public),
+        ];
+        let n = |m: Method, route: Option<&str>, path: &str| needed(&table, &m, route, path);
+        assert_eq!(
+            n(Method::POST, Some("/api/run"), "/api/run"),
+            Access::Role(Role::Engineer)
+        );
+        // Whatever the path looks like, the route that serves it decides.
+        assert_eq!(
+            n(Method::POST, Some("/api/run"), "/x/../api/run"),
+            Access::Role(Role::Engineer)
+        );
+        assert_eq!(n(Method::POST, Some("/api/other"), "/other"), Access::Role(Role::Admin));
+        assert_eq!(
+            n(Method::HEAD, Some("/api/other"), "/other"),
+            Access::Role(Role::Viewer)
+        );
+        assert_eq!(n(Method::POST, Some("/api/login"), "/api/login"), Access::Public);
+        // No route: the studio's files are public; under /api, as unclassified.
+        assert_eq!(n(Method::GET, None, "/index.html"), Access::Public);
+        assert_eq!(n(Method::POST, None, "/api/x"), Access::Role(Role::Admin));
+        assert_eq!(n(Method::GET, None, "/api"), Access::Role(Role::Viewer));
     }
 
     #[test]
