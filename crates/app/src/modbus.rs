@@ -25,7 +25,11 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
         Some(list) => list.iter().map(ToString::to_string).collect::<Vec<_>>().join(", "),
         None => "loopback only".to_string(),
     };
-    let writes = if cfg.is_some_and(|m| m.read_only) { "read-only" } else { "reads and writes" };
+    let writes = if cfg.is_some_and(|m| m.read_only) {
+        "read-only"
+    } else {
+        "reads and writes"
+    };
     println!("  clients: {clients}; {writes}");
     Ok(Started::On)
 }

@@ -66,7 +66,9 @@ pub fn check_listen(addr: std::net::SocketAddr, allow: Option<&[IpRange]>) -> Re
 impl Settings {
     /// Whether a client at `ip` is served.
     pub fn allows(&self, ip: std::net::IpAddr) -> bool {
-        self.allow.as_ref().is_none_or(|list| list.iter().any(|r| r.contains(ip)))
+        self.allow
+            .as_ref()
+            .is_none_or(|list| list.iter().any(|r| r.contains(ip)))
     }
 }
 

@@ -14,7 +14,10 @@ fn project(name: &str, modbus: &str) -> std::path::PathBuf {
             "alba.toml",
             format!("name = \"mb\"\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n{modbus}"),
         ),
-        ("tags.csv", "name,type,address,initial,retain,description\nStart,BOOL,%IX0.0,,,\nMotor,BOOL,%QX0.0,,,\n".into()),
+        (
+            "tags.csv",
+            "name,type,address,initial,retain,description\nStart,BOOL,%IX0.0,,,\nMotor,BOOL,%QX0.0,,,\n".into(),
+        ),
         ("main.lad", "XIC(Start)OTE(Motor);\n".into()),
     ];
     for (f, t) in files {
@@ -25,7 +28,15 @@ fn project(name: &str, modbus: &str) -> std::path::PathBuf {
 
 fn alba_run(dir: &std::path::Path) -> std::process::Child {
     Command::new(env!("CARGO_BIN_EXE_alba"))
-        .args(["run", ".", "--http", "127.0.0.1:0", "--modbus", "0.0.0.0:0", "--no-native"])
+        .args([
+            "run",
+            ".",
+            "--http",
+            "127.0.0.1:0",
+            "--modbus",
+            "0.0.0.0:0",
+            "--no-native",
+        ])
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -50,7 +61,12 @@ fn a_modbus_address_beyond_loopback_without_allow_is_refused() {
         std::thread::sleep(Duration::from_millis(50));
     };
     let mut err = String::new();
-    child.stderr.take().expect("stderr").read_to_string(&mut err).expect("stderr");
+    child
+        .stderr
+        .take()
+        .expect("stderr")
+        .read_to_string(&mut err)
+        .expect("stderr");
     assert!(!status.success(), "{err}");
     assert!(
         err.contains("error: refusing to serve Modbus TCP on 0.0.0.0:0: Modbus has no authentication"),
@@ -61,7 +77,10 @@ fn a_modbus_address_beyond_loopback_without_allow_is_refused() {
 
 #[test]
 fn a_modbus_address_beyond_loopback_with_allow_is_served() {
-    let dir = project("modbus-allowed", "[modbus]\nallow = [\"127.0.0.1\"]\nread_only = true\n");
+    let dir = project(
+        "modbus-allowed",
+        "[modbus]\nallow = [\"127.0.0.1\"]\nread_only = true\n",
+    );
     let mut child = alba_run(&dir);
     let mut lines = Vec::new();
     for line in BufReader::new(child.stdout.take().expect("stdout")).lines() {

@@ -33,7 +33,15 @@ async fn a_client_outside_the_allow_list_is_closed_unanswered() {
     // From 127.0.0.2: a write (holding register 1 = %QW1 = Valve) is sent,
     // and the connection is closed without an answer.
     let mut s = connect_from("127.0.0.2", f.addr).await;
-    let _ = s.write_all(&mbap::adu(mbap::Header { transaction: 1, unit: 1 }, &[6, 0, 1, 0, 42])).await;
+    let _ = s
+        .write_all(&mbap::adu(
+            mbap::Header {
+                transaction: 1,
+                unit: 1,
+            },
+            &[6, 0, 1, 0, 42],
+        ))
+        .await;
     assert!(closed(&mut s).await, "a client outside the allow-list was served");
     assert_eq!(f.server.counters.denied.load(Ordering::Relaxed), 1);
     assert_eq!(f.server.counters.requests.load(Ordering::Relaxed), 0);
@@ -69,14 +77,14 @@ async fn read_only_refuses_every_write_and_serves_reads() {
     let before: Vec<_> = tags.iter().map(|t| snap.read(place(t))).collect();
     let mut s = TcpStream::connect(f.addr).await.expect("connect");
     let writes: [&[u8]; 8] = [
-        &[5, 0, 9, 0xFF, 0],                          // Lamp
-        &[6, 0, 1, 0, 42],                            // Valve
-        &[15, 0, 8, 0, 2, 1, 0b11],                   // Lamp and its neighbour
-        &[16, 0x04, 0x02, 0, 1, 2, 0x12, 0x34],       // Word
-        &[16, 0x20, 0x00, 0, 2, 4, 0, 0, 0, 9],       // Speed (explicit address)
-        &[5, 0x20, 0x00, 0xFF, 0],                    // Flag (explicit address)
-        &[23, 0, 0, 0, 1, 0, 1, 0, 1, 2, 0, 42],      // read/write: refused whole
-        &[22, 0, 1, 0xFF, 0xFF, 0, 0],                // mask write (not implemented anyway)
+        &[5, 0, 9, 0xFF, 0],                     // Lamp
+        &[6, 0, 1, 0, 42],                       // Valve
+        &[15, 0, 8, 0, 2, 1, 0b11],              // Lamp and its neighbour
+        &[16, 0x04, 0x02, 0, 1, 2, 0x12, 0x34],  // Word
+        &[16, 0x20, 0x00, 0, 2, 4, 0, 0, 0, 9],  // Speed (explicit address)
+        &[5, 0x20, 0x00, 0xFF, 0],               // Flag (explicit address)
+        &[23, 0, 0, 0, 1, 0, 1, 0, 1, 2, 0, 42], // read/write: refused whole
+        &[22, 0, 1, 0xFF, 0xFF, 0, 0],           // mask write (not implemented anyway)
     ];
     for w in writes {
         assert_eq!(ask(&mut s, w).await, [w[0] | 0x80, 1], "function {}", w[0]);
@@ -105,10 +113,16 @@ fn beyond_loopback_only_with_an_allow_list() {
     for bad in ["0.0.0.0:0", "192.168.1.5:502", "[::]:502"] {
         let e = check_listen(a(bad), None).expect_err(bad).to_string();
         assert!(
-            e.starts_with(&format!("refusing to serve Modbus TCP on {}: Modbus has no authentication", a(bad))),
+            e.starts_with(&format!(
+                "refusing to serve Modbus TCP on {}: Modbus has no authentication",
+                a(bad)
+            )),
             "{e}"
         );
         assert!(e.contains("allow = ["), "{e}");
-        assert!(check_listen(a(bad), ranges(&["10.0.0.0/24"]).as_deref()).is_ok(), "{bad}");
+        assert!(
+            check_listen(a(bad), ranges(&["10.0.0.0/24"]).as_deref()).is_ok(),
+            "{bad}"
+        );
     }
 }
