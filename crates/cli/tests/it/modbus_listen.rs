@@ -27,21 +27,34 @@ fn project(name: &str, modbus: &str) -> std::path::PathBuf {
 }
 
 fn alba_run(dir: &std::path::Path) -> std::process::Child {
+    alba_run_with(dir, &["--modbus", "0.0.0.0:0"])
+}
+
+fn alba_run_with(dir: &std::path::Path, args: &[&str]) -> std::process::Child {
     Command::new(env!("CARGO_BIN_EXE_alba"))
-        .args([
-            "run",
-            ".",
-            "--http",
-            "127.0.0.1:0",
-            "--modbus",
-            "0.0.0.0:0",
-            "--no-native",
-        ])
+        .args(["run", ".", "--http", "127.0.0.1:0", "--no-native"])
+        .args(args)
         .current_dir(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .expect("alba run starts")
+}
+
+/// What `alba run` prints up to its banner (the studio's address); then it is stopped.
+fn startup(mut child: std::process::Child) -> String {
+    let mut lines = Vec::new();
+    for line in BufReader::new(child.stdout.take().expect("stdout")).lines() {
+        let Ok(line) = line else { break };
+        let done = line.contains("http://");
+        lines.push(line);
+        if done {
+            break;
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    lines.join("\n")
 }
 
 #[test]
@@ -81,19 +94,20 @@ fn a_modbus_address_beyond_loopback_with_allow_is_served() {
         "modbus-allowed",
         "[modbus]\nallow = [\"127.0.0.1\"]\nread_only = true\n",
     );
-    let mut child = alba_run(&dir);
-    let mut lines = Vec::new();
-    for line in BufReader::new(child.stdout.take().expect("stdout")).lines() {
-        let Ok(line) = line else { break };
-        let done = line.contains("http://");
-        lines.push(line);
-        if done {
-            break;
-        }
-    }
-    let _ = child.kill();
-    let _ = child.wait();
-    let out = lines.join("\n");
+    let out = startup(alba_run(&dir));
     assert!(out.contains("Modbus TCP server: 0.0.0.0:"), "{out}");
     assert!(out.contains("clients: 127.0.0.1; read-only"), "{out}");
+}
+
+#[test]
+fn modbus_is_off_unless_an_address_is_given() {
+    // A [modbus] table without `listen`, and no --modbus: no server.
+    let dir = project("modbus-off", "[modbus]\nunit_id = 1\n");
+    let out = startup(alba_run_with(&dir, &[]));
+    assert!(out.contains("http://"), "{out}");
+    assert!(!out.contains("Modbus"), "{out}");
+    // On loopback without `allow`: served, to loopback clients.
+    let out = startup(alba_run_with(&dir, &["--modbus", "127.0.0.1:0"]));
+    assert!(out.contains("Modbus TCP server: 127.0.0.1:"), "{out}");
+    assert!(out.contains("clients: loopback only; reads and writes"), "{out}");
 }
