@@ -87,7 +87,8 @@ pub async fn run(
     } else {
         None
     };
-    let runtime = alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(RunError::Other)?;
+    let runtime =
+        alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
     let recorder = historian.clone().map(|h| {
         history::record(

@@ -6,6 +6,7 @@ mod examples;
 mod export;
 mod firmware;
 mod malformed;
+mod modbus_listen;
 mod retain;
 mod users;
 

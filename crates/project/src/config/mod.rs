@@ -14,7 +14,7 @@ mod tests;
 
 pub use board::Board;
 pub use history::History;
-pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, Modbus, ModbusArea, ModbusTag};
+pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
