@@ -17,6 +17,9 @@ async function request(method: string, path: string, body?: unknown, contentType
   const init: RequestInit = { method, headers: {} };
   if (body !== undefined) {
     init.body = typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
+  }
+  // The server takes state-changing requests as JSON only, bodyless ones too (docs/security.md).
+  if (body !== undefined || method !== 'GET') {
     (init.headers as Record<string, string>)['Content-Type'] = contentType;
   }
   let res: Response;
