@@ -17,6 +17,7 @@
 mod api;
 mod assets;
 pub mod error;
+pub mod guard;
 pub mod project;
 pub mod reply;
 mod state;
@@ -32,7 +33,8 @@ use axum::extract::DefaultBodyLimit;
 use axum::routing::{any, get, post, put};
 use std::sync::Arc;
 
-/// The router: the API under `/api`, the studio at `/`.
+/// The router: the API under `/api`, the studio at `/`, all behind the
+/// browser-attack guard (`guard.rs`).
 pub fn router(state: Arc<AppState>) -> Router {
     let files = Router::new()
         .route("/api/programs/{name}", get(programs::get).put(programs::put))
@@ -58,5 +60,6 @@ pub fn router(state: Arc<AppState>) -> Router {
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
         .fallback(assets::serve)
+        .layer(axum::middleware::from_fn_with_state(state.clone(), guard::layer))
         .with_state(state)
 }

@@ -34,6 +34,8 @@ pub struct AppState {
     pub history: Option<alba_historian::Historian>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
+    /// What the browser-attack guard lets in (`[http]` of alba.toml).
+    pub guard: crate::guard::Guard,
 }
 
 impl AppState {
@@ -44,6 +46,7 @@ impl AppState {
         history: Option<alba_historian::Historian>,
     ) -> Arc<AppState> {
         let project = &compiled.project;
+        let guard = crate::guard::Guard::new(&project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default());
         Arc::new(AppState {
             runtime,
             name: project.config.as_ref().map(|c| c.name.clone()).unwrap_or_default(),
@@ -54,6 +57,7 @@ impl AppState {
             closing: watch::Sender::new(false),
             history,
             edits: broadcast::Sender::new(16),
+            guard,
         })
     }
 

@@ -4,6 +4,7 @@
 
 mod board;
 mod history;
+mod http;
 mod modbus;
 mod modbus_device;
 mod opcua;
@@ -14,6 +15,7 @@ mod tests;
 
 pub use board::Board;
 pub use history::History;
+pub use http::{Http, parse_origin, split_authority};
 pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
@@ -51,6 +53,8 @@ pub struct Config {
     /// `[[modbus_device]]`: remote Modbus slaves polled by `alba run --io
     /// modbus` (docs/protocols.md, "Modbus master I/O").
     pub modbus_devices: Vec<ModbusDevice>,
+    /// `[http]`: the studio's listener (docs/security.md).
+    pub http: Http,
 }
 
 #[derive(Deserialize)]
@@ -72,6 +76,7 @@ struct RawConfig {
     opcua: Option<opcua::RawOpcua>,
     #[serde(default)]
     modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
+    http: Option<http::RawHttp>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -152,6 +157,7 @@ impl Config {
         let modbus = raw.modbus.map(|m| modbus::modbus(m, file, &mut diags));
         let opcua = raw.opcua.map(|o| opcua::opcua(o, file, &mut diags));
         let modbus_devices = modbus_device::devices(raw.modbus_device, file, &mut diags);
+        let http = raw.http.map(|h| http::http(h, file, &mut diags)).unwrap_or_default();
         let config = Config {
             modbus_devices,
             models,
@@ -165,6 +171,7 @@ impl Config {
             history,
             modbus,
             opcua,
+            http,
         };
         (Some(config), diags)
     }
