@@ -5,7 +5,8 @@
 // - without a session the studio is the login page; a wrong password is said;
 // - an operator writes a tag and finds the engineer-only actions disabled
 //   (and the server refuses them anyway); signing out ends the session;
-// - an engineer edits a rung online;
+// - an engineer edits a rung online; the session ends under the studio and
+//   signing in again keeps the edit;
 // - a page served from another origin (another port of 127.0.0.1: the same
 //   site, so the browser does send the session cookie) tries a `fetch` POST
 //   /api/stop and a WebSocket to the studio: refused, the PLC keeps running.
@@ -150,6 +151,25 @@ test('an engineer edits a rung online', async () => {
   assert.ok(st.scans > scans, 'still scanning after the online edit');
   await tid('view-graphic').click();
   await page.locator('[data-testid="rung-6"]', { hasText: '55.0' }).waitFor();
+
+  // The session ends under the studio (a sign-out from another tab of this
+  // browser): the next save is answered 401, the login page comes back over
+  // the studio saying why, and the same user signing in finds the edit kept.
+  await tid('view-text').click();
+  const edited = (await editor.inputValue()).replace('GEQ(Nivel_L,55.0)', 'GEQ(Nivel_L,52.0)');
+  await editor.fill(edited);
+  assert.equal(await page.evaluate(async () => (await fetch('/api/logout', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{}' })).status), 204);
+  await tid('btn-save').click();
+  await tid('login-message').filter({ hasText: 'Your session has ended' }).waitFor();
+  assert.ok(!readFileSync(join(alba.dir, 'main.lad'), 'utf8').includes('52.0'), 'not saved without a session');
+  await login(eric.name, eric.password);
+  await tid('login-page').waitFor({ state: 'detached' });
+  assert.equal(await editor.inputValue(), edited, 'the edit is kept');
+  await tid('btn-save').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid^="ladder-"]')?.getAttribute('data-dirty') === 'false');
+  assert.ok(readFileSync(join(alba.dir, 'main.lad'), 'utf8').includes('GEQ(Nivel_L,52.0)OTU(Llenar);'), 'saved after signing in again');
+  await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
+  await tid('view-graphic').click();
   // the engineer may force: the menu item is enabled
   const program = await alba.json('/api/programs/main.lad');
   await page.locator(`[data-testid="el-${elementId(program, 'XIC', ['STOP'])}"]`).click({ button: 'right' });
