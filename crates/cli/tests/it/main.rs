@@ -7,6 +7,7 @@ mod export;
 mod firmware;
 mod malformed;
 mod retain;
+mod users;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
