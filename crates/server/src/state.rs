@@ -36,6 +36,8 @@ pub struct AppState {
     pub edits: broadcast::Sender<Edited>,
     /// What the browser-attack guard lets in (`[http]` of alba.toml).
     pub guard: crate::guard::Guard,
+    /// Users, sessions, login back-off (`crate::auth`).
+    pub auth: crate::auth::Auth,
 }
 
 impl AppState {
@@ -44,6 +46,7 @@ impl AppState {
         compiled: Compiled,
         io: &str,
         history: Option<alba_historian::Historian>,
+        auth: crate::auth::Auth,
     ) -> Arc<AppState> {
         let project = &compiled.project;
         let guard = crate::guard::Guard::new(&project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default());
@@ -58,6 +61,7 @@ impl AppState {
             history,
             edits: broadcast::Sender::new(16),
             guard,
+            auth,
         })
     }
 

@@ -7,6 +7,7 @@ mod domain;
 mod errors;
 mod guard;
 mod history;
+mod roles;
 mod ws;
 
 use reqwest::{Client, Method, StatusCode};
