@@ -7,6 +7,7 @@
 //   (and the server refuses them anyway); signing out ends the session;
 // - an engineer edits a rung online; the session ends under the studio and
 //   signing in again keeps the edit;
+// - failed logins in a row: the wait is shown, the button held;
 // - a page served from another origin (another port of 127.0.0.1: the same
 //   site, so the browser does send the session cookie) tries a `fetch` POST
 //   /api/stop and a WebSocket to the studio: refused, the PLC keeps running.
@@ -250,3 +251,24 @@ for (const [label, which] of [
     }
   });
 }
+
+test('failed logins in a row: the wait is shown and the button held until it is over', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('btn-logout').click(); // the engineer's session from the tests above
+  await tid('login-form').waitFor();
+  let said = '';
+  for (let k = 0; k < 10 && !said.startsWith('Too many'); k++) {
+    await tid('login-user').fill('mallory');
+    await tid('login-password').fill(`guess-number-${k}`);
+    await tid('login-submit').click(); // (waits while the button is held)
+    await page.waitForFunction(() => document.querySelector('[data-testid="login-submit"]')?.textContent === 'Sign in');
+    said = (await tid('login-error').textContent()) ?? '';
+  }
+  assert.match(said, /^Too many failed attempts: wait \d+ s before trying again$/);
+  assert.equal(await tid('login-submit').isDisabled(), true, 'held during the wait');
+  await b.shot('login-backoff');
+  await page.waitForFunction(() => document.querySelector('[data-testid="login-submit"]')?.disabled === false, null, { timeout: 70_000 });
+  await login(olga.name, olga.password);
+  await tid('status-user').filter({ hasText: 'olga (operator)' }).waitFor();
+});
