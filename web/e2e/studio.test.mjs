@@ -35,6 +35,9 @@ test('the studio loads and shows the tank program live', async () => {
   await page.goto(alba.url);
   await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
   assert.equal(await tid('project-name').textContent(), 'tank-plant');
+  // no users in the example: full rights, no sign-out
+  assert.equal(await tid('status-user').textContent(), 'local, no users');
+  assert.equal(await tid('btn-logout').isHidden(), true);
   await tid('tab-program-main.lad').click();
   for (let r = 0; r < 11; r++) await tid(`rung-${r}`).waitFor();
   assert.equal(await tid('rung-11').count(), 0, 'eleven rungs');
