@@ -232,7 +232,7 @@ test('engine to DOM latency (printed, written to latency.json)', async () => {
   // system running and water in the tank, so Vol_L changes on every scan.
   const put = (tag, value) =>
     alba.api(`/api/tags/${tag}`, { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value }) });
-  await alba.api('/api/forces', { method: 'DELETE' });
+  await alba.api('/api/forces', { method: 'DELETE', headers: { 'content-type': 'application/json' } });
   assert.equal((await put('CT_STP.ACC', 0)).status < 300, true);
   assert.equal((await put('Vol_L', 30.0)).status < 300, true);
   await page.addInitScript(() => {
