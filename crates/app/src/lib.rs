@@ -14,6 +14,7 @@ mod edits;
 mod history;
 mod modbus;
 mod opcua;
+pub mod tls;
 
 use alba_project::config::Config;
 use alba_server::AppState;
@@ -32,6 +33,8 @@ pub struct Options {
     pub modbus: Option<SocketAddr>,
     /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None only on loopback).
     pub opcua: Option<SocketAddr>,
+    /// HTTPS or plain HTTP for the studio (`tls::Tls::Auto`: HTTPS beyond loopback).
+    pub tls: tls::Tls,
 }
 
 pub enum RunError {
@@ -99,6 +102,12 @@ pub async fn run(
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
+    let http_cfg = config.map(|c| c.http.clone()).unwrap_or_default();
+    let acceptor = if tls::https(opts.tls, local, http_cfg.insecure) {
+        Some(tls::acceptor(dir, &http_cfg, local).map_err(RunError::Other)?)
+    } else {
+        None
+    };
 
     let service = Service {
         dir,
@@ -115,10 +124,15 @@ pub async fn run(
         shutdown.await;
         closing.send_replace(true);
     };
-    let served = axum::serve(listener, alba_server::router(state))
-        .with_graceful_shutdown(shutdown)
-        .await
-        .map_err(|e| RunError::Other(format!("server: {e}")));
+    let router = alba_server::router(state);
+    let served = match acceptor {
+        Some(acceptor) => {
+            let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
+            axum::serve(listener, router).with_graceful_shutdown(shutdown).await
+        }
+        None => axum::serve(listener, router).with_graceful_shutdown(shutdown).await,
+    }
+    .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.
     tokio::task::spawn_blocking(move || {
         runtime.shutdown();

@@ -42,5 +42,14 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         if fresh { "written" } else { "as last saved" },
         dir.display()
     );
-    crate::run::run(dir, addr, "sim", native, None, None, Some(&banner))
+    crate::run::run(
+        dir,
+        addr,
+        "sim",
+        native,
+        None,
+        None,
+        alba_app::tls::Tls::Auto,
+        Some(&banner),
+    )
 }

@@ -13,6 +13,7 @@ pub fn run(
     native: bool,
     modbus: Option<SocketAddr>,
     opcua: Option<SocketAddr>,
+    tls: alba_app::tls::Tls,
     banner: Option<&str>,
 ) -> ExitCode {
     let rt = match tokio::runtime::Builder::new_multi_thread()
@@ -32,6 +33,7 @@ pub fn run(
         native,
         modbus,
         opcua,
+        tls,
     };
     let banner = banner.map(str::to_string);
     let result = rt.block_on(alba_app::run(
@@ -41,8 +43,9 @@ pub fn run(
             if let Some(b) = banner {
                 println!("{b}");
             }
+            let scheme = alba_app::tls::scheme(dir, tls, local);
             println!(
-                "Alba studio: http://{local}/  (project {}; Ctrl-C stops)",
+                "Alba studio: {scheme}://{local}/  (project {}; Ctrl-C stops)",
                 dir.display()
             );
         },
