@@ -42,14 +42,13 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         if fresh { "written" } else { "as last saved" },
         dir.display()
     );
-    crate::run::run(
-        dir,
+    let opts = alba_app::Options {
         addr,
-        "sim",
+        io: "sim".into(),
         native,
-        None,
-        None,
-        alba_app::tls::Tls::Auto,
-        Some(&banner),
-    )
+        modbus: None,
+        opcua: None,
+        tls: alba_app::tls::Tls::Auto,
+    };
+    crate::run::run(dir, opts, Some(&banner))
 }

@@ -325,7 +325,15 @@ fn main() -> ExitCode {
                 (_, true) => alba_app::tls::Tls::Never,
                 _ => alba_app::tls::Tls::Auto,
             };
-            run::run(&project, http, &io, !no_native, modbus, opcua, tls, None)
+            let opts = alba_app::Options {
+                addr: http,
+                io,
+                native: !no_native,
+                modbus,
+                opcua,
+                tls,
+            };
+            run::run(&project, opts, None)
         }
         Command::Demo { dir, http } => demo::run(&dir, http, true),
         Command::HashPassword => hash_password(),
