@@ -104,6 +104,7 @@ pub async fn run(
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
     let http_cfg = config.map(|c| c.http.clone()).unwrap_or_default();
     let acceptor = if tls::https(opts.tls, local, http_cfg.insecure) {
+        state.https.store(true, std::sync::atomic::Ordering::Relaxed);
         Some(tls::acceptor(dir, &http_cfg, local).map_err(RunError::Other)?)
     } else {
         None

@@ -36,6 +36,9 @@ pub struct AppState {
     pub edits: broadcast::Sender<Edited>,
     /// What the browser-attack guard lets in (`[http]` of alba.toml).
     pub guard: crate::guard::Guard,
+    /// The studio is served over HTTPS (set by alba-app before serving;
+    /// session cookies are then `Secure`).
+    pub https: std::sync::atomic::AtomicBool,
 }
 
 impl AppState {
@@ -58,6 +61,7 @@ impl AppState {
             history,
             edits: broadcast::Sender::new(16),
             guard,
+            https: std::sync::atomic::AtomicBool::new(false),
         })
     }
 

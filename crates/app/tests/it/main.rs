@@ -236,3 +236,49 @@ fn https_beyond_loopback_unless_explicitly_insecure() {
     assert!(!https(Tls::Never, a("0.0.0.0:8080"), false), "--insecure-http");
     assert!(https(Tls::Always, a("127.0.0.1:8080"), false), "--https");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_listener_beyond_loopback_serves_https_unless_insecure_is_set() {
+    let dir = copy_example("tank", "tls-any");
+    let mut opts = options("sim");
+    opts.addr = "0.0.0.0:0".parse().expect("addr");
+    let (addr, stop, task) = serve(&dir, opts).await;
+    let (cert, _) = alba_app::tls::self_signed_paths(&dir);
+    assert!(cert.exists(), "a certificate made on first run");
+    let url = format!("https://localhost:{}/api/status", addr.port());
+    let res = client_trusting(&cert).get(&url).send().await.expect("HTTPS");
+    assert_eq!(res.status(), reqwest::StatusCode::OK);
+    let plain = reqwest::Client::new()
+        .get(format!("http://127.0.0.1:{}/api/status", addr.port()))
+        .send()
+        .await;
+    assert!(
+        plain.is_err() || !plain.expect("answer").status().is_success(),
+        "no plain HTTP"
+    );
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+
+    // `[http] insecure = true`: plain HTTP, explicitly.
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(dir.join("alba.toml"), format!("{toml}\n[http]\ninsecure = true\n")).expect("write");
+    let mut opts = options("sim");
+    opts.addr = "0.0.0.0:0".parse().expect("addr");
+    let (addr, stop, task) = serve(&dir, opts).await;
+    assert_eq!(alba_app::tls::scheme(&dir, alba_app::tls::Tls::Auto, addr), "http");
+    let res = reqwest::Client::new()
+        .get(format!("http://127.0.0.1:{}/api/status", addr.port()))
+        .send()
+        .await
+        .expect("plain HTTP");
+    assert_eq!(res.status(), reqwest::StatusCode::OK);
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+    let _ = std::fs::remove_dir_all(&dir);
+}
