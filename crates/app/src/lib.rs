@@ -125,13 +125,19 @@ pub async fn run(
         shutdown.await;
         closing.send_replace(true);
     };
+    // Handlers may read the client's address (`ConnectInfo<SocketAddr>`) either way.
     let router = alba_server::router(state);
     let served = match acceptor {
         Some(acceptor) => {
             let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
-            axum::serve(listener, router).with_graceful_shutdown(shutdown).await
+            axum::serve(listener, tls::WithPeer(router))
+                .with_graceful_shutdown(shutdown)
+                .await
         }
-        None => axum::serve(listener, router).with_graceful_shutdown(shutdown).await,
+        None => {
+            let app = router.into_make_service_with_connect_info::<SocketAddr>();
+            axum::serve(listener, app).with_graceful_shutdown(shutdown).await
+        }
     }
     .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.

@@ -189,3 +189,24 @@ impl axum::serve::Listener for TlsListener {
         Ok(self.local)
     }
 }
+
+/// The studio's router over TLS connections, each request knowing its
+/// client's address as `ConnectInfo<SocketAddr>`, as over plain TCP with
+/// `into_make_service_with_connect_info::<SocketAddr>()`.
+#[derive(Clone)]
+pub struct WithPeer(pub axum::Router);
+
+impl tower_service::Service<axum::serve::IncomingStream<'_, TlsListener>> for WithPeer {
+    type Response = axum::Router;
+    type Error = std::convert::Infallible;
+    type Future = std::future::Ready<Result<axum::Router, std::convert::Infallible>>;
+
+    fn poll_ready(&mut self, _: &mut std::task::Context<'_>) -> std::task::Poll<Result<(), Self::Error>> {
+        std::task::Poll::Ready(Ok(()))
+    }
+
+    fn call(&mut self, conn: axum::serve::IncomingStream<'_, TlsListener>) -> Self::Future {
+        let peer = axum::extract::ConnectInfo(*conn.remote_addr());
+        std::future::ready(Ok(self.0.clone().layer(axum::Extension(peer))))
+    }
+}

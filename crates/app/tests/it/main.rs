@@ -282,3 +282,33 @@ async fn a_listener_beyond_loopback_serves_https_unless_insecure_is_set() {
         .expect("task");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn handlers_know_the_clients_address_over_tls() {
+    use axum::extract::ConnectInfo;
+    let dir = std::env::temp_dir().join(format!("alba-app-tls-peer-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (cert, key) = alba_app::tls::self_signed_paths(&dir);
+    let any: std::net::SocketAddr = "127.0.0.1:0".parse().expect("addr");
+    alba_app::tls::make_self_signed(&cert, &key, any, &[]).expect("cert");
+    let acceptor = alba_app::tls::acceptor(&dir, &Default::default(), any).expect("acceptor");
+    let tcp = tokio::net::TcpListener::bind(any).await.expect("bind");
+    let addr = tcp.local_addr().expect("addr");
+    let listener = alba_app::tls::TlsListener::new(tcp, acceptor).expect("listener");
+    let router = axum::Router::new().route(
+        "/",
+        axum::routing::get(|ConnectInfo(peer): ConnectInfo<std::net::SocketAddr>| async move { peer.to_string() }),
+    );
+    let server = tokio::spawn(async move {
+        let _ = axum::serve(listener, alba_app::tls::WithPeer(router)).await;
+    });
+    let res = client_trusting(&cert)
+        .get(format!("https://localhost:{}/", addr.port()))
+        .send()
+        .await
+        .expect("HTTPS");
+    let peer = res.text().await.expect("text");
+    assert!(peer.starts_with("127.0.0.1:") && peer != addr.to_string(), "{peer}");
+    server.abort();
+    let _ = std::fs::remove_dir_all(&dir);
+}
