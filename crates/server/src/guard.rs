@@ -64,7 +64,10 @@ impl Guard {
     pub fn admit(&self, method: &Method, path: &str, headers: &HeaderMap) -> Result<(), Refusal> {
         let text = |name: header::HeaderName| headers.get(name).map(|v| v.to_str().unwrap_or("\u{fffd}"));
         let Some(host) = text(header::HOST) else {
-            return Err(Refusal(StatusCode::BAD_REQUEST, "the request has no `Host` header".into()));
+            return Err(Refusal(
+                StatusCode::BAD_REQUEST,
+                "the request has no `Host` header".into(),
+            ));
         };
         if !self.host_ok(host) {
             return Err(Refusal(
@@ -108,7 +111,11 @@ impl Guard {
             let media = ctype.split(';').next().unwrap_or("").trim().to_ascii_lowercase();
             let csv = *method == Method::PUT && path == "/api/tags.csv" && media == "text/csv";
             if media != "application/json" && !csv {
-                let what = if ctype.is_empty() { "no content type".to_string() } else { format!("`{ctype}`") };
+                let what = if ctype.is_empty() {
+                    "no content type".to_string()
+                } else {
+                    format!("`{ctype}`")
+                };
                 return Err(Refusal(
                     StatusCode::UNSUPPORTED_MEDIA_TYPE,
                     format!("a {method} request must be sent as `Content-Type: application/json`, not {what}"),
@@ -162,7 +169,9 @@ pub async fn layer(State(st): State<Arc<AppState>>, req: Request, next: Next) ->
 /// The security headers. `connect-src` names the WebSocket of the host the
 /// page came from (checked by then, or refused and not a page).
 fn secure(h: &mut HeaderMap, host: Option<&HeaderValue>) {
-    let host = host.and_then(|h| h.to_str().ok()).filter(|h| split_authority(h).is_some());
+    let host = host
+        .and_then(|h| h.to_str().ok())
+        .filter(|h| split_authority(h).is_some());
     let connect = match host {
         Some(host) => format!("'self' ws://{host} wss://{host}"),
         None => "'self'".to_string(),
@@ -212,7 +221,14 @@ mod tests {
         ] {
             assert_eq!(g.admit(&Method::GET, "/", &headers(&[("host", ok)])), Ok(()), "{ok}");
         }
-        for bad in ["evil.example", "evil.example:8080", "localhost.evil.example", "127.0.0.1.nip.io", "", "a b"] {
+        for bad in [
+            "evil.example",
+            "evil.example:8080",
+            "localhost.evil.example",
+            "127.0.0.1.nip.io",
+            "",
+            "a b",
+        ] {
             let r = g.admit(&Method::GET, "/", &headers(&[("host", bad)]));
             assert_eq!(r.map_err(|e| e.0), Err(StatusCode::MISDIRECTED_REQUEST), "{bad}");
         }
@@ -239,13 +255,21 @@ mod tests {
             "https://scada.example:444",
             "nonsense",
         ] {
-            assert_eq!(post(&[host, json, ("origin", bad)]), Err(StatusCode::FORBIDDEN), "{bad}");
+            assert_eq!(
+                post(&[host, json, ("origin", bad)]),
+                Err(StatusCode::FORBIDDEN),
+                "{bad}"
+            );
         }
         assert_eq!(
             post(&[host, json, ("sec-fetch-site", "cross-site")]),
             Err(StatusCode::FORBIDDEN)
         );
-        for ctype in ["text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x"] {
+        for ctype in [
+            "text/plain",
+            "application/x-www-form-urlencoded",
+            "multipart/form-data; boundary=x",
+        ] {
             assert_eq!(
                 post(&[host, ("content-type", ctype)]),
                 Err(StatusCode::UNSUPPORTED_MEDIA_TYPE),
@@ -274,7 +298,12 @@ mod tests {
         };
         assert_eq!(ws(Some("http://localhost:8080")), Ok(()));
         assert_eq!(ws(Some("https://scada.example")), Ok(()));
-        for bad in [None, Some("null"), Some("http://evil.example"), Some("http://localhost:9999")] {
+        for bad in [
+            None,
+            Some("null"),
+            Some("http://evil.example"),
+            Some("http://localhost:9999"),
+        ] {
             assert_eq!(ws(bad), Err(StatusCode::FORBIDDEN), "{bad:?}");
         }
     }

@@ -38,6 +38,9 @@ pub struct AppState {
     pub guard: crate::guard::Guard,
     /// Users, sessions, login back-off (`crate::auth`).
     pub auth: crate::auth::Auth,
+    /// The studio is served over HTTPS (set by alba-app before serving;
+    /// session cookies are then `Secure`).
+    pub https: std::sync::atomic::AtomicBool,
 }
 
 impl AppState {
@@ -62,6 +65,7 @@ impl AppState {
             edits: broadcast::Sender::new(16),
             guard,
             auth,
+            https: std::sync::atomic::AtomicBool::new(false),
         })
     }
 

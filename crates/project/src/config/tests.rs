@@ -372,9 +372,15 @@ fn http_table_lists_hosts_origins_and_tls_files() {
     ))
     .unwrap();
     assert_eq!(c.http.allowed_hosts, ["plc1.plant.example"]);
-    assert_eq!(c.http.allowed_origins, ["https://scada.example:8443", "http://[::1]:8080"]);
+    assert_eq!(
+        c.http.allowed_origins,
+        ["https://scada.example:8443", "http://[::1]:8080"]
+    );
     assert!(c.http.insecure);
-    assert_eq!((c.http.cert.as_deref(), c.http.key.as_deref()), (Some("tls/c.pem"), Some("tls/k.pem")));
+    assert_eq!(
+        (c.http.cert.as_deref(), c.http.key.as_deref()),
+        (Some("tls/c.pem"), Some("tls/k.pem"))
+    );
     for (bad, what) in [
         ("allowed_hosts = [\"http://plc1\"]", "not a host name"),
         ("allowed_hosts = [\"plc1:8080\"]", "not a host name"),

@@ -10,10 +10,10 @@ use axum::body::{Body, Bytes};
 use axum::extract::{Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
+use futures_util::StreamExt;
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Duration;
-use futures_util::StreamExt;
 
 /// The most rows a CSV export answers with.
 const MAX_CSV_ROWS: i64 = 1_000_000;
@@ -121,10 +121,7 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
         )));
     }
     // One export at a time per permit; the others wait their turn.
-    let permit = EXPORTS
-        .acquire()
-        .await
-        .map_err(|e| ApiError::Internal(e.to_string()))?;
+    let permit = EXPORTS.acquire().await.map_err(|e| ApiError::Internal(e.to_string()))?;
     let (tx, mut rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, alba_historian::Error>>(4);
     let rt = tokio::runtime::Handle::current();
     tokio::task::spawn_blocking(move || {
@@ -185,10 +182,16 @@ impl ChunkWriter {
             return Ok(());
         }
         let piece = std::mem::replace(&mut self.buf, Vec::with_capacity(CSV_CHUNK));
-        match self.rt.block_on(tokio::time::timeout(CSV_SEND_TIMEOUT, self.tx.send(Ok(piece)))) {
+        match self
+            .rt
+            .block_on(tokio::time::timeout(CSV_SEND_TIMEOUT, self.tx.send(Ok(piece))))
+        {
             Ok(Ok(())) => Ok(()),
             Ok(Err(_)) => Err(std::io::Error::new(std::io::ErrorKind::BrokenPipe, "the client left")),
-            Err(_) => Err(std::io::Error::new(std::io::ErrorKind::TimedOut, "the client takes nothing")),
+            Err(_) => Err(std::io::Error::new(
+                std::io::ErrorKind::TimedOut,
+                "the client takes nothing",
+            )),
         }
     }
 }

@@ -84,7 +84,9 @@ async fn a_foreign_page_cannot_stop_the_plc() {
     let (code, _, j) = s.send(Method::POST, "/api/stop", &h, "").await;
     assert_eq!((code, j["state"].clone()), (StatusCode::OK, "stopped".into()));
     // A script: JSON without Origin.
-    let (code, _, j) = s.send(Method::POST, "/api/run", &[("content-type", "application/json")], "").await;
+    let (code, _, j) = s
+        .send(Method::POST, "/api/run", &[("content-type", "application/json")], "")
+        .await;
     assert_eq!((code, j["state"].clone()), (StatusCode::OK, "running".into()));
     s.stop().await;
 }
@@ -95,21 +97,34 @@ async fn foreign_host_names_are_refused() {
     let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
     std::fs::write(
         dir.join("alba.toml"),
-        format!("{toml}\n[http]\nallowed_hosts = [\"plc1.plant.example\"]\nallowed_origins = [\"https://scada.example\"]\n"),
+        format!(
+            "{toml}\n[http]\nallowed_hosts = [\"plc1.plant.example\"]\nallowed_origins = [\"https://scada.example\"]\n"
+        ),
     )
     .expect("write");
     let s = Server::start_in(dir).await;
     let port = s.addr.port();
     // DNS rebinding: evil.example resolves to 127.0.0.1, the browser sends its name.
-    for host in ["evil.example".to_string(), format!("evil.example:{port}"), format!("localhost.evil.example:{port}")] {
+    for host in [
+        "evil.example".to_string(),
+        format!("evil.example:{port}"),
+        format!("localhost.evil.example:{port}"),
+    ] {
         for path in ["/", "/api/status"] {
             let (code, h, j) = s.send(Method::GET, path, &[("host", &host)], "").await;
             assert_eq!(code, StatusCode::MISDIRECTED_REQUEST, "{host} {path}: {j}");
             assert!(j["error"].as_str().expect("error").contains("allowed_hosts"), "{j}");
-            assert!(h.contains_key("content-security-policy"), "refusals carry the headers too");
+            assert!(
+                h.contains_key("content-security-policy"),
+                "refusals carry the headers too"
+            );
         }
         let origin = format!("http://{host}");
-        let hs = [("host", host.as_str()), ("origin", origin.as_str()), ("content-type", "application/json")];
+        let hs = [
+            ("host", host.as_str()),
+            ("origin", origin.as_str()),
+            ("content-type", "application/json"),
+        ];
         let (code, _, _) = s.send(Method::POST, "/api/stop", &hs, "").await;
         assert_eq!(code, StatusCode::MISDIRECTED_REQUEST, "{host}");
     }
@@ -127,7 +142,11 @@ async fn foreign_host_names_are_refused() {
     // An allowed name, from its own origin or an allowed one.
     let host = format!("plc1.plant.example:{port}");
     for origin in [format!("http://{host}"), "https://scada.example".to_string()] {
-        let hs = [("host", host.as_str()), ("origin", origin.as_str()), ("content-type", "application/json")];
+        let hs = [
+            ("host", host.as_str()),
+            ("origin", origin.as_str()),
+            ("content-type", "application/json"),
+        ];
         let (code, _, j) = s.send(Method::POST, "/api/run", &hs, "").await;
         assert_eq!(code, StatusCode::OK, "{origin}: {j}");
     }
@@ -138,13 +157,20 @@ async fn foreign_host_names_are_refused() {
 async fn the_websocket_needs_the_studios_origin() {
     let s = Server::start("tank", "guard-ws").await;
     let handshake = |origin: Option<&str>| {
-        let mut req = format!("ws://{}/api/ws", s.addr).into_client_request().expect("request");
+        let mut req = format!("ws://{}/api/ws", s.addr)
+            .into_client_request()
+            .expect("request");
         if let Some(o) = origin {
             req.headers_mut().insert("origin", o.parse().expect("origin"));
         }
         tokio_tungstenite::connect_async(req)
     };
-    for origin in [None, Some("null"), Some("http://evil.example"), Some("http://127.0.0.1:1")] {
+    for origin in [
+        None,
+        Some("null"),
+        Some("http://evil.example"),
+        Some("http://127.0.0.1:1"),
+    ] {
         match handshake(origin).await {
             Err(tungstenite::Error::Http(res)) => assert_eq!(res.status(), StatusCode::FORBIDDEN, "{origin:?}"),
             Err(e) => panic!("{origin:?}: {e}"),
@@ -158,7 +184,9 @@ async fn the_websocket_needs_the_studios_origin() {
     ws.send(tungstenite::Message::Text(r#"{"subscribe":["Llenar"]}"#.into()))
         .await
         .expect("send");
-    let m = tokio::time::timeout(Duration::from_secs(5), ws.next()).await.expect("a message");
+    let m = tokio::time::timeout(Duration::from_secs(5), ws.next())
+        .await
+        .expect("a message");
     assert!(matches!(m, Some(Ok(tungstenite::Message::Text(_)))), "{m:?}");
     drop(ws);
     s.stop().await;
@@ -177,7 +205,12 @@ async fn every_answer_carries_the_security_headers() {
         let (_, h, _) = s.send(method.clone(), path, &[], "").await;
         let get = |k: &str| h.get(k).and_then(|v| v.to_str().ok()).unwrap_or("").to_string();
         let csp = get("content-security-policy");
-        for part in ["default-src 'self'", "frame-ancestors 'none'", "script-src 'self'", "object-src 'none'"] {
+        for part in [
+            "default-src 'self'",
+            "frame-ancestors 'none'",
+            "script-src 'self'",
+            "object-src 'none'",
+        ] {
             assert!(csp.contains(part), "{method} {path}: {csp}");
         }
         assert!(csp.contains(&format!("ws://{}", s.addr)), "{csp}");
@@ -194,7 +227,10 @@ async fn history_csv_is_bounded_and_streamed() {
     // Until the recorder has written the level.
     for _ in 0..500 {
         let tags = s.get("/api/history/tags").await;
-        if tags.as_array().is_some_and(|a| a.iter().any(|t| t["name"] == "Nivel_L")) {
+        if tags
+            .as_array()
+            .is_some_and(|a| a.iter().any(|t| t["name"] == "Nivel_L"))
+        {
             break;
         }
         tokio::time::sleep(Duration::from_millis(10)).await;
@@ -202,25 +238,36 @@ async fn history_csv_is_bounded_and_streamed() {
     // 300 different columns: refused at once, before any query.
     let names: Vec<String> = (0..300).map(|i| format!("T{i}")).collect();
     let t = Instant::now();
-    let path = format!("/api/history.csv?tags={}&from=0&to=1000000000&step=1000", names.join(","));
+    let path = format!(
+        "/api/history.csv?tags={}&from=0&to=1000000000&step=1000",
+        names.join(",")
+    );
     let (code, j) = s.call(Method::GET, &path, None).await;
     assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
     assert!(j["error"].as_str().expect("error").contains("more than 64"), "{j}");
     assert!(t.elapsed() < Duration::from_secs(2), "{:?}", t.elapsed());
     // The issue's 300 repeats of one tag: one column.
-    let path = format!("/api/history.csv?tags={}&from=0&to=10000&step=1000", ["Nivel_L"; 300].join(","));
+    let path = format!(
+        "/api/history.csv?tags={}&from=0&to=10000&step=1000",
+        ["Nivel_L"; 300].join(",")
+    );
     let res = s.http.get(s.url(&path)).send().await.expect("csv");
     assert_eq!(res.status(), StatusCode::OK);
     let text = res.text().await.expect("text");
     assert_eq!(text.lines().next(), Some("Time (ms),Nivel_L"));
     assert_eq!(text.lines().count(), 12);
     // Too many values in all (rows × columns).
-    let path = format!("/api/history.csv?tags={}&from=0&to=999999&step=1", names[..20].join(","));
+    let path = format!(
+        "/api/history.csv?tags={}&from=0&to=999999&step=1",
+        names[..20].join(",")
+    );
     let (code, j) = s.call(Method::GET, &path, None).await;
     assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY);
     assert!(j["error"].as_str().expect("error").contains("values"), "{j}");
     // An unknown tag is still an API error, not a cut answer.
-    let (code, j) = s.call(Method::GET, "/api/history.csv?tags=Nivel_L,Nope&from=0&to=10", None).await;
+    let (code, j) = s
+        .call(Method::GET, "/api/history.csv?tags=Nivel_L,Nope&from=0&to=10", None)
+        .await;
     assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
 
     // The largest legal export of one tag comes in pieces, with no length announced.

@@ -55,6 +55,7 @@ impl Server {
             native: false,
             modbus: None,
             opcua: None,
+            tls: alba_app::tls::Tls::Auto,
         };
         let d = dir.clone();
         let task = tokio::spawn(async move {
