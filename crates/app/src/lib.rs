@@ -14,8 +14,8 @@ mod edits;
 mod history;
 mod modbus;
 mod opcua;
-mod users;
 pub mod tls;
+mod users;
 
 use alba_project::config::Config;
 use alba_server::AppState;
