@@ -14,6 +14,8 @@ mod edits;
 mod history;
 mod modbus;
 mod opcua;
+pub mod tls;
+mod users;
 
 use alba_project::config::Config;
 use alba_server::AppState;
@@ -32,6 +34,8 @@ pub struct Options {
     pub modbus: Option<SocketAddr>,
     /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None only on loopback).
     pub opcua: Option<SocketAddr>,
+    /// HTTPS or plain HTTP for the studio (`tls::Tls::Auto`: HTTPS beyond loopback).
+    pub tls: tls::Tls,
 }
 
 pub enum RunError {
@@ -74,6 +78,7 @@ pub async fn run(
     };
     let config = compiled.project.config.clone();
     let config = config.as_ref();
+    let auth = users::auth(dir, config, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
@@ -98,11 +103,18 @@ pub async fn run(
             tokio::runtime::Handle::current(),
         )
     });
-    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian);
+    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, auth);
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
+    let http_cfg = config.map(|c| c.http.clone()).unwrap_or_default();
+    let acceptor = if tls::https(opts.tls, local, http_cfg.insecure) {
+        state.https.store(true, std::sync::atomic::Ordering::Relaxed);
+        Some(tls::acceptor(dir, &http_cfg, local).map_err(RunError::Other)?)
+    } else {
+        None
+    };
 
     let service = Service {
         dir,
@@ -119,10 +131,21 @@ pub async fn run(
         shutdown.await;
         closing.send_replace(true);
     };
-    let served = axum::serve(listener, alba_server::router(state))
-        .with_graceful_shutdown(shutdown)
-        .await
-        .map_err(|e| RunError::Other(format!("server: {e}")));
+    // Handlers may read the client's address (`ConnectInfo<SocketAddr>`) either way.
+    let router = alba_server::router(state);
+    let served = match acceptor {
+        Some(acceptor) => {
+            let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
+            axum::serve(listener, tls::WithPeer(router))
+                .with_graceful_shutdown(shutdown)
+                .await
+        }
+        None => {
+            let app = router.into_make_service_with_connect_info::<SocketAddr>();
+            axum::serve(listener, app).with_graceful_shutdown(shutdown).await
+        }
+    }
+    .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.
     tokio::task::spawn_blocking(move || {
         runtime.shutdown();

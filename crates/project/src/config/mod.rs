@@ -4,21 +4,25 @@
 
 mod board;
 mod history;
+mod http;
 mod modbus;
 mod modbus_device;
 mod opcua;
 mod plant;
+mod session;
 mod setting;
 #[cfg(test)]
 mod tests;
 
 pub use board::Board;
 pub use history::History;
+pub use http::{Http, parse_origin, split_authority};
 pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
+pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
@@ -51,6 +55,10 @@ pub struct Config {
     /// `[[modbus_device]]`: remote Modbus slaves polled by `alba run --io
     /// modbus` (docs/protocols.md, "Modbus master I/O").
     pub modbus_devices: Vec<ModbusDevice>,
+    /// `[http]`: the studio's listener (docs/security.md).
+    pub http: Http,
+    /// `[session]`: how long a login to the HTTP API lasts.
+    pub session: Session,
 }
 
 #[derive(Deserialize)]
@@ -72,6 +80,8 @@ struct RawConfig {
     opcua: Option<opcua::RawOpcua>,
     #[serde(default)]
     modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
+    http: Option<http::RawHttp>,
+    session: Option<session::RawSession>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -152,8 +162,13 @@ impl Config {
         let modbus = raw.modbus.map(|m| modbus::modbus(m, file, &mut diags));
         let opcua = raw.opcua.map(|o| opcua::opcua(o, file, &mut diags));
         let modbus_devices = modbus_device::devices(raw.modbus_device, file, &mut diags);
+        let http = raw.http.map(|h| http::http(h, file, &mut diags)).unwrap_or_default();
+        let session = raw
+            .session
+            .map_or_else(Session::default, |s| session::session(s, file, &mut diags));
         let config = Config {
             modbus_devices,
+            session,
             models,
             name,
             description: raw.description,
@@ -165,6 +180,7 @@ impl Config {
             history,
             modbus,
             opcua,
+            http,
         };
         (Some(config), diags)
     }

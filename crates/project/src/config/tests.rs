@@ -426,3 +426,45 @@ fn bad_modbus_client_rules_are_located() {
     let e = parse(&format!("{head}read_only = \"yes\"\n")).unwrap_err();
     assert!(e[0].starts_with("alba.toml:4:13: error[E102]"), "{e:?}");
 }
+
+#[test]
+fn http_table_lists_hosts_origins_and_tls_files() {
+    let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
+    assert_eq!(parse(head).unwrap().http, Http::default());
+    let c = parse(&format!(
+        "{head}[http]\nallowed_hosts = [\"PLC1.plant.example\"]\nallowed_origins = [\"https://scada.example:8443\", \"http://[::1]:8080\"]\ninsecure = true\ncert = \"tls/c.pem\"\nkey = \"tls/k.pem\"\n"
+    ))
+    .unwrap();
+    assert_eq!(c.http.allowed_hosts, ["plc1.plant.example"]);
+    assert_eq!(
+        c.http.allowed_origins,
+        ["https://scada.example:8443", "http://[::1]:8080"]
+    );
+    assert!(c.http.insecure);
+    assert_eq!(
+        (c.http.cert.as_deref(), c.http.key.as_deref()),
+        (Some("tls/c.pem"), Some("tls/k.pem"))
+    );
+    for (bad, what) in [
+        ("allowed_hosts = [\"http://plc1\"]", "not a host name"),
+        ("allowed_hosts = [\"plc1:8080\"]", "not a host name"),
+        ("allowed_origins = [\"scada.example\"]", "not an origin"),
+        ("allowed_origins = [\"ftp://scada.example\"]", "not an origin"),
+        ("allowed_origins = [\"http://scada.example:99999\"]", "not an origin"),
+        ("cert = \"c.pem\"", "both `cert` and `key`"),
+    ] {
+        let e = parse(&format!("{head}[http]\n{bad}\n")).unwrap_err();
+        assert!(e.iter().any(|m| m.contains(what)), "{bad}: {e:?}");
+    }
+}
+
+#[test]
+fn authorities_split_into_host_and_port() {
+    assert_eq!(split_authority("localhost:8080"), Some(("localhost", Some(8080))));
+    assert_eq!(split_authority("plc1"), Some(("plc1", None)));
+    assert_eq!(split_authority("[::1]:80"), Some(("[::1]", Some(80))));
+    assert_eq!(split_authority("[::1]"), Some(("[::1]", None)));
+    for bad in ["", "a:b", "::1", "[zz]:1", "a b", "h:", "evil.example/x"] {
+        assert_eq!(split_authority(bad), None, "{bad}");
+    }
+}
