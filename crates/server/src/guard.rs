@@ -112,13 +112,13 @@ impl Guard {
             let csv = *method == Method::PUT && path == "/api/tags.csv" && media == "text/csv";
             if media != "application/json" && !csv {
                 let what = if ctype.is_empty() {
-                    "no content type".to_string()
+                    "it has none".to_string()
                 } else {
-                    format!("`{ctype}`")
+                    format!("not `{ctype}`")
                 };
                 return Err(Refusal(
                     StatusCode::UNSUPPORTED_MEDIA_TYPE,
-                    format!("a {method} request must be sent as `Content-Type: application/json`, not {what}"),
+                    format!("a {method} request must be sent as `Content-Type: application/json` ({what})"),
                 ));
             }
         }
