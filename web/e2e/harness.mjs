@@ -16,11 +16,27 @@ export const repo = resolve(here, '../..');
 export const out = resolve(process.env.E2E_OUT ?? join(here, 'out'));
 mkdirSync(out, { recursive: true });
 
-/** Starts `alba run` on a copy of examples/<name>; resolves once it serves. */
-export async function startAlba(example) {
+const albaBin = () => process.env.ALBA_BIN ?? join(repo, 'target/debug/alba');
+
+/** `alba user add <dir> <name> --role <role>`, the password on standard input. */
+export async function addUser(dir, { name, role, password }) {
+  const proc = spawn(albaBin(), ['user', 'add', dir, name, '--role', role], { stdio: ['pipe', 'ignore', 'pipe'] });
+  let err = '';
+  proc.stderr.on('data', (d) => (err += d));
+  proc.stdin.end(`${password}\n`);
+  const code = await new Promise((ok) => proc.on('exit', ok));
+  if (code !== 0) throw new Error(`alba user add ${name} exited with ${code}: ${err}`);
+}
+
+/**
+ * Starts `alba run` on a copy of examples/<name>; resolves once it serves.
+ * `users` ({name, role, password}) are added to the copy first.
+ */
+export async function startAlba(example, { users = [] } = {}) {
   const dir = mkdtempSync(join(tmpdir(), `alba-e2e-${example}-`));
   cpSync(join(repo, 'examples', example), dir, { recursive: true });
-  const bin = process.env.ALBA_BIN ?? join(repo, 'target/debug/alba');
+  for (const u of users) await addUser(dir, u);
+  const bin = albaBin();
   const proc = spawn(bin, ['run', dir, '--http', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] });
   const url = await new Promise((ok, fail) => {
     const timer = setTimeout(() => fail(new Error('alba run did not start in 30 s')), 30_000);
@@ -33,16 +49,32 @@ export async function startAlba(example) {
       }
     });
   });
-  const api = async (path, init) => {
-    const res = await fetch(new URL(path, url), init);
+  // With users, `login()` gives the helpers a bearer token.
+  let token = null;
+  const api = async (path, init = {}) => {
+    const headers = { ...(init.headers ?? {}) };
+    if (token && !Object.keys(headers).some((k) => k.toLowerCase() === 'authorization')) headers.authorization = `Bearer ${token}`;
+    const res = await fetch(new URL(path, url), { ...init, headers });
     const text = await res.text();
-    return { status: res.status, body: text ? JSON.parse(text) : null };
+    let body = null;
+    try {
+      body = text ? JSON.parse(text) : null;
+    } catch {
+      body = text;
+    }
+    return { status: res.status, body };
   };
   return {
     url,
     dir,
     api,
     json: async (path) => (await api(path)).body,
+    /** Logs the helpers in (POST /api/login; the bearer token of the reply). */
+    async login(user, password) {
+      const r = await api('/api/login', { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ user, password }) });
+      if (r.status !== 200 || !r.body?.token) throw new Error(`login ${user}: ${r.status} ${JSON.stringify(r.body)}`);
+      token = r.body.token;
+    },
     async stop() {
       proc.kill('SIGTERM');
       await new Promise((ok) => (proc.exitCode !== null ? ok() : proc.on('exit', ok)));

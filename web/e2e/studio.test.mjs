@@ -35,6 +35,9 @@ test('the studio loads and shows the tank program live', async () => {
   await page.goto(alba.url);
   await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
   assert.equal(await tid('project-name').textContent(), 'tank-plant');
+  // no users in the example: full rights, no sign-out
+  assert.equal(await tid('status-user').textContent(), 'local, no users');
+  assert.equal(await tid('btn-logout').isHidden(), true);
   await tid('tab-program-main.lad').click();
   for (let r = 0; r < 11; r++) await tid(`rung-${r}`).waitFor();
   assert.equal(await tid('rung-11').count(), 0, 'eleven rungs');
@@ -232,7 +235,7 @@ test('engine to DOM latency (printed, written to latency.json)', async () => {
   // system running and water in the tank, so Vol_L changes on every scan.
   const put = (tag, value) =>
     alba.api(`/api/tags/${tag}`, { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value }) });
-  await alba.api('/api/forces', { method: 'DELETE' });
+  await alba.api('/api/forces', { method: 'DELETE', headers: { 'content-type': 'application/json' } });
   assert.equal((await put('CT_STP.ACC', 0)).status < 300, true);
   assert.equal((await put('Vol_L', 30.0)).status < 300, true);
   await page.addInitScript(() => {

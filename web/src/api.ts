@@ -8,16 +8,36 @@ export class ApiError extends Error {
     readonly status: number,
     message: string,
     readonly diagnostics: Diagnostic[] = [],
+    /** Seconds to wait before trying again (429: `Retry-After`, or the body's `retry_after_s`). */
+    readonly retryAfter: number | null = null,
   ) {
     super(message);
   }
 }
 
+/**
+ * Called when the server answers 401 to anything but a login (the session
+ * expired or was ended): main.ts shows the login page.
+ */
+let unauthorized: ((message: string) => void) | null = null;
+
+export function onUnauthorized(f: ((message: string) => void) | null): void {
+  unauthorized = f;
+}
+
+const SAFE = new Set(['GET', 'HEAD']);
+
 async function request(method: string, path: string, body?: unknown, contentType = 'application/json'): Promise<Response> {
-  const init: RequestInit = { method, headers: {} };
+  // The session is the cookie (same origin only). Every state-changing request
+  // has a JSON body (an empty object when there is nothing to say), since the
+  // server refuses any other (a cross-site form or text/plain post) — except
+  // tags.csv, whose text/csv also needs a preflight the server never grants.
+  const headers: Record<string, string> = {};
+  const init: RequestInit = { method, headers, credentials: 'same-origin' };
+  if (body === undefined && !SAFE.has(method)) body = {};
   if (body !== undefined) {
     init.body = typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
-    (init.headers as Record<string, string>)['Content-Type'] = contentType;
+    headers['Content-Type'] = contentType;
   }
   let res: Response;
   try {
@@ -28,14 +48,19 @@ async function request(method: string, path: string, body?: unknown, contentType
   if (!res.ok) {
     let msg = `${res.status} ${res.statusText}`;
     let diagnostics: Diagnostic[] = [];
+    let retryAfter: number | null = null;
+    const header = Number(res.headers.get('Retry-After'));
+    if (res.headers.get('Retry-After') !== null && Number.isFinite(header)) retryAfter = header;
     try {
       const j = await res.json();
       if (j && typeof j.error === 'string') msg = j.error;
       if (j && Array.isArray(j.diagnostics)) diagnostics = j.diagnostics;
+      for (const k of ['retry_after_s', 'retry_after']) if (retryAfter === null && j && typeof j[k] === 'number') retryAfter = j[k];
     } catch {
       /* not JSON */
     }
-    throw new ApiError(res.status, msg, diagnostics);
+    if (res.status === 401 && path !== '/api/login') unauthorized?.(msg);
+    throw new ApiError(res.status, msg, diagnostics, retryAfter);
   }
   return res;
 }
@@ -49,6 +74,9 @@ async function json<T>(method: string, path: string, body?: unknown): Promise<T>
 const enc = encodeURIComponent;
 
 export const api = {
+  me: () => json<unknown>('GET', '/api/me'),
+  login: (user: string, password: string) => json<unknown>('POST', '/api/login', { user, password }),
+  logout: () => json<void>('POST', '/api/logout'),
   status: () => json<Status>('GET', '/api/status'),
   run: () => json<Status>('POST', '/api/run'),
   stop: () => json<Status>('POST', '/api/stop'),
@@ -64,6 +92,8 @@ export const api = {
     json<{ diagnostics: Diagnostic[]; rungs?: RungJson[] }>('POST', `/api/check/${enc(name)}`, { text }),
   saveProgram: (name: string, text: string, online = true) =>
     json<{ diagnostics: Diagnostic[]; applied: boolean }>('PUT', `/api/programs/${enc(name)}`, { text, online }),
+  /** A GET answered with text (a CSV export). */
+  text: async (path: string) => (await request('GET', path)).text(),
   tagsCsv: async () => (await request('GET', '/api/tags.csv')).text(),
   saveTagsCsv: (text: string) => request('PUT', '/api/tags.csv', text, 'text/csv').then((r) => r.json()),
   historyTags: () => json<{ name: string; first_ms: number; last_ms: number }[]>('GET', '/api/history/tags'),

@@ -1,14 +1,17 @@
 // The studio: top bar, tabs (one per program, ladder or IL, Tags, Trends), status
-// bar and notifications. Routes with the URL hash (#/program/main.lad,
-// #/tags, #/trends).
+// bar (with the user and a logout) and notifications. Routes with the URL hash
+// (#/program/main.lad, #/tags, #/trends). Starts through login.ts's boot():
+// the login page first when the project has users and there is no session.
 import './style.css';
-import { ApiError, api } from './api';
+import { ApiError, api, onUnauthorized } from './api';
+import { type Me, can, gate } from './auth';
 import { type Ctx, TagCache } from './ctx';
 import { clear, h } from './dom';
 import { setDomain } from './domain';
 import { IlView } from './il/view';
 import { LadderView } from './ladder/view';
 import { LiveClient } from './live/client';
+import { boot, loginText, setNextLoginMessage, showLogin } from './login';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
@@ -24,6 +27,12 @@ interface View {
 type Editor = LadderView | IlView;
 const isEditor = (v: View | null | undefined): v is Editor => v instanceof LadderView || v instanceof IlView;
 
+/** The strings of the shell (one place; a Spanish catalogue comes later). */
+const text = {
+  signedInAgain: (user: string) => `Signed in again as ${user}`,
+  logoutFailed: (m: string) => `Sign out failed: ${m}`,
+};
+
 const toasts = h('div', { class: 'toasts', 'data-testid': 'toasts' });
 
 function notify(message: string, kind: 'info' | 'error' = 'info'): void {
@@ -32,10 +41,11 @@ function notify(message: string, kind: 'info' | 'error' = 'info'): void {
   setTimeout(() => t.remove(), kind === 'error' ? 8000 : 4000);
 }
 
-async function start(): Promise<void> {
+async function start(me: Me): Promise<void> {
   const live = new LiveClient();
   const tags = new TagCache();
   const statusBar = new StatusBar();
+  statusBar.user(me);
   const projectName = h('span', { class: 'project', 'data-testid': 'project-name' }, '…');
   const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: 'Start scanning' }, '▶ Run');
   const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: 'Stop scanning (outputs off)' }, '■ Stop');
@@ -54,12 +64,60 @@ async function start(): Promise<void> {
     toasts,
   );
 
+  // What the role may not do is disabled, saying why (auth.ts decides).
+  gate(runBtn, 'runstop');
+  gate(stopBtn, 'runstop');
+  gate(compileBtn, 'edit');
+  gate(saveBtn, 'edit');
+  const showRunState = (state: string) => {
+    runBtn.disabled = !can('runstop') || state === 'running';
+    stopBtn.disabled = !can('runstop') || state !== 'running';
+  };
+
+  // The session ended (a 401): the login page over the studio, which keeps its
+  // state (an edited program) for the same user; another user starts afresh.
+  let leaving = false;
+  let relogin: HTMLElement | null = null;
+  const sessionEnded = (message: string) => {
+    if (relogin || !me.users || leaving) return;
+    live.close();
+    relogin = showLogin({
+      message: loginText.expired(message),
+      onLoggedIn: (again) => {
+        relogin = null;
+        if (again.user !== me.user || again.role !== me.role) {
+          leaving = true;
+          location.reload();
+          return;
+        }
+        live.connect();
+        void tags.refresh().catch(() => undefined);
+        notify(text.signedInAgain(again.user ?? ''));
+      },
+    });
+  };
+  onUnauthorized(sessionEnded);
+  statusBar.onLogout(async () => {
+    try {
+      await api.logout();
+    } catch (e) {
+      if (!(e instanceof ApiError && e.status === 401)) notify(text.logoutFailed(e instanceof Error ? e.message : String(e)), 'error');
+      return;
+    }
+    setNextLoginMessage(loginText.signedOut);
+    leaving = true;
+    location.reload();
+  });
+
   let lost = false;
   live.onState((s) => {
     statusBar.conn(s);
     // after a reconnection the tag table may have changed
-    if (s === 'reconnecting') lost = true;
-    else if (s === 'connected' && lost) {
+    if (s === 'reconnecting') {
+      lost = true;
+      // the WebSocket may have been refused for an ended session: a 401 here says so
+      if (me.users) void api.me().catch(() => undefined);
+    } else if (s === 'connected' && lost) {
       lost = false;
       void tags.refresh().catch(() => undefined);
     }
@@ -67,8 +125,7 @@ async function start(): Promise<void> {
   live.onBatch((b) => {
     if (b.status) {
       statusBar.status(b.status);
-      runBtn.disabled = b.status.state === 'running';
-      stopBtn.disabled = b.status.state !== 'running';
+      showRunState(b.status.state);
     }
     b.errors.forEach((e) => console.warn('server:', e));
   });
@@ -79,8 +136,7 @@ async function start(): Promise<void> {
       const s = (await f()) as import('./types').Status;
       statusBar.status(s);
       live.status = s;
-      runBtn.disabled = s.state === 'running';
-      stopBtn.disabled = s.state !== 'running';
+      showRunState(s.state);
     } catch (e) {
       notify(e instanceof ApiError ? e.message : String(e), 'error');
     }
@@ -101,8 +157,7 @@ async function start(): Promise<void> {
   document.title = `${status.project} — Alba`;
   statusBar.status(status);
   live.status = status;
-  runBtn.disabled = status.state === 'running';
-  stopBtn.disabled = status.state !== 'running';
+  showRunState(status.state);
 
   const ctx: Ctx = { live, tags, notify };
   const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();
@@ -133,7 +188,7 @@ async function start(): Promise<void> {
     main.append(current.el);
     current.show();
     nav.querySelectorAll('a').forEach((a) => a.classList.toggle('active', a.dataset.key === key));
-    compileBtn.disabled = saveBtn.disabled = !isEditor(current);
+    compileBtn.disabled = saveBtn.disabled = !isEditor(current) || !can('edit');
   };
   for (const [key, v] of views) {
     nav.append(h('a', { href: `#/${encodeURIComponent(key).replace(/%2F/g, '/')}`, 'data-key': key, 'data-testid': v.testid }, v.label));
@@ -150,8 +205,9 @@ async function start(): Promise<void> {
     if (isEditor(current)) void current.save();
   };
   window.addEventListener('beforeunload', (e) => {
+    if (leaving) return;
     if ([...views.values()].some((v) => isEditor(v.view) && v.view.dirty)) e.preventDefault();
   });
 }
 
-void start();
+void boot(start);

@@ -14,6 +14,7 @@ mod edits;
 mod history;
 mod modbus;
 mod opcua;
+pub mod tls;
 mod users;
 
 use alba_project::config::Config;
@@ -33,6 +34,8 @@ pub struct Options {
     pub modbus: Option<SocketAddr>,
     /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None only on loopback).
     pub opcua: Option<SocketAddr>,
+    /// HTTPS or plain HTTP for the studio (`tls::Tls::Auto`: HTTPS beyond loopback).
+    pub tls: tls::Tls,
 }
 
 pub enum RunError {
@@ -89,7 +92,8 @@ pub async fn run(
     } else {
         None
     };
-    let runtime = alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(RunError::Other)?;
+    let runtime =
+        alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
     let recorder = historian.clone().map(|h| {
         history::record(
@@ -104,6 +108,13 @@ pub async fn run(
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
+    let http_cfg = config.map(|c| c.http.clone()).unwrap_or_default();
+    let acceptor = if tls::https(opts.tls, local, http_cfg.insecure) {
+        state.https.store(true, std::sync::atomic::Ordering::Relaxed);
+        Some(tls::acceptor(dir, &http_cfg, local).map_err(RunError::Other)?)
+    } else {
+        None
+    };
 
     let service = Service {
         dir,
@@ -120,11 +131,21 @@ pub async fn run(
         shutdown.await;
         closing.send_replace(true);
     };
-    let app = alba_server::router(state).into_make_service_with_connect_info::<SocketAddr>();
-    let served = axum::serve(listener, app)
-        .with_graceful_shutdown(shutdown)
-        .await
-        .map_err(|e| RunError::Other(format!("server: {e}")));
+    // Handlers may read the client's address (`ConnectInfo<SocketAddr>`) either way.
+    let router = alba_server::router(state);
+    let served = match acceptor {
+        Some(acceptor) => {
+            let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
+            axum::serve(listener, tls::WithPeer(router))
+                .with_graceful_shutdown(shutdown)
+                .await
+        }
+        None => {
+            let app = router.into_make_service_with_connect_info::<SocketAddr>();
+            axum::serve(listener, app).with_graceful_shutdown(shutdown).await
+        }
+    }
+    .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.
     tokio::task::spawn_blocking(move || {
         runtime.shutdown();

@@ -1,5 +1,6 @@
 //! The Modbus TCP server of `alba run` (OpenPLC v3 address map,
-//! docs/protocols.md): on `--modbus`, else where `[modbus] listen` says.
+//! docs/protocols.md): on `--modbus`, else where `[modbus] listen` says;
+//! beyond loopback only with `[modbus] allow` (docs/security.md, "Modbus").
 
 use crate::{Service, Started};
 
@@ -8,6 +9,8 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
     let Some(addr) = addr.or(cfg.and_then(|m| m.listen)) else {
         return Ok(Started::Off);
     };
+    // Modbus has no authentication: refused before anything listens.
+    alba_modbus::check_listen(addr, cfg.and_then(|m| m.allow.as_deref())).map_err(|e| e.to_string())?;
     let l = tokio::net::TcpListener::bind(addr)
         .await
         .map_err(|e| format!("cannot listen for Modbus TCP on {addr}: {e}"))?;
@@ -18,5 +21,15 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
     // runtime's program changes (seen in its snapshots).
     tokio::spawn(server.serve(l, s.state.closing()));
     println!("Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)");
+    let clients = match cfg.and_then(|m| m.allow.as_ref()) {
+        Some(list) => list.iter().map(ToString::to_string).collect::<Vec<_>>().join(", "),
+        None => "loopback only".to_string(),
+    };
+    let writes = if cfg.is_some_and(|m| m.read_only) {
+        "read-only"
+    } else {
+        "reads and writes"
+    };
+    println!("  clients: {clients}; {writes}");
     Ok(Started::On)
 }

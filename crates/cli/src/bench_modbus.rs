@@ -167,7 +167,8 @@ fn own_server(clients: &[usize], secs: f64, start: u16) -> Result<(), String> {
         program,
         alba_runtime::Options::new(SCAN_MS),
         Box::new(alba_runtime::SimIo),
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     let handle = runtime.handle();
     let tags: Vec<ModbusTag> = (0..5)
         .map(|k| ModbusTag {

@@ -42,5 +42,13 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         if fresh { "written" } else { "as last saved" },
         dir.display()
     );
-    crate::run::run(dir, addr, "sim", native, None, None, Some(&banner))
+    let opts = alba_app::Options {
+        addr,
+        io: "sim".into(),
+        native,
+        modbus: None,
+        opcua: None,
+        tls: alba_app::tls::Tls::Auto,
+    };
+    crate::run::run(dir, opts, Some(&banner))
 }

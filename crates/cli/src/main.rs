@@ -149,6 +149,13 @@ enum Command {
         /// Serve OPC UA on this address, e.g. 127.0.0.1:4840 (security None only on loopback; elsewhere Basic256Sha256 with `[opcua.users]`).
         #[arg(long, value_name = "ADDR:PORT")]
         opcua: Option<std::net::SocketAddr>,
+        /// Serve the studio over HTTPS even on loopback (beyond loopback it always is, unless
+        /// `--insecure-http`); the certificate: `[http] cert`/`key`, else self-signed in `.alba/tls/`.
+        #[arg(long, conflicts_with = "insecure_http")]
+        https: bool,
+        /// Serve plain HTTP beyond loopback (anyone on the path reads and alters the traffic).
+        #[arg(long)]
+        insecure_http: bool,
     },
     /// Generate the remote-I/O firmware of an Arduino for controller mode
     /// (`alba run PROJECT --io arduino:PORT`).
@@ -314,7 +321,24 @@ fn main() -> ExitCode {
             no_native,
             modbus,
             opcua,
-        } => run::run(&project, http, &io, !no_native, modbus, opcua, None),
+            https,
+            insecure_http,
+        } => {
+            let tls = match (https, insecure_http) {
+                (true, _) => alba_app::tls::Tls::Always,
+                (_, true) => alba_app::tls::Tls::Never,
+                _ => alba_app::tls::Tls::Auto,
+            };
+            let opts = alba_app::Options {
+                addr: http,
+                io,
+                native: !no_native,
+                modbus,
+                opcua,
+                tls,
+            };
+            run::run(&project, opts, None)
+        }
         Command::Demo { dir, http } => demo::run(&dir, http, true),
         Command::HashPassword => hash_password(),
         Command::User(cmd) => user::run(cmd),

@@ -2,19 +2,10 @@
 //! Ctrl-C and SIGTERM as its shutdown signal.
 
 use alba_diag::render_all;
-use std::net::SocketAddr;
 use std::path::Path;
 use std::process::ExitCode;
 
-pub fn run(
-    dir: &Path,
-    addr: SocketAddr,
-    io: &str,
-    native: bool,
-    modbus: Option<SocketAddr>,
-    opcua: Option<SocketAddr>,
-    banner: Option<&str>,
-) -> ExitCode {
+pub fn run(dir: &Path, opts: alba_app::Options, banner: Option<&str>) -> ExitCode {
     let rt = match tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -26,13 +17,7 @@ pub fn run(
             return ExitCode::FAILURE;
         }
     };
-    let opts = alba_app::Options {
-        addr,
-        io: io.to_string(),
-        native,
-        modbus,
-        opcua,
-    };
+    let tls = opts.tls;
     let banner = banner.map(str::to_string);
     let result = rt.block_on(alba_app::run(
         dir,
@@ -41,8 +26,9 @@ pub fn run(
             if let Some(b) = banner {
                 println!("{b}");
             }
+            let scheme = alba_app::tls::scheme(dir, tls, local);
             println!(
-                "Alba studio: http://{local}/  (project {}; Ctrl-C stops)",
+                "Alba studio: {scheme}://{local}/  (project {}; Ctrl-C stops)",
                 dir.display()
             );
         },

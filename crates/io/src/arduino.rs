@@ -20,10 +20,11 @@ use crate::aurora;
 use crate::error::Error;
 use crate::firmware::Link;
 use crate::link::{Outputs, Stop, load_inputs, lock};
-use crate::serial::{LinkError, Port, open, transact};
+use crate::serial::{Port, open, transact};
 use alba_engine::Engine;
 use alba_modbus_proto::pdu::{Request, Response};
 use alba_model::board::PinMap;
+use alba_runtime::IoError;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -65,21 +66,21 @@ struct Shared {
 }
 
 impl Shared {
-    fn fail(&self, why: String) {
+    fn fail(&self, why: &IoError) {
         self.ok.store(false, Ordering::Relaxed);
         self.errors.fetch_add(1, Ordering::Relaxed);
         let mut s = lock(&self.status);
         s.ok = false;
         s.errors += 1;
-        s.last_error = Some(why);
+        s.last_error = Some(why.to_string());
     }
 
     /// An attempt failed but the link may still hold (a retry follows).
-    fn count_error(&self, why: String) {
+    fn count_error(&self, why: &IoError) {
         self.errors.fetch_add(1, Ordering::Relaxed);
         let mut s = lock(&self.status);
         s.errors += 1;
-        s.last_error = Some(why);
+        s.last_error = Some(why.to_string());
     }
 }
 
@@ -156,7 +157,7 @@ impl alba_runtime::Io for ArduinoIo {
         &self.name
     }
 
-    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), IoError> {
         let errors = self.shared.errors.load(Ordering::Relaxed).min(i32::MAX as u64) as i32;
         engine.set_io_status(self.shared.ok.load(Ordering::Relaxed), errors);
         {
@@ -180,7 +181,7 @@ impl alba_runtime::Io for ArduinoIo {
         Ok(())
     }
 
-    fn write_outputs(&mut self, engine: &Engine) -> Result<(), String> {
+    fn write_outputs(&mut self, engine: &Engine) -> Result<(), IoError> {
         lock(&self.shared.outputs).copy_from(engine, |v| v.clamp(0, i32::from(u16::MAX)) as u16);
         Ok(())
     }
@@ -201,7 +202,7 @@ impl Announcer {
         }
     }
 
-    fn down(&mut self, why: &str) {
+    fn down(&mut self, why: &IoError) {
         if self.up != Some(false) {
             let what = if self.up.is_none() { "no link yet" } else { "link lost" };
             eprintln!("I/O {}: {what} ({why}); retrying", self.name);
@@ -221,7 +222,7 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
             Ok(p) => p,
             Err(e) => {
                 say.down(&e);
-                shared.fail(e);
+                shared.fail(&e);
                 shared.stop.sleep(backoff);
                 backoff = (backoff * 2).min(cfg.backoff_max);
                 continue;
@@ -260,14 +261,14 @@ fn link_thread(cfg: Config, shared: Arc<Shared>) {
                     drop(s);
                     say.up();
                 }
-                Err(LinkError::Port(e)) => {
+                Err(e) if e.is_link_down() => {
                     say.down(&e);
-                    shared.fail(e);
+                    shared.fail(&e);
                     break;
                 }
-                Err(LinkError::Frame(e) | LinkError::Refused(e)) => {
+                Err(e) => {
                     say.down(&e);
-                    shared.fail(e);
+                    shared.fail(&e);
                     failed += 1;
                     if failed >= cfg.reopen_after {
                         break;
@@ -303,7 +304,7 @@ fn modbus_cycle(
     cfg: &Config,
     shared: &Shared,
     out: &Outputs,
-) -> Result<(Vec<bool>, Vec<u16>), LinkError> {
+) -> Result<(Vec<bool>, Vec<u16>), IoError> {
     let c = cfg.counts;
     let mut di = Vec::new();
     let mut ai = Vec::new();

@@ -18,12 +18,13 @@
 
 use crate::error::Error;
 use crate::link::{Stop, lock};
-use crate::serial::{self, Config, Counts, LinkError, Port, open};
+use crate::serial::{self, Config, Counts, Port, open};
 use alba_arduino::sketch::{self, LINK_MAGIC, LinkMap, Target};
 use alba_engine::Engine;
 use alba_ir::{Memory, Place, Program};
 use alba_modbus_proto::pdu::{Request, Response};
 use alba_model::Value;
+use alba_runtime::IoError;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex};
@@ -57,7 +58,7 @@ impl Identity {
 }
 
 /// A write waiting for the link thread, with where to send the outcome.
-type WriteReq = (Place, Value, Sender<Result<(), String>>);
+type WriteReq = (Place, Value, Sender<Result<(), IoError>>);
 
 struct Shared {
     stop: Stop,
@@ -66,7 +67,7 @@ struct Shared {
     /// Memory read from the board, taken by the engine thread.
     memory: Mutex<Option<Memory>>,
     /// Why attaching is impossible (another program on the board).
-    fatal: Mutex<Option<String>>,
+    fatal: Mutex<Option<IoError>>,
 }
 
 pub struct AttachIo {
@@ -120,19 +121,19 @@ impl alba_runtime::Io for AttachIo {
         &self.name
     }
 
-    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), IoError> {
         if let Some(why) = lock(&self.shared.fatal).clone() {
             return Err(why);
         }
         if let Some(m) = lock(&self.shared.memory).take() {
-            engine.load_memory(&m)?;
+            engine.load_memory(&m).map_err(IoError::MemoryMismatch)?;
         }
         let errors = self.shared.errors.load(Ordering::Relaxed).min(i32::MAX as u64) as i32;
         engine.set_io_status(self.shared.ok.load(Ordering::Relaxed), errors);
         Ok(())
     }
 
-    fn write_outputs(&mut self, _: &Engine) -> Result<(), String> {
+    fn write_outputs(&mut self, _: &Engine) -> Result<(), IoError> {
         Ok(())
     }
 
@@ -140,14 +141,14 @@ impl alba_runtime::Io for AttachIo {
         true
     }
 
-    fn write_remote(&mut self, place: Place, value: Value) -> Option<Result<(), String>> {
+    fn write_remote(&mut self, place: Place, value: Value) -> Option<Result<(), IoError>> {
         let (tx, rx) = mpsc::channel();
         if self.writes.send((place, value, tx)).is_err() {
-            return Some(Err("the link to the board has stopped".into()));
+            return Some(Err(IoError::LinkStopped));
         }
         Some(
-            rx.recv_timeout(Duration::from_secs(3))
-                .unwrap_or_else(|_| Err("the board did not confirm the write within 3 s".into())),
+            rx.recv_timeout(Duration::from_secs(WRITE_CONFIRM_S))
+                .unwrap_or(Err(IoError::WriteTimeout { secs: WRITE_CONFIRM_S })),
         )
     }
 }
@@ -177,7 +178,7 @@ fn link_thread(
         shared.errors.fetch_add(1, Ordering::Relaxed);
         // Writes cannot wait for the link to come back.
         while let Ok((_, _, reply)) = writes.try_recv() {
-            let _ = reply.send(Err(format!("no link to the board: {failed}")));
+            let _ = reply.send(Err(IoError::NoLink(Box::new(failed.clone()))));
         }
         shared.stop.sleep(backoff);
         backoff = (backoff * 2).min(cfg.backoff_max);
@@ -194,7 +195,7 @@ fn session(
     template: &Memory,
     shared: &Shared,
     writes: &Receiver<WriteReq>,
-) -> Result<(), String> {
+) -> Result<(), IoError> {
     let info = regs(port, cfg, shared, Request::ReadInputRegisters { start: 0, count: 12 })?;
     let got = Identity {
         sizes: [info[2], info[3], info[4], info[5], info[6]].map(usize::from),
@@ -202,18 +203,18 @@ fn session(
         program_id: u32::from(info[8]) << 16 | u32::from(info[9]),
     };
     if info[0] != LINK_MAGIC || info[1] != 1 {
-        let why = format!(
+        let why = IoError::WrongDevice(format!(
             "the device on {} is not an Alba sketch with a monitoring link (it answered {:04X} {:04X}); export with `alba export arduino` and upload",
             cfg.port, info[0], info[1]
-        );
+        ));
         *lock(&shared.fatal) = Some(why.clone());
         return Err(why);
     }
     if got != *id {
-        let why = format!(
+        let why = IoError::WrongDevice(format!(
             "the board on {} runs another program (id {:08X}, memory {:?}, scan {} ms; this project exports id {:08X}, memory {:?}, scan {} ms): export and upload it again",
             cfg.port, got.program_id, got.sizes, got.scan_ms, id.program_id, id.sizes, id.scan_ms
-        );
+        ));
         *lock(&shared.fatal) = Some(why.clone());
         return Err(why);
     }
@@ -221,7 +222,7 @@ fn session(
     while !shared.stop.stopping() {
         while let Ok((place, value, reply)) = writes.try_recv() {
             let r = write(port, cfg, shared, map, place, value);
-            let link_down = matches!(r, Err(ref e) if e.starts_with("serial port"));
+            let link_down = matches!(r, Err(ref e) if e.is_link_down());
             let _ = reply.send(r.clone());
             if link_down {
                 return r;
@@ -236,7 +237,7 @@ fn session(
             Err(e) => {
                 shared.ok.store(false, Ordering::Relaxed);
                 failures += 1;
-                if failures >= cfg.reopen_after || e.starts_with("serial port") {
+                if failures >= cfg.reopen_after || e.is_link_down() {
                     return Err(e);
                 }
             }
@@ -245,28 +246,27 @@ fn session(
     Ok(())
 }
 
-fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request<'_>) -> Result<Response, String> {
+fn transact(port: &mut Port, cfg: &Config, shared: &Shared, req: &Request<'_>) -> Result<Response, IoError> {
     serial::transact(port, cfg, req, |_| {
         shared.errors.fetch_add(1, Ordering::Relaxed);
     })
-    .map_err(|e| {
-        if matches!(e, LinkError::Frame(_)) {
+    .inspect_err(|e| {
+        if matches!(e, IoError::Timeout(_)) {
             shared.errors.fetch_add(1, Ordering::Relaxed);
-        }
-        match e {
-            LinkError::Port(e) | LinkError::Frame(e) | LinkError::Refused(e) => e,
         }
     })
 }
 
-fn regs(port: &mut Port, cfg: &Config, shared: &Shared, req: Request<'_>) -> Result<Vec<u16>, String> {
+fn regs(port: &mut Port, cfg: &Config, shared: &Shared, req: Request<'_>) -> Result<Vec<u16>, IoError> {
     match transact(port, cfg, shared, &req)? {
         Response::Registers(r) => Ok(r),
-        other => Err(format!("unexpected answer {other:?}")),
+        other => Err(IoError::UnexpectedAnswer(format!("{other:?}"))),
     }
 }
 
 const MAX_REGS: u16 = 24;
+/// How long an operator's write waits for the board's confirmation.
+const WRITE_CONFIRM_S: u64 = 3;
 const MAX_BITS: u16 = 256;
 
 /// The board's whole memory: coils for the bools, holding registers for the rest.
@@ -276,7 +276,7 @@ fn read_memory(
     shared: &Shared,
     map: LinkMap,
     template: &Memory,
-) -> Result<Memory, String> {
+) -> Result<Memory, IoError> {
     let mut m = template.clone();
     let nb = m.b.len() as u16;
     let mut at = 0u16;
@@ -288,7 +288,7 @@ fn read_memory(
                     m.b[at as usize + k] = b;
                 }
             }
-            other => return Err(format!("unexpected answer {other:?}")),
+            other => return Err(IoError::UnexpectedAnswer(format!("{other:?}"))),
         }
         at += qty;
     }
@@ -345,7 +345,7 @@ fn int_of(v: Value) -> Option<i64> {
 
 /// Writes bytes at byte offset `at` of the register file, reading the
 /// covering registers first when the range is not register-aligned.
-fn write_bytes(port: &mut Port, cfg: &Config, shared: &Shared, at: usize, data: &[u8]) -> Result<(), String> {
+fn write_bytes(port: &mut Port, cfg: &Config, shared: &Shared, at: usize, data: &[u8]) -> Result<(), IoError> {
     let first = at / 2;
     let last = (at + data.len()).div_ceil(2);
     let qty = (last - first) as u16;
@@ -385,9 +385,9 @@ fn write(
     map: LinkMap,
     place: Place,
     value: Value,
-) -> Result<(), String> {
+) -> Result<(), IoError> {
     let mbase = 2 * map.m as usize;
-    let bad = || format!("{value} cannot be written there");
+    let bad = || IoError::DoesNotFit(format!("{value} cannot be written there"));
     match place {
         Place::Bool(b) => {
             let on = int_of(value).ok_or_else(bad)? != 0;
@@ -466,7 +466,7 @@ fn write(
             let Value::Real(v) = value else { return Err(bad()) };
             write_bytes(port, cfg, shared, mbase + byte as usize, &v.to_be_bytes())
         }
-        Place::Lreal(_) => Err("a board has no LREAL".into()),
+        Place::Lreal(_) => Err(IoError::DoesNotFit("a board has no LREAL".into())),
     }
 }
 

@@ -5,7 +5,8 @@
 
 use crate::firmware::{AURORA_ID, AURORA_PERIOD_MS};
 use crate::link::Outputs;
-use crate::serial::{Config, Counts, LinkError};
+use crate::serial::{Config, Counts};
+use alba_runtime::IoError;
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -72,7 +73,7 @@ pub(crate) fn cycle(
     cfg: &Config,
     reader: &mut Reader,
     out: &Outputs,
-) -> Result<(Vec<bool>, Vec<u16>), LinkError> {
+) -> Result<(Vec<bool>, Vec<u16>), IoError> {
     let timeout = cfg.timeout.max(Duration::from_millis(3 * u64::from(AURORA_PERIOD_MS)));
     let deadline = Instant::now() + timeout;
     loop {
@@ -83,20 +84,20 @@ pub(crate) fn cycle(
                 continue;
             }
             let text = String::from_utf8_lossy(&line);
-            let r = parse_line(text.trim_end_matches(['\r', '\n']), cfg.counts).map_err(LinkError::Frame)?;
+            let r = parse_line(text.trim_end_matches(['\r', '\n']), cfg.counts).map_err(IoError::Timeout)?;
             let msg = format_outputs(&out.r#do, &out.ao);
             port.write_all(msg.as_bytes())
                 .and_then(|_| port.flush())
-                .map_err(|e| LinkError::Port(format!("serial port: {e}")))?;
+                .map_err(|e| IoError::Link(format!("serial port: {e}")))?;
             return Ok(r);
         }
         if reader.buf.len() > MAX_LINE {
             reader.buf.clear();
-            return Err(LinkError::Frame(format!("no line end in {MAX_LINE} bytes")));
+            return Err(IoError::Timeout(format!("no line end in {MAX_LINE} bytes")));
         }
         let now = Instant::now();
         if now >= deadline {
-            return Err(LinkError::Frame(format!(
+            return Err(IoError::Timeout(format!(
                 "no line from the board within {} ms",
                 timeout.as_millis()
             )));
@@ -104,10 +105,10 @@ pub(crate) fn cycle(
         let _ = port.set_timeout(deadline - now);
         let mut chunk = [0u8; 128];
         match port.read(&mut chunk) {
-            Ok(0) => return Err(LinkError::Port("serial port: end of file".into())),
+            Ok(0) => return Err(IoError::Link("serial port: end of file".into())),
             Ok(n) => reader.buf.extend_from_slice(&chunk[..n]),
             Err(e) if e.kind() == std::io::ErrorKind::TimedOut => continue,
-            Err(e) => return Err(LinkError::Port(format!("serial port: {e}"))),
+            Err(e) => return Err(IoError::Link(format!("serial port: {e}"))),
         }
     }
 }

@@ -35,6 +35,7 @@ use alba_modbus_proto::mbap::{self, Header};
 use alba_modbus_proto::pdu::{self, FrameError, Request, Response};
 use alba_model::address::Address;
 use alba_project::config::{DeviceLink, ModbusArea, ModbusDevice};
+use alba_runtime::IoError;
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -282,7 +283,7 @@ impl alba_runtime::Io for ModbusMasterIo {
         &self.name
     }
 
-    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), IoError> {
         let errors = self.errors().min(i32::MAX as u64) as i32;
         engine.set_io_status(self.all_ok(), errors);
         {
@@ -306,7 +307,7 @@ impl alba_runtime::Io for ModbusMasterIo {
         Ok(())
     }
 
-    fn write_outputs(&mut self, engine: &Engine) -> Result<(), String> {
+    fn write_outputs(&mut self, engine: &Engine) -> Result<(), IoError> {
         lock(&self.shared.outputs).copy_from(engine, |v| {
             v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16 as u16
         });
@@ -337,7 +338,7 @@ struct RtuConn {
 }
 
 impl Conn {
-    fn open(dev: &ModbusDevice, bus: Option<&Arc<Mutex<Option<Port>>>>) -> Result<Conn, String> {
+    fn open(dev: &ModbusDevice, bus: Option<&Arc<Mutex<Option<Port>>>>) -> Result<Conn, IoError> {
         match (&dev.link, bus) {
             (DeviceLink::Rtu { port, baud }, Some(bus)) => {
                 let c = RtuConn {
@@ -354,7 +355,7 @@ impl Conn {
         }
     }
 
-    fn transact(&mut self, req: &Request<'_>) -> Result<Response, LinkError> {
+    fn transact(&mut self, req: &Request<'_>) -> Result<Response, IoError> {
         match self {
             Conn::Tcp(c) => c.transact(req),
             Conn::Rtu(c) => c.transact(req),
@@ -363,7 +364,7 @@ impl Conn {
 }
 
 impl RtuConn {
-    fn ensure_open(&self) -> Result<(), String> {
+    fn ensure_open(&self) -> Result<(), IoError> {
         let mut bus = lock(&self.bus);
         if bus.is_none() {
             let p = serialport::new(&self.port, self.baud)
@@ -373,7 +374,7 @@ impl RtuConn {
                 .flow_control(serialport::FlowControl::None)
                 .timeout(self.timeout)
                 .open()
-                .map_err(|e| format!("cannot open {}: {e}", self.port))?;
+                .map_err(|e| IoError::Link(format!("cannot open {}: {e}", self.port)))?;
             *bus = Some(p);
         }
         Ok(())
@@ -381,54 +382,37 @@ impl RtuConn {
 
     /// One RTU transaction with the bus held; a port error closes the port
     /// (the next connection attempt reopens it).
-    fn transact(&mut self, req: &Request<'_>) -> Result<Response, LinkError> {
+    fn transact(&mut self, req: &Request<'_>) -> Result<Response, IoError> {
         let mut bus = lock(&self.bus);
         let Some(port) = bus.as_mut() else {
-            return Err(LinkError::Conn(format!("{} is closed", self.port)));
+            return Err(IoError::Link(format!("{} is closed", self.port)));
         };
         let r = rtu_exchange(port, self.unit, self.timeout, req).map_err(|e| match e {
-            RtuError::Port(m) => LinkError::Conn(m),
-            RtuError::NoAnswer(m) => LinkError::Timeout(m),
+            RtuError::Port(m) => IoError::Link(m),
+            RtuError::NoAnswer(m) => IoError::Timeout(m),
             RtuError::Answer(e @ FrameError::Exception(_)) => {
-                LinkError::Refused(format!("the slave refused {}: {e}", describe(req)))
+                IoError::Refused(format!("the slave refused {}: {e}", describe(req)))
             }
             // A corrupted frame on a serial line: worth a retry.
-            RtuError::Answer(e) => LinkError::Timeout(format!("bad answer to {}: {e}", describe(req))),
+            RtuError::Answer(e) => IoError::Timeout(format!("bad answer to {}: {e}", describe(req))),
         });
         // The silence between frames: 3.5 characters (11 bits each), at least 2 ms.
         let gap = Duration::from_micros(38_500_000 / u64::from(self.baud.max(1))).max(Duration::from_millis(2));
         std::thread::sleep(gap);
-        if matches!(r, Err(LinkError::Conn(_))) {
+        if matches!(r, Err(IoError::Link(_))) {
             *bus = None;
         }
         r
     }
 }
 
-enum LinkError {
-    /// The connection failed or answered garbage: reconnect.
-    Conn(String),
-    /// No answer in time: retry.
-    Timeout(String),
-    /// An exception reply: retrying does not help.
-    Refused(String),
-}
-
-impl LinkError {
-    fn text(&self) -> &str {
-        match self {
-            LinkError::Conn(s) | LinkError::Timeout(s) | LinkError::Refused(s) => s,
-        }
-    }
-}
-
 impl TcpConn {
-    fn open(dev: &ModbusDevice) -> Result<TcpConn, String> {
+    fn open(dev: &ModbusDevice) -> Result<TcpConn, IoError> {
         let timeout = Duration::from_millis(u64::from(dev.timeout_ms));
         let tcp = dev.link.describe();
         let addrs: Vec<_> = tcp
             .to_socket_addrs()
-            .map_err(|e| format!("cannot resolve {tcp}: {e}"))?
+            .map_err(|e| IoError::Link(format!("cannot resolve {tcp}: {e}")))?
             .collect();
         let mut last = format!("{tcp} resolves to no address");
         for a in addrs {
@@ -445,12 +429,12 @@ impl TcpConn {
                 Err(e) => last = format!("cannot connect to {tcp}: {e}"),
             }
         }
-        Err(last)
+        Err(IoError::Link(last))
     }
 
     /// Sends `req`, waits for its answer (skipping stale answers of earlier
     /// timed-out transactions) and decodes it.
-    fn transact(&mut self, req: &Request<'_>) -> Result<Response, LinkError> {
+    fn transact(&mut self, req: &Request<'_>) -> Result<Response, IoError> {
         self.tid = self.tid.wrapping_add(1);
         let frame = mbap::request(
             Header {
@@ -459,7 +443,7 @@ impl TcpConn {
             },
             req,
         );
-        let io = |e: std::io::Error| LinkError::Conn(format!("connection: {e}"));
+        let io = |e: std::io::Error| IoError::Link(format!("connection: {e}"));
         self.stream.write_all(&frame).map_err(io)?;
         let deadline = Instant::now() + self.timeout;
         let mut adu = Vec::with_capacity(mbap::MAX_ADU);
@@ -467,7 +451,7 @@ impl TcpConn {
             adu.resize(mbap::MBAP_LEN, 0);
             self.read_exact_by(&mut adu, deadline)?;
             let Ok(Some(len)) = mbap::adu_len(&adu) else {
-                return Err(LinkError::Conn(format!(
+                return Err(IoError::Link(format!(
                     "malformed MBAP header {:02X?} from the slave",
                     &adu[..]
                 )));
@@ -475,7 +459,7 @@ impl TcpConn {
             adu.resize(len, 0);
             self.read_exact_by(&mut adu[mbap::MBAP_LEN..], deadline)?;
             let mbap::Split::Frame { header, pdu, .. } = mbap::split(&adu) else {
-                return Err(LinkError::Conn("malformed MBAP frame from the slave".into()));
+                return Err(IoError::Link("malformed MBAP frame from the slave".into()));
             };
             if header.transaction != self.tid {
                 // The late answer of a transaction that timed out.
@@ -483,32 +467,32 @@ impl TcpConn {
             }
             if header.unit != self.unit {
                 let e = FrameError::WrongSlave(header.unit);
-                return Err(LinkError::Conn(format!("bad answer to {}: {e}", describe(req))));
+                return Err(IoError::Link(format!("bad answer to {}: {e}", describe(req))));
             }
             return pdu::decode_reply(req, pdu).map_err(|e| match e {
-                FrameError::Exception(_) => LinkError::Refused(format!("the slave refused {}: {e}", describe(req))),
-                e => LinkError::Conn(format!("bad answer to {}: {e}", describe(req))),
+                FrameError::Exception(_) => IoError::Refused(format!("the slave refused {}: {e}", describe(req))),
+                e => IoError::Link(format!("bad answer to {}: {e}", describe(req))),
             });
         }
     }
 
-    fn read_exact_by(&mut self, buf: &mut [u8], deadline: Instant) -> Result<(), LinkError> {
+    fn read_exact_by(&mut self, buf: &mut [u8], deadline: Instant) -> Result<(), IoError> {
         let mut got = 0;
         while got < buf.len() {
             let now = Instant::now();
             if now >= deadline {
-                return Err(LinkError::Timeout(format!(
+                return Err(IoError::Timeout(format!(
                     "no answer within {} ms",
                     self.timeout.as_millis()
                 )));
             }
             let _ = self.stream.set_read_timeout(Some(deadline - now));
             match self.stream.read(&mut buf[got..]) {
-                Ok(0) => return Err(LinkError::Conn("the slave closed the connection".into())),
+                Ok(0) => return Err(IoError::Link("the slave closed the connection".into())),
                 Ok(n) => got += n,
                 Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {}
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(LinkError::Conn(format!("connection: {e}"))),
+                Err(e) => return Err(IoError::Link(format!("connection: {e}"))),
             }
         }
         Ok(())
@@ -566,7 +550,7 @@ impl Device {
         &self.shared.devices[self.index]
     }
 
-    fn error(&self, why: &str, lost: bool) {
+    fn error(&self, why: &IoError, lost: bool) {
         let d = self.me();
         d.errors.fetch_add(1, Ordering::Relaxed);
         if lost {
@@ -581,12 +565,12 @@ impl Device {
     }
 
     /// A transaction with retries; every failed attempt is counted.
-    fn transact(&self, conn: &mut Conn, req: &Request<'_>) -> Result<Response, LinkError> {
+    fn transact(&self, conn: &mut Conn, req: &Request<'_>) -> Result<Response, IoError> {
         let mut attempt = 0;
         loop {
             match conn.transact(req) {
                 Ok(r) => return Ok(r),
-                Err(LinkError::Timeout(e)) if attempt < self.dev.retries && !self.shared.stop.stopping() => {
+                Err(e @ IoError::Timeout(_)) if attempt < self.dev.retries && !self.shared.stop.stopping() => {
                     self.error(&e, false);
                     attempt += 1;
                 }
@@ -596,7 +580,7 @@ impl Device {
     }
 
     /// One poll: every read block, then every output block due.
-    fn poll(&self, conn: &mut Conn, written: &mut [Option<(Request<'static>, Instant)>]) -> Result<(), LinkError> {
+    fn poll(&self, conn: &mut Conn, written: &mut [Option<(Request<'static>, Instant)>]) -> Result<(), IoError> {
         let refresh = Duration::from_millis(u64::from(self.dev.refresh_ms));
         for (b, last) in self.blocks.iter().zip(written.iter_mut()) {
             if b.write {
@@ -656,7 +640,7 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
     let backoff_max = Duration::from_secs(5);
     let mut backoff = backoff_min;
     let mut up: Option<bool> = None;
-    let down = |up: &mut Option<bool>, why: &str| {
+    let down = |up: &mut Option<bool>, why: &IoError| {
         if *up != Some(false) {
             let what = if up.is_none() { "no link yet" } else { "link lost" };
             eprintln!("I/O modbus device {}: {what} ({why}); retrying", d.dev.name);
@@ -696,9 +680,9 @@ fn link_thread(dev: ModbusDevice, index: usize, shared: Arc<Shared>, bus: Option
                     }
                 }
                 Err(e) => {
-                    d.error(e.text(), true);
-                    down(&mut up, e.text());
-                    if !matches!(e, LinkError::Refused(_)) {
+                    d.error(&e, true);
+                    down(&mut up, &e);
+                    if !matches!(e, IoError::Refused(_)) {
                         break;
                     }
                 }

@@ -8,6 +8,7 @@ use crate::firmware::{BAUD, Link};
 use alba_modbus_proto::pdu::{FrameError, Request, Response};
 use alba_modbus_proto::rtu;
 use alba_model::board::{Dir, PinMap};
+use alba_runtime::IoError;
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -123,20 +124,9 @@ impl Config {
     }
 }
 
-/// Why a cycle failed.
-pub(crate) enum LinkError {
-    /// The port itself failed (unplugged, closed): reopen it.
-    Port(String),
-    /// No valid answer (timeout, bad frame): worth retrying.
-    Frame(String),
-    /// The board refused the request (an exception reply): retrying does
-    /// not help (the board's map has fewer channels than the project's).
-    Refused(String),
-}
-
 pub(crate) type Port = Box<dyn serialport::SerialPort>;
 
-pub(crate) fn open(cfg: &Config) -> Result<Port, String> {
+pub(crate) fn open(cfg: &Config) -> Result<Port, IoError> {
     serialport::new(&cfg.port, cfg.baud)
         .data_bits(serialport::DataBits::Eight)
         .parity(serialport::Parity::None)
@@ -146,7 +136,7 @@ pub(crate) fn open(cfg: &Config) -> Result<Port, String> {
         .dtr_on_open(true)
         .timeout(cfg.timeout)
         .open()
-        .map_err(|e| format!("cannot open {}: {e}", cfg.port))
+        .map_err(|e| IoError::Link(format!("cannot open {}: {e}", cfg.port)))
 }
 
 /// How one RTU exchange failed.
@@ -201,55 +191,57 @@ pub(crate) fn rtu_exchange(
 /// One Modbus RTU transaction with the board, with `cfg.retries` further
 /// attempts after a bad or missing answer (`on_retry` hears why; the caller
 /// counts the last), the line let fall silent between them so the slave
-/// sees a new frame.
+/// sees a new frame. Errors: [`IoError::Link`] (the port failed: reopen
+/// it), [`IoError::Timeout`] (no valid answer after the retries),
+/// [`IoError::Refused`] (an exception reply: not retried).
 pub(crate) fn transact(
     port: &mut Port,
     cfg: &Config,
     req: &Request<'_>,
-    mut on_retry: impl FnMut(String),
-) -> Result<Response, LinkError> {
+    mut on_retry: impl FnMut(&IoError),
+) -> Result<Response, IoError> {
     let mut attempt = 0;
     loop {
         match exchange(port, cfg, req) {
             Ok(resp) => return Ok(resp),
-            Err(e @ (LinkError::Port(_) | LinkError::Refused(_))) => return Err(e),
-            Err(LinkError::Frame(e)) => {
+            Err(e @ IoError::Timeout(_)) => {
                 if attempt >= cfg.retries {
-                    return Err(LinkError::Frame(e));
+                    return Err(e);
                 }
-                on_retry(e);
+                on_retry(&e);
                 attempt += 1;
                 quiet(port, Duration::from_millis(5))?;
             }
+            Err(e) => return Err(e),
         }
     }
 }
 
 /// Discards what arrives until `gap` passes without a byte (bounded).
-pub(crate) fn quiet(port: &mut Port, gap: Duration) -> Result<(), LinkError> {
+pub(crate) fn quiet(port: &mut Port, gap: Duration) -> Result<(), IoError> {
     let _ = port.set_timeout(gap);
     let mut buf = [0u8; 64];
     let until = Instant::now() + Duration::from_millis(200);
     while Instant::now() < until {
         match port.read(&mut buf) {
-            Ok(0) => return Err(LinkError::Port("serial port: end of file".into())),
+            Ok(0) => return Err(IoError::Link("serial port: end of file".into())),
             Ok(_) => continue,
             Err(e) if e.kind() == std::io::ErrorKind::TimedOut => break,
-            Err(e) => return Err(LinkError::Port(format!("serial port: {e}"))),
+            Err(e) => return Err(IoError::Link(format!("serial port: {e}"))),
         }
     }
     Ok(())
 }
 
-fn exchange(port: &mut Port, cfg: &Config, req: &Request<'_>) -> Result<Response, LinkError> {
+fn exchange(port: &mut Port, cfg: &Config, req: &Request<'_>) -> Result<Response, IoError> {
     rtu_exchange(port, cfg.slave, cfg.timeout, req).map_err(|e| match e {
-        RtuError::Port(m) => LinkError::Port(m),
-        RtuError::NoAnswer(m) => LinkError::Frame(m),
-        RtuError::Answer(e @ FrameError::Exception(_)) => LinkError::Refused(format!(
+        RtuError::Port(m) => IoError::Link(m),
+        RtuError::NoAnswer(m) => IoError::Timeout(m),
+        RtuError::Answer(e @ FrameError::Exception(_)) => IoError::Refused(format!(
             "the board refused {}: {e} (does its firmware have the pin map of alba.toml?)",
             describe(req)
         )),
-        RtuError::Answer(e) => LinkError::Frame(e.to_string()),
+        RtuError::Answer(e) => IoError::Timeout(e.to_string()),
     })
 }
 

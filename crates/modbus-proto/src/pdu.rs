@@ -23,6 +23,16 @@ pub const MAX_WRITE_BITS: u16 = 1968;
 pub const MAX_WRITE_REGS: u16 = 123;
 pub const MAX_RW_WRITE_REGS: u16 = 121;
 
+/// The function codes that write data: 5, 6, 15, 16, 22 (Mask Write
+/// Register, which this crate does not implement) and 23 (Read/Write
+/// Multiple Registers). A read-only server refuses all of them.
+pub const WRITE_FUNCTIONS: [u8; 6] = [5, 6, 15, 16, 22, 23];
+
+/// Whether function code `fc` writes data ([`WRITE_FUNCTIONS`]).
+pub fn is_write_function(fc: u8) -> bool {
+    WRITE_FUNCTIONS.contains(&fc)
+}
+
 /// Exception codes a server answers with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Exception {

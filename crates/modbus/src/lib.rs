@@ -9,4 +9,4 @@
 
 pub mod server;
 
-pub use server::{Server, Settings};
+pub use server::{NotLoopback, Server, Settings, check_listen};

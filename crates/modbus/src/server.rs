@@ -11,7 +11,7 @@ use alba_modbus_proto::handler::{Plan, Then, plan, read};
 use alba_modbus_proto::map::{Map, Scratch, Write};
 use alba_modbus_proto::mbap::{self, Header, Split};
 use alba_modbus_proto::pdu::{self, Exception, Request};
-use alba_project::config::{Modbus, ModbusArea, ModbusTag};
+use alba_project::config::{IpRange, Modbus, ModbusArea, ModbusTag};
 use alba_runtime::Handle;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -30,6 +30,46 @@ pub struct Settings {
     /// Answer only this unit id (and 0 and 255).
     pub unit_id: Option<u8>,
     pub tags: Vec<ModbusTag>,
+    /// The clients served (`None`: every client; see [`check_listen`]).
+    /// Others are disconnected at once, before any request is read.
+    pub allow: Option<Vec<IpRange>>,
+    /// Every write function code answers exception 01 (illegal function).
+    pub read_only: bool,
+}
+
+/// Why the server refuses to listen on an address.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NotLoopback(pub std::net::SocketAddr);
+
+impl std::fmt::Display for NotLoopback {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "refusing to serve Modbus TCP on {}: Modbus has no authentication, so an address beyond loopback needs an allow-list of clients: add `allow = [\"192.168.1.20\", \"10.0.0.0/24\"]` (the clients' addresses or ranges) to [modbus] in alba.toml, or listen on 127.0.0.1 (docs/security.md, \"Modbus\")",
+            self.0
+        )
+    }
+}
+
+impl std::error::Error for NotLoopback {}
+
+/// The listen rule (docs/security.md): loopback always; any other address
+/// only with an allow-list of clients.
+pub fn check_listen(addr: std::net::SocketAddr, allow: Option<&[IpRange]>) -> Result<(), NotLoopback> {
+    if addr.ip().to_canonical().is_loopback() || allow.is_some() {
+        Ok(())
+    } else {
+        Err(NotLoopback(addr))
+    }
+}
+
+impl Settings {
+    /// Whether a client at `ip` is served.
+    pub fn allows(&self, ip: std::net::IpAddr) -> bool {
+        self.allow
+            .as_ref()
+            .is_none_or(|list| list.iter().any(|r| r.contains(ip)))
+    }
 }
 
 impl From<&Modbus> for Settings {
@@ -39,6 +79,8 @@ impl From<&Modbus> for Settings {
             idle_timeout: (m.idle_timeout_s > 0).then(|| Duration::from_secs(u64::from(m.idle_timeout_s))),
             unit_id: m.unit_id,
             tags: m.tags.clone(),
+            allow: m.allow.clone(),
+            read_only: m.read_only,
         }
     }
 }
@@ -55,6 +97,8 @@ pub struct Counters {
     pub connections: AtomicU64,
     /// Connections closed at once because `max_connections` were open.
     pub refused: AtomicU64,
+    /// Connections closed at once because the client is not in `allow`.
+    pub denied: AtomicU64,
     pub requests: AtomicU64,
     pub exceptions: AtomicU64,
     /// Connections closed for a frame that is not Modbus TCP.
@@ -127,7 +171,13 @@ impl Server {
                 _ = closing.changed() => return,
             };
             let sock = match accepted {
-                Ok((s, _)) => s,
+                Ok((s, peer)) if self.settings.allows(peer.ip()) => s,
+                Ok((s, _)) => {
+                    // Not a client of the allow-list: closed before a byte is read.
+                    self.counters.denied.fetch_add(1, Ordering::Relaxed);
+                    drop(s);
+                    continue;
+                }
                 Err(_) => {
                     // Out of file descriptors and the like: wait, do not spin.
                     tokio::time::sleep(Duration::from_millis(20)).await;
@@ -216,6 +266,8 @@ impl Server {
         out.push(fc);
         let result = match self.settings.unit_id {
             Some(u) if h.unit != u && h.unit != 0 && h.unit != 255 => Err(Exception::GatewayTargetFailed),
+            // Read-only: refused by its function code, before its data is looked at.
+            _ if self.settings.read_only && pdu::is_write_function(fc) => Err(Exception::IllegalFunction),
             _ => match pdu::parse(pdu) {
                 Ok(req) => self.answer(req, out, cache).await,
                 Err(e) => Err(e),

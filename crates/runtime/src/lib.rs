@@ -15,8 +15,11 @@
 //! not run back to back); a scan longer than the watchdog stops the runtime
 //! with a fault and the outputs in their safe state (off).
 
+mod error;
 pub mod json;
 pub mod retain;
+
+pub use error::{IoError, StartError};
 
 use alba_engine::Engine;
 use alba_ir::{Layout, Memory, Place, Program};
@@ -180,8 +183,8 @@ impl Snapshot {
 /// writes.
 pub trait Io: Send {
     fn name(&self) -> &str;
-    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String>;
-    fn write_outputs(&mut self, engine: &Engine) -> Result<(), String>;
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), IoError>;
+    fn write_outputs(&mut self, engine: &Engine) -> Result<(), IoError>;
     /// Attach mode: the board runs the program itself (a sketch exported
     /// with its monitoring link). `read_inputs` then loads the board's whole
     /// memory into the engine, which does not scan, and outputs are the
@@ -191,7 +194,7 @@ pub trait Io: Send {
     }
     /// An operator's write, applied on the board (attach mode). `None`: the
     /// driver has no remote memory, and the write is applied locally.
-    fn write_remote(&mut self, _place: Place, _value: Value) -> Option<Result<(), String>> {
+    fn write_remote(&mut self, _place: Place, _value: Value) -> Option<Result<(), IoError>> {
         None
     }
 }
@@ -203,11 +206,11 @@ impl Io for SimIo {
     fn name(&self) -> &str {
         "sim"
     }
-    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), String> {
+    fn read_inputs(&mut self, engine: &mut Engine) -> Result<(), IoError> {
         engine.step_plants_now();
         Ok(())
     }
-    fn write_outputs(&mut self, _: &Engine) -> Result<(), String> {
+    fn write_outputs(&mut self, _: &Engine) -> Result<(), IoError> {
         Ok(())
     }
 }
@@ -240,8 +243,12 @@ pub enum Error {
     )]
     Attached { io: String },
     /// The I/O driver could not apply an operator's write (attach mode).
-    #[error("{message}")]
-    Io { io: String, message: String },
+    #[error("{source}")]
+    Io {
+        /// The driver's name.
+        io: String,
+        source: IoError,
+    },
     /// The new program of an online edit cannot replace the running one.
     #[error("{0}")]
     Rejected(String),
@@ -336,14 +343,14 @@ impl Runtime {
     /// Starts the engine thread for `program`, restoring retentive data
     /// first. Fails if the program does not verify or the retain file is
     /// not one.
-    pub fn start(program: Arc<Program>, opts: Options, io: Box<dyn Io>) -> Result<Runtime, String> {
-        let mut engine = Engine::new(program.clone())?;
+    pub fn start(program: Arc<Program>, opts: Options, io: Box<dyn Io>) -> Result<Runtime, StartError> {
+        let mut engine = Engine::new(program.clone()).map_err(StartError::Program)?;
         if opts.native {
             // Where native code is unavailable the interpreter runs instead.
             let _ = engine.compile_native();
         }
         if let Some(path) = &opts.retain_file {
-            retain::load(path, &program, |p, v| engine.write(p, v))?;
+            retain::load(path, &program, |p, v| engine.write(p, v)).map_err(StartError::Retain)?;
         }
         let (tx, rx) = mpsc::channel();
         let first = Arc::new(Snapshot {
@@ -388,7 +395,7 @@ impl Runtime {
         let thread = std::thread::Builder::new()
             .name("alba-engine".into())
             .spawn(move || state.run(rx))
-            .map_err(|e| format!("cannot start the engine thread: {e}"))?;
+            .map_err(|source| StartError::Thread { what: "engine", source })?;
         Ok(Runtime {
             handle: Handle { tx, snapshots: snap_rx },
             thread: Some(thread),
@@ -608,9 +615,9 @@ impl Worker {
     /// An operator's write through the I/O driver, if it has remote memory.
     fn write_remote(&mut self, p: Place, v: Value) -> Result<(), Error> {
         match self.io.write_remote(p, v) {
-            Some(Err(message)) => Err(Error::Io {
+            Some(Err(source)) => Err(Error::Io {
                 io: self.io.name().to_string(),
-                message,
+                source,
             }),
             _ => Ok(()),
         }
@@ -772,7 +779,7 @@ struct Saver {
 }
 
 impl Saver {
-    fn start(path: PathBuf) -> Result<Saver, String> {
+    fn start(path: PathBuf) -> Result<Saver, StartError> {
         let (tx, rx) = mpsc::channel::<Vec<(String, Value)>>();
         let thread = std::thread::Builder::new()
             .name("alba-retain".into())
@@ -787,7 +794,7 @@ impl Saver {
                     }
                 }
             })
-            .map_err(|e| format!("cannot start the retain thread: {e}"))?;
+            .map_err(|source| StartError::Thread { what: "retain", source })?;
         Ok(Saver { tx, thread })
     }
 }

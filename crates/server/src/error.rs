@@ -131,7 +131,7 @@ mod tests {
     fn statuses_of_runtime_edit_and_history_errors() {
         let io = R::Io {
             io: "board:x".into(),
-            message: "the link to the board has stopped".into(),
+            source: alba_runtime::IoError::LinkStopped,
         };
         let cases = [
             (ApiError::Runtime(io.clone()), StatusCode::SERVICE_UNAVAILABLE),

@@ -25,6 +25,7 @@ mod api;
 mod assets;
 pub mod auth;
 pub mod error;
+pub mod guard;
 pub mod project;
 pub mod reply;
 mod state;
@@ -64,7 +65,8 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
 
-/// The router: the API under `/api`, the studio at `/`.
+/// The router: the API under `/api`, the studio at `/`, all behind the
+/// browser-attack guard (`guard.rs`).
 pub fn router(state: Arc<AppState>) -> Router {
     let files = Router::new()
         .route("/api/programs/{name}", get(programs::get).put(programs::put))
@@ -94,5 +96,6 @@ pub fn router(state: Arc<AppState>) -> Router {
         .merge(files)
         .fallback(assets::serve)
         .layer(axum::middleware::from_fn_with_state(state.clone(), auth::layer))
+        .layer(axum::middleware::from_fn_with_state(state.clone(), guard::layer))
         .with_state(state)
 }

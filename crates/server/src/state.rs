@@ -34,6 +34,8 @@ pub struct AppState {
     pub history: Option<alba_historian::Historian>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
+    /// What the browser-attack guard lets in (`[http]` of alba.toml).
+    pub guard: crate::guard::Guard,
     /// Users, sessions, login back-off (`crate::auth`).
     pub auth: crate::auth::Auth,
     /// The studio is served over HTTPS (set by alba-app before serving;
@@ -50,6 +52,7 @@ impl AppState {
         auth: crate::auth::Auth,
     ) -> Arc<AppState> {
         let project = &compiled.project;
+        let guard = crate::guard::Guard::new(&project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default());
         Arc::new(AppState {
             runtime,
             name: project.config.as_ref().map(|c| c.name.clone()).unwrap_or_default(),
@@ -60,6 +63,7 @@ impl AppState {
             closing: watch::Sender::new(false),
             history,
             edits: broadcast::Sender::new(16),
+            guard,
             auth,
             https: std::sync::atomic::AtomicBool::new(false),
         })

@@ -5,6 +5,9 @@
 //! gets one message with everything that changed meanwhile, so no queue
 //! grows and the engine never waits. A client that cannot take a message
 //! for 5 s is disconnected.
+//!
+//! The handshake's `Origin` (required, the studio's own or allowed) is
+//! checked before this by `crate::guard`.
 
 use crate::api::status::status_of;
 use crate::auth::SessionKey;

@@ -5,6 +5,7 @@
 // and the power flow of the running program. A view owns one ProgramEditor
 // and draws the program its own way through the hooks.
 import { ApiError, api } from '../api';
+import { can, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { clear, h } from '../dom';
 import type { Diagnostic, Program } from '../types';
@@ -53,6 +54,11 @@ export class ProgramEditor {
     private readonly hooks: EditorHooks,
   ) {
     this.textEl.addEventListener('input', () => this.setText(this.textEl.value, true));
+    // editing, checking and saving need the engineer role: read-only text otherwise
+    if (!can('edit')) {
+      this.textEl.readOnly = true;
+      this.textEl.title = why('edit') ?? '';
+    }
   }
 
   get dirty(): boolean {
@@ -87,6 +93,7 @@ export class ProgramEditor {
   async check(): Promise<boolean> {
     if (this.checkTimer) clearTimeout(this.checkTimer);
     this.checkTimer = null;
+    if (!can('edit')) return false;
     const text = this.text;
     this.checking = true;
     this.renderState();
@@ -110,6 +117,7 @@ export class ProgramEditor {
 
   /** PUT /api/programs/{name} online; reloads the running version on success. */
   async save(): Promise<boolean> {
+    if (!can('edit')) return false;
     try {
       const r = await api.saveProgram(this.program, this.text, true);
       this.ctx.notify(r.applied ? `${this.program} saved and applied online` : `${this.program} saved`);

@@ -8,6 +8,7 @@
 // Element ids (the power-flow keys) come from the running program, so
 // they are shown only while the text is the saved one. Loading, checking,
 // saving and the problems list are the shared ProgramEditor's.
+import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { add, clear, h } from '../dom';
 import { type InstructionInfo, argInfo, domain, instruction } from '../domain';
@@ -62,8 +63,12 @@ export class LadderView {
     this.rungsEl.addEventListener('keydown', (e) => this.onKey(e));
     const modeBtn = (m: 'graphic' | 'text', label: string) =>
       h('button', { class: 'mode', 'data-testid': `view-${m}`, onclick: () => this.setMode(m) }, label);
-    const tool = (label: string, testid: string, title: string, action: () => void) =>
-      h('button', { 'data-testid': testid, title, onclick: action }, label);
+    // editing needs the engineer role: the edit tools are disabled otherwise, saying why
+    const tool = (label: string, testid: string, title: string, action: () => void) => {
+      const b = h('button', { 'data-testid': testid, title, onclick: action }, label);
+      gate(b, 'edit');
+      return b;
+    };
     this.el = h(
       'section',
       { class: 'ladder-view', 'data-testid': `ladder-${program}` },
@@ -77,6 +82,8 @@ export class LadderView {
           h('label', { title: 'Where the palette inserts, relative to the selected element' }, 'Insert ',
             h('select', {
               'data-testid': 'insert-where',
+              disabled: !can('edit'),
+              title: why('edit'),
               onchange: (e: Event) => (this.where = (e.target as HTMLSelectElement).value as 'before' | 'after'),
             }, h('option', { value: 'after' }, 'after'), h('option', { value: 'before' }, 'before'))),
         ),
@@ -149,6 +156,7 @@ export class LadderView {
 
   /** Sets the text (an edit of the view); selects `select` if given. */
   private setText(text: string, select: Selection | null): void {
+    if (!can('edit')) return;
     if (select !== null) this.sel = select;
     this.ed.setText(text);
   }
@@ -284,7 +292,7 @@ export class LadderView {
       this.rungsEl.append(h('div', { class: 'rung tail', 'data-testid': 'rung-tail' }, h('pre', null, this.doc.tail.trimEnd())));
     }
     this.rungsEl.append(
-      h('div', { class: 'end-rung' }, h('button', { 'data-testid': 'btn-rung-append', onclick: () => this.addRung(true) }, '+ rung'), ' (end)'),
+      h('div', { class: 'end-rung' }, h('button', { 'data-testid': 'btn-rung-append', disabled: !can('edit'), title: why('edit'), onclick: () => this.addRung(true) }, '+ rung'), ' (end)'),
     );
     this.paintPower();
     this.renderProblems();
@@ -332,7 +340,8 @@ export class LadderView {
           h('button', {
             class: 'instr',
             'data-testid': `palette-${i.mnemonic}`,
-            title: `${i.mnemonic}(${i.labels.join(', ')}) — ${i.title}: ${i.doc}`,
+            disabled: !can('edit'),
+            title: `${i.mnemonic}(${i.labels.join(', ')}) — ${i.title}: ${i.doc}${can('edit') ? '' : ` (${why('edit')})`}`,
             onclick: () => this.insertInstr(i),
           }, i.mnemonic))),
     );
@@ -356,13 +365,13 @@ export class LadderView {
     const rung = this.doc.rungs[sel.rung];
     if (!rung) return;
     if (sel.path === null) {
-      const ta = h('textarea', { class: 'comment-input', 'data-testid': 'rung-comment-input', rows: '3' });
+      const ta = h('textarea', { class: 'comment-input', 'data-testid': 'rung-comment-input', rows: '3', readonly: !can('edit'), title: why('edit') });
       ta.value = rung.comment.join('\n');
       this.propsEl.append(
         h('h3', null, `Rung ${sel.rung}`),
         h('label', null, 'Comment'),
         ta,
-        h('button', { 'data-testid': 'rung-comment-apply', onclick: () => this.setComment(sel.rung, ta.value) }, 'Apply comment'),
+        h('button', { 'data-testid': 'rung-comment-apply', disabled: !can('edit'), title: why('edit'), onclick: () => this.setComment(sel.rung, ta.value) }, 'Apply comment'),
       );
       return;
     }
@@ -382,6 +391,8 @@ export class LadderView {
         list: info ? `tags-${this.program}-${info.args[k]}` : undefined,
         autocomplete: 'off',
         spellcheck: 'false',
+        readonly: !can('edit'),
+        title: why('edit'),
       });
       input.addEventListener('change', () => this.setOperands(sel, inputs.map((i) => i.value)));
       input.addEventListener('keydown', (e) => {
@@ -396,6 +407,8 @@ export class LadderView {
         ? h('label', null, 'Instruction ',
             h('select', {
               'data-testid': 'mnemonic-select',
+              disabled: !can('edit'),
+              title: why('edit'),
               onchange: (e: Event) => this.setOperands(sel, el.operands, (e.target as HTMLSelectElement).value),
             }, same.map((i) => h('option', { value: i.mnemonic, selected: i.mnemonic === el.mnemonic.toUpperCase() }, i.mnemonic))))
         : null,
@@ -440,7 +453,7 @@ export class LadderView {
 
   private onKey(e: KeyboardEvent): void {
     if ((e.target as HTMLElement).closest('input,textarea,select')) return;
-    if (e.key === 'Delete' || e.key === 'Backspace') {
+    if ((e.key === 'Delete' || e.key === 'Backspace') && can('edit')) {
       e.preventDefault();
       this.deleteSelected();
     } else if (e.key === 'Escape') this.select(null);

@@ -1,6 +1,7 @@
 // The tag table: live values, writes, forces, definitions (tags.csv) with
 // add/edit/delete, CSV import and export.
 import { ApiError, api } from '../api';
+import { type Action, gate } from '../auth';
 import type { Ctx } from '../ctx';
 import { clear, fmt, h } from '../dom';
 import type { Diagnostic, Json, TagInfo } from '../types';
@@ -45,6 +46,12 @@ export function matches(row: { search: string }, filter: string): boolean {
   return words.every((w) => row.search.includes(w));
 }
 
+/** Disables `el` when the role may not do `action` (with the reason as its tooltip). */
+function gated<E extends HTMLElement & { disabled: boolean }>(el: E, action: Action): E {
+  gate(el, action);
+  return el;
+}
+
 export class TagsView {
   readonly el: HTMLElement;
   private readonly body = h('tbody');
@@ -71,8 +78,8 @@ export class TagsView {
         'div',
         { class: 'toolbar' },
         this.filterEl,
-        h('button', { 'data-testid': 'tag-add', onclick: () => void this.openForm(null) }, '+ New tag'),
-        h('button', { 'data-testid': 'tags-import-button', onclick: () => importInput.click() }, 'Import CSV…'),
+        gated(h('button', { 'data-testid': 'tag-add', onclick: () => void this.openForm(null) }, '+ New tag'), 'tags'),
+        gated(h('button', { 'data-testid': 'tags-import-button', onclick: () => importInput.click() }, 'Import CSV…'), 'tags'),
         importInput,
         h('a', { class: 'button', href: '/api/tags.csv', download: 'tags.csv', 'data-testid': 'tags-export' }, 'Export CSV'),
       ),
@@ -151,7 +158,7 @@ export class TagsView {
     if (!structured && row.access === 'readwrite' && !row.io) {
       if (row.type === 'BOOL') {
         valueCell.append(
-          h('button', { class: 'small', 'data-testid': `tag-toggle-${row.name}`, onclick: () => void write(!(this.ctx.live.store.get(row.name) === true)) }, 'Toggle'),
+          gated(h('button', { class: 'small', 'data-testid': `tag-toggle-${row.name}`, onclick: () => void write(!(this.ctx.live.store.get(row.name) === true)) }, 'Toggle'), 'write'),
         );
       } else {
         const edit = () => {
@@ -174,7 +181,7 @@ export class TagsView {
           input.focus();
           input.select();
         };
-        valueCell.append(h('button', { class: 'small', title: 'Edit the value', 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'));
+        valueCell.append(gated(h('button', { class: 'small', title: 'Edit the value', 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write'));
       }
     }
     valueCell.append(errorEl);
@@ -196,21 +203,21 @@ export class TagsView {
       if (isForced) forceCell.append(h('span', { class: 'forced', 'data-testid': `tag-forced-${row.name}` }, `F=${fmt(forced)}`), ' ');
       if (row.type === 'BOOL') {
         forceCell.append(
-          h('button', { class: 'small', 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'),
-          h('button', { class: 'small', 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'),
+          gated(h('button', { class: 'small', 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'), 'force'),
+          gated(h('button', { class: 'small', 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'), 'force'),
         );
       } else {
-        const input = h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: 'value', size: 6 });
-        forceCell.append(input, h('button', { class: 'small', 'data-testid': `force-apply-${row.name}`, onclick: () => void force(parseValue(row.type, input.value)) }, 'Force'));
+        const input = gated(h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: 'value', size: 6 }), 'force');
+        forceCell.append(input, gated(h('button', { class: 'small', 'data-testid': `force-apply-${row.name}`, onclick: () => void force(parseValue(row.type, input.value)) }, 'Force'), 'force'));
       }
-      forceCell.append(h('button', { class: 'small', 'data-testid': `unforce-${row.name}`, disabled: !isForced, onclick: () => void force(null) }, 'Unforce'));
+      forceCell.append(gated(h('button', { class: 'small', 'data-testid': `unforce-${row.name}`, disabled: !isForced, onclick: () => void force(null) }, 'Unforce'), 'force'));
     }
 
     const actions = h('td', { class: 'actions' });
     if (t && t.access !== 'readonly' && !t.name.includes(':')) {
       actions.append(
-        h('button', { class: 'small', 'data-testid': `tag-def-edit-${row.name}`, onclick: () => void this.openForm(row.name) }, 'Edit'),
-        h('button', { class: 'small danger', 'data-testid': `tag-def-delete-${row.name}`, onclick: () => void this.deleteDef(row.name) }, 'Delete'),
+        gated(h('button', { class: 'small', 'data-testid': `tag-def-edit-${row.name}`, onclick: () => void this.openForm(row.name) }, 'Edit'), 'tags'),
+        gated(h('button', { class: 'small danger', 'data-testid': `tag-def-delete-${row.name}`, onclick: () => void this.deleteDef(row.name) }, 'Delete'), 'tags'),
       );
     }
     return h(

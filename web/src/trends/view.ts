@@ -474,17 +474,8 @@ export class TrendsView {
     const [from, to] = this.range();
     const url = api.historyCsvUrl(this.pens, from, to, exportStep(from, to));
     try {
-      const res = await fetch(url);
-      if (!res.ok) {
-        let msg = `${res.status} ${res.statusText}`;
-        try {
-          msg = (await res.json()).error ?? msg;
-        } catch {
-          /* not JSON */
-        }
-        throw new Error(msg);
-      }
-      download('trend.csv', await res.text(), true);
+      const text = await api.text(url);
+      download('trend.csv', text, true);
     } catch (e) {
       this.ctx.notify(`CSV export failed: ${(e as Error).message}`, 'error');
     }

@@ -6,6 +6,8 @@ export interface MenuItem {
   testid: string;
   action: () => void;
   disabled?: boolean;
+  /** Tooltip (why the item is disabled). */
+  title?: string;
 }
 
 let open: HTMLElement | null = null;
@@ -30,6 +32,7 @@ export function showMenu(x: number, y: number, title: string, items: MenuItem[])
           role: 'menuitem',
           'data-testid': it.testid,
           disabled: it.disabled,
+          title: it.title,
           onclick: () => {
             closeMenu();
             it.action();

@@ -1,12 +1,18 @@
-// The status bar: run state, scan times, overruns, connection.
+// The status bar: run state, scan times, overruns, connection, the user and
+// role, and the logout.
+import { type Me, whoLabel } from '../auth';
 import type { ConnState } from '../live/client';
 import { h } from '../dom';
 import type { Status } from '../types';
+
+/** The strings of the status bar that are not field values. */
+const text = { signOut: 'Sign out', signOutTitle: 'End the session' };
 
 export class StatusBar {
   readonly el: HTMLElement;
   private readonly fields: Record<string, Text> = {};
   private readonly spans: Record<string, HTMLElement> = {};
+  private readonly logoutBtn = h('button', { class: 'small link', 'data-testid': 'btn-logout', title: text.signOutTitle, hidden: true }, text.signOut);
 
   constructor() {
     const field = (key: string, label: string) => {
@@ -26,6 +32,8 @@ export class StatusBar {
       field('scans', 'scans'),
       field('fault', ''),
       h('span', { class: 'spacer' }),
+      field('user', ''),
+      this.logoutBtn,
       field('conn', ''),
     );
   }
@@ -44,6 +52,17 @@ export class StatusBar {
     this.set('scans', String(s.scans));
     this.set('fault', s.fault ?? '');
     this.spans.fault.hidden = !s.fault;
+  }
+
+  /** The user and role ("alice (operator)", or "local, no users"); sign-out only with users. */
+  user(me: Me): void {
+    this.set('user', whoLabel(me));
+    this.spans.user.dataset.role = me.role;
+    this.logoutBtn.hidden = !me.users;
+  }
+
+  onLogout(f: () => void): void {
+    this.logoutBtn.onclick = f;
   }
 
   conn(c: ConnState): void {

@@ -1,5 +1,6 @@
 // Writing, toggling and forcing a tag from a menu (ladder elements).
 import { ApiError, api } from '../api';
+import { can, why } from '../auth';
 import type { Ctx } from '../ctx';
 import type { Json } from '../types';
 import type { MenuItem } from './menu';
@@ -32,26 +33,31 @@ export function tagMenuItems(ctx: Ctx, operand: string, suffix = ''): MenuItem[]
   const name = ref.name;
   const label = suffix ? ` ${name}` : '';
   const isForced = ctx.tags.forced.has(name.toUpperCase());
+  // what the role may not do is listed disabled, saying why
+  const force = { disabled: !can('force'), title: why('force') };
+  const write = { disabled: !can('write'), title: why('write') };
   if (ref.io) {
     if (ref.type === 'BOOL') {
-      items.push({ label: `Force ON${label}`, testid: `menu-force-on${suffix}`, action: () => void act(ctx, api.force(name, true), true) });
-      items.push({ label: `Force OFF${label}`, testid: `menu-force-off${suffix}`, action: () => void act(ctx, api.force(name, false), true) });
+      items.push({ label: `Force ON${label}`, testid: `menu-force-on${suffix}`, ...force, action: () => void act(ctx, api.force(name, true), true) });
+      items.push({ label: `Force OFF${label}`, testid: `menu-force-off${suffix}`, ...force, action: () => void act(ctx, api.force(name, false), true) });
     } else {
       items.push({
         label: `Force value…${label}`,
         testid: `menu-force-value${suffix}`,
+        ...force,
         action: () => {
           const v = prompt(`Force ${name} (${ref.type}) to:`);
           if (v !== null) void act(ctx, api.force(name, parseValue(ref.type, v)), true);
         },
       });
     }
-    items.push({ label: `Unforce${label}`, testid: `menu-unforce${suffix}`, disabled: !isForced, action: () => void act(ctx, api.unforce(name), true) });
+    items.push({ label: `Unforce${label}`, testid: `menu-unforce${suffix}`, disabled: !isForced || force.disabled, title: force.title, action: () => void act(ctx, api.unforce(name), true) });
   }
   if (ref.access === 'readwrite' && ref.type === 'BOOL' && !ref.io) {
     items.push({
       label: `Toggle${label}`,
       testid: `menu-toggle${suffix}`,
+      ...write,
       action: () => void act(ctx, api.writeTag(name, !(ctx.live.store.get(name) === true)), false),
     });
   }
@@ -59,6 +65,7 @@ export function tagMenuItems(ctx: Ctx, operand: string, suffix = ''): MenuItem[]
     items.push({
       label: `Set value…${label}`,
       testid: `menu-set-value${suffix}`,
+      ...write,
       action: () => {
         const v = prompt(`New value of ${name} (${ref.type}):`, String(ctx.live.store.get(name) ?? ''));
         if (v !== null) void act(ctx, api.writeTag(name, parseValue(ref.type, v)), false);

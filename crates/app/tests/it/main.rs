@@ -24,6 +24,7 @@ fn options(io: &str) -> alba_app::Options {
         native: false,
         modbus: None,
         opcua: None,
+        tls: alba_app::tls::Tls::Auto,
     }
 }
 
@@ -69,6 +70,253 @@ async fn one_shutdown_signal_stops_every_service() {
         .expect("task");
     assert!(ok);
     assert!(dir.join(".alba").exists(), "retentive data and history kept in .alba");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `alba run` with `opts` on `dir` until the returned sender fires; its address.
+async fn serve(
+    dir: &Path,
+    opts: alba_app::Options,
+) -> (
+    std::net::SocketAddr,
+    tokio::sync::oneshot::Sender<()>,
+    tokio::task::JoinHandle<()>,
+) {
+    let (ready_tx, ready_rx) = tokio::sync::oneshot::channel();
+    let (stop, stop_rx) = tokio::sync::oneshot::channel::<()>();
+    let d = dir.to_path_buf();
+    let task = tokio::spawn(async move {
+        let r = alba_app::run(
+            &d,
+            opts,
+            move |a| {
+                let _ = ready_tx.send(a);
+            },
+            async move {
+                let _ = stop_rx.await;
+            },
+        )
+        .await;
+        if let Err(alba_app::RunError::Other(m)) = r {
+            panic!("{m}");
+        }
+    });
+    (ready_rx.await.expect("ready"), stop, task)
+}
+
+/// A client trusting only `cert` (PEM).
+fn client_trusting(cert: &Path) -> reqwest::Client {
+    let pem = std::fs::read(cert).expect("certificate");
+    reqwest::Client::builder()
+        .add_root_certificate(reqwest::Certificate::from_pem(&pem).expect("pem"))
+        .build()
+        .expect("client")
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn https_with_a_self_signed_certificate_made_on_first_run() {
+    let dir = copy_example("tank", "tls");
+    let mut opts = options("sim");
+    opts.tls = alba_app::tls::Tls::Always;
+    let (addr, stop, task) = serve(&dir, opts).await;
+    let (cert, key) = alba_app::tls::self_signed_paths(&dir);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(&key).expect("key").permissions().mode();
+        assert_eq!(mode & 0o777, 0o600, "the key is its owner's only");
+    }
+    let https = client_trusting(&cert);
+    for host in ["localhost", "127.0.0.1"] {
+        let url = format!("https://{host}:{}/api/status", addr.port());
+        let res = https.get(&url).send().await.expect("HTTPS");
+        assert_eq!(res.status(), reqwest::StatusCode::OK, "{url}");
+        assert!(res.headers().contains_key("content-security-policy"));
+    }
+    // No plain HTTP on that port.
+    let plain = reqwest::Client::new()
+        .get(format!("http://{addr}/api/status"))
+        .send()
+        .await;
+    assert!(
+        plain.is_err() || !plain.expect("answer").status().is_success(),
+        "plain HTTP refused"
+    );
+    // A client that does not trust the certificate refuses the server.
+    let untrusting = reqwest::Client::builder().build().expect("client");
+    assert!(
+        untrusting
+            .get(format!("https://localhost:{}/api/status", addr.port()))
+            .send()
+            .await
+            .is_err()
+    );
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+
+    // The next run keeps the certificate.
+    let before = std::fs::read(&cert).expect("cert");
+    let mut opts = options("sim");
+    opts.tls = alba_app::tls::Tls::Always;
+    let (addr, stop, task) = serve(&dir, opts).await;
+    assert_eq!(std::fs::read(&cert).expect("cert"), before);
+    let res = https
+        .get(format!("https://localhost:{}/api/status", addr.port()))
+        .send()
+        .await
+        .expect("HTTPS");
+    assert_eq!(res.status(), reqwest::StatusCode::OK);
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn https_with_the_users_certificate() {
+    let dir = copy_example("tank", "tls-own");
+    let (cert, key) = (dir.join("own-cert.pem"), dir.join("own-key.pem"));
+    alba_app::tls::make_self_signed(
+        &cert,
+        &key,
+        "127.0.0.1:0".parse().expect("addr"),
+        &["plc1.example".into()],
+    )
+    .expect("cert");
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(
+        dir.join("alba.toml"),
+        format!("{toml}\n[http]\ncert = \"own-cert.pem\"\nkey = \"own-key.pem\"\n"),
+    )
+    .expect("write");
+    let mut opts = options("sim");
+    opts.tls = alba_app::tls::Tls::Always;
+    let (addr, stop, task) = serve(&dir, opts).await;
+    assert!(
+        !alba_app::tls::self_signed_paths(&dir).0.exists(),
+        "no certificate made"
+    );
+    let res = client_trusting(&cert)
+        .get(format!("https://localhost:{}/api/status", addr.port()))
+        .send()
+        .await
+        .expect("HTTPS with the user's certificate");
+    assert_eq!(res.status(), reqwest::StatusCode::OK);
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+    // A missing key file is a clear error before anything is served.
+    std::fs::remove_file(&key).expect("rm");
+    let mut opts = options("sim");
+    opts.tls = alba_app::tls::Tls::Always;
+    let r = alba_app::run(&dir, opts, |_| panic!("not ready"), async {}).await;
+    match r {
+        Err(alba_app::RunError::Other(m)) => assert!(m.contains("own-key.pem") && m.contains("private key"), "{m}"),
+        _ => panic!("expected an error"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn https_beyond_loopback_unless_explicitly_insecure() {
+    use alba_app::tls::{Tls, https};
+    let a = |s: &str| s.parse::<std::net::SocketAddr>().expect("addr");
+    assert!(!https(Tls::Auto, a("127.0.0.1:8080"), false));
+    assert!(!https(Tls::Auto, a("[::1]:8080"), false));
+    assert!(https(Tls::Auto, a("0.0.0.0:8080"), false));
+    assert!(https(Tls::Auto, a("192.168.1.5:8080"), false));
+    assert!(!https(Tls::Auto, a("0.0.0.0:8080"), true), "[http] insecure = true");
+    assert!(!https(Tls::Never, a("0.0.0.0:8080"), false), "--insecure-http");
+    assert!(https(Tls::Always, a("127.0.0.1:8080"), false), "--https");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_listener_beyond_loopback_serves_https_unless_insecure_is_set() {
+    let dir = copy_example("tank", "tls-any");
+    // Beyond loopback the project needs users (without, `alba run` refuses).
+    let mut users = alba_auth::Users::default();
+    users
+        .add("ann", alba_auth::Role::Admin, "a long test password 7")
+        .expect("add");
+    users.save(&dir).expect("save");
+    let mut opts = options("sim");
+    opts.addr = "0.0.0.0:0".parse().expect("addr");
+    let (addr, stop, task) = serve(&dir, opts).await;
+    let (cert, _) = alba_app::tls::self_signed_paths(&dir);
+    assert!(cert.exists(), "a certificate made on first run");
+    let url = format!("https://localhost:{}/api/status", addr.port());
+    // Any answer of the studio (with users, 401 without a session) shows it serves HTTPS.
+    let res = client_trusting(&cert).get(&url).send().await.expect("HTTPS");
+    assert!(res.headers().contains_key("content-security-policy"), "{res:?}");
+    let plain = reqwest::Client::new()
+        .get(format!("http://127.0.0.1:{}/api/status", addr.port()))
+        .send()
+        .await;
+    assert!(
+        plain.is_err() || !plain.expect("answer").status().is_success(),
+        "no plain HTTP"
+    );
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+
+    // `[http] insecure = true`: plain HTTP, explicitly.
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(dir.join("alba.toml"), format!("{toml}\n[http]\ninsecure = true\n")).expect("write");
+    let mut opts = options("sim");
+    opts.addr = "0.0.0.0:0".parse().expect("addr");
+    let (addr, stop, task) = serve(&dir, opts).await;
+    assert_eq!(alba_app::tls::scheme(&dir, alba_app::tls::Tls::Auto, addr), "http");
+    let res = reqwest::Client::new()
+        .get(format!("http://127.0.0.1:{}/api/status", addr.port()))
+        .send()
+        .await
+        .expect("plain HTTP");
+    assert!(res.headers().contains_key("content-security-policy"), "{res:?}");
+    let _ = stop.send(());
+    tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops")
+        .expect("task");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn handlers_know_the_clients_address_over_tls() {
+    use axum::extract::ConnectInfo;
+    let dir = std::env::temp_dir().join(format!("alba-app-tls-peer-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (cert, key) = alba_app::tls::self_signed_paths(&dir);
+    let any: std::net::SocketAddr = "127.0.0.1:0".parse().expect("addr");
+    alba_app::tls::make_self_signed(&cert, &key, any, &[]).expect("cert");
+    let acceptor = alba_app::tls::acceptor(&dir, &Default::default(), any).expect("acceptor");
+    let tcp = tokio::net::TcpListener::bind(any).await.expect("bind");
+    let addr = tcp.local_addr().expect("addr");
+    let listener = alba_app::tls::TlsListener::new(tcp, acceptor).expect("listener");
+    let router = axum::Router::new().route(
+        "/",
+        axum::routing::get(|ConnectInfo(peer): ConnectInfo<std::net::SocketAddr>| async move { peer.to_string() }),
+    );
+    let server = tokio::spawn(async move {
+        let _ = axum::serve(listener, alba_app::tls::WithPeer(router)).await;
+    });
+    let res = client_trusting(&cert)
+        .get(format!("https://localhost:{}/", addr.port()))
+        .send()
+        .await
+        .expect("HTTPS");
+    let peer = res.text().await.expect("text");
+    assert!(peer.starts_with("127.0.0.1:") && peer != addr.to_string(), "{peer}");
+    server.abort();
     let _ = std::fs::remove_dir_all(&dir);
 }
 

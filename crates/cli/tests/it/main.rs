@@ -7,6 +7,7 @@ mod export;
 mod firmware;
 mod listen;
 mod malformed;
+mod modbus_listen;
 mod retain;
 mod users;
 

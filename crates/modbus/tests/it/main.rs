@@ -4,6 +4,8 @@
 //! written elsewhere — pymodbus, libmodbus — are driven by `tests/clients/`
 //! from test.sh.)
 
+mod security;
+
 use alba_modbus::{Server, Settings};
 use alba_modbus_proto::mbap;
 use alba_runtime::{Options, Runtime, SimIo};

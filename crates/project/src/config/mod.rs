@@ -4,6 +4,7 @@
 
 mod board;
 mod history;
+mod http;
 mod modbus;
 mod modbus_device;
 mod opcua;
@@ -15,7 +16,8 @@ mod tests;
 
 pub use board::Board;
 pub use history::History;
-pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, Modbus, ModbusArea, ModbusTag};
+pub use http::{Http, parse_origin, split_authority};
+pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
@@ -53,6 +55,8 @@ pub struct Config {
     /// `[[modbus_device]]`: remote Modbus slaves polled by `alba run --io
     /// modbus` (docs/protocols.md, "Modbus master I/O").
     pub modbus_devices: Vec<ModbusDevice>,
+    /// `[http]`: the studio's listener (docs/security.md).
+    pub http: Http,
     /// `[session]`: how long a login to the HTTP API lasts.
     pub session: Session,
 }
@@ -76,6 +80,7 @@ struct RawConfig {
     opcua: Option<opcua::RawOpcua>,
     #[serde(default)]
     modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
+    http: Option<http::RawHttp>,
     session: Option<session::RawSession>,
 }
 
@@ -157,6 +162,7 @@ impl Config {
         let modbus = raw.modbus.map(|m| modbus::modbus(m, file, &mut diags));
         let opcua = raw.opcua.map(|o| opcua::opcua(o, file, &mut diags));
         let modbus_devices = modbus_device::devices(raw.modbus_device, file, &mut diags);
+        let http = raw.http.map(|h| http::http(h, file, &mut diags)).unwrap_or_default();
         let session = raw
             .session
             .map_or_else(Session::default, |s| session::session(s, file, &mut diags));
@@ -174,6 +180,7 @@ impl Config {
             history,
             modbus,
             opcua,
+            http,
         };
         (Some(config), diags)
     }

@@ -362,3 +362,109 @@ fn plant_models_are_checked_with_their_places() {
         ]
     );
 }
+
+#[test]
+fn modbus_allow_list_and_read_only() {
+    let head = "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\n";
+    // Off by default: no list (every loopback client), writes allowed.
+    let m = parse(&format!("{head}listen = \"127.0.0.1:5020\"\n"))
+        .unwrap()
+        .modbus
+        .unwrap();
+    assert_eq!((m.allow, m.read_only), (None, false));
+    let m = parse(&format!(
+        "{head}listen = \"0.0.0.0:502\"\nread_only = true\nallow = [\"192.168.1.20\", \"10.0.0.0/24\", \"fd00::/8\", \"::1\", \"0.0.0.0/0\"]\n"
+    ))
+    .unwrap()
+    .modbus
+    .unwrap();
+    assert!(m.read_only);
+    let allow = m.allow.unwrap();
+    let shown: Vec<String> = allow.iter().map(ToString::to_string).collect();
+    assert_eq!(shown, ["192.168.1.20", "10.0.0.0/24", "fd00::/8", "::1", "0.0.0.0/0"]);
+    let ip = |s: &str| s.parse::<std::net::IpAddr>().unwrap();
+    assert!(allow[0].contains(ip("192.168.1.20")) && !allow[0].contains(ip("192.168.1.21")));
+    assert!(allow[1].contains(ip("10.0.0.255")) && !allow[1].contains(ip("10.0.1.0")));
+    // An IPv4 client seen on an IPv6 socket is its IPv4 address.
+    assert!(allow[1].contains(ip("::ffff:10.0.0.7")));
+    assert!(allow[2].contains(ip("fd12::1")) && !allow[2].contains(ip("fe80::1")));
+    assert!(allow[3].contains(ip("::1")) && !allow[3].contains(ip("127.0.0.1")));
+    assert!(allow[4].contains(ip("8.8.8.8")) && !allow[4].contains(ip("2001:db8::1")));
+    // IPv6 listeners beyond loopback need the list too; `::1` does not.
+    assert!(parse(&format!("{head}listen = \"[::1]:502\"\n")).is_ok());
+}
+
+#[test]
+fn bad_modbus_client_rules_are_located() {
+    let head = "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\n";
+    let e = parse(&format!(
+        "{head}listen = \"127.0.0.1:502\"\nallow = [\"10.0.0.0/33\", \"10.0.0.5/24\", \"host.lan\", \"fd00::/129\", \"1.2.3.4/x\"]\n"
+    ))
+    .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:5:10: error[E108]: `10.0.0.0/33`: the prefix length of an IPv4 range goes from 0 to 32",
+            "alba.toml:5:25: error[E108]: `10.0.0.5/24` has bits set after its /24 prefix: the range is `10.0.0.0/24`",
+            "alba.toml:5:40: error[E108]: `host.lan` is not an IP address or a CIDR range (like \"192.168.1.20\" or \"10.0.0.0/24\")",
+            "alba.toml:5:52: error[E108]: `fd00::/129`: the prefix length of an IPv6 range goes from 0 to 128",
+            "alba.toml:5:66: error[E108]: `1.2.3.4/x`: the prefix length of an IPv4 range goes from 0 to 32",
+        ]
+    );
+    let e = parse(&format!("{head}listen = \"0.0.0.0:502\"\n")).unwrap_err();
+    assert_eq!(
+        e,
+        ["alba.toml:4:10: error[E108]: listen = \"0.0.0.0:502\" is not a loopback address, so it needs `allow`"]
+    );
+    let e = parse(&format!("{head}listen = \"[::]:502\"\n")).unwrap_err();
+    assert_eq!(
+        e,
+        ["alba.toml:4:10: error[E108]: listen = \"[::]:502\" is not a loopback address, so it needs `allow`"]
+    );
+    let e = parse(&format!("{head}allow = []\n")).unwrap_err();
+    assert_eq!(e, ["alba.toml:4:9: error[E108]: allow = [] lets no client in"]);
+    let e = parse(&format!("{head}read_only = \"yes\"\n")).unwrap_err();
+    assert!(e[0].starts_with("alba.toml:4:13: error[E102]"), "{e:?}");
+}
+
+#[test]
+fn http_table_lists_hosts_origins_and_tls_files() {
+    let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
+    assert_eq!(parse(head).unwrap().http, Http::default());
+    let c = parse(&format!(
+        "{head}[http]\nallowed_hosts = [\"PLC1.plant.example\"]\nallowed_origins = [\"https://scada.example:8443\", \"http://[::1]:8080\"]\ninsecure = true\ncert = \"tls/c.pem\"\nkey = \"tls/k.pem\"\n"
+    ))
+    .unwrap();
+    assert_eq!(c.http.allowed_hosts, ["plc1.plant.example"]);
+    assert_eq!(
+        c.http.allowed_origins,
+        ["https://scada.example:8443", "http://[::1]:8080"]
+    );
+    assert!(c.http.insecure);
+    assert_eq!(
+        (c.http.cert.as_deref(), c.http.key.as_deref()),
+        (Some("tls/c.pem"), Some("tls/k.pem"))
+    );
+    for (bad, what) in [
+        ("allowed_hosts = [\"http://plc1\"]", "not a host name"),
+        ("allowed_hosts = [\"plc1:8080\"]", "not a host name"),
+        ("allowed_origins = [\"scada.example\"]", "not an origin"),
+        ("allowed_origins = [\"ftp://scada.example\"]", "not an origin"),
+        ("allowed_origins = [\"http://scada.example:99999\"]", "not an origin"),
+        ("cert = \"c.pem\"", "both `cert` and `key`"),
+    ] {
+        let e = parse(&format!("{head}[http]\n{bad}\n")).unwrap_err();
+        assert!(e.iter().any(|m| m.contains(what)), "{bad}: {e:?}");
+    }
+}
+
+#[test]
+fn authorities_split_into_host_and_port() {
+    assert_eq!(split_authority("localhost:8080"), Some(("localhost", Some(8080))));
+    assert_eq!(split_authority("plc1"), Some(("plc1", None)));
+    assert_eq!(split_authority("[::1]:80"), Some(("[::1]", Some(80))));
+    assert_eq!(split_authority("[::1]"), Some(("[::1]", None)));
+    for bad in ["", "a:b", "::1", "[zz]:1", "a b", "h:", "evil.example/x"] {
+        assert_eq!(split_authority(bad), None, "{bad}");
+    }
+}

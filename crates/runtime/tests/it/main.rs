@@ -6,7 +6,7 @@
 use alba_diag::Files;
 use alba_ir::{Place, Program, Target};
 use alba_model::Value;
-use alba_runtime::{Options, RunState, Runtime, SimIo, Snapshot};
+use alba_runtime::{IoError, Options, RunState, Runtime, SimIo, Snapshot, StartError};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -233,7 +233,9 @@ async fn retentive_values_survive_a_restart() {
     // Not a retain file: refused, and left alone.
     std::fs::write(&file, "{\"hello\": 1}").unwrap();
     let err = Runtime::start(compile(TAGS, LAD), opts(2).with_retain(file.clone()), Box::new(SimIo)).err();
-    assert!(err.is_some_and(|e| e.contains("not an Alba retain file")));
+    assert!(
+        err.is_some_and(|e| matches!(e, StartError::Retain(_)) && e.to_string().contains("not an Alba retain file"))
+    );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "{\"hello\": 1}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -250,19 +252,19 @@ impl alba_runtime::Io for Board {
     fn name(&self) -> &str {
         "test board"
     }
-    fn read_inputs(&mut self, engine: &mut alba_engine::Engine) -> Result<(), String> {
-        let m = self.mem.lock().map_err(|e| e.to_string())?.clone();
-        engine.load_memory(&m)
+    fn read_inputs(&mut self, engine: &mut alba_engine::Engine) -> Result<(), IoError> {
+        let m = self.mem.lock().map_err(|e| IoError::Link(e.to_string()))?.clone();
+        engine.load_memory(&m).map_err(IoError::MemoryMismatch)
     }
-    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), String> {
-        Err("attach mode never writes outputs".into())
+    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), IoError> {
+        Err(IoError::DoesNotFit("attach mode never writes outputs".into()))
     }
     fn runs_program(&self) -> bool {
         true
     }
-    fn write_remote(&mut self, place: Place, value: Value) -> Option<Result<(), String>> {
+    fn write_remote(&mut self, place: Place, value: Value) -> Option<Result<(), IoError>> {
         if value == Value::Dint(-1) {
-            return Some(Err("the board refused".into()));
+            return Some(Err(IoError::Refused("the board refused".into())));
         }
         self.writes.lock().ok()?.push((place, value));
         if let Ok(mut m) = self.mem.lock() {
@@ -300,7 +302,16 @@ async fn attach_mode_mirrors_the_board_and_sends_writes_to_it() {
     })
     .await;
     let err = h.write(place(&program, "Kept"), Value::Dint(-1)).await.unwrap_err();
-    assert!(matches!(err, alba_runtime::Error::Io { .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            alba_runtime::Error::Io {
+                source: IoError::Refused(_),
+                ..
+            }
+        ),
+        "{err}"
+    );
     assert!(err.to_string().contains("the board refused"), "{err}");
     let err = h
         .force("In".into(), place(&program, "In"), Value::Bool(true))

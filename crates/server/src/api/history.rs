@@ -6,14 +6,21 @@ use crate::reply::{Bucket, History, HistoryTag};
 use crate::state::AppState;
 use alba_historian::Historian;
 use axum::Json;
+use axum::body::{Body, Bytes};
 use axum::extract::{Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
+use futures_util::StreamExt;
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::Duration;
 
 /// The most rows a CSV export answers with.
 const MAX_CSV_ROWS: i64 = 1_000_000;
+/// The most different tags (columns) of a CSV export.
+pub const MAX_CSV_COLUMNS: usize = 64;
+/// The most values (rows × columns) of a CSV export.
+const MAX_CSV_CELLS: i64 = 10_000_000;
 
 fn historian(st: &AppState) -> Result<Historian, ApiError> {
     st.history.clone().ok_or(ApiError::HistoryOff)
@@ -81,11 +88,17 @@ pub async fn query(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResu
 
 pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Response> {
     let h = historian(&st)?;
-    let names: Vec<String> = param(&q, "tags")?
-        .split(',')
-        .map(|s| s.trim().to_string())
-        .filter(|s| !s.is_empty())
-        .collect();
+    let mut names: Vec<String> = Vec::new();
+    for name in param(&q, "tags")?.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        if !names.iter().any(|n| n == name) {
+            names.push(name.to_string());
+        }
+        if names.len() > MAX_CSV_COLUMNS {
+            return Err(ApiError::Invalid(format!(
+                "`tags` lists more than {MAX_CSV_COLUMNS} different tags: export them in several files"
+            )));
+        }
+    }
     if names.is_empty() {
         return Err(ApiError::Malformed("`tags` lists no tag".into()));
     }
@@ -94,25 +107,105 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
     if step < 1 {
         return Err(ApiError::Invalid("`step` must be at least 1 ms".into()));
     }
-    if to >= from && (to - from) / step >= MAX_CSV_ROWS {
+    let rows = if to >= from { (to - from) / step + 1 } else { 0 };
+    if rows > MAX_CSV_ROWS {
         return Err(ApiError::Invalid(format!(
-            "{} rows is more than {MAX_CSV_ROWS}: choose a larger `step` or a shorter range",
-            (to - from) / step + 1
+            "{rows} rows is more than {MAX_CSV_ROWS}: choose a larger `step` or a shorter range"
         )));
     }
-    let text = blocking(move || {
-        let mut out = Vec::new();
+    let cells = rows.saturating_mul(names.len() as i64);
+    if cells > MAX_CSV_CELLS {
+        return Err(ApiError::Invalid(format!(
+            "{rows} rows of {} tags is more than {MAX_CSV_CELLS} values: choose a larger `step`, a shorter range or fewer tags",
+            names.len()
+        )));
+    }
+    // One export at a time per permit; the others wait their turn.
+    let permit = EXPORTS.acquire().await.map_err(|e| ApiError::Internal(e.to_string()))?;
+    let (tx, mut rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, alba_historian::Error>>(4);
+    let rt = tokio::runtime::Handle::current();
+    tokio::task::spawn_blocking(move || {
+        let _permit = permit;
+        let mut w = ChunkWriter {
+            tx: tx.clone(),
+            rt: rt.clone(),
+            buf: Vec::with_capacity(CSV_CHUNK),
+        };
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        h.export_csv(&refs, from, to, step, &mut out)?;
-        Ok(out)
-    })
-    .await?;
+        let done = h
+            .export_csv(&refs, from, to, step, &mut w)
+            .and_then(|_| w.send().map_err(alba_historian::Error::from));
+        if let Err(e) = done {
+            // The client may be gone, or the answer started: then it is cut short.
+            let _ = rt.block_on(tokio::time::timeout(CSV_SEND_TIMEOUT, tx.send(Err(e))));
+        }
+    });
+    // A failure before the first bytes (an unknown tag) is an API error.
+    let first = match rx.recv().await {
+        Some(Ok(bytes)) => bytes,
+        Some(Err(e)) => return Err(e.into()),
+        None => Vec::new(),
+    };
+    let rest = futures_util::stream::unfold(rx, |mut rx| async move {
+        let item = rx.recv().await?.map(Bytes::from).map_err(std::io::Error::other);
+        Some((item, rx))
+    });
+    let body = futures_util::stream::once(async move { Ok::<_, std::io::Error>(Bytes::from(first)) }).chain(rest);
     Ok((
         [
             (header::CONTENT_TYPE, "text/csv; charset=utf-8"),
             (header::CONTENT_DISPOSITION, "attachment; filename=\"trend.csv\""),
         ],
-        text,
+        Body::from_stream(body),
     )
         .into_response())
+}
+
+/// Exports run at once (each holds a reader of the historian and a thread).
+static EXPORTS: tokio::sync::Semaphore = tokio::sync::Semaphore::const_new(2);
+/// The size of the pieces a CSV export is sent in.
+const CSV_CHUNK: usize = 64 * 1024;
+/// A client that takes no piece for this long is given up.
+const CSV_SEND_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// Sends what the export writes, in pieces of [`CSV_CHUNK`] bytes, to the
+/// answer's body; at most a few pieces wait in memory.
+struct ChunkWriter {
+    tx: tokio::sync::mpsc::Sender<Result<Vec<u8>, alba_historian::Error>>,
+    rt: tokio::runtime::Handle,
+    buf: Vec<u8>,
+}
+
+impl ChunkWriter {
+    fn send(&mut self) -> std::io::Result<()> {
+        if self.buf.is_empty() {
+            return Ok(());
+        }
+        let piece = std::mem::replace(&mut self.buf, Vec::with_capacity(CSV_CHUNK));
+        match self
+            .rt
+            .block_on(tokio::time::timeout(CSV_SEND_TIMEOUT, self.tx.send(Ok(piece))))
+        {
+            Ok(Ok(())) => Ok(()),
+            Ok(Err(_)) => Err(std::io::Error::new(std::io::ErrorKind::BrokenPipe, "the client left")),
+            Err(_) => Err(std::io::Error::new(
+                std::io::ErrorKind::TimedOut,
+                "the client takes nothing",
+            )),
+        }
+    }
+}
+
+impl std::io::Write for ChunkWriter {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.buf.extend_from_slice(b);
+        if self.buf.len() >= CSV_CHUNK {
+            self.send()?;
+        }
+        Ok(b.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }

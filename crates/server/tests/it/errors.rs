@@ -2,7 +2,7 @@
 //! `crate::error::status` maps its case to another status.
 
 use crate::{Server, copy_example};
-use alba_runtime::{Io, Options, Runtime};
+use alba_runtime::{Io, IoError, Options, Runtime};
 use reqwest::{Client, Method, StatusCode};
 use serde_json::json;
 use std::sync::Arc;
@@ -15,10 +15,10 @@ impl Io for Board {
     fn name(&self) -> &str {
         "board:test"
     }
-    fn read_inputs(&mut self, _: &mut alba_engine::Engine) -> Result<(), String> {
+    fn read_inputs(&mut self, _: &mut alba_engine::Engine) -> Result<(), IoError> {
         Ok(())
     }
-    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), String> {
+    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), IoError> {
         Ok(())
     }
     fn runs_program(&self) -> bool {

@@ -5,6 +5,7 @@ mod api;
 mod contract;
 mod domain;
 mod errors;
+mod guard;
 mod history;
 mod roles;
 mod ws;
@@ -54,6 +55,7 @@ impl Server {
             native: false,
             modbus: None,
             opcua: None,
+            tls: alba_app::tls::Tls::Auto,
         };
         let d = dir.clone();
         let task = tokio::spawn(async move {
@@ -93,11 +95,15 @@ impl Server {
     }
 
     /// Sends a request with an optional JSON body; the status and the JSON
-    /// answer (`null` for an empty body).
+    /// answer (`null` for an empty body). State-changing requests are sent
+    /// as JSON even without a body, as the guard requires (crate::guard).
     pub async fn call(&self, method: Method, path: &str, body: Option<Json>) -> (StatusCode, Json) {
+        let changes = !matches!(method, Method::GET | Method::HEAD);
         let mut req = self.http.request(method, self.url(path));
         if let Some(b) = body {
             req = req.json(&b);
+        } else if changes {
+            req = req.header("content-type", "application/json");
         }
         let res = req.send().await.expect("request");
         Server::answer(res).await

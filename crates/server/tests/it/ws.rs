@@ -7,10 +7,15 @@ use tokio_tungstenite::tungstenite::Message;
 
 type Ws = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
+/// Connects as the studio does: from its own origin.
 async fn connect(s: &Server) -> Ws {
-    let (ws, _) = tokio_tungstenite::connect_async(format!("ws://{}/api/ws", s.addr))
-        .await
-        .expect("connect");
+    use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+    let mut req = format!("ws://{}/api/ws", s.addr)
+        .into_client_request()
+        .expect("request");
+    let origin = format!("http://{}", s.addr).parse().expect("origin");
+    req.headers_mut().insert("origin", origin);
+    let (ws, _) = tokio_tungstenite::connect_async(req).await.expect("connect");
     ws
 }
 

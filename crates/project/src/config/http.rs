@@ -1,0 +1,130 @@
+//! `[http]`: the HTTP/WebSocket listener of `alba run` (docs/security.md,
+//! "Browser attacks and transport").
+
+use alba_diag::{Code, Diagnostic, FileId, Span};
+use serde::Deserialize;
+use toml::Spanned;
+
+/// `[http]`: who may reach the studio and its API, and how.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Http {
+    /// Extra host names accepted in the `Host` header, lowercase, without a
+    /// port (`localhost` and IP literals are always accepted): the names the
+    /// studio is reached by, e.g. `plc1.plant.example`.
+    pub allowed_hosts: Vec<String>,
+    /// Extra origins (`scheme://host[:port]`, lowercase) accepted in the
+    /// `Origin` header of state-changing requests and the WebSocket, besides
+    /// the studio's own origin: e.g. a SCADA page served elsewhere.
+    pub allowed_origins: Vec<String>,
+    /// Serve plain HTTP on a non-loopback address (else HTTPS only there).
+    pub insecure: bool,
+    /// The TLS certificate chain (PEM) for HTTPS, relative to the project;
+    /// `None`: a self-signed one made on first run in `.alba/tls/`.
+    pub cert: Option<String>,
+    /// The certificate's private key (PEM), with `cert`.
+    pub key: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawHttp {
+    #[serde(default)]
+    allowed_hosts: Vec<Spanned<String>>,
+    #[serde(default)]
+    allowed_origins: Vec<Spanned<String>>,
+    insecure: Option<bool>,
+    cert: Option<Spanned<String>>,
+    key: Option<Spanned<String>>,
+}
+
+/// Whether `s` is a host name: letters, digits, `-`, `.` (and `_`, seen in
+/// private networks), not empty.
+fn is_host_name(s: &str) -> bool {
+    !s.is_empty()
+        && s.len() <= 253
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '.' | '_'))
+}
+
+/// `s` as an origin `scheme://host[:port]` (lowercase, `http` or
+/// `https`), if it is one.
+pub fn parse_origin(s: &str) -> Option<String> {
+    let s = s.trim().to_ascii_lowercase();
+    let rest = s.strip_prefix("http://").or_else(|| s.strip_prefix("https://"))?;
+    split_authority(rest)?;
+    Some(s)
+}
+
+/// `host[:port]` split into the host (an IPv6 literal keeps its brackets)
+/// and the port; `None` when it is not one.
+pub fn split_authority(a: &str) -> Option<(&str, Option<u16>)> {
+    let (host, port) = if a.starts_with('[') {
+        let end = a.find(']')?;
+        let (h, p) = a.split_at(end + 1);
+        h[1..end].parse::<std::net::Ipv6Addr>().ok()?;
+        (h, p)
+    } else {
+        match a.split_once(':') {
+            Some((h, _)) => (h, &a[h.len()..]),
+            None => (a, ""),
+        }
+    };
+    let port = match port {
+        "" => None,
+        p => Some(p.strip_prefix(':')?.parse::<u16>().ok()?),
+    };
+    (host.starts_with('[') || is_host_name(host)).then_some((host, port))
+}
+
+/// Validates `[http]`.
+pub(super) fn http(h: RawHttp, file: FileId, diags: &mut Vec<Diagnostic>) -> Http {
+    let sp = |r: std::ops::Range<usize>| Span::new(file, r);
+    let mut out = Http {
+        insecure: h.insecure.unwrap_or(false),
+        ..Http::default()
+    };
+    for name in h.allowed_hosts {
+        let n = name.get_ref().trim().to_ascii_lowercase();
+        if is_host_name(&n) {
+            out.allowed_hosts.push(n);
+        } else {
+            diags.push(
+                Diagnostic::new(
+                    Code::ConfigField,
+                    format!("`{}` is not a host name", name.get_ref()),
+                    sp(name.span()),
+                    "not a host name",
+                )
+                .with_help("`allowed_hosts` lists bare names, without scheme or port: [\"plc1.plant.example\"]"),
+            );
+        }
+    }
+    for origin in h.allowed_origins {
+        match parse_origin(origin.get_ref()) {
+            Some(o) => out.allowed_origins.push(o),
+            None => diags.push(
+                Diagnostic::new(
+                    Code::ConfigField,
+                    format!("`{}` is not an origin", origin.get_ref()),
+                    sp(origin.span()),
+                    "not an origin",
+                )
+                .with_help("an origin is `scheme://host[:port]`: \"https://scada.plant.example:8443\""),
+            ),
+        }
+    }
+    match (h.cert, h.key) {
+        (Some(c), Some(k)) => {
+            out.cert = Some(c.into_inner());
+            out.key = Some(k.into_inner());
+        }
+        (Some(one), None) | (None, Some(one)) => diags.push(Diagnostic::new(
+            Code::ConfigField,
+            "`[http]` needs both `cert` and `key`, or neither",
+            sp(one.span()),
+            "set alone",
+        )),
+        (None, None) => {}
+    }
+    out
+}

@@ -1,0 +1,171 @@
+// The login page and the start of the studio.
+//
+// boot(): GET /api/me. 200 → the studio starts with that user (`"users": false`:
+// no users configured, full rights, no login page). 401 → the login page; its
+// POST /api/login sets the session cookie (HttpOnly: the page never sees it,
+// and the bearer token of the reply is not kept), then the studio starts.
+// Later, any 401 means the session ended (idle or absolute expiry, logout
+// elsewhere): main.ts shows the login page again over the studio.
+import { ApiError, api } from './api';
+import { LOCAL, type Me, parseMe, setMe } from './auth';
+import { h } from './dom';
+
+/** The strings of the login page (one place; a Spanish catalogue comes later). */
+export const loginText = {
+  title: 'Sign in to Alba',
+  user: 'User',
+  password: 'Password',
+  submit: 'Sign in',
+  busy: 'Signing in…',
+  missing: 'Enter your user name and password',
+  wrong: 'Wrong user name or password',
+  wait: (s: number) => `Too many failed attempts: wait ${s} s before trying again`,
+  unreachable: (m: string) => `Cannot reach the server: ${m}`,
+  badReply: 'The server answered the login with something unexpected',
+  expired: (m: string) => `Your session has ended (${m}): sign in again`,
+  signedOut: 'Signed out',
+  fatal: (m: string) => `Cannot start the studio: ${m}`,
+};
+
+export interface LoginOptions {
+  /** Shown above the form (why the page is shown). */
+  message?: string;
+  /** The user logged in; the page has been removed. */
+  onLoggedIn(me: Me): void;
+  /** Where the page goes (document.body). */
+  root?: HTMLElement;
+}
+
+/** Shows the login page (a full-window layer); returns it. */
+export function showLogin(opts: LoginOptions): HTMLElement {
+  const root = opts.root ?? document.body;
+  const userIn = h('input', { name: 'user', autocomplete: 'username', required: true, 'data-testid': 'login-user' });
+  const passIn = h('input', { name: 'password', type: 'password', autocomplete: 'current-password', required: true, 'data-testid': 'login-password' });
+  const submit = h('button', { type: 'submit', class: 'primary', 'data-testid': 'login-submit' }, loginText.submit);
+  const error = h('div', { class: 'login-error', role: 'alert', 'data-testid': 'login-error', hidden: true });
+  let timer: ReturnType<typeof setInterval> | null = null;
+  const showError = (text: string | null) => {
+    error.hidden = text === null;
+    error.textContent = text ?? '';
+  };
+  /** 429: the button stays disabled, counting down, until the wait is over. */
+  const backOff = (seconds: number) => {
+    let left = Math.max(1, Math.ceil(seconds));
+    submit.disabled = true;
+    showError(loginText.wait(left));
+    if (timer) clearInterval(timer);
+    timer = setInterval(() => {
+      left -= 1;
+      if (left > 0) {
+        showError(loginText.wait(left));
+        return;
+      }
+      if (timer) clearInterval(timer);
+      timer = null;
+      submit.disabled = false;
+      showError(null);
+    }, 1000);
+  };
+  const form = h(
+    'form',
+    { class: 'login-form', 'data-testid': 'login-form', novalidate: true },
+    h('h1', null, loginText.title),
+    opts.message ? h('p', { class: 'login-message', 'data-testid': 'login-message' }, opts.message) : null,
+    h('label', null, h('span', null, loginText.user), userIn),
+    h('label', null, h('span', null, loginText.password), passIn),
+    error,
+    submit,
+  );
+  const page = h('div', { class: 'login-page', 'data-testid': 'login-page' }, form);
+  form.addEventListener('submit', async (e) => {
+    e.preventDefault();
+    if (submit.disabled) return;
+    const user = userIn.value.trim();
+    const password = passIn.value;
+    if (!user || !password) {
+      showError(loginText.missing);
+      return;
+    }
+    submit.disabled = true;
+    submit.textContent = loginText.busy;
+    let me: Me | null = null;
+    try {
+      me = parseMe(await api.login(user, password));
+      if (!me) showError(loginText.badReply);
+    } catch (err) {
+      passIn.value = '';
+      if (err instanceof ApiError && err.status === 429) {
+        submit.textContent = loginText.submit;
+        backOff(err.retryAfter ?? 1);
+        return;
+      }
+      if (err instanceof ApiError && err.status === 401) showError(loginText.wrong);
+      else if (err instanceof ApiError && err.status !== 0) showError(err.message);
+      else showError(loginText.unreachable(err instanceof Error ? err.message : String(err)));
+    }
+    submit.textContent = loginText.submit;
+    submit.disabled = false;
+    if (!me) {
+      passIn.focus();
+      return;
+    }
+    if (timer) clearInterval(timer);
+    page.remove();
+    opts.onLoggedIn(me);
+  });
+  root.append(page);
+  userIn.focus();
+  return page;
+}
+
+/** A message for the next login page, across the reload after a logout. */
+const NEXT_MESSAGE = 'alba.loginMessage';
+
+export function setNextLoginMessage(message: string): void {
+  try {
+    sessionStorage.setItem(NEXT_MESSAGE, message);
+  } catch {
+    /* storage unavailable: no message */
+  }
+}
+
+function takeNextLoginMessage(): string | undefined {
+  try {
+    const m = sessionStorage.getItem(NEXT_MESSAGE);
+    sessionStorage.removeItem(NEXT_MESSAGE);
+    return m ?? undefined;
+  } catch {
+    return undefined;
+  }
+}
+
+/**
+ * Finds out who is using the studio (GET /api/me), through the login page if
+ * needed, then calls `start` with them (also set as auth.ts's current user).
+ */
+export async function boot(start: (me: Me) => void | Promise<void>, root: HTMLElement = document.body): Promise<void> {
+  const go = (me: Me) => {
+    setMe(me);
+    return start(me);
+  };
+  let reply: unknown;
+  try {
+    reply = await api.me();
+  } catch (e) {
+    if (e instanceof ApiError && e.status === 401) {
+      showLogin({ root, message: takeNextLoginMessage(), onLoggedIn: (me) => void go(me) });
+      return;
+    }
+    // a server without users and without GET /api/me
+    if (e instanceof ApiError && e.status === 404) return go(LOCAL);
+    root.append(h('p', { class: 'fatal', 'data-testid': 'fatal' }, loginText.fatal(e instanceof Error ? e.message : String(e))));
+    return;
+  }
+  takeNextLoginMessage();
+  const me = parseMe(reply);
+  if (!me) {
+    root.append(h('p', { class: 'fatal', 'data-testid': 'fatal' }, loginText.fatal(`GET /api/me: ${JSON.stringify(reply)}`)));
+    return;
+  }
+  return go(me);
+}
