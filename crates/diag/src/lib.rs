@@ -182,6 +182,16 @@ impl Diagnostic {
 
     /// The full form with a source excerpt, for terminals and logs.
     pub fn render(&self, files: &Files) -> String {
+        self.render_as(files, cs::Severity::Error)
+    }
+
+    /// [`Diagnostic::render`] headed `warning[CODE]`: for the few problems
+    /// that do not stop a project (a deprecated setting).
+    pub fn render_warning(&self, files: &Files) -> String {
+        self.render_as(files, cs::Severity::Warning)
+    }
+
+    fn render_as(&self, files: &Files, severity: cs::Severity) -> String {
         let mut db = SimpleFiles::new();
         for (name, text) in &files.files {
             db.add(name.as_str(), text.as_str());
@@ -193,7 +203,7 @@ impl Diagnostic {
         for l in &self.secondary {
             labels.push(cs::Label::secondary(l.span.file.0 as usize, l.span.range()).with_message(&l.message));
         }
-        let mut d = cs::Diagnostic::error()
+        let mut d = cs::Diagnostic::new(severity)
             .with_code(self.code.to_string())
             .with_message(&self.message)
             .with_labels(labels);

@@ -5,10 +5,12 @@
 //! The TOML reader lives here, apart from the data model (`alba-model`), so
 //! the IR, the engine and the front ends do not depend on it. Password hashes
 //! in `[opcua.users]` are checked for form with `password-hash` only; the
-//! `argon2` verifier belongs to the OPC UA server.
+//! `argon2` verifier belongs to `alba-auth`. The user store, `users.toml`,
+//! is read and written by [`users`].
 
 pub mod config;
 mod project;
+pub mod users;
 
 pub use config::Config;
 pub use project::{Language, ProgramSource, Project, read_text};

@@ -48,6 +48,9 @@ pub struct Project {
     /// The file the tag table was read from (`None` if it could not be read).
     pub tags_file: Option<FileId>,
     pub programs: Vec<ProgramSource>,
+    /// Problems that do not stop the project (a deprecated setting): shown,
+    /// never counted as errors.
+    pub warnings: Vec<Diagnostic>,
 }
 
 impl Project {
@@ -144,7 +147,24 @@ impl Project {
                 );
             }
         }
+        // users.toml is optional; when present it is checked with the rest.
+        let users_path = dir.join(crate::users::USERS_FILE);
+        if users_path.exists() {
+            match read_text(&users_path) {
+                Ok(text) => {
+                    let f = files.add(display(crate::users::USERS_FILE), text);
+                    diags.extend(crate::users::parse_users(files.text(f), f).1);
+                }
+                Err(msg) => diags.push(Diagnostic::unplaced(Code::Io, msg)),
+            }
+        }
+        let warnings = config
+            .as_ref()
+            .and_then(|(c, _)| crate::users::opcua_users_warning(c))
+            .into_iter()
+            .collect();
         let project = Project {
+            warnings,
             dir: dir.to_path_buf(),
             files,
             config: config.map(|(c, _)| c),

@@ -16,6 +16,7 @@
 
 mod api;
 mod assets;
+pub mod auth;
 pub mod error;
 pub mod project;
 pub mod reply;
@@ -23,6 +24,7 @@ mod state;
 pub mod tags;
 mod ws;
 
+pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
