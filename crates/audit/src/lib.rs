@@ -20,6 +20,7 @@
 
 mod action;
 mod csv;
+mod diff;
 mod error;
 mod schema;
 
@@ -32,6 +33,7 @@ use rusqlite::{Connection, OptionalExtension, params, params_from_iter};
 
 pub use action::Action;
 pub use csv::{CSV_HEADER, format_utc};
+pub use diff::{DiffSummary, diff};
 pub use error::{Error, Result};
 
 /// Times must lie within ±`MAX_TIME_MS` (about ±285 000 years around 1970).
