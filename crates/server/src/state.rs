@@ -32,6 +32,10 @@ pub struct AppState {
     pub closing: watch::Sender<bool>,
     /// `None` when history is off.
     pub history: Option<alba_historian::Historian>,
+    /// The audit trail (docs/audit.md): every state-changing handler writes its
+    /// row here before it acts. `alba run` always opens one; `None` (tests,
+    /// embedders) records nothing.
+    pub audit: Option<alba_audit::Audit>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
 }
@@ -42,6 +46,7 @@ impl AppState {
         compiled: Compiled,
         io: &str,
         history: Option<alba_historian::Historian>,
+        audit: Option<alba_audit::Audit>,
     ) -> Arc<AppState> {
         let project = &compiled.project;
         Arc::new(AppState {
@@ -53,6 +58,7 @@ impl AppState {
             clients: AtomicUsize::new(0),
             closing: watch::Sender::new(false),
             history,
+            audit,
             edits: broadcast::Sender::new(16),
         })
     }

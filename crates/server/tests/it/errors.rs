@@ -34,7 +34,7 @@ async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) 
     let mut ro = Options::new(compiled.project.scan_ms());
     ro.native = false;
     let runtime = Runtime::start(Arc::new(program), ro, io).expect("runtime");
-    let state = alba_server::AppState::new(runtime.handle(), compiled, "test", None);
+    let state = alba_server::AppState::new(runtime.handle(), compiled, "test", None, None);
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
     let addr = listener.local_addr().expect("addr");
     let (stop, stop_rx) = oneshot::channel::<()>();
