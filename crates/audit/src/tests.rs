@@ -112,7 +112,7 @@ fn filters_combine_and_pages_follow_each_other() {
         let e = entry(
             i * 10,
             actions[i as usize % 3],
-            users[i as usize % 3 / 1 % 3],
+            users[i as usize / 3 % 3],
             if i % 2 == 0 { "Pump" } else { "Valve" },
         );
         ids.push(a.record(&e, &Outcome::Ok).expect("record"));
@@ -126,7 +126,7 @@ fn filters_combine_and_pages_follow_each_other() {
         target: Some("PUMP".into()),
     };
     let want: Vec<i64> = (0..60i64)
-        .filter(|i| (100..=400).contains(&(i * 10)) && i % 3 == 0 && i % 2 == 0)
+        .filter(|i| (100..=400).contains(&(i * 10)) && i / 3 % 3 == 0 && i % 3 != 2 && i % 2 == 0)
         .map(|i| ids[i as usize])
         .rev()
         .collect();
