@@ -205,6 +205,12 @@ export type AuditPage = { rows: Array<AuditRow>, next: number | null, };
 
 export type ErrorReply = { error: string, diagnostics?: Array<Diagnostic>, };
 
+export type Role = "viewer" | "operator" | "engineer" | "admin";
+
+export type Login = { token: string, user: string, role: Role, };
+
+export type Me = { user: string | null, role: Role, users: boolean, };
+
 export type PowerMsg = { type: 'power', scan: number, program: string, on: Array<number>, };
 
 export type ErrorMsg = { type: 'error', error: string, };

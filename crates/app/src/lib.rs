@@ -15,6 +15,7 @@ mod edits;
 mod history;
 mod modbus;
 mod opcua;
+mod users;
 
 use alba_project::config::Config;
 use alba_server::AppState;
@@ -72,6 +73,7 @@ pub async fn run(
     };
     let config = compiled.project.config.clone();
     let config = config.as_ref();
+    let auth = users::auth(dir, config, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
@@ -97,7 +99,7 @@ pub async fn run(
             tokio::runtime::Handle::current(),
         )
     });
-    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, Some(audit));
+    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, Some(audit), auth);
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
@@ -119,7 +121,8 @@ pub async fn run(
         shutdown.await;
         closing.send_replace(true);
     };
-    let served = axum::serve(listener, alba_server::router(state))
+    let app = alba_server::router(state).into_make_service_with_connect_info::<SocketAddr>();
+    let served = axum::serve(listener, app)
         .with_graceful_shutdown(shutdown)
         .await
         .map_err(|e| RunError::Other(format!("server: {e}")));

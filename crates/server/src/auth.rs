@@ -1,24 +1,47 @@
-//! Who makes a request: the identity the session layer attaches to every
-//! request (docs/security.md, "Sessions and roles").
+//! Who makes a request, and whether they may (docs/security.md, "Sessions
+//! and roles").
 //!
-//! Handlers and the audit trail take a [`Who`] as an extractor:
-//! `async fn put(who: Who, …)`. The session layer inserts it into the
-//! request's extensions before any handler runs.
+//! - [`Auth`] holds the project's users, the sessions of logged-in users
+//!   and the failed-login accounting; `POST /api/login` (api/session.rs)
+//!   opens a session, identified by a 256-bit random token sent back as
+//!   the `alba_session` cookie and in the reply (for `Authorization:
+//!   Bearer`). Sessions end after `[session] idle_minutes` without a
+//!   request, `max_hours` after the login, or on logout. Only a hash of
+//!   each token is kept.
+//! - [`layer`], the one place where routes meet roles, runs before every
+//!   route: it finds the role the route needs in `crate::ROUTE_ROLES`,
+//!   answers 401 without a valid session (when users exist) and 403 for
+//!   too small a role, and attaches a [`Who`] to the request.
+//! - Handlers and the audit trail take a [`Who`] as an extractor:
+//!   `async fn put(who: Who, …)` (or `Option<Who>` on public routes).
+//!
+//! With no users configured the API is open to loopback clients only,
+//! each acting as `admin` with no user name; `alba run` (crates/app)
+//! refuses a non-loopback listener then.
 
-use axum::extract::FromRequestParts;
+pub use alba_auth::Role;
+
+use crate::error::ApiError;
+use crate::state::AppState;
+use axum::extract::{ConnectInfo, FromRequestParts, MatchedPath, OptionalFromRequestParts, Request, State};
 use axum::http::request::Parts;
+use axum::http::{HeaderMap, Method, header};
+use axum::middleware::Next;
+use axum::response::{IntoResponse, Response};
+use sha2::{Digest, Sha256};
+use std::collections::HashMap;
 use std::net::SocketAddr;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
 
-/// Placeholder until `alba_auth::Role` exists (the `users` part):
-/// viewer < operator < engineer < admin, each including the one before.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Role {
-    Viewer,
-    Operator,
-    Engineer,
-    Admin,
-}
+/// The session cookie's name.
+pub const COOKIE: &str = "alba_session";
+/// Sessions kept at most (the least recently used go first).
+pub const MAX_SESSIONS: usize = 1024;
+/// Password verifications run at once (each argon2 verification takes
+/// ~19 MiB and tens of milliseconds; further logins queue).
+pub const VERIFY_AT_ONCE: usize = 2;
 
 /// The identity of a request: the logged-in user (`None` when no users
 /// are configured and the request acts with full rights on loopback), its
@@ -31,13 +54,530 @@ pub struct Who {
 }
 
 impl<S: Send + Sync> FromRequestParts<S> for Who {
-    type Rejection = crate::ApiError;
+    type Rejection = ApiError;
 
-    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Who, Self::Rejection> {
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Who, ApiError> {
         parts
             .extensions
             .get::<Who>()
             .cloned()
-            .ok_or_else(|| crate::ApiError::Internal("the request has no identity (no session layer)".into()))
+            .ok_or_else(|| ApiError::Internal("the request has no identity (no session layer)".into()))
+    }
+}
+
+/// On public routes (login, logout): the session's identity if there is one.
+impl<S: Send + Sync> OptionalFromRequestParts<S> for Who {
+    type Rejection = std::convert::Infallible;
+
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Option<Who>, Self::Rejection> {
+        Ok(parts.extensions.get::<Who>().cloned())
+    }
+}
+
+/// What a route needs (the table `crate::ROUTE_ROLES`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// Anybody: the studio's files, login, logout.
+    Public,
+    /// A session with at least this role.
+    Role(Role),
+}
+
+/// The time, for session expiry and login back-off; tests pass a
+/// [`ManualClock`].
+pub trait Clock: Send + Sync {
+    fn now(&self) -> Instant;
+}
+
+/// The monotonic clock of the system.
+pub struct SystemClock;
+
+impl Clock for SystemClock {
+    fn now(&self) -> Instant {
+        Instant::now()
+    }
+}
+
+/// A clock that moves only when told to (tests).
+pub struct ManualClock {
+    start: Instant,
+    ms: AtomicU64,
+}
+
+impl ManualClock {
+    pub fn new() -> ManualClock {
+        ManualClock {
+            start: Instant::now(),
+            ms: AtomicU64::new(0),
+        }
+    }
+
+    pub fn advance(&self, d: Duration) {
+        let ms = u64::try_from(d.as_millis()).unwrap_or(u64::MAX);
+        self.ms.fetch_add(ms, Ordering::SeqCst);
+    }
+}
+
+impl Default for ManualClock {
+    fn default() -> ManualClock {
+        ManualClock::new()
+    }
+}
+
+impl Clock for ManualClock {
+    fn now(&self) -> Instant {
+        self.start + Duration::from_millis(self.ms.load(Ordering::SeqCst))
+    }
+}
+
+/// The users logins are checked against: `alba_auth::Users`, or a test's.
+pub trait UserStore: Send + Sync {
+    fn is_empty(&self) -> bool;
+    /// The role of `name` when `password` is theirs; an unknown name must
+    /// cost what a wrong password costs. Blocking.
+    fn verify(&self, name: &str, password: &str) -> Option<Role>;
+}
+
+impl UserStore for alba_auth::Users {
+    fn is_empty(&self) -> bool {
+        alba_auth::Users::is_empty(self)
+    }
+    fn verify(&self, name: &str, password: &str) -> Option<Role> {
+        alba_auth::Users::verify(self, name, password)
+    }
+}
+
+/// How long sessions last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// A session with no request for this long ends.
+    pub idle: Duration,
+    /// A session ends this long after its login.
+    pub max: Duration,
+}
+
+impl Limits {
+    /// From alba.toml's `[session]`.
+    pub fn from_config(s: &alba_compiler::project::config::Session) -> Limits {
+        Limits {
+            idle: Duration::from_secs(u64::from(s.idle_minutes) * 60),
+            max: Duration::from_secs(u64::from(s.max_hours) * 3600),
+        }
+    }
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits::from_config(&alba_compiler::project::config::Session::default())
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Session {
+    user: String,
+    role: Role,
+    created: Instant,
+    last: Instant,
+}
+
+/// A successful login.
+#[derive(Debug, Clone)]
+pub struct LoggedIn {
+    pub token: String,
+    pub user: String,
+    pub role: Role,
+}
+
+/// Users, sessions and failed-login accounting of one server.
+pub struct Auth {
+    users: Arc<dyn UserStore>,
+    limits: Limits,
+    clock: Arc<dyn Clock>,
+    /// By the SHA-256 of the token.
+    sessions: Mutex<HashMap<[u8; 32], Session>>,
+    backoff: Mutex<alba_auth::Backoff>,
+    verifying: tokio::sync::Semaphore,
+    /// Cookies carry `Secure` (the listener serves HTTPS).
+    secure: bool,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn digest(token: &str) -> [u8; 32] {
+    Sha256::digest(token.as_bytes()).into()
+}
+
+/// A fresh token: 256 random bits, hex.
+fn new_token() -> Result<String, ApiError> {
+    let mut bytes = [0u8; 32];
+    getrandom::fill(&mut bytes).map_err(|e| ApiError::Internal(format!("no randomness for a session token: {e}")))?;
+    Ok(bytes.iter().map(|b| format!("{b:02x}")).collect())
+}
+
+impl Auth {
+    pub fn new(users: Arc<dyn UserStore>, limits: Limits) -> Auth {
+        Auth {
+            users,
+            limits,
+            clock: Arc::new(SystemClock),
+            sessions: Mutex::new(HashMap::new()),
+            backoff: Mutex::new(alba_auth::Backoff::new()),
+            verifying: tokio::sync::Semaphore::new(VERIFY_AT_ONCE),
+            secure: false,
+        }
+    }
+
+    /// No users: loopback clients act as admin.
+    pub fn open() -> Auth {
+        Auth::new(Arc::new(alba_auth::Users::default()), Limits::default())
+    }
+
+    /// Takes the time from `clock` (tests).
+    pub fn with_clock(mut self, clock: Arc<dyn Clock>) -> Auth {
+        self.clock = clock;
+        self
+    }
+
+    /// Marks the session cookie `Secure` (set when the listener serves HTTPS).
+    pub fn with_secure_cookies(mut self, secure: bool) -> Auth {
+        self.secure = secure;
+        self
+    }
+
+    /// Whether the project has users (else loopback clients act as admin).
+    pub fn has_users(&self) -> bool {
+        !self.users.is_empty()
+    }
+
+    pub fn secure_cookies(&self) -> bool {
+        self.secure
+    }
+
+    pub fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    /// Checks `password` for `user` (after the back-off of that user and of
+    /// the client's address) and opens a session. Every attempt that is not
+    /// held back by the back-off runs the same verification, for known and
+    /// unknown users alike.
+    pub async fn login(&self, user: &str, password: &str, addr: SocketAddr) -> Result<LoggedIn, ApiError> {
+        let user_key = format!("user:{user}");
+        let addr_key = format!("addr:{}", addr.ip());
+        // Queued logins see the failures of those before them.
+        let _permit = self
+            .verifying
+            .acquire()
+            .await
+            .map_err(|_| ApiError::Internal("logins are closed".into()))?;
+        {
+            let now = self.clock.now();
+            let b = lock(&self.backoff);
+            let waits = [b.check(&user_key, now), b.check(&addr_key, now)];
+            if let Some(wait) = waits.iter().filter_map(|w| w.err()).max() {
+                return Err(ApiError::TooManyAttempts(wait));
+            }
+        }
+        let users = self.users.clone();
+        let (u, p) = (user.to_string(), password.to_string());
+        let role = tokio::task::spawn_blocking(move || users.verify(&u, &p))
+            .await
+            .map_err(|e| ApiError::Internal(format!("password check: {e}")))?;
+        let now = self.clock.now();
+        let Some(role) = role else {
+            let mut b = lock(&self.backoff);
+            b.failure(&user_key, now);
+            b.failure(&addr_key, now);
+            return Err(ApiError::Unauthorized("unknown user or wrong password".into()));
+        };
+        lock(&self.backoff).success(&user_key);
+        let token = new_token()?;
+        let mut sessions = lock(&self.sessions);
+        sessions.retain(|_, s| self.alive(s, now));
+        if sessions.len() >= MAX_SESSIONS
+            && let Some(oldest) = sessions.iter().min_by_key(|(_, s)| s.last).map(|(k, _)| *k)
+        {
+            sessions.remove(&oldest);
+        }
+        sessions.insert(
+            digest(&token),
+            Session {
+                user: user.to_string(),
+                role,
+                created: now,
+                last: now,
+            },
+        );
+        Ok(LoggedIn {
+            token,
+            user: user.to_string(),
+            role,
+        })
+    }
+
+    fn alive(&self, s: &Session, now: Instant) -> bool {
+        now.saturating_duration_since(s.last) < self.limits.idle
+            && now.saturating_duration_since(s.created) < self.limits.max
+    }
+
+    /// The user and role of the session `token`, if it is alive (its idle
+    /// time restarts); an ended session is forgotten.
+    pub fn session(&self, token: &str) -> Option<(String, Role)> {
+        let now = self.clock.now();
+        let key = digest(token);
+        let mut sessions = lock(&self.sessions);
+        let s = sessions.get_mut(&key)?;
+        if !self.alive(s, now) {
+            sessions.remove(&key);
+            return None;
+        }
+        s.last = now;
+        Some((s.user.clone(), s.role))
+    }
+
+    /// Ends the session `token` (nothing if there is none).
+    pub fn logout(&self, token: &str) {
+        lock(&self.sessions).remove(&digest(token));
+    }
+
+    /// Sessions kept (alive or not yet swept).
+    pub fn sessions(&self) -> usize {
+        lock(&self.sessions).len()
+    }
+
+    /// The `Set-Cookie` value carrying `token`.
+    pub fn cookie(&self, token: &str) -> String {
+        let secure = if self.secure { "; Secure" } else { "" };
+        format!("{COOKIE}={token}; HttpOnly; SameSite=Strict; Path=/{secure}")
+    }
+
+    /// The `Set-Cookie` value that deletes the cookie.
+    pub fn cleared_cookie(&self) -> String {
+        let secure = if self.secure { "; Secure" } else { "" };
+        format!("{COOKIE}=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0{secure}")
+    }
+}
+
+/// The session token a request carries: `Authorization: Bearer`, else the
+/// `alba_session` cookie.
+pub fn token(headers: &HeaderMap) -> Option<String> {
+    if let Some(v) = headers.get(header::AUTHORIZATION).and_then(|v| v.to_str().ok()) {
+        let (scheme, rest) = v.trim().split_once(' ')?;
+        return scheme.eq_ignore_ascii_case("bearer").then(|| rest.trim().to_string());
+    }
+    headers
+        .get_all(header::COOKIE)
+        .iter()
+        .filter_map(|v| v.to_str().ok())
+        .flat_map(|v| v.split(';'))
+        .filter_map(|c| c.trim().split_once('='))
+        .find(|(name, _)| *name == COOKIE)
+        .map(|(_, v)| v.trim().to_string())
+        .filter(|v| !v.is_empty())
+}
+
+/// The role a request needs: its route's entry in `table` (method `*`
+/// matches any), else viewer for a read (GET, HEAD) and admin for
+/// anything else (a route nobody classified stays closed); paths outside
+/// `/api` (the studio's files) are public.
+pub fn needed(table: &[(&str, &str, Access)], method: &Method, route: Option<&str>, path: &str) -> Access {
+    if !path.starts_with("/api/") && path != "/api" {
+        return Access::Public;
+    }
+    let method = if *method == Method::HEAD { &Method::GET } else { method };
+    if let Some(route) = route
+        && let Some((_, _, access)) = table
+            .iter()
+            .find(|(m, r, _)| *r == route && (*m == "*" || *m == method.as_str()))
+    {
+        return *access;
+    }
+    if *method == Method::GET {
+        Access::Role(Role::Viewer)
+    } else {
+        Access::Role(Role::Admin)
+    }
+}
+
+/// Who a request is: `Ok(None)` for an anonymous request, an error for an
+/// ended or unknown session.
+fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option<Who>, ApiError> {
+    if !auth.has_users() {
+        return Ok(addr.ip().is_loopback().then_some(Who {
+            user: None,
+            role: Role::Admin,
+            addr,
+        }));
+    }
+    let Some(token) = token(headers) else { return Ok(None) };
+    match auth.session(&token) {
+        Some((user, role)) => Ok(Some(Who {
+            user: Some(user),
+            role,
+            addr,
+        })),
+        None => Err(ApiError::Unauthorized(
+            "your session has ended (logged out or expired): log in again".into(),
+        )),
+    }
+}
+
+/// The session and role check before every route (see the module's doc).
+pub async fn layer(State(st): State<Arc<AppState>>, mut req: Request, next: Next) -> Response {
+    let route = req.extensions().get::<MatchedPath>().map(|m| m.as_str().to_string());
+    let access = needed(crate::ROUTE_ROLES, req.method(), route.as_deref(), req.uri().path());
+    let Some(addr) = req.extensions().get::<ConnectInfo<SocketAddr>>().map(|c| c.0) else {
+        return ApiError::Internal("the server does not know the client's address (serve with connect info)".into())
+            .into_response();
+    };
+    let who = identify(&st.auth, req.headers(), addr);
+    let who = match (access, who) {
+        (Access::Public, Ok(w)) => w,
+        (Access::Public, Err(_)) => None,
+        (Access::Role(_), Err(e)) => return e.into_response(),
+        (Access::Role(_), Ok(None)) if !st.auth.has_users() => {
+            return ApiError::Forbidden(
+                "this project has no users, so only clients on this computer (loopback) are served; add users with `alba user add`".into(),
+            )
+            .into_response();
+        }
+        (Access::Role(_), Ok(None)) => {
+            return ApiError::Unauthorized("log in first (POST /api/login)".into()).into_response();
+        }
+        (Access::Role(needed), Ok(Some(w))) => {
+            if !w.role.allows(needed) {
+                return ApiError::Forbidden(format!("this needs the role {needed}; you are {}", w.role))
+                    .into_response();
+            }
+            Some(w)
+        }
+    };
+    if let Some(w) = who {
+        req.extensions_mut().insert(w);
+    }
+    next.run(req).await
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicUsize;
+
+    /// One user `ann` (operator, password `right`), counting verifications.
+    struct Counting {
+        calls: AtomicUsize,
+    }
+
+    impl UserStore for Counting {
+        fn is_empty(&self) -> bool {
+            false
+        }
+        fn verify(&self, name: &str, password: &str) -> Option<Role> {
+            self.calls.fetch_add(1, Ordering::SeqCst);
+            (name == "ann" && password == "right").then_some(Role::Operator)
+        }
+    }
+
+    fn auth() -> (Auth, Arc<Counting>, Arc<ManualClock>) {
+        let users = Arc::new(Counting {
+            calls: AtomicUsize::new(0),
+        });
+        let clock = Arc::new(ManualClock::new());
+        let limits = Limits {
+            idle: Duration::from_secs(30 * 60),
+            max: Duration::from_secs(12 * 3600),
+        };
+        (Auth::new(users.clone(), limits).with_clock(clock.clone()), users, clock)
+    }
+
+    fn addr(last: u8) -> SocketAddr {
+        SocketAddr::from(([10, 0, 0, last], 40000))
+    }
+
+    #[tokio::test]
+    async fn unknown_user_and_wrong_password_take_the_same_path() {
+        let (a, users, _) = auth();
+        let unknown = a.login("nobody", "right", addr(1)).await.expect_err("unknown");
+        assert_eq!(users.calls.load(Ordering::SeqCst), 1, "an unknown user is verified");
+        let wrong = a.login("ann", "wrong", addr(2)).await.expect_err("wrong");
+        assert_eq!(users.calls.load(Ordering::SeqCst), 2, "a wrong password is verified");
+        assert_eq!(unknown.to_string(), wrong.to_string());
+        assert_eq!(crate::error::status(&unknown), crate::error::status(&wrong));
+        let ok = a.login("ann", "right", addr(3)).await.expect("login");
+        assert_eq!(users.calls.load(Ordering::SeqCst), 3);
+        assert_eq!((ok.user.as_str(), ok.role), ("ann", Role::Operator));
+        assert_eq!(ok.token.len(), 64, "256 bits in hex");
+    }
+
+    #[tokio::test]
+    async fn sessions_end_when_idle_at_their_age_and_on_logout() {
+        let (a, _, clock) = auth();
+        let t = a.login("ann", "right", addr(1)).await.expect("login").token;
+        let u = a.login("ann", "right", addr(1)).await.expect("login").token;
+        assert_ne!(t, u, "every login its own token");
+        assert_eq!(a.session(&t), Some(("ann".into(), Role::Operator)));
+        // Used every 29 minutes, it lives until its 12th hour.
+        for _ in 0..24 {
+            clock.advance(Duration::from_secs(29 * 60));
+            assert!(a.session(&t).is_some());
+        }
+        clock.advance(Duration::from_secs(29 * 60));
+        assert!(a.session(&t).is_none(), "past 12 h");
+        assert!(a.session(&u).is_none(), "u was idle");
+        // Idle: 30 minutes without a request.
+        let v = a.login("ann", "right", addr(1)).await.expect("login").token;
+        clock.advance(Duration::from_secs(30 * 60 - 1));
+        assert!(a.session(&v).is_some());
+        clock.advance(Duration::from_secs(30 * 60));
+        assert!(a.session(&v).is_none(), "idle for 30 min");
+        let w = a.login("ann", "right", addr(1)).await.expect("login").token;
+        a.logout(&w);
+        assert!(a.session(&w).is_none(), "logged out");
+        assert!(a.session("not-a-token").is_none());
+    }
+
+    #[tokio::test]
+    async fn failed_logins_back_off_per_user_and_per_address() {
+        let (a, users, clock) = auth();
+        let free = (0..)
+            .find(|&n| alba_auth::Backoff::wait_after(n) > Duration::ZERO)
+            .unwrap_or(0);
+        for i in 0..free {
+            let e = a.login("ann", "wrong", addr(1)).await.expect_err("wrong");
+            assert!(matches!(e, ApiError::Unauthorized(_)), "attempt {i}: {e}");
+        }
+        let calls = users.calls.load(Ordering::SeqCst);
+        // Held back, even with the right password, from this address...
+        let e = a.login("ann", "right", addr(1)).await.expect_err("held back");
+        assert!(matches!(e, ApiError::TooManyAttempts(d) if d > Duration::ZERO), "{e}");
+        // ...and for this user from elsewhere; not for another user elsewhere.
+        let e = a.login("ann", "right", addr(2)).await.expect_err("held back");
+        assert!(matches!(e, ApiError::TooManyAttempts(_)), "{e}");
+        assert_eq!(
+            users.calls.load(Ordering::SeqCst),
+            calls,
+            "no verification while held back"
+        );
+        let e = a.login("bob", "x", addr(2)).await.expect_err("unknown");
+        assert!(matches!(e, ApiError::Unauthorized(_)), "{e}");
+        // The address is held back for any user.
+        let e = a.login("bob", "x", addr(1)).await.expect_err("held back");
+        assert!(matches!(e, ApiError::TooManyAttempts(_)), "{e}");
+        clock.advance(Duration::from_secs(120));
+        a.login("ann", "right", addr(1)).await.expect("after the wait");
+    }
+
+    #[test]
+    fn tokens_from_bearer_or_cookie() {
+        let mut h = HeaderMap::new();
+        assert_eq!(token(&h), None);
+        h.insert(header::COOKIE, "a=b; alba_session=abc ; c=d".parse().expect("header"));
+        assert_eq!(token(&h).as_deref(), Some("abc"));
+        h.insert(header::AUTHORIZATION, "Bearer xyz".parse().expect("header"));
+        assert_eq!(token(&h).as_deref(), Some("xyz"), "the header first");
+        h.insert(header::AUTHORIZATION, "Basic eHl6".parse().expect("header"));
+        assert_eq!(token(&h), None, "not a bearer token");
     }
 }

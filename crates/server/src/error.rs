@@ -43,6 +43,16 @@ pub enum ApiError {
     /// The server runs without an audit trail (only when embedded without one).
     #[error("this server keeps no audit trail")]
     AuditOff,
+    /// No session, or one that ended, where the route needs one; a failed login.
+    #[error("{0}")]
+    Unauthorized(String),
+    /// The session's role is too small for the route, or (no users) a
+    /// client that is not on loopback.
+    #[error("{0}")]
+    Forbidden(String),
+    /// Too many failed logins for this user or client address: retry after the duration.
+    #[error("too many failed logins: try again in {} s", retry_after_s(.0))]
+    TooManyAttempts(std::time::Duration),
     /// A fault of the server (a task that did not finish).
     #[error("{0}")]
     Internal(String),
@@ -57,6 +67,9 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::NotFound(_) | ApiError::HistoryOff | ApiError::AuditOff => StatusCode::NOT_FOUND,
         ApiError::Invalid(_) => StatusCode::UNPROCESSABLE_ENTITY,
         ApiError::TooLarge => StatusCode::PAYLOAD_TOO_LARGE,
+        ApiError::Unauthorized(_) => StatusCode::UNAUTHORIZED,
+        ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
+        ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,
         ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
             R::Stopped | R::Io { .. } => StatusCode::SERVICE_UNAVAILABLE,
             R::Attached { .. } => StatusCode::CONFLICT,
@@ -76,6 +89,11 @@ pub fn status(e: &ApiError) -> StatusCode {
             _ => StatusCode::INTERNAL_SERVER_ERROR,
         },
     }
+}
+
+/// Whole seconds to wait, rounded up (`Retry-After`).
+fn retry_after_s(d: &std::time::Duration) -> u64 {
+    d.as_secs() + u64::from(d.subsec_nanos() > 0)
 }
 
 fn history_message(e: &alba_historian::Error) -> String {
@@ -103,7 +121,23 @@ impl IntoResponse for ApiError {
             error: self.to_string(),
             diagnostics,
         };
-        (status(&self), axum::Json(body)).into_response()
+        let mut headers = axum::http::HeaderMap::new();
+        match &self {
+            ApiError::Unauthorized(_) => {
+                headers.insert(
+                    axum::http::header::WWW_AUTHENTICATE,
+                    axum::http::HeaderValue::from_static("Bearer realm=\"alba\""),
+                );
+            }
+            ApiError::TooManyAttempts(d) => {
+                headers.insert(
+                    axum::http::header::RETRY_AFTER,
+                    axum::http::HeaderValue::from(retry_after_s(d)),
+                );
+            }
+            _ => {}
+        }
+        (status(&self), headers, axum::Json(body)).into_response()
     }
 }
 

@@ -12,7 +12,14 @@
 //! Add a route: a handler in `api/<area>.rs` answering a type of
 //! `reply.rs` (listed in `reply::typescript`; then `UPDATE_BINDINGS=1
 //! cargo test -p alba-server contract` regenerates web/src/api.gen.ts),
-//! and one `.route` line below.
+//! and one `.route` line below; a route that is not a plain read gets
+//! its role in [`ROUTE_ROLES`].
+//!
+//! Every request passes `auth::layer` first: the session (cookie or
+//! bearer token) and the role its route needs (docs/security.md,
+//! "Sessions and roles"). The server is served with connect info
+//! (`into_make_service_with_connect_info::<SocketAddr>()`): the layer
+//! needs the client's address.
 
 mod api;
 mod assets;
@@ -28,11 +35,34 @@ pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, audit, domain, forces, history, programs, status};
+use api::{FILE_BODY, SMALL_BODY, audit, domain, forces, history, programs, session, status};
+use auth::Access::{Public, Role as Needs};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::routing::{any, get, post, put};
 use std::sync::Arc;
+
+/// The role each route needs (method, route as written in [`router`]):
+/// the one place where routes meet roles (docs/api.md, "Roles"). A route
+/// not listed needs `viewer` for GET (and HEAD) and `admin` for anything
+/// else; paths outside `/api` (the studio's files) are public.
+pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
+    ("POST", "/api/login", Public),
+    ("POST", "/api/logout", Public),
+    ("PUT", "/api/tags/{name}", Needs(Role::Operator)),
+    ("POST", "/api/run", Needs(Role::Engineer)),
+    ("POST", "/api/stop", Needs(Role::Engineer)),
+    ("DELETE", "/api/forces", Needs(Role::Engineer)),
+    ("PUT", "/api/forces/{name}", Needs(Role::Engineer)),
+    ("DELETE", "/api/forces/{name}", Needs(Role::Engineer)),
+    ("PUT", "/api/programs/{name}", Needs(Role::Engineer)),
+    ("POST", "/api/check/{name}", Needs(Role::Engineer)),
+    ("PUT", "/api/tags.csv", Needs(Role::Engineer)),
+    ("GET", "/api/audit", Needs(Role::Engineer)),
+    ("GET", "/api/audit.csv", Needs(Role::Engineer)),
+    // Unknown endpoints: 404 for anyone logged in.
+    ("*", "/api/{*rest}", Needs(Role::Viewer)),
+];
 
 /// The router: the API under `/api`, the studio at `/`.
 pub fn router(state: Arc<AppState>) -> Router {
@@ -42,6 +72,9 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/tags.csv", get(programs::get_tags_csv).put(programs::put_tags_csv))
         .layer(DefaultBodyLimit::max(FILE_BODY));
     Router::new()
+        .route("/api/login", post(session::login))
+        .route("/api/logout", post(session::logout))
+        .route("/api/me", get(session::me))
         .route("/api/status", get(status::get))
         .route("/api/run", post(status::run))
         .route("/api/stop", post(status::stop))
@@ -62,5 +95,6 @@ pub fn router(state: Arc<AppState>) -> Router {
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
         .fallback(assets::serve)
+        .layer(axum::middleware::from_fn_with_state(state.clone(), auth::layer))
         .with_state(state)
 }

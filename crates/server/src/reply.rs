@@ -312,6 +312,48 @@ pub struct ErrorReply {
     pub diagnostics: Option<Vec<Diagnostic>>,
 }
 
+/// A user's role (docs/security.md, "Sessions and roles"); each includes
+/// the ones before it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
+#[serde(rename_all = "lowercase")]
+#[ts(rename = "Role")]
+pub enum RoleName {
+    Viewer,
+    Operator,
+    Engineer,
+    Admin,
+}
+
+impl From<alba_auth::Role> for RoleName {
+    fn from(r: alba_auth::Role) -> RoleName {
+        match r {
+            alba_auth::Role::Viewer => RoleName::Viewer,
+            alba_auth::Role::Operator => RoleName::Operator,
+            alba_auth::Role::Engineer => RoleName::Engineer,
+            alba_auth::Role::Admin => RoleName::Admin,
+        }
+    }
+}
+
+/// `POST /api/login`: the session's bearer token (also set as the
+/// `alba_session` cookie), the user and their role.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Login {
+    pub token: String,
+    pub user: String,
+    pub role: RoleName,
+}
+
+/// `GET /api/me`: who the request acts as. `users` is false when the
+/// project has no users (every loopback request then acts as `admin`,
+/// `user` null).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Me {
+    pub user: Option<String>,
+    pub role: RoleName,
+    pub users: bool,
+}
+
 /// WebSocket: power flow of a monitored program.
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct PowerMsg {
@@ -394,6 +436,9 @@ pub fn typescript() -> String {
         AuditRow,
         AuditPage,
         ErrorReply,
+        RoleName,
+        Login,
+        Me,
         PowerMsg,
         ErrorMsg,
         StatusMsg,

@@ -38,6 +38,8 @@ pub struct AppState {
     pub audit: Option<alba_audit::Audit>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
+    /// Users, sessions, login back-off (`crate::auth`).
+    pub auth: crate::auth::Auth,
 }
 
 impl AppState {
@@ -47,6 +49,7 @@ impl AppState {
         io: &str,
         history: Option<alba_historian::Historian>,
         audit: Option<alba_audit::Audit>,
+        auth: crate::auth::Auth,
     ) -> Arc<AppState> {
         let project = &compiled.project;
         Arc::new(AppState {
@@ -60,6 +63,7 @@ impl AppState {
             history,
             audit,
             edits: broadcast::Sender::new(16),
+            auth,
         })
     }
 

@@ -9,6 +9,7 @@ mod modbus;
 mod modbus_device;
 mod opcua;
 mod plant;
+mod session;
 mod setting;
 #[cfg(test)]
 mod tests;
@@ -21,6 +22,7 @@ pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
+pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
@@ -55,6 +57,8 @@ pub struct Config {
     /// `[[modbus_device]]`: remote Modbus slaves polled by `alba run --io
     /// modbus` (docs/protocols.md, "Modbus master I/O").
     pub modbus_devices: Vec<ModbusDevice>,
+    /// `[session]`: how long a login to the HTTP API lasts.
+    pub session: Session,
 }
 
 #[derive(Deserialize)]
@@ -77,6 +81,7 @@ struct RawConfig {
     opcua: Option<opcua::RawOpcua>,
     #[serde(default)]
     modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
+    session: Option<session::RawSession>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -160,8 +165,12 @@ impl Config {
         let modbus = raw.modbus.map(|m| modbus::modbus(m, file, &mut diags));
         let opcua = raw.opcua.map(|o| opcua::opcua(o, file, &mut diags));
         let modbus_devices = modbus_device::devices(raw.modbus_device, file, &mut diags);
+        let session = raw
+            .session
+            .map_or_else(Session::default, |s| session::session(s, file, &mut diags));
         let config = Config {
             modbus_devices,
+            session,
             models,
             name,
             description: raw.description,

@@ -140,7 +140,6 @@ pub async fn audited<T>(st: &AppState, entry: Entry, action: impl Future<Output 
 
 /// Records an action already done or refused (a login, a failed login, a
 /// logout): the reply must wait for it, and fail if it fails.
-#[allow(dead_code)] // for the session handlers (api/session.rs): login, failed login, logout
 pub async fn record(st: &AppState, entry: Entry, outcome: Outcome) -> ApiResult<()> {
     let Some(audit) = st.audit.clone() else {
         return Ok(());

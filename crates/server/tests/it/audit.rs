@@ -250,3 +250,113 @@ async fn no_action_without_its_row() {
     assert_eq!(rows(&s, "").await.len(), 1);
     s.stop().await;
 }
+
+/// With users: each row names the session's user; logins (both kinds) and
+/// logouts have rows too.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn rows_name_the_user_and_logins_are_recorded() {
+    let dir = crate::copy_example("tank", "audit-users");
+    let mut users = alba_auth::Users::load(&dir).expect("no users yet");
+    users
+        .add("ana", alba_auth::Role::Engineer, "correct horse battery staple 42")
+        .expect("add ana");
+    users.save(&dir).expect("save users.toml");
+    let s = start_with_users(dir).await;
+    let login = |password: &'static str| {
+        s.http
+            .post(s.url("/api/login"))
+            .json(&json!({"user": "ana", "password": password}))
+            .send()
+    };
+    assert_eq!(
+        login("wrong password, sorry").await.expect("login").status(),
+        StatusCode::UNAUTHORIZED
+    );
+    let res = login("correct horse battery staple 42").await.expect("login");
+    assert_eq!(res.status(), StatusCode::OK);
+    let token = res.json::<Json>().await.expect("json")["token"]
+        .as_str()
+        .expect("token")
+        .to_string();
+    let bearer = |m: Method, path: &str| s.http.request(m, s.url(path)).bearer_auth(&token);
+    let res = bearer(Method::PUT, "/api/tags/CT_STP.PRE")
+        .json(&json!({"value": 4}))
+        .send()
+        .await
+        .expect("write");
+    assert_eq!(res.status(), StatusCode::OK);
+    let page: Json = bearer(Method::GET, "/api/audit")
+        .send()
+        .await
+        .expect("audit")
+        .json()
+        .await
+        .expect("json");
+    let res = bearer(Method::POST, "/api/logout").send().await.expect("logout");
+    assert_eq!(res.status(), StatusCode::NO_CONTENT);
+    let rows: Vec<(String, Json, Json, String)> = page["rows"]
+        .as_array()
+        .expect("rows")
+        .iter()
+        .rev()
+        .map(|r| {
+            assert!(r["addr"].as_str().expect("addr").starts_with("127.0.0.1:"), "{r}");
+            (
+                r["action"].as_str().expect("action").to_string(),
+                r["user"].clone(),
+                r["target"].clone(),
+                r["outcome"].as_str().expect("outcome").to_string(),
+            )
+        })
+        .collect();
+    let row = |a: &str, t: &str, o: &str| (a.to_string(), json!("ana"), json!(t), o.to_string());
+    assert_eq!(
+        rows,
+        vec![
+            row("login_failed", "ana", "failed"),
+            row("login", "ana", "ok"),
+            row("write", "CT_STP.PRE", "ok"),
+        ]
+    );
+    // The logout's row, read straight from the file (the session has ended).
+    let log = alba_audit::Audit::open(s.dir.join(".alba/audit.db"), alba_audit::Config::default()).expect("open");
+    let last = log.query(&alba_audit::Filter::default(), None, 1).expect("query").rows;
+    assert_eq!(
+        (last[0].action.as_str(), last[0].user.as_deref()),
+        ("logout", Some("ana"))
+    );
+    s.stop().await;
+}
+
+/// `Server::start_in` without its wait for scans (which reads the status
+/// without logging in).
+async fn start_with_users(dir: std::path::PathBuf) -> Server {
+    let (ready_tx, ready_rx) = tokio::sync::oneshot::channel();
+    let (stop, stop_rx) = tokio::sync::oneshot::channel::<()>();
+    let opts = alba_app::Options {
+        addr: "127.0.0.1:0".parse().expect("addr"),
+        io: "sim".into(),
+        native: false,
+        modbus: None,
+        opcua: None,
+    };
+    let d = dir.clone();
+    let task = tokio::spawn(async move {
+        let ready = move |a| {
+            let _ = ready_tx.send(a);
+        };
+        let r = alba_app::run(&d, opts, ready, async move {
+            let _ = stop_rx.await;
+        })
+        .await;
+        assert!(r.is_ok(), "alba run failed");
+    });
+    let addr = ready_rx.await.expect("server started");
+    Server {
+        addr,
+        dir,
+        http: reqwest::Client::new(),
+        stop: Some(stop),
+        task: Some(task),
+    }
+}

@@ -34,13 +34,21 @@ async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) 
     let mut ro = Options::new(compiled.project.scan_ms());
     ro.native = false;
     let runtime = Runtime::start(Arc::new(program), ro, io).expect("runtime");
-    let state = alba_server::AppState::new(runtime.handle(), compiled, "test", None, None);
+    let state = alba_server::AppState::new(
+        runtime.handle(),
+        compiled,
+        "test",
+        None,
+        None,
+        alba_server::auth::Auth::open(),
+    );
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
     let addr = listener.local_addr().expect("addr");
     let (stop, stop_rx) = oneshot::channel::<()>();
     let closing = state.closing.clone();
     let task = tokio::spawn(async move {
-        axum::serve(listener, alba_server::router(state))
+        let app = alba_server::router(state).into_make_service_with_connect_info::<std::net::SocketAddr>();
+        axum::serve(listener, app)
             .with_graceful_shutdown(async move {
                 let _ = stop_rx.await;
                 closing.send_replace(true);

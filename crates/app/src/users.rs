@@ -1,0 +1,27 @@
+//! The users of the HTTP API (docs/security.md, "Sessions and roles"):
+//! the project's store, and no open door — without users, the studio and
+//! its API are served on loopback only.
+
+use alba_project::config::Config;
+use alba_server::auth::{Auth, Limits};
+use std::net::SocketAddr;
+use std::path::Path;
+use std::sync::Arc;
+
+/// The API's users and session limits for the project in `dir`, served
+/// at `addr`. Without users a non-loopback `addr` is refused: anyone who
+/// could reach it would have full rights.
+pub(crate) fn auth(dir: &Path, config: Option<&Config>, addr: SocketAddr) -> Result<Auth, String> {
+    let users = alba_auth::Users::load(dir)?;
+    if users.is_empty() && !addr.ip().is_loopback() {
+        return Err(format!(
+            "refusing to serve the studio on {addr}: this project has no users, so anyone who can reach that \
+             address would have full control of the PLC. Add users first (`alba user add {} <name> --role admin`), \
+             or serve on loopback (--http 127.0.0.1:{})",
+            dir.display(),
+            addr.port()
+        ));
+    }
+    let limits = config.map_or_else(Limits::default, |c| Limits::from_config(&c.session));
+    Ok(Auth::new(Arc::new(users), limits))
+}
