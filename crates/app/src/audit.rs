@@ -57,3 +57,40 @@ pub fn start(s: &Service<'_>) {
         }
     });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alba_audit::{Action, Entry, Filter, Outcome};
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let d = std::env::temp_dir().join(format!("alba-app-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        d
+    }
+
+    #[test]
+    fn open_creates_the_log_and_applies_retention_at_start() {
+        let dir = scratch("audit-retention");
+        let keep = alba_project::config::Audit { retention_days: 0 };
+        let a = open(&dir, &keep).expect("open creates .alba/audit.db");
+        let recent = now_ms() - 3_600_000;
+        for t in [0, 86_400_000, recent] {
+            a.record(&Entry::new(t, Action::Write), &Outcome::Ok).expect("record");
+        }
+        drop(a);
+        let a = open(&dir, &keep).expect("reopen, keeping everything");
+        assert_eq!(a.query(&Filter::default(), None, 10).expect("query").rows.len(), 3);
+        drop(a);
+        let a = open(&dir, &alba_project::config::Audit { retention_days: 1 }).expect("reopen with retention");
+        let times: Vec<i64> = a
+            .query(&Filter::default(), None, 10)
+            .expect("query")
+            .rows
+            .iter()
+            .map(|r| r.t_ms)
+            .collect();
+        assert_eq!(times, vec![recent], "rows older than a day deleted at start");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
