@@ -19,14 +19,10 @@ fn now_ms() -> i64 {
 
 /// Opens the project's audit log and applies its retention once.
 pub fn open(dir: &Path, cfg: &alba_project::config::Audit) -> Result<Audit, String> {
-    let path = dir.join(".alba").join("audit.db");
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
-    }
     let config = alba_audit::Config {
         retention_days: (cfg.retention_days > 0).then_some(cfg.retention_days),
     };
-    let audit = Audit::open(&path, config).map_err(|e| e.to_string())?;
+    let audit = Audit::open_project(dir, config).map_err(|e| e.to_string())?;
     audit
         .apply_retention(now_ms())
         .map_err(|e| format!("audit retention: {e}"))?;

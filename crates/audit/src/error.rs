@@ -14,6 +14,15 @@ pub enum Error {
         #[source]
         source: rusqlite::Error,
     },
+    /// The project's `.alba` folder could not be created.
+    #[error("cannot create {}: {source}", path.display())]
+    CreateDir {
+        /// The folder.
+        path: PathBuf,
+        /// What the system reported.
+        #[source]
+        source: std::io::Error,
+    },
     /// The file exists but is not an audit log this program can use: not SQLite,
     /// corrupt, another application's database or a newer schema version.
     #[error("{}: not a usable audit log: {reason}", path.display())]

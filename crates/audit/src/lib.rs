@@ -279,7 +279,27 @@ fn where_clause(f: &Filter, before: Option<i64>) -> (String, Vec<Value>) {
     (sql, args)
 }
 
+/// The audit log of the project in `dir`: `<dir>/.alba/audit.db`.
+pub fn project_path(dir: &Path) -> PathBuf {
+    dir.join(".alba").join("audit.db")
+}
+
 impl Audit {
+    /// Opens the audit log of the project in `dir` ([`project_path`]), creating its
+    /// `.alba` folder and the file if missing: for `alba run` and for commands that
+    /// change the project without a server (`alba user`). Several processes may write
+    /// the same log (SQLite locks it; a writer waits up to 10 s for another).
+    pub fn open_project(dir: &Path, config: Config) -> Result<Audit> {
+        let path = project_path(dir);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|source| Error::CreateDir {
+                path: parent.to_path_buf(),
+                source,
+            })?;
+        }
+        Audit::open(path, config)
+    }
+
     /// Opens the audit log at `path`, creating it if missing (its folder must exist).
     ///
     /// A file that is not SQLite, is corrupt, belongs to another application or has a

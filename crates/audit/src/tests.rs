@@ -267,6 +267,17 @@ fn reopening_keeps_rows_and_refuses_foreign_files() {
         Audit::open(dir.path().join("missing/audit.db"), Config::default()),
         Err(Error::Open { .. })
     ));
+    // A project's log: `.alba/audit.db`, its folder created; not where a file is.
+    let project = dir.path().join("project");
+    std::fs::create_dir(&project).expect("project dir");
+    let p = Audit::open_project(&project, Config::default()).expect("open in project");
+    assert_eq!(p.path(), project.join(".alba/audit.db"));
+    assert_eq!(project_path(&project), project.join(".alba").join("audit.db"));
+    std::fs::write(dir.path().join("file"), "x").expect("a file");
+    assert!(matches!(
+        Audit::open_project(&dir.path().join("file"), Config::default()),
+        Err(Error::CreateDir { .. })
+    ));
 }
 
 /// Parses RFC 4180 text into records of fields (the test's own reader).
