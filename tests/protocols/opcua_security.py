@@ -4,12 +4,15 @@
 Usage: opcua_security.py ALBA_BINARY PROJECT_DIR
 
 The project gets an `[opcua.users]` entry whose hash `alba hash-password`
-makes. Then:
+makes (deprecated, still loaded: `operator` an operator, `viewer` in read_only a
+viewer), and two users of the common store, users.toml, added with `alba user
+add` (password on stdin): `tech` (operator) and `display` (viewer). Then:
 
 1. Bound to loopback (127.0.0.2): the endpoints are None and Basic256Sha256
    Sign / SignAndEncrypt; Basic256Sha256 + SignAndEncrypt with the user name
    and password reads and writes (and an input stays read-only); Sign works
-   too; a read-only user reads and may not write; a wrong password, an unknown user and anonymous on a secure endpoint
+   too; a read-only user reads and may not write; the users.toml operator
+   reads and writes and the users.toml viewer may not write; a wrong password, an unknown user and anonymous on a secure endpoint
    are refused; None + anonymous works; the server's key pair was created,
    its private key mode 0600. Prints the handshake time and the
    read rate with SignAndEncrypt and with None.
@@ -31,6 +34,7 @@ import subprocess
 import sys
 import threading
 import time
+import urllib.error
 import urllib.request
 from pathlib import Path
 
@@ -79,9 +83,25 @@ def stop(p):
         p.kill()
 
 
+TOKENS = {}
+
+
 def api(http, path):
-    with urllib.request.urlopen(http + path, timeout=10) as r:
-        return json.loads(r.read())
+    """GET `path`; when the API asks for a session (the project has users),
+    log in once as the store's operator and send its bearer token."""
+    headers = {"Authorization": f"Bearer {TOKENS[http]}"} if http in TOKENS else {}
+    try:
+        with urllib.request.urlopen(urllib.request.Request(http + path, headers=headers), timeout=10) as r:
+            return json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        if e.code != 401 or http in TOKENS:
+            raise
+    body = json.dumps({"user": "tech", "password": PASSWORD}).encode()
+    login = urllib.request.Request(http + "/api/login", data=body, method="POST",
+                                   headers={"Content-Type": "application/json", "Origin": http})
+    with urllib.request.urlopen(login, timeout=10) as r:
+        TOKENS[http] = json.loads(r.read())["token"]
+    return api(http, path)
 
 
 async def secure_client(url, cert, key, user=None, password=None, mode=ua.MessageSecurityMode.SignAndEncrypt):
@@ -200,6 +220,20 @@ async def loopback(binary, project, cert, key):
             ns = await c.get_namespace_index("urn:alba:modbus-plant")
             await read_write(c, http, ns, 1234)
             enc_rate = await read_rate(c, ns)
+        # Users of the common store (users.toml): an operator reads and
+        # writes, a viewer reads and its writes are refused.
+        c = await secure_client(url, cert, key, "tech", PASSWORD)
+        async with c:
+            await read_write(c, http, ns, 2468)
+        c = await secure_client(url, cert, key, "display", PASSWORD)
+        async with c:
+            speed = c.get_node(f"ns={ns};s=Speed")
+            check(await speed.read_value() == 2468, "the users.toml viewer reads")
+            try:
+                await speed.write_value(ua.DataValue(ua.Variant(5, ua.VariantType.Int32)))
+                check(False, "a users.toml viewer wrote Speed")
+            except ua.UaStatusCodeError as e:
+                check(e.code == ua.StatusCodes.BadUserAccessDenied, f"users.toml viewer write refused with {e}")
         c = await secure_client(url, cert, key, "operator", PASSWORD, mode=ua.MessageSecurityMode.Sign)
         async with c:
             await read_write(c, http, ns, 4321)
@@ -280,6 +314,13 @@ async def main():
     check(digest.startswith("$argon2id$"), f"alba hash-password: {digest}")
     with open(Path(project) / "alba.toml", "a") as f:
         f.write(f'\n[opcua]\nread_only = ["viewer"]\n[opcua.users]\noperator = "{digest}"\nviewer = "{digest}"\n')
+    for name, role in (("tech", "operator"), ("display", "viewer")):
+        r = subprocess.run([binary, "user", "add", project, name, "--role", role], input=PASSWORD + "\n",
+                           capture_output=True, text=True)
+        check(r.returncode == 0, f"alba user add {name}: {r.stderr[-300:]}")
+    r = subprocess.run([binary, "user", "list", project], capture_output=True, text=True)
+    check("tech\toperator" in r.stdout and "display\tviewer" in r.stdout and "argon2" not in r.stdout,
+          f"alba user list: {r.stdout}")
     out = Path(project) / "client-pki"
     out.mkdir(exist_ok=True)
     cert, key = out / "client.der", out / "client.pem"

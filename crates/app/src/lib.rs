@@ -68,6 +68,9 @@ pub async fn run(
     shutdown: impl std::future::Future<Output = ()> + Send + 'static,
 ) -> Result<(), RunError> {
     let compiled = project::load(dir);
+    for w in &compiled.project.warnings {
+        eprint!("{}", w.render_warning(&compiled.project.files));
+    }
     let Some(program) = compiled.program.clone() else {
         return Err(RunError::Compile(Box::new(compiled)));
     };

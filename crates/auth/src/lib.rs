@@ -190,6 +190,26 @@ impl Users {
         self.users.iter().any(|u| u.from_opcua)
     }
 
+    /// Loads the store of `dir`, applies `change` and saves it, unless
+    /// users.toml changed meanwhile (another `alba user`, an admin's edit):
+    /// then it starts again from the new file, a few times, so that two
+    /// concurrent edits do not lose one. `change`'s value is returned.
+    pub fn edit<T>(dir: &Path, mut change: impl FnMut(&mut Users) -> Result<T, String>) -> Result<T, String> {
+        let path = dir.join(USERS_FILE);
+        let read = || std::fs::read(&path).ok();
+        for _ in 0..5 {
+            let before = read();
+            let mut users = Users::load(dir)?;
+            let out = change(&mut users)?;
+            if read() != before {
+                continue;
+            }
+            users.save(dir)?;
+            return Ok(out);
+        }
+        Err(format!("{} keeps changing: try again", path.display()))
+    }
+
     /// Writes the store as `dir`/users.toml (atomically, mode 0600 on Unix).
     /// Users of `[opcua.users]` are written too: saving migrates them (alba.toml
     /// is left as it is; its entries are then shadowed by users.toml's).
@@ -231,6 +251,38 @@ mod tests {
         assert!(!verify_password("not a hash", "x"));
     }
 
+    /// An unknown name costs what a wrong password costs (one argon2
+    /// verification at the same parameters): medians of alternated runs.
+    #[test]
+    fn unknown_user_and_wrong_password_cost_the_same() {
+        let u = Users::from_users(vec![User {
+            name: "alice".into(),
+            role: Role::Admin,
+            hash: hash_password("correct horse battery").unwrap(),
+            span: Span::new(FileId(0), 0..0),
+            from_opcua: false,
+        }]);
+        let time = |name: &str| {
+            let t = std::time::Instant::now();
+            assert_eq!(u.verify(name, "wrong guess at it"), None);
+            t.elapsed()
+        };
+        let (mut known, mut unknown) = (Vec::new(), Vec::new());
+        for _ in 0..7 {
+            known.push(time("alice"));
+            unknown.push(time("mallory"));
+        }
+        known.sort();
+        unknown.sort();
+        let ratio = unknown[3].as_secs_f64() / known[3].as_secs_f64();
+        assert!(
+            (0.5..2.0).contains(&ratio),
+            "unknown {:?} vs wrong {:?}",
+            unknown[3],
+            known[3]
+        );
+    }
+
     #[test]
     fn a_missing_file_is_an_empty_store_and_a_bad_one_an_error() {
         let d = tmp("empty");
@@ -239,7 +291,7 @@ mod tests {
         assert_eq!(u.verify("anyone", "anything"), None);
         std::fs::write(d.join(USERS_FILE), "[users.a]\nrole = \"king\"\npassword = \"x\"\n").unwrap();
         let err = Users::load(&d).unwrap_err();
-        assert!(err.contains("E108") && err.contains("users.toml:2:8"), "{err}");
+        assert!(err.contains("E107") && err.contains("users.toml:2:8"), "{err}");
         std::fs::remove_dir_all(&d).unwrap();
     }
 
@@ -272,11 +324,7 @@ mod tests {
         assert_eq!(u.verify("alice", "staple of the plant"), None);
         assert_eq!(u.verify("nobody", "correct horse battery"), None);
         u.set_password("bob", "a new long password").unwrap();
-        assert!(
-            u.set_password("bob", "bob is my name")
-                .unwrap_err()
-                .contains("user name")
-        );
+        assert!(u.set_password("bob", "Password123").unwrap_err().contains("common"));
         assert!(
             u.set_password("zed", "a new long password")
                 .unwrap_err()
@@ -289,6 +337,25 @@ mod tests {
         let u = Users::load(&d).unwrap();
         assert_eq!(u.list(), [("bob".to_string(), Role::Operator)]);
         assert_eq!(u.verify("bob", "a new long password"), Some(Role::Operator));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn an_edit_starts_again_when_the_file_changed_meanwhile() {
+        let d = tmp("race");
+        let mut runs = 0;
+        Users::edit(&d, |u| {
+            runs += 1;
+            if runs == 1 {
+                // Another process adds a user while this edit is under way.
+                Users::edit(&d, |other| other.add("first", Role::Viewer, "a long secret one"))?;
+            }
+            u.add("second", Role::Admin, "another long secret")
+        })
+        .unwrap();
+        assert_eq!(runs, 2);
+        let names: Vec<_> = Users::load(&d).unwrap().list().into_iter().map(|(n, _)| n).collect();
+        assert_eq!(names, ["first", "second"], "neither edit lost");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -8,6 +8,7 @@ mod firmware;
 mod new;
 mod run;
 mod tune;
+mod user;
 
 use alba_diag::{Code, Diagnostic, Files, render_all};
 use alba_engine::sim::{self, SimOptions, Stimulus};
@@ -195,8 +196,11 @@ enum Command {
         #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:8080")]
         http: std::net::SocketAddr,
     },
-    /// Print the argon2 hash of a password read from stdin, for `[opcua.users]` in alba.toml.
+    /// Print the argon2 hash of a password read from stdin (for tools; `alba user` manages users).
     HashPassword,
+    /// Manage the project's users and roles (users.toml).
+    #[command(subcommand)]
+    User(user::UserCmd),
 }
 
 #[derive(Subcommand)]
@@ -313,6 +317,7 @@ fn main() -> ExitCode {
         } => run::run(&project, http, &io, !no_native, modbus, opcua, None),
         Command::Demo { dir, http } => demo::run(&dir, http, true),
         Command::HashPassword => hash_password(),
+        Command::User(cmd) => user::run(cmd),
         Command::Firmware {
             project,
             board,
@@ -359,6 +364,13 @@ fn report(diags: &[Diagnostic], files: &Files, short: bool) {
 
 fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
     let c = alba_compiler::compile_dir(dir);
+    for w in &c.project.warnings {
+        if short {
+            eprintln!("{}", w.short(c.files()).replacen(": error[", ": warning[", 1));
+        } else {
+            eprint!("{}", w.render_warning(c.files()));
+        }
+    }
     let Some(program) = &c.program else {
         report(&c.diagnostics, c.files(), short);
         return ExitCode::FAILURE;
@@ -613,7 +625,7 @@ fn hash_password() -> ExitCode {
         eprintln!("error: the password is empty (give it on stdin, e.g. `printf %s 'secret' | alba hash-password`)");
         return ExitCode::FAILURE;
     }
-    match alba_opcua::security::hash_password(pw) {
+    match alba_auth::hash_password(pw) {
         Ok(h) => {
             println!("{h}");
             ExitCode::SUCCESS

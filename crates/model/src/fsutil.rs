@@ -71,6 +71,25 @@ fn write_atomic_inner(
 mod tests {
     use super::*;
 
+    #[cfg(unix)]
+    #[test]
+    fn private_saves_are_the_owners_only() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = std::env::temp_dir().join(format!("alba-fsutil-private-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("secret.toml");
+        fs::write(&p, "old").unwrap();
+        fs::set_permissions(&p, fs::Permissions::from_mode(0o644)).unwrap();
+        // A temporary file left by a crash, readable by all, is tightened too.
+        let tmp = dir.join(format!(".secret.toml.tmp{}", std::process::id()));
+        fs::write(&tmp, "").unwrap();
+        fs::set_permissions(&tmp, fs::Permissions::from_mode(0o644)).unwrap();
+        write_atomic_private(&p, |w| w.write_all(b"new")).unwrap();
+        assert_eq!(fs::read_to_string(&p).unwrap(), "new");
+        assert_eq!(fs::metadata(&p).unwrap().permissions().mode() & 0o777, 0o600);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn failed_writes_leave_the_old_file() {
         let dir = std::env::temp_dir().join(format!("alba-fsutil-{}", std::process::id()));

@@ -11,8 +11,9 @@
 //! read-only (their access level says so, and a write is `BadNotWritable`).
 //! Security ([`security`]): `None` with anonymous access only when bound to
 //! a loopback address; Basic256Sha256 (Sign, SignAndEncrypt) with the user
-//! names and argon2-hashed passwords of `[opcua.users]` always, and alone
-//! elsewhere. The server's certificate is created in the PKI folder on
+//! names and argon2-hashed passwords of the project's user store
+//! (`alba_auth::Users`: users.toml) always, and alone elsewhere; viewers
+//! write nothing. The server's certificate is created in the PKI folder on
 //! first run.
 
 pub mod security;
@@ -177,12 +178,12 @@ pub async fn serve(
     project: &str,
     addr: SocketAddr,
     pki_dir: PathBuf,
-    users: &[alba_project::config::OpcuaUser],
+    users: std::sync::Arc<alba_auth::Users>,
     mut closing: tokio::sync::watch::Receiver<bool>,
 ) -> Result<SocketAddr, String> {
     if !security::is_local(addr.ip()) && users.is_empty() {
         return Err(format!(
-            "OPC UA on {addr} (not loopback) serves only Basic256Sha256 with a user name and password, and alba.toml has no [opcua.users]: add users (docs/protocols.md, \"OPC UA security\") or listen on 127.0.0.1"
+            "OPC UA on {addr} (not loopback) serves only Basic256Sha256 with a user name and password, and the project has no users (users.toml, or the deprecated [opcua.users] of alba.toml): add one with `alba user add <project> <name> --role operator` (docs/security.md) or listen on 127.0.0.1"
         ));
     }
     let listener = tokio::net::TcpListener::bind(addr)

@@ -10,10 +10,11 @@
 //!   unknown client certificate is refused and stored in `pki/rejected/`;
 //!   moving it to `pki/trusted/` trusts it.
 //!
-//! Passwords are checked against the argon2 hashes of `[opcua.users]`.
+//! Passwords are checked against the project's user store (`alba_auth::Users`:
+//! users.toml, and the deprecated `[opcua.users]`). Viewers get no write
+//! access; operators and up keep each node's own access level.
 
-use alba_project::config::OpcuaUser;
-use argon2::password_hash::{PasswordHash, PasswordHasher, PasswordVerifier, SaltString};
+use alba_auth::{Role, Users};
 use async_trait::async_trait;
 use opcua::crypto::SecurityPolicy;
 use opcua::nodes::AccessLevel;
@@ -22,30 +23,10 @@ use opcua::server::authenticator::{
     AuthManager, Password, UserToken, user_pass_security_policy_id, user_pass_security_policy_uri,
 };
 use opcua::types::{Error, MessageSecurityMode, NodeId, StatusCode, UAString, UserTokenPolicy, UserTokenType};
-use std::collections::BTreeMap;
 use std::net::IpAddr;
 use std::sync::Arc;
 
-/// The argon2id hash (PHC string) of `password` with argon2's default
-/// parameters (19 MiB, 2 passes) and a random salt: what `[opcua.users]`
-/// holds.
-pub fn hash_password(password: &str) -> Result<String, String> {
-    let salt = SaltString::generate(&mut argon2::password_hash::rand_core::OsRng);
-    argon2::Argon2::default()
-        .hash_password(password.as_bytes(), &salt)
-        .map(|h| h.to_string())
-        .map_err(|e| format!("cannot hash the password: {e}"))
-}
-
-/// Whether `hash` (a PHC string) is the hash of `password`.
-pub fn verify_password(hash: &str, password: &str) -> bool {
-    match PasswordHash::new(hash) {
-        Ok(h) => argon2::Argon2::default()
-            .verify_password(password.as_bytes(), &h)
-            .is_ok(),
-        Err(_) => false,
-    }
-}
+pub use alba_auth::{hash_password, verify_password};
 
 /// Whether a server bound to `ip` may offer security None and anonymous
 /// access (and trust client certificates on first use).
@@ -73,37 +54,31 @@ pub fn endpoints(ip: IpAddr) -> Vec<(&'static str, ServerEndpoint)> {
     out
 }
 
-/// A hash of a random password, verified for unknown user names so that a
-/// wrong name costs the same time as a wrong password.
-fn dummy_hash() -> String {
-    static HASH: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    HASH.get_or_init(|| {
-        let secret = SaltString::generate(&mut argon2::password_hash::rand_core::OsRng);
-        hash_password(secret.as_str()).unwrap_or_default()
-    })
-    .clone()
-}
-
 /// The server's [`AuthManager`]: anonymous only on a loopback server's
 /// `None` endpoint, user names and passwords (argon2) on the secure ones.
 pub struct Auth {
     local: bool,
-    users: Arc<BTreeMap<String, String>>,
-    /// Users of `[opcua] read_only`: their sessions write nothing.
-    readers: std::collections::BTreeSet<String>,
+    users: Arc<Users>,
     /// One argon2 check at a time: a flood of logins costs one core at
     /// most, never both (the engine thread keeps its own).
     checking: tokio::sync::Semaphore,
 }
 
 impl Auth {
-    pub fn new(ip: IpAddr, users: &[OpcuaUser]) -> Auth {
+    pub fn new(ip: IpAddr, users: Arc<Users>) -> Auth {
         Auth {
             local: is_local(ip),
-            users: Arc::new(users.iter().map(|u| (u.name.clone(), u.hash.clone())).collect()),
-            readers: users.iter().filter(|u| !u.write).map(|u| u.name.clone()).collect(),
+            users,
             checking: tokio::sync::Semaphore::new(1),
         }
+    }
+
+    /// Whether a session of `token` may write (what the node allows).
+    fn may_write(&self, token: &UserToken) -> bool {
+        if token.is_anonymous() {
+            return self.users.is_empty();
+        }
+        self.users.role(&token.0).is_some_and(|r| r >= Role::Operator)
     }
 
     fn anonymous_allowed(&self, endpoint: &ServerEndpoint) -> bool {
@@ -147,18 +122,15 @@ impl AuthManager for Auth {
             .acquire()
             .await
             .map_err(|_| rejected("the server is stopping"))?;
-        let hash = self.users.get(username).cloned();
-        let known = hash.is_some();
-        let hash = match hash {
-            Some(h) => h,
-            None => tokio::task::spawn_blocking(dummy_hash).await.unwrap_or_default(),
-        };
+        let users = self.users.clone();
+        let name = username.to_string();
         let pw = password.get().to_string();
-        // argon2 takes tens of milliseconds of CPU: off the async workers.
-        let ok = tokio::task::spawn_blocking(move || verify_password(&hash, &pw))
+        // argon2 takes tens of milliseconds of CPU: off the async workers. An
+        // unknown name costs the same as a wrong password (`Users::verify`).
+        let role = tokio::task::spawn_blocking(move || users.verify(&name, &pw))
             .await
-            .unwrap_or(false);
-        if ok && known {
+            .unwrap_or(None);
+        if role.is_some() {
             Ok(UserToken(username.to_string()))
         } else {
             eprintln!("OPC UA: login refused for user `{username}`");
@@ -166,14 +138,16 @@ impl AuthManager for Auth {
         }
     }
 
-    /// A read-only user's sessions see (and get) no write access; everyone
-    /// else keeps the node's own access level (inputs, status members and
-    /// system tags are read-only for all, as in the HTTP API).
+    /// A viewer's sessions see (and get) no write access; operators and up
+    /// keep the node's own access level (inputs, status members and system
+    /// tags are read-only for all, as in the HTTP API). Anonymous sessions
+    /// (loopback only) keep it while the project has no users, as the HTTP
+    /// API does; once it has users they are viewers.
     fn effective_user_access_level(&self, token: &UserToken, level: AccessLevel, _node: &NodeId) -> AccessLevel {
-        if self.readers.contains(&token.0) {
-            level - AccessLevel::CURRENT_WRITE
-        } else {
+        if self.may_write(token) {
             level
+        } else {
+            level - AccessLevel::CURRENT_WRITE
         }
     }
 
@@ -237,8 +211,6 @@ mod tests {
         assert!(verify_password(&a, "correct horse"));
         assert!(!verify_password(&a, "correct horse "));
         assert!(!verify_password("not a hash", "x"));
-        assert!(PasswordHash::new(&dummy_hash()).is_ok());
-        assert!(!verify_password(&dummy_hash(), ""));
     }
 
     #[test]
@@ -267,15 +239,17 @@ mod tests {
     fn anonymous_only_on_a_loopback_none_endpoint() {
         let rt = tokio::runtime::Builder::new_multi_thread().build().unwrap();
         let h = hash_password("pw").unwrap();
-        let users = vec![OpcuaUser {
-            name: "op".into(),
-            hash: h,
+        let user = |name: &str, role| alba_auth::User {
+            name: name.into(),
+            role,
+            hash: h.clone(),
             span: alba_diag::Span::new(alba_diag::FileId(0), 0..0),
-            write: true,
-        }];
+            from_opcua: false,
+        };
+        let users = Arc::new(Users::from_users(vec![user("op", Role::Operator)]));
         for (ip, none_anonymous) in [("127.0.0.1", true), ("0.0.0.0", false), ("10.0.0.1", false)] {
             let ip: IpAddr = ip.parse().unwrap();
-            let auth = Auth::new(ip, &users);
+            let auth = Auth::new(ip, users.clone());
             for (_, e) in endpoints(ip) {
                 let anon = rt.block_on(auth.authenticate_anonymous_token(&e)).is_ok();
                 let none = e.security_policy() == SecurityPolicy::None;
@@ -296,13 +270,24 @@ mod tests {
                 auth.effective_user_access_level(&UserToken("op".into()), rw, &n).bits(),
                 rw.bits()
             );
-            let mut viewer = users.clone();
-            viewer[0].write = false;
-            let ro = Auth::new(ip, &viewer);
-            assert_eq!(
-                ro.effective_user_access_level(&UserToken("op".into()), rw, &n).bits(),
-                AccessLevel::CURRENT_READ.bits()
-            );
+            // Viewers write nothing; engineers and admins write as operators.
+            let staff = Arc::new(Users::from_users(vec![
+                user("op", Role::Viewer),
+                user("eng", Role::Engineer),
+                user("adm", Role::Admin),
+            ]));
+            let ro = Auth::new(ip, staff);
+            let level = |a: &Auth, who: &str| a.effective_user_access_level(&UserToken(who.into()), rw, &n).bits();
+            assert_eq!(level(&ro, "op"), AccessLevel::CURRENT_READ.bits());
+            assert_eq!(level(&ro, "eng"), rw.bits());
+            assert_eq!(level(&ro, "adm"), rw.bits());
+            // A token of a user no longer in the store writes nothing.
+            assert_eq!(level(&ro, "gone"), AccessLevel::CURRENT_READ.bits());
+            // Anonymous (loopback None) writes only while there are no users.
+            let anon = opcua::server::ANONYMOUS_USER_TOKEN_ID;
+            assert_eq!(level(&ro, anon), AccessLevel::CURRENT_READ.bits());
+            let open = Auth::new(ip, Arc::new(Users::default()));
+            assert_eq!(level(&open, anon), rw.bits());
         }
     }
 

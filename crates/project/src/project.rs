@@ -149,20 +149,25 @@ impl Project {
         }
         // users.toml is optional; when present it is checked with the rest.
         let users_path = dir.join(crate::users::USERS_FILE);
+        let mut has_users = false;
+        let mut warnings = Vec::new();
         if users_path.exists() {
             match read_text(&users_path) {
                 Ok(text) => {
                     let f = files.add(display(crate::users::USERS_FILE), text);
-                    diags.extend(crate::users::parse_users(files.text(f), f).1);
+                    let (users, d) = crate::users::parse_users(files.text(f), f);
+                    has_users = !users.is_empty();
+                    diags.extend(d);
+                    warnings.extend(crate::users::permission_warning(&users_path));
                 }
                 Err(msg) => diags.push(Diagnostic::unplaced(Code::Io, msg)),
             }
         }
-        let warnings = config
-            .as_ref()
-            .and_then(|(c, _)| crate::users::opcua_users_warning(c))
-            .into_iter()
-            .collect();
+        if let Some((c, _)) = &config {
+            let opcua_users = c.opcua.as_ref().is_some_and(|o| !o.users.is_empty());
+            diags.extend(crate::users::opcua_listen_needs_users(c, has_users || opcua_users));
+        }
+        warnings.extend(config.as_ref().and_then(|(c, _)| crate::users::opcua_users_warning(c)));
         let project = Project {
             warnings,
             dir: dir.to_path_buf(),
@@ -253,6 +258,58 @@ mod tests {
         assert_eq!(codes, [Code::ProgramFile; 4]);
         let short: Vec<_> = diags.iter().map(|x| x.short(&p.files)).collect();
         assert!(short[0].contains("alba.toml:2:25"), "{short:?}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn users_toml_is_checked_and_opcua_users_warned() {
+        const HASH: &str = "$argon2id$v=19$m=8,t=1,p=1$YWxiYS10ZXN0LXNhbHQ$AAAAAAAAAAAAAAAAAAAAAA";
+        let d = tmp("users");
+        let toml = "name = \"t\"\nprograms = [\"main.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n";
+        std::fs::write(d.join("alba.toml"), toml).unwrap();
+        std::fs::write(d.join("tags.csv"), "name,type\nA,BOOL\n").unwrap();
+        std::fs::write(d.join("main.lad"), "XIC(A)OTE(A);\n").unwrap();
+        let short = |(p, diags): (Project, Vec<Diagnostic>)| -> Vec<String> {
+            diags.iter().map(|x| x.short(&p.files)).collect()
+        };
+        // No users anywhere: a listener beyond loopback is refused.
+        let e = short(Project::load(&d));
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert!(
+            e[0].contains("alba.toml:4:10: error[E102]") && e[0].contains("needs users"),
+            "{e:?}"
+        );
+        // A user in users.toml is enough; its errors are located.
+        std::fs::write(
+            d.join("users.toml"),
+            format!("[users.op]\nrole = \"operator\"\npassword = \"{HASH}\"\n"),
+        )
+        .unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let f = d.join("users.toml");
+            std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o644)).unwrap();
+            let (p, diags) = Project::load(&d);
+            assert!(diags.is_empty(), "a users.toml open to others is a warning: {diags:?}");
+            assert_eq!(p.warnings.len(), 1);
+            assert!(p.warnings[0].render_warning(&p.files).contains("warning[E107]"));
+            std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o600)).unwrap();
+        }
+        let (p, diags) = Project::load(&d);
+        assert!(diags.is_empty() && p.warnings.is_empty(), "{diags:?}");
+        std::fs::write(d.join("users.toml"), "[users.op]\nrole = \"god\"\npassword = \"x\"\n").unwrap();
+        let e = short(Project::load(&d));
+        assert_eq!(e.len(), 3, "{e:?}");
+        assert!(e[0].contains("users.toml:2:8: error[E107]"), "{e:?}");
+        // [opcua.users] still loads, with a warning that is not an error.
+        std::fs::remove_file(d.join("users.toml")).unwrap();
+        std::fs::write(d.join("alba.toml"), format!("{toml}[opcua.users]\nop = \"{HASH}\"\n")).unwrap();
+        let (p, diags) = Project::load(&d);
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(p.warnings.len(), 1);
+        let w = p.warnings[0].render_warning(&p.files);
+        assert!(w.contains("warning[E109]") && w.contains("alba user"), "{w}");
         std::fs::remove_dir_all(&d).unwrap();
     }
 

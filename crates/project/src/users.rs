@@ -136,7 +136,7 @@ struct RawUser {
 }
 
 /// Parses and checks the text of users.toml; every problem found is a
-/// diagnostic (code E108), and the users that passed are returned.
+/// diagnostic (code E107), and the users that passed are returned.
 pub fn parse_users(text: &str, file: FileId) -> (Vec<User>, Vec<Diagnostic>) {
     let sp = |r: std::ops::Range<usize>| Span::new(file, r);
     let raw: RawFile = match toml::from_str(text) {
@@ -229,6 +229,31 @@ pub fn opcua_users(config: &Config) -> Vec<User> {
         .collect()
 }
 
+/// A warning when users.toml (at `path`) may be read or written by other
+/// users of the machine (Unix: any mode bit beyond 0600).
+pub fn permission_warning(path: &Path) -> Option<Diagnostic> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(path).ok()?.permissions().mode() & 0o777;
+        if mode & 0o077 != 0 {
+            return Some(
+                Diagnostic::unplaced(
+                    Code::UsersFile,
+                    format!(
+                        "{} can be read or written by other users (mode {mode:o}): its password hashes are for its owner only",
+                        path.display()
+                    ),
+                )
+                .with_help(format!("chmod 600 {}", path.display())),
+            );
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
+    None
+}
+
 /// The deprecation warning for `[opcua.users]` in alba.toml, when it has
 /// users (`None` otherwise). A warning: the project still loads and runs.
 pub fn opcua_users_warning(config: &Config) -> Option<Diagnostic> {
@@ -247,6 +272,26 @@ pub fn opcua_users_warning(config: &Config) -> Option<Diagnostic> {
     )
 }
 
+/// The error for an OPC UA `listen` address beyond loopback in a project
+/// without users: such an address serves no anonymous endpoint, so nobody
+/// could log in.
+pub fn opcua_listen_needs_users(config: &Config, has_users: bool) -> Option<Diagnostic> {
+    let o = config.opcua.as_ref()?;
+    let (a, span) = (o.listen?, o.listen_span?);
+    if a.ip().is_loopback() || has_users {
+        return None;
+    }
+    Some(
+        Diagnostic::new(
+            Code::ConfigField,
+            format!("listen = \"{a}\" is not a loopback address, so it needs users"),
+            span,
+            "beyond loopback only Basic256Sha256 with a user name and password is served",
+        )
+        .with_help("add users with `alba user add <project> <name> --role operator`, or listen on 127.0.0.1"),
+    )
+}
+
 /// A project's user store as read from its folder: users.toml (when
 /// present) merged with the deprecated `[opcua.users]` of alba.toml.
 #[derive(Debug, Default)]
@@ -257,7 +302,7 @@ pub struct LoadedUsers {
     pub users: Vec<User>,
     /// Errors: the store should not be used when there are any.
     pub errors: Vec<Diagnostic>,
-    /// Warnings (the `[opcua.users]` deprecation).
+    /// Warnings (the `[opcua.users]` deprecation, a users.toml open to others).
     pub warnings: Vec<Diagnostic>,
     /// Whether users.toml exists.
     pub has_file: bool,
@@ -278,6 +323,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
                     let (users, d) = parse_users(out.files.text(f), f);
                     out.users = users;
                     out.errors = d;
+                    out.warnings.extend(permission_warning(&path));
                 }
                 Err(msg) => out.errors.push(Diagnostic::unplaced(Code::Io, msg)),
             }
@@ -318,12 +364,22 @@ pub fn users_toml(users: &[User]) -> String {
     for u in sorted {
         out.push_str(&format!(
             "\n[users.{}]\nrole = \"{}\"\npassword = {}\n",
-            crate::config::toml_string(&u.name),
+            toml_key(&u.name),
             u.role,
             crate::config::toml_string(&u.hash)
         ));
     }
     out
+}
+
+/// `name` as a TOML key: bare when it can be, else quoted.
+fn toml_key(name: &str) -> String {
+    let bare = !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare {
+        name.to_string()
+    } else {
+        crate::config::toml_string(name)
+    }
 }
 
 /// Saves `users` as the users.toml of `dir`: atomically, readable and
@@ -419,14 +475,31 @@ mod tests {
         save_users(&dir, &[u("zed", Role::Viewer), u("ann.o", Role::Admin)]).unwrap();
         let loaded = load_users(&dir);
         assert!(loaded.errors.is_empty(), "{:?}", loaded.errors);
+        assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
         assert!(loaded.has_file);
         let got: Vec<_> = loaded.users.iter().map(|u| (u.name.as_str(), u.role)).collect();
         assert_eq!(got, [("ann.o", Role::Admin), ("zed", Role::Viewer)]);
+        let text = std::fs::read_to_string(dir.join(USERS_FILE)).unwrap();
+        assert!(
+            text.contains("[users.\"ann.o\"]\nrole = \"admin\"\n") && text.contains("[users.zed]\n"),
+            "{text}"
+        );
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;
             let mode = std::fs::metadata(dir.join(USERS_FILE)).unwrap().permissions().mode() & 0o777;
             assert_eq!(mode, 0o600);
+            // Opened to others by hand: a warning that says how to fix it.
+            let p = dir.join(USERS_FILE);
+            std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o644)).unwrap();
+            let w = load_users(&dir).warnings;
+            assert_eq!(w.len(), 1);
+            assert!(
+                w[0].message.contains("mode 644")
+                    && w[0].help.as_deref() == Some(&*format!("chmod 600 {}", p.display()))
+            );
+            save_users(&dir, &[u("zed", Role::Viewer)]).unwrap();
+            assert!(load_users(&dir).warnings.is_empty(), "a save makes it private again");
         }
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "temporary file left");
         std::fs::remove_dir_all(&dir).unwrap();

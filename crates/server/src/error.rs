@@ -200,4 +200,23 @@ mod tests {
             assert_eq!(status(&e), want, "{e}");
         }
     }
+
+    /// The session errors' statuses and headers (end to end: tests/it/roles.rs).
+    #[test]
+    fn session_errors_carry_their_headers() {
+        use axum::http::header::{RETRY_AFTER, WWW_AUTHENTICATE};
+        let r = ApiError::TooManyAttempts(std::time::Duration::from_millis(1200)).into_response();
+        assert_eq!(r.status(), StatusCode::TOO_MANY_REQUESTS);
+        assert_eq!(
+            r.headers().get(RETRY_AFTER).map(|v| v.as_bytes()),
+            Some(&b"2"[..]),
+            "rounded up"
+        );
+        let r = ApiError::Unauthorized("log in".into()).into_response();
+        assert_eq!(r.status(), StatusCode::UNAUTHORIZED);
+        assert!(r.headers().contains_key(WWW_AUTHENTICATE));
+        let r = ApiError::Forbidden("no".into()).into_response();
+        assert_eq!(r.status(), StatusCode::FORBIDDEN);
+        assert!(!r.headers().contains_key(WWW_AUTHENTICATE));
+    }
 }

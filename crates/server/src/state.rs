@@ -40,6 +40,9 @@ pub struct AppState {
     pub edits: broadcast::Sender<Edited>,
     /// Users, sessions, login back-off (`crate::auth`).
     pub auth: crate::auth::Auth,
+    /// The studio is served over HTTPS (set by alba-app before serving;
+    /// session cookies are then `Secure`).
+    pub https: std::sync::atomic::AtomicBool,
 }
 
 impl AppState {
@@ -64,6 +67,7 @@ impl AppState {
             audit,
             edits: broadcast::Sender::new(16),
             auth,
+            https: std::sync::atomic::AtomicBool::new(false),
         })
     }
 

@@ -8,6 +8,7 @@ mod export;
 mod firmware;
 mod malformed;
 mod retain;
+mod users;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -11,6 +11,8 @@ use toml::Spanned;
 pub struct Opcua {
     /// Where to listen (`None`: only with `alba run --opcua`).
     pub listen: Option<std::net::SocketAddr>,
+    /// Where `listen` is written.
+    pub listen_span: Option<Span>,
     /// `[opcua.users]`: who may log in with a user name and password, each
     /// with the argon2 hash (PHC string) of the password; never the password.
     pub users: Vec<OpcuaUser>,
@@ -101,9 +103,9 @@ pub(super) struct RawOpcua {
     read_only: Vec<Spanned<String>>,
 }
 
-/// Validates `[opcua]`: user names and password hashes, and that a
-/// listen address beyond loopback has users (nobody could log in otherwise:
-/// such an address serves no anonymous endpoint).
+/// Validates `[opcua]`: user names and password hashes. (That a listen
+/// address beyond loopback has users is checked by `Project::load`, which
+/// knows users.toml too.)
 pub(super) fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> Opcua {
     let sp = |r: std::ops::Range<usize>| Span::new(file, r);
     let addr = o.listen.as_ref().and_then(|l| listen(l, file, diags));
@@ -150,21 +152,12 @@ pub(super) fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> O
             )),
         }
     }
-    if let (Some(a), Some(l)) = (addr, o.listen.as_ref())
-        && !a.ip().is_loopback()
-        && users.is_empty()
-    {
-        diags.push(
-            Diagnostic::new(
-                Code::ConfigField,
-                format!("listen = \"{a}\" is not a loopback address, so it needs [opcua.users]"),
-                sp(l.span()),
-                "beyond loopback only Basic256Sha256 with a user name and password is served",
-            )
-            .with_help("add `[opcua.users]` with `name = \"<hash from alba hash-password>\"`, or listen on 127.0.0.1"),
-        );
+    let listen_span = o.listen.as_ref().map(|l| sp(l.span()));
+    Opcua {
+        listen: addr,
+        listen_span,
+        users,
     }
-    Opcua { listen: addr, users }
 }
 
 #[cfg(test)]

@@ -270,12 +270,20 @@ fn opcua_users_hold_argon2_hashes() {
         "{}",
         e[4]
     );
-    // Beyond loopback without users nobody could log in.
-    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap_err();
-    assert_eq!(
-        e,
-        ["alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs [opcua.users]"]
+    // Beyond loopback without users nobody could log in (checked with the
+    // project, which knows users.toml: crate::project's tests).
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap();
+    let e = crate::users::opcua_listen_needs_users(&c, false).unwrap();
+    let mut files = Files::new();
+    files.add(
+        "alba.toml",
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n",
     );
+    assert_eq!(
+        e.short(&files),
+        "alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs users"
+    );
+    assert!(crate::users::opcua_listen_needs_users(&c, true).is_none());
     assert!(check_password_hash(&h).is_ok());
 }
 

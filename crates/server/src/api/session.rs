@@ -3,7 +3,7 @@
 
 use super::audit::{self, Actor};
 use super::{Body, body, field};
-use crate::auth::{Who, token};
+use crate::auth::{Who, cleared_cookie, cookie, token};
 use crate::error::ApiError;
 use crate::reply::{Login, Me};
 use crate::state::AppState;
@@ -14,6 +14,7 @@ use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use std::net::SocketAddr;
 use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 /// A string field of at most `max` bytes.
 fn text<'a>(j: &'a serde_json::Value, name: &str, max: usize) -> Result<&'a str, ApiError> {
@@ -65,7 +66,7 @@ pub async fn login(
         st.auth.logout(&s.token);
         return Err(e);
     }
-    let cookie = st.auth.cookie(&s.token);
+    let cookie = cookie(&s.token, st.https.load(Ordering::Relaxed));
     let reply = Login {
         token: s.token,
         user: s.user,
@@ -96,7 +97,11 @@ pub async fn logout(
         }
         st.auth.logout(&t);
     }
-    Ok((StatusCode::NO_CONTENT, [(header::SET_COOKIE, st.auth.cleared_cookie())]).into_response())
+    Ok((
+        StatusCode::NO_CONTENT,
+        [(header::SET_COOKIE, cleared_cookie(st.https.load(Ordering::Relaxed)))],
+    )
+        .into_response())
 }
 
 /// Who the request acts as.

@@ -7,6 +7,7 @@ mod contract;
 mod domain;
 mod errors;
 mod history;
+mod roles;
 mod ws;
 
 use reqwest::{Client, Method, StatusCode};
