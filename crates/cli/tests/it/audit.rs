@@ -144,3 +144,89 @@ fn every_acknowledged_write_has_its_row_after_kill_9() {
         );
     }
 }
+
+/// Runs `alba` with `args` in `cwd`, `stdin` piped in.
+fn alba_in(cwd: &std::path::Path, args: &[&str], stdin: &str) -> std::process::Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_alba"))
+        .args(args)
+        .current_dir(cwd)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("alba runs");
+    let _ = child.stdin.take().expect("stdin").write_all(stdin.as_bytes());
+    child.wait_with_output().expect("alba ends")
+}
+
+/// A row as the user test compares it: action, target, old, new, outcome.
+type UserRow = (
+    String,
+    Option<String>,
+    Option<String>,
+    Option<String>,
+    alba_audit::Outcome,
+);
+
+/// `alba user` changes have their rows: added, role and password changed,
+/// removed; a refused change is recorded as failed, a command refused
+/// before it starts (unknown user) has none.
+#[test]
+fn user_changes_from_the_command_line_have_rows() {
+    let dir = scratch("audit-users");
+    std::fs::write(dir.join("alba.toml"), "name = \"x\"\nprograms = [\"main.lad\"]\n").expect("alba.toml");
+    std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\n").expect("tags.csv");
+    std::fs::write(dir.join("main.lad"), "XIC(A)OTE(A);\n").expect("main.lad");
+    let ok = |args: &[&str], stdin: &str| {
+        let out = alba_in(&dir, args, stdin);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    ok(
+        &["user", "add", ".", "alice", "--role", "engineer"],
+        "correct horse battery\n",
+    );
+    ok(&["user", "role", ".", "alice", "admin"], "");
+    ok(&["user", "passwd", ".", "alice"], "a brand new secret\n");
+    ok(&["user", "remove", ".", "alice"], "");
+    assert!(!alba_in(&dir, &["user", "remove", ".", "nobody"], "").status.success());
+    let log = alba_audit::Audit::open(dir.join(".alba/audit.db"), alba_audit::Config::default()).expect("reopen");
+    let rows: Vec<UserRow> = log
+        .query(&alba_audit::Filter::default(), None, 100)
+        .expect("query")
+        .rows
+        .into_iter()
+        .rev()
+        .map(|r| {
+            assert_eq!(r.user, None, "no Alba login on the command line");
+            assert!(r.detail.as_deref().is_some_and(|d| d.contains("command line")), "{r:?}");
+            (r.action, r.target, r.old, r.new, r.outcome)
+        })
+        .collect();
+    let s = |v: &str| Some(v.to_string());
+    let ok_row = |a: &str, old: Option<String>, new: Option<String>| {
+        (a.to_string(), s("alice"), old, new, alba_audit::Outcome::Ok)
+    };
+    assert_eq!(
+        rows[..4],
+        [
+            ok_row("user_added", None, s("\"engineer\"")),
+            ok_row("user_changed", s("\"engineer\""), s("\"admin\"")),
+            ok_row("user_changed", None, s("\"password changed\"")),
+            ok_row("user_removed", s("\"admin\""), None),
+        ]
+    );
+    // `nobody`: checked inside the change, so recorded as failed.
+    assert_eq!(rows.len(), 5, "{rows:?}");
+    assert_eq!(
+        (rows[4].0.as_str(), rows[4].1.as_deref()),
+        ("user_removed", Some("nobody"))
+    );
+    assert!(
+        matches!(&rows[4].4, alba_audit::Outcome::Failed(e) if e.contains("nobody")),
+        "{rows:?}"
+    );
+}
