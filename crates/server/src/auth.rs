@@ -197,8 +197,6 @@ pub struct Auth {
     sessions: Mutex<HashMap<[u8; 32], Session>>,
     backoff: Mutex<alba_auth::Backoff>,
     verifying: tokio::sync::Semaphore,
-    /// Cookies carry `Secure` (the listener serves HTTPS).
-    secure: bool,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -225,7 +223,6 @@ impl Auth {
             sessions: Mutex::new(HashMap::new()),
             backoff: Mutex::new(alba_auth::Backoff::new()),
             verifying: tokio::sync::Semaphore::new(VERIFY_AT_ONCE),
-            secure: false,
         }
     }
 
@@ -240,19 +237,9 @@ impl Auth {
         self
     }
 
-    /// Marks the session cookie `Secure` (set when the listener serves HTTPS).
-    pub fn with_secure_cookies(mut self, secure: bool) -> Auth {
-        self.secure = secure;
-        self
-    }
-
     /// Whether the project has users (else loopback clients act as admin).
     pub fn has_users(&self) -> bool {
         !self.users.is_empty()
-    }
-
-    pub fn secure_cookies(&self) -> bool {
-        self.secure
     }
 
     pub fn limits(&self) -> Limits {
@@ -265,7 +252,7 @@ impl Auth {
     /// unknown users alike.
     pub async fn login(&self, user: &str, password: &str, addr: SocketAddr) -> Result<LoggedIn, ApiError> {
         let user_key = format!("user:{user}");
-        let addr_key = format!("addr:{}", addr.ip());
+        let addr_key = format!("addr:{}", client_key(addr.ip()));
         // Queued logins see the failures of those before them.
         let _permit = self
             .verifying
@@ -295,7 +282,7 @@ impl Auth {
         lock(&self.backoff).success(&user_key);
         let token = new_token()?;
         let mut sessions = lock(&self.sessions);
-        sessions.retain(|_, s| self.alive(s, now));
+        sessions.retain(|_, s| self.session_alive(s, now));
         if sessions.len() >= MAX_SESSIONS
             && let Some(oldest) = sessions.iter().min_by_key(|(_, s)| s.last).map(|(k, _)| *k)
         {
@@ -317,7 +304,7 @@ impl Auth {
         })
     }
 
-    fn alive(&self, s: &Session, now: Instant) -> bool {
+    fn session_alive(&self, s: &Session, now: Instant) -> bool {
         now.saturating_duration_since(s.last) < self.limits.idle
             && now.saturating_duration_since(s.created) < self.limits.max
     }
@@ -329,7 +316,7 @@ impl Auth {
         let key = digest(token);
         let mut sessions = lock(&self.sessions);
         let s = sessions.get_mut(&key)?;
-        if !self.alive(s, now) {
+        if !self.session_alive(s, now) {
             sessions.remove(&key);
             return None;
         }
@@ -347,16 +334,43 @@ impl Auth {
         lock(&self.sessions).len()
     }
 
-    /// The `Set-Cookie` value carrying `token`.
-    pub fn cookie(&self, token: &str) -> String {
-        let secure = if self.secure { "; Secure" } else { "" };
-        format!("{COOKIE}={token}; HttpOnly; SameSite=Strict; Path=/{secure}")
+    /// Whether the session of `key` is alive, without counting this as a
+    /// request (its idle time goes on).
+    pub fn alive(&self, key: &SessionKey) -> bool {
+        let now = self.clock.now();
+        lock(&self.sessions)
+            .get(&key.0)
+            .is_some_and(|s| self.session_alive(s, now))
     }
+}
 
-    /// The `Set-Cookie` value that deletes the cookie.
-    pub fn cleared_cookie(&self) -> String {
-        let secure = if self.secure { "; Secure" } else { "" };
-        format!("{COOKIE}=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0{secure}")
+/// Which session a request came with (an extension the layer adds beside
+/// [`Who`]): the WebSocket closes when it ends.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SessionKey([u8; 32]);
+
+/// The `Set-Cookie` value carrying `token`; `secure` over HTTPS.
+pub fn cookie(token: &str, secure: bool) -> String {
+    let secure = if secure { "; Secure" } else { "" };
+    format!("{COOKIE}={token}; HttpOnly; SameSite=Strict; Path=/{secure}")
+}
+
+/// The `Set-Cookie` value that deletes the cookie.
+pub fn cleared_cookie(secure: bool) -> String {
+    let secure = if secure { "; Secure" } else { "" };
+    format!("{COOKIE}=; HttpOnly; SameSite=Strict; Path=/; Max-Age=0{secure}")
+}
+
+/// The client a failed login is counted against: its IPv4 address, or
+/// the /64 network of an IPv6 address (one host usually holds a whole
+/// /64, and could otherwise change address at every attempt).
+fn client_key(ip: std::net::IpAddr) -> String {
+    match ip.to_canonical() {
+        std::net::IpAddr::V4(v4) => v4.to_string(),
+        std::net::IpAddr::V6(v6) => {
+            let s = v6.segments();
+            format!("{:x}:{:x}:{:x}:{:x}::/64", s[0], s[1], s[2], s[3])
+        }
     }
 }
 
@@ -401,23 +415,28 @@ pub fn needed(table: &[(&str, &str, Access)], method: &Method, route: Option<&st
     }
 }
 
-/// Who a request is: `Ok(None)` for an anonymous request, an error for an
-/// ended or unknown session.
-fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option<Who>, ApiError> {
+/// Who a request is (and its session): `Ok(None)` for an anonymous
+/// request, an error for an ended or unknown session.
+fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option<(Who, Option<SessionKey>)>, ApiError> {
     if !auth.has_users() {
-        return Ok(addr.ip().is_loopback().then_some(Who {
+        // (An IPv4 client of a dual-stack listener shows as ::ffff:a.b.c.d.)
+        let who = Who {
             user: None,
             role: Role::Admin,
             addr,
-        }));
+        };
+        return Ok(addr.ip().to_canonical().is_loopback().then_some((who, None)));
     }
     let Some(token) = token(headers) else { return Ok(None) };
     match auth.session(&token) {
-        Some((user, role)) => Ok(Some(Who {
-            user: Some(user),
-            role,
-            addr,
-        })),
+        Some((user, role)) => Ok(Some((
+            Who {
+                user: Some(user),
+                role,
+                addr,
+            },
+            Some(SessionKey(digest(&token))),
+        ))),
         None => Err(ApiError::Unauthorized(
             "your session has ended (logged out or expired): log in again".into(),
         )),
@@ -446,16 +465,19 @@ pub async fn layer(State(st): State<Arc<AppState>>, mut req: Request, next: Next
         (Access::Role(_), Ok(None)) => {
             return ApiError::Unauthorized("log in first (POST /api/login)".into()).into_response();
         }
-        (Access::Role(needed), Ok(Some(w))) => {
+        (Access::Role(needed), Ok(Some((w, key)))) => {
             if !w.role.allows(needed) {
                 return ApiError::Forbidden(format!("this needs the role {needed}; you are {}", w.role))
                     .into_response();
             }
-            Some(w)
+            Some((w, key))
         }
     };
-    if let Some(w) = who {
+    if let Some((w, key)) = who {
         req.extensions_mut().insert(w);
+        if let Some(k) = key {
+            req.extensions_mut().insert(k);
+        }
     }
     next.run(req).await
 }
@@ -567,6 +589,19 @@ mod tests {
         assert!(matches!(e, ApiError::TooManyAttempts(_)), "{e}");
         clock.advance(Duration::from_secs(120));
         a.login("ann", "right", addr(1)).await.expect("after the wait");
+    }
+
+    #[test]
+    fn failed_logins_count_per_ipv4_address_and_ipv6_network() {
+        let ip = |s: &str| s.parse::<std::net::IpAddr>().expect("ip");
+        assert_eq!(client_key(ip("10.0.0.7")), "10.0.0.7");
+        assert_eq!(client_key(ip("::ffff:10.0.0.7")), "10.0.0.7");
+        assert_eq!(client_key(ip("2001:db8:1:2:aaaa::1")), "2001:db8:1:2::/64");
+        assert_eq!(
+            client_key(ip("2001:db8:1:2:bbbb::9")),
+            client_key(ip("2001:db8:1:2::1"))
+        );
+        assert_ne!(client_key(ip("2001:db8:1:3::1")), client_key(ip("2001:db8:1:2::1")));
     }
 
     #[test]

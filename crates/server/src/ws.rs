@@ -10,6 +10,7 @@
 //! checked before this by `crate::guard`.
 
 use crate::api::status::status_of;
+use crate::auth::SessionKey;
 use crate::reply::{ErrorMsg, PowerMsg, StatusMsg};
 use crate::state::AppState;
 use crate::{project, tags};
@@ -17,8 +18,9 @@ use alba_ir::{Place, Program, Target};
 use alba_model::Value;
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
+use axum::Extension;
 use axum::extract::State;
-use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use axum::extract::ws::{CloseFrame, Message, WebSocket, WebSocketUpgrade, close_code};
 use axum::response::Response;
 use serde_json::Value as Json;
 use std::collections::HashMap;
@@ -28,10 +30,18 @@ use std::time::{Duration, Instant};
 
 const SEND_TIMEOUT: Duration = Duration::from_secs(5);
 const STATUS_EVERY: Duration = Duration::from_millis(500);
+/// How often a client's session is checked: the connection closes
+/// (1008, "session ended") within this time of a logout or expiry.
+const SESSION_EVERY: Duration = Duration::from_secs(1);
 
-pub async fn upgrade(ws: WebSocketUpgrade, State(st): State<Arc<AppState>>) -> Response {
+pub async fn upgrade(
+    ws: WebSocketUpgrade,
+    State(st): State<Arc<AppState>>,
+    session: Option<Extension<SessionKey>>,
+) -> Response {
+    let session = session.map(|Extension(k)| k);
     ws.max_message_size(64 * 1024)
-        .on_upgrade(move |socket| client(socket, st))
+        .on_upgrade(move |socket| client(socket, st, session))
 }
 
 enum Wanted {
@@ -183,7 +193,7 @@ async fn send(socket: &mut WebSocket, msgs: Vec<String>) -> bool {
     true
 }
 
-async fn client(mut socket: WebSocket, st: Arc<AppState>) {
+async fn client(mut socket: WebSocket, st: Arc<AppState>, session: Option<SessionKey>) {
     st.clients.fetch_add(1, Ordering::Relaxed);
     let mut rx = st.runtime.subscribe();
     let mut c = Client {
@@ -198,9 +208,17 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>) {
     };
     let mut monitoring = false;
     let mut closing = st.closing.subscribe();
+    let mut check = tokio::time::interval(SESSION_EVERY);
+    let mut ended = false;
     loop {
         let msgs = tokio::select! {
             _ = closing.wait_for(|c| *c) => break,
+            _ = check.tick(), if session.is_some() => {
+                if session.as_ref().is_some_and(|k| !st.auth.alive(k)) {
+                    ended = true;
+                }
+                Vec::new()
+            }
             m = socket.recv() => match m {
                 Some(Ok(Message::Text(t))) => {
                     let mut out = command(&mut c, &st, t.as_str());
@@ -223,6 +241,14 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>) {
                 c.updates(&s, &st)
             }
         };
+        if ended {
+            let frame = CloseFrame {
+                code: close_code::POLICY,
+                reason: "session ended: log in again".into(),
+            };
+            let _ = tokio::time::timeout(SEND_TIMEOUT, socket.send(Message::Close(Some(frame)))).await;
+            break;
+        }
         if !send(&mut socket, msgs).await {
             break;
         }

@@ -240,6 +240,12 @@ fn https_beyond_loopback_unless_explicitly_insecure() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_listener_beyond_loopback_serves_https_unless_insecure_is_set() {
     let dir = copy_example("tank", "tls-any");
+    // Beyond loopback the studio needs users.
+    let mut users = alba_auth::Users::default();
+    users
+        .add("ann", alba_auth::Role::Admin, "a long test password 7")
+        .expect("add");
+    users.save(&dir).expect("save");
     let mut opts = options("sim");
     opts.addr = "0.0.0.0:0".parse().expect("addr");
     let (addr, stop, task) = serve(&dir, opts).await;
@@ -311,5 +317,67 @@ async fn handlers_know_the_clients_address_over_tls() {
     let peer = res.text().await.expect("text");
     assert!(peer.starts_with("127.0.0.1:") && peer != addr.to_string(), "{peer}");
     server.abort();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// No users: the studio is served on loopback only; a non-loopback
+/// address is refused before anything starts, with what to do instead.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn without_users_a_non_loopback_listener_is_refused() {
+    let dir = copy_example("tank", "openhttp");
+    for addr in ["0.0.0.0:0", "[::]:0"] {
+        let mut opts = options("sim");
+        opts.addr = addr.parse().expect("addr");
+        let r = alba_app::run(&dir, opts, |_| panic!("not ready"), async {}).await;
+        match r {
+            Err(alba_app::RunError::Other(m)) => {
+                assert!(m.contains("refusing to serve the studio"), "{m}");
+                assert!(m.contains("no users") && m.contains("alba user add"), "{m}");
+            }
+            _ => panic!("{addr}: expected a refusal"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With users, any address may be served (each request then needs a session).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn with_users_a_non_loopback_listener_starts() {
+    let dir = copy_example("tank", "usershttp");
+    let mut users = alba_auth::Users::default();
+    users
+        .add("ann", alba_auth::Role::Admin, "a long test password 7")
+        .expect("add");
+    users.save(&dir).expect("save");
+    let mut opts = options("sim");
+    opts.addr = "0.0.0.0:0".parse().expect("addr");
+    let (ready_tx, ready_rx) = tokio::sync::oneshot::channel();
+    let (stop, stop_rx) = tokio::sync::oneshot::channel::<()>();
+    let d = dir.clone();
+    let task = tokio::spawn(async move {
+        alba_app::run(
+            &d,
+            opts,
+            move |a| {
+                let _ = ready_tx.send(a);
+            },
+            async move {
+                let _ = stop_rx.await;
+            },
+        )
+        .await
+        .is_ok()
+    });
+    let addr = ready_rx.await.expect("ready");
+    assert!(addr.ip().is_unspecified(), "{addr}");
+    tokio::net::TcpStream::connect(("127.0.0.1", addr.port()))
+        .await
+        .expect("the API serves");
+    let _ = stop.send(());
+    let ok = tokio::time::timeout(Duration::from_secs(10), task)
+        .await
+        .expect("stops within 10 s")
+        .expect("task");
+    assert!(ok);
     let _ = std::fs::remove_dir_all(&dir);
 }
