@@ -339,6 +339,7 @@ async fn start_with_users(dir: std::path::PathBuf) -> Server {
         native: false,
         modbus: None,
         opcua: None,
+        tls: alba_app::tls::Tls::Auto,
     };
     let d = dir.clone();
     let task = tokio::spawn(async move {
