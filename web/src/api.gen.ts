@@ -163,6 +163,46 @@ export type Bucket = [number, number | null, number | null, number | null, numbe
 
 export type History = { tag: string, from: number, to: number, buckets: Array<Bucket>, };
 
+export type AuditOutcome = "pending" | "ok" | "failed";
+
+export type AuditRow = { 
+/**
+ * Increasing in the order rows were written; `before` of the next page.
+ */
+id: number, 
+/**
+ * Unix ms.
+ */
+time_ms: number, 
+/**
+ * `null` when no users are configured.
+ */
+user: string | null, 
+/**
+ * The client's `ip:port`.
+ */
+addr: string | null, 
+/**
+ * `write`, `force`, `unforce`, `save_program`, `online_edit`, `save_tags`, `run`,
+ * `stop`, `login`, `login_failed`, `logout`, `user_added`, `user_changed`,
+ * `user_removed`, `alarm_ack`.
+ */
+action: string, target: string | null, 
+/**
+ * The value before and after (JSON; a string if the stored text is not JSON).
+ */
+old: Json, new: Json, 
+/**
+ * A diff summary for saves.
+ */
+detail: string | null, outcome: AuditOutcome, 
+/**
+ * Why it failed.
+ */
+error: string | null, };
+
+export type AuditPage = { rows: Array<AuditRow>, next: number | null, };
+
 export type ErrorReply = { error: string, diagnostics?: Array<Diagnostic>, };
 
 export type Role = "viewer" | "operator" | "engineer" | "admin";

@@ -2,7 +2,7 @@
 //!
 //! [`run`] loads and compiles the project, opens its I/O driver and its
 //! historian, starts the runtime, then the services in front of it — the
-//! HTTP/WebSocket API (alba-server), the historian's recorder, the Modbus
+//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the Modbus
 //! TCP and OPC UA servers — and stops them all on one shutdown signal
 //! (`AppState::closing`), the runtime last (retentive data saved).
 //!
@@ -10,6 +10,7 @@
 //! that spawns it on `state.closing()` (and, to follow online edits,
 //! `state.subscribe_edits()`), and one line in [`run`] calling it.
 
+mod audit;
 mod edits;
 mod history;
 mod modbus;
@@ -92,6 +93,8 @@ pub async fn run(
     } else {
         None
     };
+    let audit_cfg = config.map(|c| c.audit.clone()).unwrap_or_default();
+    let audit = audit::open(dir, &audit_cfg).map_err(RunError::Other)?;
     let runtime =
         alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
@@ -103,7 +106,7 @@ pub async fn run(
             tokio::runtime::Handle::current(),
         )
     });
-    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, auth);
+    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, Some(audit), auth);
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
@@ -124,6 +127,7 @@ pub async fn run(
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
     edits::start(&service);
+    audit::start(&service);
 
     ready(local);
     let closing = state.closing.clone();

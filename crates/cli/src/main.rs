@@ -1,5 +1,6 @@
 //! `alba`: the command-line front of Alba.
 
+mod audit;
 mod bench;
 mod bench_modbus;
 mod demo;

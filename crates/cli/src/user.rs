@@ -3,6 +3,8 @@
 //! from a prompt without echo on a terminal, or as one line of standard
 //! input otherwise; never from an argument.
 
+use crate::audit::{audited, json_string};
+use alba_audit::Action;
 use alba_auth::{Role, Users};
 use clap::Subcommand;
 use std::io::{BufRead, IsTerminal};
@@ -55,27 +57,36 @@ fn user(cmd: UserCmd) -> Result<(), String> {
                 ));
             }
             let pw = password(&name)?;
-            Users::edit(&project, |users| users.add(&name, role, &pw))?;
+            let values = (None, Some(json_string(role.as_str())));
+            audited(&project, Action::UserAdded, &name, values, "alba user add", || {
+                Users::edit(&project, |users| users.add(&name, role, &pw))
+            })?;
             println!("added user `{name}` ({role})");
             Ok(())
         }
         UserCmd::Passwd { project, name } => {
             known(&load(&project)?, &name)?;
             let pw = password(&name)?;
-            Users::edit(&project, |users| users.set_password(&name, &pw))?;
+            let values = (None, Some(json_string("password changed")));
+            audited(&project, Action::UserChanged, &name, values, "alba user passwd", || {
+                Users::edit(&project, |users| users.set_password(&name, &pw))
+            })?;
             println!("password of `{name}` changed");
             Ok(())
         }
         UserCmd::Remove { project, name } => {
-            load(&project)?;
-            Users::edit(&project, |users| {
-                known(users, &name)?;
-                if users.get(&name).is_some_and(|u| u.from_opcua) {
-                    return Err(format!(
-                        "`{name}` is defined in [opcua.users] of alba.toml (deprecated): delete it there"
-                    ));
-                }
-                users.remove(&name).map(drop)
+            let before = load(&project)?.role(&name);
+            let values = (before.map(|r| json_string(r.as_str())), None);
+            audited(&project, Action::UserRemoved, &name, values, "alba user remove", || {
+                Users::edit(&project, |users| {
+                    known(users, &name)?;
+                    if users.get(&name).is_some_and(|u| u.from_opcua) {
+                        return Err(format!(
+                            "`{name}` is defined in [opcua.users] of alba.toml (deprecated): delete it there"
+                        ));
+                    }
+                    users.remove(&name).map(drop)
+                })
             })?;
             // A name also in [opcua.users] comes back from alba.toml.
             if load(&project)?.get(&name).is_some() {
@@ -105,10 +116,16 @@ fn user(cmd: UserCmd) -> Result<(), String> {
             Ok(())
         }
         UserCmd::Role { project, name, role } => {
-            load(&project)?;
-            Users::edit(&project, |users| {
-                known(users, &name)?;
-                users.set_role(&name, role)
+            let before = load(&project)?.role(&name);
+            let values = (
+                before.map(|r| json_string(r.as_str())),
+                Some(json_string(role.as_str())),
+            );
+            audited(&project, Action::UserChanged, &name, values, "alba user role", || {
+                Users::edit(&project, |users| {
+                    known(users, &name)?;
+                    users.set_role(&name, role)
+                })
             })?;
             println!("`{name}` is now {role}");
             Ok(())

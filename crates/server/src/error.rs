@@ -33,6 +33,16 @@ pub enum ApiError {
     /// History is off for this project.
     #[error("history is off for this project (`[history] enabled = false` in alba.toml)")]
     HistoryOff,
+    /// The audit row of a state-changing request could not be written: the action was
+    /// not performed (docs/audit.md, "No acknowledged action without its row").
+    #[error("not done: the audit trail cannot be written ({0})")]
+    AuditWrite(alba_audit::Error),
+    /// A query or export of the audit trail.
+    #[error("{}", audit_message(.0))]
+    Audit(alba_audit::Error),
+    /// The server runs without an audit trail (only when embedded without one).
+    #[error("this server keeps no audit trail")]
+    AuditOff,
     /// No session, or one that ended, where the route needs one; a failed login.
     #[error("{0}")]
     Unauthorized(String),
@@ -54,7 +64,7 @@ pub fn status(e: &ApiError) -> StatusCode {
     use alba_runtime::Error as R;
     match e {
         ApiError::Malformed(_) => StatusCode::BAD_REQUEST,
-        ApiError::NotFound(_) | ApiError::HistoryOff => StatusCode::NOT_FOUND,
+        ApiError::NotFound(_) | ApiError::HistoryOff | ApiError::AuditOff => StatusCode::NOT_FOUND,
         ApiError::Invalid(_) => StatusCode::UNPROCESSABLE_ENTITY,
         ApiError::TooLarge => StatusCode::PAYLOAD_TOO_LARGE,
         ApiError::Unauthorized(_) => StatusCode::UNAUTHORIZED,
@@ -68,6 +78,11 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Edit(EditError::UnknownProgram(_) | EditError::NoTagsFile) => StatusCode::NOT_FOUND,
         ApiError::Edit(EditError::DoesNotCompile { .. }) => StatusCode::UNPROCESSABLE_ENTITY,
         ApiError::Edit(EditError::Save { .. }) | ApiError::Internal(_) => StatusCode::INTERNAL_SERVER_ERROR,
+        ApiError::AuditWrite(_) => StatusCode::INTERNAL_SERVER_ERROR,
+        ApiError::Audit(a) => match a {
+            alba_audit::Error::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
+            _ => StatusCode::INTERNAL_SERVER_ERROR,
+        },
         ApiError::History(h) => match h {
             H::UnknownTag(_) => StatusCode::NOT_FOUND,
             H::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
@@ -85,6 +100,13 @@ fn history_message(e: &alba_historian::Error) -> String {
     match e {
         alba_historian::Error::UnknownTag(t) => format!("no history for `{t}`"),
         alba_historian::Error::InvalidArgument(m) => m.clone(),
+        e => e.to_string(),
+    }
+}
+
+fn audit_message(e: &alba_audit::Error) -> String {
+    match e {
+        alba_audit::Error::InvalidArgument(m) => m.clone(),
         e => e.to_string(),
     }
 }
@@ -164,6 +186,15 @@ mod tests {
                 StatusCode::UNPROCESSABLE_ENTITY,
             ),
             (ApiError::HistoryOff, StatusCode::NOT_FOUND),
+            (
+                ApiError::AuditWrite(alba_audit::Error::Io(std::io::Error::other("disk full"))),
+                StatusCode::INTERNAL_SERVER_ERROR,
+            ),
+            (
+                ApiError::Audit(alba_audit::Error::InvalidArgument("limit".into())),
+                StatusCode::UNPROCESSABLE_ENTITY,
+            ),
+            (ApiError::AuditOff, StatusCode::NOT_FOUND),
         ];
         for (e, want) in cases {
             assert_eq!(status(&e), want, "{e}");

@@ -36,7 +36,7 @@ pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, domain, forces, history, programs, session, status};
+use api::{FILE_BODY, SMALL_BODY, audit, domain, forces, history, programs, session, status};
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
@@ -91,6 +91,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/history/tags", get(history::list))
         .route("/api/history", get(history::query))
         .route("/api/history.csv", get(history::csv))
+        .route("/api/audit", get(audit::list))
+        .route("/api/audit.csv", get(audit::csv))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)

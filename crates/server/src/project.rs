@@ -114,6 +114,51 @@ pub fn save(c: &Compiled, edit: &Edit) -> Result<(), EditError> {
     write_atomic(&path, |w| w.write_all(text.as_bytes())).map_err(|source| EditError::Save { path, source })
 }
 
+/// What `edit` changes in `project` (before the edit), for the audit
+/// trail: `rungs: 1 added, 0 removed, 2 changed (12 → 13)` for a ladder
+/// program (a rung's comment counts, its layout does not), `lines: …` for
+/// IL, `rows: …` for tags.csv.
+pub fn edit_summary(project: &Project, edit: &Edit) -> Result<String, EditError> {
+    let (file, new, language) = match edit {
+        Edit::Program { name, text } => {
+            let s = find(project, name)?;
+            (s.file, *text, Some(s.language))
+        }
+        Edit::Tags(text) => (project.tags_file.ok_or(EditError::NoTagsFile)?, *text, None),
+    };
+    let old = project.files.text(file);
+    let (unit, old, new) = match language {
+        Some(Language::Ladder) => ("rungs", rungs(old, file), rungs(new, file)),
+        Some(Language::Il) => ("lines", lines(old), lines(new)),
+        None => ("rows", lines(old), lines(new)),
+    };
+    let d = alba_audit::diff(&old, &new);
+    Ok(format!("{unit}: {d} ({} → {})", old.len(), new.len()))
+}
+
+/// Each rung of a ladder text: its comment and its text with whitespace
+/// runs made one space.
+fn rungs(text: &str, file: FileId) -> Vec<String> {
+    let (ast, _) = alba_ladder::parse(text, file);
+    ast.rungs
+        .iter()
+        .map(|r| {
+            let body = text.get(r.span.start as usize..r.span.end as usize).unwrap_or_default();
+            let body: Vec<&str> = body.split_whitespace().collect();
+            format!("{}\n{}", r.comment.join("\n"), body.join(" "))
+        })
+        .collect()
+}
+
+/// The non-blank lines of a text, without trailing white space.
+fn lines(text: &str) -> Vec<String> {
+    text.lines()
+        .map(str::trim_end)
+        .filter(|l| !l.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
 pub fn language(l: Language) -> reply::Language {
     match l {
         Language::Ladder => reply::Language::Ladder,

@@ -257,6 +257,51 @@ pub struct History {
     pub buckets: Vec<Bucket>,
 }
 
+/// What came of an audited action: `pending` when the server ended before it knew.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
+#[serde(rename_all = "lowercase")]
+pub enum AuditOutcome {
+    Pending,
+    Ok,
+    Failed,
+}
+
+/// One row of the audit trail (docs/audit.md).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct AuditRow {
+    /// Increasing in the order rows were written; `before` of the next page.
+    pub id: i64,
+    /// Unix ms.
+    pub time_ms: i64,
+    /// `null` when no users are configured.
+    pub user: Option<String>,
+    /// The client's `ip:port`.
+    pub addr: Option<String>,
+    /// `write`, `force`, `unforce`, `save_program`, `online_edit`, `save_tags`, `run`,
+    /// `stop`, `login`, `login_failed`, `logout`, `user_added`, `user_changed`,
+    /// `user_removed`, `alarm_ack`.
+    pub action: String,
+    pub target: Option<String>,
+    /// The value before and after (JSON; a string if the stored text is not JSON).
+    #[ts(type = "Json")]
+    pub old: Json,
+    #[ts(type = "Json")]
+    pub new: Json,
+    /// A diff summary for saves.
+    pub detail: Option<String>,
+    pub outcome: AuditOutcome,
+    /// Why it failed.
+    pub error: Option<String>,
+}
+
+/// `GET /api/audit`: a page of rows, newest first; `next` is the `before` of
+/// the following page (`null` on the last).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct AuditPage {
+    pub rows: Vec<AuditRow>,
+    pub next: Option<i64>,
+}
+
 /// Every error reply: a message, and the diagnostics of an edit that does
 /// not compile.
 #[derive(Debug, Clone, Serialize, TS)]
@@ -387,6 +432,9 @@ pub fn typescript() -> String {
         HistoryTag,
         Bucket,
         History,
+        AuditOutcome,
+        AuditRow,
+        AuditPage,
         ErrorReply,
         RoleName,
         Login,

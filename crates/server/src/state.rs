@@ -32,6 +32,10 @@ pub struct AppState {
     pub closing: watch::Sender<bool>,
     /// `None` when history is off.
     pub history: Option<alba_historian::Historian>,
+    /// The audit trail (docs/audit.md): every state-changing handler writes its
+    /// row here before it acts. `alba run` always opens one; `None` (tests,
+    /// embedders) records nothing.
+    pub audit: Option<alba_audit::Audit>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
     /// What the browser-attack guard lets in (`[http]` of alba.toml).
@@ -49,6 +53,7 @@ impl AppState {
         compiled: Compiled,
         io: &str,
         history: Option<alba_historian::Historian>,
+        audit: Option<alba_audit::Audit>,
         auth: crate::auth::Auth,
     ) -> Arc<AppState> {
         let project = &compiled.project;
@@ -62,6 +67,7 @@ impl AppState {
             clients: AtomicUsize::new(0),
             closing: watch::Sender::new(false),
             history,
+            audit,
             edits: broadcast::Sender::new(16),
             guard,
             auth,

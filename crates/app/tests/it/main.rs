@@ -240,7 +240,7 @@ fn https_beyond_loopback_unless_explicitly_insecure() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_listener_beyond_loopback_serves_https_unless_insecure_is_set() {
     let dir = copy_example("tank", "tls-any");
-    // Beyond loopback the project needs users (without, `alba run` refuses).
+    // Beyond loopback the studio needs users.
     let mut users = alba_auth::Users::default();
     users
         .add("ann", alba_auth::Role::Admin, "a long test password 7")

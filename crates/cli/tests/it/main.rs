@@ -1,5 +1,6 @@
 //! Integration tests of the `alba` binary.
 
+mod audit;
 mod commands;
 mod differential;
 mod examples;

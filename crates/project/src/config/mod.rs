@@ -2,6 +2,7 @@
 //! each with its types, its raw (serde) form and its checks; this module
 //! holds the top level and [`Config::parse`].
 
+mod audit;
 mod board;
 mod history;
 mod http;
@@ -14,6 +15,7 @@ mod setting;
 #[cfg(test)]
 mod tests;
 
+pub use audit::Audit;
 pub use board::Board;
 pub use history::History;
 pub use http::{Http, parse_origin, split_authority};
@@ -46,6 +48,8 @@ pub struct Config {
     /// How often `alba run` saves retentive data (also on stop).
     pub retain_ms: u32,
     pub history: History,
+    /// `[audit]`: the audit trail's retention (docs/audit.md).
+    pub audit: Audit,
     /// `[[plant_model]]`: simulated processes on the I/O.
     pub models: Vec<alba_model::plant::PlantModel>,
     /// `[modbus]`: the Modbus TCP server of `alba run` (docs/protocols.md).
@@ -74,6 +78,7 @@ struct RawConfig {
     board: Option<board::RawBoard>,
     retain_ms: Option<Spanned<i64>>,
     history: Option<history::RawHistory>,
+    audit: Option<audit::RawAudit>,
     #[serde(default)]
     plant_model: Vec<plant::RawPlant>,
     modbus: Option<modbus::RawModbus>,
@@ -142,6 +147,9 @@ impl Config {
         let history = raw
             .history
             .map_or_else(History::default, |h| history::history(h, file, &mut diags));
+        let audit = raw
+            .audit
+            .map_or_else(Audit::default, |a| audit::audit(a, file, &mut diags));
         if raw.programs.get_ref().is_empty() {
             diags.push(Diagnostic::new(
                 Code::ConfigField,
@@ -178,6 +186,7 @@ impl Config {
             board,
             retain_ms,
             history,
+            audit,
             modbus,
             opcua,
             http,

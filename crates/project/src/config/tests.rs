@@ -63,6 +63,21 @@ fn retain_and_history_settings() {
 }
 
 #[test]
+fn audit_retention() {
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
+    assert_eq!(c.audit, Audit { retention_days: 365 });
+    let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nretention_days = 0\n").unwrap();
+    assert_eq!(c.audit, Audit { retention_days: 0 });
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nretention_days = 40000\n").unwrap_err();
+    assert_eq!(
+        e,
+        ["alba.toml:4:18: error[E102]: retention_days = 40000 is out of range"]
+    );
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nenabled = false\n").unwrap_err();
+    assert!(e[0].contains("unknown field `enabled`"), "{e:?}");
+}
+
+#[test]
 fn modbus_devices_and_their_maps() {
     let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
     let c = parse(&format!(

@@ -4,11 +4,13 @@
 //! applied online by swapping the program between two scans, and announced
 //! on `AppState::edits`.
 
+use super::audit::{self, Actor};
 use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
 use crate::project::{self, EditError};
 use crate::reply::{Checked, Program, ProgramRef, Saved};
 use crate::state::{AppState, Edited};
+use alba_audit::{Action, Entry};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
@@ -75,21 +77,35 @@ pub async fn check(State(st): State<Arc<AppState>>, Path(name): Path<String>, b:
 }
 
 /// Saves a checked edit and, if asked while running, applies it online.
-async fn apply(st: &AppState, edit: project::Edit<'_>, online: bool) -> Result<Saved, EditError> {
+/// Audited once it compiles (`save_program`, `online_edit` or `save_tags`,
+/// with the diff summary as detail): the row is written before the file.
+async fn apply(st: &AppState, actor: &Actor, edit: project::Edit<'_>, online: bool) -> ApiResult<Saved> {
     // The lock is held from compile to swap: edits never interleave.
     let mut p = st.project.lock().await;
     let c = project::compile_with(&p.project, Some(&edit))?;
     let Some(program) = c.program.clone() else {
-        return Err(EditError::does_not_compile(&c));
+        return Err(EditError::does_not_compile(&c).into());
     };
-    project::save(&c, &edit)?;
-    let program = Arc::new(program);
-    if online {
-        st.runtime
-            .replace(program.clone())
-            .await
-            .map_err(EditError::NotApplied)?;
-    }
+    let (action, target) = match &edit {
+        project::Edit::Program { name, .. } => (
+            if online {
+                Action::OnlineEdit
+            } else {
+                Action::SaveProgram
+            },
+            project::find(&p.project, name)?.name.clone(),
+        ),
+        project::Edit::Tags(_) => (Action::SaveTags, "tags.csv".to_string()),
+    };
+    let entry = Entry {
+        target: Some(target),
+        detail: Some(project::edit_summary(&p.project, &edit)?),
+        ..actor.entry(action)
+    };
+    let id = audit::begin(st, entry).await?;
+    let done = save_and_swap(st, &c, &edit, program, online).await;
+    audit::finish(st, id, &done).await;
+    let program = done?;
     *p = c;
     let file = match edit {
         project::Edit::Program { name, .. } => {
@@ -109,14 +125,38 @@ async fn apply(st: &AppState, edit: project::Edit<'_>, online: bool) -> Result<S
     })
 }
 
-pub async fn put(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: Body) -> ApiResult<Json<Saved>> {
+/// Saves `c`'s edited file and, if `online`, swaps its program in.
+async fn save_and_swap(
+    st: &AppState,
+    c: &project::Compiled,
+    edit: &project::Edit<'_>,
+    program: alba_ir::Program,
+    online: bool,
+) -> ApiResult<Arc<alba_ir::Program>> {
+    project::save(c, edit)?;
+    let program = Arc::new(program);
+    if online {
+        st.runtime
+            .replace(program.clone())
+            .await
+            .map_err(EditError::NotApplied)?;
+    }
+    Ok(program)
+}
+
+pub async fn put(
+    State(st): State<Arc<AppState>>,
+    actor: Actor,
+    Path(name): Path<String>,
+    b: Body,
+) -> ApiResult<Json<Saved>> {
     let j = body(b)?;
     let online = j.get("online").and_then(Value::as_bool).unwrap_or(false);
     let edit = project::Edit::Program {
         name: &name,
         text: text_field(&j)?,
     };
-    Ok(Json(apply(&st, edit, online).await?))
+    Ok(Json(apply(&st, &actor, edit, online).await?))
 }
 
 pub async fn get_tags_csv(State(st): State<Arc<AppState>>) -> impl IntoResponse {
@@ -129,9 +169,9 @@ pub async fn get_tags_csv(State(st): State<Arc<AppState>>) -> impl IntoResponse 
     ([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], text)
 }
 
-pub async fn put_tags_csv(State(st): State<Arc<AppState>>, bytes: Bytes) -> ApiResult<Json<Saved>> {
+pub async fn put_tags_csv(State(st): State<Arc<AppState>>, actor: Actor, bytes: Bytes) -> ApiResult<Json<Saved>> {
     let text =
         std::str::from_utf8(&bytes).map_err(|e| ApiError::Malformed(format!("tags.csv is not UTF-8 text: {e}")))?;
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    Ok(Json(apply(&st, project::Edit::Tags(text), true).await?))
+    Ok(Json(apply(&st, &actor, project::Edit::Tags(text), true).await?))
 }

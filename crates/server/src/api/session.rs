@@ -1,11 +1,13 @@
 //! `POST /api/login`, `POST /api/logout`, `GET /api/me` (docs/api.md,
 //! "Sessions"); the sessions themselves are `crate::auth`.
 
+use super::audit::{self, Actor};
 use super::{Body, body, field};
 use crate::auth::{Who, cleared_cookie, cookie, token};
 use crate::error::ApiError;
 use crate::reply::{Login, Me};
 use crate::state::AppState;
+use alba_audit::{Action, Entry, Outcome};
 use axum::Json;
 use axum::extract::{ConnectInfo, State};
 use axum::http::{HeaderMap, StatusCode, header};
@@ -41,7 +43,29 @@ pub async fn login(
                 .into(),
         ));
     }
-    let s = st.auth.login(user, password, addr).await?;
+    // Audited (`login`, `login_failed`) before the reply; a login whose row
+    // cannot be written is undone. Attempts held back by the back-off are
+    // not recorded (they check nothing, and would let a flood write rows).
+    let actor = Actor {
+        user: Some(user.to_string()),
+        addr: Some(addr),
+    };
+    let entry = |action| Entry {
+        target: Some(user.to_string()),
+        ..actor.entry(action)
+    };
+    let s = match st.auth.login(user, password, addr).await {
+        Ok(s) => s,
+        Err(e @ ApiError::Unauthorized(_)) => {
+            audit::record(&st, entry(Action::LoginFailed), Outcome::Failed(e.to_string())).await?;
+            return Err(e);
+        }
+        Err(e) => return Err(e),
+    };
+    if let Err(e) = audit::record(&st, entry(Action::Login), Outcome::Ok).await {
+        st.auth.logout(&s.token);
+        return Err(e);
+    }
     let cookie = cookie(&s.token, st.https.load(Ordering::Relaxed));
     let reply = Login {
         token: s.token,
@@ -52,15 +76,32 @@ pub async fn login(
 }
 
 /// Ends the request's session (if any) and clears the cookie: 204.
-pub async fn logout(State(st): State<Arc<AppState>>, headers: HeaderMap) -> Response {
+/// Audited (`logout`) when it ended a live session; the row is written
+/// first, and if it cannot be the session stays open (500).
+pub async fn logout(
+    State(st): State<Arc<AppState>>,
+    ConnectInfo(addr): ConnectInfo<SocketAddr>,
+    headers: HeaderMap,
+) -> Result<Response, ApiError> {
     if let Some(t) = token(&headers) {
+        if let Some((user, _)) = st.auth.session(&t) {
+            let actor = Actor {
+                user: Some(user.clone()),
+                addr: Some(addr),
+            };
+            let entry = Entry {
+                target: Some(user),
+                ..actor.entry(Action::Logout)
+            };
+            audit::record(&st, entry, Outcome::Ok).await?;
+        }
         st.auth.logout(&t);
     }
-    (
+    Ok((
         StatusCode::NO_CONTENT,
         [(header::SET_COOKIE, cleared_cookie(st.https.load(Ordering::Relaxed)))],
     )
-        .into_response()
+        .into_response())
 }
 
 /// Who the request acts as.

@@ -1,8 +1,10 @@
 //! `GET /api/status`, `POST /api/run`, `POST /api/stop`.
 
+use super::audit::{Actor, audited, json_text};
 use crate::error::ApiResult;
-use crate::reply::{Stats, Status};
+use crate::reply::{RunState, Stats, Status};
 use crate::state::AppState;
+use alba_audit::{Action, Entry};
 use alba_runtime::Snapshot;
 use axum::Json;
 use axum::extract::State;
@@ -38,12 +40,27 @@ pub async fn get(State(st): State<Arc<AppState>>) -> Json<Status> {
     Json(status_of(&st.runtime.snapshot(), &st))
 }
 
-pub async fn run(State(st): State<Arc<AppState>>) -> ApiResult<Json<Status>> {
-    st.runtime.run().await?;
+/// The audit entry of run/stop: the state before and the one asked for.
+fn entry(st: &AppState, actor: &Actor, action: Action, to: RunState) -> Entry {
+    let before = RunState::from(st.runtime.snapshot().state);
+    let text = |s: RunState| serde_json::to_value(s).map(|v| json_text(&v)).ok();
+    Entry {
+        old: text(before),
+        new: text(to),
+        ..actor.entry(action)
+    }
+}
+
+/// Audited (`run`).
+pub async fn run(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
+    let e = entry(&st, &actor, Action::Run, RunState::Running);
+    audited(&st, e, async { Ok(st.runtime.run().await?) }).await?;
     Ok(get(State(st)).await)
 }
 
-pub async fn stop(State(st): State<Arc<AppState>>) -> ApiResult<Json<Status>> {
-    st.runtime.stop().await?;
+/// Audited (`stop`).
+pub async fn stop(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
+    let e = entry(&st, &actor, Action::Stop, RunState::Stopped);
+    audited(&st, e, async { Ok(st.runtime.stop().await?) }).await?;
     Ok(get(State(st)).await)
 }

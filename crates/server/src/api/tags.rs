@@ -1,5 +1,6 @@
 //! `GET /api/tags`, `GET|PUT /api/tags/{name}`.
 
+use super::audit::{Actor, audited, json_text};
 use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{Force, TagInfo, TagReply};
@@ -42,13 +43,26 @@ fn writable(s: &Snapshot, name: &str) -> Result<alba_ir::Place, ApiError> {
     }
 }
 
-pub async fn put(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: Body) -> ApiResult<Json<Force>> {
+/// Audited (`write`): the old value is the tag's in the latest snapshot
+/// before the write.
+pub async fn put(
+    State(st): State<Arc<AppState>>,
+    actor: Actor,
+    Path(name): Path<String>,
+    b: Body,
+) -> ApiResult<Json<Force>> {
     let j = body(b)?;
     let s = st.runtime.snapshot();
     let place = writable(&s, &name)?;
     let v =
         from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
-    st.runtime.write(place, v).await?;
+    let entry = alba_audit::Entry {
+        target: Some(name.clone()),
+        old: Some(json_text(&to_json(s.read(place)))),
+        new: Some(json_text(&to_json(v))),
+        ..actor.entry(alba_audit::Action::Write)
+    };
+    audited(&st, entry, async { Ok(st.runtime.write(place, v).await?) }).await?;
     Ok(Json(Force {
         name,
         value: to_json(st.runtime.snapshot().read(place)),

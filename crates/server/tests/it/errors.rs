@@ -39,6 +39,7 @@ async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) 
         compiled,
         "test",
         None,
+        None,
         alba_server::auth::Auth::open(),
     );
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");

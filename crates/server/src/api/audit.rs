@@ -1,0 +1,302 @@
+//! The audit trail (docs/audit.md): `GET /api/audit` (a page of rows, JSON)
+//! and `GET /api/audit.csv` (streamed), and the helpers every
+//! state-changing handler records its action with.
+//!
+//! No acknowledged action without its row: a handler checks its request,
+//! then [`audited`] writes the row (outcome `pending`) and only if that
+//! committed performs the action, then sets the row's outcome (`ok` or
+//! `failed`) and answers. If the row cannot be written the action is not
+//! performed and the request fails with 500 ([`ApiError::AuditWrite`]). If
+//! only the outcome cannot be set, the action stands and is acknowledged:
+//! its row exists and says `pending` (logged on stderr).
+
+use crate::auth::Who;
+use crate::error::{ApiError, ApiResult};
+use crate::reply::{AuditOutcome, AuditPage, AuditRow};
+use crate::state::AppState;
+use alba_audit::{Action, Audit, Entry, Filter, Outcome};
+use axum::Json;
+use axum::body::{Body, Bytes};
+use axum::extract::connect_info::ConnectInfo;
+use axum::extract::{FromRequestParts, Query, State};
+use axum::http::header;
+use axum::http::request::Parts;
+use axum::response::{IntoResponse, Response};
+use serde_json::Value;
+use std::collections::HashMap;
+use std::convert::Infallible;
+use std::io;
+use std::net::SocketAddr;
+use std::pin::Pin;
+use std::sync::Arc;
+use std::task::{Context, Poll};
+use tokio::sync::mpsc;
+
+/// Rows per page of `GET /api/audit` unless `limit` says otherwise.
+const DEFAULT_PAGE: usize = 100;
+/// The most rows one `GET /api/audit.csv` writes.
+pub const MAX_CSV_ROWS: u64 = 1_000_000;
+
+/// Who made a request, as its audit row names them: the session layer's
+/// [`Who`] (user and client address). Without a session layer (an embedder
+/// that does not install it) the user is none and the address the
+/// connection's, if the server was started with connect info.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Actor {
+    pub user: Option<String>,
+    pub addr: Option<SocketAddr>,
+}
+
+impl Actor {
+    /// An audit entry of `action` by this actor, now.
+    pub fn entry(&self, action: Action) -> Entry {
+        Entry {
+            user: self.user.clone(),
+            addr: self.addr.map(|a| a.to_string()),
+            ..Entry::new(now_ms(), action)
+        }
+    }
+}
+
+impl From<&Who> for Actor {
+    fn from(w: &Who) -> Actor {
+        Actor {
+            user: w.user.clone(),
+            addr: Some(w.addr),
+        }
+    }
+}
+
+impl<S: Send + Sync> FromRequestParts<S> for Actor {
+    type Rejection = Infallible;
+
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Actor, Infallible> {
+        if let Some(w) = parts.extensions.get::<Who>() {
+            return Ok(Actor::from(w));
+        }
+        Ok(Actor {
+            user: None,
+            addr: parts.extensions.get::<ConnectInfo<SocketAddr>>().map(|c| c.0),
+        })
+    }
+}
+
+/// The wall clock in Unix ms (audit rows are stamped by the server).
+pub fn now_ms() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
+}
+
+/// A JSON value as the text an audit row stores.
+pub fn json_text(v: &Value) -> String {
+    v.to_string()
+}
+
+async fn blocking<T: Send + 'static>(
+    f: impl FnOnce() -> alba_audit::Result<T> + Send + 'static,
+) -> Result<alba_audit::Result<T>, ApiError> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .map_err(|e| ApiError::Internal(e.to_string()))
+}
+
+/// Writes the `pending` row of an action about to be performed; `None`
+/// when the server keeps no audit trail. An error means: do not perform it.
+pub async fn begin(st: &AppState, entry: Entry) -> ApiResult<Option<i64>> {
+    let Some(audit) = st.audit.clone() else {
+        return Ok(None);
+    };
+    let id = blocking(move || audit.begin(&entry))
+        .await?
+        .map_err(ApiError::AuditWrite)?;
+    Ok(Some(id))
+}
+
+/// Sets the outcome of the row `begin` wrote from the action's result.
+pub async fn finish<T>(st: &AppState, id: Option<i64>, result: &ApiResult<T>) {
+    let (Some(audit), Some(id)) = (st.audit.clone(), id) else {
+        return;
+    };
+    let outcome = match result {
+        Ok(_) => Outcome::Ok,
+        Err(e) => Outcome::Failed(e.to_string()),
+    };
+    match blocking(move || audit.finish(id, &outcome)).await {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => eprintln!("audit: row {id} keeps outcome `pending`: {e}"),
+        Err(e) => eprintln!("audit: row {id} keeps outcome `pending`: {e}"),
+    }
+}
+
+/// Performs `action` under its audit row: the row first (the action is not
+/// performed if it cannot be written), then the action, then its outcome.
+pub async fn audited<T>(st: &AppState, entry: Entry, action: impl Future<Output = ApiResult<T>>) -> ApiResult<T> {
+    let id = begin(st, entry).await?;
+    let result = action.await;
+    finish(st, id, &result).await;
+    result
+}
+
+/// Records an action already done or refused (a login, a failed login, a
+/// logout): the reply must wait for it, and fail if it fails.
+pub async fn record(st: &AppState, entry: Entry, outcome: Outcome) -> ApiResult<()> {
+    let Some(audit) = st.audit.clone() else {
+        return Ok(());
+    };
+    blocking(move || audit.record(&entry, &outcome))
+        .await?
+        .map_err(ApiError::AuditWrite)?;
+    Ok(())
+}
+
+fn audit(st: &AppState) -> Result<Audit, ApiError> {
+    st.audit.clone().ok_or(ApiError::AuditOff)
+}
+
+type Params = Query<HashMap<String, String>>;
+
+const PARAMS: [&str; 7] = ["from", "to", "user", "action", "target", "before", "limit"];
+
+fn int(q: &HashMap<String, String>, name: &str) -> Result<Option<i64>, ApiError> {
+    q.get(name)
+        .map(|v| {
+            v.parse()
+                .map_err(|_| ApiError::Malformed(format!("`{name}` must be an integer, got `{v}`")))
+        })
+        .transpose()
+}
+
+/// The filter of a query string (docs/api.md); unknown parameters are
+/// refused, so that a misspelt filter does not silently match every row.
+fn filter(q: &HashMap<String, String>) -> Result<Filter, ApiError> {
+    if let Some(k) = q.keys().find(|k| !PARAMS.contains(&k.as_str())) {
+        return Err(ApiError::Malformed(format!(
+            "unknown query parameter `{k}` (one of: {})",
+            PARAMS.join(", ")
+        )));
+    }
+    let text = |name: &str| q.get(name).filter(|v| !v.is_empty()).cloned();
+    let actions = match q.get("action") {
+        None => Vec::new(),
+        Some(list) => list
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse::<Action>().map_err(|e| ApiError::Malformed(e.to_string())))
+            .collect::<Result<_, _>>()?,
+    };
+    Ok(Filter {
+        from_ms: int(q, "from")?,
+        to_ms: int(q, "to")?,
+        user: text("user"),
+        actions,
+        target: text("target"),
+    })
+}
+
+fn row_json(r: alba_audit::Row) -> AuditRow {
+    let json = |s: Option<String>| match s {
+        None => Value::Null,
+        Some(t) => serde_json::from_str(&t).unwrap_or(Value::String(t)),
+    };
+    let (outcome, error) = match r.outcome {
+        Outcome::Pending => (AuditOutcome::Pending, None),
+        Outcome::Ok => (AuditOutcome::Ok, None),
+        Outcome::Failed(e) => (AuditOutcome::Failed, Some(e)),
+    };
+    AuditRow {
+        id: r.id,
+        time_ms: r.t_ms,
+        user: r.user,
+        addr: r.addr,
+        action: r.action,
+        target: r.target,
+        old: json(r.old),
+        new: json(r.new),
+        detail: r.detail,
+        outcome,
+        error,
+    }
+}
+
+/// `GET /api/audit?from&to&user&action&target&before&limit`.
+pub async fn list(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<AuditPage>> {
+    let a = audit(&st)?;
+    let f = filter(&q)?;
+    let before = int(&q, "before")?;
+    let limit = match int(&q, "limit")? {
+        None => DEFAULT_PAGE,
+        Some(n) if n >= 1 => usize::try_from(n).unwrap_or(usize::MAX),
+        Some(n) => return Err(ApiError::Invalid(format!("`limit` must be at least 1, got {n}"))),
+    };
+    let page = blocking(move || a.query(&f, before, limit))
+        .await?
+        .map_err(ApiError::Audit)?;
+    Ok(Json(AuditPage {
+        rows: page.rows.into_iter().map(row_json).collect(),
+        next: page.next,
+    }))
+}
+
+/// The export's bytes, written on a blocking thread and sent on in chunks.
+struct ChannelWriter(mpsc::Sender<io::Result<Bytes>>);
+
+impl io::Write for ChannelWriter {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0
+            .blocking_send(Ok(Bytes::copy_from_slice(buf)))
+            .map_err(|_| io::Error::new(io::ErrorKind::BrokenPipe, "the client went away"))?;
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The chunks of a streamed response body.
+struct Chunks(mpsc::Receiver<io::Result<Bytes>>);
+
+impl futures_core::Stream for Chunks {
+    type Item = io::Result<Bytes>;
+
+    fn poll_next(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Option<Self::Item>> {
+        self.0.poll_recv(cx)
+    }
+}
+
+/// `GET /api/audit.csv?from&to&user&action&target&limit`: oldest first, at
+/// most `limit` (and [`MAX_CSV_ROWS`]) rows, streamed: the server holds a
+/// few chunks of it at a time, however many rows match.
+pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Response> {
+    let a = audit(&st)?;
+    let f = filter(&q)?;
+    if q.contains_key("before") {
+        return Err(ApiError::Malformed(
+            "`before` pages `/api/audit`; filter the export by time".into(),
+        ));
+    }
+    let limit = match int(&q, "limit")? {
+        None => MAX_CSV_ROWS,
+        Some(n) if n >= 0 => u64::try_from(n).unwrap_or(0).min(MAX_CSV_ROWS),
+        Some(n) => return Err(ApiError::Invalid(format!("`limit` must be at least 0, got {n}"))),
+    };
+    // A few 8 KiB chunks in flight at most.
+    let (tx, rx) = mpsc::channel(4);
+    tokio::task::spawn_blocking(move || {
+        let failed = tx.clone();
+        if let Err(e) = a.export_csv(&f, limit, ChannelWriter(tx)) {
+            // Ends the response abnormally: the client sees a cut transfer, not a short file.
+            let _ = failed.blocking_send(Err(io::Error::other(e.to_string())));
+        }
+    });
+    Ok((
+        [
+            (header::CONTENT_TYPE, "text/csv; charset=utf-8"),
+            (header::CONTENT_DISPOSITION, "attachment; filename=\"audit.csv\""),
+        ],
+        Body::from_stream(Chunks(rx)),
+    )
+        .into_response())
+}
