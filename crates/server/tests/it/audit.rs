@@ -292,7 +292,11 @@ async fn rows_name_the_user_and_logins_are_recorded() {
         .json()
         .await
         .expect("json");
-    let res = bearer(Method::POST, "/api/logout").send().await.expect("logout");
+    let res = bearer(Method::POST, "/api/logout")
+        .json(&json!({}))
+        .send()
+        .await
+        .expect("logout");
     assert_eq!(res.status(), StatusCode::NO_CONTENT);
     let rows: Vec<(String, Json, Json, String)> = page["rows"]
         .as_array()
