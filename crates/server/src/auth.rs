@@ -377,9 +377,14 @@ fn client_key(ip: std::net::IpAddr) -> String {
 /// The session token a request carries: `Authorization: Bearer`, else the
 /// `alba_session` cookie.
 pub fn token(headers: &HeaderMap) -> Option<String> {
-    if let Some(v) = headers.get(header::AUTHORIZATION).and_then(|v| v.to_str().ok()) {
-        let (scheme, rest) = v.trim().split_once(' ')?;
-        return scheme.eq_ignore_ascii_case("bearer").then(|| rest.trim().to_string());
+    // Another scheme (a reverse proxy's Basic) leaves the cookie in force.
+    let bearer = headers
+        .get(header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.trim().split_once(' '))
+        .filter(|(scheme, _)| scheme.eq_ignore_ascii_case("bearer"));
+    if let Some((_, t)) = bearer {
+        return Some(t.trim().to_string());
     }
     headers
         .get_all(header::COOKIE)
@@ -644,6 +649,8 @@ mod tests {
         h.insert(header::AUTHORIZATION, "Bearer xyz".parse().expect("header"));
         assert_eq!(token(&h).as_deref(), Some("xyz"), "the header first");
         h.insert(header::AUTHORIZATION, "Basic eHl6".parse().expect("header"));
-        assert_eq!(token(&h), None, "not a bearer token");
+        assert_eq!(token(&h).as_deref(), Some("abc"), "not a bearer token: the cookie");
+        h.remove(header::COOKIE);
+        assert_eq!(token(&h), None);
     }
 }
