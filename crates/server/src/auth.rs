@@ -39,6 +39,8 @@ use std::time::{Duration, Instant};
 pub const COOKIE: &str = "alba_session";
 /// Sessions kept at most (the least recently used go first).
 pub const MAX_SESSIONS: usize = 1024;
+/// Sessions of one user kept at most (their least recently used go first).
+pub const MAX_SESSIONS_PER_USER: usize = 16;
 /// Password verifications run at once (each argon2 verification takes
 /// ~19 MiB and tens of milliseconds; further logins queue).
 pub const VERIFY_AT_ONCE: usize = 2;
@@ -283,6 +285,17 @@ impl Auth {
         let token = new_token()?;
         let mut sessions = lock(&self.sessions);
         sessions.retain(|_, s| self.session_alive(s, now));
+        // One user's logins end that user's oldest sessions, not others'.
+        let theirs = sessions.values().filter(|s| s.user == user).count();
+        if theirs >= MAX_SESSIONS_PER_USER
+            && let Some(oldest) = sessions
+                .iter()
+                .filter(|(_, s)| s.user == user)
+                .min_by_key(|(_, s)| s.last)
+                .map(|(k, _)| *k)
+        {
+            sessions.remove(&oldest);
+        }
         if sessions.len() >= MAX_SESSIONS
             && let Some(oldest) = sessions.iter().min_by_key(|(_, s)| s.last).map(|(k, _)| *k)
         {
@@ -610,6 +623,31 @@ mod tests {
             client_key(ip("2001:db8:1:2::1"))
         );
         assert_ne!(client_key(ip("2001:db8:1:3::1")), client_key(ip("2001:db8:1:2::1")));
+    }
+
+    #[tokio::test]
+    async fn one_users_logins_end_only_their_own_oldest_sessions() {
+        let (a, _, clock) = auth();
+        struct Two;
+        impl UserStore for Two {
+            fn is_empty(&self) -> bool {
+                false
+            }
+            fn verify(&self, name: &str, _: &str) -> Option<Role> {
+                Some(if name == "ann" { Role::Viewer } else { Role::Admin })
+            }
+        }
+        let a = Auth::new(Arc::new(Two), a.limits()).with_clock(clock.clone());
+        let bob = a.login("bob", "x", addr(1)).await.expect("bob").token;
+        let mut ann = Vec::new();
+        for _ in 0..MAX_SESSIONS_PER_USER + 3 {
+            clock.advance(Duration::from_secs(1));
+            ann.push(a.login("ann", "x", addr(2)).await.expect("ann").token);
+        }
+        assert!(a.session(&bob).is_some(), "bob's session stays");
+        assert_eq!(a.sessions(), MAX_SESSIONS_PER_USER + 1);
+        assert!(ann[..3].iter().all(|t| a.session(t).is_none()), "ann's oldest went");
+        assert!(ann[3..].iter().all(|t| a.session(t).is_some()));
     }
 
     #[test]
