@@ -667,3 +667,57 @@ async fn a_websocket_closes_when_its_session_ends() {
     s.stop().await;
     drop(runtime);
 }
+
+/// Over HTTPS (`AppState::https`, set by the TLS setup) the session
+/// cookie, and the one that clears it, are `Secure`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn cookies_are_secure_over_https() {
+    use tower::ServiceExt;
+    let dir = copy_example("tank", "secure");
+    add_users(&dir);
+    let users = Users::load(&dir).expect("users.toml");
+    let (st, runtime) = state(&dir, Auth::new(Arc::new(users), Limits { idle: IDLE, max: MAX }));
+    st.https.store(true, std::sync::atomic::Ordering::Relaxed);
+    let app = alba_server::router(st);
+    let post = |path: &str, body: Json| {
+        axum::http::Request::post(path)
+            .header("host", "127.0.0.1")
+            .header("content-type", "application/json")
+            .extension(axum::extract::ConnectInfo(std::net::SocketAddr::from((
+                [127, 0, 0, 1],
+                40000,
+            ))))
+            .body(axum::body::Body::from(body.to_string()))
+            .expect("request")
+    };
+    let res = app
+        .clone()
+        .oneshot(post("/api/login", json!({"user": "viewer", "password": PASSWORD})))
+        .await
+        .expect("login");
+    assert_eq!(res.status().as_u16(), 200);
+    let cookie = res
+        .headers()
+        .get("set-cookie")
+        .expect("cookie")
+        .to_str()
+        .expect("ascii");
+    assert!(
+        cookie.starts_with("alba_session=") && cookie.ends_with("; HttpOnly; SameSite=Strict; Path=/; Secure"),
+        "{cookie}"
+    );
+    let res = app.oneshot(post("/api/logout", json!({}))).await.expect("logout");
+    assert_eq!(res.status().as_u16(), 204);
+    let cleared = res
+        .headers()
+        .get("set-cookie")
+        .expect("cookie")
+        .to_str()
+        .expect("ascii");
+    assert!(
+        cleared.contains("Max-Age=0") && cleared.ends_with("; Secure"),
+        "{cleared}"
+    );
+    drop(runtime);
+    let _ = std::fs::remove_dir_all(&dir);
+}
