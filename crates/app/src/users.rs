@@ -23,5 +23,5 @@ pub(crate) fn auth(dir: &Path, config: Option<&Config>, addr: SocketAddr) -> Res
         ));
     }
     let limits = config.map_or_else(Limits::default, |c| Limits::from_config(&c.session));
-    Ok(Auth::new(Arc::new(users), limits))
+    Ok(Auth::new(Arc::new(users), limits).reloading_from(dir))
 }

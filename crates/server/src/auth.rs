@@ -135,6 +135,8 @@ impl Clock for ManualClock {
 /// The users logins are checked against: `alba_auth::Users`, or a test's.
 pub trait UserStore: Send + Sync {
     fn is_empty(&self) -> bool;
+    /// The role of user `name`, if there is such a user.
+    fn role(&self, name: &str) -> Option<Role>;
     /// The role of `name` when `password` is theirs; an unknown name must
     /// cost what a wrong password costs. Blocking.
     fn verify(&self, name: &str, password: &str) -> Option<Role>;
@@ -143,6 +145,9 @@ pub trait UserStore: Send + Sync {
 impl UserStore for alba_auth::Users {
     fn is_empty(&self) -> bool {
         alba_auth::Users::is_empty(self)
+    }
+    fn role(&self, name: &str) -> Option<Role> {
+        alba_auth::Users::role(self, name)
     }
     fn verify(&self, name: &str, password: &str) -> Option<Role> {
         alba_auth::Users::verify(self, name, password)
@@ -177,9 +182,34 @@ impl Default for Limits {
 #[derive(Debug, Clone)]
 struct Session {
     user: String,
-    role: Role,
     created: Instant,
     last: Instant,
+}
+
+/// How often the store's files are looked at for a change.
+const RELOAD_EVERY: Duration = Duration::from_secs(1);
+
+/// A file's modification time and length; `None` when it is missing.
+type Stamp = Option<(std::time::SystemTime, u64)>;
+
+/// Re-reading the project's store when users.toml (or alba.toml, for the
+/// deprecated `[opcua.users]`) changes.
+struct Reload {
+    dir: std::path::PathBuf,
+    /// When the files were last looked at, and what they were then.
+    seen: Mutex<(Option<Instant>, Vec<Stamp>)>,
+}
+
+impl Reload {
+    fn stamps(&self) -> Vec<Stamp> {
+        [alba_auth::USERS_FILE, "alba.toml"]
+            .iter()
+            .map(|f| {
+                let m = std::fs::metadata(self.dir.join(f)).ok()?;
+                Some((m.modified().ok()?, m.len()))
+            })
+            .collect()
+    }
 }
 
 /// A successful login.
@@ -192,7 +222,8 @@ pub struct LoggedIn {
 
 /// Users, sessions and failed-login accounting of one server.
 pub struct Auth {
-    users: Arc<dyn UserStore>,
+    users: std::sync::RwLock<Arc<dyn UserStore>>,
+    reload: Option<Reload>,
     limits: Limits,
     clock: Arc<dyn Clock>,
     /// By the SHA-256 of the token.
@@ -219,7 +250,8 @@ fn new_token() -> Result<String, ApiError> {
 impl Auth {
     pub fn new(users: Arc<dyn UserStore>, limits: Limits) -> Auth {
         Auth {
-            users,
+            users: std::sync::RwLock::new(users),
+            reload: None,
             limits,
             clock: Arc::new(SystemClock),
             sessions: Mutex::new(HashMap::new()),
@@ -239,9 +271,44 @@ impl Auth {
         self
     }
 
+    /// Re-reads the store of the project in `dir` (`alba_auth::Users::load`)
+    /// within a second of a change to its files (`alba user …` while the
+    /// server runs): added users can log in, a removed user's sessions
+    /// end, a changed role applies to open sessions. A store that does not
+    /// load leaves the previous one in force.
+    pub fn reloading_from(mut self, dir: &std::path::Path) -> Auth {
+        let r = Reload {
+            dir: dir.to_path_buf(),
+            seen: Mutex::new((None, Vec::new())),
+        };
+        let stamps = r.stamps();
+        lock(&r.seen).1 = stamps;
+        self.reload = Some(r);
+        self
+    }
+
+    /// The store, re-read first if its files changed (see [`Auth::reloading_from`]).
+    fn users(&self) -> Arc<dyn UserStore> {
+        if let Some(r) = &self.reload {
+            let now = self.clock.now();
+            let mut seen = lock(&r.seen);
+            if seen.0.is_none_or(|t| now.saturating_duration_since(t) >= RELOAD_EVERY) {
+                seen.0 = Some(now);
+                let stamps = r.stamps();
+                if stamps != seen.1 {
+                    seen.1 = stamps;
+                    if let Ok(u) = alba_auth::Users::load(&r.dir) {
+                        *self.users.write().unwrap_or_else(PoisonError::into_inner) = Arc::new(u);
+                    }
+                }
+            }
+        }
+        self.users.read().unwrap_or_else(PoisonError::into_inner).clone()
+    }
+
     /// Whether the project has users (else loopback clients act as admin).
     pub fn has_users(&self) -> bool {
-        !self.users.is_empty()
+        !self.users().is_empty()
     }
 
     pub fn limits(&self) -> Limits {
@@ -269,7 +336,7 @@ impl Auth {
                 return Err(ApiError::TooManyAttempts(wait));
             }
         }
-        let users = self.users.clone();
+        let users = self.users();
         let (u, p) = (user.to_string(), password.to_string());
         let role = tokio::task::spawn_blocking(move || users.verify(&u, &p))
             .await
@@ -305,7 +372,6 @@ impl Auth {
             digest(&token),
             Session {
                 user: user.to_string(),
-                role,
                 created: now,
                 last: now,
             },
@@ -323,18 +389,22 @@ impl Auth {
     }
 
     /// The user and role of the session `token`, if it is alive (its idle
-    /// time restarts); an ended session is forgotten.
+    /// time restarts); an ended session is forgotten, and so is the
+    /// session of a user no longer in the store. The role is the user's
+    /// role now.
     pub fn session(&self, token: &str) -> Option<(String, Role)> {
+        let users = self.users();
         let now = self.clock.now();
         let key = digest(token);
         let mut sessions = lock(&self.sessions);
         let s = sessions.get_mut(&key)?;
-        if !self.session_alive(s, now) {
+        let role = users.role(&s.user);
+        let Some(role) = role.filter(|_| self.session_alive(s, now)) else {
             sessions.remove(&key);
             return None;
-        }
+        };
         s.last = now;
-        Some((s.user.clone(), s.role))
+        Some((s.user.clone(), role))
     }
 
     /// Ends the session `token` (nothing if there is none).
@@ -350,10 +420,11 @@ impl Auth {
     /// Whether the session of `key` is alive, without counting this as a
     /// request (its idle time goes on).
     pub fn alive(&self, key: &SessionKey) -> bool {
+        let users = self.users();
         let now = self.clock.now();
         lock(&self.sessions)
             .get(&key.0)
-            .is_some_and(|s| self.session_alive(s, now))
+            .is_some_and(|s| self.session_alive(s, now) && users.role(&s.user).is_some())
     }
 }
 
@@ -517,6 +588,9 @@ mod tests {
         fn is_empty(&self) -> bool {
             false
         }
+        fn role(&self, name: &str) -> Option<Role> {
+            (name == "ann").then_some(Role::Operator)
+        }
         fn verify(&self, name: &str, password: &str) -> Option<Role> {
             self.calls.fetch_add(1, Ordering::SeqCst);
             (name == "ann" && password == "right").then_some(Role::Operator)
@@ -633,8 +707,11 @@ mod tests {
             fn is_empty(&self) -> bool {
                 false
             }
-            fn verify(&self, name: &str, _: &str) -> Option<Role> {
+            fn role(&self, name: &str) -> Option<Role> {
                 Some(if name == "ann" { Role::Viewer } else { Role::Admin })
+            }
+            fn verify(&self, name: &str, _: &str) -> Option<Role> {
+                self.role(name)
             }
         }
         let a = Auth::new(Arc::new(Two), a.limits()).with_clock(clock.clone());

@@ -46,7 +46,9 @@ async fn serve(test: &str, clock: Arc<ManualClock>) -> (Server, Runtime) {
     let dir = copy_example("tank", test);
     add_users(&dir);
     let users = Users::load(&dir).expect("users.toml");
-    let auth = Auth::new(Arc::new(users), Limits { idle: IDLE, max: MAX }).with_clock(clock);
+    let auth = Auth::new(Arc::new(users), Limits { idle: IDLE, max: MAX })
+        .with_clock(clock)
+        .reloading_from(&dir);
     let (state, runtime) = state(&dir, auth);
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
     let addr = listener.local_addr().expect("addr");
@@ -720,4 +722,56 @@ async fn cookies_are_secure_over_https() {
     );
     drop(runtime);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `alba user …` while the server runs: within a second, a new user can
+/// log in, a removed user's session ends, a changed role applies.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn user_changes_apply_to_a_running_server() {
+    let clock = Arc::new(ManualClock::new());
+    let (s, runtime) = serve("reload", clock.clone()).await;
+    let op = Caller::Bearer(token(&s, "operator").await);
+    let viewer = Caller::Bearer(token(&s, "viewer").await);
+    let stop = |who: &Caller| {
+        let who = who.clone();
+        let s = &s;
+        async move { call(s, &who, Method::POST, "/api/stop", None).await.0 }
+    };
+    assert_eq!(stop(&viewer).await, StatusCode::FORBIDDEN);
+    let mut users = Users::load(&s.dir).expect("users");
+    users.remove("operator").expect("remove");
+    users.set_role("viewer", Role::Engineer).expect("role");
+    users.add("newbie", Role::Operator, PASSWORD).expect("add");
+    users.save(&s.dir).expect("save");
+    clock.advance(Duration::from_secs(2));
+    let (code, j) = call(&s, &op, Method::GET, "/api/me", None).await;
+    assert_eq!(code, StatusCode::UNAUTHORIZED, "a removed user's session ends: {j}");
+    assert_eq!(login(&s, "operator", PASSWORD).await.0, StatusCode::UNAUTHORIZED);
+    assert_eq!(
+        stop(&viewer).await,
+        StatusCode::OK,
+        "the new role applies to the open session"
+    );
+    let (code, j) = call(&s, &viewer, Method::GET, "/api/me", None).await;
+    assert_eq!((code, &j["role"]), (StatusCode::OK, &json!("engineer")));
+    let (code, j) = login(&s, "newbie", PASSWORD).await;
+    assert_eq!((code, &j["role"]), (StatusCode::OK, &json!("operator")), "{j}");
+    // A users.toml that does not load leaves the store as it was.
+    std::fs::write(s.dir.join("users.toml"), "[users.broken\n").expect("write");
+    clock.advance(Duration::from_secs(2));
+    let (code, j) = call(&s, &viewer, Method::GET, "/api/me", None).await;
+    assert_eq!(
+        (code, j),
+        (
+            StatusCode::OK,
+            json!({"user": "viewer", "role": "engineer", "users": true})
+        )
+    );
+    assert_eq!(
+        call(&s, &Caller::Nobody, Method::GET, "/api/status", None).await.0,
+        StatusCode::UNAUTHORIZED,
+        "never an empty store (which would open loopback)"
+    );
+    s.stop().await;
+    drop(runtime);
 }
