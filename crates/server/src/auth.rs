@@ -512,12 +512,16 @@ pub fn needed(table: &[(&str, &str, Access)], method: &Method, route: Option<&st
 fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option<(Who, Option<SessionKey>)>, ApiError> {
     if !auth.has_users() {
         // (An IPv4 client of a dual-stack listener shows as ::ffff:a.b.c.d.)
+        // A request a proxy forwarded is not local, wherever the proxy runs.
+        let proxied = ["forwarded", "x-forwarded-for", "x-real-ip"]
+            .iter()
+            .any(|h| headers.contains_key(*h));
         let who = Who {
             user: None,
             role: Role::Admin,
             addr,
         };
-        return Ok(addr.ip().to_canonical().is_loopback().then_some((who, None)));
+        return Ok((addr.ip().to_canonical().is_loopback() && !proxied).then_some((who, None)));
     }
     let Some(token) = token(headers) else { return Ok(None) };
     match auth.session(&token) {
@@ -753,6 +757,29 @@ mod tests {
         assert_eq!(n(Method::GET, None, "/index.html"), Access::Public);
         assert_eq!(n(Method::POST, None, "/api/x"), Access::Role(Role::Admin));
         assert_eq!(n(Method::GET, None, "/api"), Access::Role(Role::Viewer));
+    }
+
+    #[test]
+    fn without_users_only_direct_loopback_clients_act() {
+        let a = Auth::open();
+        let local = SocketAddr::from(([127, 0, 0, 1], 5000));
+        let h = HeaderMap::new();
+        let who = identify(&a, &h, local).expect("ok").expect("local");
+        assert_eq!((who.0.user, who.0.role), (None, Role::Admin));
+        let mapped: SocketAddr = "[::ffff:127.0.0.1]:5000".parse().expect("addr");
+        assert!(
+            identify(&a, &h, mapped).expect("ok").is_some(),
+            "IPv4 loopback on a dual-stack listener"
+        );
+        assert!(identify(&a, &h, addr(1)).expect("ok").is_none(), "not loopback");
+        for proxy in ["forwarded", "x-forwarded-for", "x-real-ip"] {
+            let mut h = HeaderMap::new();
+            h.insert(proxy, "for=203.0.113.9".parse().expect("header"));
+            assert!(
+                identify(&a, &h, local).expect("ok").is_none(),
+                "{proxy}: forwarded by a local proxy"
+            );
+        }
     }
 
     #[test]
