@@ -6,7 +6,10 @@
 // Roles, each including the one before: viewer < operator < engineer < admin.
 // The session itself is the server's HttpOnly cookie: no token is kept here.
 
-export type Role = 'viewer' | 'operator' | 'engineer' | 'admin';
+import type { Me, Role } from './api.gen';
+
+// The shapes of GET /api/me, generated from the server's reply types.
+export type { Me, Role };
 export const ROLES: readonly Role[] = ['viewer', 'operator', 'engineer', 'admin'];
 
 /**
@@ -31,15 +34,6 @@ const NEEDS: Record<Action, Role> = {
   audit: 'engineer',
   users: 'admin',
 };
-
-/** The user of the session, as GET /api/me answers. */
-export interface Me {
-  /** null when the project has no users (loopback only, full rights). */
-  user: string | null;
-  role: Role;
-  /** false when no users are configured. */
-  users: boolean;
-}
 
 /** The strings of this module (one place; a Spanish catalogue comes later). */
 export const authText = {
