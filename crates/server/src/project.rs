@@ -7,8 +7,8 @@ use alba_compiler::diag::{Diagnostic, FileId, Files};
 use alba_compiler::project::{Language, Project};
 use alba_compiler::{il as alba_il, ladder as alba_ladder};
 use alba_ir::Program;
-use alba_model::TagTable;
-use alba_model::fsutil::write_atomic;
+use alba_ir::model::TagTable;
+use alba_ir::model::fsutil::write_atomic;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 

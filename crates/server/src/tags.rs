@@ -3,8 +3,8 @@
 
 use crate::reply::{self, TagInfo, TagReply, TagValue};
 use alba_ir::layout::SYSTEM_TAGS;
+use alba_ir::model::DataType;
 use alba_ir::{Access, Ctr, Layout, Place, TagSlot, Target, Tmr};
-use alba_model::DataType;
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
 use serde_json::{Map, Value as Json};
@@ -69,7 +69,7 @@ fn forced(s: &Snapshot, name: &str) -> Json {
 }
 
 /// A tag of `tags.csv` as the API shows it.
-fn tag_json(s: &Snapshot, tag: &alba_model::Tag, target: Target) -> TagInfo {
+fn tag_json(s: &Snapshot, tag: &alba_ir::model::Tag, target: Target) -> TagInfo {
     let a = match target {
         Target::Value { access, .. } => access,
         _ => Access::ReadWrite,

@@ -14,8 +14,8 @@ use crate::auth::SessionKey;
 use crate::reply::{ErrorMsg, PowerMsg, StatusMsg};
 use crate::state::AppState;
 use crate::{project, tags};
+use alba_ir::model::Value;
 use alba_ir::{Place, Program, Target};
-use alba_model::Value;
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
 use axum::Extension;
@@ -85,11 +85,11 @@ impl Client {
                 .iter()
                 .flat_map(|n| match layout.resolve(n) {
                     Ok(Target::Value { place, .. }) => vec![(n.clone(), place)],
-                    Ok(Target::Timer(t)) => tags::members(alba_model::DataType::Timer, t.i, t.b)
+                    Ok(Target::Timer(t)) => tags::members(alba_ir::model::DataType::Timer, t.i, t.b)
                         .into_iter()
                         .map(|(m, p)| (format!("{n}.{m}"), p))
                         .collect(),
-                    Ok(Target::Counter(c)) => tags::members(alba_model::DataType::Counter, c.i, c.b)
+                    Ok(Target::Counter(c)) => tags::members(alba_ir::model::DataType::Counter, c.i, c.b)
                         .into_iter()
                         .map(|(m, p)| (format!("{n}.{m}"), p))
                         .collect(),

@@ -10,13 +10,14 @@
 //! only the outcome cannot be set, the action stands and is acknowledged:
 //! its row exists and says `pending` (logged on stderr).
 
+use super::stream;
 use crate::auth::Who;
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{AuditOutcome, AuditPage, AuditRow};
 use crate::state::AppState;
 use alba_audit::{Action, Audit, Entry, Filter, Outcome};
 use axum::Json;
-use axum::body::{Body, Bytes};
+use axum::body::Bytes;
 use axum::extract::connect_info::ConnectInfo;
 use axum::extract::{FromRequestParts, Query, State};
 use axum::http::header;
@@ -25,12 +26,8 @@ use axum::response::{IntoResponse, Response};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::convert::Infallible;
-use std::io;
 use std::net::SocketAddr;
-use std::pin::Pin;
 use std::sync::Arc;
-use std::task::{Context, Poll};
-use tokio::sync::mpsc;
 
 /// Rows per page of `GET /api/audit` unless `limit` says otherwise.
 const DEFAULT_PAGE: usize = 100;
@@ -239,33 +236,6 @@ pub async fn list(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResul
     }))
 }
 
-/// The export's bytes, written on a blocking thread and sent on in chunks.
-struct ChannelWriter(mpsc::Sender<io::Result<Bytes>>);
-
-impl io::Write for ChannelWriter {
-    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.0
-            .blocking_send(Ok(Bytes::copy_from_slice(buf)))
-            .map_err(|_| io::Error::new(io::ErrorKind::BrokenPipe, "the client went away"))?;
-        Ok(buf.len())
-    }
-
-    fn flush(&mut self) -> io::Result<()> {
-        Ok(())
-    }
-}
-
-/// The chunks of a streamed response body.
-struct Chunks(mpsc::Receiver<io::Result<Bytes>>);
-
-impl futures_core::Stream for Chunks {
-    type Item = io::Result<Bytes>;
-
-    fn poll_next(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Option<Self::Item>> {
-        self.0.poll_recv(cx)
-    }
-}
-
 /// `GET /api/audit.csv?from&to&user&action&target&limit`: oldest first, at
 /// most `limit` (and [`MAX_CSV_ROWS`]) rows, streamed: the server holds a
 /// few chunks of it at a time, however many rows match.
@@ -282,21 +252,19 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
         Some(n) if n >= 0 => u64::try_from(n).unwrap_or(0).min(MAX_CSV_ROWS),
         Some(n) => return Err(ApiError::Invalid(format!("`limit` must be at least 0, got {n}"))),
     };
-    // A few 8 KiB chunks in flight at most.
-    let (tx, rx) = mpsc::channel(4);
-    tokio::task::spawn_blocking(move || {
-        let failed = tx.clone();
-        if let Err(e) = a.export_csv(&f, limit, ChannelWriter(tx)) {
-            // Ends the response abnormally: the client sees a cut transfer, not a short file.
-            let _ = failed.blocking_send(Err(io::Error::other(e.to_string())));
+    let (mut w, rx) = stream::channel::<alba_audit::Error>();
+    tokio::task::spawn_blocking(move || match a.export_csv(&f, limit, &mut w) {
+        Ok(_) => {
+            let _ = w.finish();
         }
+        Err(e) => w.fail(e),
     });
     Ok((
         [
             (header::CONTENT_TYPE, "text/csv; charset=utf-8"),
             (header::CONTENT_DISPOSITION, "attachment; filename=\"audit.csv\""),
         ],
-        Body::from_stream(Chunks(rx)),
+        stream::body(Bytes::new(), rx),
     )
         .into_response())
 }

@@ -27,7 +27,7 @@ pub async fn list(State(st): State<Arc<AppState>>) -> Json<Vec<Force>> {
 }
 
 /// The forced value of `name` in `s`, if it is forced.
-fn forced(s: &alba_runtime::Snapshot, name: &str) -> Option<alba_model::Value> {
+fn forced(s: &alba_runtime::Snapshot, name: &str) -> Option<alba_ir::model::Value> {
     s.forces
         .iter()
         .find(|f| f.name.eq_ignore_ascii_case(name))

@@ -1,19 +1,18 @@
 //! `/api/history/tags`, `/api/history`, `/api/history.csv`: queries of the
 //! historian that `alba run` records into (docs/historian.md).
 
+use super::stream;
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{Bucket, History, HistoryTag};
 use crate::state::AppState;
 use alba_historian::Historian;
 use axum::Json;
-use axum::body::{Body, Bytes};
+use axum::body::Bytes;
 use axum::extract::{Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
-use futures_util::StreamExt;
 use std::collections::HashMap;
 use std::sync::Arc;
-use std::time::Duration;
 
 /// The most rows a CSV export answers with.
 const MAX_CSV_ROWS: i64 = 1_000_000;
@@ -122,90 +121,32 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
     }
     // One export at a time per permit; the others wait their turn.
     let permit = EXPORTS.acquire().await.map_err(|e| ApiError::Internal(e.to_string()))?;
-    let (tx, mut rx) = tokio::sync::mpsc::channel::<Result<Vec<u8>, alba_historian::Error>>(4);
-    let rt = tokio::runtime::Handle::current();
+    let (mut w, mut rx) = stream::channel::<alba_historian::Error>();
     tokio::task::spawn_blocking(move || {
         let _permit = permit;
-        let mut w = ChunkWriter {
-            tx: tx.clone(),
-            rt: rt.clone(),
-            buf: Vec::with_capacity(CSV_CHUNK),
-        };
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        let done = h
-            .export_csv(&refs, from, to, step, &mut w)
-            .and_then(|_| w.send().map_err(alba_historian::Error::from));
-        if let Err(e) = done {
-            // The client may be gone, or the answer started: then it is cut short.
-            let _ = rt.block_on(tokio::time::timeout(CSV_SEND_TIMEOUT, tx.send(Err(e))));
+        match h.export_csv(&refs, from, to, step, &mut w) {
+            Ok(_) => {
+                let _ = w.finish();
+            }
+            Err(e) => w.fail(e),
         }
     });
     // A failure before the first bytes (an unknown tag) is an API error.
     let first = match rx.recv().await {
         Some(Ok(bytes)) => bytes,
         Some(Err(e)) => return Err(e.into()),
-        None => Vec::new(),
+        None => Bytes::new(),
     };
-    let rest = futures_util::stream::unfold(rx, |mut rx| async move {
-        let item = rx.recv().await?.map(Bytes::from).map_err(std::io::Error::other);
-        Some((item, rx))
-    });
-    let body = futures_util::stream::once(async move { Ok::<_, std::io::Error>(Bytes::from(first)) }).chain(rest);
     Ok((
         [
             (header::CONTENT_TYPE, "text/csv; charset=utf-8"),
             (header::CONTENT_DISPOSITION, "attachment; filename=\"trend.csv\""),
         ],
-        Body::from_stream(body),
+        stream::body(first, rx),
     )
         .into_response())
 }
 
 /// Exports run at once (each holds a reader of the historian and a thread).
 static EXPORTS: tokio::sync::Semaphore = tokio::sync::Semaphore::const_new(2);
-/// The size of the pieces a CSV export is sent in.
-const CSV_CHUNK: usize = 64 * 1024;
-/// A client that takes no piece for this long is given up.
-const CSV_SEND_TIMEOUT: Duration = Duration::from_secs(30);
-
-/// Sends what the export writes, in pieces of [`CSV_CHUNK`] bytes, to the
-/// answer's body; at most a few pieces wait in memory.
-struct ChunkWriter {
-    tx: tokio::sync::mpsc::Sender<Result<Vec<u8>, alba_historian::Error>>,
-    rt: tokio::runtime::Handle,
-    buf: Vec<u8>,
-}
-
-impl ChunkWriter {
-    fn send(&mut self) -> std::io::Result<()> {
-        if self.buf.is_empty() {
-            return Ok(());
-        }
-        let piece = std::mem::replace(&mut self.buf, Vec::with_capacity(CSV_CHUNK));
-        match self
-            .rt
-            .block_on(tokio::time::timeout(CSV_SEND_TIMEOUT, self.tx.send(Ok(piece))))
-        {
-            Ok(Ok(())) => Ok(()),
-            Ok(Err(_)) => Err(std::io::Error::new(std::io::ErrorKind::BrokenPipe, "the client left")),
-            Err(_) => Err(std::io::Error::new(
-                std::io::ErrorKind::TimedOut,
-                "the client takes nothing",
-            )),
-        }
-    }
-}
-
-impl std::io::Write for ChunkWriter {
-    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
-        self.buf.extend_from_slice(b);
-        if self.buf.len() >= CSV_CHUNK {
-            self.send()?;
-        }
-        Ok(b.len())
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}

@@ -9,6 +9,7 @@ pub mod history;
 pub mod programs;
 pub mod session;
 pub mod status;
+pub mod stream;
 pub mod tags;
 
 use crate::error::ApiError;
