@@ -87,6 +87,31 @@ args: Array<ArgInfo>,
  */
 instructions: Array<InstructionInfo>, };
 
+export type DomainReply = { 
+/**
+ * The routes with their own rule; any other route needs `viewer` for
+ * GET and `admin` for anything else.
+ */
+routes: Array<RouteRole>, 
+/**
+ * Every data type a tag may have, elementary ones first.
+ */
+types: Array<TypeInfo>, 
+/**
+ * Palette groups in palette order.
+ */
+groups: Array<GroupInfo>, 
+/**
+ * Kinds of operands (the `args` of instructions).
+ */
+args: Array<ArgInfo>, 
+/**
+ * Every ladder instruction, grouped in palette order.
+ */
+instructions: Array<InstructionInfo>, };
+
+export type RouteRole = { method: string, route: string, role: Role | null, };
+
 export type TypeInfo = { name: string, 
 /**
  * `bool`, `integer`, `real` or `structure`.

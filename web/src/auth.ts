@@ -7,6 +7,7 @@
 // The session itself is the server's HttpOnly cookie: no token is kept here.
 
 import type { Me, Role } from './api.gen';
+import { domain } from './domain';
 
 // The shapes of GET /api/me, generated from the server's reply types.
 export type { Me, Role };
@@ -25,15 +26,28 @@ export const ROLES: readonly Role[] = ['viewer', 'operator', 'engineer', 'admin'
  */
 export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'users';
 
-const NEEDS: Record<Action, Role> = {
-  write: 'operator',
-  force: 'engineer',
-  edit: 'engineer',
-  tags: 'engineer',
-  runstop: 'engineer',
-  audit: 'engineer',
-  users: 'admin',
+/** The route each action is (the server's role table decides its role). */
+const ROUTE: Record<Action, [method: string, route: string]> = {
+  write: ['PUT', '/api/tags/{name}'],
+  force: ['PUT', '/api/forces/{name}'],
+  edit: ['PUT', '/api/programs/{name}'],
+  tags: ['PUT', '/api/tags.csv'],
+  runstop: ['POST', '/api/stop'],
+  audit: ['GET', '/api/audit'],
+  // No route of its own yet: user management is `alba user` on the controller.
+  users: ['POST', '/api/users'],
 };
+
+/**
+ * The role a route needs, from the server's table (GET /api/domain `routes`);
+ * a route without a rule of its own needs viewer to read and admin to change
+ * anything, as on the server.
+ */
+export function routeRole(method: string, route: string): Role {
+  const r = domain().routes.find((x) => x.method === method && x.route === route);
+  if (r) return r.role ?? 'viewer';
+  return method === 'GET' || method === 'HEAD' ? 'viewer' : 'admin';
+}
 
 /** The strings of this module (one place; a Spanish catalogue comes later). */
 export const authText = {
@@ -60,7 +74,7 @@ export function isRole(x: unknown): x is Role {
 
 /** The role `action` needs. */
 export function needs(action: Action): Role {
-  return NEEDS[action];
+  return routeRole(...ROUTE[action]);
 }
 
 /** `a` includes `b` (admin includes every role, viewer only itself). */
@@ -70,12 +84,12 @@ export function atLeast(a: Role, b: Role): boolean {
 
 /** May the user do `action`? */
 export function can(action: Action, who: Me = current): boolean {
-  return atLeast(who.role, NEEDS[action]);
+  return atLeast(who.role, needs(action));
 }
 
 /** Why the user may not do `action` (a tooltip), or undefined when they may. */
 export function why(action: Action, who: Me = current): string | undefined {
-  return can(action, who) ? undefined : authText.needs(NEEDS[action]);
+  return can(action, who) ? undefined : authText.needs(needs(action));
 }
 
 /**
@@ -88,7 +102,7 @@ export function gate<E extends HTMLElement & { disabled: boolean }>(el: E, actio
   if (reason) {
     el.disabled = true;
     el.title = reason;
-    el.dataset.needs = NEEDS[action];
+    el.dataset.needs = needs(action);
   }
   return reason === undefined;
 }

@@ -7,11 +7,13 @@
 // keeping its own copy. Unit tests set it from test/fixtures/domain.json, a
 // copy of the reply that the server's tests keep equal to it.
 
-import type { ArgInfo, Domain, GroupInfo, InstructionInfo, MemberInfo, TypeInfo } from './api.gen';
+import type { ArgInfo, DomainReply, GroupInfo, InstructionInfo, MemberInfo, RouteRole, TypeInfo } from './api.gen';
 
-export type { ArgInfo, Domain, GroupInfo, InstructionInfo, MemberInfo, TypeInfo };
+/** GET /api/domain: the language, and the role each route needs. */
+export type Domain = DomainReply;
+export type { ArgInfo, GroupInfo, InstructionInfo, MemberInfo, RouteRole, TypeInfo };
 
-let current: Domain = { types: [], groups: [], args: [], instructions: [] };
+let current: Domain = { types: [], groups: [], args: [], instructions: [], routes: [] };
 let byMnemonic = new Map<string, InstructionInfo>();
 let byType = new Map<string, TypeInfo>();
 let byArg = new Map<string, ArgInfo>();

@@ -2,6 +2,7 @@ import { afterEach, describe, expect, it, vi } from 'vitest';
 import { ApiError, api, onUnauthorized } from '../src/api';
 import { type Action, LOCAL, type Me, type Role, ROLES, can, gate, me, needs, parseMe, setMe, whoLabel, why } from '../src/auth';
 import { type Ctx, TagCache } from '../src/ctx';
+import { domain, setDomain } from '../src/domain';
 import { ProgramEditor } from '../src/editor/program';
 import { LiveClient } from '../src/live/client';
 import { TagsView } from '../src/tags/view';
@@ -33,6 +34,21 @@ describe('roles and what they may do (the route table of docs/api.md)', () => {
       expect(needs(action)).toBe(allowed[0]);
     });
   }
+
+  it("takes each action's role from the server's route table (GET /api/domain routes)", () => {
+    const saved = domain();
+    try {
+      const routes = saved.routes.map((r) => (r.route === '/api/tags/{name}' ? { ...r, role: 'engineer' as Role } : r));
+      setDomain({ ...saved, routes });
+      expect(needs('write')).toBe('engineer');
+      expect(can('write', user('operator'))).toBe(false);
+      // A change without a rule of its own needs admin, a read viewer, as on the server.
+      setDomain({ ...saved, routes: [] });
+      expect([needs('write'), needs('audit')]).toEqual(['admin', 'viewer']);
+    } finally {
+      setDomain(saved);
+    }
+  });
 
   it('a viewer may do nothing that changes anything', () => {
     const v = user('viewer');

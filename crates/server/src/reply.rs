@@ -354,6 +354,27 @@ pub struct Me {
     pub users: bool,
 }
 
+/// `GET /api/domain`: the language (from `alba_ladder::domain`) and the role
+/// each route needs (`ROUTE_ROLES`), so the studio knows what a user may do
+/// without a table of its own.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct DomainReply {
+    #[serde(flatten)]
+    #[ts(flatten)]
+    pub language: Domain,
+    /// The routes with their own rule; any other route needs `viewer` for
+    /// GET and `admin` for anything else.
+    pub routes: Vec<RouteRole>,
+}
+
+/// A route of `ROUTE_ROLES` and the role it needs (`null`: anybody).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct RouteRole {
+    pub method: String,
+    pub route: String,
+    pub role: Option<RoleName>,
+}
+
 /// WebSocket: power flow of a monitored program.
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct PowerMsg {
@@ -424,6 +445,8 @@ pub fn typescript() -> String {
         Checked,
         Saved,
         Domain,
+        DomainReply,
+        RouteRole,
         TypeInfo,
         MemberInfo,
         GroupInfo,
