@@ -42,6 +42,14 @@ function notify(message: string, kind: 'info' | 'error' = 'info'): void {
 }
 
 async function start(me: Me): Promise<void> {
+  // The domain first: the language, and the role table that decides what the
+  // controls below enable.
+  try {
+    setDomain(await api.domain());
+  } catch (e) {
+    document.body.append(h('p', { class: 'fatal' }, `Cannot load the studio: ${e instanceof Error ? e.message : String(e)}`));
+    return;
+  }
   const live = new LiveClient();
   const tags = new TagCache();
   const statusBar = new StatusBar();
@@ -146,9 +154,7 @@ async function start(me: Me): Promise<void> {
 
   let status, programs: ProgramRef[];
   try {
-    let domain;
-    [status, programs, domain] = await Promise.all([api.status(), api.programs(), api.domain(), tags.refresh()]);
-    setDomain(domain);
+    [status, programs] = await Promise.all([api.status(), api.programs(), tags.refresh()]);
   } catch (e) {
     main.append(h('p', { class: 'fatal' }, `Cannot load the project: ${e instanceof Error ? e.message : String(e)}`));
     return;
