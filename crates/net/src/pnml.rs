@@ -48,11 +48,11 @@ fn parse_int(s: &str) -> Result<i64, String> {
     if let Ok(n) = t.parse::<i64>() {
         return Ok(n);
     }
-    if t.parse::<f64>().is_ok() {
-        return Err(format!("`{t}` is not a whole number"));
-    }
     if t.trim_start_matches(['-', '+']).chars().all(|c| c.is_ascii_digit()) {
         return Err(format!("`{t}` is far too large"));
+    }
+    if t.parse::<f64>().is_ok() {
+        return Err(format!("`{t}` is not a whole number"));
     }
     Err(format!("`{t}` is not a number"))
 }
@@ -793,7 +793,7 @@ impl<'a> Loader<'a> {
                 let d = Diagnostic::new(
                     Code::PnmlAlba,
                     format!(
-                        "arc `{}`: a {} arc goes from a place to a transition",
+                        "arc `{}`: {} arcs go from a place to a transition",
                         a.id,
                         a.kind.as_str()
                     ),

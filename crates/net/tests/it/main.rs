@@ -1,3 +1,4 @@
 //! Tests of the PNML loader and saver.
 
 mod fixtures;
+mod malformed;
