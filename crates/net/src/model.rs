@@ -302,6 +302,10 @@ pub struct Net {
     pub page_id: String,
     /// The net's own graphics/unknown toolspecific blocks.
     pub extra: Extra,
+    /// Prefixed namespace declarations (`xmlns:pn`, value) of `<pnml>` and
+    /// `<net>`, written back on `<pnml>` so that kept blocks that use a
+    /// prefix stay well-formed.
+    pub namespaces: Vec<(String, String)>,
     /// The `<net>` start tag.
     pub span: Span,
 }
@@ -323,6 +327,7 @@ impl Net {
             widgets: Vec::new(),
             page_id: "page0".to_string(),
             extra: Extra::default(),
+            namespaces: Vec::new(),
             span: no_span(),
         }
     }

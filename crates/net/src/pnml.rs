@@ -910,7 +910,16 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             l.help("a PNML file is <pnml><net id=\"..\" type=\"..\">...</net></pnml>");
             return (None, l.diags);
         }
-        [net] => l.load_net(net),
+        [net] => {
+            for e in [&root, *net] {
+                for (k, v) in &e.attrs {
+                    if k.starts_with("xmlns:") && !l.net.namespaces.iter().any(|(n, _)| n == k) {
+                        l.net.namespaces.push((k.clone(), v.clone()));
+                    }
+                }
+            }
+            l.load_net(net)
+        }
         [_, second, ..] => {
             let span = l.tag_span(second);
             l.error(
@@ -1037,7 +1046,13 @@ fn props(body: &mut Vec<String>, props: &BTreeMap<String, String>) {
 pub fn save(net: &Net) -> String {
     let mut w = W { out: String::new() };
     w.line(0, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
-    w.line(0, "<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\">");
+    let mut ns = String::new();
+    for (k, v) in &net.namespaces {
+        if k != "xmlns:" && k.len() > "xmlns:".len() {
+            ns.push_str(&format!(" {}=\"{}\"", esc_attr(k), esc_attr(v)));
+        }
+    }
+    w.line(0, &format!("<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"{ns}>"));
     w.line(
         1,
         &format!(

@@ -60,7 +60,14 @@ fn open(e: &quick_xml::events::BytesStart, start: usize, end: usize) -> Result<E
             offset: start,
             message: format!("bad attribute: {err}"),
         })?;
-        let key = local(a.key.as_ref());
+        // Namespace declarations keep their prefix (`xmlns:pn`); other
+        // attributes are known by their local name.
+        let full = a.key.as_ref();
+        let key = if full.starts_with(b"xmlns") {
+            String::from_utf8_lossy(full).into_owned()
+        } else {
+            local(full)
+        };
         let value = a.unescape_value().map_err(|err| XmlError {
             offset: start,
             message: format!("bad attribute value: {err}"),
