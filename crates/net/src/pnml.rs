@@ -484,21 +484,53 @@ impl<'a> Loader<'a> {
 
     fn page(&mut self, e: &Elem) {
         let id = self.id(e);
-        if self.first_page {
+        let first = self.first_page;
+        if first {
             self.first_page = false;
-            if let Some(id) = id {
-                self.net.page_id = id;
+            if let Some(id) = &id {
+                self.net.page_id = id.clone();
             }
         }
+        let mut extra = Extra::default();
+        let mut seen = HashSet::new();
         for c in &e.children {
             match c.name.as_str() {
                 "page" => self.page(c),
                 "place" | "transition" | "arc" | "referencePlace" | "referenceTransition" => self.node(c),
-                // A page's own name, graphics and tool data are not kept
-                // (pages are flattened: docs/nets.md).
-                "name" | "graphics" | "toolspecific" => {}
+                // The first page's name, graphics and other tools' blocks
+                // are kept; nested pages are flattened into it, so theirs
+                // are dropped with a warning (docs/nets.md).
+                "name" | "graphics" | "toolspecific" if first => match c.name.as_str() {
+                    "name" => {
+                        if self.once(&mut seen, "name", c)
+                            && let Some(t) = self.label_text(c)
+                        {
+                            self.net.page_name = Some(t.text.clone());
+                            self.keep_label_graphics(c, &mut extra);
+                        }
+                    }
+                    "graphics" => extra.graphics = Some(self.graphics(c)),
+                    _ => extra.toolspecific.push(self.raw(c)),
+                },
+                "name" | "graphics" | "toolspecific" => {
+                    if self.warned.insert(format!("nested page/{}", c.name)) {
+                        let span = self.tag_span(c);
+                        self.error(
+                            Code::PnmlIgnored,
+                            format!(
+                                "the <{}> of a nested page is dropped: pages are flattened into the first",
+                                c.name
+                            ),
+                            span,
+                            "dropped",
+                        );
+                    }
+                }
                 _ => self.ignored(c, "page"),
             }
+        }
+        if first {
+            self.net.page_extra = extra;
         }
     }
 
@@ -1052,7 +1084,10 @@ pub fn save(net: &Net) -> String {
             ns.push_str(&format!(" {}=\"{}\"", esc_attr(k), esc_attr(v)));
         }
     }
-    w.line(0, &format!("<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"{ns}>"));
+    w.line(
+        0,
+        &format!("<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"{ns}>"),
+    );
     w.line(
         1,
         &format!(
@@ -1082,6 +1117,10 @@ pub fn save(net: &Net) -> String {
     }
     w.alba(2, &body);
     w.line(2, &format!("<page id=\"{}\">", esc_attr(&net.page_id)));
+    if let Some(n) = &net.page_name {
+        w.label(3, "name", n, &net.page_extra);
+    }
+    w.extra(3, &net.page_extra);
     for p in &net.places {
         w.line(3, &format!("<place id=\"{}\">", esc_attr(&p.id)));
         if let Some(n) = &p.name {

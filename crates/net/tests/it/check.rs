@@ -18,7 +18,10 @@ pub fn pnml_input(src: &str) -> Result<Vec<Diagnostic>, String> {
         };
         let r = p.span.range();
         if r.start > r.end || r.end > src.len() || !src.is_char_boundary(r.start) || !src.is_char_boundary(r.end) {
-            return Err(format!("span {r:?} outside the input or off a character boundary: {}", d.message));
+            return Err(format!(
+                "span {r:?} outside the input or off a character boundary: {}",
+                d.message
+            ));
         }
         let _ = d.short(&files);
         let _ = d.render(&files);

@@ -106,7 +106,12 @@ fn pipe_legacy_form_loads_with_warnings() {
     );
     // One warning per ignored element name and parent, located.
     let msgs: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
-    for m in ["<token> in <net>", "<capacity> in <place>", "<rate> in <transition>", "<arcpath> in <arc>"] {
+    for m in [
+        "<token> in <net>",
+        "<capacity> in <place>",
+        "<rate> in <transition>",
+        "<arcpath> in <arc>",
+    ] {
         assert_eq!(msgs.iter().filter(|x| x.starts_with(m)).count(), 1, "{m}: {msgs:#?}");
     }
     assert!(diags.iter().all(|d| d.code == alba_diag::Code::PnmlIgnored));
@@ -134,13 +139,22 @@ fn nested_pages_are_flattened_and_references_resolved() {
     assert!(diags.is_empty(), "{diags:#?}");
     assert_eq!(net.name.as_deref(), Some("Cell"));
     assert_eq!(net.page_id, "main");
+    assert_eq!(net.page_name.as_deref(), Some("Main"));
     let ids: Vec<&str> = net.places.iter().map(|p| p.id.as_str()).collect();
     assert_eq!(ids, ["parts", "loaded"]);
-    let arcs: Vec<(&str, &str, u32)> =
-        net.arcs.iter().map(|a| (a.source.as_str(), a.target.as_str(), a.weight)).collect();
+    let arcs: Vec<(&str, &str, u32)> = net
+        .arcs
+        .iter()
+        .map(|a| (a.source.as_str(), a.target.as_str(), a.weight))
+        .collect();
     assert_eq!(
         arcs,
-        [("parts", "load", 2), ("load", "loaded", 1), ("loaded", "unload", 1), ("unload", "parts", 2)]
+        [
+            ("parts", "load", 2),
+            ("load", "loaded", 1),
+            ("loaded", "unload", 1),
+            ("unload", "parts", 2)
+        ]
     );
     assert!(net.arcs[0].extra.label_graphics["inscription"].contains("offset"));
 }
@@ -150,8 +164,33 @@ fn prefixed_blocks_stay_well_formed_when_saved() {
     let (net, _) = load_ok("pages_references.pnml");
     assert_eq!(
         net.namespaces,
-        [("xmlns:pn".to_string(), "http://www.pnml.org/version-2009/grammar/pnml".to_string())]
+        [(
+            "xmlns:pn".to_string(),
+            "http://www.pnml.org/version-2009/grammar/pnml".to_string()
+        )]
     );
     let saved = save(&net);
-    assert!(saved.contains("xmlns:pn=\"http://www.pnml.org/version-2009/grammar/pnml\""), "{saved}");
+    assert!(
+        saved.contains("xmlns:pn=\"http://www.pnml.org/version-2009/grammar/pnml\""),
+        "{saved}"
+    );
+}
+
+#[test]
+fn nested_page_data_is_dropped_with_one_warning() {
+    let text = r#"<pnml><net id="n" type="ptnet"><page id="a"><toolspecific tool="x" version="1"/>
+<page id="b"><name><text>B</text></name><toolspecific tool="y" version="1"/><toolspecific tool="z" version="1"/>
+<place id="p"/></page></page></net></pnml>"#;
+    let (net, diags) = load(FileId(0), text);
+    let net = net.unwrap();
+    assert_eq!(net.page_extra.toolspecific, [r#"<toolspecific tool="x" version="1"/>"#]);
+    let msgs: Vec<&str> = diags.iter().map(|d| d.message.as_str()).collect();
+    assert_eq!(
+        msgs,
+        [
+            "the <name> of a nested page is dropped: pages are flattened into the first",
+            "the <toolspecific> of a nested page is dropped: pages are flattened into the first"
+        ]
+    );
+    assert!(diags.iter().all(is_warning));
 }

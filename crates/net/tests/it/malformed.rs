@@ -39,7 +39,9 @@ fn every_malformed_input_gets_its_located_error() {
         let expect = std::fs::read_to_string(path.with_extension("expect"))
             .unwrap_or_else(|e| panic!("{}: no .expect: {e}", path.display()));
         let parts: Vec<&str> = expect.trim().split('|').collect();
-        let code: Code = parts[0].parse().unwrap_or_else(|_| panic!("{}: bad code", path.display()));
+        let code: Code = parts[0]
+            .parse()
+            .unwrap_or_else(|_| panic!("{}: bad code", path.display()));
         let (net, err, files) = first_error(&text);
         let name = path.file_name().unwrap().to_string_lossy();
         assert!(net.is_none(), "{name}: a net despite an error");

@@ -27,7 +27,8 @@ fn graphics() -> impl Strategy<Value = Option<Graphics>> {
 
 fn foreign() -> impl Strategy<Value = Vec<String>> {
     proptest::collection::vec(
-        "[a-z]{1,5}".prop_map(|t| format!("<toolspecific tool=\"{t}\" version=\"2\"><x a=\"1\">y &amp; z</x></toolspecific>")),
+        "[a-z]{1,5}"
+            .prop_map(|t| format!("<toolspecific tool=\"{t}\" version=\"2\"><x a=\"1\">y &amp; z</x></toolspecific>")),
         0..2,
     )
 }
@@ -59,7 +60,12 @@ const PLACE_KINDS: [ElementKind; 8] = [
     ElementKind::End,
 ];
 const TRANSITION_KINDS: [ElementKind; 3] = [ElementKind::Transition, ElementKind::Condition, ElementKind::Timer];
-const WIDGET_KINDS: [ElementKind; 4] = [ElementKind::Button, ElementKind::Display, ElementKind::Plot, ElementKind::Label];
+const WIDGET_KINDS: [ElementKind; 4] = [
+    ElementKind::Button,
+    ElementKind::Display,
+    ElementKind::Plot,
+    ElementKind::Label,
+];
 
 fn net() -> impl Strategy<Value = Net> {
     let places = proptest::collection::vec(
@@ -88,7 +94,14 @@ fn net() -> impl Strategy<Value = Net> {
         0..6,
     );
     let arcs = proptest::collection::vec(
-        (any::<bool>(), any::<usize>(), any::<usize>(), 1..=MAX_WEIGHT, 0..3u8, extra()),
+        (
+            any::<bool>(),
+            any::<usize>(),
+            any::<usize>(),
+            1..=MAX_WEIGHT,
+            0..3u8,
+            extra(),
+        ),
         0..12,
     );
     let widgets = proptest::collection::vec(
@@ -110,68 +123,74 @@ fn net() -> impl Strategy<Value = Net> {
         widgets,
         id(),
         extra(),
+        (proptest::option::of(text()), extra()),
     )
-        .prop_map(|(nid, name, normal, places, transitions, arcs, widgets, page, extra)| {
-            let mut net = Net::new(format!("n{nid}"));
-            net.name = name;
-            net.mode = if normal { Mode::Normal } else { Mode::Petri };
-            net.page_id = format!("g{page}");
-            net.extra = extra;
-            for (i, (id, name, initial, tag, kind, props, script, extra)) in places.into_iter().enumerate() {
-                let mut p = Place::new(format!("p{i}{id}"), initial);
-                p.name = name;
-                p.tag = tag;
-                p.kind = kind;
-                p.props = props;
-                p.script = script;
-                p.extra = extra;
-                net.places.push(p);
-            }
-            for (i, (id, name, guard, priority, kind, props, extra)) in transitions.into_iter().enumerate() {
-                let mut t = Transition::new(format!("t{i}{id}"));
-                t.name = name;
-                t.guard = guard.map(|text| Guard { text, span: no_span() });
-                t.priority = priority;
-                t.kind = kind;
-                t.props = props;
-                t.extra = extra;
-                net.transitions.push(t);
-            }
-            let (np, nt) = (net.places.len(), net.transitions.len());
-            if np > 0 && nt > 0 {
-                let mut seen = std::collections::HashSet::new();
-                for (i, (to_t, pi, ti, weight, kind, extra)) in arcs.into_iter().enumerate() {
-                    let (p, t) = (net.places[pi % np].id.clone(), net.transitions[ti % nt].id.clone());
-                    let kind = match (to_t, kind) {
-                        (true, 1) => ArcKind::Inhibitor,
-                        (true, 2) => ArcKind::Read,
-                        _ => ArcKind::Normal,
-                    };
-                    let (s, d) = if to_t { (p, t) } else { (t, p) };
-                    if !seen.insert((s.clone(), d.clone())) {
-                        continue;
-                    }
-                    let mut a = Arc::new(format!("a{i}"), s, d, weight);
-                    a.kind = kind;
-                    a.extra = extra;
-                    net.arcs.push(a);
+        .prop_map(
+            |(nid, name, normal, places, transitions, arcs, widgets, page, extra, (page_name, page_extra))| {
+                let mut net = Net::new(format!("n{nid}"));
+                net.name = name;
+                net.mode = if normal { Mode::Normal } else { Mode::Petri };
+                net.page_id = format!("g{page}");
+                net.extra = extra;
+                net.page_name = page_name;
+                net.page_extra = page_extra;
+                for (i, (id, name, initial, tag, kind, props, script, extra)) in places.into_iter().enumerate() {
+                    let mut p = Place::new(format!("p{i}{id}"), initial);
+                    p.name = name;
+                    p.tag = tag;
+                    p.kind = kind;
+                    p.props = props;
+                    p.script = script;
+                    p.extra = extra;
+                    net.places.push(p);
                 }
-            }
-            for (i, (kind, tag, text, position)) in widgets.into_iter().enumerate() {
-                net.widgets.push(Widget {
-                    id: format!("w{i}"),
-                    kind,
-                    tag,
-                    text,
-                    position,
-                });
-            }
-            net
-        })
+                for (i, (id, name, guard, priority, kind, props, extra)) in transitions.into_iter().enumerate() {
+                    let mut t = Transition::new(format!("t{i}{id}"));
+                    t.name = name;
+                    t.guard = guard.map(|text| Guard { text, span: no_span() });
+                    t.priority = priority;
+                    t.kind = kind;
+                    t.props = props;
+                    t.extra = extra;
+                    net.transitions.push(t);
+                }
+                let (np, nt) = (net.places.len(), net.transitions.len());
+                if np > 0 && nt > 0 {
+                    let mut seen = std::collections::HashSet::new();
+                    for (i, (to_t, pi, ti, weight, kind, extra)) in arcs.into_iter().enumerate() {
+                        let (p, t) = (net.places[pi % np].id.clone(), net.transitions[ti % nt].id.clone());
+                        let kind = match (to_t, kind) {
+                            (true, 1) => ArcKind::Inhibitor,
+                            (true, 2) => ArcKind::Read,
+                            _ => ArcKind::Normal,
+                        };
+                        let (s, d) = if to_t { (p, t) } else { (t, p) };
+                        if !seen.insert((s.clone(), d.clone())) {
+                            continue;
+                        }
+                        let mut a = Arc::new(format!("a{i}"), s, d, weight);
+                        a.kind = kind;
+                        a.extra = extra;
+                        net.arcs.push(a);
+                    }
+                }
+                for (i, (kind, tag, text, position)) in widgets.into_iter().enumerate() {
+                    net.widgets.push(Widget {
+                        id: format!("w{i}"),
+                        kind,
+                        tag,
+                        text,
+                        position,
+                    });
+                }
+                net
+            },
+        )
 }
 
 fn forget_raw(net: &mut Net) {
     let all = std::iter::once(&mut net.extra)
+        .chain(std::iter::once(&mut net.page_extra))
         .chain(net.places.iter_mut().map(|p| &mut p.extra))
         .chain(net.transitions.iter_mut().map(|t| &mut t.extra))
         .chain(net.arcs.iter_mut().map(|a| &mut a.extra));
