@@ -36,6 +36,8 @@ struct Loader<'a> {
     ids: HashMap<String, Span>,
     /// Reference node id → (referenced id, span).
     refs: HashMap<String, (String, Span)>,
+    /// Reference node id → the node it stands for (`None`: a cycle).
+    resolved: HashMap<String, Option<String>>,
     net: Net,
     first_page: bool,
 }
@@ -749,21 +751,48 @@ impl<'a> Loader<'a> {
     }
 
     /// Follows reference nodes to the node they stand for.
+    /// Follows reference nodes to the node they stand for (`None` for a
+    /// cycle). Results are remembered for every node on the way, so a long
+    /// chain named by many arcs costs its length once, not once per arc.
     fn resolve(&mut self, id: &str, span: Span) -> Option<String> {
-        let mut cur = id.to_string();
-        for _ in 0..=self.refs.len() {
-            match self.refs.get(&cur) {
-                Some((next, _)) => cur = next.clone(),
-                None => return Some(cur),
-            }
+        if !self.refs.contains_key(id) {
+            return Some(id.to_string());
         }
-        self.error(
-            Code::PnmlArc,
-            format!("the reference `{id}` refers to itself in a cycle"),
-            span,
-            "cyclic reference",
-        );
-        None
+        let result = match self.resolved.get(id) {
+            Some(r) => r.clone(),
+            None => {
+                let mut path = Vec::new();
+                let mut on_path = HashSet::new();
+                let mut cur = id.to_string();
+                let result = loop {
+                    if let Some(r) = self.resolved.get(&cur) {
+                        break r.clone();
+                    }
+                    let Some((next, _)) = self.refs.get(&cur) else {
+                        break Some(cur);
+                    };
+                    if !on_path.insert(cur.clone()) {
+                        break None;
+                    }
+                    let next = next.clone();
+                    path.push(cur);
+                    cur = next;
+                };
+                for p in path {
+                    self.resolved.insert(p, result.clone());
+                }
+                result
+            }
+        };
+        if result.is_none() {
+            self.error(
+                Code::PnmlArc,
+                format!("the reference `{id}` refers to itself in a cycle"),
+                span,
+                "cyclic reference",
+            );
+        }
+        result
     }
 
     fn check_arcs(&mut self) {
@@ -896,14 +925,14 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             let end = (off + 1..=text.len())
                 .find(|&i| text.is_char_boundary(i))
                 .unwrap_or(off);
-            let code = if err.message.contains("nested deeper") {
-                Code::PnmlLimit
-            } else {
-                Code::PnmlSyntax
-            };
+            let code = if err.limit { Code::PnmlLimit } else { Code::PnmlSyntax };
             let d = Diagnostic::new(
                 code,
-                format!("not well-formed XML: {}", err.message),
+                if err.limit {
+                    format!("the file is too large to read: {}", err.message)
+                } else {
+                    format!("not well-formed XML: {}", err.message)
+                },
                 Span::new(file, off..end),
                 "here",
             );
@@ -917,6 +946,7 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
         warned: HashSet::new(),
         ids: HashMap::new(),
         refs: HashMap::new(),
+        resolved: HashMap::new(),
         net: Net::new(""),
         first_page: true,
     };

@@ -104,3 +104,35 @@ fn every_error_is_reported_not_only_the_first() {
     let codes: Vec<Code> = diags.iter().map(|d| d.code).collect();
     assert_eq!(codes, [Code::PnmlNumber, Code::PnmlDuplicateId, Code::PnmlArc]);
 }
+
+#[test]
+fn too_many_elements_are_refused() {
+    let text = format!("<pnml>{}</pnml>", "<a/>".repeat(MAX_ELEMENTS + 1));
+    let (_, err, _) = first_error(&text);
+    assert_eq!(err.code, Code::PnmlLimit);
+    assert!(err.message.contains("more than 1000000 elements"), "{}", err.message);
+}
+
+#[test]
+fn a_long_chain_of_references_named_by_many_arcs_is_resolved_once() {
+    let n = 20_000;
+    let mut text = String::from("<pnml><net id=\"n\" type=\"ptnet\"><page id=\"g\"><place id=\"p\"/>");
+    text.push_str("<referencePlace id=\"r0\" ref=\"p\"/>");
+    for i in 1..n {
+        text.push_str(&format!("<referencePlace id=\"r{i}\" ref=\"r{}\"/>", i - 1));
+    }
+    for i in 0..n {
+        text.push_str(&format!(
+            "<transition id=\"t{i}\"/><arc id=\"a{i}\" source=\"r{}\" target=\"t{i}\"/>",
+            n - 1
+        ));
+    }
+    text.push_str("</page></net></pnml>");
+    let start = std::time::Instant::now();
+    let (net, diags) = load(FileId(0), &text);
+    assert!(diags.is_empty(), "{:?}", &diags[..1]);
+    let net = net.unwrap();
+    assert!(net.arcs.iter().all(|a| a.source == "p"));
+    // Quadratic resolution would take minutes here.
+    assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
+}
