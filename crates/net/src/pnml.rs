@@ -156,6 +156,7 @@ impl<'a> Loader<'a> {
                 span,
                 "empty id",
             );
+            self.help("every PNML node, arc and page has a non-empty id unique in the document");
             return None;
         }
         if let Some(first) = self.ids.get(id).copied() {
@@ -207,6 +208,7 @@ impl<'a> Loader<'a> {
             span,
             "second one",
         );
+        self.help("each label (name, initialMarking, inscription) appears at most once on an element; remove one");
         false
     }
 
@@ -227,10 +229,12 @@ impl<'a> Loader<'a> {
         match parse_int(&text) {
             Ok(n) if n < lo => {
                 self.error(Code::PnmlNumber, format!("{what} {n} is below {lo}"), span, "too small");
+                self.help(&format!("{what} is a whole number from {lo} to {hi}"));
                 None
             }
             Ok(n) if n > hi => {
                 self.error(Code::PnmlNumber, format!("{what} {n} is above {hi}"), span, "too large");
+                self.help(&format!("{what} is a whole number from {lo} to {hi}"));
                 None
             }
             Ok(n) => Some(n),
@@ -257,6 +261,7 @@ impl<'a> Loader<'a> {
                         span,
                         "bad position",
                     );
+                    self.help("write <position x=\"10.5\" y=\"20\"/>");
                 }
             }
         }
@@ -318,6 +323,7 @@ impl<'a> Loader<'a> {
             if !many.contains(&c.name.as_str()) && !seen.insert(c.name.clone()) {
                 let span = self.tag_span(c);
                 self.error(Code::PnmlAlba, format!("a second <{}>", c.name), span, "second one");
+                self.help("this entry appears at most once in Alba's block; remove one");
                 continue;
             }
             out.push(c);
@@ -358,11 +364,13 @@ impl<'a> Loader<'a> {
                         span,
                         "second one",
                     );
+                    self.help("each property name appears once; remove one");
                 }
             }
             _ => {
                 let span = self.tag_span(c);
                 self.error(Code::PnmlAlba, "a <prop> needs a `name`", span, "no name");
+                self.help("write <prop name=\"NAME\">value</prop>");
             }
         }
     }
@@ -452,6 +460,7 @@ impl<'a> Loader<'a> {
                     span,
                     "bad kind",
                 );
+                self.help("write <widget id=\"w1\" kind=\"button\" tag=\"Start\">caption</widget>");
                 return;
             }
         };
@@ -470,6 +479,7 @@ impl<'a> Loader<'a> {
                             span,
                             "bad position",
                         );
+                        self.help("give both x and y as decimal numbers, or neither");
                         None
                     }
                 }
@@ -556,6 +566,7 @@ impl<'a> Loader<'a> {
                             span,
                             "ref missing",
                         );
+                        self.help("a reference node names the node it stands for: ref=\"ID\"");
                     }
                 }
             }
@@ -603,6 +614,7 @@ impl<'a> Loader<'a> {
                         if t.is_empty() {
                             let span = self.tag_span(c);
                             self.error(Code::PnmlAlba, "an empty <tag>", span, "no tag name");
+                            self.help("name a BOOL tag, or leave <tag> out");
                         } else {
                             p.tag = Some(t.to_string());
                         }
@@ -690,6 +702,7 @@ impl<'a> Loader<'a> {
                 span,
                 "source or target missing",
             );
+            self.help("write <arc id=\"a1\" source=\"PLACE\" target=\"TRANSITION\">");
             return;
         };
         let mut a = Arc::new(id.clone().unwrap_or_default(), source, target, 1);
@@ -722,6 +735,7 @@ impl<'a> Loader<'a> {
                             span,
                             "unknown",
                         );
+                        self.help("write <type value=\"normal\"/> or <type value=\"inhibitor\"/>");
                     }
                 },
                 _ => self.ignored(c, "arc"),
@@ -791,6 +805,7 @@ impl<'a> Loader<'a> {
                 span,
                 "cyclic reference",
             );
+            self.help("a chain of reference nodes must end at a place or transition");
         }
         result
     }
@@ -860,7 +875,8 @@ impl<'a> Loader<'a> {
                     ),
                     e_span,
                     "wrong direction",
-                );
+                )
+                .with_help("draw it from the place to the transition it tests, or make it a normal arc");
                 self.diags.push(d);
                 continue;
             }
@@ -914,7 +930,8 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             ),
             whole,
             "too large",
-        );
+        )
+        .with_help("split the model, or remove what it does not need (large graphics, other tools' data)");
         return (None, vec![d]);
     }
     let root = match xml::parse(text) {
@@ -935,7 +952,12 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
                 },
                 Span::new(file, off..end),
                 "here",
-            );
+            )
+            .with_help(if err.limit {
+                "split the model, or flatten what is nested so deep"
+            } else {
+                "PNML is XML: every tag closed in order, attribute values quoted, `&` and `<` in text written `&amp;` and `&lt;`"
+            });
             return (None, vec![d]);
         }
     };
@@ -1004,6 +1026,7 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
                 span,
                 "unknown node",
             );
+            l.help("ref names the id of a place or transition of the net");
         }
     }
     l.check_arcs();

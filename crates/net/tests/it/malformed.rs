@@ -46,6 +46,9 @@ fn every_malformed_input_gets_its_located_error() {
         let name = path.file_name().unwrap().to_string_lossy();
         assert!(net.is_none(), "{name}: a net despite an error");
         let short = err.short(&files);
+        if err.help.is_none() {
+            problems.push(format!("{name}: {short} has no hint"));
+        }
         if err.code != code {
             problems.push(format!("{name}: {short}, expected {code}"));
         }
