@@ -137,6 +137,18 @@ codes! {
         "The built firmware needs more flash or RAM than the board has (the report gives both against the board's limits). Shorten the program, use fewer tags, or choose a board with more memory (the Mega has 8 KiB of RAM and 248 KiB of flash).";
     Toolchain = 503, "the firmware could not be built or uploaded",
         "Building needs Debian's gcc-avr, avr-libc and arduino-core-avr (./test.sh installs them); uploading needs avrdude and the board on the named serial port. The message gives the tool's own error.";
+    NetMode = 620, "a net's mode cannot run yet",
+        "Only Petri mode runs in the scan for now (docs/nets.md, \"petri\"); a net in normal (token-flow) mode is refused at its file's start.";
+    NetGuard = 621, "a transition guard is not valid",
+        "A `<guard>` is a BOOL expression of Alba's expression language: tag names and members, literals, `NOT`, `AND`, `OR`, `XOR`, parentheses, comparisons (= <> < > <= >=) and arithmetic (+ - * / MOD **). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
+    NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
+        "A place's `<tag>NAME</tag>` makes the net write the BOOL tag NAME (true while the place is marked), so NAME must be a BOOL tag or member the program may write: not an input, a status bit, a system tag or a marking.";
+    NetTagClash = 623, "a place's marking tag clashes with a tag",
+        "The marking of place P of net N (file N.pnml) is the DINT tag `N.P`; no tag of tags.csv, and no place of another net, may have that name.";
+    NetRange = 624, "a marking or weight does not fit a DINT",
+        "Markings are DINT tags: an initial marking or an arc weight (the arcs between one place and one transition added up) must be at most 2147483647.";
+    NetArc = 625, "an arc cannot be used by a Petri-mode net",
+        "Inhibitor and read (test) arcs go from a place to a transition; from a transition to a place only normal arcs produce tokens.";
 }
 
 impl fmt::Display for Code {
