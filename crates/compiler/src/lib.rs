@@ -88,8 +88,10 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                 Ast::Il(ast)
             }
             Language::Net => {
+                // Warnings (an element of another tool skipped) do not stop
+                // the net; `alba check` of the file shows them.
                 let (net, d) = alba_net::load(src.file, text);
-                diags.extend(d);
+                diags.extend(d.into_iter().filter(|d| !alba_net::is_warning(d)));
                 Ast::Net(net)
             }
         };

@@ -1,0 +1,12 @@
+//! State nets and Petri nets: the model ([`Net`]) and its file format, PNML
+//! (ISO/IEC 15909-2, `ptnet` grammar of 2009), loaded with located
+//! diagnostics (codes E601–E608) and saved back without losing graphics or
+//! other tools' data. See docs/nets.md, section "pnml".
+
+pub mod model;
+pub mod pnml;
+mod xml;
+
+pub use model::*;
+pub use pnml::{MAX_FILE_BYTES, MAX_MARKING, MAX_WEIGHT, is_warning, load, save};
+pub use xml::MAX_DEPTH;
