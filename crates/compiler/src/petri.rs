@@ -22,7 +22,7 @@ use alba_ir::values::{Class, V, class_of_lit, class_of_type, float_class, promot
 use alba_ir::{Access, BinOp, Builder, Cmp, I, Op, Place, Target, UnOp};
 use alba_ladder::expr::{self, BinE, Expr};
 use alba_model::{DataType, Literal, Tag, TagTable, Value};
-use alba_net::{ArcKind, Mode, Net};
+use alba_net::{ArcKind, ElementKind, Mode, Net};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -130,6 +130,25 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
             .with_help("only Petri mode runs for now: set `<mode>petri</mode>` in the net's toolspecific block"),
         );
         return diags;
+    }
+    // Element kinds of the source's state nets run only in normal mode.
+    let kinds = net.places.iter().filter(|p| p.kind != ElementKind::State).map(|p| (p.kind, p.span));
+    let kinds = kinds.chain(
+        net.transitions
+            .iter()
+            .filter(|t| t.kind != ElementKind::Transition)
+            .map(|t| (t.kind, t.span)),
+    );
+    for (kind, span) in kinds {
+        diags.push(
+            Diagnostic::new(
+                Code::NetMode,
+                format!("a {} element cannot run in a Petri-mode net yet", kind.as_str()),
+                span,
+                "not a plain place or transition",
+            )
+            .with_help("a Petri-mode net has plain places and transitions; guards and `<tag>` give it conditions and actions"),
+        );
     }
     // Marking slots.
     let mut marking = Vec::with_capacity(net.places.len());
