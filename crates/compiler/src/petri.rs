@@ -366,6 +366,17 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     diags
 }
 
+/// `TRUE` and `FALSE` (reserved words, never tag names).
+fn bool_word(name: &str) -> Option<bool> {
+    if name.eq_ignore_ascii_case("TRUE") {
+        Some(true)
+    } else if name.eq_ignore_ascii_case("FALSE") {
+        Some(false)
+    } else {
+        None
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Ty {
     Bool,
@@ -416,6 +427,7 @@ impl Guard<'_> {
     fn ty(&mut self, e: &Expr) -> Option<Ty> {
         match e {
             Expr::Lit(Literal::Bool(_), _) => Some(Ty::Bool),
+            Expr::Name(n, _) if bool_word(n).is_some() => Some(Ty::Bool),
             Expr::Lit(l, _) => Some(Ty::Num(class_of_lit(*l))),
             Expr::Const(_) => Some(Ty::Num(Class::F)),
             Expr::Name(n, sp) => {
@@ -486,6 +498,12 @@ impl Guard<'_> {
     fn cond(&mut self, e: &Expr, elem: u32) -> Option<()> {
         match e {
             Expr::Lit(Literal::Bool(v), _) => {
+                self.b.emit(Op::True, elem);
+                if !v {
+                    self.b.emit(Op::Not, elem);
+                }
+            }
+            Expr::Name(n, _) if let Some(v) = bool_word(n) => {
                 self.b.emit(Op::True, elem);
                 if !v {
                     self.b.emit(Op::Not, elem);
@@ -562,6 +580,7 @@ impl Guard<'_> {
     fn is_bool(&self, e: &Expr) -> bool {
         match e {
             Expr::Lit(Literal::Bool(_), _) | Expr::Not(..) => true,
+            Expr::Name(n, _) if bool_word(n).is_some() => true,
             Expr::Name(n, _) => {
                 matches!(self.b.layout().resolve(n), Ok(Target::Value { place, .. }) if place.data_type() == DataType::Bool)
             }
