@@ -60,7 +60,7 @@ enum Ast {
     Ladder(alba_ladder::Program),
     Il(alba_il::Program),
     /// `None` when the file could not be loaded (the loader reported why).
-    Net(Option<alba_net::Net>),
+    Net(Option<Box<alba_net::Net>>),
 }
 
 /// Compiles the programs of a loaded project: the control programs in the
@@ -92,7 +92,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                 // the net; `alba check` of the file shows them.
                 let (net, d) = alba_net::load(src.file, text);
                 diags.extend(d.into_iter().filter(|d| !alba_net::is_warning(d)));
-                Ast::Net(net)
+                Ast::Net(net.map(Box::new))
             }
         };
         asts.push((src, ast));

@@ -49,7 +49,10 @@ pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<
             diags.push(
                 Diagnostic::new(
                     Code::NetTagClash,
-                    format!("the marking of place `{}` is the tag `{tag}`, which already exists", p.id),
+                    format!(
+                        "the marking of place `{}` is the tag `{tag}`, which already exists",
+                        p.id
+                    ),
                     p.span,
                     "place",
                 )
@@ -132,7 +135,11 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         return diags;
     }
     // Element kinds of the source's state nets run only in normal mode.
-    let kinds = net.places.iter().filter(|p| p.kind != ElementKind::State).map(|p| (p.kind, p.span));
+    let kinds = net
+        .places
+        .iter()
+        .filter(|p| p.kind != ElementKind::State)
+        .map(|p| (p.kind, p.span));
     let kinds = kinds.chain(
         net.transitions
             .iter()
@@ -147,7 +154,9 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
                 span,
                 "not a plain place or transition",
             )
-            .with_help("a Petri-mode net has plain places and transitions; guards and `<tag>` give it conditions and actions"),
+            .with_help(
+                "a Petri-mode net has plain places and transitions; guards and `<tag>` give it conditions and actions",
+            ),
         );
     }
     // Marking slots.
@@ -164,7 +173,12 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         };
         marking.push(slot);
     }
-    let tr_of: HashMap<&str, usize> = net.transitions.iter().enumerate().map(|(k, t)| (t.id.as_str(), k)).collect();
+    let tr_of: HashMap<&str, usize> = net
+        .transitions
+        .iter()
+        .enumerate()
+        .map(|(k, t)| (t.id.as_str(), k))
+        .collect();
     let mut arcs: Vec<Arcs> = net.transitions.iter().map(|_| Arcs::default()).collect();
     for a in &net.arcs {
         let Ok(w) = i32::try_from(a.weight) else {
@@ -217,7 +231,11 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
                         p.id,
                         access.why_not_writable()
                     )));
-                } else if net.places.iter().any(|q| marking_tag(&name, &q.id).eq_ignore_ascii_case(tag)) {
+                } else if net
+                    .places
+                    .iter()
+                    .any(|q| marking_tag(&name, &q.id).eq_ignore_ascii_case(tag))
+                {
                     diags.push(bad(format!("`{tag}` is a marking, not a BOOL")));
                 } else {
                     drives.push((k, place));
@@ -241,8 +259,10 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     // Guards.
     let mut guards = Vec::with_capacity(net.transitions.len());
     for t in &net.transitions {
-        let g = t.guard.as_ref().and_then(|g| {
-            match expr::parse(&g.text, file, g.span.start as usize) {
+        let g = t
+            .guard
+            .as_ref()
+            .and_then(|g| match expr::parse(&g.text, file, g.span.start as usize) {
                 Ok(e) => {
                     let mut gc = Guard { b, diags: &mut diags };
                     match gc.ty(&e) {
@@ -266,8 +286,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
                     diags.push(Diagnostic::new(Code::NetGuard, msg, span, "in this guard"));
                     None
                 }
-            }
-        });
+            });
         guards.push(g);
     }
     if !diags.is_empty() || marking.iter().any(Option::is_none) {
@@ -399,7 +418,11 @@ impl Guard<'_> {
         match self.b.layout().resolve(name) {
             Ok(Target::Value { place, .. }) => Some(place),
             Ok(_) => {
-                self.err(format!("`{name}` is a structure; name a member (`{name}.DN`)"), span, "structure");
+                self.err(
+                    format!("`{name}` is a structure; name a member (`{name}.DN`)"),
+                    span,
+                    "structure",
+                );
                 None
             }
             Err(e) => {

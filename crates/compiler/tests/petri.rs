@@ -10,21 +10,21 @@ use std::path::PathBuf;
 fn project(name: &str, tags: &str, net: &str, extra: &[(&str, &str)]) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("alba-petri-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::create_dir_all(&dir).expect("scratch project");
     let mut programs = vec!["\"line.pnml\"".to_string()];
     programs.extend(extra.iter().map(|(f, _)| format!("\"{f}\"")));
     let toml = format!("name = \"{name}\"\nprograms = [{}]\n", programs.join(", "));
-    std::fs::write(dir.join("alba.toml"), toml).unwrap();
+    std::fs::write(dir.join("alba.toml"), toml).expect("scratch project");
     std::fs::write(
         dir.join("tags.csv"),
         format!("name,type,address,initial,retain,description\n{tags}"),
     )
-    .unwrap();
-    std::fs::write(dir.join("line.pnml"), net).unwrap();
+    .expect("scratch project");
+    std::fs::write(dir.join("line.pnml"), net).expect("scratch project");
     for (f, text) in extra {
         let path = dir.join(f);
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(path, text).unwrap();
+        std::fs::create_dir_all(path.parent().expect("a parent")).expect("scratch project");
+        std::fs::write(path, text).expect("scratch project");
     }
     dir
 }
@@ -57,7 +57,8 @@ fn guard(g: &str) -> String {
     )
 }
 
-const TAGS: &str = "Start,BOOL,DI:1/0,,,an input\nLevel,DINT,,,,a number\nLamp,BOOL,,,,a lamp\nDelay,TIMER,,,,a timer\n";
+const TAGS: &str =
+    "Start,BOOL,DI:1/0,,,an input\nLevel,DINT,,,,a number\nLamp,BOOL,,,,a lamp\nDelay,TIMER,,,,a timer\n";
 
 /// The codes, file names and lines of the diagnostics of a project.
 fn errors(dir: &std::path::Path) -> Vec<(Code, String, usize)> {
@@ -104,12 +105,23 @@ fn a_marking_tag_may_not_clash_with_a_tag() {
     // A tags.csv name cannot have a dot; a second net can clash.
     let dir = project("clash", TAGS, &net(CYCLE), &[("sub/line.pnml", &net(CYCLE))]);
     let e = errors(&dir);
-    assert!(e.iter().any(|(c, f, _)| *c == Code::NetTagClash && f.ends_with("line.pnml")), "{e:?}");
+    assert!(
+        e.iter()
+            .any(|(c, f, _)| *c == Code::NetTagClash && f.ends_with("line.pnml")),
+        "{e:?}"
+    );
 }
 
 #[test]
 fn place_tags_must_be_writable_bools() {
-    for (name, tag) in [("unknown", "Lampp"), ("dint", "Level"), ("input", "Start"), ("timer", "Delay"), ("status", "Delay.DN"), ("system", "S:FS")] {
+    for (name, tag) in [
+        ("unknown", "Lampp"),
+        ("dint", "Level"),
+        ("input", "Start"),
+        ("timer", "Delay"),
+        ("status", "Delay.DN"),
+        ("system", "S:FS"),
+    ] {
         let dir = project(&format!("tag-{name}"), TAGS, &net(&place_tag(tag)), &[]);
         let e = errors(&dir);
         assert_eq!(e, [(Code::NetPlaceTag, "line.pnml".to_string(), 5)], "{name}");
@@ -132,9 +144,21 @@ fn guards_are_bool_expressions_over_known_tags() {
     ] {
         let dir = project(&format!("guard-{name}"), TAGS, &net(&guard(g)), &[]);
         let e = errors(&dir);
-        assert!(!e.is_empty() && e.iter().all(|(c, f, l)| *c == Code::NetGuard && f == "line.pnml" && *l == 6), "{name}: {e:?}");
+        assert!(
+            !e.is_empty()
+                && e.iter()
+                    .all(|(c, f, l)| *c == Code::NetGuard && f == "line.pnml" && *l == 6),
+            "{name}: {e:?}"
+        );
     }
-    for g in ["Start", "NOT Start AND (Level &gt;= 3 OR Level * 2 = 7)", "Delay.DN XOR Lamp", "Level / 0 &lt; 1.5", "TRUE", "false OR Lamp = FALSE"] {
+    for g in [
+        "Start",
+        "NOT Start AND (Level &gt;= 3 OR Level * 2 = 7)",
+        "Delay.DN XOR Lamp",
+        "Level / 0 &lt; 1.5",
+        "TRUE",
+        "false OR Lamp = FALSE",
+    ] {
         let dir = project("guard-ok", TAGS, &net(&guard(g)), &[]);
         let c = compile_dir(&dir);
         assert!(c.program.is_some(), "{g}: {:?}", c.diagnostics);
@@ -149,7 +173,9 @@ fn normal_mode_and_its_element_kinds_are_refused_for_now() {
     );
     let dir = project("normal", TAGS, &normal, &[]);
     assert_eq!(errors(&dir), [(Code::NetMode, "line.pnml".to_string(), 1)]);
-    let timer = net(r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind></toolspecific></transition>"#);
+    let timer = net(
+        r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind></toolspecific></transition>"#,
+    );
     let dir = project("kind", TAGS, &timer, &[]);
     assert_eq!(errors(&dir), [(Code::NetMode, "line.pnml".to_string(), 5)]);
 }

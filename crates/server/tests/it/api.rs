@@ -496,7 +496,10 @@ async fn net_markings_are_tags_an_operator_can_write() {
         .iter()
         .find(|t| t["name"] == "cell.robot")
         .expect("the marking of place robot is listed");
-    assert_eq!((&robot["type"], &robot["access"], &robot["value"]), (&json!("DINT"), &json!("readwrite"), &json!(1)));
+    assert_eq!(
+        (&robot["type"], &robot["access"], &robot["value"]),
+        (&json!("DINT"), &json!("readwrite"), &json!(1))
+    );
     let (code, j) = s
         .call(Method::PUT, "/api/tags/cell.done", Some(json!({"value": 5})))
         .await;
