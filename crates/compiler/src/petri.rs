@@ -127,7 +127,11 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
             Diagnostic::new(
                 Code::NetMode,
                 format!("net `{name}` is in normal mode, which cannot run yet"),
-                at_start,
+                if net.span.end > net.span.start {
+                    net.span
+                } else {
+                    at_start
+                },
                 "normal mode",
             )
             .with_help("only Petri mode runs for now: set `<mode>petri</mode>` in the net's toolspecific block"),

@@ -172,7 +172,7 @@ fn normal_mode_and_its_element_kinds_are_refused_for_now() {
         "<toolspecific tool=\"alba\" version=\"1\"><mode>normal</mode></toolspecific>\n<page id=\"pg\">",
     );
     let dir = project("normal", TAGS, &normal, &[]);
-    assert_eq!(errors(&dir), [(Code::NetMode, "line.pnml".to_string(), 1)]);
+    assert_eq!(errors(&dir), [(Code::NetMode, "line.pnml".to_string(), 3)]);
     let timer = net(
         r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind></toolspecific></transition>"#,
     );

@@ -154,7 +154,7 @@ codes! {
     PnmlIgnored = 608, "part of a PNML file was ignored (a warning)",
         "An element Alba does not know (another tool's extension outside `<toolspecific>`, a label of another net type) is skipped with this warning, once per element name; the net loads. Other tools' `<toolspecific>` blocks are not ignored: they are kept and written back unchanged.";
     NetMode = 620, "a net's mode cannot run yet",
-        "Only Petri mode runs in the scan for now (docs/nets.md, \"petri\"); a net in normal (token-flow) mode is refused at its file's start.";
+        "Only Petri mode runs in the scan for now (docs/nets.md, \"petri\"); a net in normal (token-flow) mode is refused at its `<net>` element.";
     NetGuard = 621, "a transition guard is not valid",
         "A `<guard>` is a BOOL expression of Alba's expression language: tag names and members, literals, `NOT`, `AND`, `OR`, `XOR`, parentheses, comparisons (= <> < > <= >=) and arithmetic (+ - * / MOD **). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
     NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
