@@ -92,6 +92,9 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                 // the net; `alba check` of the file shows them.
                 let (net, d) = alba_net::load(src.file, text);
                 diags.extend(d.into_iter().filter(|d| !alba_net::is_warning(d)));
+                if let Some(net) = &net {
+                    uses.addresses.extend(petri::addresses(net, src.file));
+                }
                 Ast::Net(net.map(Box::new))
             }
         };

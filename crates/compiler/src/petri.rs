@@ -21,7 +21,7 @@ use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::values::{Class, V, class_of_lit, class_of_type, float_class, promote};
 use alba_ir::{Access, BinOp, Builder, Cmp, I, Op, Place, Target, UnOp};
 use alba_ladder::expr::{self, BinE, Expr};
-use alba_model::{DataType, Literal, Tag, TagTable, Value};
+use alba_model::{Address, DataType, Literal, Tag, TagTable, Value};
 use alba_net::{ArcKind, ElementKind, Mode, Net};
 use std::collections::HashMap;
 use std::path::Path;
@@ -82,6 +82,39 @@ pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<
             span: p.span,
         });
     }
+}
+
+/// The I/O and marker addresses a net names (in guards and `<tag>`s), so
+/// that the layout's images hold them.
+pub fn addresses(net: &Net, file: FileId) -> Vec<Address> {
+    fn names(e: &Expr, out: &mut Vec<Address>) {
+        match e {
+            Expr::Name(n, _) => {
+                if let Ok(Some(a)) = Address::parse(n) {
+                    out.push(a);
+                }
+            }
+            Expr::Neg(a) | Expr::Not(a, _) => names(a, out),
+            Expr::Bin(_, a, b, _) => {
+                names(a, out);
+                names(b, out);
+            }
+            Expr::Call(_, args, _) => args.iter().for_each(|a| names(a, out)),
+            Expr::Lit(..) | Expr::Const(_) => {}
+        }
+    }
+    let mut out = Vec::new();
+    for g in net.transitions.iter().filter_map(|t| t.guard.as_ref()) {
+        if let Ok(e) = expr::parse(&g.text, file, g.span.start as usize) {
+            names(&e, &mut out);
+        }
+    }
+    for tag in net.places.iter().filter_map(|p| p.tag.as_deref()) {
+        if let Ok(Some(a)) = Address::parse(tag) {
+            out.push(a);
+        }
+    }
+    out
 }
 
 /// The transitions in firing order: those with a priority first (lower
