@@ -9,4 +9,4 @@ mod xml;
 
 pub use model::*;
 pub use pnml::{MAX_FILE_BYTES, MAX_MARKING, MAX_WEIGHT, is_warning, load, save};
-pub use xml::MAX_DEPTH;
+pub use xml::{MAX_DEPTH, MAX_ELEMENTS};
