@@ -117,17 +117,6 @@ pub fn addresses(net: &Net, file: FileId) -> Vec<Address> {
     out
 }
 
-/// The transitions in firing order: those with a priority first (lower
-/// first), then the others; document order among equals.
-pub fn firing_order(net: &Net) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..net.transitions.len()).collect();
-    order.sort_by_key(|&t| match net.transitions[t].priority {
-        Some(p) => (0, p as i64),
-        None => (1, 0),
-    });
-    order
-}
-
 #[derive(Default)]
 struct Arcs {
     input: Vec<(usize, i32)>,
@@ -296,6 +285,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     // Guards.
     let mut guards = Vec::with_capacity(net.transitions.len());
     for t in &net.transitions {
+        let before = diags.len();
         let g = t
             .guard
             .as_ref()
@@ -324,6 +314,17 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
                     None
                 }
             });
+        // After an entity (`&gt;`) or in CDATA, the text's offsets are not
+        // the file's: a problem found there points at the whole guard.
+        if let Some(g) = &t.guard {
+            let raw = text.get(g.span.start as usize..g.span.end as usize).unwrap_or("");
+            let exact = g.span.start + raw.find(['&', '<']).unwrap_or(raw.len()) as u32;
+            for d in &mut diags[before..] {
+                if let Some(l) = d.primary.as_mut().filter(|l| l.span.end > exact) {
+                    l.span = g.span;
+                }
+            }
+        }
         guards.push(g);
     }
     if !diags.is_empty() || marking.iter().any(Option::is_none) {
@@ -356,7 +357,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         }
     }
     // 2. The transitions.
-    for (n, &t) in firing_order(net).iter().enumerate() {
+    for (n, &t) in net.firing_order().iter().enumerate() {
         let tr = &net.transitions[t];
         let a = &arcs[t];
         b.begin_rung(n as u32 + 1, tr.span);
