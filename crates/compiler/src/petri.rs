@@ -61,6 +61,23 @@ pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<
             );
             continue;
         }
+        // `Delay.DN` must keep meaning the member of the TIMER `Delay`.
+        if let Some(t) = tags.get(name).filter(|t| t.ty.member(&p.id).is_some()) {
+            diags.push(
+                Diagnostic::new(
+                    Code::NetTagClash,
+                    format!(
+                        "the marking of place `{}` would be `{tag}`, a member of the {} `{}`",
+                        p.id, t.ty, t.name
+                    ),
+                    p.span,
+                    "place",
+                )
+                .with_note(t.span, "declared here")
+                .with_help("rename the place or the net's file"),
+            );
+            continue;
+        }
         let Ok(initial) = i32::try_from(p.initial) else {
             diags.push(Diagnostic::new(
                 Code::NetRange,

@@ -110,6 +110,11 @@ fn a_marking_tag_may_not_clash_with_a_tag() {
             .any(|(c, f, _)| *c == Code::NetTagClash && f.ends_with("line.pnml")),
         "{e:?}"
     );
+    // A net named like a TIMER tag may not shadow its members.
+    let tags = format!("{TAGS}line,TIMER,,,,a timer named like the net\n");
+    let dn = net(r#"<place id="DN"/><place id="other"/>"#);
+    let dir = project("member", &tags, &dn, &[]);
+    assert_eq!(errors(&dir), [(Code::NetTagClash, "line.pnml".to_string(), 5)]);
 }
 
 #[test]

@@ -160,7 +160,7 @@ codes! {
     NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
         "A place's `<tag>NAME</tag>` makes the net write the BOOL tag NAME (true while the place is marked), so NAME must be a BOOL tag or member the program may write: not an input, a status bit, a system tag or a marking.";
     NetTagClash = 623, "a place's marking tag clashes with a tag",
-        "The marking of place P of net N (file N.pnml) is the DINT tag `N.P`; no tag of tags.csv, and no place of another net, may have that name.";
+        "The marking of place P of net N (file N.pnml) is the DINT tag `N.P`; no tag of tags.csv, no place of another net, and no member of a TIMER, COUNTER or PID tag named N (`N.DN`) may have that name.";
     NetRange = 624, "a marking or weight does not fit a DINT",
         "Markings are DINT tags: an initial marking or an arc weight (the arcs between one place and one transition added up) must be at most 2147483647.";
     NetArc = 625, "an arc cannot be used by a Petri-mode net",
