@@ -1069,6 +1069,17 @@ struct W {
 }
 
 impl W {
+    /// Closes an element opened by the line ending at `mark`: `<x .../>`
+    /// when nothing was written inside, else `</x>` on its own line.
+    fn close(&mut self, depth: usize, name: &str, mark: usize) {
+        if self.out.len() == mark && self.out.ends_with(">\n") {
+            self.out.truncate(mark - 2);
+            self.out.push_str("/>\n");
+        } else {
+            self.line(depth, &format!("</{name}>"));
+        }
+    }
+
     fn line(&mut self, depth: usize, s: &str) {
         for _ in 0..depth {
             self.out.push_str("  ");
@@ -1176,6 +1187,7 @@ pub fn save(net: &Net) -> String {
     w.extra(3, &net.page_extra);
     for p in &net.places {
         w.line(3, &format!("<place id=\"{}\">", esc_attr(&p.id)));
+        let mark = w.out.len();
         if let Some(n) = &p.name {
             w.label(4, "name", n, &p.extra);
         }
@@ -1195,10 +1207,11 @@ pub fn save(net: &Net) -> String {
             body.push(format!("<script>{}</script>", esc(s)));
         }
         w.alba(4, &body);
-        w.line(3, "</place>");
+        w.close(3, "place", mark);
     }
     for t in &net.transitions {
         w.line(3, &format!("<transition id=\"{}\">", esc_attr(&t.id)));
+        let mark = w.out.len();
         if let Some(n) = &t.name {
             w.label(4, "name", n, &t.extra);
         }
@@ -1215,7 +1228,7 @@ pub fn save(net: &Net) -> String {
         }
         props(&mut body, &t.props);
         w.alba(4, &body);
-        w.line(3, "</transition>");
+        w.close(3, "transition", mark);
     }
     for a in &net.arcs {
         w.line(
@@ -1227,6 +1240,7 @@ pub fn save(net: &Net) -> String {
                 esc_attr(&a.target)
             ),
         );
+        let mark = w.out.len();
         if a.weight != 1 || a.extra.label_graphics.contains_key("inscription") {
             w.label(4, "inscription", &a.weight.to_string(), &a.extra);
         }
@@ -1234,7 +1248,7 @@ pub fn save(net: &Net) -> String {
         if a.kind != ArcKind::Normal {
             w.alba(4, &[format!("<kind>{}</kind>", a.kind.as_str())]);
         }
-        w.line(3, "</arc>");
+        w.close(3, "arc", mark);
     }
     w.line(2, "</page>");
     w.line(1, "</net>");

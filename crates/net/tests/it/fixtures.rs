@@ -194,3 +194,33 @@ fn nested_page_data_is_dropped_with_one_warning() {
     );
     assert!(diags.iter().all(is_warning));
 }
+
+/// Golden files: what `save` writes for each fixture, under `tests/saved/`
+/// (`ALBA_UPDATE_GOLDEN=1` rewrites them). A change to the writer shows up
+/// here as a diff to review.
+#[test]
+fn saved_form_of_each_fixture_is_the_golden_file() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let update = std::env::var_os("ALBA_UPDATE_GOLDEN").is_some();
+    let mut n = 0;
+    for p in alba_testkit::cases(&root.join("fixtures")) {
+        if p.extension().is_none_or(|e| e != "pnml") {
+            continue;
+        }
+        n += 1;
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        let (net, _) = load_ok(&name);
+        let saved = save(&net);
+        let golden = root.join("saved").join(&name);
+        if update {
+            std::fs::write(&golden, &saved).unwrap();
+        }
+        let want = std::fs::read_to_string(&golden)
+            .unwrap_or_else(|e| panic!("{}: {e} (ALBA_UPDATE_GOLDEN=1 writes it)", golden.display()));
+        assert_eq!(
+            saved, want,
+            "{name}: the saved form changed (ALBA_UPDATE_GOLDEN=1 to accept)"
+        );
+    }
+    assert!(n >= 4);
+}
