@@ -308,6 +308,8 @@ fn examples_run_the_same_on_the_uno() {
         "tank",
         "tank-plant",
         "festo-station",
+        // A Petri-mode net with a ladder program: nets use only ops the sketch translates.
+        "petri-resource",
     ] {
         let case = example(name);
         if let Some((stim, until, every)) =

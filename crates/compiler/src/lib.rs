@@ -7,6 +7,8 @@ use alba_ir::{Builder, Layout, Program};
 use alba_project::{Language, Project};
 use std::path::Path;
 
+pub mod petri;
+
 /// The crates of the compiler's public API — project loading, diagnostics and
 /// the front ends (for views of a program's structure) — so that a user of
 /// the compiler (the studio's API) names one crate for the path from a
@@ -14,6 +16,7 @@ use std::path::Path;
 pub use alba_diag as diag;
 pub use alba_il as il;
 pub use alba_ladder as ladder;
+pub use alba_net as net;
 pub use alba_project as project;
 
 /// A project and what compiling it gave.
@@ -56,6 +59,8 @@ pub fn compile_dir(dir: &Path) -> Compiled {
 enum Ast {
     Ladder(alba_ladder::Program),
     Il(alba_il::Program),
+    /// `None` when the file could not be loaded (the loader reported why).
+    Net(Option<Box<alba_net::Net>>),
 }
 
 /// Compiles the programs of a loaded project: the control programs in the
@@ -82,10 +87,28 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                 uses.counters.extend(u.counters);
                 Ast::Il(ast)
             }
+            Language::Net => {
+                // Warnings (an element of another tool skipped) do not stop
+                // the net; `alba check` of the file shows them.
+                let (net, d) = alba_net::load(src.file, text);
+                diags.extend(d.into_iter().filter(|d| !alba_net::is_warning(d)));
+                if let Some(net) = &net {
+                    uses.addresses.extend(petri::addresses(net, src.file));
+                }
+                Ast::Net(net.map(Box::new))
+            }
         };
         asts.push((src, ast));
     }
-    let mut b = Builder::new(Layout::new(&project.tags, &uses));
+    // Each place's marking is a DINT tag `<net>.<place>`, after the tags of
+    // tags.csv so that theirs do not move.
+    let mut tags = project.tags.clone();
+    for (src, ast) in &asts {
+        if let Ast::Net(Some(net)) = ast {
+            petri::marking_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags);
+        }
+    }
+    let mut b = Builder::new(Layout::new(&tags, &uses));
     let mut presets = alba_ladder::Presets::default();
     let mut shared = alba_il::Shared::default();
     for (src, ast) in &asts {
@@ -96,6 +119,8 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         diags.extend(match ast {
             Ast::Ladder(ast) => alba_ladder::compile(ast, text, &src.name, &mut b, &mut presets),
             Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
+            Ast::Net(Some(net)) => petri::compile(net, src.file, text, &src.name, &mut b),
+            Ast::Net(None) => Vec::new(),
         });
     }
     if let Some(cfg) = &project.config {

@@ -153,6 +153,18 @@ codes! {
         "Alba keeps its own data in `<toolspecific tool=\"alba\" version=\"1\">` on the element it belongs to: on the net `<mode>petri</mode>` or `<mode>normal</mode>` and `<widget id kind [tag] [x y]>caption</widget>` (kind button, display, plot or label); on a place `<tag>NAME</tag>`, `<kind>` (state, counter, expression, variable, input, output, stop, end), `<prop name=\"..\">value</prop>` and `<script>`; on a transition `<guard>EXPR</guard>`, `<priority>N</priority>`, `<kind>` (transition, condition, timer) and `<prop>`; on an arc `<kind>normal|inhibitor|read</kind>` (inhibitor and read arcs go from a place to a transition). Each appears at most once. See docs/nets.md.";
     PnmlIgnored = 608, "part of a PNML file was ignored (a warning)",
         "An element Alba does not know (another tool's extension outside `<toolspecific>`, a label of another net type) is skipped with this warning, once per element name; the net loads. Other tools' `<toolspecific>` blocks are not ignored: they are kept and written back unchanged.";
+    NetMode = 620, "a net's mode cannot run yet",
+        "Only Petri mode runs in the scan for now (docs/nets.md, \"petri\"); a net in normal (token-flow) mode is refused at its `<net>` element.";
+    NetGuard = 621, "a transition guard is not valid",
+        "A `<guard>` is a BOOL expression of Alba's expression language: tag names and members, literals, `NOT`, `AND`, `OR`, `XOR`, parentheses, comparisons (= <> < > <= >=) and arithmetic (+ - * / MOD **). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
+    NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
+        "A place's `<tag>NAME</tag>` makes the net write the BOOL tag NAME (true while the place is marked), so NAME must be a BOOL tag or member the program may write: not an input, a status bit, a system tag or a marking.";
+    NetTagClash = 623, "a place's marking tag clashes with a tag",
+        "The marking of place P of net N (file N.pnml) is the DINT tag `N.P`; no tag of tags.csv, no place of another net, and no member of a TIMER, COUNTER or PID tag named N (`N.DN`) may have that name.";
+    NetRange = 624, "a marking or weight does not fit a DINT",
+        "Markings are DINT tags: an initial marking or an arc weight (the arcs between one place and one transition added up) must be at most 2147483647.";
+    NetArc = 625, "an arc cannot be used by a Petri-mode net",
+        "Inhibitor and read (test) arcs go from a place to a transition; from a transition to a place only normal arcs produce tokens.";
 }
 
 impl fmt::Display for Code {

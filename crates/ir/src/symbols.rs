@@ -112,7 +112,9 @@ impl Layout {
         {
             return Ok(t);
         }
+        // A net's marking tags (`line.filling`) have a dot in their name.
         let (base, member) = match name.split_once('.') {
+            Some(_) if self.tags.get(name).is_some() => (name, None),
             Some((b, m)) => (b, Some(m)),
             None => (name, None),
         };

@@ -13,6 +13,8 @@ pub enum Language {
     Ladder,
     /// `.awl`: Siemens S7-200 Instruction List (SPEC §4).
     Il,
+    /// `.pnml`: a state net or Petri net (SPEC §5, §10.5; docs/nets.md).
+    Net,
 }
 
 impl Language {
@@ -21,6 +23,7 @@ impl Language {
         match ext.as_str() {
             "lad" => Some(Language::Ladder),
             "awl" => Some(Language::Il),
+            "pnml" => Some(Language::Net),
             _ => None,
         }
     }
@@ -111,7 +114,7 @@ impl Project {
                             *span,
                             "unknown extension",
                         )
-                        .with_help("ladder programs end in .lad, Instruction List programs in .awl"),
+                        .with_help("ladder programs end in .lad, Instruction List programs in .awl, nets in .pnml"),
                     );
                     continue;
                 };

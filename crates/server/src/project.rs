@@ -129,7 +129,7 @@ pub fn edit_summary(project: &Project, edit: &Edit) -> Result<String, EditError>
     let old = project.files.text(file);
     let (unit, old, new) = match language {
         Some(Language::Ladder) => ("rungs", rungs(old, file), rungs(new, file)),
-        Some(Language::Il) => ("lines", lines(old), lines(new)),
+        Some(Language::Il | Language::Net) => ("lines", lines(old), lines(new)),
         None => ("rows", lines(old), lines(new)),
     };
     let d = alba_audit::diff(&old, &new);
@@ -163,6 +163,7 @@ pub fn language(l: Language) -> reply::Language {
     match l {
         Language::Ladder => reply::Language::Ladder,
         Language::Il => reply::Language::Il,
+        Language::Net => reply::Language::Net,
     }
 }
 
@@ -266,6 +267,8 @@ pub fn program_json(
                 .collect();
             out.lines = Some(lines);
         }
+        // A net's structure is its PNML; the studio's net view is to come.
+        Language::Net => {}
     }
     Ok(out)
 }

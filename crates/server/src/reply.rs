@@ -123,6 +123,7 @@ pub struct Force {
 pub enum Language {
     Ladder,
     Il,
+    Net,
 }
 
 /// `GET /api/programs`: one program of the project.

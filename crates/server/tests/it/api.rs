@@ -473,3 +473,39 @@ async fn pid_members_over_the_api_and_a_plant_in_real_time() {
     assert_eq!(s.value("Loop.SP").await, 3.0);
     s.stop().await;
 }
+
+/// A Petri-mode net's places are DINT tags `<net>.<place>`: listed, read and
+/// written (an operator putting a token back) like any tag.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn net_markings_are_tags_an_operator_can_write() {
+    let s = Server::start("petri-resource", "net-markings").await;
+    s.wait_scans(3).await;
+    assert_eq!(
+        s.get("/api/programs").await,
+        json!([
+            {"name": "main.lad", "language": "ladder", "plant": false},
+            {"name": "cell.pnml", "language": "net", "plant": false}
+        ])
+    );
+    let p = s.get("/api/programs/cell.pnml").await;
+    assert!(p["text"].as_str().expect("text").contains("<pnml"));
+    let tags = s.get("/api/tags").await;
+    let robot = tags
+        .as_array()
+        .expect("array")
+        .iter()
+        .find(|t| t["name"] == "cell.robot")
+        .expect("the marking of place robot is listed");
+    assert_eq!(
+        (&robot["type"], &robot["access"], &robot["value"]),
+        (&json!("DINT"), &json!("readwrite"), &json!(1))
+    );
+    let (code, j) = s
+        .call(Method::PUT, "/api/tags/cell.done", Some(json!({"value": 5})))
+        .await;
+    assert_eq!((code, &j), (StatusCode::OK, &json!({"name": "cell.done", "value": 5})));
+    s.wait_scans(2).await;
+    assert_eq!(s.value("cell.done").await, 5, "no transition consumes from done");
+    assert_eq!(s.value("cell.robot").await, 1);
+    s.stop().await;
+}
