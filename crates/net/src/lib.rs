@@ -1,0 +1,6 @@
+//! Alba nets.
+
+pub mod analysis;
+pub mod ptnet;
+
+pub use ptnet::PtNet;
