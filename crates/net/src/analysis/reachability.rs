@@ -28,30 +28,110 @@ pub enum Explored {
     Overflow,
 }
 
-/// Bit layout of a packed marking.
+/// Bit layout of a packed marking: one field per place, never straddling a 64-bit word.
 #[derive(Clone, Debug)]
 pub struct Layout {
     bits: Vec<u32>,
-    offset: Vec<u32>,
+    word: Vec<u32>,
+    shift: Vec<u32>,
     /// Bytes per packed marking.
     pub bytes: usize,
-    words: usize,
+    /// 64-bit words per marking.
+    pub words: usize,
+}
+
+/// One arc on the packed form: word, shift, field mask, weight.
+#[derive(Clone, Copy, Debug)]
+struct Field {
+    word: u32,
+    shift: u32,
+    mask: u64,
+    weight: u64,
+}
+
+impl Field {
+    #[inline]
+    fn get(&self, w: &[u64]) -> u64 {
+        (w[self.word as usize] >> self.shift) & self.mask
+    }
+}
+
+/// The transitions compiled onto a layout.
+struct Packed {
+    pre: Vec<Vec<Field>>,
+    post: Vec<Vec<Field>>,
+    reads: Vec<Vec<Field>>,
+    inhibitors: Vec<Vec<Field>>,
+    post_places: Vec<Vec<usize>>,
+}
+
+impl Packed {
+    fn new(net: &PtNet, layout: &Layout) -> Packed {
+        let f = |arcs: &Vec<Vec<(usize, u32)>>| -> Vec<Vec<Field>> {
+            arcs.iter()
+                .map(|v| {
+                    v.iter()
+                        .map(|&(p, w)| Field {
+                            word: layout.word[p],
+                            shift: layout.shift[p],
+                            mask: if layout.bits[p] >= 64 { u64::MAX } else { (1u64 << layout.bits[p]) - 1 },
+                            weight: u64::from(w),
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        Packed {
+            pre: f(&net.pre),
+            post: f(&net.post),
+            reads: f(&net.reads),
+            inhibitors: f(&net.inhibitors),
+            post_places: net.post.iter().map(|v| v.iter().map(|&(p, _)| p).collect()).collect(),
+        }
+    }
+
+    #[inline]
+    fn enabled(&self, w: &[u64], t: usize) -> bool {
+        self.pre[t].iter().all(|f| f.get(w) >= f.weight)
+            && self.reads[t].iter().all(|f| f.get(w) >= f.weight)
+            && self.inhibitors[t].iter().all(|f| f.get(w) < f.weight)
+    }
+
+    /// Fires enabled `t` from `cur` into `next`; `Err(i)` when the `i`-th output field overflows.
+    #[inline]
+    fn fire(&self, cur: &[u64], next: &mut [u64], t: usize) -> Result<(), usize> {
+        next.copy_from_slice(cur);
+        for f in &self.pre[t] {
+            next[f.word as usize] -= f.weight << f.shift;
+        }
+        for (i, f) in self.post[t].iter().enumerate() {
+            if f.get(next) + f.weight > f.mask {
+                return Err(i);
+            }
+            next[f.word as usize] += f.weight << f.shift;
+        }
+        Ok(())
+    }
 }
 
 impl Layout {
     fn new(bits: Vec<u32>) -> Layout {
-        let mut offset = Vec::with_capacity(bits.len());
+        let mut word = Vec::with_capacity(bits.len());
+        let mut shift = Vec::with_capacity(bits.len());
         let mut total = 0u32;
         for &b in &bits {
-            offset.push(total);
+            if total % 64 + b > 64 {
+                total = total.div_ceil(64) * 64;
+            }
+            word.push(total / 64);
+            shift.push(total % 64);
             total += b;
         }
         let bytes = (total as usize).div_ceil(8).max(1);
-        Layout { bits, offset, bytes, words: bytes.div_ceil(8) + 1 }
+        Layout { bits, word, shift, bytes, words: bytes.div_ceil(8) }
     }
 
-    /// Packs `m` into `words` (zeroed here); `Err(p)` for the first place that does not fit.
-    #[inline]
+    /// Packs `m` into `words`; `Err(p)` for the first place that does not fit.
     fn pack(&self, m: &[u32], words: &mut [u64]) -> Result<(), usize> {
         words.iter_mut().for_each(|w| *w = 0);
         for (p, &v) in m.iter().enumerate() {
@@ -59,36 +139,31 @@ impl Layout {
             if b < 32 && v >> b != 0 {
                 return Err(p);
             }
-            let off = self.offset[p];
-            let (w, sh) = ((off / 64) as usize, off % 64);
-            let v = u64::from(v);
-            words[w] |= v << sh;
-            if sh + b > 64 {
-                words[w + 1] |= v >> (64 - sh);
-            }
+            words[self.word[p] as usize] |= u64::from(v) << self.shift[p];
         }
         Ok(())
     }
 
+    fn unpack_words(&self, words: &[u64], m: &mut [u32]) {
+        for (p, slot) in m.iter_mut().enumerate() {
+            let b = self.bits[p];
+            let mask = if b >= 64 { u64::MAX } else { (1u64 << b) - 1 };
+            *slot = ((words[self.word[p] as usize] >> self.shift[p]) & mask) as u32;
+        }
+    }
+
     #[inline]
-    fn unpack(&self, bytes: &[u8], words: &mut [u64], m: &mut [u32]) {
-        words.iter_mut().for_each(|w| *w = 0);
+    fn load(&self, bytes: &[u8], words: &mut [u64]) {
         for (i, chunk) in bytes.chunks(8).enumerate() {
             let mut b = [0u8; 8];
             b[..chunk.len()].copy_from_slice(chunk);
             words[i] = u64::from_le_bytes(b);
         }
-        for (p, slot) in m.iter_mut().enumerate() {
-            let b = self.bits[p];
-            let off = self.offset[p];
-            let (w, sh) = ((off / 64) as usize, off % 64);
-            let mut v = words[w] >> sh;
-            if sh + b > 64 {
-                v |= words[w + 1] << (64 - sh);
-            }
-            let mask = if b >= 64 { u64::MAX } else { (1u64 << b) - 1 };
-            *slot = (v & mask) as u32;
-        }
+    }
+
+    fn unpack(&self, bytes: &[u8], words: &mut [u64], m: &mut [u32]) {
+        self.load(bytes, words);
+        self.unpack_words(words, m);
     }
 }
 
@@ -100,12 +175,10 @@ fn words_to_bytes(words: &[u64], out: &mut [u8]) {
 }
 
 #[inline]
-fn hash_bytes(bytes: &[u8]) -> u64 {
+fn hash_words(words: &[u64]) -> u64 {
     let mut h: u64 = 0x243f_6a88_85a3_08d3;
-    for chunk in bytes.chunks(8) {
-        let mut b = [0u8; 8];
-        b[..chunk.len()].copy_from_slice(chunk);
-        h = (h.rotate_left(5) ^ u64::from_le_bytes(b)).wrapping_mul(0x517c_c1b7_2722_0a95);
+    for &w in words {
+        h = (h.rotate_left(5) ^ w).wrapping_mul(0x517c_c1b7_2722_0a95);
     }
     // Final avalanche (splitmix64) so the low bits used for the slot are well mixed.
     h ^= h >> 30;
@@ -155,8 +228,10 @@ impl Store {
         let cap = self.table.len() * 2;
         let mut table = vec![EMPTY; cap];
         let mask = cap - 1;
+        let mut words = vec![0u64; self.layout.words];
         for i in 0..self.len {
-            let mut slot = hash_bytes(self.state(i)) as usize & mask;
+            self.layout.load(self.state(i), &mut words);
+            let mut slot = hash_words(&words) as usize & mask;
             while table[slot] != EMPTY {
                 slot = (slot + 1) & mask;
             }
@@ -167,12 +242,12 @@ impl Store {
 
     /// Index of `bytes`, inserting it when new: `(index, inserted)`.
     #[inline]
-    fn insert(&mut self, bytes: &[u8]) -> (u32, bool) {
+    fn insert(&mut self, words: &[u64], bytes: &[u8]) -> (u32, bool) {
         if (self.len + 1) * 10 > self.table.len() * 7 {
             self.grow();
         }
         let mask = self.table.len() - 1;
-        let mut slot = hash_bytes(bytes) as usize & mask;
+        let mut slot = hash_words(words) as usize & mask;
         loop {
             let i = self.table[slot];
             if i == EMPTY {
@@ -191,9 +266,9 @@ impl Store {
 
     /// Index of `bytes` if present.
     #[inline]
-    fn find(&self, bytes: &[u8]) -> Option<u32> {
+    fn find(&self, words: &[u64], bytes: &[u8]) -> Option<u32> {
         let mask = self.table.len() - 1;
-        let mut slot = hash_bytes(bytes) as usize & mask;
+        let mut slot = hash_words(words) as usize & mask;
         loop {
             let i = self.table[slot];
             if i == EMPTY {
@@ -254,22 +329,6 @@ fn bits_for(v: u32) -> u32 {
     (32 - v.leading_zeros()).max(1)
 }
 
-/// Fires `t` from `cur` into `next` (which holds a copy of `cur`); false on `u32` overflow.
-#[inline]
-fn fire_into(net: &PtNet, t: usize, cur: &[u32], next: &mut [u32]) -> bool {
-    next.copy_from_slice(cur);
-    for &(p, w) in &net.pre[t] {
-        next[p] -= w;
-    }
-    for &(p, w) in &net.post[t] {
-        match next[p].checked_add(w) {
-            Some(v) => next[p] = v,
-            None => return false,
-        }
-    }
-    true
-}
-
 /// Explores the reachability graph breadth-first, up to `max_states` states.
 pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Explored {
     let np = net.places.len();
@@ -286,19 +345,20 @@ pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Exp
     let mut bits: Vec<u32> = net.initial.iter().map(|&v| bits_for(v)).collect();
     'restart: loop {
         let layout = Layout::new(bits.clone());
+        let packed_net = Packed::new(net, &layout);
         let mut store = Store::new(layout.clone());
-        let mut words = vec![0u64; layout.words];
+        let mut cur = vec![0u64; layout.words];
+        let mut next = vec![0u64; layout.words];
         let mut words2 = vec![0u64; layout.words];
-        let mut packed = vec![0u8; layout.bytes];
-        let mut cur = vec![0u32; np];
-        let mut next = vec![0u32; np];
+        let mut bytes = vec![0u8; layout.bytes];
+        let mut m = vec![0u32; np];
         let mut anc = vec![0u32; np];
         let mut max = net.initial.clone();
-        if layout.pack(&net.initial, &mut words).is_err() {
+        if layout.pack(&net.initial, &mut cur).is_err() {
             return Explored::Overflow;
         }
-        words_to_bytes(&words, &mut packed);
-        store.insert(&packed);
+        words_to_bytes(&cur, &mut bytes);
+        store.insert(&cur, &bytes);
         let mut parent = vec![u32::MAX];
         let mut via = vec![0u32];
         let mut edges = 0u64;
@@ -310,32 +370,41 @@ pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Exp
             if s & 0xffff == 0 && cancel() {
                 return Explored::Limit;
             }
-            store.marking(s, &mut words, &mut cur);
+            layout.load(store.state(s), &mut cur);
             let mut dead = true;
             for t in 0..nt {
-                if !net.enabled(&cur, t) {
+                if !packed_net.enabled(&cur, t) {
                     continue;
                 }
                 dead = false;
                 fired[t] = true;
-                if !fire_into(net, t, &cur, &mut next) {
-                    return Explored::Overflow;
+                if let Err(i) = packed_net.fire(&cur, &mut next, t) {
+                    // Widen the place that does not fit and start again.
+                    let p = packed_net.post_places[t][i];
+                    if bits[p] >= 32 {
+                        return Explored::Overflow;
+                    }
+                    bits[p] = (bits[p] * 2).min(32);
+                    continue 'restart;
                 }
                 let mut record = false;
-                for &(p, _) in &net.post[t] {
-                    if next[p] > max[p] {
-                        max[p] = next[p];
+                for (i, f) in packed_net.post[t].iter().enumerate() {
+                    let p = packed_net.post_places[t][i];
+                    let v = f.get(&next) as u32;
+                    if v > max[p] {
+                        max[p] = v;
                         record = true;
                     }
                 }
                 if record {
-                    // Karp–Miller: does `next` strictly cover an ancestor?
+                    // Karp–Miller: does the successor strictly cover an ancestor?
+                    layout.unpack_words(&next, &mut m);
                     let mut a = s;
                     loop {
                         store.marking(a, &mut words2, &mut anc);
-                        let covers = next.iter().zip(&anc).all(|(x, y)| x >= y)
-                            && next != anc
-                            && next.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
+                        let covers = m.iter().zip(&anc).all(|(x, y)| x >= y)
+                            && m != anc
+                            && m.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
                         if covers {
                             return Explored::Unbounded;
                         }
@@ -345,17 +414,8 @@ pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Exp
                         a = parent[a] as usize;
                     }
                 }
-                if let Err(p) = layout.pack(&next, &mut words) {
-                    // Widen every place that does not fit and start again.
-                    for q in 0..np {
-                        if q == p || bits_for(next[q]) > bits[q] {
-                            bits[q] = (bits[q] * 2).max(bits_for(next[q])).min(32);
-                        }
-                    }
-                    continue 'restart;
-                }
-                words_to_bytes(&words, &mut packed);
-                let (_, inserted) = store.insert(&packed);
+                words_to_bytes(&next, &mut bytes);
+                let (_, inserted) = store.insert(&next, &bytes);
                 edges += 1;
                 if inserted {
                     parent.push(s as u32);
@@ -393,10 +453,11 @@ pub fn components(net: &PtNet, g: &Graph) -> Components {
     let np = net.places.len();
     let nt = net.transitions.len();
     let layout = &g.store.layout;
-    let mut words = vec![0u64; layout.words];
+    let packed_net = Packed::new(net, layout);
     let mut packed = vec![0u8; layout.bytes];
-    let mut cur = vec![0u32; np];
-    let mut next = vec![0u32; np];
+    let mut cur = vec![0u64; layout.words];
+    let mut next = vec![0u64; layout.words];
+    let _ = np;
     // rindex: 0 = unvisited; while on the stack the DFS index; when done the component id.
     let mut rindex = vec![0u32; n];
     let mut done = vec![0u64; n.div_ceil(64)];
@@ -423,20 +484,19 @@ pub fn components(net: &PtNet, g: &Graph) -> Components {
         while let Some(frame) = frames.last_mut() {
             let v = frame.0;
             let vi = v as usize;
-            g.store.marking(vi, &mut words, &mut cur);
+            layout.load(g.store.state(vi), &mut cur);
             let mut descended = false;
             while (frame.1 as usize) < nt {
                 let t = frame.1 as usize;
                 frame.1 += 1;
-                if !net.enabled(&cur, t) {
+                if !packed_net.enabled(&cur, t) {
                     continue;
                 }
-                fire_into(net, t, &cur, &mut next);
-                if layout.pack(&next, &mut words).is_err() {
+                if packed_net.fire(&cur, &mut next, t).is_err() {
                     continue;
                 }
-                words_to_bytes(&words, &mut packed);
-                let Some(w) = g.store.find(&packed) else { continue };
+                words_to_bytes(&next, &mut packed);
+                let Some(w) = g.store.find(&next, &packed) else { continue };
                 let wi = w as usize;
                 if is(&done, wi) {
                     set(&mut leaves, vi);
@@ -475,9 +535,9 @@ pub fn components(net: &PtNet, g: &Graph) -> Components {
                     if live {
                         enabled_union.iter_mut().for_each(|e| *e = false);
                         for w in members() {
-                            g.store.marking(w, &mut words, &mut cur);
+                            layout.load(g.store.state(w), &mut cur);
                             for (t, e) in enabled_union.iter_mut().enumerate() {
-                                if !*e && net.enabled(&cur, t) {
+                                if !*e && packed_net.enabled(&cur, t) {
                                     *e = true;
                                 }
                             }
