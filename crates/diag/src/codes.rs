@@ -1,6 +1,6 @@
 //! The catalogue of diagnostic codes, with the explanation `alba explain CODE`
 //! prints. Ranges by stage: E1xx project files, E2xx ladder syntax,
-//! E3xx program checks, E4xx simulation inputs, E5xx firmware.
+//! E3xx program checks, E4xx simulation inputs, E5xx firmware, E6xx nets.
 
 use std::fmt;
 
@@ -137,6 +137,22 @@ codes! {
         "The built firmware needs more flash or RAM than the board has (the report gives both against the board's limits). Shorten the program, use fewer tags, or choose a board with more memory (the Mega has 8 KiB of RAM and 248 KiB of flash).";
     Toolchain = 503, "the firmware could not be built or uploaded",
         "Building needs Debian's gcc-avr, avr-libc and arduino-core-avr (./test.sh installs them); uploading needs avrdude and the board on the named serial port. The message gives the tool's own error.";
+    PnmlSyntax = 601, "a PNML file is not well-formed XML",
+        "A .pnml file is an XML document (ISO/IEC 15909-2). The message gives the XML error at the place shown: an unclosed or mismatched tag, a bad attribute, an unknown entity (only XML's five predefined entities and character references are accepted), text outside the root element. Files over 16 MiB and elements nested deeper than 64 levels are refused with E606.";
+    PnmlStructure = 602, "a PNML document does not have the structure of a net",
+        "Alba reads one `<net id=\"..\" type=\"..\">` inside `<pnml>`, with pages holding `<place id>`, `<transition id>` and `<arc id source target>`; every node and arc needs a non-empty `id`, and each label (`name`, `initialMarking`, `inscription`) appears at most once on an element. See docs/nets.md, section pnml.";
+    PnmlDuplicateId = 603, "two PNML elements have the same id",
+        "PNML ids are unique in the whole document: places, transitions, arcs and pages share one space of names. Rename one of them (and the arcs that use it).";
+    PnmlArc = 604, "a PNML arc does not join a place and a transition",
+        "An arc goes from a place to a transition or from a transition to a place, and its `source` and `target` name nodes of the net (a reference node stands for the node it refers to). Two places or two transitions cannot be joined, and two arcs may not join the same pair in the same direction (give the one arc a weight instead).";
+    PnmlNumber = 605, "a PNML number is out of range",
+        "`<initialMarking><text>` is a whole number from 0 to 1000000, `<inscription><text>` (an arc's weight) a whole number from 1 to 1000000, Alba's `<priority>` an integer (32 bits), positions decimal numbers. Negative, fractional and larger values are refused rather than rounded.";
+    PnmlLimit = 606, "a PNML file is too large",
+        "Alba reads PNML files up to 16 MiB with elements nested at most 64 levels deep, so that a broken or hostile file cannot exhaust memory or the stack. Split the model, or remove what it does not need (large graphics, other tools' data).";
+    PnmlAlba = 607, "Alba's data in a PNML file is not valid",
+        "Alba keeps its own data in `<toolspecific tool=\"alba\" version=\"1\">` on the element it belongs to: on the net `<mode>petri</mode>` or `<mode>normal</mode>` and `<widget id kind [tag] [x y]>caption</widget>` (kind button, display, plot or label); on a place `<tag>NAME</tag>`, `<kind>` (state, counter, expression, variable, input, output, stop, end), `<prop name=\"..\">value</prop>` and `<script>`; on a transition `<guard>EXPR</guard>`, `<priority>N</priority>`, `<kind>` (transition, condition, timer) and `<prop>`; on an arc `<kind>normal|inhibitor|read</kind>` (inhibitor and read arcs go from a place to a transition). Each appears at most once. See docs/nets.md.";
+    PnmlIgnored = 608, "part of a PNML file was ignored (a warning)",
+        "An element Alba does not know (another tool's extension outside `<toolspecific>`, a label of another net type) is skipped with this warning, once per element name; the net loads. Other tools' `<toolspecific>` blocks are not ignored: they are kept and written back unchanged.";
 }
 
 impl fmt::Display for Code {

@@ -1,0 +1,230 @@
+//! A small element tree over quick-xml's reader, with byte positions, for
+//! the PNML loader: PNML files are small (capped by [`crate::MAX_FILE_BYTES`])
+//! and the loader looks around (ids, arcs after nodes), so a tree is simpler
+//! than a streaming walk. Depth is capped ([`MAX_DEPTH`]) so that a hostile
+//! file cannot exhaust the stack of the recursive walk.
+
+use quick_xml::events::Event;
+use quick_xml::reader::Reader;
+
+/// Deepest element nesting accepted.
+pub const MAX_DEPTH: usize = 64;
+
+#[derive(Debug, Clone)]
+pub struct Elem {
+    /// Local name (namespace prefix dropped).
+    pub name: String,
+    pub attrs: Vec<(String, String)>,
+    pub children: Vec<Elem>,
+    /// Character data directly inside, entities resolved.
+    pub text: String,
+    /// Byte range of the character data (first to last piece).
+    pub text_range: Option<(usize, usize)>,
+    /// Start of `<`.
+    pub start: usize,
+    /// End of the start tag (`>`).
+    pub start_end: usize,
+    /// End of the end tag (or of the empty tag).
+    pub end: usize,
+}
+
+impl Elem {
+    pub fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_str())
+    }
+
+    pub fn child(&self, name: &str) -> Option<&Elem> {
+        self.children.iter().find(|c| c.name == name)
+    }
+}
+
+/// A well-formedness error at a byte offset.
+#[derive(Debug)]
+pub struct XmlError {
+    pub offset: usize,
+    pub message: String,
+}
+
+fn local(name: &[u8]) -> String {
+    let n = match name.iter().rposition(|&b| b == b':') {
+        Some(i) => &name[i + 1..],
+        None => name,
+    };
+    String::from_utf8_lossy(n).into_owned()
+}
+
+fn open(e: &quick_xml::events::BytesStart, start: usize, end: usize) -> Result<Elem, XmlError> {
+    let mut attrs = Vec::new();
+    for a in e.attributes() {
+        let a = a.map_err(|err| XmlError {
+            offset: start,
+            message: format!("bad attribute: {err}"),
+        })?;
+        let key = local(a.key.as_ref());
+        let value = a.unescape_value().map_err(|err| XmlError {
+            offset: start,
+            message: format!("bad attribute value: {err}"),
+        })?;
+        attrs.push((key, value.into_owned()));
+    }
+    Ok(Elem {
+        name: local(e.name().as_ref()),
+        attrs,
+        children: Vec::new(),
+        text: String::new(),
+        text_range: None,
+        start,
+        start_end: end,
+        end,
+    })
+}
+
+fn add_text(stack: &mut [Elem], s: &str, from: usize, to: usize) {
+    if let Some(top) = stack.last_mut() {
+        top.text.push_str(s);
+        top.text_range = Some(match top.text_range {
+            Some((a, _)) => (a, to),
+            None => (from, to),
+        });
+    }
+}
+
+/// Parses a whole document into its root element.
+pub fn parse(text: &str) -> Result<Elem, XmlError> {
+    let mut reader = Reader::from_str(text);
+    let config = reader.config_mut();
+    config.check_end_names = true;
+    config.trim_text(false);
+    let mut stack: Vec<Elem> = Vec::new();
+    let mut root: Option<Elem> = None;
+    loop {
+        let before = reader.buffer_position() as usize;
+        let ev = reader.read_event().map_err(|err| XmlError {
+            offset: reader.error_position() as usize,
+            message: err.to_string(),
+        })?;
+        let after = reader.buffer_position() as usize;
+        match ev {
+            Event::Start(e) => {
+                if root.is_some() && stack.is_empty() {
+                    return Err(XmlError {
+                        offset: before,
+                        message: "a second root element: a document has one".into(),
+                    });
+                }
+                if stack.len() >= MAX_DEPTH {
+                    return Err(XmlError {
+                        offset: before,
+                        message: format!("elements nested deeper than {MAX_DEPTH} levels"),
+                    });
+                }
+                stack.push(open(&e, before, after)?);
+            }
+            Event::Empty(e) => {
+                if root.is_some() && stack.is_empty() {
+                    return Err(XmlError {
+                        offset: before,
+                        message: "a second root element: a document has one".into(),
+                    });
+                }
+                let el = open(&e, before, after)?;
+                match stack.last_mut() {
+                    Some(top) => top.children.push(el),
+                    None => root = Some(el),
+                }
+            }
+            Event::End(_) => {
+                let Some(mut el) = stack.pop() else {
+                    return Err(XmlError {
+                        offset: before,
+                        message: "an end tag without a start tag".into(),
+                    });
+                };
+                el.end = after;
+                match stack.last_mut() {
+                    Some(top) => top.children.push(el),
+                    None => root = Some(el),
+                }
+            }
+            Event::Text(t) => {
+                let s = t.decode().map_err(|err| XmlError {
+                    offset: before,
+                    message: err.to_string(),
+                })?;
+                if stack.is_empty() {
+                    if !s.trim().is_empty() {
+                        return Err(XmlError {
+                            offset: before,
+                            message: "text outside the root element".into(),
+                        });
+                    }
+                } else {
+                    add_text(&mut stack, &s, before, after);
+                }
+            }
+            Event::CData(t) => {
+                let s = t.decode().map_err(|err| XmlError {
+                    offset: before,
+                    message: err.to_string(),
+                })?;
+                if stack.is_empty() {
+                    return Err(XmlError {
+                        offset: before,
+                        message: "CDATA outside the root element".into(),
+                    });
+                }
+                add_text(&mut stack, &s, before, after);
+            }
+            Event::GeneralRef(r) => {
+                let resolved: String = if r.is_char_ref() {
+                    match r.resolve_char_ref() {
+                        Ok(Some(c)) => c.to_string(),
+                        _ => {
+                            return Err(XmlError {
+                                offset: before,
+                                message: "a character reference that is not a character".into(),
+                            });
+                        }
+                    }
+                } else {
+                    let name = r.decode().map_err(|err| XmlError {
+                        offset: before,
+                        message: err.to_string(),
+                    })?;
+                    match quick_xml::escape::resolve_predefined_entity(&name) {
+                        Some(s) => s.to_string(),
+                        None => {
+                            return Err(XmlError {
+                                offset: before,
+                                message: format!("unknown entity `&{name};` (only XML's five are defined)"),
+                            });
+                        }
+                    }
+                };
+                if stack.is_empty() {
+                    return Err(XmlError {
+                        offset: before,
+                        message: "a reference outside the root element".into(),
+                    });
+                }
+                add_text(&mut stack, &resolved, before, after);
+            }
+            Event::DocType(_) => {
+                // Internal subsets could define entities; Alba resolves none
+                // (see GeneralRef), so the doctype is only skipped.
+            }
+            Event::Decl(_) | Event::PI(_) | Event::Comment(_) => {}
+            Event::Eof => break,
+        }
+    }
+    if let Some(open) = stack.last() {
+        return Err(XmlError {
+            offset: open.start,
+            message: format!("<{}> is never closed", open.name),
+        });
+    }
+    root.ok_or(XmlError {
+        offset: 0,
+        message: "no root element: the file is empty".into(),
+    })
+}

@@ -1,0 +1,3 @@
+//! Tests of the PNML loader and saver.
+
+mod fixtures;
