@@ -130,3 +130,45 @@ fn add_arc(arcs: &mut Vec<(usize, u32)>, p: usize, weight: u32) {
         None => arcs.push((p, weight)),
     }
 }
+
+impl PtNet {
+    /// The place/transition net underlying a loaded [`crate::Net`]: places and transitions in
+    /// document order, arcs by kind (normal place → transition: input; transition → place:
+    /// output; inhibitor and read arcs from their place). Guards, priorities, tags and
+    /// element kinds are not part of it. Arcs naming unknown elements (which the loader
+    /// already reports) are skipped.
+    pub fn from_net(net: &crate::Net) -> PtNet {
+        use crate::ArcKind;
+        use std::collections::HashMap;
+        let mut pt = PtNet::new();
+        let mut places = HashMap::new();
+        let mut transitions = HashMap::new();
+        for p in &net.places {
+            places.insert(p.id.as_str(), pt.add_place(&p.id, p.initial));
+        }
+        for t in &net.transitions {
+            transitions.insert(t.id.as_str(), pt.add_transition(&t.id));
+        }
+        for a in &net.arcs {
+            let (s, d) = (a.source.as_str(), a.target.as_str());
+            let place_to_transition = match (places.get(s), transitions.get(d)) {
+                (Some(&p), Some(&t)) => Some((p, t)),
+                _ => None,
+            };
+            let transition_to_place = match (transitions.get(s), places.get(d)) {
+                (Some(&t), Some(&p)) => Some((p, t)),
+                _ => None,
+            };
+            match (a.kind, place_to_transition, transition_to_place) {
+                (ArcKind::Normal, Some((p, t)), _) => pt.add_pre(t, p, a.weight),
+                (ArcKind::Normal, None, Some((p, t))) => pt.add_post(t, p, a.weight),
+                (ArcKind::Inhibitor, Some((p, t)), _) | (ArcKind::Inhibitor, None, Some((p, t))) => {
+                    pt.add_inhibitor(t, p, a.weight)
+                }
+                (ArcKind::Read, Some((p, t)), _) | (ArcKind::Read, None, Some((p, t))) => pt.add_read(t, p, a.weight),
+                _ => {}
+            }
+        }
+        pt
+    }
+}
