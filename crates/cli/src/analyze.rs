@@ -2,8 +2,8 @@
 //! place/transition net (docs/nets.md, section "analysis"; SPEC §10.5).
 
 use alba_diag::{Files, render_all};
-use alba_net::analysis::{Analysis, Bound, Options, Space, analyze};
 use alba_net::PtNet;
+use alba_net::analysis::{Analysis, Bound, Options, Space, analyze};
 use serde_json::{Map, Value, json};
 use std::path::Path;
 use std::process::ExitCode;
@@ -96,7 +96,10 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
     o.insert("states".into(), json!(a.states));
     o.insert("edges".into(), json!(a.edges));
     o.insert("deadlocks".into(), json!(a.deadlocks));
-    o.insert("dead_transitions".into(), a.dead_transitions.as_deref().map_or(Value::Null, names));
+    o.insert(
+        "dead_transitions".into(),
+        a.dead_transitions.as_deref().map_or(Value::Null, names),
+    );
     o.insert("live".into(), json!(a.live));
     o.insert("reversible".into(), json!(a.reversible));
     let inv = |r: &Result<Vec<Vec<i64>>, _>, ids: &[String]| match r {
@@ -106,12 +109,19 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
     o.insert("p_invariants".into(), inv(&a.p_invariants, &pt.places));
     o.insert("t_invariants".into(), inv(&a.t_invariants, &pt.transitions));
     // Extras.
-    o.insert("deadlock_trace".into(), a.deadlock_trace.as_deref().map_or(Value::Null, names));
+    o.insert(
+        "deadlock_trace".into(),
+        a.deadlock_trace.as_deref().map_or(Value::Null, names),
+    );
     o.insert(
         "deadlock_marking".into(),
         a.deadlock_marking.as_ref().map_or(Value::Null, |m| {
             Value::Object(
-                m.iter().enumerate().filter(|(_, v)| **v > 0).map(|(i, v)| (pt.places[i].clone(), json!(v))).collect(),
+                m.iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v > 0)
+                    .map(|(i, v)| (pt.places[i].clone(), json!(v)))
+                    .collect(),
             )
         }),
     );
@@ -159,7 +169,12 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
         s.push_str(&l);
         s.push('\n');
     };
-    line(format!("net {id} ({}): {} places, {} transitions", path.display(), a.places, a.transitions));
+    line(format!(
+        "net {id} ({}): {} places, {} transitions",
+        path.display(),
+        a.places,
+        a.transitions
+    ));
     for n in &a.notes {
         line(format!("note: {n}"));
     }
@@ -176,7 +191,10 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
             a.states.unwrap_or(0),
             a.explore_time.as_secs_f64()
         )),
-        Space::Incomplete => line(format!("state space: incomplete — {}", a.stopped.as_deref().unwrap_or(""))),
+        Space::Incomplete => line(format!(
+            "state space: incomplete — {}",
+            a.stopped.as_deref().unwrap_or("")
+        )),
     }
     line(format!("bounded: {}, safe: {}", yes(a.bounded), yes(a.safe)));
     if let Some(b) = &a.place_bounds {
@@ -198,7 +216,11 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
                 let seq: Vec<&str> = t.iter().map(|&i| pt.transitions[i].as_str()).collect();
                 line(format!(
                     "  shortest firing sequence to one: {}",
-                    if seq.is_empty() { "(the initial marking)".to_string() } else { seq.join(" ") }
+                    if seq.is_empty() {
+                        "(the initial marking)".to_string()
+                    } else {
+                        seq.join(" ")
+                    }
                 ));
             }
             if let Some(m) = &a.deadlock_marking {
@@ -206,11 +228,21 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
                     .iter()
                     .enumerate()
                     .filter(|(_, v)| **v > 0)
-                    .map(|(i, v)| if *v == 1 { pt.places[i].clone() } else { format!("{}×{v}", pt.places[i]) })
+                    .map(|(i, v)| {
+                        if *v == 1 {
+                            pt.places[i].clone()
+                        } else {
+                            format!("{}×{v}", pt.places[i])
+                        }
+                    })
                     .collect();
                 line(format!(
                     "  dead marking: {}",
-                    if marked.is_empty() { "(empty)".to_string() } else { marked.join(", ") }
+                    if marked.is_empty() {
+                        "(empty)".to_string()
+                    } else {
+                        marked.join(", ")
+                    }
                 ));
             }
         }
@@ -230,7 +262,13 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
         y.iter()
             .enumerate()
             .filter(|(_, c)| **c != 0)
-            .map(|(i, &c)| if c == 1 { ids[i].clone() } else { format!("{c}·{}", ids[i]) })
+            .map(|(i, &c)| {
+                if c == 1 {
+                    ids[i].clone()
+                } else {
+                    format!("{c}·{}", ids[i])
+                }
+            })
             .collect::<Vec<_>>()
             .join(" + ")
     };

@@ -46,5 +46,8 @@ fn main() {
     let net = samples::cycles(25, 4);
     let p = alba_net::analysis::invariants::p_invariants(&net, 200_000).map(|v| v.len());
     let tt = alba_net::analysis::invariants::t_invariants(&net, 200_000).map(|v| v.len());
-    println!("invariants on 100 places (25 4-cycles): {p:?} P, {tt:?} T in {:.3} s", t.elapsed().as_secs_f64());
+    println!(
+        "invariants on 100 places (25 4-cycles): {p:?} P, {tt:?} T in {:.3} s",
+        t.elapsed().as_secs_f64()
+    );
 }

@@ -12,7 +12,13 @@ fn run(net: &PtNet) -> Analysis {
 /// Invariants as sorted lists of (id, coefficient).
 fn named(ids: &[String], invs: &[Vec<i64>]) -> Vec<Vec<(String, i64)>> {
     invs.iter()
-        .map(|v| v.iter().enumerate().filter(|(_, c)| **c != 0).map(|(i, c)| (ids[i].clone(), *c)).collect())
+        .map(|v| {
+            v.iter()
+                .enumerate()
+                .filter(|(_, c)| **c != 0)
+                .map(|(i, c)| (ids[i].clone(), *c))
+                .collect()
+        })
         .collect()
 }
 
@@ -49,7 +55,10 @@ fn philosophers_two_deadlock() {
     assert_eq!(a.states, Some(6));
     assert_eq!(a.edges, Some(8));
     assert_eq!(a.deadlocks, Some(1));
-    assert_eq!(ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])), ["takeL0", "takeL1"]);
+    assert_eq!(
+        ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])),
+        ["takeL0", "takeL1"]
+    );
     assert_eq!(a.dead_transitions, Some(vec![]));
     assert_eq!(a.live, Some(false));
     assert_eq!(a.reversible, Some(false));
@@ -196,7 +205,10 @@ fn mutex_is_safe_live_reversible() {
     let net = mutex();
     let a = run(&net);
     assert_eq!((a.states, a.edges, a.deadlocks), (Some(3), Some(4), Some(0)));
-    assert_eq!((a.bounded, a.safe, a.live, a.reversible), (Some(true), Some(true), Some(true), Some(true)));
+    assert_eq!(
+        (a.bounded, a.safe, a.live, a.reversible),
+        (Some(true), Some(true), Some(true), Some(true))
+    );
     let mut expected = vec![
         inv(&[("idle1", 1), ("busy1", 1)]),
         inv(&[("busy1", 1), ("res", 1), ("busy2", 1)]),
@@ -206,7 +218,10 @@ fn mutex_is_safe_live_reversible() {
     assert_eq!(p_inv(&a, &net), expected);
     assert_eq!(
         t_inv(&a, &net),
-        vec![inv(&[("enter1", 1), ("leave1", 1)]), inv(&[("enter2", 1), ("leave2", 1)])]
+        vec![
+            inv(&[("enter1", 1), ("leave1", 1)]),
+            inv(&[("enter2", 1), ("leave2", 1)])
+        ]
     );
 }
 
@@ -231,7 +246,10 @@ fn invariants_needing_negative_intermediate_coefficients() {
     let a = run(&net);
     assert_eq!(
         p_inv(&a, &net),
-        vec![inv(&[("p1", 2), ("p2", 2), ("p4", 1)]), inv(&[("p1", 2), ("p3", 2), ("p4", 1)])]
+        vec![
+            inv(&[("p1", 2), ("p2", 2), ("p4", 1)]),
+            inv(&[("p1", 2), ("p3", 2), ("p4", 1)])
+        ]
     );
     assert_eq!((a.states, a.deadlocks), (Some(3), Some(1)));
 }
@@ -304,7 +322,10 @@ fn inhibitor_arc_bounds_a_source_transition() {
     assert_eq!(a.bounded, Some(true));
     assert_eq!(a.place_bounds, finite(&[3]));
     assert_eq!((a.states, a.edges, a.deadlocks), (Some(4), Some(3), Some(1)));
-    assert_eq!(ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])), ["add", "add", "add"]);
+    assert_eq!(
+        ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])),
+        ["add", "add", "add"]
+    );
     assert!(a.notes.iter().any(|n| n.contains("inhibitor")));
 }
 
@@ -333,7 +354,14 @@ fn unbounded_inhibitor_place_is_reported_unknown() {
     let use_ = net.add_transition("use");
     net.add_pre(use_, b, 1);
     net.add_inhibitor(use_, a_place, 1);
-    let a = analyze(&net, &Options { max_states: 100, ..Options::default() }, &|| false);
+    let a = analyze(
+        &net,
+        &Options {
+            max_states: 100,
+            ..Options::default()
+        },
+        &|| false,
+    );
     assert_eq!(a.bounded, None);
     assert!(a.stopped.as_deref().unwrap_or("").contains("100"), "{:?}", a.stopped);
     assert_eq!(a.states, None);
@@ -367,7 +395,14 @@ fn read_arc_net() {
 #[test]
 fn max_states_stops_with_a_message() {
     let net = samples::cycles(4, 3);
-    let a = analyze(&net, &Options { max_states: 10, ..Options::default() }, &|| false);
+    let a = analyze(
+        &net,
+        &Options {
+            max_states: 10,
+            ..Options::default()
+        },
+        &|| false,
+    );
     assert_eq!(a.bounded, None);
     assert!(a.stopped.as_deref().unwrap_or("").contains("--max-states"));
 }
@@ -502,7 +537,14 @@ fn brute_invariants(a: &[Vec<i64>], cols: usize) -> Vec<Vec<i64>> {
 }
 
 fn run_small(net: &PtNet) -> Analysis {
-    analyze(net, &Options { max_states: 5_000, ..Options::default() }, &|| false)
+    analyze(
+        net,
+        &Options {
+            max_states: 5_000,
+            ..Options::default()
+        },
+        &|| false,
+    )
 }
 
 proptest! {

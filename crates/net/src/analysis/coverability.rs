@@ -106,5 +106,9 @@ pub fn coverability(net: &PtNet, max_nodes: usize, cancel: &dyn Fn() -> bool) ->
             }
         }
     }
-    Coverability::Graph { nodes, edges, enabled: en }
+    Coverability::Graph {
+        nodes,
+        edges,
+        enabled: en,
+    }
 }

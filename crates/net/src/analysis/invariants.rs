@@ -61,7 +61,11 @@ pub fn farkas(a: &[Vec<i64>], cols: usize, max_rows: usize) -> Result<Vec<Vec<i6
             y[i] = 1;
             let mut support = vec![0u64; words];
             support[i / 64] |= 1 << (i % 64);
-            Row { d: a[i].clone(), y, support }
+            Row {
+                d: a[i].clone(),
+                y,
+                support,
+            }
         })
         .collect();
     for j in 0..cols {
@@ -72,7 +76,10 @@ pub fn farkas(a: &[Vec<i64>], cols: usize, max_rows: usize) -> Result<Vec<Vec<i6
             for q in &neg {
                 let support: Vec<u64> = p.support.iter().zip(&q.support).map(|(x, y)| x | y).collect();
                 // A combination whose support contains a kept row's support is not minimal.
-                if next.iter().any(|r| subset(&r.support, &support) && r.support != support) {
+                if next
+                    .iter()
+                    .any(|r| subset(&r.support, &support) && r.support != support)
+                {
                     continue;
                 }
                 let fp = q.d[j].checked_abs().ok_or(InvariantError::Overflow)?;
@@ -132,7 +139,8 @@ pub fn p_invariants(net: &crate::PtNet, max_rows: usize) -> Result<Vec<Vec<i64>>
 /// Minimal semi-positive T-invariants (`C · x = 0`), one coefficient per transition.
 pub fn t_invariants(net: &crate::PtNet, max_rows: usize) -> Result<Vec<Vec<i64>>, InvariantError> {
     let c = net.incidence();
-    let transposed: Vec<Vec<i64>> =
-        (0..net.transitions.len()).map(|t| c.iter().map(|row| row[t]).collect()).collect();
+    let transposed: Vec<Vec<i64>> = (0..net.transitions.len())
+        .map(|t| c.iter().map(|row| row[t]).collect())
+        .collect();
     farkas(&transposed, net.places.len(), max_rows)
 }

@@ -33,7 +33,10 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Options {
-        Options { max_states: 10_000_000, max_invariant_rows: invariants::MAX_ROWS }
+        Options {
+            max_states: 10_000_000,
+            max_invariant_rows: invariants::MAX_ROWS,
+        }
     }
 }
 
@@ -131,7 +134,10 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
         p_invariants: Ok(Vec::new()),
         t_invariants: Ok(Vec::new()),
         stopped: None,
-        notes: vec!["guards, priorities and tags are ignored: this is the analysis of the underlying place/transition net".into()],
+        notes: vec![
+            "guards, priorities and tags are ignored: this is the analysis of the underlying place/transition net"
+                .into(),
+        ],
         memory_bytes: 0,
         explore_time: Duration::ZERO,
         scc_time: Duration::ZERO,
@@ -177,51 +183,60 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
             // Tarjan's per-state word and two bit sets on top of the graph.
             a.memory_bytes = g.bytes_used() + g.store.len() * 4 + g.store.len() / 4;
         }
-        reachability::Explored::Unbounded => {
-            match coverability::coverability(net, options.max_states, cancel) {
-                coverability::Coverability::Graph { nodes, edges: _, enabled } => {
-                    a.explore_time = start.elapsed();
-                    a.space = Space::Coverability;
-                    let bounds: Vec<Bound> = (0..np)
-                        .map(|p| {
-                            let m = nodes.iter().map(|n| n[p]).max().unwrap_or(0);
-                            if m == coverability::OMEGA { Bound::Omega } else { Bound::Finite(m) }
-                        })
-                        .collect();
-                    a.bounded = Some(false);
-                    a.safe = Some(false);
-                    a.place_bounds = Some(bounds);
-                    a.states = Some(nodes.len() as u64);
-                    let dead: Vec<usize> = (0..nt).filter(|&t| !enabled[t]).collect();
-                    a.live = if dead.is_empty() { None } else { Some(false) };
-                    a.dead_transitions = Some(dead);
-                    a.memory_bytes = nodes.len() * (np * 4 + 48);
-                    a.notes.push(
+        reachability::Explored::Unbounded => match coverability::coverability(net, options.max_states, cancel) {
+            coverability::Coverability::Graph {
+                nodes,
+                edges: _,
+                enabled,
+            } => {
+                a.explore_time = start.elapsed();
+                a.space = Space::Coverability;
+                let bounds: Vec<Bound> = (0..np)
+                    .map(|p| {
+                        let m = nodes.iter().map(|n| n[p]).max().unwrap_or(0);
+                        if m == coverability::OMEGA {
+                            Bound::Omega
+                        } else {
+                            Bound::Finite(m)
+                        }
+                    })
+                    .collect();
+                a.bounded = Some(false);
+                a.safe = Some(false);
+                a.place_bounds = Some(bounds);
+                a.states = Some(nodes.len() as u64);
+                let dead: Vec<usize> = (0..nt).filter(|&t| !enabled[t]).collect();
+                a.live = if dead.is_empty() { None } else { Some(false) };
+                a.dead_transitions = Some(dead);
+                a.memory_bytes = nodes.len() * (np * 4 + 48);
+                a.notes.push(
                         "unbounded: Karp–Miller coverability graph; states counts its nodes; edges, deadlocks and reversibility are not computed"
                             .into(),
                     );
-                }
-                coverability::Coverability::Limit => {
-                    a.bounded = Some(false);
-                    a.safe = Some(false);
-                    a.stopped = Some(format!(
-                        "the net is unbounded and its coverability graph has more than {} nodes (--max-states)",
-                        options.max_states
-                    ));
-                }
-                coverability::Coverability::InhibitorOmega(p) => {
-                    a.stopped = Some(format!(
-                        "place {} would be unbounded but an inhibitor arc reads it: the coverability graph would not be sound, boundedness unknown",
-                        net.places[p]
-                    ));
-                }
             }
-        }
+            coverability::Coverability::Limit => {
+                a.bounded = Some(false);
+                a.safe = Some(false);
+                a.stopped = Some(format!(
+                    "the net is unbounded and its coverability graph has more than {} nodes (--max-states)",
+                    options.max_states
+                ));
+            }
+            coverability::Coverability::InhibitorOmega(p) => {
+                a.stopped = Some(format!(
+                    "place {} would be unbounded but an inhibitor arc reads it: the coverability graph would not be sound, boundedness unknown",
+                    net.places[p]
+                ));
+            }
+        },
         reachability::Explored::Limit => {
             a.stopped = Some(if cancel() {
                 "interrupted".to_string()
             } else {
-                format!("stopped after {} states (--max-states): the state space is incomplete", options.max_states)
+                format!(
+                    "stopped after {} states (--max-states): the state space is incomplete",
+                    options.max_states
+                )
             });
         }
         reachability::Explored::Overflow => {

@@ -74,7 +74,11 @@ impl Packed {
                         .map(|&(p, w)| Field {
                             word: layout.word[p],
                             shift: layout.shift[p],
-                            mask: if layout.bits[p] >= 64 { u64::MAX } else { (1u64 << layout.bits[p]) - 1 },
+                            mask: if layout.bits[p] >= 64 {
+                                u64::MAX
+                            } else {
+                                (1u64 << layout.bits[p]) - 1
+                            },
                             weight: u64::from(w),
                         })
                         .collect()
@@ -128,7 +132,13 @@ impl Layout {
             total += b;
         }
         let bytes = (total as usize).div_ceil(8).max(1);
-        Layout { bits, word, shift, bytes, words: bytes.div_ceil(8) }
+        Layout {
+            bits,
+            word,
+            shift,
+            bytes,
+            words: bytes.div_ceil(8),
+        }
     }
 
     /// Packs `m` into `words`; `Err(p)` for the first place that does not fit.
@@ -201,7 +211,12 @@ pub struct Store {
 
 impl Store {
     fn new(layout: Layout) -> Store {
-        Store { layout, arena: Vec::new(), table: vec![EMPTY; 1 << 10], len: 0 }
+        Store {
+            layout,
+            arena: Vec::new(),
+            table: vec![EMPTY; 1 << 10],
+            len: 0,
+        }
     }
 
     /// Number of states.
@@ -431,7 +446,16 @@ pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Exp
             }
             s += 1;
         }
-        return Explored::Graph(Graph { store, parent, via, edges, deadlocks, first_deadlock, fired, max });
+        return Explored::Graph(Graph {
+            store,
+            parent,
+            via,
+            edges,
+            deadlocks,
+            first_deadlock,
+            fired,
+            max,
+        });
     }
 }
 
@@ -496,7 +520,9 @@ pub fn components(net: &PtNet, g: &Graph) -> Components {
                     continue;
                 }
                 words_to_bytes(&next, &mut packed);
-                let Some(w) = g.store.find(&next, &packed) else { continue };
+                let Some(w) = g.store.find(&next, &packed) else {
+                    continue;
+                };
                 let wi = w as usize;
                 if is(&done, wi) {
                     set(&mut leaves, vi);
@@ -570,5 +596,10 @@ pub fn components(net: &PtNet, g: &Graph) -> Components {
             }
         }
     }
-    Components { count: comp as usize, terminal, live, reversible: terminal == 1 && initial_terminal }
+    Components {
+        count: comp as usize,
+        terminal,
+        live,
+        reversible: terminal == 1 && initial_terminal,
+    }
 }
