@@ -110,6 +110,7 @@ impl PtNet {
     }
 
     /// The incidence matrix `C[p][t] = post(t, p) - pre(t, p)` (read and inhibitor arcs: 0).
+    #[allow(clippy::needless_range_loop)]
     pub fn incidence(&self) -> Vec<Vec<i64>> {
         let mut c = vec![vec![0i64; self.transitions.len()]; self.places.len()];
         for t in 0..self.transitions.len() {

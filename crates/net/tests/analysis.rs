@@ -436,7 +436,10 @@ fn nine_cycles_full_count() {
 // ---- property tests ----
 
 /// A naive reference: BFS over `Vec<u32>` markings; `None` past `limit` states.
-fn naive(net: &PtNet, limit: usize) -> Option<(Vec<Vec<u32>>, Vec<Vec<(usize, usize)>>)> {
+/// Reachable markings and, per state, its (transition, successor) pairs.
+type Reference = (Vec<Vec<u32>>, Vec<Vec<(usize, usize)>>);
+
+fn naive(net: &PtNet, limit: usize) -> Option<Reference> {
     let mut index: HashMap<Vec<u32>, usize> = HashMap::new();
     let mut states = vec![net.initial.clone()];
     index.insert(net.initial.clone(), 0);

@@ -37,6 +37,7 @@ fn enabled(net: &PtNet, m: &[u32], t: usize) -> bool {
 }
 
 /// Builds the Karp–Miller coverability graph, up to `max_nodes` nodes.
+#[allow(clippy::needless_range_loop)]
 pub fn coverability(net: &PtNet, max_nodes: usize, cancel: &dyn Fn() -> bool) -> Coverability {
     let np = net.places.len();
     let nt = net.transitions.len();

@@ -19,7 +19,7 @@ use crate::PtNet;
 /// Outcome of [`explore`].
 pub enum Explored {
     /// The full reachability graph.
-    Graph(Graph),
+    Graph(Box<Graph>),
     /// A marking strictly covering an ancestor was found: the net is unbounded.
     Unbounded,
     /// `max_states` was reached before the graph was complete.
@@ -345,6 +345,7 @@ fn bits_for(v: u32) -> u32 {
 }
 
 /// Explores the reachability graph breadth-first, up to `max_states` states.
+#[allow(clippy::needless_range_loop)]
 pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Explored {
     let np = net.places.len();
     let nt = net.transitions.len();
@@ -446,7 +447,7 @@ pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Exp
             }
             s += 1;
         }
-        return Explored::Graph(Graph {
+        return Explored::Graph(Box::new(Graph {
             store,
             parent,
             via,
@@ -455,7 +456,7 @@ pub fn explore(net: &PtNet, max_states: usize, cancel: &dyn Fn() -> bool) -> Exp
             first_deadlock,
             fired,
             max,
-        });
+        }));
     }
 }
 
