@@ -148,7 +148,7 @@ codes! {
     PnmlNumber = 605, "a PNML number is out of range",
         "`<initialMarking><text>` is a whole number from 0 to 1000000, `<inscription><text>` (an arc's weight) a whole number from 1 to 1000000, Alba's `<priority>` an integer (32 bits), positions decimal numbers. Negative, fractional and larger values are refused rather than rounded.";
     PnmlLimit = 606, "a PNML file is too large",
-        "Alba reads PNML files up to 16 MiB with elements nested at most 64 levels deep, so that a broken or hostile file cannot exhaust memory or the stack. Split the model, or remove what it does not need (large graphics, other tools' data).";
+        "Alba reads PNML files up to 16 MiB, with at most 1000000 elements nested at most 64 levels deep, so that a broken or hostile file cannot exhaust memory or the stack. Split the model, or remove what it does not need (large graphics, other tools' data).";
     PnmlAlba = 607, "Alba's data in a PNML file is not valid",
         "Alba keeps its own data in `<toolspecific tool=\"alba\" version=\"1\">` on the element it belongs to: on the net `<mode>petri</mode>` or `<mode>normal</mode>` and `<widget id kind [tag] [x y]>caption</widget>` (kind button, display, plot or label); on a place `<tag>NAME</tag>`, `<kind>` (state, counter, expression, variable, input, output, stop, end), `<prop name=\"..\">value</prop>` and `<script>`; on a transition `<guard>EXPR</guard>`, `<priority>N</priority>`, `<kind>` (transition, condition, timer) and `<prop>`; on an arc `<kind>normal|inhibitor|read</kind>` (inhibitor and read arcs go from a place to a transition). Each appears at most once. See docs/nets.md.";
     PnmlIgnored = 608, "part of a PNML file was ignored (a warning)",

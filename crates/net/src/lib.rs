@@ -15,4 +15,4 @@ mod xml;
 pub use model::*;
 pub use pnml::{MAX_FILE_BYTES, MAX_MARKING, MAX_WEIGHT, is_warning, load, save};
 pub use ptnet::PtNet;
-pub use xml::MAX_DEPTH;
+pub use xml::{MAX_DEPTH, MAX_ELEMENTS};

@@ -300,8 +300,16 @@ pub struct Net {
     pub widgets: Vec<Widget>,
     /// The id of the (first) page; Alba writes one page.
     pub page_id: String,
+    /// The first page's name, graphics and other tools' blocks (those of
+    /// nested pages are dropped when flattening, with a warning).
+    pub page_name: Option<String>,
+    pub page_extra: Extra,
     /// The net's own graphics/unknown toolspecific blocks.
     pub extra: Extra,
+    /// Prefixed namespace declarations (`xmlns:pn`, value) of `<pnml>` and
+    /// `<net>`, written back on `<pnml>` so that kept blocks that use a
+    /// prefix stay well-formed.
+    pub namespaces: Vec<(String, String)>,
     /// The `<net>` start tag.
     pub span: Span,
 }
@@ -322,7 +330,10 @@ impl Net {
             arcs: Vec::new(),
             widgets: Vec::new(),
             page_id: "page0".to_string(),
+            page_name: None,
+            page_extra: Extra::default(),
             extra: Extra::default(),
+            namespaces: Vec::new(),
             span: no_span(),
         }
     }

@@ -36,6 +36,8 @@ struct Loader<'a> {
     ids: HashMap<String, Span>,
     /// Reference node id → (referenced id, span).
     refs: HashMap<String, (String, Span)>,
+    /// Reference node id → the node it stands for (`None`: a cycle).
+    resolved: HashMap<String, Option<String>>,
     net: Net,
     first_page: bool,
 }
@@ -48,11 +50,11 @@ fn parse_int(s: &str) -> Result<i64, String> {
     if let Ok(n) = t.parse::<i64>() {
         return Ok(n);
     }
-    if t.parse::<f64>().is_ok() {
-        return Err(format!("`{t}` is not a whole number"));
-    }
     if t.trim_start_matches(['-', '+']).chars().all(|c| c.is_ascii_digit()) {
         return Err(format!("`{t}` is far too large"));
+    }
+    if t.parse::<f64>().is_ok() {
+        return Err(format!("`{t}` is not a whole number"));
     }
     Err(format!("`{t}` is not a number"))
 }
@@ -154,6 +156,7 @@ impl<'a> Loader<'a> {
                 span,
                 "empty id",
             );
+            self.help("every PNML node, arc and page has a non-empty id unique in the document");
             return None;
         }
         if let Some(first) = self.ids.get(id).copied() {
@@ -205,6 +208,7 @@ impl<'a> Loader<'a> {
             span,
             "second one",
         );
+        self.help("each label (name, initialMarking, inscription) appears at most once on an element; remove one");
         false
     }
 
@@ -225,10 +229,12 @@ impl<'a> Loader<'a> {
         match parse_int(&text) {
             Ok(n) if n < lo => {
                 self.error(Code::PnmlNumber, format!("{what} {n} is below {lo}"), span, "too small");
+                self.help(&format!("{what} is a whole number from {lo} to {hi}"));
                 None
             }
             Ok(n) if n > hi => {
                 self.error(Code::PnmlNumber, format!("{what} {n} is above {hi}"), span, "too large");
+                self.help(&format!("{what} is a whole number from {lo} to {hi}"));
                 None
             }
             Ok(n) => Some(n),
@@ -255,6 +261,7 @@ impl<'a> Loader<'a> {
                         span,
                         "bad position",
                     );
+                    self.help("write <position x=\"10.5\" y=\"20\"/>");
                 }
             }
         }
@@ -316,6 +323,7 @@ impl<'a> Loader<'a> {
             if !many.contains(&c.name.as_str()) && !seen.insert(c.name.clone()) {
                 let span = self.tag_span(c);
                 self.error(Code::PnmlAlba, format!("a second <{}>", c.name), span, "second one");
+                self.help("this entry appears at most once in Alba's block; remove one");
                 continue;
             }
             out.push(c);
@@ -356,11 +364,13 @@ impl<'a> Loader<'a> {
                         span,
                         "second one",
                     );
+                    self.help("each property name appears once; remove one");
                 }
             }
             _ => {
                 let span = self.tag_span(c);
                 self.error(Code::PnmlAlba, "a <prop> needs a `name`", span, "no name");
+                self.help("write <prop name=\"NAME\">value</prop>");
             }
         }
     }
@@ -450,6 +460,7 @@ impl<'a> Loader<'a> {
                     span,
                     "bad kind",
                 );
+                self.help("write <widget id=\"w1\" kind=\"button\" tag=\"Start\">caption</widget>");
                 return;
             }
         };
@@ -468,6 +479,7 @@ impl<'a> Loader<'a> {
                             span,
                             "bad position",
                         );
+                        self.help("give both x and y as decimal numbers, or neither");
                         None
                     }
                 }
@@ -484,21 +496,53 @@ impl<'a> Loader<'a> {
 
     fn page(&mut self, e: &Elem) {
         let id = self.id(e);
-        if self.first_page {
+        let first = self.first_page;
+        if first {
             self.first_page = false;
-            if let Some(id) = id {
-                self.net.page_id = id;
+            if let Some(id) = &id {
+                self.net.page_id = id.clone();
             }
         }
+        let mut extra = Extra::default();
+        let mut seen = HashSet::new();
         for c in &e.children {
             match c.name.as_str() {
                 "page" => self.page(c),
                 "place" | "transition" | "arc" | "referencePlace" | "referenceTransition" => self.node(c),
-                // A page's own name, graphics and tool data are not kept
-                // (pages are flattened: docs/nets.md).
-                "name" | "graphics" | "toolspecific" => {}
+                // The first page's name, graphics and other tools' blocks
+                // are kept; nested pages are flattened into it, so theirs
+                // are dropped with a warning (docs/nets.md).
+                "name" | "graphics" | "toolspecific" if first => match c.name.as_str() {
+                    "name" => {
+                        if self.once(&mut seen, "name", c)
+                            && let Some(t) = self.label_text(c)
+                        {
+                            self.net.page_name = Some(t.text.clone());
+                            self.keep_label_graphics(c, &mut extra);
+                        }
+                    }
+                    "graphics" => extra.graphics = Some(self.graphics(c)),
+                    _ => extra.toolspecific.push(self.raw(c)),
+                },
+                "name" | "graphics" | "toolspecific" => {
+                    if self.warned.insert(format!("nested page/{}", c.name)) {
+                        let span = self.tag_span(c);
+                        self.error(
+                            Code::PnmlIgnored,
+                            format!(
+                                "the <{}> of a nested page is dropped: pages are flattened into the first",
+                                c.name
+                            ),
+                            span,
+                            "dropped",
+                        );
+                    }
+                }
                 _ => self.ignored(c, "page"),
             }
+        }
+        if first {
+            self.net.page_extra = extra;
         }
     }
 
@@ -522,6 +566,7 @@ impl<'a> Loader<'a> {
                             span,
                             "ref missing",
                         );
+                        self.help("a reference node names the node it stands for: ref=\"ID\"");
                     }
                 }
             }
@@ -569,6 +614,7 @@ impl<'a> Loader<'a> {
                         if t.is_empty() {
                             let span = self.tag_span(c);
                             self.error(Code::PnmlAlba, "an empty <tag>", span, "no tag name");
+                            self.help("name a BOOL tag, or leave <tag> out");
                         } else {
                             p.tag = Some(t.to_string());
                         }
@@ -656,6 +702,7 @@ impl<'a> Loader<'a> {
                 span,
                 "source or target missing",
             );
+            self.help("write <arc id=\"a1\" source=\"PLACE\" target=\"TRANSITION\">");
             return;
         };
         let mut a = Arc::new(id.clone().unwrap_or_default(), source, target, 1);
@@ -688,6 +735,7 @@ impl<'a> Loader<'a> {
                             span,
                             "unknown",
                         );
+                        self.help("write <type value=\"normal\"/> or <type value=\"inhibitor\"/>");
                     }
                 },
                 _ => self.ignored(c, "arc"),
@@ -717,21 +765,49 @@ impl<'a> Loader<'a> {
     }
 
     /// Follows reference nodes to the node they stand for.
+    /// Follows reference nodes to the node they stand for (`None` for a
+    /// cycle). Results are remembered for every node on the way, so a long
+    /// chain named by many arcs costs its length once, not once per arc.
     fn resolve(&mut self, id: &str, span: Span) -> Option<String> {
-        let mut cur = id.to_string();
-        for _ in 0..=self.refs.len() {
-            match self.refs.get(&cur) {
-                Some((next, _)) => cur = next.clone(),
-                None => return Some(cur),
-            }
+        if !self.refs.contains_key(id) {
+            return Some(id.to_string());
         }
-        self.error(
-            Code::PnmlArc,
-            format!("the reference `{id}` refers to itself in a cycle"),
-            span,
-            "cyclic reference",
-        );
-        None
+        let result = match self.resolved.get(id) {
+            Some(r) => r.clone(),
+            None => {
+                let mut path = Vec::new();
+                let mut on_path = HashSet::new();
+                let mut cur = id.to_string();
+                let result = loop {
+                    if let Some(r) = self.resolved.get(&cur) {
+                        break r.clone();
+                    }
+                    let Some((next, _)) = self.refs.get(&cur) else {
+                        break Some(cur);
+                    };
+                    if !on_path.insert(cur.clone()) {
+                        break None;
+                    }
+                    let next = next.clone();
+                    path.push(cur);
+                    cur = next;
+                };
+                for p in path {
+                    self.resolved.insert(p, result.clone());
+                }
+                result
+            }
+        };
+        if result.is_none() {
+            self.error(
+                Code::PnmlArc,
+                format!("the reference `{id}` refers to itself in a cycle"),
+                span,
+                "cyclic reference",
+            );
+            self.help("a chain of reference nodes must end at a place or transition");
+        }
+        result
     }
 
     fn check_arcs(&mut self) {
@@ -793,13 +869,14 @@ impl<'a> Loader<'a> {
                 let d = Diagnostic::new(
                     Code::PnmlAlba,
                     format!(
-                        "arc `{}`: a {} arc goes from a place to a transition",
+                        "arc `{}`: {} arcs go from a place to a transition",
                         a.id,
                         a.kind.as_str()
                     ),
                     e_span,
                     "wrong direction",
-                );
+                )
+                .with_help("draw it from the place to the transition it tests, or make it a normal arc");
                 self.diags.push(d);
                 continue;
             }
@@ -853,7 +930,8 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             ),
             whole,
             "too large",
-        );
+        )
+        .with_help("split the model, or remove what it does not need (large graphics, other tools' data)");
         return (None, vec![d]);
     }
     let root = match xml::parse(text) {
@@ -864,17 +942,22 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             let end = (off + 1..=text.len())
                 .find(|&i| text.is_char_boundary(i))
                 .unwrap_or(off);
-            let code = if err.message.contains("nested deeper") {
-                Code::PnmlLimit
-            } else {
-                Code::PnmlSyntax
-            };
+            let code = if err.limit { Code::PnmlLimit } else { Code::PnmlSyntax };
             let d = Diagnostic::new(
                 code,
-                format!("not well-formed XML: {}", err.message),
+                if err.limit {
+                    format!("the file is too large to read: {}", err.message)
+                } else {
+                    format!("not well-formed XML: {}", err.message)
+                },
                 Span::new(file, off..end),
                 "here",
-            );
+            )
+            .with_help(if err.limit {
+                "split the model, or flatten what is nested so deep"
+            } else {
+                "PNML is XML: every tag closed in order, attribute values quoted, `&` and `<` in text written `&amp;` and `&lt;`"
+            });
             return (None, vec![d]);
         }
     };
@@ -885,6 +968,7 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
         warned: HashSet::new(),
         ids: HashMap::new(),
         refs: HashMap::new(),
+        resolved: HashMap::new(),
         net: Net::new(""),
         first_page: true,
     };
@@ -910,7 +994,16 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             l.help("a PNML file is <pnml><net id=\"..\" type=\"..\">...</net></pnml>");
             return (None, l.diags);
         }
-        [net] => l.load_net(net),
+        [net] => {
+            for e in [&root, *net] {
+                for (k, v) in &e.attrs {
+                    if k.starts_with("xmlns:") && !l.net.namespaces.iter().any(|(n, _)| n == k) {
+                        l.net.namespaces.push((k.clone(), v.clone()));
+                    }
+                }
+            }
+            l.load_net(net)
+        }
         [_, second, ..] => {
             let span = l.tag_span(second);
             l.error(
@@ -933,6 +1026,7 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
                 span,
                 "unknown node",
             );
+            l.help("ref names the id of a place or transition of the net");
         }
     }
     l.check_arcs();
@@ -975,6 +1069,17 @@ struct W {
 }
 
 impl W {
+    /// Closes an element opened by the line ending at `mark`: `<x .../>`
+    /// when nothing was written inside, else `</x>` on its own line.
+    fn close(&mut self, depth: usize, name: &str, mark: usize) {
+        if self.out.len() == mark && self.out.ends_with(">\n") {
+            self.out.truncate(mark - 2);
+            self.out.push_str("/>\n");
+        } else {
+            self.line(depth, &format!("</{name}>"));
+        }
+    }
+
     fn line(&mut self, depth: usize, s: &str) {
         for _ in 0..depth {
             self.out.push_str("  ");
@@ -1037,7 +1142,16 @@ fn props(body: &mut Vec<String>, props: &BTreeMap<String, String>) {
 pub fn save(net: &Net) -> String {
     let mut w = W { out: String::new() };
     w.line(0, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
-    w.line(0, "<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\">");
+    let mut ns = String::new();
+    for (k, v) in &net.namespaces {
+        if k != "xmlns:" && k.len() > "xmlns:".len() {
+            ns.push_str(&format!(" {}=\"{}\"", esc_attr(k), esc_attr(v)));
+        }
+    }
+    w.line(
+        0,
+        &format!("<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"{ns}>"),
+    );
     w.line(
         1,
         &format!(
@@ -1067,8 +1181,13 @@ pub fn save(net: &Net) -> String {
     }
     w.alba(2, &body);
     w.line(2, &format!("<page id=\"{}\">", esc_attr(&net.page_id)));
+    if let Some(n) = &net.page_name {
+        w.label(3, "name", n, &net.page_extra);
+    }
+    w.extra(3, &net.page_extra);
     for p in &net.places {
         w.line(3, &format!("<place id=\"{}\">", esc_attr(&p.id)));
+        let mark = w.out.len();
         if let Some(n) = &p.name {
             w.label(4, "name", n, &p.extra);
         }
@@ -1088,10 +1207,11 @@ pub fn save(net: &Net) -> String {
             body.push(format!("<script>{}</script>", esc(s)));
         }
         w.alba(4, &body);
-        w.line(3, "</place>");
+        w.close(3, "place", mark);
     }
     for t in &net.transitions {
         w.line(3, &format!("<transition id=\"{}\">", esc_attr(&t.id)));
+        let mark = w.out.len();
         if let Some(n) = &t.name {
             w.label(4, "name", n, &t.extra);
         }
@@ -1108,7 +1228,7 @@ pub fn save(net: &Net) -> String {
         }
         props(&mut body, &t.props);
         w.alba(4, &body);
-        w.line(3, "</transition>");
+        w.close(3, "transition", mark);
     }
     for a in &net.arcs {
         w.line(
@@ -1120,6 +1240,7 @@ pub fn save(net: &Net) -> String {
                 esc_attr(&a.target)
             ),
         );
+        let mark = w.out.len();
         if a.weight != 1 || a.extra.label_graphics.contains_key("inscription") {
             w.label(4, "inscription", &a.weight.to_string(), &a.extra);
         }
@@ -1127,7 +1248,7 @@ pub fn save(net: &Net) -> String {
         if a.kind != ArcKind::Normal {
             w.alba(4, &[format!("<kind>{}</kind>", a.kind.as_str())]);
         }
-        w.line(3, "</arc>");
+        w.close(3, "arc", mark);
     }
     w.line(2, "</page>");
     w.line(1, "</net>");

@@ -9,6 +9,10 @@ use quick_xml::reader::Reader;
 
 /// Deepest element nesting accepted.
 pub const MAX_DEPTH: usize = 64;
+/// Most elements in one document: with the tree in memory (a few hundred
+/// bytes per element at worst), this bounds what a hostile file of tiny
+/// elements costs; a net of 100 000 nodes with graphics stays well below.
+pub const MAX_ELEMENTS: usize = 1_000_000;
 
 #[derive(Debug, Clone)]
 pub struct Elem {
@@ -43,6 +47,8 @@ impl Elem {
 pub struct XmlError {
     pub offset: usize,
     pub message: String,
+    /// A limit of Alba's ([`MAX_DEPTH`], [`MAX_ELEMENTS`]), not bad XML.
+    pub limit: bool,
 }
 
 fn local(name: &[u8]) -> String {
@@ -57,11 +63,20 @@ fn open(e: &quick_xml::events::BytesStart, start: usize, end: usize) -> Result<E
     let mut attrs = Vec::new();
     for a in e.attributes() {
         let a = a.map_err(|err| XmlError {
+            limit: false,
             offset: start,
             message: format!("bad attribute: {err}"),
         })?;
-        let key = local(a.key.as_ref());
+        // Namespace declarations keep their prefix (`xmlns:pn`); other
+        // attributes are known by their local name.
+        let full = a.key.as_ref();
+        let key = if full.starts_with(b"xmlns") {
+            String::from_utf8_lossy(full).into_owned()
+        } else {
+            local(full)
+        };
         let value = a.unescape_value().map_err(|err| XmlError {
+            limit: false,
             offset: start,
             message: format!("bad attribute value: {err}"),
         })?;
@@ -97,23 +112,37 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
     config.trim_text(false);
     let mut stack: Vec<Elem> = Vec::new();
     let mut root: Option<Elem> = None;
+    let mut count = 0usize;
     loop {
         let before = reader.buffer_position() as usize;
         let ev = reader.read_event().map_err(|err| XmlError {
+            limit: false,
             offset: reader.error_position() as usize,
             message: err.to_string(),
         })?;
         let after = reader.buffer_position() as usize;
+        if matches!(ev, Event::Start(_) | Event::Empty(_)) {
+            count += 1;
+            if count > MAX_ELEMENTS {
+                return Err(XmlError {
+                    limit: true,
+                    offset: before,
+                    message: format!("more than {MAX_ELEMENTS} elements"),
+                });
+            }
+        }
         match ev {
             Event::Start(e) => {
                 if root.is_some() && stack.is_empty() {
                     return Err(XmlError {
+                        limit: false,
                         offset: before,
                         message: "a second root element: a document has one".into(),
                     });
                 }
                 if stack.len() >= MAX_DEPTH {
                     return Err(XmlError {
+                        limit: true,
                         offset: before,
                         message: format!("elements nested deeper than {MAX_DEPTH} levels"),
                     });
@@ -123,6 +152,7 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
             Event::Empty(e) => {
                 if root.is_some() && stack.is_empty() {
                     return Err(XmlError {
+                        limit: false,
                         offset: before,
                         message: "a second root element: a document has one".into(),
                     });
@@ -136,6 +166,7 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
             Event::End(_) => {
                 let Some(mut el) = stack.pop() else {
                     return Err(XmlError {
+                        limit: false,
                         offset: before,
                         message: "an end tag without a start tag".into(),
                     });
@@ -148,12 +179,14 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
             }
             Event::Text(t) => {
                 let s = t.decode().map_err(|err| XmlError {
+                    limit: false,
                     offset: before,
                     message: err.to_string(),
                 })?;
                 if stack.is_empty() {
                     if !s.trim().is_empty() {
                         return Err(XmlError {
+                            limit: false,
                             offset: before,
                             message: "text outside the root element".into(),
                         });
@@ -164,11 +197,13 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
             }
             Event::CData(t) => {
                 let s = t.decode().map_err(|err| XmlError {
+                    limit: false,
                     offset: before,
                     message: err.to_string(),
                 })?;
                 if stack.is_empty() {
                     return Err(XmlError {
+                        limit: false,
                         offset: before,
                         message: "CDATA outside the root element".into(),
                     });
@@ -181,6 +216,7 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                         Ok(Some(c)) => c.to_string(),
                         _ => {
                             return Err(XmlError {
+                                limit: false,
                                 offset: before,
                                 message: "a character reference that is not a character".into(),
                             });
@@ -188,6 +224,7 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                     }
                 } else {
                     let name = r.decode().map_err(|err| XmlError {
+                        limit: false,
                         offset: before,
                         message: err.to_string(),
                     })?;
@@ -195,6 +232,7 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                         Some(s) => s.to_string(),
                         None => {
                             return Err(XmlError {
+                                limit: false,
                                 offset: before,
                                 message: format!("unknown entity `&{name};` (only XML's five are defined)"),
                             });
@@ -203,6 +241,7 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                 };
                 if stack.is_empty() {
                     return Err(XmlError {
+                        limit: false,
                         offset: before,
                         message: "a reference outside the root element".into(),
                     });
@@ -219,11 +258,13 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
     }
     if let Some(open) = stack.last() {
         return Err(XmlError {
+            limit: false,
             offset: open.start,
             message: format!("<{}> is never closed", open.name),
         });
     }
     root.ok_or(XmlError {
+        limit: false,
         offset: 0,
         message: "no root element: the file is empty".into(),
     })
