@@ -150,7 +150,6 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
                 .into(),
         );
     }
-    let t0 = Instant::now();
     let inv_start = Instant::now();
     a.p_invariants = invariants::p_invariants(net, options.max_invariant_rows);
     a.t_invariants = invariants::t_invariants(net, options.max_invariant_rows);
@@ -243,6 +242,5 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
             a.stopped = Some("a place count exceeds 2^32-1: boundedness unknown".into());
         }
     }
-    let _ = t0;
     a
 }
