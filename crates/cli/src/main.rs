@@ -1,5 +1,6 @@
 //! `alba`: the command-line front of Alba.
 
+mod analyze;
 mod audit;
 mod bench;
 mod bench_modbus;
@@ -103,6 +104,17 @@ enum Command {
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
+    /// Analyse a net (PNML): reachability/coverability, bounds, deadlocks, liveness, invariants.
+    Analyze {
+        /// The .pnml file.
+        net: PathBuf,
+        /// Print one JSON object (SPEC §10.5).
+        #[arg(long)]
+        json: bool,
+        /// Stop after this many states (or coverability nodes).
+        #[arg(long, value_name = "N")]
+        max_states: Option<usize>,
+    },
     /// Autotune a PID loop by relay feedback against the project's plant models (docs/pid.md).
     Tune {
         project: PathBuf,
@@ -296,6 +308,7 @@ fn main() -> ExitCode {
         } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
         Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
+        Command::Analyze { net, json, max_states } => analyze::run(&net, json, max_states),
         Command::Tune {
             project,
             pid,

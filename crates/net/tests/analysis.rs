@@ -1,0 +1,691 @@
+//! The analysis on hand-computed nets, and property tests against a naive reference.
+
+use alba_net::PtNet;
+use alba_net::analysis::{Analysis, Bound, Options, analyze, coverability, invariants, samples};
+use proptest::prelude::*;
+use std::collections::{HashMap, HashSet, VecDeque};
+
+fn run(net: &PtNet) -> Analysis {
+    analyze(net, &Options::default(), &|| false)
+}
+
+/// Invariants as sorted lists of (id, coefficient).
+fn named(ids: &[String], invs: &[Vec<i64>]) -> Vec<Vec<(String, i64)>> {
+    invs.iter()
+        .map(|v| {
+            v.iter()
+                .enumerate()
+                .filter(|(_, c)| **c != 0)
+                .map(|(i, c)| (ids[i].clone(), *c))
+                .collect()
+        })
+        .collect()
+}
+
+fn inv(pairs: &[(&str, i64)]) -> Vec<(String, i64)> {
+    pairs.iter().map(|(s, c)| (s.to_string(), *c)).collect()
+}
+
+fn p_inv(a: &Analysis, net: &PtNet) -> Vec<Vec<(String, i64)>> {
+    let mut v = named(&net.places, a.p_invariants.as_ref().expect("p-invariants"));
+    v.sort();
+    v
+}
+
+fn t_inv(a: &Analysis, net: &PtNet) -> Vec<Vec<(String, i64)>> {
+    let mut v = named(&net.transitions, a.t_invariants.as_ref().expect("t-invariants"));
+    v.sort();
+    v
+}
+
+fn ids(net: &PtNet, ts: &[usize]) -> Vec<String> {
+    ts.iter().map(|&t| net.transitions[t].clone()).collect()
+}
+
+fn finite(v: &[u32]) -> Option<Vec<Bound>> {
+    Some(v.iter().map(|&b| Bound::Finite(b)).collect())
+}
+
+#[test]
+fn philosophers_two_deadlock() {
+    let net = samples::philosophers(2);
+    let a = run(&net);
+    assert_eq!(a.bounded, Some(true));
+    assert_eq!(a.safe, Some(true));
+    assert_eq!(a.states, Some(6));
+    assert_eq!(a.edges, Some(8));
+    assert_eq!(a.deadlocks, Some(1));
+    assert_eq!(
+        ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])),
+        ["takeL0", "takeL1"]
+    );
+    assert_eq!(a.dead_transitions, Some(vec![]));
+    assert_eq!(a.live, Some(false));
+    assert_eq!(a.reversible, Some(false));
+    let mut expected = vec![
+        inv(&[("think0", 1), ("hasL0", 1), ("eat0", 1)]),
+        inv(&[("think1", 1), ("hasL1", 1), ("eat1", 1)]),
+        inv(&[("hasL0", 1), ("eat0", 1), ("fork0", 1), ("eat1", 1)]),
+        inv(&[("eat0", 1), ("hasL1", 1), ("eat1", 1), ("fork1", 1)]),
+    ];
+    expected.sort();
+    assert_eq!(p_inv(&a, &net), expected);
+    assert_eq!(
+        t_inv(&a, &net),
+        vec![
+            inv(&[("takeL0", 1), ("takeR0", 1), ("release0", 1)]),
+            inv(&[("takeL1", 1), ("takeR1", 1), ("release1", 1)])
+        ]
+    );
+}
+
+#[test]
+fn philosophers_five_has_one_deadlock_reached_in_five_steps() {
+    let net = samples::philosophers(5);
+    let a = run(&net);
+    assert_eq!(a.deadlocks, Some(1));
+    assert_eq!(a.deadlock_trace.as_ref().map(Vec::len), Some(5));
+    assert_eq!(a.deadlock_marking.as_ref().map(|m| m.iter().sum::<u32>()), Some(5));
+    assert_eq!(a.live, Some(false));
+}
+
+fn buffer() -> PtNet {
+    let mut net = PtNet::new();
+    let buf = net.add_place("buf", 0);
+    let free = net.add_place("free", 2);
+    let put = net.add_transition("put");
+    net.add_pre(put, free, 1);
+    net.add_post(put, buf, 1);
+    let get = net.add_transition("get");
+    net.add_pre(get, buf, 1);
+    net.add_post(get, free, 1);
+    net
+}
+
+#[test]
+fn bounded_buffer() {
+    let net = buffer();
+    let a = run(&net);
+    assert_eq!(a.bounded, Some(true));
+    assert_eq!(a.safe, Some(false));
+    assert_eq!(a.place_bounds, finite(&[2, 2]));
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(3), Some(4), Some(0)));
+    assert_eq!(a.deadlock_trace, None);
+    assert_eq!((a.live, a.reversible), (Some(true), Some(true)));
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("buf", 1), ("free", 1)])]);
+    assert_eq!(t_inv(&a, &net), vec![inv(&[("put", 1), ("get", 1)])]);
+}
+
+#[test]
+fn unbounded_producer() {
+    let mut net = PtNet::new();
+    let p = net.add_place("p", 1);
+    let q = net.add_place("q", 0);
+    let t = net.add_transition("produce");
+    net.add_pre(t, p, 1);
+    net.add_post(t, p, 1);
+    net.add_post(t, q, 1);
+    let a = run(&net);
+    assert_eq!(a.bounded, Some(false));
+    assert_eq!(a.safe, Some(false));
+    assert_eq!(a.place_bounds, Some(vec![Bound::Finite(1), Bound::Omega]));
+    assert_eq!(a.states, Some(2), "coverability nodes (1,0) and (1,ω)");
+    assert_eq!((a.edges, a.deadlocks, a.reversible), (None, None, None));
+    assert_eq!(a.dead_transitions, Some(vec![]));
+    assert_eq!(a.live, None);
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("p", 1)])]);
+    assert_eq!(t_inv(&a, &net), Vec::<Vec<(String, i64)>>::new());
+}
+
+#[test]
+fn unbounded_with_a_dead_transition_is_not_live() {
+    let mut net = PtNet::new();
+    let p = net.add_place("p", 1);
+    let q = net.add_place("q", 0);
+    let z = net.add_place("z", 0);
+    let t = net.add_transition("produce");
+    net.add_pre(t, p, 1);
+    net.add_post(t, p, 1);
+    net.add_post(t, q, 1);
+    let never = net.add_transition("never");
+    net.add_pre(never, z, 1);
+    let a = run(&net);
+    assert_eq!(a.bounded, Some(false));
+    assert_eq!(a.dead_transitions, Some(vec![never]));
+    assert_eq!(a.live, Some(false));
+}
+
+#[test]
+fn weighted_arcs_with_a_dead_transition() {
+    let mut net = PtNet::new();
+    let p = net.add_place("p", 3);
+    let q = net.add_place("q", 0);
+    let r = net.add_place("r", 0);
+    let t1 = net.add_transition("t1");
+    net.add_pre(t1, p, 2);
+    net.add_post(t1, q, 1);
+    let t2 = net.add_transition("t2");
+    net.add_pre(t2, q, 3);
+    net.add_post(t2, r, 1);
+    let a = run(&net);
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(2), Some(1), Some(1)));
+    assert_eq!(a.place_bounds, finite(&[3, 1, 0]));
+    assert_eq!(a.safe, Some(false));
+    assert_eq!(ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])), ["t1"]);
+    assert_eq!(a.deadlock_marking, Some(vec![1, 1, 0]));
+    assert_eq!(a.dead_transitions, Some(vec![t2]));
+    assert_eq!((a.live, a.reversible), (Some(false), Some(false)));
+    // -2·y_p + y_q = 0 and -3·y_q + y_r = 0.
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("p", 1), ("q", 2), ("r", 6)])]);
+    assert!(t_inv(&a, &net).is_empty());
+}
+
+fn mutex() -> PtNet {
+    let mut net = PtNet::new();
+    let idle1 = net.add_place("idle1", 1);
+    let busy1 = net.add_place("busy1", 0);
+    let res = net.add_place("res", 1);
+    let idle2 = net.add_place("idle2", 1);
+    let busy2 = net.add_place("busy2", 0);
+    for (idle, busy, n) in [(idle1, busy1, 1), (idle2, busy2, 2)] {
+        let enter = net.add_transition(&format!("enter{n}"));
+        net.add_pre(enter, idle, 1);
+        net.add_pre(enter, res, 1);
+        net.add_post(enter, busy, 1);
+        let leave = net.add_transition(&format!("leave{n}"));
+        net.add_pre(leave, busy, 1);
+        net.add_post(leave, idle, 1);
+        net.add_post(leave, res, 1);
+    }
+    net
+}
+
+#[test]
+fn mutex_is_safe_live_reversible() {
+    let net = mutex();
+    let a = run(&net);
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(3), Some(4), Some(0)));
+    assert_eq!(
+        (a.bounded, a.safe, a.live, a.reversible),
+        (Some(true), Some(true), Some(true), Some(true))
+    );
+    let mut expected = vec![
+        inv(&[("idle1", 1), ("busy1", 1)]),
+        inv(&[("busy1", 1), ("res", 1), ("busy2", 1)]),
+        inv(&[("idle2", 1), ("busy2", 1)]),
+    ];
+    expected.sort();
+    assert_eq!(p_inv(&a, &net), expected);
+    assert_eq!(
+        t_inv(&a, &net),
+        vec![
+            inv(&[("enter1", 1), ("leave1", 1)]),
+            inv(&[("enter2", 1), ("leave2", 1)])
+        ]
+    );
+}
+
+#[test]
+fn invariants_needing_negative_intermediate_coefficients() {
+    // t1: p1 → p2 + p3; t2: p2 + p3 → 2·p4. Eliminating t1 gives rows p1+p2 and p1+p3
+    // whose t2 entry is -1; each must then combine with 2·p4's row. An implementation
+    // that drops rows with negative entries loses both invariants.
+    let mut net = PtNet::new();
+    let p1 = net.add_place("p1", 1);
+    let p2 = net.add_place("p2", 0);
+    let p3 = net.add_place("p3", 0);
+    let p4 = net.add_place("p4", 0);
+    let t1 = net.add_transition("t1");
+    net.add_pre(t1, p1, 1);
+    net.add_post(t1, p2, 1);
+    net.add_post(t1, p3, 1);
+    let t2 = net.add_transition("t2");
+    net.add_pre(t2, p2, 1);
+    net.add_pre(t2, p3, 1);
+    net.add_post(t2, p4, 2);
+    let a = run(&net);
+    assert_eq!(
+        p_inv(&a, &net),
+        vec![
+            inv(&[("p1", 2), ("p2", 2), ("p4", 1)]),
+            inv(&[("p1", 2), ("p3", 2), ("p4", 1)])
+        ]
+    );
+    assert_eq!((a.states, a.deadlocks), (Some(3), Some(1)));
+}
+
+#[test]
+fn invariant_with_a_negative_column_cancelled_later() {
+    // The classic case where PIPE's variant loses an invariant: y = p1 + p2 + p3
+    // with C = [[-1, 1], [1, -2], [0, 1]] — the combination p1 + p2 of column t1 leaves
+    // -1 in column t2, cancelled only by p3.
+    let mut net = PtNet::new();
+    let p1 = net.add_place("p1", 1);
+    let p2 = net.add_place("p2", 0);
+    let p3 = net.add_place("p3", 0);
+    let t1 = net.add_transition("t1");
+    net.add_pre(t1, p1, 1);
+    net.add_post(t1, p2, 1);
+    let t2 = net.add_transition("t2");
+    net.add_pre(t2, p2, 2);
+    net.add_post(t2, p1, 1);
+    net.add_post(t2, p3, 1);
+    let a = run(&net);
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("p1", 1), ("p2", 1), ("p3", 1)])]);
+}
+
+#[test]
+fn reversible_cycle() {
+    let net = samples::cycles(1, 3);
+    let a = run(&net);
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(3), Some(3), Some(0)));
+    assert_eq!((a.safe, a.live, a.reversible), (Some(true), Some(true), Some(true)));
+    assert_eq!(a.components, Some(1));
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("c0p0", 1), ("c0p1", 1), ("c0p2", 1)])]);
+    assert_eq!(t_inv(&a, &net), vec![inv(&[("c0t0", 1), ("c0t1", 1), ("c0t2", 1)])]);
+}
+
+#[test]
+fn non_live_without_deadlock() {
+    // t0 fires once (p0 → p1), then t1/t2 cycle between p1 and p2 for ever.
+    let mut net = PtNet::new();
+    let p0 = net.add_place("p0", 1);
+    let p1 = net.add_place("p1", 0);
+    let p2 = net.add_place("p2", 0);
+    let t0 = net.add_transition("t0");
+    net.add_pre(t0, p0, 1);
+    net.add_post(t0, p1, 1);
+    let t1 = net.add_transition("t1");
+    net.add_pre(t1, p1, 1);
+    net.add_post(t1, p2, 1);
+    let t2 = net.add_transition("t2");
+    net.add_pre(t2, p2, 1);
+    net.add_post(t2, p1, 1);
+    let a = run(&net);
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(3), Some(3), Some(0)));
+    assert_eq!(a.dead_transitions, Some(vec![]));
+    assert_eq!((a.live, a.reversible), (Some(false), Some(false)));
+    assert_eq!(a.components, Some(2));
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("p0", 1), ("p1", 1), ("p2", 1)])]);
+    assert_eq!(t_inv(&a, &net), vec![inv(&[("t1", 1), ("t2", 1)])]);
+}
+
+#[test]
+fn inhibitor_arc_bounds_a_source_transition() {
+    // add has no input and an inhibitor arc of weight 3 from cnt: cnt counts to 3.
+    let mut net = PtNet::new();
+    let cnt = net.add_place("cnt", 0);
+    let add = net.add_transition("add");
+    net.add_post(add, cnt, 1);
+    net.add_inhibitor(add, cnt, 3);
+    let a = run(&net);
+    assert_eq!(a.bounded, Some(true));
+    assert_eq!(a.place_bounds, finite(&[3]));
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(4), Some(3), Some(1)));
+    assert_eq!(
+        ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])),
+        ["add", "add", "add"]
+    );
+    assert!(a.notes.iter().any(|n| n.contains("inhibitor")));
+}
+
+#[test]
+fn inhibitor_from_another_place_keeps_karp_miller_sound() {
+    let mut net = PtNet::new();
+    let cnt = net.add_place("cnt", 0);
+    let stop = net.add_place("stop", 0);
+    let add = net.add_transition("add");
+    net.add_post(add, cnt, 1);
+    net.add_inhibitor(add, stop, 1);
+    let a = run(&net);
+    assert_eq!(a.bounded, Some(false));
+    assert_eq!(a.place_bounds, Some(vec![Bound::Omega, Bound::Finite(0)]));
+}
+
+#[test]
+fn unbounded_inhibitor_place_is_reported_unknown() {
+    // grow fills `a` for ever; `a` inhibits `use`. Karp–Miller would be unsound on `a`,
+    // so the exploration runs to the limit and the boundedness stays unknown.
+    let mut net = PtNet::new();
+    let a_place = net.add_place("a", 0);
+    let b = net.add_place("b", 1);
+    let grow = net.add_transition("grow");
+    net.add_post(grow, a_place, 1);
+    let use_ = net.add_transition("use");
+    net.add_pre(use_, b, 1);
+    net.add_inhibitor(use_, a_place, 1);
+    let a = analyze(
+        &net,
+        &Options {
+            max_states: 100,
+            ..Options::default()
+        },
+        &|| false,
+    );
+    assert_eq!(a.bounded, None);
+    assert!(a.stopped.as_deref().unwrap_or("").contains("100"), "{:?}", a.stopped);
+    assert_eq!(a.states, None);
+}
+
+#[test]
+fn read_arc_net() {
+    // t1: a → b while flag is marked (read arc); t2: b → a; t3 consumes flag.
+    let mut net = PtNet::new();
+    let flag = net.add_place("flag", 1);
+    let pa = net.add_place("a", 1);
+    let pb = net.add_place("b", 0);
+    let t1 = net.add_transition("t1");
+    net.add_pre(t1, pa, 1);
+    net.add_post(t1, pb, 1);
+    net.add_read(t1, flag, 1);
+    let t2 = net.add_transition("t2");
+    net.add_pre(t2, pb, 1);
+    net.add_post(t2, pa, 1);
+    let t3 = net.add_transition("t3");
+    net.add_pre(t3, flag, 1);
+    let a = run(&net);
+    assert_eq!((a.states, a.edges, a.deadlocks), (Some(4), Some(5), Some(1)));
+    assert_eq!(ids(&net, a.deadlock_trace.as_deref().unwrap_or(&[])), ["t3"]);
+    assert_eq!(a.deadlock_marking, Some(vec![0, 1, 0]));
+    assert_eq!((a.safe, a.live, a.reversible), (Some(true), Some(false), Some(false)));
+    assert_eq!(p_inv(&a, &net), vec![inv(&[("a", 1), ("b", 1)])]);
+    assert_eq!(t_inv(&a, &net), vec![inv(&[("t1", 1), ("t2", 1)])]);
+}
+
+#[test]
+fn max_states_stops_with_a_message() {
+    let net = samples::cycles(4, 3);
+    let a = analyze(
+        &net,
+        &Options {
+            max_states: 10,
+            ..Options::default()
+        },
+        &|| false,
+    );
+    assert_eq!(a.bounded, None);
+    assert!(a.stopped.as_deref().unwrap_or("").contains("--max-states"));
+}
+
+#[test]
+fn wide_places_restart_with_more_bits() {
+    // 300 tokens move one by one: the packed field must widen past 8 bits.
+    let mut net = PtNet::new();
+    let a_place = net.add_place("a", 300);
+    let b = net.add_place("b", 0);
+    let t = net.add_transition("t");
+    net.add_pre(t, a_place, 1);
+    net.add_post(t, b, 1);
+    let a = run(&net);
+    assert_eq!(a.states, Some(301));
+    assert_eq!(a.place_bounds, finite(&[300, 300]));
+    assert_eq!(a.deadlock_marking, Some(vec![0, 300]));
+}
+
+#[test]
+fn nine_cycles_full_count() {
+    // The benchmark runs 13 cycles (1 594 323 states); 9 keep debug test runs short.
+    let net = samples::cycles(9, 3);
+    let a = run(&net);
+    assert_eq!(a.states, Some(19_683));
+    assert_eq!(a.edges, Some(19_683 * 9));
+    assert_eq!((a.deadlocks, a.live, a.reversible), (Some(0), Some(true), Some(true)));
+    assert_eq!(a.p_invariants.as_ref().map(Vec::len), Ok(9));
+}
+
+// ---- property tests ----
+
+/// A naive reference: BFS over `Vec<u32>` markings; `None` past `limit` states.
+/// Reachable markings and, per state, its (transition, successor) pairs.
+type Reference = (Vec<Vec<u32>>, Vec<Vec<(usize, usize)>>);
+
+fn naive(net: &PtNet, limit: usize) -> Option<Reference> {
+    let mut index: HashMap<Vec<u32>, usize> = HashMap::new();
+    let mut states = vec![net.initial.clone()];
+    index.insert(net.initial.clone(), 0);
+    let mut succ: Vec<Vec<(usize, usize)>> = Vec::new();
+    let mut queue = VecDeque::from([0usize]);
+    while let Some(s) = queue.pop_front() {
+        let m = states[s].clone();
+        let mut out = Vec::new();
+        for t in 0..net.transitions.len() {
+            if net.enabled(&m, t) {
+                let n = net.fire(&m, t)?;
+                let id = match index.get(&n) {
+                    Some(&i) => i,
+                    None => {
+                        states.push(n.clone());
+                        index.insert(n, states.len() - 1);
+                        queue.push_back(states.len() - 1);
+                        if states.len() > limit {
+                            return None;
+                        }
+                        states.len() - 1
+                    }
+                };
+                out.push((t, id));
+            }
+        }
+        if succ.len() <= s {
+            succ.resize(s + 1, Vec::new());
+        }
+        succ[s] = out;
+    }
+    succ.resize(states.len(), Vec::new());
+    Some((states, succ))
+}
+
+fn reach_from(succ: &[Vec<(usize, usize)>], s: usize) -> HashSet<usize> {
+    let mut seen = HashSet::from([s]);
+    let mut stack = vec![s];
+    while let Some(v) = stack.pop() {
+        for &(_, w) in &succ[v] {
+            if seen.insert(w) {
+                stack.push(w);
+            }
+        }
+    }
+    seen
+}
+
+prop_compose! {
+    fn small_net()(np in 1usize..5, nt in 1usize..5)
+        (init in prop::collection::vec(0u32..3, np),
+         arcs in prop::collection::vec((0..np, 0..nt, 0u32..3, 0u32..3, 0u32..8), 0..12),
+         np in Just(np), nt in Just(nt)) -> PtNet {
+        let mut net = PtNet::new();
+        for (i, &m) in init.iter().enumerate() { net.add_place(&format!("p{i}"), m); }
+        for i in 0..nt { net.add_transition(&format!("t{i}")); }
+        for (p, t, pre, post, kind) in arcs {
+            if pre > 0 { net.add_pre(t, p, pre); }
+            if post > 0 { net.add_post(t, p, post); }
+            // Now and then a read or inhibitor arc.
+            match kind { 6 => net.add_read(t, p, 1), 7 => net.add_inhibitor(t, p, 2), _ => {} }
+        }
+        let _ = np;
+        net
+    }
+}
+
+fn satisfies(y: &[i64], a: &[Vec<i64>], cols: usize) -> bool {
+    (0..cols).all(|j| y.iter().zip(a).map(|(c, row)| c * row[j]).sum::<i64>() == 0)
+}
+
+fn support(y: &[i64]) -> Vec<usize> {
+    (0..y.len()).filter(|&i| y[i] != 0).collect()
+}
+
+/// All semi-positive solutions with coefficients 0..=3, brute force.
+fn brute_invariants(a: &[Vec<i64>], cols: usize) -> Vec<Vec<i64>> {
+    let n = a.len();
+    let mut out = Vec::new();
+    let mut y = vec![0i64; n];
+    loop {
+        if y.iter().any(|&c| c != 0) && satisfies(&y, a, cols) {
+            out.push(y.clone());
+        }
+        let mut i = 0;
+        loop {
+            if i == n {
+                return out;
+            }
+            y[i] += 1;
+            if y[i] <= 3 {
+                break;
+            }
+            y[i] = 0;
+            i += 1;
+        }
+    }
+}
+
+fn run_small(net: &PtNet) -> Analysis {
+    analyze(
+        net,
+        &Options {
+            max_states: 5_000,
+            ..Options::default()
+        },
+        &|| false,
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    #[test]
+    fn agrees_with_the_naive_reference(net in small_net()) {
+        let a = run_small(&net);
+        match naive(&net, 300) {
+            Some((states, succ)) => {
+                prop_assert_eq!(a.bounded, Some(true));
+                prop_assert_eq!(a.states, Some(states.len() as u64));
+                let edges: usize = succ.iter().map(Vec::len).sum();
+                prop_assert_eq!(a.edges, Some(edges as u64));
+                let dead = succ.iter().filter(|s| s.is_empty()).count();
+                prop_assert_eq!(a.deadlocks, Some(dead as u64));
+                // Shortest trace: its length is the BFS depth of the closest dead marking.
+                if let Some(trace) = &a.deadlock_trace {
+                    let mut m = net.initial.clone();
+                    for &t in trace {
+                        prop_assert!(net.enabled(&m, t));
+                        m = net.fire(&m, t).expect("no overflow");
+                    }
+                    prop_assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)));
+                }
+                let nt = net.transitions.len();
+                let live = (0..states.len()).all(|s| {
+                    let r = reach_from(&succ, s);
+                    (0..nt).all(|t| r.iter().any(|&v| net.enabled(&states[v], t)))
+                });
+                prop_assert_eq!(a.live, Some(live));
+                let reversible = (0..states.len()).all(|s| reach_from(&succ, s).contains(&0));
+                prop_assert_eq!(a.reversible, Some(reversible));
+                let fired: HashSet<usize> = succ.iter().flatten().map(|&(t, _)| t).collect();
+                let dead_t: Vec<usize> = (0..nt).filter(|t| !fired.contains(t)).collect();
+                prop_assert_eq!(a.dead_transitions.clone(), Some(dead_t));
+                for p in 0..net.places.len() {
+                    let max = states.iter().map(|m| m[p]).max().unwrap_or(0);
+                    prop_assert_eq!(a.place_bounds.as_ref().map(|b| b[p]), Some(Bound::Finite(max)));
+                }
+                // Every reachable marking satisfies every P-invariant.
+                for y in a.p_invariants.as_ref().expect("p-invariants") {
+                    let w0: i64 = y.iter().zip(&net.initial).map(|(c, &m)| c * i64::from(m)).sum();
+                    for m in &states {
+                        let w: i64 = y.iter().zip(m).map(|(c, &v)| c * i64::from(v)).sum();
+                        prop_assert_eq!(w, w0);
+                    }
+                }
+                // Coverability agrees with reachability on bounded nets (without inhibitor
+                // arcs: with them a bounded net may cover an ancestor, see docs/nets.md).
+                if net.has_inhibitors() {
+                } else if let coverability::Coverability::Graph { nodes, edges: cedges, .. } =
+                    coverability::coverability(&net, 100_000, &|| false)
+                {
+                    let set: HashSet<Vec<u32>> = nodes.into_iter().collect();
+                    let reach: HashSet<Vec<u32>> = states.iter().cloned().collect();
+                    prop_assert_eq!(set, reach);
+                    prop_assert_eq!(cedges, edges as u64);
+                } else {
+                    prop_assert!(false, "coverability failed on a bounded net");
+                }
+            }
+            None => {
+                // More than 300 states: either unbounded or unknown, never a wrong "bounded".
+                if a.bounded == Some(true) {
+                    prop_assert!(a.states.unwrap_or(0) > 300);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn t_invariants_return_to_the_marking(net in small_net()) {
+        let a = run_small(&net);
+        let Some((states, _)) = naive(&net, 500) else { return Ok(()) };
+        for x in a.t_invariants.as_ref().expect("t-invariants") {
+            for m in states.iter().take(50) {
+                // Search an order in which the multiset x is fireable from m.
+                fn search(net: &PtNet, m: &[u32], left: &mut [i64]) -> Option<Vec<u32>> {
+                    if left.iter().all(|&c| c == 0) {
+                        return Some(m.to_vec());
+                    }
+                    for t in 0..left.len() {
+                        if left[t] > 0 && net.enabled(m, t) {
+                            let n = net.fire(m, t)?;
+                            left[t] -= 1;
+                            let r = search(net, &n, left);
+                            left[t] += 1;
+                            if r.is_some() {
+                                return r;
+                            }
+                        }
+                    }
+                    None
+                }
+                if x.iter().sum::<i64>() > 8 {
+                    continue;
+                }
+                let mut left = x.clone();
+                if let Some(end) = search(&net, m, &mut left) {
+                    prop_assert_eq!(&end, m);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn farkas_finds_every_minimal_invariant(net in small_net()) {
+        for (a, cols, found) in [
+            (net.incidence(), net.transitions.len(), invariants::p_invariants(&net, 100_000).expect("p")),
+            (
+                (0..net.transitions.len()).map(|t| net.incidence().iter().map(|r| r[t]).collect()).collect(),
+                net.places.len(),
+                invariants::t_invariants(&net, 100_000).expect("t"),
+            ),
+        ] {
+            let brute = brute_invariants(&a, cols);
+            // Found ones are invariants, gcd 1, and of minimal support.
+            for y in &found {
+                prop_assert!(y.iter().all(|&c| c >= 0) && satisfies(y, &a, cols));
+                let g = y.iter().fold(0i64, |g, &c| { let (mut a, mut b) = (g, c); while b != 0 { (a, b) = (b, a % b); } a });
+                prop_assert_eq!(g, 1);
+                let s = support(y);
+                for b in &brute {
+                    let sb = support(b);
+                    prop_assert!(!(sb.iter().all(|i| s.contains(i)) && sb.len() < s.len()), "{:?} not minimal: {:?}", y, b);
+                }
+            }
+            // Every minimal support among the brute-force ones is found.
+            for b in &brute {
+                let sb = support(b);
+                // Minimal among all invariants known (brute force ones have coefficients <= 3;
+                // found ones are checked invariants above).
+                let minimal = brute.iter().chain(&found).all(|c| { let sc = support(c); !(sc.iter().all(|i| sb.contains(i)) && sc.len() < sb.len()) });
+                if minimal {
+                    prop_assert!(found.iter().any(|y| support(y) == sb), "missing invariant with support {:?}", sb);
+                }
+            }
+        }
+    }
+}
