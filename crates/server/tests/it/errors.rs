@@ -3,10 +3,9 @@
 
 use crate::{Server, copy_example};
 use alba_runtime::{Io, IoError, Options, Runtime};
-use reqwest::{Client, Method, StatusCode};
+use reqwest::{Method, StatusCode};
 use serde_json::json;
 use std::sync::Arc;
-use tokio::sync::oneshot;
 
 /// An I/O driver in attach mode: the "board" runs the program.
 struct Board;
@@ -42,28 +41,7 @@ async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) 
         None,
         alba_server::auth::Auth::open(),
     );
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
-    let addr = listener.local_addr().expect("addr");
-    let (stop, stop_rx) = oneshot::channel::<()>();
-    let closing = state.closing.clone();
-    let task = tokio::spawn(async move {
-        let app = alba_server::router(state).into_make_service_with_connect_info::<std::net::SocketAddr>();
-        axum::serve(listener, app)
-            .with_graceful_shutdown(async move {
-                let _ = stop_rx.await;
-                closing.send_replace(true);
-            })
-            .await
-            .expect("serve");
-    });
-    let s = Server {
-        addr,
-        dir,
-        http: Client::new(),
-        stop: Some(stop),
-        task: Some(task),
-    };
-    (s, runtime)
+    (Server::serve_state(state, dir).await, runtime)
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -26,6 +26,35 @@ pub struct Server {
     task: Option<tokio::task::JoinHandle<()>>,
 }
 
+impl Server {
+    /// Serves a ready `state` (the router alone, without `alba run`'s
+    /// services) on a loopback port, for tests that build the state
+    /// themselves (a fake board, a manual clock).
+    pub async fn serve_state(state: std::sync::Arc<alba_server::AppState>, dir: PathBuf) -> Server {
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
+        let addr = listener.local_addr().expect("addr");
+        let (stop, stop_rx) = oneshot::channel::<()>();
+        let closing = state.closing.clone();
+        let task = tokio::spawn(async move {
+            let app = alba_server::router(state).into_make_service_with_connect_info::<SocketAddr>();
+            axum::serve(listener, app)
+                .with_graceful_shutdown(async move {
+                    let _ = stop_rx.await;
+                    closing.send_replace(true);
+                })
+                .await
+                .expect("serve");
+        });
+        Server {
+            addr,
+            dir,
+            http: Client::new(),
+            stop: Some(stop),
+            task: Some(task),
+        }
+    }
+}
+
 /// A fresh copy of `examples/<name>` in a scratch directory.
 pub fn copy_example(name: &str, test: &str) -> PathBuf {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(name);

@@ -7,12 +7,11 @@ use alba_auth::{Role, Users};
 use alba_runtime::{Options, Runtime, SimIo};
 use alba_server::auth::{Auth, Limits, ManualClock};
 use reqwest::header::{AUTHORIZATION, COOKIE, RETRY_AFTER, SET_COOKIE};
-use reqwest::{Client, Method, StatusCode};
+use reqwest::{Method, StatusCode};
 use serde_json::{Value as Json, json};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
-use tokio::sync::oneshot;
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 
 const PASSWORD: &str = "a long test password 7";
@@ -50,28 +49,7 @@ async fn serve(test: &str, clock: Arc<ManualClock>) -> (Server, Runtime) {
         .with_clock(clock)
         .reloading_from(&dir);
     let (state, runtime) = state(&dir, auth);
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("listen");
-    let addr = listener.local_addr().expect("addr");
-    let (stop, stop_rx) = oneshot::channel::<()>();
-    let closing = state.closing.clone();
-    let task = tokio::spawn(async move {
-        let app = alba_server::router(state).into_make_service_with_connect_info::<std::net::SocketAddr>();
-        axum::serve(listener, app)
-            .with_graceful_shutdown(async move {
-                let _ = stop_rx.await;
-                closing.send_replace(true);
-            })
-            .await
-            .expect("serve");
-    });
-    let s = Server {
-        addr,
-        dir,
-        http: Client::new(),
-        stop: Some(stop),
-        task: Some(task),
-    };
-    (s, runtime)
+    (Server::serve_state(state, dir).await, runtime)
 }
 
 /// Logs in; the token of the reply (checked against the cookie).
