@@ -52,6 +52,9 @@ pub(crate) struct Service<'a> {
     pub dir: &'a Path,
     pub config: Option<&'a Config>,
     pub state: &'a Arc<AppState>,
+    /// The project's users as loaded at start (users.toml and the
+    /// deprecated `[opcua.users]`).
+    pub users: &'a Arc<alba_auth::Users>,
 }
 
 /// Whether a service was started (its configuration may leave it off).
@@ -79,7 +82,8 @@ pub async fn run(
     };
     let config = compiled.project.config.clone();
     let config = config.as_ref();
-    let auth = users::auth(dir, config, opts.addr).map_err(RunError::Other)?;
+    let users = Arc::new(alba_auth::Users::load(dir).map_err(RunError::Other)?);
+    let auth = users::auth(dir, users.clone(), config, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
@@ -123,6 +127,7 @@ pub async fn run(
         dir,
         config,
         state: &state,
+        users: &users,
     };
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;

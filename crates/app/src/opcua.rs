@@ -9,16 +9,13 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
         return Ok(Started::Off);
     };
     let pki = s.dir.join(".alba").join("pki");
-    // The project's one user store (users.toml, and the deprecated
-    // [opcua.users]); its warnings are shown when the project is loaded.
-    let users = std::sync::Arc::new(alba_auth::Users::load(s.dir)?);
     let name = &s.state.name;
     let bound = alba_opcua::serve(
         s.state.runtime.clone(),
         name,
         addr,
         pki.clone(),
-        users,
+        s.users.clone(),
         s.state.closing(),
     )
     .await?;

@@ -8,11 +8,15 @@ use std::net::SocketAddr;
 use std::path::Path;
 use std::sync::Arc;
 
-/// The API's users and session limits for the project in `dir`, served
-/// at `addr`. Without users a non-loopback `addr` is refused: anyone who
+/// The API's users (as loaded from the project in `dir`) and session
+/// limits, served at `addr`. Without users a non-loopback `addr` is refused: anyone who
 /// could reach it would have full rights.
-pub(crate) fn auth(dir: &Path, config: Option<&Config>, addr: SocketAddr) -> Result<Auth, String> {
-    let users = alba_auth::Users::load(dir)?;
+pub(crate) fn auth(
+    dir: &Path,
+    users: Arc<alba_auth::Users>,
+    config: Option<&Config>,
+    addr: SocketAddr,
+) -> Result<Auth, String> {
     if users.is_empty() && !addr.ip().is_loopback() {
         return Err(format!(
             "refusing to serve the studio on {addr}: this project has no users, so anyone who can reach that \
@@ -23,5 +27,5 @@ pub(crate) fn auth(dir: &Path, config: Option<&Config>, addr: SocketAddr) -> Res
         ));
     }
     let limits = config.map_or_else(Limits::default, |c| Limits::from_config(&c.session));
-    Ok(Auth::new(Arc::new(users), limits).reloading_from(dir))
+    Ok(Auth::new(users, limits).reloading_from(dir))
 }
