@@ -227,7 +227,7 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
         every_ms: every,
     };
     let want = engine_trace(&prog, &stim, &cols, timing, &sketch.wiring);
-    let rows: Vec<(u64, Place, Value)> = stim.rows.iter().map(|r| (r.time_ms, r.place, r.value)).collect();
+    let rows: Vec<(u64, Place, Value)> = stim.writes().expect("the differential cases force nothing");
     let run = simavr::simulate(
         &built.elf,
         model,

@@ -191,7 +191,15 @@ pub fn simulate(
         }
         let built =
             toolchain::build(&folder.join(&s.files[0].0), t.model, &folder.join("build")).map_err(|d| vec![d])?;
-        let rows: Vec<_> = stimulus.rows.iter().map(|r| (r.time_ms, r.place, r.value)).collect();
+        let rows = stimulus.writes().map_err(|r| {
+            vec![Diagnostic::unplaced(
+                Code::StimulusTarget,
+                format!(
+                    "the stimulus forces a value at {} ms: forces are not available on the board's firmware (--firmware); write the value instead",
+                    r.time_ms
+                ),
+            )]
+        })?;
         let cols: Vec<simavr::Column> = cols
             .iter()
             .map(|c| simavr::Column {

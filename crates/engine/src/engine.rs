@@ -40,6 +40,9 @@ pub struct Engine {
     native: Option<crate::jit::Jit>,
     /// The program's plant models (`[[plant_model]]`) and their state.
     plants: crate::plant::Plants,
+    /// Forced places and their values (docs/cli.md "Forces"): they win over
+    /// every writer — I/O, stimuli, plant models and plant programs.
+    forces: Vec<(Place, Value)>,
 }
 
 impl Engine {
@@ -63,6 +66,7 @@ impl Engine {
             #[cfg(feature = "jit")]
             native: None,
             plants: crate::plant::Plants::new(&prog.plants),
+            forces: Vec::new(),
             prog,
         })
     }
@@ -99,9 +103,53 @@ impl Engine {
         Ok(())
     }
 
-    /// Writes a value between scans (inputs, stimuli, operator writes).
+    /// Writes a value between scans (inputs, stimuli, operator writes). A
+    /// forced place keeps its forced value.
     pub fn write(&mut self, p: Place, v: Value) {
+        if !self.is_forced(p) {
+            self.mem.write(p, v);
+        }
+    }
+
+    /// Writes even a forced place (the safe state of the outputs on a stop
+    /// or a fault wins over forces; a force acts again from the next scan).
+    pub fn write_over_force(&mut self, p: Place, v: Value) {
         self.mem.write(p, v);
+    }
+
+    /// Forces `p` to `v` (replacing an earlier force of `p`), visible at
+    /// once. A force wins over every writer: it is applied before each scan,
+    /// after each scan (so that plant programs, which run after the control
+    /// programs, cannot overwrite it), after plant models step, and writes
+    /// to a forced place between scans are ignored. The control programs
+    /// therefore always read the forced value; a program that writes a
+    /// forced place itself sees its own value until the end of the scan, as
+    /// in a PLC whose forces act on the I/O image.
+    pub fn force(&mut self, p: Place, v: Value) {
+        self.forces.retain(|(q, _)| *q != p);
+        self.forces.push((p, v));
+        self.mem.write(p, v);
+    }
+
+    /// Removes the force of `p` (if any); the place keeps its value until
+    /// something writes it.
+    pub fn unforce(&mut self, p: Place) {
+        self.forces.retain(|(q, _)| *q != p);
+    }
+
+    /// Removes every force.
+    pub fn unforce_all(&mut self) {
+        self.forces.clear();
+    }
+
+    pub fn is_forced(&self, p: Place) -> bool {
+        self.forces.iter().any(|(q, _)| *q == p)
+    }
+
+    fn apply_forces(&mut self) {
+        for &(p, v) in &self.forces {
+            self.mem.write(p, v);
+        }
     }
 
     /// Advances the plant models to `now_ms` (the simulator's clock) and
@@ -110,6 +158,7 @@ impl Engine {
     pub fn step_plants(&mut self, now_ms: u64) {
         if !self.plants.is_empty() {
             self.plants.step(&mut self.mem, now_ms);
+            self.apply_forces();
         }
     }
 
@@ -117,6 +166,7 @@ impl Engine {
     pub fn step_plants_now(&mut self) {
         if !self.plants.is_empty() {
             self.plants.step_now(&mut self.mem);
+            self.apply_forces();
         }
     }
 
@@ -183,7 +233,8 @@ impl Engine {
     /// (every tag that exists in both programs with the same name and type
     /// keeps its value, timers and counters included; see
     /// `Memory::migrate`). Fails, changing nothing, if `prog` does not verify
-    /// or native code for it cannot be built.
+    /// or native code for it cannot be built. Forces are dropped (their
+    /// places may have moved): the caller forces again by name.
     pub fn replace(&mut self, prog: Arc<Program>) -> Result<(), String> {
         prog.verify()?;
         let plain = Code::new(&prog, false);
@@ -200,6 +251,7 @@ impl Engine {
             self.native = native;
         }
         self.faults = Faults::default();
+        self.forces.clear();
         if self.plants.specs() != prog.plants {
             self.plants = crate::plant::Plants::new(&prog.plants);
         }
@@ -289,6 +341,7 @@ impl Engine {
         self.mem.i[sys.io_errors.0 as usize] = self.io_errors;
         self.faults.scan = self.scans;
         let before = self.faults.count;
+        self.apply_forces();
         let now = now_ms as u32; // wrapping milliseconds, like millis()
         let r = if self.monitor {
             self.monitor_writes += 1;
@@ -303,6 +356,7 @@ impl Engine {
         } else {
             self.run_unmonitored(now)
         };
+        self.apply_forces();
         self.first_scan = false;
         self.scans += 1;
         if self.faults.count != before

@@ -18,7 +18,33 @@ use std::io::{self, Write};
 pub struct StimulusRow {
     pub time_ms: u64,
     pub place: Place,
-    pub value: Value,
+    pub action: Action,
+}
+
+impl Stimulus {
+    /// The rows as plain writes, or the first row that forces (the board's
+    /// firmware has no forces).
+    pub fn writes(&self) -> Result<Vec<(u64, Place, Value)>, &StimulusRow> {
+        self.rows
+            .iter()
+            .map(|r| match r.action {
+                Action::Set(v) => Ok((r.time_ms, r.place, v)),
+                _ => Err(r),
+            })
+            .collect()
+    }
+}
+
+/// What a stimulus row does: the value column holds a value (`1`), `force
+/// VALUE` or `unforce`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Action {
+    /// Writes the value (ignored while the place is forced).
+    Set(Value),
+    /// Forces the place: it keeps the value against every writer, plant
+    /// models and plant programs included, until `unforce`.
+    Force(Value),
+    Unforce,
 }
 
 /// Rows in the order they apply (stable by time).
@@ -79,6 +105,13 @@ impl Stimulus {
                 continue;
             }
             let (t, name, val) = (&r.fields[0], &r.fields[1], &r.fields[2]);
+            // `force VALUE`, `unforce` or a value.
+            let word = val.text.trim();
+            let (forcing, value_text) = match word.split_once(char::is_whitespace) {
+                Some((w, rest)) if w.eq_ignore_ascii_case("force") => (true, Some(rest.trim())),
+                _ if word.eq_ignore_ascii_case("unforce") => (true, None),
+                _ => (false, Some(word)),
+            };
             let time_ms = match t.text.trim().parse::<u64>() {
                 Ok(v) => Some(v),
                 Err(_) => {
@@ -92,7 +125,7 @@ impl Stimulus {
                 }
             };
             let place = match layout.resolve(name.text.trim()) {
-                Ok(Target::Value { place, .. }) if layout.is_output(place) => {
+                Ok(Target::Value { place, .. }) if layout.is_output(place) && !forcing => {
                     diags.push(
                         Diagnostic::new(
                             Code::StimulusTarget,
@@ -100,7 +133,10 @@ impl Stimulus {
                             sp(&name.span),
                             "output",
                         )
-                        .with_help("a stimulus sets inputs (and internal tags); outputs come from the program"),
+                        .with_help(
+                            "a stimulus sets inputs (and internal tags); outputs come from the program \
+                             (write `force 1` to force one)",
+                        ),
                     );
                     None
                 }
@@ -139,8 +175,20 @@ impl Stimulus {
             let (Some(time_ms), Some(place)) = (time_ms, place) else {
                 continue;
             };
-            match Value::parse(val.text.trim(), place.data_type()) {
-                Ok(value) => rows.push(StimulusRow { time_ms, place, value }),
+            let Some(value_text) = value_text else {
+                rows.push(StimulusRow {
+                    time_ms,
+                    place,
+                    action: Action::Unforce,
+                });
+                continue;
+            };
+            match Value::parse(value_text, place.data_type()) {
+                Ok(value) => rows.push(StimulusRow {
+                    time_ms,
+                    place,
+                    action: if forcing { Action::Force(value) } else { Action::Set(value) },
+                }),
                 Err(m) => diags.push(Diagnostic::new(
                     Code::StimulusSyntax,
                     format!("bad value for `{}`: {m}", name.text.trim()),
@@ -261,7 +309,11 @@ pub fn run(
         let t = clock.now_ms();
         engine.step_plants(t);
         while let Some(r) = stimulus.rows.get(next_row).filter(|r| r.time_ms <= t) {
-            engine.write(r.place, r.value);
+            match r.action {
+                Action::Set(v) => engine.write(r.place, v),
+                Action::Force(v) => engine.force(r.place, v),
+                Action::Unforce => engine.unforce(r.place),
+            }
             next_row += 1;
         }
         engine.scan(t).map_err(SimError::Major)?;

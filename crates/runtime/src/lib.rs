@@ -134,7 +134,7 @@ pub struct Force {
     pub name: String,
     pub place: Place,
     pub value: Value,
-    /// An input (forced before the scan) or an output (after it).
+    /// An input (it gets its prior value back when unforced).
     pub input: bool,
     /// The value before the force: an input gets it back when the force
     /// is removed (a real I/O driver overwrites it at its next read; the
@@ -556,16 +556,10 @@ impl Worker {
                 .record(t0.elapsed().as_micros() as u64, late.as_micros() as u64);
             return self.publish();
         }
-        let forces = self.forces.clone();
-        for f in forces.iter().filter(|f| f.input) {
-            self.engine.write(f.place, f.value);
-        }
+        // Forces are the engine's: applied before and after the scan.
         let now = self.clock_ms();
         if let Err(m) = self.engine.scan(now) {
             return self.halt(m.message);
-        }
-        for f in forces.iter().filter(|f| !f.input) {
-            self.engine.write(f.place, f.value);
         }
         if let Err(e) = self.io.write_outputs(&self.engine) {
             return self.halt(format!("I/O ({}): {e}", self.io.name()));
@@ -603,11 +597,11 @@ impl Worker {
         }
         let l = self.engine.program().layout.clone();
         for b in l.dout.base..l.dout.base + l.dout.len {
-            self.engine.write(Place::Bool(alba_ir::B(b)), Value::Bool(false));
+            self.engine.write_over_force(Place::Bool(alba_ir::B(b)), Value::Bool(false));
         }
         for i in l.ao.base..l.ao.base + l.ao.len {
             self.engine
-                .write(Place::Int(alba_ir::I(i), alba_model::DataType::Int), Value::Int(0));
+                .write_over_force(Place::Int(alba_ir::I(i), alba_model::DataType::Int), Value::Int(0));
         }
         let _ = self.io.write_outputs(&self.engine);
     }
@@ -649,7 +643,7 @@ impl Worker {
                 };
                 fs.retain(|x| !x.name.eq_ignore_ascii_case(&f.name));
                 // Visible at once, also while stopped.
-                self.engine.write(f.place, f.value);
+                self.engine.force(f.place, f.value);
                 fs.push(f);
                 self.forces = Arc::new(fs);
                 Ok(())
@@ -660,8 +654,11 @@ impl Worker {
                     .iter()
                     .cloned()
                     .partition(|x| name.as_ref().is_none_or(|n| x.name.eq_ignore_ascii_case(n)));
-                for f in gone.iter().filter(|f| f.input) {
-                    self.engine.write(f.place, f.prior);
+                for f in &gone {
+                    self.engine.unforce(f.place);
+                    if f.input {
+                        self.engine.write(f.place, f.prior);
+                    }
                 }
                 self.forces = Arc::new(kept);
                 Ok(())
@@ -696,7 +693,10 @@ impl Worker {
                         }),
                         _ => None,
                     })
-                    .collect();
+                    .collect::<Vec<_>>();
+                for f in &fs {
+                    self.engine.force(f.place, f.value);
+                }
                 self.forces = Arc::new(fs);
                 Ok(())
             }

@@ -11,15 +11,31 @@ use std::sync::Arc;
 use std::time::Duration;
 
 fn compile(tags: &str, lad: &str) -> Arc<Program> {
+    compile_with_plant(tags, lad, None)
+}
+
+/// `lad`, then the plant program `plant` (which may write inputs).
+fn compile_with_plant(tags: &str, lad: &str, plant: Option<&str>) -> Arc<Program> {
     let mut files = Files::new();
     let tf = files.add("tags.csv", tags);
     let lf = files.add("main.lad", lad);
+    let pf = plant.map(|p| files.add("plant.lad", p));
     let (t, d1) = alba_model::TagTable::parse(files.text(tf), tf);
     let (ast, d2) = alba_ladder::parse(files.text(lf), lf);
-    let mut b = alba_ir::Builder::new(alba_ladder::layout_for(&t, &[&ast]));
+    let plant_ast = pf.map(|f| alba_ladder::parse(files.text(f), f));
+    let mut asts = vec![&ast];
+    asts.extend(plant_ast.as_ref().map(|(a, _)| a));
+    let mut b = alba_ir::Builder::new(alba_ladder::layout_for(&t, &asts));
+    let mut presets = alba_ladder::Presets::default();
     let src = files.text(lf).to_string();
-    let d3 = alba_ladder::compile(&ast, &src, "main.lad", &mut b, &mut alba_ladder::Presets::default());
-    assert!(d1.is_empty() && d2.is_empty() && d3.is_empty(), "{d1:?} {d2:?} {d3:?}");
+    let mut diags = alba_ladder::compile(&ast, &src, "main.lad", &mut b, &mut presets);
+    if let (Some(f), Some((a, d))) = (pf, &plant_ast) {
+        diags.extend(d.iter().cloned());
+        b.begin_plant();
+        let src = files.text(f).to_string();
+        diags.extend(alba_ladder::compile(a, &src, "plant.lad", &mut b, &mut presets));
+    }
+    assert!(d1.is_empty() && d2.is_empty() && diags.is_empty(), "{d1:?} {d2:?} {diags:?}");
     Arc::new(b.finish(files))
 }
 
@@ -124,6 +140,36 @@ async fn writes_forces_and_stop_apply_between_scans() {
     let s = until(&rt, "running", |s| s.scans > scans + 2).await;
     assert_eq!(value(&s, "Out"), Value::Bool(true));
     rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn a_forced_input_wins_over_the_plant_program_in_every_snapshot() {
+    // The plant program (after main.lad) clears In on every scan.
+    let prog = compile_with_plant(TAGS, LAD, Some("OTU(In);\n"));
+    for native in [false, true] {
+        let mut o = opts(2);
+        o.native = native;
+        let rt = Runtime::start(prog.clone(), o, Box::new(SimIo)).unwrap();
+        let h = rt.handle();
+        h.force("In".into(), place(&prog, "In"), Value::Bool(true)).await.unwrap();
+        let mut rx = h.subscribe();
+        let first = until(&rt, "the program sees the force", |s| value(s, "Out") == Value::Bool(true)).await;
+        // Every snapshot from then on shows the forced value, never the plant's.
+        let mut seen = 0;
+        while seen < 20 {
+            rx.changed().await.unwrap();
+            let s = rx.borrow_and_update().clone();
+            if s.scans > first.scans {
+                assert_eq!(value(&s, "In"), Value::Bool(true), "scan {} (native {native})", s.scans);
+                assert_eq!(value(&s, "Out"), Value::Bool(true), "scan {} (native {native})", s.scans);
+                seen += 1;
+            }
+        }
+        // Unforced, the plant program writes it again.
+        h.unforce(Some("In".into())).await.unwrap();
+        until(&rt, "the plant's value", |s| value(s, "In") == Value::Bool(false)).await;
+        rt.shutdown();
+    }
 }
 
 #[tokio::test(flavor = "current_thread")]
