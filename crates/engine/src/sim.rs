@@ -187,7 +187,11 @@ impl Stimulus {
                 Ok(value) => rows.push(StimulusRow {
                     time_ms,
                     place,
-                    action: if forcing { Action::Force(value) } else { Action::Set(value) },
+                    action: if forcing {
+                        Action::Force(value)
+                    } else {
+                        Action::Set(value)
+                    },
                 }),
                 Err(m) => diags.push(Diagnostic::new(
                     Code::StimulusSyntax,

@@ -597,7 +597,8 @@ impl Worker {
         }
         let l = self.engine.program().layout.clone();
         for b in l.dout.base..l.dout.base + l.dout.len {
-            self.engine.write_over_force(Place::Bool(alba_ir::B(b)), Value::Bool(false));
+            self.engine
+                .write_over_force(Place::Bool(alba_ir::B(b)), Value::Bool(false));
         }
         for i in l.ao.base..l.ao.base + l.ao.len {
             self.engine

@@ -35,7 +35,10 @@ fn compile_with_plant(tags: &str, lad: &str, plant: Option<&str>) -> Arc<Program
         let src = files.text(f).to_string();
         diags.extend(alba_ladder::compile(a, &src, "plant.lad", &mut b, &mut presets));
     }
-    assert!(d1.is_empty() && d2.is_empty() && diags.is_empty(), "{d1:?} {d2:?} {diags:?}");
+    assert!(
+        d1.is_empty() && d2.is_empty() && diags.is_empty(),
+        "{d1:?} {d2:?} {diags:?}"
+    );
     Arc::new(b.finish(files))
 }
 
@@ -151,9 +154,14 @@ async fn a_forced_input_wins_over_the_plant_program_in_every_snapshot() {
         o.native = native;
         let rt = Runtime::start(prog.clone(), o, Box::new(SimIo)).unwrap();
         let h = rt.handle();
-        h.force("In".into(), place(&prog, "In"), Value::Bool(true)).await.unwrap();
+        h.force("In".into(), place(&prog, "In"), Value::Bool(true))
+            .await
+            .unwrap();
         let mut rx = h.subscribe();
-        let first = until(&rt, "the program sees the force", |s| value(s, "Out") == Value::Bool(true)).await;
+        let first = until(&rt, "the program sees the force", |s| {
+            value(s, "Out") == Value::Bool(true)
+        })
+        .await;
         // Every snapshot from then on shows the forced value, never the plant's.
         let mut seen = 0;
         while seen < 20 {
@@ -161,7 +169,12 @@ async fn a_forced_input_wins_over_the_plant_program_in_every_snapshot() {
             let s = rx.borrow_and_update().clone();
             if s.scans > first.scans {
                 assert_eq!(value(&s, "In"), Value::Bool(true), "scan {} (native {native})", s.scans);
-                assert_eq!(value(&s, "Out"), Value::Bool(true), "scan {} (native {native})", s.scans);
+                assert_eq!(
+                    value(&s, "Out"),
+                    Value::Bool(true),
+                    "scan {} (native {native})",
+                    s.scans
+                );
                 seen += 1;
             }
         }
