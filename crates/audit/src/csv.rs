@@ -19,7 +19,7 @@ fn is_number(s: &str) -> bool {
 }
 
 /// Appends `s` as one CSV field.
-pub(crate) fn push_field(out: &mut String, s: &str) {
+pub fn push_field(out: &mut String, s: &str) {
     let risky = s.starts_with(['=', '+', '-', '@', '\t', '\r', '\'']) && !is_number(s);
     let quote = s.contains([',', '"', '\r', '\n']);
     if quote {

@@ -32,7 +32,7 @@ use rusqlite::types::Value;
 use rusqlite::{Connection, OptionalExtension, params, params_from_iter};
 
 pub use action::Action;
-pub use csv::{CSV_HEADER, format_utc};
+pub use csv::{CSV_HEADER, format_utc, push_field};
 pub use diff::{DiffSummary, diff};
 pub use error::{Error, Result};
 

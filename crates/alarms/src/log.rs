@@ -1,0 +1,225 @@
+//! The alarm log: every change of state, with time, user and comment, in
+//! SQLite (`.alba/alarms.db`), durable on `kill -9` and power loss (WAL,
+//! `synchronous = FULL`, as the audit trail), no event limit, a retention in
+//! days, CSV export row by row.
+
+use crate::state::Event;
+use rusqlite::{Connection, OpenFlags, params};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Duration;
+
+/// `PRAGMA application_id` of an alarm log: "AlbL".
+const APPLICATION_ID: i64 = 0x416C_624C;
+const SCHEMA_VERSION: i64 = 1;
+const SCHEMA: &str = "
+CREATE TABLE events(
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    t INTEGER NOT NULL,
+    alarm TEXT NOT NULL,
+    tag TEXT NOT NULL,
+    from_state TEXT NOT NULL,
+    to_state TEXT NOT NULL,
+    value REAL,
+    severity INTEGER NOT NULL,
+    user_name TEXT,
+    comment TEXT,
+    message TEXT NOT NULL
+);
+CREATE INDEX events_t ON events(t);
+";
+
+/// The header of the CSV export.
+pub const CSV_HEADER: &str = "id,time_ms,time_utc,alarm,tag,from,to,value,severity,user,comment,message\r\n";
+
+#[derive(Debug, thiserror::Error)]
+pub enum LogError {
+    #[error("alarm log {path}: {reason}")]
+    NotALog { path: PathBuf, reason: String },
+    #[error("alarm log: {0}")]
+    Sql(#[from] rusqlite::Error),
+    #[error("alarm log: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// An open alarm log; clones share it.
+#[derive(Clone)]
+pub struct Log {
+    path: PathBuf,
+    conn: Arc<Mutex<Connection>>,
+    retention_days: Option<u32>,
+}
+
+impl std::fmt::Debug for Log {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Log").field("path", &self.path).finish_non_exhaustive()
+    }
+}
+
+/// The alarm log of the project in `dir`.
+pub fn project_path(dir: &Path) -> PathBuf {
+    dir.join(".alba").join("alarms.db")
+}
+
+impl Log {
+    /// Opens (creating) the log at `path`; a file of another kind, corrupt or
+    /// of a newer schema is refused. `retention_days` 0 keeps everything.
+    pub fn open(path: &Path, retention_days: u32) -> Result<Log, LogError> {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let not = |reason: String| LogError::NotALog {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let conn = Connection::open_with_flags(
+            path,
+            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+        )
+        .map_err(|e| not(e.to_string()))?;
+        conn.busy_timeout(Duration::from_secs(10))?;
+        let mode: String = conn
+            .query_row("PRAGMA journal_mode = WAL", [], |r| r.get(0))
+            .map_err(|e| not(format!("not an SQLite database, or damaged ({e})")))?;
+        if !mode.eq_ignore_ascii_case("wal") {
+            return Err(not(format!("SQLite did not take the WAL journal (`{mode}`)")));
+        }
+        conn.execute_batch("PRAGMA synchronous = FULL;")?;
+        let get = |sql: &str| -> Result<i64, LogError> { Ok(conn.query_row(sql, [], |r| r.get(0))?) };
+        let (app, version, objects) = (
+            get("PRAGMA application_id")?,
+            get("PRAGMA user_version")?,
+            get("SELECT count(*) FROM sqlite_master")?,
+        );
+        if app == 0 && version == 0 && objects == 0 {
+            conn.execute_batch(&format!(
+                "BEGIN IMMEDIATE; {SCHEMA} PRAGMA application_id = {APPLICATION_ID}; \
+                 PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
+            ))?;
+        } else if app != APPLICATION_ID {
+            return Err(not(format!(
+                "an SQLite database of another application (application_id {app:#x})"
+            )));
+        } else if version > SCHEMA_VERSION {
+            return Err(not(format!(
+                "schema version {version} is newer than this program's ({SCHEMA_VERSION})"
+            )));
+        }
+        Ok(Log {
+            path: path.to_path_buf(),
+            conn: Arc::new(Mutex::new(conn)),
+            retention_days: (retention_days > 0).then_some(retention_days),
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Appends `events` in one transaction; returns once they are durable.
+    pub fn append(&self, events: &[Event]) -> Result<(), LogError> {
+        if events.is_empty() {
+            return Ok(());
+        }
+        let mut conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        let tx = conn.transaction()?;
+        {
+            let mut stmt = tx.prepare_cached(
+                "INSERT INTO events(t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message)
+                 VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+            )?;
+            for e in events {
+                stmt.execute(params![
+                    e.t_ms,
+                    e.id,
+                    e.tag,
+                    e.from.name(),
+                    e.to.name(),
+                    e.value.is_finite().then_some(e.value),
+                    e.severity,
+                    e.user,
+                    e.comment,
+                    e.message,
+                ])?;
+            }
+        }
+        tx.commit()?;
+        Ok(())
+    }
+
+    /// Writes the events with `from_ms <= t <= to_ms`, oldest first, at most
+    /// `limit`, as CSV (RFC 4180; a field a spreadsheet would run as a formula
+    /// gets a leading `'`, as in the audit export). Returns the rows written.
+    pub fn export_csv<W: Write>(
+        &self,
+        from_ms: Option<i64>,
+        to_ms: Option<i64>,
+        limit: u64,
+        writer: W,
+    ) -> Result<u64, LogError> {
+        let conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        let mut stmt = conn.prepare_cached(
+            "SELECT id, t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message
+             FROM events WHERE t >= ?1 AND t <= ?2 ORDER BY id LIMIT ?3",
+        )?;
+        let mut rows = stmt.query(params![
+            from_ms.unwrap_or(i64::MIN),
+            to_ms.unwrap_or(i64::MAX),
+            i64::try_from(limit).unwrap_or(i64::MAX)
+        ])?;
+        let mut out = std::io::BufWriter::new(writer);
+        out.write_all(CSV_HEADER.as_bytes())?;
+        let mut n = 0;
+        let mut line = String::new();
+        while let Some(r) = rows.next()? {
+            line.clear();
+            let t: i64 = r.get(1)?;
+            let value: Option<f64> = r.get(6)?;
+            let severity: i64 = r.get(7)?;
+            let text =
+                |i: usize| -> rusqlite::Result<String> { Ok(r.get::<_, Option<String>>(i)?.unwrap_or_default()) };
+            let fields = [
+                r.get::<_, i64>(0)?.to_string(),
+                t.to_string(),
+                alba_audit::format_utc(t),
+                text(2)?,
+                text(3)?,
+                text(4)?,
+                text(5)?,
+                value.map(|v| v.to_string()).unwrap_or_default(),
+                severity.to_string(),
+                text(8)?,
+                text(9)?,
+                text(10)?,
+            ];
+            for (k, f) in fields.iter().enumerate() {
+                if k > 0 {
+                    line.push(',');
+                }
+                alba_audit::push_field(&mut line, f);
+            }
+            line.push_str("\r\n");
+            out.write_all(line.as_bytes())?;
+            n += 1;
+        }
+        out.flush()?;
+        Ok(n)
+    }
+
+    /// Deletes events older than the retention (call at start and daily).
+    pub fn apply_retention(&self, now_ms: i64) -> Result<u64, LogError> {
+        let Some(days) = self.retention_days else {
+            return Ok(0);
+        };
+        let cutoff = now_ms.saturating_sub(i64::from(days) * 86_400_000);
+        let conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        Ok(conn.execute("DELETE FROM events WHERE t < ?1", [cutoff])? as u64)
+    }
+
+    /// Events logged (for tests and the status).
+    pub fn count(&self) -> Result<u64, LogError> {
+        let conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        Ok(conn.query_row("SELECT count(*) FROM events", [], |r| r.get::<_, i64>(0))? as u64)
+    }
+}
