@@ -188,6 +188,20 @@ export type Bucket = [number, number | null, number | null, number | null, numbe
 
 export type History = { tag: string, from: number, to: number, buckets: Array<Bucket>, };
 
+export type AlarmReply = { id: string, tag: string, state: string, severity: number, message: string, since_ms: number, condition: string, 
+/**
+ * The tag's value at the last evaluation.
+ */
+value: number, 
+/**
+ * The process is in alarm (the condition holds, after on-delay and deadband).
+ */
+active: boolean, acked_by: string | null, ack_comment: string | null, acked_ms: number | null, shelved_until_ms: number | null, 
+/**
+ * Why it is shelved or out of service, and by whom.
+ */
+reason: string | null, by: string | null, };
+
 export type AuditOutcome = "pending" | "ok" | "failed";
 
 export type AuditRow = { 

@@ -183,6 +183,8 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> (Vec<AlarmDef>, Vec<D
     }
     let columns = names.len();
     let mut defs: Vec<AlarmDef> = Vec::new();
+    // Every id seen (also of rows with errors), for "used twice".
+    let mut ids: Vec<(String, Span)> = Vec::new();
     for r in records {
         if r.fields.len() != columns {
             let at = r.fields.get(columns).map_or(r.end(), |f| f.span.clone());
@@ -223,7 +225,7 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> (Vec<AlarmDef>, Vec<D
                 )
                 .with_help("an id is 1 to 64 letters, digits, `_`, `-` or `.` (it appears in URLs)"),
             );
-        } else if let Some(d) = defs.iter().find(|d| d.id.eq_ignore_ascii_case(&id)) {
+        } else if let Some((_, first)) = ids.iter().find(|(i, _)| i.eq_ignore_ascii_case(&id)) {
             diags.push(
                 Diagnostic::new(
                     Code::AlarmFile,
@@ -231,8 +233,10 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> (Vec<AlarmDef>, Vec<D
                     sp(&f[0].span),
                     "again",
                 )
-                .with_note(d.span, "first here"),
+                .with_note(*first, "first here"),
             );
+        } else {
+            ids.push((id.clone(), sp(&f[0].span)));
         }
         let tag = f[1].text.trim().to_string();
         let place = resolve(layout, &tag, sp(&f[1].span), &mut diags);
@@ -357,6 +361,7 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> (Vec<AlarmDef>, Vec<D
             });
         }
     }
+    diags.sort_by_key(|d| d.primary.as_ref().map(|l| l.span.start));
     (defs, diags)
 }
 
@@ -390,4 +395,38 @@ fn resolve(layout: &Layout, name: &str, span: Span, diags: &mut Vec<Diagnostic>)
             None
         }
     }
+}
+
+/// Largest alarms.csv read.
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
+
+/// Reads `<dir>/alarms.csv` (none: no alarms), registering it in `files` so
+/// that errors render with its lines, and resolves it in `layout`.
+pub fn load(
+    dir: &std::path::Path,
+    files: &mut alba_diag::Files,
+    layout: &Layout,
+) -> Result<Vec<AlarmDef>, Vec<Diagnostic>> {
+    let path = dir.join(crate::FILE);
+    let text = match std::fs::metadata(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Ok(m) if m.len() > MAX_FILE_BYTES => {
+            return Err(vec![Diagnostic::unplaced(
+                Code::AlarmFile,
+                format!("{} is larger than {} MiB", path.display(), MAX_FILE_BYTES >> 20),
+            )]);
+        }
+        _ => std::fs::read(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|b| String::from_utf8(b).map_err(|_| "it is not UTF-8 text".to_string()))
+            .map_err(|e| {
+                vec![Diagnostic::unplaced(
+                    Code::AlarmFile,
+                    format!("cannot read {}: {e}", path.display()),
+                )]
+            })?,
+    };
+    let file = files.add(path.display().to_string(), text);
+    let (defs, diags) = parse(files.text(file), file, layout);
+    if diags.is_empty() { Ok(defs) } else { Err(diags) }
 }

@@ -4,10 +4,12 @@
 //! here: the API (alba-server) and `alba run` (alba-app) use this crate.
 
 pub mod def;
+pub mod hub;
 pub mod log;
 pub mod state;
 
 pub use def::{AlarmDef, Cmp, Condition, parse};
+pub use hub::{Hub, HubError, Request};
 pub use log::{Log, LogError};
 pub use state::{ActionError, Alarm, Alarms, Event, State};
 

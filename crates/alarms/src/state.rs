@@ -169,6 +169,10 @@ impl Alarms {
         v
     }
 
+    pub(crate) fn all_mut(&mut self) -> &mut [Alarm] {
+        &mut self.alarms
+    }
+
     pub fn get(&self, id: &str) -> Option<&Alarm> {
         self.alarms.iter().find(|a| a.def.id.eq_ignore_ascii_case(id))
     }

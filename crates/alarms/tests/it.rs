@@ -405,3 +405,19 @@ fn the_log_survives_kill_9() {
         "every acknowledged append is there"
     );
 }
+
+proptest::proptest! {
+    /// Any text: diagnostics or alarms, never a panic; every alarm's id is unique.
+    #[test]
+    fn any_text_is_parsed_or_refused_without_panicking(body in "[a-zA-Z0-9_,.<>=!\" \\-\n]{0,200}") {
+        let rig = Rig::new();
+        let text = format!("id,tag,condition,severity,delay_ms,deadband,message\n{body}");
+        let mut files = Files::new();
+        let f = files.add("alarms.csv", &text);
+        let (defs, _) = def::parse(files.text(f), f, &rig.layout);
+        let mut ids: Vec<String> = defs.iter().map(|d| d.id.to_ascii_lowercase()).collect();
+        ids.sort();
+        ids.dedup();
+        proptest::prop_assert_eq!(ids.len(), defs.len());
+    }
+}

@@ -2,7 +2,7 @@
 //!
 //! [`run`] loads and compiles the project, opens its I/O driver and its
 //! historian, starts the runtime, then the services in front of it — the
-//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the Modbus
+//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the alarms, the Modbus
 //! TCP and OPC UA servers — and stops them all on one shutdown signal
 //! (`AppState::closing`), the runtime last (retentive data saved).
 //!
@@ -10,6 +10,7 @@
 //! that spawns it on `state.closing()` (and, to follow online edits,
 //! `state.subscribe_edits()`), and one line in [`run`] calling it.
 
+mod alarms;
 mod audit;
 mod edits;
 mod history;
@@ -82,6 +83,7 @@ pub async fn run(
     };
     let config = compiled.project.config.clone();
     let config = config.as_ref();
+    let alarm_defs = alarms::load(dir, &program).map_err(RunError::Other)?;
     let users = Arc::new(alba_auth::Users::load(dir).map_err(RunError::Other)?);
     let auth = users::auth(dir, users.clone(), config, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
@@ -133,6 +135,7 @@ pub async fn run(
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
     edits::start(&service);
     audit::start(&service);
+    alarms::start(&service, alarm_defs).map_err(RunError::Other)?;
 
     ready(local);
     let closing = state.closing.clone();

@@ -59,6 +59,12 @@ actions! {
     UserRemoved = "user_removed",
     /// An alarm acknowledged (target: the alarm).
     AlarmAck = "alarm_ack",
+    /// An alarm shelved (target: the alarm; detail: minutes and reason).
+    AlarmShelve = "alarm_shelve",
+    /// An alarm's shelving ended by an operator.
+    AlarmUnshelve = "alarm_unshelve",
+    /// An alarm taken out of service or put back (new: true or false; detail: reason).
+    AlarmOutOfService = "alarm_out_of_service",
 }
 
 impl fmt::Display for Action {

@@ -413,14 +413,27 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
         report(&c.diagnostics, c.files(), short);
         return ExitCode::FAILURE;
     };
+    let mut files = c.project.files.clone();
+    let alarms = match alba_alarms::def::load(dir, &mut files, &program.layout) {
+        Ok(a) => a.len(),
+        Err(d) => {
+            report(&d, &files, short);
+            return ExitCode::FAILURE;
+        }
+    };
     if ir {
         print!("{}", program.dump());
     }
     let rungs = program.rungs.len();
     let tags = program.layout.tags.len();
     let n = |k: usize, what: &str| format!("{k} {what}{}", if k == 1 { "" } else { "s" });
+    let alarms = if alarms > 0 {
+        format!(", {}", n(alarms, "alarm"))
+    } else {
+        String::new()
+    };
     eprintln!(
-        "{}: ok ({}, {}, {}, {})",
+        "{}: ok ({}, {}, {}, {}{alarms})",
         dir.display(),
         n(program.units.len(), "program"),
         n(rungs, "rung"),

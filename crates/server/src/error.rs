@@ -53,6 +53,9 @@ pub enum ApiError {
     /// Too many failed logins for this user or client address: retry after the duration.
     #[error("too many failed logins: try again in {} s", retry_after_s(.0))]
     TooManyAttempts(std::time::Duration),
+    /// An alarm action refused, or its log row not written.
+    #[error(transparent)]
+    Alarm(#[from] alba_alarms::HubError),
     /// A fault of the server (a task that did not finish).
     #[error("{0}")]
     Internal(String),
@@ -82,6 +85,12 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Audit(a) => match a {
             alba_audit::Error::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
             _ => StatusCode::INTERNAL_SERVER_ERROR,
+        },
+        ApiError::Alarm(a) => match a {
+            alba_alarms::HubError::Action(alba_alarms::ActionError::Unknown(_)) => StatusCode::NOT_FOUND,
+            alba_alarms::HubError::Action(alba_alarms::ActionError::Invalid(_)) => StatusCode::UNPROCESSABLE_ENTITY,
+            alba_alarms::HubError::Action(_) => StatusCode::CONFLICT,
+            alba_alarms::HubError::Log(_) => StatusCode::INTERNAL_SERVER_ERROR,
         },
         ApiError::History(h) => match h {
             H::UnknownTag(_) => StatusCode::NOT_FOUND,

@@ -36,7 +36,7 @@ pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, audit, domain, forces, history, programs, session, status};
+use api::{FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, programs, session, status};
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
@@ -59,6 +59,10 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("PUT", "/api/programs/{name}", Needs(Role::Engineer)),
     ("POST", "/api/check/{name}", Needs(Role::Engineer)),
     ("PUT", "/api/tags.csv", Needs(Role::Engineer)),
+    ("POST", "/api/alarms/{id}/ack", Needs(Role::Operator)),
+    ("POST", "/api/alarms/{id}/shelve", Needs(Role::Operator)),
+    ("POST", "/api/alarms/{id}/unshelve", Needs(Role::Operator)),
+    ("POST", "/api/alarms/{id}/out_of_service", Needs(Role::Engineer)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
     ("GET", "/api/audit.csv", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
@@ -91,6 +95,12 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/history/tags", get(history::list))
         .route("/api/history", get(history::query))
         .route("/api/history.csv", get(history::csv))
+        .route("/api/alarms", get(alarms::list))
+        .route("/api/alarms/log.csv", get(alarms::log_csv))
+        .route("/api/alarms/{id}/ack", post(alarms::ack))
+        .route("/api/alarms/{id}/shelve", post(alarms::shelve))
+        .route("/api/alarms/{id}/unshelve", post(alarms::unshelve))
+        .route("/api/alarms/{id}/out_of_service", post(alarms::out_of_service))
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
         .route("/api/{*rest}", any(api::fallback))

@@ -117,6 +117,31 @@ pub struct Force {
     pub value: Json,
 }
 
+/// An alarm (`GET /api/alarms`, docs/alarms.md): `state` is `normal`,
+/// `active_unacked`, `active_acked`, `cleared_unacked`, `shelved`,
+/// `suppressed` or `out_of_service`; times are Unix ms.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct AlarmReply {
+    pub id: String,
+    pub tag: String,
+    pub state: String,
+    pub severity: u16,
+    pub message: String,
+    pub since_ms: i64,
+    pub condition: String,
+    /// The tag's value at the last evaluation.
+    pub value: f64,
+    /// The process is in alarm (the condition holds, after on-delay and deadband).
+    pub active: bool,
+    pub acked_by: Option<String>,
+    pub ack_comment: Option<String>,
+    pub acked_ms: Option<i64>,
+    pub shelved_until_ms: Option<i64>,
+    /// Why it is shelved or out of service, and by whom.
+    pub reason: Option<String>,
+    pub by: Option<String>,
+}
+
 /// A program's language.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
 #[serde(rename_all = "lowercase")]
@@ -456,6 +481,7 @@ pub fn typescript() -> String {
         HistoryTag,
         Bucket,
         History,
+        AlarmReply,
         AuditOutcome,
         AuditRow,
         AuditPage,

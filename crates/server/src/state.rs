@@ -42,6 +42,9 @@ pub struct AppState {
     pub guard: crate::guard::Guard,
     /// Users, sessions, login back-off (`crate::auth`).
     pub auth: crate::auth::Auth,
+    /// The project's alarms (docs/alarms.md), set by alba-app before serving;
+    /// unset: no alarms (`GET /api/alarms` answers `[]`).
+    pub alarms: std::sync::OnceLock<Arc<alba_alarms::Hub>>,
     /// The studio is served over HTTPS (set by alba-app before serving;
     /// session cookies are then `Secure`).
     pub https: std::sync::atomic::AtomicBool,
@@ -71,6 +74,7 @@ impl AppState {
             edits: broadcast::Sender::new(16),
             guard,
             auth,
+            alarms: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
         })
     }

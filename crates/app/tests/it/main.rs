@@ -381,3 +381,150 @@ async fn with_users_a_non_loopback_listener_starts() {
     assert!(ok);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Alarms end to end (SPEC §10.5): alarms.csv evaluated on the running
+/// program, `GET /api/alarms`, acknowledge, shelve, the log as CSV, the
+/// audit rows.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn alarms_are_evaluated_acknowledged_shelved_and_logged() {
+    let dir = std::env::temp_dir().join(format!("alba-app-alarms-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    for (f, t) in [
+        (
+            "alba.toml",
+            "name = \"alarms\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n",
+        ),
+        (
+            "tags.csv",
+            "name,type,address,initial,retain,description\nCount,DINT,,,,\nSetpoint,DINT,,,,\n",
+        ),
+        ("main.lad", "ADD(Count,1,Count);\n"),
+        (
+            "alarms.csv",
+            "id,tag,condition,severity,delay_ms,deadband,message\nbig,Count,> 20,high,0,0,Count above 20\n\
+             sp,Setpoint,>= 100,medium,0,5,Setpoint high\n",
+        ),
+    ] {
+        std::fs::write(dir.join(f), t).expect("write");
+    }
+    let (addr, stop, task) = serve(&dir, options("sim")).await;
+    let client = reqwest::Client::new();
+    let url = |p: &str| format!("http://{addr}{p}");
+    let get = |p: String| {
+        let c = client.clone();
+        async move {
+            let r = c.get(p).send().await.expect("get");
+            assert!(r.status().is_success(), "{}", r.status());
+            r.text().await.expect("text")
+        }
+    };
+    let post = |p: String, body: &'static str| {
+        let c = client.clone();
+        async move {
+            let r = c
+                .request(
+                    if p.contains("/api/tags/") {
+                        reqwest::Method::PUT
+                    } else {
+                        reqwest::Method::POST
+                    },
+                    p,
+                )
+                .header("content-type", "application/json")
+                .body(body)
+                .send()
+                .await
+                .expect("send");
+            (r.status().as_u16(), r.text().await.expect("text"))
+        }
+    };
+    let until = |what: &'static str, f: fn(&str) -> bool| {
+        let get = get;
+        let u = url("/api/alarms");
+        async move {
+            for _ in 0..200 {
+                let t = get(u.clone()).await;
+                if f(&t) {
+                    return t;
+                }
+                tokio::time::sleep(Duration::from_millis(20)).await;
+            }
+            panic!("timed out waiting for {what}");
+        }
+    };
+    let t = until("big active", |t| {
+        t.contains("\"id\":\"big\"") && t.contains("active_unacked")
+    })
+    .await;
+    assert!(t.contains("\"severity\":750") && t.contains("Count above 20"), "{t}");
+    assert!(!t.contains("\"id\":\"sp\""), "sp is normal: {t}");
+    assert_eq!(post(url("/api/tags/Setpoint"), "{\"value\": 150}").await.0, 200);
+    until("sp active", |t| t.contains("\"id\":\"sp\"")).await;
+    let (code, body) = post(url("/api/alarms/sp/ack"), "{\"comment\": \"seen it\"}").await;
+    assert_eq!(code, 200, "{body}");
+    assert!(
+        body.contains("\"state\":\"active_acked\"") && body.contains("\"acked_by\":\"local\""),
+        "{body}"
+    );
+    assert_eq!(post(url("/api/alarms/sp/ack"), "{}").await.0, 409, "acknowledged twice");
+    assert_eq!(post(url("/api/alarms/nope/ack"), "{}").await.0, 404);
+    assert_eq!(
+        post(url("/api/alarms/big/shelve"), "{\"minutes\": 0, \"reason\": \"x\"}")
+            .await
+            .0,
+        422
+    );
+    // Deadband 5: 96 keeps it active; 90 clears it (acknowledged: back to normal).
+    post(url("/api/tags/Setpoint"), "{\"value\": 96}").await;
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    assert!(get(url("/api/alarms")).await.contains("\"id\":\"sp\""));
+    post(url("/api/tags/Setpoint"), "{\"value\": 90}").await;
+    until("sp normal", |t| !t.contains("\"id\":\"sp\"")).await;
+    let (code, body) = post(url("/api/alarms/big/shelve"), "{\"minutes\": 5, \"reason\": \"test\"}").await;
+    assert_eq!(code, 200, "{body}");
+    assert!(body.contains("\"state\":\"shelved\""), "{body}");
+    let all = get(url("/api/alarms?all=true")).await;
+    assert!(
+        all.contains("\"id\":\"sp\",") && all.contains("\"state\":\"normal\""),
+        "{all}"
+    );
+    let csv = get(url("/api/alarms/log.csv")).await;
+    for want in [
+        "id,time_ms,time_utc,alarm,tag,from,to,value,severity,user,comment,message",
+        ",sp,Setpoint,active_unacked,active_acked,150,500,local,seen it,Setpoint high",
+        ",sp,Setpoint,active_acked,normal,90,",
+        ",big,Count,active_unacked,shelved,",
+    ] {
+        assert!(csv.contains(want), "{want:?} in\n{csv}");
+    }
+    let audit = get(url("/api/audit?action=alarm_ack,alarm_shelve")).await;
+    assert!(
+        audit.contains("\"target\":\"sp\"") && audit.contains("\"target\":\"big\""),
+        "{audit}"
+    );
+    let _ = stop.send(());
+    let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_bad_alarms_csv_stops_alba_run_with_located_errors() {
+    let dir = copy_example("tank", "badalarms");
+    std::fs::write(
+        dir.join("alarms.csv"),
+        "id,tag,condition,severity,delay_ms,deadband,message\nhi,Nope,on,high,0,0,m\n",
+    )
+    .expect("write");
+    let r = alba_app::run(&dir, options("sim"), |_| panic!("not ready"), async {}).await;
+    match r {
+        Err(alba_app::RunError::Other(m)) => {
+            assert!(
+                m.contains("E140") && m.contains("alarms.csv:2:4") && m.contains("`Nope`"),
+                "{m}"
+            )
+        }
+        _ => panic!("expected an error"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

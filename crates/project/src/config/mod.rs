@@ -2,6 +2,7 @@
 //! each with its types, its raw (serde) form and its checks; this module
 //! holds the top level and [`Config::parse`].
 
+mod alarms;
 mod audit;
 mod board;
 mod history;
@@ -15,6 +16,7 @@ mod setting;
 #[cfg(test)]
 mod tests;
 
+pub use alarms::Alarms;
 pub use audit::Audit;
 pub use board::Board;
 pub use history::History;
@@ -50,6 +52,8 @@ pub struct Config {
     pub history: History,
     /// `[audit]`: the audit trail's retention (docs/audit.md).
     pub audit: Audit,
+    /// `[alarms]`: the alarm log's retention (docs/alarms.md).
+    pub alarms: Alarms,
     /// `[[plant_model]]`: simulated processes on the I/O.
     pub models: Vec<alba_model::plant::PlantModel>,
     /// `[modbus]`: the Modbus TCP server of `alba run` (docs/protocols.md).
@@ -79,6 +83,7 @@ struct RawConfig {
     retain_ms: Option<Spanned<i64>>,
     history: Option<history::RawHistory>,
     audit: Option<audit::RawAudit>,
+    alarms: Option<alarms::RawAlarms>,
     #[serde(default)]
     plant_model: Vec<plant::RawPlant>,
     modbus: Option<modbus::RawModbus>,
@@ -150,6 +155,9 @@ impl Config {
         let audit = raw
             .audit
             .map_or_else(Audit::default, |a| audit::audit(a, file, &mut diags));
+        let alarms = raw
+            .alarms
+            .map_or_else(Alarms::default, |a| alarms::alarms(a, file, &mut diags));
         if raw.programs.get_ref().is_empty() {
             diags.push(Diagnostic::new(
                 Code::ConfigField,
@@ -187,6 +195,7 @@ impl Config {
             retain_ms,
             history,
             audit,
+            alarms,
             modbus,
             opcua,
             http,

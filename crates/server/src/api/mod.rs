@@ -2,6 +2,7 @@
 //! request here, answers with a type of `crate::reply` and fails with an
 //! [`ApiError`] (statuses: `crate::error::status`).
 
+pub mod alarms;
 pub mod audit;
 pub mod domain;
 pub mod forces;

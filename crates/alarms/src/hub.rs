@@ -1,0 +1,133 @@
+//! The alarms of a running project shared by `alba run`'s evaluator and the
+//! API: one lock around the state machine, and the log written before a
+//! change is kept (an operator's action that cannot be logged is refused).
+
+use crate::def::AlarmDef;
+use crate::log::{Log, LogError};
+use crate::state::{ActionError, Alarm, Alarms, Event};
+use alba_ir::{Layout, Memory, Target};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+#[derive(Debug, thiserror::Error)]
+pub enum HubError {
+    #[error(transparent)]
+    Action(#[from] ActionError),
+    #[error(transparent)]
+    Log(#[from] LogError),
+}
+
+/// An operator's action on one alarm.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Request {
+    Ack { comment: String },
+    Shelve { minutes: u32, reason: String },
+    Unshelve,
+    OutOfService { on: bool, reason: String },
+}
+
+pub struct Hub {
+    alarms: Mutex<Alarms>,
+    log: Option<Log>,
+    /// The last error writing the log from the evaluator (shown by the status).
+    log_error: Mutex<Option<String>>,
+}
+
+impl Hub {
+    pub fn new(defs: Vec<AlarmDef>, log: Option<Log>) -> Hub {
+        Hub {
+            alarms: Mutex::new(Alarms::new(defs)),
+            log,
+            log_error: Mutex::new(None),
+        }
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Alarms> {
+        self.alarms.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    pub fn log(&self) -> Option<&Log> {
+        self.log.as_ref()
+    }
+
+    /// Evaluates the alarms on a snapshot's memory at `now_ms` and logs the
+    /// changes. A log failure does not stop alarms (the operator must still
+    /// see them): it is kept for [`Hub::log_error`] and returned.
+    pub fn update(&self, now_ms: i64, mem: &Memory) -> Result<Vec<Event>, LogError> {
+        let events = self.lock().update(now_ms, mem);
+        if let Some(log) = &self.log {
+            let r = log.append(&events);
+            *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = r.as_ref().err().map(|e| e.to_string());
+            r?;
+        }
+        Ok(events)
+    }
+
+    /// The last error of the evaluator's log writes, if the last write failed.
+    pub fn log_error(&self) -> Option<String> {
+        self.log_error.lock().unwrap_or_else(PoisonError::into_inner).clone()
+    }
+
+    /// Applies an operator's action: on a copy first, logged, then kept.
+    pub fn act(&self, id: &str, req: &Request, user: &str, now_ms: i64) -> Result<Event, HubError> {
+        let mut alarms = self.lock();
+        let mut next = alarms.clone();
+        let event = match req {
+            Request::Ack { comment } => next.ack(id, user, comment, now_ms)?,
+            Request::Shelve { minutes, reason } => next.shelve(id, *minutes, reason, user, now_ms)?,
+            Request::Unshelve => next.unshelve(id, user, now_ms)?,
+            Request::OutOfService { on, reason } => next.set_out_of_service(id, *on, reason, user, now_ms)?,
+        };
+        if let Some(log) = &self.log {
+            log.append(std::slice::from_ref(&event))?;
+        }
+        *alarms = next;
+        Ok(event)
+    }
+
+    /// The alarms not in `normal` (most severe first), or every alarm.
+    pub fn list(&self, all: bool) -> Vec<Alarm> {
+        let a = self.lock();
+        if all {
+            a.all().to_vec()
+        } else {
+            a.not_normal().into_iter().cloned().collect()
+        }
+    }
+
+    /// After an online edit: every alarm's tag found again by name in the new
+    /// layout. An alarm whose tag no longer resolves is taken out of service
+    /// (returned, to be reported) rather than left reading a stale slot.
+    pub fn relink(&self, layout: &Layout, now_ms: i64) -> Vec<String> {
+        let mut a = self.lock();
+        let mut lost = Vec::new();
+        let mut events = Vec::new();
+        for alarm in a.all_mut() {
+            match layout.resolve(&alarm.def.tag) {
+                Ok(Target::Value { place, .. }) if place.data_type() == alarm.def.place.data_type() => {
+                    alarm.def.place = place;
+                }
+                _ => lost.push(alarm.def.id.clone()),
+            }
+            if let Some((name, p)) = &mut alarm.def.suppressed_by {
+                match layout.resolve(name) {
+                    Ok(Target::Value { place, .. }) if place.data_type() == alba_model::DataType::Bool => *p = place,
+                    _ => lost.push(alarm.def.id.clone()),
+                }
+            }
+        }
+        lost.dedup();
+        for id in &lost {
+            let why = "its tag is no longer in the program (online edit)";
+            if let Ok(e) = a.set_out_of_service(id, true, why, "system", now_ms) {
+                events.push(e);
+            }
+        }
+        drop(a);
+        if let Some(log) = &self.log
+            && let Err(e) = log.append(&events)
+        {
+            *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = Some(e.to_string());
+        }
+        lost
+    }
+}
