@@ -440,7 +440,6 @@ async fn alarms_are_evaluated_acknowledged_shelved_and_logged() {
         }
     };
     let until = |what: &'static str, f: fn(&str) -> bool| {
-        let get = get;
         let u = url("/api/alarms");
         async move {
             for _ in 0..200 {
