@@ -2,8 +2,8 @@
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
 # pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
 # `alba run --opcua` (and its security: tests/protocols/opcua_security.py); a pymodbus slave
-# polled by `alba run --io modbus`.
-# Installs what it needs: Debian's libmodbus-dev, and the PyPI packages of
+# polled by `alba run --io modbus`; paho-mqtt and Mosquitto with `alba run --mqtt`.
+# Installs what it needs: Debian's libmodbus-dev and mosquitto, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -15,6 +15,8 @@ need_pyvenv "$OUT/venv" tests/protocols/requirements.txt
 if ! pkg-config --exists libmodbus 2>/dev/null; then
     apt_install libmodbus-dev pkg-config
 fi
+command -v mosquitto >/dev/null 2>&1 || command -v /usr/sbin/mosquitto >/dev/null 2>&1 || apt_install mosquitto
+export PATH="$PATH:/usr/sbin"
 cc -O2 -Wall -Wextra -Werror -o "$OUT/libmodbus_smoke" tests/protocols/libmodbus_smoke.c \
     $(pkg-config --cflags --libs libmodbus)
 # A fresh copy of the fixture project (alba run keeps retentive data in it).
@@ -33,3 +35,7 @@ cp -r tests/protocols/master "$OUT/master"
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"
 "$OUT/venv/bin/python" tests/protocols/opcua_security.py "$ALBA" "$OUT/plant"
+# The MQTT client (--mqtt) against a Mosquitto broker and paho-mqtt (a fresh copy again).
+rm -rf "$OUT/plant"
+cp -r tests/protocols/plant "$OUT/plant"
+"$OUT/venv/bin/python" tests/protocols/mqtt_client.py "$ALBA" "$OUT/plant"

@@ -2,7 +2,7 @@
 //!
 //! [`run`] loads and compiles the project, opens its I/O driver and its
 //! historian, starts the runtime, then the services in front of it — the
-//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the alarms, the Modbus
+//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the alarms, the MQTT client, the Modbus
 //! TCP and OPC UA servers — and stops them all on one shutdown signal
 //! (`AppState::closing`), the runtime last (retentive data saved).
 //!
@@ -15,6 +15,7 @@ mod audit;
 mod edits;
 mod history;
 mod modbus;
+mod mqtt;
 mod opcua;
 pub mod tls;
 mod users;
@@ -36,6 +37,8 @@ pub struct Options {
     pub modbus: Option<SocketAddr>,
     /// Serve OPC UA here (else where `[opcua] listen` says, if it does; security None only on loopback).
     pub opcua: Option<SocketAddr>,
+    /// Publish to this MQTT broker (`host:port`; else where `[mqtt] broker` says, if it does).
+    pub mqtt: Option<String>,
     /// HTTPS or plain HTTP for the studio (`tls::Tls::Auto`: HTTPS beyond loopback).
     pub tls: tls::Tls,
 }
@@ -133,6 +136,9 @@ pub async fn run(
     };
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
+    mqtt::start(&service, opts.mqtt.as_deref())
+        .await
+        .map_err(RunError::Other)?;
     edits::start(&service);
     audit::start(&service);
     alarms::start(&service, alarm_defs).map_err(RunError::Other)?;

@@ -48,6 +48,7 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         native,
         modbus: None,
         opcua: None,
+        mqtt: None,
         tls: alba_app::tls::Tls::Auto,
     };
     crate::run::run(dir, opts, Some(&banner))

@@ -162,6 +162,9 @@ enum Command {
         /// Serve OPC UA on this address, e.g. 127.0.0.1:4840 (security None only on loopback; elsewhere Basic256Sha256 with `[opcua.users]`).
         #[arg(long, value_name = "ADDR:PORT")]
         opcua: Option<std::net::SocketAddr>,
+        /// Publish every tag to this MQTT broker and take writes from it (default: `[mqtt] broker` of alba.toml, else off; see docs/scale-out.md).
+        #[arg(long, value_name = "HOST:PORT")]
+        mqtt: Option<String>,
         /// Serve the studio over HTTPS even on loopback (beyond loopback it always is, unless
         /// `--insecure-http`); the certificate: `[http] cert`/`key`, else self-signed in `.alba/tls/`.
         #[arg(long, conflicts_with = "insecure_http")]
@@ -335,6 +338,7 @@ fn main() -> ExitCode {
             no_native,
             modbus,
             opcua,
+            mqtt,
             https,
             insecure_http,
         } => {
@@ -349,6 +353,7 @@ fn main() -> ExitCode {
                 native: !no_native,
                 modbus,
                 opcua,
+                mqtt,
                 tls,
             };
             run::run(&project, opts, None)

@@ -24,6 +24,7 @@ fn options(io: &str) -> alba_app::Options {
         native: false,
         modbus: None,
         opcua: None,
+        mqtt: None,
         tls: alba_app::tls::Tls::Auto,
     }
 }

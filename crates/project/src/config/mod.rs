@@ -9,6 +9,7 @@ mod history;
 mod http;
 mod modbus;
 mod modbus_device;
+mod mqtt;
 mod opcua;
 mod plant;
 mod session;
@@ -25,6 +26,7 @@ pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Mod
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
+pub use mqtt::{Mqtt, is_host_port};
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
 pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
 
@@ -67,6 +69,8 @@ pub struct Config {
     pub http: Http,
     /// `[session]`: how long a login to the HTTP API lasts.
     pub session: Session,
+    /// `[mqtt]`: the MQTT client of `alba run` (docs/scale-out.md).
+    pub mqtt: Option<Mqtt>,
 }
 
 #[derive(Deserialize)]
@@ -92,6 +96,7 @@ struct RawConfig {
     modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
     http: Option<http::RawHttp>,
     session: Option<session::RawSession>,
+    mqtt: Option<mqtt::RawMqtt>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -182,7 +187,9 @@ impl Config {
         let session = raw
             .session
             .map_or_else(Session::default, |s| session::session(s, file, &mut diags));
+        let mqtt = raw.mqtt.map(|m| mqtt::mqtt(m, file, &mut diags));
         let config = Config {
+            mqtt,
             modbus_devices,
             session,
             models,

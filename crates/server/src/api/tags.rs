@@ -52,19 +52,30 @@ pub async fn put(
     b: Body,
 ) -> ApiResult<Json<Force>> {
     let j = body(b)?;
+    let value = write_tag(&st, actor.entry(alba_audit::Action::Write), &name, field(&j, "value")?).await?;
+    Ok(Json(Force { name, value }))
+}
+
+/// Writes `name` = `value` (JSON) with the API's rules (inputs, read-only
+/// members and structures refused; the value checked against the type)
+/// under the audit row `entry` (its target, old and new values are filled
+/// here); the value the tag then holds. `PUT /api/tags/{name}` and the MQTT
+/// `set` topic (alba-app) both write through here.
+pub async fn write_tag(
+    st: &AppState,
+    entry: alba_audit::Entry,
+    name: &str,
+    value: &serde_json::Value,
+) -> ApiResult<serde_json::Value> {
     let s = st.runtime.snapshot();
-    let place = writable(&s, &name)?;
-    let v =
-        from_json(field(&j, "value")?, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
+    let place = writable(&s, name)?;
+    let v = from_json(value, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
     let entry = alba_audit::Entry {
-        target: Some(name.clone()),
+        target: Some(name.to_string()),
         old: Some(json_text(&to_json(s.read(place)))),
         new: Some(json_text(&to_json(v))),
-        ..actor.entry(alba_audit::Action::Write)
+        ..entry
     };
-    audited(&st, entry, async { Ok(st.runtime.write(place, v).await?) }).await?;
-    Ok(Json(Force {
-        name,
-        value: to_json(st.runtime.snapshot().read(place)),
-    }))
+    audited(st, entry, async { Ok(st.runtime.write(place, v).await?) }).await?;
+    Ok(to_json(st.runtime.snapshot().read(place)))
 }

@@ -343,6 +343,7 @@ async fn start_with_users(dir: std::path::PathBuf) -> Server {
         native: false,
         modbus: None,
         opcua: None,
+        mqtt: None,
         tls: alba_app::tls::Tls::Auto,
     };
     let d = dir.clone();

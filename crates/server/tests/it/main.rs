@@ -85,6 +85,7 @@ impl Server {
             native: false,
             modbus: None,
             opcua: None,
+            mqtt: None,
             tls: alba_app::tls::Tls::Auto,
         };
         let d = dir.clone();

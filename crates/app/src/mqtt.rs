@@ -1,0 +1,253 @@
+//! The MQTT client of `alba run` (docs/scale-out.md, SPEC §10.5): every tag
+//! (or those `[mqtt] tags` lists) published on change, retained, as
+//! `{"value", "ts"}` on `<prefix>/tags/<Tag>`; writes taken from
+//! `<prefix>/set/<Tag>` with the HTTP API's rules and audit rows, refusals
+//! answered on `<prefix>/error`; `<prefix>/status` is `online` while
+//! connected and `offline` (the last will) when not.
+//!
+//! Nothing here can slow the scan: the publisher reads the runtime's
+//! snapshot channel like the WebSocket clients (it skips snapshots when
+//! behind), and hands messages to the client's bounded queue without
+//! waiting (`try_publish`): a full queue (a slow or absent broker) leaves the
+//! change to a later snapshot and counts the miss. The event loop reconnects
+//! with exponential back-off and jitter (100 ms doubling to 30 s), and
+//! republishes every tag on each connection (a restarted broker may have
+//! lost its retained messages).
+
+use crate::{Service, Started};
+use alba_runtime::json::to_json;
+use rumqttc::{AsyncClient, Event, LastWill, MqttOptions, Packet, QoS};
+use serde_json::{Value as Json, json};
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Duration;
+
+/// What `alba run` resolved for the client.
+struct Settings {
+    host: String,
+    port: u16,
+    prefix: String,
+    client_id: String,
+    qos: QoS,
+    keep_alive: Duration,
+    tags: Vec<String>,
+    credentials: Option<(String, String)>,
+    queue: usize,
+}
+
+fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, String> {
+    let cfg = s.config.and_then(|c| c.mqtt.clone());
+    let Some(broker) = cli
+        .map(str::to_string)
+        .or_else(|| cfg.as_ref().and_then(|c| c.broker.clone()))
+    else {
+        return Ok(None);
+    };
+    if !alba_project::config::is_host_port(&broker) {
+        return Err(format!("--mqtt {broker}: expected host:port, like 127.0.0.1:1883"));
+    }
+    let (host, port) = broker.rsplit_once(':').unwrap_or((&broker, "1883"));
+    let port = port.parse::<u16>().map_err(|_| format!("--mqtt {broker}: bad port"))?;
+    let cfg = cfg.unwrap_or_default();
+    let name = &s.state.name;
+    let credentials = match (&cfg.username, &cfg.password_file) {
+        (Some(u), Some(f)) => {
+            let path = s.dir.join(f);
+            let p =
+                std::fs::read_to_string(&path).map_err(|e| format!("[mqtt] password_file {}: {e}", path.display()))?;
+            Some((u.clone(), p.trim_end_matches(['\r', '\n']).to_string()))
+        }
+        _ => None,
+    };
+    Ok(Some(Settings {
+        host: host.trim_start_matches('[').trim_end_matches(']').to_string(),
+        port,
+        prefix: cfg.topic_prefix.clone().unwrap_or_else(|| format!("alba/{name}")),
+        client_id: cfg.client_id.clone().unwrap_or_else(|| format!("alba-{name}")),
+        qos: match cfg.qos {
+            0 => QoS::AtMostOnce,
+            2 => QoS::ExactlyOnce,
+            _ => QoS::AtLeastOnce,
+        },
+        keep_alive: Duration::from_secs(u64::from(cfg.keep_alive_s)),
+        tags: cfg.tags.clone(),
+        credentials,
+        queue: cfg.queue as usize,
+    }))
+}
+
+/// Counters for the status line and tests.
+#[derive(Default)]
+struct Stats {
+    connected: AtomicBool,
+    /// Set on each new connection: republish everything.
+    republish: AtomicBool,
+    published: AtomicU64,
+    /// Changes the full queue could not take (sent later, coalesced).
+    deferred: AtomicU64,
+}
+
+pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started, String> {
+    let Some(set) = settings(s, cli)? else {
+        return Ok(Started::Off);
+    };
+    // Names to publish: each checked now, so a typo is an error at start.
+    let snapshot = s.state.runtime.snapshot();
+    for t in &set.tags {
+        if let Err(e) = snapshot.program.layout.resolve(t) {
+            return Err(format!("[mqtt] tags: {e}"));
+        }
+    }
+    let mut opts = MqttOptions::new(&set.client_id, &set.host, set.port);
+    opts.set_keep_alive(set.keep_alive);
+    opts.set_clean_session(true);
+    opts.set_last_will(LastWill::new(
+        format!("{}/status", set.prefix),
+        "offline",
+        QoS::AtLeastOnce,
+        true,
+    ));
+    if let Some((u, p)) = &set.credentials {
+        opts.set_credentials(u, p);
+    }
+    let (client, mut eventloop) = AsyncClient::new(opts, set.queue);
+    let stats = Arc::new(Stats::default());
+    let set = Arc::new(set);
+    println!("mqtt: publishing to {}:{} under {}/", set.host, set.port, set.prefix);
+
+    // The event loop: connection, back-off, incoming writes.
+    let (st, c, sts, cfg) = (s.state.clone(), client.clone(), stats.clone(), set.clone());
+    let mut closing = s.state.closing();
+    tokio::spawn(async move {
+        let mut backoff = Duration::from_millis(100);
+        loop {
+            let ev = tokio::select! {
+                _ = closing.wait_for(|c| *c) => break,
+                ev = eventloop.poll() => ev,
+            };
+            match ev {
+                Ok(Event::Incoming(Packet::ConnAck(_))) => {
+                    backoff = Duration::from_millis(100);
+                    sts.connected.store(true, Ordering::Relaxed);
+                    sts.republish.store(true, Ordering::Relaxed);
+                    let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "online");
+                    let _ = c.try_subscribe(format!("{}/set/#", cfg.prefix), QoS::AtLeastOnce);
+                    eprintln!("mqtt: connected to {}:{}", cfg.host, cfg.port);
+                }
+                Ok(Event::Incoming(Packet::Publish(p))) => {
+                    if let Some(tag) = p.topic.strip_prefix(&format!("{}/set/", cfg.prefix)) {
+                        set_tag(&st, &c, &cfg, tag, &p.payload).await;
+                    }
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    if sts.connected.swap(false, Ordering::Relaxed) {
+                        eprintln!("mqtt: connection lost ({e}); reconnecting");
+                    }
+                    // Exponential back-off with jitter, so that many runtimes do
+                    // not reconnect in step (and a dead broker costs no CPU).
+                    let jitter = u64::from(std::process::id() ^ backoff.subsec_nanos()) % 100;
+                    let wait = backoff + Duration::from_millis(jitter * backoff.as_millis() as u64 / 400);
+                    tokio::select! {
+                        _ = closing.wait_for(|c| *c) => break,
+                        _ = tokio::time::sleep(wait) => {}
+                    }
+                    backoff = (backoff * 2).min(Duration::from_secs(30));
+                }
+            }
+        }
+        // A clean goodbye: the broker would otherwise send the will.
+        let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "offline");
+        let _ = tokio::time::timeout(Duration::from_millis(500), async {
+            let _ = c.disconnect().await;
+            while let Ok(ev) = eventloop.poll().await {
+                if matches!(ev, Event::Outgoing(rumqttc::Outgoing::Disconnect)) {
+                    break;
+                }
+            }
+        })
+        .await;
+    });
+
+    // The publisher: changes of the published snapshots.
+    let mut rx = s.state.runtime.subscribe();
+    let mut closing = s.state.closing();
+    tokio::spawn(async move {
+        let mut program = None;
+        let mut places = Vec::new();
+        let mut last: HashMap<String, Json> = HashMap::new();
+        loop {
+            tokio::select! {
+                _ = closing.wait_for(|c| *c) => break,
+                r = rx.changed() => if r.is_err() { break },
+            }
+            let snap = rx.borrow_and_update().clone();
+            if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
+                places = alba_server::tags::every_value(&snap.program.layout);
+                if !set.tags.is_empty() {
+                    places.retain(|(n, _)| {
+                        set.tags.iter().any(|t| {
+                            n.eq_ignore_ascii_case(t)
+                                || n.to_ascii_lowercase()
+                                    .starts_with(&format!("{}.", t.to_ascii_lowercase()))
+                        })
+                    });
+                }
+                program = Some(snap.program.clone());
+            }
+            if !stats.connected.load(Ordering::Relaxed) {
+                continue;
+            }
+            if stats.republish.swap(false, Ordering::Relaxed) {
+                last.clear();
+            }
+            for (name, place) in &places {
+                let v = to_json(snap.read(*place));
+                if last.get(name) == Some(&v) {
+                    continue;
+                }
+                let payload = json!({"value": v, "ts": snap.unix_ms}).to_string();
+                match client.try_publish(format!("{}/tags/{name}", set.prefix), set.qos, true, payload) {
+                    Ok(()) => {
+                        stats.published.fetch_add(1, Ordering::Relaxed);
+                        last.insert(name.clone(), v);
+                    }
+                    // The queue is full: this change goes with a later snapshot.
+                    Err(_) => {
+                        stats.deferred.fetch_add(1, Ordering::Relaxed);
+                    }
+                }
+            }
+        }
+    });
+    Ok(Started::On)
+}
+
+/// A write from `<prefix>/set/<tag>` (`{"value": ...}`), with the HTTP
+/// API's rules and its audit row (user `mqtt`); a refusal is answered on
+/// `<prefix>/error` as `{"tag", "error", "ts"}`.
+async fn set_tag(st: &alba_server::AppState, c: &AsyncClient, cfg: &Settings, tag: &str, payload: &[u8]) {
+    let value = serde_json::from_slice::<Json>(payload)
+        .map_err(|e| format!("the payload is not JSON ({e}); send {{\"value\": ...}}"))
+        .and_then(|j| {
+            j.get("value")
+                .cloned()
+                .ok_or_else(|| "the payload needs a `value` field".to_string())
+        });
+    let entry = alba_audit::Entry {
+        user: Some("mqtt".into()),
+        addr: Some(format!("{}:{}", cfg.host, cfg.port)),
+        ..alba_audit::Entry::new(alba_server::now_ms(), alba_audit::Action::Write)
+    };
+    let result = match value {
+        Ok(v) => alba_server::write_tag(st, entry, tag, &v)
+            .await
+            .map_err(|e| e.to_string()),
+        Err(e) => Err(e),
+    };
+    if let Err(error) = result {
+        let body = json!({"tag": tag, "error": error, "ts": alba_server::now_ms()}).to_string();
+        let _ = c.try_publish(format!("{}/error", cfg.prefix), QoS::AtLeastOnce, false, body);
+    }
+}

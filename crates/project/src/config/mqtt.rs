@@ -1,0 +1,139 @@
+//! `[mqtt]`: the MQTT client of `alba run` (docs/scale-out.md).
+
+use super::setting::int_setting;
+use alba_diag::{Code, Diagnostic, FileId, Span};
+use serde::Deserialize;
+use toml::Spanned;
+
+/// `[mqtt]`: publish tags to a broker and take writes from it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mqtt {
+    /// `host:port` of the broker (`alba run --mqtt` overrides it).
+    pub broker: Option<String>,
+    /// Default `alba-<project name>`.
+    pub client_id: Option<String>,
+    /// Default `alba/<project name>`.
+    pub topic_prefix: Option<String>,
+    /// 0, 1 (default) or 2.
+    pub qos: u8,
+    pub keep_alive_s: u32,
+    /// Tags (and members) to publish; empty: every tag.
+    pub tags: Vec<String>,
+    pub username: Option<String>,
+    /// A file holding the password (never in alba.toml, never echoed).
+    pub password_file: Option<String>,
+    /// Messages waiting for the broker at most; more are dropped (counted).
+    pub queue: u32,
+}
+
+pub const DEFAULT_KEEP_ALIVE_S: u32 = 30;
+pub const DEFAULT_QUEUE: u32 = 10_000;
+
+impl Default for Mqtt {
+    fn default() -> Mqtt {
+        Mqtt {
+            broker: None,
+            client_id: None,
+            topic_prefix: None,
+            qos: 1,
+            keep_alive_s: DEFAULT_KEEP_ALIVE_S,
+            tags: Vec::new(),
+            username: None,
+            password_file: None,
+            queue: DEFAULT_QUEUE,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawMqtt {
+    broker: Option<Spanned<String>>,
+    client_id: Option<Spanned<String>>,
+    topic_prefix: Option<Spanned<String>>,
+    qos: Option<Spanned<i64>>,
+    keep_alive_s: Option<Spanned<i64>>,
+    #[serde(default)]
+    tags: Vec<Spanned<String>>,
+    username: Option<Spanned<String>>,
+    password_file: Option<Spanned<String>>,
+    queue: Option<Spanned<i64>>,
+}
+
+/// Whether `s` is a `host:port` (a name or an address and a port number).
+pub fn is_host_port(s: &str) -> bool {
+    match s.rsplit_once(':') {
+        Some((host, port)) => {
+            !host.is_empty() && !host.contains(char::is_whitespace) && port.parse::<u16>().is_ok_and(|p| p > 0)
+        }
+        None => false,
+    }
+}
+
+/// Validates `[mqtt]`.
+pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqtt {
+    let mut bad = |s: &Spanned<String>, msg: String, label: &str| {
+        diags.push(Diagnostic::new(
+            Code::ConfigField,
+            msg,
+            Span::new(file, s.span()),
+            label,
+        ));
+    };
+    if let Some(b) = &m.broker
+        && !is_host_port(b.get_ref())
+    {
+        bad(
+            b,
+            format!("broker = \"{}\" is not a host and port", b.get_ref()),
+            "expected \"host:port\", like \"127.0.0.1:1883\"",
+        );
+    }
+    // Topic levels may not hold wildcards; MQTT forbids them in published topics.
+    if let Some(p) = &m.topic_prefix
+        && (p.get_ref().is_empty() || p.get_ref().contains(['#', '+', '\0']) || p.get_ref().ends_with('/'))
+    {
+        bad(
+            p,
+            format!("topic_prefix = \"{}\" is not a topic prefix", p.get_ref()),
+            "no `#`, `+`, and no `/` at the end",
+        );
+    }
+    if let Some(c) = &m.client_id
+        && (c.get_ref().is_empty() || c.get_ref().len() > 128)
+    {
+        bad(c, "client_id must be 1 to 128 characters".into(), "client id");
+    }
+    if m.username.is_some() != m.password_file.is_some() {
+        let at = m.username.as_ref().or(m.password_file.as_ref());
+        if let Some(at) = at {
+            bad(
+                at,
+                "username and password_file go together".into(),
+                "set both, or neither",
+            );
+        }
+    }
+    let qos = int_setting("qos", m.qos, 0..=2, 1, "", file, diags) as u8;
+    let keep_alive_s = int_setting(
+        "keep_alive_s",
+        m.keep_alive_s,
+        5..=3600,
+        DEFAULT_KEEP_ALIVE_S,
+        "seconds",
+        file,
+        diags,
+    );
+    let queue = int_setting("queue", m.queue, 10..=1_000_000, DEFAULT_QUEUE, "messages", file, diags);
+    Mqtt {
+        broker: m.broker.map(|b| b.into_inner()),
+        client_id: m.client_id.map(|c| c.into_inner()),
+        topic_prefix: m.topic_prefix.map(|p| p.into_inner()),
+        qos,
+        keep_alive_s,
+        tags: m.tags.into_iter().map(|t| t.into_inner()).collect(),
+        username: m.username.map(|u| u.into_inner()),
+        password_file: m.password_file.map(|p| p.into_inner()),
+        queue,
+    }
+}

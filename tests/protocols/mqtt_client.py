@@ -1,0 +1,229 @@
+#!/usr/bin/env python3
+"""Alba's MQTT client (`alba run --mqtt`) against Mosquitto and paho-mqtt
+(both written elsewhere).
+
+Usage: mqtt_client.py ALBA_BINARY PROJECT_DIR
+
+Starts a Mosquitto broker on a free loopback port (a temporary config, no
+persistence), `alba run PROJECT --mqtt 127.0.0.1:PORT`, and checks with a
+paho-mqtt client (SPEC §10.5, docs/scale-out.md):
+- `alba/<project>/status` is `online`, retained;
+- every tag is published on `alba/<project>/tags/<Tag>` (members as
+  `<Tag>.<MEMBER>`) as {"value", "ts"}, retained (a late subscriber gets
+  them), and again on change;
+- a write on `alba/<project>/set/<Tag>` reaches the engine (the HTTP API reads
+  it) and is audited (user `mqtt`); writes to an input, to a read-only
+  member, to an unknown tag, with a bad payload are refused on
+  `alba/<project>/error` and change nothing;
+- the broker restarted: Alba reconnects and publishes everything again;
+- `kill -9` of Alba: the broker sends its last will, status `offline`;
+- a "broker" that accepts the connection and never answers: Alba keeps
+  scanning (the scan count rises).
+"""
+
+import json
+import os
+import re
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import urllib.request
+
+import paho.mqtt.client as mqtt
+
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print(f"  FAIL: {what}", flush=True)
+    else:
+        print(f"  ok: {what}", flush=True)
+
+
+def free_port():
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def start_broker(port, tmp):
+    conf = os.path.join(tmp, "mosquitto.conf")
+    with open(conf, "w") as f:
+        f.write(f"listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\n")
+    p = subprocess.Popen(["mosquitto", "-c", conf], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 10
+    while time.time() < deadline:
+        try:
+            socket.create_connection(("127.0.0.1", port), timeout=0.2).close()
+            return p
+        except OSError:
+            time.sleep(0.05)
+    raise SystemExit("mosquitto did not start")
+
+
+def start_alba(binary, project, broker):
+    p = subprocess.Popen([binary, "run", project, "--http", "127.0.0.1:0", "--mqtt", broker, "--no-native"],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    deadline = time.time() + 60
+    http = None
+    while time.time() < deadline and not http:
+        line = p.stdout.readline()
+        if not line:
+            raise SystemExit(f"alba run ended: exit {p.wait()}")
+        m = re.search(r"http://([\d.]+:\d+)/", line)
+        if m:
+            http = "http://" + m.group(1)
+    threading.Thread(target=p.stdout.read, daemon=True).start()
+    return p, http
+
+
+def api(http, path):
+    with urllib.request.urlopen(http + path, timeout=10) as r:
+        return json.loads(r.read())
+
+
+class Watcher:
+    """A paho client that records every message under a prefix."""
+
+    def __init__(self, port, topic):
+        self.msgs = []
+        self.lock = threading.Lock()
+        self.c = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=f"watch-{time.time_ns()}")
+        self.c.on_message = self.on_message
+        self.c.connect("127.0.0.1", port)
+        self.c.subscribe(topic, qos=1)
+        self.c.loop_start()
+
+    def on_message(self, _c, _u, m):
+        with self.lock:
+            self.msgs.append((m.topic, m.payload.decode(errors="replace"), m.retain))
+
+    def wait(self, what, pred, timeout=10):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            with self.lock:
+                for t in self.msgs:
+                    if pred(*t):
+                        return t
+            time.sleep(0.02)
+        return None
+
+    def clear(self):
+        with self.lock:
+            self.msgs.clear()
+
+    def close(self):
+        self.c.loop_stop()
+        self.c.disconnect()
+
+
+def publish(port, topic, payload):
+    c = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=f"pub-{time.time_ns()}")
+    c.connect("127.0.0.1", port)
+    c.loop_start()
+    c.publish(topic, payload, qos=1).wait_for_publish(5)
+    c.loop_stop()
+    c.disconnect()
+
+
+def main():
+    binary, project = sys.argv[1], sys.argv[2]
+    name = re.search(r'^name\s*=\s*"([^"]+)"', open(os.path.join(project, "alba.toml")).read(), re.M).group(1)
+    prefix = f"alba/{name}"
+    # A short keep-alive, so that the broker notices the kill -9 within seconds.
+    with open(os.path.join(project, "alba.toml"), "a") as f:
+        f.write("\n[mqtt]\nkeep_alive_s = 5\n")
+    tmp = tempfile.mkdtemp(prefix="alba-mqtt-")
+    port = free_port()
+    broker = start_broker(port, tmp)
+    alba, http = start_alba(binary, project, f"127.0.0.1:{port}")
+    try:
+        w = Watcher(port, f"{prefix}/#")
+        check(w.wait("online", lambda t, p, r: t == f"{prefix}/status" and p == "online") is not None, "status online")
+        m = w.wait("a tag", lambda t, p, r: t == f"{prefix}/tags/Setp")
+        check(m is not None, "Setp published")
+        if m:
+            j = json.loads(m[1])
+            check(set(j) == {"value", "ts"} and isinstance(j["ts"], int) and j["ts"] > 1.6e12, f"payload {m[1]}")
+        # A late subscriber gets the retained values (and the status).
+        late = Watcher(port, f"{prefix}/#")
+        r = late.wait("retained", lambda t, p, r: t == f"{prefix}/tags/Setp" and r)
+        check(r is not None, "tags are retained")
+        check(late.wait("retained status", lambda t, p, r: t == f"{prefix}/status" and r and p == "online") is not None,
+              "status retained")
+        late.close()
+        # A write through set/.
+        w.clear()
+        publish(port, f"{prefix}/set/Setp", json.dumps({"value": 1234}))
+        m = w.wait("Setp 1234", lambda t, p, r: t == f"{prefix}/tags/Setp" and json.loads(p)["value"] == 1234)
+        check(m is not None, "a write on set/Setp is published back")
+        check(api(http, "/api/tags/Setp")["value"] == 1234, "the engine holds the written value")
+        audit = api(http, "/api/audit?action=write&target=Setp")
+        rows = audit.get("rows", audit) if isinstance(audit, dict) else audit
+        check(any(r.get("user") == "mqtt" and r.get("new") == 1234 for r in rows), f"the write is audited: {rows[:2]}")
+        # Refused writes.
+        for tag, payload, want in [
+            ("Start", json.dumps({"value": True}), "input"),
+            ("Nope", json.dumps({"value": 1}), "Nope"),
+            ("Setp", "not json", "not JSON"),
+            ("Setp", json.dumps({"v": 1}), "value"),
+            ("Setp", json.dumps({"value": 99999}), "Setp"),
+        ]:
+            w.clear()
+            publish(port, f"{prefix}/set/{tag}", payload)
+            e = w.wait("error", lambda t, p, r: t == f"{prefix}/error")
+            check(e is not None and want in e[1] and json.loads(e[1])["tag"] == tag, f"set/{tag} {payload!r} refused: {e}")
+        check(api(http, "/api/tags/Setp")["value"] == 1234, "refused writes changed nothing")
+        check(api(http, "/api/tags/Start")["value"] is False, "the input was not written")
+        # The broker restarts: Alba reconnects and republishes everything.
+        w.close()
+        broker.send_signal(signal.SIGKILL)
+        broker.wait()
+        time.sleep(0.5)
+        broker = start_broker(port, tmp)
+        w = Watcher(port, f"{prefix}/#")
+        check(w.wait("online again", lambda t, p, r: t == f"{prefix}/status" and p == "online", timeout=40) is not None,
+              "online again after a broker restart")
+        check(w.wait("republished", lambda t, p, r: t == f"{prefix}/tags/Setp" and json.loads(p)["value"] == 1234,
+                     timeout=20) is not None, "every tag republished after the restart")
+        # kill -9: the last will.
+        w.clear()
+        alba.send_signal(signal.SIGKILL)
+        alba.wait()
+        check(w.wait("offline", lambda t, p, r: t == f"{prefix}/status" and p == "offline", timeout=60) is not None,
+              "last will: offline after kill -9")
+        w.close()
+    finally:
+        if alba.poll() is None:
+            alba.kill()
+        broker.kill()
+    # A broker that accepts and never answers does not stall the scan.
+    silent = socket.socket()
+    silent.bind(("127.0.0.1", 0))
+    silent.listen(8)
+    held = []
+    threading.Thread(target=lambda: [held.append(silent.accept()) for _ in range(8)], daemon=True).start()
+    alba, http = start_alba(binary, project, f"127.0.0.1:{silent.getsockname()[1]}")
+    try:
+        s1 = api(http, "/api/status")["scans"]
+        time.sleep(1.0)
+        s2 = api(http, "/api/status")["scans"]
+        check(s2 > s1 + 20, f"a silent broker does not stall the scan ({s1} -> {s2})")
+    finally:
+        alba.kill()
+    if failures:
+        print(f"{len(failures)} MQTT check(s) failed", flush=True)
+        sys.exit(1)
+    print("MQTT: all checks passed", flush=True)
+
+
+if __name__ == "__main__":
+    main()
