@@ -187,7 +187,7 @@ impl Log {
                 text(3)?,
                 text(4)?,
                 text(5)?,
-                value.map(|v| v.to_string()).unwrap_or_default(),
+                value.map(crate::state::format_value).unwrap_or_default(),
                 severity.to_string(),
                 text(8)?,
                 text(9)?,

@@ -50,6 +50,17 @@ impl fmt::Display for State {
     }
 }
 
+/// A value as the log and the CSV exports write it: the shortest form that
+/// reads back (a REAL's 59.824047, not the f64 widening 59.82404708862305).
+pub fn format_value(v: f64) -> String {
+    let narrow = v as f32;
+    if f64::from(narrow) == v {
+        narrow.to_string()
+    } else {
+        v.to_string()
+    }
+}
+
 /// A change of state, for the log and the WebSocket.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Event {

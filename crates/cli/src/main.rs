@@ -70,6 +70,10 @@ enum Command {
         /// (overshoot, rise time, 98 % settling time, IAE); printed after the run.
         #[arg(long, value_name = "LIST")]
         summary: Option<String>,
+        /// Evaluate the project's alarms.csv on every scan and write each change of state
+        /// here as CSV (`time_ms,alarm,tag,from,to,value,severity,message`; docs/alarms.md).
+        #[arg(long, value_name = "CSV", conflicts_with = "firmware")]
+        alarms: Option<PathBuf>,
     },
     /// Export the project to another form.
     Export {
@@ -278,9 +282,11 @@ fn main() -> ExitCode {
             firmware,
             board,
             summary,
+            alarms,
         } => simulate(
             &project,
             SimArgs {
+                alarms: alarms.as_deref(),
                 until,
                 stimulus: stimulus.as_deref(),
                 trace: trace.as_deref(),
@@ -448,6 +454,36 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// The alarm events of `alba sim --alarms`, as CSV, atomically.
+fn write_alarm_events(path: &Path, events: &[alba_alarms::Event]) -> Result<(), String> {
+    fsutil::write_atomic(path, |w| {
+        w.write_all(b"time_ms,alarm,tag,from,to,value,severity,message\n")?;
+        for e in events {
+            let mut line = String::new();
+            let fields = [
+                e.t_ms.to_string(),
+                e.id.clone(),
+                e.tag.clone(),
+                e.from.name().to_string(),
+                e.to.name().to_string(),
+                alba_alarms::format_value(e.value),
+                e.severity.to_string(),
+                e.message.clone(),
+            ];
+            for (k, f) in fields.iter().enumerate() {
+                if k > 0 {
+                    line.push(',');
+                }
+                alba_audit::push_field(&mut line, f);
+            }
+            line.push('\n');
+            w.write_all(line.as_bytes())?;
+        }
+        Ok(())
+    })
+    .map_err(|e| format!("cannot write the alarm events to {}: {e}", path.display()))
+}
+
 fn fail(msg: impl std::fmt::Display) -> ExitCode {
     eprintln!("error: {msg}");
     ExitCode::FAILURE
@@ -463,6 +499,8 @@ struct SimArgs<'a> {
     /// Run the exported firmware in simavr instead of the engine.
     firmware: Option<&'a export::BoardArgs>,
     summary: Option<&'a str>,
+    /// Write the alarms' changes of state here.
+    alarms: Option<&'a Path>,
 }
 
 fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
@@ -474,6 +512,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         every,
         firmware,
         summary,
+        alarms,
     } = a;
     let c = alba_compiler::compile_dir(dir);
     let Some(program) = c.program else {
@@ -553,10 +592,30 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         until_ms: until,
         every_ms: every,
     };
+    // `--alarms`: the project's alarms evaluated after every scan, at virtual time.
+    let mut alarm_state = match alarms {
+        None => None,
+        Some(_) => {
+            let mut files = c.project.files.clone();
+            match alba_alarms::def::load(dir, &mut files, &engine.program().layout) {
+                Ok(defs) => Some(alba_alarms::Alarms::new(defs)),
+                Err(d) => {
+                    report(&d, &files, false);
+                    return ExitCode::FAILURE;
+                }
+            }
+        }
+    };
+    let mut events = Vec::new();
+    let mut observe = |t: u64, e: &Engine| {
+        if let Some(a) = alarm_state.as_mut() {
+            events.extend(a.update(t as i64, e.memory()));
+        }
+    };
     if let Some(list) = summary {
         // The trace is kept in memory, written as usual, then summarised.
         let mut buf = Vec::new();
-        let result = sim::run(&mut engine, &stim, &cols, opt, &mut buf);
+        let result = sim::run_observed(&mut engine, &stim, &cols, opt, &mut buf, &mut observe);
         if let Err(e) = result {
             return match e {
                 SimError::Io(e) => fail(format!("cannot write the trace: {e}")),
@@ -572,6 +631,11 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         {
             return fail(format!("cannot write the trace: {e}"));
         }
+        if let Some(path) = alarms
+            && let Err(e) = write_alarm_events(path, &events)
+        {
+            return fail(e);
+        }
         if let Some(f) = engine.faults().first {
             eprintln!(
                 "warning: {} minor fault(s); first: {}",
@@ -585,7 +649,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         Some(path) => {
             let mut outcome = Ok(());
             let io = fsutil::write_atomic(path, |w| {
-                outcome = sim::run(&mut engine, &stim, &cols, opt, w);
+                outcome = sim::run_observed(&mut engine, &stim, &cols, opt, w, &mut observe);
                 match &outcome {
                     Err(SimError::Io(e)) => Err(std::io::Error::new(e.kind(), e.to_string())),
                     Err(SimError::Major(m)) => Err(std::io::Error::other(m.message.clone())),
@@ -601,9 +665,15 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         None => {
             let stdout = std::io::stdout();
             let mut w = std::io::BufWriter::new(stdout.lock());
-            sim::run(&mut engine, &stim, &cols, opt, &mut w).and_then(|()| w.flush().map_err(SimError::Io))
+            sim::run_observed(&mut engine, &stim, &cols, opt, &mut w, &mut observe)
+                .and_then(|()| w.flush().map_err(SimError::Io))
         }
     };
+    if let Some(path) = alarms
+        && let Err(e) = write_alarm_events(path, &events)
+    {
+        return fail(e);
+    }
     if let Some(f) = engine.faults().first {
         eprintln!(
             "warning: {} minor fault(s); first: {}",

@@ -298,6 +298,19 @@ pub fn run(
     opt: SimOptions,
     out: &mut dyn Write,
 ) -> Result<(), SimError> {
+    run_observed(engine, stimulus, cols, opt, out, &mut |_, _| {})
+}
+
+/// [`run`], calling `after_scan(t, engine)` after every scan (at virtual
+/// time t): what evaluates alarms in `alba sim --alarms`.
+pub fn run_observed(
+    engine: &mut Engine,
+    stimulus: &Stimulus,
+    cols: &[Column],
+    opt: SimOptions,
+    out: &mut dyn Write,
+    after_scan: &mut dyn FnMut(u64, &Engine),
+) -> Result<(), SimError> {
     let mut line = String::from("time_ms");
     for c in cols {
         line.push(',');
@@ -321,6 +334,7 @@ pub fn run(
             next_row += 1;
         }
         engine.scan(t).map_err(SimError::Major)?;
+        after_scan(t, engine);
         if t.is_multiple_of(every) {
             line.clear();
             line.push_str(&t.to_string());

@@ -165,3 +165,63 @@ fn hash_password_makes_a_hash_that_opcua_users_accept() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
 }
+
+/// `alba sim --alarms`: the project's alarms evaluated on every scan at
+/// virtual time, each change of state written as CSV (docs/alarms.md).
+#[test]
+fn sim_reports_alarm_changes_at_virtual_time() {
+    let dir = crate::scratch("sim-alarms");
+    for (f, t) in [
+        ("alba.toml", "name = \"a\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n"),
+        (
+            "tags.csv",
+            "name,type,address,initial,retain,description\nCount,DINT,,,,\nReset,BOOL,DI:1/0,,,\n",
+        ),
+        ("main.lad", "XIO(Reset)ADD(Count,1,Count);\nXIC(Reset)MOV(0,Count);\n"),
+        (
+            "alarms.csv",
+            "id,tag,condition,severity,delay_ms,deadband,message\nhigh,Count,>= 5,high,20,0,\"Count high, check\"\nreset,Reset,rising,low,0,0,Reset pressed\n",
+        ),
+        ("stimulus.csv", "time_ms,tag,value\n100,Reset,1\n150,Reset,0\n"),
+    ] {
+        std::fs::write(dir.join(f), t).expect("write");
+    }
+    let out = crate::alba(
+        &dir,
+        &[
+            "sim",
+            ".",
+            "--until",
+            "200",
+            "--stimulus",
+            "stimulus.csv",
+            "--alarms",
+            "events.csv",
+            "--tags",
+            "Count",
+        ],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let events = std::fs::read_to_string(dir.join("events.csv")).expect("events.csv");
+    // Count reaches 5 after the scan at 40 ms; the on-delay of 20 ms makes it active at 60 ms.
+    // Reset at 100 ms: the edge alarm for one scan, Count back to 0 clears `high`.
+    assert_eq!(
+        events,
+        "time_ms,alarm,tag,from,to,value,severity,message\n\
+         60,high,Count,normal,active_unacked,7,750,\"Count high, check\"\n\
+         100,high,Count,active_unacked,cleared_unacked,0,750,\"Count high, check\"\n\
+         100,reset,Reset,normal,active_unacked,1,250,Reset pressed\n\
+         110,reset,Reset,active_unacked,cleared_unacked,1,250,Reset pressed\n"
+    );
+    // Without alarms.csv there is nothing to evaluate: an empty log, not an error.
+    std::fs::remove_file(dir.join("alarms.csv")).expect("rm");
+    let out = crate::alba(&dir, &["sim", ".", "--until", "20", "--alarms", "none.csv"]);
+    assert!(out.status.success());
+    assert_eq!(
+        std::fs::read_to_string(dir.join("none.csv"))
+            .expect("none.csv")
+            .lines()
+            .count(),
+        1
+    );
+}
