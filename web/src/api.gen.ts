@@ -202,6 +202,8 @@ active: boolean, acked_by: string | null, ack_comment: string | null, acked_ms: 
  */
 reason: string | null, by: string | null, };
 
+export type AlarmStats = { alarms: number, active: number, unacked: number, shelved: number, suppressed: number, out_of_service: number, new_10min: number, flood: boolean, top_unacked: string | null, top_severity: number | null, };
+
 export type AuditOutcome = "pending" | "ok" | "failed";
 
 export type AuditRow = { 

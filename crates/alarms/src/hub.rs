@@ -25,8 +25,32 @@ pub enum Request {
     OutOfService { on: bool, reason: String },
 }
 
+/// ISA-18.2's flood guidance: more than 10 new alarms in 10 minutes per operator.
+pub const FLOOD_WINDOW_MS: i64 = 600_000;
+pub const FLOOD_COUNT: usize = 10;
+
+/// The alarm system at a glance (`GET /api/alarms/stats`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Stats {
+    pub alarms: usize,
+    /// In alarm and not shelved, suppressed or out of service.
+    pub active: usize,
+    pub unacked: usize,
+    pub shelved: usize,
+    pub suppressed: usize,
+    pub out_of_service: usize,
+    /// Alarms that became active (from normal or cleared) in the last 10 minutes.
+    pub new_in_window: usize,
+    /// `new_in_window` > 10: an alarm flood.
+    pub flood: bool,
+    /// The most severe unacknowledged alarm (id, severity), for the banner.
+    pub top_unacked: Option<(String, u16)>,
+}
+
 pub struct Hub {
     alarms: Mutex<Alarms>,
+    /// When alarms became active, within the flood window.
+    activations: Mutex<std::collections::VecDeque<i64>>,
     log: Option<Log>,
     /// The last error writing the log from the evaluator (shown by the status).
     log_error: Mutex<Option<String>>,
@@ -36,6 +60,7 @@ impl Hub {
     pub fn new(defs: Vec<AlarmDef>, log: Option<Log>) -> Hub {
         Hub {
             alarms: Mutex::new(Alarms::new(defs)),
+            activations: Mutex::new(std::collections::VecDeque::new()),
             log,
             log_error: Mutex::new(None),
         }
@@ -54,12 +79,56 @@ impl Hub {
     /// see them): it is kept for [`Hub::log_error`] and returned.
     pub fn update(&self, now_ms: i64, mem: &Memory) -> Result<Vec<Event>, LogError> {
         let events = self.lock().update(now_ms, mem);
+        self.count_activations(now_ms, &events);
         if let Some(log) = &self.log {
             let r = log.append(&events);
             *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = r.as_ref().err().map(|e| e.to_string());
             r?;
         }
         Ok(events)
+    }
+
+    fn count_activations(&self, now_ms: i64, events: &[Event]) {
+        let mut a = self.activations.lock().unwrap_or_else(PoisonError::into_inner);
+        a.extend(
+            events
+                .iter()
+                .filter(|e| e.to == crate::State::ActiveUnacked)
+                .map(|e| e.t_ms),
+        );
+        while a.front().is_some_and(|t| *t <= now_ms - FLOOD_WINDOW_MS) || a.len() > 10_000 {
+            a.pop_front();
+        }
+    }
+
+    /// Counts by state, the activation rate and the most severe unacknowledged alarm.
+    pub fn stats(&self, now_ms: i64) -> Stats {
+        let a = self.lock();
+        let all = a.all();
+        let count = |s: crate::State| all.iter().filter(|x| x.state == s).count();
+        let top = all
+            .iter()
+            .filter(|x| x.state.unacked())
+            .max_by(|x, y| x.def.severity.cmp(&y.def.severity).then(y.since_ms.cmp(&x.since_ms)))
+            .map(|x| (x.def.id.clone(), x.def.severity));
+        let new_in_window = self
+            .activations
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .iter()
+            .filter(|t| **t > now_ms - FLOOD_WINDOW_MS)
+            .count();
+        Stats {
+            alarms: all.len(),
+            active: count(crate::State::ActiveUnacked) + count(crate::State::ActiveAcked),
+            unacked: all.iter().filter(|x| x.state.unacked()).count(),
+            shelved: count(crate::State::Shelved),
+            suppressed: count(crate::State::Suppressed),
+            out_of_service: count(crate::State::OutOfService),
+            new_in_window,
+            flood: new_in_window > FLOOD_COUNT,
+            top_unacked: top,
+        }
     }
 
     /// The last error of the evaluator's log writes, if the last write failed.

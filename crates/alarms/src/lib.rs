@@ -9,7 +9,7 @@ pub mod log;
 pub mod state;
 
 pub use def::{AlarmDef, Cmp, Condition, parse};
-pub use hub::{Hub, HubError, Request};
+pub use hub::{Hub, HubError, Request, Stats};
 pub use log::{Log, LogError};
 pub use state::{ActionError, Alarm, Alarms, Event, State, format_value};
 

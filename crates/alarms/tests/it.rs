@@ -421,3 +421,54 @@ proptest::proptest! {
         proptest::prop_assert_eq!(ids.len(), defs.len());
     }
 }
+
+#[test]
+fn the_hub_counts_states_and_detects_a_flood() {
+    let mut rig = Rig::new();
+    let rows: String = (0..12)
+        .map(|k| format!("a{k},Count,> {k},{},0,0,m{k}\n", 100 + k))
+        .collect();
+    let text = format!("id,tag,condition,severity,delay_ms,deadband,message\n{rows}");
+    let mut files = Files::new();
+    let f = files.add("alarms.csv", &text);
+    let (defs, d) = def::parse(files.text(f), f, &rig.layout);
+    assert!(d.is_empty(), "{d:?}");
+    let hub = alba_alarms::Hub::new(defs, None);
+    // Count rises one by one: a new alarm every minute.
+    for k in 1..=12 {
+        rig.set("Count", Value::Dint(k));
+        hub.update(i64::from(k) * 60_000, &rig.mem).expect("update");
+    }
+    let s = hub.stats(12 * 60_000);
+    assert_eq!((s.alarms, s.active, s.unacked), (12, 12, 12));
+    // Activations at 1..=12 min; the window (2, 12] min holds 10: no flood yet.
+    assert_eq!((s.new_in_window, s.flood), (10, false));
+    assert_eq!(s.top_unacked, Some(("a11".to_string(), 111)));
+    hub.act(
+        "a11",
+        &alba_alarms::Request::Ack { comment: String::new() },
+        "ana",
+        12 * 60_000,
+    )
+    .expect("ack");
+    hub.act(
+        "a10",
+        &alba_alarms::Request::Shelve {
+            minutes: 5,
+            reason: "x".into(),
+        },
+        "ana",
+        12 * 60_000,
+    )
+    .expect("shelve");
+    let s = hub.stats(12 * 60_000);
+    assert_eq!((s.unacked, s.shelved, s.active), (10, 1, 11));
+    assert_eq!(s.top_unacked, Some(("a9".to_string(), 109)));
+    // Everything clears and comes back within a minute: 12 new activations, a flood.
+    rig.set("Count", Value::Dint(-1));
+    hub.update(12 * 60_000 + 10, &rig.mem).expect("update");
+    rig.set("Count", Value::Dint(100));
+    hub.update(12 * 60_000 + 20, &rig.mem).expect("update");
+    let s = hub.stats(12 * 60_000 + 20);
+    assert!(s.flood && s.new_in_window > 10, "{s:?}");
+}

@@ -99,6 +99,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/history.csv", get(history::csv))
         .route("/api/alarms", get(alarms::list))
         .route("/api/alarms/log.csv", get(alarms::log_csv))
+        .route("/api/alarms/stats", get(alarms::stats))
         .route("/api/alarms/{id}/ack", post(alarms::ack))
         .route("/api/alarms/{id}/shelve", post(alarms::shelve))
         .route("/api/alarms/{id}/unshelve", post(alarms::unshelve))

@@ -142,6 +142,23 @@ pub struct AlarmReply {
     pub by: Option<String>,
 }
 
+/// The alarm system at a glance (`GET /api/alarms/stats`): counts by state,
+/// new alarms in the last 10 minutes (a flood above 10, ISA-18.2), and the
+/// most severe unacknowledged alarm for the banner.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct AlarmStats {
+    pub alarms: usize,
+    pub active: usize,
+    pub unacked: usize,
+    pub shelved: usize,
+    pub suppressed: usize,
+    pub out_of_service: usize,
+    pub new_10min: usize,
+    pub flood: bool,
+    pub top_unacked: Option<String>,
+    pub top_severity: Option<u16>,
+}
+
 /// A program's language.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
 #[serde(rename_all = "lowercase")]
@@ -482,6 +499,7 @@ pub fn typescript() -> String {
         Bucket,
         History,
         AlarmReply,
+        AlarmStats,
         AuditOutcome,
         AuditRow,
         AuditPage,

@@ -484,6 +484,11 @@ async fn alarms_are_evaluated_acknowledged_shelved_and_logged() {
     let (code, body) = post(url("/api/alarms/big/shelve"), "{\"minutes\": 5, \"reason\": \"test\"}").await;
     assert_eq!(code, 200, "{body}");
     assert!(body.contains("\"state\":\"shelved\""), "{body}");
+    let stats = get(url("/api/alarms/stats")).await;
+    assert!(
+        stats.contains("\"alarms\":2") && stats.contains("\"shelved\":1") && stats.contains("\"flood\":false"),
+        "{stats}"
+    );
     let all = get(url("/api/alarms?all=true")).await;
     assert!(
         all.contains("\"id\":\"sp\",") && all.contains("\"state\":\"normal\""),

@@ -7,7 +7,7 @@
 use super::audit::{Actor, audited, json_text, now_ms};
 use super::{Body, body, stream};
 use crate::error::{ApiError, ApiResult};
-use crate::reply::AlarmReply;
+use crate::reply::{AlarmReply, AlarmStats};
 use crate::state::AppState;
 use alba_alarms::{Alarm, Hub, Request};
 use alba_audit::{Action, Entry};
@@ -72,6 +72,38 @@ pub async fn list(
     };
     let list = st.alarms.get().map(|h| h.list(all)).unwrap_or_default();
     Ok(Json(list.into_iter().map(reply).collect()))
+}
+
+/// `GET /api/alarms/stats`.
+pub async fn stats(State(st): State<Arc<AppState>>) -> Json<AlarmStats> {
+    let s = st
+        .alarms
+        .get()
+        .map(|h| h.stats(now_ms()))
+        .unwrap_or(alba_alarms::Stats {
+            alarms: 0,
+            active: 0,
+            unacked: 0,
+            shelved: 0,
+            suppressed: 0,
+            out_of_service: 0,
+            new_in_window: 0,
+            flood: false,
+            top_unacked: None,
+        });
+    let (top_unacked, top_severity) = s.top_unacked.map_or((None, None), |(id, sev)| (Some(id), Some(sev)));
+    Json(AlarmStats {
+        alarms: s.alarms,
+        active: s.active,
+        unacked: s.unacked,
+        shelved: s.shelved,
+        suppressed: s.suppressed,
+        out_of_service: s.out_of_service,
+        new_10min: s.new_in_window,
+        flood: s.flood,
+        top_unacked,
+        top_severity,
+    })
 }
 
 fn hub(st: &AppState, id: &str) -> ApiResult<Arc<Hub>> {

@@ -292,6 +292,7 @@ async fn every_route_answers_each_role_as_the_table_says() {
         // Alarms: this server has none, so the handlers answer 404 to those allowed.
         row(Method::GET, "/api/alarms", "/api/alarms", None, v, 200),
         row(Method::GET, "/api/alarms/log.csv", "/api/alarms/log.csv", None, v, 404),
+        row(Method::GET, "/api/alarms/stats", "/api/alarms/stats", None, v, 200),
         row(
             Method::POST,
             "/api/alarms/{id}/ack",
