@@ -34,6 +34,7 @@ struct Settings {
     tags: Vec<String>,
     credentials: Option<(String, String)>,
     queue: usize,
+    writes: bool,
 }
 
 fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, String> {
@@ -74,6 +75,7 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         tags: cfg.tags.clone(),
         credentials,
         queue: cfg.queue as usize,
+        writes: cfg.writes,
     }))
 }
 
@@ -132,7 +134,9 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
                     sts.connected.store(true, Ordering::Relaxed);
                     sts.republish.store(true, Ordering::Relaxed);
                     let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "online");
-                    let _ = c.try_subscribe(format!("{}/set/#", cfg.prefix), QoS::AtLeastOnce);
+                    if cfg.writes {
+                        let _ = c.try_subscribe(format!("{}/set/#", cfg.prefix), QoS::AtLeastOnce);
+                    }
                     eprintln!("mqtt: connected to {}:{}", cfg.host, cfg.port);
                 }
                 Ok(Event::Incoming(Packet::Publish(p))) => {

@@ -24,6 +24,9 @@ pub struct Mqtt {
     pub password_file: Option<String>,
     /// Messages waiting for the broker at most; more are dropped (counted).
     pub queue: u32,
+    /// Take writes from `<prefix>/set/<Tag>` (default true; the broker's ACL
+    /// decides who may publish there).
+    pub writes: bool,
 }
 
 pub const DEFAULT_KEEP_ALIVE_S: u32 = 30;
@@ -41,6 +44,7 @@ impl Default for Mqtt {
             username: None,
             password_file: None,
             queue: DEFAULT_QUEUE,
+            writes: true,
         }
     }
 }
@@ -58,6 +62,7 @@ pub(super) struct RawMqtt {
     username: Option<Spanned<String>>,
     password_file: Option<Spanned<String>>,
     queue: Option<Spanned<i64>>,
+    writes: Option<bool>,
 }
 
 /// Whether `s` is a `host:port` (a name or an address and a port number).
@@ -135,5 +140,6 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
         username: m.username.map(|u| u.into_inner()),
         password_file: m.password_file.map(|p| p.into_inner()),
         queue,
+        writes: m.writes.unwrap_or(true),
     }
 }

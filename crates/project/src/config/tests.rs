@@ -483,3 +483,41 @@ fn authorities_split_into_host_and_port() {
         assert_eq!(split_authority(bad), None, "{bad}");
     }
 }
+
+#[test]
+fn mqtt_and_alarms_tables() {
+    let c = parse("name = \"t\"\nprograms = [\"main.lad\"]\n").unwrap();
+    assert_eq!((c.mqtt, c.alarms.retention_days), (None, 365));
+    let c = parse(
+        "name = \"t\"\nprograms = [\"main.lad\"]\n[alarms]\nretention_days = 30\n[mqtt]\nbroker = \"broker.local:8883\"\n\
+         topic_prefix = \"site/line1\"\nqos = 0\ntags = [\"Level\", \"Delay\"]\nwrites = false\n\
+         username = \"plc\"\npassword_file = \"mqtt.secret\"\n",
+    )
+    .unwrap();
+    let m = c.mqtt.unwrap();
+    assert_eq!(c.alarms.retention_days, 30);
+    assert_eq!(m.broker.as_deref(), Some("broker.local:8883"));
+    assert_eq!(m.topic_prefix.as_deref(), Some("site/line1"));
+    assert_eq!((m.qos, m.writes, m.keep_alive_s, m.queue), (0, false, 30, 10_000));
+    assert_eq!(m.tags, ["Level", "Delay"]);
+    assert_eq!(
+        (m.username.as_deref(), m.password_file.as_deref()),
+        (Some("plc"), Some("mqtt.secret"))
+    );
+    let e = parse(
+        "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nbroker = \"x:0\"\nqos = 3\nkeep_alive_s = 1\nsecret = 1\n",
+    )
+    .unwrap_err();
+    assert!(e.iter().any(|d| d.contains("unknown field `secret`")), "{e:?}");
+    for bad in [
+        "broker = \"x:0\"",
+        "qos = 3",
+        "keep_alive_s = 1",
+        "topic_prefix = \"a/+/b\"",
+        "topic_prefix = \"a/\"",
+        "queue = 5",
+    ] {
+        let e = parse(&format!("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n{bad}\n")).unwrap_err();
+        assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
+    }
+}
