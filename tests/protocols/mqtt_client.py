@@ -18,11 +18,16 @@ paho-mqtt client (SPEC §10.5, docs/scale-out.md):
 - the broker restarted: Alba reconnects and publishes everything again;
 - `kill -9` of Alba: the broker sends its last will, status `offline`;
 - a "broker" that accepts the connection and never answers: Alba keeps
-  scanning (the scan count rises).
+  scanning (the scan count rises);
+- TLS with a client certificate (`[mqtt] ca_file`, `client_cert`,
+  `client_key`) against a Mosquitto listener that requires one (certificates
+  made with openssl): tags arrive; a client certificate from another CA is
+  refused by the broker, and Alba says so and keeps scanning.
 """
 
 import json
 import os
+import shutil
 import re
 import signal
 import socket
@@ -54,10 +59,10 @@ def free_port():
     return port
 
 
-def start_broker(port, tmp):
+def start_broker(port, tmp, extra=""):
     conf = os.path.join(tmp, "mosquitto.conf")
     with open(conf, "w") as f:
-        f.write(f"listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\n")
+        f.write(f"listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\n{extra}")
     p = subprocess.Popen(["mosquitto", "-c", conf], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.time() + 10
     while time.time() < deadline:
@@ -219,10 +224,81 @@ def main():
         check(s2 > s1 + 20, f"a silent broker does not stall the scan ({s1} -> {s2})")
     finally:
         alba.kill()
+    tls_checks(binary, project)
     if failures:
         print(f"{len(failures)} MQTT check(s) failed", flush=True)
         sys.exit(1)
     print("MQTT: all checks passed", flush=True)
+
+
+def openssl(*args, cwd):
+    subprocess.run(["openssl", *args], cwd=cwd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def make_ca(d, name):
+    openssl("req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj", f"/CN={name}",
+            "-keyout", f"{name}.key", "-out", f"{name}.pem", cwd=d)
+
+
+def make_cert(d, ca, name, san):
+    openssl("req", "-newkey", "rsa:2048", "-nodes", "-subj", f"/CN={name}", "-keyout", f"{name}.key",
+            "-out", f"{name}.csr", cwd=d)
+    with open(os.path.join(d, f"{name}.ext"), "w") as f:
+        f.write(f"subjectAltName={san}\n")
+    openssl("x509", "-req", "-in", f"{name}.csr", "-CA", f"{ca}.pem", "-CAkey", f"{ca}.key", "-CAcreateserial",
+            "-days", "2", "-extfile", f"{name}.ext", "-out", f"{name}.pem", cwd=d)
+
+
+def tls_checks(binary, project):
+    tmp = tempfile.mkdtemp(prefix="alba-mqtts-")
+    make_ca(tmp, "ca")
+    make_ca(tmp, "rogue")
+    make_cert(tmp, "ca", "broker", "IP:127.0.0.1,DNS:localhost")
+    make_cert(tmp, "ca", "alba", "DNS:alba")
+    make_cert(tmp, "rogue", "intruder", "DNS:alba")
+    # Mosquitto started as root reads its files as the user `mosquitto`.
+    os.chmod(tmp, 0o755)
+    for f in os.listdir(tmp):
+        os.chmod(os.path.join(tmp, f), 0o644)
+    port = free_port()
+    broker = start_broker(port, tmp, f"cafile {tmp}/ca.pem\ncertfile {tmp}/broker.pem\nkeyfile {tmp}/broker.key\n"
+                          "require_certificate true\n")
+    alba = None
+    try:
+        for client, want in [("alba", True), ("intruder", False)]:
+            proj = os.path.join(tmp, f"project-{client}")
+            shutil.copytree(project, proj)
+            for f in ["ca.pem", f"{client}.pem", f"{client}.key"]:
+                shutil.copy(os.path.join(tmp, f), proj)
+            with open(os.path.join(proj, "alba.toml"), "a") as f:
+                f.write(f'ca_file = "ca.pem"\nclient_cert = "{client}.pem"\nclient_key = "{client}.key"\n'
+                        f'topic_prefix = "tls/{client}"\n')
+            alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+            w = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=f"tls-watch-{client}")
+            w.tls_set(ca_certs=f"{tmp}/ca.pem", certfile=f"{tmp}/alba.pem", keyfile=f"{tmp}/alba.key")
+            got = []
+            w.on_message = lambda _c, _u, m: got.append(m.topic)
+            w.connect("127.0.0.1", port)
+            w.subscribe(f"tls/{client}/tags/#")
+            w.loop_start()
+            deadline = time.time() + (10 if want else 3)
+            while time.time() < deadline and not got:
+                time.sleep(0.05)
+            w.loop_stop()
+            w.disconnect()
+            if want:
+                check(bool(got), f"TLS with a client certificate: tags arrive ({len(got)})")
+            else:
+                check(not got, "a client certificate from another CA is refused by the broker")
+                s1 = api(http, "/api/status")["scans"]
+                time.sleep(0.5)
+                check(api(http, "/api/status")["scans"] > s1, "and Alba keeps scanning")
+            alba.kill()
+            alba.wait()
+    finally:
+        if alba and alba.poll() is None:
+            alba.kill()
+        broker.kill()
 
 
 if __name__ == "__main__":

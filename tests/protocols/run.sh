@@ -16,6 +16,7 @@ if ! pkg-config --exists libmodbus 2>/dev/null; then
     apt_install libmodbus-dev pkg-config
 fi
 command -v mosquitto >/dev/null 2>&1 || command -v /usr/sbin/mosquitto >/dev/null 2>&1 || apt_install mosquitto
+command -v openssl >/dev/null 2>&1 || apt_install openssl
 export PATH="$PATH:/usr/sbin"
 cc -O2 -Wall -Wextra -Werror -o "$OUT/libmodbus_smoke" tests/protocols/libmodbus_smoke.c \
     $(pkg-config --cflags --libs libmodbus)

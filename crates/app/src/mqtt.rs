@@ -35,6 +35,8 @@ struct Settings {
     credentials: Option<(String, String)>,
     queue: usize,
     writes: bool,
+    /// TLS to the broker, when `[mqtt] ca_file` is set.
+    tls: Option<Arc<rustls::ClientConfig>>,
 }
 
 fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, String> {
@@ -76,7 +78,50 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         credentials,
         queue: cfg.queue as usize,
         writes: cfg.writes,
+        tls: tls(s.dir, &cfg)?,
     }))
+}
+
+/// The TLS client configuration of `[mqtt] ca_file` (and, for mutual TLS,
+/// `client_cert` + `client_key`): only that CA is trusted, as a plant's
+/// broker has its own; paths are relative to the project.
+fn tls(dir: &std::path::Path, cfg: &alba_project::config::Mqtt) -> Result<Option<Arc<rustls::ClientConfig>>, String> {
+    use rustls::pki_types::pem::PemObject;
+    use rustls::pki_types::{CertificateDer, PrivateKeyDer};
+    let Some(ca) = &cfg.ca_file else { return Ok(None) };
+    let certs = |f: &str| {
+        let path = dir.join(f);
+        CertificateDer::pem_file_iter(&path)
+            .and_then(|c| c.collect::<Result<Vec<_>, _>>())
+            .map_err(|e| format!("[mqtt] {}: {e}", path.display()))
+            .and_then(|v| {
+                if v.is_empty() {
+                    Err(format!("[mqtt] {}: no certificate in this PEM file", path.display()))
+                } else {
+                    Ok(v)
+                }
+            })
+    };
+    let mut roots = rustls::RootCertStore::empty();
+    for c in certs(ca)? {
+        roots.add(c).map_err(|e| format!("[mqtt] ca_file {ca}: {e}"))?;
+    }
+    let builder = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
+        .with_safe_default_protocol_versions()
+        .map_err(|e| e.to_string())?
+        .with_root_certificates(roots);
+    let config = match (&cfg.client_cert, &cfg.client_key) {
+        (Some(c), Some(k)) => {
+            let key_path = dir.join(k);
+            let key =
+                PrivateKeyDer::from_pem_file(&key_path).map_err(|e| format!("[mqtt] {}: {e}", key_path.display()))?;
+            builder
+                .with_client_auth_cert(certs(c)?, key)
+                .map_err(|e| format!("[mqtt] client_cert {c}: {e}"))?
+        }
+        _ => builder.with_no_client_auth(),
+    };
+    Ok(Some(Arc::new(config)))
 }
 
 /// Counters for the status line and tests.
@@ -113,10 +158,21 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
     if let Some((u, p)) = &set.credentials {
         opts.set_credentials(u, p);
     }
+    if let Some(tls) = &set.tls {
+        opts.set_transport(rumqttc::Transport::tls_with_config(rumqttc::TlsConfiguration::Rustls(
+            tls.clone(),
+        )));
+    }
     let (client, mut eventloop) = AsyncClient::new(opts, set.queue);
     let stats = Arc::new(Stats::default());
     let set = Arc::new(set);
-    println!("mqtt: publishing to {}:{} under {}/", set.host, set.port, set.prefix);
+    println!(
+        "mqtt: publishing to {}:{}{} under {}/",
+        set.host,
+        set.port,
+        if set.tls.is_some() { " (TLS)" } else { "" },
+        set.prefix
+    );
 
     // The event loop: connection, back-off, incoming writes.
     let (st, c, sts, cfg) = (s.state.clone(), client.clone(), stats.clone(), set.clone());

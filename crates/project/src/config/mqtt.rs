@@ -27,6 +27,11 @@ pub struct Mqtt {
     /// Take writes from `<prefix>/set/<Tag>` (default true; the broker's ACL
     /// decides who may publish there).
     pub writes: bool,
+    /// TLS to the broker: the CA that signed its certificate (PEM).
+    pub ca_file: Option<String>,
+    /// Mutual TLS: this client's certificate and key (PEM).
+    pub client_cert: Option<String>,
+    pub client_key: Option<String>,
 }
 
 pub const DEFAULT_KEEP_ALIVE_S: u32 = 30;
@@ -45,6 +50,9 @@ impl Default for Mqtt {
             password_file: None,
             queue: DEFAULT_QUEUE,
             writes: true,
+            ca_file: None,
+            client_cert: None,
+            client_key: None,
         }
     }
 }
@@ -63,6 +71,9 @@ pub(super) struct RawMqtt {
     password_file: Option<Spanned<String>>,
     queue: Option<Spanned<i64>>,
     writes: Option<bool>,
+    ca_file: Option<Spanned<String>>,
+    client_cert: Option<Spanned<String>>,
+    client_key: Option<Spanned<String>>,
 }
 
 /// Whether `s` is a `host:port` (a name or an address and a port number).
@@ -119,6 +130,21 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
             );
         }
     }
+    if m.client_cert.is_some() != m.client_key.is_some() {
+        if let Some(at) = m.client_cert.as_ref().or(m.client_key.as_ref()) {
+            bad(
+                at,
+                "client_cert and client_key go together".into(),
+                "set both, or neither",
+            );
+        }
+    } else if let (Some(c), None) = (&m.client_cert, &m.ca_file) {
+        bad(
+            c,
+            "a client certificate needs TLS: set ca_file too".into(),
+            "without ca_file",
+        );
+    }
     let qos = int_setting("qos", m.qos, 0..=2, 1, "", file, diags) as u8;
     let keep_alive_s = int_setting(
         "keep_alive_s",
@@ -141,5 +167,8 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
         password_file: m.password_file.map(|p| p.into_inner()),
         queue,
         writes: m.writes.unwrap_or(true),
+        ca_file: m.ca_file.map(|c| c.into_inner()),
+        client_cert: m.client_cert.map(|c| c.into_inner()),
+        client_key: m.client_key.map(|c| c.into_inner()),
     }
 }
