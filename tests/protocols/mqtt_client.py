@@ -51,6 +51,13 @@ def check(cond, what):
         print(f"  ok: {what}", flush=True)
 
 
+def client(cid):
+    """A paho client (paho-mqtt 1.6, which pysparkplug requires, or 2.x)."""
+    if hasattr(mqtt, "CallbackAPIVersion"):
+        return mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=cid)
+    return mqtt.Client(client_id=cid)
+
+
 def free_port():
     s = socket.socket()
     s.bind(("127.0.0.1", 0))
@@ -101,7 +108,7 @@ class Watcher:
     def __init__(self, port, topic):
         self.msgs = []
         self.lock = threading.Lock()
-        self.c = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=f"watch-{time.time_ns()}")
+        self.c = client(f"watch-{time.time_ns()}")
         self.c.on_message = self.on_message
         self.c.connect("127.0.0.1", port)
         self.c.subscribe(topic, qos=1)
@@ -131,7 +138,7 @@ class Watcher:
 
 
 def publish(port, topic, payload):
-    c = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=f"pub-{time.time_ns()}")
+    c = client(f"pub-{time.time_ns()}")
     c.connect("127.0.0.1", port)
     c.loop_start()
     c.publish(topic, payload, qos=1).wait_for_publish(5)
@@ -265,21 +272,21 @@ def tls_checks(binary, project):
                           "require_certificate true\n")
     alba = None
     try:
-        for client, want in [("alba", True), ("intruder", False)]:
-            proj = os.path.join(tmp, f"project-{client}")
+        for who, want in [("alba", True), ("intruder", False)]:
+            proj = os.path.join(tmp, f"project-{who}")
             shutil.copytree(project, proj)
-            for f in ["ca.pem", f"{client}.pem", f"{client}.key"]:
+            for f in ["ca.pem", f"{who}.pem", f"{who}.key"]:
                 shutil.copy(os.path.join(tmp, f), proj)
             with open(os.path.join(proj, "alba.toml"), "a") as f:
-                f.write(f'ca_file = "ca.pem"\nclient_cert = "{client}.pem"\nclient_key = "{client}.key"\n'
-                        f'topic_prefix = "tls/{client}"\n')
+                f.write(f'ca_file = "ca.pem"\nclient_cert = "{who}.pem"\nclient_key = "{who}.key"\n'
+                        f'topic_prefix = "tls/{who}"\n')
             alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
-            w = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2, client_id=f"tls-watch-{client}")
+            w = client(f"tls-watch-{who}")
             w.tls_set(ca_certs=f"{tmp}/ca.pem", certfile=f"{tmp}/alba.pem", keyfile=f"{tmp}/alba.key")
             got = []
             w.on_message = lambda _c, _u, m: got.append(m.topic)
             w.connect("127.0.0.1", port)
-            w.subscribe(f"tls/{client}/tags/#")
+            w.subscribe(f"tls/{who}/tags/#")
             w.loop_start()
             deadline = time.time() + (10 if want else 3)
             while time.time() < deadline and not got:

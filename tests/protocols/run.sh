@@ -2,7 +2,7 @@
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
 # pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
 # `alba run --opcua` (and its security: tests/protocols/opcua_security.py); a pymodbus slave
-# polled by `alba run --io modbus`; paho-mqtt and Mosquitto with `alba run --mqtt`.
+# polled by `alba run --io modbus`; paho-mqtt, pysparkplug and Mosquitto with `alba run --mqtt` (JSON and Sparkplug B).
 # Installs what it needs: Debian's libmodbus-dev and mosquitto, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
 set -euo pipefail
@@ -40,3 +40,5 @@ cp -r tests/protocols/plant "$OUT/plant"
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"
 "$OUT/venv/bin/python" tests/protocols/mqtt_client.py "$ALBA" "$OUT/plant"
+# Sparkplug B ([mqtt.sparkplug]) decoded and commanded with pysparkplug (it copies the project itself).
+"$OUT/venv/bin/python" tests/protocols/sparkplug_client.py "$ALBA" tests/protocols/plant

@@ -17,6 +17,7 @@ mod history;
 mod modbus;
 mod mqtt;
 mod opcua;
+mod sparkplug;
 pub mod tls;
 mod users;
 

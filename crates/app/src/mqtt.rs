@@ -24,19 +24,21 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
 /// What `alba run` resolved for the client.
-struct Settings {
-    host: String,
-    port: u16,
+pub(crate) struct Settings {
+    pub host: String,
+    pub port: u16,
     prefix: String,
     client_id: String,
-    qos: QoS,
+    pub qos: QoS,
     keep_alive: Duration,
-    tags: Vec<String>,
+    pub tags: Vec<String>,
     credentials: Option<(String, String)>,
-    queue: usize,
-    writes: bool,
+    pub queue: usize,
+    pub writes: bool,
     /// TLS to the broker, when `[mqtt] ca_file` is set.
     tls: Option<Arc<rustls::ClientConfig>>,
+    /// Sparkplug B (group, edge node, device) instead of JSON.
+    pub sparkplug: Option<(String, String, String)>,
 }
 
 fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, String> {
@@ -79,6 +81,13 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         queue: cfg.queue as usize,
         writes: cfg.writes,
         tls: tls(s.dir, &cfg)?,
+        sparkplug: cfg.sparkplug.as_ref().map(|sp| {
+            let node = sp
+                .edge_node_id
+                .clone()
+                .unwrap_or_else(|| name.replace(['/', '+', '#'], "_"));
+            (sp.group_id.clone(), node, sp.device_id.clone())
+        }),
     }))
 }
 
@@ -135,6 +144,47 @@ struct Stats {
     deferred: AtomicU64,
 }
 
+/// The client's options: id, keep-alive, credentials, TLS, and `will`.
+pub(crate) fn options(set: &Settings, will: LastWill) -> MqttOptions {
+    let mut opts = MqttOptions::new(&set.client_id, &set.host, set.port);
+    opts.set_keep_alive(set.keep_alive);
+    opts.set_clean_session(true);
+    opts.set_last_will(will);
+    if let Some((u, p)) = &set.credentials {
+        opts.set_credentials(u, p);
+    }
+    if let Some(tls) = &set.tls {
+        opts.set_transport(rumqttc::Transport::tls_with_config(rumqttc::TlsConfiguration::Rustls(
+            tls.clone(),
+        )));
+    }
+    opts
+}
+
+/// Back-off after a failed connection: from 100 ms doubling to 30 s, with
+/// jitter so that many runtimes do not reconnect in step (and a dead broker
+/// costs no CPU). Returns the wait and the next back-off.
+pub(crate) fn backoff(current: Duration) -> (Duration, Duration) {
+    let jitter = u64::from(std::process::id() ^ current.subsec_nanos()) % 100;
+    let wait = current + Duration::from_millis(jitter * current.as_millis() as u64 / 400);
+    (wait, (current * 2).min(Duration::from_secs(30)))
+}
+
+/// The tags a client publishes: every value of the layout, or those `tags` names (and their members).
+pub(crate) fn published(layout: &alba_ir::Layout, tags: &[String]) -> Vec<(String, alba_ir::Place)> {
+    let mut places = alba_server::tags::every_value(layout);
+    if !tags.is_empty() {
+        places.retain(|(n, _)| {
+            let n = n.to_ascii_lowercase();
+            tags.iter().any(|t| {
+                let t = t.to_ascii_lowercase();
+                n == t || n.starts_with(&format!("{t}."))
+            })
+        });
+    }
+    places
+}
+
 pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started, String> {
     let Some(set) = settings(s, cli)? else {
         return Ok(Started::Off);
@@ -146,24 +196,11 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
             return Err(format!("[mqtt] tags: {e}"));
         }
     }
-    let mut opts = MqttOptions::new(&set.client_id, &set.host, set.port);
-    opts.set_keep_alive(set.keep_alive);
-    opts.set_clean_session(true);
-    opts.set_last_will(LastWill::new(
-        format!("{}/status", set.prefix),
-        "offline",
-        QoS::AtLeastOnce,
-        true,
-    ));
-    if let Some((u, p)) = &set.credentials {
-        opts.set_credentials(u, p);
+    if set.sparkplug.is_some() {
+        return crate::sparkplug::start(s, set);
     }
-    if let Some(tls) = &set.tls {
-        opts.set_transport(rumqttc::Transport::tls_with_config(rumqttc::TlsConfiguration::Rustls(
-            tls.clone(),
-        )));
-    }
-    let (client, mut eventloop) = AsyncClient::new(opts, set.queue);
+    let will = LastWill::new(format!("{}/status", set.prefix), "offline", QoS::AtLeastOnce, true);
+    let (client, mut eventloop) = AsyncClient::new(options(&set, will), set.queue);
     let stats = Arc::new(Stats::default());
     let set = Arc::new(set);
     println!(
@@ -205,15 +242,12 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
                     if sts.connected.swap(false, Ordering::Relaxed) {
                         eprintln!("mqtt: connection lost ({e}); reconnecting");
                     }
-                    // Exponential back-off with jitter, so that many runtimes do
-                    // not reconnect in step (and a dead broker costs no CPU).
-                    let jitter = u64::from(std::process::id() ^ backoff.subsec_nanos()) % 100;
-                    let wait = backoff + Duration::from_millis(jitter * backoff.as_millis() as u64 / 400);
+                    let (wait, next) = self::backoff(backoff);
+                    backoff = next;
                     tokio::select! {
                         _ = closing.wait_for(|c| *c) => break,
                         _ = tokio::time::sleep(wait) => {}
                     }
-                    backoff = (backoff * 2).min(Duration::from_secs(30));
                 }
             }
         }
@@ -282,6 +316,19 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
         }
     });
     Ok(Started::On)
+}
+
+/// A write from MQTT with the HTTP API's rules and its audit row (user
+/// `mqtt`, the broker's address); what the tag then holds, or why not.
+pub(crate) async fn write(st: &alba_server::AppState, set: &Settings, tag: &str, value: &Json) -> Result<Json, String> {
+    let entry = alba_audit::Entry {
+        user: Some("mqtt".into()),
+        addr: Some(format!("{}:{}", set.host, set.port)),
+        ..alba_audit::Entry::new(alba_server::now_ms(), alba_audit::Action::Write)
+    };
+    alba_server::write_tag(st, entry, tag, value)
+        .await
+        .map_err(|e| e.to_string())
 }
 
 /// A write from `<prefix>/set/<tag>` (`{"value": ...}`), with the HTTP

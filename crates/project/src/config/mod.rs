@@ -26,7 +26,7 @@ pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Mod
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
-pub use mqtt::{Mqtt, is_host_port};
+pub use mqtt::{Mqtt, Sparkplug, is_host_port};
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
 pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
 

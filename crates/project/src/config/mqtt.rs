@@ -32,6 +32,19 @@ pub struct Mqtt {
     /// Mutual TLS: this client's certificate and key (PEM).
     pub client_cert: Option<String>,
     pub client_key: Option<String>,
+    /// Sparkplug B instead of JSON: group, edge node and device ids.
+    pub sparkplug: Option<Sparkplug>,
+}
+
+/// `[mqtt.sparkplug]`: publish as a Sparkplug B edge node.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Sparkplug {
+    /// Default `alba`.
+    pub group_id: String,
+    /// Default: the project's name.
+    pub edge_node_id: Option<String>,
+    /// The one device that holds the tags; default `plc`.
+    pub device_id: String,
 }
 
 pub const DEFAULT_KEEP_ALIVE_S: u32 = 30;
@@ -53,6 +66,7 @@ impl Default for Mqtt {
             ca_file: None,
             client_cert: None,
             client_key: None,
+            sparkplug: None,
         }
     }
 }
@@ -74,6 +88,20 @@ pub(super) struct RawMqtt {
     ca_file: Option<Spanned<String>>,
     client_cert: Option<Spanned<String>>,
     client_key: Option<Spanned<String>>,
+    sparkplug: Option<RawSparkplug>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSparkplug {
+    group_id: Option<Spanned<String>>,
+    edge_node_id: Option<Spanned<String>>,
+    device_id: Option<Spanned<String>>,
+}
+
+/// A Sparkplug id: it goes into topics, so no `/`, `+`, `#`, not empty.
+fn sparkplug_id(s: &str) -> bool {
+    !s.is_empty() && !s.contains(['/', '+', '#'])
 }
 
 /// Whether `s` is a `host:port` (a name or an address and a port number).
@@ -145,6 +173,22 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
             "without ca_file",
         );
     }
+    let sparkplug = m.sparkplug.map(|sp| {
+        for id in [&sp.group_id, &sp.edge_node_id, &sp.device_id].into_iter().flatten() {
+            if !sparkplug_id(id.get_ref()) {
+                bad(
+                    id,
+                    format!("\"{}\" cannot be a Sparkplug id", id.get_ref()),
+                    "no `/`, `+`, `#`, not empty",
+                );
+            }
+        }
+        Sparkplug {
+            group_id: sp.group_id.map_or_else(|| "alba".into(), |g| g.into_inner()),
+            edge_node_id: sp.edge_node_id.map(|n| n.into_inner()),
+            device_id: sp.device_id.map_or_else(|| "plc".into(), |d| d.into_inner()),
+        }
+    });
     let qos = int_setting("qos", m.qos, 0..=2, 1, "", file, diags) as u8;
     let keep_alive_s = int_setting(
         "keep_alive_s",
@@ -170,5 +214,6 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
         ca_file: m.ca_file.map(|c| c.into_inner()),
         client_cert: m.client_cert.map(|c| c.into_inner()),
         client_key: m.client_key.map(|c| c.into_inner()),
+        sparkplug,
     }
 }

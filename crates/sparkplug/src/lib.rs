@@ -1,0 +1,317 @@
+//! Sparkplug B 3.0 (Eclipse Tahu) without I/O: the payload as protobuf
+//! ([`proto`], written with `prost` derives from Tahu's `sparkplug_b.proto`),
+//! topics ([`Topic`]), data types, and [`EdgeNode`], the state of one edge
+//! node that builds its NBIRTH/DBIRTH/DDATA/NDEATH messages with their
+//! sequence numbers and aliases. `alba run` (crates/app/src/mqtt.rs) moves
+//! these bytes over MQTT; tests decode them with a third-party library.
+
+pub mod proto;
+
+use prost::Message as _;
+
+use proto::{Metric, Payload, metric};
+use std::collections::HashMap;
+
+/// The namespace of every Sparkplug B topic.
+pub const NAMESPACE: &str = "spBv1.0";
+/// The metric a host writes `true` to for a rebirth.
+pub const REBIRTH: &str = "Node Control/Rebirth";
+/// The birth/death sequence metric.
+pub const BD_SEQ: &str = "bdSeq";
+
+/// Sparkplug B data types (the `datatype` field of a metric).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum DataType {
+    Int8 = 1,
+    Int16 = 2,
+    Int32 = 3,
+    Int64 = 4,
+    UInt8 = 5,
+    UInt16 = 6,
+    UInt32 = 7,
+    UInt64 = 8,
+    Float = 9,
+    Double = 10,
+    Boolean = 11,
+    String = 12,
+}
+
+/// A metric's value, as Alba's types carry it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value {
+    Bool(bool),
+    Int8(i8),
+    Int16(i16),
+    Int32(i32),
+    Int64(i64),
+    UInt64(u64),
+    Float(f32),
+    Double(f64),
+}
+
+impl Value {
+    pub fn datatype(self) -> DataType {
+        match self {
+            Value::Bool(_) => DataType::Boolean,
+            Value::Int8(_) => DataType::Int8,
+            Value::Int16(_) => DataType::Int16,
+            Value::Int32(_) => DataType::Int32,
+            Value::Int64(_) => DataType::Int64,
+            Value::UInt64(_) => DataType::UInt64,
+            Value::Float(_) => DataType::Float,
+            Value::Double(_) => DataType::Double,
+        }
+    }
+
+    /// The protobuf value: signed integers up to 32 bits in `int_value` as
+    /// their two's complement (Sparkplug 3.0, §6.4.16), 64-bit ones in
+    /// `long_value`.
+    fn encode(self) -> metric::Value {
+        match self {
+            Value::Bool(b) => metric::Value::BooleanValue(b),
+            Value::Int8(x) => metric::Value::IntValue(u32::from(x as u8)),
+            Value::Int16(x) => metric::Value::IntValue(u32::from(x as u16)),
+            Value::Int32(x) => metric::Value::IntValue(x as u32),
+            Value::Int64(x) => metric::Value::LongValue(x as u64),
+            Value::UInt64(x) => metric::Value::LongValue(x),
+            Value::Float(x) => metric::Value::FloatValue(x),
+            Value::Double(x) => metric::Value::DoubleValue(x),
+        }
+    }
+
+    /// A received value read as `datatype`, or why it cannot be.
+    pub fn decode(datatype: u32, v: &metric::Value) -> Result<Value, String> {
+        use metric::Value as V;
+        Ok(match (datatype, v) {
+            (11, V::BooleanValue(b)) => Value::Bool(*b),
+            (1, V::IntValue(x)) => Value::Int8(*x as u8 as i8),
+            (2, V::IntValue(x)) => Value::Int16(*x as u16 as i16),
+            (3, V::IntValue(x)) => Value::Int32(*x as i32),
+            (4, V::LongValue(x)) => Value::Int64(*x as i64),
+            (8, V::LongValue(x)) => Value::UInt64(*x),
+            (9, V::FloatValue(x)) => Value::Float(*x),
+            (10, V::DoubleValue(x)) => Value::Double(*x),
+            (t, v) => return Err(format!("a value {v:?} of data type {t} is not supported")),
+        })
+    }
+}
+
+/// A Sparkplug B topic: `spBv1.0/<group>/<type>/<edge node>[/<device>]`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Topic {
+    pub group: String,
+    pub kind: String,
+    pub node: String,
+    pub device: Option<String>,
+}
+
+impl Topic {
+    pub fn parse(s: &str) -> Option<Topic> {
+        let mut it = s.split('/');
+        if it.next()? != NAMESPACE {
+            return None;
+        }
+        let (group, kind, node) = (it.next()?, it.next()?, it.next()?);
+        let device = it.next().map(str::to_string);
+        if it.next().is_some() {
+            return None;
+        }
+        Some(Topic {
+            group: group.into(),
+            kind: kind.into(),
+            node: node.into(),
+            device,
+        })
+    }
+}
+
+/// Whether an id may appear in a topic: no `/`, `+`, `#`, not empty.
+pub fn valid_id(s: &str) -> bool {
+    !s.is_empty() && !s.contains(['/', '+', '#'])
+}
+
+/// One edge node with one device, its metrics named and aliased at birth.
+#[derive(Debug, Clone)]
+pub struct EdgeNode {
+    pub group: String,
+    pub node: String,
+    pub device: String,
+    /// Birth/death sequence: the NDEATH registered with a connection carries
+    /// the value its NBIRTH will (Sparkplug 3.0 §6.4.2); +1 per connection.
+    bd_seq: u64,
+    /// Message sequence, 0–255, wrapping; NBIRTH is 0.
+    seq: u64,
+    /// Metric name → alias (stable for the life of the node).
+    aliases: HashMap<String, u64>,
+    names: Vec<String>,
+    /// Each metric's data type as born: commands may omit it.
+    types: HashMap<String, u32>,
+}
+
+impl EdgeNode {
+    pub fn new(group: &str, node: &str, device: &str) -> EdgeNode {
+        EdgeNode {
+            group: group.into(),
+            node: node.into(),
+            device: device.into(),
+            bd_seq: 0,
+            seq: 0,
+            aliases: HashMap::new(),
+            names: Vec::new(),
+            types: HashMap::new(),
+        }
+    }
+
+    pub fn topic(&self, kind: &str) -> String {
+        match kind {
+            "DBIRTH" | "DDATA" | "DDEATH" | "DCMD" => {
+                format!("{NAMESPACE}/{}/{kind}/{}/{}", self.group, self.node, self.device)
+            }
+            _ => format!("{NAMESPACE}/{}/{kind}/{}", self.group, self.node),
+        }
+    }
+
+    fn next_seq(&mut self) -> u64 {
+        let s = self.seq;
+        self.seq = (self.seq + 1) % 256;
+        s
+    }
+
+    pub fn bd_seq(&self) -> u64 {
+        self.bd_seq
+    }
+
+    /// The NDEATH to register as the last will of the next connection
+    /// (it carries the bdSeq that connection's NBIRTH will).
+    pub fn death(&self, now_ms: u64) -> Vec<u8> {
+        Payload {
+            timestamp: Some(now_ms),
+            metrics: vec![bd_seq_metric(self.bd_seq)],
+            seq: None,
+            ..Default::default()
+        }
+        .encode_to_vec()
+    }
+
+    /// NBIRTH and DBIRTH for a new connection (or a rebirth): the node's
+    /// metrics (bdSeq, Node Control/Rebirth) and every device metric with its
+    /// name, alias, type and value. `seq` restarts at 0.
+    pub fn birth(&mut self, now_ms: u64, metrics: &[(String, Value)]) -> (Vec<u8>, Vec<u8>) {
+        self.seq = 0;
+        let nbirth = Payload {
+            timestamp: Some(now_ms),
+            metrics: vec![
+                bd_seq_metric(self.bd_seq),
+                Metric {
+                    name: Some(REBIRTH.into()),
+                    timestamp: Some(now_ms),
+                    datatype: Some(DataType::Boolean as u32),
+                    value: Some(metric::Value::BooleanValue(false)),
+                    ..Default::default()
+                },
+            ],
+            seq: Some(self.next_seq()),
+            ..Default::default()
+        };
+        for (name, v) in metrics {
+            self.types.insert(name.clone(), v.datatype() as u32);
+            if !self.aliases.contains_key(name) {
+                self.aliases.insert(name.clone(), self.names.len() as u64);
+                self.names.push(name.clone());
+            }
+        }
+        let dbirth = Payload {
+            timestamp: Some(now_ms),
+            metrics: metrics
+                .iter()
+                .map(|(name, v)| Metric {
+                    name: Some(name.clone()),
+                    alias: self.aliases.get(name).copied(),
+                    timestamp: Some(now_ms),
+                    datatype: Some(v.datatype() as u32),
+                    value: Some(v.encode()),
+                    ..Default::default()
+                })
+                .collect(),
+            seq: Some(self.next_seq()),
+            ..Default::default()
+        };
+        (nbirth.encode_to_vec(), dbirth.encode_to_vec())
+    }
+
+    /// The connection is gone: the next one gets the next bdSeq.
+    pub fn disconnected(&mut self) {
+        self.bd_seq = (self.bd_seq + 1) % 256;
+    }
+
+    /// A DDATA of changed metrics, by alias only (names were in the DBIRTH).
+    /// A name not born yet is refused (the caller rebirths).
+    pub fn data(&mut self, now_ms: u64, changes: &[(String, Value)]) -> Option<Vec<u8>> {
+        let metrics = changes
+            .iter()
+            .map(|(name, v)| {
+                Some(Metric {
+                    alias: Some(*self.aliases.get(name)?),
+                    timestamp: Some(now_ms),
+                    datatype: Some(v.datatype() as u32),
+                    value: Some(v.encode()),
+                    ..Default::default()
+                })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(
+            Payload {
+                timestamp: Some(now_ms),
+                metrics,
+                seq: Some(self.next_seq()),
+                ..Default::default()
+            }
+            .encode_to_vec(),
+        )
+    }
+
+    /// The metrics of an NCMD/DCMD: (name, value) each, aliases resolved.
+    pub fn command(&self, payload: &[u8]) -> Result<Vec<(String, Value)>, String> {
+        let p = Payload::decode(payload).map_err(|e| format!("not a Sparkplug B payload: {e}"))?;
+        p.metrics
+            .iter()
+            .map(|m| {
+                let name = match (&m.name, m.alias) {
+                    (Some(n), _) => n.clone(),
+                    (None, Some(a)) => self
+                        .names
+                        .get(a as usize)
+                        .cloned()
+                        .ok_or_else(|| format!("unknown alias {a}"))?,
+                    (None, None) => return Err("a metric without a name or an alias".to_string()),
+                };
+                let value = m.value.as_ref().ok_or_else(|| format!("`{name}` has no value"))?;
+                let datatype = m
+                    .datatype
+                    .or_else(|| self.datatype_of(&name))
+                    .ok_or_else(|| format!("`{name}` has no data type"))?;
+                Ok((
+                    name.clone(),
+                    Value::decode(datatype, value).map_err(|e| format!("`{name}`: {e}"))?,
+                ))
+            })
+            .collect()
+    }
+
+    fn datatype_of(&self, name: &str) -> Option<u32> {
+        match name {
+            REBIRTH => Some(DataType::Boolean as u32),
+            _ => self.types.get(name).copied(),
+        }
+    }
+}
+
+fn bd_seq_metric(v: u64) -> Metric {
+    Metric {
+        name: Some(BD_SEQ.into()),
+        datatype: Some(DataType::Int64 as u32),
+        value: Some(metric::Value::LongValue(v)),
+        ..Default::default()
+    }
+}

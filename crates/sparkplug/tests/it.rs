@@ -1,0 +1,162 @@
+//! The edge node's messages decoded back with the same protobuf schema:
+//! births, aliases, sequence numbers, death, commands.
+
+use alba_sparkplug::proto::{Metric, Payload, metric};
+use alba_sparkplug::{BD_SEQ, DataType, EdgeNode, REBIRTH, Topic, Value};
+use prost::Message;
+
+fn metrics() -> Vec<(String, Value)> {
+    vec![
+        ("Start".into(), Value::Bool(true)),
+        ("Level".into(), Value::Int16(-5)),
+        ("Delay/ACC".into(), Value::Int32(-70_000)),
+        ("Speed".into(), Value::Float(1.5)),
+        ("Big".into(), Value::Int64(-1)),
+    ]
+}
+
+#[test]
+fn births_name_alias_and_type_every_metric() {
+    let mut n = EdgeNode::new("plant", "line1", "plc");
+    assert_eq!(n.topic("NBIRTH"), "spBv1.0/plant/NBIRTH/line1");
+    assert_eq!(n.topic("DDATA"), "spBv1.0/plant/DDATA/line1/plc");
+    let (nb, db) = n.birth(1000, &metrics());
+    let nb = Payload::decode(nb.as_slice()).expect("nbirth");
+    assert_eq!(nb.seq, Some(0));
+    assert_eq!(nb.metrics[0].name.as_deref(), Some(BD_SEQ));
+    assert_eq!(nb.metrics[1].name.as_deref(), Some(REBIRTH));
+    let db = Payload::decode(db.as_slice()).expect("dbirth");
+    assert_eq!(db.seq, Some(1));
+    let level = &db.metrics[1];
+    assert_eq!((level.alias, level.datatype), (Some(1), Some(DataType::Int16 as u32)));
+    // Two's complement in the 32-bit field, as Sparkplug 3.0 says.
+    assert_eq!(level.value, Some(metric::Value::IntValue(0xFFFB)));
+    assert_eq!(db.metrics[2].value, Some(metric::Value::IntValue((-70_000i32) as u32)));
+    assert_eq!(db.metrics[4].value, Some(metric::Value::LongValue(u64::MAX)));
+    for (m, (name, v)) in db.metrics.iter().zip(metrics()) {
+        assert_eq!(m.name.as_deref(), Some(name.as_str()));
+        let back = Value::decode(m.datatype.expect("type"), m.value.as_ref().expect("value")).expect("decode");
+        assert_eq!(back, v);
+    }
+}
+
+#[test]
+fn data_goes_by_alias_and_seq_wraps() {
+    let mut n = EdgeNode::new("g", "n", "d");
+    n.birth(0, &metrics());
+    let mut last = 1;
+    for k in 0..600u64 {
+        let d = n.data(k, &[("Level".into(), Value::Int16(k as i16))]).expect("born");
+        let d = Payload::decode(d.as_slice()).expect("ddata");
+        let seq = d.seq.expect("seq");
+        assert_eq!(seq, (last + 1) % 256);
+        last = seq;
+        assert_eq!((d.metrics[0].name.as_deref(), d.metrics[0].alias), (None, Some(1)));
+    }
+    assert!(
+        n.data(0, &[("Unborn".into(), Value::Bool(true))]).is_none(),
+        "a rebirth is due"
+    );
+    // A rebirth restarts seq at 0 and keeps the aliases.
+    let (nb, _) = n.birth(0, &metrics());
+    assert_eq!(Payload::decode(nb.as_slice()).expect("nbirth").seq, Some(0));
+}
+
+#[test]
+fn death_carries_the_births_bd_seq_and_grows_per_connection() {
+    let mut n = EdgeNode::new("g", "n", "d");
+    let bd = |p: &[u8]| match Payload::decode(p).expect("payload").metrics[0].value {
+        Some(metric::Value::LongValue(v)) => v,
+        ref v => panic!("{v:?}"),
+    };
+    let will = n.death(0);
+    let (nb, _) = n.birth(0, &metrics());
+    assert_eq!(bd(&will), bd(&nb));
+    n.disconnected();
+    assert_eq!(bd(&n.death(0)), bd(&will) + 1);
+}
+
+#[test]
+fn commands_by_name_or_alias_with_or_without_a_type() {
+    let mut n = EdgeNode::new("g", "n", "d");
+    n.birth(0, &metrics());
+    let cmd = Payload {
+        metrics: vec![
+            Metric {
+                name: Some("Level".into()),
+                value: Some(metric::Value::IntValue(0xFFFF)),
+                ..Default::default()
+            },
+            Metric {
+                alias: Some(3),
+                datatype: Some(DataType::Float as u32),
+                value: Some(metric::Value::FloatValue(2.5)),
+                ..Default::default()
+            },
+        ],
+        ..Default::default()
+    };
+    assert_eq!(
+        n.command(&cmd.encode_to_vec()).expect("command"),
+        [
+            ("Level".to_string(), Value::Int16(-1)),
+            ("Speed".to_string(), Value::Float(2.5))
+        ]
+    );
+    for bad in [
+        Payload {
+            metrics: vec![Metric {
+                alias: Some(99),
+                value: Some(metric::Value::BooleanValue(true)),
+                ..Default::default()
+            }],
+            ..Default::default()
+        },
+        Payload {
+            metrics: vec![Metric {
+                name: Some("X".into()),
+                value: Some(metric::Value::BooleanValue(true)),
+                ..Default::default()
+            }],
+            ..Default::default()
+        },
+        Payload {
+            metrics: vec![Metric {
+                name: Some("Level".into()),
+                value: Some(metric::Value::StringValue("a".into())),
+                ..Default::default()
+            }],
+            ..Default::default()
+        },
+        Payload {
+            metrics: vec![Metric {
+                name: Some("Level".into()),
+                ..Default::default()
+            }],
+            ..Default::default()
+        },
+    ] {
+        assert!(n.command(&bad.encode_to_vec()).is_err(), "{bad:?}");
+    }
+    assert!(n.command(b"\xff\xff\xff garbage").is_err());
+    assert_eq!(
+        Topic::parse("spBv1.0/g/DCMD/n/d"),
+        Some(Topic {
+            group: "g".into(),
+            kind: "DCMD".into(),
+            node: "n".into(),
+            device: Some("d".into())
+        })
+    );
+    assert_eq!(Topic::parse("spBv1.0/g/DCMD/n/d/x"), None);
+}
+
+proptest::proptest! {
+    /// Any bytes as a command: an error or metrics, never a panic.
+    #[test]
+    fn any_bytes_as_a_command_never_panic(bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..200)) {
+        let mut n = EdgeNode::new("g", "n", "d");
+        n.birth(0, &metrics());
+        let _ = n.command(&bytes);
+    }
+}
