@@ -257,3 +257,5 @@ export type PowerMsg = { type: 'power', scan: number, program: string, on: Array
 export type ErrorMsg = { type: 'error', error: string, };
 
 export type StatusMsg = { type: 'status', project: string, state: RunState, fault: string | null, scan_ms: number, scans: number, time_ms: number, stats: Stats, minor_faults: number, io: string, programs: Array<string>, clients: number, };
+
+export type AlarmsMsg = { type: 'alarms', alarms: number, active: number, unacked: number, shelved: number, suppressed: number, out_of_service: number, new_10min: number, flood: boolean, top_unacked: string | null, top_severity: number | null, };

@@ -49,6 +49,8 @@ pub struct Stats {
 
 pub struct Hub {
     alarms: Mutex<Alarms>,
+    /// Grows with every change of state: clients resend what they show only then.
+    generation: std::sync::atomic::AtomicU64,
     /// When alarms became active, within the flood window.
     activations: Mutex<std::collections::VecDeque<i64>>,
     log: Option<Log>,
@@ -60,6 +62,7 @@ impl Hub {
     pub fn new(defs: Vec<AlarmDef>, log: Option<Log>) -> Hub {
         Hub {
             alarms: Mutex::new(Alarms::new(defs)),
+            generation: std::sync::atomic::AtomicU64::new(0),
             activations: Mutex::new(std::collections::VecDeque::new()),
             log,
             log_error: Mutex::new(None),
@@ -80,6 +83,9 @@ impl Hub {
     pub fn update(&self, now_ms: i64, mem: &Memory) -> Result<Vec<Event>, LogError> {
         let events = self.lock().update(now_ms, mem);
         self.count_activations(now_ms, &events);
+        if !events.is_empty() {
+            self.bump();
+        }
         if let Some(log) = &self.log {
             let r = log.append(&events);
             *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = r.as_ref().err().map(|e| e.to_string());
@@ -150,7 +156,18 @@ impl Hub {
             log.append(std::slice::from_ref(&event))?;
         }
         *alarms = next;
+        self.bump();
         Ok(event)
+    }
+
+    fn bump(&self) {
+        self.generation.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Changes of state so far (evaluator and operators): a client resends
+    /// the alarm summary when this moved.
+    pub fn generation(&self) -> u64 {
+        self.generation.load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// The alarms not in `normal` (most severe first), or every alarm.
@@ -185,6 +202,9 @@ impl Hub {
             }
         }
         lost.dedup();
+        if !lost.is_empty() {
+            self.bump();
+        }
         for id in &lost {
             let why = "its tag is no longer in the program (online edit)";
             if let Ok(e) = a.set_out_of_service(id, true, why, "system", now_ms) {

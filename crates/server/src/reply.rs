@@ -438,6 +438,18 @@ pub struct ErrorMsg {
     pub error: String,
 }
 
+/// WebSocket: the alarm summary, at start and after every change of an
+/// alarm's state (then `GET /api/alarms` has the list).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct AlarmsMsg {
+    #[ts(type = "'alarms'")]
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    #[serde(flatten)]
+    #[ts(flatten)]
+    pub stats: AlarmStats,
+}
+
 /// WebSocket: the status, every 500 ms and at each change of state.
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct StatusMsg {
@@ -510,6 +522,7 @@ pub fn typescript() -> String {
         PowerMsg,
         ErrorMsg,
         StatusMsg,
+        AlarmsMsg,
     );
     out
 }

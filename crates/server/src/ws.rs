@@ -11,7 +11,7 @@
 
 use crate::api::status::status_of;
 use crate::auth::SessionKey;
-use crate::reply::{ErrorMsg, PowerMsg, StatusMsg};
+use crate::reply::{AlarmsMsg, ErrorMsg, PowerMsg, StatusMsg};
 use crate::state::AppState;
 use crate::{project, tags};
 use alba_ir::model::Value;
@@ -70,6 +70,8 @@ struct Client {
     power_sent: HashMap<String, Vec<u32>>,
     status_at: Option<Instant>,
     status_state: &'static str,
+    /// The alarm hub's generation last sent (`None`: not yet).
+    alarms_sent: Option<u64>,
 }
 
 impl Client {
@@ -174,6 +176,16 @@ impl Client {
             self.status_at = Some(Instant::now());
             self.status_state = state;
         }
+        if let Some(hub) = st.alarms.get() {
+            let g = hub.generation();
+            if self.alarms_sent != Some(g) {
+                self.alarms_sent = Some(g);
+                out.push(json_text(&AlarmsMsg {
+                    kind: "alarms",
+                    stats: crate::api::alarms::stats_of(st),
+                }));
+            }
+        }
         out
     }
 }
@@ -205,6 +217,7 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>, session: Option<Sessio
         power_sent: HashMap::new(),
         status_at: None,
         status_state: "",
+        alarms_sent: None,
     };
     let mut monitoring = false;
     let mut closing = st.closing.subscribe();

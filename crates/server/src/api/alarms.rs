@@ -76,6 +76,11 @@ pub async fn list(
 
 /// `GET /api/alarms/stats`.
 pub async fn stats(State(st): State<Arc<AppState>>) -> Json<AlarmStats> {
+    Json(stats_of(&st))
+}
+
+/// The alarm summary (also sent on the WebSocket).
+pub fn stats_of(st: &AppState) -> AlarmStats {
     let s = st
         .alarms
         .get()
@@ -92,7 +97,7 @@ pub async fn stats(State(st): State<Arc<AppState>>) -> Json<AlarmStats> {
             top_unacked: None,
         });
     let (top_unacked, top_severity) = s.top_unacked.map_or((None, None), |(id, sev)| (Some(id), Some(sev)));
-    Json(AlarmStats {
+    AlarmStats {
         alarms: s.alarms,
         active: s.active,
         unacked: s.unacked,
@@ -103,7 +108,7 @@ pub async fn stats(State(st): State<Arc<AppState>>) -> Json<AlarmStats> {
         flood: s.flood,
         top_unacked,
         top_severity,
-    })
+    }
 }
 
 fn hub(st: &AppState, id: &str) -> ApiResult<Arc<Hub>> {

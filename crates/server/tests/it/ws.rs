@@ -144,3 +144,31 @@ async fn a_client_that_does_not_read_is_dropped() {
     drop(stalled);
     s.stop().await;
 }
+
+/// The alarm summary comes when the socket opens and again after a change
+/// of an alarm's state (the demo's tank-plant has three alarms).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn alarm_changes_are_pushed() {
+    let s = Server::start("tank-plant", "ws-alarms").await;
+    let mut ws = connect(&s).await;
+    let first = next(&mut ws, "alarms", |_| true).await;
+    assert_eq!(first["alarms"], 3, "{first}");
+    assert_eq!(first["unacked"], 0, "{first}");
+    // The emergency stop's rising edge: forcing STOP on raises `estop`.
+    let (code, j) = s
+        .call(Method::PUT, "/api/forces/STOP", Some(json!({"value": true})))
+        .await;
+    assert!(code.is_success(), "{code} {j}");
+    let m = next(&mut ws, "alarms", |j| j["unacked"] == 1).await;
+    assert_eq!(
+        (m["top_unacked"].as_str(), m["top_severity"].as_u64()),
+        (Some("estop"), Some(1000)),
+        "{m}"
+    );
+    let (code, j) = s
+        .call(Method::POST, "/api/alarms/estop/ack", Some(json!({"comment": "test"})))
+        .await;
+    assert!(code.is_success(), "{code} {j}");
+    next(&mut ws, "alarms", |j| j["unacked"] == 0).await;
+    s.stop().await;
+}
