@@ -94,7 +94,10 @@ fn scans_allocate_nothing_in_any_engine_mode() {
             .tags
             .iter()
             .filter_map(|t| match program.layout.resolve(&t.name) {
-                Ok(alba_ir::Target::Value { place, access }) if access == alba_ir::Access::Input => Some(place),
+                Ok(alba_ir::Target::Value {
+                    place,
+                    access: alba_ir::Access::Input,
+                }) => Some(place),
                 _ => None,
             })
             .collect();
