@@ -121,7 +121,10 @@ mod tests {
                 "user_added",
                 "user_changed",
                 "user_removed",
-                "alarm_ack"
+                "alarm_ack",
+                "alarm_shelve",
+                "alarm_unshelve",
+                "alarm_out_of_service"
             ]
         );
     }
