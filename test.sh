@@ -7,7 +7,8 @@
 #   by playwright-core); the AVR toolchain building for every board; smoke runs
 #   of the simulator and of `alba bench`; the Modbus TCP server against pymodbus
 #   and libmodbus clients, the OPC UA server against asyncua, the Modbus master
-#   (--io modbus) against pymodbus slaves over TCP and RTU (tests/protocols/).
+#   (--io modbus) against pymodbus slaves over TCP and RTU, the MQTT client (JSON and
+#   Sparkplug B) against Mosquitto with paho-mqtt and pysparkplug (tests/protocols/).
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/common.sh
@@ -37,7 +38,7 @@ step "browser end-to-end tests (screenshots in target/e2e/)"
 need_chromium
 mkdir -p target/e2e
 (cd web && ALBA_BIN="$ALBA" E2E_OUT="$PWD/../target/e2e" node --test e2e/)
-step "protocols: pymodbus, libmodbus and asyncua clients against alba run --modbus --opcua; alba run --io modbus against pymodbus slaves"
+step "protocols: pymodbus, libmodbus and asyncua clients against alba run --modbus --opcua; alba run --io modbus against pymodbus slaves; Mosquitto with paho-mqtt and pysparkplug against alba run --mqtt"
 tests/protocols/run.sh "$ALBA"
 step "Arduino: every example's sketch builds for uno, nano and mega (no warnings); the simavr harness checks itself"
 # (The PID examples are refused, E501, until the PID instruction runs on the board.)
