@@ -10,6 +10,7 @@ mod firmware;
 mod listen;
 mod malformed;
 mod modbus_listen;
+mod pid_fidelity;
 mod retain;
 mod users;
 
