@@ -121,19 +121,6 @@ pub struct Alarms {
     alarms: Vec<Alarm>,
 }
 
-fn as_f64(v: Value) -> f64 {
-    match v {
-        Value::Bool(b) => f64::from(u8::from(b)),
-        Value::Sint(x) => f64::from(x),
-        Value::Int(x) => f64::from(x),
-        Value::Dint(x) => f64::from(x),
-        Value::Lint(x) => x as f64,
-        Value::Real(x) => f64::from(x),
-        Value::Lreal(x) => x,
-        Value::Time(x) => f64::from(x),
-    }
-}
-
 fn bounded(s: &str) -> String {
     let s = s.trim();
     if s.len() <= MAX_TEXT {
@@ -200,7 +187,7 @@ impl Alarms {
     pub fn update(&mut self, now_ms: i64, mem: &Memory) -> Vec<Event> {
         let mut events = Vec::new();
         for a in &mut self.alarms {
-            let value = as_f64(mem.read(a.def.place));
+            let value = mem.read(a.def.place).as_f64();
             let suppressed = a
                 .def
                 .suppressed_by

@@ -8,7 +8,7 @@
 //! them, and the engine never waits for it.
 
 use alba_historian::{ChangeFilter, Filter, Historian, Recorder};
-use alba_model::{DataType, Value};
+use alba_model::DataType;
 use alba_runtime::Snapshot;
 use alba_server::tags;
 use std::sync::Arc;
@@ -18,19 +18,6 @@ use tokio::sync::watch;
 const FLUSH_MS: u64 = 250;
 /// Retention runs this often.
 const RETENTION_EVERY_MS: i64 = 3_600_000;
-
-fn as_f64(v: Value) -> f64 {
-    match v {
-        Value::Bool(b) => f64::from(u8::from(b)),
-        Value::Sint(x) => f64::from(x),
-        Value::Int(x) => f64::from(x),
-        Value::Dint(x) => f64::from(x),
-        Value::Lint(x) => x as f64,
-        Value::Real(x) => f64::from(x),
-        Value::Lreal(x) => x,
-        Value::Time(x) => f64::from(x),
-    }
-}
 
 /// Opens the project's history database.
 pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History) -> Result<Historian, String> {
@@ -79,7 +66,7 @@ pub fn record(
                 }
                 program = Some(s.program.clone());
             }
-            let values: Vec<(&str, f64)> = places.iter().map(|(n, p)| (n.as_str(), as_f64(s.read(*p)))).collect();
+            let values: Vec<(&str, f64)> = places.iter().map(|(n, p)| (n.as_str(), s.read(*p).as_f64())).collect();
             if let Err(e) = rec.record(s.unix_ms, &values) {
                 eprintln!("history: {e}");
             }

@@ -456,32 +456,8 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
 
 /// The alarm events of `alba sim --alarms`, as CSV, atomically.
 fn write_alarm_events(path: &Path, events: &[alba_alarms::Event]) -> Result<(), String> {
-    fsutil::write_atomic(path, |w| {
-        w.write_all(b"time_ms,alarm,tag,from,to,value,severity,message\n")?;
-        for e in events {
-            let mut line = String::new();
-            let fields = [
-                e.t_ms.to_string(),
-                e.id.clone(),
-                e.tag.clone(),
-                e.from.name().to_string(),
-                e.to.name().to_string(),
-                alba_alarms::format_value(e.value),
-                e.severity.to_string(),
-                e.message.clone(),
-            ];
-            for (k, f) in fields.iter().enumerate() {
-                if k > 0 {
-                    line.push(',');
-                }
-                alba_audit::push_field(&mut line, f);
-            }
-            line.push('\n');
-            w.write_all(line.as_bytes())?;
-        }
-        Ok(())
-    })
-    .map_err(|e| format!("cannot write the alarm events to {}: {e}", path.display()))
+    fsutil::write_atomic(path, |w| alba_alarms::log::write_events_csv(events, w))
+        .map_err(|e| format!("cannot write the alarm events to {}: {e}", path.display()))
 }
 
 fn fail(msg: impl std::fmt::Display) -> ExitCode {
