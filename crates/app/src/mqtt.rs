@@ -170,6 +170,27 @@ pub(crate) fn backoff(current: Duration) -> (Duration, Duration) {
     (wait, (current * 2).min(Duration::from_secs(30)))
 }
 
+/// Publishes `payload` on `topic` (the will's message, sent by hand on a
+/// clean stop) and disconnects, within half a second.
+pub(crate) async fn goodbye(
+    c: &AsyncClient,
+    mut eventloop: rumqttc::EventLoop,
+    topic: String,
+    retain: bool,
+    payload: Vec<u8>,
+) {
+    let _ = c.try_publish(topic, QoS::AtLeastOnce, retain, payload);
+    let _ = tokio::time::timeout(Duration::from_millis(500), async {
+        let _ = c.disconnect().await;
+        while let Ok(ev) = eventloop.poll().await {
+            if matches!(ev, Event::Outgoing(rumqttc::Outgoing::Disconnect)) {
+                break;
+            }
+        }
+    })
+    .await;
+}
+
 /// The tags a client publishes: every value of the layout, or those `tags` names (and their members).
 pub(crate) fn published(layout: &alba_ir::Layout, tags: &[String]) -> Vec<(String, alba_ir::Place)> {
     let mut places = alba_server::tags::every_value(layout);
@@ -252,15 +273,13 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
             }
         }
         // A clean goodbye: the broker would otherwise send the will.
-        let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "offline");
-        let _ = tokio::time::timeout(Duration::from_millis(500), async {
-            let _ = c.disconnect().await;
-            while let Ok(ev) = eventloop.poll().await {
-                if matches!(ev, Event::Outgoing(rumqttc::Outgoing::Disconnect)) {
-                    break;
-                }
-            }
-        })
+        goodbye(
+            &c,
+            eventloop,
+            format!("{}/status", cfg.prefix),
+            true,
+            b"offline".to_vec(),
+        )
         .await;
     });
 

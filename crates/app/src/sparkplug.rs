@@ -9,7 +9,7 @@
 //! sends the births again; DCMD writes metrics with the HTTP API's rules.
 //! The codec is `alba-sparkplug` (no I/O).
 
-use crate::mqtt::{Settings, backoff, options, published, write};
+use crate::mqtt::{Settings, backoff, goodbye, options, published, write};
 use crate::{Service, Started};
 use alba_model::Value;
 use alba_sparkplug::{EdgeNode, REBIRTH, Value as SpValue};
@@ -170,16 +170,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings) -> Result<Started, String> {
         }
         // A clean goodbye: the NDEATH the broker would otherwise send.
         let node = lock(&n);
-        let _ = c.try_publish(node.topic("NDEATH"), QoS::AtLeastOnce, false, node.death(now_ms()));
-        let _ = tokio::time::timeout(Duration::from_millis(500), async {
-            let _ = c.disconnect().await;
-            while let Ok(ev) = eventloop.poll().await {
-                if matches!(ev, Event::Outgoing(rumqttc::Outgoing::Disconnect)) {
-                    break;
-                }
-            }
-        })
-        .await;
+        goodbye(&c, eventloop, node.topic("NDEATH"), false, node.death(now_ms())).await;
     });
 
     // The publisher: one DDATA per snapshot with what changed since the birth.

@@ -2,8 +2,6 @@
 //! each with its types, its raw (serde) form and its checks; this module
 //! holds the top level and [`Config::parse`].
 
-mod alarms;
-mod audit;
 mod board;
 mod history;
 mod http;
@@ -12,13 +10,12 @@ mod modbus_device;
 mod mqtt;
 mod opcua;
 mod plant;
+mod retention;
 mod session;
 mod setting;
 #[cfg(test)]
 mod tests;
 
-pub use alarms::Alarms;
-pub use audit::Audit;
 pub use board::Board;
 pub use history::History;
 pub use http::{Http, parse_origin, split_authority};
@@ -28,6 +25,7 @@ pub use modbus_device::{
 };
 pub use mqtt::{Mqtt, Sparkplug, is_host_port};
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
+pub use retention::{Alarms, Audit, Retention};
 pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
@@ -86,8 +84,8 @@ struct RawConfig {
     board: Option<board::RawBoard>,
     retain_ms: Option<Spanned<i64>>,
     history: Option<history::RawHistory>,
-    audit: Option<audit::RawAudit>,
-    alarms: Option<alarms::RawAlarms>,
+    audit: Option<retention::RawRetention>,
+    alarms: Option<retention::RawRetention>,
     #[serde(default)]
     plant_model: Vec<plant::RawPlant>,
     modbus: Option<modbus::RawModbus>,
@@ -159,10 +157,10 @@ impl Config {
             .map_or_else(History::default, |h| history::history(h, file, &mut diags));
         let audit = raw
             .audit
-            .map_or_else(Audit::default, |a| audit::audit(a, file, &mut diags));
+            .map_or_else(Retention::default, |a| retention::retention(a, file, &mut diags));
         let alarms = raw
             .alarms
-            .map_or_else(Alarms::default, |a| alarms::alarms(a, file, &mut diags));
+            .map_or_else(Retention::default, |a| retention::retention(a, file, &mut diags));
         if raw.programs.get_ref().is_empty() {
             diags.push(Diagnostic::new(
                 Code::ConfigField,
