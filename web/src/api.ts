@@ -1,7 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { Domain } from './domain';
-import type { Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo } from './types';
+import type { Alarm, Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -83,6 +83,8 @@ export const api = {
   tags: () => json<TagInfo[]>('GET', '/api/tags'),
   writeTag: (name: string, value: Json) => json<{ name: string; value: Json }>('PUT', `/api/tags/${enc(name)}`, { value }),
   forces: () => json<Force[]>('GET', '/api/forces'),
+  alarms: () => json<Alarm[]>('GET', '/api/alarms'),
+  ackAlarm: (id: string, comment: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/ack`, { comment }),
   force: (name: string, value: Json) => json<Force>('PUT', `/api/forces/${enc(name)}`, { value }),
   unforce: (name: string) => json<void>('DELETE', `/api/forces/${enc(name)}`),
   programs: () => json<ProgramRef[]>('GET', '/api/programs'),

@@ -22,9 +22,10 @@ export const ROLES: readonly Role[] = ['viewer', 'operator', 'engineer', 'admin'
  * - `tags`: change the tag table (PUT /api/tags.csv),
  * - `runstop`: run or stop the PLC (POST /api/run, /api/stop),
  * - `audit`: read the audit trail (GET /api/audit),
+ * - `ack`: acknowledge an alarm (POST /api/alarms/{id}/ack),
  * - `users`: manage users.
  */
-export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'users';
+export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'users';
 
 /** The route each action is (the server's role table decides its role). */
 const ROUTE: Record<Action, [method: string, route: string]> = {
@@ -34,6 +35,7 @@ const ROUTE: Record<Action, [method: string, route: string]> = {
   tags: ['PUT', '/api/tags.csv'],
   runstop: ['POST', '/api/stop'],
   audit: ['GET', '/api/audit'],
+  ack: ['POST', '/api/alarms/{id}/ack'],
   // No route of its own yet: user management is `alba user` on the controller.
   users: ['POST', '/api/users'],
 };

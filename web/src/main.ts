@@ -15,6 +15,7 @@ import { boot, loginText, setNextLoginMessage, showLogin } from './login';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
+import { AlarmBanner } from './ui/alarms';
 import { StatusBar } from './ui/statusbar';
 
 interface View {
@@ -60,6 +61,7 @@ async function start(me: Me): Promise<void> {
   const compileBtn = h('button', { 'data-testid': 'btn-compile', title: 'Check the program being edited' }, 'Compile');
   const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: 'Save the program and apply it online' }, 'Save');
   const nav = h('nav', { class: 'tabs', 'data-testid': 'tabs' });
+  const alarms = new AlarmBanner(notify);
   const main = h('main', { class: 'content' });
   document.body.append(
     h('header', { class: 'topbar' },
@@ -67,6 +69,7 @@ async function start(me: Me): Promise<void> {
       h('span', { class: 'seg' }, runBtn, stopBtn),
       h('span', { class: 'seg' }, compileBtn, saveBtn)),
     nav,
+    alarms.el,
     main,
     statusBar.el,
     toasts,
@@ -135,6 +138,7 @@ async function start(me: Me): Promise<void> {
       statusBar.status(b.status);
       showRunState(b.status.state);
     }
+    if (b.alarms) void alarms.update(b.alarms);
     b.errors.forEach((e) => console.warn('server:', e));
   });
   live.connect();

@@ -39,4 +39,8 @@ export interface ValuesMsg {
 export type PowerMsg = G.PowerMsg;
 export type StatusMsg = G.StatusMsg;
 export type ErrorMsg = G.ErrorMsg;
-export type ServerMsg = ValuesMsg | PowerMsg | StatusMsg | ErrorMsg;
+export type AlarmsMsg = G.AlarmsMsg;
+export type ServerMsg = ValuesMsg | PowerMsg | StatusMsg | ErrorMsg | AlarmsMsg;
+/** An alarm (`GET /api/alarms`) and the summary (`GET /api/alarms/stats`, WebSocket `alarms`). */
+export type Alarm = G.AlarmReply;
+export type AlarmStats = G.AlarmStats;

@@ -152,3 +152,14 @@ describe('live client', () => {
     expect(c.status?.state).toBe('running');
   });
 });
+
+describe('alarms', () => {
+  it('keeps the latest alarm summary of a batch', () => {
+    const b = emptyBatch();
+    const stats = { alarms: 3, active: 1, unacked: 1, shelved: 0, suppressed: 0, out_of_service: 0, new_10min: 1, flood: false, top_unacked: 'estop', top_severity: 1000 };
+    merge(b, { type: 'alarms', ...stats, unacked: 2 });
+    merge(b, { type: 'alarms', ...stats });
+    expect(b.alarms).toEqual(stats);
+    expect(b.alarms).not.toHaveProperty('type');
+  });
+});

@@ -1,6 +1,6 @@
 // Coalesces WebSocket messages into one batch per animation frame, so the
 // DOM is touched at most once a frame however fast the server sends.
-import type { Json, ServerMsg, Status } from '../types';
+import type { AlarmStats, Json, ServerMsg, Status } from '../types';
 
 export interface Batch {
   /** The latest value of every name that changed, keys as sent. */
@@ -10,11 +10,13 @@ export interface Batch {
   /** The latest power flow of each program. */
   power: Map<string, number[]>;
   status: Status | null;
+  /** The latest alarm summary (projects with alarms.csv). */
+  alarms: AlarmStats | null;
   errors: string[];
 }
 
 export function emptyBatch(): Batch {
-  return { values: new Map(), t_ms: null, power: new Map(), status: null, errors: [] };
+  return { values: new Map(), t_ms: null, power: new Map(), status: null, alarms: null, errors: [] };
 }
 
 /** Merges one message into a batch: later values overwrite earlier ones. */
@@ -30,6 +32,11 @@ export function merge(b: Batch, msg: ServerMsg): void {
     case 'status': {
       const { type: _type, ...status } = msg;
       b.status = status;
+      break;
+    }
+    case 'alarms': {
+      const { type: _type, ...stats } = msg;
+      b.alarms = stats;
       break;
     }
     case 'error':

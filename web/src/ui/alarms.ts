@@ -1,0 +1,100 @@
+// The alarm banner on every page (docs/alarms.md): hidden while no alarm waits
+// for an acknowledgement; otherwise the most severe unacknowledged alarm and
+// how many there are, and a button that opens the list of alarms not in
+// `normal` with an Acknowledge button each (operator and up). Driven by the
+// WebSocket's `alarms` summary; the list is fetched when it changes.
+import { api } from '../api';
+import { gate } from '../auth';
+import { clear, h } from '../dom';
+import type { Alarm, AlarmStats } from '../types';
+
+/** The strings of the banner (one place; a Spanish catalogue comes later). */
+export const alarmText = {
+  waiting: (n: number) => (n === 1 ? '1 alarm to acknowledge' : `${n} alarms to acknowledge`),
+  flood: 'alarm flood: more than 10 new alarms in 10 minutes',
+  show: 'Alarms',
+  hide: 'Hide',
+  ack: 'Acknowledge',
+  none: 'No alarms.',
+  state: {
+    active_unacked: 'active, not acknowledged',
+    active_acked: 'active, acknowledged',
+    cleared_unacked: 'cleared, not acknowledged',
+    shelved: 'shelved',
+    suppressed: 'suppressed',
+    out_of_service: 'out of service',
+    normal: 'normal',
+  } as Record<string, string>,
+};
+
+/** Severity band for colour: critical ≥ 1000 > high ≥ 750 > medium ≥ 500 > low. */
+export function band(severity: number): 'critical' | 'high' | 'medium' | 'low' {
+  return severity >= 1000 ? 'critical' : severity >= 750 ? 'high' : severity >= 500 ? 'medium' : 'low';
+}
+
+export class AlarmBanner {
+  readonly el: HTMLElement;
+  private readonly text = h('span', { class: 'alarm-text', 'data-testid': 'alarm-text' });
+  private readonly list = h('table', { class: 'alarm-list', 'data-testid': 'alarm-list', hidden: true });
+  private readonly toggle = h('button', { class: 'small', 'data-testid': 'alarm-toggle' }, alarmText.show);
+  private alarms: Alarm[] = [];
+
+  constructor(private readonly notify: (m: string, kind?: 'info' | 'error') => void) {
+    this.el = h('div', { class: 'alarm-banner', 'data-testid': 'alarm-banner', role: 'alert', hidden: true }, this.text, this.toggle, this.list);
+    this.toggle.onclick = () => {
+      this.list.hidden = !this.list.hidden;
+      this.toggle.textContent = this.list.hidden ? alarmText.show : alarmText.hide;
+    };
+  }
+
+  /** A new summary: show or hide, and fetch the list when something waits. */
+  async update(s: AlarmStats): Promise<void> {
+    this.el.hidden = s.unacked === 0 && !s.flood;
+    this.el.dataset.band = s.top_severity === null ? '' : band(s.top_severity);
+    if (this.el.hidden) return;
+    try {
+      this.alarms = await api.alarms();
+    } catch (e) {
+      this.notify(e instanceof Error ? e.message : String(e), 'error');
+      return;
+    }
+    const top = this.alarms.find((a) => a.id === s.top_unacked);
+    this.text.textContent = [alarmText.waiting(s.unacked), top ? `${top.id}: ${top.message}` : '', s.flood ? alarmText.flood : '']
+      .filter(Boolean)
+      .join(' — ');
+    this.render();
+  }
+
+  private render(): void {
+    clear(this.list);
+    if (this.alarms.length === 0) {
+      this.list.append(h('tr', null, h('td', null, alarmText.none)));
+      return;
+    }
+    for (const a of this.alarms) {
+      const ack = h('button', { class: 'small', 'data-testid': `alarm-ack-${a.id}`, hidden: !a.state.endsWith('unacked') }, alarmText.ack);
+      gate(ack, 'ack');
+      ack.onclick = async () => {
+        ack.disabled = true;
+        try {
+          await api.ackAlarm(a.id, '');
+        } catch (e) {
+          this.notify(e instanceof Error ? e.message : String(e), 'error');
+          ack.disabled = false;
+        }
+      };
+      this.list.append(
+        h(
+          'tr',
+          { 'data-testid': `alarm-row-${a.id}`, 'data-band': band(a.severity), 'data-state': a.state },
+          h('td', { class: 'sev' }, String(a.severity)),
+          h('td', null, a.id),
+          h('td', null, a.message),
+          h('td', null, alarmText.state[a.state] ?? a.state),
+          h('td', null, new Date(a.since_ms).toLocaleTimeString()),
+          h('td', null, ack),
+        ),
+      );
+    }
+  }
+}

@@ -1,0 +1,45 @@
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import { AlarmBanner, alarmText, band } from '../src/ui/alarms';
+import type { Alarm, AlarmStats } from '../src/types';
+
+const stats = (over: Partial<AlarmStats> = {}): AlarmStats => ({
+  alarms: 3, active: 1, unacked: 1, shelved: 0, suppressed: 0, out_of_service: 0, new_10min: 1, flood: false,
+  top_unacked: 'estop', top_severity: 1000, ...over,
+});
+const alarm = (over: Partial<Alarm> = {}): Alarm => ({
+  id: 'estop', tag: 'STOP', state: 'active_unacked', severity: 1000, message: 'Emergency stop pressed', since_ms: 0,
+  condition: 'rising', value: 1, active: true, acked_by: null, ack_comment: null, acked_ms: null, shelved_until_ms: null,
+  reason: null, by: null, ...over,
+});
+
+afterEach(() => vi.unstubAllGlobals());
+
+describe('the alarm banner', () => {
+  it('bands severities as docs/alarms.md names them', () => {
+    expect([band(1000), band(750), band(500), band(250)]).toEqual(['critical', 'high', 'medium', 'low']);
+  });
+
+  it('is hidden with nothing to acknowledge, and shows the most severe alarm otherwise', async () => {
+    const list = [alarm(), alarm({ id: 'level_hi', severity: 750, message: 'Tank above 55 L', state: 'active_acked' })];
+    vi.stubGlobal('fetch', vi.fn(async () => new Response(JSON.stringify(list), { status: 200 })));
+    const b = new AlarmBanner(() => undefined);
+    await b.update(stats({ unacked: 0, top_unacked: null, top_severity: null }));
+    expect(b.el.hidden).toBe(true);
+    await b.update(stats());
+    expect(b.el.hidden).toBe(false);
+    expect(b.el.dataset.band).toBe('critical');
+    expect(b.el.querySelector('[data-testid=alarm-text]')?.textContent).toBe(`${alarmText.waiting(1)} — estop: Emergency stop pressed`);
+    // One row per alarm; only the unacknowledged one can be acknowledged.
+    expect(b.el.querySelectorAll('tr').length).toBe(2);
+    expect((b.el.querySelector('[data-testid=alarm-ack-estop]') as HTMLButtonElement).hidden).toBe(false);
+    expect((b.el.querySelector('[data-testid=alarm-ack-level_hi]') as HTMLButtonElement).hidden).toBe(true);
+  });
+
+  it('says a flood even when everything is acknowledged', async () => {
+    vi.stubGlobal('fetch', vi.fn(async () => new Response('[]', { status: 200 })));
+    const b = new AlarmBanner(() => undefined);
+    await b.update(stats({ unacked: 0, flood: true, new_10min: 12, top_unacked: null, top_severity: null }));
+    expect(b.el.hidden).toBe(false);
+    expect(b.el.textContent).toContain(alarmText.flood);
+  });
+});
