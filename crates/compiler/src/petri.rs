@@ -261,89 +261,8 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
             ));
         }
     }
-    // `<tag>` places.
-    let mut drives = Vec::new();
-    for (k, p) in net.places.iter().enumerate() {
-        let Some(tag) = &p.tag else { continue };
-        let bad = |msg: String| Diagnostic::new(Code::NetPlaceTag, msg, p.span, "place");
-        match b.layout().resolve(tag) {
-            Ok(Target::Value { place, access }) if place.data_type() == DataType::Bool => {
-                if access != Access::ReadWrite {
-                    diags.push(bad(format!(
-                        "place `{}` cannot drive `{tag}`: {}",
-                        p.id,
-                        access.why_not_writable()
-                    )));
-                } else if net
-                    .places
-                    .iter()
-                    .any(|q| marking_tag(&name, &q.id).eq_ignore_ascii_case(tag))
-                {
-                    diags.push(bad(format!("`{tag}` is a marking, not a BOOL")));
-                } else {
-                    drives.push((k, place));
-                }
-            }
-            Ok(Target::Value { place, .. }) => diags.push(bad(format!(
-                "place `{}` drives `{tag}`, which is {}, not a BOOL",
-                p.id,
-                place.data_type().with_article()
-            ))),
-            Ok(_) => diags.push(bad(format!("`{tag}` is a structure, not a BOOL; name a member"))),
-            Err(e) => {
-                let mut d = bad(format!("place `{}` drives {e}", p.id));
-                if let Some(s) = b.layout().tags.suggest(tag) {
-                    d = d.with_help(format!("did you mean `{s}`?"));
-                }
-                diags.push(d);
-            }
-        }
-    }
-    // Guards.
-    let mut guards = Vec::with_capacity(net.transitions.len());
-    for t in &net.transitions {
-        let before = diags.len();
-        let g = t
-            .guard
-            .as_ref()
-            .and_then(|g| match expr::parse(&g.text, file, g.span.start as usize) {
-                Ok(e) => {
-                    let mut gc = Guard { b, diags: &mut diags };
-                    match gc.ty(&e) {
-                        Some(Ty::Bool) => Some(e),
-                        Some(Ty::Num(_)) => {
-                            gc.diags.push(
-                                Diagnostic::new(
-                                    Code::NetGuard,
-                                    format!("the guard of transition `{}` is a number, not a BOOL", t.id),
-                                    g.span,
-                                    "not BOOL",
-                                )
-                                .with_help("compare it: `count > 0`"),
-                            );
-                            None
-                        }
-                        None => None,
-                    }
-                }
-                Err((msg, span)) => {
-                    diags.push(Diagnostic::new(Code::NetGuard, msg, span, "in this guard"));
-                    None
-                }
-            });
-        // After an entity (`&gt;`) or in CDATA, the text's offsets are not
-        // the file's: a problem found there points at the whole guard.
-        if let Some(g) = &t.guard {
-            let raw = text.get(g.span.start as usize..g.span.end as usize).unwrap_or("");
-            let exact = g.span.start + raw.find(['&', '<']).unwrap_or(raw.len()) as u32;
-            for d in &mut diags[before..] {
-                if let Some(l) = d.primary.as_mut().filter(|l| l.span.end > exact) {
-                    l.span = g.span;
-                }
-            }
-        }
-        guards.push(g);
-    }
+    let drives = drives(net, &name, b, &mut diags);
+    let guards = guards(net, file, text, b, &mut diags);
     if !diags.is_empty() || marking.iter().any(Option::is_none) {
         return diags;
     }
@@ -438,6 +357,105 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     b.release(mark);
     b.end_unit();
     diags
+}
+
+/// The `<tag>` places of `net`: (place index, the BOOL it drives), each
+/// checked (E622).
+pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnostic>) -> Vec<(usize, Place)> {
+    let mut drives = Vec::new();
+    for (k, p) in net.places.iter().enumerate() {
+        let Some(tag) = &p.tag else { continue };
+        let bad = |msg: String| Diagnostic::new(Code::NetPlaceTag, msg, p.span, "place");
+        match b.layout().resolve(tag) {
+            Ok(Target::Value { place, access }) if place.data_type() == DataType::Bool => {
+                if access != Access::ReadWrite {
+                    diags.push(bad(format!(
+                        "place `{}` cannot drive `{tag}`: {}",
+                        p.id,
+                        access.why_not_writable()
+                    )));
+                } else if net
+                    .places
+                    .iter()
+                    .any(|q| marking_tag(name, &q.id).eq_ignore_ascii_case(tag))
+                {
+                    diags.push(bad(format!("`{tag}` is a marking, not a BOOL")));
+                } else {
+                    drives.push((k, place));
+                }
+            }
+            Ok(Target::Value { place, .. }) => diags.push(bad(format!(
+                "place `{}` drives `{tag}`, which is {}, not a BOOL",
+                p.id,
+                place.data_type().with_article()
+            ))),
+            Ok(_) => diags.push(bad(format!("`{tag}` is a structure, not a BOOL; name a member"))),
+            Err(e) => {
+                let mut d = bad(format!("place `{}` drives {e}", p.id));
+                if let Some(s) = b.layout().tags.suggest(tag) {
+                    d = d.with_help(format!("did you mean `{s}`?"));
+                }
+                diags.push(d);
+            }
+        }
+    }
+    drives
+}
+
+/// The guards of `net`'s transitions, parsed and typed as BOOL (E621);
+/// `None` for a transition without one (or with an error, reported).
+pub(crate) fn guards(
+    net: &Net,
+    file: FileId,
+    text: &str,
+    b: &mut Builder,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Option<Expr>> {
+    let mut guards = Vec::with_capacity(net.transitions.len());
+    for t in &net.transitions {
+        let before = diags.len();
+        let g = t
+            .guard
+            .as_ref()
+            .and_then(|g| match expr::parse(&g.text, file, g.span.start as usize) {
+                Ok(e) => {
+                    let mut gc = Guard { b, diags: &mut *diags };
+                    match gc.ty(&e) {
+                        Some(Ty::Bool) => Some(e),
+                        Some(Ty::Num(_)) => {
+                            gc.diags.push(
+                                Diagnostic::new(
+                                    Code::NetGuard,
+                                    format!("the guard of transition `{}` is a number, not a BOOL", t.id),
+                                    g.span,
+                                    "not BOOL",
+                                )
+                                .with_help("compare it: `count > 0`"),
+                            );
+                            None
+                        }
+                        None => None,
+                    }
+                }
+                Err((msg, span)) => {
+                    diags.push(Diagnostic::new(Code::NetGuard, msg, span, "in this guard"));
+                    None
+                }
+            });
+        // After an entity (`&gt;`) or in CDATA, the text's offsets are not
+        // the file's: a problem found there points at the whole guard.
+        if let Some(g) = &t.guard {
+            let raw = text.get(g.span.start as usize..g.span.end as usize).unwrap_or("");
+            let exact = g.span.start + raw.find(['&', '<']).unwrap_or(raw.len()) as u32;
+            for d in &mut diags[before..] {
+                if let Some(l) = d.primary.as_mut().filter(|l| l.span.end > exact) {
+                    l.span = g.span;
+                }
+            }
+        }
+        guards.push(g);
+    }
+    guards
 }
 
 /// `TRUE` and `FALSE` (reserved words, never tag names).
