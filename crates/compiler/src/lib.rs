@@ -7,6 +7,7 @@ use alba_ir::{Builder, Layout, Program};
 use alba_project::{Language, Project};
 use std::path::Path;
 
+pub mod normal;
 pub mod petri;
 
 /// The crates of the compiler's public API — project loading, diagnostics and

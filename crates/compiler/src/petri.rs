@@ -99,6 +99,9 @@ pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<
             span: p.span,
         });
     }
+    if net.mode == Mode::Normal {
+        crate::normal::extra_tags(net, name, tags, diags);
+    }
 }
 
 /// The I/O and marker addresses a net names (in guards and `<tag>`s), so
@@ -162,20 +165,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     let name = net_name(unit);
     let at_start = Span::new(file, 0..text.len().min(1));
     if net.mode == Mode::Normal {
-        diags.push(
-            Diagnostic::new(
-                Code::NetMode,
-                format!("net `{name}` is in normal mode, which cannot run yet"),
-                if net.span.end > net.span.start {
-                    net.span
-                } else {
-                    at_start
-                },
-                "normal mode",
-            )
-            .with_help("only Petri mode runs for now: set `<mode>petri</mode>` in the net's toolspecific block"),
-        );
-        return diags;
+        return crate::normal::compile(net, file, text, unit, b);
     }
     // Element kinds of the source's state nets run only in normal mode.
     let kinds = net
@@ -299,10 +289,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         b.begin_rung(n as u32 + 1, tr.span);
         let elem = b.element(tr.span);
         if let Some(g) = &guards[t] {
-            let inner = b.mark();
-            let mut gc = Guard { b, diags: &mut diags };
-            gc.cond(g, elem);
-            b.release(inner);
+            lower_guard(b, g, elem);
         }
         for &(p, w) in &a.input {
             if let Some(av) = avail[p] {
@@ -456,6 +443,14 @@ pub(crate) fn guards(
         guards.push(g);
     }
     guards
+}
+
+/// Lowers a typed guard into the rung condition (`guards` checked it).
+pub(crate) fn lower_guard(b: &mut Builder, e: &Expr, elem: u32) {
+    let mut diags = Vec::new();
+    let inner = b.mark();
+    Guard { b, diags: &mut diags }.cond(e, elem);
+    b.release(inner);
 }
 
 /// `TRUE` and `FALSE` (reserved words, never tag names).

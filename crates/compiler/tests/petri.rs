@@ -171,18 +171,119 @@ fn guards_are_bool_expressions_over_known_tags() {
 }
 
 #[test]
-fn normal_mode_and_its_element_kinds_are_refused_for_now() {
-    let normal = net(CYCLE).replace(
-        "<page id=\"pg\">",
-        "<toolspecific tool=\"alba\" version=\"1\"><mode>normal</mode></toolspecific>\n<page id=\"pg\">",
-    );
-    let dir = project("normal", TAGS, &normal, &[]);
-    assert_eq!(errors(&dir), [(Code::NetMode, "line.pnml".to_string(), 3)]);
+fn the_state_net_kinds_run_in_normal_mode_only() {
     let timer = net(
         r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind></toolspecific></transition>"#,
     );
     let dir = project("kind", TAGS, &timer, &[]);
     assert_eq!(errors(&dir), [(Code::NetMode, "line.pnml".to_string(), 5)]);
+}
+
+fn normal(body: &str) -> String {
+    net(body).replace(
+        "<page id=\"pg\">",
+        "<toolspecific tool=\"alba\" version=\"1\"><mode>normal</mode></toolspecific>\n<page id=\"pg\">",
+    )
+}
+
+#[test]
+fn normal_mode_gives_every_element_a_token_tag_and_timers_and_counts_their_own() {
+    let body = r#"<place id="s"><initialMarking><text>1</text></initialMarking></place>
+<place id="c"><toolspecific tool="alba" version="1"><kind>counter</kind><prop name="load">7</prop></toolspecific></place>
+<transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind><prop name="delay">T#2s</prop></toolspecific></transition>
+<transition id="back"/>
+<arc id="a1" source="s" target="t"/>
+<arc id="a2" source="t" target="c"/>
+<arc id="a3" source="c" target="back"/>
+<arc id="a4" source="back" target="s"/>"#;
+    let dir = project(
+        "normal-tags",
+        TAGS,
+        &normal(body),
+        &[("main.lad", "XIC(line.t.timer.DN)OTE(Lamp);\n")],
+    );
+    let c = compile_dir(&dir);
+    assert!(c.diagnostics.is_empty(), "{:?}", c.diagnostics);
+    let program = c.program.expect("compiles");
+    let names: Vec<&str> = program.layout.tags.iter().map(|t| t.name.as_str()).skip(4).collect();
+    assert_eq!(
+        names,
+        [
+            "line.s",
+            "line.c",
+            "line.t",
+            "line.t.timer",
+            "line.back",
+            "line.c.count"
+        ]
+    );
+    for member in ["line.t.timer.ACC", "line.t.timer.DN", "line.c.count", "line.back"] {
+        assert!(
+            matches!(program.layout.resolve(member), Ok(Target::Value { .. })),
+            "{member}"
+        );
+    }
+}
+
+#[test]
+fn normal_mode_elements_are_checked() {
+    let cases = [
+        // A condition without its guard.
+        (
+            r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>condition</kind></toolspecific></transition>"#,
+            Code::NetElement,
+            6,
+        ),
+        // A timer without a delay, and with a bad one.
+        (
+            r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind></toolspecific></transition>"#,
+            Code::NetElement,
+            6,
+        ),
+        (
+            r#"<place id="p"/><transition id="t"><toolspecific tool="alba" version="1"><kind>timer</kind><prop name="delay">soon</prop></toolspecific></transition>"#,
+            Code::NetElement,
+            6,
+        ),
+        // A counter counting sideways, a property a kind does not take.
+        (
+            r#"<place id="p"><toolspecific tool="alba" version="1"><kind>counter</kind><prop name="direction">sideways</prop></toolspecific></place>"#,
+            Code::NetElement,
+            6,
+        ),
+        (
+            r#"<place id="p"><toolspecific tool="alba" version="1"><prop name="colour">red</prop></toolspecific></place>"#,
+            Code::NetElement,
+            6,
+        ),
+        // Petri mode's arcs.
+        (
+            r#"<place id="p"/><transition id="t"/>
+<arc id="a" source="p" target="t"><toolspecific tool="alba" version="1"><kind>inhibitor</kind></toolspecific></arc>"#,
+            Code::NetElement,
+            7,
+        ),
+        (
+            r#"<place id="p"/><transition id="t"/>
+<arc id="a" source="p" target="t"><inscription><text>2</text></inscription></arc>"#,
+            Code::NetElement,
+            7,
+        ),
+        // Kinds that do not run yet.
+        (
+            r#"<place id="p"><toolspecific tool="alba" version="1"><kind>expression</kind></toolspecific></place>"#,
+            Code::NetMode,
+            6,
+        ),
+    ];
+    for (k, (body, code, line)) in cases.iter().enumerate() {
+        let dir = project(&format!("normal-bad-{k}"), TAGS, &normal(body), &[]);
+        assert_eq!(
+            errors(&dir),
+            [(*code, "line.pnml".to_string(), *line)],
+            "case {k}: {body}"
+        );
+    }
 }
 
 #[test]

@@ -155,8 +155,8 @@ codes! {
         "Alba keeps its own data in `<toolspecific tool=\"alba\" version=\"1\">` on the element it belongs to: on the net `<mode>petri</mode>` or `<mode>normal</mode>` and `<widget id kind [tag] [x y]>caption</widget>` (kind button, display, plot or label); on a place `<tag>NAME</tag>`, `<kind>` (state, counter, expression, variable, input, output, stop, end), `<prop name=\"..\">value</prop>` and `<script>`; on a transition `<guard>EXPR</guard>`, `<priority>N</priority>`, `<kind>` (transition, condition, timer) and `<prop>`; on an arc `<kind>normal|inhibitor|read</kind>` (inhibitor and read arcs go from a place to a transition). Each appears at most once. See docs/nets.md.";
     PnmlIgnored = 608, "part of a PNML file was ignored (a warning)",
         "An element Alba does not know (another tool's extension outside `<toolspecific>`, a label of another net type) is skipped with this warning, once per element name; the net loads. Other tools' `<toolspecific>` blocks are not ignored: they are kept and written back unchanged.";
-    NetMode = 620, "a net's mode cannot run yet",
-        "Only Petri mode runs in the scan for now (docs/nets.md, \"petri\"); a net in normal (token-flow) mode is refused at its `<net>` element.";
+    NetMode = 620, "a net element cannot run in this mode (yet)",
+        "Petri mode has plain places and transitions (with guards and `<tag>`); the state-net kinds (Timer, Condition, Counter, Stop, End…) run in normal mode (`<mode>normal</mode>`). In normal mode, Expression, Variable, Input and Output elements do not run yet (docs/nets.md).";
     NetGuard = 621, "a transition guard is not valid",
         "A `<guard>` is a BOOL expression of Alba's expression language: tag names and members, literals, `NOT`, `AND`, `OR`, `XOR`, parentheses, comparisons (= <> < > <= >=) and arithmetic (+ - * / MOD **). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
     NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
@@ -167,6 +167,8 @@ codes! {
         "Markings are DINT tags: an initial marking or an arc weight (the arcs between one place and one transition added up) must be at most 2147483647.";
     NetArc = 625, "an arc cannot be used by a Petri-mode net",
         "Inhibitor and read (test) arcs go from a place to a transition; from a transition to a place only normal arcs produce tokens.";
+    NetElement = 630, "a normal-mode element is not valid",
+        "In a normal-mode net (docs/nets.md \"Normal mode\") every element holds at most one token and passes it on: arcs are plain (no inhibitor or read arcs) and weigh 1; a Condition needs a `<guard>`; a Timer needs `<prop name=\"delay\">` (milliseconds or T#5s); a Counter takes `load` (a DINT) and `direction` (up or down); other kinds take no properties.";
 }
 
 impl fmt::Display for Code {

@@ -112,8 +112,10 @@ impl Layout {
         {
             return Ok(t);
         }
-        // A net's marking tags (`line.filling`) have a dot in their name.
-        let (base, member) = match name.split_once('.') {
+        // A net's tags have dots in their names (`line.filling`, and the
+        // timer `line.t1.timer` whose member is `line.t1.timer.DN`): a whole
+        // name first, else the member after the last dot.
+        let (base, member) = match name.rsplit_once('.') {
             Some(_) if self.tags.get(name).is_some() => (name, None),
             Some((b, m)) => (b, Some(m)),
             None => (name, None),
