@@ -310,6 +310,8 @@ fn examples_run_the_same_on_the_uno() {
         "festo-station",
         // A Petri-mode net with a ladder program: nets use only ops the sketch translates.
         "petri-resource",
+        // A normal-mode state net (timers, a counter, conditions, an end) with a ladder program.
+        "state-net-batch",
     ] {
         let case = example(name);
         if let Some((stim, until, every)) =
