@@ -19,7 +19,7 @@
 //! Only existing ops are used, so every engine mode and the Arduino export
 //! run these nets too.
 
-use crate::petri::{drives, guards, lower_guard, marking_tag, net_name};
+use crate::petri::{check_number, drives, guards, lower_assign, lower_guard, marking_tag, net_name};
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::{BinOp, Builder, Cmp, I, Op, Place, Target, Tmr};
 use alba_model::{DataType, Tag, TagTable, Value};
@@ -29,6 +29,11 @@ use std::collections::HashMap;
 /// The TIMER of a Timer transition.
 pub fn timer_tag(net: &str, id: &str) -> String {
     format!("{net}.{id}.timer")
+}
+
+/// The REAL variable of an Expression place (its direct assignments).
+pub fn value_tag(net: &str, id: &str) -> String {
+    format!("{net}.{id}.value")
 }
 
 /// The DINT count of a Counter place.
@@ -85,6 +90,15 @@ pub fn extra_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<Di
         }
     }
     for p in &net.places {
+        if p.kind == ElementKind::Expression {
+            add(
+                value_tag(name, &p.id),
+                DataType::Real,
+                Some(Value::Real(0.0)),
+                p.span,
+                format!("the variable of expression {} of net {name}", p.id),
+            );
+        }
         if p.kind == ElementKind::Counter {
             let load = p
                 .props
@@ -131,13 +145,10 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     let name = net_name(unit);
     // What normal mode does not have, or not yet.
     for p in &net.places {
-        if matches!(
-            p.kind,
-            ElementKind::Expression | ElementKind::Variable | ElementKind::Input | ElementKind::Output
-        ) {
+        if matches!(p.kind, ElementKind::Variable | ElementKind::Input | ElementKind::Output) {
             diags.push(
                 Diagnostic::new(Code::NetMode, format!("a {} element cannot run yet", p.kind.as_str()), p.span, "not yet")
-                    .with_help("State, Counter, Stop and End places, Transition, Condition and Timer transitions run today (docs/nets.md)"),
+                    .with_help("State, Counter, Expression, Stop and End places, Transition, Condition and Timer transitions run today (docs/nets.md)"),
             );
         }
     }
@@ -229,6 +240,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         };
         counts.insert(k, down);
     }
+    let scripts = scripts(net, &name, file, b, &mut diags);
     let drives = drives(net, &name, b, &mut diags);
     let guards = guards(net, file, text, b, &mut diags);
     // Slots.
@@ -345,6 +357,9 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
             let op = if counts[&k] { BinOp::Sub } else { BinOp::Add };
             b.emit(Op::BinI(op, c, one, c), elem);
         }
+        for (dest, e) in scripts.get(&k).into_iter().flatten() {
+            lower_assign(b, *dest, e, elem);
+        }
         match p.kind {
             ElementKind::End => set(b, one, ended, elem),
             ElementKind::Stop => {}
@@ -416,4 +431,120 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     b.release(mark);
     b.end_unit();
     diags
+}
+
+/// The statements of every Expression place: (destination, expression),
+/// checked (E631). Errors point at the place, with the script's line:col.
+fn scripts(
+    net: &Net,
+    name: &str,
+    file: FileId,
+    b: &mut Builder,
+    diags: &mut Vec<Diagnostic>,
+) -> HashMap<usize, Vec<(Place, alba_ladder::expr::Expr)>> {
+    use alba_ladder::expr::{self, Expr};
+    let mut out = HashMap::new();
+    for (k, p) in net
+        .places
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.kind == ElementKind::Expression)
+    {
+        let Some(text) = &p.script else {
+            diags.push(
+                Diagnostic::new(
+                    Code::NetScript,
+                    format!("expression `{}` has no `<script>`", p.id),
+                    p.span,
+                    "expression",
+                )
+                .with_help("give it a script: `<script>function{ Level * 2 }</script>`"),
+            );
+            continue;
+        };
+        let at = |offset: usize, msg: String| {
+            let (l, c) = alba_net::script::line_col(text, offset);
+            Diagnostic::new(
+                Code::NetScript,
+                format!("script of `{}`, line {l} col {c}: {msg}", p.id),
+                p.span,
+                "expression",
+            )
+        };
+        let script = match alba_net::script::parse(text) {
+            Ok(s) => s,
+            Err(errors) => {
+                diags.extend(errors.into_iter().map(|e| at(e.offset, e.message)));
+                continue;
+            }
+        };
+        for (n, off) in &script.defines {
+            if let Err(e) = b.layout().resolve(n) {
+                diags.push(at(*off, format!("`{n}` is defined but {e}")));
+            }
+        }
+        let constants: HashMap<String, f64> = script
+            .constants
+            .iter()
+            .map(|(n, v, _)| (n.to_ascii_lowercase(), *v))
+            .collect();
+        // Constants become literals; other names stay tags.
+        fn subst(e: Expr, c: &HashMap<String, f64>) -> Expr {
+            match e {
+                Expr::Name(n, sp) => match c.get(&n.to_ascii_lowercase()) {
+                    Some(v) => Expr::Lit(alba_model::Literal::Real(*v), sp),
+                    None => Expr::Name(n, sp),
+                },
+                Expr::Neg(a) => Expr::Neg(Box::new(subst(*a, c))),
+                Expr::Not(a, sp) => Expr::Not(Box::new(subst(*a, c)), sp),
+                Expr::Bin(op, a, d, sp) => Expr::Bin(op, Box::new(subst(*a, c)), Box::new(subst(*d, c)), sp),
+                Expr::Call(f, args, sp) => Expr::Call(f, args.into_iter().map(|a| subst(a, c)).collect(), sp),
+                other => other,
+            }
+        }
+        let own = value_tag(name, &p.id);
+        let mut stmts = Vec::new();
+        for st in &script.statements {
+            let e = match expr::parse(&st.expr, file, 0) {
+                Ok(e) => subst(e, &constants),
+                Err((msg, sp)) => {
+                    diags.push(at(st.offset + sp.start as usize, msg));
+                    continue;
+                }
+            };
+            let mut local = Vec::new();
+            let numeric = check_number(b, &e, &mut local);
+            if !local.is_empty() || !numeric {
+                let why = local
+                    .first()
+                    .map_or_else(|| "a BOOL, not a number".to_string(), |d| d.message.clone());
+                diags.push(at(st.offset, format!("`{}`: {why}", st.expr)));
+                continue;
+            }
+            let (target, off) = st
+                .target
+                .as_ref()
+                .map_or((own.as_str(), st.offset), |(t, o)| (t.as_str(), *o));
+            match b.layout().resolve(target) {
+                Ok(Target::Value { place, access })
+                    if access == alba_ir::Access::ReadWrite && place.data_type() != DataType::Bool =>
+                {
+                    stmts.push((place, e));
+                }
+                Ok(Target::Value { place, .. }) if place.data_type() == DataType::Bool => {
+                    diags.push(at(off, format!("`{target}` is a BOOL: a script assigns numbers")));
+                }
+                Ok(Target::Value { access, .. }) => {
+                    diags.push(at(
+                        off,
+                        format!("`{target}` cannot be written: {}", access.why_not_writable()),
+                    ));
+                }
+                Ok(_) => diags.push(at(off, format!("`{target}` is a structure; name a member"))),
+                Err(e) => diags.push(at(off, e.to_string())),
+            }
+        }
+        out.insert(k, stmts);
+    }
+    out
 }

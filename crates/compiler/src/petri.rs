@@ -445,6 +445,38 @@ pub(crate) fn guards(
     guards
 }
 
+/// Checks a numeric expression of a script (E631): its names, types and
+/// operators, as a guard's are checked; errors are pushed with `code`.
+pub(crate) fn check_number(b: &mut Builder, e: &Expr, diags: &mut Vec<Diagnostic>) -> bool {
+    let before = diags.len();
+    let t = Guard { b, diags: &mut *diags }.ty(e);
+    for d in &mut diags[before..] {
+        d.code = Code::NetScript;
+    }
+    match t {
+        Some(Ty::Num(_)) => true,
+        Some(Ty::Bool) => false,
+        None => false,
+    }
+}
+
+/// `dest = e` while the rung condition holds: computed in the widest class
+/// of its operands (as CPT, SPEC §3.2), then converted and narrowed into
+/// `dest`, with the faults of Ladder's math.
+pub(crate) fn lower_assign(b: &mut Builder, dest: Place, e: &Expr, elem: u32) {
+    let mut diags = Vec::new();
+    let inner = b.mark();
+    let mut g = Guard { b, diags: &mut diags };
+    let c = g.class(e);
+    let v = g.num(e, c, elem);
+    if let Some(v) = v {
+        let (d, post) = b.dest(dest, c, elem);
+        b.un(UnOp::Mov, v, d, elem);
+        b.post(post, elem);
+    }
+    b.release(inner);
+}
+
 /// Lowers a typed guard into the rung condition (`guards` checked it).
 pub(crate) fn lower_guard(b: &mut Builder, e: &Expr, elem: u32) {
     let mut diags = Vec::new();

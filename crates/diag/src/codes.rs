@@ -169,6 +169,8 @@ codes! {
         "Inhibitor and read (test) arcs go from a place to a transition; from a transition to a place only normal arcs produce tokens.";
     NetElement = 630, "a normal-mode element is not valid",
         "In a normal-mode net (docs/nets.md \"Normal mode\") every element holds at most one token and passes it on: arcs are plain (no inhibitor or read arcs) and weigh 1; a Condition needs a `<guard>`; a Timer needs `<prop name=\"delay\">` (milliseconds or T#5s); a Counter takes `load` (a DINT) and `direction` (up or down); other kinds take no properties.";
+    NetScript = 631, "an Expression element's script is not valid",
+        "An Expression element (normal mode) runs its `<script>` each scan it holds the token: sections `define{a, b}` (names of tags it uses), `constant{k = 2.5}` (or `const{}`) and `function{...}` with statements separated by `;` or line ends, each `target = expression` or a bare expression whose value goes to the element's own variable `<net>.<id>.value` (REAL); `//` starts a comment. Expressions are Alba's expression language (numbers and tags, + - * / MOD **, parentheses); targets are numeric tags a program may write. Functions (cos, sqrt...) are not available in scripts yet.";
 }
 
 impl fmt::Display for Code {

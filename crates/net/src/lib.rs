@@ -10,6 +10,7 @@ pub mod analysis;
 pub mod model;
 pub mod pnml;
 pub mod ptnet;
+pub mod script;
 mod xml;
 
 pub use model::*;
