@@ -90,11 +90,19 @@ pub fn extra_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<Di
         }
     }
     for p in &net.places {
-        if p.kind == ElementKind::Expression {
+        if matches!(
+            p.kind,
+            ElementKind::Expression | ElementKind::Input | ElementKind::Variable
+        ) {
+            let initial = p
+                .props
+                .get("initial")
+                .and_then(|v| v.trim().parse::<f32>().ok())
+                .unwrap_or(0.0);
             add(
                 value_tag(name, &p.id),
                 DataType::Real,
-                Some(Value::Real(0.0)),
+                Some(Value::Real(initial)),
                 p.span,
                 format!("the variable of expression {} of net {name}", p.id),
             );
@@ -121,6 +129,9 @@ fn known_props(kind: ElementKind) -> &'static [&'static str] {
     match kind {
         ElementKind::Timer => &["delay"],
         ElementKind::Counter => &["load", "direction"],
+        ElementKind::Input => &["source"],
+        ElementKind::Output => &["source", "target"],
+        ElementKind::Variable => &["mode", "source", "target", "value", "initial"],
         _ => &[],
     }
 }
@@ -143,15 +154,6 @@ fn delay(text: &str) -> Result<i32, String> {
 pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     let name = net_name(unit);
-    // What normal mode does not have, or not yet.
-    for p in &net.places {
-        if matches!(p.kind, ElementKind::Variable | ElementKind::Input | ElementKind::Output) {
-            diags.push(
-                Diagnostic::new(Code::NetMode, format!("a {} element cannot run yet", p.kind.as_str()), p.span, "not yet")
-                    .with_help("State, Counter, Expression, Stop and End places, Transition, Condition and Timer transitions run today (docs/nets.md)"),
-            );
-        }
-    }
     let elements = net
         .places
         .iter()
@@ -240,7 +242,10 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         };
         counts.insert(k, down);
     }
-    let scripts = scripts(net, &name, file, b, &mut diags);
+    let mut scripts = scripts(net, &name, file, b, &mut diags);
+    for (k, st) in moves(net, &name, file, b, &mut diags) {
+        scripts.insert(k, st);
+    }
     let drives = drives(net, &name, b, &mut diags);
     let guards = guards(net, file, text, b, &mut diags);
     // Slots.
@@ -545,6 +550,137 @@ fn scripts(
             }
         }
         out.insert(k, stmts);
+    }
+    out
+}
+
+/// The Variable element's modes (the source's six, §2.2.3.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum VarMode {
+    /// `target = source` (also the source's WriteToTarget).
+    Assignment,
+    /// Nothing: the variable is a scratch value for scripts.
+    Variable,
+    /// `value = target`.
+    WriteToMyVariable,
+    /// `target = value` (a constant).
+    DefineTarget,
+    /// `target = initial`.
+    ResetTargetValue,
+}
+
+fn var_mode(text: &str) -> Option<VarMode> {
+    match text.trim().to_ascii_lowercase().replace(['_', ' '], "").as_str() {
+        "assignment" | "writetotarget" => Some(VarMode::Assignment),
+        "variable" => Some(VarMode::Variable),
+        "writetomyvariable" => Some(VarMode::WriteToMyVariable),
+        "definetarget" => Some(VarMode::DefineTarget),
+        "resettargetvalue" => Some(VarMode::ResetTargetValue),
+        _ => None,
+    }
+}
+
+/// The moves of Input, Output and Variable places, as (destination,
+/// expression) statements like a script's (E630 for what is missing or wrong).
+fn moves(
+    net: &Net,
+    name: &str,
+    file: FileId,
+    b: &mut Builder,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<(usize, Vec<(Place, alba_ladder::expr::Expr)>)> {
+    use alba_ladder::expr;
+    let mut out = Vec::new();
+    for (k, p) in net.places.iter().enumerate() {
+        if !matches!(p.kind, ElementKind::Input | ElementKind::Output | ElementKind::Variable) {
+            continue;
+        }
+        let own = value_tag(name, &p.id);
+        let prop = |key: &str| p.props.get(key).map(|v| v.trim().to_string()).filter(|v| !v.is_empty());
+        let need = |key: &str, diags: &mut Vec<Diagnostic>| {
+            let v = prop(key);
+            if v.is_none() {
+                diags.push(bad(
+                    format!("a {} element needs `{key}`", p.kind.as_str()),
+                    p.span,
+                    p.kind.as_str(),
+                ));
+            }
+            v
+        };
+        // (destination name, source expression text)
+        let mv: Option<(String, String)> = match p.kind {
+            ElementKind::Input => need("source", diags).map(|s| (own.clone(), s)),
+            ElementKind::Output => match (need("target", diags), prop("source")) {
+                (Some(t), Some(s)) => Some((t, s)),
+                (Some(_), None) => {
+                    diags.push(bad(
+                        "an output element needs `source` (a tag or a number)".into(),
+                        p.span,
+                        "output",
+                    ));
+                    None
+                }
+                _ => None,
+            },
+            // A Variable without a mode is the source's `Variable` mode: a scratch value.
+            _ => match prop("mode").map(|m| (var_mode(&m), m)) {
+                None | Some((Some(VarMode::Variable), _)) => None,
+                Some((None, m)) => {
+                    diags.push(
+                        bad(format!("`{m}` is not a variable mode"), p.span, "variable").with_help(
+                            "one of Assignment, Variable, WriteToMyVariable, WriteToTarget, DefineTarget, ResetTargetValue",
+                        ),
+                    );
+                    None
+                }
+                Some((Some(VarMode::Assignment), _)) => need("target", diags).zip(need("source", diags)),
+                Some((Some(VarMode::WriteToMyVariable), _)) => need("target", diags).map(|t| (own.clone(), t)),
+                Some((Some(VarMode::DefineTarget), _)) => need("target", diags).zip(need("value", diags)),
+                Some((Some(VarMode::ResetTargetValue), _)) => {
+                    need("target", diags).map(|t| (t, prop("initial").unwrap_or_else(|| "0".into())))
+                }
+            },
+        };
+        let Some((dest, src)) = mv else { continue };
+        let e = match expr::parse(&src, file, 0) {
+            Ok(e) => e,
+            Err((msg, _)) => {
+                diags.push(bad(format!("`{src}`: {msg}"), p.span, p.kind.as_str()));
+                continue;
+            }
+        };
+        let mut local = Vec::new();
+        if !check_number(b, &e, &mut local) {
+            let why = local
+                .first()
+                .map_or_else(|| "a BOOL, not a number".to_string(), |d| d.message.clone());
+            diags.push(bad(format!("`{src}`: {why}"), p.span, p.kind.as_str()));
+            continue;
+        }
+        match b.layout().resolve(&dest) {
+            Ok(Target::Value {
+                place,
+                access: alba_ir::Access::ReadWrite,
+            }) if place.data_type() != DataType::Bool => {
+                out.push((k, vec![(place, e)]));
+            }
+            Ok(Target::Value { access, place }) => diags.push(bad(
+                if place.data_type() == DataType::Bool {
+                    format!("`{dest}` is a BOOL: elements move numbers")
+                } else {
+                    format!("`{dest}` cannot be written: {}", access.why_not_writable())
+                },
+                p.span,
+                p.kind.as_str(),
+            )),
+            Ok(_) => diags.push(bad(
+                format!("`{dest}` is a structure; name a member"),
+                p.span,
+                p.kind.as_str(),
+            )),
+            Err(e) => diags.push(bad(e.to_string(), p.span, p.kind.as_str())),
+        }
     }
     out
 }

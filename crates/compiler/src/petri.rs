@@ -183,12 +183,17 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         diags.push(
             Diagnostic::new(
                 Code::NetMode,
-                format!("a {} element cannot run in a Petri-mode net yet", kind.as_str()),
+                format!(
+                    "{} {} element runs in normal mode, not in a Petri-mode net",
+                    if kind.as_str().starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" },
+                    kind.as_str()
+                ),
                 span,
                 "not a plain place or transition",
             )
             .with_help(
-                "a Petri-mode net has plain places and transitions; guards and `<tag>` give it conditions and actions",
+                "a Petri-mode net has plain places and transitions (guards and `<tag>` give it conditions and actions); \
+                 the state-net kinds need `<mode>normal</mode>`",
             ),
         );
     }

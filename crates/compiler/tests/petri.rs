@@ -269,10 +269,10 @@ fn normal_mode_elements_are_checked() {
             Code::NetElement,
             7,
         ),
-        // Kinds that do not run yet.
+        // An expression without its script.
         (
             r#"<place id="p"><toolspecific tool="alba" version="1"><kind>expression</kind></toolspecific></place>"#,
-            Code::NetMode,
+            Code::NetScript,
             6,
         ),
     ];

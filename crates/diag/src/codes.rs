@@ -156,7 +156,7 @@ codes! {
     PnmlIgnored = 608, "part of a PNML file was ignored (a warning)",
         "An element Alba does not know (another tool's extension outside `<toolspecific>`, a label of another net type) is skipped with this warning, once per element name; the net loads. Other tools' `<toolspecific>` blocks are not ignored: they are kept and written back unchanged.";
     NetMode = 620, "a net element cannot run in this mode (yet)",
-        "Petri mode has plain places and transitions (with guards and `<tag>`); the state-net kinds (Timer, Condition, Counter, Stop, End…) run in normal mode (`<mode>normal</mode>`). In normal mode, Expression, Variable, Input and Output elements do not run yet (docs/nets.md).";
+        "Petri mode has plain places and transitions (with guards and `<tag>`); the state-net kinds (Timer, Condition, Counter, Expression, Variable, Input, Output, Stop, End) run in normal mode (`<mode>normal</mode>`, docs/nets.md).";
     NetGuard = 621, "a transition guard is not valid",
         "A `<guard>` is a BOOL expression of Alba's expression language: tag names and members, literals, `NOT`, `AND`, `OR`, `XOR`, parentheses, comparisons (= <> < > <= >=) and arithmetic (+ - * / MOD **). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
     NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
@@ -168,7 +168,7 @@ codes! {
     NetArc = 625, "an arc cannot be used by a Petri-mode net",
         "Inhibitor and read (test) arcs go from a place to a transition; from a transition to a place only normal arcs produce tokens.";
     NetElement = 630, "a normal-mode element is not valid",
-        "In a normal-mode net (docs/nets.md \"Normal mode\") every element holds at most one token and passes it on: arcs are plain (no inhibitor or read arcs) and weigh 1; a Condition needs a `<guard>`; a Timer needs `<prop name=\"delay\">` (milliseconds or T#5s); a Counter takes `load` (a DINT) and `direction` (up or down); other kinds take no properties.";
+        "In a normal-mode net (docs/nets.md \"Normal mode\") every element holds at most one token and passes it on: arcs are plain (no inhibitor or read arcs) and weigh 1; a Condition needs a `<guard>`; a Timer needs `<prop name=\"delay\">` (milliseconds or T#5s); a Counter takes `load` (a DINT) and `direction` (up or down); an Input `source`; an Output `target` and `source`; a Variable `mode` (Assignment, Variable, WriteToMyVariable, WriteToTarget, DefineTarget, ResetTargetValue), `source`, `target`, `value` and `initial` as its mode needs; other kinds take no properties.";
     NetScript = 631, "an Expression element's script is not valid",
         "An Expression element (normal mode) runs its `<script>` each scan it holds the token: sections `define{a, b}` (names of tags it uses), `constant{k = 2.5}` (or `const{}`) and `function{...}` with statements separated by `;` or line ends, each `target = expression` or a bare expression whose value goes to the element's own variable `<net>.<id>.value` (REAL); `//` starts a comment. Expressions are Alba's expression language (numbers and tags, + - * / MOD **, parentheses); targets are numeric tags a program may write. Functions (cos, sqrt...) are not available in scripts yet.";
 }
