@@ -40,9 +40,14 @@ pub struct ScriptError {
 /// The longest script read (characters of a source's code editor).
 pub const MAX_SCRIPT: usize = 64 * 1024;
 
-/// Line and column (both from 1) of byte `offset` in `text`.
+/// Line and column (both from 1) of byte `offset` in `text` (an offset
+/// inside a character counts as that character's).
 pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let before = &text[..offset.min(text.len())];
+    let mut at = offset.min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    let before = &text[..at];
     let line = before.matches('\n').count() + 1;
     let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     (line, col)
@@ -68,7 +73,14 @@ fn strip_comments(text: &str) -> String {
         match line.find("//") {
             Some(k) => {
                 out.push_str(&line[..k]);
-                out.extend(line[k..].chars().map(|c| if c == '\n' { '\n' } else { ' ' }));
+                // One space per byte, so that offsets stay the text's.
+                for c in line[k..].chars() {
+                    if c == '\n' {
+                        out.push('\n');
+                    } else {
+                        out.extend(std::iter::repeat_n(' ', c.len_utf8()));
+                    }
+                }
             }
             None => out.push_str(line),
         }
@@ -253,6 +265,36 @@ mod tests {
         // Comparisons are expressions, not assignments.
         let s = parse("function{ a >= 2; b <= 3; c == 4 }").expect("parses");
         assert!(s.statements.iter().all(|t| t.target.is_none()));
+    }
+
+    /// Found by `cargo fuzz run net_script`: a comment holding a multi-byte
+    /// character shifted every later offset (fuzz/regressions/net_script/).
+    #[test]
+    fn comments_with_multibyte_characters_keep_offsets() {
+        let text = "// señal ñ\nfunction{ x = 1; ñ }";
+        let s = parse(text).expect("parses");
+        let st = &s.statements[0];
+        assert_eq!(&text[st.offset..st.offset + st.expr.len()], "1");
+        let bad = parse("// ñ\nfuntion").expect_err("bad section");
+        assert_eq!(bad[0].offset, text.find('\n').map_or(0, |_| "// ñ\n".len()));
+        for e in parse("//\u{e9}\u{e9}\n{").expect_err("bad").iter() {
+            let _ = line_col("//\u{e9}\u{e9}\n{", e.offset);
+        }
+    }
+
+    /// The input `cargo fuzz run net_script` crashed on (kept in
+    /// tests/fuzz_regressions/), checked as the fuzz target checks.
+    #[test]
+    fn the_fuzz_regression_is_fixed() {
+        let bytes = include_bytes!("../tests/fuzz_regressions/script-crash-f4fa55f7");
+        let text = std::str::from_utf8(bytes).expect("UTF-8");
+        match parse(text) {
+            Ok(s) => assert!(s.statements.iter().all(|t| text.get(t.offset..t.offset + t.expr.len()).is_some())),
+            Err(e) => e.iter().for_each(|x| {
+                assert!(x.offset <= text.len());
+                let _ = line_col(text, x.offset);
+            }),
+        }
     }
 
     #[test]
