@@ -3,8 +3,7 @@
 
 use alba_diag::{Files, render_all};
 use alba_net::PtNet;
-use alba_net::analysis::{Analysis, Bound, Options, Space, analyze};
-use serde_json::{Map, Value, json};
+use alba_net::analysis::{Analysis, Bound, Options, Space, analyze, to_json};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -52,107 +51,6 @@ pub fn run(path: &Path, as_json: bool, max_states: Option<usize>) -> ExitCode {
         print!("{}", report(&net.id, path, &pt, &a));
     }
     ExitCode::SUCCESS
-}
-
-fn bound_json(b: Bound) -> Value {
-    match b {
-        Bound::Finite(n) => json!(n),
-        Bound::Omega => json!("omega"),
-    }
-}
-
-fn invariants_json(ids: &[String], invs: &[Vec<i64>]) -> Value {
-    Value::Array(
-        invs.iter()
-            .map(|y| {
-                let mut m = Map::new();
-                for (i, &c) in y.iter().enumerate() {
-                    if c != 0 {
-                        m.insert(ids[i].clone(), json!(c));
-                    }
-                }
-                Value::Object(m)
-            })
-            .collect(),
-    )
-}
-
-/// The `--json` object: the keys of SPEC §10.5 plus extras.
-pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
-    let names = |ts: &[usize]| -> Value { Value::Array(ts.iter().map(|&t| json!(pt.transitions[t])).collect()) };
-    let place_bounds = a.place_bounds.as_ref().map(|b| {
-        let mut m = Map::new();
-        for (i, &v) in b.iter().enumerate() {
-            m.insert(pt.places[i].clone(), bound_json(v));
-        }
-        Value::Object(m)
-    });
-    let mut o = Map::new();
-    o.insert("places".into(), json!(a.places));
-    o.insert("transitions".into(), json!(a.transitions));
-    o.insert("bounded".into(), json!(a.bounded));
-    o.insert("safe".into(), json!(a.safe));
-    o.insert("place_bounds".into(), place_bounds.unwrap_or(Value::Null));
-    o.insert("states".into(), json!(a.states));
-    o.insert("edges".into(), json!(a.edges));
-    o.insert("deadlocks".into(), json!(a.deadlocks));
-    o.insert(
-        "dead_transitions".into(),
-        a.dead_transitions.as_deref().map_or(Value::Null, names),
-    );
-    o.insert("live".into(), json!(a.live));
-    o.insert("reversible".into(), json!(a.reversible));
-    let inv = |r: &Result<Vec<Vec<i64>>, _>, ids: &[String]| match r {
-        Ok(v) => invariants_json(ids, v),
-        Err(_) => Value::Null,
-    };
-    o.insert("p_invariants".into(), inv(&a.p_invariants, &pt.places));
-    o.insert("t_invariants".into(), inv(&a.t_invariants, &pt.transitions));
-    // Extras.
-    o.insert(
-        "deadlock_trace".into(),
-        a.deadlock_trace.as_deref().map_or(Value::Null, names),
-    );
-    o.insert(
-        "deadlock_marking".into(),
-        a.deadlock_marking.as_ref().map_or(Value::Null, |m| {
-            Value::Object(
-                m.iter()
-                    .enumerate()
-                    .filter(|(_, v)| **v > 0)
-                    .map(|(i, v)| (pt.places[i].clone(), json!(v)))
-                    .collect(),
-            )
-        }),
-    );
-    o.insert(
-        "state_space".into(),
-        json!(match a.space {
-            Space::Reachability => "reachability",
-            Space::Coverability => "coverability",
-            Space::Incomplete => "incomplete",
-        }),
-    );
-    o.insert("strongly_connected_components".into(), json!(a.components));
-    o.insert("stopped".into(), json!(a.stopped));
-    let mut errors = Vec::new();
-    if let Err(e) = &a.p_invariants {
-        errors.push(format!("P-invariants not computed: {e}"));
-    }
-    if let Err(e) = &a.t_invariants {
-        errors.push(format!("T-invariants not computed: {e}"));
-    }
-    let notes: Vec<String> = a.notes.iter().cloned().chain(errors).collect();
-    o.insert("notes".into(), json!(notes));
-    o.insert(
-        "timings_ms".into(),
-        json!({
-            "explore": a.explore_time.as_secs_f64() * 1e3,
-            "scc": a.scc_time.as_secs_f64() * 1e3,
-            "invariants": a.invariant_time.as_secs_f64() * 1e3,
-        }),
-    );
-    Value::Object(o)
 }
 
 fn yes(b: Option<bool>) -> &'static str {

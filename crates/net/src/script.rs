@@ -289,7 +289,11 @@ mod tests {
         let bytes = include_bytes!("../tests/fuzz_regressions/script-crash-f4fa55f7");
         let text = std::str::from_utf8(bytes).expect("UTF-8");
         match parse(text) {
-            Ok(s) => assert!(s.statements.iter().all(|t| text.get(t.offset..t.offset + t.expr.len()).is_some())),
+            Ok(s) => assert!(
+                s.statements
+                    .iter()
+                    .all(|t| text.get(t.offset..t.offset + t.expr.len()).is_some())
+            ),
             Err(e) => e.iter().for_each(|x| {
                 assert!(x.offset <= text.len());
                 let _ = line_col(text, x.offset);

@@ -38,7 +38,7 @@ pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, programs, session, status};
+use api::{FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, programs, session, status};
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
@@ -91,6 +91,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/forces", get(forces::list).delete(forces::delete_all))
         .route("/api/forces/{name}", put(forces::put).delete(forces::delete))
         .route("/api/programs", get(programs::list))
+        .route("/api/nets/{name}/analysis", get(nets::analysis))
         .route("/api/instructions", get(domain::instructions))
         .route("/api/domain", get(domain::get))
         .route("/api/ws", get(ws::upgrade))

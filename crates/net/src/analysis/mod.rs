@@ -16,8 +16,11 @@
 
 pub mod coverability;
 pub mod invariants;
+mod json;
 pub mod reachability;
 pub mod samples;
+
+pub use json::to_json;
 
 use crate::PtNet;
 use std::time::{Duration, Instant};

@@ -7,6 +7,7 @@ pub mod audit;
 pub mod domain;
 pub mod forces;
 pub mod history;
+pub mod nets;
 pub mod programs;
 pub mod session;
 pub mod status;

@@ -509,3 +509,54 @@ async fn net_markings_are_tags_an_operator_can_write() {
     assert_eq!(s.value("cell.robot").await, 1);
     s.stop().await;
 }
+
+/// `GET /api/nets/{name}/analysis`: the same object as `alba analyze --json`
+/// for a net of the project, by file name or net name, bounded.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_nets_analysis_is_served() {
+    let s = crate::Server::start("petri-resource", "nets-analysis").await;
+    let (code, by_name) = s.call(reqwest::Method::GET, "/api/nets/cell/analysis", None).await;
+    assert_eq!(code, 200, "{by_name}");
+    let (_, by_file) = s.call(reqwest::Method::GET, "/api/nets/cell.pnml/analysis", None).await;
+    for key in [
+        "places",
+        "transitions",
+        "bounded",
+        "safe",
+        "place_bounds",
+        "states",
+        "edges",
+        "deadlocks",
+        "dead_transitions",
+        "live",
+        "reversible",
+        "p_invariants",
+        "t_invariants",
+    ] {
+        assert!(by_name.get(key).is_some(), "{key} in {by_name}");
+        assert_eq!(by_name[key], by_file[key], "{key}");
+    }
+    // `done` counts finished parts without bound: Karp–Miller's ω.
+    assert_eq!(by_name["bounded"], false);
+    assert_eq!(by_name["place_bounds"]["done"], "omega");
+    assert_eq!(by_name["state_space"], "coverability");
+    let (code, j) = s
+        .call(reqwest::Method::GET, "/api/nets/cell/analysis?max_states=2", None)
+        .await;
+    assert_eq!(
+        (code.as_u16(), j["state_space"].as_str()),
+        (200, Some("incomplete")),
+        "{j}"
+    );
+    let (code, _) = s
+        .call(reqwest::Method::GET, "/api/nets/cell/analysis?max_states=0", None)
+        .await;
+    assert_eq!(code, 422);
+    let (code, _) = s
+        .call(reqwest::Method::GET, "/api/nets/cell/analysis?depth=3", None)
+        .await;
+    assert_eq!(code, 400);
+    let (code, _) = s.call(reqwest::Method::GET, "/api/nets/main.lad/analysis", None).await;
+    assert_eq!(code, 404, "a ladder program is not a net");
+    s.stop().await;
+}
