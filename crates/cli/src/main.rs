@@ -81,7 +81,12 @@ enum Command {
         to: Export,
     },
     /// Create a runnable start/stop project in a new folder.
-    New { dir: PathBuf },
+    New {
+        dir: PathBuf,
+        /// Start from a state net (normal mode, with a ladder program) instead of ladder alone.
+        #[arg(long)]
+        net: bool,
+    },
     /// Benchmark the engine against native Rust on generated ladder programs.
     Bench {
         /// Rung counts to run (default 100,1000,10000).
@@ -306,7 +311,7 @@ fn main() -> ExitCode {
                     upload,
                 },
         } => export::export(&project, &board, &out, build, upload.as_deref()),
-        Command::New { dir } => new::run(&dir),
+        Command::New { dir, net } => new::run(&dir, net),
         Command::Bench {
             modbus: true,
             clients,

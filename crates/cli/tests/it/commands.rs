@@ -38,6 +38,41 @@ fn new_creates_a_project_that_checks_and_runs() {
 }
 
 #[test]
+fn new_net_creates_a_state_net_project_that_checks_and_runs() {
+    let dir = scratch("new-net");
+    let out = alba(&dir, &["new", "line", "--net"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let toml = std::fs::read_to_string(dir.join("line/alba.toml")).expect("alba.toml");
+    assert!(
+        toml.contains("name = \"line\"") && toml.contains("batch.pnml"),
+        "{toml}"
+    );
+    let out = alba(&dir, &["check", "line"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = alba(
+        &dir,
+        &[
+            "sim",
+            "line",
+            "--until",
+            "7000",
+            "--every",
+            "3500",
+            "--stimulus",
+            "line/stimulus.csv",
+            "--tags",
+            "Valve,Mixer,batch.batches.count",
+        ],
+    );
+    assert!(out.status.success());
+    // Start at 1 s: filling until 3 s, mixing until 6 s, one batch counted.
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "time_ms,Valve,Mixer,batch.batches.count\n0,0,0,0\n3500,0,1,0\n7000,0,0,1\n"
+    );
+}
+
+#[test]
 fn explain_prints_a_code_and_refuses_unknown_ones() {
     let dir = scratch("explain");
     let out = alba(&dir, &["explain", "E301"]);
