@@ -31,7 +31,7 @@ export type TagReply = TagInfo | TagValue;
 
 export type Force = { name: string, value: Json, };
 
-export type Language = "ladder" | "il" | "net";
+export type Language = "ladder" | "il" | "net" | "sfc";
 
 export type ProgramRef = { name: string, language: Language, plant: boolean, };
 

@@ -172,8 +172,8 @@ async function start(me: Me): Promise<void> {
   const ctx: Ctx = { live, tags, notify };
   const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();
   for (const p of programs) {
-    // Nets have no view yet (the net editor is to come); their markings are in Tags.
-    if (p.language === 'net') continue;
+    // Nets and SFCs have no view yet (their editors are to come); their markings are in Tags.
+    if (p.language === 'net' || p.language === 'sfc') continue;
     views.set(`program/${p.name}`, {
       label: p.plant ? `${p.name} (plant)` : p.name,
       testid: `tab-program-${p.name}`,

@@ -9,6 +9,7 @@ use std::path::Path;
 
 pub mod normal;
 pub mod petri;
+pub mod sfc;
 
 /// The crates of the compiler's public API — project loading, diagnostics and
 /// the front ends (for views of a program's structure) — so that a user of
@@ -62,6 +63,8 @@ enum Ast {
     Il(alba_il::Program),
     /// `None` when the file could not be loaded (the loader reported why).
     Net(Option<Box<alba_net::Net>>),
+    /// `None` when the chart could not be parsed.
+    Sfc(Option<Box<alba_net::sfc::Sfc>>),
 }
 
 /// Compiles the programs of a loaded project: the control programs in the
@@ -98,6 +101,17 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                 }
                 Ast::Net(net.map(Box::new))
             }
+            Language::Sfc => match alba_net::sfc::parse(src.file, text) {
+                Ok(sfc) => {
+                    let net = sfc.to_net(&petri::net_name(&src.name), src.file);
+                    uses.addresses.extend(petri::addresses(&net, src.file));
+                    Ast::Sfc(Some(Box::new(sfc)))
+                }
+                Err(d) => {
+                    diags.extend(d);
+                    Ast::Sfc(None)
+                }
+            },
         };
         asts.push((src, ast));
     }
@@ -105,8 +119,10 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
     // tags.csv so that theirs do not move.
     let mut tags = project.tags.clone();
     for (src, ast) in &asts {
-        if let Ast::Net(Some(net)) = ast {
-            petri::marking_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags);
+        match ast {
+            Ast::Net(Some(net)) => petri::marking_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags),
+            Ast::Sfc(Some(sfc)) => sfc::tags(sfc, &petri::net_name(&src.name), src.file, &mut tags, &mut diags),
+            _ => {}
         }
     }
     let mut b = Builder::new(Layout::new(&tags, &uses));
@@ -121,7 +137,8 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
             Ast::Ladder(ast) => alba_ladder::compile(ast, text, &src.name, &mut b, &mut presets),
             Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
             Ast::Net(Some(net)) => petri::compile(net, src.file, text, &src.name, &mut b),
-            Ast::Net(None) => Vec::new(),
+            Ast::Net(None) | Ast::Sfc(None) => Vec::new(),
+            Ast::Sfc(Some(sfc)) => sfc::compile(sfc, src.file, text, &src.name, &mut b),
         });
     }
     if let Some(cfg) = &project.config {

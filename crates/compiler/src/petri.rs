@@ -161,6 +161,20 @@ fn add(list: &mut Vec<(usize, i32)>, p: usize, w: i32) -> bool {
 /// Compiles a Petri-mode net as one unit. Its marking tags are in the
 /// layout already ([`marking_tags`]).
 pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    compile_with(net, file, text, unit, b, |_, _| {})
+}
+
+/// [`compile`], with `after` adding rungs to the net's unit once the new
+/// marking is written (an SFC's step flags and actions), given the marking
+/// slot of each place.
+pub(crate) fn compile_with(
+    net: &Net,
+    file: FileId,
+    text: &str,
+    unit: &str,
+    b: &mut Builder,
+    after: impl FnOnce(&mut Builder, &[I]),
+) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     let name = net_name(unit);
     let at_start = Span::new(file, 0..text.len().min(1));
@@ -346,6 +360,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         b.emit(Op::Ote(out), elem);
         b.post(post, elem);
     }
+    after(b, &marking);
     b.release(mark);
     b.end_unit();
     diags

@@ -171,6 +171,12 @@ codes! {
         "In a normal-mode net (docs/nets.md \"Normal mode\") every element holds at most one token and passes it on: arcs are plain (no inhibitor or read arcs) and weigh 1; a Condition needs a `<guard>`; a Timer needs `<prop name=\"delay\">` (milliseconds or T#5s); a Counter takes `load` (a DINT) and `direction` (up or down); an Input `source`; an Output `target` and `source`; a Variable `mode` (Assignment, Variable, WriteToMyVariable, WriteToTarget, DefineTarget, ResetTargetValue), `source`, `target`, `value` and `initial` as its mode needs; other kinds take no properties.";
     NetScript = 631, "an Expression element's script is not valid",
         "An Expression element (normal mode) runs its `<script>` each scan it holds the token: sections `define{a, b}` (names of tags it uses), `constant{k = 2.5}` (or `const{}`) and `function{...}` with statements separated by `;` or line ends, each `target = expression` or a bare expression whose value goes to the element's own variable `<net>.<id>.value` (REAL); `//` starts a comment. Expressions are Alba's expression language (numbers and tags, + - * / MOD **, parentheses); targets are numeric tags a program may write. Functions (cos, sqrt...) are not available in scripts yet.";
+    SfcSyntax = 650, "an SFC file does not follow the textual SFC syntax",
+        "An .sfc file is IEC 61131-3's textual SFC: `INITIAL_STEP name: actions END_STEP`, `STEP name: actions END_STEP` where an action is `Tag(Q)` or `Tag(Q, T#5s)` ended by `;` (Q one of N S R L D P P1 P0 SD DS SL), and `TRANSITION [name] [(PRIORITY := n)] FROM step TO step := condition; END_TRANSITION` (lists of steps in parentheses for simultaneous divergence and convergence). Comments are `(* ... *)` and `//`. See docs/nets.md, SFC.";
+    SfcStructure = 651, "an SFC chart is not well formed",
+        "An SFC has exactly one INITIAL_STEP, unique step names, transitions between declared steps, a time on the timed qualifiers (L D SD DS SL) and none on the others.";
+    SfcAction = 652, "an SFC action cannot be driven",
+        "An action is a BOOL tag (or member) a program may write: not an input, a status bit or a system tag. SD, DS and SL are not available yet.";
 }
 
 impl fmt::Display for Code {

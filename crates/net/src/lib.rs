@@ -11,6 +11,7 @@ pub mod model;
 pub mod pnml;
 pub mod ptnet;
 pub mod script;
+pub mod sfc;
 mod xml;
 
 pub use model::*;

@@ -15,6 +15,8 @@ pub enum Language {
     Il,
     /// `.pnml`: a state net or Petri net (SPEC §5, §10.5; docs/nets.md).
     Net,
+    /// `.sfc`: an IEC 61131-3 sequential function chart, textual form (docs/nets.md, SFC).
+    Sfc,
 }
 
 impl Language {
@@ -24,6 +26,7 @@ impl Language {
             "lad" => Some(Language::Ladder),
             "awl" => Some(Language::Il),
             "pnml" => Some(Language::Net),
+            "sfc" => Some(Language::Sfc),
             _ => None,
         }
     }

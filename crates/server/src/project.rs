@@ -129,7 +129,7 @@ pub fn edit_summary(project: &Project, edit: &Edit) -> Result<String, EditError>
     let old = project.files.text(file);
     let (unit, old, new) = match language {
         Some(Language::Ladder) => ("rungs", rungs(old, file), rungs(new, file)),
-        Some(Language::Il | Language::Net) => ("lines", lines(old), lines(new)),
+        Some(Language::Il | Language::Net | Language::Sfc) => ("lines", lines(old), lines(new)),
         None => ("rows", lines(old), lines(new)),
     };
     let d = alba_audit::diff(&old, &new);
@@ -164,6 +164,7 @@ pub fn language(l: Language) -> reply::Language {
         Language::Ladder => reply::Language::Ladder,
         Language::Il => reply::Language::Il,
         Language::Net => reply::Language::Net,
+        Language::Sfc => reply::Language::Sfc,
     }
 }
 
@@ -267,8 +268,8 @@ pub fn program_json(
                 .collect();
             out.lines = Some(lines);
         }
-        // A net's structure is its PNML; the studio's net view is to come.
-        Language::Net => {}
+        // A net's structure is its PNML (an SFC's its text); their views are to come.
+        Language::Net | Language::Sfc => {}
     }
     Ok(out)
 }

@@ -166,6 +166,7 @@ pub enum Language {
     Ladder,
     Il,
     Net,
+    Sfc,
 }
 
 /// `GET /api/programs`: one program of the project.

@@ -1,0 +1,278 @@
+//! IEC 61131-3 SFC (docs/nets.md "SFC") on the one IR: the chart is a
+//! 1-safe Petri-mode net (`alba_net::sfc::Sfc::to_net`, lowered by
+//! `petri`), then, in the same unit and after the new marking is written:
+//! each step's flag `<sfc>.<step>.X` and elapsed time `<sfc>.<step>.T`
+//! (an engine TON, `<sfc>.<step>.timer`), and each action's BOOL tag as the
+//! OR of its associations' terms — N: X; S/R: a latch set and reset (R
+//! wins); L: X and T < t; D: X and T ≥ t; P and P1: the scan X rises; P0:
+//! the scan X falls.
+
+use crate::petri;
+use alba_diag::{Code, Diagnostic, FileId, Span};
+use alba_ir::{Access, B, Builder, Cmp, I, Op, Place, Target, Tmr};
+use alba_model::{DataType, Tag, TagTable, Value};
+use alba_net::sfc::{Qualifier, Sfc};
+
+pub fn x_tag(sfc: &str, step: &str) -> String {
+    format!("{sfc}.{step}.X")
+}
+
+pub fn t_tag(sfc: &str, step: &str) -> String {
+    format!("{sfc}.{step}.T")
+}
+
+fn timer_tag(sfc: &str, step: &str) -> String {
+    format!("{sfc}.{step}.timer")
+}
+
+/// The chart's tags: each step's marking (as a net's), `.X`, `.T` and timer.
+pub fn tags(sfc: &Sfc, name: &str, file: FileId, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
+    petri::marking_tags(&sfc.to_net(name, file), name, tags, diags);
+    for s in &sfc.steps {
+        for (tag, ty, initial, what) in [
+            (
+                x_tag(name, &s.name),
+                DataType::Bool,
+                Some(Value::Bool(s.initial)),
+                "is active",
+            ),
+            (
+                t_tag(name, &s.name),
+                DataType::Time,
+                Some(Value::Time(0)),
+                "has been active (ms)",
+            ),
+            (timer_tag(name, &s.name), DataType::Timer, None, "times its activity"),
+        ] {
+            if tags.get(&tag).is_some() {
+                diags.push(Diagnostic::new(
+                    Code::NetTagClash,
+                    format!("the step flag `{tag}` is already a tag"),
+                    s.span,
+                    "step",
+                ));
+                continue;
+            }
+            tags.push(Tag {
+                name: tag,
+                ty,
+                address: None,
+                address_text: None,
+                initial,
+                members: Vec::new(),
+                retain: false,
+                description: format!("step {} of {name} {what}", s.name),
+                span: s.span,
+            });
+        }
+    }
+}
+
+/// An action tag and its associations: (step index, qualifier, time ms).
+struct Action {
+    key: String,
+    place: Place,
+    span: Span,
+    assoc: Vec<(usize, Qualifier, Option<i64>)>,
+}
+
+/// Compiles the chart as one unit.
+pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    let name = petri::net_name(unit);
+    let mut diags = Vec::new();
+    let slot = |b: &Builder, tag: &str| b.layout().resolve(tag).ok();
+    // Step flags, elapsed times, timers.
+    let mut steps = Vec::new();
+    for s in &sfc.steps {
+        match (
+            slot(b, &x_tag(&name, &s.name)),
+            slot(b, &t_tag(&name, &s.name)),
+            slot(b, &timer_tag(&name, &s.name)),
+        ) {
+            (
+                Some(Target::Value {
+                    place: Place::Bool(x), ..
+                }),
+                Some(Target::Value {
+                    place: Place::Int(t, _),
+                    ..
+                }),
+                Some(Target::Timer(tmr)),
+            ) => steps.push((x, t, tmr)),
+            _ => return diags, // clashes reported by `tags`
+        }
+    }
+    // Actions: each BOOL tag once, with every association that drives it.
+    let mut actions: Vec<Action> = Vec::new();
+    for (k, s) in sfc.steps.iter().enumerate() {
+        for a in &s.actions {
+            if matches!(a.qualifier, Qualifier::SD | Qualifier::DS | Qualifier::SL) {
+                diags.push(
+                    Diagnostic::new(
+                        Code::SfcAction,
+                        format!("the qualifier {:?} is not available yet", a.qualifier),
+                        a.span,
+                        "qualifier",
+                    )
+                    .with_help("N S R L D P P1 P0 run; write SD/DS/SL with S, R, D and L on separate steps for now"),
+                );
+                continue;
+            }
+            let place = match b.layout().resolve(&a.action) {
+                Ok(Target::Value {
+                    place,
+                    access: Access::ReadWrite,
+                }) if place.data_type() == DataType::Bool => place,
+                Ok(Target::Value { place, access }) => {
+                    let why = if place.data_type() == DataType::Bool {
+                        access.why_not_writable().to_string()
+                    } else {
+                        format!("it is {}, not a BOOL", place.data_type().with_article())
+                    };
+                    diags.push(Diagnostic::new(
+                        Code::SfcAction,
+                        format!("the action `{}` cannot be driven: {why}", a.action),
+                        a.span,
+                        "action",
+                    ));
+                    continue;
+                }
+                Ok(_) => {
+                    diags.push(Diagnostic::new(
+                        Code::SfcAction,
+                        format!("`{}` is a structure; name a BOOL member", a.action),
+                        a.span,
+                        "action",
+                    ));
+                    continue;
+                }
+                Err(e) => {
+                    let mut d = Diagnostic::new(Code::SfcAction, format!("action {e}"), a.span, "action");
+                    if let Some(sg) = b.layout().tags.suggest(&a.action) {
+                        d = d.with_help(format!("did you mean `{sg}`?"));
+                    }
+                    diags.push(d);
+                    continue;
+                }
+            };
+            let key = a.action.to_ascii_lowercase();
+            match actions.iter_mut().find(|x| x.key == key) {
+                Some(x) => x.assoc.push((k, a.qualifier, a.time_ms)),
+                None => actions.push(Action {
+                    key,
+                    place,
+                    span: a.span,
+                    assoc: vec![(k, a.qualifier, a.time_ms)],
+                }),
+            }
+        }
+    }
+    if !diags.is_empty() {
+        return diags;
+    }
+    let net = sfc.to_net(&name, file);
+    let max = i32::MAX;
+    petri::compile_with(&net, file, text, unit, b, move |b, marking| {
+        let zero = b.const_i(0);
+        let forever = b.const_i(max);
+        let span = sfc.steps.first().map_or(Span::new(file, 0..0), |s| s.span);
+        let mut rung = 10_000;
+        let mut next = |b: &mut Builder, sp: Span| {
+            b.begin_rung(rung, sp);
+            rung += 1;
+        };
+        // Flags, times and the edges of X.
+        let mut prev: Vec<B> = Vec::new();
+        for (k, &(x, t, tmr)) in steps.iter().enumerate() {
+            let sp = sfc.steps[k].span;
+            next(b, sp);
+            let elem = b.element(sp);
+            b.emit(Op::True, elem);
+            b.emit(Op::CmpI(Cmp::Gt, marking[k], zero), elem);
+            b.emit(Op::Ote(x), elem);
+            next(b, sp);
+            b.emit(Op::CopyI(forever, tmr.i), alba_ir::NO_ELEM);
+            b.emit(Op::Xic(x), alba_ir::NO_ELEM);
+            b.emit(Op::Ton(tmr), alba_ir::NO_ELEM);
+            b.emit(Op::CopyI(I(tmr.i.0 + 1), t), alba_ir::NO_ELEM);
+            prev.push(b.state_b());
+        }
+        // Actions.
+        for Action {
+            place,
+            span: asp,
+            assoc,
+            ..
+        } in &actions
+        {
+            let acc = b.temp_b();
+            let latch = b.state_b();
+            next(b, *asp);
+            b.emit(Op::Otu(acc), alba_ir::NO_ELEM);
+            let term = |b: &mut Builder, k: usize, q: Qualifier, t: Option<i64>, acc: B, latch: B| {
+                let (x, tt, _): (B, I, Tmr) = steps[k];
+                let elem = b.element(sfc.steps[k].span);
+                match q {
+                    Qualifier::N => {
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(Op::Otl(acc), elem);
+                    }
+                    Qualifier::S => {
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(Op::Otl(latch), elem);
+                    }
+                    Qualifier::R => {
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(Op::Otu(latch), elem);
+                    }
+                    Qualifier::L | Qualifier::D => {
+                        let limit = b.const_i(i32::try_from(t.unwrap_or(0)).unwrap_or(i32::MAX));
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(
+                            Op::CmpI(if q == Qualifier::L { Cmp::Lt } else { Cmp::Ge }, tt, limit),
+                            elem,
+                        );
+                        b.emit(Op::Otl(acc), elem);
+                    }
+                    Qualifier::P | Qualifier::P1 => {
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(Op::Xio(prev[k]), elem);
+                        b.emit(Op::Otl(acc), elem);
+                    }
+                    Qualifier::P0 => {
+                        b.emit(Op::Xio(x), elem);
+                        b.emit(Op::Xic(prev[k]), elem);
+                        b.emit(Op::Otl(acc), elem);
+                    }
+                    Qualifier::SD | Qualifier::DS | Qualifier::SL => {}
+                }
+            };
+            // Sets before resets (R wins), then the other terms.
+            let mut ordered = assoc.clone();
+            ordered.sort_by_key(|(_, q, _)| match q {
+                Qualifier::S => 0,
+                Qualifier::R => 1,
+                _ => 2,
+            });
+            for (k, q, t) in ordered {
+                next(b, sfc.steps[k].span);
+                term(b, k, q, t, acc, latch);
+            }
+            next(b, *asp);
+            let elem = b.element(*asp);
+            b.emit(Op::Xic(latch), elem);
+            b.emit(Op::Otl(acc), elem);
+            next(b, *asp);
+            b.emit(Op::Xic(acc), elem);
+            let (out, post) = b.bool_out(*place, elem);
+            b.emit(Op::Ote(out), elem);
+            b.post(post, elem);
+        }
+        // Remember X for the next scan's edges.
+        for (k, &(x, _, _)) in steps.iter().enumerate() {
+            next(b, span);
+            b.emit(Op::Xic(x), alba_ir::NO_ELEM);
+            b.emit(Op::Ote(prev[k]), alba_ir::NO_ELEM);
+        }
+    })
+}
