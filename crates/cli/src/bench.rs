@@ -544,3 +544,102 @@ pub fn compile_text(tags_csv: &str, name: &str, text: &str) -> Result<Arc<Progra
         None => Ok(Arc::new(program)),
     }
 }
+
+/// `alba bench --nets`: (a) the scan cost of a Petri-mode net against the
+/// same logic in Ladder (fused interpreter, ns per transition per scan);
+/// (b) the analysis benchmark of `alba_net::analysis::bench` (states/s,
+/// bytes/state, Kanban 5, invariants on 100 places). Prints, never asserts.
+pub fn nets(quick: bool) -> ExitCode {
+    let runs = if quick { 3 } else { 9 };
+    println!("alba bench --nets: (a) a Petri-mode net of N two-place cycles (2N transitions) against the");
+    println!("same moves in Ladder, `GEQ(a,1)[SUB(a,1,a),ADD(b,1,b)];` per transition; fused interpreter.\n");
+    println!(
+        "{:>12} | {:>14} {:>14} {:>6}",
+        "transitions", "net ns/trans.", "ladder ns/tr.", "ratio"
+    );
+    for n in [50usize, 500] {
+        let (tags, lad, pnml) = net_and_ladder(n);
+        let dir = std::env::temp_dir().join(format!("alba-bench-nets-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let files = [
+            (
+                "alba.toml",
+                "name = \"bench\"\nscan_ms = 1\nprograms = [\"cyc.pnml\"]\n".to_string(),
+            ),
+            ("tags.csv", "name,type,address,initial,retain,description\n".to_string()),
+            ("cyc.pnml", pnml),
+        ];
+        if std::fs::create_dir_all(&dir).is_err() || files.iter().any(|(f, t)| std::fs::write(dir.join(f), t).is_err())
+        {
+            eprintln!("error: cannot write {}", dir.display());
+            return ExitCode::FAILURE;
+        }
+        let c = alba_compiler::compile_dir(&dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        let Some(net_prog) = c.program else {
+            eprintln!(
+                "error: the generated net does not compile: {}",
+                alba_diag::render_all(&c.diagnostics, c.files())
+            );
+            return ExitCode::FAILURE;
+        };
+        let lad_prog = match compile_text(&tags, "main.lad", &lad) {
+            Ok(p) => p,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let (Ok(mut net_engine), Ok(mut lad_engine)) = (Engine::new(Arc::new(net_prog)), Engine::new(lad_prog)) else {
+            return ExitCode::FAILURE;
+        };
+        let scans = (2_000_000 / n as u64).max(10) / if quick { 4 } else { 1 };
+        let [net_ns, lad_ns] = time_rounds(
+            runs,
+            scans,
+            &mut [
+                &mut |k| {
+                    let _ = net_engine.scan(black_box(k));
+                },
+                &mut |k| {
+                    let _ = lad_engine.scan(black_box(k));
+                },
+            ],
+        );
+        let per = |ns: f64| ns / (2 * n) as f64;
+        println!(
+            "{:>12} | {:>14.2} {:>14.2} {:>6.2}",
+            2 * n,
+            per(net_ns),
+            per(lad_ns),
+            net_ns / lad_ns
+        );
+    }
+    println!("\n(b) analysis (complete: state space, deadlocks, liveness, reversibility, invariants):\n");
+    print!("{}", alba_net::analysis::bench::run(quick));
+    ExitCode::SUCCESS
+}
+
+/// N two-place cycles `a_i ⇄ b_i` (one token each) as a Petri-mode net, and
+/// the same moves in Ladder with DINT tags.
+fn net_and_ladder(n: usize) -> (String, String, String) {
+    let mut tags = String::from("name,type,address,initial,retain,description\n");
+    let mut lad = String::new();
+    let mut pnml = String::from(
+        "<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"><net id=\"cyc\" type=\"http://www.pnml.org/version-2009/grammar/ptnet\"><page id=\"pg\">\n",
+    );
+    for i in 0..n {
+        tags.push_str(&format!("a{i},DINT,,1,,\nb{i},DINT,,0,,\n"));
+        lad.push_str(&format!(
+            "GEQ(a{i},1)[SUB(a{i},1,a{i}),ADD(b{i},1,b{i})];\nGEQ(b{i},1)[SUB(b{i},1,b{i}),ADD(a{i},1,a{i})];\n"
+        ));
+        pnml.push_str(&format!(
+            "<place id=\"a{i}\"><initialMarking><text>1</text></initialMarking></place><place id=\"b{i}\"/>\
+             <transition id=\"f{i}\"/><transition id=\"g{i}\"/>\
+             <arc id=\"x{i}\" source=\"a{i}\" target=\"f{i}\"/><arc id=\"y{i}\" source=\"f{i}\" target=\"b{i}\"/>\
+             <arc id=\"z{i}\" source=\"b{i}\" target=\"g{i}\"/><arc id=\"w{i}\" source=\"g{i}\" target=\"a{i}\"/>\n"
+        ));
+    }
+    pnml.push_str("</page></net></pnml>\n");
+    (tags, lad, pnml)
+}

@@ -98,6 +98,9 @@ enum Command {
         /// Benchmark the Modbus TCP server instead (FC3 x 10 registers; see docs/performance.md).
         #[arg(long)]
         modbus: bool,
+        /// Benchmark nets instead: a net's scan against the same Ladder, and the analysis (states/s, Kanban 5).
+        #[arg(long, conflicts_with = "modbus")]
+        nets: bool,
         /// With --modbus: client counts to run (default 1,4,16).
         #[arg(long, value_delimiter = ',', value_name = "N,...")]
         clients: Option<Vec<usize>>,
@@ -320,6 +323,7 @@ fn main() -> ExitCode {
             start,
             ..
         } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
+        Command::Bench { nets: true, quick, .. } => bench::nets(quick),
         Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
         Command::Analyze { net, json, max_states } => analyze::run(&net, json, max_states),

@@ -562,11 +562,20 @@ mod tests {
         assert_eq!(sfc.steps.len(), 3);
         assert_eq!(sfc.steps[1].actions[1].time_ms, Some(2000));
         let t = &sfc.transitions[0];
-        assert_eq!((t.name.as_deref(), t.priority, t.condition.text.as_str()), (Some("go"), Some(2), "Start"));
-        assert_eq!(&text[t.condition.span.start as usize..t.condition.span.end as usize], "Start");
+        assert_eq!(
+            (t.name.as_deref(), t.priority, t.condition.text.as_str()),
+            (Some("go"), Some(2), "Start")
+        );
+        assert_eq!(
+            &text[t.condition.span.start as usize..t.condition.span.end as usize],
+            "Start"
+        );
         let net = sfc.to_net("seq", file());
         assert_eq!(net.places.iter().map(|p| p.initial).collect::<Vec<_>>(), [1, 0, 0]);
-        assert_eq!(net.transitions.iter().map(|t| t.id.as_str()).collect::<Vec<_>>(), ["go", "t2"]);
+        assert_eq!(
+            net.transitions.iter().map(|t| t.id.as_str()).collect::<Vec<_>>(),
+            ["go", "t2"]
+        );
         // Step names in transitions are case-insensitive; arcs use the declared case.
         assert!(net.arcs.iter().any(|a| a.source == "A" && a.target == "t2"));
         assert_eq!(net.arcs.len(), 6);

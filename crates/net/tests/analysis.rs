@@ -689,3 +689,16 @@ proptest! {
         }
     }
 }
+
+/// The Kanban model of the Model Checking Contest: its published reachable
+/// marking counts (the benchmark, `alba bench --nets`, runs n = 5).
+#[test]
+fn kanban_reaches_the_published_marking_counts() {
+    for (n, states) in [(1, 160), (2, 4_600), (3, 58_400)] {
+        let net = samples::kanban(n);
+        assert_eq!((net.places.len(), net.transitions.len()), (16, 16));
+        let a = analyze(&net, &Options::default(), &|| false);
+        assert_eq!(a.states, Some(states), "kanban {n}");
+        assert_eq!((a.bounded, a.deadlocks), (Some(true), Some(0)), "kanban {n}");
+    }
+}

@@ -14,6 +14,7 @@
 //!   guaranteed the boundedness is reported unknown rather than guessed.
 //! - P- and T-invariants: [`invariants`] (Farkas), independent of the state space.
 
+pub mod bench;
 pub mod coverability;
 pub mod invariants;
 mod json;

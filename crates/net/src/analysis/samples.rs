@@ -52,3 +52,52 @@ pub fn philosophers(n: usize) -> PtNet {
     }
     net
 }
+
+/// The Kanban system of Ciardo and Tilgner (the Model Checking Contest's
+/// `Kanban`): four machines with `n` kanbans each, 16 places and 16
+/// transitions. Machine i: `P{i}` (free kanbans, `n` at start), `Pm{i}` (a
+/// part being machined), `Pback{i}` (sent back for rework), `Pout{i}` (done).
+/// Machine 1 feeds machines 2 and 3 together (`tsynch1_23`), which feed
+/// machine 4 together (`tsynch4_23`). Reachable markings: 160 for n = 1,
+/// 4 600 for 2, 58 400 for 3, 454 475 for 4, 2 546 432 for 5.
+pub fn kanban(n: u32) -> PtNet {
+    let mut net = PtNet::new();
+    let mut p = Vec::new();
+    for i in 1..=4 {
+        let free = net.add_place(&format!("P{i}"), n);
+        let m = net.add_place(&format!("Pm{i}"), 0);
+        let back = net.add_place(&format!("Pback{i}"), 0);
+        let out = net.add_place(&format!("Pout{i}"), 0);
+        p.push((free, m, back, out));
+    }
+    let arcs = |net: &mut PtNet, id: &str, pre: &[usize], post: &[usize]| {
+        let t = net.add_transition(id);
+        for &x in pre {
+            net.add_pre(t, x, 1);
+        }
+        for &x in post {
+            net.add_post(t, x, 1);
+        }
+    };
+    arcs(&mut net, "tin1", &[p[0].0], &[p[0].1]);
+    for (i, &(_, m, back, out)) in p.iter().enumerate() {
+        let i = i + 1;
+        arcs(&mut net, &format!("tredo{i}"), &[m], &[back]);
+        arcs(&mut net, &format!("tback{i}"), &[back], &[m]);
+        arcs(&mut net, &format!("tok{i}"), &[m], &[out]);
+    }
+    arcs(
+        &mut net,
+        "tsynch1_23",
+        &[p[0].3, p[1].0, p[2].0],
+        &[p[0].0, p[1].1, p[2].1],
+    );
+    arcs(
+        &mut net,
+        "tsynch4_23",
+        &[p[1].3, p[2].3, p[3].0],
+        &[p[1].0, p[2].0, p[3].1],
+    );
+    arcs(&mut net, "tout4", &[p[3].3], &[p[3].0]);
+    net
+}
