@@ -19,10 +19,12 @@
 //! Only existing ops are used, so every engine mode and the Arduino export
 //! run these nets too.
 
-use crate::petri::{check_number, drives, guards, lower_assign, lower_guard, marking_tag, net_name};
+use crate::petri::{
+    check_number, drives, emit_drives, guards, lower_assign, lower_guard, marking_tag, net_name, net_tag,
+};
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::{BinOp, Builder, Cmp, I, Op, Place, Target, Tmr};
-use alba_model::{DataType, Tag, TagTable, Value};
+use alba_model::{DataType, TagTable, Value};
 use alba_net::{ArcKind, ElementKind, Net};
 use std::collections::HashMap;
 
@@ -59,17 +61,7 @@ pub fn extra_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<Di
             );
             return;
         }
-        tags.push(Tag {
-            name: tag,
-            ty,
-            address: None,
-            address_text: None,
-            initial,
-            members: Vec::new(),
-            retain: false,
-            description: what,
-            span,
-        });
+        tags.push(net_tag(tag, ty, initial, what, span));
     };
     for t in &net.transitions {
         add(
@@ -425,14 +417,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
     for (&n, &m) in p_new.iter().zip(&pm).chain(t_new.iter().zip(&tm)) {
         b.emit(Op::CopyI(n, m), alba_ir::NO_ELEM);
     }
-    for (p, place) in drives {
-        let elem = b.element(net.places[p].span);
-        b.emit(Op::True, elem);
-        b.emit(Op::CmpI(Cmp::Gt, pm[p], zero), elem);
-        let (out, post) = b.bool_out(place, elem);
-        b.emit(Op::Ote(out), elem);
-        b.post(post, elem);
-    }
+    emit_drives(b, net, drives, &pm, zero);
     b.release(mark);
     b.end_unit();
     diags

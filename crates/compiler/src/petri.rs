@@ -40,6 +40,33 @@ pub fn marking_tag(net: &str, place: &str) -> String {
     format!("{net}.{place}")
 }
 
+/// A tag a net (or chart) adds to the tag table: never retained, no address.
+pub(crate) fn net_tag(name: String, ty: DataType, initial: Option<Value>, description: String, span: Span) -> Tag {
+    Tag {
+        name,
+        ty,
+        address: None,
+        address_text: None,
+        initial,
+        members: Vec::new(),
+        retain: false,
+        description,
+        span,
+    }
+}
+
+/// Writes each `<tag>` place's BOOL: true while the place is marked.
+pub(crate) fn emit_drives(b: &mut Builder, net: &Net, drives: Vec<(usize, Place)>, marking: &[I], zero: I) {
+    for (p, place) in drives {
+        let elem = b.element(net.places[p].span);
+        b.emit(Op::True, elem);
+        b.emit(Op::CmpI(Cmp::Gt, marking[p], zero), elem);
+        let (out, post) = b.bool_out(place, elem);
+        b.emit(Op::Ote(out), elem);
+        b.post(post, elem);
+    }
+}
+
 /// Adds the marking tags of `net` to `tags` (DINT, initial value = initial
 /// marking, not retained); a name already taken is an error.
 pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
@@ -87,17 +114,13 @@ pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<
             ));
             continue;
         };
-        tags.push(Tag {
-            name: tag,
-            ty: DataType::Dint,
-            address: None,
-            address_text: None,
-            initial: Some(Value::Dint(initial)),
-            members: Vec::new(),
-            retain: false,
-            description: format!("marking of place {} of net {name}", p.id),
-            span: p.span,
-        });
+        tags.push(net_tag(
+            tag,
+            DataType::Dint,
+            Some(Value::Dint(initial)),
+            format!("marking of place {} of net {name}", p.id),
+            p.span,
+        ));
     }
     if net.mode == Mode::Normal {
         crate::normal::extra_tags(net, name, tags, diags);
@@ -352,14 +375,7 @@ pub(crate) fn compile_with(
             None => {}
         }
     }
-    for (p, place) in drives {
-        let elem = b.element(net.places[p].span);
-        b.emit(Op::True, elem);
-        b.emit(Op::CmpI(Cmp::Gt, marking[p], zero), elem);
-        let (out, post) = b.bool_out(place, elem);
-        b.emit(Op::Ote(out), elem);
-        b.post(post, elem);
-    }
+    emit_drives(b, net, drives, &marking, zero);
     after(b, &marking);
     b.release(mark);
     b.end_unit();

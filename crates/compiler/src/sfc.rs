@@ -10,7 +10,7 @@
 use crate::petri;
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::{Access, B, Builder, Cmp, I, Op, Place, Target, Tmr};
-use alba_model::{DataType, Tag, TagTable, Value};
+use alba_model::{DataType, TagTable, Value};
 use alba_net::sfc::{Qualifier, Sfc};
 
 pub fn x_tag(sfc: &str, step: &str) -> String {
@@ -53,17 +53,13 @@ pub fn tags(sfc: &Sfc, name: &str, file: FileId, tags: &mut TagTable, diags: &mu
                 ));
                 continue;
             }
-            tags.push(Tag {
-                name: tag,
+            tags.push(petri::net_tag(
+                tag,
                 ty,
-                address: None,
-                address_text: None,
                 initial,
-                members: Vec::new(),
-                retain: false,
-                description: format!("step {} of {name} {what}", s.name),
-                span: s.span,
-            });
+                format!("step {} of {name} {what}", s.name),
+                s.span,
+            ));
         }
     }
 }
