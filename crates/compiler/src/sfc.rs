@@ -21,6 +21,11 @@ pub fn t_tag(sfc: &str, step: &str) -> String {
     format!("{sfc}.{step}.T")
 }
 
+/// The TIMER of an SD or SL association: `<sfc>.<step>.<action>.sd`.
+fn assoc_timer_tag(sfc: &str, step: &str, action: &str, q: Qualifier) -> String {
+    format!("{sfc}.{step}.{action}.{}", format!("{q:?}").to_ascii_lowercase())
+}
+
 fn timer_tag(sfc: &str, step: &str) -> String {
     format!("{sfc}.{step}.timer")
 }
@@ -29,6 +34,18 @@ fn timer_tag(sfc: &str, step: &str) -> String {
 pub fn tags(sfc: &Sfc, name: &str, file: FileId, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
     petri::marking_tags(&sfc.to_net(name, file), name, tags, diags);
     for s in &sfc.steps {
+        // The timers of the stored-and-timed associations (SD, SL).
+        for a in s
+            .actions
+            .iter()
+            .filter(|a| matches!(a.qualifier, Qualifier::SD | Qualifier::SL))
+        {
+            let tag = assoc_timer_tag(name, &s.name, &a.action, a.qualifier);
+            if tags.get(&tag).is_none() {
+                let what = format!("times {:?} of {} in step {} of {name}", a.qualifier, a.action, s.name);
+                tags.push(petri::net_tag(tag, DataType::Timer, None, what, a.span));
+            }
+        }
         for (tag, ty, initial, what) in [
             (
                 x_tag(name, &s.name),
@@ -69,7 +86,7 @@ struct Action {
     key: String,
     place: Place,
     span: Span,
-    assoc: Vec<(usize, Qualifier, Option<i64>)>,
+    assoc: Vec<(usize, Qualifier, Option<i64>, Option<Tmr>)>,
 }
 
 /// Compiles the chart as one unit.
@@ -102,18 +119,6 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
     let mut actions: Vec<Action> = Vec::new();
     for (k, s) in sfc.steps.iter().enumerate() {
         for a in &s.actions {
-            if matches!(a.qualifier, Qualifier::SD | Qualifier::DS | Qualifier::SL) {
-                diags.push(
-                    Diagnostic::new(
-                        Code::SfcAction,
-                        format!("the qualifier {:?} is not available yet", a.qualifier),
-                        a.span,
-                        "qualifier",
-                    )
-                    .with_help("N S R L D P P1 P0 run; write SD/DS/SL with S, R, D and L on separate steps for now"),
-                );
-                continue;
-            }
             let place = match b.layout().resolve(&a.action) {
                 Ok(Target::Value {
                     place,
@@ -152,13 +157,20 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
                 }
             };
             let key = a.action.to_ascii_lowercase();
+            let tmr = match b
+                .layout()
+                .resolve(&assoc_timer_tag(&name, &s.name, &a.action, a.qualifier))
+            {
+                Ok(Target::Timer(t)) => Some(t),
+                _ => None,
+            };
             match actions.iter_mut().find(|x| x.key == key) {
-                Some(x) => x.assoc.push((k, a.qualifier, a.time_ms)),
+                Some(x) => x.assoc.push((k, a.qualifier, a.time_ms, tmr)),
                 None => actions.push(Action {
                     key,
                     place,
                     span: a.span,
-                    assoc: vec![(k, a.qualifier, a.time_ms)],
+                    assoc: vec![(k, a.qualifier, a.time_ms, tmr)],
                 }),
             }
         }
@@ -205,9 +217,17 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
             let latch = b.state_b();
             next(b, *asp);
             b.emit(Op::Otu(acc), alba_ir::NO_ELEM);
-            let term = |b: &mut Builder, k: usize, q: Qualifier, t: Option<i64>, acc: B, latch: B| {
+            // SD and SL run on their own from the step's activation: a bit each.
+            let runs: Vec<Option<B>> = assoc
+                .iter()
+                .map(|(_, q, _, _)| matches!(q, Qualifier::SD | Qualifier::SL).then(|| b.state_b()))
+                .collect();
+            let all_runs: Vec<B> = runs.iter().flatten().copied().collect();
+            let term = |b: &mut Builder, n: usize, next: &mut dyn FnMut(&mut Builder, Span)| {
+                let (k, q, t, tmr) = assoc[n];
                 let (x, tt, _): (B, I, Tmr) = steps[k];
                 let elem = b.element(sfc.steps[k].span);
+                let limit = b.const_i(i32::try_from(t.unwrap_or(0)).unwrap_or(i32::MAX));
                 match q {
                     Qualifier::N => {
                         b.emit(Op::Xic(x), elem);
@@ -220,15 +240,45 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
                     Qualifier::R => {
                         b.emit(Op::Xic(x), elem);
                         b.emit(Op::Otu(latch), elem);
+                        for &r in &all_runs {
+                            b.emit(Op::Otu(r), elem);
+                        }
                     }
                     Qualifier::L | Qualifier::D => {
-                        let limit = b.const_i(i32::try_from(t.unwrap_or(0)).unwrap_or(i32::MAX));
                         b.emit(Op::Xic(x), elem);
                         b.emit(
                             Op::CmpI(if q == Qualifier::L { Cmp::Lt } else { Cmp::Ge }, tt, limit),
                             elem,
                         );
                         b.emit(Op::Otl(acc), elem);
+                    }
+                    Qualifier::DS => {
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(Op::CmpI(Cmp::Ge, tt, limit), elem);
+                        b.emit(Op::Otl(latch), elem);
+                    }
+                    Qualifier::SD | Qualifier::SL => {
+                        let (Some(run), Some(tmr)) = (runs[n], tmr) else { return };
+                        // Started by the step's activation, then timed on its own.
+                        b.emit(Op::Xic(x), elem);
+                        b.emit(Op::Xio(prev[k]), elem);
+                        b.emit(Op::Otl(run), elem);
+                        next(b, sfc.steps[k].span);
+                        b.emit(Op::CopyI(limit, tmr.i), elem);
+                        b.emit(Op::Xic(run), elem);
+                        b.emit(Op::Ton(tmr), elem);
+                        next(b, sfc.steps[k].span);
+                        b.emit(Op::Xic(B(tmr.b.0 + 2)), elem);
+                        b.emit(Op::Otu(run), elem);
+                        if q == Qualifier::SD {
+                            // The delay is over: stored until a reset.
+                            b.emit(Op::Otl(latch), elem);
+                        } else {
+                            // Limited: on while it runs.
+                            next(b, sfc.steps[k].span);
+                            b.emit(Op::Xic(run), elem);
+                            b.emit(Op::Otl(acc), elem);
+                        }
                     }
                     Qualifier::P | Qualifier::P1 => {
                         b.emit(Op::Xic(x), elem);
@@ -240,19 +290,18 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
                         b.emit(Op::Xic(prev[k]), elem);
                         b.emit(Op::Otl(acc), elem);
                     }
-                    Qualifier::SD | Qualifier::DS | Qualifier::SL => {}
                 }
             };
-            // Sets before resets (R wins), then the other terms.
-            let mut ordered = assoc.clone();
-            ordered.sort_by_key(|(_, q, _)| match q {
-                Qualifier::S => 0,
+            // What stores first, then the resets (R wins), then the rest.
+            let mut order: Vec<usize> = (0..assoc.len()).collect();
+            order.sort_by_key(|&n| match assoc[n].1 {
+                Qualifier::S | Qualifier::DS | Qualifier::SD => 0,
                 Qualifier::R => 1,
                 _ => 2,
             });
-            for (k, q, t) in ordered {
-                next(b, sfc.steps[k].span);
-                term(b, k, q, t, acc, latch);
+            for n in order {
+                next(b, sfc.steps[assoc[n].0].span);
+                term(b, n, &mut next);
             }
             next(b, *asp);
             let elem = b.element(*asp);

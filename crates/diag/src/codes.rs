@@ -176,7 +176,7 @@ codes! {
     SfcStructure = 651, "an SFC chart is not well formed",
         "An SFC has exactly one INITIAL_STEP, unique step names, transitions between declared steps, a time on the timed qualifiers (L D SD DS SL) and none on the others.";
     SfcAction = 652, "an SFC action cannot be driven",
-        "An action is a BOOL tag (or member) a program may write: not an input, a status bit or a system tag. SD, DS and SL are not available yet.";
+        "An action is a BOOL tag (or member) a program may write: not an input, a status bit or a system tag.";
 }
 
 impl fmt::Display for Code {
