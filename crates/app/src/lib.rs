@@ -14,6 +14,7 @@ mod alarms;
 mod audit;
 mod edits;
 mod history;
+mod lock;
 mod modbus;
 mod mqtt;
 mod opcua;
@@ -85,6 +86,8 @@ pub async fn run(
     let Some(program) = compiled.program.clone() else {
         return Err(RunError::Compile(Box::new(compiled)));
     };
+    // One runtime per project: held until this function returns.
+    let _lock = lock::acquire(dir).map_err(RunError::Other)?;
     let config = compiled.project.config.clone();
     let config = config.as_ref();
     let alarm_defs = alarms::load(dir, &program).map_err(RunError::Other)?;

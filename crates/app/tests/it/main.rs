@@ -533,3 +533,28 @@ async fn a_bad_alarms_csv_stops_alba_run_with_located_errors() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// One runtime per project: a second `alba run` on the same folder stops at
+/// once with the first one's process id (issue 15); after the first stops,
+/// the project runs again.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_second_run_of_the_same_project_is_refused() {
+    let dir = copy_example("tank", "lock");
+    let (_, stop, task) = serve(&dir, options("sim")).await;
+    let r = alba_app::run(&dir, options("sim"), |_| panic!("must not start"), async {}).await;
+    match r {
+        Err(alba_app::RunError::Other(m)) => {
+            assert!(
+                m.contains("another `alba run`") && m.contains(&format!("pid {}", std::process::id())),
+                "{m}"
+            )
+        }
+        _ => panic!("expected the lock to refuse a second run"),
+    }
+    let _ = stop.send(());
+    let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
+    let (_, stop, task) = serve(&dir, options("sim")).await;
+    let _ = stop.send(());
+    let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
+    let _ = std::fs::remove_dir_all(&dir);
+}

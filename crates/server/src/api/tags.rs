@@ -70,6 +70,17 @@ pub async fn write_tag(
     let s = st.runtime.snapshot();
     let place = writable(&s, name)?;
     let v = from_json(value, place.data_type()).map_err(|e| ApiError::Invalid(format!("`{name}`: {e}")))?;
+    // A timer's preset is a duration: never negative (the instruction would
+    // fault on it every scan).
+    if let Some((base, member)) = name.rsplit_once('.')
+        && member.eq_ignore_ascii_case("PRE")
+        && matches!(s.program.layout.resolve(base), Ok(Target::Timer(_)))
+        && v.as_i64() < 0
+    {
+        return Err(ApiError::Invalid(format!(
+            "`{name}` is a timer's preset: it cannot be negative"
+        )));
+    }
     let entry = alba_audit::Entry {
         target: Some(name.to_string()),
         old: Some(json_text(&to_json(s.read(place)))),

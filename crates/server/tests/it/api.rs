@@ -560,3 +560,32 @@ async fn a_nets_analysis_is_served() {
     assert_eq!(code, 404, "a ladder program is not a net");
     s.stop().await;
 }
+
+/// Issue 15's validation gaps: a negative timer preset is refused (it would
+/// fault every scan), and a tags.csv over the limit gets the JSON error shape.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_negative_timer_preset_and_an_oversized_tags_csv_are_refused_as_json() {
+    let s = Server::start("tank-plant", "validation-gaps").await;
+    let (code, j) = s
+        .call(Method::PUT, "/api/tags/Away.PRE", Some(json!({"value": -5})))
+        .await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    assert!(
+        j["error"].as_str().is_some_and(|e| e.contains("cannot be negative")),
+        "{j}"
+    );
+    let (code, j) = s
+        .call(Method::PUT, "/api/tags/Away.PRE", Some(json!({"value": 2500})))
+        .await;
+    assert_eq!(code, StatusCode::OK, "a positive preset is fine: {j}");
+    // A counter's preset may be negative (CTD counts below zero).
+    let (code, j) = s
+        .call(Method::PUT, "/api/tags/CT_STP.PRE", Some(json!({"value": -2})))
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    let big = vec![b'a'; 2 * 1024 * 1024];
+    let (code, j) = s.raw(Method::PUT, "/api/tags.csv", "text/csv", big).await;
+    assert_eq!(code, StatusCode::PAYLOAD_TOO_LARGE);
+    assert!(j["error"].is_string(), "the JSON error shape: {j}");
+    s.stop().await;
+}
