@@ -7,7 +7,28 @@ export type Stats = { last_us: number, min_us: number, max_us: number, mean_us: 
 
 export type RunState = "running" | "stopped" | "faulted";
 
-export type Status = { project: string, state: RunState, fault: string | null, scan_ms: number, scans: number, time_ms: number, stats: Stats, minor_faults: number, io: string, programs: Array<string>, clients: number, };
+export type Problem = { 
+/**
+ * `retain` (restoring at start), `retain-save`, `history`,
+ * `history-damaged`, `history-disk`, `history-cap`.
+ */
+source: string, message: string, since_unix_ms: number, };
+
+export type Status = { project: string, state: RunState, fault: string | null, scan_ms: number, scans: number, time_ms: number, stats: Stats, minor_faults: number, io: string, programs: Array<string>, clients: number, 
+/**
+ * Retain saves, the historian and disk space are all healthy
+ * (`S:STOREOK`).
+ */
+store_ok: boolean, 
+/**
+ * Retentive data was lost at start (`S:RETAINLOST`).
+ */
+retain_lost: boolean, 
+/**
+ * What is wrong with the runtime's stores now, oldest first
+ * (docs/reliability.md).
+ */
+problems: Array<Problem>, };
 
 export type Access = "readwrite" | "input" | "readonly";
 
@@ -256,6 +277,20 @@ export type PowerMsg = { type: 'power', scan: number, program: string, on: Array
 
 export type ErrorMsg = { type: 'error', error: string, };
 
-export type StatusMsg = { type: 'status', project: string, state: RunState, fault: string | null, scan_ms: number, scans: number, time_ms: number, stats: Stats, minor_faults: number, io: string, programs: Array<string>, clients: number, };
+export type StatusMsg = { type: 'status', project: string, state: RunState, fault: string | null, scan_ms: number, scans: number, time_ms: number, stats: Stats, minor_faults: number, io: string, programs: Array<string>, clients: number, 
+/**
+ * Retain saves, the historian and disk space are all healthy
+ * (`S:STOREOK`).
+ */
+store_ok: boolean, 
+/**
+ * Retentive data was lost at start (`S:RETAINLOST`).
+ */
+retain_lost: boolean, 
+/**
+ * What is wrong with the runtime's stores now, oldest first
+ * (docs/reliability.md).
+ */
+problems: Array<Problem>, };
 
 export type AlarmsMsg = { type: 'alarms', alarms: number, active: number, unacked: number, shelved: number, suppressed: number, out_of_service: number, new_10min: number, flood: boolean, top_unacked: string | null, top_severity: number | null, };

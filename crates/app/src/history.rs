@@ -2,6 +2,13 @@
 //! runtime's snapshots (docs/historian.md); the server's `/api/history`
 //! endpoints query what it wrote.
 //!
+//! It never blocks anything else and never fails quietly (docs/reliability.md):
+//! a damaged or foreign database is moved aside for a fresh one (at start or
+//! when damage shows while recording), the database is kept under
+//! `[history] max_mb` by deleting the oldest hours, recording pauses while the
+//! disk has less than `min_free_mb` free, and every failure is a problem in
+//! the runtime's [`Health`] (`/api/status`, `S:STOREOK`) until it clears.
+//!
 //! The recorder takes snapshots from the same `watch` channel as the
 //! WebSocket clients: when writing falls behind (10 000 tags changing every
 //! scan is more than SQLite takes), it skips snapshots instead of queueing
@@ -9,7 +16,9 @@
 
 use alba_historian::{ChangeFilter, Filter, Historian, Recorder};
 use alba_model::DataType;
+use alba_project::config::OnDamage;
 use alba_runtime::Snapshot;
+use alba_runtime::health::Health;
 use alba_server::tags;
 use std::sync::Arc;
 use tokio::sync::watch;
@@ -18,9 +27,13 @@ use tokio::sync::watch;
 const FLUSH_MS: u64 = 250;
 /// Retention runs this often.
 const RETENTION_EVERY_MS: i64 = 3_600_000;
+/// The size cap and the free-space floor are checked this often.
+const CHECK_EVERY_MS: i64 = 1_000;
 
-/// Opens the project's history database.
-pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History) -> Result<Historian, String> {
+/// Opens the project's history database. One that is damaged or not a
+/// history database is moved aside for a fresh one (reported in `health`),
+/// unless `[history] on_damage = "refuse"`.
+pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History, health: &Health) -> Result<Historian, String> {
     let path = dir.join(".alba").join("history.db");
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
@@ -29,7 +42,27 @@ pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History) -> Resul
         retention_days: (cfg.retention_days > 0).then_some(cfg.retention_days),
         ..Default::default()
     };
-    Historian::open(&path, config).map_err(|e| e.to_string())
+    match Historian::open(&path, config.clone()) {
+        Err(e) if e.is_damage() && cfg.on_damage == OnDamage::Fresh => {
+            let to =
+                alba_historian::move_aside(&path).map_err(|m| format!("{e}; and it cannot be moved aside: {m}"))?;
+            health.report(
+                "history-damaged",
+                format!("{e}: moved to {} and recording into a fresh database", to.display()),
+            );
+            Historian::open(&path, config).map_err(|e| e.to_string())
+        }
+        Err(e) if e.is_damage() => Err(format!(
+            "{e} ([history] on_damage = \"refuse\": move or remove the file to start)"
+        )),
+        r => r.map_err(|e| e.to_string()),
+    }
+}
+
+/// Free bytes for an unprivileged writer on the filesystem holding `path`.
+fn free_bytes(path: &std::path::Path) -> Option<u64> {
+    let s = rustix::fs::statvfs(path).ok()?;
+    Some(s.f_bavail.saturating_mul(s.f_frsize))
 }
 
 /// Records every snapshot `rx` publishes until the runtime stops.
@@ -37,9 +70,15 @@ pub fn record(
     h: Historian,
     cfg: alba_project::config::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
+    health: Arc<Health>,
     rt: tokio::runtime::Handle,
 ) -> std::thread::JoinHandle<()> {
     std::thread::spawn(move || {
+        let max_bytes = u64::from(cfg.max_mb) << 20;
+        let floor = u64::from(cfg.min_free_mb) << 20;
+        let dir = h.path().parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+        let mut checked_at: Option<i64> = None;
+        let mut paused = false;
         let every = Filter {
             deadband: 0.0,
             period_ms: u64::from(cfg.sample_ms),
@@ -66,19 +105,77 @@ pub fn record(
                 }
                 program = Some(s.program.clone());
             }
+            if checked_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= CHECK_EVERY_MS) {
+                checked_at = Some(s.unix_ms);
+                paused = check_space(&h, &dir, floor, max_bytes, &health);
+            }
+            if paused {
+                continue;
+            }
             let values: Vec<(&str, f64)> = places.iter().map(|(n, p)| (n.as_str(), s.read(*p).as_f64())).collect();
-            if let Err(e) = rec.record(s.unix_ms, &values) {
-                eprintln!("history: {e}");
+            match rec.record(s.unix_ms, &values) {
+                Ok(_) => health.clear("history"),
+                Err(e) => failed(&h, &e, &health),
             }
             if retained_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= RETENTION_EVERY_MS) {
                 retained_at = Some(s.unix_ms);
                 if let Err(e) = h.apply_retention(s.unix_ms) {
-                    eprintln!("history retention: {e}");
+                    failed(&h, &e, &health);
                 }
             }
         }
         if let Err(e) = rec.flush().and_then(|_| h.flush()) {
-            eprintln!("history: {e}");
+            failed(&h, &e, &health);
         }
     })
+}
+
+/// A write or a retention pass failed: reported; a damaged database is
+/// moved aside for a fresh one at once.
+fn failed(h: &Historian, e: &alba_historian::Error, health: &Health) {
+    if !e.is_damage() {
+        let what = if e.is_disk_full() { "the disk is full: " } else { "" };
+        return health.report("history", format!("history not recorded: {what}{e}"));
+    }
+    match h.replace_damaged() {
+        Ok(to) => {
+            health.report(
+                "history-damaged",
+                format!("{e}: moved to {} and recording into a fresh database", to.display()),
+            );
+            health.clear("history");
+        }
+        Err(e2) => health.report(
+            "history",
+            format!("history not recorded: {e}; replacing it failed: {e2}"),
+        ),
+    }
+}
+
+/// The free-space floor and the size cap; whether recording is to pause.
+fn check_space(h: &Historian, dir: &std::path::Path, floor: u64, max_bytes: u64, health: &Health) -> bool {
+    if max_bytes > 0 {
+        match h.enforce_cap(max_bytes) {
+            Ok(_) => health.clear("history-cap"),
+            Err(e) => health.report("history-cap", format!("cannot keep history under its size cap: {e}")),
+        }
+    }
+    match free_bytes(dir) {
+        Some(free) if free < floor => {
+            health.report(
+                "history-disk",
+                format!(
+                    "history paused: {} MB free on the disk of {}, below [history] min_free_mb = {}",
+                    free >> 20,
+                    dir.display(),
+                    floor >> 20
+                ),
+            );
+            true
+        }
+        _ => {
+            health.clear("history-disk");
+            false
+        }
+    }
 }

@@ -98,11 +98,16 @@ pub async fn run(
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
     if let Some(c) = config {
         ro.retain_interval_ms = u64::from(c.retain_ms);
+        ro.on_retain_error = match c.runtime.on_retain_error {
+            alba_project::config::OnRetainError::Start => alba_runtime::retain::OnError::Start,
+            alba_project::config::OnRetainError::Refuse => alba_runtime::retain::OnError::Refuse,
+        };
     }
+    let health = ro.health.clone();
     let io = alba_io::open(&opts.io, config, &program).map_err(|e| RunError::Other(e.to_string()))?;
     let hist_cfg = config.map(|c| c.history.clone()).unwrap_or_default();
     let historian = if hist_cfg.enabled {
-        Some(history::open(dir, &hist_cfg).map_err(RunError::Other)?)
+        Some(history::open(dir, &hist_cfg, &health).map_err(RunError::Other)?)
     } else {
         None
     };
@@ -116,6 +121,7 @@ pub async fn run(
             h,
             hist_cfg,
             runtime.handle().subscribe(),
+            health.clone(),
             tokio::runtime::Handle::current(),
         )
     });

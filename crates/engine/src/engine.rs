@@ -35,6 +35,8 @@ pub struct Engine {
     /// `S:IOOK` and `S:IOERRORS`, as the I/O driver last reported them.
     io_ok: bool,
     io_errors: i32,
+    retain_lost: bool,
+    store_ok: bool,
     /// Native code for unmonitored scans, once compiled.
     #[cfg(feature = "jit")]
     native: Option<crate::jit::Jit>,
@@ -63,6 +65,8 @@ impl Engine {
             scan_time_ms: 0,
             io_ok: true,
             io_errors: 0,
+            retain_lost: false,
+            store_ok: true,
             #[cfg(feature = "jit")]
             native: None,
             plants: crate::plant::Plants::new(&prog.plants),
@@ -217,6 +221,19 @@ impl Engine {
         }
     }
 
+    /// The runtime's store health for `S:RETAINLOST` and `S:STOREOK`
+    /// (visible at once and kept by scans).
+    pub fn set_store_status(&mut self, retain_lost: bool, store_ok: bool) {
+        self.retain_lost = retain_lost;
+        self.store_ok = store_ok;
+        let sys = self.prog.layout.system;
+        for (slot, v) in [(sys.retain_lost, retain_lost), (sys.store_ok, store_ok)] {
+            if let Some(b) = self.mem.b.get_mut(slot.0 as usize) {
+                *b = v;
+            }
+        }
+    }
+
     /// Prepares a new start after a stop: the next scan is a first scan
     /// again and a major fault is cleared; memory is kept.
     pub fn restart(&mut self) {
@@ -339,6 +356,8 @@ impl Engine {
         self.mem.i[sys.scan_time.0 as usize] = self.scan_time_ms.min(i16::MAX as u32) as i32;
         b[sys.io_ok.0 as usize] = self.io_ok;
         self.mem.i[sys.io_errors.0 as usize] = self.io_errors;
+        b[sys.retain_lost.0 as usize] = self.retain_lost;
+        b[sys.store_ok.0 as usize] = self.store_ok;
         self.faults.scan = self.scans;
         let before = self.faults.count;
         self.apply_forces();

@@ -38,5 +38,25 @@ pub enum Error {
     Io(#[from] std::io::Error),
 }
 
+impl Error {
+    /// The database is damaged or is not a history database: it cannot be used any more
+    /// and is to be moved aside ([`crate::move_aside`]).
+    pub fn is_damage(&self) -> bool {
+        match self {
+            Error::NotHistory { .. } => true,
+            Error::Sqlite(e) => matches!(
+                e.sqlite_error_code(),
+                Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase)
+            ),
+            _ => false,
+        }
+    }
+
+    /// The disk (or the file's size limit) is full.
+    pub fn is_disk_full(&self) -> bool {
+        matches!(self, Error::Sqlite(e) if e.sqlite_error_code() == Some(rusqlite::ErrorCode::DiskFull))
+    }
+}
+
 /// The result type of the historian.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

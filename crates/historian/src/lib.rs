@@ -344,6 +344,68 @@ impl Historian {
         }
         Ok(deleted)
     }
+
+    /// The bytes the stored data takes: the file's pages less its free ones (SQLite reuses
+    /// free pages, so the file stays about this size while [`enforce_cap`](Self::enforce_cap)
+    /// holds it down).
+    pub fn used_bytes(&self) -> Result<u64> {
+        lock(&self.inner.writer).used_bytes()
+    }
+
+    /// Deletes the oldest samples and rollups, one hour at a time, until the data takes at
+    /// most `max_bytes` (or only the newest hour is left). Returns the number of samples
+    /// deleted.
+    pub fn enforce_cap(&self, max_bytes: u64) -> Result<u64> {
+        let mut deleted = 0;
+        while self.used_bytes()? > max_bytes {
+            let oldest = self.read(query::tags)?.iter().map(|t| t.first_ms).min();
+            let Some(oldest) = oldest else { break };
+            let n = self.delete_before(agg::floor_to(oldest, schema::COARSEST_MS) + schema::COARSEST_MS)?;
+            if n == 0 {
+                break;
+            }
+            deleted += n;
+        }
+        Ok(deleted)
+    }
+
+    /// The database turned out damaged while in use ([`Error::is_damage`]): it is closed,
+    /// moved aside with [`move_aside`], and a fresh one is created in its place. Returns
+    /// where the old one went. Queries running meanwhile may fail.
+    pub fn replace_damaged(&self) -> Result<PathBuf> {
+        let path = &self.inner.path;
+        let mut writer = lock(&self.inner.writer);
+        // Close every connection to the old file before its files move (SQLite deletes
+        // the `-wal` file by name when the last one closes).
+        *writer = Writer::new(Connection::open_in_memory()?);
+        lock(&self.inner.readers).clear();
+        let to = move_aside(path)?;
+        *writer = Writer::new(schema::open_writer(path)?);
+        Ok(to)
+    }
+}
+
+/// Moves the database `path` and its `-wal` and `-shm` files aside to
+/// `<name>.damaged-<unix ms>` (and its `-wal`, `-shm`), so that a fresh database can take
+/// its place and the old one can still be examined. Returns the new path of the database.
+pub fn move_aside(path: &Path) -> std::io::Result<PathBuf> {
+    let ms = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis());
+    let with = |p: &Path, suffix: &str| {
+        let mut name = p.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+        name.push(suffix);
+        p.with_file_name(name)
+    };
+    let to = with(path, &format!(".damaged-{ms}"));
+    std::fs::rename(path, &to)?;
+    for side in ["-wal", "-shm"] {
+        match std::fs::rename(with(path, side), with(&to, side)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+            _ => {}
+        }
+    }
+    Ok(to)
 }
 
 #[cfg(test)]

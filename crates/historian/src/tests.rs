@@ -765,3 +765,97 @@ fn recorder_buffers_up_to_the_max_delay() {
     drop(rec);
     assert_eq!(h.raw("B", 0, 10_000, 100).expect("raw").len(), 11);
 }
+
+#[test]
+fn the_size_cap_deletes_the_oldest_hours_first() {
+    let dir = temp();
+    let h = open(dir.path());
+    // 10 tags, one sample every 10 s for 48 hours.
+    let names: Vec<String> = (0..10).map(|i| format!("T{i}")).collect();
+    let hour = 3_600_000;
+    for chunk in 0..48 {
+        let samples: Vec<Sample<'_>> = (0..360)
+            .flat_map(|k| {
+                let t = chunk * hour + k * 10_000;
+                names.iter().map(move |n| Sample {
+                    tag: n,
+                    t_ms: t,
+                    v: (t % 977) as f64,
+                })
+            })
+            .collect();
+        h.record_batch(&samples).expect("record");
+    }
+    h.flush().expect("flush");
+    let before = h.used_bytes().expect("size");
+    let cap = before / 3;
+    let deleted = h.enforce_cap(cap).expect("cap");
+    assert!(
+        deleted > 0 && h.used_bytes().expect("size") <= cap,
+        "{before} → cap {cap}"
+    );
+    let ranges = h.tags().expect("tags");
+    assert_eq!(ranges.len(), 10);
+    for r in &ranges {
+        // Whole hours went, oldest first; the newest sample stays.
+        assert_eq!(r.first_ms % hour, 0, "{r:?}");
+        assert!(r.first_ms >= 24 * hour, "{r:?}");
+        assert_eq!(r.last_ms, 47 * hour + 359 * 10_000);
+    }
+    // More data keeps it under the cap once enforced again, reusing free pages.
+    let len_before = std::fs::metadata(h.path()).expect("file").len();
+    let samples: Vec<Sample<'_>> = (0..360)
+        .flat_map(|k| {
+            let t = 48 * hour + k * 10_000;
+            names.iter().map(move |n| Sample {
+                tag: n,
+                t_ms: t,
+                v: 1.0,
+            })
+        })
+        .collect();
+    h.record_batch(&samples).expect("record");
+    h.enforce_cap(cap).expect("cap");
+    assert!(h.used_bytes().expect("size") <= cap);
+    assert!(std::fs::metadata(h.path()).expect("file").len() <= len_before);
+}
+
+#[test]
+fn a_database_damaged_in_use_is_moved_aside_for_a_fresh_one() {
+    let dir = temp();
+    let path = dir.path().join("history.db");
+    let h = open(dir.path());
+    let samples: Vec<Sample<'_>> = (0..20_000)
+        .map(|k| Sample {
+            tag: "A",
+            t_ms: k * 1000,
+            v: k as f64,
+        })
+        .collect();
+    h.record_batch(&samples).expect("record");
+    h.flush().expect("flush");
+    drop(h);
+    // Overwrite the data pages (past the header, the schema and the tables' roots).
+    {
+        use std::io::{Seek, SeekFrom};
+        let c = Connection::open(&path).expect("open");
+        c.execute_batch("PRAGMA wal_checkpoint(TRUNCATE);").expect("checkpoint");
+        drop(c);
+        let mut f = std::fs::OpenOptions::new().write(true).open(&path).expect("file");
+        let len = f.metadata().expect("len").len();
+        f.seek(SeekFrom::Start(64 * 1024)).expect("seek");
+        f.write_all(&vec![0xA5; (len - 64 * 1024) as usize]).expect("damage");
+    }
+    // It still opens (the header and schema are fine) …
+    let h = open(dir.path());
+    // … and the damage shows when its pages are read.
+    match h.raw("A", 0, i64::MAX, 100_000) {
+        Err(e) => assert!(e.is_damage(), "{e}"),
+        Ok(p) => panic!("{} points read from damaged pages", p.len()),
+    }
+    let aside = h.replace_damaged().expect("replace");
+    assert!(aside.to_string_lossy().contains("history.db.damaged-") && aside.exists());
+    h.record(5, &[("B", 1.0)]).expect("a fresh database records");
+    assert_eq!(h.tags().expect("tags").len(), 1);
+    assert!(matches!(h.raw("A", 0, 10, 10), Err(Error::UnknownTag(_))));
+}

@@ -234,6 +234,14 @@ impl Writer {
         Ok(Some(deleted))
     }
 
+    /// Pages in use times the page size.
+    pub fn used_bytes(&self) -> Result<u64> {
+        let pragma =
+            |name: &str| -> Result<i64> { Ok(self.conn.query_row(&format!("PRAGMA {name}"), [], |r| r.get(0))?) };
+        let used = pragma("page_count")? - pragma("freelist_count")?;
+        Ok(u64::try_from(used.max(0) * pragma("page_size")?).unwrap_or(0))
+    }
+
     /// The ids of all tags.
     pub fn tag_ids(&self) -> Result<Vec<i64>> {
         let mut stmt = self.conn.prepare_cached("SELECT id FROM tags ORDER BY id")?;

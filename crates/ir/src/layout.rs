@@ -73,6 +73,12 @@ pub struct System {
     /// `S:IOERRORS`: I/O link errors (timeouts, bad frames, lost ports)
     /// since the runtime started.
     pub io_errors: I,
+    /// `S:RETAINLOST`: retentive data was lost at start (a damaged retain
+    /// file, values that could not be restored); set by the runtime.
+    pub retain_lost: B,
+    /// `S:STOREOK`: every store of the runtime works (retain saves, the
+    /// historian, disk space); set by the runtime.
+    pub store_ok: B,
 }
 
 /// The scan-statistics tags, in slot order from [`System::stats`].
@@ -104,6 +110,11 @@ pub const SYSTEM_TAGS: &[(&str, &str)] = &[
     ("S:OVERRUNS", "scan deadlines missed since the last run"),
     ("S:IOOK", "the I/O link is healthy (always on with simulated I/O)"),
     ("S:IOERRORS", "I/O link errors since the runtime started"),
+    ("S:RETAINLOST", "retentive data was lost at start (see /api/status)"),
+    (
+        "S:STOREOK",
+        "retain saves, the historian and disk space are all healthy",
+    ),
 ];
 
 /// The slots of an S7-200 timer or counter (see `S7Tmr`, `S7Ctr`).
@@ -178,6 +189,8 @@ impl Layout {
             // Placed after everything else, below.
             io_ok: B(0),
             io_errors: I(0),
+            retain_lost: B(0),
+            store_ok: B(0),
         };
         let di = Region {
             base: take(&mut c.b, di),
@@ -238,6 +251,9 @@ impl Layout {
         let mut system = system;
         system.io_ok = B(take(&mut c.b, 1));
         system.io_errors = I(take(&mut c.i, 1));
+        // And the store health after it, for the same reason.
+        system.retain_lost = B(take(&mut c.b, 1));
+        system.store_ok = B(take(&mut c.b, 1));
         Layout {
             tags: tags.clone(),
             slots,

@@ -208,6 +208,8 @@ impl Layout {
             "SMW22" => Place::Int(s.scan_time, DataType::Int),
             "S:IOOK" => Place::Bool(s.io_ok),
             "S:IOERRORS" => Place::Int(s.io_errors, DataType::Dint),
+            "S:RETAINLOST" => Place::Bool(s.retain_lost),
+            "S:STOREOK" => Place::Bool(s.store_ok),
             _ => {
                 let k = crate::layout::STAT_TAGS.iter().position(|t| *t == upper)?;
                 Place::Int(I(s.stats.0 + k as u32), DataType::Dint)

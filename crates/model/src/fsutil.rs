@@ -8,14 +8,28 @@ use std::path::Path;
 
 /// Writes `path` atomically with what `fill` writes.
 pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    write_atomic_inner(path, false, fill)
+    write_atomic_inner(path, false, None, fill)
+}
+
+/// [`write_atomic`] keeping the file it replaces as `previous` (two
+/// generations): the old file is renamed to `previous` just before the new
+/// one takes its place, so a crash between the two renames leaves no `path`
+/// but a good `previous`, and a file damaged later (a torn sector, a bad
+/// copy) still has the generation before it. Readers fall back to
+/// `previous` when `path` is missing or unusable.
+pub fn write_atomic_keeping(
+    path: &Path,
+    previous: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    write_atomic_inner(path, false, Some(previous), fill)
 }
 
 /// [`write_atomic`] for a file only its owner may read and write (mode 0600
 /// on Unix, set when the temporary file is created, before anything is
 /// written): secrets such as password hashes.
 pub fn write_atomic_private(path: &Path, fill: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    write_atomic_inner(path, true, fill)
+    write_atomic_inner(path, true, None, fill)
 }
 
 fn create(path: &Path, private: bool) -> io::Result<File> {
@@ -41,6 +55,7 @@ fn create(path: &Path, private: bool) -> io::Result<File> {
 fn write_atomic_inner(
     path: &Path,
     private: bool,
+    previous: Option<&Path>,
     fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
     let dir = match path.parent() {
@@ -54,6 +69,12 @@ fn write_atomic_inner(
         fill(&mut w)?;
         let f = w.into_inner().map_err(|e| e.into_error())?;
         f.sync_all()?;
+        if let Some(prev) = previous {
+            match fs::rename(path, prev) {
+                Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
+        }
         fs::rename(&tmp, path)?;
         // Make the rename itself durable.
         if let Ok(d) = File::open(dir) {

@@ -16,6 +16,7 @@
 //! with a fault and the outputs in their safe state (off).
 
 mod error;
+pub mod health;
 pub mod json;
 pub mod retain;
 
@@ -24,6 +25,7 @@ pub use error::{IoError, StartError};
 use alba_engine::Engine;
 use alba_ir::{Layout, Memory, Place, Program};
 use alba_model::Value;
+use health::Health;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::mpsc::{self, RecvTimeoutError};
@@ -42,6 +44,11 @@ pub struct Options {
     pub retain_file: Option<PathBuf>,
     /// How often retentive data is saved while running (and on stop).
     pub retain_interval_ms: u64,
+    /// What to do when the retain file cannot be used.
+    pub on_retain_error: retain::OnError,
+    /// Where problems with retentive data are reported (shared with the
+    /// other stores of the application: the historian reports there too).
+    pub health: Arc<Health>,
     /// Compile the program to native code.
     pub native: bool,
     /// Start scanning at once (else wait for `run`).
@@ -55,6 +62,8 @@ impl Options {
             watchdog_ms: (scan_ms.saturating_mul(10)).max(500),
             retain_file: None,
             retain_interval_ms: 1000,
+            on_retain_error: retain::OnError::Start,
+            health: Arc::default(),
             native: true,
             start_running: true,
         }
@@ -261,9 +270,16 @@ type Reply = oneshot::Sender<Result<(), Error>>;
 pub struct Handle {
     tx: mpsc::Sender<(Req, Option<Reply>)>,
     snapshots: watch::Receiver<Arc<Snapshot>>,
+    health: Arc<Health>,
 }
 
 impl Handle {
+    /// The persistence problems of this runtime; the historian and other
+    /// services report theirs here too.
+    pub fn health(&self) -> &Arc<Health> {
+        &self.health
+    }
+
     /// The latest snapshot.
     pub fn snapshot(&self) -> Arc<Snapshot> {
         self.snapshots.borrow().clone()
@@ -349,9 +365,19 @@ impl Runtime {
             // Where native code is unavailable the interpreter runs instead.
             let _ = engine.compile_native();
         }
+        let health = opts.health.clone();
         if let Some(path) = &opts.retain_file {
-            retain::load(path, &program, |p, v| engine.write(p, v)).map_err(StartError::Retain)?;
+            let r = retain::load(path, &program, opts.on_retain_error, |p, v| engine.write(p, v))
+                .map_err(StartError::Retain)?;
+            if r.lost() {
+                health.set_retain_lost();
+            }
+            // A problem until the runtime restarts: someone must look.
+            if let Some(w) = r.warning() {
+                health.report("retain", w);
+            }
         }
+        engine.set_store_status(health.retain_lost(), health.ok());
         let (tx, rx) = mpsc::channel();
         let first = Arc::new(Snapshot {
             program: program.clone(),
@@ -373,7 +399,7 @@ impl Runtime {
         });
         let (snap_tx, snap_rx) = watch::channel(first);
         let saver = match &opts.retain_file {
-            Some(p) => Some(Saver::start(p.clone())?),
+            Some(p) => Some(Saver::start(p.clone(), health.clone())?),
             None => None,
         };
         let state = Worker {
@@ -391,13 +417,18 @@ impl Runtime {
             snapshots: snap_tx,
             epoch: Instant::now(),
             last_retain: Instant::now(),
+            health: health.clone(),
         };
         let thread = std::thread::Builder::new()
             .name("alba-engine".into())
             .spawn(move || state.run(rx))
             .map_err(|source| StartError::Thread { what: "engine", source })?;
         Ok(Runtime {
-            handle: Handle { tx, snapshots: snap_rx },
+            handle: Handle {
+                tx,
+                snapshots: snap_rx,
+                health,
+            },
             thread: Some(thread),
         })
     }
@@ -465,6 +496,7 @@ struct Worker {
     /// Zero of the engine clock.
     epoch: Instant,
     last_retain: Instant,
+    health: Arc<Health>,
 }
 
 impl Worker {
@@ -556,6 +588,8 @@ impl Worker {
                 .record(t0.elapsed().as_micros() as u64, late.as_micros() as u64);
             return self.publish();
         }
+        self.engine
+            .set_store_status(self.health.retain_lost(), self.health.ok());
         // Forces are the engine's: applied before and after the scan.
         let now = self.clock_ms();
         if let Err(m) = self.engine.scan(now) {
@@ -780,7 +814,7 @@ struct Saver {
 }
 
 impl Saver {
-    fn start(path: PathBuf) -> Result<Saver, StartError> {
+    fn start(path: PathBuf, health: Arc<Health>) -> Result<Saver, StartError> {
         let (tx, rx) = mpsc::channel::<Vec<(String, Value)>>();
         let thread = std::thread::Builder::new()
             .name("alba-retain".into())
@@ -790,8 +824,12 @@ impl Saver {
                     while let Ok(v) = rx.try_recv() {
                         values = v;
                     }
-                    if let Err(e) = retain::save(&path, &values, unix_ms()) {
-                        eprintln!("warning: cannot save retentive data to {}: {e}", path.display());
+                    match retain::save(&path, &values, unix_ms()) {
+                        Ok(()) => health.clear("retain-save"),
+                        Err(e) => health.report(
+                            "retain-save",
+                            format!("cannot save retentive data to {}: {e}", path.display()),
+                        ),
                     }
                 }
             })

@@ -4,15 +4,17 @@
 //! and TONR timers, counters) whatever their tag says.
 //!
 //! They are saved by name — so a recompiled program finds them — to one
-//! JSON file, written atomically (temporary file, fsync, rename): a crash
-//! leaves the previous save or the new one, never a torn file.
+//! JSON file, written atomically (temporary file, fsync, rename) with the
+//! previous save kept beside it (`retain.json.prev`): a crash leaves the
+//! previous save or the new one, never a torn file, and a file damaged
+//! anyway falls back to the generation before it (docs/reliability.md).
 
 use crate::json::{from_json, to_json};
 use alba_ir::{Op, Place, Program, TagSlot, Target};
-use alba_model::fsutil::write_atomic;
+use alba_model::fsutil::write_atomic_keeping;
 use serde_json::{Map, Value as Json, json};
 use std::collections::BTreeSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const FORMAT: &str = "alba-retain";
 
@@ -70,59 +72,199 @@ pub fn retained(p: &Program) -> Vec<(String, Place)> {
         .collect()
 }
 
-/// Saves `values` (name, value) atomically to `path`.
+/// The previous generation of the retain file `path`: `retain.json.prev`.
+pub fn previous(path: &Path) -> PathBuf {
+    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(".prev");
+    path.with_file_name(name)
+}
+
+/// Saves `values` (name, value) atomically to `path`, keeping the file it
+/// replaces as [`previous`] (two generations).
 pub fn save(path: &Path, values: &[(String, alba_model::Value)], unix_ms: i64) -> std::io::Result<()> {
     let map: Map<String, Json> = values.iter().map(|(n, v)| (n.clone(), to_json(*v))).collect();
     let doc = json!({"format": FORMAT, "version": 1, "saved_unix_ms": unix_ms, "values": map});
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
-    write_atomic(path, |w| {
+    write_atomic_keeping(path, &previous(path), |w| {
         serde_json::to_writer_pretty(&mut *w, &doc).map_err(std::io::Error::other)?;
         w.write_all(b"\n")
     })
 }
 
-/// What a retain file gave: the values restored, and what was skipped and why.
+/// What to do when the retain file cannot be used (`[runtime]
+/// on_retain_error` in alba.toml).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OnError {
+    /// Start from the previous generation or the initial values, keep the
+    /// bad file aside and report it (the default: a plant must come back
+    /// after a power cut that damaged one file).
+    #[default]
+    Start,
+    /// Refuse to start, leaving every file as it is.
+    Refuse,
+}
+
+/// What a retain file gave: the values restored, what was skipped and
+/// why, and where a damaged or partly unusable file was kept.
 #[derive(Debug, Default)]
 pub struct Restored {
     pub restored: usize,
+    /// Values not restored, `name: why` (a tag no longer retained is not a
+    /// loss and is not listed here).
     pub skipped: Vec<String>,
+    /// The file could not be used at all (unreadable, not JSON, not a retain
+    /// file): why. It was moved aside to `kept`.
+    pub damaged: Option<String>,
+    /// The values came from the previous generation (`retain.json.prev`).
+    pub from_previous: bool,
+    /// Where the file was kept: moved aside when damaged, copied when some
+    /// values could not be restored (the next save would lose them).
+    pub kept: Option<PathBuf>,
 }
 
-/// Reads `path` and writes every value it holds for a retained place of
-/// `p` into `write`. A missing file restores nothing; a file that is not
-/// a retain file is an error (and is left alone).
-pub fn load(path: &Path, p: &Program, mut write: impl FnMut(Place, alba_model::Value)) -> Result<Restored, String> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Restored::default()),
+impl Restored {
+    /// Some retained value did not come back as it was last saved.
+    pub fn lost(&self) -> bool {
+        self.damaged.is_some() || !self.skipped.is_empty()
+    }
+
+    /// What a user must hear about, one sentence (`None` when all went well).
+    pub fn warning(&self) -> Option<String> {
+        let mut w = Vec::new();
+        if let Some(d) = &self.damaged {
+            w.push(if self.from_previous {
+                format!("{d}: restored the previous save instead")
+            } else {
+                format!("retentive data lost: {d}; started from the initial values")
+            });
+        } else if self.from_previous {
+            w.push("the retain file was missing: restored the previous save".to_string());
+        }
+        if !self.skipped.is_empty() {
+            w.push(format!(
+                "{} retained value(s) not restored: {}",
+                self.skipped.len(),
+                self.skipped.join("; ")
+            ));
+        }
+        if let Some(k) = &self.kept {
+            w.push(format!("the file as it was is kept in {}", k.display()));
+        }
+        (!w.is_empty()).then(|| w.join("; "))
+    }
+}
+
+/// `path` with `.<what>-<unix ms>` appended.
+fn aside(path: &Path, what: &str) -> PathBuf {
+    let mut name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(format!(".{what}-{}", crate::unix_ms()));
+    path.with_file_name(name)
+}
+
+/// The values of the retain file `path`: `Ok(None)` when there is none,
+/// `Err(why)` when it cannot be used.
+fn read_values(path: &Path) -> Result<Option<Map<String, Json>>, String> {
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
         Err(e) => return Err(format!("cannot read {}: {e}", path.display())),
     };
-    let doc: Json = serde_json::from_str(&text).map_err(|e| format!("{}: not a retain file ({e})", path.display()))?;
+    let doc: Json =
+        serde_json::from_slice(&bytes).map_err(|e| format!("{} is not a retain file ({e})", path.display()))?;
     if doc.get("format").and_then(Json::as_str) != Some(FORMAT) {
-        return Err(format!("{}: not an Alba retain file", path.display()));
+        return Err(format!("{} is not an Alba retain file", path.display()));
     }
-    let Some(values) = doc.get("values").and_then(Json::as_object) else {
-        return Err(format!("{}: no `values` object", path.display()));
+    match doc.get("values") {
+        Some(Json::Object(values)) => Ok(Some(values.clone())),
+        _ => Err(format!("{} has no `values` object", path.display())),
+    }
+}
+
+/// Reads `path` (or its previous generation) and writes every value it
+/// holds for a retained place of `p` into `write`. A missing file restores
+/// nothing.
+///
+/// With [`OnError::Start`] nothing keeps the PLC from starting: a file that
+/// cannot be used (unreadable, truncated, not JSON, not a retain file) is
+/// moved aside (`retain.json.damaged-<ms>`) and the previous generation is
+/// restored if it is good; values that cannot be restored (wrong type) are
+/// listed by name and the file is copied aside before a save overwrites it.
+/// The only error is failing to keep the bad file (the next save would
+/// destroy it). With [`OnError::Refuse`] either case is an error and no file
+/// is touched.
+pub fn load(
+    path: &Path,
+    p: &Program,
+    on_error: OnError,
+    mut write: impl FnMut(Place, alba_model::Value),
+) -> Result<Restored, String> {
+    let refuse = |why: String| format!("{why} (on_retain_error = \"refuse\": fix or remove the file to start)");
+    let mut r = Restored::default();
+    let prev = previous(path);
+    let values = match read_values(path) {
+        Ok(Some(v)) => v,
+        Ok(None) => match read_values(&prev) {
+            Ok(Some(v)) => {
+                r.from_previous = true;
+                v
+            }
+            _ => return Ok(r),
+        },
+        Err(why) => {
+            if on_error == OnError::Refuse {
+                return Err(refuse(why));
+            }
+            let to = aside(path, "damaged");
+            std::fs::rename(path, &to)
+                .map_err(|e| format!("{why}; and it cannot be moved aside to {}: {e}", to.display()))?;
+            r.damaged = Some(why);
+            r.kept = Some(to);
+            match read_values(&prev) {
+                Ok(Some(v)) => {
+                    r.from_previous = true;
+                    v
+                }
+                _ => return Ok(r),
+            }
+        }
     };
     let wanted: std::collections::HashMap<String, Place> = retained(p)
         .into_iter()
         .map(|(n, pl)| (n.to_ascii_lowercase(), pl))
         .collect();
-    let mut r = Restored::default();
-    for (name, j) in values {
+    let mut restore = Vec::new();
+    for (name, j) in &values {
+        // A tag no longer retained (or gone) is not a loss.
         let Some(&place) = wanted.get(&name.to_ascii_lowercase()) else {
-            r.skipped.push(format!("{name}: no longer retained"));
             continue;
         };
         match from_json(j, place.data_type()) {
-            Ok(v) => {
-                write(place, v);
-                r.restored += 1;
-            }
+            Ok(v) => restore.push((place, v)),
             Err(e) => r.skipped.push(format!("{name}: {e}")),
         }
+    }
+    if !r.skipped.is_empty() {
+        if on_error == OnError::Refuse {
+            return Err(refuse(format!(
+                "{}: {} value(s) cannot be restored: {}",
+                path.display(),
+                r.skipped.len(),
+                r.skipped.join("; ")
+            )));
+        }
+        if r.kept.is_none() {
+            let from = if r.from_previous { &prev } else { path };
+            let to = aside(path, "unrestored");
+            std::fs::copy(from, &to)
+                .map_err(|e| format!("cannot keep a copy of {} at {}: {e}", from.display(), to.display()))?;
+            r.kept = Some(to);
+        }
+    }
+    r.restored = restore.len();
+    for (place, v) in restore {
+        write(place, v);
     }
     Ok(r)
 }

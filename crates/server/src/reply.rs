@@ -54,6 +54,24 @@ pub struct Status {
     pub io: String,
     pub programs: Vec<String>,
     pub clients: usize,
+    /// Retain saves, the historian and disk space are all healthy
+    /// (`S:STOREOK`).
+    pub store_ok: bool,
+    /// Retentive data was lost at start (`S:RETAINLOST`).
+    pub retain_lost: bool,
+    /// What is wrong with the runtime's stores now, oldest first
+    /// (docs/reliability.md).
+    pub problems: Vec<Problem>,
+}
+
+/// A current problem of the runtime's stores.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Problem {
+    /// `retain` (restoring at start), `retain-save`, `history`,
+    /// `history-damaged`, `history-disk`, `history-cap`.
+    pub source: String,
+    pub message: String,
+    pub since_unix_ms: i64,
 }
 
 /// Who may write a tag.
@@ -483,6 +501,7 @@ pub fn typescript() -> String {
     decl!(
         Stats,
         RunState,
+        Problem,
         Status,
         Access,
         TagInfo,

@@ -1,12 +1,18 @@
-// The status bar: run state, scan times, overruns, connection, the user and
-// role, and the logout.
+// The status bar: run state, scan times, overruns, store problems
+// (retentive data lost, history not recorded, disk below its floor), the
+// connection, the user and role, and the logout.
 import { type Me, whoLabel } from '../auth';
 import type { ConnState } from '../live/client';
 import { h } from '../dom';
 import type { Status } from '../types';
 
 /** The strings of the status bar that are not field values. */
-const text = { signOut: 'Sign out', signOutTitle: 'End the session' };
+const text = {
+  signOut: 'Sign out',
+  signOutTitle: 'End the session',
+  storeProblems: (n: number) => (n === 1 ? '1 storage problem' : `${n} storage problems`),
+  retainLost: 'retentive data lost',
+};
 
 export class StatusBar {
   readonly el: HTMLElement;
@@ -31,6 +37,7 @@ export class StatusBar {
       field('overruns', 'overruns'),
       field('scans', 'scans'),
       field('fault', ''),
+      field('store', ''),
       h('span', { class: 'spacer' }),
       field('user', ''),
       this.logoutBtn,
@@ -52,6 +59,16 @@ export class StatusBar {
     this.set('scans', String(s.scans));
     this.set('fault', s.fault ?? '');
     this.spans.fault.hidden = !s.fault;
+    // Store problems: a count, each message in the tooltip (and for
+    // screen readers); hidden while all is well.
+    const problems = s.problems ?? [];
+    const label = [problems.length ? text.storeProblems(problems.length) : '', s.retain_lost ? text.retainLost : '']
+      .filter(Boolean)
+      .join(' · ');
+    this.set('store', label);
+    this.spans.store.hidden = !label;
+    this.spans.store.title = problems.map((p) => p.message).join('\n');
+    this.spans.store.setAttribute('role', label ? 'alert' : 'none');
   }
 
   /** The user and role ("alice (operator)", or "local, no users"); sign-out only with users. */

@@ -1,5 +1,7 @@
 //! `alba_app::run` assembles and stops `alba run`.
 
+mod store;
+
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 

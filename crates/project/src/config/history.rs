@@ -16,6 +16,25 @@ pub struct History {
     pub sample_ms: u32,
     /// A REAL is stored on change only when it moved more than this.
     pub deadband: f64,
+    /// The database is kept under this size, oldest samples deleted first;
+    /// 0: no cap.
+    pub max_mb: u32,
+    /// Recording pauses while the disk holding the database has less free
+    /// space than this (retain and project saves go on: they are small).
+    pub min_free_mb: u32,
+    /// What to do with a damaged or foreign history database at start.
+    pub on_damage: OnDamage,
+}
+
+/// What `alba run` does with a history database it cannot use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OnDamage {
+    /// Move it aside (`history.db.damaged-<ms>`) and record into a fresh one.
+    #[default]
+    Fresh,
+    /// Refuse to start.
+    Refuse,
 }
 
 impl Default for History {
@@ -25,6 +44,9 @@ impl Default for History {
             retention_days: 30,
             sample_ms: 10_000,
             deadband: 0.0,
+            max_mb: 2048,
+            min_free_mb: 256,
+            on_damage: OnDamage::Fresh,
         }
     }
 }
@@ -36,6 +58,9 @@ pub(super) struct RawHistory {
     retention_days: Option<Spanned<i64>>,
     sample_ms: Option<Spanned<i64>>,
     deadband: Option<Spanned<f64>>,
+    max_mb: Option<Spanned<i64>>,
+    min_free_mb: Option<Spanned<i64>>,
+    on_damage: Option<OnDamage>,
 }
 
 /// Validates `[history]`: the defaults, with what the table sets.
@@ -61,6 +86,9 @@ pub(super) fn history(h: RawHistory, file: FileId, diags: &mut Vec<Diagnostic>) 
         history.sample_ms,
         "milliseconds",
     );
+    history.max_mb = int("max_mb", h.max_mb, 0..=16_777_216, history.max_mb, "MB");
+    history.min_free_mb = int("min_free_mb", h.min_free_mb, 0..=16_777_216, history.min_free_mb, "MB");
+    history.on_damage = h.on_damage.unwrap_or_default();
     if let Some(d) = h.deadband {
         if d.get_ref().is_finite() && *d.get_ref() >= 0.0 {
             history.deadband = *d.get_ref();

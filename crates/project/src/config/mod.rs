@@ -11,13 +11,14 @@ mod mqtt;
 mod opcua;
 mod plant;
 mod retention;
+mod runtime;
 mod session;
 mod setting;
 #[cfg(test)]
 mod tests;
 
 pub use board::Board;
-pub use history::History;
+pub use history::{History, OnDamage};
 pub use http::{Http, parse_origin, split_authority};
 pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{
@@ -26,6 +27,7 @@ pub use modbus_device::{
 pub use mqtt::{Mqtt, Sparkplug, is_host_port};
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
 pub use retention::{Alarms, Audit, Retention};
+pub use runtime::{OnRetainError, Runtime};
 pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
@@ -49,6 +51,8 @@ pub struct Config {
     pub board: Option<Board>,
     /// How often `alba run` saves retentive data (also on stop).
     pub retain_ms: u32,
+    /// `[runtime]`: what to do with a retain file that cannot be used.
+    pub runtime: Runtime,
     pub history: History,
     /// `[audit]`: the audit trail's retention (docs/audit.md).
     pub audit: Audit,
@@ -83,6 +87,7 @@ struct RawConfig {
     plant: Vec<Spanned<String>>,
     board: Option<board::RawBoard>,
     retain_ms: Option<Spanned<i64>>,
+    runtime: Option<runtime::RawRuntime>,
     history: Option<history::RawHistory>,
     audit: Option<retention::RawRetention>,
     alarms: Option<retention::RawRetention>,
@@ -113,12 +118,15 @@ impl Config {
             Err(e) => {
                 let span = Span::new(file, e.span().unwrap_or(0..0));
                 let msg = e.message().trim().to_string();
-                let code =
-                    if msg.contains("missing field") || msg.contains("unknown field") || msg.contains("invalid type") {
-                        Code::ConfigField
-                    } else {
-                        Code::TomlSyntax
-                    };
+                let code = if msg.contains("missing field")
+                    || msg.contains("unknown field")
+                    || msg.contains("unknown variant")
+                    || msg.contains("invalid type")
+                {
+                    Code::ConfigField
+                } else {
+                    Code::TomlSyntax
+                };
                 let mut d = Diagnostic::new(code, format!("alba.toml: {msg}"), span, "here");
                 if msg.contains("missing field") {
                     d = d.with_help(
@@ -198,6 +206,7 @@ impl Config {
             plant,
             board,
             retain_ms,
+            runtime: raw.runtime.map(runtime::runtime).unwrap_or_default(),
             history,
             audit,
             alarms,

@@ -34,18 +34,28 @@ fn retain_and_history_settings() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
     assert_eq!((c.retain_ms, c.history.clone()), (1000, History::default()));
     let c = parse(
-        "name = \"x\"\nretain_ms = 250\nprograms = [\"a.lad\"]\n[history]\nretention_days = 0\nsample_ms = 500\ndeadband = 0.5\n",
+        "name = \"x\"\nretain_ms = 250\nprograms = [\"a.lad\"]\n[runtime]\non_retain_error = \"refuse\"\n\
+         [history]\nretention_days = 0\nsample_ms = 500\ndeadband = 0.5\nmax_mb = 0\nmin_free_mb = 10\non_damage = \"refuse\"\n",
     )
     .unwrap();
     assert_eq!(c.retain_ms, 250);
+    assert_eq!(c.runtime.on_retain_error, super::OnRetainError::Refuse);
     assert_eq!(
         c.history,
         History {
             enabled: true,
             retention_days: 0,
             sample_ms: 500,
-            deadband: 0.5
+            deadband: 0.5,
+            max_mb: 0,
+            min_free_mb: 10,
+            on_damage: super::OnDamage::Refuse,
         }
+    );
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[runtime]\non_retain_error = \"ignore\"\n").unwrap_err();
+    assert!(
+        e[0].starts_with("alba.toml:4:19: error[E102]") && e[0].contains("unknown variant `ignore`"),
+        "{e:?}"
     );
     let e =
         parse("name = \"x\"\nretain_ms = 5\nprograms = [\"a.lad\"]\n[history]\nretention_days = -1\ndeadband = -1.0\n")

@@ -3,6 +3,8 @@
 //! Times are only bounded generously (the machine is shared): tests check
 //! what happened, never how fast.
 
+mod retain;
+
 use alba_diag::Files;
 use alba_ir::{Place, Program, Target};
 use alba_model::Value;
@@ -289,13 +291,30 @@ async fn retentive_values_survive_a_restart() {
     assert_eq!(value(&s, "Count"), Value::Dint(0));
     assert!(matches!(value(&s, "Acc.ACC"), Value::Dint(v) if v > 0));
     rt.shutdown();
-    // Not a retain file: refused, and left alone.
+    // Not a retain file: refused and left alone when so configured …
     std::fs::write(&file, "{\"hello\": 1}").unwrap();
-    let err = Runtime::start(compile(TAGS, LAD), opts(2).with_retain(file.clone()), Box::new(SimIo)).err();
+    let mut refuse = opts(2).with_retain(file.clone());
+    refuse.on_retain_error = alba_runtime::retain::OnError::Refuse;
+    let err = Runtime::start(compile(TAGS, LAD), refuse, Box::new(SimIo)).err();
     assert!(
         err.is_some_and(|e| matches!(e, StartError::Retain(_)) && e.to_string().contains("not an Alba retain file"))
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "{\"hello\": 1}");
+    // … else moved aside, and the previous save restored.
+    let mut start = opts(2).with_retain(file.clone());
+    start.start_running = false;
+    let rt = Runtime::start(compile(TAGS, LAD), start, Box::new(SimIo)).unwrap();
+    let s = rt.handle().snapshot();
+    assert!(matches!(value(&s, "Acc.ACC"), Value::Dint(v) if v > 0));
+    assert_eq!(value(&s, "S:RETAINLOST"), Value::Bool(true));
+    assert_eq!(value(&s, "S:STOREOK"), Value::Bool(false));
+    let problems = rt.handle().health().problems();
+    assert!(
+        problems.len() == 1 && problems[0].message.contains("restored the previous save"),
+        "{problems:?}"
+    );
+    rt.shutdown();
+    assert!(!file.exists() || !std::fs::read_to_string(&file).unwrap().contains("hello"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -2,7 +2,7 @@
 
 use super::audit::{Actor, audited, json_text};
 use crate::error::ApiResult;
-use crate::reply::{RunState, Stats, Status};
+use crate::reply::{Problem, RunState, Stats, Status};
 use crate::state::AppState;
 use alba_audit::{Action, Entry};
 use alba_runtime::Snapshot;
@@ -14,6 +14,7 @@ use std::sync::atomic::Ordering;
 /// The status of the runtime behind `state` as of snapshot `s`.
 pub fn status_of(s: &Snapshot, state: &AppState) -> Status {
     let st = s.stats;
+    let health = state.runtime.health();
     Status {
         project: state.name.clone(),
         state: s.state.into(),
@@ -33,6 +34,17 @@ pub fn status_of(s: &Snapshot, state: &AppState) -> Status {
         io: state.io.clone(),
         programs: s.program.units.iter().map(|u| u.name.clone()).collect(),
         clients: state.clients.load(Ordering::Relaxed),
+        store_ok: health.ok(),
+        retain_lost: health.retain_lost(),
+        problems: health
+            .problems()
+            .into_iter()
+            .map(|p| Problem {
+                source: p.source.to_string(),
+                message: p.message,
+                since_unix_ms: p.since_unix_ms,
+            })
+            .collect(),
     }
 }
 

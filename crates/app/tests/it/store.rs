@@ -1,0 +1,246 @@
+//! `alba run` when its stores fail (issue 15, docs/reliability.md): a damaged
+//! retain file or history database, a full disk, the free-space floor. The
+//! PLC keeps scanning, and `/api/status` says what is wrong until it clears.
+
+use super::{copy_example, options, serve};
+use serde_json::Value as Json;
+use std::path::Path;
+use std::time::Duration;
+
+async fn status(addr: std::net::SocketAddr) -> Json {
+    reqwest::get(format!("http://{addr}/api/status"))
+        .await
+        .expect("GET /api/status")
+        .json()
+        .await
+        .expect("JSON")
+}
+
+async fn tag(addr: std::net::SocketAddr, name: &str) -> Json {
+    let v: Json = reqwest::get(format!("http://{addr}/api/tags/{name}"))
+        .await
+        .expect("GET tag")
+        .json()
+        .await
+        .expect("JSON");
+    v["value"].clone()
+}
+
+/// Polls the tag `name` (up to 5 s: the engine copies the health into its
+/// system tags at the next scan) until it is `want`.
+async fn tag_is(addr: std::net::SocketAddr, name: &str, want: bool) {
+    for _ in 0..50 {
+        if tag(addr, name).await == want {
+            return;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    panic!("{name} is not {want}");
+}
+
+/// Polls the status (up to 15 s) until `f` holds; the last status.
+async fn status_until(addr: std::net::SocketAddr, what: &str, f: impl Fn(&Json) -> bool) -> Json {
+    for _ in 0..150 {
+        let s = status(addr).await;
+        if f(&s) {
+            return s;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    panic!("{what}: {}", status(addr).await)
+}
+
+fn sources(s: &Json) -> Vec<String> {
+    s["problems"]
+        .as_array()
+        .map(|ps| {
+            ps.iter()
+                .map(|p| p["source"].as_str().unwrap_or("").to_string())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+fn append(dir: &Path, toml: &str) {
+    let p = dir.join("alba.toml");
+    let text = std::fs::read_to_string(&p).expect("alba.toml") + toml;
+    std::fs::write(p, text).expect("alba.toml");
+}
+
+async fn stop(stop: tokio::sync::oneshot::Sender<()>, task: tokio::task::JoinHandle<()>) {
+    let _ = stop.send(());
+    let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_damaged_retain_file_starts_the_plc_and_says_so() {
+    let dir = copy_example("tank", "retain-damaged");
+    std::fs::create_dir_all(dir.join(".alba")).expect(".alba");
+    std::fs::write(
+        dir.join(".alba/retain.json"),
+        "{\"format\": \"alba-retain\", \"values\": ",
+    )
+    .expect("write");
+    // Refused when so configured, the file untouched.
+    let mut refusing = dir.clone().into_os_string();
+    refusing.push("-refuse");
+    let refusing = std::path::PathBuf::from(refusing);
+    let _ = std::fs::remove_dir_all(&refusing);
+    std::fs::create_dir_all(refusing.join(".alba")).expect("dir");
+    for f in ["alba.toml", "main.lad", "tags.csv"] {
+        std::fs::copy(dir.join(f), refusing.join(f)).expect("copy");
+    }
+    std::fs::copy(dir.join(".alba/retain.json"), refusing.join(".alba/retain.json")).expect("copy");
+    append(&refusing, "\n[runtime]\non_retain_error = \"refuse\"\n");
+    match alba_app::run(&refusing, options("sim"), |_| panic!("must not start"), async {}).await {
+        Err(alba_app::RunError::Other(m)) => assert!(m.contains("on_retain_error = \"refuse\""), "{m}"),
+        _ => panic!("expected a refusal"),
+    }
+    assert!(refusing.join(".alba/retain.json").exists());
+    // The default: it starts, keeps the file aside and says so.
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let st = status(addr).await;
+    assert_eq!(st["retain_lost"], true, "{st}");
+    assert_eq!(st["store_ok"], false);
+    assert!(sources(&st).contains(&"retain".to_string()), "{st}");
+    assert!(
+        st["problems"][0]["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("retentive data lost")
+    );
+    tag_is(addr, "S:RETAINLOST", true).await;
+    tag_is(addr, "S:STOREOK", false).await;
+    status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > 10).await;
+    stop(s, task).await;
+    let aside = std::fs::read_dir(dir.join(".alba"))
+        .expect("dir")
+        .filter(|e| {
+            e.as_ref()
+                .is_ok_and(|e| e.file_name().to_string_lossy().starts_with("retain.json.damaged-"))
+        })
+        .count();
+    assert_eq!(aside, 1);
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&refusing);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_damaged_or_foreign_history_database_is_replaced_or_refused() {
+    let dir = copy_example("tank", "history-damaged");
+    std::fs::create_dir_all(dir.join(".alba")).expect(".alba");
+    std::fs::write(
+        dir.join(".alba/history.db"),
+        b"SQLite format 3\0 and then rubbish ".repeat(200),
+    )
+    .expect("db");
+    append(&dir, "\n[history]\non_damage = \"refuse\"\n");
+    match alba_app::run(&dir, options("sim"), |_| panic!("must not start"), async {}).await {
+        Err(alba_app::RunError::Other(m)) => assert!(m.contains("not a usable history database"), "{m}"),
+        _ => panic!("expected a refusal"),
+    }
+    let text = std::fs::read_to_string(dir.join("alba.toml"))
+        .expect("toml")
+        .replace("\"refuse\"", "\"fresh\"");
+    std::fs::write(dir.join("alba.toml"), text).expect("toml");
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let st = status(addr).await;
+    assert!(sources(&st).contains(&"history-damaged".to_string()), "{st}");
+    assert_eq!(st["retain_lost"], false);
+    // Recording goes on into the fresh database.
+    let history = loop {
+        let h: Json = reqwest::get(format!("http://{addr}/api/history/tags"))
+            .await
+            .expect("history")
+            .json()
+            .await
+            .expect("JSON");
+        if h.as_array().is_some_and(|a| !a.is_empty()) {
+            break h;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    };
+    assert!(
+        history.to_string().contains("LEVEL") || history.to_string().contains("S:SCANTIME"),
+        "{history}"
+    );
+    stop(s, task).await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn below_the_free_space_floor_recording_pauses_with_a_flag() {
+    let dir = copy_example("tank", "floor");
+    append(&dir, "\n[history]\nmin_free_mb = 16777216\n");
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let st = status_until(addr, "history-disk", |s| {
+        sources(s).contains(&"history-disk".to_string())
+    })
+    .await;
+    assert!(
+        st["problems"][0]["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("history paused"),
+        "{st}"
+    );
+    tag_is(addr, "S:STOREOK", false).await;
+    // Scanning goes on.
+    let scans = st["scans"].as_u64().unwrap_or(0);
+    status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 10).await;
+    stop(s, task).await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A real full disk: `.alba` on a 2 MB tmpfs the test mounts (root only;
+/// never skipped under CI).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_full_disk_is_reported_and_clears_when_space_returns() {
+    let dir = copy_example("tank", "diskfull");
+    let alba = dir.join(".alba");
+    std::fs::create_dir_all(&alba).expect(".alba");
+    let mounted = std::process::Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=2m", "tmpfs"])
+        .arg(&alba)
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        assert!(
+            std::env::var("CI").is_err(),
+            "cannot mount a tmpfs (run the tests as root): the disk-full test must run under CI"
+        );
+        eprintln!("skipped: cannot mount a tmpfs here (not root)");
+        return;
+    }
+    struct Unmount(std::path::PathBuf);
+    impl Drop for Unmount {
+        fn drop(&mut self) {
+            let _ = std::process::Command::new("umount").arg(&self.0).status();
+            let _ = std::fs::remove_dir_all(self.0.parent().unwrap_or(&self.0));
+        }
+    }
+    let _unmount = Unmount(alba.clone());
+    // Leave ~600 KB: the history database fills it within seconds. No floor,
+    // so that the writes themselves fail.
+    std::fs::write(alba.join("filler"), vec![0u8; 1400 * 1024]).expect("filler");
+    append(&dir, "\nretain_ms = 100\n[history]\nmin_free_mb = 0\nsample_ms = 10\n");
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let st = status_until(addr, "a history problem", |s| {
+        sources(s).contains(&"history".to_string())
+    })
+    .await;
+    let msg = st["problems"]
+        .as_array()
+        .and_then(|ps| ps.iter().find(|p| p["source"] == "history"))
+        .map(|p| p["message"].to_string())
+        .unwrap_or_default();
+    assert!(msg.contains("disk is full"), "{msg}");
+    assert_eq!(st["store_ok"], false);
+    let scans = st["scans"].as_u64().unwrap_or(0);
+    status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 10).await;
+    // Space comes back: so does recording, and the problem clears.
+    std::fs::remove_file(alba.join("filler")).expect("free space");
+    status_until(addr, "the problems to clear", |s| s["store_ok"] == true).await;
+    tag_is(addr, "S:STOREOK", true).await;
+    stop(s, task).await;
+}

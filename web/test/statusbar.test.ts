@@ -1,0 +1,34 @@
+// The status bar says when the runtime's stores are in trouble (issue 15).
+import { describe, expect, it } from 'vitest';
+import { StatusBar } from '../src/ui/statusbar';
+import type { Status } from '../src/types';
+
+const status = (over: Partial<Status>): Status => ({
+  project: 'tank', state: 'running', fault: null, scan_ms: 10, scans: 5, time_ms: 50,
+  stats: { last_us: 1, min_us: 1, max_us: 9, mean_us: 2, jitter_us: 0, overruns: 0 },
+  minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [],
+  ...over,
+});
+
+describe('store problems in the status bar', () => {
+  it('is hidden while all is well, and names the count, the loss and each message', () => {
+    const bar = new StatusBar();
+    const store = bar.el.querySelector('[data-testid="status-store"]') as HTMLElement;
+    bar.status(status({}));
+    expect(store.hidden).toBe(true);
+    bar.status(status({
+      store_ok: false,
+      retain_lost: true,
+      problems: [
+        { source: 'retain', message: 'retentive data lost: retain.json is not a retain file', since_unix_ms: 1 },
+        { source: 'history', message: 'history not recorded: the disk is full', since_unix_ms: 2 },
+      ],
+    }));
+    expect(store.hidden).toBe(false);
+    expect(store.textContent).toBe('2 storage problems · retentive data lost');
+    expect(store.title).toContain('the disk is full');
+    expect(store.getAttribute('role')).toBe('alert');
+    bar.status(status({}));
+    expect(store.hidden).toBe(true);
+  });
+});
