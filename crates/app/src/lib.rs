@@ -14,6 +14,7 @@ mod alarms;
 mod audit;
 mod edits;
 mod history;
+mod limits;
 mod lock;
 mod modbus;
 mod mqtt;
@@ -164,13 +165,22 @@ pub async fn run(
     let served = match acceptor {
         Some(acceptor) => {
             let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
-            axum::serve(listener, tls::WithPeer(router))
-                .with_graceful_shutdown(shutdown)
-                .await
+            axum::serve(
+                limits::Capped::new(listener, http_cfg.max_connections),
+                tls::WithPeer(router),
+            )
+            .with_graceful_shutdown(shutdown)
+            .await
         }
         None => {
-            let app = router.into_make_service_with_connect_info::<SocketAddr>();
-            axum::serve(listener, app).with_graceful_shutdown(shutdown).await
+            use axum::serve::ListenerExt;
+            let listener = listener.tap_io(|tcp| limits::bound_send_buffer(tcp));
+            axum::serve(
+                limits::Capped::new(listener, http_cfg.max_connections),
+                tls::WithPeer(router),
+            )
+            .with_graceful_shutdown(shutdown)
+            .await
         }
     }
     .map_err(|e| RunError::Other(format!("server: {e}")));

@@ -151,6 +151,7 @@ impl TlsListener {
                     tokio::time::sleep(Duration::from_millis(50)).await;
                     continue;
                 };
+                crate::limits::bound_send_buffer(&stream);
                 let (acceptor, tx) = (acceptor.clone(), tx.clone());
                 tokio::spawn(async move {
                     if let Ok(Ok(tls)) = tokio::time::timeout(HANDSHAKE_TIMEOUT, acceptor.accept(stream)).await {
@@ -190,13 +191,15 @@ impl axum::serve::Listener for TlsListener {
     }
 }
 
-/// The studio's router over TLS connections, each request knowing its
-/// client's address as `ConnectInfo<SocketAddr>`, as over plain TCP with
-/// `into_make_service_with_connect_info::<SocketAddr>()`.
+/// The studio's router over any listener of TCP peers (TLS, capped), each
+/// request knowing its client's address as `ConnectInfo<SocketAddr>`, as
+/// over a plain `TcpListener` with `into_make_service_with_connect_info`.
 #[derive(Clone)]
 pub struct WithPeer(pub axum::Router);
 
-impl tower_service::Service<axum::serve::IncomingStream<'_, TlsListener>> for WithPeer {
+impl<L: axum::serve::Listener<Addr = SocketAddr>> tower_service::Service<axum::serve::IncomingStream<'_, L>>
+    for WithPeer
+{
     type Response = axum::Router;
     type Error = std::convert::Infallible;
     type Future = std::future::Ready<Result<axum::Router, std::convert::Infallible>>;
@@ -205,7 +208,7 @@ impl tower_service::Service<axum::serve::IncomingStream<'_, TlsListener>> for Wi
         std::task::Poll::Ready(Ok(()))
     }
 
-    fn call(&mut self, conn: axum::serve::IncomingStream<'_, TlsListener>) -> Self::Future {
+    fn call(&mut self, conn: axum::serve::IncomingStream<'_, L>) -> Self::Future {
         let peer = axum::extract::ConnectInfo(*conn.remote_addr());
         std::future::ready(Ok(self.0.clone().layer(axum::Extension(peer))))
     }

@@ -57,6 +57,24 @@ impl Span {
 #[derive(Debug, Clone, Default)]
 pub struct Files {
     files: Vec<(String, String)>,
+    /// The byte offset of each line's start, per file: `line_col` is a
+    /// binary search, so locating every element of a program is linear in
+    /// its size (issue 15: a 40 k-rung program view was quadratic).
+    lines: Vec<Vec<usize>>,
+    /// Bytes `line_col` has examined (shared by clones): its cost, which
+    /// tests hold linear in the number of lookups.
+    scanned: std::sync::Arc<std::sync::atomic::AtomicU64>,
+}
+
+fn line_starts(text: &str) -> Vec<usize> {
+    std::iter::once(0)
+        .chain(
+            text.bytes()
+                .enumerate()
+                .filter(|(_, b)| *b == b'\n')
+                .map(|(i, _)| i + 1),
+        )
+        .collect()
 }
 
 impl Files {
@@ -66,7 +84,9 @@ impl Files {
 
     /// Adds a file; `name` is what diagnostics print (usually a path).
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
-        self.files.push((name.into(), text.into()));
+        let text = text.into();
+        self.lines.push(line_starts(&text));
+        self.files.push((name.into(), text));
         FileId(self.files.len() as u32 - 1)
     }
 
@@ -78,6 +98,7 @@ impl Files {
     pub fn replace(&mut self, id: FileId, text: impl Into<String>) {
         if let Some(f) = self.files.get_mut(id.0 as usize) {
             f.1 = text.into();
+            self.lines[id.0 as usize] = line_starts(&f.1);
         }
     }
 
@@ -88,12 +109,21 @@ impl Files {
     /// 1-based line and column (in characters) of a byte offset.
     pub fn line_col(&self, id: FileId, offset: usize) -> (usize, usize) {
         let text = self.text(id);
-        let offset = offset.min(text.len());
-        let before = &text[..floor_char_boundary(text, offset)];
-        let line = before.matches('\n').count() + 1;
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let col = before[line_start..].chars().count() + 1;
-        (line, col)
+        let offset = floor_char_boundary(text, offset.min(text.len()));
+        let starts = &self.lines[id.0 as usize];
+        // The last line starting at or before `offset`.
+        let line = starts.partition_point(|&s| s <= offset).max(1);
+        let in_line = &text[starts[line - 1]..offset];
+        self.scanned
+            .fetch_add(in_line.len() as u64, std::sync::atomic::Ordering::Relaxed);
+        (line, in_line.chars().count() + 1)
+    }
+
+    /// The bytes [`line_col`](Self::line_col) has examined since these files
+    /// were made (clones share the count): for tests that hold the cost of
+    /// locating things linear.
+    pub fn bytes_scanned(&self) -> u64 {
+        self.scanned.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
 
@@ -250,6 +280,31 @@ mod tests {
         assert_eq!(files.line_col(f, 3), (2, 1));
         // 'x' follows the two-byte 'ñ': column 2.
         assert_eq!(files.line_col(f, 5), (2, 2));
+    }
+
+    #[test]
+    fn line_col_agrees_with_counting_and_costs_one_line() {
+        let text = "XIC(a)\r\nñandú OTE(b)\n\n\n€€ x\nlast";
+        let mut files = Files::new();
+        let f = files.add("a", "");
+        files.replace(f, text);
+        for offset in 0..=text.len() + 3 {
+            let o = floor_char_boundary(text, offset.min(text.len()));
+            let before = &text[..o];
+            let line = before.matches('\n').count() + 1;
+            let start = before.rfind('\n').map_or(0, |i| i + 1);
+            assert_eq!(
+                files.line_col(f, offset),
+                (line, before[start..].chars().count() + 1),
+                "{offset}"
+            );
+        }
+        // Each lookup examines its own line only.
+        let longest = text.split('\n').map(str::len).max().unwrap_or(0) as u64;
+        assert!(files.bytes_scanned() <= (text.len() as u64 + 4) * longest);
+        let before = files.bytes_scanned();
+        files.line_col(f, text.len());
+        assert_eq!(files.bytes_scanned() - before, 4, "only `last` is examined");
     }
 
     #[test]

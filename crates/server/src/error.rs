@@ -59,6 +59,9 @@ pub enum ApiError {
     /// A fault of the server (a task that did not finish).
     #[error("{0}")]
     Internal(String),
+    /// The answer took longer than `[http] request_timeout_s`.
+    #[error("the request took longer than {} s: try again, or raise [http] request_timeout_s", .0.as_secs())]
+    TimedOut(std::time::Duration),
 }
 
 /// The HTTP status of an error: the only place where errors meet statuses.
@@ -70,6 +73,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::NotFound(_) | ApiError::HistoryOff | ApiError::AuditOff => StatusCode::NOT_FOUND,
         ApiError::Invalid(_) => StatusCode::UNPROCESSABLE_ENTITY,
         ApiError::TooLarge => StatusCode::PAYLOAD_TOO_LARGE,
+        ApiError::TimedOut(_) => StatusCode::SERVICE_UNAVAILABLE,
         ApiError::Unauthorized(_) => StatusCode::UNAUTHORIZED,
         ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
         ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,

@@ -112,6 +112,21 @@ pub fn router(state: Arc<AppState>) -> Router {
         .merge(files)
         .fallback(assets::serve)
         .layer(axum::middleware::from_fn_with_state(state.clone(), auth::layer))
+        .layer(axum::middleware::from_fn_with_state(state.clone(), timeout))
         .layer(axum::middleware::from_fn_with_state(state.clone(), guard::layer))
         .with_state(state)
+}
+
+/// Answers 503 when a request takes longer than `[http] request_timeout_s`
+/// (until its answer starts: a long download streams on).
+async fn timeout(
+    axum::extract::State(st): axum::extract::State<Arc<AppState>>,
+    req: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    use axum::response::IntoResponse;
+    match tokio::time::timeout(st.request_timeout, next.run(req)).await {
+        Ok(r) => r,
+        Err(_) => ApiError::TimedOut(st.request_timeout).into_response(),
+    }
 }

@@ -48,6 +48,10 @@ pub struct AppState {
     /// The studio is served over HTTPS (set by alba-app before serving;
     /// session cookies are then `Secure`).
     pub https: std::sync::atomic::AtomicBool,
+    /// Live clients at most (`[http] max_ws_clients`).
+    pub max_ws_clients: usize,
+    /// How long a request may take (`[http] request_timeout_s`).
+    pub request_timeout: std::time::Duration,
 }
 
 impl AppState {
@@ -60,7 +64,8 @@ impl AppState {
         auth: crate::auth::Auth,
     ) -> Arc<AppState> {
         let project = &compiled.project;
-        let guard = crate::guard::Guard::new(&project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default());
+        let http = project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default();
+        let guard = crate::guard::Guard::new(&http);
         Arc::new(AppState {
             runtime,
             name: project.config.as_ref().map(|c| c.name.clone()).unwrap_or_default(),
@@ -76,6 +81,8 @@ impl AppState {
             auth,
             alarms: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
+            max_ws_clients: http.max_ws_clients as usize,
+            request_timeout: std::time::Duration::from_secs(u64::from(http.request_timeout_s)),
         })
     }
 

@@ -4,7 +4,9 @@
 //! only the latest snapshot: a client that falls behind skips scans and
 //! gets one message with everything that changed meanwhile, so no queue
 //! grows and the engine never waits. A client that cannot take a message
-//! for 5 s is disconnected.
+//! for 5 s is disconnected (a slow consumer costs one pending message at
+//! most). Beyond `[http] max_ws_clients` a client is closed at once with
+//! code 1013 ("try again later") and a reason saying why.
 //!
 //! The handshake's `Origin` (required, the studio's own or allowed) is
 //! checked before this by `crate::guard`.
@@ -206,7 +208,19 @@ async fn send(socket: &mut WebSocket, msgs: Vec<String>) -> bool {
 }
 
 async fn client(mut socket: WebSocket, st: Arc<AppState>, session: Option<SessionKey>) {
-    st.clients.fetch_add(1, Ordering::Relaxed);
+    if st.clients.fetch_add(1, Ordering::Relaxed) >= st.max_ws_clients {
+        st.clients.fetch_sub(1, Ordering::Relaxed);
+        let frame = CloseFrame {
+            code: close_code::AGAIN,
+            reason: format!(
+                "too many live clients ({}): close another studio, or raise [http] max_ws_clients",
+                st.max_ws_clients
+            )
+            .into(),
+        };
+        let _ = tokio::time::timeout(SEND_TIMEOUT, socket.send(Message::Close(Some(frame)))).await;
+        return;
+    }
     let mut rx = st.runtime.subscribe();
     let mut c = Client {
         wanted: Wanted::Nothing,

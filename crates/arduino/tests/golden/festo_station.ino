@@ -9,10 +9,10 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[56] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0,
+static bool B[58] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0};
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 static int32_t I[43] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1500, 0, 0,
     1500, 0, 0, 300, 0, 0, 400, 0, 0, 0, 5, 0, 0, 0, 5, 0,
     0, 0, 20, 0, 0, 0, 0, 195, 215, 0, 1};
@@ -61,51 +61,51 @@ static uint16_t run(uint32_t now) {
     if (rc) B[16] = 1;
     if (rc) B[17] = 1;
     if (rc) B[18] = 1;
-    B[51] = (M[0] >> 4) & 1;
-    if (rc) B[51] = 0;
-    if (B[51]) M[0] |= 16; else M[0] &= (uint8_t)~16;
-    B[52] = (M[0] >> 5) & 1;
-    if (rc) B[52] = 0;
-    if (B[52]) M[0] |= 32; else M[0] &= (uint8_t)~32;
-    B[53] = (M[0] >> 6) & 1;
+    B[53] = (M[0] >> 4) & 1;
     if (rc) B[53] = 0;
-    if (B[53]) M[0] |= 64; else M[0] &= (uint8_t)~64;
-    B[43] = rc;
+    if (B[53]) M[0] |= 16; else M[0] &= (uint8_t)~16;
+    B[54] = (M[0] >> 5) & 1;
+    if (rc) B[54] = 0;
+    if (B[54]) M[0] |= 32; else M[0] &= (uint8_t)~32;
+    B[55] = (M[0] >> 6) & 1;
+    if (rc) B[55] = 0;
+    if (B[55]) M[0] |= 64; else M[0] &= (uint8_t)~64;
+    B[45] = rc;
     rc = !B[7];
-    rc &= B[43];
+    rc &= B[45];
     if (rc) B[14] = 0;
     if (rc) B[15] = 1;
     // station.awl network 2: NETWORK 2
     rc = 1;
     rc = B[7];
-    B[51] = (M[1] >> 0) & 1;
-    B[43] = rc;
-    rc = !B[51];
-    rc &= B[43];
+    B[53] = (M[1] >> 0) & 1;
+    B[45] = rc;
+    rc = !B[53];
+    rc &= B[45];
     rc &= B[6];
     if (rc) B[14] = 1;
     if (rc) B[15] = 0;
-    B[51] = (M[2] >> 0) & 1;
-    if (rc) B[51] = 1;
-    if (B[51]) M[2] |= 1; else M[2] &= (uint8_t)~1;
+    B[53] = (M[2] >> 0) & 1;
+    if (rc) B[53] = 1;
+    if (B[53]) M[2] |= 1; else M[2] &= (uint8_t)~1;
     // station.awl network 3: NETWORK 3
     rc = 1;
     rc = B[7];
-    { bool o = rc && !B[54]; B[54] = rc; rc = o; }
+    { bool o = rc && !B[56]; B[56] = rc; rc = o; }
     if (rc) B[15] = 1;
     if (rc) B[14] = 0;
     // station.awl network 4: NETWORK 4
     rc = 1;
     rc = B[8];
-    B[43] = rc;
+    B[45] = rc;
     rc = !B[10];
-    rc &= B[43];
-    B[51] = (M[2] >> 0) & 1;
-    rc &= B[51];
+    rc &= B[45];
+    B[53] = (M[2] >> 0) & 1;
+    rc &= B[53];
     if (rc) B[17] = 0;
-    B[51] = (M[2] >> 0) & 1;
-    if (rc) B[51] = 0;
-    if (B[51]) M[2] |= 1; else M[2] &= (uint8_t)~1;
+    B[53] = (M[2] >> 0) & 1;
+    if (rc) B[53] = 0;
+    if (B[53]) M[2] |= 1; else M[2] &= (uint8_t)~1;
     // station.awl network 5: NETWORK 5
     rc = 1;
     rc = B[10];
@@ -114,7 +114,7 @@ static uint16_t run(uint32_t now) {
     // station.awl network 6: NETWORK 6
     rc = 1;
     rc = B[36];
-    { bool o = rc && !B[55]; B[55] = rc; rc = o; }
+    { bool o = rc && !B[57]; B[57] = rc; rc = o; }
     I[38] = alba_ld_word(&M[3]);
     if (rc) I[38] = I[8];
     if (rc) { int32_t v = I[38]; int32_t n = (int16_t)v; I[38] = n; if (n != v) alba_fault(ALBA_OVERFLOW, 57); }
@@ -124,83 +124,83 @@ static uint16_t run(uint32_t now) {
     rc &= I[39] < I[38];
     I[38] = alba_ld_word(&M[3]);
     rc &= I[40] > I[38];
-    B[51] = (M[0] >> 4) & 1;
-    if (rc) B[51] = 1;
-    if (B[51]) M[0] |= 16; else M[0] &= (uint8_t)~16;
+    B[53] = (M[0] >> 4) & 1;
+    if (rc) B[53] = 1;
+    if (B[53]) M[0] |= 16; else M[0] &= (uint8_t)~16;
     // station.awl network 7: NETWORK 7
     rc = 1;
     rc = B[8];
-    B[51] = (M[0] >> 5) & 1;
-    B[43] = rc;
-    rc = !B[51];
-    rc &= B[43];
-    B[43] = rc;
+    B[53] = (M[0] >> 5) & 1;
+    B[45] = rc;
+    rc = !B[53];
+    rc &= B[45];
+    B[45] = rc;
     rc = !B[10];
-    rc &= B[43];
-    B[51] = (M[0] >> 4) & 1;
-    rc &= B[51];
+    rc &= B[45];
+    B[53] = (M[0] >> 4) & 1;
+    rc &= B[53];
     alba_s7_timer(&I[29], &B[38], rc, now, 100, 0);
-    B[43] = rc;
+    B[45] = rc;
     rc = B[38];
     if (rc) B[16] = 0;
     if (rc) B[18] = 0;
-    B[51] = (M[0] >> 5) & 1;
-    if (rc) B[51] = 1;
-    if (B[51]) M[0] |= 32; else M[0] &= (uint8_t)~32;
+    B[53] = (M[0] >> 5) & 1;
+    if (rc) B[53] = 1;
+    if (B[53]) M[0] |= 32; else M[0] &= (uint8_t)~32;
     // station.awl network 8: NETWORK 8
     rc = 1;
     rc = B[8];
     rc &= B[9];
-    B[51] = (M[0] >> 4) & 1;
-    rc &= B[51];
+    B[53] = (M[0] >> 4) & 1;
+    rc &= B[53];
     if (rc) B[16] = 1;
     if (rc) B[14] = 0;
     if (rc) B[15] = 1;
-    B[51] = (M[0] >> 4) & 1;
-    if (rc) B[51] = 0;
-    if (B[51]) M[0] |= 16; else M[0] &= (uint8_t)~16;
-    B[51] = (M[1] >> 0) & 1;
-    if (rc) B[51] = 0;
-    if (B[51]) M[1] |= 1; else M[1] &= (uint8_t)~1;
+    B[53] = (M[0] >> 4) & 1;
+    if (rc) B[53] = 0;
+    if (B[53]) M[0] |= 16; else M[0] &= (uint8_t)~16;
+    B[53] = (M[1] >> 0) & 1;
+    if (rc) B[53] = 0;
+    if (B[53]) M[1] |= 1; else M[1] &= (uint8_t)~1;
     // station.awl network 9: NETWORK 9
     rc = 1;
     rc = B[8];
-    B[43] = rc;
+    B[45] = rc;
     rc = !B[10];
-    rc &= B[43];
-    B[51] = (M[0] >> 4) & 1;
-    B[43] = rc;
-    rc = !B[51];
-    rc &= B[43];
+    rc &= B[45];
+    B[53] = (M[0] >> 4) & 1;
+    B[45] = rc;
+    rc = !B[53];
+    rc &= B[45];
     alba_s7_timer(&I[33], &B[40], rc, now, 100, 0);
-    B[43] = rc;
+    B[45] = rc;
     rc = B[40];
     if (rc) B[14] = 0;
     if (rc) B[15] = 1;
-    B[51] = (M[1] >> 0) & 1;
-    if (rc) B[51] = 1;
-    if (B[51]) M[1] |= 1; else M[1] &= (uint8_t)~1;
+    B[53] = (M[1] >> 0) & 1;
+    if (rc) B[53] = 1;
+    if (B[53]) M[1] |= 1; else M[1] &= (uint8_t)~1;
     // station.awl network 10: NETWORK 10
     rc = 1;
     rc = B[7];
-    B[51] = (M[1] >> 0) & 1;
-    rc &= B[51];
+    B[53] = (M[1] >> 0) & 1;
+    rc &= B[53];
     if (rc) B[16] = 0;
-    B[43] = rc;
+    B[45] = rc;
     rc = B[7];
-    B[51] = (M[1] >> 0) & 1;
-    rc &= B[51];
+    B[53] = (M[1] >> 0) & 1;
+    rc &= B[53];
     rc &= B[9];
     if (rc) B[16] = 1;
-    B[51] = (M[1] >> 0) & 1;
-    if (rc) B[51] = 0;
-    if (B[51]) M[1] |= 1; else M[1] &= (uint8_t)~1;
+    B[53] = (M[1] >> 0) & 1;
+    if (rc) B[53] = 0;
+    if (B[53]) M[1] |= 1; else M[1] &= (uint8_t)~1;
     // station.awl network 11: NETWORK 11
     rc = 1;
     rc = B[11];
-    B[51] = (M[0] >> 5) & 1;
-    if (rc) B[51] = 0;
-    if (B[51]) M[0] |= 32; else M[0] &= (uint8_t)~32;
+    B[53] = (M[0] >> 5) & 1;
+    if (rc) B[53] = 0;
+    if (B[53]) M[0] |= 32; else M[0] &= (uint8_t)~32;
     if (rc) B[18] = 1;
     return 0;
 }
@@ -231,7 +231,7 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-55: the BOOL slots; holding registers 0-88: the I, F, L and M slots
+// coils 0-57: the BOOL slots; holding registers 0-88: the I, F, L and M slots
 // as a big-endian register file (I from 0, F from 86, L from 86, M from 86);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
@@ -261,7 +261,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 43, 0, 0, 5, SCAN_MS,
-            0x6B45, 0x396C, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0x175C, 0x8FDC, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

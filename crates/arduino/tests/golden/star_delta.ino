@@ -9,8 +9,9 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[31] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+static bool B[33] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0};
 static int32_t I[15] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 100, 0, 0, 0};
 
 static inline uint8_t alba_duty(int32_t v) { return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }
@@ -42,11 +43,11 @@ static uint16_t run(uint32_t now) {
     (void)back;
     // main.lad rung 1: [XIC(Start),XIC(K_Line)]XIO(Stop)OTE(K_Line);
     rc = 1;
-    B[29] = rc; B[30] = 0;
+    B[31] = rc; B[32] = 0;
     rc &= B[6];
-    B[30] |= rc; rc = B[29];
+    B[32] |= rc; rc = B[31];
     rc &= B[15];
-    rc |= B[30];
+    rc |= B[32];
     rc &= !B[7];
     B[15] = rc;
     // main.lad rung 2: XIC(K_Line)TON(T_Star,5000,0);
@@ -99,7 +100,7 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-30: the BOOL slots; holding registers 0-29: the I, F, L and M slots
+// coils 0-32: the BOOL slots; holding registers 0-29: the I, F, L and M slots
 // as a big-endian register file (I from 0, F from 30, L from 30, M from 30);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
@@ -127,7 +128,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 15, 0, 0, 0, SCAN_MS,
-            0x6AA7, 0x7C3D, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0x1302, 0xCA7F, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

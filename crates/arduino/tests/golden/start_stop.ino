@@ -9,8 +9,8 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[28] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+static bool B[30] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 static int32_t I[12] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 0};
 
 static inline uint8_t alba_duty(int32_t v) { return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }
@@ -40,11 +40,11 @@ static uint16_t run(uint32_t now) {
     (void)back;
     // main.lad rung 1: [XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);
     rc = 1;
-    B[26] = rc; B[27] = 0;
+    B[28] = rc; B[29] = 0;
     rc &= B[6];
-    B[27] |= rc; rc = B[26];
+    B[29] |= rc; rc = B[28];
     rc &= B[14];
-    rc |= B[27];
+    rc |= B[29];
     rc &= !B[7];
     B[14] = rc;
     // main.lad rung 2: XIC(Motor)TON(Delay,5000,0);
@@ -84,7 +84,7 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-27: the BOOL slots; holding registers 0-23: the I, F, L and M slots
+// coils 0-29: the BOOL slots; holding registers 0-23: the I, F, L and M slots
 // as a big-endian register file (I from 0, F from 24, L from 24, M from 24);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
@@ -112,7 +112,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 12, 0, 0, 0, SCAN_MS,
-            0x021C, 0xCD52, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0xAAC8, 0x67D9, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

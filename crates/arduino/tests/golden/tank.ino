@@ -9,9 +9,9 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[33] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+static bool B[35] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0};
+    0, 0, 0};
 static int32_t I[13] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 575, 2, 0, 0, 1};
 static float F[13] __attribute__((unused)) = {0e0f, 0e0f, 0e0f, 0e0f, 1.023e3f, 1.5e0f, 0e0f, 0e0f, 0e0f, 0e0f, 0e0f, 6e1f, 1e1f};
 
@@ -96,11 +96,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[28];
     rc &= !B[16];
-    B[31] = rc; B[32] = 0;
+    B[33] = rc; B[34] = 0;
     B[14] = rc;
-    B[32] |= rc; rc = B[31];
+    B[34] |= rc; rc = B[33];
     B[19] = rc;
-    rc |= B[32];
+    rc |= B[34];
     // main.lad rung 9: XIC(FILL)XIO(L_STP)GRT(Nivel_L,10.0)XIO(Bomba1)XIC(S_REC)XIO(S_CAP)OTL(Descargar);
     rc = 1;
     rc &= B[7];
@@ -114,11 +114,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[29];
     rc &= !B[16];
-    B[31] = rc; B[32] = 0;
+    B[33] = rc; B[34] = 0;
     B[15] = rc;
-    B[32] |= rc; rc = B[31];
+    B[34] |= rc; rc = B[33];
     B[18] = rc;
-    rc |= B[32];
+    rc |= B[34];
     // main.lad rung 11: XIC(S_CAP)OTU(Descargar);
     rc = 1;
     rc &= B[8];
@@ -152,7 +152,7 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-32: the BOOL slots; holding registers 0-51: the I, F, L and M slots
+// coils 0-34: the BOOL slots; holding registers 0-51: the I, F, L and M slots
 // as a big-endian register file (I from 0, F from 26, L from 52, M from 52);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
@@ -182,7 +182,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 13, 13, 0, 0, SCAN_MS,
-            0xFEBE, 0xA5E7, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0xEA47, 0xF8C9, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

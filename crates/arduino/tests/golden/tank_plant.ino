@@ -9,9 +9,9 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[43] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+static bool B[45] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 static int32_t I[22] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 3000, 0, 0, 2000, 0,
     0, 15000, 0, 0, 0, 1};
 static float F[18] __attribute__((unused)) = {0e0f, 0e0f, 3.4e1f, 0e0f, 0e0f, 0e0f, 1.023e3f, 1.5e0f, 0e0f, 0e0f, 0e0f, 0e0f, 0e0f, 6e1f, 1e1f, 3e-2f,
@@ -98,11 +98,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[28];
     rc &= !B[16];
-    B[41] = rc; B[42] = 0;
+    B[43] = rc; B[44] = 0;
     B[14] = rc;
-    B[42] |= rc; rc = B[41];
+    B[44] |= rc; rc = B[43];
     B[19] = rc;
-    rc |= B[42];
+    rc |= B[44];
     // main.lad rung 9: XIC(FILL)XIO(L_STP)GRT(Nivel_L,10.0)XIO(Bomba1)XIC(S_REC)XIO(S_CAP)OTL(Descargar);
     rc = 1;
     rc &= B[7];
@@ -116,11 +116,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[29];
     rc &= !B[16];
-    B[41] = rc; B[42] = 0;
+    B[43] = rc; B[44] = 0;
     B[15] = rc;
-    B[42] |= rc; rc = B[41];
+    B[44] |= rc; rc = B[43];
     B[18] = rc;
-    rc |= B[42];
+    rc |= B[44];
     // main.lad rung 11: XIC(S_CAP)OTU(Descargar);
     rc = 1;
     rc &= B[8];
@@ -154,7 +154,7 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-42: the BOOL slots; holding registers 0-79: the I, F, L and M slots
+// coils 0-44: the BOOL slots; holding registers 0-79: the I, F, L and M slots
 // as a big-endian register file (I from 0, F from 44, L from 80, M from 80);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
@@ -184,7 +184,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 22, 18, 0, 0, SCAN_MS,
-            0x40F3, 0xF88D, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0x76B6, 0xD3A7, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

@@ -9,9 +9,9 @@
 
 // Program memory: typed slots, as in the engine (system slots, I/O images, tags,
 // temporaries and constants).
-static bool B[37] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+static bool B[39] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
     0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    0, 0, 0, 0, 0};
+    0, 0, 0, 0, 0, 0, 0};
 static int32_t I[21] __attribute__((unused)) = {0, 0, 0, 0, 0, 0, 0, 0, 5000, 0, 0, 2000, 0, 0, 5000, 0,
     0, 2000, 0, 0, 0};
 
@@ -68,11 +68,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[6];
     rc &= !B[27];
-    B[35] = rc; B[36] = 0;
+    B[37] = rc; B[38] = 0;
     B[14] = rc;
-    B[36] |= rc; rc = B[35];
+    B[38] |= rc; rc = B[37];
     B[19] = rc;
-    rc |= B[36];
+    rc |= B[38];
     // main.lad rung 6: XIC(Switch)XIC(T0.DN)XIO(T1.DN)OTE(A_Amber);
     rc = 1;
     rc &= B[6];
@@ -83,11 +83,11 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[6];
     rc &= B[27];
-    B[35] = rc; B[36] = 0;
+    B[37] = rc; B[38] = 0;
     B[16] = rc;
-    B[36] |= rc; rc = B[35];
+    B[38] |= rc; rc = B[37];
     B[17] = rc;
-    rc |= B[36];
+    rc |= B[38];
     // main.lad rung 8: XIC(Switch)XIC(T2.DN)OTE(B_Amber);
     rc = 1;
     rc &= B[6];
@@ -122,7 +122,7 @@ static void scan() {
 
 
 // ---- monitoring link (docs/arduino.md): Modbus RTU slave 1, 115200 8N1 ----
-// coils 0-36: the BOOL slots; holding registers 0-41: the I, F, L and M slots
+// coils 0-38: the BOOL slots; holding registers 0-41: the I, F, L and M slots
 // as a big-endian register file (I from 0, F from 42, L from 42, M from 42);
 // input registers 0-11: identity and state.
 #define ALBA_LINK_SLAVE 1
@@ -150,7 +150,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 21, 0, 0, 0, SCAN_MS,
-            0x5433, 0x05A5, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0xA11C, 0xC18B, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

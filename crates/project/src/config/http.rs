@@ -1,12 +1,13 @@
 //! `[http]`: the HTTP/WebSocket listener of `alba run` (docs/security.md,
 //! "Browser attacks and transport").
 
+use super::setting::int_setting;
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
 use toml::Spanned;
 
 /// `[http]`: who may reach the studio and its API, and how.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Http {
     /// Extra host names accepted in the `Host` header, lowercase, without a
     /// port (`localhost` and IP literals are always accepted): the names the
@@ -23,6 +24,31 @@ pub struct Http {
     pub cert: Option<String>,
     /// The certificate's private key (PEM), with `cert`.
     pub key: Option<String>,
+    /// Open HTTP connections at most; more are answered 503 and closed.
+    pub max_connections: u32,
+    /// Live (WebSocket) clients at most; more are closed with code 1013.
+    pub max_ws_clients: u32,
+    /// A request whose answer takes longer is answered 503.
+    pub request_timeout_s: u32,
+}
+
+pub const DEFAULT_MAX_CONNECTIONS: u32 = 256;
+pub const DEFAULT_MAX_WS_CLIENTS: u32 = 64;
+pub const DEFAULT_REQUEST_TIMEOUT_S: u32 = 30;
+
+impl Default for Http {
+    fn default() -> Http {
+        Http {
+            allowed_hosts: Vec::new(),
+            allowed_origins: Vec::new(),
+            insecure: false,
+            cert: None,
+            key: None,
+            max_connections: DEFAULT_MAX_CONNECTIONS,
+            max_ws_clients: DEFAULT_MAX_WS_CLIENTS,
+            request_timeout_s: DEFAULT_REQUEST_TIMEOUT_S,
+        }
+    }
 }
 
 #[derive(Deserialize)]
@@ -35,6 +61,9 @@ pub(super) struct RawHttp {
     insecure: Option<bool>,
     cert: Option<Spanned<String>>,
     key: Option<Spanned<String>>,
+    max_connections: Option<Spanned<i64>>,
+    max_ws_clients: Option<Spanned<i64>>,
+    request_timeout_s: Option<Spanned<i64>>,
 }
 
 /// Whether `s` is a host name: letters, digits, `-`, `.` (and `_`, seen in
@@ -126,5 +155,32 @@ pub(super) fn http(h: RawHttp, file: FileId, diags: &mut Vec<Diagnostic>) -> Htt
         )),
         (None, None) => {}
     }
+    out.max_connections = int_setting(
+        "max_connections",
+        h.max_connections,
+        4..=100_000,
+        DEFAULT_MAX_CONNECTIONS,
+        "connections",
+        file,
+        diags,
+    );
+    out.max_ws_clients = int_setting(
+        "max_ws_clients",
+        h.max_ws_clients,
+        1..=10_000,
+        DEFAULT_MAX_WS_CLIENTS,
+        "clients",
+        file,
+        diags,
+    );
+    out.request_timeout_s = int_setting(
+        "request_timeout_s",
+        h.request_timeout_s,
+        1..=3_600,
+        DEFAULT_REQUEST_TIMEOUT_S,
+        "seconds",
+        file,
+        diags,
+    );
     out
 }

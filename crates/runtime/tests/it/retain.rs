@@ -97,7 +97,11 @@ fn wrong_typed_values_are_reported_by_name_and_the_file_copied() {
     let copy = kept(&d, ".unrestored-");
     assert_eq!(copy.len(), 1);
     assert_eq!(std::fs::read_to_string(&copy[0]).expect("test I/O"), text);
-    assert_eq!(std::fs::read_to_string(&file).expect("test I/O"), text, "the file itself stays");
+    assert_eq!(
+        std::fs::read_to_string(&file).expect("test I/O"),
+        text,
+        "the file itself stays"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 

@@ -8,7 +8,9 @@ mod domain;
 mod errors;
 mod guard;
 mod history;
+mod limits;
 mod roles;
+mod scale;
 mod ws;
 
 use reqwest::{Client, Method, StatusCode};

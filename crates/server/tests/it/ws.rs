@@ -146,13 +146,14 @@ async fn a_client_that_does_not_read_is_dropped() {
 }
 
 /// The alarm summary comes when the socket opens and again after a change
-/// of an alarm's state (the demo's tank-plant has three alarms).
+/// of an alarm's state (the demo's tank-plant has five alarms: three of
+/// the process, two of the runtime's stores).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn alarm_changes_are_pushed() {
     let s = Server::start("tank-plant", "ws-alarms").await;
     let mut ws = connect(&s).await;
     let first = next(&mut ws, "alarms", |_| true).await;
-    assert_eq!(first["alarms"], 3, "{first}");
+    assert_eq!(first["alarms"], 5, "{first}");
     assert_eq!(first["unacked"], 0, "{first}");
     // The emergency stop's rising edge: forcing STOP on raises `estop`.
     let (code, j) = s

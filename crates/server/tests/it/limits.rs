@@ -1,0 +1,191 @@
+//! Bounded resources (issue 15, docs/reliability.md): the caps on HTTP
+//! connections and live clients, a slow live client dropped, and the
+//! request time limit.
+
+use crate::{Server, copy_example};
+use alba_runtime::{Options, Runtime, SimIo};
+use futures_util::{SinkExt, StreamExt};
+use serde_json::{Value as Json, json};
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio_tungstenite::tungstenite::Message;
+use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+
+async fn with_http(test: &str, http: &str) -> Server {
+    let dir = copy_example("tank", test);
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml") + "\n[http]\n" + http;
+    std::fs::write(dir.join("alba.toml"), toml).expect("toml");
+    Server::start_in(dir).await
+}
+
+fn ws_request(s: &Server) -> tokio_tungstenite::tungstenite::handshake::client::Request {
+    let mut req = format!("ws://{}/api/ws", s.addr)
+        .into_client_request()
+        .expect("request");
+    req.headers_mut()
+        .insert("origin", format!("http://{}", s.addr).parse().expect("origin"));
+    req
+}
+
+async fn clients(s: &Server) -> u64 {
+    let (_, st) = s.call(reqwest::Method::GET, "/api/status", None).await;
+    st["clients"].as_u64().unwrap_or(u64::MAX)
+}
+
+/// A raw keep-alive HTTP/1.1 request on `conn`; the answer's head and body.
+async fn raw_get(conn: &mut tokio::net::TcpStream, path: &str) -> String {
+    conn.write_all(format!("GET {path} HTTP/1.1\r\nhost: 127.0.0.1\r\n\r\n").as_bytes())
+        .await
+        .expect("write");
+    let mut buf = vec![0u8; 64 * 1024];
+    let n = tokio::time::timeout(Duration::from_secs(10), conn.read(&mut buf))
+        .await
+        .expect("an answer")
+        .expect("read");
+    String::from_utf8_lossy(&buf[..n]).into_owned()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn connections_beyond_the_cap_get_a_json_503_and_the_place_comes_back() {
+    let s = with_http("conncap", "max_connections = 4\n").await;
+    // The test's own HTTP client keeps one pooled connection: the 4th raw one
+    // is the fifth.
+    let mut open = Vec::new();
+    let answer = loop {
+        let mut c = tokio::net::TcpStream::connect(s.addr).await.expect("connect");
+        let answer = raw_get(&mut c, "/api/me").await;
+        if !answer.starts_with("HTTP/1.1 200") {
+            break answer;
+        }
+        open.push(c);
+        assert!(open.len() <= 4, "more than 4 connections served");
+    };
+    assert!(open.len() >= 3, "{} served before the cap", open.len());
+    assert!(answer.starts_with("HTTP/1.1 503"), "{answer}");
+    let body: Json = serde_json::from_str(answer.split("\r\n\r\n").nth(1).unwrap_or("")).expect("JSON body");
+    assert!(
+        body["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("too many connections (4 open)")),
+        "{body}"
+    );
+    // One closes: a new connection is served again.
+    drop(open.pop());
+    let mut again = None;
+    for _ in 0..50 {
+        let mut c = tokio::net::TcpStream::connect(s.addr).await.expect("connect");
+        if raw_get(&mut c, "/api/me").await.starts_with("HTTP/1.1 200") {
+            again = Some(c);
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    assert!(again.is_some(), "the freed place was not given back");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn live_clients_beyond_the_cap_are_closed_with_a_reason() {
+    let s = with_http("wscap", "max_ws_clients = 2\n").await;
+    let (mut a, _) = tokio_tungstenite::connect_async(ws_request(&s)).await.expect("first");
+    let (_b, _) = tokio_tungstenite::connect_async(ws_request(&s)).await.expect("second");
+    let (mut c, _) = tokio_tungstenite::connect_async(ws_request(&s))
+        .await
+        .expect("handshake");
+    let m = tokio::time::timeout(Duration::from_secs(5), c.next())
+        .await
+        .expect("closed at once")
+        .expect("a frame")
+        .expect("a close frame");
+    match m {
+        Message::Close(Some(f)) => {
+            assert_eq!(u16::from(f.code), 1013);
+            assert!(f.reason.contains("too many live clients (2)"), "{}", f.reason);
+        }
+        other => panic!("{other:?}"),
+    }
+    // The first two still work, and a place freed is taken again.
+    a.send(Message::Text(json!({"subscribe": ["Llenar"]}).to_string().into()))
+        .await
+        .expect("send");
+    drop(a);
+    for _ in 0..50 {
+        if clients(&s).await < 2 {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let (mut d, _) = tokio_tungstenite::connect_async(ws_request(&s)).await.expect("again");
+    d.send(Message::Text(json!({"subscribe": ["Llenar"]}).to_string().into()))
+        .await
+        .expect("send");
+    let first = tokio::time::timeout(Duration::from_secs(5), d.next())
+        .await
+        .expect("served");
+    assert!(matches!(first, Some(Ok(Message::Text(_)))), "{first:?}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_live_client_that_stops_reading_is_dropped() {
+    let s = with_http("wsslow", "").await;
+    // A client with a tiny receive window that subscribes to everything,
+    // monitors the program (power flow every scan) and never reads again.
+    let sock = tokio::net::TcpSocket::new_v4().expect("socket");
+    sock.set_recv_buffer_size(2048).expect("rcvbuf");
+    let tcp = sock.connect(s.addr).await.expect("connect");
+    let (mut ws, _) = tokio_tungstenite::client_async(ws_request(&s), tcp)
+        .await
+        .expect("handshake");
+    ws.send(Message::Text(
+        json!({"subscribe": "*", "monitor": ["main.lad"]}).to_string().into(),
+    ))
+    .await
+    .expect("send");
+    assert_eq!(clients(&s).await, 1);
+    // Bounded: a send blocked for 5 s drops it (60 s is only the test's limit).
+    let mut dropped = false;
+    for _ in 0..600 {
+        if clients(&s).await == 0 {
+            dropped = true;
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    assert!(dropped, "the slow client is still connected");
+    // Others are served all along.
+    assert_eq!(s.call(reqwest::Method::GET, "/api/status", None).await.0, 200);
+    drop(ws);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_request_longer_than_the_limit_is_answered_503() {
+    let dir = copy_example("tank", "timeout");
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml") + "\n[http]\nrequest_timeout_s = 1\n";
+    std::fs::write(dir.join("alba.toml"), toml).expect("toml");
+    let compiled = alba_server::project::load(&dir);
+    let program = compiled.program.clone().expect("compiles");
+    let mut ro = Options::new(compiled.project.scan_ms());
+    ro.native = false;
+    let runtime = Runtime::start(Arc::new(program), ro, Box::new(SimIo)).expect("runtime");
+    let state = alba_server::AppState::new(
+        runtime.handle(),
+        compiled,
+        "sim",
+        None,
+        None,
+        alba_server::auth::Auth::open(),
+    );
+    let s = Server::serve_state(state.clone(), dir).await;
+    // An edit holds the project for longer than the limit.
+    let held = state.project.lock().await;
+    let (code, body) = s.call(reqwest::Method::GET, "/api/programs/main.lad", None).await;
+    assert_eq!(code, 503, "{body}");
+    assert!(
+        body["error"].as_str().is_some_and(|e| e.contains("longer than 1 s")),
+        "{body}"
+    );
+    drop(held);
+    let (code, _) = s.call(reqwest::Method::GET, "/api/programs/main.lad", None).await;
+    assert_eq!(code, 200);
+    runtime.shutdown();
+}
