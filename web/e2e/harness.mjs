@@ -36,19 +36,7 @@ export async function startAlba(example, { users = [] } = {}) {
   const dir = mkdtempSync(join(tmpdir(), `alba-e2e-${example}-`));
   cpSync(join(repo, 'examples', example), dir, { recursive: true });
   for (const u of users) await addUser(dir, u);
-  const bin = albaBin();
-  const proc = spawn(bin, ['run', dir, '--http', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] });
-  const url = await new Promise((ok, fail) => {
-    const timer = setTimeout(() => fail(new Error('alba run did not start in 30 s')), 30_000);
-    proc.on('exit', (code) => fail(new Error(`alba run exited with ${code}`)));
-    createInterface({ input: proc.stdout }).on('line', (line) => {
-      const m = line.match(/http:\/\/[^/\s]+\//);
-      if (m) {
-        clearTimeout(timer);
-        ok(m[0]);
-      }
-    });
-  });
+  let { proc, url } = await spawnAlba(dir, '127.0.0.1:0');
   // With users, `login()` gives the helpers a bearer token.
   let token = null;
   const api = async (path, init = {}) => {
@@ -75,12 +63,38 @@ export async function startAlba(example, { users = [] } = {}) {
       if (r.status !== 200 || !r.body?.token) throw new Error(`login ${user}: ${r.status} ${JSON.stringify(r.body)}`);
       token = r.body.token;
     },
+    /** Kills `alba run` as a crash would (SIGKILL); the project stays. */
+    async kill() {
+      proc.kill('SIGKILL');
+      await new Promise((ok) => (proc.exitCode !== null || proc.signalCode !== null ? ok() : proc.on('exit', ok)));
+    },
+    /** Starts `alba run` again on the same project and address. */
+    async restart() {
+      ({ proc } = await spawnAlba(dir, new URL(url).host));
+    },
     async stop() {
       proc.kill('SIGTERM');
-      await new Promise((ok) => (proc.exitCode !== null ? ok() : proc.on('exit', ok)));
+      await new Promise((ok) => (proc.exitCode !== null || proc.signalCode !== null ? ok() : proc.on('exit', ok)));
       rmSync(dir, { recursive: true, force: true });
     },
   };
+}
+
+/** `alba run <dir> --http <addr>`; resolves once it serves, with its URL. */
+async function spawnAlba(dir, addr) {
+  const proc = spawn(albaBin(), ['run', dir, '--http', addr], { stdio: ['ignore', 'pipe', 'inherit'] });
+  const url = await new Promise((ok, fail) => {
+    const timer = setTimeout(() => fail(new Error('alba run did not start in 30 s')), 30_000);
+    proc.on('exit', (code) => fail(new Error(`alba run exited with ${code}`)));
+    createInterface({ input: proc.stdout }).on('line', (line) => {
+      const m = line.match(/http:\/\/[^/\s]+\//);
+      if (m) {
+        clearTimeout(timer);
+        ok(m[0]);
+      }
+    });
+  });
+  return { proc, url };
 }
 
 /** A headless Chromium with a fresh profile, and one page. */

@@ -28,7 +28,12 @@ retain_lost: boolean,
  * What is wrong with the runtime's stores now, oldest first
  * (docs/reliability.md).
  */
-problems: Array<Problem>, };
+problems: Array<Problem>, 
+/**
+ * The forces in effect (as `GET /api/forces`), for the studio's
+ * "forces active" banner.
+ */
+forces: Array<Force>, };
 
 export type Access = "readwrite" | "input" | "readonly";
 
@@ -291,6 +296,11 @@ retain_lost: boolean,
  * What is wrong with the runtime's stores now, oldest first
  * (docs/reliability.md).
  */
-problems: Array<Problem>, };
+problems: Array<Problem>, 
+/**
+ * The forces in effect (as `GET /api/forces`), for the studio's
+ * "forces active" banner.
+ */
+forces: Array<Force>, };
 
 export type AlarmsMsg = { type: 'alarms', alarms: number, active: number, unacked: number, shelved: number, suppressed: number, out_of_service: number, new_10min: number, flood: boolean, top_unacked: string | null, top_severity: number | null, };

@@ -87,6 +87,7 @@ export const api = {
   ackAlarm: (id: string, comment: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/ack`, { comment }),
   force: (name: string, value: Json) => json<Force>('PUT', `/api/forces/${enc(name)}`, { value }),
   unforce: (name: string) => json<void>('DELETE', `/api/forces/${enc(name)}`),
+  unforceAll: () => json<void>('DELETE', '/api/forces'),
   programs: () => json<ProgramRef[]>('GET', '/api/programs'),
   program: (name: string) => json<Program>('GET', `/api/programs/${enc(name)}`),
   domain: () => json<Domain>('GET', '/api/domain'),

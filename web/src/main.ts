@@ -15,7 +15,10 @@ import { boot, loginText, setNextLoginMessage, showLogin } from './login';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
+import { freshness } from './live/freshness';
 import { AlarmBanner } from './ui/alarms';
+import { ForcesBanner, StaleBanner } from './ui/banners';
+import { confirmAction } from './ui/confirm';
 import { StatusBar } from './ui/statusbar';
 
 interface View {
@@ -32,6 +35,12 @@ const isEditor = (v: View | null | undefined): v is Editor => v instanceof Ladde
 const text = {
   signedInAgain: (user: string) => `Signed in again as ${user}`,
   logoutFailed: (m: string) => `Sign out failed: ${m}`,
+  confirmStopTitle: 'Stop the PLC?',
+  confirmStop: 'Scanning stops after the current scan and every output goes off.',
+  confirmStopOk: 'Stop',
+  confirmRunTitle: 'Start the PLC?',
+  confirmRun: 'The program starts from its first scan and drives the outputs.',
+  confirmRunOk: 'Run',
 };
 
 const toasts = h('div', { class: 'toasts', 'data-testid': 'toasts' });
@@ -62,6 +71,8 @@ async function start(me: Me): Promise<void> {
   const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: 'Save the program and apply it online' }, 'Save');
   const nav = h('nav', { class: 'tabs', 'data-testid': 'tabs' });
   const alarms = new AlarmBanner(notify);
+  const stale = new StaleBanner();
+  const forces = new ForcesBanner(notify);
   const main = h('main', { class: 'content' });
   document.body.append(
     h('header', { class: 'topbar' },
@@ -69,6 +80,8 @@ async function start(me: Me): Promise<void> {
       h('span', { class: 'seg' }, runBtn, stopBtn),
       h('span', { class: 'seg' }, compileBtn, saveBtn)),
     nav,
+    stale.el,
+    forces.el,
     alarms.el,
     main,
     statusBar.el,
@@ -120,9 +133,20 @@ async function start(me: Me): Promise<void> {
     location.reload();
   });
 
+  // Whether the screen is live: one place for every view (live/freshness.ts).
+  let liveSince = Date.now();
+  const checkFresh = () => {
+    const f = freshness(live.state, live.status, live.lastMessageMs, Date.now());
+    if (f === 'live') liveSince = Date.now();
+    stale.update(f, f === 'stale' ? live.lastMessageMs || liveSince : liveSince, live.status);
+    statusBar.stale(f === 'stale');
+  };
+  setInterval(checkFresh, 1000);
+
   let lost = false;
   live.onState((s) => {
     statusBar.conn(s);
+    checkFresh();
     // after a reconnection the tag table may have changed
     if (s === 'reconnecting') {
       lost = true;
@@ -137,6 +161,8 @@ async function start(me: Me): Promise<void> {
     if (b.status) {
       statusBar.status(b.status);
       showRunState(b.status.state);
+      forces.update(b.status.forces ?? []);
+      checkFresh();
     }
     if (b.alarms) void alarms.update(b.alarms);
     b.errors.forEach((e) => console.warn('server:', e));
@@ -149,12 +175,17 @@ async function start(me: Me): Promise<void> {
       statusBar.status(s);
       live.status = s;
       showRunState(s.state);
+      checkFresh();
     } catch (e) {
       notify(e instanceof ApiError ? e.message : String(e), 'error');
     }
   };
-  runBtn.onclick = () => void runState(api.run);
-  stopBtn.onclick = () => void runState(api.stop);
+  runBtn.onclick = async () => {
+    if (await confirmAction(text.confirmRunTitle, text.confirmRun, text.confirmRunOk)) await runState(api.run);
+  };
+  stopBtn.onclick = async () => {
+    if (await confirmAction(text.confirmStopTitle, text.confirmStop, text.confirmStopOk)) await runState(api.stop);
+  };
 
   let status, programs: ProgramRef[];
   try {
@@ -168,6 +199,8 @@ async function start(me: Me): Promise<void> {
   statusBar.status(status);
   live.status = status;
   showRunState(status.state);
+  forces.update(status.forces ?? []);
+  checkFresh();
 
   const ctx: Ctx = { live, tags, notify };
   const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();

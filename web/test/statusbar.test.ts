@@ -6,7 +6,7 @@ import type { Status } from '../src/types';
 const status = (over: Partial<Status>): Status => ({
   project: 'tank', state: 'running', fault: null, scan_ms: 10, scans: 5, time_ms: 50,
   stats: { last_us: 1, min_us: 1, max_us: 9, mean_us: 2, jitter_us: 0, overruns: 0 },
-  minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [],
+  minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [], forces: [],
   ...over,
 });
 
@@ -30,5 +30,17 @@ describe('store problems in the status bar', () => {
     expect(store.getAttribute('role')).toBe('alert');
     bar.status(status({}));
     expect(store.hidden).toBe(true);
+  });
+
+  it('says "not live" instead of a frozen run state while stale', () => {
+    const bar = new StatusBar();
+    const state = bar.el.querySelector('[data-testid="status-state"]') as HTMLElement;
+    bar.status(status({}));
+    bar.stale(true);
+    expect([state.textContent, state.dataset.state]).toEqual(['not live', 'stale']);
+    bar.status(status({ state: 'stopped' }));
+    expect(state.textContent).toBe('not live');
+    bar.stale(false);
+    expect([state.textContent, state.dataset.state]).toEqual(['stopped', 'stopped']);
   });
 });

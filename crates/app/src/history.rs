@@ -79,6 +79,7 @@ pub fn record(
         let dir = h.path().parent().map(std::path::Path::to_path_buf).unwrap_or_default();
         let mut checked_at: Option<i64> = None;
         let mut paused = false;
+        let mut last_t = i64::MIN;
         let every = Filter {
             deadband: 0.0,
             period_ms: u64::from(cfg.sample_ms),
@@ -105,6 +106,14 @@ pub fn record(
                 }
                 program = Some(s.program.clone());
             }
+            // Two snapshots in one millisecond (the start's, then the first
+            // scan's, on a busy machine): the store keeps one value per tag
+            // and time, and the filter would believe the second one stored.
+            // It is recorded with the next snapshot instead.
+            if s.unix_ms == last_t {
+                continue;
+            }
+            last_t = s.unix_ms;
             if checked_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= CHECK_EVERY_MS) {
                 checked_at = Some(s.unix_ms);
                 paused = check_space(&h, &dir, floor, max_bytes, &health);

@@ -62,6 +62,9 @@ pub struct Status {
     /// What is wrong with the runtime's stores now, oldest first
     /// (docs/reliability.md).
     pub problems: Vec<Problem>,
+    /// The forces in effect (as `GET /api/forces`), for the studio's
+    /// "forces active" banner.
+    pub forces: Vec<Force>,
 }
 
 /// A current problem of the runtime's stores.

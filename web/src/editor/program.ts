@@ -43,6 +43,15 @@ export class ProgramEditor {
   /** Energised element ids of the running program. */
   on = new Set<number>();
   readonly textEl = h('textarea', { class: 'editor-text', 'data-testid': 'editor-text', spellcheck: 'false', wrap: 'off' });
+  /** Line numbers beside the text (errors cite line:column), problem lines marked. */
+  readonly gutterEl = h('pre', { class: 'line-numbers', 'aria-hidden': 'true', 'data-testid': 'line-numbers' });
+  /** The text area with its line numbers: what a view shows in text mode. */
+  readonly textBox = h('div', { class: 'editor-text-box' }, this.gutterEl, this.textEl);
+  private gutterKey = '';
+  /** Texts to go back to (newest last) and forward to: every edit, graphic or typed. */
+  private undoStack: string[] = [];
+  private redoStack: string[] = [];
+  private lastTyped = 0;
   readonly problemsEl = h('ul', { class: 'problems', 'data-testid': 'diagnostics' });
   readonly stateEl = h('span', { class: 'edit-state', 'data-testid': 'edit-state' });
   /** The view's section (gets `data-dirty`). */
@@ -54,6 +63,7 @@ export class ProgramEditor {
     private readonly hooks: EditorHooks,
   ) {
     this.textEl.addEventListener('input', () => this.setText(this.textEl.value, true));
+    this.textEl.addEventListener('scroll', () => (this.gutterEl.scrollTop = this.textEl.scrollTop));
     // editing, checking and saving need the engineer role: read-only text otherwise
     if (!can('edit')) {
       this.textEl.readOnly = true;
@@ -72,16 +82,71 @@ export class ProgramEditor {
     this.savedDiagnostics = p.diagnostics;
     this.diagnostics = p.diagnostics;
     this.hooks.loaded(p);
-    this.setText(p.text, false, false);
+    this.undoStack = [];
+    this.redoStack = [];
+    this.setText(p.text, false, false, false);
   }
 
-  /** Sets the program text; an edited text is checked after a pause. */
-  setText(text: string, fromTextArea = false, check = true): void {
+  /** Undoes the last edit (a graphic edit, or a burst of typing); false when there is none. */
+  undo(): boolean {
+    const t = this.undoStack.pop();
+    if (t === undefined) return false;
+    this.redoStack.push(this.text);
+    this.setText(t, false, true, false);
+    return true;
+  }
+
+  redo(): boolean {
+    const t = this.redoStack.pop();
+    if (t === undefined) return false;
+    this.undoStack.push(this.text);
+    this.setText(t, false, true, false);
+    return true;
+  }
+
+  get canUndo(): boolean {
+    return this.undoStack.length > 0;
+  }
+
+  get canRedo(): boolean {
+    return this.redoStack.length > 0;
+  }
+
+  /**
+   * Sets the program text; an edited text is checked after a pause. An edit
+   * is recorded for undo (`record`); typing in the text area is one step per
+   * burst (a pause of a second starts a new one).
+   */
+  setText(text: string, fromTextArea = false, check = true, record = true): void {
+    if (record && text !== this.text) {
+      const now = Date.now();
+      if (!fromTextArea || now - this.lastTyped > 1000) this.undoStack.push(this.text);
+      if (this.undoStack.length > 200) this.undoStack.shift();
+      this.redoStack = [];
+      this.lastTyped = fromTextArea ? now : 0;
+    }
     this.text = text;
     if (!fromTextArea && this.textEl.value !== text) this.textEl.value = text;
     if (check && this.dirty) this.scheduleCheck();
     if (!this.dirty) this.diagnostics = this.savedDiagnostics;
+    this.renderGutter();
     this.hooks.textChanged(fromTextArea);
+  }
+
+  /** One number per line of the text; a line with a problem is marked, its messages in the tooltip. */
+  renderGutter(): void {
+    const lines = this.text.split('\n').length;
+    const bad = new Map<number, string[]>();
+    for (const d of this.mine()) if (d.line !== null) bad.set(d.line, [...(bad.get(d.line) ?? []), problemTip(d)]);
+    const key = `${lines}|${JSON.stringify([...bad])}`;
+    if (key === this.gutterKey) return;
+    this.gutterKey = key;
+    clear(this.gutterEl);
+    for (let n = 1; n <= lines; n++) {
+      const why = bad.get(n);
+      this.gutterEl.append(why ? h('span', { class: 'err', title: why.join('\n'), 'data-testid': `line-error-${n}` }, String(n)) : String(n), '\n');
+    }
+    this.gutterEl.scrollTop = this.textEl.scrollTop;
   }
 
   private scheduleCheck(): void {
@@ -176,6 +241,7 @@ export class ProgramEditor {
 
   /** The problems list: this program's diagnostics, then `extra`; a click on one calls `go`. */
   renderProblems(extra: Problem[], go: (line: number, col: number | null) => void): void {
+    this.renderGutter();
     clear(this.problemsEl);
     const all: Problem[] = this.mine().map((d) => ({
       text: `${d.message}${d.help ? ` — ${d.help}` : ''}`,

@@ -52,7 +52,7 @@ export class IlView {
       h(
         'div',
         { class: 'ladder-body' },
-        h('div', { class: 'ladder-main' }, this.linesEl, this.ed.textEl),
+        h('div', { class: 'ladder-main' }, this.linesEl, this.ed.textBox),
         h('aside', { class: 'ladder-side' }, h('h3', null, 'Problems'), this.ed.problemsEl),
       ),
     );

@@ -82,7 +82,7 @@ export function renderRung(l: RungLayout, decor: RungDecor, live: LiveHooks | nu
   // rails, number, comment
   const leftRail = s('line', { class: 'rail left', x1: 0, y1: 0, x2: 0, y2: l.height });
   root.append(leftRail, s('line', { class: 'rail', x1: l.rail, y1: 0, x2: l.rail, y2: l.height }));
-  root.append(s('text', { class: 'rung-number', x: -8, y: l.wire + 4, 'text-anchor': 'end' }, String(decor.number)));
+  root.append(s('text', { class: 'rung-number', x: -8, y: l.wire + 4, 'text-anchor': 'end' }, String(decor.number + 1)));
   decor.comment.forEach((c, k) => {
     root.append(s('text', { class: 'comment', x: 8, y: G.top + (k + 1) * G.commentLine - 4 }, c));
   });

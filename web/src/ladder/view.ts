@@ -24,6 +24,9 @@ import { type ProgramDoc, joinProgram, parseProgram } from './parse';
 import { printRung } from './print';
 import { type RungView, pathFromEvent, renderRung } from './render';
 
+/** Rungs cut or copied (their text, comments included), shared by every ladder tab. */
+let rungClipboard: string | null = null;
+
 interface Selection {
   rung: number;
   /** Element path ("0.1.2"), or null for the rung itself. */
@@ -104,13 +107,22 @@ export class LadderView {
           tool('▼', 'btn-rung-down', 'Move the selected rung down', () => this.moveRung(1)),
           tool('✕', 'btn-rung-delete', 'Delete the selected rung', () => this.deleteRung()),
         ),
+        h(
+          'span',
+          { class: 'seg' },
+          tool('↶', 'btn-undo', 'Undo (Ctrl+Z)', () => this.undo()),
+          tool('↷', 'btn-redo', 'Redo (Ctrl+Y)', () => this.redo()),
+          tool('Copy', 'btn-rung-copy', 'Copy the selected rung (Ctrl+C)', () => this.copyRung(false)),
+          tool('Cut', 'btn-rung-cut', 'Cut the selected rung (Ctrl+X)', () => this.copyRung(true)),
+          tool('Paste', 'btn-rung-paste', 'Paste the rung after the selected one (Ctrl+V)', () => this.pasteRung()),
+        ),
         this.ed.stateEl,
       ),
       this.paletteEl,
       h(
         'div',
         { class: 'ladder-body' },
-        h('div', { class: 'ladder-main' }, this.rungsEl, this.ed.textEl),
+        h('div', { class: 'ladder-main' }, this.rungsEl, this.ed.textBox),
         h('aside', { class: 'ladder-side' }, this.propsEl, h('h3', null, 'Problems'), this.ed.problemsEl),
       ),
       this.datalists,
@@ -281,7 +293,7 @@ export class LadderView {
       } else {
         box.append(
           h('div', { class: 'rung-raw' },
-            h('span', { class: 'rung-number' }, String(i)),
+            h('span', { class: 'rung-number' }, String(i + 1)),
             h('pre', { title: r.error?.message ?? '' }, r.own.trimEnd()),
             h('div', { class: 'rung-raw-error' }, `${r.error?.line}:${r.error?.col} ${r.error?.message}`)),
         );
@@ -368,7 +380,7 @@ export class LadderView {
       const ta = h('textarea', { class: 'comment-input', 'data-testid': 'rung-comment-input', rows: '3', readonly: !can('edit'), title: why('edit') });
       ta.value = rung.comment.join('\n');
       this.propsEl.append(
-        h('h3', null, `Rung ${sel.rung}`),
+        h('h3', null, `Rung ${sel.rung + 1}`),
         h('label', null, 'Comment'),
         ta,
         h('button', { 'data-testid': 'rung-comment-apply', disabled: !can('edit'), title: why('edit'), onclick: () => this.setComment(sel.rung, ta.value) }, 'Apply comment'),
@@ -453,7 +465,19 @@ export class LadderView {
 
   private onKey(e: KeyboardEvent): void {
     if ((e.target as HTMLElement).closest('input,textarea,select')) return;
-    if ((e.key === 'Delete' || e.key === 'Backspace') && can('edit')) {
+    const mod = e.ctrlKey || e.metaKey;
+    const key = e.key.toLowerCase();
+    const shortcut: Record<string, () => void> = {
+      z: () => (e.shiftKey ? this.redo() : this.undo()),
+      y: () => this.redo(),
+      c: () => this.copyRung(false),
+      x: () => this.copyRung(true),
+      v: () => this.pasteRung(),
+    };
+    if (mod && shortcut[key] && can('edit')) {
+      e.preventDefault();
+      shortcut[key]();
+    } else if ((e.key === 'Delete' || e.key === 'Backspace') && can('edit')) {
       e.preventDefault();
       this.deleteSelected();
     } else if (e.key === 'Escape') this.select(null);
@@ -571,6 +595,38 @@ export class LadderView {
     const [c] = chunks.splice(sel.rung, 1);
     chunks.splice(to, 0, c);
     this.setChunks(chunks, { rung: to, path: null });
+  }
+
+  private undo(): void {
+    if (!this.ed.undo()) this.ctx.notify('Nothing to undo');
+  }
+
+  private redo(): void {
+    if (!this.ed.redo()) this.ctx.notify('Nothing to redo');
+  }
+
+  /** Copies (or cuts) the selected rung, its comment included. */
+  private copyRung(cut: boolean): void {
+    const sel = this.sel;
+    if (!sel) {
+      this.ctx.notify('Select a rung first', 'error');
+      return;
+    }
+    rungClipboard = this.chunks()[sel.rung] ?? null;
+    if (rungClipboard !== null) void navigator.clipboard?.writeText(rungClipboard).catch(() => undefined);
+    if (cut) this.deleteRung();
+  }
+
+  /** Pastes the copied rung after the selected one (or at the end). */
+  private pasteRung(): void {
+    if (rungClipboard === null) {
+      this.ctx.notify('Copy a rung first', 'error');
+      return;
+    }
+    const chunks = this.chunks();
+    const at = this.sel ? this.sel.rung + 1 : chunks.length;
+    chunks.splice(at, 0, rungClipboard);
+    this.setChunks(chunks, { rung: at, path: null });
   }
 
   private deleteRung(): void {

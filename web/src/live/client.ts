@@ -43,6 +43,8 @@ export class LiveClient {
   readonly store = new ValueStore();
   state: ConnState = 'connecting';
   status: Status | null = null;
+  /** When the last message came (ms since the epoch; 0: none yet). */
+  lastMessageMs = 0;
   private ws: WebSocket | null = null;
   private attempt = 0;
   private readonly subs = new Map<string, string[] | '*'>();
@@ -74,6 +76,7 @@ export class LiveClient {
       this.sync();
     };
     ws.onmessage = (ev) => {
+      this.lastMessageMs = Date.now();
       let msg: ServerMsg;
       try {
         msg = JSON.parse(String(ev.data));

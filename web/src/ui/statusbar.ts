@@ -12,12 +12,15 @@ const text = {
   signOutTitle: 'End the session',
   storeProblems: (n: number) => (n === 1 ? '1 storage problem' : `${n} storage problems`),
   retainLost: 'retentive data lost',
+  notLive: 'not live',
 };
 
 export class StatusBar {
   readonly el: HTMLElement;
   private readonly fields: Record<string, Text> = {};
   private readonly spans: Record<string, HTMLElement> = {};
+  private lastState = '';
+  private notLive = false;
   private readonly logoutBtn = h('button', { class: 'small link', 'data-testid': 'btn-logout', title: text.signOutTitle, hidden: true }, text.signOut);
 
   constructor() {
@@ -51,8 +54,8 @@ export class StatusBar {
   }
 
   status(s: Status): void {
-    this.set('state', s.state);
-    this.spans.state.dataset.state = s.state;
+    this.lastState = s.state;
+    this.showState();
     this.set('scan-last', `${s.stats.last_us} µs`);
     this.set('scan-max', `${s.stats.max_us} µs`);
     this.set('overruns', String(s.stats.overruns));
@@ -69,6 +72,18 @@ export class StatusBar {
     this.spans.store.hidden = !label;
     this.spans.store.title = problems.map((p) => p.message).join('\n');
     this.spans.store.setAttribute('role', label ? 'alert' : 'none');
+  }
+
+  /** While the data is stale the run state is unknown: the field says so instead of a frozen "running". */
+  stale(on: boolean): void {
+    this.notLive = on;
+    this.showState();
+  }
+
+  private showState(): void {
+    const state = this.notLive ? text.notLive : this.lastState;
+    this.set('state', state);
+    this.spans.state.dataset.state = this.notLive ? 'stale' : this.lastState;
   }
 
   /** The user and role ("alice (operator)", or "local, no users"); sign-out only with users. */

@@ -13,17 +13,19 @@ use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use std::sync::Arc;
 
+/// The forces in effect in `s`.
+pub fn of(s: &alba_runtime::Snapshot) -> Vec<Force> {
+    s.forces
+        .iter()
+        .map(|f| Force {
+            name: f.name.clone(),
+            value: to_json(f.value),
+        })
+        .collect()
+}
+
 pub async fn list(State(st): State<Arc<AppState>>) -> Json<Vec<Force>> {
-    let s = st.runtime.snapshot();
-    Json(
-        s.forces
-            .iter()
-            .map(|f| Force {
-                name: f.name.clone(),
-                value: to_json(f.value),
-            })
-            .collect(),
-    )
+    Json(of(&st.runtime.snapshot()))
 }
 
 /// The forced value of `name` in `s`, if it is forced.

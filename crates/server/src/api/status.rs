@@ -45,6 +45,7 @@ pub fn status_of(s: &Snapshot, state: &AppState) -> Status {
                 since_unix_ms: p.since_unix_ms,
             })
             .collect(),
+        forces: super::forces::of(s),
     }
 }
 

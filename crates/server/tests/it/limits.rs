@@ -126,7 +126,7 @@ async fn live_clients_beyond_the_cap_are_closed_with_a_reason() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_live_client_that_stops_reading_is_dropped() {
+async fn a_live_client_that_stops_reading_little_traffic_is_dropped_within_seconds() {
     let s = with_http("wsslow", "").await;
     // A client with a tiny receive window that subscribes to everything,
     // monitors the program (power flow every scan) and never reads again.

@@ -1,0 +1,154 @@
+// End-to-end tests of a studio an operator can trust (issue 16, items 1–2),
+// on examples/tank-plant, whose plant program drives the inputs FILL and S_CAP:
+// a force on FILL wins over the plant in the ladder, the tag table and the API,
+// and a banner on every page lists it with Remove all; Stop and Run ask first;
+// a stopped PLC and a killed runtime turn every live element grey under a
+// banner saying since when, until the runtime is back.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { elementId, openBrowser, startAlba } from './harness.mjs';
+
+let alba, b;
+const id = {};
+
+before(async () => {
+  alba = await startAlba('tank-plant');
+  b = await openBrowser();
+  const program = await alba.json('/api/programs/main.lad');
+  id.fill = elementId(program, 'XIC', ['FILL']);
+});
+
+after(async () => {
+  await b?.close();
+  await alba?.stop();
+});
+
+const live = () => b.page.evaluate(() => document.body.dataset.live);
+const waitLive = (state) => b.page.waitForFunction((s) => document.body.dataset.live === s, state, { timeout: 20_000 });
+
+test('a force on a plant-driven input wins everywhere and the banner lists it', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
+  await waitLive('live');
+  assert.equal(await tid('forces-banner').isHidden(), true, 'no force at start');
+  const r = await alba.api('/api/forces/FILL', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: true }) });
+  assert.equal(r.status, 200, JSON.stringify(r.body));
+  await tid('forces-banner').waitFor();
+  assert.equal(await tid('forces-text').textContent(), '1 force active');
+  await tid('forces-toggle').click();
+  assert.equal(await tid('forces-item-FILL').textContent(), 'FILL = true');
+  // The ladder shows the forced value, scan after scan, whatever the plant's operator does.
+  await tid('tab-program-main.lad').click();
+  const contact = page.locator(`[data-testid="el-${id.fill}"]`);
+  await page.locator(`[data-testid="el-${id.fill}"][data-on="true"]`).waitFor();
+  for (let i = 0; i < 5; i++) {
+    assert.equal(await contact.getAttribute('data-on'), 'true');
+    assert.equal((await alba.json('/api/tags/FILL')).value, true);
+    await page.waitForTimeout(300);
+  }
+  await tid('tab-tags').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="tag-value-FILL"]')?.textContent === '1');
+  assert.equal(await tid('forces-banner').isVisible(), true, 'on every page');
+  await b.shot('forces-banner');
+  // Remove all asks first; Cancel keeps the force.
+  await tid('forces-remove-all').click();
+  await tid('confirm').waitFor();
+  await tid('confirm-cancel').click();
+  assert.equal((await alba.json('/api/forces')).length, 1);
+  await tid('forces-remove-all').click();
+  await tid('confirm-ok').click();
+  await tid('forces-banner').waitFor({ state: 'hidden' });
+  assert.deepEqual(await alba.json('/api/forces'), []);
+  assert.deepEqual(b.errors, []);
+});
+
+test('Stop and Run ask for confirmation, and a stopped PLC looks stopped', async () => {
+  const { tid } = b;
+  await tid('btn-stop').click();
+  await tid('confirm').waitFor();
+  await tid('confirm-cancel').click();
+  assert.equal((await alba.json('/api/status')).state, 'running', 'Cancel stops nothing');
+  await tid('btn-stop').click();
+  await tid('confirm-ok').click();
+  await tid('status-state').filter({ hasText: 'stopped' }).waitFor();
+  await waitLive('stopped');
+  assert.match(await tid('stale-banner').textContent(), /The PLC is stopped \(since .+\)/);
+  await tid('btn-run').click();
+  await tid('confirm-ok').click();
+  await waitLive('live');
+  assert.equal(await tid('stale-banner').isHidden(), true);
+});
+
+test('a killed runtime leaves no live-looking screen, and the studio recovers by itself', async () => {
+  const { page, tid } = b;
+  await tid('tab-program-main.lad').click();
+  const powered = () => page.waitForFunction(() => document.querySelectorAll('line.wire.on').length > 0);
+  await powered();
+  assert.equal(await live(), 'live');
+  await alba.kill();
+  await waitLive('stale');
+  assert.match(await tid('stale-banner').textContent(), /Not live: no data since .+; reconnecting/);
+  assert.equal(await tid('status-state').textContent(), 'not live', 'no frozen "running"');
+  // Every live element is drawn without colour: no green power flow.
+  const filter = await page.evaluate(() => getComputedStyle(document.querySelector('main.content')).filter);
+  assert.match(filter, /grayscale\(1\)/);
+  await b.shot('stale-after-kill');
+  await alba.restart();
+  await waitLive('live');
+  await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
+  assert.equal(await tid('stale-banner').isHidden(), true);
+  await powered();
+});
+
+test('rungs are copied, pasted, undone and redone; the text view numbers its lines', async () => {
+  const { page, tid } = b;
+  const text = () => page.evaluate(() => document.querySelector('[data-testid="editor-text"]').value);
+  const code = (t) => t.split('\n').filter((l) => l && !l.startsWith('//'));
+  await tid('tab-program-main.lad').click();
+  await tid('view-graphic').click();
+  const before = code(await text());
+  assert.equal(before.length, 11);
+  // The gutter counts from 1, as the rung comments do.
+  assert.equal(await page.locator('[data-testid="rung-0"] .rung-number').first().textContent(), '1');
+  // Copy rung 7 ("stop filling when the tank is full") and paste it after rung 11.
+  await tid('rung-6').click({ position: { x: 20, y: 10 } });
+  await page.keyboard.press('Control+C');
+  await tid('rung-10').click({ position: { x: 20, y: 10 } });
+  await page.keyboard.press('Control+V');
+  await tid('rung-11').waitFor();
+  let now = code(await text());
+  assert.equal(now.length, 12);
+  assert.equal(now[11], before[6]);
+  // Undo takes it away, redo puts it back; the buttons do the same.
+  await page.keyboard.press('Control+Z');
+  await tid('rung-11').waitFor({ state: 'detached' });
+  assert.deepEqual(code(await text()), before);
+  await page.keyboard.press('Control+Y');
+  await tid('rung-11').waitFor();
+  await tid('btn-undo').click();
+  await tid('rung-11').waitFor({ state: 'detached' });
+  assert.equal((await text()).split('\n').length > 0, true);
+  // Cut and paste moves a rung.
+  await tid('rung-0').click({ position: { x: 20, y: 10 } });
+  await tid('btn-rung-cut').click();
+  await tid('rung-9').click({ position: { x: 20, y: 10 } });
+  await tid('btn-rung-paste').click();
+  now = code(await text());
+  assert.deepEqual(now, [...before.slice(1), before[0]]);
+  // The text view: line numbers, and an error marked on its line.
+  await tid('view-text').click();
+  const lines = (await text()).split('\n').length;
+  await page.waitForFunction((n) => document.querySelector('[data-testid="line-numbers"]')?.textContent.trim().split('\n').length === n, lines);
+  await tid('editor-text').fill('XIC(NoSuchTag)OTE(L_RUN);\n');
+  await tid('line-error-1').waitFor();
+  assert.match(await tid('line-error-1').getAttribute('title'), /E301/);
+  await b.shot('text-line-numbers');
+  // Back to the saved program: undo every step, then nothing is pending.
+  while (await page.evaluate(() => document.querySelector('[data-testid^="ladder-"]')?.getAttribute('data-dirty') === 'true')) {
+    await tid('btn-undo').click();
+  }
+  assert.deepEqual(code(await text()), before);
+  await tid('view-graphic').click();
+  assert.deepEqual(b.errors, []);
+});
