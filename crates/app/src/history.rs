@@ -123,7 +123,9 @@ pub fn record(
             }
             let values: Vec<(&str, f64)> = places.iter().map(|(n, p)| (n.as_str(), s.read(*p).as_f64())).collect();
             match rec.record(s.unix_ms, &values) {
-                Ok(_) => health.clear("history"),
+                // Cleared once values were written (not when they are only buffered).
+                Ok(n) if n > 0 && rec.buffered() == 0 => health.clear("history"),
+                Ok(_) => {}
                 Err(e) => failed(&h, &e, &health),
             }
             if retained_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= RETENTION_EVERY_MS) {
