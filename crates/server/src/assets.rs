@@ -1,4 +1,5 @@
-//! The studio, embedded at build time from `web/dist` (see build.rs).
+//! The studio, embedded at build time from `web/dist`, which build.rs builds
+//! when it is stale (ADR 0013).
 
 use axum::http::{StatusCode, Uri, header};
 use axum::response::{IntoResponse, Response};
@@ -45,8 +46,8 @@ pub async fn serve(uri: Uri) -> Response {
         None => (
             StatusCode::SERVICE_UNAVAILABLE,
             [(header::CONTENT_TYPE, "text/plain; charset=utf-8")],
-            "The studio was not built into this binary: run `npm ci && npm run build` in web/ \
-             (./demo.sh does it), then rebuild alba. The API is at /api.\n",
+            "The studio was not built into this binary (npm was not found when it was built): \
+             install Node.js and npm, then rebuild alba (./demo.sh does both). The API is at /api.\n",
         )
             .into_response(),
     }

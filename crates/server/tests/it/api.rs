@@ -589,3 +589,24 @@ async fn a_negative_timer_preset_and_an_oversized_tags_csv_are_refused_as_json()
     assert!(j["error"].is_string(), "the JSON error shape: {j}");
     s.stop().await;
 }
+
+/// The binary carries the studio: a plain `cargo build` builds web/ first
+/// when it is stale (crates/server/build.rs, ADR 0013), and `/` serves it
+/// with its scripts.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_studio_is_embedded_and_served() {
+    let s = Server::start("tank", "studio-embedded").await;
+    let res = s.http.get(s.url("/")).send().await.expect("GET /");
+    assert_eq!(res.status(), StatusCode::OK);
+    let html = res.text().await.expect("text");
+    assert!(html.contains("<title>Alba studio</title>"), "{html}");
+    let script = html
+        .split("src=\"./")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .expect("a script");
+    let js = s.http.get(s.url(&format!("/{script}"))).send().await.expect("script");
+    assert_eq!(js.status(), StatusCode::OK);
+    assert!(js.text().await.expect("js").len() > 10_000, "the bundle, not a placeholder");
+    s.stop().await;
+}
