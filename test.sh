@@ -63,4 +63,5 @@ step "demo and benchmark smoke runs"
     | diff - <(printf 'time_ms,Nivel_m,Nivel_L\n0,0.8431085,33.72434\n1000,0.8431085,33.72434\n2000,0.8431085,33.72434\n')
 "$ALBA" bench --quick --sizes 100 >/dev/null
 "$ALBA" bench --nets --quick >/dev/null
+"$ALBA" bench --realtime --seconds 0.2 >/dev/null
 step "all tests passed"

@@ -43,7 +43,9 @@ fn newest(p: &Path) -> Option<SystemTime> {
 const SOURCES: [&str; 4] = ["src", "index.html", "package-lock.json", "vite.config.ts"];
 
 fn stale(web: &Path) -> bool {
-    let Some(built) = mtime(&web.join("dist/index.html")) else { return true };
+    let Some(built) = mtime(&web.join("dist/index.html")) else {
+        return true;
+    };
     SOURCES.iter().filter_map(|s| newest(&web.join(s))).any(|t| t > built)
 }
 
@@ -77,12 +79,19 @@ fn main() {
         println!("cargo:rerun-if-changed={}", web.join(s).display());
     }
     if web.join("package.json").exists() && std::env::var_os("ALBA_SKIP_WEB").is_none() && stale(&web) {
-        let npm_found = Command::new("npm").arg("--version").output().is_ok_and(|o| o.status.success());
+        let npm_found = Command::new("npm")
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success());
         if !npm_found {
             println!(
                 "cargo:warning=the studio (web/) is not built or is older than its sources, and npm is not \
                  installed: {} (install Node.js and npm, or run ./demo.sh, which does)",
-                if dist.join("index.html").exists() { "embedding the old build" } else { "the binary has no studio" }
+                if dist.join("index.html").exists() {
+                    "embedding the old build"
+                } else {
+                    "the binary has no studio"
+                }
             );
         } else if let Err(e) = build_web(&web) {
             // A broken web build must not pass unnoticed as a binary without its studio.

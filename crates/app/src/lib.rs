@@ -103,6 +103,11 @@ pub async fn run(
             alba_project::config::OnRetainError::Start => alba_runtime::retain::OnError::Start,
             alba_project::config::OnRetainError::Refuse => alba_runtime::retain::OnError::Refuse,
         };
+        ro.realtime = alba_runtime::realtime::Realtime {
+            priority: c.runtime.priority,
+            cpu: c.runtime.cpu.map(|c| c as usize),
+            lock_memory: c.runtime.lock_memory,
+        };
     }
     let health = ro.health.clone();
     let io = alba_io::open(&opts.io, config, &program).map_err(|e| RunError::Other(e.to_string()))?;

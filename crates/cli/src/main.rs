@@ -4,6 +4,7 @@ mod analyze;
 mod audit;
 mod bench;
 mod bench_modbus;
+mod bench_realtime;
 mod demo;
 mod export;
 mod firmware;
@@ -101,6 +102,16 @@ enum Command {
         /// Benchmark nets instead: a net's scan against the same Ladder, and the analysis (states/s, Kanban 5).
         #[arg(long, conflicts_with = "modbus")]
         nets: bool,
+        /// Measure the engine thread's wake-up lateness instead (cyclictest-like; 1 ms and 10 ms, idle and
+        /// loaded, normal and SCHED_FIFO; see docs/performance.md).
+        #[arg(long, conflicts_with_all = ["modbus", "nets"])]
+        realtime: bool,
+        /// With --realtime: the SCHED_FIFO priority to try (1 to 99).
+        #[arg(long, value_name = "P", default_value = "80")]
+        priority: u8,
+        /// With --realtime: pin the measuring thread to this CPU.
+        #[arg(long, value_name = "N")]
+        cpu: Option<usize>,
         /// With --modbus: client counts to run (default 1,4,16).
         #[arg(long, value_delimiter = ',', value_name = "N,...")]
         clients: Option<Vec<usize>>,
@@ -324,6 +335,13 @@ fn main() -> ExitCode {
             ..
         } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
         Command::Bench { nets: true, quick, .. } => bench::nets(quick),
+        Command::Bench {
+            realtime: true,
+            seconds,
+            priority,
+            cpu,
+            ..
+        } => bench_realtime::run(seconds, priority, cpu),
         Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
         Command::Analyze { net, json, max_states } => analyze::run(&net, json, max_states),

@@ -18,6 +18,7 @@
 mod error;
 pub mod health;
 pub mod json;
+pub mod realtime;
 pub mod retain;
 
 pub use error::{IoError, StartError};
@@ -49,6 +50,8 @@ pub struct Options {
     /// Where problems with retentive data are reported (shared with the
     /// other stores of the application: the historian reports there too).
     pub health: Arc<Health>,
+    /// The engine thread's scheduling (SCHED_FIFO, CPU, locked memory).
+    pub realtime: realtime::Realtime,
     /// Compile the program to native code.
     pub native: bool,
     /// Start scanning at once (else wait for `run`).
@@ -64,6 +67,7 @@ impl Options {
             retain_interval_ms: 1000,
             on_retain_error: retain::OnError::Start,
             health: Arc::default(),
+            realtime: realtime::Realtime::default(),
             native: true,
             start_running: true,
         }
@@ -501,6 +505,9 @@ struct Worker {
 
 impl Worker {
     fn run(mut self, rx: mpsc::Receiver<(Req, Option<Reply>)>) {
+        for w in self.opts.realtime.apply() {
+            eprintln!("warning: {w}");
+        }
         if self.opts.start_running {
             self.start();
         }

@@ -206,7 +206,10 @@ impl Config {
             plant,
             board,
             retain_ms,
-            runtime: raw.runtime.map(runtime::runtime).unwrap_or_default(),
+            runtime: raw
+                .runtime
+                .map(|r| runtime::runtime(r, file, &mut diags))
+                .unwrap_or_default(),
             history,
             audit,
             alarms,

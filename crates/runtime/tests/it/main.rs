@@ -412,3 +412,49 @@ async fn a_handle_to_a_runtime_that_ended_says_so() {
     assert_eq!(err.to_string(), "the runtime has stopped");
     assert_eq!(h.run().await, Err(alba_runtime::Error::Stopped));
 }
+
+/// `[runtime] priority`: the engine thread runs at SCHED_FIFO where the
+/// system allows it (root here and in CI), and at normal priority with a
+/// warning where it does not; read back from /proc, not assumed.
+#[cfg(target_os = "linux")]
+#[tokio::test(flavor = "current_thread")]
+async fn the_engine_thread_gets_the_realtime_priority_asked_for() {
+    let mut o = opts(5);
+    o.realtime = alba_runtime::realtime::Realtime {
+        priority: 20,
+        cpu: Some(0),
+        lock_memory: false,
+    };
+    let rt = Runtime::start(compile(TAGS, LAD), o, Box::new(SimIo)).unwrap();
+    until(&rt, "a few scans", |s| s.scans >= 5).await;
+    // The engine thread's scheduling policy and priority: fields 41 and 40 of its stat line.
+    let mut found = None;
+    for task in std::fs::read_dir("/proc/self/task").unwrap() {
+        let dir = task.unwrap().path();
+        if std::fs::read_to_string(dir.join("comm")).unwrap_or_default().trim() == "alba-engine" {
+            let stat = std::fs::read_to_string(dir.join("stat")).unwrap();
+            let after = stat.rsplit_once(") ").unwrap().1;
+            let fields: Vec<&str> = after.split(' ').collect();
+            // `after` starts at field 3 (state).
+            let (rt_priority, policy) = (fields[40 - 3].to_string(), fields[41 - 3].to_string());
+            let cpus = std::fs::read_to_string(dir.join("status"))
+                .unwrap()
+                .lines()
+                .find(|l| l.starts_with("Cpus_allowed_list:"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string());
+            found = Some((policy, rt_priority, cpus));
+        }
+    }
+    let (policy, priority, cpus) = found.expect("the alba-engine thread");
+    let root = std::fs::read_to_string("/proc/self/status")
+        .unwrap()
+        .lines()
+        .any(|l| l.starts_with("Uid:") && l.split_whitespace().nth(1) == Some("0"));
+    if root {
+        assert_eq!((policy.as_str(), priority.as_str()), ("1", "20"), "SCHED_FIFO 20");
+        assert_eq!(cpus.as_deref(), Some("0"));
+    } else {
+        assert_eq!(policy, "0", "normal scheduling when SCHED_FIFO is refused");
+    }
+    rt.shutdown();
+}

@@ -607,6 +607,9 @@ async fn the_studio_is_embedded_and_served() {
         .expect("a script");
     let js = s.http.get(s.url(&format!("/{script}"))).send().await.expect("script");
     assert_eq!(js.status(), StatusCode::OK);
-    assert!(js.text().await.expect("js").len() > 10_000, "the bundle, not a placeholder");
+    assert!(
+        js.text().await.expect("js").len() > 10_000,
+        "the bundle, not a placeholder"
+    );
     s.stop().await;
 }
