@@ -35,6 +35,35 @@ problems: Array<Problem>,
  */
 forces: Array<Force>, };
 
+export type TrendSet = { 
+/**
+ * Format version: 1.
+ */
+version: number, 
+/**
+ * The live window, 1 s to 7 days.
+ */
+window_ms: number, 
+/**
+ * The pens, in legend order (at most 32).
+ */
+pens: Array<TrendPen>, };
+
+export type TrendPen = { 
+/**
+ * A tag or member holding a BOOL or a number.
+ */
+tag: string, 
+/**
+ * The y axis (1 to 4) it shares with the other pens of that number;
+ * BOOL pens are drawn as steps on lanes of their own whatever it says.
+ */
+axis: number, 
+/**
+ * A fixed scale (both or neither); none: automatic.
+ */
+min: number | null, max: number | null, };
+
 export type Access = "readwrite" | "input" | "readonly";
 
 export type TagInfo = { name: string, type: string, address: string | null, 

@@ -65,6 +65,8 @@ actions! {
     AlarmUnshelve = "alarm_unshelve",
     /// An alarm taken out of service or put back (new: true or false; detail: reason).
     AlarmOutOfService = "alarm_out_of_service",
+    /// The studio's trend set saved (`trends.json`; detail: the pens).
+    SaveTrends = "save_trends",
 }
 
 impl fmt::Display for Action {

@@ -38,7 +38,7 @@ pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, programs, session, status};
+use api::{FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, programs, session, status, trends};
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
@@ -65,6 +65,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/alarms/{id}/shelve", Needs(Role::Operator)),
     ("POST", "/api/alarms/{id}/unshelve", Needs(Role::Operator)),
     ("POST", "/api/alarms/{id}/out_of_service", Needs(Role::Engineer)),
+    ("PUT", "/api/trends", Needs(Role::Operator)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
     ("GET", "/api/audit.csv", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
@@ -105,6 +106,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/alarms/{id}/shelve", post(alarms::shelve))
         .route("/api/alarms/{id}/unshelve", post(alarms::unshelve))
         .route("/api/alarms/{id}/out_of_service", post(alarms::out_of_service))
+        .route("/api/trends", get(trends::get).put(trends::put))
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
         .route("/api/{*rest}", any(api::fallback))

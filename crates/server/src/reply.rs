@@ -483,6 +483,33 @@ pub struct StatusMsg {
     pub status: Status,
 }
 
+/// The studio's trend set, kept in the project as `trends.json`
+/// (`GET|PUT /api/trends`, docs/file-formats.md).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct TrendSet {
+    /// Format version: 1.
+    pub version: u32,
+    /// The live window, 1 s to 7 days.
+    pub window_ms: u64,
+    /// The pens, in legend order (at most 32).
+    pub pens: Vec<TrendPen>,
+}
+
+/// One pen of a trend set.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, TS)]
+#[serde(deny_unknown_fields)]
+pub struct TrendPen {
+    /// A tag or member holding a BOOL or a number.
+    pub tag: String,
+    /// The y axis (1 to 4) it shares with the other pens of that number;
+    /// BOOL pens are drawn as steps on lanes of their own whatever it says.
+    pub axis: u8,
+    /// A fixed scale (both or neither); none: automatic.
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+}
+
 /// The TypeScript of every reply type, as `web/src/api.gen.ts` holds it.
 pub fn typescript() -> String {
     let cfg = ts_rs::Config::new().with_large_int("number");
@@ -506,6 +533,8 @@ pub fn typescript() -> String {
         RunState,
         Problem,
         Status,
+        TrendSet,
+        TrendPen,
         Access,
         TagInfo,
         TagValue,

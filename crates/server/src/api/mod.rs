@@ -13,6 +13,7 @@ pub mod session;
 pub mod status;
 pub mod stream;
 pub mod tags;
+pub mod trends;
 
 use crate::error::ApiError;
 use axum::extract::rejection::JsonRejection;

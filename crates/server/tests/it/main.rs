@@ -11,6 +11,7 @@ mod history;
 mod limits;
 mod roles;
 mod scale;
+mod trends;
 mod ws;
 
 use reqwest::{Client, Method, StatusCode};

@@ -276,6 +276,17 @@ async fn every_route_answers_each_role_as_the_table_says() {
             e,
             200,
         ),
+        row(Method::GET, "/api/trends", "/api/trends", None, v, 200),
+        row(
+            Method::PUT,
+            "/api/trends",
+            "/api/trends",
+            j(
+                json!({"version": 1, "window_ms": 60000, "pens": [{"tag": "Nivel_L", "axis": 1, "min": null, "max": null}]}),
+            ),
+            Some(Role::Operator),
+            200,
+        ),
         row(Method::GET, "/api/instructions", "/api/instructions", None, v, 200),
         row(Method::GET, "/api/domain", "/api/domain", None, v, 200),
         // History is off in this server: the handler's 404 for those allowed.
