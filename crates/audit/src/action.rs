@@ -126,7 +126,8 @@ mod tests {
                 "alarm_ack",
                 "alarm_shelve",
                 "alarm_unshelve",
-                "alarm_out_of_service"
+                "alarm_out_of_service",
+                "save_trends"
             ]
         );
     }
