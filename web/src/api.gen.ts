@@ -64,6 +64,29 @@ axis: number,
  */
 min: number | null, max: number | null, };
 
+export type TagUse = { 
+/**
+ * The program, as listed in alba.toml.
+ */
+program: string, line: number, col: number, 
+/**
+ * The rung (from 0), for a ladder program.
+ */
+rung: number | null, 
+/**
+ * The compiled element's id (the ids of `GET /api/programs/{name}`).
+ */
+id: number | null, 
+/**
+ * The instruction as written: `XIC(FILL)`, `LD I0.0`.
+ */
+instruction: string, 
+/**
+ * The instruction writes the tag there (an output operand of a ladder
+ * instruction); IL uses are all marked as reads.
+ */
+write: boolean, };
+
 export type Access = "readwrite" | "input" | "readonly";
 
 export type TagInfo = { name: string, type: string, address: string | null, 

@@ -89,6 +89,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/stop", post(status::stop))
         .route("/api/tags", get(api::tags::list))
         .route("/api/tags/{name}", get(api::tags::get).put(api::tags::put))
+        .route("/api/tags/{name}/uses", get(api::tags::uses))
         .route("/api/forces", get(forces::list).delete(forces::delete_all))
         .route("/api/forces/{name}", put(forces::put).delete(forces::delete))
         .route("/api/programs", get(programs::list))

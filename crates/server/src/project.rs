@@ -318,3 +318,113 @@ pub fn unit_elements(p: &Program) -> Vec<std::ops::Range<u32>> {
         .map(|(start, end)| if start > end { 0..0 } else { start..end })
         .collect()
 }
+
+/// The places a name stands for: a tag's value, or every member of a
+/// structure (`Delay` → `Delay.PRE`, `Delay.ACC`, …).
+fn places_of(layout: &alba_ir::Layout, name: &str) -> Vec<alba_ir::Place> {
+    let upper = name.trim().to_ascii_uppercase();
+    match layout.resolve(name) {
+        Ok(alba_ir::Target::Value { place, .. }) => vec![place],
+        Ok(_) => crate::tags::every_value(layout)
+            .into_iter()
+            .filter(|(n, _)| n.to_ascii_uppercase().starts_with(&format!("{upper}.")))
+            .map(|(_, p)| p)
+            .collect(),
+        Err(_) => Vec::new(),
+    }
+}
+
+/// The names an operand refers to: itself, or the identifiers of an
+/// expression (`CPT(Out, Level * 2.0 + Bias)`).
+fn names_in(text: &str) -> Vec<&str> {
+    let mut out = vec![text.trim()];
+    out.extend(
+        text.split(|c: char| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | ':' | '/')))
+            .filter(|t| t.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_'))
+            .filter(|t| *t != text.trim()),
+    );
+    out
+}
+
+/// `GET /api/tags/{name}/uses`: every place a program of the project names
+/// `name` (as a tag, a member, an alias address, or inside an expression),
+/// in program order, with where it is and whether it writes there.
+pub fn uses(project: &Project, program: &Program, name: &str) -> Result<Vec<reply::TagUse>, String> {
+    let layout = &program.layout;
+    let wanted = places_of(layout, name);
+    if wanted.is_empty() {
+        return Err(format!("`{name}` is not a tag, member or address of this program"));
+    }
+    let hits = |text: &str| {
+        names_in(text)
+            .into_iter()
+            .any(|n| places_of(layout, n).iter().any(|p| wanted.contains(p)))
+    };
+    let files = &project.files;
+    let mut out = Vec::new();
+    for src in &project.programs {
+        let text = files.text(src.file);
+        let ids = element_ids(Some(program), src.file);
+        let mut push = |span: alba_compiler::diag::Span, instr: String, rung: Option<usize>, write: bool| {
+            let (line, col) = files.line_col(src.file, span.start as usize);
+            out.push(reply::TagUse {
+                program: src.name.clone(),
+                line,
+                col,
+                rung,
+                id: ids.get(&(span.start, span.end)).copied(),
+                instruction: instr,
+                write,
+            });
+        };
+        match src.language {
+            Language::Ladder => {
+                let (ast, _) = alba_ladder::parse(text, src.file);
+                for (n, rung) in ast.rungs.iter().enumerate() {
+                    let mut stack: Vec<&alba_ladder::Element> = rung.elements.iter().rev().collect();
+                    while let Some(e) = stack.pop() {
+                        match e {
+                            alba_ladder::Element::Instr(i) => {
+                                let args = i.mnemonic.args();
+                                for (k, o) in i.operands.iter().enumerate() {
+                                    if hits(&o.text) {
+                                        let write = matches!(
+                                            args.get(k),
+                                            Some(alba_ladder::Arg::BitOut | alba_ladder::Arg::NumOut)
+                                        );
+                                        let ops: Vec<&str> = i.operands.iter().map(|o| o.text.as_str()).collect();
+                                        push(
+                                            i.span,
+                                            format!("{}({})", i.mnemonic.name(), ops.join(",")),
+                                            Some(n),
+                                            write,
+                                        );
+                                        break;
+                                    }
+                                }
+                            }
+                            alba_ladder::Element::Branch(b) => {
+                                for leg in b.legs.iter().rev() {
+                                    stack.extend(leg.iter().rev());
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            Language::Il => {
+                let (ast, _) = alba_il::parse(text, src.file);
+                for item in &ast.items {
+                    if let alba_il::ast::Item::Instr(i) = item
+                        && i.operands.iter().any(|o| hits(&o.text))
+                    {
+                        let ops: Vec<&str> = i.operands.iter().map(|o| o.text.as_str()).collect();
+                        push(i.span, format!("{} {}", i.name, ops.join(", ")), None, false);
+                    }
+                }
+            }
+            Language::Net | Language::Sfc => {}
+        }
+    }
+    Ok(out)
+}

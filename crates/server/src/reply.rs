@@ -483,6 +483,24 @@ pub struct StatusMsg {
     pub status: Status,
 }
 
+/// A place where a program names a tag: `GET /api/tags/{name}/uses`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct TagUse {
+    /// The program, as listed in alba.toml.
+    pub program: String,
+    pub line: usize,
+    pub col: usize,
+    /// The rung (from 0), for a ladder program.
+    pub rung: Option<usize>,
+    /// The compiled element's id (the ids of `GET /api/programs/{name}`).
+    pub id: Option<u32>,
+    /// The instruction as written: `XIC(FILL)`, `LD I0.0`.
+    pub instruction: String,
+    /// The instruction writes the tag there (an output operand of a ladder
+    /// instruction); IL uses are all marked as reads.
+    pub write: bool,
+}
+
 /// The studio's trend set, kept in the project as `trends.json`
 /// (`GET|PUT /api/trends`, docs/file-formats.md).
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, TS)]
@@ -535,6 +553,7 @@ pub fn typescript() -> String {
         Status,
         TrendSet,
         TrendPen,
+        TagUse,
         Access,
         TagInfo,
         TagValue,

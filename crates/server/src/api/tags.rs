@@ -23,6 +23,23 @@ pub async fn get(State(st): State<Arc<AppState>>, Path(name): Path<String>) -> A
         .ok_or_else(|| ApiError::NotFound(format!("unknown tag `{name}`")))
 }
 
+/// `GET /api/tags/{name}/uses`: where the saved programs name it ("where is
+/// this tag used?"), for the studio to jump to each place.
+pub async fn uses(
+    State(st): State<Arc<AppState>>,
+    Path(name): Path<String>,
+) -> ApiResult<Json<Vec<crate::reply::TagUse>>> {
+    let p = st.project.lock().await;
+    let Some(program) = p.program.as_ref() else {
+        return Err(ApiError::Invalid(
+            "the project does not compile: its uses are known once it does".into(),
+        ));
+    };
+    crate::project::uses(&p.project, program, &name)
+        .map(Json)
+        .map_err(ApiError::NotFound)
+}
+
 /// Resolves `name` for a write, or says why it cannot be written.
 fn writable(s: &Snapshot, name: &str) -> Result<alba_ir::Place, ApiError> {
     match s.program.layout.resolve(name) {

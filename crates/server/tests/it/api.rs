@@ -613,3 +613,58 @@ async fn the_studio_is_embedded_and_served() {
     );
     s.stop().await;
 }
+
+/// "Where is this tag used?": every place the programs name it, through
+/// members, alias addresses and expressions, with rung, element id and
+/// whether it is written there.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_uses_of_a_tag_are_listed_with_their_places() {
+    let s = Server::start("tank-plant", "uses").await;
+    let uses = s.get("/api/tags/Llenar/uses").await;
+    let got: Vec<(String, u64, bool)> = uses
+        .as_array()
+        .expect("array")
+        .iter()
+        .map(|u| {
+            (
+                u["instruction"].as_str().expect("text").to_string(),
+                u["rung"].as_u64().expect("rung"),
+                u["write"].as_bool().expect("write"),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("OTL(Llenar)".to_string(), 5, true),
+            ("OTU(Llenar)".to_string(), 6, true),
+            ("XIC(Llenar)".to_string(), 7, false),
+        ]
+    );
+    let first = &uses[0];
+    assert_eq!(
+        (first["program"].as_str(), first["line"].as_u64(), first["col"].as_u64()),
+        (Some("main.lad"), Some(12), Some(18))
+    );
+    // The id is the element's in the program view.
+    let program = s.get("/api/programs/main.lad").await;
+    assert!(
+        program.to_string().contains(&format!("\"id\":{}", first["id"])),
+        "{first}"
+    );
+    // A structure: every member's uses (CTU, XIC(CT_STP.DN), RES, EQU on .ACC).
+    assert_eq!(s.get("/api/tags/CT_STP/uses").await.as_array().map(Vec::len), Some(4));
+    // Inside an expression, in the plant program.
+    let vol = s.get("/api/tags/Vol_L/uses").await;
+    assert!(
+        vol.as_array()
+            .expect("array")
+            .iter()
+            .any(|u| u["program"] == "plant.lad"
+                && u["instruction"].as_str().is_some_and(|t| t.starts_with("CPT(S_ULT,"))),
+        "{vol}"
+    );
+    let (code, j) = s.call(Method::GET, "/api/tags/Nope/uses", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
+    s.stop().await;
+}
