@@ -48,6 +48,7 @@ fn view_cost(rungs: usize) -> (u64, usize) {
 fn the_program_view_is_linear_in_program_size() {
     let (small, _) = view_cost(10_000);
     let (big, len) = view_cost(40_000);
+    eprintln!("program view: {small} bytes examined for 10 000 rungs, {big} for 40 000 ({len} bytes of text)");
     // Four times the rungs, four times the work (a quadratic view did ~16×,
     // and examined the whole text before each element: ~10¹¹ bytes here).
     assert!(big <= 4 * small + 4 * 1024, "{small} → {big}");
