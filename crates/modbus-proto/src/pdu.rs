@@ -40,6 +40,9 @@ pub enum Exception {
     IllegalDataAddress = 0x02,
     IllegalDataValue = 0x03,
     ServerDeviceFailure = 0x04,
+    /// The runtime has too many requests waiting (writes from many clients
+    /// at once): try again.
+    ServerDeviceBusy = 0x06,
     /// The request names a unit id this server does not answer for.
     GatewayTargetFailed = 0x0B,
 }

@@ -323,10 +323,10 @@ impl Server {
             })
             .collect();
         if !engine.is_empty() {
-            self.handle
-                .write_many(engine)
-                .await
-                .map_err(|_| Exception::ServerDeviceFailure)?;
+            self.handle.write_many(engine).await.map_err(|e| match e {
+                alba_runtime::Error::Busy => Exception::ServerDeviceBusy,
+                _ => Exception::ServerDeviceFailure,
+            })?;
         }
         for w in &writes {
             self.scratch.apply(w);

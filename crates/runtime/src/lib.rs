@@ -265,14 +265,24 @@ pub enum Error {
     /// The new program of an online edit cannot replace the running one.
     #[error("{0}")]
     Rejected(String),
+    /// [`REQUEST_QUEUE`] requests already wait for the next scan boundary:
+    /// this one is refused rather than queued without bound.
+    #[error("the runtime is busy: {REQUEST_QUEUE} requests wait for the next scan; try again")]
+    Busy,
 }
+
+/// Requests (writes, forces, run/stop, edits) that may wait for the next
+/// scan boundary at once. A flood from a protocol client is refused
+/// ([`Error::Busy`]: HTTP 503, Modbus exception 06) instead of growing a
+/// queue that the engine thread would have to work through (issue 18).
+pub const REQUEST_QUEUE: usize = 1024;
 
 type Reply = oneshot::Sender<Result<(), Error>>;
 
 /// Talks to a running runtime; cheap to clone.
 #[derive(Clone)]
 pub struct Handle {
-    tx: mpsc::Sender<(Req, Option<Reply>)>,
+    tx: mpsc::SyncSender<(Req, Option<Reply>)>,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
 }
@@ -297,10 +307,15 @@ impl Handle {
 
     async fn ask(&self, req: Req) -> Result<(), Error> {
         let (tx, rx) = oneshot::channel();
-        self.tx.send((req, Some(tx))).map_err(|_| Error::Stopped)?;
+        self.tx.try_send((req, Some(tx))).map_err(|e| match e {
+            mpsc::TrySendError::Full(_) => Error::Busy,
+            mpsc::TrySendError::Disconnected(_) => Error::Stopped,
+        })?;
         rx.await.map_err(|_| Error::Stopped)?
     }
 
+    /// A request that must not be lost (shutdown, monitoring counts): waits
+    /// for room, which the engine makes at its next scan boundary at most.
     fn tell(&self, req: Req) {
         let _ = self.tx.send((req, None));
     }
@@ -382,7 +397,7 @@ impl Runtime {
             }
         }
         engine.set_store_status(health.retain_lost(), health.ok());
-        let (tx, rx) = mpsc::channel();
+        let (tx, rx) = mpsc::sync_channel(REQUEST_QUEUE);
         let first = Arc::new(Snapshot {
             program: program.clone(),
             memory: engine.memory().clone(),

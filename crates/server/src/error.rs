@@ -78,7 +78,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
         ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,
         ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
-            R::Stopped | R::Io { .. } => StatusCode::SERVICE_UNAVAILABLE,
+            R::Stopped | R::Io { .. } | R::Busy => StatusCode::SERVICE_UNAVAILABLE,
             R::Attached { .. } => StatusCode::CONFLICT,
             R::Rejected(_) => StatusCode::UNPROCESSABLE_ENTITY,
         },

@@ -458,3 +458,41 @@ async fn the_engine_thread_gets_the_realtime_priority_asked_for() {
     }
     rt.shutdown();
 }
+
+/// A flood of requests (a protocol client writing as fast as it can) is
+/// bounded: beyond `REQUEST_QUEUE` waiting, requests are refused as busy
+/// instead of queued, and the engine keeps scanning while it works through
+/// the ones it accepted. Asserted by counting, not by timing.
+#[tokio::test(flavor = "current_thread")]
+async fn a_flood_of_requests_is_bounded_and_scans_go_on() {
+    let rt = Runtime::start(compile(TAGS, LAD), opts(2), Box::new(SimIo)).unwrap();
+    let h = rt.handle();
+    let s = until(&rt, "running", |s| s.scans > 5).await;
+    let kept = place(&s.program, "Kept");
+    let before = h.snapshot().scans;
+    let mut tasks = tokio::task::JoinSet::new();
+    let total = 4 * alba_runtime::REQUEST_QUEUE;
+    for i in 0..total {
+        let h = h.clone();
+        tasks.spawn(async move { h.write(kept, Value::Dint(i as i32)).await });
+    }
+    let (mut ok, mut busy) = (0, 0);
+    while let Some(r) = tasks.join_next().await {
+        match r.unwrap() {
+            Ok(()) => ok += 1,
+            Err(alba_runtime::Error::Busy) => busy += 1,
+            Err(e) => panic!("{e}"),
+        }
+    }
+    assert_eq!(ok + busy, total);
+    assert!(
+        busy > 0,
+        "{total} requests at once and none refused: the queue is not bounded"
+    );
+    assert!(ok >= alba_runtime::REQUEST_QUEUE / 2, "only {ok} accepted");
+    // Scans went on while the accepted ones were applied.
+    let after = h.snapshot().scans;
+    assert!(after > before, "no scan while {ok} requests were applied");
+    until(&rt, "scans after the flood", |s| s.scans > after + 5).await;
+    rt.shutdown();
+}
