@@ -152,3 +152,49 @@ test('rungs are copied, pasted, undone and redone; the text view numbers its lin
   await tid('view-graphic').click();
   assert.deepEqual(b.errors, []);
 });
+
+test('trends: two axes, on/off pens as steps on lanes, a live legend, the set saved in the project, a forced value', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
+  const r = await alba.api('/api/forces/FILL', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: true }) });
+  assert.equal(r.status, 200);
+  await tid('tab-trends').click();
+  for (const pen of ['Nivel_L', 'Cont_L', 'Bomba1', 'FILL']) {
+    await tid('trend-pen-input').fill(pen);
+    await tid('trend-pen-add').click();
+    await tid(`trend-pen-${pen}`).waitFor();
+  }
+  // Cont_L (0–10 L) on its own axis beside the tank's 0–60 L; on/off pens have lanes, not axes.
+  await tid('trend-axis-Cont_L').selectOption('2');
+  assert.equal(await tid('trend-axis-Bomba1').count(), 0);
+  await tid('trend-min-Nivel_L').fill('0');
+  await tid('trend-max-Nivel_L').fill('60');
+  await tid('trend-max-Nivel_L').press('Tab');
+  await page.waitForFunction(() => Number(document.querySelector('[data-testid="trend-plot"]')?.getAttribute('data-points')) > 2);
+  // Two y axes are drawn (plus time), each labelled with its pens; two lanes.
+  await page.waitForFunction(() => document.querySelector('[data-testid="trend-plot"]')?.dataset.axes === 'Nivel_L|Cont_L');
+  assert.equal(await tid('trend-plot').getAttribute('data-lanes'), 'Bomba1,FILL');
+  // The legend shows the latest values without hovering; the forced FILL is 1.
+  const legend = async (name) =>
+    page.evaluate((n) => {
+      const row = [...document.querySelectorAll('[data-testid="trend-plot"] .u-legend .u-series')].find((r) => r.textContent.includes(n));
+      return row?.querySelector('.u-value')?.textContent;
+    }, name);
+  await page.waitForFunction(() => [...document.querySelectorAll('[data-testid="trend-plot"] .u-legend .u-value')].every((v) => v.textContent !== '--'));
+  assert.equal(await legend('FILL'), '1');
+  assert.match(await legend('Nivel_L'), /^\d/);
+  await b.shot('trends-axes-lanes');
+  // Zooming out of live shows the past: the range still ends now.
+  await tid('trend-zoom-out').click();
+  const to = Number(await tid('trend-plot').getAttribute('data-to'));
+  const status = await alba.json('/api/status');
+  assert.ok(to <= Date.now() + 1000, `the range ends in the future: ${to}`);
+  assert.ok(status.state === 'running');
+  // The set is the project's: trends.json holds the pens, axes and scales.
+  let set;
+  for (let i = 0; i < 100 && (set = await alba.json('/api/trends')).pens.length < 4; i++) await page.waitForTimeout(100);
+  assert.deepEqual(set.pens.map((p) => [p.tag, p.axis, p.min, p.max]), [['Nivel_L', 1, 0, 60], ['Cont_L', 2, null, null], ['Bomba1', 1, null, null], ['FILL', 1, null, null]]);
+  await alba.api('/api/forces', { method: 'DELETE', headers: { 'content-type': 'application/json' } });
+  assert.deepEqual(b.errors, []);
+});

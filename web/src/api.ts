@@ -1,7 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { Domain } from './domain';
-import type { Alarm, Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo } from './types';
+import type { Alarm, Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -99,6 +99,9 @@ export const api = {
   text: async (path: string) => (await request('GET', path)).text(),
   tagsCsv: async () => (await request('GET', '/api/tags.csv')).text(),
   saveTagsCsv: (text: string) => request('PUT', '/api/tags.csv', text, 'text/csv').then((r) => r.json()),
+  trends: () => json<TrendSet>('GET', '/api/trends'),
+  saveTrends: (s: TrendSet) => json<TrendSet>('PUT', '/api/trends', s),
+  uses: (name: string) => json<TagUse[]>('GET', `/api/tags/${enc(name)}/uses`),
   historyTags: () => json<{ name: string; first_ms: number; last_ms: number }[]>('GET', '/api/history/tags'),
   history: (tag: string, from: number, to: number, points: number) =>
     json<History>(

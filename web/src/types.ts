@@ -25,6 +25,11 @@ export type Saved = G.Saved;
 export type Bucket = G.Bucket;
 export type History = G.History;
 export type HistoryTag = G.HistoryTag;
+/** `GET|PUT /api/trends`: the trend set saved in the project. */
+export type TrendSet = G.TrendSet;
+export type TrendPen = G.TrendPen;
+/** `GET /api/tags/{name}/uses`. */
+export type TagUse = G.TagUse;
 /** Every error reply: `{error}`, with `diagnostics` for an edit that does not compile. */
 export type ErrorReply = G.ErrorReply;
 

@@ -1,16 +1,22 @@
-// Trends: pens, a live scrolling window from WebSocket values (backfilled
+// Trends: pens on up to four y axes (automatic or fixed scales), BOOL pens
+// as steps on lanes of their own (axes.ts), a legend that always shows the
+// latest values (the cursor's while it is over the plot), the set saved in
+// the project (GET|PUT /api/trends); a live scrolling window from WebSocket values (backfilled
 // from /api/history when a pen is added, the view opens or the WebSocket
 // reconnects), history (zoom by dragging, wheel, pan and zoom-out buttons)
 // from /api/history with a min/max band per pen, CSV export from
 // /api/history.csv. The plot element carries data-points (points plotted)
-// and data-last-t (time of the last live sample) for end-to-end tests.
+// and data-last-t (time of the last live sample), data-axes (the pens of each
+// y axis) and data-lanes (the on/off pens) for end-to-end tests.
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
 import { clear, download, h } from '../dom';
 import { isStructure } from '../domain';
-import type { History } from '../types';
+import { can } from '../auth';
+import type { History, TrendPen } from '../types';
+import { type PenSpec, axesInUse, clampToNow, fixedRange, fromLane, laneRange, lanesOf, scaleOf, toLane } from './axes';
 import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
 
 const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#7f7f7f', '#bcbd22'];
@@ -36,7 +42,10 @@ type Mode = { kind: 'live' } | { kind: 'range'; from: number; to: number };
 
 export class TrendsView {
   readonly el: HTMLElement;
-  private pens: string[] = [];
+  private pens: TrendPen[] = [];
+  /** The set was loaded from the project (then changes are saved there). */
+  private loadedFromProject = false;
+  private saveTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly logs = new Map<string, PenLog>();
   /** Per pen (upper case): the time of the first live sample since the pen was added or the WebSocket (re)connected. */
   private readonly liveSince = new Map<string, number>();
@@ -68,7 +77,8 @@ export class TrendsView {
   constructor(private readonly ctx: Ctx) {
     try {
       const saved = JSON.parse(localStorage.getItem(STORE_KEY) ?? '[]');
-      if (Array.isArray(saved)) this.pens = saved.filter((p) => typeof p === 'string');
+      // Older studios kept bare names.
+      if (Array.isArray(saved)) this.pens = saved.map((p) => (typeof p === 'string' ? newPen(p) : p)).filter((p) => typeof p?.tag === 'string');
     } catch {
       /* ignore */
     }
@@ -138,7 +148,7 @@ export class TrendsView {
         // the gap while disconnected: live data starts again with the next message
         this.epoch++;
         this.liveSince.clear();
-        this.backfill(this.pens);
+        this.backfill(this.tags());
       }
       prev = st;
     });
@@ -146,12 +156,13 @@ export class TrendsView {
   }
 
   show(): void {
+    if (!this.loadedFromProject) void this.loadSet();
     this.renderPens();
     this.renderDatalist();
     this.resize.observe(this.plotEl);
     this.timer = setInterval(() => this.mode.kind === 'live' && this.redraw(), 250);
     this.rebuild();
-    this.backfill(this.pens);
+    this.backfill(this.tags());
     if (this.historyAvailable === null) {
       api.historyTags().then(
         () => (this.historyAvailable = true),
@@ -173,16 +184,57 @@ export class TrendsView {
     return Date.now() + this.offset;
   }
 
-  private syncSubscription(): void {
-    for (const p of this.pens) if (!this.logs.has(p.toUpperCase())) this.logs.set(p.toUpperCase(), new PenLog());
+  /** The pens' tags, in order. */
+  private tags(): string[] {
+    return this.pens.map((p) => p.tag);
+  }
+
+  /** The pens as the plot sees them (a BOOL is a lane). */
+  private specs(): PenSpec[] {
+    return this.pens.map((p) => ({ ...p, digital: this.ctx.tags.resolve(p.tag)?.type === 'BOOL' }));
+  }
+
+  /** The project's trend set (GET /api/trends), when it has pens: every studio opens the same trend. */
+  private async loadSet(): Promise<void> {
+    this.loadedFromProject = true;
+    try {
+      const set = await api.trends();
+      if (set.pens.length) {
+        this.pens = set.pens;
+        this.windowMs = set.window_ms;
+        this.syncSubscription(false);
+        this.renderPens();
+        this.rebuild();
+        this.backfill(this.tags());
+      }
+    } catch (e) {
+      this.ctx.notify(`Trends: ${e instanceof Error ? e.message : String(e)}`, 'error');
+    }
+  }
+
+  /** Saves the set in the project (PUT /api/trends) a moment after the last change; operators and up. */
+  private scheduleSave(): void {
+    if (!can('write')) return;
+    if (this.saveTimer) clearTimeout(this.saveTimer);
+    this.saveTimer = setTimeout(() => {
+      api.saveTrends({ version: 1, window_ms: this.windowMs, pens: this.pens }).catch((e) =>
+        this.ctx.notify(`Trends not saved: ${e instanceof Error ? e.message : String(e)}`, 'error'),
+      );
+    }, 500);
+  }
+
+  private syncSubscription(save = true): void {
+    const tags = this.tags();
+    for (const p of tags) if (!this.logs.has(p.toUpperCase())) this.logs.set(p.toUpperCase(), new PenLog());
     for (const k of [...this.logs.keys()]) {
-      if (!this.pens.some((p) => p.toUpperCase() === k)) {
+      if (!tags.some((p) => p.toUpperCase() === k)) {
         this.logs.delete(k);
         this.liveSince.delete(k);
       }
     }
-    this.ctx.live.subscribe('trends', this.pens.length ? [...this.pens] : null);
+    this.ctx.live.subscribe('trends', tags.length ? tags : null);
     localStorage.setItem(STORE_KEY, JSON.stringify(this.pens));
+    if (save) this.scheduleSave();
   }
 
   private addPen(name: string): void {
@@ -193,8 +245,8 @@ export class TrendsView {
       this.ctx.notify(`${n}: not a tag or member that can be plotted (pick a BOOL or a number)`, 'error');
       return;
     }
-    const added = !this.pens.some((p) => p.toUpperCase() === ref.name.toUpperCase());
-    if (added) this.pens.push(ref.name);
+    const added = !this.pens.some((p) => p.tag.toUpperCase() === ref.name.toUpperCase());
+    if (added) this.pens.push(newPen(ref.name));
     this.penInput.value = '';
     this.syncSubscription();
     this.renderPens();
@@ -203,22 +255,52 @@ export class TrendsView {
   }
 
   private removePen(name: string): void {
-    this.pens = this.pens.filter((p) => p !== name);
+    this.pens = this.pens.filter((p) => p.tag !== name);
     this.syncSubscription();
     this.renderPens();
     this.rebuild();
   }
 
+  /** Changes a pen's axis or scale, and redraws. */
+  private setPen(tag: string, change: Partial<TrendPen>): void {
+    this.pens = this.pens.map((p) => (p.tag === tag ? { ...p, ...change } : p));
+    this.syncSubscription();
+    this.rebuild();
+  }
+
   private renderPens(): void {
     clear(this.pensEl);
-    this.pens.forEach((p, k) =>
+    const specs = this.specs();
+    this.pens.forEach((pen, k) => {
+      const p = pen.tag;
+      const num = (which: 'min' | 'max') =>
+        h('input', {
+          type: 'number',
+          class: 'scale',
+          step: 'any',
+          placeholder: which === 'min' ? 'min' : 'max',
+          title: 'A fixed scale for this axis (both min and max); empty: automatic',
+          value: pen[which] ?? '',
+          'data-testid': `trend-${which}-${p}`,
+          onchange: () => {
+            const [lo, hi] = [readNum(this.pensEl, `trend-min-${p}`), readNum(this.pensEl, `trend-max-${p}`)];
+            this.setPen(p, lo !== null && hi !== null && lo < hi ? { min: lo, max: hi } : { min: null, max: null });
+          },
+        });
+      const controls = specs[k].digital
+        ? h('span', { class: 'hint' }, 'on/off lane')
+        : h('span', null,
+            h('select', { 'data-testid': `trend-axis-${p}`, title: 'The y axis this pen shares (1, 3 left; 2, 4 right)', onchange: (e: Event) => this.setPen(p, { axis: Number((e.target as HTMLSelectElement).value) }) },
+              [1, 2, 3, 4].map((a) => h('option', { value: a, selected: a === pen.axis }, `axis ${a}`))),
+            num('min'), num('max'));
       this.pensEl.append(
         h('span', { class: 'pen', 'data-testid': `trend-pen-${p}`, style: { borderColor: COLORS[k % COLORS.length] } },
           h('span', { class: 'swatch', style: { background: COLORS[k % COLORS.length] } }),
           p,
+          controls,
           h('button', { class: 'small', title: `Remove ${p}`, 'data-testid': `trend-pen-remove-${p}`, onclick: () => this.removePen(p) }, '×')),
-      ),
-    );
+      );
+    });
     if (this.pens.length === 0) this.pensEl.append(h('span', { class: 'hint' }, 'No pens: add a tag to plot.'));
   }
 
@@ -241,7 +323,8 @@ export class TrendsView {
     const longer = ms > this.windowMs;
     this.windowMs = ms;
     this.setLive();
-    if (longer) this.backfill(this.pens);
+    this.scheduleSave();
+    if (longer) this.backfill(this.tags());
   }
 
   private setLive(): void {
@@ -264,13 +347,14 @@ export class TrendsView {
   private pan(f: number): void {
     const [a, b] = this.range();
     const d = (b - a) * f;
-    this.setRange(a + d, b + d);
+    this.setRange(...clampToNow(a + d, b + d, this.now()));
   }
 
   private zoom(f: number, center?: number): void {
     const [a, b] = this.range();
     const c = center ?? (a + b) / 2;
-    this.setRange(c - (c - a) * f, c + (b - c) * f);
+    // Zooming out of the live window shows more of the past, never empty future.
+    this.setRange(...clampToNow(c - (c - a) * f, c + (b - c) * f, this.now()));
   }
 
   // ---- plotting ---------------------------------------------------------------
@@ -289,7 +373,7 @@ export class TrendsView {
   private rebuild(): void {
     this.renderStatus();
     const history = this.mode.kind === 'range' && this.historyAvailable !== false;
-    const key = `${history}:${this.pens.join('|')}`;
+    const key = `${history}:${JSON.stringify(this.specs())}`;
     if (key !== this.plotKey || !this.plot) {
       this.plot?.destroy();
       this.plot = null;
@@ -304,25 +388,49 @@ export class TrendsView {
   }
 
   private makePlot(history: boolean): uPlot {
+    const specs = this.specs();
+    const lanes = lanesOf(specs);
+    const nLanes = lanes.filter((l) => l >= 0).length;
+    const analog = axesInUse(specs);
     const series: uPlot.Series[] = [{ label: 'time' }];
     const bands: uPlot.Band[] = [];
-    this.pens.forEach((p, k) => {
+    specs.forEach((p, k) => {
       const color = COLORS[k % COLORS.length];
-      series.push({ label: p, stroke: color, width: 1.5, spanGaps: history, paths: history ? undefined : uPlot.paths.stepped!({ align: 1 }), points: { show: false } });
-      if (history) {
+      const scale = scaleOf(p);
+      // BOOLs are steps in history too; the legend shows 0/1, not the lane's coordinate.
+      const value = p.digital ? (_u: uPlot, v: number | null) => (v === null ? '--' : String(fromLane(v))) : undefined;
+      const stepped = p.digital || !history;
+      series.push({ label: p.tag, scale, stroke: color, width: 1.5, spanGaps: history, paths: stepped ? uPlot.paths.stepped!({ align: 1 }) : undefined, points: { show: false }, value });
+      if (history && !p.digital) {
         const i = series.length;
-        series.push({ label: `${p} max`, stroke: 'transparent', width: 0, points: { show: false }, spanGaps: true });
-        series.push({ label: `${p} min`, stroke: 'transparent', width: 0, points: { show: false }, spanGaps: true });
+        series.push({ label: `${p.tag} max`, scale, stroke: 'transparent', width: 0, points: { show: false }, spanGaps: true });
+        series.push({ label: `${p.tag} min`, scale, stroke: 'transparent', width: 0, points: { show: false }, spanGaps: true });
         bands.push({ series: [i, i + 1], fill: `${color}33` });
       }
     });
+    const scales: uPlot.Scales = { x: { time: true } };
+    const axes: uPlot.Axis[] = [{}];
+    analog.forEach((key, n) => {
+      const fixed = fixedRange(specs, key);
+      scales[key] = fixed ? { auto: false, range: fixed } : { auto: true };
+      const pensHere = specs.filter((p) => scaleOf(p) === key).map((p) => p.tag).join(', ');
+      axes.push({ scale: key, side: n % 2 === 0 ? 3 : 1, grid: { show: n === 0 }, label: pensHere, labelSize: 18, size: 64 });
+    });
+    if (nLanes) {
+      scales.lanes = { auto: false, range: laneRange(nLanes, analog.length > 0) };
+      axes.push({ scale: 'lanes', show: false });
+    }
+    // What the canvas shows, for tests and screen readers: the y axes with their pens, and the lanes.
+    this.plotEl.dataset.axes = analog.map((key) => specs.filter((p) => scaleOf(p) === key).map((p) => p.tag).join(',')).join('|');
+    this.plotEl.dataset.lanes = specs.filter((p) => p.digital).map((p) => p.tag).join(',');
     const opts: uPlot.Options = {
       width: Math.max(300, this.plotEl.clientWidth),
       height: this.height(),
       ms: 1,
       series,
       bands,
-      scales: { x: { time: true } },
+      scales,
+      axes,
       legend: { live: true },
       cursor: { drag: { x: true, y: false, setScale: false } },
       hooks: {
@@ -357,11 +465,22 @@ export class TrendsView {
 
   private drawBuffer(from: number, to: number): void {
     if (!this.plot || this.plotHistory) return;
-    const logs = this.pens.map((p) => this.logs.get(p.toUpperCase())!);
-    const data = alignLogs(logs, from, to) as uPlot.AlignedData;
+    const logs = this.tags().map((p) => this.logs.get(p.toUpperCase())!);
+    const lanes = lanesOf(this.specs());
+    const raw = alignLogs(logs, from, to);
+    const data = raw.map((col, c) => (c === 0 || lanes[c - 1] < 0 ? col : col.map((v) => toLane(lanes[c - 1], v)))) as uPlot.AlignedData;
     this.plot.setData(data, false);
     this.plot.setScale('x', { min: from, max: to });
+    this.showLatest(data[0].length);
     this.markPlot(data[0].length, to);
+  }
+
+  /** The legend shows the latest values while the cursor is away from the plot (never `--`). */
+  private showLatest(points: number): void {
+    const u = this.plot;
+    if (!u || points === 0) return;
+    const hovering = u.cursor.left !== undefined && u.cursor.left >= 0;
+    if (!hovering) u.setLegend({ idx: points - 1 }, false);
   }
 
   /** data-points / data-last-t / data-to on the plot element, written at most once per animation frame. */
@@ -438,7 +557,7 @@ export class TrendsView {
     let hs: History[];
     try {
       hs = await Promise.all(
-        this.pens.map((p) =>
+        this.tags().map((p) =>
           api.history(p, from, to, points).catch((e) => {
             // a tag with nothing recorded is an empty pen, not a failure
             if (e instanceof ApiError && historyFailure(e.status, e.message) === 'no-data') return { tag: p, from, to, buckets: [] };
@@ -459,9 +578,12 @@ export class TrendsView {
     if (seq !== this.fetchSeq || !this.plot) return;
     const j = joinHistories(hs);
     const data: (number | null)[][] = [j.xs];
-    j.pens.forEach((p) => data.push(p.line, p.max, p.min));
+    const lanes = lanesOf(this.specs());
+    // A BOOL's line on its lane (its band is not drawn: a step says it all).
+    j.pens.forEach((p, k) => (lanes[k] >= 0 ? data.push(p.line.map((v) => toLane(lanes[k], v))) : data.push(p.line, p.max, p.min)));
     this.plot.setData(data as uPlot.AlignedData, false);
     this.plot.setScale('x', { min: from, max: to });
+    this.showLatest(j.xs.length);
     this.markPlot(j.xs.length, to);
     this.renderStatus();
   }
@@ -472,7 +594,7 @@ export class TrendsView {
       return;
     }
     const [from, to] = this.range();
-    const url = api.historyCsvUrl(this.pens, from, to, exportStep(from, to));
+    const url = api.historyCsvUrl(this.tags(), from, to, exportStep(from, to));
     try {
       const text = await api.text(url);
       download('trend.csv', text, true);
@@ -480,4 +602,16 @@ export class TrendsView {
       this.ctx.notify(`CSV export failed: ${(e as Error).message}`, 'error');
     }
   }
+}
+
+/** A new pen: axis 1, automatic scale. */
+function newPen(tag: string): TrendPen {
+  return { tag, axis: 1, min: null, max: null };
+}
+
+/** The number in the input `testid` under `root`, or null. */
+function readNum(root: HTMLElement, testid: string): number | null {
+  const el = root.querySelector(`[data-testid="${testid}"]`) as HTMLInputElement | null;
+  const v = el?.value.trim() ?? '';
+  return v === '' || !Number.isFinite(Number(v)) ? null : Number(v);
 }
