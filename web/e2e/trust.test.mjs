@@ -78,6 +78,19 @@ test('Stop and Run ask for confirmation, and a stopped PLC looks stopped', async
   await tid('confirm-ok').click();
   await waitLive('live');
   assert.equal(await tid('stale-banner').isHidden(), true);
+  // AuroraLD's keys: Alt+2 Tags, Alt+3 Trends, Alt+1 the program; Ctrl+Shift+R stop (asks).
+  const { page } = b;
+  await page.keyboard.press('Alt+2');
+  await page.waitForFunction(() => location.hash === '#/tags');
+  await page.keyboard.press('Alt+3');
+  await page.waitForFunction(() => location.hash === '#/trends');
+  await page.keyboard.press('Alt+1');
+  await page.waitForFunction(() => location.hash === '#/program/main.lad');
+  await page.keyboard.press('Control+Shift+R');
+  await tid('confirm').waitFor();
+  await page.keyboard.press('Escape');
+  await tid('confirm').waitFor({ state: 'detached' });
+  assert.equal((await alba.json('/api/status')).state, 'running');
 });
 
 test('a killed runtime leaves no live-looking screen, and the studio recovers by itself', async () => {

@@ -249,6 +249,26 @@ async function start(me: Me): Promise<void> {
   saveBtn.onclick = () => {
     if (isEditor(current)) void current.save();
   };
+  // AuroraLD's shortcuts where a browser lets a page have them (docs: web/README.md):
+  // Ctrl+S save, Ctrl+B compile (Ctrl+C stays copy), Ctrl+R run, Ctrl+Shift+R stop
+  // (both ask first), Alt+1 the first program, Alt+2 Tags, Alt+3 Trends.
+  window.addEventListener('keydown', (e) => {
+    const ctrl = e.ctrlKey || e.metaKey;
+    const key = e.key.toLowerCase();
+    const act = (f: () => void) => {
+      e.preventDefault();
+      f();
+    };
+    if (ctrl && !e.altKey && key === 's' && !saveBtn.disabled) act(() => saveBtn.click());
+    else if (ctrl && !e.altKey && key === 'b' && !compileBtn.disabled) act(() => compileBtn.click());
+    else if (ctrl && !e.altKey && key === 'r' && !e.shiftKey && !runBtn.disabled) act(() => runBtn.click());
+    else if (ctrl && !e.altKey && key === 'r' && e.shiftKey && !stopBtn.disabled) act(() => stopBtn.click());
+    else if (ctrl && key === 'r') e.preventDefault(); // not a reload of a running studio by habit
+    else if (e.altKey && !ctrl && ['1', '2', '3'].includes(e.key)) {
+      const target = e.key === '1' ? [...views.keys()][0] : e.key === '2' ? 'tags' : 'trends';
+      act(() => (location.hash = `#/${target}`));
+    }
+  });
   window.addEventListener('beforeunload', (e) => {
     if (leaving) return;
     if ([...views.values()].some((v) => isEditor(v.view) && v.view.dirty)) e.preventDefault();
