@@ -41,7 +41,7 @@ test('a PID box is drawn live, and PID is in the palette with its operand labels
   await tid('palette-PID').click();
   const fields = tid('properties').locator('.operand-field > span');
   await fields.first().waitFor();
-  assert.deepEqual(await fields.allTextContents(), ['PID pid', 'Process Var num_in', 'Control Var num_out']);
+  assert.deepEqual(await fields.allTextContents(), ['PID — a PID tag', 'Process Var — a number (tag or literal)', 'Control Var — a numeric tag to write']);
   const list = await tid('operand-0').getAttribute('list');
   assert.deepEqual(await page.locator(`datalist[id="${list}"] option`).evaluateAll((os) => os.map((o) => o.value)), ['Loop']);
   await tid('view-text').click();

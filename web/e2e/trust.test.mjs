@@ -149,6 +149,18 @@ test('rungs are copied, pasted, undone and redone; the text view numbers its lin
   await tid('btn-rung-paste').click();
   now = code(await text());
   assert.deepEqual(now, [...before.slice(1), before[0]]);
+  // Addresses and descriptions under contacts and coils, on demand.
+  await tid('btn-annotate').click();
+  const notesOf = (tag) =>
+    page.evaluate((t) => {
+      const op = [...document.querySelectorAll('g.el text.operand')].find((e) => e.textContent === t);
+      return [...(op?.parentElement?.querySelectorAll('[data-testid^="annotation-"]') ?? [])].map((e) => e.textContent);
+    }, tag);
+  await page.waitForFunction(() => document.querySelector('[data-testid^="annotation-"]'));
+  assert.deepEqual(await notesOf('FILL'), ['DI:1/1', 'P2 push button: fill …']);
+  await tid('btn-annotate').click();
+  await page.waitForFunction(() => !document.querySelector('[data-testid^="annotation-"]'));
+  assert.deepEqual(await notesOf('FILL'), []);
   // The text view: line numbers, and an error marked on its line.
   await tid('view-text').click();
   const lines = (await text()).split('\n').length;

@@ -130,11 +130,30 @@ export function boxColumns(i: Instr): BoxColumns {
   return { operandX, operandChars, valueRight: frameW - 6, frameW };
 }
 
+/** Lines shown under a contact or coil (its tag's address and description), or none. */
+let annotate: ((operand: string) => string[]) | null = null;
+/** A line of annotation under an element. */
+export const ANNOT_LINE = 12;
+/** The longest annotation shown, in characters (longer ones end with `…`). */
+const ANNOT_CHARS = 22;
+
+/** Shows (or, with null, hides) the address and description under every contact and coil. */
+export function setAnnotations(f: ((operand: string) => string[]) | null): void {
+  annotate = f;
+}
+
+/** The annotation lines of an operand, shortened. */
+export function annotationsOf(operand: string): string[] {
+  return (annotate?.(operand) ?? []).filter(Boolean).map((l) => (l.length > ANNOT_CHARS ? `${l.slice(0, ANNOT_CHARS - 1)}…` : l));
+}
+
 export function measureInstr(i: Instr): Size {
   const shape = shapeOf(i.mnemonic);
   if (shape !== 'box') {
     const name = i.operands[0] ?? '';
-    return { w: Math.max(G.contactW, textW(name) + 14), asc: G.contactAsc, desc: G.contactDesc };
+    const notes = annotationsOf(name);
+    const w = Math.max(G.contactW, textW(name) + 14, ...notes.map((l) => textW(l) * 0.85 + 10));
+    return { w, asc: G.contactAsc, desc: G.contactDesc + (notes.length ? notes.length * ANNOT_LINE + 14 : 0) };
   }
   const rows = boxRows(i);
   const w = boxColumns(i).frameW + 16;

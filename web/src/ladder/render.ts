@@ -5,7 +5,7 @@ import { s, fmt } from '../dom';
 import type { Json } from '../types';
 import { instruction } from '../domain';
 import { type Elem, type Path, operandTags, titleOf } from './ast';
-import { G, type Placed, type PlacedInstr, type RungLayout, type Src, type Wire, boxColumns, boxRows, boxStatusBits, powered } from './layout';
+import { ANNOT_LINE, G, type Placed, type PlacedInstr, type RungLayout, type Src, type Wire, annotationsOf, boxColumns, boxRows, boxStatusBits, powered } from './layout';
 
 export const GUTTER = 46;
 
@@ -174,6 +174,9 @@ function drawInstr(
     if (i.operands.length > 1) {
       g.append(s('text', { class: 'operand small', x: cx, y: wy + 26, 'text-anchor': 'middle' }, i.operands.slice(1).join(', ')));
     }
+    annotationsOf(name).forEach((line, k) =>
+      g.append(s('text', { class: 'annotation', x: cx, y: wy + 30 + k * ANNOT_LINE, 'text-anchor': 'middle', 'data-testid': `annotation-${k}` }, line)),
+    );
     return;
   }
   // function box

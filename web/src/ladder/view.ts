@@ -18,11 +18,13 @@ import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { type Elem, type Instr, type Path, operandLabels, operandTags, shapeOf, walk } from './ast';
 import { type Edited, addLeg, getAt, insert, move, newInstr, remove, setInstr, wrapInBranch } from './edit';
-import { layoutRung } from './layout';
+import { layoutRung, setAnnotations } from './layout';
 import { attachIds, locate } from './locate';
 import { type ProgramDoc, joinProgram, parseProgram } from './parse';
 import { printRung } from './print';
 import { type RungView, pathFromEvent, renderRung } from './render';
+
+const ANNOTATE_KEY = 'alba.ladder.annotate';
 
 /** Rungs cut or copied (their text, comments included), shared by every ladder tab. */
 let rungClipboard: string | null = null;
@@ -78,7 +80,8 @@ export class LadderView {
       h(
         'div',
         { class: 'toolbar' },
-        h('span', { class: 'seg' }, modeBtn('graphic', 'Graphic'), modeBtn('text', 'Text')),
+        h('span', { class: 'seg' }, modeBtn('graphic', 'Graphic'), modeBtn('text', 'Text'),
+          h('button', { class: 'mode', 'data-testid': 'btn-annotate', title: 'Show the address and description of each contact and coil', onclick: () => this.toggleAnnotations() }, 'Descriptions')),
         h(
           'span',
           { class: 'seg' },
@@ -128,8 +131,24 @@ export class LadderView {
       this.datalists,
     );
     this.ed.section = this.el;
+    if (localStorage.getItem(ANNOTATE_KEY) === '1') this.toggleAnnotations(true);
     this.renderPalette();
     this.setMode('graphic');
+  }
+
+  /** Addresses and descriptions under contacts and coils: on or off for every ladder view (remembered). */
+  private toggleAnnotations(on = localStorage.getItem(ANNOTATE_KEY) !== '1'): void {
+    localStorage.setItem(ANNOTATE_KEY, on ? '1' : '0');
+    setAnnotations(
+      on
+        ? (operand) => {
+            const t = this.ctx.tags.resolve(operand)?.tag;
+            return t ? [t.address ?? '', t.description] : [];
+          }
+        : null,
+    );
+    this.el.querySelector('[data-testid="btn-annotate"]')?.classList.toggle('active', on);
+    this.render();
   }
 
   /** Loads the program from the server (the running version). */
@@ -424,7 +443,11 @@ export class LadderView {
               onchange: (e: Event) => this.setOperands(sel, el.operands, (e.target as HTMLSelectElement).value),
             }, same.map((i) => h('option', { value: i.mnemonic, selected: i.mnemonic === el.mnemonic.toUpperCase() }, i.mnemonic))))
         : null,
-      inputs.map((input, k) => h('label', { class: 'operand-field' }, h('span', { title: info ? (argInfo(info.args[k] ?? '')?.doc ?? '') : '' }, labels[k], info ? h('small', null, ` ${info.args[k]}`) : null), input)),
+      // The label, then what fits in words (`a BOOL tag to write`), not the kind's internal name.
+      inputs.map((input, k) => {
+        const doc = info ? (argInfo(info.args[k] ?? '')?.doc ?? '') : '';
+        return h('label', { class: 'operand-field' }, h('span', { title: doc }, labels[k], doc ? h('small', null, ` — ${doc}`) : null), input);
+      }),
     );
   }
 
