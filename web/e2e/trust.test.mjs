@@ -223,3 +223,30 @@ test('trends: two axes, on/off pens as steps on lanes, a live legend, the set sa
   await alba.api('/api/forces', { method: 'DELETE', headers: { 'content-type': 'application/json' } });
   assert.deepEqual(b.errors, []);
 });
+
+test('where is this tag used: the list, and a click lands on the rung', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('tab-program-main.lad').click();
+  const program = await alba.json('/api/programs/main.lad');
+  await page.locator(`[data-testid="el-${elementId(program, 'XIC', ['Llenar'])}"]`).click();
+  await tid('uses-Llenar').click();
+  await tid('use-2').waitFor();
+  const items = await tid('uses-list').locator('li').allTextContents();
+  assert.deepEqual(items, [
+    'Llenar: 3 uses',
+    'main.lad rung 6 · 12:18 OTL(Llenar) writes',
+    'main.lad rung 7 · 14:18 OTU(Llenar) writes',
+    'main.lad rung 8 · 16:1 XIC(Llenar)',
+  ]);
+  await tid('use-0').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="rung-5"]')?.classList.contains('selected'));
+  // From another tab: the program opens on the rung.
+  await tid('tab-tags').click();
+  await tid('tab-program-main.lad').click();
+  await page.locator(`[data-testid="el-${elementId(program, 'XIC', ['Llenar'])}"]`).click();
+  await tid('uses-Llenar').click();
+  await tid('use-1').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="rung-6"]')?.classList.contains('selected'));
+  assert.deepEqual(b.errors, []);
+});

@@ -8,12 +8,13 @@
 // Element ids (the power-flow keys) come from the running program, so
 // they are shown only while the text is the saved one. Loading, checking,
 // saving and the problems list are the shared ProgramEditor's.
+import { api } from '../api';
 import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { add, clear, h } from '../dom';
 import { type InstructionInfo, argInfo, domain, instruction } from '../domain';
 import { type Problem, ProgramEditor, problemTip } from '../editor/program';
-import type { RungJson } from '../types';
+import type { RungJson, TagUse } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { type Elem, type Instr, type Path, operandLabels, operandTags, shapeOf, walk } from './ast';
@@ -25,6 +26,21 @@ import { printRung } from './print';
 import { type RungView, pathFromEvent, renderRung } from './render';
 
 const ANNOTATE_KEY = 'alba.ladder.annotate';
+
+/** Opens the program of a use and selects its rung: the ladder views listen for this. */
+function revealUse(u: TagUse): void {
+  if (u.rung === null) {
+    location.hash = `#/program/${u.program}`;
+    return;
+  }
+  pendingReveal = { program: u.program, rung: u.rung };
+  const target = `#/program/${u.program}`;
+  if (location.hash === target) window.dispatchEvent(new Event('alba-reveal'));
+  else location.hash = target;
+}
+
+/** A use to show once its program's view is shown. */
+let pendingReveal: { program: string; rung: number } | null = null;
 
 /** Rungs cut or copied (their text, comments included), shared by every ladder tab. */
 let rungClipboard: string | null = null;
@@ -158,6 +174,17 @@ export class LadderView {
 
   show(): void {
     this.active = true;
+    const reveal = () => {
+      const p = pendingReveal;
+      if (!p || p.program !== this.program) return;
+      pendingReveal = null;
+      // once the program is loaded (a view just made loads it)
+      const go = () => (this.doc.rungs.length > p.rung ? this.reveal(p.rung) : setTimeout(go, 50));
+      go();
+    };
+    window.addEventListener('alba-reveal', reveal);
+    this.unlisten.push(() => window.removeEventListener('alba-reveal', reveal));
+    reveal();
     this.unlisten.push(
       ...this.ed.watch(() => this.paintPower()),
       this.ctx.tags.onChange(() => {
@@ -448,7 +475,43 @@ export class LadderView {
         const doc = info ? (argInfo(info.args[k] ?? '')?.doc ?? '') : '';
         return h('label', { class: 'operand-field' }, h('span', { title: doc }, labels[k], doc ? h('small', null, ` — ${doc}`) : null), input);
       }),
+      this.usesPanel(operandTags(el).filter((t) => this.ctx.tags.resolve(t))),
     );
+  }
+
+  /** "Where used": a button per tag of the selected instruction; the list links to each place. */
+  private usesPanel(tags: string[]): HTMLElement | null {
+    if (tags.length === 0) return null;
+    const list = h('ul', { class: 'uses', 'data-testid': 'uses-list' });
+    const show = async (tag: string) => {
+      clear(list);
+      let uses;
+      try {
+        uses = await api.uses(tag);
+      } catch (e) {
+        this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
+        return;
+      }
+      list.append(h('li', { class: 'hint' }, `${tag}: ${uses.length} use${uses.length === 1 ? '' : 's'}`));
+      uses.forEach((u, k) =>
+        list.append(
+          h('li', null,
+            h('a', { href: `#/program/${u.program}`, 'data-testid': `use-${k}`, onclick: (e: Event) => { e.preventDefault(); revealUse(u); } },
+              `${u.program}${u.rung === null ? '' : ` rung ${u.rung + 1}`} · ${u.line}:${u.col}`),
+            ' ', h('code', null, u.instruction), u.write ? h('span', { class: 'writes' }, ' writes') : null),
+        ),
+      );
+    };
+    return h('div', { class: 'uses-panel' },
+      h('span', { class: 'label' }, 'Where used: '),
+      tags.map((t) => h('button', { class: 'small', 'data-testid': `uses-${t}`, onclick: () => void show(t) }, t)),
+      list);
+  }
+
+  /** Selects rung `rung` (from 0) and scrolls to it (a cross-reference landed here). */
+  reveal(rung: number): void {
+    this.setMode('graphic');
+    this.select({ rung, path: null }, true);
   }
 
   // ---- selection and events ----------------------------------------------
