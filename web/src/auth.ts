@@ -8,10 +8,16 @@
 
 import type { Me, Role } from './api.gen';
 import { domain } from './domain';
+import { tr } from './i18n';
 
 // The shapes of GET /api/me, generated from the server's reply types.
 export type { Me, Role };
 export const ROLES: readonly Role[] = ['viewer', 'operator', 'engineer', 'admin'];
+
+/** A role's name as people read it (the API's names are the English ones). */
+export function roleName(role: Role): string {
+  return ({ viewer: tr('viewer'), operator: tr('operator'), engineer: tr('engineer'), admin: tr('admin') } as Record<Role, string>)[role] ?? role;
+}
 
 /**
  * What the studio can ask the server to do, by the role each needs (the route
@@ -53,9 +59,9 @@ export function routeRole(method: string, route: string): Role {
 
 /** The strings of this module (one place; a Spanish catalogue comes later). */
 export const authText = {
-  needs: (role: Role) => `needs the ${role} role`,
-  noUsers: 'local, no users',
-  who: (user: string, role: Role) => `${user} (${role})`,
+  needs: (role: Role) => tr('needs the {role} role', { role: roleName(role) }),
+  noUsers: tr('local, no users'),
+  who: (user: string, role: Role) => `${user} (${roleName(role)})`,
 };
 
 /** The rights before GET /api/me has answered: none beyond reading. */

@@ -9,22 +9,23 @@
 import { ApiError, api } from './api';
 import { LOCAL, type Me, parseMe, setMe } from './auth';
 import { h } from './dom';
+import { tr } from './i18n';
 
 /** The strings of the login page (one place; a Spanish catalogue comes later). */
 export const loginText = {
-  title: 'Sign in to Alba',
-  user: 'User',
-  password: 'Password',
-  submit: 'Sign in',
-  busy: 'Signing in…',
-  missing: 'Enter your user name and password',
-  wrong: 'Wrong user name or password',
-  wait: (s: number) => `Too many failed attempts: wait ${s} s before trying again`,
-  unreachable: (m: string) => `Cannot reach the server: ${m}`,
-  badReply: 'The server answered the login with something unexpected',
-  expired: (m: string) => `Your session has ended (${m}): sign in again`,
-  signedOut: 'Signed out',
-  fatal: (m: string) => `Cannot start the studio: ${m}`,
+  title: tr('Sign in to Alba'),
+  user: tr('User'),
+  password: tr('Password'),
+  submit: tr('Sign in'),
+  busy: tr('Signing in…'),
+  missing: tr('Enter your user name and password'),
+  wrong: tr('Wrong user name or password'),
+  wait: (s: number) => tr('Too many failed attempts: wait {s} s before trying again', { s }),
+  unreachable: (m: string) => tr('Cannot reach the server: {m}', { m }),
+  badReply: tr('The server answered the login with something unexpected'),
+  expired: (m: string) => tr('Your session has ended ({m}): sign in again', { m }),
+  signedOut: tr('Signed out'),
+  fatal: (m: string) => tr('Cannot start the studio: {m}', { m }),
 };
 
 export interface LoginOptions {

@@ -20,6 +20,7 @@ import { AlarmBanner } from './ui/alarms';
 import { ForcesBanner, StaleBanner } from './ui/banners';
 import { confirmAction } from './ui/confirm';
 import { StatusBar } from './ui/statusbar';
+import { LANGUAGES, language, setLanguage, tr } from './i18n';
 
 interface View {
   el: HTMLElement;
@@ -33,14 +34,14 @@ const isEditor = (v: View | null | undefined): v is Editor => v instanceof Ladde
 
 /** The strings of the shell (one place; a Spanish catalogue comes later). */
 const text = {
-  signedInAgain: (user: string) => `Signed in again as ${user}`,
-  logoutFailed: (m: string) => `Sign out failed: ${m}`,
-  confirmStopTitle: 'Stop the PLC?',
-  confirmStop: 'Scanning stops after the current scan and every output goes off.',
-  confirmStopOk: 'Stop',
-  confirmRunTitle: 'Start the PLC?',
-  confirmRun: 'The program starts from its first scan and drives the outputs.',
-  confirmRunOk: 'Run',
+  signedInAgain: (user: string) => tr('Signed in again as {user}', { user }),
+  logoutFailed: (m: string) => tr('Sign out failed: {m}', { m }),
+  confirmStopTitle: tr('Stop the PLC?'),
+  confirmStop: tr('Scanning stops after the current scan and every output goes off.'),
+  confirmStopOk: tr('Stop'),
+  confirmRunTitle: tr('Start the PLC?'),
+  confirmRun: tr('The program starts from its first scan and drives the outputs.'),
+  confirmRunOk: tr('Run'),
 };
 
 const toasts = h('div', { class: 'toasts', 'data-testid': 'toasts' });
@@ -57,7 +58,7 @@ async function start(me: Me): Promise<void> {
   try {
     setDomain(await api.domain());
   } catch (e) {
-    document.body.append(h('p', { class: 'fatal' }, `Cannot load the studio: ${e instanceof Error ? e.message : String(e)}`));
+    document.body.append(h('p', { class: 'fatal' }, tr('Cannot load the studio: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
   }
   const live = new LiveClient();
@@ -65,10 +66,10 @@ async function start(me: Me): Promise<void> {
   const statusBar = new StatusBar();
   statusBar.user(me);
   const projectName = h('span', { class: 'project', 'data-testid': 'project-name' }, '…');
-  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: 'Start scanning' }, '▶ Run');
-  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: 'Stop scanning (outputs off)' }, '■ Stop');
-  const compileBtn = h('button', { 'data-testid': 'btn-compile', title: 'Check the program being edited' }, 'Compile');
-  const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: 'Save the program and apply it online' }, 'Save');
+  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: tr('Start scanning') }, `▶ ${tr('Run')}`);
+  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: tr('Stop scanning (outputs off)') }, `■ ${tr('Stop')}`);
+  const compileBtn = h('button', { 'data-testid': 'btn-compile', title: tr('Check the program being edited') }, tr('Compile'));
+  const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: tr('Save the program and apply it online') }, tr('Save'));
   const nav = h('nav', { class: 'tabs', 'data-testid': 'tabs' });
   const alarms = new AlarmBanner(notify);
   const stale = new StaleBanner();
@@ -78,7 +79,10 @@ async function start(me: Me): Promise<void> {
     h('header', { class: 'topbar' },
       h('span', { class: 'logo' }, 'Alba'), projectName,
       h('span', { class: 'seg' }, runBtn, stopBtn),
-      h('span', { class: 'seg' }, compileBtn, saveBtn)),
+      h('span', { class: 'seg' }, compileBtn, saveBtn),
+      h('span', { class: 'spacer' }),
+      h('select', { class: 'lang', 'data-testid': 'lang', title: tr('Language'), onchange: (e: Event) => setLanguage((e.target as HTMLSelectElement).value as 'en' | 'es') },
+        LANGUAGES.map(([code, name]) => h('option', { value: code, selected: code === language() }, name)))),
     nav,
     stale.el,
     forces.el,
@@ -191,7 +195,7 @@ async function start(me: Me): Promise<void> {
   try {
     [status, programs] = await Promise.all([api.status(), api.programs(), tags.refresh()]);
   } catch (e) {
-    main.append(h('p', { class: 'fatal' }, `Cannot load the project: ${e instanceof Error ? e.message : String(e)}`));
+    main.append(h('p', { class: 'fatal' }, tr('Cannot load the project: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
   }
   projectName.textContent = status.project;
@@ -208,7 +212,7 @@ async function start(me: Me): Promise<void> {
     // Nets and SFCs have no view yet (their editors are to come); their markings are in Tags.
     if (p.language === 'net' || p.language === 'sfc') continue;
     views.set(`program/${p.name}`, {
-      label: p.plant ? `${p.name} (plant)` : p.name,
+      label: p.plant ? tr('{name} (plant)', { name: p.name }) : p.name,
       testid: `tab-program-${p.name}`,
       make: () => {
         const v = p.language === 'il' ? new IlView(ctx, p.name) : new LadderView(ctx, p.name);
@@ -217,10 +221,10 @@ async function start(me: Me): Promise<void> {
       },
     });
   }
-  views.set('tags', { label: 'Tags', testid: 'tab-tags', make: () => new TagsView(ctx) });
+  views.set('tags', { label: tr('Tags'), testid: 'tab-tags', make: () => new TagsView(ctx) });
   // made at once: its pens record in the background from the start
   const trends = new TrendsView(ctx);
-  views.set('trends', { label: 'Trends', testid: 'tab-trends', make: () => trends, view: trends });
+  views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });
 
   let current: View | null = null;
   const go = () => {
@@ -244,7 +248,7 @@ async function start(me: Me): Promise<void> {
   compileBtn.onclick = async () => {
     if (!isEditor(current)) return;
     const ok = await current.check();
-    notify(ok ? `${current.program}: no problems` : `${current.program}: see the problems list`, ok ? 'info' : 'error');
+    notify(ok ? tr('{program}: no problems', { program: current.program }) : tr('{program}: see the problems list', { program: current.program }), ok ? 'info' : 'error');
   };
   saveBtn.onclick = () => {
     if (isEditor(current)) void current.save();

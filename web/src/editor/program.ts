@@ -9,6 +9,7 @@ import { can, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { clear, h } from '../dom';
 import type { Diagnostic, Program } from '../types';
+import { tr } from '../i18n';
 
 export interface EditorHooks {
   /** A version was loaded from the server (before its text is set). */
@@ -185,13 +186,13 @@ export class ProgramEditor {
     if (!can('edit')) return false;
     try {
       const r = await api.saveProgram(this.program, this.text, true);
-      this.ctx.notify(r.applied ? `${this.program} saved and applied online` : `${this.program} saved`);
+      this.ctx.notify(r.applied ? tr('{program} saved and applied online', { program: this.program }) : tr('{program} saved', { program: this.program }));
       await this.load();
       return true;
     } catch (e) {
       if (!(e instanceof ApiError)) throw e;
       this.diagnostics = e.diagnostics;
-      this.ctx.notify(`${this.program} not saved: ${e.message}`, 'error');
+      this.ctx.notify(tr('{program} not saved: {m}', { program: this.program, m: e.message }), 'error');
       this.hooks.changed();
       return false;
     }
@@ -234,7 +235,13 @@ export class ProgramEditor {
 
   renderState(): void {
     const n = this.mine().length;
-    this.stateEl.textContent = `${this.dirty ? 'edited — not saved (monitoring paused)' : 'online'}${this.checking ? ' · checking…' : ''}${n ? ` · ${n} problem${n > 1 ? 's' : ''}` : ''}`;
+    this.stateEl.textContent = [
+      this.dirty ? tr('edited — not saved (monitoring paused)') : tr('online'),
+      this.checking ? tr('checking…') : '',
+      n === 1 ? tr('1 problem') : n > 1 ? tr('{n} problems', { n }) : '',
+    ]
+      .filter(Boolean)
+      .join(' · ');
     this.stateEl.className = `edit-state${this.dirty ? ' dirty' : ''}${n ? ' bad' : ''}`;
     if (this.section) this.section.dataset.dirty = String(this.dirty);
   }
@@ -251,7 +258,7 @@ export class ProgramEditor {
     }));
     all.push(...extra);
     if (all.length === 0) {
-      this.problemsEl.append(h('li', { class: 'none' }, 'No problems'));
+      this.problemsEl.append(h('li', { class: 'none' }, tr('No problems')));
       return;
     }
     all.forEach((d, k) =>

@@ -11,6 +11,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { type IlLine, parseIl, powerByLine } from './parse';
+import { tr } from '../i18n';
 
 interface LineView {
   row: HTMLElement;
@@ -48,12 +49,12 @@ export class IlView {
     this.el = h(
       'section',
       { class: 'ladder-view il-view', 'data-testid': `il-${program}` },
-      h('div', { class: 'toolbar' }, h('span', { class: 'seg' }, modeBtn('monitor', 'Monitor'), modeBtn('text', 'Text')), this.ed.stateEl),
+      h('div', { class: 'toolbar' }, h('span', { class: 'seg' }, modeBtn('monitor', tr('Monitor')), modeBtn('text', tr('Text'))), this.ed.stateEl),
       h(
         'div',
         { class: 'ladder-body' },
         h('div', { class: 'ladder-main' }, this.linesEl, this.ed.textBox),
-        h('aside', { class: 'ladder-side' }, h('h3', null, 'Problems'), this.ed.problemsEl),
+        h('aside', { class: 'ladder-side' }, h('h3', null, tr('Problems')), this.ed.problemsEl),
       ),
     );
     this.ed.section = this.el;

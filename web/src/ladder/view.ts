@@ -24,8 +24,15 @@ import { attachIds, locate } from './locate';
 import { type ProgramDoc, joinProgram, parseProgram } from './parse';
 import { printRung } from './print';
 import { type RungView, pathFromEvent, renderRung } from './render';
+import { tr } from '../i18n';
 
 const ANNOTATE_KEY = 'alba.ladder.annotate';
+
+/** A palette button's tooltip: the signature, what it does, and why it is disabled. */
+function paletteTitle(i: InstructionInfo): string {
+  const signature = `${i.mnemonic}(${i.labels.join(', ')})`;
+  return `${signature} — ${i.title}: ${i.doc}${can('edit') ? '' : ` (${why('edit')})`}`;
+}
 
 /** Opens the program of a use and selects its rung: the ladder views listen for this. */
 function revealUse(u: TagUse): void {
@@ -96,44 +103,44 @@ export class LadderView {
       h(
         'div',
         { class: 'toolbar' },
-        h('span', { class: 'seg' }, modeBtn('graphic', 'Graphic'), modeBtn('text', 'Text'),
-          h('button', { class: 'mode', 'data-testid': 'btn-annotate', title: 'Show the address and description of each contact and coil', onclick: () => this.toggleAnnotations() }, 'Descriptions')),
+        h('span', { class: 'seg' }, modeBtn('graphic', tr('Graphic')), modeBtn('text', tr('Text')),
+          h('button', { class: 'mode', 'data-testid': 'btn-annotate', title: tr('Show the address and description of each contact and coil'), onclick: () => this.toggleAnnotations() }, tr('Descriptions'))),
         h(
           'span',
           { class: 'seg' },
-          h('label', { title: 'Where the palette inserts, relative to the selected element' }, 'Insert ',
+          h('label', { title: tr('Where the palette inserts, relative to the selected element') }, `${tr('Insert')} `,
             h('select', {
               'data-testid': 'insert-where',
               disabled: !can('edit'),
               title: why('edit'),
               onchange: (e: Event) => (this.where = (e.target as HTMLSelectElement).value as 'before' | 'after'),
-            }, h('option', { value: 'after' }, 'after'), h('option', { value: 'before' }, 'before'))),
+            }, h('option', { value: 'after' }, tr('after')), h('option', { value: 'before' }, tr('before')))),
         ),
         h(
           'span',
           { class: 'seg' },
-          tool('Branch', 'btn-branch', 'Put the selected element in a branch, or add a leg to the selected branch', () => this.branch()),
-          tool('◀', 'btn-move-left', 'Move the selected element left', () => this.moveElement(-1)),
-          tool('▶', 'btn-move-right', 'Move the selected element right', () => this.moveElement(1)),
-          tool('✕ Delete', 'btn-delete', 'Delete the selected element (or rung)', () => this.deleteSelected()),
+          tool(tr('Branch'), 'btn-branch', tr('Put the selected element in a branch, or add a leg to the selected branch'), () => this.branch()),
+          tool('◀', 'btn-move-left', tr('Move the selected element left'), () => this.moveElement(-1)),
+          tool('▶', 'btn-move-right', tr('Move the selected element right'), () => this.moveElement(1)),
+          tool(`✕ ${tr('Delete')}`, 'btn-delete', tr('Delete the selected element (or rung)'), () => this.deleteSelected()),
         ),
         h(
           'span',
           { class: 'seg' },
-          'Rung ',
-          tool('+ Add', 'btn-rung-add', 'Add a rung after the selected one', () => this.addRung()),
-          tool('▲', 'btn-rung-up', 'Move the selected rung up', () => this.moveRung(-1)),
-          tool('▼', 'btn-rung-down', 'Move the selected rung down', () => this.moveRung(1)),
-          tool('✕', 'btn-rung-delete', 'Delete the selected rung', () => this.deleteRung()),
+          `${tr('Rung')} `,
+          tool(`+ ${tr('Add')}`, 'btn-rung-add', tr('Add a rung after the selected one'), () => this.addRung()),
+          tool('▲', 'btn-rung-up', tr('Move the selected rung up'), () => this.moveRung(-1)),
+          tool('▼', 'btn-rung-down', tr('Move the selected rung down'), () => this.moveRung(1)),
+          tool('✕', 'btn-rung-delete', tr('Delete the selected rung'), () => this.deleteRung()),
         ),
         h(
           'span',
           { class: 'seg' },
-          tool('↶', 'btn-undo', 'Undo (Ctrl+Z)', () => this.undo()),
-          tool('↷', 'btn-redo', 'Redo (Ctrl+Y)', () => this.redo()),
-          tool('Copy', 'btn-rung-copy', 'Copy the selected rung (Ctrl+C)', () => this.copyRung(false)),
-          tool('Cut', 'btn-rung-cut', 'Cut the selected rung (Ctrl+X)', () => this.copyRung(true)),
-          tool('Paste', 'btn-rung-paste', 'Paste the rung after the selected one (Ctrl+V)', () => this.pasteRung()),
+          tool('↶', 'btn-undo', tr('Undo (Ctrl+Z)'), () => this.undo()),
+          tool('↷', 'btn-redo', tr('Redo (Ctrl+Y)'), () => this.redo()),
+          tool(tr('Copy'), 'btn-rung-copy', tr('Copy the selected rung (Ctrl+C)'), () => this.copyRung(false)),
+          tool(tr('Cut'), 'btn-rung-cut', tr('Cut the selected rung (Ctrl+X)'), () => this.copyRung(true)),
+          tool(tr('Paste'), 'btn-rung-paste', tr('Paste the rung after the selected one (Ctrl+V)'), () => this.pasteRung()),
         ),
         this.ed.stateEl,
       ),
@@ -142,7 +149,7 @@ export class LadderView {
         'div',
         { class: 'ladder-body' },
         h('div', { class: 'ladder-main' }, this.rungsEl, this.ed.textBox),
-        h('aside', { class: 'ladder-side' }, this.propsEl, h('h3', null, 'Problems'), this.ed.problemsEl),
+        h('aside', { class: 'ladder-side' }, this.propsEl, h('h3', null, tr('Problems')), this.ed.problemsEl),
       ),
       this.datalists,
     );
@@ -350,7 +357,7 @@ export class LadderView {
       this.rungsEl.append(h('div', { class: 'rung tail', 'data-testid': 'rung-tail' }, h('pre', null, this.doc.tail.trimEnd())));
     }
     this.rungsEl.append(
-      h('div', { class: 'end-rung' }, h('button', { 'data-testid': 'btn-rung-append', disabled: !can('edit'), title: why('edit'), onclick: () => this.addRung(true) }, '+ rung'), ' (end)'),
+      h('div', { class: 'end-rung' }, h('button', { 'data-testid': 'btn-rung-append', disabled: !can('edit'), title: why('edit'), onclick: () => this.addRung(true) }, `+ ${tr('rung')}`), ` (${tr('end')})`),
     );
     this.paintPower();
     this.renderProblems();
@@ -399,7 +406,7 @@ export class LadderView {
             class: 'instr',
             'data-testid': `palette-${i.mnemonic}`,
             disabled: !can('edit'),
-            title: `${i.mnemonic}(${i.labels.join(', ')}) — ${i.title}: ${i.doc}${can('edit') ? '' : ` (${why('edit')})`}`,
+            title: paletteTitle(i),
             onclick: () => this.insertInstr(i),
           }, i.mnemonic))),
     );
@@ -417,7 +424,7 @@ export class LadderView {
     clear(this.propsEl);
     const sel = this.sel;
     if (!sel) {
-      this.propsEl.append(h('p', { class: 'hint' }, 'Click an element to select it, right-click to force or toggle its tag. Choose an instruction in the palette to insert it after (or before) the selection.'));
+      this.propsEl.append(h('p', { class: 'hint' }, tr('Click an element to select it, right-click to force or toggle its tag. Choose an instruction in the palette to insert it after (or before) the selection.')));
       return;
     }
     const rung = this.doc.rungs[sel.rung];
@@ -426,17 +433,17 @@ export class LadderView {
       const ta = h('textarea', { class: 'comment-input', 'data-testid': 'rung-comment-input', rows: '3', readonly: !can('edit'), title: why('edit') });
       ta.value = rung.comment.join('\n');
       this.propsEl.append(
-        h('h3', null, `Rung ${sel.rung + 1}`),
-        h('label', null, 'Comment'),
+        h('h3', null, tr('Rung {n}', { n: sel.rung + 1 })),
+        h('label', null, tr('Comment')),
         ta,
-        h('button', { 'data-testid': 'rung-comment-apply', disabled: !can('edit'), title: why('edit'), onclick: () => this.setComment(sel.rung, ta.value) }, 'Apply comment'),
+        h('button', { 'data-testid': 'rung-comment-apply', disabled: !can('edit'), title: why('edit'), onclick: () => this.setComment(sel.rung, ta.value) }, tr('Apply comment')),
       );
       return;
     }
     const el = rung.elements && getAt(rung.elements, toPath(sel.path));
     if (!el) return;
     if (el.kind === 'branch') {
-      this.propsEl.append(h('h3', null, `Branch (${el.legs.length} legs)`), h('p', { class: 'hint' }, '“Branch” adds a leg.'));
+      this.propsEl.append(h('h3', null, tr('Branch ({n} legs)', { n: el.legs.length })), h('p', { class: 'hint' }, tr('“Branch” adds a leg.')));
       return;
     }
     const info = instruction(el.mnemonic);
@@ -462,7 +469,7 @@ export class LadderView {
       this.propsEl,
       h('h3', null, `${el.mnemonic}`, info ? h('small', null, ` ${info.doc}`) : null),
       same.length > 1
-        ? h('label', null, 'Instruction ',
+        ? h('label', null, `${tr('Instruction')} `,
             h('select', {
               'data-testid': 'mnemonic-select',
               disabled: !can('edit'),
@@ -492,18 +499,18 @@ export class LadderView {
         this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
         return;
       }
-      list.append(h('li', { class: 'hint' }, `${tag}: ${uses.length} use${uses.length === 1 ? '' : 's'}`));
+      list.append(h('li', { class: 'hint' }, uses.length === 1 ? tr('{tag}: 1 use', { tag }) : tr('{tag}: {n} uses', { tag, n: uses.length })));
       uses.forEach((u, k) =>
         list.append(
           h('li', null,
             h('a', { href: `#/program/${u.program}`, 'data-testid': `use-${k}`, onclick: (e: Event) => { e.preventDefault(); revealUse(u); } },
-              `${u.program}${u.rung === null ? '' : ` rung ${u.rung + 1}`} · ${u.line}:${u.col}`),
-            ' ', h('code', null, u.instruction), u.write ? h('span', { class: 'writes' }, ' writes') : null),
+              `${u.program}${u.rung === null ? '' : ` ${tr('rung')} ${u.rung + 1}`} · ${u.line}:${u.col}`),
+            ' ', h('code', null, u.instruction), u.write ? h('span', { class: 'writes' }, ` ${tr('writes')}`) : null),
         ),
       );
     };
     return h('div', { class: 'uses-panel' },
-      h('span', { class: 'label' }, 'Where used: '),
+      h('span', { class: 'label' }, `${tr('Where used')}: `),
       tags.map((t) => h('button', { class: 'small', 'data-testid': `uses-${t}`, onclick: () => void show(t) }, t)),
       list);
   }
@@ -585,7 +592,7 @@ export class LadderView {
   private editRung(rung: number, f: (els: Elem[]) => Edited): void {
     const r = this.doc.rungs[rung];
     if (!r || !r.elements) {
-      this.ctx.notify('This rung does not parse: fix it in the text view first', 'error');
+      this.ctx.notify(tr('This rung does not parse: fix it in the text view first'), 'error');
       return;
     }
     let ed: Edited;
@@ -609,7 +616,7 @@ export class LadderView {
   private insertInstr(i: InstructionInfo): void {
     const sel = this.sel;
     if (!sel) {
-      this.ctx.notify('Select a rung or an element first', 'error');
+      this.ctx.notify(tr('Select a rung or an element first'), 'error');
       return;
     }
     const el = newInstr(i.mnemonic, i.args.length);
@@ -626,7 +633,7 @@ export class LadderView {
   private branch(): void {
     const sel = this.sel;
     if (!sel || sel.path === null) {
-      this.ctx.notify('Select an element to branch around', 'error');
+      this.ctx.notify(tr('Select an element to branch around'), 'error');
       return;
     }
     const r = this.doc.rungs[sel.rung];
@@ -684,18 +691,18 @@ export class LadderView {
   }
 
   private undo(): void {
-    if (!this.ed.undo()) this.ctx.notify('Nothing to undo');
+    if (!this.ed.undo()) this.ctx.notify(tr('Nothing to undo'));
   }
 
   private redo(): void {
-    if (!this.ed.redo()) this.ctx.notify('Nothing to redo');
+    if (!this.ed.redo()) this.ctx.notify(tr('Nothing to redo'));
   }
 
   /** Copies (or cuts) the selected rung, its comment included. */
   private copyRung(cut: boolean): void {
     const sel = this.sel;
     if (!sel) {
-      this.ctx.notify('Select a rung first', 'error');
+      this.ctx.notify(tr('Select a rung first'), 'error');
       return;
     }
     rungClipboard = this.chunks()[sel.rung] ?? null;
@@ -706,7 +713,7 @@ export class LadderView {
   /** Pastes the copied rung after the selected one (or at the end). */
   private pasteRung(): void {
     if (rungClipboard === null) {
-      this.ctx.notify('Copy a rung first', 'error');
+      this.ctx.notify(tr('Copy a rung first'), 'error');
       return;
     }
     const chunks = this.chunks();

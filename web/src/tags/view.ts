@@ -8,6 +8,7 @@ import type { Diagnostic, Json, TagInfo } from '../types';
 import { domain, isStructure, membersOf } from '../domain';
 import { parseValue } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
+import { tr } from '../i18n';
 
 interface Row {
   name: string;
@@ -55,7 +56,7 @@ function gated<E extends HTMLElement & { disabled: boolean }>(el: E, action: Act
 export class TagsView {
   readonly el: HTMLElement;
   private readonly body = h('tbody');
-  private readonly filterEl = h('input', { type: 'search', placeholder: 'Filter by name, type, address, description', 'data-testid': 'tag-filter' });
+  private readonly filterEl = h('input', { type: 'search', placeholder: tr('Filter by name, type, address, description'), 'data-testid': 'tag-filter' });
   private readonly formEl = h('div', { class: 'tag-form', hidden: true, 'data-testid': 'tag-form' });
   private readonly diagEl = h('ul', { class: 'problems', 'data-testid': 'tags-diagnostics' });
   private rows: { row: Row; tr: HTMLTableRowElement }[] = [];
@@ -69,7 +70,7 @@ export class TagsView {
     importInput.addEventListener('change', async () => {
       const f = importInput.files?.[0];
       importInput.value = '';
-      if (f) await this.putCsv(await f.text(), `Imported ${f.name}`);
+      if (f) await this.putCsv(await f.text(), tr('Imported {name}', { name: f.name }));
     });
     this.el = h(
       'section',
@@ -78,10 +79,10 @@ export class TagsView {
         'div',
         { class: 'toolbar' },
         this.filterEl,
-        gated(h('button', { 'data-testid': 'tag-add', onclick: () => void this.openForm(null) }, '+ New tag'), 'tags'),
-        gated(h('button', { 'data-testid': 'tags-import-button', onclick: () => importInput.click() }, 'Import CSV…'), 'tags'),
+        gated(h('button', { 'data-testid': 'tag-add', onclick: () => void this.openForm(null) }, `+ ${tr('New tag')}`), 'tags'),
+        gated(h('button', { 'data-testid': 'tags-import-button', onclick: () => importInput.click() }, tr('Import CSV…')), 'tags'),
         importInput,
-        h('a', { class: 'button', href: '/api/tags.csv', download: 'tags.csv', 'data-testid': 'tags-export' }, 'Export CSV'),
+        h('a', { class: 'button', href: '/api/tags.csv', download: 'tags.csv', 'data-testid': 'tags-export' }, tr('Export CSV')),
       ),
       this.formEl,
       this.diagEl,
@@ -91,7 +92,7 @@ export class TagsView {
         h(
           'table',
           { class: 'tags', 'data-testid': 'tag-table' },
-          h('thead', null, h('tr', null, ['Name', 'Type', 'Address', 'Value', 'Force', 'Description', ''].map((c) => h('th', null, c)))),
+          h('thead', null, h('tr', null, [tr('Name'), tr('Type'), tr('Address'), tr('Value'), tr('Force'), tr('Description'), ''].map((c) => h('th', null, c)))),
           this.body,
         ),
       ),
@@ -158,7 +159,7 @@ export class TagsView {
     if (!structured && row.access === 'readwrite' && !row.io) {
       if (row.type === 'BOOL') {
         valueCell.append(
-          gated(h('button', { class: 'small', 'data-testid': `tag-toggle-${row.name}`, onclick: () => void write(!(this.ctx.live.store.get(row.name) === true)) }, 'Toggle'), 'write'),
+          gated(h('button', { class: 'small', 'data-testid': `tag-toggle-${row.name}`, onclick: () => void write(!(this.ctx.live.store.get(row.name) === true)) }, tr('Toggle')), 'write'),
         );
       } else {
         const edit = () => {
@@ -181,7 +182,7 @@ export class TagsView {
           input.focus();
           input.select();
         };
-        valueCell.append(gated(h('button', { class: 'small', title: 'Edit the value', 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write'));
+        valueCell.append(gated(h('button', { class: 'small', title: tr('Edit the value'), 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write'));
       }
     }
     valueCell.append(errorEl);
@@ -207,17 +208,17 @@ export class TagsView {
           gated(h('button', { class: 'small', 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'), 'force'),
         );
       } else {
-        const input = gated(h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: 'value', size: 6 }), 'force');
-        forceCell.append(input, gated(h('button', { class: 'small', 'data-testid': `force-apply-${row.name}`, onclick: () => void force(parseValue(row.type, input.value)) }, 'Force'), 'force'));
+        const input = gated(h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: tr('value'), size: 6 }), 'force');
+        forceCell.append(input, gated(h('button', { class: 'small', 'data-testid': `force-apply-${row.name}`, onclick: () => void force(parseValue(row.type, input.value)) }, tr('Force')), 'force'));
       }
-      forceCell.append(gated(h('button', { class: 'small', 'data-testid': `unforce-${row.name}`, disabled: !isForced, onclick: () => void force(null) }, 'Unforce'), 'force'));
+      forceCell.append(gated(h('button', { class: 'small', 'data-testid': `unforce-${row.name}`, disabled: !isForced, onclick: () => void force(null) }, tr('Unforce')), 'force'));
     }
 
     const actions = h('td', { class: 'actions' });
     if (t && t.access !== 'readonly' && !t.name.includes(':')) {
       actions.append(
-        gated(h('button', { class: 'small', 'data-testid': `tag-def-edit-${row.name}`, onclick: () => void this.openForm(row.name) }, 'Edit'), 'tags'),
-        gated(h('button', { class: 'small danger', 'data-testid': `tag-def-delete-${row.name}`, onclick: () => void this.deleteDef(row.name) }, 'Delete'), 'tags'),
+        gated(h('button', { class: 'small', 'data-testid': `tag-def-edit-${row.name}`, onclick: () => void this.openForm(row.name) }, tr('Edit')), 'tags'),
+        gated(h('button', { class: 'small danger', 'data-testid': `tag-def-delete-${row.name}`, onclick: () => void this.deleteDef(row.name) }, tr('Delete')), 'tags'),
       );
     }
     return h(
@@ -250,7 +251,7 @@ export class TagsView {
     };
     const nameIn = h('input', { value: def.name, autocomplete: 'off' });
     const typeIn = h('select', null, domain().types.map(({ name: t }) => h('option', { value: t, selected: t === def.type.toUpperCase() }, t)));
-    const addrIn = h('input', { value: def.address, placeholder: 'internal, or DI:1/0, %QX0.1, AI:3/0…' });
+    const addrIn = h('input', { value: def.address, placeholder: tr('internal, or DI:1/0, %QX0.1, AI:3/0…') });
     const initIn = h('input', { value: def.initial });
     const retainIn = h('input', { type: 'checkbox', checked: /^(1|true|yes)$/i.test(def.retain) });
     const descIn = h('input', { value: def.description, size: 40 });
@@ -275,22 +276,22 @@ export class TagsView {
       if (idx >= 0) defs[idx] = nd;
       else defs.push(nd);
       const next = { columns: file.columns, defs };
-      if (await this.putCsv(tagsCsv(next), idx >= 0 ? `Tag ${nd.name} changed` : `Tag ${nd.name} added`, next)) this.closeForm();
+      if (await this.putCsv(tagsCsv(next), idx >= 0 ? tr('Tag {name} changed', { name: nd.name }) : tr('Tag {name} added', { name: nd.name }), next)) this.closeForm();
     };
     clear(this.formEl);
     this.formEl.append(
-      h('h3', null, idx >= 0 ? `Edit ${def.name}` : 'New tag'),
+      h('h3', null, idx >= 0 ? tr('Edit {name}', { name: def.name }) : tr('New tag')),
       h('div', { class: 'fields' },
-        field('name', 'Name', nameIn),
-        field('type', 'Type', typeIn),
-        field('address', 'Address', addrIn),
-        field('initial', 'Initial', initIn),
-        field('retain', 'Retain', retainIn),
-        field('description', 'Description', descIn)),
+        field('name', tr('Name'), nameIn),
+        field('type', tr('Type'), typeIn),
+        field('address', tr('Address'), addrIn),
+        field('initial', tr('Initial'), initIn),
+        field('retain', tr('Retain'), retainIn),
+        field('description', tr('Description'), descIn)),
       err,
       h('div', { class: 'buttons' },
-        h('button', { class: 'primary', 'data-testid': 'tag-form-save', onclick: () => void save() }, 'Save to tags.csv'),
-        h('button', { 'data-testid': 'tag-form-cancel', onclick: () => this.closeForm() }, 'Cancel')),
+        h('button', { class: 'primary', 'data-testid': 'tag-form-save', onclick: () => void save() }, tr('Save to tags.csv')),
+        h('button', { 'data-testid': 'tag-form-cancel', onclick: () => this.closeForm() }, tr('Cancel'))),
     );
     this.formEl.hidden = false;
     nameIn.focus();
@@ -302,11 +303,11 @@ export class TagsView {
   }
 
   private async deleteDef(name: string): Promise<void> {
-    if (!confirm(`Delete the tag ${name} from tags.csv?`)) return;
+    if (!confirm(tr('Delete the tag {name} from tags.csv?', { name }))) return;
     const file = await this.loadFile();
     const defs = file.defs.filter((d) => d.name.toUpperCase() !== name.toUpperCase());
     const next = { columns: file.columns, defs };
-    await this.putCsv(tagsCsv(next), `Tag ${name} deleted`, next);
+    await this.putCsv(tagsCsv(next), tr('Tag {name} deleted', { name }), next);
   }
 
   /** PUT /api/tags.csv; shows the diagnostics (with the row they point at) on failure. */
@@ -323,9 +324,9 @@ export class TagsView {
       const rowName = (d: Diagnostic) => {
         if (!file || d.line === null) return '';
         const k = lines.indexOf(d.line);
-        return k >= 0 ? ` (tag ${file.defs[k].name || '#' + (k + 1)})` : '';
+        return k >= 0 ? ` (${tr('tag {name}', { name: file.defs[k].name || '#' + (k + 1) })})` : '';
       };
-      this.diagEl.append(h('li', { class: 'problem head' }, `tags.csv not saved: ${err.message}`));
+      this.diagEl.append(h('li', { class: 'problem head' }, tr('tags.csv not saved: {m}', { m: err.message })));
       err.diagnostics.forEach((d, k) =>
         this.diagEl.append(
           h('li', { class: 'problem', 'data-testid': `tags-diagnostic-${k}` },
@@ -334,7 +335,7 @@ export class TagsView {
             d.message, rowName(d), d.help ? ` — ${d.help}` : ''),
         ),
       );
-      this.ctx.notify(`tags.csv not saved: ${err.message}`, 'error');
+      this.ctx.notify(tr('tags.csv not saved: {m}', { m: err.message }), 'error');
       return false;
     }
   }

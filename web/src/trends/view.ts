@@ -18,6 +18,7 @@ import { can } from '../auth';
 import type { History, TrendPen } from '../types';
 import { type PenSpec, axesInUse, clampToNow, fixedRange, fromLane, laneRange, lanesOf, scaleOf, toLane } from './axes';
 import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
+import { clockTime, locale, tr } from '../i18n';
 
 const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#7f7f7f', '#bcbd22'];
 const WINDOWS: [string, number][] = [
@@ -28,11 +29,11 @@ const WINDOWS: [string, number][] = [
   ['1 h', 3600e3],
 ];
 const RANGES: [string, number][] = [
-  ['last 15 min', 900e3],
-  ['last 1 h', 3600e3],
-  ['last 8 h', 8 * 3600e3],
-  ['last 24 h', 24 * 3600e3],
-  ['last 7 days', 7 * 24 * 3600e3],
+  [tr('last 15 min'), 900e3],
+  [tr('last 1 h'), 3600e3],
+  [tr('last 8 h'), 8 * 3600e3],
+  [tr('last 24 h'), 24 * 3600e3],
+  [tr('last 7 days'), 7 * 24 * 3600e3],
 ];
 const STORE_KEY = 'alba.trends.pens';
 /** How far before a backfilled window to look for the value held at its start. */
@@ -70,7 +71,7 @@ export class TrendsView {
   private readonly plotEl = h('div', { class: 'trend-plot', 'data-testid': 'trend-plot' });
   private readonly pensEl = h('div', { class: 'pens', 'data-testid': 'trend-pens' });
   private readonly statusEl = h('span', { class: 'trend-status', 'data-testid': 'trend-status' });
-  private readonly penInput = h('input', { list: 'trend-tags', placeholder: 'Tag to plot', 'data-testid': 'trend-pen-input', autocomplete: 'off' });
+  private readonly penInput = h('input', { list: 'trend-tags', placeholder: tr('Tag to plot'), 'data-testid': 'trend-pen-input', autocomplete: 'off' });
   private readonly datalist = h('datalist', { id: 'trend-tags' });
   private readonly resize = new ResizeObserver(() => this.fit());
 
@@ -102,7 +103,7 @@ export class TrendsView {
           }
         },
       },
-      h('option', { value: '' }, 'History…'),
+      h('option', { value: '' }, tr('History…')),
       RANGES.map(([l, ms]) => h('option', { value: ms }, l)),
     );
     this.el = h(
@@ -113,22 +114,22 @@ export class TrendsView {
         { class: 'toolbar' },
         this.penInput,
         this.datalist,
-        h('button', { 'data-testid': 'trend-pen-add', onclick: () => this.addPen(this.penInput.value) }, '+ Pen'),
+        h('button', { 'data-testid': 'trend-pen-add', onclick: () => this.addPen(this.penInput.value) }, `+ ${tr('Pen')}`),
         h('span', { class: 'seg' },
-          h('button', { 'data-testid': 'trend-live', onclick: () => this.setLive() }, '● Live'),
-          ' window ', windowSel),
+          h('button', { 'data-testid': 'trend-live', onclick: () => this.setLive() }, `● ${tr('Live')}`),
+          ` ${tr('window')} `, windowSel),
         h('span', { class: 'seg' },
           rangeSel,
-          h('button', { 'data-testid': 'trend-pan-left', title: 'Earlier', onclick: () => this.pan(-0.5) }, '◀'),
-          h('button', { 'data-testid': 'trend-pan-right', title: 'Later', onclick: () => this.pan(0.5) }, '▶'),
-          h('button', { 'data-testid': 'trend-zoom-out', title: 'Zoom out', onclick: () => this.zoom(2) }, '−'),
-          h('button', { 'data-testid': 'trend-zoom-in', title: 'Zoom in', onclick: () => this.zoom(0.5) }, '+')),
-        h('button', { 'data-testid': 'trend-export-csv', onclick: () => void this.exportCsv() }, 'Export CSV'),
+          h('button', { 'data-testid': 'trend-pan-left', title: tr('Earlier'), onclick: () => this.pan(-0.5) }, '◀'),
+          h('button', { 'data-testid': 'trend-pan-right', title: tr('Later'), onclick: () => this.pan(0.5) }, '▶'),
+          h('button', { 'data-testid': 'trend-zoom-out', title: tr('Zoom out'), onclick: () => this.zoom(2) }, '−'),
+          h('button', { 'data-testid': 'trend-zoom-in', title: tr('Zoom in'), onclick: () => this.zoom(0.5) }, '+')),
+        h('button', { 'data-testid': 'trend-export-csv', onclick: () => void this.exportCsv() }, tr('Export CSV')),
         this.statusEl,
       ),
       this.pensEl,
       this.plotEl,
-      h('p', { class: 'hint' }, 'Drag across the plot to zoom into the history; the wheel zooms, ◀ ▶ pan, Live returns to the scrolling view.'),
+      h('p', { class: 'hint' }, tr('Drag across the plot to zoom into the history; the wheel zooms, ◀ ▶ pan, Live returns to the scrolling view.')),
     );
     ctx.live.onRaw((m) => {
       if (m.type !== 'values') return;
@@ -208,7 +209,7 @@ export class TrendsView {
         this.backfill(this.tags());
       }
     } catch (e) {
-      this.ctx.notify(`Trends: ${e instanceof Error ? e.message : String(e)}`, 'error');
+      this.ctx.notify(tr('Trends: {m}', { m: e instanceof Error ? e.message : String(e) }), 'error');
     }
   }
 
@@ -218,7 +219,7 @@ export class TrendsView {
     if (this.saveTimer) clearTimeout(this.saveTimer);
     this.saveTimer = setTimeout(() => {
       api.saveTrends({ version: 1, window_ms: this.windowMs, pens: this.pens }).catch((e) =>
-        this.ctx.notify(`Trends not saved: ${e instanceof Error ? e.message : String(e)}`, 'error'),
+        this.ctx.notify(tr('Trends not saved: {m}', { m: e instanceof Error ? e.message : String(e) }), 'error'),
       );
     }, 500);
   }
@@ -242,7 +243,7 @@ export class TrendsView {
     if (!n) return;
     const ref = this.ctx.tags.resolve(n);
     if (!ref || isStructure(ref.type)) {
-      this.ctx.notify(`${n}: not a tag or member that can be plotted (pick a BOOL or a number)`, 'error');
+      this.ctx.notify(tr('{name}: not a tag or member that can be plotted (pick a BOOL or a number)', { name: n }), 'error');
       return;
     }
     const added = !this.pens.some((p) => p.tag.toUpperCase() === ref.name.toUpperCase());
@@ -278,8 +279,8 @@ export class TrendsView {
           type: 'number',
           class: 'scale',
           step: 'any',
-          placeholder: which === 'min' ? 'min' : 'max',
-          title: 'A fixed scale for this axis (both min and max); empty: automatic',
+          placeholder: which === 'min' ? tr('min') : tr('max'),
+          title: tr('A fixed scale for this axis (both min and max); empty: automatic'),
           value: pen[which] ?? '',
           'data-testid': `trend-${which}-${p}`,
           onchange: () => {
@@ -288,20 +289,20 @@ export class TrendsView {
           },
         });
       const controls = specs[k].digital
-        ? h('span', { class: 'hint' }, 'on/off lane')
+        ? h('span', { class: 'hint' }, tr('on/off lane'))
         : h('span', null,
-            h('select', { 'data-testid': `trend-axis-${p}`, title: 'The y axis this pen shares (1, 3 left; 2, 4 right)', onchange: (e: Event) => this.setPen(p, { axis: Number((e.target as HTMLSelectElement).value) }) },
-              [1, 2, 3, 4].map((a) => h('option', { value: a, selected: a === pen.axis }, `axis ${a}`))),
+            h('select', { 'data-testid': `trend-axis-${p}`, title: tr('The y axis this pen shares (1, 3 left; 2, 4 right)'), onchange: (e: Event) => this.setPen(p, { axis: Number((e.target as HTMLSelectElement).value) }) },
+              [1, 2, 3, 4].map((a) => h('option', { value: a, selected: a === pen.axis }, tr('axis {n}', { n: a })))),
             num('min'), num('max'));
       this.pensEl.append(
         h('span', { class: 'pen', 'data-testid': `trend-pen-${p}`, style: { borderColor: COLORS[k % COLORS.length] } },
           h('span', { class: 'swatch', style: { background: COLORS[k % COLORS.length] } }),
           p,
           controls,
-          h('button', { class: 'small', title: `Remove ${p}`, 'data-testid': `trend-pen-remove-${p}`, onclick: () => this.removePen(p) }, '×')),
+          h('button', { class: 'small', title: tr('Remove {name}', { name: p }), 'data-testid': `trend-pen-remove-${p}`, onclick: () => this.removePen(p) }, '×')),
       );
     });
-    if (this.pens.length === 0) this.pensEl.append(h('span', { class: 'hint' }, 'No pens: add a tag to plot.'));
+    if (this.pens.length === 0) this.pensEl.append(h('span', { class: 'hint' }, tr('No pens: add a tag to plot.')));
   }
 
   private renderDatalist(): void {
@@ -313,9 +314,9 @@ export class TrendsView {
   private renderStatus(text?: string): void {
     let s: string;
     if (text) s = text;
-    else if (this.mode.kind === 'live') s = `live, last ${WINDOWS.find(([, ms]) => ms === this.windowMs)?.[0] ?? ''}`;
-    else s = `${new Date(this.mode.from).toLocaleString()} – ${new Date(this.mode.to).toLocaleTimeString()}`;
-    if (this.historyAvailable === false) s += ' · history not available on this server (live buffer only)';
+    else if (this.mode.kind === 'live') s = tr('live, last {window}', { window: WINDOWS.find(([, ms]) => ms === this.windowMs)?.[0] ?? '' });
+    else s = `${new Date(this.mode.from).toLocaleString(locale())} – ${clockTime(this.mode.to)}`;
+    if (this.historyAvailable === false) s += ` · ${tr('history not available on this server (live buffer only)')}`;
     this.statusEl.textContent = s;
   }
 
@@ -553,7 +554,7 @@ export class TrendsView {
     const { from, to } = this.mode;
     const seq = ++this.fetchSeq;
     const points = this.plotWidth();
-    this.renderStatus('loading history…');
+    this.renderStatus(tr('loading history…'));
     let hs: History[];
     try {
       hs = await Promise.all(
@@ -572,7 +573,7 @@ export class TrendsView {
         this.rebuild(); // falls back to the live buffer
         return;
       }
-      this.renderStatus(`history: ${e instanceof Error ? e.message : String(e)}`);
+      this.renderStatus(tr('history: {m}', { m: e instanceof Error ? e.message : String(e) }));
       return;
     }
     if (seq !== this.fetchSeq || !this.plot) return;
@@ -590,7 +591,7 @@ export class TrendsView {
 
   private async exportCsv(): Promise<void> {
     if (this.pens.length === 0) {
-      this.ctx.notify('Add a pen first', 'error');
+      this.ctx.notify(tr('Add a pen first'), 'error');
       return;
     }
     const [from, to] = this.range();
@@ -599,7 +600,7 @@ export class TrendsView {
       const text = await api.text(url);
       download('trend.csv', text, true);
     } catch (e) {
-      this.ctx.notify(`CSV export failed: ${(e as Error).message}`, 'error');
+      this.ctx.notify(tr('CSV export failed: {m}', { m: (e as Error).message }), 'error');
     }
   }
 }

@@ -7,23 +7,24 @@ import { api } from '../api';
 import { gate } from '../auth';
 import { clear, h } from '../dom';
 import type { Alarm, AlarmStats } from '../types';
+import { clockTime, tr } from '../i18n';
 
 /** The strings of the banner (one place; a Spanish catalogue comes later). */
 export const alarmText = {
-  waiting: (n: number) => (n === 1 ? '1 alarm to acknowledge' : `${n} alarms to acknowledge`),
-  flood: 'alarm flood: more than 10 new alarms in 10 minutes',
-  show: 'Alarms',
-  hide: 'Hide',
-  ack: 'Acknowledge',
-  none: 'No alarms.',
+  waiting: (n: number) => (n === 1 ? tr('1 alarm to acknowledge') : tr('{n} alarms to acknowledge', { n })),
+  flood: tr('alarm flood: more than 10 new alarms in 10 minutes'),
+  show: tr('Alarms'),
+  hide: tr('Hide'),
+  ack: tr('Acknowledge'),
+  none: tr('No alarms.'),
   state: {
-    active_unacked: 'active, not acknowledged',
-    active_acked: 'active, acknowledged',
-    cleared_unacked: 'cleared, not acknowledged',
-    shelved: 'shelved',
-    suppressed: 'suppressed',
-    out_of_service: 'out of service',
-    normal: 'normal',
+    active_unacked: tr('active, not acknowledged'),
+    active_acked: tr('active, acknowledged'),
+    cleared_unacked: tr('cleared, not acknowledged'),
+    shelved: tr('shelved'),
+    suppressed: tr('suppressed'),
+    out_of_service: tr('out of service'),
+    normal: tr('normal'),
   } as Record<string, string>,
 };
 
@@ -91,7 +92,7 @@ export class AlarmBanner {
           h('td', null, a.id),
           h('td', null, a.message),
           h('td', null, alarmText.state[a.state] ?? a.state),
-          h('td', null, new Date(a.since_ms).toLocaleTimeString()),
+          h('td', null, clockTime(a.since_ms)),
           h('td', null, ack),
         ),
       );

@@ -7,20 +7,20 @@ import { clear, h } from '../dom';
 import type { Freshness } from '../live/freshness';
 import type { Force, Status } from '../types';
 import { confirmAction } from './confirm';
+import { clockTime as clock, tr } from '../i18n';
 
 export const bannerText = {
-  stale: (since: string) => `Not live: no data since ${since}. The values shown are from then; reconnecting…`,
-  stopped: (since: string) => `The PLC is stopped (since ${since}): values do not change.`,
-  faulted: (since: string, fault: string) => `The PLC is faulted (since ${since}): ${fault}`,
-  forces: (n: number) => (n === 1 ? '1 force active' : `${n} forces active`),
-  removeAll: 'Remove all',
-  show: 'List',
-  hide: 'Hide',
-  confirmRemoveTitle: 'Remove every force?',
-  confirmRemove: (n: number) => `${n === 1 ? 'The forced input or output' : `The ${n} forced inputs and outputs`} will follow the program and the plant again at once.`,
+  stale: (since: string) => tr('Not live: no data since {since}. The values shown are from then; reconnecting…', { since }),
+  stopped: (since: string) => tr('The PLC is stopped (since {since}): values do not change.', { since }),
+  faulted: (since: string, fault: string) => tr('The PLC is faulted (since {since}): {fault}', { since, fault }),
+  forces: (n: number) => (n === 1 ? tr('1 force active') : tr('{n} forces active', { n })),
+  removeAll: tr('Remove all'),
+  show: tr('List'),
+  hide: tr('Hide'),
+  confirmRemoveTitle: tr('Remove every force?'),
+  confirmRemove: (n: number) => n === 1 ? tr('The forced input or output will follow the program and the plant again at once.') : tr('The {n} forced inputs and outputs will follow the program and the plant again at once.', { n }),
 };
 
-const clock = (ms: number) => new Date(ms).toLocaleTimeString();
 
 export class StaleBanner {
   readonly el = h('div', { class: 'stale-banner', role: 'status', 'data-testid': 'stale-banner', hidden: true });

@@ -1,8 +1,9 @@
 // A modal confirmation for actions that change the plant (Stop, Run, remove
 // every force): says what will happen, defaults to Cancel, Escape cancels.
 import { h } from '../dom';
+import { tr } from '../i18n';
 
-export const confirmText = { cancel: 'Cancel' };
+export const confirmText = { cancel: tr('Cancel') };
 
 /** Asks; resolves true when the user confirms with `ok`. */
 export function confirmAction(title: string, message: string, ok: string): Promise<boolean> {

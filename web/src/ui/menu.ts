@@ -1,5 +1,6 @@
 // A context menu at the mouse: a list of items, closed by a click elsewhere or Escape.
 import { h } from '../dom';
+import { tr } from '../i18n';
 
 export interface MenuItem {
   label: string;
@@ -23,7 +24,7 @@ export function showMenu(x: number, y: number, title: string, items: MenuItem[])
     'div',
     { class: 'menu', role: 'menu', 'data-testid': 'context-menu', style: { left: `${x}px`, top: `${y}px` } },
     h('div', { class: 'menu-title' }, title),
-    items.length === 0 ? h('div', { class: 'menu-empty' }, 'No actions for this element') : null,
+    items.length === 0 ? h('div', { class: 'menu-empty' }, tr('No actions for this element')) : null,
     items.map((it) =>
       h(
         'button',

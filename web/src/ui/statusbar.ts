@@ -5,14 +5,17 @@ import { type Me, whoLabel } from '../auth';
 import type { ConnState } from '../live/client';
 import { h } from '../dom';
 import type { Status } from '../types';
+import { tr } from '../i18n';
 
 /** The strings of the status bar that are not field values. */
 const text = {
-  signOut: 'Sign out',
-  signOutTitle: 'End the session',
-  storeProblems: (n: number) => (n === 1 ? '1 storage problem' : `${n} storage problems`),
-  retainLost: 'retentive data lost',
-  notLive: 'not live',
+  signOut: tr('Sign out'),
+  signOutTitle: tr('End the session'),
+  storeProblems: (n: number) => (n === 1 ? tr('1 storage problem') : tr('{n} storage problems', { n })),
+  retainLost: tr('retentive data lost'),
+  notLive: tr('not live'),
+  state: { running: tr('running'), stopped: tr('stopped'), faulted: tr('faulted') } as Record<string, string>,
+  conn: { connecting: tr('connecting'), connected: tr('connected'), reconnecting: tr('reconnecting') } as Record<string, string>,
 };
 
 export class StatusBar {
@@ -35,10 +38,10 @@ export class StatusBar {
       'footer',
       { class: 'statusbar', 'data-testid': 'statusbar' },
       field('state', ''),
-      field('scan-last', 'scan'),
-      field('scan-max', 'max'),
-      field('overruns', 'overruns'),
-      field('scans', 'scans'),
+      field('scan-last', tr('scan')),
+      field('scan-max', tr('max')),
+      field('overruns', tr('overruns')),
+      field('scans', tr('scans')),
       field('fault', ''),
       field('store', ''),
       h('span', { class: 'spacer' }),
@@ -81,7 +84,7 @@ export class StatusBar {
   }
 
   private showState(): void {
-    const state = this.notLive ? text.notLive : this.lastState;
+    const state = this.notLive ? text.notLive : (text.state[this.lastState] ?? this.lastState);
     this.set('state', state);
     this.spans.state.dataset.state = this.notLive ? 'stale' : this.lastState;
   }
@@ -98,7 +101,7 @@ export class StatusBar {
   }
 
   conn(c: ConnState): void {
-    this.set('conn', c);
+    this.set('conn', text.conn[c] ?? c);
     this.spans.conn.dataset.conn = c;
   }
 }

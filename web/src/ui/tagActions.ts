@@ -4,6 +4,7 @@ import { can, why } from '../auth';
 import type { Ctx } from '../ctx';
 import type { Json } from '../types';
 import type { MenuItem } from './menu';
+import { tr } from '../i18n';
 
 async function act(ctx: Ctx, what: Promise<unknown>, forces: boolean): Promise<void> {
   try {
@@ -38,24 +39,24 @@ export function tagMenuItems(ctx: Ctx, operand: string, suffix = ''): MenuItem[]
   const write = { disabled: !can('write'), title: why('write') };
   if (ref.io) {
     if (ref.type === 'BOOL') {
-      items.push({ label: `Force ON${label}`, testid: `menu-force-on${suffix}`, ...force, action: () => void act(ctx, api.force(name, true), true) });
-      items.push({ label: `Force OFF${label}`, testid: `menu-force-off${suffix}`, ...force, action: () => void act(ctx, api.force(name, false), true) });
+      items.push({ label: tr('Force ON') + label, testid: `menu-force-on${suffix}`, ...force, action: () => void act(ctx, api.force(name, true), true) });
+      items.push({ label: tr('Force OFF') + label, testid: `menu-force-off${suffix}`, ...force, action: () => void act(ctx, api.force(name, false), true) });
     } else {
       items.push({
-        label: `Force value…${label}`,
+        label: tr('Force value…') + label,
         testid: `menu-force-value${suffix}`,
         ...force,
         action: () => {
-          const v = prompt(`Force ${name} (${ref.type}) to:`);
+          const v = prompt(tr('Force {name} ({type}) to:', { name, type: ref.type }));
           if (v !== null) void act(ctx, api.force(name, parseValue(ref.type, v)), true);
         },
       });
     }
-    items.push({ label: `Unforce${label}`, testid: `menu-unforce${suffix}`, disabled: !isForced || force.disabled, title: force.title, action: () => void act(ctx, api.unforce(name), true) });
+    items.push({ label: tr('Unforce') + label, testid: `menu-unforce${suffix}`, disabled: !isForced || force.disabled, title: force.title, action: () => void act(ctx, api.unforce(name), true) });
   }
   if (ref.access === 'readwrite' && ref.type === 'BOOL' && !ref.io) {
     items.push({
-      label: `Toggle${label}`,
+      label: tr('Toggle') + label,
       testid: `menu-toggle${suffix}`,
       ...write,
       action: () => void act(ctx, api.writeTag(name, !(ctx.live.store.get(name) === true)), false),
@@ -63,11 +64,11 @@ export function tagMenuItems(ctx: Ctx, operand: string, suffix = ''): MenuItem[]
   }
   if (ref.access === 'readwrite' && ref.type !== 'BOOL') {
     items.push({
-      label: `Set value…${label}`,
+      label: tr('Set value…') + label,
       testid: `menu-set-value${suffix}`,
       ...write,
       action: () => {
-        const v = prompt(`New value of ${name} (${ref.type}):`, String(ctx.live.store.get(name) ?? ''));
+        const v = prompt(tr('New value of {name} ({type}):', { name, type: ref.type }), String(ctx.live.store.get(name) ?? ''));
         if (v !== null) void act(ctx, api.writeTag(name, parseValue(ref.type, v)), false);
       },
     });
