@@ -133,6 +133,11 @@ test('rungs are copied, pasted, undone and redone; the text view numbers its lin
   let now = code(await text());
   assert.equal(now.length, 12);
   assert.equal(now[11], before[6]);
+  // Edited and not saved: the unchanged rungs keep their power flow.
+  const saved = await alba.json('/api/programs/main.lad');
+  await page.locator(`[data-testid="el-${elementId(saved, 'OTE', ['L_RUN'])}"][data-on="true"]`).waitFor();
+  assert.match(await tid('edit-state').textContent(), /edited — not saved \(power flow on the unchanged rungs\)/);
+  assert.equal(await tid('el-r11-0').getAttribute('data-on'), 'false', 'the pasted rung has no power flow yet');
   // Undo takes it away, redo puts it back; the buttons do the same.
   await page.keyboard.press('Control+Z');
   await tid('rung-11').waitFor({ state: 'detached' });

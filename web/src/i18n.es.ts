@@ -31,6 +31,7 @@ export const es: Record<string, string> = {
   '{program} saved': '{program} guardado',
   '{program} not saved: {m}': '{program} no se guardó: {m}',
   'edited — not saved (monitoring paused)': 'editado — sin guardar (monitoreo en pausa)',
+  'edited — not saved (power flow on the unchanged rungs)': 'editado — sin guardar (flujo de potencia en los escalones sin cambios)',
   online: 'en línea',
   'checking…': 'verificando…',
   '1 problem': '1 problema',

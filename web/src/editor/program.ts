@@ -228,6 +228,17 @@ export class ProgramEditor {
     ];
   }
 
+  /**
+   * The view shows power flow on the unchanged parts while the text is edited
+   * (the ladder view: unchanged rungs keep the running program's ids).
+   */
+  keepsPowerWhileEdited = false;
+
+  /** The running program's power flow can be shown: the program runs and the connection is live. */
+  get live(): boolean {
+    return this.ctx.live.status?.state === 'running' && this.ctx.live.state === 'connected';
+  }
+
   /** Power flow is shown only for the saved text of a running program with a live connection. */
   get monitoring(): boolean {
     return !this.dirty && this.ctx.live.status?.state === 'running' && this.ctx.live.state === 'connected';
@@ -236,7 +247,11 @@ export class ProgramEditor {
   renderState(): void {
     const n = this.mine().length;
     this.stateEl.textContent = [
-      this.dirty ? tr('edited — not saved (monitoring paused)') : tr('online'),
+      !this.dirty
+        ? tr('online')
+        : this.keepsPowerWhileEdited
+          ? tr('edited — not saved (power flow on the unchanged rungs)')
+          : tr('edited — not saved (monitoring paused)'),
       this.checking ? tr('checking…') : '',
       n === 1 ? tr('1 problem') : n > 1 ? tr('{n} problems', { n }) : '',
     ]

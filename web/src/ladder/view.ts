@@ -154,6 +154,7 @@ export class LadderView {
       this.datalists,
     );
     this.ed.section = this.el;
+    this.ed.keepsPowerWhileEdited = true;
     if (localStorage.getItem(ANNOTATE_KEY) === '1') this.toggleAnnotations(true);
     this.renderPalette();
     this.setMode('graphic');
@@ -229,9 +230,32 @@ export class LadderView {
   private textChanged(): void {
     this.doc = parseProgram(this.ed.text);
     if (!this.dirty) attachIds(this.doc, this.serverRungs);
+    else this.keepIdsOfUnchangedRungs();
     if (this.sel && this.sel.rung >= this.doc.rungs.length) this.sel = null;
     this.render();
     if (this.active) this.subscribe();
+  }
+
+  /**
+   * While the text is edited, a rung whose instructions are those of a rung of
+   * the running program (same text, comments aside; matched in order) keeps
+   * that rung's element ids, so its power flow stays on screen; edited and new
+   * rungs have none until the edit is saved.
+   */
+  private keepIdsOfUnchangedRungs(): void {
+    const saved = parseProgram(this.ed.savedText);
+    attachIds(saved, this.serverRungs);
+    const key = (body: string) => body.replace(/\s+/g, '');
+    const pool = new Map<string, Elem[][]>();
+    for (const r of saved.rungs) if (r.elements) pool.set(key(r.body), [...(pool.get(key(r.body)) ?? []), r.elements]);
+    for (const r of this.doc.rungs) {
+      const from = r.elements ? pool.get(key(r.body))?.shift() : undefined;
+      if (!from || !r.elements) continue;
+      const ids: (number | null | undefined)[] = [];
+      walk(from, (e) => ids.push(e.id));
+      let k = 0;
+      walk(r.elements, (e) => (e.id = ids[k++] ?? null));
+    }
   }
 
   /** POST /api/check with the current text; updates the problems. */
@@ -366,7 +390,7 @@ export class LadderView {
   }
 
   private paintPower(): void {
-    const running = this.ed.monitoring;
+    const running = this.ed.live;
     this.views.forEach((v) => v.setPower(this.ed.on, running));
   }
 
