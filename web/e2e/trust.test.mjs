@@ -166,6 +166,13 @@ test('rungs are copied, pasted, undone and redone; the text view numbers its lin
   await tid('btn-annotate').click();
   await page.waitForFunction(() => !document.querySelector('[data-testid^="annotation-"]'));
   assert.deepEqual(await notesOf('FILL'), []);
+  // Drag and drop from the palette: XIO dropped on the left half of XIC(FILL) goes before it.
+  await tid('palette-group-bit').click();
+  const fillContact = page.locator('g.el', { has: page.locator('text.operand', { hasText: /^FILL$/ }) }).first();
+  await tid('palette-XIO').dragTo(fillContact, { targetPosition: { x: 3, y: 30 } });
+  await page.waitForFunction(() => document.querySelector('[data-testid="editor-text"]').value.includes('XIO(?)XIC(FILL)'));
+  await tid('btn-undo').click();
+  await page.waitForFunction(() => !document.querySelector('[data-testid="editor-text"]').value.includes('XIO(?)'));
   // The text view: line numbers, and an error marked on its line.
   await tid('view-text').click();
   const lines = (await text()).split('\n').length;

@@ -27,6 +27,8 @@ import { type RungView, pathFromEvent, renderRung } from './render';
 import { tr } from '../i18n';
 
 const ANNOTATE_KEY = 'alba.ladder.annotate';
+/** What a palette button carries when dragged. */
+const DRAG_TYPE = 'application/x-alba-instruction';
 
 /** A palette button's tooltip: the signature, what it does, and why it is disabled. */
 function paletteTitle(i: InstructionInfo): string {
@@ -89,6 +91,12 @@ export class LadderView {
     this.rungsEl.addEventListener('click', (e) => this.onClick(e));
     this.rungsEl.addEventListener('contextmenu', (e) => this.onContextMenu(e));
     this.rungsEl.addEventListener('keydown', (e) => this.onKey(e));
+    // Drag from the palette: dropped on an element, it goes before or after it (by the
+    // side it lands on); on a rung's empty space, into that rung as a click would put it.
+    this.rungsEl.addEventListener('dragover', (e) => {
+      if (can('edit') && e.dataTransfer?.types.includes(DRAG_TYPE)) e.preventDefault();
+    });
+    this.rungsEl.addEventListener('drop', (e) => this.onDrop(e));
     const modeBtn = (m: 'graphic' | 'text', label: string) =>
       h('button', { class: 'mode', 'data-testid': `view-${m}`, onclick: () => this.setMode(m) }, label);
     // editing needs the engineer role: the edit tools are disabled otherwise, saying why
@@ -431,6 +439,8 @@ export class LadderView {
             'data-testid': `palette-${i.mnemonic}`,
             disabled: !can('edit'),
             title: paletteTitle(i),
+            draggable: can('edit') ? 'true' : 'false',
+            ondragstart: (e: DragEvent) => e.dataTransfer?.setData(DRAG_TYPE, i.mnemonic),
             onclick: () => this.insertInstr(i),
           }, i.mnemonic))),
     );
@@ -578,6 +588,21 @@ export class LadderView {
     const single = shapeOf(el.mnemonic) !== 'box' || ops.length <= 1;
     const items = single ? (ops[0] ? tagMenuItems(this.ctx, ops[0]) : []) : ops.flatMap((o) => tagMenuItems(this.ctx, o, `-${o}`));
     showMenu(e.clientX, e.clientY, `${el.mnemonic}(${el.operands.join(',')})`, items);
+  }
+
+  private onDrop(e: DragEvent): void {
+    const mnemonic = e.dataTransfer?.getData(DRAG_TYPE);
+    const info = mnemonic ? domain().instructions.find((i) => i.mnemonic === mnemonic) : undefined;
+    const target = this.targetOf(e);
+    if (!info || !target || !can('edit')) return;
+    e.preventDefault();
+    const el = (e.target as Element).closest?.('g.el');
+    const box = el?.getBoundingClientRect();
+    const where = this.where;
+    if (box && target.path !== null) this.where = e.clientX < box.left + box.width / 2 ? 'before' : 'after';
+    this.sel = target;
+    this.insertInstr(info);
+    this.where = where;
   }
 
   private onKey(e: KeyboardEvent): void {
