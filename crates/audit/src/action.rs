@@ -67,6 +67,8 @@ actions! {
     AlarmOutOfService = "alarm_out_of_service",
     /// The studio's trend set saved (`trends.json`; detail: the pens).
     SaveTrends = "save_trends",
+    /// A SCADA screen saved (`hmi/<name>.json`).
+    SaveScreen = "save_screen",
 }
 
 impl fmt::Display for Action {
@@ -127,7 +129,8 @@ mod tests {
                 "alarm_shelve",
                 "alarm_unshelve",
                 "alarm_out_of_service",
-                "save_trends"
+                "save_trends",
+                "save_screen"
             ]
         );
     }

@@ -9,6 +9,7 @@
 //! is read and written by [`users`].
 
 pub mod config;
+pub mod hmi;
 mod project;
 pub mod users;
 

@@ -38,7 +38,9 @@ pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
 
-use api::{FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, programs, session, status, trends};
+use api::{
+    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, programs, screens, session, status, trends,
+};
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
@@ -66,6 +68,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/alarms/{id}/unshelve", Needs(Role::Operator)),
     ("POST", "/api/alarms/{id}/out_of_service", Needs(Role::Engineer)),
     ("PUT", "/api/trends", Needs(Role::Operator)),
+    ("PUT", "/api/screens/{name}", Needs(Role::Engineer)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
     ("GET", "/api/audit.csv", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
@@ -79,6 +82,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/programs/{name}", get(programs::get).put(programs::put))
         .route("/api/check/{name}", post(programs::check))
         .route("/api/tags.csv", get(programs::get_tags_csv).put(programs::put_tags_csv))
+        .route("/api/screens/{name}", get(screens::get).put(screens::put))
         .layer(DefaultBodyLimit::max(FILE_BODY));
     Router::new()
         .route("/api/login", post(session::login))
@@ -108,6 +112,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/alarms/{id}/unshelve", post(alarms::unshelve))
         .route("/api/alarms/{id}/out_of_service", post(alarms::out_of_service))
         .route("/api/trends", get(trends::get).put(trends::put))
+        .route("/api/screens", get(screens::list))
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
         .route("/api/{*rest}", any(api::fallback))

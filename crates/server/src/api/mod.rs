@@ -9,6 +9,7 @@ pub mod forces;
 pub mod history;
 pub mod nets;
 pub mod programs;
+pub mod screens;
 pub mod session;
 pub mod status;
 pub mod stream;

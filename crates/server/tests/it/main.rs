@@ -11,6 +11,7 @@ mod history;
 mod limits;
 mod roles;
 mod scale;
+mod screens;
 mod trends;
 mod ws;
 

@@ -277,6 +277,16 @@ async fn every_route_answers_each_role_as_the_table_says() {
             200,
         ),
         row(Method::GET, "/api/trends", "/api/trends", None, v, 200),
+        row(Method::GET, "/api/screens", "/api/screens", None, v, 200),
+        row(Method::GET, "/api/screens/{name}", "/api/screens/none", None, v, 404),
+        row(
+            Method::PUT,
+            "/api/screens/{name}",
+            "/api/screens/main",
+            j(json!({"schema": 1, "width": 100, "height": 100, "elements": []})),
+            e,
+            200,
+        ),
         row(
             Method::PUT,
             "/api/trends",

@@ -1,0 +1,526 @@
+//! SCADA screens (issue 17, SPEC §8): `hmi/<screen>.json` in the project, one
+//! screen per file, versioned by `schema`. Parsing checks everything a screen
+//! can get wrong — the JSON, the schema, every element's type and geometry,
+//! every animation's kind, tag and parameters, every write action — and
+//! reports each problem as `E141` at its place in the file (line and column
+//! of the offending value), so the designer can put it on the element.
+//!
+//! Tags are checked through the caller's `resolve` (the running program's
+//! layout), which says what a name holds.
+
+use alba_diag::{Code, Diagnostic, FileId, Span};
+use serde::{Deserialize, Serialize};
+use serde_json::Value as Json;
+use std::collections::HashMap;
+
+/// The schema this version writes and reads.
+pub const SCHEMA: u32 = 1;
+
+/// AuroraLD's 30 elements (SPEC §8), by the names screens use.
+pub const ELEMENT_TYPES: &[(&str, &str)] = &[
+    ("text", "a static or live text"),
+    ("input", "an input box that writes a number or a BOOL"),
+    ("output", "an output box showing a value"),
+    ("rectangle", "a rectangle"),
+    ("circle", "a circle or ellipse"),
+    ("button", "a momentary push button"),
+    ("switch", "a latching switch"),
+    ("line", "a line"),
+    ("polygon", "a polygon"),
+    ("slider", "a slider that writes a number"),
+    ("led", "an indicator lamp"),
+    ("arc", "an arc"),
+    ("wind_turbine", "a wind turbine"),
+    ("fan", "a fan"),
+    ("cooling_tower", "a cooling tower"),
+    ("plc", "a PLC"),
+    ("clock", "a clock"),
+    ("image", "an image"),
+    ("bottle", "a bottle"),
+    ("motor", "a motor"),
+    ("pump", "a pump"),
+    ("tank", "a tank or silo"),
+    ("pipe", "a pipe"),
+    ("valve", "a valve"),
+    ("building", "a building"),
+    ("transmission_tower", "a transmission tower"),
+    ("safety_sign", "a safety sign"),
+    ("meter", "a bar or circular meter"),
+    ("alarm", "an alarm indicator"),
+    ("trend", "a trend graph"),
+];
+
+/// The animations (SPEC §8) and the parameters each takes besides `tag`.
+pub const ANIMATIONS: &[(&str, &[&str])] = &[
+    ("visibility", &["when"]),
+    ("blink", &["when", "period_ms"]),
+    ("move", &["min", "max", "dx", "dy"]),
+    ("rotate", &["min", "max", "degrees", "speed"]),
+    ("color", &["on", "off", "intervals"]),
+    ("fill", &["min", "max", "direction", "color"]),
+];
+
+/// Write actions of widgets.
+pub const ACTIONS: &[&str] = &["momentary", "toggle", "set", "input", "slider", "navigate"];
+
+/// A screen file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Screen {
+    pub schema: u32,
+    #[serde(default)]
+    pub title: String,
+    pub width: f64,
+    pub height: f64,
+    #[serde(default)]
+    pub background: Option<String>,
+    /// Drawn in order: the last is on top.
+    pub elements: Vec<Element>,
+}
+
+/// An element of a screen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Element {
+    pub id: String,
+    #[serde(rename = "type")]
+    pub kind: String,
+    pub x: f64,
+    pub y: f64,
+    pub w: f64,
+    pub h: f64,
+    /// Degrees, clockwise.
+    #[serde(default)]
+    pub rotation: f64,
+    /// The element's own settings (label, colours, the value a text shows …).
+    #[serde(default)]
+    pub props: serde_json::Map<String, Json>,
+    #[serde(default)]
+    pub animations: Vec<Animation>,
+    #[serde(default)]
+    pub action: Option<Action>,
+}
+
+/// An animation: a kind, the tag that drives it, its parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Animation {
+    pub kind: String,
+    pub tag: String,
+    #[serde(flatten)]
+    pub params: serde_json::Map<String, Json>,
+}
+
+/// What a widget does when used: write `tag`, or go to `screen`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Action {
+    pub kind: String,
+    #[serde(default)]
+    pub tag: Option<String>,
+    #[serde(default)]
+    pub value: Option<Json>,
+    #[serde(default)]
+    pub min: Option<f64>,
+    #[serde(default)]
+    pub max: Option<f64>,
+    #[serde(default)]
+    pub screen: Option<String>,
+}
+
+/// What a tag name stands for, as the caller's program sees it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TagKind {
+    Bool,
+    Number,
+    /// A TIMER, COUNTER or PID: its members are tags, it is not.
+    Structure,
+}
+
+/// Whether a tag (or member) can be written from a screen.
+pub type Writable = bool;
+
+/// What the caller's program says a name holds, or why it does not know it.
+pub type Resolve<'a> = dyn Fn(&str) -> Result<(TagKind, Writable), String> + 'a;
+
+/// The byte offset of every value of a JSON text, by its JSON pointer
+/// (`/elements/3/animations/0/tag`): where to put a diagnostic.
+fn offsets(text: &str) -> HashMap<String, usize> {
+    struct Scan<'a> {
+        b: &'a [u8],
+        i: usize,
+        out: HashMap<String, usize>,
+    }
+    impl Scan<'_> {
+        fn ws(&mut self) {
+            while self.i < self.b.len() && self.b[self.i].is_ascii_whitespace() {
+                self.i += 1;
+            }
+        }
+        fn string(&mut self) -> String {
+            let start = self.i + 1;
+            self.i += 1;
+            while self.i < self.b.len() && self.b[self.i] != b'"' {
+                if self.b[self.i] == b'\\' {
+                    self.i += 1;
+                }
+                self.i += 1;
+            }
+            let s = String::from_utf8_lossy(&self.b[start.min(self.b.len())..self.i.min(self.b.len())]).into_owned();
+            self.i += 1;
+            s
+        }
+        fn value(&mut self, path: &str, depth: usize) {
+            self.ws();
+            self.out.insert(path.to_string(), self.i);
+            if depth > 64 {
+                return;
+            }
+            match self.b.get(self.i) {
+                Some(b'{') => {
+                    self.i += 1;
+                    loop {
+                        self.ws();
+                        match self.b.get(self.i) {
+                            Some(b'"') => {
+                                let key = self.string();
+                                self.ws();
+                                if self.b.get(self.i) == Some(&b':') {
+                                    self.i += 1;
+                                }
+                                let p = format!("{path}/{}", key.replace('~', "~0").replace('/', "~1"));
+                                self.value(&p, depth + 1);
+                                self.ws();
+                                if self.b.get(self.i) == Some(&b',') {
+                                    self.i += 1;
+                                }
+                            }
+                            Some(b'}') => {
+                                self.i += 1;
+                                return;
+                            }
+                            _ => return,
+                        }
+                    }
+                }
+                Some(b'[') => {
+                    self.i += 1;
+                    let mut k = 0;
+                    loop {
+                        self.ws();
+                        match self.b.get(self.i) {
+                            Some(b']') => {
+                                self.i += 1;
+                                return;
+                            }
+                            None => return,
+                            _ => {
+                                self.value(&format!("{path}/{k}"), depth + 1);
+                                k += 1;
+                                self.ws();
+                                if self.b.get(self.i) == Some(&b',') {
+                                    self.i += 1;
+                                }
+                            }
+                        }
+                    }
+                }
+                Some(b'"') => {
+                    self.string();
+                }
+                Some(_) => {
+                    while self.i < self.b.len() && !matches!(self.b[self.i], b',' | b'}' | b']') {
+                        self.i += 1;
+                    }
+                }
+                None => {}
+            }
+        }
+    }
+    let mut s = Scan {
+        b: text.as_bytes(),
+        i: 0,
+        out: HashMap::new(),
+    };
+    s.value("", 0);
+    s.out
+}
+
+/// Parses and checks a screen file. The screen is `None` when the file is not
+/// one at all (bad JSON, missing fields, a newer schema); with other problems
+/// it is returned with every problem listed.
+pub fn parse(
+    text: &str,
+    file: FileId,
+    resolve: &Resolve<'_>,
+) -> (Option<Screen>, Vec<Diagnostic>) {
+    let at = offsets(text);
+    let span_of = |pointer: &str| {
+        // the value itself, else its nearest enclosing value
+        let mut p = pointer.to_string();
+        loop {
+            if let Some(&o) = at.get(&p) {
+                return Span::new(file, o..o + 1);
+            }
+            match p.rfind('/') {
+                Some(i) => p.truncate(i),
+                None => return Span::new(file, 0..0),
+            }
+        }
+    };
+    let diag =
+        |pointer: &str, msg: String, label: &str| Diagnostic::new(Code::ScreenFile, msg, span_of(pointer), label);
+    let screen: Screen = match serde_json::from_str(text) {
+        Ok(s) => s,
+        Err(e) => {
+            // serde_json says where, in lines and columns
+            let line_start: usize = text
+                .split_inclusive('\n')
+                .take(e.line().saturating_sub(1))
+                .map(str::len)
+                .sum();
+            let o = (line_start + e.column().saturating_sub(1)).min(text.len());
+            return (
+                None,
+                vec![Diagnostic::new(
+                    Code::ScreenFile,
+                    // (the place is the span's; the message without serde's own "at line … column …")
+                    format!(
+                        "not a screen file: {}",
+                        e.to_string().split(" at line ").next().unwrap_or_default()
+                    ),
+                    Span::new(file, o..o),
+                    "here",
+                )],
+            );
+        }
+    };
+    let mut d = Vec::new();
+    if screen.schema != SCHEMA {
+        d.push(diag(
+            "/schema",
+            format!(
+                "schema {} is not supported (this version reads {SCHEMA})",
+                screen.schema
+            ),
+            "schema",
+        ));
+        return (None, d);
+    }
+    for (key, v) in [("width", screen.width), ("height", screen.height)] {
+        if !(v.is_finite() && (1.0..=20_000.0).contains(&v)) {
+            d.push(diag(
+                &format!("/{key}"),
+                format!("{key} = {v} is out of range (1 to 20000)"),
+                "out of range",
+            ));
+        }
+    }
+    let mut ids: HashMap<&str, usize> = HashMap::new();
+    for (k, e) in screen.elements.iter().enumerate() {
+        let here = format!("/elements/{k}");
+        if e.id.trim().is_empty() {
+            d.push(diag(&format!("{here}/id"), "an element needs an `id`".into(), "empty"));
+        } else if let Some(first) = ids.insert(&e.id, k) {
+            d.push(diag(
+                &format!("{here}/id"),
+                format!("id `{}` is already element {first}'s", e.id),
+                "duplicate",
+            ));
+        }
+        if !ELEMENT_TYPES.iter().any(|(t, _)| *t == e.kind) {
+            d.push(
+                diag(
+                    &format!("{here}/type"),
+                    format!("`{}` is not an element type", e.kind),
+                    "unknown type",
+                )
+                .with_help(format!(
+                    "one of: {}",
+                    ELEMENT_TYPES.iter().map(|(t, _)| *t).collect::<Vec<_>>().join(", ")
+                )),
+            );
+        }
+        for (key, v) in [("x", e.x), ("y", e.y), ("w", e.w), ("h", e.h), ("rotation", e.rotation)] {
+            if !v.is_finite() {
+                d.push(diag(
+                    &format!("{here}/{key}"),
+                    format!("{key} is not a number"),
+                    "not finite",
+                ));
+            }
+        }
+        if e.w <= 0.0 || e.h <= 0.0 {
+            d.push(diag(
+                &format!("{here}/w"),
+                format!("element `{}` has no size ({} × {})", e.id, e.w, e.h),
+                "size",
+            ));
+        }
+        for (n, a) in e.animations.iter().enumerate() {
+            check_animation(a, &format!("{here}/animations/{n}"), resolve, &diag, &mut d);
+        }
+        if let Some(a) = &e.action {
+            check_action(a, &format!("{here}/action"), resolve, &diag, &mut d);
+        }
+    }
+    (Some(screen), d)
+}
+
+type Diag<'a> = dyn Fn(&str, String, &str) -> Diagnostic + 'a;
+
+fn check_animation(
+    a: &Animation,
+    here: &str,
+    resolve: &Resolve<'_>,
+    diag: &Diag<'_>,
+    d: &mut Vec<Diagnostic>,
+) {
+    let Some((_, params)) = ANIMATIONS.iter().find(|(k, _)| *k == a.kind) else {
+        d.push(
+            diag(
+                &format!("{here}/kind"),
+                format!("`{}` is not an animation", a.kind),
+                "unknown animation",
+            )
+            .with_help("one of: visibility, blink, move, rotate, color, fill"),
+        );
+        return;
+    };
+    match resolve(&a.tag) {
+        Err(e) => d.push(diag(
+            &format!("{here}/tag"),
+            format!("animation `{}`: {e}", a.kind),
+            "unknown tag",
+        )),
+        Ok((TagKind::Structure, _)) => d.push(diag(
+            &format!("{here}/tag"),
+            format!("`{}` is a structure: animate one of its members", a.tag),
+            "structure",
+        )),
+        Ok(_) => {}
+    }
+    for key in a.params.keys() {
+        if !params.contains(&key.as_str()) {
+            d.push(diag(
+                &format!("{here}/{key}"),
+                format!(
+                    "`{key}` is not a parameter of `{}` (it takes: {})",
+                    a.kind,
+                    params.join(", ")
+                ),
+                "unknown parameter",
+            ));
+        }
+    }
+    let num = |k: &str| a.params.get(k).and_then(Json::as_f64);
+    if let (Some(lo), Some(hi)) = (num("min"), num("max"))
+        && lo >= hi
+    {
+        d.push(diag(
+            &format!("{here}/max"),
+            format!("max {hi} must be above min {lo}"),
+            "range",
+        ));
+    }
+    if let Some(dir) = a.params.get("direction")
+        && !matches!(dir.as_str(), Some("up" | "down" | "left" | "right"))
+    {
+        d.push(diag(
+            &format!("{here}/direction"),
+            format!("direction {dir} is not up, down, left or right"),
+            "direction",
+        ));
+    }
+    if let Some(iv) = a.params.get("intervals") {
+        match iv.as_array() {
+            Some(list) if list.len() <= 4 => {
+                for (n, i) in list.iter().enumerate() {
+                    if i.get("from").and_then(Json::as_f64).is_none() || i.get("color").and_then(Json::as_str).is_none()
+                    {
+                        d.push(diag(
+                            &format!("{here}/intervals/{n}"),
+                            "an interval needs `from` (a number) and `color`".into(),
+                            "interval",
+                        ));
+                    }
+                }
+            }
+            _ => d.push(diag(
+                &format!("{here}/intervals"),
+                "`intervals` is a list of at most 4".into(),
+                "intervals",
+            )),
+        }
+    }
+}
+
+fn check_action(
+    a: &Action,
+    here: &str,
+    resolve: &Resolve<'_>,
+    diag: &Diag<'_>,
+    d: &mut Vec<Diagnostic>,
+) {
+    if !ACTIONS.contains(&a.kind.as_str()) {
+        d.push(diag(
+            &format!("{here}/kind"),
+            format!("`{}` is not an action ({})", a.kind, ACTIONS.join(", ")),
+            "unknown action",
+        ));
+        return;
+    }
+    if a.kind == "navigate" {
+        if a.screen.as_deref().is_none_or(str::is_empty) {
+            d.push(diag(
+                &format!("{here}/screen"),
+                "`navigate` needs the `screen` to go to".into(),
+                "screen",
+            ));
+        }
+        return;
+    }
+    let Some(tag) = &a.tag else {
+        d.push(diag(here, format!("`{}` needs the `tag` it writes", a.kind), "tag"));
+        return;
+    };
+    match resolve(tag) {
+        Err(e) => d.push(diag(
+            &format!("{here}/tag"),
+            format!("action `{}`: {e}", a.kind),
+            "unknown tag",
+        )),
+        Ok((_, false)) => d.push(diag(
+            &format!("{here}/tag"),
+            format!("`{tag}` cannot be written from a screen (an input, or read-only)"),
+            "read-only",
+        )),
+        Ok((TagKind::Structure, _)) => d.push(diag(
+            &format!("{here}/tag"),
+            format!("`{tag}` is a structure"),
+            "structure",
+        )),
+        Ok((TagKind::Bool, _)) if matches!(a.kind.as_str(), "slider") => d.push(diag(
+            &format!("{here}/kind"),
+            format!("a slider writes a number; `{tag}` is a BOOL"),
+            "kind",
+        )),
+        Ok((TagKind::Number, _)) if matches!(a.kind.as_str(), "momentary" | "toggle") => d.push(diag(
+            &format!("{here}/kind"),
+            format!("`{}` writes a BOOL; `{tag}` is a number", a.kind),
+            "kind",
+        )),
+        Ok(_) => {}
+    }
+    if let (Some(lo), Some(hi)) = (a.min, a.max)
+        && lo >= hi
+    {
+        d.push(diag(
+            &format!("{here}/max"),
+            format!("max {hi} must be above min {lo}"),
+            "range",
+        ));
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,222 @@
+//! Screen files: a good one, and malformed ones each reported at its place.
+
+use super::*;
+use alba_diag::Files;
+
+/// Tags of a small plant: Level (REAL), Pump (BOOL, an output), Start (BOOL
+/// input), T1 (TIMER) with T1.ACC, and SysTime (read-only).
+fn resolve(name: &str) -> Result<(TagKind, Writable), String> {
+    match name {
+        "Level" | "Speed" | "T1.ACC" => Ok((TagKind::Number, true)),
+        "Pump" | "Light" => Ok((TagKind::Bool, true)),
+        "Start" => Ok((TagKind::Bool, false)),
+        "SysTime" => Ok((TagKind::Number, false)),
+        "T1" => Ok((TagKind::Structure, true)),
+        _ => Err(format!("unknown tag `{name}`")),
+    }
+}
+
+fn check(text: &str) -> (Option<Screen>, Vec<String>) {
+    let mut files = Files::new();
+    let f = files.add("hmi/main.json", text);
+    let (s, d) = parse(text, f, &resolve);
+    (s, d.iter().map(|d| d.short(&files)).collect())
+}
+
+const GOOD: &str = r##"{
+  "schema": 1,
+  "title": "Tank",
+  "width": 1280,
+  "height": 720,
+  "elements": [
+    {"id": "tank", "type": "tank", "x": 100, "y": 80, "w": 120, "h": 200,
+     "animations": [{"kind": "fill", "tag": "Level", "min": 0, "max": 60, "direction": "up"}]},
+    {"id": "pump", "type": "pump", "x": 300, "y": 240, "w": 60, "h": 60,
+     "animations": [{"kind": "rotate", "tag": "Pump", "speed": 1},
+                    {"kind": "color", "tag": "Level", "intervals": [{"from": 0, "color": "#2e7d32"}, {"from": 55, "color": "#c62828"}]}]},
+    {"id": "start", "type": "button", "x": 300, "y": 320, "w": 80, "h": 32,
+     "props": {"label": "Fill"}, "action": {"kind": "momentary", "tag": "Light"}},
+    {"id": "sp", "type": "slider", "x": 20, "y": 20, "w": 200, "h": 24, "action": {"kind": "slider", "tag": "Speed", "min": 0, "max": 100}},
+    {"id": "next", "type": "button", "x": 20, "y": 60, "w": 80, "h": 24, "action": {"kind": "navigate", "screen": "pumps"}}
+  ]
+}"##;
+
+#[test]
+fn a_good_screen_parses_without_problems() {
+    let (s, d) = check(GOOD);
+    assert_eq!(d, Vec::<String>::new());
+    let s = s.expect("a screen");
+    assert_eq!((s.elements.len(), s.elements[0].kind.as_str()), (5, "tank"));
+    assert_eq!(s.elements[1].animations[0].params["speed"], 1);
+    // It round-trips through the API's JSON.
+    let again: Screen = serde_json::from_str(&serde_json::to_string(&s).expect("json")).expect("parse");
+    assert_eq!(again, s);
+    assert_eq!(ELEMENT_TYPES.len(), 30, "AuroraLD's 30 elements");
+}
+
+/// A screen with one element replaced by `element`.
+fn with(element: &str) -> String {
+    format!("{{\n\"schema\": 1,\n\"width\": 800,\n\"height\": 600,\n\"elements\": [\n{element}\n]\n}}")
+}
+
+const E: &str = r#""id": "e", "type": "tank", "x": 1, "y": 2, "w": 10, "h": 10"#;
+
+#[test]
+fn malformed_screens_are_reported_at_their_place() {
+    let cases: Vec<(String, &str)> = vec![
+        (
+            "{".into(),
+            "hmi/main.json:1:1: error[E141]: not a screen file: EOF while parsing an object",
+        ),
+        (
+            "[]".into(),
+            "hmi/main.json:1:2: error[E141]: not a screen file: invalid length 0",
+        ),
+        ("{\"schema\": 1}".into(), "missing field `width`"),
+        (
+            "{\"schema\": 2, \"width\": 1, \"height\": 1, \"elements\": []}".into(),
+            "hmi/main.json:1:12: error[E141]: schema 2 is not supported (this version reads 1)",
+        ),
+        (
+            "{\"schema\": 1, \"width\": 0, \"height\": 1, \"elements\": []}".into(),
+            "hmi/main.json:1:24: error[E141]: width = 0 is out of range (1 to 20000)",
+        ),
+        (
+            "{\"schema\": 1, \"width\": 10, \"height\": 1, \"elements\": [], \"zoom\": 2}".into(),
+            "unknown field `zoom`",
+        ),
+        (
+            with(r#"{"id": "e", "type": "spaceship", "x": 1, "y": 2, "w": 10, "h": 10}"#),
+            "hmi/main.json:6:21: error[E141]: `spaceship` is not an element type",
+        ),
+        (
+            with(&format!("{{{E}}},\n{{{E}}}")),
+            "hmi/main.json:7:8: error[E141]: id `e` is already element 0's",
+        ),
+        (
+            with(r#"{"id": " ", "type": "tank", "x": 1, "y": 2, "w": 10, "h": 10}"#),
+            "hmi/main.json:6:8: error[E141]: an element needs an `id`",
+        ),
+        (
+            with(r#"{"id": "e", "type": "tank", "x": 1, "y": 2, "w": 0, "h": 10}"#),
+            "hmi/main.json:6:50: error[E141]: element `e` has no size (0 × 10)",
+        ),
+        (
+            with(r#"{"id": "e", "type": "tank", "x": "left", "y": 2, "w": 1, "h": 1}"#),
+            "invalid type: string \"left\", expected f64",
+        ),
+        (with(&format!("{{{E}, \"colour\": 1}}")), "unknown field `colour`"),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"spin\", \"tag\": \"Pump\"}}]}}"
+            )),
+            "`spin` is not an animation",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"fill\", \"tag\": \"Nope\"}}]}}"
+            )),
+            "hmi/main.json:6:102: error[E141]: animation `fill`: unknown tag `Nope`",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"fill\", \"tag\": \"T1\"}}]}}"
+            )),
+            "`T1` is a structure: animate one of its members",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"fill\", \"tag\": \"Level\", \"speed\": 3}}]}}"
+            )),
+            "`speed` is not a parameter of `fill` (it takes: min, max, direction, color)",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"move\", \"tag\": \"Level\", \"min\": 5, \"max\": 5}}]}}"
+            )),
+            "max 5 must be above min 5",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"fill\", \"tag\": \"Level\", \"direction\": \"sideways\"}}]}}"
+            )),
+            "direction \"sideways\" is not up, down, left or right",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"color\", \"tag\": \"Level\", \"intervals\": [{{\"from\": 0}}]}}]}}"
+            )),
+            "an interval needs `from` (a number) and `color`",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"animations\": [{{\"kind\": \"color\", \"tag\": \"Level\", \"intervals\": [{{}},{{}},{{}},{{}},{{}}]}}]}}"
+            )),
+            "`intervals` is a list of at most 4",
+        ),
+        (
+            with(&format!("{{{E}, \"animations\": [{{\"tag\": \"Level\"}}]}}")),
+            "missing field `kind`",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"jump\", \"tag\": \"Pump\"}}}}"
+            )),
+            "`jump` is not an action",
+        ),
+        (
+            with(&format!("{{{E}, \"action\": {{\"kind\": \"toggle\"}}}}")),
+            "`toggle` needs the `tag` it writes",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"toggle\", \"tag\": \"Start\"}}}}"
+            )),
+            "`Start` cannot be written from a screen (an input, or read-only)",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"set\", \"tag\": \"SysTime\", \"value\": 1}}}}"
+            )),
+            "`SysTime` cannot be written from a screen",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"slider\", \"tag\": \"Pump\"}}}}"
+            )),
+            "a slider writes a number; `Pump` is a BOOL",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"momentary\", \"tag\": \"Level\"}}}}"
+            )),
+            "`momentary` writes a BOOL; `Level` is a number",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"slider\", \"tag\": \"Speed\", \"min\": 9, \"max\": 1}}}}"
+            )),
+            "max 1 must be above min 9",
+        ),
+        (
+            with(&format!("{{{E}, \"action\": {{\"kind\": \"navigate\"}}}}")),
+            "`navigate` needs the `screen` to go to",
+        ),
+        (
+            with(&format!(
+                "{{{E}, \"action\": {{\"kind\": \"set\", \"tag\": \"Nope\"}}}}"
+            )),
+            "action `set`: unknown tag `Nope`",
+        ),
+    ];
+    assert!(cases.len() >= 20);
+    for (text, want) in cases {
+        let (_, d) = check(&text);
+        assert!(d.iter().any(|m| m.contains(want)), "{text}\nwanted: {want}\ngot: {d:?}");
+        assert!(
+            d.iter()
+                .all(|m| m.starts_with("hmi/main.json:") && m.contains("error[E141]")),
+            "{d:?}"
+        );
+    }
+}

@@ -1,0 +1,125 @@
+//! `GET /api/screens`, `GET|PUT /api/screens/{name}`: the project's SCADA
+//! screens (`hmi/<name>.json`, issue 17), checked against the running
+//! program's tags with located errors (E141) and saved atomically.
+
+use super::audit::{Actor, audited, json_text};
+use crate::error::{ApiError, ApiResult};
+use crate::project::{EditError, diagnostics_json};
+use crate::state::AppState;
+use alba_audit::Action;
+use alba_compiler::diag::Files;
+use alba_compiler::project::hmi::{self, Screen, TagKind};
+use alba_ir::model::DataType;
+use alba_ir::{Access, Target};
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::{Path, State};
+use serde_json::{Value as JsonValue, json};
+use std::sync::Arc;
+
+/// A screen's name: letters, digits, `_` and `-` (it is a file name).
+fn file_of(st_dir: &std::path::Path, name: &str) -> ApiResult<std::path::PathBuf> {
+    let ok =
+        !name.is_empty() && name.len() <= 64 && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if !ok {
+        return Err(ApiError::Malformed(format!(
+            "`{name}` is not a screen name (letters, digits, `_` and `-`, at most 64)"
+        )));
+    }
+    Ok(st_dir.join("hmi").join(format!("{name}.json")))
+}
+
+/// What a name holds for a screen: a BOOL, a number or a structure, and
+/// whether a screen may write it.
+fn resolver(layout: &alba_ir::Layout) -> impl Fn(&str) -> Result<(TagKind, bool), String> + '_ {
+    move |name: &str| match layout.resolve(name) {
+        Ok(Target::Value { place, access }) => {
+            let kind = if place.data_type() == DataType::Bool {
+                TagKind::Bool
+            } else {
+                TagKind::Number
+            };
+            let input = alba_runtime::io_kind(layout, place) == Some(true);
+            Ok((kind, access == Access::ReadWrite && !input))
+        }
+        Ok(_) => Ok((TagKind::Structure, false)),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// Parses and checks `text` as the screen `name`; its diagnostics on refusal.
+fn check(st: &AppState, name: &str, text: &str) -> ApiResult<Screen> {
+    let snapshot = st.runtime.snapshot();
+    let mut files = Files::new();
+    let f = files.add(format!("hmi/{name}.json"), text);
+    let (screen, diags) = hmi::parse(text, f, &resolver(&snapshot.program.layout));
+    match screen {
+        Some(s) if diags.is_empty() => Ok(s),
+        _ => Err(ApiError::Edit(EditError::DoesNotCompile {
+            diagnostics: diagnostics_json(&diags, &files),
+        })),
+    }
+}
+
+/// The screens of the project, by name.
+pub async fn list(State(st): State<Arc<AppState>>) -> ApiResult<Json<JsonValue>> {
+    let dir = st.project.lock().await.project.dir.join("hmi");
+    let mut names: Vec<String> = match std::fs::read_dir(&dir) {
+        Ok(entries) => entries
+            .flatten()
+            .filter_map(|e| e.file_name().to_str()?.strip_suffix(".json").map(str::to_string))
+            .collect(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Vec::new(),
+        Err(e) => return Err(ApiError::Internal(format!("cannot list {}: {e}", dir.display()))),
+    };
+    names.sort();
+    Ok(Json(json!(names)))
+}
+
+/// One screen, checked as it is now (a tag removed since it was saved is a 422 with its place).
+pub async fn get(State(st): State<Arc<AppState>>, Path(name): Path<String>) -> ApiResult<Json<Screen>> {
+    let path = file_of(&st.project.lock().await.project.dir, &name)?;
+    let text = std::fs::read_to_string(&path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => ApiError::NotFound(format!("no screen `{name}`")),
+        _ => ApiError::Internal(format!("cannot read {}: {e}", path.display())),
+    })?;
+    Ok(Json(check(&st, &name, &text)?))
+}
+
+/// Audited (`save_screen`): checked, then written atomically (`hmi/` made if needed).
+pub async fn put(
+    State(st): State<Arc<AppState>>,
+    actor: Actor,
+    Path(name): Path<String>,
+    bytes: Result<Bytes, axum::extract::rejection::BytesRejection>,
+) -> ApiResult<Json<Screen>> {
+    let bytes = bytes.map_err(|e| {
+        if e.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::TooLarge
+        } else {
+            ApiError::Malformed(e.body_text())
+        }
+    })?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| ApiError::Malformed(format!("not UTF-8 text: {e}")))?;
+    let screen = check(&st, &name, text)?;
+    let path = file_of(&st.project.lock().await.project.dir, &name)?;
+    let pretty = serde_json::to_string_pretty(&screen).map_err(|e| ApiError::Internal(e.to_string()))?;
+    let entry = alba_audit::Entry {
+        target: Some(format!("hmi/{name}.json")),
+        new: Some(json_text(&json!({"elements": screen.elements.len()}))),
+        ..actor.entry(Action::SaveScreen)
+    };
+    audited(&st, entry, async {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| ApiError::Internal(format!("cannot create {}: {e}", dir.display())))?;
+        }
+        alba_ir::model::fsutil::write_atomic(&path, |w| {
+            w.write_all(pretty.as_bytes())?;
+            w.write_all(b"\n")
+        })
+        .map_err(|e| ApiError::Internal(format!("cannot save {}: {e}", path.display())))
+    })
+    .await?;
+    Ok(Json(screen))
+}

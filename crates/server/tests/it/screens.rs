@@ -1,0 +1,75 @@
+//! `GET /api/screens`, `GET|PUT /api/screens/{name}` (issue 17): screens
+//! saved in the project, checked against the program's tags with the error
+//! at its place.
+
+use crate::Server;
+use reqwest::{Method, StatusCode};
+use serde_json::{Value as Json, json};
+
+async fn put_text(s: &Server, name: &str, text: &str) -> (StatusCode, Json) {
+    let res = s
+        .http
+        .put(s.url(&format!("/api/screens/{name}")))
+        .header("content-type", "application/json")
+        .body(text.to_string())
+        .send()
+        .await
+        .expect("PUT");
+    let code = res.status();
+    (code, res.json().await.unwrap_or(Json::Null))
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn screens_are_saved_checked_and_refused_at_their_place() {
+    let s = Server::start("tank-plant", "screens").await;
+    assert_eq!(s.get("/api/screens").await, json!([]));
+    let screen = json!({"schema": 1, "title": "Tank", "width": 1280, "height": 720, "elements": [
+        {"id": "tank", "type": "tank", "x": 100, "y": 80, "w": 120, "h": 200,
+         "animations": [{"kind": "fill", "tag": "Nivel_L", "min": 0, "max": 60, "direction": "up"}]},
+        {"id": "b1", "type": "pump", "x": 300, "y": 240, "w": 60, "h": 60,
+         "animations": [{"kind": "rotate", "tag": "Bomba1", "speed": 1}]},
+        {"id": "fill", "type": "button", "x": 300, "y": 320, "w": 80, "h": 32, "props": {"label": "Fill"},
+         "action": {"kind": "momentary", "tag": "Llenar"}}
+    ]});
+    let (code, saved) = put_text(&s, "tank", &screen.to_string()).await;
+    assert_eq!(code, StatusCode::OK, "{saved}");
+    assert_eq!(s.get("/api/screens").await, json!(["tank"]));
+    let back = s.get("/api/screens/tank").await;
+    assert_eq!(back["elements"][0]["animations"][0]["tag"], "Nivel_L");
+    assert!(s.dir.join("hmi/tank.json").exists());
+    // An unknown tag: refused, the error on the element (line and column), the file unchanged.
+    let bad = "{\"schema\": 1, \"width\": 800, \"height\": 600, \"elements\": [\n  {\"id\": \"t\", \"type\": \"tank\", \"x\": 0, \"y\": 0, \"w\": 10, \"h\": 10,\n   \"animations\": [{\"kind\": \"fill\", \"tag\": \"Nivel_X\"}]}]}";
+    let (code, j) = put_text(&s, "tank", bad).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    let d = &j["diagnostics"][0];
+    assert_eq!(
+        (
+            d["code"].as_str(),
+            d["file"].as_str(),
+            d["line"].as_u64(),
+            d["col"].as_u64()
+        ),
+        (Some("E141"), Some("tank.json"), Some(3), Some(43)),
+        "{j}"
+    );
+    assert!(
+        d["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("unknown tag `Nivel_X`")),
+        "{j}"
+    );
+    assert_eq!(s.get("/api/screens/tank").await, back);
+    // A button on an input, an unknown element type: each said.
+    let input = screen.to_string().replace("\"Llenar\"", "\"FILL\"");
+    let (code, j) = put_text(&s, "tank", &input).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(j.to_string().contains("`FILL` cannot be written from a screen"), "{j}");
+    let (code, j) = put_text(&s, "tank", "{not json").await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(j.to_string().contains("not a screen file"), "{j}");
+    let (code, _) = put_text(&s, "bad%20name", &screen.to_string()).await;
+    assert_eq!(code, StatusCode::BAD_REQUEST);
+    let (code, _) = s.call(Method::GET, "/api/screens/nope", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    s.stop().await;
+}
