@@ -100,6 +100,8 @@ export const api = {
   tagsCsv: async () => (await request('GET', '/api/tags.csv')).text(),
   saveTagsCsv: (text: string) => request('PUT', '/api/tags.csv', text, 'text/csv').then((r) => r.json()),
   trends: () => json<TrendSet>('GET', '/api/trends'),
+  screens: () => json<string[]>('GET', '/api/screens'),
+  screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
   saveTrends: (s: TrendSet) => json<TrendSet>('PUT', '/api/trends', s),
   uses: (name: string) => json<TagUse[]>('GET', `/api/tags/${enc(name)}/uses`),
   historyTags: () => json<{ name: string; first_ms: number; last_ms: number }[]>('GET', '/api/history/tags'),

@@ -123,6 +123,12 @@ export const es: Record<string, string> = {
   '{name} (plant)': '{name} (planta)',
   Tags: 'Etiquetas',
   Trends: 'Tendencias',
+  Screens: 'Pantallas',
+  'Show the screen on the whole display': 'Mostrar la pantalla en todo el monitor',
+  'Full screen': 'Pantalla completa',
+  'No screens in this project (hmi/*.json).': 'Este proyecto no tiene pantallas (hmi/*.json).',
+  'New value of {name}:': 'Nuevo valor de {name}:',
+  '{value} is not a number in range': '{value} no es un número dentro del rango',
   '{program}: no problems': '{program}: sin problemas',
   '{program}: see the problems list': '{program}: vea la lista de problemas',
   // the tag table

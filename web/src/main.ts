@@ -12,6 +12,7 @@ import { IlView } from './il/view';
 import { LadderView } from './ladder/view';
 import { LiveClient } from './live/client';
 import { boot, loginText, setNextLoginMessage, showLogin } from './login';
+import { ScreensView } from './hmi/view';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
@@ -222,6 +223,7 @@ async function start(me: Me): Promise<void> {
     });
   }
   views.set('tags', { label: tr('Tags'), testid: 'tab-tags', make: () => new TagsView(ctx) });
+  views.set('screens', { label: tr('Screens'), testid: 'tab-screens', make: () => new ScreensView(ctx) });
   // made at once: its pens record in the background from the start
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });

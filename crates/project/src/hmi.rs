@@ -248,11 +248,7 @@ fn offsets(text: &str) -> HashMap<String, usize> {
 /// Parses and checks a screen file. The screen is `None` when the file is not
 /// one at all (bad JSON, missing fields, a newer schema); with other problems
 /// it is returned with every problem listed.
-pub fn parse(
-    text: &str,
-    file: FileId,
-    resolve: &Resolve<'_>,
-) -> (Option<Screen>, Vec<Diagnostic>) {
+pub fn parse(text: &str, file: FileId, resolve: &Resolve<'_>) -> (Option<Screen>, Vec<Diagnostic>) {
     let at = offsets(text);
     let span_of = |pointer: &str| {
         // the value itself, else its nearest enclosing value
@@ -368,13 +364,7 @@ pub fn parse(
 
 type Diag<'a> = dyn Fn(&str, String, &str) -> Diagnostic + 'a;
 
-fn check_animation(
-    a: &Animation,
-    here: &str,
-    resolve: &Resolve<'_>,
-    diag: &Diag<'_>,
-    d: &mut Vec<Diagnostic>,
-) {
+fn check_animation(a: &Animation, here: &str, resolve: &Resolve<'_>, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
     let Some((_, params)) = ANIMATIONS.iter().find(|(k, _)| *k == a.kind) else {
         d.push(
             diag(
@@ -454,13 +444,7 @@ fn check_animation(
     }
 }
 
-fn check_action(
-    a: &Action,
-    here: &str,
-    resolve: &Resolve<'_>,
-    diag: &Diag<'_>,
-    d: &mut Vec<Diagnostic>,
-) {
+fn check_action(a: &Action, here: &str, resolve: &Resolve<'_>, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
     if !ACTIONS.contains(&a.kind.as_str()) {
         d.push(diag(
             &format!("{here}/kind"),

@@ -1,0 +1,134 @@
+// The Screens tab (issue 17): the project's SCADA screens at run time. One
+// WebSocket subscription to the tags the shown screen uses (not all tags);
+// animations follow the values; widgets write through the tag API (their
+// role checked like everywhere); full screen for an operator's shift. A
+// stale link greys the screen like every view (live/freshness.ts).
+import { ApiError, api } from '../api';
+import { can, why } from '../auth';
+import type { Ctx } from '../ctx';
+import { clear, h, s } from '../dom';
+import { tr } from '../i18n';
+import type { Json } from '../types';
+import { type Element, type Screen, animate, drawElement, showValue, tagsOf } from './render';
+
+export class ScreensView {
+  readonly el: HTMLElement;
+  private readonly picker = h('select', { 'data-testid': 'hmi-screen' });
+  private readonly stage = h('div', { class: 'hmi-stage', 'data-testid': 'hmi-stage' });
+  private unwatch: (() => void)[] = [];
+  private name = '';
+
+  constructor(private readonly ctx: Ctx) {
+    this.picker.onchange = () => void this.open(this.picker.value);
+    const full = h('button', { 'data-testid': 'hmi-fullscreen', title: tr('Show the screen on the whole display') }, tr('Full screen'));
+    full.onclick = () => void this.stage.requestFullscreen?.().catch(() => undefined);
+    this.el = h('section', { class: 'hmi-view', 'data-testid': 'hmi-view' }, h('div', { class: 'toolbar' }, this.picker, full), this.stage);
+  }
+
+  show(): void {
+    void this.load();
+  }
+
+  hide(): void {
+    this.stop();
+  }
+
+  private stop(): void {
+    this.unwatch.forEach((f) => f());
+    this.unwatch = [];
+    this.ctx.live.subscribe('hmi', null);
+  }
+
+  private async load(): Promise<void> {
+    let names: string[];
+    try {
+      names = (await api.screens()) as string[];
+    } catch (e) {
+      this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
+      return;
+    }
+    clear(this.picker);
+    names.forEach((n) => this.picker.append(h('option', { value: n, selected: n === this.name }, n)));
+    if (names.length === 0) {
+      clear(this.stage);
+      this.stage.append(h('p', { class: 'hint' }, tr('No screens in this project (hmi/*.json).')));
+      return;
+    }
+    await this.open(names.includes(this.name) ? this.name : names[0]);
+  }
+
+  private async open(name: string): Promise<void> {
+    this.stop();
+    this.name = name;
+    let screen: Screen;
+    try {
+      screen = (await api.screen(name)) as Screen;
+    } catch (e) {
+      clear(this.stage);
+      const msg = e instanceof ApiError ? [e.message, ...e.diagnostics.map((d) => `${d.line}:${d.col} ${d.message}`)].join('\n') : String(e);
+      this.stage.append(h('pre', { class: 'inline-error', 'data-testid': 'hmi-error' }, msg));
+      return;
+    }
+    const svg = s('svg', {
+      class: 'hmi-screen',
+      viewBox: `0 0 ${screen.width} ${screen.height}`,
+      preserveAspectRatio: 'xMidYMid meet',
+      'data-testid': `hmi-screen-${name}`,
+    });
+    svg.append(s('rect', { width: screen.width, height: screen.height, fill: screen.background ?? '#f4f5f6' }));
+    for (const e of screen.elements) {
+      const g = drawElement(e);
+      svg.append(g);
+      for (const a of e.animations ?? []) this.unwatch.push(this.ctx.live.store.watch(a.tag, (v) => animate(g, e, a, v)));
+      const shown = e.props?.tag;
+      if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v)));
+      if (e.action) this.wire(g, e);
+    }
+    clear(this.stage);
+    this.stage.append(svg);
+    this.ctx.live.subscribe('hmi', tagsOf(screen));
+  }
+
+  /** A widget: writes its tag through the API (operators and up), or goes to another screen. */
+  private wire(g: SVGGElement, e: Element): void {
+    const a = e.action!;
+    g.classList.add('hmi-widget');
+    if (a.kind === 'navigate') {
+      g.addEventListener('click', () => a.screen && void this.open(a.screen).then(() => (this.picker.value = a.screen!)));
+      return;
+    }
+    const tag = a.tag;
+    if (!tag) return;
+    if (!can('write')) {
+      g.classList.add('disabled');
+      g.append(s('title', null, why('write') ?? ''));
+      return;
+    }
+    const write = async (v: Json) => {
+      g.classList.add('pending');
+      try {
+        await api.writeTag(tag, v);
+      } catch (err) {
+        this.ctx.notify(err instanceof Error ? err.message : String(err), 'error');
+      } finally {
+        g.classList.remove('pending');
+      }
+    };
+    if (a.kind === 'momentary') {
+      g.addEventListener('pointerdown', () => void write(true));
+      g.addEventListener('pointerup', () => void write(false));
+      g.addEventListener('pointerleave', (ev) => ev.buttons && void write(false));
+    } else if (a.kind === 'toggle') {
+      g.addEventListener('click', () => void write(!(this.ctx.live.store.get(tag) === true)));
+    } else if (a.kind === 'set') {
+      g.addEventListener('click', () => void write(a.value ?? true));
+    } else {
+      g.addEventListener('click', () => {
+        const v = prompt(tr('New value of {name}:', { name: tag }), String(this.ctx.live.store.get(tag) ?? ''));
+        const n = v === null ? NaN : Number(v);
+        if (Number.isFinite(n) && (a.min == null || n >= a.min) && (a.max == null || n <= a.max)) void write(n);
+        else if (v !== null) this.ctx.notify(tr('{value} is not a number in range', { value: v }), 'error');
+      });
+    }
+  }
+}

@@ -1,0 +1,66 @@
+// Screens at run time (issue 17): every element type draws, and each
+// animation changes what it should from a value.
+import { describe, expect, it } from 'vitest';
+import { type Element, animate, colorOf, drawElement, showValue, tagsOf } from '../src/hmi/render';
+
+const TYPES = ['text', 'input', 'output', 'rectangle', 'circle', 'button', 'switch', 'line', 'polygon', 'slider', 'led', 'arc', 'wind_turbine', 'fan', 'cooling_tower', 'plc', 'clock', 'image', 'bottle', 'motor', 'pump', 'tank', 'pipe', 'valve', 'building', 'transmission_tower', 'safety_sign', 'meter', 'alarm', 'trend'];
+const el = (type: string, extra: Partial<Element> = {}): Element => ({ id: type, type, x: 10, y: 20, w: 100, h: 200, ...extra });
+
+describe('screen elements', () => {
+  it('draws each of the 30 types at its place', () => {
+    expect(TYPES.length).toBe(30);
+    for (const t of TYPES) {
+      const g = drawElement(el(t, { props: { label: 'L' } }));
+      expect(g.childElementCount, t).toBeGreaterThan(0);
+      expect(g.getAttribute('transform'), t).toBe('translate(10,20) rotate(0 50 100)');
+      expect(g.dataset.testid ?? g.getAttribute('data-testid')).toBe(`hmi-el-${t}`);
+    }
+  });
+
+  it('fills a tank from a value between min and max, in each direction', () => {
+    const e = el('tank');
+    const g = drawElement(e);
+    const level = g.querySelector('[data-part="level"]')!;
+    animate(g, e, { kind: 'fill', tag: 'L', min: 0, max: 60, direction: 'up' }, 30);
+    expect(Number(level.getAttribute('height'))).toBeCloseTo(98);
+    expect(Number(level.getAttribute('y'))).toBeCloseTo(200 - 2 - 98);
+    animate(g, e, { kind: 'fill', tag: 'L', min: 0, max: 60, direction: 'up' }, 90);
+    expect(Number(level.getAttribute('height'))).toBeCloseTo(196, 0);
+    animate(g, e, { kind: 'fill', tag: 'L', min: 0, max: 10, direction: 'right' }, 5);
+    expect(Number(level.getAttribute('width'))).toBeCloseTo(48);
+  });
+
+  it('colours by on/off or by intervals, shows, hides, blinks, spins and moves', () => {
+    expect(colorOf({ kind: 'color', tag: 'T', intervals: [{ from: 0, color: 'grey' }, { from: 55, color: 'red' }] }, 56)).toBe('red');
+    expect(colorOf({ kind: 'color', tag: 'T', intervals: [{ from: 0, color: 'grey' }, { from: 55, color: 'red' }] }, 10)).toBe('grey');
+    expect(colorOf({ kind: 'color', tag: 'B', on: 'green', off: 'white' }, false)).toBe('white');
+    const e = el('pump');
+    const g = drawElement(e);
+    animate(g, e, { kind: 'color', tag: 'B', on: 'green' }, true);
+    expect(g.querySelector('[data-part="fill"]')!.getAttribute('fill')).toBe('green');
+    animate(g, e, { kind: 'rotate', tag: 'B', speed: 1 }, true);
+    expect(g.querySelector('[data-part="rotor"]')!.classList.contains('hmi-spin')).toBe(true);
+    animate(g, e, { kind: 'rotate', tag: 'B', speed: 1 }, false);
+    expect(g.querySelector('[data-part="rotor"]')!.classList.contains('hmi-spin')).toBe(false);
+    animate(g, e, { kind: 'visibility', tag: 'B' }, false);
+    expect(g.style.display).toBe('none');
+    animate(g, e, { kind: 'visibility', tag: 'B' }, true);
+    expect(g.style.display).toBe('');
+    animate(g, e, { kind: 'blink', tag: 'B' }, true);
+    expect(g.classList.contains('hmi-blink')).toBe(true);
+    animate(g, e, { kind: 'move', tag: 'X', min: 0, max: 10, dx: 100, dy: 0 }, 5);
+    expect(g.getAttribute('transform')).toBe('translate(60,20) rotate(0 50 100)');
+    const out = el('output');
+    const og = drawElement(out);
+    showValue(og, 36.129);
+    expect(og.querySelector('[data-part="text"]')!.textContent).toBe('36.129');
+  });
+
+  it('subscribes to the tags the screen shows and writes, nothing else', () => {
+    const screen = {
+      schema: 1, width: 10, height: 10,
+      elements: [el('tank', { animations: [{ kind: 'fill', tag: 'Level' }] }), el('output', { props: { tag: 'Flow' } }), el('switch', { action: { kind: 'toggle', tag: 'Run' } })],
+    };
+    expect(tagsOf(screen).sort()).toEqual(['Flow', 'Level', 'Run']);
+  });
+});
