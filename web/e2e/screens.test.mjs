@@ -41,3 +41,40 @@ test('the tank screen follows the plant and writes through its switch', async ()
   await b.shot('screen-tank');
   assert.deepEqual(b.errors, []);
 });
+
+test('the designer: drag, set properties, undo and redo, save with a located error, then the saved screen runs', async () => {
+  const { page, tid } = b;
+  await tid('hmi-edit').click();
+  await tid('hmi-designer').waitFor();
+  const count = () => page.locator('[data-testid="hmi-design-svg"] g.hmi-el').count();
+  const n0 = await count();
+  // Drag a pump from the palette onto the screen.
+  await tid('hmi-add-pump').dragTo(tid('hmi-canvas'), { targetPosition: { x: 300, y: 150 } });
+  await page.waitForFunction((n) => document.querySelectorAll('[data-testid="hmi-design-svg"] g.hmi-el').length === n + 1, n0);
+  await tid('hmi-props').getByText('pump1 (pump)').waitFor();
+  // Undo removes it, redo puts it back.
+  await tid('hmi-undo').click();
+  assert.equal(await count(), n0);
+  await tid('hmi-redo').click();
+  assert.equal(await count(), n0 + 1);
+  // A rotate animation on a tag that does not exist: Save is refused with the place.
+  await tid('hmi-prop-anim-kind').selectOption('rotate');
+  await tid('hmi-prop-anim-tag').fill('Bomba9');
+  await tid('hmi-prop-anim-tag').press('Enter');
+  await tid('hmi-save').click();
+  await tid('hmi-problem-0').waitFor();
+  assert.match(await tid('hmi-problem-0').textContent(), /^\d+:\d+ `pump1`: animation `rotate`: unknown tag `Bomba9`/);
+  await b.shot('screen-designer');
+  // Fixed, saved, and the runtime view shows it turning with B2.
+  await tid('hmi-prop-anim-tag').fill('Bomba2');
+  await tid('hmi-prop-anim-tag').press('Enter');
+  await tid('hmi-save').click();
+  await tid('toast-info').filter({ hasText: 'tank saved' }).waitFor();
+  const saved = await alba.json('/api/screens/tank');
+  const pump = saved.elements.find((e) => e.id === 'pump1');
+  assert.deepEqual(pump.animations, [{ kind: 'rotate', tag: 'Bomba2', speed: 1 }]);
+  await tid('hmi-close').click();
+  await tid('hmi-el-pump1').waitFor();
+  await b.shot('screen-designer-saved');
+  assert.deepEqual(b.errors, []);
+});

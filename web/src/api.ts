@@ -27,6 +27,11 @@ export function onUnauthorized(f: ((message: string) => void) | null): void {
 
 const SAFE = new Set(['GET', 'HEAD']);
 
+/** A JSON body already written (kept as it is: pretty, so that the server's line:column point into a readable text). */
+class RawJson {
+  constructor(readonly text: string) {}
+}
+
 async function request(method: string, path: string, body?: unknown, contentType = 'application/json'): Promise<Response> {
   // The session is the cookie (same origin only). Every state-changing request
   // has a JSON body (an empty object when there is nothing to say), since the
@@ -36,7 +41,7 @@ async function request(method: string, path: string, body?: unknown, contentType
   const init: RequestInit = { method, headers, credentials: 'same-origin' };
   if (body === undefined && !SAFE.has(method)) body = {};
   if (body !== undefined) {
-    init.body = typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
+    init.body = body instanceof RawJson ? body.text : typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
     headers['Content-Type'] = contentType;
   }
   let res: Response;
@@ -102,6 +107,8 @@ export const api = {
   trends: () => json<TrendSet>('GET', '/api/trends'),
   screens: () => json<string[]>('GET', '/api/screens'),
   screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
+  // pretty, so that a refusal's line and column point into a readable file
+  saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
   saveTrends: (s: TrendSet) => json<TrendSet>('PUT', '/api/trends', s),
   uses: (name: string) => json<TagUse[]>('GET', `/api/tags/${enc(name)}/uses`),
   historyTags: () => json<{ name: string; first_ms: number; last_ms: number }[]>('GET', '/api/history/tags'),

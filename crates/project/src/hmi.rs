@@ -352,11 +352,16 @@ pub fn parse(text: &str, file: FileId, resolve: &Resolve<'_>) -> (Option<Screen>
                 "size",
             ));
         }
+        // Problems of animations and actions name their element.
+        let from = d.len();
         for (n, a) in e.animations.iter().enumerate() {
             check_animation(a, &format!("{here}/animations/{n}"), resolve, &diag, &mut d);
         }
         if let Some(a) = &e.action {
             check_action(a, &format!("{here}/action"), resolve, &diag, &mut d);
+        }
+        for x in &mut d[from..] {
+            x.message = format!("`{}`: {}", e.id, x.message);
         }
     }
     (Some(screen), d)

@@ -4,11 +4,12 @@
 // role checked like everywhere); full screen for an operator's shift. A
 // stale link greys the screen like every view (live/freshness.ts).
 import { ApiError, api } from '../api';
-import { can, why } from '../auth';
+import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { clear, h, s } from '../dom';
 import { tr } from '../i18n';
 import type { Json } from '../types';
+import { Designer } from './designer';
 import { type Element, type Screen, animate, drawElement, showValue, tagsOf } from './render';
 
 export class ScreensView {
@@ -22,7 +23,16 @@ export class ScreensView {
     this.picker.onchange = () => void this.open(this.picker.value);
     const full = h('button', { 'data-testid': 'hmi-fullscreen', title: tr('Show the screen on the whole display') }, tr('Full screen'));
     full.onclick = () => void this.stage.requestFullscreen?.().catch(() => undefined);
-    this.el = h('section', { class: 'hmi-view', 'data-testid': 'hmi-view' }, h('div', { class: 'toolbar' }, this.picker, full), this.stage);
+    const edit = h('button', { 'data-testid': 'hmi-edit' }, tr('Edit'));
+    edit.onclick = () => void this.design(this.name);
+    const create = h('button', { 'data-testid': 'hmi-new' }, `+ ${tr('New screen')}`);
+    create.onclick = () => {
+      const name = prompt(tr('Name of the new screen (letters, digits, _ and -):'))?.trim();
+      if (name) void this.design(name, { schema: 1, width: 1000, height: 600, elements: [] });
+    };
+    gate(edit, 'edit');
+    gate(create, 'edit');
+    this.el = h('section', { class: 'hmi-view', 'data-testid': 'hmi-view' }, h('div', { class: 'toolbar' }, this.picker, full, edit, create), this.stage);
   }
 
   show(): void {
@@ -87,6 +97,26 @@ export class ScreensView {
     clear(this.stage);
     this.stage.append(svg);
     this.ctx.live.subscribe('hmi', tagsOf(screen));
+  }
+
+  /** Opens the designer on `name` (its saved version, or `fresh`); back to the run view when closed. */
+  private async design(name: string, fresh?: Screen): Promise<void> {
+    let screen = fresh;
+    if (!screen) {
+      try {
+        screen = (await api.screen(name)) as Screen;
+      } catch (e) {
+        this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
+        return;
+      }
+    }
+    this.stop();
+    const d = new Designer(this.ctx, name, screen, () => {
+      this.name = name;
+      void this.load();
+    });
+    clear(this.stage);
+    this.stage.append(d.el);
   }
 
   /** A widget: writes its tag through the API (operators and up), or goes to another screen. */

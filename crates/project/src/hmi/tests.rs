@@ -116,7 +116,7 @@ fn malformed_screens_are_reported_at_their_place() {
             with(&format!(
                 "{{{E}, \"animations\": [{{\"kind\": \"fill\", \"tag\": \"Nope\"}}]}}"
             )),
-            "hmi/main.json:6:102: error[E141]: animation `fill`: unknown tag `Nope`",
+            "hmi/main.json:6:102: error[E141]: `e`: animation `fill`: unknown tag `Nope`",
         ),
         (
             with(&format!(
