@@ -459,6 +459,11 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    let (screens, bad) = alba_compiler::screens::check_dir(dir, &mut files, &program.layout);
+    if !bad.is_empty() {
+        report(&bad, &files, short);
+        return ExitCode::FAILURE;
+    }
     if ir {
         print!("{}", program.dump());
     }
@@ -470,8 +475,13 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
     } else {
         String::new()
     };
+    let screens = if screens > 0 {
+        format!(", {}", n(screens, "screen"))
+    } else {
+        String::new()
+    };
     eprintln!(
-        "{}: ok ({}, {}, {}, {}{alarms})",
+        "{}: ok ({}, {}, {}, {}{alarms}{screens})",
         dir.display(),
         n(program.units.len(), "program"),
         n(rungs, "rung"),

@@ -9,6 +9,7 @@ use std::path::Path;
 
 pub mod normal;
 pub mod petri;
+pub mod screens;
 pub mod sfc;
 
 /// The crates of the compiler's public API — project loading, diagnostics and

@@ -260,3 +260,27 @@ fn sim_reports_alarm_changes_at_virtual_time() {
         1
     );
 }
+
+/// `alba check` reads the project's screens too (hmi/*.json): a screen that
+/// names a tag the program does not have fails the check, at its place.
+#[test]
+fn check_reports_a_bad_screen_at_its_place() {
+    let dir = scratch("check-screen");
+    std::fs::write(dir.join("alba.toml"), "name = \"s\"\nprograms = [\"main.lad\"]\n").unwrap();
+    std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\nLevel,REAL\n").unwrap();
+    std::fs::write(dir.join("main.lad"), "XIC(A)OTE(A);\n").unwrap();
+    std::fs::create_dir_all(dir.join("hmi")).unwrap();
+    let good = "{\"schema\": 1, \"width\": 100, \"height\": 100, \"elements\": [\n  {\"id\": \"t\", \"type\": \"tank\", \"x\": 0, \"y\": 0, \"w\": 10, \"h\": 10,\n   \"animations\": [{\"kind\": \"fill\", \"tag\": \"Level\"}]}]}\n";
+    std::fs::write(dir.join("hmi/main.json"), good).unwrap();
+    let out = alba(&dir, &["check", "."]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("1 screen)"));
+    std::fs::write(dir.join("hmi/main.json"), good.replace("\"Level\"", "\"Levl\"")).unwrap();
+    let out = alba(&dir, &["check", ".", "--short"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("hmi/main.json:3:43: error[E141]: `t`: animation `fill`: unknown tag `Levl`"),
+        "{err}"
+    );
+}

@@ -8,9 +8,7 @@ use crate::project::{EditError, diagnostics_json};
 use crate::state::AppState;
 use alba_audit::Action;
 use alba_compiler::diag::Files;
-use alba_compiler::project::hmi::{self, Screen, TagKind};
-use alba_ir::model::DataType;
-use alba_ir::{Access, Target};
+use alba_compiler::project::hmi::{self, Screen};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
@@ -29,30 +27,12 @@ fn file_of(st_dir: &std::path::Path, name: &str) -> ApiResult<std::path::PathBuf
     Ok(st_dir.join("hmi").join(format!("{name}.json")))
 }
 
-/// What a name holds for a screen: a BOOL, a number or a structure, and
-/// whether a screen may write it.
-fn resolver(layout: &alba_ir::Layout) -> impl Fn(&str) -> Result<(TagKind, bool), String> + '_ {
-    move |name: &str| match layout.resolve(name) {
-        Ok(Target::Value { place, access }) => {
-            let kind = if place.data_type() == DataType::Bool {
-                TagKind::Bool
-            } else {
-                TagKind::Number
-            };
-            let input = alba_runtime::io_kind(layout, place) == Some(true);
-            Ok((kind, access == Access::ReadWrite && !input))
-        }
-        Ok(_) => Ok((TagKind::Structure, false)),
-        Err(e) => Err(e.to_string()),
-    }
-}
-
 /// Parses and checks `text` as the screen `name`; its diagnostics on refusal.
 fn check(st: &AppState, name: &str, text: &str) -> ApiResult<Screen> {
     let snapshot = st.runtime.snapshot();
     let mut files = Files::new();
     let f = files.add(format!("hmi/{name}.json"), text);
-    let (screen, diags) = hmi::parse(text, f, &resolver(&snapshot.program.layout));
+    let (screen, diags) = hmi::parse(text, f, &alba_compiler::screens::resolver(&snapshot.program.layout));
     match screen {
         Some(s) if diags.is_empty() => Ok(s),
         _ => Err(ApiError::Edit(EditError::DoesNotCompile {
