@@ -64,6 +64,16 @@ axis: number,
  */
 min: number | null, max: number | null, };
 
+export type ScreenDomain = { 
+/**
+ * `[type, what it is]`, AuroraLD's 30.
+ */
+elements: Array<[string, string]>, 
+/**
+ * `[kind, its parameters besides tag]`.
+ */
+animations: Array<[string, Array<string>]>, actions: Array<string>, };
+
 export type TagUse = { 
 /**
  * The program, as listed in alba.toml.
@@ -171,6 +181,10 @@ export type DomainReply = {
  * GET and `admin` for anything else.
  */
 routes: Array<RouteRole>, 
+/**
+ * What a SCADA screen may hold (hmi/*.json): for the designer.
+ */
+screens: ScreenDomain, 
 /**
  * Every data type a tag may have, elementary ones first.
  */

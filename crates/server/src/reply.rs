@@ -430,6 +430,19 @@ pub struct DomainReply {
     /// The routes with their own rule; any other route needs `viewer` for
     /// GET and `admin` for anything else.
     pub routes: Vec<RouteRole>,
+    /// What a SCADA screen may hold (hmi/*.json): for the designer.
+    pub screens: ScreenDomain,
+}
+
+/// The element types, animations (with their parameters) and widget
+/// actions of screens (`alba_project::hmi`).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct ScreenDomain {
+    /// `[type, what it is]`, AuroraLD's 30.
+    pub elements: Vec<(String, String)>,
+    /// `[kind, its parameters besides tag]`.
+    pub animations: Vec<(String, Vec<String>)>,
+    pub actions: Vec<String>,
 }
 
 /// A route of `ROUTE_ROLES` and the role it needs (`null`: anybody).
@@ -553,6 +566,7 @@ pub fn typescript() -> String {
         Status,
         TrendSet,
         TrendPen,
+        ScreenDomain,
         TagUse,
         Access,
         TagInfo,

@@ -9,12 +9,14 @@
 import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
 import { add, clear, h, s } from '../dom';
+import { domain } from '../domain';
 import { tr } from '../i18n';
 import { type Element, type Screen, drawElement } from './render';
 
-export const ELEMENT_TYPES = ['text', 'input', 'output', 'rectangle', 'circle', 'button', 'switch', 'line', 'polygon', 'slider', 'led', 'arc', 'wind_turbine', 'fan', 'cooling_tower', 'plc', 'clock', 'image', 'bottle', 'motor', 'pump', 'tank', 'pipe', 'valve', 'building', 'transmission_tower', 'safety_sign', 'meter', 'alarm', 'trend'];
-const ANIMATIONS = ['', 'visibility', 'blink', 'move', 'rotate', 'color', 'fill'];
-const ACTIONS = ['', 'momentary', 'toggle', 'set', 'input', 'slider', 'navigate'];
+// What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
+const types = () => domain().screens.elements;
+const animations = () => ['', ...domain().screens.animations.map(([k]) => k)];
+const actions = () => ['', ...domain().screens.actions];
 const GRID = 10;
 const DRAG_TYPE = 'application/x-alba-element';
 
@@ -49,9 +51,9 @@ export class Designer {
   ) {
     this.screen = structuredClone(screen);
     const palette = h('div', { class: 'hmi-palette', 'data-testid': 'hmi-palette' },
-      ELEMENT_TYPES.map((t) =>
+      types().map(([t, what]) =>
         h('button', {
-          class: 'small', 'data-testid': `hmi-add-${t}`, draggable: 'true',
+          class: 'small', 'data-testid': `hmi-add-${t}`, draggable: 'true', title: what,
           ondragstart: (e: DragEvent) => e.dataTransfer?.setData(DRAG_TYPE, t),
           onclick: () => this.add(t, this.screen.width / 2, this.screen.height / 2),
         }, t.replace(/_/g, ' '))));
@@ -209,7 +211,7 @@ export class Designer {
     };
     const num = (k: 'x' | 'y' | 'w' | 'h') => field(k, k, e[k], (v) => Number.isFinite(Number(v)) && this.change(() => (e[k] = Number(v))), { type: 'number' });
     const anim = e.animations?.[0];
-    const kindSel = h('select', { 'data-testid': 'hmi-prop-anim-kind' }, ANIMATIONS.map((k) => h('option', { value: k, selected: (anim?.kind ?? '') === k }, k || '—')));
+    const kindSel = h('select', { 'data-testid': 'hmi-prop-anim-kind' }, animations().map((k) => h('option', { value: k, selected: (anim?.kind ?? '') === k }, k || '—')));
     kindSel.onchange = () =>
       this.change(() => {
         const kind = kindSel.value;
@@ -217,7 +219,7 @@ export class Designer {
         if (kind === 'rotate' && e.animations[0]) e.animations[0].speed = 1;
         if (kind === 'fill' && e.animations[0]) Object.assign(e.animations[0], { min: 0, max: 100, direction: 'up' });
       });
-    const actSel = h('select', { 'data-testid': 'hmi-prop-action-kind' }, ACTIONS.map((k) => h('option', { value: k, selected: (e.action?.kind ?? '') === k }, k || '—')));
+    const actSel = h('select', { 'data-testid': 'hmi-prop-action-kind' }, actions().map((k) => h('option', { value: k, selected: (e.action?.kind ?? '') === k }, k || '—')));
     actSel.onchange = () => this.change(() => (e.action = actSel.value ? { kind: actSel.value, tag: e.action?.tag ?? null } : null));
     add(
       this.props,

@@ -22,9 +22,22 @@ pub async fn get() -> Json<DomainReply> {
             },
         })
         .collect();
+    use alba_compiler::project::hmi;
+    let screens = crate::reply::ScreenDomain {
+        elements: hmi::ELEMENT_TYPES
+            .iter()
+            .map(|(t, d)| (t.to_string(), d.to_string()))
+            .collect(),
+        animations: hmi::ANIMATIONS
+            .iter()
+            .map(|(k, ps)| (k.to_string(), ps.iter().map(|p| p.to_string()).collect()))
+            .collect(),
+        actions: hmi::ACTIONS.iter().map(|a| a.to_string()).collect(),
+    };
     Json(DomainReply {
         language: domain(),
         routes,
+        screens,
     })
 }
 
