@@ -39,7 +39,8 @@ describe('the domain from the server', () => {
   it('has exactly the fields domain.ts declares (the fixture is the server reply)', () => {
     const keys = (o: object) => Object.keys(o).sort();
     const d = domain();
-    expect(keys(d)).toEqual(['args', 'groups', 'instructions', 'routes', 'types']);
+    expect(keys(d)).toEqual(['args', 'groups', 'instructions', 'routes', 'screens', 'types']);
+    expect(keys(d.screens)).toEqual(['actions', 'animations', 'elements']);
     for (const t of d.types) {
       expect(keys(t)).toEqual(['kind', 'members', 'name']);
       expect(['bool', 'integer', 'real', 'structure']).toContain(t.kind);
