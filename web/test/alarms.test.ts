@@ -43,3 +43,23 @@ describe('the alarm banner', () => {
     expect(b.el.textContent).toContain(alarmText.flood);
   });
 });
+
+describe('the alarm sound', () => {
+  it('sounds once per new alarm, by severity band, unless muted in this browser', async () => {
+    vi.stubGlobal('fetch', vi.fn(async () => new Response(JSON.stringify([alarm()]), { status: 200 })));
+    localStorage.removeItem('alba.alarms.muted');
+    const played: string[] = [];
+    const b = new AlarmBanner(() => undefined, (band) => played.push(band));
+    await b.update(stats({ new_10min: 1 })); // the first summary: what was there before the page
+    expect(played).toEqual([]);
+    await b.update(stats({ new_10min: 2, top_severity: 750 }));
+    expect(played).toEqual(['high']);
+    await b.update(stats({ new_10min: 2 })); // nothing new
+    expect(played).toEqual(['high']);
+    (b.el.querySelector('[data-testid=alarm-mute]') as HTMLButtonElement).click();
+    expect(b.muted).toBe(true);
+    await b.update(stats({ new_10min: 3 }));
+    expect(played).toEqual(['high']);
+    localStorage.removeItem('alba.alarms.muted');
+  });
+});

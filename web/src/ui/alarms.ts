@@ -17,6 +17,9 @@ export const alarmText = {
   hide: tr('Hide'),
   ack: tr('Acknowledge'),
   none: tr('No alarms.'),
+  mute: tr('Mute'),
+  unmute: tr('Sound'),
+  muteTitle: tr('Sound for new alarms in this browser (a tone per severity)'),
   state: {
     active_unacked: tr('active, not acknowledged'),
     active_acked: tr('active, acknowledged'),
@@ -33,23 +36,63 @@ export function band(severity: number): 'critical' | 'high' | 'medium' | 'low' {
   return severity >= 1000 ? 'critical' : severity >= 750 ? 'high' : severity >= 500 ? 'medium' : 'low';
 }
 
+const MUTE_KEY = 'alba.alarms.muted';
+
+/** A short tone for a new alarm: higher and repeated for more severe bands (WebAudio). */
+export function tone(b: ReturnType<typeof band>): void {
+  const Ctx = (globalThis as { AudioContext?: typeof AudioContext }).AudioContext;
+  if (!Ctx) return;
+  const ctx = new Ctx();
+  const beeps = { critical: 3, high: 2, medium: 1, low: 1 }[b];
+  const freq = { critical: 1046, high: 880, medium: 660, low: 523 }[b];
+  for (let k = 0; k < beeps; k++) {
+    const o = ctx.createOscillator();
+    const g = ctx.createGain();
+    o.frequency.value = freq;
+    g.gain.value = 0.15;
+    o.connect(g).connect(ctx.destination);
+    o.start(ctx.currentTime + k * 0.25);
+    o.stop(ctx.currentTime + k * 0.25 + 0.15);
+  }
+  setTimeout(() => void ctx.close(), beeps * 300 + 200);
+}
+
 export class AlarmBanner {
   readonly el: HTMLElement;
   private readonly text = h('span', { class: 'alarm-text', 'data-testid': 'alarm-text' });
   private readonly list = h('table', { class: 'alarm-list', 'data-testid': 'alarm-list', hidden: true });
   private readonly toggle = h('button', { class: 'small', 'data-testid': 'alarm-toggle' }, alarmText.show);
+  private readonly muteBtn = h('button', { class: 'small', 'data-testid': 'alarm-mute', title: alarmText.muteTitle });
   private alarms: Alarm[] = [];
+  /** New alarms in the last summary (`new_10min`), to sound only for new ones. */
+  private seen: number | null = null;
 
-  constructor(private readonly notify: (m: string, kind?: 'info' | 'error') => void) {
-    this.el = h('div', { class: 'alarm-banner', 'data-testid': 'alarm-banner', role: 'alert', hidden: true }, this.text, this.toggle, this.list);
+  constructor(
+    private readonly notify: (m: string, kind?: 'info' | 'error') => void,
+    private readonly sound: (b: ReturnType<typeof band>) => void = tone,
+  ) {
+    this.el = h('div', { class: 'alarm-banner', 'data-testid': 'alarm-banner', role: 'alert', hidden: true }, this.text, this.muteBtn, this.toggle, this.list);
+    const showMute = () => (this.muteBtn.textContent = this.muted ? alarmText.unmute : alarmText.mute);
+    showMute();
+    this.muteBtn.onclick = () => {
+      localStorage.setItem(MUTE_KEY, this.muted ? '0' : '1');
+      showMute();
+    };
     this.toggle.onclick = () => {
       this.list.hidden = !this.list.hidden;
       this.toggle.textContent = this.list.hidden ? alarmText.show : alarmText.hide;
     };
   }
 
-  /** A new summary: show or hide, and fetch the list when something waits. */
+  /** Sound is off for this browser (remembered). */
+  get muted(): boolean {
+    return localStorage.getItem(MUTE_KEY) === '1';
+  }
+
+  /** A new summary: show or hide, sound for a new alarm, and fetch the list when something waits. */
   async update(s: AlarmStats): Promise<void> {
+    if (this.seen !== null && s.new_10min > this.seen && s.unacked > 0 && s.top_severity !== null && !this.muted) this.sound(band(s.top_severity));
+    this.seen = s.new_10min;
     this.el.hidden = s.unacked === 0 && !s.flood;
     this.el.dataset.band = s.top_severity === null ? '' : band(s.top_severity);
     if (this.el.hidden) return;
