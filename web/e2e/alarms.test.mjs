@@ -42,3 +42,41 @@ test('an alarm shows in the banner on every page and is acknowledged from it', a
   assert.match(String(csv), /,estop,STOP,(active_unacked|cleared_unacked),(active_acked|normal),/);
   assert.deepEqual(b.errors, []);
 });
+
+test('the alarm summary: filter, sort, acknowledge the page, shelve, the log', async () => {
+  const { page, tid } = b;
+  const force = (tag, value) => alba.api(`/api/forces/${tag}`, { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value }) });
+  // A second emergency stop (a new rising edge) and the level alarm's tag driven low.
+  await force('STOP', false);
+  await force('STOP', true);
+  await tid('tab-alarms').click();
+  await tid('alarms-row-estop').waitFor();
+  // The store alarms are normal: not listed; estop is, unacknowledged.
+  assert.equal(await tid('alarms-row-store_fail').count(), 0);
+  await tid('alarms-filter').fill('nothing matches this');
+  await tid('alarms-row-estop').waitFor({ state: 'detached' });
+  await tid('alarms-filter').fill('emergency');
+  await tid('alarms-row-estop').waitFor();
+  // Shelve it for 5 minutes with a reason, from the page's prompts; then unshelve.
+  page.removeAllListeners('dialog');
+  const answers = ['5', 'maintenance on P1'];
+  page.on('dialog', (d) => d.accept(answers.shift()));
+  await tid('alarms-shelve-estop').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="alarms-row-estop"]')?.textContent.includes('shelved'));
+  const shelved = (await alba.json('/api/alarms')).find((a) => a.id === 'estop');
+  assert.equal(shelved.state, 'shelved');
+  assert.equal(shelved.reason, 'maintenance on P1');
+  await b.shot('alarm-summary');
+  await tid('alarms-shelve-estop').click(); // unshelve
+  await page.waitForFunction(() => !document.querySelector('[data-testid="alarms-row-estop"]')?.textContent.includes('shelved'));
+  page.removeAllListeners('dialog');
+  page.on('dialog', (d) => d.accept());
+  // Acknowledge the page: nothing waits any more.
+  await tid('alarms-ack-page').click();
+  for (let i = 0; i < 50 && (await alba.json('/api/alarms')).some((a) => a.state.endsWith('_unacked')); i++) await page.waitForTimeout(100);
+  assert.equal((await alba.json('/api/alarms')).filter((a) => a.state.endsWith('_unacked')).length, 0);
+  const [download] = await Promise.all([page.waitForEvent('download'), tid('alarms-log').click()]);
+  assert.equal(download.suggestedFilename(), 'alarms.csv');
+  await force('STOP', false);
+  assert.deepEqual(b.errors, []);
+});

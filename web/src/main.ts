@@ -18,6 +18,7 @@ import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
 import { freshness } from './live/freshness';
 import { AlarmBanner } from './ui/alarms';
+import { AlarmsView } from './ui/alarmsView';
 import { ForcesBanner, StaleBanner } from './ui/banners';
 import { confirmAction } from './ui/confirm';
 import { StatusBar } from './ui/statusbar';
@@ -224,6 +225,7 @@ async function start(me: Me): Promise<void> {
   }
   views.set('tags', { label: tr('Tags'), testid: 'tab-tags', make: () => new TagsView(ctx) });
   views.set('screens', { label: tr('Screens'), testid: 'tab-screens', make: () => new ScreensView(ctx) });
+  views.set('alarms', { label: tr('Alarms'), testid: 'tab-alarms', make: () => new AlarmsView(ctx) });
   // made at once: its pens record in the background from the start
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });

@@ -63,3 +63,19 @@ describe('the alarm sound', () => {
     localStorage.removeItem('alba.alarms.muted');
   });
 });
+
+describe('the alarm summary', () => {
+  it('filters by any text of an alarm and sorts by severity, time or name', async () => {
+    const { summary } = await import('../src/ui/alarmsView');
+    const list = [
+      alarm({ id: 'b', severity: 500, since_ms: 3, message: 'level high' }),
+      alarm({ id: 'a', severity: 1000, since_ms: 1 }),
+      alarm({ id: 'c', severity: 500, since_ms: 9, tag: 'Pump' }),
+    ];
+    expect(summary([...list], '', 'severity').map((x) => x.id)).toEqual(['a', 'c', 'b']);
+    expect(summary([...list], '', 'time').map((x) => x.id)).toEqual(['c', 'b', 'a']);
+    expect(summary([...list], '', 'id').map((x) => x.id)).toEqual(['a', 'b', 'c']);
+    expect(summary([...list], 'PUMP', 'id').map((x) => x.id)).toEqual(['c']);
+    expect(summary([...list], 'level', 'id').map((x) => x.id)).toEqual(['b']);
+  });
+});
