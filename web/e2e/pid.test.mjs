@@ -51,3 +51,43 @@ test('a PID box is drawn live, and PID is in the palette with its operand labels
   await tid('el-r1-1').filter({ has: page.locator('text.mn', { hasText: 'PID' }) }).waitFor();
   assert.deepEqual(b.errors, [], 'no error in the page');
 });
+
+test('the PID faceplate: SP, PV and CV live with a trend, manual output up and down, the setpoint and gains written', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
+  await tid('tab-tags').click();
+  await tid('tag-faceplate-Loop').click();
+  await tid('faceplate').waitFor();
+  await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-testid="faceplate-PV"]')?.textContent ?? ''));
+  // The trend draws as values come.
+  await page.waitForFunction(() => (document.querySelector('[data-testid="faceplate-trend"] polyline')?.getAttribute('points') ?? '').split(' ').length > 3);
+  // Auto → manual, then the output one step up: the CV moves by 1 % of its range (100 of 0–10000).
+  assert.equal(await tid('faceplate-up').isDisabled(), true, 'no manual output in auto');
+  await tid('faceplate-mode').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="faceplate-mode"]')?.dataset.mode === 'manual');
+  assert.equal((await alba.json('/api/tags/Loop.MAN')).value, true);
+  const cv0 = (await alba.json('/api/tags/Loop.CV')).value;
+  await tid('faceplate-up').click();
+  let cv = cv0;
+  for (let i = 0; i < 50 && cv === cv0; i++) {
+    await page.waitForTimeout(50);
+    cv = (await alba.json('/api/tags/Loop.CV')).value;
+  }
+  assert.ok(Math.abs(cv - (cv0 + 100)) < 1e-3, `CV ${cv0} → ${cv}`);
+  await tid('faceplate-bit-MAN').filter({ hasText: 'MAN' }).waitFor();
+  assert.ok((await tid('faceplate-bit-MAN').getAttribute('class')).includes('on'));
+  // Setpoint and gain.
+  await tid('faceplate-sp-input').fill('2.5');
+  await tid('faceplate-sp-input').press('Enter');
+  await tid('faceplate-gain-KP').fill('6');
+  await tid('faceplate-gain-KP').press('Tab');
+  for (let i = 0; i < 50 && (await alba.json('/api/tags/Loop.KP')).value !== 6; i++) await page.waitForTimeout(50);
+  assert.equal((await alba.json('/api/tags/Loop.SP')).value, 2.5);
+  assert.equal((await alba.json('/api/tags/Loop.KP')).value, 6);
+  await b.shot('pid-faceplate');
+  await tid('faceplate-mode').click(); // back to auto
+  await tid('faceplate-close').click();
+  await tid('faceplate').waitFor({ state: 'detached' });
+  assert.deepEqual(b.errors, []);
+});

@@ -79,3 +79,11 @@ describe('the alarm summary', () => {
     expect(summary([...list], 'level', 'id').map((x) => x.id)).toEqual(['b']);
   });
 });
+
+describe('the PID faceplate trend', () => {
+  it('scales values into the box, oldest on the left', async () => {
+    const { polyline } = await import('../src/ui/faceplate');
+    expect(polyline([0, 5, 10], 238, 100, 0, 10)).toBe('0.0,100.0 2.0,50.0 4.0,0.0');
+    expect(polyline([3, 3], 119, 10, 3, 3)).toBe('0.0,10.0 1.0,10.0');
+  });
+});

@@ -9,6 +9,7 @@ import { domain, isStructure, membersOf } from '../domain';
 import { parseValue } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 import { tr } from '../i18n';
+import { openFaceplate } from '../ui/faceplate';
 
 interface Row {
   name: string;
@@ -215,6 +216,9 @@ export class TagsView {
     }
 
     const actions = h('td', { class: 'actions' });
+    if (row.type === 'PID' && !row.member) {
+      actions.append(h('button', { class: 'small', 'data-testid': `tag-faceplate-${row.name}`, onclick: () => openFaceplate(this.ctx, row.name) }, tr('Faceplate')), ' ');
+    }
     if (t && t.access !== 'readonly' && !t.name.includes(':')) {
       actions.append(
         gated(h('button', { class: 'small', 'data-testid': `tag-def-edit-${row.name}`, onclick: () => void this.openForm(row.name) }, tr('Edit')), 'tags'),
