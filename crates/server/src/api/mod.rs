@@ -37,6 +37,22 @@ pub fn body(b: Body) -> Result<Json, ApiError> {
     }
 }
 
+/// A whole-file body (tags.csv, a screen) as UTF-8 text; a body over the
+/// limit is answered in the JSON error shape, as everywhere.
+pub fn text_body(
+    b: Result<axum::body::Bytes, axum::extract::rejection::BytesRejection>,
+    what: &str,
+) -> Result<String, ApiError> {
+    let bytes = b.map_err(|e| {
+        if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::TooLarge
+        } else {
+            ApiError::Malformed(e.body_text())
+        }
+    })?;
+    String::from_utf8(bytes.to_vec()).map_err(|e| ApiError::Malformed(format!("{what} is not UTF-8 text: {e}")))
+}
+
 pub fn field<'a>(j: &'a Json, name: &str) -> Result<&'a Json, ApiError> {
     j.get(name)
         .ok_or_else(|| ApiError::Malformed(format!("the body needs a `{name}` field")))

@@ -174,16 +174,7 @@ pub async fn put_tags_csv(
     actor: Actor,
     bytes: Result<Bytes, axum::extract::rejection::BytesRejection>,
 ) -> ApiResult<Json<Saved>> {
-    // A body over the limit is answered in the JSON error shape, as everywhere.
-    let bytes = bytes.map_err(|e| {
-        if e.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
-            ApiError::TooLarge
-        } else {
-            ApiError::Malformed(e.body_text())
-        }
-    })?;
-    let text =
-        std::str::from_utf8(&bytes).map_err(|e| ApiError::Malformed(format!("tags.csv is not UTF-8 text: {e}")))?;
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let text = super::text_body(bytes, "tags.csv")?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     Ok(Json(apply(&st, &actor, project::Edit::Tags(text), true).await?))
 }

@@ -73,15 +73,8 @@ pub async fn put(
     Path(name): Path<String>,
     bytes: Result<Bytes, axum::extract::rejection::BytesRejection>,
 ) -> ApiResult<Json<Screen>> {
-    let bytes = bytes.map_err(|e| {
-        if e.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
-            ApiError::TooLarge
-        } else {
-            ApiError::Malformed(e.body_text())
-        }
-    })?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| ApiError::Malformed(format!("not UTF-8 text: {e}")))?;
-    let screen = check(&st, &name, text)?;
+    let text = super::text_body(bytes, "the screen")?;
+    let screen = check(&st, &name, &text)?;
     let path = file_of(&st.project.lock().await.project.dir, &name)?;
     let pretty = serde_json::to_string_pretty(&screen).map_err(|e| ApiError::Internal(e.to_string()))?;
     let entry = alba_audit::Entry {
