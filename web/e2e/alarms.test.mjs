@@ -3,21 +3,12 @@
 // rising edge of STOP: forcing STOP raises it; the banner appears on every
 // page with the alarm; acknowledging it from the list hides the banner, and
 // the acknowledgement is in the alarm log.
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { openBrowser, startAlba } from './harness.mjs';
+import { useStudio } from './harness.mjs';
 
 let alba, b;
-
-before(async () => {
-  alba = await startAlba('tank-plant');
-  b = await openBrowser();
-});
-
-after(async () => {
-  await b?.close();
-  await alba?.stop();
-});
+useStudio('tank-plant', (s) => ({ alba, b } = s));
 
 test('an alarm shows in the banner on every page and is acknowledged from it', async () => {
   const { page, tid } = b;

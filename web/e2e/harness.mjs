@@ -9,6 +9,7 @@ import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createInterface } from 'node:readline';
+import { after, before } from 'node:test';
 import { chromium } from 'playwright-core';
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -95,6 +96,22 @@ async function spawnAlba(dir, addr) {
     });
   });
   return { proc, url };
+}
+
+/**
+ * For a test file: `alba run` on examples/<example> and a browser, started
+ * before its tests (`set` receives `{ alba, b }`) and stopped after them.
+ */
+export function useStudio(example, set, opts) {
+  let ctx = {};
+  before(async () => {
+    ctx = { alba: await startAlba(example, opts), b: await openBrowser() };
+    set(ctx);
+  });
+  after(async () => {
+    await ctx.b?.close();
+    await ctx.alba?.stop();
+  });
 }
 
 /** A headless Chromium with a fresh profile, and one page. */

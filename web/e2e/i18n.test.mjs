@@ -1,20 +1,11 @@
 // The studio in Spanish (issue 16, item 5): the language switch in the top bar
 // reloads the studio in Spanish, remembered across visits; back to English.
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { openBrowser, startAlba } from './harness.mjs';
+import { useStudio } from './harness.mjs';
 
 let alba, b;
-
-before(async () => {
-  alba = await startAlba('tank-plant');
-  b = await openBrowser();
-});
-
-after(async () => {
-  await b?.close();
-  await alba?.stop();
-});
+useStudio('tank-plant', (s) => ({ alba, b } = s));
 
 test('the studio speaks Spanish when asked, and remembers it', async () => {
   const { page, tid } = b;

@@ -1,22 +1,13 @@
 // End-to-end test of the Instruction List view on examples/festo-station
 // (station.awl, S7-200 AWL, against its ladder plant model).
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { openBrowser, startAlba } from './harness.mjs';
+import { useStudio } from './harness.mjs';
 
 let alba, b;
-
-before(async () => {
-  alba = await startAlba('festo-station');
-  b = await openBrowser();
-});
-
-after(async () => {
-  await b?.close();
-  await alba?.stop();
-});
+useStudio('festo-station', (s) => ({ alba, b } = s));
 
 test('an AWL program is shown with live logic results and values, and edited as text', async () => {
   const { page, tid } = b;

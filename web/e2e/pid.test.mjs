@@ -2,21 +2,12 @@
 // examples/pid-level (PID(Loop,Level,Pump) against a simulated tank): the box
 // is drawn with its operand labels and live values, and PID is in the palette
 // (group "special") with its labels and the PID tags in the tag picker.
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { elementId, openBrowser, startAlba } from './harness.mjs';
+import { elementId, useStudio } from './harness.mjs';
 
 let alba, b;
-
-before(async () => {
-  alba = await startAlba('pid-level');
-  b = await openBrowser();
-});
-
-after(async () => {
-  await b?.close();
-  await alba?.stop();
-});
+useStudio('pid-level', (s) => ({ alba, b } = s));
 
 test('a PID box is drawn live, and PID is in the palette with its operand labels', async () => {
   const { page, tid } = b;
@@ -70,7 +61,7 @@ test('the PID faceplate: SP, PV and CV live with a trend, manual output up and d
   const cv0 = (await alba.json('/api/tags/Loop.CV')).value;
   await tid('faceplate-up').click();
   let cv = cv0;
-  for (let i = 0; i < 50 && cv === cv0; i++) {
+  for (let i = 0; i < 200 && cv === cv0; i++) {
     await page.waitForTimeout(50);
     cv = (await alba.json('/api/tags/Loop.CV')).value;
   }
@@ -82,7 +73,7 @@ test('the PID faceplate: SP, PV and CV live with a trend, manual output up and d
   await tid('faceplate-sp-input').press('Enter');
   await tid('faceplate-gain-KP').fill('6');
   await tid('faceplate-gain-KP').press('Tab');
-  for (let i = 0; i < 50 && (await alba.json('/api/tags/Loop.KP')).value !== 6; i++) await page.waitForTimeout(50);
+  for (let i = 0; i < 200 && (await alba.json('/api/tags/Loop.KP')).value !== 6; i++) await page.waitForTimeout(50);
   assert.equal((await alba.json('/api/tags/Loop.SP')).value, 2.5);
   assert.equal((await alba.json('/api/tags/Loop.KP')).value, 6);
   await b.shot('pid-faceplate');

@@ -1,21 +1,12 @@
 // SCADA screens at run time (issue 17): the demo's tank screen
 // (examples/tank-plant/hmi/tank.json) follows the running plant: the tank's
 // level rises while pump B1 turns, and the Fill request switch writes its tag.
-import { after, before, test } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { openBrowser, startAlba } from './harness.mjs';
+import { useStudio } from './harness.mjs';
 
 let alba, b;
-
-before(async () => {
-  alba = await startAlba('tank-plant');
-  b = await openBrowser();
-});
-
-after(async () => {
-  await b?.close();
-  await alba?.stop();
-});
+useStudio('tank-plant', (s) => ({ alba, b } = s));
 
 test('the tank screen follows the plant and writes through its switch', async () => {
   const { page, tid } = b;

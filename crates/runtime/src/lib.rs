@@ -436,7 +436,6 @@ impl Runtime {
             snapshots: snap_tx,
             epoch: Instant::now(),
             last_retain: Instant::now(),
-            health: health.clone(),
         };
         let thread = std::thread::Builder::new()
             .name("alba-engine".into())
@@ -515,7 +514,6 @@ struct Worker {
     /// Zero of the engine clock.
     epoch: Instant,
     last_retain: Instant,
-    health: Arc<Health>,
 }
 
 impl Worker {
@@ -611,7 +609,7 @@ impl Worker {
             return self.publish();
         }
         self.engine
-            .set_store_status(self.health.retain_lost(), self.health.ok());
+            .set_store_status(self.opts.health.retain_lost(), self.opts.health.ok());
         // Forces are the engine's: applied before and after the scan.
         let now = self.clock_ms();
         if let Err(m) = self.engine.scan(now) {
