@@ -67,6 +67,7 @@ export class LadderView {
   private readonly ed: ProgramEditor;
   private doc: ProgramDoc = { rungs: [], tail: '', tailError: null };
   private serverRungs: RungJson[] = [];
+  private savedDoc: { text: string; rungs: RungJson[]; doc: ProgramDoc } | null = null;
   private sel: Selection | null = null;
   private where: 'before' | 'after' = 'after';
   private group = 'bit';
@@ -251,8 +252,13 @@ export class LadderView {
    * rungs have none until the edit is saved.
    */
   private keepIdsOfUnchangedRungs(): void {
-    const saved = parseProgram(this.ed.savedText);
-    attachIds(saved, this.serverRungs);
+    // the running program's rungs with their ids: parsed once per saved version, not per keystroke
+    if (this.savedDoc?.text !== this.ed.savedText || this.savedDoc.rungs !== this.serverRungs) {
+      const doc = parseProgram(this.ed.savedText);
+      attachIds(doc, this.serverRungs);
+      this.savedDoc = { text: this.ed.savedText, rungs: this.serverRungs, doc };
+    }
+    const saved = this.savedDoc.doc;
     const key = (body: string) => body.replace(/\s+/g, '');
     const pool = new Map<string, Elem[][]>();
     for (const r of saved.rungs) if (r.elements) pool.set(key(r.body), [...(pool.get(key(r.body)) ?? []), r.elements]);
