@@ -111,6 +111,9 @@ export const api = {
   screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
   // pretty, so that a refusal's line and column point into a readable file
   saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
+  symbols: () => json<string[]>('GET', '/api/symbols'),
+  symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),
+  saveSymbol: (name: string, symbol: unknown) => json<unknown>('PUT', `/api/symbols/${enc(name)}`, new RawJson(JSON.stringify(symbol, null, 2))),
   saveTrends: (s: TrendSet) => json<TrendSet>('PUT', '/api/trends', s),
   uses: (name: string) => json<TagUse[]>('GET', `/api/tags/${enc(name)}/uses`),
   historyTags: () => json<{ name: string; first_ms: number; last_ms: number }[]>('GET', '/api/history/tags'),

@@ -2,7 +2,7 @@
 // animation changes what it should from a value.
 import { describe, expect, it } from 'vitest';
 import { domain } from '../src/domain';
-import { type Element, animate, colorOf, drawElement, showValue, tagsOf } from '../src/hmi/render';
+import { type Element, animate, colorOf, drawElement, showValue, tagsOf, tick } from '../src/hmi/render';
 
 // the server's list (test/fixtures/domain.json, checked against GET /api/domain)
 const TYPES = () => domain().screens.elements.map(([t]) => t);
@@ -64,5 +64,32 @@ describe('screen elements', () => {
       elements: [el('tank', { animations: [{ kind: 'fill', tag: 'Level' }] }), el('output', { props: { tag: 'Flow' } }), el('switch', { action: { kind: 'toggle', tag: 'Run' } })],
     };
     expect(tagsOf(screen).sort()).toEqual(['Flow', 'Level', 'Run']);
+  });
+});
+
+describe('gauges, trends and clocks', () => {
+  it('turns a circular meter needle over 270° from min to max', () => {
+    const e = el('meter', { props: { style: 'circular' } });
+    const g = drawElement(e);
+    animate(g, e, { kind: 'rotate', tag: 'L', min: 0, max: 60 }, 30);
+    expect(g.querySelector('[data-part="needle"]')!.getAttribute('transform')).toBe('rotate(135)');
+  });
+
+  it('draws a trend of the last values on its scale', () => {
+    const e = el('trend', { props: { tag: 'L', min: 0, max: 10 } });
+    const g = drawElement(e);
+    for (const v of [0, 5, 10, 20]) showValue(g, v, e.props);
+    const pts = g.querySelector('[data-part="line"]')!.getAttribute('points')!.split(' ').map((p) => p.split(',').map(Number));
+    expect(pts.length).toBe(4);
+    const [, y0, , y1] = g.querySelector('[data-part="line"]')!.getAttribute('data-box')!.split(',').map(Number);
+    expect(pts.map(([, y]) => y)).toEqual([y1, (y0 + y1) / 2, y0, y0].map((y) => Number(y.toFixed(1))));
+  });
+
+  it('sets a clock to the time', () => {
+    const g = drawElement(el('clock'));
+    tick(g, new Date(2026, 0, 1, 3, 30, 0));
+    expect(g.querySelector('[data-part="hour"]')!.getAttribute('transform')).toBe('rotate(105)');
+    expect(g.querySelector('[data-part="minute"]')!.getAttribute('transform')).toBe('rotate(180)');
+    expect(g.querySelector('[data-part="text"]')!.textContent).toBe('03:30:00');
   });
 });

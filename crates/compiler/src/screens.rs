@@ -26,22 +26,28 @@ pub fn resolver(layout: &Layout) -> impl Fn(&str) -> Result<(TagKind, bool), Str
 }
 
 /// Checks every screen of the project in `dir` (`hmi/*.json`, in name
-/// order), adding their texts to `files`; returns how many there are and
-/// their problems.
+/// order) and every user symbol (`hmi/symbols/*.json`), adding their texts
+/// to `files`; returns how many screens there are and the problems of all.
 pub fn check_dir(dir: &Path, files: &mut Files, layout: &Layout) -> (usize, Vec<Diagnostic>) {
-    let mut paths: Vec<_> = match std::fs::read_dir(dir.join("hmi")) {
-        Ok(entries) => entries
+    let json_files = |d: &Path| -> Vec<_> {
+        let mut paths: Vec<_> = std::fs::read_dir(d)
+            .into_iter()
+            .flatten()
             .flatten()
             .map(|e| e.path())
-            .filter(|p| p.extension().is_some_and(|x| x == "json"))
-            .collect(),
-        Err(_) => return (0, Vec::new()),
+            .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "json"))
+            .collect();
+        paths.sort();
+        paths
     };
-    paths.sort();
+    let hmi = dir.join("hmi");
+    let mut paths = json_files(&hmi);
+    let screens = paths.len();
+    paths.extend(json_files(&hmi.join("symbols")));
     let resolve = resolver(layout);
     let mut diags = Vec::new();
     for p in &paths {
-        let name = format!("hmi/{}", p.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
+        let name = p.strip_prefix(dir).unwrap_or(p).to_string_lossy().into_owned();
         match std::fs::read_to_string(p) {
             Ok(text) => {
                 let f = files.add(name, text.clone());
@@ -53,5 +59,5 @@ pub fn check_dir(dir: &Path, files: &mut Files, layout: &Layout) -> (usize, Vec<
             )),
         }
     }
-    (paths.len(), diags)
+    (screens, diags)
 }

@@ -99,6 +99,9 @@ pub struct Element {
     pub animations: Vec<Animation>,
     #[serde(default)]
     pub action: Option<Action>,
+    /// The group the element belongs to in the designer (selected and moved together).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
 }
 
 /// An animation: a kind, the tag that drives it, its parameters.

@@ -69,6 +69,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/alarms/{id}/out_of_service", Needs(Role::Engineer)),
     ("PUT", "/api/trends", Needs(Role::Operator)),
     ("PUT", "/api/screens/{name}", Needs(Role::Engineer)),
+    ("PUT", "/api/symbols/{name}", Needs(Role::Engineer)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
     ("GET", "/api/audit.csv", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
@@ -83,6 +84,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/check/{name}", post(programs::check))
         .route("/api/tags.csv", get(programs::get_tags_csv).put(programs::put_tags_csv))
         .route("/api/screens/{name}", get(screens::get).put(screens::put))
+        .route("/api/symbols/{name}", get(screens::get_symbol).put(screens::put_symbol))
         .layer(DefaultBodyLimit::max(FILE_BODY));
     Router::new()
         .route("/api/login", post(session::login))
@@ -113,6 +115,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/alarms/{id}/out_of_service", post(alarms::out_of_service))
         .route("/api/trends", get(trends::get).put(trends::put))
         .route("/api/screens", get(screens::list))
+        .route("/api/symbols", get(screens::list_symbols))
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
         .route("/api/{*rest}", any(api::fallback))

@@ -1,47 +1,55 @@
-// The screen designer (issue 17, item 2; a first version): a palette of the
-// 30 element types (click, or drag onto the screen), elements moved by
-// dragging on a 10-unit grid, a property panel (place and size, label, the
-// tag an output shows, one animation, the widget's action) with tag pickers,
-// undo/redo of every change (Ctrl+Z, Ctrl+Y), copy/paste (Ctrl+C, Ctrl+V),
-// Delete, and Save (PUT /api/screens/{name}: the server's located errors are
-// listed). The screen itself is the model: every change is a new version of
-// its JSON.
+// The screen designer (issue 17, item 2). The palette holds the element
+// types the server accepts and the user's own symbols (click, or drag onto
+// the screen). On the canvas: click selects (a group as a whole), Shift+click
+// adds, a rubber band selects what it touches; dragging moves the selection
+// on a 10-unit grid (Alt: free). Toolbar and keys: undo/redo (Ctrl+Z,
+// Ctrl+Y), copy/cut/paste/duplicate (Ctrl+C/X/V/D), Delete, select all
+// (Ctrl+A), nudge (arrows; Shift: 1 unit), group (Ctrl+G) and ungroup
+// (Ctrl+Shift+G), bring to front / send to back (Ctrl+] / Ctrl+[), align
+// and distribute, zoom (Ctrl+wheel, + / - / 0 to fit) and pan (scroll, or drag
+// with the middle button or Space held). The property panel edits one
+// element: place, size, rotation, label, the tag it shows, any number of
+// animations, the widget's action (tag pickers list the program's tags and
+// members, and mark a name that is not one). Save (Ctrl+S) is a PUT of the
+// screen: the server's located problems are listed and drawn on their
+// elements. The screen's JSON is the model: every change is a new version.
 import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
 import { add, clear, h, s } from '../dom';
-import { domain } from '../domain';
+import { domain, membersOf } from '../domain';
 import { tr } from '../i18n';
-import { type Element, type Screen, drawElement } from './render';
+import {
+  type Align, GRID, align, animationDefaults, copies, distribute, elementOf, group, newElement, overlaps, restack,
+  snap, symbolOf, ungroup, withGroups,
+} from './edit';
+import { type Element, type Screen, drawElement, place } from './render';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
-const animations = () => ['', ...domain().screens.animations.map(([k]) => k)];
+const animationKinds = () => domain().screens.animations.map(([k]) => k);
 const actions = () => ['', ...domain().screens.actions];
-const GRID = 10;
 const DRAG_TYPE = 'application/x-alba-element';
-
-const snap = (v: number) => Math.round(v / GRID) * GRID;
-
-/** A new element of `type` centred near (x, y), with an id not used yet. */
-export function newElement(screen: Screen, type: string, x: number, y: number): Element {
-  const size: Record<string, [number, number]> = { tank: [120, 200], bottle: [80, 140], pipe: [100, 20], line: [100, 10], text: [160, 30], button: [120, 36], switch: [120, 36], slider: [160, 30] };
-  const [w, h] = size[type] ?? [60, 60];
-  let n = 1;
-  while (screen.elements.some((e) => e.id === `${type}${n}`)) n++;
-  return { id: `${type}${n}`, type, x: snap(x - w / 2), y: snap(y - h / 2), w, h, props: {}, animations: [] };
-}
+const SYMBOL_TYPE = 'application/x-alba-symbol';
+const ZOOMS = [0.25, 0.33, 0.5, 0.67, 0.75, 0.9, 1, 1.25, 1.5, 2, 3, 4];
 
 export class Designer {
   readonly el: HTMLElement;
   private screen: Screen;
   private undoStack: string[] = [];
   private redoStack: string[] = [];
-  private sel: string | null = null;
-  private clipboard: Element | null = null;
+  private sel = new Set<string>();
+  private clipboard: Element[] = [];
+  private zoom = 1;
+  /** Problems of the last refused save, by element id. */
+  private errors = new Map<string, string>();
+  private screens: string[] = [];
   private readonly canvas = h('div', { class: 'hmi-canvas', 'data-testid': 'hmi-canvas', tabindex: '0' });
   private readonly props = h('div', { class: 'hmi-props', 'data-testid': 'hmi-props' });
   private readonly problems = h('ul', { class: 'problems', 'data-testid': 'hmi-problems' });
+  private readonly mine = h('div', { class: 'hmi-symbols', 'data-testid': 'hmi-my-symbols' });
+  private readonly zoomLabel = h('span', { class: 'hmi-zoom', 'data-testid': 'hmi-zoom' });
   private svg: SVGSVGElement | null = null;
+  private space = false;
 
   constructor(
     private readonly ctx: Ctx,
@@ -56,33 +64,93 @@ export class Designer {
           class: 'small', 'data-testid': `hmi-add-${t}`, draggable: 'true', title: what,
           ondragstart: (e: DragEvent) => e.dataTransfer?.setData(DRAG_TYPE, t),
           onclick: () => this.add(t, this.screen.width / 2, this.screen.height / 2),
-        }, t.replace(/_/g, ' '))));
-    const save = h('button', { class: 'primary', 'data-testid': 'hmi-save' }, tr('Save'));
-    save.onclick = () => void this.save();
-    const close = h('button', { 'data-testid': 'hmi-close' }, tr('Close'));
-    close.onclick = () => this.done();
-    const undo = h('button', { 'data-testid': 'hmi-undo', title: tr('Undo (Ctrl+Z)') }, '↶');
-    undo.onclick = () => this.undo();
-    const redo = h('button', { 'data-testid': 'hmi-redo', title: tr('Redo (Ctrl+Y)') }, '↷');
-    redo.onclick = () => this.redo();
+        }, t.replace(/_/g, ' '))),
+      h('h4', null, tr('My symbols')), this.mine);
+    const button = (testid: string, label: string, title: string, f: () => void) => {
+      const b = h('button', { class: 'small', 'data-testid': `hmi-${testid}`, title }, label);
+      b.onclick = () => {
+        f();
+        this.canvas.focus();
+      };
+      return b;
+    };
+    const aligns: [Align, string, string][] = [
+      ['left', '⇤', tr('Align left edges')], ['center', '↔', tr('Align centres horizontally')], ['right', '⇥', tr('Align right edges')],
+      ['top', '⤒', tr('Align top edges')], ['middle', '↕', tr('Align centres vertically')], ['bottom', '⤓', tr('Align bottom edges')],
+    ];
     this.el = h('div', { class: 'hmi-designer', 'data-testid': 'hmi-designer' },
-      h('div', { class: 'toolbar' }, h('strong', null, name), undo, redo, save, close),
+      h('div', { class: 'toolbar' },
+        h('strong', null, name),
+        button('undo', '↶', tr('Undo (Ctrl+Z)'), () => this.undo()),
+        button('redo', '↷', tr('Redo (Ctrl+Y)'), () => this.redo()),
+        h('span', { class: 'sep' }),
+        aligns.map(([how, label, title]) => button(`align-${how}`, label, title, () => this.onSelection((els) => align(els, how), 2))),
+        button('distribute-h', '⋯', tr('Distribute horizontally'), () => this.onSelection((els) => distribute(els, 'h'), 3)),
+        button('distribute-v', '⋮', tr('Distribute vertically'), () => this.onSelection((els) => distribute(els, 'v'), 3)),
+        h('span', { class: 'sep' }),
+        button('group', tr('Group'), tr('Group (Ctrl+G)'), () => this.group()),
+        button('ungroup', tr('Ungroup'), tr('Ungroup (Ctrl+Shift+G)'), () => this.ungroup()),
+        button('front', tr('To front'), tr('Bring to front (Ctrl+])'), () => this.restack('front')),
+        button('back', tr('To back'), tr('Send to back (Ctrl+[)'), () => this.restack('back')),
+        button('save-symbol', tr('Save as symbol'), tr('Save the selection as a symbol of your own'), () => void this.saveSymbol()),
+        h('span', { class: 'sep' }),
+        button('zoom-out', '−', tr('Zoom out (-)'), () => this.zoomBy(-1)),
+        this.zoomLabel,
+        button('zoom-in', '+', tr('Zoom in (+)'), () => this.zoomBy(1)),
+        button('zoom-fit', tr('Fit'), tr('Fit the screen in the window (0)'), () => this.fit()),
+        h('span', { class: 'sep' }),
+        button('save', tr('Save'), tr('Save (Ctrl+S)'), () => void this.save()),
+        button('close', tr('Close'), tr('Back to the running screen'), () => this.done())),
       h('div', { class: 'hmi-designer-body' }, palette, this.canvas, h('aside', null, this.props, h('h3', null, tr('Problems')), this.problems)));
-    this.canvas.addEventListener('dragover', (e) => e.dataTransfer?.types.includes(DRAG_TYPE) && e.preventDefault());
+    this.el.querySelector('[data-testid="hmi-save"]')?.classList.add('primary');
+    this.canvas.addEventListener('dragover', (e) => {
+      if (e.dataTransfer?.types.includes(DRAG_TYPE) || e.dataTransfer?.types.includes(SYMBOL_TYPE)) e.preventDefault();
+    });
     this.canvas.addEventListener('drop', (e) => {
-      const t = e.dataTransfer?.getData(DRAG_TYPE);
-      if (!t || !this.svg) return;
-      e.preventDefault();
+      if (!this.svg) return;
       const p = this.toScreen(e.clientX, e.clientY);
-      this.add(t, p.x, p.y);
+      const t = e.dataTransfer?.getData(DRAG_TYPE);
+      const sym = e.dataTransfer?.getData(SYMBOL_TYPE);
+      if (t) this.add(t, p.x, p.y);
+      else if (sym) void this.insertSymbol(sym, p.x, p.y);
+      else return;
+      e.preventDefault();
     });
     this.canvas.addEventListener('keydown', (e) => this.onKey(e));
+    this.canvas.addEventListener('keyup', (e) => e.key === ' ' && (this.space = false));
+    this.canvas.addEventListener('wheel', (e) => {
+      if (!e.ctrlKey) return;
+      e.preventDefault();
+      this.zoomBy(e.deltaY < 0 ? 1 : -1);
+    }, { passive: false });
+    this.canvas.addEventListener('pointerdown', (e) => this.maybePan(e), true);
     this.render();
+    requestAnimationFrame(() => this.fit());
+    void this.loadLists();
   }
 
   /** The screen as it is now (for tests and Save). */
   get current(): Screen {
     return this.screen;
+  }
+
+  /** The selected ids, in drawing order. */
+  get selection(): string[] {
+    return this.screen.elements.filter((e) => this.sel.has(e.id)).map((e) => e.id);
+  }
+
+  private async loadLists(): Promise<void> {
+    const [screens, symbols] = await Promise.all([api.screens().catch(() => []), api.symbols().catch(() => [])]);
+    this.screens = screens;
+    clear(this.mine);
+    if (symbols.length === 0) this.mine.append(h('p', { class: 'hint' }, tr('Select elements, then Save as symbol.')));
+    for (const n of symbols)
+      this.mine.append(h('button', {
+        class: 'small', 'data-testid': `hmi-symbol-${n}`, draggable: 'true',
+        ondragstart: (e: DragEvent) => e.dataTransfer?.setData(SYMBOL_TYPE, n),
+        onclick: () => void this.insertSymbol(n, this.screen.width / 2, this.screen.height / 2),
+      }, n));
+    this.renderProps();
   }
 
   private change(f: (s: Screen) => void): void {
@@ -111,16 +179,93 @@ export class Designer {
   add(type: string, x: number, y: number): void {
     const e = newElement(this.screen, type, x, y);
     this.change((s) => s.elements.push(e));
-    this.select(e.id);
+    this.select([e.id]);
   }
 
-  private selected(): Element | undefined {
-    return this.screen.elements.find((e) => e.id === this.sel);
+  private async insertSymbol(name: string, x: number, y: number): Promise<void> {
+    let sym: Screen;
+    try {
+      sym = (await api.symbol(name)) as Screen;
+    } catch (e) {
+      this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
+      return;
+    }
+    const els = copies(this.screen, sym.elements, snap(x - sym.width / 2), snap(y - sym.height / 2));
+    this.change((s) => {
+      s.elements.push(...els);
+      if (els.length > 1) group(s, new Set(els.map((e) => e.id)));
+    });
+    this.select(els.map((e) => e.id));
   }
 
-  private select(id: string | null): void {
-    this.sel = id;
+  private selected(): Element[] {
+    return this.screen.elements.filter((e) => this.sel.has(e.id));
+  }
+
+  select(ids: Iterable<string>, extend = false): void {
+    const next = withGroups(this.screen, ids);
+    this.sel = extend ? new Set([...this.sel, ...next]) : next;
     this.render();
+  }
+
+  /** Runs an arrangement on the selection (at least `min` elements) as one undoable change. */
+  private onSelection(f: (els: Element[]) => void, min = 1): void {
+    if (this.sel.size < min) {
+      this.ctx.notify(tr('Select at least {n} elements.', { n: min }), 'error');
+      return;
+    }
+    this.change(() => f(this.selected()));
+  }
+
+  private group(): void {
+    if (this.sel.size < 2) return this.ctx.notify(tr('Select at least {n} elements.', { n: 2 }), 'error');
+    this.change((s) => group(s, this.sel));
+  }
+
+  private ungroup(): void {
+    if (this.selected().some((e) => e.group)) this.change((s) => ungroup(s, this.sel));
+  }
+
+  private restack(to: 'front' | 'back'): void {
+    if (this.sel.size) this.change((s) => restack(s, this.sel, to));
+  }
+
+  private zoomBy(step: number): void {
+    const k = ZOOMS.findIndex((z) => z >= this.zoom - 1e-9);
+    this.setZoom(ZOOMS[Math.max(0, Math.min(ZOOMS.length - 1, (k < 0 ? ZOOMS.length - 1 : k) + step))]);
+  }
+
+  private fit(): void {
+    const w = this.canvas.clientWidth - 20;
+    const h = this.canvas.clientHeight - 20;
+    if (w > 0 && h > 0) this.setZoom(Math.max(0.1, Math.min(4, w / this.screen.width, h / this.screen.height)));
+  }
+
+  private setZoom(z: number): void {
+    this.zoom = Math.round(z * 100) / 100;
+    if (this.svg) {
+      this.svg.setAttribute('width', String(this.screen.width * this.zoom));
+      this.svg.setAttribute('height', String(this.screen.height * this.zoom));
+    }
+    this.zoomLabel.textContent = `${Math.round(this.zoom * 100)} %`;
+  }
+
+  /** Panning: the middle button, or the left one with Space held, drags the canvas's scroll. */
+  private maybePan(e: PointerEvent): void {
+    if (e.button !== 1 && !(e.button === 0 && this.space)) return;
+    e.preventDefault();
+    e.stopPropagation();
+    const [sx, sy, x0, y0] = [this.canvas.scrollLeft, this.canvas.scrollTop, e.clientX, e.clientY];
+    const move = (m: PointerEvent) => {
+      this.canvas.scrollLeft = sx - (m.clientX - x0);
+      this.canvas.scrollTop = sy - (m.clientY - y0);
+    };
+    const up = () => {
+      window.removeEventListener('pointermove', move);
+      window.removeEventListener('pointerup', up);
+    };
+    window.addEventListener('pointermove', move);
+    window.addEventListener('pointerup', up);
   }
 
   private toScreen(cx: number, cy: number): { x: number; y: number } {
@@ -132,55 +277,130 @@ export class Designer {
     return { x: p.x, y: p.y };
   }
 
+  private paste(els: Element[], offset: number): void {
+    if (!els.length) return;
+    const pasted = copies(this.screen, els, offset, offset);
+    this.change((s) => s.elements.push(...pasted));
+    this.select(pasted.map((e) => e.id));
+  }
+
   private onKey(e: KeyboardEvent): void {
     if ((e.target as HTMLElement).closest('input,select,textarea')) return;
     const mod = e.ctrlKey || e.metaKey;
     const k = e.key.toLowerCase();
-    const sel = this.selected();
-    if (mod && k === 'z') this.undo();
-    else if (mod && k === 'y') this.redo();
-    else if (mod && k === 'c' && sel) this.clipboard = structuredClone(sel);
-    else if (mod && k === 'v' && this.clipboard) {
-      const copy = { ...structuredClone(this.clipboard), id: newElement(this.screen, this.clipboard.type, 0, 0).id, x: this.clipboard.x + GRID * 2, y: this.clipboard.y + GRID * 2 };
-      this.change((s) => s.elements.push(copy));
-      this.select(copy.id);
-    } else if ((e.key === 'Delete' || e.key === 'Backspace') && sel) this.change((s) => (s.elements = s.elements.filter((x) => x !== sel)));
-    else return;
+    const arrows: Record<string, [number, number]> = { arrowleft: [-1, 0], arrowright: [1, 0], arrowup: [0, -1], arrowdown: [0, 1] };
+    if (e.key === ' ') this.space = true;
+    else if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) this.redo();
+    else if (mod && k === 'z') this.undo();
+    else if (mod && k === 's') void this.save();
+    else if (mod && k === 'a') this.select(this.screen.elements.map((x) => x.id));
+    else if (mod && (k === 'c' || k === 'x') && this.sel.size) {
+      this.clipboard = structuredClone(this.selected());
+      if (k === 'x') this.change((s) => (s.elements = s.elements.filter((x) => !this.sel.has(x.id))));
+    } else if (mod && k === 'v') this.paste(this.clipboard, GRID * 2);
+    else if (mod && k === 'd') this.paste(this.selected(), GRID * 2);
+    else if (mod && k === 'g') e.shiftKey ? this.ungroup() : this.group();
+    else if (mod && e.key === ']') this.restack('front');
+    else if (mod && e.key === '[') this.restack('back');
+    else if (!mod && (e.key === '+' || e.key === '=')) this.zoomBy(1);
+    else if (!mod && e.key === '-') this.zoomBy(-1);
+    else if (!mod && e.key === '0') this.fit();
+    else if (e.key === 'Escape') this.select([]);
+    else if ((e.key === 'Delete' || e.key === 'Backspace') && this.sel.size) {
+      this.change((s) => (s.elements = s.elements.filter((x) => !this.sel.has(x.id))));
+      this.sel.clear();
+      this.render();
+    } else if (arrows[k] && this.sel.size) {
+      const step = e.shiftKey ? 1 : GRID;
+      this.change(() => this.selected().forEach((x) => ((x.x += arrows[k][0] * step), (x.y += arrows[k][1] * step))));
+    } else return;
     e.preventDefault();
   }
 
   private render(): void {
-    const svg = s('svg', { class: 'hmi-screen', viewBox: `0 0 ${this.screen.width} ${this.screen.height}`, 'data-testid': 'hmi-design-svg' });
-    svg.append(s('rect', { width: this.screen.width, height: this.screen.height, fill: this.screen.background ?? '#f4f5f6' }));
+    const svg = s('svg', { class: 'hmi-design', viewBox: `0 0 ${this.screen.width} ${this.screen.height}`, 'data-testid': 'hmi-design-svg' });
+    const bg = s('rect', { width: this.screen.width, height: this.screen.height, fill: this.screen.background ?? '#f4f5f6', 'data-testid': 'hmi-background' });
+    svg.append(bg);
     for (const e of this.screen.elements) {
       const g = drawElement(e);
-      if (e.id === this.sel) g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
+      if (this.sel.has(e.id)) {
+        g.classList.add('selected');
+        g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
+      }
+      const problem = this.errors.get(e.id);
+      if (problem) {
+        g.classList.add('hmi-error');
+        g.append(s('rect', { class: 'hmi-error-box', x: -5, y: -5, width: e.w + 10, height: e.h + 10, fill: 'none', 'data-testid': `hmi-error-${e.id}` }, s('title', null, problem)));
+      }
       g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
       svg.append(g);
     }
-    svg.addEventListener('pointerdown', (ev) => ev.target === svg.firstChild && this.select(null));
+    bg.addEventListener('pointerdown', (ev) => this.startBand(ev));
     this.svg = svg;
     clear(this.canvas);
     this.canvas.append(svg);
+    this.setZoom(this.zoom);
     this.renderProps();
   }
 
+  /** A rubber band from an empty place: selects every element it touches (Shift: adds). */
+  private startBand(ev: PointerEvent): void {
+    if (ev.button !== 0) return;
+    const a = this.toScreen(ev.clientX, ev.clientY);
+    const band = s('rect', { class: 'hmi-band', x: a.x, y: a.y, width: 0, height: 0, 'data-testid': 'hmi-band' });
+    this.svg?.append(band);
+    let box = { x: a.x, y: a.y, w: 0, h: 0 };
+    const move = (m: PointerEvent) => {
+      const b = this.toScreen(m.clientX, m.clientY);
+      box = { x: Math.min(a.x, b.x), y: Math.min(a.y, b.y), w: Math.abs(b.x - a.x), h: Math.abs(b.y - a.y) };
+      band.setAttribute('x', String(box.x));
+      band.setAttribute('y', String(box.y));
+      band.setAttribute('width', String(box.w));
+      band.setAttribute('height', String(box.h));
+    };
+    const up = () => {
+      window.removeEventListener('pointermove', move);
+      window.removeEventListener('pointerup', up);
+      const hit = box.w + box.h > 2 ? this.screen.elements.filter((e) => overlaps(e, box)).map((e) => e.id) : [];
+      this.select(hit, ev.shiftKey);
+      this.canvas.focus();
+    };
+    window.addEventListener('pointermove', move);
+    window.addEventListener('pointerup', up);
+  }
+
+  /** Dragging an element moves the whole selection, snapped to the grid (Alt: free). */
   private startDrag(ev: PointerEvent, e: Element): void {
+    if (ev.button !== 0 || this.space) return;
     ev.stopPropagation();
-    if (this.sel !== e.id) this.select(e.id);
+    if (ev.shiftKey) {
+      const ids = withGroups(this.screen, [e.id]);
+      const drop = [...ids].every((id) => this.sel.has(id));
+      this.sel = drop ? new Set([...this.sel].filter((id) => !ids.has(id))) : new Set([...this.sel, ...ids]);
+      this.render();
+      return;
+    }
+    if (!this.sel.has(e.id)) this.select([e.id]);
+    this.canvas.focus();
     const start = this.toScreen(ev.clientX, ev.clientY);
-    const [x0, y0] = [e.x, e.y];
-    let moved = false;
+    const moving = this.selected();
+    const from = moving.map((x) => [x.x, x.y]);
     const before = JSON.stringify(this.screen);
+    let moved = false;
     const move = (m: PointerEvent) => {
       const p = this.toScreen(m.clientX, m.clientY);
-      const el = this.selected();
-      if (!el) return;
-      el.x = snap(x0 + p.x - start.x);
-      el.y = snap(y0 + p.y - start.y);
-      moved = moved || el.x !== x0 || el.y !== y0;
-      const g = this.svg?.querySelector(`[data-testid="hmi-el-${el.id}"]`);
-      g?.setAttribute('transform', `translate(${el.x},${el.y}) rotate(${el.rotation ?? 0} ${el.w / 2} ${el.h / 2})`);
+      const grid = m.altKey ? 1 : GRID;
+      const [ex, ey] = from[moving.indexOf(e)];
+      // the grabbed element snaps; the others keep their offsets to it
+      const dx = snap(ex + p.x - start.x, grid) - ex;
+      const dy = snap(ey + p.y - start.y, grid) - ey;
+      moving.forEach((x, k) => {
+        x.x = from[k][0] + dx;
+        x.y = from[k][1] + dy;
+        const g = this.svg?.querySelector<SVGGElement>(`[data-testid="hmi-el-${x.id}"]`);
+        if (g) place(g, x);
+      });
+      moved = moved || dx !== 0 || dy !== 0;
     };
     const up = () => {
       window.removeEventListener('pointermove', move);
@@ -195,68 +415,148 @@ export class Designer {
     window.addEventListener('pointerup', up);
   }
 
+  /** Every tag and member a screen can name. */
+  private tagNames(): string[] {
+    const out: string[] = [];
+    for (const t of this.ctx.tags.list) {
+      out.push(t.name);
+      for (const m of membersOf(t.type)) out.push(`${t.name}.${m.name}`);
+    }
+    return out;
+  }
+
   private renderProps(): void {
     clear(this.props);
-    const e = this.selected();
-    if (!e) {
+    const els = this.selected();
+    if (els.length === 0) {
       this.props.append(h('p', { class: 'hint' }, tr('Drag an element from the palette onto the screen, or click it. Select an element to set its properties.')));
       return;
     }
-    const tags = this.ctx.tags.choices('').filter(Boolean);
-    const list = h('datalist', { id: 'hmi-tags' }, tags.map((t) => h('option', { value: t })));
+    if (els.length > 1) {
+      const groups = new Set(els.map((e) => e.group ?? ''));
+      this.props.append(
+        h('h3', null, tr('{n} elements selected', { n: els.length })),
+        h('p', { class: 'hint' }, groups.size === 1 && !groups.has('') ? tr('A group: Ungroup to edit its elements one by one.') : tr('Align, distribute, group or move them together.')));
+      return;
+    }
+    const e = els[0];
+    const known = new Set(this.tagNames());
+    const list = h('datalist', { id: 'hmi-tags' }, [...known].map((t) => h('option', { value: t })));
     const field = (label: string, testid: string, value: string | number, set: (v: string) => void, attrs: Record<string, unknown> = {}) => {
       const input = h('input', { value: String(value), 'data-testid': `hmi-prop-${testid}`, ...attrs });
       input.addEventListener('change', () => set(input.value));
       return h('label', null, h('span', null, label), input);
     };
-    const num = (k: 'x' | 'y' | 'w' | 'h') => field(k, k, e[k], (v) => Number.isFinite(Number(v)) && this.change(() => (e[k] = Number(v))), { type: 'number' });
-    const anim = e.animations?.[0];
-    const kindSel = h('select', { 'data-testid': 'hmi-prop-anim-kind' }, animations().map((k) => h('option', { value: k, selected: (anim?.kind ?? '') === k }, k || '—')));
-    kindSel.onchange = () =>
-      this.change(() => {
-        const kind = kindSel.value;
-        e.animations = kind ? [{ ...(anim ?? { tag: '' }), kind, tag: anim?.tag ?? '' }] : [];
-        if (kind === 'rotate' && e.animations[0]) e.animations[0].speed = 1;
-        if (kind === 'fill' && e.animations[0]) Object.assign(e.animations[0], { min: 0, max: 100, direction: 'up' });
+    // A tag picker: the program's tags and members to search in; a name that is not one is marked.
+    const tagField = (label: string, testid: string, value: string, set: (v: string) => void) => {
+      const l = field(label, testid, value, set, { list: 'hmi-tags', placeholder: tr('Search tags…'), autocomplete: 'off' });
+      const input = l.querySelector('input')!;
+      const mark = () => {
+        const bad = input.value !== '' && !known.has(input.value);
+        input.classList.toggle('invalid', bad);
+        input.title = bad ? tr('{name} is not a tag of the running program', { name: input.value }) : '';
+      };
+      input.addEventListener('input', mark);
+      mark();
+      return l;
+    };
+    const json = (label: string, testid: string, value: unknown, set: (v: Record<string, unknown>) => void) =>
+      field(label, testid, JSON.stringify(value), (v) => {
+        try {
+          const p = JSON.parse(v || '{}');
+          if (typeof p !== 'object' || p === null || Array.isArray(p)) throw new Error();
+          set(p);
+        } catch {
+          this.ctx.notify(tr('{what}: not a JSON object', { what: label }), 'error');
+        }
       });
-    const actSel = h('select', { 'data-testid': 'hmi-prop-action-kind' }, actions().map((k) => h('option', { value: k, selected: (e.action?.kind ?? '') === k }, k || '—')));
-    actSel.onchange = () => this.change(() => (e.action = actSel.value ? { kind: actSel.value, tag: e.action?.tag ?? null } : null));
+    const num = (k: 'x' | 'y' | 'w' | 'h' | 'rotation', label: string) =>
+      field(label, k, e[k] ?? 0, (v) => Number.isFinite(Number(v)) && this.change(() => (e[k] = Number(v))), { type: 'number' });
+    const { label: _l, tag: shown, ...others } = e.props ?? {};
+    const anims = e.animations ?? [];
+    const animRows = anims.map((a, k) => {
+      const kind = h('select', { 'data-testid': `hmi-prop-anim-kind-${k}` }, animationKinds().map((x) => h('option', { value: x, selected: a.kind === x }, x)));
+      kind.onchange = () => this.change(() => (anims[k] = { kind: kind.value, tag: a.tag, ...animationDefaults(kind.value) } as typeof a));
+      const remove = h('button', { class: 'small', 'data-testid': `hmi-prop-anim-remove-${k}`, title: tr('Remove this animation') }, '✕');
+      remove.onclick = () => this.change(() => anims.splice(k, 1));
+      const { kind: _k, tag: _t, ...params } = a;
+      return h('fieldset', { class: 'hmi-anim', 'data-testid': `hmi-anim-${k}` },
+        h('legend', null, h('span', null, tr('Animation')), kind, remove),
+        tagField(tr('Tag'), `anim-tag-${k}`, a.tag, (v) => this.change(() => (a.tag = v))),
+        json(tr('Parameters (JSON)'), `anim-params-${k}`, params, (p) => this.change(() => (anims[k] = { kind: a.kind, tag: a.tag, ...p } as typeof a))));
+    });
+    const addAnim = h('select', { 'data-testid': 'hmi-prop-anim-add' }, h('option', { value: '' }, `+ ${tr('Animation')}…`), animationKinds().map((x) => h('option', { value: x }, x)));
+    addAnim.onchange = () => addAnim.value && this.change(() => (e.animations = [...anims, { kind: addAnim.value, tag: '', ...animationDefaults(addAnim.value) } as (typeof anims)[0]]));
+    const act = e.action;
+    const actSel = h('select', { 'data-testid': 'hmi-prop-action-kind' }, actions().map((k) => h('option', { value: k, selected: (act?.kind ?? '') === k }, k || '—')));
+    actSel.onchange = () => this.change(() => (e.action = actSel.value ? { kind: actSel.value, tag: actSel.value === 'navigate' ? null : act?.tag ?? null, screen: actSel.value === 'navigate' ? this.screens[0] ?? null : null } : null));
+    const target = h('select', { 'data-testid': 'hmi-prop-action-screen' }, this.screens.map((n) => h('option', { value: n, selected: act?.screen === n }, n)));
+    target.onchange = () => this.change(() => (e.action!.screen = target.value));
     add(
       this.props,
       list,
-      h('h3', null, `${e.id} (${e.type})`),
+      h('h3', null, `${e.id} (${e.type})`, e.group ? h('small', null, ` · ${tr('group')} ${e.group}`) : null),
+      this.errors.has(e.id) ? h('p', { class: 'inline-error', 'data-testid': 'hmi-prop-error' }, this.errors.get(e.id)) : null,
       field(tr('Label'), 'label', String(e.props?.label ?? ''), (v) => this.change(() => (e.props = { ...e.props, label: v }))),
-      num('x'), num('y'), num('w'), num('h'),
-      field(tr('Shows tag'), 'shows', String(e.props?.tag ?? ''), (v) =>
+      h('div', { class: 'hmi-geom' }, num('x', 'x'), num('y', 'y'), num('w', tr('width')), num('h', tr('height')), num('rotation', tr('rotation °'))),
+      tagField(tr('Shows tag'), 'shows', typeof shown === 'string' ? shown : '', (v) =>
         this.change(() => {
           const { tag: _old, ...rest } = e.props ?? {};
           e.props = v ? { ...rest, tag: v } : rest;
-        }), { list: 'hmi-tags' }),
-      h('label', null, h('span', null, tr('Animation')), kindSel),
-      anim ? field(tr('Animation tag'), 'anim-tag', anim.tag, (v) => this.change(() => (anim.tag = v)), { list: 'hmi-tags' }) : null,
-      anim ? field(tr('Parameters (JSON)'), 'anim-params', JSON.stringify(Object.fromEntries(Object.entries(anim).filter(([k]) => k !== 'kind' && k !== 'tag'))), (v) => {
-        try {
-          const p = JSON.parse(v);
-          this.change(() => (e.animations = [{ kind: anim.kind, tag: anim.tag, ...p }]));
-        } catch {
-          this.ctx.notify(tr('Parameters (JSON)') + ': JSON?', 'error');
-        }
-      }) : null,
+        })),
+      json(tr('Other properties (JSON)'), 'props', others, (p) =>
+        this.change(() => (e.props = { ...p, ...(e.props?.label !== undefined ? { label: e.props.label } : {}), ...(typeof shown === 'string' ? { tag: shown } : {}) }))),
+      animRows,
+      h('label', null, addAnim),
       h('label', null, h('span', null, tr('Action')), actSel),
-      e.action && e.action.kind !== 'navigate' ? field(tr('Action tag'), 'action-tag', e.action.tag ?? '', (v) => this.change(() => (e.action!.tag = v)), { list: 'hmi-tags' }) : null,
+      act && act.kind !== 'navigate' ? tagField(tr('Action tag'), 'action-tag', act.tag ?? '', (v) => this.change(() => (act.tag = v))) : null,
+      act?.kind === 'navigate' ? h('label', null, h('span', null, tr('Go to screen')), target) : null,
+      act?.kind === 'set' ? json(tr('Value written (JSON)'), 'action-value', { value: act.value ?? true }, (p) => this.change(() => (act.value = p.value as never))) : null,
+      act?.kind === 'slider' || act?.kind === 'input'
+        ? h('div', { class: 'hmi-geom' },
+          field(tr('min'), 'action-min', act.min ?? '', (v) => this.change(() => (act.min = v === '' ? null : Number(v))), { type: 'number' }),
+          field(tr('max'), 'action-max', act.max ?? '', (v) => this.change(() => (act.max = v === '' ? null : Number(v))), { type: 'number' }))
+        : null,
     );
+  }
+
+  private async saveSymbol(): Promise<void> {
+    const els = this.selected();
+    if (els.length === 0) return this.ctx.notify(tr('Select at least {n} elements.', { n: 1 }), 'error');
+    const name = prompt(tr('Name of the symbol (letters, digits, _ and -):'))?.trim();
+    if (!name) return;
+    try {
+      await api.saveSymbol(name, symbolOf(els));
+      this.ctx.notify(tr('{name} saved', { name }));
+      await this.loadLists();
+    } catch (e) {
+      this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
+    }
   }
 
   private async save(): Promise<void> {
     clear(this.problems);
+    this.errors.clear();
     try {
       await api.saveScreen(this.name, this.screen);
       this.ctx.notify(tr('{name} saved', { name: this.name }));
     } catch (e) {
       if (!(e instanceof ApiError)) throw e;
       const ds = e.diagnostics.length ? e.diagnostics : [{ line: null, col: null, message: e.message }];
-      ds.forEach((d, k) => this.problems.append(h('li', { class: 'problem', 'data-testid': `hmi-problem-${k}` }, d.line === null ? d.message : `${d.line}:${d.col} ${d.message}`)));
+      ds.forEach((d, k) => {
+        const id = elementOf(d.message);
+        if (id && !this.errors.has(id)) this.errors.set(id, d.message);
+        const li = h('li', { class: 'problem', 'data-testid': `hmi-problem-${k}` }, d.line === null ? d.message : `${d.line}:${d.col} ${d.message}`);
+        // the element alone, even in a group, to fix it
+        if (id)
+          li.onclick = () => {
+            this.sel = new Set([id]);
+            this.render();
+          };
+        this.problems.append(li);
+      });
       this.ctx.notify(tr('{name} not saved: {m}', { name: this.name, m: e.message }), 'error');
     }
+    this.render();
   }
 }

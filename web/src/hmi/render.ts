@@ -25,6 +25,8 @@ export interface Element {
   props?: Record<string, Json>;
   animations?: Animation[];
   action?: { kind: string; tag?: string | null; value?: Json; min?: number | null; max?: number | null; screen?: string | null } | null;
+  /** The designer's group: its elements are selected and moved together. */
+  group?: string;
 }
 
 export interface Screen {
@@ -94,10 +96,14 @@ export function animate(g: SVGGElement, e: Element, a: Animation, v: Json): void
         const h = (e.h - 4) * f;
         level.setAttribute('height', String(h));
         level.setAttribute('y', String(dir === 'up' ? e.h - 2 - h : 2));
+        level.setAttribute('x', '2');
+        level.setAttribute('width', String(Math.max(0, e.w - 4)));
       } else {
         const w = (e.w - 4) * f;
         level.setAttribute('width', String(w));
         level.setAttribute('x', String(dir === 'right' ? 2 : e.w - 2 - w));
+        level.setAttribute('y', '2');
+        level.setAttribute('height', String(Math.max(0, e.h - 4)));
       }
       if (typeof a.color === 'string') level.setAttribute('fill', a.color);
       break;
@@ -111,13 +117,15 @@ export function animate(g: SVGGElement, e: Element, a: Animation, v: Json): void
       break;
     }
     case 'rotate': {
-      const rotor = part('rotor') ?? g;
+      // a machine's rotor, a gauge's needle (270° from min to max), or the whole element
+      const needle = part('needle');
+      const rotor = part('rotor') ?? needle ?? g;
       if (a.speed !== undefined) {
         // turning while the value is on
         rotor.classList.toggle('hmi-spin', on);
       } else {
         const x = num(v);
-        if (x !== null) rotor.setAttribute('transform', `rotate(${frac(x, a) * (num(a.degrees) ?? 360)})`);
+        if (x !== null) rotor.setAttribute('transform', `rotate(${frac(x, a) * (num(a.degrees) ?? (needle ? 270 : 360))})`);
       }
       break;
     }
@@ -130,10 +138,41 @@ export function place(g: SVGGElement, e: Element): void {
   g.setAttribute('transform', `translate(${e.x + dx},${e.y + dy}) rotate(${e.rotation ?? 0} ${e.w / 2} ${e.h / 2})`);
 }
 
-/** A text or output box's shown value. */
-export function showValue(g: SVGGElement, v: Json): void {
+/** The last values a trend element shows, by element. */
+const TREND_POINTS = 120;
+const histories = new WeakMap<SVGGElement, number[]>();
+
+/**
+ * An element's shown value (`props.tag`): the figures of a text, output box
+ * or meter (with `props.decimals` when set); a trend element also draws the last 120 values, on its
+ * `props.min`–`props.max` scale or on the range of what it holds.
+ */
+export function showValue(g: SVGGElement, v: Json, props: Record<string, Json> = {}): void {
   const t = g.querySelector('[data-part="text"]');
-  if (t && t.textContent !== fmt(v)) t.textContent = fmt(v);
+  const shown = typeof v === 'number' && typeof props.decimals === 'number' ? v.toFixed(Math.max(0, Math.min(10, props.decimals))) : fmt(v);
+  if (t && t.textContent !== shown) t.textContent = shown;
+  const pen = g.querySelector('[data-part="line"]');
+  const x = num(v);
+  if (!pen || x === null) return;
+  const hist = histories.get(g) ?? [];
+  histories.set(g, hist);
+  hist.push(x);
+  if (hist.length > TREND_POINTS) hist.shift();
+  const [x0, y0, x1, y1] = (pen.getAttribute('data-box') ?? '0,0,100,100').split(',').map(Number);
+  const lo = num(props.min) ?? Math.min(...hist);
+  const hi = num(props.max) ?? Math.max(...hist);
+  const span = hi - lo || 1;
+  const pts = hist.map((y, k) => `${(x0 + ((x1 - x0) * k) / (TREND_POINTS - 1)).toFixed(1)},${(y1 - ((Math.max(lo, Math.min(hi, y)) - lo) / span) * (y1 - y0)).toFixed(1)}`);
+  pen.setAttribute('points', pts.join(' '));
+}
+
+/** Sets a clock element's hands and figures to `now`. */
+export function tick(g: SVGGElement, now: Date): void {
+  const [hh, mm, ss] = [now.getHours(), now.getMinutes(), now.getSeconds()];
+  g.querySelector('[data-part="hour"]')?.setAttribute('transform', `rotate(${(hh % 12) * 30 + mm / 2})`);
+  g.querySelector('[data-part="minute"]')?.setAttribute('transform', `rotate(${mm * 6 + ss / 10})`);
+  const t = g.querySelector('[data-part="text"]');
+  if (t) t.textContent = [hh, mm, ss].map((x) => String(x).padStart(2, '0')).join(':');
 }
 
 /** The element's group, drawn at its place, with its symbol. */

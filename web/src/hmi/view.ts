@@ -10,7 +10,7 @@ import { clear, h, s } from '../dom';
 import { tr } from '../i18n';
 import type { Json } from '../types';
 import { Designer } from './designer';
-import { type Element, type Screen, animate, drawElement, showValue, tagsOf } from './render';
+import { type Element, type Screen, animate, drawElement, showValue, tagsOf, tick } from './render';
 
 export class ScreensView {
   readonly el: HTMLElement;
@@ -86,13 +86,19 @@ export class ScreensView {
       'data-testid': `hmi-screen-${name}`,
     });
     svg.append(s('rect', { width: screen.width, height: screen.height, fill: screen.background ?? '#f4f5f6' }));
+    const clocks: SVGGElement[] = [];
     for (const e of screen.elements) {
       const g = drawElement(e);
       svg.append(g);
       for (const a of e.animations ?? []) this.unwatch.push(this.ctx.live.store.watch(a.tag, (v) => animate(g, e, a, v)));
       const shown = e.props?.tag;
-      if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v)));
+      if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
+      if (e.type === 'clock') clocks.push(g);
       if (e.action) this.wire(g, e);
+    }
+    if (clocks.length) {
+      const timer = setInterval(() => clocks.forEach((g) => tick(g, new Date())), 1000);
+      this.unwatch.push(() => clearInterval(timer));
     }
     clear(this.stage);
     this.stage.append(svg);

@@ -287,6 +287,17 @@ async fn every_route_answers_each_role_as_the_table_says() {
             e,
             200,
         ),
+        row(Method::GET, "/api/symbols", "/api/symbols", None, v, 200),
+        row(Method::GET, "/api/symbols/{name}", "/api/symbols/none", None, v, 404),
+        row(
+            Method::PUT,
+            "/api/symbols/{name}",
+            "/api/symbols/mine",
+            j(json!({"schema": 1, "width": 10, "height": 10, "elements": [
+                {"id": "a", "type": "led", "x": 0, "y": 0, "w": 10, "h": 10}]})),
+            e,
+            200,
+        ),
         row(
             Method::PUT,
             "/api/trends",

@@ -7,9 +7,13 @@ use reqwest::{Method, StatusCode};
 use serde_json::{Value as Json, json};
 
 async fn put_text(s: &Server, name: &str, text: &str) -> (StatusCode, Json) {
+    put_at(s, &format!("/api/screens/{name}"), text).await
+}
+
+async fn put_at(s: &Server, path: &str, text: &str) -> (StatusCode, Json) {
     let res = s
         .http
-        .put(s.url(&format!("/api/screens/{name}")))
+        .put(s.url(path))
         .header("content-type", "application/json")
         .body(text.to_string())
         .send()
@@ -71,5 +75,36 @@ async fn screens_are_saved_checked_and_refused_at_their_place() {
     assert_eq!(code, StatusCode::BAD_REQUEST);
     let (code, _) = s.call(Method::GET, "/api/screens/nope", None).await;
     assert_eq!(code, StatusCode::NOT_FOUND);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn symbols_are_groups_saved_and_checked_like_screens_and_alba_check_reads_them() {
+    let s = Server::start("tank-plant", "symbols").await;
+    assert_eq!(s.get("/api/symbols").await, json!([]));
+    let sym = json!({"schema": 1, "width": 90, "height": 60, "elements": [
+        {"id": "b", "type": "pump", "x": 0, "y": 0, "w": 60, "h": 60, "group": "g1",
+         "animations": [{"kind": "rotate", "tag": "Bomba1", "speed": 1}]},
+        {"id": "l", "type": "led", "x": 70, "y": 0, "w": 20, "h": 20, "group": "g1"}
+    ]});
+    let (code, saved) = put_at(&s, "/api/symbols/pump_set", &sym.to_string()).await;
+    assert_eq!(code, StatusCode::OK, "{saved}");
+    assert_eq!(s.get("/api/symbols").await, json!(["pump_set"]));
+    assert_eq!(s.get("/api/symbols/pump_set").await["elements"][1]["group"], "g1");
+    assert!(s.dir.join("hmi/symbols/pump_set.json").exists());
+    // The symbols folder is not a screen.
+    assert_eq!(s.get("/api/screens").await, json!([]));
+    let bad = sym.to_string().replace("Bomba1", "Bomba7");
+    let (code, j) = put_at(&s, "/api/symbols/pump_set", &bad).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    assert_eq!(j["diagnostics"][0]["file"], "pump_set.json", "{j}");
+    let dir = s.dir.clone();
+    // A symbol damaged on disk is found by `alba check` with its place.
+    std::fs::write(dir.join("hmi/symbols/pump_set.json"), &bad).expect("write");
+    let mut files = alba_compiler::diag::Files::new();
+    let program = alba_compiler::compile_dir(&dir).program.expect("compiles");
+    let (screens, diags) = alba_compiler::screens::check_dir(&dir, &mut files, &program.layout);
+    assert_eq!(screens, 0);
+    assert!(diags[0].message.contains("unknown tag `Bomba7`"), "{:?}", diags);
     s.stop().await;
 }
