@@ -53,7 +53,7 @@ test('the PID faceplate: SP, PV and CV live with a trend, manual output up and d
   await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-testid="faceplate-PV"]')?.textContent ?? ''));
   // The trend draws as values come.
   await page.waitForFunction(() => (document.querySelector('[data-testid="faceplate-trend"] polyline')?.getAttribute('points') ?? '').split(' ').length > 3);
-  // Auto → manual, then the output one step up: the CV moves by 1 % of its range (100 of 0–10000).
+  // Auto → manual, then the output one step up: the CV (in %) moves by 1.
   assert.equal(await tid('faceplate-up').isDisabled(), true, 'no manual output in auto');
   await tid('faceplate-mode').click();
   await page.waitForFunction(() => document.querySelector('[data-testid="faceplate-mode"]')?.dataset.mode === 'manual');
@@ -65,7 +65,7 @@ test('the PID faceplate: SP, PV and CV live with a trend, manual output up and d
     await page.waitForTimeout(50);
     cv = (await alba.json('/api/tags/Loop.CV')).value;
   }
-  assert.ok(Math.abs(cv - (cv0 + 100)) < 1e-3, `CV ${cv0} → ${cv}`);
+  assert.ok(Math.abs(cv - (cv0 + 1)) < 1e-3, `CV ${cv0} → ${cv}`);
   await tid('faceplate-bit-MAN').filter({ hasText: 'MAN' }).waitFor();
   assert.ok((await tid('faceplate-bit-MAN').getAttribute('class')).includes('on'));
   // Setpoint and gain.
@@ -80,5 +80,37 @@ test('the PID faceplate: SP, PV and CV live with a trend, manual output up and d
   await tid('faceplate-mode').click(); // back to auto
   await tid('faceplate-close').click();
   await tid('faceplate').waitFor({ state: 'detached' });
+  assert.deepEqual(b.errors, []);
+});
+
+test('the faceplate on a screen: live bars, PV alarms, and autotune whose gains an engineer applies', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('tab-screens').click();
+  await tid('hmi-screen-loop').waitFor();
+  await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-testid="hmi-el-loop"] [data-part="val-PV"]')?.textContent ?? ''));
+  // (the previous test left the loop in auto)
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-loop"] [data-part="mode"]')?.textContent === 'AUTO');
+  // A setpoint above the high alarm (PV > 3.0 in alarms.csv): the faceplate lists the alarm.
+  const put = await alba.api('/api/tags/Loop.SP', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: 4 }) });
+  assert.equal(put.status, 200, JSON.stringify(put.body));
+  await tid('hmi-el-loop').click();
+  await tid('faceplate').waitFor();
+  await tid('faceplate-alarm-level_hi').waitFor({ timeout: 30_000 });
+  // Autotune around 4 V with the relay at 30 ± 10 %: Ku, Pu and five rules; Apply the Ziegler-Nichols PI row.
+  await tid('faceplate-autotune').locator('summary').click();
+  await tid('autotune-bias').fill('30');
+  await tid('autotune-run').click();
+  await tid('autotune-ku').waitFor({ timeout: 60_000 });
+  assert.match(await tid('autotune-ku').textContent(), /^Ku = \d+\.\d{4}, Pu = \d+\.\d{3} s/);
+  const row = tid('autotune-result').locator('tr').filter({ has: page.getByRole('cell', { name: 'Ziegler-Nichols PI', exact: true }) });
+  const kp = Number(await row.locator('td').nth(1).textContent());
+  await row.getByRole('button').click();
+  let now;
+  for (let i = 0; i < 100 && Math.abs((now = (await alba.json('/api/tags/Loop.KP')).value) - kp) > 1e-3; i++) await page.waitForTimeout(50);
+  assert.ok(Math.abs(now - kp) < 1e-3, `KP ${now}, the rule's ${kp}`);
+  await b.shot('pid-autotune');
+  await tid('faceplate-close').click();
+  await b.shot('screen-pid-loop');
   assert.deepEqual(b.errors, []);
 });

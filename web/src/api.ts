@@ -78,6 +78,15 @@ async function json<T>(method: string, path: string, body?: unknown): Promise<T>
 
 const enc = encodeURIComponent;
 
+/** What `POST /api/pid/{name}/autotune` answers (docs/api.md "PID"). */
+export interface Autotune {
+  ku: number;
+  pu: number;
+  a: number;
+  cycles: number;
+  rules: { rule: string; kc: number; ti: number; td: number; kp: number; ki: number; kd: number }[];
+}
+
 export const api = {
   me: () => json<unknown>('GET', '/api/me'),
   login: (user: string, password: string) => json<unknown>('POST', '/api/login', { user, password }),
@@ -111,6 +120,7 @@ export const api = {
   screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
   // pretty, so that a refusal's line and column point into a readable file
   saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
+  autotune: (loop: string, req: Record<string, number>) => json<Autotune>('POST', `/api/pid/${enc(loop)}/autotune`, req),
   symbols: () => json<string[]>('GET', '/api/symbols'),
   symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),
   saveSymbol: (name: string, symbol: unknown) => json<unknown>('PUT', `/api/symbols/${enc(name)}`, new RawJson(JSON.stringify(symbol, null, 2))),

@@ -2,15 +2,16 @@
 // animation changes what it should from a value.
 import { describe, expect, it } from 'vitest';
 import { domain } from '../src/domain';
-import { type Element, animate, colorOf, drawElement, showValue, tagsOf, tick } from '../src/hmi/render';
+import { type Element, animate, colorOf, drawElement, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
+import type { Json } from '../src/types';
 
 // the server's list (test/fixtures/domain.json, checked against GET /api/domain)
 const TYPES = () => domain().screens.elements.map(([t]) => t);
 const el = (type: string, extra: Partial<Element> = {}): Element => ({ id: type, type, x: 10, y: 20, w: 100, h: 200, ...extra });
 
 describe('screen elements', () => {
-  it('draws each of the 30 types at its place', () => {
-    expect(TYPES().length).toBe(30);
+  it('draws each of the 31 types at its place', () => {
+    expect(TYPES().length).toBe(31);
     for (const t of TYPES()) {
       const g = drawElement(el(t, { props: { label: 'L' } }));
       expect(g.childElementCount, t).toBeGreaterThan(0);
@@ -91,5 +92,20 @@ describe('gauges, trends and clocks', () => {
     expect(g.querySelector('[data-part="hour"]')!.getAttribute('transform')).toBe('rotate(105)');
     expect(g.querySelector('[data-part="minute"]')!.getAttribute('transform')).toBe('rotate(180)');
     expect(g.querySelector('[data-part="text"]')!.textContent).toBe('03:30:00');
+  });
+});
+
+describe('the faceplate element', () => {
+  it('shows SP, PV and CV as bars and figures on their scales, and the mode', () => {
+    const g = drawElement(el('faceplate', { props: { tag: 'Loop' } }));
+    const m: Record<string, Json> = { SP: 5, PV: 2.5, CV: 75, MINS: 0, MAXS: 10, MINO: 0, MAXO: 100, MINCV: 0, MAXCV: 10000, MAN: false };
+    showLoop(g, (k) => m[k]);
+    const width = (k: string) => {
+      const bar = g.querySelector(`[data-part="bar-${k}"]`)!;
+      return Number(bar.getAttribute('width')) / Number(bar.getAttribute('data-width'));
+    };
+    expect([width('SP'), width('PV'), width('CV')].map((x) => Number(x.toFixed(2)))).toEqual([0.5, 0.25, 0.75]);
+    expect(g.querySelector('[data-part="val-PV"]')!.textContent).toBe('2.50');
+    expect(g.querySelector('[data-part="mode"]')!.textContent).toBe('AUTO');
   });
 });

@@ -21,8 +21,8 @@ beforeAll(() => {
 afterAll(() => vi.useRealTimers());
 
 describe('element symbols', () => {
-  it('knows the 30 types', () => {
-    expect(TYPES().length).toBe(30);
+  it('knows the 30 types and the faceplate', () => {
+    expect(TYPES().length).toBe(31);
   });
 
   for (const type of domain().screens.elements.map(([t]) => t)) {

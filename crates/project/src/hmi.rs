@@ -16,7 +16,8 @@ use std::collections::HashMap;
 /// The schema this version writes and reads.
 pub const SCHEMA: u32 = 1;
 
-/// AuroraLD's 30 elements (SPEC §8), by the names screens use.
+/// AuroraLD's 30 elements (SPEC §8) and the PID faceplate of `004_…`, by the
+/// names screens use.
 pub const ELEMENT_TYPES: &[(&str, &str)] = &[
     ("text", "a static or live text"),
     ("input", "an input box that writes a number or a BOOL"),
@@ -48,6 +49,10 @@ pub const ELEMENT_TYPES: &[(&str, &str)] = &[
     ("meter", "a bar or circular meter"),
     ("alarm", "an alarm indicator"),
     ("trend", "a trend graph"),
+    (
+        "faceplate",
+        "a PID loop's faceplate (SP, PV, CV; opens the full faceplate)",
+    ),
 ];
 
 /// The animations (SPEC §8) and the parameters each takes besides `tag`.
@@ -355,8 +360,9 @@ pub fn parse(text: &str, file: FileId, resolve: &Resolve<'_>) -> (Option<Screen>
                 "size",
             ));
         }
-        // Problems of animations and actions name their element.
+        // Problems of the shown tag, animations and actions name their element.
         let from = d.len();
+        check_shown(e, &here, resolve, &diag, &mut d);
         for (n, a) in e.animations.iter().enumerate() {
             check_animation(a, &format!("{here}/animations/{n}"), resolve, &diag, &mut d);
         }
@@ -449,6 +455,39 @@ fn check_animation(a: &Animation, here: &str, resolve: &Resolve<'_>, diag: &Diag
                 "intervals",
             )),
         }
+    }
+}
+
+/// `props.tag`, the value an element shows: a value, or for a faceplate the PID loop.
+fn check_shown(e: &Element, here: &str, resolve: &Resolve<'_>, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
+    let at = format!("{here}/props/tag");
+    let Some(tag) = e.props.get("tag") else {
+        if e.kind == "faceplate" {
+            d.push(diag(
+                &format!("{here}/props"),
+                "a faceplate needs the PID loop `tag` it shows".into(),
+                "tag",
+            ));
+        }
+        return;
+    };
+    let Some(tag) = tag.as_str() else {
+        d.push(diag(&at, "`tag` is a tag's name (a string)".into(), "not a string"));
+        return;
+    };
+    match (resolve(tag), e.kind == "faceplate") {
+        (Err(err), _) => d.push(diag(&at, format!("shown tag: {err}"), "unknown tag")),
+        (Ok((TagKind::Structure, _)), false) => d.push(diag(
+            &at,
+            format!("`{tag}` is a structure: show one of its members"),
+            "structure",
+        )),
+        (Ok((kind, _)), true) if kind != TagKind::Structure => d.push(diag(
+            &at,
+            format!("a faceplate shows a PID loop; `{tag}` is a single value"),
+            "not a loop",
+        )),
+        _ => {}
     }
 }
 

@@ -70,6 +70,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("PUT", "/api/trends", Needs(Role::Operator)),
     ("PUT", "/api/screens/{name}", Needs(Role::Engineer)),
     ("PUT", "/api/symbols/{name}", Needs(Role::Engineer)),
+    ("POST", "/api/pid/{name}/autotune", Needs(Role::Engineer)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
     ("GET", "/api/audit.csv", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
@@ -100,6 +101,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/forces/{name}", put(forces::put).delete(forces::delete))
         .route("/api/programs", get(programs::list))
         .route("/api/nets/{name}/analysis", get(nets::analysis))
+        .route("/api/pid/{name}/autotune", post(api::pid::autotune))
         .route("/api/instructions", get(domain::instructions))
         .route("/api/domain", get(domain::get))
         .route("/api/ws", get(ws::upgrade))

@@ -166,6 +166,27 @@ export function showValue(g: SVGGElement, v: Json, props: Record<string, Json> =
   pen.setAttribute('points', pts.join(' '));
 }
 
+/**
+ * A faceplate element from its loop's members (`get('SP')` …): SP and PV
+ * bars on the PV's scale (MINS–MAXS, 0–100 when unset), CV in % (MINO–MAXO),
+ * the figures, and the mode.
+ */
+export function showLoop(g: SVGGElement, get: (member: string) => Json | undefined): void {
+  const v = (m: string) => num(get(m) as Json) ?? 0;
+  const scale = (lo: number, hi: number): [number, number] => (hi > lo ? [lo, hi] : [0, 100]);
+  const scales: Record<string, [number, number]> = { SP: scale(v('MINS'), v('MAXS')), PV: scale(v('MINS'), v('MAXS')), CV: scale(v('MINO'), v('MAXO')) };
+  for (const m of ['SP', 'PV', 'CV']) {
+    const bar = g.querySelector(`[data-part="bar-${m}"]`);
+    const [lo, hi] = scales[m];
+    const f = Math.max(0, Math.min(1, (v(m) - lo) / (hi - lo)));
+    bar?.setAttribute('width', (Number(bar.getAttribute('data-width') ?? 0) * f).toFixed(1));
+    const t = g.querySelector(`[data-part="val-${m}"]`);
+    if (t) t.textContent = get(m) === undefined ? '…' : v(m).toFixed(2);
+  }
+  const mode = g.querySelector('[data-part="mode"]');
+  if (mode) mode.textContent = get('MAN') === true ? 'MAN' : get('MAN') === false ? 'AUTO' : '';
+}
+
 /** Sets a clock element's hands and figures to `now`. */
 export function tick(g: SVGGElement, now: Date): void {
   const [hh, mm, ss] = [now.getHours(), now.getMinutes(), now.getSeconds()];

@@ -147,8 +147,14 @@ export function symbol(e: Element): SVGElement[] {
       return clock(w, h, m);
     case 'meter':
       return p.style === 'circular' ? gauge(w, h, m, text) : barMeter(w, h, text);
-    case 'trend':
-      return [...trend(w, h), text(label, -8, 12)];
+    case 'trend': {
+      // its title stays; the value it shows is drawn as the pen
+      const title = text(label, -8, 12);
+      title.setAttribute('data-part', 'title');
+      return [...trend(w, h), title];
+    }
+    case 'faceplate':
+      return faceplate(w, h, label || (typeof p.tag === 'string' ? p.tag : ''));
     case 'safety_sign':
       return [...safetySign(w, h), name()];
     // ——— rotating equipment ———
@@ -291,6 +297,34 @@ function trend(w: number, h: number): SVGElement[] {
     ...[1, 2, 3].map((i) => line(x0, y0 + ((y1 - y0) * i) / 4, x1, y0 + ((y1 - y0) * i) / 4, grid)),
     s('polyline', { points: pts([x0, y0], [x0, y1], [x1, y1]), fill: 'none', ...stroke(1.5) }),
     s('polyline', { points: '', fill: 'none', ...stroke(1.5, '#1f5fa8'), 'stroke-linejoin': 'round', 'data-part': 'line', 'data-box': [x0, y0, x1, y1].map(n).join(',') }),
+  ];
+}
+
+/**
+ * A PID loop's faceplate on a screen: the loop's name, a bar and the figures
+ * of SP, PV and CV (`bar-SP`, `val-SP` …: the view fills them from the
+ * loop's members), and its mode (`mode`). Clicking it opens the full faceplate.
+ */
+function faceplate(w: number, h: number, name: string): SVGElement[] {
+  const row = (h - 34) / 3;
+  const label = (t: string, x: number, y: number, attrs: Attrs = {}) =>
+    s('text', { x: n(x), y: n(y), 'dominant-baseline': 'middle', 'font-size': n(Math.max(9, Math.min(13, row * 0.45))), fill: INK, ...attrs }, t);
+  const colours: Record<string, string> = { SP: '#1f77b4', PV: '#2ca02c', CV: '#ff7f0e' };
+  const bars = ['SP', 'PV', 'CV'].map((m, k) => {
+    const y = 22 + k * row + row / 2;
+    const [x0, x1] = [w * 0.14, w * 0.62];
+    return [
+      label(m, 6, y),
+      s('rect', { x: n(x0), y: n(y - row * 0.2), width: n(x1 - x0), height: n(row * 0.4), fill: '#fff', ...stroke(1) }),
+      s('rect', { x: n(x0), y: n(y - row * 0.2), width: 0, height: n(row * 0.4), fill: colours[m], 'data-part': `bar-${m}`, 'data-width': n(x1 - x0) }),
+      label('…', w - 6, y, { 'text-anchor': 'end', 'data-part': `val-${m}` }),
+    ];
+  });
+  return [
+    s('rect', face({ width: w, height: h, rx: 4, fill: '#fff', 'data-part': 'fill' })),
+    label(name, 6, 11, { 'font-weight': 'bold' }),
+    label('', w - 6, 11, { 'text-anchor': 'end', 'data-part': 'mode' }),
+    ...bars.flat(),
   ];
 }
 

@@ -9,8 +9,9 @@ import type { Ctx } from '../ctx';
 import { clear, h, s } from '../dom';
 import { tr } from '../i18n';
 import type { Json } from '../types';
+import { openFaceplate } from '../ui/faceplate';
 import { Designer } from './designer';
-import { type Element, type Screen, animate, drawElement, showValue, tagsOf, tick } from './render';
+import { type Element, type Screen, animate, drawElement, showLoop, showValue, tagsOf, tick } from './render';
 
 export class ScreensView {
   readonly el: HTMLElement;
@@ -92,7 +93,13 @@ export class ScreensView {
       svg.append(g);
       for (const a of e.animations ?? []) this.unwatch.push(this.ctx.live.store.watch(a.tag, (v) => animate(g, e, a, v)));
       const shown = e.props?.tag;
-      if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
+      if (e.type === 'faceplate' && typeof shown === 'string') {
+        // the loop's members; a click opens the full faceplate
+        const update = () => showLoop(g, (m) => this.ctx.live.store.get(`${shown}.${m}`));
+        for (const m of ['SP', 'PV', 'CV', 'MAN']) this.unwatch.push(this.ctx.live.store.watch(`${shown}.${m}`, update));
+        g.classList.add('hmi-widget');
+        g.addEventListener('click', () => openFaceplate(this.ctx, shown));
+      } else if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
       if (e.type === 'clock') clocks.push(g);
       if (e.action) this.wire(g, e);
     }

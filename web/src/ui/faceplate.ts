@@ -1,9 +1,13 @@
 // The PID faceplate (issue 17, item 8; after 004_…'s ASC-PID screen): a
 // loop's SP, PV and CV live with a trend of the last minute (SP and PV on the
 // PV's scale, CV on its own), auto/manual, the manual
-// output moved by ↑/↓ (1 % of the CV range a step), the setpoint (operators),
-// the gains (engineers), and its status bits. Opened from a PID tag's row.
-// Every change is a tag write through the API, like everywhere.
+// output moved by ↑/↓ (1 % a step: CV is in %, docs/pid.md), the setpoint (operators),
+// the gains (engineers), its status bits, the alarms defined on its members
+// (PV high/low in alarms.csv), and autotune: the relay experiment on a copy
+// of the program and its plant models (POST /api/pid/{name}/autotune), whose
+// rules' gains an engineer applies with one click. Opened from a PID tag's
+// row or a faceplate element of a screen. Every change is a tag write
+// through the API, like everywhere.
 import { api } from '../api';
 import { can, why } from '../auth';
 import type { Ctx } from '../ctx';
@@ -37,7 +41,8 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
   spIn.addEventListener('keydown', (e) => e.key === 'Enter' && Number.isFinite(Number(spIn.value)) && void write('SP', Number(spIn.value)));
   const manual = h('button', { 'data-testid': 'faceplate-mode', disabled: !can('write'), title: why('write') ?? '' });
   manual.onclick = () => void write('MAN', get('MAN') !== true);
-  const step = (dir: number) => () => void write('CV', num('CV') + dir * Math.max(1e-6, (num('MAXCV') - num('MINCV')) / 100 || 1));
+  // CV is in % (MINO–MAXO, 0–100 by default); MINCV–MAXCV only scales the output tag
+  const step = (dir: number) => () => void write('CV', Math.max(num('MINO'), Math.min(num('MAXO') || 100, num('CV') + dir)));
   const up = h('button', { 'data-testid': 'faceplate-up', title: tr('Manual output up by 1 %') }, '↑');
   const down = h('button', { 'data-testid': 'faceplate-down', title: tr('Manual output down by 1 %') }, '↓');
   up.onclick = step(1);
@@ -49,6 +54,14 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
     return h('label', null, m, ' ', input);
   };
   const bits = h('div', { class: 'fp-bits' }, BITS.map((b) => h('span', { class: 'fp-bit', 'data-testid': `faceplate-bit-${b}` }, b)));
+  const alarms = h('div', { class: 'fp-alarms', 'data-testid': 'faceplate-alarms' });
+  const showAlarms = async () => {
+    const mine = (await api.alarms().catch(() => [])).filter((a) => a.tag === tag || a.tag.startsWith(`${tag}.`));
+    alarms.replaceChildren(...mine.map((a) => h('span', { class: `fp-alarm ${a.state}`, 'data-testid': `faceplate-alarm-${a.id}`, title: a.message }, `${a.id}: ${a.state.replace('_', ' ')}`)));
+  };
+  void showAlarms();
+  unwatch.push(ctx.live.onBatch((b) => b.alarms && void showAlarms()));
+  const tune = autotune(ctx, tag, get, write);
   const close = h('button', { 'data-testid': 'faceplate-close' }, tr('Close'));
   const box = h('div', { class: 'modal', 'data-testid': 'faceplate' },
     h('div', { class: 'modal-box faceplate' },
@@ -59,6 +72,8 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
       h('div', { class: 'fp-row' }, h('label', null, tr('Setpoint'), ' ', spIn), manual, down, up),
       h('div', { class: 'fp-row' }, gain('KP'), gain('KI'), gain('KD')),
       bits,
+      alarms,
+      tune,
       h('div', { class: 'modal-buttons' }, close)));
   // The values as they change; the trend samples all three twice a second
   // (a loop at rest still draws its lines).
@@ -68,11 +83,11 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
       hist[k].push(num(k));
       if (hist[k].length > POINTS) hist[k].shift();
     }
-    // SP and PV on the PV's scale (MINS–MAXS), CV on its own (MINCV–MAXCV)
+    // SP and PV on the PV's scale (MINS–MAXS), CV on its own (MINO–MAXO, %)
     const pv = [...hist.SP, ...hist.PV];
     const [lo, hi] = [Math.min(num('MINS'), ...pv), Math.max(num('MAXS'), ...pv)];
     for (const k of ['SP', 'PV'] as const) lines[k].setAttribute('points', polyline(hist[k], W, H, lo, hi));
-    lines.CV.setAttribute('points', polyline(hist.CV, W, H, Math.min(num('MINCV'), ...hist.CV), Math.max(num('MAXCV'), ...hist.CV)));
+    lines.CV.setAttribute('points', polyline(hist.CV, W, H, Math.min(num('MINO'), ...hist.CV), Math.max(num('MAXO') || 100, ...hist.CV)));
   };
   const timer = setInterval(sample, 500);
   unwatch.push(() => clearInterval(timer));
@@ -94,4 +109,56 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
   };
   document.body.append(box);
   return box;
+}
+
+/**
+ * The autotune panel: the relay's settings, Run, and the rules' gains, each
+ * with Apply (KC/TI/TD when the loop uses dependent gains, KP/KI/KD
+ * otherwise). Engineers only: it sets gains.
+ */
+function autotune(ctx: Ctx, tag: string, get: (m: string) => Json | undefined, write: (m: string, v: Json) => Promise<unknown>): HTMLElement {
+  const input = (name: string, value: number, title: string) =>
+    h('label', { title }, name, ' ', h('input', { type: 'number', step: 'any', size: 5, value: String(value), 'data-testid': `autotune-${name}` }));
+  const fields = [input('amplitude', 10, tr('Relay amplitude, % of CV')), input('bias', 50, tr('Relay centre, % of CV')), input('hysteresis', 0, tr('Hysteresis, units of the PV'))];
+  const sp = input('sp', 0, tr('Setpoint during the experiment'));
+  const run = h('button', { 'data-testid': 'autotune-run', disabled: !can('edit'), title: why('edit') ?? tr('Runs the relay experiment on a copy of the program and its plant models; the running loop is not touched') }, tr('Autotune'));
+  const result = h('div', { class: 'fp-tune-result', 'data-testid': 'autotune-result' });
+  run.onclick = async () => {
+    const req: Record<string, number> = {};
+    for (const l of [...fields, sp]) {
+      const i = l.querySelector('input')!;
+      req[i.dataset.testid!.replace('autotune-', '')] = Number(i.value);
+    }
+    run.disabled = true;
+    result.replaceChildren(h('p', { class: 'hint' }, tr('Running the relay experiment…')));
+    try {
+      const r = await api.autotune(tag, req);
+      const dep = get('DEP') === true;
+      const apply = (g: (typeof r.rules)[0]) => async () => {
+        const gains: [string, number][] = dep ? [['KC', g.kc], ['TI', g.ti], ['TD', g.td]] : [['KP', g.kp], ['KI', g.ki], ['KD', g.kd]];
+        for (const [m, v] of gains) await write(m, Number(v.toPrecision(6)));
+        ctx.notify(tr('{rule} gains applied to {name}', { rule: g.rule, name: tag }));
+      };
+      result.replaceChildren(
+        h('p', { 'data-testid': 'autotune-ku' }, `Ku = ${r.ku.toFixed(4)}, Pu = ${r.pu.toFixed(3)} s (${tr('{n} cycles', { n: r.cycles })})`),
+        h('table', { class: 'tags' },
+          h('thead', null, h('tr', null, [tr('Rule'), dep ? 'KC' : 'KP', dep ? 'TI' : 'KI', dep ? 'TD' : 'KD', ''].map((c) => h('th', null, c)))),
+          h('tbody', null, r.rules.map((g, k) => {
+            const b = h('button', { class: 'small', 'data-testid': `autotune-apply-${k}` }, tr('Apply'));
+            b.onclick = apply(g);
+            const [a, b2, c] = dep ? [g.kc, g.ti, g.td] : [g.kp, g.ki, g.kd];
+            return h('tr', null, h('td', null, g.rule), h('td', null, a.toFixed(4)), h('td', null, b2.toFixed(4)), h('td', null, c.toFixed(4)), h('td', null, b));
+          }))));
+    } catch (e) {
+      result.replaceChildren(h('p', { class: 'inline-error', 'data-testid': 'autotune-error' }, e instanceof Error ? e.message : String(e)));
+    } finally {
+      run.disabled = !can('edit');
+    }
+  };
+  const spInput = sp.querySelector('input')!;
+  spInput.value = fmt(get('SP') ?? 0);
+  return h('details', { class: 'fp-tune', 'data-testid': 'faceplate-autotune' },
+    h('summary', null, tr('Autotune (relay experiment)')),
+    h('div', { class: 'fp-row' }, sp, ...fields, run),
+    result);
 }

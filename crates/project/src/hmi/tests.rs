@@ -51,7 +51,7 @@ fn a_good_screen_parses_without_problems() {
     // It round-trips through the API's JSON.
     let again: Screen = serde_json::from_str(&serde_json::to_string(&s).expect("json")).expect("parse");
     assert_eq!(again, s);
-    assert_eq!(ELEMENT_TYPES.len(), 30, "AuroraLD's 30 elements");
+    assert_eq!(ELEMENT_TYPES.len(), 31, "AuroraLD's 30 elements and the faceplate");
 }
 
 /// A screen with one element replaced by `element`.
@@ -106,6 +106,26 @@ fn malformed_screens_are_reported_at_their_place() {
             "invalid type: string \"left\", expected f64",
         ),
         (with(&format!("{{{E}, \"colour\": 1}}")), "unknown field `colour`"),
+        (
+            with(&format!("{{{E}, \"props\": {{\"tag\": \"Nivel\"}}}}")),
+            "hmi/main.json:6:80: error[E141]: `e`: shown tag: unknown tag `Nivel`",
+        ),
+        (
+            with(&format!("{{{E}, \"props\": {{\"tag\": 3}}}}")),
+            "`e`: `tag` is a tag's name (a string)",
+        ),
+        (
+            with(&format!("{{{E}, \"props\": {{\"tag\": \"T1\"}}}}")),
+            "`e`: `T1` is a structure: show one of its members",
+        ),
+        (
+            with(r#"{"id": "f", "type": "faceplate", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"tag": "Level"}}"#),
+            "`f`: a faceplate shows a PID loop; `Level` is a single value",
+        ),
+        (
+            with(r#"{"id": "f", "type": "faceplate", "x": 1, "y": 2, "w": 10, "h": 10}"#),
+            "`f`: a faceplate needs the PID loop `tag` it shows",
+        ),
         (
             with(&format!(
                 "{{{E}, \"animations\": [{{\"kind\": \"spin\", \"tag\": \"Pump\"}}]}}"

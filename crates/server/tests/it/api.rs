@@ -668,3 +668,45 @@ async fn the_uses_of_a_tag_are_listed_with_their_places() {
     assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
     s.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn autotune_runs_the_relay_experiment_on_a_copy_and_leaves_the_plc_alone() {
+    let s = Server::start("pid-level", "autotune").await;
+    let sp = s.value("Loop.SP").await;
+    let (code, j) = s
+        .call(
+            Method::POST,
+            "/api/pid/Loop/autotune",
+            Some(json!({"sp": 4.0, "amplitude": 10, "bias": 30})),
+        )
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    let (ku, pu) = (j["ku"].as_f64().expect("ku"), j["pu"].as_f64().expect("pu"));
+    assert!(ku > 0.0 && pu > 0.0, "{j}");
+    let rules = j["rules"].as_array().expect("rules");
+    assert_eq!(rules.len(), 5, "{j}");
+    // Ziegler–Nichols PI: Kc = 0.45 Ku, Ti = Pu / 1.2, KI = Kc / Ti.
+    let zn = rules.iter().find(|r| r["rule"] == "Ziegler-Nichols PI").expect("ZN PI");
+    assert!((zn["kc"].as_f64().expect("kc") - 0.45 * ku).abs() < 1e-9, "{j}");
+    assert!(
+        (zn["ki"].as_f64().expect("ki") - 0.45 * ku / (pu / 1.2)).abs() < 1e-9,
+        "{j}"
+    );
+    // The running loop was not touched.
+    assert_eq!(s.value("Loop.SP").await, sp);
+    assert_eq!(s.value("Loop.MAN").await, json!(false));
+    for (path, body, want) in [
+        ("/api/pid/Level/autotune", json!({}), StatusCode::UNPROCESSABLE_ENTITY),
+        ("/api/pid/Nope/autotune", json!({}), StatusCode::NOT_FOUND),
+        (
+            "/api/pid/Loop/autotune",
+            json!({"amplitude": 0}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+        ),
+        ("/api/pid/Loop/autotune", json!({"gain": 1}), StatusCode::BAD_REQUEST),
+    ] {
+        let (code, j) = s.call(Method::POST, path, Some(body)).await;
+        assert_eq!(code, want, "{path}: {j}");
+    }
+    s.stop().await;
+}
