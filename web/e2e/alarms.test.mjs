@@ -66,7 +66,19 @@ test('the alarm summary: filter, sort, acknowledge the page, shelve, the log', a
   await tid('alarms-ack-page').click();
   for (let i = 0; i < 50 && (await alba.json('/api/alarms')).some((a) => a.state.endsWith('_unacked')); i++) await page.waitForTimeout(100);
   assert.equal((await alba.json('/api/alarms')).filter((a) => a.state.endsWith('_unacked')).length, 0);
-  const [download] = await Promise.all([page.waitForEvent('download'), tid('alarms-log').click()]);
+  // The counts of the summary.
+  assert.match(await tid('alarms-stats').textContent(), /\d+ active, 0 to acknowledge, 0 shelved; \d+ new in 10 minutes/);
+  // The log page: every transition, filtered; the range as CSV.
+  await tid('alarms-page').selectOption('log');
+  await tid('alarm-log-table').locator('tbody tr').first().waitFor();
+  await tid('alarm-log-filter').fill('maintenance');
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid="alarm-log-table"] tbody tr').length >= 1);
+  const shelvedRows = await tid('alarm-log-table').locator('tbody tr').allTextContents();
+  assert.ok(shelvedRows.length >= 1 && shelvedRows.every((r) => r.includes('estop') && r.includes('maintenance on P1')), shelvedRows.join('\n'));
+  await tid('alarm-log-filter').fill('');
+  assert.match(await tid('alarm-log-count').textContent(), /^\d+ events$/);
+  await b.shot('alarm-log');
+  const [download] = await Promise.all([page.waitForEvent('download'), tid('alarm-log-export').click()]);
   assert.equal(download.suggestedFilename(), 'alarms.csv');
   await force('STOP', false);
   assert.deepEqual(b.errors, []);

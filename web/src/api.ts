@@ -1,7 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { Domain } from './domain';
-import type { Alarm, Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
+import type { Alarm, AlarmStats, Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -98,6 +98,7 @@ export const api = {
   writeTag: (name: string, value: Json) => json<{ name: string; value: Json }>('PUT', `/api/tags/${enc(name)}`, { value }),
   forces: () => json<Force[]>('GET', '/api/forces'),
   alarms: () => json<Alarm[]>('GET', '/api/alarms'),
+  alarmStats: () => json<AlarmStats>('GET', '/api/alarms/stats'),
   ackAlarm: (id: string, comment: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/ack`, { comment }),
   shelveAlarm: (id: string, minutes: number, reason: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/shelve`, { minutes, reason }),
   unshelveAlarm: (id: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/unshelve`),

@@ -1,14 +1,16 @@
 // The Alarms tab (issue 17, item 7): the alarm summary — every alarm not in
 // `normal`, filtered by text, sorted by severity, time or name — with
 // acknowledge (one, or every unacknowledged alarm shown), shelve (minutes and
-// a reason) and unshelve, and the log as CSV for a time range. Refreshed on
-// every `alarms` summary of the WebSocket.
+// a reason) and unshelve, the counts and the flood state of the standard's
+// guidance, and the log page (alarmLog.ts). Refreshed on every `alarms`
+// summary of the WebSocket.
 import { api } from '../api';
 import { can, gate } from '../auth';
 import type { Ctx } from '../ctx';
-import { clear, download, h } from '../dom';
+import { add, clear, h } from '../dom';
 import { clockTime, tr } from '../i18n';
 import type { Alarm } from '../types';
+import { AlarmLog } from './alarmLog';
 import { alarmText, band } from './alarms';
 
 type SortKey = 'severity' | 'time' | 'id';
@@ -34,21 +36,30 @@ export class AlarmsView {
     h('option', { value: 'time' }, tr('newest first')),
     h('option', { value: 'id' }, tr('by name')));
   private readonly body = h('tbody');
+  private readonly stats = h('span', { class: 'alarm-stats', 'data-testid': 'alarms-stats' });
   private unlisten: (() => void) | null = null;
 
   constructor(private readonly ctx: Ctx) {
     const ackPage = h('button', { 'data-testid': 'alarms-ack-page', title: tr('Acknowledge every unacknowledged alarm shown') }, tr('Acknowledge page'));
     ackPage.onclick = () => void this.ackShown();
     gate(ackPage, 'ack');
-    const log = h('button', { 'data-testid': 'alarms-log', title: tr('The alarm log of the last 24 hours, as CSV') }, tr('Log (CSV)'));
-    log.onclick = () => void this.exportLog();
+    const log = new AlarmLog(ctx);
+    log.el.hidden = true;
+    const summaryPart = h('div', { class: 'alarm-summary-part' });
+    const page = h('select', { 'data-testid': 'alarms-page' }, h('option', { value: 'summary' }, tr('Summary')), h('option', { value: 'log' }, tr('Log')));
+    page.onchange = () => {
+      log.el.hidden = page.value !== 'log';
+      summaryPart.hidden = page.value === 'log';
+      if (page.value === 'log') void log.load();
+    };
     this.filter.addEventListener('input', () => this.render());
     this.sort.addEventListener('change', () => this.render());
-    this.el = h('section', { class: 'alarms-view', 'data-testid': 'alarms-view' },
-      h('div', { class: 'toolbar' }, this.filter, this.sort, ackPage, log),
+    add(summaryPart,
+      h('div', { class: 'toolbar' }, this.filter, this.sort, ackPage, this.stats),
       h('table', { class: 'tags alarm-summary', 'data-testid': 'alarms-table' },
         h('thead', null, h('tr', null, [tr('Alarm'), tr('Tag'), tr('Message'), tr('State'), tr('Since'), ''].map((c) => h('th', null, c)))),
         this.body));
+    this.el = h('section', { class: 'alarms-view', 'data-testid': 'alarms-view' }, h('div', { class: 'toolbar' }, page), summaryPart, log.el);
   }
 
   show(): void {
@@ -63,7 +74,11 @@ export class AlarmsView {
 
   private async refresh(): Promise<void> {
     try {
-      this.alarms = await api.alarms();
+      const [alarms, st] = await Promise.all([api.alarms(), api.alarmStats()]);
+      this.alarms = alarms;
+      this.stats.textContent = tr('{active} active, {unacked} to acknowledge, {shelved} shelved; {n} new in 10 minutes', { active: st.active, unacked: st.unacked, shelved: st.shelved, n: st.new_10min });
+      this.stats.classList.toggle('flood', st.flood);
+      if (st.flood) this.stats.textContent += ` — ${alarmText.flood}`;
     } catch (e) {
       this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
       return;
@@ -89,15 +104,6 @@ export class AlarmsView {
     await this.act(async () => {
       for (const a of todo) await api.ackAlarm(a.id, '');
     });
-  }
-
-  private async exportLog(): Promise<void> {
-    const to = Date.now();
-    try {
-      download('alarms.csv', await api.text(`/api/alarms/log.csv?from=${to - 86_400_000}&to=${to}`), true);
-    } catch (e) {
-      this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
-    }
   }
 
   private render(): void {
