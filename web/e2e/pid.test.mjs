@@ -91,9 +91,19 @@ test('the faceplate on a screen: live bars, PV alarms, and autotune whose gains 
   await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-testid="hmi-el-loop"] [data-part="val-PV"]')?.textContent ?? ''));
   // (the previous test left the loop in auto)
   await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-loop"] [data-part="mode"]')?.textContent === 'AUTO');
+  // The slider writes the setpoint where it is released (0–10 V over its width), confirmed.
+  const slider = await tid('hmi-el-sp').boundingBox();
+  await page.mouse.move(slider.x + slider.width * 0.1, slider.y + slider.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(slider.x + slider.width * 0.25, slider.y + slider.height / 2, { steps: 4 });
+  await page.mouse.up();
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-sp"]')?.classList.contains('confirmed'));
+  const sp = (await alba.json('/api/tags/Loop.SP')).value;
+  assert.ok(sp > 2 && sp < 3, `SP ${sp}`);
   // A setpoint above the high alarm (PV > 3.0 in alarms.csv): the faceplate lists the alarm.
   const put = await alba.api('/api/tags/Loop.SP', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: 4 }) });
   assert.equal(put.status, 200, JSON.stringify(put.body));
+  await page.waitForFunction(() => Number(document.querySelector('[data-testid="hmi-el-sp"] [data-part="knob"]')?.getAttribute('cx')) > 90);
   await tid('hmi-el-loop').click();
   await tid('faceplate').waitFor();
   await tid('faceplate-alarm-level_hi').waitFor({ timeout: 30_000 });

@@ -128,7 +128,6 @@ export const es: Record<string, string> = {
   'Full screen': 'Pantalla completa',
   'No screens in this project (hmi/*.json).': 'Este proyecto no tiene pantallas (hmi/*.json).',
   'New value of {name}:': 'Nuevo valor de {name}:',
-  '{value} is not a number in range': '{value} no es un número dentro del rango',
   'New screen': 'Nueva pantalla',
   'Name of the new screen (letters, digits, _ and -):': 'Nombre de la nueva pantalla (letras, dígitos, _ y -):',
   Close: 'Cerrar',
@@ -328,4 +327,6 @@ export const es: Record<string, string> = {
   'Summary': 'Resumen',
   'Log': 'Registro',
   '{active} active, {unacked} to acknowledge, {shelved} shelved; {n} new in 10 minutes': '{active} activas, {unacked} por reconocer, {shelved} archivadas; {n} nuevas en 10 minutos',
+  '{value} is not a number': '{value} no es un número',
+  '{value} is outside {min} to {max}': '{value} está fuera de {min} a {max}',
 };

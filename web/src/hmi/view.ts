@@ -147,16 +147,46 @@ export class ScreensView {
       g.append(s('title', null, why('write') ?? ''));
       return;
     }
+    // pending while the write is on its way; confirmed or refused when the answer comes
     const write = async (v: Json) => {
+      g.classList.remove('confirmed', 'refused');
       g.classList.add('pending');
+      let outcome = 'confirmed';
       try {
         await api.writeTag(tag, v);
       } catch (err) {
+        outcome = 'refused';
         this.ctx.notify(err instanceof Error ? err.message : String(err), 'error');
       } finally {
         g.classList.remove('pending');
+        g.classList.add(outcome);
+        setTimeout(() => g.classList.remove(outcome), 800);
       }
     };
+    const [lo, hi] = [a.min ?? 0, a.max ?? 100];
+    if (a.kind === 'slider') {
+      // the knob follows the tag; dragging moves it, and the value is written on release
+      const knob = g.querySelector('[data-part="knob"]');
+      const at = (v: number) => knob?.setAttribute('cx', String(Math.max(0, Math.min(1, (v - lo) / (hi - lo || 1))) * e.w));
+      this.unwatch.push(this.ctx.live.store.watch(tag, (v) => typeof v === 'number' && !g.classList.contains('dragging') && at(v)));
+      const valueAt = (ev: PointerEvent) => {
+        const box = g.getBoundingClientRect();
+        const f = Math.max(0, Math.min(1, (ev.clientX - box.left) / (box.width || 1)));
+        return Number((lo + f * (hi - lo)).toPrecision(6));
+      };
+      g.addEventListener('pointerdown', (ev) => {
+        g.classList.add('dragging');
+        g.setPointerCapture?.(ev.pointerId);
+        at(valueAt(ev));
+      });
+      g.addEventListener('pointermove', (ev) => g.classList.contains('dragging') && at(valueAt(ev)));
+      g.addEventListener('pointerup', (ev) => {
+        if (!g.classList.contains('dragging')) return;
+        g.classList.remove('dragging');
+        void write(valueAt(ev));
+      });
+      return;
+    }
     if (a.kind === 'momentary') {
       g.addEventListener('pointerdown', () => void write(true));
       g.addEventListener('pointerup', () => void write(false));
@@ -170,7 +200,8 @@ export class ScreensView {
         const v = prompt(tr('New value of {name}:', { name: tag }), String(this.ctx.live.store.get(tag) ?? ''));
         const n = v === null ? NaN : Number(v);
         if (Number.isFinite(n) && (a.min == null || n >= a.min) && (a.max == null || n <= a.max)) void write(n);
-        else if (v !== null) this.ctx.notify(tr('{value} is not a number in range', { value: v }), 'error');
+        else if (v !== null && Number.isFinite(n)) this.ctx.notify(tr('{value} is outside {min} to {max}', { value: v, min: a.min ?? '−∞', max: a.max ?? '∞' }), 'error');
+        else if (v !== null) this.ctx.notify(tr('{value} is not a number', { value: v }), 'error');
       });
     }
   }
