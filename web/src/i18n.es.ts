@@ -329,4 +329,5 @@ export const es: Record<string, string> = {
   '{active} active, {unacked} to acknowledge, {shelved} shelved; {n} new in 10 minutes': '{active} activas, {unacked} por reconocer, {shelved} archivadas; {n} nuevas en 10 minutos',
   '{value} is not a number': '{value} no es un número',
   '{value} is outside {min} to {max}': '{value} está fuera de {min} a {max}',
+  'I/O link down (S:IOOK off): inputs hold their last values': 'Enlace de E/S caído (S:IOOK apagado): las entradas conservan sus últimos valores',
 };

@@ -107,9 +107,15 @@ export class ScreensView {
       const timer = setInterval(() => clocks.forEach((g) => tick(g, new Date())), 1000);
       this.unwatch.push(() => clearInterval(timer));
     }
+    // the I/O link: when S:IOOK drops the inputs hold their last values, and the screen says so
+    const ioBanner = h('div', { class: 'hmi-io-down', 'data-testid': 'hmi-io-down', hidden: true }, tr('I/O link down (S:IOOK off): inputs hold their last values'));
+    this.unwatch.push(this.ctx.live.store.watch('S:IOOK', (v) => {
+      ioBanner.hidden = v !== false;
+      svg.classList.toggle('io-down', v === false);
+    }));
     clear(this.stage);
-    this.stage.append(svg);
-    this.ctx.live.subscribe('hmi', tagsOf(screen));
+    this.stage.append(ioBanner, svg);
+    this.ctx.live.subscribe('hmi', [...tagsOf(screen), 'S:IOOK']);
   }
 
   /** Opens the designer on `name` (its saved version, or `fresh`); back to the run view when closed. */
