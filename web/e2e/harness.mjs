@@ -58,6 +58,10 @@ export async function startAlba(example, { users = [], prepare = null, args = []
     url,
     dir,
     api,
+    /** The process id of `alba run` (for CPU measurements). */
+    get pid() {
+      return proc.pid;
+    },
     json: async (path) => (await api(path)).body,
     /** Logs the helpers in (POST /api/login; the bearer token of the reply). */
     async login(user, password) {

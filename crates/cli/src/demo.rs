@@ -11,6 +11,8 @@ const FILES: &[(&str, &str)] = &[
     ("main.lad", include_str!("../../../examples/tank-plant/main.lad")),
     ("plant.lad", include_str!("../../../examples/tank-plant/plant.lad")),
     ("README.md", include_str!("../../../examples/tank-plant/README.md")),
+    ("alarms.csv", include_str!("../../../examples/tank-plant/alarms.csv")),
+    ("hmi/tank.json", include_str!("../../../examples/tank-plant/hmi/tank.json")),
 ];
 
 /// Writes the demo project into `dir` unless it holds one already (edits
@@ -31,6 +33,12 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         }
         for (file, text) in FILES {
             let path = dir.join(file);
+            if let Some(parent) = path.parent()
+                && let Err(e) = std::fs::create_dir_all(parent)
+            {
+                eprintln!("error: cannot create {}: {e}", parent.display());
+                return ExitCode::FAILURE;
+            }
             if let Err(e) = alba_model::fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())) {
                 eprintln!("error: cannot write {}: {e}", path.display());
                 return ExitCode::FAILURE;
@@ -38,7 +46,8 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         }
     }
     let banner = format!(
-        "The tank of AuroraLD with a simulated plant, {} in {} (edits are saved there).",
+        "The tank of AuroraLD with a simulated plant, {} in {} (edits are saved there). \
+         Its operator screen is in the Screens tab, its alarms in the Alarms tab.",
         if fresh { "written" } else { "as last saved" },
         dir.display()
     );

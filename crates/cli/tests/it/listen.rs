@@ -56,4 +56,14 @@ fn a_non_loopback_http_address_without_users_is_refused() {
     ]);
     assert!(!ok, "{err}");
     assert!(err.contains("refusing to serve the studio"), "{err}");
+    // The demo's project was written whole: its screen and alarms too, and it checks.
+    for f in ["alarms.csv", "hmi/tank.json"] {
+        assert!(demo.join(f).exists(), "the demo writes {f}");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_alba"))
+        .args(["check", demo.to_str().expect("utf-8 path")])
+        .output()
+        .expect("alba check");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("1 screen") && text.contains("5 alarms"), "{text}");
 }
