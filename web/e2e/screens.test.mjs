@@ -87,6 +87,12 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   await tid('hmi-align-top').click();
   await tid('hmi-group').click();
   await tid('hmi-zoom-in').click();
+  // A button that goes to the tank screen.
+  await tid('hmi-add-button').dragTo(tid('hmi-canvas'), { targetPosition: { x: 500, y: 260 } });
+  await tid('hmi-props').getByText('button2 (button)').waitFor();
+  await setField('hmi-prop-label', 'To tank');
+  await tid('hmi-prop-action-kind').selectOption('navigate');
+  await tid('hmi-prop-action-screen').selectOption('tank');
   // Save: refused, the unknown tag drawn on the pump and listed with its place.
   await tid('hmi-save').click();
   await tid('hmi-problem-0').waitFor();
@@ -96,12 +102,16 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   // Fixed from the problem (a click selects the element), saved.
   await tid('hmi-problem-0').click();
   await setField('hmi-prop-anim-tag-0', 'Bomba1');
+  // A second animation on the pump: green while B1 runs.
+  await tid('hmi-prop-anim-add').selectOption('color');
+  await setField('hmi-prop-anim-tag-1', 'Bomba1');
   await tid('hmi-save').click();
   await tid('toast-info').filter({ hasText: 'plant2 saved' }).waitFor();
   const saved = await alba.json('/api/screens/plant2');
   const byId = Object.fromEntries(saved.elements.map((e) => [e.id, e]));
   assert.deepEqual(byId.tank1.animations, [{ kind: 'fill', tag: 'Nivel_L', min: 0, max: 60, direction: 'up' }]);
-  assert.deepEqual(byId.pump1.animations, [{ kind: 'rotate', tag: 'Bomba1', speed: 1 }]);
+  assert.deepEqual(byId.pump1.animations, [{ kind: 'rotate', tag: 'Bomba1', speed: 1 }, { kind: 'color', tag: 'Bomba1', on: '#2e7d32', off: '#9ea3a8' }]);
+  assert.deepEqual(byId.button2.action, { kind: 'navigate', tag: null, value: null, min: null, max: null, screen: 'tank' });
   assert.equal(byId.button1.action.kind, 'set');
   assert.equal(byId.button1.action.tag, 'Llenar');
   assert.equal(byId.tank1.y, byId.pump1.y, 'aligned tops');
@@ -116,6 +126,11 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-pump1"] [data-part="rotor"]')?.classList.contains('hmi-spin'));
   const first = await level();
   await page.waitForFunction((h) => Number(document.querySelector('[data-testid="hmi-el-tank1"] [data-part="level"]').getAttribute('height')) > h, first);
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-pump1"] [data-part="fill"]')?.getAttribute('fill') === '#2e7d32');
   await b.shot('screen-plant2');
+  // The navigation button opens the tank screen.
+  await tid('hmi-el-button2').click();
+  await tid('hmi-screen-tank').waitFor();
+  assert.equal(await tid('hmi-screen').inputValue(), 'tank');
   assert.deepEqual(b.errors, []);
 });
