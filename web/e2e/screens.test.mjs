@@ -107,6 +107,19 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   await setField('hmi-prop-anim-tag-1', 'Bomba1');
   await tid('hmi-save').click();
   await tid('toast-info').filter({ hasText: 'plant2 saved' }).waitFor();
+  // The group saved as a symbol of the user's, then inserted from the palette: copies, grouped.
+  page.removeAllListeners('dialog');
+  page.once('dialog', (d) => d.accept('tank_and_pump'));
+  await tid('hmi-el-tank1').click();
+  await tid('hmi-save-symbol').click();
+  await tid('hmi-symbol-tank_and_pump').click();
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid="hmi-design-svg"] g.hmi-el').length === 6);
+  await tid('hmi-el-tank2').waitFor();
+  await tid('hmi-props').getByText('2 elements selected').waitFor();
+  assert.deepEqual((await alba.json('/api/symbols')), ['tank_and_pump']);
+  await tid('hmi-undo').click();
+  assert.equal(await els().count(), 4);
+  page.on('dialog', (d) => d.accept());
   const saved = await alba.json('/api/screens/plant2');
   const byId = Object.fromEntries(saved.elements.map((e) => [e.id, e]));
   assert.deepEqual(byId.tank1.animations, [{ kind: 'fill', tag: 'Nivel_L', min: 0, max: 60, direction: 'up' }]);
