@@ -104,6 +104,9 @@ test('the faceplate on a screen: live bars, PV alarms, and autotune whose gains 
   const put = await alba.api('/api/tags/Loop.SP', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: 4 }) });
   assert.equal(put.status, 200, JSON.stringify(put.body));
   await page.waitForFunction(() => Number(document.querySelector('[data-testid="hmi-el-sp"] [data-part="knob"]')?.getAttribute('cx')) > 90);
+  // The screen's alarm indicator follows level_hi: unacknowledged, it blinks red.
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-high"]')?.dataset.state === 'active_unacked', null, { timeout: 30_000 });
+  assert.match(await tid('hmi-el-high').getAttribute('class'), /hmi-blink/);
   await tid('hmi-el-loop').click();
   await tid('faceplate').waitFor();
   await tid('faceplate-alarm-level_hi').waitFor({ timeout: 30_000 });

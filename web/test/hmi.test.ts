@@ -2,7 +2,7 @@
 // animation changes what it should from a value.
 import { describe, expect, it } from 'vitest';
 import { domain } from '../src/domain';
-import { type Element, animate, colorOf, drawElement, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
+import { type Element, animate, colorOf, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
 import type { Json } from '../src/types';
 
 // the server's list (test/fixtures/domain.json, checked against GET /api/domain)
@@ -107,5 +107,20 @@ describe('the faceplate element', () => {
     expect([width('SP'), width('PV'), width('CV')].map((x) => Number(x.toFixed(2)))).toEqual([0.5, 0.25, 0.75]);
     expect(g.querySelector('[data-part="val-PV"]')!.textContent).toBe('2.50');
     expect(g.querySelector('[data-part="mode"]')!.textContent).toBe('AUTO');
+  });
+});
+
+describe('the alarm indicator', () => {
+  it('shows its alarm state: unacknowledged blinks, acknowledged is steady, normal is grey', () => {
+    const g = drawElement(el('alarm', { props: { alarm: 'level_hi' } }));
+    const fill = () => g.querySelector('[data-part="fill"]')!.getAttribute('fill');
+    showAlarm(g, 'active_unacked');
+    expect([fill(), g.classList.contains('hmi-blink')]).toEqual(['#c62828', true]);
+    showAlarm(g, 'active_acked');
+    expect([fill(), g.classList.contains('hmi-blink')]).toEqual(['#c62828', false]);
+    showAlarm(g, 'cleared_unacked');
+    expect([fill(), g.classList.contains('hmi-blink')]).toEqual(['#f9a825', true]);
+    showAlarm(g, 'normal');
+    expect([fill(), g.classList.contains('hmi-blink'), g.dataset.state]).toEqual(['#9ea3a8', false, 'normal']);
   });
 });

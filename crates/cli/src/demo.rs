@@ -12,7 +12,10 @@ const FILES: &[(&str, &str)] = &[
     ("plant.lad", include_str!("../../../examples/tank-plant/plant.lad")),
     ("README.md", include_str!("../../../examples/tank-plant/README.md")),
     ("alarms.csv", include_str!("../../../examples/tank-plant/alarms.csv")),
-    ("hmi/tank.json", include_str!("../../../examples/tank-plant/hmi/tank.json")),
+    (
+        "hmi/tank.json",
+        include_str!("../../../examples/tank-plant/hmi/tank.json"),
+    ),
 ];
 
 /// Writes the demo project into `dir` unless it holds one already (edits

@@ -452,14 +452,15 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
         return ExitCode::FAILURE;
     };
     let mut files = c.project.files.clone();
-    let alarms = match alba_alarms::def::load(dir, &mut files, &program.layout) {
-        Ok(a) => a.len(),
+    let alarm_ids: Vec<String> = match alba_alarms::def::load(dir, &mut files, &program.layout) {
+        Ok(a) => a.into_iter().map(|d| d.id).collect(),
         Err(d) => {
             report(&d, &files, short);
             return ExitCode::FAILURE;
         }
     };
-    let (screens, bad) = alba_compiler::screens::check_dir(dir, &mut files, &program.layout);
+    let alarms = alarm_ids.len();
+    let (screens, bad) = alba_compiler::screens::check_dir(dir, &mut files, &program.layout, &alarm_ids);
     if !bad.is_empty() {
         report(&bad, &files, short);
         return ExitCode::FAILURE;

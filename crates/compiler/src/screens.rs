@@ -28,7 +28,8 @@ pub fn resolver(layout: &Layout) -> impl Fn(&str) -> Result<(TagKind, bool), Str
 /// Checks every screen of the project in `dir` (`hmi/*.json`, in name
 /// order) and every user symbol (`hmi/symbols/*.json`), adding their texts
 /// to `files`; returns how many screens there are and the problems of all.
-pub fn check_dir(dir: &Path, files: &mut Files, layout: &Layout) -> (usize, Vec<Diagnostic>) {
+/// `alarms` are the ids of alarms.csv, which alarm indicators may name.
+pub fn check_dir(dir: &Path, files: &mut Files, layout: &Layout, alarms: &[String]) -> (usize, Vec<Diagnostic>) {
     let json_files = |d: &Path| -> Vec<_> {
         let mut paths: Vec<_> = std::fs::read_dir(d)
             .into_iter()
@@ -51,7 +52,7 @@ pub fn check_dir(dir: &Path, files: &mut Files, layout: &Layout) -> (usize, Vec<
         match std::fs::read_to_string(p) {
             Ok(text) => {
                 let f = files.add(name, text.clone());
-                diags.extend(hmi::parse(&text, f, &resolve).1);
+                diags.extend(hmi::parse(&text, f, &resolve, &|id: &str| alarms.iter().any(|a| a == id)).1);
             }
             Err(e) => diags.push(Diagnostic::unplaced(
                 alba_diag::Code::Io,

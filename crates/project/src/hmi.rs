@@ -256,7 +256,12 @@ fn offsets(text: &str) -> HashMap<String, usize> {
 /// Parses and checks a screen file. The screen is `None` when the file is not
 /// one at all (bad JSON, missing fields, a newer schema); with other problems
 /// it is returned with every problem listed.
-pub fn parse(text: &str, file: FileId, resolve: &Resolve<'_>) -> (Option<Screen>, Vec<Diagnostic>) {
+pub fn parse(
+    text: &str,
+    file: FileId,
+    resolve: &Resolve<'_>,
+    alarm: &dyn Fn(&str) -> bool,
+) -> (Option<Screen>, Vec<Diagnostic>) {
     let at = offsets(text);
     let span_of = |pointer: &str| {
         // the value itself, else its nearest enclosing value
@@ -363,6 +368,7 @@ pub fn parse(text: &str, file: FileId, resolve: &Resolve<'_>) -> (Option<Screen>
         // Problems of the shown tag, animations and actions name their element.
         let from = d.len();
         check_shown(e, &here, resolve, &diag, &mut d);
+        check_alarm_ref(e, &here, alarm, &diag, &mut d);
         for (n, a) in e.animations.iter().enumerate() {
             check_animation(a, &format!("{here}/animations/{n}"), resolve, &diag, &mut d);
         }
@@ -488,6 +494,22 @@ fn check_shown(e: &Element, here: &str, resolve: &Resolve<'_>, diag: &Diag<'_>, 
             "not a loop",
         )),
         _ => {}
+    }
+}
+
+/// `props.alarm` of an alarm indicator: the id of an alarm of alarms.csv.
+fn check_alarm_ref(e: &Element, here: &str, alarm: &dyn Fn(&str) -> bool, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
+    let Some(v) = e.props.get("alarm") else { return };
+    let at = format!("{here}/props/alarm");
+    match v.as_str() {
+        None => d.push(diag(&at, "`alarm` is an alarm's id (a string)".into(), "not a string")),
+        Some(id) if !alarm(id) => d.push(diag(&at, format!("no alarm `{id}` in alarms.csv"), "unknown alarm")),
+        Some(_) if e.kind != "alarm" => d.push(diag(
+            &at,
+            "only an `alarm` element shows an alarm's state".into(),
+            "not an indicator",
+        )),
+        Some(_) => {}
     }
 }
 

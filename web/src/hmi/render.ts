@@ -187,6 +187,25 @@ export function showLoop(g: SVGGElement, get: (member: string) => Json | undefin
   if (mode) mode.textContent = get('MAN') === true ? 'MAN' : get('MAN') === false ? 'AUTO' : '';
 }
 
+/** The colour and blinking of an alarm indicator for its alarm's state (ISA-18.2 / ISA-101: unacknowledged blinks). */
+export const ALARM_LOOK: Record<string, [string, boolean]> = {
+  normal: ['#9ea3a8', false],
+  active_unacked: ['#c62828', true],
+  active_acked: ['#c62828', false],
+  cleared_unacked: ['#f9a825', true],
+  shelved: ['#6d4c9f', false],
+  suppressed: ['#6d4c9f', false],
+  out_of_service: ['#6d4c9f', false],
+};
+
+/** An alarm indicator (`props.alarm`, an alarm id) showing its alarm's state (`normal` when not listed). */
+export function showAlarm(g: SVGGElement, state: string): void {
+  const [colour, blink] = ALARM_LOOK[state] ?? ALARM_LOOK.normal;
+  g.querySelectorAll('[data-part="fill"]').forEach((p) => p.setAttribute('fill', colour));
+  g.classList.toggle('hmi-blink', blink);
+  g.dataset.state = state;
+}
+
 /** Sets a clock element's hands and figures to `now`. */
 export function tick(g: SVGGElement, now: Date): void {
   const [hh, mm, ss] = [now.getHours(), now.getMinutes(), now.getSeconds()];

@@ -11,7 +11,7 @@ import { tr } from '../i18n';
 import type { Json } from '../types';
 import { openFaceplate } from '../ui/faceplate';
 import { Designer } from './designer';
-import { type Element, type Screen, animate, drawElement, showLoop, showValue, tagsOf, tick } from './render';
+import { type Element, type Screen, animate, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from './render';
 
 export class ScreensView {
   readonly el: HTMLElement;
@@ -88,6 +88,7 @@ export class ScreensView {
     });
     svg.append(s('rect', { width: screen.width, height: screen.height, fill: screen.background ?? '#f4f5f6' }));
     const clocks: SVGGElement[] = [];
+    const indicators: [SVGGElement, string][] = [];
     for (const e of screen.elements) {
       const g = drawElement(e);
       svg.append(g);
@@ -101,7 +102,21 @@ export class ScreensView {
         g.addEventListener('click', () => openFaceplate(this.ctx, shown));
       } else if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
       if (e.type === 'clock') clocks.push(g);
+      if (e.type === 'alarm' && typeof e.props?.alarm === 'string') indicators.push([g, e.props.alarm]);
       if (e.action) this.wire(g, e);
+    }
+    if (indicators.length) {
+      // alarm indicators follow their alarms' states; a click goes to the alarm summary
+      const refresh = async () => {
+        const states = new Map((await api.alarms().catch(() => [])).map((a) => [a.id, a.state]));
+        for (const [g, id] of indicators) showAlarm(g, states.get(id) ?? 'normal');
+      };
+      void refresh();
+      this.unwatch.push(this.ctx.live.onBatch((b) => b.alarms && void refresh()));
+      for (const [g] of indicators) {
+        g.classList.add('hmi-widget');
+        g.addEventListener('click', () => (location.hash = '#/alarms'));
+      }
     }
     if (clocks.length) {
       const timer = setInterval(() => clocks.forEach((g) => tick(g, new Date())), 1000);

@@ -71,6 +71,7 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
         h('span', { class: 'fp-sp' }, 'SP ', values.SP), h('span', { class: 'fp-pv' }, 'PV ', values.PV), h('span', { class: 'fp-cv' }, 'CV ', values.CV)),
       h('div', { class: 'fp-row' }, h('label', null, tr('Setpoint'), ' ', spIn), manual, down, up),
       h('div', { class: 'fp-row' }, gain('KP'), gain('KI'), gain('KD')),
+      h('div', { class: 'fp-row' }, gain('MINO'), gain('MAXO')),
       bits,
       alarms,
       tune,

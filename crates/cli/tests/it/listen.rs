@@ -65,5 +65,8 @@ fn a_non_loopback_http_address_without_users_is_refused() {
         .output()
         .expect("alba check");
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success() && text.contains("1 screen") && text.contains("5 alarms"), "{text}");
+    assert!(
+        out.status.success() && text.contains("1 screen") && text.contains("5 alarms"),
+        "{text}"
+    );
 }

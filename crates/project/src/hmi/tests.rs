@@ -19,7 +19,7 @@ fn resolve(name: &str) -> Result<(TagKind, Writable), String> {
 fn check(text: &str) -> (Option<Screen>, Vec<String>) {
     let mut files = Files::new();
     let f = files.add("hmi/main.json", text);
-    let (s, d) = parse(text, f, &resolve);
+    let (s, d) = parse(text, f, &resolve, &|id: &str| id == "level_hi");
     (s, d.iter().map(|d| d.short(&files)).collect())
 }
 
@@ -121,6 +121,14 @@ fn malformed_screens_are_reported_at_their_place() {
         (
             with(r#"{"id": "f", "type": "faceplate", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"tag": "Level"}}"#),
             "`f`: a faceplate shows a PID loop; `Level` is a single value",
+        ),
+        (
+            with(r#"{"id": "a", "type": "alarm", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"alarm": "level_hx"}}"#),
+            "`a`: no alarm `level_hx` in alarms.csv",
+        ),
+        (
+            with(r#"{"id": "a", "type": "led", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"alarm": "level_hi"}}"#),
+            "`a`: only an `alarm` element shows an alarm's state",
         ),
         (
             with(r#"{"id": "f", "type": "faceplate", "x": 1, "y": 2, "w": 10, "h": 10}"#),

@@ -58,7 +58,17 @@ fn check(st: &AppState, kind: Kind, name: &str, text: &str) -> ApiResult<Screen>
     let snapshot = st.runtime.snapshot();
     let mut files = Files::new();
     let f = files.add(format!("{}/{name}.json", kind.dir()), text);
-    let (screen, diags) = hmi::parse(text, f, &alba_compiler::screens::resolver(&snapshot.program.layout));
+    let alarm_ids: Vec<String> = st
+        .alarms
+        .get()
+        .map(|h| h.list(true).into_iter().map(|a| a.def.id).collect())
+        .unwrap_or_default();
+    let (screen, diags) = hmi::parse(
+        text,
+        f,
+        &alba_compiler::screens::resolver(&snapshot.program.layout),
+        &|id: &str| alarm_ids.iter().any(|a| a == id),
+    );
     match screen {
         Some(s) if diags.is_empty() => Ok(s),
         _ => Err(ApiError::Edit(EditError::DoesNotCompile {
