@@ -163,6 +163,7 @@ fn err(e: impl std::fmt::Display) -> String {
 enum Operand {
     Bool(u32),
     Int(u32),
+    Float(u32),
     Number(u32),
 }
 
@@ -173,8 +174,8 @@ enum Operand {
 struct Operands {
     items: Vec<Operand>,
     values: Vec<u64>,
-    /// Addresses of the bool and integer arrays `values` was made for.
-    bases: (usize, usize),
+    /// Addresses of the bool, integer and REAL arrays `values` was made for.
+    bases: (usize, usize, usize),
 }
 
 impl Operands {
@@ -191,8 +192,8 @@ impl Operands {
     }
 
     /// Resolves slot operands against memory at these addresses.
-    fn rebase(&mut self, b: *mut bool, i: *mut i32) {
-        let bases = (b as usize, i as usize);
+    fn rebase(&mut self, b: *mut bool, i: *mut i32, f: *mut f32) {
+        let bases = (b as usize, i as usize, f as usize);
         if self.bases == bases && self.values.len() == self.items.len() {
             return;
         }
@@ -202,6 +203,7 @@ impl Operands {
             .map(|o| match *o {
                 Operand::Bool(s) => (bases.0 + s as usize) as u64,
                 Operand::Int(s) => (bases.1 + 4 * s as usize) as u64,
+                Operand::Float(s) => (bases.2 + 4 * s as usize) as u64,
                 Operand::Number(n) => u64::from(n),
             })
             .collect();
@@ -218,6 +220,7 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
     let out = table;
     let bo = |b: B| Operand::Bool(b.0);
     let io = |i: I| Operand::Int(i.0);
+    let fo = |f: alba_ir::F| Operand::Float(f.0);
     let pc = Operand::Number(pc as u32);
     let s = match op {
         X::Rung | X::Nop | X::Afi | X::End | X::Not | X::True => op,
@@ -287,6 +290,11 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
             } else {
                 X::SubI(i0, i0, i0)
             }
+        }
+        // A REAL move (the PID's PV in and CV out, MOV of REALs): bits copied, as `exec`.
+        X::MovF(a, d) => {
+            out.extend([fo(a), fo(d)]);
+            X::MovF(alba_ir::F(0), alba_ir::F(0))
         }
         X::MovI(a, d) | X::CopyI(a, d) => {
             out.extend([io(a), io(d)]);
@@ -444,7 +452,7 @@ impl Jit {
             faults,
         };
         let mut table = self.operands.borrow_mut();
-        table.rebase(ctx.b, ctx.i);
+        table.rebase(ctx.b, ctx.i, ctx.f);
         let mut r = 0usize;
         let mut backward = 0u32;
         while let Some(&run) = self.run_of.get(r) {
@@ -856,6 +864,16 @@ impl<'a, 'b> Gen<'a, 'b> {
                 let a = self.i_addr();
                 let d = self.i_addr();
                 let v = self.ld32(a, 0);
+                self.st32(d, 0, v);
+            }
+            X::MovF(..) => {
+                // 32 bits moved as an integer: the same bits as the interpreter's copy.
+                let a = self.i_addr();
+                let d = self.i_addr();
+                let rc = self.rc();
+                let v = self.ld32(a, 0);
+                let old = self.ld32(d, 0);
+                let v = self.fb.ins().select(rc, v, old);
                 self.st32(d, 0, v);
             }
             // `shape` sends everything else to the interpreter.

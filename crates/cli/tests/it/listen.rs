@@ -64,7 +64,7 @@ fn a_non_loopback_http_address_without_users_is_refused() {
         .args(["check", demo.to_str().expect("utf-8 path")])
         .output()
         .expect("alba check");
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
     assert!(
         out.status.success() && text.contains("1 screen") && text.contains("5 alarms"),
         "{text}"

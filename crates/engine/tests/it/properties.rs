@@ -45,6 +45,8 @@ fn output() -> impl Strategy<Value = String> {
         "PID(P0,D0,R1)",
         "PID(P0,R0,D2)",
         "MOV(D1,P0.SP)",
+        "MOV(R0,R1)",
+        "MOV(R1,P0.SP)",
         "OTE(P0.MAN)",
         "OTE(Q0)",
         "OTL(B2)",
