@@ -6,6 +6,7 @@ import { api } from '../api';
 import type { Ctx } from '../ctx';
 import { clear, download, h } from '../dom';
 import { tr } from '../i18n';
+import { alarmText } from './alarms';
 
 /** Rows shown at most (the export has them all). */
 const SHOWN = 2000;
@@ -49,6 +50,9 @@ const local = (ms: number) => {
   const d = new Date(ms - new Date(ms).getTimezoneOffset() * 60_000);
   return d.toISOString().slice(0, 16);
 };
+
+/** A state as the summary names it (the log keeps the API's names). */
+const state = (s: string) => alarmText.state[s as keyof typeof alarmText.state] ?? s;
 
 export class AlarmLog {
   readonly el: HTMLElement;
@@ -105,6 +109,6 @@ export class AlarmLog {
     this.count.textContent = rows.length > SHOWN ? tr('newest {n} of {m} events', { n: SHOWN, m: rows.length }) : tr('{n} events', { n: rows.length });
     for (const r of rows.slice(0, SHOWN))
       this.body.append(h('tr', { 'data-testid': `alarm-log-row-${r.id}` },
-        [new Date(Number(r.time_ms)).toLocaleString(), r.alarm, r.tag, r.from, r.to, r.value, r.user, r.comment].map((c) => h('td', null, c))));
+        [new Date(Number(r.time_ms)).toLocaleString(), r.alarm, r.tag, state(r.from), state(r.to), r.value, r.user, r.comment].map((c) => h('td', null, c))));
   }
 }
