@@ -26,6 +26,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     live_inserts(&dir, 1_000, 100, 0)?;
     live_inserts(&dir, 100, 1_000, 1_000)?;
     live_inserts(&dir, 1_000, 100, 1_000)?;
+    // Every tag of a 10 000-tag project recorded (issue 18): what one scan's
+    // snapshot costs to record, a transaction per call and buffered.
+    live_inserts(&dir, 10_000, 20, 0)?;
+    live_inserts(&dir, 10_000, 20, 1_000)?;
 
     // One tag at 10 Hz: `total` samples, from t = 0.
     let path = dir.path().join("big.db");

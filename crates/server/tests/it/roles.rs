@@ -288,6 +288,15 @@ async fn every_route_answers_each_role_as_the_table_says() {
             200,
         ),
         row(Method::GET, "/api/symbols", "/api/symbols", None, v, 200),
+        // (the tank has no PID loop: a well-formed request for a number is 422)
+        row(
+            Method::POST,
+            "/api/pid/{name}/autotune",
+            "/api/pid/Nivel_L/autotune",
+            j(json!({})),
+            e,
+            422,
+        ),
         row(Method::GET, "/api/symbols/{name}", "/api/symbols/none", None, v, 404),
         row(
             Method::PUT,
