@@ -4,6 +4,8 @@
 //! an emulated MCU in simavr with the same stimulus and trace as `alba sim`
 //! ([`simavr`]).
 
+pub mod bytecode;
+pub mod ihex;
 pub mod simavr;
 pub mod sketch;
 pub mod toolchain;

@@ -150,6 +150,50 @@ pub fn export(dir: &Path, args: &BoardArgs, out: &Path, build: bool, upload: Opt
     build_and_upload(&folder.join(&s.files[0].0), t.model, upload)
 }
 
+/// `alba export bytecode`: the board's checks as for a sketch, then the byte
+/// code, written atomically as Intel HEX (`.hex`) or raw bytes.
+pub fn bytecode(dir: &Path, args: &BoardArgs, out: &Path) -> ExitCode {
+    let (c, t, prog, s) = match sketch_of(dir, args) {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let bc = match alba_arduino::bytecode::encode(&prog, &s.name, &t) {
+        Ok(b) => b,
+        Err(d) => {
+            report(&d, c.files(), false);
+            return ExitCode::FAILURE;
+        }
+    };
+    let hex = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("hex"));
+    let bytes = if hex {
+        alba_arduino::ihex::write(&bc.bytes).into_bytes()
+    } else {
+        bc.bytes.clone()
+    };
+    if let Err(e) = fsutil::write_atomic(out, |w| w.write_all(&bytes)) {
+        report(
+            &[Diagnostic::unplaced(
+                Code::Io,
+                format!("cannot write {}: {e}", out.display()),
+            )],
+            c.files(),
+            false,
+        );
+        return ExitCode::FAILURE;
+    }
+    eprintln!(
+        "wrote {}: {} bytes of byte code for the {} ({} ops in {} bytes, program id {:08x}){}",
+        out.display(),
+        bc.bytes.len(),
+        t.model.title(),
+        bc.ops,
+        bc.code_len,
+        bc.program_id,
+        if hex { ", as Intel HEX" } else { "" }
+    );
+    ExitCode::SUCCESS
+}
+
 /// Builds a sketch into `build/` beside it, reports its size, and uploads it
 /// when a port is given (`alba export arduino`, `alba firmware`).
 pub fn build_and_upload(sketch: &Path, model: Model, upload: Option<&str>) -> ExitCode {

@@ -266,6 +266,16 @@ enum Export {
         #[arg(long, value_name = "PORT")]
         upload: Option<String>,
     },
+    /// The control program as byte code for the board's interpreter (docs/bytecode.md):
+    /// Intel HEX when the file name ends in `.hex`, raw bytes otherwise.
+    Bytecode {
+        project: PathBuf,
+        #[command(flatten)]
+        board: export::BoardArgs,
+        /// The file to write.
+        #[arg(short, long, value_name = "FILE")]
+        out: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -325,6 +335,9 @@ fn main() -> ExitCode {
                     upload,
                 },
         } => export::export(&project, &board, &out, build, upload.as_deref()),
+        Command::Export {
+            to: Export::Bytecode { project, board, out },
+        } => export::bytecode(&project, &board, &out),
         Command::New { dir, net } => new::run(&dir, net),
         Command::Bench {
             modbus: true,

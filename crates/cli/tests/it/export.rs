@@ -102,3 +102,26 @@ fn export_refusals_have_codes() {
     );
     assert!(!d.join("x").exists(), "nothing written for a refused program");
 }
+
+#[test]
+fn export_bytecode_writes_intel_hex_or_bytes_that_decode_to_the_control_program() {
+    let d = scratch("export-bytecode");
+    let root = crate::repo().join("examples/tank-plant");
+    let project = root.to_string_lossy();
+    for out in ["tank.hex", "tank.bin"] {
+        let o = alba(&d, &["export", "bytecode", &project, "--board", "uno", "-o", out]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(err.contains("bytes of byte code for the Arduino Uno"), "{err}");
+    }
+    let hex = std::fs::read_to_string(d.join("tank.hex")).expect("hex");
+    let bin = std::fs::read(d.join("tank.bin")).expect("bin");
+    assert_eq!(alba_arduino::ihex::read(&hex, 1024).expect("reads"), bin);
+    let decoded = alba_arduino::bytecode::decode(&bin).expect("decodes");
+    let program = alba_compiler::compile_dir(&root).program.expect("compiles");
+    assert_eq!(decoded.program.ops, alba_arduino::sketch::control_program(&program).ops);
+    // A project the board cannot hold is refused as the sketch export refuses it, nothing written.
+    let o = alba(&d, &["export", "bytecode", &project, "--board", "atari", "-o", "x.hex"]);
+    assert!(!o.status.success());
+    assert!(!d.join("x.hex").exists());
+}

@@ -1,0 +1,1166 @@
+//! Byte code (issue 19, SPEC §7.4): the IR of a control program serialised
+//! for an interpreter on an 8-bit board, so that a new program is a download
+//! and not a reflash. The format is documented byte by byte in
+//! docs/bytecode.md; in short, little-endian throughout:
+//!
+//! * a 24-byte header: magic `ALBC`, format version, operand widths, the
+//!   program id (the sketch's: program, layout and pin map), the scan period,
+//!   the body's length and its CRC-32;
+//! * the body: the memory sizes, the I/O regions, the system slots, the
+//!   non-zero initial values, the wiring (pin of each I/O channel), then the
+//!   ops — a 1-byte opcode, a sub-op byte where the op has one, and slot
+//!   numbers of 1 byte when the area has at most 256 slots (2 otherwise);
+//!   jumps are relative byte offsets.
+//!
+//! [`decode`] is the reference decoder: it checks everything (magic,
+//! version, CRC, bounds, every slot against the sizes, jumps onto rung
+//! starts) and rebuilds a [`Program`] that the engine runs — the host's
+//! byte-code interpreter is the engine itself on the decoded program, so the
+//! semantics stay in one place and every byte-code consumer is tested
+//! against it.
+
+use crate::sketch::{self, Target, Wire};
+use alba_diag::{Code, Diagnostic};
+use alba_ir::layout::{Counts, Region, System};
+use alba_ir::op::{MarkerSlot, S7Ctr, S7Tmr};
+use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, Layout, Loc, Memory, Op, Pidt, Program, Tmr, UnOp, Width};
+use alba_model::address::Address;
+use alba_model::board::Pin;
+
+pub const MAGIC: [u8; 4] = *b"ALBC";
+pub const VERSION: u8 = 1;
+pub const HEADER_LEN: usize = 24;
+
+/// A program as byte code, with what its header says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bytecode {
+    pub bytes: Vec<u8>,
+    pub program_id: u32,
+    /// Bytes of ops (the rest is header, memory description and initial values).
+    pub code_len: usize,
+    pub ops: usize,
+}
+
+/// What [`decode`] found: the program the engine runs, and the board's wiring.
+#[derive(Debug, Clone)]
+pub struct Decoded {
+    pub program: Program,
+    pub program_id: u32,
+    pub scan_ms: u16,
+    pub wiring: Vec<(Address, u8, u32)>,
+}
+
+/// Why byte code was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DecodeError {
+    #[error("not Alba byte code (magic {0:02x?})")]
+    Magic([u8; 4]),
+    #[error("byte code format {0}; this version reads {VERSION}")]
+    Version(u8),
+    #[error("truncated: {0}")]
+    Truncated(&'static str),
+    #[error("the body's CRC-32 is {found:08x}, the header says {want:08x}")]
+    Crc { want: u32, found: u32 },
+    #[error("at byte {at}: {what}")]
+    Bad { at: usize, what: String },
+}
+
+// Opcodes. One byte each; the order is the format's (never renumber).
+const RUNG: u8 = 0x01;
+const NOP: u8 = 0x02;
+const AFI: u8 = 0x03;
+const XIC: u8 = 0x04;
+const XIO: u8 = 0x05;
+const OTE: u8 = 0x06;
+const OTL: u8 = 0x07;
+const OTU: u8 = 0x08;
+const ONS: u8 = 0x09;
+const OSR: u8 = 0x0a;
+const OSF: u8 = 0x0b;
+const BR_OPEN: u8 = 0x0c;
+const BR_NEXT: u8 = 0x0d;
+const BR_CLOSE: u8 = 0x0e;
+const JMP: u8 = 0x0f;
+const TON: u8 = 0x10;
+const TOF: u8 = 0x11;
+const RTO: u8 = 0x12;
+const TP: u8 = 0x13;
+const CTU: u8 = 0x14;
+const CTD: u8 = 0x15;
+const RES_T: u8 = 0x16;
+const RES_C: u8 = 0x17;
+const CMP_I: u8 = 0x18;
+const CMP_F: u8 = 0x19;
+const CMP_L: u8 = 0x1a;
+const CMP_D: u8 = 0x1b;
+const LIM_I: u8 = 0x1c;
+const LIM_F: u8 = 0x1d;
+const LIM_L: u8 = 0x1e;
+const LIM_D: u8 = 0x1f;
+const MEQ_I: u8 = 0x20;
+const MEQ_L: u8 = 0x21;
+const BIN_I: u8 = 0x22;
+const BIN_F: u8 = 0x23;
+const BIN_L: u8 = 0x24;
+const BIN_D: u8 = 0x25;
+const UN_I: u8 = 0x26;
+const UN_F: u8 = 0x27;
+const UN_L: u8 = 0x28;
+const UN_D: u8 = 0x29;
+const CVT: u8 = 0x2a;
+const NARROW: u8 = 0x2b;
+const COPY_I: u8 = 0x2c;
+const LD_BIT: u8 = 0x2d;
+const ST_BIT: u8 = 0x2e;
+const LD_M: u8 = 0x2f;
+const ST_M: u8 = 0x30;
+const LD: u8 = 0x31;
+const LDN: u8 = 0x32;
+const OR: u8 = 0x33;
+const ORN: u8 = 0x34;
+const NOT: u8 = 0x35;
+const TRUE: u8 = 0x36;
+const ED: u8 = 0x37;
+const COPY_B: u8 = 0x38;
+const S7_TON: u8 = 0x39;
+const S7_TONR: u8 = 0x3a;
+const S7_TOF: u8 = 0x3b;
+const S7_RES_T: u8 = 0x3c;
+const S7_CTU: u8 = 0x3d;
+const S7_CTD: u8 = 0x3e;
+const S7_CTUD: u8 = 0x3f;
+const S7_RES_C: u8 = 0x40;
+const PID: u8 = 0x41;
+
+const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge];
+const BINS: [BinOp; 10] = [
+    BinOp::Add,
+    BinOp::Sub,
+    BinOp::Mul,
+    BinOp::Div,
+    BinOp::Mod,
+    BinOp::Pow,
+    BinOp::Atan2,
+    BinOp::And,
+    BinOp::Or,
+    BinOp::Xor,
+];
+const UNS: [UnOp; 19] = [
+    UnOp::Mov,
+    UnOp::Neg,
+    UnOp::Abs,
+    UnOp::Not,
+    UnOp::Frd,
+    UnOp::Tod,
+    UnOp::Sqrt,
+    UnOp::Ln,
+    UnOp::Log,
+    UnOp::Sin,
+    UnOp::Cos,
+    UnOp::Tan,
+    UnOp::Asin,
+    UnOp::Acos,
+    UnOp::Atan,
+    UnOp::Deg,
+    UnOp::Rad,
+    UnOp::Trunc,
+    UnOp::Round,
+];
+
+fn bin_code(op: BinOp) -> u8 {
+    match op {
+        // A compare as a math op (CPT's `=`, `<` …): 0x10 + the compare.
+        BinOp::Cmp(c) => 0x10 + cmp_code(c),
+        op => BINS.iter().position(|b| *b == op).unwrap_or(0) as u8,
+    }
+}
+
+fn cmp_code(c: Cmp) -> u8 {
+    CMPS.iter().position(|x| *x == c).unwrap_or(0) as u8
+}
+
+/// Operand widths: 1 byte per slot number when the area has at most 256
+/// slots, else 2 (flag bit set). Areas: b, i, f, l, d, markers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Widths(u8);
+
+impl Widths {
+    fn of(c: &Counts, marker_bytes: u32) -> Widths {
+        let sizes = [c.b, c.i, c.f, c.l, c.d, marker_bytes];
+        Widths(
+            sizes
+                .iter()
+                .enumerate()
+                .fold(0, |w, (k, n)| if *n > 256 { w | 1 << k } else { w }),
+        )
+    }
+    fn wide(self, area: usize) -> bool {
+        self.0 & (1 << area) != 0
+    }
+}
+
+const AREA_B: usize = 0;
+const AREA_I: usize = 1;
+const AREA_F: usize = 2;
+const AREA_L: usize = 3;
+const AREA_D: usize = 4;
+const AREA_M: usize = 5;
+
+struct Writer {
+    out: Vec<u8>,
+    w: Widths,
+}
+
+impl Writer {
+    fn u8(&mut self, v: u8) {
+        self.out.push(v);
+    }
+    fn u16(&mut self, v: u16) {
+        self.out.extend(v.to_le_bytes());
+    }
+    fn u32(&mut self, v: u32) {
+        self.out.extend(v.to_le_bytes());
+    }
+    fn slot(&mut self, area: usize, v: u32) {
+        if self.w.wide(area) {
+            self.u16(v as u16);
+        } else {
+            self.u8(v as u8);
+        }
+    }
+    fn b(&mut self, b: B) {
+        self.slot(AREA_B, b.0);
+    }
+    fn i(&mut self, i: I) {
+        self.slot(AREA_I, i.0);
+    }
+    fn f(&mut self, f: F) {
+        self.slot(AREA_F, f.0);
+    }
+    fn l(&mut self, l: L) {
+        self.slot(AREA_L, l.0);
+    }
+    fn d(&mut self, d: D) {
+        self.slot(AREA_D, d.0);
+    }
+    fn m(&mut self, byte: u32) {
+        self.slot(AREA_M, byte);
+    }
+    fn tmr(&mut self, t: Tmr) {
+        self.i(t.i);
+        self.b(t.b);
+    }
+    fn ctr(&mut self, c: Ctr) {
+        self.i(c.i);
+        self.b(c.b);
+    }
+}
+
+/// Encodes the control program of `prog` for `t`'s board, or says why it
+/// cannot run there (the sketch export's refusals, located, and the
+/// format's own limits).
+pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec<Diagnostic>> {
+    // What the board cannot run, and the wiring and id, as the export decides them.
+    let s = sketch::generate(prog, project, t)?;
+    let p = sketch::control_program(prog);
+    encode_program(&p, t.scan_ms, s.program_id, &s.wiring).map_err(|m| vec![Diagnostic::unplaced(Code::NotOnBoard, m)])
+}
+
+/// Encodes `p` as it is (its plant models too, if any): the host's form,
+/// and the part of [`encode`] after the board's checks.
+pub fn encode_program(p: &Program, scan_ms: u32, program_id: u32, wiring: &[Wire]) -> Result<Bytecode, String> {
+    let lay = &p.layout;
+    let c = lay.counts;
+    let limit = |what: &str, n: u32| {
+        if n > u32::from(u16::MAX) {
+            Err(format!("{n} {what}: byte code holds at most 65 535"))
+        } else {
+            Ok(())
+        }
+    };
+    for (what, n) in [
+        ("bool slots", c.b),
+        ("integer slots", c.i),
+        ("REAL slots", c.f),
+        ("LINT slots", c.l),
+        ("LREAL slots", c.d),
+        ("marker bytes", lay.marker_bytes),
+    ] {
+        limit(what, n)?;
+    }
+    let scan_ms = u16::try_from(scan_ms).map_err(|_| format!("scan period {scan_ms} ms: at most 65 535"))?;
+    let w = Widths::of(&c, lay.marker_bytes);
+    let mut body = Writer { out: Vec::new(), w };
+    // Memory sizes and I/O regions.
+    for n in [c.b, c.i, c.f, c.l, c.d, lay.marker_bytes] {
+        body.u16(n as u16);
+    }
+    for r in [lay.di, lay.dout, lay.ai, lay.ao] {
+        body.u16(r.base as u16);
+        body.u16(r.len as u16);
+    }
+    // System slots, in the order of `System`'s fields.
+    let s = lay.system;
+    for b in [
+        s.first_scan,
+        s.minor_fault,
+        s.always_on,
+        s.clock_60s,
+        s.clock_1s,
+        s.scan_toggle,
+        s.io_ok,
+        s.retain_lost,
+        s.store_ok,
+    ] {
+        body.u16(b.0 as u16);
+    }
+    for i in [s.fault_code, s.scan_time, s.stats, s.io_errors] {
+        body.u16(i.0 as u16);
+    }
+    // Initial values that are not zero: (area, slot, value) runs per area.
+    let init = &p.init;
+    let trues: Vec<u32> = (0..init.b.len() as u32).filter(|k| init.b[*k as usize]).collect();
+    body.u16(trues.len() as u16);
+    for k in trues {
+        body.u16(k as u16);
+    }
+    let nz = |n: usize, zero: &dyn Fn(usize) -> bool| (0..n).filter(|k| !zero(*k)).collect::<Vec<_>>();
+    let ints = nz(init.i.len(), &|k| init.i[k] == 0);
+    body.u16(ints.len() as u16);
+    for k in ints {
+        body.u16(k as u16);
+        body.u32(init.i[k] as u32);
+    }
+    let reals = nz(init.f.len(), &|k| init.f[k].to_bits() == 0);
+    body.u16(reals.len() as u16);
+    for k in reals {
+        body.u16(k as u16);
+        body.u32(init.f[k].to_bits());
+    }
+    let lints = nz(init.l.len(), &|k| init.l[k] == 0);
+    body.u16(lints.len() as u16);
+    for k in lints {
+        body.u16(k as u16);
+        body.out.extend(init.l[k].to_le_bytes());
+    }
+    let lreals = nz(init.d.len(), &|k| init.d[k].to_bits() == 0);
+    body.u16(lreals.len() as u16);
+    for k in lreals {
+        body.u16(k as u16);
+        body.out.extend(init.d[k].to_bits().to_le_bytes());
+    }
+    let marks = nz(init.m.len(), &|k| init.m[k] == 0);
+    body.u16(marks.len() as u16);
+    for k in marks {
+        body.u16(k as u16);
+        body.u8(init.m[k]);
+    }
+    // Wiring: kind (0 DI, 1 DO, 2 AI, 3 AO), channel, pin, slot.
+    body.u16(wiring.len() as u16);
+    for wire in wiring {
+        let (kind, n) = match wire.address {
+            Address::DigitalIn(n) => (0, n),
+            Address::DigitalOut(n) => (1, n),
+            Address::AnalogIn(n) => (2, n),
+            Address::AnalogOut(n) => (3, n),
+            Address::Marker { .. } => return Err("a marker cannot be wired".into()),
+        };
+        body.u8(kind);
+        body.u16(n as u16);
+        body.u8(pin_number(wire.pin));
+        body.u16(wire.slot as u16);
+    }
+    // Ops: first their byte offsets (for relative jumps), then the bytes.
+    body.u16(u16::try_from(p.ops.len()).map_err(|_| format!("{} ops: at most 65 535", p.ops.len()))?);
+    let code_start = body.out.len();
+    let mut sizes = Vec::with_capacity(p.ops.len());
+    for op in &p.ops {
+        let mut probe = Writer { out: Vec::new(), w };
+        op_bytes(&mut probe, op, 0);
+        sizes.push(probe.out.len());
+    }
+    let mut at = Vec::with_capacity(sizes.len() + 1);
+    let mut sum = 0usize;
+    for n in &sizes {
+        at.push(sum);
+        sum += n;
+    }
+    at.push(sum);
+    for (pc, op) in p.ops.iter().enumerate() {
+        let rel = match op {
+            Op::Jmp(t) => {
+                let to = *at.get(*t as usize).ok_or("a jump outside the program")? as i64;
+                let from = at[pc + 1] as i64;
+                i16::try_from(to - from).map_err(|_| "a jump farther than 32 KB".to_string())?
+            }
+            _ => 0,
+        };
+        op_bytes(&mut body, op, rel);
+    }
+    let code_len = body.out.len() - code_start;
+    let mut bytes = Vec::with_capacity(HEADER_LEN + body.out.len());
+    bytes.extend(MAGIC);
+    bytes.push(VERSION);
+    bytes.push(w.0);
+    bytes.extend([0, 0]);
+    bytes.extend(program_id.to_le_bytes());
+    bytes.extend(scan_ms.to_le_bytes());
+    bytes.extend([0, 0]);
+    bytes.extend((body.out.len() as u32).to_le_bytes());
+    bytes.extend(crc32fast::hash(&body.out).to_le_bytes());
+    debug_assert_eq!(bytes.len(), HEADER_LEN);
+    bytes.extend(body.out);
+    Ok(Bytecode {
+        bytes,
+        program_id,
+        code_len,
+        ops: p.ops.len(),
+    })
+}
+
+/// A pin in one byte: digital pin n as n, analog pin An as 0x80 + n.
+fn pin_number(p: Pin) -> u8 {
+    match p {
+        Pin::D(n) => n,
+        Pin::A(n) => 0x80 | n,
+    }
+}
+
+/// The bytes of one op (`rel`: a jump's offset from the next op).
+fn op_bytes(w: &mut Writer, op: &Op, rel: i16) {
+    match *op {
+        Op::Rung => w.u8(RUNG),
+        Op::Nop => w.u8(NOP),
+        Op::Afi => w.u8(AFI),
+        Op::Not => w.u8(NOT),
+        Op::True => w.u8(TRUE),
+        Op::Xic(b)
+        | Op::Xio(b)
+        | Op::Ote(b)
+        | Op::Otl(b)
+        | Op::Otu(b)
+        | Op::Ons(b)
+        | Op::Ld(b)
+        | Op::Ldn(b)
+        | Op::Or(b)
+        | Op::Orn(b)
+        | Op::Ed(b) => {
+            w.u8(match op {
+                Op::Xic(_) => XIC,
+                Op::Xio(_) => XIO,
+                Op::Ote(_) => OTE,
+                Op::Otl(_) => OTL,
+                Op::Otu(_) => OTU,
+                Op::Ons(_) => ONS,
+                Op::Ld(_) => LD,
+                Op::Ldn(_) => LDN,
+                Op::Or(_) => OR,
+                Op::Orn(_) => ORN,
+                _ => ED,
+            });
+            w.b(b);
+        }
+        Op::Osr(a, b) | Op::Osf(a, b) | Op::CopyB(a, b) => {
+            w.u8(match op {
+                Op::Osr(..) => OSR,
+                Op::Osf(..) => OSF,
+                _ => COPY_B,
+            });
+            w.b(a);
+            w.b(b);
+        }
+        Op::BrOpen { save, acc } | Op::BrNext { save, acc } => {
+            w.u8(if matches!(op, Op::BrOpen { .. }) {
+                BR_OPEN
+            } else {
+                BR_NEXT
+            });
+            w.b(save);
+            w.b(acc);
+        }
+        Op::BrClose { acc } => {
+            w.u8(BR_CLOSE);
+            w.b(acc);
+        }
+        Op::Jmp(_) => {
+            w.u8(JMP);
+            w.u16(rel as u16);
+        }
+        Op::Ton(t) | Op::Tof(t) | Op::Rto(t) | Op::Tp(t) | Op::ResT(t) => {
+            w.u8(match op {
+                Op::Ton(_) => TON,
+                Op::Tof(_) => TOF,
+                Op::Rto(_) => RTO,
+                Op::Tp(_) => TP,
+                _ => RES_T,
+            });
+            w.tmr(t);
+        }
+        Op::Ctu(c) | Op::Ctd(c) | Op::ResC(c) => {
+            w.u8(match op {
+                Op::Ctu(_) => CTU,
+                Op::Ctd(_) => CTD,
+                _ => RES_C,
+            });
+            w.ctr(c);
+        }
+        Op::CmpI(c, a, b) => {
+            w.u8(CMP_I);
+            w.u8(cmp_code(c));
+            w.i(a);
+            w.i(b);
+        }
+        Op::CmpF(c, a, b) => {
+            w.u8(CMP_F);
+            w.u8(cmp_code(c));
+            w.f(a);
+            w.f(b);
+        }
+        Op::CmpL(c, a, b) => {
+            w.u8(CMP_L);
+            w.u8(cmp_code(c));
+            w.l(a);
+            w.l(b);
+        }
+        Op::CmpD(c, a, b) => {
+            w.u8(CMP_D);
+            w.u8(cmp_code(c));
+            w.d(a);
+            w.d(b);
+        }
+        Op::LimI(a, b, c) | Op::MeqI(a, b, c) => {
+            w.u8(if matches!(op, Op::LimI(..)) { LIM_I } else { MEQ_I });
+            w.i(a);
+            w.i(b);
+            w.i(c);
+        }
+        Op::LimL(a, b, c) | Op::MeqL(a, b, c) => {
+            w.u8(if matches!(op, Op::LimL(..)) { LIM_L } else { MEQ_L });
+            w.l(a);
+            w.l(b);
+            w.l(c);
+        }
+        Op::LimF(a, b, c) => {
+            w.u8(LIM_F);
+            w.f(a);
+            w.f(b);
+            w.f(c);
+        }
+        Op::LimD(a, b, c) => {
+            w.u8(LIM_D);
+            w.d(a);
+            w.d(b);
+            w.d(c);
+        }
+        Op::BinI(o, a, b, c) => {
+            w.u8(BIN_I);
+            w.u8(bin_code(o));
+            w.i(a);
+            w.i(b);
+            w.i(c);
+        }
+        Op::BinF(o, a, b, c) => {
+            w.u8(BIN_F);
+            w.u8(bin_code(o));
+            w.f(a);
+            w.f(b);
+            w.f(c);
+        }
+        Op::BinL(o, a, b, c) => {
+            w.u8(BIN_L);
+            w.u8(bin_code(o));
+            w.l(a);
+            w.l(b);
+            w.l(c);
+        }
+        Op::BinD(o, a, b, c) => {
+            w.u8(BIN_D);
+            w.u8(bin_code(o));
+            w.d(a);
+            w.d(b);
+            w.d(c);
+        }
+        Op::UnI(o, a, d) => {
+            w.u8(UN_I);
+            w.u8(un_code(o));
+            w.i(a);
+            w.i(d);
+        }
+        Op::UnF(o, a, d) => {
+            w.u8(UN_F);
+            w.u8(un_code(o));
+            w.f(a);
+            w.f(d);
+        }
+        Op::UnL(o, a, d) => {
+            w.u8(UN_L);
+            w.u8(un_code(o));
+            w.l(a);
+            w.l(d);
+        }
+        Op::UnD(o, a, d) => {
+            w.u8(UN_D);
+            w.u8(un_code(o));
+            w.d(a);
+            w.d(d);
+        }
+        Op::Cvt(c) => {
+            w.u8(CVT);
+            match c {
+                Cvt::IF(a, b) => (w.u8(0), w.i(a), w.f(b)),
+                Cvt::FI(a, b) => (w.u8(1), w.f(a), w.i(b)),
+                Cvt::IL(a, b) => (w.u8(2), w.i(a), w.l(b)),
+                Cvt::LI(a, b) => (w.u8(3), w.l(a), w.i(b)),
+                Cvt::ID(a, b) => (w.u8(4), w.i(a), w.d(b)),
+                Cvt::DI(a, b) => (w.u8(5), w.d(a), w.i(b)),
+                Cvt::LF(a, b) => (w.u8(6), w.l(a), w.f(b)),
+                Cvt::FL(a, b) => (w.u8(7), w.f(a), w.l(b)),
+                Cvt::LD(a, b) => (w.u8(8), w.l(a), w.d(b)),
+                Cvt::DL(a, b) => (w.u8(9), w.d(a), w.l(b)),
+                Cvt::FD(a, b) => (w.u8(10), w.f(a), w.d(b)),
+                Cvt::DF(a, b) => (w.u8(11), w.d(a), w.f(b)),
+            };
+        }
+        Op::Narrow(a, width) => {
+            w.u8(NARROW);
+            w.u8(match width {
+                Width::W8 => 8,
+                Width::W16 => 16,
+            });
+            w.i(a);
+        }
+        Op::CopyI(a, b) => {
+            w.u8(COPY_I);
+            w.i(a);
+            w.i(b);
+        }
+        Op::LdBit { byte, bit, dst } => {
+            w.u8(LD_BIT);
+            w.m(byte);
+            w.u8(bit);
+            w.b(dst);
+        }
+        Op::StBit { src, byte, bit } => {
+            w.u8(ST_BIT);
+            w.m(byte);
+            w.u8(bit);
+            w.b(src);
+        }
+        Op::LdM { byte, slot } | Op::StM { byte, slot } => {
+            w.u8(if matches!(op, Op::LdM { .. }) { LD_M } else { ST_M });
+            w.m(byte);
+            match slot {
+                MarkerSlot::Byte(i) => (w.u8(1), w.i(i)),
+                MarkerSlot::Word(i) => (w.u8(2), w.i(i)),
+                MarkerSlot::DWord(i) => (w.u8(4), w.i(i)),
+                MarkerSlot::Real(f) => (w.u8(0x84), w.f(f)),
+            };
+        }
+        Op::S7Ton(t) | Op::S7Tonr(t) | Op::S7Tof(t) | Op::S7ResT(t) => {
+            w.u8(match op {
+                Op::S7Ton(_) => S7_TON,
+                Op::S7Tonr(_) => S7_TONR,
+                Op::S7Tof(_) => S7_TOF,
+                _ => S7_RES_T,
+            });
+            w.i(t.i);
+            w.b(t.b);
+            w.u16(t.res);
+        }
+        Op::S7Ctu(c) | Op::S7Ctd(c) | Op::S7Ctud(c) | Op::S7ResC(c) => {
+            w.u8(match op {
+                Op::S7Ctu(_) => S7_CTU,
+                Op::S7Ctd(_) => S7_CTD,
+                Op::S7Ctud(_) => S7_CTUD,
+                _ => S7_RES_C,
+            });
+            w.i(c.i);
+            w.b(c.b);
+        }
+        Op::Pid(p) => {
+            w.u8(PID);
+            w.f(p.f);
+            w.i(p.i);
+            w.b(p.b);
+        }
+    }
+}
+
+fn un_code(o: UnOp) -> u8 {
+    UNS.iter().position(|u| *u == o).unwrap_or(0) as u8
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+    w: Widths,
+    /// Where the body starts in the whole byte code (for messages).
+    base: usize,
+}
+
+impl Reader<'_> {
+    fn bad(&self, what: impl Into<String>) -> DecodeError {
+        DecodeError::Bad {
+            at: self.base + self.at,
+            what: what.into(),
+        }
+    }
+    fn take(&mut self, n: usize) -> Result<&[u8], DecodeError> {
+        let s = self
+            .b
+            .get(self.at..self.at + n)
+            .ok_or_else(|| self.bad("the body ends inside a field"))?;
+        self.at += n;
+        Ok(s)
+    }
+    fn u8(&mut self) -> Result<u8, DecodeError> {
+        Ok(self.take(1)?[0])
+    }
+    fn u16(&mut self) -> Result<u16, DecodeError> {
+        let s = self.take(2)?;
+        Ok(u16::from_le_bytes([s[0], s[1]]))
+    }
+    fn u32(&mut self) -> Result<u32, DecodeError> {
+        let s = self.take(4)?;
+        Ok(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+    }
+    fn u64(&mut self) -> Result<u64, DecodeError> {
+        let s = self.take(8)?;
+        let mut a = [0u8; 8];
+        a.copy_from_slice(s);
+        Ok(u64::from_le_bytes(a))
+    }
+    fn slot(&mut self, area: usize) -> Result<u32, DecodeError> {
+        Ok(if self.w.wide(area) {
+            u32::from(self.u16()?)
+        } else {
+            u32::from(self.u8()?)
+        })
+    }
+    fn b(&mut self) -> Result<B, DecodeError> {
+        Ok(B(self.slot(AREA_B)?))
+    }
+    fn i(&mut self) -> Result<I, DecodeError> {
+        Ok(I(self.slot(AREA_I)?))
+    }
+    fn f(&mut self) -> Result<F, DecodeError> {
+        Ok(F(self.slot(AREA_F)?))
+    }
+    fn l(&mut self) -> Result<L, DecodeError> {
+        Ok(L(self.slot(AREA_L)?))
+    }
+    fn d(&mut self) -> Result<D, DecodeError> {
+        Ok(D(self.slot(AREA_D)?))
+    }
+    fn m(&mut self) -> Result<u32, DecodeError> {
+        self.slot(AREA_M)
+    }
+    fn cmp(&mut self) -> Result<Cmp, DecodeError> {
+        let c = self.u8()?;
+        CMPS.get(c as usize)
+            .copied()
+            .ok_or_else(|| self.bad(format!("compare {c} is not defined")))
+    }
+    fn bin(&mut self) -> Result<BinOp, DecodeError> {
+        let c = self.u8()?;
+        match c {
+            0x10..=0x15 => Ok(BinOp::Cmp(CMPS[(c - 0x10) as usize])),
+            _ => BINS
+                .get(c as usize)
+                .copied()
+                .ok_or_else(|| self.bad(format!("math op {c} is not defined"))),
+        }
+    }
+    fn un(&mut self) -> Result<UnOp, DecodeError> {
+        let c = self.u8()?;
+        UNS.get(c as usize)
+            .copied()
+            .ok_or_else(|| self.bad(format!("function {c} is not defined")))
+    }
+
+    /// One op; a jump's relative offset is returned beside it.
+    fn op(&mut self) -> Result<(Op, Option<i16>), DecodeError> {
+        let code = self.u8()?;
+        let tmr = |r: &mut Self| -> Result<Tmr, DecodeError> { Ok(Tmr { i: r.i()?, b: r.b()? }) };
+        let ctr = |r: &mut Self| -> Result<Ctr, DecodeError> { Ok(Ctr { i: r.i()?, b: r.b()? }) };
+        let op = match code {
+            RUNG => Op::Rung,
+            NOP => Op::Nop,
+            AFI => Op::Afi,
+            NOT => Op::Not,
+            TRUE => Op::True,
+            XIC => Op::Xic(self.b()?),
+            XIO => Op::Xio(self.b()?),
+            OTE => Op::Ote(self.b()?),
+            OTL => Op::Otl(self.b()?),
+            OTU => Op::Otu(self.b()?),
+            ONS => Op::Ons(self.b()?),
+            LD => Op::Ld(self.b()?),
+            LDN => Op::Ldn(self.b()?),
+            OR => Op::Or(self.b()?),
+            ORN => Op::Orn(self.b()?),
+            ED => Op::Ed(self.b()?),
+            OSR => Op::Osr(self.b()?, self.b()?),
+            OSF => Op::Osf(self.b()?, self.b()?),
+            COPY_B => Op::CopyB(self.b()?, self.b()?),
+            BR_OPEN => Op::BrOpen {
+                save: self.b()?,
+                acc: self.b()?,
+            },
+            BR_NEXT => Op::BrNext {
+                save: self.b()?,
+                acc: self.b()?,
+            },
+            BR_CLOSE => Op::BrClose { acc: self.b()? },
+            JMP => return Ok((Op::Jmp(0), Some(self.u16()? as i16))),
+            TON => Op::Ton(tmr(self)?),
+            TOF => Op::Tof(tmr(self)?),
+            RTO => Op::Rto(tmr(self)?),
+            TP => Op::Tp(tmr(self)?),
+            RES_T => Op::ResT(tmr(self)?),
+            CTU => Op::Ctu(ctr(self)?),
+            CTD => Op::Ctd(ctr(self)?),
+            RES_C => Op::ResC(ctr(self)?),
+            CMP_I => Op::CmpI(self.cmp()?, self.i()?, self.i()?),
+            CMP_F => Op::CmpF(self.cmp()?, self.f()?, self.f()?),
+            CMP_L => Op::CmpL(self.cmp()?, self.l()?, self.l()?),
+            CMP_D => Op::CmpD(self.cmp()?, self.d()?, self.d()?),
+            LIM_I => Op::LimI(self.i()?, self.i()?, self.i()?),
+            LIM_F => Op::LimF(self.f()?, self.f()?, self.f()?),
+            LIM_L => Op::LimL(self.l()?, self.l()?, self.l()?),
+            LIM_D => Op::LimD(self.d()?, self.d()?, self.d()?),
+            MEQ_I => Op::MeqI(self.i()?, self.i()?, self.i()?),
+            MEQ_L => Op::MeqL(self.l()?, self.l()?, self.l()?),
+            BIN_I => Op::BinI(self.bin()?, self.i()?, self.i()?, self.i()?),
+            BIN_F => Op::BinF(self.bin()?, self.f()?, self.f()?, self.f()?),
+            BIN_L => Op::BinL(self.bin()?, self.l()?, self.l()?, self.l()?),
+            BIN_D => Op::BinD(self.bin()?, self.d()?, self.d()?, self.d()?),
+            UN_I => Op::UnI(self.un()?, self.i()?, self.i()?),
+            UN_F => Op::UnF(self.un()?, self.f()?, self.f()?),
+            UN_L => Op::UnL(self.un()?, self.l()?, self.l()?),
+            UN_D => Op::UnD(self.un()?, self.d()?, self.d()?),
+            CVT => {
+                let k = self.u8()?;
+                Op::Cvt(match k {
+                    0 => Cvt::IF(self.i()?, self.f()?),
+                    1 => Cvt::FI(self.f()?, self.i()?),
+                    2 => Cvt::IL(self.i()?, self.l()?),
+                    3 => Cvt::LI(self.l()?, self.i()?),
+                    4 => Cvt::ID(self.i()?, self.d()?),
+                    5 => Cvt::DI(self.d()?, self.i()?),
+                    6 => Cvt::LF(self.l()?, self.f()?),
+                    7 => Cvt::FL(self.f()?, self.l()?),
+                    8 => Cvt::LD(self.l()?, self.d()?),
+                    9 => Cvt::DL(self.d()?, self.l()?),
+                    10 => Cvt::FD(self.f()?, self.d()?),
+                    11 => Cvt::DF(self.d()?, self.f()?),
+                    _ => return Err(self.bad(format!("conversion {k} is not defined"))),
+                })
+            }
+            NARROW => {
+                let width = match self.u8()? {
+                    8 => Width::W8,
+                    16 => Width::W16,
+                    n => return Err(self.bad(format!("width {n} is not 8 or 16"))),
+                };
+                Op::Narrow(self.i()?, width)
+            }
+            COPY_I => Op::CopyI(self.i()?, self.i()?),
+            LD_BIT | ST_BIT => {
+                let byte = self.m()?;
+                let bit = self.u8()?;
+                let b = self.b()?;
+                if code == LD_BIT {
+                    Op::LdBit { byte, bit, dst: b }
+                } else {
+                    Op::StBit { src: b, byte, bit }
+                }
+            }
+            LD_M | ST_M => {
+                let byte = self.m()?;
+                let slot = match self.u8()? {
+                    1 => MarkerSlot::Byte(self.i()?),
+                    2 => MarkerSlot::Word(self.i()?),
+                    4 => MarkerSlot::DWord(self.i()?),
+                    0x84 => MarkerSlot::Real(self.f()?),
+                    k => return Err(self.bad(format!("marker size {k} is not defined"))),
+                };
+                if code == LD_M {
+                    Op::LdM { byte, slot }
+                } else {
+                    Op::StM { byte, slot }
+                }
+            }
+            S7_TON | S7_TONR | S7_TOF | S7_RES_T => {
+                let t = S7Tmr {
+                    i: self.i()?,
+                    b: self.b()?,
+                    res: self.u16()?,
+                };
+                match code {
+                    S7_TON => Op::S7Ton(t),
+                    S7_TONR => Op::S7Tonr(t),
+                    S7_TOF => Op::S7Tof(t),
+                    _ => Op::S7ResT(t),
+                }
+            }
+            S7_CTU | S7_CTD | S7_CTUD | S7_RES_C => {
+                let c = S7Ctr {
+                    i: self.i()?,
+                    b: self.b()?,
+                };
+                match code {
+                    S7_CTU => Op::S7Ctu(c),
+                    S7_CTD => Op::S7Ctd(c),
+                    S7_CTUD => Op::S7Ctud(c),
+                    _ => Op::S7ResC(c),
+                }
+            }
+            PID => Op::Pid(Pidt {
+                f: self.f()?,
+                i: self.i()?,
+                b: self.b()?,
+            }),
+            other => return Err(self.bad(format!("opcode 0x{other:02x} is not defined"))),
+        };
+        Ok((op, None))
+    }
+}
+
+/// Checks and decodes byte code into the program the engine runs.
+pub fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
+    let h = bytes
+        .get(..HEADER_LEN)
+        .ok_or(DecodeError::Truncated("the header is 24 bytes"))?;
+    let magic = [h[0], h[1], h[2], h[3]];
+    if magic != MAGIC {
+        return Err(DecodeError::Magic(magic));
+    }
+    if h[4] != VERSION {
+        return Err(DecodeError::Version(h[4]));
+    }
+    let w = Widths(h[5]);
+    let program_id = u32::from_le_bytes([h[8], h[9], h[10], h[11]]);
+    let scan_ms = u16::from_le_bytes([h[12], h[13]]);
+    let len = u32::from_le_bytes([h[16], h[17], h[18], h[19]]) as usize;
+    let want = u32::from_le_bytes([h[20], h[21], h[22], h[23]]);
+    let body = bytes
+        .get(HEADER_LEN..HEADER_LEN.saturating_add(len))
+        .ok_or(DecodeError::Truncated("the body is shorter than the header says"))?;
+    let found = crc32fast::hash(body);
+    if found != want {
+        return Err(DecodeError::Crc { want, found });
+    }
+    let mut r = Reader {
+        b: body,
+        at: 0,
+        w,
+        base: HEADER_LEN,
+    };
+    let mut n = [0u32; 6];
+    for x in &mut n {
+        *x = u32::from(r.u16()?);
+    }
+    let counts = Counts {
+        b: n[0],
+        i: n[1],
+        f: n[2],
+        l: n[3],
+        d: n[4],
+    };
+    if Widths::of(&counts, n[5]) != w {
+        return Err(r.bad("the operand widths do not match the memory sizes"));
+    }
+    let mut regions = [Region::default(); 4];
+    for (k, reg) in regions.iter_mut().enumerate() {
+        let (base, len) = (u32::from(r.u16()?), u32::from(r.u16()?));
+        let size = if k < 2 { counts.b } else { counts.i };
+        if base + len > size {
+            return Err(r.bad("an I/O region outside memory"));
+        }
+        *reg = Region { base, len };
+    }
+    let mut bs = [B(0); 9];
+    for b in &mut bs {
+        *b = r.b_wide()?;
+        if b.0 >= counts.b {
+            return Err(r.bad("a system bit outside memory"));
+        }
+    }
+    let mut is = [I(0); 4];
+    for (k, i) in is.iter_mut().enumerate() {
+        *i = I(u32::from(r.u16()?));
+        let extent = if k == 2 {
+            alba_ir::layout::STAT_TAGS.len() as u32
+        } else {
+            1
+        };
+        if i.0 + extent > counts.i {
+            return Err(r.bad("a system integer outside memory"));
+        }
+    }
+    let system = System {
+        first_scan: bs[0],
+        minor_fault: bs[1],
+        always_on: bs[2],
+        clock_60s: bs[3],
+        clock_1s: bs[4],
+        scan_toggle: bs[5],
+        io_ok: bs[6],
+        retain_lost: bs[7],
+        store_ok: bs[8],
+        fault_code: is[0],
+        scan_time: is[1],
+        stats: is[2],
+        io_errors: is[3],
+    };
+    let mut init = Memory::new(counts, n[5]);
+    let slot_in = |r: &Reader, k: u16, len: usize| -> Result<usize, DecodeError> {
+        if (k as usize) < len {
+            Ok(k as usize)
+        } else {
+            Err(r.bad(format!("initial value for slot {k} outside memory ({len})")))
+        }
+    };
+    for _ in 0..r.u16()? {
+        let k = r.u16()?;
+        let k = slot_in(&r, k, init.b.len())?;
+        init.b[k] = true;
+    }
+    for _ in 0..r.u16()? {
+        let k = r.u16()?;
+        let k = slot_in(&r, k, init.i.len())?;
+        init.i[k] = r.u32()? as i32;
+    }
+    for _ in 0..r.u16()? {
+        let k = r.u16()?;
+        let k = slot_in(&r, k, init.f.len())?;
+        init.f[k] = f32::from_bits(r.u32()?);
+    }
+    for _ in 0..r.u16()? {
+        let k = r.u16()?;
+        let k = slot_in(&r, k, init.l.len())?;
+        init.l[k] = r.u64()? as i64;
+    }
+    for _ in 0..r.u16()? {
+        let k = r.u16()?;
+        let k = slot_in(&r, k, init.d.len())?;
+        init.d[k] = f64::from_bits(r.u64()?);
+    }
+    for _ in 0..r.u16()? {
+        let k = r.u16()?;
+        let k = slot_in(&r, k, init.m.len())?;
+        init.m[k] = r.u8()?;
+    }
+    let mut wiring = Vec::new();
+    for _ in 0..r.u16()? {
+        let (kind, ch, pin, slot) = (r.u8()?, u32::from(r.u16()?), r.u8()?, u32::from(r.u16()?));
+        let (address, region) = match kind {
+            0 => (Address::DigitalIn(ch), regions[0]),
+            1 => (Address::DigitalOut(ch), regions[1]),
+            2 => (Address::AnalogIn(ch), regions[2]),
+            3 => (Address::AnalogOut(ch), regions[3]),
+            k => return Err(r.bad(format!("wiring kind {k} is not defined"))),
+        };
+        if slot != region.base + ch || ch >= region.len {
+            return Err(r.bad(format!("channel {ch} wired outside its image")));
+        }
+        wiring.push((address, pin, slot));
+    }
+    let n_ops = r.u16()? as usize;
+    let code_start = r.at;
+    let mut ops = Vec::with_capacity(n_ops);
+    let mut starts = Vec::with_capacity(n_ops + 1);
+    let mut jumps = Vec::new();
+    for pc in 0..n_ops {
+        starts.push(r.at - code_start);
+        let (op, rel) = r.op()?;
+        if let Some(rel) = rel {
+            jumps.push((pc, r.at - code_start, rel));
+        }
+        ops.push(op);
+    }
+    starts.push(r.at - code_start);
+    if r.at != body.len() {
+        return Err(r.bad(format!("{} bytes after the last op", body.len() - r.at)));
+    }
+    for (pc, next, rel) in jumps {
+        let to = next as i64 + i64::from(rel);
+        let target = usize::try_from(to)
+            .ok()
+            .and_then(|to| starts.binary_search(&to).ok())
+            .filter(|t| *t < ops.len())
+            .ok_or_else(|| DecodeError::Bad {
+                at: HEADER_LEN + code_start + next - 3,
+                what: format!("op {pc} jumps to byte {to}, which starts no op"),
+            })?;
+        ops[pc] = Op::Jmp(target as u32);
+    }
+    let program = rebuild(ops, init, counts, n[5], regions, system);
+    program.verify().map_err(|what| DecodeError::Bad {
+        at: HEADER_LEN + code_start,
+        what,
+    })?;
+    Ok(Decoded {
+        program,
+        program_id,
+        scan_ms,
+        wiring,
+    })
+}
+
+impl Reader<'_> {
+    /// A system bit: always two bytes (the table is fixed-size).
+    fn b_wide(&mut self) -> Result<B, DecodeError> {
+        Ok(B(u32::from(self.u16()?)))
+    }
+}
+
+/// A program around decoded ops: one unit, its rungs at the `Rung` ops, no
+/// sources (byte code keeps none), the memory and system slots as decoded.
+fn rebuild(ops: Vec<Op>, init: Memory, counts: Counts, marker_bytes: u32, r: [Region; 4], system: System) -> Program {
+    // One empty source, so that fault reports have a place to name.
+    let mut files = alba_diag::Files::new();
+    let nowhere = alba_diag::Span::new(files.add("<byte code>", ""), 0..0);
+    let mut rungs = Vec::new();
+    let mut locs = Vec::with_capacity(ops.len());
+    for (pc, op) in ops.iter().enumerate() {
+        if *op == Op::Rung {
+            rungs.push(alba_ir::RungInfo {
+                unit: 0,
+                number: rungs.len() as u32,
+                span: nowhere,
+                first_op: pc as u32,
+            });
+        }
+        locs.push(Loc {
+            rung: rungs.len().saturating_sub(1) as u32,
+            elem: alba_ir::NO_ELEM,
+        });
+    }
+    let mut layout = Layout::new(&Default::default(), &Default::default());
+    layout.system = system;
+    layout.di = r[0];
+    layout.dout = r[1];
+    layout.ai = r[2];
+    layout.ao = r[3];
+    layout.counts = counts;
+    layout.marker_bytes = marker_bytes;
+    let n = ops.len() as u32;
+    Program {
+        ops,
+        locs,
+        elements: Vec::new(),
+        rungs,
+        units: vec![alba_ir::Unit {
+            name: "bytecode".into(),
+            first_op: 0,
+            end_op: n,
+            plant: false,
+        }],
+        layout,
+        init,
+        files,
+        plants: Vec::new(),
+    }
+}
