@@ -228,32 +228,6 @@ impl Writer {
             self.u8(v as u8);
         }
     }
-    fn b(&mut self, b: B) {
-        self.slot(AREA_B, b.0);
-    }
-    fn i(&mut self, i: I) {
-        self.slot(AREA_I, i.0);
-    }
-    fn f(&mut self, f: F) {
-        self.slot(AREA_F, f.0);
-    }
-    fn l(&mut self, l: L) {
-        self.slot(AREA_L, l.0);
-    }
-    fn d(&mut self, d: D) {
-        self.slot(AREA_D, d.0);
-    }
-    fn m(&mut self, byte: u32) {
-        self.slot(AREA_M, byte);
-    }
-    fn tmr(&mut self, t: Tmr) {
-        self.i(t.i);
-        self.b(t.b);
-    }
-    fn ctr(&mut self, c: Ctr) {
-        self.i(c.i);
-        self.b(c.b);
-    }
 }
 
 /// Encodes the control program of `prog` for `t`'s board, or says why it
@@ -426,262 +400,136 @@ fn pin_number(p: Pin) -> u8 {
     }
 }
 
+/// One field of an encoded op after its opcode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Field {
+    /// A slot number of an area (1 or 2 bytes by the area's width).
+    Slot(usize, u32),
+    Byte(u8),
+    Word(u16),
+}
+
+/// An op as its opcode and fields, in the order they are written (`rel`: a
+/// jump's offset from the next op). The one description of the encoding:
+/// the writer and the interpreter's generator both read it.
+pub(crate) fn fields(op: &Op, rel: i16) -> (u8, Vec<Field>) {
+    use Field::{Byte, Slot, Word};
+    let b = |x: B| Slot(AREA_B, x.0);
+    let i = |x: I| Slot(AREA_I, x.0);
+    let f = |x: F| Slot(AREA_F, x.0);
+    let l = |x: L| Slot(AREA_L, x.0);
+    let d = |x: D| Slot(AREA_D, x.0);
+    let m = |x: u32| Slot(AREA_M, x);
+    match *op {
+        Op::Rung => (RUNG, vec![]),
+        Op::Nop => (NOP, vec![]),
+        Op::Afi => (AFI, vec![]),
+        Op::Not => (NOT, vec![]),
+        Op::True => (TRUE, vec![]),
+        Op::Xic(x) => (XIC, vec![b(x)]),
+        Op::Xio(x) => (XIO, vec![b(x)]),
+        Op::Ote(x) => (OTE, vec![b(x)]),
+        Op::Otl(x) => (OTL, vec![b(x)]),
+        Op::Otu(x) => (OTU, vec![b(x)]),
+        Op::Ons(x) => (ONS, vec![b(x)]),
+        Op::Ld(x) => (LD, vec![b(x)]),
+        Op::Ldn(x) => (LDN, vec![b(x)]),
+        Op::Or(x) => (OR, vec![b(x)]),
+        Op::Orn(x) => (ORN, vec![b(x)]),
+        Op::Ed(x) => (ED, vec![b(x)]),
+        Op::Osr(x, y) => (OSR, vec![b(x), b(y)]),
+        Op::Osf(x, y) => (OSF, vec![b(x), b(y)]),
+        Op::CopyB(x, y) => (COPY_B, vec![b(x), b(y)]),
+        Op::BrOpen { save, acc } => (BR_OPEN, vec![b(save), b(acc)]),
+        Op::BrNext { save, acc } => (BR_NEXT, vec![b(save), b(acc)]),
+        Op::BrClose { acc } => (BR_CLOSE, vec![b(acc)]),
+        Op::Jmp(_) => (JMP, vec![Word(rel as u16)]),
+        Op::Ton(t) => (TON, vec![i(t.i), b(t.b)]),
+        Op::Tof(t) => (TOF, vec![i(t.i), b(t.b)]),
+        Op::Rto(t) => (RTO, vec![i(t.i), b(t.b)]),
+        Op::Tp(t) => (TP, vec![i(t.i), b(t.b)]),
+        Op::ResT(t) => (RES_T, vec![i(t.i), b(t.b)]),
+        Op::Ctu(c) => (CTU, vec![i(c.i), b(c.b)]),
+        Op::Ctd(c) => (CTD, vec![i(c.i), b(c.b)]),
+        Op::ResC(c) => (RES_C, vec![i(c.i), b(c.b)]),
+        Op::CmpI(c, x, y) => (CMP_I, vec![Byte(cmp_code(c)), i(x), i(y)]),
+        Op::CmpF(c, x, y) => (CMP_F, vec![Byte(cmp_code(c)), f(x), f(y)]),
+        Op::CmpL(c, x, y) => (CMP_L, vec![Byte(cmp_code(c)), l(x), l(y)]),
+        Op::CmpD(c, x, y) => (CMP_D, vec![Byte(cmp_code(c)), d(x), d(y)]),
+        Op::LimI(x, y, z) => (LIM_I, vec![i(x), i(y), i(z)]),
+        Op::LimF(x, y, z) => (LIM_F, vec![f(x), f(y), f(z)]),
+        Op::LimL(x, y, z) => (LIM_L, vec![l(x), l(y), l(z)]),
+        Op::LimD(x, y, z) => (LIM_D, vec![d(x), d(y), d(z)]),
+        Op::MeqI(x, y, z) => (MEQ_I, vec![i(x), i(y), i(z)]),
+        Op::MeqL(x, y, z) => (MEQ_L, vec![l(x), l(y), l(z)]),
+        Op::BinI(o, x, y, z) => (BIN_I, vec![Byte(bin_code(o)), i(x), i(y), i(z)]),
+        Op::BinF(o, x, y, z) => (BIN_F, vec![Byte(bin_code(o)), f(x), f(y), f(z)]),
+        Op::BinL(o, x, y, z) => (BIN_L, vec![Byte(bin_code(o)), l(x), l(y), l(z)]),
+        Op::BinD(o, x, y, z) => (BIN_D, vec![Byte(bin_code(o)), d(x), d(y), d(z)]),
+        Op::UnI(o, x, y) => (UN_I, vec![Byte(un_code(o)), i(x), i(y)]),
+        Op::UnF(o, x, y) => (UN_F, vec![Byte(un_code(o)), f(x), f(y)]),
+        Op::UnL(o, x, y) => (UN_L, vec![Byte(un_code(o)), l(x), l(y)]),
+        Op::UnD(o, x, y) => (UN_D, vec![Byte(un_code(o)), d(x), d(y)]),
+        Op::Cvt(c) => (
+            CVT,
+            match c {
+                Cvt::IF(x, y) => vec![Byte(0), i(x), f(y)],
+                Cvt::FI(x, y) => vec![Byte(1), f(x), i(y)],
+                Cvt::IL(x, y) => vec![Byte(2), i(x), l(y)],
+                Cvt::LI(x, y) => vec![Byte(3), l(x), i(y)],
+                Cvt::ID(x, y) => vec![Byte(4), i(x), d(y)],
+                Cvt::DI(x, y) => vec![Byte(5), d(x), i(y)],
+                Cvt::LF(x, y) => vec![Byte(6), l(x), f(y)],
+                Cvt::FL(x, y) => vec![Byte(7), f(x), l(y)],
+                Cvt::LD(x, y) => vec![Byte(8), l(x), d(y)],
+                Cvt::DL(x, y) => vec![Byte(9), d(x), l(y)],
+                Cvt::FD(x, y) => vec![Byte(10), f(x), d(y)],
+                Cvt::DF(x, y) => vec![Byte(11), d(x), f(y)],
+            },
+        ),
+        Op::Narrow(x, width) => (
+            NARROW,
+            vec![
+                Byte(match width {
+                    Width::W8 => 8,
+                    Width::W16 => 16,
+                }),
+                i(x),
+            ],
+        ),
+        Op::CopyI(x, y) => (COPY_I, vec![i(x), i(y)]),
+        Op::LdBit { byte, bit, dst } => (LD_BIT, vec![m(byte), Byte(bit), b(dst)]),
+        Op::StBit { src, byte, bit } => (ST_BIT, vec![m(byte), Byte(bit), b(src)]),
+        Op::LdM { byte, slot } | Op::StM { byte, slot } => (
+            if matches!(op, Op::LdM { .. }) { LD_M } else { ST_M },
+            match slot {
+                MarkerSlot::Byte(x) => vec![m(byte), Byte(1), i(x)],
+                MarkerSlot::Word(x) => vec![m(byte), Byte(2), i(x)],
+                MarkerSlot::DWord(x) => vec![m(byte), Byte(4), i(x)],
+                MarkerSlot::Real(x) => vec![m(byte), Byte(0x84), f(x)],
+            },
+        ),
+        Op::S7Ton(t) => (S7_TON, vec![i(t.i), b(t.b), Word(t.res)]),
+        Op::S7Tonr(t) => (S7_TONR, vec![i(t.i), b(t.b), Word(t.res)]),
+        Op::S7Tof(t) => (S7_TOF, vec![i(t.i), b(t.b), Word(t.res)]),
+        Op::S7ResT(t) => (S7_RES_T, vec![i(t.i), b(t.b), Word(t.res)]),
+        Op::S7Ctu(c) => (S7_CTU, vec![i(c.i), b(c.b)]),
+        Op::S7Ctd(c) => (S7_CTD, vec![i(c.i), b(c.b)]),
+        Op::S7Ctud(c) => (S7_CTUD, vec![i(c.i), b(c.b)]),
+        Op::S7ResC(c) => (S7_RES_C, vec![i(c.i), b(c.b)]),
+        Op::Pid(p) => (PID, vec![f(p.f), i(p.i), b(p.b)]),
+    }
+}
+
 /// The bytes of one op (`rel`: a jump's offset from the next op).
 fn op_bytes(w: &mut Writer, op: &Op, rel: i16) {
-    match *op {
-        Op::Rung => w.u8(RUNG),
-        Op::Nop => w.u8(NOP),
-        Op::Afi => w.u8(AFI),
-        Op::Not => w.u8(NOT),
-        Op::True => w.u8(TRUE),
-        Op::Xic(b)
-        | Op::Xio(b)
-        | Op::Ote(b)
-        | Op::Otl(b)
-        | Op::Otu(b)
-        | Op::Ons(b)
-        | Op::Ld(b)
-        | Op::Ldn(b)
-        | Op::Or(b)
-        | Op::Orn(b)
-        | Op::Ed(b) => {
-            w.u8(match op {
-                Op::Xic(_) => XIC,
-                Op::Xio(_) => XIO,
-                Op::Ote(_) => OTE,
-                Op::Otl(_) => OTL,
-                Op::Otu(_) => OTU,
-                Op::Ons(_) => ONS,
-                Op::Ld(_) => LD,
-                Op::Ldn(_) => LDN,
-                Op::Or(_) => OR,
-                Op::Orn(_) => ORN,
-                _ => ED,
-            });
-            w.b(b);
-        }
-        Op::Osr(a, b) | Op::Osf(a, b) | Op::CopyB(a, b) => {
-            w.u8(match op {
-                Op::Osr(..) => OSR,
-                Op::Osf(..) => OSF,
-                _ => COPY_B,
-            });
-            w.b(a);
-            w.b(b);
-        }
-        Op::BrOpen { save, acc } | Op::BrNext { save, acc } => {
-            w.u8(if matches!(op, Op::BrOpen { .. }) {
-                BR_OPEN
-            } else {
-                BR_NEXT
-            });
-            w.b(save);
-            w.b(acc);
-        }
-        Op::BrClose { acc } => {
-            w.u8(BR_CLOSE);
-            w.b(acc);
-        }
-        Op::Jmp(_) => {
-            w.u8(JMP);
-            w.u16(rel as u16);
-        }
-        Op::Ton(t) | Op::Tof(t) | Op::Rto(t) | Op::Tp(t) | Op::ResT(t) => {
-            w.u8(match op {
-                Op::Ton(_) => TON,
-                Op::Tof(_) => TOF,
-                Op::Rto(_) => RTO,
-                Op::Tp(_) => TP,
-                _ => RES_T,
-            });
-            w.tmr(t);
-        }
-        Op::Ctu(c) | Op::Ctd(c) | Op::ResC(c) => {
-            w.u8(match op {
-                Op::Ctu(_) => CTU,
-                Op::Ctd(_) => CTD,
-                _ => RES_C,
-            });
-            w.ctr(c);
-        }
-        Op::CmpI(c, a, b) => {
-            w.u8(CMP_I);
-            w.u8(cmp_code(c));
-            w.i(a);
-            w.i(b);
-        }
-        Op::CmpF(c, a, b) => {
-            w.u8(CMP_F);
-            w.u8(cmp_code(c));
-            w.f(a);
-            w.f(b);
-        }
-        Op::CmpL(c, a, b) => {
-            w.u8(CMP_L);
-            w.u8(cmp_code(c));
-            w.l(a);
-            w.l(b);
-        }
-        Op::CmpD(c, a, b) => {
-            w.u8(CMP_D);
-            w.u8(cmp_code(c));
-            w.d(a);
-            w.d(b);
-        }
-        Op::LimI(a, b, c) | Op::MeqI(a, b, c) => {
-            w.u8(if matches!(op, Op::LimI(..)) { LIM_I } else { MEQ_I });
-            w.i(a);
-            w.i(b);
-            w.i(c);
-        }
-        Op::LimL(a, b, c) | Op::MeqL(a, b, c) => {
-            w.u8(if matches!(op, Op::LimL(..)) { LIM_L } else { MEQ_L });
-            w.l(a);
-            w.l(b);
-            w.l(c);
-        }
-        Op::LimF(a, b, c) => {
-            w.u8(LIM_F);
-            w.f(a);
-            w.f(b);
-            w.f(c);
-        }
-        Op::LimD(a, b, c) => {
-            w.u8(LIM_D);
-            w.d(a);
-            w.d(b);
-            w.d(c);
-        }
-        Op::BinI(o, a, b, c) => {
-            w.u8(BIN_I);
-            w.u8(bin_code(o));
-            w.i(a);
-            w.i(b);
-            w.i(c);
-        }
-        Op::BinF(o, a, b, c) => {
-            w.u8(BIN_F);
-            w.u8(bin_code(o));
-            w.f(a);
-            w.f(b);
-            w.f(c);
-        }
-        Op::BinL(o, a, b, c) => {
-            w.u8(BIN_L);
-            w.u8(bin_code(o));
-            w.l(a);
-            w.l(b);
-            w.l(c);
-        }
-        Op::BinD(o, a, b, c) => {
-            w.u8(BIN_D);
-            w.u8(bin_code(o));
-            w.d(a);
-            w.d(b);
-            w.d(c);
-        }
-        Op::UnI(o, a, d) => {
-            w.u8(UN_I);
-            w.u8(un_code(o));
-            w.i(a);
-            w.i(d);
-        }
-        Op::UnF(o, a, d) => {
-            w.u8(UN_F);
-            w.u8(un_code(o));
-            w.f(a);
-            w.f(d);
-        }
-        Op::UnL(o, a, d) => {
-            w.u8(UN_L);
-            w.u8(un_code(o));
-            w.l(a);
-            w.l(d);
-        }
-        Op::UnD(o, a, d) => {
-            w.u8(UN_D);
-            w.u8(un_code(o));
-            w.d(a);
-            w.d(d);
-        }
-        Op::Cvt(c) => {
-            w.u8(CVT);
-            match c {
-                Cvt::IF(a, b) => (w.u8(0), w.i(a), w.f(b)),
-                Cvt::FI(a, b) => (w.u8(1), w.f(a), w.i(b)),
-                Cvt::IL(a, b) => (w.u8(2), w.i(a), w.l(b)),
-                Cvt::LI(a, b) => (w.u8(3), w.l(a), w.i(b)),
-                Cvt::ID(a, b) => (w.u8(4), w.i(a), w.d(b)),
-                Cvt::DI(a, b) => (w.u8(5), w.d(a), w.i(b)),
-                Cvt::LF(a, b) => (w.u8(6), w.l(a), w.f(b)),
-                Cvt::FL(a, b) => (w.u8(7), w.f(a), w.l(b)),
-                Cvt::LD(a, b) => (w.u8(8), w.l(a), w.d(b)),
-                Cvt::DL(a, b) => (w.u8(9), w.d(a), w.l(b)),
-                Cvt::FD(a, b) => (w.u8(10), w.f(a), w.d(b)),
-                Cvt::DF(a, b) => (w.u8(11), w.d(a), w.f(b)),
-            };
-        }
-        Op::Narrow(a, width) => {
-            w.u8(NARROW);
-            w.u8(match width {
-                Width::W8 => 8,
-                Width::W16 => 16,
-            });
-            w.i(a);
-        }
-        Op::CopyI(a, b) => {
-            w.u8(COPY_I);
-            w.i(a);
-            w.i(b);
-        }
-        Op::LdBit { byte, bit, dst } => {
-            w.u8(LD_BIT);
-            w.m(byte);
-            w.u8(bit);
-            w.b(dst);
-        }
-        Op::StBit { src, byte, bit } => {
-            w.u8(ST_BIT);
-            w.m(byte);
-            w.u8(bit);
-            w.b(src);
-        }
-        Op::LdM { byte, slot } | Op::StM { byte, slot } => {
-            w.u8(if matches!(op, Op::LdM { .. }) { LD_M } else { ST_M });
-            w.m(byte);
-            match slot {
-                MarkerSlot::Byte(i) => (w.u8(1), w.i(i)),
-                MarkerSlot::Word(i) => (w.u8(2), w.i(i)),
-                MarkerSlot::DWord(i) => (w.u8(4), w.i(i)),
-                MarkerSlot::Real(f) => (w.u8(0x84), w.f(f)),
-            };
-        }
-        Op::S7Ton(t) | Op::S7Tonr(t) | Op::S7Tof(t) | Op::S7ResT(t) => {
-            w.u8(match op {
-                Op::S7Ton(_) => S7_TON,
-                Op::S7Tonr(_) => S7_TONR,
-                Op::S7Tof(_) => S7_TOF,
-                _ => S7_RES_T,
-            });
-            w.i(t.i);
-            w.b(t.b);
-            w.u16(t.res);
-        }
-        Op::S7Ctu(c) | Op::S7Ctd(c) | Op::S7Ctud(c) | Op::S7ResC(c) => {
-            w.u8(match op {
-                Op::S7Ctu(_) => S7_CTU,
-                Op::S7Ctd(_) => S7_CTD,
-                Op::S7Ctud(_) => S7_CTUD,
-                _ => S7_RES_C,
-            });
-            w.i(c.i);
-            w.b(c.b);
-        }
-        Op::Pid(p) => {
-            w.u8(PID);
-            w.f(p.f);
-            w.i(p.i);
-            w.b(p.b);
+    let (code, fields) = fields(op, rel);
+    w.u8(code);
+    for f in fields {
+        match f {
+            Field::Slot(area, v) => w.slot(area, v),
+            Field::Byte(v) => w.u8(v),
+            Field::Word(v) => w.u16(v),
         }
     }
 }
