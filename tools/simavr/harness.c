@@ -3,7 +3,7 @@
  * a trace of pins (SPEC §7.5).
  *
  *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
- *               [--lag US] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
+ *               [--lag US] [--from-first-scan] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
  *               [--stimulus FILE] [-o TRACE.csv]
  *
  * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
@@ -37,9 +37,20 @@ typedef struct { unsigned long t; pin_t pin; int value; } stim_t;
 static avr_cycle_count_t scan_start, scan_min = (avr_cycle_count_t)-1, scan_max, scan_sum;
 static unsigned long scans;
 
+/* With --from-first-scan, the cycle the first scan started at is the trace's
+ * time 0 (a firmware whose setup takes a while: the byte-code interpreter,
+ * which checks its program and schedules its scans on micros()); otherwise
+ * time 0 is the reset (a sketch, whose millis() deadlines count from it). */
+static avr_cycle_count_t origin;
+static int started, from_first_scan;
+
 static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
     (void)param;
     a->data[addr] = v;
+    if (v == 1 && !started) {
+        started = 1;
+        if (from_first_scan) origin = a->cycle;
+    }
     if (v == 1) scan_start = a->cycle;
     else if (v == 0 && scan_start) {
         avr_cycle_count_t c = a->cycle - scan_start;
@@ -68,6 +79,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "-o") && more) out_file = argv[++i];
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "-m") && more) mcu = argv[++i];
+        else if (!strcmp(a, "--from-first-scan")) from_first_scan = 1;
         else if (a[0] != '-' && !elf) elf = a;
         else die("unknown argument: ", a);
     }
@@ -155,13 +167,23 @@ int main(int argc, char **argv) {
     }
     fprintf(trace, "\n");
 
+    /* Time 0 is the start of the first scan (the firmware's setup, such as the
+     * byte-code interpreter's check of its program, takes what it takes):
+     * run to it, at most 2 s, and stop before the scan reads its inputs. */
+    while (from_first_scan && !started && avr->cycle < 2 * (avr_cycle_count_t)freq) {
+        int st = avr_run(avr);
+        if (st == cpu_Done || st == cpu_Crashed) die("the CPU stopped (crashed, or sleeping with interrupts off)", NULL);
+    }
     size_t next = 0;
     for (unsigned long t = 0; t <= until; t += every) {
-        avr_cycle_count_t target = (avr_cycle_count_t)t * freq / 1000 + (avr_cycle_count_t)lag * freq / 1000000;
+        avr_cycle_count_t target = origin + (avr_cycle_count_t)t * freq / 1000 + (avr_cycle_count_t)lag * freq / 1000000;
         /* run up to t, stopping at each stimulus time on the way */
         for (;;) {
             avr_cycle_count_t stop = target;
-            avr_cycle_count_t at = next < nstim ? (avr_cycle_count_t)stim[next].t * freq / 1000 : 0;
+            /* from the first scan, a change at t is on the pins 50 µs before the
+             * deadline of t, so the scan at t reads it however the loop polls its clock */
+            avr_cycle_count_t at = next < nstim ? origin + (avr_cycle_count_t)stim[next].t * freq / 1000 : 0;
+            if (from_first_scan && next < nstim && stim[next].t > 0) at -= (avr_cycle_count_t)freq / 20000;
             int due = next < nstim && at <= target;
             if (due) stop = at;
             while (avr->cycle < stop) {

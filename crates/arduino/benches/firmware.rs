@@ -161,6 +161,7 @@ fn main() {
             scan_ms: 10,
             until_ms: 2000,
             every_ms: 10,
+            from_first_scan: false,
         };
         let run = simavr::simulate(&b.elf, Model::Uno, &s.wiring, false, &prog.init, &[], &cols, t).expect("runs");
         let p = run.profile;

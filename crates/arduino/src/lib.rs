@@ -6,6 +6,7 @@
 
 pub mod bytecode;
 pub mod ihex;
+pub mod interp;
 pub mod simavr;
 pub mod sketch;
 pub mod toolchain;

@@ -79,6 +79,9 @@ pub struct Timing {
     pub scan_ms: u64,
     pub until_ms: u64,
     pub every_ms: u64,
+    /// Time 0 is the first scan's start, not the reset (the byte-code
+    /// interpreter, whose setup checks its program first).
+    pub from_first_scan: bool,
 }
 
 /// What the harness measured of the scans (CPU cycles of `run()`).
@@ -210,6 +213,7 @@ pub fn simulate(
             .arg(elf)
             .args(["-m", model.mcu(), "--until", &timing.until_ms.to_string()])
             .args(["--every", &timing.every_ms.to_string(), "--lag", &lag_us.to_string()])
+            .args(timing.from_first_scan.then_some("--from-first-scan"))
             .args(["--pins", &pins.join(",")])
             .args(["--mem", &mem_arg.join(",")])
             .arg("--stimulus")
@@ -252,9 +256,9 @@ fn profile(log: &str) -> Profile {
 
 /// The pin trace as tag values: outputs through active-low, analog outputs as
 /// duty, inputs as the value last given.
-/// The firmware's memory arrays (`B`, `I`, `F`, `L`, `M` of the sketch) as
-/// (class, data-space address, bytes), from the ELF's symbols, checked
-/// against the program's memory sizes.
+/// The firmware's memory arrays (`B`, `I`, `F`, `L`, `M` of the sketch, or
+/// of the byte-code interpreter) as (class, data-space address, bytes), from
+/// the ELF's symbols, checked to hold the program's memory.
 fn memory_regions(elf: &Path, init: &alba_ir::Memory) -> Result<Vec<(char, u32, u32)>, Diagnostic> {
     let nm = run(
         Command::new("avr-nm").arg("-S").arg(elf),
@@ -277,7 +281,8 @@ fn memory_regions(elf: &Path, init: &alba_ir::Memory) -> Result<Vec<(char, u32, 
         });
         match found {
             // Data-space addresses carry avr-gcc's 0x800000 offset.
-            Some((Some(addr), Some(len))) if len as usize == size => out.push((class, addr & 0xFFFF, len)),
+            // (the byte-code interpreter's arrays are larger than the program: its first `size` bytes)
+            Some((Some(addr), Some(len))) if len as usize >= size => out.push((class, addr & 0xFFFF, size as u32)),
             _ => {
                 return Err(tool_error(format!(
                     "the firmware has no memory array {class} of {size} bytes: is it an Alba sketch of this program?"

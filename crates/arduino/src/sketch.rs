@@ -409,7 +409,7 @@ fn un_f(op: UnOp, x: &str) -> String {
 }
 
 /// C++ for one op (empty for ops that do nothing), or why the board cannot run it.
-fn emit(op: &Op, pc: u32) -> Result<String, String> {
+pub(crate) fn emit(op: &Op, pc: u32) -> Result<String, String> {
     Ok(match *op {
         Op::Rung | Op::True => "rc = 1;".into(),
         Op::Nop => String::new(),

@@ -173,6 +173,20 @@ fn engine_trace(prog: &Program, stim: &Stimulus, cols: &[Column], timing: Timing
 
 /// Builds the case's firmware for `model`, runs both sides, and compares.
 fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u64, seed: u64) -> simavr::Profile {
+    check_as(case, model, stimulus, until, every, seed, false)
+}
+
+/// As `check`; with `bytecode`, the firmware is the byte-code interpreter
+/// with the case's byte code in its EEPROM instead of the compiled sketch.
+fn check_as(
+    case: &Case,
+    model: Model,
+    stimulus: Option<&str>,
+    until: u64,
+    every: u64,
+    seed: u64,
+    bytecode: bool,
+) -> simavr::Profile {
     let target = Target {
         model,
         map: PinMap::preset("aurora").expect("preset"),
@@ -183,11 +197,18 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
     };
     let prog = control_program(&case.prog);
     let sketch = generate(&prog, &case.name, &target).unwrap_or_else(|d| panic!("{}: {d:?}", case.name));
-    let dir = work_dir(&format!("{}-{}-{seed}", case.name, model.name()));
-    for (name, text) in &sketch.files {
+    let kind = if bytecode { "bytecode" } else { "sketch" };
+    let dir = work_dir(&format!("{}-{}-{seed}-{kind}", case.name, model.name()));
+    let files = if bytecode {
+        let bc = alba_arduino::bytecode::encode(&prog, &case.name, &target).unwrap_or_else(|d| panic!("{d:?}"));
+        alba_arduino::interp::generate(&target, Some(&bc.bytes))
+    } else {
+        sketch.files.clone()
+    };
+    for (name, text) in &files {
         std::fs::write(dir.join(name), text).expect("write sketch");
     }
-    let built = toolchain::build(&dir.join(&sketch.files[0].0), model, &dir.join("build"))
+    let built = toolchain::build(&dir.join(&files[0].0), model, &dir.join("build"))
         .unwrap_or_else(|d| panic!("{}: {}", case.name, d.message));
     let layout = &prog.layout;
     let stim_text = stimulus.map_or_else(|| random_stimulus(&sketch.wiring, layout, until, seed), str::to_string);
@@ -214,6 +235,7 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
         scan_ms: case.scan_ms,
         until_ms: until,
         every_ms: every,
+        from_first_scan: bytecode,
     };
     let want = engine_trace(&prog, &stim, &cols, timing, &sketch.wiring);
     let rows: Vec<(u64, Place, Value)> = stim.writes().expect("the differential cases force nothing");
@@ -249,7 +271,7 @@ fn check(case: &Case, model: Model, stimulus: Option<&str>, until: u64, every: u
             })
             .unwrap_or_else(|| "different lengths".into());
         panic!(
-            "{} on the {}: the firmware's trace differs from the engine's (files in {}):\n{first}",
+            "{} on the {} ({kind}): the firmware's trace differs from the engine's (files in {}):\n{first}",
             case.name,
             model.title(),
             dir.display()
@@ -357,4 +379,18 @@ fn random_ladder_programs_run_the_same() {
             });
         }
     });
+}
+
+#[test]
+fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine() {
+    if !tools_present() {
+        return;
+    }
+    for name in ["start-stop", "traffic-light", "star-delta", "tank"] {
+        let case = example(name);
+        check_as(&case, Model::Mega, None, 6000, case.scan_ms, 5, true);
+    }
+    for seed in 1..=12u64 {
+        check_as(&random_program(seed), Model::Mega, None, 3000, 10, seed, true);
+    }
 }

@@ -593,6 +593,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
             scan_ms,
             until_ms: until,
             every_ms: every,
+            from_first_scan: false,
         };
         let text = match export::simulate(dir, board, &stim, &cols, timing) {
             Ok(t) => t,

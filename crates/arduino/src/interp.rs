@@ -1,0 +1,604 @@
+//! The byte-code interpreter firmware (issue 19): an Arduino sketch that runs
+//! the byte code of docs/bytecode.md from EEPROM. It is generated, and its
+//! op cases come from the sketch export's own C++ for each op
+//! (`sketch::emit`) with the slot numbers turned into the operands it reads,
+//! so the board's semantics are the export's, which the differential tests
+//! hold to the engine's — written once.
+//!
+//! At start the interpreter checks the program in EEPROM: magic, format
+//! version, length, CRC-32, the memory sizes against its arrays, the wiring,
+//! and every op (its opcode, each slot against the sizes, each jump onto a
+//! rung start). A missing or damaged program runs nothing: the output pins
+//! stay inputs (their safe state) and the LED on pin 13 blinks.
+
+use crate::bytecode::{self, Field};
+use crate::sketch::{self, RUNTIME, Target};
+use alba_ir::op::{AnySlot, MarkerSlot, S7Ctr, S7Tmr};
+use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, Op, Pidt, Tmr, UnOp, Width};
+use alba_model::board::Model;
+use std::fmt::Write as _;
+
+/// Slot numbers the op templates carry: the k-th slot field is `S + k`.
+const S: u32 = 60_001;
+/// The op index in a template (`pc` in the generated code).
+const PC: u32 = 59_999;
+/// An S7 timer's resolution in a template.
+const RES: u16 = 58_000;
+
+/// What the interpreter's arrays hold on each board (RAM: Uno and Nano 2 KB,
+/// Mega 8 KB).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Capacity {
+    pub b: u32,
+    pub i: u32,
+    pub f: u32,
+    pub l: u32,
+    pub m: u32,
+    pub wires: u32,
+}
+
+pub fn capacity(model: Model) -> Capacity {
+    match model {
+        Model::Mega => Capacity {
+            b: 1024,
+            i: 512,
+            f: 192,
+            l: 16,
+            m: 256,
+            wires: 96,
+        },
+        _ => Capacity {
+            b: 256,
+            i: 128,
+            f: 48,
+            l: 4,
+            m: 64,
+            wires: 40,
+        },
+    }
+}
+
+/// Every op kind and variant, its k-th slot field numbered `S + k`.
+fn templates() -> Vec<Op> {
+    let (b0, b1, b2) = (B(S), B(S + 1), B(S + 2));
+    let (i0, i1, i2) = (I(S), I(S + 1), I(S + 2));
+    let (f0, f1, f2) = (F(S), F(S + 1), F(S + 2));
+    let (l0, l1, l2) = (L(S), L(S + 1), L(S + 2));
+    let (d0, d1, d2) = (D(S), D(S + 1), D(S + 2));
+    let tmr = Tmr { i: i0, b: b1 };
+    let ctr = Ctr { i: i0, b: b1 };
+    let s7t = S7Tmr { i: i0, b: b1, res: RES };
+    let s7c = S7Ctr { i: i0, b: b1 };
+    let mut out = vec![
+        Op::Rung,
+        Op::Nop,
+        Op::Afi,
+        Op::Not,
+        Op::True,
+        Op::Xic(b0),
+        Op::Xio(b0),
+        Op::Ote(b0),
+        Op::Otl(b0),
+        Op::Otu(b0),
+        Op::Ons(b0),
+        Op::Ld(b0),
+        Op::Ldn(b0),
+        Op::Or(b0),
+        Op::Orn(b0),
+        Op::Ed(b0),
+        Op::Osr(b0, b1),
+        Op::Osf(b0, b1),
+        Op::CopyB(b0, b1),
+        Op::BrOpen { save: b0, acc: b1 },
+        Op::BrNext { save: b0, acc: b1 },
+        Op::BrClose { acc: b0 },
+        Op::Ton(tmr),
+        Op::Tof(tmr),
+        Op::Rto(tmr),
+        Op::Tp(tmr),
+        Op::ResT(tmr),
+        Op::Ctu(ctr),
+        Op::Ctd(ctr),
+        Op::ResC(ctr),
+        Op::LimI(i0, i1, i2),
+        Op::LimF(f0, f1, f2),
+        Op::LimL(l0, l1, l2),
+        Op::LimD(d0, d1, d2),
+        Op::MeqI(i0, i1, i2),
+        Op::MeqL(l0, l1, l2),
+        Op::Narrow(i0, Width::W8),
+        Op::Narrow(i0, Width::W16),
+        Op::CopyI(i0, i1),
+        Op::S7Ton(s7t),
+        Op::S7Tonr(s7t),
+        Op::S7Tof(s7t),
+        Op::S7ResT(s7t),
+        Op::S7Ctu(s7c),
+        Op::S7Ctd(s7c),
+        Op::S7Ctud(s7c),
+        Op::S7ResC(s7c),
+        Op::Pid(Pidt { f: f0, i: i1, b: b2 }),
+    ];
+    for slot in [
+        MarkerSlot::Byte(I(S + 1)),
+        MarkerSlot::Word(I(S + 1)),
+        MarkerSlot::DWord(I(S + 1)),
+        MarkerSlot::Real(F(S + 1)),
+    ] {
+        out.push(Op::LdM { byte: S, slot });
+        out.push(Op::StM { byte: S, slot });
+    }
+    for c in [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge] {
+        out.extend([
+            Op::CmpI(c, i0, i1),
+            Op::CmpF(c, f0, f1),
+            Op::CmpL(c, l0, l1),
+            Op::CmpD(c, d0, d1),
+        ]);
+    }
+    let mut bins = vec![
+        BinOp::Add,
+        BinOp::Sub,
+        BinOp::Mul,
+        BinOp::Div,
+        BinOp::Mod,
+        BinOp::Pow,
+        BinOp::Atan2,
+        BinOp::And,
+        BinOp::Or,
+        BinOp::Xor,
+    ];
+    bins.extend([Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge].map(BinOp::Cmp));
+    for o in bins {
+        out.extend([
+            Op::BinI(o, i0, i1, i2),
+            Op::BinF(o, f0, f1, f2),
+            Op::BinL(o, l0, l1, l2),
+            Op::BinD(o, d0, d1, d2),
+        ]);
+    }
+    for o in [
+        UnOp::Mov,
+        UnOp::Neg,
+        UnOp::Abs,
+        UnOp::Not,
+        UnOp::Frd,
+        UnOp::Tod,
+        UnOp::Sqrt,
+        UnOp::Ln,
+        UnOp::Log,
+        UnOp::Sin,
+        UnOp::Cos,
+        UnOp::Tan,
+        UnOp::Asin,
+        UnOp::Acos,
+        UnOp::Atan,
+        UnOp::Deg,
+        UnOp::Rad,
+        UnOp::Trunc,
+        UnOp::Round,
+    ] {
+        out.extend([
+            Op::UnI(o, i0, i1),
+            Op::UnF(o, f0, f1),
+            Op::UnL(o, l0, l1),
+            Op::UnD(o, d0, d1),
+        ]);
+    }
+    out.extend(
+        [
+            Cvt::IF(i0, f1),
+            Cvt::FI(f0, i1),
+            Cvt::IL(i0, l1),
+            Cvt::LI(l0, i1),
+            Cvt::ID(i0, d1),
+            Cvt::DI(d0, i1),
+            Cvt::LF(l0, f1),
+            Cvt::FL(f0, l1),
+            Cvt::LD(l0, d1),
+            Cvt::DL(d0, l1),
+            Cvt::FD(f0, d1),
+            Cvt::DF(d0, f1),
+        ]
+        .map(Op::Cvt),
+    );
+    out
+}
+
+/// The C++ that reads `fields` into `s0…`, `x0…` (bytes) and `w0…` (words).
+fn reads(fields: &[Field], first_slot: usize, first_byte: usize) -> String {
+    let (mut s, mut x, mut w) = (first_slot, first_byte, 0);
+    let mut out = String::new();
+    for f in fields {
+        match f {
+            Field::Slot(area, _) => {
+                let _ = write!(out, "uint16_t s{s} = rd_slot({area}); ");
+                s += 1;
+            }
+            Field::Byte(_) => {
+                let _ = write!(out, "uint8_t x{x} = rd8(); (void)x{x}; ");
+                x += 1;
+            }
+            Field::Word(_) => {
+                let _ = write!(out, "uint16_t w{w} = rd16(); (void)w{w}; ");
+                w += 1;
+            }
+        }
+    }
+    out
+}
+
+/// The bounds checks of a template's slots (`Op::slots`, with their extents):
+/// each slot is its area's field `s{k}` (value `S + k`) plus an offset.
+fn checks(op: &Op, fields: &[Field]) -> String {
+    let mut out = String::new();
+    for slot in op.slots() {
+        let (area, v, n) = match slot {
+            AnySlot::B(v) => (0, v, 1),
+            AnySlot::I(v) => (1, v, 1),
+            AnySlot::F(v) => (2, v, 1),
+            AnySlot::L(v) => (3, v, 1),
+            AnySlot::D(v) => (4, v, 1),
+            AnySlot::M(v, n) => (5, v, n),
+        };
+        let field = fields
+            .iter()
+            .filter_map(|f| match *f {
+                Field::Slot(a, x) if a == area && x <= v => Some(x),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(S);
+        let _ = write!(
+            out,
+            "if ((uint32_t)s{} + {} > N[{area}]) return 0; ",
+            field - S,
+            v - field + n
+        );
+    }
+    out
+}
+
+/// The op's C++ from the export with the template's numbers as operands.
+fn body(op: &Op) -> Option<String> {
+    let mut code = sketch::emit(op, PC).ok()?;
+    for k in 0..3 {
+        code = code.replace(&(S + k).to_string(), &format!("s{k}"));
+    }
+    Some(
+        code.replace(&PC.to_string(), "pc")
+            .replace(&RES.to_string(), "(w0 ? w0 : 1)"),
+    )
+}
+
+/// The `switch` of the interpreter (`run`) and of the checker (`check`).
+fn cases() -> (String, String) {
+    // Opcode → its variants (templates with their fields).
+    type Variants = Vec<(Op, Vec<Field>)>;
+    let mut groups: Vec<(u8, Variants)> = Vec::new();
+    for op in templates() {
+        let (code, fields) = bytecode::fields(&op, 0);
+        match groups.iter_mut().find(|(c, _)| *c == code) {
+            Some((_, v)) => v.push((op, fields)),
+            None => groups.push((code, vec![(op, fields)])),
+        }
+    }
+    let (mut run, mut check) = (String::new(), String::new());
+    for (code, ops) in groups {
+        if ops.len() == 1 {
+            let (op, fields) = &ops[0];
+            let Some(b) = body(op) else { continue };
+            let r = reads(fields, 0, 0);
+            let _ = writeln!(run, "        case 0x{code:02x}: {{ {r}{b} break; }}");
+            let _ = writeln!(
+                check,
+                "        case 0x{code:02x}: {{ {r}{}break; }}",
+                checks(op, fields)
+            );
+            continue;
+        }
+        // Variants told apart by their first byte field; the fields before it are common.
+        let sel = ops[0].1.iter().position(|f| matches!(f, Field::Byte(_))).unwrap_or(0);
+        let head = reads(&ops[0].1[..=sel], 0, 0);
+        let slots_before = ops[0].1[..sel].iter().filter(|f| matches!(f, Field::Slot(..))).count();
+        let (mut rv, mut cv) = (String::new(), String::new());
+        for (op, fields) in &ops {
+            let Field::Byte(v) = fields[sel] else { continue };
+            let Some(b) = body(op) else { continue };
+            let r = reads(&fields[sel + 1..], slots_before, 1);
+            let _ = writeln!(rv, "            case {v}: {{ {r}{b} break; }}");
+            let _ = writeln!(cv, "            case {v}: {{ {r}{}break; }}", checks(op, fields));
+        }
+        let _ = writeln!(
+            run,
+            "        case 0x{code:02x}: {{ {head}\n            switch (x0) {{\n{rv}            default: return 0xFFFF;\n            }}\n            break;\n        }}"
+        );
+        let _ = writeln!(
+            check,
+            "        case 0x{code:02x}: {{ {head}\n            switch (x0) {{\n{cv}            default: return 0;\n            }}\n            break;\n        }}"
+        );
+    }
+    (run, check)
+}
+
+/// The interpreter sketch for `t`'s board (`.ino` and `alba_rt.h`); with
+/// `program`, that byte code is in its EEPROM image (the ELF's `.eeprom`,
+/// which simavr and avrdude load), as `alba download` would leave it.
+pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
+    let c = capacity(t.model);
+    let (run, check) = cases();
+    let eeprom = match program {
+        Some(p) => {
+            let mut s = String::from(
+                "// The program, as a download leaves it in EEPROM.\nconst uint8_t alba_program[] EEMEM __attribute__((used)) = {",
+            );
+            for (k, b) in p.iter().enumerate() {
+                s.push_str(if k % 16 == 0 { "\n    " } else { " " });
+                let _ = write!(s, "0x{b:02x},");
+            }
+            s.push_str("\n};\n");
+            s
+        }
+        None => String::new(),
+    };
+    let lvl = |on: bool| if on != t.active_low { "HIGH" } else { "LOW" };
+    let ino = format!(
+        r#"// The Alba byte-code interpreter for the {board} ({mcu}), generated by Alba {version}.
+// It runs the program in EEPROM (docs/bytecode.md); its op cases are the sketch export's
+// C++ for each op, so it computes what an exported sketch computes.
+#include <Arduino.h>
+#include <avr/eeprom.h>
+#include "alba_rt.h"
+
+{eeprom}
+static bool B[{cb}];
+static int32_t I[{ci}];
+static float F[{cf}];
+static int64_t L[{cl}];
+static uint8_t M[{cm}];
+// Sizes the program uses, by area (B, I, F, L, D, M); what the arrays hold.
+static uint16_t N[6];
+static const uint16_t CAP[6] = {{{cb}, {ci}, {cf}, {cl}, 0, {cm}}};
+static uint8_t wide;
+static uint16_t code_start, code_end, scan_period = 10;
+static uint16_t sys_b[9], sys_i[4];
+static uint8_t n_wires, w_kind[{cw}], w_pin[{cw}];
+static uint16_t w_slot[{cw}];
+static uint16_t p;
+
+static inline uint8_t rd8() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)p++); }}
+static inline uint16_t rd16() {{ uint16_t v = rd8(); return v | (uint16_t)rd8() << 8; }}
+static inline uint32_t rd32() {{ uint32_t v = rd16(); return v | (uint32_t)rd16() << 16; }}
+static inline uint16_t rd_slot(uint8_t area) {{ return (wide >> area) & 1 ? rd16() : rd8(); }}
+
+// Every op's opcode and slots, without running it: 1 if the code is sound.
+static uint8_t check_code() {{
+    p = code_start;
+    while (p < code_end) {{
+        uint16_t at = p;
+        (void)at;
+        switch (rd8()) {{
+{check}        case 0x0f: {{ int16_t rel = (int16_t)rd16(); uint16_t to = p + rel;
+            if (to < code_start || to >= code_end || eeprom_read_byte((const uint8_t *)(uintptr_t)to) != 0x01) return 0;
+            break; }}
+        case 0x2d: case 0x2e: {{ uint16_t s0 = rd_slot(5); rd8(); uint16_t s1 = rd_slot(0);
+            if (s0 >= N[5] || s1 >= N[0]) return 0;
+            break; }}
+        default: return 0;
+        }}
+    }}
+    return p == code_end;
+}}
+
+static uint32_t crc32_eeprom(uint16_t from, uint16_t len) {{
+    uint32_t c = 0xFFFFFFFFUL;
+    for (uint16_t k = 0; k < len; k++) {{
+        c ^= eeprom_read_byte((const uint8_t *)(uintptr_t)(from + k));
+        for (uint8_t j = 0; j < 8; j++) c = (c >> 1) ^ (0xEDB88320UL & (0UL - (c & 1)));
+    }}
+    return ~c;
+}}
+
+// Checks and loads the program in EEPROM: 0 when there is none that can run.
+static uint8_t load() {{
+    p = 0;
+    if (rd8() != 'A' || rd8() != 'L' || rd8() != 'B' || rd8() != 'C' || rd8() != {version_byte}) return 0;
+    wide = rd8();
+    rd16();
+    rd32();  // program id
+    scan_period = rd16();
+    rd16();
+    uint32_t len = rd32(), crc = rd32();
+    if (len > E2END + 1UL - 24 || crc32_eeprom(24, (uint16_t)len) != crc) return 0;
+    code_end = 24 + (uint16_t)len;
+    for (uint8_t a = 0; a < 6; a++) {{
+        N[a] = rd16();
+        if (N[a] > CAP[a]) return 0;
+    }}
+    uint16_t reg[8];
+    for (uint8_t k = 0; k < 8; k++) reg[k] = rd16();
+    for (uint8_t k = 0; k < 9; k++) if ((sys_b[k] = rd16()) >= N[0]) return 0;
+    for (uint8_t k = 0; k < 4; k++) if ((sys_i[k] = rd16()) + (k == 2 ? 6 : 1) > N[1]) return 0;
+    for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[0]) return 0; B[s] = 1; }}
+    for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[1]) return 0; I[s] = (int32_t)rd32(); }}
+    for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[2]) return 0; uint32_t v = rd32(); memcpy(&F[s], &v, 4); }}
+    for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[3]) return 0; uint64_t v = rd32(); v |= (uint64_t)rd32() << 32; L[s] = (int64_t)v; }}
+    for (uint16_t n = rd16(); n; n--) {{ rd16(); rd32(); rd32(); return 0; }}  // LREAL: not on this board
+    for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[5]) return 0; M[s] = rd8(); }}
+    n_wires = 0;
+    for (uint16_t n = rd16(); n; n--) {{
+        uint8_t kind = rd8(); uint16_t ch = rd16(); uint8_t pin = rd8(); uint16_t slot = rd16();
+        if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != reg[2 * kind] + ch) return 0;
+        w_kind[n_wires] = kind;
+        w_pin[n_wires] = pin & 0x80 ? A0 + (pin & 0x7F) : pin;
+        w_slot[n_wires++] = slot;
+    }}
+    rd16();  // ops
+    code_start = p;
+    return check_code();
+}}
+
+static inline uint8_t alba_duty(int32_t v) {{ return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }}
+
+static void read_inputs() {{
+    for (uint8_t k = 0; k < n_wires; k++) {{
+        if (w_kind[k] == 0) B[w_slot[k]] = digitalRead(w_pin[k]) == HIGH;
+        else if (w_kind[k] == 2) I[w_slot[k]] = analogRead(w_pin[k]);
+    }}
+}}
+
+static void write_outputs() {{
+    for (uint8_t k = 0; k < n_wires; k++) {{
+        if (w_kind[k] == 1) digitalWrite(w_pin[k], B[w_slot[k]] ? {on} : {off});
+        else if (w_kind[k] == 3) analogWrite(w_pin[k], alba_duty(I[w_slot[k]]));
+    }}
+}}
+
+static void outputs_safe() {{
+    for (uint8_t k = 0; k < n_wires; k++) {{
+        if (w_kind[k] == 1) digitalWrite(w_pin[k], {off});
+        else if (w_kind[k] == 3) analogWrite(w_pin[k], 0);
+    }}
+}}
+
+// One scan at time `now` (ms): 0, or not 0 for a major fault (a runaway loop).
+static uint16_t run(uint32_t now) {{
+    bool rc = 1;
+    uint32_t back = 0;
+    (void)now;
+    p = code_start;
+    while (p < code_end) {{
+        uint16_t pc = p;
+        (void)pc;
+        switch (rd8()) {{
+{run}        case 0x0f: {{ int16_t rel = (int16_t)rd16();
+            if (rc) {{ if (rel < 0 && ++back > 1000000UL) return pc ? pc : 1; p += rel; }}
+            break; }}
+        case 0x2d: {{ uint16_t s0 = rd_slot(5); uint8_t bit = rd8() & 7; uint16_t s1 = rd_slot(0);
+            B[s1] = (M[s0] >> bit) & 1; break; }}
+        case 0x2e: {{ uint16_t s0 = rd_slot(5); uint8_t bit = rd8() & 7; uint16_t s1 = rd_slot(0);
+            if (B[s1]) M[s0] |= (uint8_t)(1 << bit); else M[s0] &= (uint8_t)~(1 << bit); break; }}
+        default: return 0xFFFF;
+        }}
+    }}
+    return 0;
+}}
+
+static bool first_scan = true, major = false, loaded = false;
+static uint32_t next_us, vnow, half_s, half_ms, scans, overruns, scan_ms;
+
+static void scan() {{
+    B[sys_b[0]] = first_scan;
+    B[sys_b[2]] = 1;
+    B[sys_b[3]] = (half_s / 60) & 1;
+    B[sys_b[4]] = half_s & 1;
+    B[sys_b[5]] = scans & 1;
+    I[sys_i[2] + 5] = (int32_t)overruns;
+    I[sys_i[1]] = scan_ms < 32767 ? (int32_t)scan_ms : 32767;
+    alba_fault_code = 0;
+    uint32_t t0 = micros();
+    uint16_t stop = run(vnow);
+    scan_ms = (micros() - t0) / 1000;
+    first_scan = false;
+    scans++;
+    if (alba_fault_code) {{
+        B[sys_b[1]] = 1;
+        I[sys_i[0]] = alba_fault_code;
+    }}
+    if (stop) major = true;
+}}
+
+static void advance(uint32_t ms) {{
+    next_us += ms * 1000UL;
+    vnow += ms;
+    half_ms += ms;
+    while (half_ms >= 500) {{
+        half_ms -= 500;
+        half_s++;
+    }}
+}}
+
+void setup() {{
+    loaded = load();
+    if (!loaded) {{
+        pinMode(LED_BUILTIN, OUTPUT);
+        return;
+    }}
+    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
+    B[sys_b[8]] = 1;  // S:STOREOK
+    for (uint8_t k = 0; k < n_wires; k++) {{
+        if (w_kind[k] == 0) pinMode(w_pin[k], INPUT);
+        else if (w_kind[k] == 1) {{ digitalWrite(w_pin[k], {off}); pinMode(w_pin[k], OUTPUT); }}
+        else if (w_kind[k] == 3) {{ analogWrite(w_pin[k], 0); pinMode(w_pin[k], OUTPUT); }}
+    }}
+    // Deadlines on micros(): scan k starts k periods after the first, to 4 µs.
+    next_us = micros();
+}}
+
+void loop() {{
+    if (!loaded) {{
+        // No program that can run: the outputs stay inputs (safe), the LED blinks.
+        digitalWrite(LED_BUILTIN, (millis() / 250) & 1);
+        return;
+    }}
+    if (major) {{
+        outputs_safe();
+        return;
+    }}
+    uint32_t period = scan_period ? scan_period : 1;
+    uint32_t late = micros() - next_us;
+    if ((int32_t)late < 0) return;
+    if (late >= period * 1000UL) {{
+        uint32_t missed = late / (period * 1000UL);
+        overruns += missed;
+        advance(missed * period);
+    }}
+    GPIOR0 = 1;  // the scan starts (simavr's harness counts its cycles)
+    read_inputs();
+    scan();
+    if (major) outputs_safe();
+    else write_outputs();
+    GPIOR0 = 0;
+    advance(period);
+}}
+"#,
+        board = t.model.title(),
+        mcu = t.model.mcu(),
+        version = env!("CARGO_PKG_VERSION"),
+        version_byte = bytecode::VERSION,
+        cb = c.b,
+        ci = c.i,
+        cf = c.f,
+        cl = c.l.max(1),
+        cm = c.m.max(1),
+        cw = c.wires,
+        on = lvl(true),
+        off = lvl(false),
+    );
+    vec![("alba_interp.ino".into(), ino), ("alba_rt.h".into(), RUNTIME.into())]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn templates_number_their_slot_fields_in_order_and_cover_every_opcode() {
+        let mut codes = std::collections::BTreeSet::new();
+        for op in templates() {
+            let (code, fields) = bytecode::fields(&op, 0);
+            codes.insert(code);
+            let slots: Vec<u32> = fields
+                .iter()
+                .filter_map(|f| match f {
+                    Field::Slot(_, v) => Some(*v),
+                    _ => None,
+                })
+                .collect();
+            let want: Vec<u32> = (0..slots.len() as u32).map(|k| S + k).collect();
+            assert_eq!(slots, want, "{op:?}");
+        }
+        // Every opcode (0x01 to 0x41) but the jump and the marker bits, which are written by hand.
+        assert_eq!(codes.len(), 0x41 - 3, "{codes:?}");
+    }
+}
