@@ -224,17 +224,24 @@ pub fn simulate(
     stimulus: &alba_engine::sim::Stimulus,
     cols: &[alba_engine::sim::Column],
     timing: simavr::Timing,
+    bytecode: bool,
 ) -> Result<String, ExitCode> {
     let (c, t, prog, s) = sketch_of(dir, args)?;
     let work: PathBuf = std::env::temp_dir().join(format!("alba-firmware-{}", std::process::id()));
     let folder = work.join(&s.name);
     let result = (|| -> Result<String, Vec<Diagnostic>> {
+        // The sketch, or the byte-code interpreter with the project's byte code in its EEPROM.
+        let files = if bytecode {
+            let bc = alba_arduino::bytecode::encode(&prog, &s.name, &t)?;
+            alba_arduino::interp::generate(&t, Some(&bc.bytes))
+        } else {
+            s.files.clone()
+        };
         std::fs::create_dir_all(&folder).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
-        for (name, text) in &s.files {
+        for (name, text) in &files {
             std::fs::write(folder.join(name), text).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
         }
-        let built =
-            toolchain::build(&folder.join(&s.files[0].0), t.model, &folder.join("build")).map_err(|d| vec![d])?;
+        let built = toolchain::build(&folder.join(&files[0].0), t.model, &folder.join("build")).map_err(|d| vec![d])?;
         let rows = stimulus.writes().map_err(|r| {
             vec![Diagnostic::unplaced(
                 Code::StimulusTarget,

@@ -65,6 +65,10 @@ enum Command {
         /// engine: same stimulus, same trace form (I/O read on the pins, the rest in memory).
         #[arg(long)]
         firmware: bool,
+        /// With --firmware: run the byte-code interpreter firmware with the project's byte
+        /// code in its EEPROM (docs/bytecode.md) instead of the compiled sketch.
+        #[arg(long, requires = "firmware")]
+        bytecode: bool,
         #[command(flatten)]
         board: export::BoardArgs,
         /// Step-response figures of traced signals: SIGNAL or SIGNAL:REFERENCE, comma-separated
@@ -309,6 +313,7 @@ fn main() -> ExitCode {
             tags,
             every,
             firmware,
+            bytecode,
             board,
             summary,
             alarms,
@@ -322,6 +327,7 @@ fn main() -> ExitCode {
                 tags: tags.as_deref(),
                 every,
                 firmware: firmware.then_some(&board),
+                bytecode,
                 summary: summary.as_deref(),
             },
         ),
@@ -525,6 +531,8 @@ struct SimArgs<'a> {
     every: Option<u64>,
     /// Run the exported firmware in simavr instead of the engine.
     firmware: Option<&'a export::BoardArgs>,
+    /// With `firmware`: the byte-code interpreter instead of the sketch.
+    bytecode: bool,
     summary: Option<&'a str>,
     /// Write the alarms' changes of state here.
     alarms: Option<&'a Path>,
@@ -538,6 +546,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         tags,
         every,
         firmware,
+        bytecode,
         summary,
         alarms,
     } = a;
@@ -593,9 +602,9 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
             scan_ms,
             until_ms: until,
             every_ms: every,
-            from_first_scan: false,
+            from_first_scan: bytecode,
         };
-        let text = match export::simulate(dir, board, &stim, &cols, timing) {
+        let text = match export::simulate(dir, board, &stim, &cols, timing, bytecode) {
             Ok(t) => t,
             Err(code) => return code,
         };

@@ -125,3 +125,39 @@ fn export_bytecode_writes_intel_hex_or_bytes_that_decode_to_the_control_program(
     assert!(!o.status.success());
     assert!(!d.join("x.hex").exists());
 }
+
+/// SPEC §10.5's interface for issue 19: `alba sim --firmware --bytecode` runs
+/// the byte-code interpreter in simavr with the project's byte code in its
+/// EEPROM, and prints `alba sim`'s trace.
+#[test]
+fn sim_firmware_bytecode_gives_the_simulators_trace() {
+    let d = scratch("sim-bytecode");
+    let root = crate::repo().join("examples/start-stop");
+    let project = root.to_string_lossy();
+    let stim = root.join("stimulus.csv");
+    let args = [
+        "sim",
+        &project,
+        "--until",
+        "3000",
+        "--every",
+        "50",
+        "--stimulus",
+        &stim.to_string_lossy(),
+    ]
+    .map(String::from);
+    let engine = alba(&d, &args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(engine.status.success());
+    let mut fw_args: Vec<&str> = args.iter().map(String::as_str).collect();
+    fw_args.extend(["--firmware", "--bytecode", "--board", "mega"]);
+    let fw = alba(&d, &fw_args);
+    assert!(fw.status.success(), "{}", String::from_utf8_lossy(&fw.stderr));
+    assert_eq!(
+        String::from_utf8_lossy(&fw.stdout),
+        String::from_utf8_lossy(&engine.stdout)
+    );
+    assert!(String::from_utf8_lossy(&fw.stdout).lines().count() > 50);
+    // --bytecode needs --firmware.
+    let o = alba(&d, &["sim", &project, "--until", "10", "--bytecode"]);
+    assert!(!o.status.success());
+}
