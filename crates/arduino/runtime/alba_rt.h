@@ -9,6 +9,12 @@
 #include <stdint.h>
 #include <math.h>
 
+// How the helpers are compiled: inline in a sketch (each op is written once), out of
+// line in the byte-code interpreter (every op is a case of one switch).
+#ifndef ALBA_INLINE
+#define ALBA_INLINE inline
+#endif
+
 // Minor fault codes (crates/engine/src/fault.rs).
 #define ALBA_OVERFLOW 1
 #define ALBA_DIVZERO 2
@@ -38,23 +44,23 @@ template <> struct alba_lim_of<int64_t> {
     static int64_t highest() { return INT64_MAX; }
 };
 
-template <typename T> static inline T alba_add(T a, T b, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_add(T a, T b, uint16_t pc) {
     T r;
     if (__builtin_add_overflow(a, b, &r)) alba_fault(ALBA_OVERFLOW, pc);
     return r;
 }
-template <typename T> static inline T alba_sub(T a, T b, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_sub(T a, T b, uint16_t pc) {
     T r;
     if (__builtin_sub_overflow(a, b, &r)) alba_fault(ALBA_OVERFLOW, pc);
     return r;
 }
-template <typename T> static inline T alba_mul(T a, T b, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_mul(T a, T b, uint16_t pc) {
     T r;
     if (__builtin_mul_overflow(a, b, &r)) alba_fault(ALBA_OVERFLOW, pc);
     return r;
 }
 // Division by zero saturates (0/0 is 0); MIN / -1 wraps to MIN; each a fault.
-template <typename T> static inline T alba_div(T a, T b, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_div(T a, T b, uint16_t pc) {
     if (b == 0) {
         alba_fault(ALBA_DIVZERO, pc);
         return a > 0 ? alba_lim_of<T>::highest() : a < 0 ? alba_lim_of<T>::lowest() : 0;
@@ -65,7 +71,7 @@ template <typename T> static inline T alba_div(T a, T b, uint16_t pc) {
     }
     return a / b;
 }
-template <typename T> static inline T alba_mod(T a, T b, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_mod(T a, T b, uint16_t pc) {
     if (b == 0) {
         alba_fault(ALBA_DIVZERO, pc);
         return 0;
@@ -73,14 +79,14 @@ template <typename T> static inline T alba_mod(T a, T b, uint16_t pc) {
     if (b == -1) return 0;
     return a % b;
 }
-template <typename T> static inline T alba_neg(T a, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_neg(T a, uint16_t pc) {
     if (a == alba_lim_of<T>::lowest()) {
         alba_fault(ALBA_OVERFLOW, pc);
         return a;
     }
     return -a;
 }
-template <typename T> static inline T alba_abs(T a, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_abs(T a, uint16_t pc) {
     if (a == alba_lim_of<T>::lowest()) {
         alba_fault(ALBA_OVERFLOW, pc);
         return a;
@@ -88,7 +94,7 @@ template <typename T> static inline T alba_abs(T a, uint16_t pc) {
     return a < 0 ? -a : a;
 }
 // BCD to binary: a negative value or a nibble above 9 is a range fault (0).
-template <typename T> static inline T alba_frd(T a, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_frd(T a, uint16_t pc) {
     if (a < 0) {
         alba_fault(ALBA_RANGE, pc);
         return 0;
@@ -107,7 +113,7 @@ template <typename T> static inline T alba_frd(T a, uint16_t pc) {
     return v;
 }
 // Binary to BCD: 0 ..= max, else a range fault (0).
-template <typename T> static inline T alba_tod(T a, T max, uint16_t pc) {
+template <typename T> static ALBA_INLINE T alba_tod(T a, T max, uint16_t pc) {
     if (a < 0 || a > max) {
         alba_fault(ALBA_RANGE, pc);
         return 0;
@@ -122,7 +128,7 @@ template <typename T> static inline T alba_tod(T a, T max, uint16_t pc) {
     return v;
 }
 // LIM with the Logix wrap-around rule.
-template <typename T> static inline bool alba_lim(T lo, T t, T hi) {
+template <typename T> static ALBA_INLINE bool alba_lim(T lo, T t, T hi) {
     return lo <= hi ? (lo <= t && t <= hi) : (t >= lo || t <= hi);
 }
 
@@ -130,7 +136,7 @@ template <typename T> static inline bool alba_lim(T lo, T t, T hi) {
 
 // NaN becomes 0 and an infinity ±FLT_MAX, each a fault (division by zero when
 // the divisor was zero).
-static inline float alba_fix(float v, bool divisor_zero, uint16_t pc) {
+static ALBA_INLINE float alba_fix(float v, bool divisor_zero, uint16_t pc) {
     if (isfinite(v)) return v;
     if (divisor_zero) {
         alba_fault(ALBA_DIVZERO, pc);
@@ -144,7 +150,7 @@ static inline float alba_fix(float v, bool divisor_zero, uint16_t pc) {
     return copysignf(3.40282347e+38f, v);
 }
 // Round half to even (Rust's round_ties_even).
-static inline float alba_round_even(float x) {
+static ALBA_INLINE float alba_round_even(float x) {
     float t = truncf(x);
     float d = x - t;  // exact
     if (fabsf(d) > 0.5f || (fabsf(d) == 0.5f && fmodf(t, 2.0f) != 0.0f)) t += (x < 0.0f ? -1.0f : 1.0f);
@@ -152,7 +158,7 @@ static inline float alba_round_even(float x) {
 }
 // REAL to DINT/LINT: round half to even; NaN gives 0 and out-of-range values
 // saturate, each a fault. `hi` is the first float above the range (2^31, 2^63).
-static inline int32_t alba_f2i(float v, uint16_t pc) {
+static ALBA_INLINE int32_t alba_f2i(float v, uint16_t pc) {
     if (isnan(v)) {
         alba_fault(ALBA_NAN, pc);
         return 0;
@@ -168,7 +174,7 @@ static inline int32_t alba_f2i(float v, uint16_t pc) {
     }
     return (int32_t)r;
 }
-static inline int64_t alba_f2l(float v, uint16_t pc) {
+static ALBA_INLINE int64_t alba_f2l(float v, uint16_t pc) {
     if (isnan(v)) {
         alba_fault(ALBA_NAN, pc);
         return 0;
@@ -188,26 +194,26 @@ static inline int64_t alba_f2l(float v, uint16_t pc) {
 
 // ---- marker memory (big-endian) -----------------------------------------
 
-static inline int32_t alba_ld_word(const uint8_t *p) { return (int16_t)((uint16_t)p[0] << 8 | p[1]); }
-static inline int32_t alba_ld_dword(const uint8_t *p) {
+static ALBA_INLINE int32_t alba_ld_word(const uint8_t *p) { return (int16_t)((uint16_t)p[0] << 8 | p[1]); }
+static ALBA_INLINE int32_t alba_ld_dword(const uint8_t *p) {
     return (int32_t)((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
 }
-static inline float alba_ld_real(const uint8_t *p, uint16_t pc) {
+static ALBA_INLINE float alba_ld_real(const uint8_t *p, uint16_t pc) {
     union { uint32_t u; float f; } v;
     v.u = (uint32_t)alba_ld_dword(p);
     return alba_fix(v.f, false, pc);
 }
-static inline void alba_st_word(uint8_t *p, int32_t v) {
+static ALBA_INLINE void alba_st_word(uint8_t *p, int32_t v) {
     p[0] = (uint8_t)(v >> 8);
     p[1] = (uint8_t)v;
 }
-static inline void alba_st_dword(uint8_t *p, int32_t v) {
+static ALBA_INLINE void alba_st_dword(uint8_t *p, int32_t v) {
     p[0] = (uint8_t)((uint32_t)v >> 24);
     p[1] = (uint8_t)((uint32_t)v >> 16);
     p[2] = (uint8_t)((uint32_t)v >> 8);
     p[3] = (uint8_t)v;
 }
-static inline void alba_st_real(uint8_t *p, float f) {
+static ALBA_INLINE void alba_st_real(uint8_t *p, float f) {
     union { uint32_t u; float f; } v;
     v.f = f;
     alba_st_dword(p, (int32_t)v.u);
@@ -215,26 +221,26 @@ static inline void alba_st_real(uint8_t *p, float f) {
 
 // ---- timers (TIMER: i = PRE, ACC, LAST; b = EN, TT, DN) -------------------
 
-static inline int32_t alba_preset(const int32_t *ti, uint16_t pc) {
+static ALBA_INLINE int32_t alba_preset(const int32_t *ti, uint16_t pc) {
     if (ti[0] < 0) {
         alba_fault(ALBA_NEGPRESET, pc);
         return 0;
     }
     return ti[0];
 }
-static inline void alba_elapse(int32_t *ti, uint32_t now) {
+static ALBA_INLINE void alba_elapse(int32_t *ti, uint32_t now) {
     uint32_t dt = now - (uint32_t)ti[2];
     ti[2] = (int32_t)now;
     if (dt > (uint32_t)INT32_MAX) dt = INT32_MAX;
     ti[1] = ti[1] > INT32_MAX - (int32_t)dt ? INT32_MAX : ti[1] + (int32_t)dt;
 }
-static inline void alba_done_at_preset(int32_t *ti, bool *tb, int32_t pre) {
+static ALBA_INLINE void alba_done_at_preset(int32_t *ti, bool *tb, int32_t pre) {
     if (!tb[2] && ti[1] >= pre) {
         tb[2] = true;
         ti[1] = pre;
     }
 }
-static inline void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
     if (rc) {
         int32_t pre = alba_preset(ti, pc);
         if (!tb[0]) {
@@ -251,7 +257,7 @@ static inline void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16
         ti[1] = 0;
     }
 }
-static inline void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
     if (rc) {
         tb[0] = true;
         tb[2] = true;
@@ -275,7 +281,7 @@ static inline void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16
         }
     }
 }
-static inline void alba_rto(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_rto(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
     if (rc) {
         int32_t pre = alba_preset(ti, pc);
         if (!tb[0]) {
@@ -290,7 +296,7 @@ static inline void alba_rto(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16
         tb[0] = tb[1] = false;
     }
 }
-static inline void alba_tp(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_tp(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
     bool rising = rc && !tb[0];
     if (tb[2]) {
         alba_elapse(ti, now);
@@ -310,14 +316,14 @@ static inline void alba_tp(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_
     tb[1] = tb[2];
     tb[0] = rc;
 }
-static inline void alba_res_t(int32_t *ti, bool *tb) {
+static ALBA_INLINE void alba_res_t(int32_t *ti, bool *tb) {
     ti[1] = 0;
     tb[0] = tb[1] = tb[2] = false;
 }
 
 // ---- counters (COUNTER: i = PRE, ACC; b = CU, CD, DN, OV, UN) -------------
 
-static inline void alba_count(int32_t *ci, bool *cb, bool rc, bool up) {
+static ALBA_INLINE void alba_count(int32_t *ci, bool *cb, bool rc, bool up) {
     bool *edge = up ? &cb[0] : &cb[1];
     if (rc && !*edge) {
         int32_t v = ci[1];
@@ -333,14 +339,14 @@ static inline void alba_count(int32_t *ci, bool *cb, bool rc, bool up) {
     *edge = rc;
     cb[2] = ci[1] >= ci[0];
 }
-static inline void alba_res_c(int32_t *ci, bool *cb) {
+static ALBA_INLINE void alba_res_c(int32_t *ci, bool *cb) {
     ci[1] = 0;
     cb[0] = cb[1] = cb[2] = cb[3] = cb[4] = false;
 }
 
 // ---- S7-200 timers (i = CV, PT, pending ms, LAST; b = bit, enable) -------
 
-static inline void alba_s7_advance(int32_t *ti, uint32_t now, uint16_t res, int32_t cap) {
+static ALBA_INLINE void alba_s7_advance(int32_t *ti, uint32_t now, uint16_t res, int32_t cap) {
     uint32_t dt = now - (uint32_t)ti[3];
     ti[3] = (int32_t)now;
     uint64_t total = (uint64_t)(ti[2] > 0 ? ti[2] : 0) + dt;
@@ -352,7 +358,7 @@ static inline void alba_s7_advance(int32_t *ti, uint32_t now, uint16_t res, int3
     ti[0] = cv < cap ? cv : cap;
 }
 // kind: 0 TON, 1 TONR, 2 TOF.
-static inline void alba_s7_timer(int32_t *ti, bool *tb, bool enable, uint32_t now, uint16_t res, uint8_t kind) {
+static ALBA_INLINE void alba_s7_timer(int32_t *ti, bool *tb, bool enable, uint32_t now, uint16_t res, uint8_t kind) {
     bool was = tb[1];
     tb[1] = enable;
     if (kind != 2) {
@@ -383,7 +389,7 @@ static inline void alba_s7_timer(int32_t *ti, bool *tb, bool enable, uint32_t no
     }
     if (tb[0] && ti[0] >= ti[1]) tb[0] = false;
 }
-static inline void alba_s7_res_t(int32_t *ti, bool *tb) {
+static ALBA_INLINE void alba_s7_res_t(int32_t *ti, bool *tb) {
     ti[0] = ti[2] = 0;
     tb[0] = false;
 }
@@ -391,7 +397,7 @@ static inline void alba_s7_res_t(int32_t *ti, bool *tb) {
 // ---- S7-200 counters (i = CV, PV; b = bit, CU was, CD was, CU, CD) --------
 
 // kind: 0 CTU, 1 CTD, 2 CTUD. `top` is the reset (CTU, CTUD) or load (CTD).
-static inline void alba_s7_counter(int32_t *ci, bool *cb, bool top, uint8_t kind) {
+static ALBA_INLINE void alba_s7_counter(int32_t *ci, bool *cb, bool top, uint8_t kind) {
     bool up = cb[3] && !cb[1];
     bool down = cb[4] && !cb[2];
     cb[1] = cb[3];
@@ -418,7 +424,7 @@ static inline void alba_s7_counter(int32_t *ci, bool *cb, bool top, uint8_t kind
         cb[0] = v >= ci[1];
     }
 }
-static inline void alba_s7_res_c(int32_t *ci, bool *cb) {
+static ALBA_INLINE void alba_s7_res_c(int32_t *ci, bool *cb) {
     ci[0] = 0;
     cb[0] = false;
 }

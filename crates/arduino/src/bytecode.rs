@@ -237,6 +237,30 @@ pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec
     // What the board cannot run, and the wiring and id, as the export decides them.
     let s = sketch::generate(prog, project, t)?;
     let p = sketch::control_program(prog);
+    // And what the board's interpreter cannot hold.
+    if crate::interp::capacity(t.model).l == 0 {
+        let lints: Vec<Diagnostic> = p
+            .layout
+            .tags
+            .iter()
+            .filter(|tag| tag.ty == alba_model::DataType::Lint)
+            .map(|tag| {
+                Diagnostic::new(
+                    Code::NotOnBoard,
+                    format!(
+                        "`{}` is a LINT: the byte-code interpreter on the {} holds no 64-bit integers (the Mega's does, and so does the compiled sketch)",
+                        tag.name,
+                        t.model.title()
+                    ),
+                    tag.span,
+                    "LINT",
+                )
+            })
+            .collect();
+        if !lints.is_empty() {
+            return Err(lints);
+        }
+    }
     encode_program(&p, t.scan_ms, s.program_id, &s.wiring).map_err(|m| vec![Diagnostic::unplaced(Code::NotOnBoard, m)])
 }
 

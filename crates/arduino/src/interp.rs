@@ -9,7 +9,8 @@
 //! version, length, CRC-32, the memory sizes against its arrays, the wiring,
 //! and every op (its opcode, each slot against the sizes, each jump onto a
 //! rung start). A missing or damaged program runs nothing: the output pins
-//! stay inputs (their safe state) and the LED on pin 13 blinks.
+//! stay inputs (their safe state) and the LED on D13 blinks (unless the pin
+//! map wires an output to D13: then no pin moves at all).
 
 use crate::bytecode::{self, Field};
 use crate::sketch::{self, RUNTIME, Target};
@@ -47,11 +48,12 @@ pub fn capacity(model: Model) -> Capacity {
             m: 256,
             wires: 96,
         },
+        // No LINT on the Uno and the Nano: the 64-bit cases would not fit in their flash.
         _ => Capacity {
             b: 256,
             i: 128,
             f: 48,
-            l: 4,
+            l: 0,
             m: 64,
             wires: 40,
         },
@@ -228,35 +230,38 @@ fn reads(fields: &[Field], first_slot: usize, first_byte: usize) -> String {
     out
 }
 
-/// The bounds checks of a template's slots (`Op::slots`, with their extents):
-/// each slot is its area's field `s{k}` (value `S + k`) plus an offset.
-fn checks(op: &Op, fields: &[Field]) -> String {
-    let mut out = String::new();
-    for slot in op.slots() {
-        let (area, v, n) = match slot {
-            AnySlot::B(v) => (0, v, 1),
-            AnySlot::I(v) => (1, v, 1),
-            AnySlot::F(v) => (2, v, 1),
-            AnySlot::L(v) => (3, v, 1),
-            AnySlot::D(v) => (4, v, 1),
-            AnySlot::M(v, n) => (5, v, n),
-        };
-        let field = fields
-            .iter()
-            .filter_map(|f| match *f {
-                Field::Slot(a, x) if a == area && x <= v => Some(x),
-                _ => None,
-            })
-            .max()
-            .unwrap_or(S);
-        let _ = write!(
-            out,
-            "if ((uint32_t)s{} + {} > N[{area}]) return 0; ",
-            field - S,
-            v - field + n
-        );
-    }
-    out
+/// How far each slot field of a template reaches (`Op::slots`, with their
+/// extents): the field's slot plus this must fit in its area.
+fn extents(op: &Op, fields: &[Field]) -> Vec<u32> {
+    fields
+        .iter()
+        .map(|f| {
+            let Field::Slot(area, base) = *f else { return 0 };
+            op.slots()
+                .into_iter()
+                .filter_map(|slot| {
+                    let (a, v, n) = match slot {
+                        AnySlot::B(v) => (0, v, 1),
+                        AnySlot::I(v) => (1, v, 1),
+                        AnySlot::F(v) => (2, v, 1),
+                        AnySlot::L(v) => (3, v, 1),
+                        AnySlot::D(v) => (4, v, 1),
+                        AnySlot::M(v, n) => (5, v, n),
+                    };
+                    // the slot belongs to the last field of its area at or below it
+                    let owner = fields
+                        .iter()
+                        .filter_map(|g| match *g {
+                            Field::Slot(ga, x) if ga == a && x <= v => Some(x),
+                            _ => None,
+                        })
+                        .max()?;
+                    (a == area && owner == base).then(|| v - base + n)
+                })
+                .max()
+                .unwrap_or(1)
+        })
+        .collect()
 }
 
 /// The op's C++ from the export with the template's numbers as operands.
@@ -271,8 +276,19 @@ fn body(op: &Op) -> Option<String> {
     )
 }
 
-/// The `switch` of the interpreter (`run`) and of the checker (`check`).
-fn cases() -> (String, String) {
+/// The ops the interpreter runs on a board of capacity `cap` (no LINT op
+/// where it holds no LINT).
+fn runs(op: &Op, cap: Capacity) -> Option<String> {
+    if cap.l == 0 && op.slots().iter().any(|s| matches!(s, AnySlot::L(_))) {
+        return None;
+    }
+    body(op)
+}
+
+/// The `switch` of the interpreter (`run`), and the layout table the checker
+/// walks (`LAYOUT`: per op and variant, its opcode, its variant byte or 0xFF,
+/// its field count, then per field a kind-and-area byte and an extent).
+fn cases(cap: Capacity) -> (String, String) {
     // Opcode → its variants (templates with their fields).
     type Variants = Vec<(Op, Vec<Field>)>;
     let mut groups: Vec<(u8, Variants)> = Vec::new();
@@ -283,42 +299,62 @@ fn cases() -> (String, String) {
             None => groups.push((code, vec![(op, fields)])),
         }
     }
-    let (mut run, mut check) = (String::new(), String::new());
+    let (mut run, mut layout) = (String::new(), String::new());
+    // `pre`: extents of the fields before a variant byte, the largest of the variants
+    // (the checker reads them before it knows the variant).
+    let mut entry = |code: u8, sel: Option<u8>, op: &Op, fields: &[Field], pre: &[u32]| {
+        let _ = write!(
+            layout,
+            "    0x{code:02x}, 0x{:02x}, {},",
+            sel.unwrap_or(0xFF),
+            fields.len()
+        );
+        let mut ext = extents(op, fields);
+        for (k, e) in pre.iter().enumerate() {
+            ext[k] = ext[k].max(*e);
+        }
+        for (f, ext) in fields.iter().zip(ext) {
+            let _ = match f {
+                Field::Slot(area, _) => write!(layout, " {area}, {ext},"),
+                Field::Byte(_) => write!(layout, " 0x40, 0,"),
+                Field::Word(_) => write!(layout, " 0x80, 0,"),
+            };
+        }
+        layout.push('\n');
+    };
     for (code, ops) in groups {
         if ops.len() == 1 {
             let (op, fields) = &ops[0];
-            let Some(b) = body(op) else { continue };
+            let Some(b) = runs(op, cap) else { continue };
             let r = reads(fields, 0, 0);
             let _ = writeln!(run, "        case 0x{code:02x}: {{ {r}{b} break; }}");
-            let _ = writeln!(
-                check,
-                "        case 0x{code:02x}: {{ {r}{}break; }}",
-                checks(op, fields)
-            );
+            entry(code, None, op, fields, &[]);
             continue;
         }
         // Variants told apart by their first byte field; the fields before it are common.
         let sel = ops[0].1.iter().position(|f| matches!(f, Field::Byte(_))).unwrap_or(0);
         let head = reads(&ops[0].1[..=sel], 0, 0);
         let slots_before = ops[0].1[..sel].iter().filter(|f| matches!(f, Field::Slot(..))).count();
-        let (mut rv, mut cv) = (String::new(), String::new());
+        let mut pre = vec![0u32; sel];
+        for (op, fields) in &ops {
+            for (k, e) in extents(op, fields).into_iter().take(sel).enumerate() {
+                pre[k] = pre[k].max(e);
+            }
+        }
+        let mut rv = String::new();
         for (op, fields) in &ops {
             let Field::Byte(v) = fields[sel] else { continue };
-            let Some(b) = body(op) else { continue };
+            let Some(b) = runs(op, cap) else { continue };
             let r = reads(&fields[sel + 1..], slots_before, 1);
             let _ = writeln!(rv, "            case {v}: {{ {r}{b} break; }}");
-            let _ = writeln!(cv, "            case {v}: {{ {r}{}break; }}", checks(op, fields));
+            entry(code, Some(v), op, fields, &pre);
         }
         let _ = writeln!(
             run,
             "        case 0x{code:02x}: {{ {head}\n            switch (x0) {{\n{rv}            default: return 0xFFFF;\n            }}\n            break;\n        }}"
         );
-        let _ = writeln!(
-            check,
-            "        case 0x{code:02x}: {{ {head}\n            switch (x0) {{\n{cv}            default: return 0;\n            }}\n            break;\n        }}"
-        );
     }
-    (run, check)
+    (run, layout)
 }
 
 /// The interpreter sketch for `t`'s board (`.ino` and `alba_rt.h`); with
@@ -326,7 +362,7 @@ fn cases() -> (String, String) {
 /// which simavr and avrdude load), as `alba download` would leave it.
 pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
     let c = capacity(t.model);
-    let (run, check) = cases();
+    let (run, layout) = cases(c);
     let eeprom = match program {
         Some(p) => {
             let mut s = String::from(
@@ -342,12 +378,30 @@ pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
         None => String::new(),
     };
     let lvl = |on: bool| if on != t.active_low { "HIGH" } else { "LOW" };
+    // The error LED is the board's own on D13, unless the pin map wires an output
+    // there (blinking an actuator is not a signal): then there is none.
+    let d13_wired = (0..256).any(|n| {
+        matches!(
+            t.map.pin_of(t.model, alba_model::address::Address::DigitalOut(n)),
+            Some(Ok(alba_model::board::Pin::D(13)))
+        )
+    });
+    let (led_setup, led_blink) = if d13_wired {
+        ("", "")
+    } else {
+        (
+            "        pinMode(LED_BUILTIN, OUTPUT);\n",
+            "        digitalWrite(LED_BUILTIN, (millis() / 250) & 1);\n",
+        )
+    };
     let ino = format!(
         r#"// The Alba byte-code interpreter for the {board} ({mcu}), generated by Alba {version}.
 // It runs the program in EEPROM (docs/bytecode.md); its op cases are the sketch export's
 // C++ for each op, so it computes what an exported sketch computes.
 #include <Arduino.h>
 #include <avr/eeprom.h>
+#include <avr/pgmspace.h>
+#define ALBA_INLINE __attribute__((noinline, unused))
 #include "alba_rt.h"
 
 {eeprom}
@@ -358,7 +412,7 @@ static int64_t L[{cl}];
 static uint8_t M[{cm}];
 // Sizes the program uses, by area (B, I, F, L, D, M); what the arrays hold.
 static uint16_t N[6];
-static const uint16_t CAP[6] = {{{cb}, {ci}, {cf}, {cl}, 0, {cm}}};
+static const uint16_t CAP[6] = {{{cb}, {ci}, {cf}, {lcap}, 0, {cm}}};
 static uint8_t wide;
 static uint16_t code_start, code_end, scan_period = 10;
 static uint16_t sys_b[9], sys_i[4];
@@ -366,25 +420,56 @@ static uint8_t n_wires, w_kind[{cw}], w_pin[{cw}];
 static uint16_t w_slot[{cw}];
 static uint16_t p;
 
-static inline uint8_t rd8() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)p++); }}
-static inline uint16_t rd16() {{ uint16_t v = rd8(); return v | (uint16_t)rd8() << 8; }}
-static inline uint32_t rd32() {{ uint32_t v = rd16(); return v | (uint32_t)rd16() << 16; }}
-static inline uint16_t rd_slot(uint8_t area) {{ return (wide >> area) & 1 ? rd16() : rd8(); }}
+static uint8_t rd8() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)p++); }}
+static __attribute__((noinline)) uint16_t rd16() {{ uint16_t v = rd8(); return v | (uint16_t)rd8() << 8; }}
+static __attribute__((noinline)) uint32_t rd32() {{ uint32_t v = rd16(); return v | (uint32_t)rd16() << 16; }}
+static __attribute__((noinline)) uint16_t rd_slot(uint8_t area) {{ return (wide >> area) & 1 ? rd16() : rd8(); }}
 
-// Every op's opcode and slots, without running it: 1 if the code is sound.
+// Per op and variant the interpreter runs: opcode, variant byte (0xFF: none), field
+// count, then per field its kind (0-5: a slot of that area; 0x40 a byte; 0x80 a word)
+// and, for a slot, how far it reaches. Ends with 0.
+static const uint8_t LAYOUT[] PROGMEM = {{
+{layout}    0
+}};
+
+// The entry of `op` (with variant `sel`, or any when `any`), or 0xFFFF.
+static uint16_t entry_of(uint8_t op, uint8_t sel, bool any) {{
+    for (uint16_t e = 0; pgm_read_byte(&LAYOUT[e]); e += 3 + 2 * pgm_read_byte(&LAYOUT[e + 2]))
+        if (pgm_read_byte(&LAYOUT[e]) == op && (any || pgm_read_byte(&LAYOUT[e + 1]) == sel)) return e;
+    return 0xFFFF;
+}}
+
+// Every op's opcode, variant and slots, without running it: 1 if the code is sound.
 static uint8_t check_code() {{
     p = code_start;
     while (p < code_end) {{
-        uint16_t at = p;
-        (void)at;
-        switch (rd8()) {{
-{check}        case 0x0f: {{ int16_t rel = (int16_t)rd16(); uint16_t to = p + rel;
+        uint8_t op = rd8();
+        if (op == 0x0f) {{
+            int16_t rel = (int16_t)rd16();
+            uint16_t to = p + rel;
             if (to < code_start || to >= code_end || eeprom_read_byte((const uint8_t *)(uintptr_t)to) != 0x01) return 0;
-            break; }}
-        case 0x2d: case 0x2e: {{ uint16_t s0 = rd_slot(5); rd8(); uint16_t s1 = rd_slot(0);
+            continue;
+        }}
+        if (op == 0x2d || op == 0x2e) {{
+            uint16_t s0 = rd_slot(5); rd8(); uint16_t s1 = rd_slot(0);
             if (s0 >= N[5] || s1 >= N[0]) return 0;
-            break; }}
-        default: return 0;
+            continue;
+        }}
+        uint16_t e = entry_of(op, 0, true);
+        if (e == 0xFFFF) return 0;
+        bool variants = pgm_read_byte(&LAYOUT[e + 1]) != 0xFF;
+        for (uint8_t k = 0; k < pgm_read_byte(&LAYOUT[e + 2]); k++) {{
+            uint8_t kind = pgm_read_byte(&LAYOUT[e + 3 + 2 * k]), ext = pgm_read_byte(&LAYOUT[e + 4 + 2 * k]);
+            if (kind == 0x80) rd16();
+            else if (kind == 0x40) {{
+                uint8_t x = rd8();
+                if (variants) {{
+                    // the variant byte: its own entry (the fields before it are the same)
+                    e = entry_of(op, x, false);
+                    if (e == 0xFFFF) return 0;
+                    variants = false;
+                }}
+            }} else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
         }}
     }}
     return p == code_end;
@@ -521,8 +606,7 @@ static void advance(uint32_t ms) {{
 void setup() {{
     loaded = load();
     if (!loaded) {{
-        pinMode(LED_BUILTIN, OUTPUT);
-        return;
+{led_setup}        return;
     }}
     B[sys_b[6]] = 1;  // S:IOOK: the pins are local
     B[sys_b[8]] = 1;  // S:STOREOK
@@ -537,9 +621,8 @@ void setup() {{
 
 void loop() {{
     if (!loaded) {{
-        // No program that can run: the outputs stay inputs (safe), the LED blinks.
-        digitalWrite(LED_BUILTIN, (millis() / 250) & 1);
-        return;
+        // No program that can run: the outputs stay inputs (safe), the error LED blinks.
+{led_blink}        return;
     }}
     if (major) {{
         outputs_safe();
@@ -570,6 +653,7 @@ void loop() {{
         ci = c.i,
         cf = c.f,
         cl = c.l.max(1),
+        lcap = c.l,
         cm = c.m.max(1),
         cw = c.wires,
         on = lvl(true),
