@@ -485,8 +485,15 @@ static uint32_t crc32_eeprom(uint16_t from, uint16_t len) {{
 }}
 
 // Checks and loads the program in EEPROM: 0 when there is none that can run.
-static uint8_t load() {{
-    p = 0;
+// EEPROM: two program slots and, in the last byte, which one runs (0xFF, erased: the
+// first). A download writes the other slot and switches only once it checks.
+#define SLOT_SIZE ((E2END + 1UL - 1) / 2)
+#define SELECTOR (E2END)
+static uint16_t slot_base(uint8_t slot) {{ return slot == 1 ? SLOT_SIZE : 0; }}
+static uint8_t active_slot() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)SELECTOR) == 1 ? 1 : 0; }}
+
+static uint8_t load_at(uint16_t base) {{
+    p = base;
     if (rd8() != 'A' || rd8() != 'L' || rd8() != 'B' || rd8() != 'C' || rd8() != {version_byte}) return 0;
     wide = rd8();
     rd16();
@@ -494,8 +501,8 @@ static uint8_t load() {{
     scan_period = rd16();
     rd16();
     uint32_t len = rd32(), crc = rd32();
-    if (len > E2END + 1UL - 24 || crc32_eeprom(24, (uint16_t)len) != crc) return 0;
-    code_end = 24 + (uint16_t)len;
+    if (len > SLOT_SIZE - 24 || crc32_eeprom(base + 24, (uint16_t)len) != crc) return 0;
+    code_end = base + 24 + (uint16_t)len;
     for (uint8_t a = 0; a < 6; a++) {{
         N[a] = rd16();
         if (N[a] > CAP[a]) return 0;
@@ -521,6 +528,107 @@ static uint8_t load() {{
     rd16();  // ops
     code_start = p;
     return check_code();
+}}
+
+// Loads the running slot's program into fresh memory.
+static uint8_t load() {{
+    memset(B, 0, sizeof B);
+    memset(I, 0, sizeof I);
+    memset(F, 0, sizeof F);
+    memset(L, 0, sizeof L);
+    memset(M, 0, sizeof M);
+    return load_at(slot_base(active_slot()));
+}}
+
+// ---- download (docs/bytecode.md "Download"): Intel HEX records on the serial port,
+// between scans. Each record is answered with a line: `K` (written), `E` and the
+// source's error flag in hex (01 not hex, 02 record type, 04 checksum, 08 no data,
+// 10 address overflow, 20 write-verify), after the end record `S` and the 16-bit
+// sum of the data bytes (the new program checks and runs) or `E40` (it does not:
+// the old one keeps running); ESC drops the download (`A`). `R` + 4 hex digits
+// (address) + 2 (count): that many bytes of the running slot, in hex.
+static char line[48];
+static uint8_t line_len;
+static uint16_t dl_sum;
+static bool dl_on;
+static bool reload;
+
+static uint8_t hexval(char c) {{ return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10; }}
+static bool ishex(char c) {{ return (c >= '0' && c <= '9') || ((c | 0x20) >= 'a' && (c | 0x20) <= 'f'); }}
+static uint8_t hexbyte(uint8_t at) {{ return hexval(line[at]) << 4 | hexval(line[at + 1]); }}
+
+static void reply_flag(uint8_t f) {{
+    Serial.write('E');
+    Serial.write("0123456789ABCDEF"[f >> 4]);
+    Serial.write("0123456789ABCDEF"[f & 15]);
+    Serial.write('\n');
+}}
+
+static void record() {{
+    if (line[0] == 'R') {{
+        // read-back of the running slot
+        uint16_t at = 0; uint8_t n = 0;
+        for (uint8_t k = 1; k < 5; k++) at = at << 4 | hexval(line[k]);
+        n = hexbyte(5);
+        uint16_t base = slot_base(active_slot());
+        for (uint8_t k = 0; k < n && at + k < SLOT_SIZE; k++) {{
+            uint8_t b = eeprom_read_byte((const uint8_t *)(uintptr_t)(base + at + k));
+            Serial.write("0123456789ABCDEF"[b >> 4]);
+            Serial.write("0123456789ABCDEF"[b & 15]);
+        }}
+        Serial.write('\n');
+        return;
+    }}
+    if (line[0] != ':' || line_len < 11 || (line_len & 1) == 0) {{ reply_flag(line_len < 11 ? 0x08 : 0x01); return; }}
+    for (uint8_t k = 1; k < line_len; k++) if (!ishex(line[k])) {{ reply_flag(0x01); return; }}
+    uint8_t n = hexbyte(1), type = hexbyte(7);
+    if (line_len != 11 + 2 * n) {{ reply_flag(0x08); return; }}
+    uint8_t sum = 0;
+    for (uint8_t k = 1; k < line_len; k += 2) sum += hexbyte(k);
+    if (sum != 0) {{ reply_flag(0x04); return; }}
+    if (type > 1) {{ reply_flag(0x02); return; }}
+    uint8_t target = active_slot() ^ 1;
+    uint16_t base = slot_base(target);
+    if (!dl_on) {{ dl_on = true; dl_sum = 0; }}
+    if (type == 1) {{
+        dl_on = false;
+        // the new slot must check before it runs; the old one runs meanwhile
+        if (!load_at(base)) {{ reply_flag(0x40); reload = true; return; }}
+        eeprom_update_byte((uint8_t *)(uintptr_t)SELECTOR, target);
+        Serial.write('S');
+        for (int8_t sh = 12; sh >= 0; sh -= 4) Serial.write("0123456789ABCDEF"[(dl_sum >> sh) & 15]);
+        Serial.write('\n');
+        reload = true;
+        return;
+    }}
+    if (n == 0) {{ reply_flag(0x08); return; }}
+    uint16_t at = (uint16_t)hexbyte(3) << 8 | hexbyte(5);
+    if ((uint32_t)at + n > SLOT_SIZE) {{ reply_flag(0x10); return; }}
+    for (uint8_t k = 0; k < n; k++) {{
+        uint8_t b = hexbyte(9 + 2 * k);
+        eeprom_update_byte((uint8_t *)(uintptr_t)(base + at + k), b);
+        if (eeprom_read_byte((const uint8_t *)(uintptr_t)(base + at + k)) != b) {{ reply_flag(0x20); return; }}
+        dl_sum += b;
+    }}
+    Serial.write('K');
+    Serial.write('\n');
+}}
+
+// Bytes from the serial port, between scans.
+static void serial_poll() {{
+    while (Serial.available()) {{
+        char c = Serial.read();
+        if (c == 0x1B) {{
+            line_len = 0;
+            dl_on = false;
+            Serial.write('A');
+            Serial.write('\n');
+        }} else if (c == '\r' || c == '\n') {{
+            if (line_len) record();
+            line_len = 0;
+        }} else if (line_len < sizeof line) line[line_len++] = c;
+        else line_len = sizeof line;  // too long: answered as not a record at its end
+    }}
 }}
 
 static inline uint8_t alba_duty(int32_t v) {{ return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }}
@@ -603,8 +711,12 @@ static void advance(uint32_t ms) {{
     }}
 }}
 
-void setup() {{
+static void start() {{
     loaded = load();
+    first_scan = true;
+    major = false;
+    scans = overruns = 0;
+    vnow = half_s = half_ms = 0;
     if (!loaded) {{
 {led_setup}        return;
     }}
@@ -619,7 +731,19 @@ void setup() {{
     next_us = micros();
 }}
 
+void setup() {{
+    Serial.begin(115200UL);
+    start();
+}}
+
 void loop() {{
+    serial_poll();
+    if (reload) {{
+        // a new program (or the old one after a refused download): outputs safe, then start it
+        reload = false;
+        outputs_safe();
+        start();
+    }}
     if (!loaded) {{
         // No program that can run: the outputs stay inputs (safe), the error LED blinks.
 {led_blink}        return;

@@ -194,6 +194,117 @@ pub fn bytecode(dir: &Path, args: &BoardArgs, out: &Path) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// `alba export interpreter`: the byte-code interpreter's sketch folder for
+/// the board of `--board`/`--pinmap` (no project: any program is downloaded later).
+pub fn interpreter(args: &BoardArgs, out: &Path, build: bool, upload: Option<&str>) -> ExitCode {
+    let files = alba_diag::Files::new();
+    let model = match args.board.as_deref().map(Model::parse) {
+        Some(Some(m)) => m,
+        _ => {
+            report(&[bad("give --board uno|nano|mega".into())], &files, false);
+            return ExitCode::FAILURE;
+        }
+    };
+    let map = match PinMap::preset(args.pinmap.as_deref().unwrap_or("aurora")) {
+        Some(m) => m,
+        None => {
+            report(
+                &[bad(format!("--pinmap: the presets are {}", PRESETS.join(", ")))],
+                &files,
+                false,
+            );
+            return ExitCode::FAILURE;
+        }
+    };
+    let t = Target {
+        model,
+        map,
+        active_low: false,
+        scan_ms: 10,
+        monitor: false,
+        power_up_on: Vec::new(),
+    };
+    let folder = out.join("alba_interp");
+    for (name, text) in alba_arduino::interp::generate(&t, None) {
+        let path = folder.join(&name);
+        let written = std::fs::create_dir_all(&folder)
+            .and_then(|()| fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())));
+        if let Err(e) = written {
+            report(
+                &[Diagnostic::unplaced(
+                    Code::Io,
+                    format!("cannot write {}: {e}", path.display()),
+                )],
+                &files,
+                false,
+            );
+            return ExitCode::FAILURE;
+        }
+    }
+    eprintln!(
+        "wrote {} for the {}",
+        folder.join("alba_interp.ino").display(),
+        model.title()
+    );
+    if !build && upload.is_none() {
+        return ExitCode::SUCCESS;
+    }
+    build_and_upload(&folder.join("alba_interp.ino"), model, upload)
+}
+
+/// `alba download`: the project's byte code to a board running the interpreter.
+pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitCode {
+    let (c, t, prog, s) = match sketch_of(dir, args) {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let bc = match alba_arduino::bytecode::encode(&prog, &s.name, &t) {
+        Ok(b) => b,
+        Err(d) => {
+            report(&d, c.files(), false);
+            return ExitCode::FAILURE;
+        }
+    };
+    let fail = |e: alba_io::download::DownloadError| {
+        report(&[Diagnostic::unplaced(Code::Io, e.to_string())], c.files(), false);
+        ExitCode::FAILURE
+    };
+    let mut link = match alba_io::download::Link::open(port) {
+        Ok(l) => l,
+        Err(e) => return fail(e),
+    };
+    let started = std::time::Instant::now();
+    let sum = match link.download(&bc.bytes, |done, total| {
+        eprint!("\rdownloading: {done}/{total} records")
+    }) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!();
+            return fail(e);
+        }
+    };
+    eprintln!(
+        "\ndownloaded {} bytes to {port} in {} ms, checksum {sum:04X}: the board runs the new program",
+        bc.bytes.len(),
+        started.elapsed().as_millis()
+    );
+    if verify {
+        match link.read(0, bc.bytes.len()) {
+            Ok(back) if back == bc.bytes => eprintln!("verified: the board holds the {} bytes sent", back.len()),
+            Ok(back) => {
+                let at = back
+                    .iter()
+                    .zip(&bc.bytes)
+                    .position(|(a, b)| a != b)
+                    .unwrap_or(back.len());
+                return fail(alba_io::download::DownloadError::Verify(at));
+            }
+            Err(e) => return fail(e),
+        }
+    }
+    ExitCode::SUCCESS
+}
+
 /// Builds a sketch into `build/` beside it, reports its size, and uploads it
 /// when a port is given (`alba export arduino`, `alba firmware`).
 pub fn build_and_upload(sketch: &Path, model: Model, upload: Option<&str>) -> ExitCode {

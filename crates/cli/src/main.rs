@@ -80,6 +80,19 @@ enum Command {
         #[arg(long, value_name = "CSV", conflicts_with = "firmware")]
         alarms: Option<PathBuf>,
     },
+    /// Download the project's byte code to a board running Alba's byte-code interpreter
+    /// (`alba export interpreter`), over its serial port (docs/bytecode.md, "Download").
+    Download {
+        project: PathBuf,
+        /// The board's serial port.
+        #[arg(long, value_name = "PORT")]
+        port: String,
+        #[command(flatten)]
+        board: export::BoardArgs,
+        /// Read the program back afterwards and compare.
+        #[arg(long)]
+        verify: bool,
+    },
     /// Export the project to another form.
     Export {
         #[command(subcommand)]
@@ -270,6 +283,21 @@ enum Export {
         #[arg(long, value_name = "PORT")]
         upload: Option<String>,
     },
+    /// The byte-code interpreter firmware for a board (an Arduino sketch folder
+    /// `alba_interp/`); `alba download` then sends it programs.
+    Interpreter {
+        #[command(flatten)]
+        board: export::BoardArgs,
+        /// Folder to write the sketch folder into.
+        #[arg(short, long, value_name = "DIR", default_value = ".")]
+        out: PathBuf,
+        /// Build with avr-gcc and report flash and RAM against the board.
+        #[arg(long)]
+        build: bool,
+        /// Build, then upload with avrdude to this serial port.
+        #[arg(long, value_name = "PORT")]
+        upload: Option<String>,
+    },
     /// The control program as byte code for the board's interpreter (docs/bytecode.md):
     /// Intel HEX when the file name ends in `.hex`, raw bytes otherwise.
     Bytecode {
@@ -344,6 +372,21 @@ fn main() -> ExitCode {
         Command::Export {
             to: Export::Bytecode { project, board, out },
         } => export::bytecode(&project, &board, &out),
+        Command::Export {
+            to:
+                Export::Interpreter {
+                    board,
+                    out,
+                    build,
+                    upload,
+                },
+        } => export::interpreter(&board, &out, build, upload.as_deref()),
+        Command::Download {
+            project,
+            port,
+            board,
+            verify,
+        } => export::download(&project, &board, &port, verify),
         Command::New { dir, net } => new::run(&dir, net),
         Command::Bench {
             modbus: true,

@@ -20,6 +20,7 @@
 pub mod arduino;
 pub mod attach;
 pub mod aurora;
+pub mod download;
 mod error;
 pub mod firmware;
 mod link;

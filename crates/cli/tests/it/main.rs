@@ -4,6 +4,7 @@ mod analyze;
 mod audit;
 mod commands;
 mod differential;
+mod download;
 mod examples;
 mod export;
 mod firmware;
