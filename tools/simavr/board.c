@@ -3,7 +3,10 @@
  * board for `alba run --io arduino:PORT` (controller mode, SPEC 7.2).
  *
  *   alba-board FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --tty LINK
- *              --pins D12,D13,D6:pwm
+ *              --pins D12,D13,D6:pwm [--eeprom FILE]
+ *
+ * With --eeprom, the EEPROM starts from FILE when it exists and is written to
+ * it at the end: a power cycle that keeps what the firmware stored.
  *
  * LINK becomes a symbolic link to the pty's slave (/dev/pts/N), as udev's
  * /dev/serial/by-id links are; the host opens LINK. The pty is raw (no echo,
@@ -28,6 +31,7 @@
  */
 #define _GNU_SOURCE
 #include "pins.h"
+#include <avr_eeprom.h>
 #include <avr_uart.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -38,6 +42,7 @@
 DEFINE_FIFO(uint16_t, uart_fifo);
 
 static const char *tty_link;
+static const char *eeprom_file;
 static int master = -1, slave_keep = -1;
 static avr_uart_t *uart;
 static FILE *ctl;
@@ -211,6 +216,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--pins") && more) pins_arg = argv[++i];
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "-m") && more) mcu = argv[++i];
+        else if (!strcmp(a, "--eeprom") && more) eeprom_file = argv[++i];
         else if (a[0] != '-' && !elf) elf = a;
         else die("unknown argument: ", a);
     }
@@ -242,6 +248,19 @@ int main(int argc, char **argv) {
     avr->vcc = avr->avcc = avr->aref = 5000;
     avr->sleep = no_sleep;
     adc_setup();
+    static uint8_t ee[4096];
+    uint32_t ee_size = mega ? 4096 : 1024;
+    if (eeprom_file) {
+        FILE *f = fopen(eeprom_file, "rb");
+        if (f) {
+            size_t n = fread(ee, 1, ee_size, f);
+            fclose(f);
+            if (n == ee_size) {
+                avr_eeprom_desc_t d = {.ee = ee, .offset = 0, .size = ee_size};
+                avr_ioctl(avr, AVR_IOCTL_EEPROM_SET, &d);
+            }
+        }
+    }
 
     for (avr_io_t *io = avr->io_port; io; io = io->next)
         if (!strcmp(io->kind, "uart") && ((avr_uart_t *)io)->name == '0') uart = (avr_uart_t *)io;
@@ -281,5 +300,14 @@ int main(int argc, char **argv) {
         }
     }
     unplug();
+    if (eeprom_file) {
+        /* (simavr 1.6 answers GET with a pointer to its EEPROM when given none,
+         * and -1 even then: the pointer says whether it worked) */
+        avr_eeprom_desc_t d = {.ee = NULL, .offset = 0, .size = ee_size};
+        avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &d);
+        FILE *f = fopen(eeprom_file, "wb");
+        if (!f || !d.ee || fwrite(d.ee, 1, ee_size, f) != ee_size) die("cannot save the EEPROM to ", eeprom_file);
+        fclose(f);
+    }
     return 0;
 }

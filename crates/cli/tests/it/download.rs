@@ -3,7 +3,8 @@
 //! pty): the program arrives, is read back equal, and runs; each of the
 //! source's error flags answers a crafted record; ESC in the middle of a
 //! download and a program that fails the board's checks leave the old
-//! program running.
+//! program running; a power cycle (the board stopped and started again with
+//! its EEPROM) keeps the program.
 
 use crate::{alba, repo, scratch};
 use alba_io::download::Link;
@@ -25,7 +26,8 @@ impl Board {
             .arg(&elf)
             .args(["-m", "atmega328p", "--tty"])
             .arg(dir.join("link"))
-            .args(["--pins", "D12,D13"])
+            .args(["--pins", "D12,D13", "--eeprom"])
+            .arg(dir.join("eeprom.bin"))
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -58,6 +60,14 @@ impl Board {
         self.cmd("set D3 1");
         std::thread::sleep(Duration::from_millis(150));
         on && self.cmd("get") == "pins 0 0"
+    }
+}
+
+impl Board {
+    /// Power off: the board program ends and saves the EEPROM.
+    fn power_off(mut self) {
+        let _ = writeln!(self.stdin, "quit");
+        let _ = self.child.wait();
     }
 }
 
@@ -135,4 +145,9 @@ fn download_to_the_interpreter_records_flags_esc_and_a_refused_program() {
     // Read-back still gives start-stop's byte code.
     let back = l.read(0, 4).expect("read");
     assert_eq!(back, b"ALBC");
+    // A power cycle: the program is still there and runs.
+    drop(l);
+    board.power_off();
+    let (mut board, _) = Board::start(&d);
+    assert!(board.motor_starts(), "after a power cycle the program runs");
 }
