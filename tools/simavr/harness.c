@@ -3,7 +3,7 @@
  * a trace of pins (SPEC §7.5).
  *
  *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
- *               [--lag US] [--from-first-scan] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
+ *               [--lag US] [--from-first-scan] [--eeprom FILE] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
  *               [--stimulus FILE] [-o TRACE.csv]
  *
  * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
@@ -30,6 +30,7 @@
  * Total cycles go to stderr. Exit 1 on bad arguments or a stopped CPU.
  */
 #include "pins.h"
+#include <avr_eeprom.h>
 
 typedef struct { unsigned long t; pin_t pin; int value; } stim_t;
 
@@ -43,6 +44,8 @@ static unsigned long scans;
  * time 0 is the reset (a sketch, whose millis() deadlines count from it). */
 static avr_cycle_count_t origin;
 static int started, from_first_scan;
+/* With --eeprom FILE, the EEPROM starts from that image (what `alba download` left). */
+static const char *eeprom_file;
 
 static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
     (void)param;
@@ -80,6 +83,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "-m") && more) mcu = argv[++i];
         else if (!strcmp(a, "--from-first-scan")) from_first_scan = 1;
+        else if (!strcmp(a, "--eeprom") && more) eeprom_file = argv[++i];
         else if (a[0] != '-' && !elf) elf = a;
         else die("unknown argument: ", a);
     }
@@ -152,6 +156,15 @@ int main(int argc, char **argv) {
     if (!avr) die("simavr does not know the MCU ", mcu);
     avr_init(avr);
     avr_load_firmware(avr, &fw);
+    if (eeprom_file) {
+        static uint8_t ee[4096];
+        FILE *f = fopen(eeprom_file, "rb");
+        if (!f) die("cannot read ", eeprom_file);
+        size_t n = fread(ee, 1, sizeof ee, f);
+        fclose(f);
+        avr_eeprom_desc_t d = {.ee = ee, .offset = 0, .size = (uint32_t)n};
+        avr_ioctl(avr, AVR_IOCTL_EEPROM_SET, &d);
+    }
     avr->frequency = (uint32_t)freq;
     avr->vcc = avr->avcc = avr->aref = 5000;
     avr->sleep = no_sleep;

@@ -261,7 +261,20 @@ pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec
             return Err(lints);
         }
     }
-    encode_program(&p, t.scan_ms, s.program_id, &s.wiring).map_err(|m| vec![Diagnostic::unplaced(Code::NotOnBoard, m)])
+    let bc = encode_program(&p, t.scan_ms, s.program_id, &s.wiring)
+        .map_err(|m| vec![Diagnostic::unplaced(Code::NotOnBoard, m)])?;
+    let room = crate::interp::slot_size(t.model);
+    if bc.bytes.len() > room {
+        return Err(vec![Diagnostic::unplaced(
+            Code::NotOnBoard,
+            format!(
+                "the byte code is {} bytes; the interpreter on the {} holds {room} (half its EEPROM: a download never overwrites the running program): use the Mega, or the compiled sketch (alba export arduino)",
+                bc.bytes.len(),
+                t.model.title()
+            ),
+        )]);
+    }
+    Ok(bc)
 }
 
 /// Encodes `p` as it is (its plant models too, if any): the host's form,

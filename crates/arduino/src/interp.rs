@@ -60,6 +60,16 @@ pub fn capacity(model: Model) -> Capacity {
     }
 }
 
+/// Bytes of one of the two program slots in the board's EEPROM (the last byte
+/// says which slot runs): Uno and Nano 511, Mega 2 047.
+pub fn slot_size(model: Model) -> usize {
+    let eeprom = match model {
+        Model::Mega => 4096,
+        _ => 1024,
+    };
+    (eeprom - 1) / 2
+}
+
 /// Every op kind and variant, its k-th slot field numbered `S + k`.
 fn templates() -> Vec<Op> {
     let (b0, b1, b2) = (B(S), B(S + 1), B(S + 2));

@@ -24,27 +24,46 @@ const HARNESS: &str = include_str!("../../../tools/simavr/harness.c");
 /// The pin tables `harness.c` includes.
 const PINS: &str = include_str!("../../../tools/simavr/pins.h");
 
+/// The emulated board of the controller-mode tests and of `alba sim
+/// --firmware --bytecode`'s download: simavr paced to real time with UART0 on
+/// a pty (`tools/simavr/board.c`).
+const BOARD: &str = include_str!("../../../tools/simavr/board.c");
+
 /// The harness binary, built from the embedded source on first use (a new
 /// source gets a new binary: the name carries a hash of it).
 pub fn harness() -> Result<PathBuf, Diagnostic> {
-    let hash = HARNESS
+    tool("alba-simavr", "harness.c", HARNESS)
+}
+
+/// The emulated board (`alba-board`), built like the harness.
+pub fn board() -> Result<PathBuf, Diagnostic> {
+    tool("alba-board", "board.c", BOARD)
+}
+
+fn tool(name: &str, file: &str, source: &str) -> Result<PathBuf, Diagnostic> {
+    let hash = source
         .bytes()
         .chain(PINS.bytes())
         .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
             (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
         });
     let dir = cache_dir();
-    let bin = dir.join(format!("alba-simavr-{hash:016x}"));
+    let bin = dir.join(format!("{name}-{hash:016x}"));
     if bin.is_file() {
         return Ok(bin);
     }
     std::fs::create_dir_all(&dir).map_err(|e| tool_error(format!("cannot create {}: {e}", dir.display())))?;
-    let src_dir = temp_sibling(&dir.join("harness-src"));
-    let src = src_dir.join("harness.c");
+    let src_dir = temp_sibling(&dir.join(format!("{name}-src")));
+    let src = src_dir.join(file);
     std::fs::create_dir_all(&src_dir)
-        .and_then(|()| std::fs::write(&src, HARNESS))
+        .and_then(|()| std::fs::write(&src, source))
         .and_then(|()| std::fs::write(src_dir.join("pins.h"), PINS))
-        .map_err(|e| tool_error(format!("cannot write the harness source in {}: {e}", src_dir.display())))?;
+        .map_err(|e| {
+            tool_error(format!(
+                "cannot write the source of {name} in {}: {e}",
+                src_dir.display()
+            ))
+        })?;
     let flags = run(
         Command::new("pkg-config").args(["--cflags", "--libs", "simavr"]),
         "finding simavr",
@@ -58,11 +77,11 @@ pub fn harness() -> Result<PathBuf, Diagnostic> {
             .arg(&src)
             .args(flags.split_whitespace())
             .arg("-lelf"),
-        "building the simavr harness",
+        &format!("building {name}"),
     );
     let _ = std::fs::remove_dir_all(&src_dir);
     built?;
-    std::fs::rename(&tmp, &bin).map_err(|e| tool_error(format!("cannot install the harness: {e}")))?;
+    std::fs::rename(&tmp, &bin).map_err(|e| tool_error(format!("cannot install {name}: {e}")))?;
     Ok(bin)
 }
 
@@ -124,6 +143,22 @@ pub fn simulate(
     stimulus: &[(u64, Place, Value)],
     cols: &[Column],
     timing: Timing,
+) -> Result<Run, Vec<Diagnostic>> {
+    simulate_eeprom(elf, model, wiring, active_low, init, stimulus, cols, timing, None)
+}
+
+/// As [`simulate`], the MCU's EEPROM starting from the image `eeprom`.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_eeprom(
+    elf: &Path,
+    model: Model,
+    wiring: &[Wire],
+    active_low: bool,
+    init: &alba_ir::Memory,
+    stimulus: &[(u64, Place, Value)],
+    cols: &[Column],
+    timing: Timing,
+    eeprom: Option<&Path>,
 ) -> Result<Run, Vec<Diagnostic>> {
     let mut diags = Vec::new();
     let mut stim = String::from("time_ms,pin,value\n");
@@ -214,6 +249,12 @@ pub fn simulate(
             .args(["-m", model.mcu(), "--until", &timing.until_ms.to_string()])
             .args(["--every", &timing.every_ms.to_string(), "--lag", &lag_us.to_string()])
             .args(timing.from_first_scan.then_some("--from-first-scan"))
+            .args(
+                eeprom
+                    .map(|e| ["--eeprom".as_ref(), e.as_os_str()])
+                    .into_iter()
+                    .flatten(),
+            )
             .args(["--pins", &pins.join(",")])
             .args(["--mem", &mem_arg.join(",")])
             .arg("--stimulus")

@@ -194,6 +194,50 @@ pub fn bytecode(dir: &Path, args: &BoardArgs, out: &Path) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// Downloads `bytes` with `alba download`'s protocol into the interpreter
+/// `elf` running on the emulated board (simavr paced to real time, its serial
+/// port on a pty); returns the EEPROM image it leaves.
+fn download_emulated(elf: &Path, model: Model, dir: &Path, bytes: &[u8]) -> Result<PathBuf, Vec<Diagnostic>> {
+    use std::io::{BufRead, Write};
+    let io = |m: String| vec![Diagnostic::unplaced(Code::Io, m)];
+    let board = simavr::board().map_err(|d| vec![d])?;
+    let (ee, link) = (dir.join("eeprom.bin"), dir.join("link"));
+    let _ = std::fs::remove_file(&ee);
+    let mut child = std::process::Command::new(board)
+        .arg(elf)
+        .args(["-m", model.mcu(), "--tty"])
+        .arg(&link)
+        .args(["--pins", "D13", "--eeprom"])
+        .arg(&ee)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .map_err(|e| io(format!("cannot start the emulated board: {e}")))?;
+    let result = (|| {
+        let mut ready = String::new();
+        let out = child
+            .stdout
+            .take()
+            .ok_or_else(|| io("the emulated board has no output".into()))?;
+        std::io::BufReader::new(out)
+            .read_line(&mut ready)
+            .map_err(|e| io(e.to_string()))?;
+        if !ready.starts_with("ready ") {
+            return Err(io(format!("the emulated board did not start: {ready}")));
+        }
+        let mut l = alba_io::download::Link::open(&link.to_string_lossy()).map_err(|e| io(e.to_string()))?;
+        l.download(bytes, |_, _| {}).map_err(|e| io(format!("download: {e}")))?;
+        Ok(())
+    })();
+    if let Some(mut stdin) = child.stdin.take() {
+        let _ = writeln!(stdin, "quit");
+    }
+    let _ = child.wait();
+    result?;
+    Ok(ee)
+}
+
 /// `alba export interpreter`: the byte-code interpreter's sketch folder for
 /// the board of `--board`/`--pinmap` (no project: any program is downloaded later).
 pub fn interpreter(args: &BoardArgs, out: &Path, build: bool, upload: Option<&str>) -> ExitCode {
@@ -341,12 +385,12 @@ pub fn simulate(
     let work: PathBuf = std::env::temp_dir().join(format!("alba-firmware-{}", std::process::id()));
     let folder = work.join(&s.name);
     let result = (|| -> Result<String, Vec<Diagnostic>> {
-        // The sketch, or the byte-code interpreter with the project's byte code in its EEPROM.
-        let files = if bytecode {
+        // The sketch, or the byte-code interpreter and the project's byte code to download into it.
+        let (files, program) = if bytecode {
             let bc = alba_arduino::bytecode::encode(&prog, &s.name, &t)?;
-            alba_arduino::interp::generate(&t, Some(&bc.bytes))
+            (alba_arduino::interp::generate(&t, None), Some(bc.bytes))
         } else {
-            s.files.clone()
+            (s.files.clone(), None)
         };
         std::fs::create_dir_all(&folder).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
         for (name, text) in &files {
@@ -369,7 +413,13 @@ pub fn simulate(
                 place: c.place,
             })
             .collect();
-        let run = simavr::simulate(
+        // The byte code goes in as `alba download` sends it, to the same firmware on the
+        // emulated board, whose EEPROM the run then starts from.
+        let eeprom = match &program {
+            Some(bytes) => Some(download_emulated(&built.elf, t.model, &folder, bytes)?),
+            None => None,
+        };
+        let run = simavr::simulate_eeprom(
             &built.elf,
             t.model,
             &s.wiring,
@@ -378,6 +428,7 @@ pub fn simulate(
             &rows,
             &cols,
             timing,
+            eeprom.as_deref(),
         )?;
         eprintln!(
             "{} | {} scans in simavr, CPU cycles per scan min {} mean {} max {} ({:.1} µs mean at 16 MHz)",

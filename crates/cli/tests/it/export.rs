@@ -126,9 +126,10 @@ fn export_bytecode_writes_intel_hex_or_bytes_that_decode_to_the_control_program(
     assert!(!d.join("x.hex").exists());
 }
 
-/// SPEC §10.5's interface for issue 19: `alba sim --firmware --bytecode` runs
-/// the byte-code interpreter in simavr with the project's byte code in its
-/// EEPROM, and prints `alba sim`'s trace.
+/// SPEC §10.5's interface for issue 19: `alba sim --firmware --bytecode`
+/// downloads the byte code into the interpreter on the emulated board (with
+/// `alba download`'s protocol, through its serial port), runs it in simavr,
+/// and prints `alba sim`'s trace.
 #[test]
 fn sim_firmware_bytecode_gives_the_simulators_trace() {
     let d = scratch("sim-bytecode");
@@ -149,7 +150,7 @@ fn sim_firmware_bytecode_gives_the_simulators_trace() {
     let engine = alba(&d, &args.iter().map(String::as_str).collect::<Vec<_>>());
     assert!(engine.status.success());
     let mut fw_args: Vec<&str> = args.iter().map(String::as_str).collect();
-    fw_args.extend(["--firmware", "--bytecode", "--board", "mega"]);
+    fw_args.extend(["--firmware", "--bytecode", "--board", "uno"]);
     let fw = alba(&d, &fw_args);
     assert!(fw.status.success(), "{}", String::from_utf8_lossy(&fw.stderr));
     assert_eq!(
