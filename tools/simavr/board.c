@@ -3,10 +3,12 @@
  * board for `alba run --io arduino:PORT` (controller mode, SPEC 7.2).
  *
  *   alba-board FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --tty LINK
- *              --pins D12,D13,D6:pwm [--eeprom FILE]
+ *              --pins D12,D13,D6:pwm [--eeprom FILE] [--hold PIN]
  *
  * With --eeprom, the EEPROM starts from FILE when it exists and is written to
- * it at the end: a power cycle that keeps what the firmware stored.
+ * it at the end: a power cycle that keeps what the firmware stored. With
+ * --hold, that digital input is high from the reset on (a button held at
+ * power-up) until a `set` releases it.
  *
  * LINK becomes a symbolic link to the pty's slave (/dev/pts/N), as udev's
  * /dev/serial/by-id links are; the host opens LINK. The pty is raw (no echo,
@@ -43,6 +45,7 @@ DEFINE_FIFO(uint16_t, uart_fifo);
 
 static const char *tty_link;
 static const char *eeprom_file;
+static const char *hold_pin;
 static int master = -1, slave_keep = -1;
 static avr_uart_t *uart;
 static FILE *ctl;
@@ -217,6 +220,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "-m") && more) mcu = argv[++i];
         else if (!strcmp(a, "--eeprom") && more) eeprom_file = argv[++i];
+        else if (!strcmp(a, "--hold") && more) hold_pin = argv[++i];
         else if (a[0] != '-' && !elf) elf = a;
         else die("unknown argument: ", a);
     }
@@ -262,6 +266,7 @@ int main(int argc, char **argv) {
         }
     }
 
+    if (hold_pin) set_input(parse_pin(hold_pin), 1);
     for (avr_io_t *io = avr->io_port; io; io = io->next)
         if (!strcmp(io->kind, "uart") && ((avr_uart_t *)io)->name == '0') uart = (avr_uart_t *)io;
     if (!uart) die("simavr has no UART0 for this MCU", NULL);

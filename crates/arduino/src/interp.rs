@@ -741,9 +741,34 @@ static void start() {{
     next_us = micros();
 }}
 
+// Lamp test (the 8051 PLC's): the first digital input held at power-up walks the
+// outputs, each on for half a second, echoing `lamp D12` on the serial port, for as
+// long as it is held; then the program starts.
+static void lamp_test() {{
+    uint8_t hold = 0xFF;
+    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind[k] == 0) hold = k;
+    if (hold == 0xFF || digitalRead(w_pin[hold]) != HIGH) return;
+    Serial.println(F("lamp test"));
+    while (digitalRead(w_pin[hold]) == HIGH) {{
+        for (uint8_t k = 0; k < n_wires && digitalRead(w_pin[hold]) == HIGH; k++) {{
+            if (w_kind[k] != 1 && w_kind[k] != 3) continue;
+            Serial.print(w_pin[k] >= A0 ? F("lamp A") : F("lamp D"));
+            Serial.println(w_pin[k] >= A0 ? w_pin[k] - A0 : w_pin[k]);
+            if (w_kind[k] == 1) digitalWrite(w_pin[k], {on}); else analogWrite(w_pin[k], 255);
+            delay(500);
+            if (w_kind[k] == 1) digitalWrite(w_pin[k], {off}); else analogWrite(w_pin[k], 0);
+        }}
+    }}
+    Serial.println(F("lamp test done"));
+}}
+
 void setup() {{
     Serial.begin(115200UL);
     start();
+    if (loaded) {{
+        lamp_test();
+        start();
+    }}
 }}
 
 void loop() {{

@@ -78,7 +78,7 @@ impl Link {
     }
 
     /// One answer line (without its end), waiting at most `wait`.
-    fn answer(&mut self, wait: Duration) -> Result<String, DownloadError> {
+    pub fn answer(&mut self, wait: Duration) -> Result<String, DownloadError> {
         let start = Instant::now();
         let mut line = Vec::new();
         let mut b = [0u8; 1];

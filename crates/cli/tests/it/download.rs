@@ -4,7 +4,7 @@
 //! source's error flags answers a crafted record; ESC in the middle of a
 //! download and a program that fails the board's checks leave the old
 //! program running; a power cycle (the board stopped and started again with
-//! its EEPROM) keeps the program.
+//! its EEPROM) keeps the program; the lamp test walks the outputs.
 
 use crate::{alba, repo, scratch};
 use alba_io::download::Link;
@@ -21,9 +21,14 @@ struct Board {
 
 impl Board {
     fn start(dir: &Path) -> (Board, String) {
+        Board::start_with(dir, &[])
+    }
+
+    fn start_with(dir: &Path, extra: &[&str]) -> (Board, String) {
         let elf = dir.join("alba_interp/build/sketch.elf");
         let mut child = Command::new(dir.join("alba-board"))
             .arg(&elf)
+            .args(extra)
             .args(["-m", "atmega328p", "--tty"])
             .arg(dir.join("link"))
             .args(["--pins", "D12,D13", "--eeprom"])
@@ -39,7 +44,12 @@ impl Board {
         stdout.read_line(&mut ready).expect("ready");
         assert!(ready.starts_with("ready "), "{ready}");
         let link = dir.join("link").to_string_lossy().into_owned();
-        (Board { child, stdin, stdout }, link)
+        let mut b = Board { child, stdin, stdout };
+        // Past the firmware's setup (which reads the lamp-test input) before a test presses anything.
+        while b.cmd("time").trim_start_matches("time ").parse::<u64>().unwrap_or(0) < 300 {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        (b, link)
     }
 
     fn cmd(&mut self, c: &str) -> String {
@@ -150,4 +160,17 @@ fn download_to_the_interpreter_records_flags_esc_and_a_refused_program() {
     board.power_off();
     let (mut board, _) = Board::start(&d);
     assert!(board.motor_starts(), "after a power cycle the program runs");
+    // The lamp test: Start (D2) held at power-up walks the outputs, D12 then D13,
+    // echoing each; released, the program starts.
+    board.power_off();
+    let (mut board, link) = Board::start_with(&d, &["--hold", "D2"]);
+    let mut l = Link::open(&link).expect("link");
+    let mut lines = Vec::new();
+    while lines.len() < 3 {
+        lines.push(l.answer(Duration::from_secs(5)).expect("lamp test line"));
+    }
+    assert_eq!(lines, ["lamp test", "lamp D12", "lamp D13"]);
+    board.cmd("set D2 0");
+    assert_eq!(l.answer(Duration::from_secs(5)).expect("end").trim(), "lamp test done");
+    assert!(board.motor_starts(), "after the lamp test the program runs");
 }
