@@ -2,10 +2,8 @@
 //! project's plant models, in virtual time (docs/pid.md §6).
 
 use alba_diag::{Code, Diagnostic};
-use alba_engine::Engine;
-use alba_engine::autotune::{RelayOptions, relay, rules};
+use alba_engine::autotune::{RelayOptions, rules, tune};
 use alba_ir::Target;
-use alba_model::Value;
 use std::path::Path;
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -43,15 +41,6 @@ pub fn run(a: TuneArgs) -> ExitCode {
         return bad("--cycles must be 2 or more".into());
     }
     let scan_ms = u64::from(c.project.scan_ms());
-    let mut engine = match Engine::new(Arc::new(program)) {
-        Ok(e) => e,
-        Err(e) => return super::fail(format!("internal error: the compiled program does not verify: {e}")),
-    };
-    if let Some(sp) = a.sp
-        && let Ok(Target::Value { place, .. }) = engine.program().layout.resolve(&format!("{}.SP", a.pid))
-    {
-        engine.write(place, Value::Real(sp as f32));
-    }
     let opt = RelayOptions {
         scan_ms,
         amplitude: a.amplitude,
@@ -60,7 +49,7 @@ pub fn run(a: TuneArgs) -> ExitCode {
         until_ms: a.until,
         cycles: a.cycles,
     };
-    let r = match relay(&mut engine, a.pid, opt) {
+    let r = match tune(Arc::new(program), a.pid, a.sp, opt) {
         Ok(r) => r,
         Err(e) => return super::fail(format!("relay experiment: {e}")),
     };

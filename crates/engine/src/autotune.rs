@@ -17,6 +17,24 @@ use crate::engine::Engine;
 use alba_ir::{Place, Target};
 use alba_model::Value;
 
+/// The experiment on a fresh engine of `program` (from its initial state,
+/// its plant models included), the loop's SP first set to `sp` when given:
+/// what `alba tune` and the studio's autotune run.
+pub fn tune(
+    program: std::sync::Arc<alba_ir::Program>,
+    pid: &str,
+    sp: Option<f64>,
+    opt: RelayOptions,
+) -> Result<RelayResult, String> {
+    let mut engine = Engine::new(program).map_err(|e| format!("the program does not verify: {e}"))?;
+    if let Some(sp) = sp
+        && let Ok(Target::Value { place, .. }) = engine.program().layout.resolve(&format!("{pid}.SP"))
+    {
+        engine.write(place, Value::Real(sp as f32));
+    }
+    relay(&mut engine, pid, opt)
+}
+
 /// How to run the experiment.
 #[derive(Debug, Clone, Copy)]
 pub struct RelayOptions {

@@ -6,10 +6,8 @@
 
 use crate::error::{ApiError, ApiResult};
 use crate::state::AppState;
-use alba_engine::Engine;
-use alba_engine::autotune::{RelayOptions, relay, rules};
+use alba_engine::autotune::{RelayOptions, rules, tune};
 use alba_ir::Target;
-use alba_ir::model::Value;
 use axum::Json;
 use axum::extract::{Path, State};
 use serde::Deserialize;
@@ -74,12 +72,6 @@ pub async fn autotune(
     }
     let scan_ms = u64::from(st.scan_ms);
     let result = tokio::task::spawn_blocking(move || {
-        let mut engine = Engine::new(program).map_err(|e| format!("the program does not verify: {e}"))?;
-        if let Some(sp) = r.sp
-            && let Ok(Target::Value { place, .. }) = engine.program().layout.resolve(&format!("{name}.SP"))
-        {
-            engine.write(place, Value::Real(sp as f32));
-        }
         let opt = RelayOptions {
             scan_ms,
             amplitude: r.amplitude,
@@ -88,7 +80,7 @@ pub async fn autotune(
             until_ms: r.until_s * 1000,
             cycles: 4,
         };
-        relay(&mut engine, &name, opt)
+        tune(program, &name, r.sp, opt)
     })
     .await
     .map_err(|e| ApiError::Internal(e.to_string()))?
