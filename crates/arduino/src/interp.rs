@@ -310,19 +310,15 @@ fn cases(cap: Capacity) -> (String, String) {
         }
     }
     let (mut run, mut layout) = (String::new(), String::new());
-    // `pre`: extents of the fields before a variant byte, the largest of the variants
-    // (the checker reads them before it knows the variant).
-    let mut entry = |code: u8, sel: Option<u8>, op: &Op, fields: &[Field], pre: &[u32]| {
+    // (the checker checks the slots before a variant byte with the variant's extents)
+    let mut entry = |code: u8, sel: Option<u8>, op: &Op, fields: &[Field]| {
         let _ = write!(
             layout,
             "    0x{code:02x}, 0x{:02x}, {},",
             sel.unwrap_or(0xFF),
             fields.len()
         );
-        let mut ext = extents(op, fields);
-        for (k, e) in pre.iter().enumerate() {
-            ext[k] = ext[k].max(*e);
-        }
+        let ext = extents(op, fields);
         for (f, ext) in fields.iter().zip(ext) {
             let _ = match f {
                 Field::Slot(area, _) => write!(layout, " {area}, {ext},"),
@@ -338,26 +334,20 @@ fn cases(cap: Capacity) -> (String, String) {
             let Some(b) = runs(op, cap) else { continue };
             let r = reads(fields, 0, 0);
             let _ = writeln!(run, "        case 0x{code:02x}: {{ {r}{b} break; }}");
-            entry(code, None, op, fields, &[]);
+            entry(code, None, op, fields);
             continue;
         }
         // Variants told apart by their first byte field; the fields before it are common.
         let sel = ops[0].1.iter().position(|f| matches!(f, Field::Byte(_))).unwrap_or(0);
         let head = reads(&ops[0].1[..=sel], 0, 0);
         let slots_before = ops[0].1[..sel].iter().filter(|f| matches!(f, Field::Slot(..))).count();
-        let mut pre = vec![0u32; sel];
-        for (op, fields) in &ops {
-            for (k, e) in extents(op, fields).into_iter().take(sel).enumerate() {
-                pre[k] = pre[k].max(e);
-            }
-        }
         let mut rv = String::new();
         for (op, fields) in &ops {
             let Field::Byte(v) = fields[sel] else { continue };
             let Some(b) = runs(op, cap) else { continue };
             let r = reads(&fields[sel + 1..], slots_before, 1);
             let _ = writeln!(rv, "            case {v}: {{ {r}{b} break; }}");
-            entry(code, Some(v), op, fields, &pre);
+            entry(code, Some(v), op, fields);
         }
         let _ = writeln!(
             run,
@@ -468,18 +458,26 @@ static uint8_t check_code() {{
         uint16_t e = entry_of(op, 0, true);
         if (e == 0xFFFF) return 0;
         bool variants = pgm_read_byte(&LAYOUT[e + 1]) != 0xFF;
+        // slots read before the variant byte: checked once the variant's extents are known
+        uint16_t before[2];
+        uint8_t n_before = 0;
         for (uint8_t k = 0; k < pgm_read_byte(&LAYOUT[e + 2]); k++) {{
             uint8_t kind = pgm_read_byte(&LAYOUT[e + 3 + 2 * k]), ext = pgm_read_byte(&LAYOUT[e + 4 + 2 * k]);
             if (kind == 0x80) rd16();
             else if (kind == 0x40) {{
                 uint8_t x = rd8();
                 if (variants) {{
-                    // the variant byte: its own entry (the fields before it are the same)
+                    // the variant byte: its own entry (the fields before it are the same kinds)
                     e = entry_of(op, x, false);
                     if (e == 0xFFFF) return 0;
                     variants = false;
+                    for (uint8_t j = 0; j < n_before; j++) {{
+                        uint8_t a = pgm_read_byte(&LAYOUT[e + 3 + 2 * j]);
+                        if ((uint32_t)before[j] + pgm_read_byte(&LAYOUT[e + 4 + 2 * j]) > N[a]) return 0;
+                    }}
                 }}
-            }} else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
+            }} else if (variants && n_before < 2) before[n_before++] = rd_slot(kind);
+            else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
         }}
     }}
     return p == code_end;

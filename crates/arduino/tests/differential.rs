@@ -381,14 +381,39 @@ fn random_ladder_programs_run_the_same() {
     });
 }
 
+/// The Uno when the case's byte code fits its program slot, else the Mega.
+fn board_for(case: &Case) -> Model {
+    let uno = Target {
+        model: Model::Uno,
+        map: PinMap::preset("aurora").expect("preset"),
+        active_low: false,
+        scan_ms: case.scan_ms as u32,
+        monitor: true,
+        power_up_on: Vec::new(),
+    };
+    let fits = alba_arduino::bytecode::encode(&control_program(&case.prog), &case.name, &uno).is_ok();
+    if fits { Model::Uno } else { Model::Mega }
+}
+
 #[test]
 fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine() {
     if !tools_present() {
         return;
     }
-    for name in ["start-stop", "traffic-light", "star-delta", "tank", "tank-plant"] {
+    // Every example the sketch's differential runs (AWL and nets included), on the Uno
+    // when its byte code fits the Uno's program slot, else on the Mega.
+    for name in [
+        "start-stop",
+        "traffic-light",
+        "star-delta",
+        "tank",
+        "tank-plant",
+        "festo-station",
+        "petri-resource",
+        "state-net-batch",
+    ] {
         let case = example(name);
-        check_as(&case, Model::Uno, None, 6000, case.scan_ms, 5, true);
+        check_as(&case, board_for(&case), None, 6000, case.scan_ms, 5, true);
     }
     check_as(&example("tank"), Model::Mega, None, 3000, 10, 6, true);
     std::thread::scope(|s| {
@@ -397,17 +422,7 @@ fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine(
                 for seed in (1..=12u64).filter(|k| k % 2 == half) {
                     // on the Uno when its byte code fits the Uno's program slot, else on the Mega
                     let case = random_program(seed);
-                    let uno = Target {
-                        model: Model::Uno,
-                        map: PinMap::preset("aurora").expect("preset"),
-                        active_low: false,
-                        scan_ms: 10,
-                        monitor: true,
-                        power_up_on: Vec::new(),
-                    };
-                    let fits = alba_arduino::bytecode::encode(&control_program(&case.prog), &case.name, &uno).is_ok();
-                    let model = if fits { Model::Uno } else { Model::Mega };
-                    check_as(&case, model, None, 3000, 10, seed, true);
+                    check_as(&case, board_for(&case), None, 3000, 10, seed, true);
                 }
             });
         }
