@@ -132,8 +132,8 @@ const S7_CTUD: u8 = 0x3f;
 const S7_RES_C: u8 = 0x40;
 const PID: u8 = 0x41;
 
-const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge];
-const BINS: [BinOp; 10] = [
+pub(crate) const CMPS: [Cmp; 6] = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge];
+pub(crate) const BINS: [BinOp; 10] = [
     BinOp::Add,
     BinOp::Sub,
     BinOp::Mul,
@@ -145,7 +145,7 @@ const BINS: [BinOp; 10] = [
     BinOp::Or,
     BinOp::Xor,
 ];
-const UNS: [UnOp; 19] = [
+pub(crate) const UNS: [UnOp; 19] = [
     UnOp::Mov,
     UnOp::Neg,
     UnOp::Abs,

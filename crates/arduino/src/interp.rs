@@ -15,7 +15,7 @@
 use crate::bytecode::{self, Field};
 use crate::sketch::{self, RUNTIME, Target};
 use alba_ir::op::{AnySlot, MarkerSlot, S7Ctr, S7Tmr};
-use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, Op, Pidt, Tmr, UnOp, Width};
+use alba_ir::{B, BinOp, Ctr, Cvt, D, F, I, L, Op, Pidt, Tmr, Width};
 use alba_model::board::Model;
 use std::fmt::Write as _;
 
@@ -140,7 +140,8 @@ fn templates() -> Vec<Op> {
         out.push(Op::LdM { byte: S, slot });
         out.push(Op::StM { byte: S, slot });
     }
-    for c in [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge] {
+    // every variant in the format's order (bytecode's own tables)
+    for c in bytecode::CMPS {
         out.extend([
             Op::CmpI(c, i0, i1),
             Op::CmpF(c, f0, f1),
@@ -148,20 +149,7 @@ fn templates() -> Vec<Op> {
             Op::CmpD(c, d0, d1),
         ]);
     }
-    let mut bins = vec![
-        BinOp::Add,
-        BinOp::Sub,
-        BinOp::Mul,
-        BinOp::Div,
-        BinOp::Mod,
-        BinOp::Pow,
-        BinOp::Atan2,
-        BinOp::And,
-        BinOp::Or,
-        BinOp::Xor,
-    ];
-    bins.extend([Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Gt, Cmp::Le, Cmp::Ge].map(BinOp::Cmp));
-    for o in bins {
+    for o in bytecode::BINS.into_iter().chain(bytecode::CMPS.map(BinOp::Cmp)) {
         out.extend([
             Op::BinI(o, i0, i1, i2),
             Op::BinF(o, f0, f1, f2),
@@ -169,27 +157,7 @@ fn templates() -> Vec<Op> {
             Op::BinD(o, d0, d1, d2),
         ]);
     }
-    for o in [
-        UnOp::Mov,
-        UnOp::Neg,
-        UnOp::Abs,
-        UnOp::Not,
-        UnOp::Frd,
-        UnOp::Tod,
-        UnOp::Sqrt,
-        UnOp::Ln,
-        UnOp::Log,
-        UnOp::Sin,
-        UnOp::Cos,
-        UnOp::Tan,
-        UnOp::Asin,
-        UnOp::Acos,
-        UnOp::Atan,
-        UnOp::Deg,
-        UnOp::Rad,
-        UnOp::Trunc,
-        UnOp::Round,
-    ] {
+    for o in bytecode::UNS {
         out.extend([
             Op::UnI(o, i0, i1),
             Op::UnF(o, f0, f1),

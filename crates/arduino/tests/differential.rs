@@ -187,14 +187,7 @@ fn check_as(
     seed: u64,
     bytecode: bool,
 ) -> simavr::Profile {
-    let target = Target {
-        model,
-        map: PinMap::preset("aurora").expect("preset"),
-        active_low: false,
-        scan_ms: case.scan_ms as u32,
-        monitor: true,
-        power_up_on: Vec::new(),
-    };
+    let target = aurora(model, case.scan_ms as u32);
     let prog = control_program(&case.prog);
     let sketch = generate(&prog, &case.name, &target).unwrap_or_else(|d| panic!("{}: {d:?}", case.name));
     let kind = if bytecode { "bytecode" } else { "sketch" };
@@ -381,16 +374,21 @@ fn random_ladder_programs_run_the_same() {
     });
 }
 
-/// The Uno when the case's byte code fits its program slot, else the Mega.
-fn board_for(case: &Case) -> Model {
-    let uno = Target {
-        model: Model::Uno,
+/// `model` with the aurora pin map and the monitoring link.
+fn aurora(model: Model, scan_ms: u32) -> Target {
+    Target {
+        model,
         map: PinMap::preset("aurora").expect("preset"),
         active_low: false,
-        scan_ms: case.scan_ms as u32,
+        scan_ms,
         monitor: true,
         power_up_on: Vec::new(),
-    };
+    }
+}
+
+/// The Uno when the case's byte code fits its program slot, else the Mega.
+fn board_for(case: &Case) -> Model {
+    let uno = aurora(Model::Uno, case.scan_ms as u32);
     let fits = alba_arduino::bytecode::encode(&control_program(&case.prog), &case.name, &uno).is_ok();
     if fits { Model::Uno } else { Model::Mega }
 }
@@ -438,14 +436,7 @@ fn the_interpreter_runs_no_damaged_program() {
         return;
     }
     let case = example("start-stop");
-    let target = Target {
-        model: Model::Uno,
-        map: PinMap::preset("aurora").expect("preset"),
-        active_low: false,
-        scan_ms: 10,
-        monitor: true,
-        power_up_on: Vec::new(),
-    };
+    let target = aurora(Model::Uno, 10);
     let prog = control_program(&case.prog);
     let sketch = generate(&prog, &case.name, &target).expect("sketch");
     let good = alba_arduino::bytecode::encode(&prog, &case.name, &target)

@@ -121,21 +121,9 @@ pub fn export(dir: &Path, args: &BoardArgs, out: &Path, build: bool, upload: Opt
         Err(code) => return code,
     };
     let folder = out.join(&s.name);
-    for (name, text) in &s.files {
-        let path = folder.join(name);
-        let written = std::fs::create_dir_all(&folder)
-            .and_then(|()| fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())));
-        if let Err(e) = written {
-            report(
-                &[Diagnostic::unplaced(
-                    Code::Io,
-                    format!("cannot write {}: {e}", path.display()),
-                )],
-                c.files(),
-                false,
-            );
-            return ExitCode::FAILURE;
-        }
+    if let Err(d) = write_folder(&folder, &s.files) {
+        report(&[d], c.files(), false);
+        return ExitCode::FAILURE;
     }
     eprintln!(
         "wrote {} for the {} (scan {} ms), wired:\n{}",
@@ -150,6 +138,24 @@ pub fn export(dir: &Path, args: &BoardArgs, out: &Path, build: bool, upload: Opt
     build_and_upload(&folder.join(&s.files[0].0), t.model, upload)
 }
 
+/// Writes a sketch folder's files atomically.
+fn write_folder(folder: &Path, files: &[(String, String)]) -> Result<(), Diagnostic> {
+    for (name, text) in files {
+        let path = folder.join(name);
+        std::fs::create_dir_all(folder)
+            .and_then(|()| fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())))
+            .map_err(|e| Diagnostic::unplaced(Code::Io, format!("cannot write {}: {e}", path.display())))?;
+    }
+    Ok(())
+}
+
+/// The byte code of `prog` for `t`, or `None` with its refusals reported.
+fn encoded(c: &Compiled, prog: &alba_ir::Program, name: &str, t: &Target) -> Option<alba_arduino::bytecode::Bytecode> {
+    alba_arduino::bytecode::encode(prog, name, t)
+        .map_err(|d| report(&d, c.files(), false))
+        .ok()
+}
+
 /// `alba export bytecode`: the board's checks as for a sketch, then the byte
 /// code, written atomically as Intel HEX (`.hex`) or raw bytes.
 pub fn bytecode(dir: &Path, args: &BoardArgs, out: &Path) -> ExitCode {
@@ -157,12 +163,8 @@ pub fn bytecode(dir: &Path, args: &BoardArgs, out: &Path) -> ExitCode {
         Ok(x) => x,
         Err(code) => return code,
     };
-    let bc = match alba_arduino::bytecode::encode(&prog, &s.name, &t) {
-        Ok(b) => b,
-        Err(d) => {
-            report(&d, c.files(), false);
-            return ExitCode::FAILURE;
-        }
+    let Some(bc) = encoded(&c, &prog, &s.name, &t) else {
+        return ExitCode::FAILURE;
     };
     let hex = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("hex"));
     let bytes = if hex {
@@ -269,21 +271,9 @@ pub fn interpreter(args: &BoardArgs, out: &Path, build: bool, upload: Option<&st
         power_up_on: Vec::new(),
     };
     let folder = out.join("alba_interp");
-    for (name, text) in alba_arduino::interp::generate(&t, None) {
-        let path = folder.join(&name);
-        let written = std::fs::create_dir_all(&folder)
-            .and_then(|()| fsutil::write_atomic(&path, |w| w.write_all(text.as_bytes())));
-        if let Err(e) = written {
-            report(
-                &[Diagnostic::unplaced(
-                    Code::Io,
-                    format!("cannot write {}: {e}", path.display()),
-                )],
-                &files,
-                false,
-            );
-            return ExitCode::FAILURE;
-        }
+    if let Err(d) = write_folder(&folder, &alba_arduino::interp::generate(&t, None)) {
+        report(&[d], &files, false);
+        return ExitCode::FAILURE;
     }
     eprintln!(
         "wrote {} for the {}",
@@ -302,12 +292,8 @@ pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitC
         Ok(x) => x,
         Err(code) => return code,
     };
-    let bc = match alba_arduino::bytecode::encode(&prog, &s.name, &t) {
-        Ok(b) => b,
-        Err(d) => {
-            report(&d, c.files(), false);
-            return ExitCode::FAILURE;
-        }
+    let Some(bc) = encoded(&c, &prog, &s.name, &t) else {
+        return ExitCode::FAILURE;
     };
     let fail = |e: alba_io::download::DownloadError| {
         report(&[Diagnostic::unplaced(Code::Io, e.to_string())], c.files(), false);
