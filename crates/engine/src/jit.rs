@@ -25,6 +25,7 @@ use crate::exec::{self, Code, Stop, X};
 use crate::fault::{FaultCode, Faults};
 use crate::mem::{Mem, Sink};
 use alba_ir::Memory;
+use alba_ir::op::{PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS};
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{AbiParam, InstBuilder, MemFlagsData, SigRef, Signature, Type, Value, types};
 use cranelift_codegen::settings::{self, Configurable};
@@ -101,6 +102,28 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
     let Some(&op) = ops.get(pc as usize) else { return rc };
     let mut sink = Sink { faults, src };
     u32::from(exec::step(op, &mut m, &mut sink, ctx.now, pc as usize, rc != 0))
+}
+
+/// Runs a PID op on behalf of generated code, given the addresses of its
+/// REAL, DINT and BOOL slot ranges (no op lookup, no dispatch: the one call
+/// a PID rung makes).
+extern "C" fn pid_call(ctx: *mut JitCtx, f: *mut f32, i: *mut i32, b: *mut bool, pc: u32, rc: u32) {
+    // SAFETY: as for `fallback`; the three addresses are the op's slot
+    // ranges in the memory `run` borrowed, in bounds after `verify` (which
+    // checks each range's last slot).
+    let ctx = unsafe { &mut *ctx };
+    ctx.flush_faults();
+    let (f, i, b, faults, src) = unsafe {
+        (
+            std::slice::from_raw_parts_mut(f, PID_F_SLOTS as usize),
+            std::slice::from_raw_parts_mut(i, PID_I_SLOTS as usize),
+            std::slice::from_raw_parts_mut(b, PID_B_SLOTS as usize),
+            &mut *ctx.faults,
+            std::slice::from_raw_parts(ctx.src, ctx.n_src),
+        )
+    };
+    let mut sink = Sink { faults, src };
+    crate::pid::pid_on(f, i, b, rc != 0, ctx.now, &mut sink, pc as usize);
 }
 
 /// A shape function: `(ctx, operands, count)` runs `count` consecutive
@@ -296,6 +319,14 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
             out.extend([fo(a), fo(d)]);
             X::MovF(alba_ir::F(0), alba_ir::F(0))
         }
+        X::Pid(p) => {
+            out.extend([fo(p.f), io(p.i), bo(p.b), pc]);
+            X::Pid(alba_ir::Pidt {
+                f: alba_ir::F(0),
+                i: i0,
+                b: b0,
+            })
+        }
         X::MovI(a, d) | X::CopyI(a, d) => {
             out.extend([io(a), io(d)]);
             if matches!(op, X::MovI(..)) {
@@ -367,7 +398,11 @@ impl Jit {
                         fallback_sig.params.push(AbiParam::new(types::I32));
                         fallback_sig.returns.push(AbiParam::new(types::I32));
                         let fallback_sig = fb.import_signature(fallback_sig);
-                        Gen::new(&mut fb, ptr, fallback_sig).emit(&key, stride);
+                        let mut pid_sig = Signature::new(module.isa().default_call_conv());
+                        pid_sig.params.extend([AbiParam::new(ptr); 4]);
+                        pid_sig.params.extend([AbiParam::new(types::I32); 2]);
+                        let pid_sig = fb.import_signature(pid_sig);
+                        Gen::new(&mut fb, ptr, fallback_sig, pid_sig).emit(&key, stride);
                         fb.seal_all_blocks();
                         fb.finalize(module.target_config());
                     }
@@ -488,6 +523,7 @@ struct Gen<'a, 'b> {
     fb: &'a mut FunctionBuilder<'b>,
     ptr: Type,
     fallback_sig: SigRef,
+    pid_sig: SigRef,
     ctx: Value,
     /// Operands of the rung being generated, and the next one to read.
     operands: Variable,
@@ -500,7 +536,7 @@ struct Gen<'a, 'b> {
 }
 
 impl<'a, 'b> Gen<'a, 'b> {
-    fn new(fb: &'a mut FunctionBuilder<'b>, ptr: Type, fallback_sig: SigRef) -> Self {
+    fn new(fb: &'a mut FunctionBuilder<'b>, ptr: Type, fallback_sig: SigRef, pid_sig: SigRef) -> Self {
         let entry = fb.create_block();
         fb.append_block_params_for_function_params(entry);
         fb.switch_to_block(entry);
@@ -515,6 +551,7 @@ impl<'a, 'b> Gen<'a, 'b> {
             fb,
             ptr,
             fallback_sig,
+            pid_sig,
             ctx,
             operands,
             next: 0,
@@ -875,6 +912,17 @@ impl<'a, 'b> Gen<'a, 'b> {
                 let old = self.ld32(d, 0);
                 let v = self.fb.ins().select(rc, v, old);
                 self.st32(d, 0, v);
+            }
+            X::Pid(_) => {
+                // One direct call; the rung condition is unchanged.
+                let (f, i, b) = (self.operand(), self.operand(), self.operand());
+                let pc = self.operand32();
+                let rc = self.rc();
+                let rc32 = self.fb.ins().uextend(types::I32, rc);
+                let call = self.fb.ins().iconst(self.ptr, pid_call as *const () as i64);
+                self.fb
+                    .ins()
+                    .call_indirect(self.pid_sig, call, &[self.ctx, f, i, b, pc, rc32]);
             }
             // `shape` sends everything else to the interpreter.
             _ => {}

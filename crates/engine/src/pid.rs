@@ -101,6 +101,11 @@ pub(crate) fn pid(m: &mut Mem, p: Pidt, rc: bool, now: u32, sink: &mut Sink, pc:
     ) else {
         return;
     };
+    pid_on(f, iv, b, rc, now, sink, pc);
+}
+
+/// [`pid`] on the op's REAL, DINT and BOOL slot ranges.
+pub(crate) fn pid_on(f: &mut [f32], iv: &mut [i32], b: &mut [bool], rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     b[EN] = rc;
     b[DN] = false;
     if !rc {

@@ -1,5 +1,5 @@
-//! The Modbus TCP server: one task per connection on the caller's tokio
-//! runtime, reading the runtime's latest snapshot and sending writes to the
+//! The Modbus TCP server: connections accepted on the caller's tokio
+//! runtime, each then served by a thread of its own, reading the runtime's latest snapshot and sending writes to the
 //! engine thread, which applies them between two scans.
 //!
 //! Nothing here holds a lock the engine thread takes: reads borrow the
@@ -13,13 +13,13 @@ use alba_modbus_proto::mbap::{self, Header, Split};
 use alba_modbus_proto::pdu::{self, Exception, Request};
 use alba_project::config::{IpRange, Modbus, ModbusArea, ModbusTag};
 use alba_runtime::Handle;
+use std::io::{ErrorKind, Read, Write as _};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
-use tokio::io::{AsyncReadExt, AsyncWriteExt};
-use tokio::net::{TcpListener, TcpStream};
+use std::time::Instant;
+use tokio::net::TcpListener;
 use tokio::sync::{Semaphore, watch};
-use tokio::time::Instant;
 
 /// How the server behaves (from `[modbus]`).
 #[derive(Debug, Clone)]
@@ -159,16 +159,24 @@ impl Server {
         map
     }
 
-    /// Accepts connections until `closing` turns true.
+    /// Accepts connections until `closing` turns true. Each connection is
+    /// served by a thread of its own doing blocking reads and writes (the
+    /// design measured fastest: docs/performance.md, "The Modbus TCP server
+    /// under load"); at most `max_connections` of them.
     pub async fn serve(self: Arc<Self>, listener: TcpListener, mut closing: watch::Receiver<bool>) {
         let slots = Arc::new(Semaphore::new(self.settings.max_connections));
+        let open = Arc::new(Open::default());
         loop {
             if *closing.borrow() {
+                open.close_all();
                 return;
             }
             let accepted = tokio::select! {
                 r = listener.accept() => r,
-                _ = closing.changed() => return,
+                _ = closing.changed() => {
+                    open.close_all();
+                    return;
+                }
             };
             let sock = match accepted {
                 Ok((s, peer)) if self.settings.allows(peer.ip()) => s,
@@ -189,21 +197,42 @@ impl Server {
                 drop(sock);
                 continue;
             };
+            let Some((sock, id)) = sock
+                .into_std()
+                .ok()
+                .filter(|s| s.set_nonblocking(false).is_ok())
+                .and_then(|s| open.add(&s).map(|id| (s, id)))
+            else {
+                continue;
+            };
             self.counters.connections.fetch_add(1, Ordering::Relaxed);
             let me = self.clone();
-            let closing = closing.clone();
-            tokio::spawn(async move {
-                me.connection(sock, closing).await;
+            let open2 = open.clone();
+            let spawned = std::thread::Builder::new().name("modbus-conn".into()).spawn(move || {
+                me.connection(sock);
+                open2.remove(id);
                 drop(permit);
             });
+            if spawned.is_err() {
+                open.remove(id);
+            }
         }
     }
 
-    async fn connection(&self, mut sock: TcpStream, mut closing: watch::Receiver<bool>) {
+    /// Serves one connection until the client closes it, sends a frame that
+    /// is not Modbus TCP, stays idle too long or the server closes.
+    fn connection(&self, mut sock: std::net::TcpStream) {
         let _ = sock.set_nodelay(true);
-        let mut buf: Vec<u8> = Vec::with_capacity(8192);
-        let mut out: Vec<u8> = Vec::with_capacity(8192);
+        let _ = sock.set_write_timeout(Some(WRITE_TIMEOUT));
         let idle = self.settings.idle_timeout;
+        // A read returns at the idle timeout at the latest.
+        if sock.set_read_timeout(idle).is_err() {
+            return;
+        }
+        // Frames are at most 260 bytes; whole ones are answered before the next read.
+        let mut buf = [0u8; 4096];
+        let mut filled = 0;
+        let mut out: Vec<u8> = Vec::with_capacity(4096);
         let mut deadline = idle.map(|d| Instant::now() + d);
         let mut cache = None;
         loop {
@@ -211,55 +240,50 @@ impl Server {
             let mut pos = 0;
             let mut invalid = false;
             loop {
-                match mbap::split(&buf[pos..]) {
+                match mbap::split(&buf[pos..filled]) {
                     Split::Incomplete => break,
                     Split::Invalid(_) => {
                         invalid = true;
                         break;
                     }
                     Split::Frame { header, pdu, len } => {
-                        self.request(header, pdu, &mut out, &mut cache).await;
+                        self.request(header, pdu, &mut out, &mut cache);
                         pos += len;
                     }
                 }
             }
             if pos > 0 {
-                buf.drain(..pos);
+                buf.copy_within(pos..filled, 0);
+                filled -= pos;
                 deadline = idle.map(|d| Instant::now() + d);
             }
             if !out.is_empty() {
-                match tokio::time::timeout(WRITE_TIMEOUT, sock.write_all(&out)).await {
-                    Ok(Ok(())) => out.clear(),
-                    _ => return,
+                if sock.write_all(&out).is_err() {
+                    return;
                 }
+                out.clear();
             }
             if invalid {
                 self.counters.invalid.fetch_add(1, Ordering::Relaxed);
                 return;
             }
-            buf.reserve(4096);
-            let sleep = async {
-                match deadline {
-                    Some(d) => tokio::time::sleep_until(d).await,
-                    None => std::future::pending().await,
-                }
-            };
-            tokio::select! {
-                r = sock.read_buf(&mut buf) => match r {
-                    Ok(0) | Err(_) => return,
-                    Ok(_) => {}
-                },
-                () = sleep => {
-                    self.counters.timeouts.fetch_add(1, Ordering::Relaxed);
-                    return;
-                }
-                _ = closing.changed() => return,
+            match sock.read(&mut buf[filled..]) {
+                Ok(0) => return,
+                Ok(n) => filled += n,
+                Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
+                Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+                Err(_) => return,
+            }
+            // Bytes that never make a whole request do not keep it open.
+            if deadline.is_some_and(|d| Instant::now() >= d) {
+                self.counters.timeouts.fetch_add(1, Ordering::Relaxed);
+                return;
             }
         }
     }
 
     /// Answers one request onto `out`.
-    async fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
+    fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
         self.counters.requests.fetch_add(1, Ordering::Relaxed);
         let fc = pdu.first().copied().unwrap_or(0);
         let at = mbap::begin(out, h);
@@ -269,7 +293,7 @@ impl Server {
             // Read-only: refused by its function code, before its data is looked at.
             _ if self.settings.read_only && pdu::is_write_function(fc) => Err(Exception::IllegalFunction),
             _ => match pdu::parse(pdu) {
-                Ok(req) => self.answer(req, out, cache).await,
+                Ok(req) => self.answer(req, out, cache),
                 Err(e) => Err(e),
             },
         };
@@ -283,13 +307,13 @@ impl Server {
     }
 
     /// The data of the reply to `req` (after the function code).
-    async fn answer(&self, req: Request<'_>, out: &mut Vec<u8>, cache: &mut MapCache) -> Result<(), Exception> {
+    fn answer(&self, req: Request<'_>, out: &mut Vec<u8>, cache: &mut MapCache) -> Result<(), Exception> {
         let snap = self.handle.snapshot();
         let map = self.map_for(&snap.program, cache);
         let Plan::Write { writes, then } = plan(req, &map, &snap.memory, &self.scratch, out)? else {
             return Ok(());
         };
-        self.apply(writes).await?;
+        self.apply(writes)?;
         match then {
             Then::Echo(echo) => {
                 out.extend_from_slice(&echo);
@@ -314,7 +338,7 @@ impl Server {
 
     /// Applies checked writes: engine places at the next scan boundary (all
     /// of them at the same one), Modbus-only storage at once.
-    async fn apply(&self, writes: Vec<Write>) -> Result<(), Exception> {
+    fn apply(&self, writes: Vec<Write>) -> Result<(), Exception> {
         let engine: Vec<_> = writes
             .iter()
             .filter_map(|w| match *w {
@@ -323,7 +347,7 @@ impl Server {
             })
             .collect();
         if !engine.is_empty() {
-            self.handle.write_many(engine).await.map_err(|e| match e {
+            self.handle.write_many_blocking(engine).map_err(|e| match e {
                 alba_runtime::Error::Busy => Exception::ServerDeviceBusy,
                 _ => Exception::ServerDeviceFailure,
             })?;
@@ -332,5 +356,35 @@ impl Server {
             self.scratch.apply(w);
         }
         Ok(())
+    }
+}
+
+/// The open connections, so that closing the server closes them (their
+/// threads are blocked in a read).
+#[derive(Default)]
+struct Open {
+    next: AtomicU64,
+    socks: Mutex<Vec<(u64, std::net::TcpStream)>>,
+}
+
+impl Open {
+    fn add(&self, s: &std::net::TcpStream) -> Option<u64> {
+        let id = self.next.fetch_add(1, Ordering::Relaxed);
+        let clone = s.try_clone().ok()?;
+        self.socks.lock().unwrap_or_else(|e| e.into_inner()).push((id, clone));
+        Some(id)
+    }
+
+    fn remove(&self, id: u64) {
+        self.socks
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .retain(|(i, _)| *i != id);
+    }
+
+    fn close_all(&self) {
+        for (_, s) in self.socks.lock().unwrap_or_else(|e| e.into_inner()).drain(..) {
+            let _ = s.shutdown(std::net::Shutdown::Both);
+        }
     }
 }

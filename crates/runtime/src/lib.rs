@@ -306,12 +306,16 @@ impl Handle {
     }
 
     async fn ask(&self, req: Req) -> Result<(), Error> {
+        self.send(req)?.await.map_err(|_| Error::Stopped)?
+    }
+
+    fn send(&self, req: Req) -> Result<oneshot::Receiver<Result<(), Error>>, Error> {
         let (tx, rx) = oneshot::channel();
         self.tx.try_send((req, Some(tx))).map_err(|e| match e {
             mpsc::TrySendError::Full(_) => Error::Busy,
             mpsc::TrySendError::Disconnected(_) => Error::Stopped,
         })?;
-        rx.await.map_err(|_| Error::Stopped)?
+        Ok(rx)
     }
 
     /// A request that must not be lost (shutdown, monitoring counts): waits
@@ -329,6 +333,14 @@ impl Handle {
     /// of them without the others); answers once applied.
     pub async fn write_many(&self, writes: Vec<(Place, Value)>) -> Result<(), Error> {
         self.ask(Req::WriteMany(writes)).await
+    }
+
+    /// [`Handle::write_many`] for a thread outside any async runtime (a
+    /// protocol server's connection thread): blocks until applied.
+    pub fn write_many_blocking(&self, writes: Vec<(Place, Value)>) -> Result<(), Error> {
+        self.send(Req::WriteMany(writes))?
+            .blocking_recv()
+            .map_err(|_| Error::Stopped)?
     }
 
     /// Forces an input or output (the caller checks it is one).
