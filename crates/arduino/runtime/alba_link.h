@@ -127,14 +127,15 @@ static uint8_t alba_link_handle(void) {
     }
 }
 
-// Call between scans: takes the bytes that arrived and answers a complete frame.
-static void alba_link_poll(void) {
-    while (Serial.available() > 0) {
-        int c = Serial.read();
-        if (alba_link_len < sizeof alba_link_frame) alba_link_frame[alba_link_len++] = (uint8_t)c;
-        else alba_link_overflow = true;
-        alba_link_last_us = micros();
-    }
+// A byte of a frame, as it arrives.
+static void alba_link_byte(uint8_t c) {
+    if (alba_link_len < sizeof alba_link_frame) alba_link_frame[alba_link_len++] = c;
+    else alba_link_overflow = true;
+    alba_link_last_us = micros();
+}
+
+// Answers the frame received once 3.5 characters of silence have ended it.
+static void alba_link_end(void) {
     if (alba_link_len == 0 || micros() - alba_link_last_us < alba_link_t35_us) return;
     uint8_t n = alba_link_len;
     // A frame too long for the buffer, for another slave or with a bad CRC
@@ -152,6 +153,12 @@ static void alba_link_poll(void) {
     }
     alba_link_len = 0;
     alba_link_overflow = false;
+}
+
+// Call between scans: takes the bytes that arrived and answers a complete frame.
+static __attribute__((unused)) void alba_link_poll(void) {
+    while (Serial.available() > 0) alba_link_byte((uint8_t)Serial.read());
+    alba_link_end();
 }
 
 #endif

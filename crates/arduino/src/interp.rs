@@ -387,6 +387,7 @@ static uint16_t sys_b[9], sys_i[4];
 static uint8_t n_wires, w_kind[{cw}], w_pin[{cw}];
 static uint16_t w_slot[{cw}];
 static uint16_t p;
+static uint32_t prog_id;
 
 static uint8_t rd8() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)p++); }}
 static __attribute__((noinline)) uint16_t rd16() {{ uint16_t v = rd8(); return v | (uint16_t)rd8() << 8; }}
@@ -473,7 +474,7 @@ static uint8_t load_at(uint16_t base) {{
     if (rd8() != 'A' || rd8() != 'L' || rd8() != 'B' || rd8() != 'C' || rd8() != {version_byte}) return 0;
     wide = rd8();
     rd16();
-    rd32();  // program id
+    prog_id = rd32();
     scan_period = rd16();
     rd16();
     uint32_t len = rd32(), crc = rd32();
@@ -590,23 +591,6 @@ static void record() {{
     Serial.write('\n');
 }}
 
-// Bytes from the serial port, between scans.
-static void serial_poll() {{
-    while (Serial.available()) {{
-        char c = Serial.read();
-        if (c == 0x1B) {{
-            line_len = 0;
-            dl_on = false;
-            Serial.write('A');
-            Serial.write('\n');
-        }} else if (c == '\r' || c == '\n') {{
-            if (line_len) record();
-            line_len = 0;
-        }} else if (line_len < sizeof line) line[line_len++] = c;
-        else line_len = sizeof line;  // too long: answered as not a record at its end
-    }}
-}}
-
 static inline uint8_t alba_duty(int32_t v) {{ return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }}
 
 static void read_inputs() {{
@@ -707,6 +691,91 @@ static void start() {{
     next_us = micros();
 }}
 
+// ---- monitoring link (docs/bytecode.md "Monitoring"): the exported sketch's Modbus RTU
+// slave {slave}, {baud} 8N1, on the same serial port, so `alba run --io board:PORT`
+// attaches to the board. Between frames and lines, a byte that starts neither a record
+// (`:`), a read-back (`R`), ESC nor an end of line starts a link frame.
+#define ALBA_LINK_SLAVE {slave}
+#define ALBA_LINK_BAUD {baud}UL
+#include "alba_link.h"
+
+// Byte `at` of the link's big-endian register file (the I, F and L slots, then the
+// marker bytes), or 0 past its end.
+static uint8_t *mem_byte(uint32_t at) {{
+    uint32_t n = 4UL * N[1];
+    if (at < n) return (uint8_t *)&I[at / 4] + 3 - at % 4;
+    at -= n;
+    n = 4UL * N[2];
+    if (at < n) return (uint8_t *)&F[at / 4] + 3 - at % 4;
+    at -= n;
+    n = 8UL * N[3];
+    if (at < n) return (uint8_t *)&L[at / 8] + 7 - at % 8;
+    at -= n;
+    return at < N[5] ? &M[at] : 0;
+}}
+
+static uint16_t link_regs() {{ return 2 * N[1] + 2 * N[2] + 4 * N[3] + (N[5] + 1) / 2; }}
+
+static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {{
+    if (!loaded) return 4;
+    if (fc != 1 || at >= N[0]) return 2;
+    *v = B[at];
+    return 0;
+}}
+
+static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {{
+    if (!loaded) return 4;
+    if (fc == 4) {{
+        const uint16_t info[12] = {{0x{magic:04X}, 1, N[0], N[1], N[2], N[3], N[5], scan_period,
+            (uint16_t)(prog_id >> 16), (uint16_t)prog_id, (uint16_t)(scans >> 16), (uint16_t)scans}};
+        if (at < 12) *v = info[at];
+        else if (at == 12) *v = major ? 1 : 0;
+        else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);
+        else return 2;
+        return 0;
+    }}
+    if (at >= link_regs()) return 2;
+    uint8_t *hi = mem_byte(2UL * at), *lo = mem_byte(2UL * at + 1);
+    *v = (uint16_t)(hi ? *hi : 0) << 8 | (lo ? *lo : 0);
+    return 0;
+}}
+
+static uint8_t link_write_bits(uint16_t at, uint16_t n, const uint8_t *packed) {{
+    if (!loaded) return 4;
+    if ((uint32_t)at + n > N[0]) return 2;
+    for (uint16_t k = 0; k < n; k++) B[at + k] = (packed[k / 8] >> (k % 8)) & 1;
+    return 0;
+}}
+
+static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {{
+    if (!loaded) return 4;
+    if ((uint32_t)at + n > link_regs()) return 2;
+    for (uint16_t k = 0; k < 2 * n; k++)
+        if (!mem_byte(2UL * at + k)) return 2;
+    for (uint16_t k = 0; k < 2 * n; k++) *mem_byte(2UL * at + k) = be[k];
+    return 0;
+}}
+
+// Bytes from the serial port, between scans: download lines or link frames.
+static void serial_poll() {{
+    while (Serial.available()) {{
+        char c = Serial.read();
+        if (line_len == 0 && (alba_link_len > 0 || (c != ':' && c != 'R' && c != 0x1B && c != '\r' && c != '\n'))) {{
+            alba_link_byte((uint8_t)c);
+        }} else if (c == 0x1B) {{
+            line_len = 0;
+            dl_on = false;
+            Serial.write('A');
+            Serial.write('\n');
+        }} else if (c == '\r' || c == '\n') {{
+            if (line_len) record();
+            line_len = 0;
+        }} else if (line_len < sizeof line) line[line_len++] = c;
+        else line_len = sizeof line;  // too long: answered as not a record at its end
+    }}
+    alba_link_end();
+}}
+
 // Lamp test (the 8051 PLC's): the first digital input held at power-up walks the
 // outputs, each on for half a second, echoing `lamp D12` on the serial port, for as
 // long as it is held; then the program starts.
@@ -729,7 +798,7 @@ static void lamp_test() {{
 }}
 
 void setup() {{
-    Serial.begin(115200UL);
+    Serial.begin(ALBA_LINK_BAUD);
     start();
     if (loaded) {{
         lamp_test();
@@ -783,8 +852,15 @@ void loop() {{
         cw = c.wires,
         on = lvl(true),
         off = lvl(false),
+        slave = sketch::LINK_SLAVE,
+        baud = sketch::LINK_BAUD,
+        magic = sketch::LINK_MAGIC,
     );
-    vec![("alba_interp.ino".into(), ino), ("alba_rt.h".into(), RUNTIME.into())]
+    vec![
+        ("alba_interp.ino".into(), ino),
+        ("alba_rt.h".into(), RUNTIME.into()),
+        ("alba_link.h".into(), sketch::LINK.into()),
+    ]
 }
 
 #[cfg(test)]

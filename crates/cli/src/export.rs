@@ -313,8 +313,13 @@ pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitC
             return fail(e);
         }
     };
+    let retried = match link.retries {
+        0 => String::new(),
+        1 => " (1 record sent again after a line error)".to_string(),
+        n => format!(" ({n} records sent again after line errors)"),
+    };
     eprintln!(
-        "\ndownloaded {} bytes to {port} in {} ms, checksum {sum:04X}: the board runs the new program",
+        "\ndownloaded {} bytes to {port} in {} ms{retried}, checksum {sum:04X}: the board runs the new program",
         bc.bytes.len(),
         started.elapsed().as_millis()
     );

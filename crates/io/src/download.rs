@@ -54,6 +54,8 @@ pub fn flag_meaning(flag: u8) -> &'static str {
 pub struct Link {
     port: Box<dyn serialport::SerialPort>,
     name: String,
+    /// Records sent again after the board refused them (a line error).
+    pub retries: usize,
 }
 
 impl Link {
@@ -68,6 +70,7 @@ impl Link {
         Ok(Link {
             port: p,
             name: port.to_string(),
+            retries: 0,
         })
     }
 
@@ -108,7 +111,10 @@ impl Link {
         let host = bytes.iter().fold(0u16, |s, b| s.wrapping_add(u16::from(*b)));
         for (k, rec) in records.iter().enumerate() {
             let mut why = String::new();
-            for _ in 0..TRIES {
+            for attempt in 0..TRIES {
+                if attempt > 0 {
+                    self.retries += 1;
+                }
                 self.send(format!("{rec}\r\n").as_bytes())?;
                 let a = self.answer(Duration::from_secs(3))?;
                 if a == "K" {

@@ -5,10 +5,12 @@
 //! board's program.
 
 use crate::emu::{self, Emu};
+use crate::proxy::{Fault, Proxy};
 use crate::{place, tmp, value, wait};
 use alba_arduino::sketch::{self, Target};
 use alba_io::arduino::{Config, Counts};
 use alba_io::attach::AttachIo;
+use alba_io::download::Link;
 use alba_model::Value;
 use alba_model::board::{Model, PinMap};
 use alba_runtime::{Options, RunState, Runtime};
@@ -46,6 +48,18 @@ fn options() -> Options {
     o
 }
 
+/// Builds `files` (a sketch folder's files) for the Nano into `dir`.
+fn build(dir: &std::path::Path, files: &[(String, String)]) -> std::path::PathBuf {
+    std::fs::create_dir_all(dir).expect("mkdir");
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).expect("write");
+    }
+    let built = alba_arduino::toolchain::build(&dir.join(&files[0].0), Model::Nano, &dir.join("build"))
+        .unwrap_or_else(|d| panic!("{}", d.message));
+    println!("{}: {}", files[0].0, built.report());
+    built.elf
+}
+
 #[test]
 #[ignore = "needs avr-gcc and simavr: run by test.sh's Arduino step"]
 fn the_studio_watches_and_writes_a_running_board() {
@@ -53,21 +67,55 @@ fn the_studio_watches_and_writes_a_running_board() {
     let dir = tmp("attach");
     let prog = example("start-stop");
     let s = sketch::generate(&sketch::control_program(&prog), "start-stop", &target()).expect("sketch");
-    let src = dir.join(&s.name);
-    std::fs::create_dir_all(&src).expect("mkdir");
-    for (name, text) in &s.files {
-        std::fs::write(src.join(name), text).expect("write");
-    }
-    let built = alba_arduino::toolchain::build(&src.join(&s.files[0].0), Model::Nano, &src.join("build"))
-        .unwrap_or_else(|d| panic!("{}", d.message));
-    println!("start-stop with its monitoring link: {}", built.report());
+    let elf = build(&dir.join(&s.name), &s.files);
     // Motor on D12, Lamp on D13 (aurora); Start on D2, Stop on D3.
     let tty = dir.join("board.tty");
-    let mut board = Emu::run(&emu::board_program(), &built.elf, &tty, "D12,D13");
+    let board = Emu::run(&emu::board_program(), &elf, &tty, "D12,D13");
+    watch_and_write(board, &tty, prog);
+}
 
+/// The same with the byte-code interpreter (issue 19): its firmware, built
+/// once, gets the program by `alba download`'s protocol — over a line that
+/// damages a record now and then, which the board refuses (E04) and the
+/// host sends again — then serves the link on the same serial port.
+#[test]
+#[ignore = "needs avr-gcc and simavr: run by test.sh's Arduino step"]
+fn the_studio_watches_and_writes_a_board_running_byte_code() {
+    let _g = crate::serial();
+    let dir = tmp("attach-bytecode");
+    let prog = example("start-stop");
+    let elf = build(
+        &dir.join("alba_interp"),
+        &alba_arduino::interp::generate(&target(), None),
+    );
+    let tty = dir.join("board.tty");
+    let board = Emu::run(&emu::board_program(), &elf, &tty, "D12,D13");
+    let bc = alba_arduino::bytecode::encode(&prog, "start-stop", &target()).expect("byte code");
+    {
+        let proxy = Proxy::start(&tty, &dir.join("proxy.tty"));
+        proxy.set(Fault::BadRecordSometimes);
+        let mut link = Link::open(&dir.join("proxy.tty").to_string_lossy()).expect("port");
+        let sum = link.download(&bc.bytes, |_, _| {}).expect("download over a noisy line");
+        let host = bc.bytes.iter().fold(0u16, |s, b| s.wrapping_add(u16::from(*b)));
+        assert_eq!(sum, host, "the board's checksum of the download");
+        assert!(link.retries > 0, "no record was damaged and sent again");
+        println!(
+            "download over a line damaging one line in three: {} records sent again",
+            link.retries
+        );
+        proxy.set(Fault::None);
+        assert_eq!(link.read(0, bc.bytes.len()).expect("read-back"), bc.bytes);
+    }
+    watch_and_write(board, &tty, prog);
+}
+
+/// Attach to `board` (running start-stop on the aurora pins): another
+/// program is refused; the mirror follows the pins; a written preset
+/// reaches the board's program; forces are refused.
+fn watch_and_write(mut board: Emu, tty: &std::path::Path, prog: Arc<alba_ir::Program>) {
     // Another program's identity is refused, with the reason.
     let other = example("traffic-light");
-    let io = AttachIo::start(config(&tty), &other, &target()).expect("driver");
+    let io = AttachIo::start(config(tty), &other, &target()).expect("driver");
     let rt = Runtime::start(other, options(), Box::new(io)).expect("runtime");
     let mut rx = rt.handle().subscribe();
     wait("the refusal", 10, || rx.borrow_and_update().state == RunState::Faulted);
@@ -75,7 +123,7 @@ fn the_studio_watches_and_writes_a_running_board() {
     assert!(why.contains("runs another program"), "{why}");
     rt.shutdown();
 
-    let io = AttachIo::start(config(&tty), &prog, &target()).expect("driver");
+    let io = AttachIo::start(config(tty), &prog, &target()).expect("driver");
     let rt = Runtime::start(prog.clone(), options(), Box::new(io)).expect("runtime");
     let h = rt.handle();
     let snap = || h.snapshot();

@@ -25,15 +25,19 @@ pub enum Fault {
     Garbage,
     /// One answer of the board in three damaged.
     BadCrcSometimes,
+    /// One line to the board in three with a hex digit of its data changed
+    /// into another hex digit (an Intel HEX record whose checksum fails).
+    BadRecordSometimes,
 }
 
-const FAULTS: [Fault; 6] = [
+const FAULTS: [Fault; 7] = [
     Fault::None,
     Fault::BadCrc,
     Fault::Truncate,
     Fault::Silence,
     Fault::Garbage,
     Fault::BadCrcSometimes,
+    Fault::BadRecordSometimes,
 ];
 
 pub struct Proxy {
@@ -127,6 +131,12 @@ fn forward(mut from: TTYPort, mut to: TTYPort, answers: bool, fault: &AtomicU8, 
                 if answers && count.is_multiple_of(3) {
                     let last = out.len() - 1;
                     out[last] ^= 0x01;
+                }
+            }
+            Fault::BadRecordSometimes => {
+                // `:LLAAAATTDD…`: the first data digit, 0-9 ↔ A-F stays hex.
+                if !answers && count.is_multiple_of(3) && out.first() == Some(&b':') && out.len() > 11 {
+                    out[9] = if out[9].is_ascii_digit() { b'A' } else { b'0' };
                 }
             }
             Fault::Truncate => out.truncate(out.len() * 2 / 3),
