@@ -140,6 +140,30 @@ impl<'a> Emitter<'a> {
         self.new_cond(format!("{}{}", d.text, frag), r, Shape::Expr)
     }
 
+    /// `a` AND `b` (two circuits in series).
+    pub fn and_cond(&mut self, a: Cond, b: Cond) -> Cond {
+        self.touch(a);
+        self.touch(b);
+        let (da, db) = (self.conds[a].clone(), self.conds[b].clone());
+        match (&da.shape, &db.shape) {
+            (Shape::False, _) => a,
+            (_, Shape::False) => b,
+            (Shape::True, _) => b,
+            (_, Shape::True) => a,
+            _ => {
+                let mut r = da.reads.clone();
+                r.extend(db.reads.iter().cloned());
+                // A leg that is an OR keeps its brackets; series is concatenation.
+                self.new_cond(format!("{}{}", da.text, db.text), r, Shape::Expr)
+            }
+        }
+    }
+
+    /// A comment line (`// text`) at this point of the output.
+    pub fn comment(&mut self, text: &str) {
+        self.slots.push(vec![format!("// {text}")]);
+    }
+
     /// A condition that is just an input instruction, independent of any
     /// rung (the output of a timer: `XIC(T.DN)`).
     pub fn input(&mut self, frag: &str, reads: &[String]) -> Cond {

@@ -28,7 +28,13 @@ impl Names {
     /// The Alba name of a source name, choosing one on first use. The second
     /// value is why it had to change, if it did.
     pub fn alba(&mut self, source: &str) -> (String, Option<String>) {
-        if let Some(n) = self.map.get(source) {
+        self.alba_as(source, source)
+    }
+
+    /// [`Names::alba`] for the name `source` remembered under `key` (a
+    /// scoped name: the same source name in two scopes gets two tags).
+    pub fn alba_as(&mut self, key: &str, source: &str) -> (String, Option<String>) {
+        if let Some(n) = self.map.get(key) {
             return (n.clone(), None);
         }
         let mut why = None;
@@ -66,7 +72,7 @@ impl Names {
             n += 1;
         }
         self.take(&name);
-        self.map.insert(source.to_string(), name.clone());
+        self.map.insert(key.to_string(), name.clone());
         (name, why)
     }
 

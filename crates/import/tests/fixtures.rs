@@ -136,3 +136,10 @@ fn ldmicro_master_relay_is_refused_with_its_place() {
         )
     );
 }
+
+#[test]
+fn plcopen_fixtures_import_and_compile() {
+    let (n, rungs) = run_all("plcopen", Format::Plcopen, None);
+    assert!(n >= 2, "{n} fixtures");
+    assert!(rungs >= 20, "{rungs} rungs");
+}
