@@ -143,3 +143,10 @@ fn plcopen_fixtures_import_and_compile() {
     assert!(n >= 2, "{n} fixtures");
     assert!(rungs >= 20, "{rungs} rungs");
 }
+
+#[test]
+fn l5x_fixtures_import_and_compile() {
+    let (n, rungs) = run_all("l5x", Format::L5x, None);
+    assert!(n >= 2, "{n} fixtures");
+    assert!(rungs >= 8, "{rungs} rungs");
+}
