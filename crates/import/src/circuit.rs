@@ -43,7 +43,10 @@ struct CondData {
 /// The Alba rungs of one source rung or network.
 pub struct Emitter<'a> {
     names: &'a mut Names,
-    slots: Vec<Vec<String>>,
+    slots: Vec<Vec<(String, usize)>>,
+    /// The caller's id of the source construct being converted (see
+    /// [`Emitter::set_origin`]), kept with every line.
+    origin: usize,
     conds: Vec<CondData>,
     writes: Vec<(usize, String)>,
     /// Helper bits added (internal BOOL tags), with what they hold.
@@ -66,6 +69,7 @@ impl<'a> Emitter<'a> {
         Emitter {
             names,
             slots: Vec::new(),
+            origin: 0,
             conds: Vec::new(),
             writes: Vec::new(),
             helpers: Vec::new(),
@@ -120,7 +124,8 @@ impl<'a> Emitter<'a> {
         let text = format!("{}OTE({helper})", d.text);
         let what = format!("the condition `{}`", d.text);
         let slot = d.slot;
-        self.slots[slot].push(text);
+        let origin = self.origin;
+        self.slots[slot].push((text, origin));
         self.helpers.push((helper.clone(), what));
         let d = &mut self.conds[c];
         d.text = format!("XIC({helper})");
@@ -161,7 +166,7 @@ impl<'a> Emitter<'a> {
 
     /// A comment line (`// text`) at this point of the output.
     pub fn comment(&mut self, text: &str) {
-        self.slots.push(vec![format!("// {text}")]);
+        self.slots.push(vec![(format!("// {text}"), self.origin)]);
     }
 
     /// A condition that is just an input instruction, independent of any
@@ -243,14 +248,24 @@ impl<'a> Emitter<'a> {
     pub fn emit(&mut self, c: Cond, prefix: &str, instr: &str, writes: &[String]) {
         let text = format!("{prefix}{}{instr}", self.text(c));
         let slot = self.slots.len();
-        self.slots.push(vec![text]);
+        self.slots.push(vec![(text, self.origin)]);
         for w in writes {
             self.writes.push((slot, base(w)));
         }
     }
 
+    /// The id of the source construct the next lines come from.
+    pub fn set_origin(&mut self, origin: usize) {
+        self.origin = origin;
+    }
+
     /// The rungs, in order.
     pub fn finish(self) -> Vec<String> {
+        self.slots.into_iter().flatten().map(|(t, _)| t).collect()
+    }
+
+    /// The rungs, in order, each with the origin it was written for.
+    pub fn finish_with_origins(self) -> Vec<(String, usize)> {
         self.slots.into_iter().flatten().collect()
     }
 }

@@ -696,7 +696,14 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             );
             continue;
         }
-        let mut text_out = String::new();
+        let mut fname = format!("{}.lad", sanitize(pname));
+        let mut n = 2;
+        while files.iter().any(|f| f.eq_ignore_ascii_case(&fname)) {
+            fname = format!("{}_{n}.lad", sanitize(pname));
+            n += 1;
+        }
+        files.push(fname.clone());
+        let mut prog = ProgramOut::new(fname);
         let rungs: Vec<&Elem> = r
             .child("RLLContent")
             .map(|c| c.all("Rung").collect())
@@ -707,9 +714,9 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             for line in cdata(rung.child("Comment")).lines() {
                 let l = line.trim_end();
                 if l.is_empty() {
-                    text_out.push_str("//\n");
+                    prog.line("//", None);
                 } else {
-                    text_out.push_str(&format!("// {l}\n"));
+                    prog.line(&format!("// {l}"), None);
                 }
             }
             if rung.attr("Type").is_some_and(|t| t != "N") {
@@ -730,27 +737,19 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 Ok(t) => {
                     let t = t.trim().to_string();
                     let t = if t.ends_with(';') { t } else { format!("{t};") };
-                    text_out.push_str(&t);
-                    text_out.push('\n');
+                    prog.line(&t, Some(&tloc));
                 }
                 Err(why) => {
                     conv.report
-                        .push(Kind::Refused, tloc, format!("rung {num} of `{pname}`: {why}"));
-                    text_out.push_str(&format!("// REFUSED by alba import: rung {num}: {one_line} ({why})\n"));
+                        .push(Kind::Refused, tloc.clone(), format!("rung {num} of `{pname}`: {why}"));
+                    prog.line(
+                        &format!("// REFUSED by alba import: rung {num}: {one_line} ({why})"),
+                        Some(&tloc),
+                    );
                 }
             }
         }
-        let mut fname = format!("{}.lad", sanitize(pname));
-        let mut n = 2;
-        while files.iter().any(|f| f.eq_ignore_ascii_case(&fname)) {
-            fname = format!("{}_{n}.lad", sanitize(pname));
-            n += 1;
-        }
-        files.push(fname.clone());
-        outs.push(ProgramOut {
-            file: fname,
-            text: text_out,
-        });
+        outs.push(prog);
     }
     if outs.is_empty() {
         return Err(Error::at(

@@ -1424,7 +1424,7 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
     };
 
     // The rungs.
-    let mut out = String::new();
+    let mut prog = ProgramOut::new("main.lad".into());
     let mut pending: Vec<String> = Vec::new();
     for r in &parsed.rungs {
         let comments: Vec<&String> = r
@@ -1469,11 +1469,14 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
                     continue;
                 }
                 for p in pending.drain(..) {
-                    out.push_str(&comment_line(&p));
+                    prog.line(&comment_line(&p), None);
                 }
                 for rung in rungs {
-                    out.push_str(&rung);
-                    out.push_str(";\n");
+                    if rung.starts_with("//") {
+                        prog.line(&rung, Some(&r.loc));
+                    } else {
+                        prog.line(&format!("{rung};"), Some(&r.loc));
+                    }
                 }
             }
             Err((loc, why)) => {
@@ -1483,17 +1486,20 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
                     format!("{why}: the rung of line {} is left out", r.loc.line),
                 );
                 for p in pending.drain(..) {
-                    out.push_str(&comment_line(&p));
+                    prog.line(&comment_line(&p), None);
                 }
-                out.push_str(&format!(
-                    "// REFUSED by alba import: the LDmicro rung of {}:{} ({why})\n",
-                    conv.file, r.loc.line
-                ));
+                prog.line(
+                    &format!(
+                        "// REFUSED by alba import: the LDmicro rung of {}:{} ({why})",
+                        conv.file, r.loc.line
+                    ),
+                    Some(&r.loc),
+                );
             }
         }
     }
     for p in pending.drain(..) {
-        out.push_str(&comment_line(&p));
+        prog.line(&comment_line(&p), None);
     }
 
     // The other tags, in order of first use.
@@ -1549,10 +1555,7 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
         scan_ms: u32::try_from(scan_ms).unwrap_or(10),
         board,
         tags,
-        programs: vec![ProgramOut {
-            file: "main.lad".into(),
-            text: out,
-        }],
+        programs: vec![prog],
     };
     let mut report = conv.report;
     report.entries.sort_by_key(|e| (e.location.line, e.location.col));
@@ -1561,9 +1564,9 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
 
 fn comment_line(c: &str) -> String {
     if c.is_empty() {
-        "//\n".to_string()
+        "//".to_string()
     } else {
-        format!("// {c}\n")
+        format!("// {c}")
     }
 }
 

@@ -259,6 +259,34 @@ pub struct ProgramOut {
     /// Relative to the project folder (`main.lad`).
     pub file: String,
     pub text: String,
+    /// Where the lines come from: (line index from 0, place in the source).
+    pub origins: Vec<(usize, Location)>,
+    lines: usize,
+}
+
+impl ProgramOut {
+    pub(crate) fn new(file: String) -> ProgramOut {
+        ProgramOut {
+            file,
+            text: String::new(),
+            origins: Vec::new(),
+            lines: 0,
+        }
+    }
+
+    /// Appends one line (a rung or a `//` comment) from `origin`.
+    pub(crate) fn line(&mut self, text: &str, origin: Option<&Location>) {
+        if let Some(o) = origin {
+            self.origins.push((self.lines, o.clone()));
+        }
+        self.lines += 1;
+        self.text.push_str(text);
+        self.text.push('\n');
+    }
+
+    fn origin(&self, line: usize) -> Option<&Location> {
+        self.origins.iter().find(|(l, _)| *l == line).map(|(_, o)| o)
+    }
 }
 
 /// The `[board]` table of alba.toml: the model and every direction's pins.
@@ -414,10 +442,112 @@ pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Rep
     if project.description.is_empty() {
         project.description = format!("imported from {file} ({}) by alba import", format.title());
     }
+    check(&mut project, &mut report, &file)?;
     report.format = Some(format);
     report.tags = project.tags.len();
     report.rungs = project.programs.iter().map(|p| count_rungs(&p.text)).sum();
     Ok((project, report))
+}
+
+/// Checks the converted project with Alba's own compiler, as `alba check`
+/// does. A rung Alba refuses (an instruction or operand the conversion could
+/// not judge, literals that clash across programs …) is turned into a
+/// comment and reported as refused at its place in the source; a tag whose
+/// initial value or address is refused loses it (approximated). Repeated
+/// until the project checks.
+fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), Error> {
+    let whole = Location::new(file, 1, 1);
+    for round in 0..16 {
+        let stamp = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0);
+        let tmp = std::env::temp_dir().join(format!("alba-import-check-{}-{stamp}-{round}", std::process::id()));
+        let staged = stage(project, &tmp);
+        let compiled = staged.map(|()| alba_compiler::compile_dir(&tmp));
+        let _ = fs::remove_dir_all(&tmp);
+        let c = compiled.map_err(|e| Error::plain(format!("cannot check the converted project: {e}")))?;
+        if c.diagnostics.is_empty() {
+            return Ok(());
+        }
+        let files = c.files();
+        let mut rungs: Vec<(usize, usize, String)> = Vec::new();
+        let mut tag_rows: Vec<(usize, String)> = Vec::new();
+        for d in &c.diagnostics {
+            let msg = format!("error[{}]: {}", d.code, d.message);
+            let Some(l) = &d.primary else {
+                return Err(Error::plain(format!("the converted project does not check: {msg}")));
+            };
+            let name = files.name(l.span.file).replace('\\', "/");
+            let (line, _) = files.line_col(l.span.file, l.span.start as usize);
+            let line = line.saturating_sub(1);
+            let is = |f: &str| name == f || name.ends_with(&format!("/{f}"));
+            if let Some(pi) = project.programs.iter().position(|p| is(&p.file)) {
+                rungs.push((pi, line, msg));
+            } else if is("tags.csv") && line >= 1 {
+                tag_rows.push((line - 1, msg));
+            } else {
+                return Err(Error::plain(format!(
+                    "the converted project does not check: {}",
+                    d.short(files)
+                )));
+            }
+        }
+        let mut changed = false;
+        rungs.sort();
+        rungs.dedup_by(|a, b| a.0 == b.0 && a.1 == b.1);
+        for (pi, line, msg) in rungs {
+            let p = &mut project.programs[pi];
+            let mut lines: Vec<String> = p.text.lines().map(str::to_string).collect();
+            let Some(text) = lines.get(line).cloned() else { continue };
+            if text.trim_start().starts_with("//") {
+                continue;
+            }
+            let loc = p.origin(line).cloned().unwrap_or_else(|| whole.clone());
+            report.push(
+                Kind::Refused,
+                loc,
+                format!("`{}` does not check in Alba ({msg}); left out", text.trim()),
+            );
+            lines[line] = format!("// REFUSED by alba import: {} ({msg})", text.trim());
+            p.text = lines.join("\n") + "\n";
+            changed = true;
+        }
+        tag_rows.sort();
+        tag_rows.dedup_by(|a, b| a.0 == b.0);
+        for (row, msg) in tag_rows.into_iter().rev() {
+            let Some(t) = project.tags.get_mut(row) else { continue };
+            if !t.initial.is_empty() {
+                report.push(
+                    Kind::Approximated,
+                    whole.clone(),
+                    format!("tag `{}`: initial value `{}` dropped ({msg})", t.name, t.initial),
+                );
+                t.initial.clear();
+            } else if !t.address.is_empty() {
+                report.push(
+                    Kind::Approximated,
+                    whole.clone(),
+                    format!("tag `{}`: address `{}` dropped ({msg})", t.name, t.address),
+                );
+                t.address.clear();
+            } else {
+                report.push(
+                    Kind::Refused,
+                    whole.clone(),
+                    format!("tag `{}` left out ({msg})", t.name),
+                );
+                project.tags.remove(row);
+            }
+            changed = true;
+        }
+        if !changed {
+            break;
+        }
+    }
+    Err(Error::plain(
+        "the converted project does not check, even without the rungs Alba refuses",
+    ))
 }
 
 /// Rungs of a generated ladder text (each ends with `;` on its own line end).

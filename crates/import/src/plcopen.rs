@@ -51,7 +51,11 @@ impl Ctx<'_> {
 }
 
 pub(crate) fn xml_error(ctx: &Ctx<'_>, e: xml::XmlError) -> Error {
-    Error::at(ctx.loc_at(e.offset), format!("not well-formed XML: {}", e.message))
+    if e.limit {
+        Error::at(ctx.loc_at(e.offset), format!("refused: {}", e.message))
+    } else {
+        Error::at(ctx.loc_at(e.offset), format!("not well-formed XML: {}", e.message))
+    }
 }
 
 /// What a variable is in Alba.
@@ -1011,7 +1015,8 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             }
         }
         let mut names = std::mem::take(&mut conv.names);
-        let mut lines: Vec<String> = Vec::new();
+        let mut lines: Vec<(String, usize)> = Vec::new();
+        let mut origins: Vec<Location> = Vec::new();
         let mut refusals: Vec<(Location, String)> = Vec::new();
         {
             let mut body = Body {
@@ -1027,6 +1032,8 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 notes: Vec::new(),
             };
             for s in &sinks {
+                origins.push(conv.ctx.loc(s));
+                body.e.set_origin(origins.len() - 1);
                 if s.name == "comment" {
                     let t = collect_text(s);
                     for l in t.lines() {
@@ -1077,25 +1084,23 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     description: format!("alba import: {what}"),
                 });
             }
-            lines.extend(body.e.finish());
+            lines.extend(body.e.finish_with_origins());
         }
         conv.names = names;
         for (l, m) in refusals {
             conv.report.push(Kind::Refused, l, m);
         }
-        let mut out = String::new();
-        for l in lines {
-            out.push_str(&l);
-            if !l.starts_with("//") {
-                out.push(';');
-            }
-            out.push('\n');
-        }
         let file_name = format!("{}.lad", sanitize_file(&pname));
-        programs.push(ProgramOut {
-            file: file_name,
-            text: out,
-        });
+        let mut prog = ProgramOut::new(file_name);
+        for (l, o) in lines {
+            let origin = origins.get(o);
+            if l.starts_with("//") {
+                prog.line(&l, origin);
+            } else {
+                prog.line(&format!("{l};"), origin);
+            }
+        }
+        programs.push(prog);
     }
     if programs.is_empty() {
         let why = if refused_programs.is_empty() {

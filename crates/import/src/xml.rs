@@ -28,8 +28,6 @@ pub struct Elem {
     pub text_range: Option<(usize, usize)>,
     /// Start of `<`.
     pub start: usize,
-    /// End of the start tag (`>`).
-    pub start_end: usize,
     /// End of the end tag (or of the empty tag).
     pub end: usize,
 }
@@ -91,7 +89,6 @@ fn open(e: &quick_xml::events::BytesStart, start: usize, end: usize) -> Result<E
         text: String::new(),
         text_range: None,
         start,
-        start_end: end,
         end,
     })
 }
