@@ -251,9 +251,8 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                 return Err(XmlError {
                     limit: true,
                     offset: before,
-                    message:
-                        "a document type declaration (<!DOCTYPE>): refused, as its entities could expand without bound"
-                            .into(),
+                    message: "a document type declaration (<!DOCTYPE>), whose entities could expand without bound"
+                        .into(),
                 });
             }
             Event::Decl(_) | Event::PI(_) | Event::Comment(_) => {}
