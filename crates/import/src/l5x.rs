@@ -498,25 +498,25 @@ fn fill_presets(text: &str, scope: &HashMap<String, Sym>) -> String {
         out.push_str(head);
         out.push('(');
         rest = &rest[pos + 1..];
-        if matches!(up.as_str(), "TON" | "TOF" | "RTO" | "TP" | "CTU" | "CTD") {
-            if let Some(end) = rest.find(')') {
-                let args: Vec<&str> = rest[..end].split(',').collect();
-                if args.len() == 3 {
-                    if let Some((pre, acc)) = by_alba.get(&args[0].trim().to_ascii_lowercase()) {
-                        let p = if args[1].trim() == "?" {
-                            pre.to_string()
-                        } else {
-                            args[1].to_string()
-                        };
-                        let a = if args[2].trim() == "?" {
-                            acc.to_string()
-                        } else {
-                            args[2].to_string()
-                        };
-                        out.push_str(&format!("{},{p},{a})", args[0]));
-                        rest = &rest[end + 1..];
-                    }
-                }
+        if matches!(up.as_str(), "TON" | "TOF" | "RTO" | "TP" | "CTU" | "CTD")
+            && let Some(end) = rest.find(')')
+        {
+            let args: Vec<&str> = rest[..end].split(',').collect();
+            if args.len() == 3
+                && let Some((pre, acc)) = by_alba.get(&args[0].trim().to_ascii_lowercase())
+            {
+                let p = if args[1].trim() == "?" {
+                    pre.to_string()
+                } else {
+                    args[1].to_string()
+                };
+                let a = if args[2].trim() == "?" {
+                    acc.to_string()
+                } else {
+                    args[2].to_string()
+                };
+                out.push_str(&format!("{},{p},{a})", args[0]));
+                rest = &rest[end + 1..];
             }
         }
     }

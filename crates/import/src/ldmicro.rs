@@ -1151,7 +1151,7 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
         None => (10_000, Location::new(file, 1, 1)),
     };
     let scan_ms = (cycle_us / 1000).clamp(1, 60_000);
-    if cycle_us % 1000 != 0 || cycle_us < 1000 || cycle_us > 60_000_000 {
+    if cycle_us % 1000 != 0 || !(1000..=60_000_000).contains(&cycle_us) {
         report.push(
             Kind::Approximated,
             cycle_loc.clone(),

@@ -236,15 +236,13 @@ impl Conv<'_> {
                 self.report
                     .push(Kind::Approximated, loc.clone(), format!("{why}: tag `{alba}`"));
             }
-            if approx {
-                if let VarKind::Tag(a) = &kind {
-                    let t = ty.map(|t| t.name.as_str()).unwrap_or("");
-                    self.report.push(
-                        Kind::Approximated,
-                        loc.clone(),
-                        format!("`{name}`: the unsigned {t} is held in a signed {a}"),
-                    );
-                }
+            if approx && let VarKind::Tag(a) = &kind {
+                let t = ty.map(|t| t.name.as_str()).unwrap_or("");
+                self.report.push(
+                    Kind::Approximated,
+                    loc.clone(),
+                    format!("`{name}`: the unsigned {t} is held in a signed {a}"),
+                );
             }
             let mut address = v.attr("address").unwrap_or("").trim().to_string();
             let ty_name = match &kind {
@@ -389,18 +387,18 @@ impl Body<'_, '_> {
                 VarKind::Refused(why) => Err(format!("variable `{t}` was refused ({why})")),
             };
         }
-        if let Some((inst, member)) = t.split_once('.') {
-            if let Some(v) = self.var(inst) {
-                let m = member.to_ascii_uppercase();
-                return match (&v.kind, m.as_str()) {
-                    (VarKind::Timer, "Q") => Ok((format!("{}.DN", v.alba), true)),
-                    (VarKind::Timer, "ET") => Ok((format!("{}.ACC", v.alba), false)),
-                    (VarKind::Timer, "PT") => Ok((format!("{}.PRE", v.alba), false)),
-                    (VarKind::Counter, "CV") => Ok((format!("{}.ACC", v.alba), false)),
-                    (VarKind::Counter, "PV") => Ok((format!("{}.PRE", v.alba), false)),
-                    _ => Err(format!("`{t}` has no Alba equivalent")),
-                };
-            }
+        if let Some((inst, member)) = t.split_once('.')
+            && let Some(v) = self.var(inst)
+        {
+            let m = member.to_ascii_uppercase();
+            return match (&v.kind, m.as_str()) {
+                (VarKind::Timer, "Q") => Ok((format!("{}.DN", v.alba), true)),
+                (VarKind::Timer, "ET") => Ok((format!("{}.ACC", v.alba), false)),
+                (VarKind::Timer, "PT") => Ok((format!("{}.PRE", v.alba), false)),
+                (VarKind::Counter, "CV") => Ok((format!("{}.ACC", v.alba), false)),
+                (VarKind::Counter, "PV") => Ok((format!("{}.PRE", v.alba), false)),
+                _ => Err(format!("`{t}` has no Alba equivalent")),
+            };
         }
         match t.to_ascii_uppercase().as_str() {
             "TRUE" => return Ok(("1".into(), true)),
@@ -686,11 +684,11 @@ impl Body<'_, '_> {
                         self.e.emit(ld, "", &format!("MOV({pv},{c}.ACC)"), w);
                     }
                 }
-                if ty == "CTU" || ty == "CTUD" {
-                    if let Some(r) = block_input(b, "R") {
-                        let r = self.power_in(&r)?;
-                        self.e.emit(r, "", &format!("MOV(0,{c}.ACC)"), w);
-                    }
+                if (ty == "CTU" || ty == "CTUD")
+                    && let Some(r) = block_input(b, "R")
+                {
+                    let r = self.power_in(&r)?;
+                    self.e.emit(r, "", &format!("MOV(0,{c}.ACC)"), w);
                 }
                 Ok(())
             }
@@ -864,10 +862,9 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         if let Some(p) = pous
             .iter()
             .find(|p| p.attr("name").map(str::to_ascii_lowercase).as_deref() == Some(i))
+            && !ordered.iter().any(|o| std::ptr::eq(*o, *p))
         {
-            if !ordered.iter().any(|o| std::ptr::eq(*o, *p)) {
-                ordered.push(p);
-            }
+            ordered.push(p);
         }
     }
     for p in &pous {
@@ -957,13 +954,13 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         }
         let mut elems: HashMap<String, &Elem> = HashMap::new();
         for el in &ld.children {
-            if let Some(id) = el.attr("localId") {
-                if elems.insert(id.to_string(), el).is_some() {
-                    return Err(Error::at(
-                        conv.ctx.loc(el),
-                        format!("localId {id} is used twice in `{pname}`"),
-                    ));
-                }
+            if let Some(id) = el.attr("localId")
+                && elems.insert(id.to_string(), el).is_some()
+            {
+                return Err(Error::at(
+                    conv.ctx.loc(el),
+                    format!("localId {id} is used twice in `{pname}`"),
+                ));
             }
         }
         // Sinks in execution order, else top to bottom, left to right.
