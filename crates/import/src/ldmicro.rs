@@ -1312,18 +1312,34 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
             io_names.push((n.as_str(), 0, loc));
         }
     }
+    let dir_of = |src: &str| match (src.chars().next(), uses.get(src)) {
+        (Some('X'), Some(Use::Bit)) => Some(Dir::DigitalIn),
+        (Some('Y'), Some(Use::Bit)) => Some(Dir::DigitalOut),
+        (Some('A'), Some(Use::Int)) => Some(Dir::AnalogIn),
+        (Some('P'), Some(Use::Int)) => Some(Dir::AnalogOut),
+        _ => None,
+    };
+    // Pins claimed by their own I/O (the first one naming a pin owns it), so
+    // that an I/O moved elsewhere never takes a pin a later one needs.
+    let mut owner: HashMap<String, String> = HashMap::new();
+    if let Some(model) = model {
+        for (src, pin, _) in &io_names {
+            if let (Some(dir), Some(p)) = (dir_of(src), arduino_pin(micro, *pin)) {
+                if model.refuses(p, dir).is_none() {
+                    owner.entry(p.to_string()).or_insert_with(|| (*src).to_string());
+                }
+            }
+        }
+    }
     let mut done: Vec<String> = Vec::new();
     for (src, pin, loc) in &io_names {
         if done.iter().any(|d| d == src) {
             continue;
         }
         done.push((*src).to_string());
-        let dir = match (src.chars().next(), uses.get(*src)) {
-            (Some('X'), Some(Use::Bit)) => Dir::DigitalIn,
-            (Some('Y'), Some(Use::Bit)) => Dir::DigitalOut,
-            (Some('A'), Some(Use::Int)) => Dir::AnalogIn,
-            (Some('P'), Some(Use::Int)) => Dir::AnalogOut,
-            _ => {
+        let dir = match dir_of(src) {
+            Some(d) => d,
+            None => {
                 report.push(
                     Kind::Approximated,
                     loc.clone(),
@@ -1349,8 +1365,9 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
         if let Some(model) = model {
             let from_source = arduino_pin(micro, *pin);
             let fits = |p: Pin, used: &[Pin]| model.refuses(p, dir).is_none() && !used.contains(&p);
+            let own = |p: Pin| owner.get(&p.to_string()).is_some_and(|o| o == src);
             let chosen = match from_source {
-                Some(p) if fits(p, &used_pins) => {
+                Some(p) if fits(p, &used_pins) && own(p) => {
                     report.push(
                         Kind::Converted,
                         loc.clone(),
@@ -1368,7 +1385,7 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
                         .iter()
                         .copied()
                         .chain(all_pins(model))
-                        .filter(|p| fits(*p, &used_pins))
+                        .filter(|p| fits(*p, &used_pins) && !owner.contains_key(&p.to_string()))
                         .collect();
                     let Some(&p) = cands.first() else {
                         return Err(Error::at(

@@ -423,3 +423,13 @@ fn variable_delay() {
 fn stm32_leds_0_1_with_init() {
     differential("test-leds.ld", 2000);
 }
+
+#[test]
+fn hand_made_uno_program() {
+    differential("uno-pins.ld", 3000);
+}
+
+#[test]
+fn hand_made_mega_program() {
+    differential("mega-pins.ld", 2000);
+}
