@@ -1324,10 +1324,10 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
     let mut owner: HashMap<String, String> = HashMap::new();
     if let Some(model) = model {
         for (src, pin, _) in &io_names {
-            if let (Some(dir), Some(p)) = (dir_of(src), arduino_pin(micro, *pin)) {
-                if model.refuses(p, dir).is_none() {
-                    owner.entry(p.to_string()).or_insert_with(|| (*src).to_string());
-                }
+            if let (Some(dir), Some(p)) = (dir_of(src), arduino_pin(micro, *pin))
+                && model.refuses(p, dir).is_none()
+            {
+                owner.entry(p.to_string()).or_insert_with(|| (*src).to_string());
             }
         }
     }
