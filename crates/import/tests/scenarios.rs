@@ -5,7 +5,6 @@
 
 use alba_import::Options;
 use std::collections::HashMap;
-use std::fs;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -76,8 +75,8 @@ fn l5x_conveyor_equals_the_native_program() {
             x ^= x << 17;
             // Stop (NC) is mostly closed; the others change now and then.
             let new = if i == 1 {
-                u64::from(x % 50 != 0)
-            } else if x % 9 == 0 {
+                u64::from(!x.is_multiple_of(50))
+            } else if x.is_multiple_of(9) {
                 1 - (*v % 2)
             } else {
                 *v % 2
