@@ -52,7 +52,11 @@ pub struct Emitter<'a> {
     /// Helper bits added (internal BOOL tags), with what they hold.
     pub helpers: Vec<(String, String)>,
     helper_base: &'static str,
+    bytes: usize,
 }
+
+/// Longest condition text kept inline (see [`Emitter::new_cond`]).
+const MAX_COND_TEXT: usize = 2048;
 
 /// The tag a written operand belongs to (`T.DN` → `t`).
 pub fn base(operand: &str) -> String {
@@ -74,6 +78,7 @@ impl<'a> Emitter<'a> {
             writes: Vec::new(),
             helpers: Vec::new(),
             helper_base,
+            bytes: 0,
         }
     }
 
@@ -84,6 +89,24 @@ impl<'a> Emitter<'a> {
     fn new_cond(&mut self, text: String, reads: BTreeSet<String>, shape: Shape) -> Cond {
         let slot = self.slots.len();
         self.slots.push(Vec::new());
+        if shape == Shape::Expr && text.len() > MAX_COND_TEXT {
+            // A long condition (deeply shared branches double it at every
+            // level) is stored once in a helper bit, so texts stay bounded.
+            let helper = self.names.fresh(self.helper_base);
+            let line = format!("{text}OTE({helper})");
+            self.bytes += line.len();
+            let origin = self.origin;
+            self.slots[slot].push((line, origin));
+            self.helpers.push((helper.clone(), "a long condition".into()));
+            self.conds.push(CondData {
+                text: format!("XIC({helper})"),
+                reads: [helper.to_ascii_lowercase()].into_iter().collect(),
+                slot,
+                shape,
+                settled: true,
+            });
+            return self.conds.len() - 1;
+        }
         self.conds.push(CondData {
             text,
             reads,
@@ -92,6 +115,11 @@ impl<'a> Emitter<'a> {
             settled: false,
         });
         self.conds.len() - 1
+    }
+
+    /// Bytes of rung text written so far.
+    pub fn bytes(&self) -> usize {
+        self.bytes
     }
 
     /// The power rail: always true.
@@ -122,6 +150,7 @@ impl<'a> Emitter<'a> {
         let helper = self.names.fresh(self.helper_base);
         let d = &self.conds[c];
         let text = format!("{}OTE({helper})", d.text);
+        self.bytes += text.len();
         let what = format!("the condition `{}`", d.text);
         let slot = d.slot;
         let origin = self.origin;
@@ -247,6 +276,7 @@ impl<'a> Emitter<'a> {
     /// Writes the rung `prefix` + condition + `instr`, which writes `writes`.
     pub fn emit(&mut self, c: Cond, prefix: &str, instr: &str, writes: &[String]) {
         let text = format!("{prefix}{}{instr}", self.text(c));
+        self.bytes += text.len();
         let slot = self.slots.len();
         self.slots.push(vec![(text, self.origin)]);
         for w in writes {

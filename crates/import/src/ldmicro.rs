@@ -25,6 +25,8 @@ use alba_model::board::{Dir, Model, Pin, PinMap};
 use std::collections::HashMap;
 
 const MAX_DEPTH: usize = 64;
+/// Elements in one rung (LDmicro's editor allows far fewer).
+const MAX_RUNG_ELEMENTS: usize = 4096;
 
 #[derive(Debug, Clone)]
 struct Line<'a> {
@@ -693,6 +695,14 @@ fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
         let w: Vec<&str> = l.text.split_whitespace().collect();
         if w.first() == Some(&"RUNG") && w.len() <= 2 {
             let elems = p.series(&l, "RUNG", 0)?;
+            let mut leaves = 0usize;
+            walk(&elems, &mut |_, _| leaves += 1);
+            if leaves > MAX_RUNG_ELEMENTS {
+                return Err(Error::at(
+                    p.loc(&l),
+                    format!("a rung of {leaves} elements (at most {MAX_RUNG_ELEMENTS})"),
+                ));
+            }
             parsed.rungs.push(Rung { elems, loc: p.loc(&l) });
         } else {
             return Err(Error::at(
@@ -728,6 +738,7 @@ struct Conv<'a> {
     scan_ms: i64,
     cycle_us: i64,
     version: String,
+    out_bytes: usize,
 }
 
 fn walk<'e>(elems: &'e [Elem], f: &mut dyn FnMut(&'e Leaf, &'e Location)) {
@@ -1438,6 +1449,7 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
         scan_ms,
         cycle_us,
         version: version.to_string(),
+        out_bytes: 0,
     };
 
     // The rungs.
@@ -1479,6 +1491,18 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
             }
         };
         conv.names = names;
+        if let Ok((rungs, _)) = &result {
+            conv.out_bytes += rungs.iter().map(String::len).sum::<usize>();
+            if conv.out_bytes > crate::MAX_OUTPUT_BYTES {
+                return Err(Error::at(
+                    r.loc.clone(),
+                    format!(
+                        "the converted program would exceed {} MiB",
+                        crate::MAX_OUTPUT_BYTES >> 20
+                    ),
+                ));
+            }
+        }
         match result {
             Ok((rungs, helpers)) => {
                 conv.helpers.extend(helpers);

@@ -32,6 +32,13 @@ mod xml;
 /// refused before it is read).
 pub const MAX_INPUT_BYTES: u64 = 32 * 1024 * 1024;
 
+/// The most rung text a conversion writes: beyond it the input is refused
+/// (a small hostile file must not make a huge project).
+pub(crate) const MAX_OUTPUT_BYTES: usize = 64 * 1024 * 1024;
+
+/// Stack of the conversion thread (see [`convert`]).
+const CONVERT_STACK_BYTES: usize = 256 * 1024 * 1024;
+
 /// The formats `alba import` reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
@@ -431,18 +438,33 @@ pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Rep
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "imported".to_string());
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let (mut project, mut report) = match format {
-        Format::Ldmicro => ldmicro::convert(&file, &stem, text, opts)?,
-        Format::Plcopen => plcopen::convert(&file, &stem, text, opts)?,
-        Format::L5x => l5x::convert(&file, &stem, text, opts)?,
-    };
+    // The converters walk nested circuits and connection graphs recursively
+    // (their depth is capped); a thread with a large stack makes the caps,
+    // not the caller's stack size, the limit.
+    let converted = std::thread::scope(|s| {
+        let job = std::thread::Builder::new()
+            .name("alba-import".into())
+            .stack_size(CONVERT_STACK_BYTES)
+            .spawn_scoped(s, || {
+                let (mut project, mut report) = match format {
+                    Format::Ldmicro => ldmicro::convert(&file, &stem, text, opts)?,
+                    Format::Plcopen => plcopen::convert(&file, &stem, text, opts)?,
+                    Format::L5x => l5x::convert(&file, &stem, text, opts)?,
+                };
+                check(&mut project, &mut report, &file)?;
+                Ok::<_, Error>((project, report))
+            })
+            .map_err(|e| Error::plain(format!("cannot start the conversion: {e}")))?;
+        job.join()
+            .map_err(|_| Error::plain(format!("the conversion of {file} failed unexpectedly")))?
+    });
+    let (mut project, mut report) = converted?;
     if project.name.trim().is_empty() {
         project.name = "imported".into();
     }
     if project.description.is_empty() {
         project.description = format!("imported from {file} ({}) by alba import", format.title());
     }
-    check(&mut project, &mut report, &file)?;
     report.format = Some(format);
     report.tags = project.tags.len();
     report.rungs = project.programs.iter().map(|p| count_rungs(&p.text)).sum();

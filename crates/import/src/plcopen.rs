@@ -31,7 +31,7 @@ use std::collections::HashMap;
 
 /// Deepest chain of connections followed (a deeper graph is refused rather
 /// than risking the stack).
-const MAX_CHAIN: usize = 400;
+const MAX_CHAIN: usize = 2000;
 
 pub(crate) struct Ctx<'a> {
     pub file: &'a str,
@@ -1040,6 +1040,15 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                         }
                     }
                     continue;
+                }
+                if body.e.bytes() > crate::MAX_OUTPUT_BYTES {
+                    return Err(Error::at(
+                        conv.ctx.loc(s),
+                        format!(
+                            "the converted program would exceed {} MiB",
+                            crate::MAX_OUTPUT_BYTES >> 20
+                        ),
+                    ));
                 }
                 if let Err(why) = body.sink(s) {
                     let what = match s.name.as_str() {

@@ -256,3 +256,72 @@ fn huge_files_are_refused_before_reading() {
     );
     assert!(!out.exists());
 }
+
+/// A PLCopen LD body that is one chain of `n` contacts into a coil.
+fn chain(n: usize) -> String {
+    let mut s = String::from(PLC_HEAD);
+    s.push_str("        <leftPowerRail localId=\"1\"/>\n");
+    for i in 0..n {
+        s.push_str(&format!(
+            "        <contact localId=\"{}\"><connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn><variable>a</variable></contact>\n",
+            i + 2,
+            i + 1
+        ));
+    }
+    s.push_str(&format!(
+        "        <coil localId=\"{}\"><connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn><variable>a</variable></coil>\n",
+        n + 2,
+        n + 1
+    ));
+    s.push_str(PLC_TAIL);
+    s
+}
+
+#[test]
+fn long_connection_chains_convert_or_are_refused_without_overflow() {
+    let ok = alba_import::convert(Path::new("chain.xml"), &chain(1990), &Options::default());
+    let (p, _) = ok.expect("a chain of 1990 contacts converts");
+    assert!(p.programs[0].text.contains("XIC(a)XIC(a)"));
+    let (p, report) =
+        alba_import::convert(Path::new("chain.xml"), &chain(5000), &Options::default()).expect("converts");
+    assert!(p.programs[0].text.contains("REFUSED"));
+    let refused: Vec<String> = report.entries.iter().map(|e| e.to_string()).collect();
+    assert!(
+        refused
+            .iter()
+            .any(|e| e.contains("refused: <coil> `a`: connections chained deeper than 2000 elements")),
+        "{refused:?}"
+    );
+}
+
+#[test]
+fn deeply_shared_branches_stay_small() {
+    // 60 diamonds in a row: each level's condition appears twice in the
+    // next, so written out inline it would double 60 times.
+    let mut s = String::from(PLC_HEAD);
+    s.push_str("        <leftPowerRail localId=\"1\"/>\n");
+    let mut prev = 1;
+    let contact = |id: usize, from: &[usize], neg: bool| {
+        let c: String = from
+            .iter()
+            .map(|f| format!("<connection refLocalId=\"{f}\"/>"))
+            .collect();
+        format!(
+            "        <contact localId=\"{id}\" negated=\"{neg}\"><connectionPointIn>{c}</connectionPointIn><variable>a</variable></contact>\n"
+        )
+    };
+    for i in 0..60 {
+        let (a, b, c) = (3 * i + 2, 3 * i + 3, 3 * i + 4);
+        s.push_str(&contact(a, &[prev], false));
+        s.push_str(&contact(b, &[prev], true));
+        s.push_str(&contact(c, &[a, b], false));
+        prev = c;
+    }
+    s.push_str(&format!(
+        "        <coil localId=\"999\"><connectionPointIn><connection refLocalId=\"{prev}\"/></connectionPointIn><variable>a</variable></coil>\n"
+    ));
+    s.push_str(PLC_TAIL);
+    let (p, _) = alba_import::convert(Path::new("diamonds.xml"), &s, &Options::default()).expect("converts");
+    assert!(p.programs[0].text.len() < 200_000, "{} bytes", p.programs[0].text.len());
+    assert!(p.tags.iter().any(|t| t.description == "alba import: a long condition"));
+}
