@@ -325,3 +325,30 @@ fn deeply_shared_branches_stay_small() {
     assert!(p.programs[0].text.len() < 200_000, "{} bytes", p.programs[0].text.len());
     assert!(p.tags.iter().any(|t| t.description == "alba import: a long condition"));
 }
+
+#[test]
+fn hostile_l5x_rungs_are_refused_not_crashed() {
+    let rung = |text: &str| {
+        format!(
+            "<RSLogix5000Content SchemaRevision=\"1.0\"><Controller Name=\"C\"><Tags>\
+             <Tag Name=\"a\" TagType=\"Base\" DataType=\"BOOL\"/><Tag Name=\"x\" TagType=\"Base\" DataType=\"DINT\"/></Tags>\
+             <Programs><Program Name=\"P\" MainRoutineName=\"R\"><Routines><Routine Name=\"R\" Type=\"RLL\"><RLLContent>\
+             <Rung Number=\"0\" Type=\"N\"><Text><![CDATA[{text}]]></Text></Rung>\
+             <Rung Number=\"1\" Type=\"N\"><Text><![CDATA[XIC(a)OTE(a);]]></Text></Rung>\
+             </RLLContent></Routine></Routines></Program></Programs></Controller></RSLogix5000Content>"
+        )
+    };
+    let deep_branch = format!("{}XIC(a){}OTE(a);", "[".repeat(20_000), "]".repeat(20_000));
+    let deep_cpt = format!("CPT(x,{}1{});", "(".repeat(20_000), ")".repeat(20_000));
+    let long = format!("{}OTE(a);", "XIC(a)".repeat(100_000));
+    for (what, text) in [("branches", deep_branch), ("cpt", deep_cpt), ("long", long)] {
+        let (p, report) = alba_import::convert(Path::new("h.L5X"), &rung(&text), &Options::default())
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let prog = &p.programs[0].text;
+        assert!(prog.ends_with("XIC(a)OTE(a);\n"), "{what}: the good rung is kept");
+        if what != "long" {
+            assert!(prog.starts_with("// REFUSED"), "{what}");
+            assert_eq!(report.count(alba_import::Kind::Refused), 1, "{what}");
+        }
+    }
+}
