@@ -22,6 +22,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 mod circuit;
+pub mod export;
 pub mod l5x;
 pub mod ldmicro;
 mod names;
@@ -35,6 +36,8 @@ pub const MAX_INPUT_BYTES: u64 = 32 * 1024 * 1024;
 /// The most rung text a conversion writes: beyond it the input is refused
 /// (a small hostile file must not make a huge project).
 pub(crate) const MAX_OUTPUT_BYTES: usize = 64 * 1024 * 1024;
+
+pub use export::export_plcopen;
 
 /// Stack of the conversion thread (see [`convert`]).
 const CONVERT_STACK_BYTES: usize = 256 * 1024 * 1024;

@@ -992,7 +992,16 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             .collect();
         let ordered_by_exec = sinks.iter().any(|e| pos(e).0 != i64::MAX);
         if ordered_by_exec {
-            sinks.sort_by_key(|e| pos(e));
+            // Executed elements in their order; each comment goes before the
+            // first of them drawn at or below it.
+            let (comments, mut rest): (Vec<&Elem>, Vec<&Elem>) = sinks.iter().partition(|e| e.name == "comment");
+            rest.sort_by_key(|e| pos(e));
+            for c in comments {
+                let cy = pos(c).1;
+                let at = rest.iter().position(|e| pos(e).1 >= cy).unwrap_or(rest.len());
+                rest.insert(at, c);
+            }
+            sinks = rest;
         } else {
             sinks.sort_by_key(|e| {
                 let (_, y, x) = pos(e);
