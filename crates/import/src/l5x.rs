@@ -12,11 +12,13 @@
 //! digital input module in slot 1, `Local:1:I.Data.0` is `DI:1/0`; with one
 //! output module, `Local:2:O.Data.0` is `DO:2/0`.
 //!
+//! A `JSR` without parameters at the end of a rung is inlined: the called
+//! routine's rungs in place, behind a `JMP` over them while the rung is false.
+//!
 //! Refused, with their place: arrays (Alba has no arrays), user-defined and
-//! other structured types, produced/consumed tags, JSR (a subroutine runs
-//! only when called; Alba programs run every scan), routines other than a
-//! program's main routine, non-RLL routines, rungs with instructions Alba
-//! does not have.
+//! other structured types, produced/consumed tags, JSR with parameters,
+//! SBR/RET, recursion, routines never called, non-RLL routines, rungs with
+//! instructions Alba does not have.
 
 use crate::names::Names;
 use crate::plcopen::{Ctx, xml_error};
@@ -524,6 +526,181 @@ fn fill_presets(text: &str, scope: &HashMap<String, Sym>) -> String {
     out
 }
 
+struct RoutineJob<'a, 'p> {
+    pname: &'a str,
+    routines: &'a [&'a Elem],
+    scope: &'a HashMap<String, Sym>,
+    prog: &'p mut ProgramOut,
+    /// Routines inlined at least once (lower case).
+    called: &'p mut Vec<String>,
+    labels: &'p mut usize,
+}
+
+/// Deepest chain of JSR inlined.
+const MAX_JSR_DEPTH: usize = 16;
+
+/// A rung that ends in `JSR(Routine)` / `JSR(Routine,0)` outside any branch:
+/// the condition in front of it and the routine's name.
+fn split_jsr(text: &str) -> Option<(String, String)> {
+    let t = text.trim().trim_end_matches(';').trim_end();
+    let up = t.to_ascii_uppercase();
+    let at = up.rfind("JSR")?;
+    let depth = t[..at].chars().fold(0i32, |d, c| match c {
+        '[' => d + 1,
+        ']' => d - 1,
+        _ => d,
+    });
+    if depth != 0 {
+        return None;
+    }
+    let rest = t[at + 3..].trim_start();
+    let args = rest.strip_prefix('(')?.strip_suffix(')')?;
+    if args.contains(['(', ')']) {
+        return None;
+    }
+    let parts: Vec<&str> = args.split(',').map(str::trim).collect();
+    match parts.as_slice() {
+        [name] | [name, "0"] if !name.is_empty() => Some((t[..at].to_string(), (*name).to_string())),
+        _ => None,
+    }
+}
+
+/// Writes the rungs of routine `r`, inlining each JSR without parameters: an
+/// unconditional one in place, a conditional one as `cond OTE(jsr)`,
+/// `XIO(jsr)JMP(end)`, the routine, `LBL(end)NOP()` — Logix does not scan a
+/// routine whose JSR is false, and Alba does not execute skipped rungs.
+fn emit_routine(conv: &mut Conv<'_>, job: &mut RoutineJob<'_, '_>, r: &Elem, stack: &mut Vec<String>) {
+    let rname = r.attr("Name").unwrap_or("");
+    stack.push(rname.to_ascii_lowercase());
+    let pname = job.pname;
+    let rungs: Vec<&Elem> = r
+        .child("RLLContent")
+        .map(|c| c.all("Rung").collect())
+        .unwrap_or_default();
+    for rung in rungs {
+        let loc = conv.ctx.loc(rung);
+        let num = rung.attr("Number").unwrap_or("?");
+        for line in cdata(rung.child("Comment")).lines() {
+            let l = line.trim_end();
+            if l.is_empty() {
+                job.prog.line("//", None);
+            } else {
+                job.prog.line(&format!("// {l}"), None);
+            }
+        }
+        if rung.attr("Type").is_some_and(|t| t != "N") {
+            conv.report.push(
+                Kind::Refused,
+                loc,
+                format!(
+                    "rung {num} of `{pname}`/`{rname}` is a pending edit (type {}); only normal rungs are imported",
+                    rung.attr("Type").unwrap_or("")
+                ),
+            );
+            continue;
+        }
+        let raw = cdata(rung.child("Text"));
+        let one_line: String = raw.split_whitespace().collect::<Vec<_>>().join(" ");
+        let tloc = rung.child("Text").map(|t| conv.ctx.loc(t)).unwrap_or(loc.clone());
+        let refuse = |conv: &mut Conv<'_>, prog: &mut ProgramOut, why: String| {
+            conv.report.push(
+                Kind::Refused,
+                tloc.clone(),
+                format!("rung {num} of `{pname}`/`{rname}`: {why}"),
+            );
+            prog.line(
+                &format!("// REFUSED by alba import: rung {num}: {one_line} ({why})"),
+                Some(&tloc),
+            );
+        };
+        if let Some((cond, target)) = split_jsr(&one_line) {
+            let key = target.to_ascii_lowercase();
+            let Some(sub) = job
+                .routines
+                .iter()
+                .find(|x| x.attr("Name").is_some_and(|n| n.eq_ignore_ascii_case(&target)))
+            else {
+                refuse(
+                    conv,
+                    job.prog,
+                    format!("JSR to `{target}`, a routine this program does not have"),
+                );
+                continue;
+            };
+            if stack.contains(&key) {
+                refuse(conv, job.prog, format!("JSR to `{target}` is recursive"));
+                continue;
+            }
+            if stack.len() >= MAX_JSR_DEPTH {
+                refuse(
+                    conv,
+                    job.prog,
+                    format!("JSR nested deeper than {MAX_JSR_DEPTH} routines"),
+                );
+                continue;
+            }
+            if sub.attr("Type") != Some("RLL") {
+                refuse(
+                    conv,
+                    job.prog,
+                    format!("JSR to `{target}`, which is not an RLL routine"),
+                );
+                continue;
+            }
+            let cond = match rewrite(&format!("{cond}NOP();"), job.scope, &conv.io) {
+                Ok(c) => c.trim().trim_end_matches(';').trim_end_matches("NOP()").to_string(),
+                Err(why) => {
+                    refuse(conv, job.prog, why);
+                    continue;
+                }
+            };
+            if !job.called.contains(&key) {
+                job.called.push(key);
+            }
+            if cond.trim().is_empty() {
+                conv.report.push(
+                    Kind::Converted,
+                    tloc.clone(),
+                    format!("JSR({target}): the routine is inlined here"),
+                );
+                job.prog
+                    .line(&format!("// JSR({target}) inlined by alba import"), Some(&tloc));
+                emit_routine(conv, job, sub, stack);
+            } else {
+                *job.labels += 1;
+                let flag = conv.names.fresh("jsr_flag");
+                let label = format!("JSR_END_{}", *job.labels);
+                conv.tags.push(TagOut {
+                    name: flag.clone(),
+                    ty: "BOOL".into(),
+                    address: String::new(),
+                    initial: String::new(),
+                    description: format!("alba import: the condition of JSR({target}) in {pname}"),
+                });
+                conv.report.push(
+                    Kind::Converted,
+                    tloc.clone(),
+                    format!("JSR({target}): the routine is inlined, skipped by JMP({label}) while the rung is false"),
+                );
+                job.prog.line(&format!("{cond}OTE({flag});"), Some(&tloc));
+                job.prog.line(&format!("XIO({flag})JMP({label});"), Some(&tloc));
+                emit_routine(conv, job, sub, stack);
+                job.prog.line(&format!("LBL({label})NOP();"), Some(&tloc));
+            }
+            continue;
+        }
+        match rewrite(&one_line, job.scope, &conv.io) {
+            Ok(t) => {
+                let t = t.trim().to_string();
+                let t = if t.ends_with(';') { t } else { format!("{t};") };
+                job.prog.line(&t, Some(&tloc));
+            }
+            Err(why) => refuse(conv, job.prog, why),
+        }
+    }
+    stack.pop();
+}
+
 /// Converts an L5X export.
 pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
     let ctx = Ctx { file, text };
@@ -665,18 +842,6 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             .child("Routines")
             .map(|r| r.all("Routine").collect())
             .unwrap_or_default();
-        for r in &routines {
-            let rn = r.attr("Name").unwrap_or("");
-            if rn != main {
-                conv.report.push(
-                    Kind::Refused,
-                    conv.ctx.loc(r),
-                    format!(
-                        "routine `{rn}` of `{pname}`: only a program's main routine is imported (JSR is not converted)"
-                    ),
-                );
-            }
-        }
         let Some(r) = routines.iter().find(|r| r.attr("Name") == Some(main)) else {
             conv.report.push(
                 Kind::Refused,
@@ -704,49 +869,25 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         }
         files.push(fname.clone());
         let mut prog = ProgramOut::new(fname);
-        let rungs: Vec<&Elem> = r
-            .child("RLLContent")
-            .map(|c| c.all("Rung").collect())
-            .unwrap_or_default();
-        for rung in rungs {
-            let loc = conv.ctx.loc(rung);
-            let num = rung.attr("Number").unwrap_or("?");
-            for line in cdata(rung.child("Comment")).lines() {
-                let l = line.trim_end();
-                if l.is_empty() {
-                    prog.line("//", None);
-                } else {
-                    prog.line(&format!("// {l}"), None);
-                }
-            }
-            if rung.attr("Type").is_some_and(|t| t != "N") {
+        let mut called: Vec<String> = vec![main.to_ascii_lowercase()];
+        let mut labels = 0usize;
+        let mut job = RoutineJob {
+            pname,
+            routines: &routines,
+            scope: &scopes[i],
+            prog: &mut prog,
+            called: &mut called,
+            labels: &mut labels,
+        };
+        emit_routine(&mut conv, &mut job, r, &mut Vec::new());
+        for r in &routines {
+            let rn = r.attr("Name").unwrap_or("");
+            if !called.contains(&rn.to_ascii_lowercase()) {
                 conv.report.push(
                     Kind::Refused,
-                    loc,
-                    format!(
-                        "rung {num} of `{pname}` is a pending edit (type {}); only normal rungs are imported",
-                        rung.attr("Type").unwrap_or("")
-                    ),
+                    conv.ctx.loc(r),
+                    format!("routine `{rn}` of `{pname}` is never called by a JSR Alba inlines; not imported"),
                 );
-                continue;
-            }
-            let raw = cdata(rung.child("Text"));
-            let one_line: String = raw.split_whitespace().collect::<Vec<_>>().join(" ");
-            let tloc = rung.child("Text").map(|t| conv.ctx.loc(t)).unwrap_or(loc.clone());
-            match rewrite(&one_line, &scopes[i], &conv.io) {
-                Ok(t) => {
-                    let t = t.trim().to_string();
-                    let t = if t.ends_with(';') { t } else { format!("{t};") };
-                    prog.line(&t, Some(&tloc));
-                }
-                Err(why) => {
-                    conv.report
-                        .push(Kind::Refused, tloc.clone(), format!("rung {num} of `{pname}`: {why}"));
-                    prog.line(
-                        &format!("// REFUSED by alba import: rung {num}: {one_line} ({why})"),
-                        Some(&tloc),
-                    );
-                }
             }
         }
         outs.push(prog);

@@ -87,7 +87,7 @@ fn l5x_conveyor_equals_the_native_program() {
             }
         }
     }
-    let cols = ["DO:2/0", "DO:2/1", "DI:1/0", "DI:1/2"];
+    let cols = ["DO:2/0", "DO:2/1", "DO:2/2", "DI:1/0", "DI:1/2", "Batches"];
     let a = sim(&imported, &stim, &cols, 60_000, 20);
     let b = sim(&native, &stim, &cols, 60_000, 20);
     assert_eq!(a.len(), b.len());
