@@ -18,6 +18,8 @@
 //! | `CTD` (CD, LD, PV → Q, CV) | `CTD`, LD: `MOV(PV,C.ACC)`; Q = `LEQ(C.ACC,0)` |
 //! | `CTUD` | both, QU and QD as above |
 //! | `R_TRIG` `F_TRIG` | `OSR` `OSF` with two helper bits |
+//! | `GT` `GE` `EQ` `NE` `LT` `LE` | compares ANDed with EN |
+//! | `ADD` `SUB` `MUL` `DIV` `MOD` `MOVE` | the instruction, gated by EN, into a helper tag |
 //!
 //! Everything else (user function blocks, functions, ST/FBD/IL/SFC bodies,
 //! jumps, other blocks) is refused with its place; a coil fed by a refused
@@ -337,6 +339,10 @@ struct Body<'b, 'e> {
     trig_q: HashMap<String, String>,
     /// Notes for the report: (kind, byte offset, message).
     notes: Vec<(Kind, usize, String)>,
+    /// Helper tags holding block results: (name, type, what).
+    data_helpers: Vec<(String, String, String)>,
+    /// Block localId → the helper holding its OUT.
+    block_out_data: HashMap<String, String>,
 }
 
 /// What an element output carries.
@@ -711,10 +717,71 @@ impl Body<'_, '_> {
                 self.e.emit(clk, "", &format!("{mn}({m},{q})"), &[m, q]);
                 Ok(())
             }
+            "GT" | "GE" | "EQ" | "NE" | "LT" | "LE" => Ok(()),
+            "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE" => {
+                let id = b.attr("localId").unwrap_or("").to_string();
+                let en = self.enable(b)?;
+                let ins: Vec<String> = if ty == "MOVE" {
+                    vec!["IN".into()]
+                } else {
+                    vec!["IN1".into(), "IN2".into()]
+                };
+                let mut ops = Vec::new();
+                for i in &ins {
+                    let c = block_input(b, i).ok_or_else(|| format!("{ty}: input {i} is not connected"))?;
+                    ops.push(self.data_in(&c)?);
+                }
+                let real = ops.iter().any(|o| self.is_real(o));
+                let result_ty = if real { "REAL" } else { "DINT" };
+                let helper = self.e.names().fresh(&format!("{}_out", ty.to_ascii_lowercase()));
+                self.data_helpers.push((
+                    helper.clone(),
+                    result_ty.to_string(),
+                    format!("output OUT of {ty} block {id}"),
+                ));
+                let text = if ty == "MOVE" {
+                    format!("MOV({},{helper})", ops[0])
+                } else {
+                    format!("{ty}({},{},{helper})", ops[0], ops[1])
+                };
+                if block_input(b, "EN").is_some() {
+                    self.notes.push((
+                        Kind::Approximated,
+                        b.start,
+                        format!(
+                            "{ty} with EN: while EN is false its OUT ({helper}) keeps the last result (IEC leaves it to the implementation)"
+                        ),
+                    ));
+                }
+                self.e.emit(en, "", &text, std::slice::from_ref(&helper));
+                self.block_out_data.insert(id, helper);
+                Ok(())
+            }
             other => Err(format!(
-                "block `{other}` is not converted (only TON TOF TP CTU CTD CTUD R_TRIG F_TRIG)"
+                "block `{other}` is not converted (only TON TOF TP CTU CTD CTUD R_TRIG F_TRIG, GT GE EQ NE LT LE, ADD SUB MUL DIV MOD MOVE)"
             )),
         }
+    }
+
+    /// The power into a block's EN (the rail when EN is not wired).
+    fn enable(&mut self, b: &Elem) -> Result<Cond, String> {
+        match block_input(b, "EN") {
+            Some(c) => self.power_in(&c),
+            None => Ok(self.e.rail()),
+        }
+    }
+
+    /// Whether an Alba operand is a REAL/LREAL (tag or literal).
+    fn is_real(&self, op: &str) -> bool {
+        if op.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+') {
+            return op.contains(['.', 'e', 'E']);
+        }
+        if let Some((_, ty, _)) = self.data_helpers.iter().find(|(h, _, _)| h == op) {
+            return ty == "REAL";
+        }
+        self.vars.values().any(|v| {
+            v.alba.eq_ignore_ascii_case(op) && matches!(&v.kind, VarKind::Tag(t) if t == "REAL" || t == "LREAL")
+        })
     }
 
     fn trig_bits(&mut self, inst: &str) -> (String, String) {
@@ -752,6 +819,41 @@ impl Body<'_, '_> {
             ("R_TRIG" | "F_TRIG", "Q" | "") => {
                 let q = self.trig_q.get(&inst.to_ascii_lowercase()).cloned().unwrap_or_default();
                 Ok(Out::Power(self.e.input(&format!("XIC({q})"), &[q])))
+            }
+            ("GT" | "GE" | "EQ" | "NE" | "LT" | "LE", "OUT" | "") => {
+                let a = block_input(b, "IN1").ok_or_else(|| format!("{ty}: IN1 is not connected"))?;
+                let c2 = block_input(b, "IN2").ok_or_else(|| format!("{ty}: IN2 is not connected"))?;
+                if block_input(b, "IN3").is_some() {
+                    return Err(format!("{ty} with more than two inputs"));
+                }
+                let a = self.data_in(&a)?;
+                let c2 = self.data_in(&c2)?;
+                let m = match ty.as_str() {
+                    "GT" => "GRT",
+                    "GE" => "GEQ",
+                    "EQ" => "EQU",
+                    "NE" => "NEQ",
+                    "LT" => "LES",
+                    _ => "LEQ",
+                };
+                let en = self.enable(b)?;
+                let reads: Vec<String> = [&a, &c2]
+                    .iter()
+                    .filter(|o| o.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_'))
+                    .map(|o| (*o).clone())
+                    .collect();
+                Ok(Out::Power(self.e.and(en, &format!("{m}({a},{c2})"), &reads)))
+            }
+            ("ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE", "OUT" | "") => {
+                let id = b.attr("localId").unwrap_or("");
+                self.block_out_data
+                    .get(id)
+                    .cloned()
+                    .map(Out::Data)
+                    .ok_or_else(|| format!("{ty} has no result"))
+            }
+            ("GT" | "GE" | "EQ" | "NE" | "LT" | "LE" | "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE", "ENO") => {
+                Ok(Out::Power(self.enable(b)?))
             }
             (_, "ENO") => Err("ENO outputs are not converted".into()),
             (t, p) => Err(format!("output `{p}` of {t}")),
@@ -1036,6 +1138,8 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 structs: std::mem::take(&mut conv.structs),
                 trig_q: HashMap::new(),
                 notes: Vec::new(),
+                data_helpers: Vec::new(),
+                block_out_data: HashMap::new(),
             };
             for s in &sinks {
                 origins.push(conv.ctx.loc(s));
@@ -1074,21 +1178,26 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     refusals.push((conv.ctx.loc(s), format!("{what}: {why}")));
                     body.e.comment(&format!("REFUSED by alba import: {what} ({why})"));
                 } else if matches!(s.name.as_str(), "block") {
-                    conv.report.push(
-                        Kind::Converted,
-                        conv.ctx.loc(s),
-                        format!(
-                            "{} `{}`",
-                            s.attr("typeName").unwrap_or(""),
-                            s.attr("instanceName").unwrap_or("")
-                        ),
-                    );
+                    let msg = match s.attr("instanceName") {
+                        Some(i) => format!("{} `{i}`", s.attr("typeName").unwrap_or("")),
+                        None => format!("{} function", s.attr("typeName").unwrap_or("")),
+                    };
+                    conv.report.push(Kind::Converted, conv.ctx.loc(s), msg);
                 }
             }
             for (k, off, m) in std::mem::take(&mut body.notes) {
                 conv.report.push(k, conv.ctx.loc_at(off), m);
             }
             conv.structs = std::mem::take(&mut body.structs);
+            for (h, ty, what) in std::mem::take(&mut body.data_helpers) {
+                conv.tags.push(TagOut {
+                    name: h,
+                    ty,
+                    address: String::new(),
+                    initial: String::new(),
+                    description: format!("alba import: {what}"),
+                });
+            }
             let helpers = std::mem::take(&mut body.e.helpers);
             for (h, what) in helpers {
                 conv.tags.push(TagOut {

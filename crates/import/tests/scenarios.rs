@@ -208,3 +208,35 @@ fn beremiz_orange_light_blinks() {
     assert_eq!(v[..22].join(""), "0000011111000000111110", "{v:?}");
     assert!((8..=10).contains(&ons), "{ons} blinks in 10 s: {v:?}");
 }
+
+#[test]
+fn plcopen_functions_compute() {
+    let tmp = import("plcopen/blocks.xml");
+    let dir = tmp.path().join("p");
+    let stim = "time_ms,tag,value\n0,Level,600\n0,Run,1\n200,Run,0\n300,Level,50\n";
+    let rows = sim(
+        &dir,
+        stim,
+        &["Ticks", "Adding", "High", "Low", "Half", "Shown", "Ten"],
+        400,
+        10,
+    );
+    // ADD counts while Run (EN) is on: 1 at the first scan, 20 at 190 ms.
+    assert_eq!(at(&rows, 0, "Ticks"), "1");
+    assert_eq!(at(&rows, 190, "Ticks"), "20");
+    assert_eq!(at(&rows, 250, "Ticks"), "20");
+    assert_eq!(at(&rows, 0, "Adding"), "1");
+    assert_eq!(at(&rows, 200, "Adding"), "0");
+    // EQ gated by Run: Ticks = 10 at 90 ms.
+    assert_eq!(at(&rows, 90, "Ten"), "1");
+    assert_eq!(at(&rows, 100, "Ten"), "0");
+    // GT and LE on the analog input.
+    assert_eq!(at(&rows, 0, "High"), "1");
+    assert_eq!(at(&rows, 0, "Low"), "0");
+    assert_eq!(at(&rows, 300, "High"), "0");
+    assert_eq!(at(&rows, 300, "Low"), "1");
+    // MUL in REAL; MOVE gated by Run keeps the last value when Run is off.
+    assert_eq!(at(&rows, 0, "Half"), "300");
+    assert_eq!(at(&rows, 300, "Half"), "25");
+    assert_eq!(at(&rows, 300, "Shown"), "300");
+}
