@@ -474,6 +474,9 @@ pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Rep
     Ok((project, report))
 }
 
+/// Distinguishes the temporary folders of conversions running at once.
+static SEQ: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 /// Checks the converted project with Alba's own compiler, as `alba check`
 /// does. A rung Alba refuses (an instruction or operand the conversion could
 /// not judge, literals that clash across programs …) is turned into a
@@ -487,7 +490,11 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
             .duration_since(std::time::UNIX_EPOCH)
             .map(|d| d.as_nanos())
             .unwrap_or(0);
-        let tmp = std::env::temp_dir().join(format!("alba-import-check-{}-{stamp}-{round}", std::process::id()));
+        let seq = SEQ.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let tmp = std::env::temp_dir().join(format!(
+            "alba-import-check-{}-{stamp}-{seq}-{round}",
+            std::process::id()
+        ));
         let staged = stage(project, &tmp);
         let compiled = staged.map(|()| alba_compiler::compile_dir(&tmp));
         let _ = fs::remove_dir_all(&tmp);
@@ -630,7 +637,8 @@ pub fn write_project(project: &Project, out_dir: &Path, force: bool) -> Result<(
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.as_nanos())
         .unwrap_or(0);
-    let tmp = parent.join(format!(".{base}.alba-import-{}-{stamp}", std::process::id()));
+    let seq = SEQ.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = parent.join(format!(".{base}.alba-import-{}-{stamp}-{seq}", std::process::id()));
     let staged = stage(project, &tmp);
     if let Err(e) = staged {
         let _ = fs::remove_dir_all(&tmp);
