@@ -343,6 +343,11 @@ struct Body<'b, 'e> {
     data_helpers: Vec<(String, String, String)>,
     /// Block localId → the helper holding its OUT.
     block_out_data: HashMap<String, String>,
+    /// A function block's OUT whose only reader is an output variable:
+    /// block localId → that variable's localId (the result goes straight in).
+    sole_out: HashMap<String, String>,
+    /// Output variables written by their block directly.
+    handled: Vec<String>,
 }
 
 /// What an element output carries.
@@ -598,8 +603,11 @@ impl Body<'_, '_> {
                     }
                 } else {
                     let src = self.data_in(&conns)?;
-                    let rail = self.e.rail();
-                    self.e.emit(rail, "", &format!("MOV({src},{op})"), w);
+                    let id = el.attr("localId").unwrap_or("");
+                    if !self.handled.iter().any(|h| h == id) {
+                        let rail = self.e.rail();
+                        self.e.emit(rail, "", &format!("MOV({src},{op})"), w);
+                    }
                 }
                 Ok(())
             }
@@ -731,20 +739,39 @@ impl Body<'_, '_> {
                     let c = block_input(b, i).ok_or_else(|| format!("{ty}: input {i} is not connected"))?;
                     ops.push(self.data_in(&c)?);
                 }
-                let real = ops.iter().any(|o| self.is_real(o));
-                let result_ty = if real { "REAL" } else { "DINT" };
-                let helper = self.e.names().fresh(&format!("{}_out", ty.to_ascii_lowercase()));
-                self.data_helpers.push((
-                    helper.clone(),
-                    result_ty.to_string(),
-                    format!("output OUT of {ty} block {id}"),
-                ));
+                let direct = self.sole_out.get(&id).cloned().and_then(|ov| {
+                    let el = self.elems.get(&ov)?;
+                    let expr = el.child("expression").map(|x| x.text.trim().to_string())?;
+                    match self.operand(&expr) {
+                        Ok((op, false)) if op.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') => {
+                            Some((ov, op))
+                        }
+                        _ => None,
+                    }
+                });
+                let helper = match &direct {
+                    Some((ov, op)) => {
+                        self.handled.push(ov.clone());
+                        op.clone()
+                    }
+                    None => {
+                        let real = ops.iter().any(|o| self.is_real(o));
+                        let result_ty = if real { "REAL" } else { "DINT" };
+                        let helper = self.e.names().fresh(&format!("{}_out", ty.to_ascii_lowercase()));
+                        self.data_helpers.push((
+                            helper.clone(),
+                            result_ty.to_string(),
+                            format!("output OUT of {ty} block {id}"),
+                        ));
+                        helper
+                    }
+                };
                 let text = if ty == "MOVE" {
                     format!("MOV({},{helper})", ops[0])
                 } else {
                     format!("{ty}({},{},{helper})", ops[0], ops[1])
                 };
-                if block_input(b, "EN").is_some() {
+                if block_input(b, "EN").is_some() && direct.is_none() {
                     self.notes.push((
                         Kind::Approximated,
                         b.start,
@@ -1124,6 +1151,30 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         }
         let mut names = std::mem::take(&mut conv.names);
         let mut lines: Vec<(String, usize)> = Vec::new();
+        // Readers of every block OUT, to write a function's result straight
+        // into its only output variable.
+        let mut readers: HashMap<String, Vec<(String, bool)>> = HashMap::new();
+        for el in &ld.children {
+            let mut points: Vec<&Elem> = Vec::new();
+            el.descendants("connectionPointIn", &mut points);
+            for pt in points {
+                for (id, param) in connections(Some(pt)) {
+                    if param.eq_ignore_ascii_case("OUT") {
+                        readers
+                            .entry(id)
+                            .or_default()
+                            .push((el.attr("localId").unwrap_or("").to_string(), el.name == "outVariable"));
+                    }
+                }
+            }
+        }
+        let sole_out: HashMap<String, String> = readers
+            .into_iter()
+            .filter_map(|(id, r)| match r.as_slice() {
+                [(ov, true)] => Some((id, ov.clone())),
+                _ => None,
+            })
+            .collect();
         let mut origins: Vec<Location> = Vec::new();
         let mut refusals: Vec<(Location, String)> = Vec::new();
         {
@@ -1140,6 +1191,8 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 notes: Vec::new(),
                 data_helpers: Vec::new(),
                 block_out_data: HashMap::new(),
+                sole_out,
+                handled: Vec::new(),
             };
             for s in &sinks {
                 origins.push(conv.ctx.loc(s));
