@@ -7,9 +7,11 @@
 //!
 //! Exported: `XIC` `XIO` `OTE` `OTL` `OTU`, branches, `TON` `TOF` `TP` with a
 //! literal preset (a following element connects to the timer's input, as
-//! Alba's timers pass the rung on), `T.DN` read as `T.Q`. Refused, with the
+//! Alba's timers pass the rung on), compares as `EQ`…`LE` functions and
+//! `ADD` `SUB` `MUL` `DIV` `MOD` `MOV` as functions with EN wired to the
+//! rung; `T.DN`/`T.ACC`/`T.PRE` as `T.Q`/`T.ET`/`T.PT`. Refused, with the
 //! rung's place: every other instruction, addresses as operands, counters,
-//! RTO, and members other than a timer's `DN`.
+//! RTO, and other members.
 
 use crate::{Error, Kind, Location, Report};
 use alba_model::Address;
@@ -69,6 +71,8 @@ fn conns(inputs: &[Conn]) -> String {
 struct Rung<'a> {
     timers: &'a HashMap<String, &'static str>,
     bools: &'a HashMap<String, String>,
+    /// Numeric tags (lower case → name).
+    numbers: &'a HashMap<String, String>,
 }
 
 impl Graph {
@@ -107,6 +111,70 @@ impl Graph {
             }
         }
         Ok(inputs)
+    }
+
+    /// A numeric operand: a numeric tag, a timer's ACC/PRE (ET/PT), or a
+    /// literal (durations in ms).
+    fn number(&self, r: &Rung<'_>, op: &str) -> Result<String, String> {
+        if let Some(n) = r.numbers.get(&op.to_ascii_lowercase()) {
+            return Ok(n.clone());
+        }
+        let literal = op.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+');
+        if let Some((t, m)) = op.split_once('.').filter(|_| !literal) {
+            if let Some(name) = r.timers.keys().find(|k| k.eq_ignore_ascii_case(t)) {
+                match m.to_ascii_uppercase().as_str() {
+                    "ACC" => return Ok(format!("{name}.ET")),
+                    "PRE" => return Ok(format!("{name}.PT")),
+                    _ => {}
+                }
+            }
+            return Err(format!("`{op}`: only a timer's ACC and PRE are exported as numbers"));
+        }
+        let up = op.to_ascii_uppercase();
+        if let Some(ms) = up
+            .strip_prefix("T#")
+            .or_else(|| up.strip_prefix("TIME#"))
+            .and_then(crate::plcopen::duration_ms)
+        {
+            return Ok(ms.to_string());
+        }
+        let plain = op.replace('_', "");
+        if plain.parse::<i64>().is_ok() || (plain.contains('.') && plain.parse::<f64>().is_ok_and(f64::is_finite)) {
+            return Ok(plain);
+        }
+        Err(format!("`{op}` is not exported (a numeric tag or a literal)"))
+    }
+
+    /// A standard function block with EN wired to `inputs`, its inputs from
+    /// input variables; returns its localId.
+    fn function(&mut self, f: &str, inputs: &[Conn], args: &[(&str, String)], x: i64, y: i64) -> usize {
+        let mut vars = String::new();
+        let mut ins = format!("<variable formalParameter=\"EN\">{}</variable>", conns(inputs));
+        for (k, (param, v)) in args.iter().enumerate() {
+            let iv = self.id();
+            let _ = writeln!(
+                vars,
+                "          <inVariable localId=\"{iv}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/><connectionPointOut/><expression>{}</expression></inVariable>",
+                x - 10,
+                y + 30 + 20 * k as i64,
+                esc(v)
+            );
+            let _ = write!(
+                ins,
+                "<variable formalParameter=\"{param}\">{}</variable>",
+                conns(&[(iv, None)])
+            );
+        }
+        self.xml.push_str(&vars);
+        let id = self.id();
+        self.order += 1;
+        let _ = writeln!(
+            self.xml,
+            "          <block localId=\"{id}\" typeName=\"{f}\" executionOrderId=\"{}\" width=\"60\" height=\"60\"><position x=\"{}\" y=\"{y}\"/><inputVariables>{ins}</inputVariables><inOutVariables/><outputVariables><variable formalParameter=\"ENO\"><connectionPointOut/></variable><variable formalParameter=\"OUT\"><connectionPointOut/></variable></outputVariables></block>",
+            self.order,
+            x + 80
+        );
+        id
     }
 
     fn bit(&self, r: &Rung<'_>, op: &str) -> Result<String, String> {
@@ -219,6 +287,50 @@ impl Graph {
                 // the timer's input.
                 Ok(inputs)
             }
+            "EQU" | "NEQ" | "GRT" | "GEQ" | "LES" | "LEQ" => {
+                let f = match m {
+                    "EQU" => "EQ",
+                    "NEQ" => "NE",
+                    "GRT" => "GT",
+                    "GEQ" => "GE",
+                    "LES" => "LT",
+                    _ => "LE",
+                };
+                let a = self.number(r, &op(0))?;
+                let b = self.number(r, &op(1))?;
+                let id = self.function(f, &inputs, &[("IN1", a), ("IN2", b)], *x, y);
+                *x += 60;
+                Ok(vec![(id, Some("OUT"))])
+            }
+            "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOV" => {
+                let (ins, dest) = if m == "MOV" {
+                    (vec![("IN", self.number(r, &op(0))?)], op(1))
+                } else {
+                    (
+                        vec![("IN1", self.number(r, &op(0))?), ("IN2", self.number(r, &op(1))?)],
+                        op(2),
+                    )
+                };
+                let d = r
+                    .numbers
+                    .get(&dest.to_ascii_lowercase())
+                    .cloned()
+                    .ok_or_else(|| format!("{m}: the destination `{dest}` is not a numeric tag"))?;
+                let f = if m == "MOV" { "MOVE" } else { m };
+                let id = self.function(f, &inputs, &ins, *x, y);
+                let ov = self.id();
+                let _ = writeln!(
+                    self.xml,
+                    "          <outVariable localId=\"{ov}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/>{}<expression>{}</expression></outVariable>",
+                    *x + 80,
+                    y + 30,
+                    conns(&[(id, Some("OUT"))]),
+                    esc(&d)
+                );
+                *x += 60;
+                // Alba's math passes the rung on.
+                Ok(inputs)
+            }
             other => Err(format!("{other} is not exported to PLCopen (yet)")),
         }
     }
@@ -292,6 +404,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     let mut vars = String::new();
     let mut ext = String::new();
     let mut bools: HashMap<String, String> = HashMap::new();
+    let mut numbers: HashMap<String, String> = HashMap::new();
     let mut timer_names: HashMap<String, &'static str> = HashMap::new();
     for t in project.tags.iter() {
         let ty = t.ty.name();
@@ -313,6 +426,8 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
         };
         if ty == "BOOL" {
             bools.insert(t.name.to_ascii_lowercase(), t.name.clone());
+        } else if ty != "TIMER" {
+            numbers.insert(t.name.to_ascii_lowercase(), t.name.clone());
         }
         let addr = match t.address {
             Some(a) => match iec_address(a) {
@@ -358,6 +473,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     let rung_ctx = Rung {
         timers: &timer_names,
         bools: &bools,
+        numbers: &numbers,
     };
     // Programs.
     let mut pous = String::new();

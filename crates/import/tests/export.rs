@@ -37,6 +37,11 @@ fn round_trip(example: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples")
         .join(example);
+    round_trip_dir(example, &dir);
+}
+
+fn round_trip_dir(example: &str, dir: &Path) {
+    let dir = dir.to_path_buf();
     let (xml, report) = alba_import::export_plcopen(&dir).expect("export");
     let refused: Vec<String> = report
         .entries
@@ -55,13 +60,17 @@ fn round_trip(example: &str) {
     let tags = fs::read_to_string(dir.join("tags.csv")).expect("tags");
     let mut inputs = Vec::new();
     let mut cols = Vec::new();
+    let mut analog = Vec::new();
     for row in tags.lines().skip(1) {
         let f: Vec<&str> = row.split(',').collect();
-        if f.len() < 3 || f[1] != "BOOL" {
+        if f.len() < 3 || f[1] == "TIMER" || f[1] == "COUNTER" {
             continue;
         }
         if f[2].starts_with("DI") {
             inputs.push(f[0].to_string());
+        }
+        if f[2].starts_with("AI") {
+            analog.push(f[0].to_string());
         }
         cols.push(f[0].to_string());
     }
@@ -69,6 +78,14 @@ fn round_trip(example: &str) {
     let mut stim = String::from("time_ms,tag,value\n");
     let mut now: HashMap<String, u64> = HashMap::new();
     for k in 0..2000u64 {
+        for a in &analog {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            if k == 0 || x.is_multiple_of(25) {
+                stim.push_str(&format!("{},{a},{}\n", k * 10, (x >> 8) % 1000));
+            }
+        }
         for i in &inputs {
             x ^= x << 13;
             x ^= x >> 7;
@@ -93,6 +110,12 @@ fn round_trip(example: &str) {
         }
     }
     assert!(changed > 5, "{example}: the trace hardly moves");
+}
+
+#[test]
+fn compares_and_math_round_trip() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/native/compare-math");
+    round_trip_dir("compare-math", &dir);
 }
 
 #[test]
