@@ -897,6 +897,9 @@ impl Conv<'_> {
                     },
                     self.scan_ms
                 );
+                if *kind == "TOF" {
+                    msg.push_str("; it starts timed out (output off), as classic LDmicro's does (LDmicro 4/5 hold it on for the delay after a start)");
+                }
                 if *kind == "RTO" {
                     msg.push_str("; after the rung was false, Alba's RTO counts from the second true scan, LDmicro's from the first");
                 }
