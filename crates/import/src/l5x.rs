@@ -837,11 +837,20 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 format!("program `{pname}` is in no task; Alba runs it every scan"),
             );
         }
-        let main = p.attr("MainRoutineName").unwrap_or("");
         let routines: Vec<&Elem> = p
             .child("Routines")
             .map(|r| r.all("Routine").collect())
             .unwrap_or_default();
+        // A routine export (TargetType="Routine") has no main routine in its
+        // context program: the exported routine is the one to import.
+        let target = routines
+            .iter()
+            .find(|r| r.attr("Use") == Some("Target"))
+            .and_then(|r| r.attr("Name"));
+        let main = match p.attr("MainRoutineName") {
+            Some(m) if routines.iter().any(|r| r.attr("Name") == Some(m)) => m,
+            _ => target.unwrap_or_else(|| p.attr("MainRoutineName").unwrap_or("")),
+        };
         let Some(r) = routines.iter().find(|r| r.attr("Name") == Some(main)) else {
             conv.report.push(
                 Kind::Refused,

@@ -352,3 +352,33 @@ fn hostile_l5x_rungs_are_refused_not_crashed() {
         }
     }
 }
+
+#[test]
+fn an_l5x_routine_export_imports_its_routine() {
+    let text = r#"<?xml version="1.0" encoding="UTF-8" standalone="yes"?>
+<RSLogix5000Content SchemaRevision="1.0" SoftwareRevision="33.00" TargetName="Seal" TargetType="Routine" TargetSubType="RLL" ContainsContext="true">
+<Controller Use="Context" Name="C">
+<Tags Use="Context">
+<Tag Name="Start" TagType="Base" DataType="BOOL"/>
+<Tag Name="Motor" TagType="Base" DataType="BOOL"/>
+</Tags>
+<Programs Use="Context">
+<Program Use="Context" Name="MainProgram">
+<Routines Use="Context">
+<Routine Use="Target" Name="Seal" Type="RLL">
+<RLLContent>
+<Rung Number="0" Type="N">
+<Text><![CDATA[[XIC(Start),XIC(Motor)]OTE(Motor);]]></Text>
+</Rung>
+</RLLContent>
+</Routine>
+</Routines>
+</Program>
+</Programs>
+</Controller>
+</RSLogix5000Content>
+"#;
+    let (p, report) = alba_import::convert(Path::new("Seal.L5X"), text, &Options::default()).expect("converts");
+    assert_eq!(p.programs[0].text, "[XIC(Start),XIC(Motor)]OTE(Motor);\n");
+    assert_eq!(report.count(alba_import::Kind::Refused), 0, "{}", report.render());
+}
