@@ -23,6 +23,8 @@ use std::path::{Path, PathBuf};
 
 mod circuit;
 pub mod export;
+#[doc(hidden)]
+pub mod fuzz;
 pub mod l5x;
 pub mod ldmicro;
 mod names;

@@ -121,6 +121,10 @@ proptest! {
         let format = if force_format { alba_import::detect(path, &String::from_utf8_lossy(bytes)) } else { None };
         let opts = Options { format, board: None, force: false };
         let _ = alba_import::convert(path, &text, &opts);
-        let _ = alba_import::convert(path, &text, &Options { format: Some(Format::Ldmicro), board: Some("nano".into()), force: false });
+        for f in Format::ALL {
+            if let Err(e) = alba_import::fuzz::check(f, text.as_bytes()) {
+                panic!("{f}: {e}");
+            }
+        }
     }
 }
