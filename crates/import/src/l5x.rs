@@ -424,7 +424,7 @@ fn rewrite(text: &str, scope: &HashMap<String, Sym>, io: &Io) -> Result<String, 
                 continue;
             }
             // An operand: a tag path, an alias, an I/O point or a system tag.
-            out.push_str(&operand(&tok, scope, io, stack.last())?);
+            out.push_str(&operand(&tok, scope, io, 0)?);
             continue;
         }
         match c {
@@ -445,7 +445,15 @@ fn rewrite(text: &str, scope: &HashMap<String, Sym>, io: &Io) -> Result<String, 
     Ok(fill_presets(&out, scope))
 }
 
-fn operand(tok: &str, scope: &HashMap<String, Sym>, io: &Io, _at: Option<&(String, usize)>) -> Result<String, String> {
+/// Alias chains followed (an alias of an alias …); deeper, or a cycle, is refused.
+const MAX_ALIAS_CHAIN: usize = 16;
+
+fn operand(tok: &str, scope: &HashMap<String, Sym>, io: &Io, depth: usize) -> Result<String, String> {
+    if depth > MAX_ALIAS_CHAIN {
+        return Err(format!(
+            "`{tok}`: aliases chained more than {MAX_ALIAS_CHAIN} deep (or in a cycle)"
+        ));
+    }
     let up = tok.to_ascii_uppercase();
     if up.starts_with("S:") {
         return Ok(tok.to_string());
@@ -466,7 +474,7 @@ fn operand(tok: &str, scope: &HashMap<String, Sym>, io: &Io, _at: Option<&(Strin
     match scope.get(&head.to_ascii_lowercase()) {
         Some(Sym::Tag { alba, .. }) => Ok(format!("{alba}{rest}")),
         Some(Sym::Alias(target)) => {
-            let t = operand(target, scope, io, None)?;
+            let t = operand(target, scope, io, depth + 1)?;
             Ok(format!("{t}{rest}"))
         }
         Some(Sym::Refused(why)) => Err(format!("`{head}` was refused ({why})")),

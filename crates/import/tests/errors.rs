@@ -382,3 +382,23 @@ fn an_l5x_routine_export_imports_its_routine() {
     assert_eq!(p.programs[0].text, "[XIC(Start),XIC(Motor)]OTE(Motor);\n");
     assert_eq!(report.count(alba_import::Kind::Refused), 0, "{}", report.render());
 }
+
+#[test]
+fn cyclic_l5x_aliases_are_refused() {
+    let text = r#"<RSLogix5000Content SchemaRevision="1.0"><Controller Name="C"><Tags>
+<Tag Name="A" TagType="Alias" AliasFor="B"/>
+<Tag Name="B" TagType="Alias" AliasFor="A"/>
+<Tag Name="Q" TagType="Base" DataType="BOOL"/>
+</Tags><Programs><Program Name="P" MainRoutineName="R"><Routines><Routine Name="R" Type="RLL"><RLLContent>
+<Rung Number="0" Type="N"><Text><![CDATA[XIC(A)OTE(Q);]]></Text></Rung>
+</RLLContent></Routine></Routines></Program></Programs></Controller></RSLogix5000Content>"#;
+    let (p, report) = alba_import::convert(Path::new("c.L5X"), text, &Options::default()).expect("converts");
+    assert!(p.programs[0].text.starts_with("// REFUSED"));
+    assert!(
+        report
+            .render()
+            .contains("c.L5X:6:27: refused: rung 0 of `P`/`R`: `B`: aliases chained more than 16 deep (or in a cycle)"),
+        "{}",
+        report.render()
+    );
+}
