@@ -1,0 +1,1320 @@
+//! PLCopen TC6 XML v2.01 (IEC 61131-10): the project files of the OpenPLC
+//! editor, Beremiz and CODESYS exports.
+//!
+//! Read: every `program` POU whose body is LD becomes one Alba ladder file;
+//! its variables, and the configuration's global variables, become tags
+//! (located ones, `%IX0.0` `%QX0.0` `%IW0` `%QW0` `%MW0` …, keep their IEC
+//! address, which Alba reads directly). An LD body is a graph: each element
+//! lists the elements its input is connected to. The graph is walked from
+//! its sinks (coils, output variables, function blocks) in the order of
+//! their execution order or drawing position; a contact is its input AND
+//! its variable, several connections into one input are an OR, and the
+//! standard function blocks become Alba instructions:
+//!
+//! | IEC | Alba |
+//! |---|---|
+//! | `TON` `TOF` `TP` (IN, PT → Q, ET) | `TON` `TOF` `TP` on a TIMER tag; Q = `.DN`, ET = `.ACC` |
+//! | `CTU` (CU, R, PV → Q, CV) | `CTU`, R: `MOV(0,C.ACC)`; Q = `GEQ(C.ACC,PV)` |
+//! | `CTD` (CD, LD, PV → Q, CV) | `CTD`, LD: `MOV(PV,C.ACC)`; Q = `LEQ(C.ACC,0)` |
+//! | `CTUD` | both, QU and QD as above |
+//! | `R_TRIG` `F_TRIG` | `OSR` `OSF` with two helper bits |
+//! | `GT` `GE` `EQ` `NE` `LT` `LE` | compares ANDed with EN |
+//! | `ADD` `SUB` `MUL` `DIV` `MOD` `MOVE` | the instruction, gated by EN, into a helper tag |
+//!
+//! Everything else (user function blocks, functions, ST/FBD/IL/SFC bodies,
+//! jumps, other blocks) is refused with its place; a coil fed by a refused
+//! element is refused too.
+
+use crate::circuit::{Cond, Emitter, Structs};
+use crate::names::Names;
+use crate::xml::{self, Elem};
+use crate::{Error, Kind, Location, Options, ProgramOut, Project, Report, TagOut};
+use std::collections::HashMap;
+
+/// Deepest chain of connections followed (a deeper graph is refused rather
+/// than risking the stack).
+const MAX_CHAIN: usize = 2000;
+
+pub(crate) struct Ctx<'a> {
+    pub file: &'a str,
+    pub text: &'a str,
+}
+
+impl Ctx<'_> {
+    pub fn loc(&self, e: &Elem) -> Location {
+        let (l, c) = xml::line_col(self.text, e.start);
+        Location::new(self.file, l, c)
+    }
+
+    pub fn loc_at(&self, offset: usize) -> Location {
+        let (l, c) = xml::line_col(self.text, offset);
+        Location::new(self.file, l, c)
+    }
+}
+
+pub(crate) fn xml_error(ctx: &Ctx<'_>, e: xml::XmlError) -> Error {
+    if e.limit {
+        Error::at(ctx.loc_at(e.offset), format!("refused: {}", e.message))
+    } else {
+        Error::at(ctx.loc_at(e.offset), format!("not well-formed XML: {}", e.message))
+    }
+}
+
+/// What a variable is in Alba.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum VarKind {
+    /// A tag of this Alba type.
+    Tag(String),
+    Timer,
+    Counter,
+    /// R_TRIG / F_TRIG instances: helper bits, no tag of their own.
+    Trig,
+    /// Not convertible (why).
+    Refused(String),
+}
+
+#[derive(Debug, Clone)]
+struct Var {
+    alba: String,
+    kind: VarKind,
+}
+
+/// A duration or number literal in IEC form, as an Alba literal.
+fn iec_literal(s: &str) -> Option<String> {
+    let t = s.trim();
+    let up = t.to_ascii_uppercase();
+    if let Some(rest) = up.strip_prefix("T#").or_else(|| up.strip_prefix("TIME#")) {
+        return duration_ms(rest).map(|v| v.to_string());
+    }
+    let body = up.split_once('#').map(|(ty, v)| {
+        if [
+            "INT", "DINT", "SINT", "LINT", "UINT", "UDINT", "USINT", "REAL", "LREAL", "WORD", "BYTE", "DWORD",
+        ]
+        .contains(&ty)
+        {
+            v.to_string()
+        } else {
+            up.clone()
+        }
+    });
+    let v = body.unwrap_or(up);
+    let v = v.replace('_', "");
+    if let Some((base, digits)) = v.split_once('#') {
+        let radix = match base {
+            "2" => 2,
+            "8" => 8,
+            "16" => 16,
+            _ => return None,
+        };
+        return i64::from_str_radix(digits, radix).ok().map(|n| n.to_string());
+    }
+    if v.parse::<i64>().is_ok() {
+        return Some(v.trim_start_matches('+').to_string());
+    }
+    if v.parse::<f64>().is_ok_and(f64::is_finite) && v.contains('.') {
+        return Some(v);
+    }
+    None
+}
+
+/// `1m30s500ms` → 90500 (IEC duration parts, `_` allowed, decimals refused).
+pub(crate) fn duration_ms(s: &str) -> Option<i64> {
+    let s = s.replace('_', "").to_ascii_lowercase();
+    let (neg, mut rest) = match s.strip_prefix('-') {
+        Some(r) => (true, r.to_string()),
+        None => (false, s),
+    };
+    if rest.is_empty() {
+        return None;
+    }
+    let mut total: i64 = 0;
+    while !rest.is_empty() {
+        let n: String = rest.chars().take_while(|c| c.is_ascii_digit()).collect();
+        if n.is_empty() {
+            return None;
+        }
+        let v: i64 = n.parse().ok()?;
+        rest = rest[n.len()..].to_string();
+        let (mult, len) = if rest.starts_with("ms") {
+            (1, 2)
+        } else if rest.starts_with('d') {
+            (86_400_000, 1)
+        } else if rest.starts_with('h') {
+            (3_600_000, 1)
+        } else if rest.starts_with('m') {
+            (60_000, 1)
+        } else if rest.starts_with('s') {
+            (1000, 1)
+        } else {
+            return None;
+        };
+        rest = rest[len..].to_string();
+        total = total.checked_add(v.checked_mul(mult)?)?;
+    }
+    if total > i64::from(i32::MAX) {
+        return None;
+    }
+    Some(if neg { -total } else { total })
+}
+
+/// The Alba type of an elementary IEC type, and whether it is approximated.
+fn elementary(name: &str) -> Option<(&'static str, bool)> {
+    Some(match name.to_ascii_uppercase().as_str() {
+        "BOOL" => ("BOOL", false),
+        "SINT" => ("SINT", false),
+        "INT" => ("INT", false),
+        "DINT" => ("DINT", false),
+        "LINT" => ("LINT", false),
+        "REAL" => ("REAL", false),
+        "LREAL" => ("LREAL", false),
+        "TIME" => ("TIME", false),
+        "USINT" | "BYTE" => ("INT", true),
+        "UINT" | "WORD" => ("DINT", true),
+        "UDINT" | "DWORD" | "ULINT" | "LWORD" => ("LINT", true),
+        _ => return None,
+    })
+}
+
+struct Conv<'a> {
+    ctx: Ctx<'a>,
+    report: Report,
+    names: Names,
+    structs: Structs,
+    tags: Vec<TagOut>,
+    globals: HashMap<String, Var>,
+}
+
+impl Conv<'_> {
+    /// Declares the variables of a `globalVars`/`localVars`/… element.
+    fn declare(&mut self, list: &Elem, scope: &mut HashMap<String, Var>, owner: &str) {
+        for v in list.all("variable") {
+            let loc = self.ctx.loc(v);
+            let Some(name) = v.attr("name") else {
+                self.report.push(Kind::Refused, loc, "a variable without a name");
+                continue;
+            };
+            let ty = v.child("type").and_then(|t| t.children.first());
+            let (kind, approx) = match ty {
+                None => (VarKind::Refused("it has no type".into()), false),
+                Some(t) if t.name == "derived" => match t.attr("name").map(str::to_ascii_uppercase).as_deref() {
+                    Some("TON" | "TOF" | "TP") => (VarKind::Timer, false),
+                    Some("CTU" | "CTD" | "CTUD") => (VarKind::Counter, false),
+                    Some("R_TRIG" | "F_TRIG") => (VarKind::Trig, false),
+                    Some(other) => (
+                        VarKind::Refused(format!("its type `{other}` is not one Alba has")),
+                        false,
+                    ),
+                    None => (VarKind::Refused("a derived type without a name".into()), false),
+                },
+                Some(t) => match elementary(&t.name) {
+                    Some((a, approx)) => (VarKind::Tag(a.to_string()), approx),
+                    None => (
+                        VarKind::Refused(format!("its type `{}` is not one Alba has", t.name)),
+                        false,
+                    ),
+                },
+            };
+            let key = name.to_ascii_lowercase();
+            if let VarKind::Refused(why) = &kind {
+                self.report
+                    .push(Kind::Refused, loc, format!("variable `{name}` of {owner}: {why}"));
+                scope.insert(
+                    key,
+                    Var {
+                        alba: name.to_string(),
+                        kind,
+                    },
+                );
+                continue;
+            }
+            let wanted = if self.names.is_taken(name) {
+                format!("{owner}_{name}")
+            } else {
+                name.to_string()
+            };
+            let (alba, why) = self.names.alba_as(&format!("{owner}\u{0}{name}"), &wanted);
+            if alba != name {
+                let why = why.unwrap_or_else(|| format!("`{name}` is also the name of another tag"));
+                self.report
+                    .push(Kind::Approximated, loc.clone(), format!("{why}: tag `{alba}`"));
+            }
+            if approx && let VarKind::Tag(a) = &kind {
+                let t = ty.map(|t| t.name.as_str()).unwrap_or("");
+                self.report.push(
+                    Kind::Approximated,
+                    loc.clone(),
+                    format!("`{name}`: the unsigned {t} is held in a signed {a}"),
+                );
+            }
+            let mut address = v.attr("address").unwrap_or("").trim().to_string();
+            let ty_name = match &kind {
+                VarKind::Tag(t) => t.clone(),
+                VarKind::Timer => "TIMER".into(),
+                VarKind::Counter => "COUNTER".into(),
+                _ => String::new(),
+            };
+            if !address.is_empty() {
+                match alba_model::Address::parse(&address) {
+                    Ok(Some(a))
+                        if a.allowed_types()
+                            .iter()
+                            .any(|t| t.name().eq_ignore_ascii_case(&ty_name)) =>
+                    {
+                        self.report
+                            .push(Kind::Converted, loc.clone(), format!("`{name}` {ty_name} at {address}"));
+                    }
+                    _ => {
+                        self.report.push(
+                            Kind::Approximated,
+                            loc.clone(),
+                            format!(
+                                "`{name}`: the address {address} is not one Alba holds a {ty_name} at; an internal tag"
+                            ),
+                        );
+                        address.clear();
+                    }
+                }
+            }
+            let mut initial = String::new();
+            if let Some(sv) = v.child("initialValue").and_then(|i| i.child("simpleValue")) {
+                let raw = sv.attr("value").unwrap_or("").trim();
+                let lit = if ty_name == "BOOL" {
+                    match raw.to_ascii_uppercase().as_str() {
+                        "TRUE" | "1" | "BOOL#TRUE" | "BOOL#1" => Some("1".to_string()),
+                        "FALSE" | "0" | "BOOL#FALSE" | "BOOL#0" => Some("0".to_string()),
+                        _ => None,
+                    }
+                } else if matches!(kind, VarKind::Tag(_)) {
+                    iec_literal(raw)
+                } else {
+                    None
+                };
+                match lit {
+                    Some(l) => initial = l,
+                    None => self.report.push(
+                        Kind::Refused,
+                        self.ctx.loc(sv),
+                        format!("initial value `{raw}` of `{name}` is not converted"),
+                    ),
+                }
+            }
+            let description = v
+                .child("documentation")
+                .map(|d| collect_text(d).split_whitespace().collect::<Vec<_>>().join(" "))
+                .unwrap_or_default();
+            if matches!(kind, VarKind::Tag(_) | VarKind::Timer | VarKind::Counter) {
+                self.tags.push(TagOut {
+                    name: alba.clone(),
+                    ty: ty_name,
+                    address,
+                    initial,
+                    description,
+                });
+            }
+            scope.insert(key, Var { alba, kind });
+        }
+    }
+}
+
+fn collect_text(e: &Elem) -> String {
+    let mut s = e.text.clone();
+    for c in &e.children {
+        s.push(' ');
+        s.push_str(&collect_text(c));
+    }
+    s
+}
+
+/// One LD body being converted.
+struct Body<'b, 'e> {
+    elems: HashMap<String, &'b Elem>,
+    vars: &'b HashMap<String, Var>,
+    memo: HashMap<(String, String), Result<Out, String>>,
+    visiting: Vec<String>,
+    emitted_blocks: HashMap<String, ()>,
+    e: Emitter<'e>,
+    pou: String,
+    structs: Structs,
+    /// Instance → the helper bit holding an R_TRIG/F_TRIG's Q.
+    trig_q: HashMap<String, String>,
+    /// Notes for the report: (kind, byte offset, message).
+    notes: Vec<(Kind, usize, String)>,
+    /// Helper tags holding block results: (name, type, what).
+    data_helpers: Vec<(String, String, String)>,
+    /// Block localId → the helper holding its OUT.
+    block_out_data: HashMap<String, String>,
+    /// A function block's OUT whose only reader is an output variable:
+    /// block localId → that variable's localId (the result goes straight in).
+    sole_out: HashMap<String, String>,
+    /// Output variables written by their block directly.
+    handled: Vec<String>,
+}
+
+/// What an element output carries.
+#[derive(Debug, Clone)]
+enum Out {
+    Power(Cond),
+    /// A number: Alba operand text.
+    Data(String),
+}
+
+fn connections(point: Option<&Elem>) -> Vec<(String, String)> {
+    point
+        .map(|p| {
+            p.all("connection")
+                .filter_map(|c| {
+                    c.attr("refLocalId")
+                        .map(|r| (r.to_string(), c.attr("formalParameter").unwrap_or("").to_string()))
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The connections into a block's input `param`.
+fn block_input(b: &Elem, param: &str) -> Option<Vec<(String, String)>> {
+    let vars = b.child("inputVariables")?;
+    let v = vars
+        .all("variable")
+        .find(|v| v.attr("formalParameter").is_some_and(|p| p.eq_ignore_ascii_case(param)))?;
+    let c = connections(v.child("connectionPointIn"));
+    if c.is_empty() { None } else { Some(c) }
+}
+
+impl Body<'_, '_> {
+    fn var(&self, name: &str) -> Option<&Var> {
+        self.vars.get(&name.trim().to_ascii_lowercase())
+    }
+
+    /// A variable or literal as an Alba operand (number or bit).
+    fn operand(&self, expr: &str) -> Result<(String, bool), String> {
+        let t = expr.trim();
+        if let Some(v) = self.var(t) {
+            return match &v.kind {
+                VarKind::Tag(ty) => Ok((v.alba.clone(), ty == "BOOL")),
+                VarKind::Timer => Ok((format!("{}.ACC", v.alba), false)),
+                VarKind::Counter => Ok((format!("{}.ACC", v.alba), false)),
+                VarKind::Trig => Err(format!("`{t}` is an R_TRIG/F_TRIG instance, not a value")),
+                VarKind::Refused(why) => Err(format!("variable `{t}` was refused ({why})")),
+            };
+        }
+        if let Some((inst, member)) = t.split_once('.')
+            && let Some(v) = self.var(inst)
+        {
+            let m = member.to_ascii_uppercase();
+            return match (&v.kind, m.as_str()) {
+                (VarKind::Timer, "Q") => Ok((format!("{}.DN", v.alba), true)),
+                (VarKind::Timer, "ET") => Ok((format!("{}.ACC", v.alba), false)),
+                (VarKind::Timer, "PT") => Ok((format!("{}.PRE", v.alba), false)),
+                (VarKind::Counter, "CV") => Ok((format!("{}.ACC", v.alba), false)),
+                (VarKind::Counter, "PV") => Ok((format!("{}.PRE", v.alba), false)),
+                _ => Err(format!("`{t}` has no Alba equivalent")),
+            };
+        }
+        match t.to_ascii_uppercase().as_str() {
+            "TRUE" => return Ok(("1".into(), true)),
+            "FALSE" => return Ok(("0".into(), true)),
+            _ => {}
+        }
+        iec_literal(t)
+            .map(|l| (l, false))
+            .ok_or_else(|| format!("`{t}` is neither a variable of {} nor a literal", self.pou))
+    }
+
+    /// The power flowing into a connection point (OR of its connections).
+    fn power_in(&mut self, conns: &[(String, String)]) -> Result<Cond, String> {
+        if conns.is_empty() {
+            return Ok(self.e.open());
+        }
+        let mut cs = Vec::new();
+        for (id, param) in conns {
+            match self.out(id, param)? {
+                Out::Power(c) => cs.push(c),
+                Out::Data(d) => {
+                    // A BOOL variable feeding a power input.
+                    if d == "1" {
+                        cs.push(self.e.rail());
+                    } else if d == "0" {
+                        cs.push(self.e.open());
+                    } else {
+                        let c = self.e.input(&format!("XIC({d})"), std::slice::from_ref(&d));
+                        cs.push(c);
+                    }
+                }
+            }
+        }
+        Ok(self.e.or(&cs))
+    }
+
+    fn data_in(&mut self, conns: &[(String, String)]) -> Result<String, String> {
+        match conns {
+            [(id, param)] => match self.out(id, param)? {
+                Out::Data(d) => Ok(d),
+                Out::Power(_) => Err("a power flow wired into a number input".into()),
+            },
+            [] => Err("an unconnected input".into()),
+            _ => Err("several connections into a number input".into()),
+        }
+    }
+
+    fn out(&mut self, id: &str, param: &str) -> Result<Out, String> {
+        let key = (id.to_string(), param.to_ascii_uppercase());
+        if let Some(r) = self.memo.get(&key) {
+            return r.clone();
+        }
+        if self.visiting.iter().any(|v| v == id) {
+            return Err(format!("a feedback loop through element {id}"));
+        }
+        if self.visiting.len() >= MAX_CHAIN {
+            return Err(format!("connections chained deeper than {MAX_CHAIN} elements"));
+        }
+        self.visiting.push(id.to_string());
+        let r = self.compute(id, param);
+        self.visiting.pop();
+        self.memo.insert(key, r.clone());
+        r
+    }
+
+    fn compute(&mut self, id: &str, param: &str) -> Result<Out, String> {
+        let Some(el) = self.elems.get(id).copied() else {
+            return Err(format!("a connection to element {id}, which does not exist"));
+        };
+        match el.name.as_str() {
+            "leftPowerRail" => Ok(Out::Power(self.e.rail())),
+            "contact" => {
+                let input = self.power_in(&connections(el.child("connectionPointIn")))?;
+                let var = el
+                    .child("variable")
+                    .map(|v| v.text.trim().to_string())
+                    .unwrap_or_default();
+                let (op, is_bit) = self.operand(&var)?;
+                if !is_bit {
+                    return Err(format!("contact on `{var}`, which is not a BOOL"));
+                }
+                let neg = el.attr("negated") == Some("true");
+                match el.attr("edge").unwrap_or("none") {
+                    "none" => {
+                        let frag = if neg {
+                            format!("XIO({op})")
+                        } else {
+                            format!("XIC({op})")
+                        };
+                        Ok(Out::Power(self.e.and(input, &frag, std::slice::from_ref(&op))))
+                    }
+                    edge @ ("rising" | "falling") => {
+                        let m = self.e.names().fresh(&format!("{}_edge_mem", op.replace('.', "_")));
+                        let q = self.e.names().fresh(&format!("{}_edge", op.replace('.', "_")));
+                        let rail = self.e.rail();
+                        let mn = if edge == "rising" { "OSR" } else { "OSF" };
+                        self.e.emit(
+                            rail,
+                            &format!("XIC({op})"),
+                            &format!("{mn}({m},{q})"),
+                            &[m.clone(), q.clone()],
+                        );
+                        self.e.helpers.push((m, format!("edge memory of {op}")));
+                        self.e.helpers.push((q.clone(), format!("{edge} edge of {op}")));
+                        let frag = if neg { format!("XIO({q})") } else { format!("XIC({q})") };
+                        Ok(Out::Power(self.e.and(input, &frag, &[q])))
+                    }
+                    other => Err(format!("contact edge `{other}`")),
+                }
+            }
+            "coil" => {
+                let input = self.power_in(&connections(el.child("connectionPointIn")))?;
+                self.coil(el, input)?;
+                Ok(Out::Power(input))
+            }
+            "inVariable" | "inOutVariable" => {
+                let expr = el
+                    .child("expression")
+                    .map(|x| x.text.trim().to_string())
+                    .unwrap_or_default();
+                if el.name == "inOutVariable" {
+                    self.sink(el)?;
+                }
+                let (op, is_bit) = self.operand(&expr)?;
+                let negated = el.attr("negated") == Some("true") || el.attr("negatedOut") == Some("true");
+                if is_bit && (op != "1" && op != "0") {
+                    let frag = if negated {
+                        format!("XIO({op})")
+                    } else {
+                        format!("XIC({op})")
+                    };
+                    Ok(Out::Power(self.e.input(&frag, std::slice::from_ref(&op))))
+                } else if negated {
+                    Err(format!("a negated `{expr}`"))
+                } else {
+                    Ok(Out::Data(op))
+                }
+            }
+            "block" => self.block_out(el, param),
+            other => Err(format!("<{other}> elements are not converted")),
+        }
+    }
+
+    fn coil(&mut self, el: &Elem, input: Cond) -> Result<(), String> {
+        let var = el
+            .child("variable")
+            .map(|v| v.text.trim().to_string())
+            .unwrap_or_default();
+        let (op, is_bit) = self.operand(&var)?;
+        if !is_bit || op == "1" || op == "0" {
+            return Err(format!("coil on `{var}`, which is not a BOOL variable"));
+        }
+        let w = std::slice::from_ref(&op);
+        if el.attr("edge").is_some_and(|e| e != "none") {
+            return Err("edge-triggered coils are not converted".into());
+        }
+        let negated = el.attr("negated") == Some("true");
+        match el.attr("storage").unwrap_or("none") {
+            "set" => self.e.emit(input, "", &format!("OTL({op})"), w),
+            "reset" => self.e.emit(input, "", &format!("OTU({op})"), w),
+            _ if negated => self.e.emit(input, &format!("OTL({op})"), &format!("OTU({op})"), w),
+            _ => self.e.emit(input, "", &format!("OTE({op})"), w),
+        }
+        Ok(())
+    }
+
+    /// An element that writes: a coil, an output variable, a block.
+    fn sink(&mut self, el: &Elem) -> Result<(), String> {
+        let id = el.attr("localId").unwrap_or("").to_string();
+        match el.name.as_str() {
+            "coil" => self.out(&id, "").map(|_| ()),
+            "block" => self.run_block(el),
+            "outVariable" | "inOutVariable" => {
+                let conns = connections(el.child("connectionPointIn"));
+                if conns.is_empty() {
+                    return Ok(());
+                }
+                let expr = el
+                    .child("expression")
+                    .map(|x| x.text.trim().to_string())
+                    .unwrap_or_default();
+                let (op, is_bit) = self.operand(&expr)?;
+                let w = std::slice::from_ref(&op);
+                if is_bit {
+                    let c = self.power_in(&conns)?;
+                    let negated = el.attr("negated") == Some("true") || el.attr("negatedIn") == Some("true");
+                    if negated {
+                        self.e.emit(c, &format!("OTL({op})"), &format!("OTU({op})"), w);
+                    } else {
+                        self.e.emit(c, "", &format!("OTE({op})"), w);
+                    }
+                } else {
+                    let src = self.data_in(&conns)?;
+                    let id = el.attr("localId").unwrap_or("");
+                    if !self.handled.iter().any(|h| h == id) {
+                        let rail = self.e.rail();
+                        self.e.emit(rail, "", &format!("MOV({src},{op})"), w);
+                    }
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn instance(&self, b: &Elem, want: &VarKind) -> Result<String, String> {
+        let ty = b.attr("typeName").unwrap_or("");
+        let Some(inst) = b.attr("instanceName") else {
+            return Err(format!("{ty} block without an instance name"));
+        };
+        match self.var(inst) {
+            Some(v) if &v.kind == want => Ok(v.alba.clone()),
+            Some(_) => Err(format!("instance `{inst}` is not declared as a {ty}")),
+            None => Err(format!("instance `{inst}` is not declared")),
+        }
+    }
+
+    fn power_of(&mut self, b: &Elem, param: &str) -> Result<Cond, String> {
+        let conns = block_input(b, param).unwrap_or_default();
+        let c = self.power_in(&conns)?;
+        // EN, when wired, gates the block's power inputs.
+        if let Some(en) = block_input(b, "EN") {
+            let en = self.power_in(&en)?;
+            self.notes.push((
+                Kind::Approximated,
+                b.start,
+                format!(
+                    "EN of {} `{}` is ANDed into {param}: IEC does not call a block whose EN is false (it keeps its state), Alba runs the instruction with a false rung",
+                    b.attr("typeName").unwrap_or(""),
+                    b.attr("instanceName").unwrap_or("")
+                ),
+            ));
+            return Ok(self.e.and_cond(c, en));
+        }
+        Ok(c)
+    }
+
+    /// Emits a standard function block once.
+    fn run_block(&mut self, b: &Elem) -> Result<(), String> {
+        let id = b.attr("localId").unwrap_or("").to_string();
+        if self.emitted_blocks.contains_key(&id) {
+            return Ok(());
+        }
+        self.emitted_blocks.insert(id, ());
+        let ty = b.attr("typeName").unwrap_or("").to_ascii_uppercase();
+        match ty.as_str() {
+            "TON" | "TOF" | "TP" => {
+                let t = self.instance(b, &VarKind::Timer)?;
+                let input = self.power_of(b, "IN")?;
+                let pt = match block_input(b, "PT") {
+                    Some(c) => self.data_in(&c)?,
+                    None => "?".to_string(),
+                };
+                let args = if pt.parse::<i64>().is_ok() {
+                    let pre: i64 = pt.parse().unwrap_or(0);
+                    Some(self.structs.timer(&t, pre)?)
+                } else {
+                    None
+                };
+                let args = args.unwrap_or_else(|| format!("{t},{pt},0"));
+                self.e
+                    .emit(input, "", &format!("{ty}({args})"), std::slice::from_ref(&t));
+                Ok(())
+            }
+            "CTU" | "CTD" | "CTUD" => {
+                let c = self.instance(b, &VarKind::Counter)?;
+                let pv = match block_input(b, "PV") {
+                    Some(conns) => self.data_in(&conns)?,
+                    None => "0".to_string(),
+                };
+                let lit: Option<i64> = pv.parse().ok();
+                let args = match lit {
+                    Some(p) => self.structs.counter(&c, p, 0).0,
+                    None => format!("{c},{pv},0"),
+                };
+                let w = std::slice::from_ref(&c);
+                if ty == "CTU" || ty == "CTUD" {
+                    let cu = self.power_of(b, "CU")?;
+                    self.e.emit(cu, "", &format!("CTU({args})"), w);
+                }
+                if ty == "CTD" || ty == "CTUD" {
+                    let cd = self.power_of(b, "CD")?;
+                    self.e.emit(cd, "", &format!("CTD({args})"), w);
+                    if let Some(ld) = block_input(b, "LD") {
+                        let ld = self.power_in(&ld)?;
+                        self.e.emit(ld, "", &format!("MOV({pv},{c}.ACC)"), w);
+                    }
+                }
+                if (ty == "CTU" || ty == "CTUD")
+                    && let Some(r) = block_input(b, "R")
+                {
+                    let r = self.power_in(&r)?;
+                    self.e.emit(r, "", &format!("MOV(0,{c}.ACC)"), w);
+                }
+                Ok(())
+            }
+            "R_TRIG" | "F_TRIG" => {
+                let inst = b.attr("instanceName").unwrap_or("trig");
+                match self.var(inst).map(|v| v.kind.clone()) {
+                    Some(VarKind::Trig) => {}
+                    _ => return Err(format!("instance `{inst}` is not declared as an {ty}")),
+                }
+                let (m, q) = self.trig_bits(inst);
+                if ty == "F_TRIG" {
+                    self.notes.push((
+                        Kind::Approximated,
+                        b.start,
+                        format!("F_TRIG `{inst}`: IEC's gives a pulse on the first scan when CLK is false, Alba's OSF does not"),
+                    ));
+                }
+                let clk = self.power_of(b, "CLK")?;
+                let mn = if ty == "R_TRIG" { "OSR" } else { "OSF" };
+                self.e.emit(clk, "", &format!("{mn}({m},{q})"), &[m, q]);
+                Ok(())
+            }
+            "GT" | "GE" | "EQ" | "NE" | "LT" | "LE" => Ok(()),
+            "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE" => {
+                let id = b.attr("localId").unwrap_or("").to_string();
+                let en = self.enable(b)?;
+                let ins: Vec<String> = if ty == "MOVE" {
+                    vec!["IN".into()]
+                } else {
+                    vec!["IN1".into(), "IN2".into()]
+                };
+                let mut ops = Vec::new();
+                for i in &ins {
+                    let c = block_input(b, i).ok_or_else(|| format!("{ty}: input {i} is not connected"))?;
+                    ops.push(self.data_in(&c)?);
+                }
+                let direct = self.sole_out.get(&id).cloned().and_then(|ov| {
+                    let el = self.elems.get(&ov)?;
+                    let expr = el.child("expression").map(|x| x.text.trim().to_string())?;
+                    match self.operand(&expr) {
+                        Ok((op, false)) if op.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') => {
+                            Some((ov, op))
+                        }
+                        _ => None,
+                    }
+                });
+                let helper = match &direct {
+                    Some((ov, op)) => {
+                        self.handled.push(ov.clone());
+                        op.clone()
+                    }
+                    None => {
+                        let real = ops.iter().any(|o| self.is_real(o));
+                        let result_ty = if real { "REAL" } else { "DINT" };
+                        let helper = self.e.names().fresh(&format!("{}_out", ty.to_ascii_lowercase()));
+                        self.data_helpers.push((
+                            helper.clone(),
+                            result_ty.to_string(),
+                            format!("output OUT of {ty} block {id}"),
+                        ));
+                        helper
+                    }
+                };
+                let text = if ty == "MOVE" {
+                    format!("MOV({},{helper})", ops[0])
+                } else {
+                    format!("{ty}({},{},{helper})", ops[0], ops[1])
+                };
+                if block_input(b, "EN").is_some() && direct.is_none() {
+                    self.notes.push((
+                        Kind::Approximated,
+                        b.start,
+                        format!(
+                            "{ty} with EN: while EN is false its OUT ({helper}) keeps the last result (IEC leaves it to the implementation)"
+                        ),
+                    ));
+                }
+                self.e.emit(en, "", &text, std::slice::from_ref(&helper));
+                self.block_out_data.insert(id, helper);
+                Ok(())
+            }
+            other => Err(format!(
+                "block `{other}` is not converted (only TON TOF TP CTU CTD CTUD R_TRIG F_TRIG, GT GE EQ NE LT LE, ADD SUB MUL DIV MOD MOVE)"
+            )),
+        }
+    }
+
+    /// The power into a block's EN (the rail when EN is not wired).
+    fn enable(&mut self, b: &Elem) -> Result<Cond, String> {
+        match block_input(b, "EN") {
+            Some(c) => self.power_in(&c),
+            None => Ok(self.e.rail()),
+        }
+    }
+
+    /// Whether an Alba operand is a REAL/LREAL (tag or literal).
+    fn is_real(&self, op: &str) -> bool {
+        if op.starts_with(|c: char| c.is_ascii_digit() || c == '-' || c == '+') {
+            return op.contains(['.', 'e', 'E']);
+        }
+        if let Some((_, ty, _)) = self.data_helpers.iter().find(|(h, _, _)| h == op) {
+            return ty == "REAL";
+        }
+        self.vars.values().any(|v| {
+            v.alba.eq_ignore_ascii_case(op) && matches!(&v.kind, VarKind::Tag(t) if t == "REAL" || t == "LREAL")
+        })
+    }
+
+    fn trig_bits(&mut self, inst: &str) -> (String, String) {
+        let base = inst.replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_");
+        let m = self.e.names().fresh(&format!("{base}_M"));
+        let q = self.e.names().fresh(&format!("{base}_Q"));
+        self.e.helpers.push((m.clone(), format!("memory of {inst}")));
+        self.e.helpers.push((q.clone(), format!("output Q of {inst}")));
+        self.trig_q.insert(inst.to_ascii_lowercase(), q.clone());
+        (m, q)
+    }
+
+    fn block_out(&mut self, b: &Elem, param: &str) -> Result<Out, String> {
+        self.run_block(b)?;
+        let ty = b.attr("typeName").unwrap_or("").to_ascii_uppercase();
+        let p = param.to_ascii_uppercase();
+        let inst = b.attr("instanceName").unwrap_or("");
+        let alba = self.var(inst).map(|v| v.alba.clone()).unwrap_or_default();
+        let pv = || -> Option<Vec<(String, String)>> { block_input(b, "PV") };
+        match (ty.as_str(), p.as_str()) {
+            ("TON" | "TOF" | "TP", "Q" | "") => {
+                let dn = format!("{alba}.DN");
+                Ok(Out::Power(self.e.input(&format!("XIC({dn})"), &[alba])))
+            }
+            ("TON" | "TOF" | "TP", "ET") => Ok(Out::Data(format!("{alba}.ACC"))),
+            ("CTU", "Q" | "") | ("CTUD", "QU") => {
+                let pv = match pv() {
+                    Some(c) => self.data_in(&c)?,
+                    None => "0".into(),
+                };
+                Ok(Out::Power(self.e.input(&format!("GEQ({alba}.ACC,{pv})"), &[alba])))
+            }
+            ("CTD", "Q" | "") | ("CTUD", "QD") => Ok(Out::Power(self.e.input(&format!("LEQ({alba}.ACC,0)"), &[alba]))),
+            ("CTU" | "CTD" | "CTUD", "CV") => Ok(Out::Data(format!("{alba}.ACC"))),
+            ("R_TRIG" | "F_TRIG", "Q" | "") => {
+                let q = self.trig_q.get(&inst.to_ascii_lowercase()).cloned().unwrap_or_default();
+                Ok(Out::Power(self.e.input(&format!("XIC({q})"), &[q])))
+            }
+            ("GT" | "GE" | "EQ" | "NE" | "LT" | "LE", "OUT" | "") => {
+                let a = block_input(b, "IN1").ok_or_else(|| format!("{ty}: IN1 is not connected"))?;
+                let c2 = block_input(b, "IN2").ok_or_else(|| format!("{ty}: IN2 is not connected"))?;
+                if block_input(b, "IN3").is_some() {
+                    return Err(format!("{ty} with more than two inputs"));
+                }
+                let a = self.data_in(&a)?;
+                let c2 = self.data_in(&c2)?;
+                let m = match ty.as_str() {
+                    "GT" => "GRT",
+                    "GE" => "GEQ",
+                    "EQ" => "EQU",
+                    "NE" => "NEQ",
+                    "LT" => "LES",
+                    _ => "LEQ",
+                };
+                let en = self.enable(b)?;
+                let reads: Vec<String> = [&a, &c2]
+                    .iter()
+                    .filter(|o| o.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_'))
+                    .map(|o| (*o).clone())
+                    .collect();
+                Ok(Out::Power(self.e.and(en, &format!("{m}({a},{c2})"), &reads)))
+            }
+            ("ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE", "OUT" | "") => {
+                let id = b.attr("localId").unwrap_or("");
+                self.block_out_data
+                    .get(id)
+                    .cloned()
+                    .map(Out::Data)
+                    .ok_or_else(|| format!("{ty} has no result"))
+            }
+            ("GT" | "GE" | "EQ" | "NE" | "LT" | "LE" | "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE", "ENO") => {
+                Ok(Out::Power(self.enable(b)?))
+            }
+            (_, "ENO") => Err("ENO outputs are not converted".into()),
+            (t, p) => Err(format!("output `{p}` of {t}")),
+        }
+    }
+}
+
+/// Converts a PLCopen project.
+pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
+    let ctx = Ctx { file, text };
+    let root = xml::parse(text).map_err(|e| xml_error(&ctx, e))?;
+    if root.name != "project" {
+        return Err(Error::at(
+            ctx.loc(&root),
+            format!(
+                "not a PLCopen project: the root element is <{}>, not <project>",
+                root.name
+            ),
+        ));
+    }
+    let ns_ok = root
+        .attrs
+        .iter()
+        .any(|(k, v)| k.starts_with("xmlns") && v.contains("plcopen.org/xml/tc6"));
+    if !ns_ok {
+        return Err(Error::at(
+            ctx.loc(&root),
+            "not PLCopen TC6 XML: <project> lacks the namespace http://www.plcopen.org/xml/tc6_0201",
+        ));
+    }
+    let mut conv = Conv {
+        ctx,
+        report: Report::default(),
+        names: Names::new(),
+        structs: Structs::default(),
+        tags: Vec::new(),
+        globals: HashMap::new(),
+    };
+    let name = root
+        .child("contentHeader")
+        .and_then(|h| h.attr("name"))
+        .unwrap_or(stem)
+        .to_string();
+
+    // Global variables and the scan period of the configurations.
+    let mut scan_ms: Option<u32> = None;
+    let mut instances: Vec<String> = Vec::new();
+    let mut globals = HashMap::new();
+    if let Some(cfgs) = root.child("instances").and_then(|i| i.child("configurations")) {
+        for cfg in cfgs.all("configuration") {
+            for gv in cfg.all("globalVars") {
+                conv.declare(gv, &mut globals, "global");
+            }
+            for res in cfg.all("resource") {
+                for gv in res.all("globalVars") {
+                    conv.declare(gv, &mut globals, "global");
+                }
+                for task in res.all("task") {
+                    let loc = conv.ctx.loc(task);
+                    if let Some(iv) = task.attr("interval") {
+                        let ms = iv
+                            .trim()
+                            .to_ascii_uppercase()
+                            .strip_prefix("T#")
+                            .or_else(|| iv.trim().to_ascii_uppercase().strip_prefix("TIME#").map(|_| ""))
+                            .and_then(duration_ms);
+                        match ms {
+                            Some(ms) if (1..=60_000).contains(&ms) && scan_ms.is_none() => {
+                                scan_ms = u32::try_from(ms).ok();
+                                conv.report
+                                    .push(Kind::Converted, loc, format!("task interval {iv}: scan_ms = {ms}"));
+                            }
+                            _ => conv.report.push(
+                                Kind::Approximated,
+                                loc,
+                                format!(
+                                    "task `{}` ({iv}): Alba has one scan period",
+                                    task.attr("name").unwrap_or("")
+                                ),
+                            ),
+                        }
+                    }
+                    for pi in task.all("pouInstance") {
+                        if let Some(t) = pi.attr("typeName") {
+                            instances.push(t.to_ascii_lowercase());
+                        }
+                    }
+                }
+                for pi in res.all("pouInstance") {
+                    if let Some(t) = pi.attr("typeName") {
+                        instances.push(t.to_ascii_lowercase());
+                    }
+                }
+            }
+        }
+    }
+    conv.globals = globals.clone();
+
+    let mut programs = Vec::new();
+    let pous: Vec<&Elem> = root
+        .child("types")
+        .and_then(|t| t.child("pous"))
+        .map(|p| p.all("pou").collect())
+        .unwrap_or_default();
+    // Programs in the order of the tasks' instances, then the others.
+    let mut ordered: Vec<&Elem> = Vec::new();
+    for i in &instances {
+        if let Some(p) = pous
+            .iter()
+            .find(|p| p.attr("name").map(str::to_ascii_lowercase).as_deref() == Some(i))
+            && !ordered.iter().any(|o| std::ptr::eq(*o, *p))
+        {
+            ordered.push(p);
+        }
+    }
+    for p in &pous {
+        if !ordered.iter().any(|o| std::ptr::eq(*o, *p)) {
+            ordered.push(p);
+        }
+    }
+    let mut refused_programs: Vec<String> = Vec::new();
+    for pou in ordered {
+        let loc = conv.ctx.loc(pou);
+        let pname = pou.attr("name").unwrap_or("").to_string();
+        let kind = pou.attr("pouType").unwrap_or("");
+        if kind != "program" {
+            conv.report.push(
+                Kind::Refused,
+                loc,
+                format!("{kind} `{pname}`: Alba has no user functions or function blocks; only programs are imported"),
+            );
+            continue;
+        }
+        let body = pou.child("body");
+        let lang = body.and_then(|b| {
+            b.children
+                .iter()
+                .find(|c| c.name != "documentation" && c.name != "addData")
+        });
+        let Some(ld) = lang.filter(|l| l.name == "LD") else {
+            let what = lang.map(|l| l.name.clone()).unwrap_or_else(|| "no".into());
+            conv.report.push(
+                Kind::Refused,
+                loc,
+                format!("program `{pname}` has a {what} body; only LD bodies are imported"),
+            );
+            refused_programs.push(format!("`{pname}` ({what})"));
+            continue;
+        };
+        if pou.child("actions").is_some_and(|a| !a.children.is_empty()) {
+            conv.report.push(
+                Kind::Refused,
+                loc.clone(),
+                format!("the actions of program `{pname}` are not imported"),
+            );
+        }
+        let mut scope = globals.clone();
+        if let Some(iface) = pou.child("interface") {
+            for list in &iface.children {
+                if matches!(
+                    list.name.as_str(),
+                    "localVars" | "inputVars" | "outputVars" | "inOutVars" | "externalVars" | "globalVars" | "tempVars"
+                ) {
+                    if list.name == "externalVars" {
+                        // Declared by the configuration; unknown ones become tags.
+                        let mut ext = HashMap::new();
+                        let mut tmp = Conv {
+                            ctx: Ctx { file, text },
+                            report: Report::default(),
+                            names: std::mem::take(&mut conv.names),
+                            structs: Structs::default(),
+                            tags: Vec::new(),
+                            globals: HashMap::new(),
+                        };
+                        let missing: Vec<&Elem> = list
+                            .all("variable")
+                            .filter(|v| {
+                                v.attr("name")
+                                    .is_some_and(|n| !scope.contains_key(&n.to_ascii_lowercase()))
+                            })
+                            .collect();
+                        if !missing.is_empty() {
+                            let mut l2 = list.clone();
+                            l2.children.retain(|c| {
+                                c.name == "variable"
+                                    && c.attr("name")
+                                        .is_some_and(|n| !scope.contains_key(&n.to_ascii_lowercase()))
+                            });
+                            tmp.declare(&l2, &mut ext, "global");
+                        }
+                        conv.names = tmp.names;
+                        conv.tags.extend(tmp.tags);
+                        conv.report.entries.extend(tmp.report.entries);
+                        scope.extend(ext);
+                    } else {
+                        conv.declare(list, &mut scope, &pname);
+                    }
+                }
+            }
+        }
+        let mut elems: HashMap<String, &Elem> = HashMap::new();
+        for el in &ld.children {
+            if let Some(id) = el.attr("localId")
+                && elems.insert(id.to_string(), el).is_some()
+            {
+                return Err(Error::at(
+                    conv.ctx.loc(el),
+                    format!("localId {id} is used twice in `{pname}`"),
+                ));
+            }
+        }
+        // Sinks in execution order, else top to bottom, left to right.
+        let pos = |e: &Elem| -> (i64, i64, i64) {
+            let ord = e
+                .attr("executionOrderId")
+                .and_then(|s| s.parse::<i64>().ok())
+                .unwrap_or(0);
+            let p = e.child("position");
+            let y = p
+                .and_then(|p| p.attr("y"))
+                .and_then(|s| s.parse::<f64>().ok())
+                .unwrap_or(0.0) as i64;
+            let x = p
+                .and_then(|p| p.attr("x"))
+                .and_then(|s| s.parse::<f64>().ok())
+                .unwrap_or(0.0) as i64;
+            (if ord > 0 { ord } else { i64::MAX }, y, x)
+        };
+        let mut sinks: Vec<&Elem> = ld
+            .children
+            .iter()
+            .filter(|e| {
+                matches!(
+                    e.name.as_str(),
+                    "coil" | "outVariable" | "inOutVariable" | "block" | "comment"
+                )
+            })
+            .collect();
+        let ordered_by_exec = sinks.iter().any(|e| pos(e).0 != i64::MAX);
+        if ordered_by_exec {
+            // Executed elements in their order; each comment goes before the
+            // first of them drawn at or below it.
+            let (comments, mut rest): (Vec<&Elem>, Vec<&Elem>) = sinks.iter().partition(|e| e.name == "comment");
+            rest.sort_by_key(|e| pos(e));
+            for c in comments {
+                let cy = pos(c).1;
+                let at = rest.iter().position(|e| pos(e).1 >= cy).unwrap_or(rest.len());
+                rest.insert(at, c);
+            }
+            sinks = rest;
+        } else {
+            sinks.sort_by_key(|e| {
+                let (_, y, x) = pos(e);
+                (y, x)
+            });
+        }
+        for el in &ld.children {
+            if matches!(
+                el.name.as_str(),
+                "jump" | "label" | "return" | "connector" | "continuation"
+            ) {
+                conv.report.push(
+                    Kind::Refused,
+                    conv.ctx.loc(el),
+                    format!("<{}> in `{pname}` is not converted", el.name),
+                );
+            }
+        }
+        let mut names = std::mem::take(&mut conv.names);
+        let mut lines: Vec<(String, usize)> = Vec::new();
+        // Readers of every block OUT, to write a function's result straight
+        // into its only output variable.
+        let mut readers: HashMap<String, Vec<(String, bool)>> = HashMap::new();
+        for el in &ld.children {
+            let mut points: Vec<&Elem> = Vec::new();
+            el.descendants("connectionPointIn", &mut points);
+            for pt in points {
+                for (id, param) in connections(Some(pt)) {
+                    if param.eq_ignore_ascii_case("OUT") {
+                        readers
+                            .entry(id)
+                            .or_default()
+                            .push((el.attr("localId").unwrap_or("").to_string(), el.name == "outVariable"));
+                    }
+                }
+            }
+        }
+        let sole_out: HashMap<String, String> = readers
+            .into_iter()
+            .filter_map(|(id, r)| match r.as_slice() {
+                [(ov, true)] => Some((id, ov.clone())),
+                _ => None,
+            })
+            .collect();
+        let mut origins: Vec<Location> = Vec::new();
+        let mut refusals: Vec<(Location, String)> = Vec::new();
+        {
+            let mut body = Body {
+                elems,
+                vars: &scope,
+                memo: HashMap::new(),
+                visiting: Vec::new(),
+                emitted_blocks: HashMap::new(),
+                e: Emitter::new(&mut names, "pwr"),
+                pou: pname.clone(),
+                structs: std::mem::take(&mut conv.structs),
+                trig_q: HashMap::new(),
+                notes: Vec::new(),
+                data_helpers: Vec::new(),
+                block_out_data: HashMap::new(),
+                sole_out,
+                handled: Vec::new(),
+            };
+            for s in &sinks {
+                origins.push(conv.ctx.loc(s));
+                body.e.set_origin(origins.len() - 1);
+                if s.name == "comment" {
+                    let t = collect_text(s);
+                    for l in t.lines() {
+                        let l = l.trim();
+                        if !l.is_empty() {
+                            body.e.comment(l);
+                        }
+                    }
+                    continue;
+                }
+                if body.e.bytes() > crate::MAX_OUTPUT_BYTES {
+                    return Err(Error::at(
+                        conv.ctx.loc(s),
+                        format!(
+                            "the converted program would exceed {} MiB",
+                            crate::MAX_OUTPUT_BYTES >> 20
+                        ),
+                    ));
+                }
+                if let Err(why) = body.sink(s) {
+                    let what = match s.name.as_str() {
+                        "coil" | "outVariable" | "inOutVariable" => format!(
+                            "<{}> `{}`",
+                            s.name,
+                            s.child("variable")
+                                .or_else(|| s.child("expression"))
+                                .map(|v| v.text.trim())
+                                .unwrap_or("")
+                        ),
+                        _ => format!("block {}", s.attr("typeName").unwrap_or("")),
+                    };
+                    refusals.push((conv.ctx.loc(s), format!("{what}: {why}")));
+                    body.e.comment(&format!("REFUSED by alba import: {what} ({why})"));
+                } else if matches!(s.name.as_str(), "block") {
+                    let msg = match s.attr("instanceName") {
+                        Some(i) => format!("{} `{i}`", s.attr("typeName").unwrap_or("")),
+                        None => format!("{} function", s.attr("typeName").unwrap_or("")),
+                    };
+                    conv.report.push(Kind::Converted, conv.ctx.loc(s), msg);
+                }
+            }
+            for (k, off, m) in std::mem::take(&mut body.notes) {
+                conv.report.push(k, conv.ctx.loc_at(off), m);
+            }
+            conv.structs = std::mem::take(&mut body.structs);
+            for (h, ty, what) in std::mem::take(&mut body.data_helpers) {
+                conv.tags.push(TagOut {
+                    name: h,
+                    ty,
+                    address: String::new(),
+                    initial: String::new(),
+                    description: format!("alba import: {what}"),
+                });
+            }
+            let helpers = std::mem::take(&mut body.e.helpers);
+            for (h, what) in helpers {
+                conv.tags.push(TagOut {
+                    name: h,
+                    ty: "BOOL".into(),
+                    address: String::new(),
+                    initial: String::new(),
+                    description: format!("alba import: {what}"),
+                });
+            }
+            lines.extend(body.e.finish_with_origins());
+        }
+        conv.names = names;
+        for (l, m) in refusals {
+            conv.report.push(Kind::Refused, l, m);
+        }
+        let file_name = format!("{}.lad", sanitize_file(&pname));
+        let mut prog = ProgramOut::new(file_name);
+        for (l, o) in lines {
+            let origin = origins.get(o);
+            if l.starts_with("//") {
+                prog.line(&l, origin);
+            } else {
+                prog.line(&format!("{l};"), origin);
+            }
+        }
+        programs.push(prog);
+    }
+    if programs.is_empty() {
+        let why = if refused_programs.is_empty() {
+            "it has no program POU".to_string()
+        } else {
+            format!("its programs are {}", refused_programs.join(", "))
+        };
+        return Err(Error::at(
+            conv.ctx.loc(&root),
+            format!("nothing to import: Alba imports LD bodies of programs, and {why}"),
+        ));
+    }
+    let mut report = conv.report;
+    report.entries.sort_by_key(|e| (e.location.line, e.location.col));
+    Ok((
+        Project {
+            name,
+            description: String::new(),
+            scan_ms: scan_ms.unwrap_or(10),
+            board: None,
+            tags: conv.tags,
+            programs,
+        },
+        report,
+    ))
+}
+
+fn sanitize_file(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() { "program".into() } else { s }
+}

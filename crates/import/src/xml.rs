@@ -1,0 +1,308 @@
+//! A small element tree over quick-xml's reader, with byte positions, for
+//! the PLCopen and L5X importers (the same approach as alba-net's PNML
+//! loader). Depth and element counts are capped so that a hostile file
+//! cannot exhaust the stack or memory; a document type declaration is
+//! refused outright (its internal subset could declare entities: the
+//! "billion laughs"), and only XML's five entities and character
+//! references are resolved.
+
+use quick_xml::events::Event;
+use quick_xml::reader::Reader;
+
+/// Deepest element nesting accepted.
+pub const MAX_DEPTH: usize = 128;
+/// Most elements in one document: with the tree in memory (a few hundred
+/// bytes per element at worst), this bounds what a hostile file of tiny
+/// elements costs; a net of 100 000 nodes with graphics stays well below.
+pub const MAX_ELEMENTS: usize = 1_000_000;
+
+#[derive(Debug, Clone)]
+pub struct Elem {
+    /// Local name (namespace prefix dropped).
+    pub name: String,
+    pub attrs: Vec<(String, String)>,
+    pub children: Vec<Elem>,
+    /// Character data directly inside, entities resolved.
+    pub text: String,
+    /// Byte range of the character data (first to last piece).
+    pub text_range: Option<(usize, usize)>,
+    /// Start of `<`.
+    pub start: usize,
+    /// End of the end tag (or of the empty tag).
+    pub end: usize,
+}
+
+impl Elem {
+    pub fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_str())
+    }
+
+    pub fn child(&self, name: &str) -> Option<&Elem> {
+        self.children.iter().find(|c| c.name == name)
+    }
+}
+
+/// A well-formedness error at a byte offset.
+#[derive(Debug)]
+pub struct XmlError {
+    pub offset: usize,
+    pub message: String,
+    /// A limit of Alba's ([`MAX_DEPTH`], [`MAX_ELEMENTS`]), not bad XML.
+    pub limit: bool,
+}
+
+fn local(name: &[u8]) -> String {
+    let n = match name.iter().rposition(|&b| b == b':') {
+        Some(i) => &name[i + 1..],
+        None => name,
+    };
+    String::from_utf8_lossy(n).into_owned()
+}
+
+fn open(e: &quick_xml::events::BytesStart, start: usize, end: usize) -> Result<Elem, XmlError> {
+    let mut attrs = Vec::new();
+    for a in e.attributes() {
+        let a = a.map_err(|err| XmlError {
+            limit: false,
+            offset: start,
+            message: format!("bad attribute: {err}"),
+        })?;
+        // Namespace declarations keep their prefix (`xmlns:pn`); other
+        // attributes are known by their local name.
+        let full = a.key.as_ref();
+        let key = if full.starts_with(b"xmlns") {
+            String::from_utf8_lossy(full).into_owned()
+        } else {
+            local(full)
+        };
+        let value = a.unescape_value().map_err(|err| XmlError {
+            limit: false,
+            offset: start,
+            message: format!("bad attribute value: {err}"),
+        })?;
+        attrs.push((key, value.into_owned()));
+    }
+    Ok(Elem {
+        name: local(e.name().as_ref()),
+        attrs,
+        children: Vec::new(),
+        text: String::new(),
+        text_range: None,
+        start,
+        end,
+    })
+}
+
+fn add_text(stack: &mut [Elem], s: &str, from: usize, to: usize) {
+    if let Some(top) = stack.last_mut() {
+        top.text.push_str(s);
+        top.text_range = Some(match top.text_range {
+            Some((a, _)) => (a, to),
+            None => (from, to),
+        });
+    }
+}
+
+/// Parses a whole document into its root element.
+pub fn parse(text: &str) -> Result<Elem, XmlError> {
+    let mut reader = Reader::from_str(text);
+    let config = reader.config_mut();
+    config.check_end_names = true;
+    config.trim_text(false);
+    let mut stack: Vec<Elem> = Vec::new();
+    let mut root: Option<Elem> = None;
+    let mut count = 0usize;
+    loop {
+        let before = reader.buffer_position() as usize;
+        let ev = reader.read_event().map_err(|err| XmlError {
+            limit: false,
+            offset: reader.error_position() as usize,
+            message: err.to_string(),
+        })?;
+        let after = reader.buffer_position() as usize;
+        if matches!(ev, Event::Start(_) | Event::Empty(_)) {
+            count += 1;
+            if count > MAX_ELEMENTS {
+                return Err(XmlError {
+                    limit: true,
+                    offset: before,
+                    message: format!("more than {MAX_ELEMENTS} elements"),
+                });
+            }
+        }
+        match ev {
+            Event::Start(e) => {
+                if root.is_some() && stack.is_empty() {
+                    return Err(XmlError {
+                        limit: false,
+                        offset: before,
+                        message: "a second root element: a document has one".into(),
+                    });
+                }
+                if stack.len() >= MAX_DEPTH {
+                    return Err(XmlError {
+                        limit: true,
+                        offset: before,
+                        message: format!("elements nested deeper than {MAX_DEPTH} levels"),
+                    });
+                }
+                stack.push(open(&e, before, after)?);
+            }
+            Event::Empty(e) => {
+                if root.is_some() && stack.is_empty() {
+                    return Err(XmlError {
+                        limit: false,
+                        offset: before,
+                        message: "a second root element: a document has one".into(),
+                    });
+                }
+                let el = open(&e, before, after)?;
+                match stack.last_mut() {
+                    Some(top) => top.children.push(el),
+                    None => root = Some(el),
+                }
+            }
+            Event::End(_) => {
+                let Some(mut el) = stack.pop() else {
+                    return Err(XmlError {
+                        limit: false,
+                        offset: before,
+                        message: "an end tag without a start tag".into(),
+                    });
+                };
+                el.end = after;
+                match stack.last_mut() {
+                    Some(top) => top.children.push(el),
+                    None => root = Some(el),
+                }
+            }
+            Event::Text(t) => {
+                let s = t.decode().map_err(|err| XmlError {
+                    limit: false,
+                    offset: before,
+                    message: err.to_string(),
+                })?;
+                if stack.is_empty() {
+                    if !s.trim().is_empty() {
+                        return Err(XmlError {
+                            limit: false,
+                            offset: before,
+                            message: "text outside the root element".into(),
+                        });
+                    }
+                } else {
+                    add_text(&mut stack, &s, before, after);
+                }
+            }
+            Event::CData(t) => {
+                let s = t.decode().map_err(|err| XmlError {
+                    limit: false,
+                    offset: before,
+                    message: err.to_string(),
+                })?;
+                if stack.is_empty() {
+                    return Err(XmlError {
+                        limit: false,
+                        offset: before,
+                        message: "CDATA outside the root element".into(),
+                    });
+                }
+                add_text(&mut stack, &s, before, after);
+            }
+            Event::GeneralRef(r) => {
+                let resolved: String = if r.is_char_ref() {
+                    match r.resolve_char_ref() {
+                        Ok(Some(c)) => c.to_string(),
+                        _ => {
+                            return Err(XmlError {
+                                limit: false,
+                                offset: before,
+                                message: "a character reference that is not a character".into(),
+                            });
+                        }
+                    }
+                } else {
+                    let name = r.decode().map_err(|err| XmlError {
+                        limit: false,
+                        offset: before,
+                        message: err.to_string(),
+                    })?;
+                    match quick_xml::escape::resolve_predefined_entity(&name) {
+                        Some(s) => s.to_string(),
+                        None => {
+                            return Err(XmlError {
+                                limit: false,
+                                offset: before,
+                                message: format!("unknown entity `&{name};` (only XML's five are defined)"),
+                            });
+                        }
+                    }
+                };
+                if stack.is_empty() {
+                    return Err(XmlError {
+                        limit: false,
+                        offset: before,
+                        message: "a reference outside the root element".into(),
+                    });
+                }
+                add_text(&mut stack, &resolved, before, after);
+            }
+            Event::DocType(_) => {
+                return Err(XmlError {
+                    limit: true,
+                    offset: before,
+                    message: "a document type declaration (<!DOCTYPE>), whose entities could expand without bound"
+                        .into(),
+                });
+            }
+            Event::Decl(_) | Event::PI(_) | Event::Comment(_) => {}
+            Event::Eof => break,
+        }
+    }
+    if let Some(open) = stack.last() {
+        return Err(XmlError {
+            limit: false,
+            offset: open.start,
+            message: format!("<{}> is never closed", open.name),
+        });
+    }
+    root.ok_or(XmlError {
+        limit: false,
+        offset: 0,
+        message: "no root element: the file is empty".into(),
+    })
+}
+
+impl Elem {
+    /// Children with this local name.
+    pub fn all<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Elem> + 'a {
+        self.children.iter().filter(move |c| c.name == name)
+    }
+
+    /// Every descendant with this local name, depth first.
+    pub fn descendants<'a>(&'a self, name: &str, out: &mut Vec<&'a Elem>) {
+        for c in &self.children {
+            if c.name == name {
+                out.push(c);
+            }
+            c.descendants(name, out);
+        }
+    }
+}
+
+/// Line and column (from 1, in characters) of a byte offset.
+pub fn line_col(text: &str, offset: usize) -> (u32, u32) {
+    let offset = offset.min(text.len());
+    let mut start = offset;
+    while start > 0 && !text.is_char_boundary(start) {
+        start -= 1;
+    }
+    let before = &text[..start];
+    let line = before.bytes().filter(|&b| b == b'\n').count() + 1;
+    let line_start = before.rfind('\n').map(|i| i + 1).unwrap_or(0);
+    let col = before[line_start..].chars().count() + 1;
+    (
+        u32::try_from(line).unwrap_or(u32::MAX),
+        u32::try_from(col).unwrap_or(u32::MAX),
+    )
+}

@@ -1,0 +1,404 @@
+//! Malformed and hostile inputs: each gives one precise error naming
+//! file:line:col, and nothing is written.
+
+use alba_import::{Format, Options};
+use std::fs;
+use std::path::Path;
+
+fn err(name: &str, format: Option<Format>, text: &str) -> String {
+    let opts = Options {
+        format,
+        board: None,
+        force: false,
+    };
+    match alba_import::convert(Path::new(name), text, &opts) {
+        Ok((p, _)) => panic!(
+            "{name} was accepted:\n{}",
+            p.programs.first().map(|p| p.text.as_str()).unwrap_or("")
+        ),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn ld(body: &str) -> String {
+    format!("LDmicro0.1\nCYCLE=10000\n\nIO LIST\n    Xa at 2\n    Yb at 3\nEND\n\nPROGRAM\n{body}")
+}
+
+const PLC_HEAD: &str = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201">
+  <types><pous>
+    <pou name="main" pouType="program">
+      <interface><localVars><variable name="a"><type><BOOL/></type></variable></localVars></interface>
+      <body><LD>
+"#;
+const PLC_TAIL: &str = "      </LD></body>\n    </pou>\n  </pous></types>\n</project>\n";
+
+fn cases() -> Vec<(&'static str, Option<Format>, String)> {
+    let deep: String = {
+        let mut s = String::from("RUNG\n");
+        for _ in 0..40 {
+            s.push_str("PARALLEL\nSERIES\n");
+        }
+        s.push_str("CONTACTS Xa 0\n");
+        for _ in 0..40 {
+            s.push_str("END\nEND\n");
+        }
+        s.push_str("END\n");
+        s
+    };
+    let deep_xml = format!("{}{}", "<a>".repeat(200), "</a>".repeat(200));
+    let bomb = r#"<?xml version="1.0"?>
+<!DOCTYPE lolz [
+ <!ENTITY lol "lol">
+ <!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">
+ <!ENTITY lol3 "&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;">
+]>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201">&lol3;</project>
+"#;
+    vec![
+        ("empty.ld", Some(Format::Ldmicro), String::new()),
+        ("version.ld", None, "LDmicro0.9\nPROGRAM\n".into()),
+        ("noprogram.ld", None, "LDmicro0.1\nCYCLE=10000\n\nIO LIST\nEND\n".into()),
+        ("unended.ld", None, ld("RUNG\n    CONTACTS Xa 0\n    COIL Yb 0 0 0\n")),
+        ("unknown.ld", None, ld("RUNG\n    CONTACTS Xa 0\n    FROB Yb\nEND\n")),
+        ("flag.ld", None, ld("RUNG\n    CONTACTS Xa yes\n    COIL Yb 0 0 0\nEND\n")),
+        ("coil.ld", None, ld("RUNG\n    CONTACTS Xa 0\n    COIL Yb 0\nEND\n")),
+        ("iolist.ld", None, "LDmicro0.1\nIO LIST\n    Xa on 3\nEND\nPROGRAM\n".into()),
+        ("deep.ld", None, ld(&deep)),
+        ("conflict.ld", None, ld("RUNG\n    CONTACTS a 0\n    MOVE a 1\nEND\n")),
+        ("operand.ld", None, ld("RUNG\n    CONTACTS Xa 0\n    MOVE v 1x2\nEND\n")),
+        ("toplevel.ld", None, ld("CONTACTS Xa 0\n")),
+        ("cycle.ld", None, "LDmicro0.1\nCYCLE=fast\nPROGRAM\n".into()),
+        ("notxml.xml", Some(Format::Plcopen), "hello, world\n".into()),
+        ("bomb.xml", None, bomb.into()),
+        ("root.xml", Some(Format::Plcopen), "<?xml version=\"1.0\"?>\n<foo/>\n".into()),
+        ("nons.xml", Some(Format::Plcopen), "<project>\n  <types/>\n</project>\n".into()),
+        ("unclosed.xml", None, format!("{PLC_HEAD}        <contact localId=\"1\">\n{PLC_TAIL}")),
+        (
+            "dupid.xml",
+            None,
+            format!(
+                "{PLC_HEAD}        <leftPowerRail localId=\"1\"/>\n        <contact localId=\"1\"><variable>a</variable></contact>\n{PLC_TAIL}"
+            ),
+        ),
+        ("deep.xml", Some(Format::Plcopen), deep_xml),
+        ("entity.L5X", None, "<RSLogix5000Content>\n  <Controller Name=\"&oops;\"/>\n</RSLogix5000Content>\n".into()),
+        ("root.L5X", Some(Format::L5x), "<?xml version=\"1.0\"?>\n<Project/>\n".into()),
+        ("nocontroller.L5X", None, "<RSLogix5000Content SchemaRevision=\"1.0\">\n</RSLogix5000Content>\n".into()),
+        (
+            "noprograms.L5X",
+            None,
+            "<RSLogix5000Content SchemaRevision=\"1.0\">\n  <Controller Name=\"C\">\n    <Tags/>\n  </Controller>\n</RSLogix5000Content>\n".into(),
+        ),
+        ("what.txt", None, "just some text\n".into()),
+    ]
+}
+
+#[test]
+fn malformed_inputs_give_located_errors() {
+    let got: Vec<String> = cases().iter().map(|(n, f, t)| err(n, *f, t)).collect();
+    let want = EXPECTED;
+    if std::env::var_os("ALBA_BLESS").is_some() {
+        for g in &got {
+            println!("{g:?},");
+        }
+    }
+    assert_eq!(got.len(), want.len(), "{got:#?}");
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(g, w);
+    }
+}
+
+const EXPECTED: &[&str] = &[
+    "empty.ld:1:1: the file is empty",
+    "version.ld:1:1: `LDmicro0.9`: only LDmicro0.1 and LDmicro0.2 files are read",
+    "noprogram.ld:6:1: no `PROGRAM` section",
+    "unended.ld:13:1: the file ends inside the RUNG opened at line 10: `END` expected",
+    "unknown.ld:12:5: unknown LDmicro element `FROB`",
+    "flag.ld:11:17: `yes` is not 0 or 1",
+    "coil.ld:12:5: `COIL` takes a name and the negated, set-only and reset-only flags; found 2 operand(s)",
+    "iolist.ld:3:5: `Xa on 3` is not `NAME at PIN`",
+    "deep.ld:75:1: circuits nested deeper than 64 levels",
+    "conflict.ld:12:5: `a` is used as a bit and as a number",
+    "operand.ld:12:12: `1x2` is neither a number nor a name",
+    "toplevel.ld:10:1: `CONTACTS Xa 0`: a rung must start with `RUNG`",
+    "cycle.ld:2:1: `CYCLE=fast`: the cycle time is not a number of µs",
+    "notxml.xml:1:1: not well-formed XML: text outside the root element",
+    "bomb.xml:2:1: refused: a document type declaration (<!DOCTYPE>), whose entities could expand without bound",
+    "root.xml:2:1: not a PLCopen project: the root element is <foo>, not <project>",
+    "nons.xml:1:1: not PLCopen TC6 XML: <project> lacks the namespace http://www.plcopen.org/xml/tc6_0201",
+    "unclosed.xml:8:7: not well-formed XML: ill-formed document: expected `</contact>`, but `</LD>` was found",
+    "dupid.xml:8:9: localId 1 is used twice in `main`",
+    "deep.xml:1:385: refused: elements nested deeper than 128 levels",
+    "entity.L5X:2:3: not well-formed XML: bad attribute value: at 1..5: unrecognized entity `oops`",
+    "root.L5X:2:1: not an L5X export: the root element is <Project>, not <RSLogix5000Content>",
+    "nocontroller.L5X:1:1: <RSLogix5000Content> has no <Controller>",
+    "noprograms.L5X:2:3: nothing to import: the controller has no program with an RLL main routine",
+    "what.txt:1:1: cannot tell the format: not LDmicro (`LDmicro0.1` first line), PLCopen XML (`<project>`) or L5X (`<RSLogix5000Content>`); give it with --format",
+];
+
+#[test]
+fn a_real_file_with_nothing_importable_names_its_programs() {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen-refused/beremiz-first-steps.xml");
+    let text = fs::read_to_string(&f).expect("fixture");
+    assert_eq!(
+        err("beremiz-first-steps.xml", None, &text),
+        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD bodies of programs, and its programs are `plc_prg` (FBD)"
+    );
+}
+
+#[test]
+fn unknown_board_is_refused() {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ldmicro/contacts.ld");
+    let text = fs::read_to_string(&f).expect("fixture");
+    let opts = Options {
+        format: None,
+        board: Some("due".into()),
+        force: false,
+    };
+    let e = alba_import::convert(&f, &text, &opts).err().map(|e| e.to_string());
+    assert_eq!(e.as_deref(), Some("unknown board `due`: uno, nano or mega"));
+}
+
+/// Every entry of `dir`, to show that an import left nothing behind.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .expect("dir")
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn nothing_is_written_when_an_import_fails() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let input = tmp.path().join("bad.ld");
+    fs::write(&input, ld("RUNG\n    FROB Xa\nEND\n")).expect("write");
+    let out = tmp.path().join("project");
+    let e = alba_import::import(&input, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(e.as_deref(), Some("bad.ld:11:5: unknown LDmicro element `FROB`"));
+    assert_eq!(entries(tmp.path()), vec!["bad.ld".to_string()]);
+}
+
+#[test]
+fn an_existing_project_is_kept_without_force() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ldmicro/contacts.ld");
+    let out = tmp.path().join("project");
+    fs::create_dir(&out).expect("mkdir");
+    fs::write(out.join("alba.toml"), "name = \"mine\"\n").expect("write");
+    fs::write(out.join("notes.txt"), "keep me").expect("write");
+    let e = alba_import::import(&input, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e,
+        Some(format!(
+            "{} exists and is not empty; use --force to replace its project files",
+            out.display()
+        ))
+    );
+    assert_eq!(
+        fs::read_to_string(out.join("alba.toml")).ok().as_deref(),
+        Some("name = \"mine\"\n")
+    );
+    assert_eq!(entries(tmp.path()), vec!["project".to_string()]);
+    // With --force the project files are replaced, other files stay.
+    let opts = Options {
+        force: true,
+        ..Options::default()
+    };
+    let report = alba_import::import(&input, &out, &opts).expect("forced import");
+    assert!(report.rungs > 0);
+    assert!(
+        fs::read_to_string(out.join("alba.toml"))
+            .unwrap_or_default()
+            .contains("name = \"contacts\"")
+    );
+    assert_eq!(
+        fs::read_to_string(out.join("notes.txt")).ok().as_deref(),
+        Some("keep me")
+    );
+    assert_eq!(entries(&out), vec!["alba.toml", "main.lad", "notes.txt", "tags.csv"]);
+    assert_eq!(entries(tmp.path()), vec!["project".to_string()]);
+}
+
+#[test]
+fn an_empty_folder_is_used() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/ldmicro/contacts.ld");
+    let out = tmp.path().join("project");
+    fs::create_dir(&out).expect("mkdir");
+    alba_import::import(&input, &out, &Options::default()).expect("import");
+    assert_eq!(entries(&out), vec!["alba.toml", "main.lad", "tags.csv"]);
+}
+
+#[test]
+fn huge_files_are_refused_before_reading() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let input = tmp.path().join("huge.ld");
+    let f = fs::File::create(&input).expect("create");
+    f.set_len(alba_import::MAX_INPUT_BYTES + 1).expect("sparse file");
+    let out = tmp.path().join("project");
+    let e = alba_import::import(&input, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e,
+        Some(format!(
+            "{} is 33554433 bytes; files above 32 MiB are refused",
+            input.display()
+        ))
+    );
+    assert!(!out.exists());
+}
+
+/// A PLCopen LD body that is one chain of `n` contacts into a coil.
+fn chain(n: usize) -> String {
+    let mut s = String::from(PLC_HEAD);
+    s.push_str("        <leftPowerRail localId=\"1\"/>\n");
+    for i in 0..n {
+        s.push_str(&format!(
+            "        <contact localId=\"{}\"><connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn><variable>a</variable></contact>\n",
+            i + 2,
+            i + 1
+        ));
+    }
+    s.push_str(&format!(
+        "        <coil localId=\"{}\"><connectionPointIn><connection refLocalId=\"{}\"/></connectionPointIn><variable>a</variable></coil>\n",
+        n + 2,
+        n + 1
+    ));
+    s.push_str(PLC_TAIL);
+    s
+}
+
+#[test]
+fn long_connection_chains_convert_or_are_refused_without_overflow() {
+    let ok = alba_import::convert(Path::new("chain.xml"), &chain(1990), &Options::default());
+    let (p, _) = ok.expect("a chain of 1990 contacts converts");
+    assert!(p.programs[0].text.contains("XIC(a)XIC(a)"));
+    let (p, report) =
+        alba_import::convert(Path::new("chain.xml"), &chain(5000), &Options::default()).expect("converts");
+    assert!(p.programs[0].text.contains("REFUSED"));
+    let refused: Vec<String> = report.entries.iter().map(|e| e.to_string()).collect();
+    assert!(
+        refused
+            .iter()
+            .any(|e| e.contains("refused: <coil> `a`: connections chained deeper than 2000 elements")),
+        "{refused:?}"
+    );
+}
+
+#[test]
+fn deeply_shared_branches_stay_small() {
+    // 60 diamonds in a row: each level's condition appears twice in the
+    // next, so written out inline it would double 60 times.
+    let mut s = String::from(PLC_HEAD);
+    s.push_str("        <leftPowerRail localId=\"1\"/>\n");
+    let mut prev = 1;
+    let contact = |id: usize, from: &[usize], neg: bool| {
+        let c: String = from
+            .iter()
+            .map(|f| format!("<connection refLocalId=\"{f}\"/>"))
+            .collect();
+        format!(
+            "        <contact localId=\"{id}\" negated=\"{neg}\"><connectionPointIn>{c}</connectionPointIn><variable>a</variable></contact>\n"
+        )
+    };
+    for i in 0..60 {
+        let (a, b, c) = (3 * i + 2, 3 * i + 3, 3 * i + 4);
+        s.push_str(&contact(a, &[prev], false));
+        s.push_str(&contact(b, &[prev], true));
+        s.push_str(&contact(c, &[a, b], false));
+        prev = c;
+    }
+    s.push_str(&format!(
+        "        <coil localId=\"999\"><connectionPointIn><connection refLocalId=\"{prev}\"/></connectionPointIn><variable>a</variable></coil>\n"
+    ));
+    s.push_str(PLC_TAIL);
+    let (p, _) = alba_import::convert(Path::new("diamonds.xml"), &s, &Options::default()).expect("converts");
+    assert!(p.programs[0].text.len() < 200_000, "{} bytes", p.programs[0].text.len());
+    assert!(p.tags.iter().any(|t| t.description == "alba import: a long condition"));
+}
+
+#[test]
+fn hostile_l5x_rungs_are_refused_not_crashed() {
+    let rung = |text: &str| {
+        format!(
+            "<RSLogix5000Content SchemaRevision=\"1.0\"><Controller Name=\"C\"><Tags>\
+             <Tag Name=\"a\" TagType=\"Base\" DataType=\"BOOL\"/><Tag Name=\"x\" TagType=\"Base\" DataType=\"DINT\"/></Tags>\
+             <Programs><Program Name=\"P\" MainRoutineName=\"R\"><Routines><Routine Name=\"R\" Type=\"RLL\"><RLLContent>\
+             <Rung Number=\"0\" Type=\"N\"><Text><![CDATA[{text}]]></Text></Rung>\
+             <Rung Number=\"1\" Type=\"N\"><Text><![CDATA[XIC(a)OTE(a);]]></Text></Rung>\
+             </RLLContent></Routine></Routines></Program></Programs></Controller></RSLogix5000Content>"
+        )
+    };
+    let deep_branch = format!("{}XIC(a){}OTE(a);", "[".repeat(20_000), "]".repeat(20_000));
+    let deep_cpt = format!("CPT(x,{}1{});", "(".repeat(20_000), ")".repeat(20_000));
+    let long = format!("{}OTE(a);", "XIC(a)".repeat(100_000));
+    for (what, text) in [("branches", deep_branch), ("cpt", deep_cpt), ("long", long)] {
+        let (p, report) = alba_import::convert(Path::new("h.L5X"), &rung(&text), &Options::default())
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let prog = &p.programs[0].text;
+        assert!(prog.ends_with("XIC(a)OTE(a);\n"), "{what}: the good rung is kept");
+        if what != "long" {
+            assert!(prog.starts_with("// REFUSED"), "{what}");
+            assert_eq!(report.count(alba_import::Kind::Refused), 1, "{what}");
+        }
+    }
+}
+
+#[test]
+fn an_l5x_routine_export_imports_its_routine() {
+    let text = r#"<?xml version="1.0" encoding="UTF-8" standalone="yes"?>
+<RSLogix5000Content SchemaRevision="1.0" SoftwareRevision="33.00" TargetName="Seal" TargetType="Routine" TargetSubType="RLL" ContainsContext="true">
+<Controller Use="Context" Name="C">
+<Tags Use="Context">
+<Tag Name="Start" TagType="Base" DataType="BOOL"/>
+<Tag Name="Motor" TagType="Base" DataType="BOOL"/>
+</Tags>
+<Programs Use="Context">
+<Program Use="Context" Name="MainProgram">
+<Routines Use="Context">
+<Routine Use="Target" Name="Seal" Type="RLL">
+<RLLContent>
+<Rung Number="0" Type="N">
+<Text><![CDATA[[XIC(Start),XIC(Motor)]OTE(Motor);]]></Text>
+</Rung>
+</RLLContent>
+</Routine>
+</Routines>
+</Program>
+</Programs>
+</Controller>
+</RSLogix5000Content>
+"#;
+    let (p, report) = alba_import::convert(Path::new("Seal.L5X"), text, &Options::default()).expect("converts");
+    assert_eq!(p.programs[0].text, "[XIC(Start),XIC(Motor)]OTE(Motor);\n");
+    assert_eq!(report.count(alba_import::Kind::Refused), 0, "{}", report.render());
+}
+
+#[test]
+fn cyclic_l5x_aliases_are_refused() {
+    let text = r#"<RSLogix5000Content SchemaRevision="1.0"><Controller Name="C"><Tags>
+<Tag Name="A" TagType="Alias" AliasFor="B"/>
+<Tag Name="B" TagType="Alias" AliasFor="A"/>
+<Tag Name="Q" TagType="Base" DataType="BOOL"/>
+</Tags><Programs><Program Name="P" MainRoutineName="R"><Routines><Routine Name="R" Type="RLL"><RLLContent>
+<Rung Number="0" Type="N"><Text><![CDATA[XIC(A)OTE(Q);]]></Text></Rung>
+</RLLContent></Routine></Routines></Program></Programs></Controller></RSLogix5000Content>"#;
+    let (p, report) = alba_import::convert(Path::new("c.L5X"), text, &Options::default()).expect("converts");
+    assert!(p.programs[0].text.starts_with("// REFUSED"));
+    assert!(
+        report
+            .render()
+            .contains("c.L5X:6:27: refused: rung 0 of `P`/`R`: `B`: aliases chained more than 16 deep (or in a cycle)"),
+        "{}",
+        report.render()
+    );
+}
