@@ -78,7 +78,7 @@ export function addTransition(net: Net, x: number, y: number, kind = 'transition
 }
 
 /** Why an arc from `source` to `target` cannot be drawn, or null (the server's E604 rules). */
-export function arcProblem(net: Net, source: string, target: string, kind = 'normal'): string | null {
+export function arcProblem(net: Net, source: string, target: string, kind = 'normal'): 'unknown' | 'same' | 'direction' | 'twice' | null {
   const s = nodeKind(net, source);
   const t = nodeKind(net, target);
   if (!s || !t) return 'unknown';
