@@ -76,6 +76,8 @@ export class NetView {
   private lastMarking = new Map<string, number>();
   private plots = new Map<string, number[]>();
   private svg: SVGSVGElement | null = null;
+  /** The drawn group of each node and widget, by id. */
+  private groups = new Map<string, SVGGElement>();
   private readonly canvas = h('div', { class: 'net-canvas', 'data-testid': 'net-canvas', tabindex: '0' });
   private readonly propsEl = h('div', { class: 'props net-props', 'data-testid': 'net-props' });
   private readonly analysisEl = h('div', { class: 'net-analysis', 'data-testid': 'net-analysis' });
@@ -312,8 +314,9 @@ export class NetView {
 
   private toWorld(cx: number, cy: number): Pt {
     const svg = this.svg;
-    if (!svg) return { x: 0, y: 0 };
+    if (!svg || typeof svg.createSVGPoint !== 'function') return { x: cx, y: cy };
     const pt = svg.createSVGPoint();
+    if (typeof pt.matrixTransform !== 'function') return { x: cx, y: cy };
     pt.x = cx;
     pt.y = cy;
     const m = svg.getScreenCTM();
@@ -582,7 +585,7 @@ export class NetView {
     // enabled by the arcs (Petri mode; the runtime also needs the guard); in normal mode a transition holding the token
     const on = net.mode === 'normal' ? new Set(net.transitions.filter((t) => (m.get(t.id) ?? 0) > 0).map((t) => t.id)) : enabled(net, m);
     for (const p of net.places) {
-      const g = svg.querySelector<SVGGElement>(`[data-testid="net-node-${CSS.escape(p.id)}"]`);
+      const g = this.groups.get(p.id);
       if (!g) continue;
       const n = m.get(p.id) ?? 0;
       g.dataset.tokens = String(n);
@@ -597,7 +600,7 @@ export class NetView {
       if (info) info.textContent = source === 'live' ? this.infoOf(p.id, p.kind) : '';
     }
     for (const t of net.transitions) {
-      const g = svg.querySelector<SVGGElement>(`[data-testid="net-node-${CSS.escape(t.id)}"]`);
+      const g = this.groups.get(t.id);
       if (!g) continue;
       g.classList.toggle('enabled', on.has(t.id));
       g.dataset.enabled = String(on.has(t.id));
@@ -607,7 +610,7 @@ export class NetView {
       if (info) info.textContent = source === 'live' ? this.infoOf(t.id, t.kind) : '';
     }
     for (const w of net.widgets) {
-      const g = svg.querySelector<SVGGElement>(`[data-testid="net-widget-${CSS.escape(w.id)}"]`);
+      const g = this.groups.get(w.id);
       const v = w.tag ? this.value(w.tag) : undefined;
       const val = g?.querySelector('.net-widget-value');
       if (val) val.textContent = w.kind === 'label' ? '' : source === 'live' ? fmt(v) : '';
@@ -670,6 +673,7 @@ export class NetView {
     if (this.mode !== 'graphic') return;
     clear(this.canvas);
     this.svg = null;
+    this.groups.clear();
     const net = this.net;
     if (!net) {
       this.canvas.append(h('p', { class: 'net-unreadable', 'data-testid': 'net-unreadable' }, tr('The file cannot be drawn: {m}. Fix it in the text view.', { m: this.parseError?.message ?? '' })));
@@ -745,6 +749,7 @@ export class NetView {
         a?.place_bounds && a.place_bounds[p.id] !== undefined ? s('text', { class: 'net-bound', x: -PLACE_R - 2, y: -PLACE_R + 4, 'text-anchor': 'end' }, `≤${a.place_bounds[p.id] === 'omega' ? 'ω' : a.place_bounds[p.id]}`) : null,
         errors.has(p.id) ? s('circle', { r: PLACE_R + 5, class: 'net-error-ring', 'data-testid': `net-error-${p.id}` }, s('title', null, errors.get(p.id)!.join('\n'))) : null);
       this.nodeEvents(g, p.id);
+      this.groups.set(p.id, g);
       svg.append(g);
     }
     for (const t of net.transitions) {
@@ -761,6 +766,7 @@ export class NetView {
         errors.has(t.id) ? s('rect', { x: -TRANS_W / 2 - 5, y: -TRANS_H / 2 - 5, width: TRANS_W + 10, height: TRANS_H + 10, class: 'net-error-ring', 'data-testid': `net-error-${t.id}` }, s('title', null, errors.get(t.id)!.join('\n'))) : null);
       if (net.mode === 'normal') g.append(s('g', { class: 'net-tokens' }));
       this.nodeEvents(g, t.id);
+      this.groups.set(t.id, g);
       svg.append(g);
     }
     for (const wd of net.widgets) {
@@ -786,6 +792,7 @@ export class NetView {
         }
         this.startDrag(ev, wd.id);
       });
+      this.groups.set(wd.id, g);
       svg.append(g);
     }
     if (this.linkFrom && at.get(this.linkFrom)) {
