@@ -739,6 +739,7 @@ export class NetView {
       const c = at.get(p.id)!;
       const cls = `net-node net-place kind-${p.kind}${this.sel.has(p.id) ? ' selected' : ''}${errors.has(p.id) ? ' error' : ''}${invTip(p.id)}${this.linkFrom === p.id ? ' link-from' : ''}`;
       const g = s('g', { class: cls, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-node-${p.id}`, 'data-kind': p.kind, 'data-id': p.id },
+        s('circle', { r: PLACE_R + 4, class: 'net-hit' }),
         s('circle', { r: PLACE_R, class: 'net-shape' }),
         p.kind === 'end' ? s('circle', { r: PLACE_R - 4, class: 'net-shape-inner' }) : null,
         GLYPH[p.kind] ? s('text', { class: 'net-glyph', x: PLACE_R - 2, y: -PLACE_R + 4 }, GLYPH[p.kind]) : null,
@@ -757,6 +758,8 @@ export class NetView {
       const cls = `net-node net-transition kind-${t.kind}${this.sel.has(t.id) ? ' selected' : ''}${errors.has(t.id) ? ' error' : ''}${dead.has(t.id) ? ' dead' : ''}${invTip(t.id)}${this.linkFrom === t.id ? ' link-from' : ''}`;
       const guard = t.kind === 'timer' ? (t.props.delay ?? '') : (t.guard ?? '');
       const g = s('g', { class: cls, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-node-${t.id}`, 'data-kind': t.kind, 'data-id': t.id, 'data-dead': dead.has(t.id) ? 'true' : undefined },
+        // a grip over the bar and its labels: easier to grab than a 12-unit bar
+        s('rect', { x: -TRANS_W / 2 - 4, y: -TRANS_H / 2 - 4, width: 74, height: TRANS_H + 8, class: 'net-hit' }),
         s('rect', { x: -TRANS_W / 2, y: -TRANS_H / 2, width: TRANS_W, height: TRANS_H, class: 'net-shape' }),
         GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: TRANS_W / 2 + 2, y: -TRANS_H / 2 + 8 }, GLYPH[t.kind]) : null,
         s('text', { class: 'net-label', x: TRANS_W / 2 + 4, y: 4 }, t.name ?? t.id),
