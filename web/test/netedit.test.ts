@@ -137,3 +137,14 @@ describe('markings', () => {
     expect(markings[3].get('robot')).toBe(0);
   });
 });
+
+describe('guard and script highlighting', () => {
+  it('tells keywords, numbers, tags and names that are not tags apart, and keeps the text', async () => {
+    const { highlight } = await import('../src/net/code');
+    const text = 'Start AND NOT Strat OR line.buffer >= 2.5 // go\nT1.DN';
+    const toks = highlight(text, (n) => ['START', 'LINE.BUFFER', 'T1.DN'].includes(n.toUpperCase()));
+    expect(toks.map((t) => t.text).join('')).toBe(text);
+    const kinds = Object.fromEntries(toks.filter((t) => t.kind !== 'space' && t.kind !== 'op').map((t) => [t.text, t.kind]));
+    expect(kinds).toEqual({ Start: 'tag', AND: 'keyword', NOT: 'keyword', Strat: 'name', OR: 'keyword', 'line.buffer': 'tag', '2.5': 'number', '// go': 'comment', 'T1.DN': 'tag' });
+  });
+});

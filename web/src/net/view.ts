@@ -552,8 +552,10 @@ export class NetView {
     const net = this.savedNet;
     if (msg.type !== 'values' || !net || !this.active) return;
     const changes: string[] = [];
+    // tag names are case-insensitive: the server may send them in its own spelling
+    const values = new Map(Object.entries(msg.values).map(([k, v]) => [k.toUpperCase(), v]));
     for (const n of [...net.places, ...(net.mode === 'normal' ? net.transitions : [])]) {
-      const v = msg.values[markingTag(this.program, n.id)];
+      const v = values.get(markingTag(this.program, n.id).toUpperCase());
       if (typeof v !== 'number') continue;
       const was = this.lastMarking.get(n.id);
       this.lastMarking.set(n.id, v);
