@@ -64,6 +64,7 @@ export class NetView {
   private linkFrom: string | null = null;
   private mouse: Pt | null = null;
   private drag: { ids: string[]; dx: number; dy: number } | null = null;
+  private lastDown: { id: string; t: number } | null = null;
   private space = false;
   private active = false;
   private unlisten: (() => void)[] = [];
@@ -813,16 +814,20 @@ export class NetView {
   }
 
   private nodeEvents(g: SVGGElement, id: string): void {
-    g.addEventListener('dblclick', (ev) => {
-      ev.stopPropagation();
-      if (!can('edit')) return;
-      this.linkFrom = id;
-      this.renderCanvas();
-    });
     g.addEventListener('pointerdown', (ev) => {
       if (ev.button !== 0 || this.space) return;
       ev.stopPropagation();
       this.canvas.focus();
+      // a double click (told here: the first click redraws the node, so no dblclick event
+      // would reach the new one) starts an arc from the node, as in the source
+      const now = Date.now();
+      const double = this.lastDown?.id === id && now - this.lastDown.t < 400;
+      this.lastDown = { id, t: now };
+      if (double && !this.linkFrom && !ev.shiftKey && !ev.ctrlKey && can('edit')) {
+        this.linkFrom = id;
+        this.renderCanvas();
+        return;
+      }
       if (this.linkFrom && this.linkFrom !== id) {
         const from = this.linkFrom;
         this.linkFrom = null;
@@ -872,7 +877,7 @@ export class NetView {
           at.set(x, { x: p.x - d.dx, y: p.y - d.dy });
         }
         this.change((n) => moveNodes(n, d.ids, d.dx, d.dy, (x) => at.get(x)!));
-      } else this.renderCanvas();
+      }
     };
     window.addEventListener('pointermove', move);
     window.addEventListener('pointerup', up);
