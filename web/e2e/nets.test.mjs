@@ -77,8 +77,9 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   // The condition on a mistyped tag: the server's check puts it on the transition.
   await tid('net-node-C1').click();
   await setField('net-prop-guard', 'Goo');
+  await tid('diagnostics').locator('li', { hasText: 'Goo' }).waitFor();
   await tid('net-error-C1').waitFor();
-  assert.match(await tid('diagnostic-0').textContent(), /Goo/);
+  assert.match(await tid('net-error-C1').locator('title').textContent(), /Goo/);
   assert.match(await tid('net-prop-error').textContent(), /Goo/);
   await b.shot('net-editor-error');
   // Save is refused: nothing saved.

@@ -345,6 +345,7 @@ export const es: Record<string, string> = {
   'Reachability, deadlocks, dead transitions and invariants of the saved net': 'Alcanzabilidad, bloqueos, transiciones muertas e invariantes de la red guardada',
   Analysis: 'Análisis',
   'Marking changes': 'Cambios de marcado',
+  'fired {ids}': 'disparó {ids}',
   Counter: 'Contador',
   Expression: 'Expresión',
   Variable: 'Variable',

@@ -134,6 +134,7 @@ describe('the net tab', () => {
     expect(v.el.querySelector('[data-testid="net-live-state"]')!.textContent).toBe('live');
     expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('#3');
     expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fill +1');
+    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fired start');
   });
 
   it('shows the analysis, marks dead transitions and replays the deadlock step by step', async () => {

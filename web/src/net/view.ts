@@ -38,6 +38,8 @@ const KIND_PROPS: Record<string, string[]> = {
   counter: ['load', 'direction'], input: ['source'], output: ['target', 'source'], variable: ['mode', 'source', 'target', 'value', 'initial'], timer: ['delay'],
 };
 let uid = 0;
+/** What Ctrl+C or Ctrl+X took, shared by every net tab (paste into another net). */
+let clipboard: Clip | null = null;
 
 interface Replay {
   markings: Marking[];
@@ -56,7 +58,6 @@ export class NetView {
   private parseError: { message: string; offset: number } | null = null;
   private at = new Map<string, Pt>();
   private sel = new Set<string>();
-  private clip: Clip | null = null;
   private zoom = 1;
   private snapOn = true;
   private mode: 'graphic' | 'text' = 'graphic';
@@ -448,10 +449,10 @@ export class NetView {
     else if (mod && k === 'z') this.ed.undo();
     else if (mod && k === 'a' && this.net) this.select([...this.net.places, ...this.net.transitions, ...this.net.widgets].map((x) => x.id));
     else if (mod && (k === 'c' || k === 'x') && this.sel.size && this.net) {
-      this.clip = copy(this.net, this.sel);
+      clipboard = copy(this.net, this.sel);
       if (k === 'x') this.deleteSelection();
     } else if (mod && (k === 'v' || k === 'd')) {
-      const clip = k === 'v' ? this.clip : this.net && copy(this.net, this.sel);
+      const clip = k === 'v' ? clipboard : this.net && copy(this.net, this.sel);
       if (!clip) return;
       let ids: string[] = [];
       if (this.change((n) => void (ids = paste(n, clip, GRID * 3, GRID * 3, at)))) this.select(ids);
@@ -553,6 +554,7 @@ export class NetView {
     const net = this.savedNet;
     if (msg.type !== 'values' || !net || !this.active) return;
     const changes: string[] = [];
+    const fired: string[] = [];
     // tag names are case-insensitive: the server may send them in its own spelling
     const values = new Map(Object.entries(msg.values).map(([k, v]) => [k.toUpperCase(), v]));
     for (const n of [...net.places, ...(net.mode === 'normal' ? net.transitions : [])]) {
@@ -561,9 +563,12 @@ export class NetView {
       const was = this.lastMarking.get(n.id);
       this.lastMarking.set(n.id, v);
       if (was !== undefined && was !== v) changes.push(`${n.id} ${v > was ? '+' : '−'}${Math.abs(v - was)}`);
+      // normal mode: a transition that gave its token on has fired
+      if (was !== undefined && v < was && net.transitions.some((t) => t.id === n.id)) fired.push(n.id);
     }
     if (!changes.length) return;
-    this.history.unshift({ scan: msg.scan, t: msg.t_ms, text: changes.join(' · ') });
+    const text = [fired.length ? tr('fired {ids}', { ids: fired.join(', ') }) : '', changes.join(' · ')].filter(Boolean).join(' — ');
+    this.history.unshift({ scan: msg.scan, t: msg.t_ms, text });
     this.history.length = Math.min(this.history.length, 50);
     this.renderHistory();
   }
