@@ -89,6 +89,27 @@ describe('the net tab', () => {
     expect(v.dirty).toBe(false);
   });
 
+  it('edits the PNML as text; a text that is not PNML is listed with its place and not drawn', async () => {
+    server({ 'batch.pnml': BATCH });
+    const { v } = view('batch.pnml');
+    await v.load();
+    v.show();
+    vi.useFakeTimers();
+    v.el.querySelector<HTMLElement>('[data-testid="view-text"]')!.click();
+    const text = v.el.querySelector<HTMLTextAreaElement>('[data-testid="editor-text"]')!;
+    expect(text.value).toBe(BATCH);
+    text.value = BATCH.replace('<place id="fill">', '<place id="fill"><bad>');
+    text.dispatchEvent(new Event('input'));
+    expect(v.el.querySelector('[data-testid="diagnostic-0"]')!.textContent).toMatch(/closes <bad>/);
+    v.el.querySelector<HTMLElement>('[data-testid="view-graphic"]')!.click();
+    expect(v.el.querySelector('[data-testid="net-unreadable"]')).not.toBeNull();
+    v.el.querySelector<HTMLElement>('[data-testid="view-text"]')!.click();
+    text.value = BATCH.replace('<place id="fill">', '<place id="filling">').replace(/"fill"/g, '"filling"');
+    text.dispatchEvent(new Event('input'));
+    v.el.querySelector<HTMLElement>('[data-testid="view-graphic"]')!.click();
+    expect(node(v, 'filling')).not.toBeNull();
+  });
+
   it('puts a refused guard on its transition and in the properties, and saves nothing', async () => {
     const calls = server({ 'batch.pnml': BATCH });
     const { v } = view('batch.pnml');

@@ -209,8 +209,8 @@ export class NetView {
     const l = loadPnml(this.ed.text);
     this.parseError = l.error;
     this.spans = l.spans;
-    if (l.net) this.net = l.net;
-    else if (!fromTextArea) this.net = null;
+    // a text that is not PNML the editor reads is not drawn (nor edited graphically) until fixed
+    this.net = l.net;
     const ids = this.net ? new Set([...this.net.places, ...this.net.transitions, ...this.net.arcs, ...this.net.widgets].map((x) => x.id)) : new Set<string>();
     this.sel = new Set([...this.sel].filter((x) => ids.has(x)));
     if (this.replayState && this.dirty) this.replayState = null;
