@@ -124,5 +124,16 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   await tid('net-replay-dead').waitFor();
   await b.shot('net-analysis-replay');
   await tid('net-replay-close').click();
+  // The place invariant S0 + S1 + S2 lights its places on hover.
+  await tid('net-an-pinv-0').hover();
+  assert.match(await tid('net-node-S1').getAttribute('class'), /\blit\b/);
+  // Stopped, the initial marking written back (engineer): the token is in S0 again.
+  await tid('net-stop').click();
+  await tid('confirm-ok').click();
+  await tid('status-state').filter({ hasText: 'stopped' }).waitFor();
+  await tid('net-reset').click();
+  await tid('toast-info').filter({ hasText: 'initial marking written' }).waitFor();
+  assert.equal((await alba.json('/api/tags/draw.S0')).value, 1);
+  assert.equal((await alba.json('/api/tags/draw.S2')).value, 0);
   assert.deepEqual(b.errors, []);
 });

@@ -17,7 +17,7 @@ import type { Ctx } from '../ctx';
 import { add, clear, fmt, h, s } from '../dom';
 import { membersOf } from '../domain';
 import { type Problem, ProgramEditor, problemTip } from '../editor/program';
-import { tr } from '../i18n';
+import { clockTime, tr } from '../i18n';
 import type { Json, ServerMsg } from '../types';
 import { highlight } from './code';
 import {
@@ -31,7 +31,7 @@ import { lineCol, offsetOf } from './xml';
 const ZOOMS = [0.25, 0.33, 0.5, 0.67, 0.75, 0.9, 1, 1.25, 1.5, 2, 3];
 /** A glyph inside a place or beside a transition, per kind. */
 const GLYPH: Record<string, string> = {
-  counter: 'C', expression: 'ƒ', variable: 'V', input: 'I', output: 'O', stop: '■', end: '⊗', condition: '?', timer: '⏱',
+  counter: 'C', expression: 'ƒ', variable: 'V', input: 'I', output: 'O', stop: '■', end: '⊗', condition: '?', timer: 'Δt',
 };
 /** Properties a kind has (docs/nets.md "Elements"), shown as fields. */
 const KIND_PROPS: Record<string, string[]> = {
@@ -578,7 +578,7 @@ export class NetView {
     if (!this.history.length) this.historyEl.append(h('li', { class: 'none' }, tr('None yet: the running net’s token moves are listed here.')));
     this.history.forEach((x, k) =>
       this.historyEl.append(h('li', { 'data-testid': `net-history-${k}` },
-        h('span', { class: 'where' }, `#${x.scan} ${new Date(x.t).toLocaleTimeString()}`), ' ', x.text)));
+        h('span', { class: 'where' }, `#${x.scan} ${clockTime(x.t)}`), ' ', x.text)));
   }
 
   /** Tokens, enabled transitions and live values, on the drawn canvas. */
@@ -767,13 +767,14 @@ export class NetView {
       const guard = t.kind === 'timer' ? (t.props.delay ?? '') : (t.guard ?? '');
       const g = s('g', { class: cls, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-node-${t.id}`, 'data-kind': t.kind, 'data-id': t.id, 'data-dead': dead.has(t.id) ? 'true' : undefined },
         // a grip over the bar and its labels: easier to grab than a 12-unit bar
-        s('rect', { x: -TRANS_W / 2 - 4, y: -TRANS_H / 2 - 4, width: 74, height: TRANS_H + 8, class: 'net-hit' }),
+        // the name above the bar, the guard (or delay) below: arcs leave the bar's sides free
+        s('rect', { x: -TRANS_W / 2 - 8, y: -TRANS_H / 2 - 16, width: TRANS_W + 16, height: TRANS_H + 32, class: 'net-hit' }),
         s('rect', { x: -TRANS_W / 2, y: -TRANS_H / 2, width: TRANS_W, height: TRANS_H, class: 'net-shape' }),
-        GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: TRANS_W / 2 + 2, y: -TRANS_H / 2 + 8 }, GLYPH[t.kind]) : null,
-        s('text', { class: 'net-label', x: TRANS_W / 2 + 4, y: 4 }, t.name ?? t.id),
-        guard ? s('text', { class: 'net-guard', x: TRANS_W / 2 + 4, y: 16 }, guard.length > 32 ? `${guard.slice(0, 31)}…` : guard) : null,
-        t.priority !== null ? s('text', { class: 'net-prio', x: -TRANS_W / 2 - 3, y: -TRANS_H / 2 + 6, 'text-anchor': 'end' }, `#${t.priority}`) : null,
-        s('text', { class: 'net-info', y: -TRANS_H / 2 - 6, 'text-anchor': 'middle' }),
+        GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: -TRANS_W / 2 - 3, y: 4, 'text-anchor': 'end' }, GLYPH[t.kind]) : null,
+        s('text', { class: 'net-label', y: -TRANS_H / 2 - 5, 'text-anchor': 'middle' }, t.name ?? t.id),
+        guard ? s('text', { class: 'net-guard', y: TRANS_H / 2 + 12, 'text-anchor': 'middle' }, guard.length > 32 ? `${guard.slice(0, 31)}…` : guard) : null,
+        t.priority !== null ? s('text', { class: 'net-prio', x: TRANS_W / 2 + 3, y: -TRANS_H / 2 + 6 }, `#${t.priority}`) : null,
+        s('text', { class: 'net-info', y: -TRANS_H / 2 - 18, 'text-anchor': 'middle' }),
         errors.has(t.id) ? s('rect', { x: -TRANS_W / 2 - 5, y: -TRANS_H / 2 - 5, width: TRANS_W + 10, height: TRANS_H + 10, class: 'net-error-ring', 'data-testid': `net-error-${t.id}` }, s('title', null, errors.get(t.id)!.join('\n'))) : null);
       if (net.mode === 'normal') g.append(s('g', { class: 'net-tokens' }));
       this.nodeEvents(g, t.id);
