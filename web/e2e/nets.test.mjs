@@ -29,6 +29,23 @@ useStudio('state-net-batch', (s) => ({ alba, b } = s), {
   },
 });
 
+test('the example net drawn live: the token waits at its condition, then runs through the timers', async () => {
+  const { page, tid } = b;
+  await page.goto(`${alba.url}#/program/batch.pnml`);
+  await tid('net-batch.pnml').waitFor();
+  assert.equal(await page.locator('[data-testid="net-svg"] .net-node').count(), 10);
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-live-state"]')?.textContent === 'live');
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-start"]')?.dataset.enabled === 'true');
+  const force = (value) => alba.api('/api/forces/Start', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value }) });
+  assert.equal((await force(true)).status, 200);
+  // the fill timer holds the token and shows its elapsed time
+  await page.waitForFunction(() => /\d+\/2000 ms/.test(document.querySelector('[data-testid="net-node-filled"] .net-info')?.textContent ?? ''));
+  await b.shot('net-batch-live');
+  await alba.api('/api/forces/Start', { method: 'DELETE', headers: { 'content-type': 'application/json' } });
+  await tid('net-history-0').waitFor();
+  assert.deepEqual(b.errors, []);
+});
+
 test('draw a net, a refused guard, save, run it live, analyse and replay its deadlock', async () => {
   const { page, tid } = b;
   await page.goto(alba.url);

@@ -767,14 +767,15 @@ export class NetView {
       const guard = t.kind === 'timer' ? (t.props.delay ?? '') : (t.guard ?? '');
       const g = s('g', { class: cls, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-node-${t.id}`, 'data-kind': t.kind, 'data-id': t.id, 'data-dead': dead.has(t.id) ? 'true' : undefined },
         // a grip over the bar and its labels: easier to grab than a 12-unit bar
-        // the name above the bar, the guard (or delay) below: arcs leave the bar's sides free
-        s('rect', { x: -TRANS_W / 2 - 8, y: -TRANS_H / 2 - 16, width: TRANS_W + 16, height: TRANS_H + 32, class: 'net-hit' }),
+        // the name at the top right of the bar and the guard (or delay) at the bottom right:
+        // arcs meet the bar in the middle of its sides and of its ends
+        s('rect', { x: -TRANS_W / 2 - 8, y: -TRANS_H / 2 - 14, width: TRANS_W + 56, height: TRANS_H + 28, class: 'net-hit' }),
         s('rect', { x: -TRANS_W / 2, y: -TRANS_H / 2, width: TRANS_W, height: TRANS_H, class: 'net-shape' }),
-        GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: -TRANS_W / 2 - 3, y: 4, 'text-anchor': 'end' }, GLYPH[t.kind]) : null,
-        s('text', { class: 'net-label', y: -TRANS_H / 2 - 5, 'text-anchor': 'middle' }, t.name ?? t.id),
-        guard ? s('text', { class: 'net-guard', y: TRANS_H / 2 + 12, 'text-anchor': 'middle' }, guard.length > 32 ? `${guard.slice(0, 31)}…` : guard) : null,
-        t.priority !== null ? s('text', { class: 'net-prio', x: TRANS_W / 2 + 3, y: -TRANS_H / 2 + 6 }, `#${t.priority}`) : null,
-        s('text', { class: 'net-info', y: -TRANS_H / 2 - 18, 'text-anchor': 'middle' }),
+        GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: -TRANS_W / 2 - 2, y: -TRANS_H / 2 + 8, 'text-anchor': 'end' }, GLYPH[t.kind]) : null,
+        s('text', { class: 'net-label', x: TRANS_W / 2 + 3, y: -TRANS_H / 2 - 3 }, t.name ?? t.id),
+        guard ? s('text', { class: 'net-guard', x: TRANS_W / 2 + 3, y: TRANS_H / 2 + 11 }, guard.length > 24 ? `${guard.slice(0, 23)}…` : guard, s('title', null, guard)) : null,
+        t.priority !== null ? s('text', { class: 'net-prio', x: -TRANS_W / 2 - 2, y: TRANS_H / 2, 'text-anchor': 'end' }, `#${t.priority}`) : null,
+        s('text', { class: 'net-info', y: -TRANS_H / 2 - 17, 'text-anchor': 'middle' }),
         errors.has(t.id) ? s('rect', { x: -TRANS_W / 2 - 5, y: -TRANS_H / 2 - 5, width: TRANS_W + 10, height: TRANS_H + 10, class: 'net-error-ring', 'data-testid': `net-error-${t.id}` }, s('title', null, errors.get(t.id)!.join('\n'))) : null);
       if (net.mode === 'normal') g.append(s('g', { class: 'net-tokens' }));
       this.nodeEvents(g, t.id);
