@@ -346,6 +346,7 @@ export const es: Record<string, string> = {
   Analysis: 'Análisis',
   'Marking changes': 'Cambios de marcado',
   'fired {ids}': 'disparó {ids}',
+  '{kind}: normal mode only (set the net’s mode with nothing selected)': '{kind}: solo en modo normal (el modo de la red se elige sin nada seleccionado)',
   Counter: 'Contador',
   Expression: 'Expresión',
   Variable: 'Variable',

@@ -158,6 +158,21 @@ describe('the net tab', () => {
     expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fired start');
   });
 
+  it('offers only states and transitions to a Petri-mode net', async () => {
+    server({ 'cell.pnml': CELL });
+    const { v, notes } = view('cell.pnml');
+    await v.load();
+    v.show();
+    const btn = (k: string) => v.el.querySelector<HTMLButtonElement>(`[data-testid="net-add-${k}"]`)!;
+    expect([btn('state').disabled, btn('transition').disabled, btn('counter').disabled, btn('timer').disabled]).toEqual([false, false, true, true]);
+    key(v, 'E', { shiftKey: true });
+    expect(v.dirty).toBe(false);
+    expect(notes[0]).toMatch(/normal mode only/);
+    vi.useFakeTimers();
+    key(v, 't');
+    expect(v.current!.transitions.map((t) => t.id)).toContain('T1');
+  });
+
   it('shows the analysis, marks dead transitions and replays the deadlock step by step', async () => {
     const cellWithDead = CELL.replace('<transition id="grab2"/>', '<transition id="grab2"/><transition id="never"/>').replace('<arc id="b1"', '<place id="nothing"/><arc id="z1" source="nothing" target="never"/><arc id="b1"');
     server({ 'cell.pnml': cellWithDead }, {

@@ -87,6 +87,8 @@ export class NetView {
   private readonly zoomLabel = h('span', { class: 'net-zoom', 'data-testid': 'net-zoom' });
   private readonly liveEl = h('span', { class: 'net-live-state', 'data-testid': 'net-live-state' });
   private readonly datalists = h('div', { hidden: true });
+  /** The palette's buttons by kind, with their own tooltip. */
+  private readonly kindButtons = new Map<string, [HTMLButtonElement, string]>();
 
   constructor(
     private readonly ctx: Ctx,
@@ -335,7 +337,7 @@ export class NetView {
         f();
         this.canvas.focus();
       };
-      gate(b, 'edit');
+      if (gate(b, 'edit')) this.kindButtons.set(testid.replace('net-add-', ''), [b, title]);
       return b;
     };
     const placeLabel: Record<string, string> = {
@@ -368,7 +370,26 @@ export class NetView {
     return p;
   }
 
+  /** The kinds that only normal mode runs (Petri mode refuses them, E620). */
+  private static normalOnly(kind: string): boolean {
+    return !['state', 'transition', ...WIDGET_KINDS].includes(kind);
+  }
+
+  /** Normal-mode kinds disabled in the palette of a Petri-mode net, saying why. */
+  private paintPalette(): void {
+    const petri = this.net?.mode === 'petri';
+    for (const [kind, [b, title]] of this.kindButtons) {
+      const off = petri && NetView.normalOnly(kind);
+      b.disabled = off;
+      b.title = off ? tr('{kind}: normal mode only (set the net’s mode with nothing selected)', { kind: title }) : title;
+    }
+  }
+
   addNode(what: 'place' | 'transition', kind: string): void {
+    if (this.net?.mode === 'petri' && NetView.normalOnly(kind)) {
+      this.ctx.notify(tr('{kind}: normal mode only (set the net’s mode with nothing selected)', { kind }), 'error');
+      return;
+    }
     const p = this.spot();
     let id = '';
     if (this.change((n) => void (id = what === 'place' ? addPlace(n, p.x, p.y, kind).id : addTransition(n, p.x, p.y, kind).id))) this.select([id]);
@@ -652,6 +673,7 @@ export class NetView {
   // ---- drawing -----------------------------------------------------------
 
   private render(): void {
+    this.paintPalette();
     this.renderCanvas();
     this.renderProps();
     this.renderSide();
@@ -752,8 +774,9 @@ export class NetView {
         p.kind === 'end' ? s('circle', { r: PLACE_R - 4, class: 'net-shape-inner' }) : null,
         GLYPH[p.kind] ? s('text', { class: 'net-glyph', x: PLACE_R - 2, y: -PLACE_R + 4 }, GLYPH[p.kind]) : null,
         s('g', { class: 'net-tokens' }),
-        s('text', { class: 'net-label', y: PLACE_R + 14, 'text-anchor': 'middle' }, p.name ?? p.id),
-        p.tag ? s('text', { class: 'net-tagname', y: PLACE_R + 26, 'text-anchor': 'middle' }, `→ ${p.tag}`) : null,
+        // the name and lamp tag at the lower right: arcs meet the circle towards other nodes' centres
+        s('text', { class: 'net-label', x: PLACE_R - 6, y: PLACE_R + 10 }, p.name ?? p.id),
+        p.tag ? s('text', { class: 'net-tagname', x: PLACE_R - 6, y: PLACE_R + 22 }, `→ ${p.tag}`) : null,
         s('text', { class: 'net-info', y: -PLACE_R - 6, 'text-anchor': 'middle' }),
         a?.place_bounds && a.place_bounds[p.id] !== undefined ? s('text', { class: 'net-bound', x: -PLACE_R - 2, y: -PLACE_R + 4, 'text-anchor': 'end' }, `≤${a.place_bounds[p.id] === 'omega' ? 'ω' : a.place_bounds[p.id]}`) : null,
         errors.has(p.id) ? s('circle', { r: PLACE_R + 5, class: 'net-error-ring', 'data-testid': `net-error-${p.id}` }, s('title', null, errors.get(p.id)!.join('\n'))) : null);
@@ -773,7 +796,7 @@ export class NetView {
         s('rect', { x: -TRANS_W / 2, y: -TRANS_H / 2, width: TRANS_W, height: TRANS_H, class: 'net-shape' }),
         GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: -TRANS_W / 2 - 2, y: -TRANS_H / 2 + 8, 'text-anchor': 'end' }, GLYPH[t.kind]) : null,
         s('text', { class: 'net-label', x: TRANS_W / 2 + 3, y: -TRANS_H / 2 - 3 }, t.name ?? t.id),
-        guard ? s('text', { class: 'net-guard', x: TRANS_W / 2 + 3, y: TRANS_H / 2 + 11 }, guard.length > 24 ? `${guard.slice(0, 23)}…` : guard, s('title', null, guard)) : null,
+        guard ? s('text', { class: 'net-guard', x: TRANS_W / 2 + 3, y: TRANS_H / 2 + 11 }, guard.length > 16 ? `${guard.slice(0, 15)}…` : guard, s('title', null, guard)) : null,
         t.priority !== null ? s('text', { class: 'net-prio', x: -TRANS_W / 2 - 2, y: TRANS_H / 2, 'text-anchor': 'end' }, `#${t.priority}`) : null,
         s('text', { class: 'net-info', y: -TRANS_H / 2 - 17, 'text-anchor': 'middle' }),
         errors.has(t.id) ? s('rect', { x: -TRANS_W / 2 - 5, y: -TRANS_H / 2 - 5, width: TRANS_W + 10, height: TRANS_H + 10, class: 'net-error-ring', 'data-testid': `net-error-${t.id}` }, s('title', null, errors.get(t.id)!.join('\n'))) : null);
