@@ -148,3 +148,21 @@ describe('guard and script highlighting', () => {
     expect(kinds).toEqual({ Start: 'tag', AND: 'keyword', NOT: 'keyword', Strat: 'name', OR: 'keyword', 'line.buffer': 'tag', '2.5': 'number', '// go': 'comment', 'T1.DN': 'tag' });
   });
 });
+
+describe('routing a large net', () => {
+  it('routes 400 arcs among 200 nodes quickly', () => {
+    const net = emptyNet('big', 'petri');
+    for (let k = 0; k < 100; k++) addPlace(net, (k % 10) * 80, Math.floor(k / 10) * 80);
+    for (let k = 0; k < 100; k++) addTransition(net, (k % 10) * 80 + 40, Math.floor(k / 10) * 80 + 40);
+    for (let k = 0; k < 100; k++) {
+      connect(net, `P${k + 1}`, `T${k + 1}`);
+      connect(net, `T${k + 1}`, `P${((k + 11) % 100) + 1}`);
+      connect(net, `P${((k + 37) % 100) + 1}`, `T${k + 1}`);
+      connect(net, `T${k + 1}`, `P${((k + 3) % 100) + 1}`);
+    }
+    const t0 = performance.now();
+    const r = routes(net, positions(net));
+    expect(r.size).toBe(net.arcs.length);
+    expect(performance.now() - t0).toBeLessThan(1500);
+  });
+});

@@ -138,7 +138,9 @@ export function route(from: Pt, fromKind: 'place' | 'transition', to: Pt, toKind
   ];
   const xs = new Set<number>([(from.x + to.x) / 2]);
   const ys = new Set<number>([(from.y + to.y) / 2]);
-  for (const b of obstacles) {
+  // lanes beside the nodes in the way (not every node: a big net stays quick to draw)
+  const blocking = obstacles.filter((b) => segmentHitsBox(from, to, b) || segmentHitsBox(from, { x: to.x, y: from.y }, b) || segmentHitsBox({ x: to.x, y: from.y }, to, b));
+  for (const b of blocking) {
     xs.add(b.x - 15);
     xs.add(b.x + b.w + 15);
     ys.add(b.y - 15);
@@ -173,8 +175,8 @@ function trimmed(pts: Pt[], fromKind: 'place' | 'transition', toKind: 'place' | 
   return out;
 }
 
-/** The routes of every arc of the net, by arc id. */
-export function routes(net: Net, at: Map<string, Pt>): Map<string, Pt[]> {
+/** The routes of every arc of the net, by arc id; without `detours` straight lines (while dragging). */
+export function routes(net: Net, at: Map<string, Pt>, detours = true): Map<string, Pt[]> {
   const kind = new Map<string, 'place' | 'transition'>([
     ...net.places.map((p) => [p.id, 'place'] as const),
     ...net.transitions.map((t) => [t.id, 'transition'] as const),
@@ -186,7 +188,7 @@ export function routes(net: Net, at: Map<string, Pt>): Map<string, Pt[]> {
     const f = at.get(a.source);
     const t = at.get(a.target);
     if (!f || !t || !kind.has(a.source) || !kind.has(a.target)) continue;
-    const others = [...kind.keys()].filter((id) => id !== a.source && id !== a.target && at.has(id)).map(box);
+    const others = detours ? [...kind.keys()].filter((id) => id !== a.source && id !== a.target && at.has(id)).map(box) : [];
     const back = pairs.has(`${a.target}\u0000${a.source}`);
     out.set(a.id, route(f, kind.get(a.source)!, t, kind.get(a.target)!, others, back ? 6 : 0));
   }

@@ -739,7 +739,7 @@ export class NetView {
     });
     svg.addEventListener('pointerleave', () => (this.mouse = null));
     // arcs
-    const r = routes(net, at);
+    const r = routes(net, at, !this.drag);
     for (const arc of net.arcs) {
       const pts = r.get(arc.id);
       if (!pts) continue;
