@@ -419,4 +419,10 @@ export const es: Record<string, string> = {
   'Hover to highlight the places it covers': 'Pase el ratón para resaltar los lugares que cubre',
   'Transition invariants': 'Invariantes de transición',
   'Hover to highlight the transitions it covers': 'Pase el ratón para resaltar las transiciones que cubre',
+  // the SFC chart
+  Chart: 'Diagrama',
+  'The chart is drawn from the text: edit it in the Text view (a click on a step or transition goes to its line).': 'El diagrama se dibuja a partir del texto: edítelo en la vista de texto (un clic en una etapa o transición lleva a su línea).',
+  'No steps yet: write the chart in the Text view.': 'Aún no hay etapas: escriba el diagrama en la vista de texto.',
+  'edited — not live': 'editado — sin datos en vivo',
+  'not running': 'sin ejecutar',
 };
