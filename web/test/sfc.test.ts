@@ -53,7 +53,7 @@ describe('SFC text', () => {
 
 describe('the SFC tab', () => {
   it('draws the chart, lights the active step live, and puts a problem on its transition', async () => {
-    vi.stubGlobal('fetch', async (path: string, init: RequestInit) => {
+    vi.stubGlobal('fetch', async (_path: string, init: RequestInit) => {
       const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });
       if (init.method === 'GET') {
         const line = BATCH.split('\n').findIndex((l) => l.includes('TO FillB')) + 1;
