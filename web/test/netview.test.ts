@@ -5,6 +5,7 @@
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { afterEach, describe, expect, it, vi } from 'vitest';
+import { setMe } from '../src/auth';
 import { type Ctx, TagCache } from '../src/ctx';
 import { LiveClient } from '../src/live/client';
 import { emptyBatch } from '../src/live/coalesce';
@@ -156,6 +157,48 @@ describe('the net tab', () => {
     expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('#3');
     expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fill +1');
     expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fired start');
+  });
+
+  it('edits an arc’s weight and kind, and copies and pastes the whole net with fresh ids', async () => {
+    server({ 'cell.pnml': CELL });
+    const { v } = view('cell.pnml');
+    await v.load();
+    v.show();
+    vi.useFakeTimers();
+    v.el.querySelector('[data-testid="net-arc-a4"]')!.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    const weight = v.el.querySelector<HTMLInputElement>('[data-testid="net-prop-weight"]')!;
+    weight.value = '2';
+    weight.dispatchEvent(new Event('change'));
+    expect(v.current!.arcs.find((a) => a.id === 'a4')!.weight).toBe(2);
+    expect(v.el.querySelector('[data-testid="net-arc-a4"] .net-weight')!.textContent).toBe('2');
+    const kind = v.el.querySelector<HTMLSelectElement>('[data-testid="net-prop-arc-kind"]')!;
+    kind.value = 'read';
+    kind.dispatchEvent(new Event('change'));
+    expect(v.el.querySelector('[data-testid="net-arc-a4"]')!.classList.contains('kind-read')).toBe(true);
+    const places = v.current!.places.length;
+    const arcs = v.current!.arcs.length;
+    key(v, 'a', { ctrlKey: true });
+    key(v, 'c', { ctrlKey: true });
+    key(v, 'v', { ctrlKey: true });
+    expect(v.current!.places.length).toBe(2 * places);
+    expect(v.current!.arcs.length).toBe(2 * arcs);
+    expect(new Set(v.current!.places.map((p) => p.id)).size).toBe(2 * places);
+    key(v, 'Delete');
+    expect(v.current!.places.length).toBe(places);
+  });
+
+  it('lets a viewer look but not edit', async () => {
+    server({ 'cell.pnml': CELL });
+    setMe({ user: 'ann', role: 'viewer', users: true });
+    const { v } = view('cell.pnml');
+    await v.load();
+    v.show();
+    expect(v.el.querySelector<HTMLButtonElement>('[data-testid="net-add-state"]')!.disabled).toBe(true);
+    expect(v.el.querySelector<HTMLButtonElement>('[data-testid="net-run"]')!.disabled).toBe(true);
+    key(v, 's');
+    expect(v.dirty).toBe(false);
+    node(v, 'robot')!.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    expect(v.el.querySelector<HTMLInputElement>('[data-testid="net-prop-initial"]')!.disabled).toBe(true);
   });
 
   it('offers only states and transitions to a Petri-mode net', async () => {
