@@ -20,7 +20,10 @@ test('the SFC chart follows the running batch', async () => {
   await page.waitForFunction(() => document.querySelector('[data-testid="sfc-step-FillA"]')?.dataset.active === 'true');
   await page.waitForFunction(() => document.querySelector('[data-testid="sfc-action-FillA-0"]')?.classList.contains('on'));
   await b.shot('sfc-chart');
+  // a transition selected: its condition in the properties; Edit in the text opens its line
   await tid('sfc-tr-t1').click();
+  assert.equal(await tid('sfc-prop-condition').inputValue(), 'Start');
+  await tid('sfc-goto-text').click();
   assert.equal(await tid('sfc-batch.sfc').getAttribute('data-mode'), 'text');
   assert.deepEqual(b.errors, []);
 });

@@ -6,7 +6,7 @@ import { afterEach, describe, expect, it, vi } from 'vitest';
 import { type Ctx, TagCache } from '../src/ctx';
 import { LiveClient } from '../src/live/client';
 import { emptyBatch } from '../src/live/coalesce';
-import { elementAtLine, layoutSfc, parseSfc } from '../src/sfc/parse';
+import { addAction, addStepAfter, elementAtLine, layoutSfc, parseSfc, setAction, setCondition } from '../src/sfc/parse';
 import { SfcView } from '../src/sfc/view';
 
 const REPO = join(__dirname, '../..');
@@ -15,6 +15,7 @@ const SEQ = readFileSync(join(REPO, 'crates/engine/tests/golden/sfc-qualifiers/s
 
 afterEach(() => {
   vi.unstubAllGlobals();
+  vi.useRealTimers();
   document.body.replaceChildren();
 });
 
@@ -23,8 +24,8 @@ describe('SFC text', () => {
     const c = parseSfc(BATCH);
     expect(c.steps.map((s) => s.name)).toEqual(['Idle', 'FillA', 'FillB', 'Mix', 'Empty', 'Done']);
     expect(c.steps[0].initial).toBe(true);
-    expect(c.steps[1].actions).toEqual([{ name: 'ValveA', qualifier: 'N', time: null }, { name: 'Busy', qualifier: 'S', time: null }]);
-    expect(c.steps[3].actions).toEqual([{ name: 'Agitator', qualifier: 'L', time: 'T#3s' }]);
+    expect(c.steps[1].actions).toMatchObject([{ name: 'ValveA', qualifier: 'N', time: null }, { name: 'Busy', qualifier: 'S', time: null }]);
+    expect(c.steps[3].actions).toMatchObject([{ name: 'Agitator', qualifier: 'L', time: 'T#3s' }]);
     expect(c.transitions[3]).toMatchObject({ name: 't4', from: ['Mix'], to: ['Empty'], condition: 'batch.Mix.T >= 3000' });
     expect(elementAtLine(c, c.steps[1].line + 1)).toBe('step:FillA');
     expect(elementAtLine(c, c.transitions[0].line)).toBe('tr:t1');
@@ -48,6 +49,33 @@ describe('SFC text', () => {
     expect(y('step:C1')).toBe(y('step:C2'));
     expect(at.get('step:C1')!.x).not.toBe(at.get('step:C2')!.x);
     expect([...jumps]).toEqual(['join']);
+  });
+});
+
+describe('SFC edits of the text', () => {
+  it('sets a condition, adds, changes and removes actions, adds a step after another, keeping the rest byte for byte', () => {
+    let c = parseSfc(BATCH);
+    let text = setCondition(BATCH, c.transitions[0], 'Start AND NOT Busy');
+    c = parseSfc(text);
+    expect(c.transitions[0].condition).toBe('Start AND NOT Busy');
+    expect(text.replace('Start AND NOT Busy', 'Start')).toBe(BATCH);
+    text = addAction(text, c.steps[0], { name: 'Ready', qualifier: 'N', time: null });
+    c = parseSfc(text);
+    expect(c.steps[0].actions).toMatchObject([{ name: 'Ready', qualifier: 'N', time: null }]);
+    text = addAction(text, c.steps[3], { name: 'Alarm', qualifier: 'D', time: 'T#10s' });
+    c = parseSfc(text);
+    expect(c.steps[3].actions.map((a) => `${a.name}(${a.qualifier},${a.time})`)).toEqual(['Agitator(L,T#3s)', 'Alarm(D,T#10s)']);
+    text = setAction(text, c.steps[3], 0, { name: 'Agitator', qualifier: 'N', time: null });
+    c = parseSfc(text);
+    expect(c.steps[3].actions[0]).toMatchObject({ qualifier: 'N', time: null });
+    text = setAction(text, c.steps[3], 1, null);
+    c = parseSfc(text);
+    expect(c.steps[3].actions.length).toBe(1);
+    const r = addStepAfter(text, c, 'Done');
+    c = parseSfc(r.text);
+    expect(r.step).toBe('S1');
+    expect(c.steps.map((x) => x.name)).toContain('S1');
+    expect(c.transitions[c.transitions.length - 1]).toMatchObject({ from: ['Done'], to: ['S1'], condition: 'FALSE' });
   });
 });
 
@@ -80,7 +108,22 @@ describe('the SFC tab', () => {
     expect(step('Mix').dataset.active).toBe('true');
     expect(step('Idle').dataset.active).toBe('false');
     expect(step('Mix').querySelector('.sfc-time')!.textContent).toBe('1200 ms');
+    vi.useFakeTimers(); // the checks after each edit stay queued
+    // a click selects; its condition is edited in place, and Edit in the text opens its line
     v.el.querySelector<HTMLElement>('[data-testid="sfc-tr-t2"]')!.dispatchEvent(new MouseEvent('click'));
+    const cond = v.el.querySelector<HTMLInputElement>('[data-testid="sfc-prop-condition"]')!;
+    expect(cond.value).toBe('Level >= 400');
+    cond.value = 'Level >= 450';
+    cond.dispatchEvent(new Event('change'));
+    expect(v.dirty).toBe(true);
+    expect(v.el.querySelector('[data-testid="sfc-tr-t2"] .sfc-cond')!.textContent).toBe('Level >= 450');
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-step-Idle"]')!.dispatchEvent(new MouseEvent('click'));
+    (v.el.querySelector<HTMLInputElement>('[data-testid="sfc-prop-action-0"]')!).value = 'Ready';
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-prop-add"]')!.click();
+    expect(v.el.querySelector('[data-testid="sfc-action-Idle-0"]')!.textContent).toBe('NReady');
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-add-step"]')!.click();
+    expect(v.el.querySelector('[data-testid="sfc-step-S1"]')).not.toBeNull();
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-goto-text"]')!.click();
     expect(v.el.dataset.mode).toBe('text');
   });
 });

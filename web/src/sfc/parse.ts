@@ -9,6 +9,9 @@ export interface Action {
   name: string;
   qualifier: string;
   time: string | null;
+  /** Offsets of the association `Name(Q[, t]);` in the text. */
+  start?: number;
+  end?: number;
 }
 
 export interface Step {
@@ -18,6 +21,8 @@ export interface Step {
   /** 1-based lines of the text it spans. */
   line: number;
   endLine: number;
+  /** Offset of its `END_STEP` (new actions go before it). */
+  endStep: number;
 }
 
 export interface SfcTransition {
@@ -28,6 +33,8 @@ export interface SfcTransition {
   from: string[];
   to: string[];
   condition: string;
+  /** Offsets of the condition between `:=` and `;` / `END_TRANSITION`. */
+  cond: [number, number];
   line: number;
   endLine: number;
 }
@@ -48,22 +55,24 @@ export function parseSfc(text: string): Chart {
   const src = uncomment(text);
   const steps: Step[] = [];
   const transitions: SfcTransition[] = [];
-  const stepRe = /\b(INITIAL_STEP|STEP)\s+([A-Za-z_]\w*)\s*:([\s\S]*?)\bEND_STEP\b/gi;
+  const stepRe = /\b(INITIAL_STEP|STEP)\s+([A-Za-z_]\w*)\s*:([\s\S]*?)\bEND_STEP\b/dgi;
   for (const m of src.matchAll(stepRe)) {
     const actions: Action[] = [];
+    const body = m.indices![3]![0];
     for (const a of m[3].matchAll(/([A-Za-z_][\w.]*)\s*\(\s*([A-Za-z][A-Za-z0-9]*)\s*(?:,\s*([^)]*?))?\s*\)\s*;?/g))
-      actions.push({ name: a[1], qualifier: a[2].toUpperCase(), time: a[3]?.trim() || null });
-    steps.push({ name: m[2], initial: m[1].toUpperCase() === 'INITIAL_STEP', actions, line: lineAt(src, m.index!), endLine: lineAt(src, m.index! + m[0].length) });
+      actions.push({ name: a[1], qualifier: a[2].toUpperCase(), time: a[3]?.trim() || null, start: body + a.index!, end: body + a.index! + a[0].length });
+    const end = m.index! + m[0].length;
+    steps.push({ name: m[2], initial: m[1].toUpperCase() === 'INITIAL_STEP', actions, line: lineAt(src, m.index!), endLine: lineAt(src, end), endStep: end - 'END_STEP'.length });
   }
   const list = (s: string) => s.replace(/[()]/g, '').split(',').map((x) => x.trim()).filter(Boolean);
-  const trRe = /\bTRANSITION\b\s*(?:([A-Za-z_]\w*)\s*)?(?:\(\s*PRIORITY\s*:=\s*(-?\d+)\s*\)\s*)?FROM\s+(\([^)]*\)|[A-Za-z_]\w*)\s*TO\s+(\([^)]*\)|[A-Za-z_]\w*)\s*:=([\s\S]*?);?\s*\bEND_TRANSITION\b/gi;
+  const trRe = /\bTRANSITION\b\s*(?:([A-Za-z_]\w*)\s*)?(?:\(\s*PRIORITY\s*:=\s*(-?\d+)\s*\)\s*)?FROM\s+(\([^)]*\)|[A-Za-z_]\w*)\s*TO\s+(\([^)]*\)|[A-Za-z_]\w*)\s*:=([\s\S]*?);?\s*\bEND_TRANSITION\b/dgi;
   let k = 0;
   for (const m of src.matchAll(trRe)) {
     k++;
     // the condition as written (comments kept out)
     transitions.push({
       name: m[1] ?? `t${k}`, named: !!m[1], priority: m[2] === undefined ? null : Number(m[2]),
-      from: list(m[3]), to: list(m[4]), condition: m[5].replace(/\s+/g, ' ').trim(),
+      from: list(m[3]), to: list(m[4]), condition: m[5].replace(/\s+/g, ' ').trim(), cond: m.indices![5] as [number, number],
       line: lineAt(src, m.index!), endLine: lineAt(src, m.index! + m[0].length),
     });
   }
@@ -137,4 +146,42 @@ export function layoutSfc(chart: Chart): { at: Map<string, { x: number; y: numbe
   const at = new Map<string, { x: number; y: number }>();
   for (const [k, p] of place) at.set(k, { x: 80 + p.x * 260, y: 50 + p.y * 120 });
   return { at, jumps };
+}
+
+// ---- edits of the text (the chart's graphical edits), pure ----------------
+
+/** A step name `S<n>` not used in the chart. */
+export function freshStep(chart: Chart): string {
+  const used = new Set(chart.steps.map((s) => s.name.toUpperCase()));
+  let n = 1;
+  while (used.has(`S${n}`)) n++;
+  return `S${n}`;
+}
+
+/** Sets a transition's condition (the text between `:=` and `;`). */
+export function setCondition(text: string, t: SfcTransition, condition: string): string {
+  return `${text.slice(0, t.cond[0])} ${condition.trim()}${text.slice(t.cond[1])}`;
+}
+
+/** Adds an action association to a step, on a line of its own before END_STEP. */
+export function addAction(text: string, step: Step, a: { name: string; qualifier: string; time: string | null }): string {
+  const assoc = `${a.name}(${a.qualifier}${a.time ? `, ${a.time}` : ''});`;
+  const before = text.slice(0, step.endStep);
+  const sep = /\n\s*$/.test(before) ? '' : '\n';
+  return `${before.replace(/[ \t]*$/, '')}${sep}    ${assoc}\n${text.slice(step.endStep)}`;
+}
+
+/** Replaces (or with null removes) a step's k-th action association. */
+export function setAction(text: string, step: Step, k: number, a: { name: string; qualifier: string; time: string | null } | null): string {
+  const x = step.actions[k];
+  if (x?.start === undefined || x.end === undefined) return text;
+  const assoc = a ? `${a.name}(${a.qualifier}${a.time ? `, ${a.time}` : ''});` : '';
+  return `${text.slice(0, x.start)}${assoc}${text.slice(x.end)}`;
+}
+
+/** A new step after `from`: the step and a transition to it (condition FALSE until set), at the end of the text. */
+export function addStepAfter(text: string, chart: Chart, from: string): { text: string; step: string } {
+  const step = freshStep(chart);
+  const tail = text.endsWith('\n') || text === '' ? '' : '\n';
+  return { text: `${text}${tail}STEP ${step}: END_STEP\nTRANSITION FROM ${from} TO ${step} := FALSE; END_TRANSITION\n`, step };
 }

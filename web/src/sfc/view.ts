@@ -9,11 +9,17 @@
 // the shared ProgramEditor (check, online save, undo, problems, which are also
 // drawn on the step or transition whose text holds them).
 import type { Ctx } from '../ctx';
-import { clear, fmt, h, s } from '../dom';
+import { add, clear, fmt, h, s } from '../dom';
 import { ProgramEditor, problemTip } from '../editor/program';
 import { tr } from '../i18n';
 import { netName } from '../net/sim';
-import { type Chart, elementAtLine, layoutSfc, parseSfc } from './parse';
+import { gate, why } from '../auth';
+import { membersOf } from '../domain';
+import { type Chart, addAction, addStepAfter, elementAtLine, layoutSfc, parseSfc, setAction, setCondition } from './parse';
+
+const QUALIFIERS = ['N', 'S', 'R', 'L', 'D', 'P', 'P1', 'P0', 'SD', 'DS', 'SL'];
+/** A time literal of the language (not a word to translate). */
+const TIME_EXAMPLE = 'T#1s';
 
 const STEP_W = 90;
 const STEP_H = 34;
@@ -28,6 +34,9 @@ export class SfcView {
   private readonly canvas = h('div', { class: 'net-canvas sfc-canvas', 'data-testid': 'sfc-canvas' });
   private readonly liveEl = h('span', { class: 'net-live-state', 'data-testid': 'sfc-live-state' });
   private groups = new Map<string, SVGGElement>();
+  /** The selected element: `step:<name>` or `tr:<name>`. */
+  private sel: string | null = null;
+  private readonly propsEl = h('div', { class: 'props net-props', 'data-testid': 'sfc-props' });
 
   constructor(
     private readonly ctx: Ctx,
@@ -46,12 +55,18 @@ export class SfcView {
     this.el = h('section', { class: 'ladder-view net-view sfc-view', 'data-testid': `sfc-${program}` },
       h('div', { class: 'toolbar' },
         h('span', { class: 'seg' }, modeBtn('chart', tr('Chart')), modeBtn('text', tr('Text'))),
+        h('span', { class: 'seg' }, (() => {
+          const b = h('button', { class: 'small', 'data-testid': 'sfc-add-step', title: tr('A new step after the selected one, and a transition to it') }, `+ ${tr('Step')}`);
+          b.onclick = () => this.addStep();
+          gate(b, 'edit');
+          return b;
+        })()),
         h('span', { class: 'seg' }, this.liveEl),
         this.ed.stateEl),
       h('div', { class: 'ladder-body' },
         h('div', { class: 'ladder-main' }, this.canvas, this.ed.textBox),
         h('aside', { class: 'ladder-side' },
-          h('p', { class: 'hint' }, tr('The chart is drawn from the text: edit it in the Text view (a click on a step or transition goes to its line).')),
+          this.propsEl,
           h('h3', null, tr('Problems')), this.ed.problemsEl)));
     this.ed.section = this.el;
     this.setMode('chart');
@@ -110,6 +125,87 @@ export class SfcView {
     if (this.active) this.subscribe();
     this.renderChart();
     this.renderSide();
+    this.renderProps();
+  }
+
+  private select(id: string | null): void {
+    this.sel = id;
+    this.render();
+  }
+
+  /** One undoable edit of the text (the model). */
+  private edit(text: string): void {
+    if (text !== this.ed.text) this.ed.setText(text);
+  }
+
+  private addStep(): void {
+    const from = this.sel?.startsWith('step:') ? this.sel.slice(5) : this.chart.steps[this.chart.steps.length - 1]?.name;
+    if (!from) {
+      this.edit(`${this.ed.text}${this.ed.text.endsWith('\n') || !this.ed.text ? '' : '\n'}INITIAL_STEP Init: END_STEP\n`);
+      return this.select('step:Init');
+    }
+    const r = addStepAfter(this.ed.text, this.chart, from);
+    this.edit(r.text);
+    this.select(`step:${r.step}`);
+  }
+
+  private tagNames(): string[] {
+    const out: string[] = [];
+    for (const t of this.ctx.tags.list) {
+      out.push(t.name);
+      for (const m of membersOf(t.type)) out.push(`${t.name}.${m.name}`);
+    }
+    return out;
+  }
+
+  /** The selected step's actions or transition's condition, edited in place in the text. */
+  private renderProps(): void {
+    const el = this.propsEl;
+    clear(el);
+    const step = this.sel?.startsWith('step:') ? this.chart.steps.find((x) => `step:${x.name}` === this.sel) : undefined;
+    const t = this.sel?.startsWith('tr:') ? this.chart.transitions.find((x) => `tr:${x.name}` === this.sel) : undefined;
+    const list = `sfc-tags-${this.program}`;
+    const editable = !why('edit');
+    const toText = (line: number) => h('button', { class: 'small', 'data-testid': 'sfc-goto-text', onclick: () => this.goTo(line) }, tr('Edit in the text'));
+    el.append(h('datalist', { id: list }, this.tagNames().map((n) => h('option', { value: n }))));
+    if (!step && !t) {
+      el.append(h('p', { class: 'hint' }, tr('Select a step to edit its actions, or a transition to edit its condition; the text view edits the rest.')));
+      return;
+    }
+    if (t) {
+      const input = h('input', { value: t.condition, list, 'data-testid': 'sfc-prop-condition', spellcheck: 'false', disabled: !editable, title: why('edit') });
+      input.addEventListener('change', () => input.value.trim() && this.edit(setCondition(this.ed.text, t, input.value)));
+      input.addEventListener('keydown', (e) => e.key === 'Enter' && input.blur());
+      const links = [t.from, t.to].map((x) => x.join(', ')).join(' → ');
+      el.append(
+        h('h3', null, `${t.name} `, h('small', null, links)),
+        h('label', null, h('span', null, tr('Condition (a BOOL expression)')), input),
+        toText(t.line));
+      return;
+    }
+    const st = step!;
+    const row = (a: { name: string; qualifier: string; time: string | null } | null, k: number) => {
+      const q = h('select', { 'data-testid': `sfc-prop-q-${k}`, disabled: !editable }, QUALIFIERS.map((x) => h('option', { value: x, selected: x === (a?.qualifier ?? 'N') }, x)));
+      const name = h('input', { value: a?.name ?? '', list, 'data-testid': `sfc-prop-action-${k}`, placeholder: tr('Action (a BOOL tag)'), disabled: !editable });
+      const time = h('input', { value: a?.time ?? '', 'data-testid': `sfc-prop-time-${k}`, placeholder: TIME_EXAMPLE, disabled: !editable });
+      const value = () => (name.value.trim() ? { name: name.value.trim(), qualifier: q.value, time: time.value.trim() || null } : null);
+      const apply = () => {
+        const v = value();
+        if (a) this.edit(setAction(this.ed.text, st, k, v));
+        else if (v) this.edit(addAction(this.ed.text, st, v));
+      };
+      const btn = a
+        ? h('button', { class: 'small', 'data-testid': `sfc-prop-remove-${k}`, title: tr('Remove this action'), disabled: !editable, onclick: () => this.edit(setAction(this.ed.text, st, k, null)) }, '✕')
+        : h('button', { class: 'small', 'data-testid': 'sfc-prop-add', disabled: !editable, onclick: apply }, tr('Add'));
+      if (a) for (const x of [q, name, time]) x.addEventListener('change', apply);
+      return h('div', { class: 'sfc-action-row' }, q, name, time, btn);
+    };
+    add(el,
+      h('h3', null, st.name, st.initial ? h('small', null, ` (${tr('initial')})`) : null),
+      h('h4', null, tr('Actions')),
+      st.actions.map((a, k) => row(a, k)),
+      row(null, st.actions.length),
+      toText(st.line));
   }
 
   private renderSide(): void {
@@ -181,7 +277,7 @@ export class SfcView {
     for (const st of chart.steps) {
       const p = at.get(`step:${st.name}`)!;
       const id = `step:${st.name}`;
-      const g = s('g', { class: `sfc-step${st.initial ? ' initial' : ''}${errors.has(id) ? ' error' : ''}`, transform: `translate(${p.x},${p.y})`, 'data-testid': `sfc-step-${st.name}`, 'data-active': 'false' },
+      const g = s('g', { class: `sfc-step${st.initial ? ' initial' : ''}${errors.has(id) ? ' error' : ''}${this.sel === id ? ' selected' : ''}`, transform: `translate(${p.x},${p.y})`, 'data-testid': `sfc-step-${st.name}`, 'data-active': 'false' },
         s('rect', { x: -STEP_W / 2, y: -STEP_H / 2, width: STEP_W, height: STEP_H, class: 'sfc-box' }),
         st.initial ? s('rect', { x: -STEP_W / 2 + 3, y: -STEP_H / 2 + 3, width: STEP_W - 6, height: STEP_H - 6, class: 'sfc-box-inner' }) : null,
         s('text', { class: 'net-label', 'text-anchor': 'middle', y: 4 }, st.name),
@@ -198,20 +294,20 @@ export class SfcView {
           s('text', { x: STEP_W / 2 + 52, y: y + 15, class: 'sfc-act-text' }, a.name),
           a.time ? s('text', { x: STEP_W / 2 + 160, y: y + 15, class: 'sfc-act-time' }, a.time) : null));
       });
-      g.addEventListener('click', () => this.goTo(st.line));
+      g.addEventListener('click', () => this.select(id));
       this.groups.set(id, g);
       svg.append(g);
     }
     for (const t of chart.transitions) {
       const p = at.get(`tr:${t.name}`)!;
       const id = `tr:${t.name}`;
-      const g = s('g', { class: `sfc-transition${errors.has(id) ? ' error' : ''}`, transform: `translate(${p.x},${p.y})`, 'data-testid': `sfc-tr-${t.name}` },
+      const g = s('g', { class: `sfc-transition${errors.has(id) ? ' error' : ''}${this.sel === id ? ' selected' : ''}`, transform: `translate(${p.x},${p.y})`, 'data-testid': `sfc-tr-${t.name}` },
         s('rect', { x: -20, y: -8, width: 40, height: 16, class: 'net-hit' }),
         s('rect', { x: -16, y: -2, width: 32, height: 4, class: 'sfc-bar' }),
         s('text', { class: 'net-guard sfc-cond', x: 22, y: 4 }, t.condition),
         t.named || t.priority !== null ? s('text', { class: 'net-prio', x: -22, y: 4, 'text-anchor': 'end' }, `${t.named ? t.name : ''}${t.priority !== null ? ` #${t.priority}` : ''}`) : null,
         errors.has(id) ? s('title', null, errors.get(id)!.join('\n')) : null);
-      g.addEventListener('click', () => this.goTo(t.line));
+      g.addEventListener('click', () => this.select(id));
       this.groups.set(id, g);
       svg.append(g);
     }
