@@ -121,6 +121,8 @@ export const api = {
   screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
   // pretty, so that a refusal's line and column point into a readable file
   saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
+  /** GET /api/nets/{name}/analysis: the analysis of a net of the project (docs/nets.md "Analysis"). */
+  netAnalysis: <T>(name: string) => json<T>('GET', `/api/nets/${enc(name)}/analysis`),
   autotune: (loop: string, req: Record<string, number>) => json<Autotune>('POST', `/api/pid/${enc(loop)}/autotune`, req),
   symbols: () => json<string[]>('GET', '/api/symbols'),
   symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),

@@ -10,6 +10,8 @@ import { clear, h } from './dom';
 import { setDomain } from './domain';
 import { IlView } from './il/view';
 import { LadderView } from './ladder/view';
+import { NetView } from './net/view';
+import { SfcView } from './sfc/view';
 import { LiveClient } from './live/client';
 import { boot, loginText, setNextLoginMessage, showLogin } from './login';
 import { ScreensView } from './hmi/view';
@@ -30,9 +32,9 @@ interface View {
   hide(): void;
 }
 
-/** A program tab (ladder or IL): the top bar's Compile/Save act on it. */
-type Editor = LadderView | IlView;
-const isEditor = (v: View | null | undefined): v is Editor => v instanceof LadderView || v instanceof IlView;
+/** A program tab (ladder, IL, net or SFC): the top bar's Compile/Save act on it. */
+type Editor = LadderView | IlView | NetView | SfcView;
+const isEditor = (v: View | null | undefined): v is Editor => v instanceof LadderView || v instanceof IlView || v instanceof NetView || v instanceof SfcView;
 
 /** The strings of the shell (one place; a Spanish catalogue comes later). */
 const text = {
@@ -211,13 +213,15 @@ async function start(me: Me): Promise<void> {
   const ctx: Ctx = { live, tags, notify };
   const views = new Map<string, { label: string; make: () => View; view?: View; testid: string }>();
   for (const p of programs) {
-    // Nets and SFCs have no view yet (their editors are to come); their markings are in Tags.
-    if (p.language === 'net' || p.language === 'sfc') continue;
     views.set(`program/${p.name}`, {
       label: p.plant ? tr('{name} (plant)', { name: p.name }) : p.name,
       testid: `tab-program-${p.name}`,
       make: () => {
-        const v = p.language === 'il' ? new IlView(ctx, p.name) : new LadderView(ctx, p.name);
+        const v =
+          p.language === 'il' ? new IlView(ctx, p.name)
+          : p.language === 'net' ? new NetView(ctx, p.name)
+          : p.language === 'sfc' ? new SfcView(ctx, p.name)
+          : new LadderView(ctx, p.name);
         v.load().catch((e) => notify(`${p.name}: ${e.message}`, 'error'));
         return v;
       },

@@ -1,0 +1,250 @@
+// The net tab (issue 20) in happy-dom: drawn from the PNML, edited with the
+// source's keys, undone, a refused guard drawn on its transition, live
+// tokens from the WebSocket's values, and a deadlock's firing sequence
+// replayed from the analysis.
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import { setMe } from '../src/auth';
+import { type Ctx, TagCache } from '../src/ctx';
+import { LiveClient } from '../src/live/client';
+import { emptyBatch } from '../src/live/coalesce';
+import { NetView } from '../src/net/view';
+import { lineCol } from '../src/net/xml';
+
+const REPO = join(__dirname, '../..');
+const BATCH = readFileSync(join(REPO, 'examples/state-net-batch/batch.pnml'), 'utf8');
+const CELL = readFileSync(join(REPO, 'examples/petri-resource/cell.pnml'), 'utf8');
+
+function server(files: Record<string, string>, analysis: unknown = null) {
+  const calls: string[] = [];
+  vi.stubGlobal('fetch', async (path: string, init: RequestInit) => {
+    calls.push(`${init.method} ${path}`);
+    const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });
+    const name = decodeURIComponent(path.split('/').pop()!);
+    if (path.includes('/analysis')) return json(200, analysis);
+    if (init.method === 'GET') return json(200, { name, language: 'net', plant: false, text: files[name], diagnostics: [] });
+    const body = JSON.parse(init.body as string);
+    const at = body.text.indexOf('Strat');
+    if (at >= 0) {
+      const [line, col] = lineCol(body.text, at);
+      return json(422, { error: '1 error', diagnostics: [{ code: 'E621', severity: 'error', message: 'unknown tag `Strat`', file: name, line, col, end_line: line, end_col: col + 5, help: 'did you mean `Start`?' }] });
+    }
+    if (init.method === 'PUT') files[name] = body.text;
+    return json(200, { diagnostics: [], applied: true });
+  });
+  return calls;
+}
+
+function view(program: string) {
+  const notes: string[] = [];
+  const tags = new TagCache();
+  tags.set([
+    { name: 'Start', type: 'BOOL', address: 'DI:1/0', description: '', retain: false, access: 'input', value: false, forced: null, notations: [] },
+    { name: 'Lamp', type: 'BOOL', address: null, description: '', retain: false, access: 'readwrite', value: false, forced: null, notations: [] },
+  ] as never);
+  const live = new LiveClient('ws://127.0.0.1:1/none');
+  const ctx = { live, tags, notify: (m: string) => notes.push(m) } as unknown as Ctx;
+  const v = new NetView(ctx, program);
+  document.body.append(v.el);
+  return { v, ctx, live, notes };
+}
+
+const node = (v: NetView, id: string) => v.el.querySelector<SVGGElement>(`[data-testid="net-node-${id}"]`);
+const key = (v: NetView, k: string, opts: KeyboardEventInit = {}) =>
+  v.el.querySelector('[data-testid="net-canvas"]')!.dispatchEvent(new KeyboardEvent('keydown', { key: k, bubbles: true, ...opts }));
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+  vi.useRealTimers();
+  document.body.replaceChildren();
+});
+
+describe('the net tab', () => {
+  it('draws the net with its initial marking, adds elements with S, T, Shift+E and Shift+C, and undoes them', async () => {
+    server({ 'batch.pnml': BATCH });
+    const { v } = view('batch.pnml');
+    await v.load();
+    v.show();
+    expect(v.el.querySelectorAll('.net-place').length).toBe(5);
+    expect(v.el.querySelectorAll('.net-transition').length).toBe(5);
+    expect(v.el.querySelectorAll('.net-arc').length).toBe(10);
+    expect(node(v, 'idle')!.dataset.tokens).toBe('1');
+    expect(node(v, 'filled')!.dataset.kind).toBe('timer');
+    vi.useFakeTimers(); // the checks after each edit stay queued
+    key(v, 's');
+    key(v, 't');
+    key(v, 'E', { shiftKey: true });
+    key(v, 'C', { shiftKey: true });
+    expect(node(v, 'S0')).not.toBeNull();
+    expect(node(v, 'T1')).not.toBeNull();
+    expect(node(v, 'E1')!.dataset.kind).toBe('expression');
+    expect(node(v, 'C1')!.dataset.kind).toBe('condition');
+    expect(v.dirty).toBe(true);
+    expect(v.current!.places.map((p) => p.id)).toContain('S0');
+    key(v, 'z', { ctrlKey: true });
+    expect(node(v, 'C1')).toBeNull();
+    key(v, 'y', { ctrlKey: true });
+    expect(node(v, 'C1')).not.toBeNull();
+    for (let k = 0; k < 4; k++) key(v, 'z', { ctrlKey: true });
+    expect(v.dirty).toBe(false);
+  });
+
+  it('edits the PNML as text; a text that is not PNML is listed with its place and not drawn', async () => {
+    server({ 'batch.pnml': BATCH });
+    const { v } = view('batch.pnml');
+    await v.load();
+    v.show();
+    vi.useFakeTimers();
+    v.el.querySelector<HTMLElement>('[data-testid="view-text"]')!.click();
+    const text = v.el.querySelector<HTMLTextAreaElement>('[data-testid="editor-text"]')!;
+    expect(text.value).toBe(BATCH);
+    text.value = BATCH.replace('<place id="fill">', '<place id="fill"><bad>');
+    text.dispatchEvent(new Event('input'));
+    expect(v.el.querySelector('[data-testid="diagnostic-0"]')!.textContent).toMatch(/closes <bad>/);
+    v.el.querySelector<HTMLElement>('[data-testid="view-graphic"]')!.click();
+    expect(v.el.querySelector('[data-testid="net-unreadable"]')).not.toBeNull();
+    v.el.querySelector<HTMLElement>('[data-testid="view-text"]')!.click();
+    text.value = BATCH.replace('<place id="fill">', '<place id="filling">').replace(/"fill"/g, '"filling"');
+    text.dispatchEvent(new Event('input'));
+    v.el.querySelector<HTMLElement>('[data-testid="view-graphic"]')!.click();
+    expect(node(v, 'filling')).not.toBeNull();
+  });
+
+  it('puts a refused guard on its transition and in the properties, and saves nothing', async () => {
+    const calls = server({ 'batch.pnml': BATCH });
+    const { v } = view('batch.pnml');
+    await v.load();
+    v.show();
+    vi.useFakeTimers();
+    node(v, 'start')!.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+    const guard = v.el.querySelector<HTMLInputElement>('[data-testid="net-prop-guard"]')!;
+    expect(guard.value).toBe('Start AND batch.batches.count < 3');
+    guard.value = 'Strat AND batch.batches.count < 3';
+    guard.dispatchEvent(new Event('change'));
+    expect(v.current!.transitions.find((t) => t.id === 'start')!.guard).toBe('Strat AND batch.batches.count < 3');
+    await vi.advanceTimersByTimeAsync(450);
+    expect(calls).toContain('POST /api/check/batch.pnml');
+    expect(v.el.querySelector('[data-testid="net-error-start"]')).not.toBeNull();
+    expect(v.el.querySelector('[data-testid="net-prop-error"]')!.textContent).toContain('unknown tag `Strat`');
+    expect(v.el.querySelector('[data-testid="diagnostic-0"]')!.textContent).toContain('E621');
+    // the highlighted guard marks the name that is not a tag
+    expect(v.el.querySelector('[data-testid="net-prop-guard-hl"] .hl-name')!.textContent).toBe('Strat');
+    expect(await v.save()).toBe(false);
+    expect(calls.filter((c) => c.startsWith('PUT'))).toEqual(['PUT /api/programs/batch.pnml']);
+  });
+
+  it('shows the running net’s tokens and the transition holding one, and lists marking changes', async () => {
+    server({ 'batch.pnml': BATCH });
+    const { v, live } = view('batch.pnml');
+    await v.load();
+    v.show();
+    live.state = 'connected';
+    live.status = { state: 'running' } as never;
+    const values = (scan: number, vals: Record<string, number>) => {
+      (live as unknown as { rawListeners: Set<(m: unknown) => void> }).rawListeners.forEach((f) => f({ type: 'values', scan, t_ms: 1_700_000_000_000, values: vals }));
+      live.deliver({ ...emptyBatch(), values: new Map(Object.entries(vals)) });
+    };
+    values(1, { 'batch.idle': 1, 'batch.start': 0, 'batch.fill': 0 });
+    values(2, { 'batch.idle': 0, 'batch.start': 1 });
+    expect(node(v, 'idle')!.dataset.tokens).toBe('0');
+    expect(node(v, 'start')!.dataset.enabled).toBe('true');
+    values(3, { 'batch.start': 0, 'batch.fill': 1 });
+    expect(node(v, 'fill')!.dataset.tokens).toBe('1');
+    expect(node(v, 'fill')!.querySelectorAll('.net-token').length).toBe(1);
+    expect(v.el.querySelector('[data-testid="net-live-state"]')!.textContent).toBe('live');
+    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('#3');
+    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fill +1');
+    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fired start');
+  });
+
+  it('edits an arc’s weight and kind, and copies and pastes the whole net with fresh ids', async () => {
+    server({ 'cell.pnml': CELL });
+    const { v } = view('cell.pnml');
+    await v.load();
+    v.show();
+    vi.useFakeTimers();
+    v.el.querySelector('[data-testid="net-arc-a4"]')!.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    const weight = v.el.querySelector<HTMLInputElement>('[data-testid="net-prop-weight"]')!;
+    weight.value = '2';
+    weight.dispatchEvent(new Event('change'));
+    expect(v.current!.arcs.find((a) => a.id === 'a4')!.weight).toBe(2);
+    expect(v.el.querySelector('[data-testid="net-arc-a4"] .net-weight')!.textContent).toBe('2');
+    const kind = v.el.querySelector<HTMLSelectElement>('[data-testid="net-prop-arc-kind"]')!;
+    kind.value = 'read';
+    kind.dispatchEvent(new Event('change'));
+    expect(v.el.querySelector('[data-testid="net-arc-a4"]')!.classList.contains('kind-read')).toBe(true);
+    const places = v.current!.places.length;
+    const arcs = v.current!.arcs.length;
+    key(v, 'a', { ctrlKey: true });
+    key(v, 'c', { ctrlKey: true });
+    key(v, 'v', { ctrlKey: true });
+    expect(v.current!.places.length).toBe(2 * places);
+    expect(v.current!.arcs.length).toBe(2 * arcs);
+    expect(new Set(v.current!.places.map((p) => p.id)).size).toBe(2 * places);
+    key(v, 'Delete');
+    expect(v.current!.places.length).toBe(places);
+  });
+
+  it('lets a viewer look but not edit', async () => {
+    server({ 'cell.pnml': CELL });
+    setMe({ user: 'ann', role: 'viewer', users: true });
+    const { v } = view('cell.pnml');
+    await v.load();
+    v.show();
+    expect(v.el.querySelector<HTMLButtonElement>('[data-testid="net-add-state"]')!.disabled).toBe(true);
+    expect(v.el.querySelector<HTMLButtonElement>('[data-testid="net-run"]')!.disabled).toBe(true);
+    key(v, 's');
+    expect(v.dirty).toBe(false);
+    node(v, 'robot')!.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    expect(v.el.querySelector<HTMLInputElement>('[data-testid="net-prop-initial"]')!.disabled).toBe(true);
+  });
+
+  it('offers only states and transitions to a Petri-mode net', async () => {
+    server({ 'cell.pnml': CELL });
+    const { v, notes } = view('cell.pnml');
+    await v.load();
+    v.show();
+    const btn = (k: string) => v.el.querySelector<HTMLButtonElement>(`[data-testid="net-add-${k}"]`)!;
+    expect([btn('state').disabled, btn('transition').disabled, btn('counter').disabled, btn('timer').disabled]).toEqual([false, false, true, true]);
+    key(v, 'E', { shiftKey: true });
+    expect(v.dirty).toBe(false);
+    expect(notes[0]).toMatch(/normal mode only/);
+    vi.useFakeTimers();
+    key(v, 't');
+    expect(v.current!.transitions.map((t) => t.id)).toContain('T1');
+  });
+
+  it('shows the analysis, marks dead transitions and replays the deadlock step by step', async () => {
+    const cellWithDead = CELL.replace('<transition id="grab2"/>', '<transition id="grab2"/><transition id="never"/>').replace('<arc id="b1"', '<place id="nothing"/><arc id="z1" source="nothing" target="never"/><arc id="b1"');
+    server({ 'cell.pnml': cellWithDead }, {
+      places: 11, transitions: 9, bounded: true, safe: false, place_bounds: { robot: 1 }, states: 20, edges: 30, deadlocks: 1,
+      dead_transitions: ['never'], live: false, reversible: false, p_invariants: [{ robot: 1, load1: 1, load2: 1 }], t_invariants: [],
+      deadlock_trace: ['arrive1', 'grab1'], state_space: 'reachability', stopped: null, notes: [],
+    });
+    const { v } = view('cell.pnml');
+    await v.load();
+    v.show();
+    await v.analyse();
+    expect(v.el.querySelector('[data-testid="net-an-bounded"]')!.textContent).toBe('yes');
+    expect(v.el.querySelector('[data-testid="net-an-deadlocks"]')!.textContent).toBe('1');
+    expect(node(v, 'never')!.classList.contains('dead')).toBe(true);
+    v.el.querySelector<HTMLElement>('[data-testid="net-an-pinv-0"]')!.dispatchEvent(new MouseEvent('mouseenter'));
+    expect(node(v, 'load2')!.classList.contains('lit')).toBe(true);
+    expect(node(v, 'idle1')!.classList.contains('lit')).toBe(false);
+    v.el.querySelector<HTMLElement>('[data-testid="net-replay"]')!.click();
+    expect(node(v, 'idle1')!.dataset.tokens).toBe('1');
+    v.el.querySelector<HTMLElement>('[data-testid="net-replay-next"]')!.click();
+    expect(node(v, 'idle1')!.dataset.tokens).toBe('0');
+    expect(node(v, 'wait1')!.dataset.tokens).toBe('1');
+    expect(node(v, 'arrive1')!.classList.contains('fired')).toBe(true);
+    v.el.querySelector<HTMLElement>('[data-testid="net-replay-next"]')!.click();
+    expect(node(v, 'load1')!.dataset.tokens).toBe('1');
+    expect(node(v, 'robot')!.dataset.tokens).toBe('0');
+    expect(v.el.querySelector('[data-testid="net-replay-step"]')!.textContent).toBe('step 2 of 2');
+    expect(v.el.querySelector('[data-testid="net-replay-dead"]')).not.toBeNull();
+    v.el.querySelector<HTMLElement>('[data-testid="net-replay-back"]')!.click();
+    expect(node(v, 'load1')!.dataset.tokens).toBe('0');
+  });
+});

@@ -1,0 +1,129 @@
+// The SFC chart (issue 20, item 2, drawn from the text): the textual form
+// read, laid out down the page, and the tab with live steps and problems.
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import { type Ctx, TagCache } from '../src/ctx';
+import { LiveClient } from '../src/live/client';
+import { emptyBatch } from '../src/live/coalesce';
+import { addAction, addStepAfter, elementAtLine, layoutSfc, parseSfc, setAction, setCondition } from '../src/sfc/parse';
+import { SfcView } from '../src/sfc/view';
+
+const REPO = join(__dirname, '../..');
+const BATCH = readFileSync(join(REPO, 'examples/sfc-batch/batch.sfc'), 'utf8');
+const SEQ = readFileSync(join(REPO, 'crates/engine/tests/golden/sfc-qualifiers/seq.sfc'), 'utf8');
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+  vi.useRealTimers();
+  document.body.replaceChildren();
+});
+
+describe('SFC text', () => {
+  it('reads steps, action associations with qualifiers and times, and transitions', () => {
+    const c = parseSfc(BATCH);
+    expect(c.steps.map((s) => s.name)).toEqual(['Idle', 'FillA', 'FillB', 'Mix', 'Empty', 'Done']);
+    expect(c.steps[0].initial).toBe(true);
+    expect(c.steps[1].actions).toMatchObject([{ name: 'ValveA', qualifier: 'N', time: null }, { name: 'Busy', qualifier: 'S', time: null }]);
+    expect(c.steps[3].actions).toMatchObject([{ name: 'Agitator', qualifier: 'L', time: 'T#3s' }]);
+    expect(c.transitions[3]).toMatchObject({ name: 't4', from: ['Mix'], to: ['Empty'], condition: 'batch.Mix.T >= 3000' });
+    expect(elementAtLine(c, c.steps[1].line + 1)).toBe('step:FillA');
+    expect(elementAtLine(c, c.transitions[0].line)).toBe('tr:t1');
+  });
+
+  it('reads divergences, convergences, names and priorities; comments are not read', () => {
+    const c = parseSfc(`${SEQ}\n(* STEP Ghost: END_STEP *)\nTRANSITION back (PRIORITY := 2) FROM C2 TO A := X; END_TRANSITION\n`);
+    expect(c.steps.map((s) => s.name)).not.toContain('Ghost');
+    const split = c.transitions.find((t) => t.name === 'split')!;
+    expect([split.from, split.to]).toEqual([['B'], ['C1', 'C2']]);
+    expect(c.transitions.find((t) => t.name === 'join')!.from).toEqual(['C1', 'C2']);
+    expect(c.transitions.find((t) => t.name === 'back')!.priority).toBe(2);
+  });
+
+  it('lays the chart out down the page: a divergence side by side, a way back as a jump', () => {
+    const c = parseSfc(SEQ);
+    const { at, jumps } = layoutSfc(c);
+    const y = (k: string) => at.get(k)!.y;
+    expect(y('step:Idle')).toBeLessThan(y('tr:t1'));
+    expect(y('tr:t1')).toBeLessThan(y('step:A'));
+    expect(y('step:C1')).toBe(y('step:C2'));
+    expect(at.get('step:C1')!.x).not.toBe(at.get('step:C2')!.x);
+    expect([...jumps]).toEqual(['join']);
+  });
+});
+
+describe('SFC edits of the text', () => {
+  it('sets a condition, adds, changes and removes actions, adds a step after another, keeping the rest byte for byte', () => {
+    let c = parseSfc(BATCH);
+    let text = setCondition(BATCH, c.transitions[0], 'Start AND NOT Busy');
+    c = parseSfc(text);
+    expect(c.transitions[0].condition).toBe('Start AND NOT Busy');
+    expect(text.replace('Start AND NOT Busy', 'Start')).toBe(BATCH);
+    text = addAction(text, c.steps[0], { name: 'Ready', qualifier: 'N', time: null });
+    c = parseSfc(text);
+    expect(c.steps[0].actions).toMatchObject([{ name: 'Ready', qualifier: 'N', time: null }]);
+    text = addAction(text, c.steps[3], { name: 'Alarm', qualifier: 'D', time: 'T#10s' });
+    c = parseSfc(text);
+    expect(c.steps[3].actions.map((a) => `${a.name}(${a.qualifier},${a.time})`)).toEqual(['Agitator(L,T#3s)', 'Alarm(D,T#10s)']);
+    text = setAction(text, c.steps[3], 0, { name: 'Agitator', qualifier: 'N', time: null });
+    c = parseSfc(text);
+    expect(c.steps[3].actions[0]).toMatchObject({ qualifier: 'N', time: null });
+    text = setAction(text, c.steps[3], 1, null);
+    c = parseSfc(text);
+    expect(c.steps[3].actions.length).toBe(1);
+    const r = addStepAfter(text, c, 'Done');
+    c = parseSfc(r.text);
+    expect(r.step).toBe('S1');
+    expect(c.steps.map((x) => x.name)).toContain('S1');
+    expect(c.transitions[c.transitions.length - 1]).toMatchObject({ from: ['Done'], to: ['S1'], condition: 'FALSE' });
+  });
+});
+
+describe('the SFC tab', () => {
+  it('draws the chart, lights the active step live, and puts a problem on its transition', async () => {
+    vi.stubGlobal('fetch', async (_path: string, init: RequestInit) => {
+      const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });
+      if (init.method === 'GET') {
+        const line = BATCH.split('\n').findIndex((l) => l.includes('TO FillB')) + 1;
+        return json(200, { name: 'batch.sfc', language: 'sfc', plant: false, text: BATCH, diagnostics: [{ code: 'E621', severity: 'error', message: 'unknown tag `Level`', file: 'batch.sfc', line, col: 40, end_line: line, end_col: 45, help: null }] });
+      }
+      return json(200, { diagnostics: [] });
+    });
+    const live = new LiveClient('ws://127.0.0.1:1/none');
+    const ctx = { live, tags: new TagCache(), notify: () => undefined } as unknown as Ctx;
+    const v = new SfcView(ctx, 'batch.sfc');
+    document.body.append(v.el);
+    await v.load();
+    v.show();
+    const step = (n: string) => v.el.querySelector<SVGGElement>(`[data-testid="sfc-step-${n}"]`)!;
+    expect(v.el.querySelectorAll('.sfc-step').length).toBe(6);
+    expect(v.el.querySelectorAll('.sfc-transition').length).toBe(6);
+    expect(step('Idle').classList.contains('initial')).toBe(true);
+    expect(v.el.querySelector('[data-testid="sfc-action-Mix-0"]')!.textContent).toBe('LAgitatorT#3s');
+    expect(v.el.querySelector('[data-testid="sfc-jump-t6-Idle"]')).not.toBeNull();
+    expect(v.el.querySelector('[data-testid="sfc-tr-t2"]')!.classList.contains('error')).toBe(true);
+    live.state = 'connected';
+    live.status = { state: 'running' } as never;
+    live.deliver({ ...emptyBatch(), values: new Map<string, never>([['batch.Mix.X', true as never], ['batch.Mix.T', 1200 as never], ['batch.Idle.X', false as never]]) });
+    expect(step('Mix').dataset.active).toBe('true');
+    expect(step('Idle').dataset.active).toBe('false');
+    expect(step('Mix').querySelector('.sfc-time')!.textContent).toBe('1200 ms');
+    vi.useFakeTimers(); // the checks after each edit stay queued
+    // a click selects; its condition is edited in place, and Edit in the text opens its line
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-tr-t2"]')!.dispatchEvent(new MouseEvent('click'));
+    const cond = v.el.querySelector<HTMLInputElement>('[data-testid="sfc-prop-condition"]')!;
+    expect(cond.value).toBe('Level >= 400');
+    cond.value = 'Level >= 450';
+    cond.dispatchEvent(new Event('change'));
+    expect(v.dirty).toBe(true);
+    expect(v.el.querySelector('[data-testid="sfc-tr-t2"] .sfc-cond')!.textContent).toBe('Level >= 450');
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-step-Idle"]')!.dispatchEvent(new MouseEvent('click'));
+    (v.el.querySelector<HTMLInputElement>('[data-testid="sfc-prop-action-0"]')!).value = 'Ready';
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-prop-add"]')!.click();
+    expect(v.el.querySelector('[data-testid="sfc-action-Idle-0"]')!.textContent).toBe('NReady');
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-add-step"]')!.click();
+    expect(v.el.querySelector('[data-testid="sfc-step-S1"]')).not.toBeNull();
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-goto-text"]')!.click();
+    expect(v.el.dataset.mode).toBe('text');
+  });
+});
