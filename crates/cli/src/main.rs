@@ -8,6 +8,7 @@ mod bench_realtime;
 mod demo;
 mod export;
 mod firmware;
+mod import;
 mod new;
 mod run;
 mod tune;
@@ -92,6 +93,25 @@ enum Command {
         /// Read the program back afterwards and compare.
         #[arg(long)]
         verify: bool,
+    },
+    /// Convert a program written with another tool — LDmicro `.ld`, PLCopen TC6 XML,
+    /// Studio 5000 `.L5X` — into a new Alba project, with a report of what was converted,
+    /// approximated or refused (docs/import.md).
+    Import {
+        /// The file to import.
+        file: PathBuf,
+        /// The project folder to write (new or empty, unless --force).
+        #[arg(short, long, value_name = "DIR")]
+        out: PathBuf,
+        /// The input's format (default: detected from its content, then its extension).
+        #[arg(long, value_name = "FORMAT", value_parser = ["ldmicro", "plcopen", "l5x"])]
+        format: Option<String>,
+        /// Wire the I/O to this Arduino board's pins (LDmicro: uno, nano or mega).
+        #[arg(long, value_name = "BOARD", value_parser = ["uno", "nano", "mega"])]
+        board: Option<String>,
+        /// Replace the project files of an existing, non-empty folder.
+        #[arg(long)]
+        force: bool,
     },
     /// Export the project to another form.
     Export {
@@ -298,6 +318,14 @@ enum Export {
         #[arg(long, value_name = "PORT")]
         upload: Option<String>,
     },
+    /// The project's Ladder programs as PLCopen TC6 XML v2.01 LD bodies, with layout
+    /// positions (for the OpenPLC editor, Beremiz, CODESYS; docs/import.md).
+    Plcopen {
+        project: PathBuf,
+        /// The file to write.
+        #[arg(short, long, value_name = "FILE")]
+        out: PathBuf,
+    },
     /// The control program as byte code for the board's interpreter (docs/bytecode.md):
     /// Intel HEX when the file name ends in `.hex`, raw bytes otherwise.
     Bytecode {
@@ -372,6 +400,16 @@ fn main() -> ExitCode {
         Command::Export {
             to: Export::Bytecode { project, board, out },
         } => export::bytecode(&project, &board, &out),
+        Command::Export {
+            to: Export::Plcopen { project, out },
+        } => import::export_plcopen(&project, &out),
+        Command::Import {
+            file,
+            out,
+            format,
+            board,
+            force,
+        } => import::run(&file, &out, format.as_deref(), board, force),
         Command::Export {
             to:
                 Export::Interpreter {
