@@ -1,7 +1,10 @@
 //! `cargo bench -p alba-arduino`: what the examples cost on an Arduino Uno
 //! (flash, RAM, CPU cycles per scan on the emulated 16 MHz ATmega328P, from
 //! simavr), and the largest generated ladder program that still fits an Uno,
-//! for two kinds of rung. Needs avr-gcc, arduino-core-avr and simavr.
+//! for two kinds of rung; then the same examples as byte code run by the
+//! interpreter firmware (issue 19): cycles per scan against the compiled
+//! sketch, byte-code size, the largest programs whose byte code fits each
+//! board, and the download time. Needs avr-gcc, arduino-core-avr and simavr.
 
 use alba_arduino::simavr::{self, Column, Timing};
 use alba_arduino::sketch::{Target, control_program, generate};
@@ -138,6 +141,7 @@ fn main() {
         std::process::exit(1);
     }
     println!("example        | flash B | RAM B (of 2048) | cycles/scan min/mean/max | mean µs at 16 MHz");
+    let mut sketch_cycles = Vec::new();
     for ex in [
         "start-stop",
         "traffic-light",
@@ -172,7 +176,103 @@ fn main() {
             format!("{}/{}/{}", p.min, p.mean, p.max),
             p.mean as f64 / 16.0
         );
+        sketch_cycles.push((ex, prog, s, cols, p.mean));
     }
     largest("logic", logic);
     largest("timer", timers);
+    interpreter(&sketch_cycles);
+}
+
+/// The byte-code interpreter on the Uno against the compiled sketches.
+fn interpreter(sketches: &[(&str, alba_ir::Program, alba_arduino::Sketch, Vec<Column>, u64)]) {
+    println!("\nbyte-code interpreter on the Uno (the program in EEPROM), 2 s of scans:");
+    println!("example        | byte code B (ops) | cycles/scan mean | compiled sketch | ratio");
+    let mut firmware = None;
+    for (ex, prog, s, cols, sketch_mean) in sketches {
+        let t = uno(10);
+        let bc = match alba_arduino::bytecode::encode(prog, ex, &t) {
+            Ok(bc) => bc,
+            Err(d) => {
+                println!(
+                    "{ex:<14} | refused: {}",
+                    d.first().map(|d| d.message.as_str()).unwrap_or("")
+                );
+                continue;
+            }
+        };
+        let out = work(&format!("{ex}-interp"));
+        let files = alba_arduino::interp::generate(&t, Some(&bc.bytes));
+        for (f, text) in &files {
+            std::fs::write(out.join(f), text).expect("write");
+        }
+        let b = toolchain::build(&out.join(&files[0].0), Model::Uno, &out.join("build")).expect("builds");
+        let timing = Timing {
+            scan_ms: 10,
+            until_ms: 2000,
+            every_ms: 10,
+            from_first_scan: false,
+        };
+        let run = simavr::simulate(&b.elf, Model::Uno, &s.wiring, false, &prog.init, &[], cols, timing).expect("runs");
+        let mean = run.profile.mean;
+        println!(
+            "{ex:<14} | {:>17} | {mean:>16} | {sketch_mean:>15} | {:.1}×",
+            format!("{} ({})", bc.bytes.len(), bc.code_len),
+            mean as f64 / (*sketch_mean).max(1) as f64
+        );
+        firmware.get_or_insert(b);
+    }
+    if let Some(b) = firmware {
+        println!("interpreter firmware (with its program): {}", b.report());
+    }
+    // The largest generated programs whose byte code fits a program slot.
+    for (kind, make) in [("logic", logic as fn(usize) -> (String, String)), ("timer", timers)] {
+        for model in [Model::Uno, Model::Mega] {
+            let room = alba_arduino::interp::slot_size(model);
+            let size = |n: usize| {
+                let (tags, lad) = make(n);
+                let dir = project(&format!("bc-{kind}-{n}"), &tags, &lad);
+                let c = alba_compiler::compile_dir(&dir);
+                let prog = control_program(&c.program.expect("compiles"));
+                let mut t = uno(10);
+                t.model = model;
+                alba_arduino::bytecode::encode_program(&prog, 10, 0, &generate(&prog, kind, &t).expect("sketch").wiring)
+                    .map(|bc| bc.bytes.len())
+                    .unwrap_or(usize::MAX)
+            };
+            let (mut lo, mut hi) = (1usize, 2usize);
+            while size(hi) <= room {
+                lo = hi;
+                hi *= 2;
+            }
+            while hi - lo > 1 {
+                let mid = (lo + hi) / 2;
+                if size(mid) <= room { lo = mid } else { hi = mid }
+            }
+            println!(
+                "largest {kind} program whose byte code fits the {}'s {room}-byte slot: {lo} rungs ({} bytes, {:.1} per rung)",
+                model.title(),
+                size(lo),
+                size(lo) as f64 / lo as f64
+            );
+        }
+    }
+    // Download time at 115 200 baud 8N1 (11 520 characters a second): each record
+    // `:LLAAAA00<data>CC\r\n` and its answer `K\n`, then the end record and `SXXXX\n`;
+    // on a real ATmega328P each EEPROM byte written takes 3.3 ms (the datasheet's
+    // tWD_EEPROM; simavr does not model it), bytes already equal are skipped.
+    let tank = sketches.iter().find(|(ex, ..)| *ex == "tank");
+    if let Some((ex, prog, ..)) = tank
+        && let Ok(bc) = alba_arduino::bytecode::encode(prog, ex, &uno(10))
+    {
+        let text = alba_arduino::ihex::write(&bc.bytes);
+        let records = text.lines().filter(|l| !l.is_empty()).count();
+        let chars = text.lines().map(|l| l.len() + 2).sum::<usize>() + 2 * records + 4;
+        let line_ms = chars as f64 / 11.52;
+        let eeprom_ms = bc.bytes.len() as f64 * 3.3;
+        println!(
+            "download of {ex} ({} bytes, {records} records): {line_ms:.0} ms on the line at 115 200 baud; {:.0} ms on a real Uno writing every byte of its EEPROM (3.3 ms a byte)",
+            bc.bytes.len(),
+            line_ms + eeprom_ms
+        );
+    }
 }
