@@ -22,8 +22,8 @@
 
 use crate::names::Names;
 use crate::plcopen::{Ctx, xml_error};
-use crate::xml::{self, Elem};
 use crate::{Error, Kind, Location, Options, ProgramOut, Project, Report, TagOut};
+use alba_xml::{self as xml, Elem};
 use std::collections::{BTreeMap, HashMap};
 
 /// Alba's ladder instructions (docs/ladder.md §4.2).
@@ -712,7 +712,7 @@ fn emit_routine(conv: &mut Conv<'_>, job: &mut RoutineJob<'_, '_>, r: &Elem, sta
 /// Converts an L5X export.
 pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
     let ctx = Ctx { file, text };
-    let root = xml::parse(text).map_err(|e| xml_error(&ctx, e))?;
+    let root = xml::parse(text, &crate::XML_LIMITS).map_err(|e| xml_error(&ctx, e))?;
     if root.name != "RSLogix5000Content" {
         return Err(Error::at(
             ctx.loc(&root),

@@ -29,7 +29,14 @@ pub mod l5x;
 pub mod ldmicro;
 mod names;
 pub mod plcopen;
-mod xml;
+
+/// What an imported XML document may hold: deeper nesting than PNML (PLCopen
+/// bodies nest), and no doctype at all.
+pub(crate) const XML_LIMITS: alba_xml::Limits = alba_xml::Limits {
+    max_depth: 128,
+    max_elements: 1_000_000,
+    refuse_doctype: true,
+};
 
 /// The largest input file read (a hostile or mistaken multi-gigabyte file is
 /// refused before it is read).

@@ -27,8 +27,8 @@
 
 use crate::circuit::{Cond, Emitter, Structs};
 use crate::names::Names;
-use crate::xml::{self, Elem};
 use crate::{Error, Kind, Location, Options, ProgramOut, Project, Report, TagOut};
+use alba_xml::{self as xml, Elem};
 use std::collections::HashMap;
 
 /// Deepest chain of connections followed (a deeper graph is refused rather
@@ -891,7 +891,7 @@ impl Body<'_, '_> {
 /// Converts a PLCopen project.
 pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
     let ctx = Ctx { file, text };
-    let root = xml::parse(text).map_err(|e| xml_error(&ctx, e))?;
+    let root = xml::parse(text, &crate::XML_LIMITS).map_err(|e| xml_error(&ctx, e))?;
     if root.name != "project" {
         return Err(Error::at(
             ctx.loc(&root),

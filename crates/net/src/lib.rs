@@ -12,9 +12,21 @@ pub mod pnml;
 pub mod ptnet;
 pub mod script;
 pub mod sfc;
-mod xml;
 
 pub use model::*;
 pub use pnml::{MAX_FILE_BYTES, MAX_MARKING, MAX_WEIGHT, is_warning, load, save};
 pub use ptnet::PtNet;
-pub use xml::{MAX_DEPTH, MAX_ELEMENTS};
+
+/// Deepest element nesting accepted in a PNML file.
+pub const MAX_DEPTH: usize = 64;
+/// Most elements in one PNML file: the element tree of a hostile file of
+/// tiny elements then stays under about 200 MB; a net of 100 000 nodes with
+/// graphics stays well below.
+pub const MAX_ELEMENTS: usize = 1_000_000;
+
+/// What a PNML document may hold (a doctype is skipped: no entity is resolved).
+pub(crate) const XML_LIMITS: alba_xml::Limits = alba_xml::Limits {
+    max_depth: MAX_DEPTH,
+    max_elements: MAX_ELEMENTS,
+    refuse_doctype: false,
+};

@@ -9,8 +9,8 @@
 //! `<toolspecific tool="alba" version="1">`.
 
 use crate::model::*;
-use crate::xml::{self, Elem};
 use alba_diag::{Code, Diagnostic, FileId, Span};
+use alba_xml::{self as xml, Elem};
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// Largest file read (bytes).
@@ -934,7 +934,7 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
         .with_help("split the model, or remove what it does not need (large graphics, other tools' data)");
         return (None, vec![d]);
     }
-    let root = match xml::parse(text) {
+    let root = match xml::parse(text, &crate::XML_LIMITS) {
         Ok(r) => r,
         Err(err) => {
             let off = err.offset.min(text.len());

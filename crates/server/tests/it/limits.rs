@@ -49,8 +49,9 @@ async fn raw_get(conn: &mut tokio::net::TcpStream, path: &str) -> String {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn connections_beyond_the_cap_get_a_json_503_and_the_place_comes_back() {
     let s = with_http("conncap", "max_connections = 4\n").await;
-    // The test's own HTTP client keeps one pooled connection: the 4th raw one
-    // is the fifth.
+    // The test's own HTTP client keeps one or two pooled connections (two when
+    // its earlier requests overlapped on a loaded machine): the 3rd or 4th raw
+    // one is the fifth.
     let mut open = Vec::new();
     let answer = loop {
         let mut c = tokio::net::TcpStream::connect(s.addr).await.expect("connect");
@@ -61,7 +62,7 @@ async fn connections_beyond_the_cap_get_a_json_503_and_the_place_comes_back() {
         open.push(c);
         assert!(open.len() <= 4, "more than 4 connections served");
     };
-    assert!(open.len() >= 3, "{} served before the cap", open.len());
+    assert!(open.len() >= 2, "{} served before the cap", open.len());
     assert!(answer.starts_with("HTTP/1.1 503"), "{answer}");
     let body: Json = serde_json::from_str(answer.split("\r\n\r\n").nth(1).unwrap_or("")).expect("JSON body");
     assert!(

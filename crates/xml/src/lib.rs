@@ -1,18 +1,27 @@
 //! A small element tree over quick-xml's reader, with byte positions, for
-//! the PNML loader: PNML files are small (capped by [`crate::MAX_FILE_BYTES`])
-//! and the loader looks around (ids, arcs after nodes), so a tree is simpler
-//! than a streaming walk. Depth is capped ([`MAX_DEPTH`]) so that a hostile
-//! file cannot exhaust the stack of the recursive walk.
+//! Alba's XML readers (PNML nets, PLCopen and L5X imports): their files are
+//! small and the readers look around (ids, links after nodes), so a tree is
+//! simpler than a streaming walk. Depth and element counts are capped
+//! ([`Limits`]) so that a hostile file cannot exhaust the stack or memory;
+//! only XML's five entities and character references are resolved, and a
+//! document type declaration is skipped or, when asked, refused.
 
 use quick_xml::events::Event;
 use quick_xml::reader::Reader;
 
-/// Deepest element nesting accepted.
-pub const MAX_DEPTH: usize = 64;
-/// Most elements in one document: with the tree in memory (a few hundred
-/// bytes per element at worst), this bounds what a hostile file of tiny
-/// elements costs; a net of 100 000 nodes with graphics stays well below.
-pub const MAX_ELEMENTS: usize = 1_000_000;
+/// What a document may hold.
+#[derive(Debug, Clone, Copy)]
+pub struct Limits {
+    /// Deepest element nesting accepted.
+    pub max_depth: usize,
+    /// Most elements in one document: with the tree in memory (a few
+    /// hundred bytes per element at worst), this bounds what a hostile file
+    /// of tiny elements costs.
+    pub max_elements: usize,
+    /// Refuse a `<!DOCTYPE>` (its internal subset could declare entities:
+    /// the "billion laughs") instead of skipping it.
+    pub refuse_doctype: bool,
+}
 
 #[derive(Debug, Clone)]
 pub struct Elem {
@@ -47,7 +56,7 @@ impl Elem {
 pub struct XmlError {
     pub offset: usize,
     pub message: String,
-    /// A limit of Alba's ([`MAX_DEPTH`], [`MAX_ELEMENTS`]), not bad XML.
+    /// A limit of Alba's ([`Limits`]), not bad XML.
     pub limit: bool,
 }
 
@@ -105,7 +114,7 @@ fn add_text(stack: &mut [Elem], s: &str, from: usize, to: usize) {
 }
 
 /// Parses a whole document into its root element.
-pub fn parse(text: &str) -> Result<Elem, XmlError> {
+pub fn parse(text: &str, limits: &Limits) -> Result<Elem, XmlError> {
     let mut reader = Reader::from_str(text);
     let config = reader.config_mut();
     config.check_end_names = true;
@@ -123,11 +132,11 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
         let after = reader.buffer_position() as usize;
         if matches!(ev, Event::Start(_) | Event::Empty(_)) {
             count += 1;
-            if count > MAX_ELEMENTS {
+            if count > limits.max_elements {
                 return Err(XmlError {
                     limit: true,
                     offset: before,
-                    message: format!("more than {MAX_ELEMENTS} elements"),
+                    message: format!("more than {} elements", limits.max_elements),
                 });
             }
         }
@@ -140,11 +149,11 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                         message: "a second root element: a document has one".into(),
                     });
                 }
-                if stack.len() >= MAX_DEPTH {
+                if stack.len() >= limits.max_depth {
                     return Err(XmlError {
                         limit: true,
                         offset: before,
-                        message: format!("elements nested deeper than {MAX_DEPTH} levels"),
+                        message: format!("elements nested deeper than {} levels", limits.max_depth),
                     });
                 }
                 stack.push(open(&e, before, after)?);
@@ -248,6 +257,14 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
                 }
                 add_text(&mut stack, &resolved, before, after);
             }
+            Event::DocType(_) if limits.refuse_doctype => {
+                return Err(XmlError {
+                    limit: true,
+                    offset: before,
+                    message: "a document type declaration (<!DOCTYPE>), whose entities could expand without bound"
+                        .into(),
+                });
+            }
             Event::DocType(_) => {
                 // Internal subsets could define entities; Alba resolves none
                 // (see GeneralRef), so the doctype is only skipped.
@@ -268,4 +285,38 @@ pub fn parse(text: &str) -> Result<Elem, XmlError> {
         offset: 0,
         message: "no root element: the file is empty".into(),
     })
+}
+
+impl Elem {
+    /// Children with this local name.
+    pub fn all<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Elem> + 'a {
+        self.children.iter().filter(move |c| c.name == name)
+    }
+
+    /// Every descendant with this local name, depth first.
+    pub fn descendants<'a>(&'a self, name: &str, out: &mut Vec<&'a Elem>) {
+        for c in &self.children {
+            if c.name == name {
+                out.push(c);
+            }
+            c.descendants(name, out);
+        }
+    }
+}
+
+/// Line and column (from 1, in characters) of a byte offset.
+pub fn line_col(text: &str, offset: usize) -> (u32, u32) {
+    let offset = offset.min(text.len());
+    let mut start = offset;
+    while start > 0 && !text.is_char_boundary(start) {
+        start -= 1;
+    }
+    let before = &text[..start];
+    let line = before.bytes().filter(|&b| b == b'\n').count() + 1;
+    let line_start = before.rfind('\n').map(|i| i + 1).unwrap_or(0);
+    let col = before[line_start..].chars().count() + 1;
+    (
+        u32::try_from(line).unwrap_or(u32::MAX),
+        u32::try_from(col).unwrap_or(u32::MAX),
+    )
 }
