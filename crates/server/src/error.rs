@@ -79,7 +79,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,
         ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
             R::Stopped | R::Io { .. } | R::Busy => StatusCode::SERVICE_UNAVAILABLE,
-            R::Attached { .. } => StatusCode::CONFLICT,
+            R::Attached { .. } | R::Running | R::Faulted(_) => StatusCode::CONFLICT,
             R::Rejected(_) => StatusCode::UNPROCESSABLE_ENTITY,
         },
         ApiError::Edit(EditError::UnknownProgram(_) | EditError::NoTagsFile) => StatusCode::NOT_FOUND,
