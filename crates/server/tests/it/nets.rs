@@ -221,3 +221,96 @@ async fn a_net_marking_is_reset_in_one_step() {
     );
     s.stop().await;
 }
+
+/// A project of two nets: `loop.pnml` (Petri mode, `t` fires every scan while
+/// `Go`, leaving the marking as it was) and `flow.pnml` (normal mode, a timer).
+fn two_nets(test: &str) -> std::path::PathBuf {
+    let dir = crate::copy_example("start-stop", test);
+    for f in ["main.lad", "stimulus.csv", "golden.csv", "golden.args"] {
+        let _ = std::fs::remove_file(dir.join(f));
+    }
+    std::fs::write(
+        dir.join("tags.csv"),
+        "name,type,address,initial,retain,description\nGo,BOOL,,,,\n",
+    )
+    .expect("tags");
+    std::fs::write(
+        dir.join("alba.toml"),
+        "name = \"nets\"\nscan_ms = 10\nprograms = [\"loop.pnml\", \"flow.pnml\"]\n",
+    )
+    .expect("toml");
+    let pnml = |body: &str| {
+        format!(
+            r#"<?xml version="1.0" encoding="UTF-8"?>
+<pnml xmlns="http://www.pnml.org/version-2009/grammar/pnml"><net id="n" type="http://www.pnml.org/version-2009/grammar/ptnet">{body}</net></pnml>"#
+        )
+    };
+    std::fs::write(
+        dir.join("loop.pnml"),
+        pnml(
+            r#"<page id="pg"><place id="p"><initialMarking><text>1</text></initialMarking></place>
+<transition id="t"><toolspecific tool="alba" version="1"><guard>Go</guard></toolspecific></transition>
+<arc id="a1" source="p" target="t"/><arc id="a2" source="t" target="p"/></page>"#,
+        ),
+    )
+    .expect("loop");
+    std::fs::write(
+        dir.join("flow.pnml"),
+        pnml(
+            r#"<toolspecific tool="alba" version="1"><mode>normal</mode></toolspecific>
+<page id="pg"><place id="S0"><initialMarking><text>1</text></initialMarking></place><place id="S1"/>
+<transition id="wait"><toolspecific tool="alba" version="1"><kind>timer</kind><prop name="delay">T#1h</prop></toolspecific></transition>
+<arc id="a1" source="S0" target="wait"/><arc id="a2" source="wait" target="S1"/></page>"#,
+        ),
+    )
+    .expect("flow");
+    dir
+}
+
+/// A net's power flow is sent for every scan in which something is
+/// energised, so a transition firing scan after scan is seen each time; in
+/// normal mode a transition holding its token (a timer timing) is enabled.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn repeated_firings_are_each_sent_and_normal_mode_has_enabled_transitions() {
+    let s = Server::start_in(two_nets("net-repeat")).await;
+    let elems = |p: &Json| {
+        let t = &p["transitions"][0];
+        (
+            t["enabled"].as_u64().expect("enabled"),
+            t["fired"].as_u64().expect("fired"),
+        )
+    };
+    let (loop_enabled, loop_fired) = elems(&s.get("/api/programs/loop.pnml").await);
+    let (wait_enabled, wait_fired) = elems(&s.get("/api/programs/flow.pnml").await);
+    assert_eq!(s.call(Method::POST, "/api/stop", None).await.0, StatusCode::OK);
+    let (code, _) = s.call(Method::PUT, "/api/tags/Go", Some(json!({"value": true}))).await;
+    assert_eq!(code, StatusCode::OK);
+    let mut ws = connect(&s).await;
+    send(&mut ws, json!({"monitor": ["loop.pnml", "flow.pnml"]})).await;
+    next(&mut ws, "power", |j| j["program"] == "loop.pnml").await;
+    for _ in 0..3 {
+        let (_, st) = s.call(Method::POST, "/api/step", None).await;
+        let scan = st["scans"].clone();
+        let m = next(&mut ws, "power", |j| j["program"] == "loop.pnml" && j["scan"] == scan).await;
+        assert_eq!(m["on"], json!([loop_fired, loop_enabled]), "{m}");
+    }
+    // The timer holds the token (the first scans passed it on from S0): enabled, not fired.
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["program"] == "flow.pnml" && j["scan"] == scan).await;
+    let on: Vec<u64> = m["on"]
+        .as_array()
+        .expect("on")
+        .iter()
+        .filter_map(Json::as_u64)
+        .collect();
+    assert!(on.contains(&wait_enabled) && !on.contains(&wait_fired), "{m}");
+    // Go off: `t` neither fires nor is enabled, and the message says so once.
+    let (code, _) = s.call(Method::PUT, "/api/tags/Go", Some(json!({"value": false}))).await;
+    assert_eq!(code, StatusCode::OK);
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["program"] == "loop.pnml" && j["scan"] == scan).await;
+    assert_eq!(m["on"], json!([]), "{m}");
+    s.stop().await;
+}
