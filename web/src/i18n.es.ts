@@ -246,7 +246,7 @@ export const es: Record<string, string> = {
   'out of service': 'fuera de servicio',
   normal: 'normal',
   'Not live: no data since {since}. The values shown are from then; reconnecting…': 'Sin datos en vivo desde las {since}. Los valores mostrados son de entonces; reconectando…',
-  'The PLC is stopped (since {since}): values do not change.': 'El PLC está detenido (desde las {since}): los valores no cambian.',
+  'The PLC is stopped (since {since}): values change only when written or single-stepped.': 'El PLC está detenido (desde las {since}): los valores solo cambian al escribirlos o al ejecutar un ciclo paso a paso.',
   'The PLC is faulted (since {since}): {fault}': 'El PLC está en falla (desde las {since}): {fault}',
   '1 force active': '1 forzado activo',
   '{n} forces active': '{n} forzados activos',

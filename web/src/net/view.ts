@@ -141,7 +141,7 @@ export class NetView {
         h('span', { class: 'seg' },
           tool(`▶ ${tr('Run')}`, 'net-run', tr('Run the PLC (F5)'), () => this.runStop('run'), 'runstop'),
           tool(`■ ${tr('Stop')}`, 'net-stop', tr('Stop the PLC (Shift+F5)'), () => this.runStop('stop'), 'runstop'),
-          tool(`⏭ ${tr('Single step')}`, 'net-step', tr('Run one scan while the PLC is stopped (F6)'), () => void this.singleStep(), 'runstop'),
+          tool(`⇥ ${tr('Single step')}`, 'net-step', tr('Run one scan while the PLC is stopped (F6)'), () => void this.singleStep(), 'runstop'),
           tool(tr('Reset marking'), 'net-reset', tr('Write the initial marking to every place of the net, at one scan boundary'), () => void this.resetMarking(), 'runstop'),
           this.liveEl),
         h('span', { class: 'seg' }, tool(tr('Analyse'), 'net-analyse', tr('Reachability, deadlocks, dead transitions and invariants of the saved net'), () => void this.analyse(), null)),
