@@ -206,6 +206,7 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   await page.keyboard.press('F6');
   await stepped(n);
   await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S1"]')?.dataset.tokens === '0');
+  assert.equal(await tid('net-node-C1').getAttribute('data-tokens'), '1', 'the token is drawn on the condition');
   assert.deepEqual(await enabledIds(), []);
   await b.shot('net-step-guard-false');
   // Go: the next step fires C1 and the token reaches S2.

@@ -162,6 +162,8 @@ describe('the net tab', () => {
     expect(node(v, 'idle')!.dataset.tokens).toBe('0');
     // the token at `start` alone does not make it enabled: the runtime's element says so (its guard)
     expect(enabled()).toEqual([]);
+    expect(node(v, 'start')!.dataset.tokens).toBe('1');
+    expect(node(v, 'start')!.querySelectorAll('.net-token').length).toBe(1);
     power(2, [40]);
     expect(enabled()).toEqual(['start']);
     values(3, { 'batch.start': 0, 'batch.fill': 1 });

@@ -691,6 +691,15 @@ export class NetView {
       g.dataset.enabled = String(on.has(t.id));
       const fired = powered ? powered.fired.has(t.id) : this.replayState && this.replayState.step > 0 && this.replayState.fired[this.replayState.step - 1] === t.id;
       g.classList.toggle('fired', !!fired);
+      // normal mode: a transition holding the token shows it (enabled or waiting for its guard)
+      const tokens = g.querySelector('.net-tokens');
+      if (tokens) {
+        const n = m.get(t.id) ?? 0;
+        g.dataset.tokens = String(n);
+        g.classList.toggle('marked', n > 0);
+        clear(tokens);
+        if (n > 0) tokens.append(s('circle', { class: 'net-token', cx: 0, cy: 0, r: 4 }));
+      }
       const info = g.querySelector('.net-info');
       if (info) info.textContent = source === 'live' ? this.infoOf(t.id, t.kind) : '';
     }
