@@ -208,6 +208,8 @@ mod tests {
                 StatusCode::UNPROCESSABLE_ENTITY,
             ),
             (ApiError::AuditOff, StatusCode::NOT_FOUND),
+            (ApiError::Runtime(R::Running), StatusCode::CONFLICT),
+            (ApiError::Runtime(R::Faulted("watchdog".into())), StatusCode::CONFLICT),
         ];
         for (e, want) in cases {
             assert_eq!(status(&e), want, "{e}");
