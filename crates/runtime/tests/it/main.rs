@@ -236,6 +236,12 @@ async fn a_scan_longer_than_the_watchdog_faults_with_outputs_off() {
     let fault = s.fault.clone().unwrap_or_default();
     assert!(fault.starts_with("watchdog: a scan took"), "{fault}");
     assert_eq!(value(&s, "Out"), Value::Bool(false));
+    // No single step from a fault: nothing scanned.
+    match rt.handle().step().await {
+        Err(alba_runtime::Error::Faulted(f)) => assert_eq!(f, fault),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(rt.handle().snapshot().scans, s.scans);
     // Run clears the fault.
     rt.handle().run().await.unwrap();
     assert_eq!(rt.handle().snapshot().state, RunState::Running);
