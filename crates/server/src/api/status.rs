@@ -1,4 +1,4 @@
-//! `GET /api/status`, `POST /api/run`, `POST /api/stop`.
+//! `GET /api/status`, `POST /api/run`, `POST /api/stop`, `POST /api/step`.
 
 use super::audit::{Actor, audited, json_text};
 use crate::error::ApiResult;
