@@ -3,7 +3,8 @@
 // condition bound to a tag, undo/redo, a bad guard shown on its transition
 // and not saved, save online, watch the token move when the tag changes and
 // the lamp of the last state light, then analyse the net and replay the
-// firing sequence to its deadlock on the canvas.
+// firing sequence to its deadlock on the canvas; stopped, reset the marking and
+// single-step the net with F6, the runtime's enabled transitions highlighted.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { appendFileSync, readFileSync, writeFileSync } from 'node:fs';
@@ -20,6 +21,15 @@ const EMPTY = `<?xml version="1.0" encoding="UTF-8"?>
 `;
 
 let alba, b;
+
+/** Waits (up to 10 s) until the tag `name` has the value `v` on the server. */
+async function tagIs(name, v) {
+  for (let k = 0; k < 500; k++) {
+    if ((await alba.json(`/api/tags/${name}`)).value === v) return;
+    await new Promise((r) => setTimeout(r, 20));
+  }
+  assert.fail(`${name} never became ${v}`);
+}
 useStudio('state-net-batch', (s) => ({ alba, b } = s), {
   prepare: (dir) => {
     writeFileSync(join(dir, 'draw.pnml'), EMPTY);
@@ -35,11 +45,14 @@ test('the example net drawn live: the token waits at its condition, then runs th
   await tid('net-batch.pnml').waitFor();
   assert.equal(await page.locator('[data-testid="net-svg"] .net-node').count(), 10);
   await page.waitForFunction(() => document.querySelector('[data-testid="net-live-state"]')?.textContent === 'live');
-  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-start"]')?.dataset.enabled === 'true');
+  // the token waits at `start`, which is not enabled: its guard (Start) is false, as the runtime says
+  await tagIs('batch.start', 1);
+  assert.equal(await tid('net-node-start').getAttribute('data-enabled'), 'false');
   const force = (value) => alba.api('/api/forces/Start', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value }) });
   assert.equal((await force(true)).status, 200);
-  // the fill timer holds the token and shows its elapsed time
+  // the fill timer holds the token, shows its elapsed time, and is enabled (it waits only for its delay)
   await page.waitForFunction(() => /\d+\/2000 ms/.test(document.querySelector('[data-testid="net-node-filled"] .net-info')?.textContent ?? ''));
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-filled"]')?.dataset.enabled === 'true');
   await b.shot('net-batch-live');
   await alba.api('/api/forces/Start', { method: 'DELETE', headers: { 'content-type': 'application/json' } });
   await tid('net-history-0').waitFor();
@@ -114,7 +127,10 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   assert.match(saved, /<position x="60" y="60"\/>/, 'positions are saved');
   // Live: the token leaves S0 through the timer and waits at the condition until Go.
   await page.waitForFunction(() => document.querySelector('[data-testid="net-live-state"]')?.textContent === 'live');
-  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-C1"]')?.dataset.enabled === 'true');
+  // the condition holds the token but is not enabled while its guard (Go) is false
+  await tagIs('draw.C1', 1);
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S1"]')?.dataset.tokens === '0');
+  assert.equal(await tid('net-node-C1').getAttribute('data-enabled'), 'false');
   assert.equal(await tid('net-node-S2').getAttribute('data-tokens'), '0');
   assert.equal((await alba.json('/api/tags/Lamp2')).value, false);
   await b.shot('net-live-waiting');
@@ -125,6 +141,10 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   assert.equal((await alba.json('/api/tags/Lamp2')).value, true, 'the last state lights its lamp');
   await tid('net-history-0').waitFor();
   await b.shot('net-live');
+  // F6 steps one scan only while the PLC is stopped: refused, with the server's reason, while it runs.
+  await tid('net-canvas').focus();
+  await page.keyboard.press('F6');
+  await tid('toast-error').filter({ hasText: 'stop it before stepping' }).waitFor();
   // The analysis of the saved net: bounded, one deadlock (the last state), replayed step by step.
   await tid('net-analyse').click();
   await tid('net-an-bounded').filter({ hasText: 'yes' }).waitFor();
@@ -152,5 +172,51 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   await tid('toast-info').filter({ hasText: 'initial marking written' }).waitFor();
   assert.equal((await alba.json('/api/tags/draw.S0')).value, 1);
   assert.equal((await alba.json('/api/tags/draw.S2')).value, 0);
+  // Stopped, the live view stays on the PLC's marking; F6 runs one scan at a time.
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-live-state"]')?.textContent === 'stopped: F6 runs one scan');
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S0"]')?.dataset.tokens === '1');
+  assert.equal((await alba.api('/api/tags/Go', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: false }) })).status, 200);
+  const scans = async () => (await alba.json('/api/status')).scans;
+  const stepped = async (before) => {
+    for (let k = 0; k < 100 && (await scans()) === before; k++) await new Promise((r) => setTimeout(r, 20));
+    assert.equal(await scans(), before + 1, 'one scan per F6');
+  };
+  const enabledIds = () => page.evaluate(() => [...document.querySelectorAll('[data-testid="net-svg"] .net-transition')].filter((g) => g.dataset.enabled === 'true').map((g) => g.dataset.id));
+  await tid('net-canvas').focus();
+  // Scan 1: S0 passes its token to the timer, which holds it: enabled (it only waits for its delay).
+  let n = await scans();
+  await page.keyboard.press('F6');
+  await stepped(n);
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S0"]')?.dataset.tokens === '0');
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-Timer1"]')?.dataset.enabled === 'true');
+  assert.deepEqual(await enabledIds(), ['Timer1']);
+  // The toolbar's button does the same: the timer starts; 300 ms later a step finds it done and it fires.
+  n = await scans();
+  await tid('net-step').click();
+  await stepped(n);
+  await new Promise((r) => setTimeout(r, 400));
+  n = await scans();
+  await page.keyboard.press('F6');
+  await stepped(n);
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S1"]')?.dataset.tokens === '1');
+  await page.waitForFunction(() => /fired Timer1/.test(document.querySelector('[data-testid="net-history-0"]')?.textContent ?? ''));
+  assert.match(await tid('net-node-Timer1').getAttribute('class'), /\bfired\b/);
+  // The condition holds the token but its guard (Go) is false: not enabled — the runtime says so, not the arcs.
+  n = await scans();
+  await page.keyboard.press('F6');
+  await stepped(n);
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S1"]')?.dataset.tokens === '0');
+  assert.equal(await tid('net-node-C1').getAttribute('data-tokens'), '1', 'the token is drawn on the condition');
+  assert.deepEqual(await enabledIds(), []);
+  await b.shot('net-step-guard-false');
+  // Go: the next step fires C1 and the token reaches S2.
+  assert.equal((await alba.api('/api/tags/Go', { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value: true }) })).status, 200);
+  n = await scans();
+  await page.keyboard.press('F6');
+  await stepped(n);
+  await page.waitForFunction(() => document.querySelector('[data-testid="net-node-S2"]')?.dataset.tokens === '1');
+  await page.waitForFunction(() => /fired C1/.test(document.querySelector('[data-testid="net-history-0"]')?.textContent ?? ''));
+  assert.equal((await alba.json('/api/status')).state, 'stopped');
+  await b.shot('net-step');
   assert.deepEqual(b.errors, []);
 });

@@ -139,6 +139,20 @@ export type RungJson = { number: number, comment: Array<string>, line: number, e
 
 export type IlLine = { line: number, id: number | null, };
 
+export type NetTransition = { 
+/**
+ * The transition's PNML id.
+ */
+id: string, enabled: number | null, fired: number | null, };
+
+export type MarkingValue = { tag: string, value: number, };
+
+export type NetReset = { 
+/**
+ * The net's program, as listed (`line.pnml`).
+ */
+program: string, marking: Array<MarkingValue>, };
+
 export type Program = { name: string, language: Language, plant: boolean, text: string, diagnostics: Array<Diagnostic>, 
 /**
  * Ladder programs.
@@ -147,7 +161,11 @@ rungs?: Array<RungJson>,
 /**
  * IL programs.
  */
-lines?: Array<IlLine>, };
+lines?: Array<IlLine>, 
+/**
+ * Net programs: each transition's monitored elements, in document order.
+ */
+transitions?: Array<NetTransition>, };
 
 export type Checked = { 
 /**

@@ -1,7 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { Domain } from './domain';
-import type { Alarm, AlarmStats, Diagnostic, Force, History, Json, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
+import type { Alarm, AlarmStats, Diagnostic, Force, History, Json, NetReset, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -94,6 +94,8 @@ export const api = {
   status: () => json<Status>('GET', '/api/status'),
   run: () => json<Status>('POST', '/api/run'),
   stop: () => json<Status>('POST', '/api/stop'),
+  /** One scan of the stopped PLC (409 while it runs). */
+  step: () => json<Status>('POST', '/api/step'),
   tags: () => json<TagInfo[]>('GET', '/api/tags'),
   writeTag: (name: string, value: Json) => json<{ name: string; value: Json }>('PUT', `/api/tags/${enc(name)}`, { value }),
   forces: () => json<Force[]>('GET', '/api/forces'),
@@ -123,6 +125,8 @@ export const api = {
   saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
   /** GET /api/nets/{name}/analysis: the analysis of a net of the project (docs/nets.md "Analysis"). */
   netAnalysis: <T>(name: string) => json<T>('GET', `/api/nets/${enc(name)}/analysis`),
+  /** POST /api/nets/{name}/reset: the net's initial marking, written at one scan boundary. */
+  resetNet: (name: string) => json<NetReset>('POST', `/api/nets/${enc(name)}/reset`),
   autotune: (loop: string, req: Record<string, number>) => json<Autotune>('POST', `/api/pid/${enc(loop)}/autotune`, req),
   symbols: () => json<string[]>('GET', '/api/symbols'),
   symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),

@@ -19,6 +19,7 @@ export type InstrJson = Extract<ElementJson, { kind: 'instr' }>;
 export type BranchJson = Extract<ElementJson, { kind: 'branch' }>;
 export type RungJson = G.RungJson;
 export type Program = G.Program;
+export type NetReset = G.NetReset;
 export type Checked = G.Checked;
 export type Saved = G.Saved;
 /** One history bucket: [t_ms, min, max, first, last]. */

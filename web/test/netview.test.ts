@@ -16,14 +16,19 @@ const REPO = join(__dirname, '../..');
 const BATCH = readFileSync(join(REPO, 'examples/state-net-batch/batch.pnml'), 'utf8');
 const CELL = readFileSync(join(REPO, 'examples/petri-resource/cell.pnml'), 'utf8');
 
-function server(files: Record<string, string>, analysis: unknown = null) {
+/** The monitored elements of batch.pnml's transitions, as GET /api/programs gives them. */
+const BATCH_ELEMENTS = ['start', 'filled', 'mixed', 'again', 'enough'].map((id, k) => ({ id, enabled: 40 + k, fired: 30 + k }));
+
+function server(files: Record<string, string>, analysis: unknown = null, transitions: unknown = undefined) {
   const calls: string[] = [];
   vi.stubGlobal('fetch', async (path: string, init: RequestInit) => {
     calls.push(`${init.method} ${path}`);
     const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });
     const name = decodeURIComponent(path.split('/').pop()!);
     if (path.includes('/analysis')) return json(200, analysis);
-    if (init.method === 'GET') return json(200, { name, language: 'net', plant: false, text: files[name], diagnostics: [] });
+    if (path === '/api/step') return json(200, { state: 'stopped' });
+    if (path.endsWith('/reset')) return json(200, { program: 'batch.pnml', marking: [] });
+    if (init.method === 'GET') return json(200, { name, language: 'net', plant: false, text: files[name], diagnostics: [], transitions });
     const body = JSON.parse(init.body as string);
     const at = body.text.indexOf('Strat');
     if (at >= 0) {
@@ -135,28 +140,57 @@ describe('the net tab', () => {
     expect(calls.filter((c) => c.startsWith('PUT'))).toEqual(['PUT /api/programs/batch.pnml']);
   });
 
-  it('shows the running net’s tokens and the transition holding one, and lists marking changes', async () => {
-    server({ 'batch.pnml': BATCH });
+  it('shows the running net’s tokens, the transitions the runtime says are enabled or fired, and a history of firings', async () => {
+    const calls = server({ 'batch.pnml': BATCH }, null, BATCH_ELEMENTS);
     const { v, live } = view('batch.pnml');
     await v.load();
     v.show();
     live.state = 'connected';
     live.status = { state: 'running' } as never;
+    const raw = (m: unknown) => (live as unknown as { rawListeners: Set<(m: unknown) => void> }).rawListeners.forEach((f) => f(m));
     const values = (scan: number, vals: Record<string, number>) => {
-      (live as unknown as { rawListeners: Set<(m: unknown) => void> }).rawListeners.forEach((f) => f({ type: 'values', scan, t_ms: 1_700_000_000_000, values: vals }));
+      raw({ type: 'values', scan, t_ms: 1_700_000_000_000, values: vals });
       live.deliver({ ...emptyBatch(), values: new Map(Object.entries(vals)) });
     };
+    const power = (scan: number, on: number[]) => {
+      raw({ type: 'power', scan, program: 'batch.pnml', on });
+      live.deliver({ ...emptyBatch(), power: new Map([['batch.pnml', on]]) });
+    };
+    const enabled = () => ['start', 'filled', 'mixed', 'again', 'enough'].filter((id) => node(v, id)!.dataset.enabled === 'true');
     values(1, { 'batch.idle': 1, 'batch.start': 0, 'batch.fill': 0 });
     values(2, { 'batch.idle': 0, 'batch.start': 1 });
     expect(node(v, 'idle')!.dataset.tokens).toBe('0');
-    expect(node(v, 'start')!.dataset.enabled).toBe('true');
+    // the token at `start` alone does not make it enabled: the runtime's element says so (its guard)
+    expect(enabled()).toEqual([]);
+    expect(node(v, 'start')!.dataset.tokens).toBe('1');
+    expect(node(v, 'start')!.querySelectorAll('.net-token').length).toBe(1);
+    power(2, [40]);
+    expect(enabled()).toEqual(['start']);
     values(3, { 'batch.start': 0, 'batch.fill': 1 });
+    power(3, [30]);
+    expect(enabled()).toEqual([]);
+    expect(node(v, 'start')!.classList.contains('fired')).toBe(true);
     expect(node(v, 'fill')!.dataset.tokens).toBe('1');
     expect(node(v, 'fill')!.querySelectorAll('.net-token').length).toBe(1);
     expect(v.el.querySelector('[data-testid="net-live-state"]')!.textContent).toBe('live');
-    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('#3');
-    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fill +1');
-    expect(v.el.querySelector('[data-testid="net-history-0"]')!.textContent).toContain('fired start');
+    const history = (k: number) => v.el.querySelector(`[data-testid="net-history-${k}"]`)!.textContent;
+    expect(history(0)).toContain('#3');
+    expect(history(0)).toContain('fired start — fill +1');
+    // a firing that changes no marking is listed too (the server sends a net's power flow every scan it fires)
+    power(4, [31]);
+    expect(history(0)).toContain('#4');
+    expect(history(0)).toContain('fired filled');
+    expect(history(1)).toContain('#3');
+    // stopped: still live (single steps), F6 steps, Reset marking is one request
+    live.status = { state: 'stopped' } as never;
+    power(4, []);
+    expect(v.el.querySelector('[data-testid="net-live-state"]')!.textContent).toBe('stopped: F6 runs one scan');
+    expect(node(v, 'fill')!.dataset.tokens).toBe('1');
+    v.el.querySelector('[data-testid="net-canvas"]')!.dispatchEvent(new KeyboardEvent('keydown', { key: 'F6', bubbles: true }));
+    v.el.querySelector<HTMLButtonElement>('[data-testid="net-step"]')!.click();
+    v.el.querySelector<HTMLButtonElement>('[data-testid="net-reset"]')!.click();
+    await vi.waitFor(() => expect(calls.filter((c) => c.startsWith('POST'))).toEqual(['POST /api/step', 'POST /api/step', 'POST /api/nets/batch.pnml/reset']));
+    expect(calls.filter((c) => c.startsWith('PUT'))).toEqual([]);
   });
 
   it('edits an arc’s weight and kind, and copies and pastes the whole net with fresh ids', async () => {

@@ -69,6 +69,10 @@ actions! {
     SaveTrends = "save_trends",
     /// A SCADA screen saved (`hmi/<name>.json`).
     SaveScreen = "save_screen",
+    /// One scan run while the PLC is stopped (single step).
+    Step = "step",
+    /// A net's marking reset to its initial marking (target: the net).
+    ResetMarking = "reset_marking",
 }
 
 impl fmt::Display for Action {
@@ -130,7 +134,9 @@ mod tests {
                 "alarm_unshelve",
                 "alarm_out_of_service",
                 "save_trends",
-                "save_screen"
+                "save_screen",
+                "step",
+                "reset_marking"
             ]
         );
     }

@@ -368,6 +368,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         }
     }
     // Transitions: pass the token when they may.
+    let mut guard_bits: Vec<Option<alba_ir::B>> = vec![None; net.transitions.len()];
     for &t in &net.firing_order() {
         let tr = &net.transitions[t];
         if let Some(tmr) = timers[t] {
@@ -381,6 +382,10 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         // The guard first: its lowering loads the rung condition.
         if let Some(g) = &guards[t] {
             lower_guard(b, g, elem);
+            // Kept for the transition's "enabled" element (below).
+            let gb = b.temp_b();
+            b.emit(Op::Ote(gb), elem);
+            guard_bits[t] = Some(gb);
         }
         b.emit(Op::CmpI(Cmp::Gt, tm[t], zero), elem);
         if let Some(tmr) = timers[t] {
@@ -418,6 +423,17 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
         b.emit(Op::CopyI(n, m), alba_ir::NO_ELEM);
     }
     emit_drives(b, net, drives, &pm, zero);
+    // Monitoring: each transition's "enabled" element, on the new marking:
+    // it holds the token and its guard held in this turn.
+    for (t, tr) in net.transitions.iter().enumerate() {
+        b.begin_rung(crate::petri::ENABLED_RUNGS + t as u32, tr.span);
+        let elem = b.element(crate::petri::enabled_span(tr.span));
+        b.emit(Op::True, elem);
+        if let Some(gb) = guard_bits[t] {
+            b.emit(Op::Xic(gb), elem);
+        }
+        b.emit(Op::CmpI(Cmp::Gt, tm[t], zero), elem);
+    }
     b.release(mark);
     b.end_unit();
     diags

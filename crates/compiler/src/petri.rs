@@ -55,6 +55,17 @@ pub(crate) fn net_tag(name: String, ty: DataType, initial: Option<Value>, descri
     }
 }
 
+/// The numbers of the rungs that compute the transitions' "enabled"
+/// elements (one per transition, in document order, after the turn).
+pub const ENABLED_RUNGS: u32 = 20_000;
+
+/// The span of a transition's "enabled" element: empty, at the start of the
+/// transition's tag (its "fired" element has the tag's span). The server
+/// finds both by span (`GET /api/programs/{name}`, `transitions`).
+pub fn enabled_span(transition: Span) -> Span {
+    Span::new(transition.file, transition.start as usize..transition.start as usize)
+}
+
 /// Writes each `<tag>` place's BOOL: true while the place is marked.
 pub(crate) fn emit_drives(b: &mut Builder, net: &Net, drives: Vec<(usize, Place)>, marking: &[I], zero: I) {
     for (p, place) in drives {
@@ -325,6 +336,7 @@ pub(crate) fn compile_with(
         }
     }
     // 2. The transitions.
+    let mut guard_bits: Vec<Option<alba_ir::B>> = vec![None; net.transitions.len()];
     for (n, &t) in net.firing_order().iter().enumerate() {
         let tr = &net.transitions[t];
         let a = &arcs[t];
@@ -332,6 +344,10 @@ pub(crate) fn compile_with(
         let elem = b.element(tr.span);
         if let Some(g) = &guards[t] {
             lower_guard(b, g, elem);
+            // Kept for the transition's "enabled" element (below).
+            let gb = b.temp_b();
+            b.emit(Op::Ote(gb), elem);
+            guard_bits[t] = Some(gb);
         }
         for &(p, w) in &a.input {
             if let Some(av) = avail[p] {
@@ -377,6 +393,24 @@ pub(crate) fn compile_with(
     }
     emit_drives(b, net, drives, &marking, zero);
     after(b, &marking);
+    // 4. Monitoring: each transition's "enabled" element, on the new marking.
+    for (t, tr) in net.transitions.iter().enumerate() {
+        let a = &arcs[t];
+        b.begin_rung(ENABLED_RUNGS + t as u32, tr.span);
+        let elem = b.element(enabled_span(tr.span));
+        b.emit(Op::True, elem);
+        if let Some(gb) = guard_bits[t] {
+            b.emit(Op::Xic(gb), elem);
+        }
+        for &(p, w) in a.input.iter().chain(&a.read) {
+            let w = b.const_i(w);
+            b.emit(Op::CmpI(Cmp::Ge, marking[p], w), elem);
+        }
+        for &(p, w) in &a.inhibitor {
+            let w = b.const_i(w);
+            b.emit(Op::CmpI(Cmp::Lt, marking[p], w), elem);
+        }
+    }
     b.release(mark);
     b.end_unit();
     diags

@@ -237,6 +237,8 @@ enum Req {
     Unforce(Option<String>),
     Run,
     Stop,
+    /// One scan while stopped.
+    Step,
     Replace(Arc<Program>),
     /// +1 / −1 watcher of power flow.
     Monitor(bool),
@@ -265,6 +267,12 @@ pub enum Error {
     /// The new program of an online edit cannot replace the running one.
     #[error("{0}")]
     Rejected(String),
+    /// A single step asked for while the runtime scans on its own.
+    #[error("the runtime is running: stop it before stepping one scan")]
+    Running,
+    /// A single step asked for while the runtime is faulted.
+    #[error("the runtime is faulted ({0}): run it again before stepping")]
+    Faulted(String),
     /// [`REQUEST_QUEUE`] requests already wait for the next scan boundary:
     /// this one is refused rather than queued without bound.
     #[error("the runtime is busy: {REQUEST_QUEUE} requests wait for the next scan; try again")]
@@ -366,6 +374,14 @@ impl Handle {
 
     pub async fn stop(&self) -> Result<(), Error> {
         self.ask(Req::Stop).await
+    }
+
+    /// Single step: while stopped, runs exactly one scan (inputs read,
+    /// program, outputs written, snapshot published) and answers after it.
+    /// Refused while running ([`Error::Running`]) or faulted
+    /// ([`Error::Faulted`]); the runtime stays stopped.
+    pub async fn step(&self) -> Result<(), Error> {
+        self.ask(Req::Step).await
     }
 
     /// Online edit: the new program runs from the next scan, memory migrated.
@@ -691,7 +707,7 @@ impl Worker {
                 self.engine.write(p, v);
                 Ok(())
             }
-            Req::Force(_) | Req::Replace(_) | Req::Stop if self.io.runs_program() => Err(Error::Attached {
+            Req::Force(_) | Req::Replace(_) | Req::Stop | Req::Step if self.io.runs_program() => Err(Error::Attached {
                 io: self.io.name().to_string(),
             }),
             Req::WriteMany(ws) => {
@@ -744,6 +760,18 @@ impl Worker {
                 }
                 Ok(())
             }
+            Req::Step => match self.state {
+                RunState::Running => Err(Error::Running),
+                RunState::Faulted => Err(Error::Faulted(self.fault.clone().unwrap_or_default())),
+                RunState::Stopped => {
+                    self.scan(Duration::ZERO);
+                    // A scan that faulted (watchdog, I/O) says so.
+                    match (self.state, &self.fault) {
+                        (RunState::Faulted, Some(f)) => Err(Error::Faulted(f.clone())),
+                        _ => Ok(()),
+                    }
+                }
+            },
             Req::Replace(p) => {
                 self.engine.replace(p.clone()).map_err(Error::Rejected)?;
                 self.retained = retain::retained(&p);

@@ -79,7 +79,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,
         ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
             R::Stopped | R::Io { .. } | R::Busy => StatusCode::SERVICE_UNAVAILABLE,
-            R::Attached { .. } => StatusCode::CONFLICT,
+            R::Attached { .. } | R::Running | R::Faulted(_) => StatusCode::CONFLICT,
             R::Rejected(_) => StatusCode::UNPROCESSABLE_ENTITY,
         },
         ApiError::Edit(EditError::UnknownProgram(_) | EditError::NoTagsFile) => StatusCode::NOT_FOUND,
@@ -208,6 +208,8 @@ mod tests {
                 StatusCode::UNPROCESSABLE_ENTITY,
             ),
             (ApiError::AuditOff, StatusCode::NOT_FOUND),
+            (ApiError::Runtime(R::Running), StatusCode::CONFLICT),
+            (ApiError::Runtime(R::Faulted("watchdog".into())), StatusCode::CONFLICT),
         ];
         for (e, want) in cases {
             assert_eq!(status(&e), want, "{e}");

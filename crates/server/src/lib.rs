@@ -57,6 +57,8 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("PUT", "/api/tags/{name}", Needs(Role::Operator)),
     ("POST", "/api/run", Needs(Role::Engineer)),
     ("POST", "/api/stop", Needs(Role::Engineer)),
+    ("POST", "/api/step", Needs(Role::Engineer)),
+    ("POST", "/api/nets/{name}/reset", Needs(Role::Engineer)),
     ("DELETE", "/api/forces", Needs(Role::Engineer)),
     ("PUT", "/api/forces/{name}", Needs(Role::Engineer)),
     ("DELETE", "/api/forces/{name}", Needs(Role::Engineer)),
@@ -94,6 +96,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/status", get(status::get))
         .route("/api/run", post(status::run))
         .route("/api/stop", post(status::stop))
+        .route("/api/step", post(status::step))
         .route("/api/tags", get(api::tags::list))
         .route("/api/tags/{name}", get(api::tags::get).put(api::tags::put))
         .route("/api/tags/{name}/uses", get(api::tags::uses))
@@ -101,6 +104,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/forces/{name}", put(forces::put).delete(forces::delete))
         .route("/api/programs", get(programs::list))
         .route("/api/nets/{name}/analysis", get(nets::analysis))
+        .route("/api/nets/{name}/reset", post(nets::reset))
         .route("/api/pid/{name}/autotune", post(api::pid::autotune))
         .route("/api/instructions", get(domain::instructions))
         .route("/api/domain", get(domain::get))

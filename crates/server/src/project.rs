@@ -236,6 +236,7 @@ pub fn program_json(
             .collect(),
         rungs: None,
         lines: None,
+        transitions: None,
     };
     match src.language {
         Language::Ladder => {
@@ -268,8 +269,25 @@ pub fn program_json(
                 .collect();
             out.lines = Some(lines);
         }
-        // A net's structure is its PNML (an SFC's its text); their views are to come.
-        Language::Net | Language::Sfc => {}
+        // A net's structure is its PNML: the studio reads it; the server
+        // adds each transition's monitored elements (found by span).
+        Language::Net => {
+            let (net, _) = alba_compiler::net::load(src.file, text);
+            out.transitions = net.map(|net| {
+                net.transitions
+                    .iter()
+                    .map(|t| {
+                        let e = alba_compiler::petri::enabled_span(t.span);
+                        reply::NetTransition {
+                            id: t.id.clone(),
+                            enabled: ids.get(&(e.start, e.end)).copied(),
+                            fired: id_of(t.span),
+                        }
+                    })
+                    .collect()
+            });
+        }
+        Language::Sfc => {}
     }
     Ok(out)
 }

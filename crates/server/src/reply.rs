@@ -256,6 +256,33 @@ pub struct IlLine {
     pub id: Option<u32>,
 }
 
+/// A transition of a net program and its two monitored elements
+/// (docs/nets.md, "Live view"): `enabled` is energised when the transition
+/// may fire on the marking after the last scan (its arcs, and its guard as
+/// evaluated in that scan); `fired` when it fired in the last scan.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct NetTransition {
+    /// The transition's PNML id.
+    pub id: String,
+    pub enabled: Option<u32>,
+    pub fired: Option<u32>,
+}
+
+/// A marking tag written by `POST /api/nets/{name}/reset`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct MarkingValue {
+    pub tag: String,
+    pub value: i32,
+}
+
+/// `POST /api/nets/{name}/reset`: the net and the marking written.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct NetReset {
+    /// The net's program, as listed (`line.pnml`).
+    pub program: String,
+    pub marking: Vec<MarkingValue>,
+}
+
 /// `GET /api/programs/{name}`.
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct Program {
@@ -272,6 +299,10 @@ pub struct Program {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[ts(optional)]
     pub lines: Option<Vec<IlLine>>,
+    /// Net programs: each transition's monitored elements, in document order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub transitions: Option<Vec<NetTransition>>,
 }
 
 /// `POST /api/check/{name}` of a program that compiles.
@@ -581,6 +612,9 @@ pub fn typescript() -> String {
         ElementJson,
         RungJson,
         IlLine,
+        NetTransition,
+        MarkingValue,
+        NetReset,
         Program,
         Checked,
         Saved,

@@ -69,7 +69,8 @@ struct Client {
     monitor: Vec<String>,
     /// Element ids of each unit of `program`.
     units: Vec<std::ops::Range<u32>>,
-    power_sent: HashMap<String, Vec<u32>>,
+    /// The energised elements last sent, and the scan they were sent for.
+    power_sent: HashMap<String, (Vec<u32>, u64)>,
     status_at: Option<Instant>,
     status_state: &'static str,
     /// The alarm hub's generation last sent (`None`: not yet).
@@ -158,14 +159,19 @@ impl Client {
                 };
                 let range = self.units.get(unit).cloned().unwrap_or(0..0);
                 let on: Vec<u32> = range.filter(|e| s.energised(*e) == Some(true)).collect();
-                if self.power_sent.get(name) != Some(&on) {
+                // A net's transitions that fire scan after scan leave `on` as it
+                // was: a net's power flow is sent for every new scan in which
+                // something is energised (its "fired" elements, docs/nets.md).
+                let net = name.to_ascii_lowercase().ends_with(".pnml");
+                let again = |(was, scan): &(Vec<u32>, u64)| *was != on || (net && !on.is_empty() && *scan != s.scans);
+                if self.power_sent.get(name).is_none_or(again) {
                     out.push(json_text(&PowerMsg {
                         kind: "power",
                         scan: s.scans,
                         program: name.clone(),
                         on: on.clone(),
                     }));
-                    self.power_sent.insert(name.clone(), on);
+                    self.power_sent.insert(name.clone(), (on, s.scans));
                 }
             }
         }

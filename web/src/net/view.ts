@@ -1,7 +1,9 @@
 // The tab of a net program (.pnml, issue 20): an SVG editor of states,
 // transitions and arcs, the live view of the running net (tokens on places,
-// enabled transitions, timers, counters, operator widgets, a history of
-// marking changes), and the analysis of GET /api/nets/{name}/analysis
+// enabled transitions and firings from the monitored power flow of each
+// transition's "enabled" and "fired" elements, timers, counters, operator
+// widgets, a history of firings and marking changes; single step with F6),
+// and the analysis of GET /api/nets/{name}/analysis
 // (boundedness, deadlocks with their firing sequence replayed on the canvas,
 // dead transitions, invariants).
 //
@@ -74,7 +76,9 @@ export class NetView {
   private analysing = false;
   private replayState: Replay | null = null;
   private lit = new Set<string>();
-  private history: { scan: number; t: number; text: string }[] = [];
+  private history: { scan: number; t: number; fired: string[]; changes: string[] }[] = [];
+  /** Each transition's monitored elements in the running program (GET /api/programs, `transitions`). */
+  private monitored = new Map<string, { enabled: number | null; fired: number | null }>();
   private lastMarking = new Map<string, number>();
   private plots = new Map<string, number[]>();
   private svg: SVGSVGElement | null = null;
@@ -98,6 +102,7 @@ export class NetView {
       loaded: (p) => {
         const l = loadPnml(p.text);
         this.savedNet = l.net;
+        this.monitored = new Map((p.transitions ?? []).map((t) => [t.id, { enabled: t.enabled, fired: t.fired }]));
         this.history = [];
         this.lastMarking.clear();
         if (this.active) this.subscribe();
@@ -136,7 +141,8 @@ export class NetView {
         h('span', { class: 'seg' },
           tool(`▶ ${tr('Run')}`, 'net-run', tr('Run the PLC (F5)'), () => this.runStop('run'), 'runstop'),
           tool(`■ ${tr('Stop')}`, 'net-stop', tr('Stop the PLC (Shift+F5)'), () => this.runStop('stop'), 'runstop'),
-          tool(tr('Reset marking'), 'net-reset', tr('Write the initial marking to every place of the running net'), () => void this.resetMarking(), 'runstop'),
+          tool(`⇥ ${tr('Single step')}`, 'net-step', tr('Run one scan while the PLC is stopped (F6)'), () => void this.singleStep(), 'runstop'),
+          tool(tr('Reset marking'), 'net-reset', tr('Write the initial marking to every place of the net, at one scan boundary'), () => void this.resetMarking(), 'runstop'),
           this.liveEl),
         h('span', { class: 'seg' }, tool(tr('Analyse'), 'net-analyse', tr('Reachability, deadlocks, dead transitions and invariants of the saved net'), () => void this.analyse(), null)),
         this.ed.stateEl),
@@ -147,7 +153,7 @@ export class NetView {
           this.propsEl,
           h('h3', null, tr('Analysis')), this.analysisEl,
           h('h3', null, tr('Problems')), this.ed.problemsEl,
-          h('h3', null, tr('Marking changes')), this.historyEl,
+          h('h3', null, tr('Firings and marking changes')), this.historyEl,
           this.datalists)),
     );
     this.ed.section = this.el;
@@ -178,6 +184,7 @@ export class NetView {
       this.ctx.tags.onChange(() => this.renderProps()),
     );
     this.subscribe();
+    this.ctx.live.monitor('net', [this.program]);
     this.render();
   }
 
@@ -186,6 +193,7 @@ export class NetView {
     this.unlisten.forEach((f) => f());
     this.unlisten = [];
     this.ctx.live.subscribe(`net:${this.program}`, null);
+    this.ctx.live.monitor('net', null);
   }
 
   get dirty(): boolean {
@@ -450,6 +458,9 @@ export class NetView {
     if (e.key === 'F5') {
       e.preventDefault();
       this.runStop(e.shiftKey ? 'stop' : 'run');
+    } else if (e.key === 'F6') {
+      e.preventDefault();
+      void this.singleStep();
     } else if (e.key === 'F4' && this.mode === 'graphic') {
       e.preventDefault();
       this.propsEl.querySelector<HTMLElement>('input,select,textarea')?.focus();
@@ -504,15 +515,21 @@ export class NetView {
     if (b && !b.disabled) b.click();
   }
 
-  /** Writes the initial marking to every marking tag of the running net (markings may be written, docs/nets.md). */
-  private async resetMarking(): Promise<void> {
-    const net = this.savedNet;
-    if (!net) return;
-    const m = initialMarking(net);
-    const writes: [string, number][] = net.places.map((p) => [markingTag(this.program, p.id), m.get(p.id) ?? 0]);
-    if (net.mode === 'normal') writes.push(...net.transitions.map((t): [string, number] => [markingTag(this.program, t.id), 0]));
+  /** Single step (POST /api/step): one scan of the stopped PLC; refused, with the server's reason, while it runs. */
+  private async singleStep(): Promise<void> {
+    if (!can('runstop')) return;
     try {
-      await Promise.all(writes.map(([n, v]) => api.writeTag(n, v)));
+      await api.step();
+    } catch (e) {
+      this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
+    }
+  }
+
+  /** Writes the saved net's initial marking at one scan boundary (POST /api/nets/{name}/reset). */
+  private async resetMarking(): Promise<void> {
+    if (!this.savedNet) return;
+    try {
+      await api.resetNet(this.program);
       this.ctx.notify(tr('{program}: initial marking written', { program: this.program }));
     } catch (e) {
       this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
@@ -546,9 +563,21 @@ export class NetView {
 
   // ---- live values -------------------------------------------------------
 
-  /** Live only for the saved text of a running program over a live connection. */
+  /** Live for the saved text over a live connection, while the PLC runs or is stopped (single steps). */
   private get live(): boolean {
-    return this.ed.monitoring && !!this.savedNet;
+    const st = this.ctx.live.status?.state;
+    return !this.ed.dirty && !!this.savedNet && this.ctx.live.state === 'connected' && (st === 'running' || st === 'stopped');
+  }
+
+  /** The transitions whose "enabled" and "fired" elements are energised in `on` (ids of the running program). */
+  private powered(on: ReadonlySet<number>): { enabled: Set<string>; fired: Set<string> } {
+    const enabled = new Set<string>();
+    const fired = new Set<string>();
+    for (const [id, e] of this.monitored) {
+      if (e.enabled !== null && on.has(e.enabled)) enabled.add(id);
+      if (e.fired !== null && on.has(e.fired)) fired.add(id);
+    }
+    return { enabled, fired };
   }
 
   private value(name: string): Json | undefined {
@@ -570,12 +599,32 @@ export class NetView {
     return { m: initialMarking(net), source: 'initial' };
   }
 
-  /** Appends the marking changes of a values message to the history (the last 50, newest first). */
+  /** The history entry of `scan` (the newest, or a new one); the last 50, newest first. */
+  private entryFor(scan: number, t: number): { scan: number; t: number; fired: string[]; changes: string[] } {
+    if (this.history[0]?.scan === scan) return this.history[0];
+    const e = { scan, t, fired: [] as string[], changes: [] as string[] };
+    this.history.unshift(e);
+    this.history.length = Math.min(this.history.length, 50);
+    return e;
+  }
+
+  /**
+   * The history: the transitions that fired in a scan (a power message of this
+   * program: their "fired" elements energised) and the marking changes (a
+   * values message), merged by scan.
+   */
   private record(msg: ServerMsg): void {
     const net = this.savedNet;
-    if (msg.type !== 'values' || !net || !this.active) return;
+    if (!net || !this.active) return;
+    if (msg.type === 'power') {
+      if (msg.program !== this.program) return;
+      const fired = [...this.powered(new Set(msg.on)).fired];
+      if (!fired.length) return;
+      this.entryFor(msg.scan, Date.now()).fired = fired;
+      return this.renderHistory();
+    }
+    if (msg.type !== 'values') return;
     const changes: string[] = [];
-    const fired: string[] = [];
     // tag names are case-insensitive: the server may send them in its own spelling
     const values = new Map(Object.entries(msg.values).map(([k, v]) => [k.toUpperCase(), v]));
     for (const n of [...net.places, ...(net.mode === 'normal' ? net.transitions : [])]) {
@@ -584,13 +633,11 @@ export class NetView {
       const was = this.lastMarking.get(n.id);
       this.lastMarking.set(n.id, v);
       if (was !== undefined && was !== v) changes.push(`${n.id} ${v > was ? '+' : '−'}${Math.abs(v - was)}`);
-      // normal mode: a transition that gave its token on has fired
-      if (was !== undefined && v < was && net.transitions.some((t) => t.id === n.id)) fired.push(n.id);
     }
     if (!changes.length) return;
-    const text = [fired.length ? tr('fired {ids}', { ids: fired.join(', ') }) : '', changes.join(' · ')].filter(Boolean).join(' — ');
-    this.history.unshift({ scan: msg.scan, t: msg.t_ms, text });
-    this.history.length = Math.min(this.history.length, 50);
+    const e = this.entryFor(msg.scan, msg.t_ms);
+    e.t = msg.t_ms;
+    e.changes = changes;
     this.renderHistory();
   }
 
@@ -599,7 +646,8 @@ export class NetView {
     if (!this.history.length) this.historyEl.append(h('li', { class: 'none' }, tr('None yet: the running net’s token moves are listed here.')));
     this.history.forEach((x, k) =>
       this.historyEl.append(h('li', { 'data-testid': `net-history-${k}` },
-        h('span', { class: 'where' }, `#${x.scan} ${clockTime(x.t)}`), ' ', x.text)));
+        h('span', { class: 'where' }, `#${x.scan} ${clockTime(x.t)}`), ' ',
+        [x.fired.length ? tr('fired {ids}', { ids: x.fired.join(', ') }) : '', x.changes.join(' · ')].filter(Boolean).join(' — '))));
   }
 
   /** Tokens, enabled transitions and live values, on the drawn canvas. */
@@ -609,10 +657,18 @@ export class NetView {
     if (!net || !svg || this.mode !== 'graphic') return;
     const { m, source } = this.marking();
     svg.dataset.marking = source;
-    this.liveEl.textContent = source === 'live' ? tr('live') : source === 'replay' ? tr('replay') : this.dirty ? tr('edited: initial marking shown') : tr('not running: initial marking shown');
+    const stopped = this.ctx.live.status?.state === 'stopped';
+    this.liveEl.textContent =
+      source === 'live' ? (stopped ? tr('stopped: F6 runs one scan') : tr('live')) : source === 'replay' ? tr('replay') : this.dirty ? tr('edited: initial marking shown') : tr('not running: initial marking shown');
     this.liveEl.dataset.state = source;
-    // enabled by the arcs (Petri mode; the runtime also needs the guard); in normal mode a transition holding the token
-    const on = net.mode === 'normal' ? new Set(net.transitions.filter((t) => (m.get(t.id) ?? 0) > 0).map((t) => t.id)) : enabled(net, m);
+    // live: the runtime's own verdict (arcs and guard, after the last scan) and the transitions that fired in it;
+    // a replay or the design: enabled by the arcs of the marking shown (normal mode: holding the token)
+    const powered = source === 'live' ? this.powered(this.ed.on) : null;
+    const on = powered
+      ? powered.enabled
+      : net.mode === 'normal'
+        ? new Set(net.transitions.filter((t) => (m.get(t.id) ?? 0) > 0).map((t) => t.id))
+        : enabled(net, m);
     for (const p of net.places) {
       const g = this.groups.get(p.id);
       if (!g) continue;
@@ -633,8 +689,17 @@ export class NetView {
       if (!g) continue;
       g.classList.toggle('enabled', on.has(t.id));
       g.dataset.enabled = String(on.has(t.id));
-      const fired = this.replayState && this.replayState.step > 0 && this.replayState.fired[this.replayState.step - 1] === t.id;
+      const fired = powered ? powered.fired.has(t.id) : this.replayState && this.replayState.step > 0 && this.replayState.fired[this.replayState.step - 1] === t.id;
       g.classList.toggle('fired', !!fired);
+      // normal mode: a transition holding the token shows it (enabled or waiting for its guard)
+      const tokens = g.querySelector('.net-tokens');
+      if (tokens) {
+        const n = m.get(t.id) ?? 0;
+        g.dataset.tokens = String(n);
+        g.classList.toggle('marked', n > 0);
+        clear(tokens);
+        if (n > 0) tokens.append(s('circle', { class: 'net-token', cx: 0, cy: 0, r: 4 }));
+      }
       const info = g.querySelector('.net-info');
       if (info) info.textContent = source === 'live' ? this.infoOf(t.id, t.kind) : '';
     }
@@ -1038,7 +1103,7 @@ export class NetView {
         h('h3', null, tr('Net')),
         field(tr('Name'), 'net-name', net.name ?? '', (v) => this.change((n) => void (n.name = v === '' ? null : v))),
         select(tr('Mode'), 'mode', net.mode, ['petri', 'normal'], (v) => this.change((n) => void (n.mode = v))),
-        h('p', { class: 'hint' }, tr('S state, T transition, Shift+E expression, Shift+C condition; double-click an element, then click another, to draw an arc. Del deletes, Ctrl+Z/Y undo and redo, Ctrl+C/V copy and paste, F5 run, Shift+F5 stop.')));
+        h('p', { class: 'hint' }, tr('S state, T transition, Shift+E expression, Shift+C condition; double-click an element, then click another, to draw an arc. Del deletes, Ctrl+Z/Y undo and redo, Ctrl+C/V copy and paste, F5 run, Shift+F5 stop, F6 one scan.')));
       return;
     }
     if (sel.length > 1) {
@@ -1140,7 +1205,7 @@ export class NetView {
     this.render();
   }
 
-  private step(d: number): void {
+  private replayStep(d: number): void {
     const r = this.replayState;
     if (!r) return;
     r.step = Math.max(0, Math.min(r.fired.length, r.step + d));
@@ -1190,8 +1255,8 @@ export class NetView {
         h('ol', { class: 'net-trace', 'data-testid': 'net-trace' }, trace.map((t, k) => h('li', { class: r && r.step === k + 1 ? 'current' : r && k < r.step ? 'done' : '' }, t))),
         h('div', { class: 'net-replay' },
           h('button', { class: 'small', 'data-testid': 'net-replay', onclick: () => this.startReplay() }, r ? tr('Restart') : tr('Replay')),
-          r ? h('button', { class: 'small', 'data-testid': 'net-replay-back', title: tr('Step back'), onclick: () => this.step(-1) }, '◀') : null,
-          r ? h('button', { class: 'small', 'data-testid': 'net-replay-next', title: tr('Fire the next transition'), onclick: () => this.step(1) }, '▶') : null,
+          r ? h('button', { class: 'small', 'data-testid': 'net-replay-back', title: tr('Step back'), onclick: () => this.replayStep(-1) }, '◀') : null,
+          r ? h('button', { class: 'small', 'data-testid': 'net-replay-next', title: tr('Fire the next transition'), onclick: () => this.replayStep(1) }, '▶') : null,
           r ? h('span', { 'data-testid': 'net-replay-step' }, tr('step {k} of {n}', { k: r.step, n: r.fired.length })) : null,
           r ? h('button', { class: 'small', 'data-testid': 'net-replay-close', onclick: () => ((this.replayState = null), this.render()) }, tr('Close')) : null),
         r && r.step === r.fired.length && r.fired.length < trace.length ? h('p', { class: 'inline-error' }, tr('The sequence stops here: the net changed since the analysis.')) : null,

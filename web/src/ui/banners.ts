@@ -11,7 +11,7 @@ import { clockTime as clock, tr } from '../i18n';
 
 export const bannerText = {
   stale: (since: string) => tr('Not live: no data since {since}. The values shown are from then; reconnecting…', { since }),
-  stopped: (since: string) => tr('The PLC is stopped (since {since}): values do not change.', { since }),
+  stopped: (since: string) => tr('The PLC is stopped (since {since}): values change only when written or single-stepped.', { since }),
   faulted: (since: string, fault: string) => tr('The PLC is faulted (since {since}): {fault}', { since, fault }),
   forces: (n: number) => (n === 1 ? tr('1 force active') : tr('{n} forces active', { n })),
   removeAll: tr('Remove all'),

@@ -236,6 +236,12 @@ async fn a_scan_longer_than_the_watchdog_faults_with_outputs_off() {
     let fault = s.fault.clone().unwrap_or_default();
     assert!(fault.starts_with("watchdog: a scan took"), "{fault}");
     assert_eq!(value(&s, "Out"), Value::Bool(false));
+    // No single step from a fault: nothing scanned.
+    match rt.handle().step().await {
+        Err(alba_runtime::Error::Faulted(f)) => assert_eq!(f, fault),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(rt.handle().snapshot().scans, s.scans);
     // Run clears the fault.
     rt.handle().run().await.unwrap();
     assert_eq!(rt.handle().snapshot().state, RunState::Running);
@@ -398,6 +404,7 @@ async fn attach_mode_mirrors_the_board_and_sends_writes_to_it() {
     assert!(matches!(err, alba_runtime::Error::Attached { .. }), "{err}");
     assert!(err.to_string().contains("the board runs the program"), "{err}");
     assert!(matches!(h.stop().await, Err(alba_runtime::Error::Attached { .. })));
+    assert!(matches!(h.step().await, Err(alba_runtime::Error::Attached { .. })));
     rt.shutdown();
 }
 
@@ -494,5 +501,49 @@ async fn a_flood_of_requests_is_bounded_and_scans_go_on() {
     let after = h.snapshot().scans;
     assert!(after > before, "no scan while {ok} requests were applied");
     until(&rt, "scans after the flood", |s| s.scans > after + 5).await;
+    rt.shutdown();
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn single_steps_run_one_scan_each_and_are_refused_while_running() {
+    let mut o = opts(2);
+    o.start_running = false;
+    let rt = Runtime::start(compile(TAGS, LAD), o, Box::new(SimIo)).unwrap();
+    let h = rt.handle();
+    let p = h.snapshot().program.clone();
+    // Stopped: nothing scans on its own.
+    tokio::time::sleep(Duration::from_millis(30)).await;
+    assert_eq!(h.snapshot().scans, 0);
+    assert_eq!(h.snapshot().state, RunState::Stopped);
+    h.write(place(&p, "In"), Value::Bool(true)).await.unwrap();
+    for n in 1..=5u64 {
+        h.step().await.unwrap();
+        // Answered after the scan, its snapshot already published.
+        let s = h.snapshot();
+        assert_eq!(s.scans, n);
+        assert_eq!(s.state, RunState::Stopped);
+        assert_eq!(value(&s, "Count"), Value::Dint(n as i32));
+        // Outputs are written by the step.
+        assert_eq!(value(&s, "Out"), Value::Bool(true));
+    }
+    tokio::time::sleep(Duration::from_millis(30)).await;
+    assert_eq!(h.snapshot().scans, 5, "a stopped runtime does not scan between steps");
+    // Refused while running, with nothing done.
+    h.run().await.unwrap();
+    assert_eq!(h.step().await, Err(alba_runtime::Error::Running));
+    assert_eq!(
+        alba_runtime::Error::Running.to_string(),
+        "the runtime is running: stop it before stepping one scan"
+    );
+    h.stop().await.unwrap();
+    let before = h.snapshot();
+    let count = |s: &Snapshot| match value(s, "Count") {
+        Value::Dint(v) => v,
+        v => panic!("{v:?}"),
+    };
+    h.step().await.unwrap();
+    let after = h.snapshot();
+    assert_eq!(after.scans, before.scans + 1);
+    assert_eq!(count(&after), count(&before) + 1);
     rt.shutdown();
 }

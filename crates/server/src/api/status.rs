@@ -1,4 +1,4 @@
-//! `GET /api/status`, `POST /api/run`, `POST /api/stop`.
+//! `GET /api/status`, `POST /api/run`, `POST /api/stop`, `POST /api/step`.
 
 use super::audit::{Actor, audited, json_text};
 use crate::error::ApiResult;
@@ -75,5 +75,19 @@ pub async fn run(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Jso
 pub async fn stop(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
     let e = entry(&st, &actor, Action::Stop, RunState::Stopped);
     audited(&st, e, async { Ok(st.runtime.stop().await?) }).await?;
+    Ok(get(State(st)).await)
+}
+
+/// Audited (`step`): while stopped, one scan (inputs, program, outputs,
+/// snapshot) and the status after it; `409` while running or faulted.
+pub async fn step(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
+    let before = st.runtime.snapshot().scans;
+    let e = Entry {
+        old: Some(before.to_string()),
+        new: Some(before.saturating_add(1).to_string()),
+        detail: Some("one scan".to_string()),
+        ..actor.entry(Action::Step)
+    };
+    audited(&st, e, async { Ok(st.runtime.step().await?) }).await?;
     Ok(get(State(st)).await)
 }

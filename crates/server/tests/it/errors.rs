@@ -84,6 +84,7 @@ async fn status_409_conflict_in_attach_mode() {
     for (m, path, body) in [
         (Method::PUT, "/api/forces/STOP", Some(json!({"value": true}))),
         (Method::POST, "/api/stop", None),
+        (Method::POST, "/api/step", None),
     ] {
         let (code, j) = s.call(m, path, body).await;
         assert_eq!(code, StatusCode::CONFLICT, "{path}: {j}");
@@ -148,6 +149,7 @@ async fn status_503_runtime_not_running() {
     runtime.shutdown();
     for (m, path, body) in [
         (Method::POST, "/api/run", None),
+        (Method::POST, "/api/step", None),
         (Method::PUT, "/api/tags/Llenar", Some(json!({"value": true}))),
         (Method::DELETE, "/api/forces", None),
     ] {

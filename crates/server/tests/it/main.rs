@@ -9,6 +9,7 @@ mod errors;
 mod guard;
 mod history;
 mod limits;
+mod nets;
 mod roles;
 mod scale;
 mod screens;

@@ -379,7 +379,18 @@ async fn every_route_answers_each_role_as_the_table_says() {
         row(Method::GET, "/api/audit", "/api/audit", None, e, HANDLER),
         row(Method::GET, "/api/audit.csv", "/api/audit.csv", None, e, HANDLER),
         row(Method::POST, "/api/stop", "/api/stop", None, e, 200),
+        // While stopped: one scan.
+        row(Method::POST, "/api/step", "/api/step", None, e, 200),
         row(Method::POST, "/api/run", "/api/run", None, e, 200),
+        // This server's project has no net: the handler's 404.
+        row(
+            Method::POST,
+            "/api/nets/{name}/reset",
+            "/api/nets/line/reset",
+            None,
+            e,
+            404,
+        ),
         row(Method::GET, "/api/{*rest}", "/api/nothing-here", None, v, 404),
         row(Method::POST, "/api/{*rest}", "/api/nothing-here", j(json!({})), v, 404),
         // A method a route does not have: closed to all but admin, then 405.

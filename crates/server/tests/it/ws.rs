@@ -5,10 +5,10 @@ use serde_json::{Value as Json, json};
 use std::time::Duration;
 use tokio_tungstenite::tungstenite::Message;
 
-type Ws = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+pub(crate) type Ws = tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
 /// Connects as the studio does: from its own origin.
-async fn connect(s: &Server) -> Ws {
+pub(crate) async fn connect(s: &Server) -> Ws {
     use tokio_tungstenite::tungstenite::client::IntoClientRequest;
     let mut req = format!("ws://{}/api/ws", s.addr)
         .into_client_request()
@@ -19,12 +19,12 @@ async fn connect(s: &Server) -> Ws {
     ws
 }
 
-async fn send(ws: &mut Ws, j: Json) {
+pub(crate) async fn send(ws: &mut Ws, j: Json) {
     ws.send(Message::Text(j.to_string().into())).await.expect("send");
 }
 
 /// The next message of `kind` that satisfies `ok`, within 5 s.
-async fn next(ws: &mut Ws, kind: &str, ok: impl Fn(&Json) -> bool) -> Json {
+pub(crate) async fn next(ws: &mut Ws, kind: &str, ok: impl Fn(&Json) -> bool) -> Json {
     let deadline = tokio::time::Instant::now() + Duration::from_secs(5);
     loop {
         let m = tokio::time::timeout_at(deadline, ws.next())

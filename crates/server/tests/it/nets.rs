@@ -1,0 +1,316 @@
+//! What the studio's net editor needs of the server: single step
+//! (`POST /api/step`), each transition's monitored "enabled" and "fired"
+//! elements (`GET /api/programs/{name}`, power flow on the WebSocket) and the
+//! reset of a net's marking in one step (`POST /api/nets/{name}/reset`).
+
+use crate::Server;
+use crate::ws::{connect, next, send};
+use reqwest::{Method, StatusCode};
+use serde_json::{Value as Json, json};
+use std::collections::{BTreeSet, HashMap};
+
+async fn audit_rows(s: &Server, action: &str) -> Vec<Json> {
+    let page = s.get(&format!("/api/audit?action={action}")).await;
+    page["rows"].as_array().expect("rows").clone()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn single_step_runs_one_scan_while_stopped_and_is_refused_while_running() {
+    let s = Server::start("tank", "step").await;
+    let (code, j) = s.call(Method::POST, "/api/step", None).await;
+    assert_eq!(
+        (code, j),
+        (
+            StatusCode::CONFLICT,
+            json!({"error": "the runtime is running: stop it before stepping one scan"})
+        )
+    );
+    let (code, j) = s.call(Method::POST, "/api/stop", None).await;
+    assert_eq!((code, &j["state"]), (StatusCode::OK, &json!("stopped")));
+    let n = j["scans"].as_u64().expect("scans");
+    for k in 1..=3 {
+        let (code, j) = s.call(Method::POST, "/api/step", None).await;
+        assert_eq!(code, StatusCode::OK, "{j}");
+        // Answered after the scan: the status already counts it.
+        assert_eq!(j["scans"], n + k, "{j}");
+        assert_eq!(j["state"], "stopped");
+    }
+    tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    assert_eq!(s.scans().await, n + 3, "no scan between steps");
+    // The program ran in those scans: the tank's run lamp follows the program.
+    let (code, _) = s.call(Method::POST, "/api/run", None).await;
+    assert_eq!(code, StatusCode::OK);
+    // Audited as run and stop are: the refused step too.
+    let rows = audit_rows(&s, "step").await;
+    let outcomes: Vec<&str> = rows
+        .iter()
+        .rev()
+        .map(|r| r["outcome"].as_str().expect("outcome"))
+        .collect();
+    assert_eq!(outcomes, ["failed", "ok", "ok", "ok"]);
+    assert_eq!(rows[0]["old"], json!(n + 2));
+    assert_eq!(rows[0]["new"], json!(n + 3));
+    s.stop().await;
+}
+
+/// The energised elements of a power message, as (enabled, fired) sets of
+/// transition ids.
+fn lit(
+    on: &Json,
+    enabled: &HashMap<u64, String>,
+    fired: &HashMap<u64, String>,
+) -> (BTreeSet<String>, BTreeSet<String>) {
+    let ids: Vec<u64> = on["on"]
+        .as_array()
+        .expect("on")
+        .iter()
+        .filter_map(Json::as_u64)
+        .collect();
+    let pick = |m: &HashMap<u64, String>| ids.iter().filter_map(|i| m.get(i).cloned()).collect();
+    (pick(enabled), pick(fired))
+}
+
+fn set(ids: &[&str]) -> BTreeSet<String> {
+    ids.iter().map(|s| s.to_string()).collect()
+}
+
+/// Each transition of a net has an "enabled" element (arcs satisfied by the
+/// marking after the scan, and the guard as evaluated in it) and a "fired"
+/// one (it fired in that scan), monitored like a ladder element.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn net_transitions_have_enabled_and_fired_elements() {
+    let s = Server::start("petri-resource", "net-enabled").await;
+    let p = s.get("/api/programs/cell.pnml").await;
+    let ts = p["transitions"].as_array().expect("transitions").clone();
+    let ids: Vec<&str> = ts.iter().map(|t| t["id"].as_str().expect("id")).collect();
+    assert_eq!(
+        ids,
+        [
+            "arrive1", "grab1", "loaded1", "finish1", "arrive2", "grab2", "loaded2", "finish2"
+        ]
+    );
+    let mut enabled = HashMap::new();
+    let mut fired = HashMap::new();
+    for t in &ts {
+        let id = t["id"].as_str().expect("id").to_string();
+        enabled.insert(t["enabled"].as_u64().expect("an enabled element"), id.clone());
+        fired.insert(t["fired"].as_u64().expect("a fired element"), id);
+    }
+    assert_eq!(enabled.len() + fired.len(), 16, "distinct elements: {ts:?}");
+    // A ladder program has no transitions.
+    assert!(s.get("/api/programs/main.lad").await.get("transitions").is_none());
+
+    let (code, _) = s.call(Method::POST, "/api/stop", None).await;
+    assert_eq!(code, StatusCode::OK);
+    let mut ws = connect(&s).await;
+    send(&mut ws, json!({"monitor": ["cell.pnml"]})).await;
+    // Stopped: nothing energised.
+    let m = next(&mut ws, "power", |_| true).await;
+    assert_eq!(m["on"], json!([]));
+    // A part at machine 1: arrive1 fires; now grab1 is enabled (wait1 and the robot).
+    let (code, _) = s
+        .call(Method::PUT, "/api/forces/Part1", Some(json!({"value": true})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["scan"] == scan).await;
+    assert_eq!(lit(&m, &enabled, &fired), (set(&["grab1"]), set(&["arrive1"])));
+    assert_eq!(s.value("cell.wait1").await, 1);
+    // grab1 fires; loaded1's arc is satisfied (load1) but its guard (Load1T.DN) is not.
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["scan"] == scan).await;
+    assert_eq!(lit(&m, &enabled, &fired), (set(&[]), set(&["grab1"])));
+    assert_eq!(s.value("cell.load1").await, 1);
+    // Machine 2's part: arrive2 fires, and grab2 waits for the robot (not enabled).
+    let (code, _) = s
+        .call(Method::PUT, "/api/forces/Part2", Some(json!({"value": true})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["scan"] == scan).await;
+    assert_eq!(lit(&m, &enabled, &fired), (set(&[]), set(&["arrive2"])));
+    assert_eq!(s.value("cell.wait2").await, 1);
+    s.stop().await;
+}
+
+/// `POST /api/nets/{name}/reset`: the initial marking, written at one scan
+/// boundary, audited; refused for what is not a net of the running program.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_net_marking_is_reset_in_one_step() {
+    let s = Server::start("petri-resource", "net-reset").await;
+    let (code, _) = s.call(Method::POST, "/api/stop", None).await;
+    assert_eq!(code, StatusCode::OK);
+    let (code, _) = s
+        .call(Method::PUT, "/api/forces/Part1", Some(json!({"value": true})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    for _ in 0..2 {
+        assert_eq!(s.call(Method::POST, "/api/step", None).await.0, StatusCode::OK);
+    }
+    let (code, _) = s
+        .call(Method::PUT, "/api/tags/cell.done", Some(json!({"value": 4})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    assert_eq!(
+        (
+            s.value("cell.robot").await,
+            s.value("cell.idle1").await,
+            s.value("cell.load1").await
+        ),
+        (json!(0), json!(0), json!(1))
+    );
+    let (code, j) = s.call(Method::POST, "/api/nets/cell/reset", None).await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    assert_eq!(j["program"], "cell.pnml");
+    let marking = j["marking"].as_array().expect("marking");
+    assert_eq!(marking.len(), 10);
+    assert_eq!(marking[0], json!({"tag": "cell.robot", "value": 1}));
+    let want = [
+        ("cell.robot", 1),
+        ("cell.idle1", 1),
+        ("cell.wait1", 0),
+        ("cell.load1", 0),
+        ("cell.work1", 0),
+        ("cell.idle2", 1),
+        ("cell.done", 0),
+    ];
+    for (tag, v) in want {
+        assert_eq!(s.value(tag).await, json!(v), "{tag}");
+    }
+    // By file name too; audited with the marking written.
+    let (code, _) = s.call(Method::POST, "/api/nets/cell.pnml/reset", None).await;
+    assert_eq!(code, StatusCode::OK);
+    let rows = audit_rows(&s, "reset_marking").await;
+    assert_eq!(rows.len(), 2);
+    assert_eq!(rows[0]["target"], "cell.pnml");
+    assert_eq!(rows[0]["new"][0], json!({"tag": "cell.robot", "value": 1}));
+    // Not a net, no such net.
+    let (code, j) = s.call(Method::POST, "/api/nets/main.lad/reset", None).await;
+    assert_eq!(
+        (code, j),
+        (
+            StatusCode::NOT_FOUND,
+            json!({"error": "no net `main.lad` in the project"})
+        )
+    );
+    let (code, _) = s.call(Method::POST, "/api/nets/nope/reset", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND);
+    // Saved but not applied: the running program lacks the new place's marking.
+    let text = s.get("/api/programs/cell.pnml").await["text"]
+        .as_str()
+        .expect("text")
+        .replace(r#"<place id="done">"#, r#"<place id="extra"/><place id="done">"#);
+    let (code, j) = s
+        .call(
+            Method::PUT,
+            "/api/programs/cell.pnml",
+            Some(json!({"text": text, "online": false})),
+        )
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    let (code, j) = s.call(Method::POST, "/api/nets/cell/reset", None).await;
+    assert_eq!(
+        (code, j),
+        (
+            StatusCode::UNPROCESSABLE_ENTITY,
+            json!({"error": "the running program has no marking tag `cell.extra`: save the net and apply it online first"})
+        )
+    );
+    s.stop().await;
+}
+
+/// A project of two nets: `loop.pnml` (Petri mode, `t` fires every scan while
+/// `Go`, leaving the marking as it was) and `flow.pnml` (normal mode, a timer).
+fn two_nets(test: &str) -> std::path::PathBuf {
+    let dir = crate::copy_example("start-stop", test);
+    for f in ["main.lad", "stimulus.csv", "golden.csv", "golden.args"] {
+        let _ = std::fs::remove_file(dir.join(f));
+    }
+    std::fs::write(
+        dir.join("tags.csv"),
+        "name,type,address,initial,retain,description\nGo,BOOL,,,,\n",
+    )
+    .expect("tags");
+    std::fs::write(
+        dir.join("alba.toml"),
+        "name = \"nets\"\nscan_ms = 10\nprograms = [\"loop.pnml\", \"flow.pnml\"]\n",
+    )
+    .expect("toml");
+    let pnml = |body: &str| {
+        format!(
+            r#"<?xml version="1.0" encoding="UTF-8"?>
+<pnml xmlns="http://www.pnml.org/version-2009/grammar/pnml"><net id="n" type="http://www.pnml.org/version-2009/grammar/ptnet">{body}</net></pnml>"#
+        )
+    };
+    std::fs::write(
+        dir.join("loop.pnml"),
+        pnml(
+            r#"<page id="pg"><place id="p"><initialMarking><text>1</text></initialMarking></place>
+<transition id="t"><toolspecific tool="alba" version="1"><guard>Go</guard></toolspecific></transition>
+<arc id="a1" source="p" target="t"/><arc id="a2" source="t" target="p"/></page>"#,
+        ),
+    )
+    .expect("loop");
+    std::fs::write(
+        dir.join("flow.pnml"),
+        pnml(
+            r#"<toolspecific tool="alba" version="1"><mode>normal</mode></toolspecific>
+<page id="pg"><place id="S0"><initialMarking><text>1</text></initialMarking></place><place id="S1"/>
+<transition id="wait"><toolspecific tool="alba" version="1"><kind>timer</kind><prop name="delay">T#1h</prop></toolspecific></transition>
+<arc id="a1" source="S0" target="wait"/><arc id="a2" source="wait" target="S1"/></page>"#,
+        ),
+    )
+    .expect("flow");
+    dir
+}
+
+/// A net's power flow is sent for every scan in which something is
+/// energised, so a transition firing scan after scan is seen each time; in
+/// normal mode a transition holding its token (a timer timing) is enabled.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn repeated_firings_are_each_sent_and_normal_mode_has_enabled_transitions() {
+    let s = Server::start_in(two_nets("net-repeat")).await;
+    let elems = |p: &Json| {
+        let t = &p["transitions"][0];
+        (
+            t["enabled"].as_u64().expect("enabled"),
+            t["fired"].as_u64().expect("fired"),
+        )
+    };
+    let (loop_enabled, loop_fired) = elems(&s.get("/api/programs/loop.pnml").await);
+    let (wait_enabled, wait_fired) = elems(&s.get("/api/programs/flow.pnml").await);
+    assert_eq!(s.call(Method::POST, "/api/stop", None).await.0, StatusCode::OK);
+    let (code, _) = s.call(Method::PUT, "/api/tags/Go", Some(json!({"value": true}))).await;
+    assert_eq!(code, StatusCode::OK);
+    let mut ws = connect(&s).await;
+    send(&mut ws, json!({"monitor": ["loop.pnml", "flow.pnml"]})).await;
+    next(&mut ws, "power", |j| j["program"] == "loop.pnml").await;
+    for _ in 0..3 {
+        let (_, st) = s.call(Method::POST, "/api/step", None).await;
+        let scan = st["scans"].clone();
+        let m = next(&mut ws, "power", |j| j["program"] == "loop.pnml" && j["scan"] == scan).await;
+        assert_eq!(m["on"], json!([loop_fired, loop_enabled]), "{m}");
+    }
+    // The timer holds the token (the first scans passed it on from S0): enabled, not fired.
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["program"] == "flow.pnml" && j["scan"] == scan).await;
+    let on: Vec<u64> = m["on"]
+        .as_array()
+        .expect("on")
+        .iter()
+        .filter_map(Json::as_u64)
+        .collect();
+    assert!(on.contains(&wait_enabled) && !on.contains(&wait_fired), "{m}");
+    // Go off: `t` neither fires nor is enabled, and the message says so once.
+    let (code, _) = s.call(Method::PUT, "/api/tags/Go", Some(json!({"value": false}))).await;
+    assert_eq!(code, StatusCode::OK);
+    let (_, st) = s.call(Method::POST, "/api/step", None).await;
+    let scan = st["scans"].clone();
+    let m = next(&mut ws, "power", |j| j["program"] == "loop.pnml" && j["scan"] == scan).await;
+    assert_eq!(m["on"], json!([]), "{m}");
+    s.stop().await;
+}
