@@ -316,6 +316,8 @@ fn examples_run_the_same_on_the_uno() {
         "petri-resource",
         // A normal-mode state net (timers, a counter, conditions, an end) with a ladder program.
         "state-net-batch",
+        // An SFC chart (steps, qualifiers, timed actions) with a ladder program.
+        "sfc-batch",
     ] {
         let case = example(name);
         if let Some((stim, until, every)) =
@@ -409,6 +411,7 @@ fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine(
         "festo-station",
         "petri-resource",
         "state-net-batch",
+        "sfc-batch",
     ] {
         let case = example(name);
         check_as(&case, board_for(&case), None, 6000, case.scan_ms, 5, true);
