@@ -158,7 +158,9 @@ pub mod pid_error {
     pub const SCALE: i32 = 0x23;
     /// Deadband below 0 or above MAXS-MINS.
     pub const DEADBAND: i32 = 0x41;
-    /// MINO above MAXO.
+    /// MAXO below 0 or above 100 %.
+    pub const UPPER_LIMIT: i32 = 0x51;
+    /// MINO below 0 or above 100 %, or above MAXO.
     pub const LIMITS: i32 = 0x52;
     /// A parameter is NaN or infinite (Alba's own code).
     pub const NAN: i32 = 0x70;
@@ -261,6 +263,27 @@ impl PidParams {
                 format!(
                     "PID parameter DB = {}: the deadband must be from 0 to MAXS-MINS = {span} (SLC error 41H)",
                     self.db
+                ),
+            ));
+        }
+        // The SLC's output limits are % of CV (`004_…` §3.3.2, codes 51H, 52H).
+        if !(0.0..=100.0).contains(&self.maxo) {
+            return Some((
+                E::UPPER_LIMIT,
+                "MAXO",
+                format!(
+                    "PID parameter MAXO = {}: the output's upper limit must be from 0 to 100 % (SLC error 51H)",
+                    self.maxo
+                ),
+            ));
+        }
+        if !(0.0..=100.0).contains(&self.mino) {
+            return Some((
+                E::LIMITS,
+                "MINO",
+                format!(
+                    "PID parameter MINO = {}: the output's lower limit must be from 0 to 100 % (SLC error 52H)",
+                    self.mino
                 ),
             ));
         }

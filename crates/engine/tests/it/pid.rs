@@ -324,6 +324,10 @@ fn bad_parameters_at_run_time_are_minor_faults_and_hold_the_output() {
         ("Loop.KP", f32::NAN, 0x70),
         ("Loop.KP", -1.0, 0x12),
         ("Loop.MINS", 5.0, 0x23),
+        ("Loop.MAXO", 150.0, 0x51),
+        ("Loop.MAXO", -1.0, 0x51),
+        ("Loop.MINO", -5.0, 0x52),
+        ("Loop.MINO", 101.0, 0x52),
     ] {
         let mut r = Rig::new("KP=1;UPD=100");
         r.real(m, v);
@@ -343,6 +347,14 @@ fn constant_bad_parameters_are_located_errors() {
         ("UPD=0", "UPD = 0"),
         ("MINS=10;MAXS=5", "MINS = 10 is more than MAXS = 5"),
         ("TI=-1", "TI = -1"),
+        (
+            "MAXO=200",
+            "MAXO = 200: the output's upper limit must be from 0 to 100 % (SLC error 51H)",
+        ),
+        (
+            "MINO=-1",
+            "MINO = -1: the output's lower limit must be from 0 to 100 % (SLC error 52H)",
+        ),
         ("KP=x", "bad value for KP"),
         ("EN=1", "status"),
         ("ZZ=1", "no member `ZZ`"),

@@ -267,8 +267,7 @@ fn the_listing_forms_change_no_rc_run() {
 /// is FORM 11/12 on a doubled scale: the PV span 0-20 V (raw 0-20000, so
 /// an error of 1 V is 1638 counts, as on 0-16383) and CV 100 % = 20 V
 /// (32767 counts = 200 % of the 10 V drive, which still saturates at
-/// 10 V). Both ways, MAXO = 200 % on FORM 3/4 and this, give the same runs.
-/// It brings gp1 s-tuned within 20 % of the measured 9.97 s, but gp1
+/// 10 V); MAXO above 100 % is refused (51H), as on the SLC. It brings gp1 s-tuned within 20 % of the measured 9.97 s, but gp1
 /// z-tuned overshoots by 10 % or more (measured 2 %) and gp1 s-theory and
 /// gp2 s-theory settle 30 % too fast. Annex F puts the programs on the
 /// 0-32767 scale, where 200 % cannot be stored; the data do not want it
@@ -290,12 +289,7 @@ fn u_kept_up_to_200_percent_fits_one_run_and_breaks_three() {
             ("Loop.MAXCV", 20000.0),
         ];
         let (mp, ts) = run(ex, case, &doubled, until, &nominal);
-        let (mp2, ts2) = run(ex, case, &[("Loop.FORM", form), ("Loop.MAXO", 200.0)], until, &nominal);
-        println!("{ex} {case}, u up to 200 %: {mp:.2} % {ts:.2} s (MAXO 200 %: {mp2:.2} % {ts2:.2} s)");
-        assert!(
-            (ts - ts2).abs() <= 0.05 * ts2 && (mp - mp2).abs() <= 1.0,
-            "{ex} {case}: {mp} % {ts} s vs {mp2} % {ts2} s"
-        );
+        println!("{ex} {case}, u up to 200 %: {mp:.2} % {ts:.2} s");
         got.push((mp, ts));
     }
     assert!((0.8..=1.2).contains(&(got[0].1 / 9.97)), "gp1 s-tuned {:?}", got[0]);
