@@ -29,6 +29,12 @@
 //!    velocity forms of the source's eq. 3-30 (s-plane) and 3-31 (z-plane)
 //!    in REAL arithmetic; 3 and 4 the same (eq. 3-32, 3-33) in the SLC's
 //!    16-bit integer arithmetic, on the SLC's 0-16383 scale of 0-100 %.
+//!    FORM 11 and 12 (3 and 4 plus the listing bit 8) are the source
+//!    programs PID_CONT and PID_DISC as they are described (`004_…`
+//!    §3.3.1.1 and Annex F; the ladder of Annex E is not legible): the
+//!    module's 0-32767 scale of 0-10 V instead of 0-16383, a negative u(k)
+//!    set to 0 ("se verifica que el valor de u(k) no sea negativo"), and
+//!    u(k−1) that u(k), not the output limited to MINO..MAXO.
 //! 7. `BIAS` is added (positional form). With `OL` the output is clamped to
 //!    `MINO..MAXO` % and the integral does not move further into a limit
 //!    (conditional integration: anti-windup); `UL`/`LL` flag the unclamped
@@ -90,6 +96,10 @@ const OL: usize = 12;
 
 /// Counts of the SLC's 0-16383 scale per percent.
 pub const SLC_PER_PCT: f64 = 16383.0 / 100.0;
+
+/// Counts per percent of the scale the `004_…` listings work on (FORM 11
+/// and 12): the analog module's 0-10 V as 0-32767 (Annex F).
+pub const LISTING_PER_PCT: f64 = 32767.0 / 100.0;
 
 /// Runs one execution of the instruction.
 pub(crate) fn pid(m: &mut Mem, p: Pidt, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
@@ -219,7 +229,8 @@ fn update(f: &mut [f32], iv: &mut [i32], b: &mut [bool], p: &PidParams, running:
     let man = b[MAN];
     b[PID_B_WASMAN as usize] = man;
     let cv_in = f64::from(f[CV]);
-    let form = p.form as i32;
+    let form = p.base_form() as i32;
+    let listing = p.listing();
     let (cv, unclamped) = match form {
         0 => {
             // Derivative on PV (of the error's sign) or on the error.
@@ -290,7 +301,11 @@ fn update(f: &mut [f32], iv: &mut [i32], b: &mut [bool], p: &PidParams, running:
             out
         }
         _ => {
-            let counts = |x: f64| sat16((x * SLC_PER_PCT).round());
+            // The listing's scale is the analog module's: 0-10 V is 0-32767
+            // (Annex F: "En PID discretizado, la referencia tiene un rango de
+            // [0,32767]"; the control signal N9:1 is shown as u/32767·10 V).
+            let per_pct = if listing { LISTING_PER_PCT } else { SLC_PER_PCT };
+            let counts = |x: f64| sat16((x * per_pct).round());
             let e = counts(e_pct);
             let (mut u1, mut e1, mut e2) = (
                 iv[PID_I_U1 as usize] as i16,
@@ -309,9 +324,16 @@ fn update(f: &mut [f32], iv: &mut [i32], b: &mut [bool], p: &PidParams, running:
                 let k = |g: f64| sat16((g * 100.0).round());
                 let t_cs = sat16((p.upd / 10.0).round());
                 let u = slc_velocity(form == 3, k(kp), k(ki), k(kd), t_cs, e, e1, e2, u1);
-                let uc = if b[OL] { u.clamp(lo_c, hi_c) } else { u };
-                (u1, e2, e1) = (uc, e1, e);
-                (f64::from(uc) / SLC_PER_PCT, f64::from(u) / SLC_PER_PCT)
+                // The listing (FORM 11, 12; §3.3.1.1): "se verifica que el
+                // valor de u(k) no sea negativo" — a negative u(k) becomes 0 —
+                // and the "actualización … de la señal actuante" stores that
+                // u(k) as u(k−1): bounded above only by the ADD's saturation
+                // at 32767, which on this scale is 100 %. MINO/MAXO limit
+                // the output written, not u(k−1).
+                let kept = if listing { u.max(0) } else { u };
+                let uc = if b[OL] { kept.clamp(lo_c, hi_c) } else { kept };
+                (u1, e2, e1) = (if listing { kept } else { uc }, e1, e);
+                (f64::from(uc) / per_pct, f64::from(u) / per_pct)
             };
             iv[PID_I_U1 as usize] = u1.into();
             iv[PID_I_E1 as usize] = e1.into();

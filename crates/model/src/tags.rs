@@ -80,10 +80,33 @@ pub fn parse_members(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, S
         if out.iter().any(|(n, _)| n == m.name) {
             return Err(format!("member {} is given twice", m.name));
         }
-        let v = Value::parse(value.trim(), m.ty).map_err(|e| format!("bad value for {}: {e}", m.name))?;
+        let v = match minutes(ty, m.name, value.trim()) {
+            Some(Ok(s)) => Value::Real(s as f32),
+            Some(Err(e)) => return Err(format!("bad value for {}: {e}", m.name)),
+            None => Value::parse(value.trim(), m.ty).map_err(|e| format!("bad value for {}: {e}", m.name))?,
+        };
         out.push((m.name.to_string(), v));
     }
     Ok(out)
+}
+
+/// A PID's `TI` or `TD` given in the SLC 500's units, `TI=0.1min` (minutes
+/// per repeat) or `TD=0.01 min` (minutes): the value in seconds, the unit
+/// the members hold (Logix's). `None` when the value has no `min` suffix or
+/// the member is not TI or TD.
+fn minutes(ty: DataType, member: &str, value: &str) -> Option<Result<f64, String>> {
+    if ty != DataType::Pid || !(member == "TI" || member == "TD") {
+        return None;
+    }
+    let n = value.len().checked_sub(3)?;
+    let (num, unit) = (value.get(..n)?, value.get(n..)?);
+    if !unit.eq_ignore_ascii_case("min") {
+        return None;
+    }
+    Some(match num.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v * 60.0),
+        _ => Err(format!("`{value}` is not a number of minutes")),
+    })
 }
 
 /// Why `name` cannot be a tag name, if it cannot.
@@ -575,6 +598,23 @@ mod tests {
         ];
         assert_eq!(got, expect);
         assert_eq!(t.len(), 2); // Good and B
+    }
+
+    /// TI and TD in the SLC 500's units (the `004_…` source's "Ti 0.1
+    /// min/rep") become seconds; other members and bad numbers do not.
+    #[test]
+    fn pid_times_may_be_given_in_minutes() {
+        let m = parse_members("KC=2;TI=0.1min;TD=0.01 MIN", DataType::Pid).expect("parses");
+        let get = |n: &str| m.iter().find(|(k, _)| k == n).map(|(_, v)| v.as_f64()).expect(n);
+        assert!((get("TI") - 6.0).abs() < 1e-6, "{}", get("TI"));
+        assert!((get("TD") - 0.6).abs() < 1e-6, "{}", get("TD"));
+        assert!((get("KC") - 2.0).abs() < 1e-6);
+        let m = parse_members("TI=6", DataType::Pid).expect("seconds");
+        assert!((m[0].1.as_f64() - 6.0).abs() < 1e-6);
+        for bad in ["TI=xmin", "KP=2min", "TD=min"] {
+            let e = parse_members(bad, DataType::Pid).expect_err(bad);
+            assert!(e.contains("bad value for"), "{bad}: {e}");
+        }
     }
 
     #[test]

@@ -158,14 +158,38 @@ pub mod pid_error {
     pub const SCALE: i32 = 0x23;
     /// Deadband below 0 or above MAXS-MINS.
     pub const DEADBAND: i32 = 0x41;
-    /// MINO above MAXO.
+    /// MAXO below 0 or above 100 %.
+    pub const UPPER_LIMIT: i32 = 0x51;
+    /// MINO below 0 or above 100 %, or above MAXO.
     pub const LIMITS: i32 = 0x52;
     /// A parameter is NaN or infinite (Alba's own code).
     pub const NAN: i32 = 0x70;
     /// DFN below 0 (Alba's own code).
     pub const FILTER: i32 = 0x71;
-    /// FORM not 0 to 4 (Alba's own code).
+    /// FORM not 0 to 4, 11 or 12 (Alba's own code).
     pub const FORM: i32 = 0x72;
+}
+
+/// The FORM bit that selects the `004_…` programs' own arithmetic for the
+/// 16-bit velocity forms (FORM 3, 4 + 8 = 11, 12): the module's 0-32767
+/// scale, only a negative u(k) corrected (to 0), u(k−1) not limited to
+/// MINO..MAXO (§3.3.1.1, Annex F).
+pub const PID_FORM_LISTING: i32 = 8;
+
+impl PidParams {
+    /// The algorithm without the listing bit: 0 to 4 when valid.
+    pub fn base_form(&self) -> f64 {
+        if self.form >= 9.0 {
+            self.form - f64::from(PID_FORM_LISTING)
+        } else {
+            self.form
+        }
+    }
+
+    /// Whether the listing bit is set (FORM 11, 12).
+    pub fn listing(&self) -> bool {
+        self.form >= 9.0
+    }
 }
 
 impl PidParams {
@@ -242,6 +266,27 @@ impl PidParams {
                 ),
             ));
         }
+        // The SLC's output limits are % of CV (`004_…` §3.3.2, codes 51H, 52H).
+        if !(0.0..=100.0).contains(&self.maxo) {
+            return Some((
+                E::UPPER_LIMIT,
+                "MAXO",
+                format!(
+                    "PID parameter MAXO = {}: the output's upper limit must be from 0 to 100 % (SLC error 51H)",
+                    self.maxo
+                ),
+            ));
+        }
+        if !(0.0..=100.0).contains(&self.mino) {
+            return Some((
+                E::LIMITS,
+                "MINO",
+                format!(
+                    "PID parameter MINO = {}: the output's lower limit must be from 0 to 100 % (SLC error 52H)",
+                    self.mino
+                ),
+            ));
+        }
         if self.mino > self.maxo {
             return Some((
                 E::LIMITS,
@@ -262,22 +307,23 @@ impl PidParams {
                 ),
             ));
         }
-        if self.form == 3.0 && self.upd < 10.0 {
+        if self.base_form() == 3.0 && self.upd < 10.0 {
             return Some((
                 E::FORM,
                 "UPD",
                 format!(
-                    "PID parameter UPD = {} with FORM 3: the 16-bit s-plane form counts T in hundredths of a second, so UPD must be 10 ms or more",
+                    "PID parameter UPD = {} with FORM 3 (or 11): the 16-bit s-plane form counts T in hundredths of a second, so UPD must be 10 ms or more",
                     self.upd
                 ),
             ));
         }
-        if !(0.0..=4.0).contains(&self.form) || self.form.fract() != 0.0 {
+        let valid = (0.0..=4.0).contains(&self.form) || (11.0..=12.0).contains(&self.form);
+        if !valid || self.form.fract() != 0.0 {
             return Some((
                 E::FORM,
                 "FORM",
                 format!(
-                    "PID parameter FORM = {}: the algorithm is 0 (positional), 1 or 2 (velocity, s- or z-plane) or 3 or 4 (the same with 16-bit SLC arithmetic)",
+                    "PID parameter FORM = {}: the algorithm is 0 (positional), 1 or 2 (velocity, s- or z-plane) or 3 or 4 (the same with 16-bit SLC arithmetic), or 11 or 12 (3 or 4 as the 004 programs PID_CONT and PID_DISC run them)",
                     self.form
                 ),
             ));

@@ -6,4 +6,5 @@ mod online_edit;
 mod pid;
 mod power_flow;
 mod properties;
+mod thesis;
 mod util;

@@ -324,6 +324,10 @@ fn bad_parameters_at_run_time_are_minor_faults_and_hold_the_output() {
         ("Loop.KP", f32::NAN, 0x70),
         ("Loop.KP", -1.0, 0x12),
         ("Loop.MINS", 5.0, 0x23),
+        ("Loop.MAXO", 150.0, 0x51),
+        ("Loop.MAXO", -1.0, 0x51),
+        ("Loop.MINO", -5.0, 0x52),
+        ("Loop.MINO", 101.0, 0x52),
     ] {
         let mut r = Rig::new("KP=1;UPD=100");
         r.real(m, v);
@@ -343,6 +347,14 @@ fn constant_bad_parameters_are_located_errors() {
         ("UPD=0", "UPD = 0"),
         ("MINS=10;MAXS=5", "MINS = 10 is more than MAXS = 5"),
         ("TI=-1", "TI = -1"),
+        (
+            "MAXO=200",
+            "MAXO = 200: the output's upper limit must be from 0 to 100 % (SLC error 51H)",
+        ),
+        (
+            "MINO=-1",
+            "MINO = -1: the output's lower limit must be from 0 to 100 % (SLC error 52H)",
+        ),
         ("KP=x", "bad value for KP"),
         ("EN=1", "status"),
         ("ZZ=1", "no member `ZZ`"),
@@ -390,4 +402,82 @@ fn velocity_forms_run_the_source_equations_sample_by_sample() {
             );
         }
     }
+}
+
+/// FORM 11 and 12: the source programs' own handling (`004_…` §3.3.1.1,
+/// Annex F): errors and u on the module's 0-32767 scale, a negative u(k)
+/// set to 0 (with or without OL), and u(k−1) the u(k) computed, not the
+/// output limited to MAXO. FORM 4 on the same samples keeps the limited
+/// output, so the two part at the first sample after the limit.
+#[test]
+fn listing_forms_keep_u_beyond_the_output_limit_and_reject_negatives() {
+    use alba_engine::pid::{LISTING_PER_PCT, SLC_PER_PCT, slc_velocity};
+    // e = 5, 5, 5, -1, 0, 0, -9: u climbs past MAXO = 30, falls, and goes negative.
+    let pvs = [0.0f32, 0.0, 0.0, 6.0, 5.0, 5.0, 14.0];
+    for (form, ol) in [(11, true), (12, true), (12, false), (4, true)] {
+        let mut r = Rig::new(&format!("KP=5;KI=0.8;UPD=640;MAXO=30;OL={};FORM={form}", u8::from(ol)));
+        r.real("Loop.SP", 5.0);
+        let listing = form > 8;
+        let per = if listing { LISTING_PER_PCT } else { SLC_PER_PCT };
+        let hi = (30.0 * per).round() as i16;
+        let (mut i1, mut i2, mut u1) = (0i16, 0i16, 0i16);
+        let mut parted = false;
+        for pv in pvs {
+            r.real("PVin", pv);
+            r.scan(640);
+            let ec = ((5.0 - f64::from(pv)) * per).round() as i16;
+            let u = slc_velocity(form == 11, 500, 80, 0, 64, ec, i1, i2, u1);
+            let kept = if listing { u.max(0) } else { u };
+            let out = if ol { kept.clamp(0, hi) } else { kept };
+            u1 = if listing { kept } else { out };
+            (i2, i1) = (i1, ec);
+            parted |= u1 != out;
+            let cv = r.f("Loop.CV");
+            let want = f64::from(out) / per;
+            assert!(
+                (cv - want).abs() < 1e-3,
+                "FORM {form} OL {ol}, PV {pv}: CV {cv} vs {want}"
+            );
+            assert!(cv >= 0.0 || !listing, "FORM {form}: CV {cv} negative");
+        }
+        // The case exercises what it is about: u(k−1) above the limit
+        // (listing with OL), or a negative u(k) set to 0 (listing without OL).
+        assert_eq!(parted, listing && ol, "FORM {form} OL {ol}");
+    }
+    // By hand, FORM 12 with OL (counts of 327.67 per %): k0 29 % (9502),
+    // k1 33 %, k2 37 % (12124, CV 30 %), k3 37 − 30 − 0.8 = 6.2 % (6.19 in counts), where
+    // FORM 4 has gone from its limit 30 % to 30 − 30.8 < 0, so 0.
+    let mut a = Rig::new("KP=5;KI=0.8;UPD=640;MAXO=30;FORM=12");
+    let mut b = Rig::new("KP=5;KI=0.8;UPD=640;MAXO=30;FORM=4");
+    for r in [&mut a, &mut b] {
+        r.real("Loop.SP", 5.0);
+        for pv in &pvs[..4] {
+            r.real("PVin", *pv);
+            r.scan(640);
+        }
+    }
+    assert!((a.f("Loop.CV") - 6.2).abs() < 0.02, "FORM 12: {}", a.f("Loop.CV"));
+    assert!(b.f("Loop.CV").abs() < 0.01, "FORM 4: {}", b.f("Loop.CV"));
+}
+
+#[test]
+fn listing_bit_is_only_for_the_16_bit_forms() {
+    for (init, want) in [
+        ("FORM=9", "FORM = 9"),
+        ("FORM=13", "FORM = 13"),
+        ("FORM=11;UPD=5", "UPD = 5"),
+    ] {
+        let tags = format!("name,type,address,initial\nPVin,REAL,,\nOut,REAL,,\nRun,BOOL,,1\nLoop,PID,,\"{init}\"\n");
+        let err = compile_text(&tags, LAD)
+            .err()
+            .unwrap_or_else(|| panic!("{init} accepted"));
+        assert!(err.contains("E121") && err.contains(want), "{init}: {err}");
+    }
+    assert!(
+        compile_text(
+            "name,type,address,initial\nPVin,REAL,,\nOut,REAL,,\nRun,BOOL,,1\nLoop,PID,,\"FORM=12\"\n",
+            LAD
+        )
+        .is_ok()
+    );
 }
