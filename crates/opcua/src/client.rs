@@ -658,17 +658,15 @@ async fn serve(
     closing: &mut tokio::sync::watch::Receiver<bool>,
 ) -> Result<(), (String, bool)> {
     // Wait for the session to open (or fail: a refused login, an untrusted certificate).
-    loop {
-        tokio::select! {
-            e = ev.recv() => match e {
-                Some(Event::Connected) => break,
-                Some(Event::Failed(code)) | Some(Event::Lost(code)) => {
-                    return Err((format!("session refused: {}", explain(code)), false));
-                }
-                None => return Err(("session ended".into(), false)),
-            },
-            _ = closing.changed() => return Ok(()),
-        }
+    tokio::select! {
+        e = ev.recv() => match e {
+            Some(Event::Connected) => {}
+            Some(Event::Failed(code)) | Some(Event::Lost(code)) => {
+                return Err((format!("session refused: {}", explain(code)), false));
+            }
+            None => return Err(("session ended".into(), false)),
+        },
+        _ = closing.changed() => return Ok(()),
     }
     let up = |m: String| (m, true);
     let mut problems: Vec<String> = Vec::new();
