@@ -904,3 +904,39 @@ pub async fn browse_server(server: &OpcuaServer, dir: &Path, node: &str) -> Resu
     driver.abort();
     r
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn remote_numbers_become_the_tags_type() {
+        assert_eq!(to_value(&Variant::Double(2.6), DataType::Dint), Some(Value::Dint(3)));
+        assert_eq!(
+            to_value(&Variant::Int64(1 << 40), DataType::Int),
+            Some(Value::Int(i16::MAX))
+        );
+        assert_eq!(to_value(&Variant::UInt16(7), DataType::Bool), Some(Value::Bool(true)));
+        assert_eq!(to_value(&Variant::Float(1.5), DataType::Lreal), Some(Value::Lreal(1.5)));
+        assert_eq!(to_value(&Variant::Double(f64::NAN), DataType::Real), None);
+        assert_eq!(to_value(&Variant::from("text"), DataType::Dint), None);
+    }
+
+    #[test]
+    fn tag_values_are_written_with_the_nodes_type() {
+        assert_eq!(
+            to_variant(Value::Dint(300), Some(&Variant::Byte(0))),
+            Variant::Byte(255)
+        );
+        assert_eq!(
+            to_variant(Value::Bool(true), Some(&Variant::Double(0.0))),
+            Variant::Double(1.0)
+        );
+        assert_eq!(
+            to_variant(Value::Real(2.5), Some(&Variant::Int32(0))),
+            Variant::Int32(3)
+        );
+        assert_eq!(to_variant(Value::Int(-4), None), Variant::Int16(-4));
+        assert_eq!(zero(DataType::Bool), Value::Bool(false));
+    }
+}

@@ -102,6 +102,27 @@ async fn binds_tags_to_albas_own_opcua_server_and_recovers_from_its_restart() {
     std::fs::write(client_dir.join("main.lad"), "ADD(ScansIn,0,Copy);\n").expect("program");
     let (caddr, cstop, ctask) = serve(&client_dir, options("sim")).await;
 
+    // Browse (the tag picker's source): the Tags folder lists the server's tags.
+    let text = std::fs::read_to_string(client_dir.join("alba.toml")).expect("toml");
+    let (mut config, diags) = alba_project::config::Config::parse(&text, alba_diag::FileId(0));
+    assert!(diags.is_empty(), "{diags:?}");
+    let server = config.take().expect("config").opcua_servers.remove(0);
+    let children = alba_opcua::client::browse_server(
+        &server,
+        &client_dir,
+        "nsu=urn:alba:modbus-plant;s=Alba/modbus-plant/Tags",
+    )
+    .await
+    .expect("browse");
+    let names: Vec<&str> = children.iter().map(|c| c.browse_name.as_str()).collect();
+    assert!(names.contains(&"Scans") && names.contains(&"Delay"), "{names:?}");
+    assert!(
+        children
+            .iter()
+            .any(|c| c.node.ends_with("s=Speed") && c.class == "Variable"),
+        "{children:?}"
+    );
+
     // Read through the subscription: the server's scan counter moves here.
     until(caddr, "S:IOOK", "true", |v| *v == Json::Bool(true)).await;
     let first = until(caddr, "ScansIn", "> 0", |v| v.as_i64().unwrap_or(0) > 0).await;
