@@ -6,7 +6,8 @@
 #   kill -9 of retentive data); end-to-end tests in a real browser (Chromium driven
 #   by playwright-core); the AVR toolchain building for every board; smoke runs
 #   of the simulator and of `alba bench`; the Modbus TCP server against pymodbus
-#   and libmodbus clients, the OPC UA server against asyncua, the Modbus master
+#   and libmodbus clients, the OPC UA server against asyncua, the OPC UA client
+#   ([[opcua_server]]) against asyncua's server, the Modbus master
 #   (--io modbus) against pymodbus slaves over TCP and RTU, the MQTT client (JSON and
 #   Sparkplug B) against Mosquitto with paho-mqtt and pysparkplug (tests/protocols/).
 set -euo pipefail

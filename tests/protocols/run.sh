@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Alba's protocol servers against clients written elsewhere (called by test.sh):
 # pymodbus and a libmodbus C client against `alba run --modbus`, asyncua against
-# `alba run --opcua` (and its security: tests/protocols/opcua_security.py); a pymodbus slave
+# `alba run --opcua` (and its security: tests/protocols/opcua_security.py); `alba run` as an
+# OPC UA client ([[opcua_server]]) against asyncua's server; a pymodbus slave
 # polled by `alba run --io modbus`; paho-mqtt, pysparkplug and Mosquitto with `alba run --mqtt` (JSON and Sparkplug B).
 # Installs what it needs: Debian's libmodbus-dev and mosquitto, and the PyPI packages of
 # requirements.txt in a virtual environment under target/.
@@ -36,6 +37,11 @@ cp -r tests/protocols/master "$OUT/master"
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"
 "$OUT/venv/bin/python" tests/protocols/opcua_security.py "$ALBA" "$OUT/plant"
+# Alba as an OPC UA client ([[opcua_server]]) against asyncua's server: a wrong password and
+# an untrusted server certificate refused, subscription and writes.
+rm -rf "$OUT/opcua_io"
+cp -r tests/protocols/opcua_io "$OUT/opcua_io"
+"$OUT/venv/bin/python" tests/protocols/opcua_client_io.py "$ALBA" "$OUT/opcua_io"
 # The MQTT client (--mqtt) against a Mosquitto broker and paho-mqtt (a fresh copy again).
 rm -rf "$OUT/plant"
 cp -r tests/protocols/plant "$OUT/plant"

@@ -111,6 +111,20 @@ pub async fn run(
     }
     let health = ro.health.clone();
     let io = alba_io::open(&opts.io, config, &program).map_err(|e| RunError::Other(e.to_string()))?;
+    // `[[opcua_server]]`: remote OPC UA variables bound to tags, beside the `--io` driver.
+    let io: Box<dyn alba_runtime::Io> = match config.map(|c| c.opcua_servers.as_slice()) {
+        Some(servers) if !servers.is_empty() => Box::new(
+            alba_opcua::client::OpcuaClientIo::start(
+                io,
+                servers,
+                &program.layout,
+                dir,
+                &tokio::runtime::Handle::current(),
+            )
+            .map_err(RunError::Other)?,
+        ),
+        _ => io,
+    };
     let hist_cfg = config.map(|c| c.history.clone()).unwrap_or_default();
     let historian = if hist_cfg.enabled {
         Some(history::open(dir, &hist_cfg, &health).map_err(RunError::Other)?)

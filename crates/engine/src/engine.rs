@@ -207,6 +207,12 @@ impl Engine {
         }
     }
 
+    /// The I/O link status last set by [`Engine::set_io_status`] (`S:IOOK`,
+    /// `S:IOERRORS`), for a driver that combines its own with another's.
+    pub fn io_status(&self) -> (bool, i32) {
+        (self.io_ok, self.io_errors)
+    }
+
     /// The I/O link status for `S:IOOK` and `S:IOERRORS` (an I/O driver
     /// calls this from `read_inputs`; visible at once and kept by scans).
     pub fn set_io_status(&mut self, ok: bool, errors: i32) {

@@ -16,6 +16,7 @@
 //! write nothing. The server's certificate is created in the PKI folder on
 //! first run.
 
+pub mod client;
 pub mod security;
 
 use alba_ir::{Access, Place, Target};

@@ -9,6 +9,7 @@ mod modbus;
 mod modbus_device;
 mod mqtt;
 mod opcua;
+mod opcua_server;
 mod plant;
 mod retention;
 mod runtime;
@@ -26,6 +27,10 @@ pub use modbus_device::{
 };
 pub use mqtt::{Mqtt, Sparkplug, is_host_port};
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
+pub use opcua_server::{
+    DEFAULT_CLIENT_PKI, DEFAULT_PUBLISHING_INTERVAL_MS, Direction, OpcuaBinding, OpcuaServer, SecurityMode,
+    SecurityPolicy, is_node_id,
+};
 pub use retention::{Alarms, Audit, Retention};
 pub use runtime::{OnRetainError, Runtime};
 pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
@@ -67,6 +72,9 @@ pub struct Config {
     /// `[[modbus_device]]`: remote Modbus slaves polled by `alba run --io
     /// modbus` (docs/protocols.md, "Modbus master I/O").
     pub modbus_devices: Vec<ModbusDevice>,
+    /// `[[opcua_server]]`: remote OPC UA servers bound to tags (`alba run`
+    /// connects to them; docs/protocols.md, "OPC UA client I/O").
+    pub opcua_servers: Vec<OpcuaServer>,
     /// `[http]`: the studio's listener (docs/security.md).
     pub http: Http,
     /// `[session]`: how long a login to the HTTP API lasts.
@@ -97,6 +105,8 @@ struct RawConfig {
     opcua: Option<opcua::RawOpcua>,
     #[serde(default)]
     modbus_device: Vec<Spanned<modbus_device::RawDevice>>,
+    #[serde(default)]
+    opcua_server: Vec<Spanned<opcua_server::RawServer>>,
     http: Option<http::RawHttp>,
     session: Option<session::RawSession>,
     mqtt: Option<mqtt::RawMqtt>,
@@ -189,6 +199,7 @@ impl Config {
         let modbus = raw.modbus.map(|m| modbus::modbus(m, file, &mut diags));
         let opcua = raw.opcua.map(|o| opcua::opcua(o, file, &mut diags));
         let modbus_devices = modbus_device::devices(raw.modbus_device, file, &mut diags);
+        let opcua_servers = opcua_server::servers(raw.opcua_server, file, &mut diags);
         let http = raw.http.map(|h| http::http(h, file, &mut diags)).unwrap_or_default();
         let session = raw
             .session
@@ -197,6 +208,7 @@ impl Config {
         let config = Config {
             mqtt,
             modbus_devices,
+            opcua_servers,
             session,
             models,
             name,

@@ -531,3 +531,65 @@ fn mqtt_and_alarms_tables() {
         assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
     }
 }
+
+#[test]
+fn opcua_servers_and_their_bindings() {
+    let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
+    let c = parse(&format!(
+        "{head}[[opcua_server]]\nname = \"plc\"\nendpoint = \"opc.tcp://10.0.0.9:4840/\"\nsecurity_policy = \"Basic256Sha256\"\nuser = \"op\"\npassword_file = \"secret.txt\"\nbind = [\n  {{ tag = \"Level\", node = \"ns=2;s=Tank.Level\", dir = \"in\" }},\n  {{ tag = \"Pump\", node = \"ns=3;i=1001\", dir = \"out\" }},\n]\n"
+    ))
+    .unwrap();
+    let s = &c.opcua_servers[0];
+    assert_eq!(
+        (
+            s.name.as_str(),
+            s.endpoint.as_str(),
+            s.policy,
+            s.mode,
+            s.user.clone(),
+            s.pki_dir.as_str(),
+            s.publishing_interval_ms
+        ),
+        (
+            "plc",
+            "opc.tcp://10.0.0.9:4840/",
+            SecurityPolicy::Basic256Sha256,
+            SecurityMode::SignAndEncrypt,
+            Some(("op".to_string(), "secret.txt".to_string())),
+            DEFAULT_CLIENT_PKI,
+            100
+        )
+    );
+    let b: Vec<_> = s
+        .bindings
+        .iter()
+        .map(|b| (b.tag.as_str(), b.node.as_str(), b.dir))
+        .collect();
+    assert_eq!(
+        b,
+        [
+            ("Level", "ns=2;s=Tank.Level", Direction::In),
+            ("Pump", "ns=3;i=1001", Direction::Out)
+        ]
+    );
+    let e = parse(&format!(
+        "{head}[[opcua_server]]\nname = \"a\"\nendpoint = \"http://x\"\nsecurity_policy = \"Basic128\"\nsecurity_mode = \"Sign\"\nuser = \"op\"\npublishing_interval_ms = 0\nbind = [\n  {{ tag = \"A\", node = \"ns=x;s=A\", dir = \"in\" }},\n  {{ tag = \"A\", node = \"ns=2;s=A\", dir = \"up\" }},\n  {{ tag = \"A\", node = \"ns=2;s=A\", dir = \"in\" }},\n  {{ tag = \"A\", node = \"ns=2;s=B\", dir = \"in\" }},\n]\n[[opcua_server]]\nname = \"a\"\nendpoint = \"opc.tcp://h:4840\"\nsecurity_mode = \"Sign\"\n"
+    ))
+    .unwrap_err();
+    assert_eq!(
+        e,
+        [
+            "alba.toml:5:12: error[E102]: endpoint = \"http://x\" is not an OPC UA address",
+            "alba.toml:6:19: error[E102]: security_policy = \"Basic128\" is not known",
+            "alba.toml:7:17: error[E102]: security_policy None does not go with security_mode Sign",
+            "alba.toml:8:8: error[E102]: `user` and `password_file` go together",
+            "alba.toml:9:26: error[E102]: publishing_interval_ms = 0 is out of range",
+            "alba.toml:11:23: error[E102]: `ns=x;s=A` is not a node id",
+            "alba.toml:12:41: error[E102]: dir = \"up\" is not a direction",
+            "alba.toml:14:11: error[E102]: tag `A` is already fed by server `a`",
+            "alba.toml:17:8: error[E102]: two OPC UA servers are named `a`",
+            "alba.toml:19:17: error[E102]: security_policy None does not go with security_mode Sign",
+        ]
+    );
+    assert!(is_node_id("i=85") && is_node_id("nsu=urn:x;s=A.B") && !is_node_id("ns=1") && !is_node_id("s="));
+}

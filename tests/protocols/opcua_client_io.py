@@ -1,0 +1,235 @@
+#!/usr/bin/env python3
+"""Alba as an OPC UA client ([[opcua_server]] of alba.toml) against a server
+written elsewhere: python asyncua's.
+
+Usage: opcua_client_io.py ALBA_BINARY PROJECT_DIR
+
+The server runs in this process with the nodes ns=2;s=Tank.Level (Double)
+and ns=2;s=Tank.Pump (Boolean), endpoints None and Basic256Sha256
+SignAndEncrypt, and one user (op / the right password). Checks:
+- a wrong password is refused: S:IOOK false and `alba run` says why
+  (wrong user name or password);
+- the right one: Level reaches the tag LevelIn through the subscription,
+  PumpOut written from Alba reaches the node;
+- with Basic256Sha256 SignAndEncrypt, the server's certificate is not
+  trusted: refused (S:IOOK false, the reason on stderr) and kept in
+  pki-client/rejected/; moved to trusted/, the client connects.
+"""
+
+import asyncio
+import json
+import os
+import re
+import shutil
+import socket
+import subprocess
+import sys
+import threading
+import time
+import urllib.request
+from pathlib import Path
+
+from asyncua import Server, ua
+from asyncua.crypto.cert_gen import setup_self_signed_certificate
+from asyncua.crypto.permission_rules import User, UserRole
+from cryptography.x509.oid import ExtendedKeyUsageOID
+
+failures = []
+GOOD = "correct horse battery staple"
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print(f"  FAIL: {what}", flush=True)
+
+
+def until(what, f, timeout=20.0):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        try:
+            if f():
+                return True
+        except Exception:
+            pass
+        time.sleep(0.05)
+    check(False, f"timed out waiting for {what}")
+    return False
+
+
+class Users:
+    def get_user(self, iserver, username=None, password=None, certificate=None):
+        if username == "op" and password == GOOD:
+            return User(role=UserRole.User)
+        return None
+
+
+class TankServer:
+    """An asyncua server on its own event loop thread."""
+
+    def __init__(self, port, pki):
+        self.port = port
+        self.pki = pki
+        self.loop = asyncio.new_event_loop()
+        threading.Thread(target=self.loop.run_forever, daemon=True).start()
+        self._run(self._start())
+
+    def _run(self, coro, timeout=30):
+        return asyncio.run_coroutine_threadsafe(coro, self.loop).result(timeout)
+
+    async def _start(self):
+        cert, key = self.pki / "server.der", self.pki / "server.pem"
+        uri = "urn:alba-test:asyncua-tank"
+        await setup_self_signed_certificate(key, cert, uri, "localhost",
+                                            [ExtendedKeyUsageOID.SERVER_AUTH, ExtendedKeyUsageOID.CLIENT_AUTH],
+                                            {"commonName": "asyncua tank"})
+        self.server = Server(user_manager=Users())
+        await self.server.init()
+        self.server.set_endpoint(f"opc.tcp://127.0.0.1:{self.port}/")
+        await self.server.set_application_uri(uri)
+        self.server.set_security_policy([ua.SecurityPolicyType.NoSecurity,
+                                         ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt])
+        self.server.set_identity_tokens([ua.UserNameIdentityToken])
+        await self.server.load_certificate(str(cert))
+        await self.server.load_private_key(str(key))
+        ns = await self.server.register_namespace("urn:tank")
+        assert ns == 2, ns
+        tank = await self.server.nodes.objects.add_object(ua.NodeId("Tank", ns), "Tank")
+        self.level = await tank.add_variable(ua.NodeId("Tank.Level", ns), "Level", 3.25)
+        self.pump = await tank.add_variable(ua.NodeId("Tank.Pump", ns), "Pump", False)
+        await self.pump.set_writable()
+        await self.server.start()
+
+    def set_level(self, v):
+        self._run(self.level.write_value(v))
+
+    def pump_value(self):
+        return self._run(self.pump.read_value())
+
+    def stop(self):
+        self._run(self.server.stop())
+
+
+class Alba:
+    def __init__(self, binary, project):
+        self.proc = subprocess.Popen(
+            [binary, "run", project, "--http", "127.0.0.1:0", "--io", "sim", "--no-native"],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.http = None
+        self.log = []
+        deadline = time.time() + 60
+        while time.time() < deadline and not self.http:
+            line = self.proc.stdout.readline()
+            if not line:
+                raise SystemExit(f"alba run ended: exit {self.proc.wait()}: {''.join(self.log)}")
+            self.log.append(line)
+            m = re.search(r"http://([\d.]+:\d+)/", line)
+            if m:
+                self.http = "http://" + m.group(1)
+        threading.Thread(target=self._drain, daemon=True).start()
+
+    def _drain(self):
+        for line in self.proc.stdout:
+            self.log.append(line)
+
+    def api(self, method, path, body=None):
+        data = None if body is None else json.dumps(body).encode()
+        req = urllib.request.Request(self.http + path, data=data, method=method,
+                                     headers={"Content-Type": "application/json"})
+        with urllib.request.urlopen(req, timeout=10) as r:
+            return json.loads(r.read() or b"null")
+
+    def tag(self, name):
+        return self.api("GET", f"/api/tags/{name}")["value"]
+
+    def said(self, text):
+        return any(text in l for l in self.log)
+
+    def stop(self):
+        self.proc.terminate()
+        try:
+            self.proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
+def free_port():
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def configure(project, port, password, secure):
+    toml = Path(project) / "alba.toml"
+    text = toml.read_text()
+    text = re.sub(r'endpoint = "[^"]*"', f'endpoint = "opc.tcp://localhost:{port}/"', text)
+    text = re.sub(r'\nsecurity_policy = "[^"]*"\nsecurity_mode = "[^"]*"', "", text)
+    if secure:
+        text = text.replace('user = "op"', 'security_policy = "Basic256Sha256"\nsecurity_mode = "SignAndEncrypt"\nuser = "op"')
+    toml.write_text(text)
+    (Path(project) / "password.txt").write_text(password + "\n")
+
+
+def main():
+    binary, project = sys.argv[1], sys.argv[2]
+    port = free_port()
+    pki = Path(project) / "server-pki"
+    pki.mkdir(exist_ok=True)
+    server = TankServer(port, pki)
+    try:
+        print("opcua client io: a wrong password is refused", flush=True)
+        configure(project, port, "wrong", secure=False)
+        alba = Alba(binary, project)
+        try:
+            until("a refusal on stderr", lambda: alba.said("wrong user name or password"))
+            check(alba.tag("S:IOOK") is False, "S:IOOK false with a wrong password")
+        finally:
+            alba.stop()
+        check(not any(GOOD in l or "wrong\n" == l for l in alba.log), "the password is never echoed")
+
+        print("opcua client io: subscription and writes (None, right password)", flush=True)
+        configure(project, port, GOOD, secure=False)
+        alba = Alba(binary, project)
+        try:
+            until("S:IOOK", lambda: alba.tag("S:IOOK") is True)
+            until("LevelIn 3.25", lambda: alba.tag("LevelIn") == 3.25)
+            server.set_level(7.5)
+            until("LevelIn 7.5", lambda: alba.tag("LevelIn") == 7.5)
+            alba.api("PUT", "/api/tags/PumpOut", {"value": True})
+            until("Pump true on the server", lambda: server.pump_value() is True)
+            alba.api("PUT", "/api/tags/PumpOut", {"value": False})
+            until("Pump false on the server", lambda: server.pump_value() is False)
+        finally:
+            alba.stop()
+
+        print("opcua client io: an untrusted server certificate is refused (Basic256Sha256)", flush=True)
+        configure(project, port, GOOD, secure=True)
+        alba = Alba(binary, project)
+        rejected = Path(project) / ".alba" / "pki-client" / "rejected"
+        try:
+            until("the certificate in rejected/", lambda: any(rejected.glob("*.der")))
+            until("a refusal on stderr", lambda: alba.said("OPC UA client tank") and not alba.tag("S:IOOK"))
+            check(alba.tag("S:IOOK") is False, "S:IOOK false with an untrusted server")
+            check(not alba.said("connected to"), "no connection to an untrusted server")
+            print("opcua client io: trusted, it connects", flush=True)
+            trusted = Path(project) / ".alba" / "pki-client" / "trusted"
+            trusted.mkdir(parents=True, exist_ok=True)
+            for f in rejected.glob("*.der"):
+                shutil.move(str(f), str(trusted / f.name))
+            until("S:IOOK (secure)", lambda: alba.tag("S:IOOK") is True, timeout=40)
+            server.set_level(1.5)
+            until("LevelIn 1.5 (secure)", lambda: alba.tag("LevelIn") == 1.5)
+        finally:
+            alba.stop()
+    finally:
+        server.stop()
+    if failures:
+        print("".join(alba.log[-40:]))
+        raise SystemExit(f"{len(failures)} failure(s)")
+    print("opcua client io: ok", flush=True)
+
+
+if __name__ == "__main__":
+    main()
