@@ -8,6 +8,7 @@ mod bench_realtime;
 mod demo;
 mod export;
 mod firmware;
+mod historian;
 mod new;
 mod run;
 mod tune;
@@ -264,6 +265,9 @@ enum Command {
     /// Manage the project's users and roles (users.toml).
     #[command(subcommand)]
     User(user::UserCmd),
+    /// The shared PostgreSQL historian: `migrate` creates its schema.
+    #[command(subcommand)]
+    Historian(historian::HistorianCmd),
 }
 
 #[derive(Subcommand)]
@@ -456,6 +460,7 @@ fn main() -> ExitCode {
         Command::Demo { dir, http } => demo::run(&dir, http, true),
         Command::HashPassword => hash_password(),
         Command::User(cmd) => user::run(cmd),
+        Command::Historian(cmd) => historian::run(cmd),
         Command::Firmware {
             project,
             board,

@@ -437,11 +437,19 @@ impl PgHistorian {
             // The SQLite backend's bucket grid, computed from the raw samples here.
             let plan = query::plan(from, to, points);
             let rows = c.query(
-                "SELECT (t - $3) / $4 AS b, min(v), max(v),
-                        (array_agg(v ORDER BY t ASC))[1], (array_agg(v ORDER BY t DESC))[1], count(*)
-                 FROM alba_samples
-                 WHERE node = $1 AND tag = $2 AND t >= $5 AND t <= $6
-                 GROUP BY b ORDER BY b",
+                // One pass for min/max/count and the first and last times, then one
+                // index probe each for the first and last values (no sort per bucket).
+                "WITH g AS (
+                     SELECT (t - $3) / $4 AS b, min(v) AS lo, max(v) AS hi,
+                            min(t) AS t0, max(t) AS t1, count(*) AS n
+                     FROM alba_samples
+                     WHERE node = $1 AND tag = $2 AND t >= $5 AND t <= $6
+                     GROUP BY 1)
+                 SELECT g.b, g.lo, g.hi, f.v, l.v, g.n
+                 FROM g
+                 JOIN alba_samples f ON f.node = $1 AND f.tag = $2 AND f.t = g.t0
+                 JOIN alba_samples l ON l.node = $1 AND l.tag = $2 AND l.t = g.t1
+                 ORDER BY g.b",
                 &[&node, &tag, &plan.origin, &plan.width, &from, &to],
             )?;
             let mut out = Vec::with_capacity(rows.len());

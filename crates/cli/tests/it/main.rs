@@ -8,6 +8,7 @@ mod download;
 mod examples;
 mod export;
 mod firmware;
+mod historian;
 mod listen;
 mod malformed;
 mod modbus_listen;
