@@ -43,7 +43,7 @@ fn historian_migrate_creates_the_schema_once_and_refuses_precisely() {
     std::fs::write(dir.join("bad-pw"), wrong).expect("password file");
     std::fs::write(
         dir.join("alba.toml"),
-        format!("name = \"x\"\nprograms = []\n[history]\nbackend = \"postgres\"\nurl = \"{url}\"\npassword_file = \"bad-pw\"\n"),
+        format!("name = \"x\"\nprograms = [\"main.lad\"]\n[history]\nbackend = \"postgres\"\nurl = \"{url}\"\npassword_file = \"bad-pw\"\n"),
     )
     .expect("alba.toml");
     let out = alba(&dir, &["historian", "migrate", &arg]);
@@ -52,7 +52,7 @@ fn historian_migrate_creates_the_schema_once_and_refuses_precisely() {
     assert!(stderr.contains("password authentication failed"), "{stderr}");
     assert!(!stderr.contains(wrong) && !stderr.contains(PASSWORD), "{stderr}");
     // The embedded historian needs no migration.
-    std::fs::write(dir.join("alba.toml"), "name = \"x\"\nprograms = []\n").expect("alba.toml");
+    std::fs::write(dir.join("alba.toml"), "name = \"x\"\nprograms = [\"main.lad\"]\n").expect("alba.toml");
     let out = alba(&dir, &["historian", "migrate", &arg]);
     assert!(!out.status.success());
     assert!(
