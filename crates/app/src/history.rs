@@ -253,13 +253,17 @@ pub fn record_pg(
                     if s.buffered == 0 && s.last_error.is_none() {
                         health.clear("history");
                     } else {
+                        // No counts in the message: a changed message is logged again.
+                        let dropping = if s.dropped > 0 {
+                            "; the buffer is full, oldest dropped"
+                        } else {
+                            ""
+                        };
                         health.report(
                             "history",
                             format!(
-                                "shared historian unreachable ({}): {} samples buffered, {} dropped",
+                                "shared historian unreachable ({}): buffering in .alba/history-buffer.db{dropping}",
                                 s.last_error.unwrap_or_default(),
-                                s.buffered,
-                                s.dropped
                             ),
                         );
                     }
