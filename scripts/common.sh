@@ -50,6 +50,13 @@ apt_install() {
     exit 1
 }
 
+# PostgreSQL server binaries (initdb, pg_ctl under /usr/lib/postgresql/*/bin): the
+# shared historian's tests (crates/historian/tests/postgres.rs, alba-testkit's pg
+# module) start a server of their own in a temporary directory.
+need_postgres() {
+    ls /usr/lib/postgresql/*/bin/pg_ctl >/dev/null 2>&1 || apt_install postgresql
+}
+
 # Node.js and npm build the browser studio (web/).
 need_node() {
     if ! command -v npm >/dev/null 2>&1; then

@@ -14,7 +14,7 @@
 //! scan is more than SQLite takes), it skips snapshots instead of queueing
 //! them, and the engine never waits for it.
 
-use alba_historian::{ChangeFilter, Filter, Historian, Recorder};
+use alba_historian::{ChangeFilter, Filter, Historian, PgConfig, PgHistorian, Recorder, Sample};
 use alba_model::DataType;
 use alba_project::config::OnDamage;
 use alba_runtime::Snapshot;
@@ -189,4 +189,122 @@ fn check_space(h: &Historian, dir: &std::path::Path, floor: u64, max_bytes: u64,
             false
         }
     }
+}
+
+/// The settings of `[history] backend = "postgres"` for the project in `dir` (named
+/// `name`): the node id defaults to the project's name, the password file is relative to
+/// the project folder, the buffer is `.alba/history-buffer.db`.
+pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::History) -> Result<PgConfig, String> {
+    let url = cfg.url.clone().ok_or("[history] backend = \"postgres\" has no url")?;
+    let node = cfg.node.clone().unwrap_or_else(|| name.to_owned());
+    let alba = dir.join(".alba");
+    std::fs::create_dir_all(&alba).map_err(|e| format!("cannot create {}: {e}", alba.display()))?;
+    let mut pg = PgConfig::new(url, node, alba.join("history-buffer.db"));
+    pg.buffer_max_samples = u64::from(cfg.buffer_max_samples);
+    if let Some(file) = &cfg.password_file {
+        pg.password = Some(PgConfig::password_from_file(&dir.join(file)).map_err(|e| e.to_string())?);
+    }
+    pg.connection().map_err(|e| e.to_string())?;
+    Ok(pg)
+}
+
+/// Records every snapshot into the shared PostgreSQL historian (docs/historian.md): the
+/// same on-change/periodic filter as the SQLite recorder, one batch every `FLUSH_MS`; an
+/// unreachable database is the problem `history` (samples buffered and dropped counted)
+/// until the buffer is back-filled.
+pub fn record_pg(
+    pg: PgConfig,
+    cfg: alba_project::config::History,
+    mut rx: watch::Receiver<Arc<Snapshot>>,
+    health: Arc<Health>,
+    rt: tokio::runtime::Handle,
+) -> std::thread::JoinHandle<()> {
+    std::thread::spawn(move || {
+        // The PostgreSQL client blocks: it is opened and used on this thread only.
+        let h = match PgHistorian::open(pg) {
+            Ok(h) => h,
+            Err(e) => return health.report("history", format!("history not recorded: {e}")),
+        };
+        let every = Filter {
+            deadband: 0.0,
+            period_ms: u64::from(cfg.sample_ms),
+        };
+        let mut filter = ChangeFilter::new(every);
+        let mut program = None;
+        let mut places = Vec::new();
+        let mut pending: Vec<(String, i64, f64)> = Vec::new();
+        let mut sent_at: Option<i64> = None;
+        let mut last_t = i64::MIN;
+        let send = |pending: &mut Vec<(String, i64, f64)>| {
+            let batch: Vec<Sample<'_>> = pending
+                .iter()
+                .map(|(tag, t_ms, v)| Sample {
+                    tag,
+                    t_ms: *t_ms,
+                    v: *v,
+                })
+                .collect();
+            let result = h.record_batch(&batch);
+            pending.clear();
+            match result {
+                Err(e) => health.report("history", format!("history not recorded: {e}")),
+                Ok(_) => {
+                    let s = h.health();
+                    if s.buffered == 0 && s.last_error.is_none() {
+                        health.clear("history");
+                    } else {
+                        // No counts in the message: a changed message is logged again.
+                        let dropping = if s.dropped > 0 {
+                            "; the buffer is full, oldest dropped"
+                        } else {
+                            ""
+                        };
+                        health.report(
+                            "history",
+                            format!(
+                                "shared historian unreachable ({}): buffering in .alba/history-buffer.db{dropping}",
+                                s.last_error.unwrap_or_default(),
+                            ),
+                        );
+                    }
+                }
+            }
+        };
+        while rt.block_on(rx.changed()).is_ok() {
+            let s = rx.borrow_and_update().clone();
+            if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &s.program)) {
+                places = tags::every_value(&s.program.layout);
+                for (name, place) in &places {
+                    if matches!(place.data_type(), DataType::Real | DataType::Lreal) {
+                        filter.set_filter(
+                            name,
+                            Filter {
+                                deadband: cfg.deadband,
+                                ..every
+                            },
+                        );
+                    }
+                }
+                program = Some(s.program.clone());
+            }
+            if s.unix_ms == last_t {
+                continue;
+            }
+            last_t = s.unix_ms;
+            for (name, place) in &places {
+                let v = s.read(*place).as_f64();
+                if filter.admit(name, s.unix_ms, v) {
+                    pending.push((name.clone(), s.unix_ms, v));
+                }
+            }
+            if sent_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= FLUSH_MS as i64) {
+                sent_at = Some(s.unix_ms);
+                send(&mut pending);
+            }
+        }
+        send(&mut pending);
+        if let Err(e) = h.backfill() {
+            health.report("history", format!("history not back-filled: {e}"));
+        }
+    })
 }

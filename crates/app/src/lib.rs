@@ -126,7 +126,14 @@ pub async fn run(
         _ => io,
     };
     let hist_cfg = config.map(|c| c.history.clone()).unwrap_or_default();
-    let historian = if hist_cfg.enabled {
+    let use_pg = hist_cfg.enabled && hist_cfg.backend == alba_project::config::HistoryBackend::Postgres;
+    let pg = if use_pg {
+        let name = config.map(|c| c.name.as_str()).unwrap_or_default();
+        Some(history::pg_config(dir, name, &hist_cfg).map_err(RunError::Other)?)
+    } else {
+        None
+    };
+    let historian = if hist_cfg.enabled && !use_pg {
         Some(history::open(dir, &hist_cfg, &health).map_err(RunError::Other)?)
     } else {
         None
@@ -136,15 +143,25 @@ pub async fn run(
     let runtime =
         alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
-    let recorder = historian.clone().map(|h| {
-        history::record(
-            h,
+    let recorder = if let Some(pg) = pg {
+        Some(history::record_pg(
+            pg,
             hist_cfg,
             runtime.handle().subscribe(),
             health.clone(),
             tokio::runtime::Handle::current(),
-        )
-    });
+        ))
+    } else {
+        historian.clone().map(|h| {
+            history::record(
+                h,
+                hist_cfg,
+                runtime.handle().subscribe(),
+                health.clone(),
+                tokio::runtime::Handle::current(),
+            )
+        })
+    };
     let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, Some(audit), auth);
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await

@@ -8,6 +8,7 @@ mod bench_realtime;
 mod demo;
 mod export;
 mod firmware;
+mod historian;
 mod import;
 mod new;
 mod run;
@@ -284,6 +285,9 @@ enum Command {
     /// Manage the project's users and roles (users.toml).
     #[command(subcommand)]
     User(user::UserCmd),
+    /// The shared PostgreSQL historian: `migrate` creates its schema.
+    #[command(subcommand)]
+    Historian(historian::HistorianCmd),
 }
 
 #[derive(Subcommand)]
@@ -494,6 +498,7 @@ fn main() -> ExitCode {
         Command::Demo { dir, http } => demo::run(&dir, http, true),
         Command::HashPassword => hash_password(),
         Command::User(cmd) => user::run(cmd),
+        Command::Historian(cmd) => historian::run(cmd),
         Command::Firmware {
             project,
             board,

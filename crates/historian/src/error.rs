@@ -33,6 +33,10 @@ pub enum Error {
     /// An SQLite error while reading or writing an open database.
     #[error("history database error: {0}")]
     Sqlite(#[from] rusqlite::Error),
+    /// A PostgreSQL error (connection refused or lost, a statement refused, …). Never
+    /// holds the connection's password.
+    #[error("postgres historian: {}", pg_message(.0))]
+    Postgres(#[from] postgres::Error),
     /// Writing an export failed.
     #[error("export write error: {0}")]
     Io(#[from] std::io::Error),
@@ -56,6 +60,22 @@ impl Error {
     pub fn is_disk_full(&self) -> bool {
         matches!(self, Error::Sqlite(e) if e.sqlite_error_code() == Some(rusqlite::ErrorCode::DiskFull))
     }
+}
+
+/// What PostgreSQL said: the server's message and SQLSTATE, or the client's error and its
+/// causes (a refused or lost connection, a timeout, …).
+pub(crate) fn pg_message(e: &postgres::Error) -> String {
+    if let Some(db) = e.as_db_error() {
+        return format!("{}: {} (SQLSTATE {})", db.severity(), db.message(), db.code().code());
+    }
+    let mut out = e.to_string();
+    let mut source = std::error::Error::source(e);
+    while let Some(s) = source {
+        out.push_str(": ");
+        out.push_str(&s.to_string());
+        source = s.source();
+    }
+    out
 }
 
 /// The result type of the historian.

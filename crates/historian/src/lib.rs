@@ -18,8 +18,10 @@
 //! values `f64` (BOOL as 0/1; integers are exact up to 2^53). See `docs/historian.md`.
 
 mod agg;
+mod backend;
 mod error;
 mod filter;
+mod pg;
 mod query;
 mod schema;
 mod write;
@@ -30,8 +32,10 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use rusqlite::Connection;
 
+pub use backend::Backend;
 pub use error::{Error, Result};
 pub use filter::{ChangeFilter, Filter, MAX_BUFFERED, Recorder};
+pub use pg::{MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
 
 use write::Writer;
 

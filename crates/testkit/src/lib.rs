@@ -110,3 +110,5 @@ pub fn every_case_passes(dir: &Path, child_test: &str) {
         failures.join("\n")
     );
 }
+
+pub mod pg;

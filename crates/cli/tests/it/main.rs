@@ -8,6 +8,7 @@ mod download;
 mod examples;
 mod export;
 mod firmware;
+mod historian;
 mod import;
 mod listen;
 mod malformed;

@@ -24,7 +24,37 @@ pub struct History {
     pub min_free_mb: u32,
     /// What to do with a damaged or foreign history database at start.
     pub on_damage: OnDamage,
+    /// Where the samples go: the embedded SQLite file (default) or a shared
+    /// PostgreSQL database.
+    pub backend: HistoryBackend,
+    /// PostgreSQL: `postgres://user@host:port/db` (or `host=… user=…`),
+    /// without the password.
+    pub url: Option<String>,
+    /// PostgreSQL: a file holding the password (never in alba.toml, never
+    /// echoed).
+    pub password_file: Option<String>,
+    /// PostgreSQL: this runtime's node id in the shared tables; default the
+    /// project's name.
+    pub node: Option<String>,
+    /// PostgreSQL: the local buffer (`.alba/history-buffer.db`) holds at most
+    /// this many samples while the database is unreachable; beyond it the
+    /// oldest are dropped and counted.
+    pub buffer_max_samples: u32,
 }
+
+/// Where `alba run` records (`[history] backend`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum HistoryBackend {
+    /// `.alba/history.db` in the project.
+    #[default]
+    Sqlite,
+    /// A shared PostgreSQL (TimescaleDB when installed) database.
+    Postgres,
+}
+
+/// The default `[history] buffer_max_samples`.
+pub const DEFAULT_BUFFER_MAX_SAMPLES: u32 = 10_000_000;
 
 /// What `alba run` does with a history database it cannot use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
@@ -47,6 +77,11 @@ impl Default for History {
             max_mb: 2048,
             min_free_mb: 256,
             on_damage: OnDamage::Fresh,
+            backend: HistoryBackend::Sqlite,
+            url: None,
+            password_file: None,
+            node: None,
+            buffer_max_samples: DEFAULT_BUFFER_MAX_SAMPLES,
         }
     }
 }
@@ -61,6 +96,11 @@ pub(super) struct RawHistory {
     max_mb: Option<Spanned<i64>>,
     min_free_mb: Option<Spanned<i64>>,
     on_damage: Option<OnDamage>,
+    backend: Option<Spanned<HistoryBackend>>,
+    url: Option<Spanned<String>>,
+    password_file: Option<String>,
+    node: Option<Spanned<String>>,
+    buffer_max_samples: Option<Spanned<i64>>,
 }
 
 /// Validates `[history]`: the defaults, with what the table sets.
@@ -89,6 +129,49 @@ pub(super) fn history(h: RawHistory, file: FileId, diags: &mut Vec<Diagnostic>) 
     history.max_mb = int("max_mb", h.max_mb, 0..=16_777_216, history.max_mb, "MB");
     history.min_free_mb = int("min_free_mb", h.min_free_mb, 0..=16_777_216, history.min_free_mb, "MB");
     history.on_damage = h.on_damage.unwrap_or_default();
+    history.buffer_max_samples = int(
+        "buffer_max_samples",
+        h.buffer_max_samples,
+        1..=u32::MAX,
+        history.buffer_max_samples,
+        "samples",
+    );
+    history.password_file = h.password_file;
+    if let Some(node) = h.node {
+        if node.get_ref().trim().is_empty() {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                "node is empty",
+                sp(node.span()),
+                "expected this runtime's id in the shared historian",
+            ));
+        } else {
+            history.node = Some(node.into_inner());
+        }
+    }
+    if let Some(url) = h.url {
+        // The message never quotes the URL: it may hold a password.
+        if url_has_password(url.get_ref()) {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                "url holds a password",
+                sp(url.span()),
+                "put the password in the file `password_file` names, not in alba.toml",
+            ));
+        }
+        history.url = Some(url.into_inner());
+    }
+    if let Some(b) = h.backend {
+        history.backend = *b.get_ref();
+        if history.backend == HistoryBackend::Postgres && history.url.is_none() {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                "backend = \"postgres\" needs a url",
+                sp(b.span()),
+                "add url = \"postgres://user@host:5432/db\" to [history]",
+            ));
+        }
+    }
     if let Some(d) = h.deadband {
         if d.get_ref().is_finite() && *d.get_ref() >= 0.0 {
             history.deadband = *d.get_ref();
@@ -102,4 +185,17 @@ pub(super) fn history(h: RawHistory, file: FileId, diags: &mut Vec<Diagnostic>) 
         }
     }
     history
+}
+
+/// A `postgres://user:password@…` URL or a `password=…` key.
+fn url_has_password(url: &str) -> bool {
+    if url.contains("password=") {
+        return true;
+    }
+    let rest = url
+        .strip_prefix("postgres://")
+        .or_else(|| url.strip_prefix("postgresql://"));
+    rest.and_then(|r| r.split('/').next())
+        .and_then(|authority| authority.rsplit_once('@'))
+        .is_some_and(|(user, _)| user.contains(':'))
 }

@@ -19,7 +19,7 @@ mod setting;
 mod tests;
 
 pub use board::Board;
-pub use history::{History, OnDamage};
+pub use history::{DEFAULT_BUFFER_MAX_SAMPLES, History, HistoryBackend, OnDamage};
 pub use http::{Http, parse_origin, split_authority};
 pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{

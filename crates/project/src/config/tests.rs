@@ -50,7 +50,30 @@ fn retain_and_history_settings() {
             max_mb: 0,
             min_free_mb: 10,
             on_damage: super::OnDamage::Refuse,
+            ..History::default()
         }
+    );
+    let c = parse(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nbackend = \"postgres\"\n\
+         url = \"postgres://alba@db.plant:5432/history\"\npassword_file = \"/run/secrets/pg\"\n\
+         node = \"line-2\"\nbuffer_max_samples = 1000\n",
+    )
+    .unwrap();
+    assert_eq!(c.history.backend, super::HistoryBackend::Postgres);
+    assert_eq!(c.history.url.as_deref(), Some("postgres://alba@db.plant:5432/history"));
+    assert_eq!(c.history.password_file.as_deref(), Some("/run/secrets/pg"));
+    assert_eq!(c.history.node.as_deref(), Some("line-2"));
+    assert_eq!(c.history.buffer_max_samples, 1000);
+    let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nbackend = \"postgres\"\n").unwrap_err();
+    assert!(e[0].contains("backend = \"postgres\" needs a url"), "{e:?}");
+    let e = parse(
+        "name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nbackend = \"postgres\"\n\
+         url = \"postgres://alba:hunter2@db:5432/h\"\n",
+    )
+    .unwrap_err();
+    assert!(
+        e[0].contains("url holds a password") && !e[0].contains("hunter2"),
+        "{e:?}"
     );
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[runtime]\non_retain_error = \"ignore\"\n").unwrap_err();
     assert!(

@@ -1,0 +1,653 @@
+//! The shared historian on PostgreSQL: several runtimes write into the same table, each
+//! under its own node id, through batched multi-row inserts; while the database is
+//! unreachable the samples go to a bounded local SQLite buffer and are back-filled in
+//! order on recovery. The downsampled query gives the same buckets as the SQLite
+//! backend's. See `docs/historian.md`.
+
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
+
+use postgres::{Client, NoTls};
+use rusqlite::{Connection, params};
+
+use crate::backend::Backend;
+use crate::error::{Error, Result, pg_message};
+use crate::{Bucket, MAX_POINTS, Point, Sample, TagRange, check_time, clamp_range, query};
+
+/// The samples one INSERT (and one back-fill step) carries at most.
+const BATCH: usize = 10_000;
+/// The default bound of the local buffer: 10 M samples (about 400 MB of SQLite).
+pub const DEFAULT_BUFFER_SAMPLES: u64 = 10_000_000;
+
+/// Settings of a PostgreSQL historian.
+#[derive(Clone)]
+pub struct PgConfig {
+    /// Where and as whom to connect: a `postgres://user@host:port/db` URL or a
+    /// `host=… user=… dbname=…` string. Better without the password (see `password`).
+    pub url: String,
+    /// The password (read from a secret file by [`PgConfig::password_from_file`]); never
+    /// printed.
+    pub password: Option<String>,
+    /// This runtime's node id: its rows carry it, and its queries read only its rows.
+    pub node: String,
+    /// The local buffer (an SQLite file, created if missing) for samples that could not
+    /// be sent.
+    pub buffer_path: PathBuf,
+    /// The most samples the buffer holds; beyond it the oldest are dropped and counted.
+    pub buffer_max_samples: u64,
+    /// How long a connection attempt may take.
+    pub connect_timeout: Duration,
+    /// How long to wait after a failed attempt before trying the database again (writes
+    /// meanwhile go straight to the buffer).
+    pub retry_interval: Duration,
+}
+
+impl std::fmt::Debug for PgConfig {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PgConfig")
+            .field("node", &self.node)
+            .field("buffer_path", &self.buffer_path)
+            .field("buffer_max_samples", &self.buffer_max_samples)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PgConfig {
+    /// Settings with the defaults: a buffer of [`DEFAULT_BUFFER_SAMPLES`], 5 s to connect,
+    /// 2 s between attempts.
+    pub fn new(url: impl Into<String>, node: impl Into<String>, buffer_path: impl Into<PathBuf>) -> PgConfig {
+        PgConfig {
+            url: url.into(),
+            password: None,
+            node: node.into(),
+            buffer_path: buffer_path.into(),
+            buffer_max_samples: DEFAULT_BUFFER_SAMPLES,
+            connect_timeout: Duration::from_secs(5),
+            retry_interval: Duration::from_secs(2),
+        }
+    }
+
+    /// Reads the password from a secret file (its first line; the file's content is never
+    /// put into an error).
+    pub fn password_from_file(path: &Path) -> Result<String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::InvalidArgument(format!("{}: cannot read the password file: {e}", path.display())))?;
+        let line = text.lines().next().unwrap_or("").trim_end_matches('\r');
+        if line.is_empty() {
+            return Err(Error::InvalidArgument(format!(
+                "{}: the password file is empty",
+                path.display()
+            )));
+        }
+        Ok(line.to_owned())
+    }
+
+    /// The connection settings, with the password and timeout applied.
+    pub fn connection(&self) -> Result<postgres::Config> {
+        // The parser's message never quotes the string (which may hold a password).
+        let mut c =
+            postgres::Config::from_str(&self.url).map_err(|e| Error::InvalidArgument(format!("historian url: {e}")))?;
+        if let Some(p) = &self.password {
+            c.password(p);
+        }
+        c.connect_timeout(self.connect_timeout);
+        c.application_name("alba-historian");
+        Ok(c)
+    }
+}
+
+/// What [`migrate`] did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MigrateReport {
+    /// The samples table is a TimescaleDB hypertable.
+    pub hypertable: bool,
+    /// Why it is not one, when the extension was not usable.
+    pub note: Option<String>,
+}
+
+/// Creates the schema (idempotent; several nodes may run it at once): the `alba_samples`
+/// table keyed by (node, tag, t), made a TimescaleDB hypertable of 1-day chunks when the
+/// extension is installed on the server (plain table otherwise).
+pub fn migrate(config: &postgres::Config) -> Result<MigrateReport> {
+    let mut client = config.connect(NoTls)?;
+    let mut tx = client.transaction()?;
+    // One migration at a time, whatever the number of nodes starting together.
+    tx.execute("SELECT pg_advisory_xact_lock(6710886401)", &[])?;
+    tx.batch_execute(
+        "CREATE TABLE IF NOT EXISTS alba_schema (version integer NOT NULL);
+         CREATE TABLE IF NOT EXISTS alba_samples (
+             node text NOT NULL,
+             tag text NOT NULL,
+             t bigint NOT NULL,
+             v double precision NOT NULL,
+             PRIMARY KEY (node, tag, t)
+         );",
+    )?;
+    let version: Option<i32> = tx.query_opt("SELECT version FROM alba_schema", &[])?.map(|r| r.get(0));
+    match version {
+        None => {
+            tx.execute("INSERT INTO alba_schema (version) VALUES (1)", &[])?;
+        }
+        Some(1) => {}
+        Some(v) => {
+            return Err(Error::InvalidArgument(format!(
+                "the database has historian schema version {v}; this Alba knows version 1"
+            )));
+        }
+    }
+    tx.commit()?;
+    let available = client
+        .query_opt("SELECT 1 FROM pg_available_extensions WHERE name = 'timescaledb'", &[])?
+        .is_some();
+    if !available {
+        return Ok(MigrateReport {
+            hypertable: false,
+            note: Some("the timescaledb extension is not installed: plain table".into()),
+        });
+    }
+    let made = client.batch_execute(
+        "CREATE EXTENSION IF NOT EXISTS timescaledb;
+         SELECT create_hypertable('alba_samples', 't', chunk_time_interval => 86400000::bigint,
+                                  if_not_exists => true, migrate_data => true);",
+    );
+    match made {
+        Ok(()) => Ok(MigrateReport {
+            hypertable: true,
+            note: None,
+        }),
+        Err(e) => Ok(MigrateReport {
+            hypertable: false,
+            note: Some(format!("timescaledb is installed but not usable ({e}): plain table")),
+        }),
+    }
+}
+
+/// The state of a PostgreSQL historian, for `alba run`'s health report.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PgHealth {
+    /// The last write or back-fill reached the database.
+    pub connected: bool,
+    /// Samples waiting in the local buffer.
+    pub buffered: u64,
+    /// Samples dropped from the full buffer since it was created (oldest first).
+    pub dropped: u64,
+    /// The last error, if the database is not reachable.
+    pub last_error: Option<String>,
+}
+
+/// A shared historian on PostgreSQL; `Send + Sync`. Its methods block: call them from a
+/// thread of their own or a blocking task, not from inside an async runtime.
+pub struct PgHistorian {
+    config: PgConfig,
+    connection: postgres::Config,
+    writer: Mutex<WriterState>,
+    reader: Mutex<Option<Client>>,
+}
+
+impl std::fmt::Debug for PgHistorian {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PgHistorian")
+            .field("config", &self.config)
+            .finish_non_exhaustive()
+    }
+}
+
+struct WriterState {
+    client: Option<Client>,
+    last_attempt: Option<Instant>,
+    buffer: Buffer,
+    last_error: Option<String>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A readable message for an error that made a write go to the buffer.
+fn describe(e: &postgres::Error) -> String {
+    match e.as_db_error() {
+        Some(db) if db.code() == &postgres::error::SqlState::UNDEFINED_TABLE => {
+            format!(
+                "{}: the schema is missing (run `alba historian migrate`)",
+                pg_message(e)
+            )
+        }
+        _ => pg_message(e),
+    }
+}
+
+impl PgHistorian {
+    /// Opens the local buffer and tries the database once (it may be down: samples are
+    /// then buffered until it answers). Only a bad URL or an unusable buffer file fail.
+    pub fn open(config: PgConfig) -> Result<PgHistorian> {
+        if config.node.is_empty() {
+            return Err(Error::InvalidArgument("empty historian node id".into()));
+        }
+        let connection = config.connection()?;
+        let buffer = Buffer::open(&config.buffer_path, config.buffer_max_samples)?;
+        let h = PgHistorian {
+            config,
+            connection,
+            writer: Mutex::new(WriterState {
+                client: None,
+                last_attempt: None,
+                buffer,
+                last_error: None,
+            }),
+            reader: Mutex::new(None),
+        };
+        let mut w = lock(&h.writer);
+        h.ensure_client(&mut w, true);
+        drop(w);
+        Ok(h)
+    }
+
+    /// The node id this historian writes and reads under.
+    pub fn node(&self) -> &str {
+        &self.config.node
+    }
+
+    /// Connects the writer if it is not connected and an attempt is due (`now`: whatever
+    /// the retry interval).
+    fn ensure_client(&self, w: &mut WriterState, now: bool) -> bool {
+        if w.client.as_ref().is_some_and(|c| !c.is_closed()) {
+            return true;
+        }
+        w.client = None;
+        let due = now || w.last_attempt.is_none_or(|t| t.elapsed() >= self.config.retry_interval);
+        if !due {
+            return false;
+        }
+        w.last_attempt = Some(Instant::now());
+        match self.connection.connect(NoTls) {
+            Ok(c) => {
+                w.client = Some(c);
+                true
+            }
+            Err(e) => {
+                w.last_error = Some(describe(&e));
+                false
+            }
+        }
+    }
+
+    /// Stores samples (same rules as [`crate::Historian::record_batch`]: NaN skipped, a
+    /// second value at the same time of a tag ignored). With the database unreachable, or
+    /// samples still waiting in the buffer, they are appended to the buffer (so that they
+    /// reach the database in order) and a back-fill is tried when due. Returns how many
+    /// were accepted; only invalid samples or a failing buffer file give an error.
+    pub fn record_batch(&self, samples: &[Sample<'_>]) -> Result<usize> {
+        let mut rows = Vec::with_capacity(samples.len());
+        for s in samples {
+            if s.tag.is_empty() {
+                return Err(Error::InvalidArgument("empty tag name".into()));
+            }
+            check_time(s.t_ms)?;
+            if !s.v.is_nan() {
+                rows.push((s.tag, s.t_ms, s.v));
+            }
+        }
+        if rows.is_empty() {
+            return Ok(0);
+        }
+        let mut w = lock(&self.writer);
+        if w.buffer.len == 0
+            && self.ensure_client(&mut w, false)
+            && let Some(client) = w.client.as_mut()
+        {
+            match insert(client, &self.config.node, &rows) {
+                Ok(()) => {
+                    w.last_error = None;
+                    return Ok(rows.len());
+                }
+                Err(e) => {
+                    w.last_error = Some(describe(&e));
+                    w.client = None;
+                    w.last_attempt = Some(Instant::now());
+                }
+            }
+        }
+        w.buffer.append(&rows)?;
+        self.backfill_locked(&mut w, false)?;
+        Ok(rows.len())
+    }
+
+    /// Sends the buffered samples to the database now (connecting if needed, whatever
+    /// the retry interval), oldest first. Returns how many are still waiting: 0 when the
+    /// buffer is empty, more when the database is unreachable again.
+    pub fn backfill(&self) -> Result<u64> {
+        let mut w = lock(&self.writer);
+        self.backfill_locked(&mut w, true)
+    }
+
+    fn backfill_locked(&self, w: &mut WriterState, now: bool) -> Result<u64> {
+        while w.buffer.len > 0 {
+            if !self.ensure_client(w, now) {
+                break;
+            }
+            let (last_seq, rows) = w.buffer.oldest(BATCH)?;
+            let refs: Vec<(&str, i64, f64)> = rows.iter().map(|(tag, t, v)| (tag.as_str(), *t, *v)).collect();
+            let Some(client) = w.client.as_mut() else { break };
+            match insert(client, &self.config.node, &refs) {
+                Ok(()) => {
+                    w.last_error = None;
+                    // Removed after the insert committed: a crash in between sends these
+                    // again, and the database ignores the duplicates.
+                    w.buffer.remove_through(last_seq)?;
+                }
+                Err(e) => {
+                    w.last_error = Some(describe(&e));
+                    w.client = None;
+                    w.last_attempt = Some(Instant::now());
+                    break;
+                }
+            }
+        }
+        Ok(w.buffer.len)
+    }
+
+    /// The connection state and the buffer's counters.
+    pub fn health(&self) -> PgHealth {
+        let w = lock(&self.writer);
+        PgHealth {
+            connected: w.client.as_ref().is_some_and(|c| !c.is_closed()) && w.last_error.is_none(),
+            buffered: w.buffer.len,
+            dropped: w.buffer.dropped,
+            last_error: w.last_error.clone(),
+        }
+    }
+
+    /// Runs `f` on the reading connection (opened on first use, and again after an error).
+    fn read<T>(&self, f: impl FnOnce(&mut Client) -> Result<T>) -> Result<T> {
+        let mut r = lock(&self.reader);
+        if r.as_ref().is_none_or(Client::is_closed) {
+            *r = Some(self.connection.connect(NoTls)?);
+        }
+        let Some(client) = r.as_mut() else {
+            return Err(Error::InvalidArgument("no reading connection".into()));
+        };
+        let out = f(client);
+        if out.is_err() && client.is_closed() {
+            *r = None;
+        }
+        out
+    }
+
+    /// The nodes that have samples in the database, by id.
+    pub fn nodes(&self) -> Result<Vec<String>> {
+        self.read(|c| {
+            let rows = c.query(
+                "WITH RECURSIVE n AS (
+                     (SELECT node FROM alba_samples ORDER BY node LIMIT 1)
+                     UNION ALL
+                     SELECT (SELECT node FROM alba_samples WHERE node > n.node ORDER BY node LIMIT 1)
+                     FROM n WHERE n.node IS NOT NULL)
+                 SELECT node FROM n WHERE node IS NOT NULL",
+                &[],
+            )?;
+            Ok(rows.iter().map(|r| r.get(0)).collect())
+        })
+    }
+
+    /// The tags of `node`, as [`Backend::tags`] gives this node's.
+    pub fn tags_of(&self, node: &str) -> Result<Vec<TagRange>> {
+        self.read(|c| {
+            // One index probe per tag (a loose index scan), not a scan of every sample.
+            let rows = c.query(
+                "WITH RECURSIVE n AS (
+                     (SELECT tag FROM alba_samples WHERE node = $1 ORDER BY tag LIMIT 1)
+                     UNION ALL
+                     SELECT (SELECT tag FROM alba_samples WHERE node = $1 AND tag > n.tag
+                             ORDER BY tag LIMIT 1)
+                     FROM n WHERE n.tag IS NOT NULL)
+                 SELECT n.tag,
+                        (SELECT t FROM alba_samples WHERE node = $1 AND tag = n.tag ORDER BY t ASC LIMIT 1),
+                        (SELECT t FROM alba_samples WHERE node = $1 AND tag = n.tag ORDER BY t DESC LIMIT 1)
+                 FROM n WHERE n.tag IS NOT NULL",
+                &[&node],
+            )?;
+            let mut out: Vec<TagRange> = rows
+                .iter()
+                .map(|r| TagRange {
+                    name: r.get(0),
+                    first_ms: r.get(1),
+                    last_ms: r.get(2),
+                })
+                .collect();
+            // By name in byte order, as the SQLite backend sorts them.
+            out.sort_by(|a, b| a.name.as_bytes().cmp(b.name.as_bytes()));
+            Ok(out)
+        })
+    }
+
+    /// The downsampled samples of `node`'s `tag`, as [`Backend::query`] gives this node's.
+    pub fn query_node(&self, node: &str, tag: &str, from_ms: i64, to_ms: i64, points: usize) -> Result<Vec<Bucket>> {
+        if points == 0 {
+            return Err(Error::InvalidArgument("points must be at least 1".into()));
+        }
+        let points = points.min(MAX_POINTS) as i64;
+        let (from, to) = clamp_range(from_ms, to_ms);
+        self.read(|c| {
+            exists(c, node, tag)?;
+            if from > to {
+                return Ok(Vec::new());
+            }
+            // The SQLite backend's bucket grid, computed from the raw samples here.
+            let plan = query::plan(from, to, points);
+            let rows = c.query(
+                // One pass for min/max/count and the first and last times, then one
+                // index probe each for the first and last values (no sort per bucket).
+                "WITH g AS (
+                     SELECT (t - $3) / $4 AS b, min(v) AS lo, max(v) AS hi,
+                            min(t) AS t0, max(t) AS t1, count(*) AS n
+                     FROM alba_samples
+                     WHERE node = $1 AND tag = $2 AND t >= $5 AND t <= $6
+                     GROUP BY 1)
+                 SELECT g.b, g.lo, g.hi, f.v, l.v, g.n
+                 FROM g
+                 JOIN alba_samples f ON f.node = $1 AND f.tag = $2 AND f.t = g.t0
+                 JOIN alba_samples l ON l.node = $1 AND l.tag = $2 AND l.t = g.t1
+                 ORDER BY g.b",
+                &[&node, &tag, &plan.origin, &plan.width, &from, &to],
+            )?;
+            let mut out = Vec::with_capacity(rows.len());
+            for r in &rows {
+                let index: i64 = r.get(0);
+                let count: i64 = r.get(5);
+                out.push(Bucket {
+                    t_ms: (plan.origin + index * plan.width).max(from),
+                    min: r.get(1),
+                    max: r.get(2),
+                    first: r.get(3),
+                    last: r.get(4),
+                    count: u64::try_from(count).unwrap_or(0),
+                });
+            }
+            Ok(out)
+        })
+    }
+
+    /// The raw samples of `node`'s `tag`, as [`Backend::raw`] gives this node's.
+    pub fn raw_node(&self, node: &str, tag: &str, from_ms: i64, to_ms: i64, limit: usize) -> Result<Vec<Point>> {
+        let (from, to) = clamp_range(from_ms, to_ms);
+        let limit = i64::try_from(limit).unwrap_or(i64::MAX);
+        self.read(|c| {
+            exists(c, node, tag)?;
+            let rows = c.query(
+                "SELECT t, v FROM alba_samples WHERE node = $1 AND tag = $2 AND t >= $3 AND t <= $4
+                 ORDER BY t LIMIT $5",
+                &[&node, &tag, &from, &to, &limit],
+            )?;
+            Ok(rows
+                .iter()
+                .map(|r| Point {
+                    t_ms: r.get(0),
+                    v: r.get(1),
+                })
+                .collect())
+        })
+    }
+}
+
+/// [`Error::UnknownTag`] when `node` has no sample of `tag`.
+fn exists(c: &mut Client, node: &str, tag: &str) -> Result<()> {
+    let found = c
+        .query_opt(
+            "SELECT 1 FROM alba_samples WHERE node = $1 AND tag = $2 LIMIT 1",
+            &[&node, &tag],
+        )?
+        .is_some();
+    if found {
+        Ok(())
+    } else {
+        Err(Error::UnknownTag(tag.to_owned()))
+    }
+}
+
+/// One multi-row INSERT per [`BATCH`] samples, in one transaction; duplicates of stored
+/// (node, tag, t) are ignored.
+fn insert(client: &mut Client, node: &str, rows: &[(&str, i64, f64)]) -> std::result::Result<(), postgres::Error> {
+    let mut tx = client.transaction()?;
+    let stmt = tx.prepare(
+        "INSERT INTO alba_samples (node, tag, t, v)
+         SELECT $1, u.tag, u.t, u.v FROM unnest($2::text[], $3::int8[], $4::float8[]) AS u(tag, t, v)
+         ON CONFLICT DO NOTHING",
+    )?;
+    for chunk in rows.chunks(BATCH) {
+        let tags: Vec<&str> = chunk.iter().map(|r| r.0).collect();
+        let times: Vec<i64> = chunk.iter().map(|r| r.1).collect();
+        let values: Vec<f64> = chunk.iter().map(|r| r.2).collect();
+        tx.execute(&stmt, &[&node, &tags, &times, &values])?;
+    }
+    tx.commit()
+}
+
+/// A buffered sample: tag, time, value.
+type Owned = (String, i64, f64);
+
+/// The local buffer: an SQLite file of samples in arrival order, holding at most `max`.
+struct Buffer {
+    conn: Connection,
+    max: u64,
+    len: u64,
+    dropped: u64,
+}
+
+impl Buffer {
+    fn open(path: &Path, max: u64) -> Result<Buffer> {
+        if max == 0 {
+            return Err(Error::InvalidArgument(
+                "the historian buffer must hold at least 1 sample".into(),
+            ));
+        }
+        let open_err = |source| Error::Open {
+            path: path.to_path_buf(),
+            source,
+        };
+        let conn = Connection::open(path).map_err(open_err)?;
+        conn.execute_batch(
+            "PRAGMA journal_mode = WAL;
+             PRAGMA synchronous = NORMAL;
+             CREATE TABLE IF NOT EXISTS buffered (
+                 seq INTEGER PRIMARY KEY AUTOINCREMENT,
+                 tag TEXT NOT NULL, t INTEGER NOT NULL, v REAL NOT NULL);
+             CREATE TABLE IF NOT EXISTS counters (name TEXT PRIMARY KEY, n INTEGER NOT NULL);",
+        )
+        .map_err(|e| Error::NotHistory {
+            path: path.to_path_buf(),
+            reason: format!("not a historian buffer: {e}"),
+        })?;
+        let len: i64 = conn.query_row("SELECT count(*) FROM buffered", [], |r| r.get(0))?;
+        let dropped: i64 = conn.query_row(
+            "SELECT coalesce(max(n), 0) FROM counters WHERE name = 'dropped'",
+            [],
+            |r| r.get(0),
+        )?;
+        Ok(Buffer {
+            conn,
+            max,
+            len: u64::try_from(len).unwrap_or(0),
+            dropped: u64::try_from(dropped).unwrap_or(0),
+        })
+    }
+
+    /// Appends `rows`; beyond the bound, drops the oldest and counts them.
+    fn append(&mut self, rows: &[(&str, i64, f64)]) -> Result<()> {
+        let tx = self.conn.transaction()?;
+        {
+            let mut stmt = tx.prepare_cached("INSERT INTO buffered (tag, t, v) VALUES (?1, ?2, ?3)")?;
+            for (tag, t, v) in rows {
+                stmt.execute(params![tag, t, v])?;
+            }
+        }
+        let len = self.len + rows.len() as u64;
+        let excess = len.saturating_sub(self.max);
+        if excess > 0 {
+            let n = i64::try_from(excess).unwrap_or(i64::MAX);
+            tx.execute(
+                "DELETE FROM buffered WHERE seq IN (SELECT seq FROM buffered ORDER BY seq LIMIT ?1)",
+                [n],
+            )?;
+            let dropped = i64::try_from(self.dropped + excess).unwrap_or(i64::MAX);
+            tx.execute(
+                "INSERT INTO counters (name, n) VALUES ('dropped', ?1)
+                 ON CONFLICT (name) DO UPDATE SET n = excluded.n",
+                [dropped],
+            )?;
+        }
+        tx.commit()?;
+        self.len = len - excess;
+        self.dropped += excess;
+        Ok(())
+    }
+
+    /// The oldest `n` samples and the sequence number of the last one.
+    fn oldest(&self, n: usize) -> Result<(i64, Vec<Owned>)> {
+        let mut stmt = self
+            .conn
+            .prepare_cached("SELECT seq, tag, t, v FROM buffered ORDER BY seq LIMIT ?1")?;
+        let mut rows = stmt.query([i64::try_from(n).unwrap_or(i64::MAX)])?;
+        let mut out = Vec::new();
+        let mut last = 0;
+        while let Some(r) = rows.next()? {
+            last = r.get(0)?;
+            out.push((r.get(1)?, r.get(2)?, r.get(3)?));
+        }
+        Ok((last, out))
+    }
+
+    fn remove_through(&mut self, seq: i64) -> Result<()> {
+        self.conn.execute("DELETE FROM buffered WHERE seq <= ?1", [seq])?;
+        let len: i64 = self.conn.query_row("SELECT count(*) FROM buffered", [], |r| r.get(0))?;
+        self.len = u64::try_from(len).unwrap_or(0);
+        Ok(())
+    }
+}
+
+impl Backend for PgHistorian {
+    fn kind(&self) -> &'static str {
+        "postgres"
+    }
+
+    fn record_batch(&self, samples: &[Sample<'_>]) -> Result<usize> {
+        PgHistorian::record_batch(self, samples)
+    }
+
+    fn tags(&self) -> Result<Vec<TagRange>> {
+        self.tags_of(&self.config.node)
+    }
+
+    fn query(&self, tag: &str, from_ms: i64, to_ms: i64, points: usize) -> Result<Vec<Bucket>> {
+        self.query_node(&self.config.node, tag, from_ms, to_ms, points)
+    }
+
+    fn raw(&self, tag: &str, from_ms: i64, to_ms: i64, limit: usize) -> Result<Vec<Point>> {
+        self.raw_node(&self.config.node, tag, from_ms, to_ms, limit)
+    }
+
+    fn flush(&self) -> Result<()> {
+        self.backfill().map(|_| ())
+    }
+}

@@ -1,0 +1,321 @@
+//! The PostgreSQL backend against a real PostgreSQL server (Debian's `postgresql`,
+//! installed by test.sh), started by these tests in a temporary directory on a loopback
+//! port.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use alba_historian::{Backend, Config, Error, Historian, PgConfig, PgHistorian, Sample, migrate};
+
+use alba_testkit::pg::{PASSWORD, PgServer};
+
+trait Historians {
+    fn config(&self, node: &str, buffer: &Path) -> PgConfig;
+    fn migrate(&self);
+}
+
+impl Historians for PgServer {
+    fn config(&self, node: &str, buffer: &Path) -> PgConfig {
+        let mut c = PgConfig::new(self.url(), node, buffer);
+        c.password = Some(PgConfig::password_from_file(&self.password_file()).expect("password"));
+        c.retry_interval = Duration::from_millis(100);
+        c
+    }
+
+    fn migrate(&self) {
+        let c = self.config("migrate", &self.dir.path().join("unused.db"));
+        let report = migrate(&c.connection().expect("connection settings")).expect("migrate");
+        // No TimescaleDB in the test server: detected, not required.
+        assert!(!report.hypertable, "{report:?}");
+        assert!(report.note.is_some());
+    }
+}
+
+/// Sends the buffer until it is empty (the server may take a moment to accept again).
+fn backfill_all(h: &PgHistorian) {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        match h.backfill() {
+            Ok(0) => return,
+            Ok(_) | Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(100)),
+            other => panic!("back-fill did not finish: {other:?}, {:?}", h.health()),
+        }
+    }
+}
+
+fn samples<'a>(tag: &'a str, from: i64, n: i64, f: impl Fn(i64) -> f64) -> Vec<Sample<'a>> {
+    (0..n)
+        .map(|i| Sample {
+            tag,
+            t_ms: from + i,
+            v: f(from + i),
+        })
+        .collect()
+}
+
+#[test]
+fn migrate_is_idempotent_and_two_nodes_write_concurrently() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    pg.migrate();
+    let work = tempfile::tempdir().expect("tempdir");
+    let writers: Vec<_> = ["line1", "line2"]
+        .into_iter()
+        .enumerate()
+        .map(|(k, node)| {
+            let h = PgHistorian::open(pg.config(node, &work.path().join(format!("{node}.db")))).expect("open");
+            std::thread::spawn(move || {
+                for batch in 0..40 {
+                    let mut s = samples("Level", batch * 250, 250, |t| (t as f64) + k as f64 * 0.5);
+                    // A tag of the same name on both nodes, and one of each node's own.
+                    s.extend(samples(if k == 0 { "Pump" } else { "Valve" }, batch * 250, 250, |t| {
+                        -(t as f64)
+                    }));
+                    assert_eq!(h.record_batch(&s).expect("record"), 500);
+                }
+                let health = h.health();
+                assert!(health.connected && health.buffered == 0, "{health:?}");
+                h
+            })
+        })
+        .collect();
+    let writers: Vec<PgHistorian> = writers.into_iter().map(|w| w.join().expect("writer")).collect();
+    assert_eq!(writers[0].nodes().expect("nodes"), ["line1", "line2"]);
+    for (k, h) in writers.iter().enumerate() {
+        let names: Vec<String> = h.tags().expect("tags").into_iter().map(|t| t.name).collect();
+        assert_eq!(names, ["Level", if k == 0 { "Pump" } else { "Valve" }]);
+        let raw = h.raw("Level", 0, 20_000, 100_000).expect("raw");
+        assert_eq!(raw.len(), 10_000);
+        assert!(raw.iter().all(|p| p.v == p.t_ms as f64 + k as f64 * 0.5));
+        let buckets = h.query("Level", 0, 9_999, 10).expect("query");
+        assert_eq!(buckets.iter().map(|b| b.count).sum::<u64>(), 10_000);
+    }
+    // The other node's tags, read from one runtime (what the studio's trends use).
+    let other = writers[0].raw_node("line2", "Valve", 0, 5, 10).expect("raw of line2");
+    assert_eq!(other.len(), 6);
+    assert!(matches!(writers[0].query("Valve", 0, 10, 5), Err(Error::UnknownTag(t)) if t == "Valve"));
+}
+
+#[test]
+fn database_stopped_loses_no_sample() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    let work = tempfile::tempdir().expect("tempdir");
+    let h = PgHistorian::open(pg.config("plc", &work.path().join("buffer.db"))).expect("open");
+    let mut t = 0;
+    let mut write = |h: &PgHistorian, batches: i64| {
+        for _ in 0..batches {
+            let s = samples("Flow", t, 100, |t| (t % 977) as f64);
+            assert_eq!(h.record_batch(&s).expect("record"), 100);
+            t += 100;
+        }
+    };
+    write(&h, 10);
+    assert!(h.health().connected);
+    pg.stop();
+    write(&h, 30);
+    let health = h.health();
+    assert!(!health.connected, "{health:?}");
+    assert_eq!(health.buffered, 3_000);
+    assert_eq!(health.dropped, 0);
+    let err = health.last_error.expect("an error while down");
+    assert!(!err.contains(PASSWORD), "the password leaked into `{err}`");
+    // Back-fill is tried, and fails, while down: nothing is lost.
+    assert_eq!(h.backfill().expect("backfill while down"), 3_000);
+    pg.start_again();
+    backfill_all(&h);
+    write(&h, 10);
+    let health = h.health();
+    assert!(
+        health.connected && health.buffered == 0 && health.dropped == 0,
+        "{health:?}"
+    );
+    let raw = h.raw("Flow", 0, i64::MAX, usize::MAX).expect("raw");
+    assert_eq!(raw.len(), 5_000);
+    for (i, p) in raw.iter().enumerate() {
+        assert_eq!((p.t_ms, p.v), (i as i64, (i as i64 % 977) as f64));
+    }
+}
+
+#[test]
+fn full_buffer_drops_the_oldest_and_counts_them() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    let work = tempfile::tempdir().expect("tempdir");
+    let mut config = pg.config("plc", &work.path().join("buffer.db"));
+    config.buffer_max_samples = 250;
+    let h = PgHistorian::open(config.clone()).expect("open");
+    pg.stop();
+    for k in 0..4 {
+        h.record_batch(&samples("T", k * 100, 100, |t| t as f64))
+            .expect("record");
+    }
+    let health = h.health();
+    assert_eq!((health.buffered, health.dropped), (250, 150));
+    // The buffer and its counter survive a restart of the runtime.
+    drop(h);
+    let h = PgHistorian::open(config).expect("reopen");
+    assert_eq!((h.health().buffered, h.health().dropped), (250, 150));
+    pg.start_again();
+    backfill_all(&h);
+    let raw = h.raw("T", 0, 1_000, 1_000).expect("raw");
+    assert_eq!(
+        raw.iter().map(|p| p.t_ms).collect::<Vec<_>>(),
+        (150..400).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn wrong_password_is_reported_without_echoing_it() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    let work = tempfile::tempdir().expect("tempdir");
+    let mut config = pg.config("plc", &work.path().join("buffer.db"));
+    let wrong = "not-the-password-1234";
+    config.password = Some(wrong.into());
+    let h = PgHistorian::open(config).expect("open (the database may be down)");
+    h.record_batch(&samples("T", 0, 10, |t| t as f64)).expect("buffered");
+    let health = h.health();
+    assert_eq!(health.buffered, 10);
+    let err = health.last_error.expect("an authentication error");
+    assert!(err.contains("password"), "{err}");
+    assert!(!err.contains(wrong) && !err.contains(PASSWORD), "{err}");
+    // A missing or empty password file is a precise error.
+    let empty = work.path().join("empty");
+    std::fs::write(&empty, "").expect("write");
+    let e = PgConfig::password_from_file(&empty).expect_err("empty file");
+    assert!(e.to_string().contains("is empty"), "{e}");
+}
+
+/// A deterministic, irregular signal: several tags, uneven gaps, repeated values.
+fn signal(n: usize) -> Vec<(String, i64, f64)> {
+    let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut next = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    let mut out = Vec::with_capacity(n);
+    let mut t = [1_700_000_000_000i64; 3];
+    for _ in 0..n {
+        let k = (next() % 3) as usize;
+        t[k] += 1 + (next() % 2_000) as i64;
+        let v = ((next() % 20_001) as f64 - 10_000.0) / 8.0;
+        out.push((["Temp", "Level", "Speed"][k].to_owned(), t[k], v));
+    }
+    out
+}
+
+#[test]
+fn downsampled_queries_equal_the_sqlite_backend() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    let work = tempfile::tempdir().expect("tempdir");
+    let sqlite = Historian::open(work.path().join("history.db"), Config::default()).expect("sqlite");
+    let postgres = PgHistorian::open(pg.config("plc", &work.path().join("buffer.db"))).expect("postgres");
+    let data = signal(60_000);
+    let backends: [&dyn Backend; 2] = [&sqlite, &postgres];
+    for chunk in data.chunks(5_000) {
+        let s: Vec<Sample<'_>> = chunk
+            .iter()
+            .map(|(tag, t, v)| Sample { tag, t_ms: *t, v: *v })
+            .collect();
+        for b in backends {
+            b.record_batch(&s).expect("record");
+        }
+    }
+    for b in backends {
+        b.flush().expect("flush");
+    }
+    assert_eq!(
+        Backend::tags(&sqlite).expect("tags"),
+        Backend::tags(&postgres).expect("tags")
+    );
+    let start = 1_700_000_000_000i64;
+    let end = data.iter().map(|d| d.1).max().unwrap_or(start);
+    let mut compared = 0;
+    for tag in ["Temp", "Level", "Speed"] {
+        for (from, to) in [
+            (start, end),
+            (start - 5_000, end + 5_000),
+            (start + 123_457, start + 7_654_321),
+            (start + 3_600_000 - 1, start + 3 * 3_600_000 + 1),
+            (start + 1_000, start + 1_200),
+        ] {
+            for points in [1, 7, 100, 1_000, 4_000] {
+                let a = Backend::query(&sqlite, tag, from, to, points).expect("sqlite query");
+                let b = Backend::query(&postgres, tag, from, to, points).expect("postgres query");
+                assert_eq!(a, b, "{tag} [{from}, {to}] in {points} points");
+                compared += a.len();
+            }
+        }
+        let a = Backend::raw(&sqlite, tag, start, start + 2_000_000, 500).expect("raw");
+        assert_eq!(
+            a,
+            Backend::raw(&postgres, tag, start, start + 2_000_000, 500).expect("raw")
+        );
+    }
+    assert!(compared > 10_000, "the comparison covered {compared} buckets");
+    for b in backends {
+        assert!(matches!(b.query("Nope", 0, 1, 1), Err(Error::UnknownTag(_))));
+        assert!(matches!(b.query("Temp", 0, 1, 0), Err(Error::InvalidArgument(_))));
+    }
+}
+
+/// Ingest and query speed, printed (not asserted). `ALBA_PG_BENCH_SAMPLES` sets the table
+/// size (default 400 000); run with `--nocapture` to see the numbers.
+#[test]
+fn ingest_and_query_numbers() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    let total: i64 = std::env::var("ALBA_PG_BENCH_SAMPLES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(400_000);
+    let work = tempfile::tempdir().expect("tempdir");
+    let writers = 4;
+    let started = Instant::now();
+    let threads: Vec<_> = (0..writers)
+        .map(|k| {
+            let h =
+                PgHistorian::open(pg.config(&format!("node{k}"), &work.path().join(format!("b{k}.db")))).expect("open");
+            std::thread::spawn(move || {
+                let per = total / writers;
+                let mut t = 0;
+                while t < per {
+                    let n = (per - t).min(10_000);
+                    let s = samples("Big", t * 100, n, |t| ((t / 100) % 1_000) as f64);
+                    let s: Vec<Sample<'_>> = s
+                        .into_iter()
+                        .enumerate()
+                        .map(|(i, mut x)| {
+                            x.t_ms = (t + i as i64) * 100;
+                            x
+                        })
+                        .collect();
+                    h.record_batch(&s).expect("record");
+                    t += n;
+                }
+                h
+            })
+        })
+        .collect();
+    let handles: Vec<PgHistorian> = threads.into_iter().map(|t| t.join().expect("writer")).collect();
+    let secs = started.elapsed().as_secs_f64();
+    println!(
+        "postgres ingest: {total} samples from {writers} writers in {secs:.2} s = {:.0} samples/s",
+        total as f64 / secs
+    );
+    let h = &handles[0];
+    let per = total / writers;
+    let _ = h.query("Big", 0, per * 100, 1_000).expect("warm-up");
+    let started = Instant::now();
+    let buckets = h.query("Big", 0, per * 100, 1_000).expect("query");
+    println!(
+        "postgres query: {per} samples of one tag (table of {total}) -> {} buckets in {:.1} ms",
+        buckets.len(),
+        started.elapsed().as_secs_f64() * 1_000.0
+    );
+    assert_eq!(buckets.iter().map(|b| b.count).sum::<u64>(), per as u64);
+}
