@@ -1,5 +1,5 @@
 //! `alba import` and `alba export plcopen`: the command-line face of
-//! `alba-import` (docs/import.md). The report goes to standard error, one
+//! `alba-import` (docs/interchange.md). The report goes to standard error, one
 //! entry a line (`file:line:col: converted|approximated|refused: …`), then
 //! a summary; a failed import writes nothing and exits 1 with E701.
 
@@ -28,7 +28,7 @@ pub fn run(file: &Path, out: &Path, format: Option<&str>, board: Option<String>,
     eprint!("{}", report.render());
     let format = report.format.map(|f| f.to_string()).unwrap_or_default();
     eprintln!(
-        "imported {} ({format}) into {}: {} rungs, {} tags; {} converted, {} approximated, {} refused (docs/import.md)",
+        "imported {} ({format}) into {}: {} rungs, {} tags; {} converted, {} approximated, {} refused (docs/interchange.md)",
         file.display(),
         out.display(),
         report.rungs,

@@ -97,7 +97,7 @@ enum Command {
     },
     /// Convert a program written with another tool — LDmicro `.ld`, PLCopen TC6 XML,
     /// Studio 5000 `.L5X` — into a new Alba project, with a report of what was converted,
-    /// approximated or refused (docs/import.md).
+    /// approximated or refused (docs/interchange.md).
     Import {
         /// The file to import.
         file: PathBuf,
@@ -323,7 +323,7 @@ enum Export {
         upload: Option<String>,
     },
     /// The project's Ladder programs as PLCopen TC6 XML v2.01 LD bodies, with layout
-    /// positions (for the OpenPLC editor, Beremiz, CODESYS; docs/import.md).
+    /// positions (for the OpenPLC editor, Beremiz, CODESYS; docs/interchange.md).
     Plcopen {
         project: PathBuf,
         /// The file to write.

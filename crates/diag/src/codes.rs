@@ -180,7 +180,7 @@ codes! {
     SfcAction = 652, "an SFC action cannot be driven",
         "An action is a BOOL tag (or member) a program may write: not an input, a status bit or a system tag.";
     ImportFailed = 701, "a program from another tool cannot be imported",
-        "`alba import` reads LDmicro `.ld` files, PLCopen TC6 XML v2.01 and Studio 5000 `.L5X` exports (the content decides the format, else the extension; `--format ldmicro|plcopen|l5x` overrides). The message names the place in the input (`file:line:col`) that is malformed or that Alba cannot convert at all; constructs it can leave out are listed as refused in the report instead, and the rest is imported. The output folder must be new or empty unless `--force` is given. Nothing is written when an import fails. See docs/import.md.";
+        "`alba import` reads LDmicro `.ld` files, PLCopen TC6 XML v2.01 and Studio 5000 `.L5X` exports (the content decides the format, else the extension; `--format ldmicro|plcopen|l5x` overrides). The message names the place in the input (`file:line:col`) that is malformed or that Alba cannot convert at all; constructs it can leave out are listed as refused in the report instead, and the rest is imported. The output folder must be new or empty unless `--force` is given. Nothing is written when an import fails. See docs/interchange.md.";
 }
 
 impl fmt::Display for Code {

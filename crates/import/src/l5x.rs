@@ -4,7 +4,7 @@
 //! operands renamed (program tags, aliases, I/O) and `?` presets filled from
 //! the tag data.
 //!
-//! I/O (documented in docs/import.md): digital points `Mod:S:I.Data.B` and
+//! I/O (documented in docs/interchange.md): digital points `Mod:S:I.Data.B` and
 //! `Mod:S:I.Data[W].B` become `DI` channels and `Mod:S:O.Data.B` `DO`
 //! channels; every (module, slot, word) used gets a block of 32 channels, in
 //! the order module, slot, word. Analog `Mod:S:I.ChNData` become `AI`
@@ -878,10 +878,10 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             );
             continue;
         }
-        let mut fname = format!("{}.lad", sanitize(pname));
+        let mut fname = format!("{}.lad", crate::names::file_stem(pname));
         let mut n = 2;
         while files.iter().any(|f| f.eq_ignore_ascii_case(&fname)) {
-            fname = format!("{}_{n}.lad", sanitize(pname));
+            fname = format!("{}_{n}.lad", crate::names::file_stem(pname));
             n += 1;
         }
         files.push(fname.clone());
@@ -928,20 +928,6 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         },
         report,
     ))
-}
-
-fn sanitize(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if s.is_empty() { "program".into() } else { s }
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@
 //! files), counters count rising edges with `count >= max` as output, CTC
 //! wraps from max to its initial value and gives a one-scan pulse then,
 //! OSR/OSF are one-scan edges, `RES` sets a counter back to its initial
-//! value and a timer or variable to 0. See docs/import.md.
+//! value and a timer or variable to 0. See docs/interchange.md.
 
 use crate::circuit::{Cond, Emitter, Structs};
 use crate::names::Names;

@@ -89,3 +89,19 @@ impl Names {
         }
     }
 }
+
+/// A program's name as a file name: letters, digits, `_` and `-` kept,
+/// anything else `_` (`program` for an empty name).
+pub(crate) fn file_stem(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() { "program".into() } else { s }
+}

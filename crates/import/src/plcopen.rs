@@ -1267,7 +1267,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         for (l, m) in refusals {
             conv.report.push(Kind::Refused, l, m);
         }
-        let file_name = format!("{}.lad", sanitize_file(&pname));
+        let file_name = format!("{}.lad", crate::names::file_stem(&pname));
         let mut prog = ProgramOut::new(file_name);
         for (l, o) in lines {
             let origin = origins.get(o);
@@ -1303,18 +1303,4 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         },
         report,
     ))
-}
-
-fn sanitize_file(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if s.is_empty() { "program".into() } else { s }
 }
