@@ -65,6 +65,48 @@ fn free_bytes(path: &std::path::Path) -> Option<u64> {
     Some(s.f_bavail.saturating_mul(s.f_frsize))
 }
 
+/// The tags recorded for the program of the latest snapshot (rebuilt after
+/// an online edit, REALs with their own filter: the deadband), and the time
+/// last recorded.
+struct Tracked {
+    program: Option<Arc<alba_ir::Program>>,
+    places: Vec<(String, alba_ir::Place)>,
+    last_t: i64,
+}
+
+impl Default for Tracked {
+    fn default() -> Tracked {
+        Tracked {
+            program: None,
+            places: Vec::new(),
+            last_t: i64::MIN,
+        }
+    }
+}
+
+impl Tracked {
+    /// Follows `s`'s program; false for a second snapshot in the same
+    /// millisecond (the start's, then the first scan's, on a busy machine):
+    /// the store keeps one value per tag and time, and the filter would
+    /// believe the second one stored. It is recorded with the next snapshot.
+    fn follow(&mut self, s: &Snapshot, filter: &mut ChangeFilter, real: Filter) -> bool {
+        if !self.program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &s.program)) {
+            self.places = tags::every_value(&s.program.layout);
+            for (name, place) in &self.places {
+                if matches!(place.data_type(), DataType::Real | DataType::Lreal) {
+                    filter.set_filter(name, real);
+                }
+            }
+            self.program = Some(s.program.clone());
+        }
+        if s.unix_ms == self.last_t {
+            return false;
+        }
+        self.last_t = s.unix_ms;
+        true
+    }
+}
+
 /// Records every snapshot `rx` publishes until the runtime stops.
 pub fn record(
     h: Historian,
@@ -79,41 +121,23 @@ pub fn record(
         let dir = h.path().parent().map(std::path::Path::to_path_buf).unwrap_or_default();
         let mut checked_at: Option<i64> = None;
         let mut paused = false;
-        let mut last_t = i64::MIN;
         let every = Filter {
             deadband: 0.0,
             period_ms: u64::from(cfg.sample_ms),
         };
+        let real = Filter {
+            deadband: cfg.deadband,
+            ..every
+        };
         let mut rec = Recorder::new(h.clone(), ChangeFilter::new(every));
         rec.set_max_delay(FLUSH_MS);
-        let mut program = None;
-        let mut places = Vec::new();
+        let mut tracked = Tracked::default();
         let mut retained_at: Option<i64> = None;
         while rt.block_on(rx.changed()).is_ok() {
             let s = rx.borrow_and_update().clone();
-            if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &s.program)) {
-                places = tags::every_value(&s.program.layout);
-                for (name, place) in &places {
-                    if matches!(place.data_type(), DataType::Real | DataType::Lreal) {
-                        rec.filter_mut().set_filter(
-                            name,
-                            Filter {
-                                deadband: cfg.deadband,
-                                ..every
-                            },
-                        );
-                    }
-                }
-                program = Some(s.program.clone());
-            }
-            // Two snapshots in one millisecond (the start's, then the first
-            // scan's, on a busy machine): the store keeps one value per tag
-            // and time, and the filter would believe the second one stored.
-            // It is recorded with the next snapshot instead.
-            if s.unix_ms == last_t {
+            if !tracked.follow(&s, rec.filter_mut(), real) {
                 continue;
             }
-            last_t = s.unix_ms;
             if checked_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= CHECK_EVERY_MS) {
                 checked_at = Some(s.unix_ms);
                 paused = check_space(&h, &dir, floor, max_bytes, &health);
@@ -121,7 +145,11 @@ pub fn record(
             if paused {
                 continue;
             }
-            let values: Vec<(&str, f64)> = places.iter().map(|(n, p)| (n.as_str(), s.read(*p).as_f64())).collect();
+            let values: Vec<(&str, f64)> = tracked
+                .places
+                .iter()
+                .map(|(n, p)| (n.as_str(), s.read(*p).as_f64()))
+                .collect();
             match rec.record(s.unix_ms, &values) {
                 // Cleared once values were written (not when they are only buffered).
                 Ok(n) if n > 0 && rec.buffered() == 0 => health.clear("history"),
@@ -229,12 +257,14 @@ pub fn record_pg(
             deadband: 0.0,
             period_ms: u64::from(cfg.sample_ms),
         };
+        let real = Filter {
+            deadband: cfg.deadband,
+            ..every
+        };
         let mut filter = ChangeFilter::new(every);
-        let mut program = None;
-        let mut places = Vec::new();
+        let mut tracked = Tracked::default();
         let mut pending: Vec<(String, i64, f64)> = Vec::new();
         let mut sent_at: Option<i64> = None;
-        let mut last_t = i64::MIN;
         let send = |pending: &mut Vec<(String, i64, f64)>| {
             let batch: Vec<Sample<'_>> = pending
                 .iter()
@@ -272,26 +302,10 @@ pub fn record_pg(
         };
         while rt.block_on(rx.changed()).is_ok() {
             let s = rx.borrow_and_update().clone();
-            if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &s.program)) {
-                places = tags::every_value(&s.program.layout);
-                for (name, place) in &places {
-                    if matches!(place.data_type(), DataType::Real | DataType::Lreal) {
-                        filter.set_filter(
-                            name,
-                            Filter {
-                                deadband: cfg.deadband,
-                                ..every
-                            },
-                        );
-                    }
-                }
-                program = Some(s.program.clone());
-            }
-            if s.unix_ms == last_t {
+            if !tracked.follow(&s, &mut filter, real) {
                 continue;
             }
-            last_t = s.unix_ms;
-            for (name, place) in &places {
+            for (name, place) in &tracked.places {
                 let v = s.read(*place).as_f64();
                 if filter.admit(name, s.unix_ms, v) {
                     pending.push((name.clone(), s.unix_ms, v));

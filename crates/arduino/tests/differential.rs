@@ -300,25 +300,28 @@ fn own_stimulus(name: &str) -> Option<(String, u64, u64)> {
     Some((stim, arg("--until")?, arg("--every")?))
 }
 
+/// The examples the board runs (the PID ones are refused, E501).
+const BOARD_EXAMPLES: [&str; 9] = [
+    "start-stop",
+    "traffic-light",
+    "star-delta",
+    "tank",
+    "tank-plant",
+    "festo-station",
+    // A Petri-mode net with a ladder program: nets use only ops the sketch translates.
+    "petri-resource",
+    // A normal-mode state net (timers, a counter, conditions, an end) with a ladder program.
+    "state-net-batch",
+    // An SFC chart (steps, qualifiers, timed actions) with a ladder program.
+    "sfc-batch",
+];
+
 #[test]
 fn examples_run_the_same_on_the_uno() {
     if !tools_present() {
         return;
     }
-    for name in [
-        "start-stop",
-        "traffic-light",
-        "star-delta",
-        "tank",
-        "tank-plant",
-        "festo-station",
-        // A Petri-mode net with a ladder program: nets use only ops the sketch translates.
-        "petri-resource",
-        // A normal-mode state net (timers, a counter, conditions, an end) with a ladder program.
-        "state-net-batch",
-        // An SFC chart (steps, qualifiers, timed actions) with a ladder program.
-        "sfc-batch",
-    ] {
+    for name in BOARD_EXAMPLES {
         let case = example(name);
         if let Some((stim, until, every)) =
             own_stimulus(name).filter(|_| !name.contains("plant") && name != "festo-station")
@@ -402,17 +405,7 @@ fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine(
     }
     // Every example the sketch's differential runs (AWL and nets included), on the Uno
     // when its byte code fits the Uno's program slot, else on the Mega.
-    for name in [
-        "start-stop",
-        "traffic-light",
-        "star-delta",
-        "tank",
-        "tank-plant",
-        "festo-station",
-        "petri-resource",
-        "state-net-batch",
-        "sfc-batch",
-    ] {
+    for name in BOARD_EXAMPLES {
         let case = example(name);
         check_as(&case, board_for(&case), None, 6000, case.scan_ms, 5, true);
     }

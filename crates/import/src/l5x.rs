@@ -21,9 +21,9 @@
 //! instructions Alba does not have.
 
 use crate::names::Names;
-use crate::plcopen::{Ctx, xml_error};
+use crate::plcopen::Ctx;
 use crate::{Error, Kind, Location, Options, ProgramOut, Project, Report, TagOut};
-use alba_xml::{self as xml, Elem};
+use alba_xml::Elem;
 use std::collections::{BTreeMap, HashMap};
 
 /// Alba's ladder instructions (docs/ladder.md §4.2).
@@ -712,16 +712,7 @@ fn emit_routine(conv: &mut Conv<'_>, job: &mut RoutineJob<'_, '_>, r: &Elem, sta
 /// Converts an L5X export.
 pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
     let ctx = Ctx { file, text };
-    let root = xml::parse(text, &crate::XML_LIMITS).map_err(|e| xml_error(&ctx, e))?;
-    if root.name != "RSLogix5000Content" {
-        return Err(Error::at(
-            ctx.loc(&root),
-            format!(
-                "not an L5X export: the root element is <{}>, not <RSLogix5000Content>",
-                root.name
-            ),
-        ));
-    }
+    let root = crate::plcopen::parse_root(&ctx, "RSLogix5000Content", "an L5X export")?;
     let Some(ctl) = root.child("Controller") else {
         return Err(Error::at(ctx.loc(&root), "<RSLogix5000Content> has no <Controller>"));
     };

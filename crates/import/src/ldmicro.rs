@@ -257,13 +257,18 @@ impl<'a> Parser<'a> {
         None
     }
 
-    fn series(&mut self, open: &Line<'_>, what: &str, depth: usize) -> Result<Vec<Elem>, Error> {
+    fn check_depth(&self, open: &Line<'_>, depth: usize) -> Result<(), Error> {
         if depth > MAX_DEPTH {
             return Err(Error::at(
                 self.loc(open),
                 format!("circuits nested deeper than {MAX_DEPTH} levels"),
             ));
         }
+        Ok(())
+    }
+
+    fn series(&mut self, open: &Line<'_>, what: &str, depth: usize) -> Result<Vec<Elem>, Error> {
+        self.check_depth(open, depth)?;
         let mut elems = Vec::new();
         loop {
             let Some(l) = self.next() else {
@@ -290,12 +295,7 @@ impl<'a> Parser<'a> {
     }
 
     fn parallel(&mut self, open: &Line<'_>, depth: usize) -> Result<Vec<Elem>, Error> {
-        if depth > MAX_DEPTH {
-            return Err(Error::at(
-                self.loc(open),
-                format!("circuits nested deeper than {MAX_DEPTH} levels"),
-            ));
-        }
+        self.check_depth(open, depth)?;
         let mut elems = Vec::new();
         loop {
             let Some(l) = self.next() else {

@@ -52,7 +52,19 @@ impl Ctx<'_> {
     }
 }
 
-pub(crate) fn xml_error(ctx: &Ctx<'_>, e: xml::XmlError) -> Error {
+/// The document's root element, which must be `<name>` (`what` names the format).
+pub(crate) fn parse_root(ctx: &Ctx<'_>, name: &str, what: &str) -> Result<Elem, Error> {
+    let root = xml::parse(ctx.text, &crate::XML_LIMITS).map_err(|e| xml_error(ctx, e))?;
+    if root.name != name {
+        return Err(Error::at(
+            ctx.loc(&root),
+            format!("not {what}: the root element is <{}>, not <{name}>", root.name),
+        ));
+    }
+    Ok(root)
+}
+
+fn xml_error(ctx: &Ctx<'_>, e: xml::XmlError) -> Error {
     if e.limit {
         Error::at(ctx.loc_at(e.offset), format!("refused: {}", e.message))
     } else {
@@ -891,16 +903,7 @@ impl Body<'_, '_> {
 /// Converts a PLCopen project.
 pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
     let ctx = Ctx { file, text };
-    let root = xml::parse(text, &crate::XML_LIMITS).map_err(|e| xml_error(&ctx, e))?;
-    if root.name != "project" {
-        return Err(Error::at(
-            ctx.loc(&root),
-            format!(
-                "not a PLCopen project: the root element is <{}>, not <project>",
-                root.name
-            ),
-        ));
-    }
+    let root = parse_root(&ctx, "project", "a PLCopen project")?;
     let ns_ok = root
         .attrs
         .iter()
