@@ -75,3 +75,20 @@ export function download(filename: string, urlOrText: string, isText = false): v
   a.remove();
   if (isText) setTimeout(() => URL.revokeObjectURL(href), 1000);
 }
+
+/** Pans `canvas` by its scroll position while the pointer of `e` drags it (until released). */
+export function dragScroll(canvas: HTMLElement, e: PointerEvent): void {
+  e.preventDefault();
+  e.stopPropagation();
+  const [sx, sy, x0, y0] = [canvas.scrollLeft, canvas.scrollTop, e.clientX, e.clientY];
+  const move = (m: PointerEvent) => {
+    canvas.scrollLeft = sx - (m.clientX - x0);
+    canvas.scrollTop = sy - (m.clientY - y0);
+  };
+  const up = () => {
+    window.removeEventListener('pointermove', move);
+    window.removeEventListener('pointerup', up);
+  };
+  window.addEventListener('pointermove', move);
+  window.addEventListener('pointerup', up);
+}

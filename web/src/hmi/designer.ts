@@ -15,7 +15,7 @@
 // elements. The screen's JSON is the model: every change is a new version.
 import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
-import { add, clear, h, s } from '../dom';
+import { add, clear, dragScroll, h, s } from '../dom';
 import { domain, membersOf } from '../domain';
 import { tr } from '../i18n';
 import {
@@ -253,19 +253,7 @@ export class Designer {
   /** Panning: the middle button, or the left one with Space held, drags the canvas's scroll. */
   private maybePan(e: PointerEvent): void {
     if (e.button !== 1 && !(e.button === 0 && this.space)) return;
-    e.preventDefault();
-    e.stopPropagation();
-    const [sx, sy, x0, y0] = [this.canvas.scrollLeft, this.canvas.scrollTop, e.clientX, e.clientY];
-    const move = (m: PointerEvent) => {
-      this.canvas.scrollLeft = sx - (m.clientX - x0);
-      this.canvas.scrollTop = sy - (m.clientY - y0);
-    };
-    const up = () => {
-      window.removeEventListener('pointermove', move);
-      window.removeEventListener('pointerup', up);
-    };
-    window.addEventListener('pointermove', move);
-    window.addEventListener('pointerup', up);
+    dragScroll(this.canvas, e);
   }
 
   private toScreen(cx: number, cy: number): { x: number; y: number } {

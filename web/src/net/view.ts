@@ -16,7 +16,7 @@
 import { api } from '../api';
 import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
-import { add, clear, fmt, h, s } from '../dom';
+import { add, clear, dragScroll, fmt, h, s } from '../dom';
 import { membersOf } from '../domain';
 import { type Problem, ProgramEditor, problemTip } from '../editor/program';
 import { clockTime, tr } from '../i18n';
@@ -309,19 +309,7 @@ export class NetView {
 
   private maybePan(e: PointerEvent): void {
     if (e.button !== 1 && !(e.button === 0 && this.space)) return;
-    e.preventDefault();
-    e.stopPropagation();
-    const [sx, sy, x0, y0] = [this.canvas.scrollLeft, this.canvas.scrollTop, e.clientX, e.clientY];
-    const move = (m: PointerEvent) => {
-      this.canvas.scrollLeft = sx - (m.clientX - x0);
-      this.canvas.scrollTop = sy - (m.clientY - y0);
-    };
-    const up = () => {
-      window.removeEventListener('pointermove', move);
-      window.removeEventListener('pointerup', up);
-    };
-    window.addEventListener('pointermove', move);
-    window.addEventListener('pointerup', up);
+    dragScroll(this.canvas, e);
   }
 
   private toWorld(cx: number, cy: number): Pt {
