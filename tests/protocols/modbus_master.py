@@ -20,17 +20,15 @@ import json
 import logging
 import os
 import re
-import socket
-import subprocess
 import sys
 import threading
 import time
 import tty
-import urllib.request
 
 from pymodbus.datastore import ModbusDeviceContext, ModbusSequentialDataBlock, ModbusServerContext
 from pymodbus import FramerType
 from pymodbus.server import ModbusSerialServer, ModbusTcpServer
+from alba_run import Alba, free_port
 
 failures = []
 # pymodbus 3.16 warns that its classic datastore is deprecated (v4 replaces it).
@@ -111,58 +109,6 @@ class Slave:
         return self._run(go())
 
 
-class Alba:
-    def __init__(self, binary, project):
-        self.proc = subprocess.Popen(
-            [binary, "run", project, "--http", "127.0.0.1:0", "--io", "modbus", "--no-native"],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            text=True,
-        )
-        self.http = None
-        self.log = []
-        deadline = time.time() + 60
-        while time.time() < deadline and not self.http:
-            line = self.proc.stdout.readline()
-            if not line:
-                raise SystemExit(f"alba run ended: exit {self.proc.wait()}")
-            self.log.append(line)
-            m = re.search(r"http://([\d.]+:\d+)/", line)
-            if m:
-                self.http = "http://" + m.group(1)
-        if not self.http:
-            raise SystemExit("alba run did not report its address")
-        threading.Thread(target=self._drain, daemon=True).start()
-
-    def _drain(self):
-        for line in self.proc.stdout:
-            self.log.append(line)
-
-    def api(self, method, path, body=None):
-        data = None if body is None else json.dumps(body).encode()
-        req = urllib.request.Request(self.http + path, data=data, method=method,
-                                     headers={"Content-Type": "application/json"})
-        with urllib.request.urlopen(req, timeout=10) as r:
-            return json.loads(r.read() or b"null")
-
-    def tag(self, name):
-        return self.api("GET", f"/api/tags/{name}")["value"]
-
-    def stop(self):
-        self.proc.terminate()
-        try:
-            self.proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
 
 def serial_line():
     """Two ptys joined back to back (a null-modem cable): returns their paths."""
@@ -195,7 +141,7 @@ def rtu(binary, project):
     open(toml, "w").write(re.sub(r'tcp = "[^"]*"', f'rtu = "{alba_end}"\nbaud = 19200', text))
     slave = Slave(0, serial=slave_end)
     slave.start()
-    alba = Alba(binary, project)
+    alba = Alba(binary, project, "modbus")
     try:
         print(f"modbus master RTU ({alba_end} <-> {slave_end}): inputs to outputs", flush=True)
         until("S:IOOK (RTU)", lambda: alba.tag("S:IOOK") is True)
@@ -226,7 +172,7 @@ def main():
     open(toml, "w").write(re.sub(r'tcp = "127\.0\.0\.1:\d+"', f'tcp = "127.0.0.1:{port}"', text))
     slave = Slave(port)
     slave.start()
-    alba = Alba(binary, project)
+    alba = Alba(binary, project, "modbus")
     try:
         print("modbus master: inputs of the slave through the program to its outputs", flush=True)
         until("S:IOOK", lambda: alba.tag("S:IOOK") is True)

@@ -17,22 +17,19 @@ SignAndEncrypt, and one user (op / the right password). Checks:
 """
 
 import asyncio
-import json
 import os
 import re
 import shutil
-import socket
-import subprocess
 import sys
 import threading
 import time
-import urllib.request
 from pathlib import Path
 
 from asyncua import Server, ua
 from asyncua.crypto.cert_gen import setup_self_signed_certificate
 from asyncua.crypto.permission_rules import User, UserRole
 from cryptography.x509.oid import ExtendedKeyUsageOID
+from alba_run import Alba, free_port
 
 failures = []
 GOOD = "correct horse battery staple"
@@ -110,56 +107,6 @@ class TankServer:
         self._run(self.server.stop())
 
 
-class Alba:
-    def __init__(self, binary, project):
-        self.proc = subprocess.Popen(
-            [binary, "run", project, "--http", "127.0.0.1:0", "--io", "sim", "--no-native"],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        self.http = None
-        self.log = []
-        deadline = time.time() + 60
-        while time.time() < deadline and not self.http:
-            line = self.proc.stdout.readline()
-            if not line:
-                raise SystemExit(f"alba run ended: exit {self.proc.wait()}: {''.join(self.log)}")
-            self.log.append(line)
-            m = re.search(r"http://([\d.]+:\d+)/", line)
-            if m:
-                self.http = "http://" + m.group(1)
-        threading.Thread(target=self._drain, daemon=True).start()
-
-    def _drain(self):
-        for line in self.proc.stdout:
-            self.log.append(line)
-
-    def api(self, method, path, body=None):
-        data = None if body is None else json.dumps(body).encode()
-        req = urllib.request.Request(self.http + path, data=data, method=method,
-                                     headers={"Content-Type": "application/json"})
-        with urllib.request.urlopen(req, timeout=10) as r:
-            return json.loads(r.read() or b"null")
-
-    def tag(self, name):
-        return self.api("GET", f"/api/tags/{name}")["value"]
-
-    def said(self, text):
-        return any(text in l for l in self.log)
-
-    def stop(self):
-        self.proc.terminate()
-        try:
-            self.proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
 
 def configure(project, port, password, secure):
     toml = Path(project) / "alba.toml"
@@ -181,7 +128,7 @@ def main():
     try:
         print("opcua client io: a wrong password is refused", flush=True)
         configure(project, port, "wrong", secure=False)
-        alba = Alba(binary, project)
+        alba = Alba(binary, project, "sim")
         try:
             until("a refusal on stderr", lambda: alba.said("wrong user name or password"))
             check(alba.tag("S:IOOK") is False, "S:IOOK false with a wrong password")
@@ -191,7 +138,7 @@ def main():
 
         print("opcua client io: subscription and writes (None, right password)", flush=True)
         configure(project, port, GOOD, secure=False)
-        alba = Alba(binary, project)
+        alba = Alba(binary, project, "sim")
         try:
             until("S:IOOK", lambda: alba.tag("S:IOOK") is True)
             until("LevelIn 3.25", lambda: alba.tag("LevelIn") == 3.25)
@@ -206,7 +153,7 @@ def main():
 
         print("opcua client io: an untrusted server certificate is refused (Basic256Sha256)", flush=True)
         configure(project, port, GOOD, secure=True)
-        alba = Alba(binary, project)
+        alba = Alba(binary, project, "sim")
         rejected = Path(project) / ".alba" / "pki-client" / "rejected"
         try:
             until("the certificate in rejected/", lambda: any(rejected.glob("*.der")))
