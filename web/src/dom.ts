@@ -92,3 +92,40 @@ export function dragScroll(canvas: HTMLElement, e: PointerEvent): void {
   window.addEventListener('pointermove', move);
   window.addEventListener('pointerup', up);
 }
+
+/** A rectangle in SVG coordinates. */
+export interface Box {
+  x: number;
+  y: number;
+  w: number;
+  h: number;
+}
+
+/**
+ * A rubber band: `band` (an SVG rect, already in the drawing) follows the pointer from
+ * `a` while it drags; `done` gets the box when it is released. `toSvg` turns client
+ * coordinates into the drawing's.
+ */
+export function rubberBand(
+  band: SVGRectElement,
+  a: { x: number; y: number },
+  toSvg: (cx: number, cy: number) => { x: number; y: number },
+  done: (box: Box) => void,
+): void {
+  let box: Box = { x: a.x, y: a.y, w: 0, h: 0 };
+  const move = (m: PointerEvent) => {
+    const b = toSvg(m.clientX, m.clientY);
+    box = { x: Math.min(a.x, b.x), y: Math.min(a.y, b.y), w: Math.abs(b.x - a.x), h: Math.abs(b.y - a.y) };
+    band.setAttribute('x', String(box.x));
+    band.setAttribute('y', String(box.y));
+    band.setAttribute('width', String(box.w));
+    band.setAttribute('height', String(box.h));
+  };
+  const up = () => {
+    window.removeEventListener('pointermove', move);
+    window.removeEventListener('pointerup', up);
+    done(box);
+  };
+  window.addEventListener('pointermove', move);
+  window.addEventListener('pointerup', up);
+}

@@ -15,7 +15,7 @@
 // elements. The screen's JSON is the model: every change is a new version.
 import { ApiError, api } from '../api';
 import type { Ctx } from '../ctx';
-import { add, clear, dragScroll, h, s } from '../dom';
+import { add, clear, dragScroll, h, rubberBand, s } from '../dom';
 import { domain, membersOf } from '../domain';
 import { tr } from '../i18n';
 import {
@@ -337,24 +337,11 @@ export class Designer {
     const a = this.toScreen(ev.clientX, ev.clientY);
     const band = s('rect', { class: 'hmi-band', x: a.x, y: a.y, width: 0, height: 0, 'data-testid': 'hmi-band' });
     this.svg?.append(band);
-    let box = { x: a.x, y: a.y, w: 0, h: 0 };
-    const move = (m: PointerEvent) => {
-      const b = this.toScreen(m.clientX, m.clientY);
-      box = { x: Math.min(a.x, b.x), y: Math.min(a.y, b.y), w: Math.abs(b.x - a.x), h: Math.abs(b.y - a.y) };
-      band.setAttribute('x', String(box.x));
-      band.setAttribute('y', String(box.y));
-      band.setAttribute('width', String(box.w));
-      band.setAttribute('height', String(box.h));
-    };
-    const up = () => {
-      window.removeEventListener('pointermove', move);
-      window.removeEventListener('pointerup', up);
+    rubberBand(band, a, (cx, cy) => this.toScreen(cx, cy), (box) => {
       const hit = box.w + box.h > 2 ? this.screen.elements.filter((e) => overlaps(e, box)).map((e) => e.id) : [];
       this.select(hit, ev.shiftKey);
       this.canvas.focus();
-    };
-    window.addEventListener('pointermove', move);
-    window.addEventListener('pointerup', up);
+    });
   }
 
   /** Dragging an element moves the whole selection, snapped to the grid (Alt: free). */

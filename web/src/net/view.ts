@@ -16,7 +16,7 @@
 import { api } from '../api';
 import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
-import { add, clear, dragScroll, fmt, h, s } from '../dom';
+import { add, clear, dragScroll, fmt, h, rubberBand, s } from '../dom';
 import { membersOf } from '../domain';
 import { type Problem, ProgramEditor, problemTip } from '../editor/program';
 import { clockTime, tr } from '../i18n';
@@ -978,18 +978,7 @@ export class NetView {
     const a = this.toWorld(ev.clientX, ev.clientY);
     const band = s('rect', { class: 'net-band', x: a.x, y: a.y, width: 0, height: 0, 'data-testid': 'net-band' });
     this.svg?.append(band);
-    let box = { x: a.x, y: a.y, w: 0, h: 0 };
-    const move = (m: PointerEvent) => {
-      const b = this.toWorld(m.clientX, m.clientY);
-      box = { x: Math.min(a.x, b.x), y: Math.min(a.y, b.y), w: Math.abs(b.x - a.x), h: Math.abs(b.y - a.y) };
-      band.setAttribute('x', String(box.x));
-      band.setAttribute('y', String(box.y));
-      band.setAttribute('width', String(box.w));
-      band.setAttribute('height', String(box.h));
-    };
-    const up = () => {
-      window.removeEventListener('pointermove', move);
-      window.removeEventListener('pointerup', up);
+    rubberBand(band, a, (cx, cy) => this.toWorld(cx, cy), (box) => {
       const net = this.net;
       if (!net) return;
       const hit: string[] = [];
@@ -1005,9 +994,7 @@ export class NetView {
         for (const arc of net.arcs) if (nodes.has(arc.source) && nodes.has(arc.target)) hit.push(arc.id);
       }
       this.select(hit, ev.shiftKey);
-    };
-    window.addEventListener('pointermove', move);
-    window.addEventListener('pointerup', up);
+    });
   }
 
   // ---- properties --------------------------------------------------------
