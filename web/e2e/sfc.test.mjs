@@ -1,6 +1,7 @@
 // The SFC tab (issue 20, item 2: the chart drawn from the textual SFC) on
 // examples/sfc-batch: the chart in the IEC graphical form, the active step
-// lit live, a forced Start moving it on, and its actions lit.
+// lit live, a forced Start moving it on, and its actions lit; divergences,
+// convergences and jumps drawn with the mouse, saved online.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { useStudio } from './harness.mjs';
@@ -25,5 +26,39 @@ test('the SFC chart follows the running batch', async () => {
   assert.equal(await tid('sfc-prop-condition').inputValue(), 'Start');
   await tid('sfc-goto-text').click();
   assert.equal(await tid('sfc-batch.sfc').getAttribute('data-mode'), 'text');
+  assert.deepEqual(b.errors, []);
+});
+
+test('divergences, convergences and jumps are drawn with the mouse and saved online', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('tab-program-batch.sfc').click();
+  await tid('sfc-svg').waitFor();
+  // a simultaneous divergence: FillA's transition activates a new step S1 beside FillB
+  await tid('sfc-tr-t2').click();
+  await tid('sfc-add-parallel').click();
+  await tid('sfc-step-S1').waitFor();
+  assert.ok((await page.locator('.sfc-double').count()) >= 2, 'double lines for the divergence');
+  // a simultaneous convergence: FillB's transition waits for S1 too
+  await tid('sfc-tr-t3').click();
+  await tid('sfc-join').click();
+  assert.match(await tid('sfc-hint').textContent(), /Click the step/);
+  await tid('sfc-step-S1').click();
+  // a jump: a new transition from Empty back to FillA
+  await tid('sfc-step-Empty').click();
+  await tid('sfc-link').click();
+  await tid('sfc-step-FillA').click();
+  await tid('sfc-jump-t7-FillA').waitFor();
+  await b.shot('sfc-drawn');
+  await tid('btn-save').click();
+  await tid('toast-info').filter({ hasText: 'batch.sfc saved and applied online' }).waitFor();
+  const { text } = await alba.json('/api/programs/batch.sfc');
+  assert.match(text, /TRANSITION FROM FillA TO \(FillB, S1\) := Level >= 400; END_TRANSITION/);
+  assert.match(text, /TRANSITION FROM \(FillB, S1\) TO Mix := Level >= 800; END_TRANSITION/);
+  assert.match(text, /TRANSITION FROM Empty TO FillA := FALSE; END_TRANSITION/);
+  // Delete takes the parallel step out of both transitions again
+  await tid('sfc-step-S1').click();
+  await tid('sfc-delete').click();
+  await tid('sfc-step-S1').waitFor({ state: 'detached' });
   assert.deepEqual(b.errors, []);
 });

@@ -6,7 +6,7 @@ import { afterEach, describe, expect, it, vi } from 'vitest';
 import { type Ctx, TagCache } from '../src/ctx';
 import { LiveClient } from '../src/live/client';
 import { emptyBatch } from '../src/live/coalesce';
-import { addAction, addStepAfter, elementAtLine, layoutSfc, parseSfc, setAction, setCondition } from '../src/sfc/parse';
+import { addAction, addJoin, addLink, addParallel, addStepAfter, elementAtLine, layoutSfc, parseSfc, removeElement, setAction, setCondition } from '../src/sfc/parse';
 import { SfcView } from '../src/sfc/view';
 
 const REPO = join(__dirname, '../..');
@@ -53,6 +53,46 @@ describe('SFC text', () => {
 });
 
 describe('SFC edits of the text', () => {
+  it('draws divergences, convergences and jumps: a parallel step, a join, a link back; deletes keep the rest', () => {
+    let c = parseSfc(SEQ);
+    const b2 = c.transitions.find((t) => t.from[0] === 'A')!;
+    // a simultaneous divergence: Next now also activates a new step S1
+    const p = addParallel(SEQ, c, b2);
+    c = parseSfc(p.text);
+    expect(p.step).toBe('S1');
+    expect(c.transitions.find((t) => t.from[0] === 'A')!.to).toEqual(['B', 'S1']);
+    expect(p.text).toContain('TRANSITION FROM A TO (B, S1) := Next; END_TRANSITION');
+    // a simultaneous convergence: `join` waits for S1 too
+    let text = addJoin(p.text, c.transitions.find((t) => t.name === 'join')!, 'S1');
+    c = parseSfc(text);
+    expect(c.transitions.find((t) => t.name === 'join')!.from).toEqual(['C1', 'C2', 'S1']);
+    expect(addJoin(text, c.transitions.find((t) => t.name === 'join')!, 'c1')).toBe(text);
+    // a jump back from B to A (a selective divergence out of B, beside `split`)
+    text = addLink(text, 'B', 'A');
+    c = parseSfc(text);
+    const back = c.transitions.at(-1)!;
+    expect(back).toMatchObject({ from: ['B'], to: ['A'], condition: 'FALSE' });
+    expect(layoutSfc(c).jumps.has(back.name)).toBe(true);
+    // deleting S1 takes it out of both lists; the rest is as it was
+    text = removeElement(text, c, 'step:S1');
+    c = parseSfc(text);
+    expect(c.steps.map((s) => s.name)).not.toContain('S1');
+    expect(c.transitions.find((t) => t.from[0] === 'A')!.to).toEqual(['B']);
+    expect(c.transitions.find((t) => t.name === 'join')!.from).toEqual(['C1', 'C2']);
+    // and deleting the jump gives back the original text, byte for byte
+    expect(removeElement(text, c, `tr:${back.name}`)).toBe(SEQ);
+  });
+
+  it('a deleted step takes the transitions left without a step on one side', () => {
+    const c = parseSfc(BATCH);
+    const text = removeElement(BATCH, c, 'step:Mix');
+    const after = parseSfc(text);
+    expect(after.steps.map((s) => s.name)).toEqual(['Idle', 'FillA', 'FillB', 'Empty', 'Done']);
+    expect(after.transitions.map((t) => `${t.from}>${t.to}`)).toEqual(['Idle>FillA', 'FillA>FillB', 'Empty>Done', 'Done>Idle']);
+    expect(text).not.toMatch(/Mix/);
+    expect(text).toContain('(* A mixing batch: IEC 61131-3 textual SFC. *)');
+  });
+
   it('sets a condition, adds, changes and removes actions, adds a step after another, keeping the rest byte for byte', () => {
     let c = parseSfc(BATCH);
     let text = setCondition(BATCH, c.transitions[0], 'Start AND NOT Busy');

@@ -23,6 +23,8 @@ export interface Step {
   endLine: number;
   /** Offset of its `END_STEP` (new actions go before it). */
   endStep: number;
+  /** Offsets of the whole `STEP … END_STEP`. */
+  span: [number, number];
 }
 
 export interface SfcTransition {
@@ -35,6 +37,10 @@ export interface SfcTransition {
   condition: string;
   /** Offsets of the condition between `:=` and `;` / `END_TRANSITION`. */
   cond: [number, number];
+  /** Offsets of the whole `TRANSITION … END_TRANSITION`, and of its `FROM` and `TO` lists. */
+  span: [number, number];
+  fromSpan: [number, number];
+  toSpan: [number, number];
   line: number;
   endLine: number;
 }
@@ -62,7 +68,7 @@ export function parseSfc(text: string): Chart {
     for (const a of m[3].matchAll(/([A-Za-z_][\w.]*)\s*\(\s*([A-Za-z][A-Za-z0-9]*)\s*(?:,\s*([^)]*?))?\s*\)\s*;?/g))
       actions.push({ name: a[1], qualifier: a[2].toUpperCase(), time: a[3]?.trim() || null, start: body + a.index!, end: body + a.index! + a[0].length });
     const end = m.index! + m[0].length;
-    steps.push({ name: m[2], initial: m[1].toUpperCase() === 'INITIAL_STEP', actions, line: lineAt(src, m.index!), endLine: lineAt(src, end), endStep: end - 'END_STEP'.length });
+    steps.push({ name: m[2], initial: m[1].toUpperCase() === 'INITIAL_STEP', actions, line: lineAt(src, m.index!), endLine: lineAt(src, end), endStep: end - 'END_STEP'.length, span: [m.index!, end] });
   }
   const list = (s: string) => s.replace(/[()]/g, '').split(',').map((x) => x.trim()).filter(Boolean);
   const trRe = /\bTRANSITION\b\s*(?:([A-Za-z_]\w*)\s*)?(?:\(\s*PRIORITY\s*:=\s*(-?\d+)\s*\)\s*)?FROM\s+(\([^)]*\)|[A-Za-z_]\w*)\s*TO\s+(\([^)]*\)|[A-Za-z_]\w*)\s*:=([\s\S]*?);?\s*\bEND_TRANSITION\b/dgi;
@@ -73,6 +79,7 @@ export function parseSfc(text: string): Chart {
     transitions.push({
       name: m[1] ?? `t${k}`, named: !!m[1], priority: m[2] === undefined ? null : Number(m[2]),
       from: list(m[3]), to: list(m[4]), condition: m[5].replace(/\s+/g, ' ').trim(), cond: m.indices![5] as [number, number],
+      span: [m.index!, m.index! + m[0].length], fromSpan: m.indices![3] as [number, number], toSpan: m.indices![4] as [number, number],
       line: lineAt(src, m.index!), endLine: lineAt(src, m.index! + m[0].length),
     });
   }
@@ -179,9 +186,77 @@ export function setAction(text: string, step: Step, k: number, a: { name: string
   return `${text.slice(0, x.start)}${assoc}${text.slice(x.end)}`;
 }
 
+/** `text` with `lines` appended, each on a line of its own. */
+function append(text: string, ...lines: string[]): string {
+  const tail = text.endsWith('\n') || text === '' ? '' : '\n';
+  return `${text}${tail}${lines.map((l) => `${l}\n`).join('')}`;
+}
+
+/** `text` with each [start, end) replaced, the edits not overlapping (applied from the end). */
+function splice(text: string, edits: [number, number, string][]): string {
+  return [...edits].sort((a, b) => b[0] - a[0]).reduce((t, [from, to, by]) => `${t.slice(0, from)}${by}${t.slice(to)}`, text);
+}
+
+/** A `FROM`/`TO` list as written: one name, or several in parentheses. */
+const ends = (names: string[]) => (names.length === 1 ? names[0] : `(${names.join(', ')})`);
+
+const transition = (from: string[], to: string[]) => `TRANSITION FROM ${ends(from)} TO ${ends(to)} := FALSE; END_TRANSITION`;
+
 /** A new step after `from`: the step and a transition to it (condition FALSE until set), at the end of the text. */
 export function addStepAfter(text: string, chart: Chart, from: string): { text: string; step: string } {
   const step = freshStep(chart);
-  const tail = text.endsWith('\n') || text === '' ? '' : '\n';
-  return { text: `${text}${tail}STEP ${step}: END_STEP\nTRANSITION FROM ${from} TO ${step} := FALSE; END_TRANSITION\n`, step };
+  return { text: append(text, `STEP ${step}: END_STEP`, transition([from], [step])), step };
+}
+
+/** A simultaneous divergence: a new step added to what transition `t` activates. */
+export function addParallel(text: string, chart: Chart, t: SfcTransition): { text: string; step: string } {
+  const step = freshStep(chart);
+  return { text: append(splice(text, [[...t.toSpan, ends([...t.to, step])]]), `STEP ${step}: END_STEP`), step };
+}
+
+/**
+ * A new transition from step `from` to step `to` (condition FALSE until set): a jump when
+ * `to` comes earlier, a selective divergence when `from` already has a way out, a selective
+ * convergence when `to` already has a way in.
+ */
+export function addLink(text: string, from: string, to: string): string {
+  return append(text, transition([from], [to]));
+}
+
+/** A simultaneous convergence: step `step` added to what transition `t` waits for. */
+export function addJoin(text: string, t: SfcTransition, step: string): string {
+  if (t.from.some((f) => f.toUpperCase() === step.toUpperCase())) return text;
+  return splice(text, [[...t.fromSpan, ends([...t.from, step])]]);
+}
+
+/** [start, end) widened to whole lines when nothing else is on them. */
+function wholeLines(text: string, [from, to]: [number, number]): [number, number] {
+  const lineStart = text.lastIndexOf('\n', from - 1) + 1;
+  let lineEnd = text.indexOf('\n', to);
+  if (lineEnd < 0) lineEnd = text.length;
+  if (text.slice(lineStart, from).trim() || text.slice(to, lineEnd).trim()) return [from, to];
+  return [lineStart, Math.min(text.length, lineEnd + 1)];
+}
+
+/**
+ * Deletes a step (`step:<name>`) or transition (`tr:<name>`). A deleted step leaves the
+ * `FROM`/`TO` lists it was in; a transition left with no step on one side goes too.
+ */
+export function removeElement(text: string, chart: Chart, id: string): string {
+  const t = chart.transitions.find((x) => `tr:${x.name}` === id);
+  if (t) return splice(text, [[...wholeLines(text, t.span), '']]);
+  const st = chart.steps.find((x) => `step:${x.name}` === id);
+  if (!st) return text;
+  const other = (n: string) => n.toUpperCase() !== st.name.toUpperCase();
+  const edits: [number, number, string][] = [[...wholeLines(text, st.span), '']];
+  for (const x of chart.transitions) {
+    const from = x.from.filter(other);
+    const to = x.to.filter(other);
+    if (!from.length || !to.length) edits.push([...wholeLines(text, x.span), '']);
+    else {
+      if (from.length !== x.from.length) edits.push([...x.fromSpan, ends(from)]);
+      if (to.length !== x.to.length) edits.push([...x.toSpan, ends(to)]);
+    }
+  }
+  return splice(text, edits);
 }

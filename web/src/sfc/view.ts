@@ -15,7 +15,7 @@ import { tr } from '../i18n';
 import { netName } from '../net/sim';
 import { gate, why } from '../auth';
 import { membersOf } from '../domain';
-import { type Chart, addAction, addStepAfter, elementAtLine, layoutSfc, parseSfc, setAction, setCondition } from './parse';
+import { type Chart, addAction, addJoin, addLink, addParallel, addStepAfter, elementAtLine, layoutSfc, parseSfc, removeElement, setAction, setCondition } from './parse';
 
 const QUALIFIERS = ['N', 'S', 'R', 'L', 'D', 'P', 'P1', 'P0', 'SD', 'DS', 'SL'];
 /** A time literal of the language (not a word to translate). */
@@ -31,12 +31,15 @@ export class SfcView {
   private mode: 'chart' | 'text' = 'chart';
   private active = false;
   private unlisten: (() => void)[] = [];
-  private readonly canvas = h('div', { class: 'net-canvas sfc-canvas', 'data-testid': 'sfc-canvas' });
+  private readonly canvas = h('div', { class: 'net-canvas sfc-canvas', 'data-testid': 'sfc-canvas', tabindex: '0' });
   private readonly liveEl = h('span', { class: 'net-live-state', 'data-testid': 'sfc-live-state' });
   private groups = new Map<string, SVGGElement>();
   /** The selected element: `step:<name>` or `tr:<name>`. */
   private sel: string | null = null;
   private readonly propsEl = h('div', { class: 'props net-props', 'data-testid': 'sfc-props' });
+  /** Drawing with the mouse: the next click on a step ends a link from a step or a join into a transition. */
+  private pending: { kind: 'link' | 'join'; from: string } | null = null;
+  private readonly hintEl = h('span', { class: 'hint sfc-hint', 'data-testid': 'sfc-hint' });
 
   constructor(
     private readonly ctx: Ctx,
@@ -55,12 +58,13 @@ export class SfcView {
     this.el = h('section', { class: 'ladder-view net-view sfc-view', 'data-testid': `sfc-${program}` },
       h('div', { class: 'toolbar' },
         h('span', { class: 'seg' }, modeBtn('chart', tr('Chart')), modeBtn('text', tr('Text'))),
-        h('span', { class: 'seg' }, (() => {
-          const b = h('button', { class: 'small', 'data-testid': 'sfc-add-step', title: tr('A new step after the selected one, and a transition to it') }, `+ ${tr('Step')}`);
-          b.onclick = () => this.addStep();
-          gate(b, 'edit');
-          return b;
-        })()),
+        h('span', { class: 'seg' },
+          this.tool(`+ ${tr('Step')}`, 'sfc-add-step', tr('A new step after the selected one, and a transition to it (a second way out of a step is a selective divergence)'), () => this.addStep()),
+          this.tool(`+ ${tr('Parallel')}`, 'sfc-add-parallel', tr('A new step activated together with the others by the selected transition (simultaneous divergence)'), () => this.addParallel()),
+          this.tool(`${tr('Link')} →`, 'sfc-link', tr('A new transition from the selected step to the step you click next (a jump back, or a selective convergence)'), () => this.startPending('link')),
+          this.tool(`${tr('Join')} ⇉`, 'sfc-join', tr('The step you click next also feeds the selected transition (simultaneous convergence)'), () => this.startPending('join')),
+          this.tool(`✕ ${tr('Delete')}`, 'sfc-delete', tr('Delete the selected step (and the transitions left without a step) or transition'), () => this.deleteSelected())),
+        this.hintEl,
         h('span', { class: 'seg' }, this.liveEl),
         this.ed.stateEl),
       h('div', { class: 'ladder-body' },
@@ -69,6 +73,9 @@ export class SfcView {
           this.propsEl,
           h('h3', null, tr('Problems')), this.ed.problemsEl)));
     this.ed.section = this.el;
+    this.el.addEventListener('keydown', (e) => {
+      if (e.key === 'Escape' && this.pending) this.cancelPending();
+    });
     this.setMode('chart');
   }
 
@@ -147,6 +154,63 @@ export class SfcView {
     const r = addStepAfter(this.ed.text, this.chart, from);
     this.edit(r.text);
     this.select(`step:${r.step}`);
+  }
+
+  private tool(label: string, testid: string, title: string, action: () => void): HTMLButtonElement {
+    const b = h('button', { class: 'small', 'data-testid': testid, title }, label);
+    b.onclick = action;
+    gate(b, 'edit');
+    return b;
+  }
+
+  private selected(kind: 'step' | 'tr'): string | undefined {
+    return this.sel?.startsWith(`${kind}:`) ? this.sel.slice(kind.length + 1) : undefined;
+  }
+
+  private say(text: string): void {
+    this.hintEl.textContent = text;
+  }
+
+  private addParallel(): void {
+    const t = this.chart.transitions.find((x) => x.name === this.selected('tr'));
+    if (!t) return this.say(tr('Select a transition first.'));
+    const r = addParallel(this.ed.text, this.chart, t);
+    this.edit(r.text);
+    this.select(`step:${r.step}`);
+  }
+
+  private startPending(kind: 'link' | 'join'): void {
+    const from = kind === 'link' ? this.selected('step') : this.selected('tr');
+    if (!from) return this.say(kind === 'link' ? tr('Select a step first.') : tr('Select a transition first.'));
+    this.pending = { kind, from };
+    this.el.dataset.pending = kind;
+    this.say(kind === 'link' ? tr('Click the step the new transition goes to (Escape cancels).') : tr('Click the step to join into the transition (Escape cancels).'));
+  }
+
+  private cancelPending(): void {
+    this.pending = null;
+    delete this.el.dataset.pending;
+    this.say('');
+  }
+
+  /** A click on a step while drawing a link or a join. */
+  private finishPending(step: string): void {
+    const p = this.pending!;
+    this.cancelPending();
+    if (p.kind === 'link') {
+      this.edit(addLink(this.ed.text, p.from, step));
+      const added = parseSfc(this.ed.text).transitions.at(-1);
+      return this.select(added ? `tr:${added.name}` : null);
+    }
+    const t = this.chart.transitions.find((x) => x.name === p.from);
+    if (t) this.edit(addJoin(this.ed.text, t, step));
+    this.select(`tr:${p.from}`);
+  }
+
+  private deleteSelected(): void {
+    if (!this.sel) return this.say(tr('Select a step or a transition first.'));
+    this.edit(removeElement(this.ed.text, this.chart, this.sel));
+    this.select(null);
   }
 
   private tagNames(): string[] {
@@ -294,7 +358,11 @@ export class SfcView {
           s('text', { x: STEP_W / 2 + 52, y: y + 15, class: 'sfc-act-text' }, a.name),
           a.time ? s('text', { x: STEP_W / 2 + 160, y: y + 15, class: 'sfc-act-time' }, a.time) : null));
       });
-      g.addEventListener('click', () => this.select(id));
+      g.addEventListener('click', (e) => {
+        e.stopPropagation();
+        if (this.pending) this.finishPending(st.name);
+        else this.select(id);
+      });
       this.groups.set(id, g);
       svg.append(g);
     }
@@ -307,10 +375,15 @@ export class SfcView {
         s('text', { class: 'net-guard sfc-cond', x: 22, y: 4 }, t.condition),
         t.named || t.priority !== null ? s('text', { class: 'net-prio', x: -22, y: 4, 'text-anchor': 'end' }, `${t.named ? t.name : ''}${t.priority !== null ? ` #${t.priority}` : ''}`) : null,
         errors.has(id) ? s('title', null, errors.get(id)!.join('\n')) : null);
-      g.addEventListener('click', () => this.select(id));
+      g.addEventListener('click', (e) => {
+        e.stopPropagation();
+        if (!this.pending) this.select(id);
+      });
       this.groups.set(id, g);
       svg.append(g);
     }
+    // a click on the empty sheet cancels a link or join being drawn
+    svg.addEventListener('click', () => this.pending && this.cancelPending());
     if (!chart.steps.length) this.canvas.append(h('p', { class: 'hint sfc-empty' }, tr('No steps yet: write the chart in the Text view.')));
     this.canvas.append(svg);
     this.paintLive();
