@@ -41,7 +41,7 @@ def check(cond, what):
         print(f"  FAIL: {what}", flush=True)
 
 
-def until(what, f, timeout=20.0):
+def until(what, f, timeout=60.0):
     deadline = time.time() + timeout
     while time.time() < deadline:
         try:
