@@ -11,7 +11,7 @@
 //! scaled to raw units and written to the output place.
 
 use alba_ir::{Memory, Place, PlantSpec};
-use alba_model::plant::Dynamics;
+use alba_model::plant::{Drain, Dynamics};
 use alba_model::{DataType, Value};
 use std::collections::VecDeque;
 
@@ -133,13 +133,14 @@ impl Sim {
                 }
                 t
             }
-            Dynamics::Tank { area, outflow, .. } => {
-                if outflow > 0.0 {
-                    area / outflow
-                } else {
-                    f64::INFINITY
-                }
-            }
+            Dynamics::Tank {
+                area, outflow, drain, ..
+            } => match drain {
+                _ if outflow <= 0.0 => f64::INFINITY,
+                Drain::Linear => area / outflow,
+                // linearised at the initial level (at least 1 % of a unit)
+                Drain::Orifice => 2.0 * area * x[0].max(0.01).sqrt() / outflow,
+            },
             Dynamics::Motor { r, l, kt, ke, j, .. } => (l / r).min(j * r / (kt * ke)),
         };
         let sub = (0.005 / fastest).ceil().clamp(1.0, 1000.0) as u32;
@@ -183,8 +184,21 @@ impl Sim {
             Dynamics::FirstOrder { gain, tau } => [(gain * u - x[0]) / tau, 0.0],
             Dynamics::SecondOrder { gain, a2, a1, a0 } => [x[1], (gain * u - a1 * x[1] - a0 * x[0]) / a2],
             Dynamics::Tank {
-                area, inflow, outflow, ..
-            } => [(inflow * u - outflow * x[0]) / area, 0.0],
+                area,
+                inflow,
+                outflow,
+                drain,
+                dead_zone,
+                ..
+            } => {
+                let out = match drain {
+                    Drain::Linear => x[0],
+                    Drain::Orifice => x[0].max(0.0).sqrt(),
+                };
+                // with a dead zone, a pump: nothing below it, never backwards
+                let pumped = if dead_zone > 0.0 { (u - dead_zone).max(0.0) } else { u };
+                [(inflow * pumped - outflow * out) / area, 0.0]
+            }
             Dynamics::Motor { r, l, kt, ke, j, b, .. } => [(u - r * x[0] - ke * x[1]) / l, (kt * x[0] - b * x[1]) / j],
         }
     }
@@ -330,6 +344,8 @@ mod tests {
                 outflow: 0.0,
                 sensor: 1.0,
                 max_level: Some(3.0),
+                drain: Drain::Linear,
+                dead_zone: 0.0,
             },
             0.0,
         );
@@ -340,6 +356,32 @@ mod tests {
         assert!((f64::from(mem.f[1]) - 2.0).abs() < 1e-6);
         p.step(&mut mem, 10_000);
         assert!((f64::from(mem.f[1]) - 3.0).abs() < 1e-6, "overflows at max_level");
+    }
+
+    #[test]
+    fn an_orifice_tank_behind_a_pump_with_a_dead_zone() {
+        // At rest: inflow·(u − dead_zone) = outflow·√h, so h = (2·(6 − 1)/2.5)² = 16
+        // (linearised there, τ = 2·area·√h/outflow = 320 s).
+        let tank = Dynamics::Tank {
+            area: 100.0,
+            inflow: 2.0,
+            outflow: 2.5,
+            sensor: 1.0,
+            max_level: None,
+            drain: Drain::Orifice,
+            dead_zone: 1.0,
+        };
+        let (s, mut mem) = spec(tank, 0.0);
+        let mut p = Plants::new(&[s]);
+        p.step(&mut mem, 0);
+        mem.f[0] = 6.0;
+        p.step(&mut mem, 4_000_000);
+        assert!((f64::from(mem.f[1]) - 16.0).abs() < 1e-3, "{}", mem.f[1]);
+        // Below the dead zone the pump delivers nothing: Torricelli's drain alone,
+        // √h falls linearly, 2.5/(2·100) per second: from 4 to 2 in 160 s.
+        mem.f[0] = 0.5;
+        p.step(&mut mem, 4_160_000);
+        assert!((f64::from(mem.f[1]) - 4.0).abs() < 1e-2, "{}", mem.f[1]);
     }
 
     #[test]

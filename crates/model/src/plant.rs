@@ -27,15 +27,21 @@ pub enum Dynamics {
     FirstOrder { gain: f64, tau: f64 },
     /// `gain / (a2·s² + a1·s + a0)`.
     SecondOrder { gain: f64, a2: f64, a1: f64, a0: f64 },
-    /// A tank: `area·dh/dt = inflow·u − outflow·h`, level h ≥ 0 (and ≤
-    /// `max_level` when given); the measurement is `sensor·h`. With
-    /// `outflow = 0` it is a pure integrator.
+    /// A tank: `area·dh/dt = inflow·q(u) − outflow·d(h)`, q(u) = u, or with a
+    /// dead zone max(0, u − dead_zone),
+    /// level h ≥ 0 (and ≤ `max_level` when given), where the drain `d(h)` is
+    /// h (a linear resistance) or √h (an orifice: Torricelli's law); the
+    /// measurement is `sensor·h`. With `outflow = 0` it is a pure integrator.
     Tank {
         area: f64,
         inflow: f64,
         outflow: f64,
         sensor: f64,
         max_level: Option<f64>,
+        drain: Drain,
+        /// The input below which the pump delivers nothing (a DC motor's
+        /// friction, a centrifugal pump's shut-off head), input units.
+        dead_zone: f64,
     },
     /// A DC motor driven by its armature voltage u:
     /// `L·di/dt = u − R·i − ke·ω`, `J·dω/dt = kt·i − b·ω`; the measurement
@@ -49,6 +55,17 @@ pub enum Dynamics {
         b: f64,
         sensor: f64,
     },
+}
+
+/// How a tank's outflow depends on its level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Drain {
+    /// `outflow·h`: a linear resistance (the linearised model).
+    #[default]
+    Linear,
+    /// `outflow·√h`: an orifice or valve at the bottom (Torricelli's law;
+    /// `outflow` = the opening's area × √(2g) in the level's units).
+    Orifice,
 }
 
 /// A linear map raw ↔ physical: `[raw_lo, raw_hi, lo, hi]`.

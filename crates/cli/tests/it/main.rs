@@ -13,7 +13,6 @@ mod import;
 mod listen;
 mod malformed;
 mod modbus_listen;
-mod pid_fidelity;
 mod retain;
 mod users;
 

@@ -149,16 +149,18 @@ const CASES: &[Case] = &[
     Case { example: "pid-gp3", case: "s-theory", until: 100000, t: 0.08, mp: 2.0, ts: 22.4, band: WITHIN, mp_points: 2.0, reach: Reach::Inside, why: "" },
     Case { example: "pid-gp3", case: "instruction", until: 100000, t: 0.04, mp: 0.0, ts: 21.11, band: (1.4, 1.5), mp_points: 2.0, reach: Reach::Inside,
         why: "the PI zero 1/Ti does not cancel the slow pole, whose tail sets ts: C2 +20 % and the gain +10 % bring it to the measured 21 s" },
-    // Prueba 4, Fig. 5-18 and 5-19: the level prototype, Gp4 = 0.028/(s+0.224).
-    Case { example: "pid-level", case: "s-theory", until: 80000, t: 0.25, mp: 5.71, ts: 36.41, band: (0.03, 0.05), mp_points: 6.0, reach: Reach::Outside,
-        why: "the published model settles in 1.5 s in metres and cannot reach 26.6 cm in centimetres (the_level_model_cannot_take_36_s)" },
-    Case { example: "pid-level", case: "s-tuned", until: 80000, t: 0.5, mp: 0.0, ts: 25.35, band: WITHIN, mp_points: 3.0, reach: Reach::Inside, why: "" },
+    // Prueba 4, Fig. 5-18 and 5-19: the level prototype as the thesis describes it physically
+    // (pump behind a chopper, saturating; the tank drained through a valve), not the published
+    // Gp4 = 0.028/(s+0.224), which cannot take 36 s (the_level_model_cannot_take_36_s). The
+    // overshoot of s-theory is 7 points above the measured one: the_level_overshoot_trades_against_the_tuned_run.
+    Case { example: "pid-level-prototype", case: "s-theory", until: 80000, t: 0.25, mp: 5.71, ts: 36.41, band: WITHIN, mp_points: 7.5, reach: Reach::Inside, why: "" },
+    Case { example: "pid-level-prototype", case: "s-tuned", until: 80000, t: 0.5, mp: 0.0, ts: 25.35, band: WITHIN, mp_points: 2.0, reach: Reach::Outside, why: "" },
     // Prueba 5, Fig. 5-20: the Motomatic, Kp 1, Ki 2.5, 20 ms, 7 V step.
     Case { example: "pid-motomatic", case: "tuned", until: 6000, t: 0.02, mp: 1.4, ts: 1.87, band: WITHIN, mp_points: 2.0, reach: Reach::Inside, why: "" },
 ];
 
 /// Every run of the thesis's table whose gains the thesis gives, in its
-/// band and with its reach; 8 of the 13 within ±20 % of the measured
+/// band and with its reach; 9 of the 13 within ±20 % of the measured
 /// settling time.
 #[test]
 fn pid_runs_against_the_thesis_table() {
@@ -218,7 +220,7 @@ fn pid_runs_against_the_thesis_table() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert_eq!(
-        within, 8,
+        within, 9,
         "runs within ±20 % of the measured settling time (docs/pid.md §5)"
     );
 }
@@ -229,10 +231,8 @@ fn pid_runs_against_the_thesis_table() {
 /// within 5 % of FORM 3/4: on that scale the 16-bit ADD saturates at 32767
 /// = 10 V, so keeping the "unclamped" u(k) keeps it at 100 % anyway. The
 /// programs' handling of u(k) is not what parts the simulation from the
-/// measured runs. On the published level model Kp 9.5 makes the DDV
-/// overflow negative (ΔPV of more than 1 V in 500 ms), which the SLC turns
-/// into +32767: a large overshoot the prototype did not show (0 %), one
-/// more sign that the real tank was far slower than that model.
+/// measured runs. (The level prototype too; on the published level model
+/// it does: the_level_model_cannot_take_36_s.)
 #[test]
 fn the_listing_forms_change_no_rc_run() {
     for c in CASES
@@ -248,10 +248,6 @@ fn the_listing_forms_change_no_rc_run() {
             c.case,
             form + 8.0
         );
-        if c.example == "pid-level" && c.case == "s-tuned" {
-            assert!(mpl > 50.0, "level s-tuned under FORM 11: overshoot {mpl}");
-            continue;
-        }
         assert!(
             (tsl - ts).abs() <= 0.05 * ts && (mpl - mp).abs() <= 1.0,
             "{} {}: FORM {} {mpl:.2} % {tsl:.2} s, FORM {form} {mp:.2} % {ts:.2} s",
@@ -303,10 +299,18 @@ fn u_kept_up_to_200_percent_fits_one_run_and_breaks_three() {
 /// settles in seconds; in centimetres (the same numbers per cm, the sensor
 /// 0.1 V per cm) the pump at 10 V holds at most 0.028·10/0.224 = 1.25 cm
 /// and the level never gets to 26.6 cm. Neither is the measured 36.4 s.
+/// (Its s-tuned run does land within 20 %, 29.5 s against 25.35, but under
+/// FORM 11 Kp 9.5 makes the DDV overflow negative — ΔPV of more than 1 V in
+/// 500 ms — which the SLC turns into +32767: an overshoot of more than 50 %
+/// that the prototype, at 0 %, never showed; the real tank was far slower.)
 #[test]
 fn the_level_model_cannot_take_36_s() {
     let (_, metres) = run("pid-level", "s-theory", &[], 80000, &nominal);
     assert!(metres < 5.0, "metres: {metres}");
+    let (_, tuned) = run("pid-level", "s-tuned", &[], 80000, &nominal);
+    assert!((0.8..=1.2).contains(&(tuned / 25.35)), "s-tuned: {tuned}");
+    let (listing, _) = run("pid-level", "s-tuned", &[("Loop.FORM", 11.0)], 80000, &nominal);
+    assert!(listing > 50.0, "s-tuned under FORM 11: overshoot {listing}");
     let cm = |m: &mut PlantModel| {
         if let Dynamics::Tank { sensor, .. } = &mut m.dynamics {
             *sensor = 0.1;
@@ -315,4 +319,58 @@ fn the_level_model_cannot_take_36_s() {
     let (_, centimetres) = run("pid-level", "s-theory", &[], 80000, &cm);
     println!("level s-theory: {metres:.2} s in metres, {centimetres} in centimetres");
     assert!(centimetres.is_infinite(), "centimetres: {centimetres}");
+}
+
+/// The level prototype's model (examples/pid-level-prototype: a pump with a
+/// dead zone behind a saturating chopper, a tank drained through an orifice)
+/// has three numbers the thesis does not give: the pump's flow per volt, its
+/// dead zone and the drain's opening (the tank's area only scales time, and
+/// is folded into the other two). Over a grid of them, every model that puts
+/// s-theory within 20 % of its measured 36.41 s *and* within 2 points of its
+/// measured 5.71 % overshoot settles s-tuned at least 25 % slower than the
+/// measured 25.35 s: the two runs pull the model apart, so the example takes
+/// a model with both settling times within 20 % and s-theory's overshoot 7
+/// points high (12.5 %) rather than one run exact and the other out.
+#[test]
+fn the_level_overshoot_trades_against_the_tuned_run() {
+    let mut matched = 0;
+    let mut fastest_tuned = f64::INFINITY;
+    for outflow in [15.0, 20.0, 22.5, 25.0, 30.0, 35.0] {
+        for inflow in [15.0, 17.5, 20.0, 22.5, 25.0, 30.0, 35.0] {
+            for dead_zone in [0.0, 1.0, 2.0, 3.0, 4.0] {
+                // at rest at 15.2 cm: inflow·(u − dead_zone) = outflow·√15.2
+                let rest = dead_zone + outflow * 15.2f64.sqrt() / inflow;
+                if rest > 9.0 {
+                    continue;
+                }
+                let set = move |m: &mut PlantModel| {
+                    if let Dynamics::Tank {
+                        inflow: i,
+                        outflow: o,
+                        dead_zone: d,
+                        ..
+                    } = &mut m.dynamics
+                    {
+                        (*i, *o, *d) = (inflow, outflow, dead_zone);
+                    }
+                };
+                let at_rest = [("Loop.CV", rest * 10.0)];
+                let (mp, ts) = run("pid-level-prototype", "s-theory", &at_rest, 80000, &set);
+                if !(0.8..=1.2).contains(&(ts / 36.41)) || (mp - 5.71).abs() > 2.0 {
+                    continue;
+                }
+                matched += 1;
+                let (_, tuned) = run("pid-level-prototype", "s-tuned", &at_rest, 80000, &set);
+                println!(
+                    "inflow {inflow} outflow {outflow} dead zone {dead_zone}: s-theory {mp:.2} % {ts:.2} s, s-tuned {tuned:.2} s"
+                );
+                fastest_tuned = fastest_tuned.min(tuned);
+            }
+        }
+    }
+    assert!(matched >= 3, "models matching s-theory: {matched}");
+    assert!(
+        fastest_tuned / 25.35 > 1.25,
+        "a model matching s-theory settles s-tuned in {fastest_tuned:.2} s"
+    );
 }

@@ -2,7 +2,7 @@
 //! [`PlantModel`]s (the types live in `alba_model::plant`).
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
-use alba_model::plant::{Dynamics, KINDS, MAX_DEAD_TIME, PlantModel, Scale};
+use alba_model::plant::{Drain, Dynamics, KINDS, MAX_DEAD_TIME, PlantModel, Scale};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -20,6 +20,8 @@ pub(super) struct RawPlant {
     outflow: Option<Spanned<f64>>,
     sensor: Option<Spanned<f64>>,
     max_level: Option<Spanned<f64>>,
+    drain: Option<Spanned<String>>,
+    dead_zone: Option<Spanned<f64>>,
     r: Option<Spanned<f64>>,
     l: Option<Spanned<f64>>,
     kt: Option<Spanned<f64>>,
@@ -128,6 +130,19 @@ impl RawPlant {
                     .max_level
                     .as_ref()
                     .map(|_| num(&self.max_level, "max_level", None, true, &mut bad)),
+                drain: match self.drain.as_ref().map(|d| (d.get_ref().as_str(), d.span())) {
+                    None | Some(("linear", _)) => Drain::Linear,
+                    Some(("orifice", _)) => Drain::Orifice,
+                    Some((other, span)) => {
+                        bad(
+                            sp(span),
+                            format!("drain = \"{other}\" is not a drain law"),
+                            "expected \"linear\" or \"orifice\"",
+                        );
+                        Drain::Linear
+                    }
+                },
+                dead_zone: num(&self.dead_zone, "dead_zone", Some(0.0), false, &mut bad),
             },
             "motor" => {
                 let kt = num(&self.kt, "kt", None, true, &mut bad);
@@ -155,7 +170,7 @@ impl RawPlant {
         let allowed: &[&str] = match kind {
             "first_order" => &["gain", "tau"],
             "second_order" => &["gain", "den"],
-            "tank" => &["area", "inflow", "outflow", "sensor", "max_level"],
+            "tank" => &["area", "inflow", "outflow", "sensor", "max_level", "drain", "dead_zone"],
             _ => &["r", "l", "kt", "ke", "j", "b", "sensor"],
         };
         let given = [
@@ -167,6 +182,8 @@ impl RawPlant {
             ("outflow", self.outflow.as_ref().map(|s| s.span())),
             ("sensor", self.sensor.as_ref().map(|s| s.span())),
             ("max_level", self.max_level.as_ref().map(|s| s.span())),
+            ("drain", self.drain.as_ref().map(|s| s.span())),
+            ("dead_zone", self.dead_zone.as_ref().map(|s| s.span())),
             ("r", self.r.as_ref().map(|s| s.span())),
             ("l", self.l.as_ref().map(|s| s.span())),
             ("kt", self.kt.as_ref().map(|s| s.span())),
