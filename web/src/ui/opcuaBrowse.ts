@@ -76,7 +76,7 @@ export function openOpcuaBrowser(opts: BrowseOptions): Promise<BrowseNode | null
     const tree = h('ul', { class: 'opcua-tree', role: 'tree', 'data-testid': 'opcua-tree' });
     const serverSel = h('select', { 'data-testid': 'opcua-server' },
       servers.map((c) => h('option', { value: c.name, selected: c.name === server }, `${c.ok ? '●' : '○'} ${c.name} — ${c.endpoint}`)));
-    const health = h('p', { class: 'hint', 'data-testid': 'opcua-server-health' });
+    const health = h('p', { class: 'hint opcua-down', role: 'status', 'data-testid': 'opcua-server-health' });
     const nodeOut = h('input', { readonly: true, 'data-testid': 'opcua-picked-node', placeholder: text.pickHint });
     const typeOut = h('small', { 'data-testid': 'opcua-picked-type' });
     const tagIn = h('input', { value: opts.tag, 'data-testid': 'opcua-tag', spellcheck: 'false', autocomplete: 'off' });
