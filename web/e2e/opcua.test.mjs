@@ -89,6 +89,18 @@ test('browse the remote server from the Input element, pick a variable, see the 
   // Picking changed nothing in the net: the element still reads Level.
   assert.equal(await tid('net-prop-prop-source').inputValue(), 'Level');
 
+  // The tag form has the same dialog, for the tag edited.
+  await tid('tab-tags').click();
+  await tid('tag-def-edit-Level').click();
+  await tid('tag-form-browse-opcua').click();
+  await tid('opcua-tree').locator('[data-testid="opcua-node-i=2253"]').waitFor();
+  assert.equal(await tid('opcua-tag').inputValue(), 'Level');
+  await page.keyboard.press('Escape');
+  await tid('opcua-browse').waitFor({ state: 'detached' });
+  await tid('tag-form-cancel').click();
+  await tid('tab-program-tour.pnml').click();
+  await tid('net-node-read').click();
+
   // The tank stops: the connection turns red, the reason in its tooltip; browsing says why.
   await remote.kill();
   await page.waitForFunction(() => document.querySelector('[data-testid="status-remote-plant"]')?.dataset.health === 'down', null, { timeout: 20_000 });

@@ -26,7 +26,7 @@ describe('binding lines', () => {
 describe('the browse dialog', () => {
   it('browses lazily from Objects, picks a variable and offers its binding line', async () => {
     const children: Record<string, BrowseNode[]> = {
-      'i=85': [node('Server', 'Object', 'i=2253'), node('Tank', 'Object', 'ns=2;s=Tank', { node_uri: 'nsu=urn:plant;s=Tank' })],
+      'i=85': [node('Aaa', 'Variable', 'ns=2;s=Aaa'), node('Tank', 'Object', 'ns=2;s=Tank', { node_uri: 'nsu=urn:plant;s=Tank' }), node('Server', 'Object', 'i=2253')],
       'ns=2;s=Tank': [node('Level', 'Variable', 'ns=2;s=Tank.Level', { node_uri: 'nsu=urn:plant;s=Tank.Level', data_type: 'Double' })],
     };
     const asked: string[] = [];
@@ -42,6 +42,8 @@ describe('the browse dialog', () => {
     expect(asked).toEqual(['/api/opcua/plant/browse i=85']);
     const q = (id: string) => document.querySelector(`[data-testid="${id}"]`) as HTMLElement;
     expect(q('opcua-node-i=2253')).not.toBeNull();
+    // Objects before variables, each by name, whatever the server's order.
+    expect([...document.querySelectorAll('[data-testid="opcua-tree"] > li > ul > li')].map((li) => li.getAttribute('data-node'))).toEqual(['i=2253', 'ns=2;s=Tank', 'ns=2;s=Aaa']);
     q('opcua-toggle-ns=2;s=Tank').click();
     await flush();
     expect(asked[1]).toBe('/api/opcua/plant/browse ns=2;s=Tank');

@@ -164,7 +164,10 @@ export function openOpcuaBrowser(opts: BrowseOptions): Promise<BrowseNode | null
       into.replaceChildren(h('li', { class: 'hint' }, text.loading));
       try {
         const r = await api.opcuaBrowse(server, node);
-        into.replaceChildren(...(r.children.length ? r.children.map(item) : [h('li', { class: 'hint' }, text.empty)]));
+        // Folders and objects first, then variables, each by name (servers answer in any order).
+        const rank = (n: BrowseNode) => (n.class === 'Variable' ? 1 : n.class === 'Object' ? 0 : 2);
+        const sorted = [...r.children].sort((a, b) => rank(a) - rank(b) || (a.display_name || a.browse_name).localeCompare(b.display_name || b.browse_name));
+        into.replaceChildren(...(sorted.length ? sorted.map(item) : [h('li', { class: 'hint' }, text.empty)]));
         return true;
       } catch (e) {
         const msg = e instanceof ApiError ? e.message : String(e);
