@@ -1039,13 +1039,35 @@ pub async fn browse_server(server: &OpcuaServer, dir: &Path, node: &str) -> Resu
         .connect_to_matching_endpoint(endpoint, identity)
         .await
         .map_err(|e| format!("cannot connect: {}", explain(e.status())))?;
-    let driver = event_loop.spawn();
-    let r = async {
-        let up = tokio::time::timeout(Duration::from_secs(10), session.wait_for_connection()).await;
-        if !matches!(up, Ok(true)) {
-            return Err("the session did not open (see the connection's health for why)".to_string());
+    // The session opens (or is refused: a wrong password, an untrusted
+    // certificate) as the event loop runs: its first event says which.
+    let (opened_tx, opened) = tokio::sync::oneshot::channel();
+    let driver = tokio::spawn(async move {
+        let stream = event_loop.enter();
+        futures::pin_mut!(stream);
+        let mut tx = Some(opened_tx);
+        while let Some(r) = stream.next().await {
+            let first = match r {
+                Ok(SessionPollResult::Reconnected(_)) => Ok(()),
+                Ok(SessionPollResult::ConnectionLost(c)) | Err(c) => Err(c),
+                Ok(_) => continue,
+            };
+            let end = first.is_err();
+            if let Some(t) = tx.take() {
+                let _ = t.send(first);
+            }
+            if end {
+                break;
+            }
         }
-        browse(&session, node).await
+    });
+    let r = async {
+        match tokio::time::timeout(Duration::from_secs(10), opened).await {
+            Ok(Ok(Ok(()))) => browse(&session, node).await,
+            Ok(Ok(Err(code))) => Err(format!("session refused: {}", explain(code))),
+            Ok(Err(_)) => Err("session ended".to_string()),
+            Err(_) => Err("the session did not open within 10 s".to_string()),
+        }
     }
     .await;
     let _ = tokio::time::timeout(Duration::from_secs(2), session.disconnect()).await;
