@@ -956,9 +956,16 @@ pub async fn browse(session: &Session, node: &str) -> Result<Vec<Child>, String>
         return Err(format!("browse {node}: {}", explain(r.status_code)));
     }
     let mut refs = r.references.unwrap_or_default();
-    // More than a page: the rest (each page up to 1000).
+    // More than a page: the rest (each page up to 1000; at most 20 pages,
+    // the server's continuation point released when there are more).
     let mut next = r.continuation_point;
+    let mut pages = 1;
     while !next.is_null_or_empty() {
+        if pages == 20 {
+            let _ = session.browse_next(true, &[next]).await;
+            break;
+        }
+        pages += 1;
         let more = session
             .browse_next(false, &[next])
             .await
