@@ -8,21 +8,27 @@ The server runs in this process with the nodes ns=2;s=Tank.Level (Double)
 and ns=2;s=Tank.Pump (Boolean), endpoints None and Basic256Sha256
 SignAndEncrypt, and one user (op / the right password). Checks:
 - a wrong password is refused: S:IOOK false and `alba run` says why
-  (wrong user name or password);
+  (wrong user name or password), as do the connection's health in
+  /api/status and a browse (502), neither echoing the password;
 - the right one: Level reaches the tag LevelIn through the subscription,
-  PumpOut written from Alba reaches the node;
+  PumpOut written from Alba reaches the node; /api/status shows the
+  connection ok; GET /api/opcua/tank/browse lists Tank under Objects and
+  its variables with their data types and nsu= node ids;
 - with Basic256Sha256 SignAndEncrypt, the server's certificate is not
   trusted: refused (S:IOOK false, the reason on stderr) and kept in
   pki-client/rejected/; moved to trusted/, the client connects.
 """
 
 import asyncio
+import json
 import os
 import re
 import shutil
 import sys
 import threading
 import time
+import urllib.error
+import urllib.request
 from pathlib import Path
 
 from asyncua import Server, ua
@@ -52,6 +58,19 @@ def until(what, f, timeout=60.0):
         time.sleep(0.05)
     check(False, f"timed out waiting for {what}")
     return False
+
+
+def get(alba, path):
+    """GET `path` of `alba run`'s API: (status, JSON body), errors included."""
+    try:
+        with urllib.request.urlopen(alba.http + path, timeout=30) as r:
+            return r.status, json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        return e.code, json.loads(e.read() or b"null")
+
+
+def connection(alba):
+    return alba.api("GET", "/api/status")["connections"][0]
 
 
 class Users:
@@ -132,6 +151,11 @@ def main():
         try:
             until("a refusal on stderr", lambda: alba.said("wrong user name or password"))
             check(alba.tag("S:IOOK") is False, "S:IOOK false with a wrong password")
+            until("the refusal in /api/status", lambda: "wrong user name or password" in (connection(alba)["last_error"] or ""))
+            c = connection(alba)
+            check(c["ok"] is False and c["connected"] is False and c["name"] == "tank", f"health while refused: {c}")
+            code, body = get(alba, "/api/opcua/tank/browse")
+            check(code == 502 and "wrong user name or password" in body["error"], f"browse refused with the reason: {code} {body}")
         finally:
             alba.stop()
         check(not any(GOOD in l or "wrong\n" == l for l in alba.log), "the password is never echoed")
@@ -148,6 +172,19 @@ def main():
             until("Pump true on the server", lambda: server.pump_value() is True)
             alba.api("PUT", "/api/tags/PumpOut", {"value": False})
             until("Pump false on the server", lambda: server.pump_value() is False)
+            c = connection(alba)
+            check(c["ok"] is True and c["protocol"] == "opcua" and c["last_error"] is None, f"health: {c}")
+            code, objects = get(alba, "/api/opcua/tank/browse")
+            check(code == 200, f"browse Objects: {code} {objects}")
+            tank = [x for x in objects.get("children", []) if x["browse_name"] == "Tank"]
+            check(tank and tank[0]["node"] == "ns=2;s=Tank" and tank[0]["node_uri"] == "nsu=urn:tank;s=Tank"
+                  and tank[0]["class"] == "Object", f"Tank under Objects: {objects}")
+            code, r = get(alba, "/api/opcua/tank/browse?node=nsu%3Durn%3Atank%3Bs%3DTank")
+            kids = {x["browse_name"]: x for x in r.get("children", [])}
+            check(code == 200 and kids.get("Level", {}).get("data_type") == "Double"
+                  and kids.get("Level", {}).get("node_uri") == "nsu=urn:tank;s=Tank.Level"
+                  and kids.get("Pump", {}).get("data_type") == "Boolean", f"Tank's variables: {code} {r}")
+            check(GOOD not in json.dumps([objects, r, c]), "no password in the API's answers")
         finally:
             alba.stop()
 

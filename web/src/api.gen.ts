@@ -33,7 +33,67 @@ problems: Array<Problem>,
  * The forces in effect (as `GET /api/forces`), for the studio's
  * "forces active" banner.
  */
-forces: Array<Force>, };
+forces: Array<Force>, 
+/**
+ * The health of each client connection to a remote server
+ * (`[[opcua_server]]`); empty without any.
+ */
+connections: Array<Connection>, };
+
+export type Connection = { 
+/**
+ * The server's `name` in alba.toml.
+ */
+name: string, 
+/**
+ * `opcua`.
+ */
+protocol: string, endpoint: string, 
+/**
+ * Connected, with every binding accepted.
+ */
+ok: boolean, 
+/**
+ * A session is open (bindings may still be refused).
+ */
+connected: boolean, 
+/**
+ * Sessions opened since `alba run` started.
+ */
+connects: number, 
+/**
+ * Failed attempts and losses.
+ */
+errors: number, 
+/**
+ * Why it is down or unhealthy (`null` while ok).
+ */
+last_error: string | null, };
+
+export type BrowseNode = { 
+/**
+ * Its node id as the server answers it (`ns=2;s=Tank.Level`, `i=2253`).
+ */
+node: string, 
+/**
+ * The same with the namespace's URI (`nsu=urn:plant;s=Tank.Level`), what a
+ * binding should say; `null` in namespace 0.
+ */
+node_uri: string | null, browse_name: string, display_name: string, 
+/**
+ * `Object`, `Variable`, `Method`, `ObjectType`, …
+ */
+class: string, 
+/**
+ * A variable's data type (`Double`, `Int32`, `Boolean`, or a type's node id).
+ */
+data_type: string | null, };
+
+export type OpcuaBrowse = { server: string, 
+/**
+ * The node browsed.
+ */
+node: string, children: Array<BrowseNode>, };
 
 export type TrendSet = { 
 /**
@@ -385,6 +445,11 @@ problems: Array<Problem>,
  * The forces in effect (as `GET /api/forces`), for the studio's
  * "forces active" banner.
  */
-forces: Array<Force>, };
+forces: Array<Force>, 
+/**
+ * The health of each client connection to a remote server
+ * (`[[opcua_server]]`); empty without any.
+ */
+connections: Array<Connection>, };
 
 export type AlarmsMsg = { type: 'alarms', alarms: number, active: number, unacked: number, shelved: number, suppressed: number, out_of_service: number, new_10min: number, flood: boolean, top_unacked: string | null, top_severity: number | null, };

@@ -1,7 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { Domain } from './domain';
-import type { Alarm, AlarmStats, Diagnostic, Force, History, Json, NetReset, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
+import type { Alarm, AlarmStats, Diagnostic, Force, History, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -127,6 +127,9 @@ export const api = {
   netAnalysis: <T>(name: string) => json<T>('GET', `/api/nets/${enc(name)}/analysis`),
   /** POST /api/nets/{name}/reset: the net's initial marking, written at one scan boundary. */
   resetNet: (name: string) => json<NetReset>('POST', `/api/nets/${enc(name)}/reset`),
+  /** GET /api/opcua/{server}/browse: the children of a node of a remote OPC UA server (the Objects folder by default). */
+  opcuaBrowse: (server: string, node?: string) =>
+    json<OpcuaBrowse>('GET', `/api/opcua/${enc(server)}/browse${node ? `?node=${enc(node)}` : ''}`),
   autotune: (loop: string, req: Record<string, number>) => json<Autotune>('POST', `/api/pid/${enc(loop)}/autotune`, req),
   symbols: () => json<string[]>('GET', '/api/symbols'),
   symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),

@@ -29,9 +29,10 @@ export function roleName(role: Role): string {
  * - `runstop`: run or stop the PLC (POST /api/run, /api/stop),
  * - `audit`: read the audit trail (GET /api/audit),
  * - `ack`: acknowledge an alarm (POST /api/alarms/{id}/ack),
+ * - `browse`: browse a remote OPC UA server (GET /api/opcua/{server}/browse),
  * - `users`: manage users.
  */
-export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'users';
+export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'browse' | 'users';
 
 /** The route each action is (the server's role table decides its role). */
 const ROUTE: Record<Action, [method: string, route: string]> = {
@@ -42,6 +43,7 @@ const ROUTE: Record<Action, [method: string, route: string]> = {
   runstop: ['POST', '/api/stop'],
   audit: ['GET', '/api/audit'],
   ack: ['POST', '/api/alarms/{id}/ack'],
+  browse: ['GET', '/api/opcua/{server}/browse'],
   // No route of its own yet: user management is `alba user` on the controller.
   users: ['POST', '/api/users'],
 };

@@ -448,4 +448,26 @@ export const es: Record<string, string> = {
   'No steps yet: write the chart in the Text view.': 'Aún no hay etapas: escriba el diagrama en la vista de texto.',
   'edited — not live': 'editado — sin datos en vivo',
   'not running': 'sin ejecutar',
+  // OPC UA client connections: health in the status bar, the browse dialog
+  '{name}: connected to {endpoint}': '{name}: conectado a {endpoint}',
+  '{name}: connected to {endpoint}, but: {error}': '{name}: conectado a {endpoint}, pero: {error}',
+  '{name}: {endpoint} is down: {error}': '{name}: {endpoint} no responde: {error}',
+  'Browse OPC UA server': 'Explorar servidor OPC UA',
+  Server: 'Servidor',
+  'Copied to the clipboard.': 'Copiado al portapapeles.',
+  'Loading…': 'Cargando…',
+  '(no children)': '(sin hijos)',
+  Objects: 'Objetos',
+  'Open folders and objects; click a variable to pick it.': 'Abra carpetas y objetos; haga clic en una variable para elegirla.',
+  'Node id': 'Id de nodo',
+  Direction: 'Dirección',
+  'in (the server feeds the tag)': 'in (el servidor alimenta la etiqueta)',
+  'out (the tag is written to the server)': 'out (la etiqueta se escribe en el servidor)',
+  'Binding line': 'Línea de enlace',
+  'Add this line to the bind list of the [[opcua_server]] named "{server}" in alba.toml, and the tag to tags.csv if it is new; the binding takes effect when alba run restarts.':
+    'Añada esta línea a la lista bind del [[opcua_server]] llamado "{server}" en alba.toml, y la etiqueta a tags.csv si es nueva; el enlace tiene efecto al reiniciar alba run.',
+  '{name} is not connected: {error}': '{name} no está conectado: {error}',
+  'Pick a variable of an OPC UA server: its node id and the binding line for alba.toml':
+    'Elija una variable de un servidor OPC UA: su id de nodo y la línea de enlace para alba.toml',
+  'Browse OPC UA…': 'Explorar OPC UA…',
 };

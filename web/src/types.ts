@@ -7,6 +7,11 @@ import type * as G from './api.gen';
 export type Json = G.Json;
 export type Stats = G.Stats;
 export type Status = G.Status;
+/** A client connection of `alba run` (`[[opcua_server]]`), in the status. */
+export type Connection = G.Connection;
+/** `GET /api/opcua/{server}/browse` and its children. */
+export type OpcuaBrowse = G.OpcuaBrowse;
+export type BrowseNode = G.BrowseNode;
 export type Access = G.Access;
 export type TagInfo = G.TagInfo;
 /** `GET /api/tags/{name}`: a tag of tags.csv, or a member or an address. */

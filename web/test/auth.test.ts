@@ -27,6 +27,7 @@ describe('roles and what they may do (the route table of docs/api.md)', () => {
     runstop: ['engineer', 'admin'],
     audit: ['engineer', 'admin'],
     ack: ['operator', 'engineer', 'admin'],
+    browse: ['engineer', 'admin'],
     users: ['admin'],
   };
   for (const [action, allowed] of Object.entries(table) as [Action, Role[]][]) {

@@ -3,7 +3,7 @@ import { Coalescer, backoffDelay, emptyBatch, merge, unionSubscription, type Bat
 import { LiveClient, ValueStore } from '../src/live/client';
 import type { ServerMsg, Status } from '../src/types';
 
-const status = { project: 'tank', state: 'running', fault: null, scan_ms: 10, scans: 5, time_ms: 50, stats: { last_us: 1, min_us: 1, max_us: 9, mean_us: 2, jitter_us: 0, overruns: 0 }, minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [], forces: [] } satisfies Status as Status;
+const status = { project: 'tank', state: 'running', fault: null, scan_ms: 10, scans: 5, time_ms: 50, stats: { last_us: 1, min_us: 1, max_us: 9, mean_us: 2, jitter_us: 0, overruns: 0 }, minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [], forces: [], connections: [] } satisfies Status as Status;
 
 describe('coalescing', () => {
   it('merges messages: latest value per name, latest power per program, latest status, all errors', () => {

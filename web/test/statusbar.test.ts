@@ -1,12 +1,12 @@
 // The status bar says when the runtime's stores are in trouble (issue 15).
 import { describe, expect, it } from 'vitest';
 import { StatusBar } from '../src/ui/statusbar';
-import type { Status } from '../src/types';
+import type { Connection, Status } from '../src/types';
 
 const status = (over: Partial<Status>): Status => ({
   project: 'tank', state: 'running', fault: null, scan_ms: 10, scans: 5, time_ms: 50,
   stats: { last_us: 1, min_us: 1, max_us: 9, mean_us: 2, jitter_us: 0, overruns: 0 },
-  minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [], forces: [],
+  minor_faults: 0, io: 'sim', programs: ['main.lad'], clients: 1, store_ok: true, retain_lost: false, problems: [], forces: [], connections: [],
   ...over,
 });
 
@@ -42,5 +42,31 @@ describe('store problems in the status bar', () => {
     expect(state.textContent).toBe('not live');
     bar.stale(false);
     expect([state.textContent, state.dataset.state]).toEqual(['stopped', 'stopped']);
+  });
+});
+
+describe('client connections in the status bar ([[opcua_server]])', () => {
+  const conn = (over: Partial<Connection>): Connection => ({
+    name: 'plant', protocol: 'opcua', endpoint: 'opc.tcp://10.0.0.5:4840/', ok: true, connected: true, connects: 1, errors: 0, last_error: null, ...over,
+  });
+
+  it('shows each connection green when ok, red with the reason when down, amber when bindings are refused', () => {
+    const bar = new StatusBar();
+    const conns = bar.el.querySelector('[data-testid="status-connections"]') as HTMLElement;
+    bar.status(status({}));
+    expect(conns.hidden).toBe(true);
+    bar.status(status({ connections: [conn({}), conn({ name: 'line2', ok: false, connected: false, last_error: 'cannot connect: BadNotConnected' })] }));
+    expect(conns.hidden).toBe(false);
+    const plant = bar.el.querySelector('[data-testid="status-remote-plant"]') as HTMLElement;
+    const line2 = bar.el.querySelector('[data-testid="status-remote-line2"]') as HTMLElement;
+    expect([plant.textContent, plant.dataset.health]).toEqual(['plant', 'ok']);
+    expect(plant.title).toBe('plant: connected to opc.tcp://10.0.0.5:4840/');
+    expect(line2.dataset.health).toBe('down');
+    expect(line2.title).toContain('cannot connect: BadNotConnected');
+    bar.status(status({ connections: [conn({ ok: false, last_error: 'input Level (ns=2;s=x): BadNodeIdUnknown' })] }));
+    const again = bar.el.querySelector('[data-testid="status-remote-plant"]') as HTMLElement;
+    expect(again.dataset.health).toBe('refused');
+    expect(again.title).toContain('BadNodeIdUnknown');
+    expect(bar.el.querySelector('[data-testid="status-remote-line2"]')).toBeNull();
   });
 });

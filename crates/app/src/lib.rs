@@ -12,6 +12,7 @@
 
 mod alarms;
 mod audit;
+mod connections;
 mod edits;
 mod history;
 mod limits;
@@ -112,17 +113,20 @@ pub async fn run(
     let health = ro.health.clone();
     let io = alba_io::open(&opts.io, config, &program).map_err(|e| RunError::Other(e.to_string()))?;
     // `[[opcua_server]]`: remote OPC UA variables bound to tags, beside the `--io` driver.
+    let mut monitor = None;
     let io: Box<dyn alba_runtime::Io> = match config.map(|c| c.opcua_servers.as_slice()) {
-        Some(servers) if !servers.is_empty() => Box::new(
-            alba_opcua::client::OpcuaClientIo::start(
+        Some(servers) if !servers.is_empty() => {
+            let client = alba_opcua::client::OpcuaClientIo::start(
                 io,
                 servers,
                 &program.layout,
                 dir,
                 &tokio::runtime::Handle::current(),
             )
-            .map_err(RunError::Other)?,
-        ),
+            .map_err(RunError::Other)?;
+            monitor = Some(client.monitor());
+            Box::new(client)
+        }
         _ => io,
     };
     let hist_cfg = config.map(|c| c.history.clone()).unwrap_or_default();
@@ -163,6 +167,9 @@ pub async fn run(
         })
     };
     let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, Some(audit), auth);
+    if let Some(m) = monitor {
+        let _ = state.connections.set(Arc::new(connections::OpcuaConnections(m)));
+    }
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;

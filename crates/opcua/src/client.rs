@@ -36,9 +36,9 @@ use opcua::client::{
 };
 use opcua::crypto::SecurityPolicy as Policy;
 use opcua::types::{
-    AttributeId, BrowseDescription, BrowseDirection, BrowseResultMask, DataValue, MessageSecurityMode,
-    MonitoredItemCreateRequest, NodeClassMask, NodeId, ReadValueId, ReferenceTypeId, StatusCode, TimestampsToReturn,
-    Variant, WriteValue,
+    AttributeId, BrowseDescription, BrowseDirection, BrowseResultMask, DataTypeId, DataValue, Identifier,
+    MessageSecurityMode, MonitoredItemCreateRequest, NodeClass, NodeClassMask, NodeId, ReadValueId, ReferenceTypeId,
+    StatusCode, TimestampsToReturn, Variant, WriteValue,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -93,6 +93,12 @@ struct OutImage {
 }
 
 struct ConnShared {
+    /// The server as configured, and the project folder (its PKI, its
+    /// password file): for a browse when no session is open.
+    cfg: OpcuaServer,
+    dir: PathBuf,
+    /// The open session, while one is (a browse uses it).
+    session: Mutex<Option<Arc<Session>>>,
     status: Mutex<Status>,
     ok: AtomicBool,
     errors: AtomicU64,
@@ -212,6 +218,9 @@ impl OpcuaClientIo {
         let mut done = Vec::new();
         for c in conns {
             let sh = Arc::new(ConnShared {
+                cfg: c.cfg.clone(),
+                dir: dir.to_path_buf(),
+                session: Mutex::new(None),
                 status: Mutex::new(Status {
                     last_error: Some("not connected yet".into()),
                     ..Status::default()
@@ -269,11 +278,36 @@ impl OpcuaClientIo {
     }
 }
 
-/// Each server's health, for status pages and tests.
+/// Each server's health, for status pages and tests, and browsing its
+/// address space (the studio's tag picker).
 #[derive(Clone)]
 pub struct Monitor {
     names: Vec<String>,
     shared: Vec<Arc<ConnShared>>,
+}
+
+/// Why a browse failed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum BrowseError {
+    /// No `[[opcua_server]]` of this name.
+    UnknownServer(String),
+    /// The text is not a node id (`ns=2;s=Tank`, `nsu=urn:x;i=5`, `i=85`).
+    BadNode(String),
+    /// The server cannot be reached, refused the session or the browse.
+    Server(String),
+}
+
+impl std::fmt::Display for BrowseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BrowseError::UnknownServer(n) => write!(f, "no [[opcua_server]] named `{n}` in alba.toml"),
+            BrowseError::BadNode(n) => write!(
+                f,
+                "`{n}` is not a node id (like `i=85`, `ns=2;s=Tank.Level` or `nsu=urn:plant;s=Tank.Level`)"
+            ),
+            BrowseError::Server(m) => f.write_str(m),
+        }
+    }
 }
 
 impl Monitor {
@@ -283,6 +317,35 @@ impl Monitor {
             .zip(&self.shared)
             .map(|(n, s)| (n.clone(), lock(&s.status).clone()))
             .collect()
+    }
+
+    /// Each server's name and endpoint, in alba.toml's order.
+    pub fn servers(&self) -> Vec<(String, String)> {
+        self.shared
+            .iter()
+            .map(|s| (s.cfg.name.clone(), s.cfg.endpoint.clone()))
+            .collect()
+    }
+
+    /// The children of `node` on server `name` (exact name): on its open
+    /// session, else on a session opened for this browse (as `alba run`
+    /// opens one: same security, user and PKI). Errors say which server
+    /// and why, never the password.
+    pub async fn browse(&self, name: &str, node: &str) -> Result<Vec<Child>, BrowseError> {
+        let sh = self
+            .shared
+            .iter()
+            .find(|s| s.cfg.name == name)
+            .ok_or_else(|| BrowseError::UnknownServer(name.to_string()))?;
+        if !is_node_id(node) {
+            return Err(BrowseError::BadNode(node.to_string()));
+        }
+        let live = lock(&sh.session).clone();
+        let r = match live {
+            Some(session) => browse(&session, node).await,
+            None => browse_server(&sh.cfg, &sh.dir, node).await,
+        };
+        r.map_err(|e| BrowseError::Server(format!("OPC UA server {name} ({}): {e}", sh.cfg.endpoint)))
     }
 }
 
@@ -511,6 +574,17 @@ fn client(pki: &Path) -> Result<Client, String> {
         .map_err(|e| format!("OPC UA client settings: {}", e.join("; ")))
 }
 
+/// Whether `text` is a node id, `nsu=URI;` forms included (their URI is
+/// resolved on a session).
+pub fn is_node_id(text: &str) -> bool {
+    match text.strip_prefix("nsu=") {
+        Some(rest) => rest
+            .split_once(';')
+            .is_some_and(|(uri, id)| !uri.is_empty() && NodeId::from_str(&format!("ns=1;{id}")).is_ok()),
+        None => NodeId::from_str(text).is_ok(),
+    }
+}
+
 /// Parses a node id, resolving `nsu=URI;` with the session's namespace array.
 async fn node_id(session: &Session, text: &str) -> Result<NodeId, String> {
     let text = match text.strip_prefix("nsu=").and_then(|r| r.split_once(';')) {
@@ -605,6 +679,7 @@ async fn session_once(
         let _ = ev_tx.send(Event::Lost(StatusCode::BadConnectionClosed));
     });
     let r = serve(c, sh, &session, &mut ev_rx, closing).await;
+    *lock(&sh.session) = None;
     if r.is_ok() {
         // Closing: the safe outputs, then a clean goodbye.
         let _ = tokio::time::timeout(Duration::from_secs(2), async {
@@ -668,6 +743,8 @@ async fn serve(
         },
         _ = closing.changed() => return Ok(()),
     }
+    // Browses use this session while it is open.
+    *lock(&sh.session) = Some(session.clone());
     let up = |m: String| (m, true);
     let mut problems: Vec<String> = Vec::new();
     // Inputs: one subscription, a monitored item per node.
@@ -828,16 +905,36 @@ async fn serve(
 /// A child of a browsed node.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Child {
-    /// Its node id (`ns=2;s=Tank.Level`).
+    /// Its node id as the server answers it (`ns=2;s=Tank.Level`, `i=2253`).
     pub node: String,
+    /// The same with the namespace's URI instead of its index
+    /// (`nsu=urn:plant;s=Tank.Level`): what a binding should say, since a
+    /// server may renumber its namespaces. `None` in namespace 0 (or when
+    /// the namespace array cannot be read).
+    pub node_uri: Option<String>,
     pub browse_name: String,
     pub display_name: String,
     /// `Object`, `Variable`, `Method`, …
     pub class: String,
+    /// A variable's data type: a built-in type's name (`Double`, `Int32`,
+    /// `Boolean`), else the type's node id; `None` for other classes (or
+    /// when it cannot be read).
+    pub data_type: Option<String>,
+}
+
+/// The name of a data type node (`Double`), or its id when not built in.
+fn type_name(id: &NodeId) -> String {
+    match (&id.identifier, id.namespace) {
+        (Identifier::Numeric(n), 0) => match DataTypeId::try_from(*n) {
+            Ok(t) => format!("{t:?}"),
+            Err(_) => id.to_string(),
+        },
+        _ => id.to_string(),
+    }
 }
 
 /// The children of `node` (hierarchical references, forward) on an open
-/// session: what a tag picker shows.
+/// session: what a tag picker shows, variables with their data type.
 pub async fn browse(session: &Session, node: &str) -> Result<Vec<Child>, String> {
     let id = node_id(session, node).await?;
     let desc = BrowseDescription {
@@ -858,14 +955,72 @@ pub async fn browse(session: &Session, node: &str) -> Result<Vec<Child>, String>
     if !r.status_code.is_good() {
         return Err(format!("browse {node}: {}", explain(r.status_code)));
     }
-    Ok(r.references
-        .unwrap_or_default()
+    let mut refs = r.references.unwrap_or_default();
+    // More than a page: the rest (each page up to 1000; at most 20 pages,
+    // the server's continuation point released when there are more).
+    let mut next = r.continuation_point;
+    let mut pages = 1;
+    while !next.is_null_or_empty() {
+        if pages == 20 {
+            let _ = session.browse_next(true, &[next]).await;
+            break;
+        }
+        pages += 1;
+        let more = session
+            .browse_next(false, &[next])
+            .await
+            .map_err(|e| format!("browse {node}: {}", explain(e.status())))?;
+        let Some(m) = more.into_iter().next() else {
+            break;
+        };
+        refs.extend(m.references.unwrap_or_default());
+        next = m.continuation_point;
+    }
+    // Index → URI, for the `nsu=` form (best effort: one read).
+    let uris: HashMap<u16, String> = match session.read_namespace_array().await {
+        Ok(map) => map.known_namespaces().iter().map(|(u, i)| (*i, u.clone())).collect(),
+        Err(_) => HashMap::new(),
+    };
+    // The variables' data types (best effort: one read for all).
+    let vars: Vec<NodeId> = refs
+        .iter()
+        .filter(|x| x.node_class == NodeClass::Variable && x.node_id.server_index == 0)
+        .map(|x| x.node_id.node_id.clone())
+        .collect();
+    let mut types: HashMap<NodeId, String> = HashMap::new();
+    if !vars.is_empty() {
+        let reads: Vec<ReadValueId> = vars
+            .iter()
+            .map(|id| ReadValueId {
+                node_id: id.clone(),
+                attribute_id: AttributeId::DataType as u32,
+                ..Default::default()
+            })
+            .collect();
+        if let Ok(values) = session.read(&reads, TimestampsToReturn::Neither, 0.0).await {
+            for (id, dv) in vars.iter().zip(values) {
+                if let Some(Variant::NodeId(t)) = dv.value {
+                    types.insert(id.clone(), type_name(&t));
+                }
+            }
+        }
+    }
+    Ok(refs
         .into_iter()
-        .map(|x| Child {
-            node: x.node_id.node_id.to_string(),
-            browse_name: x.browse_name.name.to_string(),
-            display_name: x.display_name.text.to_string(),
-            class: format!("{:?}", x.node_class),
+        .map(|x| {
+            let id = x.node_id.node_id;
+            let node_uri = uris
+                .get(&id.namespace)
+                .filter(|_| id.namespace != 0)
+                .map(|u| format!("nsu={u};{}", id.identifier));
+            Child {
+                node: id.to_string(),
+                node_uri,
+                browse_name: x.browse_name.name.to_string(),
+                display_name: x.display_name.text.to_string(),
+                class: format!("{:?}", x.node_class),
+                data_type: types.get(&id).cloned(),
+            }
         })
         .collect())
 }
@@ -891,13 +1046,35 @@ pub async fn browse_server(server: &OpcuaServer, dir: &Path, node: &str) -> Resu
         .connect_to_matching_endpoint(endpoint, identity)
         .await
         .map_err(|e| format!("cannot connect: {}", explain(e.status())))?;
-    let driver = event_loop.spawn();
-    let r = async {
-        let up = tokio::time::timeout(Duration::from_secs(10), session.wait_for_connection()).await;
-        if !matches!(up, Ok(true)) {
-            return Err("the session did not open (see the connection's health for why)".to_string());
+    // The session opens (or is refused: a wrong password, an untrusted
+    // certificate) as the event loop runs: its first event says which.
+    let (opened_tx, opened) = tokio::sync::oneshot::channel();
+    let driver = tokio::spawn(async move {
+        let stream = event_loop.enter();
+        futures::pin_mut!(stream);
+        let mut tx = Some(opened_tx);
+        while let Some(r) = stream.next().await {
+            let first = match r {
+                Ok(SessionPollResult::Reconnected(_)) => Ok(()),
+                Ok(SessionPollResult::ConnectionLost(c)) | Err(c) => Err(c),
+                Ok(_) => continue,
+            };
+            let end = first.is_err();
+            if let Some(t) = tx.take() {
+                let _ = t.send(first);
+            }
+            if end {
+                break;
+            }
         }
-        browse(&session, node).await
+    });
+    let r = async {
+        match tokio::time::timeout(Duration::from_secs(10), opened).await {
+            Ok(Ok(Ok(()))) => browse(&session, node).await,
+            Ok(Ok(Err(code))) => Err(format!("session refused: {}", explain(code))),
+            Ok(Err(_)) => Err("session ended".to_string()),
+            Err(_) => Err("the session did not open within 10 s".to_string()),
+        }
     }
     .await;
     let _ = tokio::time::timeout(Duration::from_secs(2), session.disconnect()).await;
@@ -938,5 +1115,22 @@ mod tests {
         );
         assert_eq!(to_variant(Value::Int(-4), None), Variant::Int16(-4));
         assert_eq!(zero(DataType::Bool), Value::Bool(false));
+    }
+
+    #[test]
+    fn node_ids_are_checked_before_browsing() {
+        for ok in ["i=85", "ns=2;s=Tank.Level", "nsu=urn:alba:plant;s=Speed", "ns=1;i=5"] {
+            assert!(is_node_id(ok), "{ok}");
+        }
+        for bad in ["", "not a node", "nsu=;s=x", "nsu=urn:x", "ns=x;s=y"] {
+            assert!(!is_node_id(bad), "{bad}");
+        }
+    }
+
+    #[test]
+    fn data_types_are_named() {
+        assert_eq!(type_name(&NodeId::new(0, 11u32)), "Double");
+        assert_eq!(type_name(&NodeId::new(0, 1u32)), "Boolean");
+        assert_eq!(type_name(&NodeId::new(2, 3001u32)), "ns=2;i=3001");
     }
 }

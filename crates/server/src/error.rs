@@ -56,6 +56,10 @@ pub enum ApiError {
     /// An alarm action refused, or its log row not written.
     #[error(transparent)]
     Alarm(#[from] alba_alarms::HubError),
+    /// A remote server `alba run` is a client of (`[[opcua_server]]`) cannot
+    /// be reached or refused the request.
+    #[error("{0}")]
+    Upstream(String),
     /// A fault of the server (a task that did not finish).
     #[error("{0}")]
     Internal(String),
@@ -74,6 +78,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Invalid(_) => StatusCode::UNPROCESSABLE_ENTITY,
         ApiError::TooLarge => StatusCode::PAYLOAD_TOO_LARGE,
         ApiError::TimedOut(_) => StatusCode::SERVICE_UNAVAILABLE,
+        ApiError::Upstream(_) => StatusCode::BAD_GATEWAY,
         ApiError::Unauthorized(_) => StatusCode::UNAUTHORIZED,
         ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
         ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,
@@ -208,6 +213,7 @@ mod tests {
                 StatusCode::UNPROCESSABLE_ENTITY,
             ),
             (ApiError::AuditOff, StatusCode::NOT_FOUND),
+            (ApiError::Upstream("cannot connect".into()), StatusCode::BAD_GATEWAY),
             (ApiError::Runtime(R::Running), StatusCode::CONFLICT),
             (ApiError::Runtime(R::Faulted("watchdog".into())), StatusCode::CONFLICT),
         ];

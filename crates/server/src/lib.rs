@@ -24,6 +24,7 @@
 mod api;
 mod assets;
 pub mod auth;
+pub mod connections;
 pub mod error;
 pub mod guard;
 pub mod project;
@@ -39,7 +40,8 @@ pub use error::ApiError;
 pub use state::{AppState, Edited};
 
 use api::{
-    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, programs, screens, session, status, trends,
+    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, opcua, programs, screens, session, status,
+    trends,
 };
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
@@ -75,6 +77,9 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/pid/{name}/autotune", Needs(Role::Engineer)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
     ("GET", "/api/audit.csv", Needs(Role::Engineer)),
+    // Browsing opens sessions on a remote server as `alba run`'s client: for
+    // those who bind tags to it.
+    ("GET", "/api/opcua/{server}/browse", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -124,6 +129,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/symbols", get(screens::list_symbols))
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
+        .route("/api/opcua/{server}/browse", get(opcua::browse))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)

@@ -65,6 +65,54 @@ pub struct Status {
     /// The forces in effect (as `GET /api/forces`), for the studio's
     /// "forces active" banner.
     pub forces: Vec<Force>,
+    /// The health of each client connection to a remote server
+    /// (`[[opcua_server]]`); empty without any.
+    pub connections: Vec<Connection>,
+}
+
+/// A client connection of `alba run` to a remote server (`[[opcua_server]]`).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct Connection {
+    /// The server's `name` in alba.toml.
+    pub name: String,
+    /// `opcua`.
+    pub protocol: String,
+    pub endpoint: String,
+    /// Connected, with every binding accepted.
+    pub ok: bool,
+    /// A session is open (bindings may still be refused).
+    pub connected: bool,
+    /// Sessions opened since `alba run` started.
+    pub connects: u64,
+    /// Failed attempts and losses.
+    pub errors: u64,
+    /// Why it is down or unhealthy (`null` while ok).
+    pub last_error: Option<String>,
+}
+
+/// A child of a browsed OPC UA node.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct BrowseNode {
+    /// Its node id as the server answers it (`ns=2;s=Tank.Level`, `i=2253`).
+    pub node: String,
+    /// The same with the namespace's URI (`nsu=urn:plant;s=Tank.Level`), what a
+    /// binding should say; `null` in namespace 0.
+    pub node_uri: Option<String>,
+    pub browse_name: String,
+    pub display_name: String,
+    /// `Object`, `Variable`, `Method`, `ObjectType`, …
+    pub class: String,
+    /// A variable's data type (`Double`, `Int32`, `Boolean`, or a type's node id).
+    pub data_type: Option<String>,
+}
+
+/// `GET /api/opcua/{server}/browse`.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct OpcuaBrowse {
+    pub server: String,
+    /// The node browsed.
+    pub node: String,
+    pub children: Vec<BrowseNode>,
 }
 
 /// A current problem of the runtime's stores.
@@ -595,6 +643,9 @@ pub fn typescript() -> String {
         RunState,
         Problem,
         Status,
+        Connection,
+        BrowseNode,
+        OpcuaBrowse,
         TrendSet,
         TrendPen,
         ScreenDomain,

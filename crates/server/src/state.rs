@@ -45,6 +45,9 @@ pub struct AppState {
     /// The project's alarms (docs/alarms.md), set by alba-app before serving;
     /// unset: no alarms (`GET /api/alarms` answers `[]`).
     pub alarms: std::sync::OnceLock<Arc<alba_alarms::Hub>>,
+    /// The client connections to remote servers (`[[opcua_server]]`), set by
+    /// alba-app before serving; unset: none (`connections: []`).
+    pub connections: std::sync::OnceLock<Arc<dyn crate::connections::Connections>>,
     /// The studio is served over HTTPS (set by alba-app before serving;
     /// session cookies are then `Secure`).
     pub https: std::sync::atomic::AtomicBool,
@@ -80,6 +83,7 @@ impl AppState {
             guard,
             auth,
             alarms: std::sync::OnceLock::new(),
+            connections: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
             max_ws_clients: http.max_ws_clients as usize,
             request_timeout: std::time::Duration::from_secs(u64::from(http.request_timeout_s)),

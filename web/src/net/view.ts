@@ -20,6 +20,7 @@ import { add, clear, dragScroll, fmt, h, rubberBand, s } from '../dom';
 import { membersOf } from '../domain';
 import { type Problem, ProgramEditor, problemTip } from '../editor/program';
 import { clockTime, tr } from '../i18n';
+import { openOpcuaBrowser } from '../ui/opcuaBrowse';
 import type { Json, ServerMsg } from '../types';
 import { highlight } from './code';
 import {
@@ -1102,10 +1103,30 @@ export class NetView {
       g(x);
       return true;
     });
+    /** The OPC UA servers of alba.toml ([[opcua_server]]), as the status lists them. */
+    const opcua = () => (this.ctx.live.status?.connections ?? []).filter((c) => c.protocol === 'opcua');
+    /**
+     * A tag picker of an element's I/O (`source` read, `target` written) with
+     * "Browse OPC UA…" when the project has OPC UA servers: the picked node's
+     * binding line for alba.toml, for the tag in the field (docs/nets.md, "Editor").
+     */
+    const ioField = (k: string, value: string, set: (v: string) => void) => {
+      const l = tagField(k, `prop-${k}`, value, set);
+      if (opcua().length === 0) return l;
+      const input = l.querySelector('input')!;
+      const btn = h('button', { class: 'small', type: 'button', 'data-testid': `net-browse-opcua-${k}`, title: tr('Pick a variable of an OPC UA server: its node id and the binding line for alba.toml') }, tr('Browse OPC UA…'));
+      gate(btn, 'browse');
+      btn.onclick = (e) => {
+        e.preventDefault();
+        void openOpcuaBrowser({ connections: opcua(), tag: input.value.trim(), dir: k === 'target' ? 'out' : 'in', notify: (m, kind) => this.ctx.notify(m, kind) });
+      };
+      l.append(btn);
+      return l;
+    };
     const propFields = (kind: string, props: Record<string, string>, set: (k: string, v: string) => void) =>
       [...new Set([...(KIND_PROPS[kind] ?? []), ...Object.keys(props)])].map((k) =>
         ['source', 'target'].includes(k)
-          ? tagField(k, `prop-${k}`, props[k] ?? '', (v) => set(k, v))
+          ? ioField(k, props[k] ?? '', (v) => set(k, v))
           : field(k, `prop-${k}`, props[k] ?? '', (v) => set(k, v)));
     if (p) {
       const P = (g: (x: Place) => void) => withP((n) => n.places.find((x) => x.id === id), g);

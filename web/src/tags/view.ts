@@ -10,6 +10,7 @@ import { parseValue } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 import { tr } from '../i18n';
 import { openFaceplate } from '../ui/faceplate';
+import { openOpcuaBrowser } from '../ui/opcuaBrowse';
 
 interface Row {
   name: string;
@@ -245,6 +246,18 @@ export class TagsView {
     return this.file;
   }
 
+  /**
+   * "Browse OPC UA…" when the project has [[opcua_server]] entries: a node's
+   * binding line for alba.toml, for the tag being edited (docs/protocols.md, "Browse").
+   */
+  private browseButton(tag: () => string): HTMLButtonElement | null {
+    const servers = () => (this.ctx.live.status?.connections ?? []).filter((c) => c.protocol === 'opcua');
+    if (servers().length === 0) return null;
+    const b = h('button', { 'data-testid': 'tag-form-browse-opcua', title: tr('Pick a variable of an OPC UA server: its node id and the binding line for alba.toml') }, tr('Browse OPC UA…'));
+    b.onclick = () => void openOpcuaBrowser({ connections: servers(), tag: tag(), dir: 'in', notify: (m, k) => this.ctx.notify(m, k) });
+    return gated(b, 'browse');
+  }
+
   private async openForm(name: string | null): Promise<void> {
     const file = await this.loadFile();
     const idx = name === null ? -1 : file.defs.findIndex((d) => d.name.toUpperCase() === name.toUpperCase());
@@ -295,7 +308,8 @@ export class TagsView {
       err,
       h('div', { class: 'buttons' },
         h('button', { class: 'primary', 'data-testid': 'tag-form-save', onclick: () => void save() }, tr('Save to tags.csv')),
-        h('button', { 'data-testid': 'tag-form-cancel', onclick: () => this.closeForm() }, tr('Cancel'))),
+        h('button', { 'data-testid': 'tag-form-cancel', onclick: () => this.closeForm() }, tr('Cancel')),
+        this.browseButton(() => nameIn.value.trim())),
     );
     this.formEl.hidden = false;
     nameIn.focus();

@@ -1,10 +1,11 @@
 // The status bar: run state, scan times, overruns, store problems
 // (retentive data lost, history not recorded, disk below its floor), the
-// connection, the user and role, and the logout.
+// health of each client connection to a remote server ([[opcua_server]]),
+// the studio's connection, the user and role, and the logout.
 import { type Me, whoLabel } from '../auth';
 import type { ConnState } from '../live/client';
 import { h } from '../dom';
-import type { Status } from '../types';
+import type { Connection, Status } from '../types';
 import { tr } from '../i18n';
 
 /** The strings of the status bar that are not field values. */
@@ -15,6 +16,10 @@ const text = {
   retainLost: tr('retentive data lost'),
   notLive: tr('not live'),
   state: { running: tr('running'), stopped: tr('stopped'), faulted: tr('faulted') } as Record<string, string>,
+  remoteOk: (c: Connection) => tr('{name}: connected to {endpoint}', { name: c.name, endpoint: c.endpoint }),
+  remoteRefused: (c: Connection, error: string) =>
+    tr('{name}: connected to {endpoint}, but: {error}', { name: c.name, endpoint: c.endpoint, error }),
+  remoteDown: (c: Connection, error: string) => tr('{name}: {endpoint} is down: {error}', { name: c.name, endpoint: c.endpoint, error }),
   conn: { connecting: tr('connecting'), connected: tr('connected'), reconnecting: tr('reconnecting') } as Record<string, string>,
 };
 
@@ -24,6 +29,8 @@ export class StatusBar {
   private readonly spans: Record<string, HTMLElement> = {};
   private lastState = '';
   private notLive = false;
+  private readonly conns = h('span', { class: 'status-item conns', 'data-testid': 'status-connections', hidden: true });
+  private connsKey = '';
   private readonly logoutBtn = h('button', { class: 'small link', 'data-testid': 'btn-logout', title: text.signOutTitle, hidden: true }, text.signOut);
 
   constructor() {
@@ -44,6 +51,7 @@ export class StatusBar {
       field('scans', tr('scans')),
       field('fault', ''),
       field('store', ''),
+      this.conns,
       h('span', { class: 'spacer' }),
       field('user', ''),
       this.logoutBtn,
@@ -75,6 +83,23 @@ export class StatusBar {
     this.spans.store.hidden = !label;
     this.spans.store.title = problems.map((p) => p.message).join('\n');
     this.spans.store.setAttribute('role', label ? 'alert' : 'none');
+    this.connections(s.connections ?? []);
+  }
+
+  /** Each remote server: its name, green (ok), amber (bindings refused) or red (down), why in the tooltip. */
+  private connections(list: Connection[]): void {
+    const key = JSON.stringify(list.map((c) => [c.name, c.ok, c.connected, c.last_error, c.endpoint]));
+    if (key === this.connsKey) return;
+    this.connsKey = key;
+    this.conns.replaceChildren(
+      ...list.map((c) => {
+        const health = c.ok ? 'ok' : c.connected ? 'refused' : 'down';
+        const error = c.last_error ?? '';
+        const title = health === 'ok' ? text.remoteOk(c) : health === 'refused' ? text.remoteRefused(c, error) : text.remoteDown(c, error);
+        return h('span', { class: 'remote', 'data-testid': `status-remote-${c.name}`, 'data-health': health, title, 'aria-label': title }, c.name);
+      }),
+    );
+    this.conns.hidden = list.length === 0;
   }
 
   /** While the data is stale the run state is unknown: the field says so instead of a frozen "running". */

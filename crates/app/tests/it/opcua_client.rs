@@ -164,3 +164,200 @@ async fn binds_tags_to_albas_own_opcua_server_and_recovers_from_its_restart() {
     let _ = std::fs::remove_dir_all(&server_dir);
     let _ = std::fs::remove_dir_all(&client_dir);
 }
+
+/// `GET /api/status` of `addr` as `token`.
+async fn status(http: &reqwest::Client, addr: std::net::SocketAddr, token: &str) -> Json {
+    http.get(format!("http://{addr}/api/status"))
+        .bearer_auth(token)
+        .send()
+        .await
+        .expect("GET status")
+        .json()
+        .await
+        .expect("JSON")
+}
+
+/// Polls the first connection of `/api/status` (up to 20 s) until `want` holds.
+async fn until_conn(
+    http: &reqwest::Client,
+    addr: std::net::SocketAddr,
+    token: &str,
+    what: &str,
+    want: impl Fn(&Json) -> bool,
+) -> Json {
+    let mut last = Json::Null;
+    for _ in 0..200 {
+        last = status(http, addr, token).await["connections"][0].clone();
+        if want(&last) {
+            return last;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    panic!("the connection never became {what} (last {last})");
+}
+
+/// `GET /api/opcua/{server}/browse[?node=…]` as `token`: status and body.
+async fn browse(
+    http: &reqwest::Client,
+    addr: std::net::SocketAddr,
+    token: &str,
+    server: &str,
+    node: Option<&str>,
+) -> (reqwest::StatusCode, Json) {
+    let mut req = http
+        .get(format!("http://{addr}/api/opcua/{server}/browse"))
+        .bearer_auth(token);
+    if let Some(n) = node {
+        req = req.query(&[("node", n)]);
+    }
+    let res = req.send().await.expect("GET browse");
+    let code = res.status();
+    (code, res.json().await.expect("JSON"))
+}
+
+/// The child of a browse reply whose browse name is `name`.
+fn child<'a>(reply: &'a Json, name: &str) -> &'a Json {
+    reply["children"]
+        .as_array()
+        .and_then(|c| c.iter().find(|x| x["browse_name"] == name))
+        .unwrap_or_else(|| panic!("no child {name} in {reply}"))
+}
+
+/// The API of the client connections (docs/api.md): each connection's
+/// health in `/api/status` through a stop and a restart of the remote
+/// server, and browsing it from the studio's tag picker (engineers only).
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn status_shows_each_connections_health_and_browse_walks_the_remote_address_space() {
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/protocols/plant");
+    let server_dir = copy_dir(&fixture, "opcua-health-srv");
+    let port = free_port();
+    let mut sopts = options("sim");
+    sopts.opcua = Some(format!("127.0.0.1:{port}").parse().expect("addr"));
+    let (_, sstop, stask) = serve(&server_dir, sopts).await;
+
+    let client_dir = std::env::temp_dir().join(format!("alba-app-opcua-health-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&client_dir);
+    std::fs::create_dir_all(&client_dir).expect("dir");
+    let endpoint = format!("opc.tcp://127.0.0.1:{port}/");
+    std::fs::write(
+        client_dir.join("alba.toml"),
+        format!(
+            "name = \"opcua-health\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n\n\
+             [[opcua_server]]\nname = \"plant\"\nendpoint = \"{endpoint}\"\npublishing_interval_ms = 50\n\
+             bind = [{{ tag = \"ScansIn\", node = \"nsu=urn:alba:modbus-plant;s=Scans\", dir = \"in\" }}]\n"
+        ),
+    )
+    .expect("toml");
+    std::fs::write(
+        client_dir.join("tags.csv"),
+        "name,type,address,initial,retain,description\nScansIn,DINT,,,,\nCopy,DINT,,,,\n",
+    )
+    .expect("tags");
+    std::fs::write(client_dir.join("main.lad"), "ADD(ScansIn,0,Copy);\n").expect("program");
+    let mut users = alba_auth::Users::default();
+    let password = "a long test password 7";
+    users.add("eng", alba_auth::Role::Engineer, password).expect("engineer");
+    users.add("view", alba_auth::Role::Viewer, password).expect("viewer");
+    users.save(&client_dir).expect("users.toml");
+    let (caddr, cstop, ctask) = serve(&client_dir, options("sim")).await;
+    let http = reqwest::Client::new();
+    let login = |user: &'static str| {
+        let http = http.clone();
+        async move {
+            let j: Json = http
+                .post(format!("http://{caddr}/api/login"))
+                .json(&serde_json::json!({"user": user, "password": password}))
+                .send()
+                .await
+                .expect("login")
+                .json()
+                .await
+                .expect("JSON");
+            j["token"].as_str().expect("token").to_string()
+        }
+    };
+    let (eng, view) = (login("eng").await, login("view").await);
+
+    // Connected: the status says so, its other fields as before.
+    let c = until_conn(&http, caddr, &view, "ok", |c| c["ok"] == true).await;
+    assert_eq!(c["name"], "plant");
+    assert_eq!(c["protocol"], "opcua");
+    assert_eq!(c["endpoint"], endpoint.as_str());
+    assert_eq!(
+        (&c["connected"], &c["connects"], &c["last_error"]),
+        (&Json::Bool(true), &serde_json::json!(1), &Json::Null),
+        "{c}"
+    );
+    let s = status(&http, caddr, &view).await;
+    assert_eq!(s["project"], "opcua-health");
+    assert_eq!(s["connections"].as_array().map(Vec::len), Some(1), "{s}");
+    assert!(
+        s["state"].is_string() && s["stats"].is_object() && s["forces"].is_array(),
+        "{s}"
+    );
+
+    // Browse from the Objects folder (the default) down to a variable.
+    let (code, objects) = browse(&http, caddr, &eng, "plant", None).await;
+    assert_eq!(code, reqwest::StatusCode::OK, "{objects}");
+    assert_eq!(
+        (&objects["server"], &objects["node"]),
+        (&serde_json::json!("plant"), &serde_json::json!("i=85"))
+    );
+    assert_eq!(child(&objects, "Server")["node"], "i=2253");
+    let alba = child(&objects, "Alba");
+    assert_eq!(alba["class"], "Object");
+    assert_eq!(alba["node_uri"], "nsu=urn:alba:modbus-plant;s=Alba");
+    let mut at = alba["node_uri"].as_str().expect("node").to_string();
+    for name in ["modbus-plant", "Tags"] {
+        let (code, r) = browse(&http, caddr, &eng, "plant", Some(&at)).await;
+        assert_eq!(code, reqwest::StatusCode::OK, "{r}");
+        at = child(&r, name)["node"].as_str().expect("node").to_string();
+    }
+    let (code, tags) = browse(&http, caddr, &eng, "plant", Some(&at)).await;
+    assert_eq!(code, reqwest::StatusCode::OK, "{tags}");
+    let speed = child(&tags, "Speed");
+    assert_eq!(speed["class"], "Variable");
+    assert_eq!(speed["data_type"], "Int32");
+    assert_eq!(speed["node_uri"], "nsu=urn:alba:modbus-plant;s=Speed");
+    assert!(
+        speed["node"]
+            .as_str()
+            .is_some_and(|n| n.starts_with("ns=") && n.ends_with(";s=Speed")),
+        "{speed}"
+    );
+    assert_eq!(child(&tags, "Temp")["data_type"], "Float");
+    // Refusals: an unknown server, a node that is not a node id, a viewer.
+    let (code, r) = browse(&http, caddr, &eng, "nope", None).await;
+    assert_eq!(code, reqwest::StatusCode::NOT_FOUND, "{r}");
+    assert!(r["error"].as_str().is_some_and(|e| e.contains("`nope`")), "{r}");
+    let (code, r) = browse(&http, caddr, &eng, "plant", Some("not a node")).await;
+    assert_eq!(code, reqwest::StatusCode::BAD_REQUEST, "{r}");
+    let (code, r) = browse(&http, caddr, &view, "plant", None).await;
+    assert_eq!(code, reqwest::StatusCode::FORBIDDEN, "{r}");
+
+    // The remote server stops: not ok, why, and browsing says it cannot reach it.
+    stop(sstop, stask).await;
+    let c = until_conn(&http, caddr, &view, "not ok", |c| c["ok"] == false).await;
+    assert_eq!(c["connected"], false, "{c}");
+    assert!(c["last_error"].as_str().is_some_and(|e| !e.is_empty()), "{c}");
+    assert!(c["errors"].as_u64().unwrap_or(0) >= 1, "{c}");
+    let (code, r) = browse(&http, caddr, &eng, "plant", None).await;
+    assert_eq!(code, reqwest::StatusCode::BAD_GATEWAY, "{r}");
+    let e = r["error"].as_str().unwrap_or_default();
+    assert!(e.contains("plant") && e.contains(&endpoint), "{r}");
+
+    // It comes back: ok again, on a new session.
+    let mut sopts = options("sim");
+    sopts.opcua = Some(format!("127.0.0.1:{port}").parse().expect("addr"));
+    let (_, sstop, stask) = serve(&server_dir, sopts).await;
+    let c = until_conn(&http, caddr, &view, "ok again", |c| c["ok"] == true).await;
+    assert!(c["connects"].as_u64().unwrap_or(0) >= 2, "{c}");
+    assert_eq!(c["last_error"], Json::Null, "{c}");
+    let (code, r) = browse(&http, caddr, &eng, "plant", None).await;
+    assert_eq!(code, reqwest::StatusCode::OK, "{r}");
+
+    stop(cstop, ctask).await;
+    stop(sstop, stask).await;
+    let _ = std::fs::remove_dir_all(&server_dir);
+    let _ = std::fs::remove_dir_all(&client_dir);
+}

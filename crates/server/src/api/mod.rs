@@ -8,6 +8,7 @@ pub mod domain;
 pub mod forces;
 pub mod history;
 pub mod nets;
+pub mod opcua;
 pub mod pid;
 pub mod programs;
 pub mod screens;

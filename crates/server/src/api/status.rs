@@ -46,6 +46,7 @@ pub fn status_of(s: &Snapshot, state: &AppState) -> Status {
             })
             .collect(),
         forces: super::forces::of(s),
+        connections: state.connections.get().map(|c| c.status()).unwrap_or_default(),
     }
 }
 

@@ -159,3 +159,77 @@ async fn status_503_runtime_not_running() {
     }
     s.stop().await;
 }
+
+/// A remote server that cannot be reached (the hook alba-app sets for
+/// `[[opcua_server]]`).
+struct Unreachable;
+
+impl alba_server::connections::Connections for Unreachable {
+    fn status(&self) -> Vec<alba_server::reply::Connection> {
+        vec![alba_server::reply::Connection {
+            name: "plant".into(),
+            protocol: "opcua".into(),
+            endpoint: "opc.tcp://127.0.0.1:1/".into(),
+            ok: false,
+            connected: false,
+            connects: 0,
+            errors: 3,
+            last_error: Some("cannot connect: BadNotConnected".into()),
+        }]
+    }
+    fn browse<'a>(&'a self, server: &'a str, _node: &'a str) -> alba_server::connections::Browsing<'a> {
+        use alba_server::connections::BrowseError;
+        Box::pin(async move {
+            if server == "plant" {
+                Err(BrowseError::Upstream("OPC UA server plant: cannot connect".into()))
+            } else {
+                Err(BrowseError::UnknownServer(server.into()))
+            }
+        })
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn status_502_remote_server_unreachable() {
+    let dir = copy_example("tank", "e502");
+    let compiled = alba_server::project::load(&dir);
+    let program = compiled.program.clone().expect("the example compiles");
+    let mut ro = Options::new(compiled.project.scan_ms());
+    ro.native = false;
+    let runtime = Runtime::start(Arc::new(program), ro, Box::new(alba_runtime::SimIo)).expect("runtime");
+    let state = alba_server::AppState::new(
+        runtime.handle(),
+        compiled,
+        "test",
+        None,
+        None,
+        alba_server::auth::Auth::open(),
+    );
+    assert!(state.connections.set(Arc::new(Unreachable)).is_ok());
+    let s = Server::serve_state(state, dir).await;
+    let (code, j) = s.call(Method::GET, "/api/opcua/plant/browse", None).await;
+    assert_eq!(code, StatusCode::BAD_GATEWAY, "{j}");
+    assert_eq!(j["error"], "OPC UA server plant: cannot connect");
+    let (code, j) = s.call(Method::GET, "/api/opcua/other/browse?node=i%3D85", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
+    let (code, j) = s.call(Method::GET, "/api/opcua/plant/browse?nod=i%3D85", None).await;
+    assert_eq!(code, StatusCode::BAD_REQUEST, "{j}");
+    // The status shows the hook's connections.
+    let st = s.get("/api/status").await;
+    assert_eq!(
+        st["connections"][0]["last_error"], "cannot connect: BadNotConnected",
+        "{st}"
+    );
+    s.stop().await;
+    drop(runtime);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn without_connections_the_status_lists_none_and_browse_is_404() {
+    let s = Server::start("tank", "noconn").await;
+    assert_eq!(s.get("/api/status").await["connections"], json!([]));
+    let (code, j) = s.call(Method::GET, "/api/opcua/plant/browse", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND, "{j}");
+    assert_eq!(j["error"], "no [[opcua_server]] named `plant` in alba.toml");
+    s.stop().await;
+}

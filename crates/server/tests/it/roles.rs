@@ -378,6 +378,15 @@ async fn every_route_answers_each_role_as_the_table_says() {
         // The audit trail (rows skipped below while this server has no such route).
         row(Method::GET, "/api/audit", "/api/audit", None, e, HANDLER),
         row(Method::GET, "/api/audit.csv", "/api/audit.csv", None, e, HANDLER),
+        // This server has no [[opcua_server]]: the handler's 404.
+        row(
+            Method::GET,
+            "/api/opcua/{server}/browse",
+            "/api/opcua/plant/browse",
+            None,
+            e,
+            404,
+        ),
         row(Method::POST, "/api/stop", "/api/stop", None, e, 200),
         // While stopped: one scan.
         row(Method::POST, "/api/step", "/api/step", None, e, 200),
