@@ -8,9 +8,11 @@
 //! 2. The parameters are checked (`PidParams::check`); a bad one sets
 //!    `ERRC` (the SLC's code), records a minor fault when the code changes,
 //!    and holds the output.
-//! 3. The loop updates every `UPD` ms of engine clock, on a drift-free
-//!    schedule independent of the scan; `DN` is true in the scans that
-//!    updated. When a whole update period is missed (scans slower than the
+//! 3. In timed mode (`TM`, the default) the loop updates every `UPD` ms of
+//!    engine clock, on a drift-free schedule independent of the scan; `DN`
+//!    is true in the scans that updated. In STI mode (`TM` false) it updates
+//!    at every execution with its rung true, as the SLC's does inside its
+//!    selectable timed interrupt. When a whole update period is missed (scans slower than the
 //!    loop), `TF` is set and the schedule restarts from now. The update
 //!    always uses `dt = UPD` (as the SLC does, which is why TF warns that
 //!    the integral and derivative are then wrong).
@@ -93,6 +95,7 @@ const DIRECT: usize = 9;
 const DOE: usize = 10;
 const DEP: usize = 11;
 const OL: usize = 12;
+const TM: usize = 13;
 
 /// Counts of the SLC's 0-16383 scale per percent.
 pub const SLC_PER_PCT: f64 = 16383.0 / 100.0;
@@ -154,7 +157,13 @@ pub(crate) fn pid_on(f: &mut [f32], iv: &mut [i32], b: &mut [bool], rc: bool, no
     let upd = iv[UPD];
     let running = b[PID_B_RUN as usize];
     let due = iv[PID_I_DUE as usize] as u32;
-    if running {
+    if !b[TM] {
+        // STI mode: the SLC runs the loop in a selectable timed interrupt of
+        // period UPD and the instruction updates at every execution; here the
+        // program decides when it executes (every scan with scan_ms = UPD, or
+        // under a timer's DN), and dt is UPD as on the SLC.
+        b[TF] = false;
+    } else if running {
         let lag = now.wrapping_sub(due) as i32;
         if lag < 0 {
             return;

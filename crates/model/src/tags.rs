@@ -594,7 +594,7 @@ mod tests {
             "tags.csv:10:1: error[E112]: `1bad` is not a valid tag name: use letters, digits and `_`, not starting with a digit",
             "tags.csv:11:10: error[E119]: `maybe` is not a retain flag",
             "tags.csv:12:8: error[E121]: PID parameter UPD = 0: the loop update time must be more than 0 ms (SLC error 11H)",
-            "tags.csv:13:8: error[E121]: PID has no member `KQ` (writable members: SP CV KP KI KD KC TI TD BIAS MAXO MINO MAXS MINS MAXI MINI MAXCV MINCV DB DFN UPD FORM MAN DIRECT DOE DEP OL)",
+            "tags.csv:13:8: error[E121]: PID has no member `KQ` (writable members: SP CV KP KI KD KC TI TD BIAS MAXO MINO MAXS MINS MAXI MINI MAXCV MINCV DB DFN UPD FORM MAN DIRECT DOE DEP OL TM)",
         ];
         assert_eq!(got, expect);
         assert_eq!(t.len(), 2); // Good and B

@@ -111,12 +111,13 @@ pub const PID_MEMBERS: &[Member] = &[
     m("DOE", DataType::Bool, true, 10),
     m("DEP", DataType::Bool, true, 11),
     m("OL", DataType::Bool, true, 12),
+    m("TM", DataType::Bool, true, 13),
 ];
 
 /// Default values of PID members that are not zero (a new loop limits its
 /// output to 0-100 %, filters its derivative with N = 10 and updates every
-/// 100 ms).
-pub const PID_DEFAULTS: &[(&str, f64)] = &[("MAXO", 100.0), ("DFN", 10.0), ("UPD", 100.0), ("OL", 1.0)];
+/// 100 ms in timed mode).
+pub const PID_DEFAULTS: &[(&str, f64)] = &[("MAXO", 100.0), ("DFN", 10.0), ("UPD", 100.0), ("OL", 1.0), ("TM", 1.0)];
 
 /// The parameters of a PID loop that can be wrong, for the checks done
 /// when a project is checked (constant initial values) and by the

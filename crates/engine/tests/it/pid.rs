@@ -274,6 +274,37 @@ fn loop_updates_on_its_own_clock() {
 }
 
 #[test]
+fn sti_mode_updates_at_every_execution_with_dt_upd() {
+    // TM false: the SLC's STI mode, the loop in a timed interrupt of period
+    // UPD: it updates whenever it executes with its rung true (here every
+    // 10 ms scan), never late (TF stays false), and integrates with dt = UPD.
+    let mut r = Rig::new("KP=0;KI=2;UPD=100;TM=0;MAXS=0");
+    r.real("Loop.SP", 10.0);
+    let mut done = 0;
+    for _ in 0..5 {
+        r.scan(10);
+        done += usize::from(r.b("Loop.DN"));
+        assert!(!r.b("Loop.TF"));
+    }
+    assert_eq!(done, 5, "an update at every execution");
+    // each update adds Ki·e·dt = 2 · 10 · 0.1 = 2 %
+    assert_close!(r.f("Loop.CV"), 10.0);
+    // A false rung: no execution, no update.
+    r.bit("Run", false);
+    r.scan(10);
+    assert!(!r.b("Loop.DN"));
+    // Timed mode (the default) with the same scans: every 10th scan.
+    let mut r = Rig::new("KP=0;KI=2;UPD=100;MAXS=0");
+    r.real("Loop.SP", 10.0);
+    let mut done = 0;
+    for _ in 0..10 {
+        r.scan(10);
+        done += usize::from(r.b("Loop.DN"));
+    }
+    assert_eq!(done, 1);
+}
+
+#[test]
 fn scaling_from_raw_input_to_raw_output() {
     // 0-10000 raw (mV) is 0-10 V; the output 0-100 % is 0-10000 raw.
     let mut r = Rig::new("KP=1;MINI=0;MAXI=10000;MINS=0;MAXS=10;MINCV=0;MAXCV=10000;UPD=100");
