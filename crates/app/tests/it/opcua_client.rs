@@ -50,10 +50,10 @@ async fn put(addr: std::net::SocketAddr, name: &str, value: Json) {
     assert_eq!(res.status(), reqwest::StatusCode::OK, "PUT {name}");
 }
 
-/// Polls `name` (up to 20 s) until `want` holds for its value.
+/// Polls `name` (up to 60 s: the first connection makes the client's certificate) until `want` holds for its value.
 async fn until(addr: std::net::SocketAddr, name: &str, what: &str, want: impl Fn(&Json) -> bool) -> Json {
     let mut last = Json::Null;
-    for _ in 0..200 {
+    for _ in 0..600 {
         last = tag(addr, name).await;
         if want(&last) {
             return last;
@@ -177,7 +177,7 @@ async fn status(http: &reqwest::Client, addr: std::net::SocketAddr, token: &str)
         .expect("JSON")
 }
 
-/// Polls the first connection of `/api/status` (up to 20 s) until `want` holds.
+/// Polls the first connection of `/api/status` (up to 60 s) until `want` holds.
 async fn until_conn(
     http: &reqwest::Client,
     addr: std::net::SocketAddr,
@@ -186,7 +186,7 @@ async fn until_conn(
     want: impl Fn(&Json) -> bool,
 ) -> Json {
     let mut last = Json::Null;
-    for _ in 0..200 {
+    for _ in 0..600 {
         last = status(http, addr, token).await["connections"][0].clone();
         if want(&last) {
             return last;
