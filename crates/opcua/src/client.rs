@@ -80,7 +80,8 @@ struct Bound {
 /// What one server's task is started with.
 struct Conn {
     cfg: OpcuaServer,
-    password: Option<String>,
+    /// The project folder (its password file is read at each attempt).
+    dir: PathBuf,
     pki: PathBuf,
     inputs: Vec<Bound>,
     outputs: Vec<Bound>,
@@ -136,6 +137,19 @@ fn read_password(dir: &Path, file: &str, server: &str) -> Result<String, String>
     let text = std::fs::read_to_string(&path)
         .map_err(|e| format!("[[opcua_server]] {server}: password_file {}: {e}", path.display()))?;
     Ok(text.lines().next().unwrap_or("").to_string())
+}
+
+/// The identity `server` logs in with: its user and the password file's
+/// first line (read now, so a corrected file is used at the next attempt),
+/// else anonymous.
+fn identity(server: &OpcuaServer, dir: &Path) -> Result<IdentityToken, String> {
+    match &server.user {
+        Some((user, file)) => Ok(IdentityToken::new_user_name(
+            user.clone(),
+            read_password(dir, file, &server.name)?,
+        )),
+        None => Ok(IdentityToken::Anonymous),
+    }
 }
 
 /// `line:col` of a byte offset in `text` (1-based).
@@ -197,13 +211,11 @@ impl OpcuaClientIo {
                     Direction::Out => outputs.push(bound),
                 }
             }
-            let password = match &s.user {
-                Some((_, file)) => Some(read_password(dir, file, &s.name)?),
-                None => None,
-            };
+            // A missing password file stops `alba run` here.
+            identity(s, dir)?;
             conns.push(Conn {
                 cfg: s.clone(),
-                password,
+                dir: dir.to_path_buf(),
                 pki: dir.join(&s.pki_dir),
                 inputs,
                 outputs,
@@ -543,7 +555,7 @@ pub fn explain(code: StatusCode) -> String {
     } else if code == StatusCode::BadCertificateUntrusted {
         " (a certificate is not trusted: the server's is kept in the client's pki rejected/ folder until moved to trusted/, or the server refused ours)"
     } else if code == StatusCode::BadSecurityChecksFailed {
-        " (security checks failed: an untrusted or invalid certificate)"
+        " (security checks failed: a certificate refused before, still in a pki rejected/ folder — the server's or ours — or an invalid one)"
     } else if code == StatusCode::BadTcpEndpointUrlInvalid {
         " (the server offers no endpoint with this security policy and mode)"
     } else if code == StatusCode::BadNotConnected || code == StatusCode::BadCommunicationError {
@@ -650,10 +662,7 @@ async fn session_once(
 ) -> Result<(), (String, bool)> {
     let down = |m: String| (m, false);
     let mut client = client(&c.pki).map_err(down)?;
-    let identity = match (&c.cfg.user, &c.password) {
-        (Some((u, _)), Some(p)) => IdentityToken::new_user_name(u.clone(), p.clone()),
-        _ => IdentityToken::Anonymous,
-    };
+    let identity = identity(&c.cfg, &c.dir).map_err(down)?;
     let endpoint = (c.cfg.endpoint.as_str(), policy(c.cfg.policy).to_uri(), mode(c.cfg.mode));
     let (session, event_loop) = tokio::select! {
         r = client.connect_to_matching_endpoint(endpoint, identity) => r.map_err(|e| down(format!("cannot connect: {}", explain(e.status()))))?,
@@ -1028,15 +1037,8 @@ pub async fn browse(session: &Session, node: &str) -> Result<Vec<Child>, String>
 /// Connects to `server` (as `alba run` would: same security, user and
 /// PKI; `dir` is the project), browses `node` and disconnects.
 pub async fn browse_server(server: &OpcuaServer, dir: &Path, node: &str) -> Result<Vec<Child>, String> {
-    let password = match &server.user {
-        Some((_, file)) => Some(read_password(dir, file, &server.name)?),
-        None => None,
-    };
+    let identity = identity(server, dir)?;
     let mut client = client(&dir.join(&server.pki_dir))?;
-    let identity = match (&server.user, password) {
-        (Some((u, _)), Some(p)) => IdentityToken::new_user_name(u.clone(), p),
-        _ => IdentityToken::Anonymous,
-    };
     let endpoint = (
         server.endpoint.as_str(),
         policy(server.policy).to_uri(),

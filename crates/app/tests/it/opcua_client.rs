@@ -165,16 +165,11 @@ async fn binds_tags_to_albas_own_opcua_server_and_recovers_from_its_restart() {
     let _ = std::fs::remove_dir_all(&client_dir);
 }
 
-/// `GET /api/status` of `addr` as `token`.
+/// `GET /api/status` of `addr` as `token` (none when empty: a project without users).
 async fn status(http: &reqwest::Client, addr: std::net::SocketAddr, token: &str) -> Json {
-    http.get(format!("http://{addr}/api/status"))
-        .bearer_auth(token)
-        .send()
-        .await
-        .expect("GET status")
-        .json()
-        .await
-        .expect("JSON")
+    let req = http.get(format!("http://{addr}/api/status"));
+    let req = if token.is_empty() { req } else { req.bearer_auth(token) };
+    req.send().await.expect("GET status").json().await.expect("JSON")
 }
 
 /// Polls the first connection of `/api/status` (up to 60 s) until `want` holds.
@@ -355,6 +350,135 @@ async fn status_shows_each_connections_health_and_browse_walks_the_remote_addres
     assert_eq!(c["last_error"], Json::Null, "{c}");
     let (code, r) = browse(&http, caddr, &eng, "plant", None).await;
     assert_eq!(code, reqwest::StatusCode::OK, "{r}");
+
+    stop(cstop, ctask).await;
+    stop(sstop, stask).await;
+    let _ = std::fs::remove_dir_all(&server_dir);
+    let _ = std::fs::remove_dir_all(&client_dir);
+}
+
+/// The one `.der` file of `dir` (waits up to 60 s for it to appear).
+async fn one_cert(dir: &Path) -> PathBuf {
+    for _ in 0..600 {
+        let found: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map(|d| d.flatten().map(|e| e.path()).collect())
+            .unwrap_or_default();
+        if let [one] = found.as_slice() {
+            return one.clone();
+        }
+        assert!(
+            found.len() < 2,
+            "one certificate expected in {}: {found:?}",
+            dir.display()
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    panic!("no certificate appeared in {}", dir.display());
+}
+
+/// Moves the certificate that landed in `pki/rejected/` to `pki/trusted/`.
+async fn trust(pki: &Path) {
+    let rejected = one_cert(&pki.join("rejected")).await;
+    let name = rejected.file_name().expect("name");
+    std::fs::create_dir_all(pki.join("trusted")).expect("trusted/");
+    std::fs::rename(&rejected, pki.join("trusted").join(name)).expect("trust");
+}
+
+/// Security against Alba's own server where other machines reach it (bound
+/// to 0.0.0.0: Basic256Sha256 only, a user required, unknown client
+/// certificates refused): each refusal in turn — the client's certificate
+/// by the server, the server's by the client, a wrong password — is
+/// `S:IOOK` false with the reason in `/api/status`, and each is corrected
+/// while both keep running (a certificate moved to `trusted/`, the password
+/// file fixed) until values flow.
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn albas_own_secure_server_refuses_untrusted_certificates_and_a_wrong_password_until_corrected() {
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/protocols/plant");
+    let server_dir = copy_dir(&fixture, "opcua-sec-srv");
+    let password = "a long test password 7";
+    let mut users = alba_auth::Users::default();
+    users.add("op", alba_auth::Role::Operator, password).expect("operator");
+    users.save(&server_dir).expect("users.toml");
+    let port = free_port();
+    let mut sopts = options("sim");
+    sopts.opcua = Some(format!("0.0.0.0:{port}").parse().expect("addr"));
+    let (_, sstop, stask) = serve(&server_dir, sopts).await;
+
+    let client_dir = std::env::temp_dir().join(format!("alba-app-opcua-sec-cli-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&client_dir);
+    std::fs::create_dir_all(&client_dir).expect("dir");
+    std::fs::write(
+        client_dir.join("alba.toml"),
+        format!(
+            "name = \"opcua-secure\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n\n\
+             [[opcua_server]]\nname = \"plant\"\nendpoint = \"opc.tcp://127.0.0.1:{port}/\"\n\
+             security_policy = \"Basic256Sha256\"\nsecurity_mode = \"SignAndEncrypt\"\n\
+             user = \"op\"\npassword_file = \"plant-password.txt\"\npublishing_interval_ms = 50\n\
+             bind = [{{ tag = \"ScansIn\", node = \"nsu=urn:alba:modbus-plant;s=Scans\", dir = \"in\" }}]\n"
+        ),
+    )
+    .expect("toml");
+    let wrong = "not the password";
+    std::fs::write(client_dir.join("plant-password.txt"), format!("{wrong}\n")).expect("password");
+    std::fs::write(
+        client_dir.join("tags.csv"),
+        "name,type,address,initial,retain,description\nScansIn,DINT,,,,\nCopy,DINT,,,,\n",
+    )
+    .expect("tags");
+    std::fs::write(client_dir.join("main.lad"), "ADD(ScansIn,0,Copy);\n").expect("program");
+    let (caddr, cstop, ctask) = serve(&client_dir, options("sim")).await;
+    let http = reqwest::Client::new();
+    let down_for = |why: &'static str| {
+        let http = http.clone();
+        async move {
+            let c = until_conn(&http, caddr, "", why, |c| {
+                c["last_error"].as_str().is_some_and(|e| e.contains(why))
+            })
+            .await;
+            assert_eq!(
+                (&c["ok"], &c["connected"]),
+                (&Json::Bool(false), &Json::Bool(false)),
+                "{c}"
+            );
+            assert_eq!(tag(caddr, "S:IOOK").await, Json::Bool(false), "{c}");
+            assert!(
+                !c.to_string().contains(password) && !c.to_string().contains(wrong),
+                "{c}"
+            );
+            c
+        }
+    };
+
+    // 1. The server does not know the client's certificate: refused
+    //    (`BadCertificateUntrusted` the first time, then
+    //    `BadSecurityChecksFailed` while it stays in the server's
+    //    pki/rejected/) until an administrator trusts it.
+    let server_pki = server_dir.join(".alba/pki");
+    down_for("BadSecurityChecksFailed").await;
+    trust(&server_pki).await;
+
+    // 2. The client does not know the server's certificate: refused, kept
+    //    in the client's pki-client/rejected/.
+    let client_pki = client_dir.join(".alba/pki-client");
+    down_for("BadCertificateUntrusted").await;
+    trust(&client_pki).await;
+
+    // 3. Both certificates trusted, the password is wrong.
+    down_for("wrong user name or password").await;
+    assert_eq!(tag(caddr, "ScansIn").await, Json::from(0), "nothing read yet");
+
+    // Corrected: the next attempt (no restart) logs in and values flow.
+    std::fs::write(client_dir.join("plant-password.txt"), format!("{password}\n")).expect("password");
+    let c = until_conn(&http, caddr, "", "ok", |c| c["ok"] == true).await;
+    assert_eq!(
+        (&c["connected"], &c["last_error"]),
+        (&Json::Bool(true), &Json::Null),
+        "{c}"
+    );
+    assert!(c["errors"].as_u64().unwrap_or(0) >= 3, "each refusal counted: {c}");
+    until(caddr, "S:IOOK", "true", |v| *v == Json::Bool(true)).await;
+    let first = until(caddr, "ScansIn", "> 0", |v| v.as_i64().unwrap_or(0) > 0).await;
+    until(caddr, "ScansIn", "moving", |v| v.as_i64() > first.as_i64()).await;
 
     stop(cstop, ctask).await;
     stop(sstop, stask).await;
