@@ -11,8 +11,11 @@ input registers 0-1 onto DI/AI, and its coils 0-3 and holding registers
 on the slave come back on its coils and registers through the program;
 S:IOOK true while the slave answers; the slave killed → S:IOOK false and
 S:IOERRORS counting, the program keeps scanning; the slave restarted →
-recovery, outputs written again at once. Prints the measured poll rate and
-recovery time.
+recovery, outputs written again at once. Then the same device under a
+state net (io.pnml, run instead of the ladder): its Input element reads
+input register 0, its Output element writes twice that to holding register
+10 while marked, Conditions on discrete input 0 move the token. Then the ladder again over Modbus RTU.
+Prints the measured poll rate and recovery time.
 """
 
 import asyncio
@@ -164,6 +167,39 @@ def rtu(binary, project):
         slave.stop()
 
 
+def net(binary, project, port):
+    """The same device with a state net instead of the ladder (io.pnml): its
+    Input element reads input register 0, its Output element writes holding
+    register 10, Conditions on discrete input 0 move the token."""
+    toml = f"{project}/alba.toml"
+    text = open(toml).read()
+    open(toml, "w").write(text.replace('programs = ["main.lad"]', 'programs = ["io.pnml"]'))
+    slave = Slave(port)
+    slave.start()
+    alba = Alba(binary, project, "modbus")
+    try:
+        print("modbus master: a net's Input and Output elements on the slave's registers", flush=True)
+        until("S:IOOK (net)", lambda: alba.tag("S:IOOK") is True)
+        # In normal mode a token waits in the transition whose guard is false.
+        check(alba.tag("io.go") == 1, f"the token waits at io.go: {alba.tag('io.go')}")
+        slave.set(4, 0, [21])
+        slave.set(2, 0, [True])
+        until("the token at io.back", lambda: alba.tag("io.back") == 1)
+        check(alba.tag("io.level.value") == 21, f"the Input element read 21: {alba.tag('io.level.value')}")
+        until("holding register 10 = 2 x 21 from the Output element", lambda: slave.get(3, 10, 1) == [42])
+        slave.set(2, 0, [False])
+        until("the token back at io.go", lambda: alba.tag("io.go") == 1)
+        slave.set(4, 0, [50])
+        time.sleep(0.3)
+        check(slave.get(3, 10, 1) == [42], "unmarked, the Output element writes nothing")
+        slave.set(2, 0, [True])
+        until("holding register 10 = 100", lambda: slave.get(3, 10, 1) == [100])
+    finally:
+        alba.stop()
+        slave.stop()
+    open(toml, "w").write(text)
+
+
 def main():
     binary, project = sys.argv[1], sys.argv[2]
     port = free_port()
@@ -231,6 +267,9 @@ def main():
     if failures:
         print("".join(alba.log[-30:]))
         raise SystemExit(f"modbus master: {len(failures)} failure(s)")
+    net(binary, project, port)
+    if failures:
+        raise SystemExit(f"modbus master net: {len(failures)} failure(s)")
     rtu(binary, project)
     if failures:
         raise SystemExit(f"modbus master RTU: {len(failures)} failure(s)")
