@@ -14,6 +14,10 @@ SignAndEncrypt, and one user (op / the right password). Checks:
   PumpOut written from Alba reaches the node; /api/status shows the
   connection ok; GET /api/opcua/tank/browse lists Tank under Objects and
   its variables with their data types and nsu= node ids;
+- the server stops: S:IOOK false, the connection down in /api/status,
+  LevelIn holds its last value; a new server on the same port: S:IOOK
+  true again, the new subscription delivers its values, PumpOut is
+  written again without being changed;
 - with Basic256Sha256 SignAndEncrypt, the server's certificate is not
   trusted: refused (S:IOOK false, the reason on stderr) and kept in
   pki-client/rejected/; moved to trusted/, the client connects.
@@ -185,6 +189,31 @@ def main():
                   and kids.get("Level", {}).get("node_uri") == "nsu=urn:tank;s=Tank.Level"
                   and kids.get("Pump", {}).get("data_type") == "Boolean", f"Tank's variables: {code} {r}")
             check(GOOD not in json.dumps([objects, r, c]), "no password in the API's answers")
+
+            print("opcua client io: the server restarts (inputs held, S:IOOK false, then recovery)", flush=True)
+            alba.api("PUT", "/api/tags/PumpOut", {"value": True})
+            until("Pump true on the server", lambda: server.pump_value() is True)
+            server.set_level(6.0)
+            until("LevelIn 6.0", lambda: alba.tag("LevelIn") == 6.0)
+            server.stop()
+            until("S:IOOK false while the server is down", lambda: alba.tag("S:IOOK") is False)
+            until("the loss in /api/status", lambda: connection(alba)["connected"] is False)
+            c = connection(alba)
+            check(c["ok"] is False and c["last_error"] and c["errors"] >= 1, f"health while down: {c}")
+            time.sleep(1.0)
+            check(alba.tag("LevelIn") == 6.0, f"LevelIn holds its last value: {alba.tag('LevelIn')}")
+            check(alba.tag("S:IOOK") is False, "S:IOOK stays false while the server is down")
+            # A new server on the same port, with its initial values (Level 3.25, Pump false).
+            server = TankServer(port, pki)
+            until("S:IOOK true again", lambda: alba.tag("S:IOOK") is True)
+            until("the output written again (Pump true on the new server)", lambda: server.pump_value() is True)
+            until("LevelIn 3.25 from the new server's subscription", lambda: alba.tag("LevelIn") == 3.25)
+            server.set_level(8.5)
+            until("LevelIn 8.5 after the restart", lambda: alba.tag("LevelIn") == 8.5)
+            c = connection(alba)
+            check(c["ok"] is True and c["connects"] >= 2 and c["last_error"] is None, f"health after the restart: {c}")
+            alba.api("PUT", "/api/tags/PumpOut", {"value": False})
+            until("Pump false on the new server", lambda: server.pump_value() is False)
         finally:
             alba.stop()
 
