@@ -314,3 +314,104 @@ async fn repeated_firings_are_each_sent_and_normal_mode_has_enabled_transitions(
     assert_eq!(m["on"], json!([]), "{m}");
     s.stop().await;
 }
+
+/// An online edit of a net (docs/nets.md, "Marking tags") keeps the marking
+/// of every place whose id did not change — even when its initial marking
+/// changed — and starts a new or renamed place from its initial marking;
+/// the next scan runs on from the kept marking.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_online_edit_keeps_the_markings_of_unchanged_places() {
+    let s = Server::start("petri-resource", "net-online").await;
+    assert_eq!(s.call(Method::POST, "/api/stop", None).await.0, StatusCode::OK);
+    for part in ["Part1", "Part2"] {
+        let (code, _) = s
+            .call(
+                Method::PUT,
+                &format!("/api/forces/{part}"),
+                Some(json!({"value": true})),
+            )
+            .await;
+        assert_eq!(code, StatusCode::OK);
+    }
+    // Both parts arrive; machine 1 takes the robot, machine 2 waits for it.
+    for _ in 0..2 {
+        assert_eq!(s.call(Method::POST, "/api/step", None).await.0, StatusCode::OK);
+    }
+    let (code, _) = s
+        .call(Method::PUT, "/api/tags/cell.done", Some(json!({"value": 4})))
+        .await;
+    assert_eq!(code, StatusCode::OK);
+    let before = [
+        ("cell.robot", 0),
+        ("cell.idle1", 0),
+        ("cell.load1", 1),
+        ("cell.idle2", 0),
+        ("cell.wait2", 1),
+        ("cell.done", 4),
+    ];
+    for (tag, v) in before {
+        assert_eq!(s.value(tag).await, json!(v), "{tag} before the edit");
+    }
+
+    // The edit: `done` starts at 7 now, `wait2` is renamed `queue2`, a new
+    // place `spare` holds 3 tokens, and a guard changes.
+    let text = s.get("/api/programs/cell.pnml").await["text"]
+        .as_str()
+        .expect("text")
+        .replace(
+            r#"<place id="done"><name><text>parts finished</text></name></place>"#,
+            r#"<place id="done"><name><text>parts finished</text></name><initialMarking><text>7</text></initialMarking></place>
+      <place id="spare"><initialMarking><text>3</text></initialMarking></place>"#,
+        )
+        .replace(r#""wait2""#, r#""queue2""#)
+        .replace("<guard>Part2</guard>", "<guard>Part2 AND NOT Part1</guard>");
+    assert!(text.contains("queue2") && text.contains("spare") && text.contains("AND NOT Part1"));
+    let scans = s.scans().await;
+    let (code, j) = s
+        .call(
+            Method::PUT,
+            "/api/programs/cell.pnml",
+            Some(json!({"text": text, "online": true})),
+        )
+        .await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    assert_eq!(s.scans().await, scans, "applied between scans, no scan run by it");
+
+    let after = [
+        ("cell.robot", 0),
+        ("cell.idle1", 0),
+        ("cell.load1", 1),
+        ("cell.idle2", 0),
+        ("cell.done", 4),
+        ("cell.queue2", 0),
+        ("cell.spare", 3),
+    ];
+    for (tag, v) in after {
+        assert_eq!(s.value(tag).await, json!(v), "{tag} after the edit");
+    }
+    let (code, _) = s.call(Method::GET, "/api/tags/cell.wait2", None).await;
+    assert_eq!(code, StatusCode::NOT_FOUND, "the old place's tag is gone");
+    // The net runs on from the kept marking: machine 1 still loads (its
+    // timer not done), the robot still taken.
+    assert_eq!(s.call(Method::POST, "/api/step", None).await.0, StatusCode::OK);
+    for (tag, v) in [
+        ("cell.robot", 0),
+        ("cell.load1", 1),
+        ("cell.done", 4),
+        ("cell.spare", 3),
+    ] {
+        assert_eq!(s.value(tag).await, json!(v), "{tag} after a scan");
+    }
+    // A reset now loads the new initial marking.
+    let (code, _) = s.call(Method::POST, "/api/nets/cell/reset", None).await;
+    assert_eq!(code, StatusCode::OK);
+    for (tag, v) in [
+        ("cell.robot", 1),
+        ("cell.load1", 0),
+        ("cell.done", 7),
+        ("cell.spare", 3),
+    ] {
+        assert_eq!(s.value(tag).await, json!(v), "{tag} after a reset");
+    }
+    s.stop().await;
+}
