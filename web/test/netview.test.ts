@@ -9,6 +9,7 @@ import { setMe } from '../src/auth';
 import { type Ctx, TagCache } from '../src/ctx';
 import { LiveClient } from '../src/live/client';
 import { emptyBatch } from '../src/live/coalesce';
+import { findNode, position } from '../src/net/edit';
 import { NetView } from '../src/net/view';
 import { lineCol } from '../src/net/xml';
 
@@ -280,5 +281,243 @@ describe('the net tab', () => {
     expect(v.el.querySelector('[data-testid="net-replay-dead"]')).not.toBeNull();
     v.el.querySelector<HTMLElement>('[data-testid="net-replay-back"]')!.click();
     expect(node(v, 'load1')!.dataset.tokens).toBe('0');
+  });
+});
+
+describe('the net editor’s keys and gestures', () => {
+  const pos = (v: NetView, id: string) => position(findNode(v.current!, id)!.extra);
+  const down = (el: Element, x: number, y: number, opts: PointerEventInit = {}) =>
+    el.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true, clientX: x, clientY: y, ...opts }));
+  const move = (x: number, y: number, opts: PointerEventInit = {}) => window.dispatchEvent(new PointerEvent('pointermove', { bubbles: true, clientX: x, clientY: y, ...opts }));
+  const up = () => window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+  /** Time passes: two presses on a node within 400 ms are a double click (an arc starts). */
+  const later = () => vi.setSystemTime(Date.now() + 1000);
+  const click = (v: NetView, id: string) => {
+    later();
+    down(node(v, id)!, 0, 0);
+    up();
+  };
+  const canvas = (v: NetView) => v.el.querySelector<HTMLElement>('[data-testid="net-canvas"]')!;
+  const zoom = (v: NetView) => v.el.querySelector('[data-testid="net-zoom"]')!.textContent;
+  async function open(text = BATCH, program = 'batch.pnml') {
+    server({ [program]: text });
+    const r = view(program);
+    await r.v.load();
+    r.v.show();
+    vi.useFakeTimers(); // the checks after each edit stay queued
+    return r;
+  }
+
+  it('F4 goes to the first property, F8 to the guard or the script', async () => {
+    const { v } = await open();
+    click(v, 'fill');
+    key(v, 'F4');
+    expect((document.activeElement as HTMLElement).dataset.testid).toBe('net-prop-id');
+    click(v, 'start');
+    key(v, 'F8');
+    expect((document.activeElement as HTMLElement).dataset.testid).toBe('net-prop-guard');
+    key(v, 'E', { shiftKey: true });
+    key(v, 'F8');
+    expect((document.activeElement as HTMLElement).dataset.testid).toBe('net-prop-script');
+    // in the text view F4 and F8 leave the focus alone
+    v.el.querySelector<HTMLElement>('[data-testid="view-text"]')!.click();
+    const text = v.el.querySelector<HTMLTextAreaElement>('[data-testid="editor-text"]')!;
+    text.focus();
+    text.dispatchEvent(new KeyboardEvent('keydown', { key: 'F4', bubbles: true }));
+    expect(document.activeElement).toBe(text);
+  });
+
+  it('F5 runs and Shift+F5 stops the PLC through the top bar’s buttons (a disabled one is not pressed)', async () => {
+    const { v } = await open();
+    const pressed: string[] = [];
+    const bar = ['run', 'stop'].map((w) => {
+      const b = document.createElement('button');
+      b.dataset.testid = `btn-${w}`;
+      b.onclick = () => pressed.push(w);
+      document.body.append(b);
+      return b;
+    });
+    key(v, 'F5');
+    key(v, 'F5', { shiftKey: true });
+    expect(pressed).toEqual(['run', 'stop']);
+    bar[0].disabled = true;
+    key(v, 'F5');
+    expect(pressed).toEqual(['run', 'stop']);
+  });
+
+  it('arrows move the selection by the grid, Shift+arrows by one unit, in one undoable step each', async () => {
+    const { v } = await open();
+    click(v, 'fill');
+    click(v, 'mix');
+    // Shift+click adds to the selection
+    down(node(v, 'fill')!, 0, 0, { shiftKey: true });
+    up();
+    expect([pos(v, 'fill'), pos(v, 'mix')]).toEqual([{ x: 240, y: 40 }, { x: 440, y: 40 }]);
+    key(v, 'ArrowRight');
+    key(v, 'ArrowDown');
+    expect([pos(v, 'fill'), pos(v, 'mix')]).toEqual([{ x: 250, y: 50 }, { x: 450, y: 50 }]);
+    key(v, 'ArrowLeft', { shiftKey: true });
+    key(v, 'ArrowUp', { shiftKey: true });
+    expect(pos(v, 'mix')).toEqual({ x: 449, y: 49 });
+    expect(pos(v, 'idle')).toEqual({ x: 40, y: 40 });
+    key(v, 'z', { ctrlKey: true });
+    expect(pos(v, 'mix')).toEqual({ x: 449, y: 50 });
+    // nothing selected: arrows do nothing
+    key(v, 'Escape');
+    key(v, 'ArrowRight');
+    expect(pos(v, 'mix')).toEqual({ x: 449, y: 50 });
+  });
+
+  it('+, − and 0 zoom in, out and fit; Ctrl+wheel zooms, a plain wheel scrolls', async () => {
+    const { v } = await open();
+    expect(zoom(v)).toBe('100 %');
+    key(v, '+');
+    expect(zoom(v)).toBe('125 %');
+    key(v, '=');
+    expect(zoom(v)).toBe('150 %');
+    key(v, '-');
+    key(v, '-');
+    key(v, '-');
+    expect(zoom(v)).toBe('90 %');
+    const svg = v.el.querySelector('[data-testid="net-svg"]')!;
+    // the drawing is at least 1200 × 700 units
+    // the drawing: the nodes with a margin, at least 1200 × 700 units (batch.pnml: 1240 × 740 from −40, −40)
+    expect([svg.getAttribute('width'), svg.getAttribute('height')]).toEqual(['1116', '666']);
+    Object.defineProperty(canvas(v), 'clientWidth', { value: 620 });
+    Object.defineProperty(canvas(v), 'clientHeight', { value: 720 });
+    key(v, '0');
+    expect(zoom(v)).toBe('48 %');
+    // from a zoom between two steps, in goes to the next step up, out to the next one down
+    const wheel = (deltaY: number, ctrlKey: boolean) => {
+      const e = new WheelEvent('wheel', { deltaY, bubbles: true, cancelable: true });
+      Object.defineProperty(e, 'ctrlKey', { value: ctrlKey }); // happy-dom's WheelEvent drops it
+      canvas(v).dispatchEvent(e);
+      return e.defaultPrevented;
+    };
+    expect(wheel(-100, true)).toBe(true);
+    expect(zoom(v)).toBe('50 %');
+    key(v, '0');
+    expect(wheel(100, true)).toBe(true);
+    expect(zoom(v)).toBe('33 %');
+    expect(wheel(-100, false)).toBe(false);
+    expect(zoom(v)).toBe('33 %');
+    // the smallest and largest zooms hold
+    for (let k = 0; k < 12; k++) key(v, '-');
+    expect(zoom(v)).toBe('25 %');
+    for (let k = 0; k < 12; k++) key(v, '+');
+    expect(zoom(v)).toBe('300 %');
+    expect(v.dirty).toBe(false);
+  });
+
+  it('Ctrl+X cuts (the node and its arcs), Ctrl+V pastes it back; Ctrl+D duplicates 30 units down and right', async () => {
+    const { v } = await open();
+    click(v, 'fill');
+    key(v, 'x', { ctrlKey: true });
+    expect(node(v, 'fill')).toBeNull();
+    expect(v.current!.arcs.map((a) => a.id)).not.toContain('a2');
+    expect(v.current!.arcs.length).toBe(8);
+    key(v, 'v', { ctrlKey: true });
+    expect(v.current!.places.length).toBe(5);
+    const pasted = [...v.current!.places].pop()!;
+    expect(pos(v, pasted.id)).toEqual({ x: 270, y: 70 });
+    // a single node's arcs went with it: the pasted copy has none
+    expect(v.current!.arcs.length).toBe(8);
+    click(v, 'mixed');
+    down(node(v, 'mix')!, 0, 0, { shiftKey: true });
+    up();
+    key(v, 'd', { ctrlKey: true });
+    const ids = v.current!.transitions.map((t) => t.id);
+    expect(ids.length).toBe(6);
+    const dup = ids[5];
+    expect(pos(v, dup)).toEqual({ x: 570, y: 70 });
+    // the arc between the two duplicated nodes is duplicated too, and the copies are selected
+    expect(v.current!.arcs.length).toBe(9);
+    expect(node(v, dup)!.classList.contains('selected')).toBe(true);
+    expect(node(v, 'mixed')!.classList.contains('selected')).toBe(false);
+    // nothing selected: Ctrl+X and Ctrl+D do nothing
+    key(v, 'Escape');
+    key(v, 'x', { ctrlKey: true });
+    key(v, 'd', { ctrlKey: true });
+    expect(v.current!.transitions.length).toBe(6);
+  });
+
+  it('dragging a node moves it snapped to the grid (Alt: free, Grid off: free), one undoable step', async () => {
+    const { v } = await open();
+    down(node(v, 'fill')!, 100, 100);
+    move(123, 104);
+    move(127, 96);
+    // while dragging the node is drawn where it goes; the text changes on release
+    expect(node(v, 'fill')!.getAttribute('transform')).toBe('translate(270,40)');
+    expect(v.dirty).toBe(false);
+    up();
+    expect(pos(v, 'fill')).toEqual({ x: 270, y: 40 });
+    later();
+    down(node(v, 'fill')!, 100, 100);
+    move(103, 107, { altKey: true });
+    up();
+    expect(pos(v, 'fill')).toEqual({ x: 273, y: 47 });
+    key(v, 'z', { ctrlKey: true });
+    expect(pos(v, 'fill')).toEqual({ x: 270, y: 40 });
+    const grid = v.el.querySelector<HTMLInputElement>('[data-testid="net-snap"]')!;
+    grid.checked = false;
+    grid.dispatchEvent(new Event('change'));
+    later();
+    down(node(v, 'fill')!, 100, 100);
+    move(101, 102);
+    up();
+    expect(pos(v, 'fill')).toEqual({ x: 271, y: 42 });
+    // a click without a move changes nothing
+    const text = v.current;
+    later();
+    down(node(v, 'fill')!, 100, 100);
+    up();
+    expect(v.current).toEqual(text);
+  });
+
+  it('a rubber band selects the nodes it touches and the arcs between them; Shift adds; a click on the background clears', async () => {
+    const { v } = await open();
+    const bg = () => v.el.querySelector('[data-testid="net-background"]')!;
+    const selected = () => [...v.el.querySelectorAll('.selected')].map((g) => g.getAttribute('data-testid')!.replace(/^net-(node|arc)-/, '')).sort();
+    down(bg(), 200, 0);
+    expect(v.el.querySelector('[data-testid="net-band"]')).not.toBeNull();
+    move(460, 80);
+    expect(v.el.querySelector('[data-testid="net-band"]')!.getAttribute('width')).toBe('260');
+    up();
+    expect(selected()).toEqual(['a3', 'a4', 'fill', 'filled', 'mix']);
+    down(bg(), 20, 20, { shiftKey: true });
+    move(60, 60);
+    up();
+    expect(selected()).toEqual(['a3', 'a4', 'fill', 'filled', 'idle', 'mix']);
+    expect(v.el.querySelector('[data-testid="net-props"] h3')!.textContent).toBe('6 elements selected');
+    // the band's selection moves together
+    key(v, 'ArrowDown');
+    expect([pos(v, 'idle'), pos(v, 'mix'), pos(v, 'start')]).toEqual([{ x: 40, y: 50 }, { x: 440, y: 50 }, { x: 140, y: 40 }]);
+    down(bg(), 900, 600);
+    up();
+    expect(selected()).toEqual([]);
+  });
+
+  it('the middle button, or the left one with Space held, pans the canvas instead of selecting or moving', async () => {
+    const { v } = await open();
+    const c = canvas(v);
+    c.scrollLeft = 100;
+    c.scrollTop = 50;
+    down(node(v, 'fill')!, 300, 300, { button: 1 });
+    move(260, 280, { button: 1 });
+    up();
+    expect([c.scrollLeft, c.scrollTop]).toEqual([140, 70]);
+    expect(v.current!.places.find((p) => p.id === 'fill')).toBeDefined();
+    expect(pos(v, 'fill')).toEqual({ x: 240, y: 40 });
+    key(v, ' ');
+    down(node(v, 'fill')!, 300, 300);
+    move(310, 300);
+    up();
+    expect(c.scrollLeft).toBe(130);
+    expect(pos(v, 'fill')).toEqual({ x: 240, y: 40 });
+    expect(node(v, 'fill')!.classList.contains('selected')).toBe(false);
+    c.dispatchEvent(new KeyboardEvent('keyup', { key: ' ', bubbles: true }));
+    down(node(v, 'fill')!, 300, 300);
+    up();
+    expect(node(v, 'fill')!.classList.contains('selected')).toBe(true);
   });
 });

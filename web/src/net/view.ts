@@ -275,9 +275,12 @@ export class NetView {
     this.renderCanvas();
   }
 
+  /** One step of ZOOMS in (+1) or out (−1); from a zoom between two steps (after Fit), the nearer one that way. */
   private zoomBy(step: number): void {
     const k = ZOOMS.findIndex((z) => z >= this.zoom - 1e-9);
-    this.setZoom(ZOOMS[Math.max(0, Math.min(ZOOMS.length - 1, (k < 0 ? ZOOMS.length - 1 : k) + step))]);
+    const at = k < 0 ? ZOOMS.length : k;
+    const on = Math.abs((ZOOMS[at] ?? Infinity) - this.zoom) < 1e-9;
+    this.setZoom(ZOOMS[Math.max(0, Math.min(ZOOMS.length - 1, step > 0 && !on ? at : at + step))]);
   }
 
   private fit(): void {
