@@ -16,6 +16,7 @@ import { lineCol } from '../src/net/xml';
 const REPO = join(__dirname, '../..');
 const BATCH = readFileSync(join(REPO, 'examples/state-net-batch/batch.pnml'), 'utf8');
 const CELL = readFileSync(join(REPO, 'examples/petri-resource/cell.pnml'), 'utf8');
+const TOUR = readFileSync(join(REPO, 'examples/opcsm-tour/tour.pnml'), 'utf8');
 
 /** The monitored elements of batch.pnml's transitions, as GET /api/programs gives them. */
 const BATCH_ELEMENTS = ['start', 'filled', 'mixed', 'again', 'enough'].map((id, k) => ({ id, enabled: 40 + k, fired: 30 + k }));
@@ -29,6 +30,10 @@ function server(files: Record<string, string>, analysis: unknown = null, transit
     if (path.includes('/analysis')) return json(200, analysis);
     if (path === '/api/step') return json(200, { state: 'stopped' });
     if (path.endsWith('/reset')) return json(200, { program: 'batch.pnml', marking: [] });
+    if (path.startsWith('/api/tags/')) {
+      calls.push(`${name}=${JSON.parse(init.body as string).value}`);
+      return json(200, { name, value: JSON.parse(init.body as string).value });
+    }
     if (init.method === 'GET') return json(200, { name, language: 'net', plant: false, text: files[name], diagnostics: [], transitions });
     const body = JSON.parse(init.body as string);
     const at = body.text.indexOf('Strat');
@@ -192,6 +197,41 @@ describe('the net tab', () => {
     v.el.querySelector<HTMLButtonElement>('[data-testid="net-reset"]')!.click();
     await vi.waitFor(() => expect(calls.filter((c) => c.startsWith('POST'))).toEqual(['POST /api/step', 'POST /api/step', 'POST /api/nets/batch.pnml/reset']));
     expect(calls.filter((c) => c.startsWith('PUT'))).toEqual([]);
+  });
+
+  it('shows the operator elements live: a Display’s value, a Plot’s last values, a Label’s caption; a Button writes while pressed', async () => {
+    const calls = server({ 'tour.pnml': TOUR });
+    const { v, live } = view('tour.pnml');
+    await v.load();
+    v.show();
+    const widget = (id: string) => v.el.querySelector(`[data-testid="net-widget-${id}"]`)!;
+    const shown = (id: string) => widget(id).querySelector('.net-widget-value')!.textContent;
+    // not live: no values
+    expect([shown('w_doubled'), shown('w_level'), shown('w_start')]).toEqual(['', '', '']);
+    live.state = 'connected';
+    live.status = { state: 'running' } as never;
+    const values = (vals: Record<string, unknown>) => live.deliver({ ...emptyBatch(), values: new Map(Object.entries(vals)) as never });
+    values({ Doubled: 12.5, Level: 20, Start: false });
+    expect([shown('w_doubled'), shown('w_level'), shown('w_start'), shown('w_note')]).toEqual(['12.5', '20', '0', '']);
+    for (const x of [80, 35]) values({ Level: x });
+    const ys = widget('w_level').querySelector('.net-plot-line')!.getAttribute('points')!.split(' ').map((p) => Number(p.split(',')[1]));
+    // 20, 80, 35 scaled between the lowest and the highest: 80 at the top (y 24), 20 at the bottom (y 44)
+    expect(ys).toEqual([44, 24, 44 - (15 / 60) * 20]);
+    expect(widget('w_note').querySelector('.net-widget-caption')!.textContent).toBe('The elements of OPCSM, one of each kind');
+    // a label is as wide as its caption
+    expect(Number(widget('w_note').querySelector('rect')!.getAttribute('width'))).toBeGreaterThan(200);
+    widget('w_start').dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    await vi.waitFor(() => expect(calls).toContain('Start=true'));
+    window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+    await vi.waitFor(() => expect(calls).toContain('Start=false'));
+    expect(calls.filter((c) => c.startsWith('PUT'))).toEqual(['PUT /api/tags/Start', 'PUT /api/tags/Start']);
+    // pressing it neither selected nor moved it; not live, a press selects it (to edit it)
+    expect(widget('w_start').classList.contains('selected')).toBe(false);
+    live.state = 'reconnecting';
+    widget('w_start').dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+    window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+    expect(widget('w_start').classList.contains('selected')).toBe(true);
+    expect(calls.filter((c) => c.startsWith('PUT'))).toHaveLength(2);
   });
 
   it('edits an arc’s weight and kind, and copies and pastes the whole net with fresh ids', async () => {

@@ -40,6 +40,11 @@ const GLYPH: Record<string, string> = {
 const KIND_PROPS: Record<string, string[]> = {
   counter: ['load', 'direction'], input: ['source'], output: ['target', 'source'], variable: ['mode', 'source', 'target', 'value', 'initial'], timer: ['delay'],
 };
+/** A widget's box at `c`: 120 wide (a label as wide as its caption, in 11 px type), 50 high for a plot, else 28. */
+function widgetBox(w: Widget, c: Pt): { x: number; y: number; w: number; h: number } {
+  const wide = w.kind === 'label' ? Math.max(120, Math.ceil((w.text ?? '').length * 6.2) + 12) : 120;
+  return { x: c.x, y: c.y, w: wide, h: w.kind === 'plot' ? 50 : 28 };
+}
 let uid = 0;
 /** What Ctrl+C or Ctrl+X took, shared by every net tab (paste into another net). */
 let clipboard: Clip | null = null;
@@ -865,8 +870,9 @@ export class NetView {
     for (const wd of net.widgets) {
       const c = at.get(wd.id)!;
       const big = wd.kind === 'plot';
+      const box = widgetBox(wd, c);
       const g = s('g', { class: `net-widget kind-${wd.kind}${this.sel.has(wd.id) ? ' selected' : ''}`, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-widget-${wd.id}`, 'data-kind': wd.kind },
-        s('rect', { width: 120, height: big ? 50 : 28, rx: wd.kind === 'button' ? 6 : 2, class: 'net-widget-box' }),
+        s('rect', { width: box.w, height: box.h, rx: wd.kind === 'button' ? 6 : 2, class: 'net-widget-box' }),
         s('text', { class: 'net-widget-caption', x: 6, y: 12 }, wd.text ?? wd.tag ?? wd.kind),
         s('text', { class: 'net-widget-value', x: 114, y: big ? 12 : 23, 'text-anchor': 'end' }),
         big ? s('polyline', { class: 'net-plot-line', points: '' }) : null);
@@ -989,10 +995,7 @@ export class NetView {
       if (box.w + box.h > 2) {
         for (const p of net.places) if (overlaps(placeBox(this.at.get(p.id)!), box)) hit.push(p.id);
         for (const t of net.transitions) if (overlaps(transitionBox(this.at.get(t.id)!), box)) hit.push(t.id);
-        for (const w of net.widgets) {
-          const c = this.at.get(w.id)!;
-          if (overlaps({ x: c.x, y: c.y, w: 120, h: 28 }, box)) hit.push(w.id);
-        }
+        for (const w of net.widgets) if (overlaps(widgetBox(w, this.at.get(w.id)!), box)) hit.push(w.id);
         // the arcs between selected nodes come along (a whole diagram selected)
         const nodes = new Set(hit);
         for (const arc of net.arcs) if (nodes.has(arc.source) && nodes.has(arc.target)) hit.push(arc.id);
