@@ -335,6 +335,7 @@ export const es: Record<string, string> = {
   'Draw arcs: click the start, then the end (or double-click the start)': 'Dibujar arcos: clic en el origen y luego en el destino (o doble clic en el origen)',
   'Delete the selection (Del)': 'Eliminar la selección (Supr)',
   'Fit the net in the window (0)': 'Ajustar la red a la ventana (0)',
+  'Fit the chart in the window (0)': 'Ajustar el diagrama a la ventana (0)',
   'Snap to the grid while dragging (Alt: free)': 'Ajustar a la cuadrícula al arrastrar (Alt: libre)',
   Grid: 'Cuadrícula',
   'Run the PLC (F5)': 'Ejecutar el PLC (F5)',

@@ -167,3 +167,87 @@ describe('the SFC tab', () => {
     expect(v.el.dataset.mode).toBe('text');
   });
 });
+
+describe('the SFC canvas (the net editor’s: zoom, pan, grid, selection keys)', () => {
+  async function open() {
+    vi.stubGlobal('fetch', async (_path: string, init: RequestInit) => {
+      const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });
+      if (init.method === 'GET') return json(200, { name: 'batch.sfc', language: 'sfc', plant: false, text: BATCH, diagnostics: [] });
+      return json(200, { diagnostics: [] });
+    });
+    const ctx = { live: new LiveClient('ws://127.0.0.1:1/none'), tags: new TagCache(), notify: () => undefined } as unknown as Ctx;
+    const v = new SfcView(ctx, 'batch.sfc');
+    document.body.append(v.el);
+    await v.load();
+    v.show();
+    vi.useFakeTimers(); // the checks after each edit stay queued
+    return v;
+  }
+  const canvas = (v: SfcView) => v.el.querySelector<HTMLElement>('[data-testid="sfc-canvas"]')!;
+  const key = (v: SfcView, k: string, opts: KeyboardEventInit = {}) => canvas(v).dispatchEvent(new KeyboardEvent('keydown', { key: k, bubbles: true, cancelable: true, ...opts }));
+  const zoom = (v: SfcView) => v.el.querySelector('[data-testid="sfc-zoom"]')!.textContent;
+  const svg = (v: SfcView) => v.el.querySelector('[data-testid="sfc-svg"]')!;
+  const click = (el: Element) => el.dispatchEvent(new MouseEvent('click', { bubbles: true }));
+
+  it('zooms with + − 0, the toolbar and Ctrl+wheel, over a grid, as the net editor does', async () => {
+    const v = await open();
+    const [w, h] = (svg(v).getAttribute('viewBox') ?? '').split(' ').slice(2).map(Number);
+    expect(svg(v).querySelector('.net-bg')!.getAttribute('fill')).toBe('url(#sfc-grid-batch.sfc)');
+    expect(svg(v).querySelector('pattern#sfc-grid-batch\\.sfc')).not.toBeNull();
+    expect([zoom(v), svg(v).getAttribute('width')]).toEqual(['100 %', String(w)]);
+    key(v, '+');
+    expect([zoom(v), svg(v).getAttribute('width'), svg(v).getAttribute('height')]).toEqual(['125 %', String(w * 1.25), String(h * 1.25)]);
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-zoom-out"]')!.click();
+    v.el.querySelector<HTMLElement>('[data-testid="sfc-zoom-out"]')!.click();
+    expect(zoom(v)).toBe('90 %');
+    // a redraw (an edit, a live value) keeps the zoom
+    click(v.el.querySelector('[data-testid="sfc-step-Mix"]')!);
+    expect([zoom(v), svg(v).getAttribute('width')]).toEqual(['90 %', String(w * 0.9)]);
+    Object.defineProperty(canvas(v), 'clientWidth', { value: w / 2 + 20 });
+    Object.defineProperty(canvas(v), 'clientHeight', { value: 5000 });
+    key(v, '0');
+    expect(zoom(v)).toBe('50 %');
+    const wheel = new WheelEvent('wheel', { deltaY: -100, bubbles: true, cancelable: true });
+    Object.defineProperty(wheel, 'ctrlKey', { value: true }); // happy-dom's WheelEvent drops it
+    canvas(v).dispatchEvent(wheel);
+    expect([zoom(v), wheel.defaultPrevented]).toEqual(['67 %', true]);
+    expect(v.dirty).toBe(false);
+  });
+
+  it('pans with the middle button or Space held (which selects nothing); Escape and a click on the sheet clear the selection; Delete deletes, Ctrl+Z undoes', async () => {
+    const v = await open();
+    const c = canvas(v);
+    const step = (n: string) => v.el.querySelector(`[data-testid="sfc-step-${n}"]`);
+    c.scrollLeft = 100;
+    c.scrollTop = 100;
+    step('Mix')!.dispatchEvent(new PointerEvent('pointerdown', { button: 1, bubbles: true, clientX: 300, clientY: 300 }));
+    window.dispatchEvent(new PointerEvent('pointermove', { clientX: 250, clientY: 270 }));
+    window.dispatchEvent(new PointerEvent('pointerup', {}));
+    expect([c.scrollLeft, c.scrollTop]).toEqual([150, 130]);
+    key(v, ' ');
+    step('Mix')!.dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true, clientX: 300, clientY: 300 }));
+    window.dispatchEvent(new PointerEvent('pointermove', { clientX: 290, clientY: 300 }));
+    window.dispatchEvent(new PointerEvent('pointerup', {}));
+    click(step('Mix')!);
+    expect(c.scrollLeft).toBe(160);
+    expect(step('Mix')!.classList.contains('selected')).toBe(false);
+    c.dispatchEvent(new KeyboardEvent('keyup', { key: ' ', bubbles: true }));
+    click(step('Mix')!);
+    expect(step('Mix')!.classList.contains('selected')).toBe(true);
+    key(v, 'Escape');
+    expect(step('Mix')!.classList.contains('selected')).toBe(false);
+    click(step('Mix')!);
+    click(svg(v));
+    expect(step('Mix')!.classList.contains('selected')).toBe(false);
+    const steps = v.el.querySelectorAll('.sfc-step').length;
+    click(step('Mix')!);
+    key(v, 'Delete');
+    expect(step('Mix')).toBeNull();
+    expect(v.el.querySelectorAll('.sfc-step').length).toBe(steps - 1);
+    key(v, 'z', { ctrlKey: true });
+    expect(step('Mix')).not.toBeNull();
+    expect(v.dirty).toBe(false);
+    key(v, 'y', { ctrlKey: true });
+    expect(step('Mix')).toBeNull();
+  });
+});

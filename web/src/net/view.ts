@@ -16,7 +16,8 @@
 import { api } from '../api';
 import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
-import { add, clear, dragScroll, fmt, h, rubberBand, s } from '../dom';
+import { ZoomPan, grid } from '../canvas';
+import { add, clear, fmt, h, rubberBand, s } from '../dom';
 import { membersOf } from '../domain';
 import { type Problem, ProgramEditor, problemTip } from '../editor/program';
 import { clockTime, tr } from '../i18n';
@@ -31,7 +32,6 @@ import { ARC_KINDS, type Arc, type Net, PLACE_KINDS, type Place, type Transition
 import { type Analysis, type Marking, enabled, initialMarking, markingTag, netName, replay } from './sim';
 import { lineCol, offsetOf } from './xml';
 
-const ZOOMS = [0.25, 0.33, 0.5, 0.67, 0.75, 0.9, 1, 1.25, 1.5, 2, 3];
 /** A glyph inside a place or beside a transition, per kind. */
 const GLYPH: Record<string, string> = {
   counter: 'C', expression: 'ƒ', variable: 'V', input: 'I', output: 'O', stop: '■', end: '⊗', condition: '?', timer: 'Δt',
@@ -66,7 +66,6 @@ export class NetView {
   private parseError: { message: string; offset: number } | null = null;
   private at = new Map<string, Pt>();
   private sel = new Set<string>();
-  private zoom = 1;
   private snapOn = true;
   private mode: 'graphic' | 'text' = 'graphic';
   private arcTool = false;
@@ -74,7 +73,6 @@ export class NetView {
   private mouse: Pt | null = null;
   private drag: { ids: string[]; dx: number; dy: number } | null = null;
   private lastDown: { id: string; t: number } | null = null;
-  private space = false;
   private active = false;
   private unlisten: (() => void)[] = [];
   private analysis: Analysis | null = null;
@@ -94,7 +92,7 @@ export class NetView {
   private readonly propsEl = h('div', { class: 'props net-props', 'data-testid': 'net-props' });
   private readonly analysisEl = h('div', { class: 'net-analysis', 'data-testid': 'net-analysis' });
   private readonly historyEl = h('ol', { class: 'net-history', 'data-testid': 'net-history' });
-  private readonly zoomLabel = h('span', { class: 'net-zoom', 'data-testid': 'net-zoom' });
+  private readonly zp = new ZoomPan(this.canvas, 'net', tr('Fit the net in the window (0)'));
   private readonly liveEl = h('span', { class: 'net-live-state', 'data-testid': 'net-live-state' });
   private readonly datalists = h('div', { hidden: true });
   /** The palette's buttons by kind, with their own tooltip. */
@@ -138,10 +136,7 @@ export class NetView {
           tool(`↗ ${tr('Arc')}`, 'net-tool-arc', tr('Draw arcs: click the start, then the end (or double-click the start)'), () => this.setArcTool(!this.arcTool)),
           tool(`✕ ${tr('Delete')}`, 'net-delete', tr('Delete the selection (Del)'), () => this.deleteSelection())),
         h('span', { class: 'seg' },
-          tool('−', 'net-zoom-out', tr('Zoom out (-)'), () => this.zoomBy(-1), null),
-          this.zoomLabel,
-          tool('+', 'net-zoom-in', tr('Zoom in (+)'), () => this.zoomBy(1), null),
-          tool(tr('Fit'), 'net-zoom-fit', tr('Fit the net in the window (0)'), () => this.fit(), null),
+          this.zp.tools,
           h('label', { class: 'net-snap', title: tr('Snap to the grid while dragging (Alt: free)') },
             h('input', { type: 'checkbox', checked: true, 'data-testid': 'net-snap', onchange: (e: Event) => (this.snapOn = (e.target as HTMLInputElement).checked) }), ` ${tr('Grid')}`)),
         h('span', { class: 'seg' },
@@ -166,13 +161,6 @@ export class NetView {
     this.palette(palette);
     this.canvas.addEventListener('keydown', (e) => this.onKey(e));
     this.el.addEventListener('keydown', (e) => this.onFunctionKey(e));
-    this.canvas.addEventListener('keyup', (e) => e.key === ' ' && (this.space = false));
-    this.canvas.addEventListener('wheel', (e) => {
-      if (!e.ctrlKey) return;
-      e.preventDefault();
-      this.zoomBy(e.deltaY < 0 ? 1 : -1);
-    }, { passive: false });
-    this.canvas.addEventListener('pointerdown', (e) => this.maybePan(e), true);
     this.setMode('graphic');
   }
 
@@ -263,7 +251,7 @@ export class NetView {
     this.ctx.live.subscribe(`net:${this.program}`, names);
   }
 
-  // ---- modes, zoom, pan --------------------------------------------------
+  // ---- modes and the drawn area ------------------------------------------
 
   private setMode(m: 'graphic' | 'text'): void {
     this.mode = m;
@@ -280,32 +268,6 @@ export class NetView {
     this.renderCanvas();
   }
 
-  /** One step of ZOOMS in (+1) or out (−1); from a zoom between two steps (after Fit), the nearer one that way. */
-  private zoomBy(step: number): void {
-    const k = ZOOMS.findIndex((z) => z >= this.zoom - 1e-9);
-    const at = k < 0 ? ZOOMS.length : k;
-    const on = Math.abs((ZOOMS[at] ?? Infinity) - this.zoom) < 1e-9;
-    this.setZoom(ZOOMS[Math.max(0, Math.min(ZOOMS.length - 1, step > 0 && !on ? at : at + step))]);
-  }
-
-  private fit(): void {
-    const b = this.bounds();
-    const w = this.canvas.clientWidth - 20;
-    const hh = this.canvas.clientHeight - 20;
-    const [, , bw, bh] = b;
-    if (w > 0 && hh > 0) this.setZoom(Math.max(0.25, Math.min(2, w / bw, hh / bh)));
-  }
-
-  private setZoom(z: number): void {
-    this.zoom = Math.round(z * 100) / 100;
-    if (this.svg) {
-      const [, , w, hh] = this.bounds();
-      this.svg.setAttribute('width', String(w * this.zoom));
-      this.svg.setAttribute('height', String(hh * this.zoom));
-    }
-    this.zoomLabel.textContent = `${Math.round(this.zoom * 100)} %`;
-  }
-
   /** The drawn area: [x, y, w, h], at least 1200 × 700 from the origin. */
   private bounds(): [number, number, number, number] {
     const pts = [...this.at.values()];
@@ -314,11 +276,6 @@ export class NetView {
     const x1 = Math.max(1200, ...pts.map((p) => p.x + 200));
     const y1 = Math.max(700, ...pts.map((p) => p.y + 120));
     return [x0, y0, x1 - x0, y1 - y0];
-  }
-
-  private maybePan(e: PointerEvent): void {
-    if (e.button !== 1 && !(e.button === 0 && this.space)) return;
-    dragScroll(this.canvas, e);
   }
 
   private toWorld(cx: number, cy: number): Pt {
@@ -473,8 +430,8 @@ export class NetView {
     const k = e.key.toLowerCase();
     const arrows: Record<string, [number, number]> = { arrowleft: [-1, 0], arrowright: [1, 0], arrowup: [0, -1], arrowdown: [0, 1] };
     const at = (id: string) => this.at.get(id) ?? { x: 0, y: 0 };
-    if (e.key === ' ') this.space = true;
-    else if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) this.ed.redo();
+    if (this.zp.key(e)) return e.preventDefault();
+    if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) this.ed.redo();
     else if (mod && k === 'z') this.ed.undo();
     else if (mod && k === 'a' && this.net) this.select([...this.net.places, ...this.net.transitions, ...this.net.widgets].map((x) => x.id));
     else if (mod && (k === 'c' || k === 'x') && this.sel.size && this.net) {
@@ -495,9 +452,6 @@ export class NetView {
     else if (k === 't' && !e.altKey) this.addNode('transition', 'transition');
     else if (k === 'e' && e.shiftKey) this.addNode('place', 'expression');
     else if (k === 'c' && e.shiftKey) this.addNode('transition', 'condition');
-    else if (e.key === '+' || e.key === '=') this.zoomBy(1);
-    else if (e.key === '-') this.zoomBy(-1);
-    else if (e.key === '0') this.fit();
     else if (arrows[k] && this.sel.size) {
       const step = e.shiftKey ? 1 : GRID;
       const ids = [...this.sel];
@@ -782,13 +736,15 @@ export class NetView {
     const dead = new Set(a?.dead_transitions ?? []);
     const [x0, y0, w, hh] = this.bounds();
     const mk = `net-arrow-${this.id}`;
+    const sheet = grid(`net-grid-${this.id}`, GRID * 2, { x: x0, y: y0, w, h: hh });
     const svg = s('svg', { class: 'net-svg', viewBox: `${x0} ${y0} ${w} ${hh}`, 'data-testid': 'net-svg', 'data-mode': net.mode },
       s('defs', null,
         s('marker', { id: mk, viewBox: '0 0 10 10', refX: 10, refY: 5, markerWidth: 8, markerHeight: 8, orient: 'auto-start-reverse' }, s('path', { d: 'M0,0 L10,5 L0,10 z', class: 'net-arrowhead' })),
         s('marker', { id: `${mk}-inh`, viewBox: '0 0 10 10', refX: 10, refY: 5, markerWidth: 9, markerHeight: 9, orient: 'auto' }, s('circle', { cx: 5, cy: 5, r: 4, class: 'net-inhibitor-end' })),
-        s('pattern', { id: `net-grid-${this.id}`, width: GRID * 2, height: GRID * 2, patternUnits: 'userSpaceOnUse' }, s('path', { d: `M ${GRID * 2} 0 L 0 0 0 ${GRID * 2}`, class: 'net-grid-line' }))),
+        sheet.pattern),
     );
-    const bg = s('rect', { x: x0, y: y0, width: w, height: hh, fill: `url(#net-grid-${this.id})`, class: 'net-bg', 'data-testid': 'net-background' });
+    const bg = sheet.background;
+    bg.dataset.testid = 'net-background';
     svg.append(bg);
     bg.addEventListener('pointerdown', (ev) => this.startBand(ev));
     svg.addEventListener('pointermove', (ev) => {
@@ -877,7 +833,7 @@ export class NetView {
         s('text', { class: 'net-widget-value', x: 114, y: big ? 12 : 23, 'text-anchor': 'end' }),
         big ? s('polyline', { class: 'net-plot-line', points: '' }) : null);
       g.addEventListener('pointerdown', (ev) => {
-        if (ev.button !== 0 || this.space) return;
+        if (ev.button !== 0 || this.zp.space) return;
         ev.stopPropagation();
         // a button of the running net writes its tag (pressed: true, released: false)
         if (wd.kind === 'button' && this.live && wd.tag && !ev.shiftKey && !this.sel.has(wd.id) && can('write')) {
@@ -902,13 +858,13 @@ export class NetView {
     svg.classList.toggle('arc-tool', this.arcTool);
     this.svg = svg;
     this.canvas.append(svg);
-    this.setZoom(this.zoom);
+    this.zp.attach(svg, w, hh);
     this.paintLive();
   }
 
   private nodeEvents(g: SVGGElement, id: string): void {
     g.addEventListener('pointerdown', (ev) => {
-      if (ev.button !== 0 || this.space) return;
+      if (ev.button !== 0 || this.zp.space) return;
       ev.stopPropagation();
       this.canvas.focus();
       // a double click (told here: the first click redraws the node, so no dblclick event
@@ -978,7 +934,7 @@ export class NetView {
 
   /** A rubber band from an empty place selects the nodes it touches (Shift: adds); a click there cancels a link. */
   private startBand(ev: PointerEvent): void {
-    if (ev.button !== 0 || this.space) return;
+    if (ev.button !== 0 || this.zp.space) return;
     this.canvas.focus();
     if (this.linkFrom) {
       this.linkFrom = null;

@@ -7,7 +7,11 @@
 // elapsed time (`.T`), action tags on or off. The text is the model: it is
 // edited in the text view (a click on an element goes to its line) through
 // the shared ProgramEditor (check, online save, undo, problems, which are also
-// drawn on the step or transition whose text holds them).
+// drawn on the step or transition whose text holds them). The canvas is the
+// net editor's (canvas.ts): zoom (− + Fit, the keys + − 0, Ctrl+wheel), pan
+// (the middle button, or Space held), the grid; the chart's layout follows
+// the text, so nodes are not dragged (docs/nets.md, "The SFC editor").
+import { ZoomPan, grid } from '../canvas';
 import type { Ctx } from '../ctx';
 import { add, clear, fmt, h, s } from '../dom';
 import { ProgramEditor, problemTip } from '../editor/program';
@@ -40,6 +44,7 @@ export class SfcView {
   /** Drawing with the mouse: the next click on a step ends a link from a step or a join into a transition. */
   private pending: { kind: 'link' | 'join'; from: string } | null = null;
   private readonly hintEl = h('span', { class: 'hint sfc-hint', 'data-testid': 'sfc-hint' });
+  private readonly zp = new ZoomPan(this.canvas, 'sfc', tr('Fit the chart in the window (0)'));
 
   constructor(
     private readonly ctx: Ctx,
@@ -64,6 +69,7 @@ export class SfcView {
           this.tool(`${tr('Link')} →`, 'sfc-link', tr('A new transition from the selected step to the step you click next (a jump back, or a selective convergence)'), () => this.startPending('link')),
           this.tool(`${tr('Join')} ⇉`, 'sfc-join', tr('The step you click next also feeds the selected transition (simultaneous convergence)'), () => this.startPending('join')),
           this.tool(`✕ ${tr('Delete')}`, 'sfc-delete', tr('Delete the selected step (and the transitions left without a step) or transition'), () => this.deleteSelected())),
+        this.zp.tools,
         this.hintEl,
         h('span', { class: 'seg' }, this.liveEl),
         this.ed.stateEl),
@@ -76,6 +82,7 @@ export class SfcView {
     this.el.addEventListener('keydown', (e) => {
       if (e.key === 'Escape' && this.pending) this.cancelPending();
     });
+    this.canvas.addEventListener('keydown', (e) => this.onKey(e));
     this.setMode('chart');
   }
 
@@ -107,6 +114,20 @@ export class SfcView {
 
   save(): Promise<boolean> {
     return this.ed.save();
+  }
+
+  /** The canvas's keys: zoom, Delete, Escape (nothing selected), Ctrl+Z / Ctrl+Y. */
+  private onKey(e: KeyboardEvent): void {
+    const mod = e.ctrlKey || e.metaKey;
+    const k = e.key.toLowerCase();
+    if (this.zp.key(e)) return e.preventDefault();
+    if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) this.ed.redo();
+    else if (mod && k === 'z') this.ed.undo();
+    else if (mod) return;
+    else if (e.key === 'Escape' && !this.pending) this.select(null);
+    else if ((e.key === 'Delete' || e.key === 'Backspace') && this.sel && !why('edit')) this.deleteSelected();
+    else return;
+    e.preventDefault();
   }
 
   private tag(step: string, member: 'X' | 'T'): string {
@@ -299,8 +320,10 @@ export class SfcView {
     const pts = [...at.values()];
     const w = Math.max(900, ...pts.map((p) => p.x + 420));
     const hh = Math.max(500, ...pts.map((p) => p.y + 120));
-    const svg = s('svg', { class: 'net-svg sfc-svg', viewBox: `0 0 ${w} ${hh}`, width: w, height: hh, 'data-testid': 'sfc-svg' },
-      s('defs', null, s('marker', { id: `sfc-arrow-${this.program}`, viewBox: '0 0 10 10', refX: 10, refY: 5, markerWidth: 8, markerHeight: 8, orient: 'auto' }, s('path', { d: 'M0,0 L10,5 L0,10 z', class: 'net-arrowhead' }))));
+    const sheet = grid(`sfc-grid-${this.program}`, 20, { x: 0, y: 0, w, h: hh });
+    const svg = s('svg', { class: 'net-svg sfc-svg', viewBox: `0 0 ${w} ${hh}`, 'data-testid': 'sfc-svg' },
+      s('defs', null, sheet.pattern, s('marker', { id: `sfc-arrow-${this.program}`, viewBox: '0 0 10 10', refX: 10, refY: 5, markerWidth: 8, markerHeight: 8, orient: 'auto' }, s('path', { d: 'M0,0 L10,5 L0,10 z', class: 'net-arrowhead' }))));
+    svg.append(sheet.background);
     const stepAt = (name: string) => at.get(`step:${chart.steps.find((x) => x.name.toUpperCase() === name.toUpperCase())?.name}`);
     const line = (x1: number, y1: number, x2: number, y2: number, cls = 'sfc-link') => svg.append(s('line', { x1, y1, x2, y2, class: cls }));
     // links: step → transition → steps (double lines for simultaneous divergence and convergence)
@@ -360,6 +383,8 @@ export class SfcView {
       });
       g.addEventListener('click', (e) => {
         e.stopPropagation();
+        if (this.zp.space) return;
+        this.canvas.focus();
         if (this.pending) this.finishPending(st.name);
         else this.select(id);
       });
@@ -377,15 +402,23 @@ export class SfcView {
         errors.has(id) ? s('title', null, errors.get(id)!.join('\n')) : null);
       g.addEventListener('click', (e) => {
         e.stopPropagation();
+        if (this.zp.space) return;
+        this.canvas.focus();
         if (!this.pending) this.select(id);
       });
       this.groups.set(id, g);
       svg.append(g);
     }
-    // a click on the empty sheet cancels a link or join being drawn
-    svg.addEventListener('click', () => this.pending && this.cancelPending());
+    // a click on the empty sheet cancels a link or join being drawn, else clears the selection
+    svg.addEventListener('click', () => {
+      if (this.zp.space) return;
+      this.canvas.focus();
+      if (this.pending) this.cancelPending();
+      else if (this.sel) this.select(null);
+    });
     if (!chart.steps.length) this.canvas.append(h('p', { class: 'hint sfc-empty' }, tr('No steps yet: write the chart in the Text view.')));
     this.canvas.append(svg);
+    this.zp.attach(svg, w, hh);
     this.paintLive();
   }
 
