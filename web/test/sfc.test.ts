@@ -50,6 +50,19 @@ describe('SFC text', () => {
     expect(at.get('step:C1')!.x).not.toBe(at.get('step:C2')!.x);
     expect([...jumps]).toEqual(['join']);
   });
+
+  it('puts a jump beside the other ways out of its step, not on them', () => {
+    const text = 'INITIAL_STEP A: END_STEP\nSTEP B: END_STEP\nSTEP C: END_STEP\n' +
+      'TRANSITION FROM A TO B := x; END_TRANSITION\nTRANSITION FROM B TO C := y; END_TRANSITION\n' +
+      'TRANSITION FROM B TO A := z; END_TRANSITION\nTRANSITION FROM C TO A := w; END_TRANSITION\n';
+    const { at, jumps } = layoutSfc(parseSfc(text));
+    expect([...jumps]).toEqual(['t3', 't4']);
+    // t2 (B → C) under B, the jump t3 (B → A) beside it; t4, C's only way out, under C
+    expect(at.get('tr:t3')!.y).toBe(at.get('tr:t2')!.y);
+    expect(at.get('tr:t2')!.x).toBe(at.get('step:B')!.x);
+    expect(at.get('tr:t3')!.x).toBeGreaterThan(at.get('tr:t2')!.x);
+    expect(at.get('tr:t4')!.x).toBe(at.get('step:C')!.x);
+  });
 });
 
 describe('SFC edits of the text', () => {

@@ -113,6 +113,15 @@ export function layoutSfc(chart: Chart): { at: Map<string, { x: number; y: numbe
   const jumps = new Set<string>();
   const place = new Map<string, { x: number; y: number }>();
   const used = new Map<number, number>();
+  /** The columns of the transitions placed below each level. */
+  const bars = new Map<number, Set<number>>();
+  /** The first column from `c` with no transition below level `l`, taken. */
+  const bar = (l: number, c: number) => {
+    const taken = bars.get(l) ?? new Set<number>();
+    while (taken.has(c)) c++;
+    bars.set(l, taken.add(c));
+    return c;
+  };
   for (let k = 0; k < queue.length || level.size < chart.steps.length; k++) {
     if (k >= queue.length) {
       const s = chart.steps.find((x) => !level.has(x.name))!;
@@ -129,12 +138,13 @@ export function layoutSfc(chart: Chart): { at: Map<string, { x: number; y: numbe
       const targets = t.to.map((x) => byName.get(x.toUpperCase())).filter((x): x is Step => !!x);
       const fresh = targets.filter((s) => !level.has(s.name));
       if (!fresh.length) {
+        // a jump: under its step, or right of the step's other ways out
         jumps.add(t.name);
-        place.set(`tr:${t.name}`, { x: col.get(name)!, y: l + 0.5 });
+        place.set(`tr:${t.name}`, { x: bar(l, col.get(name)!), y: l + 0.5 });
         continue;
       }
       // a selective divergence (several transitions out of a step) spreads to the right
-      const c0 = outs.indexOf(t) === 0 ? col.get(name)! : Math.max(col.get(name)!, (used.get(l + 1) ?? -1) + 1);
+      const c0 = bar(l, outs.indexOf(t) === 0 ? col.get(name)! : Math.max(col.get(name)!, (used.get(l + 1) ?? -1) + 1));
       place.set(`tr:${t.name}`, { x: c0, y: l + 0.5 });
       fresh.forEach((s, i) => {
         level.set(s.name, l + 1);
