@@ -10,7 +10,7 @@
 // drawn on the step or transition whose text holds them). The canvas is the
 // net editor's (canvas.ts): zoom (− + Fit, the keys + − 0, Ctrl+wheel), pan
 // (the middle button, or Space held), the grid; the chart's layout follows
-// the text, so nodes are not dragged (docs/nets.md, "The SFC editor").
+// the text, so nodes are not dragged (docs/nets.md, "The chart in the studio").
 import { ZoomPan, grid } from '../canvas';
 import type { Ctx } from '../ctx';
 import { add, clear, fmt, h, s } from '../dom';
