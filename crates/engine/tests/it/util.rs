@@ -98,9 +98,31 @@ pub fn simulate_in(mode: Mode, program: Program, stimulus: &str, tags: Option<&s
     String::from_utf8(out).expect("utf-8 trace")
 }
 
+/// A value compared bit for bit: two engines that both compute a NaN agree
+/// (`Value`'s `PartialEq` says NaN != NaN), and -0.0 differs from 0.0.
+#[derive(Clone, Copy)]
+pub struct Exact(pub alba_model::Value);
+
+impl PartialEq for Exact {
+    fn eq(&self, other: &Self) -> bool {
+        use alba_model::Value::{Lreal, Real};
+        match (self.0, other.0) {
+            (Real(a), Real(b)) => a.to_bits() == b.to_bits(),
+            (Lreal(a), Lreal(b)) => a.to_bits() == b.to_bits(),
+            (a, b) => a == b,
+        }
+    }
+}
+
+impl std::fmt::Debug for Exact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
 /// Every observable value: tags (structures by member), I/O images, marker
 /// bytes and system tags; not the compiler's scratch slots.
-pub fn observable(e: &Engine) -> Vec<(String, alba_model::Value)> {
+pub fn observable(e: &Engine) -> Vec<(String, Exact)> {
     let p = e.program();
     let mut out: Vec<_> = sim::all_columns(&p.layout)
         .into_iter()
@@ -125,5 +147,5 @@ pub fn observable(e: &Engine) -> Vec<(String, alba_model::Value)> {
             out.push((s.to_string(), e.read(place)));
         }
     }
-    out
+    out.into_iter().map(|(n, v)| (n, Exact(v))).collect()
 }
