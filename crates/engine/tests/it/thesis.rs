@@ -734,6 +734,49 @@ fn the_motomatic_overshoot_is_ripple_not_a_second_pole() {
     );
 }
 
+/// gp2 s-theory lands 19.8 % above the measured 10.47 s, 0.02 s inside
+/// the ±20 % band, and the count of runs within 20 % (9) depends on it. It
+/// is not an artefact of the measurement: the process enters its ±2 %
+/// band at 12.54 s whether the trace is sampled every 20, 10 or 1 ms and
+/// whether the scan is 10, 5 or 1 ms (the loop updates on its own 80 ms
+/// schedule), and under the listing's arithmetic (FORM 11) too. The loop's
+/// held PV, what Annex F's PC would have plotted if N9:0 is written once
+/// per sample, shows it at the next update, 12.56 s. Before this run was
+/// measured on the process, the table used that held PV, which rounds every
+/// settling time up to a loop update (640 ms in Prueba 1). Either way the
+/// margin, 0.02-0.03 s, is well under the figures' reading tolerance (a
+/// loop update, 80 ms, and a DH-485 poll, 85 ms): this run is at the edge,
+/// and the table says so.
+#[test]
+fn gp2_s_theory_is_at_the_edge_by_any_measure() {
+    let c = case("pid-gp2", "s-theory");
+    let edge = 1.2 * c.ts;
+    let mut measures = vec![("process, 20 ms trace, 10 ms scans", c.sim().run().ts)];
+    let table = measures[0].1;
+    for (what, scan, every) in [
+        ("10 ms trace", 10, 10),
+        ("5 ms scans", 5, 5),
+        ("1 ms scans and trace", 1, 1),
+    ] {
+        measures.push((what, c.sim().scan(scan).every(every).run().ts));
+    }
+    measures.push(("FORM 11", c.sim().with(&[("Loop.FORM", 11.0)]).run().ts));
+    let held = c.sim().run().ts_pv;
+    for (what, ts) in &measures {
+        println!(
+            "gp2 s-theory, {what}: {ts:.3} s (ratio {:.4}; the edge {edge:.3} s)",
+            ts / c.ts
+        );
+        assert!((ts - table).abs() <= 0.02 && *ts < edge, "{what}: {ts}");
+    }
+    println!("gp2 s-theory, Loop.PV: {held:.3} s (ratio {:.4})", held / c.ts);
+    assert!(held < edge && held - table <= c.t, "Loop.PV: {held}");
+    assert!(
+        edge - table < 0.1 && edge - held < 0.1,
+        "no longer at the edge: {table}, {held}"
+    );
+}
+
 /// The level model 0.028/(s + 0.224) as published, in the only units where
 /// the step 15.2 → 26.6 cm is possible (metres, the sensor 10 V per metre)
 /// settles in seconds; in centimetres (the same numbers per cm, the sensor
