@@ -249,22 +249,22 @@ const WITHIN: (f64, f64) = (0.8, 1.2);
 const CASES: &[Case] = &[
     // Prueba 1, Fig. 5-8 to 5-11: Gp1 = 1/(10s+1), T = 640 ms, 5 V step.
     Case { example: "pid-gp1", case: "z-theory", until: 80000, t: 0.64, mp: 0.0, ts: 30.4, band: (1.15, 1.3), reach: Reach::Outside, overshoot: Overshoot::Near,
-        why: "not the components, the listing's u(k) (the_listing_forms_change_no_rc_run) nor PID_DISC's clock-bit sampling (pid_disc_sampled_by_a_clock_bit); a figure time axis off like the other runs' (the_figures_time_axis_is_assumed)" },
+        why: "the bench's components, one set for its ten RC runs, bring it to 1.19 (one_bench_one_set_of_components); not the listing's u(k) nor PID_DISC's clock-bit sampling (pid_disc_sampled_by_a_clock_bit)" },
     Case { example: "pid-gp1", case: "z-tuned", until: 60000, t: 0.64, mp: 2.0, ts: 10.6, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
     Case { example: "pid-gp1", case: "s-theory", until: 80000, t: 0.64, mp: 0.0, ts: 31.27, band: WITHIN, reach: Reach::Outside, overshoot: Overshoot::Near, why: "" },
     Case { example: "pid-gp1", case: "s-tuned", until: 60000, t: 0.64, mp: 0.0, ts: 9.97, band: (1.7, 2.0), reach: Reach::Outside, overshoot: Overshoot::Near,
-        why: "outside everything the model and the listing reach (gp1_s_tuned_is_beyond_the_model_and_the_listing)" },
+        why: "outside everything the model, the bench and the listing reach (gp1_s_tuned_is_beyond_the_model_and_the_listing)" },
     // Prueba 6, Fig. 5-21 and 5-22: the SLC PID instruction, Kc 2 and 10, Ti 0.1 min, 20 ms, 4.6 V step.
     Case { example: "pid-gp1", case: "instruction", until: 60000, t: 0.02, mp: 8.69, ts: 29.6, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Components, why: "" },
     Case { example: "pid-gp1", case: "instruction-kp10", until: 60000, t: 0.02, mp: 0.0, ts: 12.1, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
     // Prueba 2, Fig. 5-12 and 5-14: Gp2 = 1/(4.7s+1), T = 80 ms.
     Case { example: "pid-gp2", case: "z-theory", until: 40000, t: 0.08, mp: 0.0, ts: 9.96, band: (1.4, 1.5), reach: Reach::Outside, overshoot: Overshoot::Near,
-        why: "the box reaches 10.7 s, 8 % from the measured run; not PID_DISC's clock-bit sampling (pid_disc_sampled_by_a_clock_bit); a figure time axis off like the other runs' (the_figures_time_axis_is_assumed)" },
+        why: "the bench's components bring it to 1.18-1.20 (one_bench_one_set_of_components); not PID_DISC's clock-bit sampling (pid_disc_sampled_by_a_clock_bit)" },
     Case { example: "pid-gp2", case: "s-theory", until: 40000, t: 0.08, mp: 0.0, ts: 10.47, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
     // Prueba 3, Fig. 5-16, and Prueba 8, Fig. 5-24: Gp3 = 1/(47s²+19.4s+1).
     Case { example: "pid-gp3", case: "s-theory", until: 100000, t: 0.08, mp: 2.0, ts: 22.4, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
     Case { example: "pid-gp3", case: "instruction", until: 100000, t: 0.04, mp: 0.0, ts: 21.11, band: (1.4, 1.5), reach: Reach::Inside, overshoot: Overshoot::Near,
-        why: "the PI zero 1/Ti does not cancel the slow pole, whose tail sets ts: C2 +20 % and the gain +10 % bring it to the measured 21 s (the components sweep)" },
+        why: "the PI zero 1/Ti does not cancel the slow pole, whose tail sets ts: the bench's components bring it to 1.01-1.07 (one_bench_one_set_of_components)" },
     // Prueba 4, Fig. 5-18 and 5-19: the level prototype as the thesis describes it physically
     // (pump behind a chopper, saturating; the tank drained through a valve), not the published
     // Gp4 = 0.028/(s+0.224), which cannot take 36 s (the_level_model_cannot_take_36_s). The
@@ -530,14 +530,15 @@ fn pid_disc_sampled_by_a_clock_bit() {
 /// beside it, "Tiempo(s)="). A poll of p ms puts every settling time read
 /// off a figure at 85/p of the real one.
 ///
-/// For each run, the poll periods that would bring the simulated settling
-/// time within 20 % of the real one: at 85 ms (the calibration) the 9 of
-/// the table; from 103 to 108 ms, 11, all of Prueba 1 to 5 but gp1
-/// s-tuned (and gp1 instruction, whose 20 ms loop then settles 28 % late,
-/// but C +20 % (32.3 s) brings back); no poll period brings gp1 s-tuned
-/// within 20 % with gp1 s-theory, the same program on the same circuit.
-/// The source's figures are not in our copy, so the real poll period is a
-/// question left open; the test shows what it would and would not explain.
+/// For each run (nominal model), the poll periods that would bring the
+/// simulated settling time within 20 % of the real one: at 85 ms (the
+/// calibration) the 9 of the table; from 103 to 108 ms, 11, all but gp1
+/// s-tuned and gp1 instruction; no poll period brings gp1 s-tuned within
+/// 20 % together with gp1 s-theory, the same program on the same circuit.
+/// The figures are not in our copy, so the real poll period stays a
+/// reading uncertainty: the bench's components explain the same runs
+/// without it (one_bench_one_set_of_components), and it cannot explain
+/// gp1 s-tuned.
 #[test]
 fn the_figures_time_axis_is_assumed() {
     let sims: Vec<(&Case, f64)> = CASES.iter().map(|c| (c, c.sim().run().ts)).collect();
@@ -653,25 +654,6 @@ fn gp1_s_tuned_is_beyond_the_model_and_the_listing() {
     }
 }
 
-/// gp1 `instruction` (the SLC PID instruction, Kc 2, Ti 0.1 min) overshoots
-/// 5.2 % in the model against the measured 8.7 %. With this PI the
-/// closed loop is 10·c·s² + (1 + 2g)s + 2g/6 (C scaled by c, the gain by
-/// g): a larger capacitor lowers the damping. The electrolytic's +20 %
-/// gives 7.9 % and 30.4 s, against the measured 8.7 % and 29.6 s: the
-/// main test's components sweep holds the measured overshoot within 2
-/// points of its reach (Overshoot::Components); this checks the corner.
-#[test]
-fn gp1_instruction_overshoot_is_the_capacitor() {
-    let c = case("pid-gp1", "instruction");
-    let big = c.sim().plant(&toleranced(1.2, 1.0, 1.0)).run();
-    println!(
-        "gp1 instruction, C +20 %: {:.2} % {:.2} s (measured {} % {} s)",
-        big.mp, big.ts, c.mp, c.ts
-    );
-    assert!((big.mp - c.mp).abs() < 1.0, "{big:?}");
-    assert!((0.95..=1.05).contains(&(big.ts / c.ts)), "{big:?}");
-}
-
 /// The Motomatic measured 1.4 % overshoot; the first-order model has none,
 /// and cannot have any: under a PI the closed loop τs² + (1 + K·Kp)s +
 /// K·Ki has real poles for every gain (its discriminant is negative only
@@ -691,6 +673,11 @@ fn gp1_instruction_overshoot_is_the_capacitor() {
 #[test]
 fn the_motomatic_overshoot_is_ripple_not_a_second_pole() {
     let c = case("pid-motomatic", "tuned");
+    let design = Sim::new("pid-motomatic", "s-theory", 6000).run();
+    println!(
+        "Motomatic s-theory (the design, not measured): {:.2} % {:.2} s",
+        design.mp, design.ts
+    );
     let mut most: f64 = 0.0;
     for tau2 in [0.005, 0.02, 0.05, 0.1] {
         for k in [0.8, 1.0, 1.2] {
@@ -777,6 +764,51 @@ fn gp2_s_theory_is_at_the_edge_by_any_measure() {
     );
 }
 
+/// The three RC circuits were built on one bench from two electrolytic
+/// capacitors (§5.1.1-5.1.2: Gp1 with C = 1000 µF, Gp2 with 470 µF, Gp3
+/// with C1 = 1000 µF and C2 = 470 µF) behind one current-to-voltage
+/// converter, so one set of component values must serve all ten of their
+/// runs. With both capacitors 20 % above nominal (the edge of an
+/// electrolytic's ±20 %: 1200 and 564 µF) and the converter's gain 2.5 %
+/// low, nine of the ten settle within 20 % of the measured times — all but
+/// gp1 s-tuned, which stays 70 % slow — and every overshoot comes within 2
+/// points of the measured one: gp1 instruction 7.9 % (8.69 measured, 5.2 %
+/// nominal: the larger capacitor lowers the loop's damping, 10·c·s² +
+/// (1 + 2g)s + 2g/6 with Kc 2, Ti 6 s), gp3 s-theory 2.0 % (2 % measured,
+/// 0 % nominal). A neighbouring set (C470 +15 %, gain +2.5 %) does the
+/// same: it is a region, not a fitted point. The examples keep the nominal
+/// values the source publishes; this is the tested explanation of the RC
+/// runs outside ±20 % (gp1 and gp2 z-theory, gp3 instruction), and it
+/// leaves gp1 s-tuned unexplained
+/// (gp1_s_tuned_is_beyond_the_model_and_the_listing).
+#[test]
+fn one_bench_one_set_of_components() {
+    for (c1000, c470, g) in [(1.2, 1.2, 0.975), (1.2, 1.15, 1.025)] {
+        for c in CASES
+            .iter()
+            .filter(|c| ["pid-gp1", "pid-gp2", "pid-gp3"].contains(&c.example))
+        {
+            let bench = match c.example {
+                "pid-gp1" => toleranced(c1000, 1.0, g),
+                "pid-gp2" => toleranced(c470, 1.0, g),
+                _ => toleranced(c1000, c470, g),
+            };
+            let s = c.sim().plant(&bench).run();
+            let ratio = s.ts / c.ts;
+            println!(
+                "C1000 ×{c1000}, C470 ×{c470}, gain ×{g}: {} {}: {:.2} % (measured {}), {:.2} s (measured {}, ratio {ratio:.3})",
+                c.example, c.case, s.mp, c.mp, s.ts, c.ts
+            );
+            if c.case == "s-tuned" {
+                assert!(ratio > 1.6, "gp1 s-tuned {s:?}");
+            } else {
+                assert!((0.8..=1.2).contains(&ratio), "{} {}: {s:?}", c.example, c.case);
+            }
+            assert!((s.mp - c.mp).abs() <= 2.0, "{} {}: {s:?}", c.example, c.case);
+        }
+    }
+}
+
 /// The level model 0.028/(s + 0.224) as published, in the only units where
 /// the step 15.2 → 26.6 cm is possible (metres, the sensor 10 V per metre)
 /// settles in seconds; in centimetres (the same numbers per cm, the sensor
@@ -791,7 +823,9 @@ fn the_level_model_cannot_take_36_s() {
     let level = |name: &'static str| Sim::new("pid-level", name, 80000);
     let metres = level("s-theory").run().ts;
     assert!(metres < 5.0, "metres: {metres}");
-    let tuned = level("s-tuned").run().ts;
+    let tuned = level("s-tuned").run();
+    println!("published level model, s-tuned: {:.2} % {:.2} s", tuned.mp, tuned.ts);
+    let tuned = tuned.ts;
     assert!((0.8..=1.2).contains(&(tuned / 25.35)), "s-tuned: {tuned}");
     let listing = level("s-tuned").with(&[("Loop.FORM", 11.0)]).run().mp;
     assert!(listing > 50.0, "s-tuned under FORM 11: overshoot {listing}");
