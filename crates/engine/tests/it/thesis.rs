@@ -1,10 +1,11 @@
 //! The PID runs of `004_…` Chapter 5 against the thesis's measured table
 //! (docs/pid.md §5), in the engine: each run is simulated from its example
 //! (`examples/pid-*`: the plant model, the loop, the case's stimulus), and
-//! the overshoot and 98 % settling time of Loop.PV are taken from the trace
-//! (20 ms samples) with `analysis::step_info`, as `alba sim --summary` does.
+//! the overshoot and 98 % settling time of the process (the analog input,
+//! scaled as the loop scales it) are taken from the trace (20 ms samples)
+//! with `analysis::step_info`, as `alba sim --summary` does.
 //!
-//! Two tolerances per run:
+//! Tolerances per run:
 //!
 //! * the *band* of the simulated/measured settling-time ratio: ±20 % where
 //!   the nominal model lands there, and for the others a band around where
@@ -16,8 +17,14 @@
 //!   is trimmed by hand, "ganancia negativa variable", with 5 % resistors);
 //!   the figures were read from data polled over DH-485, good to about one
 //!   loop update T. The test states, per run, whether the measured settling
-//!   time lies inside [fastest − T, slowest + T] over that box, and fails
-//!   when that changes.
+//!   time lies inside [fastest − T, slowest + T] over that box, or within
+//!   20 % of its nearest end, or neither, and fails when that changes;
+//! * the *overshoot*: within 2 points of the measured one (the figures'
+//!   reading), from the nominal model or from the components' range, as
+//!   stated per run.
+//!
+//! The tests after the table are the experiments behind each run outside
+//! ±20 % (docs/pid.md §5).
 
 use crate::util::compile;
 use alba_engine::Engine;
@@ -208,9 +215,12 @@ fn second_pole(tau2: f64, c: f64, g: f64) -> impl Fn(&mut PlantModel) {
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Reach {
-    /// The measured settling time is inside what the component tolerances reach.
+    /// The measured settling time is inside what the component tolerances
+    /// reach (one loop update either side).
     Inside,
-    /// It is not: the components do not explain the difference.
+    /// It is not, but the nearest end of their reach is within 20 % of it.
+    Within,
+    /// Neither: the components do not explain the difference.
     Outside,
 }
 
@@ -248,17 +258,17 @@ const WITHIN: (f64, f64) = (0.8, 1.2);
 #[rustfmt::skip]
 const CASES: &[Case] = &[
     // Prueba 1, Fig. 5-8 to 5-11: Gp1 = 1/(10s+1), T = 640 ms, 5 V step.
-    Case { example: "pid-gp1", case: "z-theory", until: 80000, t: 0.64, mp: 0.0, ts: 30.4, band: (1.15, 1.3), reach: Reach::Outside, overshoot: Overshoot::Near,
+    Case { example: "pid-gp1", case: "z-theory", until: 80000, t: 0.64, mp: 0.0, ts: 30.4, band: (1.15, 1.3), reach: Reach::Within, overshoot: Overshoot::Near,
         why: "the bench's components, one set for its ten RC runs, bring it to 1.19 (one_bench_one_set_of_components); not the listing's u(k) nor PID_DISC's clock-bit sampling (pid_disc_sampled_by_a_clock_bit)" },
     Case { example: "pid-gp1", case: "z-tuned", until: 60000, t: 0.64, mp: 2.0, ts: 10.6, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
-    Case { example: "pid-gp1", case: "s-theory", until: 80000, t: 0.64, mp: 0.0, ts: 31.27, band: WITHIN, reach: Reach::Outside, overshoot: Overshoot::Near, why: "" },
+    Case { example: "pid-gp1", case: "s-theory", until: 80000, t: 0.64, mp: 0.0, ts: 31.27, band: WITHIN, reach: Reach::Within, overshoot: Overshoot::Near, why: "" },
     Case { example: "pid-gp1", case: "s-tuned", until: 60000, t: 0.64, mp: 0.0, ts: 9.97, band: (1.7, 2.0), reach: Reach::Outside, overshoot: Overshoot::Near,
         why: "outside everything the model, the bench and the listing reach (gp1_s_tuned_is_beyond_the_model_and_the_listing)" },
     // Prueba 6, Fig. 5-21 and 5-22: the SLC PID instruction, Kc 2 and 10, Ti 0.1 min, 20 ms, 4.6 V step.
     Case { example: "pid-gp1", case: "instruction", until: 60000, t: 0.02, mp: 8.69, ts: 29.6, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Components, why: "" },
     Case { example: "pid-gp1", case: "instruction-kp10", until: 60000, t: 0.02, mp: 0.0, ts: 12.1, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
     // Prueba 2, Fig. 5-12 and 5-14: Gp2 = 1/(4.7s+1), T = 80 ms.
-    Case { example: "pid-gp2", case: "z-theory", until: 40000, t: 0.08, mp: 0.0, ts: 9.96, band: (1.4, 1.5), reach: Reach::Outside, overshoot: Overshoot::Near,
+    Case { example: "pid-gp2", case: "z-theory", until: 40000, t: 0.08, mp: 0.0, ts: 9.96, band: (1.4, 1.5), reach: Reach::Within, overshoot: Overshoot::Near,
         why: "the bench's components bring it to 1.18-1.20 (one_bench_one_set_of_components); not PID_DISC's clock-bit sampling (pid_disc_sampled_by_a_clock_bit)" },
     Case { example: "pid-gp2", case: "s-theory", until: 40000, t: 0.08, mp: 0.0, ts: 10.47, band: WITHIN, reach: Reach::Inside, overshoot: Overshoot::Near, why: "" },
     // Prueba 3, Fig. 5-16, and Prueba 8, Fig. 5-24: Gp3 = 1/(47s²+19.4s+1).
@@ -323,6 +333,8 @@ fn pid_runs_against_the_thesis_table() {
         }
         let reach = if (lo - c.t..=hi + c.t).contains(&c.ts) {
             Reach::Inside
+        } else if [lo, hi].iter().any(|x| (0.8..=1.2).contains(&(x / c.ts))) {
+            Reach::Within
         } else {
             Reach::Outside
         };
