@@ -25,7 +25,8 @@
 //! 5. The deadband `DB` (engineering units) is entered when the error is
 //!    within ±DB and crosses zero, and left when it leaves ±DB (`INDB`);
 //!    inside, the error is 0.
-//! 6. The algorithm `FORM`: 0 positional (ISA with `DEP`: KC, TI s, TD s;
+//! 6. The algorithm `FORM`: 0 positional (ISA with `DEP`: KC, TI s, TD s,
+//!    or with `MINUTES` TI in minutes per repeat and TD in minutes, the SLC's;
 //!    else KP, KI /s, KD s) with derivative on PV (default) or on the error
 //!    (`DOE`), low-pass filtered with time constant Td/DFN; 1 and 2 the
 //!    velocity forms of the source's eq. 3-30 (s-plane) and 3-31 (z-plane)
@@ -96,6 +97,7 @@ const DOE: usize = 10;
 const DEP: usize = 11;
 const OL: usize = 12;
 const TM: usize = 13;
+const MINUTES: usize = 14;
 
 /// Counts of the SLC's 0-16383 scale per percent.
 pub const SLC_PER_PCT: f64 = 16383.0 / 100.0;
@@ -228,9 +230,11 @@ fn update(f: &mut [f32], iv: &mut [i32], b: &mut [bool], p: &PidParams, running:
     }
     f[PID_F_EPREV as usize] = e as f32;
     let e_pct = if b[INDB] { 0.0 } else { e * pct };
-    // Gains.
+    // Gains; TI and TD in seconds (the members hold minutes with MINUTES).
+    let per = if b[MINUTES] { 60.0 } else { 1.0 };
+    let (ti, td) = (p.ti * per, p.td * per);
     let (kp, ki, kd) = if b[DEP] {
-        (p.kc, if p.ti > 0.0 { p.kc / p.ti } else { 0.0 }, p.kc * p.td)
+        (p.kc, if ti > 0.0 { p.kc / ti } else { 0.0 }, p.kc * td)
     } else {
         (p.kp, p.ki, p.kd)
     };
@@ -245,7 +249,7 @@ fn update(f: &mut [f32], iv: &mut [i32], b: &mut [bool], p: &PidParams, running:
             // Derivative on PV (of the error's sign) or on the error.
             let x = if b[DOE] { e_pct } else { -sign * pv * pct };
             let td = if b[DEP] {
-                p.td
+                td
             } else if kp > 0.0 {
                 kd / kp
             } else {

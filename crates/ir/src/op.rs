@@ -88,12 +88,12 @@ pub const PID_I_E1: u32 = 4;
 pub const PID_I_E2: u32 = 5;
 pub const PID_I_U1: u32 = 6;
 pub const PID_I_SLOTS: u32 = 7;
-/// BOOL members (EN … OL, TM), then hidden: running (initialised), manual
-/// at the last execution.
-pub const PID_B_MEMBERS: u32 = 14;
-pub const PID_B_RUN: u32 = 14;
-pub const PID_B_WASMAN: u32 = 15;
-pub const PID_B_SLOTS: u32 = 16;
+/// BOOL members (EN … OL, TM, MINUTES), then hidden: running
+/// (initialised), manual at the last execution.
+pub const PID_B_MEMBERS: u32 = 15;
+pub const PID_B_RUN: u32 = 15;
+pub const PID_B_WASMAN: u32 = 16;
+pub const PID_B_SLOTS: u32 = 17;
 
 /// An S7-200 timer (Instruction List): integer slots `i` = current value
 /// (in units of the resolution), `i+1` = PT, `i+2` = milliseconds not yet

@@ -62,6 +62,7 @@ pub fn is_identifier(s: &str) -> bool {
 /// structure type.
 pub fn parse_members(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, String> {
     let mut out: Vec<(String, Value)> = Vec::new();
+    let mut timed = Vec::new();
     for item in text.split(';').map(str::trim).filter(|s| !s.is_empty()) {
         let Some((name, value)) = item.split_once('=') else {
             return Err(format!("`{item}` is not MEMBER=value"));
@@ -80,32 +81,44 @@ pub fn parse_members(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, S
         if out.iter().any(|(n, _)| n == m.name) {
             return Err(format!("member {} is given twice", m.name));
         }
-        let v = match minutes(ty, m.name, value.trim()) {
-            Some(Ok(s)) => Value::Real(s as f32),
+        let v = match with_unit(ty, m.name, value.trim()) {
+            Some(Ok(secs)) => {
+                timed.push(out.len());
+                Value::Real(secs as f32)
+            }
             Some(Err(e)) => return Err(format!("bad value for {}: {e}", m.name)),
             None => Value::parse(value.trim(), m.ty).map_err(|e| format!("bad value for {}: {e}", m.name))?,
         };
         out.push((m.name.to_string(), v));
     }
+    // TI and TD given with a unit are in seconds so far; a loop with
+    // MINUTES holds them in minutes.
+    let minutes = out.iter().any(|(n, v)| n == "MINUTES" && v.as_f64() != 0.0);
+    if minutes {
+        for k in timed {
+            out[k].1 = Value::Real((out[k].1.as_f64() / 60.0) as f32);
+        }
+    }
     Ok(out)
 }
 
-/// A PID's `TI` or `TD` given in the SLC 500's units, `TI=0.1min` (minutes
-/// per repeat) or `TD=0.01 min` (minutes): the value in seconds, the unit
-/// the members hold (Logix's). `None` when the value has no `min` suffix or
-/// the member is not TI or TD.
-fn minutes(ty: DataType, member: &str, value: &str) -> Option<Result<f64, String>> {
+/// A PID's `TI` or `TD` given with its unit: `TI=0.1min` (minutes per
+/// repeat, the SLC 500's), `TD=0.6 s` (seconds): the value in seconds.
+/// `None` when there is no unit or the member is not TI or TD (a plain
+/// number is in the loop's unit: seconds, or minutes with `MINUTES`).
+fn with_unit(ty: DataType, member: &str, value: &str) -> Option<Result<f64, String>> {
     if ty != DataType::Pid || !(member == "TI" || member == "TD") {
         return None;
     }
-    let n = value.len().checked_sub(3)?;
-    let (num, unit) = (value.get(..n)?, value.get(n..)?);
-    if !unit.eq_ignore_ascii_case("min") {
-        return None;
-    }
+    let lower = value.to_ascii_lowercase();
+    let (num, per) = if let Some(n) = lower.strip_suffix("min") {
+        (n, 60.0)
+    } else {
+        (lower.strip_suffix('s')?, 1.0)
+    };
     Some(match num.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v * 60.0),
-        _ => Err(format!("`{value}` is not a number of minutes")),
+        Ok(v) if v.is_finite() => Ok(v * per),
+        _ => Err(format!("`{value}` is not a time (a number and `min` or `s`)")),
     })
 }
 
@@ -594,24 +607,35 @@ mod tests {
             "tags.csv:10:1: error[E112]: `1bad` is not a valid tag name: use letters, digits and `_`, not starting with a digit",
             "tags.csv:11:10: error[E119]: `maybe` is not a retain flag",
             "tags.csv:12:8: error[E121]: PID parameter UPD = 0: the loop update time must be more than 0 ms (SLC error 11H)",
-            "tags.csv:13:8: error[E121]: PID has no member `KQ` (writable members: SP CV KP KI KD KC TI TD BIAS MAXO MINO MAXS MINS MAXI MINI MAXCV MINCV DB DFN UPD FORM MAN DIRECT DOE DEP OL TM)",
+            "tags.csv:13:8: error[E121]: PID has no member `KQ` (writable members: SP CV KP KI KD KC TI TD BIAS MAXO MINO MAXS MINS MAXI MINI MAXCV MINCV DB DFN UPD FORM MAN DIRECT DOE DEP OL TM MINUTES)",
         ];
         assert_eq!(got, expect);
         assert_eq!(t.len(), 2); // Good and B
     }
 
-    /// TI and TD in the SLC 500's units (the `004_…` source's "Ti 0.1
-    /// min/rep") become seconds; other members and bad numbers do not.
+    /// TI and TD with a unit — the SLC 500's minutes (the `004_…` source's
+    /// "Ti 0.1 min/rep") or seconds — are stored in the loop's unit:
+    /// seconds, or minutes when MINUTES is set (before or after them); a
+    /// plain number is already in the loop's unit. Other members and bad
+    /// numbers take no unit.
     #[test]
-    fn pid_times_may_be_given_in_minutes() {
-        let m = parse_members("KC=2;TI=0.1min;TD=0.01 MIN", DataType::Pid).expect("parses");
-        let get = |n: &str| m.iter().find(|(k, _)| k == n).map(|(_, v)| v.as_f64()).expect(n);
-        assert!((get("TI") - 6.0).abs() < 1e-6, "{}", get("TI"));
-        assert!((get("TD") - 0.6).abs() < 1e-6, "{}", get("TD"));
-        assert!((get("KC") - 2.0).abs() < 1e-6);
-        let m = parse_members("TI=6", DataType::Pid).expect("seconds");
-        assert!((m[0].1.as_f64() - 6.0).abs() < 1e-6);
-        for bad in ["TI=xmin", "KP=2min", "TD=min"] {
+    fn pid_times_may_be_given_in_minutes_or_seconds() {
+        let get = |text: &str, n: &str| {
+            let m = parse_members(text, DataType::Pid).expect(text);
+            m.iter().find(|(k, _)| k == n).map(|(_, v)| v.as_f64()).expect(n)
+        };
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
+        assert!(near(get("KC=2;TI=0.1min;TD=0.01 MIN", "TI"), 6.0));
+        assert!(near(get("KC=2;TI=0.1min;TD=0.01 MIN", "TD"), 0.6));
+        assert!(near(get("KC=2;TI=0.1min", "KC"), 2.0));
+        assert!(near(get("TI=6", "TI"), 6.0));
+        assert!(near(get("TI=6 s", "TI"), 6.0));
+        assert!(near(get("MINUTES=1;TI=0.1min", "TI"), 0.1));
+        assert!(near(get("TI=0.1min;TD=1.2s;MINUTES=1", "TI"), 0.1));
+        assert!(near(get("TI=0.1min;TD=1.2s;MINUTES=1", "TD"), 0.02));
+        assert!(near(get("MINUTES=1;TI=0.25", "TI"), 0.25));
+        assert!(near(get("MINUTES=0;TI=0.25min", "TI"), 15.0));
+        for bad in ["TI=xmin", "KP=2min", "TD=min", "TI=3h", "KC=2s", "TD=s"] {
             let e = parse_members(bad, DataType::Pid).expect_err(bad);
             assert!(e.contains("bad value for"), "{bad}: {e}");
         }

@@ -112,6 +112,7 @@ pub const PID_MEMBERS: &[Member] = &[
     m("DEP", DataType::Bool, true, 11),
     m("OL", DataType::Bool, true, 12),
     m("TM", DataType::Bool, true, 13),
+    m("MINUTES", DataType::Bool, true, 14),
 ];
 
 /// Default values of PID members that are not zero (a new loop limits its

@@ -51,8 +51,22 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
     const input = h('input', { type: 'number', step: 'any', size: 7, 'data-testid': `faceplate-gain-${m}`, disabled: !can('edit'), title: why('edit') ?? '' });
     input.addEventListener('change', () => Number.isFinite(Number(input.value)) && void write(m, Number(input.value)));
     unwatch.push(store.watch(`${tag}.${m}`, (v) => document.activeElement !== input && (input.value = fmt(v))));
-    return h('label', null, m, ' ', input);
+    const unit = h('span', { class: 'hint', 'data-testid': `faceplate-unit-${m}` });
+    return { label: h('label', null, m, ' ', input, ' ', unit), unit };
   };
+  // The gains the loop uses: KC, TI, TD with DEP (TI and TD in minutes with
+  // MINUTES, the SLC's units, else seconds), KP, KI, KD without.
+  const gains = Object.fromEntries(['KP', 'KI', 'KD', 'KC', 'TI', 'TD'].map((m) => [m, gain(m)]));
+  const gainRow = h('div', { class: 'fp-row', 'data-testid': 'faceplate-gains' });
+  const showGains = () => {
+    const t = get('MINUTES') === true ? 'min' : 's';
+    const units: Record<string, string> = { KP: '', KI: '1/s', KD: 's', KC: '', TI: t, TD: t };
+    const shown = get('DEP') === true ? ['KC', 'TI', 'TD'] : ['KP', 'KI', 'KD'];
+    for (const m of shown) gains[m].unit.textContent = units[m];
+    gainRow.replaceChildren(...shown.map((m) => gains[m].label));
+  };
+  for (const m of ['DEP', 'MINUTES']) unwatch.push(store.watch(`${tag}.${m}`, showGains));
+  showGains();
   const bits = h('div', { class: 'fp-bits' }, BITS.map((b) => h('span', { class: 'fp-bit', 'data-testid': `faceplate-bit-${b}` }, b)));
   const alarms = h('div', { class: 'fp-alarms', 'data-testid': 'faceplate-alarms' });
   const showAlarms = async () => {
@@ -70,8 +84,8 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
       h('div', { class: 'fp-values' },
         h('span', { class: 'fp-sp' }, 'SP ', values.SP), h('span', { class: 'fp-pv' }, 'PV ', values.PV), h('span', { class: 'fp-cv' }, 'CV ', values.CV)),
       h('div', { class: 'fp-row' }, h('label', null, tr('Setpoint'), ' ', spIn), manual, down, up),
-      h('div', { class: 'fp-row' }, gain('KP'), gain('KI'), gain('KD')),
-      h('div', { class: 'fp-row' }, gain('MINO'), gain('MAXO')),
+      gainRow,
+      h('div', { class: 'fp-row' }, gain('MINO').label, gain('MAXO').label),
       bits,
       alarms,
       tune,
@@ -135,19 +149,21 @@ function autotune(ctx: Ctx, tag: string, get: (m: string) => Json | undefined, w
     try {
       const r = await api.autotune(tag, req);
       const dep = get('DEP') === true;
+      // the rules' TI and TD are seconds; a loop with MINUTES holds minutes
+      const per = get('MINUTES') === true ? 60 : 1;
       const apply = (g: (typeof r.rules)[0]) => async () => {
-        const gains: [string, number][] = dep ? [['KC', g.kc], ['TI', g.ti], ['TD', g.td]] : [['KP', g.kp], ['KI', g.ki], ['KD', g.kd]];
+        const gains: [string, number][] = dep ? [['KC', g.kc], ['TI', g.ti / per], ['TD', g.td / per]] : [['KP', g.kp], ['KI', g.ki], ['KD', g.kd]];
         for (const [m, v] of gains) await write(m, Number(v.toPrecision(6)));
         ctx.notify(tr('{rule} gains applied to {name}', { rule: g.rule, name: tag }));
       };
       result.replaceChildren(
         h('p', { 'data-testid': 'autotune-ku' }, `Ku = ${r.ku.toFixed(4)}, Pu = ${r.pu.toFixed(3)} s (${tr('{n} cycles', { n: r.cycles })})`),
         h('table', { class: 'tags' },
-          h('thead', null, h('tr', null, [tr('Rule'), dep ? 'KC' : 'KP', dep ? 'TI' : 'KI', dep ? 'TD' : 'KD', ''].map((c) => h('th', null, c)))),
+          h('thead', null, h('tr', null, [tr('Rule'), dep ? 'KC' : 'KP', dep ? `TI (${per === 60 ? 'min' : 's'})` : 'KI', dep ? `TD (${per === 60 ? 'min' : 's'})` : 'KD', ''].map((c) => h('th', null, c)))),
           h('tbody', null, r.rules.map((g, k) => {
             const b = h('button', { class: 'small', 'data-testid': `autotune-apply-${k}` }, tr('Apply'));
             b.onclick = apply(g);
-            const [a, b2, c] = dep ? [g.kc, g.ti, g.td] : [g.kp, g.ki, g.kd];
+            const [a, b2, c] = dep ? [g.kc, g.ti / per, g.td / per] : [g.kp, g.ki, g.kd];
             return h('tr', null, h('td', null, g.rule), h('td', null, a.toFixed(4)), h('td', null, b2.toFixed(4)), h('td', null, c.toFixed(4)), h('td', null, b));
           }))));
     } catch (e) {

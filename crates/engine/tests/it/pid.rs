@@ -244,6 +244,39 @@ fn dependent_gains_are_kc_ti_td() {
 }
 
 #[test]
+fn minutes_make_ti_and_td_the_slcs_units() {
+    // MINUTES: TI in minutes per repeat, TD in minutes, as the SLC 500
+    // holds them; the loop is the one in seconds. KC = 2, TI = 0.5 s =
+    // 0.5/60 min, TD = 0.6 s = 0.01 min, DFN 0, e = 1 then PV moves.
+    let seconds = "DEP=1;KC=2;TI=0.5;TD=0.6;DFN=0;UPD=100;OL=0";
+    let minutes = "DEP=1;MINUTES=1;KC=2;TI=0.5s;TD=0.01min;DFN=0;UPD=100;OL=0";
+    let (mut a, mut b) = (Rig::new(seconds), Rig::new(minutes));
+    assert_close!(b.f("Loop.TI"), 0.5 / 60.0);
+    assert_close!(b.f("Loop.TD"), 0.01);
+    for r in [&mut a, &mut b] {
+        r.real("Loop.SP", 1.0);
+    }
+    for pv in [0.0, 0.2, 0.5, 0.7] {
+        for r in [&mut a, &mut b] {
+            r.real("PVin", pv);
+            r.scan(100);
+        }
+        assert_close!(b.f("Loop.CV"), a.f("Loop.CV"));
+    }
+    // By hand, the first update: 2·1 + 2/0.5·1·0.1 = 2.4 (no derivative:
+    // PV did not move).
+    let mut r = Rig::new("DEP=1;MINUTES=1;KC=2;TI=0.1;UPD=100");
+    r.real("Loop.SP", 1.0);
+    r.scan(100);
+    // TI = 0.1 min = 6 s: 2 + 2/6·0.1 = 2.0333…
+    assert_close!(r.f("Loop.CV"), 2.0 + 2.0 / 6.0 * 0.1);
+    // Written at run time (the API, a stimulus): the same unit.
+    r.real("Loop.TI", 0.05);
+    r.scan(100);
+    assert_close!(r.f("Loop.CV"), 2.0 + 2.0 / 6.0 * 0.1 + 2.0 / 3.0 * 0.1);
+}
+
+#[test]
 fn bias_is_added() {
     let mut r = Rig::new("KP=1;BIAS=30;UPD=100");
     r.real("Loop.SP", 5.0);

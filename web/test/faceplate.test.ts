@@ -1,0 +1,56 @@
+// The PID faceplate's gains in happy-dom: the gains the loop uses (KP KI KD,
+// or KC TI TD with DEP), TI and TD labelled in the loop's unit (minutes with
+// MINUTES, the SLC's, else seconds), and a gain typed in written as is, in
+// that unit (docs/pid.md §2, SLC details).
+import { afterEach, describe, expect, it, vi } from 'vitest';
+import { setMe } from '../src/auth';
+import type { Ctx } from '../src/ctx';
+import { LiveClient } from '../src/live/client';
+import { openFaceplate } from '../src/ui/faceplate';
+import type { Json } from '../src/types';
+
+function rig(values: Record<string, Json>) {
+  const puts: [string, unknown][] = [];
+  vi.stubGlobal('fetch', async (path: string, init: RequestInit) => {
+    if (init.method === 'PUT') puts.push([decodeURIComponent(path), JSON.parse(init.body as string).value]);
+    const body = path === '/api/alarms' ? [] : { name: path, value: 0 };
+    return new Response(JSON.stringify(body), { status: 200, headers: { 'Content-Type': 'application/json' } });
+  });
+  setMe({ user: 'eve', role: 'engineer', users: true });
+  const live = new LiveClient('ws://127.0.0.1:1/none');
+  live.store.apply(new Map(Object.entries(values).map(([k, v]) => [`Loop.${k}`, v])));
+  const ctx = { live, notify: () => {} } as unknown as Ctx;
+  const box = openFaceplate(ctx, 'Loop');
+  const shown = () => [...box.querySelectorAll('[data-testid="faceplate-gains"] input')].map((i) => (i as HTMLInputElement).dataset.testid?.replace('faceplate-gain-', ''));
+  const unit = (m: string) => box.querySelector(`[data-testid="faceplate-unit-${m}"]`)?.textContent;
+  return { box, live, puts, shown, unit };
+}
+
+afterEach(() => {
+  vi.unstubAllGlobals();
+  document.body.replaceChildren();
+});
+
+describe('the PID faceplate gains', () => {
+  it('shows KP, KI, KD for independent gains and KC, TI, TD in the loop unit for dependent ones', () => {
+    const r = rig({ DEP: false, MINUTES: false, KP: 5, KI: 0.8, KD: 0, KC: 2, TI: 6, TD: 0 });
+    expect(r.shown()).toEqual(['KP', 'KI', 'KD']);
+    expect(r.unit('KI')).toBe('1/s');
+    r.live.store.apply(new Map([['Loop.DEP', true]]));
+    expect(r.shown()).toEqual(['KC', 'TI', 'TD']);
+    expect(r.unit('TI')).toBe('s');
+    expect((r.box.querySelector('[data-testid="faceplate-gain-TI"]') as HTMLInputElement).value).toBe('6');
+    r.live.store.apply(new Map<string, Json>([['Loop.MINUTES', true], ['Loop.TI', 0.1]]));
+    expect(r.unit('TI')).toBe('min');
+    expect(r.unit('TD')).toBe('min');
+    expect((r.box.querySelector('[data-testid="faceplate-gain-TI"]') as HTMLInputElement).value).toBe('0.1');
+  });
+
+  it('writes a gain typed in as it is, in the unit shown', async () => {
+    const r = rig({ DEP: true, MINUTES: true, KC: 2, TI: 0.1, TD: 0 });
+    const ti = r.box.querySelector('[data-testid="faceplate-gain-TI"]') as HTMLInputElement;
+    ti.value = '0.2';
+    ti.dispatchEvent(new Event('change'));
+    await vi.waitFor(() => expect(r.puts).toContainEqual(['/api/tags/Loop.TI', 0.2]));
+  });
+});
