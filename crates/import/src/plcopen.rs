@@ -1303,6 +1303,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             board: None,
             tags: conv.tags,
             programs,
+            ..Project::default()
         },
         report,
     ))
