@@ -21,9 +21,13 @@
 //! | `GT` `GE` `EQ` `NE` `LT` `LE` | compares ANDed with EN |
 //! | `ADD` `SUB` `MUL` `DIV` `MOD` `MOVE` | the instruction, gated by EN, into a helper tag |
 //!
-//! Everything else (user function blocks, functions, ST/FBD/IL/SFC bodies,
+//! SFC bodies become `.sfc` programs (the [`sfc`] module).
+//!
+//! Everything else (user function blocks, functions, ST/FBD/IL bodies,
 //! jumps, other blocks) is refused with its place; a coil fed by a refused
 //! element is refused too.
+
+mod sfc;
 
 use crate::circuit::{Cond, Emitter, Structs};
 use crate::names::Names;
@@ -1023,17 +1027,18 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 .iter()
                 .find(|c| c.name != "documentation" && c.name != "addData")
         });
-        let Some(ld) = lang.filter(|l| l.name == "LD") else {
+        let Some(ld) = lang.filter(|l| l.name == "LD" || l.name == "SFC") else {
             let what = lang.map(|l| l.name.clone()).unwrap_or_else(|| "no".into());
             conv.report.push(
                 Kind::Refused,
                 loc,
-                format!("program `{pname}` has a {what} body; only LD bodies are imported"),
+                format!("program `{pname}` has a {what} body; only LD and SFC bodies are imported"),
             );
             refused_programs.push(format!("`{pname}` ({what})"));
             continue;
         };
-        if pou.child("actions").is_some_and(|a| !a.children.is_empty()) {
+        let is_sfc = ld.name == "SFC";
+        if !is_sfc && pou.child("actions").is_some_and(|a| !a.children.is_empty()) {
             conv.report.push(
                 Kind::Refused,
                 loc.clone(),
@@ -1083,6 +1088,13 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     }
                 }
             }
+        }
+        if is_sfc {
+            match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut conv.report)? {
+                Some(prog) => programs.push(prog),
+                None => refused_programs.push(format!("`{pname}` (SFC)")),
+            }
+            continue;
         }
         let mut elems: HashMap<String, &Elem> = HashMap::new();
         for el in &ld.children {
@@ -1290,7 +1302,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         };
         return Err(Error::at(
             conv.ctx.loc(&root),
-            format!("nothing to import: Alba imports LD bodies of programs, and {why}"),
+            format!("nothing to import: Alba imports LD and SFC bodies of programs, and {why}"),
         ));
     }
     let mut report = conv.report;

@@ -143,7 +143,7 @@ fn a_real_file_with_nothing_importable_names_its_programs() {
     let text = fs::read_to_string(&f).expect("fixture");
     assert_eq!(
         err("beremiz-first-steps.xml", None, &text),
-        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD bodies of programs, and its programs are `plc_prg` (FBD)"
+        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `plc_prg` (FBD)"
     );
 }
 
@@ -643,4 +643,119 @@ fn aurora_folders_read_from_disk_keep_the_limits() {
     fs::write(dir.join("tags.pl"), aurora().tags.unwrap_or_default()).expect("write");
     alba_import::import(&dir.join("main.ara"), &out, &Options::default()).expect("import");
     assert_eq!(entries(&out), vec!["alba.toml", "main.lad", "tags.csv"]);
+}
+
+/// A PLCopen program `seq` with the SFC body `body` and BOOL variables a, b, q.
+fn sfc_project(body: &str) -> String {
+    format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="seq" pouType="program">
+      <interface><localVars><variable name="a"><type><BOOL/></type></variable><variable name="b"><type><BOOL/></type></variable><variable name="q"><type><BOOL/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
+      <actions><action name="Act"><body><ST><xhtml:p>q := TRUE;</xhtml:p></ST></body></action></actions>
+      <body><SFC>
+{body}
+      </SFC></body>
+    </pou>
+  </pous></types>
+</project>
+"#
+    )
+}
+
+fn st(cond: &str) -> String {
+    format!("<condition><inline name=\"\"><ST><xhtml:p><![CDATA[{cond}]]></xhtml:p></ST></inline></condition>")
+}
+
+#[test]
+fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
+    let step = |id: u32, name: &str, from: &str, initial: bool| {
+        format!(
+            "<step localId=\"{id}\" name=\"{name}\" initialStep=\"{initial}\"><connectionPointIn>{from}</connectionPointIn></step>"
+        )
+    };
+    let conn = |id: u32| format!("<connection refLocalId=\"{id}\"/>");
+    let tr = |id: u32, from: &str, cond: &str| {
+        format!("<transition localId=\"{id}\"><connectionPointIn>{from}</connectionPointIn>{cond}</transition>")
+    };
+    let good = format!(
+        "{}\n{}\n{}\n{}",
+        step(1, "S0", &conn(4), true),
+        tr(2, &conn(1), &st("a")),
+        step(3, "S1", &conn(2), false),
+        tr(4, &conn(3), &st("NOT a"))
+    );
+    let (p, _) =
+        alba_import::convert(Path::new("seq.xml"), &sfc_project(&good), &Options::default()).expect("converts");
+    assert_eq!(
+        p.programs[0].text,
+        "(* seq: imported from PLCopen TC6 XML by alba import *)\nINITIAL_STEP S0: END_STEP\nSTEP S1: END_STEP\n\
+         TRANSITION FROM S0 TO S1 := a; END_TRANSITION\nTRANSITION FROM S1 TO S0 := NOT a; END_TRANSITION\n"
+    );
+    let cases: Vec<(String, &str)> = vec![
+        // A function in a condition, a transition into a transition, a jump
+        // to no step, a connector that loops on itself, an action with a body,
+        // a timed qualifier without its time, a condition drawn in LD.
+        (
+            good.replace("NOT a", "ABS(n) > 2"),
+            "`ABS(…)`: functions are not available in Alba's conditions",
+        ),
+        (
+            format!("{good}\n{}", tr(9, &conn(2), &st("b"))),
+            "transition 2 of `seq`: it leads to another transition, not to a step",
+        ),
+        (
+            format!(
+                "{good}\n{}\n<jumpStep localId=\"8\" targetName=\"Nowhere\"><connectionPointIn>{}</connectionPointIn></jumpStep>",
+                tr(7, &conn(3), &st("b")),
+                conn(7)
+            ),
+            "transition 7 of `seq`: it jumps to `Nowhere`, which is not a step of the chart",
+        ),
+        (
+            format!(
+                "{good}\n<selectionDivergence localId=\"5\"><connectionPointIn>{}</connectionPointIn></selectionDivergence>\n{}",
+                conn(5),
+                tr(6, &conn(5), &st("b"))
+            ),
+            "transition 6 of `seq`: connectors chained deeper than 1000",
+        ),
+        (
+            format!(
+                "{good}\n<actionBlock localId=\"5\"><connectionPointIn>{}</connectionPointIn><action localId=\"0\" qualifier=\"N\"><reference name=\"Act\"/></action><action localId=\"0\" qualifier=\"L\"><reference name=\"q\"/></action></actionBlock>",
+                conn(3)
+            ),
+            "an action of step `S1`: `Act` is an action with a body",
+        ),
+        (
+            format!(
+                "{good}\n<actionBlock localId=\"5\"><connectionPointIn>{}</connectionPointIn><action localId=\"0\" qualifier=\"L\"><reference name=\"q\"/></action></actionBlock>",
+                conn(3)
+            ),
+            "an action of step `S1`: the qualifier L needs a duration; left out",
+        ),
+        (
+            good.replace(
+                &st("NOT a"),
+                &format!(
+                    "<condition><connectionPointIn>{}</connectionPointIn></condition>",
+                    conn(1)
+                ),
+            ),
+            "its condition is drawn in LD/FBD; only a variable or an ST expression is converted",
+        ),
+    ];
+    for (body, want) in &cases {
+        let (_, report) =
+            alba_import::convert(Path::new("seq.xml"), &sfc_project(body), &Options::default()).expect("converts");
+        let text = report.render();
+        assert!(text.contains(want), "{want}\n{text}");
+    }
+    // Two initial steps: the chart is refused, and with it the only program.
+    let two = good.replace("initialStep=\"false\"", "initialStep=\"true\"");
+    assert_eq!(
+        err("seq.xml", None, &sfc_project(&two)),
+        "seq.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `seq` (SFC)"
+    );
 }

@@ -319,3 +319,78 @@ fn aurora_plant_equals_the_native_program() {
     }
     assert!(seen["AO:4/0"].len() > 10, "speed: {:?}", seen["AO:4/0"]);
 }
+
+#[test]
+fn plcopen_sfc_equals_the_native_chart() {
+    let tmp = import("plcopen/sfc-batch.xml");
+    let imported = tmp.path().join("p");
+    let native = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/native/sfc-batch");
+    // Batches: start, the level rises by 50 every 300 ms to 900 (Heat lasts
+    // 2.4 s: its L action stops at 2 s), then falls to 0; now and then Stop is pressed while filling A, and Start is held
+    // or released at random.
+    let mut x: u64 = 0x51_7CC1_B727_220A;
+    let mut next = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    let mut stim = String::from("time_ms,tag,value\n");
+    let mut t = 0u64;
+    for batch in 0..12 {
+        stim.push_str(&format!("{t},Start,1\n"));
+        if batch % 4 == 3 {
+            stim.push_str(&format!("{},Stop,1\n{},Stop,0\n", t + 150, t + 400));
+        }
+        let hold = 200 + next() % 3000;
+        stim.push_str(&format!("{},Start,0\n", t + hold));
+        for k in 0..=18u64 {
+            stim.push_str(&format!("{},Level,{}\n", t + 200 + k * 300, k * 50));
+        }
+        // Every third batch waits long in Empty (its D action comes on).
+        let late = if batch % 3 == 1 { 9000 } else { 0 };
+        t += 200 + 18 * 300 + 2000 + late + next() % 3000;
+        for k in (0..18u64).rev() {
+            t += 100;
+            stim.push_str(&format!("{t},Level,{}\n", k * 50));
+        }
+        t += 500 + next() % 2000;
+    }
+    let cols = [
+        "ValveA",
+        "ValveB",
+        "Agitator",
+        "Drain",
+        "Heater",
+        "Busy",
+        "EndPulse",
+        "LeftMix",
+        "Aborted",
+        "Late",
+        "batch.Idle.X",
+        "batch.FillA.X",
+        "batch.FillB.X",
+        "batch.Heat.X",
+        "batch.Mix.X",
+        "batch.Empty.X",
+        "batch.Done.X",
+        "batch.Abort.X",
+        "batch.Mix.T",
+    ];
+    let a = sim(&imported, &stim, &cols, t, 10);
+    let b = sim(&native, &stim, &cols, t, 10);
+    assert_eq!(a.len(), b.len());
+    let mut on: HashMap<&str, usize> = HashMap::new();
+    for ((tt, ra), (_, rb)) in a.iter().zip(&b) {
+        for c in cols {
+            assert_eq!(ra.get(c), rb.get(c), "{c} at t = {tt} ms");
+            if ra.get(c).map(String::as_str) == Some("1") {
+                *on.entry(c).or_default() += 1;
+            }
+        }
+    }
+    // Every step and every action was active at some point.
+    for c in &cols[..18] {
+        assert!(on.get(c).copied().unwrap_or(0) > 0, "{c} never on");
+    }
+}
