@@ -13,7 +13,7 @@
 //! forward from it to steps and jumps. Action blocks hang on a step's
 //! action point; each action is a qualifier, a duration and a BOOL variable.
 
-use super::{Ctx, Var, VarKind, collect_text, connections, iec_literal};
+use super::{Ctx, Var, VarKind, collect_text, connections};
 use crate::{Error, Kind, Location, ProgramOut, Report};
 use alba_xml::Elem;
 use std::collections::HashMap;
@@ -132,60 +132,10 @@ impl Chart<'_> {
         Err(format!("`{id}` is neither a variable nor a step"))
     }
 
-    /// An ST expression as an Alba condition (docs/nets.md "Guards").
+    /// An ST expression as an Alba condition (docs/nets.md "Guards":
+    /// no functions).
     fn condition(&self, st: &str) -> Result<String, String> {
-        let st = st.trim().trim_end_matches(';').trim();
-        if st.is_empty() {
-            return Err("the condition is empty".into());
-        }
-        let b: Vec<char> = st.chars().collect();
-        let mut out: Vec<String> = Vec::new();
-        let mut i = 0;
-        while i < b.len() {
-            let c = b[i];
-            if c.is_whitespace() {
-                i += 1;
-            } else if c == '(' && b.get(i + 1) == Some(&'*') {
-                return Err("a comment inside the condition".into());
-            } else if c.is_ascii_alphanumeric() || c == '_' {
-                let s = i;
-                while i < b.len() && (b[i].is_ascii_alphanumeric() || "_.#".contains(b[i])) {
-                    i += 1;
-                }
-                let w: String = b[s..i].iter().collect();
-                let up = w.to_ascii_uppercase();
-                if b.get(i) == Some(&'(') {
-                    return Err(format!("`{w}(…)`: functions are not available in Alba's conditions"));
-                }
-                if ["AND", "OR", "XOR", "NOT", "MOD", "TRUE", "FALSE"].contains(&up.as_str()) {
-                    out.push(up);
-                } else if c.is_ascii_digit() || w.contains('#') {
-                    let lit = if up.starts_with("T#") || up.starts_with("TIME#") {
-                        super::duration_ms(up.split_once('#').map(|(_, r)| r).unwrap_or("")).map(|ms| ms.to_string())
-                    } else {
-                        iec_literal(&w)
-                    };
-                    out.push(lit.ok_or_else(|| format!("`{w}` is not a literal Alba reads"))?);
-                } else {
-                    out.push(self.name(&w)?);
-                }
-            } else {
-                let two: String = b[i..(i + 2).min(b.len())].iter().collect();
-                if ["<=", ">=", "<>", "**"].contains(&two.as_str()) {
-                    out.push(two);
-                    i += 2;
-                } else if "+-*/<>=()".contains(c) {
-                    out.push(c.to_string());
-                    i += 1;
-                } else if c == '&' {
-                    out.push("AND".into());
-                    i += 1;
-                } else {
-                    return Err(format!("`{c}` in the condition"));
-                }
-            }
-        }
-        Ok(out.join(" "))
+        super::st_expression(st, &|w| self.name(w), &[])
     }
 }
 
@@ -317,7 +267,7 @@ pub(super) fn convert(
                         .unwrap_or_default();
                     let negated = r.attr("negated") == Some("true");
                     match (negated, chart.scope.get(&expr.to_ascii_lowercase())) {
-                        (false, Some(Var { alba, kind: VarKind::Tag(t) })) if t == "BOOL" => {
+                        (false, Some(Var { alba, kind: VarKind::Tag(t), .. })) if t == "BOOL" => {
                             assoc.push(format!("{alba}(N);"));
                         }
                         _ => report.push(
