@@ -566,10 +566,7 @@ pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Rep
     };
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if format == Format::Aurora {
-        let dir = match input.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
+        let dir = parent_dir(input);
         let mut folder = aurora::Folder::read(&dir)?;
         folder.main = Some(text.to_string());
         return convert_folder(&folder_name(&dir), &folder, opts);
@@ -591,6 +588,14 @@ pub fn convert_folder(name: &str, folder: &aurora::Folder, opts: &Options) -> Re
     run(Format::Aurora, name, aurora::TAGS, || {
         aurora::convert(name, folder, opts)
     })
+}
+
+/// The folder a file is in (`.` for a bare file name).
+fn parent_dir(file: &Path) -> PathBuf {
+    match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
 }
 
 fn folder_name(dir: &Path) -> String {
@@ -840,14 +845,7 @@ pub fn import(input: &Path, out_dir: &Path, opts: &Options) -> Result<Report, Er
                 input.display()
             )));
         }
-        let dir = if is_dir {
-            input.to_path_buf()
-        } else {
-            match input.parent() {
-                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-                _ => PathBuf::from("."),
-            }
-        };
+        let dir = if is_dir { input.to_path_buf() } else { parent_dir(input) };
         let folder = aurora::Folder::read(&dir)?;
         let (project, report) = convert_folder(&folder_name(&dir), &folder, opts)?;
         write_project(&project, out_dir, opts.force)?;
