@@ -96,18 +96,18 @@ enum Command {
         verify: bool,
     },
     /// Convert a program written with another tool — LDmicro `.ld`, PLCopen TC6 XML,
-    /// Studio 5000 `.L5X` — into a new Alba project, with a report of what was converted,
-    /// approximated or refused (docs/interchange.md).
+    /// Studio 5000 `.L5X`, an AuroraLD Studio project folder — into a new Alba project,
+    /// with a report of what was converted, approximated or refused (docs/interchange.md).
     Import {
-        /// The file to import.
+        /// The file to import, or an AuroraLD project folder (or its main.ara).
         file: PathBuf,
         /// The project folder to write (new or empty, unless --force).
         #[arg(short, long, value_name = "DIR")]
         out: PathBuf,
         /// The input's format (default: detected from its content, then its extension).
-        #[arg(long, value_name = "FORMAT", value_parser = ["ldmicro", "plcopen", "l5x"])]
+        #[arg(long, value_name = "FORMAT", value_parser = ["ldmicro", "plcopen", "l5x", "aurora"])]
         format: Option<String>,
-        /// Wire the I/O to this Arduino board's pins (LDmicro: uno, nano or mega).
+        /// Wire the I/O to this Arduino board's pins (uno, nano or mega; LDmicro and AuroraLD).
         #[arg(long, value_name = "BOARD", value_parser = ["uno", "nano", "mega"])]
         board: Option<String>,
         /// Replace the project files of an existing, non-empty folder.

@@ -1,17 +1,24 @@
-//! PLCopen TC6 XML export of Alba ladder programs (the first part of
-//! `alba export plcopen`): each ladder program becomes a `program` POU with
-//! an LD body — contacts, coils, branches as parallel connections, timers as
-//! IEC `TON`/`TOF`/`TP` blocks — with layout positions, and the tag table
-//! becomes global variables with IEC addresses. Importing the file again
-//! gives the same behaviour (tested on the examples by simulation).
+//! PLCopen TC6 XML export of Alba ladder programs (`alba export plcopen`):
+//! each ladder program becomes a `program` POU with an LD body — contacts,
+//! coils, branches as parallel connections, timers, counters and one-shots
+//! as IEC function blocks, compares and math as IEC functions — with layout
+//! positions, and the tag table becomes global variables with IEC
+//! addresses. Importing the file again gives the same behaviour (tested by
+//! simulation, `tests/export.rs`).
 //!
-//! Exported: `XIC` `XIO` `OTE` `OTL` `OTU`, branches, `TON` `TOF` `TP` with a
-//! literal preset (a following element connects to the timer's input, as
-//! Alba's timers pass the rung on), compares as `EQ`…`LE` functions and
-//! `ADD` `SUB` `MUL` `DIV` `MOD` `MOV` as functions with EN wired to the
-//! rung; `T.DN`/`T.ACC`/`T.PRE` as `T.Q`/`T.ET`/`T.PT`. Refused, with the
-//! rung's place: every other instruction, addresses as operands, counters,
-//! RTO, and other members.
+//! Exported: `XIC` `XIO` `OTE` `OTL` `OTU`, branches; `TON` `TOF` `TP` with
+//! a literal preset (a following element connects to the timer's input, as
+//! Alba's timers pass the rung on); `CTU` and `CTD` (a counter counted only
+//! up or only down) as IEC `CTU`/`CTD` with PV, `C.DN` as `C.Q` (CTU) or
+//! `GE(C.CV, C.PV)` (CTD: IEC's Q is CV ≤ 0); `ONS` `OSR` `OSF` as
+//! `R_TRIG`/`F_TRIG` instances named after their storage bit; compares as
+//! `EQ`…`LE` functions, `ADD` `SUB` `MUL` `DIV` `MOD` `MOV` as functions
+//! with EN wired to the rung, `CPT` as `MOVE` of an ST expression;
+//! `T.DN`/`T.ACC`/`T.PRE` as `T.Q`/`T.ET`/`T.PT`, `C.ACC`/`C.PRE` as
+//! `C.CV`/`C.PV`. Refused, with the rung's place: `RTO` and `RES` (IEC has
+//! no retentive timer and resets through a block's own inputs), up/down
+//! counters, one-shots whose storage bit is read elsewhere, every other
+//! instruction, addresses as operands, and other members.
 
 use crate::{Error, Kind, Location, Report};
 use alba_model::Address;
@@ -48,6 +55,8 @@ struct Graph {
     xml: String,
     next_id: usize,
     order: usize,
+    /// Differences to report for the rung being written.
+    notes: Vec<String>,
 }
 
 type Conn = (usize, Option<&'static str>);
@@ -73,6 +82,152 @@ struct Rung<'a> {
     bools: &'a HashMap<String, String>,
     /// Numeric tags (lower case → name).
     numbers: &'a HashMap<String, String>,
+    /// Counters (lower case → the IEC block, the name, the literal preset).
+    counters: &'a HashMap<String, (&'static str, String, Option<String>)>,
+    /// One-shot storage bits exported as instances (lower case → block, name).
+    trigs: &'a HashMap<String, (&'static str, String)>,
+    /// One-shot storage bits that cannot be instances (lower case → why).
+    bad_trigs: &'a HashMap<String, String>,
+}
+
+impl Rung<'_> {
+    fn counter(&self, name: &str) -> Option<&(&'static str, String, Option<String>)> {
+        self.counters.get(&name.to_ascii_lowercase())
+    }
+}
+
+/// An Alba CPT expression as an ST expression (the same precedence and
+/// associativity: operands are bracketed only where Alba's grammar needs it;
+/// ST's own levels of `<`… and `=`/`<>` are bracketed apart).
+fn st_expr(r: &Rung<'_>, e: &alba_ladder::expr::Expr, out: &mut String) -> Result<(), String> {
+    use alba_ladder::expr::{BinE, Expr, Func};
+    fn prec(op: BinE) -> u8 {
+        match op {
+            BinE::Or => 1,
+            BinE::Xor => 2,
+            BinE::And => 3,
+            BinE::Eq | BinE::Ne | BinE::Lt | BinE::Gt | BinE::Le | BinE::Ge => 4,
+            BinE::Add | BinE::Sub => 5,
+            BinE::Mul | BinE::Div | BinE::Mod => 6,
+            BinE::Pow => 8,
+        }
+    }
+    fn level(e: &Expr) -> u8 {
+        match e {
+            Expr::Bin(op, ..) => prec(*op),
+            Expr::Neg(_) | Expr::Not(..) => 7,
+            _ => 9,
+        }
+    }
+    fn child(r: &Rung<'_>, e: &Expr, paren: bool, out: &mut String) -> Result<(), String> {
+        if paren {
+            out.push('(');
+        }
+        st_expr(r, e, out)?;
+        if paren {
+            out.push(')');
+        }
+        Ok(())
+    }
+    match e {
+        Expr::Lit(l, _) => match l {
+            alba_model::Literal::Int(v) | alba_model::Literal::Time(v) => out.push_str(&v.to_string()),
+            alba_model::Literal::Real(v) => {
+                let t = format!("{v:?}");
+                // ST reals need a dot before their exponent: 1.0E-7.
+                out.push_str(&if t.contains(['e', 'E']) && !t.contains('.') {
+                    t.replacen('e', ".0E", 1)
+                } else {
+                    t
+                });
+            }
+            alba_model::Literal::Bool(_) => return Err("a BOOL literal in CPT".into()),
+        },
+        Expr::Name(n, _) => {
+            let name = match n.split_once('.') {
+                Some((t, m)) => {
+                    if let Some(k) = r.timers.keys().find(|k| k.eq_ignore_ascii_case(t)) {
+                        match m.to_ascii_uppercase().as_str() {
+                            "ACC" => format!("{k}.ET"),
+                            "PRE" => format!("{k}.PT"),
+                            _ => return Err(format!("`{n}` in CPT")),
+                        }
+                    } else if let Some((_, c, _)) = r.counter(t) {
+                        match m.to_ascii_uppercase().as_str() {
+                            "ACC" => format!("{c}.CV"),
+                            "PRE" => format!("{c}.PV"),
+                            _ => return Err(format!("`{n}` in CPT")),
+                        }
+                    } else {
+                        return Err(format!("`{n}`: only timers' and counters' ACC and PRE are exported"));
+                    }
+                }
+                None => r
+                    .numbers
+                    .get(&n.to_ascii_lowercase())
+                    .cloned()
+                    .ok_or_else(|| format!("`{n}` is not exported (a numeric tag; addresses are not)"))?,
+            };
+            out.push_str(&name);
+        }
+        Expr::Const(v) => out.push_str(&format!("{v:?}")),
+        Expr::Neg(a) | Expr::Not(a, _) => {
+            out.push_str(if matches!(e, Expr::Neg(_)) { "-" } else { "NOT " });
+            child(r, a, level(a) < 7 || matches!(**a, Expr::Neg(_) | Expr::Not(..)), out)?;
+        }
+        Expr::Bin(op, a, b, _) => {
+            let p = prec(*op);
+            let cmp = p == 4;
+            let (la, lb) = (level(a), level(b));
+            let pa = la < p || (op == &BinE::Pow && la == p) || (cmp && la == 4);
+            let pb = lb < p || (op != &BinE::Pow && lb == p) || (cmp && lb == 4) || lb == 7;
+            child(r, a, pa, out)?;
+            out.push_str(match op {
+                BinE::Or => " OR ",
+                BinE::Xor => " XOR ",
+                BinE::And => " AND ",
+                BinE::Eq => " = ",
+                BinE::Ne => " <> ",
+                BinE::Lt => " < ",
+                BinE::Gt => " > ",
+                BinE::Le => " <= ",
+                BinE::Ge => " >= ",
+                BinE::Add => " + ",
+                BinE::Sub => " - ",
+                BinE::Mul => " * ",
+                BinE::Div => " / ",
+                BinE::Mod => " MOD ",
+                BinE::Pow => " ** ",
+            });
+            child(r, b, pb, out)?;
+        }
+        Expr::Call(f, args, _) => {
+            let name = match f {
+                Func::Sqrt => "SQRT",
+                Func::Abs => "ABS",
+                Func::Sin => "SIN",
+                Func::Cos => "COS",
+                Func::Tan => "TAN",
+                Func::Asn => "ASIN",
+                Func::Acs => "ACOS",
+                Func::Atn => "ATAN",
+                Func::Ln => "LN",
+                Func::Log => "LOG",
+                Func::Trn => "TRUNC",
+                other => return Err(format!("CPT's {other:?} has no IEC 61131-3 function")),
+            };
+            out.push_str(name);
+            out.push('(');
+            for (k, a) in args.iter().enumerate() {
+                if k > 0 {
+                    out.push_str(", ");
+                }
+                st_expr(r, a, out)?;
+            }
+            out.push(')');
+        }
+    }
+    Ok(())
 }
 
 impl Graph {
@@ -128,7 +283,16 @@ impl Graph {
                     _ => {}
                 }
             }
-            return Err(format!("`{op}`: only a timer's ACC and PRE are exported as numbers"));
+            if let Some((_, name, _)) = r.counter(t) {
+                match m.to_ascii_uppercase().as_str() {
+                    "ACC" => return Ok(format!("{name}.CV")),
+                    "PRE" => return Ok(format!("{name}.PV")),
+                    _ => {}
+                }
+            }
+            return Err(format!(
+                "`{op}`: only a timer's or counter's ACC and PRE are exported as numbers"
+            ));
         }
         let up = op.to_ascii_uppercase();
         if let Some(ms) = up
@@ -178,6 +342,14 @@ impl Graph {
     }
 
     fn bit(&self, r: &Rung<'_>, op: &str) -> Result<String, String> {
+        if let Some((t, m)) = op.split_once('.')
+            && let Some((kind, name, _)) = r.counter(t)
+        {
+            return match (*kind, m.to_ascii_uppercase().as_str()) {
+                ("CTU", "DN") => Ok(format!("{name}.Q")),
+                _ => Err(format!("`{op}`: only a CTU counter's DN is exported as a bit")),
+            };
+        }
         if let Some((t, m)) = op.split_once('.') {
             let name = r
                 .timers
@@ -208,6 +380,19 @@ impl Graph {
         *x += 80;
         let pos = format!("<position x=\"{x}\" y=\"{y}\"/>");
         match m {
+            "XIC" | "XIO"
+                if op(0).split_once('.').is_some_and(|(t, mb)| {
+                    mb.eq_ignore_ascii_case("DN") && r.counter(t).is_some_and(|c| c.0 == "CTD")
+                }) =>
+            {
+                // IEC's CTD.Q is CV <= 0; Alba's DN is ACC >= PRE.
+                let c = op(0);
+                let (_, name, _) = r.counter(c.split('.').next().unwrap_or("")).cloned().unwrap_or_default();
+                let f = if m == "XIC" { "GE" } else { "LT" };
+                let id = self.function(f, &inputs, &[("IN1", format!("{name}.CV")), ("IN2", format!("{name}.PV"))], *x, y);
+                *x += 60;
+                Ok(vec![(id, Some("OUT"))])
+            }
             "XIC" | "XIO" => {
                 let v = self.bit(r, &op(0))?;
                 let id = self.id();
@@ -331,6 +516,128 @@ impl Graph {
                 // Alba's math passes the rung on.
                 Ok(inputs)
             }
+            "CTU" | "CTD" => {
+                let c = op(0);
+                let (kind, name, lit) = r.counter(&c).cloned().ok_or_else(|| format!("`{c}` is not a counter"))?;
+                if kind != m {
+                    return Err(format!(
+                        "`{name}` is counted up and down: IEC's CTUD evaluates both inputs in one call, Alba's CTU and CTD each at its own rung"
+                    ));
+                }
+                let acc = op(2);
+                if acc != "0" && acc != "?" {
+                    return Err(format!("{m}: an initial count `{acc}` has no IEC equivalent"));
+                }
+                let pre = op(1);
+                let pv = if pre == "?" {
+                    lit.ok_or_else(|| format!("{m}: the preset of `{name}` is given by no instruction"))?
+                } else {
+                    self.number(r, &pre)?
+                };
+                let pv_id = self.id();
+                let _ = writeln!(
+                    self.xml,
+                    "          <inVariable localId=\"{pv_id}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/><connectionPointOut/><expression>{}</expression></inVariable>",
+                    *x - 70,
+                    y + 30,
+                    esc(&pv)
+                );
+                let id = self.id();
+                self.order += 1;
+                let input = if m == "CTU" { "CU" } else { "CD" };
+                let _ = writeln!(
+                    self.xml,
+                    "          <block localId=\"{id}\" typeName=\"{m}\" instanceName=\"{}\" executionOrderId=\"{}\" width=\"60\" height=\"80\">{pos}<inputVariables><variable formalParameter=\"{input}\">{}</variable><variable formalParameter=\"PV\">{}</variable></inputVariables><inOutVariables/><outputVariables><variable formalParameter=\"Q\"><connectionPointOut/></variable><variable formalParameter=\"CV\"><connectionPointOut/></variable></outputVariables></block>",
+                    esc(&name),
+                    self.order,
+                    conns(&inputs),
+                    conns(&[(pv_id, None)])
+                );
+                *x += 60;
+                // Alba's counters pass the rung on.
+                Ok(inputs)
+            }
+            "ONS" | "OSR" | "OSF" => {
+                let s = op(0);
+                let key = s.to_ascii_lowercase();
+                if let Some(why) = r.bad_trigs.get(&key) {
+                    return Err(why.clone());
+                }
+                let (block, name) = r.trigs.get(&key).cloned().ok_or_else(|| format!("`{s}` is not a BOOL tag"))?;
+                let out = if m == "ONS" {
+                    None
+                } else {
+                    let o = self.bit(r, &op(1))?;
+                    if o.contains('.') {
+                        return Err(format!("`{}` cannot be written", op(1)));
+                    }
+                    Some(o)
+                };
+                if m == "OSF" {
+                    self.notes.push(format!(
+                        "OSF({s},…) is F_TRIG `{name}`: IEC's F_TRIG gives a pulse on the first scan when CLK is false, Alba's OSF does not (an import into Alba keeps Alba's)"
+                    ));
+                }
+                let id = self.id();
+                self.order += 1;
+                let _ = writeln!(
+                    self.xml,
+                    "          <block localId=\"{id}\" typeName=\"{block}\" instanceName=\"{}\" executionOrderId=\"{}\" width=\"60\" height=\"40\">{pos}<inputVariables><variable formalParameter=\"CLK\">{}</variable></inputVariables><inOutVariables/><outputVariables><variable formalParameter=\"Q\"><connectionPointOut/></variable></outputVariables></block>",
+                    esc(&name),
+                    self.order,
+                    conns(&inputs)
+                );
+                *x += 60;
+                let Some(o) = out else {
+                    // ONS passes on its pulse.
+                    return Ok(vec![(id, Some("Q"))]);
+                };
+                let cid = self.id();
+                self.order += 1;
+                let _ = writeln!(
+                    self.xml,
+                    "          <coil localId=\"{cid}\" executionOrderId=\"{}\" negated=\"false\" width=\"21\" height=\"15\"><position x=\"{}\" y=\"{}\"/>{}<connectionPointOut/><variable>{}</variable></coil>",
+                    self.order,
+                    *x + 20,
+                    y + 40,
+                    conns(&[(id, Some("Q"))]),
+                    esc(&o)
+                );
+                // OSR and OSF pass the rung on.
+                Ok(inputs)
+            }
+            "CPT" => {
+                let dest = op(0);
+                let d = r
+                    .numbers
+                    .get(&dest.to_ascii_lowercase())
+                    .cloned()
+                    .ok_or_else(|| format!("CPT: the destination `{dest}` is not a numeric tag"))?;
+                let text = op(1);
+                let e = alba_ladder::expr::parse(&text, alba_diag::FileId(0), 0)
+                    .map_err(|(m, _)| format!("CPT: {m}"))?;
+                let mut st = String::new();
+                st_expr(r, &e, &mut st)?;
+                let id = self.function("MOVE", &inputs, &[("IN", st)], *x, y);
+                let ov = self.id();
+                let _ = writeln!(
+                    self.xml,
+                    "          <outVariable localId=\"{ov}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/>{}<expression>{}</expression></outVariable>",
+                    *x + 80,
+                    y + 30,
+                    conns(&[(id, Some("OUT"))]),
+                    esc(&d)
+                );
+                *x += 60;
+                Ok(inputs)
+            }
+            "RTO" => Err(
+                "RTO has no IEC 61131-3 equivalent: the standard timers are TON, TOF and TP (a retentive timer is a vendor's library block)"
+                    .into(),
+            ),
+            "RES" => Err(
+                "RES has no IEC 61131-3 equivalent: an IEC counter is reset by R of its own call, a timer by its IN".into(),
+            ),
             other => Err(format!("{other} is not exported to PLCopen (yet)")),
         }
     }
@@ -352,6 +659,12 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     let mut parsed = Vec::new();
     let mut timers: HashMap<String, &'static str> = HashMap::new();
     let mut bad_timers: HashMap<String, String> = HashMap::new();
+    // Counters: counted up, down, the first literal preset.
+    let mut counting: HashMap<String, (bool, bool, Option<String>)> = HashMap::new();
+    // One-shot storage bits: the block, how many one-shots use them; and
+    // how often every tag is named by any operand.
+    let mut oneshots: HashMap<String, (&'static str, usize)> = HashMap::new();
+    let mut named: HashMap<String, usize> = HashMap::new();
     for p in &project.programs {
         if p.plant || !p.name.to_ascii_lowercase().ends_with(".lad") {
             report.push(
@@ -377,8 +690,35 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
         for r in &prog.rungs {
             scan(&r.elements, &mut |i| {
                 let m = i.mnemonic.name();
+                for o in &i.operands {
+                    let base = o.text.trim().split('.').next().unwrap_or("").to_ascii_lowercase();
+                    *named.entry(base).or_default() += 1;
+                }
                 if let Some(t) = i.operands.first().map(|o| o.text.trim().to_string()) {
                     let key = t.to_ascii_lowercase();
+                    match m {
+                        "CTU" | "CTD" => {
+                            let e = counting.entry(key.clone()).or_default();
+                            if m == "CTU" {
+                                e.0 = true;
+                            } else {
+                                e.1 = true;
+                            }
+                            let pre = i.operands.get(1).map(|o| o.text.trim().to_string()).unwrap_or_default();
+                            if e.2.is_none() && pre.parse::<i64>().is_ok() {
+                                e.2 = Some(pre);
+                            }
+                        }
+                        "ONS" | "OSR" | "OSF" => {
+                            let block = if m == "OSF" { "F_TRIG" } else { "R_TRIG" };
+                            let e = oneshots.entry(key.clone()).or_insert((block, 0));
+                            if e.0 != block {
+                                e.1 += 1;
+                            }
+                            e.1 += 1;
+                        }
+                        _ => {}
+                    }
                     let kind: Option<&'static str> = match m {
                         "TON" => Some("TON"),
                         "TOF" => Some("TOF"),
@@ -406,16 +746,55 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     let mut bools: HashMap<String, String> = HashMap::new();
     let mut numbers: HashMap<String, String> = HashMap::new();
     let mut timer_names: HashMap<String, &'static str> = HashMap::new();
+    let mut counters: HashMap<String, (&'static str, String, Option<String>)> = HashMap::new();
+    let mut trigs: HashMap<String, (&'static str, String)> = HashMap::new();
+    let mut bad_trigs: HashMap<String, String> = HashMap::new();
     for t in project.tags.iter() {
         let ty = t.ty.name();
-        let type_xml = match ty {
-            "BOOL" | "SINT" | "INT" | "DINT" | "LINT" | "REAL" | "LREAL" | "TIME" => format!("<{ty}/>"),
-            "TIMER" => {
+        let key = t.name.to_ascii_lowercase();
+        // A one-shot's storage bit becomes the instance of its R_TRIG/F_TRIG
+        // when nothing else reads or writes it.
+        let trig = match (ty, oneshots.get(&key)) {
+            ("BOOL", Some(&(block, 1))) if named.get(&key) == Some(&1) && t.address.is_none() => Some(block),
+            ("BOOL", Some(&(_, n))) => {
+                let why = if n > 1 {
+                    format!(
+                        "`{}` is the storage bit of {n} one-shots; an R_TRIG/F_TRIG instance serves one",
+                        t.name
+                    )
+                } else {
+                    format!(
+                        "`{}` is a one-shot's storage bit and is also used elsewhere (or has an address); it cannot become an R_TRIG/F_TRIG instance",
+                        t.name
+                    )
+                };
+                bad_trigs.insert(key.clone(), why);
+                None
+            }
+            _ => None,
+        };
+        let type_xml = match (ty, trig) {
+            (_, Some(block)) => {
+                trigs.insert(key.clone(), (block, t.name.clone()));
+                format!("<derived name=\"{block}\"/>")
+            }
+            ("BOOL" | "SINT" | "INT" | "DINT" | "LINT" | "REAL" | "LREAL" | "TIME", _) => format!("<{ty}/>"),
+            ("TIMER", _) => {
                 let k = timers.get(&t.name.to_ascii_lowercase()).copied().unwrap_or("TON");
                 timer_names.insert(t.name.clone(), k);
                 format!("<derived name=\"{k}\"/>")
             }
-            other => {
+            ("COUNTER", _) => {
+                let (up, down, pre) = counting.get(&key).cloned().unwrap_or((true, false, None));
+                let k = match (up, down) {
+                    (true, true) => "CTUD",
+                    (false, true) => "CTD",
+                    _ => "CTU",
+                };
+                counters.insert(key.clone(), (k, t.name.clone(), pre));
+                format!("<derived name=\"{k}\"/>")
+            }
+            (other, _) => {
                 report.push(
                     Kind::Refused,
                     Location::new("tags.csv", 1, 1),
@@ -424,10 +803,15 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
                 continue;
             }
         };
-        if ty == "BOOL" {
-            bools.insert(t.name.to_ascii_lowercase(), t.name.clone());
-        } else if ty != "TIMER" {
-            numbers.insert(t.name.to_ascii_lowercase(), t.name.clone());
+        match ty {
+            _ if trig.is_some() => {}
+            "BOOL" => {
+                bools.insert(key, t.name.clone());
+            }
+            "TIMER" | "COUNTER" => {}
+            _ => {
+                numbers.insert(key, t.name.clone());
+            }
         }
         let addr = match t.address {
             Some(a) => match iec_address(a) {
@@ -474,6 +858,9 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
         timers: &timer_names,
         bools: &bools,
         numbers: &numbers,
+        counters: &counters,
+        trigs: &trigs,
+        bad_trigs: &bad_trigs,
     };
     // Programs.
     let mut pous = String::new();
@@ -490,6 +877,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
             xml: String::new(),
             next_id: 0,
             order: 0,
+            notes: Vec::new(),
         };
         let mut y = 20i64;
         for r in &prog.rungs {
@@ -499,6 +887,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
                 xml: String::new(),
                 next_id: g.next_id,
                 order: g.order,
+                notes: Vec::new(),
             };
             let rail = rg.id();
             let _ = writeln!(
@@ -536,7 +925,10 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
                     g.xml.push_str(&rg.xml);
                     g.next_id = rg.next_id;
                     g.order = rg.order;
-                    report.push(Kind::Converted, loc, "rung exported".to_string());
+                    report.push(Kind::Converted, loc.clone(), "rung exported".to_string());
+                    for n in rg.notes.drain(..) {
+                        report.push(Kind::Approximated, loc.clone(), n);
+                    }
                 }
                 Err(why) => {
                     report.push(Kind::Refused, loc, format!("rung not exported: {why}"));

@@ -916,6 +916,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             board: None,
             tags: conv.tags,
             programs: outs,
+            ..Project::default()
         },
         report,
     ))

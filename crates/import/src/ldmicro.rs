@@ -1600,6 +1600,7 @@ pub fn convert(file: &str, stem: &str, text: &str, opts: &Options) -> Result<(Pr
         board,
         tags,
         programs: vec![prog],
+        ..Project::default()
     };
     let mut report = conv.report;
     report.entries.sort_by_key(|e| (e.location.line, e.location.col));

@@ -1,12 +1,14 @@
 //! `alba import`: converts programs written with other tools into a complete
 //! Alba project (SPEC §3.3, issue 21).
 //!
-//! Three formats, each with its own module:
+//! Four formats, each with its own module:
 //!
 //! - [`ldmicro`]: LDmicro's text format (`LDmicro0.1` / `LDmicro0.2`), with
 //!   the I/O list wired to an Arduino board's pins or to plain DI/DO tags;
 //! - [`plcopen`]: PLCopen TC6 XML v2.01 LD bodies (OpenPLC editor, Beremiz);
-//! - [`l5x`]: Studio 5000 `.L5X` exports (tags, RLL routines in neutral text).
+//! - [`l5x`]: Studio 5000 `.L5X` exports (tags, RLL routines in neutral text);
+//! - [`aurora`]: AuroraLD Studio project folders (`main.ara`, `tags.pl`,
+//!   `instructions.pl`, `trends.pl`, `.pcs` screens).
 //!
 //! Every importer reads its whole input first and converts it into a
 //! [`Project`] in memory together with a [`Report`] of what was converted,
@@ -21,6 +23,7 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
+pub mod aurora;
 mod circuit;
 pub mod export;
 #[doc(hidden)]
@@ -60,10 +63,12 @@ pub enum Format {
     Plcopen,
     /// Studio 5000 `.L5X` exports.
     L5x,
+    /// AuroraLD Studio project folders (or their `main.ara`).
+    Aurora,
 }
 
 impl Format {
-    pub const ALL: [Format; 3] = [Format::Ldmicro, Format::Plcopen, Format::L5x];
+    pub const ALL: [Format; 4] = [Format::Ldmicro, Format::Plcopen, Format::L5x, Format::Aurora];
 
     /// The name used by `--format`.
     pub fn name(self) -> &'static str {
@@ -71,6 +76,7 @@ impl Format {
             Format::Ldmicro => "ldmicro",
             Format::Plcopen => "plcopen",
             Format::L5x => "l5x",
+            Format::Aurora => "aurora",
         }
     }
 
@@ -86,6 +92,7 @@ impl Format {
             Format::Ldmicro => "LDmicro",
             Format::Plcopen => "PLCopen TC6 XML",
             Format::L5x => "Studio 5000 L5X",
+            Format::Aurora => "AuroraLD Studio",
         }
     }
 }
@@ -102,6 +109,9 @@ pub fn detect(path: &Path, text: &str) -> Option<Format> {
     if t.starts_with("LDmicro") {
         return Some(Format::Ldmicro);
     }
+    if t.starts_with(aurora::MAIN_HEADER) {
+        return Some(Format::Aurora);
+    }
     if t.starts_with('<') {
         let head: String = t.chars().take(4096).collect();
         if head.contains("<RSLogix5000Content") {
@@ -116,6 +126,7 @@ pub fn detect(path: &Path, text: &str) -> Option<Format> {
         "ld" => Some(Format::Ldmicro),
         "l5x" => Some(Format::L5x),
         "xml" => Some(Format::Plcopen),
+        "ara" => Some(Format::Aurora),
         _ => None,
     }
 }
@@ -319,7 +330,7 @@ pub struct BoardOut {
 }
 
 /// A converted project, before it is written.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Project {
     pub name: String,
     pub description: String,
@@ -327,6 +338,69 @@ pub struct Project {
     pub board: Option<BoardOut>,
     pub tags: Vec<TagOut>,
     pub programs: Vec<ProgramOut>,
+    /// SCADA screens (`hmi/<name>.json`).
+    pub screens: Vec<ScreenOut>,
+    /// Alarms (`alarms.csv`).
+    pub alarms: Vec<AlarmOut>,
+    /// The studio's trend set (`trends.json`).
+    pub trends: Option<TrendsOut>,
+}
+
+/// A SCADA screen of the project (the format of docs/file-formats.md, "Screens").
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScreenOut {
+    /// Relative to the project folder (`hmi/main.json`).
+    pub file: String,
+    pub title: String,
+    pub width: u32,
+    pub height: u32,
+    pub elements: Vec<ElementOut>,
+}
+
+/// An element of a screen: its JSON object and where it comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ElementOut {
+    pub id: String,
+    pub json: serde_json::Value,
+    pub origin: Location,
+}
+
+/// A row of alarms.csv (docs/alarms.md).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AlarmOut {
+    pub id: String,
+    pub tag: String,
+    pub condition: String,
+    pub severity: String,
+    pub message: String,
+    pub origin: Location,
+}
+
+/// trends.json (docs/api.md, "Trends"): the live window and the pens.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrendsOut {
+    pub window_ms: u64,
+    pub pens: Vec<PenOut>,
+}
+
+/// A pen of trends.json: a tag or member, on axis 1, with a fixed scale or none.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PenOut {
+    pub tag: String,
+    pub scale: Option<(f64, f64)>,
+}
+
+impl ScreenOut {
+    fn json(&self) -> String {
+        let screen = serde_json::json!({
+            "schema": 1,
+            "title": self.title,
+            "width": self.width,
+            "height": self.height,
+            "elements": self.elements.iter().map(|e| e.json.clone()).collect::<Vec<_>>(),
+        });
+        serde_json::to_string_pretty(&screen).unwrap_or_default() + "\n"
+    }
 }
 
 impl Project {
@@ -376,8 +450,51 @@ impl Project {
         for p in &self.programs {
             v.push((p.file.clone(), p.text.clone()));
         }
+        for sc in &self.screens {
+            v.push((sc.file.clone(), sc.json()));
+        }
+        if !self.alarms.is_empty() {
+            let mut a = String::from("id,tag,condition,severity,delay_ms,deadband,message\n");
+            for r in &self.alarms {
+                let fields = [
+                    csv_field(&r.id),
+                    csv_field(&r.tag),
+                    csv_field(&r.condition),
+                    csv_field(&r.severity),
+                    "0".into(),
+                    "0".into(),
+                    csv_field(&r.message),
+                ];
+                a.push_str(&fields.join(","));
+                a.push('\n');
+            }
+            v.push(("alarms.csv".into(), a));
+        }
+        if let Some(t) = &self.trends {
+            let pens: Vec<serde_json::Value> = t
+                .pens
+                .iter()
+                .map(|p| {
+                    let (min, max) = match p.scale {
+                        Some((a, b)) => (serde_json::json!(a), serde_json::json!(b)),
+                        None => (serde_json::Value::Null, serde_json::Value::Null),
+                    };
+                    serde_json::json!({"tag": p.tag, "axis": 1, "min": min, "max": max})
+                })
+                .collect();
+            let set = serde_json::json!({"version": 1, "window_ms": t.window_ms, "pens": pens});
+            v.push((
+                "trends.json".into(),
+                serde_json::to_string_pretty(&set).unwrap_or_default() + "\n",
+            ));
+        }
         v
     }
+}
+
+/// The tag of a member (`T.DN` → `T`).
+fn base_tag(name: &str) -> &str {
+    name.split('.').next().unwrap_or(name)
 }
 
 fn toml_str(s: &str) -> String {
@@ -429,7 +546,9 @@ pub fn read_input(input: &Path) -> Result<String, Error> {
     })
 }
 
-/// Converts `text` (the contents of `input`) into a project in memory.
+/// Converts `text` (the contents of `input`) into a project in memory. An
+/// AuroraLD project is a folder: `input` is its `main.ara` (whose text is
+/// `text`), and the other files are read beside it.
 pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Report), Error> {
     let file = input
         .file_name()
@@ -440,16 +559,60 @@ pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Rep
         None => detect(input, text).ok_or_else(|| {
             Error::at(
                 Location::new(&file, 1, 1),
-                "cannot tell the format: not LDmicro (`LDmicro0.1` first line), PLCopen XML (`<project>`) \
-                 or L5X (`<RSLogix5000Content>`); give it with --format",
+                "cannot tell the format: not LDmicro (`LDmicro0.1` first line), PLCopen XML (`<project>`), \
+                 L5X (`<RSLogix5000Content>`) or an AuroraLD main.ara (`//PROJECT NAME`); give it with --format",
             )
         })?,
     };
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if format == Format::Aurora {
+        let dir = parent_dir(input);
+        let mut folder = aurora::Folder::read(&dir)?;
+        folder.main = Some(text.to_string());
+        return convert_folder(&folder_name(&dir), &folder, opts);
+    }
     let stem = input
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "imported".to_string());
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    run(format, &file, &file, || match format {
+        Format::Ldmicro => ldmicro::convert(&file, &stem, text, opts),
+        Format::Plcopen => plcopen::convert(&file, &stem, text, opts),
+        Format::L5x => l5x::convert(&file, &stem, text, opts),
+        Format::Aurora => Err(Error::plain("an AuroraLD project is a folder")),
+    })
+}
+
+/// Converts an AuroraLD project folder, read into memory, named `name`.
+pub fn convert_folder(name: &str, folder: &aurora::Folder, opts: &Options) -> Result<(Project, Report), Error> {
+    run(Format::Aurora, name, aurora::TAGS, || {
+        aurora::convert(name, folder, opts)
+    })
+}
+
+/// The folder a file is in (`.` for a bare file name).
+fn parent_dir(file: &Path) -> PathBuf {
+    match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+fn folder_name(dir: &Path) -> String {
+    let abs = fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    abs.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "imported".into())
+}
+
+/// Runs a converter and checks its project (see [`check`]); `file` names the
+/// input, `tags_file` the file whose rows the tags come from.
+fn run(
+    format: Format,
+    file: &str,
+    tags_file: &str,
+    job: impl FnOnce() -> Result<(Project, Report), Error> + Send,
+) -> Result<(Project, Report), Error> {
     // The converters walk nested circuits and connection graphs recursively
     // (their depth is capped); a thread with a large stack makes the caps,
     // not the caller's stack size, the limit.
@@ -458,12 +621,8 @@ pub fn convert(input: &Path, text: &str, opts: &Options) -> Result<(Project, Rep
             .name("alba-import".into())
             .stack_size(CONVERT_STACK_BYTES)
             .spawn_scoped(s, || {
-                let (mut project, mut report) = match format {
-                    Format::Ldmicro => ldmicro::convert(&file, &stem, text, opts)?,
-                    Format::Plcopen => plcopen::convert(&file, &stem, text, opts)?,
-                    Format::L5x => l5x::convert(&file, &stem, text, opts)?,
-                };
-                check(&mut project, &mut report, &file)?;
+                let (mut project, mut report) = job()?;
+                check(&mut project, &mut report, tags_file)?;
                 Ok::<_, Error>((project, report))
             })
             .map_err(|e| Error::plain(format!("cannot start the conversion: {e}")))?;
@@ -505,11 +664,34 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
             std::process::id()
         ));
         let staged = stage(project, &tmp);
-        let compiled = staged.map(|()| alba_compiler::compile_dir(&tmp));
+        let compiled = staged.map(|()| {
+            let c = alba_compiler::compile_dir(&tmp);
+            // Screens are checked against the compiled program, as `alba check` does.
+            let mut screen_diags: Vec<(String, String)> = Vec::new();
+            if let Some(prog) = c.program.as_ref().filter(|_| !project.screens.is_empty()) {
+                let mut files = c.project.files.clone();
+                let ids: Vec<String> = project.alarms.iter().map(|a| a.id.clone()).collect();
+                let (_, d) = alba_compiler::screens::check_dir(&tmp, &mut files, &prog.layout, &ids);
+                for d in d {
+                    let name = d
+                        .primary
+                        .as_ref()
+                        .map(|l| files.name(l.span.file).replace('\\', "/"))
+                        .unwrap_or_default();
+                    screen_diags.push((name, format!("error[{}]: {}", d.code, d.message)));
+                }
+            }
+            (c, screen_diags)
+        });
         let _ = fs::remove_dir_all(&tmp);
-        let c = compiled.map_err(|e| Error::plain(format!("cannot check the converted project: {e}")))?;
+        let (c, screen_diags) =
+            compiled.map_err(|e| Error::plain(format!("cannot check the converted project: {e}")))?;
         if c.diagnostics.is_empty() {
-            return Ok(());
+            if screen_diags.is_empty() {
+                return Ok(());
+            }
+            drop_screen_elements(project, report, &whole, screen_diags);
+            continue;
         }
         let files = c.files();
         let mut rungs: Vec<(usize, usize, String)> = Vec::new();
@@ -578,7 +760,19 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
                     whole.clone(),
                     format!("tag `{}` left out ({msg})", t.name),
                 );
-                project.tags.remove(row);
+                let gone = project.tags.remove(row).name;
+                let on_it = |tag: &str| base_tag(tag).eq_ignore_ascii_case(&gone);
+                for a in project.alarms.iter().filter(|a| on_it(&a.tag)) {
+                    report.push(
+                        Kind::Refused,
+                        a.origin.clone(),
+                        format!("alarm `{}` left out: its tag `{gone}` is", a.id),
+                    );
+                }
+                project.alarms.retain(|a| !on_it(&a.tag));
+                if let Some(t) = &mut project.trends {
+                    t.pens.retain(|p| !on_it(&p.tag));
+                }
             }
             changed = true;
         }
@@ -589,6 +783,41 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
     Err(Error::plain(
         "the converted project does not check, even without the rungs Alba refuses",
     ))
+}
+
+/// Leaves out the screen elements `alba check` refuses (a message about an
+/// element starts with its id in backquotes); a screen refused as a whole
+/// goes with all its elements.
+fn drop_screen_elements(project: &mut Project, report: &mut Report, whole: &Location, diags: Vec<(String, String)>) {
+    for (file, msg) in diags {
+        let Some(si) = project.screens.iter().position(|sc| file.ends_with(&sc.file)) else {
+            continue;
+        };
+        let id = msg
+            .split_once("]: `")
+            .and_then(|(_, rest)| rest.split_once('`'))
+            .map(|(id, _)| id.to_string());
+        let screen = &mut project.screens[si];
+        match id.and_then(|id| screen.elements.iter().position(|e| e.id == id)) {
+            Some(ei) => {
+                let e = screen.elements.remove(ei);
+                report.push(
+                    Kind::Refused,
+                    e.origin,
+                    format!("screen element `{}` left out of {} ({msg})", e.id, screen.file),
+                );
+            }
+            None => {
+                let sc = project.screens.remove(si);
+                let at = sc
+                    .elements
+                    .first()
+                    .map(|e| e.origin.clone())
+                    .unwrap_or_else(|| whole.clone());
+                report.push(Kind::Refused, at, format!("screen {} left out ({msg})", sc.file));
+            }
+        }
+    }
 }
 
 /// Rungs of a generated ladder text (each ends with `;` on its own line end).
@@ -607,6 +836,21 @@ fn count_rungs(text: &str) -> usize {
 /// are written into a temporary folder beside `out_dir`, synced, then
 /// renamed into place: on any error nothing is left behind.
 pub fn import(input: &Path, out_dir: &Path, opts: &Options) -> Result<Report, Error> {
+    let is_dir = input.is_dir();
+    let main_ara = input.file_name().is_some_and(|n| n.eq_ignore_ascii_case(aurora::MAIN));
+    if is_dir || (main_ara && opts.format.is_none_or(|f| f == Format::Aurora)) {
+        if let Some(f) = opts.format.filter(|f| *f != Format::Aurora) {
+            return Err(Error::plain(format!(
+                "{} is a folder: only AuroraLD projects (--format aurora) are folders, not {f}",
+                input.display()
+            )));
+        }
+        let dir = if is_dir { input.to_path_buf() } else { parent_dir(input) };
+        let folder = aurora::Folder::read(&dir)?;
+        let (project, report) = convert_folder(&folder_name(&dir), &folder, opts)?;
+        write_project(&project, out_dir, opts.force)?;
+        return Ok(report);
+    }
     let text = read_input(input)?;
     let (project, report) = convert(input, &text, opts)?;
     write_project(&project, out_dir, opts.force)?;

@@ -21,9 +21,13 @@
 //! | `GT` `GE` `EQ` `NE` `LT` `LE` | compares ANDed with EN |
 //! | `ADD` `SUB` `MUL` `DIV` `MOD` `MOVE` | the instruction, gated by EN, into a helper tag |
 //!
-//! Everything else (user function blocks, functions, ST/FBD/IL/SFC bodies,
+//! SFC bodies become `.sfc` programs (the [`sfc`] module).
+//!
+//! Everything else (user function blocks, functions, ST/FBD/IL bodies,
 //! jumps, other blocks) is refused with its place; a coil fed by a refused
 //! element is refused too.
+
+mod sfc;
 
 use crate::circuit::{Cond, Emitter, Structs};
 use crate::names::Names;
@@ -89,6 +93,8 @@ enum VarKind {
 struct Var {
     alba: String,
     kind: VarKind,
+    /// A function block instance's type (`CTU`), upper case; empty otherwise.
+    fb: String,
 }
 
 /// A duration or number literal in IEC form, as an Alba literal.
@@ -127,6 +133,100 @@ fn iec_literal(s: &str) -> Option<String> {
         return Some(v);
     }
     None
+}
+
+/// ST's functions that Alba's CPT has, by their ST names (docs/ladder.md §4.7).
+pub(crate) const ST_FUNCTIONS: &[(&str, &str)] = &[
+    ("SQRT", "SQRT"),
+    ("ABS", "ABS"),
+    ("SIN", "SIN"),
+    ("COS", "COS"),
+    ("TAN", "TAN"),
+    ("ASIN", "ASIN"),
+    ("ACOS", "ACOS"),
+    ("ATAN", "ATAN"),
+    ("LN", "LN"),
+    ("LOG", "LOG"),
+    ("TRUNC", "TRN"),
+];
+
+/// An ST expression in Alba's expression language (the CPT parser's):
+/// `name` maps each identifier, `functions` the functions allowed (ST name →
+/// Alba name; none: functions are refused). Literals become Alba's (`T#3s`
+/// is 3000 ms, `INT#5` is 5), `&` is AND; the rest is the same in both.
+pub(crate) fn st_expression(
+    st: &str,
+    name: &dyn Fn(&str) -> Result<String, String>,
+    functions: &[(&str, &str)],
+) -> Result<String, String> {
+    let st = st.trim().trim_end_matches(';').trim();
+    if st.is_empty() {
+        return Err("the expression is empty".into());
+    }
+    let b: Vec<char> = st.chars().collect();
+    let mut out: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        if c.is_whitespace() {
+            i += 1;
+        } else if c == '(' && b.get(i + 1) == Some(&'*') {
+            return Err("a comment inside the expression".into());
+        } else if c.is_ascii_alphanumeric() || c == '_' {
+            let s = i;
+            while i < b.len() && (b[i].is_ascii_alphanumeric() || "_.#".contains(b[i])) {
+                i += 1;
+            }
+            // An exponent's sign: `1.5E-3`.
+            if c.is_ascii_digit()
+                && matches!(b.get(i - 1), Some('e' | 'E'))
+                && matches!(b.get(i), Some('+' | '-'))
+                && b.get(i + 1).is_some_and(char::is_ascii_digit)
+            {
+                i += 1;
+                while i < b.len() && b[i].is_ascii_digit() {
+                    i += 1;
+                }
+            }
+            let w: String = b[s..i].iter().collect();
+            let up = w.to_ascii_uppercase();
+            if b.get(i) == Some(&'(') {
+                match functions.iter().find(|(f, _)| *f == up) {
+                    Some((_, alba)) => out.push((*alba).to_string()),
+                    None if functions.is_empty() => {
+                        return Err(format!("`{w}(…)`: functions are not available in Alba's conditions"));
+                    }
+                    None => return Err(format!("`{w}(…)` is not a function Alba's CPT has")),
+                }
+            } else if ["AND", "OR", "XOR", "NOT", "MOD", "TRUE", "FALSE"].contains(&up.as_str()) {
+                out.push(up);
+            } else if c.is_ascii_digit() || w.contains('#') {
+                let lit = if up.starts_with("T#") || up.starts_with("TIME#") {
+                    duration_ms(up.split_once('#').map(|(_, r)| r).unwrap_or("")).map(|ms| ms.to_string())
+                } else {
+                    iec_literal(&w)
+                };
+                out.push(lit.ok_or_else(|| format!("`{w}` is not a literal Alba reads"))?);
+            } else {
+                out.push(name(&w)?);
+            }
+        } else {
+            let two: String = b[i..(i + 2).min(b.len())].iter().collect();
+            if ["<=", ">=", "<>", "**"].contains(&two.as_str()) {
+                out.push(two);
+                i += 2;
+            } else if "+-*/<>=()".contains(c) || (c == ',' && !functions.is_empty()) {
+                out.push(c.to_string());
+                i += 1;
+            } else if c == '&' {
+                out.push("AND".into());
+                i += 1;
+            } else {
+                return Err(format!("`{c}` in the expression"));
+            }
+        }
+    }
+    Ok(out.join(" "))
 }
 
 /// `1m30s500ms` → 90500 (IEC duration parts, `_` allowed, decimals refused).
@@ -206,6 +306,11 @@ impl Conv<'_> {
                 continue;
             };
             let ty = v.child("type").and_then(|t| t.children.first());
+            let fb = ty
+                .filter(|t| t.name == "derived")
+                .and_then(|t| t.attr("name"))
+                .map(str::to_ascii_uppercase)
+                .unwrap_or_default();
             let (kind, approx) = match ty {
                 None => (VarKind::Refused("it has no type".into()), false),
                 Some(t) if t.name == "derived" => match t.attr("name").map(str::to_ascii_uppercase).as_deref() {
@@ -235,6 +340,7 @@ impl Conv<'_> {
                     Var {
                         alba: name.to_string(),
                         kind,
+                        fb,
                     },
                 );
                 continue;
@@ -323,7 +429,7 @@ impl Conv<'_> {
                     description,
                 });
             }
-            scope.insert(key, Var { alba, kind });
+            scope.insert(key, Var { alba, kind, fb });
         }
     }
 }
@@ -368,6 +474,8 @@ enum Out {
     Power(Cond),
     /// A number: Alba operand text.
     Data(String),
+    /// An ST expression in an input variable, as an Alba CPT expression.
+    Expr(String),
 }
 
 fn connections(point: Option<&Elem>) -> Vec<(String, String)> {
@@ -420,6 +528,9 @@ impl Body<'_, '_> {
                 (VarKind::Timer, "PT") => Ok((format!("{}.PRE", v.alba), false)),
                 (VarKind::Counter, "CV") => Ok((format!("{}.ACC", v.alba), false)),
                 (VarKind::Counter, "PV") => Ok((format!("{}.PRE", v.alba), false)),
+                // CV >= PV, as of the counter's last call: Alba's DN.
+                (VarKind::Counter, "Q") if v.fb == "CTU" => Ok((format!("{}.DN", v.alba), true)),
+                (VarKind::Counter, "QU") if v.fb == "CTUD" => Ok((format!("{}.DN", v.alba), true)),
                 _ => Err(format!("`{t}` has no Alba equivalent")),
             };
         }
@@ -453,6 +564,7 @@ impl Body<'_, '_> {
                         cs.push(c);
                     }
                 }
+                Out::Expr(_) => return Err("an expression wired into a power input".into()),
             }
         }
         Ok(self.e.or(&cs))
@@ -463,6 +575,7 @@ impl Body<'_, '_> {
             [(id, param)] => match self.out(id, param)? {
                 Out::Data(d) => Ok(d),
                 Out::Power(_) => Err("a power flow wired into a number input".into()),
+                Out::Expr(_) => Err("an expression is converted only as the input of MOVE".into()),
             },
             [] => Err("an unconnected input".into()),
             _ => Err("several connections into a number input".into()),
@@ -545,7 +658,16 @@ impl Body<'_, '_> {
                 if el.name == "inOutVariable" {
                     self.sink(el)?;
                 }
-                let (op, is_bit) = self.operand(&expr)?;
+                let (op, is_bit) = match self.operand(&expr) {
+                    Ok(o) => o,
+                    // An ST expression (`A * 2 + B`), not a lone variable.
+                    Err(why) if el.name == "inVariable" && expr.contains(|c: char| "+-*/()<>=&, ".contains(c)) => {
+                        let e = st_expression(&expr, &|w| self.operand(w).map(|(op, _)| op), ST_FUNCTIONS)
+                            .map_err(|e| format!("{why}; as an expression: {e}"))?;
+                        return Ok(Out::Expr(e));
+                    }
+                    Err(why) => return Err(why),
+                };
                 let negated = el.attr("negated") == Some("true") || el.attr("negatedOut") == Some("true");
                 if is_bit && (op != "1" && op != "0") {
                     let frag = if negated {
@@ -747,8 +869,18 @@ impl Body<'_, '_> {
                     vec!["IN1".into(), "IN2".into()]
                 };
                 let mut ops = Vec::new();
+                // MOVE of an ST expression is a CPT.
+                let mut expr: Option<String> = None;
                 for i in &ins {
                     let c = block_input(b, i).ok_or_else(|| format!("{ty}: input {i} is not connected"))?;
+                    if ty == "MOVE"
+                        && let [(sid, p)] = c.as_slice()
+                        && let Out::Expr(e) = self.out(sid, p)?
+                    {
+                        expr = Some(e);
+                        ops.push(String::new());
+                        continue;
+                    }
                     ops.push(self.data_in(&c)?);
                 }
                 let direct = self.sole_out.get(&id).cloned().and_then(|ov| {
@@ -767,7 +899,14 @@ impl Body<'_, '_> {
                         op.clone()
                     }
                     None => {
-                        let real = ops.iter().any(|o| self.is_real(o));
+                        let floating = |t: &str| {
+                            self.is_real(t)
+                                || t.contains('.')
+                                || (t.len() > 1
+                                    && ST_FUNCTIONS.iter().any(|(_, f)| *f == t && *f != "ABS" && *f != "TRN"))
+                        };
+                        let real = ops.iter().any(|o| self.is_real(o))
+                            || expr.as_deref().is_some_and(|e| e.split_whitespace().any(floating));
                         let result_ty = if real { "REAL" } else { "DINT" };
                         let helper = self.e.names().fresh(&format!("{}_out", ty.to_ascii_lowercase()));
                         self.data_helpers.push((
@@ -778,7 +917,9 @@ impl Body<'_, '_> {
                         helper
                     }
                 };
-                let text = if ty == "MOVE" {
+                let text = if let Some(e) = &expr {
+                    format!("CPT({helper},{e})")
+                } else if ty == "MOVE" {
                     format!("MOV({},{helper})", ops[0])
                 } else {
                     format!("{ty}({},{},{helper})", ops[0], ops[1])
@@ -1023,17 +1164,18 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 .iter()
                 .find(|c| c.name != "documentation" && c.name != "addData")
         });
-        let Some(ld) = lang.filter(|l| l.name == "LD") else {
+        let Some(ld) = lang.filter(|l| l.name == "LD" || l.name == "SFC") else {
             let what = lang.map(|l| l.name.clone()).unwrap_or_else(|| "no".into());
             conv.report.push(
                 Kind::Refused,
                 loc,
-                format!("program `{pname}` has a {what} body; only LD bodies are imported"),
+                format!("program `{pname}` has a {what} body; only LD and SFC bodies are imported"),
             );
             refused_programs.push(format!("`{pname}` ({what})"));
             continue;
         };
-        if pou.child("actions").is_some_and(|a| !a.children.is_empty()) {
+        let is_sfc = ld.name == "SFC";
+        if !is_sfc && pou.child("actions").is_some_and(|a| !a.children.is_empty()) {
             conv.report.push(
                 Kind::Refused,
                 loc.clone(),
@@ -1083,6 +1225,13 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     }
                 }
             }
+        }
+        if is_sfc {
+            match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut conv.report)? {
+                Some(prog) => programs.push(prog),
+                None => refused_programs.push(format!("`{pname}` (SFC)")),
+            }
+            continue;
         }
         let mut elems: HashMap<String, &Elem> = HashMap::new();
         for el in &ld.children {
@@ -1290,7 +1439,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         };
         return Err(Error::at(
             conv.ctx.loc(&root),
-            format!("nothing to import: Alba imports LD bodies of programs, and {why}"),
+            format!("nothing to import: Alba imports LD and SFC bodies of programs, and {why}"),
         ));
     }
     let mut report = conv.report;
@@ -1303,6 +1452,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             board: None,
             tags: conv.tags,
             programs,
+            ..Project::default()
         },
         report,
     ))

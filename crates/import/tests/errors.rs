@@ -134,7 +134,7 @@ const EXPECTED: &[&str] = &[
     "root.L5X:2:1: not an L5X export: the root element is <Project>, not <RSLogix5000Content>",
     "nocontroller.L5X:1:1: <RSLogix5000Content> has no <Controller>",
     "noprograms.L5X:2:3: nothing to import: the controller has no program with an RLL main routine",
-    "what.txt:1:1: cannot tell the format: not LDmicro (`LDmicro0.1` first line), PLCopen XML (`<project>`) or L5X (`<RSLogix5000Content>`); give it with --format",
+    "what.txt:1:1: cannot tell the format: not LDmicro (`LDmicro0.1` first line), PLCopen XML (`<project>`), L5X (`<RSLogix5000Content>`) or an AuroraLD main.ara (`//PROJECT NAME`); give it with --format",
 ];
 
 #[test]
@@ -143,7 +143,7 @@ fn a_real_file_with_nothing_importable_names_its_programs() {
     let text = fs::read_to_string(&f).expect("fixture");
     assert_eq!(
         err("beremiz-first-steps.xml", None, &text),
-        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD bodies of programs, and its programs are `plc_prg` (FBD)"
+        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `plc_prg` (FBD)"
     );
 }
 
@@ -400,5 +400,362 @@ fn cyclic_l5x_aliases_are_refused() {
             .contains("c.L5X:6:27: refused: rung 0 of `P`/`R`: `B`: aliases chained more than 16 deep (or in a cycle)"),
         "{}",
         report.render()
+    );
+}
+
+/// A small AuroraLD folder: `XIC(a)OTE(b)` on tags a (DI:1/0) and b (DO:2/0).
+fn aurora() -> alba_import::aurora::Folder {
+    let mut counters = vec!["0"; 40];
+    counters[0] = "1";
+    counters[1] = "1";
+    counters[4] = "1";
+    let mut instr: Vec<&str> = counters;
+    instr.extend(["0", "210.0"]);
+    instr.extend([
+        "a", "XIC", "0", "255", "210.0", "0", "false", "0", "0", "70", "true", "false",
+    ]);
+    instr.extend([
+        "b", "OTE", "0", "1025", "210.0", "0", "false", "0", "1", "70", "true", "false",
+    ]);
+    alba_import::aurora::Folder {
+        main: Some("//PROJECT NAME\nsmall\n//TIME AND DATE\n9:5:1\n1/2/2022\n//RAIL\n1237.0\n".into()),
+        tags: Some("1\na\nBool\nDI:1/0\n0\n\nb\nBool\nDO:2/0\n0\n\n".into()),
+        instructions: Some(instr.join("\n") + "\n"),
+        trends: None,
+        screens: Vec::new(),
+    }
+}
+
+/// `aurora()` with line `line` (from 1) of `file` replaced by `text`.
+fn aurora_with(file: &str, line: usize, text: &str) -> alba_import::aurora::Folder {
+    let mut f = aurora();
+    let slot = match file {
+        "main.ara" => &mut f.main,
+        "tags.pl" => &mut f.tags,
+        _ => &mut f.instructions,
+    };
+    let mut lines: Vec<String> = slot.as_deref().unwrap_or("").lines().map(str::to_string).collect();
+    lines[line - 1] = text.to_string();
+    *slot = Some(lines.join("\n") + "\n");
+    f
+}
+
+fn aurora_err(f: &alba_import::aurora::Folder) -> String {
+    match alba_import::convert_folder("small", f, &Options::default()) {
+        Ok((p, _)) => panic!("accepted:\n{}", p.programs[0].text),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// The report of an AuroraLD folder that converts.
+fn aurora_report(f: &alba_import::aurora::Folder) -> (String, String) {
+    let (p, r) = alba_import::convert_folder("small", f, &Options::default()).unwrap_or_else(|e| panic!("{e}"));
+    (p.programs[0].text.clone(), r.render())
+}
+
+#[test]
+fn the_small_aurora_folder_converts() {
+    let (text, report) = aurora_report(&aurora());
+    assert_eq!(text, "XIC(a)OTE(b);\n", "{report}");
+}
+
+#[test]
+fn malformed_aurora_folders_give_located_errors() {
+    let mut no_tags = aurora();
+    no_tags.tags = None;
+    let mut empty_instr = aurora();
+    empty_instr.instructions = Some(String::new());
+    let mut garbage = aurora();
+    garbage.main = Some("\u{0}\u{1}PK\u{3}\u{4}binary".into());
+    let mut short = aurora();
+    short.instructions = Some(
+        short
+            .instructions
+            .unwrap_or_default()
+            .replace("1025\n210.0\n0\nfalse\n0\n1\n70\ntrue\nfalse\n", ""),
+    );
+    let mut extra = aurora();
+    extra.instructions = Some(extra.instructions.unwrap_or_default() + "stray\n");
+    let mut truncated_tags = aurora();
+    truncated_tags.tags = Some("1\na\nBool\nDI:1/0\n0\n\nb\nBool\n".into());
+    let cases = [
+        aurora_with("main.ara", 1, "PROJECT"),
+        garbage,
+        aurora_with("main.ara", 3, "//DATE"),
+        no_tags,
+        aurora_with("tags.pl", 1, "two"),
+        aurora_with("tags.pl", 1, "150"),
+        truncated_tags,
+        empty_instr,
+        aurora_with("instructions.pl", 2, "500"),
+        aurora_with("instructions.pl", 2, "-1"),
+        aurora_with("instructions.pl", 44, "XIO"),
+        aurora_with("instructions.pl", 45, "zero"),
+        aurora_with("instructions.pl", 42, "NaN"),
+        aurora_with("instructions.pl", 49, "maybe"),
+        short,
+        extra,
+    ];
+    let got: Vec<String> = cases.iter().map(aurora_err).collect();
+    if std::env::var_os("ALBA_BLESS").is_some() {
+        for g in &got {
+            println!("{g:?},");
+        }
+    }
+    let want = [
+        "main.ara:1:1: not an AuroraLD main.ara: the first line is `PROJECT`, not `//PROJECT NAME`",
+        "main.ara:1:1: not an AuroraLD main.ara: the first line is `\u{0}\u{1}PK\u{3}\u{4}binary`, not `//PROJECT NAME`",
+        "main.ara:3:1: `//DATE` where main.ara has `//TIME AND DATE`",
+        "small: tags.pl is missing (every AuroraLD project has one, §3.14)",
+        "tags.pl:1:1: `two` is not an integer: it should be `ptag_counter`, the row of the last tag (−1 for none)",
+        "tags.pl:1:1: 151 tags: AuroraLD's table holds at most 100 (rows 0 to 99)",
+        "tags.pl:8:1: tags.pl ends here: the `address` of tag row 1 is missing",
+        "instructions.pl:1:1: instructions.pl ends here: the number of rung instructions (`rung_counter`) is missing",
+        "instructions.pl:2:1: 500 XIC: AuroraLD holds 0 to 200 of each instruction (its arrays of 200, Fig. 67)",
+        "instructions.pl:2:1: -1 XIC: AuroraLD holds 0 to 200 of each instruction (its arrays of 200, Fig. 67)",
+        "instructions.pl:44:1: `XIO` where the `type` of XIC 0 should be `XIC`: the counters at the top of instructions.pl do not match the attributes that follow",
+        "instructions.pl:45:1: `zero` is not an integer: it should be the `num` of XIC 0",
+        "instructions.pl:42:1: `NaN` is not a number: it should be the `y` of RUNG 0",
+        "instructions.pl:49:1: `maybe` is not `true` or `false`: it should be the `state` of XIC 0",
+        "instructions.pl:57:1: instructions.pl ends here: the `x` of OTE 0 is missing",
+        "instructions.pl:67:1: `stray` follows the attributes of the last instruction: instructions.pl has more lines than its counters announce",
+    ];
+    assert_eq!(got.len(), want.len(), "{got:#?}");
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(g, w);
+    }
+}
+
+#[test]
+fn hostile_aurora_rungs_are_refused_with_their_place() {
+    // A second branch nested in the first: the rung is refused.
+    let mut f = aurora();
+    let mut instr: Vec<String> = f.instructions.unwrap_or_default().lines().map(str::to_string).collect();
+    instr[3] = "2".into(); // two BSTs
+    let bst = |x: &str, ax: &str| ["BST", "0", x, "210.0", ax, "50", "0"].map(String::from);
+    // BSTs come after XIO's (none) and before OTE's attributes: after XIC's 12 lines.
+    let at = 40 + 2 + 12;
+    for (k, b) in [bst("255", "280"), bst("325", "70")].into_iter().enumerate() {
+        for (j, v) in b.into_iter().enumerate() {
+            instr.insert(at + 7 * k + j, v);
+        }
+    }
+    f.instructions = Some(instr.join("\n") + "\n");
+    let (text, report) = aurora_report(&f);
+    assert!(
+        text.starts_with("// REFUSED by alba import: rung 0: branches overlap or nest"),
+        "{text}"
+    );
+    assert!(
+        report.contains("instructions.pl:41:1: refused: rung 0: branches overlap or nest (x 255–535 and 325–395)"),
+        "{report}"
+    );
+
+    // An output among the conditions, an unknown tag, an instruction of no rung.
+    for (line, value, want) in [
+        (
+            58,
+            "300",
+            "instructions.pl:55:1: refused: rung 0: OTE 0 at x = 300 stands among the conditions (Saving) (Fig. 60); left out",
+        ),
+        (
+            43,
+            "ghost",
+            "instructions.pl:43:1: refused: rung 0: XIC 0: `ghost` is not a tag of tags.pl; left out",
+        ),
+        (
+            50,
+            "3",
+            "instructions.pl:43:1: refused: XIC 0: it belongs to rung 3, and there are 1 rungs; left out",
+        ),
+    ] {
+        let (_, report) = aurora_report(&aurora_with("instructions.pl", line, value));
+        assert!(report.contains(want), "{want}\n{report}");
+    }
+
+    // A screen that does not parse is left out; the ladder is imported.
+    let mut f = aurora();
+    f.screens.push(("bad.pcs".into(), "1\n2\nthree\n".into()));
+    let (text, report) = aurora_report(&f);
+    assert_eq!(text, "XIC(a)OTE(b);\n");
+    assert!(
+        report.contains("bad.pcs:3:1: refused: screen bad.pcs not imported: `three` is not an integer: it should be the number of HMI_OUT elements"),
+        "{report}"
+    );
+}
+
+#[test]
+fn aurora_folders_read_from_disk_keep_the_limits() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let dir = tmp.path().join("proj");
+    fs::create_dir(&dir).expect("mkdir");
+    let out = tmp.path().join("out");
+    let e = alba_import::import(&dir, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e,
+        Some(format!(
+            "{} is not an AuroraLD project folder: it has no main.ara",
+            dir.display()
+        ))
+    );
+    let f = aurora();
+    fs::write(dir.join("main.ara"), f.main.unwrap_or_default()).expect("write");
+    fs::write(dir.join("tags.pl"), f.tags.unwrap_or_default()).expect("write");
+    let big = fs::File::create(dir.join("instructions.pl")).expect("create");
+    big.set_len(alba_import::MAX_INPUT_BYTES + 1).expect("sparse");
+    let e = alba_import::import(&dir, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e,
+        Some(format!(
+            "{} is 33554433 bytes; files above 32 MiB are refused",
+            dir.join("instructions.pl").display()
+        ))
+    );
+    // A folder is only read as AuroraLD.
+    let opts = Options {
+        format: Some(Format::L5x),
+        ..Options::default()
+    };
+    let e = alba_import::import(&dir, &out, &opts).err().map(|e| e.to_string());
+    assert_eq!(
+        e,
+        Some(format!(
+            "{} is a folder: only AuroraLD projects (--format aurora) are folders, not l5x",
+            dir.display()
+        ))
+    );
+    // Bad tags: nothing is written.
+    fs::write(dir.join("instructions.pl"), f.instructions.unwrap_or_default()).expect("write");
+    fs::write(dir.join("tags.pl"), "1\na\n").expect("write");
+    let e = alba_import::import(&dir, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("tags.pl:2:1: tags.pl ends here: the `variable` of tag row 0 is missing")
+    );
+    assert_eq!(entries(tmp.path()), vec!["proj".to_string()]);
+    // The folder, or its main.ara, imports.
+    fs::write(dir.join("tags.pl"), aurora().tags.unwrap_or_default()).expect("write");
+    alba_import::import(&dir.join("main.ara"), &out, &Options::default()).expect("import");
+    assert_eq!(entries(&out), vec!["alba.toml", "main.lad", "tags.csv"]);
+}
+
+/// A PLCopen program `seq` with the SFC body `body` and BOOL variables a, b, q.
+fn sfc_project(body: &str) -> String {
+    format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="seq" pouType="program">
+      <interface><localVars><variable name="a"><type><BOOL/></type></variable><variable name="b"><type><BOOL/></type></variable><variable name="q"><type><BOOL/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
+      <actions><action name="Act"><body><ST><xhtml:p>q := TRUE;</xhtml:p></ST></body></action></actions>
+      <body><SFC>
+{body}
+      </SFC></body>
+    </pou>
+  </pous></types>
+</project>
+"#
+    )
+}
+
+fn st(cond: &str) -> String {
+    format!("<condition><inline name=\"\"><ST><xhtml:p><![CDATA[{cond}]]></xhtml:p></ST></inline></condition>")
+}
+
+#[test]
+fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
+    let step = |id: u32, name: &str, from: &str, initial: bool| {
+        format!(
+            "<step localId=\"{id}\" name=\"{name}\" initialStep=\"{initial}\"><connectionPointIn>{from}</connectionPointIn></step>"
+        )
+    };
+    let conn = |id: u32| format!("<connection refLocalId=\"{id}\"/>");
+    let tr = |id: u32, from: &str, cond: &str| {
+        format!("<transition localId=\"{id}\"><connectionPointIn>{from}</connectionPointIn>{cond}</transition>")
+    };
+    let good = format!(
+        "{}\n{}\n{}\n{}",
+        step(1, "S0", &conn(4), true),
+        tr(2, &conn(1), &st("a")),
+        step(3, "S1", &conn(2), false),
+        tr(4, &conn(3), &st("NOT a"))
+    );
+    let (p, _) =
+        alba_import::convert(Path::new("seq.xml"), &sfc_project(&good), &Options::default()).expect("converts");
+    assert_eq!(
+        p.programs[0].text,
+        "(* seq: imported from PLCopen TC6 XML by alba import *)\nINITIAL_STEP S0: END_STEP\nSTEP S1: END_STEP\n\
+         TRANSITION FROM S0 TO S1 := a; END_TRANSITION\nTRANSITION FROM S1 TO S0 := NOT a; END_TRANSITION\n"
+    );
+    let cases: Vec<(String, &str)> = vec![
+        // A function in a condition, a transition into a transition, a jump
+        // to no step, a connector that loops on itself, an action with a body,
+        // a timed qualifier without its time, a condition drawn in LD.
+        (
+            good.replace("NOT a", "ABS(n) > 2"),
+            "`ABS(…)`: functions are not available in Alba's conditions",
+        ),
+        (
+            format!("{good}\n{}", tr(9, &conn(2), &st("b"))),
+            "transition 2 of `seq`: it leads to another transition, not to a step",
+        ),
+        (
+            format!(
+                "{good}\n{}\n<jumpStep localId=\"8\" targetName=\"Nowhere\"><connectionPointIn>{}</connectionPointIn></jumpStep>",
+                tr(7, &conn(3), &st("b")),
+                conn(7)
+            ),
+            "transition 7 of `seq`: it jumps to `Nowhere`, which is not a step of the chart",
+        ),
+        (
+            format!(
+                "{good}\n<selectionDivergence localId=\"5\"><connectionPointIn>{}</connectionPointIn></selectionDivergence>\n{}",
+                conn(5),
+                tr(6, &conn(5), &st("b"))
+            ),
+            "transition 6 of `seq`: connectors chained deeper than 1000",
+        ),
+        (
+            format!(
+                "{good}\n<actionBlock localId=\"5\"><connectionPointIn>{}</connectionPointIn><action localId=\"0\" qualifier=\"N\"><reference name=\"Act\"/></action><action localId=\"0\" qualifier=\"L\"><reference name=\"q\"/></action></actionBlock>",
+                conn(3)
+            ),
+            "an action of step `S1`: `Act` is an action with a body",
+        ),
+        (
+            format!(
+                "{good}\n<actionBlock localId=\"5\"><connectionPointIn>{}</connectionPointIn><action localId=\"0\" qualifier=\"L\"><reference name=\"q\"/></action></actionBlock>",
+                conn(3)
+            ),
+            "an action of step `S1`: the qualifier L needs a duration; left out",
+        ),
+        (
+            good.replace(
+                &st("NOT a"),
+                &format!(
+                    "<condition><connectionPointIn>{}</connectionPointIn></condition>",
+                    conn(1)
+                ),
+            ),
+            "its condition is drawn in LD/FBD; only a variable or an ST expression is converted",
+        ),
+    ];
+    for (body, want) in &cases {
+        let (_, report) =
+            alba_import::convert(Path::new("seq.xml"), &sfc_project(body), &Options::default()).expect("converts");
+        let text = report.render();
+        assert!(text.contains(want), "{want}\n{text}");
+    }
+    // Two initial steps: the chart is refused, and with it the only program.
+    let two = good.replace("initialStep=\"false\"", "initialStep=\"true\"");
+    assert_eq!(
+        err("seq.xml", None, &sfc_project(&two)),
+        "seq.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `seq` (SFC)"
     );
 }

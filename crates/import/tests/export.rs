@@ -1,7 +1,9 @@
-//! PLCopen export: the examples made only of contacts, coils, branches and
-//! timers are exported, imported again, and the round trip behaves like the
-//! original in the simulator (random inputs, every BOOL tag compared on
-//! every scan).
+//! PLCopen export: the examples made of contacts, coils, branches, timers,
+//! compares and math, and a project of counters, one-shots and CPT, are
+//! exported, imported again, and the round trip behaves like the original in
+//! the simulator (random inputs, every BOOL and number compared on every
+//! scan; a one-shot's storage bit, which becomes its R_TRIG/F_TRIG instance,
+//! is the only tag left out).
 
 use alba_import::Options;
 use std::collections::HashMap;
@@ -56,6 +58,17 @@ fn round_trip_dir(example: &str, dir: &Path) {
     let back = tmp.path().join("back");
     let r = alba_import::import(&file, &back, &Options::default()).expect("import");
     assert_eq!(r.count(alba_import::Kind::Refused), 0, "{example}: {}", r.render());
+    // One-shot storage bits are R_TRIG/F_TRIG instances in the file.
+    let instances: Vec<String> = xml
+        .lines()
+        .filter(|l| l.contains("<derived name=\"R_TRIG\"/>") || l.contains("<derived name=\"F_TRIG\"/>"))
+        .filter_map(|l| {
+            l.split("name=\"")
+                .nth(1)
+                .and_then(|r| r.split('"').next())
+                .map(str::to_string)
+        })
+        .collect();
     // Inputs and compared columns from the original tag table.
     let tags = fs::read_to_string(dir.join("tags.csv")).expect("tags");
     let mut inputs = Vec::new();
@@ -63,7 +76,7 @@ fn round_trip_dir(example: &str, dir: &Path) {
     let mut analog = Vec::new();
     for row in tags.lines().skip(1) {
         let f: Vec<&str> = row.split(',').collect();
-        if f.len() < 3 || f[1] == "TIMER" || f[1] == "COUNTER" {
+        if f.len() < 3 || f[1] == "TIMER" || f[1] == "COUNTER" || instances.iter().any(|i| i == f[0]) {
             continue;
         }
         if f[2].starts_with("DI") {
@@ -119,6 +132,31 @@ fn compares_and_math_round_trip() {
 }
 
 #[test]
+fn counters_one_shots_and_cpt_round_trip() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/native/counters-edges");
+    round_trip_dir("counters-edges", &dir);
+    let (xml, report) = alba_import::export_plcopen(&dir).expect("export");
+    for want in [
+        "typeName=\"CTU\" instanceName=\"Parts\"",
+        "typeName=\"CTD\" instanceName=\"Stock\"",
+        "typeName=\"R_TRIG\" instanceName=\"P1\"",
+        "typeName=\"F_TRIG\" instanceName=\"P3\"",
+        "<variable>Parts.Q</variable>",
+        "<expression>(Level * 2.5 + Parts.CV) / (1 + ABS(Stock.CV))</expression>",
+        "<expression>Level MOD 7 + 2 ** 3 - (-Edges) + (Level &gt; 500) * (Edges / 3)</expression>",
+    ] {
+        assert!(xml.contains(want), "{want}\n{xml}");
+    }
+    assert!(
+        report.render().contains(
+            "main.lad:13:1: approximated: OSF(P3,…) is F_TRIG `P3`: IEC's F_TRIG gives a pulse on the first scan"
+        ),
+        "{}",
+        report.render()
+    );
+}
+
+#[test]
 fn start_stop_round_trip() {
     round_trip("start-stop");
 }
@@ -170,4 +208,42 @@ fn start_stop_export_golden() {
     }
     let want = fs::read_to_string(&golden).expect("golden; run with ALBA_BLESS=1");
     assert_eq!(xml, want);
+}
+
+#[test]
+fn what_has_no_iec_form_is_refused_with_its_rung() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let dir = tmp.path();
+    fs::write(
+        dir.join("alba.toml"),
+        "name = \"x\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n",
+    )
+    .expect("write");
+    fs::write(
+        dir.join("tags.csv"),
+        "name,type,address,initial,retain,description\nA,BOOL,DI:1/0,,,\nB,BOOL,,,,\nS,BOOL,,,,\nT,TIMER,,,,\nC,COUNTER,,,,\nU,COUNTER,,,,\n",
+    )
+    .expect("write");
+    fs::write(
+        dir.join("main.lad"),
+        "XIC(A)RTO(T,100,0);\nXIC(B)RES(T);\nXIC(A)CTU(C,3,0);\nXIC(B)CTD(C,3,0);\nXIC(A)ONS(S)OTE(B);\nXIC(S)OTE(B);\nXIC(A)CTU(U,2,1);\n",
+    )
+    .expect("write");
+    let (_, report) = alba_import::export_plcopen(dir).expect("export");
+    let refused: Vec<String> = report
+        .entries
+        .iter()
+        .filter(|e| e.kind == alba_import::Kind::Refused)
+        .map(|e| e.to_string())
+        .collect();
+    let want = [
+        "main.lad:1:1: refused: rung not exported: RTO has no IEC 61131-3 equivalent: the standard timers are TON, TOF and TP (a retentive timer is a vendor's library block)",
+        "main.lad:2:1: refused: rung not exported: RES has no IEC 61131-3 equivalent: an IEC counter is reset by R of its own call, a timer by its IN",
+        "main.lad:3:1: refused: rung not exported: `C` is counted up and down: IEC's CTUD evaluates both inputs in one call, Alba's CTU and CTD each at its own rung",
+        "main.lad:5:1: refused: rung not exported: `S` is a one-shot's storage bit and is also used elsewhere (or has an address); it cannot become an R_TRIG/F_TRIG instance",
+        "main.lad:7:1: refused: rung not exported: CTU: an initial count `1` has no IEC equivalent",
+    ];
+    for w in want {
+        assert!(refused.iter().any(|r| r == w), "{w}\n{refused:#?}");
+    }
 }

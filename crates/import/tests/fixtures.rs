@@ -39,6 +39,19 @@ fn import_and_check(input: &Path, opts: &Options) -> (alba_import::Report, tempf
     (report, tmp)
 }
 
+/// Every file under `dir`, by its path relative to `dir` (`hmi/x.json`).
+fn tree(dir: &Path, rel: &str, out: &mut Vec<(String, String)>) {
+    for e in fs::read_dir(dir.join(rel)).expect("project").flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let path = if rel.is_empty() { name } else { format!("{rel}/{name}") };
+        if e.path().is_dir() {
+            tree(dir, &path, out);
+        } else {
+            out.push((path, fs::read_to_string(e.path()).expect("read")));
+        }
+    }
+}
+
 /// Compares the generated files with tests/golden/<format>/<fixture>/, or
 /// writes them there with ALBA_BLESS=1.
 fn golden(format: &str, input: &Path, project: &Path, report: &alba_import::Report) {
@@ -48,10 +61,7 @@ fn golden(format: &str, input: &Path, project: &Path, report: &alba_import::Repo
         .join(format)
         .join(stem);
     let mut files: Vec<(String, String)> = Vec::new();
-    for e in fs::read_dir(project).expect("project").flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        files.push((name.clone(), fs::read_to_string(e.path()).expect("read")));
-    }
+    tree(project, "", &mut files);
     let text = report.render().replace(
         &format!("{}:", input.file_name().and_then(|s| s.to_str()).unwrap_or("")),
         "",
@@ -62,10 +72,24 @@ fn golden(format: &str, input: &Path, project: &Path, report: &alba_import::Repo
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).expect("golden dir");
         for (n, t) in &files {
+            if let Some(parent) = dir.join(n).parent() {
+                fs::create_dir_all(parent).expect("golden dir");
+            }
             fs::write(dir.join(n), t).expect("write golden");
         }
         return;
     }
+    let mut want_files = Vec::new();
+    tree(&dir, "", &mut want_files);
+    want_files.sort();
+    let names = |v: &[(String, String)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(
+        names(&files),
+        names(&want_files),
+        "{}: the files differ from {}",
+        input.display(),
+        dir.display()
+    );
     for (n, t) in &files {
         let want = fs::read_to_string(dir.join(n))
             .unwrap_or_else(|_| panic!("no golden {}/{n}; run with ALBA_BLESS=1", dir.display()));
@@ -149,4 +173,44 @@ fn l5x_fixtures_import_and_compile() {
     let (n, rungs) = run_all("l5x", Format::L5x, None);
     assert!(n >= 2, "{n} fixtures");
     assert!(rungs >= 8, "{rungs} rungs");
+}
+
+/// The AuroraLD fixture folders (`tests/fixtures/aurora/<project>/`).
+fn aurora_folders() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/aurora");
+    let mut v: Vec<PathBuf> = fs::read_dir(&root)
+        .expect("fixtures folder")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn aurora_folders_import_and_check() {
+    let mut n = 0;
+    for dir in aurora_folders() {
+        let opts = Options::default();
+        let (report, tmp) = import_and_check(&dir, &opts);
+        assert_eq!(report.format, Some(Format::Aurora));
+        let out = tmp.path().join("project");
+        // What `alba check` checks beyond the programs: alarms.csv and the screens.
+        let c = alba_compiler::compile_dir(&out);
+        let program = c.program.as_ref().expect("compiled");
+        let mut files = c.project.files.clone();
+        let alarms = alba_alarms::def::load(&out, &mut files, &program.layout)
+            .unwrap_or_else(|d| panic!("alarms.csv: {}", d.iter().map(|d| d.short(&files)).collect::<String>()));
+        let ids: Vec<String> = alarms.into_iter().map(|a| a.id).collect();
+        let (screens, bad) = alba_compiler::screens::check_dir(&out, &mut files, &program.layout, &ids);
+        assert!(
+            bad.is_empty(),
+            "{}",
+            bad.iter().map(|d| d.short(&files)).collect::<String>()
+        );
+        assert!(screens >= 1, "{}: no screen", dir.display());
+        golden("aurora", &dir, &out, &report);
+        n += 1;
+    }
+    assert!(n >= 1);
 }

@@ -1,6 +1,7 @@
 //! Random mutations of the real fixtures never panic: every input gives a
 //! checked project or an error (the importer's and the compiler's code on
-//! the way are both exercised).
+//! the way are both exercised). The AuroraLD folders are mutated as one
+//! text (`Folder::join`), as the `import_aurora` fuzz target reads them.
 
 use alba_import::{Format, Options};
 use proptest::prelude::*;
@@ -42,6 +43,17 @@ const TOKENS: &[&str] = &[
     "\u{feff}",
     "\u{0}",
     "é",
+    "==> tags.pl <==\n",
+    "==> x.pcs <==\n",
+    "BST\n",
+    "XIC\n",
+    "255\n",
+    "200\n",
+    "-1\n",
+    "true\n",
+    "NUM\n",
+    "?\n",
+    "T1.DN\n",
 ];
 
 fn fixtures() -> Vec<(PathBuf, Vec<u8>)> {
@@ -59,6 +71,18 @@ fn fixtures() -> Vec<(PathBuf, Vec<u8>)> {
             let bytes = fs::read(&f).expect("read");
             v.push((f, bytes));
         }
+    }
+    // AuroraLD folders, each as one text (`Folder::join`).
+    let mut dirs: Vec<PathBuf> = fs::read_dir(root.join("aurora"))
+        .expect("fixtures")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    for d in dirs {
+        let folder = alba_import::aurora::Folder::read(&d).expect("folder");
+        v.push((d.with_extension("aurora"), folder.join().into_bytes()));
     }
     v
 }
@@ -120,11 +144,29 @@ proptest! {
         let text = String::from_utf8_lossy(&apply(bytes.clone(), &ms)).into_owned();
         let format = if force_format { alba_import::detect(path, &String::from_utf8_lossy(bytes)) } else { None };
         let opts = Options { format, board: None, force: false };
-        let _ = alba_import::convert(path, &text, &opts);
+        if path.extension().is_none_or(|e| e != "aurora") {
+            let _ = alba_import::convert(path, &text, &opts);
+        }
         for f in Format::ALL {
             if let Err(e) = alba_import::fuzz::check(f, text.as_bytes()) {
                 panic!("{f}: {e}");
             }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 192, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The AuroraLD folders alone (positional files: a value out of place
+    /// anywhere must give a located error or a refusal, never a panic).
+    #[test]
+    fn mutated_aurora_folders_never_panic(which in any::<usize>(), ms in prop::collection::vec(mutation(), 1..8)) {
+        let all: Vec<_> = fixtures().into_iter().filter(|(p, _)| p.extension().is_some_and(|e| e == "aurora")).collect();
+        let (_, bytes) = &all[which % all.len()];
+        let data = apply(bytes.clone(), &ms);
+        if let Err(e) = alba_import::fuzz::check(Format::Aurora, &data) {
+            panic!("{e}");
         }
     }
 }

@@ -462,6 +462,23 @@ fn check(sfc: &Sfc, file: FileId, diags: &mut Vec<Diagnostic>) {
             }
         }
     }
+    // A transition without a name is `t<k>` (its place in the file, see
+    // `to_net`): a named one must not take a name already in use.
+    let mut ids: Vec<String> = Vec::new();
+    for (k, t) in sfc.transitions.iter().enumerate() {
+        let id = t.name.clone().unwrap_or_else(|| format!("t{}", k + 1));
+        if let Some(first) = ids.iter().position(|i| i.eq_ignore_ascii_case(&id)) {
+            diags.push(st(
+                format!(
+                    "the transition name `{id}` is already transition {}'s (an unnamed transition k is named t<k>)",
+                    first + 1
+                ),
+                t.span,
+                "again",
+            ));
+        }
+        ids.push(id);
+    }
     let known = |n: &str| sfc.steps.iter().any(|s| s.name.eq_ignore_ascii_case(n));
     for t in &sfc.transitions {
         for (n, sp) in t.from.iter().chain(&t.to) {
@@ -551,6 +568,20 @@ mod tests {
 
     fn file() -> FileId {
         alba_diag::Files::new().add("seq.sfc", "")
+    }
+
+    #[test]
+    fn a_transition_name_may_not_repeat_another_or_an_automatic_one() {
+        let text = "INITIAL_STEP A: END_STEP\nSTEP B: END_STEP\n\
+                    TRANSITION FROM A TO B := X; END_TRANSITION\n\
+                    TRANSITION t1 (PRIORITY := 1) FROM B TO A := Y; END_TRANSITION\n";
+        let e = parse(file(), text).expect_err("t1 is taken");
+        assert!(
+            e[0].message
+                .contains("the transition name `t1` is already transition 1's"),
+            "{}",
+            e[0].message
+        );
     }
 
     #[test]

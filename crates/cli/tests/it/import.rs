@@ -140,3 +140,40 @@ fn a_project_exported_to_plcopen_imports_back_and_traces_the_same() {
     assert!(original.contains(",1,"), "the stimulus starts the motor: {original}");
     assert_eq!(trace(&d.join("back")), original);
 }
+
+#[test]
+fn an_aurorald_folder_becomes_a_project_with_its_screen_alarms_and_trend() {
+    let d = scratch("import-aurora");
+    let o = alba(&d, &["import", &fixture("aurora/planta"), "-o", "planta"]);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("(aurora)") && err.contains("instructions.pl:"), "{err}");
+    for f in [
+        "alba.toml",
+        "tags.csv",
+        "main.lad",
+        "hmi/planta.json",
+        "alarms.csv",
+        "trends.json",
+    ] {
+        assert!(d.join("planta").join(f).is_file(), "{f} missing");
+    }
+    // `alba check` accepts it, screen and alarms included.
+    let o = alba(&d, &["check", "planta"]);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("2 alarms") && err.contains("1 screen"), "{err}");
+    let o = alba(&d, &["sim", "planta", "--until", "100"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Its main.ara alone names the folder too; a folder is never L5X.
+    let o = alba(&d, &["import", &fixture("aurora/planta/main.ara"), "-o", "again"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = alba(&d, &["import", &fixture("aurora/planta"), "-o", "x", "--format", "l5x"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("only AuroraLD projects (--format aurora) are folders"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.join("x").exists());
+}
