@@ -254,10 +254,11 @@ fn body(op: &Op) -> Option<String> {
     )
 }
 
-/// The ops the interpreter runs on a board of capacity `cap` (no LINT op
-/// where it holds no LINT).
+/// The ops the interpreter runs on a board of capacity `cap`: those the
+/// engine defines and the export translates (no LINT op where it holds no
+/// LINT).
 fn runs(op: &Op, cap: Capacity) -> Option<String> {
-    if cap.l == 0 && op.slots().iter().any(|s| matches!(s, AnySlot::L(_))) {
+    if !op.is_defined() || (cap.l == 0 && op.slots().iter().any(|s| matches!(s, AnySlot::L(_)))) {
         return None;
     }
     body(op)
@@ -346,6 +347,17 @@ pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
         None => String::new(),
     };
     let lvl = |on: bool| if on != t.active_low { "HIGH" } else { "LOW" };
+    let (mut map, mut map_at) = (Vec::new(), vec!["0".to_string()]);
+    for (kind, dir) in alba_model::board::Dir::ALL.iter().enumerate() {
+        for ch in 0..t.map.pins(*dir).len() {
+            let pin = bytecode::map_pin(t, kind as u8, ch as u32).unwrap_or(0xFF);
+            map.push(format!("0x{pin:02x}"));
+        }
+        map_at.push(map.len().to_string());
+    }
+    if map.is_empty() {
+        map.push("0xff".into());
+    }
     // The error LED is the board's own on D13, unless the pin map wires an output
     // there (blinking an actuator is not a signal): then there is none.
     let d13_wired = (0..256).any(|n| {
@@ -382,12 +394,20 @@ static uint8_t M[{cm}];
 static uint16_t N[6];
 static const uint16_t CAP[6] = {{{cb}, {ci}, {cf}, {lcap}, 0, {cm}}};
 static uint8_t wide;
-static uint16_t code_start, code_end, scan_period = 10;
+static uint16_t code_start, code_end, n_ops, scan_period = 10;
 static uint16_t sys_b[9], sys_i[4];
 static uint8_t n_wires, w_kind[{cw}], w_pin[{cw}];
 static uint16_t w_slot[{cw}];
 static uint16_t p;
 static uint32_t prog_id;
+static bool first_scan = true, major = false, loaded = false;
+
+// What this firmware is built for: the header's board id (board, pin map, output
+// polarity), and the pin map — per kind (DI, DO, AI, AO) the pin byte of each channel
+// from MAP_AT[kind] (0xFF: a pin the board cannot use there).
+#define BOARD_ID 0x{board_id:04X}
+static const uint8_t MAP[] PROGMEM = {{{map}}};
+static const uint8_t MAP_AT[5] PROGMEM = {{{map_at}}};
 
 static uint8_t rd8() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)p++); }}
 static __attribute__((noinline)) uint16_t rd16() {{ uint16_t v = rd8(); return v | (uint16_t)rd8() << 8; }}
@@ -408,48 +428,71 @@ static uint16_t entry_of(uint8_t op, uint8_t sel, bool any) {{
     return 0xFFFF;
 }}
 
-// Every op's opcode, variant and slots, without running it: 1 if the code is sound.
+// The op at p, read without running it (p moves past it): 1 if it is well formed (a
+// known opcode and variant, each slot and its extent inside memory); with `jumps`, a
+// jump must also land on a rung that starts an op inside the code.
+static uint8_t op_start(uint16_t to);
+static uint8_t check_op(bool jumps) {{
+    uint8_t op = rd8();
+    if (op == 0x0f) {{
+        int16_t rel = (int16_t)rd16();
+        uint16_t to = p + rel;
+        return !jumps || (to >= code_start && to < code_end &&
+                          eeprom_read_byte((const uint8_t *)(uintptr_t)to) == 0x01 && op_start(to));
+    }}
+    if (op == 0x2d || op == 0x2e) {{
+        uint16_t s0 = rd_slot(5); uint8_t bit = rd8(); uint16_t s1 = rd_slot(0);
+        return s0 < N[5] && bit < 8 && s1 < N[0];
+    }}
+    uint16_t e = entry_of(op, 0, true);
+    if (e == 0xFFFF) return 0;
+    bool variants = pgm_read_byte(&LAYOUT[e + 1]) != 0xFF;
+    // slots read before the variant byte: checked once the variant's extents are known
+    uint16_t before[2];
+    uint8_t n_before = 0;
+    for (uint8_t k = 0; k < pgm_read_byte(&LAYOUT[e + 2]); k++) {{
+        uint8_t kind = pgm_read_byte(&LAYOUT[e + 3 + 2 * k]), ext = pgm_read_byte(&LAYOUT[e + 4 + 2 * k]);
+        if (kind == 0x80) rd16();
+        else if (kind == 0x40) {{
+            uint8_t x = rd8();
+            if (variants) {{
+                // the variant byte: its own entry (the fields before it are the same kinds)
+                e = entry_of(op, x, false);
+                if (e == 0xFFFF) return 0;
+                variants = false;
+                for (uint8_t j = 0; j < n_before; j++) {{
+                    uint8_t a = pgm_read_byte(&LAYOUT[e + 3 + 2 * j]);
+                    if ((uint32_t)before[j] + pgm_read_byte(&LAYOUT[e + 4 + 2 * j]) > N[a]) return 0;
+                }}
+            }}
+        }} else if (variants && n_before < 2) before[n_before++] = rd_slot(kind);
+        else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
+    }}
+    return 1;
+}}
+
+// 1 if an op starts at `to` (the ops from the first, walked again).
+static uint8_t op_start(uint16_t to) {{
+    uint16_t keep = p;
+    p = code_start;
+    while (p < to && check_op(false)) {{}}
+    uint8_t at = p == to;
+    p = keep;
+    return at;
+}}
+
+// Every op, without running it: 1 if the code is sound — the first op starts a rung,
+// every op is well formed, the last ends where the body does, and they are as many as
+// the header of the ops says.
 static uint8_t check_code() {{
     p = code_start;
+    if (p < code_end && eeprom_read_byte((const uint8_t *)(uintptr_t)p) != 0x01) return 0;
+    uint16_t n = 0;
     while (p < code_end) {{
-        uint8_t op = rd8();
-        if (op == 0x0f) {{
-            int16_t rel = (int16_t)rd16();
-            uint16_t to = p + rel;
-            if (to < code_start || to >= code_end || eeprom_read_byte((const uint8_t *)(uintptr_t)to) != 0x01) return 0;
-            continue;
-        }}
-        if (op == 0x2d || op == 0x2e) {{
-            uint16_t s0 = rd_slot(5); rd8(); uint16_t s1 = rd_slot(0);
-            if (s0 >= N[5] || s1 >= N[0]) return 0;
-            continue;
-        }}
-        uint16_t e = entry_of(op, 0, true);
-        if (e == 0xFFFF) return 0;
-        bool variants = pgm_read_byte(&LAYOUT[e + 1]) != 0xFF;
-        // slots read before the variant byte: checked once the variant's extents are known
-        uint16_t before[2];
-        uint8_t n_before = 0;
-        for (uint8_t k = 0; k < pgm_read_byte(&LAYOUT[e + 2]); k++) {{
-            uint8_t kind = pgm_read_byte(&LAYOUT[e + 3 + 2 * k]), ext = pgm_read_byte(&LAYOUT[e + 4 + 2 * k]);
-            if (kind == 0x80) rd16();
-            else if (kind == 0x40) {{
-                uint8_t x = rd8();
-                if (variants) {{
-                    // the variant byte: its own entry (the fields before it are the same kinds)
-                    e = entry_of(op, x, false);
-                    if (e == 0xFFFF) return 0;
-                    variants = false;
-                    for (uint8_t j = 0; j < n_before; j++) {{
-                        uint8_t a = pgm_read_byte(&LAYOUT[e + 3 + 2 * j]);
-                        if ((uint32_t)before[j] + pgm_read_byte(&LAYOUT[e + 4 + 2 * j]) > N[a]) return 0;
-                    }}
-                }}
-            }} else if (variants && n_before < 2) before[n_before++] = rd_slot(kind);
-            else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
-        }}
+        if (!check_op(true)) return 0;
+        n++;
     }}
-    return p == code_end;
+    return p == code_end && n == n_ops;
 }}
 
 static uint32_t crc32_eeprom(uint16_t from, uint16_t len) {{
@@ -469,11 +512,20 @@ static uint32_t crc32_eeprom(uint16_t from, uint16_t len) {{
 static uint16_t slot_base(uint8_t slot) {{ return slot == 1 ? SLOT_SIZE : 0; }}
 static uint8_t active_slot() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)SELECTOR) == 1 ? 1 : 0; }}
 
+// The widths byte a program with the sizes N must have (bit k: area k has over 256 slots).
+static uint8_t widths() {{
+    uint8_t w = 0;
+    for (uint8_t a = 0; a < 6; a++) if (N[a] > 256) w |= 1 << a;
+    return w;
+}}
+
+// The checks are those of the host's `bytecode::decode_for` for this board, one for one:
+// the firmware runs exactly what the host accepts.
 static uint8_t load_at(uint16_t base) {{
     p = base;
     if (rd8() != 'A' || rd8() != 'L' || rd8() != 'B' || rd8() != 'C' || rd8() != {version_byte}) return 0;
     wide = rd8();
-    rd16();
+    if (rd16() != BOARD_ID) return 0;  // compiled for another board or pin map
     prog_id = rd32();
     scan_period = rd16();
     rd16();
@@ -481,28 +533,38 @@ static uint8_t load_at(uint16_t base) {{
     if (len > SLOT_SIZE - 24 || crc32_eeprom(base + 24, (uint16_t)len) != crc) return 0;
     code_end = base + 24 + (uint16_t)len;
     for (uint8_t a = 0; a < 6; a++) {{
-        N[a] = rd16();
-        if (N[a] > CAP[a]) return 0;
+        uint16_t n = rd16();
+        if (n > CAP[a]) return 0;
+        N[a] = n;
     }}
+    if (wide != widths()) return 0;
+    // The I/O images: DI and DO in the BOOL area, AI and AO in the integer area.
     uint16_t reg[8];
-    for (uint8_t k = 0; k < 8; k++) reg[k] = rd16();
+    for (uint8_t k = 0; k < 8; k += 2) {{
+        reg[k] = rd16();
+        reg[k + 1] = rd16();
+        if ((uint32_t)reg[k] + reg[k + 1] > N[k < 4 ? 0 : 1]) return 0;
+    }}
     for (uint8_t k = 0; k < 9; k++) if ((sys_b[k] = rd16()) >= N[0]) return 0;
-    for (uint8_t k = 0; k < 4; k++) if ((sys_i[k] = rd16()) + (k == 2 ? 6 : 1) > N[1]) return 0;
+    for (uint8_t k = 0; k < 4; k++) if ((uint32_t)(sys_i[k] = rd16()) + (k == 2 ? {stats} : 1) > N[1]) return 0;
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[0]) return 0; B[s] = 1; }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[1]) return 0; I[s] = (int32_t)rd32(); }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[2]) return 0; uint32_t v = rd32(); memcpy(&F[s], &v, 4); }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[3]) return 0; uint64_t v = rd32(); v |= (uint64_t)rd32() << 32; L[s] = (int64_t)v; }}
     for (uint16_t n = rd16(); n; n--) {{ rd16(); rd32(); rd32(); return 0; }}  // LREAL: not on this board
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[5]) return 0; M[s] = rd8(); }}
+    // Each wire inside its image, on the pin this board's pin map has for its channel.
     n_wires = 0;
     for (uint16_t n = rd16(); n; n--) {{
         uint8_t kind = rd8(); uint16_t ch = rd16(); uint8_t pin = rd8(); uint16_t slot = rd16();
-        if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != reg[2 * kind] + ch) return 0;
+        if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != (uint32_t)reg[2 * kind] + ch) return 0;
+        uint8_t at = pgm_read_byte(&MAP_AT[kind]), channels = pgm_read_byte(&MAP_AT[kind + 1]) - at;
+        if (ch >= channels || pin == 0xFF || pgm_read_byte(&MAP[at + ch]) != pin) return 0;
         w_kind[n_wires] = kind;
         w_pin[n_wires] = pin & 0x80 ? A0 + (pin & 0x7F) : pin;
         w_slot[n_wires++] = slot;
     }}
-    rd16();  // ops
+    n_ops = rd16();
     code_start = p;
     return check_code();
 }}
@@ -541,6 +603,8 @@ static void reply_flag(uint8_t f) {{
     Serial.write('\n');
 }}
 
+static void outputs_safe();
+
 static void record() {{
     if (line[0] == 'R') {{
         // read-back of the running slot
@@ -569,8 +633,11 @@ static void record() {{
     if (!dl_on) {{ dl_on = true; dl_sum = 0; }}
     if (type == 1) {{
         dl_on = false;
-        // the new slot must check before it runs; the old one runs meanwhile
-        if (!load_at(base)) {{ reply_flag(0x40); reload = true; return; }}
+        // The new slot must check before it runs. Checking it overwrites the running
+        // program's tables, so that one stops first with its outputs safe; refused, the
+        // old program starts again (from its initial values), as after a power cycle.
+        outputs_safe();
+        if (!load_at(base)) {{ loaded = false; reply_flag(0x40); reload = true; return; }}
         eeprom_update_byte((uint8_t *)(uintptr_t)SELECTOR, target);
         Serial.write('S');
         for (int8_t sh = 12; sh >= 0; sh -= 4) Serial.write("0123456789ABCDEF"[(dl_sum >> sh) & 15]);
@@ -637,7 +704,6 @@ static uint16_t run(uint32_t now) {{
     return 0;
 }}
 
-static bool first_scan = true, major = false, loaded = false;
 static uint32_t next_us, vnow, half_s, half_ms, scans, overruns, scan_ms;
 
 static void scan() {{
@@ -809,9 +875,8 @@ void setup() {{
 void loop() {{
     serial_poll();
     if (reload) {{
-        // a new program (or the old one after a refused download): outputs safe, then start it
+        // a new program, or the old one after a refused download (its outputs already safe)
         reload = false;
-        outputs_safe();
         start();
     }}
     if (!loaded) {{
@@ -843,6 +908,10 @@ void loop() {{
         mcu = t.model.mcu(),
         version = env!("CARGO_PKG_VERSION"),
         version_byte = bytecode::VERSION,
+        board_id = bytecode::board_id(t),
+        map = map.join(", "),
+        map_at = map_at.join(", "),
+        stats = alba_ir::layout::STAT_TAGS.len(),
         cb = c.b,
         ci = c.i,
         cf = c.f,
