@@ -697,3 +697,109 @@ fn the_interpreter_refuses_what_the_host_refuses() {
     }
     assert_eq!(accepted, 2, "only start-stop and the jump onto a rung are good");
 }
+
+/// A mutation campaign: valid programs of several examples with bytes changed
+/// — re-signed with a good CRC or not; anywhere, in the memory description, in
+/// the header or in the ops; a byte inserted or removed — each loaded into the
+/// emulated Uno. Whatever the host decoder refuses the board never runs (no
+/// scan, every output an input); whatever it accepts the board runs with the
+/// memory the host decoded, never storing past what the program uses, into its
+/// own tables or into free RAM (simavr's store hook). Deterministic seeds.
+#[test]
+fn mutated_programs_run_on_the_board_exactly_when_the_host_accepts_them() {
+    if !tools_present() {
+        return;
+    }
+    let target = aurora(Model::Uno, 10);
+    let board = Interpreter::build(&target, "interp-mutations");
+    let bases: Vec<(Vec<u8>, usize)> = BOARD_EXAMPLES
+        .iter()
+        .filter_map(|name| {
+            let case = example(name);
+            let t = aurora(Model::Uno, case.scan_ms as u32);
+            let bc = alba_arduino::bytecode::encode(&control_program(&case.prog), name, &t).ok()?;
+            Some((bc.bytes.clone(), bc.bytes.len() - bc.code_len))
+        })
+        .collect();
+    assert!(bases.len() >= 4, "{} examples fit the Uno", bases.len());
+    const CASES: u64 = 1000;
+    let counts = std::sync::Mutex::new((0, 0));
+    std::thread::scope(|s| {
+        for half in 0..2u64 {
+            let (board, bases, counts) = (&board, &bases, &counts);
+            s.spawn(move || {
+                for k in (0..CASES).filter(|k| k % 2 == half) {
+                    let mut r = common::Rng(0x5eed_0000 + k);
+                    let (base, code_at) = &bases[r.below(bases.len() as u64) as usize];
+                    let mut v = base.clone();
+                    let any = |r: &mut common::Rng, from: usize, to: usize| from + r.below((to - from) as u64) as usize;
+                    let (what, sign) = match r.below(6) {
+                        0 | 1 => {
+                            for _ in 0..1 + r.below(3) {
+                                let at = any(&mut r, HEADER_LEN, v.len());
+                                v[at] = r.next() as u8;
+                            }
+                            ("bytes anywhere in the body", r.below(4) != 0)
+                        }
+                        2 => {
+                            // an operand or opcode of the ops, usually to a small value
+                            let at = any(&mut r, *code_at, v.len());
+                            v[at] = if r.below(3) == 0 {
+                                r.next() as u8
+                            } else {
+                                r.below(40) as u8
+                            };
+                            ("a byte of the ops", true)
+                        }
+                        3 => {
+                            // a u16 of the memory description, near what it was or anything
+                            let at = any(&mut r, HEADER_LEN, code_at - 1);
+                            let old = u16::from_le_bytes([v[at], v[at + 1]]);
+                            let new = match r.below(3) {
+                                0 => old.wrapping_add(1 + r.below(8) as u16),
+                                1 => old.wrapping_sub(1 + r.below(8) as u16),
+                                _ => r.next() as u16,
+                            };
+                            v[at..at + 2].copy_from_slice(&new.to_le_bytes());
+                            ("a field of the memory description", true)
+                        }
+                        4 => {
+                            let at = any(&mut r, 4, 16);
+                            v[at] = if r.below(2) == 0 {
+                                v[at] ^ (1 << r.below(8))
+                            } else {
+                                r.next() as u8
+                            };
+                            ("a header byte", r.below(2) == 0)
+                        }
+                        _ => {
+                            let at = any(&mut r, *code_at, v.len());
+                            if r.below(2) == 0 {
+                                v.remove(at);
+                            } else {
+                                v.insert(at, r.below(0x42) as u8);
+                            }
+                            ("a byte of the ops inserted or removed", true)
+                        }
+                    };
+                    let v = if sign { resign(v) } else { v };
+                    let what = format!(
+                        "case {k}: {what}{}",
+                        if sign { ", re-signed" } else { ", not re-signed" }
+                    );
+                    let ok = board.agrees(&v, k as usize, &what);
+                    let mut c = counts.lock().expect("counts");
+                    if ok { c.0 += 1 } else { c.1 += 1 }
+                }
+            });
+        }
+    });
+    let (accepted, refused) = *counts.lock().expect("counts");
+    eprintln!(
+        "{CASES} mutated programs: {accepted} accepted and run, {refused} refused, by the host and the board alike"
+    );
+    assert!(
+        accepted >= 20 && refused >= 100,
+        "{accepted} accepted, {refused} refused"
+    );
+}
