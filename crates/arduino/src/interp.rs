@@ -358,20 +358,18 @@ pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
     if map.is_empty() {
         map.push("0xff".into());
     }
-    // The error LED is the board's own on D13, unless the pin map wires an output
-    // there (blinking an actuator is not a signal): then there is none.
-    let d13_wired = (0..256).any(|n| {
-        matches!(
-            t.map.pin_of(t.model, alba_model::address::Address::DigitalOut(n)),
-            Some(Ok(alba_model::board::Pin::D(13)))
-        )
-    });
-    let (led_setup, led_blink) = if d13_wired {
-        ("", "")
+    // The error LED is the board's own on D13, unless the pin map wires D13 (blinking
+    // an actuator is no signal, and driving an input's wire is worse): then there is none.
+    let d13_wired = alba_model::board::Dir::ALL
+        .iter()
+        .any(|d| t.map.pins(*d).contains(&alba_model::board::Pin::D(13)));
+    let (led_setup, led_blink, led_off) = if d13_wired {
+        ("", "", "")
     } else {
         (
             "        pinMode(LED_BUILTIN, OUTPUT);\n",
             "        digitalWrite(LED_BUILTIN, (millis() / 250) & 1);\n",
+            "    digitalWrite(LED_BUILTIN, LOW);  // no error (still an input if it never blinked)\n",
         )
     };
     let ino = format!(
@@ -585,7 +583,10 @@ static uint8_t load() {{
 // 10 address overflow, 20 write-verify), after the end record `S` and the 16-bit
 // sum of the data bytes (the new program checks and runs) or `E40` (it does not:
 // the old one keeps running); ESC drops the download (`A`). `R` + 4 hex digits
-// (address) + 2 (count): that many bytes of the running slot, in hex.
+// (address) + 2 (count): that many bytes of the running slot, in hex. `I`: the board's
+// identity, `I`, the format version (2 hex digits), the board id (4), the program slot's
+// size (4), the state (`R` a program runs, `N` none that checks, `F` stopped on a major
+// fault) and the board's name.
 static char line[48];
 static uint8_t line_len;
 static uint16_t dl_sum;
@@ -596,26 +597,37 @@ static uint8_t hexval(char c) {{ return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 
 static bool ishex(char c) {{ return (c >= '0' && c <= '9') || ((c | 0x20) >= 'a' && (c | 0x20) <= 'f'); }}
 static uint8_t hexbyte(uint8_t at) {{ return hexval(line[at]) << 4 | hexval(line[at + 1]); }}
 
+static void hex_out(uint16_t v, uint8_t digits) {{
+    while (digits--) Serial.write("0123456789ABCDEF"[(v >> (4 * digits)) & 15]);
+}}
+
 static void reply_flag(uint8_t f) {{
     Serial.write('E');
-    Serial.write("0123456789ABCDEF"[f >> 4]);
-    Serial.write("0123456789ABCDEF"[f & 15]);
+    hex_out(f, 2);
     Serial.write('\n');
 }}
 
 static void outputs_safe();
 
 static void record() {{
+    if (line[0] == 'I') {{
+        Serial.write('I');
+        hex_out({version_byte}, 2);
+        hex_out(BOARD_ID, 4);
+        hex_out(SLOT_SIZE, 4);
+        Serial.write(!loaded ? 'N' : major ? 'F' : 'R');
+        Serial.println(F("{model}"));
+        return;
+    }}
     if (line[0] == 'R') {{
         // read-back of the running slot
         uint16_t at = 0; uint8_t n = 0;
         for (uint8_t k = 1; k < 5; k++) at = at << 4 | hexval(line[k]);
         n = hexbyte(5);
         uint16_t base = slot_base(active_slot());
-        for (uint8_t k = 0; k < n && at + k < SLOT_SIZE; k++) {{
+        for (uint8_t k = 0; k < n && (uint32_t)at + k < SLOT_SIZE; k++) {{
             uint8_t b = eeprom_read_byte((const uint8_t *)(uintptr_t)(base + at + k));
-            Serial.write("0123456789ABCDEF"[b >> 4]);
-            Serial.write("0123456789ABCDEF"[b & 15]);
+            hex_out(b, 2);
         }}
         Serial.write('\n');
         return;
@@ -640,7 +652,7 @@ static void record() {{
         if (!load_at(base)) {{ loaded = false; reply_flag(0x40); reload = true; return; }}
         eeprom_update_byte((uint8_t *)(uintptr_t)SELECTOR, target);
         Serial.write('S');
-        for (int8_t sh = 12; sh >= 0; sh -= 4) Serial.write("0123456789ABCDEF"[(dl_sum >> sh) & 15]);
+        hex_out(dl_sum, 4);
         Serial.write('\n');
         reload = true;
         return;
@@ -746,7 +758,7 @@ static void start() {{
     if (!loaded) {{
 {led_setup}        return;
     }}
-    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
+{led_off}    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
     B[sys_b[8]] = 1;  // S:STOREOK
     for (uint8_t k = 0; k < n_wires; k++) {{
         if (w_kind[k] == 0) pinMode(w_pin[k], INPUT);
@@ -826,7 +838,7 @@ static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {{
 static void serial_poll() {{
     while (Serial.available()) {{
         char c = Serial.read();
-        if (line_len == 0 && (alba_link_len > 0 || (c != ':' && c != 'R' && c != 0x1B && c != '\r' && c != '\n'))) {{
+        if (line_len == 0 && (alba_link_len > 0 || (c != ':' && c != 'R' && c != 'I' && c != 0x1B && c != '\r' && c != '\n'))) {{
             alba_link_byte((uint8_t)c);
         }} else if (c == 0x1B) {{
             line_len = 0;
@@ -905,6 +917,7 @@ void loop() {{
 }}
 "#,
         board = t.model.title(),
+        model = t.model.name(),
         mcu = t.model.mcu(),
         version = env!("CARGO_PKG_VERSION"),
         version_byte = bytecode::VERSION,
