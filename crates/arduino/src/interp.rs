@@ -945,6 +945,43 @@ void loop() {{
     ]
 }
 
+/// The interpreter firmware for `t`'s board without a program, built once
+/// into the cache (`toolchain::cache_dir`, keyed by the board and a hash of
+/// the generated source, so a new Alba or another pin map builds anew) and
+/// reused after; `true` when it came from the cache.
+pub fn firmware(t: &Target) -> Result<(crate::toolchain::Built, bool), alba_diag::Diagnostic> {
+    use crate::toolchain::{self, temp_sibling, tool_error};
+    let files = generate(t, None);
+    let hash = files
+        .iter()
+        .flat_map(|(name, text)| name.bytes().chain(text.bytes()))
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        });
+    let cache = toolchain::cache_dir();
+    let dir = cache.join(format!("interp-{}-{hash:016x}", t.model.name()));
+    let (elf, hex) = (dir.join("build/sketch.elf"), dir.join("build/sketch.hex"));
+    if elf.is_file() && hex.is_file() {
+        return Ok((toolchain::measure(elf, hex, t.model)?, true));
+    }
+    let tmp = temp_sibling(&dir);
+    let io = |e: std::io::Error| tool_error(format!("cannot write the interpreter in {}: {e}", tmp.display()));
+    std::fs::create_dir_all(&tmp).map_err(io)?;
+    for (name, text) in &files {
+        std::fs::write(tmp.join(name), text).map_err(io)?;
+    }
+    let result = toolchain::build(&tmp.join(&files[0].0), t.model, &tmp.join("build"));
+    if let Err(d) = result {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(d);
+    }
+    // Another builder may have won the race: theirs is as good as ours.
+    if std::fs::rename(&tmp, &dir).is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    Ok((toolchain::measure(elf, hex, t.model)?, false))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

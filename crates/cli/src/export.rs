@@ -493,18 +493,30 @@ pub fn simulate(
     let work: PathBuf = std::env::temp_dir().join(format!("alba-firmware-{}", std::process::id()));
     let folder = work.join(&s.name);
     let result = (|| -> Result<String, Vec<Diagnostic>> {
-        // The sketch, or the byte-code interpreter and the project's byte code to download into it.
-        let (files, program) = if bytecode {
-            let bc = alba_arduino::bytecode::encode(&prog, &s.name, &t)?;
-            (alba_arduino::interp::generate(&t, None), Some(bc.bytes))
-        } else {
-            (s.files.clone(), None)
-        };
         std::fs::create_dir_all(&folder).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
-        for (name, text) in &files {
-            std::fs::write(folder.join(name), text).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
-        }
-        let built = toolchain::build(&folder.join(&files[0].0), t.model, &folder.join("build")).map_err(|d| vec![d])?;
+        // The sketch, or the byte-code interpreter (built once for the board, then
+        // cached) and the project's byte code to download into it.
+        let (built, program) = if bytecode {
+            let bc = alba_arduino::bytecode::encode(&prog, &s.name, &t)?;
+            let (built, cached) = alba_arduino::interp::firmware(&t).map_err(|d| vec![d])?;
+            eprintln!(
+                "interpreter firmware for the {}: {} ({})",
+                t.model.title(),
+                built.elf.display(),
+                if cached { "cached" } else { "built, and cached" }
+            );
+            (built, Some(bc.bytes))
+        } else {
+            for (name, text) in &s.files {
+                std::fs::write(folder.join(name), text)
+                    .map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
+            }
+            let sketch = folder.join(&s.files[0].0);
+            (
+                toolchain::build(&sketch, t.model, &folder.join("build")).map_err(|d| vec![d])?,
+                None,
+            )
+        };
         let rows = stimulus.writes().map_err(|r| {
             vec![Diagnostic::unplaced(
                 Code::StimulusTarget,
