@@ -57,8 +57,39 @@ struct Case {
     scan_ms: u64,
 }
 
+/// Examples whose inputs are tags without an address (set from a screen or a
+/// protocol): on the board they are wired to these channels — in a copy of
+/// the example — so the example's own stimulus drives them on the pins.
+const WIRED_FOR_THE_BOARD: &[(&str, &[(&str, &str)])] = &[("opcsm-tour", &[("Start", "DI:1/0"), ("Level", "AI:3/0")])];
+
 fn example(name: &str) -> Case {
-    let c = alba_compiler::compile_dir(&root().join("examples").join(name));
+    let mut dir = root().join("examples").join(name);
+    if let Some((_, wires)) = WIRED_FOR_THE_BOARD.iter().find(|(n, _)| *n == name) {
+        // (a copy per call: tests run at once)
+        static COPIES: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = COPIES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let copy = work_dir(&format!("{name}-wired-{n}"));
+        for f in std::fs::read_dir(&dir).expect("example").flatten() {
+            if f.path().is_file() {
+                std::fs::copy(f.path(), copy.join(f.file_name())).expect("copy");
+            }
+        }
+        let tags = std::fs::read_to_string(dir.join("tags.csv")).expect("tags.csv");
+        let tags: Vec<String> = tags
+            .lines()
+            .map(|l| {
+                let mut f: Vec<&str> = l.split(',').collect();
+                if let Some((_, a)) = wires.iter().find(|(t, _)| f.first() == Some(t)) {
+                    assert_eq!(f[2], "", "{name}: {} already has an address", f[0]);
+                    f[2] = a;
+                }
+                f.join(",")
+            })
+            .collect();
+        std::fs::write(copy.join("tags.csv"), tags.join("\n") + "\n").expect("write");
+        dir = copy;
+    }
+    let c = alba_compiler::compile_dir(&dir);
     let prog = c.program.unwrap_or_else(|| panic!("{name} does not compile"));
     let scan_ms = c.project.config.as_ref().map_or(10, |c| u64::from(c.scan_ms));
     Case {
@@ -300,8 +331,8 @@ fn own_stimulus(name: &str) -> Option<(String, u64, u64)> {
     Some((stim, arg("--until")?, arg("--every")?))
 }
 
-/// The examples the board runs (the PID ones are refused, E501).
-const BOARD_EXAMPLES: [&str; 9] = [
+/// The examples the board runs (the PID ones are refused, E501): all the others.
+const BOARD_EXAMPLES: [&str; 10] = [
     "start-stop",
     "traffic-light",
     "star-delta",
@@ -314,7 +345,39 @@ const BOARD_EXAMPLES: [&str; 9] = [
     "state-net-batch",
     // An SFC chart (steps, qualifiers, timed actions) with a ladder program.
     "sfc-batch",
+    // OPCSM's elements as one state net (no ladder): its inputs wired for the board.
+    "opcsm-tour",
 ];
+
+/// Every example runs on the board (the differential tests below) or is
+/// refused by the export and by the byte code, each refusal at its place.
+#[test]
+fn every_example_runs_on_the_board_or_is_refused_at_its_place() {
+    let mut refused = Vec::new();
+    for e in std::fs::read_dir(root().join("examples")).expect("examples").flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let case = example(&name);
+        let t = aurora(Model::Mega, case.scan_ms as u32);
+        let prog = control_program(&case.prog);
+        let sketch = generate(&prog, &name, &t);
+        let bc = alba_arduino::bytecode::encode(&prog, &name, &t);
+        if BOARD_EXAMPLES.contains(&name.as_str()) {
+            assert!(
+                sketch.is_ok() && bc.is_ok(),
+                "{name}: {:?} {:?}",
+                sketch.err(),
+                bc.err()
+            );
+            continue;
+        }
+        for d in [sketch.expect_err(&name), bc.expect_err(&name)] {
+            assert!(!d.is_empty() && d.iter().all(|d| d.primary.is_some()), "{name}: {d:?}");
+        }
+        refused.push(name);
+    }
+    refused.sort();
+    assert!(refused.iter().all(|n| n.starts_with("pid-")), "{refused:?}");
+}
 
 #[test]
 fn examples_run_the_same_on_the_uno() {
@@ -423,8 +486,9 @@ fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine(
     });
 }
 
-/// The interpreter firmware for `t`, built once without a program: each run
-/// starts it from an EEPROM image, as a board that has had a download.
+/// The interpreter firmware for `t`, without a program (`interp::firmware`,
+/// built once and cached): each run starts it from an EEPROM image, as a
+/// board that has had a download.
 struct Interpreter {
     elf: PathBuf,
     target: Target,
@@ -447,11 +511,7 @@ struct Verdict {
 impl Interpreter {
     fn build(t: &Target, name: &str) -> Interpreter {
         let dir = work_dir(name);
-        let files = alba_arduino::interp::generate(t, None);
-        for (name, text) in &files {
-            std::fs::write(dir.join(name), text).expect("write");
-        }
-        let built = toolchain::build(&dir.join(&files[0].0), t.model, &dir.join("build")).expect("builds");
+        let (built, _) = alba_arduino::interp::firmware(t).unwrap_or_else(|d| panic!("{}", d.message));
         let syms = simavr::symbols(&built.elf).expect("symbols");
         Interpreter {
             elf: built.elf,
