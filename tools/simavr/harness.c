@@ -29,7 +29,8 @@
  * cycles; the count and min/mean/max cycles go to stderr as a line
  * `alba-simavr: scans N cycles min A mean B max C`.
  * The number of scans started goes to stderr too (`alba-simavr: scan starts N`):
- * a scan that never ends (a runaway loop) started all the same.
+ * a scan that never ends (a runaway loop) started all the same; and the cycle the
+ * first one started at (`alba-simavr: first scan at cycle N`: the firmware's setup).
  * With --forbid ADDR:LEN,..., from the first scan on, the CPU must not store into
  * those data-space regions (decimal); with --free-ram ADDR, never between ADDR (the
  * end of the firmware's static data) and the stack pointer, where nothing lives;
@@ -55,7 +56,7 @@ static unsigned long scans, scan_starts;
  * time 0 (a firmware whose setup takes a while: the byte-code interpreter,
  * which checks its program and schedules its scans on micros()); otherwise
  * time 0 is the reset (a sketch, whose millis() deadlines count from it). */
-static avr_cycle_count_t origin;
+static avr_cycle_count_t origin, first_scan_at;
 static int started, from_first_scan;
 /* With --eeprom FILE, the EEPROM starts from that image (what `alba download` left). */
 static const char *eeprom_file;
@@ -65,6 +66,7 @@ static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
     a->data[addr] = v;
     if (v == 1 && !started) {
         started = 1;
+        first_scan_at = a->cycle;
         if (from_first_scan) origin = a->cycle;
     }
     if (v == 1) {
@@ -278,6 +280,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "alba-simavr: scans %lu cycles min %llu mean %llu max %llu\n", scans,
                 (unsigned long long)scan_min, (unsigned long long)(scan_sum / scans), (unsigned long long)scan_max);
     fprintf(stderr, "alba-simavr: scan starts %lu\n", scan_starts);
+    if (started) fprintf(stderr, "alba-simavr: first scan at cycle %llu\n", (unsigned long long)first_scan_at);
     fprintf(stderr, "alba-simavr: %llu cycles simulated (%.3f ms at %lu Hz)\n",
             (unsigned long long)avr->cycle, avr->cycle * 1000.0 / freq, freq);
     if (forbidden) {

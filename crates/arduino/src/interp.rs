@@ -264,10 +264,11 @@ fn runs(op: &Op, cap: Capacity) -> Option<String> {
     body(op)
 }
 
-/// The `switch` of the interpreter (`run`), and the layout table the checker
+/// The `switch` of the interpreter (`run`), the layout table the checker
 /// walks (`LAYOUT`: per op and variant, its opcode, its variant byte or 0xFF,
-/// its field count, then per field a kind-and-area byte and an extent).
-fn cases(cap: Capacity) -> (String, String) {
+/// its field count, then per field a kind-and-area byte and an extent), and
+/// per opcode the offset of its first entry there (`FIRST`, 0xFFFF for none).
+fn cases(cap: Capacity) -> (String, String, String) {
     // Opcode → its variants (templates with their fields).
     type Variants = Vec<(Op, Vec<Field>)>;
     let mut groups: Vec<(u8, Variants)> = Vec::new();
@@ -279,8 +280,12 @@ fn cases(cap: Capacity) -> (String, String) {
         }
     }
     let (mut run, mut layout) = (String::new(), String::new());
+    let mut first: Vec<Option<usize>> = vec![None; 0x42];
+    let mut at = 0usize;
     // (the checker checks the slots before a variant byte with the variant's extents)
     let mut entry = |code: u8, sel: Option<u8>, op: &Op, fields: &[Field]| {
+        first[code as usize].get_or_insert(at);
+        at += 3 + 2 * fields.len();
         let _ = write!(
             layout,
             "    0x{code:02x}, 0x{:02x}, {},",
@@ -323,7 +328,12 @@ fn cases(cap: Capacity) -> (String, String) {
             "        case 0x{code:02x}: {{ {head}\n            switch (x0) {{\n{rv}            default: return 0xFFFF;\n            }}\n            break;\n        }}"
         );
     }
-    (run, layout)
+    let first = first
+        .iter()
+        .map(|e| e.map_or("0xFFFF".to_string(), |e| e.to_string()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    (run, layout, first)
 }
 
 /// The interpreter sketch for `t`'s board (`.ino` and `alba_rt.h`); with
@@ -331,7 +341,7 @@ fn cases(cap: Capacity) -> (String, String) {
 /// which simavr and avrdude load), as `alba download` would leave it.
 pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
     let c = capacity(t.model);
-    let (run, layout) = cases(c);
+    let (run, layout, first) = cases(c);
     let eeprom = match program {
         Some(p) => {
             let mut s = String::from(
@@ -390,12 +400,15 @@ static int64_t L[{cl}];
 static uint8_t M[{cm}];
 // Sizes the program uses, by area (B, I, F, L, D, M); what the arrays hold.
 static uint16_t N[6];
-static const uint16_t CAP[6] = {{{cb}, {ci}, {cf}, {lcap}, 0, {cm}}};
+static const uint16_t CAP[6] PROGMEM = {{{cb}, {ci}, {cf}, {lcap}, 0, {cm}}};
 static uint8_t wide;
 static uint16_t code_start, code_end, n_ops, scan_period = 10;
-static uint16_t sys_b[9], sys_i[4];
-static uint8_t n_wires, w_kind[{cw}], w_pin[{cw}];
-static uint16_t w_slot[{cw}];
+static {bslot} sys_b[9];
+static {islot} sys_i[4];
+// The wires: per wire its channel, and its kind (2 bits a wire: 0 DI, 1 DO, 2 AI, 3 AO);
+// its pin is the pin map's for that channel (MAP), its slot its image's base + the channel.
+static uint8_t n_wires, w_ch[{cw}], w_kinds[({cw} + 3) / 4];
+static uint16_t image_base[4];
 static uint16_t p;
 static uint32_t prog_id;
 static bool first_scan = true, major = false, loaded = false;
@@ -414,15 +427,20 @@ static __attribute__((noinline)) uint16_t rd_slot(uint8_t area) {{ return (wide 
 
 // Per op and variant the interpreter runs: opcode, variant byte (0xFF: none), field
 // count, then per field its kind (0-5: a slot of that area; 0x40 a byte; 0x80 a word)
-// and, for a slot, how far it reaches. Ends with 0.
+// and, for a slot, how far it reaches, grouped by opcode; FIRST: where each opcode's
+// entries start (0xFFFF: an opcode it does not run). Ends with 0.
 static const uint8_t LAYOUT[] PROGMEM = {{
 {layout}    0
 }};
 
+static const uint16_t FIRST[] PROGMEM = {{{first}}};
+
 // The entry of `op` (with variant `sel`, or any when `any`), or 0xFFFF.
 static uint16_t entry_of(uint8_t op, uint8_t sel, bool any) {{
-    for (uint16_t e = 0; pgm_read_byte(&LAYOUT[e]); e += 3 + 2 * pgm_read_byte(&LAYOUT[e + 2]))
-        if (pgm_read_byte(&LAYOUT[e]) == op && (any || pgm_read_byte(&LAYOUT[e + 1]) == sel)) return e;
+    if (op >= sizeof FIRST / sizeof FIRST[0]) return 0xFFFF;
+    for (uint16_t e = pgm_read_word(&FIRST[op]); e != 0xFFFF && pgm_read_byte(&LAYOUT[e]) == op;
+         e += 3 + 2 * pgm_read_byte(&LAYOUT[e + 2]))
+        if (any || pgm_read_byte(&LAYOUT[e + 1]) == sel) return e;
     return 0xFFFF;
 }}
 
@@ -532,19 +550,27 @@ static uint8_t load_at(uint16_t base) {{
     code_end = base + 24 + (uint16_t)len;
     for (uint8_t a = 0; a < 6; a++) {{
         uint16_t n = rd16();
-        if (n > CAP[a]) return 0;
+        if (n > pgm_read_word(&CAP[a])) return 0;
         N[a] = n;
     }}
     if (wide != widths()) return 0;
     // The I/O images: DI and DO in the BOOL area, AI and AO in the integer area.
     uint16_t reg[8];
     for (uint8_t k = 0; k < 8; k += 2) {{
-        reg[k] = rd16();
+        reg[k] = image_base[k / 2] = rd16();
         reg[k + 1] = rd16();
         if ((uint32_t)reg[k] + reg[k + 1] > N[k < 4 ? 0 : 1]) return 0;
     }}
-    for (uint8_t k = 0; k < 9; k++) if ((sys_b[k] = rd16()) >= N[0]) return 0;
-    for (uint8_t k = 0; k < 4; k++) if ((uint32_t)(sys_i[k] = rd16()) + (k == 2 ? {stats} : 1) > N[1]) return 0;
+    for (uint8_t k = 0; k < 9; k++) {{
+        uint16_t s = rd16();
+        if (s >= N[0]) return 0;
+        sys_b[k] = s;
+    }}
+    for (uint8_t k = 0; k < 4; k++) {{
+        uint16_t s = rd16();
+        if ((uint32_t)s + (k == 2 ? {stats} : 1) > N[1]) return 0;
+        sys_i[k] = s;
+    }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[0]) return 0; B[s] = 1; }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[1]) return 0; I[s] = (int32_t)rd32(); }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[2]) return 0; uint32_t v = rd32(); memcpy(&F[s], &v, 4); }}
@@ -558,9 +584,9 @@ static uint8_t load_at(uint16_t base) {{
         if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != (uint32_t)reg[2 * kind] + ch) return 0;
         uint8_t at = pgm_read_byte(&MAP_AT[kind]), channels = pgm_read_byte(&MAP_AT[kind + 1]) - at;
         if (ch >= channels || pin == 0xFF || pgm_read_byte(&MAP[at + ch]) != pin) return 0;
-        w_kind[n_wires] = kind;
-        w_pin[n_wires] = pin & 0x80 ? A0 + (pin & 0x7F) : pin;
-        w_slot[n_wires++] = slot;
+        uint8_t *kinds = &w_kinds[n_wires >> 2], shift = 2 * (n_wires & 3);
+        *kinds = (uint8_t)((*kinds & ~(3 << shift)) | kind << shift);
+        w_ch[n_wires++] = (uint8_t)ch;
     }}
     n_ops = rd16();
     code_start = p;
@@ -587,18 +613,28 @@ static uint8_t load() {{
 // identity, `I`, the format version (2 hex digits), the board id (4), the program slot's
 // size (4), the state (`R` a program runs, `N` none that checks, `F` stopped on a major
 // fault) and the board's name.
-static char line[48];
+static char line[44];  // the longest record: `:10AAAA00`, 32 hex digits of data, its checksum
 static uint8_t line_len;
 static uint16_t dl_sum;
 static bool dl_on;
 static bool reload;
+
+static uint8_t w_kind(uint8_t k) {{ return (w_kinds[k >> 2] >> (2 * (k & 3))) & 3; }}
+static uint16_t w_slot(uint8_t k, uint8_t kind) {{ return image_base[kind] + w_ch[k]; }}
+static uint8_t w_pin(uint8_t k, uint8_t kind) {{
+    uint8_t pin = pgm_read_byte(&MAP[pgm_read_byte(&MAP_AT[kind]) + w_ch[k]]);
+    return pin & 0x80 ? A0 + (pin & 0x7F) : pin;
+}}
 
 static uint8_t hexval(char c) {{ return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10; }}
 static bool ishex(char c) {{ return (c >= '0' && c <= '9') || ((c | 0x20) >= 'a' && (c | 0x20) <= 'f'); }}
 static uint8_t hexbyte(uint8_t at) {{ return hexval(line[at]) << 4 | hexval(line[at + 1]); }}
 
 static void hex_out(uint16_t v, uint8_t digits) {{
-    while (digits--) Serial.write("0123456789ABCDEF"[(v >> (4 * digits)) & 15]);
+    while (digits--) {{
+        uint8_t d = (v >> (4 * digits)) & 15;
+        Serial.write(d < 10 ? '0' + d : 'A' - 10 + d);
+    }}
 }}
 
 static void reply_flag(uint8_t f) {{
@@ -674,22 +710,25 @@ static inline uint8_t alba_duty(int32_t v) {{ return v < 0 ? 0 : v > 255 ? 255 :
 
 static void read_inputs() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 0) B[w_slot[k]] = digitalRead(w_pin[k]) == HIGH;
-        else if (w_kind[k] == 2) I[w_slot[k]] = analogRead(w_pin[k]);
+        uint8_t kind = w_kind(k);
+        if (kind == 0) B[w_slot(k, 0)] = digitalRead(w_pin(k, 0)) == HIGH;
+        else if (kind == 2) I[w_slot(k, 2)] = analogRead(w_pin(k, 2));
     }}
 }}
 
 static void write_outputs() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 1) digitalWrite(w_pin[k], B[w_slot[k]] ? {on} : {off});
-        else if (w_kind[k] == 3) analogWrite(w_pin[k], alba_duty(I[w_slot[k]]));
+        uint8_t kind = w_kind(k);
+        if (kind == 1) digitalWrite(w_pin(k, 1), B[w_slot(k, 1)] ? {on} : {off});
+        else if (kind == 3) analogWrite(w_pin(k, 3), alba_duty(I[w_slot(k, 3)]));
     }}
 }}
 
 static void outputs_safe() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 1) digitalWrite(w_pin[k], {off});
-        else if (w_kind[k] == 3) analogWrite(w_pin[k], 0);
+        uint8_t kind = w_kind(k);
+        if (kind == 1) digitalWrite(w_pin(k, 1), {off});
+        else if (kind == 3) analogWrite(w_pin(k, 3), 0);
     }}
 }}
 
@@ -761,9 +800,10 @@ static void start() {{
 {led_off}    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
     B[sys_b[8]] = 1;  // S:STOREOK
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 0) pinMode(w_pin[k], INPUT);
-        else if (w_kind[k] == 1) {{ digitalWrite(w_pin[k], {off}); pinMode(w_pin[k], OUTPUT); }}
-        else if (w_kind[k] == 3) {{ analogWrite(w_pin[k], 0); pinMode(w_pin[k], OUTPUT); }}
+        uint8_t kind = w_kind(k), pin = w_pin(k, kind);
+        if (kind == 0) pinMode(pin, INPUT);
+        else if (kind == 1) {{ digitalWrite(pin, {off}); pinMode(pin, OUTPUT); }}
+        else if (kind == 3) {{ analogWrite(pin, 0); pinMode(pin, OUTPUT); }}
     }}
     // Deadlines on micros(): scan k starts k periods after the first, to 4 µs.
     next_us = micros();
@@ -857,31 +897,31 @@ static void serial_poll() {{
 // Lamp test (the 8051 PLC's): the first digital input held at power-up walks the
 // outputs, each on for half a second, echoing `lamp D12` on the serial port, for as
 // long as it is held; then the program starts.
-static void lamp_test() {{
+static bool lamp_test() {{
     uint8_t hold = 0xFF;
-    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind[k] == 0) hold = k;
-    if (hold == 0xFF || digitalRead(w_pin[hold]) != HIGH) return;
+    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind(k) == 0) hold = w_pin(k, 0);
+    if (hold == 0xFF || digitalRead(hold) != HIGH) return false;
     Serial.println(F("lamp test"));
-    while (digitalRead(w_pin[hold]) == HIGH) {{
-        for (uint8_t k = 0; k < n_wires && digitalRead(w_pin[hold]) == HIGH; k++) {{
-            if (w_kind[k] != 1 && w_kind[k] != 3) continue;
-            Serial.print(w_pin[k] >= A0 ? F("lamp A") : F("lamp D"));
-            Serial.println(w_pin[k] >= A0 ? w_pin[k] - A0 : w_pin[k]);
-            if (w_kind[k] == 1) digitalWrite(w_pin[k], {on}); else analogWrite(w_pin[k], 255);
+    while (digitalRead(hold) == HIGH) {{
+        for (uint8_t k = 0; k < n_wires && digitalRead(hold) == HIGH; k++) {{
+            uint8_t kind = w_kind(k), pin = w_pin(k, kind);
+            if (kind != 1 && kind != 3) continue;
+            Serial.print(pin >= A0 ? F("lamp A") : F("lamp D"));
+            Serial.println(pin >= A0 ? pin - A0 : pin);
+            if (kind == 1) digitalWrite(pin, {on}); else analogWrite(pin, 255);
             delay(500);
-            if (w_kind[k] == 1) digitalWrite(w_pin[k], {off}); else analogWrite(w_pin[k], 0);
+            if (kind == 1) digitalWrite(pin, {off}); else analogWrite(pin, 0);
         }}
     }}
     Serial.println(F("lamp test done"));
+    return true;
 }}
 
 void setup() {{
     Serial.begin(ALBA_LINK_BAUD);
     start();
-    if (loaded) {{
-        lamp_test();
-        start();
-    }}
+    // after a lamp test, the program starts afresh
+    if (loaded && lamp_test()) start();
 }}
 
 void loop() {{
@@ -921,10 +961,13 @@ void loop() {{
         mcu = t.model.mcu(),
         version = env!("CARGO_PKG_VERSION"),
         version_byte = bytecode::VERSION,
+        first = first,
         board_id = bytecode::board_id(t),
         map = map.join(", "),
         map_at = map_at.join(", "),
         stats = alba_ir::layout::STAT_TAGS.len(),
+        bslot = if c.b <= 256 { "uint8_t" } else { "uint16_t" },
+        islot = if c.i <= 256 { "uint8_t" } else { "uint16_t" },
         cb = c.b,
         ci = c.i,
         cf = c.f,

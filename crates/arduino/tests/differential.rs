@@ -571,9 +571,9 @@ impl Interpreter {
                 "sys_b",
                 "sys_i",
                 "n_wires",
-                "w_kind",
-                "w_pin",
-                "w_slot",
+                "w_ch",
+                "w_kinds",
+                "image_base",
                 "prog_id",
             ] {
                 watch.forbid.push(self.sym(name));
