@@ -317,9 +317,16 @@ pub fn board_id(t: &Target) -> u16 {
     (h >> 16) as u16 ^ h as u16
 }
 
+/// Channels of each kind an interpreter wires (it keeps a wire's channel in 6 bits).
+pub const MAX_CHANNELS: u32 = 64;
+
 /// The pin byte of channel `ch` of wiring kind `kind` (0 DI, 1 DO, 2 AI,
-/// 3 AO) on `t`'s board, or `None` when the pin map wires no usable pin there.
+/// 3 AO) on `t`'s board, or `None` when the pin map wires no usable pin there
+/// (or the channel is past [`MAX_CHANNELS`]).
 pub(crate) fn map_pin(t: &Target, kind: u8, ch: u32) -> Option<u8> {
+    if ch >= MAX_CHANNELS {
+        return None;
+    }
     let address = match kind {
         0 => Address::DigitalIn(ch),
         1 => Address::DigitalOut(ch),
@@ -1106,6 +1113,12 @@ pub fn decode_for(bytes: &[u8], t: &Target) -> Result<Decoded, DecodeError> {
             Address::AnalogOut(n) => (3, n),
             Address::Marker { .. } => (4, 0),
         };
+        if ch >= MAX_CHANNELS {
+            return board(format!(
+                "{address}: the interpreter wires channels 0 to {} of a kind",
+                MAX_CHANNELS - 1
+            ));
+        }
         if map_pin(t, kind, ch) != Some(*pin) {
             return board(format!(
                 "{address} is wired to pin byte 0x{pin:02x}, which is not that channel's pin on the {title}'s pin map"

@@ -49,13 +49,14 @@ pub fn capacity(model: Model) -> Capacity {
             wires: 96,
         },
         // No LINT on the Uno and the Nano: the 64-bit cases would not fit in their flash.
+        // 20 wires: all the pins a pin map can use there (D2-D13, A0-A7), none twice.
         _ => Capacity {
             b: 256,
             i: 128,
             f: 48,
             l: 0,
             m: 64,
-            wires: 40,
+            wires: 20,
         },
     }
 }
@@ -359,7 +360,7 @@ pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
     let lvl = |on: bool| if on != t.active_low { "HIGH" } else { "LOW" };
     let (mut map, mut map_at) = (Vec::new(), vec!["0".to_string()]);
     for (kind, dir) in alba_model::board::Dir::ALL.iter().enumerate() {
-        for ch in 0..t.map.pins(*dir).len() {
+        for ch in 0..t.map.pins(*dir).len().min(bytecode::MAX_CHANNELS as usize) {
             let pin = bytecode::map_pin(t, kind as u8, ch as u32).unwrap_or(0xFF);
             map.push(format!("0x{pin:02x}"));
         }
@@ -405,9 +406,9 @@ static uint8_t wide;
 static uint16_t code_start, code_end, n_ops, scan_period = 10;
 static {bslot} sys_b[9];
 static {islot} sys_i[4];
-// The wires: per wire its channel, and its kind (2 bits a wire: 0 DI, 1 DO, 2 AI, 3 AO);
-// its pin is the pin map's for that channel (MAP), its slot its image's base + the channel.
-static uint8_t n_wires, w_ch[{cw}], w_kinds[({cw} + 3) / 4];
+// The wires: per wire its kind (0 DI, 1 DO, 2 AI, 3 AO) in the top 2 bits and its channel
+// (below 64) under them, and its pin; its slot is its image's base + the channel.
+static uint8_t n_wires, w_wire[{cw}], w_pin[{cw}];
 static uint16_t image_base[4];
 static uint16_t p;
 static uint32_t prog_id;
@@ -584,9 +585,8 @@ static uint8_t load_at(uint16_t base) {{
         if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != (uint32_t)reg[2 * kind] + ch) return 0;
         uint8_t at = pgm_read_byte(&MAP_AT[kind]), channels = pgm_read_byte(&MAP_AT[kind + 1]) - at;
         if (ch >= channels || pin == 0xFF || pgm_read_byte(&MAP[at + ch]) != pin) return 0;
-        uint8_t *kinds = &w_kinds[n_wires >> 2], shift = 2 * (n_wires & 3);
-        *kinds = (uint8_t)((*kinds & ~(3 << shift)) | kind << shift);
-        w_ch[n_wires++] = (uint8_t)ch;
+        w_pin[n_wires] = pin & 0x80 ? A0 + (pin & 0x7F) : pin;
+        w_wire[n_wires++] = (uint8_t)(kind << 6 | ch);
     }}
     n_ops = rd16();
     code_start = p;
@@ -619,12 +619,8 @@ static uint16_t dl_sum;
 static bool dl_on;
 static bool reload;
 
-static uint8_t w_kind(uint8_t k) {{ return (w_kinds[k >> 2] >> (2 * (k & 3))) & 3; }}
-static uint16_t w_slot(uint8_t k, uint8_t kind) {{ return image_base[kind] + w_ch[k]; }}
-static uint8_t w_pin(uint8_t k, uint8_t kind) {{
-    uint8_t pin = pgm_read_byte(&MAP[pgm_read_byte(&MAP_AT[kind]) + w_ch[k]]);
-    return pin & 0x80 ? A0 + (pin & 0x7F) : pin;
-}}
+static inline uint8_t w_kind(uint8_t k) {{ return w_wire[k] >> 6; }}
+static inline uint16_t w_slot(uint8_t k, uint8_t kind) {{ return image_base[kind] + (w_wire[k] & 63); }}
 
 static uint8_t hexval(char c) {{ return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10; }}
 static bool ishex(char c) {{ return (c >= '0' && c <= '9') || ((c | 0x20) >= 'a' && (c | 0x20) <= 'f'); }}
@@ -711,24 +707,24 @@ static inline uint8_t alba_duty(int32_t v) {{ return v < 0 ? 0 : v > 255 ? 255 :
 static void read_inputs() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
         uint8_t kind = w_kind(k);
-        if (kind == 0) B[w_slot(k, 0)] = digitalRead(w_pin(k, 0)) == HIGH;
-        else if (kind == 2) I[w_slot(k, 2)] = analogRead(w_pin(k, 2));
+        if (kind == 0) B[w_slot(k, 0)] = digitalRead(w_pin[k]) == HIGH;
+        else if (kind == 2) I[w_slot(k, 2)] = analogRead(w_pin[k]);
     }}
 }}
 
 static void write_outputs() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
         uint8_t kind = w_kind(k);
-        if (kind == 1) digitalWrite(w_pin(k, 1), B[w_slot(k, 1)] ? {on} : {off});
-        else if (kind == 3) analogWrite(w_pin(k, 3), alba_duty(I[w_slot(k, 3)]));
+        if (kind == 1) digitalWrite(w_pin[k], B[w_slot(k, 1)] ? {on} : {off});
+        else if (kind == 3) analogWrite(w_pin[k], alba_duty(I[w_slot(k, 3)]));
     }}
 }}
 
 static void outputs_safe() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
         uint8_t kind = w_kind(k);
-        if (kind == 1) digitalWrite(w_pin(k, 1), {off});
-        else if (kind == 3) analogWrite(w_pin(k, 3), 0);
+        if (kind == 1) digitalWrite(w_pin[k], {off});
+        else if (kind == 3) analogWrite(w_pin[k], 0);
     }}
 }}
 
@@ -800,7 +796,7 @@ static void start() {{
 {led_off}    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
     B[sys_b[8]] = 1;  // S:STOREOK
     for (uint8_t k = 0; k < n_wires; k++) {{
-        uint8_t kind = w_kind(k), pin = w_pin(k, kind);
+        uint8_t kind = w_kind(k), pin = w_pin[k];
         if (kind == 0) pinMode(pin, INPUT);
         else if (kind == 1) {{ digitalWrite(pin, {off}); pinMode(pin, OUTPUT); }}
         else if (kind == 3) {{ analogWrite(pin, 0); pinMode(pin, OUTPUT); }}
@@ -899,12 +895,12 @@ static void serial_poll() {{
 // long as it is held; then the program starts.
 static bool lamp_test() {{
     uint8_t hold = 0xFF;
-    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind(k) == 0) hold = w_pin(k, 0);
+    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind(k) == 0) hold = w_pin[k];
     if (hold == 0xFF || digitalRead(hold) != HIGH) return false;
     Serial.println(F("lamp test"));
     while (digitalRead(hold) == HIGH) {{
         for (uint8_t k = 0; k < n_wires && digitalRead(hold) == HIGH; k++) {{
-            uint8_t kind = w_kind(k), pin = w_pin(k, kind);
+            uint8_t kind = w_kind(k), pin = w_pin[k];
             if (kind != 1 && kind != 3) continue;
             Serial.print(pin >= A0 ? F("lamp A") : F("lamp D"));
             Serial.println(pin >= A0 ? pin - A0 : pin);

@@ -571,8 +571,8 @@ impl Interpreter {
                 "sys_b",
                 "sys_i",
                 "n_wires",
-                "w_ch",
-                "w_kinds",
+                "w_wire",
+                "w_pin",
                 "image_base",
                 "prog_id",
             ] {
