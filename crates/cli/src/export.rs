@@ -430,10 +430,10 @@ pub fn read_back(port: &str, out: &Path) -> ExitCode {
             format!("cannot write {}: {e}", out.display()),
         ));
     }
-    let board = Model::parse(&id.model).map_or_else(|| id.model.clone(), |m| m.title().to_string());
+    let board = id.title();
     let state = match id.state {
         BoardState::Running => "running it",
-        BoardState::NoProgram => "no program that checks: outputs safe, error LED",
+        BoardState::NoProgram => "no program that checks: outputs safe",
         BoardState::Faulted => "stopped on a major fault",
     };
     let what = match bytecode::decode(&bytes) {

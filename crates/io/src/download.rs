@@ -89,14 +89,19 @@ impl Identity {
 }
 
 impl Identity {
+    /// The board as users name it (`Arduino Nano`).
+    pub fn title(&self) -> String {
+        Model::parse(&self.model).map_or_else(|| self.model.clone(), |m| m.title().to_string())
+    }
+
     /// Why byte code of `len` bytes for `t` must not go to this board, if it
     /// must not: another board, another byte-code format, another pin map or
     /// output polarity, a program larger than the board's slot.
     pub fn refuses(&self, t: &Target, len: usize) -> Option<String> {
-        let theirs = Model::parse(&self.model).map_or_else(|| self.model.clone(), |m| m.title().to_string());
         if self.model != t.model.name() {
             return Some(format!(
-                "the board is an {theirs} (its interpreter says so), and the program is for the {}: give --board {}, or change [board] in alba.toml",
+                "the board is an {} (its interpreter says so), and the program is for the {}: give --board {}, or change [board] in alba.toml",
+                self.title(),
                 t.model.title(),
                 self.model
             ));
