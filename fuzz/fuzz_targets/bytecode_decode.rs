@@ -1,20 +1,18 @@
-//! The byte-code decoder (issue 19): any bytes are refused with a reason or
-//! decoded into a program that passes `Program::verify`; the header's CRC is
-//! recomputed first, so the fuzzer reaches the body's decoder and not only
-//! the checksum. Never a panic.
+//! The byte-code decoder (issue 19): any bytes, the header's length and CRC
+//! made good first so the fuzzer reaches the body's decoder and not only the
+//! checksum, are refused with a reason or decoded into a program that passes
+//! `Program::verify`; the board checks of `decode_for` (with the header's
+//! board id made the Uno's, then the Mega's) accept nothing `decode`
+//! refuses. Never a panic. The checks are `crates/arduino/tests/common/fuzz.rs`.
 #![no_main]
+
+#[path = "../../crates/arduino/tests/common/fuzz.rs"]
+mod check;
 
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let mut bytes = data.to_vec();
-    if bytes.len() >= alba_arduino::bytecode::HEADER_LEN {
-        let crc = crc32fast::hash(&bytes[alba_arduino::bytecode::HEADER_LEN..]);
-        bytes[20..24].copy_from_slice(&crc.to_le_bytes());
-        let len = (bytes.len() - alba_arduino::bytecode::HEADER_LEN) as u32;
-        bytes[16..20].copy_from_slice(&len.to_le_bytes());
-    }
-    if let Ok(d) = alba_arduino::bytecode::decode(&bytes) {
-        assert!(d.program.verify().is_ok());
+    if let Err(e) = check::bytecode_input(data) {
+        panic!("{e}");
     }
 });

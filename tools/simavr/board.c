@@ -20,6 +20,9 @@
  *   unplug          close the pty and remove LINK (the host sees the port vanish) -> `ok`
  *   plug            a new pty, LINK points at it -> `ok /dev/pts/M`
  *   time            simulated milliseconds since the start -> `time MS`
+ *   stuck ADDR      the EEPROM byte at ADDR (decimal) keeps its value whatever the
+ *                   firmware writes: a worn cell, for write-verify failures -> `ok`
+ *   stuck off       the EEPROM works again -> `ok`
  *   quit            (or end of input) exit
  * At start, once the pty exists: `ready /dev/pts/N`. Errors: `error TEXT`.
  *
@@ -145,6 +148,12 @@ static void drive(pin_t p, int v) {
     avr_ioctl(avr, AVR_IOCTL_IOPORT_SET_EXTERNAL(port), &e);
 }
 
+/* The EEPROM (simavr's own buffer) and the cell `stuck` holds at `stuck_value`. */
+static uint8_t *eeprom;
+static uint32_t ee_size;
+static long stuck = -1;
+static uint8_t stuck_value;
+
 static pin_t pins[MAX_PINS];
 static int npins;
 static char cmd[256];
@@ -180,6 +189,19 @@ static int command(char *line) {
         if (master >= 0) unplug();
         if (plug()) fprintf(ctl, "error cannot make a pty: %s\n", strerror(errno));
         else fprintf(ctl, "ok %s\n", ptsname(master));
+    } else if (!strcmp(line, "stuck") && arg) {
+        char *end;
+        long at = strtol(arg, &end, 10);
+        if (!strcmp(arg, "off")) {
+            stuck = -1;
+            fprintf(ctl, "ok\n");
+        } else if (*end || at < 0 || (uint32_t)at >= ee_size || !eeprom) {
+            fprintf(ctl, "error stuck ADDR (0-%u) or stuck off\n", (unsigned)ee_size - 1);
+        } else {
+            stuck = at;
+            stuck_value = eeprom[at];
+            fprintf(ctl, "ok\n");
+        }
     } else if (!strcmp(line, "time")) {
         fprintf(ctl, "time %llu\n", (unsigned long long)(avr->cycle * 1000 / freq));
     } else if (!strcmp(line, "quit")) {
@@ -253,7 +275,7 @@ int main(int argc, char **argv) {
     avr->sleep = no_sleep;
     adc_setup();
     static uint8_t ee[4096];
-    uint32_t ee_size = mega ? 4096 : 1024;
+    ee_size = mega ? 4096 : 1024;
     if (eeprom_file) {
         FILE *f = fopen(eeprom_file, "rb");
         if (f) {
@@ -266,6 +288,13 @@ int main(int argc, char **argv) {
         }
     }
 
+    {
+        /* (simavr 1.6 answers GET with a pointer to its EEPROM when given none,
+         * and -1 even then: the pointer says whether it worked) */
+        avr_eeprom_desc_t d = {.ee = NULL, .offset = 0, .size = ee_size};
+        avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &d);
+        eeprom = d.ee;
+    }
     if (hold_pin) set_input(parse_pin(hold_pin), 1);
     for (avr_io_t *io = avr->io_port; io; io = io->next)
         if (!strcmp(io->kind, "uart") && ((avr_uart_t *)io)->name == '0') uart = (avr_uart_t *)io;
@@ -296,6 +325,8 @@ int main(int argc, char **argv) {
         while (avr->cycle < stop) {
             int st = avr_run(avr);
             if (st == cpu_Done || st == cpu_Crashed) die("the CPU stopped (crashed, or sleeping with interrupts off)", NULL);
+            /* a write to the stuck cell is undone before the next instruction can read it back */
+            if (stuck >= 0) eeprom[stuck] = stuck_value;
         }
         pump_pty();
         if (!pump_stdin()) break;
@@ -306,12 +337,8 @@ int main(int argc, char **argv) {
     }
     unplug();
     if (eeprom_file) {
-        /* (simavr 1.6 answers GET with a pointer to its EEPROM when given none,
-         * and -1 even then: the pointer says whether it worked) */
-        avr_eeprom_desc_t d = {.ee = NULL, .offset = 0, .size = ee_size};
-        avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &d);
         FILE *f = fopen(eeprom_file, "wb");
-        if (!f || !d.ee || fwrite(d.ee, 1, ee_size, f) != ee_size) die("cannot save the EEPROM to ", eeprom_file);
+        if (!f || !eeprom || fwrite(eeprom, 1, ee_size, f) != ee_size) die("cannot save the EEPROM to ", eeprom_file);
         fclose(f);
     }
     return 0;

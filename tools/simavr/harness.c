@@ -4,7 +4,7 @@
  *
  *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
  *               [--lag US] [--from-first-scan] [--eeprom FILE] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
- *               [--stimulus FILE] [-o TRACE.csv]
+ *               [--forbid ADDR:LEN,...] [--free-ram ADDR] [--stimulus FILE] [-o TRACE.csv]
  *
  * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
  * skipped; times never go back). Digital pin: 0/1 driven on the pin. Analog pin
@@ -13,7 +13,8 @@
  * Trace: header `time_ms,<pins>` then a row at every multiple of --every up to
  * --until: the pin's level 0/1, or for `Dn:pwm` the analogWrite duty 0-255 read
  * from the timer's compare register while its output is connected (0/255 from
- * the port otherwise). At each time, inputs of that time are applied first,
+ * the port otherwise), or for `Dn:drive` whether the firmware drives the pin (0
+ * an input, 1 driven low, 2 driven high). At each time, inputs of that time are applied first,
  * then the row is sampled, then the CPU runs on. Time = cycles * 1000 / HZ.
  * With --lag US, the row of time t is sampled US microseconds after t (stimuli
  * up to that moment applied first): a firmware that scans at t has written its
@@ -27,6 +28,19 @@
  * when it ends (Alba's sketches do) gets its scans counted and timed in CPU
  * cycles; the count and min/mean/max cycles go to stderr as a line
  * `alba-simavr: scans N cycles min A mean B max C`.
+ * The number of scans started goes to stderr too (`alba-simavr: scan starts N`):
+ * a scan that never ends (a runaway loop) started all the same; and the cycle the
+ * first one started at (`alba-simavr: first scan at cycle N`: the firmware's setup).
+ * With --forbid ADDR:LEN,..., from the first scan on, the CPU must not store into
+ * those data-space regions (decimal); with --free-ram ADDR, never between ADDR (the
+ * end of the firmware's static data) and the stack pointer, where nothing lives;
+ * and never outside the MCU's RAM nor into its registers by address. Each such
+ * store goes to stderr as `alba-simavr: forbidden
+ * write XX to ADDR at pc PC` (the first 20), their count as `alba-simavr: forbidden
+ * writes N`, and the exit status is 3 (the trace is written all the same). simavr
+ * sends every store of the program (ST, STD, STS, CALL's return address) through
+ * avr_core_watch_write, which this program replaces (the executable's definition
+ * takes the library's calls to it).
  * Total cycles go to stderr. Exit 1 on bad arguments or a stopped CPU.
  */
 #include "pins.h"
@@ -36,13 +50,13 @@ typedef struct { unsigned long t; pin_t pin; int value; } stim_t;
 
 /* GPIOR0 (I/O 0x1E, data 0x3E on both MCUs): scan start (1) and end (0). */
 static avr_cycle_count_t scan_start, scan_min = (avr_cycle_count_t)-1, scan_max, scan_sum;
-static unsigned long scans;
+static unsigned long scans, scan_starts;
 
 /* With --from-first-scan, the cycle the first scan started at is the trace's
  * time 0 (a firmware whose setup takes a while: the byte-code interpreter,
  * which checks its program and schedules its scans on micros()); otherwise
  * time 0 is the reset (a sketch, whose millis() deadlines count from it). */
-static avr_cycle_count_t origin;
+static avr_cycle_count_t origin, first_scan_at;
 static int started, from_first_scan;
 /* With --eeprom FILE, the EEPROM starts from that image (what `alba download` left). */
 static const char *eeprom_file;
@@ -52,9 +66,13 @@ static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
     a->data[addr] = v;
     if (v == 1 && !started) {
         started = 1;
+        first_scan_at = a->cycle;
         if (from_first_scan) origin = a->cycle;
     }
-    if (v == 1) scan_start = a->cycle;
+    if (v == 1) {
+        scan_start = a->cycle;
+        scan_starts++;
+    }
     else if (v == 0 && scan_start) {
         avr_cycle_count_t c = a->cycle - scan_start;
         scans++;
@@ -67,8 +85,39 @@ static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
 
 static void apply(const stim_t *s) { set_input(s->pin, s->value); }
 
+static unsigned long forbid_at[MAX_PINS], forbid_len[MAX_PINS];
+static int nforbid;
+static unsigned long forbidden, free_ram;
+
+static void forbidden_write(avr_t *a, unsigned long addr, uint8_t v) {
+    if (forbidden++ < 20)
+        fprintf(stderr, "alba-simavr: forbidden write %02x to %lu at pc 0x%x (sp %u)\n", v, addr, (unsigned)a->pc,
+                (unsigned)(a->data[R_SPL] | a->data[R_SPH] << 8));
+}
+
+/* Replaces simavr's (sim_core.c): the same checks, and the watch of --forbid. */
+void avr_core_watch_write(avr_t *a, uint16_t addr, uint8_t v) {
+    if (addr > a->ramend) {
+        forbidden_write(a, addr, v);
+        addr = addr % (a->ramend + 1);
+    }
+    if (addr < 32) {
+        forbidden_write(a, addr, v);
+        a->state = cpu_Crashed;
+        return;
+    }
+    uint16_t sp = a->data[R_SPL] | a->data[R_SPH] << 8;
+    /* (a CALL stores its return address, 2 bytes or the Mega's 3, below SP before moving it) */
+    if (free_ram && addr >= free_ram && addr + 3 < sp) forbidden_write(a, addr, v);
+    if (started)
+        for (int i = 0; i < nforbid; i++)
+            if (addr >= forbid_at[i] && addr < forbid_at[i] + forbid_len[i]) forbidden_write(a, addr, v);
+    a->data[addr] = v;
+}
+
 int main(int argc, char **argv) {
-    const char *elf = NULL, *stim_file = NULL, *pins_arg = "", *mem_arg = "", *out_file = NULL, *mcu = "atmega328p";
+    const char *elf = NULL, *stim_file = NULL, *pins_arg = "", *mem_arg = "", *forbid_arg = "", *out_file = NULL,
+               *mcu = "atmega328p";
     unsigned long until = 0, every = 0, lag = 0, freq = 16000000UL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -78,6 +127,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--lag") && more) lag = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--pins") && more) pins_arg = argv[++i];
         else if (!strcmp(a, "--mem") && more) mem_arg = argv[++i];
+        else if (!strcmp(a, "--forbid") && more) forbid_arg = argv[++i];
+        else if (!strcmp(a, "--free-ram") && more) free_ram = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--stimulus") && more) stim_file = argv[++i];
         else if (!strcmp(a, "-o") && more) out_file = argv[++i];
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
@@ -111,6 +162,16 @@ int main(int argc, char **argv) {
         if (*colon != ':') die("a memory region is ADDR:LEN: ", tok);
         mem_len[nmem] = strtoul(colon + 1, NULL, 10);
         nmem++;
+    }
+
+    char *flist = strdup(forbid_arg);
+    for (char *tok = strtok(flist, ","); tok; tok = strtok(NULL, ",")) {
+        char *colon;
+        if (nforbid == MAX_PINS) die("too many forbidden regions", NULL);
+        forbid_at[nforbid] = strtoul(tok, &colon, 10);
+        if (*colon != ':') die("a forbidden region is ADDR:LEN: ", tok);
+        forbid_len[nforbid] = strtoul(colon + 1, NULL, 10);
+        nforbid++;
     }
 
     stim_t *stim = NULL;
@@ -173,7 +234,7 @@ int main(int argc, char **argv) {
 
     fprintf(trace, "time_ms");
     for (int i = 0; i < npins; i++)
-        fprintf(trace, ",%c%d%s", pins[i].analog ? 'A' : 'D', pins[i].n, pins[i].pwm ? ":pwm" : "");
+        fprintf(trace, ",%c%d%s", pins[i].analog ? 'A' : 'D', pins[i].n, pins[i].pwm ? ":pwm" : pins[i].drive ? ":drive" : "");
     for (int i = 0; i < nmem; i++) {
         if (mem_at[i] + mem_len[i] > (unsigned long)avr->ramend + 1) die("a memory region is outside the MCU's RAM", NULL);
         fprintf(trace, ",m%lu", mem_at[i]);
@@ -218,7 +279,13 @@ int main(int argc, char **argv) {
     if (scans)
         fprintf(stderr, "alba-simavr: scans %lu cycles min %llu mean %llu max %llu\n", scans,
                 (unsigned long long)scan_min, (unsigned long long)(scan_sum / scans), (unsigned long long)scan_max);
+    fprintf(stderr, "alba-simavr: scan starts %lu\n", scan_starts);
+    if (started) fprintf(stderr, "alba-simavr: first scan at cycle %llu\n", (unsigned long long)first_scan_at);
     fprintf(stderr, "alba-simavr: %llu cycles simulated (%.3f ms at %lu Hz)\n",
             (unsigned long long)avr->cycle, avr->cycle * 1000.0 / freq, freq);
+    if (forbidden) {
+        fprintf(stderr, "alba-simavr: forbidden writes %lu\n", forbidden);
+        return 3;
+    }
     return 0;
 }

@@ -18,7 +18,8 @@
 
 #define MAX_PINS 64
 
-typedef struct { int analog, n, pwm; } pin_t;
+/* pwm: sample the analogWrite duty; drive: sample whether the firmware drives the pin. */
+typedef struct { int analog, n, pwm, drive; } pin_t;
 
 static int mega;
 static avr_t *avr;
@@ -58,7 +59,7 @@ static inline const char *pwm_of(int d) {
 }
 
 static inline pin_t parse_pin(const char *s) {
-    pin_t p = {0, 0, 0};
+    pin_t p = {0, 0, 0, 0};
     char *end;
     if ((s[0] != 'D' && s[0] != 'A') || s[1] < '0' || s[1] > '9') die("not a pin name: ", s);
     p.analog = s[0] == 'A';
@@ -66,7 +67,8 @@ static inline pin_t parse_pin(const char *s) {
     if (!strcmp(end, ":pwm")) {
         p.pwm = 1;
         if (p.analog || !pwm_of(p.n)) die("not a PWM pin: ", s);
-    } else if (*end) die("not a pin name: ", s);
+    } else if (!strcmp(end, ":drive")) p.drive = 1;
+    else if (*end) die("not a pin name: ", s);
     int max = p.analog ? (mega ? 15 : 7) : (mega ? 53 : 13);
     if (p.n > max) die("no such pin on this MCU: ", s);
     return p;
@@ -147,9 +149,22 @@ static inline void set_input(pin_t pin, int value) {
     avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), value ? 1 : 0);
 }
 
-/* A pin as the trace shows it: level 0/1, or the duty 0-255 of a `Dn:pwm`. */
+/* 0 when the pin is an input (the firmware does not drive it), 1 when it is an
+ * output driven low, 2 driven high. */
+static inline int driven(pin_t p) {
+    char port;
+    int bit = port_of(p, &port);
+    if (bit < 0) return 0;
+    avr_ioport_state_t st;
+    if (avr_ioctl(avr, AVR_IOCTL_IOPORT_GETSTATE(port), &st) != 0) return 0;
+    return ((st.ddr >> bit) & 1) ? 1 + ((st.port >> bit) & 1) : 0;
+}
+
+/* A pin as the trace shows it: level 0/1, the duty 0-255 of a `Dn:pwm`, or
+ * whether a `Dn:drive` is driven (0 input, 1 low, 2 high). */
 static inline int sample(pin_t p) {
     if (p.pwm) return duty(p);
+    if (p.drive) return driven(p);
     if (p.analog && port_of(p, &(char){0}) < 0) return 0;
     return level(p);
 }

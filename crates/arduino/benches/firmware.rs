@@ -235,9 +235,15 @@ fn interpreter(sketches: &[(&str, alba_ir::Program, alba_arduino::Sketch, Vec<Co
                 let prog = control_program(&c.program.expect("compiles"));
                 let mut t = uno(10);
                 t.model = model;
-                alba_arduino::bytecode::encode_program(&prog, 10, 0, &generate(&prog, kind, &t).expect("sketch").wiring)
-                    .map(|bc| bc.bytes.len())
-                    .unwrap_or(usize::MAX)
+                alba_arduino::bytecode::encode_program(
+                    &prog,
+                    10,
+                    0,
+                    0,
+                    &generate(&prog, kind, &t).expect("sketch").wiring,
+                )
+                .map(|bc| bc.bytes.len())
+                .unwrap_or(usize::MAX)
             };
             let (mut lo, mut hi) = (1usize, 2usize);
             while size(hi) <= room {

@@ -4,8 +4,9 @@
 //! docs/bytecode.md; in short, little-endian throughout:
 //!
 //! * a 24-byte header: magic `ALBC`, format version, operand widths, the
-//!   program id (the sketch's: program, layout and pin map), the scan period,
-//!   the body's length and its CRC-32;
+//!   board id (the board model, pin map and output polarity the program was
+//!   compiled for), the program id (the sketch's: program, layout and pin
+//!   map), the scan period, the body's length and its CRC-32;
 //! * the body: the memory sizes, the I/O regions, the system slots, the
 //!   non-zero initial values, the wiring (pin of each I/O channel), then the
 //!   ops — a 1-byte opcode, a sub-op byte where the op has one, and slot
@@ -17,7 +18,9 @@
 //! starts) and rebuilds a [`Program`] that the engine runs — the host's
 //! byte-code interpreter is the engine itself on the decoded program, so the
 //! semantics stay in one place and every byte-code consumer is tested
-//! against it.
+//! against it. [`decode_for`] adds what one board's interpreter checks (its
+//! board id, its memory, its pin map, the ops it has): the firmware refuses
+//! exactly what `decode_for` refuses.
 
 use crate::sketch::{self, Target, Wire};
 use alba_diag::{Code, Diagnostic};
@@ -28,7 +31,7 @@ use alba_model::address::Address;
 use alba_model::board::Pin;
 
 pub const MAGIC: [u8; 4] = *b"ALBC";
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
 pub const HEADER_LEN: usize = 24;
 
 /// A program as byte code, with what its header says.
@@ -45,6 +48,7 @@ pub struct Bytecode {
 #[derive(Debug, Clone)]
 pub struct Decoded {
     pub program: Program,
+    pub board_id: u16,
     pub program_id: u32,
     pub scan_ms: u16,
     pub wiring: Vec<(Address, u8, u32)>,
@@ -63,6 +67,9 @@ pub enum DecodeError {
     Crc { want: u32, found: u32 },
     #[error("at byte {at}: {what}")]
     Bad { at: usize, what: String },
+    /// Well formed, but not for this board's interpreter.
+    #[error("{0}")]
+    Board(String),
 }
 
 // Opcodes. One byte each; the order is the format's (never renumber).
@@ -261,7 +268,7 @@ pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec
             return Err(lints);
         }
     }
-    let bc = encode_program(&p, t.scan_ms, s.program_id, &s.wiring)
+    let bc = encode_program(&p, t.scan_ms, board_id(t), s.program_id, &s.wiring)
         .map_err(|m| vec![Diagnostic::unplaced(Code::NotOnBoard, m)])?;
     let room = crate::interp::slot_size(t.model);
     if bc.bytes.len() > room {
@@ -274,12 +281,74 @@ pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec
             ),
         )]);
     }
+    // What the board's interpreter would refuse (its memory, its ops) is refused here.
+    decode_for(&bc.bytes, t).map_err(|e| {
+        vec![
+            Diagnostic::unplaced(
+                Code::NotOnBoard,
+                format!(
+                    "the interpreter on the {} cannot run this program: {e}",
+                    t.model.title()
+                ),
+            )
+            .with_help("use the Mega, or the compiled sketch (alba export arduino)"),
+        ]
+    })?;
     Ok(bc)
+}
+
+/// The board id of header bytes 6-7: a hash of what an interpreter firmware
+/// is built for — the board model, the pin map and the output polarity. A
+/// board refuses byte code with another id (it was compiled for other pins).
+pub fn board_id(t: &Target) -> u16 {
+    let m = &t.map;
+    let h = sketch::fnv1a(
+        format!(
+            "{}|{:?}|{:?}|{:?}|{:?}|{}",
+            t.model.name(),
+            m.di,
+            m.r#do,
+            m.ai,
+            m.ao,
+            t.active_low
+        )
+        .as_bytes(),
+    );
+    (h >> 16) as u16 ^ h as u16
+}
+
+/// Channels of each kind an interpreter wires (it keeps a wire's channel in 6 bits).
+pub const MAX_CHANNELS: u32 = 64;
+
+/// The pin byte of channel `ch` of wiring kind `kind` (0 DI, 1 DO, 2 AI,
+/// 3 AO) on `t`'s board, or `None` when the pin map wires no usable pin there
+/// (or the channel is past [`MAX_CHANNELS`]).
+pub(crate) fn map_pin(t: &Target, kind: u8, ch: u32) -> Option<u8> {
+    if ch >= MAX_CHANNELS {
+        return None;
+    }
+    let address = match kind {
+        0 => Address::DigitalIn(ch),
+        1 => Address::DigitalOut(ch),
+        2 => Address::AnalogIn(ch),
+        3 => Address::AnalogOut(ch),
+        _ => return None,
+    };
+    match t.map.pin_of(t.model, address) {
+        Some(Ok(p)) => Some(pin_number(p)),
+        _ => None,
+    }
 }
 
 /// Encodes `p` as it is (its plant models too, if any): the host's form,
 /// and the part of [`encode`] after the board's checks.
-pub fn encode_program(p: &Program, scan_ms: u32, program_id: u32, wiring: &[Wire]) -> Result<Bytecode, String> {
+pub fn encode_program(
+    p: &Program,
+    scan_ms: u32,
+    board_id: u16,
+    program_id: u32,
+    wiring: &[Wire],
+) -> Result<Bytecode, String> {
     let lay = &p.layout;
     let c = lay.counts;
     let limit = |what: &str, n: u32| {
@@ -413,7 +482,7 @@ pub fn encode_program(p: &Program, scan_ms: u32, program_id: u32, wiring: &[Wire
     bytes.extend(MAGIC);
     bytes.push(VERSION);
     bytes.push(w.0);
-    bytes.extend([0, 0]);
+    bytes.extend(board_id.to_le_bytes());
     bytes.extend(program_id.to_le_bytes());
     bytes.extend(scan_ms.to_le_bytes());
     bytes.extend([0, 0]);
@@ -825,6 +894,7 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
         return Err(DecodeError::Version(h[4]));
     }
     let w = Widths(h[5]);
+    let board_id = u16::from_le_bytes([h[6], h[7]]);
     let program_id = u32::from_le_bytes([h[8], h[9], h[10], h[11]]);
     let scan_ms = u16::from_le_bytes([h[12], h[13]]);
     let len = u32::from_le_bytes([h[16], h[17], h[18], h[19]]) as usize;
@@ -988,10 +1058,83 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
     })?;
     Ok(Decoded {
         program,
+        board_id,
         program_id,
         scan_ms,
         wiring,
     })
+}
+
+/// As [`decode`], and refused unless the interpreter firmware for `t`'s board
+/// runs it: the board id, the program slot's size, the interpreter's memory
+/// (and no LREAL, no LINT on the Uno and Nano), its number of wires, every
+/// wire on the pin the board's pin map has for that channel, and every op
+/// one the interpreter has (the sketch export translates it). The firmware
+/// makes the same checks (`interp.rs`, `load_at`), so it runs exactly what
+/// this accepts.
+pub fn decode_for(bytes: &[u8], t: &Target) -> Result<Decoded, DecodeError> {
+    let d = decode(bytes)?;
+    let board = |m: String| Err(DecodeError::Board(m));
+    let title = t.model.title();
+    let want = board_id(t);
+    if d.board_id != want {
+        return board(format!(
+            "it was compiled for another board or pin map (board id {:04x}; this {title}'s interpreter is {want:04x})",
+            d.board_id
+        ));
+    }
+    let room = crate::interp::slot_size(t.model);
+    let len = bytes
+        .len()
+        .min(HEADER_LEN + u32::from_le_bytes([bytes[16], bytes[17], bytes[18], bytes[19]]) as usize);
+    if len > room {
+        return board(format!("{len} bytes; the {title}'s program slot holds {room}"));
+    }
+    let cap = crate::interp::capacity(t.model);
+    let lay = &d.program.layout;
+    for (what, n, max) in [
+        ("BOOL slots", lay.counts.b, cap.b),
+        ("integer slots", lay.counts.i, cap.i),
+        ("REAL slots", lay.counts.f, cap.f),
+        ("LINT slots", lay.counts.l, cap.l),
+        ("LREAL slots", lay.counts.d, 0),
+        ("marker bytes", lay.marker_bytes, cap.m),
+        ("wired channels", d.wiring.len() as u32, cap.wires),
+    ] {
+        if n > max {
+            return board(format!("{n} {what}; the {title}'s interpreter holds {max}"));
+        }
+    }
+    for (address, pin, _) in &d.wiring {
+        let (kind, ch) = match *address {
+            Address::DigitalIn(n) => (0, n),
+            Address::DigitalOut(n) => (1, n),
+            Address::AnalogIn(n) => (2, n),
+            Address::AnalogOut(n) => (3, n),
+            Address::Marker { .. } => (4, 0),
+        };
+        if ch >= MAX_CHANNELS {
+            return board(format!(
+                "{address}: the interpreter wires channels 0 to {} of a kind",
+                MAX_CHANNELS - 1
+            ));
+        }
+        if map_pin(t, kind, ch) != Some(*pin) {
+            return board(format!(
+                "{address} is wired to pin byte 0x{pin:02x}, which is not that channel's pin on the {title}'s pin map"
+            ));
+        }
+    }
+    if let Some((pc, op)) = d
+        .program
+        .ops
+        .iter()
+        .enumerate()
+        .find(|(pc, op)| !matches!(op, Op::Jmp(_)) && sketch::emit(op, *pc as u32).is_err())
+    {
+        return board(format!("op {pc} ({op:?}) does not run on the {title}"));
+    }
+    Ok(d)
 }
 
 impl Reader<'_> {

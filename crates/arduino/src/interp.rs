@@ -49,13 +49,14 @@ pub fn capacity(model: Model) -> Capacity {
             wires: 96,
         },
         // No LINT on the Uno and the Nano: the 64-bit cases would not fit in their flash.
+        // 20 wires: all the pins a pin map can use there (D2-D13, A0-A7), none twice.
         _ => Capacity {
             b: 256,
             i: 128,
             f: 48,
             l: 0,
             m: 64,
-            wires: 40,
+            wires: 20,
         },
     }
 }
@@ -254,19 +255,21 @@ fn body(op: &Op) -> Option<String> {
     )
 }
 
-/// The ops the interpreter runs on a board of capacity `cap` (no LINT op
-/// where it holds no LINT).
+/// The ops the interpreter runs on a board of capacity `cap`: those the
+/// engine defines and the export translates (no LINT op where it holds no
+/// LINT).
 fn runs(op: &Op, cap: Capacity) -> Option<String> {
-    if cap.l == 0 && op.slots().iter().any(|s| matches!(s, AnySlot::L(_))) {
+    if !op.is_defined() || (cap.l == 0 && op.slots().iter().any(|s| matches!(s, AnySlot::L(_)))) {
         return None;
     }
     body(op)
 }
 
-/// The `switch` of the interpreter (`run`), and the layout table the checker
+/// The `switch` of the interpreter (`run`), the layout table the checker
 /// walks (`LAYOUT`: per op and variant, its opcode, its variant byte or 0xFF,
-/// its field count, then per field a kind-and-area byte and an extent).
-fn cases(cap: Capacity) -> (String, String) {
+/// its field count, then per field a kind-and-area byte and an extent), and
+/// per opcode the offset of its first entry there (`FIRST`, 0xFFFF for none).
+fn cases(cap: Capacity) -> (String, String, String) {
     // Opcode → its variants (templates with their fields).
     type Variants = Vec<(Op, Vec<Field>)>;
     let mut groups: Vec<(u8, Variants)> = Vec::new();
@@ -278,8 +281,12 @@ fn cases(cap: Capacity) -> (String, String) {
         }
     }
     let (mut run, mut layout) = (String::new(), String::new());
+    let mut first: Vec<Option<usize>> = vec![None; 0x42];
+    let mut at = 0usize;
     // (the checker checks the slots before a variant byte with the variant's extents)
     let mut entry = |code: u8, sel: Option<u8>, op: &Op, fields: &[Field]| {
+        first[code as usize].get_or_insert(at);
+        at += 3 + 2 * fields.len();
         let _ = write!(
             layout,
             "    0x{code:02x}, 0x{:02x}, {},",
@@ -322,7 +329,12 @@ fn cases(cap: Capacity) -> (String, String) {
             "        case 0x{code:02x}: {{ {head}\n            switch (x0) {{\n{rv}            default: return 0xFFFF;\n            }}\n            break;\n        }}"
         );
     }
-    (run, layout)
+    let first = first
+        .iter()
+        .map(|e| e.map_or("0xFFFF".to_string(), |e| e.to_string()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    (run, layout, first)
 }
 
 /// The interpreter sketch for `t`'s board (`.ino` and `alba_rt.h`); with
@@ -330,7 +342,7 @@ fn cases(cap: Capacity) -> (String, String) {
 /// which simavr and avrdude load), as `alba download` would leave it.
 pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
     let c = capacity(t.model);
-    let (run, layout) = cases(c);
+    let (run, layout, first) = cases(c);
     let eeprom = match program {
         Some(p) => {
             let mut s = String::from(
@@ -346,20 +358,29 @@ pub fn generate(t: &Target, program: Option<&[u8]>) -> Vec<(String, String)> {
         None => String::new(),
     };
     let lvl = |on: bool| if on != t.active_low { "HIGH" } else { "LOW" };
-    // The error LED is the board's own on D13, unless the pin map wires an output
-    // there (blinking an actuator is not a signal): then there is none.
-    let d13_wired = (0..256).any(|n| {
-        matches!(
-            t.map.pin_of(t.model, alba_model::address::Address::DigitalOut(n)),
-            Some(Ok(alba_model::board::Pin::D(13)))
-        )
-    });
-    let (led_setup, led_blink) = if d13_wired {
-        ("", "")
+    let (mut map, mut map_at) = (Vec::new(), vec!["0".to_string()]);
+    for (kind, dir) in alba_model::board::Dir::ALL.iter().enumerate() {
+        for ch in 0..t.map.pins(*dir).len().min(bytecode::MAX_CHANNELS as usize) {
+            let pin = bytecode::map_pin(t, kind as u8, ch as u32).unwrap_or(0xFF);
+            map.push(format!("0x{pin:02x}"));
+        }
+        map_at.push(map.len().to_string());
+    }
+    if map.is_empty() {
+        map.push("0xff".into());
+    }
+    // The error LED is the board's own on D13, unless the pin map wires D13 (blinking
+    // an actuator is no signal, and driving an input's wire is worse): then there is none.
+    let d13_wired = alba_model::board::Dir::ALL
+        .iter()
+        .any(|d| t.map.pins(*d).contains(&alba_model::board::Pin::D(13)));
+    let (led_setup, led_blink, led_off) = if d13_wired {
+        ("", "", "")
     } else {
         (
             "        pinMode(LED_BUILTIN, OUTPUT);\n",
             "        digitalWrite(LED_BUILTIN, (millis() / 250) & 1);\n",
+            "    digitalWrite(LED_BUILTIN, LOW);  // no error (still an input if it never blinked)\n",
         )
     };
     let ino = format!(
@@ -380,14 +401,25 @@ static int64_t L[{cl}];
 static uint8_t M[{cm}];
 // Sizes the program uses, by area (B, I, F, L, D, M); what the arrays hold.
 static uint16_t N[6];
-static const uint16_t CAP[6] = {{{cb}, {ci}, {cf}, {lcap}, 0, {cm}}};
+static const uint16_t CAP[6] PROGMEM = {{{cb}, {ci}, {cf}, {lcap}, 0, {cm}}};
 static uint8_t wide;
-static uint16_t code_start, code_end, scan_period = 10;
-static uint16_t sys_b[9], sys_i[4];
-static uint8_t n_wires, w_kind[{cw}], w_pin[{cw}];
-static uint16_t w_slot[{cw}];
+static uint16_t code_start, code_end, n_ops, scan_period = 10;
+static {bslot} sys_b[9];
+static {islot} sys_i[4];
+// The wires: per wire its kind (0 DI, 1 DO, 2 AI, 3 AO) in the top 2 bits and its channel
+// (below 64) under them, and its pin; its slot is its image's base + the channel.
+static uint8_t n_wires, w_wire[{cw}], w_pin[{cw}];
+static uint16_t image_base[4];
 static uint16_t p;
 static uint32_t prog_id;
+static bool first_scan = true, major = false, loaded = false;
+
+// What this firmware is built for: the header's board id (board, pin map, output
+// polarity), and the pin map — per kind (DI, DO, AI, AO) the pin byte of each channel
+// from MAP_AT[kind] (0xFF: a pin the board cannot use there).
+#define BOARD_ID 0x{board_id:04X}
+static const uint8_t MAP[] PROGMEM = {{{map}}};
+static const uint8_t MAP_AT[5] PROGMEM = {{{map_at}}};
 
 static uint8_t rd8() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)p++); }}
 static __attribute__((noinline)) uint16_t rd16() {{ uint16_t v = rd8(); return v | (uint16_t)rd8() << 8; }}
@@ -396,60 +428,88 @@ static __attribute__((noinline)) uint16_t rd_slot(uint8_t area) {{ return (wide 
 
 // Per op and variant the interpreter runs: opcode, variant byte (0xFF: none), field
 // count, then per field its kind (0-5: a slot of that area; 0x40 a byte; 0x80 a word)
-// and, for a slot, how far it reaches. Ends with 0.
+// and, for a slot, how far it reaches, grouped by opcode; FIRST: where each opcode's
+// entries start (0xFFFF: an opcode it does not run). Ends with 0.
 static const uint8_t LAYOUT[] PROGMEM = {{
 {layout}    0
 }};
 
+static const uint16_t FIRST[] PROGMEM = {{{first}}};
+
 // The entry of `op` (with variant `sel`, or any when `any`), or 0xFFFF.
 static uint16_t entry_of(uint8_t op, uint8_t sel, bool any) {{
-    for (uint16_t e = 0; pgm_read_byte(&LAYOUT[e]); e += 3 + 2 * pgm_read_byte(&LAYOUT[e + 2]))
-        if (pgm_read_byte(&LAYOUT[e]) == op && (any || pgm_read_byte(&LAYOUT[e + 1]) == sel)) return e;
+    if (op >= sizeof FIRST / sizeof FIRST[0]) return 0xFFFF;
+    for (uint16_t e = pgm_read_word(&FIRST[op]); e != 0xFFFF && pgm_read_byte(&LAYOUT[e]) == op;
+         e += 3 + 2 * pgm_read_byte(&LAYOUT[e + 2]))
+        if (any || pgm_read_byte(&LAYOUT[e + 1]) == sel) return e;
     return 0xFFFF;
 }}
 
-// Every op's opcode, variant and slots, without running it: 1 if the code is sound.
+// The op at p, read without running it (p moves past it): 1 if it is well formed (a
+// known opcode and variant, each slot and its extent inside memory); with `jumps`, a
+// jump must also land on a rung that starts an op inside the code.
+static uint8_t op_start(uint16_t to);
+static uint8_t check_op(bool jumps) {{
+    uint8_t op = rd8();
+    if (op == 0x0f) {{
+        int16_t rel = (int16_t)rd16();
+        uint16_t to = p + rel;
+        return !jumps || (to >= code_start && to < code_end &&
+                          eeprom_read_byte((const uint8_t *)(uintptr_t)to) == 0x01 && op_start(to));
+    }}
+    if (op == 0x2d || op == 0x2e) {{
+        uint16_t s0 = rd_slot(5); uint8_t bit = rd8(); uint16_t s1 = rd_slot(0);
+        return s0 < N[5] && bit < 8 && s1 < N[0];
+    }}
+    uint16_t e = entry_of(op, 0, true);
+    if (e == 0xFFFF) return 0;
+    bool variants = pgm_read_byte(&LAYOUT[e + 1]) != 0xFF;
+    // slots read before the variant byte: checked once the variant's extents are known
+    uint16_t before[2];
+    uint8_t n_before = 0;
+    for (uint8_t k = 0; k < pgm_read_byte(&LAYOUT[e + 2]); k++) {{
+        uint8_t kind = pgm_read_byte(&LAYOUT[e + 3 + 2 * k]), ext = pgm_read_byte(&LAYOUT[e + 4 + 2 * k]);
+        if (kind == 0x80) rd16();
+        else if (kind == 0x40) {{
+            uint8_t x = rd8();
+            if (variants) {{
+                // the variant byte: its own entry (the fields before it are the same kinds)
+                e = entry_of(op, x, false);
+                if (e == 0xFFFF) return 0;
+                variants = false;
+                for (uint8_t j = 0; j < n_before; j++) {{
+                    uint8_t a = pgm_read_byte(&LAYOUT[e + 3 + 2 * j]);
+                    if ((uint32_t)before[j] + pgm_read_byte(&LAYOUT[e + 4 + 2 * j]) > N[a]) return 0;
+                }}
+            }}
+        }} else if (variants && n_before < 2) before[n_before++] = rd_slot(kind);
+        else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
+    }}
+    return 1;
+}}
+
+// 1 if an op starts at `to` (the ops from the first, walked again).
+static uint8_t op_start(uint16_t to) {{
+    uint16_t keep = p;
+    p = code_start;
+    while (p < to && check_op(false)) {{}}
+    uint8_t at = p == to;
+    p = keep;
+    return at;
+}}
+
+// Every op, without running it: 1 if the code is sound — the first op starts a rung,
+// every op is well formed, the last ends where the body does, and they are as many as
+// the header of the ops says.
 static uint8_t check_code() {{
     p = code_start;
+    if (p < code_end && eeprom_read_byte((const uint8_t *)(uintptr_t)p) != 0x01) return 0;
+    uint16_t n = 0;
     while (p < code_end) {{
-        uint8_t op = rd8();
-        if (op == 0x0f) {{
-            int16_t rel = (int16_t)rd16();
-            uint16_t to = p + rel;
-            if (to < code_start || to >= code_end || eeprom_read_byte((const uint8_t *)(uintptr_t)to) != 0x01) return 0;
-            continue;
-        }}
-        if (op == 0x2d || op == 0x2e) {{
-            uint16_t s0 = rd_slot(5); rd8(); uint16_t s1 = rd_slot(0);
-            if (s0 >= N[5] || s1 >= N[0]) return 0;
-            continue;
-        }}
-        uint16_t e = entry_of(op, 0, true);
-        if (e == 0xFFFF) return 0;
-        bool variants = pgm_read_byte(&LAYOUT[e + 1]) != 0xFF;
-        // slots read before the variant byte: checked once the variant's extents are known
-        uint16_t before[2];
-        uint8_t n_before = 0;
-        for (uint8_t k = 0; k < pgm_read_byte(&LAYOUT[e + 2]); k++) {{
-            uint8_t kind = pgm_read_byte(&LAYOUT[e + 3 + 2 * k]), ext = pgm_read_byte(&LAYOUT[e + 4 + 2 * k]);
-            if (kind == 0x80) rd16();
-            else if (kind == 0x40) {{
-                uint8_t x = rd8();
-                if (variants) {{
-                    // the variant byte: its own entry (the fields before it are the same kinds)
-                    e = entry_of(op, x, false);
-                    if (e == 0xFFFF) return 0;
-                    variants = false;
-                    for (uint8_t j = 0; j < n_before; j++) {{
-                        uint8_t a = pgm_read_byte(&LAYOUT[e + 3 + 2 * j]);
-                        if ((uint32_t)before[j] + pgm_read_byte(&LAYOUT[e + 4 + 2 * j]) > N[a]) return 0;
-                    }}
-                }}
-            }} else if (variants && n_before < 2) before[n_before++] = rd_slot(kind);
-            else if ((uint32_t)rd_slot(kind) + ext > N[kind]) return 0;
-        }}
+        if (!check_op(true)) return 0;
+        n++;
     }}
-    return p == code_end;
+    return p == code_end && n == n_ops;
 }}
 
 static uint32_t crc32_eeprom(uint16_t from, uint16_t len) {{
@@ -469,11 +529,20 @@ static uint32_t crc32_eeprom(uint16_t from, uint16_t len) {{
 static uint16_t slot_base(uint8_t slot) {{ return slot == 1 ? SLOT_SIZE : 0; }}
 static uint8_t active_slot() {{ return eeprom_read_byte((const uint8_t *)(uintptr_t)SELECTOR) == 1 ? 1 : 0; }}
 
+// The widths byte a program with the sizes N must have (bit k: area k has over 256 slots).
+static uint8_t widths() {{
+    uint8_t w = 0;
+    for (uint8_t a = 0; a < 6; a++) if (N[a] > 256) w |= 1 << a;
+    return w;
+}}
+
+// The checks are those of the host's `bytecode::decode_for` for this board, one for one:
+// the firmware runs exactly what the host accepts.
 static uint8_t load_at(uint16_t base) {{
     p = base;
     if (rd8() != 'A' || rd8() != 'L' || rd8() != 'B' || rd8() != 'C' || rd8() != {version_byte}) return 0;
     wide = rd8();
-    rd16();
+    if (rd16() != BOARD_ID) return 0;  // compiled for another board or pin map
     prog_id = rd32();
     scan_period = rd16();
     rd16();
@@ -481,28 +550,45 @@ static uint8_t load_at(uint16_t base) {{
     if (len > SLOT_SIZE - 24 || crc32_eeprom(base + 24, (uint16_t)len) != crc) return 0;
     code_end = base + 24 + (uint16_t)len;
     for (uint8_t a = 0; a < 6; a++) {{
-        N[a] = rd16();
-        if (N[a] > CAP[a]) return 0;
+        uint16_t n = rd16();
+        if (n > pgm_read_word(&CAP[a])) return 0;
+        N[a] = n;
     }}
+    if (wide != widths()) return 0;
+    // The I/O images: DI and DO in the BOOL area, AI and AO in the integer area.
     uint16_t reg[8];
-    for (uint8_t k = 0; k < 8; k++) reg[k] = rd16();
-    for (uint8_t k = 0; k < 9; k++) if ((sys_b[k] = rd16()) >= N[0]) return 0;
-    for (uint8_t k = 0; k < 4; k++) if ((sys_i[k] = rd16()) + (k == 2 ? 6 : 1) > N[1]) return 0;
+    for (uint8_t k = 0; k < 8; k += 2) {{
+        reg[k] = image_base[k / 2] = rd16();
+        reg[k + 1] = rd16();
+        if ((uint32_t)reg[k] + reg[k + 1] > N[k < 4 ? 0 : 1]) return 0;
+    }}
+    for (uint8_t k = 0; k < 9; k++) {{
+        uint16_t s = rd16();
+        if (s >= N[0]) return 0;
+        sys_b[k] = s;
+    }}
+    for (uint8_t k = 0; k < 4; k++) {{
+        uint16_t s = rd16();
+        if ((uint32_t)s + (k == 2 ? {stats} : 1) > N[1]) return 0;
+        sys_i[k] = s;
+    }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[0]) return 0; B[s] = 1; }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[1]) return 0; I[s] = (int32_t)rd32(); }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[2]) return 0; uint32_t v = rd32(); memcpy(&F[s], &v, 4); }}
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[3]) return 0; uint64_t v = rd32(); v |= (uint64_t)rd32() << 32; L[s] = (int64_t)v; }}
     for (uint16_t n = rd16(); n; n--) {{ rd16(); rd32(); rd32(); return 0; }}  // LREAL: not on this board
     for (uint16_t n = rd16(); n; n--) {{ uint16_t s = rd16(); if (s >= N[5]) return 0; M[s] = rd8(); }}
+    // Each wire inside its image, on the pin this board's pin map has for its channel.
     n_wires = 0;
     for (uint16_t n = rd16(); n; n--) {{
         uint8_t kind = rd8(); uint16_t ch = rd16(); uint8_t pin = rd8(); uint16_t slot = rd16();
-        if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != reg[2 * kind] + ch) return 0;
-        w_kind[n_wires] = kind;
+        if (n_wires >= {cw} || kind > 3 || ch >= reg[2 * kind + 1] || slot != (uint32_t)reg[2 * kind] + ch) return 0;
+        uint8_t at = pgm_read_byte(&MAP_AT[kind]), channels = pgm_read_byte(&MAP_AT[kind + 1]) - at;
+        if (ch >= channels || pin == 0xFF || pgm_read_byte(&MAP[at + ch]) != pin) return 0;
         w_pin[n_wires] = pin & 0x80 ? A0 + (pin & 0x7F) : pin;
-        w_slot[n_wires++] = slot;
+        w_wire[n_wires++] = (uint8_t)(kind << 6 | ch);
     }}
-    rd16();  // ops
+    n_ops = rd16();
     code_start = p;
     return check_code();
 }}
@@ -523,35 +609,57 @@ static uint8_t load() {{
 // 10 address overflow, 20 write-verify), after the end record `S` and the 16-bit
 // sum of the data bytes (the new program checks and runs) or `E40` (it does not:
 // the old one keeps running); ESC drops the download (`A`). `R` + 4 hex digits
-// (address) + 2 (count): that many bytes of the running slot, in hex.
-static char line[48];
+// (address) + 2 (count): that many bytes of the running slot, in hex. `I`: the board's
+// identity, `I`, the format version (2 hex digits), the board id (4), the program slot's
+// size (4), the state (`R` a program runs, `N` none that checks, `F` stopped on a major
+// fault) and the board's name.
+static char line[44];  // the longest record: `:10AAAA00`, 32 hex digits of data, its checksum
 static uint8_t line_len;
 static uint16_t dl_sum;
 static bool dl_on;
 static bool reload;
 
+static inline uint8_t w_kind(uint8_t k) {{ return w_wire[k] >> 6; }}
+static inline uint16_t w_slot(uint8_t k, uint8_t kind) {{ return image_base[kind] + (w_wire[k] & 63); }}
+
 static uint8_t hexval(char c) {{ return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10; }}
 static bool ishex(char c) {{ return (c >= '0' && c <= '9') || ((c | 0x20) >= 'a' && (c | 0x20) <= 'f'); }}
 static uint8_t hexbyte(uint8_t at) {{ return hexval(line[at]) << 4 | hexval(line[at + 1]); }}
 
+static void hex_out(uint16_t v, uint8_t digits) {{
+    while (digits--) {{
+        uint8_t d = (v >> (4 * digits)) & 15;
+        Serial.write(d < 10 ? '0' + d : 'A' - 10 + d);
+    }}
+}}
+
 static void reply_flag(uint8_t f) {{
     Serial.write('E');
-    Serial.write("0123456789ABCDEF"[f >> 4]);
-    Serial.write("0123456789ABCDEF"[f & 15]);
+    hex_out(f, 2);
     Serial.write('\n');
 }}
 
+static void outputs_safe();
+
 static void record() {{
+    if (line[0] == 'I') {{
+        Serial.write('I');
+        hex_out({version_byte}, 2);
+        hex_out(BOARD_ID, 4);
+        hex_out(SLOT_SIZE, 4);
+        Serial.write(!loaded ? 'N' : major ? 'F' : 'R');
+        Serial.println(F("{model}"));
+        return;
+    }}
     if (line[0] == 'R') {{
         // read-back of the running slot
         uint16_t at = 0; uint8_t n = 0;
         for (uint8_t k = 1; k < 5; k++) at = at << 4 | hexval(line[k]);
         n = hexbyte(5);
         uint16_t base = slot_base(active_slot());
-        for (uint8_t k = 0; k < n && at + k < SLOT_SIZE; k++) {{
+        for (uint8_t k = 0; k < n && (uint32_t)at + k < SLOT_SIZE; k++) {{
             uint8_t b = eeprom_read_byte((const uint8_t *)(uintptr_t)(base + at + k));
-            Serial.write("0123456789ABCDEF"[b >> 4]);
-            Serial.write("0123456789ABCDEF"[b & 15]);
+            hex_out(b, 2);
         }}
         Serial.write('\n');
         return;
@@ -569,11 +677,14 @@ static void record() {{
     if (!dl_on) {{ dl_on = true; dl_sum = 0; }}
     if (type == 1) {{
         dl_on = false;
-        // the new slot must check before it runs; the old one runs meanwhile
-        if (!load_at(base)) {{ reply_flag(0x40); reload = true; return; }}
+        // The new slot must check before it runs. Checking it overwrites the running
+        // program's tables, so that one stops first with its outputs safe; refused, the
+        // old program starts again (from its initial values), as after a power cycle.
+        outputs_safe();
+        if (!load_at(base)) {{ loaded = false; reply_flag(0x40); reload = true; return; }}
         eeprom_update_byte((uint8_t *)(uintptr_t)SELECTOR, target);
         Serial.write('S');
-        for (int8_t sh = 12; sh >= 0; sh -= 4) Serial.write("0123456789ABCDEF"[(dl_sum >> sh) & 15]);
+        hex_out(dl_sum, 4);
         Serial.write('\n');
         reload = true;
         return;
@@ -595,22 +706,25 @@ static inline uint8_t alba_duty(int32_t v) {{ return v < 0 ? 0 : v > 255 ? 255 :
 
 static void read_inputs() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 0) B[w_slot[k]] = digitalRead(w_pin[k]) == HIGH;
-        else if (w_kind[k] == 2) I[w_slot[k]] = analogRead(w_pin[k]);
+        uint8_t kind = w_kind(k);
+        if (kind == 0) B[w_slot(k, 0)] = digitalRead(w_pin[k]) == HIGH;
+        else if (kind == 2) I[w_slot(k, 2)] = analogRead(w_pin[k]);
     }}
 }}
 
 static void write_outputs() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 1) digitalWrite(w_pin[k], B[w_slot[k]] ? {on} : {off});
-        else if (w_kind[k] == 3) analogWrite(w_pin[k], alba_duty(I[w_slot[k]]));
+        uint8_t kind = w_kind(k);
+        if (kind == 1) digitalWrite(w_pin[k], B[w_slot(k, 1)] ? {on} : {off});
+        else if (kind == 3) analogWrite(w_pin[k], alba_duty(I[w_slot(k, 3)]));
     }}
 }}
 
 static void outputs_safe() {{
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 1) digitalWrite(w_pin[k], {off});
-        else if (w_kind[k] == 3) analogWrite(w_pin[k], 0);
+        uint8_t kind = w_kind(k);
+        if (kind == 1) digitalWrite(w_pin[k], {off});
+        else if (kind == 3) analogWrite(w_pin[k], 0);
     }}
 }}
 
@@ -637,7 +751,6 @@ static uint16_t run(uint32_t now) {{
     return 0;
 }}
 
-static bool first_scan = true, major = false, loaded = false;
 static uint32_t next_us, vnow, half_s, half_ms, scans, overruns, scan_ms;
 
 static void scan() {{
@@ -680,12 +793,13 @@ static void start() {{
     if (!loaded) {{
 {led_setup}        return;
     }}
-    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
+{led_off}    B[sys_b[6]] = 1;  // S:IOOK: the pins are local
     B[sys_b[8]] = 1;  // S:STOREOK
     for (uint8_t k = 0; k < n_wires; k++) {{
-        if (w_kind[k] == 0) pinMode(w_pin[k], INPUT);
-        else if (w_kind[k] == 1) {{ digitalWrite(w_pin[k], {off}); pinMode(w_pin[k], OUTPUT); }}
-        else if (w_kind[k] == 3) {{ analogWrite(w_pin[k], 0); pinMode(w_pin[k], OUTPUT); }}
+        uint8_t kind = w_kind(k), pin = w_pin[k];
+        if (kind == 0) pinMode(pin, INPUT);
+        else if (kind == 1) {{ digitalWrite(pin, {off}); pinMode(pin, OUTPUT); }}
+        else if (kind == 3) {{ analogWrite(pin, 0); pinMode(pin, OUTPUT); }}
     }}
     // Deadlines on micros(): scan k starts k periods after the first, to 4 µs.
     next_us = micros();
@@ -760,7 +874,7 @@ static uint8_t link_write_regs(uint16_t at, uint16_t n, const uint8_t *be) {{
 static void serial_poll() {{
     while (Serial.available()) {{
         char c = Serial.read();
-        if (line_len == 0 && (alba_link_len > 0 || (c != ':' && c != 'R' && c != 0x1B && c != '\r' && c != '\n'))) {{
+        if (line_len == 0 && (alba_link_len > 0 || (c != ':' && c != 'R' && c != 'I' && c != 0x1B && c != '\r' && c != '\n'))) {{
             alba_link_byte((uint8_t)c);
         }} else if (c == 0x1B) {{
             line_len = 0;
@@ -779,39 +893,38 @@ static void serial_poll() {{
 // Lamp test (the 8051 PLC's): the first digital input held at power-up walks the
 // outputs, each on for half a second, echoing `lamp D12` on the serial port, for as
 // long as it is held; then the program starts.
-static void lamp_test() {{
+static bool lamp_test() {{
     uint8_t hold = 0xFF;
-    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind[k] == 0) hold = k;
-    if (hold == 0xFF || digitalRead(w_pin[hold]) != HIGH) return;
+    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind(k) == 0) hold = w_pin[k];
+    if (hold == 0xFF || digitalRead(hold) != HIGH) return false;
     Serial.println(F("lamp test"));
-    while (digitalRead(w_pin[hold]) == HIGH) {{
-        for (uint8_t k = 0; k < n_wires && digitalRead(w_pin[hold]) == HIGH; k++) {{
-            if (w_kind[k] != 1 && w_kind[k] != 3) continue;
-            Serial.print(w_pin[k] >= A0 ? F("lamp A") : F("lamp D"));
-            Serial.println(w_pin[k] >= A0 ? w_pin[k] - A0 : w_pin[k]);
-            if (w_kind[k] == 1) digitalWrite(w_pin[k], {on}); else analogWrite(w_pin[k], 255);
+    while (digitalRead(hold) == HIGH) {{
+        for (uint8_t k = 0; k < n_wires && digitalRead(hold) == HIGH; k++) {{
+            uint8_t kind = w_kind(k), pin = w_pin[k];
+            if (kind != 1 && kind != 3) continue;
+            Serial.print(pin >= A0 ? F("lamp A") : F("lamp D"));
+            Serial.println(pin >= A0 ? pin - A0 : pin);
+            if (kind == 1) digitalWrite(pin, {on}); else analogWrite(pin, 255);
             delay(500);
-            if (w_kind[k] == 1) digitalWrite(w_pin[k], {off}); else analogWrite(w_pin[k], 0);
+            if (kind == 1) digitalWrite(pin, {off}); else analogWrite(pin, 0);
         }}
     }}
     Serial.println(F("lamp test done"));
+    return true;
 }}
 
 void setup() {{
     Serial.begin(ALBA_LINK_BAUD);
     start();
-    if (loaded) {{
-        lamp_test();
-        start();
-    }}
+    // after a lamp test, the program starts afresh
+    if (loaded && lamp_test()) start();
 }}
 
 void loop() {{
     serial_poll();
     if (reload) {{
-        // a new program (or the old one after a refused download): outputs safe, then start it
+        // a new program, or the old one after a refused download (its outputs already safe)
         reload = false;
-        outputs_safe();
         start();
     }}
     if (!loaded) {{
@@ -840,9 +953,17 @@ void loop() {{
 }}
 "#,
         board = t.model.title(),
+        model = t.model.name(),
         mcu = t.model.mcu(),
         version = env!("CARGO_PKG_VERSION"),
         version_byte = bytecode::VERSION,
+        first = first,
+        board_id = bytecode::board_id(t),
+        map = map.join(", "),
+        map_at = map_at.join(", "),
+        stats = alba_ir::layout::STAT_TAGS.len(),
+        bslot = if c.b <= 256 { "uint8_t" } else { "uint16_t" },
+        islot = if c.i <= 256 { "uint8_t" } else { "uint16_t" },
         cb = c.b,
         ci = c.i,
         cf = c.f,
@@ -861,6 +982,43 @@ void loop() {{
         ("alba_rt.h".into(), RUNTIME.into()),
         ("alba_link.h".into(), sketch::LINK.into()),
     ]
+}
+
+/// The interpreter firmware for `t`'s board without a program, built once
+/// into the cache (`toolchain::cache_dir`, keyed by the board and a hash of
+/// the generated source, so a new Alba or another pin map builds anew) and
+/// reused after; `true` when it came from the cache.
+pub fn firmware(t: &Target) -> Result<(crate::toolchain::Built, bool), alba_diag::Diagnostic> {
+    use crate::toolchain::{self, temp_sibling, tool_error};
+    let files = generate(t, None);
+    let hash = files
+        .iter()
+        .flat_map(|(name, text)| name.bytes().chain(text.bytes()))
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        });
+    let cache = toolchain::cache_dir();
+    let dir = cache.join(format!("interp-{}-{hash:016x}", t.model.name()));
+    let (elf, hex) = (dir.join("build/sketch.elf"), dir.join("build/sketch.hex"));
+    if elf.is_file() && hex.is_file() {
+        return Ok((toolchain::measure(elf, hex, t.model)?, true));
+    }
+    let tmp = temp_sibling(&dir);
+    let io = |e: std::io::Error| tool_error(format!("cannot write the interpreter in {}: {e}", tmp.display()));
+    std::fs::create_dir_all(&tmp).map_err(io)?;
+    for (name, text) in &files {
+        std::fs::write(tmp.join(name), text).map_err(io)?;
+    }
+    let result = toolchain::build(&tmp.join(&files[0].0), t.model, &tmp.join("build"));
+    if let Err(d) = result {
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(d);
+    }
+    // Another builder may have won the race: theirs is as good as ours.
+    if std::fs::rename(&tmp, &dir).is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    Ok((toolchain::measure(elf, hex, t.model)?, false))
 }
 
 #[cfg(test)]

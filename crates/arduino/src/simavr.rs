@@ -280,6 +280,113 @@ pub fn simulate_eeprom(
     Ok(Run { trace, profile })
 }
 
+/// The firmware's static variables as (name, data-space address, bytes),
+/// from the ELF's symbols (`avr-nm -S`); C++ statics keep their mangled
+/// names (`_ZL1B` for `static bool B[…]`).
+pub fn symbols(elf: &Path) -> Result<Vec<(String, u32, u32)>, Diagnostic> {
+    let nm = run(
+        Command::new("avr-nm").arg("-S").arg(elf),
+        "reading the firmware's symbols",
+    )?;
+    Ok(nm
+        .lines()
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            let (addr, size, name) = match f.len() {
+                4 => (f[0], f[1], f[3]),
+                3 => (f[0], "0", f[2]),
+                _ => return None,
+            };
+            // Data-space addresses carry avr-gcc's 0x800000 offset.
+            let addr = u32::from_str_radix(addr, 16).ok()?;
+            (addr & 0xFF_0000 == 0x80_0000)
+                .then(|| Some((name.to_string(), addr & 0xFFFF, u32::from_str_radix(size, 16).ok()?)))?
+        })
+        .collect())
+}
+
+/// What [`run_watched`] samples and watches: `pins` (`D12`, `D6:pwm`,
+/// `D13:drive`) and the memory regions `mem` (data-space address, bytes)
+/// every `every_ms` to `until_ms` from the reset; the stores the firmware
+/// must not make: into `forbid` once the first scan has started, and at any
+/// time between `free_ram` and the stack pointer.
+#[derive(Debug, Clone, Default)]
+pub struct Watch {
+    pub pins: Vec<String>,
+    pub mem: Vec<(u32, u32)>,
+    pub until_ms: u64,
+    pub every_ms: u64,
+    pub forbid: Vec<(u32, u32)>,
+    pub free_ram: Option<u32>,
+}
+
+/// What [`run_watched`] saw.
+#[derive(Debug, Clone)]
+pub struct Watched {
+    /// The harness's trace: `time_ms`, then each pin, then each memory region in hex.
+    pub trace: String,
+    pub profile: Profile,
+    /// Scans started (a runaway scan never ends, but it started).
+    pub scan_starts: u64,
+    /// The forbidden stores (the first 20, as the harness reports them), and how many.
+    pub forbidden: Vec<String>,
+    pub forbidden_count: u64,
+}
+
+/// Runs `elf` in the harness with no stimulus, its EEPROM from `eeprom`,
+/// under `watch`: for tests of the firmware itself (what it runs, what it
+/// stores).
+pub fn run_watched(elf: &Path, model: Model, eeprom: Option<&Path>, watch: &Watch) -> Result<Watched, Diagnostic> {
+    let harness = harness()?;
+    let work = temp_sibling(&elf.with_file_name("watched"));
+    std::fs::create_dir_all(&work).map_err(|e| tool_error(format!("cannot create {}: {e}", work.display())))?;
+    let trace_file = work.join("trace.csv");
+    let join = |r: &[(u32, u32)]| r.iter().map(|(a, n)| format!("{a}:{n}")).collect::<Vec<_>>().join(",");
+    let out = Command::new(&harness)
+        .arg(elf)
+        .args(["-m", model.mcu(), "--until", &watch.until_ms.to_string()])
+        .args(["--every", &watch.every_ms.to_string()])
+        .args(
+            eeprom
+                .map(|e| ["--eeprom".as_ref(), e.as_os_str()])
+                .into_iter()
+                .flatten(),
+        )
+        .args(["--pins", &watch.pins.join(","), "--mem", &join(&watch.mem)])
+        .args(["--forbid", &join(&watch.forbid)])
+        .args(["--free-ram", &watch.free_ram.unwrap_or(0).to_string()])
+        .arg("-o")
+        .arg(&trace_file)
+        .output();
+    let trace = std::fs::read_to_string(&trace_file);
+    let _ = std::fs::remove_dir_all(&work);
+    let out = out.map_err(|e| tool_error(format!("cannot run the simavr harness: {e}")))?;
+    let log = String::from_utf8_lossy(&out.stderr).into_owned();
+    // 3: it ran, and made forbidden stores
+    if !out.status.success() && out.status.code() != Some(3) {
+        return Err(tool_error(format!(
+            "the firmware run in simavr failed:\n{}",
+            log.trim_end()
+        )));
+    }
+    let count = |prefix: &str| {
+        log.lines()
+            .find_map(|l| l.strip_prefix(prefix)?.trim().parse().ok())
+            .unwrap_or(0)
+    };
+    Ok(Watched {
+        trace: trace.map_err(|e| tool_error(format!("cannot read the pin trace: {e}")))?,
+        profile: profile(&log),
+        scan_starts: count("alba-simavr: scan starts "),
+        forbidden: log
+            .lines()
+            .filter(|l| l.starts_with("alba-simavr: forbidden write "))
+            .map(str::to_string)
+            .collect(),
+        forbidden_count: count("alba-simavr: forbidden writes "),
+    })
+}
+
 fn profile(log: &str) -> Profile {
     log.lines()
         .find_map(|l| {
@@ -301,10 +408,7 @@ fn profile(log: &str) -> Profile {
 /// of the byte-code interpreter) as (class, data-space address, bytes), from
 /// the ELF's symbols, checked to hold the program's memory.
 fn memory_regions(elf: &Path, init: &alba_ir::Memory) -> Result<Vec<(char, u32, u32)>, Diagnostic> {
-    let nm = run(
-        Command::new("avr-nm").arg("-S").arg(elf),
-        "reading the firmware's symbols",
-    )?;
+    let syms = symbols(elf)?;
     let want = [
         ('B', init.b.len()),
         ('I', 4 * init.i.len()),
@@ -315,15 +419,9 @@ fn memory_regions(elf: &Path, init: &alba_ir::Memory) -> Result<Vec<(char, u32, 
     let mut out = Vec::new();
     for (class, size) in want.into_iter().filter(|w| w.1 > 0) {
         let name = format!("_ZL1{class}");
-        let found = nm.lines().find_map(|l| {
-            let f: Vec<&str> = l.split_whitespace().collect();
-            (f.len() == 4 && f[3] == name)
-                .then(|| (u32::from_str_radix(f[0], 16).ok(), u32::from_str_radix(f[1], 16).ok()))
-        });
-        match found {
-            // Data-space addresses carry avr-gcc's 0x800000 offset.
+        match syms.iter().find(|s| s.0 == name) {
             // (the byte-code interpreter's arrays are larger than the program: its first `size` bytes)
-            Some((Some(addr), Some(len))) if len as usize >= size => out.push((class, addr & 0xFFFF, size as u32)),
+            Some((_, addr, len)) if *len as usize >= size => out.push((class, *addr, size as u32)),
             _ => {
                 return Err(tool_error(format!(
                     "the firmware has no memory array {class} of {size} bytes: is it an Alba sketch of this program?"

@@ -184,7 +184,7 @@ pub fn generate(prog: &Program, project: &str, t: &Target) -> Result<Sketch, Vec
     })
 }
 
-fn fnv1a(bytes: &[u8]) -> u32 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u32 {
     bytes
         .iter()
         .fold(0x811c_9dc5u32, |h, b| (h ^ u32::from(*b)).wrapping_mul(0x0100_0193))

@@ -247,24 +247,7 @@ pub fn build(sketch: &Path, model: Model, out: &Path) -> Result<Built, Diagnosti
             .arg(&hex),
         "writing the .hex file",
     )?;
-    let sizes = run(Command::new("avr-size").arg("-A").arg(&elf), "measuring the firmware")?;
-    let section = |name: &str| -> u32 {
-        sizes
-            .lines()
-            .find_map(|l| {
-                let mut f = l.split_whitespace();
-                (f.next() == Some(name)).then(|| f.next().and_then(|s| s.parse().ok()))?
-            })
-            .unwrap_or(0)
-    };
-    let (text, data, bss) = (section(".text"), section(".data"), section(".bss"));
-    let built = Built {
-        elf,
-        hex,
-        flash: text + data,
-        ram: data + bss,
-        model,
-    };
+    let built = measure(elf, hex, model)?;
     let (flash, ram) = model.limits();
     if built.flash > flash || built.ram + STACK_RESERVE > ram {
         return Err(Diagnostic::unplaced(
@@ -279,6 +262,28 @@ pub fn build(sketch: &Path, model: Model, out: &Path) -> Result<Built, Diagnosti
         .with_help("shorten the program or use fewer tags, or choose a board with more memory (mega)"));
     }
     Ok(built)
+}
+
+/// The flash and RAM a built firmware uses (`avr-size`).
+pub fn measure(elf: PathBuf, hex: PathBuf, model: Model) -> Result<Built, Diagnostic> {
+    let sizes = run(Command::new("avr-size").arg("-A").arg(&elf), "measuring the firmware")?;
+    let section = |name: &str| -> u32 {
+        sizes
+            .lines()
+            .find_map(|l| {
+                let mut f = l.split_whitespace();
+                (f.next() == Some(name)).then(|| f.next().and_then(|s| s.parse().ok()))?
+            })
+            .unwrap_or(0)
+    };
+    let (text, data, bss) = (section(".text"), section(".data"), section(".bss"));
+    Ok(Built {
+        elf,
+        hex,
+        flash: text + data,
+        ram: data + bss,
+        model,
+    })
 }
 
 /// Uploads a built firmware with avrdude (the Uno's and Nano's bootloader at

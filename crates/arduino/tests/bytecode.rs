@@ -26,7 +26,7 @@ fn compile(dir: &Path) -> Program {
 }
 
 fn host(p: &Program) -> bytecode::Bytecode {
-    bytecode::encode_program(&control_program(p), 10, 0xA1BA, &[]).expect("encodes")
+    bytecode::encode_program(&control_program(p), 10, 0, 0xA1BA, &[]).expect("encodes")
 }
 
 /// Runs both programs `scans` scans of 10 ms with the same random inputs and
@@ -155,6 +155,103 @@ fn a_board_program_carries_its_wiring_and_the_sketchs_program_id() {
     assert!(refused[0].message.contains("LREAL"), "{:?}", refused);
 }
 
+fn aurora(model: Model) -> Target {
+    Target {
+        model,
+        map: PinMap::preset("aurora").expect("aurora"),
+        active_low: false,
+        scan_ms: 10,
+        monitor: true,
+        power_up_on: vec![],
+    }
+}
+
+/// `bytes` with its body's CRC made good again.
+fn resign(mut bytes: Vec<u8>) -> Vec<u8> {
+    let crc = crc32fast_hash(&bytes[HEADER_LEN..]);
+    bytes[20..24].copy_from_slice(&crc.to_le_bytes());
+    bytes
+}
+
+#[test]
+fn a_board_refuses_byte_code_for_another_board_or_beyond_its_interpreter() {
+    let p = compile(&root().join("examples/start-stop"));
+    let (uno, mega) = (aurora(Model::Uno), aurora(Model::Mega));
+    let bc = bytecode::encode(&p, "start-stop", &uno).expect("encodes");
+    let d = bytecode::decode_for(&bc.bytes, &uno).expect("the Uno runs it");
+    assert_eq!(d.board_id, bytecode::board_id(&uno));
+    let board_err = |bytes: &[u8], t: &Target| match bytecode::decode_for(bytes, t) {
+        Err(DecodeError::Board(m)) => m,
+        other => panic!("{other:?}"),
+    };
+    // Another board, another pin map, another output polarity: another board id.
+    let mut s7 = uno.clone();
+    s7.map = PinMap::preset("s7").expect("s7");
+    let mut low = uno.clone();
+    low.active_low = true;
+    let ids = [&uno, &mega, &s7, &low].map(bytecode::board_id);
+    for (k, id) in ids.iter().enumerate() {
+        assert!(!ids[..k].contains(id), "{ids:?}");
+    }
+    for t in [&mega, &s7, &low] {
+        assert!(board_err(&bc.bytes, t).contains("another board or pin map"), "{t:?}");
+    }
+    // The header's board id is outside the CRC: changed, it is still refused.
+    let mut other = bc.bytes.clone();
+    other[6..8].copy_from_slice(&bytecode::board_id(&mega).to_le_bytes());
+    assert!(bytecode::decode(&other).is_ok(), "well formed");
+    assert!(board_err(&other, &uno).contains("another board"));
+    // Start wired to D11, which is not DI:1/0's pin (D2) on the aurora map.
+    let at = (0..bc.bytes.len())
+        .find(|k| bc.bytes[*k..].starts_with(&[0, 0, 0, 2, 6, 0]))
+        .expect("Start's wire");
+    let mut v = bc.bytes.clone();
+    v[at + 3] = 11;
+    let v = resign(v);
+    assert!(bytecode::decode(&v).is_ok(), "well formed");
+    assert!(
+        board_err(&v, &uno).contains("DI:1/0 is wired to pin byte 0x0b"),
+        "{}",
+        board_err(&v, &uno)
+    );
+    // PID: well formed, engine-defined, not on the board (the export refuses it).
+    let pid = compile(&root().join("examples/pid-level"));
+    let host =
+        bytecode::encode_program(&control_program(&pid), 10, bytecode::board_id(&uno), 0, &[]).expect("host form");
+    assert!(bytecode::decode(&host.bytes).is_ok());
+    assert!(
+        board_err(&host.bytes, &uno).contains("(Pid("),
+        "{}",
+        board_err(&host.bytes, &uno)
+    );
+    // What the Uno's interpreter cannot hold, encode refuses with the reason.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bytecode-big");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("alba.toml"),
+        "name = \"big\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n",
+    )
+    .expect("write");
+    let mut tags = String::from("name,type,address,initial,retain,description\nQ,BOOL,DO:2/0,,,\n");
+    for k in 0..60 {
+        tags += &format!("R{k},REAL,,,,\n");
+    }
+    std::fs::write(dir.join("tags.csv"), tags).expect("write");
+    std::fs::write(dir.join("main.lad"), "GRT(R0,R59)OTE(Q);\n").expect("write");
+    let e = bytecode::encode(&compile(&dir), "big", &uno).expect_err("60 REALs on the Uno");
+    assert!(
+        e[0].message
+            .contains("60 REAL slots; the Arduino Uno's interpreter holds 48"),
+        "{:?}",
+        e[0].message
+    );
+    assert!(
+        bytecode::encode(&compile(&dir), "big", &mega).is_ok(),
+        "the Mega holds them"
+    );
+}
+
 #[test]
 fn malformed_byte_code_is_refused_with_a_reason_and_never_panics() {
     let p = compile(&root().join("examples/tank-plant"));
@@ -170,7 +267,7 @@ fn malformed_byte_code_is_refused_with_a_reason_and_never_panics() {
     bad[4] = 9;
     assert_eq!(
         bytecode::decode(&bad).unwrap_err().to_string(),
-        "byte code format 9; this version reads 1"
+        "byte code format 9; this version reads 2"
     );
     // A flipped bit anywhere in the body: the CRC says so.
     for k in (HEADER_LEN..good.len()).step_by(7) {

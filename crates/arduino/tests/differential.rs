@@ -57,8 +57,39 @@ struct Case {
     scan_ms: u64,
 }
 
+/// Examples whose inputs are tags without an address (set from a screen or a
+/// protocol): on the board they are wired to these channels — in a copy of
+/// the example — so the example's own stimulus drives them on the pins.
+const WIRED_FOR_THE_BOARD: &[(&str, &[(&str, &str)])] = &[("opcsm-tour", &[("Start", "DI:1/0"), ("Level", "AI:3/0")])];
+
 fn example(name: &str) -> Case {
-    let c = alba_compiler::compile_dir(&root().join("examples").join(name));
+    let mut dir = root().join("examples").join(name);
+    if let Some((_, wires)) = WIRED_FOR_THE_BOARD.iter().find(|(n, _)| *n == name) {
+        // (a copy per call: tests run at once)
+        static COPIES: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = COPIES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let copy = work_dir(&format!("{name}-wired-{n}"));
+        for f in std::fs::read_dir(&dir).expect("example").flatten() {
+            if f.path().is_file() {
+                std::fs::copy(f.path(), copy.join(f.file_name())).expect("copy");
+            }
+        }
+        let tags = std::fs::read_to_string(dir.join("tags.csv")).expect("tags.csv");
+        let tags: Vec<String> = tags
+            .lines()
+            .map(|l| {
+                let mut f: Vec<&str> = l.split(',').collect();
+                if let Some((_, a)) = wires.iter().find(|(t, _)| f.first() == Some(t)) {
+                    assert_eq!(f[2], "", "{name}: {} already has an address", f[0]);
+                    f[2] = a;
+                }
+                f.join(",")
+            })
+            .collect();
+        std::fs::write(copy.join("tags.csv"), tags.join("\n") + "\n").expect("write");
+        dir = copy;
+    }
+    let c = alba_compiler::compile_dir(&dir);
     let prog = c.program.unwrap_or_else(|| panic!("{name} does not compile"));
     let scan_ms = c.project.config.as_ref().map_or(10, |c| u64::from(c.scan_ms));
     Case {
@@ -300,8 +331,8 @@ fn own_stimulus(name: &str) -> Option<(String, u64, u64)> {
     Some((stim, arg("--until")?, arg("--every")?))
 }
 
-/// The examples the board runs (the PID ones are refused, E501).
-const BOARD_EXAMPLES: [&str; 9] = [
+/// The examples the board runs (the PID ones are refused, E501): all the others.
+const BOARD_EXAMPLES: [&str; 10] = [
     "start-stop",
     "traffic-light",
     "star-delta",
@@ -314,7 +345,39 @@ const BOARD_EXAMPLES: [&str; 9] = [
     "state-net-batch",
     // An SFC chart (steps, qualifiers, timed actions) with a ladder program.
     "sfc-batch",
+    // OPCSM's elements as one state net (no ladder): its inputs wired for the board.
+    "opcsm-tour",
 ];
+
+/// Every example runs on the board (the differential tests below) or is
+/// refused by the export and by the byte code, each refusal at its place.
+#[test]
+fn every_example_runs_on_the_board_or_is_refused_at_its_place() {
+    let mut refused = Vec::new();
+    for e in std::fs::read_dir(root().join("examples")).expect("examples").flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let case = example(&name);
+        let t = aurora(Model::Mega, case.scan_ms as u32);
+        let prog = control_program(&case.prog);
+        let sketch = generate(&prog, &name, &t);
+        let bc = alba_arduino::bytecode::encode(&prog, &name, &t);
+        if BOARD_EXAMPLES.contains(&name.as_str()) {
+            assert!(
+                sketch.is_ok() && bc.is_ok(),
+                "{name}: {:?} {:?}",
+                sketch.err(),
+                bc.err()
+            );
+            continue;
+        }
+        for d in [sketch.expect_err(&name), bc.expect_err(&name)] {
+            assert!(!d.is_empty() && d.iter().all(|d| d.primary.is_some()), "{name}: {d:?}");
+        }
+        refused.push(name);
+    }
+    refused.sort();
+    assert!(refused.iter().all(|n| n.starts_with("pid-")), "{refused:?}");
+}
 
 #[test]
 fn examples_run_the_same_on_the_uno() {
@@ -423,61 +486,380 @@ fn the_bytecode_interpreter_runs_the_examples_and_random_programs_as_the_engine(
     });
 }
 
-/// A damaged program in EEPROM (a flipped byte: the CRC fails; or an operand
-/// out of memory, re-signed: the op check fails) runs nothing: no scan, every
-/// output off, no memory written.
+/// The interpreter firmware for `t`, without a program (`interp::firmware`,
+/// built once and cached): each run starts it from an EEPROM image, as a
+/// board that has had a download.
+struct Interpreter {
+    elf: PathBuf,
+    target: Target,
+    /// The firmware's statics (name, address, bytes).
+    syms: Vec<(String, u32, u32)>,
+    dir: PathBuf,
+}
+
+/// What the board did with one program in its EEPROM.
+#[derive(Debug)]
+struct Verdict {
+    ran: bool,
+    /// Rows where an output pin was driven (it must stay an input: its safe state).
+    driven: Vec<String>,
+    forbidden: Vec<String>,
+    /// The memory sizes the board loaded (its `N[]`), in the last row.
+    sizes: [u16; 6],
+}
+
+impl Interpreter {
+    fn build(t: &Target, name: &str) -> Interpreter {
+        let dir = work_dir(name);
+        let (built, _) = alba_arduino::interp::firmware(t).unwrap_or_else(|d| panic!("{}", d.message));
+        let syms = simavr::symbols(&built.elf).expect("symbols");
+        Interpreter {
+            elf: built.elf,
+            target: t.clone(),
+            syms,
+            dir,
+        }
+    }
+
+    fn sym(&self, name: &str) -> (u32, u32) {
+        let mangled = format!("_ZL{}{name}", name.len());
+        self.syms
+            .iter()
+            .find(|s| s.0 == mangled || s.0 == name)
+            .map(|s| (s.1, s.2))
+            .unwrap_or_else(|| panic!("the interpreter has no `{name}`"))
+    }
+
+    /// Runs `bytes` as the program in slot 0 for 250 ms with every output pin of the
+    /// pin map watched, and the stores the firmware must never make watched: into its
+    /// free RAM at any time, and once it scans, into its memory past what the program
+    /// uses (by the host's decoding, `accepted`) and into its tables of the program.
+    fn run(&self, bytes: &[u8], accepted: Option<&alba_arduino::bytecode::Decoded>, case: usize) -> Verdict {
+        let ee = self.dir.join(format!("eeprom-{case}.bin"));
+        std::fs::write(&ee, bytes).expect("write");
+        let map = &self.target.map;
+        let pins: Vec<String> = map.r#do.iter().chain(&map.ao).map(|p| format!("{p}:drive")).collect();
+        let mut watch = simavr::Watch {
+            pins: pins.clone(),
+            mem: vec![self.sym("N")],
+            until_ms: 250,
+            every_ms: 50,
+            forbid: Vec::new(),
+            free_ram: Some(self.sym("__bss_end").0),
+        };
+        if let Some(d) = accepted {
+            let c = d.program.layout.counts;
+            for (name, used) in [
+                ("B", c.b),
+                ("I", 4 * c.i),
+                ("F", 4 * c.f),
+                ("L", 8 * c.l),
+                ("M", d.program.layout.marker_bytes),
+            ] {
+                let (at, len) = self.sym(name);
+                if used < len {
+                    watch.forbid.push((at + used, len - used));
+                }
+            }
+            for name in [
+                "N",
+                "wide",
+                "code_start",
+                "code_end",
+                "n_ops",
+                "scan_period",
+                "sys_b",
+                "sys_i",
+                "n_wires",
+                "w_wire",
+                "w_pin",
+                "image_base",
+                "prog_id",
+            ] {
+                watch.forbid.push(self.sym(name));
+            }
+        }
+        let run = simavr::run_watched(&self.elf, self.target.model, Some(&ee), &watch)
+            .unwrap_or_else(|d| panic!("case {case}: {}", d.message));
+        let _ = std::fs::remove_file(&ee);
+        let rows: Vec<&str> = run.trace.lines().skip(1).collect();
+        let driven = rows
+            .iter()
+            .filter(|r| r.split(',').skip(1).take(pins.len()).any(|v| v != "0"))
+            .map(|r| r.to_string())
+            .collect();
+        let hex = rows.last().and_then(|r| r.split(',').next_back()).unwrap_or("");
+        let mut sizes = [0u16; 6];
+        for (k, s) in sizes.iter_mut().enumerate() {
+            *s = hex
+                .get(4 * k..4 * k + 4)
+                .and_then(|h| u16::from_str_radix(h, 16).ok())
+                .map_or(0, u16::swap_bytes);
+        }
+        let mut forbidden = run.forbidden;
+        if run.forbidden_count as usize > forbidden.len() {
+            forbidden.push(format!("({} in all)", run.forbidden_count));
+        }
+        Verdict {
+            ran: run.scan_starts > 0,
+            driven,
+            forbidden,
+            sizes,
+        }
+    }
+
+    /// The host's verdict on `bytes` and the board's agree: what the host refuses,
+    /// the board never runs (no scan, every output an input); what it accepts, the
+    /// board runs with the memory sizes the host decoded, and stores nothing where
+    /// it must not.
+    fn agrees(&self, bytes: &[u8], case: usize, what: &str) -> bool {
+        let host = alba_arduino::bytecode::decode_for(bytes, &self.target);
+        let v = self.run(bytes, host.as_ref().ok(), case);
+        assert!(
+            v.forbidden.is_empty(),
+            "{what}: forbidden stores {:?} (host: {host:?})",
+            v.forbidden
+        );
+        match &host {
+            Ok(d) => {
+                assert!(
+                    v.ran,
+                    "{what}: the host accepts it (ops {:?}), the board does not run it",
+                    d.program.ops
+                );
+                let c = d.program.layout.counts;
+                let want = [c.b, c.i, c.f, c.l, c.d, d.program.layout.marker_bytes].map(|n| n as u16);
+                assert_eq!(v.sizes, want, "{what}: the memory the board loaded");
+            }
+            Err(e) => {
+                assert!(!v.ran, "{what}: the host refuses it ({e}), the board runs it");
+                assert!(
+                    v.driven.is_empty(),
+                    "{what}: a refused program drove outputs: {:?}",
+                    v.driven
+                );
+            }
+        }
+        host.is_ok()
+    }
+}
+
+/// `bytes` with its body's CRC (and length) made good again: what a tool that
+/// re-signs a damaged program would send.
+fn resign(mut bytes: Vec<u8>) -> Vec<u8> {
+    let len = (bytes.len() - HEADER_LEN) as u32;
+    bytes[16..20].copy_from_slice(&len.to_le_bytes());
+    let crc = crc32fast::hash(&bytes[HEADER_LEN..]);
+    bytes[20..24].copy_from_slice(&crc.to_le_bytes());
+    bytes
+}
+
+const HEADER_LEN: usize = alba_arduino::bytecode::HEADER_LEN;
+
+/// Crafted programs, each refused by the host for one reason, are refused by
+/// the board too (no scan, every output an input, no stray store); among them
+/// the ones an earlier firmware ran: an I/O image outside memory with a wire
+/// past the BOOL area, a system integer whose extent wraps around 16 bits, a
+/// jump onto a 0x01 operand inside an op, a marker bit past 7, a pin the pin
+/// map does not have, another board's id. Control cases the host accepts run.
 #[test]
-fn the_interpreter_runs_no_damaged_program() {
+fn the_interpreter_refuses_what_the_host_refuses() {
     if !tools_present() {
         return;
     }
-    let case = example("start-stop");
     let target = aurora(Model::Uno, 10);
+    let board = Interpreter::build(&target, "interp-checks");
+    let case = example("start-stop");
     let prog = control_program(&case.prog);
-    let sketch = generate(&prog, &case.name, &target).expect("sketch");
     let good = alba_arduino::bytecode::encode(&prog, &case.name, &target)
         .expect("encodes")
         .bytes;
+    let body = |at: usize| HEADER_LEN + at;
+    // Body offsets (docs/bytecode.md): sizes 0-11, I/O images 12-27 (DO: base 16, length
+    // 18), system bits 28-45, system integers 46-53 (statistics 50), then the initial values.
+    let mut cases: Vec<(&str, Vec<u8>)> = vec![("start-stop as compiled", good.clone())];
     let mut flipped = good.clone();
     let last = flipped.len() - 1;
     flipped[last] ^= 0x01;
-    // The last op is OTE(Lamp): its slot made 250, past the 30 BOOL slots, and re-signed.
-    let mut outside = good.clone();
-    outside[last] = 250;
-    let crc = crc32fast::hash(&outside[24..]);
-    outside[20..24].copy_from_slice(&crc.to_le_bytes());
-    assert!(
-        alba_arduino::bytecode::decode(&outside).is_err(),
-        "the host refuses it too"
+    cases.push(("a flipped byte (the CRC)", flipped));
+    let mut v = good.clone();
+    v[last] = 250;
+    cases.push(("the last op's slot past the 30 BOOL slots", resign(v)));
+    let mut v = good.clone();
+    v[body(18)] = 250;
+    cases.push(("the DO image 250 channels long (past memory)", resign(v)));
+    let mut v = good.clone();
+    v[body(50)..body(52)].copy_from_slice(&0xFFFFu16.to_le_bytes());
+    cases.push(("the statistics at integer 65 535 (the extent wraps)", resign(v)));
+    let mut v = good.clone();
+    v[6] ^= 0x01;
+    cases.push(("another board's id", v));
+    let mut v = good.clone();
+    v[4] = 1;
+    cases.push(("format version 1", v));
+    // The wiring: start-stop's 4 wires (kind, channel, pin, slot) after its initial values.
+    let wires = (0..good.len() - 24)
+        .find(|k| good[*k..].starts_with(&[4, 0, 0, 0, 0, 2, 6, 0]))
+        .expect("the wiring")
+        + 2;
+    let mut v = good.clone();
+    v[wires + 3] = 11;
+    cases.push(("Start on D11, which the pin map does not have there", resign(v)));
+    let mut v = good.clone();
+    v[wires + 4] = 7;
+    cases.push(("Start wired to another slot than its image's", resign(v)));
+    // The DO image made 250 long and Motor's wire moved to channel 200, past the BOOL area.
+    let mut v = good.clone();
+    v[body(18)] = 250;
+    let motor = wires + 12;
+    v[motor + 1] = 200;
+    v[motor + 4] = 14 + 200;
+    cases.push(("a wire on channel 200 of an image past memory", resign(v)));
+    // Hand-made programs over start-stop's memory: a jump onto an operand 0x01 of an op, a
+    // marker bit past 7, and a jump onto a rung (accepted).
+    let custom = |ops: Vec<alba_ir::Op>, markers: u32| {
+        let mut p = prog.clone();
+        p.layout.marker_bytes = markers;
+        p.init.m = vec![0; markers as usize];
+        p.locs = vec![p.locs[0]; ops.len()];
+        p.ops = ops;
+        let s = generate(&prog, &case.name, &target).expect("sketch");
+        alba_arduino::bytecode::encode_program(&p, 10, alba_arduino::bytecode::board_id(&target), 1, &s.wiring)
+            .expect("encodes")
+            .bytes
+    };
+    use alba_ir::{B, Op};
+    // Rung; XIC(B1) = 04 01; Rung; JMP → 3 ops on; Rung
+    let jumps = custom(vec![Op::Rung, Op::Xic(B(1)), Op::Rung, Op::Jmp(4), Op::Rung], 0);
+    cases.push(("a jump onto a rung", jumps.clone()));
+    let mut v = jumps.clone();
+    let at = v.len() - 3;
+    assert_eq!(v[at - 1], 0x0f, "the jump");
+    // from the end of the jump back to the operand 0x01 of XIC: 1 + 2 + 1 + 3 - 2 = 5 bytes back
+    v[at..at + 2].copy_from_slice(&(-5i16).to_le_bytes());
+    assert_eq!(v[v.len() - 1 - 5], 0x01);
+    cases.push(("a jump onto XIC's operand 0x01", resign(v)));
+    let bits = custom(
+        vec![
+            Op::Rung,
+            Op::LdBit {
+                byte: 0,
+                bit: 9,
+                dst: B(16),
+            },
+        ],
+        4,
     );
-    for (what, bytes) in [("flipped", flipped), ("outside", outside)] {
-        let dir = work_dir(&format!("damaged-{what}"));
-        let files = alba_arduino::interp::generate(&target, Some(&bytes));
-        for (name, text) in &files {
-            std::fs::write(dir.join(name), text).expect("write");
-        }
-        let built = toolchain::build(&dir.join(&files[0].0), Model::Uno, &dir.join("build")).expect("builds");
-        let cols = io_columns(&sketch.wiring, &prog.layout);
-        let timing = Timing {
-            scan_ms: 10,
-            until_ms: 500,
-            every_ms: 50,
-            from_first_scan: true,
-        };
-        let run = simavr::simulate(
-            &built.elf,
-            Model::Uno,
-            &sketch.wiring,
-            false,
-            &prog.init,
-            &[],
-            &cols,
-            timing,
-        )
-        .expect("runs");
-        assert_eq!(run.profile.scans, 0, "{what}: a damaged program ran");
-        for line in run.trace.lines().skip(1) {
-            assert!(line.split(',').skip(1).all(|v| v == "0"), "{what}: {line}");
-        }
+    cases.push(("a marker bit 9", bits));
+    let mut accepted = 0;
+    for (k, (what, bytes)) in cases.iter().enumerate() {
+        accepted += usize::from(board.agrees(bytes, k, what));
     }
+    assert_eq!(accepted, 2, "only start-stop and the jump onto a rung are good");
+}
+
+/// A mutation campaign: valid programs of several examples with bytes changed
+/// — re-signed with a good CRC or not; anywhere, in the memory description, in
+/// the header or in the ops; a byte inserted or removed — each loaded into the
+/// emulated Uno. Whatever the host decoder refuses the board never runs (no
+/// scan, every output an input); whatever it accepts the board runs with the
+/// memory the host decoded, never storing past what the program uses, into its
+/// own tables or into free RAM (simavr's store hook). Deterministic seeds.
+#[test]
+fn mutated_programs_run_on_the_board_exactly_when_the_host_accepts_them() {
+    if !tools_present() {
+        return;
+    }
+    let target = aurora(Model::Uno, 10);
+    let board = Interpreter::build(&target, "interp-mutations");
+    let bases: Vec<(Vec<u8>, usize)> = BOARD_EXAMPLES
+        .iter()
+        .filter_map(|name| {
+            let case = example(name);
+            let t = aurora(Model::Uno, case.scan_ms as u32);
+            let bc = alba_arduino::bytecode::encode(&control_program(&case.prog), name, &t).ok()?;
+            Some((bc.bytes.clone(), bc.bytes.len() - bc.code_len))
+        })
+        .collect();
+    assert!(bases.len() >= 4, "{} examples fit the Uno", bases.len());
+    const CASES: u64 = 1000;
+    let counts = std::sync::Mutex::new((0, 0));
+    std::thread::scope(|s| {
+        for half in 0..2u64 {
+            let (board, bases, counts) = (&board, &bases, &counts);
+            s.spawn(move || {
+                for k in (0..CASES).filter(|k| k % 2 == half) {
+                    let mut r = common::Rng(0x5eed_0000 + k);
+                    let (base, code_at) = &bases[r.below(bases.len() as u64) as usize];
+                    let mut v = base.clone();
+                    let any = |r: &mut common::Rng, from: usize, to: usize| from + r.below((to - from) as u64) as usize;
+                    let (what, sign) = match r.below(6) {
+                        0 | 1 => {
+                            for _ in 0..1 + r.below(3) {
+                                let at = any(&mut r, HEADER_LEN, v.len());
+                                v[at] = r.next() as u8;
+                            }
+                            ("bytes anywhere in the body", r.below(4) != 0)
+                        }
+                        2 => {
+                            // an operand or opcode of the ops, usually to a small value
+                            let at = any(&mut r, *code_at, v.len());
+                            v[at] = if r.below(3) == 0 {
+                                r.next() as u8
+                            } else {
+                                r.below(40) as u8
+                            };
+                            ("a byte of the ops", true)
+                        }
+                        3 => {
+                            // a u16 of the memory description, near what it was or anything
+                            let at = any(&mut r, HEADER_LEN, code_at - 1);
+                            let old = u16::from_le_bytes([v[at], v[at + 1]]);
+                            let new = match r.below(3) {
+                                0 => old.wrapping_add(1 + r.below(8) as u16),
+                                1 => old.wrapping_sub(1 + r.below(8) as u16),
+                                _ => r.next() as u16,
+                            };
+                            v[at..at + 2].copy_from_slice(&new.to_le_bytes());
+                            ("a field of the memory description", true)
+                        }
+                        4 => {
+                            let at = any(&mut r, 4, 16);
+                            v[at] = if r.below(2) == 0 {
+                                v[at] ^ (1 << r.below(8))
+                            } else {
+                                r.next() as u8
+                            };
+                            ("a header byte", r.below(2) == 0)
+                        }
+                        _ => {
+                            let at = any(&mut r, *code_at, v.len());
+                            if r.below(2) == 0 {
+                                v.remove(at);
+                            } else {
+                                v.insert(at, r.below(0x42) as u8);
+                            }
+                            ("a byte of the ops inserted or removed", true)
+                        }
+                    };
+                    let v = if sign { resign(v) } else { v };
+                    let what = format!(
+                        "case {k}: {what}{}",
+                        if sign { ", re-signed" } else { ", not re-signed" }
+                    );
+                    let ok = board.agrees(&v, k as usize, &what);
+                    let mut c = counts.lock().expect("counts");
+                    if ok { c.0 += 1 } else { c.1 += 1 }
+                }
+            });
+        }
+    });
+    let (accepted, refused) = *counts.lock().expect("counts");
+    eprintln!(
+        "{CASES} mutated programs: {accepted} accepted and run, {refused} refused, by the host and the board alike"
+    );
+    assert!(
+        accepted >= 20 && refused >= 100,
+        "{accepted} accepted, {refused} refused"
+    );
 }

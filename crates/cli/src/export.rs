@@ -240,50 +240,77 @@ fn download_emulated(elf: &Path, model: Model, dir: &Path, bytes: &[u8]) -> Resu
     Ok(ee)
 }
 
-/// `alba export interpreter`: the byte-code interpreter's sketch folder for
-/// the board of `--board`/`--pinmap` (no project: any program is downloaded later).
-pub fn interpreter(args: &BoardArgs, out: &Path, build: bool, upload: Option<&str>) -> ExitCode {
+/// The board an interpreter is for: a project's `[board]` under the command
+/// line's options, or `--board` and `--pinmap` alone (outputs active high);
+/// a problem is reported.
+fn interpreter_target(project: Option<&Path>, args: &BoardArgs) -> Result<Target, ExitCode> {
+    let refuse = |d: Diagnostic, files: &alba_diag::Files| {
+        report(&[d], files, false);
+        ExitCode::FAILURE
+    };
+    if let Some(dir) = project {
+        let c = alba_compiler::compile_dir(dir);
+        if c.project.config.is_none() {
+            report(&c.diagnostics, c.files(), false);
+            return Err(ExitCode::FAILURE);
+        }
+        return target(&c, args).map_err(|d| refuse(d, c.files()));
+    }
     let files = alba_diag::Files::new();
     let model = match args.board.as_deref().map(Model::parse) {
         Some(Some(m)) => m,
         _ => {
-            report(&[bad("give --board uno|nano|mega".into())], &files, false);
-            return ExitCode::FAILURE;
-        }
-    };
-    let map = match PinMap::preset(args.pinmap.as_deref().unwrap_or("aurora")) {
-        Some(m) => m,
-        None => {
-            report(
-                &[bad(format!("--pinmap: the presets are {}", PRESETS.join(", ")))],
+            return Err(refuse(
+                bad("give --board uno|nano|mega, or a project with a [board] section".into()),
                 &files,
-                false,
-            );
-            return ExitCode::FAILURE;
+            ));
         }
     };
-    let t = Target {
+    let Some(map) = PinMap::preset(args.pinmap.as_deref().unwrap_or("aurora")) else {
+        return Err(refuse(
+            bad(format!("--pinmap: the presets are {}", PRESETS.join(", "))),
+            &files,
+        ));
+    };
+    Ok(Target {
         model,
         map,
         active_low: false,
         scan_ms: 10,
-        monitor: false,
+        monitor: true,
         power_up_on: Vec::new(),
+    })
+}
+
+/// `alba export interpreter`: the byte-code interpreter's sketch folder for
+/// a board and pin map (no program: any program for them is downloaded later).
+pub fn interpreter(
+    project: Option<&Path>,
+    args: &BoardArgs,
+    out: &Path,
+    build: bool,
+    upload: Option<&str>,
+) -> ExitCode {
+    let t = match interpreter_target(project, args) {
+        Ok(t) => t,
+        Err(code) => return code,
     };
     let folder = out.join("alba_interp");
     if let Err(d) = write_folder(&folder, &alba_arduino::interp::generate(&t, None)) {
-        report(&[d], &files, false);
+        report(&[d], &alba_diag::Files::new(), false);
         return ExitCode::FAILURE;
     }
     eprintln!(
-        "wrote {} for the {}",
+        "wrote {} for the {} (board id {:04x}: this pin map{})",
         folder.join("alba_interp.ino").display(),
-        model.title()
+        t.model.title(),
+        alba_arduino::bytecode::board_id(&t),
+        if t.active_low { ", outputs active low" } else { "" }
     );
     if !build && upload.is_none() {
         return ExitCode::SUCCESS;
     }
-    build_and_upload(&folder.join("alba_interp.ino"), model, upload)
+    build_and_upload(&folder.join("alba_interp.ino"), t.model, upload)
 }
 
 /// `alba download`: the project's byte code to a board running the interpreter.
@@ -303,6 +330,23 @@ pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitC
         Ok(l) => l,
         Err(e) => return fail(e),
     };
+    // Who is there, before anything is written.
+    match link.identify() {
+        Ok(id) => {
+            if let Some(why) = id.refuses(&t, bc.bytes.len()) {
+                report(
+                    &[Diagnostic::unplaced(
+                        Code::NotOnBoard,
+                        format!("not downloaded to {port}: {why}"),
+                    )],
+                    c.files(),
+                    false,
+                );
+                return ExitCode::FAILURE;
+            }
+        }
+        Err(e) => return fail(e),
+    }
     let started = std::time::Instant::now();
     let sum = match link.download(&bc.bytes, |done, total| {
         eprint!("\rdownloading: {done}/{total} records")
@@ -337,6 +381,79 @@ pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitC
             Err(e) => return fail(e),
         }
     }
+    ExitCode::SUCCESS
+}
+
+/// `alba download --read`: the board's running program (its header's length,
+/// or the whole slot when the header is not a program's) into `out`.
+pub fn read_back(port: &str, out: &Path) -> ExitCode {
+    use alba_arduino::bytecode::{self, HEADER_LEN};
+    use alba_io::download::BoardState;
+    let files = alba_diag::Files::new();
+    let fail = |d: Diagnostic| {
+        report(&[d], &files, false);
+        ExitCode::FAILURE
+    };
+    let io = |e: alba_io::download::DownloadError| Diagnostic::unplaced(Code::Io, e.to_string());
+    let read = (|| {
+        let mut link = alba_io::download::Link::open(port)?;
+        let id = link.identify()?;
+        let head = link.read(0, HEADER_LEN)?;
+        let len = u32::from_le_bytes([head[16], head[17], head[18], head[19]]) as usize;
+        let n = if head[..4] == bytecode::MAGIC && HEADER_LEN + len <= usize::from(id.slot) {
+            HEADER_LEN + len
+        } else {
+            usize::from(id.slot)
+        };
+        let mut bytes = head;
+        bytes.extend(link.read(HEADER_LEN as u16, n - HEADER_LEN)?);
+        Ok((id, bytes))
+    })();
+    let (id, bytes) = match read {
+        Ok(x) => x,
+        Err(e) => return fail(io(e)),
+    };
+    let hex = out.as_os_str() == "-" || out.extension().is_some_and(|e| e.eq_ignore_ascii_case("hex"));
+    let data = if hex {
+        alba_arduino::ihex::write(&bytes).into_bytes()
+    } else {
+        bytes.clone()
+    };
+    let written = if out.as_os_str() == "-" {
+        std::io::Write::write_all(&mut std::io::stdout(), &data)
+    } else {
+        fsutil::write_atomic(out, |w| w.write_all(&data))
+    };
+    if let Err(e) = written {
+        return fail(Diagnostic::unplaced(
+            Code::Io,
+            format!("cannot write {}: {e}", out.display()),
+        ));
+    }
+    let board = id.title();
+    let state = match id.state {
+        BoardState::Running => "running it",
+        BoardState::NoProgram => "no program that checks: outputs safe",
+        BoardState::Faulted => "stopped on a major fault",
+    };
+    let what = match bytecode::decode(&bytes) {
+        Ok(d) => format!(
+            "program id {:08x}, board id {:04x}, {} ops, CRC good",
+            d.program_id,
+            d.board_id,
+            d.program.ops.len()
+        ),
+        Err(e) => format!("not a program that checks: {e}"),
+    };
+    eprintln!(
+        "read {} bytes of the running program slot of the {board} on {port} ({state}) into {}: {what}",
+        bytes.len(),
+        if out.as_os_str() == "-" {
+            "standard output".to_string()
+        } else {
+            out.display().to_string()
+        }
+    );
     ExitCode::SUCCESS
 }
 
@@ -376,18 +493,30 @@ pub fn simulate(
     let work: PathBuf = std::env::temp_dir().join(format!("alba-firmware-{}", std::process::id()));
     let folder = work.join(&s.name);
     let result = (|| -> Result<String, Vec<Diagnostic>> {
-        // The sketch, or the byte-code interpreter and the project's byte code to download into it.
-        let (files, program) = if bytecode {
-            let bc = alba_arduino::bytecode::encode(&prog, &s.name, &t)?;
-            (alba_arduino::interp::generate(&t, None), Some(bc.bytes))
-        } else {
-            (s.files.clone(), None)
-        };
         std::fs::create_dir_all(&folder).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
-        for (name, text) in &files {
-            std::fs::write(folder.join(name), text).map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
-        }
-        let built = toolchain::build(&folder.join(&files[0].0), t.model, &folder.join("build")).map_err(|d| vec![d])?;
+        // The sketch, or the byte-code interpreter (built once for the board, then
+        // cached) and the project's byte code to download into it.
+        let (built, program) = if bytecode {
+            let bc = alba_arduino::bytecode::encode(&prog, &s.name, &t)?;
+            let (built, cached) = alba_arduino::interp::firmware(&t).map_err(|d| vec![d])?;
+            eprintln!(
+                "interpreter firmware for the {}: {} ({})",
+                t.model.title(),
+                built.elf.display(),
+                if cached { "cached" } else { "built, and cached" }
+            );
+            (built, Some(bc.bytes))
+        } else {
+            for (name, text) in &s.files {
+                std::fs::write(folder.join(name), text)
+                    .map_err(|e| vec![Diagnostic::unplaced(Code::Io, e.to_string())])?;
+            }
+            let sketch = folder.join(&s.files[0].0);
+            (
+                toolchain::build(&sketch, t.model, &folder.join("build")).map_err(|d| vec![d])?,
+                None,
+            )
+        };
         let rows = stimulus.writes().map_err(|r| {
             vec![Diagnostic::unplaced(
                 Code::StimulusTarget,

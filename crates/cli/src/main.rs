@@ -85,15 +85,21 @@ enum Command {
     /// Download the project's byte code to a board running Alba's byte-code interpreter
     /// (`alba export interpreter`), over its serial port (docs/bytecode.md, "Download").
     Download {
-        project: PathBuf,
+        /// The project whose byte code to send (not with --read).
+        #[arg(required_unless_present = "read")]
+        project: Option<PathBuf>,
         /// The board's serial port.
         #[arg(long, value_name = "PORT")]
         port: String,
         #[command(flatten)]
         board: export::BoardArgs,
         /// Read the program back afterwards and compare.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "read")]
         verify: bool,
+        /// Download nothing: read the board's running program into FILE (raw bytes;
+        /// Intel HEX when FILE ends in `.hex`, and on standard output for `-`).
+        #[arg(long, value_name = "FILE", conflicts_with = "project")]
+        read: Option<PathBuf>,
     },
     /// Convert a program written with another tool — LDmicro `.ld`, PLCopen TC6 XML,
     /// Studio 5000 `.L5X`, an AuroraLD Studio project folder — into a new Alba project,
@@ -310,6 +316,9 @@ enum Export {
     /// The byte-code interpreter firmware for a board (an Arduino sketch folder
     /// `alba_interp/`); `alba download` then sends it programs.
     Interpreter {
+        /// A project whose `[board]` (model, pin map, active_low) the interpreter is for;
+        /// without one, --board and --pinmap (default aurora), outputs active high.
+        project: Option<PathBuf>,
         #[command(flatten)]
         board: export::BoardArgs,
         /// Folder to write the sketch folder into.
@@ -417,18 +426,24 @@ fn main() -> ExitCode {
         Command::Export {
             to:
                 Export::Interpreter {
+                    project,
                     board,
                     out,
                     build,
                     upload,
                 },
-        } => export::interpreter(&board, &out, build, upload.as_deref()),
+        } => export::interpreter(project.as_deref(), &board, &out, build, upload.as_deref()),
         Command::Download {
             project,
             port,
             board,
             verify,
-        } => export::download(&project, &board, &port, verify),
+            read,
+        } => match (read, project) {
+            (Some(out), _) => export::read_back(&port, &out),
+            (None, Some(project)) => export::download(&project, &board, &port, verify),
+            (None, None) => fail("give the project to download, or --read FILE"),
+        },
         Command::New { dir, net } => new::run(&dir, net),
         Command::Bench {
             modbus: true,

@@ -6,7 +6,9 @@
 //! record is sent again (three times at most). ESC first, so a download the
 //! board was in the middle of is dropped.
 
-use alba_arduino::ihex;
+use alba_arduino::sketch::Target;
+use alba_arduino::{bytecode, ihex};
+use alba_model::board::Model;
 use std::io::{Read, Write};
 use std::time::{Duration, Instant};
 
@@ -22,6 +24,10 @@ pub enum DownloadError {
     Open { port: String, source: serialport::Error },
     #[error("the board on {0} does not answer (is it running Alba's byte-code interpreter at 115 200 baud?)")]
     NoAnswer(String),
+    #[error(
+        "the board on {0} does not say what it is (its interpreter is older than this Alba: flash it again, alba export interpreter --upload)"
+    )]
+    NoIdentity(String),
     #[error("record {record} was refused {TRIES} times: {why}")]
     Refused { record: usize, why: String },
     #[error("the board refused the program: it does not pass the board's checks (flag 40); the old program runs on")]
@@ -34,6 +40,94 @@ pub enum DownloadError {
     Io(#[from] std::io::Error),
     #[error("unexpected answer `{0}`")]
     Answer(String),
+}
+
+/// What a board says of itself (the `I` line, docs/bytecode.md "Download").
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Identity {
+    /// The byte-code format its interpreter reads.
+    pub version: u8,
+    /// Its board id (board, pin map, polarity: `alba_arduino::bytecode::board_id`).
+    pub board_id: u16,
+    /// Bytes of a program slot.
+    pub slot: u16,
+    pub state: BoardState,
+    /// `uno`, `nano` or `mega`.
+    pub model: String,
+}
+
+/// What a board is doing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoardState {
+    /// A program checks and runs.
+    Running,
+    /// No program that checks (none yet, or a damaged one): outputs safe, error LED.
+    NoProgram,
+    /// The program stopped on a major fault (outputs safe).
+    Faulted,
+}
+
+impl Identity {
+    /// `I02268D01FFRnano` → the identity.
+    pub fn parse(line: &str) -> Option<Identity> {
+        let rest = line.strip_prefix('I')?;
+        let hex = |from: usize, to: usize| u16::from_str_radix(rest.get(from..to)?, 16).ok();
+        let state = match rest.get(10..11)? {
+            "R" => BoardState::Running,
+            "N" => BoardState::NoProgram,
+            "F" => BoardState::Faulted,
+            _ => return None,
+        };
+        Some(Identity {
+            version: u8::try_from(hex(0, 2)?).ok()?,
+            board_id: hex(2, 6)?,
+            slot: hex(6, 10)?,
+            state,
+            model: rest.get(11..)?.to_string(),
+        })
+    }
+}
+
+impl Identity {
+    /// The board as users name it (`Arduino Nano`).
+    pub fn title(&self) -> String {
+        Model::parse(&self.model).map_or_else(|| self.model.clone(), |m| m.title().to_string())
+    }
+
+    /// Why byte code of `len` bytes for `t` must not go to this board, if it
+    /// must not: another board, another byte-code format, another pin map or
+    /// output polarity, a program larger than the board's slot.
+    pub fn refuses(&self, t: &Target, len: usize) -> Option<String> {
+        if self.model != t.model.name() {
+            return Some(format!(
+                "the board is an {} (its interpreter says so), and the program is for the {}: give --board {}, or change [board] in alba.toml",
+                self.title(),
+                t.model.title(),
+                self.model
+            ));
+        }
+        if self.version != bytecode::VERSION {
+            return Some(format!(
+                "the board's interpreter reads byte code format {}, this Alba writes format {}: flash the interpreter again (alba export interpreter <project> --upload PORT)",
+                self.version,
+                bytecode::VERSION
+            ));
+        }
+        let want = bytecode::board_id(t);
+        if self.board_id != want {
+            return Some(format!(
+                "the board's interpreter was built for another pin map or output polarity (board id {:04x}; this program's is {want:04x}): give the --pinmap it was built with, or flash the interpreter for this project (alba export interpreter <project> --upload PORT)",
+                self.board_id
+            ));
+        }
+        if len > usize::from(self.slot) {
+            return Some(format!(
+                "the program is {len} bytes and the board's program slot holds {}",
+                self.slot
+            ));
+        }
+        None
+    }
 }
 
 /// What a flag means (the source's table).
@@ -163,9 +257,77 @@ impl Link {
         Ok(out)
     }
 
+    /// Asks the board who it is (after an ESC, so a half download is dropped first).
+    pub fn identify(&mut self) -> Result<Identity, DownloadError> {
+        self.send(&[0x1B])?;
+        let a = self.answer(Duration::from_secs(3))?;
+        if a != "A" {
+            return Err(DownloadError::Answer(a));
+        }
+        self.send(b"I\n")?;
+        let a = self
+            .answer(Duration::from_secs(3))
+            .map_err(|_| DownloadError::NoIdentity(self.name.clone()))?;
+        Identity::parse(&a).ok_or(DownloadError::Answer(a))
+    }
+
     /// Sends one raw line (tests: crafted records) and returns the answer.
     pub fn raw(&mut self, line: &str) -> Result<String, DownloadError> {
         self.send(format!("{line}\r\n").as_bytes())?;
         self.answer(Duration::from_secs(3))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use alba_model::board::PinMap;
+
+    fn nano() -> Target {
+        Target {
+            model: Model::Nano,
+            map: PinMap::preset("aurora").expect("aurora"),
+            active_low: false,
+            scan_ms: 10,
+            monitor: true,
+            power_up_on: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn an_identity_line_reads_and_refuses_another_board() {
+        let t = nano();
+        let id = format!("I{:02X}{:04X}01FFRnano", bytecode::VERSION, bytecode::board_id(&t));
+        let me = Identity::parse(&id).expect("parses");
+        assert_eq!(me.state, BoardState::Running);
+        assert_eq!((me.slot, me.model.as_str()), (511, "nano"));
+        assert_eq!(me.refuses(&t, 152), None);
+        assert!(me.refuses(&t, 600).expect("too big").contains("600 bytes"));
+        let mut mega = t.clone();
+        mega.model = Model::Mega;
+        let why = me.refuses(&mega, 152).expect("another board");
+        assert!(
+            why.contains("is an Arduino Nano") && why.contains("--board nano"),
+            "{why}"
+        );
+        let mut low = t.clone();
+        low.active_low = true;
+        assert!(
+            me.refuses(&low, 152)
+                .expect("another polarity")
+                .contains("another pin map")
+        );
+        let old = Identity {
+            version: 1,
+            ..me.clone()
+        };
+        assert!(old.refuses(&t, 152).expect("old").contains("format 1"));
+        for bad in ["", "I", "I02268D01FFXnano", "IZZ268D01FFRnano", "K"] {
+            assert_eq!(Identity::parse(bad), None, "{bad}");
+        }
+        assert_eq!(
+            Identity::parse("I02268D01FFNuno").map(|i| i.state),
+            Some(BoardState::NoProgram)
+        );
     }
 }

@@ -358,6 +358,18 @@ pub enum AnySlot {
 }
 
 impl Op {
+    /// Whether the op means something: a marker bit is 0-7, and a REAL or
+    /// LREAL takes no bitwise operation, `NOT`, `FRD` or `TOD`
+    /// ([`crate::Program::verify`] refuses the others).
+    pub fn is_defined(&self) -> bool {
+        !match self {
+            Op::LdBit { bit, .. } | Op::StBit { bit, .. } => *bit > 7,
+            Op::BinF(o, ..) | Op::BinD(o, ..) => matches!(o, BinOp::And | BinOp::Or | BinOp::Xor),
+            Op::UnF(o, ..) | Op::UnD(o, ..) => matches!(o, UnOp::Not | UnOp::Frd | UnOp::Tod),
+            _ => false,
+        }
+    }
+
     /// Every slot the op reads or writes (for verification at load time).
     pub fn slots(&self) -> Vec<AnySlot> {
         use AnySlot as S;

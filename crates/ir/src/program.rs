@@ -3,7 +3,7 @@
 
 use crate::layout::Layout;
 use crate::memory::Memory;
-use crate::op::{AnySlot, BinOp, Op, UnOp};
+use crate::op::{AnySlot, Op};
 use alba_diag::{Files, Span};
 use std::fmt::Write as _;
 
@@ -91,15 +91,7 @@ impl Program {
         }
         let m = &self.init;
         for (pc, op) in self.ops.iter().enumerate() {
-            let bad_kind = match op {
-                Op::LdBit { bit, .. } | Op::StBit { bit, .. } => *bit > 7,
-                Op::BinF(o, ..) | Op::BinD(o, ..) => {
-                    matches!(o, BinOp::And | BinOp::Or | BinOp::Xor)
-                }
-                Op::UnF(o, ..) | Op::UnD(o, ..) => matches!(o, UnOp::Not | UnOp::Frd | UnOp::Tod),
-                _ => false,
-            };
-            if bad_kind {
+            if !op.is_defined() {
                 return Err(format!("op {pc} ({op:?}) is not defined"));
             }
             for s in op.slots() {

@@ -126,39 +126,64 @@ fn export_bytecode_writes_intel_hex_or_bytes_that_decode_to_the_control_program(
     assert!(!d.join("x.hex").exists());
 }
 
-/// SPEC §10.5's interface for issue 19: `alba sim --firmware --bytecode`
-/// downloads the byte code into the interpreter on the emulated board (with
-/// `alba download`'s protocol, through its serial port), runs it in simavr,
-/// and prints `alba sim`'s trace.
+/// SPEC §10.5's interface for issue 19: `alba sim --firmware --bytecode
+/// --board B` downloads the byte code into the interpreter on the emulated
+/// board (with `alba download`'s protocol, through its serial port), runs it
+/// in simavr, and prints `alba sim`'s trace — on the Uno, the Nano and the
+/// Mega, an example each with its own stimulus and golden options. The
+/// interpreter is built once per board and then taken from the cache.
 #[test]
 fn sim_firmware_bytecode_gives_the_simulators_trace() {
     let d = scratch("sim-bytecode");
-    let root = crate::repo().join("examples/start-stop");
-    let project = root.to_string_lossy();
-    let stim = root.join("stimulus.csv");
-    let args = [
-        "sim",
-        &project,
-        "--until",
-        "3000",
-        "--every",
-        "50",
-        "--stimulus",
-        &stim.to_string_lossy(),
-    ]
-    .map(String::from);
-    let engine = alba(&d, &args.iter().map(String::as_str).collect::<Vec<_>>());
-    assert!(engine.status.success());
-    let mut fw_args: Vec<&str> = args.iter().map(String::as_str).collect();
-    fw_args.extend(["--firmware", "--bytecode", "--board", "uno"]);
-    let fw = alba(&d, &fw_args);
-    assert!(fw.status.success(), "{}", String::from_utf8_lossy(&fw.stderr));
-    assert_eq!(
-        String::from_utf8_lossy(&fw.stdout),
-        String::from_utf8_lossy(&engine.stdout)
-    );
-    assert!(String::from_utf8_lossy(&fw.stdout).lines().count() > 50);
+    let mut elf_of = std::collections::HashMap::new();
+    for (example, board) in [
+        ("start-stop", "uno"),
+        ("traffic-light", "nano"),
+        ("tank", "mega"),
+        ("start-stop", "uno"),
+    ] {
+        let root = crate::repo().join("examples").join(example);
+        let golden = std::fs::read_to_string(root.join("golden.args")).expect("golden.args");
+        let mut args: Vec<String> = vec!["sim".into(), root.to_string_lossy().into_owned()];
+        args.extend(golden.split_whitespace().map(String::from));
+        args.extend([
+            "--stimulus".into(),
+            root.join("stimulus.csv").to_string_lossy().into_owned(),
+        ]);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let engine = alba(&d, &args);
+        assert!(engine.status.success(), "{example}");
+        let mut fw_args = args.clone();
+        fw_args.extend(["--firmware", "--bytecode", "--board", board]);
+        let fw = alba(&d, &fw_args);
+        let err = String::from_utf8_lossy(&fw.stderr);
+        assert!(fw.status.success(), "{example} on the {board}: {err}");
+        assert_eq!(
+            String::from_utf8_lossy(&fw.stdout),
+            String::from_utf8_lossy(&engine.stdout),
+            "{example} on the {board}"
+        );
+        assert!(String::from_utf8_lossy(&fw.stdout).lines().count() > 20, "{example}");
+        // The interpreter firmware: where it is, and whether it came from the cache.
+        let line = err
+            .lines()
+            .find(|l| l.starts_with("interpreter firmware for the "))
+            .unwrap_or_else(|| panic!("{err}"));
+        let elf = line
+            .split(": ")
+            .nth(1)
+            .and_then(|r| r.split(" (").next())
+            .expect("path");
+        match elf_of.insert(board, elf.to_string()) {
+            Some(first) => {
+                assert_eq!(first, elf, "the same firmware for the same board");
+                assert!(line.ends_with("(cached)"), "built again: {line}");
+            }
+            None => assert!(line.contains(&format!("interp-{board}-")), "{line}"),
+        }
+    }
     // --bytecode needs --firmware.
-    let o = alba(&d, &["sim", &project, "--until", "10", "--bytecode"]);
+    let project = crate::repo().join("examples/start-stop");
+    let o = alba(&d, &["sim", &project.to_string_lossy(), "--until", "10", "--bytecode"]);
     assert!(!o.status.success());
 }
