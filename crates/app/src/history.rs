@@ -1,6 +1,7 @@
 //! The historian of `alba run`: a thread that records every tag from the
-//! runtime's snapshots (docs/historian.md); the server's `/api/history`
-//! endpoints query what it wrote.
+//! runtime's snapshots (docs/historian.md) into the embedded SQLite file or
+//! the shared PostgreSQL database; the server's `/api/history` endpoints
+//! query what it wrote (through `alba_historian::Backend`).
 //!
 //! It never blocks anything else and never fails quietly (docs/reliability.md):
 //! a damaged or foreign database is moved aside for a fresh one (at start or
@@ -241,18 +242,13 @@ pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::
 /// unreachable database is the problem `history` (samples buffered and dropped counted)
 /// until the buffer is back-filled.
 pub fn record_pg(
-    pg: PgConfig,
+    h: Arc<PgHistorian>,
     cfg: alba_project::config::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
     rt: tokio::runtime::Handle,
 ) -> std::thread::JoinHandle<()> {
     std::thread::spawn(move || {
-        // The PostgreSQL client blocks: it is opened and used on this thread only.
-        let h = match PgHistorian::open(pg) {
-            Ok(h) => h,
-            Err(e) => return health.report("history", format!("history not recorded: {e}")),
-        };
         let every = Filter {
             deadband: 0.0,
             period_ms: u64::from(cfg.sample_ms),

@@ -19,6 +19,7 @@
 
 mod agg;
 mod backend;
+mod csv;
 mod error;
 mod filter;
 mod pg;
@@ -32,7 +33,7 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use rusqlite::Connection;
 
-pub use backend::Backend;
+pub use backend::{Backend, Column};
 pub use error::{Error, Result};
 pub use filter::{ChangeFilter, Filter, MAX_BUFFERED, Recorder};
 pub use pg::{MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
@@ -309,7 +310,16 @@ impl Historian {
     ) -> Result<u64> {
         let (from, to) = clamp_range(from_ms, to_ms);
         let mut writer = std::io::BufWriter::new(writer);
-        self.read(|c| query::export_csv(c, tags, from, to, step_ms, &mut writer))
+        let headers: Vec<String> = tags.iter().map(|t| (*t).to_owned()).collect();
+        self.read(|conn| {
+            csv::rows(from, to, step_ms)?;
+            let ids = tags
+                .iter()
+                .map(|n| query::tag_id(conn, n))
+                .collect::<Result<Vec<_>>>()?;
+            let mut src = query::CsvSource { conn, ids };
+            csv::write(&mut src, &headers, from, to, step_ms, &mut writer)
+        })
     }
 
     /// The retention cut-off for time `now_ms`: samples before it are to be deleted. It is

@@ -9,10 +9,11 @@ use std::str::FromStr;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
-use postgres::{Client, NoTls};
+use postgres::{Client, GenericClient, NoTls};
 use rusqlite::{Connection, params};
 
-use crate::backend::Backend;
+use crate::backend::{Backend, Column};
+use crate::csv;
 use crate::error::{Error, Result, pg_message};
 use crate::{Bucket, MAX_POINTS, Point, Sample, TagRange, check_time, clamp_range, query};
 
@@ -183,7 +184,7 @@ pub struct PgHistorian {
     config: PgConfig,
     connection: postgres::Config,
     writer: Mutex<WriterState>,
-    reader: Mutex<Option<Client>>,
+    readers: Mutex<Vec<Client>>,
 }
 
 impl std::fmt::Debug for PgHistorian {
@@ -236,7 +237,7 @@ impl PgHistorian {
                 buffer,
                 last_error: None,
             }),
-            reader: Mutex::new(None),
+            readers: Mutex::new(Vec::new()),
         };
         let mut w = lock(&h.writer);
         h.ensure_client(&mut w, true);
@@ -359,25 +360,30 @@ impl PgHistorian {
         }
     }
 
-    /// Runs `f` on the reading connection (opened on first use, and again after an error).
+    /// Runs `f` on a reading connection from the pool (opened when none is free; one
+    /// that failed is not kept).
     fn read<T>(&self, f: impl FnOnce(&mut Client) -> Result<T>) -> Result<T> {
-        let mut r = lock(&self.reader);
-        if r.as_ref().is_none_or(Client::is_closed) {
-            *r = Some(self.connection.connect(NoTls)?);
-        }
-        let Some(client) = r.as_mut() else {
-            return Err(Error::InvalidArgument("no reading connection".into()));
+        let pooled = lock(&self.readers).pop();
+        let mut client = match pooled {
+            Some(c) if !c.is_closed() => c,
+            _ => self.connection.connect(NoTls)?,
         };
-        let out = f(client);
-        if out.is_err() && client.is_closed() {
-            *r = None;
+        let out = f(&mut client);
+        if !client.is_closed() {
+            let mut pool = lock(&self.readers);
+            if pool.len() < READERS {
+                pool.push(client);
+                return out;
+            }
         }
+        close(vec![client]);
         out
     }
 
     /// The nodes that have samples in the database, by id.
     pub fn nodes(&self) -> Result<Vec<String>> {
         self.read(|c| {
+            // One index probe per node (a loose index scan), not a scan of every sample.
             let rows = c.query(
                 "WITH RECURSIVE n AS (
                      (SELECT node FROM alba_samples ORDER BY node LIMIT 1)
@@ -387,11 +393,14 @@ impl PgHistorian {
                  SELECT node FROM n WHERE node IS NOT NULL",
                 &[],
             )?;
-            Ok(rows.iter().map(|r| r.get(0)).collect())
+            let mut out: Vec<String> = rows.iter().map(|r| r.get(0)).collect();
+            out.sort_by(|a, b| a.as_bytes().cmp(b.as_bytes()));
+            Ok(out)
         })
     }
 
-    /// The tags of `node`, as [`Backend::tags`] gives this node's.
+    /// The tags of `node` (none for a node without samples), as [`Backend::tags`] gives
+    /// them.
     pub fn tags_of(&self, node: &str) -> Result<Vec<TagRange>> {
         self.read(|c| {
             // One index probe per tag (a loose index scan), not a scan of every sample.
@@ -422,7 +431,7 @@ impl PgHistorian {
         })
     }
 
-    /// The downsampled samples of `node`'s `tag`, as [`Backend::query`] gives this node's.
+    /// The downsampled samples of `node`'s `tag`, as [`Backend::query`] gives them.
     pub fn query_node(&self, node: &str, tag: &str, from_ms: i64, to_ms: i64, points: usize) -> Result<Vec<Bucket>> {
         if points == 0 {
             return Err(Error::InvalidArgument("points must be at least 1".into()));
@@ -469,7 +478,7 @@ impl PgHistorian {
         })
     }
 
-    /// The raw samples of `node`'s `tag`, as [`Backend::raw`] gives this node's.
+    /// The raw samples of `node`'s `tag`, as [`Backend::raw`] gives them.
     pub fn raw_node(&self, node: &str, tag: &str, from_ms: i64, to_ms: i64, limit: usize) -> Result<Vec<Point>> {
         let (from, to) = clamp_range(from_ms, to_ms);
         let limit = i64::try_from(limit).unwrap_or(i64::MAX);
@@ -489,10 +498,110 @@ impl PgHistorian {
                 .collect())
         })
     }
+
+    /// Writes `columns` (tags of this node or of others) as CSV, as
+    /// [`crate::Historian::export_csv`] does, from one snapshot of the database.
+    pub fn export_csv(
+        &self,
+        columns: &[Column<'_>],
+        from_ms: i64,
+        to_ms: i64,
+        step_ms: i64,
+        out: &mut dyn std::io::Write,
+    ) -> Result<u64> {
+        let (from, to) = clamp_range(from_ms, to_ms);
+        csv::rows(from, to, step_ms)?;
+        let headers: Vec<String> = columns.iter().map(Column::header).collect();
+        let cols: Vec<(String, String)> = columns
+            .iter()
+            .map(|c| (c.node.unwrap_or(&self.config.node).to_owned(), c.tag.to_owned()))
+            .collect();
+        let mut out = std::io::BufWriter::new(out);
+        self.read(|c| {
+            let mut tx = c
+                .build_transaction()
+                .isolation_level(postgres::IsolationLevel::RepeatableRead)
+                .read_only(true)
+                .start()?;
+            for (node, tag) in &cols {
+                exists(&mut tx, node, tag)?;
+            }
+            let rows = csv::write(&mut PgCsv { tx: &mut tx, cols }, &headers, from, to, step_ms, &mut out)?;
+            tx.commit()?;
+            Ok(rows)
+        })
+    }
+}
+
+/// The reading connections kept open between queries.
+const READERS: usize = 4;
+
+/// Closes connections. The synchronous client says goodbye on a runtime of its own, which
+/// cannot run on a thread of an async runtime: there it is done on a thread of its own.
+fn close(clients: Vec<Client>) {
+    if clients.is_empty() {
+        return;
+    }
+    if tokio::runtime::Handle::try_current().is_ok() {
+        std::thread::spawn(move || drop(clients));
+    } else {
+        drop(clients);
+    }
+}
+
+impl Drop for PgHistorian {
+    fn drop(&mut self) {
+        let mut clients = std::mem::take(&mut *lock(&self.readers));
+        clients.extend(lock(&self.writer).client.take());
+        close(clients);
+    }
+}
+
+/// The columns of a CSV export, read in one transaction.
+struct PgCsv<'t, 'c> {
+    tx: &'t mut postgres::Transaction<'c>,
+    /// Node and tag of each column.
+    cols: Vec<(String, String)>,
+}
+
+impl csv::Source for PgCsv<'_, '_> {
+    fn count(&mut self, c: usize, from: i64, to: i64) -> Result<u64> {
+        let (node, tag) = &self.cols[c];
+        let n: i64 = self
+            .tx
+            .query_one(
+                "SELECT count(*) FROM alba_samples WHERE node = $1 AND tag = $2 AND t >= $3 AND t <= $4",
+                &[node, tag, &from, &to],
+            )?
+            .get(0);
+        Ok(u64::try_from(n).unwrap_or(0))
+    }
+
+    fn values_at(&mut self, c: usize, times: &[i64]) -> Result<Vec<Option<f64>>> {
+        let (node, tag) = &self.cols[c];
+        // One index probe per time, on the server: one round trip per block of rows.
+        let rows = self.tx.query(
+            "SELECT (SELECT v FROM alba_samples s WHERE s.node = $1 AND s.tag = $2 AND s.t <= g.t
+                     ORDER BY s.t DESC LIMIT 1)
+             FROM unnest($3::int8[]) WITH ORDINALITY AS g(t, i) ORDER BY g.i",
+            &[node, tag, &times],
+        )?;
+        Ok(rows.iter().map(|r| r.get(0)).collect())
+    }
+
+    fn after(&mut self, c: usize, after: i64, to: i64, limit: i64) -> Result<Vec<(i64, f64)>> {
+        let (node, tag) = &self.cols[c];
+        let rows = self.tx.query(
+            "SELECT t, v FROM alba_samples WHERE node = $1 AND tag = $2 AND t > $3 AND t <= $4
+             ORDER BY t LIMIT $5",
+            &[node, tag, &after, &to, &limit],
+        )?;
+        Ok(rows.iter().map(|r| (r.get(0), r.get(1))).collect())
+    }
 }
 
 /// [`Error::UnknownTag`] when `node` has no sample of `tag`.
-fn exists(c: &mut Client, node: &str, tag: &str) -> Result<()> {
+fn exists(c: &mut impl GenericClient, node: &str, tag: &str) -> Result<()> {
     let found = c
         .query_opt(
             "SELECT 1 FROM alba_samples WHERE node = $1 AND tag = $2 LIMIT 1",
@@ -631,20 +740,39 @@ impl Backend for PgHistorian {
         "postgres"
     }
 
+    fn node(&self) -> Option<&str> {
+        Some(&self.config.node)
+    }
+
+    fn nodes(&self) -> Result<Vec<String>> {
+        PgHistorian::nodes(self)
+    }
+
     fn record_batch(&self, samples: &[Sample<'_>]) -> Result<usize> {
         PgHistorian::record_batch(self, samples)
     }
 
-    fn tags(&self) -> Result<Vec<TagRange>> {
-        self.tags_of(&self.config.node)
+    fn tags(&self, node: Option<&str>) -> Result<Vec<TagRange>> {
+        self.tags_of(node.unwrap_or(&self.config.node))
     }
 
-    fn query(&self, tag: &str, from_ms: i64, to_ms: i64, points: usize) -> Result<Vec<Bucket>> {
-        self.query_node(&self.config.node, tag, from_ms, to_ms, points)
+    fn query(&self, node: Option<&str>, tag: &str, from_ms: i64, to_ms: i64, points: usize) -> Result<Vec<Bucket>> {
+        self.query_node(node.unwrap_or(&self.config.node), tag, from_ms, to_ms, points)
     }
 
-    fn raw(&self, tag: &str, from_ms: i64, to_ms: i64, limit: usize) -> Result<Vec<Point>> {
-        self.raw_node(&self.config.node, tag, from_ms, to_ms, limit)
+    fn raw(&self, node: Option<&str>, tag: &str, from_ms: i64, to_ms: i64, limit: usize) -> Result<Vec<Point>> {
+        self.raw_node(node.unwrap_or(&self.config.node), tag, from_ms, to_ms, limit)
+    }
+
+    fn export_csv(
+        &self,
+        columns: &[Column<'_>],
+        from_ms: i64,
+        to_ms: i64,
+        step_ms: i64,
+        out: &mut dyn std::io::Write,
+    ) -> Result<u64> {
+        PgHistorian::export_csv(self, columns, from_ms, to_ms, step_ms, out)
     }
 
     fn flush(&self) -> Result<()> {

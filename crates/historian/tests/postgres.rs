@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use alba_historian::{Backend, Config, Error, Historian, PgConfig, PgHistorian, Sample, migrate};
+use alba_historian::{Backend, Column, Config, Error, Historian, PgConfig, PgHistorian, Sample, migrate};
 
 use alba_testkit::pg::{PASSWORD, PgServer};
 
@@ -82,18 +82,47 @@ fn migrate_is_idempotent_and_two_nodes_write_concurrently() {
     let writers: Vec<PgHistorian> = writers.into_iter().map(|w| w.join().expect("writer")).collect();
     assert_eq!(writers[0].nodes().expect("nodes"), ["line1", "line2"]);
     for (k, h) in writers.iter().enumerate() {
-        let names: Vec<String> = h.tags().expect("tags").into_iter().map(|t| t.name).collect();
+        let names: Vec<String> = h.tags(None).expect("tags").into_iter().map(|t| t.name).collect();
         assert_eq!(names, ["Level", if k == 0 { "Pump" } else { "Valve" }]);
-        let raw = h.raw("Level", 0, 20_000, 100_000).expect("raw");
+        let raw = h.raw(None, "Level", 0, 20_000, 100_000).expect("raw");
         assert_eq!(raw.len(), 10_000);
         assert!(raw.iter().all(|p| p.v == p.t_ms as f64 + k as f64 * 0.5));
-        let buckets = h.query("Level", 0, 9_999, 10).expect("query");
+        let buckets = h.query(None, "Level", 0, 9_999, 10).expect("query");
         assert_eq!(buckets.iter().map(|b| b.count).sum::<u64>(), 10_000);
     }
     // The other node's tags, read from one runtime (what the studio's trends use).
-    let other = writers[0].raw_node("line2", "Valve", 0, 5, 10).expect("raw of line2");
+    let line1: &dyn Backend = &writers[0];
+    assert_eq!(line1.node(), Some("line1"));
+    assert_eq!(line1.nodes().expect("nodes"), ["line1", "line2"]);
+    let names: Vec<String> = line1
+        .tags(Some("line2"))
+        .expect("tags")
+        .into_iter()
+        .map(|t| t.name)
+        .collect();
+    assert_eq!(names, ["Level", "Valve"]);
+    assert!(line1.tags(Some("nowhere")).expect("tags").is_empty());
+    let other = line1.raw(Some("line2"), "Valve", 0, 5, 10).expect("raw of line2");
     assert_eq!(other.len(), 6);
-    assert!(matches!(writers[0].query("Valve", 0, 10, 5), Err(Error::UnknownTag(t)) if t == "Valve"));
+    let buckets = line1
+        .query(Some("line2"), "Level", 0, 9_999, 4)
+        .expect("query of line2");
+    assert_eq!(buckets.iter().map(|b| b.count).sum::<u64>(), 10_000);
+    assert_eq!(buckets[0].first, 0.5);
+    let mut csv = Vec::new();
+    let columns = [
+        Column::own("Level"),
+        Column {
+            node: Some("line2"),
+            tag: "Level",
+        },
+    ];
+    assert_eq!(line1.export_csv(&columns, 0, 3, 1, &mut csv).expect("csv"), 4);
+    assert_eq!(
+        String::from_utf8_lossy(&csv),
+        "Time (ms),Level,Level@line2\n0,0,0.5\n1,1,1.5\n2,2,2.5\n3,3,3.5\n"
+    );
+    assert!(matches!(writers[0].query(None, "Valve", 0, 10, 5), Err(Error::UnknownTag(t)) if t == "Valve"));
 }
 
 #[test]
@@ -130,7 +159,7 @@ fn database_stopped_loses_no_sample() {
         health.connected && health.buffered == 0 && health.dropped == 0,
         "{health:?}"
     );
-    let raw = h.raw("Flow", 0, i64::MAX, usize::MAX).expect("raw");
+    let raw = h.raw(None, "Flow", 0, i64::MAX, usize::MAX).expect("raw");
     assert_eq!(raw.len(), 5_000);
     for (i, p) in raw.iter().enumerate() {
         assert_eq!((p.t_ms, p.v), (i as i64, (i as i64 % 977) as f64));
@@ -158,7 +187,7 @@ fn full_buffer_drops_the_oldest_and_counts_them() {
     assert_eq!((h.health().buffered, h.health().dropped), (250, 150));
     pg.start_again();
     backfill_all(&h);
-    let raw = h.raw("T", 0, 1_000, 1_000).expect("raw");
+    let raw = h.raw(None, "T", 0, 1_000, 1_000).expect("raw");
     assert_eq!(
         raw.iter().map(|p| p.t_ms).collect::<Vec<_>>(),
         (150..400).collect::<Vec<_>>()
@@ -229,8 +258,8 @@ fn downsampled_queries_equal_the_sqlite_backend() {
         b.flush().expect("flush");
     }
     assert_eq!(
-        Backend::tags(&sqlite).expect("tags"),
-        Backend::tags(&postgres).expect("tags")
+        Backend::tags(&sqlite, None).expect("tags"),
+        Backend::tags(&postgres, None).expect("tags")
     );
     let start = 1_700_000_000_000i64;
     let end = data.iter().map(|d| d.1).max().unwrap_or(start);
@@ -244,22 +273,55 @@ fn downsampled_queries_equal_the_sqlite_backend() {
             (start + 1_000, start + 1_200),
         ] {
             for points in [1, 7, 100, 1_000, 4_000] {
-                let a = Backend::query(&sqlite, tag, from, to, points).expect("sqlite query");
-                let b = Backend::query(&postgres, tag, from, to, points).expect("postgres query");
+                let a = Backend::query(&sqlite, None, tag, from, to, points).expect("sqlite query");
+                let b = Backend::query(&postgres, None, tag, from, to, points).expect("postgres query");
                 assert_eq!(a, b, "{tag} [{from}, {to}] in {points} points");
                 compared += a.len();
             }
         }
-        let a = Backend::raw(&sqlite, tag, start, start + 2_000_000, 500).expect("raw");
+        let a = Backend::raw(&sqlite, None, tag, start, start + 2_000_000, 500).expect("raw");
         assert_eq!(
             a,
-            Backend::raw(&postgres, tag, start, start + 2_000_000, 500).expect("raw")
+            Backend::raw(&postgres, None, tag, start, start + 2_000_000, 500).expect("raw")
         );
     }
     assert!(compared > 10_000, "the comparison covered {compared} buckets");
+    // CSV exports: streamed columns (few samples per row) and looked-up ones (many).
+    let columns = [Column::own("Temp"), Column::own("Level"), Column::own("Speed")];
+    for (from, to, step) in [
+        (start - 10_000, start + 3_000_000, 1_000),
+        (start, end, 600_000),
+        (start + 77, start + 5_000_077, 250_000),
+    ] {
+        let mut a = Vec::new();
+        let mut b = Vec::new();
+        let rows = Backend::export_csv(&sqlite, &columns, from, to, step, &mut a).expect("sqlite csv");
+        assert_eq!(
+            Backend::export_csv(&postgres, &columns, from, to, step, &mut b).expect("postgres csv"),
+            rows
+        );
+        assert_eq!(
+            String::from_utf8_lossy(&a),
+            String::from_utf8_lossy(&b),
+            "[{from}, {to}] by {step}"
+        );
+        assert!(rows > 20);
+    }
+    let other = [Column {
+        node: Some("elsewhere"),
+        tag: "Temp",
+    }];
+    assert!(matches!(
+        Backend::export_csv(&sqlite, &other, 0, 10, 1, &mut Vec::new()),
+        Err(Error::UnknownNode(n)) if n == "elsewhere"
+    ));
+    assert!(matches!(
+        Backend::export_csv(&postgres, &other, 0, 10, 1, &mut Vec::new()),
+        Err(Error::UnknownTag(_))
+    ));
     for b in backends {
-        assert!(matches!(b.query("Nope", 0, 1, 1), Err(Error::UnknownTag(_))));
-        assert!(matches!(b.query("Temp", 0, 1, 0), Err(Error::InvalidArgument(_))));
+        assert!(matches!(b.query(None, "Nope", 0, 1, 1), Err(Error::UnknownTag(_))));
+        assert!(matches!(b.query(None, "Temp", 0, 1, 0), Err(Error::InvalidArgument(_))));
     }
 }
 
@@ -309,9 +371,9 @@ fn ingest_and_query_numbers() {
     );
     let h = &handles[0];
     let per = total / writers;
-    let _ = h.query("Big", 0, per * 100, 1_000).expect("warm-up");
+    let _ = h.query(None, "Big", 0, per * 100, 1_000).expect("warm-up");
     let started = Instant::now();
-    let buckets = h.query("Big", 0, per * 100, 1_000).expect("query");
+    let buckets = h.query(None, "Big", 0, per * 100, 1_000).expect("query");
     println!(
         "postgres query: {per} samples of one tag (table of {total}) -> {} buckets in {:.1} ms",
         buckets.len(),

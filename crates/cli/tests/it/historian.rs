@@ -62,10 +62,50 @@ fn historian_migrate_creates_the_schema_once_and_refuses_precisely() {
     );
 }
 
-/// `alba run` with `[history] backend = "postgres"` records its tags under its node id.
+/// `GET path` of a running `alba run` at `addr` → (status, JSON body), with a bare HTTP/1.0 exchange (no chunks).
+pub fn get(addr: &str, path: &str) -> (u16, serde_json::Value) {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(addr).expect("connect");
+    write!(s, "GET {path} HTTP/1.0\r\nHost: {addr}\r\nConnection: close\r\n\r\n").expect("send");
+    let mut text = String::new();
+    s.read_to_string(&mut text).expect("answer");
+    let status = text.split(' ').nth(1).and_then(|c| c.parse().ok()).unwrap_or(0);
+    let body = text.split("\r\n\r\n").nth(1).unwrap_or_default();
+    (
+        status,
+        serde_json::from_str(body).unwrap_or(serde_json::Value::String(body.to_owned())),
+    )
+}
+
+/// `alba run .` in `dir`, and the address its studio listens on.
+pub fn start_run(dir: &std::path::Path) -> (std::process::Child, String) {
+    use std::io::BufRead;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_alba"))
+        .args(["run", ".", "--http", "127.0.0.1:0"])
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .expect("alba run starts");
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut line)
+        .expect("banner");
+    let addr = line
+        .split("http://")
+        .nth(1)
+        .and_then(|s| s.split('/').next())
+        .unwrap_or_else(|| panic!("no address in {line:?}"))
+        .to_string();
+    (child, addr)
+}
+
+/// `alba run` with `[history] backend = "postgres"` records its tags under its node id,
+/// and its studio's API reads them, and another node's, from the shared database.
 #[test]
 fn alba_run_records_into_the_shared_postgres_historian() {
-    use std::process::{Command, Stdio};
+    use std::process::Command;
     use std::time::{Duration, Instant};
     let Some(pg) = PgServer::start() else { return };
     let url = pg.url();
@@ -80,30 +120,92 @@ fn alba_run_records_into_the_shared_postgres_historian() {
     std::fs::write(dir.join("main.lad"), "XIO(A)OTE(B);\n").expect("main.lad");
     let out = alba(&dir, &["historian", "migrate", &dir.display().to_string()]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let mut child = Command::new(env!("CARGO_BIN_EXE_alba"))
-        .args(["run", ".", "--http", "127.0.0.1:0"])
-        .current_dir(&dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("alba run starts");
-    let mut config = alba_historian::PgConfig::new(url, "reader", dir.join("reader-buffer.db"));
+    // Another node's samples in the same database.
+    let mut config = alba_historian::PgConfig::new(url, "line-9", dir.join("other-buffer.db"));
     config.password = Some(PASSWORD.to_owned());
-    let reader = alba_historian::PgHistorian::open(config).expect("reader");
+    let other = alba_historian::PgHistorian::open(config).expect("other node");
+    let flow: Vec<alba_historian::Sample<'_>> = (0..1_000)
+        .map(|i| alba_historian::Sample {
+            tag: "Flow",
+            t_ms: 1_000_000 + i * 100,
+            v: i as f64,
+        })
+        .collect();
+    assert_eq!(other.record_batch(&flow).expect("record"), 1_000);
+    let (mut child, addr) = start_run(&dir);
     let deadline = Instant::now() + Duration::from_secs(120);
     let found = loop {
-        let tags = reader.tags_of("cell-7").unwrap_or_default();
-        if tags.iter().any(|t| t.name == "B") || Instant::now() > deadline {
-            break tags;
+        let (_, tags) = get(&addr, "/api/history/tags");
+        let names: Vec<String> = tags
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|t| t["name"].as_str().map(str::to_owned))
+            .collect();
+        if names.iter().any(|t| t == "B") || Instant::now() > deadline {
+            break names;
         }
         std::thread::sleep(Duration::from_millis(200));
     };
+    assert!(
+        found.contains(&"A".to_owned()) && found.contains(&"B".to_owned()),
+        "{found:?}"
+    );
+    let (code, nodes) = get(&addr, "/api/history/nodes");
+    assert_eq!(
+        (code, nodes),
+        (
+            200,
+            serde_json::json!({"node": "cell-7", "shared": true, "nodes": ["cell-7", "line-9"]})
+        )
+    );
+    let (code, b) = get(&addr, "/api/history/raw?tag=B&from=0&to=9999999999999&limit=10");
+    assert_eq!(code, 200, "{b}");
+    assert!(
+        b["points"]
+            .as_array()
+            .is_some_and(|p| !p.is_empty() && p.iter().all(|x| x[1] == 1.0)),
+        "{b}"
+    );
+    // line-9's tag through this runtime's API: tags, buckets, raw samples and CSV.
+    let (code, tags) = get(&addr, "/api/history/tags?node=line-9");
+    assert_eq!(
+        (code, tags),
+        (
+            200,
+            serde_json::json!([{"name": "Flow", "first_ms": 1_000_000, "last_ms": 1_099_900}])
+        )
+    );
+    let (code, q) = get(
+        &addr,
+        "/api/history?tag=Flow&node=line-9&from=1000000&to=1099999&points=10",
+    );
+    assert_eq!(code, 200, "{q}");
+    assert_eq!(q["node"], "line-9");
+    assert_eq!(
+        q["buckets"][0],
+        serde_json::json!([1_000_000, 0.0, 99.0, 0.0, 99.0]),
+        "{q}"
+    );
+    assert_eq!(q["buckets"].as_array().map(Vec::len), Some(10), "{q}");
+    let (code, e) = get(&addr, "/api/history?tag=Flow&from=1000000&to=1099999");
+    assert_eq!(
+        (code, e["error"].as_str()),
+        (404, Some("no history for `Flow`")),
+        "its own tags only"
+    );
+    let (code, csv) = get(
+        &addr,
+        "/api/history.csv?tags=Flow@line-9,B&from=1000000&to=1000200&step=100",
+    );
+    assert_eq!(code, 200);
+    assert_eq!(
+        csv,
+        serde_json::Value::String("Time (ms),Flow@line-9,B\n0,0,\n100,1,\n200,2,\n".into())
+    );
     let _ = Command::new("kill").args(["-TERM", &child.id().to_string()]).status();
     let exit = child.wait().expect("exits");
     assert!(exit.success(), "{exit}");
-    let names: Vec<&str> = found.iter().map(|t| t.name.as_str()).collect();
-    assert!(names.contains(&"A") && names.contains(&"B"), "{names:?}");
-    let b = reader.raw_node("cell-7", "B", 0, i64::MAX, 10).expect("raw");
+    let b = other.raw_node("cell-7", "B", 0, i64::MAX, 10).expect("raw");
     assert!(b.iter().all(|p| p.v == 1.0), "{b:?}");
-    assert_eq!(reader.nodes().expect("nodes"), ["cell-7"]);
 }
