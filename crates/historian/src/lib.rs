@@ -22,6 +22,7 @@ mod backend;
 mod csv;
 mod error;
 mod filter;
+mod nodes;
 mod pg;
 mod query;
 mod schema;
@@ -36,6 +37,7 @@ use rusqlite::Connection;
 pub use backend::{Backend, Column};
 pub use error::{Error, Result};
 pub use filter::{ChangeFilter, Filter, MAX_BUFFERED, Recorder};
+pub use nodes::{NodeSink, SqliteNodes};
 pub use pg::{MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
 
 use write::Writer;

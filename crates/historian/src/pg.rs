@@ -280,6 +280,16 @@ impl PgHistorian {
     /// reach the database in order) and a back-fill is tried when due. Returns how many
     /// were accepted; only invalid samples or a failing buffer file give an error.
     pub fn record_batch(&self, samples: &[Sample<'_>]) -> Result<usize> {
+        self.record_for(&self.config.node, samples)
+    }
+
+    /// Stores samples under another node's id, as [`record_batch`](Self::record_batch)
+    /// does under this one's: what a service consuming several runtimes' messages
+    /// (`alba historian --mqtt`) writes.
+    pub fn record_for(&self, node: &str, samples: &[Sample<'_>]) -> Result<usize> {
+        if node.is_empty() {
+            return Err(Error::InvalidArgument("empty historian node id".into()));
+        }
         let mut rows = Vec::with_capacity(samples.len());
         for s in samples {
             if s.tag.is_empty() {
@@ -287,7 +297,7 @@ impl PgHistorian {
             }
             check_time(s.t_ms)?;
             if !s.v.is_nan() {
-                rows.push((s.tag, s.t_ms, s.v));
+                rows.push((node, s.tag, s.t_ms, s.v));
             }
         }
         if rows.is_empty() {
@@ -298,7 +308,7 @@ impl PgHistorian {
             && self.ensure_client(&mut w, false)
             && let Some(client) = w.client.as_mut()
         {
-            match insert(client, &self.config.node, &rows) {
+            match insert(client, &rows) {
                 Ok(()) => {
                     w.last_error = None;
                     return Ok(rows.len());
@@ -329,9 +339,12 @@ impl PgHistorian {
                 break;
             }
             let (last_seq, rows) = w.buffer.oldest(BATCH)?;
-            let refs: Vec<(&str, i64, f64)> = rows.iter().map(|(tag, t, v)| (tag.as_str(), *t, *v)).collect();
+            let refs: Vec<Row<'_>> = rows
+                .iter()
+                .map(|(node, tag, t, v)| (node.as_deref().unwrap_or(&self.config.node), tag.as_str(), *t, *v))
+                .collect();
             let Some(client) = w.client.as_mut() else { break };
-            match insert(client, &self.config.node, &refs) {
+            match insert(client, &refs) {
                 Ok(()) => {
                     w.last_error = None;
                     // Removed after the insert committed: a crash in between sends these
@@ -615,26 +628,32 @@ fn exists(c: &mut impl GenericClient, node: &str, tag: &str) -> Result<()> {
     }
 }
 
+/// A sample to insert: node, tag, time, value.
+type Row<'a> = (&'a str, &'a str, i64, f64);
+
 /// One multi-row INSERT per [`BATCH`] samples, in one transaction; duplicates of stored
 /// (node, tag, t) are ignored.
-fn insert(client: &mut Client, node: &str, rows: &[(&str, i64, f64)]) -> std::result::Result<(), postgres::Error> {
+fn insert(client: &mut Client, rows: &[Row<'_>]) -> std::result::Result<(), postgres::Error> {
     let mut tx = client.transaction()?;
     let stmt = tx.prepare(
         "INSERT INTO alba_samples (node, tag, t, v)
-         SELECT $1, u.tag, u.t, u.v FROM unnest($2::text[], $3::int8[], $4::float8[]) AS u(tag, t, v)
+         SELECT u.node, u.tag, u.t, u.v
+         FROM unnest($1::text[], $2::text[], $3::int8[], $4::float8[]) AS u(node, tag, t, v)
          ON CONFLICT DO NOTHING",
     )?;
     for chunk in rows.chunks(BATCH) {
-        let tags: Vec<&str> = chunk.iter().map(|r| r.0).collect();
-        let times: Vec<i64> = chunk.iter().map(|r| r.1).collect();
-        let values: Vec<f64> = chunk.iter().map(|r| r.2).collect();
-        tx.execute(&stmt, &[&node, &tags, &times, &values])?;
+        let nodes: Vec<&str> = chunk.iter().map(|r| r.0).collect();
+        let tags: Vec<&str> = chunk.iter().map(|r| r.1).collect();
+        let times: Vec<i64> = chunk.iter().map(|r| r.2).collect();
+        let values: Vec<f64> = chunk.iter().map(|r| r.3).collect();
+        tx.execute(&stmt, &[&nodes, &tags, &times, &values])?;
     }
     tx.commit()
 }
 
-/// A buffered sample: tag, time, value.
-type Owned = (String, i64, f64);
+/// A buffered sample: its node (`None`: this historian's, as buffers written before node
+/// ids were kept per sample), tag, time, value.
+type Owned = (Option<String>, String, i64, f64);
 
 /// The local buffer: an SQLite file of samples in arrival order, holding at most `max`.
 struct Buffer {
@@ -664,6 +683,19 @@ impl Buffer {
                  tag TEXT NOT NULL, t INTEGER NOT NULL, v REAL NOT NULL);
              CREATE TABLE IF NOT EXISTS counters (name TEXT PRIMARY KEY, n INTEGER NOT NULL);",
         )
+        .and_then(|()| {
+            // Buffers of earlier versions hold this node's samples only.
+            let has_node: bool = conn.query_row(
+                "SELECT count(*) FROM pragma_table_info('buffered') WHERE name = 'node'",
+                [],
+                |r| r.get::<_, i64>(0).map(|n| n > 0),
+            )?;
+            if has_node {
+                Ok(())
+            } else {
+                conn.execute_batch("ALTER TABLE buffered ADD COLUMN node TEXT")
+            }
+        })
         .map_err(|e| Error::NotHistory {
             path: path.to_path_buf(),
             reason: format!("not a historian buffer: {e}"),
@@ -683,12 +715,12 @@ impl Buffer {
     }
 
     /// Appends `rows`; beyond the bound, drops the oldest and counts them.
-    fn append(&mut self, rows: &[(&str, i64, f64)]) -> Result<()> {
+    fn append(&mut self, rows: &[Row<'_>]) -> Result<()> {
         let tx = self.conn.transaction()?;
         {
-            let mut stmt = tx.prepare_cached("INSERT INTO buffered (tag, t, v) VALUES (?1, ?2, ?3)")?;
-            for (tag, t, v) in rows {
-                stmt.execute(params![tag, t, v])?;
+            let mut stmt = tx.prepare_cached("INSERT INTO buffered (node, tag, t, v) VALUES (?1, ?2, ?3, ?4)")?;
+            for (node, tag, t, v) in rows {
+                stmt.execute(params![node, tag, t, v])?;
             }
         }
         let len = self.len + rows.len() as u64;
@@ -716,13 +748,13 @@ impl Buffer {
     fn oldest(&self, n: usize) -> Result<(i64, Vec<Owned>)> {
         let mut stmt = self
             .conn
-            .prepare_cached("SELECT seq, tag, t, v FROM buffered ORDER BY seq LIMIT ?1")?;
+            .prepare_cached("SELECT seq, node, tag, t, v FROM buffered ORDER BY seq LIMIT ?1")?;
         let mut rows = stmt.query([i64::try_from(n).unwrap_or(i64::MAX)])?;
         let mut out = Vec::new();
         let mut last = 0;
         while let Some(r) = rows.next()? {
             last = r.get(0)?;
-            out.push((r.get(1)?, r.get(2)?, r.get(3)?));
+            out.push((r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?));
         }
         Ok((last, out))
     }

@@ -195,6 +195,51 @@ fn full_buffer_drops_the_oldest_and_counts_them() {
 }
 
 #[test]
+fn samples_of_many_nodes_and_buffers_of_earlier_versions_are_back_filled() {
+    let Some(pg) = PgServer::start() else { return };
+    pg.migrate();
+    let work = tempfile::tempdir().expect("tempdir");
+    let path = work.path().join("buffer.db");
+    // A buffer written before samples carried their node: this historian's samples.
+    {
+        let c = rusqlite::Connection::open(&path).expect("old buffer");
+        c.execute_batch(
+            "CREATE TABLE buffered (seq INTEGER PRIMARY KEY AUTOINCREMENT,
+                                    tag TEXT NOT NULL, t INTEGER NOT NULL, v REAL NOT NULL);
+             INSERT INTO buffered (tag, t, v) VALUES ('Old', 1, 1.5), ('Old', 2, 2.5);",
+        )
+        .expect("old rows");
+    }
+    pg.stop();
+    let h = PgHistorian::open(pg.config("service", &path)).expect("open");
+    assert_eq!(h.health().buffered, 2);
+    for (node, v) in [("line-1", 1.0), ("Plant/edge/PLC", 2.0)] {
+        assert_eq!(h.record_for(node, &samples("T", 10, 5, |_| v)).expect("record"), 5);
+    }
+    assert!(h.record_for("", &samples("T", 0, 1, |_| 0.0)).is_err());
+    assert_eq!(h.health().buffered, 12);
+    pg.start_again();
+    backfill_all(&h);
+    assert_eq!(h.nodes().expect("nodes"), ["Plant/edge/PLC", "line-1", "service"]);
+    let old = h.raw_node("service", "Old", 0, 10, 10).expect("raw");
+    assert_eq!(
+        old.iter().map(|p| (p.t_ms, p.v)).collect::<Vec<_>>(),
+        [(1, 1.5), (2, 2.5)]
+    );
+    for (node, v) in [("line-1", 1.0), ("Plant/edge/PLC", 2.0)] {
+        let raw = h.raw_node(node, "T", 0, 100, 100).expect("raw");
+        assert_eq!(raw.len(), 5);
+        assert!(raw.iter().all(|p| p.v == v), "{node}: {raw:?}");
+    }
+    // Connected: straight into the table, under each node.
+    assert_eq!(
+        h.record_for("line-1", &samples("T", 20, 3, |_| 9.0)).expect("record"),
+        3
+    );
+    assert_eq!(h.raw_node("line-1", "T", 20, 30, 10).expect("raw").len(), 3);
+}
+
+#[test]
 fn wrong_password_is_reported_without_echoing_it() {
     let Some(pg) = PgServer::start() else { return };
     pg.migrate();
