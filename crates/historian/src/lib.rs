@@ -38,7 +38,7 @@ pub use backend::{Backend, Column};
 pub use error::{Error, Result};
 pub use filter::{ChangeFilter, Filter, MAX_BUFFERED, Recorder};
 pub use nodes::{NodeSink, SqliteNodes};
-pub use pg::{MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
+pub use pg::{DEFAULT_BUFFER_SAMPLES, MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
 
 use write::Writer;
 

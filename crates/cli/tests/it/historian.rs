@@ -209,3 +209,152 @@ fn alba_run_records_into_the_shared_postgres_historian() {
     let b = other.raw_node("cell-7", "B", 0, i64::MAX, 10).expect("raw");
     assert!(b.iter().all(|p| p.v == 1.0), "{b:?}");
 }
+
+/// A project that counts: `C` goes up every 100 ms (so there are always changes to
+/// publish), `B` is on.
+fn counting_project(name: &str, toml: &str) -> std::path::PathBuf {
+    let dir = scratch(name);
+    std::fs::write(dir.join("alba.toml"), toml).expect("alba.toml");
+    std::fs::write(dir.join("tags.csv"), "name,type\nA,BOOL\nB,BOOL\nT,TIMER\nC,DINT\n").expect("tags.csv");
+    std::fs::write(
+        dir.join("main.lad"),
+        "XIO(T.DN)TON(T,100,0);\nXIC(T.DN)ADD(C,1,C);\nXIO(A)OTE(B);\n",
+    )
+    .expect("main.lad");
+    dir
+}
+
+/// `alba historian --mqtt` between a real Mosquitto and a real PostgreSQL: one `alba run
+/// --mqtt` publishing JSON, one publishing Sparkplug B (born before the service started:
+/// the service asks it for a rebirth), each runtime's samples in the database under its
+/// node; the service stopped for a while loses nothing the broker kept for its session.
+#[test]
+fn alba_historian_consumes_json_and_sparkplug_from_mosquitto_into_postgres() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let Some(pg) = PgServer::start() else { return };
+    let Some(broker) = alba_testkit::mqtt::Broker::start() else {
+        return;
+    };
+    let work = scratch("historian_service");
+    let spark = counting_project(
+        "historian_service_sp",
+        "name = \"edge2\"\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n[mqtt.sparkplug]\ngroup_id = \"Plant\"\ndevice_id = \"PLC\"\n",
+    );
+    let json = counting_project(
+        "historian_service_json",
+        "name = \"line1\"\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n",
+    );
+    let run = |dir: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_alba"))
+            .args(["run", ".", "--http", "127.0.0.1:0", "--mqtt", &broker.addr()])
+            .current_dir(dir)
+            .stdout(Stdio::null())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("alba run starts")
+    };
+    let pw = pg.password_file().display().to_string();
+    let buffer = work.join("buffer.db").display().to_string();
+    let service = || {
+        Command::new(env!("CARGO_BIN_EXE_alba"))
+            .args([
+                "historian",
+                "--mqtt",
+                &broker.addr(),
+                "--postgres",
+                &pg.url(),
+                "--password-file",
+                &pw,
+                "--buffer",
+                &buffer,
+                "--primary-host",
+                "central",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("alba historian starts")
+    };
+    let stop = |child: std::process::Child| {
+        let _ = Command::new("kill").args(["-TERM", &child.id().to_string()]).status();
+        let out = child.wait_with_output().expect("exits");
+        assert!(out.status.success(), "{}", out.status);
+        text(&out.stdout)
+    };
+    // The Sparkplug runtime is born before the service listens.
+    let sp_run = run(&spark);
+    std::thread::sleep(Duration::from_secs(2));
+    let svc = service();
+    let json_run = run(&json);
+    let mut config = alba_historian::PgConfig::new(pg.url(), "reader", work.join("reader.db"));
+    config.password = Some(PASSWORD.to_owned());
+    let reader = alba_historian::PgHistorian::open(config).expect("reader");
+    let sp_node = "Plant/edge2/PLC";
+    let wait_for = |node: &str, tag: &str, more_than: usize| {
+        let deadline = Instant::now() + Duration::from_secs(120);
+        loop {
+            let n = reader.raw_node(node, tag, 0, i64::MAX, 100_000).map_or(0, |r| r.len());
+            if n > more_than {
+                return n;
+            }
+            assert!(Instant::now() < deadline, "{node} {tag}: {n} samples");
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    };
+    wait_for("line1", "C", 5);
+    wait_for(sp_node, "C", 5);
+    for node in ["line1", sp_node] {
+        let tags: Vec<String> = reader
+            .tags_of(node)
+            .expect("tags")
+            .into_iter()
+            .map(|t| t.name)
+            .collect();
+        for t in ["A", "B", "C", "T.ACC"] {
+            assert!(tags.iter().any(|x| x == t), "{node}: {tags:?}");
+        }
+        let b = reader.raw_node(node, "B", 0, i64::MAX, 100).expect("raw");
+        assert!(!b.is_empty() && b.iter().all(|p| p.v == 1.0), "{node}: {b:?}");
+        let c = reader.raw_node(node, "C", 0, i64::MAX, 100_000).expect("raw");
+        assert!(c.windows(2).all(|w| w[0].v < w[1].v), "{node}: C counts up: {c:?}");
+    }
+    let first = stop(svc);
+    assert!(
+        first.contains("rebirths asked for") && !first.contains(" 0 rebirths"),
+        "{first}"
+    );
+    // While the service is away the broker keeps its session's messages.
+    let away_from = unix_ms();
+    std::thread::sleep(Duration::from_secs(3));
+    let away_to = unix_ms();
+    let svc = service();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let c = reader
+            .raw_node("line1", "C", away_from + 500, away_to - 500, 1_000)
+            .expect("raw");
+        if c.len() >= 10 {
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the samples sent while the service was away: {c:?}"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    for child in [sp_run, json_run] {
+        let _ = Command::new("kill").args(["-TERM", &child.id().to_string()]).status();
+        let out = child.wait_with_output().expect("exits");
+        assert!(out.status.success());
+    }
+    let last = stop(svc);
+    assert!(last.contains("historian: stopped after"), "{last}");
+    assert_eq!(reader.nodes().expect("nodes"), [sp_node, "line1"]);
+}
+
+fn unix_ms() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as i64)
+}
