@@ -233,6 +233,12 @@ pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::
     if let Some(file) = &cfg.password_file {
         pg.password = Some(PgConfig::password_from_file(&dir.join(file)).map_err(|e| e.to_string())?);
     }
+    pg.ca_file = cfg.ca_file.as_ref().map(|f| dir.join(f));
+    pg.client_cert = cfg
+        .client_cert
+        .as_ref()
+        .zip(cfg.client_key.as_ref())
+        .map(|(c, k)| (dir.join(c), dir.join(k)));
     pg.connection().map_err(|e| e.to_string())?;
     Ok(pg)
 }

@@ -15,6 +15,7 @@ mod audit;
 mod connections;
 mod edits;
 mod history;
+pub use history::pg_config;
 pub mod ingest;
 mod limits;
 mod lock;

@@ -43,6 +43,15 @@ pub struct ServiceArgs {
     /// The database password: the first line of this file.
     #[arg(long, value_name = "FILE", requires = "postgres")]
     password_file: Option<PathBuf>,
+    /// TLS to the database: the CA certificates (PEM) its certificate must chain to.
+    #[arg(long, value_name = "FILE", requires = "postgres")]
+    ca_file: Option<PathBuf>,
+    /// TLS: a client certificate (PEM), with --client-key.
+    #[arg(long, value_name = "FILE", requires_all = ["client_key", "ca_file"])]
+    client_cert: Option<PathBuf>,
+    /// TLS: the client certificate's key (PEM).
+    #[arg(long, value_name = "FILE", requires = "client_cert")]
+    client_key: Option<PathBuf>,
     /// The local buffer for samples while the database is unreachable.
     #[arg(
         long,
@@ -143,8 +152,10 @@ fn serve(a: ServiceArgs) -> Result<String, String> {
             if let Some(f) = &a.password_file {
                 pg.password = Some(secret(f)?);
             }
+            pg.ca_file = a.ca_file;
+            pg.client_cert = a.client_cert.zip(a.client_key);
             // The schema, if the database answers now (else the samples wait in the buffer).
-            match alba_historian::migrate(&pg.connection().map_err(|e| e.to_string())?) {
+            match alba_historian::migrate(&pg) {
                 Ok(_) => {}
                 Err(e) => eprintln!("historian: schema not checked ({e}); buffering until the database answers"),
             }
@@ -179,31 +190,16 @@ fn config(dir: &Path) -> Result<Config, String> {
     }
 }
 
-/// The settings of the project's PostgreSQL historian (the password file is relative to
-/// the project folder).
-pub fn pg_config(dir: &Path, config: &Config) -> Result<alba_historian::PgConfig, String> {
-    let h = &config.history;
-    if h.backend != HistoryBackend::Postgres {
+fn migrate(dir: &Path) -> Result<String, String> {
+    let config = config(dir)?;
+    if config.history.backend != HistoryBackend::Postgres {
         return Err(format!(
             "{}: [history] backend is not \"postgres\" (the embedded SQLite historian needs no migration)",
             dir.join("alba.toml").display()
         ));
     }
-    let url = h.url.clone().ok_or("[history] has no url")?;
-    let node = h.node.clone().unwrap_or_else(|| config.name.clone());
-    let mut pg = alba_historian::PgConfig::new(url, node, dir.join(".alba").join("history-buffer.db"));
-    pg.buffer_max_samples = u64::from(h.buffer_max_samples);
-    if let Some(file) = &h.password_file {
-        pg.password = Some(alba_historian::PgConfig::password_from_file(&dir.join(file)).map_err(|e| e.to_string())?);
-    }
-    Ok(pg)
-}
-
-fn migrate(dir: &Path) -> Result<String, String> {
-    let config = config(dir)?;
-    let pg = pg_config(dir, &config)?;
-    let connection = pg.connection().map_err(|e| e.to_string())?;
-    let report = alba_historian::migrate(&connection).map_err(|e| e.to_string())?;
+    let pg = alba_app::pg_config(dir, &config.name, &config.history)?;
+    let report = alba_historian::migrate(&pg).map_err(|e| e.to_string())?;
     Ok(match (report.hypertable, report.note) {
         (true, _) => "historian schema ready: alba_samples is a TimescaleDB hypertable".to_owned(),
         (false, Some(note)) => format!("historian schema ready: {note}"),

@@ -26,6 +26,7 @@ mod nodes;
 mod pg;
 mod query;
 mod schema;
+mod tls;
 mod write;
 
 use std::io::Write;

@@ -12,13 +12,66 @@ use std::time::{Duration, Instant};
 use postgres::{Client, GenericClient, NoTls};
 use rusqlite::{Connection, params};
 
+use crate::agg::{Agg, ceil_to, floor_to};
 use crate::backend::{Backend, Column};
 use crate::csv;
 use crate::error::{Error, Result, pg_message};
+use crate::tls::Rustls;
 use crate::{Bucket, MAX_POINTS, Point, Sample, TagRange, check_time, clamp_range, query};
 
 /// The samples one INSERT (and one back-fill step) carries at most.
 const BATCH: usize = 10_000;
+/// The schema `migrate` makes: 1 was the samples alone, 2 adds the rollups.
+const SCHEMA_VERSION: i32 = 2;
+/// The rollup tiers kept in PostgreSQL, finest first: the table and its bucket width. Both
+/// widths are widths of the SQLite backend's tiers, so a query takes the SQLite backend's
+/// bucket grid and fills it exactly from the coarsest of these that divides its width.
+const PG_TIERS: [(&str, i64); 2] = [("alba_rollup_10s", 10_000), ("alba_rollup_10m", 600_000)];
+
+/// `floor(col / w) * w` for any sign (PostgreSQL's `%` keeps the dividend's sign).
+fn floor_sql(col: &str, w: i64) -> String {
+    format!("{col} - (({col} % {w}) + {w}) % {w}")
+}
+
+/// The statements that add the samples `source` selects (columns node, tag, t, v; each
+/// new to the table) to every rollup tier, merging with the rows there: a CTE list
+/// `a0 … aN` and the upserts, as one statement.
+fn rollup_sql(source: &str) -> String {
+    let merge = "ON CONFLICT (node, tag, t) DO UPDATE SET
+                     lo = least(r.lo, excluded.lo), hi = greatest(r.hi, excluded.hi),
+                     first = CASE WHEN excluded.first_t < r.first_t THEN excluded.first ELSE r.first END,
+                     first_t = least(r.first_t, excluded.first_t),
+                     last = CASE WHEN excluded.last_t > r.last_t THEN excluded.last ELSE r.last END,
+                     last_t = greatest(r.last_t, excluded.last_t),
+                     n = r.n + excluded.n";
+    let (t0, w0) = PG_TIERS[0];
+    let mut sql = format!(
+        "WITH src AS ({source}),
+         a0 AS (SELECT node, tag, {} AS b, min(v) AS lo, max(v) AS hi,
+                       min(t) AS first_t, (array_agg(v ORDER BY t))[1] AS first,
+                       max(t) AS last_t, (array_agg(v ORDER BY t DESC))[1] AS last, count(*) AS n
+                FROM src GROUP BY 1, 2, 3)",
+        floor_sql("t", w0)
+    );
+    for (k, (_, w)) in PG_TIERS.iter().enumerate().skip(1) {
+        sql.push_str(&format!(
+            ", a{k} AS (SELECT node, tag, {} AS b, min(lo) AS lo, max(hi) AS hi,
+                           min(first_t) AS first_t, (array_agg(first ORDER BY first_t))[1] AS first,
+                           max(last_t) AS last_t, (array_agg(last ORDER BY last_t DESC))[1] AS last,
+                           sum(n)::bigint AS n
+                    FROM a{} GROUP BY 1, 2, 3)",
+            floor_sql("b", *w),
+            k - 1
+        ));
+    }
+    for (k, (table, _)) in PG_TIERS.iter().enumerate().skip(1) {
+        sql.push_str(&format!(
+            ", u{k} AS (INSERT INTO {table} AS r SELECT * FROM a{k} {merge})"
+        ));
+    }
+    sql.push_str(&format!(" INSERT INTO {t0} AS r SELECT * FROM a0 {merge}"));
+    sql
+}
 /// The default bound of the local buffer: 10 M samples (about 400 MB of SQLite).
 pub const DEFAULT_BUFFER_SAMPLES: u64 = 10_000_000;
 
@@ -43,6 +96,11 @@ pub struct PgConfig {
     /// How long to wait after a failed attempt before trying the database again (writes
     /// meanwhile go straight to the buffer).
     pub retry_interval: Duration,
+    /// TLS: the CA certificates (PEM) the server's certificate must chain to; the server's
+    /// host name or address must be in it. Set, connections are encrypted or refused.
+    pub ca_file: Option<PathBuf>,
+    /// TLS: a client certificate and its key (PEM) for servers that ask for one.
+    pub client_cert: Option<(PathBuf, PathBuf)>,
 }
 
 impl std::fmt::Debug for PgConfig {
@@ -67,6 +125,8 @@ impl PgConfig {
             buffer_max_samples: DEFAULT_BUFFER_SAMPLES,
             connect_timeout: Duration::from_secs(5),
             retry_interval: Duration::from_secs(2),
+            ca_file: None,
+            client_cert: None,
         }
     }
 
@@ -95,7 +155,48 @@ impl PgConfig {
         }
         c.connect_timeout(self.connect_timeout);
         c.application_name("alba-historian");
+        match (&self.ca_file, c.get_ssl_mode()) {
+            (Some(_), _) => {
+                c.ssl_mode(postgres::config::SslMode::Require);
+            }
+            (None, postgres::config::SslMode::Require) => {
+                return Err(Error::InvalidArgument(
+                    "historian url: sslmode=require needs the CA file of the server's certificate (ca_file)".into(),
+                ));
+            }
+            // Without a CA, no TLS: `prefer` is plain text.
+            (None, _) => {
+                c.ssl_mode(postgres::config::SslMode::Disable);
+            }
+        }
         Ok(c)
+    }
+
+    /// How to connect: plain, or TLS with `ca_file` (and `client_cert`).
+    fn link(&self) -> Result<Link> {
+        Ok(match &self.ca_file {
+            None => Link::Plain,
+            Some(ca) => Link::Tls(Rustls::new(
+                ca,
+                self.client_cert.as_ref().map(|(c, k)| (c.as_path(), k.as_path())),
+            )?),
+        })
+    }
+}
+
+/// How connections are made.
+#[derive(Clone)]
+enum Link {
+    Plain,
+    Tls(Rustls),
+}
+
+impl Link {
+    fn connect(&self, c: &postgres::Config) -> std::result::Result<Client, postgres::Error> {
+        match self {
+            Link::Plain => c.connect(NoTls),
+            Link::Tls(t) => c.connect(t.clone()),
+        }
     }
 }
 
@@ -111,8 +212,8 @@ pub struct MigrateReport {
 /// Creates the schema (idempotent; several nodes may run it at once): the `alba_samples`
 /// table keyed by (node, tag, t), made a TimescaleDB hypertable of 1-day chunks when the
 /// extension is installed on the server (plain table otherwise).
-pub fn migrate(config: &postgres::Config) -> Result<MigrateReport> {
-    let mut client = config.connect(NoTls)?;
+pub fn migrate(config: &PgConfig) -> Result<MigrateReport> {
+    let mut client = config.link()?.connect(&config.connection()?)?;
     let mut tx = client.transaction()?;
     // One migration at a time, whatever the number of nodes starting together.
     tx.execute("SELECT pg_advisory_xact_lock(6710886401)", &[])?;
@@ -127,16 +228,39 @@ pub fn migrate(config: &postgres::Config) -> Result<MigrateReport> {
          );",
     )?;
     let version: Option<i32> = tx.query_opt("SELECT version FROM alba_schema", &[])?.map(|r| r.get(0));
+    if version.is_some_and(|v| v > SCHEMA_VERSION) {
+        return Err(Error::InvalidArgument(format!(
+            "the database has historian schema version {}; this Alba knows version {SCHEMA_VERSION}",
+            version.unwrap_or_default()
+        )));
+    }
+    for (table, _) in PG_TIERS {
+        tx.batch_execute(&format!(
+            "CREATE TABLE IF NOT EXISTS {table} (
+                 node text NOT NULL, tag text NOT NULL, t bigint NOT NULL,
+                 lo double precision NOT NULL, hi double precision NOT NULL,
+                 first_t bigint NOT NULL, first double precision NOT NULL,
+                 last_t bigint NOT NULL, last double precision NOT NULL,
+                 n bigint NOT NULL,
+                 PRIMARY KEY (node, tag, t))"
+        ))?;
+    }
     match version {
         None => {
-            tx.execute("INSERT INTO alba_schema (version) VALUES (1)", &[])?;
+            tx.execute(
+                &format!("INSERT INTO alba_schema (version) VALUES ({SCHEMA_VERSION})"),
+                &[],
+            )?;
         }
-        Some(1) => {}
-        Some(v) => {
-            return Err(Error::InvalidArgument(format!(
-                "the database has historian schema version {v}; this Alba knows version 1"
-            )));
+        Some(1) => {
+            // Version 1 had no rollups: made from the samples stored so far.
+            tx.batch_execute(&format!(
+                "{};
+                 UPDATE alba_schema SET version = {SCHEMA_VERSION};",
+                rollup_sql("SELECT node, tag, t, v FROM alba_samples")
+            ))?;
         }
+        Some(_) => {}
     }
     tx.commit()?;
     let available = client
@@ -183,6 +307,7 @@ pub struct PgHealth {
 pub struct PgHistorian {
     config: PgConfig,
     connection: postgres::Config,
+    link: Link,
     writer: Mutex<WriterState>,
     readers: Mutex<Vec<Client>>,
 }
@@ -227,10 +352,12 @@ impl PgHistorian {
             return Err(Error::InvalidArgument("empty historian node id".into()));
         }
         let connection = config.connection()?;
+        let link = config.link()?;
         let buffer = Buffer::open(&config.buffer_path, config.buffer_max_samples)?;
         let h = PgHistorian {
             config,
             connection,
+            link,
             writer: Mutex::new(WriterState {
                 client: None,
                 last_attempt: None,
@@ -262,7 +389,7 @@ impl PgHistorian {
             return false;
         }
         w.last_attempt = Some(Instant::now());
-        match self.connection.connect(NoTls) {
+        match self.link.connect(&self.connection) {
             Ok(c) => {
                 w.client = Some(c);
                 true
@@ -379,7 +506,7 @@ impl PgHistorian {
         let pooled = lock(&self.readers).pop();
         let mut client = match pooled {
             Some(c) if !c.is_closed() => c,
-            _ => self.connection.connect(NoTls)?,
+            _ => self.link.connect(&self.connection)?,
         };
         let out = f(&mut client);
         if !client.is_closed() {
@@ -456,38 +583,10 @@ impl PgHistorian {
             if from > to {
                 return Ok(Vec::new());
             }
-            // The SQLite backend's bucket grid, computed from the raw samples here.
+            // The SQLite backend's bucket grid, filled from this database's rollups.
             let plan = query::plan(from, to, points);
-            let rows = c.query(
-                // One pass for min/max/count and the first and last times, then one
-                // index probe each for the first and last values (no sort per bucket).
-                "WITH g AS (
-                     SELECT (t - $3) / $4 AS b, min(v) AS lo, max(v) AS hi,
-                            min(t) AS t0, max(t) AS t1, count(*) AS n
-                     FROM alba_samples
-                     WHERE node = $1 AND tag = $2 AND t >= $5 AND t <= $6
-                     GROUP BY 1)
-                 SELECT g.b, g.lo, g.hi, f.v, l.v, g.n
-                 FROM g
-                 JOIN alba_samples f ON f.node = $1 AND f.tag = $2 AND f.t = g.t0
-                 JOIN alba_samples l ON l.node = $1 AND l.tag = $2 AND l.t = g.t1
-                 ORDER BY g.b",
-                &[&node, &tag, &plan.origin, &plan.width, &from, &to],
-            )?;
-            let mut out = Vec::with_capacity(rows.len());
-            for r in &rows {
-                let index: i64 = r.get(0);
-                let count: i64 = r.get(5);
-                out.push(Bucket {
-                    t_ms: (plan.origin + index * plan.width).max(from),
-                    min: r.get(1),
-                    max: r.get(2),
-                    first: r.get(3),
-                    last: r.get(4),
-                    count: u64::try_from(count).unwrap_or(0),
-                });
-            }
-            Ok(out)
+            let level = tier_for(query::level_ms(plan.level));
+            query::buckets(plan, from, |sink| cover(c, node, tag, from, to, level, sink))
         })
     }
 
@@ -580,14 +679,9 @@ struct PgCsv<'t, 'c> {
 impl csv::Source for PgCsv<'_, '_> {
     fn count(&mut self, c: usize, from: i64, to: i64) -> Result<u64> {
         let (node, tag) = &self.cols[c];
-        let n: i64 = self
-            .tx
-            .query_one(
-                "SELECT count(*) FROM alba_samples WHERE node = $1 AND tag = $2 AND t >= $3 AND t <= $4",
-                &[node, tag, &from, &to],
-            )?
-            .get(0);
-        Ok(u64::try_from(n).unwrap_or(0))
+        let mut n = 0;
+        cover(self.tx, node, tag, from, to, PG_TIERS.len(), &mut |_, a| n += a.n)?;
+        Ok(n)
     }
 
     fn values_at(&mut self, c: usize, times: &[i64]) -> Result<Vec<Option<f64>>> {
@@ -613,6 +707,69 @@ impl csv::Source for PgCsv<'_, '_> {
     }
 }
 
+/// The coarsest PostgreSQL tier (1-based, 0: raw samples) whose width divides `width`.
+fn tier_for(width: i64) -> usize {
+    PG_TIERS.iter().rposition(|(_, w)| width % w == 0).map_or(0, |k| k + 1)
+}
+
+/// Feeds `sink` the aggregates covering exactly the samples of `node`'s `tag` in
+/// `[lo, hi]`, in time order: whole rows of tier `level` inside the range, the edges from
+/// finer tiers, down to raw samples (as the SQLite backend's `cover`).
+fn cover(
+    c: &mut impl GenericClient,
+    node: &str,
+    tag: &str,
+    lo: i64,
+    hi: i64,
+    level: usize,
+    sink: &mut dyn FnMut(i64, Agg),
+) -> Result<()> {
+    if lo > hi {
+        return Ok(());
+    }
+    if level == 0 {
+        let rows = c.query(
+            "SELECT t, v FROM alba_samples WHERE node = $1 AND tag = $2 AND t >= $3 AND t <= $4 ORDER BY t",
+            &[&node, &tag, &lo, &hi],
+        )?;
+        for r in &rows {
+            let t: i64 = r.get(0);
+            sink(t, Agg::one(t, r.get(1)));
+        }
+        return Ok(());
+    }
+    let (table, b) = PG_TIERS[level - 1];
+    let start = ceil_to(lo, b);
+    let end = floor_to(hi + 1, b);
+    if start >= end {
+        return cover(c, node, tag, lo, hi, level - 1, sink);
+    }
+    cover(c, node, tag, lo, start - 1, level - 1, sink)?;
+    let rows = c.query(
+        &format!(
+            "SELECT t, lo, hi, first_t, first, last_t, last, n FROM {table}
+             WHERE node = $1 AND tag = $2 AND t >= $3 AND t < $4 ORDER BY t"
+        ),
+        &[&node, &tag, &start, &end],
+    )?;
+    for r in &rows {
+        let n: i64 = r.get(7);
+        sink(
+            r.get(0),
+            Agg {
+                min: r.get(1),
+                max: r.get(2),
+                first_t: r.get(3),
+                first: r.get(4),
+                last_t: r.get(5),
+                last: r.get(6),
+                n: u64::try_from(n).unwrap_or(0),
+            },
+        );
+    }
+    cover(c, node, tag, end, hi, level - 1, sink)
+}
+
 /// [`Error::UnknownTag`] when `node` has no sample of `tag`.
 fn exists(c: &mut impl GenericClient, node: &str, tag: &str) -> Result<()> {
     let found = c
@@ -635,12 +792,14 @@ type Row<'a> = (&'a str, &'a str, i64, f64);
 /// (node, tag, t) are ignored.
 fn insert(client: &mut Client, rows: &[Row<'_>]) -> std::result::Result<(), postgres::Error> {
     let mut tx = client.transaction()?;
-    let stmt = tx.prepare(
+    // The rollups take exactly the samples inserted (a duplicate is not counted twice).
+    let stmt = tx.prepare(&rollup_sql(
         "INSERT INTO alba_samples (node, tag, t, v)
          SELECT u.node, u.tag, u.t, u.v
          FROM unnest($1::text[], $2::text[], $3::int8[], $4::float8[]) AS u(node, tag, t, v)
-         ON CONFLICT DO NOTHING",
-    )?;
+         ON CONFLICT DO NOTHING
+         RETURNING node, tag, t, v",
+    ))?;
     for chunk in rows.chunks(BATCH) {
         let nodes: Vec<&str> = chunk.iter().map(|r| r.0).collect();
         let tags: Vec<&str> = chunk.iter().map(|r| r.1).collect();

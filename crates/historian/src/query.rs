@@ -21,7 +21,7 @@ pub(crate) struct Plan {
 }
 
 /// The width of level `level`'s buckets (1 ms for raw samples).
-fn level_ms(level: usize) -> i64 {
+pub(crate) fn level_ms(level: usize) -> i64 {
     if level == 0 { 1 } else { TIERS[level - 1].ms }
 }
 
@@ -132,6 +132,16 @@ pub(crate) fn downsample(conn: &Connection, tag: i64, from: i64, to: i64, points
         return Ok(Vec::new());
     }
     let plan = plan(from, to, points);
+    buckets(plan, from, |sink| cover_all(conn, tag, from, to, plan.level, sink))
+}
+
+/// The buckets of `plan` (for a query from `from`) from the aggregates `feed` gives the
+/// sink, in time order, each inside one bucket.
+pub(crate) fn buckets(
+    plan: Plan,
+    from: i64,
+    feed: impl FnOnce(&mut dyn FnMut(i64, Agg)) -> Result<()>,
+) -> Result<Vec<Bucket>> {
     let mut out: Vec<Bucket> = Vec::new();
     let mut current: Option<(i64, Agg)> = None;
     let push = |out: &mut Vec<Bucket>, index: i64, a: Agg| {
@@ -144,7 +154,7 @@ pub(crate) fn downsample(conn: &Connection, tag: i64, from: i64, to: i64, points
             count: a.n,
         });
     };
-    cover_all(conn, tag, from, to, plan.level, &mut |start, piece| {
+    feed(&mut |start, piece| {
         let index = (start - plan.origin).div_euclid(plan.width);
         match &mut current {
             Some((i, a)) if *i == index => a.merge(&piece),

@@ -24,7 +24,7 @@ impl Historians for PgServer {
 
     fn migrate(&self) {
         let c = self.config("migrate", &self.dir.path().join("unused.db"));
-        let report = migrate(&c.connection().expect("connection settings")).expect("migrate");
+        let report = migrate(&c).expect("migrate");
         // No TimescaleDB in the test server: detected, not required.
         assert!(!report.hypertable, "{report:?}");
         assert!(report.note.is_some());
@@ -290,7 +290,14 @@ fn downsampled_queries_equal_the_sqlite_backend() {
     let postgres = PgHistorian::open(pg.config("plc", &work.path().join("buffer.db"))).expect("postgres");
     let data = signal(60_000);
     let backends: [&dyn Backend; 2] = [&sqlite, &postgres];
-    for chunk in data.chunks(5_000) {
+    // Out of order (later chunks first, so rollup buckets merge late samples), and one
+    // chunk twice (its duplicates ignored, not counted again).
+    let chunks: Vec<&[(String, i64, f64)]> = data.chunks(5_000).collect();
+    let order = (0..chunks.len())
+        .filter(|k| k % 2 == 1)
+        .chain((0..chunks.len()).filter(|k| k % 2 == 0))
+        .chain([3]);
+    for chunk in order.map(|k| chunks[k]) {
         let s: Vec<Sample<'_>> = chunk
             .iter()
             .map(|(tag, t, v)| Sample { tag, t_ms: *t, v: *v })
@@ -370,59 +377,101 @@ fn downsampled_queries_equal_the_sqlite_backend() {
     }
 }
 
-/// Ingest and query speed, printed (not asserted). `ALBA_PG_BENCH_SAMPLES` sets the table
-/// size (default 400 000); run with `--nocapture` to see the numbers.
 #[test]
-fn ingest_and_query_numbers() {
+fn a_version_1_schema_gets_its_rollups() {
     let Some(pg) = PgServer::start() else { return };
+    let c = pg.config("plc", &pg.dir.path().join("unused.db"));
+    let mut client = c
+        .connection()
+        .expect("settings")
+        .connect(postgres::NoTls)
+        .expect("connect");
+    client
+        .batch_execute(
+            "CREATE TABLE alba_schema (version integer NOT NULL);
+             INSERT INTO alba_schema VALUES (1);
+             CREATE TABLE alba_samples (node text NOT NULL, tag text NOT NULL, t bigint NOT NULL,
+                                        v double precision NOT NULL, PRIMARY KEY (node, tag, t));
+             INSERT INTO alba_samples
+                 SELECT 'plc', 'Wave', t, sin(t / 7000.0) FROM generate_series(-3600000, 7200000, 1000) t;",
+        )
+        .expect("a version 1 database");
     pg.migrate();
-    let total: i64 = std::env::var("ALBA_PG_BENCH_SAMPLES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(400_000);
+    let version: i32 = client
+        .query_one("SELECT version FROM alba_schema", &[])
+        .expect("version")
+        .get(0);
+    assert_eq!(version, 2);
     let work = tempfile::tempdir().expect("tempdir");
-    let writers = 4;
-    let started = Instant::now();
-    let threads: Vec<_> = (0..writers)
-        .map(|k| {
-            let h =
-                PgHistorian::open(pg.config(&format!("node{k}"), &work.path().join(format!("b{k}.db")))).expect("open");
-            std::thread::spawn(move || {
-                let per = total / writers;
-                let mut t = 0;
-                while t < per {
-                    let n = (per - t).min(10_000);
-                    let s = samples("Big", t * 100, n, |t| ((t / 100) % 1_000) as f64);
-                    let s: Vec<Sample<'_>> = s
-                        .into_iter()
-                        .enumerate()
-                        .map(|(i, mut x)| {
-                            x.t_ms = (t + i as i64) * 100;
-                            x
-                        })
-                        .collect();
-                    h.record_batch(&s).expect("record");
-                    t += n;
-                }
-                h
-            })
+    let sqlite = Historian::open(work.path().join("h.db"), Config::default()).expect("sqlite");
+    let wave: Vec<Sample<'_>> = (-3_600..=7_200)
+        .map(|k| Sample {
+            tag: "Wave",
+            t_ms: k * 1_000,
+            v: (k as f64 * 1_000.0 / 7_000.0).sin(),
         })
         .collect();
-    let handles: Vec<PgHistorian> = threads.into_iter().map(|t| t.join().expect("writer")).collect();
-    let secs = started.elapsed().as_secs_f64();
-    println!(
-        "postgres ingest: {total} samples from {writers} writers in {secs:.2} s = {:.0} samples/s",
-        total as f64 / secs
+    sqlite.record_batch(&wave).expect("record");
+    let h = PgHistorian::open(pg.config("plc", &work.path().join("b.db"))).expect("open");
+    for (from, to, points) in [
+        (-3_600_000, 7_200_000, 300),
+        (-1_000_001, 5_000_003, 17),
+        (0, 7_200_000, 1),
+    ] {
+        let a = sqlite.query("Wave", from, to, points).expect("sqlite");
+        let b = h.query_node("plc", "Wave", from, to, points).expect("postgres");
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(&b) {
+            // sin() of SQL and of Rust may differ in the last bit: compare the rest exactly.
+            assert_eq!((x.t_ms, x.count), (y.t_ms, y.count));
+            for (p, q) in [(x.min, y.min), (x.max, y.max), (x.first, y.first), (x.last, y.last)] {
+                assert!((p - q).abs() < 1e-12, "{x:?} {y:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn tls_with_the_servers_ca_only() {
+    let Some(pg) = PgServer::start() else { return };
+    let ca = pg.enable_tls();
+    let work = tempfile::tempdir().expect("tempdir");
+    let mut c = pg.config("plc", &work.path().join("buffer.db"));
+    c.ca_file = Some(ca);
+    migrate(&c).expect("migrate over TLS");
+    let h = PgHistorian::open(c.clone()).expect("open");
+    assert_eq!(
+        h.record_batch(&samples("T", 0, 100, |t| t as f64)).expect("record"),
+        100
     );
-    let h = &handles[0];
-    let per = total / writers;
-    let _ = h.query(None, "Big", 0, per * 100, 1_000).expect("warm-up");
-    let started = Instant::now();
-    let buckets = h.query(None, "Big", 0, per * 100, 1_000).expect("query");
-    println!(
-        "postgres query: {per} samples of one tag (table of {total}) -> {} buckets in {:.1} ms",
-        buckets.len(),
-        started.elapsed().as_secs_f64() * 1_000.0
-    );
-    assert_eq!(buckets.iter().map(|b| b.count).sum::<u64>(), per as u64);
+    assert!(h.health().connected, "{:?}", h.health());
+    assert_eq!(h.raw(None, "T", 0, 1_000, 1_000).expect("raw over TLS").len(), 100);
+    // Without TLS the server refuses (hostnossl … reject): the samples wait in the buffer.
+    let plain = PgHistorian::open(pg.config("plain", &work.path().join("plain.db"))).expect("open");
+    plain.record_batch(&samples("T", 0, 5, |t| t as f64)).expect("buffered");
+    let err = plain.health().last_error.expect("refused");
+    assert!(err.contains("no encryption"), "{err}");
+    // A certificate from another CA is refused by the client.
+    let other = work.path().join("other-ca.pem");
+    let key = rcgen::KeyPair::generate().expect("key");
+    let mut params = rcgen::CertificateParams::new(Vec::<String>::new()).expect("params");
+    params.is_ca = rcgen::IsCa::Ca(rcgen::BasicConstraints::Unconstrained);
+    std::fs::write(&other, params.self_signed(&key).expect("CA").pem()).expect("other CA");
+    let mut wrong = c.clone();
+    wrong.ca_file = Some(other);
+    wrong.buffer_path = work.path().join("wrong.db");
+    let h = PgHistorian::open(wrong).expect("open");
+    h.record_batch(&samples("T", 0, 5, |t| t as f64)).expect("buffered");
+    let err = h.health().last_error.expect("refused");
+    assert!(err.to_lowercase().contains("certificate"), "{err}");
+    // sslmode=require without a CA file: a precise error, at once.
+    let mut require = pg.config("plc", &work.path().join("r.db"));
+    require.url.push_str(" sslmode=require");
+    let e = PgHistorian::open(require).expect_err("needs a CA");
+    assert!(e.to_string().contains("sslmode=require needs the CA file"), "{e}");
+    let missing = PgConfig {
+        ca_file: Some(work.path().join("nope.pem")),
+        ..c
+    };
+    assert!(PgHistorian::open(missing).is_err());
 }
