@@ -201,8 +201,11 @@ fn migrate(dir: &Path) -> Result<String, String> {
     let pg = alba_app::pg_config(dir, &config.name, &config.history)?;
     let report = alba_historian::migrate(&pg).map_err(|e| e.to_string())?;
     Ok(match (report.hypertable, report.note) {
-        (true, _) => "historian schema ready: alba_samples is a TimescaleDB hypertable".to_owned(),
-        (false, Some(note)) => format!("historian schema ready: {note}"),
-        (false, None) => "historian schema ready (plain table)".to_owned(),
+        (_, Some(note)) => format!("historian schema ready: {note}"),
+        (true, None) => {
+            "historian schema ready: alba_samples is a TimescaleDB hypertable, chunks compressed after 7 days"
+                .to_owned()
+        }
+        (false, None) => "historian schema ready".to_owned(),
     })
 }

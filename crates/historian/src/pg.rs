@@ -205,6 +205,11 @@ impl Link {
 pub struct MigrateReport {
     /// The samples table is a TimescaleDB hypertable.
     pub hypertable: bool,
+    /// Its chunks older than 7 days are compressed (TimescaleDB).
+    pub compressed: bool,
+    /// Without TimescaleDB: the samples table is partitioned by time (30-day ranges). A
+    /// table made by an earlier version stays as it was.
+    pub partitioned: bool,
     /// Why it is not one, when the extension was not usable.
     pub note: Option<String>,
 }
@@ -214,10 +219,34 @@ pub struct MigrateReport {
 /// extension is installed on the server (plain table otherwise).
 pub fn migrate(config: &PgConfig) -> Result<MigrateReport> {
     let mut client = config.link()?.connect(&config.connection()?)?;
+    // TimescaleDB when the server has it: detected, never required.
+    let available = client
+        .query_opt("SELECT 1 FROM pg_available_extensions WHERE name = 'timescaledb'", &[])?
+        .is_some();
+    let mut note = None;
+    let timescale = if !available {
+        note = Some("the timescaledb extension is not installed".to_owned());
+        false
+    } else if let Err(e) = client.batch_execute("CREATE EXTENSION IF NOT EXISTS timescaledb") {
+        note = Some(format!("timescaledb is installed but not usable ({})", pg_message(&e)));
+        false
+    } else {
+        true
+    };
     let mut tx = client.transaction()?;
     // One migration at a time, whatever the number of nodes starting together.
     tx.execute("SELECT pg_advisory_xact_lock(6710886401)", &[])?;
-    tx.batch_execute(
+    let existed = tx
+        .query_opt("SELECT to_regclass('alba_samples')::text", &[])?
+        .and_then(|r| r.get::<_, Option<String>>(0))
+        .is_some();
+    // Without TimescaleDB: ranges of PARTITION_MS, made as samples arrive (`ensure_partitions`).
+    let partition = if existed || timescale {
+        ""
+    } else {
+        "PARTITION BY RANGE (t)"
+    };
+    tx.batch_execute(&format!(
         "CREATE TABLE IF NOT EXISTS alba_schema (version integer NOT NULL);
          CREATE TABLE IF NOT EXISTS alba_samples (
              node text NOT NULL,
@@ -225,8 +254,8 @@ pub fn migrate(config: &PgConfig) -> Result<MigrateReport> {
              t bigint NOT NULL,
              v double precision NOT NULL,
              PRIMARY KEY (node, tag, t)
-         );",
-    )?;
+         ) {partition};"
+    ))?;
     let version: Option<i32> = tx.query_opt("SELECT version FROM alba_schema", &[])?.map(|r| r.get(0));
     if version.is_some_and(|v| v > SCHEMA_VERSION) {
         return Err(Error::InvalidArgument(format!(
@@ -262,31 +291,108 @@ pub fn migrate(config: &PgConfig) -> Result<MigrateReport> {
         }
         Some(_) => {}
     }
+    let partitioned = is_partitioned(&mut tx)?;
     tx.commit()?;
-    let available = client
-        .query_opt("SELECT 1 FROM pg_available_extensions WHERE name = 'timescaledb'", &[])?
-        .is_some();
-    if !available {
-        return Ok(MigrateReport {
-            hypertable: false,
-            note: Some("the timescaledb extension is not installed: plain table".into()),
-        });
+    let mut report = MigrateReport {
+        hypertable: false,
+        compressed: false,
+        partitioned,
+        note: None,
+    };
+    if timescale {
+        match client.batch_execute(HYPERTABLE) {
+            Ok(()) => {
+                report.hypertable = true;
+                match client.batch_execute(COMPRESSION) {
+                    Ok(()) => report.compressed = true,
+                    Err(e) => note = Some(format!("compression not enabled ({})", pg_message(&e))),
+                }
+            }
+            Err(e) => note = Some(format!("not a hypertable ({})", pg_message(&e))),
+        }
     }
-    let made = client.batch_execute(
-        "CREATE EXTENSION IF NOT EXISTS timescaledb;
-         SELECT create_hypertable('alba_samples', 't', chunk_time_interval => 86400000::bigint,
-                                  if_not_exists => true, migrate_data => true);",
-    );
-    match made {
-        Ok(()) => Ok(MigrateReport {
-            hypertable: true,
-            note: None,
-        }),
-        Err(e) => Ok(MigrateReport {
-            hypertable: false,
-            note: Some(format!("timescaledb is installed but not usable ({e}): plain table")),
-        }),
+    let layout = match (report.hypertable, report.partitioned) {
+        (true, _) => "hypertable",
+        (false, true) => "partitioned table (30-day ranges)",
+        (false, false) => "plain table",
+    };
+    report.note = note.map(|n| format!("{n}: {layout}"));
+    Ok(report)
+}
+
+/// `alba_samples` made a hypertable of 1-day chunks (the samples already there moved in).
+const HYPERTABLE: &str = "SELECT create_hypertable('alba_samples', 't', chunk_time_interval => 86400000::bigint,
+                                                  if_not_exists => true, migrate_data => true);";
+
+/// Chunks older than 7 days compressed, by node and tag in time order (integer times:
+/// TimescaleDB learns "now" in milliseconds from `alba_now_ms`).
+const COMPRESSION: &str = "CREATE OR REPLACE FUNCTION alba_now_ms() RETURNS bigint LANGUAGE sql STABLE
+                               AS $$ SELECT (extract(epoch FROM now()) * 1000)::bigint $$;
+                           SELECT set_integer_now_func('alba_samples', 'alba_now_ms', replace_if_exists => true);
+                           ALTER TABLE alba_samples SET (timescaledb.compress,
+                               timescaledb.compress_segmentby = 'node, tag',
+                               timescaledb.compress_orderby = 't');
+                           SELECT add_compression_policy('alba_samples', 604800000::bigint, if_not_exists => true);";
+
+/// The width of a partition of `alba_samples` without TimescaleDB: 30 days.
+const PARTITION_MS: i64 = 30 * 86_400_000;
+
+/// `alba_samples` is a partitioned table.
+fn is_partitioned(c: &mut impl GenericClient) -> std::result::Result<bool, postgres::Error> {
+    Ok(c.query_opt(
+        "SELECT 1 FROM pg_partitioned_table WHERE partrelid = to_regclass('alba_samples')",
+        &[],
+    )?
+    .is_some())
+}
+
+/// The partitions this writer knows to exist (or that the table is not partitioned).
+#[derive(Default)]
+struct Partitions {
+    /// `None` until checked on a connection.
+    partitioned: Option<bool>,
+    made: std::collections::HashSet<i64>,
+}
+
+/// Makes the partitions `rows` fall into, each in a transaction of its own before the
+/// insert's (creating one waits for the inserts under way, which wait for nothing).
+fn ensure_partitions(
+    client: &mut Client,
+    parts: &mut Partitions,
+    rows: &[Row<'_>],
+) -> std::result::Result<(), postgres::Error> {
+    let partitioned = match parts.partitioned {
+        Some(p) => p,
+        None => *parts.partitioned.insert(is_partitioned(client)?),
+    };
+    if !partitioned {
+        return Ok(());
     }
+    let mut needed: Vec<i64> = rows
+        .iter()
+        .map(|r| r.2.div_euclid(PARTITION_MS))
+        .filter(|p| !parts.made.contains(p))
+        .collect();
+    needed.sort_unstable();
+    needed.dedup();
+    for p in needed {
+        let name = if p < 0 {
+            format!("alba_samples_pm{}", -p)
+        } else {
+            format!("alba_samples_p{p}")
+        };
+        let mut tx = client.transaction()?;
+        // One creator at a time (two nodes starting a new month together).
+        tx.execute("SELECT pg_advisory_xact_lock(6710886402)", &[])?;
+        tx.batch_execute(&format!(
+            "CREATE TABLE IF NOT EXISTS {name} PARTITION OF alba_samples FOR VALUES FROM ({}) TO ({})",
+            p * PARTITION_MS,
+            (p + 1) * PARTITION_MS
+        ))?;
+        tx.commit()?;
+        parts.made.insert(p);
+    }
+    Ok(())
 }
 
 /// The state of a PostgreSQL historian, for `alba run`'s health report.
@@ -322,6 +428,7 @@ impl std::fmt::Debug for PgHistorian {
 
 struct WriterState {
     client: Option<Client>,
+    partitions: Partitions,
     last_attempt: Option<Instant>,
     buffer: Buffer,
     last_error: Option<String>,
@@ -360,6 +467,7 @@ impl PgHistorian {
             link,
             writer: Mutex::new(WriterState {
                 client: None,
+                partitions: Partitions::default(),
                 last_attempt: None,
                 buffer,
                 last_error: None,
@@ -430,12 +538,14 @@ impl PgHistorian {
         if rows.is_empty() {
             return Ok(0);
         }
-        let mut w = lock(&self.writer);
+        let mut guard = lock(&self.writer);
+        let w = &mut *guard;
         if w.buffer.len == 0
-            && self.ensure_client(&mut w, false)
+            && self.ensure_client(w, false)
             && let Some(client) = w.client.as_mut()
         {
-            match insert(client, &rows) {
+            let partitions = &mut w.partitions;
+            match ensure_partitions(client, partitions, &rows).and_then(|()| insert(client, &rows)) {
                 Ok(()) => {
                     w.last_error = None;
                     return Ok(rows.len());
@@ -443,12 +553,13 @@ impl PgHistorian {
                 Err(e) => {
                     w.last_error = Some(describe(&e));
                     w.client = None;
+                    w.partitions = Partitions::default();
                     w.last_attempt = Some(Instant::now());
                 }
             }
         }
         w.buffer.append(&rows)?;
-        self.backfill_locked(&mut w, false)?;
+        self.backfill_locked(w, false)?;
         Ok(rows.len())
     }
 
@@ -471,7 +582,8 @@ impl PgHistorian {
                 .map(|(node, tag, t, v)| (node.as_deref().unwrap_or(&self.config.node), tag.as_str(), *t, *v))
                 .collect();
             let Some(client) = w.client.as_mut() else { break };
-            match insert(client, &refs) {
+            let partitions = &mut w.partitions;
+            match ensure_partitions(client, partitions, &refs).and_then(|()| insert(client, &refs)) {
                 Ok(()) => {
                     w.last_error = None;
                     // Removed after the insert committed: a crash in between sends these
@@ -481,6 +593,7 @@ impl PgHistorian {
                 Err(e) => {
                     w.last_error = Some(describe(&e));
                     w.client = None;
+                    w.partitions = Partitions::default();
                     w.last_attempt = Some(Instant::now());
                     break;
                 }

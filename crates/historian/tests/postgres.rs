@@ -25,9 +25,18 @@ impl Historians for PgServer {
     fn migrate(&self) {
         let c = self.config("migrate", &self.dir.path().join("unused.db"));
         let report = migrate(&c).expect("migrate");
-        // No TimescaleDB in the test server: detected, not required.
-        assert!(!report.hypertable, "{report:?}");
-        assert!(report.note.is_some());
+        // No TimescaleDB in the test server (Debian has none): detected, not required.
+        assert!(!report.hypertable && !report.compressed, "{report:?}");
+        let note = report.note.expect("why no hypertable");
+        assert!(
+            note.starts_with("the timescaledb extension is not installed: "),
+            "{note}"
+        );
+        assert_eq!(
+            report.partitioned,
+            note.ends_with("partitioned table (30-day ranges)"),
+            "{note}"
+        );
     }
 }
 
@@ -123,6 +132,42 @@ fn migrate_is_idempotent_and_two_nodes_write_concurrently() {
         "Time (ms),Level,Level@line2\n0,0,0.5\n1,1,1.5\n2,2,2.5\n3,3,3.5\n"
     );
     assert!(matches!(writers[0].query(None, "Valve", 0, 10, 5), Err(Error::UnknownTag(t)) if t == "Valve"));
+    // A new database is partitioned by time: one partition per 30 days that has samples.
+    let far = [-1, 90 * 86_400_000, -400 * 86_400_000].map(|t| Sample {
+        tag: "Far",
+        t_ms: t,
+        v: 1.0,
+    });
+    assert_eq!(writers[0].record_batch(&far).expect("record"), 3);
+    assert_eq!(
+        writers[0].raw(None, "Far", i64::MIN, i64::MAX, 10).expect("raw").len(),
+        3
+    );
+    let mut client = pg
+        .config("x", &work.path().join("x.db"))
+        .connection()
+        .expect("settings")
+        .connect(postgres::NoTls)
+        .expect("connect");
+    let parts: Vec<String> = client
+        .query(
+            "SELECT c.relname::text FROM pg_inherits i JOIN pg_class c ON c.oid = i.inhrelid
+             WHERE i.inhparent = 'alba_samples'::regclass ORDER BY 1",
+            &[],
+        )
+        .expect("partitions")
+        .iter()
+        .map(|r| r.get(0))
+        .collect();
+    assert_eq!(
+        parts,
+        [
+            "alba_samples_p0",
+            "alba_samples_p3",
+            "alba_samples_pm1",
+            "alba_samples_pm14"
+        ]
+    );
 }
 
 #[test]
