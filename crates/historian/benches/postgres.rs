@@ -81,6 +81,11 @@ fn main() {
     let rate = ingest(&pg, total, |_| "long".to_owned());
     println!("ingest, {WRITERS} writers into one tag, {total} samples: {rate:.0} samples/s");
 
+    let mut client = config(&pg, "long")
+        .connection()
+        .expect("settings")
+        .connect(postgres::NoTls)
+        .expect("connect");
     let h = PgHistorian::open(config(&pg, "long")).expect("open");
     let last = total * PERIOD_MS - 1;
     let hour = 3_600_000;
@@ -110,11 +115,6 @@ fn main() {
         );
     }
     // For comparison: the aggregation over the raw samples that the rollups replace.
-    let mut client = config(&pg, "long")
-        .connection()
-        .expect("settings")
-        .connect(postgres::NoTls)
-        .expect("connect");
     let start = Instant::now();
     let rows = client
         .query(
@@ -130,8 +130,9 @@ fn main() {
     );
     let size: i64 = client
         .query_one(
-            "SELECT pg_total_relation_size('alba_samples') + pg_total_relation_size('alba_rollup_10s')
-                    + pg_total_relation_size('alba_rollup_10m')",
+            // Every table: the samples' partitions (or the one table) and the rollups.
+            "SELECT sum(pg_total_relation_size(oid))::bigint FROM pg_class
+             WHERE relkind = 'r' AND relname LIKE 'alba\\_%'",
             &[],
         )
         .expect("size")

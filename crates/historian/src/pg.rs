@@ -887,7 +887,9 @@ fn cover(
 fn exists(c: &mut impl GenericClient, node: &str, tag: &str) -> Result<()> {
     let found = c
         .query_opt(
-            "SELECT 1 FROM alba_samples WHERE node = $1 AND tag = $2 LIMIT 1",
+            // In index order: one probe (a bitmap scan, which a partition without
+            // statistics yet may get, would visit every sample of the tag).
+            "SELECT 1 FROM alba_samples WHERE node = $1 AND tag = $2 ORDER BY t LIMIT 1",
             &[&node, &tag],
         )?
         .is_some();

@@ -32,9 +32,18 @@ fn own_node(st: &AppState, h: &dyn Backend) -> String {
     h.node().unwrap_or(&st.name).to_owned()
 }
 
-/// The node a query names (`node=`), `None` for this runtime's.
+/// The node `node` names for the store: `None` for this runtime's (none, or its own id).
 fn other_node(own: &str, node: Option<&str>) -> Option<String> {
     node.filter(|n| !n.is_empty() && *n != own).map(str::to_owned)
+}
+
+/// The node a query's `node=` names for the store, and the node id to answer with.
+fn queried_node(st: &AppState, h: &dyn Backend, q: &HashMap<String, String>) -> (Option<String>, String) {
+    let own = own_node(st, h);
+    match other_node(&own, q.get("node").map(String::as_str)) {
+        Some(n) => (Some(n.clone()), n),
+        None => (None, own),
+    }
 }
 
 /// Runs a query of the historian off the async threads.
@@ -82,7 +91,7 @@ pub async fn nodes(State(st): State<Arc<AppState>>) -> ApiResult<Json<HistoryNod
 
 pub async fn list(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<Vec<HistoryTag>>> {
     let h = historian(&st)?;
-    let node = other_node(&own_node(&st, h.as_ref()), q.get("node").map(String::as_str));
+    let (node, _) = queried_node(&st, h.as_ref(), &q);
     let tags = blocking(move || h.tags(node.as_deref())).await?;
     Ok(Json(
         tags.into_iter()
@@ -97,16 +106,15 @@ pub async fn list(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResul
 
 pub async fn query(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<History>> {
     let h = historian(&st)?;
-    let own = own_node(&st, h.as_ref());
-    let node = other_node(&own, q.get("node").map(String::as_str));
+    let (node, answer) = queried_node(&st, h.as_ref(), &q);
     let tag = param(&q, "tag")?.to_string();
     let (from, to) = (int(&q, "from", None)?, int(&q, "to", None)?);
     let points = int(&q, "points", Some(1000))?;
     let points = usize::try_from(points).map_err(|_| ApiError::Invalid("`points` must be at least 1".into()))?;
-    let (t, n) = (tag.clone(), node.clone());
-    let buckets = blocking(move || h.query(n.as_deref(), &t, from, to, points)).await?;
+    let t = tag.clone();
+    let buckets = blocking(move || h.query(node.as_deref(), &t, from, to, points)).await?;
     Ok(Json(History {
-        node: node.unwrap_or(own),
+        node: answer,
         tag,
         from,
         to,
@@ -119,21 +127,20 @@ pub async fn query(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResu
 
 pub async fn raw(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<HistoryRaw>> {
     let h = historian(&st)?;
-    let own = own_node(&st, h.as_ref());
-    let node = other_node(&own, q.get("node").map(String::as_str));
+    let (node, answer) = queried_node(&st, h.as_ref(), &q);
     let tag = param(&q, "tag")?.to_string();
     let (from, to) = (int(&q, "from", None)?, int(&q, "to", None)?);
     let limit = int(&q, "limit", Some(10_000))?;
     if !(1..=MAX_RAW).contains(&limit) {
         return Err(ApiError::Invalid(format!("`limit` must be 1 to {MAX_RAW}")));
     }
-    let (t, n) = (tag.clone(), node.clone());
+    let t = tag.clone();
     // One more than asked: whether the range holds more.
-    let mut points = blocking(move || h.raw(n.as_deref(), &t, from, to, limit as usize + 1)).await?;
+    let mut points = blocking(move || h.raw(node.as_deref(), &t, from, to, limit as usize + 1)).await?;
     let more = points.len() > limit as usize;
     points.truncate(limit as usize);
     Ok(Json(HistoryRaw {
-        node: node.unwrap_or(own),
+        node: answer,
         tag,
         from,
         to,
