@@ -371,11 +371,43 @@ fn alba_historian_consumes_json_and_sparkplug_from_mosquitto_into_postgres() {
         );
         std::thread::sleep(Duration::from_millis(200));
     }
+    // A second service, into SQLite files (one per node), JSON only, its own session.
+    let files = work.join("nodes");
+    let sqlite = Proc(Some(
+        Command::new(env!("CARGO_BIN_EXE_alba"))
+            .args([
+                "historian",
+                "--mqtt",
+                &broker.addr(),
+                "--no-sparkplug",
+                "--client-id",
+                "to-sqlite",
+            ])
+            .arg("--sqlite")
+            .arg(&files)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("alba historian --sqlite starts"),
+    ));
+    let store = alba_historian::SqliteNodes::open(&files, alba_historian::Config::default()).expect("files");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while store
+        .historian("line1")
+        .and_then(|h| h.raw("C", 0, i64::MAX, 100))
+        .map_or(0, |c| c.len())
+        < 5
+    {
+        assert!(Instant::now() < deadline, "line1's samples in {}", files.display());
+        std::thread::sleep(Duration::from_millis(200));
+    }
     sp_run.stop();
     json_run.stop();
     let last = svc.stop();
     assert!(last.contains("historian: stopped after"), "{last}");
     assert_eq!(reader.nodes().expect("nodes"), [sp_node, "line1"]);
+    sqlite.stop();
+    assert_eq!(store.nodes().expect("nodes"), ["line1"], "JSON only");
 }
 
 fn unix_ms() -> i64 {
