@@ -441,6 +441,7 @@ pub async fn ingest(
                 wait = next;
                 tokio::select! {
                     _ = &mut done => break,
+                    () = &mut shutdown, if tx.is_some() => tx = None,
                     () = tokio::time::sleep(pause) => {}
                 }
             }

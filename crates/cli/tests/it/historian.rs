@@ -262,7 +262,7 @@ fn alba_historian_consumes_json_and_sparkplug_from_mosquitto_into_postgres() {
     use std::process::{Command, Stdio};
     use std::time::{Duration, Instant};
     let Some(pg) = PgServer::start() else { return };
-    let Some(broker) = alba_testkit::mqtt::Broker::start() else {
+    let Some(mut broker) = alba_testkit::mqtt::Broker::start() else {
         return;
     };
     let work = scratch("historian_service");
@@ -403,6 +403,8 @@ fn alba_historian_consumes_json_and_sparkplug_from_mosquitto_into_postgres() {
     }
     sp_run.stop();
     json_run.stop();
+    // Stopped while the broker is gone (reconnecting), it stores what it has and exits.
+    broker.stop();
     let last = svc.stop();
     assert!(last.contains("historian: stopped after"), "{last}");
     assert_eq!(reader.nodes().expect("nodes"), [sp_node, "line1"]);
