@@ -16,6 +16,10 @@
 //! mutex and a small pool of reading connections, so queries run on other threads (a
 //! server's `spawn_blocking`) while a recording task writes. Times are Unix milliseconds,
 //! values `f64` (BOOL as 0/1; integers are exact up to 2^53). See `docs/historian.md`.
+//!
+//! [`Backend`] is what `alba run` records into and the studio reads, whatever the store:
+//! this SQLite file or the shared [`PgHistorian`] of many nodes; [`NodeSink`] is a store of
+//! many nodes' samples ([`PgHistorian`], [`SqliteNodes`]) for the broker-fed service.
 
 mod agg;
 mod backend;

@@ -1,8 +1,11 @@
 //! The shared historian on PostgreSQL: several runtimes write into the same table, each
-//! under its own node id, through batched multi-row inserts; while the database is
-//! unreachable the samples go to a bounded local SQLite buffer and are back-filled in
-//! order on recovery. The downsampled query gives the same buckets as the SQLite
-//! backend's. See `docs/historian.md`.
+//! under its own node id, through batched multi-row inserts that also maintain rollup
+//! tiers (10 s, 10 min); while the database is unreachable the samples go to a bounded
+//! local SQLite buffer and are back-filled in order on recovery. The downsampled query
+//! fills the SQLite backend's bucket grid from the rollups, so its answers are the same and
+//! its cost does not grow with the samples stored. The table is a TimescaleDB hypertable
+//! (compressed) when the server has the extension, partitioned by time otherwise; TLS with
+//! a CA file (tls.rs). See `docs/historian.md`.
 
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
