@@ -57,6 +57,11 @@ need_postgres() {
     ls /usr/lib/postgresql/*/bin/pg_ctl >/dev/null 2>&1 || apt_install postgresql
 }
 
+# Mosquitto: `alba historian --mqtt`'s tests start their own broker on loopback.
+need_mosquitto() {
+    [ -x /usr/sbin/mosquitto ] || command -v mosquitto >/dev/null 2>&1 || apt_install mosquitto
+}
+
 # Node.js and npm build the browser studio (web/).
 need_node() {
     if ! command -v npm >/dev/null 2>&1; then

@@ -115,6 +115,11 @@ export type TrendPen = {
  */
 tag: string, 
 /**
+ * Another node of a shared historian whose recorded tag this is
+ * (drawn from its history, not live); none: this runtime's.
+ */
+node?: string, 
+/**
  * The y axis (1 to 4) it shares with the other pens of that number;
  * BOOL pens are drawn as steps on lanes of their own whatever it says.
  */
@@ -356,7 +361,31 @@ export type HistoryTag = { name: string, first_ms: number, last_ms: number, };
 
 export type Bucket = [number, number | null, number | null, number | null, number | null];
 
-export type History = { tag: string, from: number, to: number, buckets: Array<Bucket>, };
+export type History = { 
+/**
+ * The node whose tag it is (this runtime's unless the query named another).
+ */
+node: string, tag: string, from: number, to: number, buckets: Array<Bucket>, };
+
+export type HistoryRaw = { node: string, tag: string, from: number, to: number, points: Array<[number, number]>, 
+/**
+ * More samples lie in the range than `limit` let through.
+ */
+more: boolean, };
+
+export type HistoryNodes = { 
+/**
+ * This runtime's node id (its project's name with the embedded store).
+ */
+node: string, 
+/**
+ * The store is shared with other runtimes (`[history] backend = "postgres"`).
+ */
+shared: boolean, 
+/**
+ * Every node with history, this one included, by id.
+ */
+nodes: Array<string>, };
 
 export type AlarmReply = { id: string, tag: string, state: string, severity: number, message: string, since_ms: number, condition: string, 
 /**

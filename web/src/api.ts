@@ -1,7 +1,7 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { Domain } from './domain';
-import type { Alarm, AlarmStats, Diagnostic, Force, History, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
+import type { Alarm, AlarmStats, Diagnostic, Force, History, HistoryNodes, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
   constructor(
@@ -136,12 +136,17 @@ export const api = {
   saveSymbol: (name: string, symbol: unknown) => json<unknown>('PUT', `/api/symbols/${enc(name)}`, new RawJson(JSON.stringify(symbol, null, 2))),
   saveTrends: (s: TrendSet) => json<TrendSet>('PUT', '/api/trends', s),
   uses: (name: string) => json<TagUse[]>('GET', `/api/tags/${enc(name)}/uses`),
-  historyTags: () => json<{ name: string; first_ms: number; last_ms: number }[]>('GET', '/api/history/tags'),
-  history: (tag: string, from: number, to: number, points: number) =>
+  /** The nodes whose history this runtime reads (others only with a shared historian). */
+  historyNodes: () => json<HistoryNodes>('GET', '/api/history/nodes'),
+  /** The recorded tags of this runtime, or of another node of a shared historian. */
+  historyTags: (node?: string) =>
+    json<{ name: string; first_ms: number; last_ms: number }[]>('GET', `/api/history/tags${node ? `?node=${enc(node)}` : ''}`),
+  history: (tag: string, from: number, to: number, points: number, node?: string) =>
     json<History>(
       'GET',
-      `/api/history?tag=${enc(tag)}&from=${Math.floor(from)}&to=${Math.ceil(to)}&points=${Math.max(1, Math.min(10000, Math.round(points)))}`,
+      `/api/history?tag=${enc(tag)}&from=${Math.floor(from)}&to=${Math.ceil(to)}&points=${Math.max(1, Math.min(10000, Math.round(points)))}${node ? `&node=${enc(node)}` : ''}`,
     ),
+  /** `tags`: `Tag` of this runtime, `Tag@node` of another node. */
   historyCsvUrl: (tags: string[], from: number, to: number, step: number) =>
     `/api/history.csv?tags=${tags.map(enc).join(',')}&from=${Math.floor(from)}&to=${Math.ceil(to)}&step=${Math.max(1, Math.round(step))}`,
 };

@@ -30,6 +30,8 @@ export type Saved = G.Saved;
 /** One history bucket: [t_ms, min, max, first, last]. */
 export type Bucket = G.Bucket;
 export type History = G.History;
+/** `GET /api/history/nodes`. */
+export type HistoryNodes = G.HistoryNodes;
 export type HistoryTag = G.HistoryTag;
 /** `GET|PUT /api/trends`: the trend set saved in the project. */
 export type TrendSet = G.TrendSet;

@@ -65,8 +65,8 @@ describe('history buckets', () => {
 
   it('joins pens with different buckets on one axis with gaps', () => {
     const j = joinHistories([
-      { tag: 'A', from: 0, to: 3000, buckets },
-      { tag: 'B', from: 0, to: 3000, buckets: [[1500, 7, 9, 7, 8], [2000, 1, 1, 1, 1]] },
+      { node: 'n', tag: 'A', from: 0, to: 3000, buckets },
+      { node: 'n', tag: 'B', from: 0, to: 3000, buckets: [[1500, 7, 9, 7, 8], [2000, 1, 1, 1, 1]] },
     ]);
     expect(j.xs).toEqual([1000, 1500, 2000]);
     expect(j.pens[0]).toEqual({ line: [4, null, 0], min: [1, null, 0], max: [5, null, 3] });

@@ -1,6 +1,7 @@
 //! The historian of `alba run`: a thread that records every tag from the
-//! runtime's snapshots (docs/historian.md); the server's `/api/history`
-//! endpoints query what it wrote.
+//! runtime's snapshots (docs/historian.md) into the embedded SQLite file or
+//! the shared PostgreSQL database; the server's `/api/history` endpoints
+//! query what it wrote (through `alba_historian::Backend`).
 //!
 //! It never blocks anything else and never fails quietly (docs/reliability.md):
 //! a damaged or foreign database is moved aside for a fresh one (at start or
@@ -232,6 +233,12 @@ pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::
     if let Some(file) = &cfg.password_file {
         pg.password = Some(PgConfig::password_from_file(&dir.join(file)).map_err(|e| e.to_string())?);
     }
+    pg.ca_file = cfg.ca_file.as_ref().map(|f| dir.join(f));
+    pg.client_cert = cfg
+        .client_cert
+        .as_ref()
+        .zip(cfg.client_key.as_ref())
+        .map(|(c, k)| (dir.join(c), dir.join(k)));
     pg.connection().map_err(|e| e.to_string())?;
     Ok(pg)
 }
@@ -241,18 +248,13 @@ pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::
 /// unreachable database is the problem `history` (samples buffered and dropped counted)
 /// until the buffer is back-filled.
 pub fn record_pg(
-    pg: PgConfig,
+    h: Arc<PgHistorian>,
     cfg: alba_project::config::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
     rt: tokio::runtime::Handle,
 ) -> std::thread::JoinHandle<()> {
     std::thread::spawn(move || {
-        // The PostgreSQL client blocks: it is opened and used on this thread only.
-        let h = match PgHistorian::open(pg) {
-            Ok(h) => h,
-            Err(e) => return health.report("history", format!("history not recorded: {e}")),
-        };
         let every = Filter {
             deadband: 0.0,
             period_ms: u64::from(cfg.sample_ms),

@@ -15,6 +15,8 @@ mod audit;
 mod connections;
 mod edits;
 mod history;
+pub use history::pg_config;
+pub mod ingest;
 mod limits;
 mod lock;
 mod modbus;
@@ -133,7 +135,12 @@ pub async fn run(
     let use_pg = hist_cfg.enabled && hist_cfg.backend == alba_project::config::HistoryBackend::Postgres;
     let pg = if use_pg {
         let name = config.map(|c| c.name.as_str()).unwrap_or_default();
-        Some(history::pg_config(dir, name, &hist_cfg).map_err(RunError::Other)?)
+        let pg = history::pg_config(dir, name, &hist_cfg).map_err(RunError::Other)?;
+        // Its client blocks (it tries the database once here; an unreachable one is buffered for).
+        let opened = tokio::task::spawn_blocking(move || alba_historian::PgHistorian::open(pg))
+            .await
+            .map_err(|e| RunError::Other(e.to_string()))?;
+        Some(Arc::new(opened.map_err(|e| RunError::Other(format!("history: {e}")))?))
     } else {
         None
     };
@@ -147,7 +154,7 @@ pub async fn run(
     let runtime =
         alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
-    let recorder = if let Some(pg) = pg {
+    let recorder = if let Some(pg) = pg.clone() {
         Some(history::record_pg(
             pg,
             hist_cfg,
@@ -166,7 +173,12 @@ pub async fn run(
             )
         })
     };
-    let state = AppState::new(runtime.handle(), compiled, &opts.io, historian, Some(audit), auth);
+    let store: Option<Arc<dyn alba_historian::Backend>> = match (pg, historian) {
+        (Some(pg), _) => Some(pg),
+        (None, Some(h)) => Some(Arc::new(h)),
+        (None, None) => None,
+    };
+    let state = AppState::new(runtime.handle(), compiled, &opts.io, store, Some(audit), auth);
     if let Some(m) = monitor {
         let _ = state.connections.set(Arc::new(connections::OpcuaConnections(m)));
     }

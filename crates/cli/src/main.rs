@@ -291,9 +291,9 @@ enum Command {
     /// Manage the project's users and roles (users.toml).
     #[command(subcommand)]
     User(user::UserCmd),
-    /// The shared PostgreSQL historian: `migrate` creates its schema.
-    #[command(subcommand)]
-    Historian(historian::HistorianCmd),
+    /// The shared historian: `migrate` creates its PostgreSQL schema; `--mqtt HOST:PORT`
+    /// consumes the runtimes' MQTT messages (JSON, Sparkplug B) into it.
+    Historian(historian::HistorianArgs),
 }
 
 #[derive(Subcommand)]

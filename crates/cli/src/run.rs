@@ -48,7 +48,7 @@ pub fn run(dir: &Path, opts: alba_app::Options, banner: Option<&str>) -> ExitCod
 }
 
 /// Ctrl-C or SIGTERM.
-async fn shutdown_signal() {
+pub(crate) async fn shutdown_signal() {
     let ctrl_c = async {
         let _ = tokio::signal::ctrl_c().await;
     };

@@ -26,6 +26,10 @@ pub enum Error {
     /// A query named a tag that has never been recorded.
     #[error("unknown tag `{0}`")]
     UnknownTag(String),
+    /// A query named a node that the store does not hold (the SQLite store holds only
+    /// this runtime's samples).
+    #[error("unknown node `{0}`")]
+    UnknownNode(String),
     /// An argument is out of range: `points` of 0, a time outside ±2^53 ms, an empty tag
     /// name, a CSV step of 0 ms or an export of too many rows.
     #[error("invalid argument: {0}")]

@@ -16,14 +16,21 @@
 //! mutex and a small pool of reading connections, so queries run on other threads (a
 //! server's `spawn_blocking`) while a recording task writes. Times are Unix milliseconds,
 //! values `f64` (BOOL as 0/1; integers are exact up to 2^53). See `docs/historian.md`.
+//!
+//! [`Backend`] is what `alba run` records into and the studio reads, whatever the store:
+//! this SQLite file or the shared [`PgHistorian`] of many nodes; [`NodeSink`] is a store of
+//! many nodes' samples ([`PgHistorian`], [`SqliteNodes`]) for the broker-fed service.
 
 mod agg;
 mod backend;
+mod csv;
 mod error;
 mod filter;
+mod nodes;
 mod pg;
 mod query;
 mod schema;
+mod tls;
 mod write;
 
 use std::io::Write;
@@ -32,10 +39,11 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use rusqlite::Connection;
 
-pub use backend::Backend;
+pub use backend::{Backend, Column};
 pub use error::{Error, Result};
 pub use filter::{ChangeFilter, Filter, MAX_BUFFERED, Recorder};
-pub use pg::{MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
+pub use nodes::{NodeSink, SqliteNodes};
+pub use pg::{DEFAULT_BUFFER_SAMPLES, MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
 
 use write::Writer;
 
@@ -309,7 +317,16 @@ impl Historian {
     ) -> Result<u64> {
         let (from, to) = clamp_range(from_ms, to_ms);
         let mut writer = std::io::BufWriter::new(writer);
-        self.read(|c| query::export_csv(c, tags, from, to, step_ms, &mut writer))
+        let headers: Vec<String> = tags.iter().map(|t| (*t).to_owned()).collect();
+        self.read(|conn| {
+            csv::rows(from, to, step_ms)?;
+            let ids = tags
+                .iter()
+                .map(|n| query::tag_id(conn, n))
+                .collect::<Result<Vec<_>>>()?;
+            let mut src = query::CsvSource { conn, ids };
+            csv::write(&mut src, &headers, from, to, step_ms, &mut writer)
+        })
     }
 
     /// The retention cut-off for time `now_ms`: samples before it are to be deleted. It is

@@ -1,8 +1,5 @@
-//! Reading: tag ranges, raw samples, min/max downsampling over the rollup tiers and CSV
-//! export with sample-and-hold.
-
-use std::collections::VecDeque;
-use std::io::Write;
+//! Reading: tag ranges, raw samples, min/max downsampling over the rollup tiers and the
+//! columns of a CSV export.
 
 use rusqlite::{Connection, OptionalExtension, params};
 
@@ -10,7 +7,7 @@ use crate::agg::{Agg, ceil_div, ceil_to, floor_to};
 use crate::error::{Error, Result};
 use crate::schema::TIERS;
 use crate::write::rolled_up_to;
-use crate::{Bucket, MAX_CSV_ROWS, Point, TagRange};
+use crate::{Bucket, Point, TagRange};
 
 /// The bucket grid of a downsampled query: bucket `i` covers `[origin + i·width,
 /// origin + (i+1)·width)` intersected with the query range, and is computed from the
@@ -24,7 +21,7 @@ pub(crate) struct Plan {
 }
 
 /// The width of level `level`'s buckets (1 ms for raw samples).
-fn level_ms(level: usize) -> i64 {
+pub(crate) fn level_ms(level: usize) -> i64 {
     if level == 0 { 1 } else { TIERS[level - 1].ms }
 }
 
@@ -135,6 +132,16 @@ pub(crate) fn downsample(conn: &Connection, tag: i64, from: i64, to: i64, points
         return Ok(Vec::new());
     }
     let plan = plan(from, to, points);
+    buckets(plan, from, |sink| cover_all(conn, tag, from, to, plan.level, sink))
+}
+
+/// The buckets of `plan` (for a query from `from`) from the aggregates `feed` gives the
+/// sink, in time order, each inside one bucket.
+pub(crate) fn buckets(
+    plan: Plan,
+    from: i64,
+    feed: impl FnOnce(&mut dyn FnMut(i64, Agg)) -> Result<()>,
+) -> Result<Vec<Bucket>> {
     let mut out: Vec<Bucket> = Vec::new();
     let mut current: Option<(i64, Agg)> = None;
     let push = |out: &mut Vec<Bucket>, index: i64, a: Agg| {
@@ -147,7 +154,7 @@ pub(crate) fn downsample(conn: &Connection, tag: i64, from: i64, to: i64, points
             count: a.n,
         });
     };
-    cover_all(conn, tag, from, to, plan.level, &mut |start, piece| {
+    feed(&mut |start, piece| {
         let index = (start - plan.origin).div_euclid(plan.width);
         match &mut current {
             Some((i, a)) if *i == index => a.merge(&piece),
@@ -219,118 +226,28 @@ fn value_at(conn: &Connection, tag: i64, t: i64) -> Result<Option<f64>> {
         .optional()?)
 }
 
-/// How one exported column follows its tag.
-enum Track {
-    /// One index lookup per row: for tags with many samples per row.
-    Lookup,
-    /// A read-ahead window over the samples after the last one read.
-    Stream {
-        buf: VecDeque<(i64, f64)>,
-        /// The time of the last sample fetched into `buf`.
-        after: i64,
-        exhausted: bool,
-    },
+/// The columns of a CSV export, read in one transaction.
+pub(crate) struct CsvSource<'c> {
+    pub conn: &'c Connection,
+    pub ids: Vec<i64>,
 }
 
-const STREAM_CHUNK: i64 = 4096;
-/// A lookup costs about as much as streaming this many samples (measured: ~9 µs per
-/// lookup, ~0.17 µs per streamed sample): columns with more samples per row look up.
-const LOOKUP_RATIO: u64 = 50;
+impl crate::csv::Source for CsvSource<'_> {
+    fn count(&mut self, c: usize, from: i64, to: i64) -> Result<u64> {
+        count(self.conn, self.ids[c], from, to)
+    }
 
-fn csv_field(name: &str) -> String {
-    if name.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", name.replace('"', "\"\""))
-    } else {
-        name.to_owned()
+    fn values_at(&mut self, c: usize, times: &[i64]) -> Result<Vec<Option<f64>>> {
+        times.iter().map(|&t| value_at(self.conn, self.ids[c], t)).collect()
     }
-}
 
-/// Writes the CSV export (see `Historian::export_csv`). Returns the number of data rows.
-pub(crate) fn export_csv(
-    conn: &Connection,
-    names: &[&str],
-    from: i64,
-    to: i64,
-    step: i64,
-    out: &mut dyn Write,
-) -> Result<u64> {
-    if step < 1 {
-        return Err(Error::InvalidArgument(format!(
-            "CSV step must be at least 1 ms, not {step}"
-        )));
+    fn after(&mut self, c: usize, after: i64, to: i64, limit: i64) -> Result<Vec<(i64, f64)>> {
+        let mut stmt = self
+            .conn
+            .prepare_cached("SELECT t, v FROM samples WHERE tag = ?1 AND t > ?2 AND t <= ?3 ORDER BY t LIMIT ?4")?;
+        let rows = stmt
+            .query_map(params![self.ids[c], after, to, limit], |r| Ok((r.get(0)?, r.get(1)?)))?
+            .collect::<rusqlite::Result<Vec<_>>>()?;
+        Ok(rows)
     }
-    let rows = if from > to { 0 } else { (to - from) / step + 1 };
-    if rows > MAX_CSV_ROWS as i64 {
-        return Err(Error::InvalidArgument(format!(
-            "CSV export of {rows} rows: at most {MAX_CSV_ROWS}, use a larger step"
-        )));
-    }
-    let ids = names.iter().map(|n| tag_id(conn, n)).collect::<Result<Vec<_>>>()?;
-    let mut tracks = Vec::with_capacity(ids.len());
-    let mut values: Vec<Option<f64>> = Vec::with_capacity(ids.len());
-    for &id in &ids {
-        let samples = if rows == 0 { 0 } else { count(conn, id, from + 1, to)? };
-        tracks.push(if samples > LOOKUP_RATIO * rows as u64 {
-            Track::Lookup
-        } else {
-            Track::Stream {
-                buf: VecDeque::new(),
-                after: from,
-                exhausted: false,
-            }
-        });
-        values.push(if rows == 0 { None } else { value_at(conn, id, from)? });
-    }
-    let mut line = String::from("Time (ms)");
-    for name in names {
-        line.push(',');
-        line.push_str(&csv_field(name));
-    }
-    line.push('\n');
-    out.write_all(line.as_bytes())?;
-    for row in 0..rows {
-        let t = from + row * step;
-        line.clear();
-        line.push_str(&(t - from).to_string());
-        for ((track, value), &id) in tracks.iter_mut().zip(values.iter_mut()).zip(&ids) {
-            if row > 0 {
-                match track {
-                    Track::Lookup => *value = value_at(conn, id, t)?,
-                    Track::Stream { buf, after, exhausted } => loop {
-                        while let Some(&(st, sv)) = buf.front() {
-                            if st > t {
-                                break;
-                            }
-                            *value = Some(sv);
-                            buf.pop_front();
-                        }
-                        if !buf.is_empty() || *exhausted {
-                            break;
-                        }
-                        let mut stmt = conn.prepare_cached(
-                            "SELECT t, v FROM samples WHERE tag = ?1 AND t > ?2 AND t <= ?3
-                             ORDER BY t LIMIT ?4",
-                        )?;
-                        let mut rs = stmt.query(params![id, *after, to, STREAM_CHUNK])?;
-                        let mut got = 0;
-                        while let Some(r) = rs.next()? {
-                            let st: i64 = r.get(0)?;
-                            buf.push_back((st, r.get(1)?));
-                            *after = st;
-                            got += 1;
-                        }
-                        *exhausted = got < STREAM_CHUNK;
-                    },
-                }
-            }
-            line.push(',');
-            if let Some(v) = value {
-                line.push_str(&v.to_string());
-            }
-        }
-        line.push('\n');
-        out.write_all(line.as_bytes())?;
-    }
-    out.flush()?;
-    Ok(rows as u64)
 }

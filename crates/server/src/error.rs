@@ -102,7 +102,9 @@ pub fn status(e: &ApiError) -> StatusCode {
             alba_alarms::HubError::Log(_) => StatusCode::INTERNAL_SERVER_ERROR,
         },
         ApiError::History(h) => match h {
-            H::UnknownTag(_) => StatusCode::NOT_FOUND,
+            H::UnknownTag(_) | H::UnknownNode(_) => StatusCode::NOT_FOUND,
+            // The shared database cannot be reached (not a statement it refused).
+            H::Postgres(e) if e.as_db_error().is_none() => StatusCode::SERVICE_UNAVAILABLE,
             H::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
             _ => StatusCode::INTERNAL_SERVER_ERROR,
         },
@@ -117,6 +119,7 @@ fn retry_after_s(d: &std::time::Duration) -> u64 {
 fn history_message(e: &alba_historian::Error) -> String {
     match e {
         alba_historian::Error::UnknownTag(t) => format!("no history for `{t}`"),
+        alba_historian::Error::UnknownNode(n) => format!("no history for node `{n}`"),
         alba_historian::Error::InvalidArgument(m) => m.clone(),
         e => e.to_string(),
     }

@@ -395,10 +395,35 @@ pub struct Bucket(
 /// `GET /api/history`.
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct History {
+    /// The node whose tag it is (this runtime's unless the query named another).
+    pub node: String,
     pub tag: String,
     pub from: i64,
     pub to: i64,
     pub buckets: Vec<Bucket>,
+}
+
+/// `GET /api/history/raw`: samples as `[t_ms, value]`, oldest first.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct HistoryRaw {
+    pub node: String,
+    pub tag: String,
+    pub from: i64,
+    pub to: i64,
+    pub points: Vec<(i64, f64)>,
+    /// More samples lie in the range than `limit` let through.
+    pub more: bool,
+}
+
+/// `GET /api/history/nodes`: the nodes whose history this runtime can read.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct HistoryNodes {
+    /// This runtime's node id (its project's name with the embedded store).
+    pub node: String,
+    /// The store is shared with other runtimes (`[history] backend = "postgres"`).
+    pub shared: bool,
+    /// Every node with history, this one included, by id.
+    pub nodes: Vec<String>,
 }
 
 /// What came of an audited action: `pending` when the server ended before it knew.
@@ -612,6 +637,11 @@ pub struct TrendSet {
 pub struct TrendPen {
     /// A tag or member holding a BOOL or a number.
     pub tag: String,
+    /// Another node of a shared historian whose recorded tag this is
+    /// (drawn from its history, not live); none: this runtime's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub node: Option<String>,
     /// The y axis (1 to 4) it shares with the other pens of that number;
     /// BOOL pens are drawn as steps on lanes of their own whatever it says.
     pub axis: u8,
@@ -680,6 +710,8 @@ pub fn typescript() -> String {
         HistoryTag,
         Bucket,
         History,
+        HistoryRaw,
+        HistoryNodes,
         AlarmReply,
         AlarmStats,
         AuditOutcome,

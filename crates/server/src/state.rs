@@ -30,8 +30,9 @@ pub struct AppState {
     pub clients: AtomicUsize,
     /// Set when the server shuts down: WebSocket clients close.
     pub closing: watch::Sender<bool>,
+    /// The store `alba run` records into (SQLite or the shared PostgreSQL);
     /// `None` when history is off.
-    pub history: Option<alba_historian::Historian>,
+    pub history: Option<Arc<dyn alba_historian::Backend>>,
     /// The audit trail (docs/audit.md): every state-changing handler writes its
     /// row here before it acts. `alba run` always opens one; `None` (tests,
     /// embedders) records nothing.
@@ -62,7 +63,7 @@ impl AppState {
         runtime: alba_runtime::Handle,
         compiled: Compiled,
         io: &str,
-        history: Option<alba_historian::Historian>,
+        history: Option<Arc<dyn alba_historian::Backend>>,
         audit: Option<alba_audit::Audit>,
         auth: crate::auth::Auth,
     ) -> Arc<AppState> {

@@ -111,4 +111,5 @@ pub fn every_case_passes(dir: &Path, child_test: &str) {
     );
 }
 
+pub mod mqtt;
 pub mod pg;

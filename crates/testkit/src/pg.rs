@@ -42,7 +42,7 @@ fn is_root() -> bool {
         .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
 }
 
-fn free_port() -> u16 {
+pub(crate) fn free_port() -> u16 {
     let l = std::net::TcpListener::bind("127.0.0.1:0").expect("bind a loopback port");
     l.local_addr().expect("local address").port()
 }
@@ -140,6 +140,52 @@ impl PgServer {
     /// Stops the server (fast shutdown: clients are disconnected).
     pub fn stop(&self) {
         self.run("pg_ctl", &["-D", &self.data(), "-w", "-t", "120", "-m", "fast", "stop"]);
+    }
+
+    /// Turns TLS on with a server certificate for `localhost` and `127.0.0.1` signed by a
+    /// CA of its own, refuses unencrypted connections from now on, and restarts. Returns
+    /// the CA's certificate (PEM file) that clients must trust.
+    pub fn enable_tls(&self) -> PathBuf {
+        let ca_key = rcgen::KeyPair::generate().expect("CA key");
+        let mut ca = rcgen::CertificateParams::new(Vec::<String>::new()).expect("CA params");
+        ca.is_ca = rcgen::IsCa::Ca(rcgen::BasicConstraints::Unconstrained);
+        ca.distinguished_name
+            .push(rcgen::DnType::CommonName, "Alba test database CA");
+        let ca_cert = ca.self_signed(&ca_key).expect("CA certificate");
+        let key = rcgen::KeyPair::generate().expect("server key");
+        let params =
+            rcgen::CertificateParams::new(vec!["localhost".to_owned(), "127.0.0.1".to_owned()]).expect("server params");
+        let cert = params.signed_by(&key, &ca_cert, &ca_key).expect("server certificate");
+        let data = PathBuf::from(self.data());
+        std::fs::write(data.join("server.crt"), cert.pem()).expect("server.crt");
+        std::fs::write(data.join("server.key"), key.serialize_pem()).expect("server.key");
+        let conf = data.join("postgresql.conf");
+        let mut text = std::fs::read_to_string(&conf).expect("postgresql.conf");
+        text.push_str("\nssl = on\nssl_cert_file = 'server.crt'\nssl_key_file = 'server.key'\n");
+        std::fs::write(&conf, text).expect("postgresql.conf");
+        let hba = data.join("pg_hba.conf");
+        let text = std::fs::read_to_string(&hba).expect("pg_hba.conf");
+        std::fs::write(&hba, format!("hostnossl all all 0.0.0.0/0 reject\n{text}")).expect("pg_hba.conf");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let _ = std::fs::set_permissions(data.join("server.key"), std::fs::Permissions::from_mode(0o600));
+        }
+        if let Some(user) = self.run_as {
+            let ok = Command::new("chown")
+                .arg(format!("{user}:"))
+                .arg(data.join("server.crt"))
+                .arg(data.join("server.key"))
+                .status()
+                .expect("chown")
+                .success();
+            assert!(ok, "chown the server's certificate to {user}");
+        }
+        self.stop();
+        self.start_again();
+        let ca_file = self.dir.path().join("ca.pem");
+        std::fs::write(&ca_file, ca_cert.pem()).expect("ca.pem");
+        ca_file
     }
 
     /// Connection settings without the password.

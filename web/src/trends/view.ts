@@ -7,7 +7,9 @@
 // from /api/history with a min/max band per pen, CSV export from
 // /api/history.csv. The plot element carries data-points (points plotted)
 // and data-last-t (time of the last live sample), data-axes (the pens of each
-// y axis) and data-lanes (the on/off pens) for end-to-end tests.
+// y axis) and data-lanes (the on/off pens) for end-to-end tests. With a
+// shared historian, pens may plot tags other nodes recorded (pens.ts): from
+// their history, read again every 2 s while live.
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 import { ApiError, api } from '../api';
@@ -18,6 +20,7 @@ import { can } from '../auth';
 import type { History, TrendPen } from '../types';
 import { type PenSpec, axesInUse, clampToNow, fixedRange, fromLane, laneRange, lanesOf, scaleOf, toLane } from './axes';
 import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
+import { type PenRef, REMOTE_REFRESH_MS, liveTags, newPen, parsePen, penId, penKey, remotePens } from './pens';
 import { clockTime, locale, tr } from '../i18n';
 
 const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#7f7f7f', '#bcbd22'];
@@ -73,13 +76,24 @@ export class TrendsView {
   private readonly statusEl = h('span', { class: 'trend-status', 'data-testid': 'trend-status' });
   private readonly penInput = h('input', { list: 'trend-tags', placeholder: tr('Tag to plot'), 'data-testid': 'trend-pen-input', autocomplete: 'off' });
   private readonly datalist = h('datalist', { id: 'trend-tags' });
+  /** The node whose tags the pen input offers (shown with a shared historian of several nodes). */
+  private readonly nodeSel = h('select', {
+    'data-testid': 'trend-node',
+    title: tr('The node whose recorded tags to plot (a shared historian)'),
+    hidden: true,
+    onchange: () => this.renderDatalist(),
+  });
+  /** This runtime's node id in the historian. */
+  private ownNode = '';
+  /** When pens of other nodes were last read. */
+  private remoteAt = 0;
   private readonly resize = new ResizeObserver(() => this.fit());
 
   constructor(private readonly ctx: Ctx) {
     try {
       const saved = JSON.parse(localStorage.getItem(STORE_KEY) ?? '[]');
       // Older studios kept bare names.
-      if (Array.isArray(saved)) this.pens = saved.map((p) => (typeof p === 'string' ? newPen(p) : p)).filter((p) => typeof p?.tag === 'string');
+      if (Array.isArray(saved)) this.pens = saved.map((p) => (typeof p === 'string' ? newPen({ tag: p }) : p)).filter((p) => typeof p?.tag === 'string');
     } catch {
       /* ignore */
     }
@@ -112,6 +126,7 @@ export class TrendsView {
       h(
         'div',
         { class: 'toolbar' },
+        this.nodeSel,
         this.penInput,
         this.datalist,
         h('button', { 'data-testid': 'trend-pen-add', onclick: () => this.addPen(this.penInput.value) }, `+ ${tr('Pen')}`),
@@ -149,7 +164,7 @@ export class TrendsView {
         // the gap while disconnected: live data starts again with the next message
         this.epoch++;
         this.liveSince.clear();
-        this.backfill(this.tags());
+        this.backfill(this.pens);
       }
       prev = st;
     });
@@ -161,9 +176,10 @@ export class TrendsView {
     this.renderPens();
     this.renderDatalist();
     this.resize.observe(this.plotEl);
-    this.timer = setInterval(() => this.mode.kind === 'live' && this.redraw(), 250);
+    this.timer = setInterval(() => this.tick(), 250);
     this.rebuild();
-    this.backfill(this.tags());
+    this.backfill(this.pens);
+    this.loadNodes();
     if (this.historyAvailable === null) {
       api.historyTags().then(
         () => (this.historyAvailable = true),
@@ -181,18 +197,42 @@ export class TrendsView {
     this.resize.disconnect();
   }
 
+  /** Live: redraws, and reads the pens of other nodes again every REMOTE_REFRESH_MS. */
+  private tick(): void {
+    if (this.mode.kind !== 'live') return;
+    const remote = remotePens(this.pens);
+    if (remote.length && Date.now() - this.remoteAt >= REMOTE_REFRESH_MS) {
+      this.remoteAt = Date.now();
+      this.backfill(remote);
+    }
+    this.redraw();
+  }
+
+  /** The historian's nodes: the node picker is shown when other nodes share it. */
+  private loadNodes(): void {
+    api.historyNodes().then(
+      (n) => {
+        this.ownNode = n.node;
+        const others = n.nodes.filter((x) => x !== n.node);
+        const current = this.nodeSel.value;
+        clear(this.nodeSel);
+        this.nodeSel.append(h('option', { value: '' }, tr('this node ({node})', { node: n.node })));
+        others.forEach((x) => this.nodeSel.append(h('option', { value: x, selected: x === current }, x)));
+        this.nodeSel.hidden = !(n.shared && others.length > 0);
+      },
+      () => {
+        /* no history: the picker stays hidden */
+      },
+    );
+  }
+
   private now(): number {
     return Date.now() + this.offset;
   }
 
-  /** The pens' tags, in order. */
-  private tags(): string[] {
-    return this.pens.map((p) => p.tag);
-  }
-
-  /** The pens as the plot sees them (a BOOL is a lane). */
+  /** The pens as the plot sees them (a BOOL of this runtime is a lane; another node's types are not known here). */
   private specs(): PenSpec[] {
-    return this.pens.map((p) => ({ ...p, digital: this.ctx.tags.resolve(p.tag)?.type === 'BOOL' }));
+    return this.pens.map((p) => ({ tag: penId(p), axis: p.axis, min: p.min, max: p.max, digital: !p.node && this.ctx.tags.resolve(p.tag)?.type === 'BOOL' }));
   }
 
   /** The project's trend set (GET /api/trends), when it has pens: every studio opens the same trend. */
@@ -206,7 +246,7 @@ export class TrendsView {
         this.syncSubscription(false);
         this.renderPens();
         this.rebuild();
-        this.backfill(this.tags());
+        this.backfill(this.pens);
       }
     } catch (e) {
       this.ctx.notify(tr('Trends: {m}', { m: e instanceof Error ? e.message : String(e) }), 'error');
@@ -225,46 +265,64 @@ export class TrendsView {
   }
 
   private syncSubscription(save = true): void {
-    const tags = this.tags();
-    for (const p of tags) if (!this.logs.has(p.toUpperCase())) this.logs.set(p.toUpperCase(), new PenLog());
+    const keys = this.pens.map(penKey);
+    for (const k of keys) if (!this.logs.has(k)) this.logs.set(k, new PenLog());
     for (const k of [...this.logs.keys()]) {
-      if (!tags.some((p) => p.toUpperCase() === k)) {
+      if (!keys.includes(k)) {
         this.logs.delete(k);
         this.liveSince.delete(k);
       }
     }
-    this.ctx.live.subscribe('trends', tags.length ? tags : null);
+    const live = liveTags(this.pens);
+    this.ctx.live.subscribe('trends', live.length ? live : null);
     localStorage.setItem(STORE_KEY, JSON.stringify(this.pens));
     if (save) this.scheduleSave();
   }
 
   private addPen(name: string): void {
-    const n = name.trim();
-    if (!n) return;
-    const ref = this.ctx.tags.resolve(n);
-    if (!ref || isStructure(ref.type)) {
-      this.ctx.notify(tr('{name}: not a tag or member that can be plotted (pick a BOOL or a number)', { name: n }), 'error');
+    const want = parsePen(name, this.nodeSel.value, this.ownNode);
+    if (!want.tag) return;
+    if (want.node) {
+      // Another node's tag: one it recorded (its program is not this one).
+      const node = want.node;
+      api.historyTags(node).then(
+        (tags) => {
+          const t = tags.find((x) => x.name.toUpperCase() === want.tag.toUpperCase());
+          if (t) this.insertPen({ tag: t.name, node });
+          else this.ctx.notify(tr('{name}: node {node} recorded no such tag', { name: want.tag, node }), 'error');
+        },
+        (e) => this.ctx.notify(tr('history: {m}', { m: e instanceof Error ? e.message : String(e) }), 'error'),
+      );
       return;
     }
-    const added = !this.pens.some((p) => p.tag.toUpperCase() === ref.name.toUpperCase());
-    if (added) this.pens.push(newPen(ref.name));
+    const ref = this.ctx.tags.resolve(want.tag);
+    if (!ref || isStructure(ref.type)) {
+      this.ctx.notify(tr('{name}: not a tag or member that can be plotted (pick a BOOL or a number)', { name: want.tag }), 'error');
+      return;
+    }
+    this.insertPen({ tag: ref.name });
+  }
+
+  private insertPen(ref: PenRef): void {
+    const added = !this.pens.some((p) => penKey(p) === penKey(ref));
+    if (added) this.pens.push(newPen(ref));
     this.penInput.value = '';
     this.syncSubscription();
     this.renderPens();
     this.rebuild();
-    if (added) this.backfill([ref.name]);
+    if (added) this.backfill([ref]);
   }
 
-  private removePen(name: string): void {
-    this.pens = this.pens.filter((p) => p.tag !== name);
+  private removePen(id: string): void {
+    this.pens = this.pens.filter((p) => penId(p) !== id);
     this.syncSubscription();
     this.renderPens();
     this.rebuild();
   }
 
   /** Changes a pen's axis or scale, and redraws. */
-  private setPen(tag: string, change: Partial<TrendPen>): void {
-    this.pens = this.pens.map((p) => (p.tag === tag ? { ...p, ...change } : p));
+  private setPen(id: string, change: Partial<TrendPen>): void {
+    this.pens = this.pens.map((p) => (penId(p) === id ? { ...p, ...change } : p));
     this.syncSubscription();
     this.rebuild();
   }
@@ -273,7 +331,7 @@ export class TrendsView {
     clear(this.pensEl);
     const specs = this.specs();
     this.pens.forEach((pen, k) => {
-      const p = pen.tag;
+      const p = penId(pen);
       const num = (which: 'min' | 'max') =>
         h('input', {
           type: 'number',
@@ -305,10 +363,16 @@ export class TrendsView {
     if (this.pens.length === 0) this.pensEl.append(h('span', { class: 'hint' }, tr('No pens: add a tag to plot.')));
   }
 
+  /** The tags the pen input offers: this runtime's, or those the picked node recorded. */
   private renderDatalist(): void {
-    clear(this.datalist);
-    const names = [...this.ctx.tags.choices('num_in'), ...this.ctx.tags.choices('bit_in')];
-    [...new Set(names)].forEach((n) => this.datalist.append(h('option', { value: n })));
+    const node = this.nodeSel.value;
+    const fill = (names: string[]) => {
+      if (this.nodeSel.value !== node) return; // picked another meanwhile
+      clear(this.datalist);
+      [...new Set(names)].forEach((n) => this.datalist.append(h('option', { value: n })));
+    };
+    if (!node) fill([...this.ctx.tags.choices('num_in'), ...this.ctx.tags.choices('bit_in')]);
+    else api.historyTags(node).then((tags) => fill(tags.map((t) => t.name)), () => fill([]));
   }
 
   private renderStatus(text?: string): void {
@@ -325,7 +389,7 @@ export class TrendsView {
     this.windowMs = ms;
     this.setLive();
     this.scheduleSave();
-    if (longer) this.backfill(this.tags());
+    if (longer) this.backfill(this.pens);
   }
 
   private setLive(): void {
@@ -466,7 +530,7 @@ export class TrendsView {
 
   private drawBuffer(from: number, to: number): void {
     if (!this.plot || this.plotHistory) return;
-    const logs = this.tags().map((p) => this.logs.get(p.toUpperCase())!);
+    const logs = this.pens.map((p) => this.logs.get(penKey(p))!);
     const lanes = lanesOf(this.specs());
     const raw = alignLogs(logs, from, to);
     const data = raw.map((col, c) => (c === 0 || lanes[c - 1] < 0 ? col : col.map((v) => toLane(lanes[c - 1], v)))) as uPlot.AlignedData;
@@ -510,19 +574,19 @@ export class TrendsView {
    * mergeBackfill). Without history (off, unknown tag, an error) the buffer
    * stays as it is.
    */
-  private backfill(pens: string[]): void {
+  private backfill(pens: PenRef[]): void {
     if (this.historyAvailable === false || pens.length === 0) return;
     const to = this.now();
     const from = to - this.windowMs;
     const points = this.plotWidth();
     const epoch = this.epoch;
     for (const pen of pens) {
-      const k = pen.toUpperCase();
+      const k = penKey(pen);
       const log = this.logs.get(k);
       if (!log) continue;
       // the value held at the window's start: the last one recorded in the hour before it
-      const before = api.history(pen, from - HELD_LOOKBACK_MS, from - 1, 1).catch(() => null);
-      Promise.all([api.history(pen, from, to, points), before]).then(
+      const before = api.history(pen.tag, from - HELD_LOOKBACK_MS, from - 1, 1, pen.node).catch(() => null);
+      Promise.all([api.history(pen.tag, from, to, points, pen.node), before]).then(
         ([hist, prior]) => {
           if (epoch !== this.epoch || this.logs.get(k) !== log) return; // removed, re-added or reconnected since
           const held = prior?.buckets[prior.buckets.length - 1]?.[4];
@@ -558,10 +622,10 @@ export class TrendsView {
     let hs: History[];
     try {
       hs = await Promise.all(
-        this.tags().map((p) =>
-          api.history(p, from, to, points).catch((e) => {
+        this.pens.map((p) =>
+          api.history(p.tag, from, to, points, p.node).catch((e) => {
             // a tag with nothing recorded is an empty pen, not a failure
-            if (e instanceof ApiError && historyFailure(e.status, e.message) === 'no-data') return { tag: p, from, to, buckets: [] };
+            if (e instanceof ApiError && historyFailure(e.status, e.message) === 'no-data') return { node: p.node ?? this.ownNode, tag: p.tag, from, to, buckets: [] };
             throw e;
           }),
         ),
@@ -595,7 +659,7 @@ export class TrendsView {
       return;
     }
     const [from, to] = this.range();
-    const url = api.historyCsvUrl(this.tags(), from, to, exportStep(from, to));
+    const url = api.historyCsvUrl(this.pens.map(penId), from, to, exportStep(from, to));
     try {
       const text = await api.text(url);
       download('trend.csv', text, true);
@@ -603,11 +667,6 @@ export class TrendsView {
       this.ctx.notify(tr('CSV export failed: {m}', { m: (e as Error).message }), 'error');
     }
   }
-}
-
-/** A new pen: axis 1, automatic scale. */
-function newPen(tag: string): TrendPen {
-  return { tag, axis: 1, min: null, max: null };
 }
 
 /** The number in the input `testid` under `root`, or null. */

@@ -40,6 +40,13 @@ pub struct History {
     /// this many samples while the database is unreachable; beyond it the
     /// oldest are dropped and counted.
     pub buffer_max_samples: u32,
+    /// PostgreSQL over TLS: the CA certificates (PEM, relative to the
+    /// project) the server's certificate must chain to.
+    pub ca_file: Option<String>,
+    /// PostgreSQL over TLS: a client certificate and its key (PEM), both or
+    /// neither.
+    pub client_cert: Option<String>,
+    pub client_key: Option<String>,
 }
 
 /// Where `alba run` records (`[history] backend`).
@@ -82,6 +89,9 @@ impl Default for History {
             password_file: None,
             node: None,
             buffer_max_samples: DEFAULT_BUFFER_MAX_SAMPLES,
+            ca_file: None,
+            client_cert: None,
+            client_key: None,
         }
     }
 }
@@ -101,6 +111,9 @@ pub(super) struct RawHistory {
     password_file: Option<String>,
     node: Option<Spanned<String>>,
     buffer_max_samples: Option<Spanned<i64>>,
+    ca_file: Option<String>,
+    client_cert: Option<Spanned<String>>,
+    client_key: Option<Spanned<String>>,
 }
 
 /// Validates `[history]`: the defaults, with what the table sets.
@@ -137,6 +150,28 @@ pub(super) fn history(h: RawHistory, file: FileId, diags: &mut Vec<Diagnostic>) 
         "samples",
     );
     history.password_file = h.password_file;
+    history.ca_file = h.ca_file;
+    match (h.client_cert, h.client_key) {
+        (Some(c), Some(k)) => {
+            if history.ca_file.is_none() {
+                diags.push(Diagnostic::new(
+                    Code::ConfigField,
+                    "client_cert without ca_file",
+                    sp(c.span()),
+                    "a client certificate is for TLS: add ca_file = \"…\" (the CA of the database's certificate)",
+                ));
+            }
+            history.client_cert = Some(c.into_inner());
+            history.client_key = Some(k.into_inner());
+        }
+        (Some(one), None) | (None, Some(one)) => diags.push(Diagnostic::new(
+            Code::ConfigField,
+            "client_cert and client_key go together",
+            sp(one.span()),
+            "give both the certificate and its key, or neither",
+        )),
+        (None, None) => {}
+    }
     if let Some(node) = h.node {
         if node.get_ref().trim().is_empty() {
             diags.push(Diagnostic::new(

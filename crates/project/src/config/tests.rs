@@ -75,6 +75,20 @@ fn retain_and_history_settings() {
         e[0].contains("url holds a password") && !e[0].contains("hunter2"),
         "{e:?}"
     );
+    let tls = "name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nbackend = \"postgres\"\nurl = \"host=db\"\n";
+    let c = parse(&format!(
+        "{tls}ca_file = \"certs/ca.pem\"\nclient_cert = \"certs/me.pem\"\nclient_key = \"certs/me.key\"\n"
+    ))
+    .unwrap();
+    assert_eq!(c.history.ca_file.as_deref(), Some("certs/ca.pem"));
+    assert_eq!(
+        (c.history.client_cert.as_deref(), c.history.client_key.as_deref()),
+        (Some("certs/me.pem"), Some("certs/me.key"))
+    );
+    let e = parse(&format!("{tls}ca_file = \"ca.pem\"\nclient_cert = \"me.pem\"\n")).unwrap_err();
+    assert!(e[0].contains("client_cert and client_key go together"), "{e:?}");
+    let e = parse(&format!("{tls}client_cert = \"me.pem\"\nclient_key = \"me.key\"\n")).unwrap_err();
+    assert!(e[0].contains("client_cert without ca_file"), "{e:?}");
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[runtime]\non_retain_error = \"ignore\"\n").unwrap_err();
     assert!(
         e[0].starts_with("alba.toml:4:19: error[E102]") && e[0].contains("unknown variant `ignore`"),

@@ -1,11 +1,13 @@
-//! `/api/history/tags`, `/api/history`, `/api/history.csv`: queries of the
-//! historian that `alba run` records into (docs/historian.md).
+//! `/api/history/nodes`, `/api/history/tags`, `/api/history`,
+//! `/api/history/raw`, `/api/history.csv`: queries of the historian that
+//! `alba run` records into, whatever its store (docs/historian.md), for this
+//! runtime's tags or, with a shared store, another node's (`node=`).
 
 use super::stream;
 use crate::error::{ApiError, ApiResult};
-use crate::reply::{Bucket, History, HistoryTag};
+use crate::reply::{Bucket, History, HistoryNodes, HistoryRaw, HistoryTag};
 use crate::state::AppState;
-use alba_historian::Historian;
+use alba_historian::{Backend, Column};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Query, State};
@@ -21,8 +23,27 @@ pub const MAX_CSV_COLUMNS: usize = 64;
 /// The most values (rows × columns) of a CSV export.
 const MAX_CSV_CELLS: i64 = 10_000_000;
 
-fn historian(st: &AppState) -> Result<Historian, ApiError> {
+fn historian(st: &AppState) -> Result<Arc<dyn Backend>, ApiError> {
     st.history.clone().ok_or(ApiError::HistoryOff)
+}
+
+/// This runtime's node id: the shared store's, or the project's name.
+fn own_node(st: &AppState, h: &dyn Backend) -> String {
+    h.node().unwrap_or(&st.name).to_owned()
+}
+
+/// The node `node` names for the store: `None` for this runtime's (none, or its own id).
+fn other_node(own: &str, node: Option<&str>) -> Option<String> {
+    node.filter(|n| !n.is_empty() && *n != own).map(str::to_owned)
+}
+
+/// The node a query's `node=` names for the store, and the node id to answer with.
+fn queried_node(st: &AppState, h: &dyn Backend, q: &HashMap<String, String>) -> (Option<String>, String) {
+    let own = own_node(st, h);
+    match other_node(&own, q.get("node").map(String::as_str)) {
+        Some(n) => (Some(n.clone()), n),
+        None => (None, own),
+    }
 }
 
 /// Runs a query of the historian off the async threads.
@@ -52,9 +73,26 @@ fn int(q: &HashMap<String, String>, name: &str, default: Option<i64>) -> Result<
     }
 }
 
-pub async fn list(State(st): State<Arc<AppState>>) -> ApiResult<Json<Vec<HistoryTag>>> {
+/// The most samples one `/api/history/raw` answers with.
+pub const MAX_RAW: i64 = 100_000;
+
+pub async fn nodes(State(st): State<Arc<AppState>>) -> ApiResult<Json<HistoryNodes>> {
     let h = historian(&st)?;
-    let tags = blocking(move || h.tags()).await?;
+    let node = own_node(&st, h.as_ref());
+    let shared = h.node().is_some();
+    let store = h.clone();
+    let mut nodes = blocking(move || store.nodes()).await?;
+    if !nodes.contains(&node) {
+        nodes.push(node.clone());
+        nodes.sort_by(|a, b| a.as_bytes().cmp(b.as_bytes()));
+    }
+    Ok(Json(HistoryNodes { node, shared, nodes }))
+}
+
+pub async fn list(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<Vec<HistoryTag>>> {
+    let h = historian(&st)?;
+    let (node, _) = queried_node(&st, h.as_ref(), &q);
+    let tags = blocking(move || h.tags(node.as_deref())).await?;
     Ok(Json(
         tags.into_iter()
             .map(|t| HistoryTag {
@@ -68,13 +106,15 @@ pub async fn list(State(st): State<Arc<AppState>>) -> ApiResult<Json<Vec<History
 
 pub async fn query(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<History>> {
     let h = historian(&st)?;
+    let (node, answer) = queried_node(&st, h.as_ref(), &q);
     let tag = param(&q, "tag")?.to_string();
     let (from, to) = (int(&q, "from", None)?, int(&q, "to", None)?);
     let points = int(&q, "points", Some(1000))?;
     let points = usize::try_from(points).map_err(|_| ApiError::Invalid("`points` must be at least 1".into()))?;
     let t = tag.clone();
-    let buckets = blocking(move || h.query(&t, from, to, points)).await?;
+    let buckets = blocking(move || h.query(node.as_deref(), &t, from, to, points)).await?;
     Ok(Json(History {
+        node: answer,
         tag,
         from,
         to,
@@ -85,12 +125,42 @@ pub async fn query(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResu
     }))
 }
 
+pub async fn raw(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Json<HistoryRaw>> {
+    let h = historian(&st)?;
+    let (node, answer) = queried_node(&st, h.as_ref(), &q);
+    let tag = param(&q, "tag")?.to_string();
+    let (from, to) = (int(&q, "from", None)?, int(&q, "to", None)?);
+    let limit = int(&q, "limit", Some(10_000))?;
+    if !(1..=MAX_RAW).contains(&limit) {
+        return Err(ApiError::Invalid(format!("`limit` must be 1 to {MAX_RAW}")));
+    }
+    let t = tag.clone();
+    // One more than asked: whether the range holds more.
+    let mut points = blocking(move || h.raw(node.as_deref(), &t, from, to, limit as usize + 1)).await?;
+    let more = points.len() > limit as usize;
+    points.truncate(limit as usize);
+    Ok(Json(HistoryRaw {
+        node: answer,
+        tag,
+        from,
+        to,
+        points: points.iter().map(|p| (p.t_ms, p.v)).collect(),
+        more,
+    }))
+}
+
 pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Response> {
     let h = historian(&st)?;
-    let mut names: Vec<String> = Vec::new();
+    let own = own_node(&st, h.as_ref());
+    // `Tag` of this runtime, `Tag@node` of another node.
+    let mut names: Vec<(Option<String>, String)> = Vec::new();
     for name in param(&q, "tags")?.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        if !names.iter().any(|n| n == name) {
-            names.push(name.to_string());
+        let column = match name.rsplit_once('@') {
+            Some((tag, node)) => (other_node(&own, Some(node)), tag.to_string()),
+            None => (None, name.to_string()),
+        };
+        if !names.contains(&column) {
+            names.push(column);
         }
         if names.len() > MAX_CSV_COLUMNS {
             return Err(ApiError::Invalid(format!(
@@ -124,8 +194,14 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
     let (mut w, mut rx) = stream::channel::<alba_historian::Error>();
     tokio::task::spawn_blocking(move || {
         let _permit = permit;
-        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        match h.export_csv(&refs, from, to, step, &mut w) {
+        let columns: Vec<Column<'_>> = names
+            .iter()
+            .map(|(node, tag)| Column {
+                node: node.as_deref(),
+                tag,
+            })
+            .collect();
+        match h.export_csv(&columns, from, to, step, &mut w) {
             Ok(_) => {
                 let _ = w.finish();
             }

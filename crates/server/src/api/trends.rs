@@ -39,12 +39,32 @@ fn check(set: &TrendSet, layout: &alba_ir::Layout) -> Vec<String> {
     if set.pens.len() > MAX_PENS {
         e.push(format!("{} pens: at most {MAX_PENS}", set.pens.len()));
     }
-    for (k, TrendPen { tag, axis, min, max }) in set.pens.iter().enumerate() {
-        let at = format!("pens[{k}] ({tag})");
-        match layout.resolve(tag) {
-            Ok(Target::Value { .. }) => {}
-            Ok(_) => e.push(format!("{at}: a structure cannot be plotted: pick a member")),
-            Err(err) => e.push(format!("{at}: {err}")),
+    for (
+        k,
+        TrendPen {
+            tag,
+            node,
+            axis,
+            min,
+            max,
+        },
+    ) in set.pens.iter().enumerate()
+    {
+        let at = match node {
+            Some(n) => format!("pens[{k}] ({tag}@{n})"),
+            None => format!("pens[{k}] ({tag})"),
+        };
+        match node {
+            // Another node's tag: its program is not this one (its history tells what it recorded).
+            Some(n) if n.is_empty() || tag.is_empty() => {
+                e.push(format!("{at}: a pen of another node needs its tag and node"))
+            }
+            Some(_) => {}
+            None => match layout.resolve(tag) {
+                Ok(Target::Value { .. }) => {}
+                Ok(_) => e.push(format!("{at}: a structure cannot be plotted: pick a member")),
+                Err(err) => e.push(format!("{at}: {err}")),
+            },
         }
         if !(1..=4).contains(axis) {
             e.push(format!("{at}: axis {axis} is out of range (1 to 4)"));
@@ -56,7 +76,10 @@ fn check(set: &TrendSet, layout: &alba_ir::Layout) -> Vec<String> {
             (Some(_), None) | (None, Some(_)) => e.push(format!("{at}: give both min and max, or neither")),
             _ => {}
         }
-        if set.pens[..k].iter().any(|p| p.tag.eq_ignore_ascii_case(tag)) {
+        if set.pens[..k]
+            .iter()
+            .any(|p| p.tag.eq_ignore_ascii_case(tag) && p.node == *node)
+        {
             e.push(format!("{at}: the tag is plotted twice"));
         }
     }
@@ -87,7 +110,14 @@ pub async fn put(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiR
         return Err(ApiError::Invalid(problems.join("; ")));
     }
     let path = st.project.lock().await.project.dir.join(FILE);
-    let pens: Vec<&str> = set.pens.iter().map(|p| p.tag.as_str()).collect();
+    let pens: Vec<String> = set
+        .pens
+        .iter()
+        .map(|p| match &p.node {
+            Some(n) => format!("{}@{n}", p.tag),
+            None => p.tag.clone(),
+        })
+        .collect();
     let entry = alba_audit::Entry {
         target: Some(FILE.into()),
         new: Some(json_text(&serde_json::json!(pens))),

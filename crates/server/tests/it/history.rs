@@ -51,10 +51,35 @@ async fn every_tag_is_recorded_and_queried_downsampled() {
         "the level rises while B1 fills: {q}"
     );
 
+    // The embedded store holds this runtime only: its node is the project's name.
+    assert_eq!(
+        s.get("/api/history/nodes").await,
+        serde_json::json!({"node": "tank-plant", "shared": false, "nodes": ["tank-plant"]})
+    );
+    let own = s
+        .get(&format!(
+            "/api/history?tag=Nivel_L&from={first}&to={last}&points=10&node=tank-plant"
+        ))
+        .await;
+    assert_eq!(own["node"], "tank-plant");
+    assert_eq!(own["buckets"], q["buckets"], "naming this node is the same query");
+    let raw = s
+        .get(&format!("/api/history/raw?tag=Nivel_L&from={first}&to={last}&limit=3"))
+        .await;
+    let points = raw["points"].as_array().expect("points");
+    assert_eq!(points.len(), 3, "{raw}");
+    assert_eq!(points[0][0].as_i64(), Some(first));
+    assert_eq!(raw["more"], true);
+    assert_eq!(
+        num(&points[0][1]),
+        num(&b[0][3]),
+        "the first sample is the first bucket's first"
+    );
+
     let res = s
         .http
         .get(s.url(&format!(
-            "/api/history.csv?tags=Nivel_L,Bomba1&from={first}&to={last}&step=100"
+            "/api/history.csv?tags=Nivel_L,Bomba1@tank-plant&from={first}&to={last}&step=100"
         )))
         .send()
         .await
@@ -74,7 +99,27 @@ async fn every_tag_is_recorded_and_queried_downsampled() {
     );
     assert!(text.lines().count() >= 6);
 
-    let bad: [(&str, StatusCode, &str); 7] = [
+    let bad: [(&str, StatusCode, &str); 11] = [
+        (
+            "/api/history?tag=Nivel_L&from=0&to=1&node=line-9",
+            StatusCode::NOT_FOUND,
+            "no history for node `line-9`",
+        ),
+        (
+            "/api/history/tags?node=line-9",
+            StatusCode::NOT_FOUND,
+            "no history for node `line-9`",
+        ),
+        (
+            "/api/history.csv?tags=Nivel_L@line-9&from=0&to=1",
+            StatusCode::NOT_FOUND,
+            "no history for node `line-9`",
+        ),
+        (
+            "/api/history/raw?tag=Nivel_L&from=0&to=1&limit=0",
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "`limit` must be 1 to 100000",
+        ),
         ("/api/history?from=0&to=1", StatusCode::BAD_REQUEST, "`tag`"),
         (
             "/api/history?tag=Nivel_L&from=x&to=1",

@@ -320,7 +320,16 @@ async fn every_route_answers_each_role_as_the_table_says() {
         row(Method::GET, "/api/instructions", "/api/instructions", None, v, 200),
         row(Method::GET, "/api/domain", "/api/domain", None, v, 200),
         // History is off in this server: the handler's 404 for those allowed.
+        row(Method::GET, "/api/history/nodes", "/api/history/nodes", None, v, 404),
         row(Method::GET, "/api/history/tags", "/api/history/tags", None, v, 404),
+        row(
+            Method::GET,
+            "/api/history/raw",
+            "/api/history/raw?tag=Nivel_L&from=0&to=1",
+            None,
+            v,
+            404,
+        ),
         row(Method::GET, "/api/history", "/api/history?tag=Nivel_L", None, v, 404),
         row(
             Method::GET,

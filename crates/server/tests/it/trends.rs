@@ -17,6 +17,9 @@ async fn the_trend_set_is_saved_in_the_project_and_checked() {
         {"tag": "Nivel_L", "axis": 1, "min": 0.0, "max": 60.0},
         {"tag": "Bomba1", "axis": 2, "min": null, "max": null},
         {"tag": "CT_STP.ACC", "axis": 2, "min": null, "max": null},
+        // Another node's recorded tag (a shared historian): not one of this program's.
+        {"tag": "Flow", "node": "line-2", "axis": 3, "min": null, "max": null},
+        {"tag": "Nivel_L", "node": "line-2", "axis": 3, "min": null, "max": null},
     ]});
     let (code, saved) = s.call(Method::PUT, "/api/trends", Some(set.clone())).await;
     assert_eq!(code, StatusCode::OK, "{saved}");
@@ -51,6 +54,18 @@ async fn the_trend_set_is_saved_in_the_project_and_checked() {
             pen(json!({"tag": "Nivel_L", "axis": 1, "min": 5.0, "max": null})),
             422,
             "both min and max",
+        ),
+        (
+            pen(json!({"tag": "Flow", "node": "", "axis": 1, "min": null, "max": null})),
+            422,
+            "pens[0] (Flow@): a pen of another node needs its tag and node",
+        ),
+        (
+            json!({"version": 1, "window_ms": 60000, "pens": [
+                {"tag": "Flow", "node": "n2", "axis": 1, "min": null, "max": null},
+                {"tag": "FLOW", "node": "n2", "axis": 2, "min": null, "max": null}]}),
+            422,
+            "pens[1] (FLOW@n2): the tag is plotted twice",
         ),
         (json!({"version": 2, "window_ms": 60000, "pens": []}), 422, "version 2"),
         (json!({"version": 1, "window_ms": 5, "pens": []}), 422, "window_ms = 5"),
