@@ -3,11 +3,11 @@
 //!
 //! The engine thread owns program memory. Everything else talks to it
 //! through a [`Handle`]: requests (writes, forces, run/stop, online edit,
-//! monitoring) go through a channel and are applied **between two scans**;
-//! after every scan the thread publishes an immutable [`Snapshot`] (memory,
-//! power flow, statistics) on a `watch` channel, which readers take without
-//! ever holding a lock across a scan. A reader that is slow simply sees a
-//! later snapshot: nothing it does can delay the engine.
+//! monitoring) go through a bounded channel and are applied **between two
+//! scans**; after every scan the thread publishes an immutable [`Snapshot`]
+//! (memory, power flow, statistics) into a recycled buffer, without
+//! allocating and without a lock ([`publish`]). A reader that is slow simply
+//! sees a later snapshot: nothing it does can delay the engine.
 //!
 //! Each scan: apply queued requests → I/O reads the inputs → forced inputs
 //! → scan → forced outputs → I/O writes the outputs → statistics → publish.
@@ -18,6 +18,7 @@
 mod error;
 pub mod health;
 pub mod json;
+mod publish;
 pub mod realtime;
 pub mod retain;
 
@@ -29,6 +30,7 @@ use alba_model::Value;
 use health::Health;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -171,8 +173,10 @@ pub struct Snapshot {
     pub fault: Option<String>,
     pub stats: Stats,
     pub minor_faults: u64,
-    /// Energised elements (bit e of word e / 64), while monitoring.
-    pub power: Option<Arc<Vec<u64>>>,
+    /// Energised elements (bit e of word e / 64): see [`Snapshot::power`].
+    power: Vec<u64>,
+    /// `power` was computed by the scan (monitoring is on).
+    monitored: bool,
     pub forces: Arc<Vec<Force>>,
 }
 
@@ -181,8 +185,13 @@ impl Snapshot {
         self.memory.read(p)
     }
 
+    /// Energised elements (bit e of word e / 64), while monitoring.
+    pub fn power(&self) -> Option<&[u64]> {
+        self.monitored.then_some(&self.power)
+    }
+
     pub fn energised(&self, element: u32) -> Option<bool> {
-        let bits = self.power.as_ref()?;
+        let bits = self.power()?;
         Some(
             bits.get(element as usize / 64)
                 .is_some_and(|w| w >> (element % 64) & 1 == 1),
@@ -291,6 +300,7 @@ type Reply = oneshot::Sender<Result<(), Error>>;
 #[derive(Clone)]
 pub struct Handle {
     tx: mpsc::SyncSender<(Req, Option<Reply>)>,
+    latest: publish::Latest,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
 }
@@ -302,13 +312,14 @@ impl Handle {
         &self.health
     }
 
-    /// The latest snapshot.
+    /// The latest snapshot (an answered request's effect is in it).
     pub fn snapshot(&self) -> Arc<Snapshot> {
-        self.snapshots.borrow().clone()
+        self.latest.load_full()
     }
 
     /// A receiver that wakes at every new snapshot (coalescing: a slow
-    /// reader sees the latest one).
+    /// reader sees the latest one). It is fed by a thread of its own, a
+    /// moment after [`Handle::snapshot`] has the publication.
     pub fn subscribe(&self) -> watch::Receiver<Arc<Snapshot>> {
         self.snapshots.clone()
     }
@@ -441,17 +452,23 @@ impl Runtime {
             fault: None,
             stats: Stats::default(),
             minor_faults: 0,
-            power: None,
+            // Room for the power flow, so that turning monitoring on
+            // allocates nothing in the recycled copies.
+            power: Vec::with_capacity(program.elements.len().div_ceil(64)),
+            monitored: false,
             forces: Arc::new(Vec::new()),
         });
-        let (snap_tx, snap_rx) = watch::channel(first);
+        let (publisher, latest, snap_rx) = publish::Publisher::start(first).map_err(|source| StartError::Thread {
+            what: "publish",
+            source,
+        })?;
         let saver = match &opts.retain_file {
-            Some(p) => Some(Saver::start(p.clone(), health.clone())?),
+            Some(p) => Some(Saver::start(p.clone(), health.clone(), latest.clone())?),
             None => None,
         };
         let state = Worker {
-            retained: retain::retained(&program),
             saver,
+            save_due: false,
             engine,
             io,
             opts,
@@ -461,7 +478,7 @@ impl Runtime {
             forces: Arc::new(Vec::new()),
             watchers: 0,
             power_fresh: false,
-            snapshots: snap_tx,
+            publisher,
             epoch: Instant::now(),
             last_retain: Instant::now(),
         };
@@ -472,6 +489,7 @@ impl Runtime {
         Ok(Runtime {
             handle: Handle {
                 tx,
+                latest,
                 snapshots: snap_rx,
                 health,
             },
@@ -536,9 +554,10 @@ struct Worker {
     watchers: u32,
     /// The power flow was computed by the last scan.
     power_fresh: bool,
-    retained: Vec<(String, Place)>,
     saver: Option<Saver>,
-    snapshots: watch::Sender<Arc<Snapshot>>,
+    /// Retentive data is saved from the next publication.
+    save_due: bool,
+    publisher: publish::Publisher,
     /// Zero of the engine clock.
     epoch: Instant,
     last_retain: Instant,
@@ -774,7 +793,6 @@ impl Worker {
             },
             Req::Replace(p) => {
                 self.engine.replace(p.clone()).map_err(Error::Rejected)?;
-                self.retained = retain::retained(&p);
                 let layout = &p.layout;
                 // Forces follow their names into the new layout.
                 let fs = self
@@ -812,44 +830,52 @@ impl Worker {
         }
     }
 
+    /// Publishes the engine's state into a recycled snapshot (no allocation
+    /// in steady state: the buffers keep their sizes), then has retentive
+    /// data saved from it if a save is due.
     fn publish(&mut self) {
-        let power = self
-            .engine
-            .power_flow()
-            .filter(|_| self.power_fresh)
-            .map(|pf| Arc::new(pf.words().to_vec()));
-        let snap = Snapshot {
-            program: self.engine.shared_program(),
-            memory: self.engine.memory().clone(),
-            scans: self.engine.scans(),
-            clock_ms: self.clock_ms(),
-            unix_ms: unix_ms(),
-            state: self.state,
-            fault: self.fault.clone(),
-            stats: self.stats,
-            minor_faults: self.engine.faults().count,
-            power,
-            forces: self.forces.clone(),
-        };
-        self.snapshots.send_replace(Arc::new(snap));
+        let clock_ms = self.clock_ms();
+        let Worker {
+            engine,
+            state,
+            fault,
+            stats,
+            forces,
+            power_fresh,
+            publisher,
+            ..
+        } = self;
+        publisher.publish(|s| {
+            s.program = engine.shared_program();
+            s.memory.clone_from(engine.memory());
+            s.scans = engine.scans();
+            s.clock_ms = clock_ms;
+            s.unix_ms = unix_ms();
+            s.state = *state;
+            s.fault.clone_from(fault);
+            s.stats = *stats;
+            s.minor_faults = engine.faults().count;
+            s.power.clear();
+            if let Some(pf) = engine.power_flow().filter(|_| *power_fresh) {
+                s.power.extend_from_slice(pf.words());
+            }
+            s.monitored = engine.power_flow().is_some() && *power_fresh;
+            s.forces = forces.clone();
+        });
+        if std::mem::take(&mut self.save_due)
+            && let Some(saver) = &self.saver
+        {
+            saver.wake();
+        }
     }
 
-    /// Hands the retained values to the saver thread (the file is written
-    /// there, so an fsync never delays a scan).
+    /// Has the saver thread save the retained values of the next snapshot
+    /// (the file is written there, so an fsync never delays a scan, and the
+    /// values are read from the snapshot, so the engine copies nothing).
     fn save_retained(&mut self) {
         self.last_retain = Instant::now();
-        if self.io.runs_program() {
-            return; // the board's memory is not this runtime's to keep
-        }
-        let Some(saver) = &self.saver else { return };
-        let values: Vec<(String, Value)> = self
-            .retained
-            .iter()
-            .map(|(n, p)| (n.clone(), self.engine.read(*p)))
-            .collect();
-        if !values.is_empty() {
-            let _ = saver.tx.send(values);
-        }
+        // In attach mode the board's memory is not this runtime's to keep.
+        self.save_due = self.saver.is_some() && !self.io.runs_program();
     }
 
     fn finish(&mut self) {
@@ -858,42 +884,82 @@ impl Worker {
             self.safe_outputs();
         }
         self.save_retained();
-        if let Some(s) = self.saver.take() {
-            drop(s.tx);
-            let _ = s.thread.join();
-        }
         self.publish();
+        // Joins the saver after that last save.
+        self.saver = None;
     }
 }
 
-/// The thread that writes the retain file: it saves the latest values it
-/// was given (atomically: an interrupted save leaves the previous file).
+/// The thread that writes the retain file: woken by the engine, it saves the
+/// retained values of the latest snapshot (atomically: an interrupted save
+/// leaves the previous file).
 struct Saver {
-    tx: mpsc::Sender<Vec<(String, Value)>>,
-    thread: JoinHandle<()>,
+    thread: Option<JoinHandle<()>>,
+    due: Arc<AtomicBool>,
+    stop: Arc<AtomicBool>,
 }
 
 impl Saver {
-    fn start(path: PathBuf, health: Arc<Health>) -> Result<Saver, StartError> {
-        let (tx, rx) = mpsc::channel::<Vec<(String, Value)>>();
+    fn start(path: PathBuf, health: Arc<Health>, latest: publish::Latest) -> Result<Saver, StartError> {
+        let due = Arc::new(AtomicBool::new(false));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (saving, stopping) = (due.clone(), stop.clone());
         let thread = std::thread::Builder::new()
             .name("alba-retain".into())
             .spawn(move || {
-                while let Ok(mut values) = rx.recv() {
-                    // Only the latest matters.
-                    while let Ok(v) = rx.try_recv() {
-                        values = v;
+                // The retained tags of the program last saved.
+                let (mut program, mut names) = (None::<Arc<Program>>, Vec::new());
+                loop {
+                    // Read before `due`: the engine asks for its last save
+                    // before it stops the thread.
+                    let stop = stopping.load(Ordering::Acquire);
+                    if saving.swap(false, Ordering::AcqRel) {
+                        let snap = latest.load_full();
+                        if program.as_ref().is_none_or(|p| !Arc::ptr_eq(p, &snap.program)) {
+                            names = retain::retained(&snap.program);
+                            program = Some(snap.program.clone());
+                        }
+                        let values: Vec<(String, Value)> =
+                            names.iter().map(|(n, p)| (n.clone(), snap.read(*p))).collect();
+                        if !values.is_empty() {
+                            match retain::save(&path, &values, unix_ms()) {
+                                Ok(()) => health.clear("retain-save"),
+                                Err(e) => health.report(
+                                    "retain-save",
+                                    format!("cannot save retentive data to {}: {e}", path.display()),
+                                ),
+                            }
+                        }
                     }
-                    match retain::save(&path, &values, unix_ms()) {
-                        Ok(()) => health.clear("retain-save"),
-                        Err(e) => health.report(
-                            "retain-save",
-                            format!("cannot save retentive data to {}: {e}", path.display()),
-                        ),
+                    if stop {
+                        return;
                     }
+                    std::thread::park();
                 }
             })
             .map_err(|source| StartError::Thread { what: "retain", source })?;
-        Ok(Saver { tx, thread })
+        Ok(Saver {
+            thread: Some(thread),
+            due,
+            stop,
+        })
+    }
+
+    fn wake(&self) {
+        self.due.store(true, Ordering::Release);
+        if let Some(t) = &self.thread {
+            t.thread().unpark();
+        }
+    }
+}
+
+impl Drop for Saver {
+    /// Ends the thread after the save asked for, if any.
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            t.thread().unpark();
+            let _ = t.join();
+        }
     }
 }

@@ -3,6 +3,7 @@
 //! Times are only bounded generously (the machine is shared): tests check
 //! what happened, never how fast.
 
+mod no_alloc;
 mod retain;
 
 use alba_diag::Files;
