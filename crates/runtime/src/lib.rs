@@ -58,6 +58,8 @@ pub struct Options {
     pub native: bool,
     /// Start scanning at once (else wait for `run`).
     pub start_running: bool,
+    /// Where every scan's start lateness is recorded (`alba bench --realtime`).
+    pub scan_log: Option<Arc<ScanLog>>,
 }
 
 impl Options {
@@ -72,6 +74,7 @@ impl Options {
             realtime: realtime::Realtime::default(),
             native: true,
             start_running: true,
+            scan_log: None,
         }
     }
 }
@@ -140,6 +143,75 @@ impl Stats {
             c(self.jitter_us),
             c(self.overruns),
         ]
+    }
+}
+
+/// The start lateness of every scan while recording, for benchmarks (`alba
+/// bench --realtime`): the slots are made beforehand and the engine thread
+/// fills them with atomic stores, so recording neither allocates nor locks.
+/// Scans past its capacity are counted but not kept.
+pub struct ScanLog {
+    late_ns: Box<[std::sync::atomic::AtomicU64]>,
+    /// Scans recorded (may exceed the capacity).
+    scans: std::sync::atomic::AtomicUsize,
+    overruns: std::sync::atomic::AtomicU64,
+    recording: AtomicBool,
+}
+
+impl std::fmt::Debug for ScanLog {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "ScanLog({} of {} scans)", self.scans(), self.late_ns.len())
+    }
+}
+
+impl ScanLog {
+    /// A log with room for `capacity` scans, not recording yet.
+    pub fn new(capacity: usize) -> Arc<ScanLog> {
+        Arc::new(ScanLog {
+            late_ns: (0..capacity).map(|_| Default::default()).collect(),
+            scans: Default::default(),
+            overruns: Default::default(),
+            recording: AtomicBool::new(false),
+        })
+    }
+
+    /// Starts (or stops) recording.
+    pub fn record(&self, on: bool) {
+        self.recording.store(on, Ordering::Release);
+    }
+
+    /// The lateness of each scan recorded, ns, in order.
+    pub fn late_ns(&self) -> Vec<u64> {
+        let n = self.scans.load(Ordering::Acquire).min(self.late_ns.len());
+        self.late_ns[..n].iter().map(|l| l.load(Ordering::Relaxed)).collect()
+    }
+
+    /// Deadlines missed while recording.
+    pub fn overruns(&self) -> u64 {
+        self.overruns.load(Ordering::Relaxed)
+    }
+
+    /// Scans recorded, kept or not.
+    pub fn scans(&self) -> usize {
+        self.scans.load(Ordering::Relaxed)
+    }
+
+    /// The engine thread's side (the only writer).
+    fn scan(&self, late: Duration) {
+        if !self.recording.load(Ordering::Acquire) {
+            return;
+        }
+        let i = self.scans.load(Ordering::Relaxed);
+        if let Some(slot) = self.late_ns.get(i) {
+            slot.store(late.as_nanos() as u64, Ordering::Relaxed);
+        }
+        self.scans.store(i + 1, Ordering::Release);
+    }
+
+    fn missed(&self, n: u64) {
+        if self.recording.load(Ordering::Acquire) {
+            self.overruns.fetch_add(n, Ordering::Relaxed);
+        }
     }
 }
 
@@ -296,10 +368,32 @@ pub const REQUEST_QUEUE: usize = 1024;
 
 type Reply = oneshot::Sender<Result<(), Error>>;
 
+/// How many requests wait for the engine, and the most that ever did: a
+/// count taken after each request is queued and after the engine takes it,
+/// so it never exceeds the true number (issue 18: a protocol server shows by
+/// it that its load stays bounded).
+#[derive(Debug, Default)]
+struct Depth {
+    now: std::sync::atomic::AtomicIsize,
+    peak: std::sync::atomic::AtomicIsize,
+}
+
+impl Depth {
+    fn queued(&self) {
+        let n = self.now.fetch_add(1, Ordering::Relaxed) + 1;
+        self.peak.fetch_max(n, Ordering::Relaxed);
+    }
+
+    fn taken(&self) {
+        self.now.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
 /// Talks to a running runtime; cheap to clone.
 #[derive(Clone)]
 pub struct Handle {
     tx: mpsc::SyncSender<(Req, Option<Reply>)>,
+    depth: Arc<Depth>,
     latest: publish::Latest,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
@@ -334,13 +428,23 @@ impl Handle {
             mpsc::TrySendError::Full(_) => Error::Busy,
             mpsc::TrySendError::Disconnected(_) => Error::Stopped,
         })?;
+        self.depth.queued();
         Ok(rx)
     }
 
     /// A request that must not be lost (shutdown, monitoring counts): waits
     /// for room, which the engine makes at its next scan boundary at most.
     fn tell(&self, req: Req) {
-        let _ = self.tx.send((req, None));
+        if self.tx.send((req, None)).is_ok() {
+            self.depth.queued();
+        }
+    }
+
+    /// The most requests that waited for a scan boundary at once since the
+    /// runtime started (never more than there were; at most
+    /// [`REQUEST_QUEUE`]).
+    pub fn queue_peak(&self) -> usize {
+        self.depth.peak.load(Ordering::Relaxed).max(0) as usize
     }
 
     /// Writes a place at the next scan boundary; answers once applied.
@@ -437,6 +541,8 @@ impl Runtime {
         }
         engine.set_store_status(health.retain_lost(), health.ok());
         let (tx, rx) = mpsc::sync_channel(REQUEST_QUEUE);
+        let depth = Arc::new(Depth::default());
+        let worker_depth = depth.clone();
         let first = Arc::new(Snapshot {
             program: program.clone(),
             memory: engine.memory().clone(),
@@ -484,11 +590,12 @@ impl Runtime {
         };
         let thread = std::thread::Builder::new()
             .name("alba-engine".into())
-            .spawn(move || state.run(rx))
+            .spawn(move || state.run(rx, worker_depth))
             .map_err(|source| StartError::Thread { what: "engine", source })?;
         Ok(Runtime {
             handle: Handle {
                 tx,
+                depth,
                 latest,
                 snapshots: snap_rx,
                 health,
@@ -564,7 +671,7 @@ struct Worker {
 }
 
 impl Worker {
-    fn run(mut self, rx: mpsc::Receiver<(Req, Option<Reply>)>) {
+    fn run(mut self, rx: mpsc::Receiver<(Req, Option<Reply>)>, depth: Arc<Depth>) {
         for w in self.opts.realtime.apply() {
             eprintln!("warning: {w}");
         }
@@ -584,7 +691,10 @@ impl Worker {
                     Duration::from_millis(200)
                 };
                 let (req, reply) = match rx.recv_timeout(wait) {
-                    Ok(r) => r,
+                    Ok(r) => {
+                        depth.taken();
+                        r
+                    }
                     Err(RecvTimeoutError::Timeout) => {
                         if self.state == RunState::Running {
                             break;
@@ -616,6 +726,9 @@ impl Worker {
             }
             let started = Instant::now();
             let late = started.saturating_duration_since(deadline);
+            if let Some(log) = &self.opts.scan_log {
+                log.scan(late);
+            }
             self.scan(late);
             // Next deadline; missed ones are counted and skipped.
             deadline += period;
@@ -623,6 +736,9 @@ impl Worker {
             if now > deadline {
                 let missed = (now - deadline).as_nanos() / period.as_nanos() + 1;
                 self.stats.overruns += missed as u64;
+                if let Some(log) = &self.opts.scan_log {
+                    log.missed(missed as u64);
+                }
                 deadline += period * missed as u32;
             }
             if self.saver.is_some() && self.last_retain.elapsed() >= Duration::from_millis(self.opts.retain_interval_ms)
