@@ -1,25 +1,41 @@
-//! Historian benchmark: insert rates, and downsampled queries over a 10-million-sample
-//! database. Prints numbers; asserts nothing but that answers are complete.
+//! Historian benchmark: insert rates (every tag of a 10 000-tag project
+//! among them), and downsampled queries over a 10-million-sample database.
+//! Prints numbers; asserts nothing but that answers are complete.
 //!
-//!     cargo bench -p alba-historian --bench historian              # 10 M samples
-//!     cargo bench -p alba-historian --bench historian -- --quick   # 1 M samples
+//!     alba bench --historian [--quick]                               # the same, from the CLI
+//!     cargo bench -p alba-historian --bench historian [-- --quick]   # 10 M (1 M) samples
 //!
 //! The database is built in a temporary directory (about 300 MB for 10 M samples) and
 //! deleted at the end; set ALBA_HISTORIAN_BENCH_DIR to build it elsewhere.
 
 use std::time::{Duration, Instant};
 
-use alba_historian::{ChangeFilter, Config, Filter, Historian, Recorder, Sample};
+use crate::{ChangeFilter, Config, Filter, Historian, Recorder, Sample};
 
 const RUNS: usize = 9;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let quick = std::env::args().any(|a| a == "--quick");
+/// A directory removed when dropped.
+struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs the benchmark (1 M samples instead of 10 M when `quick`).
+pub fn run(quick: bool) -> Result<(), Box<dyn std::error::Error>> {
     let total: i64 = if quick { 1_000_000 } else { 10_000_000 };
-    let dir = match std::env::var_os("ALBA_HISTORIAN_BENCH_DIR") {
-        Some(d) => tempfile::tempdir_in(d)?,
-        None => tempfile::tempdir()?,
-    };
+    let parent = std::env::var_os("ALBA_HISTORIAN_BENCH_DIR").map_or_else(std::env::temp_dir, Into::into);
+    let dir = Scratch(parent.join(format!("alba-historian-bench-{}", std::process::id())));
+    let _ = std::fs::remove_dir_all(dir.path());
+    std::fs::create_dir_all(dir.path())?;
     println!("alba-historian benchmark ({} samples)", total);
 
     live_inserts(&dir, 100, 1_000, 0)?;
@@ -155,12 +171,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 /// `ticks` calls of `Recorder::record` with `tags` values each, 100 ms apart, every value
 /// admitted: the live path, one transaction per call or buffered for `delay_ms`.
-fn live_inserts(
-    dir: &tempfile::TempDir,
-    tags: usize,
-    ticks: i64,
-    delay_ms: u64,
-) -> Result<(), Box<dyn std::error::Error>> {
+fn live_inserts(dir: &Scratch, tags: usize, ticks: i64, delay_ms: u64) -> Result<(), Box<dyn std::error::Error>> {
     let h = Historian::open(dir.path().join(format!("live{tags}-{delay_ms}.db")), Config::default())?;
     let mut rec = Recorder::new(h, ChangeFilter::new(Filter::EVERY));
     rec.set_max_delay(delay_ms);

@@ -19,6 +19,7 @@
 
 mod agg;
 mod backend;
+pub mod bench;
 mod error;
 mod filter;
 mod pg;
