@@ -47,6 +47,10 @@ pub struct Options {
     pub mqtt: Option<String>,
     /// HTTPS or plain HTTP for the studio (`tls::Tls::Auto`: HTTPS beyond loopback).
     pub tls: tls::Tls,
+    /// Record every scan's start lateness here (`alba bench --realtime`).
+    pub scan_log: Option<Arc<alba_runtime::ScanLog>>,
+    /// Print no banners for the servers started (a benchmark embedding `alba run`).
+    pub quiet: bool,
 }
 
 pub enum RunError {
@@ -65,6 +69,17 @@ pub(crate) struct Service<'a> {
     /// The project's users as loaded at start (users.toml and the
     /// deprecated `[opcua.users]`).
     pub users: &'a Arc<alba_auth::Users>,
+    /// Print no banners ([`Options::quiet`]).
+    pub quiet: bool,
+}
+
+impl Service<'_> {
+    /// A line of a server's banner on stdout, unless quiet.
+    pub fn say(&self, line: std::fmt::Arguments<'_>) {
+        if !self.quiet {
+            println!("{line}");
+        }
+    }
 }
 
 /// Whether a service was started (its configuration may leave it off).
@@ -99,6 +114,7 @@ pub async fn run(
     let auth = users::auth(dir, users.clone(), config, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
+    ro.scan_log = opts.scan_log.clone();
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
     if let Some(c) = config {
         ro.retain_interval_ms = u64::from(c.retain_ms);
@@ -199,6 +215,7 @@ pub async fn run(
         config,
         state: &state,
         users: &users,
+        quiet: opts.quiet,
     };
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;

@@ -20,7 +20,9 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
     // The server follows online edits itself: it rebuilds its map when the
     // runtime's program changes (seen in its snapshots).
     tokio::spawn(server.serve(l, s.state.closing()));
-    println!("Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)");
+    s.say(format_args!(
+        "Modbus TCP server: {bound} (OpenPLC v3 address map, docs/protocols.md)"
+    ));
     let clients = match cfg.and_then(|m| m.allow.as_ref()) {
         Some(list) => list.iter().map(ToString::to_string).collect::<Vec<_>>().join(", "),
         None => "loopback only".to_string(),
@@ -30,6 +32,6 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
     } else {
         "reads and writes"
     };
-    println!("  clients: {clients}; {writes}");
+    s.say(format_args!("  clients: {clients}; {writes}"));
     Ok(Started::On)
 }

@@ -19,16 +19,18 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
         s.state.closing(),
     )
     .await?;
-    println!("OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{name}/Tags)");
+    s.say(format_args!(
+        "OPC UA server: opc.tcp://{bound}/ (tags under Objects/Alba/{name}/Tags)"
+    ));
     if alba_opcua::security::is_local(bound.ip()) {
-        println!(
+        s.say(format_args!(
             "  security: None (anonymous) and Basic256Sha256 with user names and passwords; client certificates trusted on first use"
-        );
+        ));
     } else {
-        println!(
+        s.say(format_args!(
             "  security: Basic256Sha256 with user names and passwords only; unknown client certificates go to {}/rejected/",
             pki.display()
-        );
+        ));
     }
     Ok(Started::On)
 }

@@ -29,9 +29,9 @@ const SCAN_MS: u32 = 10;
 
 /// What one client measured.
 #[derive(Default)]
-struct Tally {
-    lat_ns: Vec<u32>,
-    unanswered: u64,
+pub(crate) struct Tally {
+    pub(crate) lat_ns: Vec<u32>,
+    pub(crate) unanswered: u64,
 }
 
 fn request(tid: u16, start: u16) -> [u8; 12] {
@@ -48,7 +48,7 @@ fn connect(addr: SocketAddr) -> Option<TcpStream> {
 }
 
 /// One client until `stop`: a request, its reply, again.
-fn client(addr: SocketAddr, start: u16, stop: &AtomicBool, measure: &AtomicBool) -> Tally {
+pub(crate) fn client(addr: SocketAddr, start: u16, stop: &AtomicBool, measure: &AtomicBool) -> Tally {
     let mut t = Tally::default();
     let mut sock = connect(addr);
     let mut tid: u16 = 0;

@@ -62,6 +62,8 @@ pub fn run(dir: &Path, addr: SocketAddr, native: bool) -> ExitCode {
         opcua: None,
         mqtt: None,
         tls: alba_app::tls::Tls::Auto,
+        scan_log: None,
+        quiet: false,
     };
     crate::run::run(dir, opts, Some(&banner))
 }

@@ -146,20 +146,28 @@ enum Command {
         /// Benchmark nets instead: a net's scan against the same Ladder, and the analysis (states/s, Kanban 5).
         #[arg(long, conflicts_with = "modbus")]
         nets: bool,
-        /// Measure the engine thread's wake-up lateness instead (cyclictest-like; 1 ms and 10 ms, idle and
-        /// loaded, normal and SCHED_FIFO; see docs/performance.md).
+        /// Measure the scan start lateness of `alba run` instead (cyclictest-like; 1 ms and 10 ms, idle and
+        /// under Modbus/HTTP/WebSocket/OPC UA/historian load, normal and SCHED_FIFO; see docs/performance.md).
         #[arg(long, conflicts_with_all = ["modbus", "nets"])]
         realtime: bool,
+        /// Benchmark the historian instead: ingest (every tag of a 10 000-tag project) and 1 000-point
+        /// queries over 10 M samples (1 M with --quick).
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime"])]
+        historian: bool,
+        /// Run every benchmark in turn: the engine, nets, the historian, Modbus, real time (--quick: shorter).
+        /// The studio's DOM latency needs a browser: web/bench/studios.mjs (docs/performance.md).
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian"])]
+        all: bool,
         /// With --realtime: the SCHED_FIFO priority to try (1 to 99).
         #[arg(long, value_name = "P", default_value = "80")]
         priority: u8,
-        /// With --realtime: pin the measuring thread to this CPU.
+        /// With --realtime: pin the engine thread to this CPU (`[runtime] cpu`).
         #[arg(long, value_name = "N")]
         cpu: Option<usize>,
         /// With --modbus: client counts to run (default 1,4,16).
         #[arg(long, value_delimiter = ',', value_name = "N,...")]
         clients: Option<Vec<usize>>,
-        /// With --modbus: seconds per client count.
+        /// With --modbus and --realtime: seconds per row.
         #[arg(long, value_name = "S", default_value = "5")]
         seconds: f64,
         /// With --modbus: load this server (HOST:PORT) instead of starting Alba's own.
@@ -455,6 +463,17 @@ fn main() -> ExitCode {
         } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
         Command::Bench { nets: true, quick, .. } => bench::nets(quick),
         Command::Bench {
+            historian: true, quick, ..
+        } => bench::historian(quick),
+        Command::Bench {
+            all: true,
+            quick,
+            priority,
+            cpu,
+            seconds,
+            ..
+        } => bench::all(quick, if quick { 1.0 } else { seconds }, priority, cpu),
+        Command::Bench {
             realtime: true,
             seconds,
             priority,
@@ -507,6 +526,8 @@ fn main() -> ExitCode {
                 opcua,
                 mqtt,
                 tls,
+                scan_log: None,
+                quiet: false,
             };
             run::run(&project, opts, None)
         }

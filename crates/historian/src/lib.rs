@@ -23,6 +23,7 @@
 
 mod agg;
 mod backend;
+pub mod bench;
 mod csv;
 mod error;
 mod filter;

@@ -3,7 +3,7 @@
 use crate::layout::{Counts, Layout, Place, TagSlot};
 use alba_model::{DataType, Value};
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct Memory {
     pub b: Vec<bool>,
     pub i: Vec<i32>,
@@ -12,6 +12,30 @@ pub struct Memory {
     pub d: Vec<f64>,
     /// Marker memory, byte addressed, multi-byte values big-endian.
     pub m: Vec<u8>,
+}
+
+impl Clone for Memory {
+    fn clone(&self) -> Memory {
+        Memory {
+            b: self.b.clone(),
+            i: self.i.clone(),
+            f: self.f.clone(),
+            l: self.l.clone(),
+            d: self.d.clone(),
+            m: self.m.clone(),
+        }
+    }
+
+    /// Copies into this memory's own buffers: no allocation when they are
+    /// large enough (the runtime's recycled snapshots, issue 18).
+    fn clone_from(&mut self, src: &Memory) {
+        self.b.clone_from(&src.b);
+        self.i.clone_from(&src.i);
+        self.f.clone_from(&src.f);
+        self.l.clone_from(&src.l);
+        self.d.clone_from(&src.d);
+        self.m.clone_from(&src.m);
+    }
 }
 
 impl Memory {

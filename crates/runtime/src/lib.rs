@@ -3,11 +3,11 @@
 //!
 //! The engine thread owns program memory. Everything else talks to it
 //! through a [`Handle`]: requests (writes, forces, run/stop, online edit,
-//! monitoring) go through a channel and are applied **between two scans**;
-//! after every scan the thread publishes an immutable [`Snapshot`] (memory,
-//! power flow, statistics) on a `watch` channel, which readers take without
-//! ever holding a lock across a scan. A reader that is slow simply sees a
-//! later snapshot: nothing it does can delay the engine.
+//! monitoring) go through a bounded channel and are applied **between two
+//! scans**; after every scan the thread publishes an immutable [`Snapshot`]
+//! (memory, power flow, statistics) into a recycled buffer, without
+//! allocating and without a lock ([`publish`]). A reader that is slow simply
+//! sees a later snapshot: nothing it does can delay the engine.
 //!
 //! Each scan: apply queued requests → I/O reads the inputs → forced inputs
 //! → scan → forced outputs → I/O writes the outputs → statistics → publish.
@@ -18,6 +18,7 @@
 mod error;
 pub mod health;
 pub mod json;
+mod publish;
 pub mod realtime;
 pub mod retain;
 
@@ -29,6 +30,7 @@ use alba_model::Value;
 use health::Health;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -56,6 +58,8 @@ pub struct Options {
     pub native: bool,
     /// Start scanning at once (else wait for `run`).
     pub start_running: bool,
+    /// Where every scan's start lateness is recorded (`alba bench --realtime`).
+    pub scan_log: Option<Arc<ScanLog>>,
 }
 
 impl Options {
@@ -70,6 +74,7 @@ impl Options {
             realtime: realtime::Realtime::default(),
             native: true,
             start_running: true,
+            scan_log: None,
         }
     }
 }
@@ -141,6 +146,75 @@ impl Stats {
     }
 }
 
+/// The start lateness of every scan while recording, for benchmarks (`alba
+/// bench --realtime`): the slots are made beforehand and the engine thread
+/// fills them with atomic stores, so recording neither allocates nor locks.
+/// Scans past its capacity are counted but not kept.
+pub struct ScanLog {
+    late_ns: Box<[std::sync::atomic::AtomicU64]>,
+    /// Scans recorded (may exceed the capacity).
+    scans: std::sync::atomic::AtomicUsize,
+    overruns: std::sync::atomic::AtomicU64,
+    recording: AtomicBool,
+}
+
+impl std::fmt::Debug for ScanLog {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "ScanLog({} of {} scans)", self.scans(), self.late_ns.len())
+    }
+}
+
+impl ScanLog {
+    /// A log with room for `capacity` scans, not recording yet.
+    pub fn new(capacity: usize) -> Arc<ScanLog> {
+        Arc::new(ScanLog {
+            late_ns: (0..capacity).map(|_| Default::default()).collect(),
+            scans: Default::default(),
+            overruns: Default::default(),
+            recording: AtomicBool::new(false),
+        })
+    }
+
+    /// Starts (or stops) recording.
+    pub fn record(&self, on: bool) {
+        self.recording.store(on, Ordering::Release);
+    }
+
+    /// The lateness of each scan recorded, ns, in order.
+    pub fn late_ns(&self) -> Vec<u64> {
+        let n = self.scans.load(Ordering::Acquire).min(self.late_ns.len());
+        self.late_ns[..n].iter().map(|l| l.load(Ordering::Relaxed)).collect()
+    }
+
+    /// Deadlines missed while recording.
+    pub fn overruns(&self) -> u64 {
+        self.overruns.load(Ordering::Relaxed)
+    }
+
+    /// Scans recorded, kept or not.
+    pub fn scans(&self) -> usize {
+        self.scans.load(Ordering::Relaxed)
+    }
+
+    /// The engine thread's side (the only writer).
+    fn scan(&self, late: Duration) {
+        if !self.recording.load(Ordering::Acquire) {
+            return;
+        }
+        let i = self.scans.load(Ordering::Relaxed);
+        if let Some(slot) = self.late_ns.get(i) {
+            slot.store(late.as_nanos() as u64, Ordering::Relaxed);
+        }
+        self.scans.store(i + 1, Ordering::Release);
+    }
+
+    fn missed(&self, n: u64) {
+        if self.recording.load(Ordering::Acquire) {
+            self.overruns.fetch_add(n, Ordering::Relaxed);
+        }
+    }
+}
+
 /// A forced input or output.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Force {
@@ -171,8 +245,10 @@ pub struct Snapshot {
     pub fault: Option<String>,
     pub stats: Stats,
     pub minor_faults: u64,
-    /// Energised elements (bit e of word e / 64), while monitoring.
-    pub power: Option<Arc<Vec<u64>>>,
+    /// Energised elements (bit e of word e / 64): see [`Snapshot::power`].
+    power: Vec<u64>,
+    /// `power` was computed by the scan (monitoring is on).
+    monitored: bool,
     pub forces: Arc<Vec<Force>>,
 }
 
@@ -181,8 +257,13 @@ impl Snapshot {
         self.memory.read(p)
     }
 
+    /// Energised elements (bit e of word e / 64), while monitoring.
+    pub fn power(&self) -> Option<&[u64]> {
+        self.monitored.then_some(&self.power)
+    }
+
     pub fn energised(&self, element: u32) -> Option<bool> {
-        let bits = self.power.as_ref()?;
+        let bits = self.power()?;
         Some(
             bits.get(element as usize / 64)
                 .is_some_and(|w| w >> (element % 64) & 1 == 1),
@@ -287,10 +368,33 @@ pub const REQUEST_QUEUE: usize = 1024;
 
 type Reply = oneshot::Sender<Result<(), Error>>;
 
+/// How many requests wait for the engine, and the most that ever did: a
+/// count taken after each request is queued and after the engine takes it,
+/// so it never exceeds the true number (issue 18: a protocol server shows by
+/// it that its load stays bounded).
+#[derive(Debug, Default)]
+struct Depth {
+    now: std::sync::atomic::AtomicIsize,
+    peak: std::sync::atomic::AtomicIsize,
+}
+
+impl Depth {
+    fn queued(&self) {
+        let n = self.now.fetch_add(1, Ordering::Relaxed) + 1;
+        self.peak.fetch_max(n, Ordering::Relaxed);
+    }
+
+    fn taken(&self) {
+        self.now.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
 /// Talks to a running runtime; cheap to clone.
 #[derive(Clone)]
 pub struct Handle {
     tx: mpsc::SyncSender<(Req, Option<Reply>)>,
+    depth: Arc<Depth>,
+    latest: publish::Latest,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
 }
@@ -302,13 +406,14 @@ impl Handle {
         &self.health
     }
 
-    /// The latest snapshot.
+    /// The latest snapshot (an answered request's effect is in it).
     pub fn snapshot(&self) -> Arc<Snapshot> {
-        self.snapshots.borrow().clone()
+        self.latest.load_full()
     }
 
     /// A receiver that wakes at every new snapshot (coalescing: a slow
-    /// reader sees the latest one).
+    /// reader sees the latest one). It is fed by a thread of its own, a
+    /// moment after [`Handle::snapshot`] has the publication.
     pub fn subscribe(&self) -> watch::Receiver<Arc<Snapshot>> {
         self.snapshots.clone()
     }
@@ -323,13 +428,23 @@ impl Handle {
             mpsc::TrySendError::Full(_) => Error::Busy,
             mpsc::TrySendError::Disconnected(_) => Error::Stopped,
         })?;
+        self.depth.queued();
         Ok(rx)
     }
 
     /// A request that must not be lost (shutdown, monitoring counts): waits
     /// for room, which the engine makes at its next scan boundary at most.
     fn tell(&self, req: Req) {
-        let _ = self.tx.send((req, None));
+        if self.tx.send((req, None)).is_ok() {
+            self.depth.queued();
+        }
+    }
+
+    /// The most requests that waited for a scan boundary at once since the
+    /// runtime started (never more than there were; at most
+    /// [`REQUEST_QUEUE`]).
+    pub fn queue_peak(&self) -> usize {
+        self.depth.peak.load(Ordering::Relaxed).max(0) as usize
     }
 
     /// Writes a place at the next scan boundary; answers once applied.
@@ -426,6 +541,8 @@ impl Runtime {
         }
         engine.set_store_status(health.retain_lost(), health.ok());
         let (tx, rx) = mpsc::sync_channel(REQUEST_QUEUE);
+        let depth = Arc::new(Depth::default());
+        let worker_depth = depth.clone();
         let first = Arc::new(Snapshot {
             program: program.clone(),
             memory: engine.memory().clone(),
@@ -441,17 +558,23 @@ impl Runtime {
             fault: None,
             stats: Stats::default(),
             minor_faults: 0,
-            power: None,
+            // Room for the power flow, so that turning monitoring on
+            // allocates nothing in the recycled copies.
+            power: Vec::with_capacity(program.elements.len().div_ceil(64)),
+            monitored: false,
             forces: Arc::new(Vec::new()),
         });
-        let (snap_tx, snap_rx) = watch::channel(first);
+        let (publisher, latest, snap_rx) = publish::Publisher::start(first).map_err(|source| StartError::Thread {
+            what: "publish",
+            source,
+        })?;
         let saver = match &opts.retain_file {
-            Some(p) => Some(Saver::start(p.clone(), health.clone())?),
+            Some(p) => Some(Saver::start(p.clone(), health.clone(), latest.clone())?),
             None => None,
         };
         let state = Worker {
-            retained: retain::retained(&program),
             saver,
+            save_due: false,
             engine,
             io,
             opts,
@@ -461,17 +584,19 @@ impl Runtime {
             forces: Arc::new(Vec::new()),
             watchers: 0,
             power_fresh: false,
-            snapshots: snap_tx,
+            publisher,
             epoch: Instant::now(),
             last_retain: Instant::now(),
         };
         let thread = std::thread::Builder::new()
             .name("alba-engine".into())
-            .spawn(move || state.run(rx))
+            .spawn(move || state.run(rx, worker_depth))
             .map_err(|source| StartError::Thread { what: "engine", source })?;
         Ok(Runtime {
             handle: Handle {
                 tx,
+                depth,
+                latest,
                 snapshots: snap_rx,
                 health,
             },
@@ -536,16 +661,17 @@ struct Worker {
     watchers: u32,
     /// The power flow was computed by the last scan.
     power_fresh: bool,
-    retained: Vec<(String, Place)>,
     saver: Option<Saver>,
-    snapshots: watch::Sender<Arc<Snapshot>>,
+    /// Retentive data is saved from the next publication.
+    save_due: bool,
+    publisher: publish::Publisher,
     /// Zero of the engine clock.
     epoch: Instant,
     last_retain: Instant,
 }
 
 impl Worker {
-    fn run(mut self, rx: mpsc::Receiver<(Req, Option<Reply>)>) {
+    fn run(mut self, rx: mpsc::Receiver<(Req, Option<Reply>)>, depth: Arc<Depth>) {
         for w in self.opts.realtime.apply() {
             eprintln!("warning: {w}");
         }
@@ -565,7 +691,10 @@ impl Worker {
                     Duration::from_millis(200)
                 };
                 let (req, reply) = match rx.recv_timeout(wait) {
-                    Ok(r) => r,
+                    Ok(r) => {
+                        depth.taken();
+                        r
+                    }
                     Err(RecvTimeoutError::Timeout) => {
                         if self.state == RunState::Running {
                             break;
@@ -597,6 +726,9 @@ impl Worker {
             }
             let started = Instant::now();
             let late = started.saturating_duration_since(deadline);
+            if let Some(log) = &self.opts.scan_log {
+                log.scan(late);
+            }
             self.scan(late);
             // Next deadline; missed ones are counted and skipped.
             deadline += period;
@@ -604,6 +736,9 @@ impl Worker {
             if now > deadline {
                 let missed = (now - deadline).as_nanos() / period.as_nanos() + 1;
                 self.stats.overruns += missed as u64;
+                if let Some(log) = &self.opts.scan_log {
+                    log.missed(missed as u64);
+                }
                 deadline += period * missed as u32;
             }
             if self.saver.is_some() && self.last_retain.elapsed() >= Duration::from_millis(self.opts.retain_interval_ms)
@@ -774,7 +909,6 @@ impl Worker {
             },
             Req::Replace(p) => {
                 self.engine.replace(p.clone()).map_err(Error::Rejected)?;
-                self.retained = retain::retained(&p);
                 let layout = &p.layout;
                 // Forces follow their names into the new layout.
                 let fs = self
@@ -812,44 +946,52 @@ impl Worker {
         }
     }
 
+    /// Publishes the engine's state into a recycled snapshot (no allocation
+    /// in steady state: the buffers keep their sizes), then has retentive
+    /// data saved from it if a save is due.
     fn publish(&mut self) {
-        let power = self
-            .engine
-            .power_flow()
-            .filter(|_| self.power_fresh)
-            .map(|pf| Arc::new(pf.words().to_vec()));
-        let snap = Snapshot {
-            program: self.engine.shared_program(),
-            memory: self.engine.memory().clone(),
-            scans: self.engine.scans(),
-            clock_ms: self.clock_ms(),
-            unix_ms: unix_ms(),
-            state: self.state,
-            fault: self.fault.clone(),
-            stats: self.stats,
-            minor_faults: self.engine.faults().count,
-            power,
-            forces: self.forces.clone(),
-        };
-        self.snapshots.send_replace(Arc::new(snap));
+        let clock_ms = self.clock_ms();
+        let Worker {
+            engine,
+            state,
+            fault,
+            stats,
+            forces,
+            power_fresh,
+            publisher,
+            ..
+        } = self;
+        publisher.publish(|s| {
+            s.program = engine.shared_program();
+            s.memory.clone_from(engine.memory());
+            s.scans = engine.scans();
+            s.clock_ms = clock_ms;
+            s.unix_ms = unix_ms();
+            s.state = *state;
+            s.fault.clone_from(fault);
+            s.stats = *stats;
+            s.minor_faults = engine.faults().count;
+            s.power.clear();
+            if let Some(pf) = engine.power_flow().filter(|_| *power_fresh) {
+                s.power.extend_from_slice(pf.words());
+            }
+            s.monitored = engine.power_flow().is_some() && *power_fresh;
+            s.forces = forces.clone();
+        });
+        if std::mem::take(&mut self.save_due)
+            && let Some(saver) = &self.saver
+        {
+            saver.wake();
+        }
     }
 
-    /// Hands the retained values to the saver thread (the file is written
-    /// there, so an fsync never delays a scan).
+    /// Has the saver thread save the retained values of the next snapshot
+    /// (the file is written there, so an fsync never delays a scan, and the
+    /// values are read from the snapshot, so the engine copies nothing).
     fn save_retained(&mut self) {
         self.last_retain = Instant::now();
-        if self.io.runs_program() {
-            return; // the board's memory is not this runtime's to keep
-        }
-        let Some(saver) = &self.saver else { return };
-        let values: Vec<(String, Value)> = self
-            .retained
-            .iter()
-            .map(|(n, p)| (n.clone(), self.engine.read(*p)))
-            .collect();
-        if !values.is_empty() {
-            let _ = saver.tx.send(values);
-        }
+        // In attach mode the board's memory is not this runtime's to keep.
+        self.save_due = self.saver.is_some() && !self.io.runs_program();
     }
 
     fn finish(&mut self) {
@@ -858,42 +1000,82 @@ impl Worker {
             self.safe_outputs();
         }
         self.save_retained();
-        if let Some(s) = self.saver.take() {
-            drop(s.tx);
-            let _ = s.thread.join();
-        }
         self.publish();
+        // Joins the saver after that last save.
+        self.saver = None;
     }
 }
 
-/// The thread that writes the retain file: it saves the latest values it
-/// was given (atomically: an interrupted save leaves the previous file).
+/// The thread that writes the retain file: woken by the engine, it saves the
+/// retained values of the latest snapshot (atomically: an interrupted save
+/// leaves the previous file).
 struct Saver {
-    tx: mpsc::Sender<Vec<(String, Value)>>,
-    thread: JoinHandle<()>,
+    thread: Option<JoinHandle<()>>,
+    due: Arc<AtomicBool>,
+    stop: Arc<AtomicBool>,
 }
 
 impl Saver {
-    fn start(path: PathBuf, health: Arc<Health>) -> Result<Saver, StartError> {
-        let (tx, rx) = mpsc::channel::<Vec<(String, Value)>>();
+    fn start(path: PathBuf, health: Arc<Health>, latest: publish::Latest) -> Result<Saver, StartError> {
+        let due = Arc::new(AtomicBool::new(false));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (saving, stopping) = (due.clone(), stop.clone());
         let thread = std::thread::Builder::new()
             .name("alba-retain".into())
             .spawn(move || {
-                while let Ok(mut values) = rx.recv() {
-                    // Only the latest matters.
-                    while let Ok(v) = rx.try_recv() {
-                        values = v;
+                // The retained tags of the program last saved.
+                let (mut program, mut names) = (None::<Arc<Program>>, Vec::new());
+                loop {
+                    // Read before `due`: the engine asks for its last save
+                    // before it stops the thread.
+                    let stop = stopping.load(Ordering::Acquire);
+                    if saving.swap(false, Ordering::AcqRel) {
+                        let snap = latest.load_full();
+                        if program.as_ref().is_none_or(|p| !Arc::ptr_eq(p, &snap.program)) {
+                            names = retain::retained(&snap.program);
+                            program = Some(snap.program.clone());
+                        }
+                        let values: Vec<(String, Value)> =
+                            names.iter().map(|(n, p)| (n.clone(), snap.read(*p))).collect();
+                        if !values.is_empty() {
+                            match retain::save(&path, &values, unix_ms()) {
+                                Ok(()) => health.clear("retain-save"),
+                                Err(e) => health.report(
+                                    "retain-save",
+                                    format!("cannot save retentive data to {}: {e}", path.display()),
+                                ),
+                            }
+                        }
                     }
-                    match retain::save(&path, &values, unix_ms()) {
-                        Ok(()) => health.clear("retain-save"),
-                        Err(e) => health.report(
-                            "retain-save",
-                            format!("cannot save retentive data to {}: {e}", path.display()),
-                        ),
+                    if stop {
+                        return;
                     }
+                    std::thread::park();
                 }
             })
             .map_err(|source| StartError::Thread { what: "retain", source })?;
-        Ok(Saver { tx, thread })
+        Ok(Saver {
+            thread: Some(thread),
+            due,
+            stop,
+        })
+    }
+
+    fn wake(&self) {
+        self.due.store(true, Ordering::Release);
+        if let Some(t) = &self.thread {
+            t.thread().unpark();
+        }
+    }
+}
+
+impl Drop for Saver {
+    /// Ends the thread after the save asked for, if any.
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            t.thread().unpark();
+            let _ = t.join();
+        }
     }
 }

@@ -70,6 +70,12 @@ impl Realtime {
     }
 }
 
+/// Undoes `lock_memory` for the whole process (benchmarks that compare
+/// with and without it in one process).
+pub fn unlock_memory() {
+    let _ = rustix::mm::munlockall();
+}
+
 fn fifo(priority: u8) -> Result<(), String> {
     use thread_priority::{
         RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue, ThreadSchedulePolicy,

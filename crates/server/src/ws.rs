@@ -152,7 +152,7 @@ impl Client {
             ));
         }
         // Not running: nothing is energised.
-        if s.power.is_some() || s.state != alba_runtime::RunState::Running {
+        if s.power().is_some() || s.state != alba_runtime::RunState::Running {
             for name in &self.monitor {
                 let Some(unit) = s.program.units.iter().position(|u| u.name.eq_ignore_ascii_case(name)) else {
                     continue;

@@ -29,6 +29,8 @@ fn options(io: &str) -> alba_app::Options {
         opcua: None,
         mqtt: None,
         tls: alba_app::tls::Tls::Auto,
+        scan_log: None,
+        quiet: false,
     }
 }
 

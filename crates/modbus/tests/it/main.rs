@@ -371,6 +371,86 @@ async fn connection_limit_and_idle_timeout() {
     assert_eq!(regs(&ask(&mut d, &[3, 0, 0, 0, 1]).await), [0]);
 }
 
+/// A flood of Modbus clients cannot stall the scan (issue 18), asserted by
+/// counting: more clients than `max_connections` are turned away, and each
+/// accepted connection pipelines 600 FC16 writes and 600 FC3 reads in one
+/// burst, yet the engine never has more requests waiting than there are
+/// connections (a connection's thread waits for each write to be applied
+/// before it reads the next request), every request is answered in order
+/// without a single "busy" exception, and the engine scans on while the
+/// flood is served.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_modbus_flood_is_bounded_by_the_connections_and_scans_go_on() {
+    const CONNS: usize = 8;
+    const WRITES: u16 = 600;
+    let f = start("flood", |s| s.max_connections = CONNS).await;
+    let h = f.runtime.as_ref().expect("runtime").handle();
+    let mut socks = Vec::new();
+    for _ in 0..CONNS {
+        let mut s = TcpStream::connect(f.addr).await.unwrap();
+        assert_eq!(regs(&ask(&mut s, &[3, 0x20, 0, 0, 2]).await).len(), 2, "served");
+        socks.push(s);
+    }
+    // Beyond the limit: closed at once, nothing queued for them.
+    for _ in 0..4 {
+        let mut s = TcpStream::connect(f.addr).await.unwrap();
+        assert!(closed(&mut s).await);
+    }
+    assert_eq!(f.server.counters.refused.load(Ordering::Relaxed), 4);
+    let mut clients = tokio::task::JoinSet::new();
+    for (c, s) in socks.into_iter().enumerate() {
+        let h = h.clone();
+        clients.spawn(async move {
+            let (mut rd, mut wr) = s.into_split();
+            let mut burst = Vec::new();
+            for i in 0..WRITES {
+                // Speed (DINT, hr 8192-8193) := c·100000 + i, then read back.
+                let v = (c as u32 * 100_000 + u32::from(i)).to_be_bytes();
+                burst.extend(adu(2 * i, 1, &[16, 0x20, 0, 0, 2, 4, v[0], v[1], v[2], v[3]]));
+                burst.extend(adu(2 * i + 1, 1, &[3, 0x20, 0, 0, 2]));
+            }
+            let send = tokio::spawn(async move { wr.write_all(&burst).await.map(|()| wr) });
+            // The scans done when the first and the last reply came.
+            let mut scans = (0, 0);
+            for i in 0..2 * WRITES {
+                let mut hd = [0u8; 7];
+                tokio::time::timeout(Duration::from_secs(30), rd.read_exact(&mut hd))
+                    .await
+                    .expect("no reply")
+                    .expect("connection closed");
+                let len = u16::from_be_bytes([hd[4], hd[5]]) as usize;
+                let mut pdu = vec![0u8; len - 1];
+                rd.read_exact(&mut pdu).await.expect("reply body");
+                assert_eq!(u16::from_be_bytes([hd[0], hd[1]]), i, "in order");
+                assert!(pdu[0] & 0x80 == 0, "connection {c}, request {i}: exception {pdu:?}");
+                if i == 0 {
+                    scans.0 = h.snapshot().scans;
+                }
+            }
+            scans.1 = h.snapshot().scans;
+            let _keep_open = send.await.expect("sender").expect("burst sent");
+            scans
+        });
+    }
+    let (mut first, mut last, mut served) = (u64::MAX, 0, 0);
+    while let Some(r) = clients.join_next().await {
+        let (a, b) = r.expect("client");
+        (first, last, served) = (first.min(a), last.max(b), served + 1);
+    }
+    assert_eq!(served, CONNS);
+    assert_eq!(f.server.counters.exceptions.load(Ordering::Relaxed), 0);
+    assert!(
+        (1..=CONNS).contains(&h.queue_peak()),
+        "{} requests waited for the engine at once from {CONNS} connections",
+        h.queue_peak()
+    );
+    assert!(
+        last > first,
+        "no scan while {} requests were served",
+        2 * CONNS * WRITES as usize
+    );
+}
+
 #[test]
 fn bad_modbus_tags_are_reported_where_they_are_written() {
     let toml = "name = \"mb\"\nprograms = [\"main.lad\"]\n[modbus.tags]\nSped = \"hr 8192\"\n\

@@ -3,6 +3,7 @@
 //! Times are only bounded generously (the machine is shared): tests check
 //! what happened, never how fast.
 
+mod no_alloc;
 mod retain;
 
 use alba_diag::Files;
@@ -506,6 +507,7 @@ async fn a_flood_of_requests_is_bounded_and_scans_go_on() {
         "{total} requests at once and none refused: the queue is not bounded"
     );
     assert!(ok >= alba_runtime::REQUEST_QUEUE / 2, "only {ok} accepted");
+    assert!(h.queue_peak() <= alba_runtime::REQUEST_QUEUE, "{}", h.queue_peak());
     // Scans went on while the accepted ones were applied.
     let after = h.snapshot().scans;
     assert!(after > before, "no scan while {ok} requests were applied");

@@ -345,6 +345,8 @@ async fn start_with_users(dir: std::path::PathBuf) -> Server {
         opcua: None,
         mqtt: None,
         tls: alba_app::tls::Tls::Auto,
+        scan_log: None,
+        quiet: false,
     };
     let d = dir.clone();
     let task = tokio::spawn(async move {

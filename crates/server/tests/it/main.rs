@@ -92,6 +92,8 @@ impl Server {
             opcua: None,
             mqtt: None,
             tls: alba_app::tls::Tls::Auto,
+            scan_log: None,
+            quiet: false,
         };
         let d = dir.clone();
         let task = tokio::spawn(async move {
