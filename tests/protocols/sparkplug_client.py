@@ -13,14 +13,27 @@ write reaches the engine (the HTTP API reads it), a DCMD to an input is
 refused and changes nothing; an NCMD `Node Control/Rebirth` gives a new
 NBIRTH (seq 0) and DBIRTH; `kill -9` gives the NDEATH the broker held as the
 will, with the NBIRTH's bdSeq.
+
+Then with a primary host (`primary_host_id`, Sparkplug 3.0 STATE): no birth
+while the host's retained `spBv1.0/STATE/<host>` says offline; births once
+it says online; an offline STATE gives an NDEATH and no more data, a stale
+one (older timestamp) is ignored; the values written while the host is
+offline come back after its online STATE, after the new births, as DDATA
+flagged historical with their own timestamps, oldest first, none missing,
+and live data after them; the same across a `kill -9` and restart of Alba
+(the buffer is on disk).
 """
 
+import json
 import os
 import shutil
+import signal
 import sys
 import tempfile
 import threading
 import time
+
+import urllib.request
 
 import pysparkplug as sp
 
@@ -55,8 +68,25 @@ class Recorder:
             time.sleep(0.02)
         return None, None
 
-    def publish(self, topic, payload):
-        self.c.publish(topic, payload, qos=1).wait_for_publish(5)
+    def publish(self, topic, payload, retain=False):
+        self.c.publish(topic, payload, qos=1, retain=retain).wait_for_publish(5)
+
+    def since(self, k, kind=None):
+        """Messages from index k on (of one kind), as (index, topic, payload)."""
+        with self.lock:
+            return [(i, t, p) for i, (t, p) in enumerate(self.msgs[k:], start=k)
+                    if kind is None or t.split("/")[2] == kind]
+
+    def mark(self):
+        with self.lock:
+            return len(self.msgs)
+
+
+def put(http, path, value):
+    req = urllib.request.Request(http + path, data=json.dumps({"value": value}).encode(), method="PUT",
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=10) as r:
+        return json.loads(r.read())
 
 
 def metrics_by_name(payload):
@@ -152,10 +182,152 @@ def main():
         if alba.poll() is None:
             alba.kill()
         broker.kill()
+    state_checks(binary, project)
     if failures:
         print(f"{len(failures)} Sparkplug check(s) failed", flush=True)
         sys.exit(1)
     print("Sparkplug B: all checks passed", flush=True)
+
+
+HOST = "scada"
+STATE = f"spBv1.0/STATE/{HOST}"
+
+
+def host_state(host, online, ts):
+    host.publish(STATE, json.dumps({"online": online, "timestamp": ts}), retain=True)
+
+
+def write_setp(http, values):
+    """Writes each value, one per scan or more (each its own snapshot)."""
+    for v in values:
+        put(http, "/api/tags/Setp", v)
+        time.sleep(0.03)
+
+
+def replayed(host, k, dbirth, setp, scans):
+    """The DDATA after index k until a live one: each (seq, Setp values,
+    Scans values, timestamps, all historical) of the historical ones, and
+    the first live one."""
+    hist, live = [], None
+    deadline = time.time() + 30
+    idx = k
+    while time.time() < deadline and live is None:
+        i, raw = host.wait("DDATA", idx + 1, timeout=5)
+        if raw is None:
+            break
+        idx = i
+        d = sp.DData.decode(raw, birth=dbirth)
+        flags = {m.is_historical for m in d.metrics}
+        if flags == {True}:
+            hist.append(d)
+        elif flags == {False}:
+            live = d
+        else:
+            check(False, f"a DDATA mixes historical and live metrics (seq {d.seq})")
+            break
+    return hist, live
+
+
+def state_checks(binary, project):
+    tmp = tempfile.mkdtemp(prefix="alba-spb-state-")
+    proj = os.path.join(tmp, "project")
+    shutil.copytree(project, proj)
+    with open(os.path.join(proj, "alba.toml"), "a") as f:
+        f.write(f'\n[mqtt]\nkeep_alive_s = 5\n[mqtt.sparkplug]\ngroup_id = "{GROUP}"\nedge_node_id = "{NODE}"\n'
+                f'primary_host_id = "{HOST}"\n')
+    port = free_port()
+    broker = start_broker(port, tmp)
+    host = Recorder(port)
+    t0 = int(time.time() * 1000)
+    host_state(host, False, t0)
+    alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+    try:
+        print("primary host STATE:", flush=True)
+        time.sleep(1.5)
+        check(not host.since(0, "NBIRTH"), "no NBIRTH while the primary host's STATE says offline")
+        mark = host.mark()
+        t1 = t0 + 1000
+        host_state(host, True, t1)
+        k, raw = host.wait("NBIRTH", mark)
+        check(raw is not None, "NBIRTH once the STATE says online")
+        k, raw = host.wait("DBIRTH", mark)
+        dbirth = sp.DBirth.decode(raw)
+        dm = metrics_by_name(dbirth)
+        setp, scans = dm["Setp"].alias, dm["Scans"].alias
+        # What was buffered before the first birth comes now, historical.
+        hist, live = replayed(host, k, dbirth, setp, scans)
+        check(live is not None, "then live DDATA")
+        # Offline: an NDEATH, then nothing.
+        mark = host.mark()
+        host_state(host, False, t1)
+        k, raw = host.wait("NDEATH", mark)
+        check(raw is not None, "an offline STATE: NDEATH")
+        time.sleep(0.3)
+        write_setp(http, range(1, 41))
+        time.sleep(0.5)
+        check(not [m for m in host.since(k + 1) if m[1].split("/")[2] in ("DDATA", "NBIRTH", "DBIRTH")],
+              "nothing published while the primary host is offline")
+        # A stale online STATE (older than the offline one that counted) changes nothing.
+        host_state(host, True, t1 - 500)
+        time.sleep(0.8)
+        check(not host.since(k + 1, "NBIRTH"), "a stale online STATE is ignored")
+        # Online again: births, the buffered values in order, then live.
+        mark = host.mark()
+        t2 = t1 + 1000
+        host_state(host, True, t2)
+        k, raw = host.wait("NBIRTH", mark)
+        check(raw is not None, "online again: NBIRTH")
+        k, raw = host.wait("DBIRTH", mark)
+        dbirth = sp.DBirth.decode(raw)
+        check(metrics_by_name(dbirth)["Setp"].value == 40, "the DBIRTH has the current value")
+        hist, live = replayed(host, k, dbirth, setp, scans)
+        check(len(hist) > 10, f"the buffered data is replayed ({len(hist)} DDATA)")
+        seqs = [dbirth.seq] + [d.seq for d in hist] + ([live.seq] if live else [])
+        check(all((b - a) % 256 == 1 for a, b in zip(seqs, seqs[1:])), "seq goes on through the replay")
+        values = [m.value for d in hist for m in d.metrics if m.alias == setp]
+        check(values == list(range(1, 41)), f"every value written while offline, in order ({values})")
+        stamps = [m.timestamp for d in hist for m in d.metrics]
+        check(stamps == sorted(stamps) and stamps and stamps[0] < dbirth.timestamp,
+              "with their own timestamps, oldest first, older than the birth")
+        counts = [m.value for d in hist for m in d.metrics if m.alias == scans]
+        check(counts == sorted(counts) and len(set(counts)) == len(counts), "Scans rises through the replay")
+        check(live is not None and all(not m.is_historical for m in live.metrics), "then live data")
+        # A stale offline STATE (older than the online one) is ignored.
+        mark = host.mark()
+        host_state(host, False, t1)
+        time.sleep(0.8)
+        check(not host.since(mark, "NDEATH"), "a stale offline STATE is ignored")
+        # Across a restart: buffered on disk by one process, sent by the next.
+        t3 = t2 + 1000
+        host_state(host, False, t3)
+        k, raw = host.wait("NDEATH", mark)
+        check(raw is not None, "offline again: NDEATH")
+        time.sleep(0.3)
+        write_setp(http, range(100, 121))
+        time.sleep(0.3)
+        alba.send_signal(signal.SIGKILL)
+        alba.wait()
+        alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+        time.sleep(0.5)
+        write_setp(http, range(121, 131))
+        mark = host.mark()
+        host_state(host, True, t3 + 1000)
+        k, raw = host.wait("NBIRTH", mark)
+        check(raw is not None, "after kill -9 and a restart: NBIRTH once online")
+        k, raw = host.wait("DBIRTH", mark)
+        dbirth = sp.DBirth.decode(raw)
+        dm = metrics_by_name(dbirth)
+        hist, live = replayed(host, k, dbirth, dm["Setp"].alias, dm["Scans"].alias)
+        values = [m.value for d in hist for m in d.metrics if m.alias == dm["Setp"].alias]
+        # Setp is not retentive: the new process starts it at 0.
+        check(values == list(range(100, 121)) + [0] + list(range(121, 131)),
+              f"both processes' values, in order ({values})")
+        stamps = [m.timestamp for d in hist for m in d.metrics]
+        check(stamps == sorted(stamps), "oldest first")
+    finally:
+        if alba.poll() is None:
+            alba.kill()
+        broker.kill()
 
 
 if __name__ == "__main__":

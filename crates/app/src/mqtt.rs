@@ -37,8 +37,8 @@ pub(crate) struct Settings {
     pub writes: bool,
     /// TLS to the broker, when `[mqtt] ca_file` is set.
     tls: Option<Arc<rustls::ClientConfig>>,
-    /// Sparkplug B (group, edge node, device) instead of JSON.
-    pub sparkplug: Option<(String, String, String)>,
+    /// Sparkplug B instead of JSON.
+    pub sparkplug: Option<crate::sparkplug::SpSettings>,
 }
 
 fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, String> {
@@ -81,12 +81,15 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         queue: cfg.queue as usize,
         writes: cfg.writes,
         tls: tls(s.dir, &cfg)?,
-        sparkplug: cfg.sparkplug.as_ref().map(|sp| {
-            let node = sp
+        sparkplug: cfg.sparkplug.as_ref().map(|sp| crate::sparkplug::SpSettings {
+            group: sp.group_id.clone(),
+            node: sp
                 .edge_node_id
                 .clone()
-                .unwrap_or_else(|| name.replace(['/', '+', '#'], "_"));
-            (sp.group_id.clone(), node, sp.device_id.clone())
+                .unwrap_or_else(|| name.replace(['/', '+', '#'], "_")),
+            device: sp.device_id.clone(),
+            primary_host: sp.primary_host_id.clone(),
+            buffer_max: u64::from(sp.buffer_max),
         }),
     }))
 }
@@ -133,15 +136,28 @@ fn tls(dir: &std::path::Path, cfg: &alba_project::config::Mqtt) -> Result<Option
     Ok(Some(Arc::new(config)))
 }
 
-/// Counters for the status line and tests.
+/// The client's counters (JSON and Sparkplug).
 #[derive(Default)]
-struct Stats {
-    connected: AtomicBool,
-    /// Set on each new connection: republish everything.
+pub(crate) struct Stats {
+    pub connected: AtomicBool,
+    /// Connections made (ConnAck received) since `alba run` started.
+    pub connects: AtomicU64,
+    /// Connections lost.
+    pub errors: AtomicU64,
+    /// JSON: set on each new connection: republish everything.
     republish: AtomicBool,
-    published: AtomicU64,
+    /// Messages handed to the client's queue (tag values, DDATA).
+    pub published: AtomicU64,
     /// Changes the full queue could not take (sent later, coalesced).
-    deferred: AtomicU64,
+    pub deferred: AtomicU64,
+    /// Sparkplug's store and forward: records waiting in the buffer, sent
+    /// from it, and lost (the oldest past the bound, unreadable, or metrics
+    /// the current birth does not have).
+    pub buffered: AtomicU64,
+    pub replayed: AtomicU64,
+    pub dropped: AtomicU64,
+    /// Records the buffer could not write (a full disk); said once.
+    pub store_errors: AtomicU64,
 }
 
 /// The client's options: id, keep-alive, credentials, TLS, and `will`.
@@ -217,12 +233,12 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
             return Err(format!("[mqtt] tags: {e}"));
         }
     }
+    let stats = Arc::new(Stats::default());
     if set.sparkplug.is_some() {
-        return crate::sparkplug::start(s, set);
+        return crate::sparkplug::start(s, set, stats);
     }
     let will = LastWill::new(format!("{}/status", set.prefix), "offline", QoS::AtLeastOnce, true);
     let (client, mut eventloop) = AsyncClient::new(options(&set, will), set.queue);
-    let stats = Arc::new(Stats::default());
     let set = Arc::new(set);
     println!(
         "mqtt: publishing to {}:{}{} under {}/",
@@ -246,6 +262,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
                 Ok(Event::Incoming(Packet::ConnAck(_))) => {
                     backoff = Duration::from_millis(100);
                     sts.connected.store(true, Ordering::Relaxed);
+                    sts.connects.fetch_add(1, Ordering::Relaxed);
                     sts.republish.store(true, Ordering::Relaxed);
                     let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "online");
                     if cfg.writes {
@@ -262,6 +279,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
                 Err(e) => {
                     if sts.connected.swap(false, Ordering::Relaxed) {
                         eprintln!("mqtt: connection lost ({e}); reconnecting");
+                        sts.errors.fetch_add(1, Ordering::Relaxed);
                     }
                     let (wait, next) = self::backoff(backoff);
                     backoff = next;

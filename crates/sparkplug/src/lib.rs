@@ -178,6 +178,12 @@ impl EdgeNode {
         s
     }
 
+    /// The last message built was not sent (the client's queue was full):
+    /// its `seq` goes to the next one, so that hosts see no gap.
+    pub fn not_sent(&mut self) {
+        self.seq = (self.seq + 255) % 256;
+    }
+
     pub fn bd_seq(&self) -> u64 {
         self.bd_seq
     }
@@ -245,30 +251,54 @@ impl EdgeNode {
         self.bd_seq = (self.bd_seq + 1) % 256;
     }
 
-    /// A DDATA of changed metrics, by alias only (names were in the DBIRTH).
-    /// A name not born yet is refused (the caller rebirths).
+    /// A DDATA of changed metrics, by alias only (names and data types were
+    /// in the DBIRTH, so neither is sent again, as Sparkplug 3.0 §6.4.5
+    /// advises). A name not born yet is refused (the caller rebirths).
     pub fn data(&mut self, now_ms: u64, changes: &[(String, Value)]) -> Option<Vec<u8>> {
         let metrics = changes
             .iter()
-            .map(|(name, v)| {
-                Some(Metric {
-                    alias: Some(*self.aliases.get(name)?),
-                    timestamp: Some(now_ms),
-                    datatype: Some(v.datatype() as u32),
-                    value: Some(v.encode()),
-                    ..Default::default()
-                })
-            })
+            .map(|(name, v)| self.data_metric(name, *v, now_ms, false))
             .collect::<Option<Vec<_>>>()?;
-        Some(
-            Payload {
-                timestamp: Some(now_ms),
-                metrics,
-                seq: Some(self.next_seq()),
-                ..Default::default()
-            }
-            .encode_to_vec(),
-        )
+        Some(self.data_payload(now_ms, metrics))
+    }
+
+    /// A DDATA of stored values (store and forward): each metric flagged
+    /// `is_historical` with the time it had the value, so a host records it
+    /// without taking it for the current value. Values of metrics the
+    /// current birth does not have, or has with another data type (the
+    /// program changed while they waited), are left out: the second member
+    /// counts them. `None` when none is left.
+    pub fn historical(&mut self, t_ms: u64, values: &[(String, Value)]) -> (Option<Vec<u8>>, usize) {
+        let metrics: Vec<Metric> = values
+            .iter()
+            .filter(|(name, v)| self.types.get(name) == Some(&(v.datatype() as u32)))
+            .filter_map(|(name, v)| self.data_metric(name, *v, t_ms, true))
+            .collect();
+        let left_out = values.len() - metrics.len();
+        if metrics.is_empty() {
+            return (None, left_out);
+        }
+        (Some(self.data_payload(t_ms, metrics)), left_out)
+    }
+
+    fn data_metric(&self, name: &str, v: Value, t_ms: u64, historical: bool) -> Option<Metric> {
+        Some(Metric {
+            alias: Some(*self.aliases.get(name)?),
+            timestamp: Some(t_ms),
+            is_historical: historical.then_some(true),
+            value: Some(v.encode()),
+            ..Default::default()
+        })
+    }
+
+    fn data_payload(&mut self, t_ms: u64, metrics: Vec<Metric>) -> Vec<u8> {
+        Payload {
+            timestamp: Some(t_ms),
+            metrics,
+            seq: Some(self.next_seq()),
+            ..Default::default()
+        }
+        .encode_to_vec()
     }
 
     /// The metrics of an NCMD/DCMD: (name, value) each, aliases resolved.
@@ -305,6 +335,106 @@ impl EdgeNode {
             _ => self.types.get(name).copied(),
         }
     }
+}
+
+/// The topic of a Sparkplug host application's `STATE` (3.0 §4.2.2).
+pub fn state_topic(host_id: &str) -> String {
+    format!("{NAMESPACE}/STATE/{host_id}")
+}
+
+/// A host application's `STATE` message: `{"online": bool, "timestamp": ms}`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HostState {
+    pub online: bool,
+    pub timestamp: u64,
+}
+
+impl HostState {
+    /// The JSON payload of a `STATE` message, or why it is not one.
+    pub fn parse(payload: &[u8]) -> Result<HostState, String> {
+        let j: serde_json::Value =
+            serde_json::from_slice(payload).map_err(|e| format!("a STATE payload is JSON ({e})"))?;
+        let online = j
+            .get("online")
+            .and_then(serde_json::Value::as_bool)
+            .ok_or("a STATE payload needs `online`: true or false")?;
+        let timestamp = j
+            .get("timestamp")
+            .and_then(serde_json::Value::as_u64)
+            .ok_or("a STATE payload needs `timestamp`: ms since 1970")?;
+        Ok(HostState { online, timestamp })
+    }
+}
+
+/// What an edge node makes of its primary host's `STATE` messages
+/// (Sparkplug 3.0 §5.3, §5.4): a message older than the last one that
+/// counted is an echo of an earlier session and changes nothing.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PrimaryHost {
+    /// Online as of the last message that counted.
+    pub online: bool,
+    /// The timestamp of the last message that counted, and of the last online one.
+    last: Option<u64>,
+    last_online: Option<u64>,
+}
+
+impl PrimaryHost {
+    /// Takes a `STATE` message; whether it counted (the host's state is now `online`).
+    pub fn update(&mut self, s: HostState) -> bool {
+        let counts = if s.online {
+            // Online: not older than any STATE before it.
+            self.last.is_none_or(|t| s.timestamp >= t)
+        } else {
+            // Offline: not older than the online message it ends (a will
+            // carries its birth's timestamp).
+            self.last_online.is_none_or(|t| s.timestamp >= t)
+        };
+        if counts {
+            self.online = s.online;
+            self.last = Some(self.last.map_or(s.timestamp, |t| t.max(s.timestamp)));
+            if s.online {
+                self.last_online = Some(s.timestamp);
+            }
+        }
+        counts
+    }
+}
+
+/// A record of the store-and-forward buffer: the values a snapshot changed
+/// and its time, as a Sparkplug payload with metric names (aliases and
+/// sequence numbers are the session's, given when it is sent).
+pub fn encode_record(t_ms: u64, values: &[(String, Value)]) -> Vec<u8> {
+    Payload {
+        timestamp: Some(t_ms),
+        metrics: values
+            .iter()
+            .map(|(name, v)| Metric {
+                name: Some(name.clone()),
+                datatype: Some(v.datatype() as u32),
+                value: Some(v.encode()),
+                ..Default::default()
+            })
+            .collect(),
+        ..Default::default()
+    }
+    .encode_to_vec()
+}
+
+/// A record written by [`encode_record`], or why the bytes are not one.
+pub fn decode_record(bytes: &[u8]) -> Result<(u64, Vec<(String, Value)>), String> {
+    let p = Payload::decode(bytes).map_err(|e| format!("not a buffered record: {e}"))?;
+    let values = p
+        .metrics
+        .iter()
+        .map(|m| {
+            let name = m.name.clone().ok_or("a buffered metric without a name")?;
+            let (Some(t), Some(v)) = (m.datatype, &m.value) else {
+                return Err(format!("buffered `{name}` without a type or a value"));
+            };
+            Ok((name, Value::decode(t, v)?))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok((p.timestamp.unwrap_or(0), values))
 }
 
 fn bd_seq_metric(v: u64) -> Metric {

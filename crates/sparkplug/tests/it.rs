@@ -2,7 +2,10 @@
 //! births, aliases, sequence numbers, death, commands.
 
 use alba_sparkplug::proto::{Metric, Payload, metric};
-use alba_sparkplug::{BD_SEQ, DataType, EdgeNode, REBIRTH, Topic, Value};
+use alba_sparkplug::{
+    BD_SEQ, DataType, EdgeNode, HostState, PrimaryHost, REBIRTH, Topic, Value, decode_record, encode_record,
+    state_topic,
+};
 use prost::Message;
 
 fn metrics() -> Vec<(String, Value)> {
@@ -149,6 +152,88 @@ fn commands_by_name_or_alias_with_or_without_a_type() {
         })
     );
     assert_eq!(Topic::parse("spBv1.0/g/DCMD/n/d/x"), None);
+}
+
+#[test]
+fn data_leaves_the_type_to_the_birth_and_an_unsent_seq_is_given_again() {
+    let mut n = EdgeNode::new("g", "n", "d");
+    n.birth(0, &metrics());
+    let d = Payload::decode(
+        n.data(5, &[("Level".into(), Value::Int16(3))])
+            .expect("born")
+            .as_slice(),
+    )
+    .expect("ddata");
+    assert_eq!(
+        (d.seq, d.metrics[0].datatype, d.metrics[0].is_historical),
+        (Some(2), None, None)
+    );
+    n.not_sent();
+    let d = Payload::decode(
+        n.data(6, &[("Level".into(), Value::Int16(4))])
+            .expect("born")
+            .as_slice(),
+    )
+    .expect("ddata");
+    assert_eq!(d.seq, Some(2), "the queue did not take seq 2: the next message has it");
+}
+
+#[test]
+fn stored_values_go_as_historical_data_with_their_time() {
+    let record = encode_record(1234, &metrics());
+    assert_eq!(decode_record(&record), Ok((1234, metrics())));
+    assert!(decode_record(b"\xff\x01").is_err());
+    let mut n = EdgeNode::new("g", "n", "d");
+    n.birth(2000, &metrics()[..3]);
+    // `Speed` is not in this birth, `Level` is born with another type: left out.
+    let (p, left_out) = n.historical(
+        1234,
+        &[
+            ("Start".into(), Value::Bool(false)),
+            ("Level".into(), Value::Int32(1)),
+            ("Speed".into(), Value::Float(1.0)),
+        ],
+    );
+    assert_eq!(left_out, 2);
+    let p = Payload::decode(p.expect("one left").as_slice()).expect("ddata");
+    assert_eq!((p.timestamp, p.seq), (Some(1234), Some(2)));
+    let m = &p.metrics[0];
+    assert_eq!(
+        (m.alias, m.timestamp, m.is_historical, m.value.clone()),
+        (
+            Some(0),
+            Some(1234),
+            Some(true),
+            Some(metric::Value::BooleanValue(false))
+        )
+    );
+    assert_eq!(n.historical(1, &[("Speed".into(), Value::Float(1.0))]), (None, 1));
+}
+
+#[test]
+fn the_primary_hosts_state_counts_unless_it_is_older() {
+    assert_eq!(state_topic("scada"), "spBv1.0/STATE/scada");
+    let s = |online, timestamp| HostState { online, timestamp };
+    assert_eq!(
+        HostState::parse(br#"{"online": true, "timestamp": 17}"#),
+        Ok(s(true, 17))
+    );
+    for bad in [
+        &b"ONLINE"[..],
+        br#"{"online": "yes", "timestamp": 1}"#,
+        br#"{"online": true}"#,
+    ] {
+        assert!(HostState::parse(bad).is_err(), "{bad:?}");
+    }
+    let mut h = PrimaryHost::default();
+    // The first message counts whatever its time.
+    assert!(h.update(s(false, 100)) && !h.online);
+    assert!(!h.update(s(true, 50)), "an online older than the last STATE is stale");
+    assert!(h.update(s(true, 200)) && h.online);
+    // A will carries its birth's timestamp: equal counts, older does not.
+    assert!(!h.update(s(false, 150)) && h.online);
+    assert!(h.update(s(false, 200)) && !h.online);
+    assert!(h.update(s(true, 300)) && h.online);
 }
 
 proptest::proptest! {

@@ -45,7 +45,15 @@ pub struct Sparkplug {
     pub edge_node_id: Option<String>,
     /// The one device that holds the tags; default `plc`.
     pub device_id: String,
+    /// The Sparkplug host id of the primary host application: publish only
+    /// while its `STATE` says online, buffering on disk meanwhile.
+    pub primary_host_id: Option<String>,
+    /// Records (one per snapshot with changes) the store-and-forward buffer
+    /// holds at most; past it the oldest are dropped (counted).
+    pub buffer_max: u32,
 }
+
+pub const DEFAULT_BUFFER_MAX: u32 = 1_000_000;
 
 pub const DEFAULT_KEEP_ALIVE_S: u32 = 30;
 pub const DEFAULT_QUEUE: u32 = 10_000;
@@ -97,6 +105,8 @@ pub(super) struct RawSparkplug {
     group_id: Option<Spanned<String>>,
     edge_node_id: Option<Spanned<String>>,
     device_id: Option<Spanned<String>>,
+    primary_host_id: Option<Spanned<String>>,
+    buffer_max: Option<Spanned<i64>>,
 }
 
 /// A Sparkplug id: it goes into topics, so no `/`, `+`, `#`, not empty.
@@ -115,7 +125,16 @@ pub fn is_host_port(s: &str) -> bool {
 }
 
 /// Validates `[mqtt]`.
-pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqtt {
+pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqtt {
+    let buffer_max = int_setting(
+        "buffer_max",
+        m.sparkplug.as_mut().and_then(|sp| sp.buffer_max.take()),
+        10..=100_000_000,
+        DEFAULT_BUFFER_MAX,
+        "records",
+        file,
+        diags,
+    );
     let mut bad = |s: &Spanned<String>, msg: String, label: &str| {
         diags.push(Diagnostic::new(
             Code::ConfigField,
@@ -174,7 +193,10 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
         );
     }
     let sparkplug = m.sparkplug.map(|sp| {
-        for id in [&sp.group_id, &sp.edge_node_id, &sp.device_id].into_iter().flatten() {
+        for id in [&sp.group_id, &sp.edge_node_id, &sp.device_id, &sp.primary_host_id]
+            .into_iter()
+            .flatten()
+        {
             if !sparkplug_id(id.get_ref()) {
                 bad(
                     id,
@@ -187,6 +209,8 @@ pub(super) fn mqtt(m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) -> Mqt
             group_id: sp.group_id.map_or_else(|| "alba".into(), |g| g.into_inner()),
             edge_node_id: sp.edge_node_id.map(|n| n.into_inner()),
             device_id: sp.device_id.map_or_else(|| "plc".into(), |d| d.into_inner()),
+            primary_host_id: sp.primary_host_id.map(|h| h.into_inner()),
+            buffer_max,
         }
     });
     let qos = int_setting("qos", m.qos, 0..=2, 1, "", file, diags) as u8;

@@ -556,6 +556,33 @@ fn mqtt_and_alarms_tables() {
 }
 
 #[test]
+fn mqtt_sparkplug_table() {
+    let head = "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n[mqtt.sparkplug]\n";
+    let sp = parse(head).unwrap().mqtt.unwrap().sparkplug.unwrap();
+    assert_eq!(
+        (
+            sp.group_id.as_str(),
+            sp.edge_node_id,
+            sp.device_id.as_str(),
+            sp.primary_host_id,
+            sp.buffer_max
+        ),
+        ("alba", None, "plc", None, 1_000_000)
+    );
+    let sp = parse(&format!("{head}primary_host_id = \"scada\"\nbuffer_max = 5000\n"))
+        .unwrap()
+        .mqtt
+        .unwrap()
+        .sparkplug
+        .unwrap();
+    assert_eq!((sp.primary_host_id.as_deref(), sp.buffer_max), (Some("scada"), 5000));
+    for bad in ["primary_host_id = \"a/b\"", "buffer_max = 1", "group_id = \"\""] {
+        let e = parse(&format!("{head}{bad}\n")).unwrap_err();
+        assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
+    }
+}
+
+#[test]
 fn opcua_servers_and_their_bindings() {
     let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
     let c = parse(&format!(
