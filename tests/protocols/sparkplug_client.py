@@ -8,11 +8,13 @@ Usage: sparkplug_client.py ALBA_BINARY PROJECT_DIR
 Checks (docs/scale-out.md "Sparkplug B"): NBIRTH with seq 0, bdSeq and
 `Node Control/Rebirth`; DBIRTH with every tag as a metric with its name,
 alias, Sparkplug data type and value; DDATA by alias, decoded with the
-birth, with `seq` counting on from the DBIRTH and wrapping 255 -> 0; a DCMD
-write reaches the engine (the HTTP API reads it), a DCMD to an input is
-refused and changes nothing; an NCMD `Node Control/Rebirth` gives a new
+birth, with `seq` counting on from the DBIRTH and wrapping 255 -> 0; a
+device of its own (`[mqtt.sparkplug.devices]`) with its DBIRTH, DDATA and
+DCMD (a DCMD for its metric on another device refused); a DCMD write
+reaches the engine (the HTTP API reads it), a DCMD to an input is refused
+and changes nothing; an NCMD `Node Control/Rebirth` gives a new
 NBIRTH (seq 0) and DBIRTH; `kill -9` gives the NDEATH the broker held as the
-will, with the NBIRTH's bdSeq.
+will, with the NBIRTH's bdSeq, and the next run's NBIRTH the next bdSeq.
 
 Then with a primary host (`primary_host_id`, Sparkplug 3.0 STATE): no birth
 while the host's retained `spBv1.0/STATE/<host>` says offline; births once
@@ -28,6 +30,7 @@ import json
 import os
 import shutil
 import signal
+import subprocess
 import sys
 import tempfile
 import threading
@@ -58,12 +61,13 @@ class Recorder:
         with self.lock:
             self.msgs.append((m.topic, bytes(m.payload)))
 
-    def wait(self, kind, after=0, timeout=10, pred=lambda p: True):
+    def wait(self, kind, after=0, timeout=10, pred=lambda p: True, device=None):
         deadline = time.time() + timeout
         while time.time() < deadline:
             with self.lock:
                 for k, (t, p) in enumerate(self.msgs[after:], start=after):
-                    if t.split("/")[2] == kind and pred(p):
+                    parts = t.split("/")
+                    if parts[2] == kind and (device is None or parts[4:] == [device]) and pred(p):
                         return k, p
             time.sleep(0.02)
         return None, None
@@ -99,7 +103,8 @@ def main():
     proj = os.path.join(tmp, "project")
     shutil.copytree(project, proj)
     with open(os.path.join(proj, "alba.toml"), "a") as f:
-        f.write(f'\n[mqtt]\nkeep_alive_s = 5\n[mqtt.sparkplug]\ngroup_id = "{GROUP}"\nedge_node_id = "{NODE}"\n')
+        f.write(f'\n[mqtt]\nkeep_alive_s = 5\n[mqtt.sparkplug]\ngroup_id = "{GROUP}"\nedge_node_id = "{NODE}"\n'
+                f'[mqtt.sparkplug.devices]\nmotion = ["Motor", "Speed"]\n')
     port = free_port()
     broker = start_broker(port, tmp)
     host = Recorder(port)
@@ -113,17 +118,24 @@ def main():
         check("bdSeq" in nm and nm["bdSeq"].datatype == sp.DataType.INT64, "NBIRTH has bdSeq (Int64)")
         check(nm.get("Node Control/Rebirth") is not None and nm["Node Control/Rebirth"].value is False,
               "NBIRTH has Node Control/Rebirth = false")
-        k, raw = host.wait("DBIRTH", k)
+        check(nm["bdSeq"].value == 0, "bdSeq 0 on a project's first run")
+        # [mqtt.sparkplug.devices]: motion has Motor and Speed, the default device the rest.
+        km, raw = host.wait("DBIRTH", k, device="motion")
+        mbirth = sp.DBirth.decode(raw)
+        mm = metrics_by_name(mbirth)
+        check(mbirth.seq == 1 and set(mm) == {"Motor", "Speed"}, f"DBIRTH of device motion, seq 1: {sorted(mm)}")
+        k, raw = host.wait("DBIRTH", k, device=DEVICE)
         dbirth = sp.DBirth.decode(raw)
         dm = metrics_by_name(dbirth)
-        check(dbirth.seq == 1, f"DBIRTH seq 1 ({dbirth.seq})")
+        check(dbirth.seq == 2, f"then DBIRTH of device {DEVICE}, seq 2 ({dbirth.seq})")
+        check(not set(mm) & set(dm), "a metric is in one device only")
         for name, dtype in [("Start", sp.DataType.BOOLEAN), ("Setp", sp.DataType.INT16), ("Total", sp.DataType.INT32),
                             ("Delay/ACC", sp.DataType.INT32), ("Delay/DN", sp.DataType.BOOLEAN)]:
             m = dm.get(name)
             check(m is not None and m.datatype == dtype and m.alias is not None,
                   f"DBIRTH metric {name}: {dtype.name} with an alias ({m and m.datatype}, {m and m.alias})")
-        aliases = [m.alias for m in dbirth.metrics]
-        check(len(set(aliases)) == len(aliases), "aliases are unique")
+        aliases = [m.alias for m in dbirth.metrics + mbirth.metrics]
+        check(len(set(aliases)) == len(aliases), "aliases are unique in the node")
         # DDATA: by alias, decoded with the birth; seq continues and wraps.
         seqs = [dbirth.seq]
         idx = k
@@ -131,7 +143,7 @@ def main():
         scans_seen = []
         deadline = time.time() + 30
         while time.time() < deadline and len(seqs) < 300:
-            idx2, raw = host.wait("DDATA", idx + 1, timeout=5)
+            idx2, raw = host.wait("DDATA", idx + 1, timeout=5, device=DEVICE)
             if raw is None:
                 break
             idx = idx2
@@ -150,9 +162,22 @@ def main():
         while time.time() < deadline and api(http, "/api/tags/Setp")["value"] != 321:
             time.sleep(0.05)
         check(api(http, "/api/tags/Setp")["value"] == 321, "a DCMD write reaches the engine")
-        k, raw = host.wait("DDATA", idx, pred=lambda p: any(
+        k, raw = host.wait("DDATA", idx, device=DEVICE, pred=lambda p: any(
             m.alias == dm["Setp"].alias and m.value == 321 for m in sp.DData.decode(p, birth=dbirth).metrics))
         check(raw is not None, "and comes back in a DDATA")
+        # A device's own DCMD and DDATA.
+        cmd = sp.DCmd(timestamp=sp.get_current_timestamp(),
+                      metrics=(sp.Metric(timestamp=None, name="Speed", datatype=sp.DataType.INT32, value=77),))
+        host.publish(f"{BASE}/DCMD/{NODE}/motion", cmd.encode())
+        k, raw = host.wait("DDATA", idx, device="motion", pred=lambda p: any(
+            m.alias == mm["Speed"].alias and m.value == 77 for m in sp.DData.decode(p, birth=mbirth).metrics))
+        check(raw is not None and api(http, "/api/tags/Speed")["value"] == 77,
+              "a DCMD to device motion writes Speed; its DDATA comes on motion's topic")
+        cmd = sp.DCmd(timestamp=sp.get_current_timestamp(),
+                      metrics=(sp.Metric(timestamp=None, name="Speed", datatype=sp.DataType.INT32, value=5),))
+        host.publish(f"{BASE}/DCMD/{NODE}/{DEVICE}", cmd.encode())
+        time.sleep(0.5)
+        check(api(http, "/api/tags/Speed")["value"] == 77, f"a DCMD to {DEVICE} for motion's Speed is refused")
         cmd = sp.DCmd(timestamp=sp.get_current_timestamp(),
                       metrics=(sp.Metric(timestamp=None, name="Start", datatype=sp.DataType.BOOLEAN, value=True),))
         host.publish(f"{BASE}/DCMD/{NODE}/{DEVICE}", cmd.encode())
@@ -166,7 +191,7 @@ def main():
         host.publish(f"{BASE}/NCMD/{NODE}", ncmd.encode())
         k, raw = host.wait("NBIRTH", mark)
         check(raw is not None and sp.NBirth.decode(raw).seq == 0, "NCMD Rebirth: a new NBIRTH with seq 0")
-        k, raw = host.wait("DBIRTH", mark)
+        k, raw = host.wait("DBIRTH", mark, device=DEVICE)
         check(raw is not None and metrics_by_name(sp.DBirth.decode(raw))["Setp"].value == 321,
               "and a DBIRTH with the current values")
         # kill -9: NDEATH with the NBIRTH's bdSeq.
@@ -178,15 +203,35 @@ def main():
         if raw is not None:
             death = sp.NDeath.decode(raw).bd_seq_metric
             check(death.name == "bdSeq" and death.value == nm["bdSeq"].value, "NDEATH carries the NBIRTH's bdSeq")
+        # bdSeq is kept across restarts (.alba/sparkplug.json): the next run's NBIRTH has the next one.
+        mark = len(host.msgs)
+        alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+        k, raw = host.wait("NBIRTH", mark)
+        check(raw is not None and metrics_by_name(sp.NBirth.decode(raw))["bdSeq"].value == nm["bdSeq"].value + 1,
+              "after a restart, the NBIRTH's bdSeq is the last one's + 1")
     finally:
         if alba.poll() is None:
             alba.kill()
         broker.kill()
+    bad_devices(binary, project)
     state_checks(binary, project)
     if failures:
         print(f"{len(failures)} Sparkplug check(s) failed", flush=True)
         sys.exit(1)
     print("Sparkplug B: all checks passed", flush=True)
+
+
+def bad_devices(binary, project):
+    """A tag in two devices, or a name no tag has: `alba run` says so and stops."""
+    for devices, want in [('a = ["Speed"]\nb = ["Speed"]', "`Speed` is in both a and b"),
+                          ('a = ["Nope"]', "`Nope` is not a published tag")]:
+        proj = os.path.join(tempfile.mkdtemp(prefix="alba-spb-bad-"), "project")
+        shutil.copytree(project, proj)
+        with open(os.path.join(proj, "alba.toml"), "a") as f:
+            f.write(f'\n[mqtt]\nbroker = "127.0.0.1:{free_port()}"\n[mqtt.sparkplug]\n[mqtt.sparkplug.devices]\n{devices}\n')
+        r = subprocess.run([binary, "run", proj, "--http", "127.0.0.1:0", "--no-native"], capture_output=True,
+                           text=True, timeout=60)
+        check(r.returncode != 0 and want in r.stderr, f"{want}: alba run stops ({r.returncode}, {r.stderr.strip()})")
 
 
 HOST = "scada"

@@ -88,6 +88,7 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
                 .clone()
                 .unwrap_or_else(|| name.replace(['/', '+', '#'], "_")),
             device: sp.device_id.clone(),
+            devices: sp.devices.clone(),
             primary_host: sp.primary_host_id.clone(),
             buffer_max: u64::from(sp.buffer_max),
         }),
@@ -207,17 +208,20 @@ pub(crate) async fn goodbye(
     .await;
 }
 
+/// Whether the value `name` is the tag `tag` or one of its members (any case).
+pub(crate) fn is_of(name: &str, tag: &str) -> bool {
+    name.eq_ignore_ascii_case(tag)
+        || (name.len() > tag.len()
+            && name.as_bytes()[tag.len()] == b'.'
+            && name.is_char_boundary(tag.len())
+            && name[..tag.len()].eq_ignore_ascii_case(tag))
+}
+
 /// The tags a client publishes: every value of the layout, or those `tags` names (and their members).
 pub(crate) fn published(layout: &alba_ir::Layout, tags: &[String]) -> Vec<(String, alba_ir::Place)> {
     let mut places = alba_server::tags::every_value(layout);
     if !tags.is_empty() {
-        places.retain(|(n, _)| {
-            let n = n.to_ascii_lowercase();
-            tags.iter().any(|t| {
-                let t = t.to_ascii_lowercase();
-                n == t || n.starts_with(&format!("{t}."))
-            })
-        });
+        places.retain(|(n, _)| tags.iter().any(|t| is_of(n, t)));
     }
     places
 }
@@ -315,16 +319,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
             }
             let snap = rx.borrow_and_update().clone();
             if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
-                places = alba_server::tags::every_value(&snap.program.layout);
-                if !set.tags.is_empty() {
-                    places.retain(|(n, _)| {
-                        set.tags.iter().any(|t| {
-                            n.eq_ignore_ascii_case(t)
-                                || n.to_ascii_lowercase()
-                                    .starts_with(&format!("{}.", t.to_ascii_lowercase()))
-                        })
-                    });
-                }
+                places = published(&snap.program.layout, &set.tags);
                 program = Some(snap.program.clone());
             }
             if !stats.connected.load(Ordering::Relaxed) {

@@ -1,12 +1,14 @@
 //! `[mqtt.sparkplug]`: `alba run` as a Sparkplug B 3.0 edge node
 //! (docs/scale-out.md "Sparkplug B"). The node `spBv1.0/<group>/…/<node>`
-//! has one device holding every published tag as a metric (members as
-//! `Tag/MEMBER`). On each connection: NBIRTH (bdSeq, `Node Control/Rebirth`)
-//! then DBIRTH (every metric with name, alias, type, value), `seq` from 0
-//! wrapping at 255; changes as DDATA by alias, one message per snapshot; the
-//! NDEATH registered as the connection's last will carries the same bdSeq,
-//! which grows by one per connection. NCMD `Node Control/Rebirth = true`
-//! sends the births again; DCMD writes metrics with the HTTP API's rules.
+//! has the devices of `[mqtt.sparkplug.devices]` and a default device with
+//! the other published tags, each tag a metric (members as `Tag/MEMBER`).
+//! On each connection: NBIRTH (bdSeq, `Node Control/Rebirth`) then a DBIRTH
+//! per device (every metric with name, alias, type, value), `seq` from 0
+//! wrapping at 255; changes as DDATA by alias, one message per device and
+//! snapshot; the NDEATH registered as the connection's last will carries the
+//! same bdSeq, which grows by one per connection and is kept across runs in
+//! `.alba/sparkplug.json`. NCMD `Node Control/Rebirth = true` sends the
+//! births again; DCMD writes a device's metrics with the HTTP API's rules.
 //!
 //! With `primary_host_id` the node is born only while that host's
 //! `spBv1.0/STATE/<host>` says it is online; an offline STATE makes it send
@@ -18,7 +20,7 @@
 
 mod store;
 
-use crate::mqtt::{Settings, Stats, backoff, goodbye, options, published, write};
+use crate::mqtt::{Settings, Stats, backoff, goodbye, is_of, options, published, write};
 use crate::{Service, Started};
 use alba_model::Value;
 use alba_sparkplug::{EdgeNode, HostState, PrimaryHost, REBIRTH, Value as SpValue};
@@ -36,6 +38,8 @@ pub(crate) struct SpSettings {
     pub group: String,
     pub node: String,
     pub device: String,
+    /// Devices of their own and their tags; the rest is in `device`.
+    pub devices: Vec<(String, Vec<String>)>,
     pub primary_host: Option<String>,
     pub buffer_max: u64,
 }
@@ -79,6 +83,64 @@ fn metric_name(tag: &str) -> String {
     tag.replace('.', "/")
 }
 
+/// The published values of `layout` by device, each as (metric name,
+/// place): the devices of `[mqtt.sparkplug.devices]` in their order, then
+/// the default device with the rest (left out when nothing is left). A name
+/// listed by no tag is left out here; [`check_devices`] refuses it at start.
+fn by_device(
+    layout: &alba_ir::Layout,
+    set: &Settings,
+    sp: &SpSettings,
+) -> Vec<(String, Vec<(String, alba_ir::Place)>)> {
+    let mut rest = published(layout, &set.tags);
+    let mut out = Vec::new();
+    for (device, tags) in &sp.devices {
+        let (mine, others) = rest.into_iter().partition(|(n, _)| tags.iter().any(|t| is_of(n, t)));
+        rest = others;
+        out.push((device.clone(), named(mine)));
+    }
+    if !rest.is_empty() || out.is_empty() {
+        out.push((sp.device.clone(), named(rest)));
+    }
+    out
+}
+
+fn named(places: Vec<(String, alba_ir::Place)>) -> Vec<(String, alba_ir::Place)> {
+    places.into_iter().map(|(n, p)| (metric_name(&n), p)).collect()
+}
+
+/// `[mqtt.sparkplug.devices]` against the program: every name a published
+/// tag, in one device only, no device twice or the default one again.
+fn check_devices(layout: &alba_ir::Layout, set: &Settings, sp: &SpSettings) -> Result<(), String> {
+    let published = published(layout, &set.tags);
+    let mut owner: HashMap<String, &str> = HashMap::new();
+    for (device, tags) in &sp.devices {
+        if device == &sp.device {
+            return Err(format!(
+                "[mqtt.sparkplug.devices] {device}: the default device (device_id) holds the tags no device lists"
+            ));
+        }
+        for t in tags {
+            let mine: Vec<&String> = published.iter().map(|(n, _)| n).filter(|n| is_of(n, t)).collect();
+            if mine.is_empty() {
+                return Err(format!(
+                    "[mqtt.sparkplug.devices] {device}: `{t}` is not a published tag (see [mqtt] tags)"
+                ));
+            }
+            for n in mine {
+                if let Some(other) = owner.insert(n.to_ascii_lowercase(), device)
+                    && other != device
+                {
+                    return Err(format!(
+                        "[mqtt.sparkplug.devices]: `{n}` is in both {other} and {device}"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 fn now_ms() -> u64 {
     u64::try_from(alba_server::now_ms()).unwrap_or(0)
 }
@@ -92,6 +154,49 @@ struct Session {
     /// Set by a birth: the values it carried, the publisher's new baseline.
     birth: Option<HashMap<String, SpValue>>,
     host: PrimaryHost,
+    /// `.alba/sparkplug.json`: the bdSeq of the latest connection, so that
+    /// the next `alba run` goes on from it.
+    bd_file: std::path::PathBuf,
+}
+
+impl Session {
+    /// The connection is over: the next one has the next bdSeq, saved
+    /// before it is registered in its will.
+    fn next_connection(&mut self) {
+        self.born = false;
+        self.node.disconnected();
+        self.save_bd_seq();
+    }
+
+    fn save_bd_seq(&self) {
+        let body = serde_json::json!({ "bd_seq": self.node.bd_seq() }).to_string();
+        if let Err(e) = alba_model::fsutil::write_atomic(&self.bd_file, |w| w.write_all(body.as_bytes())) {
+            eprintln!(
+                "mqtt: cannot save the Sparkplug bdSeq in {}: {e} (the next run may repeat it)",
+                self.bd_file.display()
+            );
+        }
+    }
+}
+
+/// The bdSeq saved by the last run, if any; a damaged file is said and ignored.
+fn load_bd_seq(path: &std::path::Path) -> Option<u64> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
+        Err(e) => {
+            eprintln!("mqtt: cannot read {}: {e}; bdSeq starts at 0", path.display());
+            return None;
+        }
+    };
+    let v = serde_json::from_str::<Json>(&text)
+        .ok()
+        .and_then(|j| j.get("bd_seq")?.as_u64())
+        .filter(|v| *v < 256);
+    if v.is_none() {
+        eprintln!("mqtt: {} is not a saved bdSeq; bdSeq starts at 0", path.display());
+    }
+    v
 }
 
 type Shared = Arc<Mutex<Session>>;
@@ -102,22 +207,24 @@ fn lock(s: &Shared) -> MutexGuard<'_, Session> {
 
 /// Publishes NBIRTH and DBIRTH with the current values; the session is born.
 /// Births and data go at QoS 0, as Sparkplug 3.0 requires.
-fn birth(s: &mut Session, client: &AsyncClient, st: &alba_server::AppState, set: &Settings) {
+fn birth(s: &mut Session, client: &AsyncClient, st: &alba_server::AppState, set: &Settings, sp: &SpSettings) {
     let snap = st.runtime.snapshot();
-    let m: Vec<(String, SpValue)> = published(&snap.program.layout, &set.tags)
+    let devices: Vec<(String, Vec<(String, SpValue)>)> = by_device(&snap.program.layout, set, sp)
         .into_iter()
-        .map(|(n, p)| (metric_name(&n), metric_value(snap.read(p))))
+        .map(|(d, m)| (d, m.into_iter().map(|(n, p)| (n, metric_value(snap.read(p)))).collect()))
         .collect();
-    let (nbirth, dbirth) = s.node.birth(now_ms(), &m);
-    let sent = client
-        .try_publish(s.node.topic("NBIRTH"), QoS::AtMostOnce, false, nbirth)
-        .and_then(|()| client.try_publish(s.node.topic("DBIRTH"), QoS::AtMostOnce, false, dbirth));
+    let (nbirth, dbirths) = s.node.birth(now_ms(), &devices);
+    let mut sent = client.try_publish(s.node.topic("NBIRTH"), QoS::AtMostOnce, false, nbirth);
+    for (device, dbirth) in dbirths {
+        sent = sent
+            .and_then(|()| client.try_publish(s.node.device_topic("DBIRTH", &device), QoS::AtMostOnce, false, dbirth));
+    }
     if let Err(e) = sent {
         eprintln!("mqtt: the births could not be queued ({e}); they go again on the next connection");
         return;
     }
     s.born = true;
-    s.birth = Some(m.into_iter().collect());
+    s.birth = Some(devices.into_iter().flat_map(|(_, m)| m).collect());
     eprintln!("mqtt: Sparkplug B node born (bdSeq {})", s.node.bd_seq());
 }
 
@@ -135,19 +242,27 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
     if let Some(st) = &store {
         stats.buffered.store(st.len(), Ordering::Relaxed);
     }
+    check_devices(&s.state.runtime.snapshot().program.layout, &set, &sp).map_err(|e| e.to_string())?;
+    let mut node = EdgeNode::new(&sp.group, &sp.node);
+    let bd_file = s.dir.join(".alba").join("sparkplug.json");
+    if let Some(last) = load_bd_seq(&bd_file) {
+        node.resume_after(last);
+    }
     let session = Arc::new(Mutex::new(Session {
-        node: EdgeNode::new(&sp.group, &sp.node, &sp.device),
+        node,
         born: false,
         birth: None,
         host: PrimaryHost::default(),
+        bd_file,
     }));
+    lock(&session).save_bd_seq();
     let death = |n: &EdgeNode| LastWill::new(n.topic("NDEATH"), n.death(now_ms()), QoS::AtLeastOnce, false);
     let (client, mut eventloop) = AsyncClient::new(options(&set, death(&lock(&session).node)), set.queue);
     println!(
-        "mqtt: Sparkplug B edge node {}/{} (device {}) on {}:{}{}",
+        "mqtt: Sparkplug B edge node {}/{} (bdSeq {}) on {}:{}{}",
         sp.group,
         sp.node,
-        sp.device,
+        lock(&session).node.bd_seq(),
         set.host,
         set.port,
         sp.primary_host
@@ -162,6 +277,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
 
     // The event loop: births on connection (or on the host's online STATE),
     // commands, back-off.
+    let spc = sp.clone();
     let (st, c, cfg, sess, woken, sts) = (
         s.state.clone(),
         client.clone(),
@@ -187,14 +303,14 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                     let mut s = lock(&sess);
                     let _ = c.try_subscribe(s.node.topic("NCMD"), QoS::AtLeastOnce);
                     if cfg.writes {
-                        let _ = c.try_subscribe(s.node.topic("DCMD"), QoS::AtLeastOnce);
+                        let _ = c.try_subscribe(s.node.device_topic("DCMD", "+"), QoS::AtLeastOnce);
                     }
                     match &state_topic {
                         // Born once the host's STATE (retained) says online.
                         Some(t) => {
                             let _ = c.try_subscribe(t.as_str(), QoS::AtLeastOnce);
                         }
-                        None => birth(&mut s, &c, &st, &cfg),
+                        None => birth(&mut s, &c, &st, &cfg, &spc),
                     }
                     drop(s);
                     woken.notify_one();
@@ -213,7 +329,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                             continue;
                         }
                         if state.online && !s.born {
-                            birth(&mut s, &c, &st, &cfg);
+                            birth(&mut s, &c, &st, &cfg, &spc);
                             drop(s);
                             woken.notify_one();
                         } else if !state.online && s.born {
@@ -235,30 +351,38 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                             continue;
                         }
                     };
-                    let (ncmd, dcmd) = {
-                        let s = lock(&sess);
-                        (s.node.topic("NCMD"), s.node.topic("DCMD"))
-                    };
-                    if p.topic == ncmd {
-                        if cmds
-                            .iter()
-                            .any(|(name, v)| name == REBIRTH && *v == SpValue::Bool(true))
+                    let topic = alba_sparkplug::Topic::parse(&p.topic);
+                    match topic.as_ref().map(|t| (t.kind.as_str(), t.device.as_deref())) {
+                        Some(("NCMD", None))
+                            if cmds
+                                .iter()
+                                .any(|(name, v)| name == REBIRTH && *v == SpValue::Bool(true)) =>
                         {
                             let mut s = lock(&sess);
                             // Not while the primary host is offline: the node waits for it.
                             if s.born {
-                                birth(&mut s, &c, &st, &cfg);
+                                birth(&mut s, &c, &st, &cfg, &spc);
                                 drop(s);
                                 woken.notify_one();
                             }
                         }
-                    } else if p.topic == dcmd {
-                        for (name, v) in cmds {
-                            let tag = name.replace('/', ".");
-                            if let Err(e) = write(&st, &cfg, &tag, &json_value(v)).await {
-                                eprintln!("mqtt: DCMD {name}: refused: {e}");
+                        Some(("DCMD", Some(device))) => {
+                            for (name, v) in cmds {
+                                // A device writes its own metrics only.
+                                let of = lock(&sess).node.device_of(&name).map(str::to_string);
+                                let result = match of {
+                                    Some(d) if d == device => {
+                                        write(&st, &cfg, &name.replace('/', "."), &json_value(v)).await
+                                    }
+                                    Some(d) => Err(format!("it is a metric of device {d}")),
+                                    None => Err("no such metric".to_string()),
+                                };
+                                if let Err(e) = result {
+                                    eprintln!("mqtt: DCMD {device} {name}: refused: {e}");
+                                }
                             }
                         }
+                        _ => {}
                     }
                 }
                 Ok(_) => {}
@@ -272,8 +396,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                     // nothing of the old session is sent again (a new birth comes first).
                     {
                         let mut s = lock(&sess);
-                        s.born = false;
-                        s.node.disconnected();
+                        s.next_connection();
                         eventloop.mqtt_options.set_last_will(death(&s.node));
                     }
                     eventloop.clean();
@@ -302,7 +425,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
     let mut closing = s.state.closing();
     tokio::spawn(async move {
         let mut program = None;
-        let mut places = Vec::new();
+        let mut devices = Vec::new();
         // What the host has (or will have, after the replay) of each metric.
         let mut last: Option<HashMap<String, SpValue>> = None;
         let mut replaying = false;
@@ -315,14 +438,23 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
             }
             let snap = rx.borrow_and_update().clone();
             if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
-                places = published(&snap.program.layout, &set.tags);
+                devices = by_device(&snap.program.layout, &set, &sp);
                 program = Some(snap.program.clone());
             }
-            let changes = |last: Option<&HashMap<String, SpValue>>| -> Vec<(String, SpValue)> {
-                places
+            let t = u64::try_from(snap.unix_ms).unwrap_or(0);
+            // Each device's values that differ from `last` (all of them without).
+            let changes = |last: Option<&HashMap<String, SpValue>>| -> Vec<(&str, Vec<(String, SpValue)>)> {
+                devices
                     .iter()
-                    .map(|(n, p)| (metric_name(n), metric_value(snap.read(*p))))
-                    .filter(|(n, v)| last.is_none_or(|l| l.get(n) != Some(v)))
+                    .map(|(d, places)| {
+                        let c = places
+                            .iter()
+                            .map(|(n, p)| (n.clone(), metric_value(snap.read(*p))))
+                            .filter(|(n, v)| last.is_none_or(|l| l.get(n) != Some(v)))
+                            .collect::<Vec<_>>();
+                        (d.as_str(), c)
+                    })
+                    .filter(|(_, c)| !c.is_empty())
                     .collect()
             };
             let mut s = lock(&session);
@@ -338,24 +470,21 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                     continue;
                 };
                 // Held: buffered from what the host last had (all of it, the first time).
-                let c = changes(last.as_ref());
-                if c.is_empty() {
-                    continue;
-                }
-                let record = alba_sparkplug::encode_record(u64::try_from(snap.unix_ms).unwrap_or(0), &c);
-                match store.push(&sp.device, &record) {
-                    Ok(dropped) => {
-                        stats.dropped.fetch_add(dropped, Ordering::Relaxed);
-                    }
-                    Err((dropped, e)) => {
-                        stats.dropped.fetch_add(dropped, Ordering::Relaxed);
-                        if stats.store_errors.fetch_add(1, Ordering::Relaxed) == 0 {
-                            eprintln!("mqtt: the store-and-forward buffer cannot be written: {e}");
+                for (device, c) in changes(last.as_ref()) {
+                    match store.push(device, &alba_sparkplug::encode_record(t, &c)) {
+                        Ok(dropped) => {
+                            stats.dropped.fetch_add(dropped, Ordering::Relaxed);
+                        }
+                        Err((dropped, e)) => {
+                            stats.dropped.fetch_add(dropped, Ordering::Relaxed);
+                            if stats.store_errors.fetch_add(1, Ordering::Relaxed) == 0 {
+                                eprintln!("mqtt: the store-and-forward buffer cannot be written: {e}");
+                            }
                         }
                     }
+                    last.get_or_insert_default().extend(c);
                 }
                 stats.buffered.store(store.len(), Ordering::Relaxed);
-                last.get_or_insert_default().extend(c);
                 continue;
             }
             if replaying && let Some(store) = store.as_mut() {
@@ -366,24 +495,22 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                 }
             }
             let Some(last) = last.as_mut() else { continue };
-            let c = changes(Some(last));
-            if c.is_empty() {
-                continue;
-            }
-            // A metric not in the birth (an online edit added a tag): a rebirth.
-            let Some(payload) = s.node.data(u64::try_from(snap.unix_ms).unwrap_or(0), &c) else {
-                birth(&mut s, &client, &st, &set);
-                continue;
-            };
-            match client.try_publish(s.node.topic("DDATA"), QoS::AtMostOnce, false, payload) {
-                Ok(()) => {
-                    stats.published.fetch_add(1, Ordering::Relaxed);
-                    last.extend(c);
-                }
-                // The queue is full: these changes go with a later snapshot.
-                Err(_) => {
-                    s.node.not_sent();
-                    stats.deferred.fetch_add(1, Ordering::Relaxed);
+            for (device, c) in changes(Some(last)) {
+                // A metric not in the birth (an online edit added a tag): a rebirth.
+                let Some(payload) = s.node.data(device, t, &c) else {
+                    birth(&mut s, &client, &st, &set, &sp);
+                    break;
+                };
+                match client.try_publish(s.node.device_topic("DDATA", device), QoS::AtMostOnce, false, payload) {
+                    Ok(()) => {
+                        stats.published.fetch_add(1, Ordering::Relaxed);
+                        last.extend(c);
+                    }
+                    // The queue is full: these changes go with a later snapshot.
+                    Err(_) => {
+                        s.node.not_sent();
+                        stats.deferred.fetch_add(1, Ordering::Relaxed);
+                    }
                 }
             }
         }
@@ -403,14 +530,14 @@ fn replay(s: &mut Session, store: &mut Store, client: &AsyncClient, stats: &Stat
         }
     };
     let mut done = None;
-    for (id, _device, record) in &batch {
+    for (id, device, record) in &batch {
         match alba_sparkplug::decode_record(record) {
             Ok((t, values)) => {
-                let (payload, left_out) = s.node.historical(t, &values);
+                let (payload, left_out) = s.node.historical(device, t, &values);
                 stats.dropped.fetch_add(left_out as u64, Ordering::Relaxed);
                 if let Some(p) = payload {
                     if client
-                        .try_publish(s.node.topic("DDATA"), QoS::AtMostOnce, false, p)
+                        .try_publish(s.node.device_topic("DDATA", device), QoS::AtMostOnce, false, p)
                         .is_err()
                     {
                         // The queue is full: the rest at the next wake.

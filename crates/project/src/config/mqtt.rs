@@ -43,8 +43,10 @@ pub struct Sparkplug {
     pub group_id: String,
     /// Default: the project's name.
     pub edge_node_id: Option<String>,
-    /// The one device that holds the tags; default `plc`.
+    /// The device that holds the tags `devices` does not place; default `plc`.
     pub device_id: String,
+    /// Devices of their own: device id → the tags (and members) it holds.
+    pub devices: Vec<(String, Vec<String>)>,
     /// The Sparkplug host id of the primary host application: publish only
     /// while its `STATE` says online, buffering on disk meanwhile.
     pub primary_host_id: Option<String>,
@@ -105,6 +107,8 @@ pub(super) struct RawSparkplug {
     group_id: Option<Spanned<String>>,
     edge_node_id: Option<Spanned<String>>,
     device_id: Option<Spanned<String>>,
+    #[serde(default)]
+    devices: std::collections::BTreeMap<Spanned<String>, Vec<Spanned<String>>>,
     primary_host_id: Option<Spanned<String>>,
     buffer_max: Option<Spanned<i64>>,
 }
@@ -196,6 +200,7 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
         for id in [&sp.group_id, &sp.edge_node_id, &sp.device_id, &sp.primary_host_id]
             .into_iter()
             .flatten()
+            .chain(sp.devices.keys())
         {
             if !sparkplug_id(id.get_ref()) {
                 bad(
@@ -209,6 +214,11 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
             group_id: sp.group_id.map_or_else(|| "alba".into(), |g| g.into_inner()),
             edge_node_id: sp.edge_node_id.map(|n| n.into_inner()),
             device_id: sp.device_id.map_or_else(|| "plc".into(), |d| d.into_inner()),
+            devices: sp
+                .devices
+                .into_iter()
+                .map(|(d, tags)| (d.into_inner(), tags.into_iter().map(Spanned::into_inner).collect()))
+                .collect(),
             primary_host_id: sp.primary_host_id.map(|h| h.into_inner()),
             buffer_max,
         }

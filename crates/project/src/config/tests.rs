@@ -569,14 +569,29 @@ fn mqtt_sparkplug_table() {
         ),
         ("alba", None, "plc", None, 1_000_000)
     );
-    let sp = parse(&format!("{head}primary_host_id = \"scada\"\nbuffer_max = 5000\n"))
+    assert!(sp.devices.is_empty());
+    let sp = parse(&format!(
+        "{head}primary_host_id = \"scada\"\nbuffer_max = 5000\n[mqtt.sparkplug.devices]\npumps = [\"P1\", \"P2\"]\nline = [\"Conveyor\"]\n"
+    ))
         .unwrap()
         .mqtt
         .unwrap()
         .sparkplug
         .unwrap();
     assert_eq!((sp.primary_host_id.as_deref(), sp.buffer_max), (Some("scada"), 5000));
-    for bad in ["primary_host_id = \"a/b\"", "buffer_max = 1", "group_id = \"\""] {
+    assert_eq!(
+        sp.devices,
+        [
+            ("line".to_string(), vec!["Conveyor".to_string()]),
+            ("pumps".to_string(), vec!["P1".to_string(), "P2".to_string()])
+        ]
+    );
+    for bad in [
+        "primary_host_id = \"a/b\"",
+        "buffer_max = 1",
+        "group_id = \"\"",
+        "devices = { \"a+b\" = [\"X\"] }",
+    ] {
         let e = parse(&format!("{head}{bad}\n")).unwrap_err();
         assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
     }
