@@ -15,6 +15,9 @@ paho-mqtt client (SPEC §10.5, docs/scale-out.md):
   it) and is audited (user `mqtt`); writes to an input, to a read-only
   member, to an unknown tag, with a bad payload are refused on
   `alba/<project>/error` and change nothing;
+- `/api/status` shows the broker link (`connections`, name `mqtt`): connected,
+  its queue's counters (published rising); after the broker restarted,
+  one more connection and the loss counted;
 - the broker restarted: Alba reconnects and publishes everything again;
 - `kill -9` of Alba: the broker sends its last will, status `offline`;
 - a "broker" that accepts the connection and never answers: Alba keeps
@@ -146,6 +149,11 @@ def publish(port, topic, payload):
     c.disconnect()
 
 
+def link(http):
+    """The broker link in /api/status."""
+    return next((c for c in api(http, "/api/status")["connections"] if c["name"] == "mqtt"), None)
+
+
 def main():
     binary, project = sys.argv[1], sys.argv[2]
     name = re.search(r'^name\s*=\s*"([^"]+)"', open(os.path.join(project, "alba.toml")).read(), re.M).group(1)
@@ -165,6 +173,12 @@ def main():
         if m:
             j = json.loads(m[1])
             check(set(j) == {"value", "ts"} and isinstance(j["ts"], int) and j["ts"] > 1.6e12, f"payload {m[1]}")
+        lk = link(http)
+        check(lk is not None and lk["protocol"] == "mqtt" and lk["connected"] and lk["ok"]
+              and lk["endpoint"] == f"127.0.0.1:{port}" and lk["connects"] == 1, f"/api/status: the broker link {lk}")
+        if lk:
+            q = lk["queue"]
+            check(q["published"] > 0 and q["dropped"] == 0 and q["capacity"] == 10000, f"its queue counters {q}")
         # A late subscriber gets the retained values (and the status).
         late = Watcher(port, f"{prefix}/#")
         r = late.wait("retained", lambda t, p, r: t == f"{prefix}/tags/Setp" and r)
@@ -206,6 +220,10 @@ def main():
               "online again after a broker restart")
         check(w.wait("republished", lambda t, p, r: t == f"{prefix}/tags/Setp" and json.loads(p)["value"] == 1234,
                      timeout=20) is not None, "every tag republished after the restart")
+        lk2 = link(http)
+        check(lk2["connected"] and lk2["connects"] == 2 and lk2["errors"] >= 1
+              and lk2["queue"]["published"] > lk["queue"]["published"],
+              f"/api/status: a reconnection, the loss counted ({lk2['connects']} connects, {lk2['errors']} errors)")
         # kill -9: the last will.
         w.clear()
         alba.send_signal(signal.SIGKILL)
@@ -229,6 +247,8 @@ def main():
         time.sleep(1.0)
         s2 = api(http, "/api/status")["scans"]
         check(s2 > s1 + 20, f"a silent broker does not stall the scan ({s1} -> {s2})")
+        lk = link(http)
+        check(lk is not None and not lk["connected"] and not lk["ok"], f"/api/status: not connected ({lk})")
     finally:
         alba.kill()
     tls_checks(binary, project)

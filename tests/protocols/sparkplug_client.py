@@ -41,7 +41,7 @@ import urllib.request
 import pysparkplug as sp
 
 sys.path.insert(0, os.path.dirname(__file__))
-from mqtt_client import api, check, client, failures, free_port, start_alba, start_broker  # noqa: E402
+from mqtt_client import api, check, client, failures, free_port, link, start_alba, start_broker  # noqa: E402
 
 GROUP, NODE, DEVICE = "plant", "line1", "plc"
 BASE = f"spBv1.0/{GROUP}"
@@ -310,6 +310,10 @@ def state_checks(binary, project):
         time.sleep(0.3)
         write_setp(http, range(1, 41))
         time.sleep(0.5)
+        lk = link(http)
+        check(lk["protocol"] == "sparkplug" and lk["connected"] and not lk["ok"]
+              and "primary host scada is offline" in (lk["last_error"] or "") and lk["queue"]["buffered"] > 40,
+              f"/api/status: connected, holding data for the primary host, records buffered ({lk})")
         check(not [m for m in host.since(k + 1) if m[1].split("/")[2] in ("DDATA", "NBIRTH", "DBIRTH")],
               "nothing published while the primary host is offline")
         # A stale online STATE (older than the offline one that counted) changes nothing.
@@ -337,6 +341,9 @@ def state_checks(binary, project):
         counts = [m.value for d in hist for m in d.metrics if m.alias == scans]
         check(counts == sorted(counts) and len(set(counts)) == len(counts), "Scans rises through the replay")
         check(live is not None and all(not m.is_historical for m in live.metrics), "then live data")
+        lk = link(http)
+        check(lk["ok"] and lk["queue"]["buffered"] == 0 and lk["queue"]["replayed"] >= len(hist)
+              and lk["queue"]["dropped"] == 0, f"/api/status: ok, the buffer empty, nothing dropped ({lk['queue']})")
         # A stale offline STATE (older than the online one) is ignored.
         mark = host.mark()
         host_state(host, False, t1)
@@ -369,6 +376,27 @@ def state_checks(binary, project):
               f"both processes' values, in order ({values})")
         stamps = [m.timestamp for d in hist for m in d.metrics]
         check(stamps == sorted(stamps), "oldest first")
+        # A bound of 10 records: the oldest are dropped, counted; the newest 10 replayed.
+        alba.kill()
+        alba.wait()
+        with open(os.path.join(proj, "alba.toml"), "a") as f:
+            f.write("buffer_max = 10\n")
+        host_state(host, False, t3 + 2000)
+        alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+        write_setp(http, range(200, 230))
+        time.sleep(0.3)
+        before = link(http)["queue"]
+        check(before["buffered"] == 10 and before["dropped"] > 20,
+              f"buffer_max = 10: 10 records kept, the oldest dropped and counted ({before})")
+        mark = host.mark()
+        host_state(host, True, t3 + 3000)
+        k, raw = host.wait("DBIRTH", mark)
+        dbirth = sp.DBirth.decode(raw)
+        dm = metrics_by_name(dbirth)
+        hist, live = replayed(host, k, dbirth, dm["Setp"].alias, dm["Scans"].alias)
+        counts = [m.value for d in hist for m in d.metrics if m.alias == dm["Scans"].alias]
+        check(len(hist) == 10 and counts == sorted(counts) and counts[-1] <= dm["Scans"].value,
+              f"the 10 newest records replayed, in order ({len(hist)}: {counts}, birth {dm['Scans'].value})")
     finally:
         if alba.poll() is None:
             alba.kill()

@@ -14,13 +14,14 @@
 //! republishes every tag on each connection (a restarted broker may have
 //! lost its retained messages).
 
-use crate::{Service, Started};
+use crate::Service;
 use alba_runtime::json::to_json;
 use rumqttc::{AsyncClient, Event, LastWill, MqttOptions, Packet, QoS};
 use serde_json::{Value as Json, json};
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Mutex, PoisonError};
 use std::time::Duration;
 
 /// What `alba run` resolved for the client.
@@ -159,6 +160,60 @@ pub(crate) struct Stats {
     pub dropped: AtomicU64,
     /// Records the buffer could not write (a full disk); said once.
     pub store_errors: AtomicU64,
+    /// Why the last connection failed or ended (cleared on a connection).
+    pub last_error: Mutex<Option<String>>,
+    /// Connected but holding data back, and why (Sparkplug: the primary
+    /// host is offline).
+    pub held: Mutex<Option<String>>,
+}
+
+impl Stats {
+    pub fn set(slot: &Mutex<Option<String>>, v: Option<String>) {
+        *slot.lock().unwrap_or_else(PoisonError::into_inner) = v;
+    }
+
+    fn get(slot: &Mutex<Option<String>>) -> Option<String> {
+        slot.lock().unwrap_or_else(PoisonError::into_inner).clone()
+    }
+}
+
+/// The broker link as `GET /api/status` shows it (`connections`, name `mqtt`).
+pub(crate) struct Link {
+    stats: Arc<Stats>,
+    protocol: &'static str,
+    endpoint: String,
+    capacity: u64,
+}
+
+impl alba_server::connections::Connections for Link {
+    fn status(&self) -> Vec<alba_server::reply::Connection> {
+        let s = &self.stats;
+        let n = |c: &AtomicU64| c.load(Ordering::Relaxed);
+        let connected = s.connected.load(Ordering::Relaxed);
+        let held = Stats::get(&s.held);
+        vec![alba_server::reply::Connection {
+            name: "mqtt".into(),
+            protocol: self.protocol.into(),
+            endpoint: self.endpoint.clone(),
+            ok: connected && held.is_none(),
+            connected,
+            connects: n(&s.connects),
+            errors: n(&s.errors),
+            last_error: if connected { held } else { Stats::get(&s.last_error) },
+            queue: Some(alba_server::reply::QueueCounters {
+                published: n(&s.published),
+                coalesced: n(&s.deferred),
+                dropped: n(&s.dropped),
+                buffered: n(&s.buffered),
+                replayed: n(&s.replayed),
+                capacity: self.capacity,
+            }),
+        }]
+    }
+
+    fn browse<'a>(&'a self, server: &'a str, _node: &'a str) -> alba_server::connections::Browsing<'a> {
+        Box::pin(async move { Err(alba_server::connections::BrowseError::UnknownServer(server.to_string())) })
+    }
 }
 
 /// The client's options: id, keep-alive, credentials, TLS, and `will`.
@@ -226,9 +281,11 @@ pub(crate) fn published(layout: &alba_ir::Layout, tags: &[String]) -> Vec<(Strin
     places
 }
 
-pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started, String> {
+/// Starts the client if `--mqtt` or `[mqtt] broker` asks for one; its link
+/// for `/api/status`.
+pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Arc<Link>>, String> {
     let Some(set) = settings(s, cli)? else {
-        return Ok(Started::Off);
+        return Ok(None);
     };
     // Names to publish: each checked now, so a typo is an error at start.
     let snapshot = s.state.runtime.snapshot();
@@ -238,8 +295,15 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
         }
     }
     let stats = Arc::new(Stats::default());
+    let link = Arc::new(Link {
+        stats: stats.clone(),
+        protocol: if set.sparkplug.is_some() { "sparkplug" } else { "mqtt" },
+        endpoint: format!("{}:{}", set.host, set.port),
+        capacity: set.queue as u64,
+    });
     if set.sparkplug.is_some() {
-        return crate::sparkplug::start(s, set, stats);
+        crate::sparkplug::start(s, set, stats)?;
+        return Ok(Some(link));
     }
     let will = LastWill::new(format!("{}/status", set.prefix), "offline", QoS::AtLeastOnce, true);
     let (client, mut eventloop) = AsyncClient::new(options(&set, will), set.queue);
@@ -267,6 +331,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
                     backoff = Duration::from_millis(100);
                     sts.connected.store(true, Ordering::Relaxed);
                     sts.connects.fetch_add(1, Ordering::Relaxed);
+                    Stats::set(&sts.last_error, None);
                     sts.republish.store(true, Ordering::Relaxed);
                     let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "online");
                     if cfg.writes {
@@ -283,8 +348,9 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
                 Err(e) => {
                     if sts.connected.swap(false, Ordering::Relaxed) {
                         eprintln!("mqtt: connection lost ({e}); reconnecting");
-                        sts.errors.fetch_add(1, Ordering::Relaxed);
                     }
+                    sts.errors.fetch_add(1, Ordering::Relaxed);
+                    Stats::set(&sts.last_error, Some(e.to_string()));
                     let (wait, next) = self::backoff(backoff);
                     backoff = next;
                     tokio::select! {
@@ -347,7 +413,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Started,
             }
         }
     });
-    Ok(Started::On)
+    Ok(Some(link))
 }
 
 /// A write from MQTT with the HTTP API's rules and its audit row (user

@@ -20,8 +20,8 @@
 
 mod store;
 
+use crate::Service;
 use crate::mqtt::{Settings, Stats, backoff, goodbye, is_of, options, published, write};
-use crate::{Service, Started};
 use alba_model::Value;
 use alba_sparkplug::{EdgeNode, HostState, PrimaryHost, REBIRTH, Value as SpValue};
 use rumqttc::{AsyncClient, Event, LastWill, Packet, QoS};
@@ -228,9 +228,9 @@ fn birth(s: &mut Session, client: &AsyncClient, st: &alba_server::AppState, set:
     eprintln!("mqtt: Sparkplug B node born (bdSeq {})", s.node.bd_seq());
 }
 
-pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result<Started, String> {
+pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result<(), String> {
     let Some(sp) = set.sparkplug.clone() else {
-        return Ok(Started::Off);
+        return Ok(());
     };
     let mut store = match &sp.primary_host {
         Some(_) => Some(Store::open(
@@ -300,6 +300,13 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                     wait = Duration::from_millis(100);
                     sts.connected.store(true, Ordering::Relaxed);
                     sts.connects.fetch_add(1, Ordering::Relaxed);
+                    Stats::set(&sts.last_error, None);
+                    if let Some(h) = &spc.primary_host {
+                        Stats::set(
+                            &sts.held,
+                            Some(format!("waiting for the primary host {h} to be online")),
+                        );
+                    }
                     let mut s = lock(&sess);
                     let _ = c.try_subscribe(s.node.topic("NCMD"), QoS::AtLeastOnce);
                     if cfg.writes {
@@ -327,6 +334,11 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                         let mut s = lock(&sess);
                         if !s.host.update(state) {
                             continue;
+                        }
+                        if state.online {
+                            Stats::set(&sts.held, None);
+                        } else if let Some(h) = &spc.primary_host {
+                            Stats::set(&sts.held, Some(format!("the primary host {h} is offline: buffering")));
                         }
                         if state.online && !s.born {
                             birth(&mut s, &c, &st, &cfg, &spc);
@@ -389,7 +401,10 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                 Err(e) => {
                     if sts.connected.swap(false, Ordering::Relaxed) && !leaving {
                         eprintln!("mqtt: connection lost ({e}); reconnecting");
+                    }
+                    if !leaving {
                         sts.errors.fetch_add(1, Ordering::Relaxed);
+                        Stats::set(&sts.last_error, Some(e.to_string()));
                     }
                     leaving = false;
                     // The next connection has the next bdSeq, in its will and its NBIRTH;
@@ -515,7 +530,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
             }
         }
     });
-    Ok(Started::On)
+    Ok(())
 }
 
 /// Sends buffered records, oldest first, as historical DDATA, as many as
