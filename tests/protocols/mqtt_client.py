@@ -22,6 +22,10 @@ paho-mqtt client (SPEC §10.5, docs/scale-out.md):
 - `kill -9` of Alba: the broker sends its last will, status `offline`;
 - a "broker" that accepts the connection and never answers: Alba keeps
   scanning (the scan count rises);
+- `[mqtt] deadband = 0.5`: a REAL moving less than 0.5 from the value last
+  published is not published, one moving more is; `publish_interval_ms =
+  200`: a tag changing every scan is published at most every 200 ms (by the
+  messages' own timestamps);
 - TLS with a client certificate (`[mqtt] ca_file`, `client_cert`,
   `client_key`) against a Mosquitto listener that requires one (certificates
   made with openssl): tags arrive; a client certificate from another CA is
@@ -102,6 +106,13 @@ def start_alba(binary, project, broker):
 
 def api(http, path):
     with urllib.request.urlopen(http + path, timeout=10) as r:
+        return json.loads(r.read())
+
+
+def put(http, path, value):
+    req = urllib.request.Request(http + path, data=json.dumps({"value": value}).encode(), method="PUT",
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=10) as r:
         return json.loads(r.read())
 
 
@@ -252,6 +263,7 @@ def main():
     finally:
         alba.kill()
     tls_checks(binary, project)
+    deadband_and_interval_checks(binary, project)
     if failures:
         print(f"{len(failures)} MQTT check(s) failed", flush=True)
         sys.exit(1)
@@ -325,6 +337,51 @@ def tls_checks(binary, project):
     finally:
         if alba and alba.poll() is None:
             alba.kill()
+        broker.kill()
+
+
+def deadband_and_interval_checks(binary, project):
+    tmp = tempfile.mkdtemp(prefix="alba-mqtt-db-")
+    proj = os.path.join(tmp, "project")
+    shutil.copytree(project, proj)
+    with open(os.path.join(proj, "alba.toml"), "a") as f:
+        f.write("publish_interval_ms = 200\ndeadband = 0.5\n")
+    name = re.search(r'^name\s*=\s*"([^"]+)"', open(os.path.join(proj, "alba.toml")).read(), re.M).group(1)
+    prefix = f"alba/{name}/tags"
+    port = free_port()
+    broker = start_broker(port, tmp)
+    alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+    w = Watcher(port, f"{prefix}/#")
+
+    def temps():
+        with w.lock:
+            return [json.loads(p)["value"] for t, p, _ in w.msgs if t == f"{prefix}/Temp"]
+
+    try:
+        print("deadband and publish interval:", flush=True)
+        put(http, "/api/tags/Temp", 10.0)
+        check(w.wait("Temp 10", lambda t, p, r: t == f"{prefix}/Temp" and json.loads(p)["value"] == 10.0)
+              is not None, "Temp 10.0 published")
+        for v in (10.3, 9.7, 10.45):
+            put(http, "/api/tags/Temp", v)
+            time.sleep(0.5)
+        check(temps()[temps().index(10.0):] == [10.0], f"moves within the deadband are not published {temps()}")
+        put(http, "/api/tags/Temp", 10.6)
+        check(w.wait("Temp 10.6", lambda t, p, r: t == f"{prefix}/Temp" and abs(json.loads(p)["value"] - 10.6) < 1e-4)
+              is not None, "a move of more than the deadband is")
+        put(http, "/api/tags/Temp", 10.2)
+        time.sleep(0.5)
+        check(abs(temps()[-1] - 10.6) < 1e-4, "measured from the value last published (10.6 -> 10.2: not published)")
+        w.clear()
+        time.sleep(2.0)
+        with w.lock:
+            ts = [json.loads(p)["ts"] for t, p, _ in w.msgs if t == f"{prefix}/Scans"]
+        gaps = [b - a for a, b in zip(ts, ts[1:])]
+        check(2 <= len(ts) <= 12 and gaps and min(gaps) >= 150,
+              f"Scans (changing every scan) published at most every 200 ms: {len(ts)} in 2 s, gaps {gaps}")
+        w.close()
+    finally:
+        alba.kill()
         broker.kill()
 
 

@@ -36,12 +36,10 @@ import tempfile
 import threading
 import time
 
-import urllib.request
-
 import pysparkplug as sp
 
 sys.path.insert(0, os.path.dirname(__file__))
-from mqtt_client import api, check, client, failures, free_port, link, start_alba, start_broker  # noqa: E402
+from mqtt_client import api, check, client, failures, free_port, link, put, start_alba, start_broker  # noqa: E402
 
 GROUP, NODE, DEVICE = "plant", "line1", "plc"
 BASE = f"spBv1.0/{GROUP}"
@@ -84,13 +82,6 @@ class Recorder:
     def mark(self):
         with self.lock:
             return len(self.msgs)
-
-
-def put(http, path, value):
-    req = urllib.request.Request(http + path, data=json.dumps({"value": value}).encode(), method="PUT",
-                                 headers={"Content-Type": "application/json"})
-    with urllib.request.urlopen(req, timeout=10) as r:
-        return json.loads(r.read())
 
 
 def metrics_by_name(payload):

@@ -15,6 +15,7 @@
 //! lost its retained messages).
 
 use crate::Service;
+use alba_model::Value;
 use alba_runtime::json::to_json;
 use rumqttc::{AsyncClient, Event, LastWill, MqttOptions, Packet, QoS};
 use serde_json::{Value as Json, json};
@@ -33,6 +34,9 @@ pub(crate) struct Settings {
     pub qos: QoS,
     keep_alive: Duration,
     pub tags: Vec<String>,
+    /// `[mqtt] publish_interval_ms` and `deadband`.
+    pub interval: Duration,
+    pub deadband: f64,
     credentials: Option<(String, String)>,
     pub queue: usize,
     pub writes: bool,
@@ -78,6 +82,8 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         },
         keep_alive: Duration::from_secs(u64::from(cfg.keep_alive_s)),
         tags: cfg.tags.clone(),
+        interval: Duration::from_millis(u64::from(cfg.publish_interval_ms)),
+        deadband: cfg.deadband,
         credentials,
         queue: cfg.queue as usize,
         writes: cfg.writes,
@@ -263,6 +269,40 @@ pub(crate) async fn goodbye(
     .await;
 }
 
+/// Whether `new` is worth publishing after `old`, the value last published:
+/// any change, and for a REAL or LREAL a move of more than `deadband`.
+pub(crate) fn worth(old: Option<Value>, new: Value, deadband: f64) -> bool {
+    match (old, new) {
+        (None, _) => true,
+        (Some(Value::Real(a)), Value::Real(b)) => moved(f64::from(a), f64::from(b), deadband),
+        (Some(Value::Lreal(a)), Value::Lreal(b)) => moved(a, b, deadband),
+        (Some(o), n) => o != n,
+    }
+}
+
+/// Whether `b` is more than `deadband` from `a`; values that are not
+/// finite move when their bits differ (a NaN after a NaN does not).
+pub(crate) fn moved(a: f64, b: f64, deadband: f64) -> bool {
+    if a.is_finite() && b.is_finite() {
+        (b - a).abs() > deadband
+    } else {
+        a.to_bits() != b.to_bits()
+    }
+}
+
+/// Waits `interval` (`[mqtt] publish_interval_ms`) before the publisher's
+/// next pass: snapshots in between coalesce in the channel. False when
+/// `alba run` is stopping.
+pub(crate) async fn pause(interval: Duration, closing: &mut tokio::sync::watch::Receiver<bool>) -> bool {
+    if interval.is_zero() {
+        return true;
+    }
+    tokio::select! {
+        _ = closing.wait_for(|c| *c) => false,
+        _ = tokio::time::sleep(interval) => true,
+    }
+}
+
 /// Whether the value `name` is the tag `tag` or one of its members (any case).
 pub(crate) fn is_of(name: &str, tag: &str) -> bool {
     name.eq_ignore_ascii_case(tag)
@@ -371,13 +411,15 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
         .await;
     });
 
-    // The publisher: changes of the published snapshots.
+    // The publisher: changes of the published snapshots, at most one pass
+    // per `publish_interval_ms`.
     let mut rx = s.state.runtime.subscribe();
     let mut closing = s.state.closing();
     tokio::spawn(async move {
         let mut program = None;
-        let mut places = Vec::new();
-        let mut last: HashMap<String, Json> = HashMap::new();
+        // Each published value: its name, its topic, its place.
+        let mut places: Vec<(String, String, alba_ir::Place)> = Vec::new();
+        let mut last: HashMap<String, Value> = HashMap::new();
         loop {
             tokio::select! {
                 _ = closing.wait_for(|c| *c) => break,
@@ -385,7 +427,10 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
             }
             let snap = rx.borrow_and_update().clone();
             if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
-                places = published(&snap.program.layout, &set.tags);
+                places = published(&snap.program.layout, &set.tags)
+                    .into_iter()
+                    .map(|(n, p)| (n.clone(), format!("{}/tags/{n}", set.prefix), p))
+                    .collect();
                 program = Some(snap.program.clone());
             }
             if !stats.connected.load(Ordering::Relaxed) {
@@ -394,13 +439,13 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
             if stats.republish.swap(false, Ordering::Relaxed) {
                 last.clear();
             }
-            for (name, place) in &places {
-                let v = to_json(snap.read(*place));
-                if last.get(name) == Some(&v) {
+            for (name, topic, place) in &places {
+                let v = snap.read(*place);
+                if !worth(last.get(name).copied(), v, set.deadband) {
                     continue;
                 }
-                let payload = json!({"value": v, "ts": snap.unix_ms}).to_string();
-                match client.try_publish(format!("{}/tags/{name}", set.prefix), set.qos, true, payload) {
+                let payload = json!({"value": to_json(v), "ts": snap.unix_ms}).to_string();
+                match client.try_publish(topic.as_str(), set.qos, true, payload) {
                     Ok(()) => {
                         stats.published.fetch_add(1, Ordering::Relaxed);
                         last.insert(name.clone(), v);
@@ -410,6 +455,9 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                         stats.deferred.fetch_add(1, Ordering::Relaxed);
                     }
                 }
+            }
+            if !pause(set.interval, &mut closing).await {
+                break;
             }
         }
     });
@@ -454,5 +502,34 @@ async fn set_tag(st: &alba_server::AppState, c: &AsyncClient, cfg: &Settings, ta
     if let Err(error) = result {
         let body = json!({"tag": tag, "error": error, "ts": alba_server::now_ms()}).to_string();
         let _ = c.try_publish(format!("{}/error", cfg.prefix), QoS::AtLeastOnce, false, body);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_deadband_is_for_reals_and_measured_from_the_last_published_value() {
+        let r = Value::Real;
+        assert!(worth(None, r(1.0), 0.5), "a first value always goes");
+        assert!(!worth(Some(r(10.0)), r(10.4), 0.5));
+        assert!(worth(Some(r(10.0)), r(10.6), 0.5));
+        assert!(worth(Some(Value::Lreal(1.0)), Value::Lreal(-1.0), 1.5));
+        assert!(!worth(Some(r(1.0)), r(1.0), 0.0));
+        assert!(worth(Some(r(1.0)), r(1.000_001), 0.0), "0: any change");
+        // Integers and BOOLs: any change, whatever the deadband.
+        assert!(worth(Some(Value::Dint(5)), Value::Dint(6), 100.0));
+        assert!(!worth(Some(Value::Bool(true)), Value::Bool(true), 0.0));
+        // Not finite: published when it changes, not again.
+        assert!(worth(Some(r(1.0)), r(f32::NAN), 1e9));
+        assert!(!worth(Some(r(f32::NAN)), r(f32::NAN), 0.0));
+        assert!(worth(Some(r(f32::INFINITY)), r(1.0), 1e9));
+    }
+
+    #[test]
+    fn a_name_is_its_tag_or_a_member() {
+        assert!(is_of("Delay.ACC", "delay") && is_of("Level", "LEVEL"));
+        assert!(!is_of("Delayed", "Delay") && !is_of("Dela", "Delay"));
     }
 }

@@ -21,7 +21,7 @@
 mod store;
 
 use crate::Service;
-use crate::mqtt::{Settings, Stats, backoff, goodbye, is_of, options, published, write};
+use crate::mqtt::{Settings, Stats, backoff, goodbye, is_of, moved, options, pause, published, write};
 use alba_model::Value;
 use alba_sparkplug::{EdgeNode, HostState, PrimaryHost, REBIRTH, Value as SpValue};
 use rumqttc::{AsyncClient, Event, LastWill, Packet, QoS};
@@ -61,6 +61,17 @@ fn metric_value(v: Value) -> SpValue {
         Value::Lint(x) => SpValue::Int64(x),
         Value::Real(x) => SpValue::Float(x),
         Value::Lreal(x) => SpValue::Double(x),
+    }
+}
+
+/// Whether `new` is worth publishing after `old` (`[mqtt] deadband`, as
+/// in JSON mode: REAL and LREAL move more than it, others change).
+fn worth(old: Option<&SpValue>, new: &SpValue, deadband: f64) -> bool {
+    match (old, new) {
+        (None, _) => true,
+        (Some(SpValue::Float(a)), SpValue::Float(b)) => moved(f64::from(*a), f64::from(*b), deadband),
+        (Some(SpValue::Double(a)), SpValue::Double(b)) => moved(*a, *b, deadband),
+        (Some(o), n) => o != n,
     }
 }
 
@@ -232,7 +243,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
     let Some(sp) = set.sparkplug.clone() else {
         return Ok(());
     };
-    let mut store = match &sp.primary_host {
+    let store = match &sp.primary_host {
         Some(_) => Some(Store::open(
             &s.dir.join(".alba").join("sparkplug-buffer.db"),
             sp.buffer_max,
@@ -433,104 +444,152 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
         goodbye(&c, eventloop, topic, false, death).await;
     });
 
-    // The publisher: one DDATA per snapshot with what changed since the
-    // birth; while not born, the changes go to the buffer (if any).
-    let st = s.state.clone();
+    // The publisher: one DDATA per device and snapshot with what changed
+    // since the birth; while not born, the changes go to the buffer (if any).
     let mut rx = s.state.runtime.subscribe();
     let mut closing = s.state.closing();
+    let mut p = Publisher {
+        session,
+        client,
+        st: s.state.clone(),
+        set,
+        sp,
+        stats,
+        store,
+        program: None,
+        devices: Vec::new(),
+        last: None,
+        replaying: false,
+    };
     tokio::spawn(async move {
-        let mut program = None;
-        let mut devices = Vec::new();
-        // What the host has (or will have, after the replay) of each metric.
-        let mut last: Option<HashMap<String, SpValue>> = None;
-        let mut replaying = false;
         loop {
             tokio::select! {
                 _ = closing.wait_for(|c| *c) => break,
                 r = rx.changed() => if r.is_err() { break },
                 _ = wake.notified() => {}
-                _ = tokio::time::sleep(REPLAY_TICK), if replaying => {}
+                _ = tokio::time::sleep(REPLAY_TICK), if p.replaying => {}
             }
             let snap = rx.borrow_and_update().clone();
-            if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
-                devices = by_device(&snap.program.layout, &set, &sp);
-                program = Some(snap.program.clone());
-            }
-            let t = u64::try_from(snap.unix_ms).unwrap_or(0);
-            // Each device's values that differ from `last` (all of them without).
-            let changes = |last: Option<&HashMap<String, SpValue>>| -> Vec<(&str, Vec<(String, SpValue)>)> {
-                devices
-                    .iter()
-                    .map(|(d, places)| {
-                        let c = places
-                            .iter()
-                            .map(|(n, p)| (n.clone(), metric_value(snap.read(*p))))
-                            .filter(|(n, v)| last.is_none_or(|l| l.get(n) != Some(v)))
-                            .collect::<Vec<_>>();
-                        (d.as_str(), c)
-                    })
-                    .filter(|(_, c)| !c.is_empty())
-                    .collect()
-            };
-            let mut s = lock(&session);
-            if let Some(b) = s.birth.take() {
-                last = Some(b);
-                replaying = store.as_ref().is_some_and(|st| st.len() > 0);
-            }
-            if !s.born {
-                drop(s);
-                replaying = false;
-                let Some(store) = store.as_mut() else {
-                    last = None;
-                    continue;
-                };
-                // Held: buffered from what the host last had (all of it, the first time).
-                for (device, c) in changes(last.as_ref()) {
-                    match store.push(device, &alba_sparkplug::encode_record(t, &c)) {
-                        Ok(dropped) => {
-                            stats.dropped.fetch_add(dropped, Ordering::Relaxed);
-                        }
-                        Err((dropped, e)) => {
-                            stats.dropped.fetch_add(dropped, Ordering::Relaxed);
-                            if stats.store_errors.fetch_add(1, Ordering::Relaxed) == 0 {
-                                eprintln!("mqtt: the store-and-forward buffer cannot be written: {e}");
-                            }
-                        }
-                    }
-                    last.get_or_insert_default().extend(c);
-                }
-                stats.buffered.store(store.len(), Ordering::Relaxed);
-                continue;
-            }
-            if replaying && let Some(store) = store.as_mut() {
-                replaying = replay(&mut s, store, &client, &stats);
-                stats.buffered.store(store.len(), Ordering::Relaxed);
-                if replaying {
-                    continue;
-                }
-            }
-            let Some(last) = last.as_mut() else { continue };
-            for (device, c) in changes(Some(last)) {
-                // A metric not in the birth (an online edit added a tag): a rebirth.
-                let Some(payload) = s.node.data(device, t, &c) else {
-                    birth(&mut s, &client, &st, &set, &sp);
-                    break;
-                };
-                match client.try_publish(s.node.device_topic("DDATA", device), QoS::AtMostOnce, false, payload) {
-                    Ok(()) => {
-                        stats.published.fetch_add(1, Ordering::Relaxed);
-                        last.extend(c);
-                    }
-                    // The queue is full: these changes go with a later snapshot.
-                    Err(_) => {
-                        s.node.not_sent();
-                        stats.deferred.fetch_add(1, Ordering::Relaxed);
-                    }
-                }
+            if p.pass(&snap) && !pause(p.set.interval, &mut closing).await {
+                break;
             }
         }
     });
     Ok(())
+}
+
+/// The publisher's state between snapshots.
+struct Publisher {
+    session: Shared,
+    client: AsyncClient,
+    st: Arc<alba_server::AppState>,
+    set: Arc<Settings>,
+    sp: SpSettings,
+    stats: Arc<Stats>,
+    store: Option<Store>,
+    /// The program of the last snapshot and its metrics by device.
+    program: Option<Arc<alba_ir::Program>>,
+    devices: Vec<(String, Vec<(String, alba_ir::Place)>)>,
+    /// What the host has (or will have, after the replay) of each metric.
+    last: Option<HashMap<String, SpValue>>,
+    replaying: bool,
+}
+
+impl Publisher {
+    /// Each device's values of `snap` worth publishing after `last` (all of them without).
+    fn changes(&self, snap: &alba_runtime::Snapshot) -> Vec<(String, Vec<(String, SpValue)>)> {
+        let last = self.last.as_ref();
+        self.devices
+            .iter()
+            .map(|(d, places)| {
+                let c = places
+                    .iter()
+                    .map(|(n, p)| (n.clone(), metric_value(snap.read(*p))))
+                    .filter(|(n, v)| last.is_none_or(|l| worth(l.get(n), v, self.set.deadband)))
+                    .collect::<Vec<_>>();
+                (d.clone(), c)
+            })
+            .filter(|(_, c)| !c.is_empty())
+            .collect()
+    }
+
+    /// One pass over the latest snapshot: buffer its changes, replay, or
+    /// publish them. Whether the pass took data (the interval then applies).
+    fn pass(&mut self, snap: &alba_runtime::Snapshot) -> bool {
+        if !self.program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
+            self.devices = by_device(&snap.program.layout, &self.set, &self.sp);
+            self.program = Some(snap.program.clone());
+        }
+        let t = u64::try_from(snap.unix_ms).unwrap_or(0);
+        let session = self.session.clone();
+        let mut s = lock(&session);
+        if let Some(b) = s.birth.take() {
+            self.last = Some(b);
+            self.replaying = self.store.as_ref().is_some_and(|st| st.len() > 0);
+        }
+        if !s.born {
+            drop(s);
+            self.replaying = false;
+            if self.store.is_none() {
+                self.last = None;
+                return false;
+            }
+            // Held: buffered from what the host last had (all of it, the first time).
+            for (device, c) in self.changes(snap) {
+                self.buffer(&device, t, &c);
+                self.last.get_or_insert_default().extend(c);
+            }
+            return true;
+        }
+        if self.replaying
+            && let Some(store) = self.store.as_mut()
+        {
+            self.replaying = replay(&mut s, store, &self.client, &self.stats);
+            self.stats.buffered.store(store.len(), Ordering::Relaxed);
+            if self.replaying {
+                return false;
+            }
+        }
+        if self.last.is_none() {
+            return false;
+        }
+        for (device, c) in self.changes(snap) {
+            // A metric not in the birth (an online edit added a tag): a rebirth.
+            let Some(payload) = s.node.data(&device, t, &c) else {
+                birth(&mut s, &self.client, &self.st, &self.set, &self.sp);
+                break;
+            };
+            let topic = s.node.device_topic("DDATA", &device);
+            match self.client.try_publish(topic, QoS::AtMostOnce, false, payload) {
+                Ok(()) => {
+                    self.stats.published.fetch_add(1, Ordering::Relaxed);
+                    self.last.get_or_insert_default().extend(c);
+                }
+                // The queue is full: these changes go with a later snapshot.
+                Err(_) => {
+                    s.node.not_sent();
+                    self.stats.deferred.fetch_add(1, Ordering::Relaxed);
+                }
+            }
+        }
+        true
+    }
+
+    /// One record into the store-and-forward buffer.
+    fn buffer(&mut self, device: &str, t: u64, values: &[(String, SpValue)]) {
+        let Some(store) = self.store.as_mut() else { return };
+        let dropped = match store.push(device, &alba_sparkplug::encode_record(t, values)) {
+            Ok(dropped) => dropped,
+            Err((dropped, e)) => {
+                if self.stats.store_errors.fetch_add(1, Ordering::Relaxed) == 0 {
+                    eprintln!("mqtt: the store-and-forward buffer cannot be written: {e}");
+                }
+                dropped
+            }
+        };
+        self.stats.dropped.fetch_add(dropped, Ordering::Relaxed);
+        self.stats.buffered.store(store.len(), Ordering::Relaxed);
+    }
 }
 
 /// Sends buffered records, oldest first, as historical DDATA, as many as

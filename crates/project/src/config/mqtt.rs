@@ -6,7 +6,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 /// `[mqtt]`: publish tags to a broker and take writes from it.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Mqtt {
     /// `host:port` of the broker (`alba run --mqtt` overrides it).
     pub broker: Option<String>,
@@ -19,6 +19,11 @@ pub struct Mqtt {
     pub keep_alive_s: u32,
     /// Tags (and members) to publish; empty: every tag.
     pub tags: Vec<String>,
+    /// Changes are published at most this often (ms; 0: every snapshot).
+    pub publish_interval_ms: u32,
+    /// A REAL or LREAL is published when it moved more than this from the
+    /// value last published (0: any change).
+    pub deadband: f64,
     pub username: Option<String>,
     /// A file holding the password (never in alba.toml, never echoed).
     pub password_file: Option<String>,
@@ -69,6 +74,8 @@ impl Default for Mqtt {
             qos: 1,
             keep_alive_s: DEFAULT_KEEP_ALIVE_S,
             tags: Vec::new(),
+            publish_interval_ms: 0,
+            deadband: 0.0,
             username: None,
             password_file: None,
             queue: DEFAULT_QUEUE,
@@ -91,6 +98,8 @@ pub(super) struct RawMqtt {
     keep_alive_s: Option<Spanned<i64>>,
     #[serde(default)]
     tags: Vec<Spanned<String>>,
+    publish_interval_ms: Option<Spanned<i64>>,
+    deadband: Option<Spanned<f64>>,
     username: Option<Spanned<String>>,
     password_file: Option<Spanned<String>>,
     queue: Option<Spanned<i64>>,
@@ -234,6 +243,28 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
         diags,
     );
     let queue = int_setting("queue", m.queue, 10..=1_000_000, DEFAULT_QUEUE, "messages", file, diags);
+    let publish_interval_ms = int_setting(
+        "publish_interval_ms",
+        m.publish_interval_ms,
+        0..=3_600_000,
+        0,
+        "ms",
+        file,
+        diags,
+    );
+    let deadband = match m.deadband {
+        Some(d) if d.get_ref().is_finite() && *d.get_ref() >= 0.0 => *d.get_ref(),
+        Some(d) => {
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("deadband = {} is out of range", d.get_ref()),
+                Span::new(file, d.span()),
+                "expected a number ≥ 0",
+            ));
+            0.0
+        }
+        None => 0.0,
+    };
     Mqtt {
         broker: m.broker.map(|b| b.into_inner()),
         client_id: m.client_id.map(|c| c.into_inner()),
@@ -241,6 +272,8 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
         qos,
         keep_alive_s,
         tags: m.tags.into_iter().map(|t| t.into_inner()).collect(),
+        publish_interval_ms,
+        deadband,
         username: m.username.map(|u| u.into_inner()),
         password_file: m.password_file.map(|p| p.into_inner()),
         queue,

@@ -533,6 +533,12 @@ fn mqtt_and_alarms_tables() {
     assert_eq!(m.topic_prefix.as_deref(), Some("site/line1"));
     assert_eq!((m.qos, m.writes, m.keep_alive_s, m.queue), (0, false, 30, 10_000));
     assert_eq!(m.tags, ["Level", "Delay"]);
+    assert_eq!((m.publish_interval_ms, m.deadband), (0, 0.0));
+    let m2 = parse("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\npublish_interval_ms = 250\ndeadband = 0.5\n")
+        .unwrap()
+        .mqtt
+        .unwrap();
+    assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
     assert_eq!(
         (m.username.as_deref(), m.password_file.as_deref()),
         (Some("plc"), Some("mqtt.secret"))
@@ -549,6 +555,9 @@ fn mqtt_and_alarms_tables() {
         "topic_prefix = \"a/+/b\"",
         "topic_prefix = \"a/\"",
         "queue = 5",
+        "publish_interval_ms = -1",
+        "deadband = -0.5",
+        "deadband = nan",
     ] {
         let e = parse(&format!("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n{bad}\n")).unwrap_err();
         assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
