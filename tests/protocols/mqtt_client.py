@@ -26,6 +26,13 @@ paho-mqtt client (SPEC §10.5, docs/scale-out.md):
   published is not published, one moving more is; `publish_interval_ms =
   200`: a tag changing every scan is published at most every 200 ms (by the
   messages' own timestamps);
+- a broker that requires a password (Mosquitto's password_file): `[mqtt]
+  user` names a user of the project's users.toml, its broker password in
+  `password_file`; a wrong one is refused by the broker (said in
+  /api/status, the password never in Alba's output or status), the file
+  corrected is used at the next attempt without a restart; writes are
+  audited as that user, and refused for a viewer; an unknown user stops
+  `alba run`;
 - TLS with a client certificate (`[mqtt] ca_file`, `client_cert`,
   `client_key`) against a Mosquitto listener that requires one (certificates
   made with openssl): tags arrive; a client certificate from another CA is
@@ -73,10 +80,10 @@ def free_port():
     return port
 
 
-def start_broker(port, tmp, extra=""):
+def start_broker(port, tmp, extra="", anonymous=True):
     conf = os.path.join(tmp, "mosquitto.conf")
     with open(conf, "w") as f:
-        f.write(f"listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\n{extra}")
+        f.write(f"listener {port} 127.0.0.1\nallow_anonymous {str(anonymous).lower()}\npersistence false\n{extra}")
     p = subprocess.Popen(["mosquitto", "-c", conf], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.time() + 10
     while time.time() < deadline:
@@ -100,7 +107,8 @@ def start_alba(binary, project, broker):
         m = re.search(r"http://([\d.]+:\d+)/", line)
         if m:
             http = "http://" + m.group(1)
-    threading.Thread(target=p.stdout.read, daemon=True).start()
+    p.output = []
+    threading.Thread(target=lambda: p.output.extend(p.stdout), daemon=True).start()
     return p, http
 
 
@@ -264,6 +272,7 @@ def main():
         alba.kill()
     tls_checks(binary, project)
     deadband_and_interval_checks(binary, project)
+    auth_checks(binary, project)
     if failures:
         print(f"{len(failures)} MQTT check(s) failed", flush=True)
         sys.exit(1)
@@ -383,6 +392,133 @@ def deadband_and_interval_checks(binary, project):
     finally:
         alba.kill()
         broker.kill()
+
+
+ALBA_PW = "correct horse battery staple"
+
+
+def session(http, user):
+    body = json.dumps({"user": user, "password": ALBA_PW}).encode()
+    req = urllib.request.Request(http + "/api/login", data=body, method="POST",
+                                 headers={"Content-Type": "application/json", "Origin": http})
+    with urllib.request.urlopen(req, timeout=10) as r:
+        token = json.loads(r.read())["token"]
+
+    def get(path):
+        req = urllib.request.Request(http + path, headers={"Authorization": f"Bearer {token}"})
+        with urllib.request.urlopen(req, timeout=10) as r:
+            return json.loads(r.read())
+    return get
+
+
+def auth_checks(binary, project):
+    print("broker accounts:", flush=True)
+    tmp = tempfile.mkdtemp(prefix="alba-mqtt-auth-")
+    os.chmod(tmp, 0o755)
+    pwfile = os.path.join(tmp, "broker.passwd")
+    broker_pw = {"line1": "line1-broker-secret", "watcher": "watcher-broker-secret"}
+    for k, (user, pw) in enumerate(broker_pw.items()):
+        subprocess.run(["mosquitto_passwd", "-b"] + (["-c"] if k == 0 else []) + [pwfile, user, pw], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.chmod(pwfile, 0o644)
+    port = free_port()
+    broker = start_broker(port, tmp, f"password_file {pwfile}\n", anonymous=False)
+    proj = os.path.join(tmp, "project")
+    shutil.copytree(project, proj)
+    for user, role in [("line1", "operator"), ("watcher", "viewer"), ("tech", "engineer")]:
+        subprocess.run([binary, "user", "add", "--role", role, proj, user], input=ALBA_PW + "\n", text=True,
+                       check=True, capture_output=True)
+    secret = os.path.join(proj, "mqtt.secret")
+    with open(secret, "w") as f:
+        f.write("not-the-password\n")
+    os.chmod(secret, 0o600)
+    toml = open(os.path.join(proj, "alba.toml")).read()
+    name = re.search(r'^name\s*=\s*"([^"]+)"', toml, re.M).group(1)
+    prefix = f"alba/{name}"
+
+    def run_as(user):
+        with open(os.path.join(proj, "alba.toml"), "w") as f:
+            f.write(toml + f'user = "{user}"\npassword_file = "mqtt.secret"\n')
+        return start_alba(binary, proj, f"127.0.0.1:{port}")
+
+    def watcher():
+        w = client(f"auth-watch-{time.time_ns()}")
+        w.username_pw_set("watcher", broker_pw["watcher"])
+        got = []
+        w.on_message = lambda _c, _u, m: got.append((m.topic, m.payload.decode()))
+        w.connect("127.0.0.1", port)
+        w.subscribe(f"{prefix}/#", qos=1)
+        w.loop_start()
+        return w, got
+
+    alba = None
+    try:
+        alba, http = run_as("line1")
+        get = session(http, "tech")
+        time.sleep(1.5)
+        lk = next(c for c in get("/api/status")["connections"] if c["name"] == "mqtt")
+        check(not lk["connected"] and lk["errors"] >= 1 and lk["last_error"],
+              f"a wrong broker password: refused by the broker, said in /api/status ({lk['last_error']})")
+        check("not-the-password" not in json.dumps(lk) and not any("not-the-password" in l for l in alba.output),
+              "the password is never in Alba's output or status")
+        with open(secret, "w") as f:
+            f.write(broker_pw["line1"] + "\n")
+        w, got = watcher()
+        deadline = time.time() + 40
+        while time.time() < deadline and (f"{prefix}/status", "online") not in got:
+            time.sleep(0.1)
+        check((f"{prefix}/status", "online") in got, "the corrected password file is used at the next attempt")
+        publish_as(port, "watcher", broker_pw["watcher"], f"{prefix}/set/Setp", json.dumps({"value": 4321}))
+        deadline = time.time() + 5
+        while time.time() < deadline and get("/api/tags/Setp")["value"] != 4321:
+            time.sleep(0.05)
+        rows = get("/api/audit?action=write&target=Setp")
+        rows = rows.get("rows", rows) if isinstance(rows, dict) else rows
+        check(any(r.get("user") == "line1" and r.get("new") == 4321 for r in rows),
+              f"a write through MQTT is audited as the project user line1 ({rows[:1]})")
+        w.loop_stop()
+        w.disconnect()
+        alba.kill()
+        alba.wait()
+        # A viewer: connected, its writes refused.
+        with open(secret, "w") as f:
+            f.write(broker_pw["watcher"] + "\n")
+        alba, http = run_as("watcher")
+        w, got = watcher()
+        deadline = time.time() + 10
+        while time.time() < deadline and (f"{prefix}/status", "online") not in got:
+            time.sleep(0.1)
+        publish_as(port, "watcher", broker_pw["watcher"], f"{prefix}/set/Setp", json.dumps({"value": 7}))
+        deadline = time.time() + 5
+        while time.time() < deadline and not any(t == f"{prefix}/error" for t, _ in got):
+            time.sleep(0.05)
+        errs = [p for t, p in got if t == f"{prefix}/error"]
+        check(errs and "viewer" in errs[0], f"user watcher (a viewer): its writes are refused ({errs[:1]})")
+        w.loop_stop()
+        w.disconnect()
+        alba.kill()
+        alba.wait()
+        alba = None
+        with open(os.path.join(proj, "alba.toml"), "w") as f:
+            f.write(toml + 'user = "nobody"\npassword_file = "mqtt.secret"\n')
+        r = subprocess.run([binary, "run", proj, "--http", "127.0.0.1:0", "--mqtt", f"127.0.0.1:{port}", "--no-native"],
+                           capture_output=True, text=True, timeout=60)
+        check(r.returncode != 0 and "nobody" in r.stderr and "users.toml" in r.stderr,
+              f"an unknown user stops alba run ({r.stderr.strip()})")
+    finally:
+        if alba and alba.poll() is None:
+            alba.kill()
+        broker.kill()
+
+
+def publish_as(port, user, pw, topic, payload):
+    c = client(f"pub-{time.time_ns()}")
+    c.username_pw_set(user, pw)
+    c.connect("127.0.0.1", port)
+    c.loop_start()
+    c.publish(topic, payload, qos=1).wait_for_publish(5)
+    c.loop_stop()
+    c.disconnect()
 
 
 if __name__ == "__main__":

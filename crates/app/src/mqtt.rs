@@ -37,7 +37,11 @@ pub(crate) struct Settings {
     /// `[mqtt] publish_interval_ms` and `deadband`.
     pub interval: Duration,
     pub deadband: f64,
-    credentials: Option<(String, String)>,
+    /// The broker account: its name and password file (read at every
+    /// connection attempt, so a corrected file is used without a restart).
+    pub credentials: Option<Credentials>,
+    /// Who writes from MQTT: the audit's user and the role checked.
+    actor: (String, alba_auth::Role),
     pub queue: usize,
     pub writes: bool,
     /// TLS to the broker, when `[mqtt] ca_file` is set.
@@ -61,14 +65,20 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
     let port = port.parse::<u16>().map_err(|_| format!("--mqtt {broker}: bad port"))?;
     let cfg = cfg.unwrap_or_default();
     let name = &s.state.name;
-    let credentials = match (&cfg.username, &cfg.password_file) {
-        (Some(u), Some(f)) => {
-            let path = s.dir.join(f);
-            let p =
-                std::fs::read_to_string(&path).map_err(|e| format!("[mqtt] password_file {}: {e}", path.display()))?;
-            Some((u.clone(), p.trim_end_matches(['\r', '\n']).to_string()))
+    let (credentials, actor) = match (&cfg.user, &cfg.username, &cfg.password_file) {
+        // A project user: it must exist, and writes act as it.
+        (Some(u), _, Some(f)) => {
+            let role = s
+                .users
+                .role(u)
+                .ok_or_else(|| format!("[mqtt] user = \"{u}\" is not a user of users.toml (see `alba user list`)"))?;
+            (Some(Credentials::read(u, s.dir.join(f))?), (u.clone(), role))
         }
-        _ => None,
+        (None, Some(u), Some(f)) => (
+            Some(Credentials::read(u, s.dir.join(f))?),
+            ("mqtt".to_string(), alba_auth::Role::Operator),
+        ),
+        _ => (None, ("mqtt".to_string(), alba_auth::Role::Operator)),
     };
     Ok(Some(Settings {
         host: host.trim_start_matches('[').trim_end_matches(']').to_string(),
@@ -85,6 +95,7 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         interval: Duration::from_millis(u64::from(cfg.publish_interval_ms)),
         deadband: cfg.deadband,
         credentials,
+        actor,
         queue: cfg.queue as usize,
         writes: cfg.writes,
         tls: tls(s.dir, &cfg)?,
@@ -100,6 +111,55 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
             buffer_max: u64::from(sp.buffer_max),
         }),
     }))
+}
+
+/// A broker account: the name, and the password read from its file.
+#[derive(Clone)]
+pub(crate) struct Credentials {
+    user: String,
+    file: std::path::PathBuf,
+    password: String,
+}
+
+impl Credentials {
+    /// Reads the password file: its first line, without the line end. The
+    /// error names the file, never its content. A file others may read is
+    /// said on the console (once, at start).
+    fn read(user: &str, file: std::path::PathBuf) -> Result<Credentials, String> {
+        let password = read_secret(&file)?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            if let Ok(m) = std::fs::metadata(&file)
+                && m.permissions().mode() & 0o077 != 0
+            {
+                eprintln!(
+                    "mqtt: warning: {} may be read by other users of this machine (chmod 600 it)",
+                    file.display()
+                );
+            }
+        }
+        Ok(Credentials {
+            user: user.to_string(),
+            file,
+            password,
+        })
+    }
+
+    /// The password file read again before a reconnection: a corrected
+    /// file is used at once; an unreadable one keeps the last password.
+    pub(crate) fn refresh(&mut self, opts: &mut MqttOptions) {
+        match read_secret(&self.file) {
+            Ok(p) => self.password = p,
+            Err(e) => eprintln!("mqtt: {e}; trying with the password read before"),
+        }
+        opts.set_credentials(&self.user, &self.password);
+    }
+}
+
+fn read_secret(file: &std::path::Path) -> Result<String, String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("[mqtt] password_file {}: {e}", file.display()))?;
+    Ok(text.lines().next().unwrap_or("").to_string())
 }
 
 /// The TLS client configuration of `[mqtt] ca_file` (and, for mutual TLS,
@@ -228,8 +288,8 @@ pub(crate) fn options(set: &Settings, will: LastWill) -> MqttOptions {
     opts.set_keep_alive(set.keep_alive);
     opts.set_clean_session(true);
     opts.set_last_will(will);
-    if let Some((u, p)) = &set.credentials {
-        opts.set_credentials(u, p);
+    if let Some(c) = &set.credentials {
+        opts.set_credentials(&c.user, &c.password);
     }
     if let Some(tls) = &set.tls {
         opts.set_transport(rumqttc::Transport::tls_with_config(rumqttc::TlsConfiguration::Rustls(
@@ -359,6 +419,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
     // The event loop: connection, back-off, incoming writes.
     let (st, c, sts, cfg) = (s.state.clone(), client.clone(), stats.clone(), set.clone());
     let mut closing = s.state.closing();
+    let mut creds = set.credentials.clone();
     tokio::spawn(async move {
         let mut backoff = Duration::from_millis(100);
         loop {
@@ -391,6 +452,9 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                     }
                     sts.errors.fetch_add(1, Ordering::Relaxed);
                     Stats::set(&sts.last_error, Some(e.to_string()));
+                    if let Some(c) = creds.as_mut() {
+                        c.refresh(&mut eventloop.mqtt_options);
+                    }
                     let (wait, next) = self::backoff(backoff);
                     backoff = next;
                     tokio::select! {
@@ -464,11 +528,18 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
     Ok(Some(link))
 }
 
-/// A write from MQTT with the HTTP API's rules and its audit row (user
-/// `mqtt`, the broker's address); what the tag then holds, or why not.
+/// A write from MQTT with the HTTP API's rules and its audit row (the
+/// user `mqtt`, or `[mqtt] user`, with the broker's address): refused
+/// unless that user's role may write tags; what the tag then holds, or why not.
 pub(crate) async fn write(st: &alba_server::AppState, set: &Settings, tag: &str, value: &Json) -> Result<Json, String> {
+    let (user, role) = &set.actor;
+    if !role.allows(alba_auth::Role::Operator) {
+        return Err(format!(
+            "user {user} is a {role}: writing tags needs the operator role (users.toml)"
+        ));
+    }
     let entry = alba_audit::Entry {
-        user: Some("mqtt".into()),
+        user: Some(user.clone()),
         addr: Some(format!("{}:{}", set.host, set.port)),
         ..alba_audit::Entry::new(alba_server::now_ms(), alba_audit::Action::Write)
     };
@@ -477,9 +548,8 @@ pub(crate) async fn write(st: &alba_server::AppState, set: &Settings, tag: &str,
         .map_err(|e| e.to_string())
 }
 
-/// A write from `<prefix>/set/<tag>` (`{"value": ...}`), with the HTTP
-/// API's rules and its audit row (user `mqtt`); a refusal is answered on
-/// `<prefix>/error` as `{"tag", "error", "ts"}`.
+/// A write from `<prefix>/set/<tag>` (`{"value": ...}`) through [`write`];
+/// a refusal is answered on `<prefix>/error` as `{"tag", "error", "ts"}`.
 async fn set_tag(st: &alba_server::AppState, c: &AsyncClient, cfg: &Settings, tag: &str, payload: &[u8]) {
     let value = serde_json::from_slice::<Json>(payload)
         .map_err(|e| format!("the payload is not JSON ({e}); send {{\"value\": ...}}"))
@@ -488,15 +558,8 @@ async fn set_tag(st: &alba_server::AppState, c: &AsyncClient, cfg: &Settings, ta
                 .cloned()
                 .ok_or_else(|| "the payload needs a `value` field".to_string())
         });
-    let entry = alba_audit::Entry {
-        user: Some("mqtt".into()),
-        addr: Some(format!("{}:{}", cfg.host, cfg.port)),
-        ..alba_audit::Entry::new(alba_server::now_ms(), alba_audit::Action::Write)
-    };
     let result = match value {
-        Ok(v) => alba_server::write_tag(st, entry, tag, &v)
-            .await
-            .map_err(|e| e.to_string()),
+        Ok(v) => write(st, cfg, tag, &v).await,
         Err(e) => Err(e),
     };
     if let Err(error) = result {

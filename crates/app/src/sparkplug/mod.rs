@@ -298,6 +298,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
         stats.clone(),
     );
     let mut closing = s.state.closing();
+    let mut creds = set.credentials.clone();
     tokio::spawn(async move {
         let mut wait = Duration::from_millis(100);
         let mut leaving = false;
@@ -424,6 +425,9 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                         let mut s = lock(&sess);
                         s.next_connection();
                         eventloop.mqtt_options.set_last_will(death(&s.node));
+                    }
+                    if let Some(c) = creds.as_mut() {
+                        c.refresh(&mut eventloop.mqtt_options);
                     }
                     eventloop.clean();
                     eventloop.pending.clear();

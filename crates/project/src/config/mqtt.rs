@@ -24,8 +24,12 @@ pub struct Mqtt {
     /// A REAL or LREAL is published when it moved more than this from the
     /// value last published (0: any change).
     pub deadband: f64,
+    /// A broker account that is not a project user (audited as `mqtt`).
     pub username: Option<String>,
-    /// A file holding the password (never in alba.toml, never echoed).
+    /// A user of the project's users.toml: Alba logs in to the broker as
+    /// this name, and writes from MQTT act with its role and name.
+    pub user: Option<String>,
+    /// A file holding the broker password (never in alba.toml, never echoed).
     pub password_file: Option<String>,
     /// Messages waiting for the broker at most; more are dropped (counted).
     pub queue: u32,
@@ -77,6 +81,7 @@ impl Default for Mqtt {
             publish_interval_ms: 0,
             deadband: 0.0,
             username: None,
+            user: None,
             password_file: None,
             queue: DEFAULT_QUEUE,
             writes: true,
@@ -101,6 +106,7 @@ pub(super) struct RawMqtt {
     publish_interval_ms: Option<Spanned<i64>>,
     deadband: Option<Spanned<f64>>,
     username: Option<Spanned<String>>,
+    user: Option<Spanned<String>>,
     password_file: Option<Spanned<String>>,
     queue: Option<Spanned<i64>>,
     writes: Option<bool>,
@@ -180,7 +186,13 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
     {
         bad(c, "client_id must be 1 to 128 characters".into(), "client id");
     }
-    if m.username.is_some() != m.password_file.is_some() {
+    if let (Some(_), Some(u)) = (&m.username, &m.user) {
+        bad(
+            u,
+            "user and username are two ways to name the broker account: set one".into(),
+            "`user`: a user of users.toml; `username`: any other account",
+        );
+    } else if m.username.is_some() != m.password_file.is_some() && m.user.is_none() {
         let at = m.username.as_ref().or(m.password_file.as_ref());
         if let Some(at) = at {
             bad(
@@ -189,6 +201,12 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
                 "set both, or neither",
             );
         }
+    } else if let (Some(u), None) = (&m.user, &m.password_file) {
+        bad(
+            u,
+            "user needs a password_file: the broker's password for this user".into(),
+            "add password_file = \"…\"",
+        );
     }
     if m.client_cert.is_some() != m.client_key.is_some() {
         if let Some(at) = m.client_cert.as_ref().or(m.client_key.as_ref()) {
@@ -275,6 +293,7 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
         publish_interval_ms,
         deadband,
         username: m.username.map(|u| u.into_inner()),
+        user: m.user.map(|u| u.into_inner()),
         password_file: m.password_file.map(|p| p.into_inner()),
         queue,
         writes: m.writes.unwrap_or(true),

@@ -539,6 +539,16 @@ fn mqtt_and_alarms_tables() {
         .mqtt
         .unwrap();
     assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
+    let m3 = parse(
+        "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nuser = \"line1\"\npassword_file = \"/run/secrets/mqtt\"\n",
+    )
+    .unwrap()
+    .mqtt
+    .unwrap();
+    assert_eq!(
+        (m3.user.as_deref(), m3.username, m3.password_file.as_deref()),
+        (Some("line1"), None, Some("/run/secrets/mqtt"))
+    );
     assert_eq!(
         (m.username.as_deref(), m.password_file.as_deref()),
         (Some("plc"), Some("mqtt.secret"))
@@ -558,6 +568,9 @@ fn mqtt_and_alarms_tables() {
         "publish_interval_ms = -1",
         "deadband = -0.5",
         "deadband = nan",
+        "user = \"op\"",
+        "user = \"op\"\nusername = \"x\"\npassword_file = \"f\"",
+        "username = \"x\"",
     ] {
         let e = parse(&format!("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n{bad}\n")).unwrap_err();
         assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
