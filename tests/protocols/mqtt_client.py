@@ -33,6 +33,11 @@ paho-mqtt client (SPEC §10.5, docs/scale-out.md):
   corrected is used at the next attempt without a restart; writes are
   audited as that user, and refused for a viewer; an unknown user stops
   `alba run`;
+- MQTT 5 (`[mqtt] version = 5`) against a paho MQTT 5 client: status and
+  tags retained, JSON messages flagged UTF-8 `application/json` (payload
+  format indicator, content type), writes and refusals, a write with a
+  response topic answered there with its correlation data, the last will
+  on `kill -9`;
 - TLS with a client certificate (`[mqtt] ca_file`, `client_cert`,
   `client_key`) against a Mosquitto listener that requires one (certificates
   made with openssl): tags arrive; a client certificate from another CA is
@@ -273,6 +278,7 @@ def main():
     tls_checks(binary, project)
     deadband_and_interval_checks(binary, project)
     auth_checks(binary, project)
+    v5_checks(binary, project)
     if failures:
         print(f"{len(failures)} MQTT check(s) failed", flush=True)
         sys.exit(1)
@@ -507,6 +513,81 @@ def auth_checks(binary, project):
               f"an unknown user stops alba run ({r.stderr.strip()})")
     finally:
         if alba and alba.poll() is None:
+            alba.kill()
+        broker.kill()
+
+
+def v5_checks(binary, project):
+    from paho.mqtt.packettypes import PacketTypes
+    from paho.mqtt.properties import Properties
+    print("MQTT 5:", flush=True)
+    tmp = tempfile.mkdtemp(prefix="alba-mqtt5-")
+    proj = os.path.join(tmp, "project")
+    shutil.copytree(project, proj)
+    with open(os.path.join(proj, "alba.toml"), "a") as f:
+        f.write("version = 5\n")
+    name = re.search(r'^name\s*=\s*"([^"]+)"', open(os.path.join(proj, "alba.toml")).read(), re.M).group(1)
+    prefix = f"alba/{name}"
+    port = free_port()
+    broker = start_broker(port, tmp)
+    alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+    got, lock = [], threading.Lock()
+
+    def on_message(_c, _u, m):
+        with lock:
+            got.append((m.topic, m.payload.decode(errors="replace"), m.retain, m.properties))
+
+    def wait(pred, timeout=10):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            with lock:
+                for g in got:
+                    if pred(*g):
+                        return g
+            time.sleep(0.02)
+        return None
+
+    c = mqtt.Client(client_id=f"v5-{time.time_ns()}", protocol=mqtt.MQTTv5)
+    c.on_message = on_message
+    try:
+        time.sleep(1.0)
+        # A late subscriber: what it gets is retained.
+        c.connect("127.0.0.1", port)
+        c.subscribe(f"{prefix}/#", qos=1)
+        c.subscribe("reply/#", qos=1)
+        c.loop_start()
+        check(wait(lambda t, p, r, pr: t == f"{prefix}/status" and p == "online" and r) is not None,
+              "MQTT 5: status online, retained")
+        m = wait(lambda t, p, r, pr: t == f"{prefix}/tags/Setp" and r)
+        check(m is not None, "MQTT 5: tags retained")
+        if m:
+            props = m[3]
+            check(getattr(props, "PayloadFormatIndicator", None) == 1
+                  and getattr(props, "ContentType", None) == "application/json",
+                  f"MQTT 5: UTF-8 JSON said in the message's properties ({props})")
+        c.publish(f"{prefix}/set/Setp", json.dumps({"value": 555}), qos=1).wait_for_publish(5)
+        check(wait(lambda t, p, r, pr: t == f"{prefix}/tags/Setp" and json.loads(p)["value"] == 555) is not None
+              and api(http, "/api/tags/Setp")["value"] == 555, "MQTT 5: a write through set/ is published back")
+        c.publish(f"{prefix}/set/Start", json.dumps({"value": True}), qos=1).wait_for_publish(5)
+        e = wait(lambda t, p, r, pr: t == f"{prefix}/error" and json.loads(p)["tag"] == "Start")
+        check(e is not None and "input" in e[1], "MQTT 5: a write to an input is refused on error")
+        for value, want in [(777, "value"), ("x", "error")]:
+            props = Properties(PacketTypes.PUBLISH)
+            props.ResponseTopic = f"reply/{want}"
+            props.CorrelationData = f"req-{want}".encode()
+            c.publish(f"{prefix}/set/Setp", json.dumps({"value": value}), qos=1, properties=props).wait_for_publish(5)
+            r = wait(lambda t, p, r, pr: t == f"reply/{want}")
+            ok = r is not None and want in json.loads(r[1]) and getattr(r[3], "CorrelationData", None) == f"req-{want}".encode()
+            check(ok, f"MQTT 5: a write with a response topic is answered there with its correlation data ({r and r[1]})")
+        with lock:
+            got.clear()
+        alba.send_signal(signal.SIGKILL)
+        alba.wait()
+        check(wait(lambda t, p, r, pr: t == f"{prefix}/status" and p == "offline", timeout=60) is not None,
+              "MQTT 5: last will offline after kill -9")
+    finally:
+        c.loop_stop()
+        if alba.poll() is None:
             alba.kill()
         broker.kill()
 

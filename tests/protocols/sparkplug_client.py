@@ -205,6 +205,7 @@ def main():
             alba.kill()
         broker.kill()
     bad_devices(binary, project)
+    v5_check(binary, project)
     state_checks(binary, project)
     if failures:
         print(f"{len(failures)} Sparkplug check(s) failed", flush=True)
@@ -223,6 +224,41 @@ def bad_devices(binary, project):
         r = subprocess.run([binary, "run", proj, "--http", "127.0.0.1:0", "--no-native"], capture_output=True,
                            text=True, timeout=60)
         check(r.returncode != 0 and want in r.stderr, f"{want}: alba run stops ({r.returncode}, {r.stderr.strip()})")
+
+
+def v5_check(binary, project):
+    """The same edge node over MQTT 5 (`[mqtt] version = 5`)."""
+    tmp = tempfile.mkdtemp(prefix="alba-spb5-")
+    proj = os.path.join(tmp, "project")
+    shutil.copytree(project, proj)
+    with open(os.path.join(proj, "alba.toml"), "a") as f:
+        f.write(f'\n[mqtt]\nversion = 5\nkeep_alive_s = 5\n[mqtt.sparkplug]\ngroup_id = "{GROUP}"\nedge_node_id = "{NODE}"\n')
+    port = free_port()
+    broker = start_broker(port, tmp)
+    host = Recorder(port)
+    alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+    try:
+        k, raw = host.wait("NBIRTH")
+        k, raw = host.wait("DBIRTH", k)
+        dbirth = sp.DBirth.decode(raw) if raw else None
+        k, raw = host.wait("DDATA", k) if raw else (None, None)
+        check(raw is not None and sp.DData.decode(raw, birth=dbirth).seq == 2,
+              "MQTT 5: NBIRTH, DBIRTH and DDATA decoded")
+        cmd = sp.DCmd(timestamp=sp.get_current_timestamp(),
+                      metrics=(sp.Metric(timestamp=None, name="Setp", datatype=sp.DataType.INT16, value=99),))
+        host.publish(f"{BASE}/DCMD/{NODE}/{DEVICE}", cmd.encode())
+        deadline = time.time() + 5
+        while time.time() < deadline and api(http, "/api/tags/Setp")["value"] != 99:
+            time.sleep(0.05)
+        check(api(http, "/api/tags/Setp")["value"] == 99, "MQTT 5: a DCMD write")
+        mark = host.mark()
+        alba.kill()
+        alba.wait()
+        check(host.wait("NDEATH", mark, timeout=60)[1] is not None, "MQTT 5: the NDEATH will after kill -9")
+    finally:
+        if alba.poll() is None:
+            alba.kill()
+        broker.kill()
 
 
 HOST = "scada"

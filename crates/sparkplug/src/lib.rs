@@ -2,7 +2,7 @@
 //! ([`proto`], written with `prost` derives from Tahu's `sparkplug_b.proto`),
 //! topics ([`Topic`]), data types, and [`EdgeNode`], the state of one edge
 //! node that builds its NBIRTH/DBIRTH/DDATA/NDEATH messages with their
-//! sequence numbers and aliases. `alba run` (crates/app/src/mqtt.rs) moves
+//! sequence numbers and aliases. `alba run` (crates/app/src/sparkplug/) moves
 //! these bytes over MQTT; tests decode them with a third-party library.
 
 pub mod proto;

@@ -21,10 +21,11 @@
 mod store;
 
 use crate::Service;
-use crate::mqtt::{Settings, Stats, backoff, goodbye, is_of, moved, options, pause, published, write};
+use crate::mqtt::client::{self, Client, Ev, Will};
+use crate::mqtt::{Credentials, Settings, Stats, backoff, goodbye, is_of, moved, pause, published, write};
 use alba_model::Value;
 use alba_sparkplug::{EdgeNode, HostState, PrimaryHost, REBIRTH, Value as SpValue};
-use rumqttc::{AsyncClient, Event, LastWill, Packet, QoS};
+use rumqttc::QoS;
 use serde_json::Value as Json;
 use std::collections::HashMap;
 use std::sync::atomic::Ordering;
@@ -218,7 +219,7 @@ fn lock(s: &Shared) -> MutexGuard<'_, Session> {
 
 /// Publishes NBIRTH and DBIRTH with the current values; the session is born.
 /// Births and data go at QoS 0, as Sparkplug 3.0 requires.
-fn birth(s: &mut Session, client: &AsyncClient, st: &alba_server::AppState, set: &Settings, sp: &SpSettings) {
+fn birth(s: &mut Session, client: &Client, st: &alba_server::AppState, set: &Settings, sp: &SpSettings) {
     let snap = st.runtime.snapshot();
     let devices: Vec<(String, Vec<(String, SpValue)>)> = by_device(&snap.program.layout, set, sp)
         .into_iter()
@@ -267,8 +268,13 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
         bd_file,
     }));
     lock(&session).save_bd_seq();
-    let death = |n: &EdgeNode| LastWill::new(n.topic("NDEATH"), n.death(now_ms()), QoS::AtLeastOnce, false);
-    let (client, mut eventloop) = AsyncClient::new(options(&set, death(&lock(&session).node)), set.queue);
+    let death = |n: &EdgeNode| Will {
+        topic: n.topic("NDEATH"),
+        payload: n.death(now_ms()),
+        qos: QoS::AtLeastOnce,
+        retain: false,
+    };
+    let (client, mut eventloop) = client::new(&set, death(&lock(&session).node));
     println!(
         "mqtt: Sparkplug B edge node {}/{} (bdSeq {}) on {}:{}{}",
         sp.group,
@@ -308,7 +314,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                 ev = eventloop.poll() => ev,
             };
             match ev {
-                Ok(Event::Incoming(Packet::ConnAck(_))) => {
+                Ok(Ev::Connected) => {
                     wait = Duration::from_millis(100);
                     sts.connected.store(true, Ordering::Relaxed);
                     sts.connects.fetch_add(1, Ordering::Relaxed);
@@ -334,12 +340,12 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                     drop(s);
                     woken.notify_one();
                 }
-                Ok(Event::Incoming(Packet::Publish(p))) => {
-                    if state_topic.as_deref() == Some(p.topic.as_str()) {
-                        let state = match HostState::parse(&p.payload) {
+                Ok(Ev::Message { topic, payload, .. }) => {
+                    if state_topic.as_deref() == Some(topic.as_str()) {
+                        let state = match HostState::parse(&payload) {
                             Ok(h) => h,
                             Err(e) => {
-                                eprintln!("mqtt: {}: {e}", p.topic);
+                                eprintln!("mqtt: {topic}: {e}");
                                 continue;
                             }
                         };
@@ -368,14 +374,14 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                         }
                         continue;
                     }
-                    let cmds = match lock(&sess).node.command(&p.payload) {
+                    let cmds = match lock(&sess).node.command(&payload) {
                         Ok(c) => c,
                         Err(e) => {
-                            eprintln!("mqtt: {}: {e}", p.topic);
+                            eprintln!("mqtt: {topic}: {e}");
                             continue;
                         }
                     };
-                    let topic = alba_sparkplug::Topic::parse(&p.topic);
+                    let topic = alba_sparkplug::Topic::parse(&topic);
                     match topic.as_ref().map(|t| (t.kind.as_str(), t.device.as_deref())) {
                         Some(("NCMD", None))
                             if cmds
@@ -421,16 +427,12 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                     leaving = false;
                     // The next connection has the next bdSeq, in its will and its NBIRTH;
                     // nothing of the old session is sent again (a new birth comes first).
-                    {
+                    let will = {
                         let mut s = lock(&sess);
                         s.next_connection();
-                        eventloop.mqtt_options.set_last_will(death(&s.node));
-                    }
-                    if let Some(c) = creds.as_mut() {
-                        c.refresh(&mut eventloop.mqtt_options);
-                    }
-                    eventloop.clean();
-                    eventloop.pending.clear();
+                        death(&s.node)
+                    };
+                    eventloop.renew(Some(will), creds.as_mut().map(Credentials::refresh));
                     let (w, next) = backoff(wait);
                     wait = next;
                     tokio::select! {
@@ -485,7 +487,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
 /// The publisher's state between snapshots.
 struct Publisher {
     session: Shared,
-    client: AsyncClient,
+    client: Client,
     st: Arc<alba_server::AppState>,
     set: Arc<Settings>,
     sp: SpSettings,
@@ -599,7 +601,7 @@ impl Publisher {
 /// Sends buffered records, oldest first, as historical DDATA, as many as
 /// the client's queue takes (at most [`REPLAY_BATCH`]); whether some are
 /// left. A record that cannot be read is dropped (and counted).
-fn replay(s: &mut Session, store: &mut Store, client: &AsyncClient, stats: &Stats) -> bool {
+fn replay(s: &mut Session, store: &mut Store, client: &Client, stats: &Stats) -> bool {
     let batch = match store.oldest(REPLAY_BATCH) {
         Ok(b) => b,
         Err(e) => {

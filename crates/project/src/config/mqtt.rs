@@ -10,6 +10,8 @@ use toml::Spanned;
 pub struct Mqtt {
     /// `host:port` of the broker (`alba run --mqtt` overrides it).
     pub broker: Option<String>,
+    /// The MQTT protocol version: 3.1.1 (default) or 5.
+    pub version: MqttVersion,
     /// Default `alba-<project name>`.
     pub client_id: Option<String>,
     /// Default `alba/<project name>`.
@@ -45,6 +47,16 @@ pub struct Mqtt {
     pub sparkplug: Option<Sparkplug>,
 }
 
+/// `[mqtt] version`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MqttVersion {
+    /// `"3.1.1"` (or `4`, its protocol level).
+    #[default]
+    V311,
+    /// `5` (or `"5"`, `"5.0"`).
+    V5,
+}
+
 /// `[mqtt.sparkplug]`: publish as a Sparkplug B edge node.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Sparkplug {
@@ -73,6 +85,7 @@ impl Default for Mqtt {
     fn default() -> Mqtt {
         Mqtt {
             broker: None,
+            version: MqttVersion::V311,
             client_id: None,
             topic_prefix: None,
             qos: 1,
@@ -97,6 +110,7 @@ impl Default for Mqtt {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawMqtt {
     broker: Option<Spanned<String>>,
+    version: Option<Spanned<RawVersion>>,
     client_id: Option<Spanned<String>>,
     topic_prefix: Option<Spanned<String>>,
     qos: Option<Spanned<i64>>,
@@ -114,6 +128,14 @@ pub(super) struct RawMqtt {
     client_cert: Option<Spanned<String>>,
     client_key: Option<Spanned<String>>,
     sparkplug: Option<RawSparkplug>,
+}
+
+/// `version = 5` or `version = "3.1.1"`.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawVersion {
+    Number(i64),
+    Text(String),
 }
 
 #[derive(Deserialize)]
@@ -270,6 +292,26 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
         file,
         diags,
     );
+    let version = match m.version.as_ref().map(|v| (v.get_ref(), v.span())) {
+        None => MqttVersion::V311,
+        Some((RawVersion::Number(5), _)) => MqttVersion::V5,
+        Some((RawVersion::Number(4), _)) => MqttVersion::V311,
+        Some((RawVersion::Text(t), _)) if t == "5" || t == "5.0" => MqttVersion::V5,
+        Some((RawVersion::Text(t), _)) if t == "3.1.1" || t == "4" => MqttVersion::V311,
+        Some((v, span)) => {
+            let shown = match v {
+                RawVersion::Number(n) => n.to_string(),
+                RawVersion::Text(t) => format!("\"{t}\""),
+            };
+            diags.push(Diagnostic::new(
+                Code::ConfigField,
+                format!("version = {shown} is not an MQTT version Alba speaks"),
+                Span::new(file, span),
+                "expected 5 or \"3.1.1\"",
+            ));
+            MqttVersion::V311
+        }
+    };
     let deadband = match m.deadband {
         Some(d) if d.get_ref().is_finite() && *d.get_ref() >= 0.0 => *d.get_ref(),
         Some(d) => {
@@ -285,6 +327,7 @@ pub(super) fn mqtt(mut m: RawMqtt, file: FileId, diags: &mut Vec<Diagnostic>) ->
     };
     Mqtt {
         broker: m.broker.map(|b| b.into_inner()),
+        version,
         client_id: m.client_id.map(|c| c.into_inner()),
         topic_prefix: m.topic_prefix.map(|p| p.into_inner()),
         qos,

@@ -539,6 +539,21 @@ fn mqtt_and_alarms_tables() {
         .mqtt
         .unwrap();
     assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
+    assert_eq!(m2.version, crate::config::MqttVersion::V311);
+    for (v, want) in [
+        ("5", crate::config::MqttVersion::V5),
+        ("\"5.0\"", crate::config::MqttVersion::V5),
+        ("\"3.1.1\"", crate::config::MqttVersion::V311),
+        ("4", crate::config::MqttVersion::V311),
+    ] {
+        let m = parse(&format!(
+            "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nversion = {v}\n"
+        ))
+        .unwrap()
+        .mqtt
+        .unwrap();
+        assert_eq!(m.version, want, "{v}");
+    }
     let m3 = parse(
         "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nuser = \"line1\"\npassword_file = \"/run/secrets/mqtt\"\n",
     )
@@ -571,6 +586,8 @@ fn mqtt_and_alarms_tables() {
         "user = \"op\"",
         "user = \"op\"\nusername = \"x\"\npassword_file = \"f\"",
         "username = \"x\"",
+        "version = 3",
+        "version = \"3.1\"",
     ] {
         let e = parse(&format!("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n{bad}\n")).unwrap_err();
         assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");

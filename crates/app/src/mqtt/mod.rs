@@ -14,10 +14,14 @@
 //! republishes every tag on each connection (a restarted broker may have
 //! lost its retained messages).
 
+pub(crate) mod client;
+
 use crate::Service;
 use alba_model::Value;
 use alba_runtime::json::to_json;
-use rumqttc::{AsyncClient, Event, LastWill, MqttOptions, Packet, QoS};
+pub(crate) use client::goodbye;
+use client::{Client, Ev, Version, Will};
+use rumqttc::QoS;
 use serde_json::{Value as Json, json};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -30,9 +34,11 @@ pub(crate) struct Settings {
     pub host: String,
     pub port: u16,
     prefix: String,
-    client_id: String,
+    pub client_id: String,
+    /// `[mqtt] version`: 3.1.1 or 5.
+    pub version: Version,
     pub qos: QoS,
-    keep_alive: Duration,
+    pub keep_alive: Duration,
     pub tags: Vec<String>,
     /// `[mqtt] publish_interval_ms` and `deadband`.
     pub interval: Duration,
@@ -45,7 +51,7 @@ pub(crate) struct Settings {
     pub queue: usize,
     pub writes: bool,
     /// TLS to the broker, when `[mqtt] ca_file` is set.
-    tls: Option<Arc<rustls::ClientConfig>>,
+    pub tls: Option<Arc<rustls::ClientConfig>>,
     /// Sparkplug B instead of JSON.
     pub sparkplug: Option<crate::sparkplug::SpSettings>,
 }
@@ -85,6 +91,10 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         port,
         prefix: cfg.topic_prefix.clone().unwrap_or_else(|| format!("alba/{name}")),
         client_id: cfg.client_id.clone().unwrap_or_else(|| format!("alba-{name}")),
+        version: match cfg.version {
+            alba_project::config::MqttVersion::V311 => Version::V311,
+            alba_project::config::MqttVersion::V5 => Version::V5,
+        },
         qos: match cfg.qos {
             0 => QoS::AtMostOnce,
             2 => QoS::ExactlyOnce,
@@ -146,14 +156,22 @@ impl Credentials {
         })
     }
 
+    pub fn user(&self) -> &str {
+        &self.user
+    }
+
+    pub fn password(&self) -> &str {
+        &self.password
+    }
+
     /// The password file read again before a reconnection: a corrected
     /// file is used at once; an unreadable one keeps the last password.
-    pub(crate) fn refresh(&mut self, opts: &mut MqttOptions) {
+    pub(crate) fn refresh(&mut self) -> (&str, &str) {
         match read_secret(&self.file) {
             Ok(p) => self.password = p,
             Err(e) => eprintln!("mqtt: {e}; trying with the password read before"),
         }
-        opts.set_credentials(&self.user, &self.password);
+        (&self.user, &self.password)
     }
 }
 
@@ -282,23 +300,6 @@ impl alba_server::connections::Connections for Link {
     }
 }
 
-/// The client's options: id, keep-alive, credentials, TLS, and `will`.
-pub(crate) fn options(set: &Settings, will: LastWill) -> MqttOptions {
-    let mut opts = MqttOptions::new(&set.client_id, &set.host, set.port);
-    opts.set_keep_alive(set.keep_alive);
-    opts.set_clean_session(true);
-    opts.set_last_will(will);
-    if let Some(c) = &set.credentials {
-        opts.set_credentials(&c.user, &c.password);
-    }
-    if let Some(tls) = &set.tls {
-        opts.set_transport(rumqttc::Transport::tls_with_config(rumqttc::TlsConfiguration::Rustls(
-            tls.clone(),
-        )));
-    }
-    opts
-}
-
 /// Back-off after a failed connection: from 100 ms doubling to 30 s, with
 /// jitter so that many runtimes do not reconnect in step (and a dead broker
 /// costs no CPU). Returns the wait and the next back-off.
@@ -306,27 +307,6 @@ pub(crate) fn backoff(current: Duration) -> (Duration, Duration) {
     let jitter = u64::from(std::process::id() ^ current.subsec_nanos()) % 100;
     let wait = current + Duration::from_millis(jitter * current.as_millis() as u64 / 400);
     (wait, (current * 2).min(Duration::from_secs(30)))
-}
-
-/// Publishes `payload` on `topic` (the will's message, sent by hand on a
-/// clean stop) and disconnects, within half a second.
-pub(crate) async fn goodbye(
-    c: &AsyncClient,
-    mut eventloop: rumqttc::EventLoop,
-    topic: String,
-    retain: bool,
-    payload: Vec<u8>,
-) {
-    let _ = c.try_publish(topic, QoS::AtLeastOnce, retain, payload);
-    let _ = tokio::time::timeout(Duration::from_millis(500), async {
-        let _ = c.disconnect().await;
-        while let Ok(ev) = eventloop.poll().await {
-            if matches!(ev, Event::Outgoing(rumqttc::Outgoing::Disconnect)) {
-                break;
-            }
-        }
-    })
-    .await;
 }
 
 /// Whether `new` is worth publishing after `old`, the value last published:
@@ -405,13 +385,19 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
         crate::sparkplug::start(s, set, stats)?;
         return Ok(Some(link));
     }
-    let will = LastWill::new(format!("{}/status", set.prefix), "offline", QoS::AtLeastOnce, true);
-    let (client, mut eventloop) = AsyncClient::new(options(&set, will), set.queue);
+    let will = Will {
+        topic: format!("{}/status", set.prefix),
+        payload: b"offline".to_vec(),
+        qos: QoS::AtLeastOnce,
+        retain: true,
+    };
+    let (client, mut eventloop) = client::new(&set, will);
     let set = Arc::new(set);
     println!(
-        "mqtt: publishing to {}:{}{} under {}/",
+        "mqtt: publishing to {}:{}{}{} under {}/",
         set.host,
         set.port,
+        if set.version == Version::V5 { " (MQTT 5)" } else { "" },
         if set.tls.is_some() { " (TLS)" } else { "" },
         set.prefix
     );
@@ -428,21 +414,26 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                 ev = eventloop.poll() => ev,
             };
             match ev {
-                Ok(Event::Incoming(Packet::ConnAck(_))) => {
+                Ok(Ev::Connected) => {
                     backoff = Duration::from_millis(100);
                     sts.connected.store(true, Ordering::Relaxed);
                     sts.connects.fetch_add(1, Ordering::Relaxed);
                     Stats::set(&sts.last_error, None);
                     sts.republish.store(true, Ordering::Relaxed);
-                    let _ = c.try_publish(format!("{}/status", cfg.prefix), QoS::AtLeastOnce, true, "online");
+                    let _ = c.try_publish(
+                        format!("{}/status", cfg.prefix),
+                        QoS::AtLeastOnce,
+                        true,
+                        b"online".to_vec(),
+                    );
                     if cfg.writes {
                         let _ = c.try_subscribe(format!("{}/set/#", cfg.prefix), QoS::AtLeastOnce);
                     }
                     eprintln!("mqtt: connected to {}:{}", cfg.host, cfg.port);
                 }
-                Ok(Event::Incoming(Packet::Publish(p))) => {
-                    if let Some(tag) = p.topic.strip_prefix(&format!("{}/set/", cfg.prefix)) {
-                        set_tag(&st, &c, &cfg, tag, &p.payload).await;
+                Ok(Ev::Message { topic, payload, reply }) => {
+                    if let Some(tag) = topic.strip_prefix(&format!("{}/set/", cfg.prefix)) {
+                        set_tag(&st, &c, &cfg, tag, &payload, reply).await;
                     }
                 }
                 Ok(_) => {}
@@ -452,9 +443,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                     }
                     sts.errors.fetch_add(1, Ordering::Relaxed);
                     Stats::set(&sts.last_error, Some(e.to_string()));
-                    if let Some(c) = creds.as_mut() {
-                        c.refresh(&mut eventloop.mqtt_options);
-                    }
+                    eventloop.renew(None, creds.as_mut().map(Credentials::refresh));
                     let (wait, next) = self::backoff(backoff);
                     backoff = next;
                     tokio::select! {
@@ -509,7 +498,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                     continue;
                 }
                 let payload = json!({"value": to_json(v), "ts": snap.unix_ms}).to_string();
-                match client.try_publish(topic.as_str(), set.qos, true, payload) {
+                match client.try_publish_json(topic.as_str(), set.qos, true, payload, None) {
                     Ok(()) => {
                         stats.published.fetch_add(1, Ordering::Relaxed);
                         last.insert(name.clone(), v);
@@ -550,7 +539,17 @@ pub(crate) async fn write(st: &alba_server::AppState, set: &Settings, tag: &str,
 
 /// A write from `<prefix>/set/<tag>` (`{"value": ...}`) through [`write`];
 /// a refusal is answered on `<prefix>/error` as `{"tag", "error", "ts"}`.
-async fn set_tag(st: &alba_server::AppState, c: &AsyncClient, cfg: &Settings, tag: &str, payload: &[u8]) {
+/// With MQTT 5, a message with a response topic is answered there too,
+/// with its correlation data: `{"tag", "value", "ts"}` (what the tag then
+/// holds) or the refusal.
+async fn set_tag(
+    st: &alba_server::AppState,
+    c: &Client,
+    cfg: &Settings,
+    tag: &str,
+    payload: &[u8],
+    reply: Option<(String, Option<Vec<u8>>)>,
+) {
     let value = serde_json::from_slice::<Json>(payload)
         .map_err(|e| format!("the payload is not JSON ({e}); send {{\"value\": ...}}"))
         .and_then(|j| {
@@ -562,9 +561,22 @@ async fn set_tag(st: &alba_server::AppState, c: &AsyncClient, cfg: &Settings, ta
         Ok(v) => write(st, cfg, tag, &v).await,
         Err(e) => Err(e),
     };
-    if let Err(error) = result {
-        let body = json!({"tag": tag, "error": error, "ts": alba_server::now_ms()}).to_string();
-        let _ = c.try_publish(format!("{}/error", cfg.prefix), QoS::AtLeastOnce, false, body);
+    let ts = alba_server::now_ms();
+    let answer = match &result {
+        Ok(v) => json!({"tag": tag, "value": v, "ts": ts}),
+        Err(error) => json!({"tag": tag, "error": error, "ts": ts}),
+    };
+    if result.is_err() {
+        let _ = c.try_publish_json(
+            format!("{}/error", cfg.prefix),
+            QoS::AtLeastOnce,
+            false,
+            answer.to_string(),
+            None,
+        );
+    }
+    if let Some((topic, correlation)) = reply {
+        let _ = c.try_publish_json(topic, QoS::AtLeastOnce, false, answer.to_string(), correlation);
     }
 }
 
