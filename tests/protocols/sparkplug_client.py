@@ -205,6 +205,7 @@ def main():
             alba.kill()
         broker.kill()
     bad_devices(binary, project)
+    big_birth_check(binary)
     v5_check(binary, project)
     state_checks(binary, project)
     if failures:
@@ -224,6 +225,36 @@ def bad_devices(binary, project):
         r = subprocess.run([binary, "run", proj, "--http", "127.0.0.1:0", "--no-native"], capture_output=True,
                            text=True, timeout=60)
         check(r.returncode != 0 and want in r.stderr, f"{want}: alba run stops ({r.returncode}, {r.stderr.strip()})")
+
+
+def big_birth_check(binary):
+    """A project of 1 500 tags: a DBIRTH of tens of kilobytes (rumqttc's default packet limit is 10 KiB)."""
+    n = 1500
+    proj = os.path.join(tempfile.mkdtemp(prefix="alba-spb-big-"), "project")
+    os.makedirs(proj)
+    with open(os.path.join(proj, "alba.toml"), "w") as f:
+        f.write(f'name = "big"\nscan_ms = 10\nprograms = ["main.lad"]\n[history]\nenabled = false\n'
+                f'[mqtt]\n[mqtt.sparkplug]\ngroup_id = "{GROUP}"\nedge_node_id = "big"\n')
+    with open(os.path.join(proj, "tags.csv"), "w") as f:
+        f.write("name,type,address,initial,retain,description\n" + "".join(f"V_{i},DINT,,,,\n" for i in range(n)))
+    with open(os.path.join(proj, "main.lad"), "w") as f:
+        f.write("".join(f"ADD(V_{i},1,V_{i});\n" for i in range(0, n, 10)))
+    port = free_port()
+    broker = start_broker(port, os.path.dirname(proj))
+    host = Recorder(port)
+    alba, http = start_alba(binary, proj, f"127.0.0.1:{port}")
+    try:
+        k, raw = host.wait("DBIRTH", timeout=20)
+        birth = sp.DBirth.decode(raw) if raw else None
+        names = {m.name for m in birth.metrics} if birth else set()
+        check(birth is not None and {f"V_{i}" for i in range(n)} <= names,
+              f"a DBIRTH of {len(raw or b'')} bytes with all {n} tags")
+        k, raw = host.wait("DDATA", k or 0)
+        check(raw is not None and len(sp.DData.decode(raw, birth=birth).metrics) >= n // 10,
+              "and DDATA with every changing tag")
+    finally:
+        alba.kill()
+        broker.kill()
 
 
 def v5_check(binary, project):

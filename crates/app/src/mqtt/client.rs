@@ -74,6 +74,12 @@ fn qos5(q: QoS) -> rumqttc::v5::mqttbytes::QoS {
     }
 }
 
+/// Packets received at most (commands, STATE, writes are small): 1 MiB.
+const MAX_IN: usize = 1 << 20;
+/// Packets sent at most: MQTT's own limit (a Sparkplug birth of a large
+/// project is megabytes; rumqttc's default of 10 KiB would refuse it).
+const MAX_OUT: usize = 268_435_455;
+
 /// A client and its event loop for `set`, registering `will`.
 pub(crate) fn new(set: &Settings, will: Will) -> (Client, EventLoop) {
     let keep_alive = set.keep_alive;
@@ -82,6 +88,7 @@ pub(crate) fn new(set: &Settings, will: Will) -> (Client, EventLoop) {
             let mut o = rumqttc::MqttOptions::new(&set.client_id, &set.host, set.port);
             o.set_keep_alive(keep_alive);
             o.set_clean_session(true);
+            o.set_max_packet_size(MAX_IN, MAX_OUT);
             o.set_last_will(rumqttc::LastWill::new(will.topic, will.payload, will.qos, will.retain));
             if let Some(c) = &set.credentials {
                 o.set_credentials(c.user(), c.password());
@@ -99,6 +106,8 @@ pub(crate) fn new(set: &Settings, will: Will) -> (Client, EventLoop) {
             o.set_keep_alive(keep_alive);
             // Clean start, session expiry 0 (none given): no state kept by the broker.
             o.set_clean_start(true);
+            // What the broker may send us; what we send is bounded by the broker's CONNACK.
+            o.set_max_packet_size(Some(MAX_IN as u32));
             o.set_last_will(will5(will));
             if let Some(c) = &set.credentials {
                 o.set_credentials(c.user(), c.password());
