@@ -4,6 +4,7 @@ mod analyze;
 mod audit;
 mod bench;
 mod bench_modbus;
+mod bench_mqtt;
 mod bench_realtime;
 mod demo;
 mod export;
@@ -140,9 +141,19 @@ enum Command {
         /// Benchmark nets instead: a net's scan against the same Ladder, and the analysis (states/s, Kanban 5).
         #[arg(long, conflicts_with = "modbus")]
         nets: bool,
+        /// Benchmark MQTT publishing instead: tag changes per second through a broker, latency, scan jitter
+        /// (JSON and Sparkplug B; see docs/performance.md).
+        #[arg(long, conflicts_with_all = ["modbus", "nets"])]
+        mqtt: bool,
+        /// With --mqtt: tag counts to run, every tag changing every 10 ms scan (default 100,1000).
+        #[arg(long, value_delimiter = ',', value_name = "N,...")]
+        tags: Option<Vec<usize>>,
+        /// With --mqtt: the broker (HOST:PORT); default: a Mosquitto started for the bench on loopback.
+        #[arg(long, value_name = "HOST:PORT")]
+        broker: Option<String>,
         /// Measure the engine thread's wake-up lateness instead (cyclictest-like; 1 ms and 10 ms, idle and
         /// loaded, normal and SCHED_FIFO; see docs/performance.md).
-        #[arg(long, conflicts_with_all = ["modbus", "nets"])]
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "mqtt"])]
         realtime: bool,
         /// With --realtime: the SCHED_FIFO priority to try (1 to 99).
         #[arg(long, value_name = "P", default_value = "80")]
@@ -153,7 +164,7 @@ enum Command {
         /// With --modbus: client counts to run (default 1,4,16).
         #[arg(long, value_delimiter = ',', value_name = "N,...")]
         clients: Option<Vec<usize>>,
-        /// With --modbus: seconds per client count.
+        /// With --modbus: seconds per client count; with --mqtt: per row.
         #[arg(long, value_name = "S", default_value = "5")]
         seconds: f64,
         /// With --modbus: load this server (HOST:PORT) instead of starting Alba's own.
@@ -439,6 +450,13 @@ fn main() -> ExitCode {
             ..
         } => bench_modbus::run(clients.as_deref().unwrap_or(&[1, 4, 16]), seconds, target, start),
         Command::Bench { nets: true, quick, .. } => bench::nets(quick),
+        Command::Bench {
+            mqtt: true,
+            tags,
+            seconds,
+            broker,
+            ..
+        } => bench_mqtt::run(tags.as_deref().unwrap_or(&[100, 1_000]), seconds, broker),
         Command::Bench {
             realtime: true,
             seconds,

@@ -368,6 +368,11 @@ impl EdgeNode {
     }
 }
 
+/// Any Sparkplug B payload (a host's view: tests, benchmarks, tools).
+pub fn decode_payload(bytes: &[u8]) -> Result<Payload, String> {
+    Payload::decode(bytes).map_err(|e| format!("not a Sparkplug B payload: {e}"))
+}
+
 /// The topic of a Sparkplug host application's `STATE` (3.0 §4.2.2).
 pub fn state_topic(host_id: &str) -> String {
     format!("{NAMESPACE}/STATE/{host_id}")

@@ -98,7 +98,8 @@ pub(crate) fn new(set: &Settings, will: Will) -> (Client, EventLoop) {
                     tls.clone(),
                 )));
             }
-            let (c, e) = rumqttc::AsyncClient::new(o, set.queue);
+            let (c, mut e) = rumqttc::AsyncClient::new(o, set.queue);
+            e.set_network_options(network());
             (Client::V311(c), EventLoop::V311(Box::new(e)))
         }
         Version::V5 => {
@@ -108,6 +109,7 @@ pub(crate) fn new(set: &Settings, will: Will) -> (Client, EventLoop) {
             o.set_clean_start(true);
             // What the broker may send us; what we send is bounded by the broker's CONNACK.
             o.set_max_packet_size(Some(MAX_IN as u32));
+            o.set_network_options(network());
             o.set_last_will(will5(will));
             if let Some(c) = &set.credentials {
                 o.set_credentials(c.user(), c.password());
@@ -121,6 +123,16 @@ pub(crate) fn new(set: &Settings, will: Will) -> (Client, EventLoop) {
             (Client::V5(c), EventLoop::V5(Box::new(e)))
         }
     }
+}
+
+/// TCP_NODELAY: a message goes out when it is queued, not when the
+/// broker's (delayed, up to 40 ms) acknowledgement of the last one comes
+/// back, as Nagle's algorithm would have it — a Sparkplug DDATA per scan
+/// otherwise waits for it.
+fn network() -> rumqttc::NetworkOptions {
+    let mut n = rumqttc::NetworkOptions::new();
+    n.set_tcp_nodelay(true);
+    n
 }
 
 fn will5(w: Will) -> p5::LastWill {

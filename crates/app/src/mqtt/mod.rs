@@ -23,7 +23,6 @@ pub(crate) use client::goodbye;
 use client::{Client, Ev, Version, Will};
 use rumqttc::QoS;
 use serde_json::{Value as Json, json};
-use std::collections::HashMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -470,9 +469,8 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
     let mut closing = s.state.closing();
     tokio::spawn(async move {
         let mut program = None;
-        // Each published value: its name, its topic, its place.
-        let mut places: Vec<(String, String, alba_ir::Place)> = Vec::new();
-        let mut last: HashMap<String, Value> = HashMap::new();
+        // Each published value: its topic, its place, and the value last published.
+        let mut places: Vec<(String, alba_ir::Place, Option<Value>)> = Vec::new();
         loop {
             tokio::select! {
                 _ = closing.wait_for(|c| *c) => break,
@@ -480,9 +478,10 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
             }
             let snap = rx.borrow_and_update().clone();
             if !program.as_ref().is_some_and(|p| Arc::ptr_eq(p, &snap.program)) {
+                // After an online edit everything goes again: the types may have changed.
                 places = published(&snap.program.layout, &set.tags)
                     .into_iter()
-                    .map(|(n, p)| (n.clone(), format!("{}/tags/{n}", set.prefix), p))
+                    .map(|(n, p)| (format!("{}/tags/{n}", set.prefix), p, None))
                     .collect();
                 program = Some(snap.program.clone());
             }
@@ -490,18 +489,18 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                 continue;
             }
             if stats.republish.swap(false, Ordering::Relaxed) {
-                last.clear();
+                places.iter_mut().for_each(|(_, _, last)| *last = None);
             }
-            for (name, topic, place) in &places {
+            for (topic, place, last) in &mut places {
                 let v = snap.read(*place);
-                if !worth(last.get(name).copied(), v, set.deadband) {
+                if !worth(*last, v, set.deadband) {
                     continue;
                 }
-                let payload = json!({"value": to_json(v), "ts": snap.unix_ms}).to_string();
+                let payload = format!("{{\"value\":{},\"ts\":{}}}", to_json(v), snap.unix_ms);
                 match client.try_publish_json(topic.as_str(), set.qos, true, payload, None) {
                     Ok(()) => {
                         stats.published.fetch_add(1, Ordering::Relaxed);
-                        last.insert(name.clone(), v);
+                        *last = Some(v);
                     }
                     // The queue is full: this change goes with a later snapshot.
                     Err(_) => {

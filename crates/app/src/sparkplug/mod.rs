@@ -232,7 +232,7 @@ fn birth(s: &mut Session, client: &Client, st: &alba_server::AppState, set: &Set
             .and_then(|()| client.try_publish(s.node.device_topic("DBIRTH", &device), QoS::AtMostOnce, false, dbirth));
     }
     if let Err(e) = sent {
-        eprintln!("mqtt: the births could not be queued ({e}); they go again on the next connection");
+        eprintln!("mqtt: the births could not be queued ({e}); a rebirth request or the next connection sends them");
         return;
     }
     s.born = true;
@@ -254,7 +254,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
     if let Some(st) = &store {
         stats.buffered.store(st.len(), Ordering::Relaxed);
     }
-    check_devices(&s.state.runtime.snapshot().program.layout, &set, &sp).map_err(|e| e.to_string())?;
+    check_devices(&s.state.runtime.snapshot().program.layout, &set, &sp)?;
     let mut node = EdgeNode::new(&sp.group, &sp.node);
     let bd_file = s.dir.join(".alba").join("sparkplug.json");
     if let Some(last) = load_bd_seq(&bd_file) {
