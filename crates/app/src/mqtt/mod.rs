@@ -13,6 +13,13 @@
 //! with exponential back-off and jitter (100 ms doubling to 30 s), and
 //! republishes every tag on each connection (a restarted broker may have
 //! lost its retained messages).
+//!
+//! Also here: `publish_interval_ms` and `deadband` ([`pause`], [`worth`]),
+//! the broker account (`user` from users.toml or `username`, the password
+//! file, [`Credentials`]), the writes' role check and audit ([`write`]),
+//! and the link's counters for `/api/status` ([`Stats`], [`Link`]). The
+//! protocol versions 3.1.1 and 5 are behind [`client`]; Sparkplug B is
+//! `crate::sparkplug`.
 
 pub(crate) mod client;
 
