@@ -36,21 +36,22 @@ problems: Array<Problem>,
 forces: Array<Force>, 
 /**
  * The health of each client connection to a remote server
- * (`[[opcua_server]]`); empty without any.
+ * (`[[opcua_server]]`, the MQTT broker); empty without any.
  */
 connections: Array<Connection>, };
 
 export type Connection = { 
 /**
- * The server's `name` in alba.toml.
+ * The server's `name` in alba.toml; `mqtt` for the broker.
  */
 name: string, 
 /**
- * `opcua`.
+ * `opcua`, `mqtt` (JSON) or `sparkplug`.
  */
 protocol: string, endpoint: string, 
 /**
- * Connected, with every binding accepted.
+ * Connected, with every binding accepted (Sparkplug with a primary
+ * host: born, the host online).
  */
 ok: boolean, 
 /**
@@ -58,7 +59,7 @@ ok: boolean,
  */
 connected: boolean, 
 /**
- * Sessions opened since `alba run` started.
+ * Sessions opened since `alba run` started (reconnections: one less).
  */
 connects: number, 
 /**
@@ -68,7 +69,35 @@ errors: number,
 /**
  * Why it is down or unhealthy (`null` while ok).
  */
-last_error: string | null, };
+last_error: string | null, 
+/**
+ * MQTT only: the outgoing queue's counters since `alba run` started.
+ */
+queue: QueueCounters | null, };
+
+export type QueueCounters = { 
+/**
+ * Messages handed to the connection (tag values, DDATA, replayed ones included).
+ */
+published: number, 
+/**
+ * Changes the full queue could not take: they went with a later
+ * snapshot, the intermediate values coalesced.
+ */
+coalesced: number, 
+/**
+ * Values lost: store-and-forward records past `buffer_max` (the
+ * oldest), unreadable, or of metrics the current birth does not have.
+ */
+dropped: number, 
+/**
+ * Sparkplug store and forward: records waiting on disk, and sent from it.
+ */
+buffered: number, replayed: number, 
+/**
+ * The queue's bound (`[mqtt] queue`).
+ */
+capacity: number, };
 
 export type BrowseNode = { 
 /**
@@ -477,7 +506,7 @@ problems: Array<Problem>,
 forces: Array<Force>, 
 /**
  * The health of each client connection to a remote server
- * (`[[opcua_server]]`); empty without any.
+ * (`[[opcua_server]]`, the MQTT broker); empty without any.
  */
 connections: Array<Connection>, };
 

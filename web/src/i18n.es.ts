@@ -456,6 +456,8 @@ export const es: Record<string, string> = {
   '{name}: connected to {endpoint}': '{name}: conectado a {endpoint}',
   '{name}: connected to {endpoint}, but: {error}': '{name}: conectado a {endpoint}, pero: {error}',
   '{name}: {endpoint} is down: {error}': '{name}: {endpoint} no responde: {error}',
+  '{published} published, {coalesced} coalesced, {dropped} dropped': '{published} publicados, {coalesced} agrupados, {dropped} perdidos',
+  '{buffered} buffered, {replayed} replayed': '{buffered} en búfer, {replayed} reenviados',
   'Browse OPC UA server': 'Explorar servidor OPC UA',
   Server: 'Servidor',
   'Copied to the clipboard.': 'Copiado al portapapeles.',

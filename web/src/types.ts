@@ -7,8 +7,10 @@ import type * as G from './api.gen';
 export type Json = G.Json;
 export type Stats = G.Stats;
 export type Status = G.Status;
-/** A client connection of `alba run` (`[[opcua_server]]`), in the status. */
+/** A client connection of `alba run` (`[[opcua_server]]`, the MQTT broker), in the status. */
 export type Connection = G.Connection;
+/** The MQTT client's queue counters of a connection. */
+export type QueueCounters = G.QueueCounters;
 /** `GET /api/opcua/{server}/browse` and its children. */
 export type OpcuaBrowse = G.OpcuaBrowse;
 export type BrowseNode = G.BrowseNode;

@@ -4,7 +4,7 @@ import { afterEach, describe, expect, it, vi } from 'vitest';
 import { bindingLine, openOpcuaBrowser, tagNameOf, tomlString } from '../src/ui/opcuaBrowse';
 import type { BrowseNode, Connection } from '../src/types';
 
-const conn: Connection = { name: 'plant', protocol: 'opcua', endpoint: 'opc.tcp://127.0.0.1:4840/', ok: true, connected: true, connects: 1, errors: 0, last_error: null };
+const conn: Connection = { name: 'plant', protocol: 'opcua', endpoint: 'opc.tcp://127.0.0.1:4840/', ok: true, connected: true, connects: 1, errors: 0, last_error: null, queue: null };
 const node = (browse_name: string, cls: string, node: string, over: Partial<BrowseNode> = {}): BrowseNode => ({
   node, node_uri: null, browse_name, display_name: browse_name, class: cls, data_type: null, ...over,
 });

@@ -47,7 +47,7 @@ describe('store problems in the status bar', () => {
 
 describe('client connections in the status bar ([[opcua_server]])', () => {
   const conn = (over: Partial<Connection>): Connection => ({
-    name: 'plant', protocol: 'opcua', endpoint: 'opc.tcp://10.0.0.5:4840/', ok: true, connected: true, connects: 1, errors: 0, last_error: null, ...over,
+    name: 'plant', protocol: 'opcua', endpoint: 'opc.tcp://10.0.0.5:4840/', ok: true, connected: true, connects: 1, errors: 0, last_error: null, queue: null, ...over,
   });
 
   it('shows each connection green when ok, red with the reason when down, amber when bindings are refused', () => {
@@ -68,5 +68,24 @@ describe('client connections in the status bar ([[opcua_server]])', () => {
     expect(again.dataset.health).toBe('refused');
     expect(again.title).toContain('BadNodeIdUnknown');
     expect(bar.el.querySelector('[data-testid="status-remote-line2"]')).toBeNull();
+  });
+
+  it('shows the MQTT broker with its queue counters, amber while Sparkplug holds data for its primary host', () => {
+    const bar = new StatusBar();
+    const queue = { published: 1200, coalesced: 3, dropped: 0, buffered: 0, replayed: 0, capacity: 10000 };
+    bar.status(status({ connections: [conn({ name: 'mqtt', protocol: 'mqtt', endpoint: '10.0.0.5:1883', queue })] }));
+    const mqtt = bar.el.querySelector('[data-testid="status-remote-mqtt"]') as HTMLElement;
+    expect([mqtt.textContent, mqtt.dataset.health]).toEqual(['mqtt', 'ok']);
+    expect(mqtt.title).toBe('mqtt: connected to 10.0.0.5:1883\n1200 published, 3 coalesced, 0 dropped');
+    bar.status(status({
+      connections: [conn({
+        name: 'mqtt', protocol: 'sparkplug', endpoint: '10.0.0.5:1883', ok: false,
+        last_error: 'the primary host scada is offline: buffering', queue: { ...queue, buffered: 40, dropped: 2 },
+      })],
+    }));
+    const held = bar.el.querySelector('[data-testid="status-remote-mqtt"]') as HTMLElement;
+    expect(held.dataset.health).toBe('refused');
+    expect(held.title).toContain('the primary host scada is offline');
+    expect(held.title).toContain('1200 published, 3 coalesced, 2 dropped\n40 buffered, 0 replayed');
   });
 });

@@ -1,9 +1,32 @@
-//! The API's view of `alba run`'s client connections (`[[opcua_server]]`):
-//! alba-server's [`Connections`] over the OPC UA client's monitor.
+//! The API's view of `alba run`'s client connections: alba-server's
+//! [`Connections`] over the OPC UA client's monitor (`[[opcua_server]]`)
+//! and the MQTT client's counters, together in [`All`].
 
 use alba_opcua::client::{BrowseError, Monitor};
 use alba_server::connections::{self, Browsing, Connections};
 use alba_server::reply::{BrowseNode, Connection};
+use std::sync::Arc;
+
+/// Every client connection, in this order: the OPC UA servers, the broker.
+pub(crate) struct All(pub Vec<Arc<dyn Connections>>);
+
+impl Connections for All {
+    fn status(&self) -> Vec<Connection> {
+        self.0.iter().flat_map(|c| c.status()).collect()
+    }
+
+    fn browse<'a>(&'a self, server: &'a str, node: &'a str) -> Browsing<'a> {
+        Box::pin(async move {
+            for c in &self.0 {
+                match c.browse(server, node).await {
+                    Err(connections::BrowseError::UnknownServer(_)) => continue,
+                    r => return r,
+                }
+            }
+            Err(connections::BrowseError::UnknownServer(server.to_string()))
+        })
+    }
+}
 
 pub(crate) struct OpcuaConnections(pub Monitor);
 
@@ -23,6 +46,7 @@ impl Connections for OpcuaConnections {
                 connects: s.connects,
                 errors: s.errors,
                 last_error: s.last_error,
+                queue: None,
             })
             .collect()
     }

@@ -195,9 +195,6 @@ pub async fn run(
         (None, None) => None,
     };
     let state = AppState::new(runtime.handle(), compiled, &opts.io, store, Some(audit), auth);
-    if let Some(m) = monitor {
-        let _ = state.connections.set(Arc::new(connections::OpcuaConnections(m)));
-    }
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
@@ -219,9 +216,20 @@ pub async fn run(
     };
     modbus::start(&service, opts.modbus).await.map_err(RunError::Other)?;
     opcua::start(&service, opts.opcua).await.map_err(RunError::Other)?;
-    mqtt::start(&service, opts.mqtt.as_deref())
+    let broker = mqtt::start(&service, opts.mqtt.as_deref())
         .await
         .map_err(RunError::Other)?;
+    // The client connections in `/api/status`: the OPC UA servers, the broker.
+    let mut links: Vec<Arc<dyn alba_server::connections::Connections>> = Vec::new();
+    if let Some(m) = monitor {
+        links.push(Arc::new(connections::OpcuaConnections(m)));
+    }
+    if let Some(b) = broker {
+        links.push(b);
+    }
+    if !links.is_empty() {
+        let _ = state.connections.set(Arc::new(connections::All(links)));
+    }
     edits::start(&service);
     audit::start(&service);
     alarms::start(&service, alarm_defs).map_err(RunError::Other)?;

@@ -4,6 +4,7 @@ mod analyze;
 mod audit;
 mod bench;
 mod bench_modbus;
+mod bench_mqtt;
 mod bench_realtime;
 mod demo;
 mod export;
@@ -146,17 +147,27 @@ enum Command {
         /// Benchmark nets instead: a net's scan against the same Ladder, and the analysis (states/s, Kanban 5).
         #[arg(long, conflicts_with = "modbus")]
         nets: bool,
+        /// Benchmark MQTT publishing instead: tag changes per second through a broker, latency, scan jitter
+        /// (JSON and Sparkplug B; see docs/performance.md).
+        #[arg(long, conflicts_with_all = ["modbus", "nets"])]
+        mqtt: bool,
+        /// With --mqtt: tag counts to run, every tag changing every 10 ms scan (default 100,1000).
+        #[arg(long, value_delimiter = ',', value_name = "N,...")]
+        tags: Option<Vec<usize>>,
+        /// With --mqtt: the broker (HOST:PORT); default: a Mosquitto started for the bench on loopback.
+        #[arg(long, value_name = "HOST:PORT")]
+        broker: Option<String>,
         /// Measure the scan start lateness of `alba run` instead (cyclictest-like; 1 ms and 10 ms, idle and
         /// under Modbus/HTTP/WebSocket/OPC UA/historian load, normal and SCHED_FIFO; see docs/performance.md).
-        #[arg(long, conflicts_with_all = ["modbus", "nets"])]
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "mqtt"])]
         realtime: bool,
         /// Benchmark the historian instead: ingest (every tag of a 10 000-tag project) and 1 000-point
         /// queries over 10 M samples (1 M with --quick).
-        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime"])]
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "mqtt"])]
         historian: bool,
         /// Run every benchmark in turn: the engine, nets, the historian, Modbus, real time (--quick: shorter).
         /// The studio's DOM latency needs a browser: web/bench/studios.mjs (docs/performance.md).
-        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian"])]
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian", "mqtt"])]
         all: bool,
         /// With --realtime: the SCHED_FIFO priority to try (1 to 99).
         #[arg(long, value_name = "P", default_value = "80")]
@@ -167,7 +178,7 @@ enum Command {
         /// With --modbus: client counts to run (default 1,4,16).
         #[arg(long, value_delimiter = ',', value_name = "N,...")]
         clients: Option<Vec<usize>>,
-        /// With --modbus and --realtime: seconds per row.
+        /// With --modbus and --realtime: seconds per row (a client count for --modbus); with --mqtt: per row.
         #[arg(long, value_name = "S", default_value = "5")]
         seconds: f64,
         /// With --modbus: load this server (HOST:PORT) instead of starting Alba's own.
@@ -473,6 +484,13 @@ fn main() -> ExitCode {
             seconds,
             ..
         } => bench::all(quick, if quick { 1.0 } else { seconds }, priority, cpu),
+        Command::Bench {
+            mqtt: true,
+            tags,
+            seconds,
+            broker,
+            ..
+        } => bench_mqtt::run(tags.as_deref().unwrap_or(&[100, 1_000]), seconds, broker),
         Command::Bench {
             realtime: true,
             seconds,

@@ -66,28 +66,50 @@ pub struct Status {
     /// "forces active" banner.
     pub forces: Vec<Force>,
     /// The health of each client connection to a remote server
-    /// (`[[opcua_server]]`); empty without any.
+    /// (`[[opcua_server]]`, the MQTT broker); empty without any.
     pub connections: Vec<Connection>,
 }
 
-/// A client connection of `alba run` to a remote server (`[[opcua_server]]`).
+/// A client connection of `alba run` to a remote server (`[[opcua_server]]`,
+/// `[mqtt]`'s broker).
 #[derive(Debug, Clone, Serialize, TS)]
 pub struct Connection {
-    /// The server's `name` in alba.toml.
+    /// The server's `name` in alba.toml; `mqtt` for the broker.
     pub name: String,
-    /// `opcua`.
+    /// `opcua`, `mqtt` (JSON) or `sparkplug`.
     pub protocol: String,
     pub endpoint: String,
-    /// Connected, with every binding accepted.
+    /// Connected, with every binding accepted (Sparkplug with a primary
+    /// host: born, the host online).
     pub ok: bool,
     /// A session is open (bindings may still be refused).
     pub connected: bool,
-    /// Sessions opened since `alba run` started.
+    /// Sessions opened since `alba run` started (reconnections: one less).
     pub connects: u64,
     /// Failed attempts and losses.
     pub errors: u64,
     /// Why it is down or unhealthy (`null` while ok).
     pub last_error: Option<String>,
+    /// MQTT only: the outgoing queue's counters since `alba run` started.
+    pub queue: Option<QueueCounters>,
+}
+
+/// What the MQTT client did with the changes it was given (docs/scale-out.md).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct QueueCounters {
+    /// Messages handed to the connection (tag values, DDATA, replayed ones included).
+    pub published: u64,
+    /// Changes the full queue could not take: they went with a later
+    /// snapshot, the intermediate values coalesced.
+    pub coalesced: u64,
+    /// Values lost: store-and-forward records past `buffer_max` (the
+    /// oldest), unreadable, or of metrics the current birth does not have.
+    pub dropped: u64,
+    /// Sparkplug store and forward: records waiting on disk, and sent from it.
+    pub buffered: u64,
+    pub replayed: u64,
+    /// The queue's bound (`[mqtt] queue`).
+    pub capacity: u64,
 }
 
 /// A child of a browsed OPC UA node.
@@ -674,6 +696,7 @@ pub fn typescript() -> String {
         Problem,
         Status,
         Connection,
+        QueueCounters,
         BrowseNode,
         OpcuaBrowse,
         TrendSet,

@@ -2,7 +2,7 @@
 //! ([`proto`], written with `prost` derives from Tahu's `sparkplug_b.proto`),
 //! topics ([`Topic`]), data types, and [`EdgeNode`], the state of one edge
 //! node that builds its NBIRTH/DBIRTH/DDATA/NDEATH messages with their
-//! sequence numbers and aliases. `alba run` (crates/app/src/mqtt.rs) moves
+//! sequence numbers and aliases. `alba run` (crates/app/src/sparkplug/) moves
 //! these bytes over MQTT; tests decode them with a third-party library.
 
 pub mod proto;
@@ -131,45 +131,46 @@ pub fn valid_id(s: &str) -> bool {
     !s.is_empty() && !s.contains(['/', '+', '#'])
 }
 
-/// One edge node with one device, its metrics named and aliased at birth.
+/// One edge node and its devices, their metrics named and aliased at birth.
 #[derive(Debug, Clone)]
 pub struct EdgeNode {
     pub group: String,
     pub node: String,
-    pub device: String,
     /// Birth/death sequence: the NDEATH registered with a connection carries
     /// the value its NBIRTH will (Sparkplug 3.0 §6.4.2); +1 per connection.
     bd_seq: u64,
     /// Message sequence, 0–255, wrapping; NBIRTH is 0.
     seq: u64,
-    /// Metric name → alias (stable for the life of the node).
+    /// Metric name → alias, unique in the node across its devices (stable
+    /// for the life of the node).
     aliases: HashMap<String, u64>,
     names: Vec<String>,
-    /// Each metric's data type as born: commands may omit it.
-    types: HashMap<String, u32>,
+    /// The metrics of the last birth: each one's device and data type
+    /// (commands may omit the type).
+    born: HashMap<String, (String, u32)>,
 }
 
 impl EdgeNode {
-    pub fn new(group: &str, node: &str, device: &str) -> EdgeNode {
+    pub fn new(group: &str, node: &str) -> EdgeNode {
         EdgeNode {
             group: group.into(),
             node: node.into(),
-            device: device.into(),
             bd_seq: 0,
             seq: 0,
             aliases: HashMap::new(),
             names: Vec::new(),
-            types: HashMap::new(),
+            born: HashMap::new(),
         }
     }
 
+    /// The topic of a node message: NBIRTH, NDATA, NDEATH, NCMD.
     pub fn topic(&self, kind: &str) -> String {
-        match kind {
-            "DBIRTH" | "DDATA" | "DDEATH" | "DCMD" => {
-                format!("{NAMESPACE}/{}/{kind}/{}/{}", self.group, self.node, self.device)
-            }
-            _ => format!("{NAMESPACE}/{}/{kind}/{}", self.group, self.node),
-        }
+        format!("{NAMESPACE}/{}/{kind}/{}", self.group, self.node)
+    }
+
+    /// The topic of a device message: DBIRTH, DDATA, DDEATH, DCMD (`+`: every device).
+    pub fn device_topic(&self, kind: &str, device: &str) -> String {
+        format!("{NAMESPACE}/{}/{kind}/{}/{device}", self.group, self.node)
     }
 
     fn next_seq(&mut self) -> u64 {
@@ -178,8 +179,20 @@ impl EdgeNode {
         s
     }
 
+    /// The last message built was not sent (the client's queue was full):
+    /// its `seq` goes to the next one, so that hosts see no gap.
+    pub fn not_sent(&mut self) {
+        self.seq = (self.seq + 255) % 256;
+    }
+
     pub fn bd_seq(&self) -> u64 {
         self.bd_seq
+    }
+
+    /// Starts from the bdSeq of the last session (kept across restarts):
+    /// the next connection gets the next one.
+    pub fn resume_after(&mut self, last_bd_seq: u64) {
+        self.bd_seq = (last_bd_seq + 1) % 256;
     }
 
     /// The NDEATH to register as the last will of the next connection
@@ -194,10 +207,16 @@ impl EdgeNode {
         .encode_to_vec()
     }
 
-    /// NBIRTH and DBIRTH for a new connection (or a rebirth): the node's
-    /// metrics (bdSeq, Node Control/Rebirth) and every device metric with its
-    /// name, alias, type and value. `seq` restarts at 0.
-    pub fn birth(&mut self, now_ms: u64, metrics: &[(String, Value)]) -> (Vec<u8>, Vec<u8>) {
+    /// NBIRTH and one DBIRTH per device for a new connection (or a
+    /// rebirth): the node's metrics (bdSeq, Node Control/Rebirth) and every
+    /// device metric with its name, alias, type and value. `seq` restarts at
+    /// 0. A metric name is one metric of the node: if two devices list it,
+    /// the first has it.
+    pub fn birth(
+        &mut self,
+        now_ms: u64,
+        devices: &[(String, Vec<(String, Value)>)],
+    ) -> (Vec<u8>, Vec<(String, Vec<u8>)>) {
         self.seq = 0;
         let nbirth = Payload {
             timestamp: Some(now_ms),
@@ -214,30 +233,42 @@ impl EdgeNode {
             seq: Some(self.next_seq()),
             ..Default::default()
         };
-        for (name, v) in metrics {
-            self.types.insert(name.clone(), v.datatype() as u32);
-            if !self.aliases.contains_key(name) {
-                self.aliases.insert(name.clone(), self.names.len() as u64);
-                self.names.push(name.clone());
-            }
-        }
-        let dbirth = Payload {
-            timestamp: Some(now_ms),
-            metrics: metrics
-                .iter()
-                .map(|(name, v)| Metric {
+        self.born.clear();
+        let mut dbirths = Vec::new();
+        for (device, metrics) in devices {
+            let mut born = Vec::new();
+            for (name, v) in metrics {
+                if self.born.contains_key(name) {
+                    continue;
+                }
+                self.born.insert(name.clone(), (device.clone(), v.datatype() as u32));
+                if !self.aliases.contains_key(name) {
+                    self.aliases.insert(name.clone(), self.names.len() as u64);
+                    self.names.push(name.clone());
+                }
+                born.push(Metric {
                     name: Some(name.clone()),
                     alias: self.aliases.get(name).copied(),
                     timestamp: Some(now_ms),
                     datatype: Some(v.datatype() as u32),
                     value: Some(v.encode()),
                     ..Default::default()
-                })
-                .collect(),
-            seq: Some(self.next_seq()),
-            ..Default::default()
-        };
-        (nbirth.encode_to_vec(), dbirth.encode_to_vec())
+                });
+            }
+            let dbirth = Payload {
+                timestamp: Some(now_ms),
+                metrics: born,
+                seq: Some(self.next_seq()),
+                ..Default::default()
+            };
+            dbirths.push((device.clone(), dbirth.encode_to_vec()));
+        }
+        (nbirth.encode_to_vec(), dbirths)
+    }
+
+    /// The device a metric was born in.
+    pub fn device_of(&self, name: &str) -> Option<&str> {
+        self.born.get(name).map(|(d, _)| d.as_str())
     }
 
     /// The connection is gone: the next one gets the next bdSeq.
@@ -245,30 +276,60 @@ impl EdgeNode {
         self.bd_seq = (self.bd_seq + 1) % 256;
     }
 
-    /// A DDATA of changed metrics, by alias only (names were in the DBIRTH).
-    /// A name not born yet is refused (the caller rebirths).
-    pub fn data(&mut self, now_ms: u64, changes: &[(String, Value)]) -> Option<Vec<u8>> {
+    /// A DDATA of changed metrics of `device`, by alias only (names and data
+    /// types were in the DBIRTH, so neither is sent again, as Sparkplug 3.0
+    /// §6.4.5 advises). A name not born in this device is refused (the
+    /// caller rebirths).
+    pub fn data(&mut self, device: &str, now_ms: u64, changes: &[(String, Value)]) -> Option<Vec<u8>> {
         let metrics = changes
             .iter()
             .map(|(name, v)| {
-                Some(Metric {
-                    alias: Some(*self.aliases.get(name)?),
-                    timestamp: Some(now_ms),
-                    datatype: Some(v.datatype() as u32),
-                    value: Some(v.encode()),
-                    ..Default::default()
-                })
+                (self.device_of(name) == Some(device))
+                    .then(|| self.data_metric(name, *v, now_ms, false))
+                    .flatten()
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(
-            Payload {
-                timestamp: Some(now_ms),
-                metrics,
-                seq: Some(self.next_seq()),
-                ..Default::default()
-            }
-            .encode_to_vec(),
-        )
+        Some(self.data_payload(now_ms, metrics))
+    }
+
+    /// A DDATA of stored values of `device` (store and forward): each
+    /// metric flagged `is_historical` with the time it had the value, so a
+    /// host records it without taking it for the current value. Values of
+    /// metrics the current birth does not have in this device, or has with
+    /// another data type (the program or the devices changed while they
+    /// waited), are left out: the second member counts them. `None` when
+    /// none is left.
+    pub fn historical(&mut self, device: &str, t_ms: u64, values: &[(String, Value)]) -> (Option<Vec<u8>>, usize) {
+        let metrics: Vec<Metric> = values
+            .iter()
+            .filter(|(name, v)| self.born.get(name) == Some(&(device.to_string(), v.datatype() as u32)))
+            .filter_map(|(name, v)| self.data_metric(name, *v, t_ms, true))
+            .collect();
+        let left_out = values.len() - metrics.len();
+        if metrics.is_empty() {
+            return (None, left_out);
+        }
+        (Some(self.data_payload(t_ms, metrics)), left_out)
+    }
+
+    fn data_metric(&self, name: &str, v: Value, t_ms: u64, historical: bool) -> Option<Metric> {
+        Some(Metric {
+            alias: Some(*self.aliases.get(name)?),
+            timestamp: Some(t_ms),
+            is_historical: historical.then_some(true),
+            value: Some(v.encode()),
+            ..Default::default()
+        })
+    }
+
+    fn data_payload(&mut self, t_ms: u64, metrics: Vec<Metric>) -> Vec<u8> {
+        Payload {
+            timestamp: Some(t_ms),
+            metrics,
+            seq: Some(self.next_seq()),
+            ..Default::default()
+        }
+        .encode_to_vec()
     }
 
     /// The metrics of an NCMD/DCMD: (name, value) each, aliases resolved.
@@ -302,9 +363,114 @@ impl EdgeNode {
     fn datatype_of(&self, name: &str) -> Option<u32> {
         match name {
             REBIRTH => Some(DataType::Boolean as u32),
-            _ => self.types.get(name).copied(),
+            _ => self.born.get(name).map(|(_, t)| *t),
         }
     }
+}
+
+/// Any Sparkplug B payload (a host's view: tests, benchmarks, tools).
+pub fn decode_payload(bytes: &[u8]) -> Result<Payload, String> {
+    Payload::decode(bytes).map_err(|e| format!("not a Sparkplug B payload: {e}"))
+}
+
+/// The topic of a Sparkplug host application's `STATE` (3.0 §4.2.2).
+pub fn state_topic(host_id: &str) -> String {
+    format!("{NAMESPACE}/STATE/{host_id}")
+}
+
+/// A host application's `STATE` message: `{"online": bool, "timestamp": ms}`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HostState {
+    pub online: bool,
+    pub timestamp: u64,
+}
+
+impl HostState {
+    /// The JSON payload of a `STATE` message, or why it is not one.
+    pub fn parse(payload: &[u8]) -> Result<HostState, String> {
+        let j: serde_json::Value =
+            serde_json::from_slice(payload).map_err(|e| format!("a STATE payload is JSON ({e})"))?;
+        let online = j
+            .get("online")
+            .and_then(serde_json::Value::as_bool)
+            .ok_or("a STATE payload needs `online`: true or false")?;
+        let timestamp = j
+            .get("timestamp")
+            .and_then(serde_json::Value::as_u64)
+            .ok_or("a STATE payload needs `timestamp`: ms since 1970")?;
+        Ok(HostState { online, timestamp })
+    }
+}
+
+/// What an edge node makes of its primary host's `STATE` messages
+/// (Sparkplug 3.0 §5.3, §5.4): a message older than the last one that
+/// counted is an echo of an earlier session and changes nothing.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PrimaryHost {
+    /// Online as of the last message that counted.
+    pub online: bool,
+    /// The timestamp of the last message that counted, and of the last online one.
+    last: Option<u64>,
+    last_online: Option<u64>,
+}
+
+impl PrimaryHost {
+    /// Takes a `STATE` message; whether it counted (the host's state is now `online`).
+    pub fn update(&mut self, s: HostState) -> bool {
+        let counts = if s.online {
+            // Online: not older than any STATE before it.
+            self.last.is_none_or(|t| s.timestamp >= t)
+        } else {
+            // Offline: not older than the online message it ends (a will
+            // carries its birth's timestamp).
+            self.last_online.is_none_or(|t| s.timestamp >= t)
+        };
+        if counts {
+            self.online = s.online;
+            self.last = Some(self.last.map_or(s.timestamp, |t| t.max(s.timestamp)));
+            if s.online {
+                self.last_online = Some(s.timestamp);
+            }
+        }
+        counts
+    }
+}
+
+/// A record of the store-and-forward buffer: the values a snapshot changed
+/// and its time, as a Sparkplug payload with metric names (aliases and
+/// sequence numbers are the session's, given when it is sent).
+pub fn encode_record(t_ms: u64, values: &[(String, Value)]) -> Vec<u8> {
+    Payload {
+        timestamp: Some(t_ms),
+        metrics: values
+            .iter()
+            .map(|(name, v)| Metric {
+                name: Some(name.clone()),
+                datatype: Some(v.datatype() as u32),
+                value: Some(v.encode()),
+                ..Default::default()
+            })
+            .collect(),
+        ..Default::default()
+    }
+    .encode_to_vec()
+}
+
+/// A record written by [`encode_record`], or why the bytes are not one.
+pub fn decode_record(bytes: &[u8]) -> Result<(u64, Vec<(String, Value)>), String> {
+    let p = Payload::decode(bytes).map_err(|e| format!("not a buffered record: {e}"))?;
+    let values = p
+        .metrics
+        .iter()
+        .map(|m| {
+            let name = m.name.clone().ok_or("a buffered metric without a name")?;
+            let (Some(t), Some(v)) = (m.datatype, &m.value) else {
+                return Err(format!("buffered `{name}` without a type or a value"));
+            };
+            Ok((name, Value::decode(t, v)?))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok((p.timestamp.unwrap_or(0), values))
 }
 
 fn bd_seq_metric(v: u64) -> Metric {

@@ -5,7 +5,7 @@
 import { type Me, whoLabel } from '../auth';
 import type { ConnState } from '../live/client';
 import { h } from '../dom';
-import type { Connection, Status } from '../types';
+import type { Connection, QueueCounters, Status } from '../types';
 import { tr } from '../i18n';
 
 /** The strings of the status bar that are not field values. */
@@ -20,6 +20,13 @@ const text = {
   remoteRefused: (c: Connection, error: string) =>
     tr('{name}: connected to {endpoint}, but: {error}', { name: c.name, endpoint: c.endpoint, error }),
   remoteDown: (c: Connection, error: string) => tr('{name}: {endpoint} is down: {error}', { name: c.name, endpoint: c.endpoint, error }),
+  queue: (q: QueueCounters) =>
+    tr('{published} published, {coalesced} coalesced, {dropped} dropped', {
+      published: q.published,
+      coalesced: q.coalesced,
+      dropped: q.dropped,
+    }),
+  buffered: (q: QueueCounters) => tr('{buffered} buffered, {replayed} replayed', { buffered: q.buffered, replayed: q.replayed }),
   conn: { connecting: tr('connecting'), connected: tr('connected'), reconnecting: tr('reconnecting') } as Record<string, string>,
 };
 
@@ -86,16 +93,25 @@ export class StatusBar {
     this.connections(s.connections ?? []);
   }
 
-  /** Each remote server: its name, green (ok), amber (bindings refused) or red (down), why in the tooltip. */
+  /**
+   * Each remote server: its name, green (ok), amber (bindings refused, or
+   * data held back) or red (down), why in the tooltip; the broker's
+   * tooltip also counts what its queue published, coalesced and dropped.
+   */
   private connections(list: Connection[]): void {
-    const key = JSON.stringify(list.map((c) => [c.name, c.ok, c.connected, c.last_error, c.endpoint]));
+    const key = JSON.stringify(list.map((c) => [c.name, c.ok, c.connected, c.last_error, c.endpoint, c.queue]));
     if (key === this.connsKey) return;
     this.connsKey = key;
     this.conns.replaceChildren(
       ...list.map((c) => {
         const health = c.ok ? 'ok' : c.connected ? 'refused' : 'down';
         const error = c.last_error ?? '';
-        const title = health === 'ok' ? text.remoteOk(c) : health === 'refused' ? text.remoteRefused(c, error) : text.remoteDown(c, error);
+        const lines = [health === 'ok' ? text.remoteOk(c) : health === 'refused' ? text.remoteRefused(c, error) : text.remoteDown(c, error)];
+        if (c.queue) {
+          lines.push(text.queue(c.queue));
+          if (c.queue.buffered || c.queue.replayed) lines.push(text.buffered(c.queue));
+        }
+        const title = lines.join('\n');
         return h('span', { class: 'remote', 'data-testid': `status-remote-${c.name}`, 'data-health': health, title, 'aria-label': title }, c.name);
       }),
     );

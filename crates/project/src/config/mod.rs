@@ -25,7 +25,7 @@ pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Mod
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };
-pub use mqtt::{Mqtt, Sparkplug, is_host_port};
+pub use mqtt::{Mqtt, MqttVersion, Sparkplug, is_host_port};
 pub use opcua::{Opcua, OpcuaUser, check_password_hash};
 pub use opcua_server::{
     DEFAULT_CLIENT_PKI, DEFAULT_PUBLISHING_INTERVAL_MS, Direction, OpcuaBinding, OpcuaServer, SecurityMode,

@@ -547,6 +547,37 @@ fn mqtt_and_alarms_tables() {
     assert_eq!(m.topic_prefix.as_deref(), Some("site/line1"));
     assert_eq!((m.qos, m.writes, m.keep_alive_s, m.queue), (0, false, 30, 10_000));
     assert_eq!(m.tags, ["Level", "Delay"]);
+    assert_eq!((m.publish_interval_ms, m.deadband), (0, 0.0));
+    let m2 = parse("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\npublish_interval_ms = 250\ndeadband = 0.5\n")
+        .unwrap()
+        .mqtt
+        .unwrap();
+    assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
+    assert_eq!(m2.version, crate::config::MqttVersion::V311);
+    for (v, want) in [
+        ("5", crate::config::MqttVersion::V5),
+        ("\"5.0\"", crate::config::MqttVersion::V5),
+        ("\"3.1.1\"", crate::config::MqttVersion::V311),
+        ("4", crate::config::MqttVersion::V311),
+    ] {
+        let m = parse(&format!(
+            "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nversion = {v}\n"
+        ))
+        .unwrap()
+        .mqtt
+        .unwrap();
+        assert_eq!(m.version, want, "{v}");
+    }
+    let m3 = parse(
+        "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nuser = \"line1\"\npassword_file = \"/run/secrets/mqtt\"\n",
+    )
+    .unwrap()
+    .mqtt
+    .unwrap();
+    assert_eq!(
+        (m3.user.as_deref(), m3.username, m3.password_file.as_deref()),
+        (Some("line1"), None, Some("/run/secrets/mqtt"))
+    );
     assert_eq!(
         (m.username.as_deref(), m.password_file.as_deref()),
         (Some("plc"), Some("mqtt.secret"))
@@ -563,8 +594,58 @@ fn mqtt_and_alarms_tables() {
         "topic_prefix = \"a/+/b\"",
         "topic_prefix = \"a/\"",
         "queue = 5",
+        "publish_interval_ms = -1",
+        "deadband = -0.5",
+        "deadband = nan",
+        "user = \"op\"",
+        "user = \"op\"\nusername = \"x\"\npassword_file = \"f\"",
+        "username = \"x\"",
+        "version = 3",
+        "version = \"3.1\"",
     ] {
         let e = parse(&format!("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n{bad}\n")).unwrap_err();
+        assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
+    }
+}
+
+#[test]
+fn mqtt_sparkplug_table() {
+    let head = "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n[mqtt.sparkplug]\n";
+    let sp = parse(head).unwrap().mqtt.unwrap().sparkplug.unwrap();
+    assert_eq!(
+        (
+            sp.group_id.as_str(),
+            sp.edge_node_id,
+            sp.device_id.as_str(),
+            sp.primary_host_id,
+            sp.buffer_max
+        ),
+        ("alba", None, "plc", None, 1_000_000)
+    );
+    assert!(sp.devices.is_empty());
+    let sp = parse(&format!(
+        "{head}primary_host_id = \"scada\"\nbuffer_max = 5000\n[mqtt.sparkplug.devices]\npumps = [\"P1\", \"P2\"]\nline = [\"Conveyor\"]\n"
+    ))
+        .unwrap()
+        .mqtt
+        .unwrap()
+        .sparkplug
+        .unwrap();
+    assert_eq!((sp.primary_host_id.as_deref(), sp.buffer_max), (Some("scada"), 5000));
+    assert_eq!(
+        sp.devices,
+        [
+            ("line".to_string(), vec!["Conveyor".to_string()]),
+            ("pumps".to_string(), vec!["P1".to_string(), "P2".to_string()])
+        ]
+    );
+    for bad in [
+        "primary_host_id = \"a/b\"",
+        "buffer_max = 1",
+        "group_id = \"\"",
+        "devices = { \"a+b\" = [\"X\"] }",
+    ] {
+        let e = parse(&format!("{head}{bad}\n")).unwrap_err();
         assert!(e.iter().any(|d| d.contains("E102")), "{bad}: {e:?}");
     }
 }

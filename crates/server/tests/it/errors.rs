@@ -175,6 +175,7 @@ impl alba_server::connections::Connections for Unreachable {
             connects: 0,
             errors: 3,
             last_error: Some("cannot connect: BadNotConnected".into()),
+            queue: None,
         }]
     }
     fn browse<'a>(&'a self, server: &'a str, _node: &'a str) -> alba_server::connections::Browsing<'a> {
