@@ -2,8 +2,10 @@
 //! among them), and downsampled queries over a 10-million-sample database.
 //! Prints numbers; asserts nothing but that answers are complete.
 //!
-//!     alba bench --historian [--quick]                               # the same, from the CLI
-//!     cargo bench -p alba-historian --bench historian [-- --quick]   # 10 M (1 M) samples
+//! ```text
+//! alba bench --historian [--quick]                               # the same, from the CLI
+//! cargo bench -p alba-historian --bench historian [-- --quick]   # 10 M (1 M) samples
+//! ```
 //!
 //! The database is built in a temporary directory (about 300 MB for 10 M samples) and
 //! deleted at the end; set ALBA_HISTORIAN_BENCH_DIR to build it elsewhere.
