@@ -319,6 +319,29 @@ impl Engine {
         Err("this build of Alba has no native compiler (feature `jit`)".into())
     }
 
+    /// The Cranelift IR and machine code native code would run for this
+    /// program (for profiling: `alba bench --listing`).
+    pub fn native_listing(&self) -> Result<String, String> {
+        #[cfg(feature = "jit")]
+        {
+            let mut out = String::new();
+            crate::jit::Jit::compile_with(&self.plain, Some(&mut out))?;
+            Ok(out)
+        }
+        #[cfg(not(feature = "jit"))]
+        Err("this build of Alba has no native compiler (feature `jit`)".into())
+    }
+
+    /// How native code runs the program, once compiled: (rungs, rungs in
+    /// strided runs, machine-code functions).
+    pub fn native_layout(&self) -> Option<(usize, usize, usize)> {
+        #[cfg(feature = "jit")]
+        if let Some(n) = &self.native {
+            return Some((n.rungs(), n.strided_rungs(), n.shapes));
+        }
+        None
+    }
+
     /// Power flow of the last scan, while monitoring.
     pub fn power_flow(&self) -> Option<&PowerFlow> {
         self.monitor.then_some(&self.pf)
