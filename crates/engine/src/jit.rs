@@ -1070,27 +1070,25 @@ impl<'a, 'b> Gen<'a, 'b> {
     }
 
     /// `if cond { note fault `code` at op `pc`; faulted } else { normal }`.
-    fn fault_if_else(&mut self, cond: Value, code: FaultCode, pc: Num, normal: Value, faulted: Value) -> Value {
+    fn fault_if_else(&mut self, cond: Value, code: FaultCode, pc: Num, normal: Value, faulted: i64) -> Value {
         let (cold, join) = (self.fb.create_block(), self.fb.create_block());
         let v = self.fb.append_block_param(join, types::I32);
         self.fb.ins().brif(cond, cold, &[], join, &[normal.into()]);
         self.fb.set_cold_block(cold);
         self.fb.switch_to_block(cold);
         self.note_fault(code, pc);
+        let faulted = self.c32(faulted);
         self.fb.ins().jump(join, &[faulted.into()]);
         self.fb.switch_to_block(join);
         v
     }
 
     /// The function: a loop over `count` rungs of this shape.
+    /// `count` is at least 1: the test is at the bottom.
     fn emit(mut self, shape: &[Option<X>], stride: usize) {
-        let head = self.fb.create_block();
         let body = self.fb.create_block();
         let done = self.fb.create_block();
-        self.fb.ins().jump(head, &[]);
-        self.fb.switch_to_block(head);
-        let n = self.fb.use_var(self.left);
-        self.fb.ins().brif(n, body, &[], done, &[]);
+        self.fb.ins().jump(body, &[]);
         self.fb.switch_to_block(body);
         self.next = 0;
         for op in shape {
@@ -1124,7 +1122,7 @@ impl<'a, 'b> Gen<'a, 'b> {
         let n = self.fb.use_var(self.left);
         let n1 = self.fb.ins().iadd_imm_s(n, -1);
         self.fb.def_var(self.left, n1);
-        self.fb.ins().jump(head, &[]);
+        self.fb.ins().brif(n1, body, &[], done, &[]);
         self.fb.switch_to_block(done);
         let zero = self.c32(0);
         self.fb.ins().return_(&[zero]);
@@ -1343,8 +1341,7 @@ impl<'a, 'b> Gen<'a, 'b> {
         self.fb.switch_to_block(on);
         let pre = self.ld32(iv, PRE);
         let negative = self.fb.ins().icmp_imm_s(IntCC::SignedLessThan, pre, 0);
-        let zero = self.c32(0);
-        let pre = self.fault_if_else(negative, FaultCode::NegativePreset, pc, pre, zero);
+        let pre = self.fault_if_else(negative, FaultCode::NegativePreset, pc, pre, 0);
         let en = self.ld8(bv, EN);
         let dn = self.ld8(bv, DN);
         let (first, enabled, timing, done) = (
@@ -1412,11 +1409,13 @@ impl<'a, 'b> Gen<'a, 'b> {
         let acc1 = self.fb.append_block_param(after, types::I32);
         self.fb.ins().brif(rising, counts, &[], after, &[acc.into()]);
         self.fb.switch_to_block(counts);
-        let step = if up { 1 } else { -1 };
-        let next = self.fb.ins().iadd_imm_s(acc, step);
+        let one = self.c32(1);
+        let (next, wraps) = if up {
+            self.fb.ins().sadd_overflow(acc, one)
+        } else {
+            self.fb.ins().ssub_overflow(acc, one)
+        };
         self.st32(iv, ACC, next);
-        let limit = if up { i32::MAX as i64 } else { i32::MIN as i64 };
-        let wraps = self.fb.ins().icmp_imm_s(IntCC::Equal, acc, limit);
         let (wrap, join) = (self.fb.create_block(), self.fb.create_block());
         self.fb.ins().brif(wraps, wrap, &[], join, &[]);
         self.fb.set_cold_block(wrap);
