@@ -35,8 +35,8 @@
 use crate::exec::{self, Code, Stop, X};
 use crate::fault::{FaultCode, Faults};
 use crate::mem::{Mem, Sink};
-use alba_ir::Memory;
 use alba_ir::op::{PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS};
+use alba_ir::{Memory, Op, Program};
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{
     AbiParam, InstBuilder, InstructionData, MemFlagsData, Opcode, SigRef, Signature, Type, Value, ValueDef, types,
@@ -70,10 +70,9 @@ pub(crate) struct JitCtx {
     /// call, and the number of rungs of the call.
     bases: [u64; MAX_CLASSES],
     count: u64,
-    ops: *const X,
+    /// The program's canonical ops (native code's op `k` is canonical op `k`).
+    ops: *const Op,
     n_ops: usize,
-    src: *const u32,
-    n_src: usize,
     faults: *mut Faults,
 }
 
@@ -83,12 +82,9 @@ impl JitCtx {
         if self.fault_n == 0 {
             return;
         }
-        // SAFETY: `faults` and `src` come from live borrows held by `Jit::run`.
-        let (faults, src) = unsafe { (&mut *self.faults, std::slice::from_raw_parts(self.src, self.n_src)) };
-        let at = |[code, pc]: [u32; 2]| {
-            let code = FaultCode::from_i32(code as i32).unwrap_or(FaultCode::Overflow);
-            (code, src.get(pc as usize).copied().unwrap_or(pc))
-        };
+        // SAFETY: `faults` comes from a live borrow held by `Jit::run`.
+        let faults = unsafe { &mut *self.faults };
+        let at = |[code, pc]: [u32; 2]| (FaultCode::from_i32(code as i32).unwrap_or(FaultCode::Overflow), pc);
         faults.absorb(u64::from(self.fault_n), at(self.fault_first), at(self.fault_last));
         self.fault_n = 0;
     }
@@ -101,7 +97,7 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
     // generated code is suspended, so these are the only references.
     let ctx = unsafe { &mut *ctx };
     ctx.flush_faults();
-    let (mut m, ops, src, faults) = unsafe {
+    let (mut m, ops, faults) = unsafe {
         (
             Mem {
                 b: std::slice::from_raw_parts_mut(ctx.b, ctx.lens[0]),
@@ -112,13 +108,19 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
                 m: std::slice::from_raw_parts_mut(ctx.m, ctx.lens[5]),
             },
             std::slice::from_raw_parts(ctx.ops, ctx.n_ops),
-            std::slice::from_raw_parts(ctx.src, ctx.n_src),
             &mut *ctx.faults,
         )
     };
     let Some(&op) = ops.get(pc as usize) else { return rc };
-    let mut sink = Sink { faults, src };
-    u32::from(exec::step(op, &mut m, &mut sink, ctx.now, pc as usize, rc != 0))
+    let mut sink = Sink { faults, src: &[] };
+    u32::from(exec::step(
+        exec::flatten(op),
+        &mut m,
+        &mut sink,
+        ctx.now,
+        pc as usize,
+        rc != 0,
+    ))
 }
 
 /// Runs a PID op on behalf of generated code, given the addresses of its
@@ -130,16 +132,15 @@ extern "C" fn pid_call(ctx: *mut JitCtx, f: *mut f32, i: *mut i32, b: *mut bool,
     // checks each range's last slot).
     let ctx = unsafe { &mut *ctx };
     ctx.flush_faults();
-    let (f, i, b, faults, src) = unsafe {
+    let (f, i, b, faults) = unsafe {
         (
             std::slice::from_raw_parts_mut(f, PID_F_SLOTS as usize),
             std::slice::from_raw_parts_mut(i, PID_I_SLOTS as usize),
             std::slice::from_raw_parts_mut(b, PID_B_SLOTS as usize),
             &mut *ctx.faults,
-            std::slice::from_raw_parts(ctx.src, ctx.n_src),
         )
     };
-    let mut sink = Sink { faults, src };
+    let mut sink = Sink { faults, src: &[] };
     crate::pid::pid_on(f, i, b, rc != 0, ctx.now, &mut sink, pc as usize);
 }
 
@@ -181,6 +182,8 @@ struct Run {
 /// A program compiled to machine code.
 pub struct Jit {
     module: Option<JITModule>,
+    /// Memory sizes the program was verified against.
+    sizes: [usize; 6],
     /// In rung order, covering every rung.
     runs: Vec<Run>,
     rungs: usize,
@@ -455,14 +458,16 @@ struct RungCode {
 }
 
 impl Jit {
-    /// Compiles unfused code. Fails on hosts Cranelift does not support.
-    pub fn compile(code: &Code) -> Result<Jit, String> {
-        Jit::compile_with(code, None)
+    /// Compiles a verified program. Fails on hosts Cranelift does not support.
+    pub fn compile(prog: &Program) -> Result<Jit, String> {
+        Jit::compile_with(prog, None)
     }
 
     /// Compiles, and with `listing` appends the Cranelift IR and the machine
     /// code (after register allocation) of every function to it.
-    pub fn compile_with(code: &Code, mut listing: Option<&mut String>) -> Result<Jit, String> {
+    pub fn compile_with(prog: &Program, mut listing: Option<&mut String>) -> Result<Jit, String> {
+        // Unfused code: one executable op per canonical op.
+        let code = &Code::new(prog, false);
         let mut flags = settings::builder();
         flags.set("opt_level", "speed").map_err(err)?;
         flags.set("use_colocated_libcalls", "false").map_err(err)?;
@@ -636,6 +641,7 @@ impl Jit {
             .collect();
         Ok(Jit {
             module: Some(module),
+            sizes: exec::sizes(&prog.init),
             runs,
             rungs: rungs.len(),
             deltas,
@@ -668,8 +674,8 @@ impl Jit {
     }
 
     /// Runs one scan of the compiled code over `mem`.
-    pub(crate) fn run(&self, code: &Code, mem: &mut Memory, faults: &mut Faults, now: u32) -> Result<(), Stop> {
-        if !code.fits(mem) {
+    pub(crate) fn run(&self, prog: &Program, mem: &mut Memory, faults: &mut Faults, now: u32) -> Result<(), Stop> {
+        if exec::sizes(mem) != self.sizes {
             return Err(Stop::Memory);
         }
         let mut ctx = JitCtx {
@@ -694,10 +700,8 @@ impl Jit {
             fault_last: [0; 2],
             bases: [0; MAX_CLASSES],
             count: 0,
-            ops: code.ops.as_ptr(),
-            n_ops: code.ops.len(),
-            src: code.src.as_ptr(),
-            n_src: code.src.len(),
+            ops: prog.ops.as_ptr(),
+            n_ops: prog.ops.len(),
             faults,
         };
         let mut table = self.operands.borrow_mut();
@@ -738,8 +742,7 @@ impl Jit {
             if target <= from {
                 backward += 1;
                 if backward > exec::BACKWARD_JUMP_LIMIT {
-                    let pc = ctx.last_jump as usize;
-                    return Err(Stop::Runaway(code.src.get(pc).copied().unwrap_or(0)));
+                    return Err(Stop::Runaway(ctx.last_jump));
                 }
             }
             r = target;
