@@ -781,6 +781,8 @@ struct Gen<'a, 'b> {
     class_bases: Vec<Option<Variable>>,
     /// The next operand of the rung to read.
     next: usize,
+    /// The scan's clock.
+    now: Value,
     rc: Variable,
     /// Open branches: (rung state at the branch, OR of the legs so far).
     branches: Vec<(Variable, Variable)>,
@@ -820,13 +822,13 @@ impl<'a, 'b> Gen<'a, 'b> {
         fb.def_var(table, param);
         let left = fb.declare_var(ptr);
         fb.def_var(left, count);
-        // Slot classes that move from rung to rung keep their base in a
-        // register; the others (constants, shared tags) and numbers are read
-        // from the context where used.
+        let now = fb.ins().load(types::I32, flags, ctx, offset_of!(JitCtx, now) as i32);
+        // Slot classes keep their base in a register (numbers are computed
+        // from the context where used).
         let class_bases = match &strides {
             Some(s) => (s.classes.iter().enumerate())
-                .map(|(c, &(kind, step))| {
-                    (kind != Kind::Number && step != 0).then(|| {
+                .map(|(c, &(kind, _))| {
+                    (kind != Kind::Number).then(|| {
                         let v = fb.declare_var(ptr);
                         let at = (offset_of!(JitCtx, bases) + c * 8) as i32;
                         let base = fb.ins().load(types::I64, flags, ctx, at);
@@ -848,6 +850,7 @@ impl<'a, 'b> Gen<'a, 'b> {
             strides,
             class_bases,
             next: 0,
+            now,
             rc,
             branches: Vec::new(),
             flags,
@@ -917,9 +920,7 @@ impl<'a, 'b> Gen<'a, 'b> {
 
     /// The scan's clock.
     fn now(&mut self) -> Value {
-        self.fb
-            .ins()
-            .load(types::I32, self.flags, self.ctx, offset_of!(JitCtx, now) as i32)
+        self.now
     }
 
     /// A slot's address as one value (for calls).
