@@ -1334,7 +1334,9 @@ impl<'a, 'b> Gen<'a, 'b> {
         let rc = self.rc();
         let (on, off, join) = (self.fb.create_block(), self.fb.create_block(), self.fb.create_block());
         self.fb.ins().brif(rc, on, &[], off, &[]);
-        // Rung false: everything cleared, LAST kept.
+        // Rung false: everything cleared, LAST kept. Out of line (as the
+        // first true scan): the paths that repeat scan after scan fall through.
+        self.fb.set_cold_block(off);
         self.fb.switch_to_block(off);
         let (zero8, zero) = (self.c8(0), self.c32(0));
         for o in [EN, TT, DN] {
@@ -1356,6 +1358,7 @@ impl<'a, 'b> Gen<'a, 'b> {
         );
         self.fb.ins().brif(en, enabled, &[], first, &[]);
         // The first true scan: ACC from 0, done at once if PRE is 0.
+        self.fb.set_cold_block(first);
         self.fb.switch_to_block(first);
         let one = self.c8(1);
         self.st8(bv, EN, one);
@@ -1386,10 +1389,11 @@ impl<'a, 'b> Gen<'a, 'b> {
         let dt = self.fb.ins().isub(now, last);
         let max = self.c32(i32::MAX as i64);
         let dt = self.fb.ins().umin(dt, max);
+        // A sum past i32::MAX saturates there, which is at or past PRE.
         let (sum, of) = self.fb.ins().sadd_overflow(acc, dt);
-        let acc = self.fb.ins().select(of, max, sum);
-        let reached = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc, pre);
-        let acc = self.fb.ins().select(reached, pre, acc);
+        let at_pre = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, sum, pre);
+        let reached = self.or(of, at_pre);
+        let acc = self.fb.ins().select(reached, pre, sum);
         self.st32(iv, ACC, acc);
         self.st8(bv, DN, reached);
         let tt = self.not(reached);
@@ -1409,9 +1413,16 @@ impl<'a, 'b> Gen<'a, 'b> {
         let nedge = self.not(edge);
         let rising = self.and(rc, nedge);
         let acc = self.ld32(iv, ACC);
-        let (counts, after) = (self.fb.create_block(), self.fb.create_block());
-        let acc1 = self.fb.append_block_param(after, types::I32);
-        self.fb.ins().brif(rising, counts, &[], after, &[acc.into()]);
+        let pre = self.ld32(iv, PRE);
+        let (counts, same, after) = (self.fb.create_block(), self.fb.create_block(), self.fb.create_block());
+        self.fb.ins().brif(rising, counts, &[], same, &[]);
+        // DN on each path (no value merged after them: fewer register moves).
+        self.fb.switch_to_block(same);
+        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc, pre);
+        self.st8(bv, dn_o, dn);
+        self.fb.ins().jump(after, &[]);
+        // Counting (once per rising edge) out of line.
+        self.fb.set_cold_block(counts);
         self.fb.switch_to_block(counts);
         let one = self.c32(1);
         let (next, wraps) = if up {
@@ -1420,8 +1431,10 @@ impl<'a, 'b> Gen<'a, 'b> {
             self.fb.ins().ssub_overflow(acc, one)
         };
         self.st32(iv, ACC, next);
-        let (wrap, join) = (self.fb.create_block(), self.fb.create_block());
-        self.fb.ins().brif(wraps, wrap, &[], join, &[]);
+        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, next, pre);
+        self.st8(bv, dn_o, dn);
+        let wrap = self.fb.create_block();
+        self.fb.ins().brif(wraps, wrap, &[], after, &[]);
         self.fb.set_cold_block(wrap);
         self.fb.switch_to_block(wrap);
         let clear = self.ld8(bv, clear_o);
@@ -1431,14 +1444,9 @@ impl<'a, 'b> Gen<'a, 'b> {
         self.st8(bv, set_o, set1);
         let zero = self.c8(0);
         self.st8(bv, clear_o, zero);
-        self.fb.ins().jump(join, &[]);
-        self.fb.switch_to_block(join);
-        self.fb.ins().jump(after, &[next.into()]);
+        self.fb.ins().jump(after, &[]);
         self.fb.switch_to_block(after);
         self.st8(bv, edge_o, rc);
-        let pre = self.ld32(iv, PRE);
-        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc1, pre);
-        self.st8(bv, dn_o, dn);
     }
 }
 

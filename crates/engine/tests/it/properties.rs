@@ -231,6 +231,7 @@ fn copy_output() -> impl Strategy<Value = String> {
         "OSR(O_#,Q_#)",
         "TON(T_#,20,0)",
         "MOV(E_#,T_#.PRE)",
+        "MOV(2147483640,T_#.ACC)",
         "CTU(C_#,3,0)",
         "CTD(C_#,3,0)",
         "ADD(D_#,1,D_#)",
@@ -300,6 +301,59 @@ proptest! {
             }
             prop_assert_eq!(observable(&native), observable(&interp), "scan {} of\n{}", k, lad);
             prop_assert_eq!(native.faults(), interp.faults(), "scan {} of\n{}", k, lad);
+        }
+    }
+}
+
+/// Timers at their edges agree in every mode, in strided runs and alone:
+/// an accumulator that overflows, a zero and a negative preset, the clock
+/// wrapping past 2^32 ms and a jump of more than i32::MAX ms.
+#[test]
+fn timers_at_the_edges_agree_in_every_mode() {
+    let mut tags = String::from("name,type,address,initial\nI0,BOOL,DI:1/0,\nI1,BOOL,DI:1/1,\nI2,BOOL,DI:1/2,\n");
+    let mut lad = String::new();
+    for k in 0..5 {
+        tags.push_str(&format!("T_{k},TIMER,,\nE_{k},DINT,,-{k}\nQ_{k},BOOL,,\n"));
+    }
+    // Three strided runs of five rungs.
+    for k in 0..5 {
+        lad.push_str(&format!("XIC(I0)MOV(2147483640,T_{k}.ACC);\n"));
+    }
+    for k in 0..5 {
+        lad.push_str(&format!("XIO(I1)TON(T_{k},{},0)OTE(Q_{k});\n", 3 * k));
+    }
+    for k in 0..5 {
+        lad.push_str(&format!("XIC(I2)MOV(E_{k},T_{k}.PRE);\n"));
+    }
+    // One more on its own (a table run).
+    tags.push_str("T_x,TIMER,,\n");
+    lad.push_str("XIC(I0)MOV(2147483640,T_x.ACC);\nXIO(I1)TON(T_x,25,0);\n");
+    let p = Arc::new(compile_text(&tags, &lad).unwrap());
+    let mut engines: Vec<Engine> = (0..3).map(|_| Engine::new(p.clone()).unwrap()).collect();
+    engines[1].set_monitor(true);
+    #[cfg(feature = "jit")]
+    {
+        engines[2].compile_native().unwrap();
+        assert_eq!(
+            engines[2].native_layout().map(|l| l.1),
+            Some(15),
+            "the copies run strided"
+        );
+    }
+    let times = (0..30u64)
+        .map(|k| k * 7)
+        .chain((0..30).map(|k| (1u64 << 32) - 40 + k * 9))
+        .chain((0..10).map(|k| (1u64 << 33) + 3_000_000_000 * (k % 2) + k));
+    for (k, t) in times.enumerate() {
+        for e in engines.iter_mut() {
+            for (i, period) in [(0, 7), (1, 5), (2, 11)] {
+                e.write(input(&p, i), Value::Bool(k % period == 0));
+            }
+            e.scan(t).unwrap();
+        }
+        for e in &engines[1..] {
+            assert_eq!(observable(e), observable(&engines[0]), "scan {k} at {t} ms");
+            assert_eq!(e.faults(), engines[0].faults(), "scan {k} at {t} ms");
         }
     }
 }
