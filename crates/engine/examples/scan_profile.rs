@@ -123,21 +123,39 @@ fn main() {
         );
         return;
     }
+    let upd: u32 = std::env::var("UPD").ok().and_then(|u| u.parse().ok()).unwrap_or(1);
     let (tags_csv, lad) = if mode.starts_with("pid") {
         let mut tags = String::from("name,type,address,initial,retain,description\n");
         let mut lad = String::new();
         for i in 0..n {
             tags.push_str(&format!(
-                "L_{i},PID,,\"KP=1.5;KI=0.4;KD=0.1;UPD=1;SP=50\",,\nPV_{i},REAL,,{},,\nCV_{i},REAL,,,,\n",
+                "L_{i},PID,,\"KP=1.5;KI=0.4;KD=0.1;UPD={upd};SP=50\",,\nPV_{i},REAL,,{},,\nCV_{i},REAL,,,,\n",
                 (i % 97) as f32
             ));
             lad.push_str(&format!("PID(L_{i},PV_{i},CV_{i});\n"));
         }
         (tags, lad)
+    } else if mode.starts_with("shuf") {
+        let (tags, lad) = generate(n);
+        let lines: Vec<&str> = tags.lines().skip(1).collect();
+        let len = lines.len();
+        let mut out = String::from("name,type,address,initial,retain,description\n");
+        let mut seen = vec![false; len];
+        let mut k = 0usize;
+        for _ in 0..len {
+            while seen[k] {
+                k = (k + 1) % len;
+            }
+            seen[k] = true;
+            out.push_str(lines[k]);
+            out.push('\n');
+            k = (k * 7919 + 13) % len;
+        }
+        (out, lad)
     } else {
         generate(n)
     };
-    let mode = mode.trim_start_matches("pid");
+    let mode = mode.trim_start_matches("pid").trim_start_matches("shuf");
     let mut files = Files::new();
     let tf = files.add("tags.csv", tags_csv);
     let lf = files.add("main.lad", lad);
@@ -244,5 +262,9 @@ fn main() {
         "{:.2} ns/rung",
         t.elapsed().as_nanos() as f64 / (scans * n as u64) as f64
     );
-    println!("footprint {} B/rung", e.footprint() as f64 / n as f64);
+    println!(
+        "footprint {} B/rung layout {:?}",
+        e.footprint() as f64 / n as f64,
+        e.native_layout()
+    );
 }
