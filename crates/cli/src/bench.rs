@@ -119,6 +119,8 @@ mod native {
         r.q = rc;
     }
 
+    /// Not inlined, so that a profiler sees it (one call per scan).
+    #[inline(never)]
     pub fn scan(rungs: &mut [Rung], now: u32) {
         for r in rungs.iter_mut() {
             scan_rung(r, now);
@@ -222,10 +224,16 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// Median nanoseconds per scan of each contender over `runs` rounds of
+/// `scans` scans (see `round_samples`).
+fn time_rounds<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnMut(u64); N]) -> [f64; N] {
+    round_samples(runs, scans, fs).map(median)
+}
+
+/// Nanoseconds per scan of each contender in each of `runs` rounds of
 /// `scans` scans. The contenders take turns within each round, so they are
 /// measured under the same conditions (this machine is a shared VM whose
 /// speed drifts); a warm-up of up to 1000 scans comes first.
-fn time_rounds<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnMut(u64); N]) -> [f64; N] {
+fn round_samples<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnMut(u64); N]) -> [Vec<f64>; N] {
     let mut k = [0u64; N];
     for (f, k) in fs.iter_mut().zip(k.iter_mut()) {
         for _ in 0..scans.min(1000) {
@@ -244,17 +252,22 @@ fn time_rounds<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnMut
             out.push(t.elapsed().as_nanos() as f64 / scans as f64);
         }
     }
-    samples.map(median)
+    samples
+}
+
+/// The median over rounds of `a / b` measured in the same round.
+fn median_ratio(a: &[f64], b: &[f64]) -> f64 {
+    median(a.iter().zip(b).map(|(a, b)| a / b).collect())
 }
 
 pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
-    let runs = if quick { 3 } else { 9 };
+    let runs = if quick { 3 } else { 21 };
     println!("alba bench: rung = [XIO(T.DN),XIC(A)]TON(T,P,0)CTU(C,1000000,0)GRT(C.ACC,L)ADD(V,1,V)OTE(Q)");
     println!(
         "median of {runs} rounds, the three contenders taking turns in each; virtual clock 1 ms per scan; ns/rung = time per scan / rungs\n"
     );
     println!(
-        "{:>6} | {:>7} {:>7} {:>6} | {:>11} {:>5} | {:>11} {:>5} | {:>9} | {:>6} {:>6}",
+        "{:>6} | {:>7} {:>7} {:>6} | {:>11} {:>5} | {:>11} {:>5} | {:>9} | {:>6} {:>13}",
         "rungs",
         "parse",
         "compile",
@@ -265,12 +278,13 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
         "ratio",
         "plain Rust",
         "data",
-        "code"
+        "state"
     );
     println!(
-        "{:>6} | {:>7} {:>7} {:>6} | {:>11} {:>5} | {:>11} {:>5} | {:>9} | {:>6} {:>6}",
-        "", "ms", "ms", "ms", "ns/rung", "", "ns/rung", "", "ns/rung", "B/rung", "B/rung"
+        "{:>6} | {:>7} {:>7} {:>6} | {:>11} {:>5} | {:>11} {:>5} | {:>9} | {:>6} {:>13}",
+        "", "ms", "ms", "ms", "ns/rung", "", "ns/rung", "", "ns/rung", "B/rung", "interp/native"
     );
+    let (mut layouts, mut bests) = (Vec::new(), Vec::new());
     for &n in sizes {
         let n = n.max(1);
         let built = match build(n) {
@@ -302,7 +316,7 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
             }
         };
         let mut rungs = native_rungs(n);
-        let [engine_ns, jit_ns, native_ns] = time_rounds(
+        let [engine_t, jit_t, native_t] = round_samples(
             runs,
             scans.max(3),
             &mut [
@@ -315,36 +329,125 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
                 &mut |k| native::scan(black_box(&mut rungs), black_box((k * SCAN_MS) as u32)),
             ],
         );
+        let (engine_ratio, jit_ratio) = (median_ratio(&engine_t, &native_t), median_ratio(&jit_t, &native_t));
+        let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) / n as f64;
+        let [engine_best, jit_best, native_best] = [&engine_t, &jit_t, &native_t].map(|v| best(v));
+        bests.push(format!(
+            "{n:>6} | {engine_best:>11.2} {:>5.2} | {jit_best:>11.2} {:>5.2} | {native_best:>9.2}",
+            engine_best / native_best,
+            jit_best / native_best
+        ));
+        let [engine_ns, jit_ns, native_ns] = [engine_t, jit_t, native_t].map(median);
         let data = p.init.size_bytes() as f64 / n as f64;
-        let code = jit.footprint() as f64 / n as f64 - data;
+        let state = |e: &Engine| e.footprint() as f64 / n as f64 - data;
+        let state = format!("{:.0} / {:.0}", state(&engine), state(&jit));
         let per = |ns: f64| ns / n as f64;
+        if let Some((rungs, strided, functions)) = jit.native_layout() {
+            layouts.push(format!(
+                "  N = {n}: {functions} function(s), {strided} of {rungs} rungs in strided runs"
+            ));
+        }
         println!(
-            "{:>6} | {:>7.1} {:>7.1} {:>6.1} | {:>11.2} {:>5.2} | {:>11.2} {:>5.2} | {:>9.2} | {:>6.1} {:>6.1}",
+            "{:>6} | {:>7.1} {:>7.1} {:>6.1} | {:>11.2} {:>5.2} | {:>11.2} {:>5.2} | {:>9.2} | {:>6.1} {:>13}",
             n,
             built.parse_ms,
             built.compile_ms,
             jit_ms,
             per(engine_ns),
-            engine_ns / native_ns,
+            engine_ratio,
             per(jit_ns),
-            jit_ns / native_ns,
+            jit_ratio,
             per(native_ns),
             data,
-            code
+            state
         );
+    }
+    println!("\nBest round of each contender (the least disturbed by the machine's other work):");
+    println!(
+        "{:>6} | {:>11} {:>5} | {:>11} {:>5} | {:>9}",
+        "rungs", "interpreter", "ratio", "native code", "ratio", "plain Rust"
+    );
+    for b in &bests {
+        println!("{b}");
     }
     println!(
         "\nparse = tags.csv and ladder text; compile = check, lower to IR, verify; native = machine-code generation."
     );
     println!("interpreter = unmonitored scans without native code; native code = after `compile_native`;");
-    println!("plain Rust = the same logic hand-written over an array of structs; ratio = engine / plain Rust;");
-    println!("data = program memory per rung; code = everything else the engine holds per rung: the IR with");
-    println!("its source locations, the two executable forms and the native operand table.");
+    println!("plain Rust = the same logic hand-written over an array of structs; ratio = engine / plain Rust");
+    println!("in the same round (median over the rounds);");
+    println!("data = program memory per rung; state = everything else the engine holds per rung: the IR with");
+    println!("its source locations, and the interpreter's fused code or native code's operand table and runs.");
+    println!("Native code (machine code per rung shape; strided runs keep a few base addresses in registers):");
+    for l in &layouts {
+        println!("{l}");
+    }
     println!("Reference (OpenPLC v3 / MatIEC C, g++ -O2, same rung): 11 ns/rung at 100, 29 at 1000, 47 at 10000.");
     if il_vs_ladder(sizes, runs, quick) != ExitCode::SUCCESS {
         return ExitCode::FAILURE;
     }
     pid_loops(sizes, runs, quick)
+}
+
+/// A contender of the scan benchmark.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Contender {
+    Interpreter,
+    Native,
+    Rust,
+}
+
+/// `alba bench --profile C`: `scans` scans of contender `C` on `n` rungs,
+/// untimed, for a profiler: `valgrind --tool=callgrind
+/// --toggle-collect='*Engine*scan*' --toggle-collect='*native*scan*'` counts
+/// only the scans.
+pub fn profile(contender: Contender, n: usize, scans: u64) -> ExitCode {
+    let n = n.max(1);
+    let p = match build(n) {
+        Ok(b) => Arc::new(b.program),
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if contender == Contender::Rust {
+        let mut rungs = native_rungs(n);
+        for k in 0..scans {
+            native::scan(black_box(&mut rungs), black_box((k * SCAN_MS) as u32));
+        }
+    } else {
+        let Ok(mut e) = Engine::new(p) else {
+            return ExitCode::FAILURE;
+        };
+        if contender == Contender::Native
+            && let Err(err) = e.compile_native()
+        {
+            eprintln!("error: {err}");
+            return ExitCode::FAILURE;
+        }
+        for k in 0..scans {
+            let _ = e.scan(black_box(k * SCAN_MS));
+        }
+    }
+    println!("{contender:?}: {scans} scans of {n} rungs");
+    ExitCode::SUCCESS
+}
+
+/// `alba bench --listing`: the Cranelift IR and machine code (after
+/// register allocation; jumps to the next block are dropped when the code is
+/// emitted) of the benchmark rung, as a strided run of 8 rungs.
+pub fn listing() -> ExitCode {
+    let listing = build(8).and_then(|b| Engine::new(Arc::new(b.program))?.native_listing());
+    match listing {
+        Ok(l) => {
+            print!("{l}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 /// The cost of the PID instruction: N rungs `PID(L_i,PV_i,CV_i);` (a REAL

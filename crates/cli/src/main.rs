@@ -187,6 +187,16 @@ enum Command {
         /// With --modbus: the first holding register read (default 8192 on Alba's own, 0 on --target).
         #[arg(long, value_name = "N")]
         start: Option<u16>,
+        /// Print the Cranelift IR and machine code native code runs for the benchmark rung instead.
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime"])]
+        listing: bool,
+        /// Run one contender only, untimed, for a profiler (valgrind --tool=callgrind; see
+        /// docs/performance.md): --scans scans of the first of --sizes.
+        #[arg(long, value_enum, value_name = "CONTENDER", conflicts_with_all = ["modbus", "nets", "realtime", "listing"])]
+        profile: Option<bench::Contender>,
+        /// With --profile: scans to run.
+        #[arg(long, value_name = "K", default_value = "300")]
+        scans: u64,
     },
     /// Explain a diagnostic code (E301, ...).
     Explain { code: String },
@@ -498,6 +508,17 @@ fn main() -> ExitCode {
             cpu,
             ..
         } => bench_realtime::run(seconds, priority, cpu),
+        Command::Bench { listing: true, .. } => bench::listing(),
+        Command::Bench {
+            profile: Some(contender),
+            sizes,
+            scans,
+            ..
+        } => bench::profile(
+            contender,
+            sizes.and_then(|s| s.first().copied()).unwrap_or(1_000),
+            scans,
+        ),
         Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
         Command::Analyze { net, json, max_states } => analyze::run(&net, json, max_states),

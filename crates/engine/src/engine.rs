@@ -18,10 +18,10 @@ pub struct MajorFault {
 /// inputs are written before a scan and outputs read after it.
 pub struct Engine {
     prog: Arc<Program>,
-    /// One executable op per canonical op (monitored scans).
-    plain: Code,
-    /// Fused form (unmonitored scans).
-    fast: Code,
+    /// One executable op per canonical op, while monitoring.
+    plain: Option<Code>,
+    /// Fused form (unmonitored scans), unless native code runs them.
+    fast: Option<Code>,
     mem: Memory,
     faults: Faults,
     first_scan: bool,
@@ -52,8 +52,8 @@ impl Engine {
     pub fn new(prog: Arc<Program>) -> Result<Engine, String> {
         prog.verify()?;
         Ok(Engine {
-            plain: Code::new(&prog, false),
-            fast: Code::new(&prog, true),
+            plain: None,
+            fast: Some(Code::new(&prog, true)),
             mem: prog.init.clone(),
             faults: Faults::default(),
             first_scan: true,
@@ -260,18 +260,21 @@ impl Engine {
     /// places may have moved): the caller forces again by name.
     pub fn replace(&mut self, prog: Arc<Program>) -> Result<(), String> {
         prog.verify()?;
-        let plain = Code::new(&prog, false);
         #[cfg(feature = "jit")]
         let native = match self.native {
-            Some(_) => Some(crate::jit::Jit::compile(&plain)?),
+            Some(_) => Some(crate::jit::Jit::compile(&prog)?),
             None => None,
         };
         self.mem = self.mem.migrate(&self.prog.layout, &prog.layout, &prog.init);
-        self.fast = Code::new(&prog, true);
-        self.plain = plain;
+        self.plain = None;
         #[cfg(feature = "jit")]
         {
+            self.fast = native.is_none().then(|| Code::new(&prog, true));
             self.native = native;
+        }
+        #[cfg(not(feature = "jit"))]
+        {
+            self.fast = Some(Code::new(&prog, true));
         }
         self.faults = Faults::default();
         self.forces.clear();
@@ -292,13 +295,25 @@ impl Engine {
         } else {
             PowerFlow::default()
         };
+        if !on {
+            self.plain = None;
+        } else if self.plain.is_none() {
+            self.plain = Some(Code::new(&self.prog, false));
+        }
     }
 
     /// Bytes the engine holds for its program: memory, the IR with its
-    /// locations, both executable forms and, if compiled, the native
-    /// operand table (machine code itself is shared by rung shapes and small).
+    /// locations, the executable forms it keeps (the fused form unless native
+    /// code runs, the unfused one while monitoring) and, if compiled, native
+    /// code's operand table and runs (machine code itself is shared by rung
+    /// shapes and small).
     pub fn footprint(&self) -> usize {
-        let mut bytes = self.mem.size_bytes() + self.prog.code_bytes() + self.plain.bytes() + self.fast.bytes();
+        let forms = [&self.plain, &self.fast]
+            .iter()
+            .filter_map(|c| c.as_ref())
+            .map(|c| c.bytes())
+            .sum::<usize>();
+        let mut bytes = self.mem.size_bytes() + self.prog.code_bytes() + forms;
         #[cfg(feature = "jit")]
         if let Some(n) = &self.native {
             bytes += n.table_bytes();
@@ -312,11 +327,35 @@ impl Engine {
     pub fn compile_native(&mut self) -> Result<(), String> {
         #[cfg(feature = "jit")]
         {
-            self.native = Some(crate::jit::Jit::compile(&self.plain)?);
+            self.native = Some(crate::jit::Jit::compile(&self.prog)?);
+            self.fast = None;
             Ok(())
         }
         #[cfg(not(feature = "jit"))]
         Err("this build of Alba has no native compiler (feature `jit`)".into())
+    }
+
+    /// The Cranelift IR and machine code native code would run for this
+    /// program (for profiling: `alba bench --listing`).
+    pub fn native_listing(&self) -> Result<String, String> {
+        #[cfg(feature = "jit")]
+        {
+            let mut out = String::new();
+            crate::jit::Jit::compile_with(&self.prog, Some(&mut out))?;
+            Ok(out)
+        }
+        #[cfg(not(feature = "jit"))]
+        Err("this build of Alba has no native compiler (feature `jit`)".into())
+    }
+
+    /// How native code runs the program, once compiled: (rungs, rungs in
+    /// strided runs, machine-code functions).
+    pub fn native_layout(&self) -> Option<(usize, usize, usize)> {
+        #[cfg(feature = "jit")]
+        if let Some(n) = &self.native {
+            return Some((n.rungs(), n.strided_rungs(), n.shapes));
+        }
+        None
     }
 
     /// Power flow of the last scan, while monitoring.
@@ -334,10 +373,11 @@ impl Engine {
     fn run_unmonitored(&mut self, now: u32) -> Result<(), Stop> {
         #[cfg(feature = "jit")]
         if let Some(native) = &self.native {
-            return native.run(&self.plain, &mut self.mem, &mut self.faults, now);
+            return native.run(&self.prog, &mut self.mem, &mut self.faults, now);
         }
+        let fast = self.fast.get_or_insert_with(|| Code::new(&self.prog, true));
         exec::run::<false>(
-            &self.fast,
+            fast,
             &self.prog.locs,
             &mut self.mem,
             &mut self.faults,
@@ -370,8 +410,9 @@ impl Engine {
         let now = now_ms as u32; // wrapping milliseconds, like millis()
         let r = if self.monitor {
             self.monitor_writes += 1;
+            let plain = self.plain.get_or_insert_with(|| Code::new(&self.prog, false));
             exec::run::<true>(
-                &self.plain,
+                plain,
                 &self.prog.locs,
                 &mut self.mem,
                 &mut self.faults,

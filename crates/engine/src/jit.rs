@@ -1,11 +1,20 @@
 //! Native code for unmonitored scans, with Cranelift.
 //!
 //! Programs are compiled rung by rung, by *shape*: the sequence of ops of a
-//! rung with their slot numbers taken out. Each distinct shape becomes one
-//! machine-code function that reads the slots of the rung it runs from an
-//! operand table, so a program of 10 000 similar rungs is a handful of small
-//! functions and a table, not megabytes of straight-line code; a scan is one
-//! predictable call per rung.
+//! rung with their slot numbers taken out. Consecutive rungs of one shape
+//! run in one call of one machine-code function, a loop over them, so a
+//! program of 10 000 similar rungs is a handful of small functions.
+//!
+//! How a function finds a rung's slots:
+//! - **strided runs**: where every operand of a rung is the previous rung's
+//!   plus the same amount (rungs on tags of their own, declared together,
+//!   as generated programs and arrays of structures have them), the operands
+//!   are a few *class* bases (one per memory class and change per rung) plus
+//!   constant offsets. The function keeps the bases in registers and adds
+//!   the changes after each rung, like compiled code walking an array of
+//!   structs: no table at all. It is specific to the shape and the layout.
+//! - **table runs**: otherwise, each rung's slot addresses are read from an
+//!   operand table; the function is specific to the shape only.
 //!
 //! Only the ops that dominate typical ladder are emitted inline: contacts,
 //! coils, one-shots, branches, jumps, TON, CTU/CTD, integer compares and
@@ -14,7 +23,9 @@
 //! context and flushed into `Faults` in order. Every other op is a call to
 //! the interpreter's own `step` for that single op, so most semantics are
 //! written once (`exec/`), and the inline ones are held to the interpreter
-//! by differential tests.
+//! by differential tests. Inline code branches as the interpreter does: a
+//! rung's path through its instructions mostly repeats from scan to scan,
+//! which branch predictors learn.
 //!
 //! Unsafe code here has one reason: running machine code we generate. It
 //! touches memory only at slot indices taken from a program that passed
@@ -24,10 +35,12 @@
 use crate::exec::{self, Code, Stop, X};
 use crate::fault::{FaultCode, Faults};
 use crate::mem::{Mem, Sink};
-use alba_ir::Memory;
 use alba_ir::op::{PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS};
+use alba_ir::{Memory, Op, Program};
 use cranelift_codegen::ir::condcodes::IntCC;
-use cranelift_codegen::ir::{AbiParam, InstBuilder, MemFlagsData, SigRef, Signature, Type, Value, types};
+use cranelift_codegen::ir::{
+    AbiParam, InstBuilder, InstructionData, MemFlagsData, Opcode, SigRef, Signature, Type, Value, ValueDef, types,
+};
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Variable};
 use cranelift_jit::{JITBuilder, JITModule};
@@ -53,10 +66,13 @@ pub(crate) struct JitCtx {
     fault_n: u32,
     fault_first: [u32; 2],
     fault_last: [u32; 2],
-    ops: *const X,
+    /// Strided runs: the base of each class for the first rung of the
+    /// call, and the number of rungs of the call.
+    bases: [u64; MAX_CLASSES],
+    count: u64,
+    /// The program's canonical ops (native code's op `k` is canonical op `k`).
+    ops: *const Op,
     n_ops: usize,
-    src: *const u32,
-    n_src: usize,
     faults: *mut Faults,
 }
 
@@ -66,12 +82,9 @@ impl JitCtx {
         if self.fault_n == 0 {
             return;
         }
-        // SAFETY: `faults` and `src` come from live borrows held by `Jit::run`.
-        let (faults, src) = unsafe { (&mut *self.faults, std::slice::from_raw_parts(self.src, self.n_src)) };
-        let at = |[code, pc]: [u32; 2]| {
-            let code = FaultCode::from_i32(code as i32).unwrap_or(FaultCode::Overflow);
-            (code, src.get(pc as usize).copied().unwrap_or(pc))
-        };
+        // SAFETY: `faults` comes from a live borrow held by `Jit::run`.
+        let faults = unsafe { &mut *self.faults };
+        let at = |[code, pc]: [u32; 2]| (FaultCode::from_i32(code as i32).unwrap_or(FaultCode::Overflow), pc);
         faults.absorb(u64::from(self.fault_n), at(self.fault_first), at(self.fault_last));
         self.fault_n = 0;
     }
@@ -84,7 +97,7 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
     // generated code is suspended, so these are the only references.
     let ctx = unsafe { &mut *ctx };
     ctx.flush_faults();
-    let (mut m, ops, src, faults) = unsafe {
+    let (mut m, ops, faults) = unsafe {
         (
             Mem {
                 b: std::slice::from_raw_parts_mut(ctx.b, ctx.lens[0]),
@@ -95,13 +108,19 @@ extern "C" fn fallback(ctx: *mut JitCtx, pc: u32, rc: u32) -> u32 {
                 m: std::slice::from_raw_parts_mut(ctx.m, ctx.lens[5]),
             },
             std::slice::from_raw_parts(ctx.ops, ctx.n_ops),
-            std::slice::from_raw_parts(ctx.src, ctx.n_src),
             &mut *ctx.faults,
         )
     };
     let Some(&op) = ops.get(pc as usize) else { return rc };
-    let mut sink = Sink { faults, src };
-    u32::from(exec::step(op, &mut m, &mut sink, ctx.now, pc as usize, rc != 0))
+    let mut sink = Sink { faults, src: &[] };
+    u32::from(exec::step(
+        exec::flatten(op),
+        &mut m,
+        &mut sink,
+        ctx.now,
+        pc as usize,
+        rc != 0,
+    ))
 }
 
 /// Runs a PID op on behalf of generated code, given the addresses of its
@@ -113,45 +132,65 @@ extern "C" fn pid_call(ctx: *mut JitCtx, f: *mut f32, i: *mut i32, b: *mut bool,
     // checks each range's last slot).
     let ctx = unsafe { &mut *ctx };
     ctx.flush_faults();
-    let (f, i, b, faults, src) = unsafe {
+    let (f, i, b, faults) = unsafe {
         (
             std::slice::from_raw_parts_mut(f, PID_F_SLOTS as usize),
             std::slice::from_raw_parts_mut(i, PID_I_SLOTS as usize),
             std::slice::from_raw_parts_mut(b, PID_B_SLOTS as usize),
             &mut *ctx.faults,
-            std::slice::from_raw_parts(ctx.src, ctx.n_src),
         )
     };
-    let mut sink = Sink { faults, src };
+    let mut sink = Sink { faults, src: &[] };
     crate::pid::pid_on(f, i, b, rc != 0, ctx.now, &mut sink, pc as usize);
 }
 
 /// A shape function: `(ctx, operands, count)` runs `count` consecutive
-/// rungs of its shape, whose operands follow each other from `operands`, and
-/// returns 0 to go on after them, or `target + 1` when a JMP to rung
-/// `target` is taken.
+/// rungs of its shape and returns 0 to go on after them, or `target + 1`
+/// when a JMP to rung `target` is taken. A table run's function reads the
+/// operands of the first of them from `operands`; a strided run's reads its
+/// class bases from `ctx.bases`.
 type ShapeFn = unsafe extern "C" fn(*mut JitCtx, *const u64, usize) -> u32;
 
+/// Strided runs have at most this many operand classes.
+const MAX_CLASSES: usize = 8;
+/// Fewer consecutive rungs of one layout share the table's generic code.
+const MIN_STRIDED: usize = 4;
+/// At most this many distinct strided functions per program (the rest use
+/// the table), which bounds machine code and compile time for programs
+/// without a regular layout.
+const MAX_STRIDED_FNS: usize = 256;
+
 /// Consecutive rungs of one shape.
+#[derive(Clone, Copy)]
 struct Run {
     f: ShapeFn,
-    first_rung: usize,
-    rungs: usize,
-    /// Where the operands of its first rung start, and how many each rung has.
-    operands: usize,
-    stride: usize,
+    first_rung: u32,
+    rungs: u32,
+    /// The op where its first rung starts, and the ops of each rung.
+    first_pc: u32,
+    len: u32,
+    /// Where its operands start in the table: `stride` per rung (a table
+    /// run), or one base per class for its first rung (a strided run).
+    operands: u32,
+    stride: u32,
+    /// Strided runs: how many classes, and where the change of each from
+    /// one rung to the next starts in `Jit::deltas` (bytes, or numbers).
+    classes: u32,
+    deltas: u32,
 }
 
 /// A program compiled to machine code.
 pub struct Jit {
     module: Option<JITModule>,
+    /// Memory sizes the program was verified against.
+    sizes: [usize; 6],
+    /// In rung order, covering every rung.
     runs: Vec<Run>,
-    /// The run of each rung.
-    run_of: Vec<u32>,
-    /// The op where each rung starts.
-    starts: Vec<u32>,
+    rungs: usize,
+    deltas: Vec<i64>,
     operands: std::cell::RefCell<Operands>,
-    /// Distinct shapes compiled.
+    /// Machine-code functions: one per rung shape for table runs, one per
+    /// shape and layout for strided runs.
     pub shapes: usize,
 }
 
@@ -169,7 +208,7 @@ impl std::fmt::Debug for Jit {
         write!(
             f,
             "Jit({} rungs, {} runs, {} shapes)",
-            self.run_of.len(),
+            self.rungs,
             self.runs.len(),
             self.shapes
         )
@@ -180,19 +219,36 @@ fn err(e: impl std::fmt::Display) -> String {
     format!("native compilation failed: {e}")
 }
 
-/// An operand of a rung: a slot (whose address goes in the table) or a
-/// number (an op index for the interpreter, a rung index for a jump).
-#[derive(Debug, Clone, Copy)]
-enum Operand {
-    Bool(u32),
-    Int(u32),
-    Float(u32),
-    Number(u32),
+/// What an operand names: a slot of one memory class, or a number (an op
+/// index for the interpreter and fault reports, a rung index for a jump).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Kind {
+    Bool,
+    Int,
+    Float,
+    Number,
 }
 
-/// The operands of every rung, and their values for the memory they were
-/// last resolved against (slot addresses are absolute, so generated code
-/// needs no base registers).
+impl Kind {
+    /// Bytes per slot (1 for numbers: they are used as they are).
+    fn unit(self) -> i64 {
+        match self {
+            Kind::Bool | Kind::Number => 1,
+            Kind::Int | Kind::Float => 4,
+        }
+    }
+}
+
+/// An operand of a rung: a slot (whose address goes in the table) or a number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Operand {
+    kind: Kind,
+    n: u32,
+}
+
+/// The operands of the table runs and the class bases of the strided runs,
+/// and their values for the memory they were last resolved against (slot
+/// addresses are absolute, so generated code needs no memory base registers).
 #[derive(Debug, Default)]
 struct Operands {
     items: Vec<Operand>,
@@ -202,18 +258,6 @@ struct Operands {
 }
 
 impl Operands {
-    fn push(&mut self, o: Operand) {
-        self.items.push(o);
-    }
-
-    fn extend<const N: usize>(&mut self, os: [Operand; N]) {
-        self.items.extend(os);
-    }
-
-    fn len(&self) -> usize {
-        self.items.len()
-    }
-
     /// Resolves slot operands against memory at these addresses.
     fn rebase(&mut self, b: *mut bool, i: *mut i32, f: *mut f32) {
         let bases = (b as usize, i as usize, f as usize);
@@ -223,28 +267,90 @@ impl Operands {
         self.values = self
             .items
             .iter()
-            .map(|o| match *o {
-                Operand::Bool(s) => (bases.0 + s as usize) as u64,
-                Operand::Int(s) => (bases.1 + 4 * s as usize) as u64,
-                Operand::Float(s) => (bases.2 + 4 * s as usize) as u64,
-                Operand::Number(n) => u64::from(n),
+            .map(|o| match o.kind {
+                Kind::Bool => (bases.0 + o.n as usize) as u64,
+                Kind::Int => (bases.1 + 4 * o.n as usize) as u64,
+                Kind::Float => (bases.2 + 4 * o.n as usize) as u64,
+                Kind::Number => u64::from(o.n),
             })
             .collect();
         self.bases = bases;
     }
 }
 
+/// The layout of the rungs of a strided run: every operand moves by the
+/// same amount from one rung to the next, so the operands of a rung are a
+/// few class bases (one per kind and change per rung) plus constant offsets.
+/// Generated code keeps the bases in registers and adds the changes after
+/// each rung: no operand table at all, like an array of structs.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+struct Strides {
+    /// (kind, change per rung in slots or numbers) of each class.
+    classes: Vec<(Kind, i64)>,
+    /// (class, offset from the class base in slots or numbers) of each operand.
+    at: Vec<(usize, i64)>,
+}
+
+impl Strides {
+    /// The layout of rungs whose operands are `first`, then `first + delta`,
+    /// …, and the class bases of the first rung; `None` if it needs too many
+    /// classes or offsets too large for an instruction.
+    fn new(first: &[Operand], delta: &[i64]) -> Option<(Strides, Vec<Operand>)> {
+        let mut classes: Vec<(Kind, i64)> = Vec::new();
+        let mut bases: Vec<Operand> = Vec::new();
+        let mut of = Vec::with_capacity(first.len());
+        for (o, &d) in first.iter().zip(delta) {
+            let c = match classes.iter().position(|&k| k == (o.kind, d)) {
+                Some(c) => c,
+                None => {
+                    classes.push((o.kind, d));
+                    bases.push(*o);
+                    classes.len() - 1
+                }
+            };
+            bases[c].n = bases[c].n.min(o.n);
+            of.push(c);
+        }
+        if classes.len() > MAX_CLASSES {
+            return None;
+        }
+        let at: Vec<(usize, i64)> = first
+            .iter()
+            .zip(of)
+            .map(|(o, c)| (c, i64::from(o.n) - i64::from(bases[c].n)))
+            .collect();
+        let fits = |v: i64| i32::try_from(v).is_ok();
+        let ok = at.iter().all(|&(c, off)| fits(off * classes[c].0.unit()))
+            && classes.iter().all(|&(k, d)| fits(d * k.unit()));
+        ok.then_some((Strides { classes, at }, bases))
+    }
+}
+
+/// How much each operand changes from rung `a` to rung `b` of the same shape.
+fn delta(a: &[Operand], b: &[Operand]) -> Vec<i64> {
+    a.iter().zip(b).map(|(x, y)| i64::from(y.n) - i64::from(x.n)).collect()
+}
+
 /// The shape of an op: the op with every slot number zeroed, or `None` for
-/// ops left to the interpreter. Its operands go to the table. Branch ops
-/// need none: their state lives in registers.
-fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) -> Option<X> {
+/// ops left to the interpreter. Its operands go to `out`. Branch ops need
+/// none: their state lives in registers.
+fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut Vec<Operand>) -> Option<X> {
     use alba_ir::{B, Ctr, I, Tmr};
     let (b0, i0) = (B(0), I(0));
-    let out = table;
-    let bo = |b: B| Operand::Bool(b.0);
-    let io = |i: I| Operand::Int(i.0);
-    let fo = |f: alba_ir::F| Operand::Float(f.0);
-    let pc = Operand::Number(pc as u32);
+    let bo = |b: B| Operand {
+        kind: Kind::Bool,
+        n: b.0,
+    };
+    let io = |i: I| Operand {
+        kind: Kind::Int,
+        n: i.0,
+    };
+    let fo = |f: alba_ir::F| Operand {
+        kind: Kind::Float,
+        n: f.0,
+    };
+    let num = |n: u32| Operand { kind: Kind::Number, n };
+    let pc = num(pc as u32);
     let s = match op {
         X::Rung | X::Nop | X::Afi | X::End | X::Not | X::True => op,
         X::Xic(b)
@@ -283,7 +389,8 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
         X::BrNext { .. } => X::BrNext { save: b0, acc: b0 },
         X::BrClose { .. } => X::BrClose { acc: b0 },
         X::Jmp(t) => {
-            out.extend([Operand::Number(rung_of.get(&t).copied().unwrap_or(u32::MAX)), pc]);
+            // A target that is no rung start (never, after `Code::new`) ends the scan.
+            out.extend([num(rung_of.get(&t).copied().unwrap_or(n_rungs)), pc]);
             X::Jmp(0)
         }
         X::Ton(t) => {
@@ -291,7 +398,7 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
             X::Ton(Tmr { i: i0, b: b0 })
         }
         X::Ctu(c) | X::Ctd(c) => {
-            out.extend([io(c.i), bo(c.b), pc]);
+            out.extend([io(c.i), bo(c.b)]);
             let z = Ctr { i: i0, b: b0 };
             if matches!(op, X::Ctu(_)) { X::Ctu(z) } else { X::Ctd(z) }
         }
@@ -343,9 +450,24 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, table: &mut Operands) ->
     Some(s)
 }
 
+/// A rung's shape and operands.
+struct RungCode {
+    start: usize,
+    key: Vec<Option<X>>,
+    operands: Vec<Operand>,
+}
+
 impl Jit {
-    /// Compiles unfused code. Fails on hosts Cranelift does not support.
-    pub fn compile(code: &Code) -> Result<Jit, String> {
+    /// Compiles a verified program. Fails on hosts Cranelift does not support.
+    pub fn compile(prog: &Program) -> Result<Jit, String> {
+        Jit::compile_with(prog, None)
+    }
+
+    /// Compiles, and with `listing` appends the Cranelift IR and the machine
+    /// code (after register allocation) of every function to it.
+    pub fn compile_with(prog: &Program, mut listing: Option<&mut String>) -> Result<Jit, String> {
+        // Unfused code: one executable op per canonical op.
+        let code = &Code::new(prog, false);
         let mut flags = settings::builder();
         flags.set("opt_level", "speed").map_err(err)?;
         flags.set("use_colocated_libcalls", "false").map_err(err)?;
@@ -364,30 +486,74 @@ impl Jit {
             .enumerate()
             .map(|(r, &pc)| (pc as u32, r as u32))
             .collect();
+        let n_rungs = starts.len() as u32;
+        let rungs: Vec<RungCode> = starts
+            .iter()
+            .enumerate()
+            .map(|(r, &start)| {
+                // The last rung ends before the final `End` (which does nothing).
+                let end = starts.get(r + 1).copied().unwrap_or(code.ops.len() - 1);
+                let mut operands = Vec::new();
+                let key = (start..end)
+                    .map(|pc| shape(code.ops[pc], pc, &rung_of, n_rungs, &mut operands))
+                    .collect();
+                RungCode { start, key, operands }
+            })
+            .collect();
 
         let mut sig = module.make_signature();
         sig.params.push(AbiParam::new(ptr));
         sig.params.push(AbiParam::new(ptr));
         sig.params.push(AbiParam::new(ptr));
         sig.returns.push(AbiParam::new(types::I32));
-        let mut shapes: HashMap<Vec<Option<X>>, cranelift_module::FuncId> = HashMap::new();
-        let mut runs: Vec<(cranelift_module::FuncId, usize, usize, usize, usize)> = Vec::new();
-        let mut run_of = Vec::with_capacity(starts.len());
+        let mut fns: HashMap<(Vec<Option<X>>, Option<Strides>), cranelift_module::FuncId> = HashMap::new();
+        let mut strided_fns = 0;
+        let mut runs: Vec<(cranelift_module::FuncId, Run)> = Vec::new();
         let mut operands = Operands::default();
+        let mut deltas = Vec::new();
         let mut ctx = module.make_context();
         let mut fctx = FunctionBuilderContext::new();
-        for (r, &start) in starts.iter().enumerate() {
-            let end = starts.get(r + 1).copied().unwrap_or(code.ops.len());
-            let offset = operands.len();
-            let key: Vec<Option<X>> = (start..end)
-                .map(|pc| shape(code.ops[pc], pc, &rung_of, &mut operands))
-                .collect();
-            let stride = operands.len() - offset;
-            let id = match shapes.get(&key) {
+        let mut r = 0;
+        while r < rungs.len() {
+            // The longest sequence of rungs of this shape whose operands all
+            // move by the same amount from one rung to the next.
+            let first = &rungs[r];
+            let mut end = r + 1;
+            let mut step: Option<Vec<i64>> = None;
+            while let Some(next) = rungs.get(end)
+                && next.key == first.key
+            {
+                let d = delta(&rungs[end - 1].operands, &next.operands);
+                if step.as_ref().is_some_and(|s| *s != d) {
+                    break;
+                }
+                step = Some(d);
+                end += 1;
+            }
+            let strided = match &step {
+                Some(step) if end - r >= MIN_STRIDED => Strides::new(&first.operands, step),
+                _ => None,
+            };
+            let strided = strided.filter(|(s, _)| {
+                strided_fns < MAX_STRIDED_FNS || fns.contains_key(&(first.key.clone(), Some(s.clone())))
+            });
+            // A short sequence settles only its first rung here (the next
+            // may start a strided run).
+            let end = if strided.is_some() || end - r >= MIN_STRIDED {
+                end
+            } else {
+                r + 1
+            };
+            let (strides, bases) = match strided {
+                Some((s, b)) => (Some(s), b),
+                None => (None, Vec::new()),
+            };
+            let fkey = (first.key.clone(), strides);
+            let id = match fns.get(&fkey) {
                 Some(&id) => id,
                 None => {
                     let id = module
-                        .declare_function(&format!("alba_shape_{}", shapes.len()), Linkage::Local, &sig)
+                        .declare_function(&format!("alba_shape_{}", fns.len()), Linkage::Local, &sig)
                         .map_err(err)?;
                     ctx.func.signature = sig.clone();
                     {
@@ -402,62 +568,114 @@ impl Jit {
                         pid_sig.params.extend([AbiParam::new(ptr); 4]);
                         pid_sig.params.extend([AbiParam::new(types::I32); 2]);
                         let pid_sig = fb.import_signature(pid_sig);
-                        Gen::new(&mut fb, ptr, fallback_sig, pid_sig).emit(&key, stride);
+                        let access = fkey.1.clone();
+                        Gen::new(&mut fb, ptr, fallback_sig, pid_sig, access).emit(&fkey.0, first.operands.len());
                         fb.seal_all_blocks();
                         fb.finalize(module.target_config());
                     }
+                    if let Some(out) = listing.as_deref_mut() {
+                        ctx.set_disasm(true);
+                        let rungs = match &fkey.1 {
+                            Some(_) => format!("rungs {}-{}, strided", r, end - 1),
+                            None => format!("rung {r}, operand table"),
+                        };
+                        out.push_str(&format!("; function {} ({rungs})\n{}\n", fns.len(), ctx.func.display()));
+                    }
                     module.define_function(id, &mut ctx).map_err(err)?;
+                    if let Some(out) = listing.as_deref_mut() {
+                        let vcode = ctx.compiled_code().and_then(|c| c.vcode.as_deref()).unwrap_or("");
+                        out.push_str(&format!("; machine code\n{vcode}\n"));
+                    }
                     module.clear_context(&mut ctx);
-                    shapes.insert(key, id);
+                    strided_fns += usize::from(fkey.1.is_some());
+                    fns.insert(fkey.clone(), id);
                     id
                 }
             };
-            match runs.last_mut() {
-                Some((rid, _, count, _, rstride)) if *rid == id && *rstride == stride => *count += 1,
-                _ => runs.push((id, r, 1, offset, stride)),
+            let run = Run {
+                f: empty_shape,
+                first_rung: r as u32,
+                rungs: (end - r) as u32,
+                first_pc: first.start as u32,
+                len: first.key.len() as u32,
+                operands: operands.items.len() as u32,
+                stride: first.operands.len() as u32,
+                classes: 0,
+                deltas: deltas.len() as u32,
+            };
+            match &fkey.1 {
+                Some(s) => {
+                    operands.items.extend(bases);
+                    deltas.extend(s.classes.iter().map(|&(k, d)| d * k.unit()));
+                    runs.push((
+                        id,
+                        Run {
+                            stride: 0,
+                            classes: s.classes.len() as u32,
+                            ..run
+                        },
+                    ));
+                }
+                None => {
+                    for rung in &rungs[r..end] {
+                        operands.items.extend(&rung.operands);
+                    }
+                    match runs.last_mut() {
+                        Some((rid, last)) if *rid == id && last.classes == 0 => last.rungs += run.rungs,
+                        _ => runs.push((id, run)),
+                    }
+                }
             }
-            run_of.push((runs.len() - 1) as u32);
+            r = end;
         }
         module.finalize_definitions().map_err(err)?;
         let runs = runs
             .into_iter()
-            .map(|(id, first_rung, rungs, operands, stride)| {
+            .map(|(id, run)| {
                 let raw = module.get_finalized_function(id);
                 // SAFETY: `raw` is a function defined above with signature
                 // `fn(ptr, ptr, ptr) -> i32` in the system calling convention.
                 let f = unsafe { std::mem::transmute::<*const u8, ShapeFn>(raw) };
-                Run {
-                    f,
-                    first_rung,
-                    rungs,
-                    operands,
-                    stride,
-                }
+                Run { f, ..run }
             })
             .collect();
         Ok(Jit {
             module: Some(module),
+            sizes: exec::sizes(&prog.init),
             runs,
-            run_of,
-            starts: starts.iter().map(|&s| s as u32).collect(),
+            rungs: rungs.len(),
+            deltas,
             operands: std::cell::RefCell::new(operands),
-            shapes: shapes.len(),
+            shapes: fns.len(),
         })
     }
 
-    /// Bytes of the operand table and the run index.
+    /// Rungs compiled.
+    pub fn rungs(&self) -> usize {
+        self.rungs
+    }
+
+    /// Rungs in strided runs (operands at constant offsets from a few bases).
+    pub fn strided_rungs(&self) -> usize {
+        self.runs
+            .iter()
+            .filter(|r| r.classes > 0)
+            .map(|r| r.rungs as usize)
+            .sum()
+    }
+
+    /// Bytes of the operand table and the runs.
     pub fn table_bytes(&self) -> usize {
         let t = self.operands.borrow();
         t.items.len() * std::mem::size_of::<Operand>()
             + t.values.len() * 8
-            + self.run_of.len() * 4
-            + self.starts.len() * 4
+            + self.deltas.len() * 8
             + self.runs.len() * std::mem::size_of::<Run>()
     }
 
     /// Runs one scan of the compiled code over `mem`.
-    pub(crate) fn run(&self, code: &Code, mem: &mut Memory, faults: &mut Faults, now: u32) -> Result<(), Stop> {
-        if !code.fits(mem) {
+    pub(crate) fn run(&self, prog: &Program, mem: &mut Memory, faults: &mut Faults, now: u32) -> Result<(), Stop> {
+        if exec::sizes(mem) != self.sizes {
             return Err(Stop::Memory);
         }
         let mut ctx = JitCtx {
@@ -480,42 +698,71 @@ impl Jit {
             fault_n: 0,
             fault_first: [0; 2],
             fault_last: [0; 2],
-            ops: code.ops.as_ptr(),
-            n_ops: code.ops.len(),
-            src: code.src.as_ptr(),
-            n_src: code.src.len(),
+            bases: [0; MAX_CLASSES],
+            count: 0,
+            ops: prog.ops.as_ptr(),
+            n_ops: prog.ops.len(),
             faults,
         };
         let mut table = self.operands.borrow_mut();
         table.rebase(ctx.b, ctx.i, ctx.f);
-        let mut r = 0usize;
+        let (mut ri, mut r) = (0usize, 0usize);
         let mut backward = 0u32;
-        while let Some(&run) = self.run_of.get(r) {
-            let run = &self.runs[run as usize];
-            let skip = r - run.first_rung;
-            let operands = table.values[run.operands + skip * run.stride..].as_ptr();
-            // SAFETY: `run.f` was generated for the shape of these rungs,
-            // whose operands follow from `operands`, `stride` per rung; it
-            // uses `ctx` only during the call.
-            let next = unsafe { (run.f)(&mut ctx, operands, run.rungs - skip) };
+        while let Some(run) = self.runs.get(ri) {
+            let skip = r - run.first_rung as usize;
+            let at = run.operands as usize;
+            let count = run.rungs as usize - skip;
+            let operands = if run.classes == 0 {
+                table.values[at + skip * run.stride as usize..].as_ptr()
+            } else {
+                // The class bases of rung `skip` of the run (0 but after a jump).
+                let n = run.classes as usize;
+                let deltas = &self.deltas[run.deltas as usize..][..n];
+                for ((b, v), d) in ctx.bases.iter_mut().zip(&table.values[at..at + n]).zip(deltas) {
+                    *b = v.wrapping_add(d.wrapping_mul(skip as i64) as u64);
+                }
+                ctx.count = count as u64;
+                ctx.bases.as_ptr()
+            };
+            // SAFETY: `run.f` was generated for the shape and layout of these
+            // rungs, whose operands `operands` gives; it uses `ctx` only
+            // during the call.
+            let next = unsafe { (run.f)(&mut ctx, operands, count) };
             ctx.flush_faults();
             if next == 0 {
-                r = run.first_rung + run.rungs;
+                ri += 1;
+                r = (run.first_rung + run.rungs) as usize;
                 continue;
             }
             let target = next as usize - 1;
-            let from = self.starts.partition_point(|&s| s <= ctx.last_jump).saturating_sub(1);
+            if target >= self.rungs {
+                break;
+            }
+            let from = self.rung_at(ctx.last_jump);
             if target <= from {
                 backward += 1;
                 if backward > exec::BACKWARD_JUMP_LIMIT {
-                    let pc = ctx.last_jump as usize;
-                    return Err(Stop::Runaway(code.src.get(pc).copied().unwrap_or(0)));
+                    return Err(Stop::Runaway(ctx.last_jump));
                 }
             }
             r = target;
+            ri = self.runs.partition_point(|x| x.first_rung as usize <= target) - 1;
         }
         Ok(())
     }
+
+    /// The rung holding op `pc`.
+    fn rung_at(&self, pc: u32) -> usize {
+        let ri = self.runs.partition_point(|x| x.first_pc <= pc).saturating_sub(1);
+        self.runs
+            .get(ri)
+            .map_or(0, |x| (x.first_rung + (pc - x.first_pc) / x.len.max(1)) as usize)
+    }
+}
+
+/// A placeholder until the module is finalized.
+unsafe extern "C" fn empty_shape(_: *mut JitCtx, _: *const u64, _: usize) -> u32 {
+    0
 }
 
 /// Code generation for one rung shape.
@@ -525,9 +772,16 @@ struct Gen<'a, 'b> {
     fallback_sig: SigRef,
     pid_sig: SigRef,
     ctx: Value,
-    /// Operands of the rung being generated, and the next one to read.
-    operands: Variable,
-    next: i32,
+    /// Rungs left to run, counting the current one.
+    left: Variable,
+    /// Table runs: where the current rung's operands start.
+    table: Variable,
+    /// Strided runs: the layout, and each slot class's base for the current rung.
+    strides: Option<Strides>,
+    class_bases: Vec<Option<Variable>>,
+    /// The next operand of the rung to read.
+    next: usize,
+    /// The scan's clock.
     now: Value,
     rc: Variable,
     /// Open branches: (rung state at the branch, OR of the legs so far).
@@ -535,25 +789,66 @@ struct Gen<'a, 'b> {
     flags: MemFlagsData,
 }
 
+/// A slot's address: a base and a constant offset in bytes.
+#[derive(Clone, Copy)]
+struct Addr {
+    base: Value,
+    off: i32,
+}
+
+/// A number operand of the rung, computed only where it is used (in cold
+/// paths mostly: fault reports).
+#[derive(Clone, Copy)]
+struct Num(usize);
+
 impl<'a, 'b> Gen<'a, 'b> {
-    fn new(fb: &'a mut FunctionBuilder<'b>, ptr: Type, fallback_sig: SigRef, pid_sig: SigRef) -> Self {
+    fn new(
+        fb: &'a mut FunctionBuilder<'b>,
+        ptr: Type,
+        fallback_sig: SigRef,
+        pid_sig: SigRef,
+        strides: Option<Strides>,
+    ) -> Self {
         let entry = fb.create_block();
         fb.append_block_params_for_function_params(entry);
         fb.switch_to_block(entry);
-        let ctx = fb.block_params(entry)[0];
+        let params = fb.block_params(entry).to_vec();
+        let (ctx, param, count) = (params[0], params[1], params[2]);
         let flags = MemFlagsData::trusted();
-        let now = fb.ins().load(types::I32, flags, ctx, offset_of!(JitCtx, now) as i32);
         let rc = fb.declare_var(types::I8);
         let one = fb.ins().iconst(types::I8, 1);
         fb.def_var(rc, one);
-        let operands = fb.declare_var(ptr);
+        let table = fb.declare_var(ptr);
+        fb.def_var(table, param);
+        let left = fb.declare_var(ptr);
+        fb.def_var(left, count);
+        let now = fb.ins().load(types::I32, flags, ctx, offset_of!(JitCtx, now) as i32);
+        // Slot classes keep their base in a register (numbers are computed
+        // from the context where used).
+        let class_bases = match &strides {
+            Some(s) => (s.classes.iter().enumerate())
+                .map(|(c, &(kind, _))| {
+                    (kind != Kind::Number).then(|| {
+                        let v = fb.declare_var(ptr);
+                        let at = (offset_of!(JitCtx, bases) + c * 8) as i32;
+                        let base = fb.ins().load(types::I64, flags, ctx, at);
+                        fb.def_var(v, base);
+                        v
+                    })
+                })
+                .collect(),
+            None => Vec::new(),
+        };
         Gen {
             fb,
             ptr,
             fallback_sig,
             pid_sig,
             ctx,
-            operands,
+            left,
+            table,
+            strides,
+            class_bases,
             next: 0,
             now,
             rc,
@@ -562,41 +857,94 @@ impl<'a, 'b> Gen<'a, 'b> {
         }
     }
 
-    /// The next operand (a byte offset, an op index or a rung index).
-    fn operand(&mut self) -> Value {
-        let base = self.fb.use_var(self.operands);
-        let v = self.fb.ins().load(types::I64, self.flags, base, self.next * 8);
+    /// The address of the slot named by the next operand.
+    fn slot(&mut self) -> Addr {
+        let j = self.next;
         self.next += 1;
-        v
+        match &self.strides {
+            None => {
+                let table = self.fb.use_var(self.table);
+                let base = self.fb.ins().load(types::I64, self.flags, table, (j * 8) as i32);
+                Addr { base, off: 0 }
+            }
+            Some(s) => {
+                let (c, off) = s.at[j];
+                let off = (off * s.classes[c].0.unit()) as i32;
+                let base = match self.class_bases[c] {
+                    Some(v) => self.fb.use_var(v),
+                    None => self.ctx_base(c),
+                };
+                Addr { base, off }
+            }
+        }
     }
 
-    /// The next operand as a 32-bit number.
-    fn operand32(&mut self) -> Value {
-        let v = self.operand();
+    /// The next operand, a number.
+    fn number(&mut self) -> Num {
+        self.next += 1;
+        Num(self.next - 1)
+    }
+
+    /// The value of a number operand, as a 32-bit integer.
+    fn num(&mut self, Num(j): Num) -> Value {
+        let v = match &self.strides {
+            None => {
+                let table = self.fb.use_var(self.table);
+                self.fb.ins().load(types::I64, self.flags, table, (j * 8) as i32)
+            }
+            Some(s) => {
+                // The class base for the first rung of the call, plus the
+                // offset, plus the change per rung times the rungs done.
+                let (c, off) = s.at[j];
+                let step = s.classes[c].1;
+                let base = self.ctx_base(c);
+                let left = self.fb.use_var(self.left);
+                let count = self
+                    .fb
+                    .ins()
+                    .load(self.ptr, self.flags, self.ctx, offset_of!(JitCtx, count) as i32);
+                let done = self.fb.ins().isub(count, left);
+                let moved = self.fb.ins().imul_imm_s(done, step);
+                let v = self.fb.ins().iadd(base, moved);
+                self.fb.ins().iadd_imm_s(v, off)
+            }
+        };
         self.fb.ins().ireduce(types::I32, v)
     }
 
-    /// Address of the bool slot named by the next operand.
-    fn b_addr(&mut self) -> Value {
-        self.operand()
+    /// The base of class `c` for the first rung of the call.
+    fn ctx_base(&mut self, c: usize) -> Value {
+        let at = (offset_of!(JitCtx, bases) + c * 8) as i32;
+        self.fb.ins().load(self.ptr, self.flags, self.ctx, at)
     }
 
-    /// Address of the integer slot named by the next operand.
-    fn i_addr(&mut self) -> Value {
-        self.operand()
+    /// The scan's clock.
+    fn now(&mut self) -> Value {
+        self.now
     }
 
-    fn ld8(&mut self, addr: Value, off: i32) -> Value {
-        self.fb.ins().load(types::I8, self.flags, addr, off)
+    /// A slot's address as one value (for calls).
+    fn addr_value(&mut self, a: Addr) -> Value {
+        if a.off == 0 {
+            a.base
+        } else {
+            self.fb.ins().iadd_imm_s(a.base, i64::from(a.off))
+        }
     }
-    fn st8(&mut self, addr: Value, off: i32, v: Value) {
-        self.fb.ins().store(self.flags, v, addr, off);
+
+    /// The byte `off` bytes from `a`.
+    fn ld8(&mut self, a: Addr, off: i32) -> Value {
+        self.fb.ins().load(types::I8, self.flags, a.base, a.off + off)
     }
-    fn ld32(&mut self, addr: Value, off: i32) -> Value {
-        self.fb.ins().load(types::I32, self.flags, addr, off * 4)
+    fn st8(&mut self, a: Addr, off: i32, v: Value) {
+        self.fb.ins().store(self.flags, v, a.base, a.off + off);
     }
-    fn st32(&mut self, addr: Value, off: i32, v: Value) {
-        self.fb.ins().store(self.flags, v, addr, off * 4);
+    /// The 32-bit slot `off` slots from `a`.
+    fn ld32(&mut self, a: Addr, off: i32) -> Value {
+        self.fb.ins().load(types::I32, self.flags, a.base, a.off + off * 4)
+    }
+    fn st32(&mut self, a: Addr, off: i32, v: Value) {
+        self.fb.ins().store(self.flags, v, a.base, a.off + off * 4);
     }
     fn rc(&mut self) -> Value {
         self.fb.use_var(self.rc)
@@ -610,14 +958,46 @@ impl<'a, 'b> Gen<'a, 'b> {
     fn c32(&mut self, v: i64) -> Value {
         self.fb.ins().iconst(types::I32, v)
     }
+    /// The value of a bool that is a constant (the rung condition at the
+    /// start of a rung, the OR of no branch legs yet).
+    fn known(&self, v: Value) -> Option<bool> {
+        let ValueDef::Result(inst, _) = self.fb.func.dfg.value_def(v) else {
+            return None;
+        };
+        match self.fb.func.dfg.insts[inst] {
+            InstructionData::UnaryImm {
+                opcode: Opcode::Iconst,
+                imm,
+            } => Some(imm.bits() != 0),
+            _ => None,
+        }
+    }
+    // Bools are 0 or 1 (memory holds Rust bools, generated code stores
+    // nothing else), so a known operand decides or passes the other through;
+    // Cranelift cannot assume that and would mask with 1.
     fn not(&mut self, v: Value) -> Value {
-        self.fb.ins().bxor_imm_u(v, 1)
+        match self.known(v) {
+            Some(k) => self.c8(i64::from(!k)),
+            None => self.fb.ins().bxor_imm_u(v, 1),
+        }
     }
     fn and(&mut self, a: Value, b: Value) -> Value {
-        self.fb.ins().band(a, b)
+        match (self.known(a), self.known(b)) {
+            (Some(true), _) => b,
+            (_, Some(true)) => a,
+            (Some(false), _) => a,
+            (_, Some(false)) => b,
+            _ => self.fb.ins().band(a, b),
+        }
     }
     fn or(&mut self, a: Value, b: Value) -> Value {
-        self.fb.ins().bor(a, b)
+        match (self.known(a), self.known(b)) {
+            (Some(false), _) => b,
+            (_, Some(false)) => a,
+            (Some(true), _) => a,
+            (_, Some(true)) => b,
+            _ => self.fb.ins().bor(a, b),
+        }
     }
     fn and_rc(&mut self, v: Value) {
         let rc = self.rc();
@@ -649,12 +1029,20 @@ impl<'a, 'b> Gen<'a, 'b> {
     }
 
     /// `if cond { note fault `code` at op `pc` }` (a cold path, no call).
-    fn fault_if(&mut self, cond: Value, code: FaultCode, pc: Value) {
+    fn fault_if(&mut self, cond: Value, code: FaultCode, pc: Num) {
         let cold = self.fb.create_block();
         let join = self.fb.create_block();
         self.fb.ins().brif(cond, cold, &[], join, &[]);
         self.fb.set_cold_block(cold);
         self.fb.switch_to_block(cold);
+        self.note_fault(code, pc);
+        self.fb.ins().jump(join, &[]);
+        self.fb.switch_to_block(join);
+    }
+
+    /// Notes fault `code` at op `pc` in the context (in a cold block).
+    fn note_fault(&mut self, code: FaultCode, pc: Num) {
+        let pc = self.num(pc);
         let f = self.flags;
         let n = self
             .fb
@@ -663,6 +1051,8 @@ impl<'a, 'b> Gen<'a, 'b> {
         let code = self.c32(code as i64);
         let first = self.fb.create_block();
         let rest = self.fb.create_block();
+        self.fb.set_cold_block(first);
+        self.fb.set_cold_block(rest);
         self.fb.ins().brif(n, rest, &[], first, &[]);
         self.fb.switch_to_block(first);
         self.fb
@@ -681,43 +1071,62 @@ impl<'a, 'b> Gen<'a, 'b> {
             .store(f, pc, self.ctx, offset_of!(JitCtx, fault_last) as i32 + 4);
         let n1 = self.fb.ins().iadd_imm_s(n, 1);
         self.fb.ins().store(f, n1, self.ctx, offset_of!(JitCtx, fault_n) as i32);
-        self.fb.ins().jump(join, &[]);
+    }
+
+    /// `if cond { note fault `code` at op `pc`; faulted } else { normal }`.
+    fn fault_if_else(&mut self, cond: Value, code: FaultCode, pc: Num, normal: Value, faulted: i64) -> Value {
+        let (cold, join) = (self.fb.create_block(), self.fb.create_block());
+        let v = self.fb.append_block_param(join, types::I32);
+        self.fb.ins().brif(cond, cold, &[], join, &[normal.into()]);
+        self.fb.set_cold_block(cold);
+        self.fb.switch_to_block(cold);
+        self.note_fault(code, pc);
+        let faulted = self.c32(faulted);
+        self.fb.ins().jump(join, &[faulted.into()]);
         self.fb.switch_to_block(join);
+        v
     }
 
     /// The function: a loop over `count` rungs of this shape.
+    /// `count` is at least 1: the test is at the bottom.
     fn emit(mut self, shape: &[Option<X>], stride: usize) {
-        let entry = self.fb.current_block().unwrap_or_else(|| self.fb.create_block());
-        let params = self.fb.block_params(entry).to_vec();
-        let (first, count) = (params[1], params[2]);
-        let left = self.fb.declare_var(self.ptr);
-        self.fb.def_var(self.operands, first);
-        self.fb.def_var(left, count);
-        let head = self.fb.create_block();
         let body = self.fb.create_block();
         let done = self.fb.create_block();
-        self.fb.ins().jump(head, &[]);
-        self.fb.switch_to_block(head);
-        let n = self.fb.use_var(left);
-        self.fb.ins().brif(n, body, &[], done, &[]);
+        self.fb.ins().jump(body, &[]);
         self.fb.switch_to_block(body);
         self.next = 0;
         for op in shape {
             match op {
                 Some(op) => self.op(*op),
                 None => {
-                    let pc = self.operand32();
+                    let pc = self.number();
+                    let pc = self.num(pc);
                     self.call_fallback(pc);
                 }
             }
         }
-        let base = self.fb.use_var(self.operands);
-        let following = self.fb.ins().iadd_imm_s(base, (stride * 8) as i64);
-        self.fb.def_var(self.operands, following);
-        let n = self.fb.use_var(left);
+        // The next rung's operands.
+        match &self.strides {
+            None => {
+                let table = self.fb.use_var(self.table);
+                let following = self.fb.ins().iadd_imm_s(table, (stride * 8) as i64);
+                self.fb.def_var(self.table, following);
+            }
+            Some(s) => {
+                let moves: Vec<(Variable, i64)> = (s.classes.iter().zip(&self.class_bases))
+                    .filter_map(|(&(kind, step), v)| v.filter(|_| step != 0).map(|v| (v, step * kind.unit())))
+                    .collect();
+                for (v, step) in moves {
+                    let base = self.fb.use_var(v);
+                    let following = self.fb.ins().iadd_imm_s(base, step);
+                    self.fb.def_var(v, following);
+                }
+            }
+        }
+        let n = self.fb.use_var(self.left);
         let n1 = self.fb.ins().iadd_imm_s(n, -1);
-        self.fb.def_var(left, n1);
-        self.fb.ins().jump(head, &[]);
+        self.fb.def_var(self.left, n1);
+        self.fb.ins().brif(n1, body, &[], done, &[]);
         self.fb.switch_to_block(done);
         let zero = self.c32(0);
         self.fb.ins().return_(&[zero]);
@@ -735,19 +1144,19 @@ impl<'a, 'b> Gen<'a, 'b> {
                 self.set_rc(zero);
             }
             X::Xic(_) | X::Xio(_) => {
-                let a = self.b_addr();
+                let a = self.slot();
                 let v = self.ld8(a, 0);
                 let v = if matches!(op, X::Xio(_)) { self.not(v) } else { v };
                 self.and_rc(v);
             }
             X::Ote(_) => {
-                let a = self.b_addr();
+                let a = self.slot();
                 let rc = self.rc();
                 self.st8(a, 0, rc);
             }
             // The logic stack of Instruction List.
             X::Ld(_) | X::Ldn(_) | X::Or(_) | X::Orn(_) => {
-                let a = self.b_addr();
+                let a = self.slot();
                 let v = self.ld8(a, 0);
                 let v = if matches!(op, X::Ldn(_) | X::Orn(_)) {
                     self.not(v)
@@ -772,7 +1181,7 @@ impl<'a, 'b> Gen<'a, 'b> {
                 self.set_rc(one);
             }
             X::Otl(_) | X::Otu(_) => {
-                let a = self.b_addr();
+                let a = self.slot();
                 let v = self.ld8(a, 0);
                 let rc = self.rc();
                 let r = if matches!(op, X::Otl(_)) {
@@ -784,7 +1193,7 @@ impl<'a, 'b> Gen<'a, 'b> {
                 self.st8(a, 0, r);
             }
             X::Ons(_) => {
-                let a = self.b_addr();
+                let a = self.slot();
                 let sv = self.ld8(a, 0);
                 let rc = self.rc();
                 let nsv = self.not(sv);
@@ -793,8 +1202,8 @@ impl<'a, 'b> Gen<'a, 'b> {
                 self.set_rc(out);
             }
             X::Osr(..) | X::Osf(..) => {
-                let s = self.b_addr();
-                let o = self.b_addr();
+                let s = self.slot();
+                let o = self.slot();
                 let sv = self.ld8(s, 0);
                 let rc = self.rc();
                 let out = if matches!(op, X::Osr(..)) {
@@ -835,10 +1244,10 @@ impl<'a, 'b> Gen<'a, 'b> {
                 }
             }
             X::Jmp(_) => {
-                let target = self.operand32();
-                let pc = self.operand32();
+                let (target, pc) = (self.number(), self.number());
                 let rc = self.rc();
                 self.when(rc, |g| {
+                    let (target, pc) = (g.num(target), g.num(pc));
                     g.fb.ins()
                         .store(g.flags, pc, g.ctx, offset_of!(JitCtx, last_jump) as i32);
                     let code = g.fb.ins().iadd_imm_s(target, 1);
@@ -859,64 +1268,50 @@ impl<'a, 'b> Gen<'a, 'b> {
                     X::LeI(..) => IntCC::SignedLessThanOrEqual,
                     _ => IntCC::SignedGreaterThanOrEqual,
                 };
-                let a = self.i_addr();
-                let b = self.i_addr();
+                let a = self.slot();
+                let b = self.slot();
                 let x = self.ld32(a, 0);
                 let y = self.ld32(b, 0);
                 let c = self.fb.ins().icmp(cc, x, y);
                 self.and_rc(c);
             }
             X::AddI(..) | X::SubI(..) => {
-                let a = self.i_addr();
-                let b = self.i_addr();
-                let d = self.i_addr();
-                let pc = self.operand32();
+                let (a, b, d) = (self.slot(), self.slot(), self.slot());
+                let pc = self.number();
                 let rc = self.rc();
-                // Without a branch on the rung (shared by every rung of the
-                // shape, it would mispredict): keep the old value when false.
-                let x = self.ld32(a, 0);
-                let y = self.ld32(b, 0);
-                let old = self.ld32(d, 0);
-                let (v, of) = if matches!(op, X::AddI(..)) {
-                    self.fb.ins().sadd_overflow(x, y)
-                } else {
-                    self.fb.ins().ssub_overflow(x, y)
-                };
-                // Wrapped, with an overflow fault (as `exec`).
-                let v = self.fb.ins().select(rc, v, old);
-                self.st32(d, 0, v);
-                let fault = self.and(rc, of);
-                self.fault_if(fault, FaultCode::Overflow, pc);
+                self.when(rc, |g| {
+                    let x = g.ld32(a, 0);
+                    let y = g.ld32(b, 0);
+                    let (v, of) = if matches!(op, X::AddI(..)) {
+                        g.fb.ins().sadd_overflow(x, y)
+                    } else {
+                        g.fb.ins().ssub_overflow(x, y)
+                    };
+                    // Wrapped, with an overflow fault (as `exec`).
+                    g.st32(d, 0, v);
+                    g.fault_if(of, FaultCode::Overflow, pc);
+                });
             }
-            X::MovI(..) => {
-                let a = self.i_addr();
-                let d = self.i_addr();
+            // A REAL move copies 32 bits as an integer: the same bits as the interpreter's copy.
+            X::MovI(..) | X::MovF(..) => {
+                let (a, d) = (self.slot(), self.slot());
                 let rc = self.rc();
-                let v = self.ld32(a, 0);
-                let old = self.ld32(d, 0);
-                let v = self.fb.ins().select(rc, v, old);
-                self.st32(d, 0, v);
+                self.when(rc, |g| {
+                    let v = g.ld32(a, 0);
+                    g.st32(d, 0, v);
+                });
             }
             X::CopyI(..) => {
-                let a = self.i_addr();
-                let d = self.i_addr();
+                let (a, d) = (self.slot(), self.slot());
                 let v = self.ld32(a, 0);
-                self.st32(d, 0, v);
-            }
-            X::MovF(..) => {
-                // 32 bits moved as an integer: the same bits as the interpreter's copy.
-                let a = self.i_addr();
-                let d = self.i_addr();
-                let rc = self.rc();
-                let v = self.ld32(a, 0);
-                let old = self.ld32(d, 0);
-                let v = self.fb.ins().select(rc, v, old);
                 self.st32(d, 0, v);
             }
             X::Pid(_) => {
                 // One direct call; the rung condition is unchanged.
-                let (f, i, b) = (self.operand(), self.operand(), self.operand());
-                let pc = self.operand32();
+                let (f, i, b) = (self.slot(), self.slot(), self.slot());
+                let (f, i, b) = (self.addr_value(f), self.addr_value(i), self.addr_value(b));
+                let pc = self.number();
+                let pc = self.num(pc);
                 let rc = self.rc();
                 let rc32 = self.fb.ins().uextend(types::I32, rc);
                 let call = self.fb.ins().iconst(self.ptr, pid_call as *const () as i64);
@@ -929,86 +1324,137 @@ impl<'a, 'b> Gen<'a, 'b> {
         }
     }
 
-    /// TON, as `exec/timers.rs`'s `ton`, without branches: every field is loaded once,
-    /// computed for both rung states and stored once. A negative preset on a
-    /// true rung counts as 0, with a fault.
+    /// TON, as `exec/timers.rs`'s `ton`, with the interpreter's branches (a
+    /// timer's path repeats from scan to scan, so they predict well; each
+    /// field is stored at most once). A negative preset on a true rung
+    /// counts as 0, with a fault.
     fn ton(&mut self) {
-        let iv = self.i_addr();
-        let bv = self.b_addr();
-        let pc = self.operand32();
+        let (iv, bv) = (self.slot(), self.slot());
+        let pc = self.number();
         let rc = self.rc();
-        let pre = self.ld32(iv, 0);
-        let zero = self.c32(0);
+        let (on, off, join) = (self.fb.create_block(), self.fb.create_block(), self.fb.create_block());
+        self.fb.ins().brif(rc, on, &[], off, &[]);
+        // Rung false: everything cleared, LAST kept. Out of line (as the
+        // first true scan): the paths that repeat scan after scan fall through.
+        self.fb.set_cold_block(off);
+        self.fb.switch_to_block(off);
+        let (zero8, zero) = (self.c8(0), self.c32(0));
+        for o in [EN, TT, DN] {
+            self.st8(bv, o, zero8);
+        }
+        self.st32(iv, ACC, zero);
+        self.fb.ins().jump(join, &[]);
+        self.fb.switch_to_block(on);
+        let pre = self.ld32(iv, PRE);
         let negative = self.fb.ins().icmp_imm_s(IntCC::SignedLessThan, pre, 0);
-        let bad = self.and(rc, negative);
-        self.fault_if(bad, FaultCode::NegativePreset, pc);
-        let pre = self.fb.ins().smax(pre, zero);
-        let en = self.ld8(bv, 0);
-        let dn = self.ld8(bv, 2);
-        let acc = self.ld32(iv, 1);
-        let last = self.ld32(iv, 2);
-        let first = self.not(en);
-        let ndn = self.not(dn);
-        let timing = self.and(en, ndn);
-        // ACC + time since the last update, saturating.
-        let dt = self.fb.ins().isub(self.now, last);
+        let pre = self.fault_if_else(negative, FaultCode::NegativePreset, pc, pre, 0);
+        let en = self.ld8(bv, EN);
+        let dn = self.ld8(bv, DN);
+        let (first, enabled, timing, done) = (
+            self.fb.create_block(),
+            self.fb.create_block(),
+            self.fb.create_block(),
+            self.fb.create_block(),
+        );
+        self.fb.ins().brif(en, enabled, &[], first, &[]);
+        // The first true scan: ACC from 0, done at once if PRE is 0.
+        self.fb.set_cold_block(first);
+        self.fb.switch_to_block(first);
+        let one = self.c8(1);
+        self.st8(bv, EN, one);
+        let now = self.now();
+        self.st32(iv, LAST, now);
+        let zero = self.c32(0);
+        self.st32(iv, ACC, zero);
+        let at_zero = self.fb.ins().icmp_imm_s(IntCC::Equal, pre, 0);
+        let dn1 = self.or(dn, at_zero);
+        self.st8(bv, DN, dn1);
+        let tt = self.not(dn1);
+        self.st8(bv, TT, tt);
+        self.fb.ins().jump(join, &[]);
+        self.fb.switch_to_block(enabled);
+        self.fb.ins().brif(dn, done, &[], timing, &[]);
+        // Done: ACC stays at PRE.
+        self.fb.switch_to_block(done);
+        let zero8 = self.c8(0);
+        self.st8(bv, TT, zero8);
+        self.fb.ins().jump(join, &[]);
+        // Timing: ACC + the clock time since the last update, saturating;
+        // DN at PRE, ACC stopping there.
+        self.fb.switch_to_block(timing);
+        let acc = self.ld32(iv, ACC);
+        let last = self.ld32(iv, LAST);
+        let now = self.now();
+        self.st32(iv, LAST, now);
+        let dt = self.fb.ins().isub(now, last);
         let max = self.c32(i32::MAX as i64);
         let dt = self.fb.ins().umin(dt, max);
+        // A sum past i32::MAX saturates there, which is at or past PRE.
         let (sum, of) = self.fb.ins().sadd_overflow(acc, dt);
-        let advanced = self.fb.ins().select(of, max, sum);
-        let acc1 = self.fb.ins().select(timing, advanced, acc);
-        let acc1 = self.fb.ins().select(first, zero, acc1);
-        let moved = self.or(first, timing);
-        let last1 = self.fb.ins().select(moved, self.now, last);
-        let reached = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc1, pre);
-        let done = self.and(ndn, reached);
-        let acc2 = self.fb.ins().select(done, pre, acc1);
-        let dn1 = self.or(dn, done);
-        // Rung false: everything cleared, LAST kept.
-        let acc_out = self.fb.ins().select(rc, acc2, zero);
-        let last_out = self.fb.ins().select(rc, last1, last);
-        let dn_out = self.and(rc, dn1);
-        let ndn1 = self.not(dn1);
-        let tt_out = self.and(rc, ndn1);
-        self.st8(bv, 0, rc);
-        self.st8(bv, 1, tt_out);
-        self.st8(bv, 2, dn_out);
-        self.st32(iv, 1, acc_out);
-        self.st32(iv, 2, last_out);
+        let at_pre = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, sum, pre);
+        let reached = self.or(of, at_pre);
+        let acc = self.fb.ins().select(reached, pre, sum);
+        self.st32(iv, ACC, acc);
+        self.st8(bv, DN, reached);
+        let tt = self.not(reached);
+        self.st8(bv, TT, tt);
+        self.fb.ins().jump(join, &[]);
+        self.fb.switch_to_block(join);
     }
 
     /// CTU / CTD, as `exec/timers.rs`'s `count`: count on the rising rung; a wrap past
     /// the 32-bit range sets OV (up) or UN (down), or clears the other one.
     fn count(&mut self, up: bool) {
-        let iv = self.i_addr();
-        let bv = self.b_addr();
-        let _pc = self.operand32();
+        let (iv, bv) = (self.slot(), self.slot());
         let (edge_o, dn_o) = (if up { 0 } else { 1 }, 2);
         let (set_o, clear_o) = if up { (3, 4) } else { (4, 3) };
         let rc = self.rc();
         let edge = self.ld8(bv, edge_o);
         let nedge = self.not(edge);
         let rising = self.and(rc, nedge);
-        let acc = self.ld32(iv, 1);
-        let step = if up { 1 } else { -1 };
-        let next = self.fb.ins().iadd_imm_s(acc, step);
-        let acc1 = self.fb.ins().select(rising, next, acc);
-        self.st32(iv, 1, acc1);
-        let limit = if up { i32::MAX as i64 } else { i32::MIN as i64 };
-        let at_limit = self.fb.ins().icmp_imm_s(IntCC::Equal, acc, limit);
-        let wraps = self.and(rising, at_limit);
-        self.when(wraps, |g| {
-            let clear = g.ld8(bv, clear_o);
-            let set = g.ld8(bv, set_o);
-            let nclear = g.not(clear);
-            let set1 = g.or(set, nclear);
-            g.st8(bv, set_o, set1);
-            let zero = g.c8(0);
-            g.st8(bv, clear_o, zero);
-        });
-        self.st8(bv, edge_o, rc);
-        let pre = self.ld32(iv, 0);
-        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc1, pre);
+        let acc = self.ld32(iv, ACC);
+        let pre = self.ld32(iv, PRE);
+        let (counts, same, after) = (self.fb.create_block(), self.fb.create_block(), self.fb.create_block());
+        self.fb.ins().brif(rising, counts, &[], same, &[]);
+        // DN on each path (no value merged after them: fewer register moves).
+        self.fb.switch_to_block(same);
+        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, acc, pre);
         self.st8(bv, dn_o, dn);
+        self.fb.ins().jump(after, &[]);
+        // Counting (once per rising edge) out of line.
+        self.fb.set_cold_block(counts);
+        self.fb.switch_to_block(counts);
+        let one = self.c32(1);
+        let (next, wraps) = if up {
+            self.fb.ins().sadd_overflow(acc, one)
+        } else {
+            self.fb.ins().ssub_overflow(acc, one)
+        };
+        self.st32(iv, ACC, next);
+        let dn = self.fb.ins().icmp(IntCC::SignedGreaterThanOrEqual, next, pre);
+        self.st8(bv, dn_o, dn);
+        let wrap = self.fb.create_block();
+        self.fb.ins().brif(wraps, wrap, &[], after, &[]);
+        self.fb.set_cold_block(wrap);
+        self.fb.switch_to_block(wrap);
+        let clear = self.ld8(bv, clear_o);
+        let set = self.ld8(bv, set_o);
+        let nclear = self.not(clear);
+        let set1 = self.or(set, nclear);
+        self.st8(bv, set_o, set1);
+        let zero = self.c8(0);
+        self.st8(bv, clear_o, zero);
+        self.fb.ins().jump(after, &[]);
+        self.fb.switch_to_block(after);
+        self.st8(bv, edge_o, rc);
     }
 }
+
+// The fields of a timer or counter (as in `exec/timers.rs`): integer slots
+// from its `i`, bool slots from its `b`.
+const PRE: i32 = 0;
+const ACC: i32 = 1;
+const LAST: i32 = 2;
+const EN: i32 = 0;
+const TT: i32 = 1;
+const DN: i32 = 2;

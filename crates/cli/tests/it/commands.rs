@@ -284,3 +284,24 @@ fn check_reports_a_bad_screen_at_its_place() {
         "{err}"
     );
 }
+
+/// `alba bench --listing` shows the benchmark rung's machine code (one
+/// strided function for its 8 rungs); `--profile` runs one contender.
+#[test]
+fn bench_lists_native_code_and_profiles_one_contender() {
+    let dir = scratch("bench-listing");
+    let out = alba(&dir, &["bench", "--listing"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("; function 0 (rungs 0-7, strided)\n"), "{text}");
+    assert_eq!(text.matches("; function").count(), 1, "{text}");
+    assert!(text.contains("; machine code\n"), "{text}");
+    for contender in ["interpreter", "native", "rust"] {
+        let out = alba(
+            &dir,
+            &["bench", "--profile", contender, "--sizes", "20", "--scans", "5"],
+        );
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(String::from_utf8_lossy(&out.stdout).contains("5 scans of 20 rungs"));
+    }
+}

@@ -141,13 +141,15 @@ pub enum X {
 #[derive(Debug, Clone)]
 pub struct Code {
     pub ops: Vec<X>,
-    /// The canonical op each executable op starts at (for faults and power flow).
+    /// The canonical op each executable op starts at (for faults and power
+    /// flow); empty for unfused code, where op `k` is canonical op `k`.
     pub src: Vec<u32>,
     /// Memory sizes the program was verified against (b, i, f, l, d, m).
     sizes: [usize; 6],
 }
 
-fn sizes(m: &Memory) -> [usize; 6] {
+/// The slot counts of a memory (b, i, f, l, d, m).
+pub(crate) fn sizes(m: &Memory) -> [usize; 6] {
     [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()]
 }
 
@@ -214,7 +216,7 @@ impl Code {
     pub fn new(p: &Program, fuse: bool) -> Code {
         let ops = &p.ops;
         let mut out = Vec::with_capacity(ops.len());
-        let mut src = Vec::with_capacity(ops.len());
+        let mut src = Vec::with_capacity(if fuse { ops.len() } else { 0 });
         let mut map = vec![0u32; ops.len() + 1];
         let mut i = 0;
         while i < ops.len() {
@@ -246,12 +248,16 @@ impl Code {
             };
             map[i] = out.len() as u32;
             out.push(x);
-            src.push(i as u32);
+            if fuse {
+                src.push(i as u32);
+            }
             i += len;
         }
         map[ops.len()] = out.len() as u32;
         out.push(X::End);
-        src.push(ops.len() as u32);
+        if fuse {
+            src.push(ops.len() as u32);
+        }
         // Jump targets are rung starts, which always begin an executable op.
         let end = (out.len() - 1) as u32;
         for x in &mut out {
@@ -267,7 +273,8 @@ impl Code {
     }
 }
 
-fn flatten(op: Op) -> X {
+/// The executable op of one canonical op.
+pub(crate) fn flatten(op: Op) -> X {
     match op {
         Op::Rung => X::Rung,
         Op::Nop => X::Nop,

@@ -26,6 +26,7 @@ mod step;
 mod timers;
 
 pub use code::{Code, X};
+pub(crate) use code::{flatten, sizes};
 pub(crate) use step::step;
 
 use crate::fault::Faults;
@@ -130,7 +131,7 @@ pub(crate) fn run<const MON: bool>(
                     if (t as usize) <= cur {
                         backward += 1;
                         if backward > BACKWARD_JUMP_LIMIT {
-                            return Err(Stop::Runaway(code.src.get(cur).copied().unwrap_or(0)));
+                            return Err(Stop::Runaway(code.src.get(cur).copied().unwrap_or(cur as u32)));
                         }
                     }
                     pc = t as usize;
@@ -148,7 +149,7 @@ pub(crate) fn run<const MON: bool>(
 
 #[inline]
 fn record(locs: &[Loc], code: &Code, pc: usize, pf: &mut PowerFlow, rc: bool) {
-    let canonical = code.src.get(pc).copied().unwrap_or(u32::MAX) as usize;
+    let canonical = code.src.get(pc).copied().unwrap_or(pc as u32) as usize;
     if let Some(l) = locs.get(canonical)
         && l.elem != NO_ELEM
     {

@@ -190,6 +190,174 @@ proptest! {
     }
 }
 
+/// Tags of copy `k` of a repeated rung, declared together (as generated
+/// programs and arrays of structures have them).
+fn copy_tags(k: usize) -> String {
+    format!(
+        "A_{k},BOOL,,{}\nB_{k},BOOL,,\nO_{k},BOOL,,\nQ_{k},BOOL,,\nT_{k},TIMER,,\nC_{k},COUNTER,,\n\
+         D_{k},DINT,,{}\nE_{k},DINT,,-{k}\nR_{k},REAL,,{k}.5\n\
+         P_{k},PID,,\"KP=1;KI=0.5;UPD=20\"\n",
+        k % 2,
+        2_147_483_640 - 3 * k as i64
+    )
+}
+
+/// An element of a repeated rung: `#` is the copy's number; the others are
+/// shared by every copy (inputs, `D0`).
+fn copy_contact() -> impl Strategy<Value = String> {
+    prop::sample::select(vec![
+        "XIC(A_#)",
+        "XIO(B_#)",
+        "XIC(T_#.DN)",
+        "XIO(T_#.DN)",
+        "XIC(C_#.DN)",
+        "XIC(I0)",
+        "XIO(I1)",
+        "XIC(I2)",
+        "GRT(D_#,E_#)",
+        "LES(C_#.ACC,3)",
+        "EQU(T_#.ACC,D_#)",
+        "GEQ(D0,E_#)",
+        "ONS(O_#)",
+    ])
+    .prop_map(str::to_string)
+}
+
+fn copy_output() -> impl Strategy<Value = String> {
+    prop::sample::select(vec![
+        "OTE(Q_#)",
+        "OTL(B_#)",
+        "OTU(B_#)",
+        "OSR(O_#,Q_#)",
+        "TON(T_#,20,0)",
+        "MOV(E_#,T_#.PRE)",
+        "MOV(2147483640,T_#.ACC)",
+        "CTU(C_#,3,0)",
+        "CTD(C_#,3,0)",
+        "ADD(D_#,1,D_#)",
+        "SUB(E_#,D_#,E_#)",
+        "ADD(D0,1,D0)",
+        "MOV(D_#,D2)",
+        "MOV(E_#,D_#)",
+        "MOV(R_#,R1)",
+        "MUL(E_#,3,E_#)",
+        "RES(T_#)",
+        "TOF(T_#,20,0)",
+        "PID(P_#,R_#,R1)",
+    ])
+    .prop_map(str::to_string)
+}
+
+/// A rung to repeat: contacts, maybe a branch, outputs.
+fn copy_body() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(copy_contact(), 0..3),
+        prop::option::of(prop::collection::vec(
+            prop::collection::vec(copy_contact(), 1..3).prop_map(|v| v.join("")),
+            2..4,
+        )),
+        prop::collection::vec(copy_output(), 1..4),
+    )
+        .prop_map(|(pre, branch, outs)| {
+            let mut s = pre.join("");
+            if let Some(legs) = branch {
+                s.push_str(&format!("[{}]", legs.join(",")));
+            }
+            s + &outs.join("")
+        })
+}
+
+#[cfg(feature = "jit")]
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// `n` copies of a rung, each on tags of its own, run as strided native
+    /// code (class bases in registers, constant offsets); a jump to copy
+    /// `skip` enters the run in its middle.
+    #[test]
+    fn strided_native_code_matches_the_interpreter(
+        body in copy_body(),
+        n in 4usize..10,
+        skip in 0usize..4,
+        toggles in prop::collection::vec((0usize..4, prop::bool::ANY), 50),
+    ) {
+        let mut tags = TAGS.to_string();
+        // Every copy has a label (a label is an op: the copies keep one shape).
+        let mut lad = format!("XIC(I3)JMP(M{skip});\n");
+        for k in 0..n {
+            tags.push_str(&copy_tags(k));
+            lad.push_str(&format!("LBL(M{k}){};\n", body.replace('#', &k.to_string())));
+        }
+        let p = Arc::new(compile_text(&tags, &lad).map_err(|e| TestCaseError::fail(format!("{lad}\n{e}")))?);
+        let mut native = Engine::new(p.clone()).unwrap();
+        native.compile_native().map_err(TestCaseError::fail)?;
+        let (_, strided, _) = native.native_layout().unwrap();
+        prop_assert!(strided >= 4, "{} rungs strided in\n{}", strided, lad);
+        let mut interp = Engine::new(p.clone()).unwrap();
+        for (k, (i, v)) in toggles.into_iter().enumerate() {
+            for e in [&mut native, &mut interp] {
+                e.write(input(&p, i), Value::Bool(v));
+                e.scan(k as u64 * 10).unwrap();
+            }
+            prop_assert_eq!(observable(&native), observable(&interp), "scan {} of\n{}", k, lad);
+            prop_assert_eq!(native.faults(), interp.faults(), "scan {} of\n{}", k, lad);
+        }
+    }
+}
+
+/// Timers at their edges agree in every mode, in strided runs and alone:
+/// an accumulator that overflows, a zero and a negative preset, the clock
+/// wrapping past 2^32 ms and a jump of more than i32::MAX ms.
+#[test]
+fn timers_at_the_edges_agree_in_every_mode() {
+    let mut tags = String::from("name,type,address,initial\nI0,BOOL,DI:1/0,\nI1,BOOL,DI:1/1,\nI2,BOOL,DI:1/2,\n");
+    let mut lad = String::new();
+    for k in 0..5 {
+        tags.push_str(&format!("T_{k},TIMER,,\nE_{k},DINT,,-{k}\nQ_{k},BOOL,,\n"));
+    }
+    // Three strided runs of five rungs.
+    for k in 0..5 {
+        lad.push_str(&format!("XIC(I0)MOV(2147483640,T_{k}.ACC);\n"));
+    }
+    for k in 0..5 {
+        lad.push_str(&format!("XIO(I1)TON(T_{k},{},0)OTE(Q_{k});\n", 3 * k));
+    }
+    for k in 0..5 {
+        lad.push_str(&format!("XIC(I2)MOV(E_{k},T_{k}.PRE);\n"));
+    }
+    // One more on its own (a table run).
+    tags.push_str("T_x,TIMER,,\n");
+    lad.push_str("XIC(I0)MOV(2147483640,T_x.ACC);\nXIO(I1)TON(T_x,25,0);\n");
+    let p = Arc::new(compile_text(&tags, &lad).unwrap());
+    let mut engines: Vec<Engine> = (0..3).map(|_| Engine::new(p.clone()).unwrap()).collect();
+    engines[1].set_monitor(true);
+    #[cfg(feature = "jit")]
+    {
+        engines[2].compile_native().unwrap();
+        assert_eq!(
+            engines[2].native_layout().map(|l| l.1),
+            Some(15),
+            "the copies run strided"
+        );
+    }
+    let times = (0..30u64)
+        .map(|k| k * 7)
+        .chain((0..30).map(|k| (1u64 << 32) - 40 + k * 9))
+        .chain((0..10).map(|k| (1u64 << 33) + 3_000_000_000 * (k % 2) + k));
+    for (k, t) in times.enumerate() {
+        for e in engines.iter_mut() {
+            for (i, period) in [(0, 7), (1, 5), (2, 11)] {
+                e.write(input(&p, i), Value::Bool(k % period == 0));
+            }
+            e.scan(t).unwrap();
+        }
+        for e in &engines[1..] {
+            assert_eq!(observable(e), observable(&engines[0]), "scan {k} at {t} ms");
+            assert_eq!(e.faults(), engines[0].faults(), "scan {k} at {t} ms");
+        }
+    }
+}
+
 /// Jumps forward and backward, and a runaway loop, agree in every mode.
 #[test]
 fn jumps_agree_in_every_mode() {
