@@ -209,6 +209,73 @@ fn beremiz_orange_light_blinks() {
     assert!((8..=10).contains(&ons), "{ons} blinks in 10 s: {v:?}");
 }
 
+/// The times (ms) at which `col` changes, after the first row.
+fn edges(rows: &[(u64, HashMap<String, String>)], col: &str) -> Vec<u64> {
+    rows.windows(2)
+        .filter(|w| w[0].1.get(col) != w[1].1.get(col))
+        .map(|w| w[1].0)
+        .collect()
+}
+
+#[test]
+fn openplc_blink_makes_the_square_wave_of_its_timers() {
+    // OpenPLC Editor's Blink example: TON(IN := NOT blink_led, PT := 500 ms)
+    // into TOF(PT := 500 ms), whose Q drives blink_led; 20 ms scans. IEC:
+    // the TON's Q rises at 500 and sets the light through the TOF; one scan
+    // later the TON's IN falls, the TOF times 500 ms from 520 and the light
+    // goes off at 1020; the TON starts again at 1040, and so on.
+    let tmp = import("plcopen/openplc-blink.xml");
+    let rows = sim(&tmp.path().join("p"), "time_ms,tag,value\n", &["blink_led"], 5_000, 20);
+    assert_eq!(at(&rows, 0, "blink_led"), "0");
+    assert_eq!(
+        edges(&rows, "blink_led"),
+        [500, 1020, 1540, 2060, 2580, 3100, 3620, 4140, 4660]
+    );
+}
+
+#[test]
+fn openplc_arduino_cloud_counts_pulses_and_seconds() {
+    // The pulse of the Blink timers counted by a CTU reset by its own Q at
+    // 60 (through the coil CTU_reset), the count moved to minute_count
+    // (%QW0); TON1 times 600 s and TIME_TO_REAL(TON1.ET) is seconds.
+    let tmp = import("plcopen/openplc-arduino-cloud.xml");
+    let cols = ["oscillator_pulse", "minute_count", "time_lapsed"];
+    let rows = sim(&tmp.path().join("p"), "time_ms,tag,value\n", &cols, 70_000, 20);
+    let rises: Vec<u64> = edges(&rows, "oscillator_pulse").into_iter().step_by(2).collect();
+    assert_eq!(rises[..3], [500, 1540, 2580]);
+    // Pulse k (from 1) is counted at its rising edge.
+    assert_eq!(at(&rows, rises[0], "minute_count"), "1");
+    assert_eq!(at(&rows, rises[1] - 20, "minute_count"), "1");
+    assert_eq!(at(&rows, rises[58], "minute_count"), "59");
+    // The 60th count sets Q: the next scan resets CV through R.
+    assert_eq!(at(&rows, rises[59], "minute_count"), "60");
+    assert_eq!(at(&rows, rises[59] + 20, "minute_count"), "0");
+    assert_eq!(at(&rows, rises[60], "minute_count"), "1");
+    assert_eq!(at(&rows, 12_340, "time_lapsed"), "12.34");
+    assert_eq!(at(&rows, 0, "time_lapsed"), "0");
+}
+
+#[test]
+fn openplc_dnp3test_drives_its_coils() {
+    // PB1 on the rail; the negated coil PB2 after PB1 and LED in parallel:
+    // PB2 = NOT TRUE; LED on the rail and again after PB2 (a coil passes its
+    // input on, negated or not).
+    let tmp = import("plcopen/openplc-dnp3test.xml");
+    let rows = sim(
+        &tmp.path().join("p"),
+        "time_ms,tag,value\n",
+        &["PB1", "PB2", "LED"],
+        200,
+        20,
+    );
+    for (t, _) in &rows {
+        assert_eq!(
+            [at(&rows, *t, "PB1"), at(&rows, *t, "PB2"), at(&rows, *t, "LED")],
+            ["1", "0", "1"]
+        );
+    }
+}
+
 #[test]
 fn plcopen_functions_compute() {
     let tmp = import("plcopen/blocks.xml");
