@@ -4,8 +4,8 @@
 use alba_import::{Format, Options};
 use std::path::Path;
 
-/// Converts `text` as `format`: the programs' text and the rendered report.
-fn convert(name: &str, format: Format, text: &str) -> (String, String) {
+/// Converts `text` as `format`: the project and the rendered report.
+fn project(name: &str, format: Format, text: &str) -> (alba_import::Project, String) {
     let opts = Options {
         format: Some(format),
         board: None,
@@ -13,8 +13,13 @@ fn convert(name: &str, format: Format, text: &str) -> (String, String) {
     };
     let (project, report) =
         alba_import::convert(Path::new(name), text, &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let programs: String = project.programs.iter().map(|p| p.text.clone()).collect();
-    (programs, report.render())
+    (project, report.render())
+}
+
+/// [`project`]: the programs' text and the report.
+fn convert(name: &str, format: Format, text: &str) -> (String, String) {
+    let (project, report) = project(name, format, text);
+    (project.programs.iter().map(|p| p.text.clone()).collect(), report)
 }
 
 /// An OpenPLC-style LD body: `vars` declared in the program, `body` inside <LD>.
@@ -184,5 +189,203 @@ fn type_conversions_convert() {
     assert!(
         report.contains("TIME in milliseconds, as CODESYS converts it"),
         "{report}"
+    );
+}
+
+/// An L5X controller with `datatypes`, controller `tags` and one RLL routine
+/// of `rungs`.
+fn l5x(datatypes: &str, tags: &str, rungs: &[&str]) -> String {
+    let rungs: String = rungs
+        .iter()
+        .enumerate()
+        .map(|(n, r)| format!("<Rung Number=\"{n}\" Type=\"N\"><Text><![CDATA[{r}]]></Text></Rung>\n"))
+        .collect();
+    format!(
+        r#"<?xml version="1.0" encoding="UTF-8" standalone="yes"?>
+<RSLogix5000Content SchemaRevision="1.0" SoftwareRevision="20.01" TargetName="C" TargetType="Controller">
+<Controller Name="C">
+<DataTypes>
+{datatypes}
+</DataTypes>
+<Tags>
+{tags}
+</Tags>
+<Programs><Program Name="P" MainRoutineName="R"><Routines><Routine Name="R" Type="RLL"><RLLContent>
+{rungs}</RLLContent></Routine></Routines></Program></Programs>
+</Controller>
+</RSLogix5000Content>
+"#
+    )
+}
+
+fn tag(name: &str, ty: &str, radix: &str, value: &str) -> String {
+    format!(
+        "<Tag Name=\"{name}\" TagType=\"Base\" DataType=\"{ty}\" Radix=\"{radix}\"><Data Format=\"Decorated\"><DataValue DataType=\"{ty}\" Radix=\"{radix}\" Value=\"{value}\"/></Data></Tag>"
+    )
+}
+
+/// Exports without L5K data (l5x2c's, `ExportOptions="References
+/// DecoratedData …"`) hold values only in the tag's radix: they were read
+/// as decimal, and a value in another radix was dropped without a word.
+#[test]
+fn decorated_values_are_read_in_their_radix() {
+    let tags = [
+        tag("h", "SINT", "Hex", "16#ff"),
+        tag("o", "INT", "Octal", "8#000_017"),
+        tag("b", "DINT", "Binary", "2#0000_0000_0000_0000_0000_0000_0000_0101"),
+        tag("n", "DINT", "Hex", "16#ffff_fffe"),
+        tag("a", "DINT", "ASCII", "'AB$0A'"),
+        tag("x", "REAL", "Exponential", "1.50000000e+002"),
+        tag("q", "REAL", "Float", "1.$QNAN"),
+        tag("z", "LINT", "Hex", "16#8000_0000_0000_0000"),
+    ]
+    .concat();
+    let (project, report) = project("radix.L5X", Format::L5x, &l5x("", &tags, &["NOP();"]));
+    let initial: Vec<(String, String)> = project
+        .tags
+        .iter()
+        .map(|t| (t.name.clone(), t.initial.clone()))
+        .collect();
+    let want = [
+        ("h", "-1"),
+        ("o", "15"),
+        ("b", "5"),
+        ("n", "-2"),
+        ("a", "4276746"),
+        ("x", "150.0"),
+        ("q", ""),
+        ("z", "-9223372036854775808"),
+    ];
+    assert_eq!(initial, want.map(|(a, b)| (a.to_string(), b.to_string())), "{report}");
+    assert!(
+        report.contains("approximated: tag `q`: its value `1.$QNAN` is not a REAL; it starts at 0"),
+        "{report}"
+    );
+}
+
+/// A rung export (Studio 5000's "Export Rung…", L5Sharp's
+/// `Rung0_from_Main.L5X`): the rungs are the `Use="Target"` ones of a
+/// context routine that has no `Type`; the import said there was nothing.
+#[test]
+fn an_l5x_rung_export_imports_its_rungs() {
+    let text = r#"<RSLogix5000Content SchemaRevision="1.0" TargetType="Rung" TargetCount="1" ContainsContext="true">
+<Controller Use="Context" Name="C"><Programs Use="Context"><Program Use="Context" Name="P">
+<Tags Use="Context"><Tag Name="a" TagType="Base" DataType="BOOL"/><Tag Name="n" TagType="Base" DataType="DINT"/></Tags>
+<Routines Use="Context"><Routine Use="Context" Name="Main"><RLLContent Use="Context">
+<Rung Use="Target" Number="4" Type="N"><Text><![CDATA[XIC(a)MOV(7,n);]]></Text></Rung>
+</RLLContent></Routine></Routines></Program></Programs></Controller></RSLogix5000Content>"#;
+    let (text, report) = convert("rung.L5X", Format::L5x, text);
+    assert_eq!(text, "XIC(a)MOV(7,n);\n", "{report}");
+}
+
+/// `OTE(SimpleDint.[Tag.Member])` (L5Sharp's Test.L5X): an indirect bit
+/// address passed the renaming and failed Alba's check with a garbled name
+/// (`unknown tag SimpleDint.[TestSimpleTag`).
+#[test]
+fn an_indirect_address_is_refused_by_name() {
+    let tags = [tag("d", "DINT", "Decimal", "0"), tag("i", "DINT", "Decimal", "3")].concat();
+    let (_, report) = convert("ind.L5X", Format::L5x, &l5x("", &tags, &["OTE(d.[i]);"]));
+    assert!(
+        report
+            .contains("refused: rung 0 of `P`/`R`: `d.[i]`: an indirect address or an array member (Alba has neither)"),
+        "{report}"
+    );
+}
+
+/// l5x2c's `ex1.L5X` has `XIC(A)[,XIO(C)]OTE(D)` and `XIC(A)[,]OTE(D)`:
+/// Studio 5000 draws an empty leg as a wire, Alba's ladder has no empty leg.
+#[test]
+fn empty_branch_legs_are_wires() {
+    let tags: String = ["a", "b", "c", "d", "f"]
+        .iter()
+        .map(|n| format!("<Tag Name=\"{n}\" TagType=\"Base\" DataType=\"BOOL\"/>"))
+        .collect();
+    let rungs = [
+        "XIC(a)[,XIO(b)]OTE(c);",
+        "XIC(a)[ , ]OTE(c);",
+        "XIC(a)[[,XIC(b)],XIC(d)]OTE(c);",
+        "XIC(a)[,OTE(b)];",
+        "XIC(a)[,OTE(b),XIC(d)OTE(f)];",
+        "XIC(a)[,OTE(b)]OTE(c);",
+        "XIC(a)[XIO(b),XIC(d)]OTE(c);",
+    ];
+    let (text, report) = convert("legs.L5X", Format::L5x, &l5x("", &tags, &rungs));
+    assert_eq!(
+        text,
+        "XIC(a)OTE(c);\nXIC(a)OTE(c);\nXIC(a)OTE(c);\nXIC(a)OTE(b);\nXIC(a)[OTE(b),XIC(d)OTE(f)];\n\
+         // REFUSED by alba import: rung 5: XIC(a)[,OTE(b)]OTE(c); (an empty branch leg (a wire) beside outputs, with more instructions after the branch: Alba's ladder has no always-true instruction to stand for it)\n\
+         XIC(a)[XIO(b),XIC(d)]OTE(c);\n",
+        "{report}"
+    );
+}
+
+/// l5x2c's belt conveyor keeps its failures in the BIT members of a UDT,
+/// over a SINT that `MOV(-1, …)` sets at once: the UDT tag was refused, and
+/// with it seven of the ten rungs.
+#[test]
+fn udt_members_become_tags() {
+    let types = r#"<DataType Name="Inner" Family="NoFamily" Class="User"><Members>
+<Member Name="Delay" DataType="TIMER" Dimension="0" Hidden="false"/>
+<Member Name="Count" DataType="DINT" Dimension="0" Radix="Decimal" Hidden="false"/>
+</Members></DataType>
+<DataType Name="Outer" Family="NoFamily" Class="User"><Members>
+<Member Name="ZZZZZZZZZZOuter0" DataType="SINT" Dimension="0" Radix="Decimal" Hidden="true"/>
+<Member Name="Run" DataType="BIT" Dimension="0" Radix="Decimal" Hidden="false" Target="ZZZZZZZZZZOuter0" BitNumber="0"/>
+<Member Name="Fault" DataType="BIT" Dimension="0" Radix="Decimal" Hidden="false" Target="ZZZZZZZZZZOuter0" BitNumber="7"/>
+<Member Name="In" DataType="Inner" Dimension="0" Hidden="false"/>
+<Member Name="Log" DataType="DINT" Dimension="4" Radix="Decimal" Hidden="false"/>
+<Member Name="Name" DataType="STRING" Dimension="0" Hidden="false"/>
+</Members></DataType>"#;
+    let tags = r#"<Tag Name="M" TagType="Base" DataType="Outer"><Data Format="Decorated"><Structure DataType="Outer">
+<DataValueMember Name="Run" DataType="BOOL" Value="1"/>
+<DataValueMember Name="Fault" DataType="BOOL" Value="0"/>
+<StructureMember Name="In" DataType="Inner">
+<StructureMember Name="Delay" DataType="TIMER"><DataValueMember Name="PRE" DataType="DINT" Radix="Decimal" Value="1500"/><DataValueMember Name="ACC" DataType="DINT" Radix="Decimal" Value="0"/></StructureMember>
+<DataValueMember Name="Count" DataType="DINT" Radix="Hex" Value="16#0000_0010"/>
+</StructureMember>
+</Structure></Data></Tag>
+<Tag Name="RunAlias" TagType="Alias" AliasFor="M.Run"/>"#;
+    let rungs = [
+        "XIC(RunAlias)TON(M.In.Delay,?,?);",
+        "XIC(M.In.Delay.DN)MOV(-1,M.ZZZZZZZZZZOuter0);",
+        "XIC(M.Fault)ADD(M.In.Count,1,M.In.Count);",
+        "XIC(M.Nope)OTE(M.Run);",
+        "MOV(0,M.Log[1]);",
+        "COP(M,M,1);",
+    ];
+    let (project, report) = project("udt.L5X", Format::L5x, &l5x(types, tags, &rungs));
+    let text = &project.programs[0].text;
+    assert_eq!(
+        text.lines().take(3).collect::<Vec<_>>(),
+        [
+            "XIC(M_Run)TON(M_In_Delay,1500,0);",
+            "XIC(M_In_Delay.DN)MOV(-1,%MB0);",
+            "XIC(M_Fault)ADD(M_In_Count,1,M_In_Count);"
+        ],
+        "{report}"
+    );
+    for want in [
+        "refused: member `M.Log`: an array (Alba has no arrays)",
+        "refused: member `M.Name`: data type `STRING` is not one Alba has",
+        "converted: tag `M` of the user-defined type `Outer`: a tag for each member (`M.Member` is `M_Member`); `M.ZZZZZZZZZZOuter0` is the marker byte %MB0, its BIT members its bits",
+        "refused: rung 3 of `P`/`R`: `M.Nope`: `Nope` is not a member",
+        "refused: rung 4 of `P`/`R`: `M.Log[1]`: an indirect address or an array member (Alba has neither)",
+        "refused: rung 5 of `P`/`R`: `COP` is not an Alba instruction",
+    ] {
+        assert!(report.contains(want), "{want}\n{report}");
+    }
+    let rows: Vec<String> = project
+        .tags
+        .iter()
+        .map(|t| format!("{},{},{},{}", t.name, t.ty, t.address, t.initial))
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            "M_Run,BOOL,%MX0.0,1",
+            "M_Fault,BOOL,%MX0.7,",
+            "M_In_Delay,TIMER,,",
+            "M_In_Count,DINT,,16"
+        ]
     );
 }

@@ -341,6 +341,92 @@ fn random_stimulus(seed: u64, bits: &[(&str, u64, u64)], analog: &[(&str, u64)],
 }
 
 #[test]
+fn l5x_belt_conveyor_equals_the_native_program() {
+    // A Studio 5000 export (l5x2c's example): the failures are BIT members
+    // of a UDT over a SINT that `MOV(-1, …)` sets at once (marker bits over
+    // a marker byte in Alba), timers with `?` presets from the tag data and
+    // nested output branches. The native program has five BOOL flags.
+    let tmp = import("l5x/l5x2c-belt_conveyor.L5X");
+    let imported = tmp.path().join("p");
+    let native = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/native/belt-conveyor");
+    // Start, Rearm and the two feedbacks change every few seconds; the
+    // normally closed Stop, Emergency, Overload and Misalignment open for a
+    // moment now and then.
+    let random = random_stimulus(
+        0xD1B5_4A32_D192_ED03,
+        &[
+            ("Start", 0, 150),
+            ("Rearm", 0, 200),
+            ("Contactor_Feedback", 0, 60),
+            ("Break_Open", 0, 60),
+        ],
+        &[],
+        6000,
+        20,
+    );
+    let mut rows: Vec<(u64, String)> = random
+        .lines()
+        .skip(1)
+        .map(|l| {
+            (
+                l.split(',').next().and_then(|t| t.parse().ok()).unwrap_or(0),
+                l.to_string(),
+            )
+        })
+        .collect();
+    for (tag, at) in [("Stop", 0), ("Emergency", 0), ("Overload", 0), ("Misalignment", 0)] {
+        rows.push((at, format!("{at},{tag},1")));
+    }
+    for (k, tag) in ["Emergency", "Overload", "Misalignment", "Stop"]
+        .iter()
+        .cycle()
+        .take(12)
+        .enumerate()
+    {
+        let at = 9_000 + k as u64 * 9_000;
+        rows.push((at, format!("{at},{tag},0")));
+        rows.push((at + 400, format!("{},{tag},1", at + 400)));
+    }
+    rows.sort_by_key(|r| r.0);
+    let stim = format!(
+        "time_ms,tag,value\n{}\n",
+        rows.into_iter().map(|r| r.1).collect::<Vec<_>>().join("\n")
+    );
+    let pairs = [
+        ("Started", "Started"),
+        ("Horn", "Horn"),
+        ("Contactor", "Contactor"),
+        ("Open_Break", "Open_Break"),
+        ("Failure_Summary", "No_Failure"),
+        ("Conveyor_Failures_Contactor_Failure", "Contactor_OK"),
+        ("Conveyor_Failures_Break_Jammed", "Brake_OK"),
+        ("Conveyor_Failures_Overload", "Overload_OK"),
+        ("Conveyor_Failures_Emergency_Stop", "EStop_OK"),
+        ("Conveyor_Failures_Misalignment", "Aligned"),
+        ("T_Horn.ACC", "T_Horn.ACC"),
+        ("T_Contactor_Feedback.ACC", "T_Feedback.ACC"),
+    ];
+    let a = sim(&imported, &stim, &pairs.map(|p| p.0), 120_000, 20);
+    let b = sim(&native, &stim, &pairs.map(|p| p.1), 120_000, 20);
+    assert_eq!(a.len(), b.len());
+    let mut seen: HashMap<&str, Vec<String>> = HashMap::new();
+    for ((t, ra), (_, rb)) in a.iter().zip(&b) {
+        for (ia, nb) in pairs {
+            assert_eq!(ra.get(ia), rb.get(nb), "{ia} / {nb} at t = {t} ms");
+            let v = ra.get(ia).cloned().unwrap_or_default();
+            let e = seen.entry(ia).or_default();
+            if !e.contains(&v) {
+                e.push(v);
+            }
+        }
+    }
+    // Every output and failure flag took both values.
+    for (ia, _) in &pairs[..10] {
+        assert_eq!(seen[ia].len(), 2, "{ia} never changed: {:?}", seen[ia]);
+    }
+}
+
+#[test]
 fn aurora_plant_equals_the_native_program() {
     let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/aurora/planta");
     let tmp = tempfile::tempdir().expect("tmp");
