@@ -61,6 +61,12 @@ enum Sym {
 /// User-defined types nested deeper are refused.
 const MAX_UDT_DEPTH: usize = 8;
 
+/// Members of user-defined types read for one tag, and in one project
+/// (each a tag or a refusal): nested types multiply (ten members of ten
+/// members … eight deep), so hostile input is capped.
+const MAX_TAG_MEMBERS: usize = 10_000;
+const MAX_MEMBERS: usize = 200_000;
+
 /// Marker bytes for the BIT members of user-defined types (docs/file-formats.md §4.2).
 const MARKER_BYTES: usize = 4096;
 
@@ -373,6 +379,10 @@ struct Conv<'a> {
     udts: HashMap<String, &'a Elem>,
     /// The next free marker byte.
     next_marker: usize,
+    /// Members read so far, in the project and for the tag being declared
+    /// (see [`MAX_MEMBERS`]).
+    members: usize,
+    tag_members: usize,
 }
 
 impl<'a> Conv<'a> {
@@ -437,6 +447,7 @@ impl<'a> Conv<'a> {
                             .find(|d| d.attr("Format") == Some("Decorated"))
                             .and_then(|d| d.child("Structure"));
                         let mut notes = Vec::new();
+                        self.tag_members = 0;
                         let sym = self.flatten(name, owner, udt, data, &loc, 0, &mut notes);
                         let what = format!(
                             "tag `{name}` of the user-defined type `{dt_raw}`: a tag for each member (`{name}.Member` is `{name}_Member`)"
@@ -526,6 +537,25 @@ impl<'a> Conv<'a> {
         }
         let mut map = HashMap::new();
         for m in members {
+            if self.tag_members >= MAX_TAG_MEMBERS || self.members >= MAX_MEMBERS {
+                // Said once, where it happened (the callers stop quietly).
+                if self.tag_members <= MAX_TAG_MEMBERS {
+                    let why = if self.members >= MAX_MEMBERS {
+                        format!("more than {MAX_MEMBERS} members of user-defined types in the project")
+                    } else {
+                        format!("more than {MAX_TAG_MEMBERS} members in one tag")
+                    };
+                    self.report.push(
+                        Kind::Refused,
+                        loc.clone(),
+                        format!("`{path}`: {why}; the rest are left out"),
+                    );
+                    self.tag_members = MAX_TAG_MEMBERS + 1;
+                }
+                break;
+            }
+            self.members += 1;
+            self.tag_members += 1;
             let mname = name_of(m);
             let key = mname.to_ascii_lowercase();
             let mpath = format!("{path}.{mname}");
@@ -825,8 +855,10 @@ fn has_output(leg: &[Part]) -> bool {
 }
 
 /// Takes the empty legs out of the branches of `leg`: Logix draws an empty
-/// leg as a wire, which Alba's ladder has no instruction for.
-fn unwire(leg: Vec<Part>) -> Result<Vec<Part>, String> {
+/// leg as a wire, which Alba's ladder has no instruction for. `tail`: the
+/// value at the end of `leg` is read by nothing (it ends the rung, or a leg
+/// of a branch that does, …).
+fn unwire(leg: Vec<Part>, tail: bool) -> Result<Vec<Part>, String> {
     let n = leg.len();
     let mut out = Vec::new();
     for (k, p) in leg.into_iter().enumerate() {
@@ -834,13 +866,17 @@ fn unwire(leg: Vec<Part>) -> Result<Vec<Part>, String> {
             out.push(p);
             continue;
         };
-        let legs = legs.into_iter().map(unwire).collect::<Result<Vec<_>, _>>()?;
+        let last = tail && k + 1 == n;
+        let legs = legs
+            .into_iter()
+            .map(|l| unwire(l, last))
+            .collect::<Result<Vec<_>, _>>()?;
         if !legs.iter().any(Vec::is_empty) {
             out.push(Part::Branch(legs));
         } else if !legs.iter().any(|l| has_output(l)) {
             // Conditions in parallel with a wire: always true.
-        } else if k + 1 == n {
-            // Outputs in parallel with a wire, at the end: the wire leads nowhere.
+        } else if last {
+            // Outputs in parallel with a wire whose value nothing reads.
             let mut legs: Vec<Vec<Part>> = legs.into_iter().filter(|l| !l.is_empty()).collect();
             if legs.len() == 1 {
                 out.append(&mut legs[0]);
@@ -890,7 +926,7 @@ fn without_empty_legs(text: &str) -> Result<Option<String>, String> {
         return Ok(None);
     }
     let mut out = String::new();
-    print_leg(&unwire(leg)?, &mut out);
+    print_leg(&unwire(leg, true)?, &mut out);
     out.push(';');
     Ok(Some(out))
 }
@@ -1243,6 +1279,8 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             })
             .unwrap_or_default(),
         next_marker: 0,
+        members: 0,
+        tag_members: 0,
     };
     let mut globals: HashMap<String, Sym> = HashMap::new();
     if let Some(tags) = ctl.child("Tags") {

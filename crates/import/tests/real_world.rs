@@ -308,13 +308,19 @@ fn empty_branch_legs_are_wires() {
         "XIC(a)[,OTE(b),XIC(d)OTE(f)];",
         "XIC(a)[,OTE(b)]OTE(c);",
         "XIC(a)[XIO(b),XIC(d)]OTE(c);",
+        // A wire beside outputs inside a leg whose value is read after the
+        // outer branch, and one whose value nothing reads.
+        "XIC(a)[[,XIC(b)OTE(c)],XIC(d)]OTE(f);",
+        "XIC(a)[OTE(b),[,XIC(d)OTE(c)]];",
     ];
     let (text, report) = convert("legs.L5X", Format::L5x, &l5x("", &tags, &rungs));
     assert_eq!(
         text,
         "XIC(a)OTE(c);\nXIC(a)OTE(c);\nXIC(a)OTE(c);\nXIC(a)OTE(b);\nXIC(a)[OTE(b),XIC(d)OTE(f)];\n\
          // REFUSED by alba import: rung 5: XIC(a)[,OTE(b)]OTE(c); (an empty branch leg (a wire) beside outputs, with more instructions after the branch: Alba's ladder has no always-true instruction to stand for it)\n\
-         XIC(a)[XIO(b),XIC(d)]OTE(c);\n",
+         XIC(a)[XIO(b),XIC(d)]OTE(c);\n\
+         // REFUSED by alba import: rung 7: XIC(a)[[,XIC(b)OTE(c)],XIC(d)]OTE(f); (an empty branch leg (a wire) beside outputs, with more instructions after the branch: Alba's ladder has no always-true instruction to stand for it)\n\
+         XIC(a)[OTE(b),XIC(d)OTE(c)];\n",
         "{report}"
     );
 }
