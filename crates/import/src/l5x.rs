@@ -250,7 +250,8 @@ fn logix_value(v: &str, ty: &str) -> Option<String> {
     }
     let bits = int_bits(ty)?;
     let raw: u64 = if let Some(ascii) = v.strip_prefix('\'').and_then(|a| a.strip_suffix('\'')) {
-        // Characters, most significant byte first; `$hh`, `$$`, `$'` escapes.
+        // Characters, most significant byte first; `$hh`, `$$`, `$'` and
+        // IEC's `$L` `$N` `$P` `$R` `$T` escapes.
         let mut n: u64 = 0;
         let mut chars = ascii.chars();
         let mut count = 0;
@@ -259,8 +260,15 @@ fn logix_value(v: &str, ty: &str) -> Option<String> {
                 match chars.next()? {
                     '$' => b'$',
                     '\'' => b'\'',
+                    'L' | 'l' | 'N' | 'n' => b'\n',
+                    'P' | 'p' => 0x0c,
+                    'R' | 'r' => b'\r',
+                    'T' | 't' => b'\t',
                     h1 => {
                         let h2 = chars.next()?;
+                        if !h1.is_ascii_hexdigit() || !h2.is_ascii_hexdigit() {
+                            return None;
+                        }
                         u8::from_str_radix(&format!("{h1}{h2}"), 16).ok()?
                     }
                 }
