@@ -267,6 +267,12 @@ impl<'a> Emitter<'a> {
         d.shape = shape;
     }
 
+    /// Whether `c` is always true (the rail, or an OR with the rail in it).
+    pub fn is_true(&mut self, c: Cond) -> bool {
+        self.resolve(c);
+        self.conds[c].shape == Shape::True
+    }
+
     /// The condition's text, for a rung written now.
     pub fn text(&mut self, c: Cond) -> String {
         self.touch(c);

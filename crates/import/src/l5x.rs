@@ -15,10 +15,16 @@
 //! A `JSR` without parameters at the end of a rung is inlined: the called
 //! routine's rungs in place, behind a `JMP` over them while the rung is false.
 //!
-//! Refused, with their place: arrays (Alba has no arrays), user-defined and
-//! other structured types, produced/consumed tags, JSR with parameters,
-//! SBR/RET, recursion, routines never called, non-RLL routines, rungs with
-//! instructions Alba does not have.
+//! A tag of a user-defined type is a tag per member (`Tag.Member` →
+//! `Tag_Member`); the BIT members Studio 5000 packs into a hidden SINT are
+//! marker bits over a marker byte, so the SINT and its bits stay one value.
+//! Empty branch legs (wires) are written out where Alba's ladder can say
+//! the same without them.
+//!
+//! Refused, with their place: arrays (Alba has no arrays), other structured
+//! types, produced/consumed tags, JSR with parameters, SBR/RET, recursion,
+//! routines never called, non-RLL routines, rungs with instructions Alba
+//! does not have.
 
 use crate::names::Names;
 use crate::plcopen::Ctx;
@@ -46,9 +52,23 @@ enum Sym {
     Tag { alba: String, data: Option<(i64, i64)> },
     /// An alias: the operand text it stands for.
     Alias(String),
+    /// A tag of a user-defined type: its members by lower-case name.
+    Struct(HashMap<String, Sym>),
     /// Refused (why).
     Refused(String),
 }
+
+/// User-defined types nested deeper are refused.
+const MAX_UDT_DEPTH: usize = 8;
+
+/// Members of user-defined types read for one tag, and in one project
+/// (each a tag or a refusal): nested types multiply (ten members of ten
+/// members … eight deep), so hostile input is capped.
+const MAX_TAG_MEMBERS: usize = 10_000;
+const MAX_MEMBERS: usize = 200_000;
+
+/// Marker bytes for the BIT members of user-defined types (docs/file-formats.md §4.2).
+const MARKER_BYTES: usize = 4096;
 
 #[derive(Default)]
 struct Io {
@@ -204,21 +224,114 @@ fn cdata(e: Option<&Elem>) -> String {
     e.map(|e| e.text.trim().to_string()).unwrap_or_default()
 }
 
+/// Bits of a Logix integer type.
+fn int_bits(ty: &str) -> Option<u32> {
+    match ty {
+        "SINT" => Some(8),
+        "INT" => Some(16),
+        "DINT" => Some(32),
+        "LINT" => Some(64),
+        _ => None,
+    }
+}
+
+/// A value as Studio 5000 writes it in decorated data, in the radix of its
+/// tag (`8#00_000_002_322`, `16#ff`, `2#0000_0001`, `'$00AB'`, `1.5e+002`),
+/// as Alba's literal for the type `ty`: a based or ASCII value is the
+/// two's complement of the type's bits (`16#ff` of a SINT is -1).
+fn logix_value(v: &str, ty: &str) -> Option<String> {
+    let v = v.trim();
+    if ty == "BOOL" {
+        return matches!(v, "0" | "1").then(|| v.to_string());
+    }
+    if ty == "REAL" || ty == "LREAL" {
+        let f: f64 = v.parse().ok()?;
+        return f.is_finite().then(|| format!("{f:?}"));
+    }
+    let bits = int_bits(ty)?;
+    let raw: u64 = if let Some(ascii) = v.strip_prefix('\'').and_then(|a| a.strip_suffix('\'')) {
+        // Characters, most significant byte first; `$hh`, `$$`, `$'` and
+        // IEC's `$L` `$N` `$P` `$R` `$T` escapes.
+        let mut n: u64 = 0;
+        let mut chars = ascii.chars();
+        let mut count = 0;
+        while let Some(c) = chars.next() {
+            let byte = if c == '$' {
+                match chars.next()? {
+                    '$' => b'$',
+                    '\'' => b'\'',
+                    'L' | 'l' | 'N' | 'n' => b'\n',
+                    'P' | 'p' => 0x0c,
+                    'R' | 'r' => b'\r',
+                    'T' | 't' => b'\t',
+                    h1 => {
+                        let h2 = chars.next()?;
+                        if !h1.is_ascii_hexdigit() || !h2.is_ascii_hexdigit() {
+                            return None;
+                        }
+                        u8::from_str_radix(&format!("{h1}{h2}"), 16).ok()?
+                    }
+                }
+            } else if c.is_ascii() {
+                c as u8
+            } else {
+                return None;
+            };
+            count += 1;
+            if count * 8 > bits {
+                return None;
+            }
+            n = (n << 8) | u64::from(byte);
+        }
+        n
+    } else if let Some((base, digits)) = v.split_once('#') {
+        let radix = match base {
+            "2" => 2,
+            "8" => 8,
+            "16" => 16,
+            "10" => 10,
+            _ => return None,
+        };
+        let digits: String = digits.chars().filter(|c| *c != '_').collect();
+        let n = u64::from_str_radix(&digits, radix).ok()?;
+        if bits < 64 && n >> bits != 0 {
+            return None;
+        }
+        n
+    } else {
+        let n: i64 = v.parse().ok()?;
+        let (lo, hi) = if bits == 64 {
+            (i64::MIN, i64::MAX)
+        } else {
+            (-(1i64 << (bits - 1)), (1i64 << (bits - 1)) - 1)
+        };
+        return (lo..=hi).contains(&n).then(|| n.to_string());
+    };
+    // Sign-extend the `bits` low bits.
+    let shift = 64 - bits;
+    Some((((raw << shift) as i64) >> shift).to_string())
+}
+
+/// PRE and ACC of a TIMER/COUNTER value: an element holding its decorated
+/// `DataValueMember`s (a `Structure` or a `StructureMember`).
+fn pre_acc(s: &Elem) -> Option<(i64, i64)> {
+    let get = |n: &str| {
+        s.all("DataValueMember")
+            .find(|m| m.attr("Name").is_some_and(|x| x.eq_ignore_ascii_case(n)))
+            .and_then(|m| m.attr("Value"))
+            .and_then(|v| logix_value(v, "DINT"))
+            .and_then(|v| v.parse::<i64>().ok())
+    };
+    Some((get("PRE")?, get("ACC")?))
+}
+
 /// PRE and ACC of a TIMER/COUNTER tag's data (decorated or L5K).
 fn struct_data(tag: &Elem) -> Option<(i64, i64)> {
     for d in tag.all("Data") {
         match d.attr("Format") {
             Some("Decorated") => {
-                if let Some(s) = d.child("Structure") {
-                    let get = |n: &str| {
-                        s.all("DataValueMember")
-                            .find(|m| m.attr("Name").is_some_and(|x| x.eq_ignore_ascii_case(n)))
-                            .and_then(|m| m.attr("Value"))
-                            .and_then(|v| v.trim().parse::<i64>().ok())
-                    };
-                    if let (Some(p), Some(a)) = (get("PRE"), get("ACC")) {
-                        return Some((p, a));
-                    }
+                if let Some(pa) = d.child("Structure").and_then(pre_acc) {
+                    return Some(pa);
                 }
             }
             Some("L5K") => {
@@ -234,19 +347,32 @@ fn struct_data(tag: &Elem) -> Option<(i64, i64)> {
     None
 }
 
-fn scalar_data(tag: &Elem) -> Option<String> {
+/// The initial value of a scalar tag of type `ty`: `Ok(None)` when its data
+/// is absent or zero, `Err(text)` when the data is there but not readable.
+fn scalar_data(tag: &Elem, ty: &str) -> Result<Option<String>, String> {
+    // L5K data is decimal whatever the tag's radix; decorated data is in
+    // the radix.
+    let mut seen = None;
     for d in tag.all("Data") {
-        match d.attr("Format") {
-            Some("Decorated") => {
-                if let Some(v) = d.child("DataValue").and_then(|v| v.attr("Value")) {
-                    return Some(v.trim().to_string());
-                }
-            }
-            Some("L5K") => return Some(d.text.trim().to_string()),
-            _ => {}
+        let text = match d.attr("Format") {
+            Some("L5K") => d.text.trim().to_string(),
+            Some("Decorated") => match d.child("DataValue").and_then(|v| v.attr("Value")) {
+                Some(v) => v.trim().to_string(),
+                None => continue,
+            },
+            _ => continue,
+        };
+        match logix_value(&text, ty) {
+            Some(v) => return Ok(nonzero(v)),
+            None => seen = Some(text),
         }
     }
-    None
+    seen.map_or(Ok(None), Err)
+}
+
+/// `None` for a zero value (tags.csv leaves it out).
+fn nonzero(v: String) -> Option<String> {
+    (v != "0" && v != "0.0").then_some(v)
 }
 
 struct Conv<'a> {
@@ -257,9 +383,17 @@ struct Conv<'a> {
     io: Io,
     /// Tags aliased to I/O points, declared once the I/O is numbered.
     io_tags: Vec<(usize, Point)>,
+    /// The controller's user-defined types by lower-case name.
+    udts: HashMap<String, &'a Elem>,
+    /// The next free marker byte.
+    next_marker: usize,
+    /// Members read so far, in the project and for the tag being declared
+    /// (see [`MAX_MEMBERS`]).
+    members: usize,
+    tag_members: usize,
 }
 
-impl Conv<'_> {
+impl<'a> Conv<'a> {
     fn declare(&mut self, tags: &Elem, scope: &mut HashMap<String, Sym>, owner: Option<&str>) {
         for t in tags.all("Tag") {
             let loc = self.ctx.loc(t);
@@ -315,6 +449,26 @@ impl Conv<'_> {
             let ty = match dt.as_str() {
                 "BOOL" | "SINT" | "INT" | "DINT" | "LINT" | "REAL" | "LREAL" | "TIMER" | "COUNTER" => dt.clone(),
                 _ => {
+                    if let Some(udt) = self.udts.get(&dt.to_ascii_lowercase()).copied() {
+                        let data = t
+                            .all("Data")
+                            .find(|d| d.attr("Format") == Some("Decorated"))
+                            .and_then(|d| d.child("Structure"));
+                        let mut notes = Vec::new();
+                        self.tag_members = 0;
+                        let sym = self.flatten(name, owner, udt, data, &loc, 0, &mut notes);
+                        let what = format!(
+                            "tag `{name}` of the user-defined type `{dt_raw}`: a tag for each member (`{name}.Member` is `{name}_Member`)"
+                        );
+                        let what = if notes.is_empty() {
+                            what
+                        } else {
+                            format!("{what}; {}", notes.join("; "))
+                        };
+                        self.report.push(Kind::Converted, loc.clone(), what);
+                        scope.insert(key, sym);
+                        continue;
+                    }
                     refuse(self, scope, format!("data type `{dt_raw}` is not one Alba has"));
                     continue;
                 }
@@ -324,19 +478,14 @@ impl Conv<'_> {
             let mut data = None;
             if ty == "TIMER" || ty == "COUNTER" {
                 data = struct_data(t);
-            } else if let Some(v) = scalar_data(t) {
-                let ok = match ty.as_str() {
-                    "BOOL" => v == "0" || v == "1",
-                    "REAL" | "LREAL" => v.parse::<f64>().is_ok_and(f64::is_finite),
-                    _ => v.parse::<i64>().is_ok(),
-                };
-                if ok && v != "0" && v != "0.0" && v != "0.00000000e+000" {
-                    initial = if ty.contains("REAL") {
-                        let f: f64 = v.parse().unwrap_or(0.0);
-                        format!("{f:?}")
-                    } else {
-                        v
-                    };
+            } else {
+                match scalar_data(t, &ty) {
+                    Ok(v) => initial = v.unwrap_or_default(),
+                    Err(v) => self.report.push(
+                        Kind::Approximated,
+                        loc.clone(),
+                        format!("tag `{name}`: its value `{v}` is not a {ty}; it starts at 0"),
+                    ),
                 }
             }
             self.tags.push(TagOut {
@@ -348,6 +497,192 @@ impl Conv<'_> {
             });
             scope.insert(key, Sym::Tag { alba, data });
         }
+    }
+
+    /// The members of a tag (`path`, `Tag` or `Tag.Member`) of the
+    /// user-defined type `udt` as tags, `data` its decorated value. A BIT
+    /// member is a bit of a SINT member (Studio 5000 packs BOOLs so): that
+    /// SINT gets a marker byte and its BIT members the marker bits over it,
+    /// so writing either changes the other, as in Logix.
+    #[allow(clippy::too_many_arguments)]
+    fn flatten(
+        &mut self,
+        path: &str,
+        owner: Option<&str>,
+        udt: &'a Elem,
+        data: Option<&Elem>,
+        loc: &Location,
+        depth: usize,
+        notes: &mut Vec<String>,
+    ) -> Sym {
+        let members: Vec<&Elem> = udt
+            .child("Members")
+            .map(|m| m.all("Member").collect())
+            .unwrap_or_default();
+        let name_of = |m: &Elem| m.attr("Name").unwrap_or("").to_string();
+        let ty_of = |m: &Elem| m.attr("DataType").unwrap_or("").to_ascii_uppercase();
+        // SINT members holding BIT members → their marker byte.
+        let mut hosts: HashMap<String, Result<usize, String>> = HashMap::new();
+        for m in members.iter().filter(|m| ty_of(m) == "BIT") {
+            let target = m.attr("Target").unwrap_or("").to_ascii_lowercase();
+            if hosts.contains_key(&target) {
+                continue;
+            }
+            let host = members.iter().find(|h| name_of(h).eq_ignore_ascii_case(&target));
+            let r = match host.map(|h| ty_of(h)) {
+                Some(t) if t == "SINT" => {
+                    if self.next_marker < MARKER_BYTES {
+                        self.next_marker += 1;
+                        Ok(self.next_marker - 1)
+                    } else {
+                        Err(format!("the {MARKER_BYTES} marker bytes are used up"))
+                    }
+                }
+                Some(t) => Err(format!("BIT members on a {t}, not a SINT")),
+                None => Err(format!("BIT members on `{target}`, which is not a member")),
+            };
+            hosts.insert(target, r);
+        }
+        let mut map = HashMap::new();
+        for m in members {
+            if self.tag_members >= MAX_TAG_MEMBERS || self.members >= MAX_MEMBERS {
+                // Said once, where it happened (the callers stop quietly).
+                if self.tag_members <= MAX_TAG_MEMBERS {
+                    let why = if self.members >= MAX_MEMBERS {
+                        format!("more than {MAX_MEMBERS} members of user-defined types in the project")
+                    } else {
+                        format!("more than {MAX_TAG_MEMBERS} members in one tag")
+                    };
+                    self.report.push(
+                        Kind::Refused,
+                        loc.clone(),
+                        format!("`{path}`: {why}; the rest are left out"),
+                    );
+                    self.tag_members = MAX_TAG_MEMBERS + 1;
+                }
+                break;
+            }
+            self.members += 1;
+            self.tag_members += 1;
+            let mname = name_of(m);
+            let key = mname.to_ascii_lowercase();
+            let mpath = format!("{path}.{mname}");
+            let mty = ty_of(m);
+            let value = data.and_then(|d| {
+                d.children
+                    .iter()
+                    .find(|c| c.attr("Name").is_some_and(|n| n.eq_ignore_ascii_case(&mname)))
+            });
+            let refused = |me: &mut Self, why: String| {
+                me.report
+                    .push(Kind::Refused, loc.clone(), format!("member `{mpath}`: {why}"));
+                Sym::Refused(why)
+            };
+            let sym = if m
+                .attr("Dimension")
+                .is_some_and(|d| d.trim() != "0" && !d.trim().is_empty())
+            {
+                refused(self, "an array (Alba has no arrays)".into())
+            } else if let Some(host) = hosts.get(&key) {
+                match host {
+                    Ok(k) => {
+                        notes.push(format!("`{mpath}` is the marker byte %MB{k}, its BIT members its bits"));
+                        Sym::Tag {
+                            alba: format!("%MB{k}"),
+                            data: None,
+                        }
+                    }
+                    Err(why) => refused(self, why.clone()),
+                }
+            } else if mty == "BIT" {
+                let target = m.attr("Target").unwrap_or("").to_ascii_lowercase();
+                let bit = m.attr("BitNumber").and_then(|b| b.trim().parse::<u8>().ok());
+                match (hosts.get(&target), bit) {
+                    (Some(Ok(k)), Some(b)) if b < 8 => {
+                        let initial = value
+                            .and_then(|v| v.attr("Value"))
+                            .and_then(|v| logix_value(v, "BOOL"))
+                            .and_then(nonzero)
+                            .unwrap_or_default();
+                        let alba = self.member_tag(&mpath, owner, loc, "BOOL", &format!("%MX{k}.{b}"), initial, m);
+                        Sym::Tag { alba, data: None }
+                    }
+                    (Some(Err(why)), _) => refused(self, why.clone()),
+                    _ => refused(self, "a BIT member without a bit 0…7 of a SINT member".into()),
+                }
+            } else if matches!(
+                mty.as_str(),
+                "BOOL" | "SINT" | "INT" | "DINT" | "LINT" | "REAL" | "LREAL" | "TIMER" | "COUNTER"
+            ) {
+                let (initial, data) = if mty == "TIMER" || mty == "COUNTER" {
+                    (String::new(), value.and_then(pre_acc))
+                } else {
+                    let v = value
+                        .and_then(|v| v.attr("Value"))
+                        .and_then(|v| logix_value(v, &mty))
+                        .and_then(nonzero)
+                        .unwrap_or_default();
+                    (v, None)
+                };
+                let alba = self.member_tag(&mpath, owner, loc, &mty, "", initial, m);
+                Sym::Tag { alba, data }
+            } else if let Some(sub) = self.udts.get(&mty.to_ascii_lowercase()).copied() {
+                if depth + 1 >= MAX_UDT_DEPTH {
+                    refused(self, format!("user-defined types nested deeper than {MAX_UDT_DEPTH}"))
+                } else {
+                    self.flatten(&mpath, owner, sub, value, loc, depth + 1, notes)
+                }
+            } else {
+                refused(
+                    self,
+                    format!("data type `{}` is not one Alba has", m.attr("DataType").unwrap_or("")),
+                )
+            };
+            map.insert(key, sym);
+        }
+        Sym::Struct(map)
+    }
+
+    /// Declares the tag of member `path` (`Tag.Member`): `Tag_Member`.
+    #[allow(clippy::too_many_arguments)]
+    fn member_tag(
+        &mut self,
+        path: &str,
+        owner: Option<&str>,
+        loc: &Location,
+        ty: &str,
+        address: &str,
+        initial: String,
+        member: &Elem,
+    ) -> String {
+        let flat = path.replace('.', "_");
+        // The dotted path keys it: a tag really named `Tag_Member` is another.
+        let key = format!("{}\u{0}{path}", owner.unwrap_or(""));
+        let wanted = match owner {
+            Some(o) if self.names.is_taken(&flat) => format!("{o}_{flat}"),
+            _ => flat.clone(),
+        };
+        let (alba, why) = self.names.alba_as(&key, &wanted);
+        if alba != flat {
+            let why = why.unwrap_or_else(|| format!("`{flat}` is also another tag"));
+            self.report.push(
+                Kind::Approximated,
+                loc.clone(),
+                format!("{why}: member `{path}` is tag `{alba}`"),
+            );
+        }
+        let description = match cdata(member.child("Description")) {
+            d if d.is_empty() => format!("member {path}"),
+            d => d,
+        };
+        self.tags.push(TagOut {
+            name: alba.clone(),
+            ty: ty.to_string(),
+            address: address.to_string(),
+            initial,
+            description,
+        });
+        alba
     }
 
     fn alba_name(&mut self, name: &str, owner: Option<&str>, loc: &Location) -> String {
@@ -445,6 +780,165 @@ fn rewrite(text: &str, scope: &HashMap<String, Sym>, io: &Io) -> Result<String, 
     Ok(fill_presets(&out, scope))
 }
 
+/// One element of a rung: an instruction's text (and whether it is an
+/// output), or a branch of legs.
+enum Part {
+    Instr(String, bool),
+    Branch(Vec<Vec<Part>>),
+}
+
+/// Branches nested deeper are left to Alba's parser to refuse.
+const MAX_LEG_DEPTH: usize = 64;
+
+/// Reads the elements of a leg up to `,`, `]`, `;` or the end; `None` when
+/// the text is not well formed (Alba's parser reports it).
+fn parse_leg(c: &[char], i: &mut usize, depth: usize) -> Option<Vec<Part>> {
+    let mut leg = Vec::new();
+    loop {
+        while *i < c.len() && c[*i].is_whitespace() {
+            *i += 1;
+        }
+        match c.get(*i) {
+            None | Some(',' | ']' | ';') => return Some(leg),
+            Some('[') => {
+                if depth >= MAX_LEG_DEPTH {
+                    return None;
+                }
+                *i += 1;
+                let mut legs = vec![parse_leg(c, i, depth + 1)?];
+                loop {
+                    match c.get(*i) {
+                        Some(',') => {
+                            *i += 1;
+                            legs.push(parse_leg(c, i, depth + 1)?);
+                        }
+                        Some(']') => {
+                            *i += 1;
+                            break;
+                        }
+                        _ => return None,
+                    }
+                }
+                leg.push(Part::Branch(legs));
+            }
+            Some(_) => {
+                let start = *i;
+                while *i < c.len() && (c[*i].is_ascii_alphanumeric() || c[*i] == '_') {
+                    *i += 1;
+                }
+                let name: String = c[start..*i].iter().collect();
+                while *i < c.len() && c[*i].is_whitespace() {
+                    *i += 1;
+                }
+                if name.is_empty() || c.get(*i) != Some(&'(') {
+                    return None;
+                }
+                let mut open = 0usize;
+                loop {
+                    match c.get(*i)? {
+                        '(' => open += 1,
+                        ')' => {
+                            open -= 1;
+                            if open == 0 {
+                                *i += 1;
+                                break;
+                            }
+                        }
+                        _ => {}
+                    }
+                    *i += 1;
+                }
+                let output = alba_ladder::Mnemonic::parse(&name).is_none_or(|m| m.is_output());
+                leg.push(Part::Instr(c[start..*i].iter().collect(), output));
+            }
+        }
+    }
+}
+
+fn has_output(leg: &[Part]) -> bool {
+    leg.iter().any(|p| match p {
+        Part::Instr(_, o) => *o,
+        Part::Branch(legs) => legs.iter().any(|l| has_output(l)),
+    })
+}
+
+/// Takes the empty legs out of the branches of `leg`: Logix draws an empty
+/// leg as a wire, which Alba's ladder has no instruction for. `tail`: the
+/// value at the end of `leg` is read by nothing (it ends the rung, or a leg
+/// of a branch that does, …).
+fn unwire(leg: Vec<Part>, tail: bool) -> Result<Vec<Part>, String> {
+    let n = leg.len();
+    let mut out = Vec::new();
+    for (k, p) in leg.into_iter().enumerate() {
+        let Part::Branch(legs) = p else {
+            out.push(p);
+            continue;
+        };
+        let last = tail && k + 1 == n;
+        let legs = legs
+            .into_iter()
+            .map(|l| unwire(l, last))
+            .collect::<Result<Vec<_>, _>>()?;
+        if !legs.iter().any(Vec::is_empty) {
+            out.push(Part::Branch(legs));
+        } else if !legs.iter().any(|l| has_output(l)) {
+            // Conditions in parallel with a wire: always true.
+        } else if last {
+            // Outputs in parallel with a wire whose value nothing reads.
+            let mut legs: Vec<Vec<Part>> = legs.into_iter().filter(|l| !l.is_empty()).collect();
+            if legs.len() == 1 {
+                out.append(&mut legs[0]);
+            } else {
+                out.push(Part::Branch(legs));
+            }
+        } else {
+            return Err(
+                "an empty branch leg (a wire) beside outputs, with more instructions after the branch: Alba's ladder has no always-true instruction to stand for it".into(),
+            );
+        }
+    }
+    Ok(out)
+}
+
+fn print_leg(leg: &[Part], out: &mut String) {
+    for p in leg {
+        match p {
+            Part::Instr(t, _) => out.push_str(t),
+            Part::Branch(legs) => {
+                out.push('[');
+                for (k, l) in legs.iter().enumerate() {
+                    if k > 0 {
+                        out.push(',');
+                    }
+                    print_leg(l, out);
+                }
+                out.push(']');
+            }
+        }
+    }
+}
+
+/// A rung with empty branch legs (`XIC(A)[,XIO(B)]OTE(C);`, which Studio
+/// 5000 accepts) written without them, if it has any.
+fn without_empty_legs(text: &str) -> Result<Option<String>, String> {
+    let squeezed: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    if !["[,", ",,", ",]", "[]"].iter().any(|p| squeezed.contains(p)) {
+        return Ok(None);
+    }
+    let c: Vec<char> = text.chars().collect();
+    let mut i = 0;
+    let Some(leg) = parse_leg(&c, &mut i, 0) else {
+        return Ok(None);
+    };
+    if c.get(i).is_some_and(|x| *x != ';') {
+        return Ok(None);
+    }
+    let mut out = String::new();
+    print_leg(&unwire(leg, true)?, &mut out);
+    out.push(';');
+    Ok(Some(out))
+}
+
 /// Alias chains followed (an alias of an alias …); deeper, or a cycle, is refused.
 const MAX_ALIAS_CHAIN: usize = 16;
 
@@ -471,8 +965,14 @@ fn operand(tok: &str, scope: &HashMap<String, Sym>, io: &Io, depth: usize) -> Re
     if rest.starts_with('[') {
         return Err(format!("`{tok}`: an array element (Alba has no arrays)"));
     }
+    if rest.contains('[') {
+        return Err(format!(
+            "`{tok}`: an indirect address or an array member (Alba has neither)"
+        ));
+    }
     match scope.get(&head.to_ascii_lowercase()) {
         Some(Sym::Tag { alba, .. }) => Ok(format!("{alba}{rest}")),
+        Some(Sym::Struct(members)) => member(tok, members, rest),
         Some(Sym::Alias(target)) => {
             let t = operand(target, scope, io, depth + 1)?;
             Ok(format!("{t}{rest}"))
@@ -483,17 +983,46 @@ fn operand(tok: &str, scope: &HashMap<String, Sym>, io: &Io, depth: usize) -> Re
     }
 }
 
+/// The operand `tok` = a structure tag and `rest` (`.Member.DN`): the
+/// member's tag and what follows it.
+fn member(tok: &str, members: &HashMap<String, Sym>, rest: &str) -> Result<String, String> {
+    let mut cur = members;
+    let mut segs = rest.split('.').skip(1);
+    while let Some(seg) = segs.next() {
+        match cur.get(&seg.to_ascii_lowercase()) {
+            Some(Sym::Struct(m)) => cur = m,
+            Some(Sym::Tag { alba, .. }) => {
+                let tail: Vec<&str> = segs.collect();
+                return Ok(if tail.is_empty() {
+                    alba.clone()
+                } else {
+                    format!("{alba}.{}", tail.join("."))
+                });
+            }
+            Some(Sym::Refused(why)) => return Err(format!("`{tok}`: {why}")),
+            Some(Sym::Alias(_)) | None => return Err(format!("`{tok}`: `{seg}` is not a member")),
+        }
+    }
+    Err(format!("`{tok}` is a whole structure (Alba has no structures)"))
+}
+
+/// TIMER/COUNTER data of the tags in `sym`, by lower-case Alba name.
+fn timer_data(sym: &Sym, out: &mut HashMap<String, (i64, i64)>) {
+    match sym {
+        Sym::Tag { alba, data: Some(d) } => {
+            out.insert(alba.to_ascii_lowercase(), *d);
+        }
+        Sym::Struct(m) => m.values().for_each(|s| timer_data(s, out)),
+        _ => {}
+    }
+}
+
 /// `TON(T,?,?)` with the data of tag T → `TON(T,5000,0)`.
 fn fill_presets(text: &str, scope: &HashMap<String, Sym>) -> String {
     let mut out = String::new();
     let mut rest = text;
-    let by_alba: HashMap<String, (i64, i64)> = scope
-        .values()
-        .filter_map(|s| match s {
-            Sym::Tag { alba, data: Some(d) } => Some((alba.to_ascii_lowercase(), *d)),
-            _ => None,
-        })
-        .collect();
+    let mut by_alba = HashMap::new();
+    scope.values().for_each(|s| timer_data(s, &mut by_alba));
     while let Some(pos) = rest.find('(') {
         let head = &rest[..pos];
         let mn: String = head
@@ -532,6 +1061,16 @@ fn fill_presets(text: &str, scope: &HashMap<String, Sym>) -> String {
     }
     out.push_str(rest);
     out
+}
+
+/// A routine's language; a rung export's context routine has no `Type`,
+/// and its `RLLContent` says it.
+fn routine_type(r: &Elem) -> &str {
+    match r.attr("Type") {
+        Some(t) => t,
+        None if r.child("RLLContent").is_some() => "RLL",
+        None => "?",
+    }
 }
 
 struct RoutineJob<'a, 'p> {
@@ -621,6 +1160,21 @@ fn emit_routine(conv: &mut Conv<'_>, job: &mut RoutineJob<'_, '_>, r: &Elem, sta
                 Some(&tloc),
             );
         };
+        let one_line = match without_empty_legs(&one_line) {
+            Ok(None) => one_line.clone(),
+            Ok(Some(t)) => {
+                conv.report.push(
+                    Kind::Converted,
+                    tloc.clone(),
+                    format!("rung {num} of `{pname}`/`{rname}`: its empty branch legs (wires) are written out: `{t}`"),
+                );
+                t
+            }
+            Err(why) => {
+                refuse(conv, job.prog, why);
+                continue;
+            }
+        };
         if let Some((cond, target)) = split_jsr(&one_line) {
             let key = target.to_ascii_lowercase();
             let Some(sub) = job
@@ -647,7 +1201,7 @@ fn emit_routine(conv: &mut Conv<'_>, job: &mut RoutineJob<'_, '_>, r: &Elem, sta
                 );
                 continue;
             }
-            if sub.attr("Type") != Some("RLL") {
+            if routine_type(sub) != "RLL" {
                 refuse(
                     conv,
                     job.prog,
@@ -724,6 +1278,17 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         tags: Vec::new(),
         io: Io::default(),
         io_tags: Vec::new(),
+        udts: ctl
+            .child("DataTypes")
+            .map(|d| {
+                d.all("DataType")
+                    .filter_map(|t| Some((t.attr("Name")?.to_ascii_lowercase(), t)))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        next_marker: 0,
+        members: 0,
+        tag_members: 0,
     };
     let mut globals: HashMap<String, Sym> = HashMap::new();
     if let Some(tags) = ctl.child("Tags") {
@@ -841,10 +1406,17 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             .map(|r| r.all("Routine").collect())
             .unwrap_or_default();
         // A routine export (TargetType="Routine") has no main routine in its
-        // context program: the exported routine is the one to import.
+        // context program: the exported routine is the one to import; in a
+        // rung export (TargetType="Rung"), the routine of the exported rungs.
         let target = routines
             .iter()
             .find(|r| r.attr("Use") == Some("Target"))
+            .or_else(|| {
+                routines.iter().find(|r| {
+                    r.child("RLLContent")
+                        .is_some_and(|c| c.all("Rung").any(|g| g.attr("Use") == Some("Target")))
+                })
+            })
             .and_then(|r| r.attr("Name"));
         let main = match p.attr("MainRoutineName") {
             Some(m) if routines.iter().any(|r| r.attr("Name") == Some(m)) => m,
@@ -858,13 +1430,13 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             );
             continue;
         };
-        if r.attr("Type") != Some("RLL") {
+        if routine_type(r) != "RLL" {
             conv.report.push(
                 Kind::Refused,
                 conv.ctx.loc(r),
                 format!(
                     "routine `{main}` of `{pname}` is {}; only RLL (ladder) is imported",
-                    r.attr("Type").unwrap_or("?")
+                    routine_type(r)
                 ),
             );
             continue;

@@ -449,7 +449,9 @@ struct Body<'b, 'e> {
     vars: &'b HashMap<String, Var>,
     memo: HashMap<(String, String), Result<Out, String>>,
     visiting: Vec<String>,
-    emitted_blocks: HashMap<String, ()>,
+    /// Blocks emitted (or refused), by localId: a later reader of a refused
+    /// block's output is refused too.
+    emitted_blocks: HashMap<String, Result<(), String>>,
     e: Emitter<'e>,
     pou: String,
     structs: Structs,
@@ -466,6 +468,92 @@ struct Body<'b, 'e> {
     sole_out: HashMap<String, String>,
     /// Output variables written by their block directly.
     handled: Vec<String>,
+    /// TIME converts to numbers in milliseconds (CODESYS), not in seconds
+    /// (matiec: OpenPLC, Beremiz).
+    ms_time: bool,
+}
+
+/// The functions computing an OUT (besides the conversions).
+const FUNCTIONS: &[&str] = &["ADD", "SUB", "MUL", "DIV", "MOD", "MOVE"];
+
+/// A type conversion function `X_TO_Y`: the Alba types of X and Y.
+struct Conversion {
+    from: &'static str,
+    to: &'static str,
+    /// An unsigned IEC type held in a wider signed Alba type.
+    unsigned: bool,
+}
+
+fn conversion(ty: &str) -> Option<Conversion> {
+    let (from, to) = ty.split_once("_TO_")?;
+    let (f, fu) = elementary(from)?;
+    let (t, tu) = elementary(to)?;
+    Some(Conversion {
+        from: f,
+        to: t,
+        unsigned: fu || tu,
+    })
+}
+
+/// Width rank of an Alba integer type (0 for the others).
+fn int_rank(t: &str) -> u8 {
+    match t {
+        "SINT" => 1,
+        "INT" => 2,
+        "DINT" => 3,
+        "LINT" => 4,
+        _ => 0,
+    }
+}
+
+impl Conversion {
+    fn real(t: &str) -> bool {
+        t == "REAL" || t == "LREAL"
+    }
+
+    /// Why the conversion is not converted, if it is not.
+    fn refused(&self) -> Option<&'static str> {
+        if self.from == "BOOL" || self.to == "BOOL" {
+            Some("conversions from and to BOOL are not converted")
+        } else if self.to == "TIME" {
+            Some("conversions to TIME are not converted")
+        } else {
+            None
+        }
+    }
+
+    /// The Alba instruction writing `src` converted into `dest`.
+    fn text(&self, src: &str, dest: &str, ms_time: bool) -> String {
+        match (self.from, ms_time) {
+            ("TIME", false) if Self::real(self.to) => format!("CPT({dest},{src}/1000.0)"),
+            ("TIME", false) => format!("DIV({src},1000,{dest})"),
+            _ => format!("MOV({src},{dest})"),
+        }
+    }
+
+    /// What Alba does differently, if anything.
+    fn note(&self, ms_time: bool) -> Option<String> {
+        let mut why = Vec::new();
+        if self.unsigned {
+            why.push("the unsigned value is held in a signed Alba type".to_string());
+        }
+        if self.from == "TIME" {
+            why.push(if ms_time {
+                "TIME in milliseconds, as CODESYS converts it (OpenPLC and Beremiz give seconds)".to_string()
+            } else {
+                "TIME in seconds, as OpenPLC and Beremiz (matiec) convert it (CODESYS gives milliseconds)".to_string()
+            });
+        } else if Self::real(self.from) && int_rank(self.to) > 0 {
+            why.push(
+                "Alba rounds halves to even and saturates out of range (IEC leaves both to the implementation)".into(),
+            );
+        } else if int_rank(self.to) > 0 && int_rank(self.to) < int_rank(self.from) {
+            why.push("out of range, Alba keeps the low bits (IEC leaves it to the implementation)".into());
+        } else if self.from == "LREAL" && self.to == "REAL" {
+            why.push("out of the REAL range, Alba saturates".into());
+        }
+        (!why.is_empty()).then(|| why.join("; "))
+    }
 }
 
 /// What an element output carries.
@@ -553,17 +641,10 @@ impl Body<'_, '_> {
         for (id, param) in conns {
             match self.out(id, param)? {
                 Out::Power(c) => cs.push(c),
-                Out::Data(d) => {
-                    // A BOOL variable feeding a power input.
-                    if d == "1" {
-                        cs.push(self.e.rail());
-                    } else if d == "0" {
-                        cs.push(self.e.open());
-                    } else {
-                        let c = self.e.input(&format!("XIC({d})"), std::slice::from_ref(&d));
-                        cs.push(c);
-                    }
-                }
+                // TRUE and FALSE; a BOOL variable comes as a power flow.
+                Out::Data(d) if d == "1" => cs.push(self.e.rail()),
+                Out::Data(d) if d == "0" => cs.push(self.e.open()),
+                Out::Data(d) => return Err(format!("`{d}`, a number, wired into a power input")),
                 Out::Expr(_) => return Err("an expression wired into a power input".into()),
             }
         }
@@ -764,9 +845,13 @@ impl Body<'_, '_> {
     fn power_of(&mut self, b: &Elem, param: &str) -> Result<Cond, String> {
         let conns = block_input(b, param).unwrap_or_default();
         let c = self.power_in(&conns)?;
-        // EN, when wired, gates the block's power inputs.
+        // EN, when wired, gates the block's power inputs (exactly, when it
+        // is always true: wired to the rail, as OpenPLC's editor draws it).
         if let Some(en) = block_input(b, "EN") {
             let en = self.power_in(&en)?;
+            if self.e.is_true(en) {
+                return Ok(c);
+            }
             self.notes.push((
                 Kind::Approximated,
                 b.start,
@@ -781,13 +866,30 @@ impl Body<'_, '_> {
         Ok(c)
     }
 
-    /// Emits a standard function block once.
+    /// Emits a standard function block once; a block that was refused
+    /// refuses whoever reads it later.
     fn run_block(&mut self, b: &Elem) -> Result<(), String> {
         let id = b.attr("localId").unwrap_or("").to_string();
-        if self.emitted_blocks.contains_key(&id) {
-            return Ok(());
+        if let Some(r) = self.emitted_blocks.get(&id) {
+            return r.clone().map_err(|why| {
+                format!(
+                    "it reads block {} {}, which was refused ({why})",
+                    b.attr("typeName").unwrap_or(""),
+                    b.attr("instanceName")
+                        .map(|i| format!("`{i}`"))
+                        .unwrap_or_else(|| format!("(localId {id})"))
+                )
+            });
         }
-        self.emitted_blocks.insert(id, ());
+        // Ok while it is being emitted: a feedback loop through the block
+        // reads its outputs as of the last scan.
+        self.emitted_blocks.insert(id.clone(), Ok(()));
+        let r = self.emit_block(b);
+        self.emitted_blocks.insert(id, r.clone());
+        r
+    }
+
+    fn emit_block(&mut self, b: &Elem) -> Result<(), String> {
         let ty = b.attr("typeName").unwrap_or("").to_ascii_uppercase();
         match ty.as_str() {
             "TON" | "TOF" | "TP" => {
@@ -860,10 +962,16 @@ impl Body<'_, '_> {
                 Ok(())
             }
             "GT" | "GE" | "EQ" | "NE" | "LT" | "LE" => Ok(()),
-            "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE" => {
+            t if FUNCTIONS.contains(&t) || conversion(t).is_some() => {
                 let id = b.attr("localId").unwrap_or("").to_string();
+                let conv = conversion(t);
+                if let Some(c) = &conv
+                    && let Some(why) = c.refused()
+                {
+                    return Err(format!("{ty}: {why}"));
+                }
                 let en = self.enable(b)?;
-                let ins: Vec<String> = if ty == "MOVE" {
+                let ins: Vec<String> = if ty == "MOVE" || conv.is_some() {
                     vec!["IN".into()]
                 } else {
                     vec!["IN1".into(), "IN2".into()]
@@ -907,7 +1015,11 @@ impl Body<'_, '_> {
                         };
                         let real = ops.iter().any(|o| self.is_real(o))
                             || expr.as_deref().is_some_and(|e| e.split_whitespace().any(floating));
-                        let result_ty = if real { "REAL" } else { "DINT" };
+                        let result_ty = match &conv {
+                            Some(c) => c.to,
+                            None if real => "REAL",
+                            None => "DINT",
+                        };
                         let helper = self.e.names().fresh(&format!("{}_out", ty.to_ascii_lowercase()));
                         self.data_helpers.push((
                             helper.clone(),
@@ -919,12 +1031,17 @@ impl Body<'_, '_> {
                 };
                 let text = if let Some(e) = &expr {
                     format!("CPT({helper},{e})")
+                } else if let Some(c) = &conv {
+                    if let Some(note) = c.note(self.ms_time) {
+                        self.notes.push((Kind::Approximated, b.start, format!("{ty}: {note}")));
+                    }
+                    c.text(&ops[0], &helper, self.ms_time)
                 } else if ty == "MOVE" {
                     format!("MOV({},{helper})", ops[0])
                 } else {
                     format!("{ty}({},{},{helper})", ops[0], ops[1])
                 };
-                if block_input(b, "EN").is_some() && direct.is_none() {
+                if !self.e.is_true(en) && direct.is_none() {
                     self.notes.push((
                         Kind::Approximated,
                         b.start,
@@ -938,7 +1055,7 @@ impl Body<'_, '_> {
                 Ok(())
             }
             other => Err(format!(
-                "block `{other}` is not converted (only TON TOF TP CTU CTD CTUD R_TRIG F_TRIG, GT GE EQ NE LT LE, ADD SUB MUL DIV MOD MOVE)"
+                "block `{other}` is not converted (only TON TOF TP CTU CTD CTUD R_TRIG F_TRIG, GT GE EQ NE LT LE, ADD SUB MUL DIV MOD MOVE, and X_TO_Y between numbers and from TIME)"
             )),
         }
     }
@@ -1024,7 +1141,7 @@ impl Body<'_, '_> {
                     .collect();
                 Ok(Out::Power(self.e.and(en, &format!("{m}({a},{c2})"), &reads)))
             }
-            ("ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE", "OUT" | "") => {
+            (t, "OUT" | "") if FUNCTIONS.contains(&t) || conversion(t).is_some() => {
                 let id = b.attr("localId").unwrap_or("");
                 self.block_out_data
                     .get(id)
@@ -1032,10 +1149,9 @@ impl Body<'_, '_> {
                     .map(Out::Data)
                     .ok_or_else(|| format!("{ty} has no result"))
             }
-            ("GT" | "GE" | "EQ" | "NE" | "LT" | "LE" | "ADD" | "SUB" | "MUL" | "DIV" | "MOD" | "MOVE", "ENO") => {
-                Ok(Out::Power(self.enable(b)?))
-            }
-            (_, "ENO") => Err("ENO outputs are not converted".into()),
+            // No converted block can fail, so ENO is EN (IEC 61131-3: ENO is
+            // false when EN is, true when the block ran without error).
+            (_, "ENO") => Ok(Out::Power(self.enable(b)?)),
             (t, p) => Err(format!("output `{p}` of {t}")),
         }
     }
@@ -1146,6 +1262,10 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         }
     }
     let mut refused_programs: Vec<String> = Vec::new();
+    let ms_time = root
+        .child("fileHeader")
+        .and_then(|h| h.attr("productName"))
+        .is_some_and(|p| p.to_ascii_uppercase().contains("CODESYS"));
     for pou in ordered {
         let loc = conv.ctx.loc(pou);
         let pname = pou.attr("name").unwrap_or("").to_string();
@@ -1345,6 +1465,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 block_out_data: HashMap::new(),
                 sole_out,
                 handled: Vec::new(),
+                ms_time,
             };
             for s in &sinks {
                 origins.push(conv.ctx.loc(s));

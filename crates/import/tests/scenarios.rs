@@ -209,6 +209,73 @@ fn beremiz_orange_light_blinks() {
     assert!((8..=10).contains(&ons), "{ons} blinks in 10 s: {v:?}");
 }
 
+/// The times (ms) at which `col` changes, after the first row.
+fn edges(rows: &[(u64, HashMap<String, String>)], col: &str) -> Vec<u64> {
+    rows.windows(2)
+        .filter(|w| w[0].1.get(col) != w[1].1.get(col))
+        .map(|w| w[1].0)
+        .collect()
+}
+
+#[test]
+fn openplc_blink_makes_the_square_wave_of_its_timers() {
+    // OpenPLC Editor's Blink example: TON(IN := NOT blink_led, PT := 500 ms)
+    // into TOF(PT := 500 ms), whose Q drives blink_led; 20 ms scans. IEC:
+    // the TON's Q rises at 500 and sets the light through the TOF; one scan
+    // later the TON's IN falls, the TOF times 500 ms from 520 and the light
+    // goes off at 1020; the TON starts again at 1040, and so on.
+    let tmp = import("plcopen/openplc-blink.xml");
+    let rows = sim(&tmp.path().join("p"), "time_ms,tag,value\n", &["blink_led"], 5_000, 20);
+    assert_eq!(at(&rows, 0, "blink_led"), "0");
+    assert_eq!(
+        edges(&rows, "blink_led"),
+        [500, 1020, 1540, 2060, 2580, 3100, 3620, 4140, 4660]
+    );
+}
+
+#[test]
+fn openplc_arduino_cloud_counts_pulses_and_seconds() {
+    // The pulse of the Blink timers counted by a CTU reset by its own Q at
+    // 60 (through the coil CTU_reset), the count moved to minute_count
+    // (%QW0); TON1 times 600 s and TIME_TO_REAL(TON1.ET) is seconds.
+    let tmp = import("plcopen/openplc-arduino-cloud.xml");
+    let cols = ["oscillator_pulse", "minute_count", "time_lapsed"];
+    let rows = sim(&tmp.path().join("p"), "time_ms,tag,value\n", &cols, 70_000, 20);
+    let rises: Vec<u64> = edges(&rows, "oscillator_pulse").into_iter().step_by(2).collect();
+    assert_eq!(rises[..3], [500, 1540, 2580]);
+    // Pulse k (from 1) is counted at its rising edge.
+    assert_eq!(at(&rows, rises[0], "minute_count"), "1");
+    assert_eq!(at(&rows, rises[1] - 20, "minute_count"), "1");
+    assert_eq!(at(&rows, rises[58], "minute_count"), "59");
+    // The 60th count sets Q: the next scan resets CV through R.
+    assert_eq!(at(&rows, rises[59], "minute_count"), "60");
+    assert_eq!(at(&rows, rises[59] + 20, "minute_count"), "0");
+    assert_eq!(at(&rows, rises[60], "minute_count"), "1");
+    assert_eq!(at(&rows, 12_340, "time_lapsed"), "12.34");
+    assert_eq!(at(&rows, 0, "time_lapsed"), "0");
+}
+
+#[test]
+fn openplc_dnp3test_drives_its_coils() {
+    // PB1 on the rail; the negated coil PB2 after PB1 and LED in parallel:
+    // PB2 = NOT TRUE; LED on the rail and again after PB2 (a coil passes its
+    // input on, negated or not).
+    let tmp = import("plcopen/openplc-dnp3test.xml");
+    let rows = sim(
+        &tmp.path().join("p"),
+        "time_ms,tag,value\n",
+        &["PB1", "PB2", "LED"],
+        200,
+        20,
+    );
+    for (t, _) in &rows {
+        assert_eq!(
+            [at(&rows, *t, "PB1"), at(&rows, *t, "PB2"), at(&rows, *t, "LED")],
+            ["1", "0", "1"]
+        );
+    }
+}
+
 #[test]
 fn plcopen_functions_compute() {
     let tmp = import("plcopen/blocks.xml");
@@ -271,6 +338,92 @@ fn random_stimulus(seed: u64, bits: &[(&str, u64, u64)], analog: &[(&str, u64)],
         }
     }
     stim
+}
+
+#[test]
+fn l5x_belt_conveyor_equals_the_native_program() {
+    // A Studio 5000 export (l5x2c's example): the failures are BIT members
+    // of a UDT over a SINT that `MOV(-1, …)` sets at once (marker bits over
+    // a marker byte in Alba), timers with `?` presets from the tag data and
+    // nested output branches. The native program has five BOOL flags.
+    let tmp = import("l5x/l5x2c-belt_conveyor.L5X");
+    let imported = tmp.path().join("p");
+    let native = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/native/belt-conveyor");
+    // Start, Rearm and the two feedbacks change every few seconds; the
+    // normally closed Stop, Emergency, Overload and Misalignment open for a
+    // moment now and then.
+    let random = random_stimulus(
+        0xD1B5_4A32_D192_ED03,
+        &[
+            ("Start", 0, 150),
+            ("Rearm", 0, 200),
+            ("Contactor_Feedback", 0, 60),
+            ("Break_Open", 0, 60),
+        ],
+        &[],
+        6000,
+        20,
+    );
+    let mut rows: Vec<(u64, String)> = random
+        .lines()
+        .skip(1)
+        .map(|l| {
+            (
+                l.split(',').next().and_then(|t| t.parse().ok()).unwrap_or(0),
+                l.to_string(),
+            )
+        })
+        .collect();
+    for (tag, at) in [("Stop", 0), ("Emergency", 0), ("Overload", 0), ("Misalignment", 0)] {
+        rows.push((at, format!("{at},{tag},1")));
+    }
+    for (k, tag) in ["Emergency", "Overload", "Misalignment", "Stop"]
+        .iter()
+        .cycle()
+        .take(12)
+        .enumerate()
+    {
+        let at = 9_000 + k as u64 * 9_000;
+        rows.push((at, format!("{at},{tag},0")));
+        rows.push((at + 400, format!("{},{tag},1", at + 400)));
+    }
+    rows.sort_by_key(|r| r.0);
+    let stim = format!(
+        "time_ms,tag,value\n{}\n",
+        rows.into_iter().map(|r| r.1).collect::<Vec<_>>().join("\n")
+    );
+    let pairs = [
+        ("Started", "Started"),
+        ("Horn", "Horn"),
+        ("Contactor", "Contactor"),
+        ("Open_Break", "Open_Break"),
+        ("Failure_Summary", "No_Failure"),
+        ("Conveyor_Failures_Contactor_Failure", "Contactor_OK"),
+        ("Conveyor_Failures_Break_Jammed", "Brake_OK"),
+        ("Conveyor_Failures_Overload", "Overload_OK"),
+        ("Conveyor_Failures_Emergency_Stop", "EStop_OK"),
+        ("Conveyor_Failures_Misalignment", "Aligned"),
+        ("T_Horn.ACC", "T_Horn.ACC"),
+        ("T_Contactor_Feedback.ACC", "T_Feedback.ACC"),
+    ];
+    let a = sim(&imported, &stim, &pairs.map(|p| p.0), 120_000, 20);
+    let b = sim(&native, &stim, &pairs.map(|p| p.1), 120_000, 20);
+    assert_eq!(a.len(), b.len());
+    let mut seen: HashMap<&str, Vec<String>> = HashMap::new();
+    for ((t, ra), (_, rb)) in a.iter().zip(&b) {
+        for (ia, nb) in pairs {
+            assert_eq!(ra.get(ia), rb.get(nb), "{ia} / {nb} at t = {t} ms");
+            let v = ra.get(ia).cloned().unwrap_or_default();
+            let e = seen.entry(ia).or_default();
+            if !e.contains(&v) {
+                e.push(v);
+            }
+        }
+    }
+    // Every output and failure flag took both values.
+    for (ia, _) in &pairs[..10] {
+        assert_eq!(seen[ia].len(), 2, "{ia} never changed: {:?}", seen[ia]);
+    }
 }
 
 #[test]
