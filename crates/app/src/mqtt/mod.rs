@@ -262,6 +262,19 @@ impl Stats {
         *slot.lock().unwrap_or_else(PoisonError::into_inner) = v;
     }
 
+    /// A connection acknowledged: counted, and the last error cleared.
+    pub fn connected_now(&self) {
+        self.connected.store(true, Ordering::Relaxed);
+        self.connects.fetch_add(1, Ordering::Relaxed);
+        Self::set(&self.last_error, None);
+    }
+
+    /// A connection failed or ended with `e`: counted and kept as the last error.
+    pub fn failed(&self, e: &dyn std::fmt::Display) {
+        self.errors.fetch_add(1, Ordering::Relaxed);
+        Self::set(&self.last_error, Some(e.to_string()));
+    }
+
     fn get(slot: &Mutex<Option<String>>) -> Option<String> {
         slot.lock().unwrap_or_else(PoisonError::into_inner).clone()
     }
@@ -422,9 +435,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
             match ev {
                 Ok(Ev::Connected) => {
                     backoff = Duration::from_millis(100);
-                    sts.connected.store(true, Ordering::Relaxed);
-                    sts.connects.fetch_add(1, Ordering::Relaxed);
-                    Stats::set(&sts.last_error, None);
+                    sts.connected_now();
                     sts.republish.store(true, Ordering::Relaxed);
                     let _ = c.try_publish(
                         format!("{}/status", cfg.prefix),
@@ -447,8 +458,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
                     if sts.connected.swap(false, Ordering::Relaxed) {
                         eprintln!("mqtt: connection lost ({e}); reconnecting");
                     }
-                    sts.errors.fetch_add(1, Ordering::Relaxed);
-                    Stats::set(&sts.last_error, Some(e.to_string()));
+                    sts.failed(&e);
                     eventloop.renew(None, creds.as_mut().map(Credentials::refresh));
                     let (wait, next) = self::backoff(backoff);
                     backoff = next;

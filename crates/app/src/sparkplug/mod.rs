@@ -316,9 +316,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
             match ev {
                 Ok(Ev::Connected) => {
                     wait = Duration::from_millis(100);
-                    sts.connected.store(true, Ordering::Relaxed);
-                    sts.connects.fetch_add(1, Ordering::Relaxed);
-                    Stats::set(&sts.last_error, None);
+                    sts.connected_now();
                     if let Some(h) = &spc.primary_host {
                         Stats::set(
                             &sts.held,
@@ -421,8 +419,7 @@ pub(crate) fn start(s: &Service<'_>, set: Settings, stats: Arc<Stats>) -> Result
                         eprintln!("mqtt: connection lost ({e}); reconnecting");
                     }
                     if !leaving {
-                        sts.errors.fetch_add(1, Ordering::Relaxed);
-                        Stats::set(&sts.last_error, Some(e.to_string()));
+                        sts.failed(&e);
                     }
                     leaving = false;
                     // The next connection has the next bdSeq, in its will and its NBIRTH;
