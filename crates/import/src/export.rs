@@ -341,6 +341,20 @@ impl Graph {
         id
     }
 
+    /// [`Self::function`] with its OUT written to the variable `dest`.
+    fn function_to(&mut self, f: &str, inputs: &[Conn], args: &[(&str, String)], dest: &str, x: i64, y: i64) {
+        let id = self.function(f, inputs, args, x, y);
+        let ov = self.id();
+        let _ = writeln!(
+            self.xml,
+            "          <outVariable localId=\"{ov}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/>{}<expression>{}</expression></outVariable>",
+            x + 80,
+            y + 30,
+            conns(&[(id, Some("OUT"))]),
+            esc(dest)
+        );
+    }
+
     fn bit(&self, r: &Rung<'_>, op: &str) -> Result<String, String> {
         if let Some((t, m)) = op.split_once('.')
             && let Some((kind, name, _)) = r.counter(t)
@@ -502,16 +516,7 @@ impl Graph {
                     .cloned()
                     .ok_or_else(|| format!("{m}: the destination `{dest}` is not a numeric tag"))?;
                 let f = if m == "MOV" { "MOVE" } else { m };
-                let id = self.function(f, &inputs, &ins, *x, y);
-                let ov = self.id();
-                let _ = writeln!(
-                    self.xml,
-                    "          <outVariable localId=\"{ov}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/>{}<expression>{}</expression></outVariable>",
-                    *x + 80,
-                    y + 30,
-                    conns(&[(id, Some("OUT"))]),
-                    esc(&d)
-                );
+                self.function_to(f, &inputs, &ins, &d, *x, y);
                 *x += 60;
                 // Alba's math passes the rung on.
                 Ok(inputs)
@@ -618,16 +623,7 @@ impl Graph {
                     .map_err(|(m, _)| format!("CPT: {m}"))?;
                 let mut st = String::new();
                 st_expr(r, &e, &mut st)?;
-                let id = self.function("MOVE", &inputs, &[("IN", st)], *x, y);
-                let ov = self.id();
-                let _ = writeln!(
-                    self.xml,
-                    "          <outVariable localId=\"{ov}\" width=\"60\" height=\"20\"><position x=\"{}\" y=\"{}\"/>{}<expression>{}</expression></outVariable>",
-                    *x + 80,
-                    y + 30,
-                    conns(&[(id, Some("OUT"))]),
-                    esc(&d)
-                );
+                self.function_to("MOVE", &inputs, &[("IN", st)], &d, *x, y);
                 *x += 60;
                 Ok(inputs)
             }
