@@ -43,6 +43,8 @@ pub struct IngestOptions {
     pub client_id: String,
     /// User name and password for the broker.
     pub credentials: Option<(String, String)>,
+    /// TLS to the broker (`alba_historian::client_tls`: its CA, a client certificate).
+    pub tls: Option<Arc<rustls::ClientConfig>>,
     /// JSON topic prefixes: `<prefix>/tags/#` is consumed; `+` levels name the node.
     pub json: Vec<String>,
     /// Consume Sparkplug B (`spBv1.0/#`).
@@ -347,6 +349,11 @@ pub async fn ingest(
     if let Some((u, p)) = &opts.credentials {
         mqtt.set_credentials(u, p);
     }
+    if let Some(tls) = &opts.tls {
+        mqtt.set_transport(rumqttc::Transport::tls_with_config(rumqttc::TlsConfiguration::Rustls(
+            tls.clone(),
+        )));
+    }
     let born = now_ms();
     let state_topic = opts
         .primary_host
@@ -383,6 +390,7 @@ pub async fn ingest(
     let mut shutdown = std::pin::pin!(shutdown);
     let mut done = std::pin::pin!(done_rx);
     let mut connected = false;
+    let mut last_failure: Option<String> = None;
     let mut wait = Duration::from_millis(100);
     loop {
         let ev = tokio::select! {
@@ -397,6 +405,7 @@ pub async fn ingest(
         match ev {
             Ok(Event::Incoming(Packet::ConnAck(_))) => {
                 connected = true;
+                last_failure = None;
                 wait = Duration::from_millis(100);
                 eprintln!("historian: connected to {}:{}", opts.host, opts.port);
                 for f in &filters {
@@ -433,10 +442,20 @@ pub async fn ingest(
             }
             Ok(_) => {}
             Err(e) => {
+                // Said when a connection is lost and when the reason for failing to
+                // connect changes (a refused certificate, a broker not listening), not
+                // at every attempt.
+                let why = e.to_string();
                 if connected {
-                    eprintln!("historian: connection to the broker lost ({e}); reconnecting");
+                    eprintln!("historian: connection to the broker lost ({why}); reconnecting");
                     connected = false;
+                } else if last_failure.as_ref() != Some(&why) {
+                    eprintln!(
+                        "historian: cannot connect to {}:{} ({why}); retrying",
+                        opts.host, opts.port
+                    );
                 }
+                last_failure = Some(why);
                 let (pause, next) = backoff(wait);
                 wait = next;
                 tokio::select! {

@@ -88,6 +88,15 @@ pub struct ServiceArgs {
     /// The broker password: the first line of this file.
     #[arg(long, value_name = "FILE", requires = "mqtt_user")]
     mqtt_password_file: Option<PathBuf>,
+    /// TLS to the broker: the CA certificates (PEM) its certificate must chain to.
+    #[arg(long, value_name = "FILE")]
+    mqtt_ca_file: Option<PathBuf>,
+    /// TLS to the broker: a client certificate (PEM), with --mqtt-client-key.
+    #[arg(long, value_name = "FILE", requires_all = ["mqtt_client_key", "mqtt_ca_file"])]
+    mqtt_client_cert: Option<PathBuf>,
+    /// TLS to the broker: the client certificate's key (PEM).
+    #[arg(long, value_name = "FILE", requires = "mqtt_client_cert")]
+    mqtt_client_key: Option<PathBuf>,
 }
 
 pub fn run(args: HistorianArgs) -> ExitCode {
@@ -125,11 +134,19 @@ fn serve(a: ServiceArgs) -> Result<String, String> {
         (Some(u), Some(f)) => Some((u, secret(&f)?)),
         _ => None,
     };
+    let tls = match &a.mqtt_ca_file {
+        Some(ca) => Some(
+            alba_historian::client_tls(ca, a.mqtt_client_cert.as_deref().zip(a.mqtt_client_key.as_deref()))
+                .map_err(|e| format!("--mqtt-ca-file: {e}"))?,
+        ),
+        None => None,
+    };
     let opts = alba_app::ingest::IngestOptions {
         host: host.trim_start_matches('[').trim_end_matches(']').to_string(),
         port,
         client_id: a.client_id,
         credentials,
+        tls,
         json: if a.no_json { Vec::new() } else { a.json },
         sparkplug: !a.no_sparkplug,
         primary_host: a.primary_host,

@@ -45,6 +45,7 @@ pub use error::{Error, Result};
 pub use filter::{ChangeFilter, Filter, MAX_BUFFERED, Recorder};
 pub use nodes::{NodeSink, SqliteNodes};
 pub use pg::{DEFAULT_BUFFER_SAMPLES, MigrateReport, PgConfig, PgHealth, PgHistorian, migrate};
+pub use tls::client_config as client_tls;
 
 use write::Writer;
 

@@ -19,43 +19,48 @@ use crate::error::{Error, Result};
 #[derive(Clone)]
 pub(crate) struct Rustls(Arc<rustls::ClientConfig>);
 
-fn certs(path: &Path) -> Result<Vec<CertificateDer<'static>>> {
+fn certs(path: &Path) -> std::result::Result<Vec<CertificateDer<'static>>, String> {
     let found = CertificateDer::pem_file_iter(path)
         .and_then(|c| c.collect::<std::result::Result<Vec<_>, _>>())
-        .map_err(|e| Error::InvalidArgument(format!("{}: {e}", path.display())))?;
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     if found.is_empty() {
-        return Err(Error::InvalidArgument(format!(
-            "{}: no certificate in this PEM file",
-            path.display()
-        )));
+        return Err(format!("{}: no certificate in this PEM file", path.display()));
     }
     Ok(found)
+}
+
+/// The rustls client settings of Alba's outgoing TLS connections (PostgreSQL here, the
+/// MQTT broker in the application layer): the certificates of `ca` are the only ones
+/// trusted (a plant's servers have a CA of their own), and `client` (certificate, key;
+/// PEM files) is presented for mutual TLS. Errors name the file.
+pub fn client_config(
+    ca: &Path,
+    client: Option<(&Path, &Path)>,
+) -> std::result::Result<Arc<rustls::ClientConfig>, String> {
+    let mut roots = rustls::RootCertStore::empty();
+    for c in certs(ca)? {
+        roots.add(c).map_err(|e| format!("{}: {e}", ca.display()))?;
+    }
+    let builder = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
+        .with_safe_default_protocol_versions()
+        .map_err(|e| e.to_string())?
+        .with_root_certificates(roots);
+    let config = match client {
+        Some((cert, key)) => {
+            let k = PrivateKeyDer::from_pem_file(key).map_err(|e| format!("{}: {e}", key.display()))?;
+            builder
+                .with_client_auth_cert(certs(cert)?, k)
+                .map_err(|e| format!("{}: {e}", cert.display()))?
+        }
+        None => builder.with_no_client_auth(),
+    };
+    Ok(Arc::new(config))
 }
 
 impl Rustls {
     /// Trusts the certificates of `ca` only; presents `client` (certificate, key) if given.
     pub(crate) fn new(ca: &Path, client: Option<(&Path, &Path)>) -> Result<Rustls> {
-        let mut roots = rustls::RootCertStore::empty();
-        for c in certs(ca)? {
-            roots
-                .add(c)
-                .map_err(|e| Error::InvalidArgument(format!("{}: {e}", ca.display())))?;
-        }
-        let builder = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
-            .with_safe_default_protocol_versions()
-            .map_err(|e| Error::InvalidArgument(e.to_string()))?
-            .with_root_certificates(roots);
-        let config = match client {
-            Some((cert, key)) => {
-                let k = PrivateKeyDer::from_pem_file(key)
-                    .map_err(|e| Error::InvalidArgument(format!("{}: {e}", key.display())))?;
-                builder
-                    .with_client_auth_cert(certs(cert)?, k)
-                    .map_err(|e| Error::InvalidArgument(format!("{}: {e}", cert.display())))?
-            }
-            None => builder.with_no_client_auth(),
-        };
-        Ok(Rustls(Arc::new(config)))
+        client_config(ca, client).map(Rustls).map_err(Error::InvalidArgument)
     }
 }
 

@@ -1,6 +1,6 @@
 //! A real MQTT broker for tests (Debian's `mosquitto`, which test.sh installs): its own
 //! configuration in a temporary directory, listening on a free loopback port, anonymous,
-//! without persistence. Stopped when dropped.
+//! without persistence, TLS with client certificates when asked. Stopped when dropped.
 
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -87,6 +87,75 @@ impl Broker {
         if let Some(mut c) = self.child.take() {
             let _ = c.kill();
             let _ = c.wait();
+        }
+    }
+}
+
+/// The PEM files of a broker that speaks TLS only ([`Broker::enable_tls`]).
+pub struct BrokerTls {
+    /// The CA that signed the broker's certificate and the client's.
+    pub ca: PathBuf,
+    pub client_cert: PathBuf,
+    pub client_key: PathBuf,
+    /// A CA of its own that signed nothing the broker knows.
+    pub other_ca: PathBuf,
+}
+
+impl Broker {
+    /// Makes a CA, a certificate for `127.0.0.1` and one for a client, and restarts the
+    /// broker on the same port speaking TLS only and asking every client for a
+    /// certificate signed by that CA.
+    pub fn enable_tls(&mut self) -> BrokerTls {
+        let ca = |name: &str| {
+            let key = rcgen::KeyPair::generate().expect("CA key");
+            let mut params = rcgen::CertificateParams::new(Vec::<String>::new()).expect("CA params");
+            params.is_ca = rcgen::IsCa::Ca(rcgen::BasicConstraints::Unconstrained);
+            params.distinguished_name.push(rcgen::DnType::CommonName, name);
+            let cert = params.self_signed(&key).expect("CA certificate");
+            (cert, key)
+        };
+        let (ca_cert, ca_key) = ca("Alba test broker CA");
+        let (other, _) = ca("Another CA");
+        let signed = |names: &[&str]| {
+            let key = rcgen::KeyPair::generate().expect("key");
+            let params =
+                rcgen::CertificateParams::new(names.iter().map(|n| n.to_string()).collect::<Vec<_>>()).expect("params");
+            let cert = params.signed_by(&key, &ca_cert, &ca_key).expect("certificate");
+            (cert.pem(), key.serialize_pem())
+        };
+        let (broker_pem, broker_key) = signed(&["127.0.0.1", "localhost"]);
+        let (client_pem, client_key) = signed(&["alba-client"]);
+        let d = self.dir.path().to_path_buf();
+        let files = [
+            ("ca.pem", ca_cert.pem()),
+            ("other-ca.pem", other.pem()),
+            ("broker.pem", broker_pem),
+            ("broker.key", broker_key),
+            ("client.pem", client_pem),
+            ("client.key", client_key),
+        ];
+        for (name, text) in &files {
+            std::fs::write(d.join(name), text).expect("PEM file");
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::PermissionsExt;
+                let _ = std::fs::set_permissions(d.join(name), std::fs::Permissions::from_mode(0o644));
+            }
+        }
+        let conf = d.join("mosquitto.conf");
+        let mut text = std::fs::read_to_string(&conf).expect("mosquitto.conf");
+        text.push_str(&format!(
+            "cafile {0}/ca.pem\ncertfile {0}/broker.pem\nkeyfile {0}/broker.key\nrequire_certificate true\n",
+            d.display()
+        ));
+        std::fs::write(&conf, text).expect("mosquitto.conf");
+        self.stop();
+        self.start_again();
+        BrokerTls {
+            ca: d.join("ca.pem"),
+            client_cert: d.join("client.pem"),
+            client_key: d.join("client.key"),
+            other_ca: d.join("other-ca.pem"),
         }
     }
 }

@@ -190,42 +190,12 @@ fn read_secret(file: &std::path::Path) -> Result<String, String> {
 /// `client_cert` + `client_key`): only that CA is trusted, as a plant's
 /// broker has its own; paths are relative to the project.
 fn tls(dir: &std::path::Path, cfg: &alba_project::config::Mqtt) -> Result<Option<Arc<rustls::ClientConfig>>, String> {
-    use rustls::pki_types::pem::PemObject;
-    use rustls::pki_types::{CertificateDer, PrivateKeyDer};
     let Some(ca) = &cfg.ca_file else { return Ok(None) };
-    let certs = |f: &str| {
-        let path = dir.join(f);
-        CertificateDer::pem_file_iter(&path)
-            .and_then(|c| c.collect::<Result<Vec<_>, _>>())
-            .map_err(|e| format!("[mqtt] {}: {e}", path.display()))
-            .and_then(|v| {
-                if v.is_empty() {
-                    Err(format!("[mqtt] {}: no certificate in this PEM file", path.display()))
-                } else {
-                    Ok(v)
-                }
-            })
-    };
-    let mut roots = rustls::RootCertStore::empty();
-    for c in certs(ca)? {
-        roots.add(c).map_err(|e| format!("[mqtt] ca_file {ca}: {e}"))?;
-    }
-    let builder = rustls::ClientConfig::builder_with_provider(Arc::new(rustls::crypto::ring::default_provider()))
-        .with_safe_default_protocol_versions()
-        .map_err(|e| e.to_string())?
-        .with_root_certificates(roots);
-    let config = match (&cfg.client_cert, &cfg.client_key) {
-        (Some(c), Some(k)) => {
-            let key_path = dir.join(k);
-            let key =
-                PrivateKeyDer::from_pem_file(&key_path).map_err(|e| format!("[mqtt] {}: {e}", key_path.display()))?;
-            builder
-                .with_client_auth_cert(certs(c)?, key)
-                .map_err(|e| format!("[mqtt] client_cert {c}: {e}"))?
-        }
-        _ => builder.with_no_client_auth(),
-    };
-    Ok(Some(Arc::new(config)))
+    let client = cfg.client_cert.as_ref().zip(cfg.client_key.as_ref());
+    let client = client.map(|(c, k)| (dir.join(c), dir.join(k)));
+    alba_historian::client_tls(&dir.join(ca), client.as_ref().map(|(c, k)| (c.as_path(), k.as_path())))
+        .map(Some)
+        .map_err(|e| format!("[mqtt] {e}"))
 }
 
 /// The client's counters (JSON and Sparkplug).

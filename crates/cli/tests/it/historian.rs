@@ -518,3 +518,104 @@ fn two_runtimes_share_postgres_and_lose_nothing_while_it_is_down_for_30_s() {
         assert!(during >= 50, "{node}: {during} samples recorded during the outage");
     }
 }
+
+/// `alba historian --mqtt` to a broker that speaks TLS only and asks for client
+/// certificates: with the broker's CA and a client certificate, an `alba run` that
+/// publishes over TLS reaches the SQLite files; with another CA the service says why it
+/// cannot connect (once, not at every retry) and stores nothing.
+#[test]
+fn alba_historian_reaches_a_tls_broker_with_its_ca_and_a_client_certificate() {
+    use std::io::BufRead;
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let Some(mut broker) = alba_testkit::mqtt::Broker::start() else {
+        return;
+    };
+    let tls = broker.enable_tls();
+    let (ca, cert, key) = (tls.ca.display(), tls.client_cert.display(), tls.client_key.display());
+    let project = counting_project(
+        "historian_tls_json",
+        100,
+        &format!(
+            "name = \"tls1\"\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n[mqtt]\nca_file = \"{ca}\"\nclient_cert = \"{cert}\"\nclient_key = \"{key}\"\n"
+        ),
+    );
+    let _run = Proc(Some(
+        Command::new(env!("CARGO_BIN_EXE_alba"))
+            .args(["run", ".", "--http", "127.0.0.1:0", "--mqtt", &broker.addr()])
+            .current_dir(&project)
+            .stdout(Stdio::null())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("alba run starts"),
+    ));
+    let service = |files: &std::path::Path, ca: &std::path::Path, id: &str| {
+        Command::new(env!("CARGO_BIN_EXE_alba"))
+            .args([
+                "historian",
+                "--mqtt",
+                &broker.addr(),
+                "--no-sparkplug",
+                "--client-id",
+                id,
+            ])
+            .arg("--sqlite")
+            .arg(files)
+            .arg("--mqtt-ca-file")
+            .arg(ca)
+            .arg("--mqtt-client-cert")
+            .arg(&tls.client_cert)
+            .arg("--mqtt-client-key")
+            .arg(&tls.client_key)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("alba historian starts")
+    };
+    let work = scratch("historian_tls");
+    // Another CA: the broker's certificate is refused, said once.
+    let refused_files = work.join("refused");
+    let mut refused = Proc(Some(service(&refused_files, &tls.other_ca, "refused")));
+    let stderr = refused.0.as_mut().and_then(|c| c.stderr.take()).expect("stderr");
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let said = loop {
+        let line = rx
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the service says why it cannot connect");
+        if line.contains("cannot connect") {
+            break line;
+        }
+    };
+    assert!(
+        said.contains("cannot connect to 127.0.0.1") && said.to_lowercase().contains("certificate"),
+        "{said}"
+    );
+    // The good service.
+    let files = work.join("nodes");
+    let good = Proc(Some(service(&files, &tls.ca, "good")));
+    let store = alba_historian::SqliteNodes::open(&files, alba_historian::Config::default()).expect("files");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while store
+        .historian("tls1")
+        .and_then(|h| h.raw("C", 0, i64::MAX, 100))
+        .map_or(0, |c| c.len())
+        < 5
+    {
+        assert!(Instant::now() < deadline, "tls1's samples in {}", files.display());
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    let out = good.stop();
+    assert!(out.contains("samples stored"), "{out}");
+    // Meanwhile the refused service retried without saying it again, and stored nothing.
+    refused.stop();
+    reader.join().expect("stderr read");
+    let again: Vec<String> = rx.try_iter().filter(|l| l.contains("cannot connect")).collect();
+    assert!(again.is_empty(), "said again: {again:?}");
+    let none = alba_historian::SqliteNodes::open(&refused_files, alba_historian::Config::default()).expect("files");
+    assert!(none.nodes().expect("nodes").is_empty());
+}
