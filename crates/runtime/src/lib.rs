@@ -369,9 +369,11 @@ pub const REQUEST_QUEUE: usize = 1024;
 type Reply = oneshot::Sender<Result<(), Error>>;
 
 /// How many requests wait for the engine, and the most that ever did: a
-/// count taken after each request is queued and after the engine takes it,
-/// so it never exceeds the true number (issue 18: a protocol server shows by
-/// it that its load stays bounded).
+/// count taken after each request is queued and after the engine takes it
+/// (issue 18: a protocol server shows by it that its load stays bounded). It
+/// can be one above the true number: between the engine's receiving a
+/// request and its count, one slot is free and one more request can be
+/// queued and counted (the engine thread is the only taker, so never more).
 #[derive(Debug, Default)]
 struct Depth {
     now: std::sync::atomic::AtomicIsize,
@@ -441,8 +443,7 @@ impl Handle {
     }
 
     /// The most requests that waited for a scan boundary at once since the
-    /// runtime started (never more than there were; at most
-    /// [`REQUEST_QUEUE`]).
+    /// runtime started: at most [`REQUEST_QUEUE`] + 1 (see `Depth`).
     pub fn queue_peak(&self) -> usize {
         self.depth.peak.load(Ordering::Relaxed).max(0) as usize
     }
