@@ -101,8 +101,17 @@ pub fn json_topic(prefix: &str, topic: &str) -> Option<(String, String)> {
     (!node.is_empty() && !tag.is_empty()).then_some((node, tag))
 }
 
+/// The latest time a sample may carry: the end of the year 9999 (ms since 1970). A time
+/// the broker brings is a publisher's word: before 1970 or after this it is ignored and
+/// counted, so that no sample makes the store compute ranges past its integers.
+pub const LATEST_MS: i64 = 253_402_300_799_999;
+
+fn plausible(t: i64) -> bool {
+    (0..=LATEST_MS).contains(&t)
+}
+
 /// The sample of a JSON payload `{"value": <bool or number>, "ts": <ms>}` (`ts` missing:
-/// now).
+/// now; a `ts` that is not a time from 1970 to 9999: none).
 pub fn json_sample(payload: &[u8]) -> Option<(i64, f64)> {
     let j: serde_json::Value = serde_json::from_slice(payload).ok()?;
     let v = match j.get("value")? {
@@ -110,7 +119,10 @@ pub fn json_sample(payload: &[u8]) -> Option<(i64, f64)> {
         serde_json::Value::Number(n) => n.as_f64()?,
         _ => return None,
     };
-    let t = j.get("ts").and_then(serde_json::Value::as_i64).unwrap_or_else(now_ms);
+    let t = match j.get("ts") {
+        None => now_ms(),
+        Some(ts) => ts.as_i64().filter(|t| plausible(*t))?,
+    };
     Some((t, v))
 }
 
@@ -186,7 +198,7 @@ impl Sparkplug {
         let mut reborn = false;
         // A gap in the sequence: something was lost, the aliases may be stale.
         if let (Some(seq), Some(last), false) = (p.seq, edge.seq, kind == "NBIRTH") {
-            reborn |= seq != (last + 1) % 256;
+            reborn |= seq != last.wrapping_add(1) % 256;
         }
         if p.seq.is_some() {
             edge.seq = p.seq;
@@ -222,12 +234,19 @@ impl Sparkplug {
             if name == alba_sparkplug::BD_SEQ || name.starts_with("Node Control/") || m.is_null == Some(true) {
                 continue;
             }
+            if name.is_empty() {
+                ignored.fetch_add(1, Ordering::Relaxed); // no tag to store it under
+                continue;
+            }
             match (datatype, &m.value) {
                 (Some(dt), Some(v)) => match number(dt, v) {
-                    Some(v) => {
-                        let t = m.timestamp.or(p.timestamp).and_then(|t| i64::try_from(t).ok());
-                        out.push((node.clone(), name.replace('/', "."), t.unwrap_or_else(now_ms), v));
-                    }
+                    Some(v) => match m.timestamp.or(p.timestamp).map(i64::try_from) {
+                        None => out.push((node.clone(), name.replace('/', "."), now_ms(), v)),
+                        Some(Ok(t)) if plausible(t) => out.push((node.clone(), name.replace('/', "."), t, v)),
+                        Some(_) => {
+                            ignored.fetch_add(1, Ordering::Relaxed);
+                        }
+                    },
                     None => {
                         ignored.fetch_add(1, Ordering::Relaxed);
                     }
@@ -515,6 +534,93 @@ mod tests {
         assert_eq!(json_sample(br#"{"value": "text", "ts": 7}"#), None);
         assert_eq!(json_sample(b"offline"), None);
         assert!(json_sample(br#"{"value": 3}"#).is_some_and(|(t, v)| t > 0 && v == 3.0));
+        // A time a publisher got wrong is no time.
+        assert_eq!(json_sample(br#"{"value": 1, "ts": -1}"#), None);
+        assert_eq!(json_sample(br#"{"value": 1, "ts": 253402300800000}"#), None);
+        assert_eq!(json_sample(br#"{"value": 1, "ts": "soon"}"#), None);
+        assert_eq!(
+            json_sample(br#"{"value": 1, "ts": 253402300799999}"#),
+            Some((LATEST_MS, 1.0))
+        );
+    }
+
+    /// Sequence numbers and times: in range, at the edges, anything.
+    fn edgy() -> impl proptest::strategy::Strategy<Value = u64> {
+        use proptest::prelude::*;
+        prop_oneof![
+            0u64..300,
+            Just(u64::MAX),
+            Just(i64::MAX as u64),
+            Just(LATEST_MS as u64),
+            Just(LATEST_MS as u64 + 1),
+            any::<u64>()
+        ]
+    }
+
+    proptest::proptest! {
+        /// Whatever publishers send (any seq, alias, type, value and time, or bytes that
+        /// are no payload), on any topic: no panic, and every sample has a node, a tag and a
+        /// time from 1970 to 9999.
+        #[test]
+        fn any_sparkplug_messages_never_panic_and_give_plausible_samples(
+            msgs in proptest::collection::vec(
+                (
+                    proptest::sample::select(vec![
+                        "spBv1.0/G/NBIRTH/n", "spBv1.0/G/NDATA/n", "spBv1.0/G/DBIRTH/n/d",
+                        "spBv1.0/G/DDATA/n/d", "spBv1.0/G/NDEATH/n", "spBv1.0/G/NCMD/n",
+                        "spBv1.0/STATE/h", "spBv1.0/G", "spBv1.0//NDATA/", "other/x",
+                    ]),
+                    proptest::option::of(edgy()),
+                    proptest::option::of(edgy()),
+                    proptest::collection::vec(
+                        (
+                            proptest::option::of(proptest::sample::select(vec!["A", "B/C", "bdSeq", "Node Control/Rebirth", ""])),
+                            proptest::option::of(0u64..4),
+                            proptest::option::of(0u32..20),
+                            proptest::option::of(edgy()),
+                            proptest::prelude::any::<u64>(),
+                            0u8..5,
+                        ),
+                        0..6,
+                    ),
+                    proptest::collection::vec(proptest::prelude::any::<u8>(), 0..40),
+                ),
+                1..30,
+            )
+        ) {
+            use metric::Value as V;
+            let ignored = AtomicU64::new(0);
+            let mut sp = Sparkplug::default();
+            for (topic, seq, time, metrics, raw) in msgs {
+                let metrics = metrics
+                    .into_iter()
+                    .map(|(name, alias, datatype, timestamp, x, kind)| Metric {
+                        name: name.map(str::to_owned),
+                        alias,
+                        datatype,
+                        timestamp,
+                        value: Some(match kind {
+                            0 => V::IntValue(x as u32),
+                            1 => V::LongValue(x),
+                            2 => V::FloatValue(f32::from_bits(x as u32)),
+                            3 => V::DoubleValue(f64::from_bits(x)),
+                            _ => V::BooleanValue(x & 1 == 1),
+                        }),
+                        ..Default::default()
+                    })
+                    .collect();
+                let body = if raw.len() > 30 {
+                    raw
+                } else {
+                    Payload { timestamp: time, metrics, seq, ..Default::default() }.encode_to_vec()
+                };
+                let (samples, _) = sp.message(topic, &body, &ignored);
+                for (node, tag, t, _) in samples {
+                    proptest::prop_assert!(!node.is_empty() && !tag.is_empty());
+                    proptest::prop_assert!(plausible(t), "{t}");
+                }
+            }
+        }
     }
 
     fn metric(name: Option<&str>, alias: Option<u64>, datatype: Option<u32>, v: metric::Value) -> Metric {

@@ -114,7 +114,7 @@ impl Topic {
         }
         let (group, kind, node) = (it.next()?, it.next()?, it.next()?);
         let device = it.next().map(str::to_string);
-        if it.next().is_some() {
+        if it.next().is_some() || [group, kind, node].iter().any(|p| p.is_empty()) || device.as_deref() == Some("") {
             return None;
         }
         Some(Topic {

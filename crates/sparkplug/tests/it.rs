@@ -170,6 +170,14 @@ fn commands_by_name_or_alias_with_or_without_a_type() {
         })
     );
     assert_eq!(Topic::parse("spBv1.0/g/DCMD/n/d/x"), None);
+    for empty in [
+        "spBv1.0//DDATA/n",
+        "spBv1.0/g//n",
+        "spBv1.0/g/NDATA/",
+        "spBv1.0/g/DDATA/n/",
+    ] {
+        assert_eq!(Topic::parse(empty), None, "{empty}: an empty level names nothing");
+    }
 }
 
 #[test]
