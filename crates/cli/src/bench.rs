@@ -678,6 +678,7 @@ pub fn all(quick: bool, secs: f64, priority: u8, cpu: Option<usize>) -> ExitCode
     part("historian", &|| historian(quick));
     part("modbus", &|| crate::bench_modbus::run(&[1, 4, 16], secs, None, None));
     part("realtime", &|| crate::bench_realtime::run(secs, priority, cpu));
+    part("mqtt", &|| crate::bench_mqtt::run(&[100, 1_000], secs, None));
     println!(
         "\nNot run here (it needs a browser): engine → browser DOM latency with 1, 10 and 50 studios,\n\
          `cd web && ALBA_BIN=../target/release/alba node bench/studios.mjs` (docs/performance.md)."

@@ -165,7 +165,7 @@ enum Command {
         /// queries over 10 M samples (1 M with --quick).
         #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "mqtt"])]
         historian: bool,
-        /// Run every benchmark in turn: the engine, nets, the historian, Modbus, real time (--quick: shorter).
+        /// Run every benchmark in turn: the engine, nets, the historian, Modbus, real time, MQTT (--quick: shorter).
         /// The studio's DOM latency needs a browser: web/bench/studios.mjs (docs/performance.md).
         #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian", "mqtt"])]
         all: bool,
