@@ -240,13 +240,17 @@ impl Sparkplug {
             }
             match (datatype, &m.value) {
                 (Some(dt), Some(v)) => match number(dt, v) {
-                    Some(v) => match m.timestamp.or(p.timestamp).map(i64::try_from) {
-                        None => out.push((node.clone(), name.replace('/', "."), now_ms(), v)),
-                        Some(Ok(t)) if plausible(t) => out.push((node.clone(), name.replace('/', "."), t, v)),
-                        Some(_) => {
-                            ignored.fetch_add(1, Ordering::Relaxed);
-                        }
-                    },
+                    Some(v) => {
+                        let t = match m.timestamp.or(p.timestamp).map(i64::try_from) {
+                            None => now_ms(),
+                            Some(Ok(t)) if plausible(t) => t,
+                            Some(_) => {
+                                ignored.fetch_add(1, Ordering::Relaxed);
+                                continue;
+                            }
+                        };
+                        out.push((node.clone(), name.replace('/', "."), t, v));
+                    }
                     None => {
                         ignored.fetch_add(1, Ordering::Relaxed);
                     }

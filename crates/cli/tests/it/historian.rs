@@ -239,6 +239,23 @@ fn alba_run_records_into_the_shared_postgres_historian() {
     assert!(b.last().is_some_and(|p| p.v == 1.0), "{b:?}");
 }
 
+/// The per-node SQLite files in `files`, once they hold 5 samples of `node`'s `C`.
+fn five_counts_in(files: &std::path::Path, node: &str) -> alba_historian::SqliteNodes {
+    use std::time::{Duration, Instant};
+    let store = alba_historian::SqliteNodes::open(files, alba_historian::Config::default()).expect("files");
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while store
+        .historian(node)
+        .and_then(|h| h.raw("C", 0, i64::MAX, 100))
+        .map_or(0, |c| c.len())
+        < 5
+    {
+        assert!(Instant::now() < deadline, "{node}'s samples in {}", files.display());
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    store
+}
+
 /// A project that counts: `C` goes up by one every `every_ms` (so there are always changes
 /// to publish and record, and a lost sample shows as a gap), `B` is on.
 fn counting_project(name: &str, every_ms: u32, toml: &str) -> std::path::PathBuf {
@@ -390,17 +407,7 @@ fn alba_historian_consumes_json_and_sparkplug_from_mosquitto_into_postgres() {
             .spawn()
             .expect("alba historian --sqlite starts"),
     ));
-    let store = alba_historian::SqliteNodes::open(&files, alba_historian::Config::default()).expect("files");
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while store
-        .historian("line1")
-        .and_then(|h| h.raw("C", 0, i64::MAX, 100))
-        .map_or(0, |c| c.len())
-        < 5
-    {
-        assert!(Instant::now() < deadline, "line1's samples in {}", files.display());
-        std::thread::sleep(Duration::from_millis(200));
-    }
+    let store = five_counts_in(&files, "line1");
     sp_run.stop();
     json_run.stop();
     // Stopped while the broker is gone (reconnecting), it stores what it has and exits.
@@ -527,7 +534,7 @@ fn two_runtimes_share_postgres_and_lose_nothing_while_it_is_down_for_30_s() {
 fn alba_historian_reaches_a_tls_broker_with_its_ca_and_a_client_certificate() {
     use std::io::BufRead;
     use std::process::{Command, Stdio};
-    use std::time::{Duration, Instant};
+    use std::time::Duration;
     let Some(mut broker) = alba_testkit::mqtt::Broker::start() else {
         return;
     };
@@ -598,17 +605,7 @@ fn alba_historian_reaches_a_tls_broker_with_its_ca_and_a_client_certificate() {
     // The good service.
     let files = work.join("nodes");
     let good = Proc(Some(service(&files, &tls.ca, "good")));
-    let store = alba_historian::SqliteNodes::open(&files, alba_historian::Config::default()).expect("files");
-    let deadline = Instant::now() + Duration::from_secs(120);
-    while store
-        .historian("tls1")
-        .and_then(|h| h.raw("C", 0, i64::MAX, 100))
-        .map_or(0, |c| c.len())
-        < 5
-    {
-        assert!(Instant::now() < deadline, "tls1's samples in {}", files.display());
-        std::thread::sleep(Duration::from_millis(200));
-    }
+    five_counts_in(&files, "tls1");
     let out = good.stop();
     assert!(out.contains("samples stored"), "{out}");
     // Meanwhile the refused service retried without saying it again, and stored nothing.

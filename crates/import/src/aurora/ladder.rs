@@ -1054,38 +1054,33 @@ impl Parser<'_, '_> {
         }
     }
 
-    /// sum := product { (+|-) product }
-    fn expr(&mut self, depth: usize) -> Result<E, String> {
+    /// One left-associative level: `next { op next }` for the two operators of `ops`.
+    fn left(
+        &mut self,
+        depth: usize,
+        ops: [&'static str; 2],
+        next: fn(&mut Self, usize) -> Result<E, String>,
+    ) -> Result<E, String> {
         Self::deep(depth)?;
-        let mut a = self.product(depth + 1)?;
-        loop {
-            let op = if self.eat('+') {
-                "+"
-            } else if self.eat('-') {
-                "-"
-            } else {
-                return Ok(a);
-            };
-            let b = self.product(depth + 1)?;
+        let mut a = next(self, depth + 1)?;
+        while let Some(op) = ops
+            .into_iter()
+            .find(|op| op.chars().next().is_some_and(|c| self.eat(c)))
+        {
+            let b = next(self, depth + 1)?;
             a = E::bin(op, a, b);
         }
+        Ok(a)
+    }
+
+    /// sum := product { (+|-) product }
+    fn expr(&mut self, depth: usize) -> Result<E, String> {
+        self.left(depth, ["+", "-"], Self::product)
     }
 
     /// product := unary { (*|/) unary }
     fn product(&mut self, depth: usize) -> Result<E, String> {
-        Self::deep(depth)?;
-        let mut a = self.unary(depth + 1)?;
-        loop {
-            let op = if self.eat('*') {
-                "*"
-            } else if self.eat('/') {
-                "/"
-            } else {
-                return Ok(a);
-            };
-            let b = self.unary(depth + 1)?;
-            a = E::bin(op, a, b);
-        }
+        self.left(depth, ["*", "/"], Self::unary)
     }
 
     /// unary := - unary | + unary | power
