@@ -20,7 +20,7 @@
 //! condition on (docs/ladder.md §2.3), so each sees the state AuroraLD gave
 //! it.
 
-use super::{F, Held, INSTRUCTIONS, Reader, Rec, Tags, Ty, clip};
+use super::{F, Held, INSTRUCTIONS, MAX_EACH, Reader, Rec, Tags, Ty, clip};
 use crate::circuit::Structs;
 use crate::{Error, Kind, Location, ProgramOut, Report};
 use std::collections::HashMap;
@@ -33,8 +33,6 @@ pub(crate) const SCAN_MS: u32 = 20;
 const OUTPUT_X: i64 = 255 + 10 * 70;
 /// Two `y` within this many pixels are the same row.
 const Y_TOLERANCE: f64 = 1.0;
-/// Each kind's array holds 200 objects (`new NO[200]`, Fig. 67; 200 rungs, Fig. 61).
-const MAX_EACH: i64 = 200;
 
 use F::{Bool as B, Float as Fl, Int as I, Str as S};
 
@@ -284,18 +282,9 @@ pub(crate) fn read(text: &str) -> Result<Rows, Error> {
                 name.to_ascii_lowercase()
             )
         };
-        let (v, loc) = r.value(F::Int, &what)?;
-        let n = match v {
-            super::Val::I(n) => n,
-            _ => 0,
-        };
-        if !(0..=MAX_EACH).contains(&n) {
-            return Err(Error::at(
-                loc,
-                format!("{n} {name}: AuroraLD holds 0 to {MAX_EACH} of each instruction (its arrays of 200, Fig. 67)"),
-            ));
-        }
-        counts.push(n);
+        counts.push(r.count(&what, &|n| {
+            format!("{n} {name}: AuroraLD holds 0 to {MAX_EACH} of each instruction (its arrays of 200, Fig. 67)")
+        })?);
     }
     let mut rows = Rows {
         rungs: Vec::new(),

@@ -163,6 +163,10 @@ impl Folder {
     }
 }
 
+/// Each kind's array holds 200 objects: instructions (`new NO[200]`, Fig. 67; 200 rungs,
+/// Fig. 61) and a screen's elements of each type.
+pub(crate) const MAX_EACH: i64 = 200;
+
 /// A text file read one value a line.
 pub(crate) struct Reader<'a> {
     file: &'a str,
@@ -217,6 +221,20 @@ impl<'a> Reader<'a> {
             ));
         }
         Ok(())
+    }
+
+    /// Reads how many of something follow: 0 to [`MAX_EACH`], else the error
+    /// `too_many(n)` at the count.
+    pub fn count(&mut self, what: &dyn Fn() -> String, too_many: &dyn Fn(i64) -> String) -> Result<i64, Error> {
+        let (v, loc) = self.value(F::Int, what)?;
+        let n = match v {
+            Val::I(n) => n,
+            _ => 0,
+        };
+        if !(0..=MAX_EACH).contains(&n) {
+            return Err(Error::at(loc, too_many(n)));
+        }
+        Ok(n)
     }
 
     /// Reads one value of `kind`, `what` naming it in messages.

@@ -14,7 +14,7 @@
 //! at the first value that does not fit — the ladder, the tags and the other
 //! screens are imported all the same.
 
-use super::{F, Held, Reader, Rec, Tags, clip};
+use super::{F, Held, MAX_EACH, Reader, Rec, Tags, clip};
 use crate::{AlarmOut, ElementOut, Error, Kind, Location, Report, ScreenOut};
 use serde_json::{Map, Value, json};
 
@@ -22,8 +22,6 @@ use F::{Bool as B, Color as C, Float as Fl, Int as I, Str as S};
 
 /// Vertices of a line or polygon (`new int[200]`, Figs. 241, 243).
 const VERTICES: usize = 200;
-/// Elements of one screen, at most (200 of each type).
-const MAX_EACH: i64 = 200;
 
 /// The attributes of a class, in their saved order.
 type Layout = &'static [(&'static str, F)];
@@ -76,18 +74,9 @@ fn read(file: &str, text: &str) -> Result<Vec<Saved>, Error> {
     let mut r = Reader::new(file, text);
     let mut counts = Vec::new();
     for (class, _, _) in TYPES {
-        let (v, loc) = r.value(F::Int, &|| format!("the number of {class} elements"))?;
-        let n = match v {
-            super::Val::I(n) => n,
-            _ => 0,
-        };
-        if !(0..=MAX_EACH).contains(&n) {
-            return Err(Error::at(
-                loc,
-                format!("{n} {class}: a screen holds 0 to {MAX_EACH} of each element"),
-            ));
-        }
-        counts.push(n);
+        counts.push(r.count(&|| format!("the number of {class} elements"), &|n| {
+            format!("{n} {class}: a screen holds 0 to {MAX_EACH} of each element")
+        })?);
     }
     let mut out = Vec::new();
     for (ty, ((class, _, layout), n)) in TYPES.iter().zip(counts).enumerate() {
