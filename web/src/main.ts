@@ -13,7 +13,7 @@ import { LadderView } from './ladder/view';
 import { NetView } from './net/view';
 import { SfcView } from './sfc/view';
 import { LiveClient } from './live/client';
-import { boot, loginText, setNextLoginMessage, showLogin } from './login';
+import { boot, loginText, setNextLoginMessage, showLogin, untilReachable } from './login';
 import { ScreensView } from './hmi/view';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
@@ -60,7 +60,7 @@ async function start(me: Me): Promise<void> {
   // The domain first: the language, and the role table that decides what the
   // controls below enable.
   try {
-    setDomain(await api.domain());
+    setDomain(await untilReachable(api.domain));
   } catch (e) {
     document.body.append(h('p', { class: 'fatal' }, tr('Cannot load the studio: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
@@ -197,7 +197,7 @@ async function start(me: Me): Promise<void> {
 
   let status, programs: ProgramRef[];
   try {
-    [status, programs] = await Promise.all([api.status(), api.programs(), tags.refresh()]);
+    [status, programs] = await untilReachable(() => Promise.all([api.status(), api.programs(), tags.refresh()]));
   } catch (e) {
     main.append(h('p', { class: 'fatal' }, tr('Cannot load the project: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
