@@ -4,7 +4,7 @@
 // the login page first when the project has users and there is no session.
 import './style.css';
 import { ApiError, api, onUnauthorized } from './api';
-import { type Me, can, gate } from './auth';
+import { type Me, gate } from './auth';
 import { type Ctx, TagCache } from './ctx';
 import { clear, h } from './dom';
 import { setDomain } from './domain';
@@ -23,6 +23,7 @@ import { AlarmBanner } from './ui/alarms';
 import { AlarmsView } from './ui/alarmsView';
 import { ForcesBanner, StaleBanner } from './ui/banners';
 import { confirmAction } from './ui/confirm';
+import { showCommands } from './ui/commands';
 import { StatusBar } from './ui/statusbar';
 import { LANGUAGES, language, setLanguage, tr } from './i18n';
 
@@ -101,9 +102,15 @@ async function start(me: Me): Promise<void> {
   gate(stopBtn, 'runstop');
   gate(compileBtn, 'edit');
   gate(saveBtn, 'edit');
+  // Run/Stop/Compile/Save: what the role, the runtime's state and the tab allow (ui/commands.ts)
+  let runState = '';
+  let notLive = false;
+  let current: View | null = null;
+  const showButtons = () =>
+    showCommands({ run: runBtn, stop: stopBtn, compile: compileBtn, save: saveBtn }, { stale: notLive, state: runState, editor: isEditor(current) });
   const showRunState = (state: string) => {
-    runBtn.disabled = !can('runstop') || state === 'running';
-    stopBtn.disabled = !can('runstop') || state !== 'running';
+    runState = state;
+    showButtons();
   };
 
   // The session ended (a 401): the login page over the studio, which keeps its
@@ -148,6 +155,10 @@ async function start(me: Me): Promise<void> {
     if (f === 'live') liveSince = Date.now();
     stale.update(f, f === 'stale' ? live.lastMessageMs || liveSince : liveSince, live.status);
     statusBar.stale(f === 'stale');
+    if (notLive !== (f === 'stale')) {
+      notLive = f === 'stale';
+      showButtons();
+    }
   };
   setInterval(checkFresh, 1000);
 
@@ -177,7 +188,7 @@ async function start(me: Me): Promise<void> {
   });
   live.connect();
 
-  const runState = async (f: () => Promise<unknown>) => {
+  const runStop = async (f: () => Promise<unknown>) => {
     try {
       const s = (await f()) as import('./types').Status;
       statusBar.status(s);
@@ -189,10 +200,10 @@ async function start(me: Me): Promise<void> {
     }
   };
   runBtn.onclick = async () => {
-    if (await confirmAction(text.confirmRunTitle, text.confirmRun, text.confirmRunOk)) await runState(api.run);
+    if (await confirmAction(text.confirmRunTitle, text.confirmRun, text.confirmRunOk)) await runStop(api.run);
   };
   stopBtn.onclick = async () => {
-    if (await confirmAction(text.confirmStopTitle, text.confirmStop, text.confirmStopOk)) await runState(api.stop);
+    if (await confirmAction(text.confirmStopTitle, text.confirmStop, text.confirmStopOk)) await runStop(api.stop);
   };
 
   let status, programs: ProgramRef[];
@@ -234,7 +245,6 @@ async function start(me: Me): Promise<void> {
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });
 
-  let current: View | null = null;
   const go = () => {
     const key = decodeURIComponent(location.hash.replace(/^#\/?/, '')) || [...views.keys()][0];
     const entry = views.get(key) ?? views.get([...views.keys()][0])!;
@@ -245,7 +255,7 @@ async function start(me: Me): Promise<void> {
     main.append(current.el);
     current.show();
     nav.querySelectorAll('a').forEach((a) => a.classList.toggle('active', a.dataset.key === key));
-    compileBtn.disabled = saveBtn.disabled = !isEditor(current) || !can('edit');
+    showButtons();
   };
   for (const [key, v] of views) {
     nav.append(h('a', { href: `#/${encodeURIComponent(key).replace(/%2F/g, '/')}`, 'data-key': key, 'data-testid': v.testid }, v.label));
@@ -271,8 +281,9 @@ async function start(me: Me): Promise<void> {
       e.preventDefault();
       f();
     };
-    if (ctrl && !e.altKey && key === 's' && !saveBtn.disabled) act(() => saveBtn.click());
-    else if (ctrl && !e.altKey && key === 'b' && !compileBtn.disabled) act(() => compileBtn.click());
+    // (a disabled Save still keeps the browser's "Save page as" away)
+    if (ctrl && !e.altKey && key === 's') act(() => !saveBtn.disabled && saveBtn.click());
+    else if (ctrl && !e.altKey && key === 'b') act(() => !compileBtn.disabled && compileBtn.click());
     else if (ctrl && !e.altKey && key === 'r' && !e.shiftKey && !runBtn.disabled) act(() => runBtn.click());
     else if (ctrl && !e.altKey && key === 'r' && e.shiftKey && !stopBtn.disabled) act(() => stopBtn.click());
     else if (ctrl && key === 'r') e.preventDefault(); // not a reload of a running studio by habit

@@ -120,12 +120,36 @@ export class TagsView {
   }
 
   private render(): void {
+    const focused = this.focusMark();
     this.unwatch.forEach((f) => f());
     this.unwatch = [];
     clear(this.body);
     this.rows = tableRows(this.ctx.tags.list).map((row) => ({ row, tr: this.renderRow(row) }));
     this.rows.forEach(({ tr }) => this.body.append(tr));
     this.applyFilter();
+    if (focused) this.refocus(focused);
+  }
+
+  /** The focused control of the table (its test id and row), to give the focus back once the rows are drawn again. */
+  private focusMark(): { testid: string; row: number } | null {
+    const a = document.activeElement as HTMLElement | null;
+    const tr = a?.closest('tr');
+    if (!a?.dataset.testid || !tr || !this.body.contains(tr)) return null;
+    return { testid: a.dataset.testid, row: this.rows.findIndex((r) => r.tr === tr) };
+  }
+
+  /**
+   * After a force, a write or a change of definitions the focus stays on the
+   * same control; when it is gone or disabled (Unforce once unforced, a
+   * deleted row), on the next control of its row, or of the row now in its place.
+   */
+  private refocus(m: { testid: string; row: number }): void {
+    const usable = (e: Element | null): e is HTMLElement => !!e && !(e as HTMLButtonElement).disabled && !(e as HTMLElement).closest('[hidden]');
+    const same = this.body.querySelector(`[data-testid="${CSS.escape(m.testid)}"]`);
+    if (usable(same)) return same.focus();
+    const tr = same?.closest('tr') ?? this.rows[Math.min(m.row, this.rows.length - 1)]?.tr;
+    const next = [...(tr?.querySelectorAll<HTMLElement>('button, input') ?? [])].find(usable);
+    (next ?? this.filterEl).focus();
   }
 
   private renderRow(row: Row): HTMLTableRowElement {
@@ -167,8 +191,10 @@ export class TagsView {
         const edit = () => {
           const input = h('input', { class: 'value-input', 'data-testid': `tag-input-${row.name}`, value: fmt(this.ctx.live.store.get(row.name)) });
           const done = () => {
+            const back = input === document.activeElement;
             input.remove();
             valueSpan.hidden = false;
+            if (back) editBtn.focus();
           };
           input.addEventListener('keydown', async (e) => {
             if (e.key === 'Enter') {
@@ -184,7 +210,8 @@ export class TagsView {
           input.focus();
           input.select();
         };
-        valueCell.append(gated(h('button', { class: 'small', title: tr('Edit the value'), 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write'));
+        const editBtn = gated(h('button', { class: 'small', title: tr('Edit the value'), 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write');
+        valueCell.append(editBtn);
       }
     }
     valueCell.append(errorEl);
@@ -206,8 +233,8 @@ export class TagsView {
       if (isForced) forceCell.append(h('span', { class: 'forced', 'data-testid': `tag-forced-${row.name}` }, `F=${fmt(forced)}`), ' ');
       if (row.type === 'BOOL') {
         forceCell.append(
-          gated(h('button', { class: 'small', 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'), 'force'),
-          gated(h('button', { class: 'small', 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'), 'force'),
+          gated(h('button', { class: 'small', title: tr('Force to 1 (on)'), 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'), 'force'),
+          gated(h('button', { class: 'small', title: tr('Force to 0 (off)'), 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'), 'force'),
         );
       } else {
         const input = gated(h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: tr('value'), size: 6 }), 'force');
@@ -258,7 +285,11 @@ export class TagsView {
     return gated(b, 'browse');
   }
 
+  /** The test id of the button that opened the form: the focus goes back to it when the form closes. */
+  private formOpener = '';
+
   private async openForm(name: string | null): Promise<void> {
+    this.formOpener = (document.activeElement as HTMLElement | null)?.dataset.testid ?? '';
     const file = await this.loadFile();
     const idx = name === null ? -1 : file.defs.findIndex((d) => d.name.toUpperCase() === name.toUpperCase());
     const def: TagDef = idx >= 0 ? { ...file.defs[idx] } : { name: '', type: 'BOOL', address: '', initial: '', retain: '', description: '' };
@@ -318,6 +349,8 @@ export class TagsView {
   private closeForm(): void {
     this.formEl.hidden = true;
     clear(this.formEl);
+    const back = this.formOpener && this.el.querySelector<HTMLElement>(`[data-testid="${CSS.escape(this.formOpener)}"]`);
+    (back || this.el.querySelector<HTMLElement>('[data-testid="tag-add"]'))?.focus();
   }
 
   private async deleteDef(name: string): Promise<void> {

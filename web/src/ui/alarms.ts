@@ -17,9 +17,10 @@ export const alarmText = {
   hide: tr('Hide'),
   ack: tr('Acknowledge'),
   none: tr('No alarms.'),
-  mute: tr('Mute'),
-  unmute: tr('Sound'),
-  muteTitle: tr('Sound for new alarms in this browser (a tone per severity)'),
+  soundOn: tr('Sound on'),
+  muted: tr('Muted'),
+  soundOnTitle: tr('New alarms sound in this browser (a tone per severity): click to mute'),
+  mutedTitle: tr('New alarms are silent in this browser: click to turn the sound on'),
   state: {
     active_unacked: tr('active, not acknowledged'),
     active_acked: tr('active, acknowledged'),
@@ -62,7 +63,7 @@ export class AlarmBanner {
   private readonly text = h('span', { class: 'alarm-text', 'data-testid': 'alarm-text' });
   private readonly list = h('table', { class: 'alarm-list', 'data-testid': 'alarm-list', hidden: true });
   private readonly toggle = h('button', { class: 'small', 'data-testid': 'alarm-toggle' }, alarmText.show);
-  private readonly muteBtn = h('button', { class: 'small', 'data-testid': 'alarm-mute', title: alarmText.muteTitle });
+  private readonly muteBtn = h('button', { class: 'small mute', 'data-testid': 'alarm-mute' });
   private alarms: Alarm[] = [];
   /** New alarms in the last summary (`new_10min`), to sound only for new ones. */
   private seen: number | null = null;
@@ -72,7 +73,13 @@ export class AlarmBanner {
     private readonly sound: (b: ReturnType<typeof band>) => void = tone,
   ) {
     this.el = h('div', { class: 'alarm-banner', 'data-testid': 'alarm-banner', role: 'alert', hidden: true }, this.text, this.muteBtn, this.toggle, this.list);
-    const showMute = () => (this.muteBtn.textContent = this.muted ? alarmText.unmute : alarmText.mute);
+    // the button shows the state the sound is in (a crossed bell while muted); a click changes it
+    const showMute = () => {
+      const m = this.muted;
+      this.muteBtn.textContent = m ? `🔕 ${alarmText.muted}` : `🔔 ${alarmText.soundOn}`;
+      this.muteBtn.title = m ? alarmText.mutedTitle : alarmText.soundOnTitle;
+      this.muteBtn.setAttribute('aria-pressed', String(m));
+    };
     showMute();
     this.muteBtn.onclick = () => {
       localStorage.setItem(MUTE_KEY, this.muted ? '0' : '1');
