@@ -79,8 +79,16 @@ async function start(me: Me): Promise<void> {
   const alarms = new AlarmBanner(notify);
   const stale = new StaleBanner();
   const forces = new ForcesBanner(notify);
-  const main = h('main', { class: 'content' });
+  const main = h('main', { class: 'content', id: 'content', tabindex: '-1' });
+  // The first stop of Tab: past the top bar, the tabs and the view's toolbars, to
+  // what the view is about (its `data-skip-target`: the rungs, the tag table), else to the view.
+  const skip = h('a', { class: 'skip-link', href: '#content', 'data-testid': 'skip-link' }, tr('Skip to content'));
+  skip.onclick = (e: Event) => {
+    e.preventDefault(); // the hash is the route
+    (main.querySelector<HTMLElement>('[data-skip-target]') ?? main).focus();
+  };
   document.body.append(
+    skip,
     h('header', { class: 'topbar' },
       h('span', { class: 'logo' }, 'Alba'), projectName,
       h('span', { class: 'seg' }, runBtn, stopBtn),

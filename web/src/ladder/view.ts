@@ -89,7 +89,7 @@ export class LadderView {
   private mode: 'graphic' | 'text' = 'graphic';
   private active = false;
   private unlisten: (() => void)[] = [];
-  private readonly rungsEl = h('div', { class: 'rungs', 'data-testid': 'rungs', tabindex: '0' });
+  private readonly rungsEl = h('div', { class: 'rungs', 'data-testid': 'rungs', tabindex: '0', 'data-skip-target': '', role: 'application', 'aria-label': tr('Rungs: the arrows select, Shift+F10 opens the force menu') });
   private readonly propsEl = h('div', { class: 'props', 'data-testid': 'properties' });
   private readonly paletteEl = h('div', { class: 'palette', 'data-testid': 'palette' });
   private readonly datalists = h('div', { hidden: true });

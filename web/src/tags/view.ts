@@ -90,7 +90,7 @@ export class TagsView {
       this.diagEl,
       h(
         'div',
-        { class: 'table-wrap' },
+        { class: 'table-wrap', tabindex: '-1', 'data-skip-target': '' },
         h(
           'table',
           { class: 'tags', 'data-testid': 'tag-table' },
