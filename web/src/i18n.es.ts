@@ -263,6 +263,7 @@ export const es: Record<string, string> = {
   'Not live: no data since {since}. The values shown are from then; reconnecting…': 'Sin datos en vivo desde las {since}. Los valores mostrados son de entonces; reconectando…',
   'Not live: the runtime does not answer': 'Sin datos en vivo: el autómata no responde',
   'Skip to content': 'Saltar al contenido',
+  '{member} now; {literal} in the program': '{member} ahora; {literal} en el programa',
   'Rungs: the arrows select, Shift+F10 opens the force menu': 'Escalones: las flechas seleccionan, Mayús+F10 abre el menú de forzado',
   'Open a program tab first': 'Abra primero la pestaña de un programa',
   'The PLC is stopped (since {since}): values change only when written or single-stepped.': 'El PLC está detenido (desde las {since}): los valores solo cambian al escribirlos o al ejecutar un ciclo paso a paso.',
