@@ -24,6 +24,7 @@ import { AlarmsView } from './ui/alarmsView';
 import { ForcesBanner, StaleBanner } from './ui/banners';
 import { confirmAction } from './ui/confirm';
 import { showCommands } from './ui/commands';
+import { installLongPress } from './ui/longpress';
 import { StatusBar } from './ui/statusbar';
 import { LANGUAGES, language, setLanguage, tr } from './i18n';
 
@@ -66,13 +67,14 @@ async function start(me: Me): Promise<void> {
     document.body.append(h('p', { class: 'fatal' }, tr('Cannot load the studio: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
   }
+  installLongPress();
   const live = new LiveClient();
   const tags = new TagCache();
   const statusBar = new StatusBar();
   statusBar.user(me);
   const projectName = h('span', { class: 'project', 'data-testid': 'project-name' }, '…');
-  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: tr('Start scanning') }, `▶ ${tr('Run')}`);
-  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: tr('Stop scanning (outputs off)') }, `■ ${tr('Stop')}`);
+  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: tr('Start scanning') }, '▶ ', h('span', { class: 'word' }, tr('Run')));
+  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: tr('Stop scanning (outputs off)') }, '■ ', h('span', { class: 'word' }, tr('Stop')));
   const compileBtn = h('button', { 'data-testid': 'btn-compile', title: tr('Check the program being edited') }, tr('Compile'));
   const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: tr('Save the program and apply it online') }, tr('Save'));
   const nav = h('nav', { class: 'tabs', 'data-testid': 'tabs' });
@@ -92,14 +94,16 @@ async function start(me: Me): Promise<void> {
     h('header', { class: 'topbar' },
       h('span', { class: 'logo' }, 'Alba'), projectName,
       h('span', { class: 'seg' }, runBtn, stopBtn),
-      h('span', { class: 'seg' }, compileBtn, saveBtn),
+      h('span', { class: 'seg edit-commands' }, compileBtn, saveBtn),
       h('span', { class: 'spacer' }),
       h('select', { class: 'lang', 'data-testid': 'lang', title: tr('Language'), onchange: (e: Event) => setLanguage((e.target as HTMLSelectElement).value as 'en' | 'es') },
         LANGUAGES.map(([code, name]) => h('option', { value: code, selected: code === language() }, name)))),
     nav,
-    stale.el,
-    forces.el,
-    alarms.el,
+    // One line kept for the banners whether they show or not, so that none pushes the view down
+    // (their lists open over the view); "all clear" while none shows.
+    h('div', { class: 'banners', 'data-testid': 'banners' },
+      h('div', { class: 'banners-clear', 'data-testid': 'banners-clear' }, tr('Live · no alarm to acknowledge · no force')),
+      stale.el, forces.el, alarms.el),
     main,
     statusBar.el,
     toasts,

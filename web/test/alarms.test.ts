@@ -58,10 +58,10 @@ describe('the alarm sound', () => {
     expect(played).toEqual(['high']);
     const mute = b.el.querySelector('[data-testid=alarm-mute]') as HTMLButtonElement;
     // the button shows the state the sound is in
-    expect([mute.textContent, mute.getAttribute('aria-pressed')]).toEqual(['🔔 Sound on', 'false']);
+    expect([mute.textContent, mute.getAttribute('aria-pressed'), !!mute.querySelector('svg.bell:not(.muted)')]).toEqual([' Sound on', 'false', true]);
     mute.click();
     expect(b.muted).toBe(true);
-    expect([mute.textContent, mute.getAttribute('aria-pressed')]).toEqual(['🔕 Muted', 'true']);
+    expect([mute.textContent, mute.getAttribute('aria-pressed'), !!mute.querySelector('svg.bell.muted')]).toEqual([' Muted', 'true', true]);
     expect(mute.title).toBe('New alarms are silent in this browser: click to turn the sound on');
     await b.update(stats({ new_10min: 3 }));
     expect(played).toEqual(['high']);

@@ -135,7 +135,7 @@ export class LadderView {
         h(
           'span',
           { class: 'seg' },
-          h('label', { title: tr('Where the palette inserts, relative to the selected element') }, `${tr('Insert')} `,
+          h('label', { title: tr('Where the palette inserts, relative to the selected element') }, h('span', { class: 'insert-label' }, `${tr('Insert')} `),
             h('select', {
               'data-testid': 'insert-where',
               disabled: !can('edit'),

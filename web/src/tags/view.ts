@@ -6,7 +6,8 @@ import type { Ctx } from '../ctx';
 import { clear, fmt, h } from '../dom';
 import type { Diagnostic, Json, TagInfo } from '../types';
 import { domain, isStructure, membersOf } from '../domain';
-import { parseValue } from '../ui/tagActions';
+import { showMenu } from '../ui/menu';
+import { parseValue, tagMenuItems } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 import { tr } from '../i18n';
 import { openFaceplate } from '../ui/faceplate';
@@ -68,6 +69,14 @@ export class TagsView {
 
   constructor(private readonly ctx: Ctx) {
     this.filterEl.addEventListener('input', () => this.applyFilter());
+    // a right-click, or a long press on a touch screen, on a row: its force and write menu (as in the ladder)
+    this.body.addEventListener('contextmenu', (e) => {
+      const row = this.rows.find((r) => r.tr.contains(e.target as Node))?.row;
+      const items = row ? tagMenuItems(this.ctx, row.name) : [];
+      if (!row || items.length === 0) return;
+      e.preventDefault();
+      showMenu(e.clientX, e.clientY, row.name, items, e.target instanceof HTMLElement && e.target.matches('button, input') ? e.target : null);
+    });
     const importInput = h('input', { type: 'file', accept: '.csv,text/csv', 'data-testid': 'tags-import', hidden: true });
     importInput.addEventListener('change', async () => {
       const f = importInput.files?.[0];
@@ -261,7 +270,7 @@ export class TagsView {
       h('td', null, t?.address ?? ''),
       valueCell,
       forceCell,
-      h('td', { class: 'desc' }, t?.description ?? ''),
+      h('td', { class: 'desc', title: t?.description || undefined }, t?.description ?? ''),
       actions,
     );
   }
