@@ -83,7 +83,7 @@ export class AlarmBanner {
     // the button shows the state the sound is in (a crossed bell while muted); a click changes it
     const showMute = () => {
       const m = this.muted;
-      this.muteBtn.replaceChildren(bell(m), ' ', m ? alarmText.muted : alarmText.soundOn);
+      this.muteBtn.replaceChildren(bell(m), h('span', { class: 'word' }, ` ${m ? alarmText.muted : alarmText.soundOn}`));
       this.muteBtn.title = m ? alarmText.mutedTitle : alarmText.soundOnTitle;
       this.muteBtn.setAttribute('aria-pressed', String(m));
     };
