@@ -69,6 +69,12 @@ for (const size of SIZES) {
           await tid('hmi-screen-tank').waitFor();
           const box = await tid('hmi-screen-tank').boundingBox();
           assert.ok(box.width > size.width * 0.8 && box.x >= 0 && box.x + box.width <= size.width + 0.5, `the screen fits: ${JSON.stringify(box)}`);
+          if (size.phone) {
+            // a finger works the Fill request switch (it toggles Llenar)
+            const before = (await alba.json('/api/tags/Llenar')).value;
+            await tid('hmi-el-fill').tap();
+            await page.waitForFunction(async (v) => (await (await fetch('/api/tags/Llenar')).json()).value !== v, before);
+          }
         }
         if (view === 'tags') {
           await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-testid="tag-value-Nivel_L"]')?.textContent ?? ''));
