@@ -36,6 +36,7 @@ function misfits(page, width) {
         if (el.closest('[hidden]') || el.offsetParent === null) continue;
         const h = el.getBoundingClientRect().height;
         if (h > max) out.push(`${sel} ${Math.round(h)} px high`);
+        if (el.scrollHeight > el.clientHeight + 1) out.push(`${sel} squeezed (${el.scrollHeight} > ${el.clientHeight})`);
         // below a phone's width a toolbar may scroll sideways; above it everything shows
         if (w > 600 && sel === 'main .toolbar' && el.scrollWidth > el.clientWidth + 1) out.push(`${sel} cut (${el.scrollWidth} > ${el.clientWidth})`);
       }
