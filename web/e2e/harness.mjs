@@ -119,8 +119,11 @@ export function useStudio(example, set, opts) {
   });
 }
 
-/** A headless Chromium with a fresh profile, and one page. */
-export async function openBrowser() {
+/**
+ * A headless Chromium with a fresh profile, and one page; `viewport` and
+ * `hasTouch` (a phone) as Playwright takes them, `args` more switches.
+ */
+export async function openBrowser({ viewport = { width: 1400, height: 900 }, hasTouch = false, args = [] } = {}) {
   const profile = mkdtempSync(join(tmpdir(), 'alba-chromium-'));
   const context = await chromium.launchPersistentContext(profile, {
     executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
@@ -129,8 +132,10 @@ export async function openBrowser() {
     args: [
       '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      ...args,
     ],
-    viewport: { width: 1400, height: 900 },
+    viewport,
+    hasTouch,
   });
   const page = context.pages()[0] ?? (await context.newPage());
   const errors = [];

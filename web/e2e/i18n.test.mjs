@@ -12,9 +12,11 @@ test('the studio speaks Spanish when asked, and remembers it', async () => {
   await page.goto(alba.url);
   await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
   assert.equal(await tid('btn-run').textContent(), '▶ Run');
+  assert.equal(await page.evaluate(() => document.documentElement.lang), 'en');
   await Promise.all([page.waitForEvent('load'), tid('lang').selectOption('es')]);
   await tid('status-conn').filter({ hasText: /^conectado$/ }).waitFor();
   assert.equal(await tid('btn-run').textContent(), '▶ Ejecutar');
+  assert.equal(await page.evaluate(() => document.documentElement.lang), 'es', '<html lang> follows the language');
   assert.equal(await tid('btn-stop').textContent(), '■ Detener');
   assert.equal(await tid('tab-tags').textContent(), 'Etiquetas');
   assert.equal(await tid('tab-trends').textContent(), 'Tendencias');
@@ -34,5 +36,6 @@ test('the studio speaks Spanish when asked, and remembers it', async () => {
   await Promise.all([page.waitForEvent('load'), tid('lang').selectOption('en')]);
   await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
   assert.equal(await tid('tab-tags').textContent(), 'Tags');
+  assert.equal(await page.evaluate(() => document.documentElement.lang), 'en');
   assert.deepEqual(b.errors, []);
 });

@@ -186,8 +186,7 @@ test('graphical editing: palette, tag picker, branch, rung move, saved online', 
   assert.equal(saved.diagnostics.length, 0);
   // Monitoring resumes: the rung of L_RUN is energised in the new program.
   await el(elementId(saved, 'OTE', ['L_RUN']), true).waitFor();
-  // In one step: the live view may redraw the rung between a locate and a scroll.
-  await page.evaluate(() => document.querySelector('[data-testid="rung-8"]')?.scrollIntoView());
+  await tid('rung-8').scrollIntoViewIfNeeded();
   await b.shot('ladder-edited');
 });
 

@@ -29,6 +29,12 @@ function initial(): Lang {
 }
 
 let current: Lang = initial();
+showLanguage();
+
+/** `<html lang>` says the language in use (screen readers, hyphenation, the browser's translation offer). */
+function showLanguage(): void {
+  if (typeof document !== 'undefined') document.documentElement.lang = current;
+}
 
 export function language(): Lang {
   return current;
@@ -48,6 +54,7 @@ export function setLanguage(l: Lang): void {
 /** For tests: switch without a reload. */
 export function useLanguage(l: Lang): void {
   current = l;
+  showLanguage();
 }
 
 /** `msg` in the current language, with `{name}` replaced from `args`. */

@@ -26,7 +26,64 @@ export const loginText = {
   expired: (m: string) => tr('Your session has ended ({m}): sign in again', { m }),
   signedOut: tr('Signed out'),
   fatal: (m: string) => tr('Cannot start the studio: {m}', { m }),
+  retryIn: (s: number) => tr('Trying again in {s} s…', { s }),
+  retrying: tr('Trying again…'),
+  retryNow: tr('Try now'),
 };
+
+/** The waits between attempts to reach a server that does not answer, in seconds (the last repeats). */
+export const RETRY_DELAYS = [1, 2, 4, 8, 15, 30];
+
+/** No answer at all, or a gateway's or an overloaded server's (502, 503, 504): worth trying again. */
+export function unreachable(e: unknown): boolean {
+  return e instanceof ApiError && (e.status === 0 || e.status === 502 || e.status === 503 || e.status === 504);
+}
+
+/**
+ * `f()`, tried again while the server cannot be reached (a studio opened while
+ * the runtime is down, or restarting): a line says why, counts down to the next
+ * attempt (1 s, 2 s, 4 s … 30 s) and offers to try at once; it goes away when
+ * the server answers. Any other failure is thrown.
+ */
+export async function untilReachable<T>(f: () => Promise<T>, root: HTMLElement = document.body): Promise<T> {
+  let panel: HTMLElement | null = null;
+  for (let attempt = 0; ; attempt++) {
+    try {
+      const r = await f();
+      panel?.remove();
+      return r;
+    } catch (e) {
+      if (!unreachable(e)) {
+        panel?.remove();
+        throw e;
+      }
+      const reason = h('span', { 'data-testid': 'unreachable-reason' }, loginText.fatal(e instanceof Error ? e.message : String(e)));
+      const count = h('span', { class: 'countdown', 'data-testid': 'retry-countdown' });
+      const now = h('button', { class: 'small', 'data-testid': 'retry-now' }, loginText.retryNow);
+      const next = h('div', { class: 'unreachable', role: 'alert', 'data-testid': 'unreachable' }, reason, ' ', count, ' ', now);
+      if (panel) panel.replaceWith(next);
+      else root.append(next);
+      panel = next;
+      await new Promise<void>((go) => {
+        let left = RETRY_DELAYS[Math.min(attempt, RETRY_DELAYS.length - 1)];
+        const done = () => {
+          clearInterval(timer);
+          count.textContent = loginText.retrying;
+          now.disabled = true;
+          go();
+        };
+        const tick = () => {
+          if (left <= 0) return done();
+          count.textContent = loginText.retryIn(left);
+          left--;
+        };
+        const timer = setInterval(tick, 1000);
+        now.onclick = done;
+        tick();
+      });
+    }
+  }
+}
 
 export interface LoginOptions {
   /** Shown above the form (why the page is shown). */
@@ -151,7 +208,7 @@ export async function boot(start: (me: Me) => void | Promise<void>, root: HTMLEl
   };
   let reply: unknown;
   try {
-    reply = await api.me();
+    reply = await untilReachable(api.me, root);
   } catch (e) {
     if (e instanceof ApiError && e.status === 401) {
       showLogin({ root, message: takeNextLoginMessage(), onLoggedIn: (me) => void go(me) });

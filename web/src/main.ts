@@ -4,7 +4,7 @@
 // the login page first when the project has users and there is no session.
 import './style.css';
 import { ApiError, api, onUnauthorized } from './api';
-import { type Me, can, gate } from './auth';
+import { type Me, gate } from './auth';
 import { type Ctx, TagCache } from './ctx';
 import { clear, h } from './dom';
 import { setDomain } from './domain';
@@ -13,7 +13,7 @@ import { LadderView } from './ladder/view';
 import { NetView } from './net/view';
 import { SfcView } from './sfc/view';
 import { LiveClient } from './live/client';
-import { boot, loginText, setNextLoginMessage, showLogin } from './login';
+import { boot, loginText, setNextLoginMessage, showLogin, untilReachable } from './login';
 import { ScreensView } from './hmi/view';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
@@ -23,6 +23,8 @@ import { AlarmBanner } from './ui/alarms';
 import { AlarmsView } from './ui/alarmsView';
 import { ForcesBanner, StaleBanner } from './ui/banners';
 import { confirmAction } from './ui/confirm';
+import { showCommands } from './ui/commands';
+import { installLongPress } from './ui/longpress';
 import { StatusBar } from './ui/statusbar';
 import { LANGUAGES, language, setLanguage, tr } from './i18n';
 
@@ -60,37 +62,48 @@ async function start(me: Me): Promise<void> {
   // The domain first: the language, and the role table that decides what the
   // controls below enable.
   try {
-    setDomain(await api.domain());
+    setDomain(await untilReachable(api.domain));
   } catch (e) {
     document.body.append(h('p', { class: 'fatal' }, tr('Cannot load the studio: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
   }
+  installLongPress();
   const live = new LiveClient();
   const tags = new TagCache();
   const statusBar = new StatusBar();
   statusBar.user(me);
   const projectName = h('span', { class: 'project', 'data-testid': 'project-name' }, '…');
-  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: tr('Start scanning') }, `▶ ${tr('Run')}`);
-  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: tr('Stop scanning (outputs off)') }, `■ ${tr('Stop')}`);
+  const runBtn = h('button', { class: 'run', 'data-testid': 'btn-run', title: tr('Start scanning') }, '▶ ', h('span', { class: 'word' }, tr('Run')));
+  const stopBtn = h('button', { class: 'stop', 'data-testid': 'btn-stop', title: tr('Stop scanning (outputs off)') }, '■ ', h('span', { class: 'word' }, tr('Stop')));
   const compileBtn = h('button', { 'data-testid': 'btn-compile', title: tr('Check the program being edited') }, tr('Compile'));
   const saveBtn = h('button', { class: 'primary', 'data-testid': 'btn-save', title: tr('Save the program and apply it online') }, tr('Save'));
   const nav = h('nav', { class: 'tabs', 'data-testid': 'tabs' });
   const alarms = new AlarmBanner(notify);
   const stale = new StaleBanner();
   const forces = new ForcesBanner(notify);
-  const main = h('main', { class: 'content' });
+  const main = h('main', { class: 'content', id: 'content', tabindex: '-1' });
+  // The first stop of Tab: past the top bar, the tabs and the view's toolbars, to
+  // what the view is about (its `data-skip-target`: the rungs, the tag table), else to the view.
+  const skip = h('a', { class: 'skip-link', href: '#content', 'data-testid': 'skip-link' }, tr('Skip to content'));
+  skip.onclick = (e: Event) => {
+    e.preventDefault(); // the hash is the route
+    (main.querySelector<HTMLElement>('[data-skip-target]') ?? main).focus();
+  };
   document.body.append(
+    skip,
     h('header', { class: 'topbar' },
       h('span', { class: 'logo' }, 'Alba'), projectName,
       h('span', { class: 'seg' }, runBtn, stopBtn),
-      h('span', { class: 'seg' }, compileBtn, saveBtn),
+      h('span', { class: 'seg edit-commands' }, compileBtn, saveBtn),
       h('span', { class: 'spacer' }),
       h('select', { class: 'lang', 'data-testid': 'lang', title: tr('Language'), onchange: (e: Event) => setLanguage((e.target as HTMLSelectElement).value as 'en' | 'es') },
         LANGUAGES.map(([code, name]) => h('option', { value: code, selected: code === language() }, name)))),
     nav,
-    stale.el,
-    forces.el,
-    alarms.el,
+    // One line kept for the banners whether they show or not, so that none pushes the view down
+    // (their lists open over the view); "all clear" while none shows.
+    h('div', { class: 'banners', 'data-testid': 'banners' },
+      h('div', { class: 'banners-clear', 'data-testid': 'banners-clear' }, tr('Live · no alarm to acknowledge · no force')),
+      stale.el, forces.el, alarms.el),
     main,
     statusBar.el,
     toasts,
@@ -101,9 +114,15 @@ async function start(me: Me): Promise<void> {
   gate(stopBtn, 'runstop');
   gate(compileBtn, 'edit');
   gate(saveBtn, 'edit');
+  // Run/Stop/Compile/Save: what the role, the runtime's state and the tab allow (ui/commands.ts)
+  let runState = '';
+  let notLive = false;
+  let current: View | null = null;
+  const showButtons = () =>
+    showCommands({ run: runBtn, stop: stopBtn, compile: compileBtn, save: saveBtn }, { stale: notLive, state: runState, editor: isEditor(current) });
   const showRunState = (state: string) => {
-    runBtn.disabled = !can('runstop') || state === 'running';
-    stopBtn.disabled = !can('runstop') || state !== 'running';
+    runState = state;
+    showButtons();
   };
 
   // The session ended (a 401): the login page over the studio, which keeps its
@@ -148,6 +167,10 @@ async function start(me: Me): Promise<void> {
     if (f === 'live') liveSince = Date.now();
     stale.update(f, f === 'stale' ? live.lastMessageMs || liveSince : liveSince, live.status);
     statusBar.stale(f === 'stale');
+    if (notLive !== (f === 'stale')) {
+      notLive = f === 'stale';
+      showButtons();
+    }
   };
   setInterval(checkFresh, 1000);
 
@@ -177,7 +200,7 @@ async function start(me: Me): Promise<void> {
   });
   live.connect();
 
-  const runState = async (f: () => Promise<unknown>) => {
+  const runStop = async (f: () => Promise<unknown>) => {
     try {
       const s = (await f()) as import('./types').Status;
       statusBar.status(s);
@@ -189,15 +212,15 @@ async function start(me: Me): Promise<void> {
     }
   };
   runBtn.onclick = async () => {
-    if (await confirmAction(text.confirmRunTitle, text.confirmRun, text.confirmRunOk)) await runState(api.run);
+    if (await confirmAction(text.confirmRunTitle, text.confirmRun, text.confirmRunOk)) await runStop(api.run);
   };
   stopBtn.onclick = async () => {
-    if (await confirmAction(text.confirmStopTitle, text.confirmStop, text.confirmStopOk)) await runState(api.stop);
+    if (await confirmAction(text.confirmStopTitle, text.confirmStop, text.confirmStopOk)) await runStop(api.stop);
   };
 
   let status, programs: ProgramRef[];
   try {
-    [status, programs] = await Promise.all([api.status(), api.programs(), tags.refresh()]);
+    [status, programs] = await untilReachable(() => Promise.all([api.status(), api.programs(), tags.refresh()]));
   } catch (e) {
     main.append(h('p', { class: 'fatal' }, tr('Cannot load the project: {m}', { m: e instanceof Error ? e.message : String(e) })));
     return;
@@ -234,7 +257,6 @@ async function start(me: Me): Promise<void> {
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });
 
-  let current: View | null = null;
   const go = () => {
     const key = decodeURIComponent(location.hash.replace(/^#\/?/, '')) || [...views.keys()][0];
     const entry = views.get(key) ?? views.get([...views.keys()][0])!;
@@ -245,7 +267,7 @@ async function start(me: Me): Promise<void> {
     main.append(current.el);
     current.show();
     nav.querySelectorAll('a').forEach((a) => a.classList.toggle('active', a.dataset.key === key));
-    compileBtn.disabled = saveBtn.disabled = !isEditor(current) || !can('edit');
+    showButtons();
   };
   for (const [key, v] of views) {
     nav.append(h('a', { href: `#/${encodeURIComponent(key).replace(/%2F/g, '/')}`, 'data-key': key, 'data-testid': v.testid }, v.label));
@@ -271,8 +293,9 @@ async function start(me: Me): Promise<void> {
       e.preventDefault();
       f();
     };
-    if (ctrl && !e.altKey && key === 's' && !saveBtn.disabled) act(() => saveBtn.click());
-    else if (ctrl && !e.altKey && key === 'b' && !compileBtn.disabled) act(() => compileBtn.click());
+    // (a disabled Save still keeps the browser's "Save page as" away)
+    if (ctrl && !e.altKey && key === 's') act(() => !saveBtn.disabled && saveBtn.click());
+    else if (ctrl && !e.altKey && key === 'b') act(() => !compileBtn.disabled && compileBtn.click());
     else if (ctrl && !e.altKey && key === 'r' && !e.shiftKey && !runBtn.disabled) act(() => runBtn.click());
     else if (ctrl && !e.altKey && key === 'r' && e.shiftKey && !stopBtn.disabled) act(() => stopBtn.click());
     else if (ctrl && key === 'r') e.preventDefault(); // not a reload of a running studio by habit

@@ -56,8 +56,13 @@ describe('the alarm sound', () => {
     expect(played).toEqual(['high']);
     await b.update(stats({ new_10min: 2 })); // nothing new
     expect(played).toEqual(['high']);
-    (b.el.querySelector('[data-testid=alarm-mute]') as HTMLButtonElement).click();
+    const mute = b.el.querySelector('[data-testid=alarm-mute]') as HTMLButtonElement;
+    // the button shows the state the sound is in
+    expect([mute.textContent, mute.getAttribute('aria-pressed'), !!mute.querySelector('svg.bell:not(.muted)')]).toEqual([' Sound on', 'false', true]);
+    mute.click();
     expect(b.muted).toBe(true);
+    expect([mute.textContent, mute.getAttribute('aria-pressed'), !!mute.querySelector('svg.bell.muted')]).toEqual([' Muted', 'true', true]);
+    expect(mute.title).toBe('New alarms are silent in this browser: click to turn the sound on');
     await b.update(stats({ new_10min: 3 }));
     expect(played).toEqual(['high']);
     localStorage.removeItem('alba.alarms.muted');

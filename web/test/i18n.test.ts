@@ -95,4 +95,11 @@ describe('the English/Spanish catalogue', () => {
     expect(tr('{n} forces active', { n: 3 })).toBe('3 forzados activos');
     expect(tr('a message nobody translated')).toBe('a message nobody translated');
   });
+
+  it('says the language in <html lang>', () => {
+    useLanguage('es');
+    expect(document.documentElement.lang).toBe('es');
+    useLanguage('en');
+    expect(document.documentElement.lang).toBe('en');
+  });
 });

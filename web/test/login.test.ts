@@ -154,14 +154,49 @@ describe('the start of the studio', () => {
     expect(tid('login-message')).toBeNull();
   });
 
-  it('a server that cannot be reached: said, no studio', async () => {
+  it('a server that cannot be reached: said, tried again with a countdown, and the studio starts when it answers', async () => {
+    let up = false;
+    let tries = 0;
     vi.stubGlobal('fetch', async () => {
-      throw new TypeError('Failed to fetch');
+      tries++;
+      if (!up) throw new TypeError('Failed to fetch');
+      return json(200, { user: null, role: 'admin', users: false });
     });
+    vi.useFakeTimers();
     const started: Me[] = [];
-    await boot((m) => void started.push(m));
+    const booted = boot((m) => void started.push(m));
+    await vi.advanceTimersByTimeAsync(0);
     expect(started).toEqual([]);
-    expect(tid('fatal')?.textContent).toContain('Failed to fetch');
+    expect(tid('unreachable-reason')?.textContent).toBe('Cannot start the studio: cannot reach the server: Failed to fetch');
+    expect(tid('retry-countdown')?.textContent).toBe('Trying again in 1 s…');
+    await vi.advanceTimersByTimeAsync(1000);
+    expect(tries).toBe(2);
+    // the waits grow: 2 s, then 4 s
+    expect(tid('retry-countdown')?.textContent).toBe('Trying again in 2 s…');
+    await vi.advanceTimersByTimeAsync(1000);
+    expect(tid('retry-countdown')?.textContent).toBe('Trying again in 1 s…');
+    await vi.advanceTimersByTimeAsync(1000);
+    expect([tries, tid('retry-countdown')?.textContent]).toEqual([3, 'Trying again in 4 s…']);
+    // "Try now" does not wait; the server is back: the line goes, the studio starts
+    up = true;
+    tid('retry-now')!.click();
+    await booted;
+    expect(tries).toBe(4);
+    expect(started).toEqual([LOCAL]);
+    expect(tid('unreachable')).toBeNull();
+    expect(tid('fatal')).toBeNull();
+  });
+
+  it('untilReachable: another failure than no answer is thrown at once', async () => {
+    const { ApiError } = await import('../src/api');
+    const { untilReachable } = await import('../src/login');
+    let n = 0;
+    await expect(untilReachable(async () => {
+      n++;
+      throw new ApiError(403, 'forbidden');
+    })).rejects.toThrow('forbidden');
+    expect(n).toBe(1);
+    expect(tid('unreachable')).toBeNull();
   });
 
   it('showLogin over a running studio (session ended) says why and hands back the user', async () => {

@@ -24,10 +24,16 @@ describe('rung SVG', () => {
     expect(ids).toEqual(['el-2', 'el-3', 'el-4']);
     expect(v.svg.querySelector('[data-testid="el-4"]')!.classList.contains('selected')).toBe(true);
     expect(v.svg.querySelector('[data-testid="el-2"] .forced-badge')).not.toBeNull();
+    // Preset and Accum: one number a row, the literal until the live value comes (issue 30, item 23)
     const acc = v.svg.querySelector('[data-tag="CT_STP.ACC"]')!;
-    expect(acc.textContent).toBe('…');
-    store.apply(new Map<string, Json>([['CT_STP.ACC', 1], ['CT_STP.DN', true]]));
+    const row = (label: string) => [...v.svg.querySelectorAll('text.label')].find((t) => t.textContent === label)!;
+    const numbersIn = (label: string) => [...v.svg.querySelectorAll('text')].filter((t) => t.getAttribute('y') === row(label).getAttribute('y') && /^\d/.test(t.firstChild?.textContent ?? ''));
+    expect(acc.textContent).toBe('0');
+    store.apply(new Map<string, Json>([['CT_STP.ACC', 1], ['CT_STP.DN', true], ['CT_STP.PRE', 2]]));
     expect(acc.textContent).toBe('1');
+    expect(numbersIn('Accum').length).toBe(1);
+    expect(numbersIn('Preset').length).toBe(1);
+    expect(acc.parentElement!.querySelector('title')!.textContent).toBe('CT_STP.ACC now; 0 in the program');
     expect(v.svg.querySelector('[data-bit="DN"]')!.classList.contains('bit-on')).toBe(true);
     v.dispose();
     store.apply(new Map([['CT_STP.ACC', 2]]));

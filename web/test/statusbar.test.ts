@@ -89,3 +89,17 @@ describe('client connections in the status bar ([[opcua_server]])', () => {
     expect(held.title).toContain('1200 published, 3 coalesced, 2 dropped\n40 buffered, 0 replayed');
   });
 });
+
+describe('tooltips of the status bar (issue 30, item 23)', () => {
+  it('says what each field counts', () => {
+    const bar = new StatusBar();
+    const tip = (id: string) => (bar.el.querySelector(`[data-testid="status-${id}"]`)!.parentElement as HTMLElement).title;
+    expect(tip('scan-last')).toBe('How long the last scan took');
+    expect(tip('scan-max')).toBe('The longest scan since the start');
+    expect(tip('overruns')).toBe('Scans that took longer than the scan period');
+    expect(tip('scans')).toBe('Scans since the start');
+    expect(tip('state')).toBe('The state of the PLC (not live: the runtime does not answer)');
+    expect(tip('conn')).toBe('The studio’s connection to the runtime');
+    expect(tip('user')).toBe('Who uses the studio, and their role');
+  });
+});

@@ -246,7 +246,8 @@ export class ProgramEditor {
 
   renderState(): void {
     const n = this.mine().length;
-    this.stateEl.textContent = [
+    // the whole text in the tooltip too: a narrow toolbar shortens it
+    this.stateEl.textContent = this.stateEl.title = [
       !this.dirty
         ? tr('online')
         : this.keepsPowerWhileEdited

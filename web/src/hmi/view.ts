@@ -23,7 +23,7 @@ export class ScreensView {
   constructor(private readonly ctx: Ctx) {
     this.picker.onchange = () => void this.open(this.picker.value);
     const full = h('button', { 'data-testid': 'hmi-fullscreen', title: tr('Show the screen on the whole display') }, tr('Full screen'));
-    full.onclick = () => void this.stage.requestFullscreen?.().catch(() => undefined);
+    full.onclick = () => this.fullScreen(true);
     const edit = h('button', { 'data-testid': 'hmi-edit' }, tr('Edit'));
     edit.onclick = () => void this.design(this.name);
     const create = h('button', { 'data-testid': 'hmi-new' }, `+ ${tr('New screen')}`);
@@ -41,7 +41,42 @@ export class ScreensView {
   }
 
   hide(): void {
+    this.fullScreen(false);
     this.stop();
+  }
+
+  /** Leaves full screen: its own button, Escape, or the browser's way out. */
+  private readonly exitButton = h('button', { class: 'hmi-exit', 'data-testid': 'hmi-exit-fullscreen', title: tr('Leave full screen (Escape)') }, `✕ ${tr('Exit full screen')}`);
+  private readonly onFullscreenChange = () => {
+    if (!document.fullscreenElement) this.fullScreen(false);
+  };
+  private readonly onEscape = (e: KeyboardEvent) => {
+    if (e.key === 'Escape') this.fullScreen(false);
+  };
+
+  /**
+   * Full screen for an operator's shift: the whole page goes full screen
+   * (where the browser allows it; a phone without the Fullscreen API still gets
+   * the layout) and shows the screen under the banners — alarms, with Mute,
+   * forces, "Not live" — with a button to leave. The top bar, the tabs, this
+   * toolbar and the status bar step aside (body.kiosk in the style sheet).
+   */
+  private fullScreen(on: boolean): void {
+    if (on === document.body.classList.contains('kiosk')) return;
+    document.body.classList.toggle('kiosk', on);
+    if (on) {
+      this.exitButton.onclick = () => this.fullScreen(false);
+      this.el.append(this.exitButton);
+      document.addEventListener('fullscreenchange', this.onFullscreenChange);
+      document.addEventListener('keydown', this.onEscape);
+      void document.documentElement.requestFullscreen?.().catch(() => undefined);
+      this.exitButton.focus();
+    } else {
+      this.exitButton.remove();
+      document.removeEventListener('fullscreenchange', this.onFullscreenChange);
+      document.removeEventListener('keydown', this.onEscape);
+      if (document.fullscreenElement) void document.exitFullscreen?.().catch(() => undefined);
+    }
   }
 
   private stop(): void {

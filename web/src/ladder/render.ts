@@ -4,6 +4,7 @@
 import { s, fmt } from '../dom';
 import type { Json } from '../types';
 import { instruction } from '../domain';
+import { tr } from '../i18n';
 import { type Elem, type Path, operandTags, titleOf } from './ast';
 import { ANNOT_LINE, G, type Placed, type PlacedInstr, type RungLayout, type Src, type Wire, annotationsOf, boxColumns, boxRows, boxStatusBits, powered } from './layout';
 
@@ -209,13 +210,26 @@ function drawInstr(
     const y = top + G.boxHeader + (k + 1) * G.boxRow - 4;
     g.append(s('text', { class: 'label', x: bx + 6, y }, label));
     const shown = Array.from(op).length > cols.operandChars ? Array.from(op).slice(0, cols.operandChars - 1).join('') + '…' : op;
-    g.append(s('text', { class: 'operand', x: bx + cols.operandX, y }, shown, shown !== op ? s('title', null, op) : null));
-    // live value (the domain's `shows`): timers/counters show .PRE/.ACC beside the
-    // literal, structure operands nothing, other operands their tag's value
+    // live value (the domain's `shows`): a timer's or counter's Preset and Accum rows
+    // show the member's value in place of the literal (one number a row, as the
+    // literal is only where it starts), structure operands nothing, other operands
+    // their tag's value beside the name
     const show = shows && k < shows.length ? shows[k] : '';
-    let watchName: string | null = null;
-    if (show && base) watchName = `${base}.${show}`;
-    else if (show === '' && tags.has(op.trim())) watchName = op.trim();
+    if (show && base && live) {
+      const member = `${base}.${show}`;
+      const node = document.createTextNode(shown);
+      const tip = s('title', null, tr('{member} now; {literal} in the program', { member, literal: op }));
+      const t = s('text', { class: 'operand', x: bx + cols.operandX, y }, s('tspan', { 'data-tag': member }, node), tip);
+      g.append(t);
+      unwatch.push(live.watch(member, (v) => {
+        const text = fmt(v);
+        if (node.data !== text) node.data = text;
+        t.setAttribute('class', 'operand val');
+      }));
+      return;
+    }
+    g.append(s('text', { class: 'operand', x: bx + cols.operandX, y }, shown, shown !== op ? s('title', null, op) : null));
+    const watchName = show === '' && tags.has(op.trim()) ? op.trim() : null;
     if (watchName && live) {
       const node = document.createTextNode('…');
       g.append(s('text', { class: 'val', x: bx + cols.valueRight, y, 'text-anchor': 'end', 'data-tag': watchName }, node));

@@ -19,9 +19,10 @@ import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { type Elem, type Instr, type Path, operandLabels, operandTags, shapeOf, walk } from './ast';
 import { type Edited, addLeg, getAt, insert, move, newInstr, remove, setInstr, wrapInBranch } from './edit';
-import { layoutRung, setAnnotations } from './layout';
+import { type RungLayout, layoutRung, setAnnotations } from './layout';
 import { attachIds, locate } from './locate';
 import { type ProgramDoc, joinProgram, parseProgram } from './parse';
+import { NAV_KEYS, type NavKey, navigate } from './nav';
 import { printRung } from './print';
 import { type RungView, pathFromEvent, renderRung } from './render';
 import { tr } from '../i18n';
@@ -62,6 +63,14 @@ interface Selection {
 
 const toPath = (p: string): Path => (p === '' ? [] : p.split('.').map(Number));
 
+/** A rung on screen: the key of what it shows, its node, and its live view and geometry when it parses. */
+interface DrawnRung {
+  key: string;
+  box: HTMLElement;
+  view: RungView | null;
+  layout: RungLayout | null;
+}
+
 export class LadderView {
   readonly el: HTMLElement;
   private readonly ed: ProgramEditor;
@@ -71,14 +80,21 @@ export class LadderView {
   private sel: Selection | null = null;
   private where: 'before' | 'after' = 'after';
   private group = 'bit';
-  private views: RungView[] = [];
+  /** The rungs on screen, in order, with what they were drawn from. */
+  private drawn: DrawnRung[] = [];
+  /** Bumped when every rung must be drawn again (annotations shown or hidden, tag definitions changed). */
+  private drawGeneration = 0;
+  /** Scroll the selection into view after the next drawing (an edit, a key, a cross-reference). */
+  private revealPending = false;
   private mode: 'graphic' | 'text' = 'graphic';
   private active = false;
   private unlisten: (() => void)[] = [];
-  private readonly rungsEl = h('div', { class: 'rungs', 'data-testid': 'rungs', tabindex: '0' });
+  private readonly rungsEl = h('div', { class: 'rungs', 'data-testid': 'rungs', tabindex: '0', 'data-skip-target': '', role: 'application', 'aria-label': tr('Rungs: the arrows select, Shift+F10 opens the force menu') });
   private readonly propsEl = h('div', { class: 'props', 'data-testid': 'properties' });
   private readonly paletteEl = h('div', { class: 'palette', 'data-testid': 'palette' });
   private readonly datalists = h('div', { hidden: true });
+  private readonly tailEl = h('div', { class: 'rung tail', 'data-testid': 'rung-tail' }, h('pre'));
+  private readonly endEl: HTMLElement;
 
   constructor(
     private readonly ctx: Ctx,
@@ -89,6 +105,8 @@ export class LadderView {
       textChanged: () => this.textChanged(),
       changed: () => this.render(),
     });
+    this.endEl = h('div', { class: 'end-rung' },
+      h('button', { 'data-testid': 'btn-rung-append', disabled: !can('edit'), title: why('edit'), onclick: () => this.addRung(true) }, `+ ${tr('rung')}`), ` (${tr('end')})`);
     this.rungsEl.addEventListener('click', (e) => this.onClick(e));
     this.rungsEl.addEventListener('contextmenu', (e) => this.onContextMenu(e));
     this.rungsEl.addEventListener('keydown', (e) => this.onKey(e));
@@ -117,7 +135,7 @@ export class LadderView {
         h(
           'span',
           { class: 'seg' },
-          h('label', { title: tr('Where the palette inserts, relative to the selected element') }, `${tr('Insert')} `,
+          h('label', { title: tr('Where the palette inserts, relative to the selected element') }, h('span', { class: 'insert-label' }, `${tr('Insert')} `),
             h('select', {
               'data-testid': 'insert-where',
               disabled: !can('edit'),
@@ -181,6 +199,7 @@ export class LadderView {
         : null,
     );
     this.el.querySelector('[data-testid="btn-annotate"]')?.classList.toggle('active', on);
+    this.drawGeneration++;
     this.render();
   }
 
@@ -206,6 +225,8 @@ export class LadderView {
       ...this.ed.watch(() => this.paintPower()),
       this.ctx.tags.onChange(() => {
         this.renderDatalists();
+        // the addresses and descriptions under the elements come from the definitions
+        if (localStorage.getItem(ANNOTATE_KEY) === '1') this.drawGeneration++;
         this.render();
       }),
     );
@@ -232,7 +253,10 @@ export class LadderView {
   /** Sets the text (an edit of the view); selects `select` if given. */
   private setText(text: string, select: Selection | null): void {
     if (!can('edit')) return;
-    if (select !== null) this.sel = select;
+    if (select !== null) {
+      this.sel = select;
+      this.revealPending = true;
+    }
     this.ed.setText(text);
   }
 
@@ -355,32 +379,44 @@ export class LadderView {
       return;
     }
     this.graphicStale = false;
-    this.views.forEach((v) => v.dispose());
-    this.views = [];
-    clear(this.rungsEl);
-    const problems = this.problemsByRung();
+    // Read before anything changes: the rail follows the width the rungs have now.
     const minRail = Math.max(400, (this.rungsEl.clientWidth || 900) - 70);
+    const problems = this.problemsByRung();
     const live = { watch: (n: string, cb: (v: import('../types').Json) => void) => this.ctx.live.store.watch(n, cb) };
     const forced = new Set(this.ctx.tags.forced.keys());
     // one right rail for every rung: the widest rung decides
     const layouts = this.doc.rungs.map((r) => (r.elements ? layoutRung(r.elements, r.comment.length, minRail) : null));
     const rail = Math.max(minRail, ...layouts.map((l) => l?.rail ?? 0));
-    this.doc.rungs.forEach((r, i) => {
-      const selected = this.sel?.rung === i;
+    // Each rung is drawn again only when what it shows changed (its text, ids,
+    // problems, selection, forces, number or the rail); the others keep their
+    // nodes, so the scroll position, the pointer's target and the live values stay.
+    const old = new Map(this.drawn.map((d) => [d.key, d]));
+    const drawn: DrawnRung[] = this.doc.rungs.map((r, i) => {
+      const selected = this.sel?.rung === i ? (this.sel.path ?? '') : null;
+      const mine = problems.get(i) ?? new Map<string, string[]>();
+      const ids: (number | null | undefined)[] = [];
+      const uses: string[] = [];
+      if (r.elements) walk(r.elements, (e) => {
+        ids.push(e.id);
+        if (e.kind === 'instr') uses.push(...operandTags(e).map((t) => t.toUpperCase()).filter((t) => forced.has(t)));
+      });
+      const key = JSON.stringify([i, r.lead + r.own, ids, [...mine], selected, uses, rail, this.drawGeneration]);
+      const reuse = old.get(key);
+      if (reuse) {
+        old.delete(key);
+        return reuse;
+      }
       const box = h('div', {
-        class: `rung${selected && this.sel?.path === null ? ' selected' : ''}${problems.get(i) ? ' has-error' : ''}`,
+        class: `rung${selected === '' ? ' selected' : ''}${problems.get(i) ? ' has-error' : ''}`,
         'data-testid': `rung-${i}`,
         'data-rung': String(i),
       });
+      let view: RungView | null = null;
+      let layout: RungLayout | null = null;
       if (r.elements) {
-        const l = layoutRung(r.elements, r.comment.length, rail);
-        const v = renderRung(
-          l,
-          { number: i, comment: r.comment, problems: problems.get(i) ?? new Map(), selected: selected ? this.sel!.path : null, forced },
-          live,
-        );
-        this.views.push(v);
-        box.append(v.svg);
+        layout = layoutRung(r.elements, r.comment.length, rail);
+        view = renderRung(layout, { number: i, comment: r.comment, problems: mine, selected, forced }, live);
+        box.append(view.svg);
       } else {
         box.append(
           h('div', { class: 'rung-raw' },
@@ -389,23 +425,44 @@ export class LadderView {
             h('div', { class: 'rung-raw-error' }, `${r.error?.line}:${r.error?.col} ${r.error?.message}`)),
         );
       }
-      this.rungsEl.append(box);
+      return { key, box, view, layout };
     });
-    if (this.doc.tail.trim()) {
-      this.rungsEl.append(h('div', { class: 'rung tail', 'data-testid': 'rung-tail' }, h('pre', null, this.doc.tail.trimEnd())));
+    old.forEach((d) => d.view?.dispose());
+    this.drawn = drawn;
+    this.tailEl.hidden = !this.doc.tail.trim();
+    this.tailEl.firstChild!.textContent = this.doc.tail.trimEnd();
+    // Put the nodes in order, moving only what is not in place yet.
+    let at = this.rungsEl.firstChild;
+    for (const node of [...drawn.map((d) => d.box), this.tailEl, this.endEl]) {
+      if (node === at) at = at.nextSibling;
+      else this.rungsEl.insertBefore(node, at);
     }
-    this.rungsEl.append(
-      h('div', { class: 'end-rung' }, h('button', { 'data-testid': 'btn-rung-append', disabled: !can('edit'), title: why('edit'), onclick: () => this.addRung(true) }, `+ ${tr('rung')}`), ` (${tr('end')})`),
-    );
+    while (at) {
+      const next = at.nextSibling;
+      at.remove();
+      at = next;
+    }
     this.paintPower();
     this.renderProblems();
     this.renderProps();
     this.ed.renderState();
+    if (this.revealPending) {
+      this.revealPending = false;
+      this.selectedNode()?.scrollIntoView({ block: 'nearest', inline: 'nearest' });
+    }
+  }
+
+  /** The selected element (or rung) on screen. */
+  private selectedNode(): Element | null {
+    const sel = this.sel;
+    if (!sel) return null;
+    const box = this.drawn[sel.rung]?.box;
+    return (sel.path === null ? box : box?.querySelector(`[data-path="${sel.path}"]`)) ?? null;
   }
 
   private paintPower(): void {
     const running = this.ed.live;
-    this.views.forEach((v) => v.setPower(this.ed.on, running));
+    this.drawn.forEach((d) => d.view?.setPower(this.ed.on, running));
   }
 
   private renderProblems(): void {
@@ -460,9 +517,16 @@ export class LadderView {
     }
   }
 
+  /** What the properties panel shows: drawn again only when it changes (a redraw would drop the focus and the typing in it). */
+  private propsKey = '';
+
   private renderProps(): void {
-    clear(this.propsEl);
     const sel = this.sel;
+    const rungNow = sel ? this.doc.rungs[sel.rung] : undefined;
+    const key = JSON.stringify([sel, rungNow?.lead, rungNow?.own]);
+    if (key === this.propsKey) return;
+    this.propsKey = key;
+    clear(this.propsEl);
     if (!sel) {
       this.propsEl.append(h('p', { class: 'hint' }, tr('Click an element to select it, right-click to force or toggle its tag. Choose an instruction in the palette to insert it after (or before) the selection.')));
       return;
@@ -563,10 +627,11 @@ export class LadderView {
 
   // ---- selection and events ----------------------------------------------
 
+  /** Selects; with `scroll`, the selection is scrolled into view (a click leaves the view where it is). */
   private select(sel: Selection | null, scroll = false): void {
     this.sel = sel;
+    this.revealPending = scroll;
     this.render();
-    if (scroll && sel) this.rungsEl.querySelector(`[data-rung="${sel.rung}"]`)?.scrollIntoView({ block: 'nearest' });
   }
 
   private targetOf(e: Event): Selection | null {
@@ -586,14 +651,35 @@ export class LadderView {
   private onContextMenu(e: MouseEvent): void {
     const t = this.targetOf(e);
     if (!t || t.path === null) return;
+    if (this.openMenu(t, e.clientX, e.clientY)) e.preventDefault();
+  }
+
+  /** The force/write menu of the element at `t`, at x, y; false when `t` is not an instruction. */
+  private openMenu(t: Selection, x: number, y: number): boolean {
     const r = this.doc.rungs[t.rung];
-    const el = r?.elements && getAt(r.elements, toPath(t.path));
-    if (!el || el.kind !== 'instr') return;
-    e.preventDefault();
+    const el = r?.elements && t.path !== null ? getAt(r.elements, toPath(t.path)) : null;
+    if (!el || el.kind !== 'instr') return false;
     const ops = operandTags(el);
     const single = shapeOf(el.mnemonic) !== 'box' || ops.length <= 1;
     const items = single ? (ops[0] ? tagMenuItems(this.ctx, ops[0]) : []) : ops.flatMap((o) => tagMenuItems(this.ctx, o, `-${o}`));
-    showMenu(e.clientX, e.clientY, `${el.mnemonic}(${el.operands.join(',')})`, items);
+    showMenu(x, y, `${el.mnemonic}(${el.operands.join(',')})`, items, this.rungsEl);
+    return true;
+  }
+
+  /** Arrows, Home and End move the selection (nav.ts); Shift+F10 or the menu key opens the selected element's menu. */
+  private onNavKey(e: KeyboardEvent): boolean {
+    if (e.ctrlKey || e.metaKey || e.altKey) return false;
+    if ((e.key === 'F10' && e.shiftKey) || e.key === 'ContextMenu') {
+      const node = this.selectedNode();
+      if (!this.sel || !node) return false;
+      const box = node.getBoundingClientRect();
+      return this.openMenu(this.sel, box.left + Math.min(box.width / 2, 40), box.top + box.height / 2);
+    }
+    if (e.shiftKey || !NAV_KEYS.includes(e.key)) return false;
+    const rungs = this.drawn.map((d) => d.layout?.items.map((i) => ({ path: i.path.join('.'), x: i.x, y: i.y, w: i.w, h: i.h })) ?? null);
+    const next = navigate(rungs, this.sel, e.key as NavKey);
+    if (next && (next.rung !== this.sel?.rung || next.path !== this.sel?.path)) this.select(next, true);
+    return true;
   }
 
   private onDrop(e: DragEvent): void {
@@ -613,6 +699,10 @@ export class LadderView {
 
   private onKey(e: KeyboardEvent): void {
     if ((e.target as HTMLElement).closest('input,textarea,select')) return;
+    if (this.onNavKey(e)) {
+      e.preventDefault();
+      return;
+    }
     const mod = e.ctrlKey || e.metaKey;
     const key = e.key.toLowerCase();
     const shortcut: Record<string, () => void> = {

@@ -6,7 +6,8 @@ import type { Ctx } from '../ctx';
 import { clear, fmt, h } from '../dom';
 import type { Diagnostic, Json, TagInfo } from '../types';
 import { domain, isStructure, membersOf } from '../domain';
-import { parseValue } from '../ui/tagActions';
+import { showMenu } from '../ui/menu';
+import { parseValue, tagMenuItems } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 import { tr } from '../i18n';
 import { openFaceplate } from '../ui/faceplate';
@@ -68,6 +69,14 @@ export class TagsView {
 
   constructor(private readonly ctx: Ctx) {
     this.filterEl.addEventListener('input', () => this.applyFilter());
+    // a right-click, or a long press on a touch screen, on a row: its force and write menu (as in the ladder)
+    this.body.addEventListener('contextmenu', (e) => {
+      const row = this.rows.find((r) => r.tr.contains(e.target as Node))?.row;
+      const items = row ? tagMenuItems(this.ctx, row.name) : [];
+      if (!row || items.length === 0) return;
+      e.preventDefault();
+      showMenu(e.clientX, e.clientY, row.name, items, e.target instanceof HTMLElement && e.target.matches('button, input') ? e.target : null);
+    });
     const importInput = h('input', { type: 'file', accept: '.csv,text/csv', 'data-testid': 'tags-import', hidden: true });
     importInput.addEventListener('change', async () => {
       const f = importInput.files?.[0];
@@ -90,7 +99,7 @@ export class TagsView {
       this.diagEl,
       h(
         'div',
-        { class: 'table-wrap' },
+        { class: 'table-wrap', tabindex: '-1', 'data-skip-target': '' },
         h(
           'table',
           { class: 'tags', 'data-testid': 'tag-table' },
@@ -120,12 +129,36 @@ export class TagsView {
   }
 
   private render(): void {
+    const focused = this.focusMark();
     this.unwatch.forEach((f) => f());
     this.unwatch = [];
     clear(this.body);
     this.rows = tableRows(this.ctx.tags.list).map((row) => ({ row, tr: this.renderRow(row) }));
     this.rows.forEach(({ tr }) => this.body.append(tr));
     this.applyFilter();
+    if (focused) this.refocus(focused);
+  }
+
+  /** The focused control of the table (its test id and row), to give the focus back once the rows are drawn again. */
+  private focusMark(): { testid: string; row: number } | null {
+    const a = document.activeElement as HTMLElement | null;
+    const tr = a?.closest('tr');
+    if (!a?.dataset.testid || !tr || !this.body.contains(tr)) return null;
+    return { testid: a.dataset.testid, row: this.rows.findIndex((r) => r.tr === tr) };
+  }
+
+  /**
+   * After a force, a write or a change of definitions the focus stays on the
+   * same control; when it is gone or disabled (Unforce once unforced, a
+   * deleted row), on the next control of its row, or of the row now in its place.
+   */
+  private refocus(m: { testid: string; row: number }): void {
+    const usable = (e: Element | null): e is HTMLElement => !!e && !(e as HTMLButtonElement).disabled && !(e as HTMLElement).closest('[hidden]');
+    const same = this.body.querySelector(`[data-testid="${CSS.escape(m.testid)}"]`);
+    if (usable(same)) return same.focus();
+    const tr = same?.closest('tr') ?? this.rows[Math.min(m.row, this.rows.length - 1)]?.tr;
+    const next = [...(tr?.querySelectorAll<HTMLElement>('button, input') ?? [])].find(usable);
+    (next ?? this.filterEl).focus();
   }
 
   private renderRow(row: Row): HTMLTableRowElement {
@@ -167,8 +200,10 @@ export class TagsView {
         const edit = () => {
           const input = h('input', { class: 'value-input', 'data-testid': `tag-input-${row.name}`, value: fmt(this.ctx.live.store.get(row.name)) });
           const done = () => {
+            const back = input === document.activeElement;
             input.remove();
             valueSpan.hidden = false;
+            if (back) editBtn.focus();
           };
           input.addEventListener('keydown', async (e) => {
             if (e.key === 'Enter') {
@@ -184,7 +219,8 @@ export class TagsView {
           input.focus();
           input.select();
         };
-        valueCell.append(gated(h('button', { class: 'small', title: tr('Edit the value'), 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write'));
+        const editBtn = gated(h('button', { class: 'small', title: tr('Edit the value'), 'data-testid': `tag-edit-value-${row.name}`, onclick: edit }, '✎'), 'write');
+        valueCell.append(editBtn);
       }
     }
     valueCell.append(errorEl);
@@ -206,8 +242,8 @@ export class TagsView {
       if (isForced) forceCell.append(h('span', { class: 'forced', 'data-testid': `tag-forced-${row.name}` }, `F=${fmt(forced)}`), ' ');
       if (row.type === 'BOOL') {
         forceCell.append(
-          gated(h('button', { class: 'small', 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'), 'force'),
-          gated(h('button', { class: 'small', 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'), 'force'),
+          gated(h('button', { class: 'small', title: tr('Force to 1 (on)'), 'data-testid': `force-on-${row.name}`, onclick: () => void force(true) }, 'F1'), 'force'),
+          gated(h('button', { class: 'small', title: tr('Force to 0 (off)'), 'data-testid': `force-off-${row.name}`, onclick: () => void force(false) }, 'F0'), 'force'),
         );
       } else {
         const input = gated(h('input', { class: 'force-input', 'data-testid': `force-value-${row.name}`, placeholder: tr('value'), size: 6 }), 'force');
@@ -234,7 +270,7 @@ export class TagsView {
       h('td', null, t?.address ?? ''),
       valueCell,
       forceCell,
-      h('td', { class: 'desc' }, t?.description ?? ''),
+      h('td', { class: 'desc', title: t?.description || undefined }, t?.description ?? ''),
       actions,
     );
   }
@@ -258,7 +294,11 @@ export class TagsView {
     return gated(b, 'browse');
   }
 
+  /** The test id of the button that opened the form: the focus goes back to it when the form closes. */
+  private formOpener = '';
+
   private async openForm(name: string | null): Promise<void> {
+    this.formOpener = (document.activeElement as HTMLElement | null)?.dataset.testid ?? '';
     const file = await this.loadFile();
     const idx = name === null ? -1 : file.defs.findIndex((d) => d.name.toUpperCase() === name.toUpperCase());
     const def: TagDef = idx >= 0 ? { ...file.defs[idx] } : { name: '', type: 'BOOL', address: '', initial: '', retain: '', description: '' };
@@ -318,6 +358,8 @@ export class TagsView {
   private closeForm(): void {
     this.formEl.hidden = true;
     clear(this.formEl);
+    const back = this.formOpener && this.el.querySelector<HTMLElement>(`[data-testid="${CSS.escape(this.formOpener)}"]`);
+    (back || this.el.querySelector<HTMLElement>('[data-testid="tag-add"]'))?.focus();
   }
 
   private async deleteDef(name: string): Promise<void> {

@@ -5,7 +5,7 @@
 // WebSocket's `alarms` summary; the list is fetched when it changes.
 import { api } from '../api';
 import { gate } from '../auth';
-import { clear, h } from '../dom';
+import { clear, h, s } from '../dom';
 import type { Alarm, AlarmStats } from '../types';
 import { clockTime, tr } from '../i18n';
 
@@ -17,9 +17,10 @@ export const alarmText = {
   hide: tr('Hide'),
   ack: tr('Acknowledge'),
   none: tr('No alarms.'),
-  mute: tr('Mute'),
-  unmute: tr('Sound'),
-  muteTitle: tr('Sound for new alarms in this browser (a tone per severity)'),
+  soundOn: tr('Sound on'),
+  muted: tr('Muted'),
+  soundOnTitle: tr('New alarms sound in this browser (a tone per severity): click to mute'),
+  mutedTitle: tr('New alarms are silent in this browser: click to turn the sound on'),
   state: {
     active_unacked: tr('active, not acknowledged'),
     active_acked: tr('active, acknowledged'),
@@ -57,12 +58,19 @@ export function tone(b: ReturnType<typeof band>): void {
   setTimeout(() => void ctx.close(), beeps * 300 + 200);
 }
 
+/** A bell (crossed out while muted), drawn: a font may have no emoji. */
+function bell(muted: boolean): SVGSVGElement {
+  return s('svg', { class: `bell${muted ? ' muted' : ''}`, viewBox: '0 0 16 16', width: 13, height: 13, 'aria-hidden': 'true' },
+    s('path', { d: 'M8 1.5a1 1 0 0 1 1 1v.6a4.5 4.5 0 0 1 3.5 4.4v3l1.5 2H2l1.5-2v-3A4.5 4.5 0 0 1 7 3.1v-.6a1 1 0 0 1 1-1zM6.3 13.5h3.4a1.7 1.7 0 0 1-3.4 0z' }),
+    muted ? s('line', { x1: 1.5, y1: 1.5, x2: 14.5, y2: 14.5 }) : null);
+}
+
 export class AlarmBanner {
   readonly el: HTMLElement;
   private readonly text = h('span', { class: 'alarm-text', 'data-testid': 'alarm-text' });
   private readonly list = h('table', { class: 'alarm-list', 'data-testid': 'alarm-list', hidden: true });
   private readonly toggle = h('button', { class: 'small', 'data-testid': 'alarm-toggle' }, alarmText.show);
-  private readonly muteBtn = h('button', { class: 'small', 'data-testid': 'alarm-mute', title: alarmText.muteTitle });
+  private readonly muteBtn = h('button', { class: 'small mute', 'data-testid': 'alarm-mute' });
   private alarms: Alarm[] = [];
   /** New alarms in the last summary (`new_10min`), to sound only for new ones. */
   private seen: number | null = null;
@@ -72,7 +80,13 @@ export class AlarmBanner {
     private readonly sound: (b: ReturnType<typeof band>) => void = tone,
   ) {
     this.el = h('div', { class: 'alarm-banner', 'data-testid': 'alarm-banner', role: 'alert', hidden: true }, this.text, this.muteBtn, this.toggle, this.list);
-    const showMute = () => (this.muteBtn.textContent = this.muted ? alarmText.unmute : alarmText.mute);
+    // the button shows the state the sound is in (a crossed bell while muted); a click changes it
+    const showMute = () => {
+      const m = this.muted;
+      this.muteBtn.replaceChildren(bell(m), h('span', { class: 'word' }, ` ${m ? alarmText.muted : alarmText.soundOn}`));
+      this.muteBtn.title = m ? alarmText.mutedTitle : alarmText.soundOnTitle;
+      this.muteBtn.setAttribute('aria-pressed', String(m));
+    };
     showMute();
     this.muteBtn.onclick = () => {
       localStorage.setItem(MUTE_KEY, this.muted ? '0' : '1');
@@ -106,6 +120,7 @@ export class AlarmBanner {
     this.text.textContent = [alarmText.waiting(s.unacked), top ? `${top.id}: ${top.message}` : '', s.flood ? alarmText.flood : '']
       .filter(Boolean)
       .join(' — ');
+    this.text.title = this.text.textContent;
     this.render();
   }
 

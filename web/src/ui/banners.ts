@@ -39,7 +39,7 @@ export class StaleBanner {
     const since = clock(this.since);
     const t =
       f === 'stale' ? bannerText.stale(since) : f === 'stopped' ? bannerText.stopped(since) : f === 'faulted' ? bannerText.faulted(since, status?.fault ?? '') : '';
-    if (this.el.textContent !== t) this.el.textContent = t;
+    if (this.el.textContent !== t) this.el.textContent = this.el.title = t;
   }
 }
 

@@ -41,28 +41,28 @@ export class StatusBar {
   private readonly logoutBtn = h('button', { class: 'small link', 'data-testid': 'btn-logout', title: text.signOutTitle, hidden: true }, text.signOut);
 
   constructor() {
-    const field = (key: string, label: string) => {
+    const field = (key: string, label: string, title?: string) => {
       const t = document.createTextNode('—');
       this.fields[key] = t;
       const span = h('span', { class: `field ${key}`, 'data-testid': `status-${key}` }, t);
       this.spans[key] = span;
-      return h('span', { class: 'status-item' }, label ? h('span', { class: 'label' }, label) : null, span);
+      return h('span', { class: 'status-item', title }, label ? h('span', { class: 'label' }, label) : null, span);
     };
     this.el = h(
       'footer',
       { class: 'statusbar', 'data-testid': 'statusbar' },
-      field('state', ''),
-      field('scan-last', tr('scan')),
-      field('scan-max', tr('max')),
-      field('overruns', tr('overruns')),
-      field('scans', tr('scans')),
+      field('state', '', tr('The state of the PLC (not live: the runtime does not answer)')),
+      field('scan-last', tr('scan'), tr('How long the last scan took')),
+      field('scan-max', tr('max'), tr('The longest scan since the start')),
+      field('overruns', tr('overruns'), tr('Scans that took longer than the scan period')),
+      field('scans', tr('scans'), tr('Scans since the start')),
       field('fault', ''),
       field('store', ''),
       this.conns,
       h('span', { class: 'spacer' }),
-      field('user', ''),
+      field('user', '', tr('Who uses the studio, and their role')),
       this.logoutBtn,
-      field('conn', ''),
+      field('conn', '', tr('The studio’s connection to the runtime')),
     );
   }
 
