@@ -207,6 +207,7 @@ export const es: Record<string, string> = {
   'history: {m}': 'histórico: {m}',
   'Add a pen first': 'Añada primero una pluma',
   'CSV export failed: {m}': 'La exportación CSV falló: {m}',
+  'No data in this range': 'Sin datos en este intervalo',
   // alarms, banners, dialogs, menus
   '1 alarm to acknowledge': '1 alarma por reconocer',
   '{n} alarms to acknowledge': '{n} alarmas por reconocer',
