@@ -9,6 +9,7 @@ import { domain, isStructure, membersOf } from '../domain';
 import { parseValue } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 import { tr } from '../i18n';
+import { confirmAction } from '../ui/confirm';
 import { openFaceplate } from '../ui/faceplate';
 import { openOpcuaBrowser } from '../ui/opcuaBrowse';
 
@@ -321,7 +322,12 @@ export class TagsView {
   }
 
   private async deleteDef(name: string): Promise<void> {
-    if (!confirm(tr('Delete the tag {name} from tags.csv?', { name }))) return;
+    const sure = await confirmAction(
+      tr('Delete the tag {name}?', { name }),
+      tr('It is removed from tags.csv. If a program still uses it, nothing is saved and the problems are listed.'),
+      tr('Delete'),
+    );
+    if (!sure) return;
     const file = await this.loadFile();
     const defs = file.defs.filter((d) => d.name.toUpperCase() !== name.toUpperCase());
     const next = { columns: file.columns, defs };

@@ -7,7 +7,7 @@ import { api } from '../api';
 import { gate } from '../auth';
 import { clear, h } from '../dom';
 import type { Alarm, AlarmStats } from '../types';
-import { clockTime, tr } from '../i18n';
+import { tr, when } from '../i18n';
 
 /** The strings of the banner (one place; a Spanish catalogue comes later). */
 export const alarmText = {
@@ -20,6 +20,8 @@ export const alarmText = {
   mute: tr('Mute'),
   unmute: tr('Sound'),
   muteTitle: tr('Sound for new alarms in this browser (a tone per severity)'),
+  /** The severity bands by name (the banner and the summary say these, not the number). */
+  band: { critical: tr('critical'), high: tr('high'), medium: tr('medium'), low: tr('low') },
   state: {
     active_unacked: tr('active, not acknowledged'),
     active_acked: tr('active, acknowledged'),
@@ -103,7 +105,7 @@ export class AlarmBanner {
       return;
     }
     const top = this.alarms.find((a) => a.id === s.top_unacked);
-    this.text.textContent = [alarmText.waiting(s.unacked), top ? `${top.id}: ${top.message}` : '', s.flood ? alarmText.flood : '']
+    this.text.textContent = [s.unacked ? alarmText.waiting(s.unacked) : '', top ? `${top.id}: ${top.message}` : '', s.flood ? alarmText.flood : '']
       .filter(Boolean)
       .join(' — ');
     this.render();
@@ -131,11 +133,11 @@ export class AlarmBanner {
         h(
           'tr',
           { 'data-testid': `alarm-row-${a.id}`, 'data-band': band(a.severity), 'data-state': a.state },
-          h('td', { class: 'sev' }, String(a.severity)),
+          h('td', { class: 'sev', title: tr('severity {n}', { n: a.severity }) }, alarmText.band[band(a.severity)]),
           h('td', null, a.id),
           h('td', null, a.message),
           h('td', null, alarmText.state[a.state] ?? a.state),
-          h('td', null, clockTime(a.since_ms)),
+          h('td', null, when(a.since_ms)),
           h('td', null, ack),
         ),
       );
