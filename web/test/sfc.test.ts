@@ -161,6 +161,13 @@ describe('the SFC tab', () => {
     expect(step('Mix').dataset.active).toBe('true');
     expect(step('Idle').dataset.active).toBe('false');
     expect(step('Mix').querySelector('.sfc-time')!.textContent).toBe('1200 ms');
+    // Action rows are lit by their step's activity, not by their tag (issue 30, item 19):
+    // in FillB, Agitator runs and Busy is latched, yet Mix's Agitator and Done's Busy(R) are not active.
+    live.deliver({ ...emptyBatch(), values: new Map<string, never>([['batch.Mix.X', false as never], ['batch.FillB.X', true as never], ['Agitator', true as never], ['Busy', true as never]]) });
+    const lit = (id: string) => v.el.querySelector(`[data-testid="${id}"]`)!.classList.contains('on');
+    expect([lit('sfc-action-FillB-0'), lit('sfc-action-FillB-1')]).toEqual([true, true]);
+    expect([lit('sfc-action-Mix-0'), lit('sfc-action-Done-0'), lit('sfc-action-FillA-1')]).toEqual([false, false, false]);
+    live.deliver({ ...emptyBatch(), values: new Map<string, never>([['batch.FillB.X', false as never], ['batch.Mix.X', true as never]]) });
     vi.useFakeTimers(); // the checks after each edit stay queued
     // a click selects; its condition is edited in place, and Edit in the text opens its line
     v.el.querySelector<HTMLElement>('[data-testid="sfc-tr-t2"]')!.dispatchEvent(new MouseEvent('click'));
