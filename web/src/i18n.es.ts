@@ -223,7 +223,7 @@ export const es: Record<string, string> = {
   'A new setpoint (Enter)': 'Una nueva consigna (Intro)',
   'Manual output up by 1 %': 'Subir la salida manual un 1 %',
   'Manual output down by 1 %': 'Bajar la salida manual un 1 %',
-  'PID loop {name}': 'Lazo PID {name}',
+  'PID loop': 'Lazo PID',
   Setpoint: 'Consigna',
   'Manual → Auto': 'Manual → Automático',
   'Auto → Manual': 'Automático → Manual',
