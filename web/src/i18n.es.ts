@@ -359,6 +359,7 @@ export const es: Record<string, string> = {
   Grid: 'Cuadrícula',
   'Run the PLC (F5)': 'Ejecutar el PLC (F5)',
   'Stop the PLC (Shift+F5)': 'Parar el PLC (Mayús+F5)',
+  'Shift+F5': 'Mayús+F5',
   'Reset marking': 'Reiniciar marcado',
   'Write the initial marking to every place of the net, at one scan boundary': 'Escribir el marcado inicial en cada lugar de la red, entre dos ciclos de una vez',
   'Single step': 'Un ciclo',

@@ -234,6 +234,24 @@ describe('the SFC canvas (the net editor’s: zoom, pan, grid, selection keys)',
     expect(v.dirty).toBe(false);
   });
 
+  it('fills the window with the sheet: no dead strip beside a small chart, at any zoom (issue 30, item 23)', async () => {
+    const v = await open();
+    const [w, h] = svg(v).getAttribute('viewBox')!.split(' ').slice(2).map(Number);
+    Object.defineProperty(canvas(v), 'clientWidth', { value: w + 700 });
+    Object.defineProperty(canvas(v), 'clientHeight', { value: h + 300 });
+    key(v, '-'); // 90 %
+    key(v, '+'); // 100 %
+    expect([svg(v).getAttribute('width'), svg(v).getAttribute('height')]).toEqual([String(w + 700), String(h + 300)]);
+    expect(svg(v).getAttribute('viewBox')).toBe(`0 0 ${w + 700} ${h + 300}`);
+    expect(svg(v).querySelector('.net-bg')!.getAttribute('width')).toBe(String(w + 700));
+    key(v, '-'); // 90 %: the sheet still reaches the edges, the drawing is smaller
+    expect(svg(v).getAttribute('width')).toBe(String(w + 700));
+    expect(Number(svg(v).getAttribute('viewBox')!.split(' ')[2])).toBeCloseTo((w + 700) / 0.9);
+    // a drawing larger than the window scrolls, as before
+    for (let k = 0; k < 4; k++) key(v, '+');
+    expect(svg(v).getAttribute('width')).toBe(String(w * 2)); // 200 %
+  });
+
   it('pans with the middle button or Space held (which selects nothing); Escape and a click on the sheet clear the selection; Delete deletes, Ctrl+Z undoes', async () => {
     const v = await open();
     const c = canvas(v);
