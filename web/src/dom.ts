@@ -129,3 +129,8 @@ export function rubberBand(
   window.addEventListener('pointermove', move);
   window.addEventListener('pointerup', up);
 }
+
+/** A search box as wide as its placeholder (which it never cuts off, issue 30, item 23). */
+export function searchBox(placeholder: string, testid: string): HTMLInputElement {
+  return h('input', { type: 'search', placeholder, size: placeholder.length + 4, class: 'search', 'data-testid': testid });
+}

@@ -3,7 +3,7 @@
 import { ApiError, api } from '../api';
 import { type Action, gate } from '../auth';
 import type { Ctx } from '../ctx';
-import { clear, fmt, h } from '../dom';
+import { clear, fmt, h, searchBox } from '../dom';
 import type { Diagnostic, Json, TagInfo } from '../types';
 import { domain, isStructure, membersOf } from '../domain';
 import { parseValue } from '../ui/tagActions';
@@ -59,7 +59,7 @@ function gated<E extends HTMLElement & { disabled: boolean }>(el: E, action: Act
 export class TagsView {
   readonly el: HTMLElement;
   private readonly body = h('tbody');
-  private readonly filterEl = h('input', { type: 'search', placeholder: tr('Filter by name, type, address, description'), 'data-testid': 'tag-filter' });
+  private readonly filterEl = searchBox(tr('Filter by name, type, address, description'), 'tag-filter');
   private readonly formEl = h('div', { class: 'tag-form', hidden: true, 'data-testid': 'tag-form' });
   private readonly diagEl = h('ul', { class: 'problems', 'data-testid': 'tags-diagnostics' });
   private rows: { row: Row; tr: HTMLTableRowElement }[] = [];

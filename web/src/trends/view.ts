@@ -479,7 +479,17 @@ export class TrendsView {
     });
     const scales: uPlot.Scales = { x: { time: true } };
     // times in the language's format, ticks far enough apart for their labels
-    const axes: uPlot.Axis[] = [{ space: timeSpace(), values: (_u, splits, _a, _s, incr) => timeLabels(splits, incr), size: 48 }];
+    const axes: uPlot.Axis[] = [{
+      space: timeSpace(),
+      values: (u, splits, _a, _s, incr) => {
+        const labels = timeLabels(splits, incr);
+        // the ticks as drawn (CSS px from the canvas' left, label), for tests
+        const left = u.bbox.left / (window.devicePixelRatio || 1);
+        this.plotEl.dataset.xTicks = JSON.stringify(splits.map((t, k) => [Math.round(left + u.valToPos(t, 'x')), labels[k]]));
+        return labels;
+      },
+      size: 48,
+    }];
     const withLanes = nLanes > 0;
     // an analog axis labels only its part of the plot, above the lanes
     const aboveTheLanes = (u: uPlot, splits: number[], axisIdx: number) => {
@@ -499,8 +509,9 @@ export class TrendsView {
             },
           };
       const pensHere = specs.filter((p) => scaleOf(p) === key).map((p) => p.tag).join(', ');
-      const filter = withLanes ? aboveTheLanes : undefined;
-      axes.push({ scale: key, side: n % 2 === 0 ? 3 : 1, grid: { show: n === 0, filter }, ticks: { filter }, filter, label: pensHere, labelSize: 18, size: 64 });
+      const axis: uPlot.Axis = { scale: key, side: n % 2 === 0 ? 3 : 1, grid: { show: n === 0 }, label: pensHere, labelSize: 18, size: 64 };
+      if (withLanes) Object.assign(axis, { filter: aboveTheLanes, grid: { show: n === 0, filter: aboveTheLanes }, ticks: { filter: aboveTheLanes } });
+      axes.push(axis);
     });
     if (withLanes) {
       // the on/off pens' own axis: their names beside their lanes
@@ -532,22 +543,16 @@ export class TrendsView {
       padding: [null, analog.length >= 2 ? null : timeSpace() / 2, null, null],
       cursor: { drag: { x: true, y: false, setScale: false } },
       hooks: {
-        // the line between the analog pens and the lanes
-        draw: withLanes && analog.length
-          ? [
-              (u) => {
-                const y = Math.round(u.valToPos(nLanes, 'lanes', true)) + 0.5;
-                u.ctx.save();
-                u.ctx.strokeStyle = '#9aa3ae';
-                u.ctx.lineWidth = 1;
-                u.ctx.beginPath();
-                u.ctx.moveTo(u.bbox.left, y);
-                u.ctx.lineTo(u.bbox.left + u.bbox.width, y);
-                u.ctx.stroke();
-                u.ctx.restore();
-              },
-            ]
-          : [],
+        draw: [
+          // the scales as drawn ({key: [min, max]}), for tests
+          (u) => {
+            const scales = Object.fromEntries([...analog, ...(withLanes ? ['lanes'] : [])].map((k) => [k, [u.scales[k].min, u.scales[k].max]]));
+            const text = JSON.stringify(scales);
+            if (this.plotEl.dataset.scales !== text) this.plotEl.dataset.scales = text;
+          },
+          // the line between the analog pens and the lanes
+          ...(withLanes && analog.length ? [(u: uPlot) => lanesLine(u, nLanes)] : []),
+        ],
         setSelect: [
           (u) => {
             if (u.select.width < 5) return;
@@ -732,4 +737,17 @@ function readNum(root: HTMLElement, testid: string): number | null {
   const el = root.querySelector(`[data-testid="${testid}"]`) as HTMLInputElement | null;
   const v = el?.value.trim() ?? '';
   return v === '' || !Number.isFinite(Number(v)) ? null : Number(v);
+}
+
+/** The line between the analog pens and the `lanes` lanes below them. */
+function lanesLine(u: uPlot, lanes: number): void {
+  const y = Math.round(u.valToPos(lanes, 'lanes', true)) + 0.5;
+  u.ctx.save();
+  u.ctx.strokeStyle = '#9aa3ae';
+  u.ctx.lineWidth = 1;
+  u.ctx.beginPath();
+  u.ctx.moveTo(u.bbox.left, y);
+  u.ctx.lineTo(u.bbox.left + u.bbox.width, y);
+  u.ctx.stroke();
+  u.ctx.restore();
 }

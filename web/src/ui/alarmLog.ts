@@ -7,7 +7,7 @@
 // acknowledgements and shelvings included.
 import { api } from '../api';
 import type { Ctx } from '../ctx';
-import { clear, download, h } from '../dom';
+import { clear, download, h, searchBox } from '../dom';
 import { dateTime, tr } from '../i18n';
 import { alarmText } from './alarms';
 
@@ -64,7 +64,7 @@ export class AlarmLog {
   /** The range ends now, and the page follows new events. */
   private readonly now = h('input', { type: 'checkbox', checked: true, 'data-testid': 'alarm-log-now' });
   private reloadTimer: ReturnType<typeof setTimeout> | null = null;
-  private readonly filter = h('input', { type: 'search', placeholder: tr('Filter by alarm, tag, state, user, comment'), 'data-testid': 'alarm-log-filter' });
+  private readonly filter = searchBox(tr('Filter by alarm, tag, state, user, comment'), 'alarm-log-filter');
   private readonly count = h('span', { class: 'hint', 'data-testid': 'alarm-log-count' });
   private readonly body = h('tbody');
   private csv = '';

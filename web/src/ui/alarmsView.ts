@@ -8,7 +8,7 @@
 import { api } from '../api';
 import { can, gate } from '../auth';
 import type { Ctx } from '../ctx';
-import { add, clear, h } from '../dom';
+import { add, clear, h, searchBox } from '../dom';
 import { tr, when } from '../i18n';
 import type { Alarm } from '../types';
 import { AlarmLog } from './alarmLog';
@@ -32,7 +32,7 @@ export function summary(alarms: Alarm[], filter: string, sort: SortKey): Alarm[]
 export class AlarmsView {
   readonly el: HTMLElement;
   private alarms: Alarm[] = [];
-  private readonly filter = h('input', { type: 'search', placeholder: tr('Filter by id, tag, message, state'), 'data-testid': 'alarms-filter' });
+  private readonly filter = searchBox(tr('Filter by id, tag, message, state'), 'alarms-filter');
   private readonly sort = h('select', { 'data-testid': 'alarms-sort' },
     h('option', { value: 'severity' }, tr('most severe first')),
     h('option', { value: 'time' }, tr('newest first')),

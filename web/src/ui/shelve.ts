@@ -30,8 +30,9 @@ export function shelveDialog(a: Alarm, shelve: (minutes: number, reason: string)
     const reason = h('input', { type: 'text', required: true, maxlength: 200, placeholder: tr('e.g. maintenance on the pump'), 'data-testid': 'shelve-reason' });
     const until = h('span', { class: 'hint', 'data-testid': 'shelve-until' });
     const error = h('p', { class: 'inline-error', role: 'alert', 'data-testid': 'shelve-error', hidden: true });
-    const ok = h('button', { class: 'primary', 'data-testid': 'shelve-ok' }, tr('Shelve'));
-    const cancel = h('button', { 'data-testid': 'shelve-cancel' }, confirmText.cancel);
+    const ok = h('button', { type: 'submit', class: 'primary', 'data-testid': 'shelve-ok' }, tr('Shelve'));
+    // not a submit button: Enter in a field shelves, it does not cancel
+    const cancel = h('button', { type: 'button', 'data-testid': 'shelve-cancel' }, confirmText.cancel);
     const form = h('form', { class: 'modal-box shelve-box', novalidate: true },
       h('h2', { id: 'shelve-title' }, tr('Shelve {id}', { id: a.id })),
       h('p', null, a.message),
@@ -64,10 +65,7 @@ export function shelveDialog(a: Alarm, shelve: (minutes: number, reason: string)
       say(null);
     });
     reason.addEventListener('input', () => say(null));
-    cancel.onclick = (e) => {
-      e.preventDefault();
-      done(false);
-    };
+    cancel.onclick = () => done(false);
     form.onsubmit = async (e) => {
       e.preventDefault();
       const problem = shelveProblem(minutes.value, reason.value);
