@@ -124,7 +124,7 @@ fn malformed_screens_are_reported_at_their_place() {
         ),
         (
             with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": 0}}"#),
-            "hmi/main.json:6:88: error[E141]: `t`: `window_s` is the seconds the trend shows, above 0 and at most 86400; got 0",
+            "hmi/main.json:6:86: error[E141]: `t`: `window_s` is the seconds the trend shows, above 0 and at most 86400; got 0",
         ),
         (
             with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": "2 min"}}"#),
