@@ -132,5 +132,6 @@ export function rubberBand(
 
 /** A search box as wide as its placeholder (which it never cuts off, issue 30, item 23). */
 export function searchBox(placeholder: string, testid: string): HTMLInputElement {
-  return h('input', { type: 'search', placeholder, size: placeholder.length + 4, class: 'search', 'data-testid': testid });
+  // about 0.56 em a character in the UI's sans-serif, and room for the padding and the clear button
+  return h('input', { type: 'search', placeholder, class: 'search', style: { width: `${(placeholder.length * 0.56 + 2.6).toFixed(1)}em` }, 'data-testid': testid });
 }

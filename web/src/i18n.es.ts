@@ -335,7 +335,7 @@ export const es: Record<string, string> = {
   'Rule': 'Regla',
   'Apply': 'Aplicar',
   'Autotune (relay experiment)': 'Autoajuste (ensayo del relé)',
-  'Filter by alarm, tag, state, user, comment': 'Filtrar por alarma, variable, estado, usuario, comentario',
+  'Filter by alarm, tag, state, user, comment': 'Alarma, etiqueta, estado, usuario o comentario',
   'Show': 'Mostrar',
   'The whole range as CSV': 'Todo el intervalo en CSV',
   'From': 'Desde',

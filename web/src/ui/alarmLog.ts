@@ -60,7 +60,7 @@ const state = (s: string) => alarmText.state[s as keyof typeof alarmText.state] 
 export class AlarmLog {
   readonly el: HTMLElement;
   private readonly from = h('input', { type: 'datetime-local', 'data-testid': 'alarm-log-from' });
-  private readonly to = h('input', { type: 'datetime-local', 'data-testid': 'alarm-log-to', disabled: true });
+  private readonly to = h('input', { type: 'datetime-local', 'data-testid': 'alarm-log-to', hidden: true });
   /** The range ends now, and the page follows new events. */
   private readonly now = h('input', { type: 'checkbox', checked: true, 'data-testid': 'alarm-log-now' });
   private reloadTimer: ReturnType<typeof setTimeout> | null = null;
@@ -72,7 +72,7 @@ export class AlarmLog {
   constructor(private readonly ctx: Ctx) {
     this.from.value = local(Date.now() - 86_400_000);
     this.now.addEventListener('change', () => {
-      this.to.disabled = this.now.checked;
+      this.to.hidden = this.now.checked;
       if (!this.now.checked && !this.to.value) this.to.value = local(Date.now() + 60_000);
       void this.load();
     });
