@@ -62,5 +62,7 @@ export default defineConfig({
     environment: 'happy-dom',
     include: ['test/**/*.test.ts'],
     setupFiles: ['test/setup.ts'],
+    // happy-dom tests that draw whole programs take seconds on a loaded machine
+    testTimeout: 30_000,
   },
 });

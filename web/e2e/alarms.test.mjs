@@ -48,11 +48,11 @@ test('the alarm summary: filter, sort, acknowledge the page, shelve, the log', a
   await tid('alarms-row-estop').waitFor({ state: 'detached' });
   await tid('alarms-filter').fill('emergency');
   await tid('alarms-row-estop').waitFor();
-  // Shelve it for 5 minutes with a reason, from the page's prompts; then unshelve.
-  page.removeAllListeners('dialog');
-  const answers = ['5', 'maintenance on P1'];
-  page.on('dialog', (d) => d.accept(answers.shift()));
+  // Shelve it for 5 minutes with a reason, from the page's dialog; then unshelve.
   await tid('alarms-shelve-estop').click();
+  await tid('shelve-minutes').fill('5');
+  await tid('shelve-reason').fill('maintenance on P1');
+  await tid('shelve-ok').click();
   await page.waitForFunction(() => document.querySelector('[data-testid="alarms-row-estop"]')?.textContent.includes('shelved'));
   const shelved = (await alba.json('/api/alarms')).find((a) => a.id === 'estop');
   assert.equal(shelved.state, 'shelved');
@@ -60,8 +60,6 @@ test('the alarm summary: filter, sort, acknowledge the page, shelve, the log', a
   await b.shot('alarm-summary');
   await tid('alarms-shelve-estop').click(); // unshelve
   await page.waitForFunction(() => !document.querySelector('[data-testid="alarms-row-estop"]')?.textContent.includes('shelved'));
-  page.removeAllListeners('dialog');
-  page.on('dialog', (d) => d.accept());
   // Acknowledge the page: nothing waits any more.
   await tid('alarms-ack-page').click();
   for (let i = 0; i < 50 && (await alba.json('/api/alarms')).some((a) => a.state.endsWith('_unacked')); i++) await page.waitForTimeout(100);

@@ -3,7 +3,7 @@
 // level rises while pump B1 turns, and the Fill request switch writes its tag.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { useStudio } from './harness.mjs';
+import { out, useStudio } from './harness.mjs';
 
 let alba, b;
 useStudio('tank-plant', (s) => ({ alba, b } = s));
@@ -30,6 +30,36 @@ test('the tank screen follows the plant and writes through its switch', async ()
   }
   assert.equal(now, !before, 'the switch toggled Llenar');
   await b.shot('screen-tank');
+  assert.deepEqual(b.errors, []);
+});
+
+test('the screen\'s trend: its time window filled from the history when the screen opens, scale and time labels', async () => {
+  const { page, tid } = b;
+  const part = (p) => page.locator(`[data-testid="hmi-el-level_trend"] [data-part="${p}"]`);
+  // Away for a while (the historian records meanwhile), then back: the line starts in the past at once.
+  await tid('tab-tags').click();
+  await page.waitForTimeout(6000);
+  await tid('tab-screens').click();
+  await tid('hmi-screen-tank').waitFor();
+  const line = async () => {
+    const [x0, , x1] = (await part('line').getAttribute('data-box')).split(',').map(Number);
+    const xs = ((await part('line').getAttribute('points')) || '').split(' ').filter(Boolean).map((p) => Number(p.split(',')[0]));
+    return { x0, x1, xs };
+  };
+  // a moment for the history to come, not for live values to accumulate
+  await page.waitForFunction(() => (document.querySelector('[data-testid="hmi-el-level_trend"] [data-part="line"]')?.getAttribute('points') ?? '').split(' ').length > 4);
+  const l = await line();
+  const sixSeconds = ((l.x1 - l.x0) * 6) / 120;
+  assert.ok(Math.min(...l.xs) < l.x1 - sixSeconds, `the line reaches back at least 6 s of the 120 s window: ${JSON.stringify({ ...l, xs: l.xs.slice(0, 4) })}`);
+  assert.ok(Math.abs(Math.max(...l.xs) - l.x1) < 0.5, 'and runs up to now');
+  assert.equal(await part('y-min').textContent(), '0');
+  assert.equal(await part('y-max').textContent(), '60');
+  const [from, to] = [await part('x-from').textContent(), await part('x-to').textContent()];
+  assert.match(from, /^\d{1,2}:\d\d:\d\d\s[AP]M$/);
+  assert.match(to, /^\d{1,2}:\d\d:\d\d\s[AP]M$/);
+  const secs = (t) => { const [h, m, s2] = t.split(/[:\s]/).map(Number); return h * 3600 + m * 60 + s2; };
+  assert.equal((secs(to) - secs(from) + 86400) % 86400 % 43200, 120, `${from} – ${to}: two minutes`);
+  await page.locator('[data-testid="hmi-el-level_trend"]').screenshot({ path: `${out}/screen-trend.png` });
   assert.deepEqual(b.errors, []);
 });
 
@@ -99,14 +129,21 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   assert.match(await tid('hmi-problem-0').textContent(), /^\d+:\d+ `pump1`: animation `rotate`: unknown tag `Bomba9`/);
   await tid('hmi-error-pump1').waitFor();
   await b.shot('screen-designer');
-  // Fixed from the problem (a click selects the element), saved.
+  // Fixed from the problem (a click selects the element): its outline and its entry go at once, before Save.
   await tid('hmi-problem-0').click();
+  await tid('hmi-prop-error').filter({ hasText: 'unknown tag `Bomba9`' }).waitFor();
   await setField('hmi-prop-anim-tag-0', 'Bomba1');
+  await tid('hmi-error-pump1').waitFor({ state: 'detached' });
+  await tid('hmi-problem-0').waitFor({ state: 'detached' });
+  assert.equal(await tid('hmi-prop-error').isHidden(), true);
+  assert.ok(!JSON.stringify(await alba.json('/api/screens')).includes('plant2'), 'checking saved nothing');
   // A second animation on the pump: green while B1 runs.
   await tid('hmi-prop-anim-add').selectOption('color');
   await setField('hmi-prop-anim-tag-1', 'Bomba1');
   await tid('hmi-save').click();
   await tid('toast-info').filter({ hasText: 'plant2 saved' }).waitFor();
+  // the success took the failed save's place
+  assert.equal(await tid('toast-error').filter({ hasText: 'plant2 not saved' }).count(), 0);
   // The group saved as a symbol of the user's, then inserted from the palette: copies, grouped.
   page.removeAllListeners('dialog');
   page.once('dialog', (d) => d.accept('tank_and_pump'));

@@ -20,6 +20,12 @@ test('the SFC chart follows the running batch', async () => {
   assert.equal(r.status, 200);
   await page.waitForFunction(() => document.querySelector('[data-testid="sfc-step-FillA"]')?.dataset.active === 'true');
   await page.waitForFunction(() => document.querySelector('[data-testid="sfc-action-FillA-0"]')?.classList.contains('on'));
+  // Action rows follow their step (issue 30, item 19): Busy is latched by FillA, yet Done's Busy(R) is not lit.
+  await page.waitForFunction(async () => (await (await fetch('/api/tags/Busy')).json()).value === true);
+  await page.waitForTimeout(300);
+  assert.equal(await tid('sfc-action-FillA-1').getAttribute('class'), 'sfc-action on');
+  assert.equal(await tid('sfc-action-Done-0').getAttribute('class'), 'sfc-action');
+  assert.equal(await tid('sfc-action-Mix-0').getAttribute('class'), 'sfc-action');
   await b.shot('sfc-chart');
   // a transition selected: its condition in the properties; Edit in the text opens its line
   await tid('sfc-tr-t1').click();

@@ -101,10 +101,10 @@ test('the trend follows the level live and exports CSV', async () => {
   const file = join(out, 'trend.csv');
   await download.saveAs(file);
   const lines = readFileSync(file, 'utf8').trim().split('\n');
-  assert.equal(lines[0], 'Time (ms),Nivel_L,Bomba1');
+  assert.match(lines[0], /^Time \(UTC[+-]\d\d:\d\d\),Time \(ms\),Nivel_L,Bomba1$/);
   assert.ok(lines.length >= 3, `rows: ${lines.length}`);
   const row = lines[lines.length - 1].split(',');
-  assert.ok(Number.isFinite(Number(row[0])) && Number(row[1]) >= 0 && Number(row[1]) <= 60, lines[lines.length - 1]);
+  assert.ok(Number.isFinite(Number(row[1])) && Number(row[2]) >= 0 && Number(row[2]) <= 60, lines[lines.length - 1]);
 });
 
 test('a rung edited online is applied between scans and keeps the state', async () => {
@@ -220,7 +220,15 @@ test('tag table: live values, an inline error for a bad write, forcing I/O', asy
   assert.match(readFileSync(join(alba.dir, 'tags.csv'), 'utf8'), /\nBatches,DINT,/);
   assert.equal((await alba.json('/api/tags/Batches')).value, 0);
   await b.shot('tags');
+  // Delete asks in the page (not the browser's confirm()), Cancel first.
   await tid('tag-def-delete-Batches').click();
+  await tid('confirm').waitFor();
+  assert.equal(await page.locator('#confirm-title').textContent(), 'Delete the tag Batches?');
+  await tid('confirm-cancel').click();
+  await tid('confirm').waitFor({ state: 'detached' });
+  assert.equal(await tid('tag-row-Batches').count(), 1);
+  await tid('tag-def-delete-Batches').click();
+  await tid('confirm-ok').click();
   await tid('tag-row-Batches').waitFor({ state: 'detached' });
   assert.ok(!readFileSync(join(alba.dir, 'tags.csv'), 'utf8').includes('Batches'));
 });

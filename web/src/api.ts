@@ -123,6 +123,7 @@ export const api = {
   screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
   // pretty, so that a refusal's line and column point into a readable file
   saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
+  checkScreen: (name: string, screen: unknown) => json<unknown>('POST', `/api/screens/${enc(name)}/check`, new RawJson(JSON.stringify(screen))),
   /** GET /api/nets/{name}/analysis: the analysis of a net of the project (docs/nets.md "Analysis"). */
   netAnalysis: <T>(name: string) => json<T>('GET', `/api/nets/${enc(name)}/analysis`),
   /** POST /api/nets/{name}/reset: the net's initial marking, written at one scan boundary. */

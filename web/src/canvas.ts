@@ -1,7 +1,9 @@
 // The drawing canvas the graphical editors share (the net editor, the SFC
 // chart): an SVG drawing in a scrolling element, zoomed in steps (the
 // toolbar's − / + / Fit, the keys + − 0, Ctrl+wheel), panned with the middle
-// button or with Space held (dragScroll), over a grid.
+// button or with Space held (dragScroll), over a grid that fills the
+// window whatever the drawing's size and zoom (no grey strip beside a small
+// drawing, issue 30, item 23).
 import { dragScroll, h, s } from './dom';
 import { tr } from './i18n';
 
@@ -16,6 +18,8 @@ export class ZoomPan {
   private readonly label: HTMLElement;
   private svg: SVGSVGElement | null = null;
   private size = { w: 0, h: 0 };
+  /** The drawing's top left corner (its viewBox origin). */
+  private origin = { x: 0, y: 0 };
 
   constructor(
     private readonly canvas: HTMLElement,
@@ -39,6 +43,7 @@ export class ZoomPan {
       if (e.button === 1 || (e.button === 0 && this.space)) dragScroll(canvas, e);
     }, true);
     canvas.addEventListener('keyup', (e) => e.key === ' ' && (this.space = false));
+    if (typeof ResizeObserver !== 'undefined') new ResizeObserver(() => this.set(this.zoom)).observe(canvas);
     this.set(1);
   }
 
@@ -46,6 +51,8 @@ export class ZoomPan {
   attach(svg: SVGSVGElement, w: number, h: number): void {
     this.svg = svg;
     this.size = { w, h };
+    const [x, y] = (svg.getAttribute('viewBox') ?? '0 0').split(/\s+/).map(Number);
+    this.origin = { x: x || 0, y: y || 0 };
     this.set(this.zoom);
   }
 
@@ -66,9 +73,19 @@ export class ZoomPan {
 
   set(z: number): void {
     this.zoom = Math.round(z * 100) / 100;
-    this.svg?.setAttribute('width', String(this.size.w * this.zoom));
-    this.svg?.setAttribute('height', String(this.size.h * this.zoom));
     this.label.textContent = `${Math.round(this.zoom * 100)} %`;
+    const svg = this.svg;
+    if (!svg) return;
+    // the sheet reaches the window's edges: the drawing, or more of the grid
+    const pw = Math.max(this.size.w * this.zoom, Math.floor(this.canvas.clientWidth));
+    const ph = Math.max(this.size.h * this.zoom, Math.floor(this.canvas.clientHeight));
+    const [w, h] = [pw / this.zoom, ph / this.zoom];
+    svg.setAttribute('viewBox', `${this.origin.x} ${this.origin.y} ${w} ${h}`);
+    svg.setAttribute('width', String(pw));
+    svg.setAttribute('height', String(ph));
+    const bg = svg.querySelector(':scope > rect.net-bg');
+    bg?.setAttribute('width', String(w));
+    bg?.setAttribute('height', String(h));
   }
 
   /** The keys of the canvas: + (or =), −, 0, and Space held; true when `e` was one of them. */

@@ -92,5 +92,6 @@ export class TagCache {
 export interface Ctx {
   live: LiveClient;
   tags: TagCache;
-  notify(message: string, kind?: 'info' | 'error'): void;
+  /** A toast; one with the `key` of an earlier one replaces it. */
+  notify(message: string, kind?: 'info' | 'error', key?: string): void;
 }

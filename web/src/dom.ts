@@ -129,3 +129,9 @@ export function rubberBand(
   window.addEventListener('pointermove', move);
   window.addEventListener('pointerup', up);
 }
+
+/** A search box as wide as its placeholder (which it never cuts off, issue 30, item 23). */
+export function searchBox(placeholder: string, testid: string): HTMLInputElement {
+  // about 0.56 em a character in the UI's sans-serif, and room for the padding and the clear button
+  return h('input', { type: 'search', placeholder, class: 'search', style: { width: `${(placeholder.length * 0.56 + 2.6).toFixed(1)}em` }, 'data-testid': testid });
+}

@@ -52,8 +52,10 @@ const text = {
 
 const toasts = h('div', { class: 'toasts', 'data-testid': 'toasts' });
 
-function notify(message: string, kind: 'info' | 'error' = 'info'): void {
-  const t = h('div', { class: `toast ${kind}`, role: kind === 'error' ? 'alert' : 'status', 'data-testid': `toast-${kind}` }, message);
+function notify(message: string, kind: 'info' | 'error' = 'info', key?: string): void {
+  const t = h('div', { class: `toast ${kind}`, role: kind === 'error' ? 'alert' : 'status', 'data-testid': `toast-${kind}`, 'data-key': key }, message);
+  // the outcome of the same action again: the new toast takes the old one's place
+  if (key) toasts.querySelectorAll(`[data-key="${CSS.escape(key)}"]`).forEach((old) => old.remove());
   toasts.append(t);
   setTimeout(() => t.remove(), kind === 'error' ? 8000 : 4000);
 }

@@ -76,3 +76,21 @@ describe('the autotune panel', () => {
     expect(bodies[1].bias).toBe(30);
   });
 });
+
+describe('the PID faceplate at a glance (issue 30, item 23)', () => {
+  it('is titled by the loop, shows its setpoint in the box, and plots % apart from the PV\'s units', async () => {
+    const r = rig({ SP: 5, PV: 4.2, CV: 37, MINS: 0, MAXS: 10, MINO: 0, MAXO: 100, MAN: false });
+    expect(r.box.querySelector('h2')!.textContent).toBe('Loop');
+    expect(r.box.querySelector('[data-testid="faceplate-what"]')!.textContent).toBe('PID loop');
+    const sp = r.box.querySelector('[data-testid="faceplate-sp-input"]') as HTMLInputElement;
+    expect(sp.value).toBe('5');
+    r.live.store.apply(new Map<string, Json>([['Loop.SP', 6.5]]));
+    expect(sp.value).toBe('6.5');
+    // two panels: SP and PV on 0–10, CV on 0–100 %
+    await vi.waitFor(() => expect(r.box.querySelector('[data-part="pv-max"]')!.textContent).toBe('10'), { timeout: 2000 });
+    const part = (p: string) => r.box.querySelector(`[data-part="${p}"]`)!.textContent;
+    expect([part('pv-min'), part('pv-max'), part('cv-min'), part('cv-max')]).toEqual(['0', '10', '0 %', '100 %']);
+    expect(r.box.querySelector('[data-testid="faceplate-trend-pv"] polyline')).not.toBeNull();
+    expect(r.box.querySelectorAll('[data-testid="faceplate-trend-cv"] polyline').length).toBe(1);
+  });
+});

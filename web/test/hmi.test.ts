@@ -4,6 +4,8 @@ import { describe, expect, it } from 'vitest';
 import { domain } from '../src/domain';
 import { type Element, animate, colorOf, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
 import type { Json } from '../src/types';
+import { ScreenTrend, trendPoints, trendScale, windowMs } from '../src/hmi/trend';
+import { clockTime } from '../src/i18n';
 
 // the server's list (test/fixtures/domain.json, checked against GET /api/domain)
 const TYPES = () => domain().screens.elements.map(([t]) => t);
@@ -76,14 +78,51 @@ describe('gauges, trends and clocks', () => {
     expect(g.querySelector('[data-part="needle"]')!.getAttribute('transform')).toBe('rotate(135)');
   });
 
-  it('draws a trend of the last values on its scale', () => {
-    const e = el('trend', { props: { tag: 'L', min: 0, max: 10 } });
+  it('draws a trend of its time window on its scale, with axis labels (issue 30, item 4)', () => {
+    const e = el('trend', { w: 220, h: 130, props: { tag: 'L', min: 0, max: 10, window_s: 60 } });
     const g = drawElement(e);
-    for (const v of [0, 5, 10, 20]) showValue(g, v, e.props);
+    const t = new ScreenTrend(g, e.props);
+    expect(t.windowMs).toBe(60_000);
+    const now = new Date(2026, 5, 12, 16, 54, 0).getTime();
+    // from the historian: 0 held since before the window, 5 at its middle
+    t.seed([[now - 90_000, 0], [now - 30_000, 5]]);
+    t.push(now - 10_000, 10);
+    t.draw(now);
+    const [x0, y0, x1, y1] = g.querySelector('[data-part="line"]')!.getAttribute('data-box')!.split(',').map(Number);
     const pts = g.querySelector('[data-part="line"]')!.getAttribute('points')!.split(' ').map((p) => p.split(',').map(Number));
-    expect(pts.length).toBe(4);
-    const [, y0, , y1] = g.querySelector('[data-part="line"]')!.getAttribute('data-box')!.split(',').map(Number);
-    expect(pts.map(([, y]) => y)).toEqual([y1, (y0 + y1) / 2, y0, y0].map((y) => Number(y.toFixed(1))));
+    const at = (f: number) => Number((x0 + (x1 - x0) * f).toFixed(1));
+    const y = (v: number) => Number((y1 - (v / 10) * (y1 - y0)).toFixed(1));
+    expect(pts).toEqual([[at(0), y(0)], [at(0.5), y(0)], [at(0.5), y(5)], [at(5 / 6), y(5)], [at(5 / 6), y(10)], [at(1), y(10)]]);
+    const text = (part: string) => g.querySelector(`[data-part="${part}"]`)!.textContent;
+    expect([text('y-min'), text('y-max')]).toEqual(['0', '10']);
+    expect([text('x-from'), text('x-to')]).toEqual([clockTime(now - 60_000), clockTime(now)]);
+  });
+
+  it('draws a steady value as a steady line across the window, on a scale around it', () => {
+    const e = el('trend', { w: 220, h: 130, props: { tag: 'L' } });
+    const g = drawElement(e);
+    const t = new ScreenTrend(g, e.props);
+    expect(t.windowMs).toBe(120_000); // the default: 2 minutes
+    const now = 1_000_000_000;
+    t.push(now - 500_000, 42); // one value, long before the window, never changed since
+    t.draw(now);
+    const pts = g.querySelector('[data-part="line"]')!.getAttribute('points')!.split(' ').map((p) => p.split(',').map(Number));
+    const [x0, y0, x1, y1] = g.querySelector('[data-part="line"]')!.getAttribute('data-box')!.split(',').map(Number);
+    expect(pts.map(([x]) => x)).toEqual([x0, x1]);
+    expect(pts[0][1]).toBe(pts[1][1]);
+    expect(pts[0][1]).toBeCloseTo((y0 + y1) / 2, 0);
+    expect(g.querySelector('[data-part="y-min"]')!.textContent).toBe('37.8');
+    expect(g.querySelector('[data-part="y-max"]')!.textContent).toBe('46.2');
+    // later: still a line to now
+    t.draw(now + 60_000);
+    expect(g.querySelector('[data-part="line"]')!.getAttribute('points')!.split(' ').length).toBe(2);
+  });
+
+  it('takes a window of 1 s to a day, else 2 minutes', () => {
+    expect([windowMs({ window_s: 1 }), windowMs({ window_s: 86_400 }), windowMs({ window_s: 0 }), windowMs({ window_s: '60' }), windowMs(undefined)]).toEqual([1000, 86_400_000, 120_000, 120_000, 120_000]);
+    expect(trendScale([], { min: 5 })).toEqual([0, 1]);
+    expect(trendScale([1, 3], {})).toEqual([0.9, 3.1]);
+    expect(trendPoints([], 0, 10, [0, 0, 10, 10], [0, 1])).toBe('');
   });
 
   it('sets a clock to the time', () => {

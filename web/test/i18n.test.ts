@@ -4,7 +4,7 @@
 import { readFileSync, readdirSync, statSync } from 'node:fs';
 import { join } from 'node:path';
 import { afterEach, describe, expect, it } from 'vitest';
-import { chooseLanguage, tr, useLanguage } from '../src/i18n';
+import { chooseLanguage, clockTime, dateOnly, dateTime, minuteTime, tr, useBrowserLanguage, useLanguage, when } from '../src/i18n';
 import { es } from '../src/i18n.es';
 
 const SRC = join(__dirname, '../src');
@@ -101,5 +101,42 @@ describe('the English/Spanish catalogue', () => {
     expect(document.documentElement.lang).toBe('es');
     useLanguage('en');
     expect(document.documentElement.lang).toBe('en');
+  });
+});
+
+describe('dates and times, one format per language (issue 30, item 12)', () => {
+  afterEach(() => {
+    useLanguage('en');
+    useBrowserLanguage('en-US');
+  });
+  const t = new Date(2026, 5, 12, 16, 54, 7).getTime();
+  const morning = new Date(2026, 5, 12, 6, 4, 7).getTime();
+
+  it('Spanish: dd/mm/yyyy and 24 h, whatever the browser', () => {
+    useLanguage('es');
+    for (const browser of ['en-US', 'es-ES', 'de-DE']) {
+      useBrowserLanguage(browser);
+      expect(dateTime(t)).toBe('12/06/2026, 16:54:07');
+      expect(clockTime(morning)).toBe('06:04:07');
+      expect(minuteTime(t)).toBe('16:54');
+      expect(dateOnly(t)).toBe('12/06/2026');
+    }
+  });
+
+  it('English: the US order and clock only in an en-US browser, else day/month and 24 h', () => {
+    useBrowserLanguage('en-US');
+    expect(dateTime(t)).toBe('06/12/2026, 4:54:07 PM');
+    expect(clockTime(t)).toBe('4:54:07 PM');
+    for (const browser of ['en-GB', 'es-ES', 'en', '']) {
+      useBrowserLanguage(browser);
+      expect(dateTime(t), browser).toBe('12/06/2026, 16:54:07');
+      expect(clockTime(morning), browser).toBe('06:04:07');
+    }
+  });
+
+  it('says the date only when it is not today', () => {
+    useBrowserLanguage('en-GB');
+    expect(when(t, t + 3600e3)).toBe('16:54:07');
+    expect(when(t, t + 86400e3)).toBe('12/06/2026, 16:54:07');
   });
 });

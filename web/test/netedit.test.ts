@@ -150,7 +150,8 @@ describe('guard and script highlighting', () => {
 });
 
 describe('routing a large net', () => {
-  it('routes 400 arcs among 200 nodes quickly', () => {
+  // (How fast is for a benchmark to say, not a test: tests assert no wall-clock times.)
+  it('routes 400 arcs among 200 nodes', () => {
     const net = emptyNet('big', 'petri');
     for (let k = 0; k < 100; k++) addPlace(net, (k % 10) * 80, Math.floor(k / 10) * 80);
     for (let k = 0; k < 100; k++) addTransition(net, (k % 10) * 80 + 40, Math.floor(k / 10) * 80 + 40);
@@ -160,9 +161,7 @@ describe('routing a large net', () => {
       connect(net, `P${((k + 37) % 100) + 1}`, `T${k + 1}`);
       connect(net, `T${k + 1}`, `P${((k + 3) % 100) + 1}`);
     }
-    const t0 = performance.now();
     const r = routes(net, positions(net));
     expect(r.size).toBe(net.arcs.length);
-    expect(performance.now() - t0).toBeLessThan(1500);
   });
 });

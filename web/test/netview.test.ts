@@ -72,6 +72,49 @@ afterEach(() => {
 });
 
 describe('the net tab', () => {
+  it('cuts a guard short where it would run into a neighbour, keeping it whole in its tooltip (issue 30, item 23)', async () => {
+    server({ 'batch.pnml': BATCH });
+    const { v } = view('batch.pnml');
+    await v.load();
+    v.show();
+    const { TEXT, textBox, overlaps, transitionBox } = await import('../src/net/geom');
+    const guard = (id: string) => v.el.querySelector<SVGTextElement>(`[data-testid="net-node-${id}"] .net-guard`)!;
+    const at = (id: string) => {
+      const [x, y] = v.el.querySelector(`[data-testid="net-node-${id}"]`)!.getAttribute('transform')!.match(/-?[\d.]+/g)!.map(Number);
+      return { x, y };
+    };
+    const box = (id: string) => {
+      const g = guard(id);
+      const c = at(id);
+      return textBox(c.x + Number(g.getAttribute('x')), c.y + Number(g.getAttribute('y')), g.firstChild!.textContent!.length, TEXT.mono);
+    };
+    // `again` and `enough` stand side by side: again's guard stops before enough's bar
+    expect(overlaps(box('again'), box('enough'))).toBe(false);
+    expect(overlaps(box('again'), transitionBox(at('enough')))).toBe(false);
+    expect(guard('again').firstChild!.textContent!.endsWith('…')).toBe(true);
+    expect(guard('again').querySelector('title')!.textContent).toBe('batch.batches.count < 3');
+  });
+
+  it('has the top bar\'s Run and Stop: the same words, tooltips and state (issue 30, item 23)', async () => {
+    server({ 'batch.pnml': BATCH });
+    const run = Object.assign(document.createElement('button'), { textContent: '▶ Run', title: 'Start scanning', disabled: true });
+    const stop = Object.assign(document.createElement('button'), { textContent: '■ Stop', title: 'Stop scanning (outputs off)' });
+    run.dataset.testid = 'btn-run';
+    stop.dataset.testid = 'btn-stop';
+    document.body.append(run, stop);
+    const { v } = view('batch.pnml');
+    await v.load();
+    v.show();
+    const mine = (w: string) => v.el.querySelector<HTMLButtonElement>(`[data-testid="net-${w}"]`)!;
+    expect([mine('run').textContent, mine('run').title, mine('run').disabled]).toEqual(['▶ Run', 'Start scanning (F5)', true]);
+    expect([mine('stop').textContent, mine('stop').title, mine('stop').disabled]).toEqual(['■ Stop', 'Stop scanning (outputs off) (Shift+F5)', false]);
+    // the top bar changes (the PLC stopped): the net's pair follows
+    run.disabled = false;
+    stop.disabled = true;
+    await vi.waitFor(() => expect([mine('run').disabled, mine('stop').disabled]).toEqual([false, true]));
+    v.hide();
+  });
+
   it('draws the net with its initial marking, adds elements with S, T, Shift+E and Shift+C, and undoes them', async () => {
     server({ 'batch.pnml': BATCH });
     const { v } = view('batch.pnml');

@@ -161,6 +161,13 @@ describe('the SFC tab', () => {
     expect(step('Mix').dataset.active).toBe('true');
     expect(step('Idle').dataset.active).toBe('false');
     expect(step('Mix').querySelector('.sfc-time')!.textContent).toBe('1200 ms');
+    // Action rows are lit by their step's activity, not by their tag (issue 30, item 19):
+    // in FillB, Agitator runs and Busy is latched, yet Mix's Agitator and Done's Busy(R) are not active.
+    live.deliver({ ...emptyBatch(), values: new Map<string, never>([['batch.Mix.X', false as never], ['batch.FillB.X', true as never], ['Agitator', true as never], ['Busy', true as never]]) });
+    const lit = (id: string) => v.el.querySelector(`[data-testid="${id}"]`)!.classList.contains('on');
+    expect([lit('sfc-action-FillB-0'), lit('sfc-action-FillB-1')]).toEqual([true, true]);
+    expect([lit('sfc-action-Mix-0'), lit('sfc-action-Done-0'), lit('sfc-action-FillA-1')]).toEqual([false, false, false]);
+    live.deliver({ ...emptyBatch(), values: new Map<string, never>([['batch.FillB.X', false as never], ['batch.Mix.X', true as never]]) });
     vi.useFakeTimers(); // the checks after each edit stay queued
     // a click selects; its condition is edited in place, and Edit in the text opens its line
     v.el.querySelector<HTMLElement>('[data-testid="sfc-tr-t2"]')!.dispatchEvent(new MouseEvent('click'));
@@ -225,6 +232,24 @@ describe('the SFC canvas (the net editor’s: zoom, pan, grid, selection keys)',
     canvas(v).dispatchEvent(wheel);
     expect([zoom(v), wheel.defaultPrevented]).toEqual(['67 %', true]);
     expect(v.dirty).toBe(false);
+  });
+
+  it('fills the window with the sheet: no dead strip beside a small chart, at any zoom (issue 30, item 23)', async () => {
+    const v = await open();
+    const [w, h] = svg(v).getAttribute('viewBox')!.split(' ').slice(2).map(Number);
+    Object.defineProperty(canvas(v), 'clientWidth', { value: w + 700 });
+    Object.defineProperty(canvas(v), 'clientHeight', { value: h + 300 });
+    key(v, '-'); // 90 %
+    key(v, '+'); // 100 %
+    expect([svg(v).getAttribute('width'), svg(v).getAttribute('height')]).toEqual([String(w + 700), String(h + 300)]);
+    expect(svg(v).getAttribute('viewBox')).toBe(`0 0 ${w + 700} ${h + 300}`);
+    expect(svg(v).querySelector('.net-bg')!.getAttribute('width')).toBe(String(w + 700));
+    key(v, '-'); // 90 %: the sheet still reaches the edges, the drawing is smaller
+    expect(svg(v).getAttribute('width')).toBe(String(w + 700));
+    expect(Number(svg(v).getAttribute('viewBox')!.split(' ')[2])).toBeCloseTo((w + 700) / 0.9);
+    // a drawing larger than the window scrolls, as before
+    for (let k = 0; k < 4; k++) key(v, '+');
+    expect(svg(v).getAttribute('width')).toBe(String(w * 2)); // 200 %
   });
 
   it('pans with the middle button or Space held (which selects nothing); Escape and a click on the sheet clear the selection; Delete deletes, Ctrl+Z undoes', async () => {

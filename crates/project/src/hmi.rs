@@ -369,6 +369,7 @@ pub fn parse(
         let from = d.len();
         check_shown(e, &here, resolve, &diag, &mut d);
         check_alarm_ref(e, &here, alarm, &diag, &mut d);
+        check_window(e, &here, &diag, &mut d);
         for (n, a) in e.animations.iter().enumerate() {
             check_animation(a, &format!("{here}/animations/{n}"), resolve, &diag, &mut d);
         }
@@ -510,6 +511,24 @@ fn check_alarm_ref(e: &Element, here: &str, alarm: &dyn Fn(&str) -> bool, diag: 
             "not an indicator",
         )),
         Some(_) => {}
+    }
+}
+
+/// The longest time window of a trend: a day, in seconds.
+pub const MAX_TREND_WINDOW_S: f64 = 86_400.0;
+
+/// `props.window_s` of a trend: the seconds it shows, above 0 and at most a day.
+fn check_window(e: &Element, here: &str, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
+    let Some(v) = e.props.get("window_s") else { return };
+    let at = format!("{here}/props/window_s");
+    match v.as_f64() {
+        _ if e.kind != "trend" => d.push(diag(&at, "only a `trend` has a time window".into(), "not a trend")),
+        Some(s) if s > 0.0 && s <= MAX_TREND_WINDOW_S => {}
+        _ => d.push(diag(
+            &at,
+            format!("`window_s` is the seconds the trend shows, above 0 and at most {MAX_TREND_WINDOW_S}; got {v}"),
+            "window",
+        )),
     }
 }
 

@@ -73,6 +73,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/alarms/{id}/out_of_service", Needs(Role::Engineer)),
     ("PUT", "/api/trends", Needs(Role::Operator)),
     ("PUT", "/api/screens/{name}", Needs(Role::Engineer)),
+    ("POST", "/api/screens/{name}/check", Needs(Role::Engineer)),
     ("PUT", "/api/symbols/{name}", Needs(Role::Engineer)),
     ("POST", "/api/pid/{name}/autotune", Needs(Role::Engineer)),
     ("GET", "/api/audit", Needs(Role::Engineer)),
@@ -92,6 +93,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/check/{name}", post(programs::check))
         .route("/api/tags.csv", get(programs::get_tags_csv).put(programs::put_tags_csv))
         .route("/api/screens/{name}", get(screens::get).put(screens::put))
+        .route("/api/screens/{name}/check", post(screens::check_screen))
         .route("/api/symbols/{name}", get(screens::get_symbol).put(screens::put_symbol))
         .layer(DefaultBodyLimit::max(FILE_BODY));
     Router::new()

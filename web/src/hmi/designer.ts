@@ -10,10 +10,15 @@
 // with the middle button or Space held). The property panel edits one
 // element: place, size, rotation, label, the tag it shows, any number of
 // animations, the widget's action (tag pickers list the program's tags and
-// members, and mark a name that is not one). Save (Ctrl+S) is a PUT of the
-// screen: the server's located problems are listed and drawn on their
-// elements. The screen's JSON is the model: every change is a new version.
+// members, and mark a name that is not one). Every change is checked by the
+// server a moment later (POST /api/screens/{name}/check, issue 30, item 18):
+// its located problems are listed and drawn on their elements, and go as soon
+// as they are fixed. Save (Ctrl+S) is a PUT of the screen, with the same
+// problems when refused. The screen's JSON is the model: every change is a
+// new version.
 import { ApiError, api } from '../api';
+import { can } from '../auth';
+import type { Diagnostic } from '../types';
 import type { Ctx } from '../ctx';
 import { add, clear, dragScroll, h, rubberBand, s } from '../dom';
 import { domain, membersOf } from '../domain';
@@ -40,8 +45,11 @@ export class Designer {
   private sel = new Set<string>();
   private clipboard: Element[] = [];
   private zoom = 1;
-  /** Problems of the last refused save, by element id. */
+  /** Problems of the last check or refused save, by element id. */
   private errors = new Map<string, string>();
+  private checkTimer: ReturnType<typeof setTimeout> | null = null;
+  /** Counts checks and saves: an answer to an older one is dropped. */
+  private checkSeq = 0;
   private screens: string[] = [];
   private readonly canvas = h('div', { class: 'hmi-canvas', 'data-testid': 'hmi-canvas', tabindex: '0' });
   private readonly props = h('div', { class: 'hmi-props', 'data-testid': 'hmi-props' });
@@ -158,6 +166,65 @@ export class Designer {
     this.redoStack = [];
     f(this.screen);
     this.render();
+    this.scheduleCheck();
+  }
+
+  /** Checks the screen on the server a moment after the last change (nothing is saved). */
+  private scheduleCheck(): void {
+    if (!can('edit')) return;
+    if (this.checkTimer) clearTimeout(this.checkTimer);
+    this.checkTimer = setTimeout(() => {
+      this.checkTimer = null;
+      void this.check();
+    }, 400);
+  }
+
+  private async check(): Promise<void> {
+    const seq = ++this.checkSeq;
+    try {
+      await api.checkScreen(this.name, this.screen);
+      if (seq === this.checkSeq) this.showProblems([]);
+    } catch (e) {
+      // the problems of a refused screen; another failure (the link) leaves the list as it was
+      if (seq === this.checkSeq && e instanceof ApiError && e.status === 422) this.showProblems(problemsOf(e));
+    }
+  }
+
+  /** Lists `ds` and marks their elements (on the drawing and in the property panel), in place. */
+  private showProblems(ds: Pick<Diagnostic, 'line' | 'col' | 'message'>[]): void {
+    this.errors.clear();
+    clear(this.problems);
+    ds.forEach((d, k) => {
+      const id = elementOf(d.message);
+      if (id && !this.errors.has(id)) this.errors.set(id, d.message);
+      const li = h('li', { class: 'problem', 'data-testid': `hmi-problem-${k}` }, d.line === null ? d.message : `${d.line}:${d.col} ${d.message}`);
+      // the element alone, even in a group, to fix it
+      if (id)
+        li.onclick = () => {
+          this.sel = new Set([id]);
+          this.render();
+        };
+      this.problems.append(li);
+    });
+    this.paintErrors();
+  }
+
+  /** The red outline of each element with a problem, and the selected element's problem in the panel. */
+  private paintErrors(): void {
+    if (!this.svg) return;
+    this.svg.querySelectorAll('.hmi-error-box').forEach((r) => r.remove());
+    for (const e of this.screen.elements) {
+      const g = this.svg.querySelector<SVGGElement>(`[data-testid="hmi-el-${CSS.escape(e.id)}"]`);
+      const problem = this.errors.get(e.id);
+      g?.classList.toggle('hmi-error', !!problem);
+      if (g && problem) g.append(s('rect', { class: 'hmi-error-box', x: -5, y: -5, width: e.w + 10, height: e.h + 10, fill: 'none', 'data-testid': `hmi-error-${e.id}` }, s('title', null, problem)));
+    }
+    const panel = this.props.querySelector<HTMLElement>('[data-testid="hmi-prop-error"]');
+    const only = this.sel.size === 1 ? this.errors.get([...this.sel][0]) : undefined;
+    if (panel) {
+      panel.hidden = !only;
+      panel.textContent = only ?? '';
+    }
   }
 
   undo(): void {
@@ -166,6 +233,7 @@ export class Designer {
     this.redoStack.push(JSON.stringify(this.screen));
     this.screen = JSON.parse(prev);
     this.render();
+    this.scheduleCheck();
   }
 
   redo(): void {
@@ -174,6 +242,7 @@ export class Designer {
     this.undoStack.push(JSON.stringify(this.screen));
     this.screen = JSON.parse(next);
     this.render();
+    this.scheduleCheck();
   }
 
   add(type: string, x: number, y: number): void {
@@ -315,11 +384,6 @@ export class Designer {
         g.classList.add('selected');
         g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
       }
-      const problem = this.errors.get(e.id);
-      if (problem) {
-        g.classList.add('hmi-error');
-        g.append(s('rect', { class: 'hmi-error-box', x: -5, y: -5, width: e.w + 10, height: e.h + 10, fill: 'none', 'data-testid': `hmi-error-${e.id}` }, s('title', null, problem)));
-      }
       g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
       svg.append(g);
     }
@@ -329,6 +393,7 @@ export class Designer {
     this.canvas.append(svg);
     this.setZoom(this.zoom);
     this.renderProps();
+    this.paintErrors();
   }
 
   /** A rubber band from an empty place: selects every element it touches (Shift: adds). */
@@ -471,7 +536,7 @@ export class Designer {
       this.props,
       list,
       h('h3', null, `${e.id} (${e.type})`, e.group ? h('small', null, ` · ${tr('group')} ${e.group}`) : null),
-      this.errors.has(e.id) ? h('p', { class: 'inline-error', 'data-testid': 'hmi-prop-error' }, this.errors.get(e.id)) : null,
+      h('p', { class: 'inline-error', 'data-testid': 'hmi-prop-error', hidden: true }),
       field(tr('Label'), 'label', String(e.props?.label ?? ''), (v) => this.change(() => (e.props = { ...e.props, label: v }))),
       h('div', { class: 'hmi-geom' }, num('x', 'x'), num('y', 'y'), num('w', tr('width')), num('h', tr('height')), num('rotation', tr('rotation °'))),
       tagField(tr('Shows tag'), 'shows', typeof shown === 'string' ? shown : '', (v) =>
@@ -510,28 +575,22 @@ export class Designer {
   }
 
   private async save(): Promise<void> {
-    clear(this.problems);
-    this.errors.clear();
+    const seq = ++this.checkSeq;
+    // one toast for the outcome of the latest save: a success replaces a failure
+    const key = `hmi-save-${this.name}`;
     try {
       await api.saveScreen(this.name, this.screen);
-      this.ctx.notify(tr('{name} saved', { name: this.name }));
+      if (seq === this.checkSeq) this.showProblems([]);
+      this.ctx.notify(tr('{name} saved', { name: this.name }), 'info', key);
     } catch (e) {
       if (!(e instanceof ApiError)) throw e;
-      const ds = e.diagnostics.length ? e.diagnostics : [{ line: null, col: null, message: e.message }];
-      ds.forEach((d, k) => {
-        const id = elementOf(d.message);
-        if (id && !this.errors.has(id)) this.errors.set(id, d.message);
-        const li = h('li', { class: 'problem', 'data-testid': `hmi-problem-${k}` }, d.line === null ? d.message : `${d.line}:${d.col} ${d.message}`);
-        // the element alone, even in a group, to fix it
-        if (id)
-          li.onclick = () => {
-            this.sel = new Set([id]);
-            this.render();
-          };
-        this.problems.append(li);
-      });
-      this.ctx.notify(tr('{name} not saved: {m}', { name: this.name, m: e.message }), 'error');
+      if (seq === this.checkSeq) this.showProblems(problemsOf(e));
+      this.ctx.notify(tr('{name} not saved: {m}', { name: this.name, m: e.message }), 'error', key);
     }
-    this.render();
   }
+}
+
+/** The located problems of a refused screen (its message alone when it has none). */
+function problemsOf(e: ApiError): Pick<Diagnostic, 'line' | 'col' | 'message'>[] {
+  return e.diagnostics.length ? e.diagnostics : [{ line: null, col: null, message: e.message }];
 }

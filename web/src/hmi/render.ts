@@ -138,32 +138,15 @@ export function place(g: SVGGElement, e: Element): void {
   g.setAttribute('transform', `translate(${e.x + dx},${e.y + dy}) rotate(${e.rotation ?? 0} ${e.w / 2} ${e.h / 2})`);
 }
 
-/** The last values a trend element shows, by element. */
-const TREND_POINTS = 120;
-const histories = new WeakMap<SVGGElement, number[]>();
-
 /**
  * An element's shown value (`props.tag`): the figures of a text, output box
- * or meter (with `props.decimals` when set); a trend element also draws the last 120 values, on its
- * `props.min`–`props.max` scale or on the range of what it holds.
+ * or meter (with `props.decimals` when set). A trend element draws its
+ * window of values instead (trend.ts).
  */
 export function showValue(g: SVGGElement, v: Json, props: Record<string, Json> = {}): void {
   const t = g.querySelector('[data-part="text"]');
   const shown = typeof v === 'number' && typeof props.decimals === 'number' ? v.toFixed(Math.max(0, Math.min(10, props.decimals))) : fmt(v);
   if (t && t.textContent !== shown) t.textContent = shown;
-  const pen = g.querySelector('[data-part="line"]');
-  const x = num(v);
-  if (!pen || x === null) return;
-  const hist = histories.get(g) ?? [];
-  histories.set(g, hist);
-  hist.push(x);
-  if (hist.length > TREND_POINTS) hist.shift();
-  const [x0, y0, x1, y1] = (pen.getAttribute('data-box') ?? '0,0,100,100').split(',').map(Number);
-  const lo = num(props.min) ?? Math.min(...hist);
-  const hi = num(props.max) ?? Math.max(...hist);
-  const span = hi - lo || 1;
-  const pts = hist.map((y, k) => `${(x0 + ((x1 - x0) * k) / (TREND_POINTS - 1)).toFixed(1)},${(y1 - ((Math.max(lo, Math.min(hi, y)) - lo) / span) * (y1 - y0)).toFixed(1)}`);
-  pen.setAttribute('points', pts.join(' '));
 }
 
 /**

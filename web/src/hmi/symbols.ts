@@ -151,7 +151,7 @@ export function symbol(e: Element): SVGElement[] {
       // its title stays; the value it shows is drawn as the pen
       const title = text(label, -8, 12);
       title.setAttribute('data-part', 'title');
-      return [...trend(w, h), title];
+      return [...trend(w, h, p), title];
     }
     case 'faceplate':
       return faceplate(w, h, label || (typeof p.tag === 'string' ? p.tag : ''));
@@ -287,15 +287,27 @@ function barMeter(w: number, h: number, text: (t: string, y?: number, size?: num
   ];
 }
 
-/** A trend: a framed plot area (the `fill`) with a light grid, two axes and an empty pen `line`, the title (`text`) above. */
-function trend(w: number, h: number): SVGElement[] {
-  const [x0, y0, x1, y1] = [Math.max(6, w * 0.1), Math.max(4, h * 0.06), w - Math.max(4, w * 0.04), h - Math.max(6, h * 0.1)];
+/**
+ * A trend: a framed plot area (the `fill`) with a light grid, two axes and an
+ * empty pen `line`, the title (`text`) above; the scale's ends (`y-min`,
+ * `y-max`: `props.min`/`max` until values come) left of the y axis and the
+ * window's start and end times (`x-from`, `x-to`) below the time axis.
+ */
+function trend(w: number, h: number, p: Record<string, unknown>): SVGElement[] {
+  const font = 9;
+  const [x0, y0, x1, y1] = [Math.max(6, Math.min(34, w * 0.16)), Math.max(6, h * 0.06), w - Math.max(6, w * 0.04), h - Math.max(font + 6, h * 0.1)];
   const grid = stroke(1, LIGHT);
+  const label = (part: string, x: number, y: number, anchor: string, t: unknown) =>
+    s('text', { x: n(x), y: n(y), 'text-anchor': anchor, 'dominant-baseline': 'middle', 'font-size': font, fill: DARK, 'data-part': part }, typeof t === 'number' ? String(t) : '');
   return [
     s('rect', face({ width: w, height: h, rx: 2, fill: '#fff', 'data-part': 'fill' })),
     ...[1, 2, 3].map((i) => line(x0 + ((x1 - x0) * i) / 4, y0, x0 + ((x1 - x0) * i) / 4, y1, grid)),
     ...[1, 2, 3].map((i) => line(x0, y0 + ((y1 - y0) * i) / 4, x1, y0 + ((y1 - y0) * i) / 4, grid)),
     s('polyline', { points: pts([x0, y0], [x0, y1], [x1, y1]), fill: 'none', ...stroke(1.5) }),
+    label('y-max', x0 - 3, y0, 'end', p.max),
+    label('y-min', x0 - 3, y1, 'end', p.min),
+    label('x-from', x0, y1 + font / 2 + 3, 'start', null),
+    label('x-to', x1, y1 + font / 2 + 3, 'end', null),
     s('polyline', { points: '', fill: 'none', ...stroke(1.5, '#1f5fa8'), 'stroke-linejoin': 'round', 'data-part': 'line', 'data-box': [x0, y0, x1, y1].map(n).join(',') }),
   ];
 }

@@ -11,6 +11,8 @@ import { tr } from '../i18n';
 import type { Json } from '../types';
 import { openFaceplate } from '../ui/faceplate';
 import { Designer } from './designer';
+import { ScreenTrend } from './trend';
+import { historySamples, plotValue } from '../trends/history';
 import { type Element, type Screen, animate, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from './render';
 
 export class ScreensView {
@@ -123,6 +125,7 @@ export class ScreensView {
     });
     svg.append(s('rect', { width: screen.width, height: screen.height, fill: screen.background ?? '#f4f5f6' }));
     const clocks: SVGGElement[] = [];
+    const trends: [ScreenTrend, string][] = [];
     const indicators: [SVGGElement, string][] = [];
     for (const e of screen.elements) {
       const g = drawElement(e);
@@ -135,7 +138,8 @@ export class ScreensView {
         for (const m of ['SP', 'PV', 'CV', 'MAN']) this.unwatch.push(this.ctx.live.store.watch(`${shown}.${m}`, update));
         g.classList.add('hmi-widget');
         g.addEventListener('click', () => openFaceplate(this.ctx, shown));
-      } else if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
+      } else if (e.type === 'trend' && typeof shown === 'string') trends.push([new ScreenTrend(g, e.props), shown]);
+      else if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
       if (e.type === 'clock') clocks.push(g);
       if (e.type === 'alarm' && typeof e.props?.alarm === 'string') indicators.push([g, e.props.alarm]);
       if (e.action) this.wire(g, e);
@@ -153,6 +157,7 @@ export class ScreensView {
         g.addEventListener('click', () => (location.hash = '#/alarms'));
       }
     }
+    if (trends.length) this.startTrends(trends);
     if (clocks.length) {
       const timer = setInterval(() => clocks.forEach((g) => tick(g, new Date())), 1000);
       this.unwatch.push(() => clearInterval(timer));
@@ -166,6 +171,33 @@ export class ScreensView {
     clear(this.stage);
     this.stage.append(ioBanner, svg);
     this.ctx.live.subscribe('hmi', [...tagsOf(screen), 'S:IOOK']);
+  }
+
+  /**
+   * Trend elements: filled with their window from the historian (when it has
+   * the tag), then live values; redrawn every half second, so that the line
+   * moves on while a value holds.
+   */
+  private startTrends(trends: [ScreenTrend, string][]): void {
+    const now = Date.now();
+    for (const [trend, tag] of trends) {
+      this.unwatch.push(this.ctx.live.store.watch(tag, (v) => trend.push(Date.now(), plotValue(v))));
+      const from = now - trend.windowMs;
+      const points = 600;
+      // the value held at the window's start: the last one recorded in the hour before it
+      const before = api.history(tag, from - 3600e3, from - 1, 1).catch(() => null);
+      Promise.all([api.history(tag, from, now, points), before]).then(
+        ([hist, prior]) => {
+          const held = prior?.buckets[prior.buckets.length - 1]?.[4];
+          trend.seed(historySamples(hist.buckets, hist.from, hist.to, points, held));
+          trend.draw(Date.now());
+        },
+        () => undefined, // no history (off, or nothing recorded): live values only
+      );
+      trend.draw(now);
+    }
+    const timer = setInterval(() => trends.forEach(([t]) => t.draw(Date.now())), 500);
+    this.unwatch.push(() => clearInterval(timer));
   }
 
   /** Opens the designer on `name` (its saved version, or `fresh`); back to the run view when closed. */

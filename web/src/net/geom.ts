@@ -199,3 +199,27 @@ export function routes(net: Net, at: Map<string, Pt>, detours = true): Map<strin
 export function overlaps(a: Box, b: Box): boolean {
   return a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 }
+
+/** The text sizes of the drawing (style.css): the width of one character and the height of a line, in net units. */
+export const TEXT = { label: { char: 7, size: 12 }, mono: { char: 6.1, size: 10 } };
+
+/** The box of a text of `chars` characters whose left end is at `x` on the baseline `y`. */
+export function textBox(x: number, y: number, chars: number, font: { char: number; size: number }): Box {
+  return { x, y: y - font.size * 0.8, w: chars * font.char, h: font.size };
+}
+
+/**
+ * A guard (or a delay) as shown beside its transition (issue 30, item 23): at
+ * most `max` characters, and fewer when it would run into one of `obstacles`
+ * (the nodes, their names and the guards shown before it), cut with "…" (at
+ * least 4 characters are kept); the whole text stays in the tooltip.
+ */
+export function fitGuard(guard: string, x: number, y: number, obstacles: Box[], max = 16): string {
+  const cut = (n: number) => (n >= guard.length ? guard : `${guard.slice(0, n - 1)}…`);
+  for (let n = Math.min(guard.length, max); n > 4; n--) {
+    const text = cut(n);
+    const box = textBox(x, y, text.length, TEXT.mono);
+    if (!obstacles.some((o) => overlaps({ ...box, w: box.w + 4 }, o))) return text;
+  }
+  return cut(Math.min(guard.length, 4));
+}

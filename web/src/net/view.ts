@@ -27,7 +27,7 @@ import { highlight } from './code';
 import {
   type Clip, GRID, addPlace, addTransition, arcProblem, connect, copy, findNode, freshId, moveNodes, paste, remove, rename, snap,
 } from './edit';
-import { PLACE_R, type Pt, TRANS_H, TRANS_W, overlaps, placeBox, positions, routes, transitionBox } from './geom';
+import { PLACE_R, type Pt, TEXT, TRANS_H, TRANS_W, type Box, fitGuard, overlaps, placeBox, positions, routes, textBox, transitionBox } from './geom';
 import { ARC_KINDS, type Arc, type Net, PLACE_KINDS, type Place, type Transition, type Widget, type Span, TRANSITION_KINDS, WIDGET_KINDS, loadPnml, savePnml } from './pnml';
 import { type Analysis, type Marking, enabled, initialMarking, markingTag, netName, replay } from './sim';
 import { lineCol, offsetOf } from './xml';
@@ -177,9 +177,35 @@ export class NetView {
       this.ctx.live.onState(() => this.paintLive()),
       this.ctx.tags.onChange(() => this.renderProps()),
     );
+    this.unlisten.push(this.mirrorRunStop());
     this.subscribe();
     this.ctx.live.monitor('net', [this.program]);
     this.render();
+  }
+
+  /**
+   * The net's Run and Stop are the top bar's (issue 30, item 23): the same
+   * words, tooltips (with the net's keys) and state, followed while shown.
+   */
+  private mirrorRunStop(): () => void {
+    const pairs = (['run', 'stop'] as const).map((what) => ({
+      top: document.querySelector<HTMLButtonElement>(`[data-testid="btn-${what}"]`),
+      mine: this.el.querySelector<HTMLButtonElement>(`[data-testid="net-${what}"]`)!,
+      key: what === 'run' ? 'F5' : tr('Shift+F5'),
+    }));
+    const copy = () => {
+      for (const { top, mine, key } of pairs) {
+        if (!top) continue;
+        if (mine.textContent !== top.textContent) mine.textContent = top.textContent;
+        const title = `${top.title} (${key})`;
+        if (mine.title !== title) mine.title = title;
+        mine.disabled = top.disabled;
+      }
+    };
+    copy();
+    const watch = new MutationObserver(copy);
+    for (const { top } of pairs) if (top) watch.observe(top, { attributes: true, childList: true, characterData: true, subtree: true });
+    return () => watch.disconnect();
   }
 
   hide(): void {
@@ -783,6 +809,18 @@ export class NetView {
     }
     // nodes
     const invTip = (id: string) => (this.lit.has(id) ? ' lit' : '');
+    // what a guard must not run into: the nodes, their names, the widgets, and the guards drawn before it
+    const taken: Box[] = [
+      ...net.places.flatMap((p) => {
+        const c = at.get(p.id)!;
+        return [placeBox(c), textBox(c.x + PLACE_R - 6, c.y + PLACE_R + 10, (p.name ?? p.id).length, TEXT.label), ...(p.tag ? [textBox(c.x + PLACE_R - 6, c.y + PLACE_R + 22, p.tag.length + 2, TEXT.mono)] : [])];
+      }),
+      ...net.transitions.flatMap((t) => {
+        const c = at.get(t.id)!;
+        return [transitionBox(c), textBox(c.x + TRANS_W / 2 + 3, c.y - TRANS_H / 2 - 3, (t.name ?? t.id).length, TEXT.label)];
+      }),
+      ...net.widgets.map((wd) => widgetBox(wd, at.get(wd.id)!)),
+    ];
     for (const p of net.places) {
       const c = at.get(p.id)!;
       const cls = `net-node net-place kind-${p.kind}${this.sel.has(p.id) ? ' selected' : ''}${errors.has(p.id) ? ' error' : ''}${invTip(p.id)}${this.linkFrom === p.id ? ' link-from' : ''}`;
@@ -806,6 +844,8 @@ export class NetView {
       const c = at.get(t.id)!;
       const cls = `net-node net-transition kind-${t.kind}${this.sel.has(t.id) ? ' selected' : ''}${errors.has(t.id) ? ' error' : ''}${dead.has(t.id) ? ' dead' : ''}${invTip(t.id)}${this.linkFrom === t.id ? ' link-from' : ''}`;
       const guard = t.kind === 'timer' ? (t.props.delay ?? '') : (t.guard ?? '');
+      const shown = guard && fitGuard(guard, c.x + TRANS_W / 2 + 3, c.y + TRANS_H / 2 + 11, taken);
+      if (shown) taken.push(textBox(c.x + TRANS_W / 2 + 3, c.y + TRANS_H / 2 + 11, shown.length, TEXT.mono));
       const g = s('g', { class: cls, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-node-${t.id}`, 'data-kind': t.kind, 'data-id': t.id, 'data-dead': dead.has(t.id) ? 'true' : undefined },
         // a grip over the bar and its labels: easier to grab than a 12-unit bar
         // the name at the top right of the bar and the guard (or delay) at the bottom right:
@@ -814,7 +854,7 @@ export class NetView {
         s('rect', { x: -TRANS_W / 2, y: -TRANS_H / 2, width: TRANS_W, height: TRANS_H, class: 'net-shape' }),
         GLYPH[t.kind] ? s('text', { class: 'net-glyph', x: -TRANS_W / 2 - 2, y: -TRANS_H / 2 + 8, 'text-anchor': 'end' }, GLYPH[t.kind]) : null,
         s('text', { class: 'net-label', x: TRANS_W / 2 + 3, y: -TRANS_H / 2 - 3 }, t.name ?? t.id),
-        guard ? s('text', { class: 'net-guard', x: TRANS_W / 2 + 3, y: TRANS_H / 2 + 11 }, guard.length > 16 ? `${guard.slice(0, 15)}…` : guard, s('title', null, guard)) : null,
+        guard ? s('text', { class: 'net-guard', x: TRANS_W / 2 + 3, y: TRANS_H / 2 + 11 }, shown, s('title', null, guard)) : null,
         t.priority !== null ? s('text', { class: 'net-prio', x: -TRANS_W / 2 - 2, y: TRANS_H / 2, 'text-anchor': 'end' }, `#${t.priority}`) : null,
         s('text', { class: 'net-info', y: -TRANS_H / 2 - 17, 'text-anchor': 'middle' }),
         errors.has(t.id) ? s('rect', { x: -TRANS_W / 2 - 5, y: -TRANS_H / 2 - 5, width: TRANS_W + 10, height: TRANS_H + 10, class: 'net-error-ring', 'data-testid': `net-error-${t.id}` }, s('title', null, errors.get(t.id)!.join('\n'))) : null);

@@ -3,8 +3,9 @@
 // transitions with their conditions, simultaneous divergences and
 // convergences as double lines, a transition back to an earlier step as a
 // jump arrow, and each step's action blocks (qualifier, action, time) — with
-// the running chart live: active steps (`<sfc>.<step>.X`) lit and their
-// elapsed time (`.T`), action tags on or off. The text is the model: it is
+// the running chart live: active steps (`<sfc>.<step>.X`) lit with their
+// action blocks (an action row is lit by its step's activity, not by its
+// tag, which other steps may drive too) and their elapsed time (`.T`). The text is the model: it is
 // edited in the text view (a click on an element goes to its line) through
 // the shared ProgramEditor (check, online save, undo, problems, which are also
 // drawn on the step or transition whose text holds them). The canvas is the
@@ -137,8 +138,7 @@ export class SfcView {
   private subscribe(): void {
     if (!this.active) return;
     const saved = parseSfc(this.ed.savedText);
-    const actions = new Set(saved.steps.flatMap((st) => st.actions.map((a) => a.name)).filter((n) => this.ctx.tags.resolve(n)));
-    this.ctx.live.subscribe(`sfc:${this.program}`, [...saved.steps.flatMap((st) => [this.tag(st.name, 'X'), this.tag(st.name, 'T')]), ...actions]);
+    this.ctx.live.subscribe(`sfc:${this.program}`, saved.steps.flatMap((st) => [this.tag(st.name, 'X'), this.tag(st.name, 'T')]));
   }
 
   private setMode(m: 'chart' | 'text'): void {
@@ -422,7 +422,7 @@ export class SfcView {
     this.paintLive();
   }
 
-  /** Active steps and their time, action tags on or off: from the running program's saved text only. */
+  /** Active steps, their time and their action blocks: from the running program's saved text only. */
   private paintLive(): void {
     const live = this.ed.monitoring;
     this.liveEl.textContent = live ? tr('live') : this.dirty ? tr('edited — not live') : tr('not running');
@@ -437,10 +437,7 @@ export class SfcView {
       g.classList.toggle('active', on);
       const time = g.querySelector('.sfc-time');
       if (time) time.textContent = on && typeof t === 'number' ? `${fmt(t)} ms` : '';
-      g.querySelectorAll<SVGGElement>('.sfc-action').forEach((a) => {
-        const v = live ? this.ctx.live.store.get(a.dataset.tag ?? '') : undefined;
-        a.classList.toggle('on', v === true);
-      });
+      g.querySelectorAll<SVGGElement>('.sfc-action').forEach((a) => a.classList.toggle('on', on));
     }
   }
 }

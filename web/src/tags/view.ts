@@ -3,13 +3,14 @@
 import { ApiError, api } from '../api';
 import { type Action, gate } from '../auth';
 import type { Ctx } from '../ctx';
-import { clear, fmt, h } from '../dom';
+import { clear, fmt, h, searchBox } from '../dom';
 import type { Diagnostic, Json, TagInfo } from '../types';
 import { domain, isStructure, membersOf } from '../domain';
 import { showMenu } from '../ui/menu';
 import { parseValue, tagMenuItems } from '../ui/tagActions';
 import { type TagDef, type TagsFile, lineOfDefs, parseTagsCsv, tagsCsv, validateDef } from './csv';
 import { tr } from '../i18n';
+import { confirmAction } from '../ui/confirm';
 import { openFaceplate } from '../ui/faceplate';
 import { openOpcuaBrowser } from '../ui/opcuaBrowse';
 
@@ -59,7 +60,7 @@ function gated<E extends HTMLElement & { disabled: boolean }>(el: E, action: Act
 export class TagsView {
   readonly el: HTMLElement;
   private readonly body = h('tbody');
-  private readonly filterEl = h('input', { type: 'search', placeholder: tr('Filter by name, type, address, description'), 'data-testid': 'tag-filter' });
+  private readonly filterEl = searchBox(tr('Filter by name, type, address, description'), 'tag-filter');
   private readonly formEl = h('div', { class: 'tag-form', hidden: true, 'data-testid': 'tag-form' });
   private readonly diagEl = h('ul', { class: 'problems', 'data-testid': 'tags-diagnostics' });
   private rows: { row: Row; tr: HTMLTableRowElement }[] = [];
@@ -363,7 +364,12 @@ export class TagsView {
   }
 
   private async deleteDef(name: string): Promise<void> {
-    if (!confirm(tr('Delete the tag {name} from tags.csv?', { name }))) return;
+    const sure = await confirmAction(
+      tr('Delete the tag {name}?', { name }),
+      tr('It is removed from tags.csv. If a program still uses it, nothing is saved and the problems are listed.'),
+      tr('Delete'),
+    );
+    if (!sure) return;
     const file = await this.loadFile();
     const defs = file.defs.filter((d) => d.name.toUpperCase() !== name.toUpperCase());
     const next = { columns: file.columns, defs };

@@ -1,7 +1,11 @@
 // How pens share the plot (issue 16, item 4): analog pens on up to four y
 // axes (1, 3 left; 2, 4 right), each automatic or fixed (min/max); BOOL pens
 // as steps on lanes of their own along the bottom of the plot, whatever
-// their axis says; and the time range kept out of the future.
+// their axis says, with an axis of their own (their names) — the analog axes
+// keep the part above the lanes (issue 30, item 16); the time axis' labels
+// in the language's format, spaced so that they do not collide; and the time
+// range kept out of the future.
+import { clockTime, dateOnly, minuteTime } from '../i18n';
 
 /** A pen as the plot sees it. */
 export interface PenSpec {
@@ -46,6 +50,20 @@ export function laneRange(lanes: number, withAnalog: boolean): [number, number] 
   return [0, withAnalog ? n / LANE_SHARE : n];
 }
 
+/**
+ * An analog scale's range `[lo, hi]` stretched down so that its pens keep the
+ * part of the plot above the lanes (the lanes take the bottom LANE_SHARE).
+ */
+export function aboveLanes(lo: number, hi: number, withLanes: boolean): [number, number] {
+  if (!withLanes) return [lo, hi];
+  return [lo - ((hi - lo) * LANE_SHARE) / (1 - LANE_SHARE), hi];
+}
+
+/** The lowest value an analog axis of range `[min, max]` labels beside lanes: the top of the lanes. */
+export function lanesTop(min: number, max: number): number {
+  return min + (max - min) * LANE_SHARE;
+}
+
 /** The fixed range of an axis: the first pen on it with both min and max set; null: automatic. */
 export function fixedRange(pens: PenSpec[], scale: string): [number, number] | null {
   const p = pens.find((q) => !q.digital && scaleOf(q) === scale && q.min !== null && q.max !== null && q.min < q.max);
@@ -60,4 +78,32 @@ export function axesInUse(pens: PenSpec[]): string[] {
 /** A range shifted back so that it does not end after `now` (zooming out of live shows the past, not empty future). */
 export function clampToNow(from: number, to: number, now: number): [number, number] {
   return to > now ? [from - (to - now), now] : [from, to];
+}
+
+const MINUTE = 60e3;
+const DAY = 86400e3;
+
+/**
+ * The time axis' labels for ticks `splits` (ms) `incr` apart: the time of day
+ * (to the second when ticks are less than a minute apart or not on whole
+ * minutes), and the date below the first one and wherever the day changes;
+ * ticks a day or more apart show the date only.
+ */
+export function timeLabels(splits: number[], incr: number): string[] {
+  if (incr >= DAY) return splits.map((t) => dateOnly(t));
+  const seconds = incr < MINUTE || splits.some((t) => t % MINUTE !== 0);
+  let day = '';
+  return splits.map((t) => {
+    const time = seconds ? clockTime(t) : minuteTime(t);
+    const d = dateOnly(t);
+    const label = d !== day ? `${time}\n${d}` : time;
+    day = d;
+    return label;
+  });
+}
+
+/** The widest time label (in characters) and so the least space (CSS px) between two time ticks. */
+export function timeSpace(charPx = 7): number {
+  const widest = Math.max(clockTime(Date.UTC(2000, 0, 1, 22, 58, 58)).length, dateOnly(Date.UTC(2000, 11, 28)).length);
+  return widest * charPx + 24;
 }

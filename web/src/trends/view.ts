@@ -18,10 +18,11 @@ import { clear, download, h } from '../dom';
 import { isStructure } from '../domain';
 import { can } from '../auth';
 import type { History, TrendPen } from '../types';
-import { type PenSpec, axesInUse, clampToNow, fixedRange, fromLane, laneRange, lanesOf, scaleOf, toLane } from './axes';
+import { type PenSpec, aboveLanes, axesInUse, clampToNow, fixedRange, fromLane, laneRange, lanesOf, lanesTop, scaleOf, timeLabels, timeSpace, toLane } from './axes';
 import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
+import { trendCsv } from './csv';
 import { type PenRef, REMOTE_REFRESH_MS, liveTags, newPen, parsePen, penId, penKey, remotePens } from './pens';
-import { clockTime, locale, tr } from '../i18n';
+import { dateTime, tr, when } from '../i18n';
 
 const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#7f7f7f', '#bcbd22'];
 const WINDOWS: [string, number][] = [
@@ -72,6 +73,8 @@ export class TrendsView {
   private fetchSeq = 0;
   private wheelTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly plotEl = h('div', { class: 'trend-plot', 'data-testid': 'trend-plot' });
+  /** Over the plot when no pen has a value in the range shown. */
+  private readonly noData = h('div', { class: 'trend-nodata', 'data-testid': 'trend-nodata', hidden: true }, tr('No data in this range'));
   private readonly pensEl = h('div', { class: 'pens', 'data-testid': 'trend-pens' });
   private readonly statusEl = h('span', { class: 'trend-status', 'data-testid': 'trend-status' });
   private readonly penInput = h('input', { list: 'trend-tags', placeholder: tr('Tag to plot'), 'data-testid': 'trend-pen-input', autocomplete: 'off' });
@@ -143,7 +146,7 @@ export class TrendsView {
         this.statusEl,
       ),
       this.pensEl,
-      this.plotEl,
+      h('div', { class: 'trend-plot-wrap' }, this.plotEl, this.noData),
       h('p', { class: 'hint' }, tr('Drag across the plot to zoom into the history; the wheel zooms, ◀ ▶ pan, Live returns to the scrolling view.')),
     );
     ctx.live.onRaw((m) => {
@@ -379,7 +382,7 @@ export class TrendsView {
     let s: string;
     if (text) s = text;
     else if (this.mode.kind === 'live') s = tr('live, last {window}', { window: WINDOWS.find(([, ms]) => ms === this.windowMs)?.[0] ?? '' });
-    else s = `${new Date(this.mode.from).toLocaleString(locale())} – ${clockTime(this.mode.to)}`;
+    else s = `${dateTime(this.mode.from)} – ${when(this.mode.to, this.mode.from)}`;
     if (this.historyAvailable === false) s += ` · ${tr('history not available on this server (live buffer only)')}`;
     this.statusEl.textContent = s;
   }
@@ -447,6 +450,7 @@ export class TrendsView {
       this.plotHistory = history;
       if (this.pens.length) this.plot = this.makePlot(history);
       else this.markPlot(0, 0);
+      this.noData.hidden = true;
     }
     if (history) void this.fetchHistory();
     else this.redraw();
@@ -457,7 +461,7 @@ export class TrendsView {
     const lanes = lanesOf(specs);
     const nLanes = lanes.filter((l) => l >= 0).length;
     const analog = axesInUse(specs);
-    const series: uPlot.Series[] = [{ label: 'time' }];
+    const series: uPlot.Series[] = [{ label: tr('Time'), value: (_u, v) => (v === null ? '--' : dateTime(v)) }];
     const bands: uPlot.Band[] = [];
     specs.forEach((p, k) => {
       const color = COLORS[k % COLORS.length];
@@ -474,16 +478,54 @@ export class TrendsView {
       }
     });
     const scales: uPlot.Scales = { x: { time: true } };
-    const axes: uPlot.Axis[] = [{}];
+    // times in the language's format, ticks far enough apart for their labels
+    const axes: uPlot.Axis[] = [{
+      space: timeSpace(),
+      values: (u, splits, _a, _s, incr) => {
+        const labels = timeLabels(splits, incr);
+        // the ticks as drawn (CSS px from the canvas' left, label), for tests
+        const left = u.bbox.left / (window.devicePixelRatio || 1);
+        this.plotEl.dataset.xTicks = JSON.stringify(splits.map((t, k) => [Math.round(left + u.valToPos(t, 'x')), labels[k]]));
+        return labels;
+      },
+      size: 48,
+    }];
+    const withLanes = nLanes > 0;
+    // an analog axis labels only its part of the plot, above the lanes
+    const aboveTheLanes = (u: uPlot, splits: number[], axisIdx: number) => {
+      const sc = u.scales[u.axes[axisIdx].scale ?? ''];
+      const top = sc?.min !== undefined && sc.max !== undefined ? lanesTop(sc.min, sc.max) : -Infinity;
+      return splits.map((v) => (v >= top - 1e-9 * Math.abs(top) ? v : null));
+    };
     analog.forEach((key, n) => {
       const fixed = fixedRange(specs, key);
-      scales[key] = fixed ? { auto: false, range: fixed } : { auto: true };
+      scales[key] = fixed
+        ? { auto: false, range: aboveLanes(fixed[0], fixed[1], withLanes) }
+        : {
+            auto: true,
+            range: (_u, lo, hi) => {
+              const [a, b] = lo === null || hi === null ? [0, 1] : uPlot.rangeNum(lo, hi, 0.1, true);
+              return aboveLanes(a ?? 0, b ?? 1, withLanes);
+            },
+          };
       const pensHere = specs.filter((p) => scaleOf(p) === key).map((p) => p.tag).join(', ');
-      axes.push({ scale: key, side: n % 2 === 0 ? 3 : 1, grid: { show: n === 0 }, label: pensHere, labelSize: 18, size: 64 });
+      const axis: uPlot.Axis = { scale: key, side: n % 2 === 0 ? 3 : 1, grid: { show: n === 0 }, label: pensHere, labelSize: 18, size: 64 };
+      if (withLanes) Object.assign(axis, { filter: aboveTheLanes, grid: { show: n === 0, filter: aboveTheLanes }, ticks: { filter: aboveTheLanes } });
+      axes.push(axis);
     });
-    if (nLanes) {
+    if (withLanes) {
+      // the on/off pens' own axis: their names beside their lanes
+      const names = specs.filter((p) => p.digital).map((p) => p.tag);
       scales.lanes = { auto: false, range: laneRange(nLanes, analog.length > 0) };
-      axes.push({ scale: 'lanes', show: false });
+      axes.push({
+        scale: 'lanes',
+        side: 3,
+        grid: { show: false },
+        ticks: { show: false },
+        splits: () => names.map((_, k) => k + 0.5),
+        values: () => names,
+        size: Math.min(140, 16 + 7 * Math.max(...names.map((x) => x.length))),
+      });
     }
     // What the canvas shows, for tests and screen readers: the y axes with their pens, and the lanes.
     this.plotEl.dataset.axes = analog.map((key) => specs.filter((p) => scaleOf(p) === key).map((p) => p.tag).join(',')).join('|');
@@ -497,8 +539,20 @@ export class TrendsView {
       scales,
       axes,
       legend: { live: true },
+      // room for the last time label at the right edge, unless an axis is there
+      padding: [null, analog.length >= 2 ? null : timeSpace() / 2, null, null],
       cursor: { drag: { x: true, y: false, setScale: false } },
       hooks: {
+        draw: [
+          // the scales as drawn ({key: [min, max]}), for tests
+          (u) => {
+            const scales = Object.fromEntries([...analog, ...(withLanes ? ['lanes'] : [])].map((k) => [k, [u.scales[k].min, u.scales[k].max]]));
+            const text = JSON.stringify(scales);
+            if (this.plotEl.dataset.scales !== text) this.plotEl.dataset.scales = text;
+          },
+          // the line between the analog pens and the lanes
+          ...(withLanes && analog.length ? [(u: uPlot) => lanesLine(u, nLanes)] : []),
+        ],
         setSelect: [
           (u) => {
             if (u.select.width < 5) return;
@@ -538,6 +592,13 @@ export class TrendsView {
     this.plot.setScale('x', { min: from, max: to });
     this.showLatest(data[0].length);
     this.markPlot(data[0].length, to);
+    this.showNoData(data);
+  }
+
+  /** "No data in this range" while no pen has a value in the columns `data` (time first). */
+  private showNoData(data: ArrayLike<unknown>[]): void {
+    const empty = !Array.from(data).slice(1).some((col) => Array.from(col).some((v) => v !== null && v !== undefined));
+    if (this.noData.hidden !== !empty) this.noData.hidden = !empty;
   }
 
   /** The legend shows the latest values while the cursor is away from the plot (never `--`). */
@@ -650,6 +711,7 @@ export class TrendsView {
     this.plot.setScale('x', { min: from, max: to });
     this.showLatest(j.xs.length);
     this.markPlot(j.xs.length, to);
+    this.showNoData(data);
     this.renderStatus();
   }
 
@@ -660,9 +722,10 @@ export class TrendsView {
     }
     const [from, to] = this.range();
     const url = api.historyCsvUrl(this.pens.map(penId), from, to, exportStep(from, to));
+    const real = this.pens.map((p) => !p.node && this.ctx.tags.resolve(p.tag)?.type === 'REAL');
     try {
       const text = await api.text(url);
-      download('trend.csv', text, true);
+      download('trend.csv', trendCsv(text, Math.floor(from), real), true);
     } catch (e) {
       this.ctx.notify(tr('CSV export failed: {m}', { m: (e as Error).message }), 'error');
     }
@@ -674,4 +737,17 @@ function readNum(root: HTMLElement, testid: string): number | null {
   const el = root.querySelector(`[data-testid="${testid}"]`) as HTMLInputElement | null;
   const v = el?.value.trim() ?? '';
   return v === '' || !Number.isFinite(Number(v)) ? null : Number(v);
+}
+
+/** The line between the analog pens and the `lanes` lanes below them. */
+function lanesLine(u: uPlot, lanes: number): void {
+  const y = Math.round(u.valToPos(lanes, 'lanes', true)) + 0.5;
+  u.ctx.save();
+  u.ctx.strokeStyle = '#9aa3ae';
+  u.ctx.lineWidth = 1;
+  u.ctx.beginPath();
+  u.ctx.moveTo(u.bbox.left, y);
+  u.ctx.lineTo(u.bbox.left + u.bbox.width, y);
+  u.ctx.stroke();
+  u.ctx.restore();
 }

@@ -1,11 +1,14 @@
 // The alarm log page (issue 17, item 7): every change of state of every alarm
 // from the persistent log (GET /api/alarms/log.csv) for a time range, with a
 // filter on alarm, tag, state, user and comment, and the range exported as
-// CSV. The CSV the server streams is the one format; the page parses it.
+// CSV. The CSV the server streams is the one format; the page parses it. The
+// range ends "now" unless the user picks an end (issue 30, item 5): then the
+// page follows every change of an alarm's state, the user's own
+// acknowledgements and shelvings included.
 import { api } from '../api';
 import type { Ctx } from '../ctx';
-import { clear, download, h } from '../dom';
-import { tr } from '../i18n';
+import { clear, download, h, searchBox } from '../dom';
+import { dateTime, tr } from '../i18n';
 import { alarmText } from './alarms';
 
 /** Rows shown at most (the export has them all). */
@@ -57,23 +60,29 @@ const state = (s: string) => alarmText.state[s as keyof typeof alarmText.state] 
 export class AlarmLog {
   readonly el: HTMLElement;
   private readonly from = h('input', { type: 'datetime-local', 'data-testid': 'alarm-log-from' });
-  private readonly to = h('input', { type: 'datetime-local', 'data-testid': 'alarm-log-to' });
-  private readonly filter = h('input', { type: 'search', placeholder: tr('Filter by alarm, tag, state, user, comment'), 'data-testid': 'alarm-log-filter' });
+  private readonly to = h('input', { type: 'datetime-local', 'data-testid': 'alarm-log-to', hidden: true });
+  /** The range ends now, and the page follows new events. */
+  private readonly now = h('input', { type: 'checkbox', checked: true, 'data-testid': 'alarm-log-now' });
+  private reloadTimer: ReturnType<typeof setTimeout> | null = null;
+  private readonly filter = searchBox(tr('Filter by alarm, tag, state, user, comment'), 'alarm-log-filter');
   private readonly count = h('span', { class: 'hint', 'data-testid': 'alarm-log-count' });
   private readonly body = h('tbody');
   private csv = '';
 
   constructor(private readonly ctx: Ctx) {
-    const now = Date.now();
-    this.from.value = local(now - 86_400_000);
-    this.to.value = local(now + 60_000);
+    this.from.value = local(Date.now() - 86_400_000);
+    this.now.addEventListener('change', () => {
+      this.to.hidden = this.now.checked;
+      if (!this.now.checked && !this.to.value) this.to.value = local(Date.now() + 60_000);
+      void this.load();
+    });
     const load = h('button', { 'data-testid': 'alarm-log-load' }, tr('Show'));
     load.onclick = () => void this.load();
     const exp = h('button', { 'data-testid': 'alarm-log-export', title: tr('The whole range as CSV') }, tr('Export CSV'));
     exp.onclick = () => void this.export();
     this.filter.addEventListener('input', () => this.render());
     this.el = h('section', { class: 'alarm-log', 'data-testid': 'alarm-log' },
-      h('div', { class: 'toolbar' }, h('label', null, tr('From'), ' ', this.from), h('label', null, tr('To'), ' ', this.to), load, this.filter, exp, this.count),
+      h('div', { class: 'toolbar' }, h('label', null, tr('From'), ' ', this.from), h('label', null, tr('To'), ' ', this.to), h('label', { title: tr('The range ends now and the page shows new events as they happen') }, this.now, tr('now')), load, this.filter, exp, this.count),
       h('table', { class: 'tags', 'data-testid': 'alarm-log-table' },
         h('thead', null, h('tr', null, [tr('Time'), tr('Alarm'), tr('Tag'), tr('From'), tr('To'), tr('Value'), tr('User'), tr('Comment')].map((c) => h('th', null, c)))),
         this.body));
@@ -81,8 +90,17 @@ export class AlarmLog {
 
   private range(): string {
     const ms = (i: HTMLInputElement) => (i.value ? new Date(i.value).getTime() : NaN);
-    const [a, b] = [ms(this.from), ms(this.to)];
+    const [a, b] = [ms(this.from), this.now.checked ? NaN : ms(this.to)];
     return [Number.isFinite(a) ? `from=${a}` : '', Number.isFinite(b) ? `to=${b}` : ''].filter(Boolean).join('&');
+  }
+
+  /** An alarm changed state: shown at once while the page follows now (a burst of changes reads once). */
+  changed(): void {
+    if (this.el.hidden || !this.now.checked || this.reloadTimer) return;
+    this.reloadTimer = setTimeout(() => {
+      this.reloadTimer = null;
+      void this.load();
+    }, 300);
   }
 
   async load(): Promise<void> {
@@ -109,6 +127,6 @@ export class AlarmLog {
     this.count.textContent = rows.length > SHOWN ? tr('newest {n} of {m} events', { n: SHOWN, m: rows.length }) : tr('{n} events', { n: rows.length });
     for (const r of rows.slice(0, SHOWN))
       this.body.append(h('tr', { 'data-testid': `alarm-log-row-${r.id}` },
-        [new Date(Number(r.time_ms)).toLocaleString(), r.alarm, r.tag, state(r.from), state(r.to), r.value, r.user, r.comment].map((c) => h('td', null, c))));
+        [dateTime(Number(r.time_ms)), r.alarm, r.tag, state(r.from), state(r.to), r.value, r.user, r.comment].map((c) => h('td', null, c))));
   }
 }

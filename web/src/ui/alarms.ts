@@ -7,7 +7,7 @@ import { api } from '../api';
 import { gate } from '../auth';
 import { clear, h, s } from '../dom';
 import type { Alarm, AlarmStats } from '../types';
-import { clockTime, tr } from '../i18n';
+import { tr, when } from '../i18n';
 
 /** The strings of the banner (one place; a Spanish catalogue comes later). */
 export const alarmText = {
@@ -21,6 +21,8 @@ export const alarmText = {
   muted: tr('Muted'),
   soundOnTitle: tr('New alarms sound in this browser (a tone per severity): click to mute'),
   mutedTitle: tr('New alarms are silent in this browser: click to turn the sound on'),
+  /** The severity bands by name (the banner and the summary say these, not the number). */
+  band: { critical: tr('critical'), high: tr('high'), medium: tr('medium'), low: tr('low') },
   state: {
     active_unacked: tr('active, not acknowledged'),
     active_acked: tr('active, acknowledged'),
@@ -117,7 +119,7 @@ export class AlarmBanner {
       return;
     }
     const top = this.alarms.find((a) => a.id === s.top_unacked);
-    this.text.textContent = [alarmText.waiting(s.unacked), top ? `${top.id}: ${top.message}` : '', s.flood ? alarmText.flood : '']
+    this.text.textContent = [s.unacked ? alarmText.waiting(s.unacked) : '', top ? `${top.id}: ${top.message}` : '', s.flood ? alarmText.flood : '']
       .filter(Boolean)
       .join(' — ');
     this.text.title = this.text.textContent;
@@ -146,11 +148,11 @@ export class AlarmBanner {
         h(
           'tr',
           { 'data-testid': `alarm-row-${a.id}`, 'data-band': band(a.severity), 'data-state': a.state },
-          h('td', { class: 'sev' }, String(a.severity)),
+          h('td', { class: 'sev', title: tr('severity {n}', { n: a.severity }) }, alarmText.band[band(a.severity)]),
           h('td', null, a.id),
           h('td', null, a.message),
           h('td', null, alarmText.state[a.state] ?? a.state),
-          h('td', null, clockTime(a.since_ms)),
+          h('td', null, when(a.since_ms)),
           h('td', null, ack),
         ),
       );

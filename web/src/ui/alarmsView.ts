@@ -1,17 +1,19 @@
 // The Alarms tab (issue 17, item 7): the alarm summary — every alarm not in
-// `normal`, filtered by text, sorted by severity, time or name — with
-// acknowledge (one, or every unacknowledged alarm shown), shelve (minutes and
-// a reason) and unshelve, the counts and the flood state of the standard's
-// guidance, and the log page (alarmLog.ts). Refreshed on every `alarms`
-// summary of the WebSocket.
+// `normal`, with its severity named and coloured, filtered by text, sorted by
+// severity, time or name — with acknowledge (one, or every unacknowledged
+// alarm shown), shelve (a dialog: minutes and a reason; the row then says
+// until when and why) and unshelve, the counts and the flood state of the
+// standard's guidance, and the log page (alarmLog.ts). Refreshed on every
+// `alarms` summary of the WebSocket, and so is the log while it follows now.
 import { api } from '../api';
 import { can, gate } from '../auth';
 import type { Ctx } from '../ctx';
-import { add, clear, h } from '../dom';
-import { clockTime, tr } from '../i18n';
+import { add, clear, h, searchBox } from '../dom';
+import { tr, when } from '../i18n';
 import type { Alarm } from '../types';
 import { AlarmLog } from './alarmLog';
 import { alarmText, band } from './alarms';
+import { shelveDialog } from './shelve';
 
 type SortKey = 'severity' | 'time' | 'id';
 
@@ -30,7 +32,7 @@ export function summary(alarms: Alarm[], filter: string, sort: SortKey): Alarm[]
 export class AlarmsView {
   readonly el: HTMLElement;
   private alarms: Alarm[] = [];
-  private readonly filter = h('input', { type: 'search', placeholder: tr('Filter by id, tag, message, state'), 'data-testid': 'alarms-filter' });
+  private readonly filter = searchBox(tr('Filter by id, tag, message, state'), 'alarms-filter');
   private readonly sort = h('select', { 'data-testid': 'alarms-sort' },
     h('option', { value: 'severity' }, tr('most severe first')),
     h('option', { value: 'time' }, tr('newest first')),
@@ -38,12 +40,13 @@ export class AlarmsView {
   private readonly body = h('tbody');
   private readonly stats = h('span', { class: 'alarm-stats', 'data-testid': 'alarms-stats' });
   private unlisten: (() => void) | null = null;
+  private readonly log: AlarmLog;
 
   constructor(private readonly ctx: Ctx) {
     const ackPage = h('button', { 'data-testid': 'alarms-ack-page', title: tr('Acknowledge every unacknowledged alarm shown') }, tr('Acknowledge page'));
     ackPage.onclick = () => void this.ackShown();
     gate(ackPage, 'ack');
-    const log = new AlarmLog(ctx);
+    const log = (this.log = new AlarmLog(ctx));
     log.el.hidden = true;
     const summaryPart = h('div', { class: 'alarm-summary-part' });
     const page = h('select', { 'data-testid': 'alarms-page' }, h('option', { value: 'summary' }, tr('Summary')), h('option', { value: 'log' }, tr('Log')));
@@ -57,14 +60,18 @@ export class AlarmsView {
     add(summaryPart,
       h('div', { class: 'toolbar' }, this.filter, this.sort, ackPage, this.stats),
       h('table', { class: 'tags alarm-summary', 'data-testid': 'alarms-table' },
-        h('thead', null, h('tr', null, [tr('Alarm'), tr('Tag'), tr('Message'), tr('State'), tr('Since'), ''].map((c) => h('th', null, c)))),
+        h('thead', null, h('tr', null, [tr('Severity'), tr('Alarm'), tr('Tag'), tr('Message'), tr('State'), tr('Since'), ''].map((c) => h('th', null, c)))),
         this.body));
     this.el = h('section', { class: 'alarms-view', 'data-testid': 'alarms-view' }, h('div', { class: 'toolbar' }, page), summaryPart, log.el);
   }
 
   show(): void {
     void this.refresh();
-    this.unlisten = this.ctx.live.onBatch((b) => b.alarms && void this.refresh());
+    this.unlisten = this.ctx.live.onBatch((b) => {
+      if (!b.alarms) return;
+      void this.refresh();
+      this.log.changed();
+    });
   }
 
   hide(): void {
@@ -109,7 +116,7 @@ export class AlarmsView {
   private render(): void {
     clear(this.body);
     const rows = this.shown();
-    if (rows.length === 0) this.body.append(h('tr', null, h('td', { colspan: 6, class: 'hint' }, alarmText.none)));
+    if (rows.length === 0) this.body.append(h('tr', null, h('td', { colspan: 7, class: 'hint' }, alarmText.none)));
     for (const a of rows) {
       const unacked = a.state === 'active_unacked' || a.state === 'cleared_unacked';
       const ack = h('button', { class: 'small', 'data-testid': `alarms-ack-${a.id}`, hidden: !unacked }, alarmText.ack);
@@ -117,20 +124,35 @@ export class AlarmsView {
       gate(ack, 'ack');
       const shelved = a.state === 'shelved';
       const shelve = h('button', { class: 'small', 'data-testid': `alarms-shelve-${a.id}` }, shelved ? tr('Unshelve') : tr('Shelve'));
-      shelve.onclick = () => {
+      shelve.onclick = async () => {
         if (shelved) return void this.act(() => api.unshelveAlarm(a.id));
-        const minutes = Number(prompt(tr('Shelve {id} for how many minutes?', { id: a.id }), '60'));
-        const reason = prompt(tr('Why?'), '') ?? '';
-        if (Number.isFinite(minutes) && minutes > 0) void this.act(() => api.shelveAlarm(a.id, minutes, reason));
+        const done = await shelveDialog(a, async (minutes, reason) => {
+          try {
+            await api.shelveAlarm(a.id, minutes, reason);
+            return null;
+          } catch (e) {
+            return e instanceof Error ? e.message : String(e);
+          }
+        });
+        if (done) await this.refresh();
       };
       gate(shelve, 'ack');
+      const b = band(a.severity);
+      // a shelved alarm says until when, why, and who shelved it
+      const shelving = shelved
+        ? h('div', { class: 'shelving', 'data-testid': `alarms-shelved-${a.id}` },
+            a.shelved_until_ms !== null ? tr('until {time}', { time: when(a.shelved_until_ms) }) : null,
+            a.reason ? ` — ${a.reason}` : null,
+            a.by ? ` (${a.by})` : null)
+        : null;
       this.body.append(
-        h('tr', { 'data-testid': `alarms-row-${a.id}`, 'data-band': band(a.severity), class: `band-${band(a.severity)}` },
+        h('tr', { 'data-testid': `alarms-row-${a.id}`, 'data-band': b, class: `band-${b}` },
+          h('td', { class: 'sev' }, h('span', { class: `sev-badge band-${b}`, title: tr('severity {n}', { n: a.severity }) }, alarmText.band[b])),
           h('td', null, a.id),
           h('td', null, a.tag),
           h('td', null, a.message),
-          h('td', null, alarmText.state[a.state] ?? a.state),
-          h('td', null, clockTime(a.since_ms)),
+          h('td', null, alarmText.state[a.state] ?? a.state, shelving),
+          h('td', null, when(a.since_ms)),
           h('td', null, ack, ' ', can('ack') || shelved ? shelve : null)),
       );
     }

@@ -1,6 +1,6 @@
 // The PID faceplate (issue 17, item 8; after 004_…'s ASC-PID screen): a
 // loop's SP, PV and CV live with a trend of the last minute (SP and PV on the
-// PV's scale, CV on its own), auto/manual, the manual
+// PV's scale above, CV in % below, each panel with its scale), auto/manual, the manual
 // output moved by ↑/↓ (1 % a step: CV is in %, docs/pid.md), the setpoint (operators),
 // the gains (engineers), its status bits, the alarms defined on its members
 // (PV high/low in alarms.csv), and autotune: the relay experiment on a copy
@@ -31,14 +31,24 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
   const write = (m: string, v: Json) => api.writeTag(`${tag}.${m}`, v).catch((e) => ctx.notify(e instanceof Error ? e.message : String(e), 'error'));
   const unwatch: (() => void)[] = [];
   const hist: Record<'SP' | 'PV' | 'CV', number[]> = { SP: [], PV: [], CV: [] };
-  const W = 320;
-  const H = 120;
+  // two panels, never one scale for two units: SP and PV in the PV's units above, CV in % below
+  const [W, LEFT, PV_H, CV_H, GAP] = [320, 40, 84, 40, 8];
+  const PW = W - LEFT - 2;
   const lines = { SP: s('polyline', { fill: 'none', stroke: '#1f77b4', 'stroke-width': 1.5 }), PV: s('polyline', { fill: 'none', stroke: '#2ca02c', 'stroke-width': 1.5 }), CV: s('polyline', { fill: 'none', stroke: '#ff7f0e', 'stroke-width': 1.5 }) };
-  const trend = s('svg', { width: W, height: H, viewBox: `0 0 ${W} ${H}`, class: 'faceplate-trend', 'data-testid': 'faceplate-trend' }, s('rect', { width: W, height: H, fill: '#fff', stroke: '#ccc' }), lines.SP, lines.PV, lines.CV);
+  const scaleText = (part: string, y: number) => s('text', { x: LEFT - 4, y, 'text-anchor': 'end', 'dominant-baseline': 'middle', 'font-size': 10, fill: '#5f6368', 'data-part': part });
+  const scale = { pvHi: scaleText('pv-max', 2 + 5), pvLo: scaleText('pv-min', 2 + PV_H - 5), cvHi: scaleText('cv-max', 2 + PV_H + GAP + 5), cvLo: scaleText('cv-min', 2 + PV_H + GAP + CV_H - 5) };
+  const panel = (y: number, hgt: number, testid: string, ...ls: SVGElement[]) =>
+    s('g', { transform: `translate(${LEFT},${y})`, 'data-testid': testid }, s('rect', { width: PW, height: hgt, fill: '#fff', stroke: '#ccc' }), ...ls);
+  const trend = s('svg', { width: W, height: PV_H + GAP + CV_H + 4, viewBox: `0 0 ${W} ${PV_H + GAP + CV_H + 4}`, class: 'faceplate-trend', 'data-testid': 'faceplate-trend' },
+    panel(2, PV_H, 'faceplate-trend-pv', lines.SP, lines.PV),
+    panel(2 + PV_H + GAP, CV_H, 'faceplate-trend-cv', lines.CV),
+    Object.values(scale));
   const value = (m: string) => h('span', { class: 'fp-value', 'data-testid': `faceplate-${m}` }, '…');
   const values = { SP: value('SP'), PV: value('PV'), CV: value('CV') };
   const spIn = h('input', { type: 'number', step: 'any', 'data-testid': 'faceplate-sp-input', disabled: !can('write'), title: why('write') ?? tr('A new setpoint (Enter)') });
   spIn.addEventListener('keydown', (e) => e.key === 'Enter' && Number.isFinite(Number(spIn.value)) && void write('SP', Number(spIn.value)));
+  // the setpoint box holds the setpoint, except while it is being typed in
+  unwatch.push(store.watch(`${tag}.SP`, (v) => document.activeElement !== spIn && (spIn.value = typeof v === 'number' ? fmt(v) : '')));
   const manual = h('button', { 'data-testid': 'faceplate-mode', disabled: !can('write'), title: why('write') ?? '' });
   manual.onclick = () => void write('MAN', get('MAN') !== true);
   // CV is in % (MINO–MAXO, 0–100 by default); MINCV–MAXCV only scales the output tag
@@ -79,7 +89,8 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
   const close = h('button', { 'data-testid': 'faceplate-close' }, tr('Close'));
   const box = h('div', { class: 'modal', 'data-testid': 'faceplate' },
     h('div', { class: 'modal-box faceplate' },
-      h('h2', null, tr('PID loop {name}', { name: tag })),
+      h('h2', null, tag),
+      h('p', { class: 'hint fp-what', 'data-testid': 'faceplate-what' }, ctx.tags?.list.find((t) => t.name.toUpperCase() === tag.toUpperCase())?.description || tr('PID loop')),
       trend,
       h('div', { class: 'fp-values' },
         h('span', { class: 'fp-sp' }, 'SP ', values.SP), h('span', { class: 'fp-pv' }, 'PV ', values.PV), h('span', { class: 'fp-cv' }, 'CV ', values.CV)),
@@ -101,8 +112,14 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
     // SP and PV on the PV's scale (MINS–MAXS), CV on its own (MINO–MAXO, %)
     const pv = [...hist.SP, ...hist.PV];
     const [lo, hi] = [Math.min(num('MINS'), ...pv), Math.max(num('MAXS'), ...pv)];
-    for (const k of ['SP', 'PV'] as const) lines[k].setAttribute('points', polyline(hist[k], W, H, lo, hi));
-    lines.CV.setAttribute('points', polyline(hist.CV, W, H, Math.min(num('MINO'), ...hist.CV), Math.max(num('MAXO') || 100, ...hist.CV)));
+    for (const k of ['SP', 'PV'] as const) lines[k].setAttribute('points', polyline(hist[k], PW, PV_H, lo, hi));
+    const [clo, chi] = [Math.min(num('MINO'), ...hist.CV), Math.max(num('MAXO') || 100, ...hist.CV)];
+    lines.CV.setAttribute('points', polyline(hist.CV, PW, CV_H, clo, chi));
+    const label = (t: SVGElement, text: string) => t.textContent !== text && (t.textContent = text);
+    label(scale.pvHi, fmt(hi));
+    label(scale.pvLo, fmt(lo));
+    label(scale.cvHi, `${fmt(chi)} %`);
+    label(scale.cvLo, `${fmt(clo)} %`);
   };
   const timer = setInterval(sample, 500);
   unwatch.push(() => clearInterval(timer));
@@ -135,7 +152,7 @@ function autotune(ctx: Ctx, tag: string, get: (m: string) => Json | undefined, w
   const input = (name: string, value: number | null, title: string) =>
     h('label', { title }, name, ' ', h('input', { type: 'number', step: 'any', size: 5, value: value === null ? '' : String(value), placeholder: value === null ? tr('auto') : '', 'data-testid': `autotune-${name}` }));
   // An empty bias: the loop's own output once it holds PV at SP (docs/pid.md §6).
-  const fields = [input('amplitude', 10, tr('Relay amplitude, % of CV')), input('bias', null, tr("Relay centre, % of CV (empty: the loop's own output once it holds PV at SP)")), input('hysteresis', 0, tr('Hysteresis, units of the PV'))];
+  const fields = [input('amplitude', 10, tr('Relay amplitude, % of CV')), input('bias', null, tr('Relay centre, % of CV (empty: the output of the loop once it holds PV at SP)')), input('hysteresis', 0, tr('Hysteresis, units of the PV'))];
   const sp = input('sp', 0, tr('Setpoint during the experiment'));
   const run = h('button', { 'data-testid': 'autotune-run', disabled: !can('edit'), title: why('edit') ?? tr('Runs the relay experiment on a copy of the program and its plant models; the running loop is not touched') }, tr('Autotune'));
   const result = h('div', { class: 'fp-tune-result', 'data-testid': 'autotune-result' });

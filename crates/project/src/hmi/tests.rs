@@ -123,6 +123,22 @@ fn malformed_screens_are_reported_at_their_place() {
             "`f`: a faceplate shows a PID loop; `Level` is a single value",
         ),
         (
+            with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": 0}}"#),
+            "hmi/main.json:6:86: error[E141]: `t`: `window_s` is the seconds the trend shows, above 0 and at most 86400; got 0",
+        ),
+        (
+            with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": "2 min"}}"#),
+            "`t`: `window_s` is the seconds the trend shows, above 0 and at most 86400; got \"2 min\"",
+        ),
+        (
+            with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": 86401}}"#),
+            "got 86401",
+        ),
+        (
+            with(&format!("{{{E}, \"props\": {{\"window_s\": 60}}}}")),
+            "`e`: only a `trend` has a time window",
+        ),
+        (
             with(r#"{"id": "a", "type": "alarm", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"alarm": "level_hx"}}"#),
             "`a`: no alarm `level_hx` in alarms.csv",
         ),

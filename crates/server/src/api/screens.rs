@@ -1,6 +1,8 @@
 //! `GET /api/screens`, `GET|PUT /api/screens/{name}`: the project's SCADA
 //! screens (`hmi/<name>.json`, issue 17), checked against the running
-//! program's tags with located errors (E141) and saved atomically.
+//! program's tags with located errors (E141) and saved atomically;
+//! `POST /api/screens/{name}/check`: the same checks, nothing saved (the
+//! designer's problems, as they are made and fixed).
 //! `GET /api/symbols`, `GET|PUT /api/symbols/{name}`: the user's own symbols
 //! (`hmi/symbols/<name>.json`), groups of elements saved from the designer in
 //! the same format and checked the same way.
@@ -119,6 +121,17 @@ async fn get_of(State(st): State<Arc<AppState>>, kind: Kind, Path(name): Path<St
         _ => ApiError::Internal(format!("cannot read {}: {e}", path.display())),
     })?;
     Ok(Json(check(&st, kind, &name, &text)?))
+}
+
+/// The screen of the body checked as `PUT` would, nothing saved: the screen, or `422` with the problems.
+pub async fn check_screen(
+    State(st): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    bytes: Result<Bytes, axum::extract::rejection::BytesRejection>,
+) -> ApiResult<Json<Screen>> {
+    file_of(&st.project.lock().await.project.dir, Kind::Screen, &name)?;
+    let text = super::text_body(bytes, "the screen")?;
+    Ok(Json(check(&st, Kind::Screen, &name, &text)?))
 }
 
 /// Audited (`save_screen`): checked, then written atomically (`hmi/` made if needed).

@@ -287,6 +287,14 @@ async fn every_route_answers_each_role_as_the_table_says() {
             e,
             200,
         ),
+        row(
+            Method::POST,
+            "/api/screens/{name}/check",
+            "/api/screens/main/check",
+            j(json!({"schema": 1, "width": 100, "height": 100, "elements": []})),
+            e,
+            200,
+        ),
         row(Method::GET, "/api/symbols", "/api/symbols", None, v, 200),
         // (the tank has no PID loop: a well-formed request for a number is 422)
         row(

@@ -78,6 +78,49 @@ async fn screens_are_saved_checked_and_refused_at_their_place() {
     s.stop().await;
 }
 
+async fn post_check(s: &Server, name: &str, text: &str) -> (StatusCode, Json) {
+    let res = s
+        .http
+        .post(s.url(&format!("/api/screens/{name}/check")))
+        .header("content-type", "application/json")
+        .body(text.to_string())
+        .send()
+        .await
+        .expect("POST");
+    let code = res.status();
+    (code, res.json().await.unwrap_or(Json::Null))
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_screen_is_checked_without_being_saved() {
+    let s = Server::start("tank-plant", "screen-check").await;
+    let bad = "{\"schema\": 1, \"width\": 800, \"height\": 600, \"elements\": [\n  {\"id\": \"t\", \"type\": \"tank\", \"x\": 0, \"y\": 0, \"w\": 10, \"h\": 10,\n   \"animations\": [{\"kind\": \"fill\", \"tag\": \"Nivel_X\"}]}]}";
+    // The problems as a save would answer them, at their place; nothing written.
+    let (code, j) = post_check(&s, "draft", bad).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    let d = &j["diagnostics"][0];
+    assert_eq!(
+        (d["code"].as_str(), d["file"].as_str(), d["line"].as_u64()),
+        (Some("E141"), Some("draft.json"), Some(3)),
+        "{j}"
+    );
+    assert!(
+        d["message"]
+            .as_str()
+            .is_some_and(|m| m.starts_with("`t`: ") && m.contains("unknown tag `Nivel_X`")),
+        "{j}"
+    );
+    // Fixed: the screen as it would be saved, still nothing written.
+    let (code, j) = post_check(&s, "draft", &bad.replace("Nivel_X", "Nivel_L")).await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    assert_eq!(j["elements"][0]["animations"][0]["tag"], "Nivel_L");
+    assert!(!s.dir.join("hmi/draft.json").exists());
+    assert_eq!(s.get("/api/screens").await, json!([]));
+    let (code, _) = post_check(&s, "bad%20name", &bad.replace("Nivel_X", "Nivel_L")).await;
+    assert_eq!(code, StatusCode::BAD_REQUEST);
+    s.stop().await;
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn symbols_are_groups_saved_and_checked_like_screens_and_alba_check_reads_them() {
     let s = Server::start("tank-plant", "symbols").await;
