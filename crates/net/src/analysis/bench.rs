@@ -2,7 +2,7 @@
 //! --nets` (docs/performance.md "Net analysis"): the complete analysis of
 //! generated nets, with states/s and bytes/state. Prints, never asserts.
 
-use super::{Options, analyze, invariants, samples};
+use super::{Control, Options, analyze, invariants, samples};
 use crate::PtNet;
 use std::fmt::Write;
 use std::time::Instant;
@@ -16,7 +16,7 @@ fn peak_rss_kib() -> Option<u64> {
 /// The report of one net's complete analysis.
 pub fn report(name: &str, net: &PtNet) -> String {
     let t = Instant::now();
-    let a = analyze(net, &Options::default(), &|| false);
+    let a = analyze(net, &Options::default(), &Control::none());
     let total = t.elapsed();
     let states = a.states.unwrap_or(0);
     let secs = a.explore_time.as_secs_f64().max(1e-9);
@@ -61,8 +61,8 @@ pub fn run(quick: bool) -> String {
     }
     let t = Instant::now();
     let net = samples::cycles(25, 4);
-    let p = invariants::p_invariants(&net, 200_000).map(|v| v.len());
-    let tt = invariants::t_invariants(&net, 200_000).map(|v| v.len());
+    let p = invariants::p_invariants(&net, invariants::Budget::rows(200_000)).map(|v| v.len());
+    let tt = invariants::t_invariants(&net, invariants::Budget::rows(200_000)).map(|v| v.len());
     let _ = writeln!(
         out,
         "invariants on 100 places (25 4-cycles): {p:?} P, {tt:?} T in {:.3} s",
