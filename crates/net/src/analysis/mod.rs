@@ -115,7 +115,7 @@ pub struct Progress {
 pub struct Control<'a> {
     /// Raised to stop: every part polls it and ends as `skipped: cancelled` or `partial`.
     pub cancel: &'a AtomicBool,
-    /// Called as the analysis goes (every 65 536 states, and at each part's start).
+    /// Called as the analysis goes (every 16 384 states, and at each part's start).
     pub progress: &'a (dyn Fn(&Progress) + Sync),
 }
 
@@ -374,7 +374,7 @@ fn state_space(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut An
             a.edges = Some(g.edges);
             a.deadlocks = Some(g.deadlocks);
             if let Some(d) = g.first_deadlock {
-                a.deadlock_trace = Some(g.trace(d));
+                a.deadlock_trace = g.deadlock_trace.clone();
                 let mut words = vec![0u64; g.store.layout.bytes.div_ceil(8) + 1];
                 let mut m = vec![0u32; np];
                 g.store.marking(d as usize, &mut words, &mut m);

@@ -502,6 +502,39 @@ impl Store {
     }
 }
 
+/// Entries per chunk of [`Parents`].
+const PARENT_CHUNK: usize = 1 << 20;
+
+/// The BFS parent of each state, in chunks (no doubling of one large vector).
+#[derive(Default)]
+struct Parents {
+    chunks: Vec<Vec<u32>>,
+    len: usize,
+}
+
+impl Parents {
+    fn push(&mut self, p: u32) {
+        if self.len.is_multiple_of(PARENT_CHUNK) {
+            self.chunks
+                .push(Vec::with_capacity(PARENT_CHUNK.min(self.len.max(1024))));
+        }
+        if let Some(c) = self.chunks.last_mut() {
+            c.push(p);
+        }
+        self.len += 1;
+    }
+
+    #[inline]
+    fn get(&self, i: u32) -> u32 {
+        let i = i as usize;
+        self.chunks[i / PARENT_CHUNK][i % PARENT_CHUNK]
+    }
+
+    fn bytes(&self) -> usize {
+        self.chunks.iter().map(|c| c.capacity() * 4).sum()
+    }
+}
+
 /// A complete reachability graph (edges implicit).
 pub struct Graph {
     /// The states.
@@ -514,6 +547,8 @@ pub struct Graph {
     pub deadlocks: u64,
     /// The first dead marking in BFS order (a closest one to the initial marking).
     pub first_deadlock: Option<u32>,
+    /// A shortest firing sequence to it (BFS parents).
+    pub deadlock_trace: Option<Vec<usize>>,
     /// Whether each transition fired at least once.
     pub fired: Vec<bool>,
     /// Largest value of each place.
@@ -636,29 +671,35 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
     // One state's successors: packed words, hashes, transitions.
     let mut succ: Vec<u64> = Vec::new();
     let mut hashes: Vec<u64> = Vec::new();
+    let mut via: Vec<usize> = Vec::new();
     let mut m = vec![0u32; np];
     let mut s = 0usize;
-    let stop = |why, store: &Store| Explored::Limit {
+    let stop = |why, store: &Store, parents: &Parents| Explored::Limit {
         why,
         states: store.len(),
-        bytes: store.bytes_used(),
+        bytes: store.bytes_used() + parents.bytes(),
     };
+    let mut parents = Parents::default();
+    parents.push(u32::MAX);
+    let mut anc = vec![0u32; np];
+    let mut anc_words = vec![0u64; layout.words];
     'states: while s < store.len() {
         if s == level_end && levels.last() != Some(&(s as u32)) {
             levels.push(s as u32);
             level_end = store.len();
         }
-        if s & 0xffff == 0 {
+        if s & 0x3fff == 0 {
             if control.cancelled() {
-                return stop(Stop::Cancelled, &store);
+                return stop(Stop::Cancelled, &store, &parents);
             }
             (control.progress)(&Progress {
                 part: Part::StateSpace,
                 states: store.len() as u64,
-                bytes: store.bytes_used(),
+                bytes: store.bytes_used() + parents.bytes(),
             });
         }
         let w = layout.words;
+        anc_words.resize(w, 0);
         cur.resize(w, 0);
         layout.load(store.state(s), &mut cur);
         if !constant_tokens {
@@ -666,6 +707,7 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
         }
         succ.clear();
         hashes.clear();
+        via.clear();
         let mut dead = true;
         for t in 0..nt {
             if !packed.enabled(&cur, t) {
@@ -690,6 +732,7 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
                 continue 'states;
             }
             hashes.push(hash_words(&succ[k..k + w]));
+            via.push(t);
         }
         // Overlap the memory accesses of the successors' look-ups.
         let mut touched = 0u32;
@@ -701,44 +744,51 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
             let next = &succ[n * w..(n + 1) * w];
             // Karp–Miller at records: does the successor strictly cover an ancestor?
             // A record on a place read by an inhibitor arc rules every ancestor out (the
-            // criterion needs equality there).
+            // criterion needs equality there). Only the places the transition adds to
+            // can set one.
             let mut record = false;
             let mut inhibited_record = false;
-            layout.unpack_words(next, &mut m);
-            for p in 0..np {
-                if m[p] > max[p] {
-                    max[p] = m[p];
+            for &(f, p) in &packed.grow[via[n]] {
+                let v = f.get(next) as u32;
+                if v > max[p] {
+                    max[p] = v;
                     record = true;
                     inhibited_record |= inhibited[p];
                 }
             }
+            if record {
+                layout.unpack_words(next, &mut m);
+            }
             let record = record && !inhibited_record;
             if record {
-                // The ancestors: the states of a shortest path to `s`, `s` included.
-                let covers = |anc: &[u32]| {
-                    m.iter().zip(anc).all(|(x, y)| x >= y)
+                // Karp–Miller: does the successor strictly cover an ancestor (the BFS
+                // parents of `s`, `s` included)?
+                let mut at = s as u32;
+                loop {
+                    store.marking(at as usize, &mut anc_words, &mut anc);
+                    let covers = m.iter().zip(&anc).all(|(x, y)| x >= y)
                         && m != anc
-                        && m.iter().zip(anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh)
-                };
-                let mut at = net.initial.clone();
-                if covers(&at) {
-                    return Explored::Unbounded;
-                }
-                for t in trace_back(net, &store, &levels, s as u32) {
-                    at = net.fire(&at, t).unwrap_or_default();
-                    if covers(&at) {
+                        && m.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
+                    if covers {
                         return Explored::Unbounded;
+                    }
+                    at = parents.get(at);
+                    if at == u32::MAX {
+                        break;
                     }
                 }
             }
-            if !store.reserve(limits.memory) {
-                return stop(Stop::Memory, &store);
+            if !store.reserve(limits.memory.saturating_sub(parents.bytes() + PARENT_CHUNK * 4)) {
+                return stop(Stop::Memory, &store, &parents);
             }
             words_to_bytes(next, &mut bytes);
             let (_, inserted) = store.insert(h, &bytes);
             edges += 1;
-            if inserted && store.len() > max_states {
-                return stop(Stop::States, &store);
+            if inserted {
+                parents.push(s as u32);
+                if store.len() > max_states {
+                    return stop(Stop::States, &store, &parents);
+                }
             }
         }
         if dead {
@@ -747,14 +797,37 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
         }
         s += 1;
     }
+    let deadlock_trace = first_deadlock.map(|d| {
+        let mut path = vec![d];
+        while let Some(&last) = path.last() {
+            match parents.get(last) {
+                u32::MAX => break,
+                p => path.push(p),
+            }
+        }
+        path.reverse();
+        let mut a = vec![0u32; np];
+        let mut b = vec![0u32; np];
+        path.windows(2)
+            .map(|w2| {
+                store.marking(w2[0] as usize, &mut anc_words, &mut a);
+                store.marking(w2[1] as usize, &mut anc_words, &mut b);
+                (0..nt)
+                    .find(|&t| net.enabled(&a, t) && net.fire(&a, t).as_deref() == Some(&b[..]))
+                    .unwrap_or(0)
+            })
+            .collect()
+    });
+    let peak_bytes = store.peak.max(store.bytes_used()) + parents.bytes();
+    drop(parents);
     store.shrink();
-    let peak_bytes = store.peak.max(store.bytes_used());
     Explored::Graph(Box::new(Graph {
         store,
         levels,
         edges,
         deadlocks,
         first_deadlock,
+        deadlock_trace,
         fired,
         max,
         max_tokens,
@@ -861,7 +934,7 @@ pub fn components(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Compo
             }
             if let Some(wv) = descend {
                 visited += 1;
-                if visited & 0xffff == 0 {
+                if visited & 0x3fff == 0 {
                     if control.cancelled() {
                         return None;
                     }
