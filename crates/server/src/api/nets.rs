@@ -2,9 +2,9 @@
 //! (docs/nets.md "Analysis"), streamed as JSON lines: progress while it runs,
 //! then the same object as `alba analyze --json`. `{name}` is the program as
 //! listed (`line.pnml`) or the net's name (`line`). One analysis at a time per
-//! project (`429` while one runs), on a thread of its own at the lowest
-//! scheduling class (SCHED_IDLE: it only takes CPU time the engine, the
-//! server and the drivers leave), within [`ANALYSIS_MEMORY`] and
+//! project (`429` while one runs), on a thread of its own at the least
+//! priority (SCHED_BATCH, nice 19: the engine, the server and the drivers
+//! come first), within [`ANALYSIS_MEMORY`] and
 //! [`ANALYSIS_TIME`]; it stops when the client goes away.
 //!
 //! `POST /api/nets/{name}/reset`: writes the net's initial marking at one
@@ -76,7 +76,9 @@ struct Job {
     done: bool,
 }
 
-/// The analysis thread: the lowest scheduling class, then the work.
+/// The analysis thread's scheduling: SCHED_BATCH at nice 19, the least share of
+/// the CPU that still makes progress on a busy machine (SCHED_IDLE could starve it
+/// for ever, and a starved analysis cannot even see that it was cancelled).
 fn lowest_priority() {
     use thread_priority::{
         NormalThreadSchedulePolicy, ThreadPriority, ThreadSchedulePolicy, set_thread_priority_and_policy,
@@ -85,7 +87,7 @@ fn lowest_priority() {
     let _ = set_thread_priority_and_policy(
         thread_native_id(),
         ThreadPriority::Min,
-        ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Idle),
+        ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Batch),
     );
 }
 

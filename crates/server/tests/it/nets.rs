@@ -464,23 +464,23 @@ fn cycles_pnml(k: usize) -> String {
     s
 }
 
-/// The scheduling policy of this process's thread named `name` (SCHED_IDLE is
-/// 5), if one runs.
-fn thread_policy(name: &str) -> Option<u32> {
+/// The scheduling policy and nice value of this process's thread named
+/// `name` (SCHED_BATCH is 3), if one runs.
+fn thread_policy(name: &str) -> Option<(u32, i32)> {
     for e in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
         let comm = std::fs::read_to_string(e.path().join("comm")).unwrap_or_default();
         if comm.trim() == name {
             let stat = std::fs::read_to_string(e.path().join("stat")).ok()?;
-            // Fields after the parenthesised name; policy is field 41.
-            let rest = &stat[stat.rfind(')')? + 2..];
-            return rest.split_whitespace().nth(41 - 3)?.parse().ok();
+            // Fields after the parenthesised name (field 3 on): nice is 19, policy 41.
+            let f: Vec<&str> = stat[stat.rfind(')')? + 2..].split_whitespace().collect();
+            return Some((f.get(41 - 3)?.parse().ok()?, f.get(19 - 3)?.parse().ok()?));
         }
     }
     None
 }
 
-/// Issue 31, point 2: one analysis at a time (429 for the next), on an idle-
-/// priority thread, stopped when the client goes away — the engine scans on.
+/// Issue 31, point 2: one analysis at a time (429 for the next), on a
+/// least-priority thread, stopped when the client goes away — the engine scans on.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn one_analysis_at_a_time_stopped_when_the_client_leaves() {
     let dir = crate::copy_example("petri-resource", "net-analysis-busy");
@@ -515,7 +515,7 @@ async fn one_analysis_at_a_time_stopped_when_the_client_leaves() {
     let first: Json = serde_json::from_str(text.lines().next().expect("line")).expect("JSON");
     assert_eq!(first["progress"]["part"], "state_space", "{first}");
     assert!(first["progress"]["states"].as_u64().expect("states") > 0);
-    assert_eq!(thread_policy("net-analysis"), Some(5), "SCHED_IDLE");
+    assert_eq!(thread_policy("net-analysis"), Some((3, 19)), "SCHED_BATCH, nice 19");
     // A second one, on any net of the project, waits its turn.
     let (code, j) = s.call(Method::POST, "/api/nets/cell/analysis", Some(json!({}))).await;
     assert_eq!(code, StatusCode::TOO_MANY_REQUESTS, "{j}");
