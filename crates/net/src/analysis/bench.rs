@@ -15,20 +15,27 @@ fn peak_rss_kib() -> Option<u64> {
 
 /// The report of one net's complete analysis.
 pub fn report(name: &str, net: &PtNet) -> String {
+    measure(name, net).0
+}
+
+/// The report of one net's complete analysis, and its number of states.
+pub fn measure(name: &str, net: &PtNet) -> (String, u64) {
     let t = Instant::now();
     let a = analyze(net, &Options::default(), &Control::none());
     let total = t.elapsed();
     let states = a.states.unwrap_or(0);
     let secs = a.explore_time.as_secs_f64().max(1e-9);
-    format!(
-        "{name}: {states} states, {} edges, {} deadlocks, live {:?}, reversible {:?}, {} P-inv, {} T-inv\n  \
+    let report = format!(
+        "{name}: {states} states, {} edges, {} deadlocks, live {:?}, reversible {:?}, {} P-inv ({}), {} T-inv ({})\n  \
          explore {:.3} s ({:.2} M states/s), scc {:.3} s, invariants {:.3} s, total {:.3} s; {:.1} bytes/state, peak RSS {} MiB\n",
         a.edges.unwrap_or(0),
         a.deadlocks.unwrap_or(0),
         a.live,
         a.reversible,
         a.p_invariants.as_ref().map_or(0, |v| v.len()),
+        a.status.p_invariants,
         a.t_invariants.as_ref().map_or(0, |v| v.len()),
+        a.status.t_invariants,
         secs,
         states as f64 / secs / 1e6,
         a.scc_time.as_secs_f64(),
@@ -36,7 +43,8 @@ pub fn report(name: &str, net: &PtNet) -> String {
         total.as_secs_f64(),
         a.memory_bytes as f64 / states.max(1) as f64,
         peak_rss_kib().unwrap_or(0) / 1024,
-    )
+    );
+    (report, states)
 }
 
 /// Every net of the benchmark (`quick`: smaller ones, for a smoke run).
