@@ -49,6 +49,9 @@ impl std::fmt::Display for InvariantError {
 /// Default bound on the number of intermediate rows.
 pub const MAX_ROWS: usize = 200_000;
 
+/// Bytes the Farkas algorithm's rows may take.
+pub const MAX_BYTES: usize = 256 << 20;
+
 /// Default work budget of the minimal invariants (about a second on this machine).
 pub const DEFAULT_WORK: u64 = 200_000_000;
 
@@ -134,6 +137,12 @@ pub fn farkas(a: &[Vec<i64>], cols: usize, budget: Budget<'_>) -> Result<Vec<Vec
     let mut meter = Meter::new(budget);
     let n = a.len();
     let words = n.div_ceil(64).max(1);
+    // Rows are dense: the row cap also keeps them within MAX_BYTES.
+    let max_rows = budget.max_rows.min(MAX_BYTES / ((cols + n + words) * 8).max(1));
+    if n > max_rows {
+        return Err(InvariantError::TooManyRows(max_rows));
+    }
+    let w = words as u64;
     let mut rows: Vec<Row> = (0..n)
         .map(|i| {
             let mut y = vec![0; n];
@@ -166,7 +175,8 @@ pub fn farkas(a: &[Vec<i64>], cols: usize, budget: Budget<'_>) -> Result<Vec<Vec
         let mut next = zero;
         for p in &pos {
             for q in &neg {
-                meter.spend(next.len() as u64 + 1)?;
+                // The subset test, the duplicate test and the clean-up each read the kept rows' supports.
+                meter.spend(3 * (next.len() as u64 + 1) * w)?;
                 let support: Vec<u64> = p.support.iter().zip(&q.support).map(|(x, y)| x | y).collect();
                 // A combination whose support contains a kept row's support is not minimal.
                 if next
@@ -200,8 +210,8 @@ pub fn farkas(a: &[Vec<i64>], cols: usize, budget: Budget<'_>) -> Result<Vec<Vec
                 // Drop kept rows that this one makes non-minimal.
                 next.retain(|r| !(subset(&support, &r.support) && support != r.support));
                 next.push(Row { d, y, support });
-                if next.len() > budget.max_rows {
-                    return Err(InvariantError::TooManyRows(budget.max_rows));
+                if next.len() > max_rows {
+                    return Err(InvariantError::TooManyRows(max_rows));
                 }
             }
         }
@@ -210,7 +220,7 @@ pub fn farkas(a: &[Vec<i64>], cols: usize, budget: Budget<'_>) -> Result<Vec<Vec
     // Final minimality pass (equal supports: keep one) and canonical order.
     let mut out: Vec<Row> = Vec::new();
     for r in rows {
-        meter.spend(out.len() as u64 + 1)?;
+        meter.spend((out.len() as u64 + 1) * w)?;
         if out.iter().any(|o| subset(&o.support, &r.support)) {
             continue;
         }
