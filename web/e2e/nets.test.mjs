@@ -5,6 +5,7 @@
 // the lamp of the last state light, then analyse the net and replay the
 // firing sequence to its deadlock on the canvas; stopped, reset the marking and
 // single-step the net with F6, the runtime's enabled transitions highlighted.
+// A big net's analysis shows its progress and is cancelled (issue 38).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { appendFileSync, readFileSync, writeFileSync } from 'node:fs';
@@ -20,6 +21,18 @@ const EMPTY = `<?xml version="1.0" encoding="UTF-8"?>
 </pnml>
 `;
 
+/** A Petri-mode net of `k` independent 3-place cycles: 3^k states. */
+function cycles(k) {
+  let body = '';
+  for (let c = 0; c < k; c++) {
+    for (let i = 0; i < 3; i++) {
+      body += `<place id="c${c}p${i}">${i === 0 ? '<initialMarking><text>1</text></initialMarking>' : ''}</place><transition id="c${c}t${i}"/>`;
+      body += `<arc id="c${c}a${i}" source="c${c}p${i}" target="c${c}t${i}"/><arc id="c${c}b${i}" source="c${c}t${i}" target="c${c}p${(i + 1) % 3}"/>`;
+    }
+  }
+  return `<pnml xmlns="http://www.pnml.org/version-2009/grammar/pnml"><net id="big" type="http://www.pnml.org/version-2009/grammar/ptnet"><page id="g">${body}</page></net></pnml>\n`;
+}
+
 let alba, b;
 
 /** Waits (up to 10 s) until the tag `name` has the value `v` on the server. */
@@ -33,7 +46,8 @@ async function tagIs(name, v) {
 useStudio('state-net-batch', (s) => ({ alba, b } = s), {
   prepare: (dir) => {
     writeFileSync(join(dir, 'draw.pnml'), EMPTY);
-    const toml = readFileSync(join(dir, 'alba.toml'), 'utf8').replace('programs = ["batch.pnml", "main.lad"]', 'programs = ["batch.pnml", "main.lad", "draw.pnml"]');
+    writeFileSync(join(dir, 'big.pnml'), cycles(15));
+    const toml = readFileSync(join(dir, 'alba.toml'), 'utf8').replace('programs = ["batch.pnml", "main.lad"]', 'programs = ["batch.pnml", "main.lad", "draw.pnml", "big.pnml"]');
     writeFileSync(join(dir, 'alba.toml'), toml);
     appendFileSync(join(dir, 'tags.csv'), 'Go,BOOL,,,,operator go-ahead (the condition of draw.pnml)\nLamp2,BOOL,,,,on while draw.pnml is in its last state\n');
   },
@@ -150,6 +164,10 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   await tid('net-an-bounded').filter({ hasText: 'yes' }).waitFor();
   assert.equal(await tid('net-an-deadlocks').textContent(), '1');
   assert.deepEqual(await tid('net-trace').locator('li').allTextContents(), ['Timer1', 'C1']);
+  // Each part of the analysis says how far it got.
+  for (const part of ['state_space', 'components', 'p_flows', 't_flows', 'p_invariants', 't_invariants']) {
+    assert.equal(await tid(`net-an-status-${part}`).textContent(), 'complete', part);
+  }
   await tid('net-replay').click();
   await page.waitForFunction(() => document.querySelector('[data-testid="net-live-state"]')?.textContent === 'replay');
   assert.equal(await tid('net-node-S0').getAttribute('data-tokens'), '1');
@@ -218,5 +236,30 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
   await page.waitForFunction(() => /fired C1/.test(document.querySelector('[data-testid="net-history-0"]')?.textContent ?? ''));
   assert.equal((await alba.json('/api/status')).state, 'stopped');
   await b.shot('net-step');
+  assert.deepEqual(b.errors, []);
+});
+
+test("a big net's analysis shows its progress and is cancelled; the next one runs", async () => {
+  const { page, tid } = b;
+  await page.goto(`${alba.url}#/program/big.pnml`);
+  await tid('net-big.pnml').waitFor();
+  await tid('net-analyse').click();
+  // 3^15 states: the progress line counts them while the state space grows.
+  await tid('net-analysis-progress').filter({ hasText: /state space: [\d,.\s]+ states/ }).waitFor({ timeout: 30_000 });
+  await b.shot('net-analysis-progress');
+  await tid('net-analysis-cancel').click();
+  await tid('net-analysis-error').filter({ hasText: 'Analysis cancelled.' }).waitFor();
+  // The server stopped it: another analysis runs (429 until the cancelled one has stopped).
+  await page.goto(`${alba.url}#/program/batch.pnml`);
+  await tid('net-batch.pnml').waitFor();
+  for (let k = 0; ; k++) {
+    await tid('net-analyse').click();
+    await page.waitForFunction(() => document.querySelector('[data-testid="net-an-status-state_space"], [data-testid="net-analysis-error"]'));
+    if (await tid('net-an-status-state_space').count()) break;
+    assert.match(await tid('net-analysis-error').textContent(), /analysis of this project is running/);
+    assert.ok(k < 150, 'the cancelled analysis never stopped');
+    await new Promise((r) => setTimeout(r, 200));
+  }
+  assert.equal(await tid('net-an-status-state_space').textContent(), 'complete');
   assert.deepEqual(b.errors, []);
 });

@@ -32,13 +32,13 @@ class RawJson {
   constructor(readonly text: string) {}
 }
 
-async function request(method: string, path: string, body?: unknown, contentType = 'application/json'): Promise<Response> {
+async function request(method: string, path: string, body?: unknown, contentType = 'application/json', signal?: AbortSignal): Promise<Response> {
   // The session is the cookie (same origin only). Every state-changing request
   // has a JSON body (an empty object when there is nothing to say), since the
   // server refuses any other (a cross-site form or text/plain post) — except
   // tags.csv, whose text/csv also needs a preflight the server never grants.
   const headers: Record<string, string> = {};
-  const init: RequestInit = { method, headers, credentials: 'same-origin' };
+  const init: RequestInit = { method, headers, credentials: 'same-origin', signal };
   if (body === undefined && !SAFE.has(method)) body = {};
   if (body !== undefined) {
     init.body = body instanceof RawJson ? body.text : typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
@@ -48,6 +48,7 @@ async function request(method: string, path: string, body?: unknown, contentType
   try {
     res = await fetch(path, init);
   } catch (e) {
+    if (signal?.aborted) throw e;
     throw new ApiError(0, `cannot reach the server: ${(e as Error).message}`);
   }
   if (!res.ok) {
@@ -77,6 +78,41 @@ async function json<T>(method: string, path: string, body?: unknown): Promise<T>
 }
 
 const enc = encodeURIComponent;
+
+/** A progress line of `POST /api/nets/{name}/analysis` (docs/api.md "Nets"). */
+export interface AnalysisProgress {
+  part: 'state_space' | 'components' | 'flows' | 'invariants';
+  states: number;
+  bytes: number;
+}
+
+/**
+ * POST /api/nets/{name}/analysis: reads the answer's JSON lines, calling
+ * `onProgress` for each progress line, and resolves with the last one's
+ * result. Aborting `signal` closes the connection, which stops the analysis
+ * on the server; the promise then rejects with the abort.
+ */
+async function netAnalysis<T>(name: string, onProgress: (p: AnalysisProgress) => void, signal?: AbortSignal): Promise<{ result: T; timed_out: boolean }> {
+  const res = await request('POST', `/api/nets/${enc(name)}/analysis`, {}, 'application/json', signal);
+  if (!res.body) throw new ApiError(0, 'the analysis answered nothing');
+  const reader = res.body.pipeThrough(new TextDecoderStream()).getReader();
+  let buf = '';
+  for (;;) {
+    const { value, done } = await reader.read();
+    if (value) buf += value;
+    let nl: number;
+    while ((nl = buf.indexOf('\n')) >= 0) {
+      const line = buf.slice(0, nl);
+      buf = buf.slice(nl + 1);
+      if (line.trim() === '') continue;
+      const j = JSON.parse(line);
+      if (j.progress) onProgress(j.progress as AnalysisProgress);
+      else if (j.error) throw new ApiError(500, String(j.error));
+      else if (j.result) return { result: j.result as T, timed_out: j.timed_out === true };
+    }
+    if (done) throw new ApiError(0, 'the analysis ended without a result');
+  }
+}
 
 /** What `POST /api/pid/{name}/autotune` answers (docs/api.md "PID"). */
 export interface Autotune {
@@ -124,8 +160,8 @@ export const api = {
   // pretty, so that a refusal's line and column point into a readable file
   saveScreen: (name: string, screen: unknown) => json<unknown>('PUT', `/api/screens/${enc(name)}`, new RawJson(JSON.stringify(screen, null, 2))),
   checkScreen: (name: string, screen: unknown) => json<unknown>('POST', `/api/screens/${enc(name)}/check`, new RawJson(JSON.stringify(screen))),
-  /** GET /api/nets/{name}/analysis: the analysis of a net of the project (docs/nets.md "Analysis"). */
-  netAnalysis: <T>(name: string) => json<T>('GET', `/api/nets/${enc(name)}/analysis`),
+  /** POST /api/nets/{name}/analysis: the analysis of a net of the project, with progress (docs/nets.md "Analysis"). */
+  netAnalysis,
   /** POST /api/nets/{name}/reset: the net's initial marking, written at one scan boundary. */
   resetNet: (name: string) => json<NetReset>('POST', `/api/nets/${enc(name)}/reset`),
   /** GET /api/opcua/{server}/browse: the children of a node of a remote OPC UA server (the Objects folder by default). */

@@ -27,7 +27,11 @@ function server(files: Record<string, string>, analysis: unknown = null, transit
     calls.push(`${init.method} ${path}`);
     const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });
     const name = decodeURIComponent(path.split('/').pop()!);
-    if (path.includes('/analysis')) return json(200, analysis);
+    if (path.includes('/analysis')) {
+      // POST /api/nets/{name}/analysis: JSON lines, a progress line then the result.
+      const lines = [{ progress: { part: 'state_space', states: 1, bytes: 0 } }, { result: analysis, timed_out: false }];
+      return new Response(lines.map((l) => JSON.stringify(l) + '\n').join(''), { status: 200, headers: { 'Content-Type': 'application/x-ndjson' } });
+    }
     if (path === '/api/step') return json(200, { state: 'stopped' });
     if (path.endsWith('/reset')) return json(200, { program: 'batch.pnml', marking: [] });
     if (path.startsWith('/api/tags/')) {
@@ -336,15 +340,18 @@ describe('the net tab', () => {
 
   it('shows the analysis, marks dead transitions and replays the deadlock step by step', async () => {
     const cellWithDead = CELL.replace('<transition id="grab2"/>', '<transition id="grab2"/><transition id="never"/>').replace('<arc id="b1"', '<place id="nothing"/><arc id="z1" source="nothing" target="never"/><arc id="b1"');
-    server({ 'cell.pnml': cellWithDead }, {
+    const calls = server({ 'cell.pnml': cellWithDead }, {
       places: 11, transitions: 9, bounded: true, safe: false, place_bounds: { robot: 1 }, states: 20, edges: 30, deadlocks: 1,
       dead_transitions: ['never'], live: false, reversible: false, p_invariants: [{ robot: 1, load1: 1, load2: 1 }], t_invariants: [],
       deadlock_trace: ['arrive1', 'grab1'], state_space: 'reachability', stopped: null, notes: [],
+      status: { state_space: 'complete', components: 'complete', p_flows: 'complete', t_flows: 'complete', p_invariants: 'complete', t_invariants: 'skipped: budget' },
     });
     const { v } = view('cell.pnml');
     await v.load();
     v.show();
     await v.analyse();
+    expect(calls).toContain('POST /api/nets/cell.pnml/analysis');
+    expect(v.el.querySelector('[data-testid="net-an-status-t_invariants"]')!.textContent).toBe('skipped: budget');
     expect(v.el.querySelector('[data-testid="net-an-bounded"]')!.textContent).toBe('yes');
     expect(v.el.querySelector('[data-testid="net-an-deadlocks"]')!.textContent).toBe('1');
     expect(node(v, 'never')!.classList.contains('dead')).toBe(true);

@@ -1,14 +1,68 @@
-//! `alba analyze NET.pnml [--json] [--max-states N]`: the analysis of the net's underlying
+//! `alba analyze NET.pnml [--json] [--max-states N] [--memory SIZE] [--invariants
+//! flows|minimal] [--invariant-budget N]`: the analysis of the net's underlying
 //! place/transition net (docs/nets.md, section "analysis"; SPEC §10.5).
 
 use alba_diag::{Files, render_all};
 use alba_net::PtNet;
-use alba_net::analysis::{Analysis, Bound, Options, Space, analyze, to_json};
+use alba_net::analysis::{Analysis, Bound, Control, Invariants, Options, Space, Status, analyze, to_json};
 use std::path::Path;
 use std::process::ExitCode;
 
+/// `--invariants`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum InvariantsArg {
+    /// A basis of the P- and T-flows.
+    Flows,
+    /// The basis and the minimal semi-positive invariants.
+    Minimal,
+}
+
+/// The command's limits.
+pub struct Limits {
+    /// `--max-states`.
+    pub max_states: Option<usize>,
+    /// `--memory`.
+    pub memory: Option<usize>,
+    /// `--invariants`.
+    pub invariants: InvariantsArg,
+    /// `--invariant-budget`.
+    pub invariant_budget: Option<u64>,
+}
+
+/// A size: bytes, or a number with K, M or G (powers of 1 024, an optional `B` or `iB`).
+pub fn parse_size(s: &str) -> Result<usize, String> {
+    let t = s.trim();
+    let upper = t.to_ascii_uppercase();
+    let body = upper.trim_end_matches("IB").trim_end_matches('B');
+    let (digits, shift) = match body.chars().last() {
+        Some('K') => (&body[..body.len() - 1], 10),
+        Some('M') => (&body[..body.len() - 1], 20),
+        Some('G') => (&body[..body.len() - 1], 30),
+        Some('T') => (&body[..body.len() - 1], 40),
+        _ => (body, 0),
+    };
+    digits
+        .trim()
+        .parse::<usize>()
+        .ok()
+        .and_then(|n| n.checked_mul(1usize << shift))
+        .filter(|&n| n > 0)
+        .ok_or_else(|| format!("`{s}` is not a size (bytes, or a number with K, M or G)"))
+}
+
+/// Three quarters of the memory available (`MemAvailable`), or the library's default.
+fn default_memory() -> usize {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find(|l| l.starts_with("MemAvailable:"))?;
+            line.split_whitespace().nth(1)?.parse::<usize>().ok()
+        })
+        .map_or(alba_net::analysis::DEFAULT_MEMORY, |kib| kib / 4 * 3 * 1024)
+}
+
 /// Runs the command.
-pub fn run(path: &Path, as_json: bool, max_states: Option<usize>) -> ExitCode {
+pub fn run(path: &Path, as_json: bool, limits: Limits) -> ExitCode {
     let text = match std::fs::read(path) {
         Ok(bytes) => match String::from_utf8(bytes) {
             Ok(t) => t,
@@ -37,11 +91,21 @@ pub fn run(path: &Path, as_json: bool, max_states: Option<usize>) -> ExitCode {
         }
     };
     let pt = PtNet::from_net(&net);
-    let mut options = Options::default();
-    if let Some(n) = max_states {
+    let mut options = Options {
+        memory: limits.memory.unwrap_or_else(default_memory),
+        invariants: match limits.invariants {
+            InvariantsArg::Flows => Invariants::Flows,
+            InvariantsArg::Minimal => Invariants::Minimal,
+        },
+        ..Options::default()
+    };
+    if let Some(n) = limits.max_states {
         options.max_states = n;
     }
-    let a = analyze(&pt, &options, &|| false);
+    if let Some(n) = limits.invariant_budget {
+        options.invariant_work = n;
+    }
+    let a = analyze(&pt, &options, &Control::none());
     if let Some(msg) = &a.stopped {
         eprintln!("warning: {msg}");
     }
@@ -156,38 +220,97 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
     }
     line(format!("live (L4): {}", yes(a.live)));
     line(format!("reversible: {}", yes(a.reversible)));
-    let sum = |y: &[i64], ids: &[String]| -> String {
-        y.iter()
-            .enumerate()
-            .filter(|(_, c)| **c != 0)
-            .map(|(i, &c)| {
-                if c == 1 {
-                    ids[i].clone()
-                } else {
-                    format!("{c}·{}", ids[i])
-                }
-            })
-            .collect::<Vec<_>>()
-            .join(" + ")
-    };
-    match &a.p_invariants {
-        Ok(v) => {
-            line(format!("P-invariants ({}):", v.len()));
-            for y in v {
-                let w: i64 = y.iter().zip(&pt.initial).map(|(c, &m)| c * i64::from(m)).sum();
-                line(format!("  {} = {w}", sum(y, &pt.places)));
-            }
-        }
-        Err(e) => line(format!("P-invariants: not computed ({e})")),
+    let st = &a.status;
+    let mut out = Vec::new();
+    invariant_lines(
+        &mut out,
+        "P-flows, a basis",
+        &a.p_flows,
+        &st.p_flows,
+        &pt.places,
+        Some(&pt.initial),
+    );
+    invariant_lines(
+        &mut out,
+        "T-flows, a basis",
+        &a.t_flows,
+        &st.t_flows,
+        &pt.transitions,
+        None,
+    );
+    if matches!(st.p_invariants, Status::Skipped("not requested")) {
+        out.push("minimal invariants: not requested (--invariants flows)".into());
+    } else {
+        invariant_lines(
+            &mut out,
+            "P-invariants",
+            &a.p_invariants,
+            &st.p_invariants,
+            &pt.places,
+            Some(&pt.initial),
+        );
+        invariant_lines(
+            &mut out,
+            "T-invariants",
+            &a.t_invariants,
+            &st.t_invariants,
+            &pt.transitions,
+            None,
+        );
     }
-    match &a.t_invariants {
-        Ok(v) => {
-            line(format!("T-invariants ({}):", v.len()));
-            for x in v {
-                line(format!("  {}", sum(x, &pt.transitions)));
-            }
-        }
-        Err(e) => line(format!("T-invariants: not computed ({e})")),
+    out.push(format!(
+        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}",
+        st.state_space, st.components, st.p_flows, st.t_flows, st.p_invariants, st.t_invariants
+    ));
+    for l in out {
+        line(l);
     }
     s
+}
+
+/// `a - b + 2·c`: a weighted sum of ids.
+fn weighted_sum(y: &[i64], ids: &[String]) -> String {
+    let mut out = String::new();
+    for (i, &c) in y.iter().enumerate().filter(|(_, c)| **c != 0) {
+        let sign = if c < 0 { "-" } else { "+" };
+        if out.is_empty() {
+            if c < 0 {
+                out.push('-');
+            }
+        } else {
+            out.push_str(&format!(" {sign} "));
+        }
+        match c.unsigned_abs() {
+            1 => out.push_str(&ids[i]),
+            k => out.push_str(&format!("{k}·{}", ids[i])),
+        }
+    }
+    out
+}
+
+/// The lines of one list of invariants (with the weighted sum of the initial marking
+/// for P-invariants), or why it is missing.
+fn invariant_lines(
+    out: &mut Vec<String>,
+    what: &str,
+    r: &alba_net::analysis::InvariantList,
+    status: &Status,
+    ids: &[String],
+    initial: Option<&[u32]>,
+) {
+    match r {
+        Ok(v) => {
+            out.push(format!("{what} ({}):", v.len()));
+            for y in v {
+                match initial {
+                    Some(m0) => {
+                        let w: i64 = y.iter().zip(m0).map(|(c, &m)| c * i64::from(m)).sum();
+                        out.push(format!("  {} = {w}", weighted_sum(y, ids)));
+                    }
+                    None => out.push(format!("  {}", weighted_sum(y, ids))),
+                }
+            }
+        }
+        Err(e) => out.push(format!("{what}: {status} ({e})")),
+    }
 }

@@ -211,6 +211,17 @@ enum Command {
         /// Stop after this many states (or coverability nodes).
         #[arg(long, value_name = "N")]
         max_states: Option<usize>,
+        /// Memory the state space may use: bytes, or with K, M, G (default: 3/4 of the
+        /// memory available).
+        #[arg(long, value_name = "SIZE", value_parser = analyze::parse_size)]
+        memory: Option<usize>,
+        /// Invariants: `flows` (a basis of the P- and T-flows only) or `minimal` (also the
+        /// minimal semi-positive invariants, within --invariant-budget).
+        #[arg(long, value_enum, default_value = "minimal")]
+        invariants: analyze::InvariantsArg,
+        /// Work units the minimal invariants may take, each of P and T (about 10^8 a second).
+        #[arg(long, value_name = "N")]
+        invariant_budget: Option<u64>,
     },
     /// Autotune a PID loop by relay feedback against the project's plant models (docs/pid.md).
     Tune {
@@ -527,7 +538,23 @@ fn main() -> ExitCode {
         ),
         Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
         Command::Explain { code } => explain(&code),
-        Command::Analyze { net, json, max_states } => analyze::run(&net, json, max_states),
+        Command::Analyze {
+            net,
+            json,
+            max_states,
+            memory,
+            invariants,
+            invariant_budget,
+        } => analyze::run(
+            &net,
+            json,
+            analyze::Limits {
+                max_states,
+                memory,
+                invariants,
+                invariant_budget,
+            },
+        ),
         Command::Tune {
             project,
             pid,

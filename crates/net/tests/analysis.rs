@@ -1,12 +1,15 @@
 //! The analysis on hand-computed nets, and property tests against a naive reference.
 
 use alba_net::PtNet;
-use alba_net::analysis::{Analysis, Bound, Options, analyze, coverability, invariants, samples};
+use alba_net::analysis::{
+    Analysis, Bound, Control, Invariants, Options, Part, Space, Status, analyze, coverability, invariants, samples,
+};
 use proptest::prelude::*;
 use std::collections::{HashMap, HashSet, VecDeque};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 fn run(net: &PtNet) -> Analysis {
-    analyze(net, &Options::default(), &|| false)
+    analyze(net, &Options::default(), &Control::none())
 }
 
 /// Invariants as sorted lists of (id, coefficient).
@@ -360,7 +363,7 @@ fn unbounded_inhibitor_place_is_reported_unknown() {
             max_states: 100,
             ..Options::default()
         },
-        &|| false,
+        &Control::none(),
     );
     assert_eq!(a.bounded, None);
     assert!(a.stopped.as_deref().unwrap_or("").contains("100"), "{:?}", a.stopped);
@@ -401,7 +404,7 @@ fn max_states_stops_with_a_message() {
             max_states: 10,
             ..Options::default()
         },
-        &|| false,
+        &Control::none(),
     );
     assert_eq!(a.bounded, None);
     assert!(a.stopped.as_deref().unwrap_or("").contains("--max-states"));
@@ -546,7 +549,7 @@ fn run_small(net: &PtNet) -> Analysis {
             max_states: 5_000,
             ..Options::default()
         },
-        &|| false,
+        &Control::none(),
     )
 }
 
@@ -600,7 +603,7 @@ proptest! {
                 // arcs: with them a bounded net may cover an ancestor, see docs/nets.md).
                 if net.has_inhibitors() {
                 } else if let coverability::Coverability::Graph { nodes, edges: cedges, .. } =
-                    coverability::coverability(&net, 100_000, &|| false)
+                    coverability::coverability(&net, 100_000, Control::none().cancel)
                 {
                     let set: HashSet<Vec<u32>> = nodes.into_iter().collect();
                     let reach: HashSet<Vec<u32>> = states.iter().cloned().collect();
@@ -657,11 +660,11 @@ proptest! {
     #[test]
     fn farkas_finds_every_minimal_invariant(net in small_net()) {
         for (a, cols, found) in [
-            (net.incidence(), net.transitions.len(), invariants::p_invariants(&net, 100_000).expect("p")),
+            (net.incidence(), net.transitions.len(), invariants::p_invariants(&net, invariants::Budget::rows(100_000)).expect("p")),
             (
                 (0..net.transitions.len()).map(|t| net.incidence().iter().map(|r| r[t]).collect()).collect(),
                 net.places.len(),
-                invariants::t_invariants(&net, 100_000).expect("t"),
+                invariants::t_invariants(&net, invariants::Budget::rows(100_000)).expect("t"),
             ),
         ] {
             let brute = brute_invariants(&a, cols);
@@ -697,8 +700,173 @@ fn kanban_reaches_the_published_marking_counts() {
     for (n, states) in [(1, 160), (2, 4_600), (3, 58_400)] {
         let net = samples::kanban(n);
         assert_eq!((net.places.len(), net.transitions.len()), (16, 16));
-        let a = analyze(&net, &Options::default(), &|| false);
+        let a = analyze(&net, &Options::default(), &Control::none());
         assert_eq!(a.states, Some(states), "kanban {n}");
         assert_eq!((a.bounded, a.deadlocks), (Some(true), Some(0)), "kanban {n}");
+    }
+}
+
+/// The time-outs were invariant computations running before the state space
+/// and with no bound on their work: here the minimal T-invariants (8^10 of them) run out
+/// of their budget, reported as such, while the state space, the flows and the minimal
+/// P-invariant are complete.
+#[test]
+fn invariants_over_budget_block_nothing() {
+    let net = samples::parallel_ring(10, 8);
+    let a = analyze(
+        &net,
+        &Options {
+            invariant_work: 5_000_000,
+            ..Options::default()
+        },
+        &Control::none(),
+    );
+    assert_eq!((a.space, a.states, a.edges), (Space::Reachability, Some(10), Some(80)));
+    assert_eq!((a.live, a.reversible), (Some(true), Some(true)));
+    assert_eq!(a.status.state_space, Status::Complete);
+    assert_eq!(a.status.components, Status::Complete);
+    assert_eq!(a.status.p_flows, Status::Complete);
+    assert_eq!(a.status.t_flows, Status::Complete);
+    assert_eq!(a.status.p_invariants, Status::Complete);
+    assert_eq!(a.status.t_invariants, Status::Skipped("budget"));
+    assert_eq!(a.t_invariants, Err(invariants::InvariantError::Budget(5_000_000)));
+    // T-flows: 80 transitions, incidence of rank 9.
+    assert_eq!(a.t_flows.as_ref().map(Vec::len), Ok(71));
+    assert_eq!(a.p_invariants.as_ref().map(Vec::len), Ok(1));
+    let json = alba_net::analysis::to_json(&net, &a);
+    assert_eq!(json["status"]["t_invariants"], "skipped: budget");
+    assert_eq!(json["status"]["state_space"], "complete");
+    assert_eq!(json["t_invariants"], serde_json::Value::Null);
+    // Asked for the flows only, the minimal invariants are not computed at all.
+    let a = analyze(
+        &net,
+        &Options {
+            invariants: Invariants::Flows,
+            ..Options::default()
+        },
+        &Control::none(),
+    );
+    assert_eq!(a.status.t_invariants, Status::Skipped("not requested"));
+}
+
+/// The cancellation flag stops the exploration at its next poll, and every later part.
+#[test]
+fn cancellation_stops_every_part() {
+    let net = samples::cycles(11, 3);
+    let cancel = AtomicBool::new(false);
+    let seen = std::sync::Mutex::new(Vec::new());
+    let progress = |p: &alba_net::analysis::Progress| {
+        seen.lock().expect("lock").push((p.part, p.states));
+        cancel.store(true, Ordering::Relaxed);
+    };
+    let a = analyze(
+        &net,
+        &Options::default(),
+        &Control {
+            cancel: &cancel,
+            progress: &progress,
+        },
+    );
+    assert_eq!(a.space, Space::Incomplete);
+    assert_eq!(a.states, None);
+    assert!(
+        a.stopped.as_deref().unwrap_or("").starts_with("cancelled after"),
+        "{:?}",
+        a.stopped
+    );
+    assert_eq!(a.status.state_space, Status::Partial);
+    assert_eq!(a.status.components, Status::Skipped("state space incomplete"));
+    assert_eq!(a.status.p_flows, Status::Skipped("cancelled"));
+    assert_eq!(a.status.p_invariants, Status::Skipped("cancelled"));
+    let seen = seen.lock().expect("lock");
+    assert_eq!(seen[0], (Part::StateSpace, 1));
+    assert!(seen.iter().any(|&(p, _)| p == Part::Flows), "{seen:?}");
+}
+
+/// The memory budget stops the exploration with a message naming `--memory`; the
+/// invariants are still given.
+#[test]
+fn memory_budget_stops_the_state_space_only() {
+    let net = samples::cycles(11, 3);
+    let a = analyze(
+        &net,
+        &Options {
+            memory: 1 << 20,
+            ..Options::default()
+        },
+        &Control::none(),
+    );
+    assert_eq!(a.status.state_space, Status::Partial);
+    let why = a.stopped.as_deref().unwrap_or("");
+    assert!(why.contains("--memory") && why.contains("1 MiB"), "{why}");
+    assert!(a.memory_bytes <= 1 << 20, "{}", a.memory_bytes);
+    assert_eq!(a.status.p_invariants, Status::Complete);
+    assert_eq!(a.p_invariants.as_ref().map(Vec::len), Ok(11));
+}
+
+/// Rank of an integer matrix (fraction-free elimination in i128).
+fn rank(rows: &[Vec<i64>]) -> usize {
+    let mut m: Vec<Vec<i128>> = rows
+        .iter()
+        .map(|r| r.iter().map(|&v| i128::from(v)).collect())
+        .collect();
+    let cols = m.first().map_or(0, Vec::len);
+    let mut r = 0;
+    for c in 0..cols {
+        let Some(p) = (r..m.len()).find(|&i| m[i][c] != 0) else {
+            continue;
+        };
+        m.swap(r, p);
+        for i in 0..m.len() {
+            if i != r && m[i][c] != 0 {
+                let (a, b) = (m[r][c], m[i][c]);
+                let pivot = m[r].clone();
+                for (x, y) in m[i].iter_mut().zip(&pivot) {
+                    *x = *x * a - *y * b;
+                }
+                let g = m[i].iter().fold(0i128, |g, &v| {
+                    let (mut a, mut b) = (g.abs(), v.abs());
+                    while b != 0 {
+                        (a, b) = (b, a % b);
+                    }
+                    a
+                });
+                if g > 1 {
+                    m[i].iter_mut().for_each(|v| *v /= g);
+                }
+            }
+        }
+        r += 1;
+    }
+    r
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// The flows' basis: every vector a flow, independent, as many as the kernel's
+    /// dimension, and spanning every minimal invariant.
+    #[test]
+    fn flows_are_a_basis_of_the_kernel(net in small_net()) {
+        let c = net.incidence();
+        let ct: Vec<Vec<i64>> = (0..net.transitions.len()).map(|t| c.iter().map(|r| r[t]).collect()).collect();
+        let never = AtomicBool::new(false);
+        for (a, cols, basis, minimal) in [
+            (c.clone(), net.transitions.len(), invariants::p_flows(&net, &never).expect("p"),
+             invariants::p_invariants(&net, invariants::Budget::rows(100_000)).expect("p")),
+            (ct.clone(), net.places.len(), invariants::t_flows(&net, &never).expect("t"),
+             invariants::t_invariants(&net, invariants::Budget::rows(100_000)).expect("t")),
+        ] {
+            for y in &basis {
+                prop_assert!(satisfies(y, &a, cols), "{:?} is not a flow", y);
+            }
+            prop_assert_eq!(rank(&basis), basis.len());
+            prop_assert_eq!(basis.len(), a.len() - rank(&a));
+            for y in &minimal {
+                let mut with = basis.clone();
+                with.push(y.clone());
+                prop_assert_eq!(rank(&with), basis.len(), "{:?} outside the span", y);
+            }
+        }
     }
 }

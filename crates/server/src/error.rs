@@ -60,6 +60,9 @@ pub enum ApiError {
     /// be reached or refused the request.
     #[error("{0}")]
     Upstream(String),
+    /// A resource that serves one request at a time is taken (a net analysis).
+    #[error("{0}")]
+    Busy(String),
     /// A fault of the server (a task that did not finish).
     #[error("{0}")]
     Internal(String),
@@ -81,7 +84,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Upstream(_) => StatusCode::BAD_GATEWAY,
         ApiError::Unauthorized(_) => StatusCode::UNAUTHORIZED,
         ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
-        ApiError::TooManyAttempts(_) => StatusCode::TOO_MANY_REQUESTS,
+        ApiError::TooManyAttempts(_) | ApiError::Busy(_) => StatusCode::TOO_MANY_REQUESTS,
         ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
             R::Stopped | R::Io { .. } | R::Busy => StatusCode::SERVICE_UNAVAILABLE,
             R::Attached { .. } | R::Running | R::Faulted(_) => StatusCode::CONFLICT,

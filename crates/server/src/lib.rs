@@ -61,6 +61,8 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/stop", Needs(Role::Engineer)),
     ("POST", "/api/step", Needs(Role::Engineer)),
     ("POST", "/api/nets/{name}/reset", Needs(Role::Engineer)),
+    // Seconds of CPU and up to ANALYSIS_MEMORY: for those who edit nets.
+    ("POST", "/api/nets/{name}/analysis", Needs(Role::Engineer)),
     ("DELETE", "/api/forces", Needs(Role::Engineer)),
     ("PUT", "/api/forces/{name}", Needs(Role::Engineer)),
     ("DELETE", "/api/forces/{name}", Needs(Role::Engineer)),
@@ -110,7 +112,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/forces", get(forces::list).delete(forces::delete_all))
         .route("/api/forces/{name}", put(forces::put).delete(forces::delete))
         .route("/api/programs", get(programs::list))
-        .route("/api/nets/{name}/analysis", get(nets::analysis))
+        .route("/api/nets/{name}/analysis", post(nets::analysis))
         .route("/api/nets/{name}/reset", post(nets::reset))
         .route("/api/pid/{name}/autotune", post(api::pid::autotune))
         .route("/api/instructions", get(domain::instructions))

@@ -56,6 +56,9 @@ pub struct AppState {
     pub max_ws_clients: usize,
     /// How long a request may take (`[http] request_timeout_s`).
     pub request_timeout: std::time::Duration,
+    /// One net analysis at a time (`POST /api/nets/{name}/analysis`): its
+    /// thread holds the permit until it has stopped.
+    pub analysis: Arc<tokio::sync::Semaphore>,
 }
 
 impl AppState {
@@ -88,6 +91,7 @@ impl AppState {
             https: std::sync::atomic::AtomicBool::new(false),
             max_ws_clients: http.max_ws_clients as usize,
             request_timeout: std::time::Duration::from_secs(u64::from(http.request_timeout_s)),
+            analysis: Arc::new(tokio::sync::Semaphore::new(1)),
         })
     }
 

@@ -65,7 +65,7 @@ export function replay(net: Net, trace: string[]): { markings: Marking[]; fired:
   return { markings, fired };
 }
 
-/** The result of GET /api/nets/{name}/analysis (docs/nets.md "JSON"). */
+/** The result of POST /api/nets/{name}/analysis (docs/nets.md "JSON"). */
 export interface Analysis {
   places: number;
   transitions: number;
@@ -85,4 +85,8 @@ export interface Analysis {
   state_space?: string;
   stopped?: string | null;
   notes?: string[];
+  /** Each part's status: `complete`, `partial`, `skipped: budget` … */
+  status?: Record<'state_space' | 'components' | 'p_flows' | 't_flows' | 'p_invariants' | 't_invariants', string>;
+  p_flows?: Record<string, number>[] | null;
+  t_flows?: Record<string, number>[] | null;
 }

@@ -13,7 +13,7 @@
 // debounced), Save (PUT /api/programs online, between scans) and the
 // problems list are the shared ProgramEditor's; a problem's line:column is
 // put on the element whose text holds it.
-import { api } from '../api';
+import { type AnalysisProgress, api } from '../api';
 import { can, gate, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { ZoomPan, grid } from '../canvas';
@@ -78,6 +78,10 @@ export class NetView {
   private analysis: Analysis | null = null;
   private analysisError: string | null = null;
   private analysing = false;
+  /** The running analysis's progress and its cancellation. */
+  private analysisProgress: AnalysisProgress | null = null;
+  private analysisAbort: AbortController | null = null;
+  private analysisTimedOut = false;
   private replayState: Replay | null = null;
   private lit = new Set<string>();
   private history: { scan: number; t: number; fired: string[]; changes: string[] }[] = [];
@@ -145,7 +149,7 @@ export class NetView {
           tool(`⇥ ${tr('Single step')}`, 'net-step', tr('Run one scan while the PLC is stopped (F6)'), () => void this.singleStep(), 'runstop'),
           tool(tr('Reset marking'), 'net-reset', tr('Write the initial marking to every place of the net, at one scan boundary'), () => void this.resetMarking(), 'runstop'),
           this.liveEl),
-        h('span', { class: 'seg' }, tool(tr('Analyse'), 'net-analyse', tr('Reachability, deadlocks, dead transitions and invariants of the saved net'), () => void this.analyse(), null)),
+        h('span', { class: 'seg' }, tool(tr('Analyse'), 'net-analyse', tr('Reachability, deadlocks, dead transitions and invariants of the saved net'), () => void this.analyse(), 'edit')),
         this.ed.stateEl),
       h('div', { class: 'ladder-body' },
         palette,
@@ -1179,19 +1183,35 @@ export class NetView {
   // ---- analysis ----------------------------------------------------------
 
   async analyse(): Promise<void> {
+    if (this.analysing) return;
+    const abort = new AbortController();
+    this.analysisAbort = abort;
     this.analysing = true;
+    this.analysisProgress = null;
     this.analysisError = null;
+    this.analysisTimedOut = false;
     this.renderAnalysis();
     try {
-      this.analysis = await api.netAnalysis<Analysis>(this.program);
+      const r = await api.netAnalysis<Analysis>(this.program, (p) => {
+        this.analysisProgress = p;
+        this.renderAnalysis();
+      }, abort.signal);
+      this.analysis = r.result;
+      this.analysisTimedOut = r.timed_out;
     } catch (e) {
       this.analysis = null;
-      this.analysisError = e instanceof Error ? e.message : String(e);
+      this.analysisError = abort.signal.aborted ? tr('Analysis cancelled.') : e instanceof Error ? e.message : String(e);
     } finally {
       this.analysing = false;
+      this.analysisAbort = null;
       this.replayState = null;
       this.render();
     }
+  }
+
+  /** Closes the analysis's connection: the server stops it. */
+  private cancelAnalysis(): void {
+    this.analysisAbort?.abort();
   }
 
   private startReplay(): void {
@@ -1214,7 +1234,17 @@ export class NetView {
   private renderAnalysis(): void {
     const el = this.analysisEl;
     clear(el);
-    if (this.analysing) return void el.append(h('p', { class: 'hint' }, tr('Analysing…')));
+    if (this.analysing) {
+      const p = this.analysisProgress;
+      const part: Record<string, string> = {
+        state_space: tr('state space'), components: tr('liveness and reversibility'), flows: tr('flows'), invariants: tr('minimal invariants'),
+      };
+      return void el.append(
+        h('p', { class: 'hint', 'data-testid': 'net-analysis-progress' }, p
+          ? tr('Analysing… {part}: {n} states, {mb} MB', { part: part[p.part] ?? p.part, n: p.states.toLocaleString(), mb: (p.bytes / 1048576).toFixed(1) })
+          : tr('Analysing…')),
+        h('button', { class: 'small', 'data-testid': 'net-analysis-cancel', onclick: () => this.cancelAnalysis() }, tr('Cancel')));
+    }
     if (this.analysisError) return void el.append(h('p', { class: 'inline-error', 'data-testid': 'net-analysis-error' }, this.analysisError));
     const a = this.analysis;
     if (!a) return void el.append(h('p', { class: 'hint' }, tr('Analyse explores the markings of the saved net: guards, priorities and tags are left out.')));
@@ -1244,7 +1274,11 @@ export class NetView {
         row(tr('Live'), 'live', yes(a.live)),
         row(tr('Reversible'), 'reversible', yes(a.reversible)),
         row(tr('Dead transitions'), 'dead', a.dead_transitions === null ? tr('unknown') : a.dead_transitions.length ? a.dead_transitions.join(', ') : tr('none'))),
-      a.stopped ? h('p', { class: 'inline-error' }, a.stopped) : null);
+      a.stopped ? h('p', { class: 'inline-error' }, a.stopped) : null,
+      this.analysisTimedOut ? h('p', { class: 'inline-error', 'data-testid': 'net-analysis-timed-out' }, tr('The analysis ran out of time: what is not complete is unknown.')) : null,
+      a.status ? h('table', { class: 'net-an-table net-an-status' },
+        ([['state_space', tr('State space')], ['components', tr('Liveness and reversibility')], ['p_flows', tr('Place flows')], ['t_flows', tr('Transition flows')], ['p_invariants', tr('Place invariants')], ['t_invariants', tr('Transition invariants')]] as const)
+          .map(([k, label]) => h('tr', null, h('th', null, label), h('td', { 'data-testid': `net-an-status-${k}`, class: a.status?.[k] === 'complete' ? '' : 'warn' }, statusText(a.status?.[k] ?? ''))))) : null);
     const trace = a.deadlock_trace;
     if (trace && trace.length >= 0 && a.deadlocks) {
       const r = this.replayState;
@@ -1265,4 +1299,16 @@ export class NetView {
       h('h4', null, tr('Transition invariants')), inv(a.t_invariants, tr('Hover to highlight the transitions it covers'), 'tinv'),
       (a.notes ?? []).map((n) => h('p', { class: 'hint' }, n)));
   }
+}
+
+/** A part's status (`complete`, `partial`, `skipped: budget` …) in the studio's language. */
+function statusText(s: string): string {
+  const reasons: Record<string, string> = {
+    budget: tr('budget'), cancelled: tr('cancelled'), overflow: tr('overflow'), 'not requested': tr('not requested'),
+    'state space incomplete': tr('state space incomplete'), unbounded: tr('unbounded'),
+  };
+  if (s === 'complete') return tr('complete');
+  if (s === 'partial') return tr('partial');
+  if (s.startsWith('skipped: ')) return tr('skipped: {why}', { why: reasons[s.slice(9)] ?? s.slice(9) });
+  return s;
 }

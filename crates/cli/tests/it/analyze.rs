@@ -83,3 +83,35 @@ fn analyze_report_and_errors() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--max-states"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Each part's status, the flows' basis, `--invariants flows` and `--memory`.
+#[test]
+fn analyze_reports_each_parts_status_and_takes_a_memory_budget() {
+    let net = "crates/cli/tests/fixtures/philosophers2.pnml";
+    let out = alba(&repo(), &["analyze", net, "--json"]);
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    for part in [
+        "state_space",
+        "components",
+        "p_flows",
+        "t_flows",
+        "p_invariants",
+        "t_invariants",
+    ] {
+        assert_eq!(v["status"][part], "complete", "{part}");
+    }
+    assert_eq!(v["p_flows"].as_array().map(Vec::len), Some(4));
+    assert_eq!(v["max_tokens_per_marking"], 4);
+    let out = alba(
+        &repo(),
+        &["analyze", net, "--json", "--invariants", "flows", "--memory", "64M"],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["p_invariants"], Value::Null);
+    assert_eq!(v["status"]["p_invariants"], "skipped: not requested");
+    assert_eq!(v["states"], 6);
+    let out = alba(&repo(), &["analyze", net, "--memory", "lots"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is not a size"));
+}

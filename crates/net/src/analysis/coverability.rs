@@ -9,6 +9,7 @@
 
 use crate::PtNet;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The ω value.
 pub const OMEGA: u32 = u32::MAX;
@@ -38,7 +39,7 @@ fn enabled(net: &PtNet, m: &[u32], t: usize) -> bool {
 
 /// Builds the Karp–Miller coverability graph, up to `max_nodes` nodes.
 #[allow(clippy::needless_range_loop)]
-pub fn coverability(net: &PtNet, max_nodes: usize, cancel: &dyn Fn() -> bool) -> Coverability {
+pub fn coverability(net: &PtNet, max_nodes: usize, cancel: &AtomicBool) -> Coverability {
     let np = net.places.len();
     let nt = net.transitions.len();
     let mut inhibited = vec![false; np];
@@ -54,7 +55,7 @@ pub fn coverability(net: &PtNet, max_nodes: usize, cancel: &dyn Fn() -> bool) ->
     let mut edges = 0u64;
     let mut work = vec![0usize];
     while let Some(n) = work.pop() {
-        if cancel() {
+        if cancel.load(Ordering::Relaxed) {
             return Coverability::Limit;
         }
         let cur = nodes[n].clone();

@@ -2,7 +2,7 @@
 //! `GET /api/nets/{name}/analysis` answers (SPEC §10.5's keys plus extras,
 //! docs/nets.md "JSON"), places and transitions named by their PNML ids.
 
-use super::{Analysis, Bound, Space};
+use super::{Analysis, Bound, Space, Status};
 use crate::PtNet;
 use serde_json::{Map, Value, json};
 
@@ -54,13 +54,29 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
     );
     o.insert("live".into(), json!(a.live));
     o.insert("reversible".into(), json!(a.reversible));
-    let inv = |r: &Result<Vec<Vec<i64>>, _>, ids: &[String]| match r {
+    let inv = |r: &super::InvariantList, ids: &[String]| match r {
         Ok(v) => invariants_json(ids, v),
         Err(_) => Value::Null,
     };
     o.insert("p_invariants".into(), inv(&a.p_invariants, &pt.places));
     o.insert("t_invariants".into(), inv(&a.t_invariants, &pt.transitions));
     // Extras.
+    o.insert("p_flows".into(), inv(&a.p_flows, &pt.places));
+    o.insert("t_flows".into(), inv(&a.t_flows, &pt.transitions));
+    o.insert("max_tokens_per_marking".into(), json!(a.max_tokens));
+    o.insert("memory_bytes".into(), json!(a.memory_bytes));
+    let st = &a.status;
+    o.insert(
+        "status".into(),
+        json!({
+            "state_space": st.state_space.to_string(),
+            "components": st.components.to_string(),
+            "p_flows": st.p_flows.to_string(),
+            "t_flows": st.t_flows.to_string(),
+            "p_invariants": st.p_invariants.to_string(),
+            "t_invariants": st.t_invariants.to_string(),
+        }),
+    );
     o.insert(
         "deadlock_trace".into(),
         a.deadlock_trace.as_deref().map_or(Value::Null, names),
@@ -88,11 +104,17 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
     o.insert("strongly_connected_components".into(), json!(a.components));
     o.insert("stopped".into(), json!(a.stopped));
     let mut errors = Vec::new();
-    if let Err(e) = &a.p_invariants {
-        errors.push(format!("P-invariants not computed: {e}"));
-    }
-    if let Err(e) = &a.t_invariants {
-        errors.push(format!("T-invariants not computed: {e}"));
+    for (what, r, s) in [
+        ("P-flows", &a.p_flows, &st.p_flows),
+        ("T-flows", &a.t_flows, &st.t_flows),
+        ("minimal P-invariants", &a.p_invariants, &st.p_invariants),
+        ("minimal T-invariants", &a.t_invariants, &st.t_invariants),
+    ] {
+        if let (Err(e), Status::Skipped(why)) = (r, s)
+            && *why != "not requested"
+        {
+            errors.push(format!("{what} not computed: {e}"));
+        }
     }
     let notes: Vec<String> = a.notes.iter().cloned().chain(errors).collect();
     o.insert("notes".into(), json!(notes));

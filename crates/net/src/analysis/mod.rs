@@ -12,7 +12,14 @@
 //!   transition is dead and unknown otherwise.
 //! - Inhibitor arcs: see [`reachability`] and [`coverability`]; when soundness cannot be
 //!   guaranteed the boundedness is reported unknown rather than guessed.
-//! - P- and T-invariants: [`invariants`] (Farkas), independent of the state space.
+//! - P- and T-invariants: [`invariants`]: a basis of the flows (polynomial, always) and
+//!   the minimal semi-positive invariants (Farkas, exponential at worst) under a work
+//!   budget of their own.
+//!
+//! No part blocks another: the state space and its facts come first, then the flows,
+//! then the minimal invariants, and each part reports a [`Status`] (`complete`,
+//! `partial`, `skipped: …`). A [`Control`] carries a cancellation flag, polled by every
+//! part, and a progress callback; [`Options::memory`] bounds the state space's memory.
 
 pub mod bench;
 pub mod coverability;
@@ -24,24 +31,151 @@ pub mod samples;
 pub use json::to_json;
 
 use crate::PtNet;
+use invariants::{Budget, InvariantError};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+
+/// Which invariants are computed besides the flows' basis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Invariants {
+    /// The basis of the P- and T-flows only.
+    Flows,
+    /// Also the minimal semi-positive invariants, within [`Options::invariant_work`].
+    Minimal,
+}
 
 /// Limits of the analysis.
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
     /// Largest number of states (or coverability nodes) explored.
     pub max_states: usize,
+    /// Bytes the state space may use (markings, index, BFS parents, the SCC pass).
+    pub memory: usize,
+    /// Which invariants.
+    pub invariants: Invariants,
+    /// Work units of the minimal invariants (each of P and T).
+    pub invariant_work: u64,
     /// Largest number of intermediate rows in the Farkas algorithm.
     pub max_invariant_rows: usize,
 }
 
+/// The default memory budget of the state space: 2 GiB.
+pub const DEFAULT_MEMORY: usize = 2 << 30;
+
 impl Default for Options {
     fn default() -> Options {
         Options {
-            max_states: 10_000_000,
+            max_states: usize::MAX,
+            memory: DEFAULT_MEMORY,
+            invariants: Invariants::Minimal,
+            invariant_work: invariants::DEFAULT_WORK,
             max_invariant_rows: invariants::MAX_ROWS,
         }
     }
+}
+
+/// The part of the analysis running.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Building the state space.
+    StateSpace,
+    /// The strongly connected components (liveness, reversibility).
+    Components,
+    /// The flows' basis.
+    Flows,
+    /// The minimal semi-positive invariants.
+    Invariants,
+}
+
+impl Part {
+    /// The part's name in JSON and progress reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Part::StateSpace => "state_space",
+            Part::Components => "components",
+            Part::Flows => "flows",
+            Part::Invariants => "invariants",
+        }
+    }
+}
+
+/// Where the analysis is.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// The part running.
+    pub part: Part,
+    /// States found (state space) or visited (components).
+    pub states: u64,
+    /// Bytes the state space uses.
+    pub bytes: usize,
+}
+
+/// How a caller steers a running analysis.
+#[derive(Clone, Copy)]
+pub struct Control<'a> {
+    /// Raised to stop: every part polls it and ends as `skipped: cancelled` or `partial`.
+    pub cancel: &'a AtomicBool,
+    /// Called as the analysis goes (every 16 384 states, and at each part's start).
+    pub progress: &'a (dyn Fn(&Progress) + Sync),
+}
+
+static NEVER: AtomicBool = AtomicBool::new(false);
+
+impl Control<'static> {
+    /// Never cancelled, no progress.
+    pub fn none() -> Control<'static> {
+        Control {
+            cancel: &NEVER,
+            progress: &|_| {},
+        }
+    }
+}
+
+impl Control<'_> {
+    /// Whether the analysis is cancelled.
+    pub fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}
+
+/// How far a part got.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Done: its results are exact.
+    Complete,
+    /// Stopped before the end (see [`Analysis::stopped`]); its results are unknown or a
+    /// lower bound.
+    Partial,
+    /// Not run, or its results dropped, for this reason (`budget`, `cancelled`,
+    /// `overflow`, `not requested`, `state space incomplete`).
+    Skipped(&'static str),
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Status::Complete => write!(f, "complete"),
+            Status::Partial => write!(f, "partial"),
+            Status::Skipped(why) => write!(f, "skipped: {why}"),
+        }
+    }
+}
+
+/// Each part's status.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Statuses {
+    /// The state space (states, edges, bounds, deadlocks, dead transitions).
+    pub state_space: Status,
+    /// Liveness and reversibility (the SCC pass).
+    pub components: Status,
+    /// The basis of the P-flows.
+    pub p_flows: Status,
+    /// The basis of the T-flows.
+    pub t_flows: Status,
+    /// The minimal semi-positive P-invariants.
+    pub p_invariants: Status,
+    /// The minimal semi-positive T-invariants.
+    pub t_invariants: Status,
 }
 
 /// A place bound.
@@ -64,6 +198,9 @@ pub enum Space {
     Incomplete,
 }
 
+/// Invariants (coefficients per place or transition), or why there are none.
+pub type InvariantList = Result<Vec<Vec<i64>>, InvariantError>;
+
 /// The results. `None` means unknown (see [`Analysis::stopped`]) or not applicable.
 #[derive(Clone, Debug)]
 pub struct Analysis {
@@ -79,6 +216,8 @@ pub struct Analysis {
     pub safe: Option<bool>,
     /// Bound per place.
     pub place_bounds: Option<Vec<Bound>>,
+    /// Largest number of tokens in one reachable marking (bounded nets).
+    pub max_tokens: Option<u64>,
     /// Reachable markings (bounded) or coverability nodes (unbounded).
     pub states: Option<u64>,
     /// Edges of the reachability graph (`None` when unbounded).
@@ -97,28 +236,46 @@ pub struct Analysis {
     pub reversible: Option<bool>,
     /// Strongly connected components of the reachability graph.
     pub components: Option<u64>,
+    /// A basis of the P-flows (coefficients of any sign, per place).
+    pub p_flows: InvariantList,
+    /// A basis of the T-flows (per transition).
+    pub t_flows: InvariantList,
     /// Minimal semi-positive P-invariants (coefficient per place).
-    pub p_invariants: Result<Vec<Vec<i64>>, invariants::InvariantError>,
+    pub p_invariants: InvariantList,
     /// Minimal semi-positive T-invariants (coefficient per transition).
-    pub t_invariants: Result<Vec<Vec<i64>>, invariants::InvariantError>,
+    pub t_invariants: InvariantList,
+    /// Each part's status.
+    pub status: Statuses,
     /// Why the state-space analysis is incomplete, when it is.
     pub stopped: Option<String>,
     /// Notes on what the result means (guards ignored, inhibitor arcs …).
     pub notes: Vec<String>,
-    /// Bytes used by the state-space data structures.
+    /// Bytes used by the state-space data structures (the largest at any time).
     pub memory_bytes: usize,
     /// Time to build the state space.
     pub explore_time: Duration,
     /// Time of the SCC pass (liveness, reversibility).
     pub scc_time: Duration,
-    /// Time of the invariant computation.
+    /// Time of the invariant computation (flows and minimal invariants).
     pub invariant_time: Duration,
 }
 
-/// Analyses `net` within `options`; `cancel` is polled and stops the exploration when true.
-pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Analysis {
+/// The status of an invariant part from its result.
+fn invariant_status(r: &InvariantList) -> Status {
+    match r {
+        Ok(_) => Status::Complete,
+        Err(InvariantError::Overflow) => Status::Skipped("overflow"),
+        Err(InvariantError::Cancelled) => Status::Skipped("cancelled"),
+        Err(InvariantError::Budget(_) | InvariantError::TooManyRows(_)) => Status::Skipped("budget"),
+    }
+}
+
+/// Analyses `net` within `options`, steered by `control`: the state space and its facts
+/// first, then the flows' basis, then (when asked) the minimal invariants.
+pub fn analyze(net: &PtNet, options: &Options, control: &Control<'_>) -> Analysis {
     let np = net.places.len();
     let nt = net.transitions.len();
+    let skipped = Status::Skipped("not requested");
     let mut a = Analysis {
         places: np,
         transitions: nt,
@@ -126,6 +283,7 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
         bounded: None,
         safe: None,
         place_bounds: None,
+        max_tokens: None,
         states: None,
         edges: None,
         deadlocks: None,
@@ -135,8 +293,18 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
         live: None,
         reversible: None,
         components: None,
-        p_invariants: Ok(Vec::new()),
-        t_invariants: Ok(Vec::new()),
+        p_flows: Err(InvariantError::Cancelled),
+        t_flows: Err(InvariantError::Cancelled),
+        p_invariants: Err(InvariantError::Cancelled),
+        t_invariants: Err(InvariantError::Cancelled),
+        status: Statuses {
+            state_space: Status::Partial,
+            components: Status::Skipped("state space incomplete"),
+            p_flows: skipped.clone(),
+            t_flows: skipped.clone(),
+            p_invariants: skipped.clone(),
+            t_invariants: skipped,
+        },
         stopped: None,
         notes: vec![
             "guards, priorities and tags are ignored: this is the analysis of the underlying place/transition net"
@@ -154,97 +322,160 @@ pub fn analyze(net: &PtNet, options: &Options, cancel: &dyn Fn() -> bool) -> Ana
                 .into(),
         );
     }
+    state_space(net, options, control, &mut a);
+    let progress = |part| {
+        (control.progress)(&Progress {
+            part,
+            states: a.states.unwrap_or(0),
+            bytes: a.memory_bytes,
+        })
+    };
     let inv_start = Instant::now();
-    a.p_invariants = invariants::p_invariants(net, options.max_invariant_rows);
-    a.t_invariants = invariants::t_invariants(net, options.max_invariant_rows);
+    progress(Part::Flows);
+    a.p_flows = invariants::p_flows(net, control.cancel);
+    a.t_flows = invariants::t_flows(net, control.cancel);
+    a.status.p_flows = invariant_status(&a.p_flows);
+    a.status.t_flows = invariant_status(&a.t_flows);
+    if options.invariants == Invariants::Minimal {
+        progress(Part::Invariants);
+        let budget = Budget {
+            work: options.invariant_work,
+            max_rows: options.max_invariant_rows,
+            cancel: control.cancel,
+        };
+        a.p_invariants = invariants::p_invariants(net, budget);
+        a.t_invariants = invariants::t_invariants(net, budget);
+        a.status.p_invariants = invariant_status(&a.p_invariants);
+        a.status.t_invariants = invariant_status(&a.t_invariants);
+    }
     a.invariant_time = inv_start.elapsed();
+    a
+}
+
+/// The state space and the facts that come from it.
+fn state_space(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut Analysis) {
+    let np = net.places.len();
+    let nt = net.transitions.len();
     let start = Instant::now();
-    match reachability::explore(net, options.max_states, cancel) {
+    let limits = reachability::Limits {
+        max_states: options.max_states,
+        memory: options.memory,
+    };
+    match reachability::explore(net, &limits, control) {
         reachability::Explored::Graph(g) => {
             a.explore_time = start.elapsed();
             a.space = Space::Reachability;
+            a.status.state_space = Status::Complete;
             a.bounded = Some(true);
             a.safe = Some(g.max.iter().all(|&m| m <= 1));
             a.place_bounds = Some(g.max.iter().map(|&m| Bound::Finite(m)).collect());
+            a.max_tokens = Some(g.max_tokens);
             a.states = Some(g.store.len() as u64);
             a.edges = Some(g.edges);
             a.deadlocks = Some(g.deadlocks);
             if let Some(d) = g.first_deadlock {
-                a.deadlock_trace = Some(g.trace(d));
+                a.deadlock_trace = g.deadlock_trace.clone();
                 let mut words = vec![0u64; g.store.layout.bytes.div_ceil(8) + 1];
                 let mut m = vec![0u32; np];
                 g.store.marking(d as usize, &mut words, &mut m);
                 a.deadlock_marking = Some(m);
             }
             a.dead_transitions = Some((0..nt).filter(|&t| !g.fired[t]).collect());
-            let scc = Instant::now();
-            let c = reachability::components(net, &g);
-            a.scc_time = scc.elapsed();
-            a.live = Some(c.live);
-            a.reversible = Some(c.reversible);
-            a.components = Some(c.count as u64);
+            a.memory_bytes = g.peak_bytes;
             // Tarjan's per-state word and two bit sets on top of the graph.
-            a.memory_bytes = g.bytes_used() + g.store.len() * 4 + g.store.len() / 4;
+            let scc_bytes = g.store.len() * 4 + g.store.len() / 4;
+            if g.bytes_used() + scc_bytes > options.memory {
+                a.status.components = Status::Skipped("budget");
+                return;
+            }
+            a.memory_bytes = a.memory_bytes.max(g.bytes_used() + scc_bytes);
+            let scc = Instant::now();
+            match reachability::components(net, &g, control) {
+                Some(c) => {
+                    a.live = Some(c.live);
+                    a.reversible = Some(c.reversible);
+                    a.components = Some(c.count as u64);
+                    a.status.components = Status::Complete;
+                }
+                None => a.status.components = Status::Skipped("cancelled"),
+            }
+            a.scc_time = scc.elapsed();
         }
-        reachability::Explored::Unbounded => match coverability::coverability(net, options.max_states, cancel) {
-            coverability::Coverability::Graph {
-                nodes,
-                edges: _,
-                enabled,
-            } => {
-                a.explore_time = start.elapsed();
-                a.space = Space::Coverability;
-                let bounds: Vec<Bound> = (0..np)
-                    .map(|p| {
-                        let m = nodes.iter().map(|n| n[p]).max().unwrap_or(0);
-                        if m == coverability::OMEGA {
-                            Bound::Omega
-                        } else {
-                            Bound::Finite(m)
-                        }
-                    })
-                    .collect();
-                a.bounded = Some(false);
-                a.safe = Some(false);
-                a.place_bounds = Some(bounds);
-                a.states = Some(nodes.len() as u64);
-                let dead: Vec<usize> = (0..nt).filter(|&t| !enabled[t]).collect();
-                a.live = if dead.is_empty() { None } else { Some(false) };
-                a.dead_transitions = Some(dead);
-                a.memory_bytes = nodes.len() * (np * 4 + 48);
-                a.notes.push(
+        reachability::Explored::Unbounded => {
+            match coverability::coverability(net, options.max_states, control.cancel) {
+                coverability::Coverability::Graph {
+                    nodes,
+                    edges: _,
+                    enabled,
+                } => {
+                    a.explore_time = start.elapsed();
+                    a.space = Space::Coverability;
+                    a.status.state_space = Status::Complete;
+                    let bounds: Vec<Bound> = (0..np)
+                        .map(|p| {
+                            let m = nodes.iter().map(|n| n[p]).max().unwrap_or(0);
+                            if m == coverability::OMEGA {
+                                Bound::Omega
+                            } else {
+                                Bound::Finite(m)
+                            }
+                        })
+                        .collect();
+                    a.bounded = Some(false);
+                    a.safe = Some(false);
+                    a.place_bounds = Some(bounds);
+                    a.states = Some(nodes.len() as u64);
+                    let dead: Vec<usize> = (0..nt).filter(|&t| !enabled[t]).collect();
+                    a.live = if dead.is_empty() { None } else { Some(false) };
+                    a.status.components = if dead.is_empty() {
+                        Status::Skipped("unbounded")
+                    } else {
+                        Status::Complete
+                    };
+                    a.dead_transitions = Some(dead);
+                    a.memory_bytes = nodes.len() * (np * 4 + 48);
+                    a.notes.push(
                         "unbounded: Karp–Miller coverability graph; states counts its nodes; edges, deadlocks and reversibility are not computed"
                             .into(),
                     );
+                }
+                coverability::Coverability::Limit => {
+                    a.bounded = Some(false);
+                    a.safe = Some(false);
+                    a.stopped = Some(if control.cancelled() {
+                        "cancelled".to_string()
+                    } else {
+                        format!(
+                            "the net is unbounded and its coverability graph has more than {} nodes (--max-states)",
+                            options.max_states
+                        )
+                    });
+                }
+                coverability::Coverability::InhibitorOmega(p) => {
+                    a.stopped = Some(format!(
+                        "place {} would be unbounded but an inhibitor arc reads it: the coverability graph would not be sound, boundedness unknown",
+                        net.places[p]
+                    ));
+                }
             }
-            coverability::Coverability::Limit => {
-                a.bounded = Some(false);
-                a.safe = Some(false);
-                a.stopped = Some(format!(
-                    "the net is unbounded and its coverability graph has more than {} nodes (--max-states)",
-                    options.max_states
-                ));
-            }
-            coverability::Coverability::InhibitorOmega(p) => {
-                a.stopped = Some(format!(
-                    "place {} would be unbounded but an inhibitor arc reads it: the coverability graph would not be sound, boundedness unknown",
-                    net.places[p]
-                ));
-            }
-        },
-        reachability::Explored::Limit => {
-            a.stopped = Some(if cancel() {
-                "interrupted".to_string()
-            } else {
-                format!(
+        }
+        reachability::Explored::Limit { why, states, bytes } => {
+            a.explore_time = start.elapsed();
+            a.memory_bytes = bytes;
+            a.stopped = Some(match why {
+                reachability::Stop::Cancelled => format!("cancelled after {states} states"),
+                reachability::Stop::States => format!(
                     "stopped after {} states (--max-states): the state space is incomplete",
                     options.max_states
-                )
+                ),
+                reachability::Stop::Memory => format!(
+                    "stopped after {states} states: the state space needs more than {} MiB (--memory)",
+                    options.memory >> 20
+                ),
             });
         }
         reachability::Explored::Overflow => {
             a.stopped = Some("a place count exceeds 2^32-1: boundedness unknown".into());
         }
     }
-    a
 }

@@ -101,3 +101,22 @@ pub fn kanban(n: u32) -> PtNet {
     arcs(&mut net, "tout4", &[p[3].3], &[p[3].0]);
     net
 }
+
+/// A ring of `stages` places, one token, and `width` parallel transitions from each place
+/// to the next: `stages` states but `width^stages` minimal T-invariants (one transition
+/// per stage), so the Farkas algorithm runs out of any budget while the flows' basis
+/// (`stages·width - stages + 1` T-flows) stays polynomial.
+pub fn parallel_ring(stages: usize, width: usize) -> PtNet {
+    let mut net = PtNet::new();
+    for i in 0..stages {
+        net.add_place(&format!("p{i}"), u32::from(i == 0));
+    }
+    for i in 0..stages {
+        for k in 0..width {
+            let t = net.add_transition(&format!("t{i}_{k}"));
+            net.add_pre(t, i, 1);
+            net.add_post(t, (i + 1) % stages, 1);
+        }
+    }
+    net
+}

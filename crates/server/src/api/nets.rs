@@ -1,9 +1,11 @@
-//! `GET /api/nets/{name}/analysis[?max_states=N]`: the analysis of a net of
-//! the project (docs/nets.md "Analysis"), the same JSON object as `alba
-//! analyze --json`. `{name}` is the program as listed (`line.pnml`) or the
-//! net's name (`line`). The exploration runs off the async executor and is
-//! bounded (by default 1 000 000 states, at most 10 000 000), so a request
-//! cannot run for ever.
+//! `POST /api/nets/{name}/analysis`: the analysis of a net of the project
+//! (docs/nets.md "Analysis"), streamed as JSON lines: progress while it runs,
+//! then the same object as `alba analyze --json`. `{name}` is the program as
+//! listed (`line.pnml`) or the net's name (`line`). One analysis at a time per
+//! project (`429` while one runs), on a thread of its own at the least
+//! priority (SCHED_BATCH, nice 19: the engine, the server and the drivers
+//! come first), within [`ANALYSIS_MEMORY`] and
+//! [`ANALYSIS_TIME`]; it stops when the client goes away.
 //!
 //! `POST /api/nets/{name}/reset`: writes the net's initial marking at one
 //! scan boundary (docs/nets.md "Live view").
@@ -20,62 +22,216 @@ use alba_compiler::project::Language;
 use alba_ir::Target;
 use alba_ir::model::Value as PlcValue;
 use axum::Json;
-use axum::extract::{Path, Query, State};
+use axum::body::{Body, Bytes};
+use axum::extract::{Path, State};
+use axum::response::{IntoResponse, Response};
 use net::PtNet;
-use net::analysis::{Options, analyze, to_json};
-use serde_json::Value;
-use std::collections::HashMap;
+use net::analysis::{Control, Invariants, Options, Progress, analyze, to_json};
+use serde_json::{Value, json};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+use tokio::sync::{oneshot, watch};
 
 /// States explored unless `max_states` says otherwise, and the most it may say.
 pub const DEFAULT_MAX_STATES: usize = 1_000_000;
 pub const MAX_STATES: usize = 10_000_000;
+/// Memory the state space of one analysis may use.
+pub const ANALYSIS_MEMORY: usize = 256 << 20;
+/// How long one analysis may run.
+pub const ANALYSIS_TIME: Duration = Duration::from_secs(120);
+/// Least time between two progress lines.
+const PROGRESS_EVERY: Duration = Duration::from_millis(250);
 
-pub async fn analysis(
-    State(st): State<Arc<AppState>>,
-    Path(name): Path<String>,
-    Query(q): Query<HashMap<String, String>>,
-) -> ApiResult<Json<Value>> {
-    if let Some(k) = q.keys().find(|k| k.as_str() != "max_states") {
-        return Err(ApiError::Malformed(format!(
-            "unknown query parameter `{k}` (only `max_states`)"
-        )));
+/// The request body (all optional; an empty body is `{}`).
+#[derive(serde::Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+struct Request {
+    max_states: Option<usize>,
+    /// `"flows"` or `"minimal"` (default).
+    invariants: Option<String>,
+    /// Seconds the analysis may run, at most (and by default) [`ANALYSIS_TIME`].
+    time_limit_s: Option<u64>,
+}
+
+/// Raises the cancellation flag when dropped: the client went away, or the
+/// answer ended.
+struct CancelOnDrop(Arc<AtomicBool>);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
     }
-    let max_states = match q.get("max_states") {
+}
+
+/// The running analysis, as the answer's stream sees it.
+struct Job {
+    _cancel: CancelOnDrop,
+    cancel: Arc<AtomicBool>,
+    progress: watch::Receiver<Option<Value>>,
+    progress_open: bool,
+    result: oneshot::Receiver<Value>,
+    deadline: tokio::time::Instant,
+    timed_out: bool,
+    done: bool,
+}
+
+/// The analysis thread's scheduling: SCHED_BATCH at nice 19, the least share of
+/// the CPU that still makes progress on a busy machine (SCHED_IDLE could starve it
+/// for ever, and a starved analysis cannot even see that it was cancelled).
+fn lowest_priority() {
+    use thread_priority::{
+        NormalThreadSchedulePolicy, ThreadPriority, ThreadSchedulePolicy, set_thread_priority_and_policy,
+        thread_native_id,
+    };
+    let _ = set_thread_priority_and_policy(
+        thread_native_id(),
+        ThreadPriority::Min,
+        ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Batch),
+    );
+}
+
+fn progress_json(p: &Progress) -> Value {
+    json!({"part": p.part.name(), "states": p.states, "bytes": p.bytes})
+}
+
+pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>, body: Bytes) -> ApiResult<Response> {
+    let req: Request = if body.iter().all(u8::is_ascii_whitespace) {
+        Request::default()
+    } else {
+        serde_json::from_slice(&body).map_err(|e| ApiError::Malformed(format!("the analysis request: {e}")))?
+    };
+    let max_states = match req.max_states {
         None => DEFAULT_MAX_STATES,
-        Some(v) => match v.parse::<usize>() {
-            Ok(n @ 1..=MAX_STATES) => n,
-            _ => {
-                return Err(ApiError::Invalid(format!(
-                    "`max_states` is 1 to {MAX_STATES}, not `{v}`"
-                )));
-            }
-        },
+        Some(n @ 1..=MAX_STATES) => n,
+        Some(n) => {
+            return Err(ApiError::Invalid(format!(
+                "`max_states` is 1 to {MAX_STATES}, not `{n}`"
+            )));
+        }
+    };
+    let invariants = match req.invariants.as_deref() {
+        None | Some("minimal") => Invariants::Minimal,
+        Some("flows") => Invariants::Flows,
+        Some(v) => {
+            return Err(ApiError::Invalid(format!(
+                "`invariants` is `flows` or `minimal`, not `{v}`"
+            )));
+        }
+    };
+    let limit = match req.time_limit_s {
+        None => ANALYSIS_TIME,
+        Some(n @ 1..) if n <= ANALYSIS_TIME.as_secs() => Duration::from_secs(n),
+        Some(n) => {
+            return Err(ApiError::Invalid(format!(
+                "`time_limit_s` is 1 to {}, not `{n}`",
+                ANALYSIS_TIME.as_secs()
+            )));
+        }
     };
     let (_, file, text) = find(&st, &name).await?;
-    let json = tokio::task::spawn_blocking(move || -> Result<Value, String> {
+    let permit = st.analysis.clone().try_acquire_owned().map_err(|_| {
+        ApiError::Busy("an analysis of this project is running: wait for it to end, or cancel it".into())
+    })?;
+    // Loading is checked first, so a net that does not load is a 422.
+    let pt = tokio::task::spawn_blocking(move || -> Result<PtNet, String> {
         let (net, diags) = net::load(file, &text);
         let errors: Vec<_> = diags.iter().filter(|d| !net::is_warning(d)).collect();
-        let net = match net {
-            Some(n) if errors.is_empty() => n,
-            _ => {
-                let first = errors
+        match net {
+            Some(n) if errors.is_empty() => Ok(PtNet::from_net(&n)),
+            _ => Err(format!(
+                "the net does not load: {}",
+                errors
                     .first()
-                    .map_or_else(|| "it does not load".to_string(), |d| d.message.clone());
-                return Err(format!("the net does not load: {first}"));
-            }
-        };
-        let pt = PtNet::from_net(&net);
-        let options = Options {
-            max_states,
-            ..Options::default()
-        };
-        Ok(to_json(&pt, &analyze(&pt, &options, &|| false)))
+                    .map_or_else(|| "it does not load".to_string(), |d| d.message.clone())
+            )),
+        }
     })
     .await
     .map_err(|e| ApiError::Internal(e.to_string()))?
     .map_err(ApiError::Invalid)?;
-    Ok(Json(json))
+    let cancel = Arc::new(AtomicBool::new(false));
+    let (progress_tx, progress_rx) = watch::channel(None);
+    let (result_tx, result_rx) = oneshot::channel();
+    let options = Options {
+        max_states,
+        memory: ANALYSIS_MEMORY,
+        invariants,
+        ..Options::default()
+    };
+    let flag = cancel.clone();
+    std::thread::Builder::new()
+        .name("net-analysis".into())
+        .spawn(move || {
+            lowest_priority();
+            let last = std::sync::Mutex::new(Instant::now());
+            let report = |p: &Progress| {
+                if let Ok(mut t) = last.lock()
+                    && t.elapsed() >= PROGRESS_EVERY
+                {
+                    *t = Instant::now();
+                    progress_tx.send_replace(Some(progress_json(p)));
+                }
+            };
+            let control = Control {
+                cancel: &flag,
+                progress: &report,
+            };
+            let json = to_json(&pt, &analyze(&pt, &options, &control));
+            // The next analysis may start once this one's result is out.
+            drop(permit);
+            let _ = result_tx.send(json);
+        })
+        .map_err(|e| ApiError::Internal(format!("cannot start the analysis: {e}")))?;
+    let job = Job {
+        _cancel: CancelOnDrop(cancel.clone()),
+        cancel,
+        progress: progress_rx,
+        progress_open: true,
+        result: result_rx,
+        deadline: tokio::time::Instant::now() + limit,
+        timed_out: false,
+        done: false,
+    };
+    let lines = futures_util::stream::unfold(job, |mut job| async move {
+        if job.done {
+            return None;
+        }
+        loop {
+            tokio::select! {
+                r = &mut job.result => {
+                    job.done = true;
+                    let line = match r {
+                        Ok(result) => json!({"result": result, "timed_out": job.timed_out}),
+                        Err(_) => json!({"error": "the analysis ended without a result"}),
+                    };
+                    return Some((Ok::<_, std::io::Error>(Bytes::from(format!("{line}\n"))), job));
+                }
+                changed = job.progress.changed(), if job.progress_open => {
+                    if changed.is_err() {
+                        job.progress_open = false;
+                        continue;
+                    }
+                    let p = job.progress.borrow_and_update().clone();
+                    if let Some(p) = p {
+                        return Some((Ok(Bytes::from(format!("{}\n", json!({"progress": p})))), job));
+                    }
+                }
+                _ = tokio::time::sleep_until(job.deadline), if !job.timed_out => {
+                    job.timed_out = true;
+                    job.cancel.store(true, Ordering::Relaxed);
+                }
+            }
+        }
+    });
+    Ok((
+        [
+            (axum::http::header::CONTENT_TYPE, "application/x-ndjson"),
+            (axum::http::header::CACHE_CONTROL, "no-store"),
+        ],
+        Body::from_stream(lines),
+    )
+        .into_response())
 }
 
 /// The net program `name` names (as listed, or the net's name): its listed

@@ -510,14 +510,19 @@ async fn net_markings_are_tags_an_operator_can_write() {
     s.stop().await;
 }
 
-/// `GET /api/nets/{name}/analysis`: the same object as `alba analyze --json`
-/// for a net of the project, by file name or net name, bounded.
+/// `POST /api/nets/{name}/analysis`: JSON lines ending with the same object
+/// as `alba analyze --json` for a net of the project, by file name or net
+/// name, bounded; a GET costs nothing (405).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_nets_analysis_is_served() {
     let s = crate::Server::start("petri-resource", "nets-analysis").await;
-    let (code, by_name) = s.call(reqwest::Method::GET, "/api/nets/cell/analysis", None).await;
-    assert_eq!(code, 200, "{by_name}");
-    let (_, by_file) = s.call(reqwest::Method::GET, "/api/nets/cell.pnml/analysis", None).await;
+    let (code, lines) = crate::nets::analysis(&s, "cell", json!({})).await;
+    assert_eq!(code, 200, "{lines:?}");
+    let last = lines.last().expect("a result line");
+    assert_eq!(last["timed_out"], false);
+    let by_name = &last["result"];
+    let (_, lines) = crate::nets::analysis(&s, "cell.pnml", json!({})).await;
+    let by_file = &lines.last().expect("a result line")["result"];
     for key in [
         "places",
         "transitions",
@@ -540,24 +545,35 @@ async fn a_nets_analysis_is_served() {
     assert_eq!(by_name["bounded"], false);
     assert_eq!(by_name["place_bounds"]["done"], "omega");
     assert_eq!(by_name["state_space"], "coverability");
-    let (code, j) = s
-        .call(reqwest::Method::GET, "/api/nets/cell/analysis?max_states=2", None)
-        .await;
+    assert_eq!(by_name["status"]["state_space"], "complete");
+    assert_eq!(by_name["status"]["p_invariants"], "complete");
+    let (code, lines) = crate::nets::analysis(&s, "cell", json!({"max_states": 2, "invariants": "flows"})).await;
+    let j = &lines.last().expect("a result line")["result"];
     assert_eq!(
         (code.as_u16(), j["state_space"].as_str()),
         (200, Some("incomplete")),
         "{j}"
     );
+    assert_eq!(j["status"]["p_invariants"], "skipped: not requested");
+    for bad in [
+        json!({"max_states": 0}),
+        json!({"time_limit_s": 121}),
+        json!({"invariants": "all"}),
+    ] {
+        let (code, _) = s.call(Method::POST, "/api/nets/cell/analysis", Some(bad.clone())).await;
+        assert_eq!(code, 422, "{bad}");
+    }
     let (code, _) = s
-        .call(reqwest::Method::GET, "/api/nets/cell/analysis?max_states=0", None)
-        .await;
-    assert_eq!(code, 422);
-    let (code, _) = s
-        .call(reqwest::Method::GET, "/api/nets/cell/analysis?depth=3", None)
+        .call(Method::POST, "/api/nets/cell/analysis", Some(json!({"depth": 3})))
         .await;
     assert_eq!(code, 400);
-    let (code, _) = s.call(reqwest::Method::GET, "/api/nets/main.lad/analysis", None).await;
+    let (code, _) = s
+        .call(Method::POST, "/api/nets/main.lad/analysis", Some(json!({})))
+        .await;
     assert_eq!(code, 404, "a ladder program is not a net");
+    // What an <img> or a link could trigger costs nothing.
+    let (code, _) = s.call(Method::GET, "/api/nets/cell/analysis", None).await;
+    assert_eq!(code, 405);
     s.stop().await;
 }
 

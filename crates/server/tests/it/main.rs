@@ -9,7 +9,7 @@ mod errors;
 mod guard;
 mod history;
 mod limits;
-mod nets;
+pub mod nets;
 mod roles;
 mod scale;
 mod screens;

@@ -1,7 +1,9 @@
 //! What the studio's net editor needs of the server: single step
 //! (`POST /api/step`), each transition's monitored "enabled" and "fired"
 //! elements (`GET /api/programs/{name}`, power flow on the WebSocket) and the
-//! reset of a net's marking in one step (`POST /api/nets/{name}/reset`).
+//! reset of a net's marking in one step (`POST /api/nets/{name}/reset`),
+//! and its analysis on demand (`POST /api/nets/{name}/analysis`) within
+//! limits (issue 31, point 2).
 
 use crate::Server;
 use crate::ws::{connect, next, send};
@@ -413,5 +415,158 @@ async fn an_online_edit_keeps_the_markings_of_unchanged_places() {
     ] {
         assert_eq!(s.value(tag).await, json!(v), "{tag} after a reset");
     }
+    s.stop().await;
+}
+
+/// `POST /api/nets/{name}/analysis` with `body`: the status and the JSON
+/// lines of the answer (or the error object).
+pub async fn analysis(s: &Server, net: &str, body: Json) -> (StatusCode, Vec<Json>) {
+    let res = s
+        .http
+        .post(s.url(&format!("/api/nets/{net}/analysis")))
+        .json(&body)
+        .send()
+        .await
+        .expect("request");
+    let code = res.status();
+    let text = res.text().await.expect("body");
+    let lines = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|_| json!({"text": l})))
+        .collect();
+    (code, lines)
+}
+
+/// A Petri-mode net of `k` independent 3-place cycles (3^k states).
+fn cycles_pnml(k: usize) -> String {
+    let mut s = String::from(
+        "<pnml xmlns=\"http://www.pnml.org/version-2009/grammar/pnml\"><net id=\"big\" \
+         type=\"http://www.pnml.org/version-2009/grammar/ptnet\"><page id=\"g\">",
+    );
+    for c in 0..k {
+        for i in 0..3 {
+            let m = if i == 0 {
+                "<initialMarking><text>1</text></initialMarking>"
+            } else {
+                ""
+            };
+            s.push_str(&format!(
+                "<place id=\"c{c}p{i}\">{m}</place><transition id=\"c{c}t{i}\"/>"
+            ));
+            s.push_str(&format!(
+                "<arc id=\"c{c}a{i}\" source=\"c{c}p{i}\" target=\"c{c}t{i}\"/>\
+                 <arc id=\"c{c}b{i}\" source=\"c{c}t{i}\" target=\"c{c}p{}\"/>",
+                (i + 1) % 3
+            ));
+        }
+    }
+    s.push_str("</page></net></pnml>");
+    s
+}
+
+/// The scheduling policy and nice value of this process's thread named
+/// `name` (SCHED_BATCH is 3), if one runs.
+fn thread_policy(name: &str) -> Option<(u32, i32)> {
+    for e in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
+        let comm = std::fs::read_to_string(e.path().join("comm")).unwrap_or_default();
+        if comm.trim() == name {
+            let stat = std::fs::read_to_string(e.path().join("stat")).ok()?;
+            // Fields after the parenthesised name (field 3 on): nice is 19, policy 41.
+            let f: Vec<&str> = stat[stat.rfind(')')? + 2..].split_whitespace().collect();
+            return Some((f.get(41 - 3)?.parse().ok()?, f.get(19 - 3)?.parse().ok()?));
+        }
+    }
+    None
+}
+
+/// Issue 31, point 2: one analysis at a time (429 for the next), on a
+/// least-priority thread, stopped when the client goes away — the engine scans on.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_analysis_at_a_time_stopped_when_the_client_leaves() {
+    let dir = crate::copy_example("petri-resource", "net-analysis-busy");
+    std::fs::write(dir.join("big.pnml"), cycles_pnml(15)).expect("big net");
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(
+        dir.join("alba.toml"),
+        toml.replace("\"cell.pnml\"]", "\"cell.pnml\", \"big.pnml\"]"),
+    )
+    .expect("toml");
+    let s = Server::start_in(dir).await;
+    // 3^15 = 14 million states: far more than a test lets it run.
+    let res = s
+        .http
+        .post(s.url("/api/nets/big/analysis"))
+        .json(&json!({"max_states": 10_000_000}))
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(res.status(), StatusCode::OK);
+    assert_eq!(
+        res.headers().get("content-type").and_then(|v| v.to_str().ok()),
+        Some("application/x-ndjson")
+    );
+    let mut body = res.bytes_stream();
+    use futures_util::StreamExt;
+    let mut text = String::new();
+    while !text.contains('\n') {
+        let chunk = body.next().await.expect("a progress line").expect("bytes");
+        text.push_str(&String::from_utf8_lossy(&chunk));
+    }
+    let first: Json = serde_json::from_str(text.lines().next().expect("line")).expect("JSON");
+    assert_eq!(first["progress"]["part"], "state_space", "{first}");
+    assert!(first["progress"]["states"].as_u64().expect("states") > 0);
+    assert_eq!(thread_policy("net-analysis"), Some((3, 19)), "SCHED_BATCH, nice 19");
+    // A second one, on any net of the project, waits its turn.
+    let (code, j) = s.call(Method::POST, "/api/nets/cell/analysis", Some(json!({}))).await;
+    assert_eq!(code, StatusCode::TOO_MANY_REQUESTS, "{j}");
+    assert!(j["error"].as_str().expect("error").contains("running"), "{j}");
+    let scans = s.scans().await;
+    // The client leaves: the analysis stops and the next one runs.
+    drop(body);
+    let mut tries = 0;
+    let code = loop {
+        let (code, _) = analysis(&s, "cell", json!({})).await;
+        if code != StatusCode::TOO_MANY_REQUESTS || tries == 300 {
+            break code;
+        }
+        tries += 1;
+        tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+    };
+    assert_eq!(code, StatusCode::OK);
+    for _ in 0..100 {
+        if thread_policy("net-analysis").is_none() {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
+    }
+    assert_eq!(thread_policy("net-analysis"), None, "the thread has ended");
+    assert!(s.scans().await > scans, "the engine scanned on");
+    s.stop().await;
+}
+
+/// The time limit stops the analysis: its last line says so, and the state
+/// space is reported partial.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_analysis_stops_at_its_time_limit() {
+    let dir = crate::copy_example("petri-resource", "net-analysis-time");
+    std::fs::write(dir.join("big.pnml"), cycles_pnml(15)).expect("big net");
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(
+        dir.join("alba.toml"),
+        toml.replace("\"cell.pnml\"]", "\"cell.pnml\", \"big.pnml\"]"),
+    )
+    .expect("toml");
+    let s = Server::start_in(dir).await;
+    let (code, lines) = analysis(&s, "big", json!({"max_states": 10_000_000, "time_limit_s": 1})).await;
+    assert_eq!(code, StatusCode::OK);
+    let last = lines.last().expect("a line");
+    assert_eq!(last["timed_out"], true, "{last}");
+    let r = &last["result"];
+    assert_eq!(r["status"]["state_space"], "partial", "{r}");
+    assert_eq!(r["state_space"], "incomplete");
+    assert!(
+        r["stopped"].as_str().expect("stopped").starts_with("cancelled after"),
+        "{r}"
+    );
     s.stop().await;
 }

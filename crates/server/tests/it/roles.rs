@@ -353,11 +353,11 @@ async fn every_route_answers_each_role_as_the_table_says() {
         row(Method::GET, "/api/alarms/stats", "/api/alarms/stats", None, v, 200),
         // This server's project has no net: the handler's 404.
         row(
-            Method::GET,
+            Method::POST,
             "/api/nets/{name}/analysis",
             "/api/nets/line/analysis",
-            None,
-            v,
+            j(json!({})),
+            e,
             404,
         ),
         row(
