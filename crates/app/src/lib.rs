@@ -22,6 +22,7 @@ mod lock;
 mod modbus;
 mod mqtt;
 mod opcua;
+mod serve;
 mod sparkplug;
 pub mod tls;
 mod users;
@@ -242,28 +243,21 @@ pub async fn run(
     };
     // Handlers may read the client's address (`ConnectInfo<SocketAddr>`) either way.
     let router = alba_server::router(state);
-    let served = match acceptor {
+    let conn_limits = serve::Limits {
+        max_connections: http_cfg.max_connections,
+        header_timeout: std::time::Duration::from_secs(u64::from(http_cfg.header_timeout_s)),
+    };
+    match acceptor {
         Some(acceptor) => {
             let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
-            axum::serve(
-                limits::Capped::new(listener, http_cfg.max_connections),
-                tls::WithPeer(router),
-            )
-            .with_graceful_shutdown(shutdown)
-            .await
+            serve::serve(listener, router, conn_limits, shutdown).await;
         }
         None => {
             use axum::serve::ListenerExt;
             let listener = listener.tap_io(|tcp| limits::bound_send_buffer(tcp));
-            axum::serve(
-                limits::Capped::new(listener, http_cfg.max_connections),
-                tls::WithPeer(router),
-            )
-            .with_graceful_shutdown(shutdown)
-            .await
+            serve::serve(listener, router, conn_limits, shutdown).await;
         }
     }
-    .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.
     tokio::task::spawn_blocking(move || {
         runtime.shutdown();
@@ -273,5 +267,5 @@ pub async fn run(
     })
     .await
     .map_err(|e| RunError::Other(e.to_string()))?;
-    served
+    Ok(())
 }

@@ -245,3 +245,94 @@ async fn a_full_disk_is_reported_and_clears_when_space_returns() {
     tag_is(addr, "S:STOREOK", true).await;
     stop(s, task).await;
 }
+
+/// Issue 31: with the disk full every action was refused, Stop and removing
+/// forces included, because the audit row could not be written. Those two
+/// now always work: their rows go to the preallocated `audit.journal` and
+/// into audit.db once it can be written again. Other actions are still
+/// refused. A real full disk: `.alba` on a 2 MB tmpfs (root only).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn with_the_disk_full_stop_and_unforce_still_work_and_are_audited_later() {
+    let dir = copy_example("tank", "auditfull");
+    let alba = dir.join(".alba");
+    std::fs::create_dir_all(&alba).expect(".alba");
+    let mounted = std::process::Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=2m", "tmpfs"])
+        .arg(&alba)
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        assert!(
+            std::env::var("CI").is_err(),
+            "cannot mount a tmpfs (run the tests as root): the disk-full test must run under CI"
+        );
+        eprintln!("skipped: cannot mount a tmpfs here (not root)");
+        return;
+    }
+    struct Unmount(std::path::PathBuf);
+    impl Drop for Unmount {
+        fn drop(&mut self) {
+            let _ = std::process::Command::new("umount").arg(&self.0).status();
+            let _ = std::fs::remove_dir_all(self.0.parent().unwrap_or(&self.0));
+        }
+    }
+    let _unmount = Unmount(alba.clone());
+    append(&dir, "\n[history]\nenabled = false\n");
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let http = reqwest::Client::new();
+    let call = |method: reqwest::Method, path: &str, body: Option<Json>| {
+        let req = http
+            .request(method, format!("http://{addr}{path}"))
+            .header("content-type", "application/json")
+            .body(body.map(|b| b.to_string()).unwrap_or_else(|| "{}".into()));
+        async move { req.send().await.expect("request").status().as_u16() }
+    };
+    let force = |v: bool| serde_json::json!({ "value": v });
+    assert_eq!(call(reqwest::Method::PUT, "/api/forces/Bomba1", Some(force(true))).await, 200);
+    // Fill the disk to the last byte.
+    {
+        use std::io::Write;
+        let mut f = std::fs::File::create(alba.join("filler")).expect("filler");
+        let block = vec![0u8; 64 * 1024];
+        while f.write_all(&block).is_ok() {}
+        while f.write_all(&[0u8; 512]).is_ok() {}
+        let _ = f.sync_all();
+    }
+    // Ordinary actions are refused once the log cannot be written (SQLite
+    // may still fit a few rows in its write-ahead log first).
+    let mut refused = false;
+    for i in 0..500 {
+        if call(reqwest::Method::PUT, "/api/tags/Llenar", Some(serde_json::json!({ "value": i % 2 == 0 }))).await
+            == 500
+        {
+            refused = true;
+            break;
+        }
+    }
+    assert!(refused, "a write was never refused on a full disk");
+    // Safety actions are not.
+    assert_eq!(call(reqwest::Method::DELETE, "/api/forces/Bomba1", None).await, 204);
+    assert_eq!(call(reqwest::Method::POST, "/api/stop", None).await, 200);
+    let st = status(addr).await;
+    assert_eq!(st["state"], "stopped", "{st}");
+    assert_eq!(st["forces"].as_array().map(Vec::len), Some(0), "{st}");
+    // Space comes back: the next row written brings the journal's in.
+    std::fs::remove_file(alba.join("filler")).expect("free space");
+    assert_eq!(call(reqwest::Method::POST, "/api/run", None).await, 200);
+    let scans = status(addr).await["scans"].as_u64().unwrap_or(0);
+    status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 5).await;
+    stop(s, task).await;
+    let log = alba_audit::Audit::open(alba.join("audit.db"), alba_audit::Config::default()).expect("audit");
+    let rows = log
+        .query(&alba_audit::Filter::default(), None, 1000)
+        .expect("query")
+        .rows;
+    for action in [alba_audit::Action::Stop, alba_audit::Action::Unforce] {
+        let row = rows
+            .iter()
+            .find(|r| r.action == action)
+            .unwrap_or_else(|| panic!("no {action:?} row: {rows:?}"));
+        assert_eq!(row.outcome, alba_audit::Outcome::Ok, "{row:?}");
+        assert!(row.detail.as_deref().unwrap_or("").contains("audit.journal"), "{row:?}");
+    }
+}

@@ -142,6 +142,12 @@ async fn every_tag_is_recorded_and_queried_downsampled() {
             StatusCode::UNPROCESSABLE_ENTITY,
             "rows",
         ),
+        // Issue 31: `to - from` overflowed and this passed as one row (10 M were streamed).
+        (
+            "/api/history.csv?tags=Nivel_L&from=-9223372036854775808&to=9223372036854775807&step=1801439851",
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "rows",
+        ),
         (
             "/api/history.csv?tags=Nivel_L&from=0&to=1&step=0",
             StatusCode::UNPROCESSABLE_ENTITY,

@@ -173,3 +173,47 @@ async fn alarm_changes_are_pushed() {
     next(&mut ws, "alarms", |j| j["unacked"] == 0).await;
     s.stop().await;
 }
+
+/// Issue 31: a `subscribe` repeating one name made the server send it once
+/// per repetition on every change (64 clients: 2 GB in 15 s). Each value is
+/// now sent once, however often and under whatever names it is asked for;
+/// a program monitored twice sends its power flow once; the names of one
+/// subscription are capped. Counted in messages and keys, not timed.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn repeated_names_are_sent_once_and_subscriptions_are_capped() {
+    let s = Server::start("tank", "wsdup").await;
+    let mut ws = connect(&s).await;
+    let mut names: Vec<Json> = vec![json!("Llenar"); 5000];
+    names.extend([json!("CT_STP"), json!("CT_STP.PRE"), json!("CT_STP")]);
+    send(&mut ws, json!({ "subscribe": names })).await;
+    let first = next(&mut ws, "values", |_| true).await;
+    let keys: Vec<&String> = first["values"].as_object().expect("values").keys().collect();
+    let members = keys.iter().filter(|k| k.starts_with("CT_STP.")).count();
+    assert_eq!(keys.len(), 1 + members, "each value once: {keys:?}");
+    assert_eq!(keys.iter().filter(|k| **k == "Llenar").count(), 1);
+    s.call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": true})))
+        .await;
+    let m = next(&mut ws, "values", |j| j["values"].get("Llenar").is_some()).await;
+    assert_eq!(m["values"], json!({"Llenar": true}));
+
+    // One program monitored 200 times: one power message per scan.
+    send(&mut ws, json!({ "monitor": vec![json!("main.lad"); 200] })).await;
+    let mut scans = Vec::new();
+    while scans.len() < 20 {
+        let p = next(&mut ws, "power", |_| true).await;
+        scans.push(p["scan"].as_u64().expect("scan"));
+    }
+    let mut distinct = scans.clone();
+    distinct.dedup();
+    assert_eq!(distinct, scans, "a power message repeated for one scan: {scans:?}");
+
+    // More names than a subscription may list: refused, nothing followed.
+    let many: Vec<Json> = (0..=10_000).map(|i| json!(format!("T{i}"))).collect();
+    send(&mut ws, json!({ "monitor": [] })).await;
+    send(&mut ws, json!({ "subscribe": many })).await;
+    let e = next(&mut ws, "error", |_| true).await;
+    assert!(e["error"].as_str().expect("msg").contains("at most 10000"), "{e}");
+    // The PLC scanned all along.
+    s.wait_scans(5).await;
+    s.stop().await;
+}
