@@ -12,6 +12,7 @@
 
 mod alarms;
 mod audit;
+mod clock;
 mod connections;
 mod edits;
 mod history;
@@ -22,7 +23,7 @@ mod lock;
 mod modbus;
 mod mqtt;
 mod opcua;
-mod serve;
+pub mod serve;
 mod sparkplug;
 pub mod tls;
 mod users;
@@ -168,6 +169,21 @@ pub async fn run(
     };
     let audit_cfg = config.map(|c| c.audit.clone()).unwrap_or_default();
     let audit = audit::open(dir, &audit_cfg).map_err(RunError::Other)?;
+    // Retention only after a clock it can explain (crate::clock).
+    let stores = [
+        clock::Store {
+            name: "audit trail",
+            newest_ms: audit::newest(&audit),
+            retention_days: audit.config().retention_days,
+        },
+        clock::Store {
+            name: "history",
+            newest_ms: historian.as_ref().and_then(history::newest),
+            retention_days: (hist_cfg.retention_days > 0).then_some(hist_cfg.retention_days),
+        },
+    ];
+    let guard = clock::ClockGuard::start(dir, health.clone(), audit::now_ms(), &stores);
+    audit::retain(&audit, &guard).map_err(RunError::Other)?;
     let runtime =
         alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
@@ -186,6 +202,7 @@ pub async fn run(
                 hist_cfg,
                 runtime.handle().subscribe(),
                 health.clone(),
+                guard.clone(),
                 tokio::runtime::Handle::current(),
             )
         })
@@ -232,7 +249,7 @@ pub async fn run(
         let _ = state.connections.set(Arc::new(connections::All(links)));
     }
     edits::start(&service);
-    audit::start(&service);
+    audit::start(&service, guard);
     alarms::start(&service, alarm_defs).map_err(RunError::Other)?;
 
     ready(local);

@@ -190,4 +190,3 @@ impl axum::serve::Listener for TlsListener {
         Ok(self.local)
     }
 }
-

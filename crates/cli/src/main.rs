@@ -187,6 +187,10 @@ enum Command {
         /// With --modbus: the first holding register read (default 8192 on Alba's own, 0 on --target).
         #[arg(long, value_name = "N")]
         start: Option<u16>,
+        /// Measure the gap an online edit leaves between two scans instead (before and after it was
+        /// prepared off the engine thread), on --sizes rungs (default 10000,50000).
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian", "mqtt", "all"])]
+        swap: bool,
         /// Print the Cranelift IR and machine code native code runs for the benchmark rung instead.
         #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime"])]
         listing: bool,
@@ -509,6 +513,7 @@ fn main() -> ExitCode {
             ..
         } => bench_realtime::run(seconds, priority, cpu),
         Command::Bench { listing: true, .. } => bench::listing(),
+        Command::Bench { swap: true, sizes, .. } => bench::swap(sizes.as_deref().unwrap_or(&[10_000, 50_000])),
         Command::Bench {
             profile: Some(contender),
             sizes,

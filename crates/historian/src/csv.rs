@@ -75,7 +75,11 @@ pub(crate) fn write(
     let rows = rows(from, to, step)?;
     let mut tracks = Vec::with_capacity(headers.len());
     for c in 0..headers.len() {
-        let samples = if rows == 0 { 0 } else { src.count(c, from.saturating_add(1), to)? };
+        let samples = if rows == 0 {
+            0
+        } else {
+            src.count(c, from.saturating_add(1), to)?
+        };
         tracks.push(if samples > LOOKUP_RATIO * rows as u64 {
             Track::Lookup
         } else {

@@ -37,8 +37,9 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 const SEND_TIMEOUT: Duration = Duration::from_secs(5);
-/// Most names one `subscribe` lists (a screen shows far fewer).
-pub const MAX_NAMES: usize = 10_000;
+/// Most names one `subscribe` lists (a screen shows far fewer; a message
+/// holds 64 KiB at most anyway).
+pub const MAX_NAMES: usize = 4096;
 /// Most values all live clients together follow: each is compared with its
 /// last sent value every scan, for every client.
 pub const MAX_SERVER_VALUES: usize = 250_000;

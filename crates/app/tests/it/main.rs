@@ -313,7 +313,11 @@ async fn handlers_know_the_clients_address_over_tls() {
         axum::routing::get(|ConnectInfo(peer): ConnectInfo<std::net::SocketAddr>| async move { peer.to_string() }),
     );
     let server = tokio::spawn(async move {
-        let _ = axum::serve(listener, alba_app::tls::WithPeer(router)).await;
+        let limits = alba_app::serve::Limits {
+            max_connections: 16,
+            header_timeout: Duration::from_secs(15),
+        };
+        alba_app::serve::serve(listener, router, limits, std::future::pending()).await;
     });
     let res = client_trusting(&cert)
         .get(format!("https://localhost:{}/", addr.port()))

@@ -288,7 +288,10 @@ async fn with_the_disk_full_stop_and_unforce_still_work_and_are_audited_later() 
         async move { req.send().await.expect("request").status().as_u16() }
     };
     let force = |v: bool| serde_json::json!({ "value": v });
-    assert_eq!(call(reqwest::Method::PUT, "/api/forces/Bomba1", Some(force(true))).await, 200);
+    assert_eq!(
+        call(reqwest::Method::PUT, "/api/forces/Bomba1", Some(force(true))).await,
+        200
+    );
     // Fill the disk to the last byte.
     {
         use std::io::Write;
@@ -302,7 +305,12 @@ async fn with_the_disk_full_stop_and_unforce_still_work_and_are_audited_later() 
     // may still fit a few rows in its write-ahead log first).
     let mut refused = false;
     for i in 0..500 {
-        if call(reqwest::Method::PUT, "/api/tags/Llenar", Some(serde_json::json!({ "value": i % 2 == 0 }))).await
+        if call(
+            reqwest::Method::PUT,
+            "/api/tags/Llenar",
+            Some(serde_json::json!({ "value": i % 2 == 0 })),
+        )
+        .await
             == 500
         {
             refused = true;
@@ -330,9 +338,71 @@ async fn with_the_disk_full_stop_and_unforce_still_work_and_are_audited_later() 
     for action in [alba_audit::Action::Stop, alba_audit::Action::Unforce] {
         let row = rows
             .iter()
-            .find(|r| r.action == action)
+            .find(|r| r.action == action.name())
             .unwrap_or_else(|| panic!("no {action:?} row: {rows:?}"));
         assert_eq!(row.outcome, alba_audit::Outcome::Ok, "{row:?}");
         assert!(row.detail.as_deref().unwrap_or("").contains("audit.journal"), "{row:?}");
     }
+}
+
+/// Issue 31: a wall clock 800 days ahead at start made retention delete the
+/// whole audit trail and all history (1 808 rows → 0). Stores whose newest
+/// rows are 800 days older than the clock look exactly like that; retention
+/// is held, the problem `clock` says why, nothing is deleted, the PLC scans.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_clock_far_ahead_of_the_stores_holds_retention_and_deletes_nothing() {
+    let dir = copy_example("tank", "clockjump");
+    std::fs::create_dir_all(dir.join(".alba")).expect(".alba");
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .expect("clock")
+        .as_millis() as i64;
+    let then = now - 800 * 86_400_000;
+    {
+        let a = alba_audit::Audit::open_project(&dir, alba_audit::Config::default()).expect("audit");
+        for k in 0..20 {
+            let e = alba_audit::Entry::new(then + k * 60_000, alba_audit::Action::Write);
+            a.record(&e, &alba_audit::Outcome::Ok).expect("row");
+        }
+        let h = alba_historian::Historian::open(dir.join(".alba/history.db"), alba_historian::Config::default())
+            .expect("history");
+        for k in 0..50 {
+            h.record(then + k * 1000, &[("Nivel_L", k as f64)]).expect("sample");
+        }
+        h.flush().expect("flush");
+    }
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let st = status_until(addr, "the clock problem", |s| sources(s).contains(&"clock".to_string())).await;
+    let msg = st["problems"]
+        .as_array()
+        .and_then(|ps| ps.iter().find(|p| p["source"] == "clock"))
+        .map(|p| p["message"].to_string())
+        .unwrap_or_default();
+    assert!(
+        msg.contains("799 days after the newest row") && msg.contains("retention-held"),
+        "{msg}"
+    );
+    let scans = st["scans"].as_u64().unwrap_or(0);
+    status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 10).await;
+    stop(s, task).await;
+    let a = alba_audit::Audit::open_project(&dir, alba_audit::Config::default()).expect("audit");
+    let old_rows = a
+        .query(
+            &alba_audit::Filter {
+                to_ms: Some(then + 3_600_000),
+                ..Default::default()
+            },
+            None,
+            100,
+        )
+        .expect("query")
+        .rows
+        .len();
+    assert_eq!(old_rows, 20, "the audit trail was cut");
+    let h = alba_historian::Historian::open(dir.join(".alba/history.db"), alba_historian::Config::default())
+        .expect("history");
+    let kept = h.raw("Nivel_L", then, then + 3_600_000, 100).expect("raw").len();
+    assert_eq!(kept, 50, "history was cut");
+    assert!(dir.join(".alba/retention-held").exists());
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -221,10 +221,7 @@ fn the_audit_row_names_the_real_account_not_user_from_the_environment() {
         .expect("alba runs");
     assert!(out.status.success(), "{}", text(&out.stderr));
     let log = alba_audit::Audit::open(dir.join(".alba/audit.db"), alba_audit::Config::default()).expect("audit");
-    let rows = log
-        .query(&alba_audit::Filter::default(), None, 10)
-        .expect("query")
-        .rows;
+    let rows = log.query(&alba_audit::Filter::default(), None, 10).expect("query").rows;
     let detail = rows
         .iter()
         .find(|r| r.target.as_deref() == Some("mallory"))

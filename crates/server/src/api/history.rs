@@ -248,7 +248,19 @@ mod tests {
             if f > t { 0 } else { (t - f) / i128::from(step) + 1 }
         };
         assert!(csv_size(i64::MIN, i64::MAX, 1_801_439_851, 61).is_err());
-        let edges = [i64::MIN, i64::MIN + 1, -m - 1, -m, -1, 0, 1, m, m + 1, i64::MAX - 1, i64::MAX];
+        let edges = [
+            i64::MIN,
+            i64::MIN + 1,
+            -m - 1,
+            -m,
+            -1,
+            0,
+            1,
+            m,
+            m + 1,
+            i64::MAX - 1,
+            i64::MAX,
+        ];
         let mut cases: Vec<(i64, i64, i64)> = Vec::new();
         for &a in &edges {
             for &b in &edges {

@@ -99,7 +99,7 @@ async fn every_tag_is_recorded_and_queried_downsampled() {
     );
     assert!(text.lines().count() >= 6);
 
-    let bad: [(&str, StatusCode, &str); 11] = [
+    let bad: [(&str, StatusCode, &str); 12] = [
         (
             "/api/history?tag=Nivel_L&from=0&to=1&node=line-9",
             StatusCode::NOT_FOUND,

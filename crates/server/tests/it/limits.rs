@@ -152,7 +152,10 @@ async fn idle_connections_never_lock_other_clients_out() {
             still_open += 1;
         }
     }
-    assert!(still_open <= 8, "{still_open} of the held connections are open: more than the cap");
+    assert!(
+        still_open <= 8,
+        "{still_open} of the held connections are open: more than the cap"
+    );
     // And every idle one is closed by the header timeout (60 s is only the
     // test's bound on a loaded machine).
     for (i, c) in held.iter_mut().enumerate() {
