@@ -7,6 +7,7 @@
 use crate::Service;
 use crate::clock::ClockGuard;
 use alba_audit::Audit;
+use alba_runtime::health::Health;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
@@ -20,12 +21,31 @@ pub fn now_ms() -> i64 {
         .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
 }
 
-/// Opens the project's audit log.
-pub fn open(dir: &Path, cfg: &alba_project::config::Audit) -> Result<Audit, String> {
+/// Opens the project's audit log. One that is damaged (random bytes, torn
+/// or truncated pages) or not an audit log is moved aside with its `-wal`
+/// and `-shm` (`audit.db.damaged-<ms>`) for a fresh one, and the problem
+/// `audit-damaged` says so until the next start: `alba run` starts (issue
+/// 31), as with a damaged history database.
+pub fn open(dir: &Path, cfg: &alba_project::config::Audit, health: &Health) -> Result<Audit, String> {
     let config = alba_audit::Config {
         retention_days: (cfg.retention_days > 0).then_some(cfg.retention_days),
     };
-    Audit::open_project(dir, config).map_err(|e| e.to_string())
+    match Audit::open_project(dir, config.clone()) {
+        Err(e) if e.is_damage() => {
+            // The historian's helper: the same three files of an SQLite store.
+            let to = alba_historian::move_aside(&alba_audit::project_path(dir))
+                .map_err(|m| format!("{e}; and it cannot be moved aside: {m}"))?;
+            health.report(
+                "audit-damaged",
+                format!(
+                    "{e}: moved to {} and a fresh audit trail started (the old rows are in that file)",
+                    to.display()
+                ),
+            );
+            Audit::open_project(dir, config).map_err(|e| e.to_string())
+        }
+        r => r.map_err(|e| e.to_string()),
+    }
 }
 
 /// The time of the newest row, for the clock guard.
@@ -88,17 +108,18 @@ mod tests {
         let guard = |dir: &Path| {
             crate::clock::ClockGuard::start(dir, Arc::new(alba_runtime::health::Health::default()), now_ms(), &[])
         };
-        let a = open(&dir, &keep).expect("open creates .alba/audit.db");
+        let health = Health::default();
+        let a = open(&dir, &keep, &health).expect("open creates .alba/audit.db");
         let recent = now_ms() - 3_600_000;
         for t in [0, 86_400_000, recent] {
             a.record(&Entry::new(t, Action::Write), &Outcome::Ok).expect("record");
         }
         drop(a);
-        let a = open(&dir, &keep).expect("reopen, keeping everything");
+        let a = open(&dir, &keep, &health).expect("reopen, keeping everything");
         retain(&a, &guard(&dir)).expect("retain");
         assert_eq!(a.query(&Filter::default(), None, 10).expect("query").rows.len(), 3);
         drop(a);
-        let a = open(&dir, &alba_project::config::Audit { retention_days: 1 }).expect("reopen with retention");
+        let a = open(&dir, &alba_project::config::Audit { retention_days: 1 }, &health).expect("reopen with retention");
         retain(&a, &guard(&dir)).expect("retain");
         let times: Vec<i64> = a
             .query(&Filter::default(), None, 10)

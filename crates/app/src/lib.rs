@@ -168,7 +168,7 @@ pub async fn run(
         None
     };
     let audit_cfg = config.map(|c| c.audit.clone()).unwrap_or_default();
-    let audit = audit::open(dir, &audit_cfg).map_err(RunError::Other)?;
+    let audit = audit::open(dir, &audit_cfg, &health).map_err(RunError::Other)?;
     // Retention only after a clock it can explain (crate::clock).
     let stores = [
         clock::Store {

@@ -142,10 +142,26 @@ pub struct Migration {
 impl Migration {
     pub fn new(old: &Layout, new: &Layout) -> Migration {
         let mut m = Migration::default();
+        // Runs of slots that stay together (each class's slots are given in
+        // tag order, so tags that keep their order keep their runs) become one
+        // copy: an edit's swap then costs a few memcpys. Destinations never
+        // overlap, so the order of the copies does not matter.
+        let mut last: [Option<usize>; 6] = [None; 6];
         let mut copy = |c: Class, from: u32, to: u32, n: u32| {
-            if n > 0 {
-                m.copies.push((c, from, to, n));
+            if n == 0 {
+                return;
             }
+            let k = c as usize;
+            if let Some((_, lf, lt, ln)) = last[k].map(|i| &mut m.copies[i])
+                && c != Class::M
+                && lf.checked_add(*ln) == Some(from)
+                && lt.checked_add(*ln) == Some(to)
+            {
+                *ln += n;
+                return;
+            }
+            last[k] = Some(m.copies.len());
+            m.copies.push((c, from, to, n));
         };
         // Every marker byte both memories have (clamped when applied).
         copy(Class::M, 0, 0, u32::MAX);

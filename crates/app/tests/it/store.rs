@@ -406,3 +406,89 @@ async fn a_clock_far_ahead_of_the_stores_holds_retention_and_deletes_nothing() {
     assert!(dir.join(".alba/retention-held").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The ways a store file gets damaged: random bytes, a damaged header, torn
+/// pages in the middle, a truncation.
+fn damage(path: &Path, kind: &str) {
+    let mut bytes = std::fs::read(path).expect("store file");
+    let mut x: u32 = 0x1234_5678;
+    let mut noise = || {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x as u8
+    };
+    match kind {
+        "random" => bytes.iter_mut().for_each(|b| *b = noise()),
+        "header" => bytes[..100].iter_mut().for_each(|b| *b = noise()),
+        "torn" => {
+            let mid = bytes.len() / 2 / 4096 * 4096;
+            bytes[mid..mid + 4096].iter_mut().for_each(|b| *b = noise());
+        }
+        "truncated" => bytes.truncate(bytes.len() / 2),
+        _ => unreachable!(),
+    }
+    std::fs::write(path, bytes).expect("damage");
+}
+
+/// The files moved aside next to `name` in `.alba`.
+fn aside(dir: &Path, name: &str) -> Vec<String> {
+    std::fs::read_dir(dir.join(".alba"))
+        .expect("dir")
+        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+        .filter(|n| n.starts_with(&format!("{name}.damaged-")))
+        .collect()
+}
+
+/// Issue 31: a damaged `audit.db` stopped `alba run` from starting. It is
+/// moved aside with its `-wal`/`-shm`, a fresh trail starts, the problem
+/// `audit-damaged` says so, the PLC runs and actions are audited again.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_damaged_audit_trail_is_moved_aside_and_the_plc_starts() {
+    for kind in ["random", "header", "torn", "truncated"] {
+        let dir = copy_example("tank", &format!("audit-damaged-{kind}"));
+        {
+            let a = alba_audit::Audit::open_project(&dir, alba_audit::Config::default()).expect("audit");
+            let long = "x".repeat(2000);
+            for k in 0..200 {
+                let e = alba_audit::Entry {
+                    detail: Some(long.clone()),
+                    ..alba_audit::Entry::new(1_700_000_000_000 + k, alba_audit::Action::Write)
+                };
+                a.record(&e, &alba_audit::Outcome::Ok).expect("row");
+            }
+        }
+        damage(&dir.join(".alba/audit.db"), kind);
+        let (addr, s, task) = serve(&dir, options("sim")).await;
+        let st = status(addr).await;
+        assert!(sources(&st).contains(&"audit-damaged".to_string()), "{kind}: {st}");
+        assert_eq!(st["store_ok"], false);
+        let scans = st["scans"].as_u64().unwrap_or(0);
+        status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 10).await;
+        let res = reqwest::Client::new()
+            .put(format!("http://{addr}/api/tags/Llenar"))
+            .json(&serde_json::json!({ "value": true }))
+            .send()
+            .await
+            .expect("write");
+        assert_eq!(res.status(), 200, "{kind}: a write is audited in the fresh trail");
+        stop(s, task).await;
+        let moved = aside(&dir, "audit.db");
+        assert!(
+            moved
+                .iter()
+                .any(|n| n["audit.db.damaged-".len()..].chars().all(|c| c.is_ascii_digit())),
+            "{kind}: {moved:?}"
+        );
+        let a = alba_audit::Audit::open_project(&dir, alba_audit::Config::default()).expect("fresh");
+        assert_eq!(
+            a.query(&alba_audit::Filter::default(), None, 10)
+                .expect("rows")
+                .rows
+                .len(),
+            1,
+            "{kind}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
