@@ -1,5 +1,37 @@
 /// <reference types="vitest/config" />
-import { defineConfig } from 'vite';
+import { readFileSync, readdirSync, statSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { brotliCompressSync, constants, gzipSync } from 'node:zlib';
+import { type Plugin, defineConfig } from 'vite';
+
+/**
+ * Writes `file.gz` and `file.br` beside every text asset of the build, so the
+ * server sends them as they are to a browser that accepts them (crates/server
+ * /src/assets.rs): the best compression, paid once at build time.
+ */
+function precompress(): Plugin {
+  const text = /\.(js|mjs|css|html|svg|json|txt)$/;
+  let outDir = 'dist';
+  const files = (dir: string): string[] =>
+    readdirSync(dir).flatMap((f) => (statSync(join(dir, f)).isDirectory() ? files(join(dir, f)) : [join(dir, f)]));
+  return {
+    name: 'alba-precompress',
+    apply: 'build',
+    configResolved: (c) => void (outDir = c.build.outDir),
+    closeBundle() {
+      for (const f of files(outDir).filter((f) => text.test(f))) {
+        const raw = readFileSync(f);
+        writeFileSync(`${f}.gz`, gzipSync(raw, { level: 9 }));
+        writeFileSync(
+          `${f}.br`,
+          brotliCompressSync(raw, {
+            params: { [constants.BROTLI_PARAM_QUALITY]: 11, [constants.BROTLI_PARAM_SIZE_HINT]: raw.length },
+          }),
+        );
+      }
+    },
+  };
+}
 
 // The Rust server embeds dist/ and serves it at `/`: relative asset paths.
 // In development `npm run dev` proxies the API (and its WebSocket) to a
@@ -8,6 +40,7 @@ import { defineConfig } from 'vite';
 // requests as the server's own page.
 export default defineConfig({
   base: './',
+  plugins: [precompress()],
   build: { outDir: 'dist', emptyOutDir: true, chunkSizeWarningLimit: 600 },
   server: {
     proxy: {

@@ -54,3 +54,25 @@ describe('the PID faceplate gains', () => {
     await vi.waitFor(() => expect(r.puts).toContainEqual(['/api/tags/Loop.TI', 0.2]));
   });
 });
+
+describe('the autotune panel', () => {
+  it('leaves the relay centre to the loop by default (no fixed 50 %), and sends what is typed', async () => {
+    const bodies: Record<string, unknown>[] = [];
+    const r = rig({ DEP: false, MINUTES: false, KP: 7, KI: 1.6, KD: 0, CV: 12.16, SP: 1.52 });
+    vi.stubGlobal('fetch', async (path: string, init: RequestInit) => {
+      if (path.endsWith('/autotune')) bodies.push(JSON.parse(init.body as string));
+      return new Response(JSON.stringify({ error: 'no' }), { status: 422, headers: { 'Content-Type': 'application/json' } });
+    });
+    const bias = r.box.querySelector('[data-testid="autotune-bias"]') as HTMLInputElement;
+    expect(bias.value).toBe('');
+    const run = r.box.querySelector('[data-testid="autotune-run"]') as HTMLButtonElement;
+    run.click();
+    await vi.waitFor(() => expect(bodies.length).toBe(1));
+    expect(bodies[0]).toEqual({ amplitude: 10, hysteresis: 0, sp: 1.52 });
+    bias.value = '30';
+    await vi.waitFor(() => expect(run.disabled).toBe(false));
+    run.click();
+    await vi.waitFor(() => expect(bodies.length).toBe(2));
+    expect(bodies[1].bias).toBe(30);
+  });
+});

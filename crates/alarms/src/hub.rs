@@ -59,13 +59,26 @@ pub struct Hub {
 }
 
 impl Hub {
+    /// The alarms of `defs`, in the states the log kept before a restart.
+    /// A log whose states cannot be read leaves every alarm normal and says
+    /// why in [`Hub::log_error`].
     pub fn new(defs: Vec<AlarmDef>, log: Option<Log>) -> Hub {
+        let mut alarms = Alarms::new(defs);
+        let mut log_error = None;
+        if let Some(log) = &log {
+            match log.load_states() {
+                Ok(saved) => {
+                    alarms.restore(&saved);
+                }
+                Err(e) => log_error = Some(format!("alarm states were not restored: {e}")),
+            }
+        }
         Hub {
-            alarms: Mutex::new(Alarms::new(defs)),
+            alarms: Mutex::new(alarms),
             generation: std::sync::atomic::AtomicU64::new(0),
             activations: Mutex::new(std::collections::VecDeque::new()),
             log,
-            log_error: Mutex::new(None),
+            log_error: Mutex::new(log_error),
         }
     }
 
@@ -78,19 +91,27 @@ impl Hub {
     }
 
     /// Evaluates the alarms on a snapshot's memory at `now_ms` and logs the
-    /// changes. A log failure does not stop alarms (the operator must still
-    /// see them): it is kept for [`Hub::log_error`] and returned.
+    /// changes, with the alarms' new states, before anyone can see them (so
+    /// what a client was shown survives a `kill -9`). A log failure does not
+    /// stop alarms (the operator must still see them): it is kept for
+    /// [`Hub::log_error`] and returned.
     pub fn update(&self, now_ms: i64, mem: &Memory) -> Result<Vec<Event>, LogError> {
-        let events = self.lock().update(now_ms, mem);
+        let mut alarms = self.lock();
+        let events = alarms.update(now_ms, mem);
+        if events.is_empty() {
+            return Ok(events);
+        }
+        let logged = match &self.log {
+            Some(log) => log.append(&events, &alarms.persisted_for(&events)),
+            None => Ok(()),
+        };
+        drop(alarms);
         self.count_activations(now_ms, &events);
-        if !events.is_empty() {
-            self.bump();
+        self.bump();
+        if self.log.is_some() {
+            *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = logged.as_ref().err().map(|e| e.to_string());
         }
-        if let Some(log) = &self.log {
-            let r = log.append(&events);
-            *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = r.as_ref().err().map(|e| e.to_string());
-            r?;
-        }
+        logged?;
         Ok(events)
     }
 
@@ -153,7 +174,7 @@ impl Hub {
             Request::OutOfService { on, reason } => next.set_out_of_service(id, *on, reason, user, now_ms)?,
         };
         if let Some(log) = &self.log {
-            log.append(std::slice::from_ref(&event))?;
+            log.append(std::slice::from_ref(&event), &next.persisted_for(std::slice::from_ref(&event)))?;
         }
         *alarms = next;
         self.bump();
@@ -211,9 +232,10 @@ impl Hub {
                 events.push(e);
             }
         }
+        let states = a.persisted_for(&events);
         drop(a);
         if let Some(log) = &self.log
-            && let Err(e) = log.append(&events)
+            && let Err(e) = log.append(&events, &states)
         {
             *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = Some(e.to_string());
         }

@@ -11,7 +11,7 @@ pub mod state;
 pub use def::{AlarmDef, Cmp, Condition, parse};
 pub use hub::{Hub, HubError, Request, Stats};
 pub use log::{Log, LogError};
-pub use state::{ActionError, Alarm, Alarms, Event, State, format_value};
+pub use state::{ActionError, Alarm, Alarms, Event, Persisted, State, format_value};
 
 /// The file of a project that defines its alarms.
 pub const FILE: &str = "alarms.csv";

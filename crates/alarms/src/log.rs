@@ -3,7 +3,7 @@
 //! `synchronous = FULL`, as the audit trail), no event limit, a retention in
 //! days, CSV export row by row.
 
-use crate::state::Event;
+use crate::state::{Event, Persisted};
 use rusqlite::{Connection, OpenFlags, params};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -12,7 +12,25 @@ use std::time::Duration;
 
 /// `PRAGMA application_id` of an alarm log: "AlbL".
 const APPLICATION_ID: i64 = 0x416C_624C;
-const SCHEMA_VERSION: i64 = 1;
+const SCHEMA_VERSION: i64 = 2;
+/// Version 2: the `states` table (each alarm's state, kept across restarts).
+const STATES: &str = "
+CREATE TABLE states(
+    alarm TEXT PRIMARY KEY,
+    state TEXT NOT NULL,
+    since INTEGER NOT NULL,
+    active INTEGER NOT NULL,
+    value REAL,
+    acked_user TEXT,
+    acked_comment TEXT,
+    acked_t INTEGER,
+    shelved_until INTEGER,
+    shelved_user TEXT,
+    shelved_reason TEXT,
+    oos_user TEXT,
+    oos_reason TEXT
+);
+";
 const SCHEMA: &str = "
 CREATE TABLE events(
     id INTEGER PRIMARY KEY AUTOINCREMENT,
@@ -128,8 +146,12 @@ impl Log {
         );
         if app == 0 && version == 0 && objects == 0 {
             conn.execute_batch(&format!(
-                "BEGIN IMMEDIATE; {SCHEMA} PRAGMA application_id = {APPLICATION_ID}; \
+                "BEGIN IMMEDIATE; {SCHEMA} {STATES} PRAGMA application_id = {APPLICATION_ID}; \
                  PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
+            ))?;
+        } else if app == APPLICATION_ID && version == 1 {
+            conn.execute_batch(&format!(
+                "BEGIN IMMEDIATE; {STATES} PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
             ))?;
         } else if app != APPLICATION_ID {
             return Err(not(format!(
@@ -151,9 +173,10 @@ impl Log {
         &self.path
     }
 
-    /// Appends `events` in one transaction; returns once they are durable.
-    pub fn append(&self, events: &[Event]) -> Result<(), LogError> {
-        if events.is_empty() {
+    /// Appends `events` and keeps `states` (the alarms they changed) in one
+    /// transaction; returns once they are durable.
+    pub fn append(&self, events: &[Event], states: &[Persisted]) -> Result<(), LogError> {
+        if events.is_empty() && states.is_empty() {
             return Ok(());
         }
         let mut conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
@@ -177,9 +200,80 @@ impl Log {
                     e.message,
                 ])?;
             }
+            let mut stmt = tx.prepare_cached(
+                "INSERT OR REPLACE INTO states(alarm, state, since, active, value, acked_user, acked_comment,
+                 acked_t, shelved_until, shelved_user, shelved_reason, oos_user, oos_reason)
+                 VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
+            )?;
+            for p in states {
+                let (acked_user, acked_comment, acked_t) = match &p.acked {
+                    Some((u, c, t)) => (Some(u), Some(c), Some(t)),
+                    None => (None, None, None),
+                };
+                let (until, shelved_user, shelved_reason) = match &p.shelved {
+                    Some((t, u, r)) => (Some(t), Some(u), Some(r)),
+                    None => (None, None, None),
+                };
+                let (oos_user, oos_reason) = match &p.out_of_service {
+                    Some((u, r)) => (Some(u), Some(r)),
+                    None => (None, None),
+                };
+                stmt.execute(params![
+                    p.id,
+                    p.state.name(),
+                    p.since_ms,
+                    p.active,
+                    p.value.is_finite().then_some(p.value),
+                    acked_user,
+                    acked_comment,
+                    acked_t,
+                    until,
+                    shelved_user,
+                    shelved_reason,
+                    oos_user,
+                    oos_reason,
+                ])?;
+            }
         }
         tx.commit()?;
         Ok(())
+    }
+
+    /// The states kept by [`Log::append`], for [`crate::Alarms::restore`]; a
+    /// row that does not read back (an unknown state name) is skipped.
+    pub fn load_states(&self) -> Result<Vec<Persisted>, LogError> {
+        let conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        let mut stmt = conn.prepare(
+            "SELECT alarm, state, since, active, value, acked_user, acked_comment, acked_t,
+                    shelved_until, shelved_user, shelved_reason, oos_user, oos_reason FROM states",
+        )?;
+        let mut rows = stmt.query([])?;
+        let mut out = Vec::new();
+        while let Some(r) = rows.next()? {
+            let state: String = r.get(1)?;
+            let Ok(state) = state.parse() else { continue };
+            let text = |i: usize| -> rusqlite::Result<String> { Ok(r.get::<_, Option<String>>(i)?.unwrap_or_default()) };
+            out.push(Persisted {
+                id: r.get(0)?,
+                state,
+                since_ms: r.get(2)?,
+                active: r.get(3)?,
+                value: r.get::<_, Option<f64>>(4)?.unwrap_or(f64::NAN),
+                acked: match r.get::<_, Option<i64>>(7)? {
+                    Some(t) => Some((text(5)?, text(6)?, t)),
+                    None => None,
+                },
+                shelved: match r.get::<_, Option<i64>>(8)? {
+                    Some(t) => Some((t, text(9)?, text(10)?)),
+                    None => None,
+                },
+                out_of_service: match r.get::<_, Option<String>>(11)? {
+                    Some(u) => Some((u, text(12)?)),
+                    None => None,
+                },
+            });
+        }
+        Ok(out)
     }
 
     /// Writes the events with `from_ms <= t <= to_ms`, oldest first, at most

@@ -44,6 +44,24 @@ impl State {
     }
 }
 
+impl std::str::FromStr for State {
+    type Err = String;
+    fn from_str(s: &str) -> Result<State, String> {
+        [
+            State::Normal,
+            State::ActiveUnacked,
+            State::ActiveAcked,
+            State::ClearedUnacked,
+            State::Shelved,
+            State::Suppressed,
+            State::OutOfService,
+        ]
+        .into_iter()
+        .find(|st| st.name() == s)
+        .ok_or_else(|| format!("no alarm state `{s}`"))
+    }
+}
+
 impl fmt::Display for State {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
@@ -115,6 +133,20 @@ pub struct Alarm {
     suppressed: bool,
 }
 
+/// What of an alarm outlives `alba run` (docs/alarms.md, "Restarts"): kept
+/// in the alarm log's `states` table with every change, read back at start.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Persisted {
+    pub id: String,
+    pub state: State,
+    pub since_ms: i64,
+    pub active: bool,
+    pub value: f64,
+    pub acked: Option<(String, String, i64)>,
+    pub shelved: Option<(i64, String, String)>,
+    pub out_of_service: Option<(String, String)>,
+}
+
 /// Every alarm of a project.
 #[derive(Debug, Clone, Default)]
 pub struct Alarms {
@@ -180,6 +212,43 @@ impl Alarms {
             .iter_mut()
             .find(|a| a.def.id.eq_ignore_ascii_case(id))
             .ok_or_else(|| ActionError::Unknown(id.to_string()))
+    }
+
+    /// What to keep of the alarms named by `events` (each once).
+    pub fn persisted_for(&self, events: &[Event]) -> Vec<Persisted> {
+        let mut out: Vec<Persisted> = Vec::new();
+        for e in events {
+            if !out.iter().any(|p| p.id == e.id)
+                && let Some(a) = self.get(&e.id)
+            {
+                out.push(a.persisted());
+            }
+        }
+        out
+    }
+
+    /// Puts back the states kept before a restart, by alarm id (ids no
+    /// longer in alarms.csv are ignored); returns how many were restored.
+    /// An alarm that was active is taken as still active, its on-delay
+    /// already served, so the first evaluation clears it (→
+    /// `cleared_unacked` or `normal`) only when its condition no longer
+    /// holds: an unacknowledged alarm stays until someone acknowledges it.
+    pub fn restore(&mut self, saved: &[Persisted]) -> usize {
+        let mut n = 0;
+        for p in saved {
+            let Ok(a) = self.find(&p.id) else { continue };
+            a.state = p.state;
+            a.since_ms = p.since_ms;
+            a.active = p.active;
+            a.value = p.value;
+            a.acked = p.acked.clone();
+            a.shelved = p.shelved.clone();
+            a.out_of_service = p.out_of_service.clone();
+            a.pending_since = p.active.then_some(i64::MIN);
+            a.suppressed = p.state == State::Suppressed;
+            n += 1;
+        }
+        n
     }
 
     /// Evaluates every alarm on `mem` at `now_ms` (a published snapshot and
@@ -284,6 +353,19 @@ impl Alarms {
 }
 
 impl Alarm {
+    pub fn persisted(&self) -> Persisted {
+        Persisted {
+            id: self.def.id.clone(),
+            state: self.state,
+            since_ms: self.since_ms,
+            active: self.active,
+            value: self.value,
+            acked: self.acked.clone(),
+            shelved: self.shelved.clone(),
+            out_of_service: self.out_of_service.clone(),
+        }
+    }
+
     /// The raw condition on `v` (the deadband keeps an active alarm active
     /// until the value is back past the limit by the deadband).
     fn raw(&self, v: f64) -> bool {

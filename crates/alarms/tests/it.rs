@@ -314,9 +314,9 @@ fn the_log_keeps_every_event_and_exports_csv() {
     let mut a = rig.alarms("hi,Level,> 80,high,0,0,\"Level high, =check\"\n");
     for k in 0..300 {
         rig.set("Level", Value::Real(if k % 2 == 0 { 90.0 } else { 0.0 }));
-        log.append(&a.update(k * 10, &rig.mem)).expect("append");
+        log.append(&a.update(k * 10, &rig.mem), &[]).expect("append");
     }
-    log.append(&[a.ack("hi", "ana", "seen", 5000).expect("ack")])
+    log.append(&[a.ack("hi", "ana", "seen", 5000).expect("ack")], &[])
         .expect("append");
     assert_eq!(log.count().expect("count"), 301, "no 100-event limit");
     let mut out = Vec::new();
@@ -365,7 +365,7 @@ fn child_appends_until_killed() {
         message: "m".into(),
     };
     for k in 1.. {
-        log.append(std::slice::from_ref(&e)).expect("append");
+        log.append(std::slice::from_ref(&e), &[]).expect("append");
         println!("{k}");
     }
 }
@@ -471,4 +471,80 @@ fn the_hub_counts_states_and_detects_a_flood() {
     hub.update(12 * 60_000 + 20, &rig.mem).expect("update");
     let s = hub.stats(12 * 60_000 + 20);
     assert!(s.flood && s.new_in_window > 10, "{s:?}");
+}
+
+/// Alarm states survive a restart (issue 30, point 20): an unacknowledged
+/// alarm is still there after the hub is made again from the same log, a
+/// shelved one keeps its end and reason, and an acknowledged one whose
+/// condition went away in the meantime returns to normal on the first
+/// evaluation without a new activation.
+#[test]
+fn alarm_states_survive_a_restart_through_the_log() {
+    let mut rig = Rig::new();
+    let dir = tempfile::tempdir().expect("tmp");
+    let path = dir.path().join("alarms.db");
+    let rows = "hi,Level,> 80,high,2000,0,Level high\nlo,Level,< 10,medium,0,0,Level low\nsh,Level,> 50,low,0,0,Shelved\n";
+    let defs = |rig: &Rig| {
+        let mut files = Files::new();
+        let f = files.add("alarms.csv", format!("id,tag,condition,severity,delay_ms,deadband,message\n{rows}"));
+        let (defs, diags) = def::parse(files.text(f), f, &rig.layout);
+        assert!(diags.is_empty());
+        defs
+    };
+    {
+        let hub = alba_alarms::Hub::new(defs(&rig), Some(Log::open(&path, 0).expect("open")));
+        rig.set("Level", Value::Real(90.0));
+        hub.update(1_000, &rig.mem).expect("update");
+        hub.update(3_500, &rig.mem).expect("update");
+        hub.act("sh", &alba_alarms::Request::Shelve { minutes: 60, reason: "sensor swap".into() }, "ana", 4_000)
+            .expect("shelve");
+        let states: Vec<_> = hub.list(true).iter().map(|a| (a.def.id.clone(), a.state)).collect();
+        assert_eq!(
+            states,
+            [("hi".to_string(), State::ActiveUnacked), ("lo".into(), State::Normal), ("sh".into(), State::Shelved)]
+        );
+        // the hub is dropped without any shutdown: what is kept was kept at each change
+    }
+    let hub = alba_alarms::Hub::new(defs(&rig), Some(Log::open(&path, 0).expect("reopen")));
+    assert_eq!(hub.log_error(), None);
+    let get = |hub: &alba_alarms::Hub, id: &str| hub.list(true).into_iter().find(|a| a.def.id == id).expect(id);
+    assert_eq!(get(&hub, "hi").state, State::ActiveUnacked, "still unacknowledged after the restart");
+    assert_eq!(get(&hub, "hi").since_ms, 3_500);
+    let sh = get(&hub, "sh");
+    assert_eq!(sh.state, State::Shelved);
+    assert_eq!(sh.shelved, Some((4_000 + 3_600_000, "ana".to_string(), "sensor swap".to_string())));
+    // Still in alarm: no event at all (the on-delay is not served again).
+    assert_eq!(hub.update(10_000, &rig.mem).expect("update"), vec![]);
+    hub.act("hi", &alba_alarms::Request::Ack { comment: "seen".into() }, "bob", 11_000).expect("ack");
+    // Restart again with the level back to normal: the acknowledged alarm clears.
+    drop(hub);
+    let hub = alba_alarms::Hub::new(defs(&rig), Some(Log::open(&path, 0).expect("reopen")));
+    let hi = get(&hub, "hi");
+    assert_eq!(hi.state, State::ActiveAcked);
+    assert_eq!(hi.acked, Some(("bob".to_string(), "seen".to_string(), 11_000)));
+    rig.set("Level", Value::Real(20.0));
+    let ev = hub.update(12_000, &rig.mem).expect("update");
+    assert_eq!(ev.iter().map(|e| (e.id.as_str(), e.to)).collect::<Vec<_>>(), [("hi", State::Normal)]);
+}
+
+/// A log written by the first version of the schema (no `states` table) is
+/// upgraded in place and keeps its events.
+#[test]
+fn a_version_1_log_is_upgraded() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let path = dir.path().join("alarms.db");
+    {
+        let c = rusqlite::Connection::open(&path).expect("sqlite");
+        c.execute_batch(
+            "CREATE TABLE events(id INTEGER PRIMARY KEY AUTOINCREMENT, t INTEGER NOT NULL, alarm TEXT NOT NULL,
+             tag TEXT NOT NULL, from_state TEXT NOT NULL, to_state TEXT NOT NULL, value REAL, severity INTEGER NOT NULL,
+             user_name TEXT, comment TEXT, message TEXT NOT NULL);
+             INSERT INTO events(t, alarm, tag, from_state, to_state, severity, message) VALUES(1, 'hi', 'L', 'normal', 'active_unacked', 700, 'm');
+             PRAGMA application_id = 1097622092; PRAGMA user_version = 1;",
+        )
+        .expect("v1");
+    }
+    let log = Log::open(&path, 0).expect("upgraded");
+    assert_eq!(log.count().expect("count"), 1);
+    assert_eq!(log.load_states().expect("states"), vec![]);
 }

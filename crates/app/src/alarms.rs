@@ -64,7 +64,7 @@ pub(crate) fn start(s: &Service<'_>, defs: Option<Vec<AlarmDef>>) -> Result<Star
                     failing = true;
                     eprintln!("alarms: the alarm log cannot be written ({e}); alarms are still evaluated");
                 }
-                Ok(_) if failing => {
+                Ok(events) if failing && !events.is_empty() => {
                     failing = false;
                     eprintln!("alarms: the alarm log is written again");
                 }

@@ -1,6 +1,7 @@
 //! `alba`: the command-line front of Alba.
 
 mod analyze;
+mod copy;
 mod audit;
 mod bench;
 mod bench_modbus;
@@ -227,9 +228,9 @@ enum Command {
         /// Relay amplitude, % of CV.
         #[arg(long, default_value_t = 20.0)]
         amplitude: f64,
-        /// Relay centre, % of CV (about the output that holds PV at SP).
-        #[arg(long, default_value_t = 50.0)]
-        bias: f64,
+        /// Relay centre, % of CV (default: the loop's own output once it holds PV at SP in auto).
+        #[arg(long)]
+        bias: Option<f64>,
         /// Relay hysteresis, engineering units of the error (use it against noise).
         #[arg(long, default_value_t = 0.0)]
         hysteresis: f64,
@@ -272,6 +273,11 @@ enum Command {
         /// Serve plain HTTP beyond loopback (anyone on the path reads and alters the traffic).
         #[arg(long)]
         insecure_http: bool,
+        /// Run a copy of the project, made in DIR (default `./alba-<folder name>`) unless DIR
+        /// holds one already: the studio's saves go there and the original stays as it is
+        /// (run the repository's examples this way).
+        #[arg(long, value_name = "DIR", num_args = 0..=1, default_missing_value = "")]
+        copy: Option<PathBuf>,
     },
     /// Generate the remote-I/O firmware of an Arduino for controller mode
     /// (`alba run PROJECT --io arduino:PORT`).
@@ -556,7 +562,29 @@ fn main() -> ExitCode {
             mqtt,
             https,
             insecure_http,
+            copy,
         } => {
+            let project = match copy {
+                None => project,
+                Some(dest) => {
+                    let dest = if dest.as_os_str().is_empty() { copy::default_dest(&project) } else { dest };
+                    match copy::prepare(&project, &dest) {
+                        Ok(fresh) => {
+                            eprintln!(
+                                "Running {} {} (the studio saves there; {} is not changed).",
+                                if fresh { "a new copy of the project in" } else { "the copy in" },
+                                dest.display(),
+                                project.display()
+                            );
+                            dest
+                        }
+                        Err(e) => {
+                            eprintln!("error: {e}");
+                            return ExitCode::FAILURE;
+                        }
+                    }
+                }
+            };
             let tls = match (https, insecure_http) {
                 (true, _) => alba_app::tls::Tls::Always,
                 (_, true) => alba_app::tls::Tls::Never,

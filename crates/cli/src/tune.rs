@@ -13,7 +13,7 @@ pub struct TuneArgs<'a> {
     pub pid: &'a str,
     pub sp: Option<f64>,
     pub amplitude: f64,
-    pub bias: f64,
+    pub bias: Option<f64>,
     pub hysteresis: f64,
     pub until: u64,
     pub cycles: usize,
@@ -55,7 +55,7 @@ pub fn run(a: TuneArgs) -> ExitCode {
     };
     println!(
         "relay ±{} % around {} %, hysteresis {}: {} cycles, PV fundamental ±{:.4} (peaks ±{:.4})",
-        a.amplitude, a.bias, a.hysteresis, r.cycles, r.a, r.a_peak
+        a.amplitude, r.bias, a.hysteresis, r.cycles, r.a, r.a_peak
     );
     println!("Ku = {:.4} (%CV per % of the PV span), Pu = {:.3} s\n", r.ku, r.pu);
     println!("| rule | KC | TI (s) | TD (s) | KP | KI (1/s) | KD (s) |");

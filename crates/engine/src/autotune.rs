@@ -42,8 +42,9 @@ pub struct RelayOptions {
     pub scan_ms: u64,
     /// Relay amplitude d, % of CV.
     pub amplitude: f64,
-    /// Relay centre, % of CV.
-    pub bias: f64,
+    /// Relay centre, % of CV; `None`: the loop's own output once it holds
+    /// the plant at the setpoint (see [`relay`]).
+    pub bias: Option<f64>,
     /// Hysteresis h, in the units of the error (engineering units).
     pub hysteresis: f64,
     /// Give up after this long, ms.
@@ -64,6 +65,8 @@ pub struct RelayResult {
     /// Peak-to-peak half amplitude of the PV, engineering units (for comparison).
     pub a_peak: f64,
     pub cycles: usize,
+    /// The relay's centre used, % of CV.
+    pub bias: f64,
 }
 
 /// A tuning rule's gains.
@@ -105,6 +108,45 @@ fn place(engine: &Engine, name: &str) -> Result<Place, String> {
     }
 }
 
+/// How long the loop must hold the PV at SP in auto before the relay starts
+/// around its output, ms (and the window its CV is averaged over).
+const SETTLED_MS: u64 = 10_000;
+/// Longest wait for the loop to settle, ms.
+const SETTLE_LIMIT_MS: u64 = 300_000;
+
+/// The relay's centre when none is given: the loop runs in auto with its own
+/// gains until it has held the PV within 1 % of the span of SP, with its CV
+/// steady within 1 %, for [`SETTLED_MS`] (at most [`SETTLE_LIMIT_MS`] or half
+/// the experiment's time); the centre is its mean CV over that window — the
+/// output that holds the plant at SP, as an operator would wait for a steady
+/// state before starting a relay test. A loop at rest at its SP settles at
+/// once, around its CV now. Returns the centre and the time reached.
+fn settle(engine: &mut Engine, sp: Place, pv: Place, cv: Place, man: Place, span: f64, opt: &RelayOptions) -> Result<(f64, u64), String> {
+    let limit = SETTLE_LIMIT_MS.min(opt.until_ms / 2);
+    let window = (SETTLED_MS / opt.scan_ms).max(1) as usize;
+    let mut recent: std::collections::VecDeque<(f64, f64)> = std::collections::VecDeque::with_capacity(window + 1);
+    let mut t = 0u64;
+    loop {
+        engine.step_plants(t);
+        engine.write(man, Value::Bool(false));
+        engine.scan(t).map_err(|m| m.message)?;
+        recent.push_back((engine.read(sp).as_f64() - engine.read(pv).as_f64(), engine.read(cv).as_f64()));
+        if recent.len() > window {
+            recent.pop_front();
+        }
+        let full = recent.len() == window;
+        let (lo, hi) = recent
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (_, u)| (l.min(*u), h.max(*u)));
+        let held = recent.iter().all(|(e, _)| e.abs() <= 0.01 * span);
+        if (full && held && hi - lo <= 1.0) || t >= limit {
+            let mean = recent.iter().map(|(_, u)| u).sum::<f64>() / recent.len() as f64;
+            return Ok((mean, t + opt.scan_ms));
+        }
+        t += opt.scan_ms;
+    }
+}
+
 /// Runs the relay experiment on the PID tag `pid` of a running simulation
 /// (plants attached), from virtual time 0.
 pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayResult, String> {
@@ -121,7 +163,14 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
     if !(opt.amplitude > 0.0 && opt.hysteresis >= 0.0 && opt.scan_ms > 0) {
         return Err("the relay amplitude must be more than 0 and the hysteresis 0 or more".into());
     }
-    let mut t = 0u64;
+    let span = engine.read(maxs).as_f64() - engine.read(mins).as_f64();
+    let (bias, mut t) = match opt.bias {
+        Some(b) => (b, 0),
+        None => settle(engine, sp, pv, cv, man, if span > 0.0 { span } else { 1.0 }, &opt)?,
+    };
+    if !(0.0..=100.0).contains(&bias) {
+        return Err(format!("the relay's centre must be 0 to 100 % of CV, not {bias}"));
+    }
     let mut high = true;
     let mut times = Vec::new();
     let mut pvs = Vec::new();
@@ -137,7 +186,7 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
             high = true;
             rises.push(times.len());
         }
-        let u = opt.bias + if high { opt.amplitude } else { -opt.amplitude };
+        let u = bias + if high { opt.amplitude } else { -opt.amplitude };
         engine.write(man, Value::Bool(true));
         engine.write(cv, Value::Real(u as f32));
         engine.scan(t).map_err(|m| m.message)?;
@@ -179,7 +228,6 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
     if a_eff <= 0.0 {
         return Err("the oscillation is smaller than the hysteresis".into());
     }
-    let span = engine.read(maxs).as_f64() - engine.read(mins).as_f64();
     let a_pct = if span > 0.0 { a_eff * 100.0 / span } else { a_eff };
     Ok(RelayResult {
         ku: 4.0 * opt.amplitude / (std::f64::consts::PI * a_pct),
@@ -187,6 +235,7 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
         a: a1,
         a_peak: (hi - lo) / 2.0,
         cycles: opt.cycles,
+        bias,
     })
 }
 

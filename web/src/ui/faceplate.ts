@@ -132,9 +132,10 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
  * otherwise). Engineers only: it sets gains.
  */
 function autotune(ctx: Ctx, tag: string, get: (m: string) => Json | undefined, write: (m: string, v: Json) => Promise<unknown>): HTMLElement {
-  const input = (name: string, value: number, title: string) =>
-    h('label', { title }, name, ' ', h('input', { type: 'number', step: 'any', size: 5, value: String(value), 'data-testid': `autotune-${name}` }));
-  const fields = [input('amplitude', 10, tr('Relay amplitude, % of CV')), input('bias', 50, tr('Relay centre, % of CV')), input('hysteresis', 0, tr('Hysteresis, units of the PV'))];
+  const input = (name: string, value: number | null, title: string) =>
+    h('label', { title }, name, ' ', h('input', { type: 'number', step: 'any', size: 5, value: value === null ? '' : String(value), placeholder: value === null ? tr('auto') : '', 'data-testid': `autotune-${name}` }));
+  // An empty bias: the loop's own output once it holds PV at SP (docs/pid.md §6).
+  const fields = [input('amplitude', 10, tr('Relay amplitude, % of CV')), input('bias', null, tr("Relay centre, % of CV (empty: the loop's own output once it holds PV at SP)")), input('hysteresis', 0, tr('Hysteresis, units of the PV'))];
   const sp = input('sp', 0, tr('Setpoint during the experiment'));
   const run = h('button', { 'data-testid': 'autotune-run', disabled: !can('edit'), title: why('edit') ?? tr('Runs the relay experiment on a copy of the program and its plant models; the running loop is not touched') }, tr('Autotune'));
   const result = h('div', { class: 'fp-tune-result', 'data-testid': 'autotune-result' });
@@ -142,7 +143,7 @@ function autotune(ctx: Ctx, tag: string, get: (m: string) => Json | undefined, w
     const req: Record<string, number> = {};
     for (const l of [...fields, sp]) {
       const i = l.querySelector('input')!;
-      req[i.dataset.testid!.replace('autotune-', '')] = Number(i.value);
+      if (i.value.trim() !== '') req[i.dataset.testid!.replace('autotune-', '')] = Number(i.value);
     }
     run.disabled = true;
     result.replaceChildren(h('p', { class: 'hint' }, tr('Running the relay experiment…')));

@@ -159,3 +159,46 @@ fn tank_plant_runs_the_tank_program() {
     let tags = read("examples/tank/tags.csv").replace("S_ULT,INT,AI:3/0,575,", "S_ULT,INT,AI:3/0,,");
     assert!(read("examples/tank-plant/tags.csv").starts_with(&tags));
 }
+
+/// An alarm means an abnormal situation (issue 30, point 2): the demo's plant
+/// runs its normal cycle for 15 minutes of virtual time without one, while a
+/// stop (the consumer drains the tank with pump B1 off) raises the low-level
+/// alarm — so the limits are outside normal operation, not out of reach.
+#[test]
+fn the_demo_raises_no_alarm_in_normal_operation_and_one_when_stopped() {
+    let dir = scratch("demo-alarms");
+    let example = repo().join("examples/tank-plant");
+    let events = |name: &str, stimulus: Option<&str>| {
+        let out_file = dir.join(name);
+        let mut args = vec![
+            "sim".to_string(),
+            example.display().to_string(),
+            "--until".into(),
+            "900000".into(),
+            "--every".into(),
+            "60000".into(),
+            "--tags".into(),
+            "Nivel_L".into(),
+            "--alarms".into(),
+            out_file.display().to_string(),
+        ];
+        if let Some(s) = stimulus {
+            let f = dir.join(format!("{name}.stimulus.csv"));
+            std::fs::write(&f, s).expect("stimulus");
+            args.extend(["--stimulus".into(), f.display().to_string()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = crate::alba(&dir, &args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        std::fs::read_to_string(out_file).expect("events")
+    };
+    let normal = events("normal.csv", None);
+    assert_eq!(normal.lines().count(), 1, "no alarm in 15 minutes of normal operation:\n{normal}");
+    let stopped = events("stopped.csv", Some("time_ms,tag,value\n60000,STOP,1\n60200,STOP,0\n"));
+    let activations: Vec<&str> = stopped
+        .lines()
+        .filter(|l| l.contains(",normal,active_unacked,"))
+        .map(|l| l.split(',').nth(1).unwrap_or_default())
+        .collect();
+    assert_eq!(activations, ["estop", "level_lo"], "{stopped}");
+}

@@ -1,5 +1,6 @@
 //! Integration tests of the `alba` binary.
 
+mod alarms;
 mod analyze;
 mod audit;
 mod commands;

@@ -6,8 +6,12 @@ use alba_engine::Engine;
 use alba_engine::autotune::{RelayOptions, fopdt_ultimate, relay, rules};
 use std::sync::Arc;
 
-fn project(dead: f64, noise: f64) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("alba-autotune-{}-{dead}-{noise}", std::process::id()));
+fn project(dead: f64, noise: f64, gains: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "alba-autotune-{}-{dead}-{noise}-{}",
+        std::process::id(),
+        gains.len()
+    ));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let toml = format!(
         "name = \"fopdt\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n\n[[plant_model]]\nkind = \"first_order\"\ninput = \"Drive\"\noutput = \"Meas\"\ngain = 1.5\ntau = 10.0\ndead_time = {dead}\nnoise = {noise}\nseed = 3\nsaturation = [0, 100]\n"
@@ -15,7 +19,7 @@ fn project(dead: f64, noise: f64) -> std::path::PathBuf {
     std::fs::write(dir.join("alba.toml"), toml).expect("write");
     std::fs::write(
         dir.join("tags.csv"),
-        "name,type,address,initial\nMeas,REAL,,\nDrive,REAL,,\nLoop,PID,,\"SP=40;UPD=10;MAXS=100\"\n",
+        format!("name,type,address,initial\nMeas,REAL,,\nDrive,REAL,,\nLoop,PID,,\"SP=40;UPD=10;MAXS=100{gains}\"\n"),
     )
     .expect("write");
     std::fs::write(dir.join("main.lad"), "PID(Loop,Meas,Drive);\n").expect("write");
@@ -23,12 +27,12 @@ fn project(dead: f64, noise: f64) -> std::path::PathBuf {
 }
 
 fn run(dead: f64, noise: f64, hysteresis: f64) -> (f64, f64, f64, f64) {
-    let dir = project(dead, noise);
+    let dir = project(dead, noise, "");
     let mut e = Engine::new(Arc::new(compile(&dir))).expect("verifies");
     let opt = RelayOptions {
         scan_ms: 10,
         amplitude: 20.0,
-        bias: 30.0,
+        bias: Some(30.0),
         hysteresis,
         until_ms: 1_000_000,
         cycles: 4,
@@ -75,4 +79,26 @@ fn tuning_rules_follow_their_tables() {
     let tl = by("Tyreus-Luyben PI");
     assert_eq!((tl.kc, tl.ti), (3.125, 44.0));
     assert_eq!(by("Ziegler-Nichols PI").independent(), (4.5, 4.5 / (20.0 / 1.2), 0.0));
+}
+
+/// Without a bias the relay is centred on the loop's own output once it
+/// holds the plant at SP (here 40 / 1.5 = 26.7 % from rest at 0): what a
+/// fixed 50 % missed on the studio's examples (issue 30, point 7).
+#[test]
+fn without_a_bias_the_relay_centres_on_the_settled_output() {
+    let dir = project(2.0, 0.0, ";KP=1;KI=0.2");
+    let mut e = Engine::new(Arc::new(compile(&dir))).expect("verifies");
+    let opt = RelayOptions {
+        scan_ms: 10,
+        amplitude: 20.0,
+        bias: None,
+        hysteresis: 0.0,
+        until_ms: 1_000_000,
+        cycles: 4,
+    };
+    let r = relay(&mut e, "Loop", opt).expect("oscillates");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!((r.bias - 40.0 / 1.5).abs() < 0.5, "centre {}", r.bias);
+    let (ku, _) = fopdt_ultimate(1.5, 10.0, 2.0);
+    assert!((r.ku - ku).abs() / ku < 0.05, "Ku {} vs {ku}", r.ku);
 }

@@ -23,9 +23,10 @@ pub struct Request {
     /// Relay amplitude d, % of CV.
     #[serde(default = "d_amplitude")]
     amplitude: f64,
-    /// Relay centre, % of CV.
-    #[serde(default = "d_bias")]
-    bias: f64,
+    /// Relay centre, % of CV (if absent: the loop's output once it holds the
+    /// plant at SP, alba_engine::autotune).
+    #[serde(default)]
+    bias: Option<f64>,
     /// Hysteresis h, engineering units of the PV.
     #[serde(default)]
     hysteresis: f64,
@@ -36,9 +37,6 @@ pub struct Request {
 
 fn d_amplitude() -> f64 {
     10.0
-}
-fn d_bias() -> f64 {
-    50.0
 }
 fn d_until() -> u64 {
     600
@@ -51,7 +49,7 @@ pub async fn autotune(
 ) -> ApiResult<Json<JsonValue>> {
     let Json(r) = body.map_err(|e| ApiError::Malformed(e.body_text()))?;
     let ok = |v: f64, lo: f64, hi: f64| v.is_finite() && (lo..=hi).contains(&v);
-    if !ok(r.amplitude, 0.1, 100.0) || !ok(r.bias, 0.0, 100.0) || !ok(r.hysteresis, 0.0, 1e9) {
+    if !ok(r.amplitude, 0.1, 100.0) || !r.bias.is_none_or(|b| ok(b, 0.0, 100.0)) || !ok(r.hysteresis, 0.0, 1e9) {
         return Err(ApiError::Invalid(
             "amplitude is 0.1 to 100 %, bias 0 to 100 %, hysteresis 0 or more".into(),
         ));
@@ -93,6 +91,6 @@ pub async fn autotune(
         })
         .collect();
     Ok(Json(json!({
-        "ku": result.ku, "pu": result.pu, "a": result.a, "cycles": result.cycles, "rules": gains,
+        "ku": result.ku, "pu": result.pu, "a": result.a, "cycles": result.cycles, "bias": result.bias, "rules": gains,
     })))
 }

@@ -607,10 +607,43 @@ async fn the_studio_is_embedded_and_served() {
         .expect("a script");
     let js = s.http.get(s.url(&format!("/{script}"))).send().await.expect("script");
     assert_eq!(js.status(), StatusCode::OK);
-    assert!(
-        js.text().await.expect("js").len() > 10_000,
-        "the bundle, not a placeholder"
-    );
+    let raw = js.bytes().await.expect("js");
+    assert!(raw.len() > 10_000, "the bundle, not a placeholder");
+    // Compressed for a client that accepts it (SPEC §10.6): the build's own
+    // brotli and gzip copies, with `Vary` for caches; identity otherwise.
+    for (accept, coding, magic) in [
+        ("gzip", Some("gzip"), Some(&[0x1f_u8, 0x8b][..])),
+        ("gzip, deflate, br, zstd", Some("br"), None),
+        ("br;q=0, gzip;q=0.8", Some("gzip"), Some(&[0x1f, 0x8b][..])),
+        ("identity", None, None),
+    ] {
+        for path in [format!("/{script}"), "/".to_string()] {
+            let res = s
+                .http
+                .get(s.url(&path))
+                .header("accept-encoding", accept)
+                .send()
+                .await
+                .expect("GET");
+            assert_eq!(res.status(), StatusCode::OK);
+            let h = res.headers().clone();
+            assert_eq!(
+                h.get("content-encoding").and_then(|v| v.to_str().ok()),
+                coding,
+                "{path} for {accept:?}"
+            );
+            assert_eq!(h.get("vary").and_then(|v| v.to_str().ok()), Some("Accept-Encoding"), "{path}");
+            let body = res.bytes().await.expect("body");
+            if let Some(m) = magic {
+                assert!(body.starts_with(m), "{path}: a gzip stream");
+            }
+            if coding.is_some() && path != "/" {
+                assert!(body.len() * 2 < raw.len(), "{path}: {} of {} bytes", body.len(), raw.len());
+            } else if path != "/" {
+                assert_eq!(body, raw);
+            }
+        }
+    }
     s.stop().await;
 }
 
@@ -692,6 +725,13 @@ async fn autotune_runs_the_relay_experiment_on_a_copy_and_leaves_the_plc_alone()
         (zn["ki"].as_f64().expect("ki") - 0.45 * ku / (pu / 1.2)).abs() < 1e-9,
         "{j}"
     );
+    // With its defaults (the loop's SP, a relay around its CV now) on the
+    // example at rest: it oscillates (a bias of 50 % never crossed the SP).
+    let cv = s.value("Loop.CV").await.as_f64().expect("CV");
+    let (code, j) = s.call(Method::POST, "/api/pid/Loop/autotune", Some(json!({}))).await;
+    assert_eq!(code, StatusCode::OK, "{j}");
+    assert!((j["bias"].as_f64().expect("bias") - cv).abs() < 1.0, "around the CV of {cv}: {j}");
+    assert!(j["ku"].as_f64().expect("ku") > 0.0, "{j}");
     // The running loop was not touched.
     assert_eq!(s.value("Loop.SP").await, sp);
     assert_eq!(s.value("Loop.MAN").await, json!(false));
@@ -701,6 +741,11 @@ async fn autotune_runs_the_relay_experiment_on_a_copy_and_leaves_the_plc_alone()
         (
             "/api/pid/Loop/autotune",
             json!({"amplitude": 0}),
+            StatusCode::UNPROCESSABLE_ENTITY,
+        ),
+        (
+            "/api/pid/Loop/autotune",
+            json!({"bias": 101}),
             StatusCode::UNPROCESSABLE_ENTITY,
         ),
         ("/api/pid/Loop/autotune", json!({"gain": 1}), StatusCode::BAD_REQUEST),
