@@ -249,8 +249,8 @@ pub async fn run(
         let _ = state.connections.set(Arc::new(connections::All(links)));
     }
     edits::start(&service);
-    audit::start(&service, guard);
-    alarms::start(&service, alarm_defs).map_err(RunError::Other)?;
+    audit::start(&service, guard.clone());
+    alarms::start(&service, alarm_defs, guard).map_err(RunError::Other)?;
 
     ready(local);
     let closing = state.closing.clone();

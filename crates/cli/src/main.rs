@@ -1,12 +1,12 @@
 //! `alba`: the command-line front of Alba.
 
 mod analyze;
-mod copy;
 mod audit;
 mod bench;
 mod bench_modbus;
 mod bench_mqtt;
 mod bench_realtime;
+mod copy;
 mod demo;
 mod export;
 mod firmware;
@@ -567,12 +567,20 @@ fn main() -> ExitCode {
             let project = match copy {
                 None => project,
                 Some(dest) => {
-                    let dest = if dest.as_os_str().is_empty() { copy::default_dest(&project) } else { dest };
+                    let dest = if dest.as_os_str().is_empty() {
+                        copy::default_dest(&project)
+                    } else {
+                        dest
+                    };
                     match copy::prepare(&project, &dest) {
                         Ok(fresh) => {
                             eprintln!(
                                 "Running {} {} (the studio saves there; {} is not changed).",
-                                if fresh { "a new copy of the project in" } else { "the copy in" },
+                                if fresh {
+                                    "a new copy of the project in"
+                                } else {
+                                    "the copy in"
+                                },
                                 dest.display(),
                                 project.display()
                             );

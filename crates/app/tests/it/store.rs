@@ -492,3 +492,153 @@ async fn a_damaged_audit_trail_is_moved_aside_and_the_plc_starts() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// An alarm log at `dir` with 200 events (several pages), closed.
+fn alarm_log_with_events(dir: &Path) {
+    let path = dir.join(".alba/alarms.db");
+    drop(alba_alarms::Log::open(&path, 0).expect("log"));
+    let db = rusqlite::Connection::open(&path).expect("sqlite");
+    let long = "m".repeat(1000);
+    for k in 0..200 {
+        db.execute(
+            "INSERT INTO events(t, alarm, tag, from_state, to_state, value, severity, message)
+             VALUES(?1, 'estop', 'STOP', 'normal', 'active_unacked', 1, 900, ?2)",
+            rusqlite::params![1_700_000_000_000i64 + k, long],
+        )
+        .expect("event");
+    }
+}
+
+/// Issue 31: a damaged `alarms.db` stopped `alba run` from starting. It is
+/// moved aside with its `-wal`/`-shm`, a fresh log starts, the problem
+/// `alarms-damaged` says so, the PLC runs.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_damaged_alarm_log_is_moved_aside_and_the_plc_starts() {
+    for kind in ["random", "header", "torn", "truncated"] {
+        let dir = copy_example("tank-plant", &format!("alarms-damaged-{kind}"));
+        std::fs::create_dir_all(dir.join(".alba")).expect(".alba");
+        alarm_log_with_events(&dir);
+        damage(&dir.join(".alba/alarms.db"), kind);
+        let (addr, s, task) = serve(&dir, options("sim")).await;
+        let st = status(addr).await;
+        assert!(sources(&st).contains(&"alarms-damaged".to_string()), "{kind}: {st}");
+        assert_eq!(st["store_ok"], false, "{kind}");
+        let scans = st["scans"].as_u64().unwrap_or(0);
+        status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 10).await;
+        stop(s, task).await;
+        let moved = aside(&dir, "alarms.db");
+        assert!(
+            moved
+                .iter()
+                .any(|n| n["alarms.db.damaged-".len()..].chars().all(|c| c.is_ascii_digit())),
+            "{kind}: {moved:?}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+/// Issue 31: with pages of `alarms.db` damaged while running, acknowledging
+/// answered 500, `log.csv` was cut off and `/api/status` said `store_ok:
+/// true`. The damage is found by the first read or write of those pages,
+/// the file moved aside for a fresh log (later writes made there), and the
+/// problem `alarms-damaged` shown; the PLC scans on.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn alarm_log_pages_damaged_while_running_are_reported_and_recovered() {
+    let dir = copy_example("tank-plant", "alarms-torn-live");
+    std::fs::create_dir_all(dir.join(".alba")).expect(".alba");
+    alarm_log_with_events(&dir);
+    let (addr, s, task) = serve(&dir, options("sim")).await;
+    let http = reqwest::Client::new();
+    let url = |p: &str| format!("http://{addr}{p}");
+    // The emergency stop raises `estop`.
+    let res = http
+        .put(url("/api/forces/STOP"))
+        .json(&serde_json::json!({ "value": true }))
+        .send()
+        .await
+        .expect("force");
+    assert_eq!(res.status(), 200);
+    let mut raised = false;
+    for _ in 0..300 {
+        let all: Json = http
+            .get(url("/api/alarms"))
+            .send()
+            .await
+            .expect("alarms")
+            .json()
+            .await
+            .expect("json");
+        if all.as_array().is_some_and(|a| {
+            a.iter()
+                .any(|x| x["id"] == "estop" && x["state"].as_str().is_some_and(|st| st.ends_with("_unacked")))
+        }) {
+            raised = true;
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let all: Json = http
+        .get(url("/api/alarms?all=true"))
+        .send()
+        .await
+        .expect("alarms")
+        .json()
+        .await
+        .expect("json");
+    let estop = all
+        .as_array()
+        .and_then(|a| a.iter().find(|x| x["id"] == "estop"))
+        .cloned();
+    assert!(raised, "estop was not raised: {estop:?}");
+    // Damage the log behind the server's back, as a bad sector would: the
+    // table of events now points at a page past the end of the file (a
+    // damaged schema page; torn data pages show the same way, but only once
+    // SQLite reads them back from disk, which a test cannot force).
+    let path = dir.join(".alba/alarms.db");
+    let other = rusqlite::Connection::open(&path).expect("sqlite");
+    let cookie: i64 = other
+        .query_row("PRAGMA schema_version", [], |r| r.get(0))
+        .expect("schema version");
+    // The new schema cookie makes the server's connection read the damage.
+    other
+        .execute_batch(&format!(
+            "PRAGMA writable_schema = ON;
+             UPDATE sqlite_master SET rootpage = 99999 WHERE name = 'events';
+             PRAGMA schema_version = {};
+             PRAGMA writable_schema = OFF;",
+            cookie + 1
+        ))
+        .expect("damage");
+    drop(other);
+    // The export reads every page: it finds the damage (its answer is cut
+    // off or refused), the file is moved aside and the problem shown.
+    let _ = http
+        .get(url("/api/alarms/log.csv"))
+        .send()
+        .await
+        .expect("csv")
+        .text()
+        .await;
+    let st = status_until(addr, "the damage reported", |s| {
+        sources(s).contains(&"alarms-damaged".to_string())
+    })
+    .await;
+    assert_eq!(st["store_ok"], false);
+    assert!(!aside(&dir, "alarms.db").is_empty());
+    // Acknowledging works, into the fresh log, which exports whole.
+    let res = http
+        .post(url("/api/alarms/estop/ack"))
+        .json(&serde_json::json!({ "comment": "seen" }))
+        .send()
+        .await
+        .expect("ack");
+    assert_eq!(res.status(), 200, "{}", res.text().await.unwrap_or_default());
+    let csv = http.get(url("/api/alarms/log.csv")).send().await.expect("csv");
+    assert_eq!(csv.status(), 200);
+    let text = csv.text().await.expect("text");
+    assert!(text.contains("seen"), "{text}");
+    let scans = st["scans"].as_u64().unwrap_or(0);
+    status_until(addr, "scanning", |s| s["scans"].as_u64().unwrap_or(0) > scans + 10).await;
+    stop(s, task).await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
