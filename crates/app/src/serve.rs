@@ -5,21 +5,22 @@
 //! keep-alives and half-sent requests are closed: issue 31), and is closed
 //! at once when a newer client needs its place while it is idle.
 //!
-//! No answer depends on the wall clock being sane: hyper's own `Date`
-//! header panics for a clock before 1970 (every answer then failed, issue
-//! 31), so it is off and [`date`] writes one only for a clock it can format.
+//! No answer depends on the wall clock being sane: hyper formats its `Date`
+//! header through httpdate, which panicked for a clock before 1970 (every
+//! answer failed, issue 31); the workspace's copy of httpdate
+//! (`vendor/httpdate`) clamps instead.
 
 use crate::limits::{Conns, Held, refuse};
 use axum::Router;
 use axum::extract::ConnectInfo;
-use axum::http::{HeaderValue, Request, StatusCode, header};
+use axum::http::{Request, StatusCode};
 use axum::serve::Listener;
 use hyper::body::Incoming;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use std::convert::Infallible;
 use std::net::SocketAddr;
 use std::sync::Arc;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::Duration;
 use tower_service::Service;
 
 /// How the server treats connections (`[http]`).
@@ -27,18 +28,6 @@ use tower_service::Service;
 pub struct Limits {
     pub max_connections: u32,
     pub header_timeout: Duration,
-}
-
-/// The `Date` header for the wall-clock time `now`, if it is one HTTP can
-/// say (1970 to 9999); `None` otherwise — an origin server without a
-/// usable clock sends none (RFC 9110 §6.6.1).
-pub fn date(now: SystemTime) -> Option<HeaderValue> {
-    let secs = now.duration_since(UNIX_EPOCH).ok()?.as_secs();
-    // httpdate refuses (panics) from year 10000 on.
-    if secs >= 253_402_300_800 {
-        return None;
-    }
-    HeaderValue::from_str(&httpdate::fmt_http_date(now)).ok()
 }
 
 /// Serves `router` on `listener` until `shutdown` completes, then lets the
@@ -102,24 +91,17 @@ async fn connection<Io>(
             let slot = slot.clone();
             req.extensions_mut().insert(ConnectInfo(peer));
             async move {
-                let Ok(mut res) = router.call(req).await;
+                let Ok(res) = router.call(req).await;
                 if res.status() == StatusCode::SWITCHING_PROTOCOLS {
                     slot.upgraded();
                 }
                 drop(busy);
-                if !res.headers().contains_key(header::DATE)
-                    && let Some(d) = date(SystemTime::now())
-                {
-                    res.headers_mut().insert(header::DATE, d);
-                }
                 Ok::<_, Infallible>(res)
             }
         })
     };
     let mut http = hyper::server::conn::http1::Builder::new();
-    http.timer(TokioTimer::new())
-        .header_read_timeout(limits.header_timeout)
-        .auto_date_header(false);
+    http.timer(TokioTimer::new()).header_read_timeout(limits.header_timeout);
     let conn = http.serve_connection(TokioIo::new(held), answer).with_upgrades();
     let mut conn = std::pin::pin!(conn);
     let mut graceful = false;
@@ -140,22 +122,25 @@ async fn connection<Io>(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
-    /// Issue 31: hyper formatted `Date` from the wall clock and panicked for
-    /// a time before 1970, so every answer failed. Any clock value now gives
-    /// a header or none, never a panic.
+    /// Issue 31: hyper's `Date` header (httpdate) panicked for a clock
+    /// before 1970, and so did every answer. The workspace's httpdate clamps.
     #[test]
-    fn any_clock_gives_a_date_header_or_none() {
+    fn any_clock_gives_a_date_and_no_panic() {
         let day = Duration::from_secs(86_400);
-        assert_eq!(date(UNIX_EPOCH - day), None);
-        assert_eq!(date(UNIX_EPOCH - Duration::from_secs(1_000_000 * 86_400)), None);
         assert_eq!(
-            date(UNIX_EPOCH + day).as_ref().and_then(|h| h.to_str().ok()),
-            Some("Fri, 02 Jan 1970 00:00:00 GMT")
+            httpdate::fmt_http_date(UNIX_EPOCH - day),
+            "Thu, 01 Jan 1970 00:00:00 GMT"
         );
-        assert_eq!(date(UNIX_EPOCH + Duration::from_secs(253_402_300_800)), None);
-        assert!(date(UNIX_EPOCH + Duration::from_secs(253_402_300_799)).is_some());
-        assert!(date(SystemTime::now()).is_some());
+        assert_eq!(
+            httpdate::fmt_http_date(UNIX_EPOCH + Duration::from_secs(300_000_000_000)),
+            "Fri, 31 Dec 9999 23:59:59 GMT"
+        );
+        assert_eq!(
+            httpdate::fmt_http_date(UNIX_EPOCH + day),
+            "Fri, 02 Jan 1970 00:00:00 GMT"
+        );
+        let _ = httpdate::fmt_http_date(SystemTime::now());
     }
 }
