@@ -272,3 +272,53 @@ async fn a_request_longer_than_the_limit_is_answered_503() {
     assert_eq!(code, 200);
     runtime.shutdown();
 }
+
+/// Issue 31: `POST /api/check` compiled under the project's lock (an 806 KB
+/// net held it 22 s: no save or edit meanwhile). The project is now only
+/// copied under it. Counted: how often the lock is free while a big check
+/// runs (before, almost never).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_check_compiles_without_holding_the_project() {
+    let dir = copy_example("tank", "checklock");
+    let compiled = alba_server::project::load(&dir);
+    let program = compiled.program.clone().expect("compiles");
+    let runtime = Runtime::start(Arc::new(program), Options::new(10), Box::new(SimIo)).expect("runtime");
+    let state = alba_server::AppState::new(
+        runtime.handle(),
+        compiled,
+        "sim",
+        None,
+        None,
+        alba_server::auth::Auth::open(),
+    );
+    let s = Server::serve_state(state.clone(), dir).await;
+    // Many rungs: a check that takes a while to compile.
+    let rung = "XIC(FILL)XIO(STOP)OTE(L_RUN);\n";
+    let text = rung.repeat(30_000);
+    let url = s.url("/api/check/main.lad");
+    let http = s.http.clone();
+    let check = tokio::spawn(async move {
+        http.post(url)
+            .header("content-type", "application/json")
+            .body(json!({ "text": text }).to_string())
+            .send()
+            .await
+            .expect("check")
+            .status()
+    });
+    let (mut tries, mut free) = (0u32, 0u32);
+    while !check.is_finished() {
+        tries += 1;
+        if state.project.try_lock().is_ok() {
+            free += 1;
+        }
+        tokio::time::sleep(Duration::from_millis(1)).await;
+    }
+    assert_eq!(check.await.expect("task"), 200);
+    assert!(tries > 20, "the check was too quick to tell ({tries} tries)");
+    assert!(
+        free * 2 > tries,
+        "the project was held for most of the check: free {free} of {tries}"
+    );
+    runtime.shutdown();
+}
