@@ -25,9 +25,10 @@ step "AVR toolchain and simavr (the firmware tests of cargo test use them)"
 source scripts/avr.sh
 need_avr
 export ALBA_AVR_CACHE="$PWD/target/avr/cache"
-step "PostgreSQL and Mosquitto (the shared historian's tests start their own server and broker on loopback)"
+step "PostgreSQL and Mosquitto (the shared historian's tests start their own server and broker on loopback), libfaketime"
 need_postgres
 need_mosquitto
+need_faketime
 step "lints: clippy on every crate and target (a few minutes on a first run)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
 step "tests: every crate's unit, integration, golden, property and fuzz-regression tests"

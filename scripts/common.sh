@@ -62,6 +62,12 @@ need_mosquitto() {
     [ -x /usr/sbin/mosquitto ] || command -v mosquitto >/dev/null 2>&1 || apt_install mosquitto
 }
 
+# libfaketime: a test runs `alba run` under a wall clock before 1970
+# (crates/cli/tests/it/clock.rs).
+need_faketime() {
+    ls /usr/lib/*/faketime/libfaketime.so.1 >/dev/null 2>&1 || apt_install libfaketime
+}
+
 # Node.js and npm build the browser studio (web/).
 need_node() {
     if ! command -v npm >/dev/null 2>&1; then

@@ -109,7 +109,8 @@ impl Hub {
         self.count_activations(now_ms, &events);
         self.bump();
         if self.log.is_some() {
-            *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) = logged.as_ref().err().map(|e| e.to_string());
+            *self.log_error.lock().unwrap_or_else(PoisonError::into_inner) =
+                logged.as_ref().err().map(|e| e.to_string());
         }
         logged?;
         Ok(events)
@@ -174,7 +175,10 @@ impl Hub {
             Request::OutOfService { on, reason } => next.set_out_of_service(id, *on, reason, user, now_ms)?,
         };
         if let Some(log) = &self.log {
-            log.append(std::slice::from_ref(&event), &next.persisted_for(std::slice::from_ref(&event)))?;
+            log.append(
+                std::slice::from_ref(&event),
+                &next.persisted_for(std::slice::from_ref(&event)),
+            )?;
         }
         *alarms = next;
         self.bump();

@@ -95,12 +95,30 @@ pub enum LogError {
     Io(#[from] std::io::Error),
 }
 
+impl LogError {
+    /// The file is damaged or not an alarm log: what is moved aside for a
+    /// fresh log (issue 31), as opposed to a full disk or a missing folder.
+    pub fn is_damage(&self) -> bool {
+        match self {
+            LogError::NotALog { .. } => true,
+            LogError::Sql(e) => matches!(
+                e.sqlite_error_code(),
+                Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase)
+            ),
+            LogError::Io(_) => false,
+        }
+    }
+}
+
 /// An open alarm log; clones share it.
 #[derive(Clone)]
 pub struct Log {
     path: PathBuf,
     conn: Arc<Mutex<Connection>>,
     retention_days: Option<u32>,
+    /// Damage found while in use and what was done about it (the file was
+    /// moved aside for a fresh one), for the status to show.
+    damaged: Arc<Mutex<Option<String>>>,
 }
 
 impl std::fmt::Debug for Log {
@@ -114,6 +132,227 @@ pub fn project_path(dir: &Path) -> PathBuf {
     dir.join(".alba").join("alarms.db")
 }
 
+/// A connection to the log at `path` (created if new); a file of another
+/// kind, damaged (checked page by page: `quick_check`) or of a newer schema
+/// is refused.
+fn connect(path: &Path) -> Result<Connection, LogError> {
+    let not = |reason: String| LogError::NotALog {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let conn = Connection::open_with_flags(
+        path,
+        OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+    )
+    .map_err(|e| not(e.to_string()))?;
+    conn.busy_timeout(Duration::from_secs(10))?;
+    let mode: String = conn
+        .query_row("PRAGMA journal_mode = WAL", [], |r| r.get(0))
+        .map_err(|e| not(format!("not an SQLite database, or damaged ({e})")))?;
+    if !mode.eq_ignore_ascii_case("wal") {
+        return Err(not(format!("SQLite did not take the WAL journal (`{mode}`)")));
+    }
+    conn.execute_batch("PRAGMA synchronous = FULL;")?;
+    let get = |sql: &str| -> Result<i64, LogError> { Ok(conn.query_row(sql, [], |r| r.get(0))?) };
+    let (app, version, objects) = (
+        get("PRAGMA application_id")?,
+        get("PRAGMA user_version")?,
+        get("SELECT count(*) FROM sqlite_master")?,
+    );
+    if app == 0 && version == 0 && objects == 0 {
+        conn.execute_batch(&format!(
+            "BEGIN IMMEDIATE; {SCHEMA} {STATES} PRAGMA application_id = {APPLICATION_ID}; \
+                 PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
+        ))?;
+    } else if app == APPLICATION_ID && version == 1 {
+        conn.execute_batch(&format!(
+            "BEGIN IMMEDIATE; {STATES} PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
+        ))?;
+    } else if app != APPLICATION_ID {
+        return Err(not(format!(
+            "an SQLite database of another application (application_id {app:#x})"
+        )));
+    } else if version > SCHEMA_VERSION {
+        return Err(not(format!(
+            "schema version {version} is newer than this program's ({SCHEMA_VERSION})"
+        )));
+    }
+    let check: String = conn
+        .query_row("PRAGMA quick_check(1)", [], |r| r.get(0))
+        .map_err(|e| not(format!("damaged ({e})")))?;
+    if check != "ok" {
+        return Err(not(format!("damaged ({check})")));
+    }
+    Ok(conn)
+}
+
+/// [`Log::append`] on `conn`.
+fn append_on(conn: &mut Connection, events: &[Event], states: &[Persisted]) -> Result<(), LogError> {
+    let tx = conn.transaction()?;
+    {
+        let mut stmt = tx.prepare_cached(
+            "INSERT INTO events(t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message)
+                 VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+        )?;
+        for e in events {
+            stmt.execute(params![
+                e.t_ms,
+                e.id,
+                e.tag,
+                e.from.name(),
+                e.to.name(),
+                e.value.is_finite().then_some(e.value),
+                e.severity,
+                e.user,
+                e.comment,
+                e.message,
+            ])?;
+        }
+        let mut stmt = tx.prepare_cached(
+            "INSERT OR REPLACE INTO states(alarm, state, since, active, value, acked_user, acked_comment,
+                 acked_t, shelved_until, shelved_user, shelved_reason, oos_user, oos_reason)
+                 VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
+        )?;
+        for p in states {
+            let (acked_user, acked_comment, acked_t) = match &p.acked {
+                Some((u, c, t)) => (Some(u), Some(c), Some(t)),
+                None => (None, None, None),
+            };
+            let (until, shelved_user, shelved_reason) = match &p.shelved {
+                Some((t, u, r)) => (Some(t), Some(u), Some(r)),
+                None => (None, None, None),
+            };
+            let (oos_user, oos_reason) = match &p.out_of_service {
+                Some((u, r)) => (Some(u), Some(r)),
+                None => (None, None),
+            };
+            stmt.execute(params![
+                p.id,
+                p.state.name(),
+                p.since_ms,
+                p.active,
+                p.value.is_finite().then_some(p.value),
+                acked_user,
+                acked_comment,
+                acked_t,
+                until,
+                shelved_user,
+                shelved_reason,
+                oos_user,
+                oos_reason,
+            ])?;
+        }
+    }
+    tx.commit()?;
+    Ok(())
+}
+
+/// [`Log::load_states`] on `conn`.
+fn load_states_on(conn: &Connection) -> Result<Vec<Persisted>, LogError> {
+    let mut stmt = conn.prepare(
+        "SELECT alarm, state, since, active, value, acked_user, acked_comment, acked_t,
+                    shelved_until, shelved_user, shelved_reason, oos_user, oos_reason FROM states",
+    )?;
+    let mut rows = stmt.query([])?;
+    let mut out = Vec::new();
+    while let Some(r) = rows.next()? {
+        let state: String = r.get(1)?;
+        let Ok(state) = state.parse() else { continue };
+        let text = |i: usize| -> rusqlite::Result<String> { Ok(r.get::<_, Option<String>>(i)?.unwrap_or_default()) };
+        out.push(Persisted {
+            id: r.get(0)?,
+            state,
+            since_ms: r.get(2)?,
+            active: r.get(3)?,
+            value: r.get::<_, Option<f64>>(4)?.unwrap_or(f64::NAN),
+            acked: match r.get::<_, Option<i64>>(7)? {
+                Some(t) => Some((text(5)?, text(6)?, t)),
+                None => None,
+            },
+            shelved: match r.get::<_, Option<i64>>(8)? {
+                Some(t) => Some((t, text(9)?, text(10)?)),
+                None => None,
+            },
+            out_of_service: match r.get::<_, Option<String>>(11)? {
+                Some(u) => Some((u, text(12)?)),
+                None => None,
+            },
+        });
+    }
+    Ok(out)
+}
+
+/// [`Log::export_csv`] on `conn`.
+fn export_on<W: Write>(
+    conn: &Connection,
+    from_ms: Option<i64>,
+    to_ms: Option<i64>,
+    limit: u64,
+    writer: W,
+) -> Result<u64, LogError> {
+    let mut stmt = conn.prepare_cached(
+        "SELECT id, t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message
+             FROM events WHERE t >= ?1 AND t <= ?2 ORDER BY id LIMIT ?3",
+    )?;
+    let mut rows = stmt.query(params![
+        from_ms.unwrap_or(i64::MIN),
+        to_ms.unwrap_or(i64::MAX),
+        i64::try_from(limit).unwrap_or(i64::MAX)
+    ])?;
+    let mut out = std::io::BufWriter::new(writer);
+    out.write_all(CSV_HEADER.as_bytes())?;
+    let mut n = 0;
+    let mut line = String::new();
+    while let Some(r) = rows.next()? {
+        line.clear();
+        let t: i64 = r.get(1)?;
+        let value: Option<f64> = r.get(6)?;
+        let severity: i64 = r.get(7)?;
+        let text = |i: usize| -> rusqlite::Result<String> { Ok(r.get::<_, Option<String>>(i)?.unwrap_or_default()) };
+        let fields = [
+            r.get::<_, i64>(0)?.to_string(),
+            t.to_string(),
+            alba_audit::format_utc(t),
+            text(2)?,
+            text(3)?,
+            text(4)?,
+            text(5)?,
+            value.map(crate::state::format_value).unwrap_or_default(),
+            severity.to_string(),
+            text(8)?,
+            text(9)?,
+            text(10)?,
+        ];
+        csv_line(&mut line, &fields, "\r\n");
+        out.write_all(line.as_bytes())?;
+        n += 1;
+    }
+    out.flush()?;
+    Ok(n)
+}
+
+/// Moves `path` and its `-wal` and `-shm` aside to `<name>.damaged-<unix ms>`
+/// (as the historian does with its own); the new path.
+fn move_aside(path: &Path) -> Result<PathBuf, LogError> {
+    let ms = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis());
+    let with = |p: &Path, suffix: &str| {
+        let mut name = p.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+        name.push(suffix);
+        p.with_file_name(name)
+    };
+    let to = with(path, &format!(".damaged-{ms}"));
+    std::fs::rename(path, &to)?;
+    for side in ["-wal", "-shm"] {
+        match std::fs::rename(with(path, side), with(&to, side)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e.into()),
+            _ => {}
+        }
+    }
+    Ok(to)
+}
+
 impl Log {
     /// Opens (creating) the log at `path`; a file of another kind, corrupt or
     /// of a newer schema is refused. `retention_days` 0 keeps everything.
@@ -121,52 +360,42 @@ impl Log {
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent)?;
         }
-        let not = |reason: String| LogError::NotALog {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let conn = Connection::open_with_flags(
-            path,
-            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
-        )
-        .map_err(|e| not(e.to_string()))?;
-        conn.busy_timeout(Duration::from_secs(10))?;
-        let mode: String = conn
-            .query_row("PRAGMA journal_mode = WAL", [], |r| r.get(0))
-            .map_err(|e| not(format!("not an SQLite database, or damaged ({e})")))?;
-        if !mode.eq_ignore_ascii_case("wal") {
-            return Err(not(format!("SQLite did not take the WAL journal (`{mode}`)")));
-        }
-        conn.execute_batch("PRAGMA synchronous = FULL;")?;
-        let get = |sql: &str| -> Result<i64, LogError> { Ok(conn.query_row(sql, [], |r| r.get(0))?) };
-        let (app, version, objects) = (
-            get("PRAGMA application_id")?,
-            get("PRAGMA user_version")?,
-            get("SELECT count(*) FROM sqlite_master")?,
-        );
-        if app == 0 && version == 0 && objects == 0 {
-            conn.execute_batch(&format!(
-                "BEGIN IMMEDIATE; {SCHEMA} {STATES} PRAGMA application_id = {APPLICATION_ID}; \
-                 PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
-            ))?;
-        } else if app == APPLICATION_ID && version == 1 {
-            conn.execute_batch(&format!(
-                "BEGIN IMMEDIATE; {STATES} PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
-            ))?;
-        } else if app != APPLICATION_ID {
-            return Err(not(format!(
-                "an SQLite database of another application (application_id {app:#x})"
-            )));
-        } else if version > SCHEMA_VERSION {
-            return Err(not(format!(
-                "schema version {version} is newer than this program's ({SCHEMA_VERSION})"
-            )));
-        }
         Ok(Log {
             path: path.to_path_buf(),
-            conn: Arc::new(Mutex::new(conn)),
+            conn: Arc::new(Mutex::new(connect(path)?)),
             retention_days: (retention_days > 0).then_some(retention_days),
+            damaged: Arc::new(Mutex::new(None)),
         })
+    }
+
+    /// Damage found while the log was in use (torn pages read by an
+    /// acknowledgement, an export…), once the file was moved aside for a
+    /// fresh one: what happened, for the status. `None` while healthy.
+    pub fn damage(&self) -> Option<String> {
+        self.damaged.lock().unwrap_or_else(PoisonError::into_inner).clone()
+    }
+
+    /// `r`, after moving the file aside for a fresh log if `r` says it is
+    /// damaged (`conn` is the locked connection, replaced in place: every
+    /// clone of the log writes the fresh file from then on).
+    fn checked<T>(&self, conn: &mut Connection, r: Result<T, LogError>) -> Result<T, LogError> {
+        if let Err(e) = &r
+            && e.is_damage()
+        {
+            // Close the old file first: SQLite deletes its `-wal` by name on close.
+            *conn = Connection::open_in_memory()?;
+            let what = match move_aside(&self.path).and_then(|to| {
+                connect(&self.path).map(|fresh| {
+                    *conn = fresh;
+                    to
+                })
+            }) {
+                Ok(to) => format!("{e}: moved to {} and a fresh alarm log started", to.display()),
+                Err(m) => format!("{e}; and no fresh log could take its place: {m}"),
+            };
+            *self.damaged.lock().unwrap_or_else(PoisonError::into_inner) = Some(what);
+        }
+        r
     }
 
     pub fn path(&self) -> &Path {
@@ -175,107 +404,26 @@ impl Log {
 
     /// Appends `events` and keeps `states` (the alarms they changed) in one
     /// transaction; returns once they are durable.
+    /// A damaged file (torn pages…) is moved aside for a fresh log and the
+    /// write made there ([`Log::damage`] says so).
     pub fn append(&self, events: &[Event], states: &[Persisted]) -> Result<(), LogError> {
         if events.is_empty() && states.is_empty() {
             return Ok(());
         }
         let mut conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
-        let tx = conn.transaction()?;
-        {
-            let mut stmt = tx.prepare_cached(
-                "INSERT INTO events(t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message)
-                 VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
-            )?;
-            for e in events {
-                stmt.execute(params![
-                    e.t_ms,
-                    e.id,
-                    e.tag,
-                    e.from.name(),
-                    e.to.name(),
-                    e.value.is_finite().then_some(e.value),
-                    e.severity,
-                    e.user,
-                    e.comment,
-                    e.message,
-                ])?;
-            }
-            let mut stmt = tx.prepare_cached(
-                "INSERT OR REPLACE INTO states(alarm, state, since, active, value, acked_user, acked_comment,
-                 acked_t, shelved_until, shelved_user, shelved_reason, oos_user, oos_reason)
-                 VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
-            )?;
-            for p in states {
-                let (acked_user, acked_comment, acked_t) = match &p.acked {
-                    Some((u, c, t)) => (Some(u), Some(c), Some(t)),
-                    None => (None, None, None),
-                };
-                let (until, shelved_user, shelved_reason) = match &p.shelved {
-                    Some((t, u, r)) => (Some(t), Some(u), Some(r)),
-                    None => (None, None, None),
-                };
-                let (oos_user, oos_reason) = match &p.out_of_service {
-                    Some((u, r)) => (Some(u), Some(r)),
-                    None => (None, None),
-                };
-                stmt.execute(params![
-                    p.id,
-                    p.state.name(),
-                    p.since_ms,
-                    p.active,
-                    p.value.is_finite().then_some(p.value),
-                    acked_user,
-                    acked_comment,
-                    acked_t,
-                    until,
-                    shelved_user,
-                    shelved_reason,
-                    oos_user,
-                    oos_reason,
-                ])?;
-            }
+        let r = append_on(&mut conn, events, states);
+        match self.checked(&mut conn, r) {
+            Err(e) if e.is_damage() => append_on(&mut conn, events, states),
+            r => r,
         }
-        tx.commit()?;
-        Ok(())
     }
-
     /// The states kept by [`Log::append`], for [`crate::Alarms::restore`]; a
     /// row that does not read back (an unknown state name) is skipped.
     pub fn load_states(&self) -> Result<Vec<Persisted>, LogError> {
-        let conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
-        let mut stmt = conn.prepare(
-            "SELECT alarm, state, since, active, value, acked_user, acked_comment, acked_t,
-                    shelved_until, shelved_user, shelved_reason, oos_user, oos_reason FROM states",
-        )?;
-        let mut rows = stmt.query([])?;
-        let mut out = Vec::new();
-        while let Some(r) = rows.next()? {
-            let state: String = r.get(1)?;
-            let Ok(state) = state.parse() else { continue };
-            let text = |i: usize| -> rusqlite::Result<String> { Ok(r.get::<_, Option<String>>(i)?.unwrap_or_default()) };
-            out.push(Persisted {
-                id: r.get(0)?,
-                state,
-                since_ms: r.get(2)?,
-                active: r.get(3)?,
-                value: r.get::<_, Option<f64>>(4)?.unwrap_or(f64::NAN),
-                acked: match r.get::<_, Option<i64>>(7)? {
-                    Some(t) => Some((text(5)?, text(6)?, t)),
-                    None => None,
-                },
-                shelved: match r.get::<_, Option<i64>>(8)? {
-                    Some(t) => Some((t, text(9)?, text(10)?)),
-                    None => None,
-                },
-                out_of_service: match r.get::<_, Option<String>>(11)? {
-                    Some(u) => Some((u, text(12)?)),
-                    None => None,
-                },
-            });
-        }
-        Ok(out)
+        let mut conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        let r = load_states_on(&conn);
+        self.checked(&mut conn, r)
     }
-
     /// Writes the events with `from_ms <= t <= to_ms`, oldest first, at most
     /// `limit`, as CSV (RFC 4180; a field a spreadsheet would run as a formula
     /// gets a leading `'`, as in the audit export). Returns the rows written.
@@ -286,49 +434,11 @@ impl Log {
         limit: u64,
         writer: W,
     ) -> Result<u64, LogError> {
-        let conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
-        let mut stmt = conn.prepare_cached(
-            "SELECT id, t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message
-             FROM events WHERE t >= ?1 AND t <= ?2 ORDER BY id LIMIT ?3",
-        )?;
-        let mut rows = stmt.query(params![
-            from_ms.unwrap_or(i64::MIN),
-            to_ms.unwrap_or(i64::MAX),
-            i64::try_from(limit).unwrap_or(i64::MAX)
-        ])?;
-        let mut out = std::io::BufWriter::new(writer);
-        out.write_all(CSV_HEADER.as_bytes())?;
-        let mut n = 0;
-        let mut line = String::new();
-        while let Some(r) = rows.next()? {
-            line.clear();
-            let t: i64 = r.get(1)?;
-            let value: Option<f64> = r.get(6)?;
-            let severity: i64 = r.get(7)?;
-            let text =
-                |i: usize| -> rusqlite::Result<String> { Ok(r.get::<_, Option<String>>(i)?.unwrap_or_default()) };
-            let fields = [
-                r.get::<_, i64>(0)?.to_string(),
-                t.to_string(),
-                alba_audit::format_utc(t),
-                text(2)?,
-                text(3)?,
-                text(4)?,
-                text(5)?,
-                value.map(crate::state::format_value).unwrap_or_default(),
-                severity.to_string(),
-                text(8)?,
-                text(9)?,
-                text(10)?,
-            ];
-            csv_line(&mut line, &fields, "\r\n");
-            out.write_all(line.as_bytes())?;
-            n += 1;
-        }
-        out.flush()?;
-        Ok(n)
+        let mut conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        let r = export_on(&conn, from_ms, to_ms, limit, writer);
+        // Damage found while reading: the export is cut, the file moved aside and said so.
+        self.checked(&mut conn, r)
     }
-
     /// Deletes events older than the retention (call at start and daily).
     pub fn apply_retention(&self, now_ms: i64) -> Result<u64, LogError> {
         let Some(days) = self.retention_days else {

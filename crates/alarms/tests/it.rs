@@ -483,10 +483,14 @@ fn alarm_states_survive_a_restart_through_the_log() {
     let mut rig = Rig::new();
     let dir = tempfile::tempdir().expect("tmp");
     let path = dir.path().join("alarms.db");
-    let rows = "hi,Level,> 80,high,2000,0,Level high\nlo,Level,< 10,medium,0,0,Level low\nsh,Level,> 50,low,0,0,Shelved\n";
+    let rows =
+        "hi,Level,> 80,high,2000,0,Level high\nlo,Level,< 10,medium,0,0,Level low\nsh,Level,> 50,low,0,0,Shelved\n";
     let defs = |rig: &Rig| {
         let mut files = Files::new();
-        let f = files.add("alarms.csv", format!("id,tag,condition,severity,delay_ms,deadband,message\n{rows}"));
+        let f = files.add(
+            "alarms.csv",
+            format!("id,tag,condition,severity,delay_ms,deadband,message\n{rows}"),
+        );
         let (defs, diags) = def::parse(files.text(f), f, &rig.layout);
         assert!(diags.is_empty());
         defs
@@ -496,26 +500,51 @@ fn alarm_states_survive_a_restart_through_the_log() {
         rig.set("Level", Value::Real(90.0));
         hub.update(1_000, &rig.mem).expect("update");
         hub.update(3_500, &rig.mem).expect("update");
-        hub.act("sh", &alba_alarms::Request::Shelve { minutes: 60, reason: "sensor swap".into() }, "ana", 4_000)
-            .expect("shelve");
+        hub.act(
+            "sh",
+            &alba_alarms::Request::Shelve {
+                minutes: 60,
+                reason: "sensor swap".into(),
+            },
+            "ana",
+            4_000,
+        )
+        .expect("shelve");
         let states: Vec<_> = hub.list(true).iter().map(|a| (a.def.id.clone(), a.state)).collect();
         assert_eq!(
             states,
-            [("hi".to_string(), State::ActiveUnacked), ("lo".into(), State::Normal), ("sh".into(), State::Shelved)]
+            [
+                ("hi".to_string(), State::ActiveUnacked),
+                ("lo".into(), State::Normal),
+                ("sh".into(), State::Shelved)
+            ]
         );
         // the hub is dropped without any shutdown: what is kept was kept at each change
     }
     let hub = alba_alarms::Hub::new(defs(&rig), Some(Log::open(&path, 0).expect("reopen")));
     assert_eq!(hub.log_error(), None);
     let get = |hub: &alba_alarms::Hub, id: &str| hub.list(true).into_iter().find(|a| a.def.id == id).expect(id);
-    assert_eq!(get(&hub, "hi").state, State::ActiveUnacked, "still unacknowledged after the restart");
+    assert_eq!(
+        get(&hub, "hi").state,
+        State::ActiveUnacked,
+        "still unacknowledged after the restart"
+    );
     assert_eq!(get(&hub, "hi").since_ms, 3_500);
     let sh = get(&hub, "sh");
     assert_eq!(sh.state, State::Shelved);
-    assert_eq!(sh.shelved, Some((4_000 + 3_600_000, "ana".to_string(), "sensor swap".to_string())));
+    assert_eq!(
+        sh.shelved,
+        Some((4_000 + 3_600_000, "ana".to_string(), "sensor swap".to_string()))
+    );
     // Still in alarm: no event at all (the on-delay is not served again).
     assert_eq!(hub.update(10_000, &rig.mem).expect("update"), vec![]);
-    hub.act("hi", &alba_alarms::Request::Ack { comment: "seen".into() }, "bob", 11_000).expect("ack");
+    hub.act(
+        "hi",
+        &alba_alarms::Request::Ack { comment: "seen".into() },
+        "bob",
+        11_000,
+    )
+    .expect("ack");
     // Restart again with the level back to normal: the acknowledged alarm clears.
     drop(hub);
     let hub = alba_alarms::Hub::new(defs(&rig), Some(Log::open(&path, 0).expect("reopen")));
@@ -524,7 +553,10 @@ fn alarm_states_survive_a_restart_through_the_log() {
     assert_eq!(hi.acked, Some(("bob".to_string(), "seen".to_string(), 11_000)));
     rig.set("Level", Value::Real(20.0));
     let ev = hub.update(12_000, &rig.mem).expect("update");
-    assert_eq!(ev.iter().map(|e| (e.id.as_str(), e.to)).collect::<Vec<_>>(), [("hi", State::Normal)]);
+    assert_eq!(
+        ev.iter().map(|e| (e.id.as_str(), e.to)).collect::<Vec<_>>(),
+        [("hi", State::Normal)]
+    );
 }
 
 /// A log written by the first version of the schema (no `states` table) is

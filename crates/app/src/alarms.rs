@@ -11,8 +11,10 @@
 //! `rising`/`falling` alarm on a pulse of one scan needs the evaluator to
 //! keep up, which it does at ordinary scan rates).
 
+use crate::clock::ClockGuard;
 use crate::{Service, Started};
 use alba_alarms::{AlarmDef, Hub, Log};
+use alba_runtime::health::Health;
 use std::sync::Arc;
 
 /// The alarms of the project in `dir` resolved against `program` (none
@@ -28,15 +30,43 @@ pub(crate) fn load(dir: &std::path::Path, program: &alba_ir::Program) -> Result<
         .map_err(|d| alba_diag::render_all(&d, &files))
 }
 
+/// The problem a damaged alarm log raises (until the next start).
+const DAMAGED: &str = "alarms-damaged";
+
+/// Opens the alarm log. One that is damaged (random bytes, torn or
+/// truncated pages) or not an alarm log is moved aside with its `-wal` and
+/// `-shm` for a fresh one, and the problem `alarms-damaged` says so: `alba
+/// run` starts (issue 31), as with a damaged history database.
+fn open(dir: &std::path::Path, retention: u32, health: &Health) -> Result<Log, String> {
+    let path = alba_alarms::log::project_path(dir);
+    match Log::open(&path, retention) {
+        Err(e) if e.is_damage() => {
+            // The historian's helper: the same three files of an SQLite store.
+            let to =
+                alba_historian::move_aside(&path).map_err(|m| format!("{e}; and it cannot be moved aside: {m}"))?;
+            health.report(
+                DAMAGED,
+                format!("{e}: moved to {} and a fresh alarm log started", to.display()),
+            );
+            Log::open(&path, retention).map_err(|e| e.to_string())
+        }
+        r => r.map_err(|e| e.to_string()),
+    }
+}
+
 /// Opens the alarm log and starts the evaluator (`defs` from [`load`]).
-pub(crate) fn start(s: &Service<'_>, defs: Option<Vec<AlarmDef>>) -> Result<Started, String> {
+/// Retention runs when the clock guard allows (`crate::clock`).
+pub(crate) fn start(s: &Service<'_>, defs: Option<Vec<AlarmDef>>, guard: Arc<ClockGuard>) -> Result<Started, String> {
     let Some(defs) = defs else {
         return Ok(Started::Off);
     };
     let snapshot = s.state.runtime.snapshot();
     let retention = s.config.map(|c| c.alarms.retention_days).unwrap_or_default();
-    let log = Log::open(&alba_alarms::log::project_path(s.dir), retention).map_err(|e| e.to_string())?;
-    if let Err(e) = log.apply_retention(snapshot.unix_ms) {
+    let health = s.state.runtime.health().clone();
+    let log = open(s.dir, retention, &health)?;
+    if guard.allows(snapshot.unix_ms)
+        && let Err(e) = log.apply_retention(snapshot.unix_ms)
+    {
         eprintln!("alarms: retention: {e}");
     }
     let hub = Arc::new(Hub::new(defs, Some(log)));
@@ -59,7 +89,14 @@ pub(crate) fn start(s: &Service<'_>, defs: Option<Vec<AlarmDef>>) -> Result<Star
                 }
             }
             // One line when the log starts failing and one when it recovers.
-            match hub.update(now, &snap.memory) {
+            let updated = hub.update(now, &snap.memory);
+            // Damage found by anyone (an acknowledgement, an export, this
+            // evaluator): the log moved it aside for a fresh one; said until
+            // the next start, never a healthy store meanwhile.
+            if let Some(d) = hub.log().and_then(Log::damage) {
+                health.report(DAMAGED, d);
+            }
+            match updated {
                 Err(e) if !failing => {
                     failing = true;
                     eprintln!("alarms: the alarm log cannot be written ({e}); alarms are still evaluated");
@@ -72,7 +109,7 @@ pub(crate) fn start(s: &Service<'_>, defs: Option<Vec<AlarmDef>>) -> Result<Star
             }
             if now / 86_400_000 != retained_day {
                 retained_day = now / 86_400_000;
-                if let Some(Err(e)) = hub.log().map(|l| l.apply_retention(now)) {
+                if let Some(Err(e)) = hub.log().filter(|_| guard.allows(now)).map(|l| l.apply_retention(now)) {
                     eprintln!("alarms: retention: {e}");
                 }
             }

@@ -60,6 +60,11 @@ pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History, health: 
     }
 }
 
+/// The time of the newest sample, for the clock guard.
+pub fn newest(h: &Historian) -> Option<i64> {
+    h.tags().ok()?.iter().map(|t| t.last_ms).max()
+}
+
 /// Free bytes for an unprivileged writer on the filesystem holding `path`.
 fn free_bytes(path: &std::path::Path) -> Option<u64> {
     let s = rustix::fs::statvfs(path).ok()?;
@@ -114,6 +119,7 @@ pub fn record(
     cfg: alba_project::config::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
+    guard: Arc<crate::clock::ClockGuard>,
     rt: tokio::runtime::Handle,
 ) -> std::thread::JoinHandle<()> {
     std::thread::spawn(move || {
@@ -159,7 +165,10 @@ pub fn record(
             }
             if retained_at.is_none_or(|t| s.unix_ms.saturating_sub(t) >= RETENTION_EVERY_MS) {
                 retained_at = Some(s.unix_ms);
-                if let Err(e) = h.apply_retention(s.unix_ms) {
+                // Never after a clock jump nobody explained (crate::clock).
+                if guard.allows(s.unix_ms)
+                    && let Err(e) = h.apply_retention(s.unix_ms)
+                {
                     failed(&h, &e, &health);
                 }
             }

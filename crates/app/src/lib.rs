@@ -12,6 +12,7 @@
 
 mod alarms;
 mod audit;
+mod clock;
 mod connections;
 mod edits;
 mod history;
@@ -22,6 +23,7 @@ mod lock;
 mod modbus;
 mod mqtt;
 mod opcua;
+pub mod serve;
 mod sparkplug;
 pub mod tls;
 mod users;
@@ -166,7 +168,22 @@ pub async fn run(
         None
     };
     let audit_cfg = config.map(|c| c.audit.clone()).unwrap_or_default();
-    let audit = audit::open(dir, &audit_cfg).map_err(RunError::Other)?;
+    let audit = audit::open(dir, &audit_cfg, &health).map_err(RunError::Other)?;
+    // Retention only after a clock it can explain (crate::clock).
+    let stores = [
+        clock::Store {
+            name: "audit trail",
+            newest_ms: audit::newest(&audit),
+            retention_days: audit.config().retention_days,
+        },
+        clock::Store {
+            name: "history",
+            newest_ms: historian.as_ref().and_then(history::newest),
+            retention_days: (hist_cfg.retention_days > 0).then_some(hist_cfg.retention_days),
+        },
+    ];
+    let guard = clock::ClockGuard::start(dir, health.clone(), audit::now_ms(), &stores);
+    audit::retain(&audit, &guard).map_err(RunError::Other)?;
     let runtime =
         alba_runtime::Runtime::start(Arc::new(program), ro, io).map_err(|e| RunError::Other(e.to_string()))?;
     // The recorder ends when the runtime's snapshot channel closes.
@@ -185,6 +202,7 @@ pub async fn run(
                 hist_cfg,
                 runtime.handle().subscribe(),
                 health.clone(),
+                guard.clone(),
                 tokio::runtime::Handle::current(),
             )
         })
@@ -231,8 +249,8 @@ pub async fn run(
         let _ = state.connections.set(Arc::new(connections::All(links)));
     }
     edits::start(&service);
-    audit::start(&service);
-    alarms::start(&service, alarm_defs).map_err(RunError::Other)?;
+    audit::start(&service, guard.clone());
+    alarms::start(&service, alarm_defs, guard).map_err(RunError::Other)?;
 
     ready(local);
     let closing = state.closing.clone();
@@ -242,28 +260,21 @@ pub async fn run(
     };
     // Handlers may read the client's address (`ConnectInfo<SocketAddr>`) either way.
     let router = alba_server::router(state);
-    let served = match acceptor {
+    let conn_limits = serve::Limits {
+        max_connections: http_cfg.max_connections,
+        header_timeout: std::time::Duration::from_secs(u64::from(http_cfg.header_timeout_s)),
+    };
+    match acceptor {
         Some(acceptor) => {
             let listener = tls::TlsListener::new(listener, acceptor).map_err(|e| RunError::Other(e.to_string()))?;
-            axum::serve(
-                limits::Capped::new(listener, http_cfg.max_connections),
-                tls::WithPeer(router),
-            )
-            .with_graceful_shutdown(shutdown)
-            .await
+            serve::serve(listener, router, conn_limits, shutdown).await;
         }
         None => {
             use axum::serve::ListenerExt;
             let listener = listener.tap_io(|tcp| limits::bound_send_buffer(tcp));
-            axum::serve(
-                limits::Capped::new(listener, http_cfg.max_connections),
-                tls::WithPeer(router),
-            )
-            .with_graceful_shutdown(shutdown)
-            .await
+            serve::serve(listener, router, conn_limits, shutdown).await;
         }
     }
-    .map_err(|e| RunError::Other(format!("server: {e}")));
     // Stops scanning and saves retentive data.
     tokio::task::spawn_blocking(move || {
         runtime.shutdown();
@@ -273,5 +284,5 @@ pub async fn run(
     })
     .await
     .map_err(|e| RunError::Other(e.to_string()))?;
-    served
+    Ok(())
 }

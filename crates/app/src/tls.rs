@@ -190,26 +190,3 @@ impl axum::serve::Listener for TlsListener {
         Ok(self.local)
     }
 }
-
-/// The studio's router over any listener of TCP peers (TLS, capped), each
-/// request knowing its client's address as `ConnectInfo<SocketAddr>`, as
-/// over a plain `TcpListener` with `into_make_service_with_connect_info`.
-#[derive(Clone)]
-pub struct WithPeer(pub axum::Router);
-
-impl<L: axum::serve::Listener<Addr = SocketAddr>> tower_service::Service<axum::serve::IncomingStream<'_, L>>
-    for WithPeer
-{
-    type Response = axum::Router;
-    type Error = std::convert::Infallible;
-    type Future = std::future::Ready<Result<axum::Router, std::convert::Infallible>>;
-
-    fn poll_ready(&mut self, _: &mut std::task::Context<'_>) -> std::task::Poll<Result<(), Self::Error>> {
-        std::task::Poll::Ready(Ok(()))
-    }
-
-    fn call(&mut self, conn: axum::serve::IncomingStream<'_, L>) -> Self::Future {
-        let peer = axum::extract::ConnectInfo(*conn.remote_addr());
-        std::future::ready(Ok(self.0.clone().layer(axum::Extension(peer))))
-    }
-}

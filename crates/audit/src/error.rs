@@ -44,5 +44,21 @@ pub enum Error {
     Io(#[from] std::io::Error),
 }
 
+impl Error {
+    /// The file is damaged or not an audit log (as opposed to one that
+    /// cannot be opened at all, or a full disk): what can be moved aside for
+    /// a fresh log.
+    pub fn is_damage(&self) -> bool {
+        match self {
+            Error::NotAudit { .. } => true,
+            Error::Sqlite(e) | Error::Open { source: e, .. } => matches!(
+                e.sqlite_error_code(),
+                Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase)
+            ),
+            _ => false,
+        }
+    }
+}
+
 /// The result type of the audit log.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -22,6 +22,7 @@ mod action;
 mod csv;
 mod diff;
 mod error;
+mod journal;
 mod schema;
 
 use std::io::Write;
@@ -35,6 +36,7 @@ pub use action::Action;
 pub use csv::{CSV_HEADER, format_utc, push_field};
 pub use diff::{DiffSummary, diff};
 pub use error::{Error, Result};
+pub use journal::JOURNAL_BYTES;
 
 /// Times must lie within ±`MAX_TIME_MS` (about ±285 000 years around 1970).
 pub const MAX_TIME_MS: i64 = 1 << 53;
@@ -181,6 +183,22 @@ struct Inner {
     path: PathBuf,
     config: Config,
     writer: Mutex<Connection>,
+    /// `audit.journal` beside the file, for safety actions while it cannot be
+    /// written (`None` when the journal itself could not be made).
+    journal: Option<Mutex<journal::Journal>>,
+    /// The journal holds rows not yet moved into the file.
+    journaled: std::sync::atomic::AtomicBool,
+}
+
+/// Where the row of a safety action ([`Audit::begin_safety`]) went.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Begun {
+    /// Into the log, as [`Audit::begin`]: its id.
+    Logged(i64),
+    /// Into the fallback journal (the log could not be written): its place there.
+    Journaled(u64),
+    /// Nowhere (the journal failed or is full too): said on stderr, the system log.
+    Nowhere,
 }
 
 impl std::fmt::Debug for Audit {
@@ -308,13 +326,170 @@ impl Audit {
     pub fn open(path: impl AsRef<Path>, config: Config) -> Result<Audit> {
         let path = path.as_ref().to_path_buf();
         let writer = schema::open_writer(&path)?;
-        Ok(Audit {
+        let journal = match journal::Journal::open(&path.with_extension("journal")) {
+            Ok(j) => Some(j),
+            Err(e) => {
+                eprintln!("warning: audit: no fallback journal beside {}: {e}", path.display());
+                None
+            }
+        };
+        let journaled = journal.as_ref().is_some_and(|j| !j.is_empty());
+        let audit = Audit {
             inner: Arc::new(Inner {
                 path,
                 config,
                 writer: Mutex::new(writer),
+                journal: journal.map(Mutex::new),
+                journaled: std::sync::atomic::AtomicBool::new(journaled),
             }),
-        })
+        };
+        if journaled && let Err(e) = audit.replay_journal() {
+            eprintln!("warning: audit: the fallback journal's rows stay there for now: {e}");
+        }
+        Ok(audit)
+    }
+
+    /// Begins a safety action — stop, removing forces — which must happen even
+    /// when the log cannot be written (a full disk): its `pending` row goes
+    /// into the log if it can, else into the fallback journal, else (journal
+    /// full or failing too) only to stderr. The caller then performs the
+    /// action whatever this returned, and records the outcome with
+    /// [`finish_safety`](Self::finish_safety). The journal's rows move into
+    /// the log the next time it is written or opened.
+    pub fn begin_safety(&self, e: &Entry) -> Begun {
+        let error = match self.begin(e) {
+            Ok(id) => return Begun::Logged(id),
+            Err(err) => err,
+        };
+        let seq = self.inner.journal.as_ref().and_then(|j| {
+            let mut j = lock(j);
+            let seq = j.used();
+            let t = e.t_ms.to_string();
+            let fields = [
+                Some("begin"),
+                Some(seq.to_string()).as_deref(),
+                Some(t.as_str()),
+                e.user.as_deref(),
+                e.addr.as_deref(),
+                Some(e.action.name()),
+                e.target.as_deref(),
+                e.old.as_deref(),
+                e.new.as_deref(),
+                e.detail.as_deref(),
+            ]
+            .map(|f| f.map(str::to_string));
+            let refs: Vec<Option<&str>> = fields.iter().map(Option::as_deref).collect();
+            j.append(&journal::line(&refs)).ok().map(|()| seq)
+        });
+        let who = e.user.as_deref().unwrap_or("(no user)");
+        let on = e.target.as_deref().unwrap_or("");
+        match seq {
+            Some(seq) => {
+                self.inner.journaled.store(true, std::sync::atomic::Ordering::Relaxed);
+                eprintln!(
+                    "audit: {} cannot be written ({error}): `{}` {on} by {who} recorded in the fallback journal",
+                    self.inner.path.display(),
+                    e.action.name()
+                );
+                Begun::Journaled(seq)
+            }
+            None => {
+                eprintln!(
+                    "audit: {} cannot be written ({error}) nor its fallback journal: `{}` {on} by {who} at {} ms \
+                     from {} is recorded here only",
+                    self.inner.path.display(),
+                    e.action.name(),
+                    e.t_ms,
+                    e.addr.as_deref().unwrap_or("?")
+                );
+                Begun::Nowhere
+            }
+        }
+    }
+
+    /// Records the outcome of a safety action where its row went.
+    pub fn finish_safety(&self, begun: &Begun, outcome: &Outcome) -> Result<()> {
+        match begun {
+            Begun::Logged(id) => self.finish(*id, outcome),
+            Begun::Journaled(seq) => {
+                let j = self
+                    .inner
+                    .journal
+                    .as_ref()
+                    .ok_or_else(|| Error::InvalidArgument("no journal".into()))?;
+                let seq = seq.to_string();
+                lock(j).append(&journal::line(&[
+                    Some("finish"),
+                    Some(&seq),
+                    Some(outcome.name()),
+                    outcome.error(),
+                ]))?;
+                Ok(())
+            }
+            Begun::Nowhere => {
+                eprintln!("audit: outcome of the action above: {}", outcome.name());
+                Ok(())
+            }
+        }
+    }
+
+    /// Moves the fallback journal's rows into the log (in one transaction),
+    /// each with its outcome and a detail saying where it was kept, then
+    /// empties the journal. Returns how many rows moved.
+    pub fn replay_journal(&self) -> Result<usize> {
+        let Some(j) = self.inner.journal.as_ref() else {
+            return Ok(0);
+        };
+        let mut j = lock(j);
+        let lines = j.lines()?;
+        let mut outcomes = std::collections::HashMap::new();
+        for l in &lines {
+            let f = journal::fields(l);
+            if f.first().and_then(|x| x.as_deref()) == Some("finish") {
+                let get = |i: usize| f.get(i).cloned().flatten();
+                let outcome = match get(2).as_deref() {
+                    Some("ok") => Outcome::Ok,
+                    Some("failed") => Outcome::Failed(get(3).unwrap_or_default()),
+                    _ => Outcome::Pending,
+                };
+                outcomes.insert(get(1).unwrap_or_default(), outcome);
+            }
+        }
+        let conn = lock(&self.inner.writer);
+        let tx = conn.unchecked_transaction()?;
+        let mut moved = 0;
+        for l in &lines {
+            let f = journal::fields(l);
+            let get = |i: usize| f.get(i).cloned().flatten();
+            if get(0).as_deref() != Some("begin") {
+                continue;
+            }
+            let Some(action) = get(5).and_then(|a| a.parse::<Action>().ok()) else {
+                continue;
+            };
+            let detail = match get(9) {
+                Some(d) => format!("{d} (kept in audit.journal while audit.db could not be written)"),
+                None => "kept in audit.journal while audit.db could not be written".to_string(),
+            };
+            let outcome = outcomes.remove(&get(1).unwrap_or_default()).unwrap_or(Outcome::Pending);
+            let e = Entry {
+                t_ms: get(2).and_then(|t| t.parse().ok()).unwrap_or(0),
+                user: get(3),
+                addr: get(4),
+                action,
+                target: get(6),
+                old: get(7),
+                new: get(8),
+                detail: Some(detail),
+            };
+            Audit::insert_on(&tx, &e, &outcome)?;
+            moved += 1;
+        }
+        tx.commit()?;
+        drop(conn);
+        j.clear()?;
+        self.inner.journaled.store(false, std::sync::atomic::Ordering::Relaxed);
+        Ok(moved)
     }
 
     /// The database file.
@@ -328,8 +503,18 @@ impl Audit {
     }
 
     fn insert(&self, e: &Entry, outcome: &Outcome) -> Result<i64> {
+        let id = Audit::insert_on(&lock(&self.inner.writer), e, outcome)?;
+        // The log can be written again: the journal's rows go in too.
+        if self.inner.journaled.load(std::sync::atomic::Ordering::Relaxed)
+            && let Err(err) = self.replay_journal()
+        {
+            eprintln!("warning: audit: the fallback journal's rows stay there for now: {err}");
+        }
+        Ok(id)
+    }
+
+    fn insert_on(conn: &Connection, e: &Entry, outcome: &Outcome) -> Result<i64> {
         check_time(e.t_ms)?;
-        let conn = lock(&self.inner.writer);
         let mut stmt = conn.prepare_cached(
             "INSERT INTO audit(t, user_name, addr, action, target, old_value, new_value, detail, outcome, error)
              VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",

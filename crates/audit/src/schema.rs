@@ -110,6 +110,18 @@ pub(crate) fn open_writer(path: &Path) -> Result<Connection> {
             reason: format!("schema version {version} is newer than this program supports ({SCHEMA_VERSION})"),
         });
     }
+    // Torn or truncated pages show only when read: the whole file is checked
+    // once here (a few ms per MB), so damage is found at start, not by the
+    // first action that needs its row.
+    let check: String = conn
+        .query_row("PRAGMA quick_check(1)", [], |r| r.get(0))
+        .map_err(|e| open_error(path, e))?;
+    if check != "ok" {
+        return Err(Error::NotAudit {
+            path: path.to_path_buf(),
+            reason: format!("the database is damaged ({check})"),
+        });
+    }
     conn.prepare(&format!("SELECT {COLUMNS} FROM audit LIMIT 0"))
         .map_err(|e| match open_error(path, e) {
             Error::Open { source, .. } => Error::NotAudit {

@@ -78,6 +78,15 @@ impl Backoff {
         self.keys.remove(key);
     }
 
+    /// The keys with at least `n` failures not yet forgotten at `now`, with their count.
+    pub fn at_least(&self, n: u32, now: Instant) -> Vec<(String, u32)> {
+        self.keys
+            .iter()
+            .filter(|(_, e)| e.failures >= n && now.saturating_duration_since(e.last) < FORGET_AFTER)
+            .map(|(k, e)| (k.clone(), e.failures))
+            .collect()
+    }
+
     /// The failures counted for `key`.
     pub fn failures(&self, key: &str) -> u32 {
         self.keys.get(key).map_or(0, |e| e.failures)

@@ -679,6 +679,9 @@ pub fn all(quick: bool, secs: f64, priority: u8, cpu: Option<usize>) -> ExitCode
     part("modbus", &|| crate::bench_modbus::run(&[1, 4, 16], secs, None, None));
     part("realtime", &|| crate::bench_realtime::run(secs, priority, cpu));
     part("mqtt", &|| crate::bench_mqtt::run(&[100, 1_000], secs, None));
+    part("online edit", &|| {
+        swap(if quick { &[10_000] } else { &[10_000, 50_000] })
+    });
     println!(
         "\nNot run here (it needs a browser): engine → browser DOM latency with 1, 10 and 50 studios,\n\
          `cd web && ALBA_BIN=../target/release/alba node bench/studios.mjs` (docs/performance.md)."
@@ -784,4 +787,120 @@ fn net_and_ladder(n: usize) -> (String, String, String) {
     }
     pnml.push_str("</page></net></pnml>\n");
     (tags, lad, pnml)
+}
+
+/// `alba bench --swap`: the gap an online edit leaves between two scans
+/// (issue 31). Before, the engine thread verified, compiled (native code
+/// or the interpreter's forms) and migrated memory between two scans; now
+/// `Engine::prepare` does that on another thread and the engine only
+/// `swap`s. Prints both on N-rung programs (the edit recompiles the same
+/// program: the work is the same as for a changed rung), then the scan
+/// lateness `alba run`'s runtime shows through an edit.
+pub fn swap(sizes: &[usize]) -> ExitCode {
+    println!("alba bench --swap: an online edit of N rungs (engine thread's gap between two scans)\n");
+    println!(
+        "{:>7} {:>12} | {:>16} | {:>13} {:>12} {:>13}",
+        "rungs", "engine", "before: on the", "after: prepare", "swap (gap)", "free old"
+    );
+    println!(
+        "{:>7} {:>12} | {:>16} | {:>13} {:>12} {:>13}",
+        "", "", "engine thread ms", "elsewhere ms", "ms", "elsewhere ms"
+    );
+    for &n in sizes {
+        let (Ok(a), Ok(b)) = (build(n), build(n)) else {
+            eprintln!("error: the benchmark program does not build");
+            return ExitCode::FAILURE;
+        };
+        let (a, b) = (Arc::new(a.program), Arc::new(b.program));
+        for native in [false, true] {
+            let start = || -> Option<Engine> {
+                let mut e = Engine::new(a.clone()).ok()?;
+                if native && e.compile_native().is_err() {
+                    return None;
+                }
+                for k in 0..3 {
+                    let _ = e.scan(k);
+                }
+                Some(e)
+            };
+            let (Some(mut old), Some(mut new)) = (start(), start()) else {
+                eprintln!("native code unavailable");
+                continue;
+            };
+            let t = Instant::now();
+            if let Err(e) = old.replace(b.clone()) {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+            let before = t.elapsed();
+            let t = Instant::now();
+            let prepared = match Engine::prepare(b.clone(), &a, native) {
+                Ok(p) => p,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let prepare = t.elapsed();
+            let t = Instant::now();
+            let retired = new.swap(prepared);
+            let gap = t.elapsed();
+            let t = Instant::now();
+            drop(retired);
+            let free = t.elapsed();
+            let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+            println!(
+                "{n:>7} {:>12} | {:>16.2} | {:>13.2} {:>12.3} {:>13.2}",
+                if native { "native" } else { "interpreter" },
+                ms(before),
+                ms(prepare),
+                ms(gap),
+                ms(free)
+            );
+        }
+    }
+    // Through the runtime: the largest scan lateness while an edit is applied.
+    let n = sizes.last().copied().unwrap_or(50_000);
+    let (Ok(a), Ok(b)) = (build(n), build(n)) else {
+        return ExitCode::FAILURE;
+    };
+    println!("\nalba run's runtime, {n} rungs, native code, 100 ms scans: scan lateness around one online edit");
+    let log = alba_runtime::ScanLog::new(100_000);
+    let mut opts = alba_runtime::Options::new(100);
+    opts.native = true;
+    opts.scan_log = Some(log.clone());
+    let Ok(rt) = alba_runtime::Runtime::start(Arc::new(a.program), opts, Box::new(alba_runtime::SimIo)) else {
+        eprintln!("error: the runtime does not start");
+        return ExitCode::FAILURE;
+    };
+    let h = rt.handle();
+    let tokio = match tokio::runtime::Builder::new_current_thread().enable_all().build() {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    log.record(true);
+    let t = Instant::now();
+    let edited = tokio.block_on(h.replace(Arc::new(b.program)));
+    let edit = t.elapsed();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    log.record(false);
+    rt.shutdown();
+    if let Err(e) = edited {
+        eprintln!("error: the edit was refused: {e}");
+        return ExitCode::FAILURE;
+    }
+    let late = log.late_ns();
+    let worst = late.iter().copied().max().unwrap_or(0);
+    println!(
+        "  the edit took {:.1} ms to answer; {} scans recorded, worst lateness {:.3} ms, {} overruns",
+        edit.as_secs_f64() * 1e3,
+        late.len(),
+        worst as f64 / 1e6,
+        log.overruns()
+    );
+    ExitCode::SUCCESS
 }

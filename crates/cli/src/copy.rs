@@ -40,7 +40,9 @@ pub fn prepare(project: &Path, dest: &Path) -> Result<bool, String> {
     }
     let tmp = to.with_file_name(format!(
         ".{}.copying-{}",
-        to.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+        to.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
         std::process::id()
     ));
     let _ = std::fs::remove_dir_all(&tmp);
@@ -52,7 +54,11 @@ pub fn prepare(project: &Path, dest: &Path) -> Result<bool, String> {
     });
     if let Err(e) = done {
         let _ = std::fs::remove_dir_all(&tmp);
-        return Err(format!("cannot copy {} into {}: {e}", project.display(), dest.display()));
+        return Err(format!(
+            "cannot copy {} into {}: {e}",
+            project.display(),
+            dest.display()
+        ));
     }
     Ok(true)
 }
@@ -84,24 +90,46 @@ mod tests {
         let p = tmp.path().join("plant");
         std::fs::create_dir_all(p.join(".alba")).expect("mkdir");
         std::fs::create_dir_all(p.join("hmi")).expect("mkdir");
-        for (f, t) in [("alba.toml", "name = \"p\"\n"), ("hmi/a.json", "{}"), (".alba/retain.json", "{}")] {
+        for (f, t) in [
+            ("alba.toml", "name = \"p\"\n"),
+            ("hmi/a.json", "{}"),
+            (".alba/retain.json", "{}"),
+        ] {
             std::fs::write(p.join(f), t).expect("write");
         }
         let dest = tmp.path().join("copy");
         assert_eq!(prepare(&p, &dest), Ok(true));
         assert!(dest.join("hmi/a.json").is_file());
-        assert!(!dest.join(".alba").exists(), "the runtime's state is the original's own");
+        assert!(
+            !dest.join(".alba").exists(),
+            "the runtime's state is the original's own"
+        );
         // An edit in the copy is kept: the next run uses it as it is.
         std::fs::write(dest.join("alba.toml"), "name = \"edited\"\n").expect("edit");
         assert_eq!(prepare(&p, &dest), Ok(false));
-        assert_eq!(std::fs::read_to_string(dest.join("alba.toml")).expect("read"), "name = \"edited\"\n");
+        assert_eq!(
+            std::fs::read_to_string(dest.join("alba.toml")).expect("read"),
+            "name = \"edited\"\n"
+        );
         // Refusals: a folder with other files, a copy inside the project, no project.
         let busy = tmp.path().join("busy");
         std::fs::create_dir_all(&busy).expect("mkdir");
         std::fs::write(busy.join("x"), "").expect("write");
-        assert!(prepare(&p, &busy).expect_err("busy").contains("neither empty nor an Alba project"));
-        assert!(prepare(&p, &p.join("inner")).expect_err("inside").contains("inside the project"));
-        assert!(prepare(&tmp.path().join("none"), &tmp.path().join("c2")).expect_err("none").contains("no alba.toml"));
+        assert!(
+            prepare(&p, &busy)
+                .expect_err("busy")
+                .contains("neither empty nor an Alba project")
+        );
+        assert!(
+            prepare(&p, &p.join("inner"))
+                .expect_err("inside")
+                .contains("inside the project")
+        );
+        assert!(
+            prepare(&tmp.path().join("none"), &tmp.path().join("c2"))
+                .expect_err("none")
+                .contains("no alba.toml")
+        );
         assert_eq!(default_dest(&p), PathBuf::from("alba-plant"));
     }
 }

@@ -1,12 +1,12 @@
 //! `alba`: the command-line front of Alba.
 
 mod analyze;
-mod copy;
 mod audit;
 mod bench;
 mod bench_modbus;
 mod bench_mqtt;
 mod bench_realtime;
+mod copy;
 mod demo;
 mod export;
 mod firmware;
@@ -188,6 +188,10 @@ enum Command {
         /// With --modbus: the first holding register read (default 8192 on Alba's own, 0 on --target).
         #[arg(long, value_name = "N")]
         start: Option<u16>,
+        /// Measure the gap an online edit leaves between two scans instead (before and after it was
+        /// prepared off the engine thread), on --sizes rungs (default 10000,50000).
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian", "mqtt", "all"])]
+        swap: bool,
         /// Print the Cranelift IR and machine code native code runs for the benchmark rung instead.
         #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime"])]
         listing: bool,
@@ -526,6 +530,7 @@ fn main() -> ExitCode {
             ..
         } => bench_realtime::run(seconds, priority, cpu),
         Command::Bench { listing: true, .. } => bench::listing(),
+        Command::Bench { swap: true, sizes, .. } => bench::swap(sizes.as_deref().unwrap_or(&[10_000, 50_000])),
         Command::Bench {
             profile: Some(contender),
             sizes,
@@ -589,12 +594,20 @@ fn main() -> ExitCode {
             let project = match copy {
                 None => project,
                 Some(dest) => {
-                    let dest = if dest.as_os_str().is_empty() { copy::default_dest(&project) } else { dest };
+                    let dest = if dest.as_os_str().is_empty() {
+                        copy::default_dest(&project)
+                    } else {
+                        dest
+                    };
                     match copy::prepare(&project, &dest) {
                         Ok(fresh) => {
                             eprintln!(
                                 "Running {} {} (the studio saves there; {} is not changed).",
-                                if fresh { "a new copy of the project in" } else { "the copy in" },
+                                if fresh {
+                                    "a new copy of the project in"
+                                } else {
+                                    "the copy in"
+                                },
                                 dest.display(),
                                 project.display()
                             );

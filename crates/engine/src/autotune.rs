@@ -121,7 +121,15 @@ const SETTLE_LIMIT_MS: u64 = 300_000;
 /// output that holds the plant at SP, as an operator would wait for a steady
 /// state before starting a relay test. A loop at rest at its SP settles at
 /// once, around its CV now. Returns the centre and the time reached.
-fn settle(engine: &mut Engine, sp: Place, pv: Place, cv: Place, man: Place, span: f64, opt: &RelayOptions) -> Result<(f64, u64), String> {
+fn settle(
+    engine: &mut Engine,
+    sp: Place,
+    pv: Place,
+    cv: Place,
+    man: Place,
+    span: f64,
+    opt: &RelayOptions,
+) -> Result<(f64, u64), String> {
     let limit = SETTLE_LIMIT_MS.min(opt.until_ms / 2);
     let window = (SETTLED_MS / opt.scan_ms).max(1) as usize;
     let mut recent: std::collections::VecDeque<(f64, f64)> = std::collections::VecDeque::with_capacity(window + 1);
@@ -130,14 +138,19 @@ fn settle(engine: &mut Engine, sp: Place, pv: Place, cv: Place, man: Place, span
         engine.step_plants(t);
         engine.write(man, Value::Bool(false));
         engine.scan(t).map_err(|m| m.message)?;
-        recent.push_back((engine.read(sp).as_f64() - engine.read(pv).as_f64(), engine.read(cv).as_f64()));
+        recent.push_back((
+            engine.read(sp).as_f64() - engine.read(pv).as_f64(),
+            engine.read(cv).as_f64(),
+        ));
         if recent.len() > window {
             recent.pop_front();
         }
         let full = recent.len() == window;
         let (lo, hi) = recent
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (_, u)| (l.min(*u), h.max(*u)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), (_, u)| {
+                (l.min(*u), h.max(*u))
+            });
         let held = recent.iter().all(|(e, _)| e.abs() <= 0.01 * span);
         if (full && held && hi - lo <= 1.0) || t >= limit {
             let mean = recent.iter().map(|(_, u)| u).sum::<f64>() / recent.len() as f64;

@@ -47,6 +47,40 @@ pub struct Engine {
     forces: Vec<(Place, Value)>,
 }
 
+/// A program made ready to run by [`Engine::prepare`].
+pub struct Prepared {
+    prog: Arc<Program>,
+    /// The program it was prepared to follow.
+    old: Arc<Program>,
+    migration: alba_ir::Migration,
+    init: Memory,
+    plain: Code,
+    fast: Option<Code>,
+    #[cfg(feature = "jit")]
+    native: Option<crate::jit::Jit>,
+    plants: crate::plant::Plants,
+    pf: PowerFlow,
+}
+
+impl Prepared {
+    pub fn program(&self) -> &Arc<Program> {
+        &self.prog
+    }
+}
+
+/// What an engine held before a [`Engine::swap`]: dropping it frees the old
+/// program's forms (milliseconds for a big one), best done off the engine's thread.
+pub struct Retired {
+    _mem: Memory,
+    _plain: [Option<Code>; 2],
+    _fast: Option<Code>,
+    #[cfg(feature = "jit")]
+    _native: Option<crate::jit::Jit>,
+    _plants: crate::plant::Plants,
+    _pf: PowerFlow,
+    _prog: Arc<Program>,
+}
+
 impl Engine {
     /// Loads a program after verifying it (no op may reach outside memory).
     pub fn new(prog: Arc<Program>) -> Result<Engine, String> {
@@ -258,32 +292,106 @@ impl Engine {
     /// `Memory::migrate`). Fails, changing nothing, if `prog` does not verify
     /// or native code for it cannot be built. Forces are dropped (their
     /// places may have moved): the caller forces again by name.
+    ///
+    /// All of this on the caller's thread; [`Engine::prepare`] does the
+    /// costly part elsewhere and [`Engine::swap`] the rest.
     pub fn replace(&mut self, prog: Arc<Program>) -> Result<(), String> {
+        let p = Engine::prepare(prog, &self.prog, self.native_on())?;
+        drop(self.swap(p));
+        Ok(())
+    }
+
+    /// Whether native code runs this engine's unmonitored scans.
+    pub fn native_on(&self) -> bool {
+        #[cfg(feature = "jit")]
+        return self.native.is_some();
+        #[cfg(not(feature = "jit"))]
+        false
+    }
+
+    /// The costly part of an online edit from `old` to `prog`, for any
+    /// thread (issue 31: a 50 000-rung edit compiled native code between two
+    /// scans, a 52–81 ms gap): verifying, building the executable forms
+    /// (native code when `native`, else the fused form; the plain one for
+    /// monitoring), working out the memory's migration and copying the new
+    /// initial memory. [`Engine::swap`] then only copies values.
+    pub fn prepare(prog: Arc<Program>, old: &Arc<Program>, native: bool) -> Result<Prepared, String> {
         prog.verify()?;
         #[cfg(feature = "jit")]
-        let native = match self.native {
-            Some(_) => Some(crate::jit::Jit::compile(&prog)?),
-            None => None,
+        let native = if native {
+            Some(crate::jit::Jit::compile(&prog)?)
+        } else {
+            None
         };
-        self.mem = self.mem.migrate(&self.prog.layout, &prog.layout, &prog.init);
-        self.plain = None;
         #[cfg(feature = "jit")]
-        {
-            self.fast = native.is_none().then(|| Code::new(&prog, true));
-            self.native = native;
-        }
+        let fast = native.is_none().then(|| Code::new(&prog, true));
         #[cfg(not(feature = "jit"))]
-        {
-            self.fast = Some(Code::new(&prog, true));
-        }
+        let fast = {
+            let _ = native;
+            Some(Code::new(&prog, true))
+        };
+        Ok(Prepared {
+            migration: alba_ir::Migration::new(&old.layout, &prog.layout),
+            old: old.clone(),
+            init: prog.init.clone(),
+            plain: Code::new(&prog, false),
+            fast,
+            #[cfg(feature = "jit")]
+            native,
+            plants: crate::plant::Plants::new(&prog.plants),
+            pf: PowerFlow::new(prog.elements.len()),
+            prog,
+        })
+    }
+
+    /// Runs a prepared program from the next scan: the values migrated, the
+    /// prepared forms put in place. Costs copies only, unless the engine no
+    /// longer runs the program `p` was prepared from (then the migration is
+    /// worked out again here). Returns what the engine held before, to be
+    /// dropped off the engine's thread.
+    pub fn swap(&mut self, p: Prepared) -> Retired {
+        let Prepared {
+            prog,
+            old,
+            migration,
+            mut init,
+            plain,
+            fast,
+            #[cfg(feature = "jit")]
+            native,
+            plants,
+            pf,
+        } = p;
+        let migration = if Arc::ptr_eq(&old, &self.prog) {
+            migration
+        } else {
+            alba_ir::Migration::new(&self.prog.layout, &prog.layout)
+        };
+        migration.apply(&self.mem, &mut init);
+        // What is not used is dropped with the retired parts, not here.
+        let (plain, spare_plain) = if self.monitor {
+            (Some(plain), None)
+        } else {
+            (None, Some(plain))
+        };
+        let plants = if self.plants.specs() != prog.plants {
+            std::mem::replace(&mut self.plants, plants)
+        } else {
+            plants
+        };
+        let retired = Retired {
+            _mem: std::mem::replace(&mut self.mem, init),
+            _plain: [std::mem::replace(&mut self.plain, plain), spare_plain],
+            _fast: std::mem::replace(&mut self.fast, fast),
+            #[cfg(feature = "jit")]
+            _native: std::mem::replace(&mut self.native, native),
+            _plants: plants,
+            _pf: std::mem::replace(&mut self.pf, if self.monitor { pf } else { PowerFlow::default() }),
+            _prog: std::mem::replace(&mut self.prog, prog),
+        };
         self.faults = Faults::default();
         self.forces.clear();
-        if self.plants.specs() != prog.plants {
-            self.plants = crate::plant::Plants::new(&prog.plants);
-        }
-        self.prog = prog;
-        self.set_monitor(self.monitor);
-        Ok(())
+        retired
     }
 
     /// Turns power-flow monitoring on or off (SPEC §11). While off, scans

@@ -16,6 +16,6 @@ pub mod plant;
 pub mod sim;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};
-pub use engine::{Engine, MajorFault};
+pub use engine::{Engine, MajorFault, Prepared, Retired};
 pub use exec::PowerFlow;
 pub use fault::{Fault, FaultCode, Faults};

@@ -49,18 +49,17 @@ fn field(name: &str) -> String {
 
 /// Checks the step and the number of rows: the rows of an export of `[from, to]`.
 pub(crate) fn rows(from: i64, to: i64, step: i64) -> Result<i64> {
-    if step < 1 {
+    let Some(rows) = crate::csv_rows(from, to, step) else {
         return Err(Error::InvalidArgument(format!(
             "CSV step must be at least 1 ms, not {step}"
         )));
-    }
-    let rows = if from > to { 0 } else { (to - from) / step + 1 };
-    if rows > MAX_CSV_ROWS as i64 {
+    };
+    if rows > MAX_CSV_ROWS {
         return Err(Error::InvalidArgument(format!(
             "CSV export of {rows} rows: at most {MAX_CSV_ROWS}, use a larger step"
         )));
     }
-    Ok(rows)
+    Ok(rows as i64)
 }
 
 /// Writes the export (see `Historian::export_csv`) of the columns `headers` names, whose
@@ -76,7 +75,11 @@ pub(crate) fn write(
     let rows = rows(from, to, step)?;
     let mut tracks = Vec::with_capacity(headers.len());
     for c in 0..headers.len() {
-        let samples = if rows == 0 { 0 } else { src.count(c, from + 1, to)? };
+        let samples = if rows == 0 {
+            0
+        } else {
+            src.count(c, from.saturating_add(1), to)?
+        };
         tracks.push(if samples > LOOKUP_RATIO * rows as u64 {
             Track::Lookup
         } else {

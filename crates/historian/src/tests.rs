@@ -859,3 +859,54 @@ fn a_database_damaged_in_use_is_moved_aside_for_a_fresh_one() {
     assert_eq!(h.tags().expect("tags").len(), 1);
     assert!(matches!(h.raw("A", 0, 10, 10), Err(Error::UnknownTag(_))));
 }
+
+/// Issue 31: `to - from` overflowed for extreme ranges, so a caller's cap on the rows of an
+/// export counted 1 where the export wrote millions. The count is exact (compared in 128-bit
+/// arithmetic on the clamped range) for any `i64`s and never panics.
+#[test]
+fn csv_rows_is_exact_for_extreme_ranges() {
+    let exact = |from: i64, to: i64, step: i64| -> Option<u64> {
+        if step < 1 {
+            return None;
+        }
+        let (f, t) = (
+            i128::from(from.clamp(-MAX_TIME_MS, MAX_TIME_MS)),
+            i128::from(to.clamp(-MAX_TIME_MS, MAX_TIME_MS)),
+        );
+        Some(if f > t {
+            0
+        } else {
+            u64::try_from((t - f) / i128::from(step) + 1).expect("fits")
+        })
+    };
+    assert_eq!(
+        csv_rows(i64::MIN, i64::MAX, 1_801_439_851),
+        exact(i64::MIN, i64::MAX, 1_801_439_851)
+    );
+    assert!(csv_rows(i64::MIN, i64::MAX, 1_801_439_851).is_some_and(|r| r > 1_000_000));
+    let edges = [
+        i64::MIN,
+        i64::MIN + 1,
+        -MAX_TIME_MS - 1,
+        -1,
+        0,
+        1,
+        MAX_TIME_MS + 1,
+        i64::MAX - 1,
+        i64::MAX,
+    ];
+    let mut runner = TestRunner::new_with_rng(
+        PropConfig::with_cases(4096),
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    );
+    let time = || prop_oneof![proptest::sample::select(edges.to_vec()), any::<i64>()];
+    runner
+        .run(
+            &(time(), time(), prop_oneof![Just(1i64), Just(i64::MAX), any::<i64>()]),
+            |(from, to, step)| {
+                prop_assert_eq!(csv_rows(from, to, step), exact(from, to, step));
+                Ok(())
+            },
+        )
+        .expect("csv_rows agrees with exact arithmetic");
+}

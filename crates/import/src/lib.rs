@@ -527,19 +527,39 @@ fn csv_field(f: &str) -> String {
 /// Reads an input file as text (UTF-8, or Latin-1 when it is not UTF-8, as
 /// older Windows tools write), refusing files above [`MAX_INPUT_BYTES`].
 pub fn read_input(input: &Path) -> Result<String, Error> {
-    let meta = fs::metadata(input).map_err(|e| Error::plain(format!("cannot read {}: {e}", input.display())))?;
+    read_input_within(input, MAX_INPUT_BYTES)
+}
+
+/// [`read_input`] with its own bound, `max` bytes: never more is read, even
+/// from a file that grows while it is read.
+pub(crate) fn read_input_within(input: &Path, max: u64) -> Result<String, Error> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| Error::plain(format!("cannot read {}: {e}", input.display()));
+    let meta = fs::metadata(input).map_err(cannot)?;
     if !meta.is_file() {
         return Err(Error::plain(format!("{} is not a file", input.display())));
     }
-    if meta.len() > MAX_INPUT_BYTES {
-        return Err(Error::plain(format!(
-            "{} is {} bytes; files above {} MiB are refused",
+    let too_big = |len: u64| {
+        Error::plain(format!(
+            "{} is {len} bytes; files above {} are refused",
             input.display(),
-            meta.len(),
-            MAX_INPUT_BYTES / (1024 * 1024)
-        )));
+            if max >= 1024 * 1024 {
+                format!("{} MiB", max / (1024 * 1024))
+            } else {
+                format!("{max} bytes")
+            }
+        ))
+    };
+    if meta.len() > max {
+        return Err(too_big(meta.len()));
     }
-    let bytes = fs::read(input).map_err(|e| Error::plain(format!("cannot read {}: {e}", input.display())))?;
+    let mut bytes = Vec::new();
+    fs::File::open(input)
+        .and_then(|f| f.take(max + 1).read_to_end(&mut bytes))
+        .map_err(cannot)?;
+    if bytes.len() as u64 > max {
+        return Err(too_big(bytes.len() as u64));
+    }
     Ok(match String::from_utf8(bytes) {
         Ok(s) => s,
         Err(e) => e.into_bytes().iter().map(|&b| b as char).collect(),

@@ -645,6 +645,60 @@ fn aurora_folders_read_from_disk_keep_the_limits() {
     assert_eq!(entries(&out), vec!["alba.toml", "main.lad", "tags.csv"]);
 }
 
+/// Issue 31: every screen was read (64 × 32 MiB: 2 GB) before main.ara was
+/// looked at. main.ara is now checked first, and screens and the folder are
+/// bounded on their sizes before anything else is read (the big files are
+/// sparse: they cost no disk, and reading one would be seen in the error).
+#[test]
+fn an_aurora_folder_is_checked_before_its_screens_are_read() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let dir = tmp.path().join("proj");
+    fs::create_dir(&dir).expect("mkdir");
+    let out = tmp.path().join("out");
+    let sparse = |name: &str, len: u64| {
+        fs::File::create(dir.join(name))
+            .expect("create")
+            .set_len(len)
+            .expect("sparse");
+    };
+    fs::write(dir.join("main.ara"), "not a main.ara\n").expect("write");
+    for i in 0..64 {
+        sparse(&format!("s{i:02}.pcs"), alba_import::MAX_INPUT_BYTES + 1);
+    }
+    let e = alba_import::import(&dir, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert!(
+        e.as_deref().is_some_and(|e| e.contains("not an AuroraLD main.ara")),
+        "{e:?}"
+    );
+    // A good main.ara: a screen past its bound is refused by its size.
+    let f = aurora();
+    fs::write(dir.join("main.ara"), f.main.clone().unwrap_or_default()).expect("write");
+    let e = alba_import::import(&dir, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.contains("screens above 1024 KiB are refused")),
+        "{e:?}"
+    );
+    // Screens each within their bound, the folder past its own.
+    for i in 0..64 {
+        sparse(&format!("s{i:02}.pcs"), alba_import::aurora::MAX_SCREEN_BYTES);
+    }
+    sparse("tags.pl", alba_import::MAX_INPUT_BYTES);
+    sparse("instructions.pl", alba_import::MAX_INPUT_BYTES);
+    let e = alba_import::import(&dir, &out, &Options::default())
+        .err()
+        .map(|e| e.to_string());
+    assert!(
+        e.as_deref().is_some_and(|e| e.contains("at most 64 MiB are read")),
+        "{e:?}"
+    );
+    assert!(!out.exists());
+}
+
 /// A PLCopen program `seq` with the SFC body `body` and BOOL variables a, b, q.
 fn sfc_project(body: &str) -> String {
     format!(

@@ -324,7 +324,7 @@ fn take(counter: &mut u32, n: u32) -> u32 {
 }
 
 /// Where a value lives: a typed slot or a place in marker memory.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Place {
     Bool(B),
     /// An integer slot holding a value of the given type (SINT, INT, DINT, TIME).

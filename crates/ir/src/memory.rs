@@ -114,26 +114,82 @@ impl Memory {
     /// I/O images. Everything else comes from `new_init`.
     pub fn migrate(&self, old: &Layout, new: &Layout, new_init: &Memory) -> Memory {
         let mut out = new_init.clone();
-        let n = out.m.len().min(self.m.len());
-        out.m[..n].copy_from_slice(&self.m[..n]);
-        copy_region(&self.b, old.di, &mut out.b, new.di);
-        copy_region(&self.b, old.dout, &mut out.b, new.dout);
-        copy_region(&self.i, old.ai, &mut out.i, new.ai);
-        copy_region(&self.i, old.ao, &mut out.i, new.ao);
-        out.b[new.system.minor_fault.0 as usize] = self.b[old.system.minor_fault.0 as usize];
+        Migration::new(old, new).apply(self, &mut out);
+        out
+    }
+}
+
+/// A storage class of [`Memory`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Class {
+    B,
+    I,
+    F,
+    L,
+    D,
+    M,
+}
+
+/// What [`Memory::migrate`] copies from a memory of one layout into one of
+/// another, worked out once from the two layouts (name look-ups, off the
+/// engine's thread) and applied at the scan boundary as plain copies.
+#[derive(Debug, Clone, Default)]
+pub struct Migration {
+    /// (class, from, to, count), in the order `migrate` defines.
+    copies: Vec<(Class, u32, u32, u32)>,
+}
+
+impl Migration {
+    pub fn new(old: &Layout, new: &Layout) -> Migration {
+        let mut m = Migration::default();
+        // Runs of slots that stay together (each class's slots are given in
+        // tag order, so tags that keep their order keep their runs) become one
+        // copy: an edit's swap then costs a few memcpys. Destinations never
+        // overlap, so the order of the copies does not matter.
+        let mut last: [Option<usize>; 6] = [None; 6];
+        let mut copy = |c: Class, from: u32, to: u32, n: u32| {
+            if n == 0 {
+                return;
+            }
+            let k = c as usize;
+            if let Some((_, lf, lt, ln)) = last[k].map(|i| &mut m.copies[i])
+                && c != Class::M
+                && lf.checked_add(*ln) == Some(from)
+                && lt.checked_add(*ln) == Some(to)
+            {
+                *ln += n;
+                return;
+            }
+            last[k] = Some(m.copies.len());
+            m.copies.push((c, from, to, n));
+        };
+        // Every marker byte both memories have (clamped when applied).
+        copy(Class::M, 0, 0, u32::MAX);
+        let region = |c: Class, from: crate::layout::Region, to: crate::layout::Region| {
+            (c, from.base, to.base, from.len.min(to.len))
+        };
+        for (c, f, t, n) in [
+            region(Class::B, old.di, new.di),
+            region(Class::B, old.dout, new.dout),
+            region(Class::I, old.ai, new.ai),
+            region(Class::I, old.ao, new.ao),
+        ] {
+            copy(c, f, t, n);
+        }
+        copy(Class::B, old.system.minor_fault.0, new.system.minor_fault.0, 1);
         for (n, s) in &new.timers {
             if let Some(o) = old.timers.get(n) {
-                copy_n(&self.i, o.i.0, &mut out.i, s.i.0, 4);
-                copy_n(&self.b, o.b.0, &mut out.b, s.b.0, 2);
+                copy(Class::I, o.i.0, s.i.0, 4);
+                copy(Class::B, o.b.0, s.b.0, 2);
             }
         }
         for (n, s) in &new.counters {
             if let Some(o) = old.counters.get(n) {
-                copy_n(&self.i, o.i.0, &mut out.i, s.i.0, 2);
-                copy_n(&self.b, o.b.0, &mut out.b, s.b.0, 5);
+                copy(Class::I, o.i.0, s.i.0, 2);
+                copy(Class::B, o.b.0, s.b.0, 5);
             }
         }
-        out.i[new.system.fault_code.0 as usize] = self.i[old.system.fault_code.0 as usize];
+        copy(Class::I, old.system.fault_code.0, new.system.fault_code.0, 1);
         for (idx, tag) in new.tags.iter().enumerate() {
             let Some(oidx) = old.tags.position(&tag.name) else {
                 continue;
@@ -143,36 +199,49 @@ impl Memory {
                 continue;
             }
             match (old.slot(oidx), new.slot(idx)) {
-                (TagSlot::Bool(a), TagSlot::Bool(b)) => out.b[b.0 as usize] = self.b[a.0 as usize],
-                (TagSlot::Int(a), TagSlot::Int(b)) => out.i[b.0 as usize] = self.i[a.0 as usize],
-                (TagSlot::Real(a), TagSlot::Real(b)) => out.f[b.0 as usize] = self.f[a.0 as usize],
-                (TagSlot::Lint(a), TagSlot::Lint(b)) => out.l[b.0 as usize] = self.l[a.0 as usize],
-                (TagSlot::Lreal(a), TagSlot::Lreal(b)) => out.d[b.0 as usize] = self.d[a.0 as usize],
+                (TagSlot::Bool(a), TagSlot::Bool(b)) => copy(Class::B, a.0, b.0, 1),
+                (TagSlot::Int(a), TagSlot::Int(b)) => copy(Class::I, a.0, b.0, 1),
+                (TagSlot::Real(a), TagSlot::Real(b)) => copy(Class::F, a.0, b.0, 1),
+                (TagSlot::Lint(a), TagSlot::Lint(b)) => copy(Class::L, a.0, b.0, 1),
+                (TagSlot::Lreal(a), TagSlot::Lreal(b)) => copy(Class::D, a.0, b.0, 1),
                 (TagSlot::Timer(a), TagSlot::Timer(b)) => {
-                    copy_n(&self.i, a.i.0, &mut out.i, b.i.0, 3);
-                    copy_n(&self.b, a.b.0, &mut out.b, b.b.0, 3);
+                    copy(Class::I, a.i.0, b.i.0, 3);
+                    copy(Class::B, a.b.0, b.b.0, 3);
                 }
                 (TagSlot::Counter(a), TagSlot::Counter(b)) => {
-                    copy_n(&self.i, a.i.0, &mut out.i, b.i.0, 2);
-                    copy_n(&self.b, a.b.0, &mut out.b, b.b.0, 5);
+                    copy(Class::I, a.i.0, b.i.0, 2);
+                    copy(Class::B, a.b.0, b.b.0, 5);
                 }
                 (TagSlot::Pid(a), TagSlot::Pid(b)) => {
                     use crate::op::{PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS};
-                    copy_n(&self.f, a.f.0, &mut out.f, b.f.0, PID_F_SLOTS);
-                    copy_n(&self.i, a.i.0, &mut out.i, b.i.0, PID_I_SLOTS);
-                    copy_n(&self.b, a.b.0, &mut out.b, b.b.0, PID_B_SLOTS);
+                    copy(Class::F, a.f.0, b.f.0, PID_F_SLOTS);
+                    copy(Class::I, a.i.0, b.i.0, PID_I_SLOTS);
+                    copy(Class::B, a.b.0, b.b.0, PID_B_SLOTS);
                 }
                 // Tags on addresses keep their value through the image/markers.
                 _ => {}
             }
         }
-        out
+        m
     }
-}
 
-fn copy_region<T: Copy>(src: &[T], from: crate::layout::Region, dst: &mut [T], to: crate::layout::Region) {
-    let n = from.len.min(to.len);
-    copy_n(src, from.base, dst, to.base, n);
+    /// Copies the kept values of `from` (a memory of the old layout) into
+    /// `into` (one of the new layout, its initial values).
+    pub fn apply(&self, from: &Memory, into: &mut Memory) {
+        for &(c, f, t, n) in &self.copies {
+            match c {
+                Class::B => copy_n(&from.b, f, &mut into.b, t, n),
+                Class::I => copy_n(&from.i, f, &mut into.i, t, n),
+                Class::F => copy_n(&from.f, f, &mut into.f, t, n),
+                Class::L => copy_n(&from.l, f, &mut into.l, t, n),
+                Class::D => copy_n(&from.d, f, &mut into.d, t, n),
+                Class::M => {
+                    let n = (n as usize).min(from.m.len()).min(into.m.len());
+                    into.m[..n].copy_from_slice(&from.m[..n]);
+                }
+            }
+        }
+    }
 }
 
 fn copy_n<T: Copy>(src: &[T], from: u32, dst: &mut [T], to: u32, n: u32) {

@@ -320,7 +320,8 @@ enum Req {
     Stop,
     /// One scan while stopped.
     Step,
-    Replace(Arc<Program>),
+    /// A program prepared off the engine's thread (`Handle::replace`).
+    Replace(Box<alba_engine::Prepared>),
     /// +1 / −1 watcher of power flow.
     Monitor(bool),
     Shutdown,
@@ -399,6 +400,8 @@ pub struct Handle {
     latest: publish::Latest,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
+    /// The engine runs native code (an edit is compiled to it too).
+    native: bool,
 }
 
 impl Handle {
@@ -501,8 +504,21 @@ impl Handle {
     }
 
     /// Online edit: the new program runs from the next scan, memory migrated.
+    /// Everything that costs (verifying, native code or the interpreter's
+    /// forms, the migration's name look-ups) is done first on a thread of
+    /// its own; the engine only swaps, between two scans (issue 31).
     pub async fn replace(&self, program: Arc<Program>) -> Result<(), Error> {
-        self.ask(Req::Replace(program)).await
+        let old = self.snapshot().program.clone();
+        let native = self.native;
+        let (tx, rx) = oneshot::channel();
+        std::thread::Builder::new()
+            .name("alba-prepare".into())
+            .spawn(move || {
+                let _ = tx.send(alba_engine::Engine::prepare(program, &old, native));
+            })
+            .map_err(|e| Error::Rejected(format!("cannot start a thread to prepare the edit: {e}")))?;
+        let prepared = rx.await.map_err(|_| Error::Stopped)?.map_err(Error::Rejected)?;
+        self.ask(Req::Replace(Box::new(prepared))).await
     }
 
     /// One more (or one fewer) watcher of power flow; monitoring runs while
@@ -528,6 +544,7 @@ impl Runtime {
             // Where native code is unavailable the interpreter runs instead.
             let _ = engine.compile_native();
         }
+        let native = engine.native_on();
         let health = opts.health.clone();
         if let Some(path) = &opts.retain_file {
             let r = retain::load(path, &program, opts.on_retain_error, |p, v| engine.write(p, v))
@@ -600,6 +617,7 @@ impl Runtime {
                 latest,
                 snapshots: snap_rx,
                 health,
+                native,
             },
             thread: Some(thread),
         })
@@ -909,8 +927,14 @@ impl Worker {
                 }
             },
             Req::Replace(p) => {
-                self.engine.replace(p.clone()).map_err(Error::Rejected)?;
-                let layout = &p.layout;
+                let p = self.engine.swap(*p);
+                // The old program's forms are freed elsewhere: for a big
+                // program that takes milliseconds.
+                let _ = std::thread::Builder::new()
+                    .name("alba-retire".into())
+                    .spawn(move || drop(p));
+                let program = self.engine.shared_program();
+                let layout = &program.layout;
                 // Forces follow their names into the new layout.
                 let fs = self
                     .forces

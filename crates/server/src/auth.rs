@@ -228,9 +228,19 @@ pub struct Auth {
     clock: Arc<dyn Clock>,
     /// By the SHA-256 of the token.
     sessions: Mutex<HashMap<[u8; 32], Session>>,
+    /// Failures per (user, address) pair and per address: what holds a login back.
     backoff: Mutex<alba_auth::Backoff>,
+    /// Failures per user name, from any address: never a refusal (that would
+    /// lock the user out for everyone while someone guesses), an alert.
+    guessed: Mutex<alba_auth::Backoff>,
+    /// When each current alert was raised (Unix ms), by user name.
+    alerted: Mutex<HashMap<String, i64>>,
     verifying: tokio::sync::Semaphore,
 }
+
+/// Failed logins for one user name (within `alba_auth::FORGET_AFTER` of each
+/// other) that raise the alert `login` in `GET /api/status` and a line on stderr.
+pub const GUESSING_ALERT_AFTER: u32 = 10;
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
@@ -256,6 +266,8 @@ impl Auth {
             clock: Arc::new(SystemClock),
             sessions: Mutex::new(HashMap::new()),
             backoff: Mutex::new(alba_auth::Backoff::new()),
+            guessed: Mutex::new(alba_auth::Backoff::new()),
+            alerted: Mutex::new(HashMap::new()),
             verifying: tokio::sync::Semaphore::new(VERIFY_AT_ONCE),
         }
     }
@@ -315,13 +327,17 @@ impl Auth {
         self.limits
     }
 
-    /// Checks `password` for `user` (after the back-off of that user and of
-    /// the client's address) and opens a session. Every attempt that is not
-    /// held back by the back-off runs the same verification, for known and
-    /// unknown users alike.
+    /// Checks `password` for `user` (after the back-off of that user from
+    /// the client's address, and of the address) and opens a session. Every
+    /// attempt that is not held back by the back-off runs the same
+    /// verification, for known and unknown users alike. Failures for one
+    /// user from other addresses never hold it back (someone guessing a
+    /// name must not lock its owner out): they raise an alert instead
+    /// ([`Auth::alerts`]).
     pub async fn login(&self, user: &str, password: &str, addr: SocketAddr) -> Result<LoggedIn, ApiError> {
-        let user_key = format!("user:{user}");
-        let addr_key = format!("addr:{}", client_key(addr.ip()));
+        let client = client_key(addr.ip());
+        let user_key = format!("user:{user}@{client}");
+        let addr_key = format!("addr:{client}");
         // Queued logins see the failures of those before them.
         let _permit = self
             .verifying
@@ -346,6 +362,16 @@ impl Auth {
             let mut b = lock(&self.backoff);
             b.failure(&user_key, now);
             b.failure(&addr_key, now);
+            drop(b);
+            let mut g = lock(&self.guessed);
+            g.failure(user, now);
+            if g.failures(user) == GUESSING_ALERT_AFTER {
+                lock(&self.alerted).insert(user.to_string(), crate::api::audit::now_ms());
+                eprintln!(
+                    "warning: {GUESSING_ALERT_AFTER} failed logins for user `{user}` within 15 minutes (the last from \
+                     {client}): someone may be guessing its password"
+                );
+            }
             return Err(ApiError::Unauthorized("unknown user or wrong password".into()));
         };
         lock(&self.backoff).success(&user_key);
@@ -381,6 +407,25 @@ impl Auth {
             user: user.to_string(),
             role,
         })
+    }
+
+    /// The users someone may be guessing the password of: `(user, failed
+    /// logins, since when in Unix ms)` for those with [`GUESSING_ALERT_AFTER`]
+    /// or more, each within 15 minutes of the one before.
+    pub fn alerts(&self) -> Vec<(String, u32, i64)> {
+        let now = self.clock.now();
+        let current = lock(&self.guessed).at_least(GUESSING_ALERT_AFTER, now);
+        let mut alerted = lock(&self.alerted);
+        alerted.retain(|u, _| current.iter().any(|(c, _)| c == u));
+        let mut out: Vec<(String, u32, i64)> = current
+            .into_iter()
+            .map(|(u, n)| {
+                let since = alerted.get(&u).copied().unwrap_or(0);
+                (u, n, since)
+            })
+            .collect();
+        out.sort();
+        out
     }
 
     fn session_alive(&self, s: &Session, now: Instant) -> bool {
@@ -673,21 +718,52 @@ mod tests {
         // Held back, even with the right password, from this address...
         let e = a.login("ann", "right", addr(1)).await.expect_err("held back");
         assert!(matches!(e, ApiError::TooManyAttempts(d) if d > Duration::ZERO), "{e}");
-        // ...and for this user from elsewhere; not for another user elsewhere.
-        let e = a.login("ann", "right", addr(2)).await.expect_err("held back");
-        assert!(matches!(e, ApiError::TooManyAttempts(_)), "{e}");
         assert_eq!(
             users.calls.load(Ordering::SeqCst),
             calls,
             "no verification while held back"
         );
-        let e = a.login("bob", "x", addr(2)).await.expect_err("unknown");
-        assert!(matches!(e, ApiError::Unauthorized(_)), "{e}");
         // The address is held back for any user.
         let e = a.login("bob", "x", addr(1)).await.expect_err("held back");
         assert!(matches!(e, ApiError::TooManyAttempts(_)), "{e}");
         clock.advance(Duration::from_secs(120));
         a.login("ann", "right", addr(1)).await.expect("after the wait");
+    }
+
+    /// Issue 31: while someone guessed ann's password, ann herself got 429
+    /// with the right one. The guesser is held back (per pair and per
+    /// address), ann from her own address is not: an alert says instead.
+    #[tokio::test]
+    async fn guessing_a_user_from_other_addresses_never_locks_the_user_out() {
+        let (a, users, _) = auth();
+        // Guessers on many addresses, each within its free failures, then one
+        // address that keeps at it until held back.
+        for guesser in 10..20 {
+            for _ in 0..2 {
+                let e = a.login("ann", "guess", addr(guesser)).await.expect_err("wrong");
+                assert!(matches!(e, ApiError::Unauthorized(_)), "{e}");
+            }
+        }
+        let mut held = 0;
+        for _ in 0..10 {
+            if matches!(
+                a.login("ann", "guess", addr(30)).await,
+                Err(ApiError::TooManyAttempts(_))
+            ) {
+                held += 1;
+            }
+        }
+        assert!(held > 0, "the persistent guesser is held back");
+        let calls = users.calls.load(Ordering::SeqCst);
+        // Ann, from her own address, with the right password: in.
+        let ok = a.login("ann", "right", addr(1)).await.expect("not locked out");
+        assert_eq!(ok.user, "ann");
+        assert_eq!(users.calls.load(Ordering::SeqCst), calls + 1);
+        // And the guessing is visible.
+        let alerts = a.alerts();
+        assert_eq!(alerts.len(), 1, "{alerts:?}");
+        assert_eq!(alerts[0].0, "ann");
+        assert!(alerts[0].1 >= GUESSING_ALERT_AFTER, "{alerts:?}");
     }
 
     #[test]

@@ -28,6 +28,8 @@ pub struct AppState {
     pub io: String,
     /// WebSocket clients connected.
     pub clients: AtomicUsize,
+    /// Values subscribed by all live clients together (capped: `crate::ws`).
+    pub subscribed: AtomicUsize,
     /// Set when the server shuts down: WebSocket clients close.
     pub closing: watch::Sender<bool>,
     /// The store `alba run` records into (SQLite or the shared PostgreSQL);
@@ -80,6 +82,7 @@ impl AppState {
             project: tokio::sync::Mutex::new(compiled),
             io: io.to_string(),
             clients: AtomicUsize::new(0),
+            subscribed: AtomicUsize::new(0),
             closing: watch::Sender::new(false),
             history,
             audit,

@@ -8,6 +8,12 @@
 //! most). Beyond `[http] max_ws_clients` a client is closed at once with
 //! code 1013 ("try again later") and a reason saying why.
 //!
+//! A subscription names each value once (names that resolve to the same
+//! value, repeated or not, are sent once), lists at most
+//! [`MAX_NAMES`] names, and all clients together follow at most
+//! [`MAX_SERVER_VALUES`] values: without this, 64 clients repeating one name
+//! made 2 GB of traffic in 15 s (issue 31). `monitor` lists each program once.
+//!
 //! The handshake's `Origin` (required, the studio's own or allowed) is
 //! checked before this by `crate::guard`.
 
@@ -31,6 +37,12 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 const SEND_TIMEOUT: Duration = Duration::from_secs(5);
+/// Most names one `subscribe` lists (a screen shows far fewer; a message
+/// holds 64 KiB at most anyway).
+pub const MAX_NAMES: usize = 4096;
+/// Most values all live clients together follow: each is compared with its
+/// last sent value every scan, for every client.
+pub const MAX_SERVER_VALUES: usize = 250_000;
 const STATUS_EVERY: Duration = Duration::from_millis(500);
 /// How often a client's session is checked: the connection closes
 /// (1008, "session ended") within this time of a logout or expiry.
@@ -75,6 +87,29 @@ struct Client {
     status_state: &'static str,
     /// The alarm hub's generation last sent (`None`: not yet).
     alarms_sent: Option<u64>,
+    /// This client's share of the server's count of subscribed values.
+    counted: Counted,
+}
+
+/// A client's subscribed values, counted in `AppState::subscribed` for as
+/// long as it lives.
+struct Counted {
+    st: Arc<AppState>,
+    n: usize,
+}
+
+impl Counted {
+    fn set(&mut self, subs: &[Sub]) {
+        self.st.subscribed.fetch_add(subs.len(), Ordering::Relaxed);
+        self.st.subscribed.fetch_sub(self.n, Ordering::Relaxed);
+        self.n = subs.len();
+    }
+}
+
+impl Drop for Counted {
+    fn drop(&mut self) {
+        self.st.subscribed.fetch_sub(self.n, Ordering::Relaxed);
+    }
 }
 
 impl Client {
@@ -114,8 +149,11 @@ impl Client {
             .into_iter()
             .filter_map(|s| Some((s.key, s.sent?)))
             .collect();
+        // Each value once, under the first name that reached it.
+        let mut seen = std::collections::HashSet::new();
         self.subs = places
             .into_iter()
+            .filter(|(_, place)| seen.insert(*place))
             .map(|(name, place)| {
                 let key = format!("{}:", Json::String(name));
                 let sent = sent.remove(&key);
@@ -124,6 +162,7 @@ impl Client {
             .collect();
         self.units = project::unit_elements(program);
         self.program = Some(program.clone());
+        self.counted.set(&self.subs);
         unknown
     }
 
@@ -238,6 +277,7 @@ async fn client(mut socket: WebSocket, st: Arc<AppState>, session: Option<Sessio
         status_at: None,
         status_state: "",
         alarms_sent: None,
+        counted: Counted { st: st.clone(), n: 0 },
     };
     let mut monitoring = false;
     let mut closing = st.closing.subscribe();
@@ -306,12 +346,33 @@ fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<String> {
     if let Some(sub) = j.get("subscribe") {
         c.wanted = match sub {
             Json::String(s) if s == "*" => Wanted::All,
-            Json::Array(a) => Wanted::Names(a.iter().filter_map(|v| v.as_str().map(str::to_string)).collect()),
+            Json::Array(a) if a.len() > MAX_NAMES => {
+                return err(format!("`subscribe` lists {} names: at most {MAX_NAMES}", a.len()));
+            }
+            Json::Array(a) => {
+                let mut names: Vec<String> = a.iter().filter_map(|v| v.as_str().map(str::to_string)).collect();
+                let mut seen = std::collections::HashSet::new();
+                names.retain(|n| seen.insert(n.clone()));
+                Wanted::Names(names)
+            }
             _ => return err("`subscribe` takes \"*\" or an array of tag names".into()),
         };
         c.subs.clear();
         let program = st.runtime.snapshot().program.clone();
         let unknown = c.resolve(&program);
+        // Counted with this client's new subscription in: over the server's
+        // budget, it follows nothing.
+        let total = st.subscribed.load(Ordering::Relaxed);
+        if total > MAX_SERVER_VALUES {
+            let n = c.subs.len();
+            c.wanted = Wanted::Nothing;
+            c.subs.clear();
+            c.counted.set(&c.subs);
+            return err(format!(
+                "this subscription of {n} values would make {total} for all live clients, more than {MAX_SERVER_VALUES}: \
+                 subscribe to fewer"
+            ));
+        }
         if !unknown.is_empty() {
             return err(format!("unknown tags: {}", unknown.join(", ")));
         }
@@ -321,7 +382,12 @@ fn command(c: &mut Client, st: &AppState, text: &str) -> Vec<String> {
         let Some(a) = m.as_array() else {
             return err("`monitor` takes an array of program names".into());
         };
-        c.monitor = a.iter().filter_map(|v| v.as_str().map(str::to_string)).collect();
+        c.monitor = Vec::new();
+        for name in a.iter().filter_map(Json::as_str) {
+            if !c.monitor.iter().any(|m| m.eq_ignore_ascii_case(name)) {
+                c.monitor.push(name.to_string());
+            }
+        }
         c.power_sent.clear();
         let program = st.runtime.snapshot().program.clone();
         let unknown: Vec<&str> = c

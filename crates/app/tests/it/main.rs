@@ -313,7 +313,11 @@ async fn handlers_know_the_clients_address_over_tls() {
         axum::routing::get(|ConnectInfo(peer): ConnectInfo<std::net::SocketAddr>| async move { peer.to_string() }),
     );
     let server = tokio::spawn(async move {
-        let _ = axum::serve(listener, alba_app::tls::WithPeer(router)).await;
+        let limits = alba_app::serve::Limits {
+            max_connections: 16,
+            header_timeout: Duration::from_secs(15),
+        };
+        alba_app::serve::serve(listener, router, limits, std::future::pending()).await;
     });
     let res = client_trusting(&cert)
         .get(format!("https://localhost:{}/", addr.port()))
@@ -559,6 +563,54 @@ async fn a_second_run_of_the_same_project_is_refused() {
     let _ = stop.send(());
     let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
     let (_, stop, task) = serve(&dir, options("sim")).await;
+    let _ = stop.send(());
+    let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 31: `.alba/lock` was followed through a symbolic link (its target
+/// truncated to the pid), and deleting it let a second run start. The lock
+/// is now on the project directory; the pid file is never followed.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_lock_follows_no_link_and_survives_its_file_being_deleted() {
+    let dir = copy_example("tank", "locklink");
+    std::fs::create_dir_all(dir.join(".alba")).expect(".alba");
+    let victim = dir.join("precious.txt");
+    std::fs::write(&victim, "keep me").expect("victim");
+    std::os::unix::fs::symlink(&victim, dir.join(".alba/lock")).expect("symlink");
+    match alba_app::run(&dir, options("sim"), |_| panic!("must not start"), async {}).await {
+        Err(alba_app::RunError::Other(m)) => assert!(m.contains("not a regular file"), "{m}"),
+        _ => panic!("expected a refusal"),
+    }
+    assert_eq!(std::fs::read_to_string(&victim).expect("victim"), "keep me");
+    std::fs::remove_file(dir.join(".alba/lock")).expect("rm link");
+    // Running, its lock file deleted: a second run is still refused.
+    let (addr, stop, task) = serve(&dir, options("sim")).await;
+    std::fs::remove_file(dir.join(".alba/lock")).expect("rm lock");
+    match alba_app::run(&dir, options("sim"), |_| panic!("must not start"), async {}).await {
+        Err(alba_app::RunError::Other(m)) => assert!(m.contains("another `alba run`"), "{m}"),
+        _ => panic!("a second run started once .alba/lock was deleted"),
+    }
+    // The first one scans on.
+    let scans = |addr| async move {
+        let s: serde_json::Value = reqwest::get(format!("http://{addr}/api/status"))
+            .await
+            .expect("status")
+            .json()
+            .await
+            .expect("json");
+        s["scans"].as_u64().expect("scans")
+    };
+    let before = scans(addr).await;
+    let mut after = before;
+    for _ in 0..100 {
+        after = scans(addr).await;
+        if after > before {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert!(after > before, "the first run keeps scanning");
     let _ = stop.send(());
     let _ = tokio::time::timeout(Duration::from_secs(10), task).await;
     let _ = std::fs::remove_dir_all(&dir);

@@ -28,7 +28,12 @@ fn alarms(addr: &str) -> Vec<(String, String)> {
     body.as_array()
         .expect("a list")
         .iter()
-        .map(|a| (a["id"].as_str().unwrap_or_default().to_string(), a["state"].as_str().unwrap_or_default().to_string()))
+        .map(|a| {
+            (
+                a["id"].as_str().unwrap_or_default().to_string(),
+                a["state"].as_str().unwrap_or_default().to_string(),
+            )
+        })
         .collect()
 }
 
@@ -36,8 +41,14 @@ fn alarms(addr: &str) -> Vec<(String, String)> {
 fn an_unacknowledged_alarm_is_still_listed_after_kill_9() {
     let dir = crate::scratch("alarms-restart");
     for (f, t) in [
-        ("alba.toml", "name = \"a\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n"),
-        ("tags.csv", "name,type,address,initial,retain,description\nLevel,REAL,,,,\nScans,DINT,,,,\n"),
+        (
+            "alba.toml",
+            "name = \"a\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n[history]\nenabled = false\n",
+        ),
+        (
+            "tags.csv",
+            "name,type,address,initial,retain,description\nLevel,REAL,,,,\nScans,DINT,,,,\n",
+        ),
         ("main.lad", "ADD(Scans,1,Scans);\n"),
         (
             "alarms.csv",
@@ -52,7 +63,11 @@ fn an_unacknowledged_alarm_is_still_listed_after_kill_9() {
     assert!(status < 300, "{status} {body}");
     let t0 = Instant::now();
     while alarms(&addr) != [("hi".to_string(), "active_unacked".to_string())] {
-        assert!(t0.elapsed() < Duration::from_secs(20), "the alarm never became active: {:?}", alarms(&addr));
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "the alarm never became active: {:?}",
+            alarms(&addr)
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     drop(run); // SIGKILL
@@ -71,7 +86,12 @@ fn an_unacknowledged_alarm_is_still_listed_after_kill_9() {
         assert!(t0.elapsed() < Duration::from_secs(20));
         std::thread::sleep(Duration::from_millis(20));
     }
-    let (status, body) = send(&addr, "POST", "/api/alarms/hi/ack", r#"{"comment": "seen after the restart"}"#);
+    let (status, body) = send(
+        &addr,
+        "POST",
+        "/api/alarms/hi/ack",
+        r#"{"comment": "seen after the restart"}"#,
+    );
     assert!(status < 300, "{status} {body}");
     assert_eq!(alarms(&addr), vec![]);
     // Acknowledged stays acknowledged across the next restart (a graceful one).

@@ -193,7 +193,11 @@ fn the_demo_raises_no_alarm_in_normal_operation_and_one_when_stopped() {
         std::fs::read_to_string(out_file).expect("events")
     };
     let normal = events("normal.csv", None);
-    assert_eq!(normal.lines().count(), 1, "no alarm in 15 minutes of normal operation:\n{normal}");
+    assert_eq!(
+        normal.lines().count(),
+        1,
+        "no alarm in 15 minutes of normal operation:\n{normal}"
+    );
     let stopped = events("stopped.csv", Some("time_ms,tag,value\n60000,STOP,1\n60200,STOP,0\n"));
     let activations: Vec<&str> = stopped
         .lines()

@@ -3,6 +3,7 @@
 mod alarms;
 mod analyze;
 mod audit;
+mod clock;
 mod commands;
 mod differential;
 mod download;

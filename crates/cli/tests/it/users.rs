@@ -197,3 +197,39 @@ fn opcua_users_still_load_with_a_warning_and_migrate() {
     assert_eq!(users.verify("op", "old opcua secret"), Some(alba_auth::Role::Operator));
     assert_eq!(users.verify("ro", "old opcua secret"), Some(alba_auth::Role::Viewer));
 }
+
+/// Issue 31: the audit row of `alba user` named the account `$USER` said,
+/// so anyone could sign a change with someone else's name. It now names the
+/// process's real user id (and its name in the system's user database).
+#[test]
+fn the_audit_row_names_the_real_account_not_user_from_the_environment() {
+    let dir = project("users-forged", "");
+    let out = Command::new(env!("CARGO_BIN_EXE_alba"))
+        .args(["user", "add", ".", "mallory", "--role", "viewer"])
+        .current_dir(&dir)
+        .env("USER", "the-plant-manager")
+        .env("USERNAME", "the-plant-manager")
+        .env("LOGNAME", "the-plant-manager")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .and_then(|mut c| {
+            c.stdin.take().expect("stdin").write_all(b"correct horse battery\n")?;
+            c.wait_with_output()
+        })
+        .expect("alba runs");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let log = alba_audit::Audit::open(dir.join(".alba/audit.db"), alba_audit::Config::default()).expect("audit");
+    let rows = log.query(&alba_audit::Filter::default(), None, 10).expect("query").rows;
+    let detail = rows
+        .iter()
+        .find(|r| r.target.as_deref() == Some("mallory"))
+        .and_then(|r| r.detail.clone())
+        .expect("a row for the change");
+    assert!(!detail.contains("the-plant-manager"), "{detail}");
+    let uid = std::fs::metadata("/proc/self").map(|m| std::os::unix::fs::MetadataExt::uid(&m));
+    if let Ok(uid) = uid {
+        assert!(detail.contains(&format!("uid {uid}")), "{detail}");
+    }
+}

@@ -38,6 +38,11 @@ pub const MAIN_HEADER: &str = "//PROJECT NAME";
 
 /// Screens read from one folder, at most.
 const MAX_SCREENS: usize = 64;
+/// One `.pcs` screen, at most (AuroraLD's are a few KB: at most 200 elements
+/// of a few lines each).
+pub const MAX_SCREEN_BYTES: u64 = 1024 * 1024;
+/// The whole folder, at most: every file read, together.
+pub const MAX_FOLDER_BYTES: u64 = 64 * 1024 * 1024;
 /// AuroraLD's tag table holds 100 rows (Fig. 182, `num_tags = 100`).
 const MAX_TAGS: i64 = 100;
 /// The trend environment's pens (§3.18: "hasta un máximo de 9 variables").
@@ -55,7 +60,11 @@ pub struct Folder {
 }
 
 impl Folder {
-    /// Reads the folder `dir` (each file within [`crate::MAX_INPUT_BYTES`]).
+    /// Reads the folder `dir`: main.ara first, which must be one (nothing
+    /// else is read otherwise), then the other files, each within
+    /// [`crate::MAX_INPUT_BYTES`] (a screen within [`MAX_SCREEN_BYTES`]) and
+    /// all together within [`MAX_FOLDER_BYTES`], checked on their sizes
+    /// before any is read.
     pub fn read(dir: &Path) -> Result<Folder, Error> {
         let entries = fs::read_dir(dir).map_err(|e| Error::plain(format!("cannot read {}: {e}", dir.display())))?;
         let mut names: Vec<String> = entries
@@ -65,22 +74,15 @@ impl Folder {
             .collect();
         names.sort();
         let find = |want: &str| names.iter().find(|n| n.eq_ignore_ascii_case(want)).cloned();
-        let read = |name: Option<String>| -> Result<Option<String>, Error> {
-            name.map(|n| crate::read_input(&dir.join(n))).transpose()
-        };
         let Some(main) = find(MAIN) else {
             return Err(Error::plain(format!(
                 "{} is not an AuroraLD project folder: it has no {MAIN}",
                 dir.display()
             )));
         };
-        let mut folder = Folder {
-            main: read(Some(main))?,
-            tags: read(find(TAGS))?,
-            instructions: read(find(INSTRUCTIONS))?,
-            trends: read(find(TRENDS))?,
-            screens: Vec::new(),
-        };
+        let main = crate::read_input(&dir.join(main))?;
+        read_main(&main, &mut Report::default())?;
+        let others: Vec<Option<String>> = [TAGS, INSTRUCTIONS, TRENDS].iter().map(|f| find(f)).collect();
         let pcs: Vec<&String> = names
             .iter()
             .filter(|n| n.to_ascii_lowercase().ends_with(".pcs"))
@@ -92,8 +94,53 @@ impl Folder {
                 pcs.len()
             )));
         }
+        let mut total = main.len() as u64;
+        for n in others.iter().flatten().chain(pcs.iter().copied()) {
+            let path = dir.join(n);
+            let len = fs::metadata(&path).map_or(0, |m| m.len());
+            let is_screen = !others.iter().flatten().any(|o| o == n);
+            if is_screen && len > MAX_SCREEN_BYTES {
+                return Err(Error::plain(format!(
+                    "{} is {len} bytes; screens above {} KiB are refused",
+                    path.display(),
+                    MAX_SCREEN_BYTES / 1024
+                )));
+            }
+            total = total.saturating_add(len);
+        }
+        if total > MAX_FOLDER_BYTES {
+            return Err(Error::plain(format!(
+                "{} holds {total} bytes of project files; at most {} MiB are read",
+                dir.display(),
+                MAX_FOLDER_BYTES / (1024 * 1024)
+            )));
+        }
+        let read = |name: &Option<String>| -> Result<Option<String>, Error> {
+            name.as_ref().map(|n| crate::read_input(&dir.join(n))).transpose()
+        };
+        let mut folder = Folder {
+            main: Some(main),
+            tags: read(&others[0])?,
+            instructions: read(&others[1])?,
+            trends: read(&others[2])?,
+            screens: Vec::new(),
+        };
+        let mut read_so_far: u64 = [&folder.main, &folder.tags, &folder.instructions, &folder.trends]
+            .iter()
+            .filter_map(|t| t.as_ref())
+            .map(|t| t.len() as u64)
+            .sum();
         for n in pcs {
-            folder.screens.push((n.clone(), crate::read_input(&dir.join(n))?));
+            let text = crate::read_input_within(&dir.join(n), MAX_SCREEN_BYTES)?;
+            read_so_far += text.len() as u64;
+            if read_so_far > MAX_FOLDER_BYTES {
+                return Err(Error::plain(format!(
+                    "{} holds more than {} MiB of project files",
+                    dir.display(),
+                    MAX_FOLDER_BYTES / (1024 * 1024)
+                )));
+            }
+            folder.screens.push((n.clone(), text));
         }
         Ok(folder)
     }

@@ -30,11 +30,15 @@ pub struct Http {
     pub max_ws_clients: u32,
     /// A request whose answer takes longer is answered 503.
     pub request_timeout_s: u32,
+    /// A connection must send a whole request head within this time of
+    /// opening or of its last answer (an idle keep-alive), else it is closed.
+    pub header_timeout_s: u32,
 }
 
 pub const DEFAULT_MAX_CONNECTIONS: u32 = 256;
 pub const DEFAULT_MAX_WS_CLIENTS: u32 = 64;
 pub const DEFAULT_REQUEST_TIMEOUT_S: u32 = 30;
+pub const DEFAULT_HEADER_TIMEOUT_S: u32 = 15;
 
 impl Default for Http {
     fn default() -> Http {
@@ -47,6 +51,7 @@ impl Default for Http {
             max_connections: DEFAULT_MAX_CONNECTIONS,
             max_ws_clients: DEFAULT_MAX_WS_CLIENTS,
             request_timeout_s: DEFAULT_REQUEST_TIMEOUT_S,
+            header_timeout_s: DEFAULT_HEADER_TIMEOUT_S,
         }
     }
 }
@@ -64,6 +69,7 @@ pub(super) struct RawHttp {
     max_connections: Option<Spanned<i64>>,
     max_ws_clients: Option<Spanned<i64>>,
     request_timeout_s: Option<Spanned<i64>>,
+    header_timeout_s: Option<Spanned<i64>>,
 }
 
 /// Whether `s` is a host name: letters, digits, `-`, `.` (and `_`, seen in
@@ -178,6 +184,15 @@ pub(super) fn http(h: RawHttp, file: FileId, diags: &mut Vec<Diagnostic>) -> Htt
         h.request_timeout_s,
         1..=3_600,
         DEFAULT_REQUEST_TIMEOUT_S,
+        "seconds",
+        file,
+        diags,
+    );
+    out.header_timeout_s = int_setting(
+        "header_timeout_s",
+        h.header_timeout_s,
+        1..=3_600,
+        DEFAULT_HEADER_TIMEOUT_S,
         "seconds",
         file,
         diags,

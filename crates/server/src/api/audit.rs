@@ -135,6 +135,37 @@ pub async fn audited<T>(st: &AppState, entry: Entry, action: impl Future<Output 
     result
 }
 
+/// Performs a safety action — stop, removing forces — under its audit row,
+/// which is never a reason to refuse it (issue 31: with the disk full, the
+/// PLC could not be stopped): when the log cannot be written the row goes to
+/// its fallback journal, or at worst to stderr (`alba_audit::Audit::begin_safety`).
+pub async fn audited_safety<T>(
+    st: &AppState,
+    entry: Entry,
+    action: impl Future<Output = ApiResult<T>>,
+) -> ApiResult<T> {
+    let Some(audit) = st.audit.clone() else {
+        return action.await;
+    };
+    let log = audit.clone();
+    let begun = blocking(move || Ok(log.begin_safety(&entry)))
+        .await
+        .unwrap_or(Ok(alba_audit::Begun::Nowhere))
+        .unwrap_or(alba_audit::Begun::Nowhere);
+    let result = action.await;
+    let outcome = match &result {
+        Ok(_) => Outcome::Ok,
+        Err(e) => Outcome::Failed(e.to_string()),
+    };
+    let b = begun.clone();
+    match blocking(move || audit.finish_safety(&b, &outcome)).await {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => eprintln!("audit: the outcome of {begun:?} is not recorded: {e}"),
+        Err(e) => eprintln!("audit: the outcome of {begun:?} is not recorded: {e}"),
+    }
+    result
+}
+
 /// Records an action already done or refused (a login, a failed login, a
 /// logout): the reply must wait for it, and fail if it fails.
 pub async fn record(st: &AppState, entry: Entry, outcome: Outcome) -> ApiResult<()> {

@@ -1,6 +1,6 @@
 //! `GET|DELETE /api/forces`, `PUT|DELETE /api/forces/{name}`.
 
-use super::audit::{Actor, audited, json_text};
+use super::audit::{Actor, audited, audited_safety, json_text};
 use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
 use crate::reply::Force;
@@ -84,7 +84,7 @@ pub async fn delete(State(st): State<Arc<AppState>>, actor: Actor, Path(name): P
         old: Some(json_text(&to_json(value))),
         ..actor.entry(Action::Unforce)
     };
-    audited(&st, entry, async { Ok(st.runtime.unforce(Some(name)).await?) }).await?;
+    audited_safety(&st, entry, async { Ok(st.runtime.unforce(Some(name)).await?) }).await?;
     Ok(StatusCode::NO_CONTENT)
 }
 
@@ -98,6 +98,6 @@ pub async fn delete_all(State(st): State<Arc<AppState>>, actor: Actor) -> ApiRes
         old: Some(json_text(&serde_json::Value::Object(all))),
         ..actor.entry(Action::Unforce)
     };
-    audited(&st, entry, async { Ok(st.runtime.unforce(None).await?) }).await?;
+    audited_safety(&st, entry, async { Ok(st.runtime.unforce(None).await?) }).await?;
     Ok(StatusCode::NO_CONTENT)
 }

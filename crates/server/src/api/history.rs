@@ -17,11 +17,11 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 /// The most rows a CSV export answers with.
-const MAX_CSV_ROWS: i64 = 1_000_000;
+const MAX_CSV_ROWS: u64 = 1_000_000;
 /// The most different tags (columns) of a CSV export.
 pub const MAX_CSV_COLUMNS: usize = 64;
 /// The most values (rows × columns) of a CSV export.
-const MAX_CSV_CELLS: i64 = 10_000_000;
+const MAX_CSV_CELLS: u64 = 10_000_000;
 
 fn historian(st: &AppState) -> Result<Arc<dyn Backend>, ApiError> {
     st.history.clone().ok_or(ApiError::HistoryOff)
@@ -173,22 +173,7 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
     }
     let (from, to) = (int(&q, "from", None)?, int(&q, "to", None)?);
     let step = int(&q, "step", Some(1000))?;
-    if step < 1 {
-        return Err(ApiError::Invalid("`step` must be at least 1 ms".into()));
-    }
-    let rows = if to >= from { (to - from) / step + 1 } else { 0 };
-    if rows > MAX_CSV_ROWS {
-        return Err(ApiError::Invalid(format!(
-            "{rows} rows is more than {MAX_CSV_ROWS}: choose a larger `step` or a shorter range"
-        )));
-    }
-    let cells = rows.saturating_mul(names.len() as i64);
-    if cells > MAX_CSV_CELLS {
-        return Err(ApiError::Invalid(format!(
-            "{rows} rows of {} tags is more than {MAX_CSV_CELLS} values: choose a larger `step`, a shorter range or fewer tags",
-            names.len()
-        )));
-    }
+    csv_size(from, to, step, names.len())?;
     // One export at a time per permit; the others wait their turn.
     let permit = EXPORTS.acquire().await.map_err(|e| ApiError::Internal(e.to_string()))?;
     let (mut w, mut rx) = stream::channel::<alba_historian::Error>();
@@ -224,5 +209,86 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
         .into_response())
 }
 
+/// Checks the size of an export of `columns` tags over `[from, to]` every `step` ms
+/// against the caps, counting rows as the historian will write them
+/// (`alba_historian::csv_rows`: clamped, no overflow for any `i64`s); the values it holds.
+fn csv_size(from: i64, to: i64, step: i64, columns: usize) -> Result<u64, ApiError> {
+    let rows = alba_historian::csv_rows(from, to, step)
+        .ok_or_else(|| ApiError::Invalid("`step` must be at least 1 ms".into()))?;
+    if rows > MAX_CSV_ROWS {
+        return Err(ApiError::Invalid(format!(
+            "{rows} rows is more than {MAX_CSV_ROWS}: choose a larger `step` or a shorter range"
+        )));
+    }
+    let cells = rows.saturating_mul(columns as u64);
+    if cells > MAX_CSV_CELLS {
+        return Err(ApiError::Invalid(format!(
+            "{rows} rows of {columns} tags is more than {MAX_CSV_CELLS} values: choose a larger `step`, a shorter range or fewer tags"
+        )));
+    }
+    Ok(cells)
+}
+
 /// Exports run at once (each holds a reader of the historian and a thread).
 static EXPORTS: tokio::sync::Semaphore = tokio::sync::Semaphore::const_new(2);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 31: `to - from` overflowed, so `from=i64::MIN&to=i64::MAX` passed the caps as
+    /// one row and streamed 610 M values. Over extreme and arbitrary ranges, what is
+    /// accepted is within the caps, counted exactly (128-bit arithmetic on the range the
+    /// historian clamps to).
+    #[test]
+    fn csv_caps_hold_for_any_range() {
+        let m = alba_historian::MAX_TIME_MS;
+        let exact = |from: i64, to: i64, step: i64| {
+            let (f, t) = (i128::from(from.clamp(-m, m)), i128::from(to.clamp(-m, m)));
+            if f > t { 0 } else { (t - f) / i128::from(step) + 1 }
+        };
+        assert!(csv_size(i64::MIN, i64::MAX, 1_801_439_851, 61).is_err());
+        let edges = [
+            i64::MIN,
+            i64::MIN + 1,
+            -m - 1,
+            -m,
+            -1,
+            0,
+            1,
+            m,
+            m + 1,
+            i64::MAX - 1,
+            i64::MAX,
+        ];
+        let mut cases: Vec<(i64, i64, i64)> = Vec::new();
+        for &a in &edges {
+            for &b in &edges {
+                for step in [1, 2, 1000, 1_801_439_851, i64::MAX / 2, i64::MAX] {
+                    cases.push((a, b, step));
+                }
+            }
+        }
+        // Arbitrary ones too (a fixed generator: the same cases every run).
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as i64
+        };
+        for _ in 0..20_000 {
+            cases.push((next(), next(), next().unsigned_abs().max(1).min(i64::MAX as u64) as i64));
+        }
+        for (from, to, step) in cases {
+            for columns in [1, 61, MAX_CSV_COLUMNS] {
+                if let Ok(cells) = csv_size(from, to, step, columns) {
+                    let rows = exact(from, to, step);
+                    assert!(rows <= i128::from(MAX_CSV_ROWS), "{from} {to} {step}");
+                    assert_eq!(i128::from(cells), rows * columns as i128, "{from} {to} {step}");
+                    assert!(cells <= MAX_CSV_CELLS);
+                }
+            }
+        }
+    }
+}

@@ -52,22 +52,32 @@ pub async fn get(State(st): State<Arc<AppState>>, Path(name): Path<String>) -> A
 }
 
 /// Compiles the project with `edit`; the diagnostics if it does not compile.
-async fn check_edit(st: &AppState, edit: &project::Edit<'_>) -> Result<project::Compiled, EditError> {
-    let p = st.project.lock().await;
-    let c = project::compile_with(&p.project, Some(edit))?;
+/// Checks `name` with `text` in place of its program. The project is taken
+/// under its lock only to be copied: the compile (seconds for a huge net)
+/// runs on a blocking thread, holding up neither edits nor the async workers.
+async fn check_program(st: &AppState, name: &str, text: &str) -> ApiResult<project::Compiled> {
+    let current = st.project.lock().await.project.clone();
+    let (name, text) = (name.to_string(), text.to_string());
+    let c = tokio::task::spawn_blocking(move || {
+        project::compile_with(
+            &current,
+            Some(&project::Edit::Program {
+                name: &name,
+                text: &text,
+            }),
+        )
+    })
+    .await
+    .map_err(|e| ApiError::Internal(format!("check: {e}")))??;
     if c.program.is_none() {
-        return Err(EditError::does_not_compile(&c));
+        return Err(EditError::does_not_compile(&c).into());
     }
     Ok(c)
 }
 
 pub async fn check(State(st): State<Arc<AppState>>, Path(name): Path<String>, b: Body) -> ApiResult<Json<Checked>> {
     let j = body(b)?;
-    let edit = project::Edit::Program {
-        name: &name,
-        text: text_field(&j)?,
-    };
-    let c = check_edit(&st, &edit).await?;
+    let c = check_program(&st, &name, text_field(&j)?).await?;
     let view = project::program_json(&c.project, c.program.as_ref(), &name, &c.diagnostics)?;
     Ok(Json(Checked {
         diagnostics: Vec::new(),

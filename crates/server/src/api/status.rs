@@ -1,6 +1,6 @@
 //! `GET /api/status`, `POST /api/run`, `POST /api/stop`, `POST /api/step`.
 
-use super::audit::{Actor, audited, json_text};
+use super::audit::{Actor, audited, audited_safety, json_text};
 use crate::error::ApiResult;
 use crate::reply::{Problem, RunState, Stats, Status};
 use crate::state::AppState;
@@ -44,6 +44,14 @@ pub fn status_of(s: &Snapshot, state: &AppState) -> Status {
                 message: p.message,
                 since_unix_ms: p.since_unix_ms,
             })
+            .chain(state.auth.alerts().into_iter().map(|(user, n, since)| Problem {
+                source: "login".into(),
+                message: format!(
+                    "{n} failed logins for user `{user}`, each within 15 minutes of the last: someone may be \
+                     guessing its password (the guessing addresses are held back, the user is not)"
+                ),
+                since_unix_ms: since,
+            }))
             .collect(),
         forces: super::forces::of(s),
         connections: state.connections.get().map(|c| c.status()).unwrap_or_default(),
@@ -72,10 +80,11 @@ pub async fn run(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Jso
     Ok(get(State(st)).await)
 }
 
-/// Audited (`stop`).
+/// Audited (`stop`), and never refused for want of its audit row (a full
+/// disk): see `audited_safety`.
 pub async fn stop(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
     let e = entry(&st, &actor, Action::Stop, RunState::Stopped);
-    audited(&st, e, async { Ok(st.runtime.stop().await?) }).await?;
+    audited_safety(&st, e, async { Ok(st.runtime.stop().await?) }).await?;
     Ok(get(State(st)).await)
 }
 

@@ -648,13 +648,22 @@ async fn the_studio_is_embedded_and_served() {
                 coding,
                 "{path} for {accept:?}"
             );
-            assert_eq!(h.get("vary").and_then(|v| v.to_str().ok()), Some("Accept-Encoding"), "{path}");
+            assert_eq!(
+                h.get("vary").and_then(|v| v.to_str().ok()),
+                Some("Accept-Encoding"),
+                "{path}"
+            );
             let body = res.bytes().await.expect("body");
             if let Some(m) = magic {
                 assert!(body.starts_with(m), "{path}: a gzip stream");
             }
             if coding.is_some() && path != "/" {
-                assert!(body.len() * 2 < raw.len(), "{path}: {} of {} bytes", body.len(), raw.len());
+                assert!(
+                    body.len() * 2 < raw.len(),
+                    "{path}: {} of {} bytes",
+                    body.len(),
+                    raw.len()
+                );
             } else if path != "/" {
                 assert_eq!(body, raw);
             }
@@ -746,7 +755,10 @@ async fn autotune_runs_the_relay_experiment_on_a_copy_and_leaves_the_plc_alone()
     let cv = s.value("Loop.CV").await.as_f64().expect("CV");
     let (code, j) = s.call(Method::POST, "/api/pid/Loop/autotune", Some(json!({}))).await;
     assert_eq!(code, StatusCode::OK, "{j}");
-    assert!((j["bias"].as_f64().expect("bias") - cv).abs() < 1.0, "around the CV of {cv}: {j}");
+    assert!(
+        (j["bias"].as_f64().expect("bias") - cv).abs() < 1.0,
+        "around the CV of {cv}: {j}"
+    );
     assert!(j["ku"].as_f64().expect("ku") > 0.0, "{j}");
     // The running loop was not touched.
     assert_eq!(s.value("Loop.SP").await, sp);

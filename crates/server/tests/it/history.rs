@@ -99,7 +99,7 @@ async fn every_tag_is_recorded_and_queried_downsampled() {
     );
     assert!(text.lines().count() >= 6);
 
-    let bad: [(&str, StatusCode, &str); 11] = [
+    let bad: [(&str, StatusCode, &str); 12] = [
         (
             "/api/history?tag=Nivel_L&from=0&to=1&node=line-9",
             StatusCode::NOT_FOUND,
@@ -139,6 +139,12 @@ async fn every_tag_is_recorded_and_queried_downsampled() {
         ("/api/history.csv?tags=&from=0&to=1", StatusCode::BAD_REQUEST, "no tag"),
         (
             "/api/history.csv?tags=Nivel_L&from=0&to=100000000&step=1",
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "rows",
+        ),
+        // Issue 31: `to - from` overflowed and this passed as one row (10 M were streamed).
+        (
+            "/api/history.csv?tags=Nivel_L&from=-9223372036854775808&to=9223372036854775807&step=1801439851",
             StatusCode::UNPROCESSABLE_ENTITY,
             "rows",
         ),

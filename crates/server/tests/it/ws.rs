@@ -173,3 +173,80 @@ async fn alarm_changes_are_pushed() {
     next(&mut ws, "alarms", |j| j["unacked"] == 0).await;
     s.stop().await;
 }
+
+/// Issue 31: a `subscribe` repeating one name made the server send it once
+/// per repetition on every change (64 clients: 2 GB in 15 s). Each value is
+/// now sent once, however often and under whatever names it is asked for;
+/// a program monitored twice sends its power flow once; the names of one
+/// subscription are capped. Counted in messages and keys, not timed.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn repeated_names_are_sent_once_and_subscriptions_are_capped() {
+    let s = Server::start("tank", "wsdup").await;
+    let mut ws = connect(&s).await;
+    let mut names: Vec<Json> = vec![json!("Llenar"); 3000];
+    names.extend([json!("CT_STP"), json!("CT_STP.PRE"), json!("CT_STP")]);
+    send(&mut ws, json!({ "subscribe": names })).await;
+    // Read raw: a JSON parser would merge repeated keys.
+    let raw = loop {
+        let m = tokio::time::timeout(Duration::from_secs(5), ws.next())
+            .await
+            .expect("a message")
+            .expect("open")
+            .expect("message");
+        if let Message::Text(t) = m
+            && t.as_str().starts_with("{\"type\":\"values\"")
+        {
+            break t.as_str().to_string();
+        }
+    };
+    assert_eq!(
+        raw.matches("\"Llenar\":").count(),
+        1,
+        "each value once: {}",
+        &raw[..raw.len().min(300)]
+    );
+    let first: Json = serde_json::from_str(&raw).expect("JSON");
+    let keys: Vec<&String> = first["values"].as_object().expect("values").keys().collect();
+    let members = keys.iter().filter(|k| k.starts_with("CT_STP.")).count();
+    assert_eq!(keys.len(), 1 + members, "each value once: {keys:?}");
+    assert_eq!(keys.iter().filter(|k| **k == "Llenar").count(), 1);
+    s.call(Method::PUT, "/api/tags/Llenar", Some(json!({"value": true})))
+        .await;
+    let m = next(&mut ws, "values", |j| j["values"].get("Llenar").is_some()).await;
+    assert_eq!(m["values"], json!({"Llenar": true}));
+
+    // One program monitored 200 times: at most one power message per scan,
+    // counted over the messages up to the third status message.
+    send(&mut ws, json!({ "monitor": vec![json!("main.lad"); 200] })).await;
+    let mut per_scan: std::collections::HashMap<u64, usize> = std::collections::HashMap::new();
+    let mut statuses = 0;
+    while statuses < 3 {
+        let m = tokio::time::timeout(Duration::from_secs(5), ws.next())
+            .await
+            .expect("a message")
+            .expect("open")
+            .expect("message");
+        let Message::Text(t) = m else { continue };
+        let j: Json = serde_json::from_str(t.as_str()).expect("JSON");
+        match j["type"].as_str() {
+            Some("power") => *per_scan.entry(j["scan"].as_u64().expect("scan")).or_default() += 1,
+            Some("status") => statuses += 1,
+            _ => {}
+        }
+    }
+    assert!(!per_scan.is_empty(), "no power flow at all");
+    assert!(
+        per_scan.values().all(|&n| n == 1),
+        "power sent more than once per scan: {per_scan:?}"
+    );
+
+    // More names than a subscription may list: refused, nothing followed.
+    let many: Vec<Json> = (0..=4096).map(|i| json!(format!("T{i}"))).collect();
+    send(&mut ws, json!({ "monitor": [] })).await;
+    send(&mut ws, json!({ "subscribe": many })).await;
+    let e = next(&mut ws, "error", |_| true).await;
+    assert!(e["error"].as_str().expect("msg").contains("at most 4096"), "{e}");
+    // The PLC scanned all along.
+    s.wait_scans(5).await;
+    s.stop().await;
+}
