@@ -33,6 +33,19 @@ async fn clients(s: &Server) -> u64 {
     st["clients"].as_u64().unwrap_or(u64::MAX)
 }
 
+/// Waits (10 s at most) until `n` live clients are counted: the server counts
+/// one once the upgraded connection's task runs, a moment after the
+/// handshake's answer.
+async fn counted(s: &Server, n: u64) -> bool {
+    for _ in 0..500 {
+        if clients(s).await == n {
+            return true;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    false
+}
+
 /// A raw keep-alive HTTP/1.1 request on `conn`; the answer's head and body.
 async fn raw_get(conn: &mut tokio::net::TcpStream, path: &str) -> String {
     conn.write_all(format!("GET {path} HTTP/1.1\r\nhost: 127.0.0.1\r\n\r\n").as_bytes())
@@ -172,6 +185,7 @@ async fn live_clients_beyond_the_cap_are_closed_with_a_reason() {
     let s = with_http("wscap", "max_ws_clients = 2\n").await;
     let (mut a, _) = tokio_tungstenite::connect_async(ws_request(&s)).await.expect("first");
     let (_b, _) = tokio_tungstenite::connect_async(ws_request(&s)).await.expect("second");
+    assert!(counted(&s, 2).await, "the first two are live");
     let (mut c, _) = tokio_tungstenite::connect_async(ws_request(&s))
         .await
         .expect("handshake");
@@ -224,7 +238,8 @@ async fn a_live_client_that_stops_reading_little_traffic_is_dropped_within_secon
     ))
     .await
     .expect("send");
-    assert_eq!(clients(&s).await, 1);
+    // It stays counted for at least the 5 s a blocked send is given.
+    assert!(counted(&s, 1).await, "the slow client was never counted as live");
     // Bounded: a send blocked for 5 s drops it (60 s is only the test's limit).
     let mut dropped = false;
     for _ in 0..600 {
