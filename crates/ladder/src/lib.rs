@@ -6,6 +6,7 @@
 pub mod ast;
 pub mod domain;
 pub mod expr;
+pub mod funcs;
 pub mod lower;
 pub mod parse;
 pub mod print;

@@ -959,7 +959,7 @@ impl Compiler<'_> {
                 x && y
             }
             Expr::Call(f, args, _) => {
-                if !matches!(f, Func::Abs | Func::Trn | Func::Round | Func::Frd | Func::Tod) {
+                if f.is_float() {
                     *float_ops = true;
                 }
                 let mut ok = true;
@@ -1041,41 +1041,17 @@ impl Compiler<'_> {
                 t
             }
             Expr::Call(f, args, sp) => {
-                let a = self.expr(&args[0], c, leaves, elem)?;
-                let t = self.b.temp(c);
-                if *f == Func::Atan2 {
-                    let b = self.expr(&args[1], c, leaves, elem)?;
-                    self.b.bin(BinOp::Atan2, a, b, t, elem);
-                    return Some(t);
-                }
-                let float = matches!(c, Class::F | Class::D);
-                let op = match f {
-                    Func::Sqrt => UnOp::Sqrt,
-                    Func::Abs => UnOp::Abs,
-                    Func::Sin => UnOp::Sin,
-                    Func::Cos => UnOp::Cos,
-                    Func::Tan => UnOp::Tan,
-                    Func::Asn => UnOp::Asin,
-                    Func::Acs => UnOp::Acos,
-                    Func::Atn => UnOp::Atan,
-                    Func::Ln => UnOp::Ln,
-                    Func::Log => UnOp::Log,
-                    Func::Deg => UnOp::Deg,
-                    Func::Rad => UnOp::Rad,
-                    Func::Trn if float => UnOp::Trunc,
-                    Func::Round if float => UnOp::Round,
-                    Func::Trn | Func::Round => UnOp::Mov,
-                    Func::Frd | Func::Tod => {
-                        let name = if *f == Func::Frd { "FRD" } else { "TOD" };
-                        if !int_only(self, name, *sp) {
-                            return None;
-                        }
-                        if *f == Func::Frd { UnOp::Frd } else { UnOp::Tod }
+                if matches!(f, Func::Frd | Func::Tod) {
+                    let name = if *f == Func::Frd { "FRD" } else { "TOD" };
+                    if !int_only(self, name, *sp) {
+                        return None;
                     }
-                    Func::Atan2 => return None,
-                };
-                self.b.un(op, a, t, elem);
-                t
+                }
+                let mut vals = Vec::with_capacity(args.len());
+                for a in args {
+                    vals.push(self.expr(a, c, leaves, elem)?);
+                }
+                crate::funcs::call(self.b, *f, &vals, c, elem)
             }
         })
     }
