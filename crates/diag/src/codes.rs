@@ -124,7 +124,7 @@ codes! {
     ConflictingPreset = 311, "one timer or counter is given two different presets",
         "The literal PRE and ACC of TON(t,pre,acc) are the structure's initial values, so every instruction on one tag must give the same ones (or `?`).";
     Expression = 312, "a CPT expression is malformed",
-        "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, and PI and E.";
+        "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, AuroraLD's log10 logE log(a,b) Int signum cosh sinh tanh rnd(a,b) radians degrees, and PI and E.";
     NotYetSupported = 313, "a reserved instruction is not available yet",
         "No instruction is reserved at present (PID, once reserved, is available; see ladder.md and pid.md). The code is kept so that old reports keep their meaning.";
     StimulusSyntax = 401, "a stimulus row is malformed",

@@ -59,6 +59,8 @@ pub enum Func {
     /// Rounding half away from zero (`round` in a net), where CPT's rounds
     /// half to even.
     RoundAway,
+    /// AuroraLD's `rnd(a, b)`: a pseudo-random number from a to b.
+    Rnd,
 }
 
 /// Which expression language a text is in.
@@ -121,13 +123,24 @@ impl Func {
             "FRD" => Func::Frd,
             "TOD" => Func::Tod,
             "ROUND" => Func::Round,
+            // AuroraLD's (QScript's) names, `000_…` Table 8.
+            "LOG10" => Func::Log,
+            "LOGE" => Func::Ln,
+            "INT" => Func::Trn,
+            "SIGNUM" => Func::Sign,
+            "COSH" => Func::Cosh,
+            "SINH" => Func::Sinh,
+            "TANH" => Func::Tanh,
+            "RND" => Func::Rnd,
+            "RADIANS" => Func::Rad,
+            "DEGREES" => Func::Deg,
             _ => return None,
         })
     }
 
     pub fn arity(self) -> usize {
         match self {
-            Func::Atan2 | Func::Rem | Func::Root | Func::Pow | Func::LogB => 2,
+            Func::Atan2 | Func::Rem | Func::Root | Func::Pow | Func::LogB | Func::Rnd => 2,
             _ => 1,
         }
     }
@@ -535,8 +548,9 @@ impl P {
                         args.push(self.or()?);
                     }
                     self.expect(Tok::RParen, "`)` after the function's arguments")?;
-                    // The source's `log(a, b)`: the logarithm in base b.
-                    if func == Func::Log && args.len() == 2 && self.syntax == Syntax::Net {
+                    // `log(a, b)` (the state-net source's and AuroraLD's): the
+                    // logarithm in base b.
+                    if func == Func::Log && args.len() == 2 {
                         func = Func::LogB;
                     }
                     if args.len() != func.arity() {
@@ -672,9 +686,30 @@ mod tests {
             "0..3: `LOG` takes 1 argument(s), found 3"
         );
         assert_eq!(n("cosine(a)").unwrap_err(), "0..6: unknown function `cosine`");
-        // Not in CPT (yet: AuroraLD's names are issue 34 point 2).
-        assert_eq!(p("cosh(a)").unwrap_err(), "0..4: unknown function `cosh`");
+        // CPT's `sqrt` is Logix's (of the absolute value).
         assert_eq!(p("sqrt(a)").map(|e| show(&e)).unwrap(), "Sqrt(a)");
+    }
+
+    #[test]
+    fn cpt_takes_auroralds_names() {
+        for (text, want) in [
+            ("log10(a)", "Log(a)"),
+            ("logE(a)", "Ln(a)"),
+            ("log(a, 2)", "LogB(a,Int(2))"),
+            ("Int(a)", "Trn(a)"),
+            ("signum(a)", "Sign(a)"),
+            ("cosh(a) + sinh(a) + tanh(a)", "((Cosh(a) Add Sinh(a)) Add Tanh(a))"),
+            ("rnd(0, 10)", "Rnd(Int(0),Int(10))"),
+            ("radians(a)", "Rad(a)"),
+            ("degrees(a)", "Deg(a)"),
+        ] {
+            assert_eq!(show(&p(text).unwrap()), want, "{text}");
+        }
+        assert_eq!(p("rnd(1)").unwrap_err(), "0..3: `RND` takes 2 argument(s), found 1");
+        assert_eq!(
+            p("log(1, 2, 3)").unwrap_err(),
+            "0..3: `LOG` takes 1 argument(s), found 3"
+        );
     }
 
     #[test]

@@ -196,6 +196,43 @@ pub fn call(b: &mut Builder, f: Func, args: &[V], c: Class, elem: u32) -> V {
             let fix = e.bin(BinOp::Mul, tie, diff);
             e.bin(BinOp::Add, r, fix)
         }
+        Func::Rnd => {
+            // Park and Miller's minimal standard generator (s = 16807·s mod
+            // 2^31-1) in DINT by Schrage's method, which never overflows; its
+            // state is a slot of this call's own, seeded from the slot number.
+            // u = (s mod 2^24) / 2^24 is exact in a REAL, in [0, 1).
+            let b = &mut *e.b;
+            let seed = 1 + (b.layout().counts.i % 1_000_000) as i32;
+            let s = b.state_i(seed);
+            let k = |b: &mut Builder, v: i32| V::I(b.const_i(v));
+            let ti = |b: &mut Builder| V::I(b.temp_i());
+            let (sv, q, r, a, m) = (V::I(s), k(b, 127_773), k(b, 2836), k(b, 16_807), k(b, 2_147_483_647));
+            let hi = ti(b);
+            b.bin(BinOp::Div, sv, q, hi, elem);
+            let lo = ti(b);
+            b.bin(BinOp::Mod, sv, q, lo, elem);
+            let p1 = ti(b);
+            b.bin(BinOp::Mul, a, lo, p1, elem);
+            let p2 = ti(b);
+            b.bin(BinOp::Mul, r, hi, p2, elem);
+            let t = ti(b);
+            b.bin(BinOp::Sub, p1, p2, t, elem);
+            let zero = k(b, 0);
+            let neg = ti(b);
+            b.bin(BinOp::Cmp(Cmp::Le), t, zero, neg, elem);
+            let wrap = ti(b);
+            b.bin(BinOp::Mul, neg, m, wrap, elem);
+            b.bin(BinOp::Add, t, wrap, sv, elem);
+            let two24 = k(b, 1 << 24);
+            let low = ti(b);
+            b.bin(BinOp::Mod, sv, two24, low, elem);
+            let low = b.convert(low, c, elem);
+            let scale = e.k(f64::from(1u32 << 24));
+            let u = e.bin(BinOp::Div, low, scale);
+            let span = e.bin(BinOp::Sub, y, x);
+            let off = e.bin(BinOp::Mul, span, u);
+            e.bin(BinOp::Add, x, off)
+        }
         // Handled above.
         _ => e.un(UnOp::Mov, x),
     }

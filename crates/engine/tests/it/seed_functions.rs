@@ -269,3 +269,97 @@ fn domain_errors_give_alba_defined_results_and_a_minor_fault() {
         assert_eq!((got[1], got[2]), (1.0, code as f64), "{e}: the minor fault");
     }
 }
+
+/// AuroraLD's CPT (`000_…` Table 8, issue 34 point 2): QScript's names,
+/// with their results, in every engine mode.
+#[test]
+fn cpt_takes_auroralds_names_with_their_results() {
+    use crate::util::compile_text;
+    let (x, n) = (2.5f32 as f64, -2.5f32 as f64);
+    let cases: &[(&str, f64)] = &[
+        ("log10(X)", x.log10()),
+        ("logE(X)", x.ln()),
+        ("log(X, 2)", x.ln() / 2f64.ln()),
+        ("log(1000, 10)", 3.0),
+        ("Int(X)", 2.0),
+        ("Int(N)", -2.0),
+        ("signum(N)", -1.0),
+        ("signum(X)", 1.0),
+        ("signum(X - X)", 0.0),
+        ("cosh(X)", x.cosh()),
+        ("sinh(N)", n.sinh()),
+        ("tanh(N)", n.tanh()),
+        ("radians(180)", std::f64::consts::PI),
+        ("degrees(PI)", 180.0),
+        ("sqrt(X * 4) + abs(N)", (x * 4.0).sqrt() + 2.5),
+        ("atan2(1, 1) * 4", std::f64::consts::PI),
+    ];
+    let mut tags = String::from("name,type,address,initial,retain,description\nX,REAL,,2.5,,\nN,REAL,,-2.5,,\n");
+    let mut lad = String::new();
+    let mut names = Vec::new();
+    for (k, (e, _)) in cases.iter().enumerate() {
+        tags.push_str(&format!("O{k},REAL,,,,\n"));
+        lad.push_str(&format!("CPT(O{k},{e});\n"));
+        names.push(format!("O{k}"));
+    }
+    let program = compile_text(&tags, &lad).unwrap_or_else(|e| panic!("{e}"));
+    let cols = names.join(",");
+    let mut first: Option<String> = None;
+    for mode in MODES {
+        let t = simulate_in(mode, program.clone(), "", Some(&cols), (10, 0, 10));
+        if let Some(f) = &first {
+            assert_eq!(f, &t, "{mode:?} differs");
+        }
+        first = Some(t);
+    }
+    let trace = first.unwrap_or_default();
+    let got: Vec<f64> = trace
+        .lines()
+        .last()
+        .unwrap_or_default()
+        .split(',')
+        .skip(1)
+        .map(|v| v.parse().unwrap_or(f64::NAN))
+        .collect();
+    for ((e, want), g) in cases.iter().zip(&got) {
+        assert!(close(*g, *want), "CPT {e}: want {want}, got {g}");
+    }
+}
+
+/// `rnd(a, b)`: a number from a to b, a new one each time the CPT runs, the
+/// same sequence in every engine mode (a program's runs are repeatable).
+#[test]
+fn cpt_rnd_draws_in_its_range_and_repeats_across_modes() {
+    use crate::util::compile_text;
+    let tags = "name,type,address,initial,retain,description\nR,REAL,,,,\nS,REAL,,,,\nD,DINT,,,,\n";
+    let program = compile_text(tags, "CPT(R,rnd(5, 10));\nCPT(S,rnd(-1, 1));\nCPT(D,rnd(0, 6));\n")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut first: Option<String> = None;
+    for mode in MODES {
+        let t = simulate_in(mode, program.clone(), "", Some("R,S,D"), (10, 1990, 10));
+        if let Some(f) = &first {
+            assert_eq!(f, &t, "{mode:?} differs");
+        }
+        first = Some(t);
+    }
+    let trace = first.unwrap_or_default();
+    let rows: Vec<Vec<f64>> = trace
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').skip(1).map(|v| v.parse().unwrap_or(f64::NAN)).collect())
+        .collect();
+    assert_eq!(rows.len(), 200);
+    let col = |k: usize| rows.iter().map(|r| r[k]).collect::<Vec<_>>();
+    let (r, s, d) = (col(0), col(1), col(2));
+    assert!(r.iter().all(|v| (5.0..=10.0).contains(v)), "{r:?}");
+    assert!(s.iter().all(|v| (-1.0..=1.0).contains(v)), "{s:?}");
+    assert!(d.iter().all(|v| (0.0..=6.0).contains(v) && v.fract() == 0.0), "{d:?}");
+    // Spread over the range: both halves drawn, and few repeats.
+    assert!(r.iter().any(|v| *v < 7.5) && r.iter().any(|v| *v > 7.5), "{r:?}");
+    let mut distinct = r.clone();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    assert!(distinct.len() > 190, "{} distinct of 200", distinct.len());
+    // The two calls have sequences of their own.
+    assert_ne!(r.iter().map(|v| (v - 7.5) / 2.5).collect::<Vec<_>>(), s);
+}
