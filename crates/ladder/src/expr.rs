@@ -61,6 +61,8 @@ pub enum Func {
     RoundAway,
     /// AuroraLD's `rnd(a, b)`: a pseudo-random number from a to b.
     Rnd,
+    /// AuroraLD's `sqrt` (`[ladder] dialect = "aurorald"`): 0 for a negative.
+    SqrtZero,
 }
 
 /// Which expression language a text is in.

@@ -182,6 +182,13 @@ pub fn call(b: &mut Builder, f: Func, args: &[V], c: Class, elem: u32) -> V {
             let s = e.bin(BinOp::Mul, s, p);
             e.bin(BinOp::Add, s, n)
         }
+        Func::SqrtZero => {
+            // sqrt(|x|)·(x >= 0): 0 for a negative, without a fault.
+            let zero = e.k(0.0);
+            let p = e.cmp(Cmp::Ge, x, zero);
+            let s = e.un(UnOp::Sqrt, x);
+            e.bin(BinOp::Mul, s, p)
+        }
         Func::RoundAway => {
             // Round half to even, except at a tie: t + 2(x - t), away from 0.
             let r = e.un(UnOp::Round, x);

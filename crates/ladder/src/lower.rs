@@ -27,10 +27,36 @@ pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
 /// `name`. (`src` gives CPT expressions their exact positions: operands in
 /// the tree have their whitespace collapsed.)
 pub fn compile(prog: &Program, src: &str, name: &str, b: &mut Builder, presets: &mut Presets) -> Vec<Diagnostic> {
+    compile_in(prog, src, name, b, presets, Dialect::Logix)
+}
+
+/// Whose semantics the program follows where Logix and AuroraLD disagree
+/// (`[ladder] dialect` of alba.toml; docs/ladder.md "Dialects").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// Rockwell Logix: `LIM` includes both bounds, `SQRT`/`sqrt` of a
+    /// negative is the root of its absolute value.
+    #[default]
+    Logix,
+    /// AuroraLD Studio (`000_…` §3.4.3.1, Table 8): `LIM` is low ≤ test <
+    /// high, `sqrt` of a negative is 0.
+    AuroraLd,
+}
+
+/// [`compile`] in a dialect.
+pub fn compile_in(
+    prog: &Program,
+    src: &str,
+    name: &str,
+    b: &mut Builder,
+    presets: &mut Presets,
+    dialect: Dialect,
+) -> Vec<Diagnostic> {
     let mut c = Compiler {
         b,
         src,
         presets,
+        dialect,
         diags: Vec::new(),
         labels: HashMap::new(),
         jumps: Vec::new(),
@@ -188,6 +214,7 @@ struct Compiler<'a> {
     b: &'a mut Builder,
     src: &'a str,
     presets: &'a mut Presets,
+    dialect: Dialect,
     diags: Vec<Diagnostic>,
     /// Label (upper case) → (rung index, (name as written, span)).
     labels: HashMap<String, (usize, (String, Span))>,
@@ -559,6 +586,20 @@ impl Compiler<'_> {
             M::LIM => {
                 let c = self.class(&ops);
                 let v: Vec<V> = ops.iter().map(|o| self.b.read(src(*o), c, elem)).collect();
+                if self.dialect == Dialect::AuroraLd {
+                    // low <= test < high: two compares in series.
+                    for (cmp, x, y) in [(Cmp::Ge, v[1], v[0]), (Cmp::Lt, v[1], v[2])] {
+                        let op = match (x, y) {
+                            (V::I(a), V::I(b)) => Op::CmpI(cmp, a, b),
+                            (V::F(a), V::F(b)) => Op::CmpF(cmp, a, b),
+                            (V::L(a), V::L(b)) => Op::CmpL(cmp, a, b),
+                            (V::D(a), V::D(b)) => Op::CmpD(cmp, a, b),
+                            _ => return,
+                        };
+                        self.b.emit(op, elem);
+                    }
+                    return;
+                }
                 let op = match (v[0], v[1], v[2]) {
                     (V::I(a), V::I(b), V::I(d)) => Op::LimI(a, b, d),
                     (V::F(a), V::F(b), V::F(d)) => Op::LimF(a, b, d),
@@ -622,6 +663,16 @@ impl Compiler<'_> {
                     _ => UnOp::Rad,
                 };
                 let c = float_class(self.class(&ops));
+                if m == M::SQR && self.dialect == Dialect::AuroraLd {
+                    // AuroraLD's SQR of a negative is 0, as its CPT's sqrt.
+                    let Opnd::Place(dest, _) = ops[1] else { return };
+                    let a = self.b.read(src(ops[0]), c, elem);
+                    let v = crate::funcs::call(self.b, Func::SqrtZero, &[a], c, elem);
+                    let (d, post) = self.b.dest(dest, c, elem);
+                    self.b.un(UnOp::Mov, v, d, elem);
+                    self.b.post(post, elem);
+                    return;
+                }
                 self.unary(op, &ops, c, elem);
             }
             M::NEG | M::ABS | M::MOV | M::NOT => {
@@ -1051,7 +1102,11 @@ impl Compiler<'_> {
                 for a in args {
                     vals.push(self.expr(a, c, leaves, elem)?);
                 }
-                crate::funcs::call(self.b, *f, &vals, c, elem)
+                let f = match f {
+                    Func::Sqrt if self.dialect == Dialect::AuroraLd => Func::SqrtZero,
+                    f => *f,
+                };
+                crate::funcs::call(self.b, f, &vals, c, elem)
             }
         })
     }

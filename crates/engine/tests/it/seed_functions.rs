@@ -363,3 +363,67 @@ fn cpt_rnd_draws_in_its_range_and_repeats_across_modes() {
     // The two calls have sequences of their own.
     assert_ne!(r.iter().map(|v| (v - 7.5) / 2.5).collect::<Vec<_>>(), s);
 }
+
+/// `[ladder] dialect = "aurorald"` (issue 34, point 5) against the Logix
+/// default: LIM's upper bound (AuroraLD: low <= test < high), and the
+/// square root of a negative (Logix: of its absolute value; AuroraLD: 0).
+#[test]
+fn the_aurorald_dialect_against_logix() {
+    for (aurora, x) in [
+        (false, 0),
+        (false, 5),
+        (false, 10),
+        (false, 11),
+        (true, 0),
+        (true, 5),
+        (true, 10),
+        (true, 11),
+    ] {
+        let name = format!("dialect-{aurora}-{x}");
+        let dir = std::env::temp_dir().join(format!("alba-seed-fn-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let w = |f: &str, t: &str| std::fs::write(dir.join(f), t).expect("write");
+        let table = if aurora {
+            "[ladder]\ndialect = \"aurorald\"\n"
+        } else {
+            ""
+        };
+        w(
+            "alba.toml",
+            &format!("name = \"{name}\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n{table}"),
+        );
+        let y = x as f64 + 0.5;
+        w(
+            "tags.csv",
+            &format!(
+                "name,type,address,initial,retain,description\nX,DINT,,{x},,\nY,REAL,,{y},,\nN,REAL,,-4,,\nInBand,BOOL,,,,\nInReal,BOOL,,,,\nR,REAL,,,,\nS,REAL,,,,\nP,REAL,,,,\n"
+            ),
+        );
+        w(
+            "main.lad",
+            "LIM(0,X,10)OTE(InBand);\nLIM(0.5,Y,10.5)OTE(InReal);\nCPT(R,sqrt(N));\nSQR(N,S);\nCPT(P,SQRT(16)+sqrt(X));\n",
+        );
+        let got = run(&dir, &["InBand", "InReal", "R", "S", "P", "S:MINOR"]);
+        let band = if aurora {
+            (0..10).contains(&x)
+        } else {
+            (0..=10).contains(&x)
+        };
+        let root = if aurora { 0.0 } else { 2.0 };
+        let want = [
+            band as u8 as f64,
+            band as u8 as f64,
+            root,
+            root,
+            4.0 + (x as f64).sqrt(),
+            0.0,
+        ];
+        for (k, (g, w)) in got.iter().zip(want).enumerate() {
+            assert!(
+                close(*g, w),
+                "aurorald {aurora}, X = {x}: column {k} is {g}, want {w} ({got:?})"
+            );
+        }
+    }
+}
