@@ -147,6 +147,15 @@ describe('guard and script highlighting', () => {
     const kinds = Object.fromEntries(toks.filter((t) => t.kind !== 'space' && t.kind !== 'op').map((t) => [t.text, t.kind]));
     expect(kinds).toEqual({ Start: 'tag', AND: 'keyword', NOT: 'keyword', Strat: 'name', OR: 'keyword', 'line.buffer': 'tag', '2.5': 'number', '// go': 'comment', 'T1.DN': 'tag' });
   });
+
+  it("shows the source's functions as functions, only where they are called", async () => {
+    const { highlight } = await import('../src/net/code');
+    const text = 'v2 = cos (v1) * total & sqrt(v3) > 2 | cosine(v1) + rem';
+    const toks = highlight(text, (n) => ['V1', 'V2', 'V3', 'TOTAL'].includes(n.toUpperCase()));
+    expect(toks.map((t) => t.text).join('')).toBe(text);
+    const kinds = Object.fromEntries(toks.filter((t) => t.kind !== 'space' && t.kind !== 'op').map((t) => [t.text, t.kind]));
+    expect(kinds).toEqual({ v2: 'tag', cos: 'function', v1: 'tag', total: 'tag', sqrt: 'function', v3: 'tag', '2': 'number', cosine: 'name', rem: 'name' });
+  });
 });
 
 describe('routing a large net', () => {

@@ -128,6 +128,10 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
     }
     let mut b = Builder::new(Layout::new(&tags, &uses));
     let mut presets = alba_ladder::Presets::default();
+    let dialect = match project.config.as_ref().map(|c| c.ladder_dialect) {
+        Some(alba_project::config::LadderDialect::AuroraLd) => alba_ladder::Dialect::AuroraLd,
+        _ => alba_ladder::Dialect::Logix,
+    };
     let mut shared = alba_il::Shared::default();
     for (src, ast) in &asts {
         if src.plant {
@@ -135,7 +139,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         }
         let text = project.files.text(src.file);
         diags.extend(match ast {
-            Ast::Ladder(ast) => alba_ladder::compile(ast, text, &src.name, &mut b, &mut presets),
+            Ast::Ladder(ast) => alba_ladder::compile_in(ast, text, &src.name, &mut b, &mut presets, dialect),
             Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
             Ast::Net(Some(net)) => petri::compile(net, src.file, text, &src.name, &mut b),
             Ast::Net(None) | Ast::Sfc(None) => Vec::new(),

@@ -511,7 +511,7 @@ fn scripts(
         let own = value_tag(name, &p.id);
         let mut stmts = Vec::new();
         for st in &script.statements {
-            let e = match expr::parse(&st.expr, file, 0) {
+            let e = match expr::parse_net(&st.expr, file, 0) {
                 Ok(e) => subst(e, &constants),
                 Err((msg, sp)) => {
                     diags.push(at(st.offset + sp.start as usize, msg));
@@ -644,7 +644,7 @@ fn moves(
             },
         };
         let Some((dest, src)) = mv else { continue };
-        let e = match expr::parse(&src, file, 0) {
+        let e = match expr::parse_net(&src, file, 0) {
             Ok(e) => e,
             Err((msg, _)) => {
                 diags.push(bad(format!("`{src}`: {msg}"), p.span, p.kind.as_str()));

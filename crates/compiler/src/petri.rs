@@ -20,7 +20,7 @@
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::values::{Class, V, class_of_lit, class_of_type, float_class, promote};
 use alba_ir::{Access, BinOp, Builder, Cmp, I, Op, Place, Target, UnOp};
-use alba_ladder::expr::{self, BinE, Expr};
+use alba_ladder::expr::{self, BinE, Expr, Func};
 use alba_model::{Address, DataType, Literal, Tag, TagTable, Value};
 use alba_net::{ArcKind, ElementKind, Mode, Net};
 use std::collections::HashMap;
@@ -159,7 +159,7 @@ pub fn addresses(net: &Net, file: FileId) -> Vec<Address> {
     }
     let mut out = Vec::new();
     for g in net.transitions.iter().filter_map(|t| t.guard.as_ref()) {
-        if let Ok(e) = expr::parse(&g.text, file, g.span.start as usize) {
+        if let Ok(e) = expr::parse_net(&g.text, file, g.span.start as usize) {
             names(&e, &mut out);
         }
     }
@@ -474,7 +474,7 @@ pub(crate) fn guards(
         let g = t
             .guard
             .as_ref()
-            .and_then(|g| match expr::parse(&g.text, file, g.span.start as usize) {
+            .and_then(|g| match expr::parse_net(&g.text, file, g.span.start as usize) {
                 Ok(e) => {
                     let mut gc = Guard { b, diags: &mut *diags };
                     match gc.ty(&e) {
@@ -679,9 +679,28 @@ impl Guard<'_> {
                     },
                 }
             }
-            Expr::Call(_, _, sp) => {
-                self.err("functions are not available in guards yet", *sp, "function");
-                None
+            Expr::Call(f, args, sp) => {
+                let mut classes = Vec::new();
+                let mut ok = true;
+                for a in args {
+                    match self.ty(a) {
+                        Some(Ty::Num(c)) => classes.push(c),
+                        Some(Ty::Bool) => {
+                            self.err("a function needs numbers, found a BOOL", *sp, "BOOL argument");
+                            ok = false;
+                        }
+                        None => ok = false,
+                    }
+                }
+                if !ok {
+                    return None;
+                }
+                if matches!(f, Func::Frd | Func::Tod) {
+                    self.err("FRD and TOD are CPT's (BCD) functions, not a net's", *sp, "function");
+                    return None;
+                }
+                let c = promote(classes);
+                Some(Ty::Num(if f.is_float() { float_class(c) } else { c }))
             }
         }
     }
@@ -799,6 +818,10 @@ impl Guard<'_> {
             Expr::Neg(a) => self.class(a),
             Expr::Bin(BinE::Pow, a, c, _) => float_class(promote([self.class(a), self.class(c)])),
             Expr::Bin(_, a, c, _) => promote([self.class(a), self.class(c)]),
+            Expr::Call(f, args, _) => {
+                let c = promote(args.iter().map(|a| self.class(a)));
+                if f.is_float() { float_class(c) } else { c }
+            }
             _ => Class::I,
         }
     }
@@ -834,6 +857,17 @@ impl Guard<'_> {
                 let t = self.b.temp(c);
                 self.b.bin(op, x, y, t, elem);
                 t
+            }
+            Expr::Call(f, args, _) => {
+                // In the function's own class (a float function of integers
+                // computes in REAL), then in the expression's.
+                let inner = promote([self.class(e), c]);
+                let mut vals = Vec::with_capacity(args.len());
+                for a in args {
+                    vals.push(self.num(a, inner, elem)?);
+                }
+                let v = alba_ladder::funcs::call(self.b, *f, &vals, inner, elem);
+                self.b.convert(v, c, elem)
             }
             _ => return None,
         })

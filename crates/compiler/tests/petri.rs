@@ -144,7 +144,9 @@ fn guards_are_bool_expressions_over_known_tags() {
         ("and-number", "Start AND Level"),
         ("timer", "Delay"),
         ("syntax", "Start AND"),
-        ("function", "ABS(Level) &gt; 2"),
+        ("unknown-function", "cosine(Level) &gt; 2"),
+        ("function-of-bool", "abs(Start) &gt; 2"),
+        ("function-arity", "rem(Level) &gt; 2"),
         ("bool-arith", "Start + 1 &gt; 0"),
     ] {
         let dir = project(&format!("guard-{name}"), TAGS, &net(&guard(g)), &[]);
@@ -163,6 +165,9 @@ fn guards_are_bool_expressions_over_known_tags() {
         "Level / 0 &lt; 1.5",
         "TRUE",
         "false OR Lamp = FALSE",
+        // The state-net source's functions and operators (issue 34).
+        "ABS(Level) &gt; 2",
+        "cos(Level) &gt; 0.5 &amp; (Level % 2 == 0) | sqrt(Level) : 2 != 1",
     ] {
         let dir = project("guard-ok", TAGS, &net(&guard(g)), &[]);
         let c = compile_dir(&dir);

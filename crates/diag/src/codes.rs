@@ -124,7 +124,7 @@ codes! {
     ConflictingPreset = 311, "one timer or counter is given two different presets",
         "The literal PRE and ACC of TON(t,pre,acc) are the structure's initial values, so every instruction on one tag must give the same ones (or `?`).";
     Expression = 312, "a CPT expression is malformed",
-        "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, and PI and E.";
+        "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, AuroraLD's log10 logE log(a,b) Int signum cosh sinh tanh rnd(a,b) radians degrees, and PI and E.";
     NotYetSupported = 313, "a reserved instruction is not available yet",
         "No instruction is reserved at present (PID, once reserved, is available; see ladder.md and pid.md). The code is kept so that old reports keep their meaning.";
     StimulusSyntax = 401, "a stimulus row is malformed",
@@ -160,7 +160,7 @@ codes! {
     NetMode = 620, "a net element cannot run in this mode (yet)",
         "Petri mode has plain places and transitions (with guards and `<tag>`); the state-net kinds (Timer, Condition, Counter, Expression, Variable, Input, Output, Stop, End) run in normal mode (`<mode>normal</mode>`, docs/nets.md).";
     NetGuard = 621, "a transition guard is not valid",
-        "A `<guard>` is a BOOL expression of Alba's expression language: tag names and members, literals, `NOT`, `AND`, `OR`, `XOR`, parentheses, comparisons (= <> < > <= >=) and arithmetic (+ - * / MOD **). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
+        "A `<guard>` is a BOOL expression of Alba's expression language for nets: tag names and members, literals, `NOT`, `AND` (`&`), `OR` (`|`), `XOR`, parentheses, comparisons (= == <> != < > <= >=), arithmetic (+ - * / : MOD % ** ^, with the state-net source's precedence) and its functions (cos, sqrt, rem, log...). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
     NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
         "A place's `<tag>NAME</tag>` makes the net write the BOOL tag NAME (true while the place is marked), so NAME must be a BOOL tag or member the program may write: not an input, a status bit, a system tag or a marking.";
     NetTagClash = 623, "a place's marking tag clashes with a tag",
@@ -172,7 +172,7 @@ codes! {
     NetElement = 630, "a normal-mode element is not valid",
         "In a normal-mode net (docs/nets.md \"Normal mode\") every element holds at most one token and passes it on: arcs are plain (no inhibitor or read arcs) and weigh 1; a Condition needs a `<guard>`; a Timer needs `<prop name=\"delay\">` (milliseconds or T#5s); a Counter takes `load` (a DINT) and `direction` (up or down); an Input `source`; an Output `target` and `source`; a Variable `mode` (Assignment, Variable, WriteToMyVariable, WriteToTarget, DefineTarget, ResetTargetValue), `source`, `target`, `value` and `initial` as its mode needs; other kinds take no properties.";
     NetScript = 631, "an Expression element's script is not valid",
-        "An Expression element (normal mode) runs its `<script>` each scan it holds the token: sections `define{a, b}` (names of tags it uses), `constant{k = 2.5}` (or `const{}`) and `function{...}` with statements separated by `;` or line ends, each `target = expression` or a bare expression whose value goes to the element's own variable `<net>.<id>.value` (REAL); `//` starts a comment. Expressions are Alba's expression language (numbers and tags, + - * / MOD **, parentheses); targets are numeric tags a program may write. Functions (cos, sqrt...) are not available in scripts yet.";
+        "An Expression element (normal mode) runs its `<script>` each scan it holds the token: sections `define{a, b}` (names of tags it uses), `constant{k = 2.5}` (or `const{}`) and `function{...}` with statements separated by `;` or line ends, each `target = expression` or a bare expression whose value goes to the element's own variable `<net>.<id>.value` (REAL); `//` starts a comment. Expressions are Alba's expression language for nets (numbers and tags, + - * / : MOD % ** ^ with the source's precedence, parentheses, and the source's functions cos, cosh, arcos, sin, sinh, arcsin, tan, tanh, arctan, sqrt, rem, root, pow, exp, abs, log, round, truncate, floor, ceiling, sign); targets are numeric tags a program may write.";
     SfcSyntax = 650, "an SFC file does not follow the textual SFC syntax",
         "An .sfc file is IEC 61131-3's textual SFC: `INITIAL_STEP name: actions END_STEP`, `STEP name: actions END_STEP` where an action is `Tag(Q)` or `Tag(Q, T#5s)` ended by `;` (Q one of N S R L D P P1 P0 SD DS SL), and `TRANSITION [name] [(PRIORITY := n)] FROM step TO step := condition; END_TRANSITION` (lists of steps in parentheses for simultaneous divergence and convergence). Comments are `(* ... *)` and `//`. See docs/nets.md, SFC.";
     SfcStructure = 651, "an SFC chart is not well formed",

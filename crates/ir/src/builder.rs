@@ -206,6 +206,14 @@ impl Builder {
         self.init.b.push(false);
         s
     }
+    /// An integer slot of its own, initially `v`, that keeps its value from
+    /// scan to scan (the state of a pseudo-random sequence).
+    pub fn state_i(&mut self, v: i32) -> I {
+        let s = I(self.layout.counts.i);
+        self.layout.counts.i += 1;
+        self.init.i.push(v);
+        s
+    }
     pub fn temp_i(&mut self) -> I {
         I(self.pooled(1))
     }

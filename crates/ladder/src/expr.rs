@@ -4,6 +4,14 @@
 //! (`= <> < > <= >=`), `+ -`, `* / MOD`, unary `-` and `NOT`, then `**`/`^`
 //! (right-associative, so `-2**2` is `-(2**2)` and `2**-1` works).
 //! Keywords, functions and the constants `PI` and `E` are case-insensitive.
+//!
+//! Nets' guards and scripts ([`parse_net`]) read the same language with the
+//! state-net source's additions (`003_…` §2.2.3.5, its Mathos parser): the
+//! operators `%` (MOD), `:` (division), `&` (AND), `|` (OR), `==`, `!=`,
+//! its functions (`cos`, `cosh`, `arcos`, … `sign`, see [`Func::parse`]) and
+//! its precedence: one level per operator, tightest first `^`/`**` (left to
+//! right), `%`/`MOD`, `:`, `/`, `*`, `-`, `+`, then comparisons, `&`/`AND`,
+//! `XOR`, `|`/`OR`; unary `-` binds tighter than `^` (`-2^2` is 4).
 
 use alba_diag::{FileId, Span};
 use alba_model::Literal;
@@ -27,10 +35,78 @@ pub enum Func {
     Frd,
     Tod,
     Round,
+    // The state-net source's (`003_…`) and AuroraLD's functions, lowered
+    // onto the IR's existing operations (`crate::funcs`).
+    Cosh,
+    Sinh,
+    Tanh,
+    Exp,
+    Floor,
+    Ceil,
+    Sign,
+    /// `rem(a, b)`: the IEEE remainder, `a - b·n` with `n` the nearest
+    /// integer to `a/b`.
+    Rem,
+    /// `root(a, b)`: `a ** (1/b)`.
+    Root,
+    /// `pow(a, b)`: `a ** b`.
+    Pow,
+    /// `log(a, b)`: the logarithm of `a` in base `b`.
+    LogB,
+    /// The square root of the source (`sqrt` in a net): of a negative it is
+    /// not a number (0 and a minor fault), where CPT's takes the absolute value.
+    SqrtStrict,
+    /// Rounding half away from zero (`round` in a net), where CPT's rounds
+    /// half to even.
+    RoundAway,
+    /// AuroraLD's `rnd(a, b)`: a pseudo-random number from a to b.
+    Rnd,
+    /// AuroraLD's `sqrt` (`[ladder] dialect = "aurorald"`): 0 for a negative.
+    SqrtZero,
+}
+
+/// Which expression language a text is in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Syntax {
+    /// CPT's (SPEC §3.2).
+    Cpt,
+    /// Nets' guards and scripts: CPT's plus the state-net source's.
+    Net,
 }
 
 impl Func {
-    fn parse(name: &str) -> Option<Func> {
+    /// The function called `name` in `syntax`.
+    pub fn parse(name: &str, syntax: Syntax) -> Option<Func> {
+        if syntax == Syntax::Net {
+            let f = match name.to_ascii_lowercase().as_str() {
+                "cos" => Some(Func::Cos),
+                "cosh" => Some(Func::Cosh),
+                // `arcos` as the source spells it.
+                "arcos" | "arccos" | "acos" => Some(Func::Acs),
+                "sin" => Some(Func::Sin),
+                "sinh" => Some(Func::Sinh),
+                "arcsin" | "asin" => Some(Func::Asn),
+                "tan" => Some(Func::Tan),
+                "tanh" => Some(Func::Tanh),
+                "arctan" | "atan" => Some(Func::Atn),
+                "sqrt" => Some(Func::SqrtStrict),
+                "rem" => Some(Func::Rem),
+                "root" => Some(Func::Root),
+                "pow" => Some(Func::Pow),
+                "exp" => Some(Func::Exp),
+                "abs" => Some(Func::Abs),
+                "log" => Some(Func::Log),
+                "round" => Some(Func::RoundAway),
+                "truncate" => Some(Func::Trn),
+                "floor" => Some(Func::Floor),
+                "ceiling" | "ceil" => Some(Func::Ceil),
+                "sign" => Some(Func::Sign),
+                _ => None,
+            };
+            if f.is_some() {
+                return f;
+            }
+        }
         Some(match name.to_ascii_uppercase().as_str() {
             "SQR" | "SQRT" => Func::Sqrt,
             "ABS" => Func::Abs,
@@ -49,12 +125,43 @@ impl Func {
             "FRD" => Func::Frd,
             "TOD" => Func::Tod,
             "ROUND" => Func::Round,
+            // AuroraLD's (QScript's) names, `000_…` Table 8.
+            "LOG10" => Func::Log,
+            "LOGE" => Func::Ln,
+            "INT" => Func::Trn,
+            "SIGNUM" => Func::Sign,
+            "COSH" => Func::Cosh,
+            "SINH" => Func::Sinh,
+            "TANH" => Func::Tanh,
+            "RND" => Func::Rnd,
+            "RADIANS" => Func::Rad,
+            "DEGREES" => Func::Deg,
             _ => return None,
         })
     }
 
     pub fn arity(self) -> usize {
-        if self == Func::Atan2 { 2 } else { 1 }
+        match self {
+            Func::Atan2 | Func::Rem | Func::Root | Func::Pow | Func::LogB | Func::Rnd => 2,
+            _ => 1,
+        }
+    }
+
+    /// Whether the function computes in floating point (the others keep
+    /// their argument's class: an integer stays an integer).
+    pub fn is_float(self) -> bool {
+        !matches!(
+            self,
+            Func::Abs
+                | Func::Trn
+                | Func::Round
+                | Func::Frd
+                | Func::Tod
+                | Func::Floor
+                | Func::Ceil
+                | Func::Sign
+                | Func::RoundAway
+        )
     }
 }
 
@@ -103,9 +210,19 @@ enum Tok {
 /// A parse error: message and span.
 pub type ExprError = (String, Span);
 
-/// Parses `text`, which starts at byte `base` of `file`.
+/// Parses the CPT expression `text`, which starts at byte `base` of `file`.
 pub fn parse(text: &str, file: FileId, base: usize) -> Result<Expr, ExprError> {
-    let toks = lex(text, file, base)?;
+    parse_in(text, file, base, Syntax::Cpt)
+}
+
+/// Parses a net's guard or script expression (the module's doc: the
+/// state-net source's operators, functions and precedence).
+pub fn parse_net(text: &str, file: FileId, base: usize) -> Result<Expr, ExprError> {
+    parse_in(text, file, base, Syntax::Net)
+}
+
+pub fn parse_in(text: &str, file: FileId, base: usize, syntax: Syntax) -> Result<Expr, ExprError> {
+    let toks = lex(text, file, base, syntax)?;
     let mut p = P {
         toks,
         pos: 0,
@@ -113,6 +230,7 @@ pub fn parse(text: &str, file: FileId, base: usize) -> Result<Expr, ExprError> {
         end: base + text.len(),
         depth: 0,
         operators: 0,
+        syntax,
     };
     let e = p.or()?;
     if let Some((t, sp)) = p.toks.get(p.pos) {
@@ -131,7 +249,8 @@ fn describe(t: &Tok) -> String {
     }
 }
 
-fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprError> {
+fn lex(text: &str, file: FileId, base: usize, syntax: Syntax) -> Result<Vec<(Tok, Span)>, ExprError> {
+    let net = syntax == Syntax::Net;
     let b = text.as_bytes();
     let mut out = Vec::new();
     let mut i = 0;
@@ -143,7 +262,18 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
             i += 1;
             continue;
         }
-        let tok = if c.is_ascii_digit() || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit)) {
+        // In a net, `%` and `:` after a value are operators.
+        let after_value = match out.last() {
+            Some((Tok::Num(_) | Tok::RParen, _)) => true,
+            Some((Tok::Ident(w), _)) => !["AND", "OR", "XOR", "NOT", "MOD"]
+                .iter()
+                .any(|k| w.eq_ignore_ascii_case(k)),
+            _ => false,
+        };
+        let tok = if net && after_value && (c == b'%' || c == b':') {
+            i += 1;
+            Tok::Op(if c == b'%' { "%" } else { ":" })
+        } else if c.is_ascii_digit() || (c == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit)) {
             // Digits, '.', '_', based '#', exponent with sign.
             while i < b.len() {
                 let d = b[i];
@@ -170,7 +300,8 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
                         && b.get(i + 1).is_some_and(u8::is_ascii_digit)
                 };
                 let part = d.is_ascii_alphanumeric()
-                    || matches!(d, b'_' | b'.' | b'%' | b':')
+                    || matches!(d, b'_' | b'.' | b':')
+                    || (d == b'%' && (!net || i == start))
                     || (d == b'/' && !slash && aurora_slash())
                     || (d == b'#' && time_prefix());
                 if !part {
@@ -195,6 +326,8 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
                 "<>" => "<>",
                 "<=" => "<=",
                 ">=" => ">=",
+                "==" if net => "=",
+                "!=" if net => "<>",
                 _ => match c {
                     b'+' => "+",
                     b'-' => "-",
@@ -204,6 +337,8 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
                     b'=' => "=",
                     b'<' => "<",
                     b'>' => ">",
+                    b'&' if net => "&",
+                    b'|' if net => "|",
                     b'(' | b')' | b',' => "",
                     _ => {
                         let end = i + text[i..].chars().next().map_or(1, char::len_utf8);
@@ -219,7 +354,7 @@ fn lex(text: &str, file: FileId, base: usize) -> Result<Vec<(Tok, Span)>, ExprEr
                     _ => Tok::Comma,
                 }
             } else {
-                i += op.len();
+                i += if two == "==" || two == "!=" { 2 } else { op.len() };
                 Tok::Op(op)
             }
         };
@@ -237,6 +372,7 @@ struct P {
     depth: usize,
     /// Operators so far (a chain `a+b+c…` is a tree as deep as it is long).
     operators: usize,
+    syntax: Syntax,
 }
 
 /// Most operators accepted in one expression.
@@ -286,13 +422,13 @@ impl P {
     }
 
     fn or(&mut self) -> Result<Expr, ExprError> {
-        self.binary(&[("OR", BinE::Or)], P::xor)
+        self.binary(&[("OR", BinE::Or), ("|", BinE::Or)], P::xor)
     }
     fn xor(&mut self) -> Result<Expr, ExprError> {
         self.binary(&[("XOR", BinE::Xor)], P::and)
     }
     fn and(&mut self) -> Result<Expr, ExprError> {
-        self.binary(&[("AND", BinE::And)], P::cmp)
+        self.binary(&[("AND", BinE::And), ("&", BinE::And)], P::cmp)
     }
     fn cmp(&mut self) -> Result<Expr, ExprError> {
         self.binary(
@@ -308,10 +444,32 @@ impl P {
         )
     }
     fn sum(&mut self) -> Result<Expr, ExprError> {
+        if self.syntax == Syntax::Net {
+            return self.binary(&[("+", BinE::Add)], P::net_sub);
+        }
         self.binary(&[("+", BinE::Add), ("-", BinE::Sub)], P::product)
     }
     fn product(&mut self) -> Result<Expr, ExprError> {
         self.binary(&[("*", BinE::Mul), ("/", BinE::Div), ("MOD", BinE::Mod)], P::unary)
+    }
+    // A net's levels, one per operator as the source's parser has them.
+    fn net_sub(&mut self) -> Result<Expr, ExprError> {
+        self.binary(&[("-", BinE::Sub)], P::net_mul)
+    }
+    fn net_mul(&mut self) -> Result<Expr, ExprError> {
+        self.binary(&[("*", BinE::Mul)], P::net_div)
+    }
+    fn net_div(&mut self) -> Result<Expr, ExprError> {
+        self.binary(&[("/", BinE::Div)], P::net_colon)
+    }
+    fn net_colon(&mut self) -> Result<Expr, ExprError> {
+        self.binary(&[(":", BinE::Div)], P::net_mod)
+    }
+    fn net_mod(&mut self) -> Result<Expr, ExprError> {
+        self.binary(&[("%", BinE::Mod), ("MOD", BinE::Mod)], P::net_pow)
+    }
+    fn net_pow(&mut self) -> Result<Expr, ExprError> {
+        self.binary(&[("^", BinE::Pow), ("**", BinE::Pow)], P::unary)
     }
 
     fn unary(&mut self) -> Result<Expr, ExprError> {
@@ -340,6 +498,9 @@ impl P {
             let sp = self.span_here();
             self.pos += 1;
             return Ok(Expr::Not(Box::new(self.unary()?), sp));
+        }
+        if self.syntax == Syntax::Net {
+            return self.primary();
         }
         self.power()
     }
@@ -380,7 +541,8 @@ impl P {
             }
             Tok::Ident(name) => {
                 if self.peek() == Some(&Tok::LParen) {
-                    let func = Func::parse(&name).ok_or_else(|| (format!("unknown function `{name}`"), sp))?;
+                    let mut func =
+                        Func::parse(&name, self.syntax).ok_or_else(|| (format!("unknown function `{name}`"), sp))?;
                     self.pos += 1;
                     let mut args = vec![self.or()?];
                     while self.peek() == Some(&Tok::Comma) {
@@ -388,6 +550,11 @@ impl P {
                         args.push(self.or()?);
                     }
                     self.expect(Tok::RParen, "`)` after the function's arguments")?;
+                    // `log(a, b)` (the state-net source's and AuroraLD's): the
+                    // logarithm in base b.
+                    if func == Func::Log && args.len() == 2 {
+                        func = Func::LogB;
+                    }
                     if args.len() != func.arity() {
                         return Err((
                             format!(
@@ -452,6 +619,99 @@ mod tests {
             "((Real(0.0015) Add Time(2000)) Add Int(255))"
         );
         assert_eq!(show(&p("not a <> b").unwrap()), "((NOT a) Ne b)");
+    }
+
+    fn n(s: &str) -> Result<String, String> {
+        parse_net(s, FileId(0), 0)
+            .map(|e| show(&e))
+            .map_err(|(m, sp)| format!("{}..{}: {m}", sp.start, sp.end))
+    }
+
+    #[test]
+    fn a_nets_operators_and_the_sources_precedence() {
+        // `%` binds tighter than `*`, `:` tighter than `/`, `-` than `+`.
+        assert_eq!(n("a * b % c").unwrap(), "(a Mul (b Mod c))");
+        assert_eq!(n("a % b MOD c").unwrap(), "((a Mod b) Mod c)");
+        assert_eq!(n("8 / 2 : 2").unwrap(), "(Int(8) Div (Int(2) Div Int(2)))");
+        assert_eq!(n("8:2").unwrap(), "(Int(8) Div Int(2))");
+        assert_eq!(n("a + b - c").unwrap(), "(a Add (b Sub c))");
+        assert_eq!(n("a - b + c").unwrap(), "((a Sub b) Add c)");
+        assert_eq!(n("a * b / c").unwrap(), "(a Mul (b Div c))");
+        // `^` is tightest and left to right; a unary minus binds tighter still.
+        assert_eq!(n("2^3^2").unwrap(), "((Int(2) Pow Int(3)) Pow Int(2))");
+        assert_eq!(n("-2^2").unwrap(), "((-Int(2)) Pow Int(2))");
+        assert_eq!(n("a ^ b % c").unwrap(), "((a Pow b) Mod c)");
+        // Logic: `&` and `|`, `==` and `!=`.
+        assert_eq!(
+            n("(v2 > 2) | (v3 < 3) & x == 1").unwrap(),
+            "((v2 Gt Int(2)) Or ((v3 Lt Int(3)) And (x Eq Int(1))))"
+        );
+        assert_eq!(n("a != b").unwrap(), "(a Ne b)");
+        // `%` at the start of a word is an address, after a value an operator.
+        assert_eq!(n("%IX0.1 AND %MX1.0").unwrap(), "(%IX0.1 And %MX1.0)");
+        assert_eq!(n("a%b").unwrap(), "(a Mod b)");
+        assert_eq!(n("N7:2 + DI:1/0").unwrap(), "(N7:2 Add DI:1/0)");
+        assert_eq!(n("(a):b").unwrap(), "(a Div b)");
+        // CPT keeps its own: `&` refused, `%` a name, `-2**2` is -(2**2).
+        assert_eq!(p("a & b").unwrap_err(), "2..3: unexpected `&` in the expression");
+        assert_eq!(show(&p("-2^2").unwrap()), "(-(Int(2) Pow Int(2)))");
+        assert_eq!(show(&p("a * b MOD c").unwrap()), "((a Mul b) Mod c)");
+    }
+
+    #[test]
+    fn a_nets_functions_as_the_source_spells_them() {
+        for (text, want) in [
+            ("cos(v10)", "Cos(v10)"),
+            ("arcos(x)", "Acs(x)"),
+            ("ARCCOS(x)", "Acs(x)"),
+            ("cosh(x) + sinh(x) + tanh(x)", "((Cosh(x) Add Sinh(x)) Add Tanh(x))"),
+            ("sqrt(x)", "SqrtStrict(x)"),
+            ("rem(a, b)", "Rem(a,b)"),
+            ("root(a, 3)", "Root(a,Int(3))"),
+            ("pow(a, 2)", "Pow(a,Int(2))"),
+            ("exp(1) * abs(x)", "(Exp(Int(1)) Mul Abs(x))"),
+            ("log(x)", "Log(x)"),
+            ("log(x, 2)", "LogB(x,Int(2))"),
+            ("round(x)", "RoundAway(x)"),
+            (
+                "truncate(x) + floor(x) + ceiling(x) + sign(x)",
+                "(((Trn(x) Add Floor(x)) Add Ceil(x)) Add Sign(x))",
+            ),
+            // CPT's names stay available, with CPT's meaning.
+            ("SQR(x) + ATAN2(y, x)", "(Sqrt(x) Add Atan2(y,x))"),
+        ] {
+            assert_eq!(n(text).unwrap(), want, "{text}");
+        }
+        assert_eq!(n("rem(a)").unwrap_err(), "0..3: `REM` takes 2 argument(s), found 1");
+        assert_eq!(
+            n("log(a, b, c)").unwrap_err(),
+            "0..3: `LOG` takes 1 argument(s), found 3"
+        );
+        assert_eq!(n("cosine(a)").unwrap_err(), "0..6: unknown function `cosine`");
+        // CPT's `sqrt` is Logix's (of the absolute value).
+        assert_eq!(p("sqrt(a)").map(|e| show(&e)).unwrap(), "Sqrt(a)");
+    }
+
+    #[test]
+    fn cpt_takes_auroralds_names() {
+        for (text, want) in [
+            ("log10(a)", "Log(a)"),
+            ("logE(a)", "Ln(a)"),
+            ("log(a, 2)", "LogB(a,Int(2))"),
+            ("Int(a)", "Trn(a)"),
+            ("signum(a)", "Sign(a)"),
+            ("cosh(a) + sinh(a) + tanh(a)", "((Cosh(a) Add Sinh(a)) Add Tanh(a))"),
+            ("rnd(0, 10)", "Rnd(Int(0),Int(10))"),
+            ("radians(a)", "Rad(a)"),
+            ("degrees(a)", "Deg(a)"),
+        ] {
+            assert_eq!(show(&p(text).unwrap()), want, "{text}");
+        }
+        assert_eq!(p("rnd(1)").unwrap_err(), "0..3: `RND` takes 2 argument(s), found 1");
+        assert_eq!(
+            p("log(1, 2, 3)").unwrap_err(),
+            "0..3: `LOG` takes 1 argument(s), found 3"
+        );
     }
 
     #[test]

@@ -6,11 +6,12 @@
 pub mod ast;
 pub mod domain;
 pub mod expr;
+pub mod funcs;
 pub mod lower;
 pub mod parse;
 pub mod print;
 
 pub use ast::{Arg, Branch, Element, Group, Instr, Mnemonic, Operand, Program, Rung};
-pub use lower::{Presets, addresses, compile, layout_for};
+pub use lower::{Dialect, Presets, addresses, compile, compile_in, layout_for};
 pub use parse::parse;
 pub use print::print;

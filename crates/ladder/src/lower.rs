@@ -27,10 +27,36 @@ pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
 /// `name`. (`src` gives CPT expressions their exact positions: operands in
 /// the tree have their whitespace collapsed.)
 pub fn compile(prog: &Program, src: &str, name: &str, b: &mut Builder, presets: &mut Presets) -> Vec<Diagnostic> {
+    compile_in(prog, src, name, b, presets, Dialect::Logix)
+}
+
+/// Whose semantics the program follows where Logix and AuroraLD disagree
+/// (`[ladder] dialect` of alba.toml; docs/ladder.md "Dialects").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// Rockwell Logix: `LIM` includes both bounds, `SQRT`/`sqrt` of a
+    /// negative is the root of its absolute value.
+    #[default]
+    Logix,
+    /// AuroraLD Studio (`000_…` §3.4.3.1, Table 8): `LIM` is low ≤ test <
+    /// high, `sqrt` of a negative is 0.
+    AuroraLd,
+}
+
+/// [`compile`] in a dialect.
+pub fn compile_in(
+    prog: &Program,
+    src: &str,
+    name: &str,
+    b: &mut Builder,
+    presets: &mut Presets,
+    dialect: Dialect,
+) -> Vec<Diagnostic> {
     let mut c = Compiler {
         b,
         src,
         presets,
+        dialect,
         diags: Vec::new(),
         labels: HashMap::new(),
         jumps: Vec::new(),
@@ -188,6 +214,7 @@ struct Compiler<'a> {
     b: &'a mut Builder,
     src: &'a str,
     presets: &'a mut Presets,
+    dialect: Dialect,
     diags: Vec<Diagnostic>,
     /// Label (upper case) → (rung index, (name as written, span)).
     labels: HashMap<String, (usize, (String, Span))>,
@@ -559,6 +586,20 @@ impl Compiler<'_> {
             M::LIM => {
                 let c = self.class(&ops);
                 let v: Vec<V> = ops.iter().map(|o| self.b.read(src(*o), c, elem)).collect();
+                if self.dialect == Dialect::AuroraLd {
+                    // low <= test < high: two compares in series.
+                    for (cmp, x, y) in [(Cmp::Ge, v[1], v[0]), (Cmp::Lt, v[1], v[2])] {
+                        let op = match (x, y) {
+                            (V::I(a), V::I(b)) => Op::CmpI(cmp, a, b),
+                            (V::F(a), V::F(b)) => Op::CmpF(cmp, a, b),
+                            (V::L(a), V::L(b)) => Op::CmpL(cmp, a, b),
+                            (V::D(a), V::D(b)) => Op::CmpD(cmp, a, b),
+                            _ => return,
+                        };
+                        self.b.emit(op, elem);
+                    }
+                    return;
+                }
                 let op = match (v[0], v[1], v[2]) {
                     (V::I(a), V::I(b), V::I(d)) => Op::LimI(a, b, d),
                     (V::F(a), V::F(b), V::F(d)) => Op::LimF(a, b, d),
@@ -622,6 +663,16 @@ impl Compiler<'_> {
                     _ => UnOp::Rad,
                 };
                 let c = float_class(self.class(&ops));
+                if m == M::SQR && self.dialect == Dialect::AuroraLd {
+                    // AuroraLD's SQR of a negative is 0, as its CPT's sqrt.
+                    let Opnd::Place(dest, _) = ops[1] else { return };
+                    let a = self.b.read(src(ops[0]), c, elem);
+                    let v = crate::funcs::call(self.b, Func::SqrtZero, &[a], c, elem);
+                    let (d, post) = self.b.dest(dest, c, elem);
+                    self.b.un(UnOp::Mov, v, d, elem);
+                    self.b.post(post, elem);
+                    return;
+                }
                 self.unary(op, &ops, c, elem);
             }
             M::NEG | M::ABS | M::MOV | M::NOT => {
@@ -959,7 +1010,7 @@ impl Compiler<'_> {
                 x && y
             }
             Expr::Call(f, args, _) => {
-                if !matches!(f, Func::Abs | Func::Trn | Func::Round | Func::Frd | Func::Tod) {
+                if f.is_float() {
                     *float_ops = true;
                 }
                 let mut ok = true;
@@ -1041,41 +1092,21 @@ impl Compiler<'_> {
                 t
             }
             Expr::Call(f, args, sp) => {
-                let a = self.expr(&args[0], c, leaves, elem)?;
-                let t = self.b.temp(c);
-                if *f == Func::Atan2 {
-                    let b = self.expr(&args[1], c, leaves, elem)?;
-                    self.b.bin(BinOp::Atan2, a, b, t, elem);
-                    return Some(t);
-                }
-                let float = matches!(c, Class::F | Class::D);
-                let op = match f {
-                    Func::Sqrt => UnOp::Sqrt,
-                    Func::Abs => UnOp::Abs,
-                    Func::Sin => UnOp::Sin,
-                    Func::Cos => UnOp::Cos,
-                    Func::Tan => UnOp::Tan,
-                    Func::Asn => UnOp::Asin,
-                    Func::Acs => UnOp::Acos,
-                    Func::Atn => UnOp::Atan,
-                    Func::Ln => UnOp::Ln,
-                    Func::Log => UnOp::Log,
-                    Func::Deg => UnOp::Deg,
-                    Func::Rad => UnOp::Rad,
-                    Func::Trn if float => UnOp::Trunc,
-                    Func::Round if float => UnOp::Round,
-                    Func::Trn | Func::Round => UnOp::Mov,
-                    Func::Frd | Func::Tod => {
-                        let name = if *f == Func::Frd { "FRD" } else { "TOD" };
-                        if !int_only(self, name, *sp) {
-                            return None;
-                        }
-                        if *f == Func::Frd { UnOp::Frd } else { UnOp::Tod }
+                if matches!(f, Func::Frd | Func::Tod) {
+                    let name = if *f == Func::Frd { "FRD" } else { "TOD" };
+                    if !int_only(self, name, *sp) {
+                        return None;
                     }
-                    Func::Atan2 => return None,
+                }
+                let mut vals = Vec::with_capacity(args.len());
+                for a in args {
+                    vals.push(self.expr(a, c, leaves, elem)?);
+                }
+                let f = match f {
+                    Func::Sqrt if self.dialect == Dialect::AuroraLd => Func::SqrtZero,
+                    f => *f,
                 };
-                self.b.un(op, a, t, elem);
-                t
+                crate::funcs::call(self.b, f, &vals, c, elem)
             }
         })
     }

@@ -6,5 +6,6 @@ mod online_edit;
 mod pid;
 mod power_flow;
 mod properties;
+mod seed_functions;
 mod thesis;
 mod util;

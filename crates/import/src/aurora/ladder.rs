@@ -1215,7 +1215,11 @@ impl Parser<'_, '_> {
                     _ => E::bin("/", diff, sum),
                 })
             }
-            "rnd" => Err("CPT rnd: Alba has no random numbers".into()),
+            // Alba's CPT has AuroraLD's generator (docs/ladder.md, CPT).
+            "rnd" => {
+                want(2, &args)?;
+                Ok(E::call("rnd", args))
+            }
             _ => Err(format!(
                 "CPT: `{name}` is not one of AuroraLD's functions (Table 8; they are case-sensitive)"
             )),
@@ -1266,11 +1270,12 @@ mod tests {
         assert_eq!(cpt("A * -B - -1").as_deref(), Ok("A*(-B)-(-1)"));
         assert_eq!(cpt("T1.ACC / 1000 + PI").as_deref(), Ok("T1.ACC/1000+PI"));
         assert_eq!(cpt("atan2(B, A) * degrees(1)").as_deref(), Ok("ATAN2(B,A)*DEG(1)"));
+        assert_eq!(cpt("rnd(0, A) + 1").as_deref(), Ok("rnd(0,A)+1"));
+        assert!(cpt("rnd(1)").unwrap_err().contains("takes 2 argument"));
     }
 
     #[test]
     fn qscript_refuses_what_alba_lacks() {
-        assert!(cpt("rnd(0, 1)").unwrap_err().contains("random"));
         assert!(cpt("SQRT(A)").unwrap_err().contains("case-sensitive"));
         assert!(cpt("Run + 1").unwrap_err().contains("Bool"));
         assert!(cpt("A $ 2").unwrap_err().contains("`$`"));

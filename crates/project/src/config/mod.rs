@@ -5,6 +5,7 @@
 mod board;
 mod history;
 mod http;
+mod ladder;
 mod modbus;
 mod modbus_device;
 mod mqtt;
@@ -21,6 +22,7 @@ mod tests;
 pub use board::Board;
 pub use history::{DEFAULT_BUFFER_MAX_SAMPLES, History, HistoryBackend, OnDamage};
 pub use http::{Http, parse_origin, split_authority};
+pub use ladder::LadderDialect;
 pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus, ModbusArea, ModbusTag};
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
@@ -81,6 +83,8 @@ pub struct Config {
     pub session: Session,
     /// `[mqtt]`: the MQTT client of `alba run` (docs/scale-out.md).
     pub mqtt: Option<Mqtt>,
+    /// `[ladder] dialect`: Logix's semantics or AuroraLD's (docs/ladder.md).
+    pub ladder_dialect: LadderDialect,
 }
 
 #[derive(Deserialize)]
@@ -110,6 +114,7 @@ struct RawConfig {
     http: Option<http::RawHttp>,
     session: Option<session::RawSession>,
     mqtt: Option<mqtt::RawMqtt>,
+    ladder: Option<ladder::RawLadder>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -191,6 +196,9 @@ impl Config {
         let programs = listed(raw.programs.into_inner());
         let plant = listed(raw.plant);
         let board = raw.board.map(|b| board::board(b, file, &mut diags));
+        let ladder_dialect = raw
+            .ladder
+            .map_or(LadderDialect::Logix, |l| ladder::ladder(l, file, &mut diags));
         let models = raw
             .plant_model
             .into_iter()
@@ -207,6 +215,7 @@ impl Config {
         let mqtt = raw.mqtt.map(|m| mqtt::mqtt(m, file, &mut diags));
         let config = Config {
             mqtt,
+            ladder_dialect,
             modbus_devices,
             opcua_servers,
             session,
