@@ -111,7 +111,20 @@ pub fn lex(text: &str, file: FileId) -> (Vec<Token>, Vec<Diagnostic>) {
             let word = &text[start..i];
             if b.get(i) == Some(&b'#') {
                 i += 1;
-                let rest = typed_rest(b, &mut i);
+                let date = [
+                    "D",
+                    "DATE",
+                    "DT",
+                    "DATE_AND_TIME",
+                    "TOD",
+                    "TIME_OF_DAY",
+                    "LDATE",
+                    "LDT",
+                    "LTOD",
+                ]
+                .iter()
+                .any(|d| d.eq_ignore_ascii_case(word));
+                let rest = typed_rest(b, &mut i, date);
                 Tok::Typed(word.to_string(), text[rest..i].to_string())
             } else {
                 Tok::Ident(word.to_string())
@@ -221,17 +234,18 @@ fn utf8_len(first: u8) -> usize {
 }
 
 /// The value part of a typed literal: an optional sign, then letters,
-/// digits, `_`, `#` (`DINT#16#FF`), `:` and `-` (dates and times of day),
-/// and `.` before a digit (`T#1.5s`). Returns where it starts.
-fn typed_rest(b: &[u8], i: &mut usize) -> usize {
+/// digits, `_`, `#` (`DINT#16#FF`), for dates and times of day (`date`)
+/// `:` and `-`, and `.` before a digit (`T#1.5s`). Returns where it starts.
+fn typed_rest(b: &[u8], i: &mut usize, date: bool) -> usize {
     if matches!(b.get(*i), Some(b'+' | b'-')) {
         *i += 1;
     }
     let start = *i;
     while let Some(&c) = b.get(*i) {
         let ok = c.is_ascii_alphanumeric()
-            || matches!(c, b'_' | b'#' | b':')
-            || (c == b'-' && *i > start && b.get(*i + 1).is_some_and(u8::is_ascii_digit))
+            || matches!(c, b'_' | b'#')
+            || (date && c == b':')
+            || (date && c == b'-' && *i > start && b.get(*i + 1).is_some_and(u8::is_ascii_digit))
             || (c == b'.' && b.get(*i + 1).is_some_and(u8::is_ascii_digit));
         if !ok {
             break;
