@@ -382,3 +382,32 @@ fn a_runaway_loop_is_a_major_fault_not_a_hang() {
         assert!(r.is_err(), "{mode:?}: an endless loop must stop the scan");
     }
 }
+
+/// 10 000 lines of ST parsed, checked and lowered; prints the time (debug
+/// builds are slower than release; tests never assert wall-clock time).
+#[test]
+fn ten_thousand_lines_compile_and_the_time_is_printed() {
+    let mut src = String::from("PROGRAM Big\nVAR i, n : DINT; a : ARRAY[0..99] OF DINT; t : TON; END_VAR\n");
+    for k in 0..2_500 {
+        src.push_str(&format!("n := n + {k} MOD 7;\n"));
+        src.push_str(&format!(
+            "IF n > {k} THEN a[n MOD 100] := a[{}] - 1; END_IF;\n",
+            k % 100
+        ));
+        src.push_str("t(IN := n > 3, PT := T#1s);\n");
+        src.push_str("CASE n MOD 4 OF 0: i := 1; 1..2: i := 2; ELSE i := 3; END_CASE;\n");
+    }
+    src.push_str("END_PROGRAM\n");
+    let lines = src.lines().count();
+    assert!(lines >= 10_000);
+    let start = std::time::Instant::now();
+    let p = program("name,type\n", &src);
+    let took = start.elapsed();
+    println!(
+        "{lines} lines of ST: parse, check and lower in {took:?} ({} ops)",
+        p.ops.len()
+    );
+    let mut e = engine(&p, Mode::Fused);
+    e.scan(0).expect("scan");
+    assert!(p.ops.len() > lines);
+}
