@@ -715,6 +715,8 @@ struct Lower<'a> {
     returns: Vec<u32>,
     functions: Vec<String>,
     pou: String,
+    /// Element places of the arrays met so far, by tag.
+    arrays: HashMap<String, Vec<Place>>,
 }
 
 /// Lowers the PROGRAMs of `file`, in order, as unit `name`.
@@ -746,6 +748,7 @@ pub fn compile(file: &ast::File, name: &str, b: &mut Builder) -> Vec<Diagnostic>
             returns: Vec::new(),
             functions: functions.clone(),
             pou: p.name.name.clone(),
+            arrays: HashMap::new(),
         };
         l.program(p);
         rungs = l.rungs;
@@ -1144,13 +1147,20 @@ impl Lower<'_> {
         match ty {
             Some(Ty::Fb(kind)) => return Ok(Loc::Fb { kind, name: tag }),
             Some(Ty::Array(of, dims)) => {
-                let mut elems = Vec::new();
-                for s in element_suffixes(&dims) {
-                    match self.b.layout().resolve(&format!("{tag}{s}")) {
-                        Ok(Target::Value { place, .. }) => elems.push(place),
-                        _ => return Err(self.unknown(n, "variable")),
+                let elems = match self.arrays.get(&tag) {
+                    Some(e) => e.clone(),
+                    None => {
+                        let mut elems = Vec::new();
+                        for s in element_suffixes(&dims) {
+                            match self.b.layout().resolve(&format!("{tag}{s}")) {
+                                Ok(Target::Value { place, .. }) => elems.push(place),
+                                _ => return Err(self.unknown(n, "variable")),
+                            }
+                        }
+                        self.arrays.insert(tag.clone(), elems.clone());
+                        elems
                     }
-                }
+                };
                 return Ok(Loc::Array {
                     elems,
                     ty: Ty::Array(of.clone(), dims.clone()),
