@@ -213,7 +213,7 @@ export type TagReply = TagInfo | TagValue;
 
 export type Force = { name: string, value: Json, };
 
-export type Language = "ladder" | "il" | "net" | "sfc";
+export type Language = "ladder" | "il" | "net" | "sfc" | "st";
 
 export type ProgramRef = { name: string, language: Language, plant: boolean, };
 

@@ -21,6 +21,7 @@ pub use alba_il as il;
 pub use alba_ladder as ladder;
 pub use alba_net as net;
 pub use alba_project as project;
+pub use alba_st as st;
 
 /// A project and what compiling it gave.
 pub struct Compiled {
@@ -66,6 +67,7 @@ enum Ast {
     Net(Option<Box<alba_net::Net>>),
     /// `None` when the chart could not be parsed.
     Sfc(Option<Box<alba_net::sfc::Sfc>>),
+    St(alba_st::File),
 }
 
 /// Compiles the programs of a loaded project: the control programs in the
@@ -113,6 +115,11 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                     Ast::Sfc(None)
                 }
             },
+            Language::St => {
+                let (ast, d) = alba_st::parse(text, src.file);
+                diags.extend(d);
+                Ast::St(ast)
+            }
         };
         asts.push((src, ast));
     }
@@ -123,6 +130,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         match ast {
             Ast::Net(Some(net)) => petri::marking_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags),
             Ast::Sfc(Some(sfc)) => sfc::tags(sfc, &petri::net_name(&src.name), src.file, &mut tags, &mut diags),
+            Ast::St(file) => alba_st::declare(file, &mut tags, &mut diags),
             _ => {}
         }
     }
@@ -144,6 +152,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
             Ast::Net(Some(net)) => petri::compile(net, src.file, text, &src.name, &mut b),
             Ast::Net(None) | Ast::Sfc(None) => Vec::new(),
             Ast::Sfc(Some(sfc)) => sfc::compile(sfc, src.file, text, &src.name, &mut b),
+            Ast::St(file) => alba_st::compile(file, &src.name, &mut b),
         });
     }
     if let Some(cfg) = &project.config {

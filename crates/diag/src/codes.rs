@@ -101,6 +101,16 @@ codes! {
         "Every FOR has its NEXT later in the same program, and loops nest at most 8 deep.";
     IlNotSupported = 215, "an S7-200 feature Alba does not have yet",
         "Subroutines and interrupt routines, local variables, and the byte forms INCB, DECB and LDB= … are not available yet; use M markers, words and one main program.";
+    StSyntax = 220, "Structured Text syntax error",
+        "A Structured Text file (`.st`) holds IEC 61131-3 POUs: `PROGRAM name … END_PROGRAM`, `FUNCTION`, `FUNCTION_BLOCK`, `TYPE … END_TYPE` and `VAR_GLOBAL` blocks. Statements end with `;`: assignments `x := e;`, calls `t1(IN := x, PT := T#5s);`, IF/ELSIF/ELSE/END_IF, CASE … OF … END_CASE, FOR/WHILE/REPEAT loops, EXIT and RETURN. Comments are `(* *)`, `/* */` and `//`. The message says what was expected at the place shown; see docs/st.md.";
+    StType = 221, "a Structured Text type error",
+        "Structured Text is strictly typed: both sides of an operator, and the value and target of an assignment, have one type, except that a value widens implicitly to a larger type of its family (SINT → INT → DINT → LINT, REAL → LREAL, an integer to a REAL wide enough). Conditions are BOOL. The message names both types; convert with a `*_TO_*` function (`INT_TO_REAL(x)`).";
+    StName = 222, "an unknown name in Structured Text",
+        "A name in ST is a variable of the POU, a tag of tags.csv (every tag is a global variable of every POU), a standard function or function block, or a member of a structure or function block instance (`t1.Q`). The message suggests the closest known name.";
+    StNotSupported = 223, "a Structured Text feature the engine does not have yet",
+        "Alba lowers ST to its one IR; a few parts of the language have no form there yet (STRING, DATE and unsigned types, user FUNCTIONs and FUNCTION_BLOCKs called from a program, pointers, shifts). They are refused at their place rather than compiled to something that behaves differently; docs/st.md lists them.";
+    StDeclaration = 224, "a Structured Text declaration cannot be used",
+        "A variable is declared once per POU; an ARRAY has constant bounds with the low bound not above the high one and at most 10 000 elements; an initial value fits the variable's type; a `VAR CONSTANT` is not written; EXIT is inside a loop; the loop variable of a FOR is an integer variable of the POU.";
     UnknownTag = 301, "unknown tag",
         "Operands name tags of tags.csv (case-insensitive), their members (`Delay.DN`), addresses, system tags (`S:FS`) or literals.";
     OperandCount = 302, "wrong number of operands",

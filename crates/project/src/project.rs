@@ -17,6 +17,8 @@ pub enum Language {
     Net,
     /// `.sfc`: an IEC 61131-3 sequential function chart, textual form (docs/nets.md, SFC).
     Sfc,
+    /// `.st`: IEC 61131-3 Structured Text POUs (docs/st.md).
+    St,
 }
 
 impl Language {
@@ -27,6 +29,7 @@ impl Language {
             "awl" => Some(Language::Il),
             "pnml" => Some(Language::Net),
             "sfc" => Some(Language::Sfc),
+            "st" => Some(Language::St),
             _ => None,
         }
     }
@@ -117,7 +120,7 @@ impl Project {
                             *span,
                             "unknown extension",
                         )
-                        .with_help("ladder programs end in .lad, Instruction List programs in .awl, nets in .pnml"),
+                        .with_help("ladder programs end in .lad, Instruction List programs in .awl, nets in .pnml, charts in .sfc, Structured Text in .st"),
                     );
                     continue;
                 };

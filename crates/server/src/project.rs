@@ -129,7 +129,7 @@ pub fn edit_summary(project: &Project, edit: &Edit) -> Result<String, EditError>
     let old = project.files.text(file);
     let (unit, old, new) = match language {
         Some(Language::Ladder) => ("rungs", rungs(old, file), rungs(new, file)),
-        Some(Language::Il | Language::Net | Language::Sfc) => ("lines", lines(old), lines(new)),
+        Some(Language::Il | Language::Net | Language::Sfc | Language::St) => ("lines", lines(old), lines(new)),
         None => ("rows", lines(old), lines(new)),
     };
     let d = alba_audit::diff(&old, &new);
@@ -165,6 +165,7 @@ pub fn language(l: Language) -> reply::Language {
         Language::Il => reply::Language::Il,
         Language::Net => reply::Language::Net,
         Language::Sfc => reply::Language::Sfc,
+        Language::St => reply::Language::St,
     }
 }
 
@@ -287,7 +288,7 @@ pub fn program_json(
                     .collect()
             });
         }
-        Language::Sfc => {}
+        Language::Sfc | Language::St => {}
     }
     Ok(out)
 }
@@ -441,7 +442,7 @@ pub fn uses(project: &Project, program: &Program, name: &str) -> Result<Vec<repl
                     }
                 }
             }
-            Language::Net | Language::Sfc => {}
+            Language::Net | Language::Sfc | Language::St => {}
         }
     }
     Ok(out)

@@ -258,6 +258,7 @@ pub enum Language {
     Il,
     Net,
     Sfc,
+    St,
 }
 
 /// `GET /api/programs`: one program of the project.

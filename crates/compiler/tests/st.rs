@@ -1,0 +1,100 @@
+//! Structured Text in a project (SPEC §10.6): `.st` files beside Ladder and
+//! AWL, run in the order of `alba.toml` in one scan, sharing the tags of
+//! tags.csv by name; errors located in the `.st` file.
+
+use alba_compiler::compile_dir;
+use alba_diag::Code;
+use alba_engine::Engine;
+use alba_ir::{Place, Target};
+use alba_model::Value;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+fn project(name: &str, tags: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("alba-st-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch project");
+    let programs: Vec<String> = files.iter().map(|(f, _)| format!("\"{f}\"")).collect();
+    let toml = format!("name = \"{name}\"\nprograms = [{}]\n", programs.join(", "));
+    std::fs::write(dir.join("alba.toml"), toml).expect("scratch project");
+    std::fs::write(dir.join("tags.csv"), format!("name,type,address\n{tags}")).expect("scratch project");
+    for (f, text) in files {
+        std::fs::write(dir.join(f), text).expect("scratch project");
+    }
+    dir
+}
+
+fn place(e: &Engine, name: &str) -> Place {
+    match e.program().layout.resolve(name) {
+        Ok(Target::Value { place, .. }) => place,
+        other => panic!("{name}: {other:?}"),
+    }
+}
+
+#[test]
+fn st_runs_in_file_order_with_ladder_and_awl_on_shared_tags() {
+    let dir = project(
+        "mixed",
+        "A,DINT,\nB,DINT,\nC,DINT,\nD,DINT,\nGo,BOOL,DI:1/0\n",
+        &[
+            ("first.lad", "XIC(Go)ADD(A,1,A);\n"),
+            (
+                "second.st",
+                "PROGRAM Second\nVAR n : DINT; END_VAR\nn := n + 1;\nB := A * 10 + n;\nEND_PROGRAM\n\
+                 PROGRAM Third\nC := B + 1;\nEND_PROGRAM\n",
+            ),
+            ("fourth.awl", "LD SM0.0\nMOVD C, D\n"),
+        ],
+    );
+    let c = compile_dir(&dir);
+    let prog = c
+        .program
+        .unwrap_or_else(|| panic!("{}", alba_diag::render_all(&c.diagnostics, &c.project.files)));
+    let units: Vec<&str> = prog.units.iter().map(|u| u.name.as_str()).collect();
+    assert_eq!(units, ["first.lad", "second.st", "fourth.awl"]);
+    let mut e = Engine::new(Arc::new(prog)).expect("verifies");
+    let go = place(&e, "Go");
+    e.write(go, Value::Bool(true));
+    for k in 0..3 {
+        e.scan(k * 10).expect("scan");
+    }
+    // Each program sees what the ones before it wrote in the same scan.
+    assert_eq!(e.read(place(&e, "A")), Value::Dint(3));
+    assert_eq!(e.read(place(&e, "B")), Value::Dint(33));
+    assert_eq!(e.read(place(&e, "C")), Value::Dint(34));
+    assert_eq!(e.read(place(&e, "D")), Value::Dint(34));
+    assert_eq!(e.read(place(&e, "Second.n")), Value::Dint(3));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn st_errors_are_located_in_the_st_file_and_stop_the_project() {
+    let dir = project(
+        "errors",
+        "Level,REAL,\n",
+        &[(
+            "main.st",
+            "PROGRAM Main\nVAR x : INT; END_VAR\nx := Levle;\nx := Level;\nEND_PROGRAM\n",
+        )],
+    );
+    let c = compile_dir(&dir);
+    assert!(c.program.is_none());
+    let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
+    assert!(text.contains("main.st:3:6"), "{text}");
+    assert!(text.contains("did you mean `Level`?"), "{text}");
+    assert!(c.diagnostics.iter().any(|d| d.code == Code::StType), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_st_example_compiles() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/st-motor");
+    let c = compile_dir(&dir);
+    assert!(
+        c.diagnostics.is_empty(),
+        "{}",
+        alba_diag::render_all(&c.diagnostics, &c.project.files)
+    );
+    let prog = c.program.expect("compiles");
+    assert!(matches!(prog.layout.resolve("Main.delay"), Ok(Target::Timer(_))));
+}

@@ -1,0 +1,2471 @@
+//! The checker and the lowering of ST `PROGRAM`s to the Alba IR.
+//!
+//! [`declare`] adds a tag for every variable of every PROGRAM (named
+//! `<program>.<variable>`, array elements `<program>.<a>[i]`, standard FB
+//! instances as TIMER / COUNTER / BOOL tags) and for `VAR_GLOBAL`s, before
+//! the layout is made; [`compile`] then lowers each body in file order.
+//!
+//! Evaluation keeps one invariant: between ops of the lowering the rung
+//! condition `rc` is true, so the IR's data operations (which act only while
+//! `rc` holds) always act; boolean logic uses `rc` and restores it with
+//! `True`. Control flow is `Jmp` to the `Rung` that starts each block.
+
+use crate::ast::{
+    self, Arg, BinOp, CaseLabel, Expr, ExprKind, Ident, Init, Lit, Pou, PouKind, Stmt, StmtKind, TypeRef, UnOp as AUn,
+    VarKind,
+};
+use alba_diag::{Code, Diagnostic, Span};
+use alba_ir::layout::Place;
+use alba_ir::op::{B, BinOp as IBin, Cmp, Ctr, I, Op, UnOp as IUn, Width};
+use alba_ir::values::{Class, V};
+use alba_ir::{Access, Builder, NO_ELEM, Target};
+use alba_model::tags::{Tag, TagTable, edit_distance};
+use alba_model::{DataType, Value};
+use std::collections::HashMap;
+
+type R<T> = Result<T, Diagnostic>;
+
+/// Most elements an ARRAY may have (each is a tag).
+pub const MAX_ELEMENTS: i64 = 10_000;
+
+/// The standard function blocks Alba maps onto its engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fb {
+    Ton,
+    Tof,
+    Tp,
+    Ctu,
+    Ctd,
+    Ctud,
+    RTrig,
+    FTrig,
+    Sr,
+    Rs,
+}
+
+impl Fb {
+    fn from_name(n: &str) -> Option<Fb> {
+        Some(match n.to_ascii_uppercase().as_str() {
+            "TON" => Fb::Ton,
+            "TOF" => Fb::Tof,
+            "TP" => Fb::Tp,
+            "CTU" => Fb::Ctu,
+            "CTD" => Fb::Ctd,
+            "CTUD" => Fb::Ctud,
+            "R_TRIG" => Fb::RTrig,
+            "F_TRIG" => Fb::FTrig,
+            "SR" => Fb::Sr,
+            "RS" => Fb::Rs,
+            _ => return None,
+        })
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Fb::Ton => "TON",
+            Fb::Tof => "TOF",
+            Fb::Tp => "TP",
+            Fb::Ctu => "CTU",
+            Fb::Ctd => "CTD",
+            Fb::Ctud => "CTUD",
+            Fb::RTrig => "R_TRIG",
+            Fb::FTrig => "F_TRIG",
+            Fb::Sr => "SR",
+            Fb::Rs => "RS",
+        }
+    }
+    /// Inputs and outputs with their types.
+    fn params(self) -> (Params, Params) {
+        use P::*;
+        match self {
+            Fb::Ton | Fb::Tof | Fb::Tp => (&[("IN", Bool), ("PT", Time)], &[("Q", Bool), ("ET", Time)]),
+            Fb::Ctu => (&[("CU", Bool), ("R", Bool), ("PV", Int)], &[("Q", Bool), ("CV", Int)]),
+            Fb::Ctd => (&[("CD", Bool), ("LD", Bool), ("PV", Int)], &[("Q", Bool), ("CV", Int)]),
+            Fb::Ctud => (
+                &[("CU", Bool), ("CD", Bool), ("R", Bool), ("LD", Bool), ("PV", Int)],
+                &[("QU", Bool), ("QD", Bool), ("CV", Int)],
+            ),
+            Fb::RTrig | Fb::FTrig => (&[("CLK", Bool)], &[("Q", Bool)]),
+            Fb::Sr => (&[("S1", Bool), ("R", Bool)], &[("Q1", Bool)]),
+            Fb::Rs => (&[("S", Bool), ("R1", Bool)], &[("Q1", Bool)]),
+        }
+    }
+}
+
+/// Parameters of a standard FB: names and types.
+type Params = &'static [(&'static str, P)];
+/// An array's element type, element places and bounds.
+type ArrayParts = (Ty, Vec<Place>, Vec<(i64, i64)>);
+/// A call's inputs by parameter, and its `=>` outputs.
+type Bound<'e> = (Vec<Option<&'e Expr>>, Vec<(usize, &'e Arg)>);
+
+/// The type of a standard FB's parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum P {
+    Bool,
+    Int,
+    Time,
+}
+
+impl P {
+    fn ty(self) -> Ty {
+        match self {
+            P::Bool => Ty::Bool,
+            P::Int => Ty::Int,
+            P::Time => Ty::Time,
+        }
+    }
+}
+
+/// A type the lowering knows.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Ty {
+    Bool,
+    Sint,
+    Int,
+    Dint,
+    Lint,
+    Real,
+    Lreal,
+    Time,
+    Array(Box<Ty>, Vec<(i64, i64)>),
+    Fb(Fb),
+}
+
+impl std::fmt::Display for Ty {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Ty::Bool => f.write_str("BOOL"),
+            Ty::Sint => f.write_str("SINT"),
+            Ty::Int => f.write_str("INT"),
+            Ty::Dint => f.write_str("DINT"),
+            Ty::Lint => f.write_str("LINT"),
+            Ty::Real => f.write_str("REAL"),
+            Ty::Lreal => f.write_str("LREAL"),
+            Ty::Time => f.write_str("TIME"),
+            Ty::Array(of, dims) => {
+                let d: Vec<_> = dims.iter().map(|(a, b)| format!("{a}..{b}")).collect();
+                write!(f, "ARRAY[{}] OF {of}", d.join(","))
+            }
+            Ty::Fb(k) => f.write_str(k.name()),
+        }
+    }
+}
+
+impl Ty {
+    fn data_type(&self) -> Option<DataType> {
+        Some(match self {
+            Ty::Bool => DataType::Bool,
+            Ty::Sint => DataType::Sint,
+            Ty::Int => DataType::Int,
+            Ty::Dint => DataType::Dint,
+            Ty::Lint => DataType::Lint,
+            Ty::Real => DataType::Real,
+            Ty::Lreal => DataType::Lreal,
+            Ty::Time => DataType::Time,
+            _ => return None,
+        })
+    }
+    fn from_data_type(t: DataType) -> Option<Ty> {
+        Some(match t {
+            DataType::Bool => Ty::Bool,
+            DataType::Sint => Ty::Sint,
+            DataType::Int => Ty::Int,
+            DataType::Dint => Ty::Dint,
+            DataType::Lint => Ty::Lint,
+            DataType::Real => Ty::Real,
+            DataType::Lreal => Ty::Lreal,
+            DataType::Time => Ty::Time,
+            _ => return None,
+        })
+    }
+    fn is_int(&self) -> bool {
+        matches!(self, Ty::Sint | Ty::Int | Ty::Dint | Ty::Lint)
+    }
+    fn is_real(&self) -> bool {
+        matches!(self, Ty::Real | Ty::Lreal)
+    }
+    fn is_num(&self) -> bool {
+        self.is_int() || self.is_real() || *self == Ty::Time
+    }
+    fn class(&self) -> Class {
+        match self {
+            Ty::Lint => Class::L,
+            Ty::Real => Class::F,
+            Ty::Lreal => Class::D,
+            _ => Class::I,
+        }
+    }
+    fn rank(&self) -> u8 {
+        match self {
+            Ty::Sint => 1,
+            Ty::Int => 2,
+            Ty::Dint => 3,
+            Ty::Lint => 4,
+            Ty::Real => 5,
+            Ty::Lreal => 6,
+            _ => 0,
+        }
+    }
+    fn elements(&self) -> i64 {
+        match self {
+            Ty::Array(_, dims) => dims.iter().map(|(a, b)| b - a + 1).product(),
+            _ => 1,
+        }
+    }
+}
+
+/// Whether a value of `from` may be used where `to` is wanted without a
+/// conversion function (IEC 61131-3 implicit widening).
+fn widens(from: &Ty, to: &Ty) -> bool {
+    if from == to {
+        return true;
+    }
+    match (from, to) {
+        (a, b) if a.is_int() && b.is_int() => a.rank() < b.rank(),
+        (Ty::Sint | Ty::Int, Ty::Real | Ty::Lreal) => true,
+        (Ty::Dint, Ty::Lreal) => true,
+        (Ty::Real, Ty::Lreal) => true,
+        _ => false,
+    }
+}
+
+fn elementary(name: &str) -> Option<Ty> {
+    Some(match name.to_ascii_uppercase().as_str() {
+        "BOOL" => Ty::Bool,
+        "SINT" => Ty::Sint,
+        "INT" => Ty::Int,
+        "DINT" => Ty::Dint,
+        "LINT" => Ty::Lint,
+        "REAL" => Ty::Real,
+        "LREAL" => Ty::Lreal,
+        "TIME" => Ty::Time,
+        _ => return None,
+    })
+}
+
+const UNSUPPORTED_TYPES: [&str; 14] = [
+    "USINT",
+    "UINT",
+    "UDINT",
+    "ULINT",
+    "BYTE",
+    "WORD",
+    "DWORD",
+    "LWORD",
+    "LTIME",
+    "DATE",
+    "TIME_OF_DAY",
+    "TOD",
+    "DATE_AND_TIME",
+    "DT",
+];
+
+fn not_supported(span: Span, what: String) -> Diagnostic {
+    Diagnostic::new(Code::StNotSupported, what, span, "not supported yet")
+}
+
+fn type_error(span: Span, msg: String) -> Diagnostic {
+    Diagnostic::new(Code::StType, msg, span, "type")
+}
+
+fn decl_error(span: Span, msg: String) -> Diagnostic {
+    Diagnostic::new(Code::StDeclaration, msg, span, "declaration")
+}
+
+fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    let lower = name.to_ascii_lowercase();
+    candidates
+        .map(|c| (edit_distance(&lower, &c.to_ascii_lowercase()), c))
+        .filter(|(d, _)| *d <= 2.max(lower.len() / 4))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
+}
+
+/// A constant integer from an expression (literals, negation).
+fn const_int(e: &Expr) -> Option<i64> {
+    match &e.kind {
+        ExprKind::Lit(Lit::Int(v, _)) => Some(*v),
+        ExprKind::Unary(AUn::Neg, a) => const_int(a).map(|v| -v),
+        _ => None,
+    }
+}
+
+/// User `TYPE` aliases of a file, by lower-case name.
+type Types<'a> = HashMap<String, &'a TypeRef>;
+
+fn types_of(file: &ast::File) -> Types<'_> {
+    file.types
+        .iter()
+        .map(|t| (t.name.name.to_ascii_lowercase(), &t.ty))
+        .collect()
+}
+
+/// The type a declaration names, or why it cannot be used.
+fn resolve_type(t: &TypeRef, types: &Types, depth: u32) -> R<Ty> {
+    match t {
+        TypeRef::Named(n) => {
+            if let Some(ty) = elementary(&n.name) {
+                return Ok(ty);
+            }
+            if let Some(fb) = Fb::from_name(&n.name) {
+                return Ok(Ty::Fb(fb));
+            }
+            if let Some(alias) = types.get(&n.name.to_ascii_lowercase()) {
+                if depth > 16 {
+                    return Err(decl_error(
+                        n.span,
+                        format!("the type `{}` is defined in terms of itself", n.name),
+                    ));
+                }
+                return resolve_type(alias, types, depth + 1);
+            }
+            if UNSUPPORTED_TYPES.iter().any(|u| n.is(u)) {
+                return Err(not_supported(
+                    n.span,
+                    format!(
+                        "the type {} is not supported by the engine yet",
+                        n.name.to_ascii_uppercase()
+                    ),
+                ));
+            }
+            let known = [
+                "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD",
+                "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
+            ];
+            let user = types.keys().map(String::as_str);
+            let mut d = Diagnostic::new(Code::StName, format!("unknown type `{}`", n.name), n.span, "type");
+            if let Some(s) = closest(&n.name, known.into_iter().chain(user)) {
+                d = d.with_help(format!("did you mean `{s}`?"));
+            }
+            Err(d)
+        }
+        TypeRef::String { span, .. } => Err(not_supported(
+            *span,
+            "STRING and WSTRING are not supported by the engine yet".into(),
+        )),
+        TypeRef::Struct { span, .. } => Err(not_supported(
+            *span,
+            "STRUCT types are not supported by the engine yet".into(),
+        )),
+        TypeRef::Enum { span, .. } => Err(not_supported(
+            *span,
+            "enumerated types are not supported by the engine yet".into(),
+        )),
+        TypeRef::Subrange { base, span, .. } => {
+            let _ = base;
+            Err(not_supported(
+                *span,
+                "subrange types are not supported by the engine yet".into(),
+            ))
+        }
+        TypeRef::Array { dims, of, span } => {
+            let of = resolve_type(of, types, depth + 1)?;
+            if matches!(of, Ty::Array(..) | Ty::Fb(_)) {
+                return Err(not_supported(*span, format!("arrays of {of} are not supported yet")));
+            }
+            let mut out = Vec::new();
+            for (lo, hi) in dims {
+                let (Some(l), Some(h)) = (const_int(lo), const_int(hi)) else {
+                    return Err(decl_error(
+                        lo.span.to(hi.span),
+                        "array bounds are integer literals".into(),
+                    ));
+                };
+                if l > h {
+                    return Err(decl_error(
+                        lo.span.to(hi.span),
+                        format!("the low bound {l} is above the high bound {h}"),
+                    ));
+                }
+                out.push((l, h));
+            }
+            let ty = Ty::Array(Box::new(of), out);
+            let n = ty.elements();
+            if !(1..=MAX_ELEMENTS).contains(&n) {
+                return Err(decl_error(
+                    *span,
+                    format!("an array has at most {MAX_ELEMENTS} elements (this one {n})"),
+                ));
+            }
+            Ok(ty)
+        }
+    }
+}
+
+/// The elements of an array in order, as index suffixes (`[1]`, `[1,2]`).
+fn element_suffixes(dims: &[(i64, i64)]) -> Vec<String> {
+    let mut out = vec![String::new()];
+    for (k, (lo, hi)) in dims.iter().enumerate() {
+        let mut next = Vec::new();
+        for prefix in &out {
+            for i in *lo..=*hi {
+                next.push(if k == 0 {
+                    format!("{i}")
+                } else {
+                    format!("{prefix},{i}")
+                });
+            }
+        }
+        out = next;
+    }
+    out.into_iter().map(|s| format!("[{s}]")).collect()
+}
+
+/// The value of a literal initial value as `ty`.
+fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
+    let bad = || {
+        type_error(
+            e.span,
+            format!("the initial value `{}` is not a {ty} literal", ast::expr(e)),
+        )
+    };
+    let v = match (&e.kind, ty) {
+        (ExprKind::Lit(Lit::Bool(b)), Ty::Bool) => Value::Bool(*b),
+        (ExprKind::Lit(Lit::Time(ms)), Ty::Time) => Value::Time(i32::try_from(*ms).map_err(|_| bad())?),
+        (ExprKind::Lit(Lit::Int(v, _)), Ty::Sint) => Value::Sint(i8::try_from(*v).map_err(|_| bad())?),
+        (ExprKind::Lit(Lit::Int(v, _)), Ty::Int) => Value::Int(i16::try_from(*v).map_err(|_| bad())?),
+        (ExprKind::Lit(Lit::Int(v, _)), Ty::Dint) => Value::Dint(i32::try_from(*v).map_err(|_| bad())?),
+        (ExprKind::Lit(Lit::Int(v, _)), Ty::Lint) => Value::Lint(*v),
+        (ExprKind::Lit(Lit::Int(v, _)), Ty::Real) => Value::Real(*v as f32),
+        (ExprKind::Lit(Lit::Int(v, _)), Ty::Lreal) => Value::Lreal(*v as f64),
+        (ExprKind::Lit(Lit::Real(v, _)), Ty::Real) => Value::Real(*v as f32),
+        (ExprKind::Lit(Lit::Real(v, _)), Ty::Lreal) => Value::Lreal(*v),
+        _ => return Err(bad()),
+    };
+    Ok(v)
+}
+
+fn plain_tag(name: String, ty: DataType, initial: Option<Value>, retain: bool, description: String, span: Span) -> Tag {
+    Tag {
+        name,
+        ty,
+        address: None,
+        address_text: None,
+        initial,
+        members: Vec::new(),
+        retain,
+        description,
+        span,
+    }
+}
+
+/// One declared variable of a POU.
+#[derive(Debug, Clone)]
+struct Var {
+    ty: Ty,
+    /// Its tag's name (its elements' names add `[i]`).
+    tag: String,
+    kind: VarKind,
+    retain: bool,
+    constant: bool,
+    init: Option<Init>,
+    span: Span,
+}
+
+/// The variables of `pou` (or of the file's `VAR_GLOBAL`s, prefix `None`),
+/// by lower-case name, with the errors of their declarations.
+fn variables(
+    blocks: &[ast::VarBlock],
+    prefix: Option<&str>,
+    types: &Types,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<(String, Var)> {
+    let mut out: Vec<(String, Var)> = Vec::new();
+    for b in blocks {
+        for d in &b.vars {
+            let ty = match resolve_type(&d.ty, types, 0) {
+                Ok(t) => t,
+                Err(e) => {
+                    diags.push(e);
+                    continue;
+                }
+            };
+            if let Some((_, span)) = &d.at {
+                diags.push(not_supported(
+                    *span,
+                    "`AT` addresses are not supported yet: give the tag its address in tags.csv".into(),
+                ));
+            }
+            for n in &d.names {
+                let key = n.name.to_ascii_lowercase();
+                if let Some((_, prev)) = out.iter().find(|(k, _)| *k == key) {
+                    diags.push(
+                        decl_error(n.span, format!("`{}` is declared twice", n.name))
+                            .with_note(prev.span, "first declared here"),
+                    );
+                    continue;
+                }
+                let global = matches!(b.kind, VarKind::Global | VarKind::External) || prefix.is_none();
+                let tag = match prefix {
+                    Some(p) if !global => format!("{p}.{}", n.name),
+                    _ => n.name.clone(),
+                };
+                out.push((
+                    key,
+                    Var {
+                        ty: ty.clone(),
+                        tag,
+                        kind: b.kind,
+                        retain: b.retain,
+                        constant: b.constant,
+                        init: d.init.clone(),
+                        span: n.span,
+                    },
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Adds the tags of a variable to `tags`.
+fn declare_var(v: &Var, retain: bool, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
+    if let Some(t) = tags.get(&v.tag) {
+        diags.push(
+            decl_error(v.span, format!("the variable's tag `{}` already exists", v.tag))
+                .with_note(t.span, "declared here"),
+        );
+        return;
+    }
+    let desc = "Structured Text variable".to_string();
+    match &v.ty {
+        Ty::Fb(fb) => match fb {
+            Fb::Ton | Fb::Tof | Fb::Tp => {
+                tags.push(plain_tag(v.tag.clone(), DataType::Timer, None, retain, desc, v.span))
+            }
+            Fb::Ctu | Fb::Ctd | Fb::Ctud => {
+                tags.push(plain_tag(v.tag.clone(), DataType::Counter, None, retain, desc, v.span))
+            }
+            Fb::RTrig | Fb::FTrig => {
+                for m in ["Q", "M"] {
+                    tags.push(plain_tag(
+                        format!("{}.{m}", v.tag),
+                        DataType::Bool,
+                        None,
+                        retain,
+                        desc.clone(),
+                        v.span,
+                    ));
+                }
+            }
+            Fb::Sr | Fb::Rs => tags.push(plain_tag(
+                format!("{}.Q1", v.tag),
+                DataType::Bool,
+                None,
+                retain,
+                desc,
+                v.span,
+            )),
+        },
+        Ty::Array(of, dims) => {
+            let Some(dt) = of.data_type() else { return };
+            let suffixes = element_suffixes(dims);
+            let mut inits: Vec<Option<Value>> = vec![None; suffixes.len()];
+            match &v.init {
+                None => {}
+                Some(Init::Array(items, span)) => {
+                    let mut k = 0usize;
+                    for (count, item) in items {
+                        let n = match count {
+                            None => 1,
+                            Some(c) => match const_int(c) {
+                                Some(n) if n >= 0 => n as usize,
+                                _ => {
+                                    diags.push(decl_error(c.span, "a repeat count is a literal integer ≥ 0".into()));
+                                    return;
+                                }
+                            },
+                        };
+                        let Init::Expr(e) = item else {
+                            diags.push(decl_error(
+                                *span,
+                                "an array element's initial value is a literal".into(),
+                            ));
+                            return;
+                        };
+                        let val = match literal_value(e, of) {
+                            Ok(x) => x,
+                            Err(d) => {
+                                diags.push(d);
+                                return;
+                            }
+                        };
+                        for _ in 0..n {
+                            if k >= inits.len() {
+                                diags.push(decl_error(
+                                    *span,
+                                    format!("more initial values than the {} elements", inits.len()),
+                                ));
+                                return;
+                            }
+                            inits[k] = Some(val);
+                            k += 1;
+                        }
+                    }
+                }
+                Some(Init::Expr(e)) => {
+                    diags.push(type_error(
+                        e.span,
+                        "an array's initial value is a list `[1, 2, 3]`".into(),
+                    ));
+                }
+                Some(Init::Struct(_, span)) => diags.push(type_error(
+                    *span,
+                    "an array's initial value is a list `[1, 2, 3]`".into(),
+                )),
+            }
+            for (s, init) in suffixes.into_iter().zip(inits) {
+                tags.push(plain_tag(
+                    format!("{}{s}", v.tag),
+                    dt,
+                    init,
+                    retain,
+                    desc.clone(),
+                    v.span,
+                ));
+            }
+        }
+        ty => {
+            let Some(dt) = ty.data_type() else { return };
+            let init = match &v.init {
+                None => None,
+                Some(Init::Expr(e)) => match literal_value(e, ty) {
+                    Ok(x) => Some(x),
+                    Err(d) => {
+                        diags.push(d);
+                        None
+                    }
+                },
+                Some(Init::Array(_, span) | Init::Struct(_, span)) => {
+                    diags.push(type_error(*span, format!("a {ty} takes one value")));
+                    None
+                }
+            };
+            tags.push(plain_tag(v.tag.clone(), dt, init, retain, desc, v.span));
+        }
+    }
+}
+
+/// Adds the tags of every PROGRAM's variables and of the `VAR_GLOBAL`s of
+/// `file` to `tags` (before the layout is made).
+pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
+    let types = types_of(file);
+    for g in &file.globals {
+        for (_, v) in variables(std::slice::from_ref(g), None, &types, diags) {
+            declare_var(&v, v.retain, tags, diags);
+        }
+    }
+    for p in &file.pous {
+        if p.kind != PouKind::Program {
+            continue;
+        }
+        for (_, v) in variables(&p.vars, Some(&p.name.name), &types, diags) {
+            if v.kind != VarKind::External {
+                declare_var(&v, v.retain, tags, diags);
+            }
+        }
+    }
+}
+
+/// A value read into a slot.
+#[derive(Debug, Clone, Copy)]
+enum Val {
+    B(B),
+    N(V),
+}
+
+/// Where a name or member lives.
+#[derive(Debug, Clone)]
+enum Loc {
+    Value {
+        place: Place,
+        access: Access,
+        ty: Ty,
+        constant: bool,
+    },
+    /// An array: its element places in order.
+    Array {
+        elems: Vec<Place>,
+        ty: Ty,
+        of: Ty,
+        dims: Vec<(i64, i64)>,
+    },
+    Fb {
+        kind: Fb,
+        name: String,
+    },
+    /// Q (QU) of a counter: CV >= PV; with `down`, Q (QD): CV <= 0.
+    CounterQ {
+        c: Ctr,
+        down: bool,
+    },
+}
+
+struct LoopLabels {
+    exits: Vec<u32>,
+}
+
+struct Lower<'a> {
+    b: &'a mut Builder,
+    vars: HashMap<String, Var>,
+    diags: Vec<Diagnostic>,
+    elem: u32,
+    rungs: u32,
+    loops: Vec<LoopLabels>,
+    returns: Vec<u32>,
+    functions: Vec<String>,
+    pou: String,
+    /// Element places of the arrays met so far, by tag.
+    arrays: HashMap<String, Vec<Place>>,
+}
+
+/// Lowers the PROGRAMs of `file`, in order, as unit `name`.
+pub fn compile(file: &ast::File, name: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    let types = types_of(file);
+    let mut diags = Vec::new();
+    let globals: Vec<(String, Var)> = variables(&file.globals, None, &types, &mut Vec::new());
+    b.begin_unit(name);
+    let functions: Vec<String> = file
+        .pous
+        .iter()
+        .filter(|p| p.kind != PouKind::Program)
+        .map(|p| p.name.name.clone())
+        .collect();
+    let mut rungs = 0;
+    for p in &file.pous {
+        if p.kind != PouKind::Program {
+            continue;
+        }
+        let mut vars: HashMap<String, Var> = globals.iter().cloned().collect();
+        vars.extend(variables(&p.vars, Some(&p.name.name), &types, &mut Vec::new()));
+        let mut l = Lower {
+            b,
+            vars,
+            diags: Vec::new(),
+            elem: NO_ELEM,
+            rungs,
+            loops: Vec::new(),
+            returns: Vec::new(),
+            functions: functions.clone(),
+            pou: p.name.name.clone(),
+            arrays: HashMap::new(),
+        };
+        l.program(p);
+        rungs = l.rungs;
+        diags.extend(l.diags);
+    }
+    b.end_unit();
+    diags
+}
+
+impl Lower<'_> {
+    fn emit(&mut self, op: Op) -> u32 {
+        self.b.emit(op, self.elem)
+    }
+
+    fn rung(&mut self, span: Span) -> u32 {
+        let at = self.b.here();
+        self.b.begin_rung(self.rungs, span);
+        self.rungs += 1;
+        self.elem = self.b.element(span);
+        at
+    }
+
+    fn patch(&mut self, jumps: &[u32], target: u32) {
+        for j in jumps {
+            self.b.patch_jump(*j, target);
+        }
+    }
+
+    fn program(&mut self, p: &Pou) {
+        for v in self.vars.values() {
+            if v.kind != VarKind::External {
+                continue;
+            }
+            match self.b.layout().resolve(&v.tag) {
+                Err(_) => self.diags.push(Diagnostic::new(
+                    Code::StName,
+                    format!("`{}` is VAR_EXTERNAL but no tag or VAR_GLOBAL has that name", v.tag),
+                    v.span,
+                    "external",
+                )),
+                Ok(Target::Value { place, .. }) if Some(place.data_type()) != v.ty.data_type() => {
+                    self.diags.push(type_error(
+                        v.span,
+                        format!(
+                            "`{}` is declared {} here but the global is {}",
+                            v.tag,
+                            v.ty,
+                            place.data_type()
+                        ),
+                    ))
+                }
+                Ok(_) => {}
+            }
+        }
+        self.rung(p.name.span);
+        // VAR_TEMP starts from its initial value on every scan.
+        let mut temps: Vec<_> = self
+            .vars
+            .values()
+            .filter(|v| v.kind == VarKind::Temp)
+            .cloned()
+            .collect();
+        temps.sort_by_key(|v| v.span.start);
+        for v in temps {
+            if let (Some(dt), Ok(Target::Value { place, .. })) = (v.ty.data_type(), self.b.layout().resolve(&v.tag)) {
+                let value = match &v.init {
+                    Some(Init::Expr(e)) => literal_value(e, &v.ty).ok(),
+                    _ => None,
+                }
+                .or_else(|| Value::zero(dt));
+                let Some(value) = value else { continue };
+                let _ = self.store_const(place, value);
+            }
+        }
+        self.block(&p.body);
+        let end = self.rung(Span::new(p.span.file, p.span.end as usize..p.span.end as usize));
+        let returns = std::mem::take(&mut self.returns);
+        self.patch(&returns, end);
+    }
+
+    fn store_const(&mut self, place: Place, value: Value) -> R<()> {
+        let ty = Ty::from_data_type(value.data_type()).unwrap_or(Ty::Dint);
+        let val = self.constant(&value_lit(value), &ty);
+        self.store(place, val, &ty);
+        Ok(())
+    }
+
+    fn block(&mut self, list: &[Stmt]) {
+        for s in list {
+            let mark = self.b.mark();
+            if let Err(d) = self.stmt(s) {
+                self.diags.push(d);
+            }
+            self.b.release(mark);
+        }
+    }
+
+    fn stmt(&mut self, s: &Stmt) -> R<()> {
+        match &s.kind {
+            StmtKind::Empty => Ok(()),
+            StmtKind::Assign(lhs, rhs) => {
+                self.rung(s.span);
+                self.assign(lhs, rhs)
+            }
+            StmtKind::Call(callee, args) => {
+                self.rung(s.span);
+                let ExprKind::Name(n) = &callee.kind else {
+                    return Err(not_supported(callee.span, "this call is not supported".into()));
+                };
+                match self.lookup(n)? {
+                    Loc::Fb { kind, name } => self.fb_call(kind, &name, n, args),
+                    _ => {
+                        // A function called for nothing: evaluate it (it may fault).
+                        self.call(n, args, None, callee.span).map(|_| ())
+                    }
+                }
+            }
+            StmtKind::If { arms, els } => {
+                let mut ends = Vec::new();
+                let mut next = 0;
+                for (k, (c, body)) in arms.iter().enumerate() {
+                    if k > 0 {
+                        // ELSIF: evaluated in the rung the previous arm skips to.
+                        self.elem = self.b.element(c.span);
+                    } else {
+                        self.rung(s.span);
+                    }
+                    let c = self.cond(c)?;
+                    self.emit(Op::Ldn(c));
+                    let skip = self.emit(Op::Jmp(0));
+                    self.emit(Op::True);
+                    self.block(body);
+                    if k + 1 < arms.len() || els.is_some() {
+                        ends.push(self.emit(Op::Jmp(0)));
+                    }
+                    next = self.rung(s.span);
+                    self.patch(&[skip], next);
+                }
+                if let Some(e) = els {
+                    self.block(e);
+                    next = self.rung(s.span);
+                }
+                self.patch(&ends, next);
+                Ok(())
+            }
+            StmtKind::Case { sel, arms, els } => {
+                self.rung(s.span);
+                let (v, ty) = self.eval(sel, None)?;
+                let (Val::N(v), true) = (v, ty.is_int()) else {
+                    return Err(type_error(sel.span, format!("CASE selects on an integer, not a {ty}")));
+                };
+                let V::I(selector) = self.b.convert(v, Class::I, self.elem) else {
+                    return Err(not_supported(sel.span, "a LINT selector is not supported yet".into()));
+                };
+                let mut ends = Vec::new();
+                for (labels, body) in arms {
+                    let hit = self.b.temp_b();
+                    for (k, label) in labels.iter().enumerate() {
+                        let (lo, hi, span) = match label {
+                            CaseLabel::One(e) => (const_int(e), const_int(e), e.span),
+                            CaseLabel::Range(a, b) => (const_int(a), const_int(b), a.span.to(b.span)),
+                        };
+                        let (Some(lo), Some(hi)) = (lo, hi) else {
+                            return Err(type_error(
+                                span,
+                                "a CASE label is an integer literal or a range of them".into(),
+                            ));
+                        };
+                        if lo > hi {
+                            return Err(type_error(span, format!("the range {lo}..{hi} is empty")));
+                        }
+                        let (Ok(lo), Ok(hi)) = (i32::try_from(lo), i32::try_from(hi)) else {
+                            return Err(type_error(span, "a CASE label does not fit a DINT".into()));
+                        };
+                        let (clo, chi) = (self.b.const_i(lo), self.b.const_i(hi));
+                        if lo == hi {
+                            self.emit(Op::CmpI(Cmp::Eq, selector, clo));
+                        } else {
+                            self.emit(Op::CmpI(Cmp::Ge, selector, clo));
+                            self.emit(Op::CmpI(Cmp::Le, selector, chi));
+                        }
+                        if k > 0 {
+                            self.emit(Op::Or(hit));
+                        }
+                        self.emit(Op::Ote(hit));
+                        self.emit(Op::True);
+                    }
+                    self.emit(Op::Ldn(hit));
+                    let skip = self.emit(Op::Jmp(0));
+                    self.emit(Op::True);
+                    self.block(body);
+                    ends.push(self.emit(Op::Jmp(0)));
+                    let next = self.rung(s.span);
+                    self.patch(&[skip], next);
+                }
+                if let Some(e) = els {
+                    self.block(e);
+                }
+                let end = self.rung(s.span);
+                self.patch(&ends, end);
+                Ok(())
+            }
+            StmtKind::For {
+                var,
+                from,
+                to,
+                by,
+                body,
+            } => {
+                self.rung(s.span);
+                let (place, ty) = match self.lookup(var)? {
+                    Loc::Value {
+                        place,
+                        access,
+                        ty,
+                        constant,
+                    } if ty.is_int() && access == Access::ReadWrite && !constant => (place, ty),
+                    _ => {
+                        return Err(decl_error(
+                            var.span,
+                            format!("the loop variable `{}` is a writable integer variable", var.name),
+                        ));
+                    }
+                };
+                let step = match by {
+                    None => 1,
+                    Some(e) => match const_int(e) {
+                        Some(0) | None => {
+                            return Err(not_supported(e.span, "BY takes a non-zero integer literal".into()));
+                        }
+                        Some(v) => v,
+                    },
+                };
+                let (start, sty) = self.eval(from, Some(&ty))?;
+                if !widens(&sty, &ty) {
+                    return Err(type_error(
+                        from.span,
+                        format!("the loop variable is a {ty}; the start value is a {sty}"),
+                    ));
+                }
+                let start = self.fit(start, from, &ty)?;
+                self.store(place, Val::N(start), &ty);
+                let (end, ety) = self.eval(to, Some(&ty))?;
+                if !widens(&ety, &ty) {
+                    return Err(type_error(
+                        to.span,
+                        format!("the loop variable is a {ty}; the end value is a {ety}"),
+                    ));
+                }
+                let end_v = self.fit(end, to, &ty)?;
+                // Keep the end value in a slot of its own for the whole loop.
+                let end_slot = self.b.temp(ty.class());
+                self.b.un(IUn::Mov, end_v, end_slot, self.elem);
+                let top = self.rung(s.span);
+                let i = self.b.load(place, self.elem);
+                let cmp = if step > 0 { Cmp::Gt } else { Cmp::Lt };
+                self.cmp(cmp, i, end_slot);
+                let exit = self.emit(Op::Jmp(0));
+                self.emit(Op::True);
+                self.loops.push(LoopLabels { exits: vec![exit] });
+                self.block(body);
+                self.rung(s.span);
+                let i = self.b.load(place, self.elem);
+                let stepc = self.constant(&Lit::Int(step, None), &ty);
+                let Val::N(stepc) = stepc else { return Ok(()) };
+                let next = self.b.temp(ty.class());
+                self.b.bin(IBin::Add, i, stepc, next, self.elem);
+                self.store(place, Val::N(next), &ty);
+                self.emit(Op::Jmp(top));
+                let out = self.rung(s.span);
+                let l = self.loops.pop().map(|l| l.exits).unwrap_or_default();
+                self.patch(&l, out);
+                Ok(())
+            }
+            StmtKind::While(c, body) => {
+                let top = self.rung(s.span);
+                let c = self.cond(c)?;
+                self.emit(Op::Ldn(c));
+                let exit = self.emit(Op::Jmp(0));
+                self.emit(Op::True);
+                self.loops.push(LoopLabels { exits: vec![exit] });
+                self.block(body);
+                self.emit(Op::Jmp(top));
+                let out = self.rung(s.span);
+                let l = self.loops.pop().map(|l| l.exits).unwrap_or_default();
+                self.patch(&l, out);
+                Ok(())
+            }
+            StmtKind::Repeat(body, c) => {
+                let top = self.rung(s.span);
+                self.loops.push(LoopLabels { exits: Vec::new() });
+                self.block(body);
+                self.rung(c.span);
+                let cv = self.cond(c);
+                let cv = match cv {
+                    Ok(v) => v,
+                    Err(d) => {
+                        self.loops.pop();
+                        return Err(d);
+                    }
+                };
+                self.emit(Op::Ldn(cv));
+                self.emit(Op::Jmp(top));
+                self.emit(Op::True);
+                let out = self.rung(s.span);
+                let l = self.loops.pop().map(|l| l.exits).unwrap_or_default();
+                self.patch(&l, out);
+                Ok(())
+            }
+            StmtKind::Exit => {
+                self.rung(s.span);
+                let j = self.emit(Op::Jmp(0));
+                match self.loops.last_mut() {
+                    Some(l) => {
+                        l.exits.push(j);
+                        Ok(())
+                    }
+                    None => Err(decl_error(
+                        s.span,
+                        "EXIT is only allowed inside FOR, WHILE or REPEAT".into(),
+                    )),
+                }
+            }
+            StmtKind::Return => {
+                self.rung(s.span);
+                let j = self.emit(Op::Jmp(0));
+                self.returns.push(j);
+                Ok(())
+            }
+        }
+    }
+
+    /// `rc = a <cmp> b` (rc true before).
+    fn cmp(&mut self, c: Cmp, a: V, b: V) {
+        let op = match (a, b) {
+            (V::I(a), V::I(b)) => Op::CmpI(c, a, b),
+            (V::F(a), V::F(b)) => Op::CmpF(c, a, b),
+            (V::L(a), V::L(b)) => Op::CmpL(c, a, b),
+            (V::D(a), V::D(b)) => Op::CmpD(c, a, b),
+            _ => return,
+        };
+        self.emit(op);
+    }
+
+    fn cond(&mut self, e: &Expr) -> R<B> {
+        let (v, ty) = self.eval(e, Some(&Ty::Bool))?;
+        match (v, ty) {
+            (Val::B(b), Ty::Bool) => Ok(b),
+            (_, ty) => Err(type_error(e.span, format!("a condition is BOOL, not {ty}"))),
+        }
+    }
+
+    /// Names known in this POU, for "did you mean".
+    fn known_names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .vars
+            .values()
+            .map(|v| v.tag.rsplit('.').next().unwrap_or(&v.tag).to_string())
+            .collect();
+        v.extend(
+            self.b
+                .layout()
+                .tags
+                .iter()
+                .filter(|t| !t.name.contains('.'))
+                .map(|t| t.name.clone()),
+        );
+        v
+    }
+
+    fn unknown(&self, n: &Ident, what: &str) -> Diagnostic {
+        let names = self.known_names();
+        let mut d = Diagnostic::new(
+            Code::StName,
+            format!("unknown {what} `{}`", n.name),
+            n.span,
+            "not declared",
+        );
+        if let Some(s) = closest(&n.name, names.iter().map(String::as_str)) {
+            d = d.with_help(format!("did you mean `{s}`?"));
+        } else {
+            d = d.with_help(format!(
+                "declare it in a VAR block of {} or as a tag in tags.csv",
+                self.pou
+            ));
+        }
+        d
+    }
+
+    fn lookup(&mut self, n: &Ident) -> R<Loc> {
+        let key = n.name.to_ascii_lowercase();
+        let (tag, ty, constant) = match self.vars.get(&key) {
+            Some(v) => (v.tag.clone(), Some(v.ty.clone()), v.constant),
+            None => (n.name.clone(), None, false),
+        };
+        match ty {
+            Some(Ty::Fb(kind)) => return Ok(Loc::Fb { kind, name: tag }),
+            Some(Ty::Array(of, dims)) => {
+                let elems = match self.arrays.get(&tag) {
+                    Some(e) => e.clone(),
+                    None => {
+                        let mut elems = Vec::new();
+                        for s in element_suffixes(&dims) {
+                            match self.b.layout().resolve(&format!("{tag}{s}")) {
+                                Ok(Target::Value { place, .. }) => elems.push(place),
+                                _ => return Err(self.unknown(n, "variable")),
+                            }
+                        }
+                        self.arrays.insert(tag.clone(), elems.clone());
+                        elems
+                    }
+                };
+                return Ok(Loc::Array {
+                    elems,
+                    ty: Ty::Array(of.clone(), dims.clone()),
+                    of: *of,
+                    dims,
+                });
+            }
+            _ => {}
+        }
+        match self.b.layout().resolve(&tag) {
+            Ok(Target::Value { place, access }) => {
+                let Some(ty) = Ty::from_data_type(place.data_type()) else {
+                    return Err(not_supported(
+                        n.span,
+                        format!("`{}` has a type ST cannot use yet", n.name),
+                    ));
+                };
+                Ok(Loc::Value {
+                    place,
+                    access,
+                    ty,
+                    constant,
+                })
+            }
+            Ok(_) => Err(not_supported(
+                n.span,
+                format!(
+                    "`{}` is a TIMER, COUNTER or PID tag of tags.csv; in ST use its members (`{}.DN`) or declare a TON/CTU instance",
+                    n.name, n.name
+                ),
+            )),
+            Err(e) if n.name.starts_with('%') => Err(Diagnostic::new(Code::StName, e.to_string(), n.span, "address")),
+            Err(_) => Err(self.unknown(n, "name")),
+        }
+    }
+
+    /// The place of an lvalue or rvalue expression that names storage.
+    fn locate(&mut self, e: &Expr) -> R<Loc> {
+        match &e.kind {
+            ExprKind::Name(n) => self.lookup(n),
+            ExprKind::Member(base, m) => {
+                if let ExprKind::Name(n) = &base.kind {
+                    match self.lookup(n) {
+                        Ok(Loc::Fb { kind, name }) => return self.fb_member(kind, &name, m),
+                        Ok(Loc::Value { ty, .. }) => {
+                            return Err(not_supported(
+                                m.span,
+                                format!("`{}` is a {ty}: bit access `.{}` is not supported yet", n.name, m.name),
+                            ));
+                        }
+                        Ok(Loc::Array { .. }) => {
+                            return Err(type_error(
+                                m.span,
+                                format!("`{}` is an array; it has no members", n.name),
+                            ));
+                        }
+                        Ok(Loc::CounterQ { .. }) => {
+                            return Err(type_error(m.span, format!("`{}` has no members", n.name)));
+                        }
+                        Err(_) => {}
+                    }
+                    // A tag member of tags.csv (`Timer1.DN`, `Loop.PV`).
+                    let full = format!("{}.{}", n.name, m.name);
+                    return match self.b.layout().resolve(&full) {
+                        Ok(Target::Value { place, access }) => {
+                            let ty = Ty::from_data_type(place.data_type()).unwrap_or(Ty::Dint);
+                            Ok(Loc::Value {
+                                place,
+                                access,
+                                ty,
+                                constant: false,
+                            })
+                        }
+                        Ok(_) => Err(not_supported(m.span, format!("`{full}` cannot be used in ST yet"))),
+                        Err(err) => Err(Diagnostic::new(Code::StName, err.to_string(), e.span, "unknown")),
+                    };
+                }
+                Err(not_supported(
+                    e.span,
+                    "members of this expression are not supported".into(),
+                ))
+            }
+            _ => Err(type_error(e.span, format!("`{}` is not a variable", ast::expr(e)))),
+        }
+    }
+
+    fn fb_member(&mut self, kind: Fb, name: &str, m: &Ident) -> R<Loc> {
+        let layout = self.b.layout();
+        let ro = |place, ty| Loc::Value {
+            place,
+            access: Access::ReadOnly,
+            ty,
+            constant: false,
+        };
+        let up = m.name.to_ascii_uppercase();
+        let found = match kind {
+            Fb::Ton | Fb::Tof | Fb::Tp => {
+                let Ok(Target::Timer(t)) = layout.resolve(name) else {
+                    return Err(self.unknown(m, "member"));
+                };
+                match up.as_str() {
+                    "Q" => Some(ro(Place::Bool(B(t.b.0 + 2)), Ty::Bool)),
+                    "ET" => Some(ro(Place::Int(I(t.i.0 + 1), DataType::Time), Ty::Time)),
+                    "IN" => Some(ro(Place::Bool(t.b), Ty::Bool)),
+                    "PT" => Some(ro(Place::Int(t.i, DataType::Time), Ty::Time)),
+                    _ => None,
+                }
+            }
+            Fb::Ctu | Fb::Ctd | Fb::Ctud => {
+                let Ok(Target::Counter(c)) = layout.resolve(name) else {
+                    return Err(self.unknown(m, "member"));
+                };
+                match up.as_str() {
+                    "CV" => Some(ro(Place::Int(I(c.i.0 + 1), DataType::Int), Ty::Int)),
+                    "PV" => Some(ro(Place::Int(c.i, DataType::Int), Ty::Int)),
+                    "Q" if kind != Fb::Ctud => Some(Loc::CounterQ {
+                        c,
+                        down: kind == Fb::Ctd,
+                    }),
+                    "QU" | "QD" if kind == Fb::Ctud => Some(Loc::CounterQ { c, down: up == "QD" }),
+                    _ => None,
+                }
+            }
+            Fb::RTrig | Fb::FTrig if up == "Q" => match layout.resolve(&format!("{name}.Q")) {
+                Ok(Target::Value { place, .. }) => Some(ro(place, Ty::Bool)),
+                _ => None,
+            },
+            Fb::Sr | Fb::Rs if up == "Q1" => match layout.resolve(&format!("{name}.Q1")) {
+                Ok(Target::Value { place, .. }) => Some(ro(place, Ty::Bool)),
+                _ => None,
+            },
+            _ => None,
+        };
+        found.ok_or_else(|| {
+            let (ins, outs) = kind.params();
+            let all: Vec<&str> = ins.iter().chain(outs).map(|(n, _)| *n).collect();
+            let mut d = Diagnostic::new(
+                Code::StName,
+                format!("{} has no member `{}`", kind.name(), m.name),
+                m.span,
+                "member",
+            );
+            if let Some(s) = closest(&m.name, all.iter().copied()) {
+                d = d.with_help(format!("did you mean `{s}`? ({} has {})", kind.name(), all.join(", ")));
+            } else {
+                d = d.with_help(format!("{} has {}", kind.name(), all.join(", ")));
+            }
+            d
+        })
+    }
+
+    /// Reads a located value (counter Q members are computed).
+    fn read_loc(&mut self, loc: &Loc, e: &Expr) -> R<(Val, Ty)> {
+        match loc {
+            Loc::CounterQ { c, down } => Ok((Val::B(self.counter_q(*c, *down)), Ty::Bool)),
+            Loc::Value { place, ty, .. } => {
+                if *ty == Ty::Bool {
+                    Ok((Val::B(self.b.bool_in(*place, self.elem)), Ty::Bool))
+                } else {
+                    Ok((Val::N(self.b.load(*place, self.elem)), ty.clone()))
+                }
+            }
+            Loc::Array { ty, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a whole {ty}; index it", ast::expr(e)),
+            )),
+            Loc::Fb { kind, .. } => Err(type_error(
+                e.span,
+                format!(
+                    "`{}` is a {} instance; call it or read a member",
+                    ast::expr(e),
+                    kind.name()
+                ),
+            )),
+        }
+    }
+
+    fn counter_q(&mut self, c: Ctr, down: bool) -> B {
+        let t = self.b.temp_b();
+        let acc = I(c.i.0 + 1);
+        if down {
+            let zero = self.b.const_i(0);
+            self.emit(Op::CmpI(Cmp::Le, acc, zero));
+        } else {
+            self.emit(Op::CmpI(Cmp::Ge, acc, c.i));
+        }
+        self.emit(Op::Ote(t));
+        self.emit(Op::True);
+        t
+    }
+
+    /// A constant of type `ty`.
+    fn constant(&mut self, l: &Lit, ty: &Ty) -> Val {
+        match (l, ty) {
+            (Lit::Bool(b), _) => {
+                let t = self.b.temp_b();
+                if !b {
+                    self.emit(Op::Afi);
+                }
+                self.emit(Op::Ote(t));
+                self.emit(Op::True);
+                Val::B(t)
+            }
+            (Lit::Int(v, _) | Lit::Time(v), ty) => Val::N(self.b.constant(alba_model::Literal::Int(*v), ty.class())),
+            (Lit::Real(v, _), ty) => Val::N(self.b.constant(alba_model::Literal::Real(*v), ty.class())),
+            _ => Val::N(self.b.constant(alba_model::Literal::Int(0), Class::I)),
+        }
+    }
+
+    /// The type of a literal: its own, or `hint` for an untyped number that fits it.
+    fn lit_type(&self, l: &Lit, hint: Option<&Ty>, span: Span) -> R<Ty> {
+        Ok(match l {
+            Lit::Bool(_) => Ty::Bool,
+            Lit::Time(ms) => {
+                if i32::try_from(*ms).is_err() {
+                    return Err(type_error(
+                        span,
+                        format!("T#{ms}ms does not fit a TIME (32-bit milliseconds)"),
+                    ));
+                }
+                Ty::Time
+            }
+            Lit::Int(v, Some(t)) => {
+                let ty =
+                    elementary(t).ok_or_else(|| not_supported(span, format!("{t} literals are not supported yet")))?;
+                if !fits(*v, &ty) {
+                    return Err(type_error(span, format!("{v} does not fit a {ty}")));
+                }
+                ty
+            }
+            Lit::Int(v, None) => match hint {
+                Some(h) if (h.is_int() && fits(*v, h)) || h.is_real() => h.clone(),
+                _ if fits(*v, &Ty::Dint) => Ty::Dint,
+                _ => Ty::Lint,
+            },
+            Lit::Real(_, Some(t)) => elementary(t).unwrap_or(Ty::Lreal),
+            Lit::Real(_, None) => match hint {
+                Some(Ty::Lreal) => Ty::Lreal,
+                _ => Ty::Real,
+            },
+            Lit::Str(..) => {
+                return Err(not_supported(
+                    span,
+                    "strings are not supported by the engine yet".into(),
+                ));
+            }
+            Lit::Other(t, v) => {
+                return Err(not_supported(
+                    span,
+                    format!("`{t}#{v}`: this kind of literal is not supported yet"),
+                ));
+            }
+        })
+    }
+
+    /// Evaluates `e` (a number in a slot of its class, or a BOOL slot).
+    /// `hint`: the type wanted, for untyped literals.
+    fn eval(&mut self, e: &Expr, hint: Option<&Ty>) -> R<(Val, Ty)> {
+        match &e.kind {
+            ExprKind::Lit(l) => {
+                let ty = self.lit_type(l, hint, e.span)?;
+                Ok((self.constant(l, &ty), ty))
+            }
+            ExprKind::Name(_) | ExprKind::Member(..) => {
+                let loc = self.locate(e)?;
+                self.read_loc(&loc, e)
+            }
+            ExprKind::Index(base, ix) => {
+                let (of, elems, dims) = self.array(base)?;
+                let v = self.index_read(&elems, &dims, ix, &of, e.span)?;
+                Ok((v, of))
+            }
+            ExprKind::Unary(AUn::Not, a) => {
+                let (v, ty) = self.eval(a, Some(&Ty::Bool))?;
+                match v {
+                    Val::B(b) => {
+                        let t = self.b.temp_b();
+                        self.emit(Op::Ldn(b));
+                        self.emit(Op::Ote(t));
+                        self.emit(Op::True);
+                        Ok((Val::B(t), Ty::Bool))
+                    }
+                    Val::N(_) => Err(type_error(
+                        a.span,
+                        format!("NOT takes a BOOL, not a {ty} (bit strings are not supported yet)"),
+                    )),
+                }
+            }
+            ExprKind::Unary(AUn::Neg, a) => {
+                let (v, ty) = self.eval(a, hint)?;
+                match v {
+                    Val::N(x) if ty.is_num() => {
+                        let t = self.b.temp(ty.class());
+                        self.b.un(IUn::Neg, x, t, self.elem);
+                        self.narrow(t, &ty);
+                        Ok((Val::N(t), ty))
+                    }
+                    _ => Err(type_error(a.span, format!("`-` takes a number, not a {ty}"))),
+                }
+            }
+            ExprKind::Binary(op, a, b) => self.binary(*op, a, b, e.span, hint),
+            ExprKind::Call(n, args) => {
+                let (v, ty) = self.call(n, args, hint, e.span)?;
+                Ok((v, ty))
+            }
+        }
+    }
+
+    /// Wraps a SINT or INT result to its width (an overflow fault when it changes).
+    fn narrow(&mut self, v: V, ty: &Ty) {
+        if let V::I(i) = v {
+            match ty {
+                Ty::Sint => {
+                    self.emit(Op::Narrow(i, Width::W8));
+                }
+                Ty::Int => {
+                    self.emit(Op::Narrow(i, Width::W16));
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Both operands of a binary operator, untyped literals taking the other side's type.
+    fn operands(&mut self, a: &Expr, b: &Expr, hint: Option<&Ty>) -> R<((Val, Ty), (Val, Ty))> {
+        let untyped = |e: &Expr| matches!(e.kind, ExprKind::Lit(Lit::Int(_, None) | Lit::Real(_, None)));
+        if untyped(a) && !untyped(b) {
+            let rb = self.eval(b, hint)?;
+            let ra = self.eval(a, Some(&rb.1))?;
+            Ok((ra, rb))
+        } else {
+            let ra = self.eval(a, hint)?;
+            let rb = self.eval(b, Some(&ra.1))?;
+            Ok((ra, rb))
+        }
+    }
+
+    fn binary(&mut self, op: BinOp, a: &Expr, b: &Expr, span: Span, hint: Option<&Ty>) -> R<(Val, Ty)> {
+        let logic = matches!(op, BinOp::And | BinOp::Or | BinOp::Xor);
+        let compare = matches!(
+            op,
+            BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Gt | BinOp::Le | BinOp::Ge
+        );
+        let h = if logic {
+            Some(&Ty::Bool)
+        } else if compare {
+            None
+        } else {
+            hint
+        };
+        let ((va, ta), (vb, tb)) = self.operands(a, b, h)?;
+        if logic || (compare && ta == Ty::Bool && tb == Ty::Bool && matches!(op, BinOp::Eq | BinOp::Ne)) {
+            let (Val::B(x), Val::B(y)) = (va, vb) else {
+                return Err(type_error(
+                    span,
+                    format!(
+                        "{} takes BOOL operands, not {ta} and {tb} (bit strings are not supported yet)",
+                        op.text()
+                    ),
+                ));
+            };
+            let t = self.b.temp_b();
+            match op {
+                BinOp::And => {
+                    self.emit(Op::Ld(x));
+                    self.emit(Op::Xic(y));
+                    self.emit(Op::Ote(t));
+                }
+                BinOp::Or => {
+                    self.emit(Op::Ld(x));
+                    self.emit(Op::Or(y));
+                    self.emit(Op::Ote(t));
+                }
+                _ => {
+                    // XOR, and `<>` / `=` on BOOL (its negation).
+                    let t1 = self.b.temp_b();
+                    self.emit(Op::Ld(x));
+                    self.emit(Op::Xio(y));
+                    self.emit(Op::Ote(t1));
+                    self.emit(Op::Ld(y));
+                    self.emit(Op::Xio(x));
+                    self.emit(Op::Or(t1));
+                    if op == BinOp::Eq {
+                        self.emit(Op::Not);
+                    }
+                    self.emit(Op::Ote(t));
+                }
+            }
+            self.emit(Op::True);
+            return Ok((Val::B(t), Ty::Bool));
+        }
+        // Numbers: one type, after implicit widening of either side.
+        let (Val::N(x), Val::N(y)) = (va, vb) else {
+            return Err(type_error(
+                span,
+                format!("`{}` takes numbers, not {ta} and {tb}", op.text()),
+            ));
+        };
+        let time_scale = matches!(op, BinOp::Mul | BinOp::Div) && ta == Ty::Time && tb.is_int();
+        let ty = if time_scale {
+            Ty::Time
+        } else if widens(&ta, &tb) {
+            tb.clone()
+        } else if widens(&tb, &ta) {
+            ta.clone()
+        } else {
+            return Err(type_error(
+                span,
+                format!(
+                    "`{}` of {ta} and {tb}: the types differ; convert one (for example {ta}_TO_{tb})",
+                    op.text()
+                ),
+            ));
+        };
+        let class = ty.class();
+        let x = self.b.convert(x, class, self.elem);
+        let y = self.b.convert(y, class, self.elem);
+        if compare {
+            let c = match op {
+                BinOp::Eq => Cmp::Eq,
+                BinOp::Ne => Cmp::Ne,
+                BinOp::Lt => Cmp::Lt,
+                BinOp::Gt => Cmp::Gt,
+                BinOp::Le => Cmp::Le,
+                _ => Cmp::Ge,
+            };
+            let t = self.b.temp_b();
+            self.cmp(c, x, y);
+            self.emit(Op::Ote(t));
+            self.emit(Op::True);
+            return Ok((Val::B(t), Ty::Bool));
+        }
+        let iop = match op {
+            BinOp::Add => IBin::Add,
+            BinOp::Sub => IBin::Sub,
+            BinOp::Mul => IBin::Mul,
+            BinOp::Div => IBin::Div,
+            BinOp::Mod if ty.is_int() => IBin::Mod,
+            BinOp::Pow if ty.is_real() => IBin::Pow,
+            BinOp::Mod => return Err(type_error(span, format!("MOD takes integers, not {ty}"))),
+            _ => {
+                return Err(type_error(
+                    span,
+                    format!("`**` takes REAL or LREAL, not {ty}; convert with {ty}_TO_REAL"),
+                ));
+            }
+        };
+        if ty == Ty::Time && matches!(op, BinOp::Mod) {
+            return Err(type_error(span, "MOD does not take TIME".into()));
+        }
+        if ty == Ty::Time && matches!(op, BinOp::Mul | BinOp::Div) && !time_scale {
+            return Err(type_error(
+                span,
+                format!("TIME {} TIME is not defined; scale a TIME by an integer", op.text()),
+            ));
+        }
+        let t = self.b.temp(class);
+        self.b.bin(iop, x, y, t, self.elem);
+        self.narrow(t, &ty);
+        Ok((Val::N(t), ty))
+    }
+
+    fn array(&mut self, base: &Expr) -> R<ArrayParts> {
+        match self.locate(base)? {
+            Loc::Array { elems, of, dims, .. } => Ok((of, elems, dims)),
+            _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
+        }
+    }
+
+    /// The flat element number of constant indexes, or the slot holding it
+    /// for computed ones (with range faults).
+    fn flat_index(&mut self, dims: &[(i64, i64)], ix: &[Expr], span: Span) -> R<Result<usize, I>> {
+        if ix.len() != dims.len() {
+            return Err(type_error(
+                span,
+                format!("the array has {} dimension(s), not {}", dims.len(), ix.len()),
+            ));
+        }
+        if let Some(consts) = ix.iter().map(const_int).collect::<Option<Vec<_>>>() {
+            let mut flat = 0i64;
+            for ((lo, hi), (v, e)) in dims.iter().zip(consts.iter().zip(ix)) {
+                if v < lo || v > hi {
+                    return Err(type_error(
+                        e.span,
+                        format!("the index {v} is outside the bounds {lo}..{hi}"),
+                    ));
+                }
+                flat = flat * (hi - lo + 1) + (v - lo);
+            }
+            return Ok(Ok(flat as usize));
+        }
+        let flat = self.b.temp_i();
+        let zero = self.b.const_i(0);
+        self.emit(Op::CopyI(zero, flat));
+        let bad = self.b.temp_b();
+        self.emit(Op::Afi);
+        self.emit(Op::Ote(bad));
+        self.emit(Op::True);
+        for ((lo, hi), e) in dims.iter().zip(ix) {
+            let (v, ty) = self.eval(e, Some(&Ty::Dint))?;
+            let Val::N(v) = v else {
+                return Err(type_error(e.span, format!("an index is an integer, not {ty}")));
+            };
+            if !ty.is_int() || ty == Ty::Lint {
+                return Err(type_error(e.span, format!("an index is SINT, INT or DINT, not {ty}")));
+            }
+            let V::I(v) = v else {
+                return Err(type_error(e.span, "index".into()));
+            };
+            let (clo, chi) = (self.b.const_i(*lo as i32), self.b.const_i(*hi as i32));
+            // Out of range: remember it, and count from the low bound.
+            self.emit(Op::CmpI(Cmp::Lt, v, clo));
+            self.emit(Op::Or(bad));
+            self.emit(Op::Ote(bad));
+            self.emit(Op::True);
+            self.emit(Op::CmpI(Cmp::Gt, v, chi));
+            self.emit(Op::Or(bad));
+            self.emit(Op::Ote(bad));
+            self.emit(Op::True);
+            let size = self.b.const_i((hi - lo + 1) as i32);
+            let off = self.b.temp_i();
+            self.emit(Op::BinI(IBin::Sub, v, clo, off));
+            self.emit(Op::BinI(IBin::Mul, flat, size, flat));
+            self.emit(Op::BinI(IBin::Add, flat, off, flat));
+        }
+        // An index out of range is a range fault; the flat number then
+        // matches no element, so nothing is read (0) or written.
+        let junk = self.b.temp_i();
+        let not_bcd = self.b.const_i(0xA);
+        let minus = self.b.const_i(-1);
+        self.emit(Op::Ld(bad));
+        self.emit(Op::UnI(IUn::Frd, not_bcd, junk));
+        self.emit(Op::UnI(IUn::Mov, minus, flat));
+        self.emit(Op::True);
+        Ok(Err(flat))
+    }
+
+    fn index_read(&mut self, elems: &[Place], dims: &[(i64, i64)], ix: &[Expr], of: &Ty, span: Span) -> R<Val> {
+        match self.flat_index(dims, ix, span)? {
+            Ok(k) => {
+                let p = elems[k];
+                Ok(if *of == Ty::Bool {
+                    Val::B(self.b.bool_in(p, self.elem))
+                } else {
+                    Val::N(self.b.load(p, self.elem))
+                })
+            }
+            Err(flat) => {
+                if *of == Ty::Bool {
+                    let t = self.b.temp_b();
+                    self.emit(Op::Afi);
+                    self.emit(Op::Ote(t));
+                    self.emit(Op::True);
+                    for (k, p) in elems.iter().enumerate() {
+                        let kc = self.b.const_i(k as i32);
+                        let src = self.b.bool_in(*p, self.elem);
+                        self.emit(Op::CmpI(Cmp::Eq, flat, kc));
+                        self.emit(Op::Xic(src));
+                        self.emit(Op::Or(t));
+                        self.emit(Op::Ote(t));
+                        self.emit(Op::True);
+                    }
+                    Ok(Val::B(t))
+                } else {
+                    let t = self.b.temp(of.class());
+                    let zero = self.b.constant(alba_model::Literal::Int(0), of.class());
+                    self.b.un(IUn::Mov, zero, t, self.elem);
+                    for (k, p) in elems.iter().enumerate() {
+                        let kc = self.b.const_i(k as i32);
+                        let src = self.b.load(*p, self.elem);
+                        self.emit(Op::CmpI(Cmp::Eq, flat, kc));
+                        self.b.un(IUn::Mov, src, t, self.elem);
+                        self.emit(Op::True);
+                    }
+                    Ok(Val::N(t))
+                }
+            }
+        }
+    }
+
+    /// Converts a value of a type that widens to `ty` into `ty`'s class.
+    fn fit(&mut self, v: Val, e: &Expr, ty: &Ty) -> R<V> {
+        match v {
+            Val::N(x) => Ok(self.b.convert(x, ty.class(), self.elem)),
+            Val::B(_) => Err(type_error(e.span, format!("a BOOL where a {ty} is wanted"))),
+        }
+    }
+
+    /// Stores a value of type `ty` into `place`.
+    fn store(&mut self, place: Place, v: Val, ty: &Ty) {
+        match v {
+            Val::B(src) => {
+                let (d, post) = self.b.bool_out(place, self.elem);
+                self.emit(Op::CopyB(src, d));
+                self.b.post(post, self.elem);
+            }
+            Val::N(x) => {
+                let class = ty.class();
+                let x = self.b.convert(x, class, self.elem);
+                let (d, post) = self.b.dest(place, class, self.elem);
+                self.b.un(IUn::Mov, x, d, self.elem);
+                self.b.post(post, self.elem);
+            }
+        }
+    }
+
+    fn assign(&mut self, lhs: &Expr, rhs: &Expr) -> R<()> {
+        if let ExprKind::Index(base, ix) = &lhs.kind {
+            let (of, elems, dims) = self.array(base)?;
+            let (v, ty) = self.eval(rhs, Some(&of))?;
+            if !widens(&ty, &of) {
+                return Err(type_error(
+                    rhs.span,
+                    format!("cannot assign {} to {} element; convert it", an(&ty), an(&of)),
+                ));
+            }
+            let v = match v {
+                Val::N(x) => Val::N(self.b.convert(x, of.class(), self.elem)),
+                b => b,
+            };
+            return match self.flat_index(&dims, ix, lhs.span)? {
+                Ok(k) => {
+                    self.store(elems[k], v, &of);
+                    Ok(())
+                }
+                Err(flat) => {
+                    for (k, p) in elems.iter().enumerate() {
+                        let kc = self.b.const_i(k as i32);
+                        match (v, *p) {
+                            (Val::B(src), Place::Bool(d)) => {
+                                self.emit(Op::CmpI(Cmp::Eq, flat, kc));
+                                self.emit(Op::Xic(src));
+                                self.emit(Op::Otl(d));
+                                self.emit(Op::True);
+                                self.emit(Op::CmpI(Cmp::Eq, flat, kc));
+                                self.emit(Op::Xio(src));
+                                self.emit(Op::Otu(d));
+                                self.emit(Op::True);
+                            }
+                            (Val::N(x), p) => {
+                                let (d, post) = self.b.dest(p, of.class(), self.elem);
+                                self.emit(Op::CmpI(Cmp::Eq, flat, kc));
+                                self.b.un(IUn::Mov, x, d, self.elem);
+                                self.b.post(post, self.elem);
+                                self.emit(Op::True);
+                            }
+                            _ => {}
+                        }
+                    }
+                    Ok(())
+                }
+            };
+        }
+        let loc = self.locate(lhs)?;
+        let (place, access, ty, constant) = match loc {
+            Loc::Value {
+                place,
+                access,
+                ty,
+                constant,
+            } => (place, access, ty, constant),
+            Loc::CounterQ { .. } => (Place::Bool(B(0)), Access::ReadOnly, Ty::Bool, false),
+            _ => {
+                return Err(type_error(
+                    lhs.span,
+                    format!("`{}` cannot be assigned as a whole", ast::expr(lhs)),
+                ));
+            }
+        };
+        if constant {
+            return Err(decl_error(lhs.span, format!("`{}` is CONSTANT", ast::expr(lhs))));
+        }
+        if access != Access::ReadWrite {
+            let why = if access == Access::ReadOnly && matches!(lhs.kind, ExprKind::Member(..)) {
+                "it is an output of a function block or a status member".to_string()
+            } else {
+                access.why_not_writable().to_string()
+            };
+            return Err(Diagnostic::new(
+                Code::NotWritable,
+                format!("`{}` cannot be written: {why}", ast::expr(lhs)),
+                lhs.span,
+                "not writable",
+            ));
+        }
+        let (v, vty) = self.eval(rhs, Some(&ty))?;
+        if !widens(&vty, &ty) {
+            return Err(type_error(
+                rhs.span,
+                format!(
+                    "cannot assign {} to `{}`, {}; convert it (for example {vty}_TO_{ty})",
+                    an(&vty),
+                    ast::expr(lhs),
+                    an(&ty)
+                ),
+            ));
+        }
+        self.store(place, v, &ty);
+        Ok(())
+    }
+
+    /// Inputs of a call by formal name (or position), checked against `params`.
+    fn bind<'e>(
+        &self,
+        fname: &str,
+        params: &[(&'static str, P)],
+        outs: &[(&'static str, P)],
+        args: &'e [Arg],
+    ) -> R<Bound<'e>> {
+        let mut ins = vec![None; params.len()];
+        let mut outputs = Vec::new();
+        for (k, a) in args.iter().enumerate() {
+            match &a.name {
+                None => {
+                    if k >= params.len() {
+                        return Err(type_error(
+                            a.value.span,
+                            format!("{fname} takes {} input(s)", params.len()),
+                        ));
+                    }
+                    ins[k] = Some(&a.value);
+                }
+                Some(n) if a.output => {
+                    let Some(i) = outs.iter().position(|(p, _)| n.is(p)) else {
+                        let names: Vec<_> = outs.iter().map(|(p, _)| *p).collect();
+                        let mut d = Diagnostic::new(
+                            Code::StName,
+                            format!("{fname} has no output `{}`", n.name),
+                            n.span,
+                            "output",
+                        );
+                        d = d.with_help(match closest(&n.name, names.iter().copied()) {
+                            Some(s) => format!("did you mean `{s}`?"),
+                            None => format!("its outputs: {}", names.join(", ")),
+                        });
+                        return Err(d);
+                    };
+                    outputs.push((i, a));
+                }
+                Some(n) => {
+                    let Some(i) = params.iter().position(|(p, _)| n.is(p)) else {
+                        let names: Vec<_> = params.iter().map(|(p, _)| *p).collect();
+                        let mut d = Diagnostic::new(
+                            Code::StName,
+                            format!("{fname} has no input `{}`", n.name),
+                            n.span,
+                            "input",
+                        );
+                        d = d.with_help(match closest(&n.name, names.iter().copied()) {
+                            Some(s) => format!("did you mean `{s}`?"),
+                            None => format!("its inputs: {}", names.join(", ")),
+                        });
+                        return Err(d);
+                    };
+                    if ins[i].is_some() {
+                        return Err(type_error(n.span, format!("`{}` is given twice", n.name)));
+                    }
+                    ins[i] = Some(&a.value);
+                }
+            }
+        }
+        Ok((ins, outputs))
+    }
+
+    /// An input value of type `ty`.
+    fn input(&mut self, e: &Expr, ty: &Ty, fname: &str, pname: &str) -> R<Val> {
+        let (v, vty) = self.eval(e, Some(ty))?;
+        if !widens(&vty, ty) {
+            return Err(type_error(e.span, format!("{fname}.{pname} is a {ty}, not a {vty}")));
+        }
+        Ok(match v {
+            Val::N(x) => Val::N(self.b.convert(x, ty.class(), self.elem)),
+            b => b,
+        })
+    }
+
+    fn fb_call(&mut self, kind: Fb, name: &str, inst: &Ident, args: &[Arg]) -> R<()> {
+        let (params, outs) = kind.params();
+        let fname = format!("{} `{}`", kind.name(), inst.name);
+        let (ins, outputs) = self.bind(&fname, params, outs, args)?;
+        let mut vals = Vec::new();
+        for (k, e) in ins.iter().enumerate() {
+            vals.push(match e {
+                Some(e) => Some(self.input(e, &params[k].1.ty(), kind.name(), params[k].0)?),
+                None => None,
+            });
+        }
+        let bool_of = |v: &Option<Val>| match v {
+            Some(Val::B(b)) => Some(*b),
+            _ => None,
+        };
+        let int_of = |v: &Option<Val>| match v {
+            Some(Val::N(V::I(i))) => Some(*i),
+            _ => None,
+        };
+        let layout = self.b.layout();
+        match kind {
+            Fb::Ton | Fb::Tof | Fb::Tp => {
+                let Ok(Target::Timer(t)) = layout.resolve(name) else {
+                    return Err(self.unknown(inst, "timer"));
+                };
+                if let Some(pt) = int_of(&vals[1]) {
+                    self.emit(Op::CopyI(pt, t.i));
+                }
+                // IN not given: the input of the last call (EN).
+                let input = bool_of(&vals[0]).unwrap_or(t.b);
+                self.emit(Op::Ld(input));
+                self.emit(match kind {
+                    Fb::Ton => Op::Ton(t),
+                    Fb::Tof => Op::Tof(t),
+                    _ => Op::Tp(t),
+                });
+                self.emit(Op::True);
+            }
+            Fb::Ctu | Fb::Ctd | Fb::Ctud => {
+                let Ok(Target::Counter(c)) = layout.resolve(name) else {
+                    return Err(self.unknown(inst, "counter"));
+                };
+                if let Some(pv) = int_of(&vals[params.len() - 1]) {
+                    self.emit(Op::CopyI(pv, c.i));
+                }
+                let acc = I(c.i.0 + 1);
+                let (cu, cd, r, ld) = match kind {
+                    Fb::Ctu => (bool_of(&vals[0]), None, bool_of(&vals[1]), None),
+                    Fb::Ctd => (None, bool_of(&vals[0]), None, bool_of(&vals[1])),
+                    _ => (
+                        bool_of(&vals[0]),
+                        bool_of(&vals[1]),
+                        bool_of(&vals[2]),
+                        bool_of(&vals[3]),
+                    ),
+                };
+                let (cu_mem, cd_mem) = (c.b, B(c.b.0 + 1));
+                if kind != Fb::Ctd {
+                    self.emit(Op::Ld(cu.unwrap_or(cu_mem)));
+                    self.emit(Op::Ctu(c));
+                    self.emit(Op::True);
+                }
+                if kind != Fb::Ctu {
+                    self.emit(Op::Ld(cd.unwrap_or(cd_mem)));
+                    self.emit(Op::Ctd(c));
+                    self.emit(Op::True);
+                }
+                if let Some(ld) = ld {
+                    self.emit(Op::Ld(ld));
+                    self.emit(Op::UnI(IUn::Mov, c.i, acc));
+                    self.emit(Op::True);
+                }
+                if let Some(r) = r {
+                    // RES clears the edge memories too: keep them as the inputs are.
+                    let (su, sd) = (self.b.temp_b(), self.b.temp_b());
+                    self.emit(Op::CopyB(cu_mem, su));
+                    self.emit(Op::CopyB(cd_mem, sd));
+                    self.emit(Op::Ld(r));
+                    self.emit(Op::ResC(c));
+                    self.emit(Op::True);
+                    self.emit(Op::CopyB(su, cu_mem));
+                    self.emit(Op::CopyB(sd, cd_mem));
+                }
+            }
+            Fb::RTrig | Fb::FTrig => {
+                let q = self.bool_tag(&format!("{name}.Q"), inst)?;
+                let m = self.bool_tag(&format!("{name}.M"), inst)?;
+                let clk = bool_of(&vals[0]).unwrap_or(m);
+                self.emit(Op::Ld(clk));
+                // The one-shots take (storage, output).
+                self.emit(if kind == Fb::RTrig {
+                    Op::Osr(m, q)
+                } else {
+                    Op::Osf(m, q)
+                });
+                self.emit(Op::True);
+            }
+            Fb::Sr | Fb::Rs => {
+                let q = self.bool_tag(&format!("{name}.Q1"), inst)?;
+                let f = self.b.temp_b();
+                self.emit(Op::Afi);
+                self.emit(Op::Ote(f));
+                self.emit(Op::True);
+                let (set, reset) = (bool_of(&vals[0]).unwrap_or(f), bool_of(&vals[1]).unwrap_or(f));
+                if kind == Fb::Sr {
+                    // Q1 := S1 OR (NOT R AND Q1)
+                    self.emit(Op::Ld(q));
+                    self.emit(Op::Xio(reset));
+                    self.emit(Op::Or(set));
+                } else {
+                    // Q1 := NOT R1 AND (S OR Q1)
+                    self.emit(Op::Ld(set));
+                    self.emit(Op::Or(q));
+                    self.emit(Op::Xio(reset));
+                }
+                self.emit(Op::Ote(q));
+                self.emit(Op::True);
+            }
+        }
+        // Outputs `Q => x`.
+        for (k, a) in outputs {
+            let (oname, _) = outs[k];
+            let member = Ident {
+                name: oname.to_string(),
+                span: a.name.as_ref().map_or(a.value.span, |n| n.span),
+            };
+            let mexpr = Expr {
+                kind: ExprKind::Member(
+                    Box::new(Expr {
+                        kind: ExprKind::Name(inst.clone()),
+                        span: inst.span,
+                    }),
+                    member,
+                ),
+                span: a.value.span,
+            };
+            if matches!(a.value.kind, ExprKind::Lit(Lit::Bool(false))) && a.value.span.start == a.value.span.end {
+                continue;
+            }
+            let negated = if a.negated {
+                ExprKind::Unary(AUn::Not, Box::new(mexpr))
+            } else {
+                mexpr.kind
+            };
+            let rhs = Expr {
+                kind: negated,
+                span: a.value.span,
+            };
+            self.assign(&a.value, &rhs)?;
+        }
+        Ok(())
+    }
+
+    fn bool_tag(&self, name: &str, inst: &Ident) -> R<B> {
+        match self.b.layout().resolve(name) {
+            Ok(Target::Value {
+                place: Place::Bool(b), ..
+            }) => Ok(b),
+            _ => Err(self.unknown(inst, "instance")),
+        }
+    }
+
+    /// A standard function (or a conversion) called in an expression.
+    fn call(&mut self, n: &Ident, args: &[Arg], hint: Option<&Ty>, span: Span) -> R<(Val, Ty)> {
+        let up = n.name.to_ascii_uppercase();
+        let positional: Vec<&Expr> = args.iter().filter(|a| !a.output).map(|a| &a.value).collect();
+        let arity = |k: usize| -> R<()> {
+            if positional.len() == k {
+                Ok(())
+            } else {
+                Err(type_error(
+                    span,
+                    format!("{up} takes {k} argument(s), not {}", positional.len()),
+                ))
+            }
+        };
+        // X_TO_Y conversions (and TRUNC).
+        if let Some((from, to)) = up.split_once("_TO_") {
+            arity(1)?;
+            let to_ty =
+                elementary(to).ok_or_else(|| not_supported(n.span, format!("{up}: {to} is not supported yet")))?;
+            let from_ty =
+                elementary(from).ok_or_else(|| not_supported(n.span, format!("{up}: {from} is not supported yet")))?;
+            let (v, ty) = self.eval(positional[0], Some(&from_ty))?;
+            if ty != from_ty {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} takes a {from_ty}, not a {ty}"),
+                ));
+            }
+            return Ok((self.convert(v, &from_ty, &to_ty), to_ty));
+        }
+        if up == "TRUNC" {
+            arity(1)?;
+            let (v, ty) = self.eval(positional[0], Some(&Ty::Real))?;
+            let Val::N(x) = v else {
+                return Err(type_error(span, "TRUNC takes a REAL".into()));
+            };
+            if !ty.is_real() {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("TRUNC takes a REAL or LREAL, not {ty}"),
+                ));
+            }
+            let t = self.b.temp(ty.class());
+            self.b.un(IUn::Trunc, x, t, self.elem);
+            let r = self.b.convert(t, Class::I, self.elem);
+            return Ok((Val::N(r), Ty::Dint));
+        }
+        let real_fn = match up.as_str() {
+            "SQRT" => Some(IUn::Sqrt),
+            "LN" => Some(IUn::Ln),
+            "LOG" => Some(IUn::Log),
+            "SIN" => Some(IUn::Sin),
+            "COS" => Some(IUn::Cos),
+            "TAN" => Some(IUn::Tan),
+            "ASIN" => Some(IUn::Asin),
+            "ACOS" => Some(IUn::Acos),
+            "ATAN" => Some(IUn::Atan),
+            _ => None,
+        };
+        if let Some(f) = real_fn.or((up == "ABS").then_some(IUn::Abs)) {
+            arity(1)?;
+            let h = hint
+                .filter(|h| h.is_real() || (up == "ABS" && h.is_num()))
+                .cloned()
+                .unwrap_or(Ty::Real);
+            let (v, ty) = self.eval(positional[0], Some(&h))?;
+            let ok = if up == "ABS" { ty.is_num() } else { ty.is_real() };
+            let Val::N(x) = v else {
+                return Err(type_error(positional[0].span, format!("{up} takes a number, not BOOL")));
+            };
+            if !ok {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} takes a REAL or LREAL, not {ty}; convert it ({ty}_TO_REAL)"),
+                ));
+            }
+            let t = self.b.temp(ty.class());
+            self.b.un(f, x, t, self.elem);
+            self.narrow(t, &ty);
+            return Ok((Val::N(t), ty));
+        }
+        if up == "EXP" || up == "EXPT" {
+            arity(if up == "EXP" { 1 } else { 2 })?;
+            let h = hint.filter(|h| h.is_real()).cloned().unwrap_or(Ty::Real);
+            let (base, exp) = if up == "EXP" {
+                let e = self.constant(&Lit::Real(std::f64::consts::E, None), &h);
+                let (x, tx) = self.eval(positional[0], Some(&h))?;
+                ((e, h.clone()), (x, tx))
+            } else {
+                let a = self.eval(positional[0], Some(&h))?;
+                let b = self.eval(positional[1], Some(&a.1))?;
+                (a, b)
+            };
+            let ty = if widens(&exp.1, &base.1) {
+                base.1.clone()
+            } else {
+                exp.1.clone()
+            };
+            if !ty.is_real() || !widens(&base.1, &ty) || !widens(&exp.1, &ty) {
+                return Err(type_error(
+                    span,
+                    format!("{up} takes REAL or LREAL operands, not {} and {}", base.1, exp.1),
+                ));
+            }
+            let x = self.fit(base.0, positional[0], &ty)?;
+            let y = self.fit(exp.0, positional[positional.len() - 1], &ty)?;
+            let t = self.b.temp(ty.class());
+            self.b.bin(IBin::Pow, x, y, t, self.elem);
+            return Ok((Val::N(t), ty));
+        }
+        match up.as_str() {
+            "MIN" | "MAX" | "LIMIT" | "SEL" | "MUX" => return self.selection(&up, &positional, hint, span),
+            _ => {}
+        }
+        if self.functions.iter().any(|f| n.is(f)) {
+            return Err(not_supported(
+                n.span,
+                format!(
+                    "calling the user FUNCTION or FUNCTION_BLOCK `{}` is not supported yet",
+                    n.name
+                ),
+            ));
+        }
+        if [
+            "SHL", "SHR", "ROL", "ROR", "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND",
+            "MOVE",
+        ]
+        .contains(&up.as_str())
+        {
+            return Err(not_supported(
+                n.span,
+                format!("{up} is not supported yet (bit strings and strings have no form in the engine)"),
+            ));
+        }
+        let known = [
+            "ABS",
+            "SQRT",
+            "LN",
+            "LOG",
+            "EXP",
+            "EXPT",
+            "SIN",
+            "COS",
+            "TAN",
+            "ASIN",
+            "ACOS",
+            "ATAN",
+            "TRUNC",
+            "MIN",
+            "MAX",
+            "LIMIT",
+            "SEL",
+            "MUX",
+            "INT_TO_REAL",
+            "REAL_TO_INT",
+            "DINT_TO_REAL",
+            "REAL_TO_DINT",
+            "BOOL_TO_INT",
+            "INT_TO_BOOL",
+            "TIME_TO_DINT",
+            "DINT_TO_TIME",
+        ];
+        let names = self.known_names();
+        let mut d = Diagnostic::new(
+            Code::StName,
+            format!("unknown function `{}`", n.name),
+            n.span,
+            "function",
+        );
+        if let Some(s) = closest(&n.name, known.iter().copied().chain(names.iter().map(String::as_str))) {
+            d = d.with_help(format!("did you mean `{s}`?"));
+        }
+        Err(d)
+    }
+
+    fn convert(&mut self, v: Val, from: &Ty, to: &Ty) -> Val {
+        match (v, to) {
+            (Val::B(b), Ty::Bool) => Val::B(b),
+            (Val::B(b), to) => {
+                let t = self.b.temp(to.class());
+                let zero = self.b.constant(alba_model::Literal::Int(0), to.class());
+                let one = self.b.constant(alba_model::Literal::Int(1), to.class());
+                self.b.un(IUn::Mov, zero, t, self.elem);
+                self.emit(Op::Ld(b));
+                self.b.un(IUn::Mov, one, t, self.elem);
+                self.emit(Op::True);
+                Val::N(t)
+            }
+            (Val::N(x), Ty::Bool) => {
+                let zero = self.b.constant(alba_model::Literal::Int(0), from.class());
+                let t = self.b.temp_b();
+                self.cmp(Cmp::Ne, x, zero);
+                self.emit(Op::Ote(t));
+                self.emit(Op::True);
+                Val::B(t)
+            }
+            (Val::N(x), to) => {
+                let y = self.b.convert(x, to.class(), self.elem);
+                // Into a new slot when narrowing, so the source is not changed.
+                let y = if y == x && from.rank() > to.rank() && matches!(to, Ty::Sint | Ty::Int) {
+                    let t = self.b.temp(to.class());
+                    self.b.un(IUn::Mov, x, t, self.elem);
+                    t
+                } else {
+                    y
+                };
+                self.narrow(y, to);
+                Val::N(y)
+            }
+        }
+    }
+
+    fn selection(&mut self, f: &str, args: &[&Expr], hint: Option<&Ty>, span: Span) -> R<(Val, Ty)> {
+        let (choices, pre): (&[&Expr], Option<&Expr>) = match f {
+            "SEL" | "MUX" => match args.split_first() {
+                Some((g, rest)) => (rest, Some(*g)),
+                None => (&[], None),
+            },
+            _ => (args, None),
+        };
+        let need = match f {
+            "SEL" => 2,
+            "LIMIT" => 3,
+            _ => 2,
+        };
+        if choices.len() < need || (f == "SEL" && choices.len() != 2) || (f == "LIMIT" && choices.len() != 3) {
+            let count = match f {
+                "SEL" | "LIMIT" => "3".to_string(),
+                _ => format!("at least {}", need + usize::from(pre.is_some())),
+            };
+            return Err(type_error(span, format!("{f} takes {count} arguments")));
+        }
+        let guard = match pre {
+            Some(g) => {
+                let want = if f == "SEL" { Ty::Bool } else { Ty::Dint };
+                let (v, ty) = self.eval(g, Some(&want))?;
+                if (f == "SEL" && ty != Ty::Bool) || (f == "MUX" && !ty.is_int()) {
+                    let what = if f == "SEL" { "BOOL" } else { "an integer" };
+                    return Err(type_error(g.span, format!("{f}'s first argument is {what}, not {ty}")));
+                }
+                Some(v)
+            }
+            None => None,
+        };
+        let mut vals = Vec::new();
+        for e in choices {
+            let h = vals.first().map(|(_, t): &(Val, Ty)| t.clone()).or(hint.cloned());
+            vals.push(self.eval(e, h.as_ref())?);
+        }
+        let mut ty = vals[0].1.clone();
+        for (_, t) in &vals[1..] {
+            if widens(&ty, t) {
+                ty = t.clone();
+            } else if !widens(t, &ty) {
+                return Err(type_error(span, format!("{f} of {ty} and {t}: the types differ")));
+            }
+        }
+        if ty == Ty::Bool && f != "SEL" && f != "MUX" {
+            return Err(type_error(span, format!("{f} takes numbers, not BOOL")));
+        }
+        if ty == Ty::Bool {
+            let t = self.b.temp_b();
+            let (Some(g), [(Val::B(a), _), (Val::B(b), _)]) = (guard, vals.as_slice()) else {
+                return Err(not_supported(
+                    span,
+                    format!("{f} of BOOL values with more than 2 inputs is not supported yet"),
+                ));
+            };
+            let Val::B(g) = g else {
+                return Err(type_error(span, "selector".into()));
+            };
+            if f == "MUX" {
+                return Err(not_supported(span, "MUX of BOOL values is not supported yet".into()));
+            }
+            // t := (g AND b) OR (NOT g AND a)
+            let t1 = self.b.temp_b();
+            self.emit(Op::Ld(g));
+            self.emit(Op::Xic(*b));
+            self.emit(Op::Ote(t1));
+            self.emit(Op::Ldn(g));
+            self.emit(Op::Xic(*a));
+            self.emit(Op::Or(t1));
+            self.emit(Op::Ote(t));
+            self.emit(Op::True);
+            return Ok((Val::B(t), Ty::Bool));
+        }
+        let class = ty.class();
+        let mut slots = Vec::new();
+        for (k, (v, _)) in vals.into_iter().enumerate() {
+            slots.push(self.fit(v, choices[k], &ty)?);
+        }
+        let t = self.b.temp(class);
+        match f {
+            "MIN" | "MAX" => {
+                self.b.un(IUn::Mov, slots[0], t, self.elem);
+                for s in &slots[1..] {
+                    self.cmp(if f == "MIN" { Cmp::Lt } else { Cmp::Gt }, *s, t);
+                    self.b.un(IUn::Mov, *s, t, self.elem);
+                    self.emit(Op::True);
+                }
+            }
+            "LIMIT" => {
+                let (mn, x, mx) = (slots[0], slots[1], slots[2]);
+                self.b.un(IUn::Mov, x, t, self.elem);
+                self.cmp(Cmp::Lt, t, mn);
+                self.b.un(IUn::Mov, mn, t, self.elem);
+                self.emit(Op::True);
+                self.cmp(Cmp::Gt, t, mx);
+                self.b.un(IUn::Mov, mx, t, self.elem);
+                self.emit(Op::True);
+            }
+            "SEL" => {
+                let Some(Val::B(g)) = guard else {
+                    return Err(type_error(span, "SEL's selector is BOOL".into()));
+                };
+                self.b.un(IUn::Mov, slots[0], t, self.elem);
+                self.emit(Op::Ld(g));
+                self.b.un(IUn::Mov, slots[1], t, self.elem);
+                self.emit(Op::True);
+            }
+            _ => {
+                let Some(Val::N(k)) = guard else {
+                    return Err(type_error(span, "MUX's selector is an integer".into()));
+                };
+                let V::I(k) = self.b.convert(k, Class::I, self.elem) else {
+                    return Err(type_error(span, "MUX".into()));
+                };
+                self.b.un(IUn::Mov, slots[0], t, self.elem);
+                for (i, s) in slots.iter().enumerate().skip(1) {
+                    let c = self.b.const_i(i as i32);
+                    self.emit(Op::CmpI(Cmp::Eq, k, c));
+                    self.b.un(IUn::Mov, *s, t, self.elem);
+                    self.emit(Op::True);
+                }
+            }
+        }
+        self.narrow(t, &ty);
+        Ok((Val::N(t), ty))
+    }
+}
+
+/// `a BOOL`, `an INT`.
+fn an(ty: &Ty) -> String {
+    let s = ty.to_string();
+    let vowel = matches!(s.as_bytes().first(), Some(b'A' | b'E' | b'I' | b'L' | b'S'));
+    format!("{} {s}", if vowel { "an" } else { "a" })
+}
+
+fn fits(v: i64, ty: &Ty) -> bool {
+    match ty {
+        Ty::Sint => i8::try_from(v).is_ok(),
+        Ty::Int => i16::try_from(v).is_ok(),
+        Ty::Dint | Ty::Time => i32::try_from(v).is_ok(),
+        Ty::Lint | Ty::Real | Ty::Lreal => true,
+        _ => false,
+    }
+}
+
+fn value_lit(v: Value) -> Lit {
+    match v {
+        Value::Bool(b) => Lit::Bool(b),
+        Value::Sint(x) => Lit::Int(x.into(), None),
+        Value::Int(x) => Lit::Int(x.into(), None),
+        Value::Dint(x) => Lit::Int(x.into(), None),
+        Value::Lint(x) => Lit::Int(x, None),
+        Value::Real(x) => Lit::Real(x.into(), None),
+        Value::Lreal(x) => Lit::Real(x, None),
+        Value::Time(x) => Lit::Int(x.into(), None),
+    }
+}

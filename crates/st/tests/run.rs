@@ -1,0 +1,413 @@
+//! ST programs lowered to the IR and run by the engine, in every mode
+//! (fused interpreter, monitored interpreter, native code), which must
+//! agree value for value on every scan.
+
+use alba_diag::{Diagnostic, Files, render_all};
+use alba_engine::Engine;
+use alba_ir::{Builder, Layout, Program, Target};
+use alba_model::{TagTable, Value};
+use std::sync::Arc;
+
+/// Compiles `st` over the tags of `csv`: the program or the rendered errors.
+fn build(csv: &str, st: &str) -> Result<Program, (String, Vec<Diagnostic>)> {
+    let mut files = Files::new();
+    let tf = files.add("tags.csv", csv);
+    let sf = files.add("main.st", st);
+    let (mut tags, mut diags) = TagTable::parse(files.text(tf), tf);
+    let (ast, d) = alba_st::parse(files.text(sf), sf);
+    diags.extend(d);
+    alba_st::declare(&ast, &mut tags, &mut diags);
+    let mut b = Builder::new(Layout::new(&tags, &Default::default()));
+    diags.extend(alba_st::compile(&ast, "main.st", &mut b));
+    if !diags.is_empty() {
+        return Err((render_all(&diags, &files), diags));
+    }
+    Ok(b.finish(files))
+}
+
+fn program(csv: &str, st: &str) -> Program {
+    build(csv, st).unwrap_or_else(|(e, _)| panic!("does not compile:\n{e}"))
+}
+
+fn errors(csv: &str, st: &str) -> String {
+    match build(csv, st) {
+        Ok(_) => panic!("compiled, but errors were expected"),
+        Err((text, _)) => text,
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mode {
+    Fused,
+    Monitored,
+    Native,
+}
+const MODES: [Mode; 3] = [Mode::Fused, Mode::Monitored, Mode::Native];
+
+fn engine(p: &Program, mode: Mode) -> Engine {
+    let mut e = Engine::new(Arc::new(p.clone())).expect("verifies");
+    match mode {
+        Mode::Fused => {}
+        Mode::Monitored => e.set_monitor(true),
+        Mode::Native => e.compile_native().expect("native code"),
+    }
+    e
+}
+
+fn place(e: &Engine, name: &str) -> alba_ir::layout::Place {
+    match e.program().layout.resolve(name) {
+        Ok(Target::Value { place, .. }) => place,
+        other => panic!("`{name}`: {other:?}"),
+    }
+}
+
+fn get(e: &Engine, name: &str) -> Value {
+    e.read(place(e, name))
+}
+
+fn set(e: &mut Engine, name: &str, v: Value) {
+    let p = place(e, name);
+    e.write(p, v);
+}
+
+/// Runs `script` (per scan: the writes before it) in every mode, every
+/// `scan_ms`; returns the values of `watch` after each scan, checking that
+/// all modes agree on them.
+type Script<'a> = &'a [(u64, &'a [(&'a str, Value)])];
+fn run_all(p: &Program, scan_ms: u64, scans: u64, script: Script, watch: &[&str]) -> Vec<Vec<Value>> {
+    let mut results: Vec<Vec<Vec<Value>>> = Vec::new();
+    for mode in MODES {
+        let mut e = engine(p, mode);
+        let mut rows = Vec::new();
+        for k in 0..scans {
+            let now = k * scan_ms;
+            for (at, writes) in script {
+                if *at == now {
+                    for (n, v) in *writes {
+                        set(&mut e, n, *v);
+                    }
+                }
+            }
+            e.scan(now)
+                .unwrap_or_else(|f| panic!("{mode:?}: major fault {}", f.message));
+            rows.push(watch.iter().map(|w| get(&e, w)).collect());
+        }
+        results.push(rows);
+    }
+    for (k, r) in results.iter().enumerate().skip(1) {
+        assert_eq!(&results[0], r, "{:?} and {:?} disagree", MODES[0], MODES[k]);
+    }
+    results.swap_remove(0)
+}
+
+fn b(v: bool) -> Value {
+    Value::Bool(v)
+}
+
+#[test]
+fn motor_start_stop_with_an_on_delay() {
+    let p = program(
+        "name,type,address\nStart,BOOL,DI:1/0\nStop,BOOL,DI:1/1\nMotor,BOOL,DO:2/0\nFan,BOOL,DO:2/1\n",
+        "PROGRAM Main
+         VAR delay : TON; END_VAR
+         Motor := (Start OR Motor) AND NOT Stop;
+         delay(IN := Motor, PT := T#50ms, Q => Fan);
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        14,
+        &[
+            (10, &[("Start", b(true))]),
+            (20, &[("Start", b(false))]),
+            (110, &[("Stop", b(true))]),
+        ],
+        &["Motor", "Fan", "Main.delay.ACC"],
+    );
+    let motor: Vec<bool> = rows.iter().map(|r| r[0] == b(true)).collect();
+    let fan: Vec<bool> = rows.iter().map(|r| r[1] == b(true)).collect();
+    assert_eq!(
+        motor,
+        [
+            false, true, true, true, true, true, true, true, true, true, true, false, false, false
+        ]
+    );
+    // The fan follows 50 ms after the motor, and stops with it.
+    let first_fan = fan.iter().position(|f| *f).expect("the fan starts");
+    assert_eq!(first_fan, 6, "{fan:?}");
+    assert!(!fan[11], "the fan stops with the motor");
+}
+
+#[test]
+fn loops_and_selection_compute_what_the_standard_says() {
+    let p = program(
+        "name,type\nSum,DINT\nFact,DINT\nOdd,DINT\nSel,INT\nWhileN,INT\nRep,INT\nMx,REAL\n",
+        "PROGRAM Main
+         VAR i : INT; k : DINT := 1; END_VAR
+         Sum := 0;
+         FOR i := 1 TO 10 DO Sum := Sum + i; END_FOR;
+         Fact := 1; k := 1;
+         WHILE k <= 6 DO Fact := Fact * k; k := k + 1; END_WHILE;
+         Odd := 0;
+         FOR i := 9 TO 1 BY -2 DO
+           IF i = 3 THEN EXIT; END_IF;
+           Odd := Odd * 10 + i;
+         END_FOR;
+         CASE Odd MOD 7 OF
+           0: Sel := 100;
+           1..3, 5: Sel := 200;
+         ELSE Sel := 300;
+         END_CASE;
+         WhileN := 0;
+         REPEAT WhileN := WhileN + 3; UNTIL WhileN > 10 END_REPEAT;
+         Rep := LIMIT(0, WhileN * 20, 100) + MIN(4, 2, 8) + SEL(TRUE, 1, 1000) + MUX(2, 5, 6, 7);
+         Mx := MAX(1.5, INT_TO_REAL(i), 2.0) + SQRT(16.0) + EXPT(2.0, 3.0);
+         IF Sum = 55 AND NOT (Fact <> 720) THEN ; ELSE Sel := -1; END_IF;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 2, &[], &["Sum", "Fact", "Odd", "Sel", "WhileN", "Rep", "Mx"]);
+    let want = [
+        Value::Dint(55),
+        Value::Dint(720),
+        Value::Dint(975),
+        // 975 MOD 7 = 2
+        Value::Int(200),
+        Value::Int(12),
+        // LIMIT(0,240,100)=100, MIN=2, SEL(TRUE)=1000, MUX(2)=7
+        Value::Int(1109),
+        // i ended at 3 (EXIT): MAX(1.5, 3.0, 2.0) + 4 + 8
+        Value::Real(15.0),
+    ];
+    assert_eq!(rows[1], want);
+}
+
+#[test]
+fn arrays_with_computed_indexes_and_their_faults() {
+    let p = program(
+        "name,type\nIx,INT\nOut,DINT\nFlag,BOOL\nQ,DINT\nD,DINT\n",
+        "PROGRAM Main
+         VAR a : ARRAY[1..5] OF DINT := [10, 20, 3(7)]; m : ARRAY[0..1, 1..2] OF BOOL; END_VAR
+         a[Ix] := a[Ix] + 1;
+         Out := a[1] * 1000 + a[2] * 10 + a[5];
+         m[1, Ix] := TRUE;
+         Flag := m[1, 2];
+         Q := 100 / D;
+         END_PROGRAM",
+    );
+    for mode in MODES {
+        let mut e = engine(&p, mode);
+        set(&mut e, "Ix", Value::Int(2));
+        set(&mut e, "D", Value::Dint(4));
+        e.scan(0).expect("scan");
+        assert_eq!(get(&e, "Out"), Value::Dint(10 * 1000 + 21 * 10 + 7), "{mode:?}");
+        assert_eq!(get(&e, "Flag"), b(true), "{mode:?}");
+        assert_eq!(get(&e, "Q"), Value::Dint(25), "{mode:?}");
+        assert_eq!(e.faults().count, 0, "{mode:?}");
+        // Out of range: a fault, nothing written, and the scan goes on.
+        set(&mut e, "Ix", Value::Int(6));
+        e.scan(10).expect("scan");
+        assert!(e.faults().count >= 1, "{mode:?}: no fault for a[6]");
+        assert_eq!(get(&e, "Out"), Value::Dint(10 * 1000 + 21 * 10 + 7), "{mode:?}");
+        assert_eq!(get(&e, "Main.a[5]"), Value::Dint(7), "{mode:?}");
+        // Division by zero: a fault as in Ladder.
+        let before = e.faults().count;
+        set(&mut e, "Ix", Value::Int(1));
+        set(&mut e, "D", Value::Dint(0));
+        e.scan(20).expect("scan");
+        assert!(e.faults().count > before, "{mode:?}: no fault for 100 / 0");
+        let f = e.faults().last.expect("a fault");
+        let at = e.describe_fault(&f);
+        assert!(at.contains("main.st"), "{mode:?}: {at}");
+    }
+}
+
+#[test]
+fn standard_function_blocks() {
+    let p = program(
+        "name,type\nIn,BOOL\nRst,BOOL\nUp,BOOL\nCv,INT\nCq,BOOL\nDq,BOOL\nRise,BOOL\nFall,BOOL\nLatch,BOOL\nPulse,BOOL\nOff,BOOL\n",
+        "PROGRAM Main
+         VAR c : CTU; d : CTD; r : R_TRIG; f : F_TRIG; s : SR; p : TP; o : TOF; END_VAR
+         c(CU := In, R := Rst, PV := 3, Q => Cq, CV => Cv);
+         d(CD := In, LD := Rst, PV := 2);
+         Dq := d.Q;
+         r(CLK := In);
+         Rise := r.Q;
+         f(CLK := In, Q => Fall);
+         s(S1 := Up, R := Rst, Q1 => Latch);
+         p(IN := In, PT := T#30ms, Q => Pulse);
+         o(IN := In, PT := T#20ms, Q => Off);
+         END_PROGRAM",
+    );
+    let t = |v| Value::Bool(v);
+    let rows = run_all(
+        &p,
+        10,
+        16,
+        &[
+            (0, &[("In", t(true)), ("Up", t(true))]),
+            (10, &[("In", t(false)), ("Up", t(false))]),
+            (20, &[("In", t(true))]),
+            (30, &[("In", t(false))]),
+            (40, &[("In", t(true))]),
+            (70, &[("In", t(false)), ("Rst", t(true))]),
+            (80, &[("Rst", t(false))]),
+        ],
+        &["Cv", "Cq", "Rise", "Fall", "Latch", "Dq", "Pulse", "Off"],
+    );
+    let col = |k: usize| rows.iter().map(|r| r[k]).collect::<Vec<_>>();
+    let ints: Vec<i64> = col(0).iter().map(|v| v.as_f64() as i64).collect();
+    // Rising edges of CU at 0, 20 and 40 ms (held through 70 ms); R at 70 ms.
+    assert_eq!(&ints[..9], &[1, 1, 2, 2, 3, 3, 3, 0, 0], "CV");
+    let bools = |k| col(k).iter().map(|v| *v == Value::Bool(true)).collect::<Vec<_>>();
+    assert_eq!(
+        &bools(1)[..9],
+        &[false, false, false, false, true, true, true, false, false],
+        "CTU.Q"
+    );
+    // R_TRIG fires on the first scan when CLK is already true, once while held.
+    assert_eq!(
+        &bools(2)[..9],
+        &[true, false, true, false, true, false, false, false, false],
+        "R_TRIG.Q"
+    );
+    assert_eq!(
+        &bools(3)[..9],
+        &[false, true, false, true, false, false, false, true, false],
+        "F_TRIG.Q"
+    );
+    assert_eq!(
+        &bools(4)[..9],
+        &[true, true, true, true, true, true, true, false, false],
+        "SR.Q1"
+    );
+    // CTD from 0 (no load yet): at or below 0 -> Q.
+    assert!(bools(5)[0], "CTD.Q");
+    // TP: a 30 ms pulse from the first rising edge, not retriggered meanwhile.
+    assert_eq!(&bools(6)[..4], &[true, true, true, false], "TP.Q");
+    // TOF: true while IN, and 20 ms after it falls.
+    assert!(bools(7)[0] && bools(7)[1], "TOF.Q");
+    assert!(!bools(7)[12], "TOF.Q after the delay");
+}
+
+#[test]
+fn the_checker_names_both_types_and_suggests_names() {
+    let e = errors(
+        "name,type\nLevel,REAL\nCount,DINT\n",
+        "PROGRAM Main
+         VAR i : INT; ok : BOOL; t : TON; END_VAR
+         i := Level;
+         Count := Cuont + 1;
+         ok := i;
+         t(IN := ok, PT := 5);
+         ok := t.DN;
+         IF i THEN ; END_IF;
+         Count := Count / 2.5;
+         Level := SQRT(i);
+         EXIT;
+         END_PROGRAM",
+    );
+    for want in [
+        "error[E221]: cannot assign a REAL to `i`, an INT",
+        "error[E222]: unknown name `Cuont`",
+        "did you mean `Count`?",
+        "cannot assign an INT to `ok`, a BOOL",
+        "TON.PT is a TIME, not a DINT",
+        "TON has no member `DN`",
+        "a condition is BOOL, not INT",
+        "`/` of DINT and REAL: the types differ",
+        "SQRT takes a REAL or LREAL, not INT",
+        "error[E224]: EXIT is only allowed inside FOR, WHILE or REPEAT",
+        "main.st:3:",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}
+
+#[test]
+fn inputs_constants_and_unsupported_features_are_refused_at_their_place() {
+    let e = errors(
+        "name,type,address\nStart,BOOL,DI:1/0\n",
+        "PROGRAM Main
+         VAR CONSTANT k : INT := 3; END_VAR
+         VAR s : STRING; w : WORD; x : INT; a : ARRAY[1..2] OF INT; END_VAR
+         Start := TRUE;
+         k := 4;
+         x := SHL(x, 1);
+         a[3] := 1;
+         END_PROGRAM",
+    );
+    for want in [
+        "error[E223]: STRING and WSTRING are not supported by the engine yet",
+        "the type WORD is not supported by the engine yet",
+        "error[E304]: `Start` cannot be written: it is an input",
+        "`k` is CONSTANT",
+        "SHL is not supported yet",
+        "the index 3 is outside the bounds 1..2",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}
+
+#[test]
+fn narrowing_overflows_fault_and_wrap_like_ladder() {
+    let p = program(
+        "name,type\nX,INT\nY,SINT\n",
+        "PROGRAM Main
+         X := X + 16000;
+         Y := DINT_TO_SINT(INT_TO_DINT(X) / 1000);
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 3, &[], &["X", "Y"]);
+    assert_eq!(rows[0], [Value::Int(16000), Value::Sint(16)]);
+    assert_eq!(rows[1], [Value::Int(32000), Value::Sint(32)]);
+    // 48000 wraps to 48000 - 65536.
+    assert_eq!(rows[2][0], Value::Int(-17536));
+    let mut e = engine(&p, Mode::Fused);
+    for k in 0..3 {
+        e.scan(k * 10).expect("scan");
+    }
+    assert!(e.faults().count >= 1, "the overflow is a fault");
+}
+
+#[test]
+fn a_runaway_loop_is_a_major_fault_not_a_hang() {
+    let p = program(
+        "name,type\nN,DINT\n",
+        "PROGRAM Main WHILE TRUE DO N := N + 1; END_WHILE; END_PROGRAM",
+    );
+    for mode in MODES {
+        let mut e = engine(&p, mode);
+        let r = e.scan(0);
+        assert!(r.is_err(), "{mode:?}: an endless loop must stop the scan");
+    }
+}
+
+/// 10 000 lines of ST parsed, checked and lowered; prints the time (debug
+/// builds are slower than release; tests never assert wall-clock time).
+#[test]
+fn ten_thousand_lines_compile_and_the_time_is_printed() {
+    let mut src = String::from("PROGRAM Big\nVAR i, n : DINT; a : ARRAY[0..99] OF DINT; t : TON; END_VAR\n");
+    for k in 0..2_500 {
+        src.push_str(&format!("n := n + {k} MOD 7;\n"));
+        src.push_str(&format!(
+            "IF n > {k} THEN a[n MOD 100] := a[{}] - 1; END_IF;\n",
+            k % 100
+        ));
+        src.push_str("t(IN := n > 3, PT := T#1s);\n");
+        src.push_str("CASE n MOD 4 OF 0: i := 1; 1..2: i := 2; ELSE i := 3; END_CASE;\n");
+    }
+    src.push_str("END_PROGRAM\n");
+    let lines = src.lines().count();
+    assert!(lines >= 10_000);
+    let start = std::time::Instant::now();
+    let p = program("name,type\n", &src);
+    let took = start.elapsed();
+    println!(
+        "{lines} lines of ST: parse, check and lower in {took:?} ({} ops)",
+        p.ops.len()
+    );
+    let mut e = engine(&p, Mode::Fused);
+    e.scan(0).expect("scan");
+    assert!(p.ops.len() > lines);
+}
