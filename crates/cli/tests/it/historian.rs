@@ -188,16 +188,22 @@ fn alba_run_records_into_the_shared_postgres_historian() {
             serde_json::json!({"node": "cell-7", "shared": true, "nodes": ["cell-7", "line-9"]})
         )
     );
-    let (code, b) = get(&addr, "/api/history/raw?tag=B&from=0&to=9999999999999&limit=10");
-    assert_eq!(code, 200, "{b}");
-    // On after the first scan (the first sample may be the memory before it).
-    assert!(
-        b["points"]
+    // On after the first scan (the first sample may be the memory before it,
+    // and the next one reaches the database with the recorder's next batch).
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let (on, b) = loop {
+        let (code, b) = get(&addr, "/api/history/raw?tag=B&from=0&to=9999999999999&limit=10");
+        assert_eq!(code, 200, "{b}");
+        let on = b["points"]
             .as_array()
             .and_then(|p| p.last())
-            .is_some_and(|x| x[1] == 1.0),
-        "{b}"
-    );
+            .is_some_and(|x| x[1] == 1.0);
+        if on || Instant::now() > deadline {
+            break (on, b);
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert!(on, "{b}");
     // line-9's tag through this runtime's API: tags, buckets, raw samples and CSV.
     let (code, tags) = get(&addr, "/api/history/tags?node=line-9");
     assert_eq!(
