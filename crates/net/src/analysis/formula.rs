@@ -294,6 +294,9 @@ pub(crate) struct Index {
     pub needs: Vec<Vec<usize>>,
     /// Per place: transitions with an inhibitor arc from it.
     pub inhibited: Vec<Vec<usize>>,
+    /// Per transition: the transitions its firing can disable (input or read arcs on a
+    /// place it empties, inhibitor arcs on a place it fills).
+    pub disables: Vec<Vec<usize>>,
 }
 
 impl Index {
@@ -304,6 +307,7 @@ impl Index {
             dec: vec![Vec::new(); np],
             needs: vec![Vec::new(); np],
             inhibited: vec![Vec::new(); np],
+            disables: Vec::new(),
         };
         for t in 0..net.transitions.len() {
             let mut eff: std::collections::BTreeMap<usize, i64> = Default::default();
@@ -330,17 +334,41 @@ impl Index {
                 }
             }
         }
+        for t in 0..net.transitions.len() {
+            let mut d: Vec<usize> = Vec::new();
+            for &(p, _) in &net.pre[t] {
+                if ix.dec[p].contains(&t) {
+                    d.extend(&ix.needs[p]);
+                }
+            }
+            for &(p, _) in &net.post[t] {
+                if ix.inc[p].contains(&t) {
+                    d.extend(&ix.inhibited[p]);
+                }
+            }
+            d.sort_unstable();
+            d.dedup();
+            ix.disables.push(d);
+        }
         ix
     }
 
-    /// For `t` disabled at `m`: the transitions that can remove one reason (the first
-    /// place short of tokens: its producers; else the first inhibitor place too full:
-    /// its consumers). Nothing when `t` is enabled.
+    /// For `t` disabled at `m`: the transitions that can remove one reason it is disabled
+    /// (of the places short of tokens, the one with the fewest producers: those; of the
+    /// inhibitor places too full, the one with the fewest consumers: those). Nothing
+    /// when `t` is enabled.
     pub fn scapegoat(&self, net: &PtNet, m: &[u32], t: usize, out: &mut Vec<usize>) {
-        if let Some(&(p, _)) = net.pre[t].iter().chain(&net.reads[t]).find(|&&(p, w)| m[p] < w) {
-            out.extend(&self.inc[p]);
-        } else if let Some(&(p, _)) = net.inhibitors[t].iter().find(|&&(p, w)| m[p] >= w) {
-            out.extend(&self.dec[p]);
+        let short = net.pre[t]
+            .iter()
+            .chain(&net.reads[t])
+            .filter(|&&(p, w)| m[p] < w)
+            .map(|&(p, _)| &self.inc[p]);
+        let full = net.inhibitors[t]
+            .iter()
+            .filter(|&&(p, w)| m[p] >= w)
+            .map(|&(p, _)| &self.dec[p]);
+        if let Some(v) = short.chain(full).min_by_key(|v| v.len()) {
+            out.extend(v);
         }
     }
 

@@ -20,7 +20,6 @@
 use super::formula::{Index, Property, Query};
 use super::{Control, Part, Progress};
 use crate::PtNet;
-use std::collections::HashMap;
 
 /// What [`check`] may do.
 #[derive(Clone, Copy, Debug)]
@@ -103,17 +102,78 @@ pub struct Checked {
     pub reduced: bool,
 }
 
-/// The markings found: packed one after the other, with a hash index.
+/// The markings found, one after the other, and an open-addressing index of them
+/// (state numbers, linear probing, load at most one half).
 struct Seen {
     np: usize,
     markings: Vec<u32>,
     parent: Vec<(u32, u32)>,
-    index: HashMap<Box<[u32]>, u32>,
+    table: Vec<u32>,
+}
+
+const EMPTY: u32 = u32::MAX;
+
+fn hash(m: &[u32]) -> u64 {
+    let mut h: u64 = 0x243f_6a88_85a3_08d3;
+    for &w in m {
+        h = (h.rotate_left(5) ^ u64::from(w)).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+    h ^= h >> 29;
+    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h ^ (h >> 32)
 }
 
 impl Seen {
+    fn new(initial: &[u32]) -> Seen {
+        let mut s = Seen {
+            np: initial.len(),
+            markings: Vec::new(),
+            parent: Vec::new(),
+            table: vec![EMPTY; 1 << 10],
+        };
+        s.insert(initial, (u32::MAX, u32::MAX));
+        s
+    }
+
+    fn len(&self) -> usize {
+        self.parent.len()
+    }
+
     fn marking(&self, i: usize) -> &[u32] {
         &self.markings[i * self.np..(i + 1) * self.np]
+    }
+
+    /// Adds `m` unless it is there; whether it was new.
+    fn insert(&mut self, m: &[u32], parent: (u32, u32)) -> bool {
+        let mask = self.table.len() - 1;
+        let mut slot = hash(m) as usize & mask;
+        loop {
+            match self.table[slot] {
+                EMPTY => break,
+                i if self.marking(i as usize) == m => return false,
+                _ => slot = (slot + 1) & mask,
+            }
+        }
+        self.table[slot] = self.len() as u32;
+        self.markings.extend_from_slice(m);
+        self.parent.push(parent);
+        if self.len() * 2 > self.table.len() {
+            let mut table = vec![EMPTY; self.table.len() * 2];
+            let mask = table.len() - 1;
+            for i in 0..self.len() {
+                let mut slot = hash(self.marking(i)) as usize & mask;
+                while table[slot] != EMPTY {
+                    slot = (slot + 1) & mask;
+                }
+                table[slot] = i as u32;
+            }
+            self.table = table;
+        }
+        true
+    }
+
+    fn bytes(&self) -> usize {
+        self.markings.capacity() * 4 + self.parent.capacity() * 8 + self.table.len() * 4
     }
 
     fn trace(&self, mut i: usize) -> Vec<usize> {
@@ -143,13 +203,7 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
     let mut traces: Vec<Option<Vec<usize>>> = vec![None; props.len()];
     let mut bounds = vec![0u64; props.len()];
     let ix = Index::new(net);
-    let mut seen = Seen {
-        np,
-        markings: net.initial.clone(),
-        parent: vec![(u32::MAX, u32::MAX)],
-        index: HashMap::new(),
-    };
-    seen.index.insert(net.initial.clone().into_boxed_slice(), 0);
+    let mut seen = Seen::new(&net.initial);
     let mut edges = 0u64;
     let mut stop: Option<&'static str> = None;
     let mut open = props.len();
@@ -158,7 +212,7 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
     let mut work: Vec<usize> = Vec::new();
     let mut in_set = vec![false; nt];
     let mut s = 0usize;
-    while s < seen.parent.len() && (open > 0 || has_bounds) {
+    while s < seen.len() && (open > 0 || has_bounds) {
         if s & 0x3fff == 0 {
             if control.cancelled() {
                 stop = Some("cancelled");
@@ -166,8 +220,8 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
             }
             (control.progress)(&Progress {
                 part: Part::StateSpace,
-                states: seen.parent.len() as u64,
-                bytes: seen.markings.len() * 4 * 3,
+                states: seen.len() as u64,
+                bytes: seen.bytes(),
             });
         }
         m.copy_from_slice(seen.marking(s));
@@ -209,17 +263,7 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
                 in_set[t] = true;
                 set.push(t);
                 if net.enabled(&m, t) {
-                    // What firing `t` could disable.
-                    for &(p, _) in &net.pre[t] {
-                        if ix.dec[p].contains(&t) {
-                            work.extend(&ix.needs[p]);
-                        }
-                    }
-                    for &(p, _) in &net.post[t] {
-                        if ix.inc[p].contains(&t) {
-                            work.extend(&ix.inhibited[p]);
-                        }
-                    }
+                    work.extend(ix.disables[t].iter().filter(|&&u| !in_set[u]));
                 } else {
                     ix.scapegoat(net, &m, t, &mut work);
                 }
@@ -238,17 +282,10 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
                 break;
             };
             edges += 1;
-            if seen.index.contains_key(&next[..]) {
-                continue;
-            }
-            if seen.parent.len() >= options.max_states {
+            if seen.insert(&next, (s as u32, t as u32)) && seen.len() > options.max_states.min(1 << 31) {
                 stop = Some("state limit");
                 break;
             }
-            let n = seen.parent.len() as u32;
-            seen.markings.extend_from_slice(&next);
-            seen.parent.push((s as u32, t as u32));
-            seen.index.insert(next.into_boxed_slice(), n);
         }
         if stop.is_some() {
             break;
@@ -277,7 +314,7 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
         .collect();
     Checked {
         answers,
-        states: seen.parent.len(),
+        states: seen.len(),
         edges,
         reduced,
     }

@@ -136,6 +136,7 @@ fn examinations_match_the_contest() {
     let corpus = corpus::load();
     let mut failures = Vec::new();
     let mut per_exam: BTreeMap<&str, (usize, usize)> = BTreeMap::new();
+    let mut time: BTreeMap<&str, std::time::Duration> = BTreeMap::new();
     let mut reduction = (0usize, 0usize);
     for i in &corpus {
         let Some(states) = i.state_space("STATES") else {
@@ -167,7 +168,9 @@ fn examinations_match_the_contest() {
                     }
                 }
             };
+            let t = std::time::Instant::now();
             let c = check(&net, &props, &CheckOptions::default(), &Control::none());
+            *time.entry(exam).or_default() += t.elapsed();
             if exam == "ReachabilityDeadlock" {
                 reduction.0 += c.states;
                 reduction.1 += states as usize;
@@ -200,7 +203,7 @@ fn examinations_match_the_contest() {
         failures.join("\n")
     );
     eprintln!(
-        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock with stubborn sets: {} markings of {}",
+        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock with stubborn sets: {} markings of {}; time per examination: {time:?}",
         reduction.0, reduction.1
     );
     for (exam, (instances, _)) in &per_exam {
