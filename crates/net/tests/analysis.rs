@@ -879,7 +879,7 @@ mod stubborn_sets {
     //! shows it.
     use super::*;
     use alba_net::analysis::formula::{IntExpr, Pred, Property, Query};
-    use alba_net::analysis::stubborn::{CheckOptions, Verdict, check};
+    use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer, check};
 
     const N: usize = 8;
 
@@ -926,12 +926,25 @@ mod stubborn_sets {
                 props.push(Property { id: format!("ef{k}"), query: Query::Ef(f.clone()) });
                 props.push(Property { id: format!("ag{k}"), query: Query::Ag(f) });
             }
-            let limit = CheckOptions { max_states: 3_000, stubborn: false };
+            let limit = CheckOptions { max_states: 3_000, stubborn: false, slice: false };
             let full = check(&net, &props, &limit, &Control::none());
             let reduced = check(&net, &props, &CheckOptions { stubborn: true, ..limit }, &Control::none());
-            for ((p, a), b) in props.iter().zip(&full.answers).zip(&reduced.answers) {
-                // Where a limit left one undecided (unbounded nets), the decided ones agree.
+            let sliced = answer(&net, &props, &CheckOptions { stubborn: true, slice: true, ..limit }, &Control::none());
+            let full_states = full.states;
+            for (((p, a), b), c) in props.iter().zip(&full.answers).zip(&reduced.answers).zip(&sliced) {
                 let unknown = |v: &Verdict| matches!(v, Verdict::Unknown(_));
+                if !unknown(&a.verdict) && !unknown(&c.verdict) || full_states < limit.max_states {
+                    prop_assert_eq!(&a.verdict, &c.verdict, "sliced {}: {:?}", p.id, p.query);
+                }
+                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&c.trace, &p.query) {
+                    let mut m = net.initial.clone();
+                    for &t in trace {
+                        prop_assert!(net.enabled(&m, t));
+                        m = net.fire(&m, t).expect("fires");
+                    }
+                    prop_assert_eq!(f.eval(&net, &m), c.verdict == Verdict::True);
+                }
+                // Where a limit left one undecided (unbounded nets), the decided ones agree.
                 if !unknown(&a.verdict) && !unknown(&b.verdict) || full.states < limit.max_states {
                     prop_assert_eq!(&a.verdict, &b.verdict, "{}: {:?}", p.id, p.query);
                 }

@@ -284,6 +284,131 @@ impl IntExpr {
     }
 }
 
+impl IntExpr {
+    fn map(&self, place: &[usize]) -> IntExpr {
+        match self {
+            IntExpr::Const(c) => IntExpr::Const(*c),
+            IntExpr::Tokens(ps) => IntExpr::Tokens(ps.iter().map(|&p| place[p]).collect()),
+            IntExpr::Sum(v) => IntExpr::Sum(v.iter().map(|e| e.map(place)).collect()),
+        }
+    }
+}
+
+impl Pred {
+    /// The places whose tokens the formula reads and the transitions whose enabling it
+    /// asks (`is-fireable`); `None` when it depends on the whole net (`deadlock`).
+    pub fn support(&self, places: &mut Vec<usize>, transitions: &mut Vec<usize>) -> Option<()> {
+        match self {
+            Pred::True | Pred::False => Some(()),
+            Pred::Not(p) => p.support(places, transitions),
+            Pred::And(v) | Pred::Or(v) => v.iter().try_for_each(|p| p.support(places, transitions)),
+            Pred::Le(a, b) => {
+                a.places(places);
+                b.places(places);
+                Some(())
+            }
+            Pred::Fireable(ts) => {
+                transitions.extend(ts);
+                Some(())
+            }
+            Pred::Deadlock => None,
+        }
+    }
+
+    /// The formula over renumbered places and transitions (a slice's numbers).
+    pub fn map(&self, place: &[usize], transition: &[usize]) -> Pred {
+        match self {
+            Pred::True => Pred::True,
+            Pred::False => Pred::False,
+            Pred::Deadlock => Pred::Deadlock,
+            Pred::Not(p) => Pred::Not(Box::new(p.map(place, transition))),
+            Pred::And(v) => Pred::And(v.iter().map(|p| p.map(place, transition)).collect()),
+            Pred::Or(v) => Pred::Or(v.iter().map(|p| p.map(place, transition)).collect()),
+            Pred::Le(a, b) => Pred::Le(a.map(place), b.map(place)),
+            Pred::Fireable(ts) => Pred::Fireable(ts.iter().map(|&t| transition[t]).collect()),
+        }
+    }
+}
+
+/// A slice of a net (Rakow's slicing for safety properties): the places a property reads,
+/// every transition that changes one of the slice's places, and the places of those
+/// transitions' arcs, to a fixed point. A transition left out changes no place of the
+/// slice, so the slice's transitions are enabled and fire there exactly as in the whole
+/// net: the markings reachable in the slice are the projections of the net's, and every
+/// firing sequence of the slice is one of the net. Reachability and bounds over the
+/// slice's places keep their answers, and a trace in the slice replays in the net.
+pub struct Slice {
+    /// The sliced net.
+    pub net: PtNet,
+    /// Per place of the net: its number in the slice (`usize::MAX`: left out).
+    pub place: Vec<usize>,
+    /// Per transition of the net: its number in the slice (`usize::MAX`: left out).
+    pub transition: Vec<usize>,
+    /// Per transition of the slice: its number in the net.
+    pub back: Vec<usize>,
+}
+
+/// The slice of `net` for properties reading `places` and asking whether `transitions`
+/// are enabled (these are kept, with the places of their arcs); `None` when it is the
+/// whole net.
+pub fn slice(net: &PtNet, places: &[usize], transitions: &[usize]) -> Option<Slice> {
+    let ix = Index::new(net);
+    let np = net.places.len();
+    let nt = net.transitions.len();
+    let mut keep_p = vec![false; np];
+    let mut keep_t = vec![false; nt];
+    let mut work: Vec<usize> = places.to_vec();
+    let keep = |t: usize, keep_t: &mut [bool], work: &mut Vec<usize>| {
+        if !std::mem::replace(&mut keep_t[t], true) {
+            let arcs = net.pre[t].iter().chain(&net.reads[t]).chain(&net.inhibitors[t]);
+            work.extend(arcs.map(|&(q, _)| q));
+        }
+    };
+    for &t in transitions {
+        keep(t, &mut keep_t, &mut work);
+    }
+    while let Some(p) = work.pop() {
+        if std::mem::replace(&mut keep_p[p], true) {
+            continue;
+        }
+        for &t in ix.inc[p].iter().chain(&ix.dec[p]) {
+            keep(t, &mut keep_t, &mut work);
+        }
+    }
+    if keep_p.iter().all(|&k| k) && keep_t.iter().all(|&k| k) {
+        return None;
+    }
+    let mut s = Slice {
+        net: PtNet::new(),
+        place: vec![usize::MAX; np],
+        transition: vec![usize::MAX; nt],
+        back: Vec::new(),
+    };
+    for p in (0..np).filter(|&p| keep_p[p]) {
+        s.place[p] = s.net.add_place(&net.places[p], net.initial[p]);
+    }
+    for t in (0..nt).filter(|&t| keep_t[t]) {
+        let u = s.net.add_transition(&net.transitions[t]);
+        s.transition[t] = u;
+        s.back.push(t);
+        // Every arc of a kept transition is on a kept place, except output arcs, which
+        // are on kept places too unless the transition only adds there: dropped.
+        for &(p, w) in &net.pre[t] {
+            s.net.add_pre(u, s.place[p], w);
+        }
+        for &(p, w) in net.post[t].iter().filter(|&&(p, _)| keep_p[p]) {
+            s.net.add_post(u, s.place[p], w);
+        }
+        for &(p, w) in &net.reads[t] {
+            s.net.add_read(u, s.place[p], w);
+        }
+        for &(p, w) in &net.inhibitors[t] {
+            s.net.add_inhibitor(u, s.place[p], w);
+        }
+    }
+    Some(s)
+}
+
 /// Who touches each place, for the stubborn sets ([`super::stubborn`]).
 pub(crate) struct Index {
     /// Per place: transitions with a positive net effect on it.

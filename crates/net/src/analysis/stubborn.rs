@@ -28,6 +28,9 @@ pub struct CheckOptions {
     pub max_states: usize,
     /// Stubborn-set reduction for reachability questions.
     pub stubborn: bool,
+    /// Slicing ([`super::formula::slice`]): a property whose slice has at most three
+    /// quarters of the places is checked alone on its slice.
+    pub slice: bool,
 }
 
 impl Default for CheckOptions {
@@ -35,6 +38,7 @@ impl Default for CheckOptions {
         CheckOptions {
             max_states: 10_000_000,
             stubborn: true,
+            slice: true,
         }
     }
 }
@@ -186,6 +190,54 @@ impl Seen {
         out.reverse();
         out
     }
+}
+
+/// Answers the properties: with [`CheckOptions::slice`], each property whose slice is
+/// small enough alone on its slice (technique `STRUCTURAL_REDUCTION`, the trace numbered
+/// in the whole net), the others together by one exploration of the net ([`check`]).
+pub fn answer(net: &PtNet, props: &[Property], options: &CheckOptions, control: &Control<'_>) -> Vec<Answer> {
+    let mut answers: Vec<Option<Answer>> = vec![None; props.len()];
+    let mut rest = Vec::new();
+    for (k, p) in props.iter().enumerate() {
+        let (mut support, mut asked) = (Vec::new(), Vec::new());
+        let reads = match &p.query {
+            Query::Ef(f) | Query::Ag(f) => f.support(&mut support, &mut asked),
+            Query::Bound(ps) => {
+                support.extend(ps);
+                Some(())
+            }
+        };
+        let sliced = reads
+            .filter(|_| options.slice)
+            .and_then(|_| super::formula::slice(net, &support, &asked))
+            .filter(|s| s.net.places.len() * 4 <= net.places.len() * 3);
+        let Some(s) = sliced else {
+            rest.push(k);
+            continue;
+        };
+        let query = match &p.query {
+            Query::Ef(f) => Query::Ef(f.map(&s.place, &s.transition)),
+            Query::Ag(f) => Query::Ag(f.map(&s.place, &s.transition)),
+            Query::Bound(ps) => Query::Bound(ps.iter().map(|&q| s.place[q]).collect()),
+        };
+        let one = Property {
+            id: p.id.clone(),
+            query,
+        };
+        let mut a = check(&s.net, std::slice::from_ref(&one), options, control)
+            .answers
+            .remove(0);
+        a.techniques.push("STRUCTURAL_REDUCTION");
+        a.trace = a.trace.map(|t| t.into_iter().map(|u| s.back[u]).collect());
+        answers[k] = Some(a);
+    }
+    if !rest.is_empty() {
+        let group: Vec<Property> = rest.iter().map(|&k| props[k].clone()).collect();
+        for (k, a) in rest.into_iter().zip(check(net, &group, options, control).answers) {
+            answers[k] = Some(a);
+        }
+    }
+    answers.into_iter().flatten().collect()
 }
 
 /// Answers the properties by one exploration (see the module's text).
@@ -442,6 +494,7 @@ mod tests {
             &CheckOptions {
                 max_states: 5,
                 stubborn: false,
+                slice: false,
             },
             &Control::none(),
         );
