@@ -28,8 +28,9 @@ pub struct CheckOptions {
     pub max_states: usize,
     /// Stubborn-set reduction for reachability questions.
     pub stubborn: bool,
-    /// Slicing ([`super::formula::slice`]): a property whose slice has at most three
-    /// quarters of the places is checked alone on its slice.
+    /// Slicing ([`super::formula::slice`], [`answer`]): the properties together on the
+    /// union of their slices when it has at most three quarters of the places, else each
+    /// alone on its slice when that has at most a quarter.
     pub slice: bool,
 }
 
@@ -192,44 +193,68 @@ impl Seen {
     }
 }
 
-/// Answers the properties: with [`CheckOptions::slice`], each property whose slice is
-/// small enough alone on its slice (technique `STRUCTURAL_REDUCTION`, the trace numbered
-/// in the whole net), the others together by one exploration of the net ([`check`]).
+/// Answers the properties: with [`CheckOptions::slice`], on slices where they are small
+/// enough (technique `STRUCTURAL_REDUCTION`, the trace numbered in the whole net; see
+/// below), the others together by one exploration of the net ([`check`]).
 pub fn answer(net: &PtNet, props: &[Property], options: &CheckOptions, control: &Control<'_>) -> Vec<Answer> {
     let mut answers: Vec<Option<Answer>> = vec![None; props.len()];
-    let mut rest = Vec::new();
-    for (k, p) in props.iter().enumerate() {
-        let (mut support, mut asked) = (Vec::new(), Vec::new());
-        let reads = match &p.query {
-            Query::Ef(f) | Query::Ag(f) => f.support(&mut support, &mut asked),
-            Query::Bound(ps) => {
-                support.extend(ps);
-                Some(())
+    // What each property reads (`None`: the whole net).
+    let supports: Vec<Option<(Vec<usize>, Vec<usize>)>> = props
+        .iter()
+        .map(|p| {
+            let (mut support, mut asked) = (Vec::new(), Vec::new());
+            match &p.query {
+                Query::Ef(f) | Query::Ag(f) => f.support(&mut support, &mut asked)?,
+                Query::Bound(ps) => support.extend(ps),
             }
-        };
-        let sliced = reads
-            .filter(|_| options.slice)
-            .and_then(|_| super::formula::slice(net, &support, &asked))
-            .filter(|s| s.net.places.len() * 4 <= net.places.len() * 3);
-        let Some(s) = sliced else {
-            rest.push(k);
-            continue;
-        };
-        let query = match &p.query {
-            Query::Ef(f) => Query::Ef(f.map(&s.place, &s.transition)),
-            Query::Ag(f) => Query::Ag(f.map(&s.place, &s.transition)),
-            Query::Bound(ps) => Query::Bound(ps.iter().map(|&q| s.place[q]).collect()),
-        };
-        let one = Property {
-            id: p.id.clone(),
-            query,
-        };
-        let mut a = check(&s.net, std::slice::from_ref(&one), options, control)
-            .answers
-            .remove(0);
-        a.techniques.push("STRUCTURAL_REDUCTION");
-        a.trace = a.trace.map(|t| t.into_iter().map(|u| s.back[u]).collect());
-        answers[k] = Some(a);
+            Some((support, asked))
+        })
+        .collect();
+    let np = net.places.len();
+    let small = |s: &super::formula::Slice, num: usize, den: usize| s.net.places.len() * den <= np * num;
+    let mut rest: Vec<usize> = (0..props.len()).collect();
+    if options.slice {
+        // All the sliceable properties together on the union of their slices when it
+        // leaves out a quarter of the places; else each alone when its slice has at most
+        // a quarter of them (one exploration per property costs more than a shared one).
+        let sliceable: Vec<usize> = rest.iter().copied().filter(|&k| supports[k].is_some()).collect();
+        let (mut places, mut asked) = (Vec::new(), Vec::new());
+        for (p, t) in sliceable.iter().filter_map(|&k| supports[k].as_ref()) {
+            places.extend(p);
+            asked.extend(t);
+        }
+        let mut groups: Vec<(super::formula::Slice, Vec<usize>)> = Vec::new();
+        match super::formula::slice(net, &places, &asked).filter(|s| small(s, 3, 4)) {
+            Some(s) if !sliceable.is_empty() => groups.push((s, sliceable)),
+            _ => {
+                for &k in &sliceable {
+                    if let Some((p, t)) = &supports[k]
+                        && let Some(s) = super::formula::slice(net, p, t).filter(|s| small(s, 1, 4))
+                    {
+                        groups.push((s, vec![k]));
+                    }
+                }
+            }
+        }
+        for (s, group) in groups {
+            let mapped: Vec<Property> = group
+                .iter()
+                .map(|&k| Property {
+                    id: props[k].id.clone(),
+                    query: match &props[k].query {
+                        Query::Ef(f) => Query::Ef(f.map(&s.place, &s.transition)),
+                        Query::Ag(f) => Query::Ag(f.map(&s.place, &s.transition)),
+                        Query::Bound(ps) => Query::Bound(ps.iter().map(|&q| s.place[q]).collect()),
+                    },
+                })
+                .collect();
+            for (&k, mut a) in group.iter().zip(check(&s.net, &mapped, options, control).answers) {
+                a.techniques.push("STRUCTURAL_REDUCTION");
+                a.trace = a.trace.map(|t| t.into_iter().map(|u| s.back[u]).collect());
+                answers[k] = Some(a);
+            }
+            rest.retain(|k| !group.contains(k));
+        }
     }
     if !rest.is_empty() {
         let group: Vec<Property> = rest.iter().map(|&k| props[k].clone()).collect();
