@@ -870,3 +870,93 @@ proptest! {
         }
     }
 }
+
+mod stubborn_sets {
+    //! The stubborn-set reduction of the contest examinations against the full
+    //! exploration: random nets (read and inhibitor arcs included), random state formulas,
+    //! the same verdict for EF φ and AG φ (where a state limit stopped neither on an
+    //! unbounded net), and every trace replays to a marking that
+    //! shows it.
+    use super::*;
+    use alba_net::analysis::formula::{IntExpr, Pred, Property, Query};
+    use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer, check};
+
+    const N: usize = 8;
+
+    prop_compose! {
+        fn net5()(init in prop::collection::vec(0u32..3, N),
+                  arcs in prop::collection::vec((0..N, 0..N, 0u32..3, 0u32..3, 0u32..10), 6..20)) -> PtNet {
+            let mut net = PtNet::new();
+            for (i, &m) in init.iter().enumerate() { net.add_place(&format!("p{i}"), m); }
+            for i in 0..N { net.add_transition(&format!("t{i}")); }
+            for (p, t, pre, post, kind) in arcs {
+                if pre > 0 { net.add_pre(t, p, pre); }
+                if post > 0 { net.add_post(t, p, post); }
+                match kind { 8 => net.add_read(t, p, 1), 9 => net.add_inhibitor(t, p, 2), _ => {} }
+            }
+            net
+        }
+    }
+
+    fn pred() -> impl Strategy<Value = Pred> {
+        let places = || prop::collection::vec(0..N, 1..3);
+        let leaf = prop_oneof![
+            (places(), 0u64..4).prop_map(|(p, c)| Pred::Le(IntExpr::Tokens(p), IntExpr::Const(c))),
+            (0u64..4, places()).prop_map(|(c, p)| Pred::Le(IntExpr::Const(c), IntExpr::Tokens(p))),
+            (places(), places()).prop_map(|(a, b)| Pred::Le(IntExpr::Tokens(a), IntExpr::Tokens(b))),
+            prop::collection::vec(0..N, 1..3).prop_map(Pred::Fireable),
+            Just(Pred::Deadlock),
+        ];
+        leaf.prop_recursive(3, 12, 3, |inner| {
+            prop_oneof![
+                inner.clone().prop_map(|p| Pred::Not(Box::new(p))),
+                prop::collection::vec(inner.clone(), 1..4).prop_map(Pred::And),
+                prop::collection::vec(inner, 1..4).prop_map(Pred::Or),
+            ]
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        #[test]
+        fn reduced_answers_equal_the_full_exploration(net in net5(), fs in prop::collection::vec(pred(), 1..4)) {
+            let mut props = Vec::new();
+            for (k, f) in fs.into_iter().enumerate() {
+                props.push(Property { id: format!("ef{k}"), query: Query::Ef(f.clone()) });
+                props.push(Property { id: format!("ag{k}"), query: Query::Ag(f) });
+            }
+            let limit = CheckOptions { max_states: 3_000, stubborn: false, slice: false };
+            let full = check(&net, &props, &limit, &Control::none());
+            let reduced = check(&net, &props, &CheckOptions { stubborn: true, ..limit }, &Control::none());
+            let sliced = answer(&net, &props, &CheckOptions { stubborn: true, slice: true, ..limit }, &Control::none());
+            let full_states = full.states;
+            for (((p, a), b), c) in props.iter().zip(&full.answers).zip(&reduced.answers).zip(&sliced) {
+                let unknown = |v: &Verdict| matches!(v, Verdict::Unknown(_));
+                if !unknown(&a.verdict) && !unknown(&c.verdict) || full_states < limit.max_states {
+                    prop_assert_eq!(&a.verdict, &c.verdict, "sliced {}: {:?}", p.id, p.query);
+                }
+                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&c.trace, &p.query) {
+                    let mut m = net.initial.clone();
+                    for &t in trace {
+                        prop_assert!(net.enabled(&m, t));
+                        m = net.fire(&m, t).expect("fires");
+                    }
+                    prop_assert_eq!(f.eval(&net, &m), c.verdict == Verdict::True);
+                }
+                // Where a limit left one undecided (unbounded nets), the decided ones agree.
+                if !unknown(&a.verdict) && !unknown(&b.verdict) || full.states < limit.max_states {
+                    prop_assert_eq!(&a.verdict, &b.verdict, "{}: {:?}", p.id, p.query);
+                }
+                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&b.trace, &p.query) {
+                    let mut m = net.initial.clone();
+                    for &t in trace {
+                        prop_assert!(net.enabled(&m, t));
+                        m = net.fire(&m, t).expect("fires");
+                    }
+                    prop_assert_eq!(f.eval(&net, &m), b.verdict == Verdict::True);
+                }
+            }
+        }
+    }
+}

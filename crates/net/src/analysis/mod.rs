@@ -23,10 +23,12 @@
 
 pub mod bench;
 pub mod coverability;
+pub mod formula;
 pub mod invariants;
 mod json;
 pub mod reachability;
 pub mod samples;
+pub mod stubborn;
 
 pub use json::to_json;
 

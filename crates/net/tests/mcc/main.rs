@@ -7,6 +7,8 @@
 
 mod corpus;
 
+use std::collections::BTreeMap;
+
 use alba_net::analysis::{Bound, Control, Invariants, Options, Space, Status, analyze};
 
 fn limit() -> u64 {
@@ -90,4 +92,129 @@ fn state_spaces_match_the_contest() {
         checked.len(),
         &times[times.len().saturating_sub(5)..]
     );
+}
+
+/// The contest's answers of an examination: `FORMULA <id> <answer>` lines of the block
+/// `<instance> <examination>` of `oracle.out`.
+fn oracle_answers(i: &corpus::Instance, examination: &str) -> Vec<(String, String)> {
+    let Some(oracle) = i.text("oracle.out") else {
+        return Vec::new();
+    };
+    let header = format!("{} {examination}", i.name);
+    oracle
+        .lines()
+        .skip_while(|l| l.trim() != header)
+        .skip(1)
+        .take_while(|l| l.starts_with("FORMULA "))
+        .filter_map(|l| {
+            let mut w = l.split_whitespace().skip(1);
+            Some((w.next()?.to_string(), w.next()?.to_string()))
+        })
+        .collect()
+}
+
+/// Replays a trace from the initial marking; the marking reached.
+fn replay(net: &alba_net::PtNet, trace: &[usize]) -> Vec<u32> {
+    let mut m = net.initial.clone();
+    for &t in trace {
+        assert!(net.enabled(&m, t), "{} not enabled", net.transitions[t]);
+        m = net.fire(&m, t).expect("fires");
+    }
+    m
+}
+
+/// Point 4 of issue 38: `UpperBounds`, `ReachabilityCardinality`,
+/// `ReachabilityFireability` and `ReachabilityDeadlock` read from the contest's files,
+/// answered (reachability ones with stubborn sets) and compared with the contest's
+/// verdicts, on the instances of at most `ALBA_MCC_MAX_STATES` states; every witness and
+/// counterexample trace is replayed and must end in a marking that shows the verdict.
+#[test]
+fn examinations_match_the_contest() {
+    use alba_net::analysis::formula::{self, Query};
+    use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer, check};
+    let limit = limit();
+    let corpus = corpus::load();
+    let mut failures = Vec::new();
+    let mut per_exam: BTreeMap<&str, (usize, usize)> = BTreeMap::new();
+    let mut time: BTreeMap<&str, std::time::Duration> = BTreeMap::new();
+    let mut reduction = (0usize, 0usize);
+    let mut sliced = 0usize;
+    for i in &corpus {
+        let Some(states) = i.state_space("STATES") else {
+            continue;
+        };
+        if states > limit {
+            continue;
+        }
+        let net = corpus::net(i);
+        for exam in [
+            "UpperBounds",
+            "ReachabilityCardinality",
+            "ReachabilityFireability",
+            "ReachabilityDeadlock",
+        ] {
+            let want = oracle_answers(i, exam);
+            if want.is_empty() {
+                continue;
+            }
+            let props = if exam == "ReachabilityDeadlock" {
+                vec![formula::deadlock_property()]
+            } else {
+                let text = i.text(&format!("{exam}.xml")).expect("formula file");
+                match formula::parse(&text, &net) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        failures.push(format!("{} {exam}: {e}", i.name));
+                        continue;
+                    }
+                }
+            };
+            let t = std::time::Instant::now();
+            let answers = if exam == "ReachabilityDeadlock" {
+                let c = check(&net, &props, &CheckOptions::default(), &Control::none());
+                reduction.0 += c.states;
+                reduction.1 += states as usize;
+                c.answers
+            } else {
+                answer(&net, &props, &CheckOptions::default(), &Control::none())
+            };
+            *time.entry(exam).or_default() += t.elapsed();
+            sliced += answers
+                .iter()
+                .filter(|a| a.techniques.contains(&"STRUCTURAL_REDUCTION"))
+                .count();
+            let entry = per_exam.entry(exam).or_default();
+            entry.0 += 1;
+            for (p, a) in props.iter().zip(&answers) {
+                let have = a.to_string();
+                let have_value = have.split_whitespace().nth(2).unwrap_or("").to_string();
+                match want.iter().find(|(id, _)| *id == a.id) {
+                    Some((_, v)) if *v == have_value => entry.1 += 1,
+                    Some((_, v)) => failures.push(format!("{}: have {have}, want {v}", a.id)),
+                    None => failures.push(format!("{}: no oracle", a.id)),
+                }
+                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&a.trace, &p.query) {
+                    let m = replay(&net, trace);
+                    let holds = f.eval(&net, &m);
+                    let wanted = a.verdict == Verdict::True;
+                    if holds != wanted {
+                        failures.push(format!("{}: the trace ends where the formula is {holds}", a.id));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    eprintln!(
+        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock with stubborn sets: {} markings of {}; {sliced} formulas checked on a slice; time per examination: {time:?}",
+        reduction.0, reduction.1
+    );
+    for (exam, (instances, _)) in &per_exam {
+        assert!(*instances >= 20, "{exam}: only {instances} instances");
+    }
 }
