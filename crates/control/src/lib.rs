@@ -44,6 +44,19 @@ pub struct Control {
     /// The name of each place of the program last seen (audit rows of
     /// writes by place name their tag).
     names: Arc<Mutex<Option<Names>>>,
+    /// The audit windows of writes by place (Modbus): per peer and tag, the
+    /// second whose first write has its row, and the writes since.
+    windows: Arc<Mutex<HashMap<String, HashMap<Place, Window>>>>,
+}
+
+/// Writes of one peer to one tag within one second after the first (which
+/// has its own row): recorded together (docs/audit.md, "Modbus").
+#[derive(Debug, Clone)]
+struct Window {
+    name: String,
+    second: i64,
+    count: u64,
+    last: Value,
 }
 
 /// The names of a program's places, and the program.
@@ -115,6 +128,7 @@ impl Control {
             runtime,
             audit,
             names: Arc::default(),
+            windows: Arc::default(),
         }
     }
 
@@ -263,20 +277,62 @@ impl Control {
     pub fn write_places_blocking(&self, actor: &Actor, writes: Vec<(Place, Value)>) -> Result<(), Refused> {
         actor.needs(WRITE_ROLE, "writing tags")?;
         let s = self.runtime.snapshot();
-        let names: Vec<String> = writes.iter().map(|&(p, _)| self.place_name(&s, p)).collect();
-        for (name, &(_, v)) in names.iter().zip(&writes) {
-            in_range(&s, name, v)?;
+        // The range rules beyond the type's concern negative values only.
+        for &(place, v) in &writes {
+            if v.as_i64() < 0 {
+                in_range(&s, &self.place_name(&s, place), v)?;
+            }
         }
         let mut ids = Vec::new();
         if let Some(audit) = &self.audit {
-            for (name, &(place, v)) in names.into_iter().zip(&writes) {
+            let second = now_ms().div_euclid(1000);
+            let peer = actor.peer.as_deref().unwrap_or_default();
+            // Which writes need a row (the lock is not held while rows are
+            // written: other peers' writes go on meanwhile).
+            let mut need = Vec::new();
+            {
+                let mut windows = self.windows.lock().unwrap_or_else(PoisonError::into_inner);
+                let mine = match windows.get_mut(peer) {
+                    Some(m) => m,
+                    None => windows.entry(peer.to_string()).or_default(),
+                };
+                for &(place, v) in &writes {
+                    match mine.get_mut(&place) {
+                        // Covered by this second's row: counted, recorded with the window.
+                        Some(w) if w.second == second => {
+                            w.count += 1;
+                            w.last = v;
+                        }
+                        _ => need.push((place, v, mine.remove(&place))),
+                    }
+                }
+            }
+            let mut opened = Vec::with_capacity(need.len());
+            for (place, v, old) in need {
+                if let Some(w) = old {
+                    summary(audit, actor, &w).map_err(Refused::AuditUnavailable)?;
+                }
+                let name = self.place_name(&s, place);
                 let entry = Entry {
-                    target: Some(name),
+                    target: Some(name.clone()),
                     old: Some(json_text(&to_json(s.read(place)))),
                     new: Some(json_text(&to_json(v))),
                     ..actor.entry(Action::Write)
                 };
                 ids.push(audit.begin(&entry).map_err(Refused::AuditUnavailable)?);
+                opened.push((
+                    place,
+                    Window {
+                        name,
+                        second,
+                        count: 0,
+                        last: v,
+                    },
+                ));
+            }
+            if !opened.is_empty() {
+                let mut windows = self.windows.lock().unwrap_or_else(PoisonError::into_inner);
+                windows.entry(peer.to_string()).or_default().extend(opened);
             }
         }
         let result = self.runtime.write_many_blocking(writes).map_err(Refused::from);
@@ -290,6 +346,48 @@ impl Control {
         }
         result
     }
+}
+
+impl Control {
+    /// Records the writes `actor` made since the last row of each tag
+    /// (coalesced by [`write_places_blocking`](Self::write_places_blocking));
+    /// a door calls it when the peer goes (a Modbus connection closes).
+    pub fn flush(&self, actor: &Actor) {
+        let Some(audit) = &self.audit else { return };
+        let peer = actor.peer.as_deref().unwrap_or_default();
+        let mine = self
+            .windows
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .remove(peer)
+            .unwrap_or_default();
+        for w in mine.values() {
+            if let Err(e) = summary(audit, actor, w) {
+                eprintln!(
+                    "audit: {} coalesced writes of `{}` by {peer} not recorded: {e}",
+                    w.count, w.name
+                );
+            }
+        }
+    }
+}
+
+/// The row of a window's writes after its first: how many, the last value.
+fn summary(audit: &Audit, actor: &Actor, w: &Window) -> alba_audit::Result<()> {
+    if w.count == 0 {
+        return Ok(());
+    }
+    let entry = Entry {
+        target: Some(w.name.clone()),
+        new: Some(json_text(&to_json(w.last))),
+        detail: Some(format!(
+            "coalesced: {} more writes in the second from {} ms (the last value shown; docs/audit.md)",
+            w.count,
+            w.second * 1000
+        )),
+        ..actor.entry(Action::Write)
+    };
+    audit.record(&entry, &Outcome::Ok).map(|_| ())
 }
 
 fn outcome<T, E: std::fmt::Display>(result: &Result<T, E>) -> Outcome {

@@ -204,3 +204,42 @@ async fn write_many_is_all_or_nothing() {
     assert_eq!(p.control.read("Speed").expect("read"), json!(3));
     assert_eq!(p.control.read("Delay.PRE").expect("read"), json!(80));
 }
+
+/// Writes by place of one peer to one tag within a second share a row;
+/// the rest are counted and recorded with the last value (docs/audit.md).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn writes_by_place_are_coalesced_per_peer_tag_and_second() {
+    let p = plc(true);
+    let s = p.control.runtime().snapshot();
+    let place = writable(&s, "Speed").expect("Speed is writable");
+    let peer: std::net::SocketAddr = "127.0.0.1:5021".parse().expect("address");
+    let c = p.control.clone();
+    tokio::task::spawn_blocking(move || {
+        let actor = Actor::modbus(peer, Role::Operator);
+        for v in 1..=5 {
+            c.write_places_blocking(&actor, vec![(place, Value::Int(v))])
+                .expect("write");
+        }
+        c.flush(&actor);
+    })
+    .await
+    .expect("task");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(5));
+    let r = rows(&p.control);
+    // Every write is accounted for: a row of its own, or counted in a
+    // `coalesced` row.
+    let accounted: u64 = r
+        .iter()
+        .map(|row| match row.detail.as_deref() {
+            None => 1,
+            Some(d) => d
+                .strip_prefix("coalesced: ")
+                .and_then(|t| t.split(' ').next())
+                .and_then(|n| n.parse().ok())
+                .unwrap_or_else(|| panic!("detail {d}")),
+        })
+        .sum();
+    assert_eq!(accounted, 5, "{r:#?}");
+    assert!(r.len() < 5, "not coalesced: {r:#?}");
+    assert_eq!(r[0].new.as_deref(), Some("5"), "the last value is recorded");
+}

@@ -228,7 +228,7 @@ impl Server {
 
     /// Serves one connection until the client closes it, sends a frame that
     /// is not Modbus TCP, stays idle too long or the server closes.
-    fn connection(&self, mut sock: std::net::TcpStream) {
+    fn connection(&self, sock: std::net::TcpStream) {
         let Ok(peer) = sock.peer_addr() else { return };
         let role = if self.settings.read_only {
             alba_auth::Role::Viewer
@@ -236,6 +236,12 @@ impl Server {
             alba_auth::Role::Operator
         };
         let actor = Actor::modbus(peer, role);
+        self.converse(&actor, sock);
+        // The writes coalesced into this second's rows are recorded now.
+        self.control.flush(&actor);
+    }
+
+    fn converse(&self, actor: &Actor, mut sock: std::net::TcpStream) {
         let _ = sock.set_nodelay(true);
         let _ = sock.set_write_timeout(Some(WRITE_TIMEOUT));
         let idle = self.settings.idle_timeout;
@@ -261,7 +267,7 @@ impl Server {
                         break;
                     }
                     Split::Frame { header, pdu, len } => {
-                        self.request(&actor, header, pdu, &mut out, &mut cache);
+                        self.request(actor, header, pdu, &mut out, &mut cache);
                         pos += len;
                     }
                 }
