@@ -6,9 +6,11 @@
 //! (`s=Delay.PRE`). The scan statistics and system tags are read-only
 //! variables under `Objects/Alba/<project>/System`. Reads and subscription
 //! samples come from the runtime's latest snapshot; a write goes to the
-//! engine thread and is answered once applied between two scans. Who may
-//! write follows the HTTP API: inputs, status members and system tags are
-//! read-only (their access level says so, and a write is `BadNotWritable`).
+//! engine thread and is answered once applied between two scans, through
+//! the control layer (`alba-control`: the rules and the audit row of every
+//! door; refusals mapped by [`status`]). Inputs, status members and system
+//! tags are read-only (their access level says so, and async-opcua refuses
+//! a write to them with `BadUserAccessDenied`).
 //! Security ([`security`]): `None` with anonymous access only when bound to
 //! a loopback address; Basic256Sha256 (Sign, SignAndEncrypt) with the user
 //! names and argon2-hashed passwords of the project's user store
