@@ -468,7 +468,12 @@ detail: string | null, outcome: AuditOutcome,
 /**
  * Why it failed.
  */
-error: string | null, };
+error: string | null, 
+/**
+ * The door it came through: `http`, `mqtt`, `opcua`, `modbus`
+ * (`null` in rows written before doors were recorded).
+ */
+via: string | null, };
 
 export type AuditPage = { rows: Array<AuditRow>, next: number | null, };
 

@@ -16,7 +16,7 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
         .map_err(|e| format!("cannot listen for Modbus TCP on {addr}: {e}"))?;
     let bound = l.local_addr().map_err(|e| e.to_string())?;
     let settings = cfg.map(alba_modbus::Settings::from).unwrap_or_default();
-    let server = alba_modbus::Server::new(s.state.runtime.clone(), settings);
+    let server = alba_modbus::Server::new(s.state.control.clone(), settings);
     // The server follows online edits itself: it rebuilds its map when the
     // runtime's program changes (seen in its snapshots).
     tokio::spawn(server.serve(l, s.state.closing()));

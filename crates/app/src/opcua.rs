@@ -11,7 +11,7 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
     let pki = s.dir.join(".alba").join("pki");
     let name = &s.state.name;
     let bound = alba_opcua::serve(
-        s.state.runtime.clone(),
+        s.state.control.clone(),
         name,
         addr,
         pki.clone(),

@@ -74,6 +74,9 @@ pub struct Entry {
     pub new: Option<String>,
     /// Free text: a program diff summary, a reason.
     pub detail: Option<String>,
+    /// The door the action came through: `http`, `mqtt`, `opcua`, `modbus`
+    /// (`None`: not said, as in rows of schema version 1).
+    pub via: Option<String>,
 }
 
 impl Entry {
@@ -88,6 +91,7 @@ impl Entry {
             old: None,
             new: None,
             detail: None,
+            via: None,
         }
     }
 }
@@ -143,6 +147,8 @@ pub struct Row {
     pub new: Option<String>,
     /// Free text (diff summary).
     pub detail: Option<String>,
+    /// The door (`http`, `mqtt`, `opcua`, `modbus`), when said.
+    pub via: Option<String>,
     /// What came of it.
     pub outcome: Outcome,
 }
@@ -252,6 +258,7 @@ fn row_from(r: &rusqlite::Row<'_>) -> rusqlite::Result<Row> {
         old: r.get(6)?,
         new: r.get(7)?,
         detail: r.get(8)?,
+        via: r.get(11)?,
         outcome: match outcome.as_str() {
             "ok" => Outcome::Ok,
             "failed" => Outcome::Failed(error.unwrap_or_default()),
@@ -481,6 +488,7 @@ impl Audit {
                 old: get(7),
                 new: get(8),
                 detail: Some(detail),
+                via: None,
             };
             Audit::insert_on(&tx, &e, &outcome)?;
             moved += 1;
@@ -516,8 +524,8 @@ impl Audit {
     fn insert_on(conn: &Connection, e: &Entry, outcome: &Outcome) -> Result<i64> {
         check_time(e.t_ms)?;
         let mut stmt = conn.prepare_cached(
-            "INSERT INTO audit(t, user_name, addr, action, target, old_value, new_value, detail, outcome, error)
-             VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+            "INSERT INTO audit(t, user_name, addr, action, target, old_value, new_value, detail, outcome, error, via)
+             VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)",
         )?;
         stmt.execute(params![
             e.t_ms,
@@ -530,6 +538,7 @@ impl Audit {
             bounded(e.detail.as_deref()),
             outcome.name(),
             bounded(outcome.error()),
+            bounded(e.via.as_deref()),
         ])?;
         Ok(conn.last_insert_rowid())
     }

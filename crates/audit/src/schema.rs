@@ -21,12 +21,13 @@ use crate::error::{Error, Result};
 /// `PRAGMA application_id` of an audit log: "AlbA".
 pub(crate) const APPLICATION_ID: i64 = 0x416C_6241;
 /// `PRAGMA user_version`: the schema version this code writes and reads.
-pub(crate) const SCHEMA_VERSION: i64 = 1;
+pub(crate) const SCHEMA_VERSION: i64 = 2;
 
 const BUSY_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// The columns, in the order every `SELECT` of rows uses (see `row_from`).
-pub(crate) const COLUMNS: &str = "id, t, user_name, addr, action, target, old_value, new_value, detail, outcome, error";
+pub(crate) const COLUMNS: &str =
+    "id, t, user_name, addr, action, target, old_value, new_value, detail, outcome, error, via";
 
 /// `AUTOINCREMENT`: ids are never reused, even after retention deleted the newest rows,
 /// so an id names one row forever and orders rows as they were appended. The trigger
@@ -44,18 +45,30 @@ CREATE TABLE audit(
     new_value TEXT,
     detail TEXT,
     outcome TEXT NOT NULL CHECK (outcome IN ('pending', 'ok', 'failed')),
-    error TEXT
+    error TEXT,
+    via TEXT
 );
 CREATE INDEX audit_t ON audit(t);
+";
+
+/// Rows append-only (version 2: `via` too).
+const TRIGGER: &str = "
 CREATE TRIGGER audit_append_only BEFORE UPDATE ON audit
 WHEN OLD.outcome <> 'pending'
   OR NEW.id IS NOT OLD.id OR NEW.t IS NOT OLD.t OR NEW.user_name IS NOT OLD.user_name
   OR NEW.addr IS NOT OLD.addr OR NEW.action IS NOT OLD.action OR NEW.target IS NOT OLD.target
   OR NEW.old_value IS NOT OLD.old_value OR NEW.new_value IS NOT OLD.new_value
-  OR NEW.detail IS NOT OLD.detail
+  OR NEW.detail IS NOT OLD.detail OR NEW.via IS NOT OLD.via
 BEGIN
     SELECT RAISE(ABORT, 'audit rows are append-only: only the outcome of a pending row may be set');
 END;
+";
+
+/// Version 1 to 2: the door a row's action came through (`via`: `http`,
+/// `mqtt`, `opcua`, `modbus`); rows of version 1 keep it empty.
+const MIGRATE_1_2: &str = "
+ALTER TABLE audit ADD COLUMN via TEXT;
+DROP TRIGGER audit_append_only;
 ";
 
 fn open_error(path: &Path, e: rusqlite::Error) -> Error {
@@ -92,7 +105,7 @@ pub(crate) fn open_writer(path: &Path) -> Result<Connection> {
     let objects = get("SELECT count(*) FROM sqlite_master")?;
     if app_id == 0 && version == 0 && objects == 0 {
         conn.execute_batch(&format!(
-            "BEGIN IMMEDIATE; {SCHEMA} PRAGMA application_id = {APPLICATION_ID}; \
+            "BEGIN IMMEDIATE; {SCHEMA} {TRIGGER} PRAGMA application_id = {APPLICATION_ID}; \
              PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
         ))
         .map_err(|e| open_error(path, e))?;
@@ -109,6 +122,12 @@ pub(crate) fn open_writer(path: &Path) -> Result<Connection> {
             path: path.to_path_buf(),
             reason: format!("schema version {version} is newer than this program supports ({SCHEMA_VERSION})"),
         });
+    }
+    if version == 1 {
+        conn.execute_batch(&format!(
+            "BEGIN IMMEDIATE; {MIGRATE_1_2} {TRIGGER} PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
+        ))
+        .map_err(|e| open_error(path, e))?;
     }
     // Torn or truncated pages show only when read: the whole file is checked
     // once here (a few ms per MB), so damage is found at start, not by the

@@ -31,6 +31,7 @@ fn record_then_query_gives_the_row_back() {
         old: Some("false".into()),
         new: Some("true".into()),
         detail: Some("set by hand".into()),
+        via: Some("modbus".into()),
         ..entry(1_000, Action::Write, "ana", "Llenar")
     };
     let id = a.begin(&e).expect("begin");
@@ -50,6 +51,7 @@ fn record_then_query_gives_the_row_back() {
             old: Some("false".into()),
             new: Some("true".into()),
             detail: Some("set by hand".into()),
+            via: Some("modbus".into()),
             outcome: Outcome::Ok,
         }]
     );
@@ -348,7 +350,7 @@ prop_compose! {
         target in text(), old in text(), new in text(), detail in text(),
         outcome in prop_oneof![Just(Outcome::Ok), Just(Outcome::Pending), any::<String>().prop_map(Outcome::Failed)],
     ) -> (Entry, Outcome) {
-        (Entry { t_ms, user, addr, action: Action::ALL[action], target, old, new, detail }, outcome)
+        (Entry { t_ms, user, addr, action: Action::ALL[action], target, old, new, detail, via: None }, outcome)
     }
 }
 
@@ -395,4 +397,41 @@ proptest! {
             prop_assert_eq!(unescape(&rec[11]), err);
         }
     }
+}
+
+/// A log of schema version 1 (no `via`) opens: the column is added, its
+/// rows keep `via` empty, new rows say it, and the append-only trigger
+/// covers it.
+#[test]
+fn a_version_1_log_gains_via() {
+    let dir = temp();
+    let path = dir.path().join("audit.db");
+    {
+        let c = rusqlite::Connection::open(&path).expect("open");
+        c.execute_batch(
+            "PRAGMA journal_mode = WAL;
+             CREATE TABLE audit(id INTEGER PRIMARY KEY AUTOINCREMENT, t INTEGER NOT NULL, user_name TEXT,
+               addr TEXT, action TEXT NOT NULL, target TEXT, old_value TEXT, new_value TEXT, detail TEXT,
+               outcome TEXT NOT NULL CHECK (outcome IN ('pending', 'ok', 'failed')), error TEXT);
+             CREATE TRIGGER audit_append_only BEFORE UPDATE ON audit WHEN OLD.outcome <> 'pending'
+             BEGIN SELECT RAISE(ABORT, 'append-only'); END;
+             INSERT INTO audit(t, action, outcome) VALUES (5, 'run', 'ok');
+             PRAGMA application_id = 1097622081; PRAGMA user_version = 1;",
+        )
+        .expect("a version 1 log");
+    }
+    let a = Audit::open(&path, Config::default()).expect("a version 1 log opens");
+    let id = a
+        .begin(&Entry {
+            via: Some("mqtt".into()),
+            ..entry(6, Action::Write, "mqtt", "Level")
+        })
+        .expect("begin");
+    let rows = a.query(&Filter::default(), None, 10).expect("query").rows;
+    assert_eq!(rows.len(), 2);
+    assert_eq!(rows[0].via.as_deref(), Some("mqtt"));
+    assert_eq!(rows[1].via, None);
+    let c = rusqlite::Connection::open(&path).expect("open");
+    let changed = c.execute("UPDATE audit SET via = 'http' WHERE id = ?1", [id]);
+    assert!(changed.is_err(), "via of a row changed: {changed:?}");
 }

@@ -184,7 +184,7 @@ fn own_server(clients: &[usize], secs: f64, start: u16) -> Result<(), String> {
         tags,
         ..Default::default()
     };
-    let server = alba_modbus::Server::new(handle.clone(), settings);
+    let server = alba_modbus::Server::new(alba_modbus::Control::new(handle.clone(), None), settings);
     let (closing, closing_rx) = tokio::sync::watch::channel(false);
     let addr = rt.block_on(async {
         let l = tokio::net::TcpListener::bind("127.0.0.1:0")

@@ -50,7 +50,7 @@ async fn master_against_albas_own_server() {
     let c = alba_compiler::compile_dir(&dir);
     let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
     let runtime = Runtime::start(Arc::new(program), Options::new(2), Box::new(SimIo)).expect("runtime");
-    let server = Server::new(runtime.handle(), Settings::default());
+    let server = Server::new(alba_modbus::Control::new(runtime.handle(), None), Settings::default());
     let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind");
     let addr = listener.local_addr().expect("address");
     let (closing, rx) = watch::channel(false);

@@ -9,4 +9,6 @@
 
 pub mod server;
 
-pub use server::{NotLoopback, Server, Settings, check_listen};
+/// The control layer the server writes through (re-exported for its users).
+pub use alba_control::Control;
+pub use server::{NotLoopback, Server, Settings, check_listen, exception};

@@ -6,6 +6,7 @@
 //! published snapshot (an `Arc`), writes wait for the engine's answer on a
 //! oneshot channel, so a slow or hostile client delays only itself.
 
+use alba_control::{Actor, Control, Refused};
 use alba_ir::Program;
 use alba_modbus_proto::handler::{Plan, Then, plan, read};
 use alba_modbus_proto::map::{Map, Scratch, Write};
@@ -106,8 +107,9 @@ pub struct Counters {
     pub timeouts: AtomicU64,
 }
 
-/// A server over one runtime.
+/// A server over one runtime, writing through the control layer.
 pub struct Server {
+    control: Control,
     handle: Handle,
     settings: Settings,
     scratch: Scratch,
@@ -123,9 +125,14 @@ type MapCache = Option<(Arc<Program>, Arc<Map>)>;
 const WRITE_TIMEOUT: Duration = Duration::from_secs(10);
 
 impl Server {
-    pub fn new(handle: Handle, settings: Settings) -> Arc<Server> {
+    /// A server whose writes go through `control`: every client is the
+    /// actor `modbus:<address>` (role `operator`, `viewer` when read-only),
+    /// each write checked and recorded in the audit trail before it is
+    /// applied (docs/audit.md, "Modbus").
+    pub fn new(control: Control, settings: Settings) -> Arc<Server> {
         Arc::new(Server {
-            handle,
+            handle: control.runtime().clone(),
+            control,
             settings,
             scratch: Scratch::default(),
             map: Mutex::new(None),
@@ -221,7 +228,20 @@ impl Server {
 
     /// Serves one connection until the client closes it, sends a frame that
     /// is not Modbus TCP, stays idle too long or the server closes.
-    fn connection(&self, mut sock: std::net::TcpStream) {
+    fn connection(&self, sock: std::net::TcpStream) {
+        let Ok(peer) = sock.peer_addr() else { return };
+        let role = if self.settings.read_only {
+            alba_auth::Role::Viewer
+        } else {
+            alba_auth::Role::Operator
+        };
+        let actor = Actor::modbus(peer, role);
+        self.converse(&actor, sock);
+        // The writes coalesced into this second's rows are recorded now.
+        self.control.flush(&actor);
+    }
+
+    fn converse(&self, actor: &Actor, mut sock: std::net::TcpStream) {
         let _ = sock.set_nodelay(true);
         let _ = sock.set_write_timeout(Some(WRITE_TIMEOUT));
         let idle = self.settings.idle_timeout;
@@ -247,7 +267,7 @@ impl Server {
                         break;
                     }
                     Split::Frame { header, pdu, len } => {
-                        self.request(header, pdu, &mut out, &mut cache);
+                        self.request(actor, header, pdu, &mut out, &mut cache);
                         pos += len;
                     }
                 }
@@ -283,7 +303,7 @@ impl Server {
     }
 
     /// Answers one request onto `out`.
-    fn request(&self, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
+    fn request(&self, actor: &Actor, h: Header, pdu: &[u8], out: &mut Vec<u8>, cache: &mut MapCache) {
         self.counters.requests.fetch_add(1, Ordering::Relaxed);
         let fc = pdu.first().copied().unwrap_or(0);
         let at = mbap::begin(out, h);
@@ -293,7 +313,7 @@ impl Server {
             // Read-only: refused by its function code, before its data is looked at.
             _ if self.settings.read_only && pdu::is_write_function(fc) => Err(Exception::IllegalFunction),
             _ => match pdu::parse(pdu) {
-                Ok(req) => self.answer(req, out, cache),
+                Ok(req) => self.answer(actor, req, out, cache),
                 Err(e) => Err(e),
             },
         };
@@ -307,13 +327,19 @@ impl Server {
     }
 
     /// The data of the reply to `req` (after the function code).
-    fn answer(&self, req: Request<'_>, out: &mut Vec<u8>, cache: &mut MapCache) -> Result<(), Exception> {
+    fn answer(
+        &self,
+        actor: &Actor,
+        req: Request<'_>,
+        out: &mut Vec<u8>,
+        cache: &mut MapCache,
+    ) -> Result<(), Exception> {
         let snap = self.handle.snapshot();
         let map = self.map_for(&snap.program, cache);
         let Plan::Write { writes, then } = plan(req, &map, &snap.memory, &self.scratch, out)? else {
             return Ok(());
         };
-        self.apply(writes)?;
+        self.apply(actor, writes)?;
         match then {
             Then::Echo(echo) => {
                 out.extend_from_slice(&echo);
@@ -338,7 +364,7 @@ impl Server {
 
     /// Applies checked writes: engine places at the next scan boundary (all
     /// of them at the same one), Modbus-only storage at once.
-    fn apply(&self, writes: Vec<Write>) -> Result<(), Exception> {
+    fn apply(&self, actor: &Actor, writes: Vec<Write>) -> Result<(), Exception> {
         let engine: Vec<_> = writes
             .iter()
             .filter_map(|w| match *w {
@@ -347,15 +373,26 @@ impl Server {
             })
             .collect();
         if !engine.is_empty() {
-            self.handle.write_many_blocking(engine).map_err(|e| match e {
-                alba_runtime::Error::Busy => Exception::ServerDeviceBusy,
-                _ => Exception::ServerDeviceFailure,
-            })?;
+            self.control
+                .write_places_blocking(actor, engine)
+                .map_err(|e| exception(&e))?;
         }
         for w in &writes {
             self.scratch.apply(w);
         }
         Ok(())
+    }
+}
+
+/// The exception that answers a refusal of the control layer (the one
+/// place where Modbus meets its rules; docs/protocols.md).
+pub fn exception(r: &Refused) -> Exception {
+    match r {
+        Refused::UnknownTag(_) | Refused::NotWritable(_) => Exception::IllegalDataAddress,
+        Refused::WrongType(_) | Refused::OutOfRange(_) => Exception::IllegalDataValue,
+        Refused::Role { .. } => Exception::IllegalFunction,
+        Refused::Runtime(alba_runtime::Error::Busy) => Exception::ServerDeviceBusy,
+        Refused::AuditUnavailable(_) | Refused::Runtime(_) => Exception::ServerDeviceFailure,
     }
 }
 

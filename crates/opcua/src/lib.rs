@@ -6,9 +6,11 @@
 //! (`s=Delay.PRE`). The scan statistics and system tags are read-only
 //! variables under `Objects/Alba/<project>/System`. Reads and subscription
 //! samples come from the runtime's latest snapshot; a write goes to the
-//! engine thread and is answered once applied between two scans. Who may
-//! write follows the HTTP API: inputs, status members and system tags are
-//! read-only (their access level says so, and a write is `BadNotWritable`).
+//! engine thread and is answered once applied between two scans, through
+//! the control layer (`alba-control`: the rules and the audit row of every
+//! door; refusals mapped by [`status`]). Inputs, status members and system
+//! tags are read-only (their access level says so, and async-opcua refuses
+//! a write to them with `BadUserAccessDenied`).
 //! Security ([`security`]): `None` with anonymous access only when bound to
 //! a loopback address; Basic256Sha256 (Sign, SignAndEncrypt) with the user
 //! names and argon2-hashed passwords of the project's user store
@@ -19,6 +21,8 @@
 pub mod client;
 pub mod security;
 
+pub use alba_control::Control;
+use alba_control::{Actor, Refused};
 use alba_ir::{Access, Place, Target};
 use alba_model::{DataType, Value};
 use alba_runtime::Handle;
@@ -64,20 +68,39 @@ fn variant(v: Value) -> Variant {
     }
 }
 
-/// A written variant as a value of type `t`, if it is one (exact types, as
-/// the node's DataType says; non-finite reals refused).
-fn value_of(v: &Variant, t: DataType) -> Option<Value> {
-    Some(match (v, t) {
-        (Variant::Boolean(b), DataType::Bool) => Value::Bool(*b),
-        (Variant::SByte(x), DataType::Sint) => Value::Sint(*x),
-        (Variant::Int16(x), DataType::Int) => Value::Int(*x),
-        (Variant::Int32(x), DataType::Dint) => Value::Dint(*x),
-        (Variant::Int32(x), DataType::Time) => Value::Time(*x),
-        (Variant::Int64(x), DataType::Lint) => Value::Lint(*x),
-        (Variant::Float(x), DataType::Real) if x.is_finite() => Value::Real(*x),
-        (Variant::Double(x), DataType::Lreal) if x.is_finite() => Value::Lreal(*x),
+/// A written variant as the JSON value the control layer checks (its
+/// type and range against the tag's: the same rules as every door);
+/// `None` for a variant no tag takes (strings, arrays, non-finite reals).
+fn json_of(v: &Variant) -> Option<serde_json::Value> {
+    use serde_json::Value as J;
+    Some(match v {
+        Variant::Boolean(b) => J::Bool(*b),
+        Variant::SByte(x) => J::from(*x),
+        Variant::Byte(x) => J::from(*x),
+        Variant::Int16(x) => J::from(*x),
+        Variant::UInt16(x) => J::from(*x),
+        Variant::Int32(x) => J::from(*x),
+        Variant::UInt32(x) => J::from(*x),
+        Variant::Int64(x) => J::from(*x),
+        Variant::UInt64(x) => J::from(*x),
+        Variant::Float(x) if x.is_finite() => J::from(f64::from(*x)),
+        Variant::Double(x) if x.is_finite() => J::from(*x),
         _ => return None,
     })
+}
+
+/// The status code that answers a refusal of the control layer (the one
+/// place where OPC UA meets its rules).
+pub fn status(r: &Refused) -> StatusCode {
+    match r {
+        Refused::UnknownTag(_) => StatusCode::BadNodeIdUnknown,
+        Refused::NotWritable(_) => StatusCode::BadNotWritable,
+        Refused::WrongType(_) => StatusCode::BadTypeMismatch,
+        Refused::OutOfRange(_) => StatusCode::BadOutOfRange,
+        Refused::Role { .. } => StatusCode::BadUserAccessDenied,
+        Refused::AuditUnavailable(_) => StatusCode::BadResourceUnavailable,
+        Refused::Runtime(_) => StatusCode::BadServerHalted,
+    }
 }
 
 /// The place and access of `name` in the latest program (resolved at each
@@ -109,39 +132,38 @@ fn read_cb(
     }
 }
 
-fn write_cb(handle: Handle, name: String) -> impl Fn(DataValue, &NumericRange) -> StatusCode + Send + Sync + 'static {
+fn write_cb(control: Control, name: String) -> impl Fn(DataValue, &NumericRange) -> StatusCode + Send + Sync + 'static {
     move |dv, range| {
         if !matches!(range, NumericRange::None) {
             return StatusCode::BadIndexRangeInvalid;
         }
-        let Some((place, access)) = resolve(&handle, &name) else {
-            return StatusCode::BadNodeIdUnknown;
-        };
-        if access != Access::ReadWrite {
-            return StatusCode::BadNotWritable;
-        }
-        let Some(v) = dv.value.as_ref().and_then(|v| value_of(v, place.data_type())) else {
+        let Some(v) = dv.value.as_ref().and_then(json_of) else {
             return StatusCode::BadTypeMismatch;
         };
+        // The session's user is not given to a write callback (async-opcua's
+        // simple node manager): the authenticator lets only operators and
+        // above write (`security::Auth`), so the write acts as an operator
+        // of the OPC UA door (docs/audit.md, "OPC UA").
+        let actor = Actor::opcua(None, alba_auth::Role::Operator, None);
         // Answered once the engine thread applied it between two scans
         // (at most one scan's wait; this worker thread is handed over).
-        let h = handle.clone();
+        let c = control.clone();
         let done = match tokio::runtime::Handle::try_current() {
             Ok(rt) if rt.runtime_flavor() == tokio::runtime::RuntimeFlavor::MultiThread => {
-                tokio::task::block_in_place(|| rt.block_on(h.write(place, v))).is_ok()
+                tokio::task::block_in_place(|| rt.block_on(c.write(&actor, &name, &v)))
             }
-            _ => false, // no multi-threaded runtime
+            _ => return StatusCode::BadServerHalted, // no multi-threaded runtime
         };
-        if done {
-            StatusCode::Good
-        } else {
-            StatusCode::BadServerHalted
+        match done {
+            Ok(_) => StatusCode::Good,
+            Err(r) => status(&r),
         }
     }
 }
 
 /// Adds one variable for `name` (a tag, member or system tag) under `parent`.
-fn add_variable(nm: &SimpleNodeManager, ns: u16, handle: &Handle, name: &str, browse: &str, parent: &NodeId) {
+fn add_variable(nm: &SimpleNodeManager, ns: u16, control: &Control, name: &str, browse: &str, parent: &NodeId) {
+    let handle = control.runtime();
     let Some((place, access)) = resolve(handle, name) else {
         return;
     };
@@ -167,7 +189,7 @@ fn add_variable(nm: &SimpleNodeManager, ns: u16, handle: &Handle, name: &str, br
         .add_read_callback(id.clone(), read_cb(handle.clone(), name.to_string()));
     if writable {
         nm.inner()
-            .add_write_callback(id, write_cb(handle.clone(), name.to_string()));
+            .add_write_callback(id, write_cb(control.clone(), name.to_string()));
     }
 }
 
@@ -175,7 +197,7 @@ fn add_variable(nm: &SimpleNodeManager, ns: u16, handle: &Handle, name: &str, br
 /// handed to the server). Returns once it serves; it stops when `closing`
 /// turns true.
 pub async fn serve(
-    handle: Handle,
+    control: Control,
     project: &str,
     addr: SocketAddr,
     pki_dir: PathBuf,
@@ -239,10 +261,11 @@ pub async fn serve(
         space.add_folder(&tags, q("Tags"), "Tags", &proj);
         space.add_folder(&system, q("System"), "System", &proj);
     }
+    let handle = control.runtime();
     let snap = handle.snapshot();
     for tag in snap.program.layout.tags.iter() {
         if tag.ty.members().is_empty() {
-            add_variable(&nm, ns, &handle, &tag.name, &tag.name, &tags);
+            add_variable(&nm, ns, &control, &tag.name, &tag.name, &tags);
             continue;
         }
         let obj = NodeId::new(ns, tag.name.clone());
@@ -253,11 +276,11 @@ pub async fn serve(
                 .insert(&mut *space);
         }
         for m in tag.ty.members() {
-            add_variable(&nm, ns, &handle, &format!("{}.{}", tag.name, m.name), m.name, &obj);
+            add_variable(&nm, ns, &control, &format!("{}.{}", tag.name, m.name), m.name, &obj);
         }
     }
     for (name, _) in alba_ir::layout::SYSTEM_TAGS {
-        add_variable(&nm, ns, &handle, name, name, &system);
+        add_variable(&nm, ns, &control, name, name, &system);
     }
     let token = sh.token().clone();
     tokio::spawn(async move {

@@ -71,6 +71,22 @@ pub enum ApiError {
     TimedOut(std::time::Duration),
 }
 
+/// The control layer's refusals, as the API has always answered them: an
+/// unknown tag 404, a role too small 403, a value or tag refused 422, an
+/// audit row not written 500 (docs/api.md, "Errors").
+impl From<alba_control::Refused> for ApiError {
+    fn from(r: alba_control::Refused) -> ApiError {
+        use alba_control::Refused as R;
+        match r {
+            R::UnknownTag(m) => ApiError::NotFound(m),
+            R::NotWritable(m) | R::WrongType(m) | R::OutOfRange(m) => ApiError::Invalid(m),
+            e @ R::Role { .. } => ApiError::Forbidden(e.to_string()),
+            R::AuditUnavailable(e) => ApiError::AuditWrite(e),
+            R::Runtime(e) => ApiError::Runtime(e),
+        }
+    }
+}
+
 /// The HTTP status of an error: the only place where errors meet statuses.
 pub fn status(e: &ApiError) -> StatusCode {
     use alba_historian::Error as H;

@@ -34,7 +34,6 @@ pub mod tags;
 mod ws;
 
 pub use api::audit::now_ms;
-pub use api::tags::write_tag;
 pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};

@@ -484,6 +484,9 @@ pub struct AuditRow {
     pub outcome: AuditOutcome,
     /// Why it failed.
     pub error: Option<String>,
+    /// The door it came through: `http`, `mqtt`, `opcua`, `modbus`
+    /// (`null` in rows written before doors were recorded).
+    pub via: Option<String>,
 }
 
 /// `GET /api/audit`: a page of rows, newest first; `next` is the `before` of

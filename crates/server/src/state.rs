@@ -19,6 +19,9 @@ pub struct Edited {
 
 pub struct AppState {
     pub runtime: alba_runtime::Handle,
+    /// The rules for operating the PLC, shared with the other doors (MQTT,
+    /// OPC UA, Modbus): writes go through here (crates/control).
+    pub control: alba_control::Control,
     /// The project's name and scan period (fixed while it runs).
     pub name: String,
     pub scan_ms: u32,
@@ -76,6 +79,7 @@ impl AppState {
         let http = project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default();
         let guard = crate::guard::Guard::new(&http);
         Arc::new(AppState {
+            control: alba_control::Control::new(runtime.clone(), audit.clone()),
             runtime,
             name: project.config.as_ref().map(|c| c.name.clone()).unwrap_or_default(),
             scan_ms: project.scan_ms(),

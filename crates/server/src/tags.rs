@@ -4,30 +4,12 @@
 use crate::reply::{self, TagInfo, TagReply, TagValue};
 use alba_ir::layout::SYSTEM_TAGS;
 use alba_ir::model::DataType;
-use alba_ir::{Access, Ctr, Layout, Place, TagSlot, Target, Tmr};
+use alba_ir::{Access, Ctr, Target, Tmr};
 use alba_runtime::Snapshot;
 use alba_runtime::json::to_json;
 use serde_json::{Map, Value as Json};
 
-/// The places of a TIMER or COUNTER's members, by member name.
-pub fn members(ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Vec<(&'static str, Place)> {
-    ty.members()
-        .iter()
-        .map(|m| {
-            let place = if m.ty == DataType::Bool {
-                Place::Bool(alba_ir::B(b.0 + m.index as u32))
-            } else {
-                Place::Int(alba_ir::I(i.0 + m.index as u32), m.ty)
-            };
-            (m.name, place)
-        })
-        .collect()
-}
-
-/// The places of a PID's members, by member name.
-pub fn pid_members(p: alba_ir::Pidt) -> Vec<(&'static str, Place)> {
-    DataType::Pid.members().iter().map(|m| (m.name, p.member(m))).collect()
-}
+pub use alba_control::names::{every_value, members, pid_members};
 
 /// A structure's value: an object of its members.
 fn structure(s: &Snapshot, ty: DataType, i: alba_ir::I, b: alba_ir::B) -> Json {
@@ -138,35 +120,4 @@ pub fn one(s: &Snapshot, name: &str) -> Option<TagReply> {
         value: target_value(s, target),
         forced: forced(s, name),
     }))
-}
-
-/// Every name `subscribe "*"` covers: tags (structures as their members)
-/// and the system tags, with their places.
-pub fn every_value(layout: &Layout) -> Vec<(String, Place)> {
-    let mut out = Vec::new();
-    for (idx, tag) in layout.tags.iter().enumerate() {
-        match layout.slot(idx) {
-            TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }) => {
-                for (m, p) in members(tag.ty, i, b) {
-                    out.push((format!("{}.{m}", tag.name), p));
-                }
-            }
-            TagSlot::Pid(pid) => {
-                for (m, p) in pid_members(pid) {
-                    out.push((format!("{}.{m}", tag.name), p));
-                }
-            }
-            _ => {
-                if let Ok(Target::Value { place, .. }) = layout.resolve(&tag.name) {
-                    out.push((tag.name.clone(), place));
-                }
-            }
-        }
-    }
-    for (name, _) in SYSTEM_TAGS {
-        if let Ok(Target::Value { place, .. }) = layout.resolve(name) {
-            out.push((name.to_string(), place));
-        }
-    }
-    out
 }

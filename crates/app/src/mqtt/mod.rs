@@ -503,24 +503,15 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
     Ok(Some(link))
 }
 
-/// A write from MQTT with the HTTP API's rules and its audit row (the
-/// user `mqtt`, or `[mqtt] user`, with the broker's address): refused
-/// unless that user's role may write tags; what the tag then holds, or why not.
+/// A write from MQTT through the control layer (every door's rules) with
+/// its audit row (`via` `mqtt`; the user `mqtt`, or `[mqtt] user`, with
+/// the broker's address): refused unless that user's role may write tags;
+/// what the tag then holds, or why not (the refusal's message, answered on
+/// `<prefix>/error`).
 pub(crate) async fn write(st: &alba_server::AppState, set: &Settings, tag: &str, value: &Json) -> Result<Json, String> {
     let (user, role) = &set.actor;
-    if !role.allows(alba_auth::Role::Operator) {
-        return Err(format!(
-            "user {user} is a {role}: writing tags needs the operator role (users.toml)"
-        ));
-    }
-    let entry = alba_audit::Entry {
-        user: Some(user.clone()),
-        addr: Some(format!("{}:{}", set.host, set.port)),
-        ..alba_audit::Entry::new(alba_server::now_ms(), alba_audit::Action::Write)
-    };
-    alba_server::write_tag(st, entry, tag, value)
-        .await
-        .map_err(|e| e.to_string())
+    let actor = alba_control::Actor::mqtt(user, *role, format!("{}:{}", set.host, set.port));
+    st.control.write(&actor, tag, value).await.map_err(|e| e.to_string())
 }
 
 /// A write from `<prefix>/set/<tag>` (`{"value": ...}`) through [`write`];

@@ -1,5 +1,6 @@
 //! `alba_app::run` assembles and stops `alba run`.
 
+mod doors;
 mod opcua_client;
 mod store;
 

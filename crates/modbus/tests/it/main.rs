@@ -5,6 +5,7 @@
 //! from test.sh.)
 
 mod security;
+mod write_rate;
 
 use alba_modbus::{Server, Settings};
 use alba_modbus_proto::mbap;
@@ -17,15 +18,15 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;
 
-const TAGS: &str = "name,type,address,initial,retain,description\n\
+pub(crate) const TAGS: &str = "name,type,address,initial,retain,description\n\
 Start,BOOL,%IX0.0,,,\nMotor,BOOL,%QX0.0,,,\nLamp,BOOL,%QX1.1,,,\nLevel,INT,%IW2,,,\nValve,INT,%QW1,,,\nBig,DINT,%QW3,,,\n\
 Word,INT,%MW2,,,\nRatio,REAL,%MD4,,,\nSpeed,DINT,,,,\nTemp,REAL,,,,\nBigL,LINT,,,,\nSmall,SINT,,,,\nFlag,BOOL,,,,\nDelay,TIMER,,,,\n";
 const LAD: &str = "XIC(Start)OTE(Motor);\nXIC(Flag)TON(Delay,50,0);\n";
-const TOML: &str = "name = \"mb\"\nscan_ms = 5\nprograms = [\"main.lad\"]\n[modbus]\nunit_id = 1\n[modbus.tags]\n\
+pub(crate) const TOML: &str = "name = \"mb\"\nscan_ms = 5\nprograms = [\"main.lad\"]\n[modbus]\nunit_id = 1\n[modbus.tags]\n\
 Speed = \"hr 8192\"\nTemp = \"hr 8194\"\nBigL = \"hr 8196\"\nSmall = \"hr 8200\"\nFlag = \"coil 8192\"\n\
 \"Delay.PRE\" = \"hr 8300\"\n\"Delay.DN\" = \"di 8192\"\n\"S:SCANMAX\" = \"ir 1024\"\nStart = \"di 9000\"\n";
 
-fn project(test: &str, toml: &str) -> PathBuf {
+pub(crate) fn project(test: &str, toml: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("alba-modbus-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("cannot write the test project");
@@ -64,7 +65,7 @@ async fn start(test: &str, tweak: impl FnOnce(&mut Settings)) -> Fixture {
     let mut settings = Settings::from(&cfg);
     tweak(&mut settings);
     let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");
-    let server = Server::new(runtime.handle(), settings);
+    let server = Server::new(alba_modbus::Control::new(runtime.handle(), None), settings);
     let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind");
     let addr = listener.local_addr().expect("local address");
     let (closing, rx) = watch::channel(false);

@@ -38,20 +38,24 @@ pub const MAX_CSV_ROWS: u64 = 1_000_000;
 /// [`Who`] (user and client address). Without a session layer (an embedder
 /// that does not install it) the user is none and the address the
 /// connection's, if the server was started with connect info.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// Without a session layer the request acts with full rights, as the
+/// server did before it had users.
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Actor {
     pub user: Option<String>,
+    pub role: crate::Role,
     pub addr: Option<SocketAddr>,
 }
 
 impl Actor {
-    /// An audit entry of `action` by this actor, now.
+    /// An audit entry of `action` by this actor, now (`via`: `http`).
     pub fn entry(&self, action: Action) -> Entry {
-        Entry {
-            user: self.user.clone(),
-            addr: self.addr.map(|a| a.to_string()),
-            ..Entry::new(now_ms(), action)
-        }
+        self.control().entry(action)
+    }
+
+    /// The actor as the control layer judges it.
+    pub fn control(&self) -> alba_control::Actor {
+        alba_control::Actor::http(self.user.clone(), self.role, self.addr)
     }
 }
 
@@ -59,6 +63,7 @@ impl From<&Who> for Actor {
     fn from(w: &Who) -> Actor {
         Actor {
             user: w.user.clone(),
+            role: w.role,
             addr: Some(w.addr),
         }
     }
@@ -73,22 +78,13 @@ impl<S: Send + Sync> FromRequestParts<S> for Actor {
         }
         Ok(Actor {
             user: None,
+            role: crate::Role::Admin,
             addr: parts.extensions.get::<ConnectInfo<SocketAddr>>().map(|c| c.0),
         })
     }
 }
 
-/// The wall clock in Unix ms (audit rows are stamped by the server).
-pub fn now_ms() -> i64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
-}
-
-/// A JSON value as the text an audit row stores.
-pub fn json_text(v: &Value) -> String {
-    v.to_string()
-}
+pub use alba_control::{json_text, now_ms};
 
 async fn blocking<T: Send + 'static>(
     f: impl FnOnce() -> alba_audit::Result<T> + Send + 'static,
@@ -101,38 +97,19 @@ async fn blocking<T: Send + 'static>(
 /// Writes the `pending` row of an action about to be performed; `None`
 /// when the server keeps no audit trail. An error means: do not perform it.
 pub async fn begin(st: &AppState, entry: Entry) -> ApiResult<Option<i64>> {
-    let Some(audit) = st.audit.clone() else {
-        return Ok(None);
-    };
-    let id = blocking(move || audit.begin(&entry))
-        .await?
-        .map_err(ApiError::AuditWrite)?;
-    Ok(Some(id))
+    Ok(st.control.begin(entry).await?)
 }
 
 /// Sets the outcome of the row `begin` wrote from the action's result.
 pub async fn finish<T>(st: &AppState, id: Option<i64>, result: &ApiResult<T>) {
-    let (Some(audit), Some(id)) = (st.audit.clone(), id) else {
-        return;
-    };
-    let outcome = match result {
-        Ok(_) => Outcome::Ok,
-        Err(e) => Outcome::Failed(e.to_string()),
-    };
-    match blocking(move || audit.finish(id, &outcome)).await {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => eprintln!("audit: row {id} keeps outcome `pending`: {e}"),
-        Err(e) => eprintln!("audit: row {id} keeps outcome `pending`: {e}"),
-    }
+    st.control.finish(id, result).await;
 }
 
-/// Performs `action` under its audit row: the row first (the action is not
-/// performed if it cannot be written), then the action, then its outcome.
+/// Performs `action` under its audit row (the control layer's rule): the
+/// row first (the action is not performed if it cannot be written), then
+/// the action, then its outcome.
 pub async fn audited<T>(st: &AppState, entry: Entry, action: impl Future<Output = ApiResult<T>>) -> ApiResult<T> {
-    let id = begin(st, entry).await?;
-    let result = action.await;
-    finish(st, id, &result).await;
-    result
+    st.control.audited(entry, action).await
 }
 
 /// Performs a safety action — stop, removing forces — under its audit row,
@@ -245,6 +222,7 @@ fn row_json(r: alba_audit::Row) -> AuditRow {
         detail: r.detail,
         outcome,
         error,
+        via: r.via,
     }
 }
 

@@ -48,6 +48,7 @@ pub async fn login(
     // not recorded (they check nothing, and would let a flood write rows).
     let actor = Actor {
         user: Some(user.to_string()),
+        role: crate::Role::Viewer,
         addr: Some(addr),
     };
     let entry = |action| Entry {
@@ -87,6 +88,7 @@ pub async fn logout(
         if let Some((user, _)) = st.auth.session(&t) {
             let actor = Actor {
                 user: Some(user.clone()),
+                role: crate::Role::Viewer,
                 addr: Some(addr),
             };
             let entry = Entry {

@@ -1,0 +1,245 @@
+//! The rules over a real runtime and a real audit log.
+
+use super::*;
+use alba_runtime::{Options, Runtime, SimIo};
+use serde_json::json;
+use std::sync::Arc;
+
+const TAGS: &str = "name,type,address,initial,retain,description\n\
+Start,BOOL,%IX0.0,,,\nMotor,BOOL,%QX0.0,,,\nLevel,INT,%IW2,,,\nSpeed,INT,,,,\nDelay,TIMER,,,,\n";
+const LAD: &str = "XIC(Start)OTE(Motor);\nXIC(Motor)TON(Delay,50,0);\n";
+
+struct Plc {
+    runtime: Option<Runtime>,
+    control: Control,
+    _dir: tempfile::TempDir,
+}
+
+impl Drop for Plc {
+    fn drop(&mut self) {
+        if let Some(rt) = self.runtime.take() {
+            rt.shutdown();
+        }
+    }
+}
+
+fn plc(with_audit: bool) -> Plc {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join("alba.toml"),
+        "name = \"c\"\nscan_ms = 5\nprograms = [\"main.lad\"]\n",
+    )
+    .expect("project");
+    std::fs::write(dir.path().join("tags.csv"), TAGS).expect("project");
+    std::fs::write(dir.path().join("main.lad"), LAD).expect("project");
+    let c = alba_compiler::compile_dir(dir.path());
+    let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
+    let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");
+    let audit =
+        with_audit.then(|| Audit::open(dir.path().join("audit.db"), alba_audit::Config::default()).expect("audit log"));
+    let control = Control::new(runtime.handle(), audit);
+    Plc {
+        runtime: Some(runtime),
+        control,
+        _dir: dir,
+    }
+}
+
+fn operator(via: Via) -> Actor {
+    Actor {
+        via,
+        user: Some("ana".into()),
+        role: Role::Operator,
+        peer: Some("127.0.0.1:5000".into()),
+    }
+}
+
+fn rows(c: &Control) -> Vec<alba_audit::Row> {
+    c.audit()
+        .expect("an audit log")
+        .query(&alba_audit::Filter::default(), None, 100)
+        .expect("query")
+        .rows
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_write_is_checked_recorded_with_its_door_then_applied() {
+    let p = plc(true);
+    let v = p
+        .control
+        .write(&operator(Via::Mqtt), "Speed", &json!(1200))
+        .await
+        .expect("write");
+    assert_eq!(v, json!(1200));
+    assert_eq!(p.control.read("speed").expect("read"), json!(1200));
+    let r = rows(&p.control);
+    assert_eq!(r.len(), 1);
+    assert_eq!(r[0].action, "write");
+    assert_eq!(r[0].target.as_deref(), Some("Speed"));
+    assert_eq!(r[0].via.as_deref(), Some("mqtt"));
+    assert_eq!(r[0].addr.as_deref(), Some("127.0.0.1:5000"));
+    assert_eq!(r[0].old.as_deref(), Some("0"));
+    assert_eq!(r[0].new.as_deref(), Some("1200"));
+    assert_eq!(r[0].outcome, Outcome::Ok);
+}
+
+/// Each refusal, its kind, and nothing written nor recorded for it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn refusals_are_typed_and_leave_no_trace() {
+    let p = plc(true);
+    let viewer = Actor {
+        role: Role::Viewer,
+        ..operator(Via::Http)
+    };
+    type Case<'a> = (&'a Actor, &'a str, Json, fn(&Refused) -> bool);
+    let cases: [Case; 6] = [
+        (&operator(Via::Http), "Nope", json!(1), |e| {
+            matches!(e, Refused::UnknownTag(_))
+        }),
+        (&operator(Via::Http), "Start", json!(true), |e| {
+            matches!(e, Refused::NotWritable(_))
+        }),
+        (&operator(Via::Http), "Delay", json!(1), |e| {
+            matches!(e, Refused::NotWritable(_))
+        }),
+        (&operator(Via::Http), "Speed", json!(40000), |e| {
+            matches!(e, Refused::OutOfRange(_))
+        }),
+        (&operator(Via::Http), "Delay.PRE", json!(-5), |e| {
+            matches!(e, Refused::OutOfRange(_))
+        }),
+        (&viewer, "Speed", json!(1), |e| matches!(e, Refused::Role { .. })),
+    ];
+    for (actor, name, value, kind) in cases {
+        let e = p
+            .control
+            .write(actor, name, &value)
+            .await
+            .expect_err(&format!("{name} = {value} was written"));
+        assert!(kind(&e), "{name} = {value}: {e:?}");
+        assert!(!e.to_string().is_empty());
+    }
+    let e = p
+        .control
+        .write(&operator(Via::Http), "Speed", &json!("fast"))
+        .await
+        .expect_err("a string into an INT");
+    assert!(matches!(e, Refused::WrongType(_)), "{e:?}");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(0));
+    assert!(rows(&p.control).is_empty(), "refused writes left rows");
+}
+
+/// A write the audit cannot record is not done.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_write_the_audit_cannot_record_is_refused() {
+    let p = plc(true);
+    let path = p.control.audit().expect("audit").path().to_path_buf();
+    let db = rusqlite::Connection::open(path).expect("open the audit log");
+    db.execute_batch("CREATE TRIGGER full BEFORE INSERT ON audit BEGIN SELECT RAISE(ABORT, 'disk full'); END;")
+        .expect("make inserts fail");
+    let e = p.control.write(&operator(Via::Opcua), "Speed", &json!(7)).await;
+    assert!(matches!(e, Err(Refused::AuditUnavailable(_))), "{e:?}");
+    assert_eq!(
+        p.control.read("Speed").expect("read"),
+        json!(0),
+        "the write was performed"
+    );
+    let s = p.control.runtime().snapshot();
+    let place = writable(&s, "Speed").expect("Speed is writable");
+    let c = p.control.clone();
+    let peer: std::net::SocketAddr = "127.0.0.1:5020".parse().expect("address");
+    let e = tokio::task::spawn_blocking(move || {
+        c.write_places_blocking(&Actor::modbus(peer, Role::Operator), vec![(place, Value::Int(9))])
+    })
+    .await
+    .expect("task");
+    assert!(matches!(e, Err(Refused::AuditUnavailable(_))), "{e:?}");
+    assert_eq!(
+        p.control.read("Speed").expect("read"),
+        json!(0),
+        "the write was performed"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn modbus_writes_places_under_rows_named_by_their_tags() {
+    let p = plc(true);
+    let s = p.control.runtime().snapshot();
+    let place = writable(&s, "Speed").expect("Speed is writable");
+    let peer: std::net::SocketAddr = "127.0.0.1:5020".parse().expect("address");
+    let c = p.control.clone();
+    tokio::task::spawn_blocking(move || {
+        c.write_places_blocking(&Actor::modbus(peer, Role::Operator), vec![(place, Value::Int(9))])
+    })
+    .await
+    .expect("task")
+    .expect("write");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(9));
+    let r = rows(&p.control);
+    assert_eq!(r.len(), 1);
+    assert_eq!(r[0].target.as_deref(), Some("Speed"));
+    assert_eq!(r[0].via.as_deref(), Some("modbus"));
+    assert_eq!(r[0].user.as_deref(), Some("modbus:127.0.0.1:5020"));
+    assert_eq!(r[0].addr.as_deref(), Some("127.0.0.1:5020"));
+    let viewer = Actor::modbus(peer, Role::Viewer);
+    let c = p.control.clone();
+    let e = tokio::task::spawn_blocking(move || c.write_places_blocking(&viewer, vec![(place, Value::Int(1))]))
+        .await
+        .expect("task");
+    assert!(matches!(e, Err(Refused::Role { .. })), "{e:?}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn write_many_is_all_or_nothing() {
+    let p = plc(false);
+    let writes = vec![("Speed".to_string(), json!(3)), ("Start".to_string(), json!(true))];
+    let e = p.control.write_many(&operator(Via::Http), &writes).await;
+    assert!(matches!(e, Err(Refused::NotWritable(_))), "{e:?}");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(0));
+    let writes = vec![("Speed".to_string(), json!(3)), ("Delay.PRE".to_string(), json!(80))];
+    p.control
+        .write_many(&operator(Via::Http), &writes)
+        .await
+        .expect("write");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(3));
+    assert_eq!(p.control.read("Delay.PRE").expect("read"), json!(80));
+}
+
+/// Writes by place of one peer to one tag within a second share a row;
+/// the rest are counted and recorded with the last value (docs/audit.md).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn writes_by_place_are_coalesced_per_peer_tag_and_second() {
+    let p = plc(true);
+    let s = p.control.runtime().snapshot();
+    let place = writable(&s, "Speed").expect("Speed is writable");
+    let peer: std::net::SocketAddr = "127.0.0.1:5021".parse().expect("address");
+    let c = p.control.clone();
+    tokio::task::spawn_blocking(move || {
+        let actor = Actor::modbus(peer, Role::Operator);
+        for v in 1..=5 {
+            c.write_places_blocking(&actor, vec![(place, Value::Int(v))])
+                .expect("write");
+        }
+        c.flush(&actor);
+    })
+    .await
+    .expect("task");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(5));
+    let r = rows(&p.control);
+    // Every write is accounted for: a row of its own, or counted in a
+    // `coalesced` row.
+    let accounted: u64 = r
+        .iter()
+        .map(|row| match row.detail.as_deref() {
+            None => 1,
+            Some(d) => d
+                .strip_prefix("coalesced: ")
+                .and_then(|t| t.split(' ').next())
+                .and_then(|n| n.parse().ok())
+                .unwrap_or_else(|| panic!("detail {d}")),
+        })
+        .sum();
+    assert_eq!(accounted, 5, "{r:#?}");
+    assert!(r.len() < 5, "not coalesced: {r:#?}");
+    assert_eq!(r[0].new.as_deref(), Some("5"), "the last value is recorded");
+}
