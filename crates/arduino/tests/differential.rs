@@ -332,7 +332,7 @@ fn own_stimulus(name: &str) -> Option<(String, u64, u64)> {
 }
 
 /// The examples the board runs (the PID ones are refused, E501): all the others.
-const BOARD_EXAMPLES: [&str; 10] = [
+const BOARD_EXAMPLES: [&str; 11] = [
     "start-stop",
     "traffic-light",
     "star-delta",
@@ -347,6 +347,8 @@ const BOARD_EXAMPLES: [&str; 10] = [
     "sfc-batch",
     // OPCSM's elements as one state net (no ladder): its inputs wired for the board.
     "opcsm-tour",
+    // Structured Text (an on-delay and a counter block) lowered to the same IR.
+    "st-motor",
 ];
 
 /// Every example runs on the board (the differential tests below) or is
