@@ -143,7 +143,7 @@ fn a_real_file_with_nothing_importable_names_its_programs() {
     let text = fs::read_to_string(&f).expect("fixture");
     assert_eq!(
         err("beremiz-first-steps.xml", None, &text),
-        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `plc_prg` (FBD)"
+        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `plc_prg` (FBD)"
     );
 }
 
@@ -810,6 +810,6 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
     let two = good.replace("initialStep=\"false\"", "initialStep=\"true\"");
     assert_eq!(
         err("seq.xml", None, &sfc_project(&two)),
-        "seq.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `seq` (SFC)"
+        "seq.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `seq` (SFC)"
     );
 }

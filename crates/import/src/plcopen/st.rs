@@ -1,0 +1,177 @@
+//! ST bodies of PLCopen `program` POUs: each becomes `<program>.st`, a
+//! `PROGRAM` whose `VAR` blocks are the POU's interface and whose body is
+//! the `<ST>` text unchanged. Located variables (`%IX0.0`) are tags with
+//! their address (alba-st refuses `AT`), the configuration's globals are
+//! tags, and `externalVars` name them. Variables of a type alba-st does not
+//! run, and syntax errors of the body, are refused at their place in the
+//! XML; the program is then not written.
+
+use super::{Conv, Ctx, Var, collect_text};
+use crate::{Kind, Location, ProgramOut};
+use alba_xml::Elem;
+use std::collections::HashMap;
+
+/// Types whose variables run on the engine (docs/st.md).
+const RUNS: &[&str] = &[
+    "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG",
+    "F_TRIG", "SR", "RS",
+];
+
+/// The ST text of a PLCopen `<type>`'s content, or why not.
+fn st_type(t: &Elem) -> Result<String, String> {
+    let up = t.name.to_ascii_uppercase();
+    let ty = match up.as_str() {
+        "DERIVED" => t
+            .attr("name")
+            .ok_or("a derived type without a name")?
+            .to_ascii_uppercase(),
+        "ARRAY" => {
+            let dims: Vec<String> = t
+                .all("dimension")
+                .map(|d| format!("{}..{}", d.attr("lower").unwrap_or("0"), d.attr("upper").unwrap_or("0")))
+                .collect();
+            let base = t
+                .child("baseType")
+                .and_then(|b| b.children.first())
+                .ok_or("an array without a base type")?;
+            return Ok(format!("ARRAY[{}] OF {}", dims.join(", "), st_type(base)?));
+        }
+        _ => up,
+    };
+    if RUNS.contains(&ty.as_str()) {
+        Ok(ty)
+    } else {
+        Err(format!("its type `{ty}` does not run in Alba's ST yet (docs/st.md)"))
+    }
+}
+
+/// Converts the ST body `st` of program `pou` (named `pname`); `None` when
+/// something in it is refused (each refusal is in the report).
+pub(super) fn convert(
+    conv: &mut Conv<'_>,
+    pou: &Elem,
+    st: &Elem,
+    pname: &str,
+    scope: &mut HashMap<String, Var>,
+) -> Option<ProgramOut> {
+    let ctx = Ctx {
+        file: conv.ctx.file,
+        text: conv.ctx.text,
+    };
+    let mut ok = true;
+    let mut decls = String::new();
+    if let Some(iface) = pou.child("interface") {
+        for list in &iface.children {
+            let kw = match list.name.as_str() {
+                "localVars" | "inputVars" | "outputVars" | "inOutVars" => "VAR",
+                "tempVars" => "VAR_TEMP",
+                "globalVars" => "VAR_GLOBAL",
+                _ => continue,
+            };
+            let mut block = String::new();
+            let mut located = list.clone();
+            located
+                .children
+                .retain(|v| v.name == "variable" && v.attr("address").is_some());
+            if !located.children.is_empty() {
+                conv.declare(&located, scope, pname);
+                for v in &located.children {
+                    let name = v.attr("name").unwrap_or("");
+                    if let Some(var) = scope.get(&name.to_ascii_lowercase())
+                        && var.alba != name
+                    {
+                        conv.report.push(
+                            Kind::Refused,
+                            ctx.loc(v),
+                            format!(
+                                "located variable `{name}` of `{pname}` had to be renamed `{}`",
+                                var.alba
+                            ),
+                        );
+                        ok = false;
+                    }
+                }
+            }
+            for v in list.all("variable").filter(|v| v.attr("address").is_none()) {
+                let name = v.attr("name").unwrap_or("");
+                let ty = v.child("type").and_then(|t| t.children.first());
+                let ty = match ty.map(st_type) {
+                    Some(Ok(t)) => t,
+                    Some(Err(why)) => {
+                        conv.report.push(
+                            Kind::Refused,
+                            ctx.loc(v),
+                            format!("variable `{name}` of `{pname}`: {why}"),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                    None => {
+                        conv.report.push(
+                            Kind::Refused,
+                            ctx.loc(v),
+                            format!("variable `{name}` of `{pname}` has no type"),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                };
+                let init = v
+                    .child("initialValue")
+                    .and_then(|i| i.child("simpleValue"))
+                    .and_then(|s| s.attr("value"))
+                    .map(|s| format!(" := {}", s.trim()))
+                    .unwrap_or_default();
+                block.push_str(&format!("    {name} : {ty}{init};\n"));
+            }
+            if !block.is_empty() {
+                let retain = if list.attr("retain") == Some("true") {
+                    " RETAIN"
+                } else {
+                    ""
+                };
+                let constant = if list.attr("constant") == Some("true") {
+                    " CONSTANT"
+                } else {
+                    ""
+                };
+                decls.push_str(&format!("{kw}{retain}{constant}\n{block}END_VAR\n"));
+            }
+        }
+    }
+    // The text of the `<xhtml:p>` (Beremiz, OpenPLC), else of `<ST>` itself.
+    let para = st.children.iter().find(|c| c.name == "p");
+    let body = para.map(|p| p.text.clone()).unwrap_or_else(|| collect_text(st));
+    let body = body.trim_start_matches(['\n', '\r']).trim_end();
+    let head = format!("PROGRAM {pname}\n{decls}");
+    let text = format!("{head}{body}\nEND_PROGRAM\n");
+    // Syntax errors, located in the XML (the body is the CDATA verbatim).
+    let (_, diags) = alba_compiler::st::parse(&text, alba_diag::FileId(0));
+    let from = para.unwrap_or(st).start;
+    let body_at = ctx.text.get(from..).and_then(|r| r.find(body)).map(|o| o + from);
+    for d in &diags {
+        let loc = match (d.primary.as_ref(), body_at) {
+            (Some(l), Some(at)) if l.span.start as usize >= head.len() => {
+                ctx.loc_at(at + (l.span.start as usize - head.len()).min(body.len()))
+            }
+            _ => ctx.loc(st),
+        };
+        conv.report.push(
+            Kind::Refused,
+            loc,
+            format!("ST of `{pname}`: {}: {}", d.code, d.message),
+        );
+        ok = false;
+    }
+    if !ok {
+        return None;
+    }
+    conv.report
+        .push(Kind::Converted, ctx.loc(st), format!("ST body of `{pname}`"));
+    let mut prog = ProgramOut::new(format!("{}.st", crate::names::file_stem(pname)));
+    let origin: Location = ctx.loc(pou);
+    for (i, l) in text.lines().enumerate() {
+        prog.line(l, if i == 0 { Some(&origin) } else { None });
+    }
+    Some(prog)
+}
