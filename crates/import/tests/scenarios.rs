@@ -621,3 +621,39 @@ fn l5x_analog_channels_carry_their_values() {
     assert_eq!(at(&rows, 200, "AO:4/0"), "777");
     assert_eq!(at(&rows, 200, "ValveOut"), "777");
 }
+
+#[test]
+fn plcopen_st_program_runs_with_its_iec_behaviour() {
+    // st-motor.xml: an ST body (start-stop seal, R_TRIG counting the starts
+    // into an INT and an ARRAY, a global limit of 3, TON of 50 ms driving the
+    // lamp); 10 ms scans. Start pulses at 0, 300, 500, 700; stop at 200,
+    // 400, 600. The fourth start counts to 4 > limit, which stops the motor
+    // in the same scan, so the motor never rises at 700.
+    let tmp = import("plcopen/st-motor.xml");
+    let dir = tmp.path().join("p");
+    let mut stim = String::from("time_ms,tag,value\n");
+    for t in [0, 300, 500, 700] {
+        stim.push_str(&format!("{t},start,1\n{},start,0\n", t + 20));
+    }
+    for t in [200, 400, 600] {
+        stim.push_str(&format!("{t},stop,1\n{},stop,0\n", t + 20));
+    }
+    let cols = [
+        "motor",
+        "lamp",
+        "main.starts",
+        "main.history[0]",
+        "main.history[1]",
+        "main.history[3]",
+    ];
+    let rows = sim(&dir, &stim, &cols, 900, 10);
+    assert_eq!(at(&rows, 0, "motor"), "1");
+    assert_eq!(edges(&rows, "motor"), [200, 300, 400, 500, 600]);
+    assert_eq!(edges(&rows, "lamp"), [50, 200, 350, 400, 550, 600]);
+    assert_eq!(at(&rows, 650, "main.starts"), "3");
+    assert_eq!(at(&rows, 800, "main.starts"), "4");
+    assert_eq!(at(&rows, 800, "main.history[1]"), "1");
+    assert_eq!(at(&rows, 800, "main.history[3]"), "3");
+    assert_eq!(at(&rows, 650, "main.history[0]"), "0");
+    assert_eq!(at(&rows, 800, "main.history[0]"), "4");
+}
