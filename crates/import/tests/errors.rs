@@ -813,3 +813,48 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
         "seq.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `seq` (SFC)"
     );
 }
+
+#[test]
+fn plcopen_st_refusals_are_located_in_the_xml() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="bad" pouType="program">
+<interface><localVars><variable name="s"><type><string/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[n := n + 1;
+n := * 2;
+]]></xhtml:p></ST></body>
+    </pou>
+    <pou name="good" pouType="program">
+      <interface><localVars><variable name="m"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[m := m + 1;]]></xhtml:p></ST></body>
+    </pou>
+    <pou name="fb" pouType="functionBlock">
+      <body><ST><xhtml:p><![CDATA[;]]></xhtml:p></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let (project, report) = alba_import::convert(Path::new("st.xml"), xml, &Options::default()).expect("converts");
+    let text = report.render();
+    // The STRING variable at its <variable>, the syntax error at the `*`.
+    assert!(
+        text.contains("5:23: refused: variable `s` of `bad`: its type `STRING` does not run"),
+        "{text}"
+    );
+    assert!(text.contains("7:6: refused: ST of `bad`: E220"), "{text}");
+    assert!(text.contains("functionBlock `fb`"), "{text}");
+    // `bad` is not written; `good` is.
+    let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
+    assert_eq!(files, ["good.st"]);
+    assert!(project.programs[0].text.contains("m := m + 1;"));
+    // Only refused ST programs: nothing to import, and why.
+    let only_bad = xml.replace(
+        "pouType=\"program\">\n      <interface><localVars><variable name=\"m\"",
+        "pouType=\"functionBlock\">\n      <interface><localVars><variable name=\"m\"",
+    );
+    assert_eq!(
+        err("st.xml", None, &only_bad),
+        "st.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `bad` (ST)"
+    );
+}
