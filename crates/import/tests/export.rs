@@ -196,11 +196,14 @@ fn unsupported_instructions_are_refused_with_their_rung() {
     );
 }
 
-#[test]
-fn start_stop_export_golden() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/start-stop");
+fn export_golden(example: &str) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(example);
     let (xml, _) = alba_import::export_plcopen(&dir).expect("export");
-    let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/export/start-stop.xml");
+    let golden = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden/export")
+        .join(format!("{example}.xml"));
     if std::env::var_os("ALBA_BLESS").is_some() {
         fs::create_dir_all(golden.parent().expect("dir")).expect("mkdir");
         fs::write(&golden, &xml).expect("bless");
@@ -208,6 +211,16 @@ fn start_stop_export_golden() {
     }
     let want = fs::read_to_string(&golden).expect("golden; run with ALBA_BLESS=1");
     assert_eq!(xml, want);
+}
+
+#[test]
+fn start_stop_export_golden() {
+    export_golden("start-stop");
+}
+
+#[test]
+fn st_motor_export_golden() {
+    export_golden("st-motor");
 }
 
 #[test]
