@@ -858,3 +858,39 @@ n := * 2;
         "st.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `bad` (ST)"
     );
 }
+
+#[test]
+fn plcopen_st_program_that_does_not_check_is_left_out_with_its_line() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="bad" pouType="program">
+      <interface><localVars><variable name="n"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[n := n + 1;
+IF n > 3 THEN
+  n := TRUE;
+END_IF;]]></xhtml:p></ST></body>
+    </pou>
+    <pou name="good" pouType="program">
+      <interface><localVars><variable name="m"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[m := m + 1;]]></xhtml:p></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("st.xml");
+    std::fs::write(&file, xml).expect("write");
+    let out = tmp.path().join("p");
+    let report = alba_import::import(&file, &out, &Options::default()).expect("imports");
+    let text = report.render();
+    // The type error at its line in the XML (line 8: `n := TRUE;`), and the
+    // whole program left out rather than that line alone.
+    assert!(text.contains("8:1: refused: `bad.st`: error[E221]"), "{text}");
+    assert!(
+        text.contains("refused: `bad.st` does not check in Alba; left out"),
+        "{text}"
+    );
+    assert!(!out.join("bad.st").exists());
+    assert!(out.join("good.st").exists());
+}

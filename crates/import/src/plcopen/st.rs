@@ -169,9 +169,19 @@ pub(super) fn convert(
     conv.report
         .push(Kind::Converted, ctx.loc(st), format!("ST body of `{pname}`"));
     let mut prog = ProgramOut::new(format!("{}.st", crate::names::file_stem(pname)));
-    let origin: Location = ctx.loc(pou);
+    // Each line's place: the POU for the header, the XML line of the CDATA
+    // for the body.
+    let pou_loc: Location = ctx.loc(pou);
+    let head_lines = head.lines().count();
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(body.match_indices('\n').map(|(k, _)| k + 1))
+        .collect();
     for (i, l) in text.lines().enumerate() {
-        prog.line(l, if i == 0 { Some(&origin) } else { None });
+        let origin = match (body_at, i.checked_sub(head_lines).and_then(|k| starts.get(k))) {
+            (Some(o), Some(s)) if i < head_lines + body.lines().count() => ctx.loc_at(o + s),
+            _ => pou_loc.clone(),
+        };
+        prog.line(l, Some(&origin));
     }
     Some(prog)
 }
