@@ -1357,8 +1357,16 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             continue;
         }
         if is_sfc {
+            // Actions with an ST body: a BOOL tag each, driven by the chart,
+            // and `<pou>_actions.st` running each body while its tag is true.
+            let actions = st::declare_actions(&mut conv, pou, &pname, &mut scope);
             match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut conv.report)? {
-                Some(prog) => programs.push(prog),
+                Some(prog) => {
+                    programs.push(prog);
+                    if let Some(a) = st::actions_program(&mut conv, pou, &pname, &scope, &actions) {
+                        programs.push(a);
+                    }
+                }
                 None => refused_programs.push(format!("`{pname}` (SFC)")),
             }
             continue;

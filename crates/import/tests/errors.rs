@@ -707,7 +707,8 @@ fn sfc_project(body: &str) -> String {
   <types><pous>
     <pou name="seq" pouType="program">
       <interface><localVars><variable name="a"><type><BOOL/></type></variable><variable name="b"><type><BOOL/></type></variable><variable name="q"><type><BOOL/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
-      <actions><action name="Act"><body><ST><xhtml:p>q := TRUE;</xhtml:p></ST></body></action></actions>
+      <actions><action name="Act"><body><IL><xhtml:p>LD TRUE
+ST q</xhtml:p></IL></body></action></actions>
       <body><SFC>
 {body}
       </SFC></body>
@@ -780,7 +781,7 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
                 "{good}\n<actionBlock localId=\"5\"><connectionPointIn>{}</connectionPointIn><action localId=\"0\" qualifier=\"N\"><reference name=\"Act\"/></action><action localId=\"0\" qualifier=\"L\"><reference name=\"q\"/></action></actionBlock>",
                 conn(3)
             ),
-            "an action of step `S1`: `Act` is an action with a body",
+            "an action of step `S1`: `Act` is an action whose body is not ST",
         ),
         (
             format!(

@@ -657,3 +657,29 @@ fn plcopen_st_program_runs_with_its_iec_behaviour() {
     assert_eq!(at(&rows, 650, "main.history[0]"), "0");
     assert_eq!(at(&rows, 800, "main.history[0]"), "4");
 }
+
+#[test]
+fn plcopen_sfc_actions_written_in_st_run_while_their_step_is_active() {
+    // sfc-st-actions.xml: Idle (N Close: valve off, level 0) → start →
+    // Filling (P1 Count: fills + 1; N Fill: valve on, level + 1) → level >= 5
+    // → Idle. Two start pulses: two fills of five scans each.
+    let tmp = import("plcopen/sfc-st-actions.xml");
+    let stim = "time_ms,tag,value\n0,start,1\n20,start,0\n300,start,1\n320,start,0\n";
+    let rows = sim(&tmp.path().join("p"), stim, &["valve", "level", "fills"], 600, 10);
+    let on = |from: u64, to: u64| {
+        rows.iter()
+            .filter(|(t, m)| (from..to).contains(t) && m.get("valve").map(String::as_str) == Some("1"))
+            .count()
+    };
+    assert_eq!(on(0, 300), 5, "{rows:?}");
+    assert_eq!(on(300, 600), 5, "{rows:?}");
+    let levels: Vec<i64> = rows
+        .iter()
+        .filter_map(|(_, m)| m.get("level").and_then(|v| v.parse().ok()))
+        .collect();
+    assert_eq!(levels.iter().max(), Some(&5), "{levels:?}");
+    assert_eq!(at(&rows, 250, "fills"), "1");
+    assert_eq!(at(&rows, 590, "fills"), "2");
+    assert_eq!(at(&rows, 590, "level"), "0");
+    assert_eq!(at(&rows, 590, "valve"), "0");
+}

@@ -6,8 +6,8 @@
 //! run, and syntax errors of the body, are refused at their place in the
 //! XML; the program is then not written.
 
-use super::{Conv, Ctx, Var, collect_text};
-use crate::{Kind, Location, ProgramOut};
+use super::{Conv, Ctx, Var, VarKind, collect_text};
+use crate::{Kind, Location, ProgramOut, TagOut};
 use alba_xml::Elem;
 use std::collections::HashMap;
 
@@ -139,16 +139,12 @@ pub(super) fn convert(
             }
         }
     }
-    // The text of the `<xhtml:p>` (Beremiz, OpenPLC), else of `<ST>` itself.
-    let para = st.children.iter().find(|c| c.name == "p");
-    let body = para.map(|p| p.text.clone()).unwrap_or_else(|| collect_text(st));
-    let body = body.trim_start_matches(['\n', '\r']).trim_end();
+    let (body, body_at) = st_body(&ctx, st);
+    let body = body.as_str();
     let head = format!("PROGRAM {pname}\n{decls}");
     let text = format!("{head}{body}\nEND_PROGRAM\n");
     // Syntax errors, located in the XML (the body is the CDATA verbatim).
     let (_, diags) = alba_compiler::st::parse(&text, alba_diag::FileId(0));
-    let from = para.unwrap_or(st).start;
-    let body_at = ctx.text.get(from..).and_then(|r| r.find(body)).map(|o| o + from);
     for d in &diags {
         let loc = match (d.primary.as_ref(), body_at) {
             (Some(l), Some(at)) if l.span.start as usize >= head.len() => {
@@ -182,6 +178,171 @@ pub(super) fn convert(
             _ => pou_loc.clone(),
         };
         prog.line(l, Some(&origin));
+    }
+    Some(prog)
+}
+
+/// The text of an `<ST>` element (of its `<xhtml:p>`, as Beremiz and OpenPLC
+/// write it) without its leading blank lines, and where it is in the XML.
+fn st_body(ctx: &Ctx<'_>, st: &Elem) -> (String, Option<usize>) {
+    let para = st.children.iter().find(|c| c.name == "p");
+    let body = para.map(|p| p.text.clone()).unwrap_or_else(|| collect_text(st));
+    let body = body.trim_start_matches(['\n', '\r']).trim_end().to_string();
+    let from = para.unwrap_or(st).start;
+    let at = ctx.text.get(from..).and_then(|r| r.find(&body)).map(|o| o + from);
+    (body, at)
+}
+
+/// An SFC action with an ST body: its tag, name and `<ST>` element.
+pub(super) struct StAction<'a> {
+    tag: String,
+    name: String,
+    st: &'a Elem,
+}
+
+/// Declares a BOOL tag `<pou>_<action>` for each action of `pou` whose body
+/// is ST, and puts it in `scope` under the action's name, so the chart's
+/// action blocks drive it like a BOOL variable.
+pub(super) fn declare_actions<'a>(
+    conv: &mut Conv<'_>,
+    pou: &'a Elem,
+    pname: &str,
+    scope: &mut HashMap<String, Var>,
+) -> Vec<StAction<'a>> {
+    let mut out = Vec::new();
+    let Some(acts) = pou.child("actions") else {
+        return out;
+    };
+    for a in acts.all("action") {
+        let Some(name) = a.attr("name") else { continue };
+        let Some(st) = a.child("body").and_then(|b| b.child("ST")) else {
+            continue;
+        };
+        let key = name.to_ascii_lowercase();
+        if scope.contains_key(&key) {
+            conv.report.push(
+                Kind::Refused,
+                conv.ctx.loc(a),
+                format!("action `{name}` of `{pname}` has the name of a variable; left out"),
+            );
+            continue;
+        }
+        let (tag, _) = conv
+            .names
+            .alba_as(&format!("{pname}\u{0}action\u{0}{name}"), &format!("{pname}_{name}"));
+        conv.tags.push(TagOut {
+            name: tag.clone(),
+            ty: "BOOL".into(),
+            address: String::new(),
+            initial: String::new(),
+            description: format!("alba import: action `{name}` of `{pname}` runs while true"),
+        });
+        scope.insert(
+            key,
+            Var {
+                alba: tag.clone(),
+                kind: VarKind::Tag("BOOL".into()),
+                fb: String::new(),
+            },
+        );
+        out.push(StAction {
+            tag,
+            name: name.to_string(),
+            st,
+        });
+    }
+    out
+}
+
+/// `<pou>_actions.st`: `IF <tag> THEN <body> END_IF;` for each ST action,
+/// run after the chart. `None` when there are none or one is refused.
+pub(super) fn actions_program(
+    conv: &mut Conv<'_>,
+    pou: &Elem,
+    pname: &str,
+    scope: &HashMap<String, Var>,
+    actions: &[StAction<'_>],
+) -> Option<ProgramOut> {
+    if actions.is_empty() {
+        return None;
+    }
+    let ctx = Ctx {
+        file: conv.ctx.file,
+        text: conv.ctx.text,
+    };
+    let mut ok = true;
+    // The bodies name the chart's variables, which are tags: by their own
+    // names only if none was renamed.
+    if let Some(iface) = pou.child("interface") {
+        for v in iface.children.iter().flat_map(|l| l.all("variable")) {
+            let name = v.attr("name").unwrap_or("");
+            if let Some(var) = scope.get(&name.to_ascii_lowercase())
+                && !var.alba.eq_ignore_ascii_case(name)
+            {
+                conv.report.push(
+                    Kind::Refused,
+                    ctx.loc(v),
+                    format!(
+                        "variable `{name}` of `{pname}` is the tag `{}`; the ST actions that name it are not converted",
+                        var.alba
+                    ),
+                );
+                ok = false;
+            }
+        }
+    }
+    let prog_name = format!("{}_actions", crate::names::file_stem(pname));
+    let mut lines: Vec<(String, Location)> = vec![(format!("PROGRAM {prog_name}"), ctx.loc(pou))];
+    for a in actions {
+        let (body, at) = st_body(&ctx, a.st);
+        let here = ctx.loc(a.st);
+        lines.push((format!("(* action {} *)", a.name), here.clone()));
+        lines.push((format!("IF {} THEN", a.tag), here.clone()));
+        let mut off = 0;
+        for l in body.split('\n') {
+            let loc = at.map(|o| ctx.loc_at(o + off)).unwrap_or_else(|| here.clone());
+            off += l.len() + 1;
+            lines.push((l.trim_end_matches('\r').to_string(), loc));
+        }
+        lines.push(("END_IF;".into(), here));
+    }
+    lines.push(("END_PROGRAM".into(), ctx.loc(pou)));
+    let text: String = lines.iter().map(|(l, _)| format!("{l}\n")).collect();
+    let (_, diags) = alba_compiler::st::parse(&text, alba_diag::FileId(0));
+    for d in &diags {
+        let loc = d
+            .primary
+            .as_ref()
+            .map(|l| {
+                let line = text[..(l.span.start as usize).min(text.len())].matches('\n').count();
+                lines.get(line).map(|(_, o)| o.clone()).unwrap_or_else(|| ctx.loc(pou))
+            })
+            .unwrap_or_else(|| ctx.loc(pou));
+        conv.report.push(
+            Kind::Refused,
+            loc,
+            format!("ST actions of `{pname}`: {}: {}", d.code, d.message),
+        );
+        ok = false;
+    }
+    if !ok {
+        conv.report.push(
+            Kind::Refused,
+            ctx.loc(pou),
+            format!("the ST actions of `{pname}` are not converted"),
+        );
+        return None;
+    }
+    for a in actions {
+        conv.report.push(
+            Kind::Converted,
+            ctx.loc(a.st),
+            format!("ST action `{}` of `{pname}`: runs while `{}` is true", a.name, a.tag),
+        );
+    }
+    let mut prog = ProgramOut::new(format!("{prog_name}.st"));
+    for (l, o) in &lines {
+        prog.line(l, Some(o));
     }
     Some(prog)
 }
