@@ -742,13 +742,16 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
         // An ST program is left out whole: commenting out one line of a
         // statement that spans several would change what the rest means.
         let mut st_out: Vec<usize> = Vec::new();
+        // The first error of each, for the message when nothing is left.
+        let mut st_first: Vec<(Location, String)> = Vec::new();
         for (pi, line, msg) in &rungs {
             let p = &project.programs[*pi];
             if p.file.ends_with(".st") {
                 let loc = p.origin(*line).cloned().unwrap_or_else(|| whole.clone());
-                report.push(Kind::Refused, loc, format!("`{}`: {msg}", p.file));
+                report.push(Kind::Refused, loc.clone(), format!("`{}`: {msg}", p.file));
                 if !st_out.contains(pi) {
                     st_out.push(*pi);
+                    st_first.push((loc, format!("`{}` does not check in Alba ({msg})", p.file)));
                 }
             }
         }
@@ -781,6 +784,11 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
                 format!("`{}` does not check in Alba; left out", p.file),
             );
             changed = true;
+        }
+        if project.programs.is_empty()
+            && let Some((loc, why)) = st_first.into_iter().next()
+        {
+            return Err(Error::at(loc, format!("nothing left to import: {why}")));
         }
         tag_rows.sort();
         tag_rows.dedup_by(|a, b| a.0 == b.0);

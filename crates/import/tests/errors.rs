@@ -895,3 +895,33 @@ END_IF;]]></xhtml:p></ST></body>
     assert!(!out.join("bad.st").exists());
     assert!(out.join("good.st").exists());
 }
+
+#[test]
+fn ironplc_st_program_calling_a_user_fb_is_refused_with_its_place() {
+    // IronPLC's test project: an ST program whose only variable is an
+    // instance of a user function block (ST too). Both are refused, each at
+    // its place, and so is the import.
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen-refused/ironplc-simple.xml");
+    let text = fs::read_to_string(&f).expect("fixture");
+    assert_eq!(
+        err("simple.xml", None, &text),
+        "simple.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `Main` (ST)"
+    );
+    // Main's variable made an INT: the program converts, but calling an INT
+    // does not check, so it is left out and the error names its place (line
+    // 45, the column after `<xhtml …>`).
+    let t = text.replace("<derived name=\"Counter\"/>", "<INT/>");
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("simple.xml");
+    fs::write(&file, &t).expect("write");
+    let out = tmp.path().join("p");
+    let e = alba_import::import(&file, &out, &Options::default())
+        .expect_err("nothing left")
+        .to_string();
+    assert!(
+        e.starts_with("simple.xml:45:57:")
+            && e.contains("nothing left to import: `Main.st` does not check in Alba (error[E2"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}

@@ -183,10 +183,15 @@ pub(super) fn convert(
 }
 
 /// The text of an `<ST>` element (of its `<xhtml:p>`, as Beremiz and OpenPLC
-/// write it) without its leading blank lines, and where it is in the XML.
+/// write it, or `<xhtml>`, as IronPLC does; else its own) without its
+/// leading blank lines, and where it is in the XML.
 fn st_body(ctx: &Ctx<'_>, st: &Elem) -> (String, Option<usize>) {
-    let para = st.children.iter().find(|c| c.name == "p");
-    let body = para.map(|p| p.text.clone()).unwrap_or_else(|| collect_text(st));
+    let para = st.children.iter().find(|c| c.name == "p" || c.name == "xhtml");
+    let body = match para {
+        Some(p) => p.text.clone(),
+        None if st.children.is_empty() => st.text.clone(),
+        None => collect_text(st),
+    };
     let body = body.trim_start_matches(['\n', '\r']).trim_end().to_string();
     let from = para.unwrap_or(st).start;
     let at = ctx.text.get(from..).and_then(|r| r.find(&body)).map(|o| o + from);
