@@ -925,3 +925,18 @@ fn ironplc_st_program_calling_a_user_fb_is_refused_with_its_place() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn plcopen_sfc_st_action_with_a_syntax_error_is_refused_at_its_line() {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/sfc-st-actions.xml");
+    let good = fs::read_to_string(&f).expect("fixture");
+    // The second line of action Fill (line 21 of the file) loses its `:=`.
+    let bad = good.replace("level := level + 1;]]>", "level level + 1;]]>");
+    assert_ne!(bad, good);
+    let (project, report) = alba_import::convert(Path::new("sfc.xml"), &bad, &Options::default()).expect("converts");
+    let r = report.render();
+    assert!(r.contains("21:1: refused: ST actions of `tank`: E220"), "{r}");
+    assert!(r.contains("refused: the ST actions of `tank` are not converted"), "{r}");
+    let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
+    assert_eq!(files, ["tank.sfc"]);
+}
