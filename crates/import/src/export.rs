@@ -1131,10 +1131,10 @@ fn st_pous(
         let start = pou.vars.last().map(|b| b.span.end).unwrap_or(pou.name.span.end) as usize;
         let end = pou.span.end as usize;
         let body = text.get(start..end).unwrap_or("").trim();
-        let body = if body.len() >= 11 && body[body.len() - 11..].eq_ignore_ascii_case("END_PROGRAM") {
-            body[..body.len() - 11].trim_end()
-        } else {
-            body
+        let cut = body.len().saturating_sub(11);
+        let body = match (body.get(cut..), body.get(..cut)) {
+            (Some(end), Some(rest)) if end.eq_ignore_ascii_case("END_PROGRAM") => rest.trim_end(),
+            _ => body,
         };
         let body = body.trim_start_matches(['\n', '\r']);
         let cdata = body.replace("]]>", "]]]]><![CDATA[>");

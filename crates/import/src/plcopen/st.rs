@@ -319,7 +319,7 @@ pub(super) fn actions_program(
             .primary
             .as_ref()
             .map(|l| {
-                let line = text[..(l.span.start as usize).min(text.len())].matches('\n').count();
+                let line = text.get(..l.span.start as usize).unwrap_or(&text).matches('\n').count();
                 lines.get(line).map(|(_, o)| o.clone()).unwrap_or_else(|| ctx.loc(pou))
             })
             .unwrap_or_else(|| ctx.loc(pou));
