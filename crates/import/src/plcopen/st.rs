@@ -124,6 +124,16 @@ pub(super) fn convert(
                     .unwrap_or_default();
                 block.push_str(&format!("    {name} : {ty}{init};\n"));
             }
+            if !block.is_empty() && matches!(list.name.as_str(), "inputVars" | "outputVars" | "inOutVars") {
+                conv.report.push(
+                    Kind::Approximated,
+                    ctx.loc(list),
+                    format!(
+                        "the {} of program `{pname}` are its variables (VAR): nothing passes a program parameters in Alba",
+                        list.name
+                    ),
+                );
+            }
             if !block.is_empty() {
                 let retain = if list.attr("retain") == Some("true") {
                     " RETAIN"
