@@ -661,12 +661,20 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     // how often every tag is named by any operand.
     let mut oneshots: HashMap<String, (&'static str, usize)> = HashMap::new();
     let mut named: HashMap<String, usize> = HashMap::new();
-    for p in &project.programs {
+    // ST programs' POUs, by their place in `programs`.
+    let mut st_out: Vec<(usize, String, String)> = Vec::new();
+    for (k, p) in project.programs.iter().enumerate() {
+        if !p.plant && p.name.to_ascii_lowercase().ends_with(".st") {
+            for (name, xml) in st_pous(files, p, &mut report) {
+                st_out.push((k, name, xml));
+            }
+            continue;
+        }
         if p.plant || !p.name.to_ascii_lowercase().ends_with(".lad") {
             report.push(
                 Kind::Refused,
                 Location::new(&p.name, 1, 1),
-                format!("`{}` is not a control ladder program; not exported", p.name),
+                format!("`{}` is not a control ladder or ST program; not exported", p.name),
             );
             continue;
         }
@@ -734,7 +742,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
                 }
             });
         }
-        parsed.push((p, prog));
+        parsed.push((k, p, prog));
     }
     // Variables.
     let mut vars = String::new();
@@ -861,7 +869,8 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     // Programs.
     let mut pous = String::new();
     let mut instances = String::new();
-    for (p, prog) in &parsed {
+    let mut out_pous: Vec<(usize, String, String)> = Vec::new();
+    for (k, p, prog) in &parsed {
         let pou = Path::new(&p.name)
             .file_stem()
             .map(|s| {
@@ -941,11 +950,19 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
                 .unwrap_or(1);
             y += 60 + 40 * legs;
         }
-        let _ = write!(
-            pous,
-            "      <pou name=\"{pou}\" pouType=\"program\">\n        <interface>\n          <externalVars>\n{ext}          </externalVars>\n        </interface>\n        <body>\n          <LD>\n{}          </LD>\n        </body>\n      </pou>\n",
-            g.xml
-        );
+        out_pous.push((
+            *k,
+            pou.clone(),
+            format!(
+                "      <pou name=\"{pou}\" pouType=\"program\">\n        <interface>\n          <externalVars>\n{ext}          </externalVars>\n        </interface>\n        <body>\n          <LD>\n{}          </LD>\n        </body>\n      </pou>\n",
+                g.xml
+            ),
+        ));
+    }
+    out_pous.extend(st_out);
+    out_pous.sort_by_key(|(k, _, _)| *k);
+    for (_, pou, xml) in &out_pous {
+        pous.push_str(xml);
         let _ = writeln!(
             instances,
             "            <pouInstance name=\"{pou}_instance\" typeName=\"{pou}\"/>"
@@ -963,4 +980,176 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
         esc(&name)
     );
     Ok((xml, report))
+}
+
+/// The PLCopen `<type>` content of an ST type, or why there is none.
+fn st_type_xml(t: &alba_compiler::st::ast::TypeRef) -> Result<String, String> {
+    use alba_compiler::st::ast::{TypeRef, expr};
+    const ELEMENTARY: &[&str] = &[
+        "BOOL", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT", "REAL", "LREAL", "TIME", "LTIME",
+        "DATE", "TOD", "DT", "BYTE", "WORD", "DWORD", "LWORD",
+    ];
+    Ok(match t {
+        TypeRef::Named(i) => {
+            let up = i.name.to_ascii_uppercase();
+            if ELEMENTARY.contains(&up.as_str()) {
+                format!("<{up}/>")
+            } else {
+                format!("<derived name=\"{}\"/>", esc(&i.name))
+            }
+        }
+        TypeRef::String { wide, len, .. } => {
+            let tag = if *wide { "wstring" } else { "string" };
+            match len {
+                Some(l) => format!("<{tag} length=\"{}\"/>", esc(&expr(l))),
+                None => format!("<{tag}/>"),
+            }
+        }
+        TypeRef::Array { dims, of, .. } => {
+            let mut s = String::from("<array>");
+            for (lo, hi) in dims {
+                let _ = write!(
+                    s,
+                    "<dimension lower=\"{}\" upper=\"{}\"/>",
+                    esc(&expr(lo)),
+                    esc(&expr(hi))
+                );
+            }
+            let _ = write!(s, "<baseType>{}</baseType></array>", st_type_xml(of)?);
+            s
+        }
+        TypeRef::Struct { .. } => return Err("an inline STRUCT type".into()),
+        TypeRef::Enum { .. } => return Err("an inline enumeration".into()),
+        TypeRef::Subrange { .. } => return Err("an inline subrange".into()),
+    })
+}
+
+/// The `program` POUs of the ST file `p` (its PROGRAMs; what else it holds
+/// is refused with its place), as (POU name, XML).
+fn st_pous(
+    files: &alba_diag::Files,
+    p: &alba_compiler::project::ProgramSource,
+    report: &mut Report,
+) -> Vec<(String, String)> {
+    use alba_compiler::st::ast::{Init, PouKind, VarKind, expr};
+    let text = files.text(p.file);
+    let loc = |at: u32| {
+        let (l, c) = files.line_col(p.file, at as usize);
+        Location::new(&p.name, l as u32, c as u32)
+    };
+    let (file, _) = alba_compiler::st::parse(text, p.file);
+    for t in &file.types {
+        report.push(
+            Kind::Refused,
+            loc(t.name.span.start),
+            format!("TYPE `{}` is not exported (only PROGRAMs are)", t.name.name),
+        );
+    }
+    for b in &file.globals {
+        report.push(
+            Kind::Refused,
+            loc(b.span.start),
+            "a VAR_GLOBAL block outside a POU is not exported; declare the tags in tags.csv".to_string(),
+        );
+    }
+    let mut out = Vec::new();
+    for pou in &file.pous {
+        if pou.kind != PouKind::Program {
+            report.push(
+                Kind::Refused,
+                loc(pou.name.span.start),
+                format!(
+                    "{} `{}` is not exported (only PROGRAMs are)",
+                    pou.kind.keyword(),
+                    pou.name.name
+                ),
+            );
+            continue;
+        }
+        let mut iface = String::new();
+        let mut refused = false;
+        for b in &pou.vars {
+            let list = match b.kind {
+                VarKind::Var => "localVars",
+                VarKind::Input => "inputVars",
+                VarKind::Output => "outputVars",
+                VarKind::InOut => "inOutVars",
+                VarKind::Temp => "tempVars",
+                VarKind::Global => "globalVars",
+                VarKind::External => "externalVars",
+            };
+            let attrs = format!(
+                "{}{}",
+                if b.retain { " retain=\"true\"" } else { "" },
+                if b.constant { " constant=\"true\"" } else { "" }
+            );
+            let _ = writeln!(iface, "          <{list}{attrs}>");
+            for d in &b.vars {
+                let ty = match st_type_xml(&d.ty) {
+                    Ok(t) => t,
+                    Err(why) => {
+                        report.push(Kind::Refused, loc(d.span.start), format!("{why} is not exported"));
+                        refused = true;
+                        continue;
+                    }
+                };
+                let init = match &d.init {
+                    None => String::new(),
+                    Some(Init::Expr(e)) => format!(
+                        "<initialValue><simpleValue value=\"{}\"/></initialValue>",
+                        esc(&expr(e))
+                    ),
+                    Some(_) => {
+                        report.push(
+                            Kind::Refused,
+                            loc(d.span.start),
+                            "an array or structure initialiser is not exported".to_string(),
+                        );
+                        refused = true;
+                        continue;
+                    }
+                };
+                for n in &d.names {
+                    let _ = writeln!(
+                        iface,
+                        "            <variable name=\"{}\"><type>{ty}</type>{init}</variable>",
+                        esc(&n.name)
+                    );
+                }
+            }
+            let _ = writeln!(iface, "          </{list}>");
+        }
+        if refused {
+            report.push(
+                Kind::Refused,
+                loc(pou.name.span.start),
+                format!("PROGRAM `{}` not exported", pou.name.name),
+            );
+            continue;
+        }
+        // The body as written: from the end of the declarations to END_PROGRAM.
+        let start = pou.vars.last().map(|b| b.span.end).unwrap_or(pou.name.span.end) as usize;
+        let end = pou.span.end as usize;
+        let body = text.get(start..end).unwrap_or("").trim();
+        let cut = body.len().saturating_sub(11);
+        let body = match (body.get(cut..), body.get(..cut)) {
+            (Some(end), Some(rest)) if end.eq_ignore_ascii_case("END_PROGRAM") => rest.trim_end(),
+            _ => body,
+        };
+        let body = body.trim_start_matches(['\n', '\r']);
+        let cdata = body.replace("]]>", "]]]]><![CDATA[>");
+        report.push(
+            Kind::Converted,
+            loc(pou.name.span.start),
+            format!("PROGRAM `{}` exported as an ST body", pou.name.name),
+        );
+        out.push((
+            pou.name.name.clone(),
+            format!(
+                "      <pou name=\"{}\" pouType=\"program\">\n        <interface>\n{iface}        </interface>\n        <body>\n          <ST>\n            <xhtml:p><![CDATA[{cdata}]]></xhtml:p>\n          </ST>\n        </body>\n      </pou>\n",
+                esc(&pou.name.name)
+            ),
+        ));
+    }
+    out
 }

@@ -739,7 +739,26 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
         let mut changed = false;
         rungs.sort();
         rungs.dedup_by(|a, b| a.0 == b.0 && a.1 == b.1);
+        // An ST program is left out whole: commenting out one line of a
+        // statement that spans several would change what the rest means.
+        let mut st_out: Vec<usize> = Vec::new();
+        // The first error of each, for the message when nothing is left.
+        let mut st_first: Vec<(Location, String)> = Vec::new();
+        for (pi, line, msg) in &rungs {
+            let p = &project.programs[*pi];
+            if p.file.ends_with(".st") {
+                let loc = p.origin(*line).cloned().unwrap_or_else(|| whole.clone());
+                report.push(Kind::Refused, loc.clone(), format!("`{}`: {msg}", p.file));
+                if !st_out.contains(pi) {
+                    st_out.push(*pi);
+                    st_first.push((loc, format!("`{}` does not check in Alba ({msg})", p.file)));
+                }
+            }
+        }
         for (pi, line, msg) in rungs {
+            if st_out.contains(&pi) {
+                continue;
+            }
             let p = &mut project.programs[pi];
             let mut lines: Vec<String> = p.text.lines().map(str::to_string).collect();
             let Some(text) = lines.get(line).cloned() else { continue };
@@ -755,6 +774,21 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
             lines[line] = format!("// REFUSED by alba import: {} ({msg})", text.trim());
             p.text = lines.join("\n") + "\n";
             changed = true;
+        }
+        st_out.sort_unstable();
+        for pi in st_out.into_iter().rev() {
+            let p = project.programs.remove(pi);
+            report.push(
+                Kind::Refused,
+                p.origin(0).cloned().unwrap_or_else(|| whole.clone()),
+                format!("`{}` does not check in Alba; left out", p.file),
+            );
+            changed = true;
+        }
+        if project.programs.is_empty()
+            && let Some((loc, why)) = st_first.into_iter().next()
+        {
+            return Err(Error::at(loc, format!("nothing left to import: {why}")));
         }
         tag_rows.sort();
         tag_rows.dedup_by(|a, b| a.0 == b.0);

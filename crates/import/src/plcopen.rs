@@ -21,13 +21,15 @@
 //! | `GT` `GE` `EQ` `NE` `LT` `LE` | compares ANDed with EN |
 //! | `ADD` `SUB` `MUL` `DIV` `MOD` `MOVE` | the instruction, gated by EN, into a helper tag |
 //!
-//! SFC bodies become `.sfc` programs (the [`sfc`] module).
+//! SFC bodies become `.sfc` programs (the [`sfc`] module), ST bodies `.st`
+//! programs (the [`st`] module).
 //!
-//! Everything else (user function blocks, functions, ST/FBD/IL bodies,
+//! Everything else (user function blocks, functions, FBD/IL bodies,
 //! jumps, other blocks) is refused with its place; a coil fed by a refused
 //! element is refused too.
 
 mod sfc;
+mod st;
 
 use crate::circuit::{Cond, Emitter, Structs};
 use crate::names::Names;
@@ -1284,17 +1286,18 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                 .iter()
                 .find(|c| c.name != "documentation" && c.name != "addData")
         });
-        let Some(ld) = lang.filter(|l| l.name == "LD" || l.name == "SFC") else {
+        let Some(ld) = lang.filter(|l| l.name == "LD" || l.name == "SFC" || l.name == "ST") else {
             let what = lang.map(|l| l.name.clone()).unwrap_or_else(|| "no".into());
             conv.report.push(
                 Kind::Refused,
                 loc,
-                format!("program `{pname}` has a {what} body; only LD and SFC bodies are imported"),
+                format!("program `{pname}` has a {what} body; only LD, SFC and ST bodies are imported"),
             );
             refused_programs.push(format!("`{pname}` ({what})"));
             continue;
         };
         let is_sfc = ld.name == "SFC";
+        let is_st = ld.name == "ST";
         if !is_sfc && pou.child("actions").is_some_and(|a| !a.children.is_empty()) {
             conv.report.push(
                 Kind::Refused,
@@ -1340,15 +1343,30 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                         conv.tags.extend(tmp.tags);
                         conv.report.entries.extend(tmp.report.entries);
                         scope.extend(ext);
-                    } else {
+                    } else if !is_st {
                         conv.declare(list, &mut scope, &pname);
                     }
                 }
             }
         }
-        if is_sfc {
-            match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut conv.report)? {
+        if is_st {
+            match st::convert(&mut conv, pou, ld, &pname, &mut scope) {
                 Some(prog) => programs.push(prog),
+                None => refused_programs.push(format!("`{pname}` (ST)")),
+            }
+            continue;
+        }
+        if is_sfc {
+            // Actions with an ST body: a BOOL tag each, driven by the chart,
+            // and `<pou>_actions.st` running each body while its tag is true.
+            let actions = st::declare_actions(&mut conv, pou, &pname, &mut scope);
+            match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut conv.report)? {
+                Some(prog) => {
+                    programs.push(prog);
+                    if let Some(a) = st::actions_program(&mut conv, pou, &pname, &scope, &actions) {
+                        programs.push(a);
+                    }
+                }
                 None => refused_programs.push(format!("`{pname}` (SFC)")),
             }
             continue;
@@ -1560,7 +1578,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         };
         return Err(Error::at(
             conv.ctx.loc(&root),
-            format!("nothing to import: Alba imports LD and SFC bodies of programs, and {why}"),
+            format!("nothing to import: Alba imports LD, SFC and ST bodies of programs, and {why}"),
         ));
     }
     let mut report = conv.report;

@@ -143,7 +143,7 @@ fn a_real_file_with_nothing_importable_names_its_programs() {
     let text = fs::read_to_string(&f).expect("fixture");
     assert_eq!(
         err("beremiz-first-steps.xml", None, &text),
-        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `plc_prg` (FBD)"
+        "beremiz-first-steps.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `plc_prg` (FBD)"
     );
 }
 
@@ -707,7 +707,8 @@ fn sfc_project(body: &str) -> String {
   <types><pous>
     <pou name="seq" pouType="program">
       <interface><localVars><variable name="a"><type><BOOL/></type></variable><variable name="b"><type><BOOL/></type></variable><variable name="q"><type><BOOL/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
-      <actions><action name="Act"><body><ST><xhtml:p>q := TRUE;</xhtml:p></ST></body></action></actions>
+      <actions><action name="Act"><body><IL><xhtml:p>LD TRUE
+ST q</xhtml:p></IL></body></action></actions>
       <body><SFC>
 {body}
       </SFC></body>
@@ -780,7 +781,7 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
                 "{good}\n<actionBlock localId=\"5\"><connectionPointIn>{}</connectionPointIn><action localId=\"0\" qualifier=\"N\"><reference name=\"Act\"/></action><action localId=\"0\" qualifier=\"L\"><reference name=\"q\"/></action></actionBlock>",
                 conn(3)
             ),
-            "an action of step `S1`: `Act` is an action with a body",
+            "an action of step `S1`: `Act` is an action whose body is not ST",
         ),
         (
             format!(
@@ -810,6 +811,132 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
     let two = good.replace("initialStep=\"false\"", "initialStep=\"true\"");
     assert_eq!(
         err("seq.xml", None, &sfc_project(&two)),
-        "seq.xml:2:1: nothing to import: Alba imports LD and SFC bodies of programs, and its programs are `seq` (SFC)"
+        "seq.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `seq` (SFC)"
     );
+}
+
+#[test]
+fn plcopen_st_refusals_are_located_in_the_xml() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="bad" pouType="program">
+<interface><localVars><variable name="s"><type><string/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[n := n + 1;
+n := * 2;
+]]></xhtml:p></ST></body>
+    </pou>
+    <pou name="good" pouType="program">
+      <interface><localVars><variable name="m"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[m := m + 1;]]></xhtml:p></ST></body>
+    </pou>
+    <pou name="fb" pouType="functionBlock">
+      <body><ST><xhtml:p><![CDATA[;]]></xhtml:p></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let (project, report) = alba_import::convert(Path::new("st.xml"), xml, &Options::default()).expect("converts");
+    let text = report.render();
+    // The STRING variable at its <variable>, the syntax error at the `*`.
+    assert!(
+        text.contains("5:23: refused: variable `s` of `bad`: its type `STRING` does not run"),
+        "{text}"
+    );
+    assert!(text.contains("7:6: refused: ST of `bad`: E220"), "{text}");
+    assert!(text.contains("functionBlock `fb`"), "{text}");
+    // `bad` is not written; `good` is.
+    let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
+    assert_eq!(files, ["good.st"]);
+    assert!(project.programs[0].text.contains("m := m + 1;"));
+    // Only refused ST programs: nothing to import, and why.
+    let only_bad = xml.replace(
+        "pouType=\"program\">\n      <interface><localVars><variable name=\"m\"",
+        "pouType=\"functionBlock\">\n      <interface><localVars><variable name=\"m\"",
+    );
+    assert_eq!(
+        err("st.xml", None, &only_bad),
+        "st.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `bad` (ST)"
+    );
+}
+
+#[test]
+fn plcopen_st_program_that_does_not_check_is_left_out_with_its_line() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="bad" pouType="program">
+      <interface><localVars><variable name="n"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[n := n + 1;
+IF n > 3 THEN
+  n := TRUE;
+END_IF;]]></xhtml:p></ST></body>
+    </pou>
+    <pou name="good" pouType="program">
+      <interface><localVars><variable name="m"><type><INT/></type></variable></localVars></interface>
+      <body><ST><xhtml:p><![CDATA[m := m + 1;]]></xhtml:p></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("st.xml");
+    std::fs::write(&file, xml).expect("write");
+    let out = tmp.path().join("p");
+    let report = alba_import::import(&file, &out, &Options::default()).expect("imports");
+    let text = report.render();
+    // The type error at its line in the XML (line 8: `n := TRUE;`), and the
+    // whole program left out rather than that line alone.
+    assert!(text.contains("8:1: refused: `bad.st`: error[E221]"), "{text}");
+    assert!(
+        text.contains("refused: `bad.st` does not check in Alba; left out"),
+        "{text}"
+    );
+    assert!(!out.join("bad.st").exists());
+    assert!(out.join("good.st").exists());
+}
+
+#[test]
+fn ironplc_st_program_calling_a_user_fb_is_refused_with_its_place() {
+    // IronPLC's test project: an ST program whose only variable is an
+    // instance of a user function block (ST too). Both are refused, each at
+    // its place, and so is the import.
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen-refused/ironplc-simple.xml");
+    let text = fs::read_to_string(&f).expect("fixture");
+    assert_eq!(
+        err("simple.xml", None, &text),
+        "simple.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `Main` (ST)"
+    );
+    // Main's variable made an INT: the program converts, but calling an INT
+    // does not check, so it is left out and the error names its place (line
+    // 45, the column after `<xhtml …>`).
+    let t = text.replace("<derived name=\"Counter\"/>", "<INT/>");
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("simple.xml");
+    fs::write(&file, &t).expect("write");
+    let out = tmp.path().join("p");
+    let e = alba_import::import(&file, &out, &Options::default())
+        .expect_err("nothing left")
+        .to_string();
+    assert!(
+        e.starts_with("simple.xml:45:57:")
+            && e.contains("nothing left to import: `Main.st` does not check in Alba (error[E2"),
+        "{e}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn plcopen_sfc_st_action_with_a_syntax_error_is_refused_at_its_line() {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/sfc-st-actions.xml");
+    let good = fs::read_to_string(&f).expect("fixture");
+    // The second line of action Fill (line 21 of the file) loses its `:=`.
+    let bad = good.replace("level := level + 1;]]>", "level level + 1;]]>");
+    assert_ne!(bad, good);
+    let (project, report) = alba_import::convert(Path::new("sfc.xml"), &bad, &Options::default()).expect("converts");
+    let r = report.render();
+    assert!(r.contains("21:1: refused: ST actions of `tank`: E220"), "{r}");
+    assert!(r.contains("refused: the ST actions of `tank` are not converted"), "{r}");
+    let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
+    assert_eq!(files, ["tank.sfc"]);
 }

@@ -196,11 +196,14 @@ fn unsupported_instructions_are_refused_with_their_rung() {
     );
 }
 
-#[test]
-fn start_stop_export_golden() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/start-stop");
+fn export_golden(example: &str) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(example);
     let (xml, _) = alba_import::export_plcopen(&dir).expect("export");
-    let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/export/start-stop.xml");
+    let golden = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden/export")
+        .join(format!("{example}.xml"));
     if std::env::var_os("ALBA_BLESS").is_some() {
         fs::create_dir_all(golden.parent().expect("dir")).expect("mkdir");
         fs::write(&golden, &xml).expect("bless");
@@ -208,6 +211,16 @@ fn start_stop_export_golden() {
     }
     let want = fs::read_to_string(&golden).expect("golden; run with ALBA_BLESS=1");
     assert_eq!(xml, want);
+}
+
+#[test]
+fn start_stop_export_golden() {
+    export_golden("start-stop");
+}
+
+#[test]
+fn st_motor_export_golden() {
+    export_golden("st-motor");
 }
 
 #[test]
@@ -246,4 +259,81 @@ fn what_has_no_iec_form_is_refused_with_its_rung() {
     for w in want {
         assert!(refused.iter().any(|r| r == w), "{w}\n{refused:#?}");
     }
+}
+
+#[test]
+fn st_motor_round_trip() {
+    round_trip("st-motor");
+}
+
+#[test]
+fn plcopen_st_import_export_import_keeps_the_program() {
+    // st-motor.xml imported, exported and imported again: the same .st
+    // program and tags, and the same trace.
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/st-motor.xml");
+    let tmp = tempfile::tempdir().expect("tmp");
+    let first = tmp.path().join("first");
+    alba_import::import(&src, &first, &Options::default()).expect("import");
+    let (xml, report) = alba_import::export_plcopen(&first).expect("export");
+    assert_eq!(report.count(alba_import::Kind::Refused), 0, "{}", report.render());
+    assert!(
+        xml.contains("<ST>") && xml.contains("history[starts MOD 4] := starts;"),
+        "{xml}"
+    );
+    let file = tmp.path().join("again.xml");
+    fs::write(&file, &xml).expect("write");
+    let second = tmp.path().join("second");
+    let r = alba_import::import(&file, &second, &Options::default()).expect("import again");
+    assert_eq!(r.count(alba_import::Kind::Refused), 0, "{}", r.render());
+    let a = fs::read_to_string(first.join("main.st")).expect("st");
+    let b = fs::read_to_string(second.join("main.st")).expect("st");
+    assert_eq!(a, b);
+    let stim = "time_ms,tag,value\n0,start,1\n20,start,0\n200,stop,1\n220,stop,0\n300,start,1\n320,start,0\n";
+    let cols: Vec<String> = ["motor", "lamp", "main.starts", "main.history[1]"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let ta = trace(&first, stim, &cols, 1000);
+    // Columns after the time: motor, lamp, starts, history[1].
+    assert!(
+        ta.iter().any(|r| r[3] == "2") && ta.iter().all(|r| r[4] == "1"),
+        "{ta:?}"
+    );
+    assert_eq!(ta, trace(&second, stim, &cols, 1000));
+}
+
+#[test]
+fn st_functions_and_types_are_refused_on_export_with_their_place() {
+    let tmp = tempfile::tempdir().expect("tmp");
+    let d = tmp.path();
+    fs::write(
+        d.join("alba.toml"),
+        "name = \"t\"\nscan_ms = 10\nprograms = [\"main.st\"]\n",
+    )
+    .expect("w");
+    fs::write(
+        d.join("tags.csv"),
+        "name,type,address,initial,retain,description\nx,INT,,,,\n",
+    )
+    .expect("w");
+    fs::write(
+        d.join("main.st"),
+        "FUNCTION Twice : INT\nVAR_INPUT a : INT; END_VAR\nTwice := a * 2;\nEND_FUNCTION\n\nPROGRAM Main\nx := x + 1; (* ]]> in a comment *)\nEND_PROGRAM\n",
+    )
+    .expect("w");
+    let (xml, report) = alba_import::export_plcopen(d).expect("export");
+    let text = report.render();
+    assert!(
+        text.contains("main.st:1:10: refused: FUNCTION `Twice` is not exported"),
+        "{text}"
+    );
+    assert!(xml.contains("<pou name=\"Main\" pouType=\"program\">"), "{xml}");
+    assert!(!xml.contains("Twice"), "{xml}");
+    // `]]>` in the body survives the CDATA section.
+    let back = d.join("back");
+    let file = d.join("t.xml");
+    fs::write(&file, &xml).expect("write");
+    alba_import::import(&file, &back, &Options::default()).expect("import");
+    let st = fs::read_to_string(back.join("Main.st")).expect("st");
+    assert!(st.contains("x := x + 1; (* ]]> in a comment *)"), "{st}");
 }

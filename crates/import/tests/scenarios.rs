@@ -621,3 +621,65 @@ fn l5x_analog_channels_carry_their_values() {
     assert_eq!(at(&rows, 200, "AO:4/0"), "777");
     assert_eq!(at(&rows, 200, "ValveOut"), "777");
 }
+
+#[test]
+fn plcopen_st_program_runs_with_its_iec_behaviour() {
+    // st-motor.xml: an ST body (start-stop seal, R_TRIG counting the starts
+    // into an INT and an ARRAY, a global limit of 3, TON of 50 ms driving the
+    // lamp); 10 ms scans. Start pulses at 0, 300, 500, 700; stop at 200,
+    // 400, 600. The fourth start counts to 4 > limit, which stops the motor
+    // in the same scan, so the motor never rises at 700.
+    let tmp = import("plcopen/st-motor.xml");
+    let dir = tmp.path().join("p");
+    let mut stim = String::from("time_ms,tag,value\n");
+    for t in [0, 300, 500, 700] {
+        stim.push_str(&format!("{t},start,1\n{},start,0\n", t + 20));
+    }
+    for t in [200, 400, 600] {
+        stim.push_str(&format!("{t},stop,1\n{},stop,0\n", t + 20));
+    }
+    let cols = [
+        "motor",
+        "lamp",
+        "main.starts",
+        "main.history[0]",
+        "main.history[1]",
+        "main.history[3]",
+    ];
+    let rows = sim(&dir, &stim, &cols, 900, 10);
+    assert_eq!(at(&rows, 0, "motor"), "1");
+    assert_eq!(edges(&rows, "motor"), [200, 300, 400, 500, 600]);
+    assert_eq!(edges(&rows, "lamp"), [50, 200, 350, 400, 550, 600]);
+    assert_eq!(at(&rows, 650, "main.starts"), "3");
+    assert_eq!(at(&rows, 800, "main.starts"), "4");
+    assert_eq!(at(&rows, 800, "main.history[1]"), "1");
+    assert_eq!(at(&rows, 800, "main.history[3]"), "3");
+    assert_eq!(at(&rows, 650, "main.history[0]"), "0");
+    assert_eq!(at(&rows, 800, "main.history[0]"), "4");
+}
+
+#[test]
+fn plcopen_sfc_actions_written_in_st_run_while_their_step_is_active() {
+    // sfc-st-actions.xml: Idle (N Close: valve off, level 0) → start →
+    // Filling (P1 Count: fills + 1; N Fill: valve on, level + 1) → level >= 5
+    // → Idle. Two start pulses: two fills of five scans each.
+    let tmp = import("plcopen/sfc-st-actions.xml");
+    let stim = "time_ms,tag,value\n0,start,1\n20,start,0\n300,start,1\n320,start,0\n";
+    let rows = sim(&tmp.path().join("p"), stim, &["valve", "level", "fills"], 600, 10);
+    let on = |from: u64, to: u64| {
+        rows.iter()
+            .filter(|(t, m)| (from..to).contains(t) && m.get("valve").map(String::as_str) == Some("1"))
+            .count()
+    };
+    assert_eq!(on(0, 300), 5, "{rows:?}");
+    assert_eq!(on(300, 600), 5, "{rows:?}");
+    let levels: Vec<i64> = rows
+        .iter()
+        .filter_map(|(_, m)| m.get("level").and_then(|v| v.parse().ok()))
+        .collect();
+    assert_eq!(levels.iter().max(), Some(&5), "{levels:?}");
+    assert_eq!(at(&rows, 250, "fills"), "1");
+    assert_eq!(at(&rows, 590, "fills"), "2");
+    assert_eq!(at(&rows, 590, "level"), "0");
+    assert_eq!(at(&rows, 590, "valve"), "0");
+}

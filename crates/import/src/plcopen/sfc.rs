@@ -11,7 +11,9 @@
 //! transition's way back to a named step. A transition's `FROM` list is
 //! found by walking its input back to steps, its `TO` list by walking
 //! forward from it to steps and jumps. Action blocks hang on a step's
-//! action point; each action is a qualifier, a duration and a BOOL variable.
+//! action point; each action is a qualifier, a duration and a BOOL variable
+//! (an action of the POU with an ST body is a BOOL tag whose body runs in
+//! `<pou>_actions.st`, the `st` module).
 
 use super::{Ctx, Var, VarKind, collect_text, connections};
 use crate::{Error, Kind, Location, ProgramOut, Report};
@@ -366,7 +368,7 @@ fn action(chart: &Chart<'_>, pou: &Elem, a: &Elem) -> Result<String, String> {
     });
     if named {
         return Err(format!(
-            "`{name}` is an action with a body; Alba's SFC actions are BOOL variables (write a BOOL and a program that runs while it is true)"
+            "`{name}` is an action whose body is not ST; only ST action bodies are converted (or write a BOOL and a program that runs while it is true)"
         ));
     }
     Err(format!(
