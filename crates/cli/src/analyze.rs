@@ -242,29 +242,7 @@ fn examine(model: &Path, pt: &PtNet, as_json: bool, limits: &Limits, c: &Contest
         }
     }
     if as_json {
-        let list: Vec<serde_json::Value> = answers
-            .iter()
-            .map(|a| {
-                let (verdict, bound) = match &a.verdict {
-                    Verdict::True => (serde_json::json!(true), serde_json::Value::Null),
-                    Verdict::False => (serde_json::json!(false), serde_json::Value::Null),
-                    Verdict::Bound(n) => (serde_json::Value::Null, serde_json::json!(n)),
-                    Verdict::Unknown(_) => (serde_json::Value::Null, serde_json::Value::Null),
-                };
-                serde_json::json!({
-                    "id": a.id,
-                    "verdict": verdict,
-                    "bound": bound,
-                    "techniques": a.techniques,
-                    "trace": a.trace_ids(pt),
-                    "line": a.to_string(),
-                })
-            })
-            .collect();
-        println!(
-            "{}",
-            serde_json::json!({ "examination": c.examination.name(), "formulas": list })
-        );
+        println!("{}", stubborn::answers_json(pt, c.examination.name(), &answers));
     } else {
         let mut out = String::new();
         for a in &answers {
