@@ -5,7 +5,9 @@
 //! project (`429` while one runs), on a thread of its own at the least
 //! priority (SCHED_BATCH, nice 19: the engine, the server and the drivers
 //! come first), within [`ANALYSIS_MEMORY`] and
-//! [`ANALYSIS_TIME`]; it stops when the client goes away.
+//! [`ANALYSIS_TIME`]; it stops when the client goes away. With `examination` (and
+//! its `formulas`), the contest's examination instead, its result the object of
+//! `alba analyze --examination E --json` (docs/api.md "Nets").
 //!
 //! `POST /api/nets/{name}/reset`: writes the net's initial marking at one
 //! scan boundary (docs/nets.md "Live view").
