@@ -1,12 +1,18 @@
 //! `alba analyze NET.pnml [--json] [--max-states N] [--memory SIZE] [--invariants
 //! flows|minimal] [--invariant-budget N]`: the analysis of the net's underlying
 //! place/transition net (docs/nets.md, section "analysis"; SPEC §10.5).
+//! With `--examination E [--formulas FILE.xml] [--trace]`: the Model Checking Contest's
+//! examination E instead, in the contest's output form (docs/nets.md, "Contest
+//! examinations").
 
 use alba_diag::{Files, render_all};
 use alba_net::PtNet;
+use alba_net::analysis::formula::{self, Property};
+use alba_net::analysis::stubborn::{self, CheckOptions, Verdict};
 use alba_net::analysis::{Analysis, Bound, Control, Invariants, Options, Space, Status, analyze, to_json};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// `--invariants`.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -15,6 +21,44 @@ pub enum InvariantsArg {
     Flows,
     /// The basis and the minimal semi-positive invariants.
     Minimal,
+}
+
+/// `--examination`: the contest's names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Examination {
+    /// The largest token sum of each formula's places (`<place-bound>`).
+    #[value(name = "UpperBounds")]
+    UpperBounds,
+    /// EF/AG formulas over token counts.
+    #[value(name = "ReachabilityCardinality")]
+    ReachabilityCardinality,
+    /// EF/AG formulas over fireability.
+    #[value(name = "ReachabilityFireability")]
+    ReachabilityFireability,
+    /// Whether a dead marking is reachable (no formula file).
+    #[value(name = "ReachabilityDeadlock")]
+    ReachabilityDeadlock,
+}
+
+impl Examination {
+    fn name(self) -> &'static str {
+        match self {
+            Examination::UpperBounds => "UpperBounds",
+            Examination::ReachabilityCardinality => "ReachabilityCardinality",
+            Examination::ReachabilityFireability => "ReachabilityFireability",
+            Examination::ReachabilityDeadlock => "ReachabilityDeadlock",
+        }
+    }
+}
+
+/// `--examination`, `--formulas`, `--trace`.
+pub struct Contest {
+    /// The examination.
+    pub examination: Examination,
+    /// Its formula file, if not the one beside the model.
+    pub formulas: Option<PathBuf>,
+    /// Print the traces.
+    pub trace: bool,
 }
 
 /// The command's limits.
@@ -61,18 +105,26 @@ fn default_memory() -> usize {
         .map_or(alba_net::analysis::DEFAULT_MEMORY, |kib| kib / 4 * 3 * 1024)
 }
 
-/// Runs the command.
-pub fn run(path: &Path, as_json: bool, limits: Limits) -> ExitCode {
-    let text = match std::fs::read(path) {
-        Ok(bytes) => match String::from_utf8(bytes) {
-            Ok(t) => t,
-            Err(_) => {
-                eprintln!("error: {}: the file is not UTF-8 text", path.display());
-                return ExitCode::FAILURE;
-            }
-        },
+/// A file as UTF-8 text, or the error line.
+fn read_text(path: &Path) -> Result<String, String> {
+    match std::fs::read(path) {
+        Ok(bytes) => String::from_utf8(bytes).map_err(|_| format!("{}: the file is not UTF-8 text", path.display())),
+        Err(e) => Err(format!("cannot read {}: {e}", path.display())),
+    }
+}
+
+/// Runs the command. `path` may be a contest instance's folder (its `model.pnml`).
+pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>) -> ExitCode {
+    let model = if path.is_dir() {
+        path.join("model.pnml")
+    } else {
+        path.to_path_buf()
+    };
+    let path = model.as_path();
+    let text = match read_text(path) {
+        Ok(t) => t,
         Err(e) => {
-            eprintln!("error: cannot read {}: {e}", path.display());
+            eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
@@ -91,6 +143,9 @@ pub fn run(path: &Path, as_json: bool, limits: Limits) -> ExitCode {
         }
     };
     let pt = PtNet::from_net(&net);
+    if let Some(c) = contest {
+        return examine(path, &pt, as_json, &limits, &c);
+    }
     let mut options = Options {
         memory: limits.memory.unwrap_or_else(default_memory),
         invariants: match limits.invariants {
@@ -113,6 +168,97 @@ pub fn run(path: &Path, as_json: bool, limits: Limits) -> ExitCode {
         println!("{}", to_json(&pt, &a));
     } else {
         print!("{}", report(&net.id, path, &pt, &a));
+    }
+    ExitCode::SUCCESS
+}
+
+/// `--examination`: reads the formulas, answers them ([`stubborn::answer`]) within the
+/// state limit and the memory budget, prints one `FORMULA` line each (or JSON).
+fn examine(model: &Path, pt: &PtNet, as_json: bool, limits: &Limits, c: &Contest) -> ExitCode {
+    let props: Vec<Property> = if c.examination == Examination::ReachabilityDeadlock {
+        if let Some(f) = &c.formulas {
+            eprintln!(
+                "error: {}: ReachabilityDeadlock has no formula file (it is EF deadlock)",
+                f.display()
+            );
+            return ExitCode::FAILURE;
+        }
+        vec![formula::deadlock_property()]
+    } else {
+        let file = c.formulas.clone().unwrap_or_else(|| {
+            model
+                .parent()
+                .unwrap_or(Path::new("."))
+                .join(format!("{}.xml", c.examination.name()))
+        });
+        let text = match read_text(&file) {
+            Ok(t) => t,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        match formula::parse(&text, pt) {
+            Ok(p) => p,
+            Err(e) => {
+                eprintln!("error: {}:{e}", file.display());
+                return ExitCode::FAILURE;
+            }
+        }
+    };
+    let mut options = CheckOptions::default();
+    if let Some(n) = limits.max_states {
+        options.max_states = n;
+    }
+    let memory = limits.memory.unwrap_or_else(default_memory);
+    // The memory budget: the exploration reports its bytes as it goes; past the budget
+    // it is cancelled and the undecided formulas are CANNOT_COMPUTE.
+    let cancel = AtomicBool::new(false);
+    let over = AtomicBool::new(false);
+    let progress = |p: &alba_net::analysis::Progress| {
+        if p.bytes > memory {
+            over.store(true, Ordering::Relaxed);
+            cancel.store(true, Ordering::Relaxed);
+        }
+    };
+    let control = Control {
+        cancel: &cancel,
+        progress: &progress,
+    };
+    let answers = stubborn::answer(pt, &props, &options, &control);
+    if over.load(Ordering::Relaxed) {
+        eprintln!("warning: the exploration reached the memory budget ({memory} bytes, --memory)");
+    }
+    for a in &answers {
+        if let Verdict::Unknown(why) = &a.verdict {
+            let why = if *why == "state limit" {
+                "the state limit (--max-states)"
+            } else if *why == "cancelled" && over.load(Ordering::Relaxed) {
+                "the memory budget (--memory)"
+            } else {
+                why
+            };
+            eprintln!("warning: {}: not decided: {why}", a.id);
+        }
+    }
+    if as_json {
+        println!("{}", stubborn::answers_json(pt, c.examination.name(), &answers));
+    } else {
+        let mut out = String::new();
+        for a in &answers {
+            out.push_str(&format!("{a}\n"));
+            if c.trace
+                && let Some(t) = a.trace_ids(pt)
+            {
+                let seq = if t.is_empty() {
+                    "(the initial marking)".to_string()
+                } else {
+                    t.join(" ")
+                };
+                out.push_str(&format!("  trace {}: {seq}\n", a.id));
+            }
+        }
+        print!("{out}");
     }
     ExitCode::SUCCESS
 }

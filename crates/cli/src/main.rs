@@ -226,6 +226,16 @@ enum Command {
         /// Work units the minimal invariants may take, each of P and T (about 10^8 a second).
         #[arg(long, value_name = "N")]
         invariant_budget: Option<u64>,
+        /// Answer a Model Checking Contest examination instead (one `FORMULA` line per
+        /// formula; docs/nets.md, "Contest examinations").
+        #[arg(long, value_enum, value_name = "EXAMINATION")]
+        examination: Option<analyze::Examination>,
+        /// The examination's formula file (default: `<EXAMINATION>.xml` beside the model).
+        #[arg(long, value_name = "FILE.xml", requires = "examination")]
+        formulas: Option<PathBuf>,
+        /// Print each witness or counterexample firing sequence after its `FORMULA` line.
+        #[arg(long, requires = "examination")]
+        trace: bool,
     },
     /// Autotune a PID loop by relay feedback against the project's plant models (docs/pid.md).
     Tune {
@@ -550,6 +560,9 @@ fn main() -> ExitCode {
             memory,
             invariants,
             invariant_budget,
+            examination,
+            formulas,
+            trace,
         } => analyze::run(
             &net,
             json,
@@ -559,6 +572,11 @@ fn main() -> ExitCode {
                 invariants,
                 invariant_budget,
             },
+            examination.map(|examination| analyze::Contest {
+                examination,
+                formulas,
+                trace,
+            }),
         ),
         Command::Tune {
             project,

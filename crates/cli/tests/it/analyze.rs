@@ -115,3 +115,351 @@ fn analyze_reports_each_parts_status_and_takes_a_memory_budget() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("is not a size"));
 }
+
+/// The instances of the contest corpus (`crates/net/tests/mcc/corpus.tar.xz`, licences in
+/// its README) named in `names`, each written to a folder of `dir` as the contest lays
+/// them out (`model.pnml`, the formula files, `oracle.out`).
+fn corpus_instances(dir: &std::path::Path, names: &[&str]) {
+    let xz = std::fs::read(repo().join("crates/net/tests/mcc/corpus.tar.xz")).expect("corpus");
+    let mut tar = Vec::new();
+    lzma_rs::xz_decompress(&mut &xz[..], &mut tar).expect("xz");
+    // ustar: 512-byte headers (name at 0, octal size at 124, type at 156), data padded.
+    let mut at = 0;
+    while at + 512 <= tar.len() && tar[at] != 0 {
+        let header = &tar[at..at + 512];
+        let name = String::from_utf8_lossy(&header[..100])
+            .trim_end_matches('\0')
+            .to_string();
+        let size_text = String::from_utf8_lossy(&header[124..136]);
+        let size = usize::from_str_radix(size_text.trim_matches(|c: char| c == '\0' || c == ' '), 8).expect("size");
+        let data = &tar[at + 512..at + 512 + size];
+        at += 512 + size.div_ceil(512) * 512;
+        let parts: Vec<&str> = name.trim_start_matches("./").split('/').collect();
+        if let [instance, file] = parts[..]
+            && (header[156] == b'0' || header[156] == 0)
+            && names.contains(&instance)
+        {
+            std::fs::create_dir_all(dir.join(instance)).expect("dir");
+            std::fs::write(dir.join(instance).join(file), data).expect("write");
+        }
+    }
+}
+
+/// `FORMULA <id> <value>` pairs of a contest output.
+fn formula_lines(text: &str) -> Vec<(String, String)> {
+    text.lines()
+        .filter_map(|l| {
+            let mut w = l.split_whitespace();
+            if w.next() != Some("FORMULA") {
+                return None;
+            }
+            Some((w.next()?.to_string(), w.next()?.to_string()))
+        })
+        .collect()
+}
+
+/// Replays a firing sequence of transition ids from the initial marking; `None` when a
+/// transition is unknown or not enabled.
+fn replay(pt: &alba_net::PtNet, trace: &[&str]) -> Option<Vec<u32>> {
+    let mut m = pt.initial.clone();
+    for id in trace {
+        m = pt.fire(&m, pt.transition(id)?)?;
+    }
+    Some(m)
+}
+
+/// Every examination on four contest instances: each formula answered, each answer the
+/// oracle's, and each trace a firing sequence of the net to a marking that is a witness
+/// (EF φ true) or a counterexample (AG φ false).
+#[test]
+fn analyze_examinations_match_the_contest_oracles_and_traces_replay() {
+    use alba_net::analysis::formula::{self, Query};
+    let dir = super::scratch("analyze-examinations");
+    let names = [
+        "ERK-PT-000001",
+        "ResAllocation-PT-R003C002",
+        "Eratosthenes-PT-010",
+        "TwoPhaseLocking-PT-nC00004vD",
+    ];
+    corpus_instances(&dir, &names);
+    let mut checked = 0;
+    let mut traces = 0;
+    for name in names {
+        let inst = dir.join(name);
+        let oracle = std::fs::read_to_string(inst.join("oracle.out")).expect("oracle");
+        let expected: std::collections::BTreeMap<String, String> = formula_lines(&oracle).into_iter().collect();
+        let text = std::fs::read_to_string(inst.join("model.pnml")).expect("model");
+        let (net, _) = alba_net::load(alba_diag::FileId(0), &text);
+        let pt = alba_net::PtNet::from_net(&net.expect("net"));
+        for exam in [
+            "UpperBounds",
+            "ReachabilityCardinality",
+            "ReachabilityFireability",
+            "ReachabilityDeadlock",
+        ] {
+            let out = alba(
+                &repo(),
+                &[
+                    "analyze",
+                    inst.to_str().expect("utf-8"),
+                    "--examination",
+                    exam,
+                    "--json",
+                ],
+            );
+            assert!(
+                out.status.success(),
+                "{name} {exam}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+            assert_eq!(v["examination"], exam);
+            let props = if exam == "ReachabilityDeadlock" {
+                vec![formula::deadlock_property()]
+            } else {
+                let f = std::fs::read_to_string(inst.join(format!("{exam}.xml"))).expect("formulas");
+                formula::parse(&f, &pt).expect("parses")
+            };
+            let list = v["formulas"].as_array().expect("formulas");
+            assert_eq!(list.len(), props.len(), "{name} {exam}");
+            for (a, p) in list.iter().zip(&props) {
+                assert_eq!(a["id"], p.id.as_str());
+                let value = match (&a["verdict"], &a["bound"]) {
+                    (Value::Bool(true), _) => "TRUE".to_string(),
+                    (Value::Bool(false), _) => "FALSE".to_string(),
+                    (_, Value::Number(n)) => n.to_string(),
+                    _ => panic!("{name}: {} undecided", p.id),
+                };
+                let want = expected.get(&p.id).unwrap_or_else(|| panic!("{}: no oracle", p.id));
+                assert_eq!(&value, want, "{}", p.id);
+                assert!(
+                    a["line"]
+                        .as_str()
+                        .expect("line")
+                        .starts_with(&format!("FORMULA {} {value} TECHNIQUES EXPLICIT", p.id))
+                );
+                checked += 1;
+                if let Some(t) = a["trace"].as_array() {
+                    let ids: Vec<&str> = t.iter().filter_map(Value::as_str).collect();
+                    let m = replay(&pt, &ids).unwrap_or_else(|| panic!("{}: trace does not replay", p.id));
+                    match &p.query {
+                        Query::Ef(f) => assert!(value == "TRUE" && f.eval(&pt, &m), "{}", p.id),
+                        Query::Ag(f) => assert!(value == "FALSE" && !f.eval(&pt, &m), "{}", p.id),
+                        Query::Bound(_) => panic!("{}: a bound has no trace", p.id),
+                    }
+                    traces += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 4 * (3 * 16 + 1), "every formula of the four instances");
+    assert!(traces > 0);
+}
+
+/// The text form with `--trace` on a hand-written file over two philosophers: the
+/// shortest witnesses and counterexamples, computed by hand.
+#[test]
+fn analyze_examination_prints_the_contest_lines_and_traces() {
+    let dir = super::scratch("analyze-examination-text");
+    let net = "crates/cli/tests/fixtures/philosophers2.pnml";
+    let card = dir.join("card.xml");
+    std::fs::write(
+        &card,
+        r#"<?xml version="1.0"?>
+<property-set xmlns="http://mcc.lip6.fr/">
+  <property><id>eats</id><description/><formula><exists-path><finally>
+    <integer-le><integer-constant>1</integer-constant><tokens-count><place>eat0</place></tokens-count></integer-le>
+  </finally></exists-path></formula></property>
+  <property><id>both-eat</id><description/><formula><exists-path><finally><conjunction>
+    <integer-le><integer-constant>1</integer-constant><tokens-count><place>eat0</place></tokens-count></integer-le>
+    <integer-le><integer-constant>1</integer-constant><tokens-count><place>eat1</place></tokens-count></integer-le>
+  </conjunction></finally></exists-path></formula></property>
+  <property><id>fork0-kept</id><description/><formula><all-paths><globally>
+    <integer-le><integer-constant>1</integer-constant><tokens-count><place>fork0</place><place>hasL0</place><place>eat0</place></tokens-count></integer-le>
+  </globally></all-paths></formula></property>
+  <property><id>fire</id><description/><formula><exists-path><finally>
+    <is-fireable><transition>release1</transition></is-fireable>
+  </finally></exists-path></formula></property>
+</property-set>
+"#,
+    )
+    .expect("write");
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            net,
+            "--examination",
+            "ReachabilityCardinality",
+            "--formulas",
+            card.to_str().expect("utf-8"),
+            "--trace",
+        ],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines = formula_lines(&text);
+    assert_eq!(
+        lines,
+        [
+            ("eats", "TRUE"),
+            ("both-eat", "FALSE"),
+            ("fork0-kept", "FALSE"),
+            ("fire", "TRUE")
+        ]
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+    );
+    // eat0 needs takeL0 then takeR0; fork0 + hasL0 + eat0 counts fork0's token wherever
+    // it is except in philosopher 1's right hand (eat1): takeL1 takeR1.
+    assert!(text.contains("  trace eats: takeL0 takeR0\n"), "{text}");
+    assert!(text.contains("  trace fork0-kept: takeL1 takeR1\n"), "{text}");
+    assert!(text.contains("  trace fire: takeL1 takeR1\n"), "{text}");
+    assert!(!text.contains("trace both-eat"), "no witness for a false EF: {text}");
+    // Without --trace, only the FORMULA lines.
+    let out = alba(&repo(), &["analyze", net, "--examination", "ReachabilityDeadlock"]);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "FORMULA ReachabilityDeadlock TRUE TECHNIQUES EXPLICIT PARTIAL_ORDER\n"
+    );
+    let out = alba(
+        &repo(),
+        &["analyze", net, "--examination", "ReachabilityDeadlock", "--trace"],
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("  trace ReachabilityDeadlock: takeL0 takeL1\n"));
+    // A state limit too small to decide: CANNOT_COMPUTE, and why on stderr.
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            net,
+            "--examination",
+            "ReachabilityDeadlock",
+            "--max-states",
+            "1",
+        ],
+    );
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "FORMULA ReachabilityDeadlock CANNOT_COMPUTE\n"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--max-states"));
+}
+
+/// A malformed formula file, a missing one, an unknown place or transition: an error
+/// with the file, line and column, exit 1, nothing on stdout.
+#[test]
+fn analyze_examination_errors_name_the_file_line_and_column() {
+    let dir = super::scratch("analyze-examination-errors");
+    let net = "crates/cli/tests/fixtures/philosophers2.pnml";
+    let cases = [
+        (
+            "malformed.xml",
+            "<property-set>\n  <property><id>x</id>\n</property-set>\n",
+            "malformed.xml:3:",
+        ),
+        (
+            "place.xml",
+            "<property-set>\n<property><id>x</id><formula><exists-path><finally>\n  <integer-le><integer-constant>1</integer-constant><tokens-count><place>nowhere</place></tokens-count></integer-le>\n</finally></exists-path></formula></property>\n</property-set>\n",
+            "place.xml:3:",
+        ),
+        (
+            "transition.xml",
+            "<property-set>\n<property><id>x</id><formula><exists-path><finally>\n\n  <is-fireable><transition>jump</transition></is-fireable>\n</finally></exists-path></formula></property>\n</property-set>\n",
+            "transition.xml:4:",
+        ),
+        (
+            "operator.xml",
+            "<property-set>\n<property><id>x</id><formula><exists-path><finally><until/></finally></exists-path></formula></property>\n</property-set>\n",
+            "operator.xml:2:",
+        ),
+    ];
+    for (file, text, at) in cases {
+        let path = dir.join(file);
+        std::fs::write(&path, text).expect("write");
+        let out = alba(
+            &repo(),
+            &[
+                "analyze",
+                net,
+                "--examination",
+                "ReachabilityFireability",
+                "--formulas",
+                path.to_str().expect("utf-8"),
+            ],
+        );
+        assert_eq!(out.status.code(), Some(1), "{file}");
+        assert!(out.stdout.is_empty(), "{file}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with("error: ") && err.contains(at), "{file}: {err}");
+    }
+    let missing = dir.join("missing.xml");
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            net,
+            "--examination",
+            "UpperBounds",
+            "--formulas",
+            missing.to_str().expect("utf-8"),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
+    // No file beside the model: the default `<EXAMINATION>.xml` is missing too.
+    let out = alba(&repo(), &["analyze", net, "--examination", "UpperBounds"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("UpperBounds.xml"));
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            net,
+            "--examination",
+            "ReachabilityDeadlock",
+            "--formulas",
+            "x.xml",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no formula file"));
+    for args in [
+        &["analyze", net, "--trace"][..],
+        &["analyze", net, "--examination", "CTLFireability"][..],
+    ] {
+        let out = alba(&repo(), args);
+        assert!(!out.status.success(), "{args:?}");
+    }
+}
+
+/// `--memory` bounds the examination's exploration too: past the budget the formulas are
+/// CANNOT_COMPUTE (the contest's word), with the reason on stderr; with room, the
+/// oracle's bounds.
+#[test]
+fn analyze_examination_keeps_the_memory_budget() {
+    let dir = super::scratch("analyze-examination-memory");
+    corpus_instances(&dir, &["Anderson-PT-04"]);
+    let inst = dir.join("Anderson-PT-04");
+    let inst = inst.to_str().expect("utf-8");
+    let out = alba(
+        &repo(),
+        &["analyze", inst, "--examination", "UpperBounds", "--memory", "1K"],
+    );
+    assert!(out.status.success());
+    let lines = formula_lines(&String::from_utf8_lossy(&out.stdout));
+    assert_eq!(lines.len(), 16);
+    assert!(lines.iter().all(|(_, v)| v == "CANNOT_COMPUTE"), "{lines:?}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("memory budget"));
+    let out = alba(
+        &repo(),
+        &["analyze", inst, "--examination", "UpperBounds", "--memory", "256M"],
+    );
+    let oracle = std::fs::read_to_string(dir.join("Anderson-PT-04/oracle.out")).expect("oracle");
+    let expected = formula_lines(&oracle);
+    let lines = formula_lines(&String::from_utf8_lossy(&out.stdout));
+    assert_eq!(lines.len(), 16);
+    for l in lines {
+        assert!(expected.contains(&l), "{l:?}");
+    }
+}

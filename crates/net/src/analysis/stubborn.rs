@@ -94,6 +94,33 @@ impl Answer {
     }
 }
 
+/// The answers as one JSON object, `{"examination": E, "formulas": [{"id", "verdict"
+/// (true, false or null), "bound" (the number of an `UpperBounds` property, else null),
+/// "techniques", "trace" (the transitions' ids, or null), "line" (the contest's line)}]}`:
+/// `alba analyze --examination E --json` and the server's analysis (docs/nets.md).
+pub fn answers_json(net: &PtNet, examination: &str, answers: &[Answer]) -> serde_json::Value {
+    let list: Vec<serde_json::Value> = answers
+        .iter()
+        .map(|a| {
+            let (verdict, bound) = match &a.verdict {
+                Verdict::True => (serde_json::json!(true), serde_json::Value::Null),
+                Verdict::False => (serde_json::json!(false), serde_json::Value::Null),
+                Verdict::Bound(n) => (serde_json::Value::Null, serde_json::json!(n)),
+                Verdict::Unknown(_) => (serde_json::Value::Null, serde_json::Value::Null),
+            };
+            serde_json::json!({
+                "id": a.id,
+                "verdict": verdict,
+                "bound": bound,
+                "techniques": a.techniques,
+                "trace": a.trace_ids(net),
+                "line": a.to_string(),
+            })
+        })
+        .collect();
+    serde_json::json!({ "examination": examination, "formulas": list })
+}
+
 /// The outcome of [`check`].
 #[derive(Clone, Debug)]
 pub struct Checked {

@@ -5,7 +5,9 @@
 //! project (`429` while one runs), on a thread of its own at the least
 //! priority (SCHED_BATCH, nice 19: the engine, the server and the drivers
 //! come first), within [`ANALYSIS_MEMORY`] and
-//! [`ANALYSIS_TIME`]; it stops when the client goes away.
+//! [`ANALYSIS_TIME`]; it stops when the client goes away. With `examination` (and
+//! its `formulas`), the contest's examination instead, its result the object of
+//! `alba analyze --examination E --json` (docs/api.md "Nets").
 //!
 //! `POST /api/nets/{name}/reset`: writes the net's initial marking at one
 //! scan boundary (docs/nets.md "Live view").
@@ -26,6 +28,8 @@ use axum::body::{Body, Bytes};
 use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
 use net::PtNet;
+use net::analysis::formula::{self, Property};
+use net::analysis::stubborn::{self, CheckOptions};
 use net::analysis::{Control, Invariants, Options, Progress, analyze, to_json};
 use serde_json::{Value, json};
 use std::sync::Arc;
@@ -52,7 +56,21 @@ struct Request {
     invariants: Option<String>,
     /// Seconds the analysis may run, at most (and by default) [`ANALYSIS_TIME`].
     time_limit_s: Option<u64>,
+    /// A contest examination instead of the analysis: `UpperBounds`,
+    /// `ReachabilityCardinality`, `ReachabilityFireability` (with `formulas`) or
+    /// `ReachabilityDeadlock`.
+    examination: Option<String>,
+    /// The examination's formula file (the contest's XML), as text.
+    formulas: Option<String>,
 }
+
+/// The contest's examinations the analysis answers.
+const EXAMINATIONS: [&str; 4] = [
+    "UpperBounds",
+    "ReachabilityCardinality",
+    "ReachabilityFireability",
+    "ReachabilityDeadlock",
+];
 
 /// Raises the cancellation flag when dropped: the client went away, or the
 /// answer ended.
@@ -129,23 +147,58 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
             )));
         }
     };
+    match (req.examination.as_deref(), &req.formulas) {
+        (None, None) => {}
+        (None, Some(_)) => return Err(ApiError::Invalid("`formulas` needs an `examination`".into())),
+        (Some(e), _) if !EXAMINATIONS.contains(&e) => {
+            return Err(ApiError::Invalid(format!(
+                "`examination` is one of {}, not `{e}`",
+                EXAMINATIONS.join(", ")
+            )));
+        }
+        (Some("ReachabilityDeadlock"), Some(_)) => {
+            return Err(ApiError::Invalid(
+                "ReachabilityDeadlock has no formula file (it is EF deadlock)".into(),
+            ));
+        }
+        (Some("ReachabilityDeadlock"), None) | (Some(_), Some(_)) => {}
+        (Some(e), None) => {
+            return Err(ApiError::Invalid(format!(
+                "{e} needs its `formulas` (the XML file's text)"
+            )));
+        }
+    }
+    let examination = req.examination.clone();
+    let formulas = req.formulas.clone();
     let (_, file, text) = find(&st, &name).await?;
     let permit = st.analysis.clone().try_acquire_owned().map_err(|_| {
         ApiError::Busy("an analysis of this project is running: wait for it to end, or cancel it".into())
     })?;
-    // Loading is checked first, so a net that does not load is a 422.
-    let pt = tokio::task::spawn_blocking(move || -> Result<PtNet, String> {
+    // Loading (and the formulas) are checked first, so a net that does not load or a
+    // formula file that does not read is a 422.
+    let (pt, props) = tokio::task::spawn_blocking(move || -> Result<(PtNet, Option<Vec<Property>>), String> {
         let (net, diags) = net::load(file, &text);
         let errors: Vec<_> = diags.iter().filter(|d| !net::is_warning(d)).collect();
-        match net {
-            Some(n) if errors.is_empty() => Ok(PtNet::from_net(&n)),
-            _ => Err(format!(
-                "the net does not load: {}",
-                errors
-                    .first()
-                    .map_or_else(|| "it does not load".to_string(), |d| d.message.clone())
-            )),
-        }
+        let pt = match net {
+            Some(n) if errors.is_empty() => PtNet::from_net(&n),
+            _ => {
+                return Err(format!(
+                    "the net does not load: {}",
+                    errors
+                        .first()
+                        .map_or_else(|| "it does not load".to_string(), |d| d.message.clone())
+                ));
+            }
+        };
+        let props = match (examination.as_deref(), formulas) {
+            (None, _) => None,
+            (Some(_), Some(f)) => Some(
+                formula::parse(&f, &pt)
+                    .map_err(|e| format!("the formulas, line {}, column {}: {}", e.line, e.column, e.message))?,
+            ),
+            (Some(_), None) => Some(vec![formula::deadlock_property()]),
+        };
+        Ok((pt, props))
     })
     .await
     .map_err(|e| ApiError::Internal(e.to_string()))?
@@ -177,7 +230,28 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
                 cancel: &flag,
                 progress: &report,
             };
-            let json = to_json(&pt, &analyze(&pt, &options, &control));
+            let json = match (&props, &req.examination) {
+                (Some(props), Some(e)) => {
+                    // The contest's examination: its exploration within the same
+                    // limits, stopped past the memory budget like the analysis.
+                    let over = |p: &Progress| {
+                        report(p);
+                        if p.bytes > ANALYSIS_MEMORY {
+                            flag.store(true, Ordering::Relaxed);
+                        }
+                    };
+                    let control = Control {
+                        cancel: &flag,
+                        progress: &over,
+                    };
+                    let check = CheckOptions {
+                        max_states,
+                        ..CheckOptions::default()
+                    };
+                    stubborn::answers_json(&pt, e, &stubborn::answer(&pt, props, &check, &control))
+                }
+                _ => to_json(&pt, &analyze(&pt, &options, &control)),
+            };
             // The next analysis may start once this one's result is out.
             drop(permit);
             let _ = result_tx.send(json);

@@ -570,3 +570,86 @@ async fn an_analysis_stops_at_its_time_limit() {
     );
     s.stop().await;
 }
+
+/// A contest examination through the same streaming analysis: the last line's
+/// `result` is `alba analyze --examination --json`'s object; a formula naming no
+/// place of the net, an unknown examination or missing formulas are `422`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_analysis_answers_a_contest_examination() {
+    let dir = crate::copy_example("petri-resource", "net-analysis-examination");
+    std::fs::write(dir.join("big.pnml"), cycles_pnml(2)).expect("net");
+    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
+    std::fs::write(
+        dir.join("alba.toml"),
+        toml.replace("\"cell.pnml\"]", "\"cell.pnml\", \"big.pnml\"]"),
+    )
+    .expect("toml");
+    let s = Server::start_in(dir).await;
+    let le = |k: u32, places: &[&str]| {
+        let ps: String = places.iter().map(|p| format!("<place>{p}</place>")).collect();
+        format!("<integer-le><integer-constant>{k}</integer-constant><tokens-count>{ps}</tokens-count></integer-le>")
+    };
+    let formulas = format!(
+        "<property-set>\
+         <property><id>reach</id><formula><exists-path><finally>{}</finally></exists-path></formula></property>\
+         <property><id>never</id><formula><exists-path><finally>{}</finally></exists-path></formula></property>\
+         <property><id>one</id><formula><all-paths><globally>{}</globally></all-paths></formula></property>\
+         </property-set>",
+        le(1, &["c0p2"]),
+        le(2, &["c0p0", "c0p1", "c0p2"]),
+        le(1, &["c1p0", "c1p1", "c1p2"]),
+    );
+    let (code, lines) = analysis(
+        &s,
+        "big",
+        json!({"examination": "ReachabilityCardinality", "formulas": formulas}),
+    )
+    .await;
+    assert_eq!(code, StatusCode::OK, "{lines:?}");
+    let last = lines.last().expect("a line");
+    assert_eq!(last["timed_out"], false);
+    let r = &last["result"];
+    assert_eq!(r["examination"], "ReachabilityCardinality");
+    let f = r["formulas"].as_array().expect("formulas");
+    assert_eq!(f.len(), 3);
+    // Each cycle holds one token: c0p2 is reached by c0t0 c0t1; two tokens in a
+    // cycle never; one token in cycle 1 always.
+    assert_eq!(f[0]["verdict"], true);
+    assert_eq!(f[0]["trace"], json!(["c0t0", "c0t1"]));
+    assert_eq!(f[1]["verdict"], false);
+    assert_eq!(f[1]["trace"], Json::Null);
+    assert_eq!(f[2]["verdict"], true);
+    assert!(
+        f[0]["line"]
+            .as_str()
+            .expect("line")
+            .starts_with("FORMULA reach TRUE TECHNIQUES EXPLICIT")
+    );
+    let (code, lines) = analysis(&s, "big", json!({"examination": "ReachabilityDeadlock"})).await;
+    assert_eq!(code, StatusCode::OK);
+    assert_eq!(
+        lines.last().expect("a line")["result"]["formulas"][0]["line"],
+        "FORMULA ReachabilityDeadlock FALSE TECHNIQUES EXPLICIT PARTIAL_ORDER"
+    );
+    let unknown = format!(
+        "<property-set>\n<property><id>x</id><formula><exists-path><finally>\n{}\n</finally></exists-path></formula></property></property-set>",
+        le(1, &["nowhere"])
+    );
+    for (body, says) in [
+        (
+            json!({"examination": "ReachabilityCardinality", "formulas": unknown}),
+            "line 3",
+        ),
+        (json!({"examination": "CTLFireability"}), "examination"),
+        (json!({"examination": "UpperBounds"}), "formulas"),
+        (
+            json!({"examination": "ReachabilityDeadlock", "formulas": "<property-set/>"}),
+            "no formula file",
+        ),
+    ] {
+        let (code, j) = s.call(Method::POST, "/api/nets/big/analysis", Some(body)).await;
+        assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+        assert!(j["error"].as_str().expect("error").contains(says), "{j}");
+    }
+    s.stop().await;
+}
