@@ -16,8 +16,9 @@ source scripts/common.sh
 need_rust
 step() { printf '\n== %s\n' "$*"; }
 
-step "format"
+step "format; docs/ARCHITECTURE.md's crate table against the manifests"
 cargo fmt --all -- --check
+python3 scripts/check-architecture.py
 step "studio: npm packages, build (with its type check), unit tests"
 build_web
 (cd web && npm test --silent)

@@ -1,0 +1,55 @@
+#!/usr/bin/env python3
+"""Checks docs/ARCHITECTURE.md's crate table against the Cargo manifests (test.sh runs it).
+
+Every crate under crates/ has one row `| `dir` (`name`) | description | uses |`: the
+description is the manifest's, and "uses" lists exactly its normal workspace
+dependencies (without the alba- prefix; `—` for none; the CLI says `all`).
+Exit status 1 with one line per difference.
+"""
+import glob
+import re
+import sys
+import tomllib
+
+ROW = re.compile(r"^\| `([\w-]+)` \(`(alba-[\w-]+)`[^)]*\) \| (.*) \| ([^|]*) \|\s*$")
+
+
+def main() -> int:
+    rows = {}
+    for line in open("docs/ARCHITECTURE.md", encoding="utf-8"):
+        m = ROW.match(line)
+        if m:
+            rows[m.group(2)] = (m.group(1), m.group(3).strip(), m.group(4).strip())
+    crates = {}
+    for path in sorted(glob.glob("crates/*/Cargo.toml")):
+        with open(path, "rb") as f:
+            manifest = tomllib.load(f)
+        crates[manifest["package"]["name"]] = (path, manifest)
+    errors = []
+    for name, (path, manifest) in crates.items():
+        if name not in rows:
+            errors.append(f"{path}: {name} has no row in the crate table")
+            continue
+        folder, description, uses = rows.pop(name)
+        if f"crates/{folder}/Cargo.toml" != path:
+            errors.append(f"{name}: the table says crates/{folder}, the manifest is {path}")
+        want = manifest["package"].get("description", "").strip()
+        if description != want:
+            errors.append(f"{name}: the table's description differs from {path}'s:\n  table:    {description}\n  manifest: {want}")
+        deps = {d[len("alba-"):] for d in manifest.get("dependencies", {}) if d.startswith("alba-")}
+        if uses == "all":
+            continue
+        listed = set() if uses == "—" else {u.strip() for u in uses.split(",")}
+        if listed != deps:
+            errors.append(
+                f"{name}: uses {', '.join(sorted(deps)) or '—'} (manifest), the table says {uses}"
+            )
+    for name in rows:
+        errors.append(f"docs/ARCHITECTURE.md: a row for {name}, which is not a crate under crates/")
+    for e in errors:
+        print(f"error: {e}", file=sys.stderr)
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
