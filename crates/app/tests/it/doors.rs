@@ -6,7 +6,7 @@
 //! async-opcua's client, Modbus TCP frames on a socket (as
 //! crates/modbus/tests do).
 
-use super::{options, serve};
+use super::{free_port, options, serve};
 use opcua::client::{ClientBuilder, IdentityToken, Session};
 use opcua::crypto::SecurityPolicy;
 use opcua::types::{AttributeId, DataValue, MessageSecurityMode, NodeId, StatusCode, Variant, WriteValue};
@@ -52,14 +52,6 @@ fn project(test: &str, name: &str, viewer: bool) -> PathBuf {
         users.save(&dir).expect("users.toml");
     }
     dir
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .expect("bind")
-        .local_addr()
-        .expect("addr")
-        .port()
 }
 
 struct Plc {

@@ -21,6 +21,15 @@ fn copy_example(name: &str, test: &str) -> PathBuf {
     dir
 }
 
+/// A loopback port free a moment ago (for servers that take a port, not a listener).
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .expect("bind")
+        .local_addr()
+        .expect("addr")
+        .port()
+}
+
 fn options(io: &str) -> alba_app::Options {
     alba_app::Options {
         addr: "127.0.0.1:0".parse().expect("addr"),

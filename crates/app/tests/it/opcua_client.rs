@@ -4,7 +4,7 @@
 //! `S:IOOK` false, the health says why) and restarted (recovery, outputs
 //! written again).
 
-use super::{options, serve};
+use super::{free_port, options, serve};
 use serde_json::Value as Json;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -20,14 +20,6 @@ fn copy_dir(src: &Path, test: &str) -> PathBuf {
         }
     }
     dir
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .expect("bind")
-        .local_addr()
-        .expect("addr")
-        .port()
 }
 
 async fn tag(addr: std::net::SocketAddr, name: &str) -> Json {

@@ -52,9 +52,9 @@ impl Drop for Fixture {
     }
 }
 
-async fn start(test: &str, tweak: impl FnOnce(&mut Settings)) -> Fixture {
-    let dir = project(test, TOML);
-    let c = alba_compiler::compile_dir(&dir);
+/// The test project's program and its `[modbus]` table.
+pub(crate) fn compile(dir: &std::path::Path) -> (alba_ir::Program, alba_project::config::Modbus) {
+    let c = alba_compiler::compile_dir(dir);
     let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
     let cfg = c
         .project
@@ -62,6 +62,12 @@ async fn start(test: &str, tweak: impl FnOnce(&mut Settings)) -> Fixture {
         .as_ref()
         .and_then(|c| c.modbus.clone())
         .expect("the test project has [modbus]");
+    (program, cfg)
+}
+
+async fn start(test: &str, tweak: impl FnOnce(&mut Settings)) -> Fixture {
+    let dir = project(test, TOML);
+    let (program, cfg) = compile(&dir);
     let mut settings = Settings::from(&cfg);
     tweak(&mut settings);
     let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");

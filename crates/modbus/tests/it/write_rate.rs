@@ -9,7 +9,7 @@
 //! audit log (as before issue 32), then with one (a row per write, or
 //! coalesced: docs/audit.md, "Modbus").
 
-use super::{TAGS, TOML, project};
+use super::{TAGS, TOML, compile, project};
 use alba_modbus::{Control, Server, Settings};
 use alba_runtime::{Options, Runtime, SimIo};
 use std::io::{Read, Write};
@@ -43,14 +43,7 @@ fn client(addr: std::net::SocketAddr, until: Instant, k: u16) -> u64 {
 
 async fn rate(audited: bool) -> f64 {
     let dir = project(if audited { "rate-audit" } else { "rate-plain" }, TOML);
-    let c = alba_compiler::compile_dir(&dir);
-    let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
-    let cfg = c
-        .project
-        .config
-        .as_ref()
-        .and_then(|c| c.modbus.clone())
-        .expect("[modbus]");
+    let (program, cfg) = compile(&dir);
     let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");
     let audit = audited
         .then(|| alba_audit::Audit::open(dir.join("audit.db"), alba_audit::Config::default()).expect("audit log"));
