@@ -110,7 +110,10 @@ for (const size of SIZES) {
         // A long press (a finger held still) opens the force menu: on a tag's row …
         const cdp = await page.context().newCDPSession(page);
         const longPress = async (locator) => {
+          await locator.waitFor(); // a view just opened may not be laid out yet
+          await locator.scrollIntoViewIfNeeded();
           const r = await locator.boundingBox();
+          assert.ok(r, 'the long-pressed element has a box');
           const at = { x: r.x + Math.min(r.width / 2, 30), y: r.y + r.height / 2 };
           await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [at] });
           await page.waitForTimeout(800);

@@ -46,8 +46,14 @@ test('the screen\'s trend: its time window filled from the history when the scre
     const xs = ((await part('line').getAttribute('points')) || '').split(' ').filter(Boolean).map((p) => Number(p.split(',')[0]));
     return { x0, x1, xs };
   };
-  // a moment for the history to come, not for live values to accumulate
-  await page.waitForFunction(() => (document.querySelector('[data-testid="hmi-el-level_trend"] [data-part="line"]')?.getAttribute('points') ?? '').split(' ').length > 4);
+  // the history's reply (not live values, which only start now) draws the line back at least 6 s of the 120 s window
+  const reachesBack = () => {
+    const pen = document.querySelector('[data-testid="hmi-el-level_trend"] [data-part="line"]');
+    const [x0, , x1] = (pen?.getAttribute('data-box') ?? '0,0,0,0').split(',').map(Number);
+    const xs = (pen?.getAttribute('points') ?? '').split(' ').filter(Boolean).map((p) => Number(p.split(',')[0]));
+    return xs.length > 0 && Math.min(...xs) < x1 - ((x1 - x0) * 6) / 120;
+  };
+  await page.waitForFunction(reachesBack, null, { timeout: 10_000 }).catch(() => undefined);
   const l = await line();
   const sixSeconds = ((l.x1 - l.x0) * 6) / 120;
   assert.ok(Math.min(...l.xs) < l.x1 - sixSeconds, `the line reaches back at least 6 s of the 120 s window: ${JSON.stringify({ ...l, xs: l.xs.slice(0, 4) })}`);
