@@ -125,7 +125,7 @@ describe('the alarm summary page (issue 30, items 14 and 22)', () => {
     ];
     vi.stubGlobal('fetch', vi.fn(async (url: string) => new Response(JSON.stringify(String(url).endsWith('/stats') ? stats() : list), { status: 200 })));
     const { AlarmsView } = await import('../src/ui/alarmsView');
-    const { clockTime } = await import('../src/i18n');
+    const { when } = await import('../src/i18n');
     const { ctx } = await fakeCtx();
     const v = new AlarmsView(ctx);
     document.body.append(v.el);
@@ -135,7 +135,7 @@ describe('the alarm summary page (issue 30, items 14 and 22)', () => {
     const badge = v.el.querySelector('[data-testid=alarms-row-level_hi] .sev-badge')!;
     expect(badge.textContent).toBe('high');
     expect(badge.classList.contains('band-high')).toBe(true);
-    expect(v.el.querySelector('[data-testid=alarms-shelved-pump_fail]')!.textContent).toBe(`until ${clockTime(until)} — maintenance on P1 (ana)`);
+    expect(v.el.querySelector('[data-testid=alarms-shelved-pump_fail]')!.textContent).toBe(`until ${when(until)} — maintenance on P1 (ana)`);
     v.hide();
   });
 
