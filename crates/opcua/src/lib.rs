@@ -93,13 +93,15 @@ fn json_of(v: &Variant) -> Option<serde_json::Value> {
 /// place where OPC UA meets its rules).
 pub fn status(r: &Refused) -> StatusCode {
     match r {
-        Refused::UnknownTag(_) => StatusCode::BadNodeIdUnknown,
-        Refused::NotWritable(_) => StatusCode::BadNotWritable,
+        Refused::UnknownTag(_) | Refused::UnknownAlarm(_) | Refused::NotForced(_) => StatusCode::BadNodeIdUnknown,
+        Refused::NotWritable(_) | Refused::NotForceable(_) => StatusCode::BadNotWritable,
         Refused::WrongType(_) => StatusCode::BadTypeMismatch,
         Refused::OutOfRange(_) => StatusCode::BadOutOfRange,
         Refused::Role { .. } => StatusCode::BadUserAccessDenied,
         Refused::AuditUnavailable(_) => StatusCode::BadResourceUnavailable,
-        Refused::Runtime(_) => StatusCode::BadServerHalted,
+        Refused::Runtime(_) | Refused::NotApplied(_) => StatusCode::BadServerHalted,
+        Refused::Alarm(_) => StatusCode::BadInvalidState,
+        Refused::Internal(_) => StatusCode::BadInternalError,
     }
 }
 
