@@ -4,10 +4,13 @@
 Every crate under crates/ has one row `| `dir` (`name`) | description | uses |`: the
 description is the manifest's, and "uses" lists exactly its normal workspace
 dependencies (without the alba- prefix; `—` for none; the CLI says `all`).
+Then runs check-module-cycles.py (no module cycle inside any crate).
 Exit status 1 with one line per difference.
 """
 import glob
+import os
 import re
+import subprocess
 import sys
 import tomllib
 
@@ -48,7 +51,8 @@ def main() -> int:
         errors.append(f"docs/ARCHITECTURE.md: a row for {name}, which is not a crate under crates/")
     for e in errors:
         print(f"error: {e}", file=sys.stderr)
-    return 1 if errors else 0
+    cycles = subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__), "check-module-cycles.py")])
+    return 1 if errors or cycles.returncode else 0
 
 
 if __name__ == "__main__":
