@@ -345,12 +345,14 @@ impl Log {
         {
             // Close the old file first: SQLite deletes its `-wal` by name on close.
             *conn = Connection::open_in_memory()?;
-            let what = match alba_sqlite::move_aside(&self.path).map_err(LogError::from).and_then(|to| {
-                connect(&self.path).map(|fresh| {
-                    *conn = fresh;
-                    to
-                })
-            }) {
+            let what = match alba_sqlite::move_aside(&self.path)
+                .map_err(LogError::from)
+                .and_then(|to| {
+                    connect(&self.path).map(|fresh| {
+                        *conn = fresh;
+                        to
+                    })
+                }) {
                 Ok(to) => format!("{e}: moved to {} and a fresh alarm log started", to.display()),
                 Err(m) => format!("{e}; and no fresh log could take its place: {m}"),
             };
