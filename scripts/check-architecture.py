@@ -4,12 +4,18 @@
 Every crate under crates/ has one row `| `dir` (`name`) | description | uses |`: the
 description is the manifest's, and "uses" lists exactly its normal workspace
 dependencies (without the alba- prefix; `—` for none; the CLI says `all`).
+Also: alba-server uses at most six workspace crates. Then runs
+check-module-cycles.py (no module cycle inside any crate).
 Exit status 1 with one line per difference.
 """
 import glob
+import os
 import re
+import subprocess
 import sys
 import tomllib
+
+MAX_SERVER_DEPS = 6
 
 ROW = re.compile(r"^\| `([\w-]+)` \(`(alba-[\w-]+)`[^)]*\) \| (.*) \| ([^|]*) \|\s*$")
 
@@ -46,9 +52,16 @@ def main() -> int:
             )
     for name in rows:
         errors.append(f"docs/ARCHITECTURE.md: a row for {name}, which is not a crate under crates/")
+    # The HTTP crate is only the API (ADR 0014): the control layer, the compiler's
+    # API types, the IR and the users, at most six workspace crates.
+    if "alba-server" in crates:
+        server = [d for d in crates["alba-server"][1].get("dependencies", {}) if d.startswith("alba-")]
+        if len(server) > MAX_SERVER_DEPS:
+            errors.append(f"alba-server uses {len(server)} workspace crates ({', '.join(sorted(server))}), at most {MAX_SERVER_DEPS}")
     for e in errors:
         print(f"error: {e}", file=sys.stderr)
-    return 1 if errors else 0
+    cycles = subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__), "check-module-cycles.py")])
+    return 1 if errors or cycles.returncode else 0
 
 
 if __name__ == "__main__":

@@ -153,36 +153,19 @@ fn connect(path: &Path) -> Result<Connection, LogError> {
         return Err(not(format!("SQLite did not take the WAL journal (`{mode}`)")));
     }
     conn.execute_batch("PRAGMA synchronous = FULL;")?;
-    let get = |sql: &str| -> Result<i64, LogError> { Ok(conn.query_row(sql, [], |r| r.get(0))?) };
-    let (app, version, objects) = (
-        get("PRAGMA application_id")?,
-        get("PRAGMA user_version")?,
-        get("SELECT count(*) FROM sqlite_master")?,
-    );
-    if app == 0 && version == 0 && objects == 0 {
-        conn.execute_batch(&format!(
-            "BEGIN IMMEDIATE; {SCHEMA} {STATES} PRAGMA application_id = {APPLICATION_ID}; \
-                 PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
-        ))?;
-    } else if app == APPLICATION_ID && version == 1 {
-        conn.execute_batch(&format!(
-            "BEGIN IMMEDIATE; {STATES} PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
-        ))?;
-    } else if app != APPLICATION_ID {
-        return Err(not(format!(
-            "an SQLite database of another application (application_id {app:#x})"
-        )));
-    } else if version > SCHEMA_VERSION {
-        return Err(not(format!(
-            "schema version {version} is newer than this program's ({SCHEMA_VERSION})"
-        )));
+    let refused = |r: alba_sqlite::Refusal| match r {
+        alba_sqlite::Refusal::Sqlite(e) => LogError::from(e),
+        alba_sqlite::Refusal::Not(reason) => not(reason),
+    };
+    let kind = alba_sqlite::Kind {
+        application_id: APPLICATION_ID,
+        version: SCHEMA_VERSION,
+        create: &format!("{SCHEMA} {STATES}"),
+    };
+    if alba_sqlite::identify(&conn, &kind).map_err(refused)? == alba_sqlite::Found::Version(1) {
+        alba_sqlite::migrate(&conn, STATES, SCHEMA_VERSION)?;
     }
-    let check: String = conn
-        .query_row("PRAGMA quick_check(1)", [], |r| r.get(0))
-        .map_err(|e| not(format!("damaged ({e})")))?;
-    if check != "ok" {
-        return Err(not(format!("damaged ({check})")));
-    }
+    alba_sqlite::quick_check(&conn).map_err(refused)?;
     Ok(conn)
 }
 
@@ -331,28 +314,6 @@ fn export_on<W: Write>(
     Ok(n)
 }
 
-/// Moves `path` and its `-wal` and `-shm` aside to `<name>.damaged-<unix ms>`
-/// (as the historian does with its own); the new path.
-fn move_aside(path: &Path) -> Result<PathBuf, LogError> {
-    let ms = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_millis());
-    let with = |p: &Path, suffix: &str| {
-        let mut name = p.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-        name.push(suffix);
-        p.with_file_name(name)
-    };
-    let to = with(path, &format!(".damaged-{ms}"));
-    std::fs::rename(path, &to)?;
-    for side in ["-wal", "-shm"] {
-        match std::fs::rename(with(path, side), with(&to, side)) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e.into()),
-            _ => {}
-        }
-    }
-    Ok(to)
-}
-
 impl Log {
     /// Opens (creating) the log at `path`; a file of another kind, corrupt or
     /// of a newer schema is refused. `retention_days` 0 keeps everything.
@@ -384,12 +345,14 @@ impl Log {
         {
             // Close the old file first: SQLite deletes its `-wal` by name on close.
             *conn = Connection::open_in_memory()?;
-            let what = match move_aside(&self.path).and_then(|to| {
-                connect(&self.path).map(|fresh| {
-                    *conn = fresh;
-                    to
-                })
-            }) {
+            let what = match alba_sqlite::move_aside(&self.path)
+                .map_err(LogError::from)
+                .and_then(|to| {
+                    connect(&self.path).map(|fresh| {
+                        *conn = fresh;
+                        to
+                    })
+                }) {
                 Ok(to) => format!("{e}: moved to {} and a fresh alarm log started", to.display()),
                 Err(m) => format!("{e}; and no fresh log could take its place: {m}"),
             };

@@ -71,7 +71,7 @@ pub(crate) fn start(s: &Service<'_>, defs: Option<Vec<AlarmDef>>, guard: Arc<Clo
     }
     let hub = Arc::new(Hub::new(defs, Some(log)));
     // Set once, before the server serves.
-    let _ = s.state.alarms.set(hub.clone());
+    let _ = s.state.control.set_alarms(hub.clone());
     let mut rx = s.state.runtime.subscribe();
     let rt = tokio::runtime::Handle::current();
     std::thread::spawn(move || {

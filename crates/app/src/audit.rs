@@ -67,7 +67,7 @@ pub fn retain(audit: &Audit, guard: &ClockGuard) -> Result<(), String> {
 
 /// Applies the retention daily until the server closes.
 pub fn start(s: &Service<'_>, guard: Arc<ClockGuard>) {
-    let Some(audit) = s.state.audit.clone() else {
+    let Some(audit) = s.state.control.audit().cloned() else {
         return;
     };
     if audit.config().retention_days.is_none() {

@@ -24,7 +24,6 @@ mod modbus;
 mod mqtt;
 mod opcua;
 pub mod serve;
-mod sparkplug;
 pub mod tls;
 mod users;
 

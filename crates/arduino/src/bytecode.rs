@@ -28,7 +28,7 @@ use alba_ir::layout::{Counts, Region, System};
 use alba_ir::op::{MarkerSlot, S7Ctr, S7Tmr};
 use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, Layout, Loc, Memory, Op, Pidt, Program, Tmr, UnOp, Width};
 use alba_model::address::Address;
-use alba_model::board::Pin;
+use alba_model::board::{Model, Pin};
 
 pub const MAGIC: [u8; 4] = *b"ALBC";
 pub const VERSION: u8 = 2;
@@ -245,7 +245,7 @@ pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec
     let s = sketch::generate(prog, project, t)?;
     let p = sketch::control_program(prog);
     // And what the board's interpreter cannot hold.
-    if crate::interp::capacity(t.model).l == 0 {
+    if capacity(t.model).l == 0 {
         let lints: Vec<Diagnostic> = p
             .layout
             .tags
@@ -270,7 +270,7 @@ pub fn encode(prog: &Program, project: &str, t: &Target) -> Result<Bytecode, Vec
     }
     let bc = encode_program(&p, t.scan_ms, board_id(t), s.program_id, &s.wiring)
         .map_err(|m| vec![Diagnostic::unplaced(Code::NotOnBoard, m)])?;
-    let room = crate::interp::slot_size(t.model);
+    let room = slot_size(t.model);
     if bc.bytes.len() > room {
         return Err(vec![Diagnostic::unplaced(
             Code::NotOnBoard,
@@ -1083,14 +1083,14 @@ pub fn decode_for(bytes: &[u8], t: &Target) -> Result<Decoded, DecodeError> {
             d.board_id
         ));
     }
-    let room = crate::interp::slot_size(t.model);
+    let room = slot_size(t.model);
     let len = bytes
         .len()
         .min(HEADER_LEN + u32::from_le_bytes([bytes[16], bytes[17], bytes[18], bytes[19]]) as usize);
     if len > room {
         return board(format!("{len} bytes; the {title}'s program slot holds {room}"));
     }
-    let cap = crate::interp::capacity(t.model);
+    let cap = capacity(t.model);
     let lay = &d.program.layout;
     for (what, n, max) in [
         ("BOOL slots", lay.counts.b, cap.b),
@@ -1191,4 +1191,49 @@ fn rebuild(ops: Vec<Op>, init: Memory, counts: Counts, marker_bytes: u32, r: [Re
         files,
         plants: Vec::new(),
     }
+}
+
+/// What the interpreter's arrays hold on each board (RAM: Uno and Nano 2 KB,
+/// Mega 8 KB).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Capacity {
+    pub b: u32,
+    pub i: u32,
+    pub f: u32,
+    pub l: u32,
+    pub m: u32,
+    pub wires: u32,
+}
+
+pub fn capacity(model: Model) -> Capacity {
+    match model {
+        Model::Mega => Capacity {
+            b: 1024,
+            i: 512,
+            f: 192,
+            l: 16,
+            m: 256,
+            wires: 96,
+        },
+        // No LINT on the Uno and the Nano: the 64-bit cases would not fit in their flash.
+        // 20 wires: all the pins a pin map can use there (D2-D13, A0-A7), none twice.
+        _ => Capacity {
+            b: 256,
+            i: 128,
+            f: 48,
+            l: 0,
+            m: 64,
+            wires: 20,
+        },
+    }
+}
+
+/// Bytes of one of the two program slots in the board's EEPROM (the last byte
+/// says which slot runs): Uno and Nano 511, Mega 2 047.
+pub fn slot_size(model: Model) -> usize {
+    let eeprom = match model {
+        Model::Mega => 4096,
+        _ => 1024,
+    };
+    (eeprom - 1) / 2
 }

@@ -16,7 +16,6 @@ use crate::bytecode::{self, Field};
 use crate::sketch::{self, RUNTIME, Target};
 use alba_ir::op::{AnySlot, MarkerSlot, S7Ctr, S7Tmr};
 use alba_ir::{B, BinOp, Ctr, Cvt, D, F, I, L, Op, Pidt, Tmr, Width};
-use alba_model::board::Model;
 use std::fmt::Write as _;
 
 /// Slot numbers the op templates carry: the k-th slot field is `S + k`.
@@ -26,50 +25,9 @@ const PC: u32 = 59_999;
 /// An S7 timer's resolution in a template.
 const RES: u16 = 58_000;
 
-/// What the interpreter's arrays hold on each board (RAM: Uno and Nano 2 KB,
-/// Mega 8 KB).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Capacity {
-    pub b: u32,
-    pub i: u32,
-    pub f: u32,
-    pub l: u32,
-    pub m: u32,
-    pub wires: u32,
-}
-
-pub fn capacity(model: Model) -> Capacity {
-    match model {
-        Model::Mega => Capacity {
-            b: 1024,
-            i: 512,
-            f: 192,
-            l: 16,
-            m: 256,
-            wires: 96,
-        },
-        // No LINT on the Uno and the Nano: the 64-bit cases would not fit in their flash.
-        // 20 wires: all the pins a pin map can use there (D2-D13, A0-A7), none twice.
-        _ => Capacity {
-            b: 256,
-            i: 128,
-            f: 48,
-            l: 0,
-            m: 64,
-            wires: 20,
-        },
-    }
-}
-
-/// Bytes of one of the two program slots in the board's EEPROM (the last byte
-/// says which slot runs): Uno and Nano 511, Mega 2 047.
-pub fn slot_size(model: Model) -> usize {
-    let eeprom = match model {
-        Model::Mega => 4096,
-        _ => 1024,
-    };
-    (eeprom - 1) / 2
-}
+// The board's capacity and program slot size live with the byte code that
+// must fit them (`crate::bytecode`); re-exported here, where they always were.
+pub use crate::bytecode::{Capacity, capacity, slot_size};
 
 /// Every op kind and variant, its k-th slot field numbered `S + k`.
 fn templates() -> Vec<Op> {

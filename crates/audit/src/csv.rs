@@ -9,8 +9,11 @@
 
 use crate::Row;
 
-/// The header line of an export.
-pub const CSV_HEADER: &str = "id,time_ms,time_utc,user,address,action,target,old,new,detail,outcome,error\r\n";
+/// The header line of an export: `address` is the peer (the client's
+/// `ip:port`, the broker for MQTT), `via` the door (`http`, `mqtt`,
+/// `opcua`, `modbus`; empty for rows older than schema 2), last so that
+/// readers of the former twelve columns keep their places.
+pub const CSV_HEADER: &str = "id,time_ms,time_utc,user,address,action,target,old,new,detail,outcome,error,via\r\n";
 
 /// Whether `s` is a plain number (which a spreadsheet does not run).
 fn is_number(s: &str) -> bool {
@@ -58,6 +61,7 @@ pub(crate) fn write_row(out: &mut String, row: &Row) {
             crate::Outcome::Failed(e) => e.clone(),
             _ => String::new(),
         },
+        opt(&row.via),
     ];
     for (i, f) in fields.iter().enumerate() {
         if i > 0 {

@@ -99,48 +99,30 @@ pub(crate) fn open_writer(path: &Path) -> Result<Connection> {
             reason: format!("SQLite did not take the WAL journal (it answered `{mode}`)"),
         });
     }
-    let get = |sql: &str| -> Result<i64> { conn.query_row(sql, [], |r| r.get(0)).map_err(|e| open_error(path, e)) };
-    let app_id = get("PRAGMA application_id")?;
-    let version = get("PRAGMA user_version")?;
-    let objects = get("SELECT count(*) FROM sqlite_master")?;
-    if app_id == 0 && version == 0 && objects == 0 {
-        conn.execute_batch(&format!(
-            "BEGIN IMMEDIATE; {SCHEMA} {TRIGGER} PRAGMA application_id = {APPLICATION_ID}; \
-             PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
-        ))
-        .map_err(|e| open_error(path, e))?;
-        return Ok(conn);
-    }
-    if app_id != APPLICATION_ID {
-        return Err(Error::NotAudit {
+    let refused = |r: alba_sqlite::Refusal| match r {
+        alba_sqlite::Refusal::Sqlite(e) => open_error(path, e),
+        alba_sqlite::Refusal::Not(reason) => Error::NotAudit {
             path: path.to_path_buf(),
-            reason: format!("an SQLite database of another application (application_id {app_id:#x})"),
-        });
-    }
-    if version > SCHEMA_VERSION {
-        return Err(Error::NotAudit {
-            path: path.to_path_buf(),
-            reason: format!("schema version {version} is newer than this program supports ({SCHEMA_VERSION})"),
-        });
-    }
-    if version == 1 {
-        conn.execute_batch(&format!(
-            "BEGIN IMMEDIATE; {MIGRATE_1_2} {TRIGGER} PRAGMA user_version = {SCHEMA_VERSION}; COMMIT;"
-        ))
-        .map_err(|e| open_error(path, e))?;
+            reason,
+        },
+    };
+    let kind = alba_sqlite::Kind {
+        application_id: APPLICATION_ID,
+        version: SCHEMA_VERSION,
+        create: &format!("{SCHEMA} {TRIGGER}"),
+    };
+    match alba_sqlite::identify(&conn, &kind).map_err(refused)? {
+        alba_sqlite::Found::Created => return Ok(conn),
+        alba_sqlite::Found::Version(1) => {
+            alba_sqlite::migrate(&conn, &format!("{MIGRATE_1_2} {TRIGGER}"), SCHEMA_VERSION)
+                .map_err(|e| open_error(path, e))?;
+        }
+        alba_sqlite::Found::Version(_) => {}
     }
     // Torn or truncated pages show only when read: the whole file is checked
-    // once here (a few ms per MB), so damage is found at start, not by the
-    // first action that needs its row.
-    let check: String = conn
-        .query_row("PRAGMA quick_check(1)", [], |r| r.get(0))
-        .map_err(|e| open_error(path, e))?;
-    if check != "ok" {
-        return Err(Error::NotAudit {
-            path: path.to_path_buf(),
-            reason: format!("the database is damaged ({check})"),
-        });
-    }
+    // once here, so damage is found at start, not by the first action that
+    // needs its row.
+    alba_sqlite::quick_check(&conn).map_err(refused)?;
     conn.prepare(&format!("SELECT {COLUMNS} FROM audit LIMIT 0"))
         .map_err(|e| match open_error(path, e) {
             Error::Open { source, .. } => Error::NotAudit {

@@ -347,10 +347,10 @@ prop_compose! {
     fn arb_entry()(
         t_ms in -MAX_TIME_MS..=MAX_TIME_MS,
         user in text(), addr in text(), action in 0..Action::ALL.len(),
-        target in text(), old in text(), new in text(), detail in text(),
+        target in text(), old in text(), new in text(), detail in text(), via in text(),
         outcome in prop_oneof![Just(Outcome::Ok), Just(Outcome::Pending), any::<String>().prop_map(Outcome::Failed)],
     ) -> (Entry, Outcome) {
-        (Entry { t_ms, user, addr, action: Action::ALL[action], target, old, new, detail, via: None }, outcome)
+        (Entry { t_ms, user, addr, action: Action::ALL[action], target, old, new, detail, via }, outcome)
     }
 }
 
@@ -381,7 +381,7 @@ proptest! {
                 prop_assert!(!f.starts_with('-') || f.parse::<f64>().is_ok(), "formula start: {:?}", f);
             }
             let opt = |s: &str| { let s = unescape(s); if s.is_empty() { None } else { Some(s) } };
-            prop_assert_eq!(rec.len(), 12);
+            prop_assert_eq!(rec.len(), 13);
             prop_assert_eq!(rec[0].parse::<i64>().ok(), Some(row.id));
             prop_assert_eq!(rec[1].parse::<i64>().ok(), Some(row.t_ms));
             prop_assert_eq!(unescape(&rec[2]), format_utc(row.t_ms));
@@ -395,6 +395,7 @@ proptest! {
             prop_assert_eq!(&rec[10], row.outcome.name());
             let err = match &row.outcome { Outcome::Failed(e) => e.clone(), _ => String::new() };
             prop_assert_eq!(unescape(&rec[11]), err);
+            prop_assert_eq!(opt(&rec[12]), row.via.clone().filter(|s| !s.is_empty()));
         }
     }
 }

@@ -663,37 +663,6 @@ pub fn historian(quick: bool) -> ExitCode {
     }
 }
 
-/// `alba bench --all`: every benchmark in turn, each with its defaults
-/// (`secs` per row of the Modbus and real-time ones); fails if one does.
-pub fn all(quick: bool, secs: f64, priority: u8, cpu: Option<usize>) -> ExitCode {
-    let mut failed = Vec::new();
-    let mut part = |name: &'static str, f: &dyn Fn() -> ExitCode| {
-        println!("\n== alba bench: {name} ==\n");
-        if f() != ExitCode::SUCCESS {
-            failed.push(name);
-        }
-    };
-    part("engine", &|| run(&[100, 1_000, 10_000], quick));
-    part("nets", &|| nets(quick));
-    part("historian", &|| historian(quick));
-    part("modbus", &|| crate::bench_modbus::run(&[1, 4, 16], secs, None, None));
-    part("realtime", &|| crate::bench_realtime::run(secs, priority, cpu));
-    part("mqtt", &|| crate::bench_mqtt::run(&[100, 1_000], secs, None));
-    part("online edit", &|| {
-        swap(if quick { &[10_000] } else { &[10_000, 50_000] })
-    });
-    println!(
-        "\nNot run here (it needs a browser): engine → browser DOM latency with 1, 10 and 50 studios,\n\
-         `cd web && ALBA_BIN=../target/release/alba node bench/studios.mjs` (docs/performance.md)."
-    );
-    if failed.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        eprintln!("error: failed: {}", failed.join(", "));
-        ExitCode::FAILURE
-    }
-}
-
 pub fn nets(quick: bool) -> ExitCode {
     let runs = if quick { 3 } else { 9 };
     println!("alba bench --nets: (a) a Petri-mode net of N two-place cycles (2N transitions) against the");

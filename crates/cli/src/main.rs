@@ -3,6 +3,7 @@
 mod analyze;
 mod audit;
 mod bench;
+mod bench_all;
 mod bench_modbus;
 mod bench_mqtt;
 mod bench_realtime;
@@ -524,7 +525,7 @@ fn main() -> ExitCode {
             cpu,
             seconds,
             ..
-        } => bench::all(quick, if quick { 1.0 } else { seconds }, priority, cpu),
+        } => bench_all::all(quick, if quick { 1.0 } else { seconds }, priority, cpu),
         Command::Bench {
             mqtt: true,
             tags,

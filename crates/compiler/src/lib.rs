@@ -23,6 +23,31 @@ pub use alba_net as net;
 pub use alba_project as project;
 pub use alba_st as st;
 
+/// A net's tags: its places' marking (petri.rs), and in normal mode its
+/// transitions' and timers' (normal.rs).
+fn net_tags(net: &alba_net::Net, name: &str, tags: &mut alba_model::TagTable, diags: &mut Vec<Diagnostic>) {
+    petri::marking_tags(net, name, tags, diags);
+    if net.mode == alba_net::Mode::Normal {
+        normal::extra_tags(net, name, tags, diags);
+    }
+}
+
+/// Compiles a net as one unit, by its mode: the source's normal semantics
+/// (normal.rs, one token per element) or Petri's (petri.rs).
+fn compile_net(
+    net: &alba_net::Net,
+    file: alba_diag::FileId,
+    text: &str,
+    unit: &str,
+    b: &mut Builder,
+) -> Vec<Diagnostic> {
+    if net.mode == alba_net::Mode::Normal {
+        normal::compile(net, file, text, unit, b)
+    } else {
+        petri::compile(net, file, text, unit, b)
+    }
+}
+
 /// A project and what compiling it gave.
 pub struct Compiled {
     pub project: Project,
@@ -128,7 +153,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
     let mut tags = project.tags.clone();
     for (src, ast) in &asts {
         match ast {
-            Ast::Net(Some(net)) => petri::marking_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags),
+            Ast::Net(Some(net)) => net_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags),
             Ast::Sfc(Some(sfc)) => sfc::tags(sfc, &petri::net_name(&src.name), src.file, &mut tags, &mut diags),
             Ast::St(file) => alba_st::declare(file, &mut tags, &mut diags),
             _ => {}
@@ -149,7 +174,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         diags.extend(match ast {
             Ast::Ladder(ast) => alba_ladder::compile_in(ast, text, &src.name, &mut b, &mut presets, dialect),
             Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
-            Ast::Net(Some(net)) => petri::compile(net, src.file, text, &src.name, &mut b),
+            Ast::Net(Some(net)) => compile_net(net, src.file, text, &src.name, &mut b),
             Ast::Net(None) | Ast::Sfc(None) => Vec::new(),
             Ast::Sfc(Some(sfc)) => sfc::compile(sfc, src.file, text, &src.name, &mut b),
             Ast::St(file) => alba_st::compile(file, &src.name, &mut b),

@@ -22,7 +22,7 @@ use alba_ir::values::{Class, V, class_of_lit, class_of_type, float_class, promot
 use alba_ir::{Access, BinOp, Builder, Cmp, I, Op, Place, Target, UnOp};
 use alba_ladder::expr::{self, BinE, Expr, Func};
 use alba_model::{Address, DataType, Literal, Tag, TagTable, Value};
-use alba_net::{ArcKind, ElementKind, Mode, Net};
+use alba_net::{ArcKind, ElementKind, Net};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -133,9 +133,6 @@ pub fn marking_tags(net: &Net, name: &str, tags: &mut TagTable, diags: &mut Vec<
             p.span,
         ));
     }
-    if net.mode == Mode::Normal {
-        crate::normal::extra_tags(net, name, tags, diags);
-    }
 }
 
 /// The I/O and marker addresses a net names (in guards and `<tag>`s), so
@@ -212,9 +209,6 @@ pub(crate) fn compile_with(
     let mut diags = Vec::new();
     let name = net_name(unit);
     let at_start = Span::new(file, 0..text.len().min(1));
-    if net.mode == Mode::Normal {
-        return crate::normal::compile(net, file, text, unit, b);
-    }
     // Element kinds of the source's state nets run only in normal mode.
     let kinds = net
         .places

@@ -13,13 +13,39 @@
 //! See docs/adr/0014-one-control-layer-behind-every-door.md.
 
 mod actor;
+pub mod alarms;
 pub mod names;
+mod operate;
 mod refused;
 #[cfg(test)]
 mod tests;
 
 pub use actor::{Actor, Via};
 pub use refused::Refused;
+
+/// The runtime's types the doors name: its handle, snapshots, states,
+/// errors, and values as JSON.
+pub mod runtime {
+    pub use alba_runtime::json;
+    pub use alba_runtime::{Error, Handle, IoError, RunState, Snapshot, io_kind};
+}
+
+/// The audit trail's types: the rows the doors read back and export.
+pub mod audit {
+    pub use alba_audit::{Action, Audit, Begun, Entry, Error, Filter, Outcome, Result, Row, diff};
+}
+
+/// The historian's read side, for the doors that serve history (the HTTP
+/// API): the store `alba run` records into, and its errors.
+pub mod history {
+    pub use alba_historian::{Backend, Column, Error, MAX_TIME_MS, csv_rows};
+}
+
+/// The relay-feedback tuning of a PID loop, run on a copy of the program
+/// (`POST /api/pid/{name}/autotune`): the running PLC is not touched.
+pub mod autotune {
+    pub use alba_engine::autotune::*;
+}
 
 use alba_audit::{Action, Audit, Entry, Outcome};
 use alba_auth::Role;
@@ -47,6 +73,8 @@ pub struct Control {
     /// The audit windows of writes by place (Modbus): per peer and tag, the
     /// second whose first write has its row, and the writes since.
     windows: Arc<Mutex<HashMap<String, HashMap<Place, Window>>>>,
+    /// The project's alarms, set once by `alba run` when it has any.
+    alarms: Arc<std::sync::OnceLock<Arc<alba_alarms::Hub>>>,
 }
 
 /// Writes of one peer to one tag within one second after the first (which
@@ -129,6 +157,7 @@ impl Control {
             audit,
             names: Arc::default(),
             windows: Arc::default(),
+            alarms: Arc::default(),
         }
     }
 

@@ -19,6 +19,19 @@ pub enum Refused {
     /// A value of the right kind that the tag cannot hold.
     #[error("{0}")]
     OutOfRange(String),
+    /// A tag that cannot be forced (a structure, internal memory: only I/O is forced).
+    #[error("{0}")]
+    NotForceable(String),
+    /// Removing the force of a tag that is not forced.
+    #[error("{0}")]
+    NotForced(String),
+    /// No such alarm (or the project has none).
+    #[error("{0}")]
+    UnknownAlarm(String),
+    /// The alarm refused the action (already acknowledged, not shelved…)
+    /// or its alarm-log row could not be written.
+    #[error(transparent)]
+    Alarm(alba_alarms::HubError),
     /// The actor's role is too small.
     #[error("user {actor} is a {role}: {what} needs the {needed} role (users.toml)")]
     Role {
@@ -34,4 +47,10 @@ pub enum Refused {
     /// The runtime refused or could not apply it (stopped, busy, faulted).
     #[error(transparent)]
     Runtime(#[from] alba_runtime::Error),
+    /// An online edit saved whose program the runtime did not take.
+    #[error("saved, but not applied: {0}")]
+    NotApplied(alba_runtime::Error),
+    /// A fault of the layer itself (a task that did not finish).
+    #[error("{0}")]
+    Internal(String),
 }

@@ -243,3 +243,125 @@ async fn writes_by_place_are_coalesced_per_peer_tag_and_second() {
     assert!(r.len() < 5, "not coalesced: {r:#?}");
     assert_eq!(r[0].new.as_deref(), Some("5"), "the last value is recorded");
 }
+
+fn engineer(via: Via) -> Actor {
+    Actor {
+        role: Role::Engineer,
+        ..operator(via)
+    }
+}
+
+/// Forcing is an engineer's: an operator of any door is refused before any
+/// row is written; an engineer's force is recorded (old: the live value),
+/// applied, and its removal recorded (old: the forced value).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn forces_are_judged_recorded_then_applied() {
+    let p = plc(true);
+    for via in [Via::Http, Via::Mqtt, Via::Opcua, Via::Modbus] {
+        match p.control.force(&operator(via), "Motor", &json!(true)).await {
+            Err(Refused::Role {
+                needed: Role::Engineer, ..
+            }) => {}
+            other => panic!("{via}: {other:?}"),
+        }
+    }
+    assert!(rows(&p.control).is_empty(), "a refusal writes no row");
+    match p.control.force(&engineer(Via::Http), "Speed", &json!(1)).await {
+        Err(Refused::NotForceable(m)) => assert!(m.contains("only I/O"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+    match p.control.force(&engineer(Via::Http), "Nope", &json!(1)).await {
+        Err(Refused::UnknownTag(_)) => {}
+        other => panic!("{other:?}"),
+    }
+    match p.control.force(&engineer(Via::Http), "Level", &json!(70000)).await {
+        Err(Refused::OutOfRange(_)) => {}
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        p.control
+            .force(&engineer(Via::Http), "Motor", &json!(true))
+            .await
+            .expect("force"),
+        Value::Bool(true)
+    );
+    assert_eq!(p.control.runtime().snapshot().forces.len(), 1);
+    match p.control.unforce(&engineer(Via::Http), Some("Start")).await {
+        Err(Refused::NotForced(_)) => {}
+        other => panic!("{other:?}"),
+    }
+    p.control
+        .unforce(&engineer(Via::Http), Some("motor"))
+        .await
+        .expect("unforce");
+    assert!(p.control.runtime().snapshot().forces.is_empty());
+    let r = rows(&p.control);
+    assert_eq!(r.len(), 2, "{r:?}");
+    assert_eq!(
+        (r[1].action.as_str(), r[1].old.as_deref(), r[1].new.as_deref()),
+        ("force", Some("false"), Some("true"))
+    );
+    assert_eq!((r[0].action.as_str(), r[0].old.as_deref()), ("unforce", Some("true")));
+    assert!(
+        r.iter()
+            .all(|r| r.via.as_deref() == Some("http") && r.outcome == Outcome::Ok)
+    );
+}
+
+/// Stop is a safety action: with no audit trail it is still done; run and
+/// stop record the state before and the one asked for.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn run_and_stop_are_an_engineers_and_recorded() {
+    let p = plc(true);
+    match p.control.stop(&operator(Via::Http)).await {
+        Err(Refused::Role { .. }) => {}
+        other => panic!("{other:?}"),
+    }
+    p.control.stop(&engineer(Via::Http)).await.expect("stop");
+    p.control.run(&engineer(Via::Http)).await.expect("run");
+    let r = rows(&p.control);
+    assert_eq!(r.len(), 2);
+    assert_eq!(
+        (r[1].action.as_str(), r[1].old.as_deref(), r[1].new.as_deref()),
+        ("stop", Some("\"running\""), Some("\"stopped\""))
+    );
+    assert_eq!(
+        (r[0].action.as_str(), r[0].old.as_deref(), r[0].new.as_deref()),
+        ("run", Some("\"stopped\""), Some("\"running\""))
+    );
+    let off = plc(false);
+    off.control
+        .stop(&engineer(Via::Http))
+        .await
+        .expect("stop without a trail");
+}
+
+/// Without alarms an alarm action is an unknown alarm, after the role check.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_alarm_action_needs_its_role_and_an_alarm() {
+    let p = plc(true);
+    let viewer = Actor {
+        role: Role::Viewer,
+        ..operator(Via::Opcua)
+    };
+    let ack = || alba_alarms::Request::Ack { comment: String::new() };
+    match p.control.alarm_act(&viewer, "HiLevel", ack()).await {
+        Err(Refused::Role { .. }) => {}
+        other => panic!("{other:?}"),
+    }
+    let oos = alba_alarms::Request::OutOfService {
+        on: true,
+        reason: String::new(),
+    };
+    match p.control.alarm_act(&operator(Via::Http), "HiLevel", oos).await {
+        Err(Refused::Role {
+            needed: Role::Engineer, ..
+        }) => {}
+        other => panic!("{other:?}"),
+    }
+    match p.control.alarm_act(&operator(Via::Http), "HiLevel", ack()).await {
+        Err(Refused::UnknownAlarm(m)) => assert!(m.contains("no alarms.csv"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+    assert!(rows(&p.control).is_empty());
+}

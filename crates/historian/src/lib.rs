@@ -425,27 +425,9 @@ impl Historian {
 }
 
 /// Moves the database `path` and its `-wal` and `-shm` files aside to
-/// `<name>.damaged-<unix ms>` (and its `-wal`, `-shm`), so that a fresh database can take
-/// its place and the old one can still be examined. Returns the new path of the database.
-pub fn move_aside(path: &Path) -> std::io::Result<PathBuf> {
-    let ms = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_millis());
-    let with = |p: &Path, suffix: &str| {
-        let mut name = p.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-        name.push(suffix);
-        p.with_file_name(name)
-    };
-    let to = with(path, &format!(".damaged-{ms}"));
-    std::fs::rename(path, &to)?;
-    for side in ["-wal", "-shm"] {
-        match std::fs::rename(with(path, side), with(&to, side)) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
-            _ => {}
-        }
-    }
-    Ok(to)
-}
+/// `<name>.damaged-<unix ms>` (`alba_sqlite::move_aside`, shared with the
+/// audit trail and the alarm log).
+pub use alba_sqlite::move_aside;
 
 #[cfg(test)]
 mod tests;

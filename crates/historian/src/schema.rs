@@ -75,9 +75,6 @@ fn schema_sql() -> String {
          INSERT INTO meta(key, value) VALUES('rolled_up_to', {}), ('generation', 0);\n",
         -crate::MAX_TIME_MS
     ));
-    sql.push_str(&format!(
-        "PRAGMA application_id = {APPLICATION_ID}; PRAGMA user_version = {SCHEMA_VERSION};"
-    ));
     sql
 }
 
@@ -105,31 +102,20 @@ fn open_error(path: &Path, e: rusqlite::Error) -> Error {
 pub(crate) fn open_writer(path: &Path) -> Result<Connection> {
     let conn = Connection::open(path).map_err(|e| open_error(path, e))?;
     setup(&conn, 32 * 1024, true).map_err(|e| open_error(path, e))?;
-    let app_id: i64 = conn
-        .query_row("PRAGMA application_id", [], |r| r.get(0))
-        .map_err(|e| open_error(path, e))?;
-    let version: i64 = conn
-        .query_row("PRAGMA user_version", [], |r| r.get(0))
-        .map_err(|e| open_error(path, e))?;
-    let objects: i64 = conn
-        .query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))
-        .map_err(|e| open_error(path, e))?;
-    if app_id == 0 && version == 0 && objects == 0 {
-        conn.execute_batch(&format!("BEGIN IMMEDIATE; {} COMMIT;", schema_sql()))
-            .map_err(|e| open_error(path, e))?;
+    let kind = alba_sqlite::Kind {
+        application_id: APPLICATION_ID,
+        version: SCHEMA_VERSION,
+        create: &schema_sql(),
+    };
+    let found = alba_sqlite::identify(&conn, &kind).map_err(|r| match r {
+        alba_sqlite::Refusal::Sqlite(e) => open_error(path, e),
+        alba_sqlite::Refusal::Not(reason) => Error::NotHistory {
+            path: path.to_path_buf(),
+            reason,
+        },
+    })?;
+    if found == alba_sqlite::Found::Created {
         return Ok(conn);
-    }
-    if app_id != APPLICATION_ID {
-        return Err(Error::NotHistory {
-            path: path.to_path_buf(),
-            reason: format!("an SQLite database of another application (application_id {app_id:#x})"),
-        });
-    }
-    if version > SCHEMA_VERSION {
-        return Err(Error::NotHistory {
-            path: path.to_path_buf(),
-            reason: format!("schema version {version} is newer than this program supports ({SCHEMA_VERSION})"),
-        });
     }
     // A damaged schema shows when the tables are compiled into statements.
     let mut tables = vec!["meta", "tags", "samples"];

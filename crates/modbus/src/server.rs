@@ -388,11 +388,19 @@ impl Server {
 /// place where Modbus meets its rules; docs/protocols.md).
 pub fn exception(r: &Refused) -> Exception {
     match r {
-        Refused::UnknownTag(_) | Refused::NotWritable(_) => Exception::IllegalDataAddress,
+        Refused::UnknownTag(_)
+        | Refused::NotWritable(_)
+        | Refused::NotForceable(_)
+        | Refused::NotForced(_)
+        | Refused::UnknownAlarm(_) => Exception::IllegalDataAddress,
         Refused::WrongType(_) | Refused::OutOfRange(_) => Exception::IllegalDataValue,
         Refused::Role { .. } => Exception::IllegalFunction,
         Refused::Runtime(alba_runtime::Error::Busy) => Exception::ServerDeviceBusy,
-        Refused::AuditUnavailable(_) | Refused::Runtime(_) => Exception::ServerDeviceFailure,
+        Refused::AuditUnavailable(_)
+        | Refused::Runtime(_)
+        | Refused::NotApplied(_)
+        | Refused::Alarm(_)
+        | Refused::Internal(_) => Exception::ServerDeviceFailure,
     }
 }
 

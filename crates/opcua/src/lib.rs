@@ -19,6 +19,7 @@
 //! first run.
 
 pub mod client;
+pub mod manager;
 pub mod security;
 
 pub use alba_control::Control;
@@ -26,10 +27,10 @@ use alba_control::{Actor, Refused};
 use alba_ir::{Access, Place, Target};
 use alba_model::{DataType, Value};
 use alba_runtime::Handle;
+use manager::AlbaNodeManager;
 use opcua::nodes::{AccessLevel, ObjectBuilder, VariableBuilder};
 use opcua::server::ServerBuilder;
 use opcua::server::diagnostics::NamespaceMetadata;
-use opcua::server::node_manager::memory::{SimpleNodeManager, simple_node_manager};
 use opcua::types::{
     DataTypeId, DataValue, DateTime, NodeId, NumericRange, ObjectId, QualifiedName, StatusCode, TimestampsToReturn,
     Variant,
@@ -93,13 +94,15 @@ fn json_of(v: &Variant) -> Option<serde_json::Value> {
 /// place where OPC UA meets its rules).
 pub fn status(r: &Refused) -> StatusCode {
     match r {
-        Refused::UnknownTag(_) => StatusCode::BadNodeIdUnknown,
-        Refused::NotWritable(_) => StatusCode::BadNotWritable,
+        Refused::UnknownTag(_) | Refused::UnknownAlarm(_) | Refused::NotForced(_) => StatusCode::BadNodeIdUnknown,
+        Refused::NotWritable(_) | Refused::NotForceable(_) => StatusCode::BadNotWritable,
         Refused::WrongType(_) => StatusCode::BadTypeMismatch,
         Refused::OutOfRange(_) => StatusCode::BadOutOfRange,
         Refused::Role { .. } => StatusCode::BadUserAccessDenied,
         Refused::AuditUnavailable(_) => StatusCode::BadResourceUnavailable,
-        Refused::Runtime(_) => StatusCode::BadServerHalted,
+        Refused::Runtime(_) | Refused::NotApplied(_) => StatusCode::BadServerHalted,
+        Refused::Alarm(_) => StatusCode::BadInvalidState,
+        Refused::Internal(_) => StatusCode::BadInternalError,
     }
 }
 
@@ -140,11 +143,13 @@ fn write_cb(control: Control, name: String) -> impl Fn(DataValue, &NumericRange)
         let Some(v) = dv.value.as_ref().and_then(json_of) else {
             return StatusCode::BadTypeMismatch;
         };
-        // The session's user is not given to a write callback (async-opcua's
-        // simple node manager): the authenticator lets only operators and
-        // above write (`security::Auth`), so the write acts as an operator
-        // of the OPC UA door (docs/audit.md, "OPC UA").
-        let actor = Actor::opcua(None, alba_auth::Role::Operator, None);
+        // The session's user and role (`manager::Manager::write` sets them
+        // for the time of the write); no peer: the library does not keep the
+        // client's address (docs/audit.md, "Doors").
+        let Some(w) = manager::writer() else {
+            return StatusCode::BadInternalError; // a write outside `Manager::write`
+        };
+        let actor = Actor::opcua(w.user.as_deref(), w.role, None);
         // Answered once the engine thread applied it between two scans
         // (at most one scan's wait; this worker thread is handed over).
         let c = control.clone();
@@ -162,7 +167,7 @@ fn write_cb(control: Control, name: String) -> impl Fn(DataValue, &NumericRange)
 }
 
 /// Adds one variable for `name` (a tag, member or system tag) under `parent`.
-fn add_variable(nm: &SimpleNodeManager, ns: u16, control: &Control, name: &str, browse: &str, parent: &NodeId) {
+fn add_variable(nm: &AlbaNodeManager, ns: u16, control: &Control, name: &str, browse: &str, parent: &NodeId) {
     let handle = control.runtime();
     let Some((place, access)) = resolve(handle, name) else {
         return;
@@ -186,9 +191,11 @@ fn add_variable(nm: &SimpleNodeManager, ns: u16, control: &Control, name: &str, 
             .insert(&mut *space);
     }
     nm.inner()
+        .simple()
         .add_read_callback(id.clone(), read_cb(handle.clone(), name.to_string()));
     if writable {
         nm.inner()
+            .simple()
             .add_write_callback(id, write_cb(control.clone(), name.to_string()));
     }
 }
@@ -218,7 +225,7 @@ pub async fn serve(
     let local = security::is_local(bound.ip());
     let mut builder = ServerBuilder::new()
         .application_name("Alba")
-        .with_authenticator(std::sync::Arc::new(security::Auth::new(bound.ip(), users)))
+        .with_authenticator(std::sync::Arc::new(security::Auth::new(bound.ip(), users.clone())))
         // Loopback: only this machine can connect, its client certificates
         // are trusted on first use; elsewhere an unknown certificate is
         // refused and kept in pki/rejected/ for an administrator to trust.
@@ -235,18 +242,19 @@ pub async fn serve(
         .pki_dir(pki_dir.clone())
         .create_sample_keypair(true)
         .discovery_urls(vec![format!("opc.tcp://{bound}/")])
-        .with_node_manager(simple_node_manager(
+        .with_node_manager(manager::node_manager(
             NamespaceMetadata {
                 namespace_uri: uri.clone(),
                 ..Default::default()
             },
             "alba",
+            users.clone(),
         ))
         .build()?;
     security::protect_private_key(&pki_dir)?;
     let nm = sh
         .node_managers()
-        .get_of_type::<SimpleNodeManager>()
+        .get_of_type::<AlbaNodeManager>()
         .ok_or("the OPC UA node manager is missing")?;
     let ns = sh.get_namespace_index(&uri).ok_or("the OPC UA namespace is missing")?;
     let alba = NodeId::new(ns, "Alba");

@@ -8,7 +8,7 @@
 //!   Bearer`). Sessions end after `[session] idle_minutes` without a
 //!   request, `max_hours` after the login, or on logout. Only a hash of
 //!   each token is kept.
-//! - [`layer`], the one place where routes meet roles, runs before every
+//! - `crate::gate::session`, the one place where routes meet roles, runs before every
 //!   route: it finds the role the route needs in `crate::ROUTE_ROLES`,
 //!   answers 401 without a valid session (when users exist) and 403 for
 //!   too small a role, and attaches a [`Who`] to the request.
@@ -22,12 +22,9 @@
 pub use alba_auth::Role;
 
 use crate::error::ApiError;
-use crate::state::AppState;
-use axum::extract::{ConnectInfo, FromRequestParts, MatchedPath, OptionalFromRequestParts, Request, State};
+use axum::extract::{FromRequestParts, OptionalFromRequestParts};
 use axum::http::request::Parts;
 use axum::http::{HeaderMap, Method, header};
-use axum::middleware::Next;
-use axum::response::{IntoResponse, Response};
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::net::SocketAddr;
@@ -366,7 +363,7 @@ impl Auth {
             let mut g = lock(&self.guessed);
             g.failure(user, now);
             if g.failures(user) == GUESSING_ALERT_AFTER {
-                lock(&self.alerted).insert(user.to_string(), crate::api::audit::now_ms());
+                lock(&self.alerted).insert(user.to_string(), alba_control::now_ms());
                 eprintln!(
                     "warning: {GUESSING_ALERT_AFTER} failed logins for user `{user}` within 15 minutes (the last from \
                      {client}): someone may be guessing its password"
@@ -554,7 +551,11 @@ pub fn needed(table: &[(&str, &str, Access)], method: &Method, route: Option<&st
 
 /// Who a request is (and its session): `Ok(None)` for an anonymous
 /// request, an error for an ended or unknown session.
-fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option<(Who, Option<SessionKey>)>, ApiError> {
+pub(crate) fn identify(
+    auth: &Auth,
+    headers: &HeaderMap,
+    addr: SocketAddr,
+) -> Result<Option<(Who, Option<SessionKey>)>, ApiError> {
     if !auth.has_users() {
         // (An IPv4 client of a dual-stack listener shows as ::ffff:a.b.c.d.)
         // A request a proxy forwarded is not local, wherever the proxy runs.
@@ -582,45 +583,6 @@ fn identify(auth: &Auth, headers: &HeaderMap, addr: SocketAddr) -> Result<Option
             "your session has ended (logged out or expired): log in again".into(),
         )),
     }
-}
-
-/// The session and role check before every route (see the module's doc).
-pub async fn layer(State(st): State<Arc<AppState>>, mut req: Request, next: Next) -> Response {
-    let route = req.extensions().get::<MatchedPath>().map(|m| m.as_str().to_string());
-    let access = needed(crate::ROUTE_ROLES, req.method(), route.as_deref(), req.uri().path());
-    let Some(addr) = req.extensions().get::<ConnectInfo<SocketAddr>>().map(|c| c.0) else {
-        return ApiError::Internal("the server does not know the client's address (serve with connect info)".into())
-            .into_response();
-    };
-    let who = identify(&st.auth, req.headers(), addr);
-    let who = match (access, who) {
-        (Access::Public, Ok(w)) => w,
-        (Access::Public, Err(_)) => None,
-        (Access::Role(_), Err(e)) => return e.into_response(),
-        (Access::Role(_), Ok(None)) if !st.auth.has_users() => {
-            return ApiError::Forbidden(
-                "this project has no users, so only clients on this computer (loopback) are served; add users with `alba user add`".into(),
-            )
-            .into_response();
-        }
-        (Access::Role(_), Ok(None)) => {
-            return ApiError::Unauthorized("log in first (POST /api/login)".into()).into_response();
-        }
-        (Access::Role(needed), Ok(Some((w, key)))) => {
-            if !w.role.allows(needed) {
-                return ApiError::Forbidden(format!("this needs the role {needed}; you are {}", w.role))
-                    .into_response();
-            }
-            Some((w, key))
-        }
-    };
-    if let Some((w, key)) = who {
-        req.extensions_mut().insert(w);
-        if let Some(k) = key {
-            req.extensions_mut().insert(k);
-        }
-    }
-    next.run(req).await
 }
 
 #[cfg(test)]

@@ -23,23 +23,23 @@ pub enum ApiError {
     TooLarge,
     /// A request to the runtime.
     #[error(transparent)]
-    Runtime(#[from] alba_runtime::Error),
+    Runtime(#[from] alba_control::runtime::Error),
     /// Checking, saving or applying a project edit.
     #[error(transparent)]
     Edit(#[from] EditError),
     /// A query of the historian.
     #[error("{}", history_message(.0))]
-    History(#[from] alba_historian::Error),
+    History(#[from] alba_control::history::Error),
     /// History is off for this project.
     #[error("history is off for this project (`[history] enabled = false` in alba.toml)")]
     HistoryOff,
     /// The audit row of a state-changing request could not be written: the action was
     /// not performed (docs/audit.md, "No acknowledged action without its row").
     #[error("not done: the audit trail cannot be written ({0})")]
-    AuditWrite(alba_audit::Error),
+    AuditWrite(alba_control::audit::Error),
     /// A query or export of the audit trail.
     #[error("{}", audit_message(.0))]
-    Audit(alba_audit::Error),
+    Audit(alba_control::audit::Error),
     /// The server runs without an audit trail (only when embedded without one).
     #[error("this server keeps no audit trail")]
     AuditOff,
@@ -55,7 +55,7 @@ pub enum ApiError {
     TooManyAttempts(std::time::Duration),
     /// An alarm action refused, or its log row not written.
     #[error(transparent)]
-    Alarm(#[from] alba_alarms::HubError),
+    Alarm(#[from] alba_control::alarms::HubError),
     /// A remote server `alba run` is a client of (`[[opcua_server]]`) cannot
     /// be reached or refused the request.
     #[error("{0}")]
@@ -72,25 +72,28 @@ pub enum ApiError {
 }
 
 /// The control layer's refusals, as the API has always answered them: an
-/// unknown tag 404, a role too small 403, a value or tag refused 422, an
-/// audit row not written 500 (docs/api.md, "Errors").
+/// unknown tag, alarm or force 404, a role too small 403, a value or tag
+/// refused 422, an audit row not written 500 (docs/api.md, "Errors").
 impl From<alba_control::Refused> for ApiError {
     fn from(r: alba_control::Refused) -> ApiError {
         use alba_control::Refused as R;
         match r {
-            R::UnknownTag(m) => ApiError::NotFound(m),
-            R::NotWritable(m) | R::WrongType(m) | R::OutOfRange(m) => ApiError::Invalid(m),
+            R::UnknownTag(m) | R::NotForced(m) | R::UnknownAlarm(m) => ApiError::NotFound(m),
+            R::NotWritable(m) | R::WrongType(m) | R::OutOfRange(m) | R::NotForceable(m) => ApiError::Invalid(m),
             e @ R::Role { .. } => ApiError::Forbidden(e.to_string()),
             R::AuditUnavailable(e) => ApiError::AuditWrite(e),
             R::Runtime(e) => ApiError::Runtime(e),
+            R::NotApplied(e) => ApiError::Edit(EditError::NotApplied(e)),
+            R::Alarm(e) => ApiError::Alarm(e),
+            R::Internal(m) => ApiError::Internal(m),
         }
     }
 }
 
 /// The HTTP status of an error: the only place where errors meet statuses.
 pub fn status(e: &ApiError) -> StatusCode {
-    use alba_historian::Error as H;
-    use alba_runtime::Error as R;
+    use alba_control::history::Error as H;
+    use alba_control::runtime::Error as R;
     match e {
         ApiError::Malformed(_) => StatusCode::BAD_REQUEST,
         ApiError::NotFound(_) | ApiError::HistoryOff | ApiError::AuditOff => StatusCode::NOT_FOUND,
@@ -111,14 +114,18 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Edit(EditError::Save { .. }) | ApiError::Internal(_) => StatusCode::INTERNAL_SERVER_ERROR,
         ApiError::AuditWrite(_) => StatusCode::INTERNAL_SERVER_ERROR,
         ApiError::Audit(a) => match a {
-            alba_audit::Error::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
+            alba_control::audit::Error::InvalidArgument(_) => StatusCode::UNPROCESSABLE_ENTITY,
             _ => StatusCode::INTERNAL_SERVER_ERROR,
         },
         ApiError::Alarm(a) => match a {
-            alba_alarms::HubError::Action(alba_alarms::ActionError::Unknown(_)) => StatusCode::NOT_FOUND,
-            alba_alarms::HubError::Action(alba_alarms::ActionError::Invalid(_)) => StatusCode::UNPROCESSABLE_ENTITY,
-            alba_alarms::HubError::Action(_) => StatusCode::CONFLICT,
-            alba_alarms::HubError::Log(_) => StatusCode::INTERNAL_SERVER_ERROR,
+            alba_control::alarms::HubError::Action(alba_control::alarms::ActionError::Unknown(_)) => {
+                StatusCode::NOT_FOUND
+            }
+            alba_control::alarms::HubError::Action(alba_control::alarms::ActionError::Invalid(_)) => {
+                StatusCode::UNPROCESSABLE_ENTITY
+            }
+            alba_control::alarms::HubError::Action(_) => StatusCode::CONFLICT,
+            alba_control::alarms::HubError::Log(_) => StatusCode::INTERNAL_SERVER_ERROR,
         },
         ApiError::History(h) => match h {
             H::UnknownTag(_) | H::UnknownNode(_) => StatusCode::NOT_FOUND,
@@ -135,18 +142,18 @@ fn retry_after_s(d: &std::time::Duration) -> u64 {
     d.as_secs() + u64::from(d.subsec_nanos() > 0)
 }
 
-fn history_message(e: &alba_historian::Error) -> String {
+fn history_message(e: &alba_control::history::Error) -> String {
     match e {
-        alba_historian::Error::UnknownTag(t) => format!("no history for `{t}`"),
-        alba_historian::Error::UnknownNode(n) => format!("no history for node `{n}`"),
-        alba_historian::Error::InvalidArgument(m) => m.clone(),
+        alba_control::history::Error::UnknownTag(t) => format!("no history for `{t}`"),
+        alba_control::history::Error::UnknownNode(n) => format!("no history for node `{n}`"),
+        alba_control::history::Error::InvalidArgument(m) => m.clone(),
         e => e.to_string(),
     }
 }
 
-fn audit_message(e: &alba_audit::Error) -> String {
+fn audit_message(e: &alba_control::audit::Error) -> String {
     match e {
-        alba_audit::Error::InvalidArgument(m) => m.clone(),
+        alba_control::audit::Error::InvalidArgument(m) => m.clone(),
         e => e.to_string(),
     }
 }
@@ -186,14 +193,14 @@ pub type ApiResult<T> = Result<T, ApiError>;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alba_runtime::Error as R;
+    use alba_control::runtime::Error as R;
 
     /// The cases the API tests cannot provoke with a simulated project.
     #[test]
     fn statuses_of_runtime_edit_and_history_errors() {
         let io = R::Io {
             io: "board:x".into(),
-            source: alba_runtime::IoError::LinkStopped,
+            source: alba_control::runtime::IoError::LinkStopped,
         };
         let cases = [
             (ApiError::Runtime(io.clone()), StatusCode::SERVICE_UNAVAILABLE),
@@ -218,20 +225,20 @@ mod tests {
                 StatusCode::INTERNAL_SERVER_ERROR,
             ),
             (
-                ApiError::History(alba_historian::Error::UnknownTag("X".into())),
+                ApiError::History(alba_control::history::Error::UnknownTag("X".into())),
                 StatusCode::NOT_FOUND,
             ),
             (
-                ApiError::History(alba_historian::Error::InvalidArgument("points".into())),
+                ApiError::History(alba_control::history::Error::InvalidArgument("points".into())),
                 StatusCode::UNPROCESSABLE_ENTITY,
             ),
             (ApiError::HistoryOff, StatusCode::NOT_FOUND),
             (
-                ApiError::AuditWrite(alba_audit::Error::Io(std::io::Error::other("disk full"))),
+                ApiError::AuditWrite(alba_control::audit::Error::Io(std::io::Error::other("disk full"))),
                 StatusCode::INTERNAL_SERVER_ERROR,
             ),
             (
-                ApiError::Audit(alba_audit::Error::InvalidArgument("limit".into())),
+                ApiError::Audit(alba_control::audit::Error::InvalidArgument("limit".into())),
                 StatusCode::UNPROCESSABLE_ENTITY,
             ),
             (ApiError::AuditOff, StatusCode::NOT_FOUND),

@@ -18,14 +18,8 @@
 //! - Every answer carries CSP, `X-Content-Type-Options`, `X-Frame-Options`
 //!   and `Referrer-Policy`.
 
-use crate::reply::ErrorReply;
-use crate::state::AppState;
 use alba_compiler::project::config::{Http, parse_origin, split_authority};
-use axum::extract::{Request, State};
 use axum::http::{HeaderMap, HeaderValue, Method, StatusCode, header};
-use axum::middleware::Next;
-use axum::response::{IntoResponse, Response};
-use std::sync::Arc;
 
 /// What the guard lets in, from `[http]`.
 #[derive(Debug, Clone, Default)]
@@ -147,28 +141,9 @@ impl Guard {
     }
 }
 
-/// The middleware: refuses what [`Guard::admit`] refuses, and adds the
-/// security headers to every answer.
-pub async fn layer(State(st): State<Arc<AppState>>, req: Request, next: Next) -> Response {
-    let host = req.headers().get(header::HOST).cloned();
-    let mut res = match st.guard.admit(req.method(), req.uri().path(), req.headers()) {
-        Ok(()) => next.run(req).await,
-        Err(Refusal(status, error)) => (
-            status,
-            axum::Json(ErrorReply {
-                error,
-                diagnostics: None,
-            }),
-        )
-            .into_response(),
-    };
-    secure(res.headers_mut(), host.as_ref());
-    res
-}
-
 /// The security headers. `connect-src` names the WebSocket of the host the
 /// page came from (checked by then, or refused and not a page).
-fn secure(h: &mut HeaderMap, host: Option<&HeaderValue>) {
+pub(crate) fn secure(h: &mut HeaderMap, host: Option<&HeaderValue>) {
     let host = host
         .and_then(|h| h.to_str().ok())
         .filter(|h| split_authority(h).is_some());

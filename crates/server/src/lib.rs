@@ -15,7 +15,7 @@
 //! and one `.route` line below; a route that is not a plain read gets
 //! its role in [`ROUTE_ROLES`].
 //!
-//! Every request passes `auth::layer` first: the session (cookie or
+//! Every request passes `gate::session` first: the session (cookie or
 //! bearer token) and the role its route needs (docs/security.md,
 //! "Sessions and roles"). The server is served with connect info
 //! (`into_make_service_with_connect_info::<SocketAddr>()`): the layer
@@ -26,6 +26,7 @@ mod assets;
 pub mod auth;
 pub mod connections;
 pub mod error;
+mod gate;
 pub mod guard;
 pub mod project;
 pub mod reply;
@@ -33,7 +34,7 @@ mod state;
 pub mod tags;
 mod ws;
 
-pub use api::audit::now_ms;
+pub use alba_control::now_ms;
 pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};
@@ -87,7 +88,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
 ];
 
 /// The router: the API under `/api`, the studio at `/`, all behind the
-/// browser-attack guard (`guard.rs`).
+/// browser-attack guard, the timeout and the session check (`gate.rs`).
 pub fn router(state: Arc<AppState>) -> Router {
     let files = Router::new()
         .route("/api/programs/{name}", get(programs::get).put(programs::put))
@@ -139,22 +140,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
         .fallback(assets::serve)
-        .layer(axum::middleware::from_fn_with_state(state.clone(), auth::layer))
-        .layer(axum::middleware::from_fn_with_state(state.clone(), timeout))
-        .layer(axum::middleware::from_fn_with_state(state.clone(), guard::layer))
+        .layer(axum::middleware::from_fn_with_state(state.clone(), gate::session))
+        .layer(axum::middleware::from_fn_with_state(state.clone(), gate::timeout))
+        .layer(axum::middleware::from_fn_with_state(state.clone(), gate::guard))
         .with_state(state)
-}
-
-/// Answers 503 when a request takes longer than `[http] request_timeout_s`
-/// (until its answer starts: a long download streams on).
-async fn timeout(
-    axum::extract::State(st): axum::extract::State<Arc<AppState>>,
-    req: axum::extract::Request,
-    next: axum::middleware::Next,
-) -> axum::response::Response {
-    use axum::response::IntoResponse;
-    match tokio::time::timeout(st.request_timeout, next.run(req)).await {
-        Ok(r) => r,
-        Err(_) => ApiError::TimedOut(st.request_timeout).into_response(),
-    }
 }

@@ -26,7 +26,7 @@ pub enum EditError {
     Save { path: PathBuf, source: std::io::Error },
     /// Saved, but the runtime refused the new program.
     #[error("saved, but not applied: {0}")]
-    NotApplied(alba_runtime::Error),
+    NotApplied(alba_control::runtime::Error),
 }
 
 impl EditError {
@@ -132,7 +132,7 @@ pub fn edit_summary(project: &Project, edit: &Edit) -> Result<String, EditError>
         Some(Language::Il | Language::Net | Language::Sfc | Language::St) => ("lines", lines(old), lines(new)),
         None => ("rows", lines(old), lines(new)),
     };
-    let d = alba_audit::diff(&old, &new);
+    let d = alba_control::audit::diff(&old, &new);
     Ok(format!("{unit}: {d} ({} → {})", old.len(), new.len()))
 }
 

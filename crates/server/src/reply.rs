@@ -30,12 +30,12 @@ pub enum RunState {
     Faulted,
 }
 
-impl From<alba_runtime::RunState> for RunState {
-    fn from(s: alba_runtime::RunState) -> RunState {
+impl From<alba_control::runtime::RunState> for RunState {
+    fn from(s: alba_control::runtime::RunState) -> RunState {
         match s {
-            alba_runtime::RunState::Running => RunState::Running,
-            alba_runtime::RunState::Stopped => RunState::Stopped,
-            alba_runtime::RunState::Faulted => RunState::Faulted,
+            alba_control::runtime::RunState::Running => RunState::Running,
+            alba_control::runtime::RunState::Stopped => RunState::Stopped,
+            alba_control::runtime::RunState::Faulted => RunState::Faulted,
         }
     }
 }

@@ -18,9 +18,11 @@ pub struct Edited {
 }
 
 pub struct AppState {
-    pub runtime: alba_runtime::Handle,
+    pub runtime: alba_control::runtime::Handle,
     /// The rules for operating the PLC, shared with the other doors (MQTT,
-    /// OPC UA, Modbus): writes go through here (crates/control).
+    /// OPC UA, Modbus): writes, forces, run/stop, alarm actions and online
+    /// edits go through here, and it holds the audit trail and the alarms
+    /// (crates/control).
     pub control: alba_control::Control,
     /// The project's name and scan period (fixed while it runs).
     pub name: String,
@@ -37,20 +39,13 @@ pub struct AppState {
     pub closing: watch::Sender<bool>,
     /// The store `alba run` records into (SQLite or the shared PostgreSQL);
     /// `None` when history is off.
-    pub history: Option<Arc<dyn alba_historian::Backend>>,
-    /// The audit trail (docs/audit.md): every state-changing handler writes its
-    /// row here before it acts. `alba run` always opens one; `None` (tests,
-    /// embedders) records nothing.
-    pub audit: Option<alba_audit::Audit>,
+    pub history: Option<Arc<dyn alba_control::history::Backend>>,
     /// Every saved edit ("program replaced"), for services that follow the program.
     pub edits: broadcast::Sender<Edited>,
     /// What the browser-attack guard lets in (`[http]` of alba.toml).
     pub guard: crate::guard::Guard,
     /// Users, sessions, login back-off (`crate::auth`).
     pub auth: crate::auth::Auth,
-    /// The project's alarms (docs/alarms.md), set by alba-app before serving;
-    /// unset: no alarms (`GET /api/alarms` answers `[]`).
-    pub alarms: std::sync::OnceLock<Arc<alba_alarms::Hub>>,
     /// The client connections to remote servers (`[[opcua_server]]`), set by
     /// alba-app before serving; unset: none (`connections: []`).
     pub connections: std::sync::OnceLock<Arc<dyn crate::connections::Connections>>,
@@ -68,18 +63,21 @@ pub struct AppState {
 
 impl AppState {
     pub fn new(
-        runtime: alba_runtime::Handle,
+        runtime: alba_control::runtime::Handle,
         compiled: Compiled,
         io: &str,
-        history: Option<Arc<dyn alba_historian::Backend>>,
-        audit: Option<alba_audit::Audit>,
+        history: Option<Arc<dyn alba_control::history::Backend>>,
+        audit: Option<alba_control::audit::Audit>,
         auth: crate::auth::Auth,
     ) -> Arc<AppState> {
+        // The audit trail (docs/audit.md): every state-changing request writes
+        // its row there before it acts. `alba run` always opens one; `None`
+        // (tests, embedders) records nothing.
         let project = &compiled.project;
         let http = project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default();
         let guard = crate::guard::Guard::new(&http);
         Arc::new(AppState {
-            control: alba_control::Control::new(runtime.clone(), audit.clone()),
+            control: alba_control::Control::new(runtime.clone(), audit),
             runtime,
             name: project.config.as_ref().map(|c| c.name.clone()).unwrap_or_default(),
             scan_ms: project.scan_ms(),
@@ -89,11 +87,9 @@ impl AppState {
             subscribed: AtomicUsize::new(0),
             closing: watch::Sender::new(false),
             history,
-            audit,
             edits: broadcast::Sender::new(16),
             guard,
             auth,
-            alarms: std::sync::OnceLock::new(),
             connections: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
             max_ws_clients: http.max_ws_clients as usize,

@@ -2,11 +2,11 @@
 //! structures, system tags, and the names a client may subscribe to.
 
 use crate::reply::{self, TagInfo, TagReply, TagValue};
+use alba_control::runtime::Snapshot;
+use alba_control::runtime::json::to_json;
 use alba_ir::layout::SYSTEM_TAGS;
 use alba_ir::model::DataType;
 use alba_ir::{Access, Ctr, Target, Tmr};
-use alba_runtime::Snapshot;
-use alba_runtime::json::to_json;
 use serde_json::{Map, Value as Json};
 
 pub use alba_control::names::{every_value, members, pid_members};

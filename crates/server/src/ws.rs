@@ -22,10 +22,10 @@ use crate::auth::SessionKey;
 use crate::reply::{AlarmsMsg, ErrorMsg, PowerMsg, StatusMsg};
 use crate::state::AppState;
 use crate::{project, tags};
+use alba_control::runtime::Snapshot;
+use alba_control::runtime::json::to_json;
 use alba_ir::model::Value;
 use alba_ir::{Place, Program, Target};
-use alba_runtime::Snapshot;
-use alba_runtime::json::to_json;
 use axum::Extension;
 use axum::extract::State;
 use axum::extract::ws::{CloseFrame, Message, WebSocket, WebSocketUpgrade, close_code};
@@ -191,7 +191,7 @@ impl Client {
             ));
         }
         // Not running: nothing is energised.
-        if s.power().is_some() || s.state != alba_runtime::RunState::Running {
+        if s.power().is_some() || s.state != alba_control::runtime::RunState::Running {
             for name in &self.monitor {
                 let Some(unit) = s.program.units.iter().position(|u| u.name.eq_ignore_ascii_case(name)) else {
                     continue;
@@ -223,7 +223,7 @@ impl Client {
             self.status_at = Some(Instant::now());
             self.status_state = state;
         }
-        if let Some(hub) = st.alarms.get() {
+        if let Some(hub) = st.control.alarms() {
             let g = hub.generation();
             if self.alarms_sent != Some(g) {
                 self.alarms_sent = Some(g);

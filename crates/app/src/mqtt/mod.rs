@@ -19,9 +19,10 @@
 //! file, [`Credentials`]), the writes' role check and audit ([`write`]),
 //! and the link's counters for `/api/status` ([`Stats`], [`Link`]). The
 //! protocol versions 3.1.1 and 5 are behind [`client`]; Sparkplug B is
-//! `crate::sparkplug`.
+//! [`sparkplug`], a sub-module (a mode of this bridge).
 
 pub(crate) mod client;
+pub(crate) mod sparkplug;
 
 use crate::Service;
 use alba_model::Value;
@@ -59,7 +60,7 @@ pub(crate) struct Settings {
     /// TLS to the broker, when `[mqtt] ca_file` is set.
     pub tls: Option<Arc<rustls::ClientConfig>>,
     /// Sparkplug B instead of JSON.
-    pub sparkplug: Option<crate::sparkplug::SpSettings>,
+    pub sparkplug: Option<sparkplug::SpSettings>,
 }
 
 fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, String> {
@@ -115,7 +116,7 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         queue: cfg.queue as usize,
         writes: cfg.writes,
         tls: tls(s.dir, &cfg)?,
-        sparkplug: cfg.sparkplug.as_ref().map(|sp| crate::sparkplug::SpSettings {
+        sparkplug: cfg.sparkplug.as_ref().map(|sp| sparkplug::SpSettings {
             group: sp.group_id.clone(),
             node: sp
                 .edge_node_id
@@ -371,7 +372,7 @@ pub(crate) async fn start(s: &Service<'_>, cli: Option<&str>) -> Result<Option<A
         capacity: set.queue as u64,
     });
     if set.sparkplug.is_some() {
-        crate::sparkplug::start(s, set, stats)?;
+        sparkplug::start(s, set, stats)?;
         return Ok(Some(link));
     }
     let will = Will {

@@ -252,6 +252,12 @@ async fn mqtt_ready(m: &mut Mqtt) {
 }
 
 async fn opcua_session(p: &Plc) -> (Arc<Session>, u16, tokio::task::JoinHandle<StatusCode>) {
+    opcua_session_as(p, None).await
+}
+
+/// An OPC UA session: anonymous without security (`None`), or as a user
+/// over Basic256Sha256 (the only endpoints that take passwords).
+async fn opcua_session_as(p: &Plc, user: Option<&str>) -> (Arc<Session>, u16, tokio::task::JoinHandle<StatusCode>) {
     let pki = p.dir.join("client-pki");
     let mut client = ClientBuilder::new()
         .application_name("doors test")
@@ -264,11 +270,20 @@ async fn opcua_session(p: &Plc) -> (Arc<Session>, u16, tokio::task::JoinHandle<S
         .client()
         .expect("OPC UA client");
     let url = format!("opc.tcp://{}/", p.opcua);
-    let (session, event_loop) = client
-        .connect_to_matching_endpoint(
-            (url.as_str(), SecurityPolicy::None.to_uri(), MessageSecurityMode::None),
+    let (policy, mode, identity) = match user {
+        None => (
+            SecurityPolicy::None,
+            MessageSecurityMode::None,
             IdentityToken::Anonymous,
-        )
+        ),
+        Some(u) => (
+            SecurityPolicy::Basic256Sha256,
+            MessageSecurityMode::SignAndEncrypt,
+            IdentityToken::new_user_name(u, PASSWORD),
+        ),
+    };
+    let (session, event_loop) = client
+        .connect_to_matching_endpoint((url.as_str(), policy.to_uri(), mode), identity)
         .await
         .expect("OPC UA connect");
     let driver = event_loop.spawn();
@@ -506,6 +521,31 @@ async fn writes_through_every_door_are_in_the_audit_trail() {
     assert_eq!(q["new"], json!(33));
     assert_eq!(q["addr"], broker.addr());
     assert_eq!(q["user"], "mqtt");
+    let _ = ua.disconnect().await;
+    driver.abort();
+    p.stop().await;
+}
+
+/// An OPC UA user's write is recorded under the user's name
+/// (`opcua:<user>`) with the user's role judged by the control layer; the
+/// peer stays unknown (docs/audit.md, "Why OPC UA rows have no peer").
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn an_opcua_users_write_names_the_user() {
+    let Some(broker) = alba_testkit::mqtt::Broker::start() else {
+        return;
+    };
+    let p = Plc::start("doors-ua-user", "doorsuser", true, &broker.addr()).await;
+    let (ua, ns, driver) = opcua_session_as(&p, Some("operator")).await;
+    assert_eq!(opcua_write(&ua, ns, "Speed", Variant::Int16(44)).await, "Good");
+    assert_eq!(p.value("Speed").await, json!(44));
+    let rows = p.audit().await;
+    let o = rows
+        .iter()
+        .find(|r| r["via"] == "opcua" && r["target"] == "Speed")
+        .unwrap_or_else(|| panic!("no OPC UA write of Speed in {rows:#?}"));
+    assert_eq!(o["user"], "opcua:operator");
+    assert_eq!(o["outcome"], "ok");
+    assert_eq!(o["new"], json!(44));
     let _ = ua.disconnect().await;
     driver.abort();
     p.stop().await;

@@ -1,16 +1,16 @@
 //! Alarms (docs/alarms.md, SPEC §10.5): `GET /api/alarms` (the alarms not
 //! in `normal`; `?all=true` for every alarm), the operator's actions
-//! (acknowledge, shelve, unshelve; out of service for an engineer), each
-//! under its audit row and logged in the alarm log before it is kept, and
+//! (acknowledge, shelve, unshelve; out of service for an engineer), done by
+//! the control layer (`Control::alarm_act`: the role, the audit row, the
+//! alarm log before the change is kept), and
 //! `GET /api/alarms/log.csv?from&to` (streamed).
 
-use super::audit::{Actor, audited, json_text, now_ms};
+use super::audit::Actor;
 use super::{Body, body, stream};
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{AlarmReply, AlarmStats};
 use crate::state::AppState;
-use alba_alarms::{Alarm, Hub, Request};
-use alba_audit::{Action, Entry};
+use alba_control::alarms::{Alarm, Request};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, Query, State};
@@ -70,7 +70,7 @@ pub async fn list(
         Some("true") => true,
         Some(v) => return Err(ApiError::Malformed(format!("`all` is true or false, not `{v}`"))),
     };
-    let list = st.alarms.get().map(|h| h.list(all)).unwrap_or_default();
+    let list = st.control.alarms().map(|h| h.list(all)).unwrap_or_default();
     Ok(Json(list.into_iter().map(reply).collect()))
 }
 
@@ -81,21 +81,7 @@ pub async fn stats(State(st): State<Arc<AppState>>) -> Json<AlarmStats> {
 
 /// The alarm summary (also sent on the WebSocket).
 pub fn stats_of(st: &AppState) -> AlarmStats {
-    let s = st
-        .alarms
-        .get()
-        .map(|h| h.stats(now_ms()))
-        .unwrap_or(alba_alarms::Stats {
-            alarms: 0,
-            active: 0,
-            unacked: 0,
-            shelved: 0,
-            suppressed: 0,
-            out_of_service: 0,
-            new_in_window: 0,
-            flood: false,
-            top_unacked: None,
-        });
+    let s = st.control.alarm_stats();
     let (top_unacked, top_severity) = s.top_unacked.map_or((None, None), |(id, sev)| (Some(id), Some(sev)));
     AlarmStats {
         alarms: s.alarms,
@@ -111,13 +97,6 @@ pub fn stats_of(st: &AppState) -> AlarmStats {
     }
 }
 
-fn hub(st: &AppState, id: &str) -> ApiResult<Arc<Hub>> {
-    st.alarms
-        .get()
-        .cloned()
-        .ok_or_else(|| ApiError::NotFound(format!("no alarm `{id}` (the project has no alarms.csv)")))
-}
-
 fn text(j: &Value, name: &str) -> ApiResult<String> {
     match j.get(name) {
         None | Some(Value::Null) => Ok(String::new()),
@@ -126,30 +105,10 @@ fn text(j: &Value, name: &str) -> ApiResult<String> {
     }
 }
 
-/// Applies `req` to alarm `id` under the audit row `entry` (its target set
-/// here). Without users, the actor is `local`.
-async fn act(st: Arc<AppState>, actor: Actor, id: String, req: Request, entry: Entry) -> ApiResult<Json<AlarmReply>> {
-    let h = hub(&st, &id)?;
-    let user = actor.user.unwrap_or_else(|| "local".into());
-    let entry = Entry {
-        target: Some(id.clone()),
-        ..entry
-    };
-    let hub2 = h.clone();
-    let id2 = id.clone();
-    audited(&st, entry, async move {
-        tokio::task::spawn_blocking(move || hub2.act(&id2, &req, &user, now_ms()))
-            .await
-            .map_err(|e| ApiError::Internal(e.to_string()))?
-            .map_err(ApiError::from)
-    })
-    .await?;
-    let a = h
-        .list(true)
-        .into_iter()
-        .find(|a| a.def.id.eq_ignore_ascii_case(&id))
-        .ok_or_else(|| ApiError::NotFound(format!("no alarm `{id}`")))?;
-    Ok(Json(reply(a)))
+/// Applies `req` to alarm `id` through the control layer (its role check
+/// and audit row); the alarm after it.
+async fn act(st: Arc<AppState>, actor: Actor, id: String, req: Request) -> ApiResult<Json<AlarmReply>> {
+    Ok(Json(reply(st.control.alarm_act(&actor.control(), &id, req).await?)))
 }
 
 /// `POST /api/alarms/{id}/ack` `{"comment": "..."}` (operator or above).
@@ -161,11 +120,7 @@ pub async fn ack(
 ) -> ApiResult<Json<AlarmReply>> {
     let j = body(b)?;
     let comment = text(&j, "comment")?;
-    let entry = Entry {
-        detail: (!comment.is_empty()).then(|| comment.clone()),
-        ..actor.entry(Action::AlarmAck)
-    };
-    act(st, actor, id, Request::Ack { comment }, entry).await
+    act(st, actor, id, Request::Ack { comment }).await
 }
 
 /// `POST /api/alarms/{id}/shelve` `{"minutes": n, "reason": "..."}`.
@@ -182,11 +137,7 @@ pub async fn shelve(
         .and_then(|m| u32::try_from(m).ok())
         .ok_or_else(|| ApiError::Malformed("the body needs `minutes`, a whole number".into()))?;
     let reason = text(&j, "reason")?;
-    let entry = Entry {
-        detail: Some(format!("{minutes} min: {reason}")),
-        ..actor.entry(Action::AlarmShelve)
-    };
-    act(st, actor, id, Request::Shelve { minutes, reason }, entry).await
+    act(st, actor, id, Request::Shelve { minutes, reason }).await
 }
 
 /// `POST /api/alarms/{id}/unshelve` `{}`.
@@ -197,8 +148,7 @@ pub async fn unshelve(
     b: Body,
 ) -> ApiResult<Json<AlarmReply>> {
     body(b)?;
-    let entry = actor.entry(Action::AlarmUnshelve);
-    act(st, actor, id, Request::Unshelve, entry).await
+    act(st, actor, id, Request::Unshelve).await
 }
 
 /// `POST /api/alarms/{id}/out_of_service` `{"on": bool, "reason": "..."}` (engineer).
@@ -214,12 +164,7 @@ pub async fn out_of_service(
         .and_then(Value::as_bool)
         .ok_or_else(|| ApiError::Malformed("the body needs `on`, true or false".into()))?;
     let reason = text(&j, "reason")?;
-    let entry = Entry {
-        new: Some(json_text(&Value::Bool(on))),
-        detail: (!reason.is_empty()).then(|| reason.clone()),
-        ..actor.entry(Action::AlarmOutOfService)
-    };
-    act(st, actor, id, Request::OutOfService { on, reason }, entry).await
+    act(st, actor, id, Request::OutOfService { on, reason }).await
 }
 
 /// `GET /api/alarms/log.csv?from&to&limit` (Unix ms): every change of state.
@@ -244,11 +189,11 @@ pub async fn log_csv(State(st): State<Arc<AppState>>, Query(q): Query<HashMap<St
         Some(n) => return Err(ApiError::Invalid(format!("`limit` must be at least 0, got {n}"))),
     };
     let log = st
-        .alarms
-        .get()
+        .control
+        .alarms()
         .and_then(|h| h.log().cloned())
         .ok_or_else(|| ApiError::NotFound("this project keeps no alarm log (no alarms.csv)".into()))?;
-    let (mut w, rx) = stream::channel::<alba_alarms::LogError>();
+    let (mut w, rx) = stream::channel::<alba_control::alarms::LogError>();
     tokio::task::spawn_blocking(move || match log.export_csv(from, to, limit, &mut w) {
         Ok(_) => {
             let _ = w.finish();

@@ -15,7 +15,7 @@ use crate::auth::Who;
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{AuditOutcome, AuditPage, AuditRow};
 use crate::state::AppState;
-use alba_audit::{Action, Audit, Entry, Filter, Outcome};
+use alba_control::audit::{Action, Audit, Entry, Filter, Outcome};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::connect_info::ConnectInfo;
@@ -84,79 +84,33 @@ impl<S: Send + Sync> FromRequestParts<S> for Actor {
     }
 }
 
-pub use alba_control::{json_text, now_ms};
+pub use alba_control::json_text;
 
 async fn blocking<T: Send + 'static>(
-    f: impl FnOnce() -> alba_audit::Result<T> + Send + 'static,
-) -> Result<alba_audit::Result<T>, ApiError> {
+    f: impl FnOnce() -> alba_control::audit::Result<T> + Send + 'static,
+) -> Result<alba_control::audit::Result<T>, ApiError> {
     tokio::task::spawn_blocking(f)
         .await
         .map_err(|e| ApiError::Internal(e.to_string()))
 }
 
-/// Writes the `pending` row of an action about to be performed; `None`
-/// when the server keeps no audit trail. An error means: do not perform it.
-pub async fn begin(st: &AppState, entry: Entry) -> ApiResult<Option<i64>> {
-    Ok(st.control.begin(entry).await?)
-}
-
-/// Sets the outcome of the row `begin` wrote from the action's result.
-pub async fn finish<T>(st: &AppState, id: Option<i64>, result: &ApiResult<T>) {
-    st.control.finish(id, result).await;
-}
-
 /// Performs `action` under its audit row (the control layer's rule): the
 /// row first (the action is not performed if it cannot be written), then
-/// the action, then its outcome.
+/// the action, then its outcome. For the API's own actions (saving
+/// screens, trends, symbols; resetting a net); the PLC's operations are
+/// the control layer's (`Control::write`, `force`, `run`, …).
 pub async fn audited<T>(st: &AppState, entry: Entry, action: impl Future<Output = ApiResult<T>>) -> ApiResult<T> {
     st.control.audited(entry, action).await
-}
-
-/// Performs a safety action — stop, removing forces — under its audit row,
-/// which is never a reason to refuse it (issue 31: with the disk full, the
-/// PLC could not be stopped): when the log cannot be written the row goes to
-/// its fallback journal, or at worst to stderr (`alba_audit::Audit::begin_safety`).
-pub async fn audited_safety<T>(
-    st: &AppState,
-    entry: Entry,
-    action: impl Future<Output = ApiResult<T>>,
-) -> ApiResult<T> {
-    let Some(audit) = st.audit.clone() else {
-        return action.await;
-    };
-    let log = audit.clone();
-    let begun = blocking(move || Ok(log.begin_safety(&entry)))
-        .await
-        .unwrap_or(Ok(alba_audit::Begun::Nowhere))
-        .unwrap_or(alba_audit::Begun::Nowhere);
-    let result = action.await;
-    let outcome = match &result {
-        Ok(_) => Outcome::Ok,
-        Err(e) => Outcome::Failed(e.to_string()),
-    };
-    let b = begun.clone();
-    match blocking(move || audit.finish_safety(&b, &outcome)).await {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => eprintln!("audit: the outcome of {begun:?} is not recorded: {e}"),
-        Err(e) => eprintln!("audit: the outcome of {begun:?} is not recorded: {e}"),
-    }
-    result
 }
 
 /// Records an action already done or refused (a login, a failed login, a
 /// logout): the reply must wait for it, and fail if it fails.
 pub async fn record(st: &AppState, entry: Entry, outcome: Outcome) -> ApiResult<()> {
-    let Some(audit) = st.audit.clone() else {
-        return Ok(());
-    };
-    blocking(move || audit.record(&entry, &outcome))
-        .await?
-        .map_err(ApiError::AuditWrite)?;
-    Ok(())
+    Ok(st.control.record(entry, outcome).await?)
 }
 
 fn audit(st: &AppState) -> Result<Audit, ApiError> {
-    st.audit.clone().ok_or(ApiError::AuditOff)
+    st.control.audit().cloned().ok_or(ApiError::AuditOff)
 }
 
 type Params = Query<HashMap<String, String>>;
@@ -200,7 +154,7 @@ fn filter(q: &HashMap<String, String>) -> Result<Filter, ApiError> {
     })
 }
 
-fn row_json(r: alba_audit::Row) -> AuditRow {
+fn row_json(r: alba_control::audit::Row) -> AuditRow {
     let json = |s: Option<String>| match s {
         None => Value::Null,
         Some(t) => serde_json::from_str(&t).unwrap_or(Value::String(t)),
@@ -261,7 +215,7 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
         Some(n) if n >= 0 => u64::try_from(n).unwrap_or(0).min(MAX_CSV_ROWS),
         Some(n) => return Err(ApiError::Invalid(format!("`limit` must be at least 0, got {n}"))),
     };
-    let (mut w, rx) = stream::channel::<alba_audit::Error>();
+    let (mut w, rx) = stream::channel::<alba_control::audit::Error>();
     tokio::task::spawn_blocking(move || match a.export_csv(&f, limit, &mut w) {
         Ok(_) => {
             let _ = w.finish();

@@ -7,7 +7,7 @@ use super::stream;
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{Bucket, History, HistoryNodes, HistoryRaw, HistoryTag};
 use crate::state::AppState;
-use alba_historian::{Backend, Column};
+use alba_control::history::{Backend, Column};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Query, State};
@@ -48,7 +48,7 @@ fn queried_node(st: &AppState, h: &dyn Backend, q: &HashMap<String, String>) -> 
 
 /// Runs a query of the historian off the async threads.
 async fn blocking<T: Send + 'static>(
-    f: impl FnOnce() -> Result<T, alba_historian::Error> + Send + 'static,
+    f: impl FnOnce() -> Result<T, alba_control::history::Error> + Send + 'static,
 ) -> Result<T, ApiError> {
     Ok(tokio::task::spawn_blocking(f)
         .await
@@ -176,7 +176,7 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
     csv_size(from, to, step, names.len())?;
     // One export at a time per permit; the others wait their turn.
     let permit = EXPORTS.acquire().await.map_err(|e| ApiError::Internal(e.to_string()))?;
-    let (mut w, mut rx) = stream::channel::<alba_historian::Error>();
+    let (mut w, mut rx) = stream::channel::<alba_control::history::Error>();
     tokio::task::spawn_blocking(move || {
         let _permit = permit;
         let columns: Vec<Column<'_>> = names
@@ -211,9 +211,9 @@ pub async fn csv(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult
 
 /// Checks the size of an export of `columns` tags over `[from, to]` every `step` ms
 /// against the caps, counting rows as the historian will write them
-/// (`alba_historian::csv_rows`: clamped, no overflow for any `i64`s); the values it holds.
+/// (`alba_control::history::csv_rows`: clamped, no overflow for any `i64`s); the values it holds.
 fn csv_size(from: i64, to: i64, step: i64, columns: usize) -> Result<u64, ApiError> {
-    let rows = alba_historian::csv_rows(from, to, step)
+    let rows = alba_control::history::csv_rows(from, to, step)
         .ok_or_else(|| ApiError::Invalid("`step` must be at least 1 ms".into()))?;
     if rows > MAX_CSV_ROWS {
         return Err(ApiError::Invalid(format!(
@@ -242,7 +242,7 @@ mod tests {
     /// historian clamps to).
     #[test]
     fn csv_caps_hold_for_any_range() {
-        let m = alba_historian::MAX_TIME_MS;
+        let m = alba_control::history::MAX_TIME_MS;
         let exact = |from: i64, to: i64, step: i64| {
             let (f, t) = (i128::from(from.clamp(-m, m)), i128::from(to.clamp(-m, m)));
             if f > t { 0 } else { (t - f) / i128::from(step) + 1 }

@@ -12,17 +12,14 @@
 //! `POST /api/nets/{name}/reset`: writes the net's initial marking at one
 //! scan boundary (docs/nets.md "Live view").
 
-use super::audit::{Actor, audited, json_text};
+use super::audit::Actor;
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{MarkingValue, NetReset};
 use crate::state::AppState;
-use alba_audit::{Action, Entry};
 use alba_compiler::diag::FileId;
 use alba_compiler::net;
 use alba_compiler::petri::net_name;
 use alba_compiler::project::Language;
-use alba_ir::Target;
-use alba_ir::model::Value as PlcValue;
 use axum::Json;
 use axum::body::{Body, Bytes};
 use axum::extract::{Path, State};
@@ -361,30 +358,13 @@ pub async fn reset(
         return Err(ApiError::Invalid(format!("the net does not load: {first}")));
     };
     let marking = initial_marking(&program, &net);
-    let snap = st.runtime.snapshot();
-    let mut writes = Vec::with_capacity(marking.len());
-    for (tag, v) in &marking {
-        match snap.program.layout.resolve(tag) {
-            Ok(Target::Value { place, .. }) => writes.push((place, PlcValue::Dint(*v))),
-            _ => {
-                return Err(ApiError::Invalid(format!(
-                    "the running program has no marking tag `{tag}`: save the net and apply it online first"
-                )));
-            }
-        }
-    }
+    st.control.reset_marking(&actor.control(), &program, &marking).await?;
     let reply = NetReset {
-        program: program.clone(),
+        program,
         marking: marking
             .into_iter()
             .map(|(tag, value)| MarkingValue { tag, value })
             .collect(),
     };
-    let e = Entry {
-        target: Some(program),
-        new: serde_json::to_value(&reply.marking).ok().map(|v| json_text(&v)),
-        ..actor.entry(Action::ResetMarking)
-    };
-    audited(&st, e, async { Ok(st.runtime.write_many(writes).await?) }).await?;
     Ok(Json(reply))
 }

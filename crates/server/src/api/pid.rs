@@ -6,7 +6,7 @@
 
 use crate::error::{ApiError, ApiResult};
 use crate::state::AppState;
-use alba_engine::autotune::{RelayOptions, rules, tune};
+use alba_control::autotune::{RelayOptions, rules, tune};
 use alba_ir::Target;
 use axum::Json;
 use axum::extract::{Path, State};
@@ -24,7 +24,7 @@ pub struct Request {
     #[serde(default = "d_amplitude")]
     amplitude: f64,
     /// Relay centre, % of CV (if absent: the loop's output once it holds the
-    /// plant at SP, alba_engine::autotune).
+    /// plant at SP, alba_control::autotune).
     #[serde(default)]
     bias: Option<f64>,
     /// Hysteresis h, engineering units of the PV.

@@ -1,16 +1,17 @@
 //! The project edit path: `GET /api/programs`, `GET|PUT
 //! /api/programs/{name}`, `POST /api/check/{name}`, `GET|PUT /api/tags.csv`.
-//! Edits are compiled in full before anything is saved, saved atomically,
-//! applied online by swapping the program between two scans, and announced
-//! on `AppState::edits`.
+//! Edits are compiled in full before anything is saved, then the control
+//! layer (`Control::edit`: the role, the audit row) has them saved
+//! atomically and applied online by swapping the program between two
+//! scans; they are announced on `AppState::edits`.
 
-use super::audit::{self, Actor};
+use super::audit::Actor;
 use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
 use crate::project::{self, EditError};
 use crate::reply::{Checked, Program, ProgramRef, Saved};
 use crate::state::{AppState, Edited};
-use alba_audit::{Action, Entry};
+use alba_control::audit::{Action, Entry};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
@@ -112,10 +113,16 @@ async fn apply(st: &AppState, actor: &Actor, edit: project::Edit<'_>, online: bo
         detail: Some(project::edit_summary(&p.project, &edit)?),
         ..actor.entry(action)
     };
-    let id = audit::begin(st, entry).await?;
-    let done = save_and_swap(st, &c, &edit, program, online).await;
-    audit::finish(st, id, &done).await;
-    let program = done?;
+    let program = Arc::new(program);
+    let swap = online.then(|| program.clone());
+    st.control
+        .edit(
+            &actor.control(),
+            entry,
+            || Ok::<_, ApiError>(project::save(&c, &edit)?),
+            swap,
+        )
+        .await?;
     *p = c;
     let file = match edit {
         project::Edit::Program { name, .. } => {
@@ -133,25 +140,6 @@ async fn apply(st: &AppState, actor: &Actor, edit: project::Edit<'_>, online: bo
         diagnostics: Vec::new(),
         applied: online,
     })
-}
-
-/// Saves `c`'s edited file and, if `online`, swaps its program in.
-async fn save_and_swap(
-    st: &AppState,
-    c: &project::Compiled,
-    edit: &project::Edit<'_>,
-    program: alba_ir::Program,
-    online: bool,
-) -> ApiResult<Arc<alba_ir::Program>> {
-    project::save(c, edit)?;
-    let program = Arc::new(program);
-    if online {
-        st.runtime
-            .replace(program.clone())
-            .await
-            .map_err(EditError::NotApplied)?;
-    }
-    Ok(program)
 }
 
 pub async fn put(

@@ -11,9 +11,9 @@ use super::audit::{Actor, audited, json_text};
 use crate::error::{ApiError, ApiResult};
 use crate::project::{EditError, diagnostics_json};
 use crate::state::AppState;
-use alba_audit::Action;
 use alba_compiler::diag::Files;
 use alba_compiler::project::hmi::{self, Screen};
+use alba_control::audit::Action;
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
@@ -61,8 +61,8 @@ fn check(st: &AppState, kind: Kind, name: &str, text: &str) -> ApiResult<Screen>
     let mut files = Files::new();
     let f = files.add(format!("{}/{name}.json", kind.dir()), text);
     let alarm_ids: Vec<String> = st
-        .alarms
-        .get()
+        .control
+        .alarms()
         .map(|h| h.list(true).into_iter().map(|a| a.def.id).collect())
         .unwrap_or_default();
     let (screen, diags) = hmi::parse(
@@ -165,7 +165,7 @@ async fn put_of(
     let screen = check(&st, kind, &name, &text)?;
     let path = file_of(&st.project.lock().await.project.dir, kind, &name)?;
     let pretty = serde_json::to_string_pretty(&screen).map_err(|e| ApiError::Internal(e.to_string()))?;
-    let entry = alba_audit::Entry {
+    let entry = alba_control::audit::Entry {
         target: Some(format!("{}/{name}.json", kind.dir())),
         new: Some(json_text(&json!({"elements": screen.elements.len()}))),
         ..actor.entry(Action::SaveScreen)

@@ -7,7 +7,7 @@ use crate::auth::{Who, cleared_cookie, cookie, token};
 use crate::error::ApiError;
 use crate::reply::{Login, Me};
 use crate::state::AppState;
-use alba_audit::{Action, Entry, Outcome};
+use alba_control::audit::{Action, Entry, Outcome};
 use axum::Json;
 use axum::extract::{ConnectInfo, State};
 use axum::http::{HeaderMap, StatusCode, header};

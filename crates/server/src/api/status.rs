@@ -1,11 +1,10 @@
 //! `GET /api/status`, `POST /api/run`, `POST /api/stop`, `POST /api/step`.
 
-use super::audit::{Actor, audited, audited_safety, json_text};
+use super::audit::Actor;
 use crate::error::ApiResult;
-use crate::reply::{Problem, RunState, Stats, Status};
+use crate::reply::{Problem, Stats, Status};
 use crate::state::AppState;
-use alba_audit::{Action, Entry};
-use alba_runtime::Snapshot;
+use alba_control::runtime::Snapshot;
 use axum::Json;
 use axum::extract::State;
 use std::sync::Arc;
@@ -62,42 +61,22 @@ pub async fn get(State(st): State<Arc<AppState>>) -> Json<Status> {
     Json(status_of(&st.runtime.snapshot(), &st))
 }
 
-/// The audit entry of run/stop: the state before and the one asked for.
-fn entry(st: &AppState, actor: &Actor, action: Action, to: RunState) -> Entry {
-    let before = RunState::from(st.runtime.snapshot().state);
-    let text = |s: RunState| serde_json::to_value(s).map(|v| json_text(&v)).ok();
-    Entry {
-        old: text(before),
-        new: text(to),
-        ..actor.entry(action)
-    }
-}
-
 /// Audited (`run`).
 pub async fn run(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
-    let e = entry(&st, &actor, Action::Run, RunState::Running);
-    audited(&st, e, async { Ok(st.runtime.run().await?) }).await?;
+    st.control.run(&actor.control()).await?;
     Ok(get(State(st)).await)
 }
 
 /// Audited (`stop`), and never refused for want of its audit row (a full
-/// disk): see `audited_safety`.
+/// disk): see `Control::audited_safety`.
 pub async fn stop(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
-    let e = entry(&st, &actor, Action::Stop, RunState::Stopped);
-    audited_safety(&st, e, async { Ok(st.runtime.stop().await?) }).await?;
+    st.control.stop(&actor.control()).await?;
     Ok(get(State(st)).await)
 }
 
 /// Audited (`step`): while stopped, one scan (inputs, program, outputs,
 /// snapshot) and the status after it; `409` while running or faulted.
 pub async fn step(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<Status>> {
-    let before = st.runtime.snapshot().scans;
-    let e = Entry {
-        old: Some(before.to_string()),
-        new: Some(before.saturating_add(1).to_string()),
-        detail: Some("one scan".to_string()),
-        ..actor.entry(Action::Step)
-    };
-    audited(&st, e, async { Ok(st.runtime.step().await?) }).await?;
+    st.control.step(&actor.control()).await?;
     Ok(get(State(st)).await)
 }

@@ -7,7 +7,7 @@ use super::{Body, body};
 use crate::error::{ApiError, ApiResult};
 use crate::reply::{TrendPen, TrendSet};
 use crate::state::AppState;
-use alba_audit::Action;
+use alba_control::audit::Action;
 use alba_ir::Target;
 use axum::Json;
 use axum::extract::State;
@@ -118,7 +118,7 @@ pub async fn put(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiR
             None => p.tag.clone(),
         })
         .collect();
-    let entry = alba_audit::Entry {
+    let entry = alba_control::audit::Entry {
         target: Some(FILE.into()),
         new: Some(json_text(&serde_json::json!(pens))),
         ..actor.entry(Action::SaveTrends)
