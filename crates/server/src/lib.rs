@@ -27,6 +27,7 @@ pub mod auth;
 pub mod connections;
 pub mod error;
 pub mod guard;
+pub mod hardware;
 pub mod project;
 pub mod reply;
 mod state;
@@ -82,6 +83,11 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     // Browsing opens sessions on a remote server as `alba run`'s client: for
     // those who bind tags to it.
     ("GET", "/api/opcua/{server}/browse", Needs(Role::Engineer)),
+    // The board: alba.toml's [board], firmware builds, the serial ports.
+    ("PUT", "/api/hardware/board", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/build", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/download", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -135,6 +141,12 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
         .route("/api/opcua/{server}/browse", get(opcua::browse))
+        .route("/api/hardware", get(api::hardware::get))
+        .route("/api/hardware/board", put(api::hardware::put_board))
+        .route("/api/hardware/build", post(api::hardware::build))
+        .route("/api/hardware/download", post(api::hardware::download))
+        .route("/api/hardware/identify", post(api::hardware::identify))
+        .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
@@ -145,6 +157,9 @@ pub fn router(state: Arc<AppState>) -> Router {
         .with_state(state)
 }
 
+/// How long `POST /api/hardware/build` may take.
+pub const BUILD_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(600);
+
 /// Answers 503 when a request takes longer than `[http] request_timeout_s`
 /// (until its answer starts: a long download streams on).
 async fn timeout(
@@ -153,7 +168,14 @@ async fn timeout(
     next: axum::middleware::Next,
 ) -> axum::response::Response {
     use axum::response::IntoResponse;
-    match tokio::time::timeout(st.request_timeout, next.run(req)).await {
+    // A firmware build runs avr-gcc (the Arduino core too, the first time):
+    // bounded by the toolchain, not by the request timeout.
+    let limit = if req.uri().path() == "/api/hardware/build" {
+        st.request_timeout.max(BUILD_TIMEOUT)
+    } else {
+        st.request_timeout
+    };
+    match tokio::time::timeout(limit, next.run(req)).await {
         Ok(r) => r,
         Err(_) => ApiError::TimedOut(st.request_timeout).into_response(),
     }

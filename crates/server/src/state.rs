@@ -54,6 +54,9 @@ pub struct AppState {
     /// The client connections to remote servers (`[[opcua_server]]`), set by
     /// alba-app before serving; unset: none (`connections: []`).
     pub connections: std::sync::OnceLock<Arc<dyn crate::connections::Connections>>,
+    /// The board, its ports, firmware builds and downloads (`/api/hardware`),
+    /// set by alba-app before serving; unset: `/api/hardware` answers 404.
+    pub hardware: std::sync::OnceLock<Arc<dyn crate::hardware::Hardware>>,
     /// The studio is served over HTTPS (set by alba-app before serving;
     /// session cookies are then `Secure`).
     pub https: std::sync::atomic::AtomicBool,
@@ -95,6 +98,7 @@ impl AppState {
             auth,
             alarms: std::sync::OnceLock::new(),
             connections: std::sync::OnceLock::new(),
+            hardware: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
             max_ws_clients: http.max_ws_clients as usize,
             request_timeout: std::time::Duration::from_secs(u64::from(http.request_timeout_s)),
