@@ -59,25 +59,28 @@ export class HardwareTab {
     this.jobLine.hidden = true;
     this.bar.hidden = true;
     this.el = h('section', { class: 'hardware-view', 'data-testid': 'hardware-view' },
-      h('h2', null, tr('Board')),
-      h('div', { class: 'toolbar' },
-        h('label', null, tr('Board'), ' ', this.boardSel),
-        h('label', null, tr('Pin map'), ' ', this.presetSel),
-        this.saveBtn),
-      this.drawing,
-      h('table', { class: 'tags hw-table' },
-        h('thead', null, h('tr', null, [tr('Channel'), tr('Pin'), tr('Can be'), tr('Tags'), tr('Problem')].map((c) => h('th', null, c)))),
-        this.table),
-      this.tableProblems,
-      h('h2', null, tr('Serial port')),
-      h('div', { class: 'toolbar' }, this.portSel, this.portTyped, refresh, this.identifyBtn),
-      this.portInfo,
-      h('h2', null, tr('Firmware')),
-      h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn),
-      this.sizes,
-      h('h2', null, tr('Program')),
-      h('div', { class: 'toolbar' }, this.downloadBtn, this.bar),
-      this.jobLine);
+      h('div', { class: 'hw-board-part' },
+        h('h2', null, tr('Board')),
+        h('div', { class: 'toolbar' },
+          h('label', null, tr('Board'), ' ', this.boardSel),
+          h('label', null, tr('Pin map'), ' ', this.presetSel),
+          this.saveBtn),
+        this.drawing,
+        this.tableProblems,
+        h('table', { class: 'tags hw-table' },
+          h('thead', null, h('tr', null, [tr('Channel'), tr('Pin'), tr('Can be'), tr('Tags'), tr('Problem')].map((c) => h('th', null, c)))),
+          this.table)),
+      h('div', { class: 'hw-actions' },
+        h('h2', null, tr('Serial port')),
+        h('div', { class: 'toolbar' }, this.portSel, refresh),
+        h('div', { class: 'toolbar' }, this.portTyped, this.identifyBtn),
+        this.portInfo,
+        h('h2', null, tr('Firmware')),
+        h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn),
+        this.sizes,
+        h('h2', null, tr('Program')),
+        h('div', { class: 'toolbar' }, this.downloadBtn, this.bar),
+        this.jobLine));
   }
 
   show(): void {
@@ -188,7 +191,9 @@ export class HardwareTab {
     const pinmap = this.presetSel.value;
     const body: Record<string, unknown> = { board, pinmap };
     if (pinmap === v.pinmap && changed(v.pins, this.edits)) Object.assign(body, mapOf(v.pins, this.edits));
-    if (v.port) body.port = v.port;
+    // the port typed by hand becomes the project's (alba.toml [board] port)
+    const port = this.portTyped.value.trim() || v.port;
+    if (port) body.port = port;
     try {
       this.view = await api.saveBoard(body);
       this.edits.clear();
