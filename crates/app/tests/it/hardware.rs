@@ -331,8 +331,8 @@ async fn builds_answer_avr_gcc_s_sizes_and_a_project_that_does_not_build_its_dia
 /// The interpreter for the project's board on an emulated Nano, its UART on `dir/link`.
 struct Board {
     child: Child,
-    /// Kept open: the board writes its answers there.
-    _out: BufReader<std::process::ChildStdout>,
+    /// The board's answers to `cmd`.
+    out: BufReader<std::process::ChildStdout>,
     link: String,
 }
 
@@ -360,9 +360,18 @@ impl Board {
         assert!(ready.starts_with("ready "), "{ready}");
         Board {
             child,
-            _out: out,
+            out,
             link: link.to_string_lossy().into_owned(),
         }
+    }
+
+    /// A command of the emulated board (`stuck 5`, `stuck off`) and its answer.
+    fn cmd(&mut self, c: &str) -> String {
+        let stdin = self.child.stdin.as_mut().expect("stdin");
+        writeln!(stdin, "{c}").expect("command");
+        let mut a = String::new();
+        self.out.read_line(&mut a).expect("answer");
+        a.trim().to_string()
     }
 }
 
@@ -377,9 +386,9 @@ impl Drop for Board {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_a_missing_port_fails_in_words() {
+async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_in_words() {
     let s = Studio::start("download").await;
-    let board = Board::start(&s.dir);
+    let mut board = Board::start(&s.dir);
 
     // Who is there, before anything is sent: the interpreter, no program yet.
     let (st, j) = s
@@ -470,6 +479,42 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_a_missing_port_fai
         .await;
     assert_eq!(j["state"], "running", "{j}");
 
+    // A record the board's memory does not keep (an EEPROM cell stuck): flag 20 in
+    // words, and the board runs the program it had, not the changed one.
+    let running = j["program"].clone();
+    std::fs::write(
+        s.dir.join("main.lad"),
+        "[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n",
+    )
+    .expect("main.lad");
+    assert_eq!(board.cmd("stuck 5"), "ok");
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/download",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
+    assert_eq!(end["state"], "failed", "{end}");
+    assert_eq!(
+        end["message"],
+        "record 1 was refused 3 times: the memory did not keep what was written (20): the board still runs the previous program",
+        "{end}"
+    );
+    assert_eq!(board.cmd("stuck off"), "ok");
+    let (_, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/identify",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
+
     // Each download audited with its outcome.
     let mut rows = Vec::new();
     for _ in 0..50 {
@@ -479,10 +524,15 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_a_missing_port_fai
         }
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
-    assert_eq!(rows.len(), 2, "{rows:?}");
+    assert_eq!(rows.len(), 3, "{rows:?}");
     assert!(
         rows.iter()
             .any(|r| r["outcome"] == "ok" && r["target"] == board.link.as_str()),
+        "{rows:?}"
+    );
+    assert!(
+        rows.iter()
+            .any(|r| r["target"] == board.link.as_str() && r["error"].as_str().is_some_and(|e| e.contains("(20)"))),
         "{rows:?}"
     );
     assert!(
