@@ -9,14 +9,16 @@
 // - a stand-alone sketch built for the Nano with its sizes against the limits;
 // - the byte code downloaded with the progress reaching 100 %, the result kept
 //   after a reload;
+// - a record the board's memory does not keep (an EEPROM cell stuck): the job fails
+//   with flag 20 in words, and the board still runs the program it had;
 // - a pin conflict shown on its row with the code `alba check` gives, and refused
 //   at save (alba.toml unchanged).
 // Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
-// hardware-conflict.png) in E2E_OUT.
+// hardware-failed.png, hardware-conflict.png) in E2E_OUT.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { createInterface } from 'node:readline';
@@ -42,14 +44,23 @@ async function startBoard() {
   board = spawn(join(work, 'alba-board'), [join(work, 'alba_interp/build/sketch.elf'), '-m', 'atmega328p', '--tty', link, '--pins', 'D12,D13', '--eeprom', join(work, 'eeprom.bin')], {
     stdio: ['pipe', 'pipe', 'ignore'],
   });
+  answers = createInterface({ input: board.stdout });
   await new Promise((ok, fail) => {
     const timer = setTimeout(() => fail(new Error('alba-board did not start in 30 s')), 30_000);
-    createInterface({ input: board.stdout }).once('line', (line) => {
+    answers.once('line', (line) => {
       clearTimeout(timer);
       if (line.startsWith('ready ')) ok();
       else fail(new Error(`alba-board: ${line}`));
     });
   });
+}
+
+/** A command of the emulated board (`stuck 5`: an EEPROM cell that keeps its value) and its answer. */
+let answers;
+async function boardCmd(c) {
+  const answer = new Promise((ok) => answers.once('line', ok));
+  board.stdin.write(`${c}\n`);
+  return answer;
 }
 
 before(async () => {
@@ -165,6 +176,25 @@ test('the byte code goes to the board with the progress reaching 100 %, the resu
   // the board runs it: it says so
   await tid('hw-identify').click();
   await tid('hw-port-info').filter({ hasText: 'it runs a program' }).waitFor({ timeout: 20_000 });
+});
+
+test('a record the board does not keep: the flag in words, and the old program still runs', async () => {
+  const { tid } = b;
+  const program = (await b.page.evaluate(async (port) => (await (await fetch('/api/hardware/identify', { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ port }) })).json()).program, link));
+  assert.match(program, /^[0-9a-f]{8}$/);
+  // another program, which the board will not take
+  const lad = join(alba.dir, 'main.lad');
+  const old = readFileSync(lad, 'utf8');
+  writeFileSync(lad, '[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n');
+  assert.equal(await boardCmd('stuck 5'), 'ok');
+  await tid('hw-download').click();
+  await tid('hw-job').and(b.page.locator('[data-state="failed"]')).waitFor({ timeout: 30_000 });
+  await tid('hw-job-message').filter({ hasText: 'the memory did not keep what was written (20): the board still runs the previous program' }).waitFor();
+  await b.shot('hardware-failed');
+  assert.equal(await boardCmd('stuck off'), 'ok');
+  writeFileSync(lad, old);
+  await tid('hw-identify').click();
+  await tid('hw-port-info').filter({ hasText: `program id ${program}` }).waitFor({ timeout: 20_000 });
 });
 
 test('a pin conflict is shown on its row with its code and refused at save', async () => {
