@@ -8,7 +8,7 @@
 //   table follows the Nano and the port is listed; Identify names the interpreter;
 // - a stand-alone sketch built for the Nano with its sizes against the limits;
 // - the byte code downloaded with the progress reaching 100 %, the result kept
-//   after a reload;
+//   after a reload, and Verify reads it back equal;
 // - a record the board's memory does not keep (an EEPROM cell stuck): the job fails
 //   with flag 20 in words, and the board still runs the program it had;
 // - a pin conflict shown on its row with the code `alba check` gives, and refused
@@ -99,7 +99,7 @@ test('a viewer sees the Hardware tab with every change disabled; the API refuses
   await tid('tab-hardware').click();
   await tid('hardware-view').waitFor();
   await tid('hw-board').locator('option').first().waitFor({ state: 'attached' });
-  for (const id of ['hw-save', 'hw-build', 'hw-download', 'hw-identify']) {
+  for (const id of ['hw-save', 'hw-build', 'hw-download', 'hw-identify', 'hw-verify']) {
     assert.equal(await tid(id).isDisabled(), true, `${id} is disabled for a viewer`);
     assert.equal(await tid(id).getAttribute('title'), 'needs the engineer role');
   }
@@ -173,9 +173,11 @@ test('the byte code goes to the board with the progress reaching 100 %, the resu
   await tid('tab-hardware').click();
   await tid('hw-job').filter({ hasText: '100 %' }).waitFor();
   await tid('hw-job-message').filter({ hasText: /verified/ }).waitFor();
-  // the board runs it: it says so
+  // the board runs it: it says so, and Verify reads it back equal
   await tid('hw-identify').click();
   await tid('hw-port-info').filter({ hasText: 'it runs a program' }).waitFor({ timeout: 20_000 });
+  await tid('hw-verify').click();
+  await tid('hw-verify-result').and(b.page.locator('[data-same="true"]')).filter({ hasText: "verified: the board holds the project's program" }).waitFor({ timeout: 20_000 });
 });
 
 test('a record the board does not keep: the flag in words, and the old program still runs', async () => {
@@ -192,6 +194,9 @@ test('a record the board does not keep: the flag in words, and the old program s
   await tid('hw-job-message').filter({ hasText: 'the memory did not keep what was written (20): the board still runs the previous program' }).waitFor();
   await b.shot('hardware-failed');
   assert.equal(await boardCmd('stuck off'), 'ok');
+  // Verify: the board's program is not the changed project's
+  await tid('hw-verify').click();
+  await tid('hw-verify-result').and(b.page.locator('[data-same="false"]')).filter({ hasText: `the board's program id ${program}` }).waitFor({ timeout: 20_000 });
   writeFileSync(lad, old);
   await tid('hw-identify').click();
   await tid('hw-port-info').filter({ hasText: `program id ${program}` }).waitFor({ timeout: 20_000 });

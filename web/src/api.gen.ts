@@ -640,6 +640,20 @@ report: string, };
 
 export type JobStarted = { job: string, };
 
+export type Verified = { port: string, 
+/**
+ * The board holds exactly the project's byte code.
+ */
+same: boolean, 
+/**
+ * Bytes of the project's byte code.
+ */
+bytes: number, 
+/**
+ * In words (where it differs, the program ids).
+ */
+message: string, };
+
 export type BoardIdentity = { port: string, 
 /**
  * `false`: something answered that is not Alba's interpreter, or nothing did ("unknown device").

@@ -1,6 +1,6 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
-import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted } from './api.gen';
+import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, Verified } from './api.gen';
 import type { Domain } from './domain';
 import type { Alarm, AlarmStats, Diagnostic, Force, History, HistoryNodes, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
@@ -192,6 +192,8 @@ export const api = {
   hardwareDownload: (port: string) => json<JobStarted>('POST', '/api/hardware/download', { port }),
   hardwareJob: (id: string) => json<HardwareJob>('GET', `/api/hardware/jobs/${enc(id)}`),
   hardwareIdentify: (port: string) => json<BoardIdentity>('POST', '/api/hardware/identify', { port }),
+  /** POST /api/hardware/verify: the board's running program read back against the project's byte code. */
+  hardwareVerify: (port: string) => json<Verified>('POST', '/api/hardware/verify', { port }),
   /** `tags`: `Tag` of this runtime, `Tag@node` of another node. */
   historyCsvUrl: (tags: string[], from: number, to: number, step: number) =>
     `/api/history.csv?tags=${tags.map(enc).join(',')}&from=${Math.floor(from)}&to=${Math.ceil(to)}&step=${Math.max(1, Math.round(step))}`,

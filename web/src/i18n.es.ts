@@ -578,4 +578,7 @@ export const es: Record<string, string> = {
   'serial (PC link)': 'serie (enlace con el PC)',
   'stand-alone sketch': 'sketch autónomo',
   '{used} of {max} bytes ({p} %)': '{used} de {max} bytes ({p} %)',
+  Verify: 'Verificar',
+  "Read the board's program back and compare it with the project's": 'Leer el programa de la placa y compararlo con el del proyecto',
+  'Reading the program back from {port}…': 'Leyendo el programa de {port}…',
 };

@@ -19,7 +19,7 @@ use alba_server::hardware::{BoardChange, Hardware, HardwareError};
 use alba_server::project::diagnostics_json;
 use alba_server::reply::{
     BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem, PinRow,
-    SerialPortInfo,
+    SerialPortInfo, Verified,
 };
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -422,6 +422,22 @@ impl Service {
         }
     }
 
+    /// A port no job is using, remembered as typed.
+    fn free_port(&self, port: &str) -> Result<String, HardwareError> {
+        let port = port_path(port)?;
+        if let Some(j) = lock(&self.jobs).iter().find(|j| {
+            let j = lock(j);
+            j.view.port == port && j.view.state == JobState::Running
+        }) {
+            return Err(HardwareError::Busy(format!(
+                "job {} is downloading to {port}",
+                lock(j).view.id
+            )));
+        }
+        self.remember(&port);
+        Ok(port)
+    }
+
     fn compile(&self) -> Compiled {
         alba_compiler::compile_dir(&self.dir)
     }
@@ -653,17 +669,7 @@ impl Hardware for Service {
     }
 
     fn identify(&self, port: &str) -> Result<BoardIdentity, HardwareError> {
-        let port = port_path(port)?;
-        if let Some(j) = lock(&self.jobs).iter().find(|j| {
-            let j = lock(j);
-            j.view.port == port && j.view.state == JobState::Running
-        }) {
-            return Err(HardwareError::Busy(format!(
-                "job {} is downloading to {port}",
-                lock(j).view.id
-            )));
-        }
-        self.remember(&port);
+        let port = self.free_port(port)?;
         let mut link = Link::open(&port).map_err(|e| HardwareError::Port(e.to_string()))?;
         let unknown = |why: String| BoardIdentity {
             port: port.clone(),
@@ -708,6 +714,62 @@ impl Hardware for Service {
             board_id: Some(format!("{:04x}", id.board_id)),
             state: Some(state.into()),
             program,
+        })
+    }
+
+    fn verify(&self, port: &str) -> Result<Verified, HardwareError> {
+        let port = self.free_port(port)?;
+        let c = self.compile();
+        let Some(program) = &c.program else {
+            return Err(does_not_build(&c.diagnostics, c.files()));
+        };
+        let t = target(&c, None, None, true).map_err(|d| does_not_build(&[d], c.files()))?;
+        let prog = sketch::control_program(program);
+        let bc = bytecode::encode(&prog, &project_name(&c), &t).map_err(|d| does_not_build(&d, c.files()))?;
+        let mut link = Link::open(&port).map_err(|e| HardwareError::Port(e.to_string()))?;
+        let read = link.identify().and_then(|id| {
+            let n = bc.bytes.len().min(usize::from(id.slot));
+            link.read(0, n)
+        });
+        let back = match read {
+            Ok(b) => b,
+            Err(e) => {
+                return Ok(Verified {
+                    port,
+                    same: false,
+                    bytes: bc.bytes.len() as u32,
+                    message: format!("not verified: {e}"),
+                });
+            }
+        };
+        let same = back == bc.bytes;
+        let id_of = |b: &[u8]| {
+            (b.len() >= bytecode::HEADER_LEN && b[..4] == bytecode::MAGIC)
+                .then(|| format!("{:08x}", u32::from_le_bytes([b[8], b[9], b[10], b[11]])))
+        };
+        let message = if same {
+            format!(
+                "verified: the board holds the project's program ({} bytes, program id {:08x})",
+                bc.bytes.len(),
+                bc.program_id
+            )
+        } else {
+            let at = back
+                .iter()
+                .zip(&bc.bytes)
+                .position(|(a, b)| a != b)
+                .unwrap_or(back.len());
+            format!(
+                "the board's program differs from the project's at byte {at} (the board's program id {}, the project's {:08x}): download it",
+                id_of(&back).unwrap_or_else(|| "none".into()),
+                bc.program_id
+            )
+        };
+        Ok(Verified {
+            port,
+            same,
+            bytes: bc.bytes.len() as u32,
+            message,
         })
     }
 }

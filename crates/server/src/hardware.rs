@@ -8,7 +8,7 @@
 //! Every method may block (a build runs avr-gcc, a download opens a serial
 //! port): the handlers call them on blocking threads.
 
-use crate::reply::{BoardIdentity, BuildSizes, Diagnostic, HardwareJob, HardwareView};
+use crate::reply::{BoardIdentity, BuildSizes, Diagnostic, HardwareJob, HardwareView, Verified};
 
 /// A change of `[board]` (`PUT /api/hardware/board`).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -61,4 +61,6 @@ pub trait Hardware: Send + Sync {
     fn job(&self, id: &str) -> Option<HardwareJob>;
     /// Asks what is connected to `port`.
     fn identify(&self, port: &str) -> Result<BoardIdentity, HardwareError>;
+    /// Reads the board's running program back and compares it with the project's byte code.
+    fn verify(&self, port: &str) -> Result<Verified, HardwareError>;
 }

@@ -88,6 +88,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/build", Needs(Role::Engineer)),
     ("POST", "/api/hardware/download", Needs(Role::Engineer)),
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -146,6 +147,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/build", post(api::hardware::build))
         .route("/api/hardware/download", post(api::hardware::download))
         .route("/api/hardware/identify", post(api::hardware::identify))
+        .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))

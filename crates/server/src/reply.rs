@@ -631,6 +631,19 @@ pub struct JobStarted {
     pub job: String,
 }
 
+/// `POST /api/hardware/verify`: the board's running program read back and
+/// compared with the project's byte code.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct Verified {
+    pub port: String,
+    /// The board holds exactly the project's byte code.
+    pub same: bool,
+    /// Bytes of the project's byte code.
+    pub bytes: u32,
+    /// In words (where it differs, the program ids).
+    pub message: String,
+}
+
 /// `POST /api/hardware/identify`: what answers on a port.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
 pub struct BoardIdentity {
@@ -906,6 +919,7 @@ pub fn typescript() -> String {
         HardwareView,
         BuildSizes,
         JobStarted,
+        Verified,
         BoardIdentity,
     );
     out

@@ -39,6 +39,8 @@ export class HardwareTab {
   private readonly sizes = h('div', { class: 'hw-sizes', 'data-testid': 'hw-sizes' });
   private readonly downloadBtn = h('button', { class: 'primary', 'data-testid': 'hw-download' }, tr('Download'));
   private readonly identifyBtn = h('button', { 'data-testid': 'hw-identify' }, tr('Identify'));
+  private readonly verifyBtn = h('button', { 'data-testid': 'hw-verify', title: tr('Read the board\'s program back and compare it with the project\'s') }, tr('Verify'));
+  private readonly verifyLine = h('div', { class: 'hw-verify', 'data-testid': 'hw-verify-result' });
   private readonly bar = h('progress', { max: '100', value: '0', 'data-testid': 'hw-progress' });
   private readonly jobLine = h('div', { class: 'hw-job', 'data-testid': 'hw-job' });
   private following = '';
@@ -50,12 +52,13 @@ export class HardwareTab {
     this.buildBtn.onclick = () => void this.build();
     this.downloadBtn.onclick = () => void this.download();
     this.identifyBtn.onclick = () => void this.identify();
+    this.verifyBtn.onclick = () => void this.verify();
     this.boardSel.onchange = () => this.render();
     this.presetSel.onchange = () => {
       // another preset: the table shows it once saved
       this.edits.clear();
     };
-    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn]) gate(b, 'hardware');
+    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn]) gate(b, 'hardware');
     this.jobLine.hidden = true;
     this.bar.hidden = true;
     this.el = h('section', { class: 'hardware-view', 'data-testid': 'hardware-view' },
@@ -79,8 +82,9 @@ export class HardwareTab {
         h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn),
         this.sizes,
         h('h2', null, tr('Program')),
-        h('div', { class: 'toolbar' }, this.downloadBtn, this.bar),
-        this.jobLine));
+        h('div', { class: 'toolbar' }, this.downloadBtn, this.verifyBtn, this.bar),
+        this.jobLine,
+        this.verifyLine));
   }
 
   show(): void {
@@ -249,6 +253,22 @@ export class HardwareTab {
     } catch (e) {
       clear(this.portInfo);
       this.portInfo.append(h('span', { class: 'problem' }, e instanceof Error ? e.message : String(e)));
+    }
+  }
+
+  private async verify(): Promise<void> {
+    const port = this.port();
+    if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    clear(this.verifyLine);
+    this.verifyLine.append(tr('Reading the program back from {port}…', { port }));
+    try {
+      const v = await api.hardwareVerify(port);
+      clear(this.verifyLine);
+      this.verifyLine.dataset.same = String(v.same);
+      this.verifyLine.append(h('span', { class: v.same ? '' : 'problem' }, v.message));
+    } catch (e) {
+      clear(this.verifyLine);
+      this.verifyLine.append(h('span', { class: 'problem' }, e instanceof Error ? e.message : String(e)));
     }
   }
 

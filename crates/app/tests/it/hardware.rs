@@ -441,6 +441,21 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     let prog = alba_arduino::sketch::control_program(c.program.as_ref().expect("program"));
     let bc = alba_arduino::bytecode::encode(&prog, "hw", &t).expect("byte code");
     assert_eq!(j["program"], format!("{:08x}", bc.program_id), "{j}");
+    // Verify: the board's program read back is the project's.
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/verify",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    assert_eq!(
+        (j["same"].as_bool(), j["bytes"].as_u64()),
+        (Some(true), Some(bc.bytes.len() as u64)),
+        "{j}"
+    );
     // The view keeps the job (a reloaded page finds it), and the port typed by hand.
     let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
     assert_eq!(v["jobs"][0]["id"], job.as_str(), "{v}");
@@ -514,6 +529,22 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
         )
         .await;
     assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
+    // …which is not the project's any more: Verify says so, and where.
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/verify",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    assert_eq!(j["same"], false, "{j}");
+    let msg = j["message"].as_str().expect("message");
+    assert!(
+        msg.contains("differs from the project's at byte") && msg.contains(running.as_str().expect("id")),
+        "{msg}"
+    );
 
     // Each download audited with its outcome.
     let mut rows = Vec::new();

@@ -9,7 +9,7 @@ use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
 use crate::hardware::{BoardChange, Hardware, HardwareError};
 use crate::project::EditError;
-use crate::reply::{BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, JobState};
+use crate::reply::{BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, JobState, Verified};
 use crate::state::AppState;
 use alba_audit::{Action, Entry};
 use axum::Json;
@@ -189,4 +189,12 @@ pub async fn identify(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Jso
     let port = string(&j, "port")?;
     let hw = service(&st)?;
     Ok(Json(blocking(move || hw.identify(&port)).await?))
+}
+
+/// `POST /api/hardware/verify` `{"port"}`: does the board run the project's program?
+pub async fn verify(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Json<Verified>> {
+    let j = body(b)?;
+    let port = string(&j, "port")?;
+    let hw = service(&st)?;
+    Ok(Json(blocking(move || hw.verify(&port)).await?))
 }

@@ -420,6 +420,14 @@ async fn every_route_answers_each_role_as_the_table_says() {
         // This server has no hardware service (alba-app sets it): the handler's 404.
         row(Method::GET, "/api/hardware", "/api/hardware", None, v, 404),
         row(
+            Method::POST,
+            "/api/hardware/verify",
+            "/api/hardware/verify",
+            j(json!({"port": "/dev/null"})),
+            e,
+            404,
+        ),
+        row(
             Method::PUT,
             "/api/hardware/board",
             "/api/hardware/board",
