@@ -101,10 +101,11 @@ pub struct Downloaded {
     pub verified: bool,
 }
 
-/// Compiles the project, encodes its byte code for the board (`board`,
-/// `pinmap` over `[board]`), checks with the board on `port` that it is
-/// the one the program is for, and downloads (`alba download`, the
-/// studio's Download). `progress(done, total)` after each record.
+/// Asks the board on `port` who it is, encodes the project's byte code for
+/// the board (`board`, `pinmap` over `[board]`; with neither, the board the
+/// interpreter says it is, aurora pin map), checks that the board is the
+/// one the program is for, and downloads (`alba download`, the studio's
+/// Download). `progress(done, total)` after each record.
 pub fn download(
     c: &Compiled,
     board: Option<&str>,
@@ -116,12 +117,15 @@ pub fn download(
     let Some(program) = &c.program else {
         return Err(DownloadFailure::Project(c.diagnostics.clone()));
     };
-    let t = target(c, board, pinmap, true).map_err(|d| DownloadFailure::Project(vec![d]))?;
-    let prog = sketch::control_program(program);
-    let bc = bytecode::encode(&prog, &project_name(c), &t).map_err(DownloadFailure::Project)?;
+    let saved = c.project.config.as_ref().is_some_and(|c| c.board.is_some());
     let mut link = Link::open(port).map_err(DownloadFailure::Link)?;
     // Who is there, before anything is written.
     let id = link.identify().map_err(DownloadFailure::Link)?;
+    // Without a board given or in alba.toml, the board the interpreter says it is.
+    let board = board.or((!saved).then_some(id.model.as_str()));
+    let t = target(c, board, pinmap, true).map_err(|d| DownloadFailure::Project(vec![d]))?;
+    let prog = sketch::control_program(program);
+    let bc = bytecode::encode(&prog, &project_name(c), &t).map_err(DownloadFailure::Project)?;
     if let Some(why) = id.refuses(&t, bc.bytes.len()) {
         return Err(DownloadFailure::NotOnBoard(why));
     }
@@ -723,14 +727,24 @@ impl Hardware for Service {
         let Some(program) = &c.program else {
             return Err(does_not_build(&c.diagnostics, c.files()));
         };
-        let t = target(&c, None, None, true).map_err(|d| does_not_build(&[d], c.files()))?;
+        let mut link = Link::open(&port).map_err(|e| HardwareError::Port(e.to_string()))?;
+        let id = match link.identify() {
+            Ok(id) => id,
+            Err(e) => {
+                return Ok(Verified {
+                    port,
+                    same: false,
+                    bytes: 0,
+                    message: format!("not verified: {e}"),
+                });
+            }
+        };
+        let saved = c.project.config.as_ref().is_some_and(|c| c.board.is_some());
+        let t = target(&c, (!saved).then_some(id.model.as_str()), None, true)
+            .map_err(|d| does_not_build(&[d], c.files()))?;
         let prog = sketch::control_program(program);
         let bc = bytecode::encode(&prog, &project_name(&c), &t).map_err(|d| does_not_build(&d, c.files()))?;
-        let mut link = Link::open(&port).map_err(|e| HardwareError::Port(e.to_string()))?;
-        let read = link.identify().and_then(|id| {
-            let n = bc.bytes.len().min(usize::from(id.slot));
-            link.read(0, n)
-        });
+        let read = link.read(0, bc.bytes.len().min(usize::from(id.slot)));
         let back = match read {
             Ok(b) => b,
             Err(e) => {

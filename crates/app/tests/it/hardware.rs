@@ -337,9 +337,10 @@ struct Board {
 }
 
 impl Board {
+    /// The interpreter for the project's board (the Nano when it has none).
     fn start(dir: &Path) -> Board {
         let c = alba_compiler::compile_dir(dir);
-        let t = alba_app::hardware::target(&c, None, None, true).expect("target");
+        let t = alba_app::hardware::target(&c, Some("nano"), None, true).expect("target");
         let (built, _) = interp::firmware(&t).expect("interpreter firmware");
         let bin = simavr::board().expect("alba-board");
         let link = dir.join("link");
@@ -571,6 +572,45 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
             .any(|r| r["outcome"] != "ok" && r["target"] == gone.as_str()),
         "{rows:?}"
     );
+    drop(board);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpreter_says_it_is() {
+    let s = Studio::start("noboard").await;
+    std::fs::write(
+        s.dir.join("alba.toml"),
+        "name = \"hw\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n",
+    )
+    .expect("alba.toml");
+    let board = Board::start(&s.dir);
+    let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
+    assert_eq!(v["board"], Json::Null, "{v}");
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/download",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
+    assert_eq!(
+        (&end["state"], &end["progress"]),
+        (&json!("done"), &json!(100)),
+        "{end}"
+    );
+    let (_, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/verify",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!(j["same"], true, "{j}");
     drop(board);
     s.stop().await;
 }
