@@ -20,7 +20,7 @@ const TRIES: usize = 3;
 /// Why a download failed.
 #[derive(Debug, thiserror::Error)]
 pub enum DownloadError {
-    #[error("cannot open {port}: {source}")]
+    #[error("cannot open {port}: {source}{}", open_hint(source))]
     Open { port: String, source: serialport::Error },
     #[error("the board on {0} does not answer (is it running Alba's byte-code interpreter at 115 200 baud?)")]
     NoAnswer(String),
@@ -40,6 +40,22 @@ pub enum DownloadError {
     Io(#[from] std::io::Error),
     #[error("unexpected answer `{0}`")]
     Answer(String),
+}
+
+/// What to do about a port that does not open: busy, gone, not allowed.
+fn open_hint(e: &serialport::Error) -> &'static str {
+    use serialport::ErrorKind as K;
+    match e.kind() {
+        // EBUSY: another program holds the port (TIOCEXCL).
+        K::NoDevice => {
+            " (another program has the port open — the Arduino IDE's serial monitor, a terminal, `alba run --io` — close it)"
+        }
+        K::Io(std::io::ErrorKind::PermissionDenied) => {
+            " (add the user that runs alba to the `dialout` group, then log in again)"
+        }
+        K::Io(std::io::ErrorKind::NotFound) => " (no such port: is the board plugged in? list the ports again)",
+        _ => "",
+    }
 }
 
 /// What a board says of itself (the `I` line, docs/bytecode.md "Download").
@@ -292,6 +308,30 @@ mod tests {
             monitor: true,
             power_up_on: Vec::new(),
         }
+    }
+
+    #[test]
+    fn a_port_that_does_not_open_says_what_to_do() {
+        use serialport::{Error, ErrorKind};
+        let open = |kind| DownloadError::Open {
+            port: "/dev/ttyUSB0".into(),
+            source: Error::new(kind, "x"),
+        };
+        let busy = open(ErrorKind::NoDevice).to_string();
+        assert!(
+            busy.starts_with("cannot open /dev/ttyUSB0: x (another program has the port open"),
+            "{busy}"
+        );
+        let denied = open(ErrorKind::Io(std::io::ErrorKind::PermissionDenied)).to_string();
+        assert!(denied.contains("`dialout` group"), "{denied}");
+        let gone = open(ErrorKind::Io(std::io::ErrorKind::NotFound)).to_string();
+        assert!(gone.contains("is the board plugged in?"), "{gone}");
+        assert_eq!(open(ErrorKind::Unknown).to_string(), "cannot open /dev/ttyUSB0: x");
+        // A real one: a path that is not there.
+        let Err(e) = Link::open("/nonexistent/tty") else {
+            panic!("opened a port that is not there");
+        };
+        assert!(e.to_string().contains("is the board plugged in?"), "{e}");
     }
 
     #[test]

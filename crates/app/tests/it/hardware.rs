@@ -483,7 +483,10 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
     assert_eq!(end["state"], "failed", "{end}");
     let msg = end["message"].as_str().expect("message");
-    assert!(msg.contains("cannot open") && msg.contains("nothing was sent"), "{msg}");
+    assert!(
+        msg.contains("cannot open") && msg.contains("is the board plugged in?") && msg.contains("nothing was sent"),
+        "{msg}"
+    );
     // The board was not touched: it runs the program downloaded before.
     let (_, j) = s
         .call(
