@@ -191,6 +191,8 @@ export const api = {
   hardwareBuild: (board: string, kind: string) => json<BuildSizes>('POST', '/api/hardware/build', { board, kind }),
   hardwareDownload: (port: string) => json<JobStarted>('POST', '/api/hardware/download', { port }),
   hardwareJob: (id: string) => json<HardwareJob>('GET', `/api/hardware/jobs/${enc(id)}`),
+  /** POST /api/hardware/jobs/{id}/cancel: the board drops the records it had and runs its program on. */
+  hardwareCancel: (id: string) => json<HardwareJob>('POST', `/api/hardware/jobs/${enc(id)}/cancel`),
   hardwareIdentify: (port: string) => json<BoardIdentity>('POST', '/api/hardware/identify', { port }),
   /** POST /api/hardware/verify: the board's running program read back against the project's byte code. */
   hardwareVerify: (port: string) => json<Verified>('POST', '/api/hardware/verify', { port }),

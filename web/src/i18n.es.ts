@@ -579,6 +579,7 @@ export const es: Record<string, string> = {
   'stand-alone sketch': 'sketch autónomo',
   '{used} of {max} bytes ({p} %)': '{used} de {max} bytes ({p} %)',
   Verify: 'Verificar',
+  'Stop the download: the board keeps its program': 'Detener la descarga: la placa conserva su programa',
   "Read the board's program back and compare it with the project's": 'Leer el programa de la placa y compararlo con el del proyecto',
   'Reading the program back from {port}…': 'Leyendo el programa de {port}…',
 };

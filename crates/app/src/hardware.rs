@@ -105,14 +105,15 @@ pub struct Downloaded {
 /// the board (`board`, `pinmap` over `[board]`; with neither, the board the
 /// interpreter says it is, aurora pin map), checks that the board is the
 /// one the program is for, and downloads (`alba download`, the studio's
-/// Download). `progress(done, total)` after each record.
+/// Download). `go(done, total)` after each record; `false` cancels (the
+/// board drops what it received and runs its program on).
 pub fn download(
     c: &Compiled,
     board: Option<&str>,
     pinmap: Option<&str>,
     port: &str,
     verify: bool,
-    progress: impl FnMut(usize, usize),
+    go: impl FnMut(usize, usize) -> bool,
 ) -> Result<Downloaded, DownloadFailure> {
     let Some(program) = &c.program else {
         return Err(DownloadFailure::Project(c.diagnostics.clone()));
@@ -130,7 +131,7 @@ pub fn download(
         return Err(DownloadFailure::NotOnBoard(why));
     }
     let started = Instant::now();
-    let checksum = link.download(&bc.bytes, progress).map_err(DownloadFailure::Link)?;
+    let checksum = link.download_until(&bc.bytes, go).map_err(DownloadFailure::Link)?;
     let ms = started.elapsed().as_millis();
     if verify {
         let back = link.read(0, bc.bytes.len()).map_err(DownloadFailure::Link)?;
@@ -353,6 +354,8 @@ pub fn pin_table(c: &Compiled, model: Model, map: &PinMap) -> Vec<PinRow> {
 /// One job of the service.
 struct Job {
     view: HardwareJob,
+    /// Asked to stop: the download drops at the next record.
+    cancel: Arc<std::sync::atomic::AtomicBool>,
 }
 
 /// The hardware service of `alba run` for the project in `dir`.
@@ -468,6 +471,7 @@ impl Service {
                 message: "compiling the project".into(),
                 started_ms: alba_server::now_ms(),
             },
+            cancel: Arc::new(std::sync::atomic::AtomicBool::new(false)),
         }));
         jobs.insert(0, job.clone());
         jobs.truncate(KEPT_JOBS);
@@ -619,7 +623,10 @@ impl Hardware for Service {
         let port = port_path(port)?;
         let job = self.start_job(&port)?;
         self.remember(&port);
-        let id = lock(&job).view.id.clone();
+        let (id, cancel) = {
+            let j = lock(&job);
+            (j.view.id.clone(), j.cancel.clone())
+        };
         let dir = self.dir.clone();
         let spawned = std::thread::Builder::new()
             .name(format!("alba-download-{id}"))
@@ -636,6 +643,7 @@ impl Hardware for Service {
                 let result = download(&c, None, None, &port, true, |done, total| {
                     let pct = (done * 100 / total.max(1)).min(100) as u8;
                     set(Some(pct), format!("downloading: record {done} of {total}"));
+                    !cancel.load(Ordering::Relaxed)
                 });
                 let mut j = lock(&job);
                 match result {
@@ -663,6 +671,16 @@ impl Hardware for Service {
             return Err(HardwareError::Failed(format!("cannot start the download: {e}")));
         }
         Ok(id)
+    }
+
+    fn cancel(&self, id: &str) -> Option<HardwareJob> {
+        let jobs = lock(&self.jobs);
+        let job = jobs.iter().find(|j| lock(j).view.id == id)?;
+        let j = lock(job);
+        if j.view.state == JobState::Running {
+            j.cancel.store(true, Ordering::Relaxed);
+        }
+        Some(j.view.clone())
     }
 
     fn job(&self, id: &str) -> Option<HardwareJob> {

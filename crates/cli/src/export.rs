@@ -302,6 +302,7 @@ pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitC
         |done, total| {
             shown = true;
             eprint!("\rdownloading: {done}/{total} records");
+            true
         },
     );
     if shown {

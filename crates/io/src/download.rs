@@ -36,6 +36,8 @@ pub enum DownloadError {
     Checksum { board: u16, host: u16 },
     #[error("read-back differs from what was sent at byte {0}")]
     Verify(usize),
+    #[error("cancelled after record {done} of {total} (the board dropped the records it had)")]
+    Cancelled { done: usize, total: usize },
     #[error("serial port: {0}")]
     Io(#[from] std::io::Error),
     #[error("unexpected answer `{0}`")]
@@ -210,6 +212,20 @@ impl Link {
     /// Sends `bytes` as Intel HEX; `progress(done, total)` after each record.
     /// Returns the board's checksum of the download.
     pub fn download(&mut self, bytes: &[u8], mut progress: impl FnMut(usize, usize)) -> Result<u16, DownloadError> {
+        self.download_until(bytes, |done, total| {
+            progress(done, total);
+            true
+        })
+    }
+
+    /// As [`Link::download`]; `go(done, total)` after each record: `false`
+    /// drops the download (ESC, the board's own way) and the board runs its
+    /// program on ([`DownloadError::Cancelled`]).
+    pub fn download_until(
+        &mut self,
+        bytes: &[u8],
+        mut go: impl FnMut(usize, usize) -> bool,
+    ) -> Result<u16, DownloadError> {
         // Drop any half download, and see that a board answers.
         self.send(&[0x1B])?;
         let a = self.answer(Duration::from_secs(3))?;
@@ -233,7 +249,8 @@ impl Link {
                 }
                 if let Some(sum) = a.strip_prefix('S') {
                     let board = u16::from_str_radix(sum, 16).map_err(|_| DownloadError::Answer(a.clone()))?;
-                    progress(k + 1, records.len());
+                    // The new program runs: too late to drop it.
+                    let _ = go(k + 1, records.len());
                     return if board == host {
                         Ok(board)
                     } else {
@@ -249,7 +266,17 @@ impl Link {
             if !why.is_empty() {
                 return Err(DownloadError::Refused { record: k + 1, why });
             }
-            progress(k + 1, records.len());
+            if !go(k + 1, records.len()) {
+                self.send(&[0x1B])?;
+                let a = self.answer(Duration::from_secs(3))?;
+                if a != "A" {
+                    return Err(DownloadError::Answer(a));
+                }
+                return Err(DownloadError::Cancelled {
+                    done: k + 1,
+                    total: records.len(),
+                });
+            }
         }
         Err(DownloadError::Answer("no answer to the end record".into()))
     }

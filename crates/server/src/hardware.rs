@@ -59,6 +59,9 @@ pub trait Hardware: Send + Sync {
     fn download(&self, port: &str) -> Result<String, HardwareError>;
     /// A job by id.
     fn job(&self, id: &str) -> Option<HardwareJob>;
+    /// Asks a running job to stop (a download drops at the next record and
+    /// the board runs its program on); the job as it stands, `None` if unknown.
+    fn cancel(&self, id: &str) -> Option<HardwareJob>;
     /// Asks what is connected to `port`.
     fn identify(&self, port: &str) -> Result<BoardIdentity, HardwareError>;
     /// Reads the board's running program back and compares it with the project's byte code.

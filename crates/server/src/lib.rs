@@ -89,6 +89,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/download", Needs(Role::Engineer)),
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -149,6 +150,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/identify", post(api::hardware::identify))
         .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
+        .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)

@@ -43,6 +43,8 @@ export class HardwareTab {
   private readonly verifyLine = h('div', { class: 'hw-verify', 'data-testid': 'hw-verify-result' });
   private readonly bar = h('progress', { max: '100', value: '0', 'data-testid': 'hw-progress' });
   private readonly jobLine = h('div', { class: 'hw-job', 'data-testid': 'hw-job' });
+  private readonly cancelBtn = h('button', { 'data-testid': 'hw-cancel', title: tr('Stop the download: the board keeps its program') }, tr('Cancel'));
+  private shownJob = '';
   private following = '';
 
   constructor(private readonly ctx: Ctx) {
@@ -53,12 +55,14 @@ export class HardwareTab {
     this.downloadBtn.onclick = () => void this.download();
     this.identifyBtn.onclick = () => void this.identify();
     this.verifyBtn.onclick = () => void this.verify();
+    this.cancelBtn.onclick = () => void api.hardwareCancel(this.shownJob).catch((e) => this.fail(e));
+    this.cancelBtn.hidden = true;
     this.boardSel.onchange = () => this.render();
     this.presetSel.onchange = () => {
       // another preset: the table shows it once saved
       this.edits.clear();
     };
-    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn]) gate(b, 'hardware');
+    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn]) gate(b, 'hardware');
     this.jobLine.hidden = true;
     this.bar.hidden = true;
     this.el = h('section', { class: 'hardware-view', 'data-testid': 'hardware-view' },
@@ -82,7 +86,7 @@ export class HardwareTab {
         h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn),
         this.sizes,
         h('h2', null, tr('Program')),
-        h('div', { class: 'toolbar' }, this.downloadBtn, this.verifyBtn, this.bar),
+        h('div', { class: 'toolbar' }, this.downloadBtn, this.verifyBtn, this.bar, this.cancelBtn),
         this.jobLine,
         this.verifyLine));
   }
@@ -299,6 +303,8 @@ export class HardwareTab {
   }
 
   private showJob(j: HardwareJob): void {
+    this.shownJob = j.id;
+    this.cancelBtn.hidden = j.state !== 'running';
     this.bar.hidden = false;
     this.bar.value = j.progress;
     this.jobLine.hidden = false;

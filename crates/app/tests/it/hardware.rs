@@ -614,6 +614,82 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
         )
         .await;
     assert_eq!(j["same"], true, "{j}");
+    let (_, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/identify",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    let running = j["program"].clone();
+
+    // Cancelled after the second record (the shared download, as a job's cancel
+    // does it): the board drops what it had and runs its program on.
+    std::fs::write(
+        s.dir.join("main.lad"),
+        "[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n",
+    )
+    .expect("main.lad");
+    let (dir, port) = (s.dir.clone(), board.link.clone());
+    let r = tokio::task::spawn_blocking(move || {
+        let c = alba_compiler::compile_dir(&dir);
+        alba_app::hardware::download(&c, None, None, &port, true, |done, _| done < 2).map(|d| d.bytes)
+    })
+    .await
+    .expect("download");
+    match r {
+        Err(alba_app::hardware::DownloadFailure::Link(e)) => {
+            assert!(e.to_string().starts_with("cancelled after record 2 of "), "{e}")
+        }
+        other => panic!("expected a cancelled download: {other:?}"),
+    }
+    let (_, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/identify",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
+    // A job cancelled through the API ends, whether the board had it all or not.
+    let (_, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/download",
+            &s.engineer,
+            Some(json!({"port": board.link})),
+        )
+        .await;
+    let job = j["job"].as_str().expect("job").to_string();
+    let (st, j) = s
+        .call(
+            Method::POST,
+            &format!("/api/hardware/jobs/{job}/cancel"),
+            &s.engineer,
+            Some(json!({})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    let (end, _) = s.finish(&job).await;
+    let msg = end["message"].as_str().expect("message");
+    assert!(
+        (end["state"] == "failed"
+            && msg.contains("cancelled after record")
+            && msg.contains("still runs the previous program"))
+            || end["state"] == "done",
+        "{end}"
+    );
+    let (st, _) = s
+        .call(
+            Method::POST,
+            "/api/hardware/jobs/nope/cancel",
+            &s.engineer,
+            Some(json!({})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::NOT_FOUND);
     drop(board);
     s.stop().await;
 }

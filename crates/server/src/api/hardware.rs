@@ -198,3 +198,12 @@ pub async fn verify(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Json<
     let hw = service(&st)?;
     Ok(Json(blocking(move || hw.verify(&port)).await?))
 }
+
+/// `POST /api/hardware/jobs/{id}/cancel`: the job asked to stop (its state
+/// turns `failed`, "cancelled …", once the board has dropped the records).
+pub async fn cancel(State(st): State<Arc<AppState>>, Path(id): Path<String>) -> ApiResult<Json<HardwareJob>> {
+    let hw = service(&st)?;
+    hw.cancel(&id)
+        .map(Json)
+        .ok_or_else(|| ApiError::NotFound(format!("no hardware job `{id}`")))
+}

@@ -421,6 +421,14 @@ async fn every_route_answers_each_role_as_the_table_says() {
         row(Method::GET, "/api/hardware", "/api/hardware", None, v, 404),
         row(
             Method::POST,
+            "/api/hardware/jobs/{id}/cancel",
+            "/api/hardware/jobs/1/cancel",
+            j(json!({})),
+            e,
+            404,
+        ),
+        row(
+            Method::POST,
             "/api/hardware/verify",
             "/api/hardware/verify",
             j(json!({"port": "/dev/null"})),
