@@ -181,6 +181,8 @@ async fn the_board_and_pin_map_are_shown_saved_atomically_audited_and_refused_to
         ),
         (Method::POST, "/api/hardware/download", json!({"port": "/dev/null"})),
         (Method::POST, "/api/hardware/identify", json!({"port": "/dev/null"})),
+        (Method::POST, "/api/hardware/verify", json!({"port": "/dev/null"})),
+        (Method::POST, "/api/hardware/jobs/1/cancel", json!({})),
     ] {
         let (st, j) = s.call(m, path, &s.viewer, Some(body)).await;
         assert_eq!(st, StatusCode::FORBIDDEN, "{path}: {j}");
