@@ -523,14 +523,15 @@ impl Hardware for Service {
         let mut doc: toml_edit::DocumentMut = text
             .parse()
             .map_err(|e| HardwareError::Failed(format!("{} does not parse: {e}", path.display())))?;
-        if !doc.contains_table("board") {
+        if !doc.contains_key("board") {
             doc["board"] = toml_edit::table();
         }
+        // `[board]` or `board = { … }`: changed where it is, as it is written.
         let b = doc["board"]
-            .as_table_mut()
+            .as_table_like_mut()
             .ok_or_else(|| HardwareError::Failed("`board` in alba.toml is not a table".into()))?;
-        b["model"] = toml_edit::value(model.name());
-        b["pinmap"] = toml_edit::value(change.pinmap.to_ascii_lowercase());
+        b.insert("model", toml_edit::value(model.name()));
+        b.insert("pinmap", toml_edit::value(change.pinmap.to_ascii_lowercase()));
         for (key, pins) in [
             ("di", &change.di),
             ("do", &change.r#do),
@@ -539,7 +540,8 @@ impl Hardware for Service {
         ] {
             match pins {
                 Some(list) => {
-                    b[key] = toml_edit::value(list.iter().map(|p| p.trim()).collect::<toml_edit::Array>());
+                    let list: toml_edit::Array = list.iter().map(|p| p.trim().to_ascii_uppercase()).collect();
+                    b.insert(key, toml_edit::value(list));
                 }
                 None => {
                     b.remove(key);
@@ -547,7 +549,9 @@ impl Hardware for Service {
             }
         }
         match &change.port {
-            Some(p) => b["port"] = toml_edit::value(port_path(p)?),
+            Some(p) => {
+                b.insert("port", toml_edit::value(port_path(p)?));
+            }
             None => {
                 b.remove("port");
             }
@@ -823,6 +827,51 @@ mod tests {
         lock(&a).view.state = JobState::Failed;
         s.start_job("/dev/ttyUSB0").expect("after the job ended");
         assert_eq!(lock(&s.jobs).len(), 3);
+    }
+
+    #[test]
+    fn board_is_saved_where_and_as_it_is_written() {
+        let dir = std::env::temp_dir().join(format!("alba-hw-inline-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let toml =
+            "# keep me\nname = \"x\"\nprograms = [\"main.lad\"]\nboard = { model = \"uno\", active_low = true }\n";
+        std::fs::write(dir.join("alba.toml"), toml).expect("alba.toml");
+        let s = Service::new(&dir);
+        let change = BoardChange {
+            board: "nano".into(),
+            pinmap: "s7".into(),
+            r#do: Some(vec!["D8".into(), " d9 ".into()]),
+            ..BoardChange::default()
+        };
+        // The view afterwards compiles a project without main.lad: the save itself is what counts.
+        let _ = s.save_board(&change);
+        let saved = std::fs::read_to_string(dir.join("alba.toml")).expect("saved");
+        assert!(saved.starts_with("# keep me\n"), "{saved}");
+        assert!(
+            saved.contains("board = { model = \"nano\", active_low = true"),
+            "{saved}"
+        );
+        let mut files = Files::new();
+        let f = files.add("alba.toml", saved.clone());
+        let (cfg, d) = alba_project::config::Config::parse(files.text(f), f);
+        assert!(d.is_empty(), "{d:?}");
+        let b = cfg.and_then(|c| c.board).expect("board");
+        assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", true));
+        assert_eq!(b.map.r#do, [alba_model::board::Pin::D(8), alba_model::board::Pin::D(9)]);
+        // A pin the Nano does not have: refused with E102, nothing saved.
+        let bad = BoardChange {
+            board: "nano".into(),
+            pinmap: "s7".into(),
+            di: Some(vec!["D20".into()]),
+            ..BoardChange::default()
+        };
+        let Err(HardwareError::DoesNotBuild(d)) = s.save_board(&bad) else {
+            panic!("a pin the board lacks");
+        };
+        assert_eq!(d[0].code, "E102", "{d:?}");
+        assert!(d[0].message.contains("D20"), "{d:?}");
+        assert_eq!(std::fs::read_to_string(dir.join("alba.toml")).expect("kept"), saved);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
