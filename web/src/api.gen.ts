@@ -516,3 +516,170 @@ forces: Array<Force>,
 connections: Array<Connection>, };
 
 export type AlarmsMsg = { type: 'alarms', alarms: number, active: number, unacked: number, shelved: number, suppressed: number, out_of_service: number, new_10min: number, flood: boolean, top_unacked: string | null, top_severity: number | null, };
+
+export type SerialPortInfo = { 
+/**
+ * The device path (`/dev/ttyUSB0`, a pty of the emulated board).
+ */
+path: string, 
+/**
+ * What is known of it: USB vendor:product, maker and product names,
+ * its `/dev/serial/by-id` name; `alba.toml [board] port` for the
+ * project's own port.
+ */
+description: string, };
+
+export type BoardPin = { 
+/**
+ * As the Arduino IDE names it (`D13`, `A6`).
+ */
+pin: string, 
+/**
+ * `di`, `do`, `ai`, `ao` (PWM): the directions of `[board]` it may serve;
+ * `serial` for D0/D1 (the link to the PC).
+ */
+caps: Array<string>, };
+
+export type BoardModel = { 
+/**
+ * `uno`, `nano`, `mega`.
+ */
+name: string, 
+/**
+ * `Arduino Nano`.
+ */
+title: string, flash_max: number, ram_max: number, pins: Array<BoardPin>, };
+
+export type PinProblem = { 
+/**
+ * `E102` (alba.toml `[board]`), `E501` (the program uses a channel the board cannot serve).
+ */
+code: string, message: string, };
+
+export type PinRow = { 
+/**
+ * `di`, `do`, `ai` or `ao`.
+ */
+dir: string, channel: number, 
+/**
+ * `DI:1/0`.
+ */
+address: string, 
+/**
+ * `D2`; `null` for a channel the program uses and the map does not wire.
+ */
+pin: string | null, 
+/**
+ * Tags of tags.csv at this address.
+ */
+tags: Array<string>, problem: PinProblem | null, };
+
+export type JobState = "running" | "done" | "failed";
+
+export type HardwareJob = { id: string, 
+/**
+ * `download`.
+ */
+kind: string, port: string, state: JobState, 
+/**
+ * 0 to 100.
+ */
+progress: number, 
+/**
+ * What it is doing, what it did, or why it failed, in words.
+ */
+message: string, 
+/**
+ * When it started (ms since the epoch).
+ */
+started_ms: number, };
+
+export type HardwareView = { 
+/**
+ * `[board] model` of alba.toml (`uno`, `nano`, `mega`); `null` without `[board]`.
+ */
+board: string | null, 
+/**
+ * `[board] pinmap`: the preset the map starts from (`aurora`, `s7`, `openplc`).
+ */
+pinmap: string, 
+/**
+ * Outputs on when the pin is low.
+ */
+active_low: boolean, 
+/**
+ * `[board] port`: the project's serial port, if set.
+ */
+port: string | null, ports: Array<SerialPortInfo>, 
+/**
+ * Every board with its limits and pins.
+ */
+boards: Array<BoardModel>, presets: Array<string>, 
+/**
+ * The pin map as a table, with each channel's problem.
+ */
+pins: Array<PinRow>, 
+/**
+ * The project's `[board]` problems (and any other that stops the build), as `alba check` gives them.
+ */
+diagnostics: Array<Diagnostic>, 
+/**
+ * Recent jobs, newest first (kept while `alba run` runs).
+ */
+jobs: Array<HardwareJob>, };
+
+export type BuildSizes = { board: string, 
+/**
+ * `sketch` or `interpreter`.
+ */
+kind: string, flash_bytes: number, ram_bytes: number, flash_max: number, ram_max: number, 
+/**
+ * The toolchain's report (`nano: flash … of … bytes …`).
+ */
+report: string, };
+
+export type JobStarted = { job: string, };
+
+export type Verified = { port: string, 
+/**
+ * The board holds exactly the project's byte code.
+ */
+same: boolean, 
+/**
+ * Bytes of the project's byte code.
+ */
+bytes: number, 
+/**
+ * In words (where it differs, the program ids).
+ */
+message: string, };
+
+export type BoardIdentity = { port: string, 
+/**
+ * `false`: something answered that is not Alba's interpreter, or nothing did ("unknown device").
+ */
+known: boolean, 
+/**
+ * `nano` (the interpreter's own word).
+ */
+board: string | null, 
+/**
+ * Byte-code format of the interpreter.
+ */
+format: number | null, 
+/**
+ * Board id (board, pin map, polarity) in hex.
+ */
+board_id: string | null, 
+/**
+ * `running`, `no_program`, `faulted`.
+ */
+state: string | null, 
+/**
+ * The running program's id in hex, when a program checks.
+ */
+program: string | null, 
+/**
+ * In words.
+ */
+message: string, };

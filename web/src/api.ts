@@ -1,5 +1,6 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
+import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, Verified } from './api.gen';
 import type { Domain } from './domain';
 import type { Alarm, AlarmStats, Diagnostic, Force, History, HistoryNodes, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
@@ -183,6 +184,18 @@ export const api = {
       'GET',
       `/api/history?tag=${enc(tag)}&from=${Math.floor(from)}&to=${Math.ceil(to)}&points=${Math.max(1, Math.min(10000, Math.round(points)))}${node ? `&node=${enc(node)}` : ''}`,
     ),
+  /** GET /api/hardware: the board, its pin map, the machine's serial ports, recent jobs (docs/api.md "Hardware"). */
+  hardware: () => json<HardwareView>('GET', '/api/hardware'),
+  /** PUT /api/hardware/board: `[board]` saved into alba.toml (422 with the diagnostics when it does not check). */
+  saveBoard: (body: Record<string, unknown>) => json<HardwareView>('PUT', '/api/hardware/board', body),
+  hardwareBuild: (board: string, kind: string) => json<BuildSizes>('POST', '/api/hardware/build', { board, kind }),
+  hardwareDownload: (port: string) => json<JobStarted>('POST', '/api/hardware/download', { port }),
+  hardwareJob: (id: string) => json<HardwareJob>('GET', `/api/hardware/jobs/${enc(id)}`),
+  /** POST /api/hardware/jobs/{id}/cancel: the board drops the records it had and runs its program on. */
+  hardwareCancel: (id: string) => json<HardwareJob>('POST', `/api/hardware/jobs/${enc(id)}/cancel`),
+  hardwareIdentify: (port: string) => json<BoardIdentity>('POST', '/api/hardware/identify', { port }),
+  /** POST /api/hardware/verify: the board's running program read back against the project's byte code. */
+  hardwareVerify: (port: string) => json<Verified>('POST', '/api/hardware/verify', { port }),
   /** `tags`: `Tag` of this runtime, `Tag@node` of another node. */
   historyCsvUrl: (tags: string[], from: number, to: number, step: number) =>
     `/api/history.csv?tags=${tags.map(enc).join(',')}&from=${Math.floor(from)}&to=${Math.ceil(to)}&step=${Math.max(1, Math.round(step))}`,

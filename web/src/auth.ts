@@ -30,9 +30,10 @@ export function roleName(role: Role): string {
  * - `audit`: read the audit trail (GET /api/audit),
  * - `ack`: acknowledge an alarm (POST /api/alarms/{id}/ack),
  * - `browse`: browse a remote OPC UA server (GET /api/opcua/{server}/browse),
+ * - `hardware`: change the board, build firmware, download to a board (/api/hardware…),
  * - `users`: manage users.
  */
-export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'browse' | 'users';
+export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'browse' | 'hardware' | 'users';
 
 /** The route each action is (the server's role table decides its role). */
 const ROUTE: Record<Action, [method: string, route: string]> = {
@@ -44,6 +45,7 @@ const ROUTE: Record<Action, [method: string, route: string]> = {
   audit: ['GET', '/api/audit'],
   ack: ['POST', '/api/alarms/{id}/ack'],
   browse: ['GET', '/api/opcua/{server}/browse'],
+  hardware: ['POST', '/api/hardware/download'],
   // No route of its own yet: user management is `alba user` on the controller.
   users: ['POST', '/api/users'],
 };

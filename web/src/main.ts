@@ -15,6 +15,7 @@ import { SfcView } from './sfc/view';
 import { LiveClient } from './live/client';
 import { boot, loginText, setNextLoginMessage, showLogin, untilReachable } from './login';
 import { ScreensView } from './hmi/view';
+import { HardwareTab } from './hardware/view';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
@@ -255,6 +256,7 @@ async function start(me: Me): Promise<void> {
   views.set('tags', { label: tr('Tags'), testid: 'tab-tags', make: () => new TagsView(ctx) });
   views.set('screens', { label: tr('Screens'), testid: 'tab-screens', make: () => new ScreensView(ctx) });
   views.set('alarms', { label: tr('Alarms'), testid: 'tab-alarms', make: () => new AlarmsView(ctx) });
+  views.set('hardware', { label: tr('Hardware'), testid: 'tab-hardware', make: () => new HardwareTab(ctx) });
   // made at once: its pens record in the background from the start
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });

@@ -28,6 +28,7 @@ describe('roles and what they may do (the route table of docs/api.md)', () => {
     audit: ['engineer', 'admin'],
     ack: ['operator', 'engineer', 'admin'],
     browse: ['engineer', 'admin'],
+    hardware: ['engineer', 'admin'],
     users: ['admin'],
   };
   for (const [action, allowed] of Object.entries(table) as [Action, Role[]][]) {

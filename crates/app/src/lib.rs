@@ -15,6 +15,7 @@ mod audit;
 mod clock;
 mod connections;
 mod edits;
+pub mod hardware;
 mod history;
 pub use history::pg_config;
 pub mod ingest;
@@ -247,6 +248,7 @@ pub async fn run(
     if !links.is_empty() {
         let _ = state.connections.set(Arc::new(connections::All(links)));
     }
+    let _ = state.hardware.set(Arc::new(hardware::Service::new(dir)));
     edits::start(&service);
     audit::start(&service, guard.clone());
     alarms::start(&service, alarm_defs, guard).map_err(RunError::Other)?;

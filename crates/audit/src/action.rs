@@ -73,6 +73,10 @@ actions! {
     Step = "step",
     /// A net's marking reset to its initial marking (target: the net).
     ResetMarking = "reset_marking",
+    /// The board and pin map saved (`[board]` of alba.toml; detail: the new settings).
+    SaveBoard = "save_board",
+    /// The project's byte code downloaded to a board (target: the serial port).
+    Download = "download",
 }
 
 impl fmt::Display for Action {
@@ -136,7 +140,9 @@ mod tests {
                 "save_trends",
                 "save_screen",
                 "step",
-                "reset_marking"
+                "reset_marking",
+                "save_board",
+                "download"
             ]
         );
     }

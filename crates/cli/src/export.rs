@@ -30,36 +30,10 @@ fn bad(msg: String) -> Diagnostic {
     Diagnostic::unplaced(Code::BadArgument, msg)
 }
 
-/// The board to build for: the command line over `[board]`.
+/// The board to build for: the command line over `[board]` (the studio's
+/// code too: `alba_app::hardware::target`).
 pub fn target(c: &Compiled, args: &BoardArgs) -> Result<Target, Diagnostic> {
-    let cfg = c.project.config.as_ref();
-    let board = cfg.and_then(|c| c.board.as_ref());
-    let model = match (&args.board, board) {
-        (Some(name), _) => {
-            Model::parse(name).ok_or_else(|| bad(format!("--board {name}: the boards are uno, nano and mega")))?
-        }
-        (None, Some(b)) => b.model,
-        (None, None) => {
-            return Err(bad(
-                "no board: give --board uno|nano|mega or a [board] section in alba.toml".into(),
-            ));
-        }
-    };
-    let map = match (&args.pinmap, board) {
-        (Some(p), _) => {
-            PinMap::preset(p).ok_or_else(|| bad(format!("--pinmap {p}: the presets are {}", PRESETS.join(", "))))?
-        }
-        (None, Some(b)) => b.map.clone(),
-        (None, None) => PinMap::preset("aurora").ok_or_else(|| bad("the aurora preset is missing".into()))?,
-    };
-    Ok(Target {
-        model,
-        map,
-        active_low: board.is_some_and(|b| b.active_low),
-        scan_ms: c.project.scan_ms(),
-        monitor: !args.no_monitor,
-        power_up_on: board.map_or_else(Vec::new, |b| b.power_up_on.clone()),
-    })
+    alba_app::hardware::target(c, args.board.as_deref(), args.pinmap.as_deref(), !args.no_monitor)
 }
 
 /// Compiles and generates, reporting any problem.
@@ -313,73 +287,60 @@ pub fn interpreter(
     build_and_upload(&folder.join("alba_interp.ino"), t.model, upload)
 }
 
-/// `alba download`: the project's byte code to a board running the interpreter.
+/// `alba download`: the project's byte code to a board running the
+/// interpreter (the studio's Download runs the same `alba_app::hardware::download`).
 pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitCode {
-    let (c, t, prog, s) = match sketch_of(dir, args) {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
-    let Some(bc) = encoded(&c, &prog, &s.name, &t) else {
-        return ExitCode::FAILURE;
-    };
-    let fail = |e: alba_io::download::DownloadError| {
-        report(&[Diagnostic::unplaced(Code::Io, e.to_string())], c.files(), false);
-        ExitCode::FAILURE
-    };
-    let mut link = match alba_io::download::Link::open(port) {
-        Ok(l) => l,
-        Err(e) => return fail(e),
-    };
-    // Who is there, before anything is written.
-    match link.identify() {
-        Ok(id) => {
-            if let Some(why) = id.refuses(&t, bc.bytes.len()) {
-                report(
-                    &[Diagnostic::unplaced(
-                        Code::NotOnBoard,
-                        format!("not downloaded to {port}: {why}"),
-                    )],
-                    c.files(),
-                    false,
-                );
-                return ExitCode::FAILURE;
-            }
-        }
-        Err(e) => return fail(e),
+    use alba_app::hardware::DownloadFailure;
+    let c = alba_compiler::compile_dir(dir);
+    let mut shown = false;
+    let result = alba_app::hardware::download(
+        &c,
+        args.board.as_deref(),
+        args.pinmap.as_deref(),
+        port,
+        verify,
+        |done, total| {
+            shown = true;
+            eprint!("\rdownloading: {done}/{total} records");
+            true
+        },
+    );
+    if shown {
+        eprintln!();
     }
-    let started = std::time::Instant::now();
-    let sum = match link.download(&bc.bytes, |done, total| {
-        eprint!("\rdownloading: {done}/{total} records")
-    }) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!();
-            return fail(e);
+    let d = match result {
+        Ok(d) => d,
+        Err(DownloadFailure::Project(d)) => {
+            report(&d, c.files(), false);
+            return ExitCode::FAILURE;
+        }
+        Err(DownloadFailure::NotOnBoard(why)) => {
+            report(
+                &[Diagnostic::unplaced(
+                    Code::NotOnBoard,
+                    format!("not downloaded to {port}: {why}"),
+                )],
+                c.files(),
+                false,
+            );
+            return ExitCode::FAILURE;
+        }
+        Err(DownloadFailure::Link(e)) => {
+            report(&[Diagnostic::unplaced(Code::Io, e.to_string())], c.files(), false);
+            return ExitCode::FAILURE;
         }
     };
-    let retried = match link.retries {
+    let retried = match d.retries {
         0 => String::new(),
         1 => " (1 record sent again after a line error)".to_string(),
         n => format!(" ({n} records sent again after line errors)"),
     };
     eprintln!(
-        "\ndownloaded {} bytes to {port} in {} ms{retried}, checksum {sum:04X}: the board runs the new program",
-        bc.bytes.len(),
-        started.elapsed().as_millis()
+        "downloaded {} bytes to {port} in {} ms{retried}, checksum {:04X}: the board runs the new program",
+        d.bytes, d.ms, d.checksum
     );
-    if verify {
-        match link.read(0, bc.bytes.len()) {
-            Ok(back) if back == bc.bytes => eprintln!("verified: the board holds the {} bytes sent", back.len()),
-            Ok(back) => {
-                let at = back
-                    .iter()
-                    .zip(&bc.bytes)
-                    .position(|(a, b)| a != b)
-                    .unwrap_or(back.len());
-                return fail(alba_io::download::DownloadError::Verify(at));
-            }
-            Err(e) => return fail(e),
-        }
+    if d.verified {
+        eprintln!("verified: the board holds the {} bytes sent", d.bytes);
     }
     ExitCode::SUCCESS
 }

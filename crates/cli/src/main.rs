@@ -87,6 +87,7 @@ enum Command {
     },
     /// Download the project's byte code to a board running Alba's byte-code interpreter
     /// (`alba export interpreter`), over its serial port (docs/bytecode.md, "Download").
+    /// The board: --board, else `[board]` of alba.toml, else the one the interpreter says it is.
     Download {
         /// The project whose byte code to send (not with --read).
         #[arg(required_unless_present = "read")]

@@ -20,7 +20,7 @@ const TRIES: usize = 3;
 /// Why a download failed.
 #[derive(Debug, thiserror::Error)]
 pub enum DownloadError {
-    #[error("cannot open {port}: {source}")]
+    #[error("cannot open {port}: {source}{}", open_hint(source))]
     Open { port: String, source: serialport::Error },
     #[error("the board on {0} does not answer (is it running Alba's byte-code interpreter at 115 200 baud?)")]
     NoAnswer(String),
@@ -36,10 +36,28 @@ pub enum DownloadError {
     Checksum { board: u16, host: u16 },
     #[error("read-back differs from what was sent at byte {0}")]
     Verify(usize),
+    #[error("cancelled after record {done} of {total} (the board dropped the records it had)")]
+    Cancelled { done: usize, total: usize },
     #[error("serial port: {0}")]
     Io(#[from] std::io::Error),
     #[error("unexpected answer `{0}`")]
     Answer(String),
+}
+
+/// What to do about a port that does not open: busy, gone, not allowed.
+fn open_hint(e: &serialport::Error) -> &'static str {
+    use serialport::ErrorKind as K;
+    match e.kind() {
+        // EBUSY: another program holds the port (TIOCEXCL).
+        K::NoDevice => {
+            " (another program has the port open — the Arduino IDE's serial monitor, a terminal, `alba run --io` — close it)"
+        }
+        K::Io(std::io::ErrorKind::PermissionDenied) => {
+            " (add the user that runs alba to the `dialout` group, then log in again)"
+        }
+        K::Io(std::io::ErrorKind::NotFound) => " (no such port: is the board plugged in? list the ports again)",
+        _ => "",
+    }
 }
 
 /// What a board says of itself (the `I` line, docs/bytecode.md "Download").
@@ -194,6 +212,20 @@ impl Link {
     /// Sends `bytes` as Intel HEX; `progress(done, total)` after each record.
     /// Returns the board's checksum of the download.
     pub fn download(&mut self, bytes: &[u8], mut progress: impl FnMut(usize, usize)) -> Result<u16, DownloadError> {
+        self.download_until(bytes, |done, total| {
+            progress(done, total);
+            true
+        })
+    }
+
+    /// As [`Link::download`]; `go(done, total)` after each record: `false`
+    /// drops the download (ESC, the board's own way) and the board runs its
+    /// program on ([`DownloadError::Cancelled`]).
+    pub fn download_until(
+        &mut self,
+        bytes: &[u8],
+        mut go: impl FnMut(usize, usize) -> bool,
+    ) -> Result<u16, DownloadError> {
         // Drop any half download, and see that a board answers.
         self.send(&[0x1B])?;
         let a = self.answer(Duration::from_secs(3))?;
@@ -217,7 +249,8 @@ impl Link {
                 }
                 if let Some(sum) = a.strip_prefix('S') {
                     let board = u16::from_str_radix(sum, 16).map_err(|_| DownloadError::Answer(a.clone()))?;
-                    progress(k + 1, records.len());
+                    // The new program runs: too late to drop it.
+                    let _ = go(k + 1, records.len());
                     return if board == host {
                         Ok(board)
                     } else {
@@ -233,7 +266,17 @@ impl Link {
             if !why.is_empty() {
                 return Err(DownloadError::Refused { record: k + 1, why });
             }
-            progress(k + 1, records.len());
+            if !go(k + 1, records.len()) {
+                self.send(&[0x1B])?;
+                let a = self.answer(Duration::from_secs(3))?;
+                if a != "A" {
+                    return Err(DownloadError::Answer(a));
+                }
+                return Err(DownloadError::Cancelled {
+                    done: k + 1,
+                    total: records.len(),
+                });
+            }
         }
         Err(DownloadError::Answer("no answer to the end record".into()))
     }
@@ -292,6 +335,30 @@ mod tests {
             monitor: true,
             power_up_on: Vec::new(),
         }
+    }
+
+    #[test]
+    fn a_port_that_does_not_open_says_what_to_do() {
+        use serialport::{Error, ErrorKind};
+        let open = |kind| DownloadError::Open {
+            port: "/dev/ttyUSB0".into(),
+            source: Error::new(kind, "x"),
+        };
+        let busy = open(ErrorKind::NoDevice).to_string();
+        assert!(
+            busy.starts_with("cannot open /dev/ttyUSB0: x (another program has the port open"),
+            "{busy}"
+        );
+        let denied = open(ErrorKind::Io(std::io::ErrorKind::PermissionDenied)).to_string();
+        assert!(denied.contains("`dialout` group"), "{denied}");
+        let gone = open(ErrorKind::Io(std::io::ErrorKind::NotFound)).to_string();
+        assert!(gone.contains("is the board plugged in?"), "{gone}");
+        assert_eq!(open(ErrorKind::Unknown).to_string(), "cannot open /dev/ttyUSB0: x");
+        // A real one: a path that is not there.
+        let Err(e) = Link::open("/nonexistent/tty") else {
+            panic!("opened a port that is not there");
+        };
+        assert!(e.to_string().contains("is the board plugged in?"), "{e}");
     }
 
     #[test]

@@ -78,6 +78,27 @@ impl Model {
         }
     }
 
+    /// Every pin of the board, digital then analog (`D0`…, `A0`…).
+    pub fn all_pins(self) -> Vec<Pin> {
+        (0..self.digital_pins())
+            .map(Pin::D)
+            .chain((0..self.analog_pins()).map(Pin::A))
+            .collect()
+    }
+
+    /// What `pin` can do on this board: the directions of `[board]` it may
+    /// serve (`di`, `do`, `ai`, `ao`), or `serial` for D0/D1 (the link to the PC).
+    pub fn caps(self, pin: Pin) -> Vec<&'static str> {
+        if matches!(pin, Pin::D(0 | 1)) {
+            return vec!["serial"];
+        }
+        Dir::ALL
+            .iter()
+            .filter(|d| self.refuses(pin, **d).is_none())
+            .map(|d| d.key())
+            .collect()
+    }
+
     /// Why `pin` cannot serve `dir` on this board, if it cannot.
     pub fn refuses(self, pin: Pin, dir: Dir) -> Option<String> {
         let board = self.title();
@@ -273,6 +294,18 @@ impl PinMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pins_and_their_capabilities() {
+        assert_eq!(Model::Nano.all_pins().len(), 14 + 8);
+        assert_eq!(Model::Mega.all_pins().len(), 54 + 16);
+        assert_eq!(Model::Uno.caps(Pin::D(1)), ["serial"]);
+        assert_eq!(Model::Uno.caps(Pin::D(3)), ["di", "do", "ao"]);
+        assert_eq!(Model::Uno.caps(Pin::D(4)), ["di", "do"]);
+        assert_eq!(Model::Nano.caps(Pin::A(0)), ["di", "do", "ai"]);
+        assert_eq!(Model::Nano.caps(Pin::A(7)), ["ai"]);
+        assert!(Model::Uno.caps(Pin::A(7)).is_empty());
+    }
 
     #[test]
     fn presets_on_boards() {

@@ -77,7 +77,14 @@ pub async fn session(State(st): State<Arc<AppState>>, mut req: Request, next: Ne
 /// Answers 503 when a request takes longer than `[http] request_timeout_s`
 /// (until its answer starts: a long download streams on).
 pub async fn timeout(State(st): State<Arc<AppState>>, req: Request, next: Next) -> Response {
-    match tokio::time::timeout(st.request_timeout, next.run(req)).await {
+    // A firmware build runs avr-gcc (the Arduino core too, the first time):
+    // bounded by the toolchain, not by the request timeout.
+    let limit = if req.uri().path() == "/api/hardware/build" {
+        st.request_timeout.max(crate::BUILD_TIMEOUT)
+    } else {
+        st.request_timeout
+    };
+    match tokio::time::timeout(limit, next.run(req)).await {
         Ok(r) => r,
         Err(_) => ApiError::TimedOut(st.request_timeout).into_response(),
     }

@@ -28,6 +28,7 @@ pub mod connections;
 pub mod error;
 mod gate;
 pub mod guard;
+pub mod hardware;
 pub mod project;
 pub mod reply;
 mod state;
@@ -83,6 +84,13 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     // Browsing opens sessions on a remote server as `alba run`'s client: for
     // those who bind tags to it.
     ("GET", "/api/opcua/{server}/browse", Needs(Role::Engineer)),
+    // The board: alba.toml's [board], firmware builds, the serial ports.
+    ("PUT", "/api/hardware/board", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/build", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/download", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -136,6 +144,14 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/audit", get(audit::list))
         .route("/api/audit.csv", get(audit::csv))
         .route("/api/opcua/{server}/browse", get(opcua::browse))
+        .route("/api/hardware", get(api::hardware::get))
+        .route("/api/hardware/board", put(api::hardware::put_board))
+        .route("/api/hardware/build", post(api::hardware::build))
+        .route("/api/hardware/download", post(api::hardware::download))
+        .route("/api/hardware/identify", post(api::hardware::identify))
+        .route("/api/hardware/verify", post(api::hardware::verify))
+        .route("/api/hardware/jobs/{id}", get(api::hardware::job))
+        .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
@@ -145,3 +161,6 @@ pub fn router(state: Arc<AppState>) -> Router {
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::guard))
         .with_state(state)
 }
+
+/// How long `POST /api/hardware/build` may take.
+pub const BUILD_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(600);

@@ -507,6 +507,163 @@ pub struct ErrorReply {
     pub diagnostics: Option<Vec<Diagnostic>>,
 }
 
+/// A serial port of the machine (`GET /api/hardware`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct SerialPortInfo {
+    /// The device path (`/dev/ttyUSB0`, a pty of the emulated board).
+    pub path: String,
+    /// What is known of it: USB vendor:product, maker and product names,
+    /// its `/dev/serial/by-id` name; `alba.toml [board] port` for the
+    /// project's own port.
+    pub description: String,
+}
+
+/// One pin of a board and what it can do.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct BoardPin {
+    /// As the Arduino IDE names it (`D13`, `A6`).
+    pub pin: String,
+    /// `di`, `do`, `ai`, `ao` (PWM): the directions of `[board]` it may serve;
+    /// `serial` for D0/D1 (the link to the PC).
+    pub caps: Vec<String>,
+}
+
+/// A board Alba builds for, with its limits and pins.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct BoardModel {
+    /// `uno`, `nano`, `mega`.
+    pub name: String,
+    /// `Arduino Nano`.
+    pub title: String,
+    pub flash_max: u32,
+    pub ram_max: u32,
+    pub pins: Vec<BoardPin>,
+}
+
+/// A problem of the pin map, with the code `alba check` gives it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct PinProblem {
+    /// `E102` (alba.toml `[board]`), `E501` (the program uses a channel the board cannot serve).
+    pub code: String,
+    pub message: String,
+}
+
+/// One channel of the pin map (a row of the studio's pin table).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct PinRow {
+    /// `di`, `do`, `ai` or `ao`.
+    pub dir: String,
+    pub channel: u32,
+    /// `DI:1/0`.
+    pub address: String,
+    /// `D2`; `null` for a channel the program uses and the map does not wire.
+    pub pin: Option<String>,
+    /// Tags of tags.csv at this address.
+    pub tags: Vec<String>,
+    pub problem: Option<PinProblem>,
+}
+
+/// A long hardware action's state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
+#[serde(rename_all = "lowercase")]
+pub enum JobState {
+    Running,
+    Done,
+    Failed,
+}
+
+/// A hardware job (`GET /api/hardware/jobs/{id}`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct HardwareJob {
+    pub id: String,
+    /// `download`.
+    pub kind: String,
+    pub port: String,
+    pub state: JobState,
+    /// 0 to 100.
+    pub progress: u8,
+    /// What it is doing, what it did, or why it failed, in words.
+    pub message: String,
+    /// When it started (ms since the epoch).
+    pub started_ms: i64,
+}
+
+/// `GET /api/hardware`: the project's board and pin map, the machine's ports.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct HardwareView {
+    /// `[board] model` of alba.toml (`uno`, `nano`, `mega`); `null` without `[board]`.
+    pub board: Option<String>,
+    /// `[board] pinmap`: the preset the map starts from (`aurora`, `s7`, `openplc`).
+    pub pinmap: String,
+    /// Outputs on when the pin is low.
+    pub active_low: bool,
+    /// `[board] port`: the project's serial port, if set.
+    pub port: Option<String>,
+    pub ports: Vec<SerialPortInfo>,
+    /// Every board with its limits and pins.
+    pub boards: Vec<BoardModel>,
+    pub presets: Vec<String>,
+    /// The pin map as a table, with each channel's problem.
+    pub pins: Vec<PinRow>,
+    /// The project's `[board]` problems (and any other that stops the build), as `alba check` gives them.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Recent jobs, newest first (kept while `alba run` runs).
+    pub jobs: Vec<HardwareJob>,
+}
+
+/// `POST /api/hardware/build`: what a firmware uses of its board.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct BuildSizes {
+    pub board: String,
+    /// `sketch` or `interpreter`.
+    pub kind: String,
+    pub flash_bytes: u32,
+    pub ram_bytes: u32,
+    pub flash_max: u32,
+    pub ram_max: u32,
+    /// The toolchain's report (`nano: flash … of … bytes …`).
+    pub report: String,
+}
+
+/// `POST /api/hardware/download`: the job started.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct JobStarted {
+    pub job: String,
+}
+
+/// `POST /api/hardware/verify`: the board's running program read back and
+/// compared with the project's byte code.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct Verified {
+    pub port: String,
+    /// The board holds exactly the project's byte code.
+    pub same: bool,
+    /// Bytes of the project's byte code.
+    pub bytes: u32,
+    /// In words (where it differs, the program ids).
+    pub message: String,
+}
+
+/// `POST /api/hardware/identify`: what answers on a port.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct BoardIdentity {
+    pub port: String,
+    /// `false`: something answered that is not Alba's interpreter, or nothing did ("unknown device").
+    pub known: bool,
+    /// `nano` (the interpreter's own word).
+    pub board: Option<String>,
+    /// Byte-code format of the interpreter.
+    pub format: Option<u8>,
+    /// Board id (board, pin map, polarity) in hex.
+    pub board_id: Option<String>,
+    /// `running`, `no_program`, `faulted`.
+    pub state: Option<String>,
+    /// The running program's id in hex, when a program checks.
+    pub program: Option<String>,
+    /// In words.
+    pub message: String,
+}
+
 /// A user's role (docs/security.md, "Sessions and roles"); each includes
 /// the ones before it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, TS)]
@@ -752,6 +909,18 @@ pub fn typescript() -> String {
         ErrorMsg,
         StatusMsg,
         AlarmsMsg,
+        SerialPortInfo,
+        BoardPin,
+        BoardModel,
+        PinProblem,
+        PinRow,
+        JobState,
+        HardwareJob,
+        HardwareView,
+        BuildSizes,
+        JobStarted,
+        Verified,
+        BoardIdentity,
     );
     out
 }

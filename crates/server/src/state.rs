@@ -49,6 +49,9 @@ pub struct AppState {
     /// The client connections to remote servers (`[[opcua_server]]`), set by
     /// alba-app before serving; unset: none (`connections: []`).
     pub connections: std::sync::OnceLock<Arc<dyn crate::connections::Connections>>,
+    /// The board, its ports, firmware builds and downloads (`/api/hardware`),
+    /// set by alba-app before serving; unset: `/api/hardware` answers 404.
+    pub hardware: std::sync::OnceLock<Arc<dyn crate::hardware::Hardware>>,
     /// The studio is served over HTTPS (set by alba-app before serving;
     /// session cookies are then `Secure`).
     pub https: std::sync::atomic::AtomicBool,
@@ -91,6 +94,7 @@ impl AppState {
             guard,
             auth,
             connections: std::sync::OnceLock::new(),
+            hardware: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
             max_ws_clients: http.max_ws_clients as usize,
             request_timeout: std::time::Duration::from_secs(u64::from(http.request_timeout_s)),

@@ -1,6 +1,7 @@
 //! `alba_app::run` assembles and stops `alba run`.
 
 mod doors;
+mod hardware;
 mod opcua_client;
 mod store;
 

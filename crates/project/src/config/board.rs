@@ -18,6 +18,9 @@ pub struct Board {
     /// Digital output pins that are on at power-up (and in the remote-I/O
     /// firmware's safe state); every other output is off.
     pub power_up_on: Vec<Pin>,
+    /// The serial port the board is on (`/dev/ttyUSB0`), as the studio's
+    /// Hardware tab and `alba download` offer it first.
+    pub port: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -32,6 +35,7 @@ pub(super) struct RawBoard {
     #[serde(default)]
     active_low: bool,
     power_up_on: Option<Vec<Spanned<String>>>,
+    port: Option<Spanned<String>>,
 }
 
 /// Validates `[board]`: the model, the pin map and the pins it lists.
@@ -133,5 +137,19 @@ pub(super) fn board(b: RawBoard, file: FileId, diags: &mut Vec<Diagnostic>) -> B
         map,
         active_low: b.active_low,
         power_up_on,
+        port: b.port.and_then(|p| {
+            let path = p.get_ref().trim();
+            if path.is_empty() {
+                diags.push(Diagnostic::new(
+                    Code::ConfigField,
+                    "`port` is empty",
+                    sp(p.span()),
+                    "a serial port's path, as /dev/ttyUSB0",
+                ));
+                None
+            } else {
+                Some(path.to_string())
+            }
+        }),
     }
 }

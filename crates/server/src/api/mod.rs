@@ -6,6 +6,7 @@ pub mod alarms;
 pub mod audit;
 pub mod domain;
 pub mod forces;
+pub mod hardware;
 pub mod history;
 pub mod nets;
 pub mod opcua;

@@ -1,0 +1,69 @@
+//! The project's hardware as the API shows it (`/api/hardware`, docs/api.md
+//! "Hardware"): the board and pin map of alba.toml, the machine's serial
+//! ports, firmware builds with their sizes, byte-code downloads as jobs.
+//!
+//! This crate does not know Arduino: alba-app implements [`Hardware`] with
+//! the command line's code (`alba export`, `alba download`) and sets it in
+//! `AppState::hardware` before serving. Unset: `/api/hardware` answers 404.
+//! Every method may block (a build runs avr-gcc, a download opens a serial
+//! port): the handlers call them on blocking threads.
+
+use crate::reply::{BoardIdentity, BuildSizes, Diagnostic, HardwareJob, HardwareView, Verified};
+
+/// A change of `[board]` (`PUT /api/hardware/board`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct BoardChange {
+    /// `uno`, `nano` or `mega`.
+    pub board: String,
+    /// A preset (`aurora`, `s7`, `openplc`).
+    pub pinmap: String,
+    /// Pins per direction (`di`, `do`, `ai`, `ao`) replacing the preset's;
+    /// `None`: the preset's.
+    pub di: Option<Vec<String>>,
+    pub r#do: Option<Vec<String>>,
+    pub ai: Option<Vec<String>>,
+    pub ao: Option<Vec<String>>,
+    /// `[board] port`; `None` leaves it out.
+    pub port: Option<String>,
+}
+
+/// Why a hardware request failed.
+#[derive(Debug, Clone)]
+pub enum HardwareError {
+    /// A bad board, kind, pin or port name (`400`).
+    Malformed(String),
+    /// No such job (`404`).
+    NotFound(String),
+    /// The project (or the changed `[board]`) does not check: nothing was
+    /// built or saved (`422` with the diagnostics).
+    DoesNotBuild(Vec<Diagnostic>),
+    /// A job already runs on this port (`429`).
+    Busy(String),
+    /// The port cannot be opened: busy, vanished, permission denied (`502`).
+    Port(String),
+    /// The toolchain or the machine failed (`500`): the message says why.
+    Failed(String),
+}
+
+/// The hardware service of `alba run`.
+pub trait Hardware: Send + Sync {
+    /// The board, pin map (with its problems), ports and recent jobs.
+    fn view(&self) -> Result<HardwareView, HardwareError>;
+    /// Checks `[board]` as changed and saves it into alba.toml atomically;
+    /// refused (nothing saved) when it does not check. Returns the target
+    /// that was saved (`[board]` after the change) for the audit row.
+    fn save_board(&self, change: &BoardChange) -> Result<HardwareView, HardwareError>;
+    /// Builds the project's sketch or the byte-code interpreter for `board`.
+    fn build(&self, board: &str, kind: &str) -> Result<BuildSizes, HardwareError>;
+    /// Starts downloading the project's byte code to the board on `port`.
+    fn download(&self, port: &str) -> Result<String, HardwareError>;
+    /// A job by id.
+    fn job(&self, id: &str) -> Option<HardwareJob>;
+    /// Asks a running job to stop (a download drops at the next record and
+    /// the board runs its program on); the job as it stands, `None` if unknown.
+    fn cancel(&self, id: &str) -> Option<HardwareJob>;
+    /// Asks what is connected to `port`.
+    fn identify(&self, port: &str) -> Result<BoardIdentity, HardwareError>;
+    /// Reads the board's running program back and compares it with the project's byte code.
+    fn verify(&self, port: &str) -> Result<Verified, HardwareError>;
+}

@@ -1,0 +1,215 @@
+// End-to-end tests of the Hardware tab (issue 33) in Chromium, against
+// `alba run` on a copy of examples/start-stop (no [board] yet) with an
+// engineer and a viewer, and the byte-code interpreter for the Nano running
+// on the emulated board (`alba-board`: simavr paced to real time, its UART on
+// a pty, as crates/cli/tests/it/download.rs runs it):
+// - a viewer sees the tab with every change disabled, and the API refuses them (403);
+// - the engineer chooses the Nano and its port (typed by hand), saves: the pin
+//   table follows the Nano and the port is listed; Identify names the interpreter;
+// - a stand-alone sketch built for the Nano with its sizes against the limits;
+// - the byte code downloaded with the progress reaching 100 %, the result kept
+//   after a reload, and Verify reads it back equal;
+// - a record the board's memory does not keep (an EEPROM cell stuck): the job fails
+//   with flag 20 in words, and the board still runs the program it had;
+// - a pin conflict shown on its row with the code `alba check` gives, and refused
+//   at save (alba.toml unchanged).
+// Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
+// hardware-failed.png, hardware-conflict.png) in E2E_OUT.
+import { after, before, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn, spawnSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { createInterface } from 'node:readline';
+import { openBrowser, repo, startAlba } from './harness.mjs';
+
+const USERS = [
+  { name: 'eva', role: 'engineer', password: 'boards-and-pins-4410' },
+  { name: 'victor', role: 'viewer', password: 'only-looking-8812' },
+];
+const [eva, victor] = USERS;
+const albaBin = process.env.ALBA_BIN ?? join(repo, 'target/debug/alba');
+
+let alba, b, board, work, link;
+
+/** The interpreter for the Nano (aurora pin map) and the emulated board, on `work/link`. */
+async function startBoard() {
+  work = mkdtempSync(join(tmpdir(), 'alba-e2e-board-'));
+  let r = spawnSync(albaBin, ['export', 'interpreter', '--board', 'nano', '--pinmap', 'aurora', '-o', work, '--build'], { encoding: 'utf8' });
+  assert.equal(r.status, 0, `alba export interpreter: ${r.stderr}`);
+  r = spawnSync('bash', ['-c', 'set -e; source scripts/common.sh; source scripts/avr.sh; build_board "$1"', '_', join(work, 'alba-board')], { cwd: repo, encoding: 'utf8' });
+  assert.equal(r.status, 0, `build_board: ${r.stderr}`);
+  link = join(work, 'link');
+  board = spawn(join(work, 'alba-board'), [join(work, 'alba_interp/build/sketch.elf'), '-m', 'atmega328p', '--tty', link, '--pins', 'D12,D13', '--eeprom', join(work, 'eeprom.bin')], {
+    stdio: ['pipe', 'pipe', 'ignore'],
+  });
+  answers = createInterface({ input: board.stdout });
+  await new Promise((ok, fail) => {
+    const timer = setTimeout(() => fail(new Error('alba-board did not start in 30 s')), 30_000);
+    answers.once('line', (line) => {
+      clearTimeout(timer);
+      if (line.startsWith('ready ')) ok();
+      else fail(new Error(`alba-board: ${line}`));
+    });
+  });
+}
+
+/** A command of the emulated board (`stuck 5`: an EEPROM cell that keeps its value) and its answer. */
+let answers;
+async function boardCmd(c) {
+  const answer = new Promise((ok) => answers.once('line', ok));
+  board.stdin.write(`${c}\n`);
+  return answer;
+}
+
+before(async () => {
+  await startBoard();
+  alba = await startAlba('start-stop', { users: USERS });
+  b = await openBrowser();
+});
+
+after(async () => {
+  await b?.close();
+  await alba?.stop();
+  board?.stdin.end('quit\n');
+  board?.kill();
+  if (work) rmSync(work, { recursive: true, force: true });
+});
+
+async function login(user) {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('login-form').waitFor();
+  await tid('login-user').fill(user.name);
+  await tid('login-password').fill(user.password);
+  await tid('login-submit').click();
+  await tid('tab-hardware').waitFor();
+}
+
+async function logout() {
+  await b.page.context().clearCookies();
+}
+
+const json = (method, value) => ({ method, headers: { 'content-type': 'application/json' }, body: JSON.stringify(value) });
+
+test('a viewer sees the Hardware tab with every change disabled; the API refuses them', async () => {
+  const { tid } = b;
+  await login(victor);
+  await tid('tab-hardware').click();
+  await tid('hardware-view').waitFor();
+  await tid('hw-board').locator('option').first().waitFor({ state: 'attached' });
+  for (const id of ['hw-save', 'hw-build', 'hw-download', 'hw-identify', 'hw-verify']) {
+    assert.equal(await tid(id).isDisabled(), true, `${id} is disabled for a viewer`);
+    assert.equal(await tid(id).getAttribute('title'), 'needs the engineer role');
+  }
+  await b.shot('hardware-viewer');
+  await alba.login(victor.name, victor.password);
+  for (const [method, path, body] of [
+    ['PUT', '/api/hardware/board', { board: 'nano' }],
+    ['POST', '/api/hardware/build', { board: 'nano', kind: 'sketch' }],
+    ['POST', '/api/hardware/download', { port: link }],
+  ]) {
+    const r = await alba.api(path, json(method, body));
+    assert.equal(r.status, 403, `${method} ${path}: ${JSON.stringify(r.body)}`);
+  }
+  assert.equal((await alba.api('/api/hardware')).status, 200);
+  await logout();
+});
+
+test('the engineer chooses the Nano and its port; the table follows; Identify names the interpreter', async () => {
+  const { tid } = b;
+  await login(eva);
+  await tid('tab-hardware').click();
+  await tid('hw-board').locator('option[value="nano"]').waitFor({ state: 'attached' });
+  await tid('hw-board').selectOption('nano');
+  await tid('hw-port-typed').fill(link);
+  await tid('hw-save').click();
+  // aurora on the Nano: Start on D2, Motor on D12
+  await tid('hw-row-DI:1/0').filter({ hasText: 'Start' }).waitFor();
+  assert.equal(await tid('hw-pin-DI:1/0').inputValue(), 'D2');
+  await tid('hw-row-DO:2/0').filter({ hasText: 'Motor' }).waitFor();
+  const toml = readFileSync(join(alba.dir, 'alba.toml'), 'utf8');
+  assert.match(toml, /\[board\]\s*\nmodel = "nano"/);
+  assert.ok(toml.includes(`port = "${link}"`), toml);
+  // the port is the project's now: listed
+  await tid('hw-port-typed').fill('');
+  await tid('hw-refresh').click();
+  await tid('hw-ports').locator(`option[value="${link}"]`).waitFor({ state: 'attached' });
+  await tid('hw-ports').selectOption(link);
+  // the drawing lights the wired pins
+  await tid('hw-board-pin-D12').and(b.page.locator('.hw-do')).waitFor({ state: 'attached' });
+  await tid('hw-identify').click();
+  await tid('hw-port-info').filter({ hasText: 'Arduino Nano with Alba\'s byte-code interpreter' }).waitFor({ timeout: 20_000 });
+  await b.shot('hardware-board');
+});
+
+test('a stand-alone sketch for the Nano is built with its sizes against the limits', async () => {
+  const { tid } = b;
+  await tid('hw-kind').selectOption('sketch');
+  await tid('hw-build').click();
+  await tid('hw-flash').filter({ hasText: 'of 32256 bytes' }).waitFor({ timeout: 300_000 });
+  await tid('hw-ram').filter({ hasText: 'of 2048 bytes' }).waitFor();
+  const used = Number((await tid('hw-flash').textContent()).match(/(\d+) of 32256/)[1]);
+  assert.ok(used > 1000 && used < 32256, `flash used: ${used}`);
+});
+
+test('the byte code goes to the board with the progress reaching 100 %, the result kept after a reload', async () => {
+  const { page, tid } = b;
+  await tid('hw-download').click();
+  const seen = new Set();
+  // the bar moves while records go
+  for (let i = 0; i < 1200; i++) {
+    seen.add(Number(await tid('hw-progress').getAttribute('value')));
+    const state = await tid('hw-job').getAttribute('data-state');
+    if (state === 'done' || state === 'failed') break;
+    await page.waitForTimeout(50);
+  }
+  assert.equal(await tid('hw-job').getAttribute('data-state'), 'done', await tid('hw-job').textContent());
+  assert.equal(Number(await tid('hw-progress').getAttribute('value')), 100);
+  await tid('hw-job-message').filter({ hasText: /verified: the board runs the new program/ }).waitFor();
+  await b.shot('hardware-download');
+  await page.reload();
+  await tid('tab-hardware').click();
+  await tid('hw-job').filter({ hasText: '100 %' }).waitFor();
+  await tid('hw-job-message').filter({ hasText: /verified/ }).waitFor();
+  // the board runs it: it says so, and Verify reads it back equal
+  await tid('hw-identify').click();
+  await tid('hw-port-info').filter({ hasText: 'it runs a program' }).waitFor({ timeout: 20_000 });
+  await tid('hw-verify').click();
+  await tid('hw-verify-result').and(b.page.locator('[data-same="true"]')).filter({ hasText: "verified: the board holds the project's program" }).waitFor({ timeout: 20_000 });
+});
+
+test('a record the board does not keep: the flag in words, and the old program still runs', async () => {
+  const { tid } = b;
+  const program = (await b.page.evaluate(async (port) => (await (await fetch('/api/hardware/identify', { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ port }) })).json()).program, link));
+  assert.match(program, /^[0-9a-f]{8}$/);
+  // another program, which the board will not take
+  const lad = join(alba.dir, 'main.lad');
+  const old = readFileSync(lad, 'utf8');
+  writeFileSync(lad, '[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n');
+  assert.equal(await boardCmd('stuck 5'), 'ok');
+  await tid('hw-download').click();
+  await tid('hw-job').and(b.page.locator('[data-state="failed"]')).waitFor({ timeout: 30_000 });
+  await tid('hw-job-message').filter({ hasText: 'the memory did not keep what was written (20): the board still runs the previous program' }).waitFor();
+  await b.shot('hardware-failed');
+  assert.equal(await boardCmd('stuck off'), 'ok');
+  // Verify: the board's program is not the changed project's
+  await tid('hw-verify').click();
+  await tid('hw-verify-result').and(b.page.locator('[data-same="false"]')).filter({ hasText: `the board's program id ${program}` }).waitFor({ timeout: 20_000 });
+  writeFileSync(lad, old);
+  await tid('hw-identify').click();
+  await tid('hw-port-info').filter({ hasText: `program id ${program}` }).waitFor({ timeout: 20_000 });
+});
+
+test('a pin conflict is shown on its row with its code and refused at save', async () => {
+  const { tid } = b;
+  const before = readFileSync(join(alba.dir, 'alba.toml'), 'utf8');
+  await tid('hw-pin-DO:2/1').fill('D2');
+  await tid('hw-save').click();
+  await tid('hw-problem-DO:2/1').filter({ hasText: 'E102' }).waitFor();
+  await tid('hw-problem-DI:1/0').filter({ hasText: 'D2' }).waitFor();
+  assert.equal(readFileSync(join(alba.dir, 'alba.toml'), 'utf8'), before, 'nothing saved');
+  await b.shot('hardware-conflict');
+  assert.deepEqual(b.errors, []);
+});
