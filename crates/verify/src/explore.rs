@@ -632,17 +632,13 @@ fn check(k: &Kind, m: &Memory, pending: Pending, scan_ms: u64) -> Check {
             then,
             within_ms,
         } => {
-            if t(then) {
-                return Check::Fine(None);
-            }
-            let next = match pending {
-                Some(c) => Some(c.saturating_add(1)),
-                None if t(trigger) => Some(0),
-                None => None,
-            };
-            match next {
-                Some(c) if u64::from(c) * scan_ms > *within_ms => Check::Violated,
-                n => Check::Fine(n),
+            match pending {
+                // The deadline passes at this scan: answered now is too late.
+                Some(c) if u64::from(c + 1) * scan_ms > *within_ms => Check::Violated,
+                Some(_) if t(then) => Check::Fine(None),
+                Some(c) => Check::Fine(Some(c + 1)),
+                None if t(trigger) && !t(then) => Check::Fine(Some(0)),
+                None => Check::Fine(None),
             }
         }
         _ => Check::Fine(None),

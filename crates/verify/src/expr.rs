@@ -89,11 +89,7 @@ fn resolve(e: &Expr, layout: &Layout) -> Result<Compiled, ExprError> {
         },
         Expr::Neg(a) => Compiled::Neg(Box::new(resolve(a, layout)?)),
         Expr::Not(a, _) => Compiled::Not(Box::new(resolve(a, layout)?)),
-        Expr::Bin(op, a, b, _) => Compiled::Bin(
-            *op,
-            Box::new(resolve(a, layout)?),
-            Box::new(resolve(b, layout)?),
-        ),
+        Expr::Bin(op, a, b, _) => Compiled::Bin(*op, Box::new(resolve(a, layout)?), Box::new(resolve(b, layout)?)),
         Expr::Call(f, args, span) => {
             if f.arity() != args.len() {
                 return Err(ExprError {
@@ -101,10 +97,7 @@ fn resolve(e: &Expr, layout: &Layout) -> Result<Compiled, ExprError> {
                     span: *span,
                 });
             }
-            let args = args
-                .iter()
-                .map(|a| resolve(a, layout))
-                .collect::<Result<Vec<_>, _>>()?;
+            let args = args.iter().map(|a| resolve(a, layout)).collect::<Result<Vec<_>, _>>()?;
             Compiled::Call(*f, args)
         }
     })

@@ -1,0 +1,340 @@
+//! `alba verify`'s decisions on programs whose answers are known, and a
+//! property test against exhaustive simulation of every input sequence.
+
+mod common;
+
+use alba_engine::Engine;
+use alba_verify::explore::{self, Budget, Outcome};
+use alba_verify::props::Kind;
+use common::*;
+use proptest::prelude::*;
+
+#[test]
+fn the_interlock_holds_and_fails_without_its_contact() {
+    let toml = "[[property]]\nname = \"never both\"\nmutex = [\"Fwd\", \"Rev\"]\n";
+    let good = compile(MOTOR_TAGS, MOTOR);
+    let (_, v, _) = decide(&good, toml);
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    assert!(v[0].run.is_none());
+    assert!(v[0].states > 0);
+
+    let bad = compile(MOTOR_TAGS, MOTOR_NO_INTERLOCK);
+    let (model, v, p) = decide(&bad, toml);
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    let run = v[0].run.as_ref().expect("a counterexample");
+    // The shortest violation: both buttons on the first scan.
+    assert_eq!(run.scans.len(), 1, "{run:?}");
+    assert_eq!(v[0].depth, 1);
+    // It replays through the engine as `alba sim` runs it.
+    assert_eq!(explore::replay(&model, &p.properties[0], &p.assumes, run), Ok(()));
+    let stim = explore::stimulus(&model, run);
+    assert!(stim.starts_with("time_ms,tag,value\n"), "{stim}");
+    assert!(stim.contains("0,FwdBtn,1") && stim.contains("0,RevBtn,1"), "{stim}");
+}
+
+#[test]
+fn an_assumption_restricts_the_runs() {
+    // Without the interlock, but with the buttons never pressed together
+    // and, once running, the other button not pressed: the directions stay apart.
+    let toml = "\
+[[property]]
+name = \"never both\"
+mutex = [\"Fwd\", \"Rev\"]
+
+[[assume]]
+expr = \"NOT (FwdBtn AND RevBtn) AND NOT (Fwd AND RevBtn)\"
+";
+    let bad = compile(MOTOR_TAGS, MOTOR_NO_INTERLOCK);
+    let (_, v, _) = decide(&bad, toml);
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+}
+
+const LATCH_TAGS: &str = "\
+Start,BOOL,DI:1/0,,,
+Stop,BOOL,DI:1/1,,,
+Motor,BOOL,DO:2/0,,,
+";
+
+#[test]
+fn swapped_rung_order_is_caught() {
+    let toml = "[[property]]\nname = \"stop wins\"\nnever = \"Stop AND Motor\"\n";
+    let good = compile(LATCH_TAGS, "XIC(Start)OTL(Motor);\nXIC(Stop)OTU(Motor);\n");
+    let (_, v, _) = decide(&good, toml);
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    let swapped = compile(LATCH_TAGS, "XIC(Stop)OTU(Motor);\nXIC(Start)OTL(Motor);\n");
+    let (_, v, _) = decide(&swapped, toml);
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    assert_eq!(v[0].depth, 1);
+}
+
+const LAMP_TAGS: &str = "\
+Start,BOOL,DI:1/0,,,
+Stop,BOOL,DI:1/1,,,
+Motor,BOOL,DO:2/0,,,
+Lamp,BOOL,DO:2/1,,,
+Delay,TIMER,,,,
+";
+const LAMP: &str = "\
+[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);
+XIC(Motor)TON(Delay,500,0);
+XIC(Delay.DN)OTE(Lamp);
+";
+
+#[test]
+fn a_response_time_is_decided_to_the_scan() {
+    let prog = compile(LAMP_TAGS, LAMP);
+    let toml = |ms: u64| {
+        format!(
+            "[[property]]\nname = \"lamp follows\"\nresponse = {{ trigger = \"Motor\", then = \"Lamp\", within_ms = {ms} }}\n\
+             [[assume]]\nexpr = \"NOT Stop\"\n"
+        )
+    };
+    // The timer starts in the scan the motor starts: DN 500 ms later.
+    let (_, v, _) = decide(&prog, &toml(500));
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    let (model, v, p) = decide(&prog, &toml(490));
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    let run = v[0].run.as_ref().expect("counterexample");
+    // Start at the first scan, then 50 scans until the deadline passes.
+    assert_eq!(run.scans.len(), 51, "{:?}", run.scans.len());
+    assert_eq!(explore::replay(&model, &p.properties[0], &p.assumes, run), Ok(()));
+    // Without the assumption, Stop makes the lamp never come.
+    let (_, v, _) = decide(
+        &prog,
+        "[[property]]\nname = \"r\"\nresponse = { trigger = \"Motor\", then = \"Lamp\", within_ms = 5000 }\n",
+    );
+    assert_eq!(outcome(&v[0]), "refuted");
+}
+
+#[test]
+fn reachable_gives_a_witness_or_is_refuted() {
+    let prog = compile(LAMP_TAGS, LAMP);
+    let toml = "\
+[[property]]
+name = \"lamp\"
+reachable = \"Lamp\"
+
+[[property]]
+name = \"lamp alone\"
+reachable = \"Lamp AND NOT Motor\"
+
+[[property]]
+name = \"acc\"
+always = \"Delay.ACC <= 500 AND Delay.ACC >= 0\"
+";
+    let (model, v, p) = decide(&prog, toml);
+    assert_eq!(outcome(&v[0]), "proved");
+    let run = v[0].run.as_ref().expect("witness");
+    assert_eq!(run.scans.len(), 51);
+    assert_eq!(explore::replay(&model, &p.properties[0], &p.assumes, run), Ok(()));
+    assert_eq!(outcome(&v[1]), "refuted");
+    assert!(v[1].run.is_none());
+    assert_eq!(outcome(&v[2]), "proved", "{:?}", v[2].outcome);
+}
+
+#[test]
+fn numeric_inputs_need_a_domain() {
+    let tags = "Level,INT,AI:3/0,,,\nHigh,BOOL,DO:2/0,,,\n";
+    let lad = "GRT(Level,800)OTE(High);\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"h\"\nnever = \"High AND Level < 800\"\n");
+    match &v[0].outcome {
+        Outcome::Unknown(why) => assert!(why.contains("Level") && why.contains("[domain]"), "{why}"),
+        o => panic!("expected unknown, got {o:?}"),
+    }
+    let with = "[[property]]\nname = \"h\"\nnever = \"High AND Level <= 800\"\n[domain]\nLevel = [0, 800, 801, 1023]\n";
+    let (_, v, _) = decide(&prog, with);
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    let wrong = "[[property]]\nname = \"h\"\nnever = \"High\"\n[domain]\nLevel = [0, 1023]\n";
+    let (_, v, _) = decide(&prog, wrong);
+    assert_eq!(outcome(&v[0]), "refuted");
+}
+
+#[test]
+fn a_budget_too_small_answers_unknown_never_proved() {
+    let prog = compile(LAMP_TAGS, LAMP);
+    let budget = Budget {
+        max_states: 20,
+        ..Budget::default()
+    };
+    let (_, v, _) = decide_with(
+        &prog,
+        "[[property]]\nname = \"p\"\nnever = \"Lamp AND NOT Motor\"\n",
+        budget,
+    );
+    match &v[0].outcome {
+        Outcome::Unknown(why) => assert!(why.contains("budget"), "{why}"),
+        o => panic!("expected unknown, got {o:?}"),
+    }
+}
+
+#[test]
+fn a_counter_is_bounded_only_when_exact() {
+    let tags = "Pulse,BOOL,DI:1/0,,,\nReset,BOOL,DI:1/1,,,\nC,COUNTER,,,,\nFull,BOOL,DO:2/0,,,\n";
+    // Counting forever: its ACC only shows through DN, so the search ends.
+    let lad = "XIC(Pulse)CTU(C,3,0);\nXIC(Reset)RES(C);\nXIC(C.DN)OTE(Full);\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Full AND NOT C.DN\"\n");
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    // A property reading ACC keeps it exact: unbounded, so unknown at the budget.
+    let budget = Budget {
+        max_states: 5_000,
+        ..Budget::default()
+    };
+    let (_, v, _) = decide_with(&prog, "[[property]]\nname = \"p\"\nnever = \"C.ACC < 0\"\n", budget);
+    assert_eq!(outcome(&v[0]), "unknown", "{:?}", v[0].outcome);
+    let (_, v, _) = decide_with(&prog, "[[property]]\nname = \"p\"\nnever = \"C.ACC = 4\"\n", budget);
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    assert_eq!(v[0].depth, 7, "the shortest run: four rising edges");
+}
+
+#[test]
+fn bad_properties_are_refused_with_their_place() {
+    let prog = compile(LAMP_TAGS, LAMP);
+    let mut files = alba_diag::Files::new();
+    for (text, needle) in [
+        ("[[property]]\nname = \"a\"\nnever = \"Lamp AND Nope\"\n", "Nope"),
+        ("[[property]]\nname = \"a\"\n", "0 kinds"),
+        (
+            "[[property]]\nname = \"a\"\nnever = \"Lamp\"\nalways = \"Lamp\"\n",
+            "2 kinds",
+        ),
+        ("[[property]]\nname = \"a\"\nnever = \"Lamp AND\"\n", ""),
+        ("[[property]]\nname = \"a\"\nmutex = [\"Lamp\"]\n", "at least two"),
+        ("[[property]]\nname = \"a\"\nnever = \"Delay\"\n", "structure"),
+        ("[[propery]]\nname = \"a\"\n", "unknown field"),
+        ("[domain]\nNope = [1]\n", "Nope"),
+    ] {
+        let f = files.add("properties.toml", text.to_string());
+        let d = alba_verify::props::parse(files.text(f), f, &prog.layout).expect_err(text);
+        assert!(d.iter().any(|d| d.message.contains(needle)), "{text}: {:?}", d);
+        assert!(d.iter().all(|d| d.primary.is_some()), "{text}: placed");
+    }
+}
+
+// ---- a property test: the search against exhaustive simulation ------------
+
+const RANDOM_TAGS: &str = "\
+In0,BOOL,DI:1/0,,,
+In1,BOOL,DI:1/1,,,
+M0,BOOL,,,,
+M1,BOOL,,,,
+M2,BOOL,,,,
+Tm,TIMER,,,,
+Ct,COUNTER,,,,
+";
+const CONTACTS: [&str; 7] = ["In0", "In1", "M0", "M1", "M2", "Tm.DN", "Ct.DN"];
+const OUTPUTS: [&str; 12] = [
+    "OTE(M0)",
+    "OTE(M1)",
+    "OTE(M2)",
+    "OTL(M0)",
+    "OTL(M1)",
+    "OTL(M2)",
+    "OTU(M0)",
+    "OTU(M1)",
+    "OTU(M2)",
+    "TON(Tm,20,0)",
+    "CTU(Ct,2,0)",
+    "RES(Ct)",
+];
+const PROPERTIES: [&str; 6] = [
+    "never = \"M0 AND M1\"",
+    "never = \"M2\"",
+    "always = \"NOT (M1 AND Tm.DN)\"",
+    "mutex = [\"M0\", \"M2\", \"In1\"]",
+    "reachable = \"M1 AND Ct.DN\"",
+    "never = \"M0 AND NOT In0\"",
+];
+/// Scans simulated for every input sequence.
+const DEPTH: usize = 5;
+
+fn contact() -> impl Strategy<Value = String> {
+    (any::<bool>(), 0..CONTACTS.len()).prop_map(|(n, k)| format!("{}({})", if n { "XIO" } else { "XIC" }, CONTACTS[k]))
+}
+
+fn rung() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(contact(), 1..3),
+        prop::option::of((contact(), contact())),
+        0..OUTPUTS.len(),
+    )
+        .prop_map(|(series, branch, out)| {
+            let mut s = series.concat();
+            if let Some((a, b)) = branch {
+                s.push_str(&format!("[{a},{b}]"));
+            }
+            format!("{s}{};\n", OUTPUTS[out])
+        })
+}
+
+/// The first scan (1-based) at which some input sequence of `DEPTH` scans
+/// makes `bad` true, by simulating all of them.
+fn first_by_simulation(
+    program: &std::sync::Arc<alba_ir::Program>,
+    bad: &dyn Fn(&alba_ir::Memory) -> bool,
+) -> Option<usize> {
+    let inputs: Vec<alba_ir::Place> = ["In0", "In1"]
+        .iter()
+        .map(|n| match program.layout.resolve(n) {
+            Ok(alba_ir::Target::Value { place, .. }) => place,
+            _ => panic!("input {n}"),
+        })
+        .collect();
+    let mut best: Option<usize> = None;
+    for seq in 0..4usize.pow(DEPTH as u32) {
+        let mut e = Engine::new(program.clone()).expect("engine");
+        for k in 0..DEPTH {
+            if best.is_some_and(|b| k + 1 >= b) {
+                break;
+            }
+            let combo = seq >> (2 * k) & 3;
+            e.write(inputs[0], alba_model::Value::Bool(combo & 1 == 1));
+            e.write(inputs[1], alba_model::Value::Bool(combo & 2 == 2));
+            e.scan(k as u64 * SCAN_MS).expect("scan");
+            if bad(e.memory()) {
+                best = Some(k + 1);
+                break;
+            }
+        }
+    }
+    best
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// The search's answer agrees with simulating every input sequence: a
+    /// violation (or witness) found by simulation within `DEPTH` scans is
+    /// found by the search at the same, shortest, depth; `proved` never
+    /// meets a violation in simulation.
+    #[test]
+    fn the_search_agrees_with_exhaustive_simulation(
+        rungs in prop::collection::vec(rung(), 1..6),
+        which in 0..PROPERTIES.len(),
+    ) {
+        let lad = rungs.concat();
+        let program = compile(RANDOM_TAGS, &lad);
+        let toml = format!("[[property]]\nname = \"p\"\n{}\n", PROPERTIES[which]);
+        let (_, v, p) = decide(&program, &toml);
+        let prop = &p.properties[0];
+        let bad = |m: &alba_ir::Memory| match &prop.kind {
+            Kind::Never(e) => e.eval(m).truth(),
+            Kind::Always(e) => !e.eval(m).truth(),
+            Kind::Mutex(es) => es.iter().filter(|e| e.eval(m).truth()).count() > 1,
+            Kind::Reachable(e) => e.eval(m).truth(),
+            Kind::Response { .. } => unreachable!(),
+        };
+        let sim = first_by_simulation(&program, &bad);
+        let reachable = matches!(prop.kind, Kind::Reachable(_));
+        let found = match (&v[0].outcome, reachable) {
+            (Outcome::Refuted, false) | (Outcome::Proved, true) => Some(v[0].depth as usize),
+            (Outcome::Proved, false) | (Outcome::Refuted, true) => None,
+            (Outcome::Unknown(why), _) => panic!("unknown on a small program: {why}\n{lad}"),
+        };
+        match sim {
+            Some(d) => prop_assert_eq!(found, Some(d), "{}\n{}", lad, toml),
+            None => prop_assert!(found.is_none_or(|d| d > DEPTH), "{}\n{}\nsearch {:?}", lad, toml, found),
+        }
+    }
+}
