@@ -67,6 +67,8 @@ pub enum Outcome {
 /// A run: the input values of every scan, scan k at k·scan_ms.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Run {
+    /// The inputs chosen (those the property depends on), as a stimulus names them.
+    pub inputs: Vec<String>,
     pub scans: Vec<Vec<Value>>,
 }
 
@@ -119,6 +121,9 @@ enum S7Kind {
 struct S7TimerAbs {
     t: S7Tmr,
     kind: S7Kind,
+    /// TON/TONR whose count nothing else touches: past PT only the bit
+    /// shows, so the count is capped at PT (and its pending ms dropped).
+    cap: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -135,6 +140,7 @@ enum CounterAbs {
 }
 
 /// A program made ready for the search.
+#[derive(Clone)]
 pub struct Model {
     program: Arc<Program>,
     scan_ms: u64,
@@ -150,6 +156,9 @@ pub struct Model {
     /// Why nothing can be decided, if so.
     blocked: Option<String>,
     plants: bool,
+    /// Slots outside the property's cone of influence, put back to their
+    /// initial value in every state (see [`Model::reduced`]).
+    outside: Vec<AnySlot>,
 }
 
 /// Slots an op writes (conservatively: a timer, counter or PID writes all of its own).
@@ -233,6 +242,40 @@ fn place_slot(p: Place) -> Option<AnySlot> {
         Place::Lreal(d) => AnySlot::D(d.0),
         _ => return None,
     })
+}
+
+/// Slots an op overwrites whatever their value before (without reading it).
+fn kills(op: &Op) -> Vec<AnySlot> {
+    use AnySlot as S;
+    match *op {
+        Op::Ote(b) | Op::LdBit { dst: b, .. } | Op::CopyB(_, b) => vec![S::B(b.0)],
+        Op::BrOpen { save, acc } => vec![S::B(save.0), S::B(acc.0)],
+        Op::CopyI(_, d) => vec![S::I(d.0)],
+        Op::LdM { slot, .. } => match slot {
+            alba_ir::op::MarkerSlot::Real(f) => vec![S::F(f.0)],
+            alba_ir::op::MarkerSlot::Byte(i) | alba_ir::op::MarkerSlot::Word(i) | alba_ir::op::MarkerSlot::DWord(i) => {
+                vec![S::I(i.0)]
+            }
+        },
+        _ => vec![],
+    }
+}
+
+/// A slot as nodes of the influence graph: marker memory byte by byte.
+fn nodes(s: AnySlot) -> Vec<AnySlot> {
+    match s {
+        AnySlot::M(at, n) => (at..at.saturating_add(n)).map(|b| AnySlot::M(b, 1)).collect(),
+        s => vec![s],
+    }
+}
+
+fn place_nodes(p: Place) -> Vec<AnySlot> {
+    match p {
+        Place::MBit { byte, .. } | Place::MByte(byte) => vec![AnySlot::M(byte, 1)],
+        Place::MWord(at) => nodes(AnySlot::M(at, 2)),
+        Place::MDword(at, _) | Place::MReal(at) => nodes(AnySlot::M(at, 4)),
+        p => place_slot(p).into_iter().collect(),
+    }
 }
 
 /// Does an op other than `own` touch `s`?
@@ -368,14 +411,18 @@ impl Model {
                     } else {
                         S7Kind::On
                     };
-                    let e = s7map.entry(t.i.0).or_insert(S7TimerAbs { t, kind: k });
+                    let e = s7map.entry(t.i.0).or_insert(S7TimerAbs { t, kind: k, cap: false });
                     if e.kind != k {
                         e.kind = S7Kind::Mixed;
                     }
                     continue;
                 }
                 Op::S7ResT(t) => {
-                    s7map.entry(t.i.0).or_insert(S7TimerAbs { t, kind: S7Kind::Mixed });
+                    s7map.entry(t.i.0).or_insert(S7TimerAbs {
+                        t,
+                        kind: S7Kind::Mixed,
+                        cap: false,
+                    });
                     continue;
                 }
                 _ => continue,
@@ -400,6 +447,15 @@ impl Model {
         }
         let mut s7timers: Vec<S7TimerAbs> = s7map.into_values().collect();
         s7timers.sort_by_key(|t| t.t.i.0);
+        for st in &mut s7timers {
+            let t = st.t;
+            let own = |op: &Op| matches!(op, Op::S7Ton(x) | Op::S7Tonr(x) | Op::S7Tof(x) | Op::S7ResT(x) if *x == t);
+            let private = [AnySlot::I(t.i.0), AnySlot::I(t.i.0 + 1)];
+            st.cap = st.kind == S7Kind::On
+                && !private
+                    .iter()
+                    .any(|s| prop_slots.contains(s) || touched_elsewhere(prog, *s, &own));
+        }
         // Counters.
         let mut counters = Vec::new();
         let mut seen: HashSet<u32> = HashSet::new();
@@ -449,8 +505,74 @@ impl Model {
             parity,
             blocked,
             plants,
+            outside: Vec::new(),
             program,
         }
+    }
+
+    /// The model for one property: only the slots that can influence what it
+    /// (and the assumptions) read are kept in a state, and only the inputs
+    /// among them are enumerated. Influence is taken per rung: every slot a
+    /// rung writes depends on every slot it touches. A program with jumps,
+    /// or a property reading the fault flags, keeps everything.
+    pub fn reduced(&self, property: &Property, assumes: &[Compiled]) -> Model {
+        let prog = &*self.program;
+        let layout = &prog.layout;
+        let mut places = Vec::new();
+        kind_places(&property.kind, &mut places);
+        for a in assumes {
+            a.places(&mut places);
+        }
+        let mut relevant: HashSet<AnySlot> = places.iter().flat_map(|p| place_nodes(*p)).collect();
+        let sys = layout.system;
+        let faults = [AnySlot::B(sys.minor_fault.0), AnySlot::I(sys.fault_code.0)];
+        if prog.ops.iter().any(|op| matches!(op, Op::Jmp(_))) || faults.iter().any(|f| relevant.contains(f)) {
+            return self.clone();
+        }
+        // Per rung: the slots whose value at the rung's start it reads (not
+        // overwritten unconditionally before), and the slots it writes.
+        let mut rungs: Vec<(HashSet<AnySlot>, HashSet<AnySlot>)> = Vec::new();
+        let mut killed: HashSet<AnySlot> = HashSet::new();
+        for op in &prog.ops {
+            if matches!(op, Op::Rung) || rungs.is_empty() {
+                rungs.push((HashSet::new(), HashSet::new()));
+                killed.clear();
+            }
+            let Some(r) = rungs.last_mut() else { continue };
+            let k: Vec<AnySlot> = kills(op).into_iter().flat_map(nodes).collect();
+            for t in touches(op).into_iter().flat_map(nodes) {
+                if !k.contains(&t) && !killed.contains(&t) {
+                    r.0.insert(t);
+                }
+            }
+            r.1.extend(writes(op).into_iter().flat_map(nodes));
+            killed.extend(k);
+        }
+        let mut grew = true;
+        while grew {
+            grew = false;
+            for (exposed, written) in &rungs {
+                if written.iter().any(|w| relevant.contains(w)) {
+                    for t in exposed {
+                        grew |= relevant.insert(*t);
+                    }
+                }
+            }
+        }
+        let mut m = self.clone();
+        m.inputs
+            .retain(|i| place_nodes(i.place).iter().any(|s| relevant.contains(s)));
+        let init = &prog.init;
+        let mut outside = Vec::new();
+        let keep = |s: AnySlot| relevant.contains(&s);
+        outside.extend((0..init.b.len() as u32).map(AnySlot::B).filter(|s| !keep(*s)));
+        outside.extend((0..init.i.len() as u32).map(AnySlot::I).filter(|s| !keep(*s)));
+        outside.extend((0..init.f.len() as u32).map(AnySlot::F).filter(|s| !keep(*s)));
+        outside.extend((0..init.l.len() as u32).map(AnySlot::L).filter(|s| !keep(*s)));
+        outside.extend((0..init.d.len() as u32).map(AnySlot::D).filter(|s| !keep(*s)));
+        outside.extend((0..init.m.len() as u32).map(|b| AnySlot::M(b, 1)).filter(|s| !keep(*s)));
+        m.outside = outside;
+        m
     }
 
     /// Input combinations per scan.
@@ -516,6 +638,11 @@ impl Model {
                 0
             };
             m.i[i + 3] = age as i32;
+            let pt = m.i[i + 1].max(0);
+            if s.cap && m.i[i] >= pt {
+                m.i[i] = pt;
+                m.i[i + 2] = 0;
+            }
         }
         for c in &self.counters {
             match *c {
@@ -537,6 +664,17 @@ impl Model {
         }
         for &t in &self.temps {
             m.b[t] = false;
+        }
+        let init = &self.program.init;
+        for s in &self.outside {
+            match *s {
+                AnySlot::B(x) => m.b[x as usize] = init.b[x as usize],
+                AnySlot::I(x) => m.i[x as usize] = init.i[x as usize],
+                AnySlot::F(x) => m.f[x as usize] = init.f[x as usize],
+                AnySlot::L(x) => m.l[x as usize] = init.l[x as usize],
+                AnySlot::D(x) => m.d[x as usize] = init.d[x as usize],
+                AnySlot::M(x, _) => m.m[x as usize] = init.m[x as usize],
+            }
         }
     }
 }
@@ -692,6 +830,8 @@ fn key(m: &Memory, phase: u64, odd: bool, pending: Pending, out: &mut Vec<u8>) {
 /// Decides `property` (under `assumes`) on the model.
 pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: Budget) -> Verdict {
     let started = Instant::now();
+    let reduced = model.reduced(property, assumes);
+    let model = &reduced;
     let mut verdict = Verdict {
         name: property.name.clone(),
         outcome: Outcome::Unknown(String::new()),
@@ -880,7 +1020,10 @@ fn trace(nodes: &[Node], mut id: u32, model: &Model) -> Run {
             v
         })
         .collect();
-    Run { scans }
+    Run {
+        inputs: model.inputs.iter().map(|i| i.name.clone()).collect(),
+        scans,
+    }
 }
 
 /// The run as a stimulus (`time_ms,tag,value`): every input at 0, then each
@@ -891,9 +1034,9 @@ pub fn stimulus(model: &Model, run: &Run) -> String {
     let mut last: Option<&Vec<Value>> = None;
     for (k, scan) in run.scans.iter().enumerate() {
         let t = k as u64 * model.scan_ms;
-        for (j, (inp, v)) in model.inputs.iter().zip(scan).enumerate() {
+        for (j, (name, v)) in run.inputs.iter().zip(scan).enumerate() {
             if model.plants || last.is_none_or(|l| l[j] != *v) {
-                out.push_str(&format!("{t},{},{v}\n", csv_field(&inp.name)));
+                out.push_str(&format!("{t},{},{v}\n", csv_field(name)));
             }
         }
         last = Some(scan);

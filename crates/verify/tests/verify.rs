@@ -169,6 +169,21 @@ fn a_budget_too_small_answers_unknown_never_proved() {
 }
 
 #[test]
+fn what_cannot_influence_the_property_is_left_out() {
+    // A running count of forward presses grows without bound; the
+    // interlock property does not read it, so the search still ends.
+    let tags = format!("{MOTOR_TAGS}Presses,DINT,,,,\n");
+    let lad = format!("{MOTOR}XIC(FwdBtn)ADD(Presses,1,Presses);\n");
+    let prog = compile(&tags, &lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nmutex = [\"Fwd\", \"Rev\"]\n");
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    // A property on the count keeps it, and is refuted.
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Presses = 3\"\n");
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    assert_eq!(v[0].depth, 3);
+}
+
+#[test]
 fn a_counter_is_bounded_only_when_exact() {
     let tags = "Pulse,BOOL,DI:1/0,,,\nReset,BOOL,DI:1/1,,,\nC,COUNTER,,,,\nFull,BOOL,DO:2/0,,,\n";
     // Counting forever: its ACC only shows through DN, so the search ends.
@@ -222,9 +237,10 @@ M1,BOOL,,,,
 M2,BOOL,,,,
 Tm,TIMER,,,,
 Ct,COUNTER,,,,
+N,DINT,,,,
 ";
 const CONTACTS: [&str; 7] = ["In0", "In1", "M0", "M1", "M2", "Tm.DN", "Ct.DN"];
-const OUTPUTS: [&str; 12] = [
+const OUTPUTS: [&str; 13] = [
     "OTE(M0)",
     "OTE(M1)",
     "OTE(M2)",
@@ -237,6 +253,8 @@ const OUTPUTS: [&str; 12] = [
     "TON(Tm,20,0)",
     "CTU(Ct,2,0)",
     "RES(Ct)",
+    // Unbounded, and read by no property: the cone of influence drops it.
+    "ADD(N,1,N)",
 ];
 const PROPERTIES: [&str; 6] = [
     "never = \"M0 AND M1\"",
