@@ -19,10 +19,10 @@ fn project(dir: &Path, lad: &str, props: &str) {
         dir.join("alba.toml"),
         "name = \"m\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n",
     )
-    .unwrap();
-    std::fs::write(dir.join("tags.csv"), MOTOR_TAGS).unwrap();
-    std::fs::write(dir.join("main.lad"), lad).unwrap();
-    std::fs::write(dir.join("properties.toml"), props).unwrap();
+    .expect("write the project");
+    std::fs::write(dir.join("tags.csv"), MOTOR_TAGS).expect("write the project");
+    std::fs::write(dir.join("main.lad"), lad).expect("write the project");
+    std::fs::write(dir.join("properties.toml"), props).expect("write the project");
 }
 
 const PROPS: &str = r#"
@@ -197,8 +197,8 @@ fn junit_cases(path: &Path) -> (Vec<String>, Vec<String>) {
             Event::Start(e) | Event::Empty(e) => {
                 let attr = |k: &str| {
                     e.try_get_attribute(k)
-                        .unwrap()
-                        .map(|a| a.unescape_value().unwrap().into_owned())
+                        .expect("attribute")
+                        .map(|a| a.unescape_value().expect("value").into_owned())
                         .unwrap_or_default()
                 };
                 match e.name().as_ref() {
