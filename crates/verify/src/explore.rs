@@ -559,6 +559,10 @@ impl Model {
                 }
             }
         }
+        // Faults set the fault flags from any computation, kept or not.
+        if faults.iter().any(|f| relevant.contains(f)) {
+            return self.clone();
+        }
         let mut m = self.clone();
         m.inputs
             .retain(|i| place_nodes(i.place).iter().any(|s| relevant.contains(s)));

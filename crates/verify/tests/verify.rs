@@ -64,7 +64,8 @@ fn swapped_rung_order_is_caught() {
     let swapped = compile(LATCH_TAGS, "XIC(Stop)OTU(Motor);\nXIC(Start)OTL(Motor);\n");
     let (_, v, _) = decide(&swapped, toml);
     assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
-    assert_eq!(v[0].depth, 1);
+    // The flag is set at the end of the faulting scan: the lamp lights in the next.
+    assert_eq!(v[0].depth, 2);
 }
 
 const LAMP_TAGS: &str = "\
@@ -181,6 +182,19 @@ fn what_cannot_influence_the_property_is_left_out() {
     let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Presses = 3\"\n");
     assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
     assert_eq!(v[0].depth, 3);
+}
+
+#[test]
+fn a_fault_flag_read_by_a_kept_rung_keeps_everything() {
+    // The division is outside the property's cone, but its fault sets
+    // S:MINOR, which the lamp's rung reads.
+    let tags = "Go,BOOL,DI:1/0,,,\nLamp,BOOL,DO:2/0,,,\nNum,INT,,7,,\nZero,INT,,0,,\nRes,INT,,,,\n";
+    let lad = "XIC(Go)DIV(Num,Zero,Res);\nXIC(S:MINOR)OTE(Lamp);\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp\"\n");
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    // The flag is set at the end of the faulting scan: the lamp lights in the next.
+    assert_eq!(v[0].depth, 2);
 }
 
 #[test]
