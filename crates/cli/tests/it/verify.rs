@@ -166,6 +166,8 @@ fn the_examples_properties_are_proved() {
         "tank",
         "state-net-batch",
         "festo-station",
+        "sfc-batch",
+        "st-motor",
     ] {
         let d = scratch(&format!("verify-example-{ex}"));
         let out_dir = d.join("cex");
