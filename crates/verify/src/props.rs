@@ -115,14 +115,26 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
     };
     let mut diags = Vec::new();
     let one = |s: &Spanned<String>, diags: &mut Vec<Diagnostic>| -> Option<Compiled> {
-        // The string's text starts after its opening quote.
+        // The string's text starts after its opening quote, when it is
+        // written as it reads (no escapes, not multi-line); else errors
+        // point at the whole string.
         let base = s.span().start + 1;
-        match expr::compile(s.get_ref(), file, base, layout).and_then(|c| {
-            expr::supported(&c).map(|()| c).map_err(|message| expr::ExprError {
-                message,
-                span: Span::new(file, s.span()),
+        let verbatim = text.get(base..base + s.get_ref().len()) == Some(s.get_ref().as_str());
+        let whole = Span::new(file, s.span());
+        match expr::compile(s.get_ref(), file, base, layout)
+            .map_err(|e| {
+                if verbatim {
+                    e
+                } else {
+                    expr::ExprError { span: whole, ..e }
+                }
             })
-        }) {
+            .and_then(|c| {
+                expr::supported(&c).map(|()| c).map_err(|message| expr::ExprError {
+                    message,
+                    span: Span::new(file, s.span()),
+                })
+            }) {
             Ok(c) => Some(c),
             Err(e) => {
                 diags.push(Diagnostic::new(
