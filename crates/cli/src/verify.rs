@@ -79,11 +79,19 @@ pub fn verify(dir: &Path, a: VerifyArgs) -> ExitCode {
     let out_dir: PathBuf = a.out.map_or_else(|| dir.join("counterexamples"), Path::to_path_buf);
     let mut rows = Vec::new();
     let (mut refuted, mut unknown) = (false, false);
+    let mut used = std::collections::HashSet::new();
     for p in selected {
         let v = explore::decide(&model, p, &props.assumes, a.budget);
         let mut file = None;
         if let Some(run) = &v.run {
-            let target = out_dir.join(format!("{}.csv", slug(&p.name)));
+            // Two names with one file name (`a b`, `a_b`) get -2, -3...
+            let mut stem = slug(&p.name);
+            let mut k = 1;
+            while !used.insert(stem.clone()) {
+                k += 1;
+                stem = format!("{}-{k}", slug(&p.name));
+            }
+            let target = out_dir.join(format!("{stem}.csv"));
             let text = explore::stimulus(&model, run);
             let written = std::fs::create_dir_all(&out_dir)
                 .and_then(|()| fsutil::write_atomic(&target, |w| w.write_all(text.as_bytes())));

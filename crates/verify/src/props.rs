@@ -241,6 +241,15 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
     for (name, values) in &raw.domain {
         let span = Span::new(file, values.span());
         let place = match layout.resolve(name) {
+            Ok(Target::Value { place, .. }) if layout.is_output(place) => {
+                diags.push(Diagnostic::new(
+                    Code::ConfigField,
+                    format!("[domain] `{name}` is an output, driven by the program, not an input"),
+                    span,
+                    "here",
+                ));
+                continue;
+            }
             Ok(Target::Value { place, .. }) => place,
             Ok(_) => {
                 diags.push(Diagnostic::new(

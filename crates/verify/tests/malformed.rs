@@ -78,6 +78,10 @@ const PIECES: &[&str] = &[
     ".ACC",
     "\u{0}",
     "[[property]]",
+    "\\u00e9",
+    "\\\"",
+    "\"\"\"",
+    "'",
 ];
 
 proptest! {

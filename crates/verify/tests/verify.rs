@@ -64,8 +64,8 @@ fn swapped_rung_order_is_caught() {
     let swapped = compile(LATCH_TAGS, "XIC(Stop)OTU(Motor);\nXIC(Start)OTL(Motor);\n");
     let (_, v, _) = decide(&swapped, toml);
     assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
-    // The flag is set at the end of the faulting scan: the lamp lights in the next.
-    assert_eq!(v[0].depth, 2);
+    // Both buttons on the first scan.
+    assert_eq!(v[0].depth, 1);
 }
 
 const LAMP_TAGS: &str = "\
@@ -233,6 +233,9 @@ fn bad_properties_are_refused_with_their_place() {
         ("[[property]]\nname = \"a\"\nnever = \"Delay\"\n", "structure"),
         ("[[propery]]\nname = \"a\"\n", "unknown field"),
         ("[domain]\nNope = [1]\n", "Nope"),
+        ("[domain]\nLamp = [1]\n", "is an output"),
+        ("[domain]\nStart = []\n", "no value"),
+        ("[domain]\nStart = [2]\n", "bad value"),
     ] {
         let f = files.add("properties.toml", text.to_string());
         let d = alba_verify::props::parse(files.text(f), f, &prog.layout).expect_err(text);
