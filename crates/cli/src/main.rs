@@ -476,12 +476,14 @@ fn main() -> ExitCode {
             &project,
             verify::VerifyArgs {
                 json,
-                out: out.as_deref(),
-                only: property.as_deref(),
-                budget: alba_verify::explore::Budget {
-                    max_states,
-                    max_seconds: timeout,
-                    ..Default::default()
+                options: alba_verify::project::Options {
+                    out,
+                    only: property,
+                    budget: alba_verify::explore::Budget {
+                        max_states,
+                        max_seconds: timeout,
+                        ..Default::default()
+                    },
                 },
             },
         ),

@@ -373,3 +373,47 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_project_folder_is_verified_with_its_files_written() {
+    use alba_verify::project::{self, Options};
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), MOTOR_TAGS, MOTOR_NO_INTERLOCK);
+    std::fs::write(
+        dir.path().join("properties.toml"),
+        "[[property]]\nname = \"a b\"\nmutex = [\"Fwd\", \"Rev\"]\n\n[[property]]\nname = \"a_b\"\nreachable = \"Rev\"\n\n\
+         [[property]]\nname = \"stop\"\nnever = \"Stop AND Fwd\"\n",
+    )
+    .expect("write");
+    let mut seen = Vec::new();
+    let reports = project::verify(dir.path(), &Options::default(), &mut |r, scan| {
+        seen.push((r.name.clone(), scan))
+    })
+    .unwrap_or_else(|f| panic!("{:?}", f.diagnostics));
+    assert_eq!(seen.len(), 3);
+    assert_eq!(seen[0].1, SCAN_MS);
+    let results: Vec<&str> = reports.iter().map(|r| r.result).collect();
+    assert_eq!(results, ["refuted", "proved", "proved"]);
+    assert_eq!(project::exit_status(&reports), 1);
+    let cex = reports[0].counterexample.as_deref().expect("counterexample");
+    let witness = reports[1].witness.as_deref().expect("witness");
+    // Names that slug alike get files of their own.
+    assert_ne!(cex, witness);
+    assert!(std::path::Path::new(cex).exists() && std::path::Path::new(witness).exists());
+    assert!(reports[1].counterexample.is_none() && reports[2].counterexample.is_none());
+    // Only one property, and a name that is not there.
+    let only = Options {
+        only: Some("stop".into()),
+        ..Options::default()
+    };
+    let r = project::verify(dir.path(), &only, &mut |_, _| {}).unwrap_or_else(|f| panic!("{:?}", f.diagnostics));
+    assert_eq!((r.len(), project::exit_status(&r)), (1, 0));
+    let none = Options {
+        only: Some("nope".into()),
+        ..Options::default()
+    };
+    let Err(f) = project::verify(dir.path(), &none, &mut |_, _| {}) else {
+        panic!("refused")
+    };
+    assert!(f.diagnostics[0].message.contains("nope"));
+}
