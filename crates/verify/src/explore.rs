@@ -513,8 +513,9 @@ impl Model {
     /// The model for one property: only the slots that can influence what it
     /// (and the assumptions) read are kept in a state, and only the inputs
     /// among them are enumerated. Influence is taken per rung: every slot a
-    /// rung writes depends on every slot it touches. A program with jumps,
-    /// or a property reading the fault flags, keeps everything.
+    /// rung writes depends on the slots it reads before overwriting them;
+    /// what jumps read is always kept. A property that depends on the fault
+    /// flags keeps everything.
     pub fn reduced(&self, property: &Property, assumes: &[Compiled]) -> Model {
         let prog = &*self.program;
         let layout = &prog.layout;
@@ -526,20 +527,30 @@ impl Model {
         let mut relevant: HashSet<AnySlot> = places.iter().flat_map(|p| place_nodes(*p)).collect();
         let sys = layout.system;
         let faults = [AnySlot::B(sys.minor_fault.0), AnySlot::I(sys.fault_code.0)];
-        if prog.ops.iter().any(|op| matches!(op, Op::Jmp(_))) || faults.iter().any(|f| relevant.contains(f)) {
+        if faults.iter().any(|f| relevant.contains(f)) {
             return self.clone();
         }
         // Per rung: the slots whose value at the rung's start it reads (not
-        // overwritten unconditionally before), and the slots it writes.
+        // overwritten unconditionally before), and the slots it writes. A
+        // `JMP` decides which rungs run: the slots its rung reads are kept
+        // whatever the property, and after it nothing in its rung is sure
+        // to run, so nothing there counts as overwritten.
         let mut rungs: Vec<(HashSet<AnySlot>, HashSet<AnySlot>)> = Vec::new();
         let mut killed: HashSet<AnySlot> = HashSet::new();
+        let mut jumped = false;
+        let mut control: Vec<usize> = Vec::new();
         for op in &prog.ops {
             if matches!(op, Op::Rung) || rungs.is_empty() {
                 rungs.push((HashSet::new(), HashSet::new()));
                 killed.clear();
+                jumped = false;
             }
             let Some(r) = rungs.last_mut() else { continue };
-            let k: Vec<AnySlot> = kills(op).into_iter().flat_map(nodes).collect();
+            let k: Vec<AnySlot> = if jumped {
+                Vec::new()
+            } else {
+                kills(op).into_iter().flat_map(nodes).collect()
+            };
             for t in touches(op).into_iter().flat_map(nodes) {
                 if !k.contains(&t) && !killed.contains(&t) {
                     r.0.insert(t);
@@ -547,6 +558,13 @@ impl Model {
             }
             r.1.extend(writes(op).into_iter().flat_map(nodes));
             killed.extend(k);
+            if matches!(op, Op::Jmp(_)) {
+                jumped = true;
+                control.push(rungs.len() - 1);
+            }
+        }
+        for &c in &control {
+            relevant.extend(rungs[c].0.iter().copied());
         }
         let mut grew = true;
         while grew {

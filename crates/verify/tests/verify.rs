@@ -185,6 +185,29 @@ fn what_cannot_influence_the_property_is_left_out() {
 }
 
 #[test]
+fn a_jump_over_a_rung_is_part_of_its_influence() {
+    // Hold skips the lamp's rung, which then keeps its last value: the lamp
+    // stays on after Go is released. Hold is read by no rung the lamp's
+    // rung depends on, only by the jump.
+    let tags = "Go,BOOL,DI:1/0,,,\nHold,BOOL,DI:1/1,,,\nLamp,BOOL,DO:2/0,,,\n";
+    let lad = "XIC(Hold)JMP(Over);\nXIC(Go)OTE(Lamp);\nLBL(Over)NOP();\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp AND NOT Go\"\n");
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    assert_eq!(v[0].depth, 2);
+    // And a skipped timer catches up with the time it missed.
+    let tags = "Go,BOOL,DI:1/0,,,\nHold,BOOL,DI:1/1,,,\nLamp,BOOL,DO:2/0,,,\nT,TIMER,,,,\n";
+    let lad = "XIC(Hold)JMP(Over);\nXIC(Go)TON(T,50,0);\nLBL(Over)NOP();\nXIC(T.DN)OTE(Lamp);\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp\"\n");
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    // Go at 0 ms starts it; held over, it is done at its next execution 50 ms on.
+    assert_eq!(v[0].depth, 6);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp AND T.ACC <> 50\"\n");
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+}
+
+#[test]
 fn a_fault_flag_read_by_a_kept_rung_keeps_everything() {
     // The division is outside the property's cone, but its fault sets
     // S:MINOR, which the lamp's rung reads.
@@ -337,7 +360,7 @@ fn first_by_simulation(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     /// The search's answer agrees with simulating every input sequence: a
     /// violation (or witness) found by simulation within `DEPTH` scans is
@@ -347,7 +370,15 @@ proptest! {
     fn the_search_agrees_with_exhaustive_simulation(
         rungs in prop::collection::vec(rung(), 1..6),
         which in 0..PROPERTIES.len(),
+        // A forward jump over some rungs (a skipped timer catches up later).
+        jump in prop::option::of((contact(), 0usize..6)),
     ) {
+        let mut rungs = rungs;
+        if let Some((cond, at)) = jump {
+            let at = 1 + at % rungs.len();
+            rungs.insert(at, "LBL(Skip)NOP();\n".to_string());
+            rungs.insert(0, format!("{cond}JMP(Skip);\n"));
+        }
         let lad = rungs.concat();
         let program = compile(RANDOM_TAGS, &lad);
         let toml = format!("[[property]]\nname = \"p\"\n{}\n", PROPERTIES[which]);
