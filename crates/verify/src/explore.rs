@@ -95,6 +95,8 @@ pub struct Input {
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum TKind {
+    /// Only reset (RES) so far: nothing reads its clock.
+    Reset,
     Ton,
     Tof,
     Rto,
@@ -112,6 +114,8 @@ struct TimerAbs {
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum S7Kind {
+    /// Only reset so far.
+    Reset,
     On,
     Of,
     Mixed,
@@ -400,7 +404,7 @@ impl Model {
                 Op::ResT(t) => {
                     tmap.entry(t.i.0).or_insert(TimerAbs {
                         t,
-                        kind: TKind::Mixed,
+                        kind: TKind::Reset,
                         cap: false,
                     });
                     continue;
@@ -412,7 +416,9 @@ impl Model {
                         S7Kind::On
                     };
                     let e = s7map.entry(t.i.0).or_insert(S7TimerAbs { t, kind: k, cap: false });
-                    if e.kind != k {
+                    if e.kind == S7Kind::Reset {
+                        e.kind = k;
+                    } else if e.kind != k {
                         e.kind = S7Kind::Mixed;
                     }
                     continue;
@@ -420,7 +426,7 @@ impl Model {
                 Op::S7ResT(t) => {
                     s7map.entry(t.i.0).or_insert(S7TimerAbs {
                         t,
-                        kind: S7Kind::Mixed,
+                        kind: S7Kind::Reset,
                         cap: false,
                     });
                     continue;
@@ -428,7 +434,9 @@ impl Model {
                 _ => continue,
             };
             let e = tmap.entry(t.i.0).or_insert(TimerAbs { t, kind: k, cap: true });
-            if e.kind != k {
+            if e.kind == TKind::Reset {
+                e.kind = k;
+            } else if e.kind != k {
                 e.kind = TKind::Mixed;
             }
         }
@@ -443,7 +451,7 @@ impl Model {
                         .iter()
                         .any(|s| matches!(s, AnySlot::I(x) if *x == t.i.0 || *x == t.i.0 + 1))
             });
-            ta.cap = ta.kind != TKind::Mixed && !others_write;
+            ta.cap = !matches!(ta.kind, TKind::Mixed | TKind::Reset) && !others_write;
         }
         let mut s7timers: Vec<S7TimerAbs> = s7map.into_values().collect();
         s7timers.sort_by_key(|t| t.t.i.0);
@@ -636,6 +644,7 @@ impl Model {
                 TKind::Tof => tt,
                 TKind::Tp => dn,
                 TKind::Mixed => true,
+                TKind::Reset => false,
             };
             let mut age = (now as u32).wrapping_sub(m.i[i + 2] as u32);
             if !relevant {
@@ -653,6 +662,7 @@ impl Model {
                 S7Kind::On => en,
                 S7Kind::Of => !en && bit,
                 S7Kind::Mixed => true,
+                S7Kind::Reset => false,
             };
             let age = if relevant {
                 (now as u32).wrapping_sub(m.i[i + 3] as u32)

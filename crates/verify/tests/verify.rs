@@ -208,6 +208,26 @@ fn a_jump_over_a_rung_is_part_of_its_influence() {
 }
 
 #[test]
+fn a_reset_before_its_timer_keeps_the_clock_abstract() {
+    // RES comes first in the program: the timer's clock is still unread
+    // while it is off, so the search ends (and a deadline is exact).
+    let tags = "Go,BOOL,DI:1/0,,,\nClear,BOOL,DI:1/1,,,\nLamp,BOOL,DO:2/0,,,\nT,TIMER,,,,\n";
+    let lad = "XIC(Clear)RES(T);\nXIC(Go)TON(T,50,0);\nXIC(T.DN)OTE(Lamp);\n";
+    let prog = compile(tags, lad);
+    let budget = Budget {
+        max_states: 50_000,
+        ..Budget::default()
+    };
+    let (_, v, _) = decide_with(
+        &prog,
+        "[[property]]\nname = \"p\"\nnever = \"Lamp AND NOT Go\"\n",
+        budget,
+    );
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    assert!(v[0].states < 100, "{} states", v[0].states);
+}
+
+#[test]
 fn a_fault_flag_read_by_a_kept_rung_keeps_everything() {
     // The division is outside the property's cone, but its fault sets
     // S:MINOR, which the lamp's rung reads.
