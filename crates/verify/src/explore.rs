@@ -159,6 +159,9 @@ pub struct Model {
     parity: bool,
     /// Why nothing can be decided, if so.
     blocked: Option<String>,
+    /// What makes `blocked`, with the slots it is about: only a property
+    /// that depends on them is blocked.
+    blockers: Vec<(Vec<AnySlot>, String)>,
     plants: bool,
     /// Slots outside the property's cone of influence, put back to their
     /// initial value in every state (see [`Model::reduced`]).
@@ -307,7 +310,7 @@ impl Model {
             referenced.extend(touches(op));
         }
         referenced.extend(prop_slots.iter().copied());
-        let mut blocked = None;
+        let mut blockers: Vec<(Vec<AnySlot>, String)> = Vec::new();
         let mut inputs = Vec::new();
         let domain_of = |p: Place| props.domains.iter().find(|d| d.place == p);
         let name_of = |_p: Place, addr: Address| -> String {
@@ -371,12 +374,13 @@ impl Model {
                     place,
                     values: d.values.clone(),
                 }),
-                None => {
-                    blocked.get_or_insert(format!(
+                None => blockers.push((
+                    place_nodes(place),
+                    format!(
                         "the input `{name}` is {}: list the values to explore under [domain] in properties.toml",
                         place.data_type().with_article()
-                    ));
-                }
+                    ),
+                )),
             }
         }
         // Other places given a domain (internal tags a stimulus sets).
@@ -389,9 +393,15 @@ impl Model {
                 });
             }
         }
-        if prog.ops.iter().any(|op| matches!(op, Op::Pid(_))) {
-            blocked.get_or_insert("the program runs a PID loop, whose REAL state the search does not enumerate".into());
+        for op in &prog.ops {
+            if matches!(op, Op::Pid(_)) {
+                blockers.push((
+                    writes(op),
+                    "the property depends on a PID loop, whose REAL state the search does not enumerate".into(),
+                ));
+            }
         }
+        let blocked = blockers.first().map(|(_, why)| why.clone());
         // Timers.
         let mut tmap: HashMap<u32, TimerAbs> = HashMap::new();
         let mut s7map: HashMap<u32, S7TimerAbs> = HashMap::new();
@@ -512,6 +522,7 @@ impl Model {
             period,
             parity,
             blocked,
+            blockers,
             plants,
             outside: Vec::new(),
             program,
@@ -590,6 +601,11 @@ impl Model {
             return self.clone();
         }
         let mut m = self.clone();
+        m.blocked = self
+            .blockers
+            .iter()
+            .find(|(slots, _)| slots.iter().any(|s| relevant.contains(s)))
+            .map(|(_, why)| why.clone());
         m.inputs
             .retain(|i| place_nodes(i.place).iter().any(|s| relevant.contains(s)));
         let init = &prog.init;

@@ -143,6 +143,11 @@ fn numeric_inputs_need_a_domain() {
         Outcome::Unknown(why) => assert!(why.contains("Level") && why.contains("[domain]"), "{why}"),
         o => panic!("expected unknown, got {o:?}"),
     }
+    // A property that does not depend on the level needs no domain.
+    let tags2 = format!("{tags}Go,BOOL,DI:1/0,,,\nLamp,BOOL,DO:2/1,,,\n");
+    let prog2 = compile(&tags2, &format!("{lad}XIC(Go)OTE(Lamp);\n"));
+    let (_, v, _) = decide(&prog2, "[[property]]\nname = \"l\"\nnever = \"Lamp AND NOT Go\"\n");
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
     let with = "[[property]]\nname = \"h\"\nnever = \"High AND Level <= 800\"\n[domain]\nLevel = [0, 800, 801, 1023]\n";
     let (_, v, _) = decide(&prog, with);
     assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
