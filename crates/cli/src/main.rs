@@ -368,6 +368,9 @@ enum Command {
         /// Give up (unknown) after this many seconds per property.
         #[arg(long, value_name = "S", default_value_t = 60)]
         timeout: u64,
+        /// Give up (unknown) when the stored states would take more than this many MB.
+        #[arg(long, value_name = "MB", default_value_t = 1024)]
+        max_mb: usize,
     },
     /// Run the test tables tests/*.test.csv (exit 1 when any fails) and print the
     /// rung and instruction coverage of the tables (docs/verify.md).
@@ -472,6 +475,7 @@ fn main() -> ExitCode {
             property,
             max_states,
             timeout,
+            max_mb,
         } => verify::verify(
             &project,
             verify::VerifyArgs {
@@ -482,6 +486,7 @@ fn main() -> ExitCode {
                     budget: alba_verify::explore::Budget {
                         max_states,
                         max_seconds: timeout,
+                        max_bytes: max_mb.saturating_mul(1 << 20),
                         ..Default::default()
                     },
                 },

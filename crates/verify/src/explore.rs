@@ -44,6 +44,8 @@ pub struct Budget {
     pub max_depth: u32,
     /// Wall-clock seconds per property.
     pub max_seconds: u64,
+    /// Bytes the stored states and the frontier may take (estimated).
+    pub max_bytes: usize,
 }
 
 impl Default for Budget {
@@ -52,6 +54,7 @@ impl Default for Budget {
             max_states: 2_000_000,
             max_depth: 1_000_000,
             max_seconds: 60,
+            max_bytes: 1 << 30,
         }
     }
 }
@@ -924,6 +927,12 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: 
     let mut values = Vec::new();
     let mut kbuf = Vec::new();
     let init = model.program.init.clone();
+    let memory_bytes = init.size_bytes();
+    let state_bytes = {
+        let mut k = Vec::new();
+        key(&init, 0, false, None, &mut k);
+        k.len()
+    };
     // The root: no scan yet. Its successors are first scans at t = 0.
     let mut expand = |from: Option<&Frontier>,
                       nodes: &mut Vec<Node>,
@@ -1027,15 +1036,19 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: 
         }
         let Some(f) = queue.pop_front() else { break };
         depth = depth.max(f.depth);
+        // Each stored state is its key; each waiting one also its memory.
+        let bytes = seen.len() * (state_bytes + 48) + queue.len() * (memory_bytes + 200) + nodes.len() * 16;
         if seen.len() > budget.max_states
             || f.depth >= budget.max_depth
             || started.elapsed().as_secs() >= budget.max_seconds
+            || bytes > budget.max_bytes
         {
             verdict.outcome = Outcome::Unknown(format!(
-                "the search stopped at its budget ({} states, depth {} scans, {} s) without finding a violation",
+                "the search stopped at its budget ({} states, depth {} scans, {} s, {} MB) without finding a violation",
                 seen.len(),
                 f.depth,
-                started.elapsed().as_secs()
+                started.elapsed().as_secs(),
+                bytes >> 20
             ));
             verdict.depth = f.depth;
             verdict.states = seen.len();

@@ -139,6 +139,10 @@ fn verify_answers_unknown_with_exit_2_and_refuses_bad_files() {
             .all(|p| p["result"] == "unknown"),
         "{v}"
     );
+    // So does a memory budget too small.
+    let out = alba(&d, &["verify", ".", "--json", "--max-mb", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(json(&out)["properties"][0]["reason"].as_str().unwrap().contains("MB"));
     // Text output names the reason.
     let out = alba(&d, &["verify", ".", "--max-states", "3"]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("budget"));
