@@ -261,6 +261,12 @@ impl Coverage {
         }
     }
 
+    /// Element `e` (an index into `Program::elements`): (ever energised,
+    /// ever not) over the scans run so far; for an overlay on the ladder.
+    pub fn element(&self, e: usize) -> Option<(bool, bool)> {
+        Some((*self.on.get(e)?, *self.off.get(e)?))
+    }
+
     fn record(&mut self, engine: &Engine) {
         if let Some(pf) = engine.power_flow() {
             for e in 0..self.on.len() {

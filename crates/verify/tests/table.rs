@@ -50,6 +50,10 @@ fn a_table_passes_and_its_coverage_is_counted() {
         "{rep}"
     );
     assert!(rep.rungs_never[0].contains("rung 2"), "{rep}");
+    // Per element, for the ladder's overlay: the lamp's coil was never on.
+    let last = program.elements.len() - 1;
+    assert_eq!(cov.element(last), Some((false, true)));
+    assert_eq!(cov.element(last + 1), None);
 
     // A longer table lights the lamp and presses Stop: everything switches.
     let r = run(
