@@ -364,6 +364,9 @@ impl std::fmt::Display for CoverageReport {
     }
 }
 
+/// The longest table, in scans (a day at 10 ms is 8 640 000).
+pub const MAX_SCANS: u64 = 10_000_000;
+
 /// Runs one table from a fresh start, recording coverage.
 pub fn run(program: &Arc<Program>, scan_ms: u64, table: &Table, cov: &mut Coverage) -> (TestResult, u64) {
     let mut engine = match Engine::new(program.clone()) {
@@ -372,6 +375,17 @@ pub fn run(program: &Arc<Program>, scan_ms: u64, table: &Table, cov: &mut Covera
     };
     engine.set_monitor(true);
     let scan_ms = scan_ms.max(1);
+    if let Some(last) = table.rows.last()
+        && last.time_ms / scan_ms > MAX_SCANS
+    {
+        return (
+            TestResult::Error(format!(
+                "line {}: {} ms is more than {MAX_SCANS} scans of {scan_ms} ms; a table runs at most that long",
+                last.line, last.time_ms
+            )),
+            0,
+        );
+    }
     let mut checks = 0;
     let mut next = 0;
     let mut scans = 0;

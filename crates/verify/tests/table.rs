@@ -94,6 +94,15 @@ fn rows_apply_before_the_first_scan_at_or_after_their_time() {
 }
 
 #[test]
+fn a_table_too_long_is_refused_not_run() {
+    let program = compile(TAGS, LAD);
+    let mut cov = Coverage::new(&program);
+    let r = run("time_ms,Start\n0,1\n999999999999,0\n", &mut cov);
+    let TestResult::Error(e) = r else { panic!("{r:?}") };
+    assert!(e.starts_with("line 3:") && e.contains("10000000 scans"), "{e}");
+}
+
+#[test]
 fn bad_tables_are_refused_with_their_place() {
     let program = compile(TAGS, LAD);
     let mut files = Files::new();
