@@ -17,6 +17,7 @@ mod new;
 mod run;
 mod tune;
 mod user;
+mod verify;
 
 use alba_diag::{Code, Diagnostic, Files, render_all};
 use alba_engine::sim::{self, SimOptions, Stimulus};
@@ -348,6 +349,39 @@ enum Command {
         #[arg(long, value_name = "ADDR:PORT", default_value = "127.0.0.1:8080")]
         http: std::net::SocketAddr,
     },
+    /// Decide the properties of properties.toml over every input sequence: proved,
+    /// refuted (with a counterexample stimulus `alba sim` replays) or unknown
+    /// (docs/verify.md). Exit 0 all proved, 1 any refuted, 2 otherwise.
+    Verify {
+        project: PathBuf,
+        /// One JSON object on standard output: `{"properties": [{"name", "result",
+        /// "counterexample", "depth", …}]}`.
+        #[arg(long)]
+        json: bool,
+        /// Write counterexamples here (default: PROJECT/counterexamples).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Decide only the property with this name.
+        #[arg(long, value_name = "NAME")]
+        property: Option<String>,
+        /// Give up (unknown) after storing this many states.
+        #[arg(long, value_name = "N", default_value_t = 2_000_000)]
+        max_states: usize,
+        /// Give up (unknown) after this many seconds per property.
+        #[arg(long, value_name = "S", default_value_t = 60)]
+        timeout: u64,
+        /// Give up (unknown) when the stored states would take more than this many MB.
+        #[arg(long, value_name = "MB", default_value_t = 1024)]
+        max_mb: usize,
+    },
+    /// Run the test tables tests/*.test.csv (exit 1 when any fails) and print the
+    /// rung and instruction coverage of the tables (docs/verify.md).
+    Test {
+        project: PathBuf,
+        /// Also write JUnit XML here (one testcase per table).
+        #[arg(long, value_name = "FILE")]
+        junit: Option<PathBuf>,
+    },
     /// Print the argon2 hash of a password read from stdin (for tools; `alba user` manages users).
     HashPassword,
     /// Manage the project's users and roles (users.toml).
@@ -436,6 +470,31 @@ fn main() -> ExitCode {
     };
     match cli.command {
         Command::Check { project, short, ir } => check(&project, short, ir),
+        Command::Verify {
+            project,
+            json,
+            out,
+            property,
+            max_states,
+            timeout,
+            max_mb,
+        } => verify::verify(
+            &project,
+            verify::VerifyArgs {
+                json,
+                options: alba_verify::project::Options {
+                    out,
+                    only: property,
+                    budget: alba_verify::explore::Budget {
+                        max_states,
+                        max_seconds: timeout,
+                        max_bytes: max_mb.saturating_mul(1 << 20),
+                        ..Default::default()
+                    },
+                },
+            },
+        ),
+        Command::Test { project, junit } => verify::test(&project, junit.as_deref()),
         Command::Sim {
             project,
             until,

@@ -17,6 +17,7 @@ mod malformed;
 mod modbus_listen;
 mod retain;
 mod users;
+mod verify;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
