@@ -15,7 +15,7 @@
 use crate::bytecode::{self, Field};
 use crate::sketch::{self, RUNTIME, Target};
 use alba_ir::op::{AnySlot, MarkerSlot, S7Ctr, S7Tmr};
-use alba_ir::{B, BinOp, Ctr, Cvt, D, F, I, L, Op, Pidt, Tmr, Width};
+use alba_ir::{B, BinOp, Ctr, Cvt, D, F, I, L, Op, Pidt, TimeBase, Tmr, Width};
 use alba_model::board::Model;
 use std::fmt::Write as _;
 
@@ -105,9 +105,6 @@ fn templates() -> Vec<Op> {
         Op::BrOpen { save: b0, acc: b1 },
         Op::BrNext { save: b0, acc: b1 },
         Op::BrClose { acc: b0 },
-        Op::Ton(tmr),
-        Op::Tof(tmr),
-        Op::Rto(tmr),
         Op::Tp(tmr),
         Op::ResT(tmr),
         Op::Ctu(ctr),
@@ -142,6 +139,9 @@ fn templates() -> Vec<Op> {
         out.push(Op::StM { byte: S, slot });
     }
     // every variant in the format's order (bytecode's own tables)
+    for base in TimeBase::ALL {
+        out.extend([Op::Ton(tmr, base), Op::Tof(tmr, base), Op::Rto(tmr, base)]);
+    }
     for c in bytecode::CMPS {
         out.extend([
             Op::CmpI(c, i0, i1),

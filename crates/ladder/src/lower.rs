@@ -13,7 +13,8 @@ use crate::ast::{Arg, Element, Instr, Mnemonic, Operand, Program, Rung};
 use crate::expr::{self, BinE, Expr, Func};
 use alba_diag::{Code, Diagnostic, Span};
 use alba_ir::values::{Class, Src, V, class_name, class_of, class_of_lit, class_of_type, float_class, promote};
-use alba_ir::{Access, B, BinOp, Builder, Cmp, Ctr, I, Layout, Op, Place, ResolveError, Target, Tmr, UnOp};
+use alba_ir::{Access, B, BinOp, Builder, Cmp, Ctr, I, Layout, Op, Place, ResolveError, Target, TimeBase, Tmr, UnOp};
+use alba_model::slc::{self, Slc, SlcStruct};
 use alba_model::tags::is_identifier;
 use alba_model::{Address, DataType, Literal, Value};
 use std::collections::HashMap;
@@ -131,6 +132,30 @@ pub fn addresses(prog: &Program) -> Vec<Address> {
             Expr::Lit(..) | Expr::Const(_) => {}
         }
     }
+    for r in &prog.rungs {
+        walk(&r.elements, &mut out);
+    }
+    out
+}
+
+/// The SLC 500 timers and counters a program names (`T4:0`, `C5:1.DN`):
+/// the layout makes their structures.
+pub fn slc_structs(prog: &Program) -> std::collections::BTreeSet<SlcStruct> {
+    fn walk(elems: &[Element], out: &mut std::collections::BTreeSet<SlcStruct>) {
+        for e in elems {
+            match e {
+                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, out)),
+                Element::Instr(i) => {
+                    for o in &i.operands {
+                        if let Ok(Some(Slc::Struct(st, _))) = slc::parse(&o.text.to_ascii_uppercase(), &o.text) {
+                            out.insert(st);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut out = std::collections::BTreeSet::new();
     for r in &prog.rungs {
         walk(&r.elements, &mut out);
     }
@@ -480,10 +505,82 @@ impl Compiler<'_> {
         Some(r)
     }
 
+    /// The time base of a TON, TOF or RTO: its optional fourth operand
+    /// (`TON(T,5,0,s)`; ms when absent), the same for every instruction on
+    /// one timer. `None` after a diagnostic.
+    fn time_base(&mut self, i: &Instr, t: Tmr) -> Option<TimeBase> {
+        let Some(o) = i.operands.get(3) else {
+            return self.same_base(t, TimeBase::Ms, i.name_span, "");
+        };
+        let Some(base) = TimeBase::parse(&o.text) else {
+            self.err(
+                Code::BadLiteral,
+                format!(
+                    "`{}` is not a time base; write ms, cs, ds, s or min (or 0.001, 0.01, 0.1, 1.0, 60 seconds)",
+                    o.text
+                ),
+                o.span,
+                "not a time base",
+            );
+            return None;
+        };
+        self.same_base(t, base, o.span, &o.text)
+    }
+
+    /// Records the time base of timer `t`, refusing a second, different one.
+    fn same_base(&mut self, t: Tmr, base: TimeBase, span: Span, text: &str) -> Option<TimeBase> {
+        match self.presets.0.get(&(1, t.i.0)) {
+            Some(&(prev, first)) if prev != i64::from(base.code()) => {
+                let prev = TimeBase::from_code(prev as u8).unwrap_or_default();
+                let given = if text.is_empty() {
+                    "no time base (ms)".to_string()
+                } else {
+                    format!("the time base `{text}`")
+                };
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::ConflictingPreset,
+                        format!(
+                            "{given} conflicts with the time base {} given earlier for the same timer",
+                            prev.name()
+                        ),
+                        span,
+                        "different time base",
+                    )
+                    .with_note(first, "first given here")
+                    .with_help("give every TON, TOF and RTO on one timer the same time base"),
+                );
+                None
+            }
+            Some(_) => Some(base),
+            None => {
+                self.presets.0.insert((1, t.i.0), (i64::from(base.code()), span));
+                Some(base)
+            }
+        }
+    }
+
     fn instr(&mut self, i: &Instr, elem: u32) {
         let m = i.mnemonic;
         let args = m.args();
-        if i.operands.len() != args.len() {
+        let based = matches!(m, Mnemonic::TON | Mnemonic::TOF | Mnemonic::RTO);
+        if i.operands.len() != args.len() && !(based && i.operands.len() == args.len() + 1) {
+            if based {
+                self.err(
+                    Code::OperandCount,
+                    format!(
+                        "{} takes 3 operands, or 4 with a time base, found {}",
+                        m.name(),
+                        i.operands.len()
+                    ),
+                    i.span,
+                    format!(
+                        "expected {}(Timer,Preset,Accum) or {0}(Timer,Preset,Accum,TimeBase)",
+                        m.name()
+                    ),
+                );
+                return;
+            }
             let names: Vec<&str> = args.iter().map(|a| arg_name(*a)).collect();
             self.err(
                 Code::OperandCount,
@@ -539,11 +636,15 @@ impl Compiler<'_> {
                 let Opnd::Timer(t) = ops[0] else { return };
                 self.preset(t.i, &i.operands[1], ops[1], elem);
                 self.accum(I(t.i.0 + 1), &i.operands[2], ops[2]);
-                let op = match m {
-                    M::TON => Op::Ton(t),
-                    M::TOF => Op::Tof(t),
-                    M::RTO => Op::Rto(t),
-                    _ => Op::Tp(t),
+                let op = if m == M::TP {
+                    Op::Tp(t)
+                } else {
+                    let Some(base) = self.time_base(i, t) else { return };
+                    match m {
+                        M::TON => Op::Ton(t, base),
+                        M::TOF => Op::Tof(t, base),
+                        _ => Op::Rto(t, base),
+                    }
                 };
                 self.b.emit(op, elem);
             }
@@ -1148,6 +1249,7 @@ pub fn layout_for(tags: &alba_model::TagTable, programs: &[&Program]) -> Layout 
         tags,
         &alba_ir::layout::Uses {
             addresses: used,
+            slc: programs.iter().flat_map(|p| slc_structs(p)).collect(),
             ..Default::default()
         },
     )
