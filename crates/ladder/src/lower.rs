@@ -637,6 +637,10 @@ impl Compiler<'_> {
                 self.preset(t.i, &i.operands[1], ops[1], elem);
                 self.accum(I(t.i.0 + 1), &i.operands[2], ops[2]);
                 let op = if m == M::TP {
+                    // TP counts milliseconds: its timer has no other base.
+                    if self.same_base(t, TimeBase::Ms, i.name_span, "").is_none() {
+                        return;
+                    }
                     Op::Tp(t)
                 } else {
                     let Some(base) = self.time_base(i, t) else { return };

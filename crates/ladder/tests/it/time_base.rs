@@ -20,7 +20,7 @@ fn build(src: &str) -> (Vec<Op>, Vec<Diagnostic>) {
         .iter()
         .enumerate()
         .map(|(k, p)| {
-            let f = files.add(&format!("p{k}.lad"), *p);
+            let f = files.add(format!("p{k}.lad"), *p);
             let (prog, d) = parse(p, f);
             assert!(d.is_empty(), "{d:?}");
             prog
@@ -97,6 +97,14 @@ fn one_timer_has_one_time_base_across_programs() {
     );
     // No base is ms: it conflicts with a base given elsewhere.
     let (_, d) = build("XIC(Run)TON(T,5,0);\nXIC(Run)TOF(T,5,0,cs);\n");
+    assert_eq!(
+        codes(&d).first().map(|c| c.0),
+        Some(Code::ConflictingPreset),
+        "{:?}",
+        codes(&d)
+    );
+    // TP counts milliseconds: not on a timer with another base.
+    let (_, d) = build("XIC(Run)TON(T,5,0,s);\nXIC(Run)TP(T,5,0);\n");
     assert_eq!(
         codes(&d).first().map(|c| c.0),
         Some(Code::ConflictingPreset),
