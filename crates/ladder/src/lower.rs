@@ -95,70 +95,63 @@ pub fn compile_in(
     c.diags
 }
 
-/// Addresses a program names directly (the layout sizes the I/O images to them).
-pub fn addresses(prog: &Program) -> Vec<Address> {
-    let mut out = Vec::new();
-    fn walk(elems: &[Element], out: &mut Vec<Address>) {
+/// Every name a program's operands and CPT expressions give, as written.
+fn each_name(prog: &Program, f: &mut impl FnMut(&str)) {
+    fn walk(elems: &[Element], f: &mut impl FnMut(&str)) {
         for e in elems {
             match e {
-                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, out)),
+                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, f)),
                 Element::Instr(i) => {
-                    for (o, arg) in i.operands.iter().zip(i.mnemonic.args()) {
-                        if *arg == Arg::Expr {
+                    for (k, o) in i.operands.iter().enumerate() {
+                        if i.mnemonic.args().get(k) == Some(&Arg::Expr) {
                             if let Ok(e) = expr::parse(&o.text, o.span.file, o.span.start as usize) {
-                                names(&e, out);
+                                names(&e, f);
                             }
-                        } else if let Ok(Some(a)) = Address::parse(&o.text) {
-                            out.push(a);
+                        } else {
+                            f(&o.text);
                         }
                     }
                 }
             }
         }
     }
-    fn names(e: &Expr, out: &mut Vec<Address>) {
+    fn names(e: &Expr, f: &mut impl FnMut(&str)) {
         match e {
-            Expr::Name(n, _) => {
-                if let Ok(Some(a)) = Address::parse(n) {
-                    out.push(a);
-                }
-            }
-            Expr::Neg(a) | Expr::Not(a, _) => names(a, out),
+            Expr::Name(n, _) => f(n),
+            Expr::Neg(a) | Expr::Not(a, _) => names(a, f),
             Expr::Bin(_, a, b, _) => {
-                names(a, out);
-                names(b, out);
+                names(a, f);
+                names(b, f);
             }
-            Expr::Call(_, args, _) => args.iter().for_each(|a| names(a, out)),
+            Expr::Call(_, args, _) => args.iter().for_each(|a| names(a, f)),
             Expr::Lit(..) | Expr::Const(_) => {}
         }
     }
     for r in &prog.rungs {
-        walk(&r.elements, &mut out);
+        walk(&r.elements, f);
     }
+}
+
+/// Addresses a program names directly (the layout sizes the I/O images to them).
+pub fn addresses(prog: &Program) -> Vec<Address> {
+    let mut out = Vec::new();
+    each_name(prog, &mut |n| {
+        if let Ok(Some(a)) = Address::parse(n) {
+            out.push(a);
+        }
+    });
     out
 }
 
-/// The SLC 500 timers and counters a program names (`T4:0`, `C5:1.DN`):
-/// the layout makes their structures.
+/// The SLC 500 timers and counters a program names (`T4:0`, `C5:1.DN`,
+/// also in CPT expressions): the layout makes their structures.
 pub fn slc_structs(prog: &Program) -> std::collections::BTreeSet<SlcStruct> {
-    fn walk(elems: &[Element], out: &mut std::collections::BTreeSet<SlcStruct>) {
-        for e in elems {
-            match e {
-                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, out)),
-                Element::Instr(i) => {
-                    for o in &i.operands {
-                        if let Ok(Some(Slc::Struct(st, _))) = slc::parse(&o.text.to_ascii_uppercase(), &o.text) {
-                            out.insert(st);
-                        }
-                    }
-                }
-            }
-        }
-    }
     let mut out = std::collections::BTreeSet::new();
-    for r in &prog.rungs {
-        walk(&r.elements, &mut out);
-    }
+    each_name(prog, &mut |n| {
+        if let Ok(Some(Slc::Struct(st, _))) = slc::parse(&n.to_ascii_uppercase(), n) {
+            out.insert(st);
+        }
+    });
     out
 }
 

@@ -157,6 +157,23 @@ fn slc_operands_compile_wherever_a_tag_does() {
 }
 
 #[test]
+fn slc_names_in_cpt_expressions_resolve_and_make_their_timers() {
+    // T4:5 is named only inside the expression: the layout still makes it.
+    let (ops, d) = build("CPT(N7:0,T4:5.ACC*2+N7:2);\nCPT(F8:1,F8:0*2.5);\nCPT(N7:1,B3:1+1);\n");
+    assert!(d.is_empty(), "{:?}", codes(&d));
+    assert!(
+        ops.iter().any(|o| matches!(
+            o,
+            Op::StM {
+                slot: alba_ir::MarkerSlot::Real(_),
+                byte: 1028
+            }
+        )),
+        "F8:1 written as a REAL: {ops:?}"
+    );
+}
+
+#[test]
 fn bad_slc_operands_are_precise() {
     for (src, needle, code) in [
         ("XIC(N12:0)OTE(Run);\n", "N12 is not one of them", Code::BadAddress),
