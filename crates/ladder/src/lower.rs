@@ -19,8 +19,10 @@ use alba_model::tags::is_identifier;
 use alba_model::{Address, DataType, Literal, Value};
 use std::collections::HashMap;
 
-/// Literal presets and accumulators given so far, per slot, across all the
-/// programs of a project (two instructions on one timer must agree).
+/// Literal presets and accumulators given so far, per slot (key `(0,
+/// slot)`), and the time base of each timer (key `(1, its first integer
+/// slot)`, the base's code), across all the programs of a project (two
+/// instructions on one timer must agree).
 #[derive(Debug, Default)]
 pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
 
@@ -520,6 +522,29 @@ impl Compiler<'_> {
         self.same_base(t, base, o.span, &o.text)
     }
 
+    /// A timer's literal duration (`T#5s`) in units of its time base: whole
+    /// units only (`T#1500ms` in s is `E310`). Other operands as they are.
+    fn in_base(&mut self, o: &Operand, r: Opnd, base: TimeBase) -> Option<Opnd> {
+        let Opnd::Lit(Literal::Time(ms)) = r else {
+            return Some(r);
+        };
+        let unit = i64::from(base.ms());
+        if ms % unit != 0 {
+            self.err(
+                Code::BadLiteral,
+                format!(
+                    "`{}` is not a whole number of {} (the timer's time base)",
+                    o.text,
+                    base.name()
+                ),
+                o.span,
+                format!("{} {} and a part", ms / unit, base.name()),
+            );
+            return None;
+        }
+        Some(Opnd::Lit(Literal::Time(ms / unit)))
+    }
+
     /// Records the time base of timer `t`, refusing a second, different one.
     fn same_base(&mut self, t: Tmr, base: TimeBase, span: Span, text: &str) -> Option<TimeBase> {
         match self.presets.0.get(&(1, t.i.0)) {
@@ -627,21 +652,26 @@ impl Compiler<'_> {
             }
             M::TON | M::TOF | M::RTO | M::TP => {
                 let Opnd::Timer(t) = ops[0] else { return };
-                self.preset(t.i, &i.operands[1], ops[1], elem);
-                self.accum(I(t.i.0 + 1), &i.operands[2], ops[2]);
-                let op = if m == M::TP {
-                    // TP counts milliseconds: its timer has no other base.
-                    if self.same_base(t, TimeBase::Ms, i.name_span, "").is_none() {
-                        return;
-                    }
-                    Op::Tp(t)
+                // TP counts milliseconds: its timer has no other base.
+                let base = if m == M::TP {
+                    self.same_base(t, TimeBase::Ms, i.name_span, "")
                 } else {
-                    let Some(base) = self.time_base(i, t) else { return };
-                    match m {
-                        M::TON => Op::Ton(t, base),
-                        M::TOF => Op::Tof(t, base),
-                        _ => Op::Rto(t, base),
-                    }
+                    self.time_base(i, t)
+                };
+                let Some(base) = base else { return };
+                let (Some(pre), Some(acc)) = (
+                    self.in_base(&i.operands[1], ops[1], base),
+                    self.in_base(&i.operands[2], ops[2], base),
+                ) else {
+                    return;
+                };
+                self.preset(t.i, &i.operands[1], pre, elem);
+                self.accum(I(t.i.0 + 1), &i.operands[2], acc);
+                let op = match m {
+                    M::TON => Op::Ton(t, base),
+                    M::TOF => Op::Tof(t, base),
+                    M::RTO => Op::Rto(t, base),
+                    _ => Op::Tp(t),
                 };
                 self.b.emit(op, elem);
             }

@@ -117,6 +117,22 @@ fn one_timer_has_one_time_base_across_programs() {
 }
 
 #[test]
+fn a_duration_counts_in_the_timers_base() {
+    // T#5s in a base of s is 5; T#1500ms in ds is 15; in s it is no whole number.
+    let (_, d) = build(
+        "XIC(Run)TON(T,T#5s,0,s);\nXIC(Run)TON(T,5,0,s);\nXIC(Run)TOF(U,T#1500ms,0,ds);\nXIC(Run)TOF(U,15,0,ds);\n",
+    );
+    assert!(d.is_empty(), "{:?}", codes(&d));
+    let src = "XIC(Run)TON(T,T#1500ms,0,s);\n";
+    let (_, d) = build(src);
+    assert_eq!(d.len(), 1, "{:?}", codes(&d));
+    assert_eq!(d[0].code, Code::BadLiteral);
+    assert!(d[0].message.contains("not a whole number of s"), "{}", d[0].message);
+    let span = d[0].primary.as_ref().map(|l| l.span).expect("a place");
+    assert_eq!(&src[span.range()], "T#1500ms");
+}
+
+#[test]
 fn tp_and_five_operands_are_refused_with_the_count() {
     let (_, d) = build("XIC(Run)TP(T,5,0,s);\n");
     assert_eq!(
