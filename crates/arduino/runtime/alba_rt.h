@@ -220,6 +220,8 @@ static ALBA_INLINE void alba_st_real(uint8_t *p, float f) {
 }
 
 // ---- timers (TIMER: i = PRE, ACC, LAST; b = EN, TT, DN) -------------------
+// TON, TOF and RTO count ACC in units of their time base `base` (ms: 1, 10, 100,
+// 1000 or 60000); TP counts milliseconds.
 
 static ALBA_INLINE int32_t alba_preset(const int32_t *ti, uint16_t pc) {
     if (ti[0] < 0) {
@@ -228,9 +230,16 @@ static ALBA_INLINE int32_t alba_preset(const int32_t *ti, uint16_t pc) {
     }
     return ti[0];
 }
-static ALBA_INLINE void alba_elapse(int32_t *ti, uint32_t now) {
+// Adds the time since the last update to ACC in whole units of `base` ms; the last
+// update moves on by the units counted only, so the time short of a unit is kept.
+static ALBA_INLINE void alba_elapse(int32_t *ti, uint32_t now, uint32_t base) {
     uint32_t dt = now - (uint32_t)ti[2];
-    ti[2] = (int32_t)now;
+    if (base > 1) {
+        dt /= base;
+        ti[2] = (int32_t)((uint32_t)ti[2] + dt * base);
+    } else {
+        ti[2] = (int32_t)now;
+    }
     if (dt > (uint32_t)INT32_MAX) dt = INT32_MAX;
     ti[1] = ti[1] > INT32_MAX - (int32_t)dt ? INT32_MAX : ti[1] + (int32_t)dt;
 }
@@ -240,7 +249,7 @@ static ALBA_INLINE void alba_done_at_preset(int32_t *ti, bool *tb, int32_t pre) 
         ti[1] = pre;
     }
 }
-static ALBA_INLINE void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, uint32_t base, uint16_t pc) {
     if (rc) {
         int32_t pre = alba_preset(ti, pc);
         if (!tb[0]) {
@@ -248,7 +257,7 @@ static ALBA_INLINE void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, u
             ti[1] = 0;
             ti[2] = (int32_t)now;
         } else if (!tb[2]) {
-            alba_elapse(ti, now);
+            alba_elapse(ti, now, base);
         }
         alba_done_at_preset(ti, tb, pre);
         tb[1] = !tb[2];
@@ -257,7 +266,7 @@ static ALBA_INLINE void alba_ton(int32_t *ti, bool *tb, bool rc, uint32_t now, u
         ti[1] = 0;
     }
 }
-static ALBA_INLINE void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, uint32_t base, uint16_t pc) {
     if (rc) {
         tb[0] = true;
         tb[2] = true;
@@ -271,7 +280,7 @@ static ALBA_INLINE void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, u
         ti[1] = 0;
         ti[2] = (int32_t)now;
     } else if (tb[1]) {
-        alba_elapse(ti, now);
+        alba_elapse(ti, now, base);
     }
     if (tb[1]) {
         int32_t pre = alba_preset(ti, pc);
@@ -281,14 +290,14 @@ static ALBA_INLINE void alba_tof(int32_t *ti, bool *tb, bool rc, uint32_t now, u
         }
     }
 }
-static ALBA_INLINE void alba_rto(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
+static ALBA_INLINE void alba_rto(int32_t *ti, bool *tb, bool rc, uint32_t now, uint32_t base, uint16_t pc) {
     if (rc) {
         int32_t pre = alba_preset(ti, pc);
         if (!tb[0]) {
             tb[0] = true;
             ti[2] = (int32_t)now;
         } else if (!tb[2]) {
-            alba_elapse(ti, now);
+            alba_elapse(ti, now, base);
         }
         alba_done_at_preset(ti, tb, pre);
         tb[1] = !tb[2];
@@ -299,7 +308,7 @@ static ALBA_INLINE void alba_rto(int32_t *ti, bool *tb, bool rc, uint32_t now, u
 static ALBA_INLINE void alba_tp(int32_t *ti, bool *tb, bool rc, uint32_t now, uint16_t pc) {
     bool rising = rc && !tb[0];
     if (tb[2]) {
-        alba_elapse(ti, now);
+        alba_elapse(ti, now, 1);
     } else if (rising) {
         tb[2] = true;
         ti[1] = 0;

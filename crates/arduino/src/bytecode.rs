@@ -26,12 +26,14 @@ use crate::sketch::{self, Target, Wire};
 use alba_diag::{Code, Diagnostic};
 use alba_ir::layout::{Counts, Region, System};
 use alba_ir::op::{MarkerSlot, S7Ctr, S7Tmr};
-use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, Layout, Loc, Memory, Op, Pidt, Program, Tmr, UnOp, Width};
+use alba_ir::{
+    B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, Layout, Loc, Memory, Op, Pidt, Program, TimeBase, Tmr, UnOp, Width,
+};
 use alba_model::address::Address;
 use alba_model::board::{Model, Pin};
 
 pub const MAGIC: [u8; 4] = *b"ALBC";
-pub const VERSION: u8 = 2;
+pub const VERSION: u8 = 3;
 pub const HEADER_LEN: usize = 24;
 
 /// A program as byte code, with what its header says.
@@ -550,9 +552,9 @@ pub(crate) fn fields(op: &Op, rel: i16) -> (u8, Vec<Field>) {
         Op::BrNext { save, acc } => (BR_NEXT, vec![b(save), b(acc)]),
         Op::BrClose { acc } => (BR_CLOSE, vec![b(acc)]),
         Op::Jmp(_) => (JMP, vec![Word(rel as u16)]),
-        Op::Ton(t) => (TON, vec![i(t.i), b(t.b)]),
-        Op::Tof(t) => (TOF, vec![i(t.i), b(t.b)]),
-        Op::Rto(t) => (RTO, vec![i(t.i), b(t.b)]),
+        Op::Ton(t, tb) => (TON, vec![Byte(tb.code()), i(t.i), b(t.b)]),
+        Op::Tof(t, tb) => (TOF, vec![Byte(tb.code()), i(t.i), b(t.b)]),
+        Op::Rto(t, tb) => (RTO, vec![Byte(tb.code()), i(t.i), b(t.b)]),
         Op::Tp(t) => (TP, vec![i(t.i), b(t.b)]),
         Op::ResT(t) => (RES_T, vec![i(t.i), b(t.b)]),
         Op::Ctu(c) => (CTU, vec![i(c.i), b(c.b)]),
@@ -732,6 +734,11 @@ impl Reader<'_> {
             .ok_or_else(|| self.bad(format!("function {c} is not defined")))
     }
 
+    fn time_base(&mut self) -> Result<TimeBase, DecodeError> {
+        let c = self.u8()?;
+        TimeBase::from_code(c).ok_or_else(|| self.bad(format!("time base {c} is not defined")))
+    }
+
     /// One op; a jump's relative offset is returned beside it.
     fn op(&mut self) -> Result<(Op, Option<i16>), DecodeError> {
         let code = self.u8()?;
@@ -767,9 +774,18 @@ impl Reader<'_> {
             },
             BR_CLOSE => Op::BrClose { acc: self.b()? },
             JMP => return Ok((Op::Jmp(0), Some(self.u16()? as i16))),
-            TON => Op::Ton(tmr(self)?),
-            TOF => Op::Tof(tmr(self)?),
-            RTO => Op::Rto(tmr(self)?),
+            TON => {
+                let tb = self.time_base()?;
+                Op::Ton(tmr(self)?, tb)
+            }
+            TOF => {
+                let tb = self.time_base()?;
+                Op::Tof(tmr(self)?, tb)
+            }
+            RTO => {
+                let tb = self.time_base()?;
+                Op::Rto(tmr(self)?, tb)
+            }
             TP => Op::Tp(tmr(self)?),
             RES_T => Op::ResT(tmr(self)?),
             CTU => Op::Ctu(ctr(self)?),

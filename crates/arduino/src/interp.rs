@@ -15,7 +15,7 @@
 use crate::bytecode::{self, Field};
 use crate::sketch::{self, RUNTIME, Target};
 use alba_ir::op::{AnySlot, MarkerSlot, S7Ctr, S7Tmr};
-use alba_ir::{B, BinOp, Ctr, Cvt, D, F, I, L, Op, Pidt, Tmr, Width};
+use alba_ir::{B, BinOp, Ctr, Cvt, D, F, I, L, Op, Pidt, TimeBase, Tmr, Width};
 use std::fmt::Write as _;
 
 /// Slot numbers the op templates carry: the k-th slot field is `S + k`.
@@ -63,9 +63,6 @@ fn templates() -> Vec<Op> {
         Op::BrOpen { save: b0, acc: b1 },
         Op::BrNext { save: b0, acc: b1 },
         Op::BrClose { acc: b0 },
-        Op::Ton(tmr),
-        Op::Tof(tmr),
-        Op::Rto(tmr),
         Op::Tp(tmr),
         Op::ResT(tmr),
         Op::Ctu(ctr),
@@ -100,6 +97,9 @@ fn templates() -> Vec<Op> {
         out.push(Op::StM { byte: S, slot });
     }
     // every variant in the format's order (bytecode's own tables)
+    for base in TimeBase::ALL {
+        out.extend([Op::Ton(tmr, base), Op::Tof(tmr, base), Op::Rto(tmr, base)]);
+    }
     for c in bytecode::CMPS {
         out.extend([
             Op::CmpI(c, i0, i1),

@@ -267,7 +267,7 @@ fn malformed_byte_code_is_refused_with_a_reason_and_never_panics() {
     bad[4] = 9;
     assert_eq!(
         bytecode::decode(&bad).unwrap_err().to_string(),
-        "byte code format 9; this version reads 2"
+        "byte code format 9; this version reads 3"
     );
     // A flipped bit anywhere in the body: the CRC says so.
     for k in (HEADER_LEN..good.len()).step_by(7) {
@@ -317,4 +317,31 @@ fn crc32fast_hash(b: &[u8]) -> u32 {
         }
     }
     !c
+}
+
+#[test]
+fn timers_keep_their_time_base_and_an_undefined_base_is_refused() {
+    // The engine's golden of the seconds base: TON, TOF, RTO in s.
+    let p = compile(&root().join("crates/engine/tests/golden/timer-base-s"));
+    let back = round_trip(&p, "timer-base-s");
+    let bases: Vec<alba_ir::TimeBase> = back
+        .ops
+        .iter()
+        .filter_map(|op| match op {
+            alba_ir::Op::Ton(_, b) | alba_ir::Op::Tof(_, b) | alba_ir::Op::Rto(_, b) => Some(*b),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(bases, [alba_ir::TimeBase::S; 3]);
+    // The RTO (opcode 0x12) with base code 3 (s): code 9 is no base.
+    let good = host(&p).bytes;
+    let refused = (HEADER_LEN..good.len() - 1)
+        .filter(|&k| good[k] == 0x12 && good[k + 1] == 3)
+        .filter(|&k| {
+            let mut bad = good.clone();
+            bad[k + 1] = 9;
+            bytecode::decode(&resign(bad)).is_err_and(|e| e.to_string().contains("time base 9 is not defined"))
+        })
+        .count();
+    assert_eq!(refused, 1, "the RTO's base byte");
 }

@@ -865,3 +865,50 @@ fn mutated_programs_run_on_the_board_exactly_when_the_host_accepts_them() {
         "{accepted} accepted, {refused} refused"
     );
 }
+
+/// A program with timers in every time base (issue 34: ms, cs, ds, s, min),
+/// on wired inputs and outputs, scanned every `scan_ms`.
+fn time_base_program(scan_ms: u64) -> Case {
+    let dir = work_dir(&format!("time-base-src-{scan_ms}"));
+    std::fs::write(
+        dir.join("alba.toml"),
+        format!("name = \"time-base-{scan_ms}\"\nscan_ms = {scan_ms}\nprograms = [\"main.lad\"]\n"),
+    )
+    .expect("write");
+    let mut tags = String::from("name,type,address,initial,retain,description\n");
+    tags.push_str("Run,BOOL,DI:1/0,,,\nHold,BOOL,DI:1/1,,,\nClear,BOOL,DI:1/2,,,\n");
+    for k in 0..5 {
+        tags.push_str(&format!("T{k},TIMER,,,,\nL{k},BOOL,DO:2/{k},,,\n"));
+    }
+    std::fs::write(dir.join("tags.csv"), tags).expect("write");
+    let rungs = "XIC(Run)TON(T0,150,0,ms);\n\
+                 XIC(Run)TOF(T1,37,0,cs);\n\
+                 XIC(Hold)RTO(T2,6,0,ds);\n\
+                 XIC(Run)XIO(Hold)TON(T3,2,0,s);\n\
+                 XIC(Hold)TOF(T4,1,0,min);\n\
+                 XIC(Clear)RES(T2);\n\
+                 XIC(T0.DN)OTE(L0);\nXIC(T1.DN)OTE(L1);\nXIC(T2.DN)OTE(L2);\nXIC(T3.DN)OTE(L3);\nXIC(T4.TT)OTE(L4);\n";
+    std::fs::write(dir.join("main.lad"), rungs).expect("write");
+    let c = alba_compiler::compile_dir(&dir);
+    let prog = c
+        .program
+        .unwrap_or_else(|| panic!("the time-base program does not compile: {:?}", c.diagnostics));
+    Case {
+        name: format!("time-base-{scan_ms}"),
+        prog,
+        scan_ms,
+    }
+}
+
+#[test]
+fn timers_in_every_time_base_run_the_same_as_the_engine() {
+    if !tools_present() {
+        return;
+    }
+    // 7 ms scans do not divide the units: the remainders must be kept alike.
+    for (scan_ms, seed) in [(7u64, 21u64), (10, 22)] {
+        let case = time_base_program(scan_ms);
+        check(&case, Model::Uno, None, 8000, scan_ms, seed);
+        check_as(&case, Model::Uno, None, 8000, scan_ms, seed, true);
+    }
+}

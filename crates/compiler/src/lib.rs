@@ -108,6 +108,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
                 let (ast, d) = alba_ladder::parse(text, src.file);
                 diags.extend(d);
                 uses.addresses.extend(alba_ladder::addresses(&ast));
+                uses.slc.extend(alba_ladder::slc_structs(&ast));
                 Ast::Ladder(ast)
             }
             Language::Il => {

@@ -375,7 +375,7 @@ pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder)
             next_rung(b, tr.span);
             let elem = b.element(tr.span);
             b.emit(Op::CmpI(Cmp::Gt, tm[t], zero), elem);
-            b.emit(Op::Ton(tmr), elem);
+            b.emit(Op::Ton(tmr, alba_ir::TimeBase::Ms), elem);
         }
         next_rung(b, tr.span);
         let elem = b.element(tr.span);

@@ -201,7 +201,7 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
             next(b, sp);
             b.emit(Op::CopyI(forever, tmr.i), alba_ir::NO_ELEM);
             b.emit(Op::Xic(x), alba_ir::NO_ELEM);
-            b.emit(Op::Ton(tmr), alba_ir::NO_ELEM);
+            b.emit(Op::Ton(tmr, alba_ir::TimeBase::Ms), alba_ir::NO_ELEM);
             b.emit(Op::CopyI(I(tmr.i.0 + 1), t), alba_ir::NO_ELEM);
             prev.push(b.state_b());
         }
@@ -266,7 +266,7 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
                         next(b, sfc.steps[k].span);
                         b.emit(Op::CopyI(limit, tmr.i), elem);
                         b.emit(Op::Xic(run), elem);
-                        b.emit(Op::Ton(tmr), elem);
+                        b.emit(Op::Ton(tmr, alba_ir::TimeBase::Ms), elem);
                         next(b, sfc.steps[k].span);
                         b.emit(Op::Xic(B(tmr.b.0 + 2)), elem);
                         b.emit(Op::Otu(run), elem);

@@ -62,7 +62,7 @@ codes! {
     DuplicateTag = 114, "a tag is declared twice",
         "Tag names are case-insensitive, as IEC 61131-3 requires: `Motor` and `MOTOR` are the same tag. Rename or remove one of them.";
     BadAddress = 115, "an address is not valid",
-        "Addresses name the I/O image: DI:1/n DO:2/n AI:3/n AO:4/n (AuroraLD), %IXb.i %QXb.i %IWn %QWn %MXb.i %MBn %MWn %MDn (IEC 61131-3), Ib.i Qb.i AIWn AQWn Ainn Mb.i MBn MWn MDn (S7-200). Bit numbers go from 0 to 7; S7 analog word addresses are even.";
+        "Addresses name the I/O image: DI:1/n DO:2/n AI:3/n AO:4/n (AuroraLD), %IXb.i %QXb.i %IWn %QWn %MXb.i %MBn %MWn %MDn (IEC 61131-3), Ib.i Qb.i AIWn AQWn Ainn Mb.i MBn MWn MDn (S7-200), I:e/b O:e/b B3:e/b N7:e F8:e N9:e N10:e (SLC 500 files, elements 0 to 255, word bits 0 to 15). Bit numbers go from 0 to 7; S7 analog word addresses are even.";
     AddressUsedTwice = 116, "two tags use the same address",
         "Each I/O channel or marker byte belongs to one tag. Two notations of one channel (DI:1/9 and %IX1.1) are the same address; overlapping marker words (MW0 and MD0) are too.";
     TypeAddressMismatch = 117, "the tag's type does not fit its address",
@@ -130,9 +130,9 @@ codes! {
     LabelNotFirst = 309, "LBL is not the first instruction of its rung",
         "A label marks the start of a rung: write LBL(name) as the rung's first instruction.";
     BadLiteral = 310, "a literal is malformed or out of range",
-        "Integer literals are decimal or based (16#FF), reals use a dot (1.5, 2.0e3), times are T#5s or T#1m30s; the value must fit where it goes.";
+        "Integer literals are decimal or based (16#FF), reals use a dot (1.5, 2.0e3), times are T#5s or T#1m30s; the value must fit where it goes. A timer's time base is ms, cs, ds, s or min (or 0.001, 0.01, 0.1, 1.0, 60 seconds).";
     ConflictingPreset = 311, "one timer or counter is given two different presets",
-        "The literal PRE and ACC of TON(t,pre,acc) are the structure's initial values, so every instruction on one tag must give the same ones (or `?`).";
+        "The literal PRE and ACC of TON(t,pre,acc) are the structure's initial values, so every instruction on one tag must give the same ones (or `?`); likewise every TON, TOF and RTO on one timer counts in one time base (TON(t,pre,acc,s); none is ms), and TP only on a timer in ms.";
     Expression = 312, "a CPT expression is malformed",
         "CPT accepts + - * / MOD ** ^, parentheses, comparisons (= <> < > <= >=), AND OR XOR NOT, the functions SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, AuroraLD's log10 logE log(a,b) Int signum cosh sinh tanh rnd(a,b) radians degrees, and PI and E.";
     NotYetSupported = 313, "a reserved instruction is not available yet",

@@ -17,7 +17,8 @@
 //!   operand table; the function is specific to the shape only.
 //!
 //! Only the ops that dominate typical ladder are emitted inline: contacts,
-//! coils, one-shots, branches, jumps, TON, CTU/CTD, integer compares and
+//! coils, one-shots, branches, jumps, TON in ms (`X::Ton`; a TON in another
+//! time base is `X::TonB`, left to the interpreter), CTU/CTD, integer compares and
 //! ADD/SUB/MOV of DINTs, with their rare cases too (a wrapped sum, a negative
 //! preset, a counter wrapping to OV/UN); their faults are noted in the
 //! context and flushed into `Faults` in order. Every other op is a call to

@@ -460,6 +460,16 @@ impl Graph {
                     })
                     .filter(|v| *v >= 0)
                     .ok_or_else(|| format!("{m}: the preset `{pre}` is not a literal"))?;
+                // A time base other than ms: the preset in milliseconds (exact).
+                let ms = match i.operands.get(3) {
+                    None => ms,
+                    Some(o) => {
+                        let b = alba_ladder::TimeBase::parse(&o.text)
+                            .ok_or_else(|| format!("{m}: `{}` is not a time base", o.text))?;
+                        ms.checked_mul(i64::from(b.ms()))
+                            .ok_or_else(|| format!("{m}: the preset `{pre}` {} is too long", b.name()))?
+                    }
+                };
                 let acc = op(2);
                 if acc != "0" && acc != "?" {
                     return Err(format!("{m}: an initial accumulator `{acc}` has no IEC equivalent"));

@@ -683,3 +683,19 @@ fn plcopen_sfc_actions_written_in_st_run_while_their_step_is_active() {
     assert_eq!(at(&rows, 590, "level"), "0");
     assert_eq!(at(&rows, 590, "valve"), "0");
 }
+
+#[test]
+fn aurora_timers_keep_their_time_base() {
+    // planta: T1 a TON of 2 in a 1 s base, T2 a TOF of 15 in a 0.1 s base, T3 an RTO of 5000 ms.
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/aurora/planta");
+    let tmp = tempfile::tempdir().expect("tmp");
+    let imported = tmp.path().join("p");
+    let report = alba_import::import(&folder, &imported, &Options::default()).expect("import");
+    let lad = std::fs::read_to_string(imported.join("main.lad")).expect("main.lad");
+    for want in ["TON(T1,2,0,s)", "TOF(T2,15,0,ds)", "RTO(T3,5000,0)"] {
+        assert!(lad.contains(want), "{want} not in\n{lad}");
+    }
+    // Kept, not converted: nothing about the bases is approximated.
+    let text = format!("{report:?}");
+    assert!(!text.contains("time base"), "{text}");
+}

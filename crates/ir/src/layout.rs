@@ -9,6 +9,7 @@
 
 use crate::op::{B, Ctr, D, F, I, L, PID_B_SLOTS, PID_F_SLOTS, PID_I_SLOTS, Pidt, Tmr};
 use alba_model::address::{Address, MarkerWidth};
+use alba_model::slc::SlcStruct;
 use alba_model::{DataType, TagTable};
 
 /// Number of slots of each class.
@@ -131,6 +132,8 @@ pub struct Uses {
     pub addresses: Vec<Address>,
     pub timers: std::collections::BTreeSet<u8>,
     pub counters: std::collections::BTreeSet<u8>,
+    /// SLC 500 timer and counter elements (`T4:0`, `C5:1`).
+    pub slc: std::collections::BTreeSet<SlcStruct>,
 }
 
 #[derive(Debug, Clone)]
@@ -148,6 +151,9 @@ pub struct Layout {
     /// S7-200 timers `T0..T255` and counters `C0..C255` in use.
     pub timers: std::collections::BTreeMap<u8, S7Slots>,
     pub counters: std::collections::BTreeMap<u8, S7Slots>,
+    /// SLC 500 timers and counters in use (`T4:0`): TIMER and COUNTER
+    /// slots, as a tag of that type has.
+    pub slc: std::collections::BTreeMap<SlcStruct, S7Slots>,
     /// Names resolve for a plant model (see [`Access::Output`]) while its
     /// programs compile.
     pub plant: bool,
@@ -246,6 +252,11 @@ impl Layout {
         };
         let timers = uses.timers.iter().map(|&n| (n, slots_of(4, 2))).collect();
         let counters = uses.counters.iter().map(|&n| (n, slots_of(2, 5))).collect();
+        let slc = uses
+            .slc
+            .iter()
+            .map(|&st| (st, if st.counter { slots_of(2, 5) } else { slots_of(3, 3) }))
+            .collect();
         // The I/O link status came later than the rest: last, so that no
         // other slot moved when it was added.
         let mut system = system;
@@ -259,6 +270,7 @@ impl Layout {
             slots,
             timers,
             counters,
+            slc,
             plant: false,
             system,
             di,

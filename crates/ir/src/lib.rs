@@ -21,6 +21,6 @@ pub use alba_model as model;
 pub use builder::{Builder, TempMark};
 pub use layout::{Counts, Layout, Place, Region, TagSlot};
 pub use memory::{Memory, Migration};
-pub use op::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, MarkerSlot, Op, Pidt, Tmr, UnOp, Width};
+pub use op::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, MarkerSlot, Op, Pidt, TimeBase, Tmr, UnOp, Width};
 pub use program::{Element, Loc, NO_ELEM, PlantSpec, Program, RungInfo, Unit};
 pub use symbols::{Access, ResolveError, Target};

@@ -40,6 +40,80 @@ pub struct Tmr {
     pub b: B,
 }
 
+/// A timer's time base (AuroraLD Table 7, the SLC 500's TON/TOF/RTO): the
+/// unit in which `ACC` and `PRE` count. Clock time not yet making a whole
+/// unit is kept (the timer's last update moves by whole units only), so no
+/// time is lost between scans. IEC and Logix timers are [`TimeBase::Ms`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum TimeBase {
+    /// 0.001 s
+    #[default]
+    Ms,
+    /// 0.01 s
+    Cs,
+    /// 0.1 s
+    Ds,
+    /// 1 s
+    S,
+    /// 60 s
+    Min,
+}
+
+impl TimeBase {
+    /// Every base, in the order of their codes (byte code, docs).
+    pub const ALL: [TimeBase; 5] = [TimeBase::Ms, TimeBase::Cs, TimeBase::Ds, TimeBase::S, TimeBase::Min];
+
+    /// Milliseconds in one unit.
+    pub const fn ms(self) -> u32 {
+        match self {
+            TimeBase::Ms => 1,
+            TimeBase::Cs => 10,
+            TimeBase::Ds => 100,
+            TimeBase::S => 1000,
+            TimeBase::Min => 60_000,
+        }
+    }
+
+    /// The unit's name as the ladder text writes it (`ms cs ds s min`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            TimeBase::Ms => "ms",
+            TimeBase::Cs => "cs",
+            TimeBase::Ds => "ds",
+            TimeBase::S => "s",
+            TimeBase::Min => "min",
+        }
+    }
+
+    /// The base named `ms`, `cs`, `ds`, `s` or `min` (any case), or given in
+    /// seconds as AuroraLD and the SLC 500 write it (`0.001`, `0.01`, `0.1`,
+    /// `1.0`, `60`).
+    pub fn parse(text: &str) -> Option<TimeBase> {
+        let t = text.trim();
+        if let Some(b) = TimeBase::ALL.into_iter().find(|b| b.name().eq_ignore_ascii_case(t)) {
+            return Some(b);
+        }
+        let secs: f64 = t.parse().ok()?;
+        TimeBase::from_seconds(secs)
+    }
+
+    /// The base of this many seconds, if it is one of Table 7's.
+    pub fn from_seconds(secs: f64) -> Option<TimeBase> {
+        TimeBase::ALL
+            .into_iter()
+            .find(|b| (f64::from(b.ms()) / 1000.0 - secs).abs() < 1e-9)
+    }
+
+    /// The base's code in the byte code (its index in [`TimeBase::ALL`]).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+
+    pub fn from_code(code: u8) -> Option<TimeBase> {
+        TimeBase::ALL.get(usize::from(code)).copied()
+    }
+}
+
 /// A COUNTER: integer slots `i` = PRE, `i+1` = ACC; bool slots `b` = CU,
 /// `b+1` = CD, `b+2` = DN, `b+3` = OV, `b+4` = UN.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -252,9 +326,11 @@ pub enum Op {
     },
     /// If `rc`, continue at the op with this index (the `Rung` of the label's rung).
     Jmp(u32),
-    Ton(Tmr),
-    Tof(Tmr),
-    Rto(Tmr),
+    /// TON, TOF, RTO counting `ACC` in units of the time base.
+    Ton(Tmr, TimeBase),
+    Tof(Tmr, TimeBase),
+    Rto(Tmr, TimeBase),
+    /// TP (IEC): milliseconds.
     Tp(Tmr),
     Ctu(Ctr),
     Ctd(Ctr),
@@ -420,7 +496,7 @@ impl Op {
             Op::Osr(a, b) | Op::Osf(a, b) => vec![S::B(a.0), S::B(b.0)],
             Op::BrOpen { save, acc } | Op::BrNext { save, acc } => vec![S::B(save.0), S::B(acc.0)],
             Op::BrClose { acc } => vec![S::B(acc.0)],
-            Op::Ton(t) | Op::Tof(t) | Op::Rto(t) | Op::Tp(t) | Op::ResT(t) => tmr(t),
+            Op::Ton(t, _) | Op::Tof(t, _) | Op::Rto(t, _) | Op::Tp(t) | Op::ResT(t) => tmr(t),
             Op::Ctu(c) | Op::Ctd(c) | Op::ResC(c) => ctr(c),
             Op::CmpI(_, a, b) => vec![S::I(a.0), S::I(b.0)],
             Op::CmpF(_, a, b) => vec![S::F(a.0), S::F(b.0)],

@@ -169,7 +169,7 @@ impl Program {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::op::{B, I, Tmr};
+    use crate::op::{B, I, TimeBase, Tmr};
     use crate::{Builder, Layout};
     use alba_diag::{FileId, Span};
     use alba_model::TagTable;
@@ -201,10 +201,13 @@ mod tests {
             ("not a rung start", |p| p.ops[2] = Op::Jmp(1)),
             ("first op", |p| p.ops.swap(0, 1)),
             ("outside memory", |p| {
-                p.ops[1] = Op::Ton(Tmr {
-                    i: I(u32::MAX),
-                    b: B(0),
-                })
+                p.ops[1] = Op::Ton(
+                    Tmr {
+                        i: I(u32::MAX),
+                        b: B(0),
+                    },
+                    TimeBase::Ms,
+                )
             }),
             ("not defined", |p| {
                 p.ops[1] = Op::LdBit {

@@ -4,6 +4,7 @@
 
 use crate::layout::{Layout, Place, TagSlot};
 use crate::op::{B, Ctr, F, I, Pidt, Tmr};
+use alba_model::slc::{self, Slc, SlcStruct};
 use alba_model::{Address, DataType};
 use std::fmt;
 
@@ -82,6 +83,26 @@ impl Pidt {
     }
 }
 
+/// A member of a TIMER or COUNTER whose slots start at `i` and `b`.
+fn member_of(name: &str, ty: DataType, i: I, b: B, m: &str) -> Result<Target, ResolveError> {
+    let mem = ty.member(m).ok_or_else(|| ResolveError::UnknownMember {
+        tag: name.to_string(),
+        ty,
+        member: m.to_string(),
+    })?;
+    let place = if mem.ty == DataType::Bool {
+        Place::Bool(B(b.0 + mem.index as u32))
+    } else {
+        Place::Int(I(i.0 + mem.index as u32), mem.ty)
+    };
+    let access = if mem.writable {
+        Access::ReadWrite
+    } else {
+        Access::ReadOnly
+    };
+    Ok(Target::Value { place, access })
+}
+
 impl Layout {
     /// Resolves a tag name, `tag.member`, an address in any notation, or a
     /// system tag (`S:FS`), case-insensitively.
@@ -97,15 +118,21 @@ impl Layout {
                 if let Some(tag) = self.tags.iter().find(|t| t.address == Some(addr)) {
                     return self.resolve(&tag.name);
                 }
-                let place = self
-                    .address_place(addr, addr.natural_type())
-                    .ok_or(ResolveError::OutsideImage(addr))?;
+                // An SLC 500 F element is a REAL.
+                let ty = match slc::parse(&name.to_ascii_uppercase(), name) {
+                    Ok(Some(Slc::Address(_, ty))) => ty,
+                    _ => addr.natural_type(),
+                };
+                let place = self.address_place(addr, ty).ok_or(ResolveError::OutsideImage(addr))?;
                 return Ok(Target::Value {
                     place,
                     access: self.io_access(Some(addr)),
                 });
             }
             Ok(None) => {}
+        }
+        if let Ok(Some(Slc::Struct(st, member))) = slc::parse(&name.to_ascii_uppercase(), name) {
+            return self.slc_struct(st, member.as_deref());
         }
         if self.tags.get(name).is_none()
             && let Some(t) = self.s7_name(name)
@@ -160,22 +187,7 @@ impl Layout {
                 })
             }
             (TagSlot::Timer(Tmr { i, b }) | TagSlot::Counter(Ctr { i, b }), Some(m)) => {
-                let mem = tag.ty.member(m).ok_or_else(|| ResolveError::UnknownMember {
-                    tag: tag.name.clone(),
-                    ty: tag.ty,
-                    member: m.to_string(),
-                })?;
-                let place = if mem.ty == DataType::Bool {
-                    Place::Bool(B(b.0 + mem.index as u32))
-                } else {
-                    Place::Int(I(i.0 + mem.index as u32), mem.ty)
-                };
-                let access = if mem.writable {
-                    Access::ReadWrite
-                } else {
-                    Access::ReadOnly
-                };
-                Ok(Target::Value { place, access })
+                member_of(&tag.name, tag.ty, i, b, m)
             }
             (_, Some(_)) => Err(ResolveError::NotAStructure {
                 tag: tag.name.clone(),
@@ -219,6 +231,22 @@ impl Layout {
             place,
             access: Access::ReadOnly,
         })
+    }
+
+    /// An SLC 500 timer or counter element (`T4:0`), or one of its members
+    /// (`T4:0.ACC`): the structure a program naming it made.
+    fn slc_struct(&self, st: SlcStruct, m: Option<&str>) -> Result<Target, ResolveError> {
+        let slots = self.slc.get(&st).ok_or_else(|| {
+            ResolveError::BadAddress(format!(
+                "`{st}`: no program of this project uses the SLC 500 {} {st}; it exists once a program names it",
+                if st.counter { "counter" } else { "timer" }
+            ))
+        })?;
+        match (m, st.counter) {
+            (None, false) => Ok(Target::Timer(Tmr { i: slots.i, b: slots.b })),
+            (None, true) => Ok(Target::Counter(Ctr { i: slots.i, b: slots.b })),
+            (Some(m), _) => member_of(&st.to_string(), st.ty(), slots.i, slots.b, m),
+        }
     }
 
     /// `T37` (the timer bit) or `T37.CV` (its current value) of an S7-200

@@ -154,9 +154,9 @@ instructions! {
     ONS: Bit, false, [BitOut "Storage Bit"], "One Shot", "one shot: passes one scan on a rising rung (storage bit)";
     OSR: Bit, true, [BitOut "Storage Bit", BitOut "Output Bit"], "One Shot Rising", "one shot rising: output bit true for one scan on a rising rung";
     OSF: Bit, true, [BitOut "Storage Bit", BitOut "Output Bit"], "One Shot Falling", "one shot falling: output bit true for one scan on a falling rung";
-    TON: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Timer On Delay", "on-delay timer (ms)";
-    TOF: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Timer Off Delay", "off-delay timer (ms)";
-    RTO: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Retentive Timer On", "retentive on-delay timer (ms), cleared by RES";
+    TON: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Timer On Delay", "on-delay timer (ms; a 4th operand gives another time base: cs ds s min)";
+    TOF: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Timer Off Delay", "off-delay timer (ms; a 4th operand gives another time base: cs ds s min)";
+    RTO: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Retentive Timer On", "retentive on-delay timer (ms; a 4th operand gives another time base: cs ds s min), cleared by RES";
     TP: Timer, true, [Timer "Timer", Preset "Preset", Accum "Accum"], "Pulse Timer", "pulse timer: DN for PRE ms from a rising rung";
     CTU: Counter, true, [Counter "Counter", Preset "Preset", Accum "Accum"], "Count Up", "count up on a rising rung";
     CTD: Counter, true, [Counter "Counter", Preset "Preset", Accum "Accum"], "Count Down", "count down on a rising rung";

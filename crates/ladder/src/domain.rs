@@ -339,7 +339,7 @@ pub fn domain() -> Domain {
     }
 }
 
-/// Every notation of an address (SPEC §2.2), upper case, the API's own
+/// Every notation of an address (SPEC §2.2, and the SLC 500's), upper case, the API's own
 /// (AuroraLD for I/O, S7 for markers) first: what an operand may write to
 /// name it. Each one parses back to `a` (tested).
 pub fn notations(a: Address) -> Vec<String> {
@@ -372,6 +372,8 @@ pub fn notations(a: Address) -> Vec<String> {
             MarkerWidth::Word | MarkerWidth::DWord => {}
         },
     }
+    // The SLC 500's, where it has one (digital channels, the B, N and F files).
+    out.extend(alba_model::slc::notation(a));
     out
 }
 
@@ -414,7 +416,14 @@ mod tests {
         }
         assert_eq!(
             notations(Address::DigitalIn(13)),
-            ["DI:1/13", "%IX1.5", "%I1.5", "I1.5"]
+            ["DI:1/13", "%IX1.5", "%I1.5", "I1.5", "I:0/13"]
+        );
+        assert_eq!(
+            notations(Address::Marker {
+                byte: 516,
+                width: MarkerWidth::Word
+            }),
+            ["MW516", "%MW258", "N7:2"]
         );
         assert_eq!(notations(Address::AnalogIn(2)), ["AI:3/2", "%IW2", "AIW4", "AIN2"]);
         assert_eq!(

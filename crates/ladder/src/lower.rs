@@ -13,13 +13,16 @@ use crate::ast::{Arg, Element, Instr, Mnemonic, Operand, Program, Rung};
 use crate::expr::{self, BinE, Expr, Func};
 use alba_diag::{Code, Diagnostic, Span};
 use alba_ir::values::{Class, Src, V, class_name, class_of, class_of_lit, class_of_type, float_class, promote};
-use alba_ir::{Access, B, BinOp, Builder, Cmp, Ctr, I, Layout, Op, Place, ResolveError, Target, Tmr, UnOp};
+use alba_ir::{Access, B, BinOp, Builder, Cmp, Ctr, I, Layout, Op, Place, ResolveError, Target, TimeBase, Tmr, UnOp};
+use alba_model::slc::{self, Slc, SlcStruct};
 use alba_model::tags::is_identifier;
 use alba_model::{Address, DataType, Literal, Value};
 use std::collections::HashMap;
 
-/// Literal presets and accumulators given so far, per slot, across all the
-/// programs of a project (two instructions on one timer must agree).
+/// Literal presets and accumulators given so far, per slot (key `(0,
+/// slot)`), and the time base of each timer (key `(1, its first integer
+/// slot)`, the base's code), across all the programs of a project (two
+/// instructions on one timer must agree).
 #[derive(Debug, Default)]
 pub struct Presets(HashMap<(u8, u32), (i64, Span)>);
 
@@ -94,46 +97,63 @@ pub fn compile_in(
     c.diags
 }
 
-/// Addresses a program names directly (the layout sizes the I/O images to them).
-pub fn addresses(prog: &Program) -> Vec<Address> {
-    let mut out = Vec::new();
-    fn walk(elems: &[Element], out: &mut Vec<Address>) {
+/// Every name a program's operands and CPT expressions give, as written.
+fn each_name(prog: &Program, f: &mut impl FnMut(&str)) {
+    fn walk(elems: &[Element], f: &mut impl FnMut(&str)) {
         for e in elems {
             match e {
-                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, out)),
+                Element::Branch(b) => b.legs.iter().for_each(|l| walk(l, f)),
                 Element::Instr(i) => {
-                    for (o, arg) in i.operands.iter().zip(i.mnemonic.args()) {
-                        if *arg == Arg::Expr {
+                    for (k, o) in i.operands.iter().enumerate() {
+                        if i.mnemonic.args().get(k) == Some(&Arg::Expr) {
                             if let Ok(e) = expr::parse(&o.text, o.span.file, o.span.start as usize) {
-                                names(&e, out);
+                                names(&e, f);
                             }
-                        } else if let Ok(Some(a)) = Address::parse(&o.text) {
-                            out.push(a);
+                        } else {
+                            f(&o.text);
                         }
                     }
                 }
             }
         }
     }
-    fn names(e: &Expr, out: &mut Vec<Address>) {
+    fn names(e: &Expr, f: &mut impl FnMut(&str)) {
         match e {
-            Expr::Name(n, _) => {
-                if let Ok(Some(a)) = Address::parse(n) {
-                    out.push(a);
-                }
-            }
-            Expr::Neg(a) | Expr::Not(a, _) => names(a, out),
+            Expr::Name(n, _) => f(n),
+            Expr::Neg(a) | Expr::Not(a, _) => names(a, f),
             Expr::Bin(_, a, b, _) => {
-                names(a, out);
-                names(b, out);
+                names(a, f);
+                names(b, f);
             }
-            Expr::Call(_, args, _) => args.iter().for_each(|a| names(a, out)),
+            Expr::Call(_, args, _) => args.iter().for_each(|a| names(a, f)),
             Expr::Lit(..) | Expr::Const(_) => {}
         }
     }
     for r in &prog.rungs {
-        walk(&r.elements, &mut out);
+        walk(&r.elements, f);
     }
+}
+
+/// Addresses a program names directly (the layout sizes the I/O images to them).
+pub fn addresses(prog: &Program) -> Vec<Address> {
+    let mut out = Vec::new();
+    each_name(prog, &mut |n| {
+        if let Ok(Some(a)) = Address::parse(n) {
+            out.push(a);
+        }
+    });
+    out
+}
+
+/// The SLC 500 timers and counters a program names (`T4:0`, `C5:1.DN`,
+/// also in CPT expressions): the layout makes their structures.
+pub fn slc_structs(prog: &Program) -> std::collections::BTreeSet<SlcStruct> {
+    let mut out = std::collections::BTreeSet::new();
+    each_name(prog, &mut |n| {
+        if let Ok(Some(Slc::Struct(st, _))) = slc::parse(&n.to_ascii_uppercase(), n) {
+            out.insert(st);
+        }
+    });
     out
 }
 
@@ -480,10 +500,105 @@ impl Compiler<'_> {
         Some(r)
     }
 
+    /// The time base of a TON, TOF or RTO: its optional fourth operand
+    /// (`TON(T,5,0,s)`; ms when absent), the same for every instruction on
+    /// one timer. `None` after a diagnostic.
+    fn time_base(&mut self, i: &Instr, t: Tmr) -> Option<TimeBase> {
+        let Some(o) = i.operands.get(3) else {
+            return self.same_base(t, TimeBase::Ms, i.name_span, "");
+        };
+        let Some(base) = TimeBase::parse(&o.text) else {
+            self.err(
+                Code::BadLiteral,
+                format!(
+                    "`{}` is not a time base; write ms, cs, ds, s or min (or 0.001, 0.01, 0.1, 1.0, 60 seconds)",
+                    o.text
+                ),
+                o.span,
+                "not a time base",
+            );
+            return None;
+        };
+        self.same_base(t, base, o.span, &o.text)
+    }
+
+    /// A timer's literal duration (`T#5s`) in units of its time base: whole
+    /// units only (`T#1500ms` in s is `E310`). Other operands as they are.
+    fn in_base(&mut self, o: &Operand, r: Opnd, base: TimeBase) -> Option<Opnd> {
+        let Opnd::Lit(Literal::Time(ms)) = r else {
+            return Some(r);
+        };
+        let unit = i64::from(base.ms());
+        if ms % unit != 0 {
+            self.err(
+                Code::BadLiteral,
+                format!(
+                    "`{}` is not a whole number of {} (the timer's time base)",
+                    o.text,
+                    base.name()
+                ),
+                o.span,
+                format!("{} {} and a part", ms / unit, base.name()),
+            );
+            return None;
+        }
+        Some(Opnd::Lit(Literal::Time(ms / unit)))
+    }
+
+    /// Records the time base of timer `t`, refusing a second, different one.
+    fn same_base(&mut self, t: Tmr, base: TimeBase, span: Span, text: &str) -> Option<TimeBase> {
+        match self.presets.0.get(&(1, t.i.0)) {
+            Some(&(prev, first)) if prev != i64::from(base.code()) => {
+                let prev = TimeBase::from_code(prev as u8).unwrap_or_default();
+                let given = if text.is_empty() {
+                    "no time base (ms)".to_string()
+                } else {
+                    format!("the time base `{text}`")
+                };
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::ConflictingPreset,
+                        format!(
+                            "{given} conflicts with the time base {} given earlier for the same timer",
+                            prev.name()
+                        ),
+                        span,
+                        "different time base",
+                    )
+                    .with_note(first, "first given here")
+                    .with_help("give every TON, TOF and RTO on one timer the same time base"),
+                );
+                None
+            }
+            Some(_) => Some(base),
+            None => {
+                self.presets.0.insert((1, t.i.0), (i64::from(base.code()), span));
+                Some(base)
+            }
+        }
+    }
+
     fn instr(&mut self, i: &Instr, elem: u32) {
         let m = i.mnemonic;
         let args = m.args();
-        if i.operands.len() != args.len() {
+        let based = matches!(m, Mnemonic::TON | Mnemonic::TOF | Mnemonic::RTO);
+        if i.operands.len() != args.len() && !(based && i.operands.len() == args.len() + 1) {
+            if based {
+                self.err(
+                    Code::OperandCount,
+                    format!(
+                        "{} takes 3 operands, or 4 with a time base, found {}",
+                        m.name(),
+                        i.operands.len()
+                    ),
+                    i.span,
+                    format!(
+                        "expected {}(Timer,Preset,Accum) or {0}(Timer,Preset,Accum,TimeBase)",
+                        m.name()
+                    ),
+                );
+                return;
+            }
             let names: Vec<&str> = args.iter().map(|a| arg_name(*a)).collect();
             self.err(
                 Code::OperandCount,
@@ -537,12 +652,25 @@ impl Compiler<'_> {
             }
             M::TON | M::TOF | M::RTO | M::TP => {
                 let Opnd::Timer(t) = ops[0] else { return };
-                self.preset(t.i, &i.operands[1], ops[1], elem);
-                self.accum(I(t.i.0 + 1), &i.operands[2], ops[2]);
+                // TP counts milliseconds: its timer has no other base.
+                let base = if m == M::TP {
+                    self.same_base(t, TimeBase::Ms, i.name_span, "")
+                } else {
+                    self.time_base(i, t)
+                };
+                let Some(base) = base else { return };
+                let (Some(pre), Some(acc)) = (
+                    self.in_base(&i.operands[1], ops[1], base),
+                    self.in_base(&i.operands[2], ops[2], base),
+                ) else {
+                    return;
+                };
+                self.preset(t.i, &i.operands[1], pre, elem);
+                self.accum(I(t.i.0 + 1), &i.operands[2], acc);
                 let op = match m {
-                    M::TON => Op::Ton(t),
-                    M::TOF => Op::Tof(t),
-                    M::RTO => Op::Rto(t),
+                    M::TON => Op::Ton(t, base),
+                    M::TOF => Op::Tof(t, base),
+                    M::RTO => Op::Rto(t, base),
                     _ => Op::Tp(t),
                 };
                 self.b.emit(op, elem);
@@ -1148,6 +1276,7 @@ pub fn layout_for(tags: &alba_model::TagTable, programs: &[&Program]) -> Layout 
         tags,
         &alba_ir::layout::Uses {
             addresses: used,
+            slc: programs.iter().flat_map(|p| slc_structs(p)).collect(),
             ..Default::default()
         },
     )

@@ -1,7 +1,8 @@
 //! Addresses of the I/O image and the marker memory (SPEC §2.2).
 //!
-//! Three notations name one image: AuroraLD (`DI:1/5`), IEC 61131-3
-//! (`%IX0.5`) and S7-200 (`I0.5`). [`Address::parse`] normalises them all.
+//! Four notations name one image: AuroraLD (`DI:1/5`), IEC 61131-3
+//! (`%IX0.5`), S7-200 (`I0.5`) and the SLC 500's files (`I:0/5`, `N7:2`;
+//! see [`crate::slc`]). [`Address::parse`] normalises them all.
 
 use crate::types::DataType;
 use std::fmt;
@@ -55,6 +56,12 @@ impl Address {
         let s = text.trim().to_ascii_uppercase();
         if let Some(rest) = s.strip_prefix('%') {
             return parse_iec(rest, text).map(Some);
+        }
+        // SLC 500 files; a timer or counter element is no address (it names a structure).
+        match crate::slc::parse(&s, text)? {
+            Some(crate::slc::Slc::Address(a, _)) => return Ok(Some(a)),
+            Some(crate::slc::Slc::Struct(..)) => return Ok(None),
+            None => {}
         }
         if let Some((area, rest)) = s.split_once(':') {
             if let Some(slash) = rest.split_once('/') {

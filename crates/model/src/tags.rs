@@ -322,6 +322,26 @@ impl TagTable {
             } else {
                 match Address::parse(addr_text) {
                     Ok(Some(a)) => Some(a),
+                    Ok(None)
+                        if matches!(
+                            crate::slc::parse(&addr_text.to_ascii_uppercase(), addr_text),
+                            Ok(Some(crate::slc::Slc::Struct(..)))
+                        ) =>
+                    {
+                        diags.push(
+                            Diagnostic::new(
+                                Code::BadAddress,
+                                format!(
+                                    "`{addr_text}` is an SLC 500 timer or counter, a structure rather than an address"
+                                ),
+                                addr_span,
+                                "not an address",
+                            )
+                            .with_help("name it in a program (TON(T4:0,10,0,s), XIC(C5:1.DN)), or declare a TIMER or COUNTER tag without an address"),
+                        );
+                        ok = false;
+                        None
+                    }
                     Ok(None) => {
                         diags.push(
                             Diagnostic::new(
@@ -649,6 +669,42 @@ mod tests {
             got,
             ["tags.csv:3:8: error[E116]: address M3.0 is already used by `W` (MW2)"]
         );
+    }
+
+    #[test]
+    fn slc_500_addresses_are_tag_addresses_and_their_errors_are_located() {
+        let (t, d, files) = parse(
+            "name,type,address\nStart,BOOL,I:1/0\nLamp,BOOL,O:0/3\nRef,INT,N7:2\nFlag,BOOL,B3:0/1\nGain,REAL,F8:0\n",
+        );
+        assert!(
+            d.is_empty(),
+            "{:?}",
+            d.iter().map(|d| d.short(&files)).collect::<Vec<_>>()
+        );
+        assert_eq!(t.get("start").unwrap().address, Some(Address::DigitalIn(16)));
+        assert!(t.get("start").unwrap().is_input());
+        assert_eq!(t.get("lamp").unwrap().address, Some(Address::DigitalOut(3)));
+        // B3 is MW0: a tag on B3:0/1 (M1.1) and one on MW0 share a place.
+        let (_, d, files) = parse("name,type,address\nW,INT,MW0\nFlag,BOOL,B3:0/1\n");
+        let got: Vec<String> = d.iter().map(|d| d.short(&files)).collect();
+        assert_eq!(
+            got,
+            ["tags.csv:3:11: error[E116]: address B3:0/1 is already used by `W` (MW0)"]
+        );
+        let (_, d, files) = parse("name,type,address\nA,INT,N7:256\nB,TIMER,T4:0\nC,INT,N12:0\nD,INT,F8:0\n");
+        let got: Vec<String> = d.iter().map(|d| d.short(&files)).collect();
+        assert_eq!(got.len(), 4, "{got:?}");
+        assert!(
+            got[0].starts_with("tags.csv:2:7: error[E115]: `N7:256`: elements go from 0 to 255"),
+            "{got:?}"
+        );
+        assert!(
+            got[1].starts_with("tags.csv:3:9: error[E115]: `T4:0` is an SLC 500 timer or counter"),
+            "{got:?}"
+        );
+        assert!(got[2].contains("N12 is not one of them"), "{got:?}");
+        // F8 is REAL (a double word): an INT does not fit it.
+        assert!(got[3].contains("E117"), "{got:?}");
     }
 
     #[test]

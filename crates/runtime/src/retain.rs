@@ -55,7 +55,7 @@ pub fn retained(p: &Program) -> Vec<(String, Place)> {
     };
     for op in &p.ops {
         let name = match *op {
-            Op::Rto(t) => timer_tag(t.i).map(|n| format!("{n}.ACC")),
+            Op::Rto(t, _) => timer_tag(t.i).map(|n| format!("{n}.ACC")),
             Op::Ctu(c) | Op::Ctd(c) => timer_tag(c.i).map(|n| format!("{n}.ACC")),
             Op::S7Tonr(t) => s7(&layout.timers, t.i, 'T'),
             Op::S7Ctu(c) | Op::S7Ctd(c) | Op::S7Ctud(c) => s7(&layout.counters, c.i, 'C'),

@@ -1969,8 +1969,8 @@ impl Lower<'_> {
                 let input = bool_of(&vals[0]).unwrap_or(t.b);
                 self.emit(Op::Ld(input));
                 self.emit(match kind {
-                    Fb::Ton => Op::Ton(t),
-                    Fb::Tof => Op::Tof(t),
+                    Fb::Ton => Op::Ton(t, alba_ir::TimeBase::Ms),
+                    Fb::Tof => Op::Tof(t, alba_ir::TimeBase::Ms),
                     _ => Op::Tp(t),
                 });
                 self.emit(Op::True);

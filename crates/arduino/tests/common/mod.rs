@@ -65,8 +65,15 @@ pub fn random_ladder(seed: u64) -> (String, String) {
             5 => format!("OTU({o})"),
             6 => format!("ONS(S{t})OTE({o})"),
             7 | 15 => {
-                ["TON", "TOF", "RTO", "TP"][r.below(4) as usize].to_string()
-                    + &format!("(T{t},{},0)", 10 * (1 + r.below(60)) + 5 * r.below(2))
+                // T0 counts ms (TP too), T1 centiseconds, T2 deciseconds (one base per timer).
+                let kinds: &[&str] = if t == 0 {
+                    &["TON", "TOF", "RTO", "TP"]
+                } else {
+                    &["TON", "TOF", "RTO"]
+                };
+                let base = ["", ",cs", ",ds"][t as usize];
+                kinds[r.below(kinds.len() as u64) as usize].to_string()
+                    + &format!("(T{t},{},0{base})", 10 * (1 + r.below(60)) + 5 * r.below(2))
             }
             8 => format!("{}(C{t},{},0)", ["CTU", "CTD"][r.below(2) as usize], r.below(6)),
             9 => format!("RES({}{t})", ["T", "C"][r.below(2) as usize]),

@@ -53,7 +53,7 @@ static uint16_t run(uint32_t now) {
     // main.lad rung 2: XIC(K_Line)TON(T_Star,5000,0);
     rc = 1;
     rc &= B[15];
-    alba_ton(&I[8], &B[22], rc, now, 10);
+    alba_ton(&I[8], &B[22], rc, now, 1UL, 10);
     // main.lad rung 3: XIC(K_Line)XIO(T_Star.DN)XIO(K_Delta)OTE(K_Star);
     rc = 1;
     rc &= B[15];
@@ -64,7 +64,7 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[24];
     rc &= !B[14];
-    alba_ton(&I[11], &B[25], rc, now, 19);
+    alba_ton(&I[11], &B[25], rc, now, 1UL, 19);
     // main.lad rung 5: XIC(K_Line)XIC(T_Dead.DN)XIO(K_Star)OTE(K_Delta);
     rc = 1;
     rc &= B[15];
@@ -128,7 +128,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 15, 0, 0, 0, SCAN_MS,
-            0x1302, 0xCA7F, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0x8C1C, 0xB79D, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

@@ -50,7 +50,7 @@ static uint16_t run(uint32_t now) {
     // main.lad rung 2: XIC(Motor)TON(Delay,5000,0);
     rc = 1;
     rc &= B[14];
-    alba_ton(&I[8], &B[22], rc, now, 10);
+    alba_ton(&I[8], &B[22], rc, now, 1UL, 10);
     // main.lad rung 3: XIC(Delay.DN)OTE(Lamp);
     rc = 1;
     rc &= B[24];
@@ -112,7 +112,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 12, 0, 0, 0, SCAN_MS,
-            0xAAC8, 0x67D9, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0x5A8D, 0xB375, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

@@ -51,19 +51,19 @@ static uint16_t run(uint32_t now) {
     rc = 1;
     rc &= B[6];
     rc &= !B[33];
-    alba_ton(&I[8], &B[22], rc, now, 3);
+    alba_ton(&I[8], &B[22], rc, now, 1UL, 3);
     // main.lad rung 2: XIC(T0.DN)TON(T1,2000,0);
     rc = 1;
     rc &= B[24];
-    alba_ton(&I[11], &B[25], rc, now, 6);
+    alba_ton(&I[11], &B[25], rc, now, 1UL, 6);
     // main.lad rung 3: XIC(T1.DN)TON(T2,5000,0);
     rc = 1;
     rc &= B[27];
-    alba_ton(&I[14], &B[28], rc, now, 9);
+    alba_ton(&I[14], &B[28], rc, now, 1UL, 9);
     // main.lad rung 4: XIC(T2.DN)TON(T3,2000,0);
     rc = 1;
     rc &= B[30];
-    alba_ton(&I[17], &B[31], rc, now, 12);
+    alba_ton(&I[17], &B[31], rc, now, 1UL, 12);
     // main.lad rung 5: XIC(Switch)XIO(T1.DN)[OTE(A_Green),OTE(B_Red)];
     rc = 1;
     rc &= B[6];
@@ -150,7 +150,7 @@ static uint8_t link_read_bit(uint8_t fc, uint16_t at, bool *v) {
 static uint8_t link_read_reg(uint8_t fc, uint16_t at, uint16_t *v) {
     if (fc == 4) {
         const uint16_t info[12] = {0xA1BA, 1, sizeof B, 21, 0, 0, 0, SCAN_MS,
-            0xA11C, 0xC18B, (uint16_t)(scans >> 16), (uint16_t)scans};
+            0xAA48, 0xBF9F, (uint16_t)(scans >> 16), (uint16_t)scans};
         if (at < 12) *v = info[at];
         else if (at == 12) *v = major ? 1 : 0;
         else if (at == 13) *v = (uint16_t)(overruns > 0xFFFF ? 0xFFFF : overruns);

@@ -151,7 +151,7 @@ fn download_to_the_interpreter_records_flags_esc_and_a_refused_program() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
-        err.contains("downloaded 152 bytes") && err.contains("verified: the board holds the 152 bytes sent"),
+        err.contains("downloaded 153 bytes") && err.contains("verified: the board holds the 153 bytes sent"),
         "{err}"
     );
     assert!(board.motor_starts(), "the downloaded program runs");
@@ -182,7 +182,7 @@ fn download_to_the_interpreter_records_flags_esc_and_a_refused_program() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
-        err.contains("read 152 bytes of the running program slot of the Arduino Nano")
+        err.contains("read 153 bytes of the running program slot of the Arduino Nano")
             && err.contains("(running it)")
             && err.contains("CRC good"),
         "{err}"

@@ -2,7 +2,7 @@
 //! for unmonitored scans the fused patterns.
 
 use alba_ir::op::{S7Ctr, S7Tmr};
-use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, F, I, L, MarkerSlot, Memory, Op, Program, Tmr, UnOp, Width};
+use alba_ir::{B, BinOp, Cmp, Ctr, Cvt, F, I, L, MarkerSlot, Memory, Op, Program, TimeBase, Tmr, UnOp, Width};
 
 /// An executable op. Slots are those of the canonical op(s) it came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -32,9 +32,12 @@ pub enum X {
         acc: B,
     },
     Jmp(u32),
+    /// A TON counting milliseconds (the native code's inline one).
     Ton(Tmr),
-    Tof(Tmr),
-    Rto(Tmr),
+    /// A TON counting in units of this many ms.
+    TonB(Tmr, u32),
+    Tof(Tmr, u32),
+    Rto(Tmr, u32),
     Tp(Tmr),
     Ctu(Ctr),
     Ctd(Ctr),
@@ -291,9 +294,10 @@ pub(crate) fn flatten(op: Op) -> X {
         Op::BrNext { save, acc } => X::BrNext { save, acc },
         Op::BrClose { acc } => X::BrClose { acc },
         Op::Jmp(t) => X::Jmp(t),
-        Op::Ton(t) => X::Ton(t),
-        Op::Tof(t) => X::Tof(t),
-        Op::Rto(t) => X::Rto(t),
+        Op::Ton(t, TimeBase::Ms) => X::Ton(t),
+        Op::Ton(t, b) => X::TonB(t, b.ms()),
+        Op::Tof(t, b) => X::Tof(t, b.ms()),
+        Op::Rto(t, b) => X::Rto(t, b.ms()),
         Op::Tp(t) => X::Tp(t),
         Op::Ctu(c) => X::Ctu(c),
         Op::Ctd(c) => X::Ctd(c),

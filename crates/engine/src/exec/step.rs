@@ -55,9 +55,10 @@ pub(crate) fn step(op: X, m: &mut Mem, sink: &mut Sink, now: u32, cur: usize, mu
             rc = rd!(m.b, save.0);
         }
         X::BrClose { acc } => rc |= rd!(m.b, acc.0),
-        X::Ton(t) => ton(m, t, rc, now, sink, cur),
-        X::Tof(t) => tof(m, t, rc, now, sink, cur),
-        X::Rto(t) => rto(m, t, rc, now, sink, cur),
+        X::Ton(t) => ton(m, t, 1, rc, now, sink, cur),
+        X::TonB(t, base) => ton(m, t, base, rc, now, sink, cur),
+        X::Tof(t, base) => tof(m, t, base, rc, now, sink, cur),
+        X::Rto(t, base) => rto(m, t, base, rc, now, sink, cur),
         X::Tp(t) => tp(m, t, rc, now, sink, cur),
         X::Ctu(c) => count(m, c, rc, true),
         X::Ctd(c) => count(m, c, rc, false),

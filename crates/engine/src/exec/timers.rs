@@ -29,13 +29,21 @@ fn preset(m: &Mem, t: Tmr, sink: &mut Sink, pc: usize) -> i32 {
     pre
 }
 
-/// Adds the clock time elapsed since the timer's last update to ACC.
+/// Adds the clock time elapsed since the timer's last update to ACC, in
+/// whole units of `base` ms: the last update moves on by the units counted
+/// only, so the time short of a unit is kept for the next scan.
 #[inline(always)]
-fn elapse(m: &mut Mem, t: Tmr, now: u32) {
-    let dt = now.wrapping_sub(rd!(m.i, t.i.0 + LAST) as u32);
-    wr!(m.i, t.i.0 + LAST, now as i32);
+fn elapse(m: &mut Mem, t: Tmr, now: u32, base: u32) {
+    let last = rd!(m.i, t.i.0 + LAST) as u32;
+    let dt = now.wrapping_sub(last);
+    let units = if base <= 1 { dt } else { dt / base };
+    wr!(
+        m.i,
+        t.i.0 + LAST,
+        last.wrapping_add(units.wrapping_mul(base.max(1))) as i32
+    );
     let acc = rd!(m.i, t.i.0 + ACC);
-    wr!(m.i, t.i.0 + ACC, acc.saturating_add(dt.min(i32::MAX as u32) as i32));
+    wr!(m.i, t.i.0 + ACC, acc.saturating_add(units.min(i32::MAX as u32) as i32));
 }
 
 /// Sets DN and stops ACC at PRE once reached (TON, RTO).
@@ -48,10 +56,10 @@ fn done_at_preset(m: &mut Mem, t: Tmr, pre: i32) {
 }
 
 /// TON: rung true → EN; ACC from 0 on the first true scan, adding clock
-/// time after; DN at PRE (ACC stops there); TT = EN ∧ ¬DN. Rung false →
+/// time (in units of `base` ms) after; DN at PRE (ACC stops there); TT = EN ∧ ¬DN. Rung false →
 /// everything 0.
 #[inline(always)]
-pub(super) fn ton(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
+pub(super) fn ton(m: &mut Mem, t: Tmr, base: u32, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     if rc {
         let pre = preset(m, t, sink, pc);
         if !rd!(m.b, t.b.0 + EN) {
@@ -59,7 +67,7 @@ pub(super) fn ton(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: 
             wr!(m.i, t.i.0 + ACC, 0);
             wr!(m.i, t.i.0 + LAST, now as i32);
         } else if !rd!(m.b, t.b.0 + DN) {
-            elapse(m, t, now);
+            elapse(m, t, now, base);
         }
         done_at_preset(m, t, pre);
         wr!(m.b, t.b.0 + TT, !rd!(m.b, t.b.0 + DN));
@@ -73,7 +81,7 @@ pub(super) fn ton(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: 
 
 /// TOF: rung true → EN = DN = 1, TT = 0, ACC = 0. The first false scan
 /// after that starts timing from 0; at PRE, DN = TT = 0.
-pub(super) fn tof(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
+pub(super) fn tof(m: &mut Mem, t: Tmr, base: u32, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     if rc {
         wr!(m.b, t.b.0 + EN, true);
         wr!(m.b, t.b.0 + DN, true);
@@ -87,7 +95,7 @@ pub(super) fn tof(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: 
         wr!(m.i, t.i.0 + ACC, 0);
         wr!(m.i, t.i.0 + LAST, now as i32);
     } else if rd!(m.b, t.b.0 + TT) {
-        elapse(m, t, now);
+        elapse(m, t, now, base);
     }
     if rd!(m.b, t.b.0 + TT) {
         let pre = preset(m, t, sink, pc);
@@ -101,14 +109,14 @@ pub(super) fn tof(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: 
 
 /// RTO: like TON, but a false rung keeps ACC and DN; a true scan after a
 /// false one adds nothing (timing resumes then). Only RES clears it.
-pub(super) fn rto(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
+pub(super) fn rto(m: &mut Mem, t: Tmr, base: u32, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     if rc {
         let pre = preset(m, t, sink, pc);
         if !rd!(m.b, t.b.0 + EN) {
             wr!(m.b, t.b.0 + EN, true);
             wr!(m.i, t.i.0 + LAST, now as i32);
         } else if !rd!(m.b, t.b.0 + DN) {
-            elapse(m, t, now);
+            elapse(m, t, now, base);
         }
         done_at_preset(m, t, pre);
         wr!(m.b, t.b.0 + TT, !rd!(m.b, t.b.0 + DN));
@@ -124,7 +132,7 @@ pub(super) fn rto(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: 
 pub(super) fn tp(m: &mut Mem, t: Tmr, rc: bool, now: u32, sink: &mut Sink, pc: usize) {
     let rising = rc && !rd!(m.b, t.b.0 + EN);
     if rd!(m.b, t.b.0 + DN) {
-        elapse(m, t, now);
+        elapse(m, t, now, 1);
     } else if rising {
         wr!(m.b, t.b.0 + DN, true);
         wr!(m.i, t.i.0 + ACC, 0);

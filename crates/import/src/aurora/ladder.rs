@@ -23,6 +23,7 @@
 use super::{F, Held, INSTRUCTIONS, MAX_EACH, Reader, Rec, Tags, Ty, clip};
 use crate::circuit::Structs;
 use crate::{Error, Kind, Location, ProgramOut, Report};
+use alba_ladder::TimeBase;
 use std::collections::HashMap;
 
 /// Alba's scan period for an AuroraLD program: the board sends its inputs
@@ -262,9 +263,6 @@ pub(crate) const KINDS: [(&str, &[(&str, F)]); 40] = [
 /// The input (condition) instructions (§3.10); BST stands on both sides.
 const INPUTS: &[&str] = &["XIC", "XIO", "LIM", "EQU", "NEQ", "LES", "GRT", "LEQ", "GEQ"];
 
-/// Timer time bases in seconds (Table 7).
-const TIME_BASES: &[f64] = &[0.001, 0.01, 0.1, 1.0, 60.0];
-
 /// The parsed file: the rungs, and every instruction with its kind.
 pub(crate) struct Rows {
     pub rungs: Vec<Rec>,
@@ -397,7 +395,7 @@ impl Ctx<'_> {
             Held::Number => {
                 if let Some((base, m)) = alba.rsplit_once('.')
                     && let Some(tb) = self.time_base.get(&base.to_ascii_lowercase())
-                    && *tb != 0.001
+                    && TimeBase::from_seconds(*tb).is_none()
                 {
                     notes.push((
                         Kind::Approximated,
@@ -496,20 +494,35 @@ impl Ctx<'_> {
             "TON" | "TOF" | "RTO" => {
                 let t = self.structure(rec.s("name"), &[Ty::Timer])?;
                 let tb = rec.f("t_base");
-                if !TIME_BASES.iter().any(|b| (b - tb).abs() < 1e-9) {
+                // One timer counts in one base in Alba: its first instruction's.
+                let first = self.time_base.get(&t.to_ascii_lowercase()).copied().unwrap_or(tb);
+                if (first - tb).abs() > 1e-9 {
                     notes.push((
                         Kind::Approximated,
                         rec.at("t_base"),
-                        format!("{kind} `{t}`: the time base {tb} s is not one of AuroraLD's (Table 7); used as given"),
+                        format!(
+                            "{kind} `{t}`: the time base {tb} s differs from the {first} s of the timer's first instruction; Alba counts a timer in one base ({first} s, preset and accumulator as given)"
+                        ),
                     ));
                 }
-                let ms = |v: i64| (v as f64) * tb * 1000.0;
-                let (pre, acc) = (ms(rec.i("preset")), ms(rec.i("acc")));
+                let base = TimeBase::from_seconds(first);
+                if base.is_none() {
+                    notes.push((
+                        Kind::Approximated,
+                        rec.at("t_base"),
+                        format!("{kind} `{t}`: the time base {first} s is not one of AuroraLD's (Table 7); the timer counts in ms"),
+                    ));
+                }
+                // Table 7's bases are kept: PRE and ACC as given, in the base's units.
+                // Another base is converted to milliseconds.
+                let scale = if base.is_some() { 1.0 } else { first * 1000.0 };
+                let units = |v: i64| (v as f64) * scale;
+                let (pre, acc) = (units(rec.i("preset")), units(rec.i("acc")));
                 if pre < 0.0 || acc < 0.0 {
                     return Err(format!("{kind} `{t}`: a negative preset or accumulator"));
                 }
                 if pre > f64::from(i32::MAX) || acc > f64::from(i32::MAX) {
-                    return Err(format!("{kind} `{t}`: a preset above 24 days"));
+                    return Err(format!("{kind} `{t}`: a preset beyond a DINT"));
                 }
                 if (pre - pre.round()).abs() > 1e-6 {
                     notes.push((
@@ -518,24 +531,30 @@ impl Ctx<'_> {
                         format!("{kind} `{t}`: {pre} ms is rounded to whole milliseconds"),
                     ));
                 }
+                let suffix = match base {
+                    Some(b) if b != TimeBase::Ms => format!(",{}", b.name()),
+                    _ => String::new(),
+                };
                 let (pre, acc) = (pre.round() as i64, acc.round() as i64);
                 let key = t.to_ascii_lowercase();
                 let args = match self.timers.get(&key) {
                     None => {
                         self.timers.insert(key, (pre, acc));
-                        format!("{t},{pre},{acc}")
+                        format!("{t},{pre},{acc}{suffix}")
                     }
                     Some(&(p, a)) => {
                         if p != pre {
                             notes.push((
                                 Kind::Approximated,
                                 rec.at("preset"),
-                                format!("{kind} `{t}`: a second preset ({pre} ms, the first is {p} ms); Alba keeps one per timer"),
+                                format!(
+                                    "{kind} `{t}`: a second preset ({pre}, the first is {p}); Alba keeps one per timer"
+                                ),
                             ));
                         }
                         let ps = if p == pre { pre.to_string() } else { "?".into() };
                         let acs = if a == acc { acc.to_string() } else { "?".into() };
-                        format!("{t},{ps},{acs}")
+                        format!("{t},{ps},{acs}{suffix}")
                     }
                 };
                 Ok(format!("{kind}({args})"))

@@ -12,3 +12,4 @@ mod normalise;
 mod robustness;
 mod roundtrip;
 mod strategies;
+mod time_base;

@@ -85,7 +85,7 @@ async fn domain_has_structures_signatures_and_address_notations() {
         .find(|t| t["name"] == "STOP")
         .cloned()
         .expect("STOP");
-    assert_eq!(stop["notations"], json!(["DI:1/0", "%IX0.0", "%I0.0", "I0.0"]));
+    assert_eq!(stop["notations"], json!(["DI:1/0", "%IX0.0", "%I0.0", "I0.0", "I:0/0"]));
     s.stop().await;
 
     // The studio's unit tests run on a copy of this reply.
