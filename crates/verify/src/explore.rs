@@ -113,6 +113,8 @@ struct TimerAbs {
     kind: TKind,
     /// Something else writes its PRE or ACC: ages are not capped.
     cap: bool,
+    /// Milliseconds per unit of ACC (its time base; 1 for TP).
+    unit: u32,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -206,7 +208,7 @@ fn writes(op: &Op) -> Vec<AnySlot> {
                 ID(_, d) | LD(_, d) | FD(_, d) => S::D(d.0),
             }]
         }
-        Op::Ton(t) | Op::Tof(t) | Op::Rto(t) | Op::Tp(t) | Op::ResT(t) => {
+        Op::Ton(t, _) | Op::Tof(t, _) | Op::Rto(t, _) | Op::Tp(t) | Op::ResT(t) => {
             let mut v: Vec<AnySlot> = (0..3).map(|k| S::I(t.i.0 + k)).collect();
             v.extend((0..3).map(|k| S::B(t.b.0 + k)));
             v
@@ -409,16 +411,17 @@ impl Model {
         let mut tmap: HashMap<u32, TimerAbs> = HashMap::new();
         let mut s7map: HashMap<u32, S7TimerAbs> = HashMap::new();
         for op in &prog.ops {
-            let (t, k) = match *op {
-                Op::Ton(t) => (t, TKind::Ton),
-                Op::Tof(t) => (t, TKind::Tof),
-                Op::Rto(t) => (t, TKind::Rto),
-                Op::Tp(t) => (t, TKind::Tp),
+            let (t, k, unit) = match *op {
+                Op::Ton(t, b) => (t, TKind::Ton, b.ms()),
+                Op::Tof(t, b) => (t, TKind::Tof, b.ms()),
+                Op::Rto(t, b) => (t, TKind::Rto, b.ms()),
+                Op::Tp(t) => (t, TKind::Tp, 1),
                 Op::ResT(t) => {
                     tmap.entry(t.i.0).or_insert(TimerAbs {
                         t,
                         kind: TKind::Reset,
                         cap: false,
+                        unit: 1,
                     });
                     continue;
                 }
@@ -446,7 +449,14 @@ impl Model {
                 }
                 _ => continue,
             };
-            let e = tmap.entry(t.i.0).or_insert(TimerAbs { t, kind: k, cap: true });
+            let e = tmap.entry(t.i.0).or_insert(TimerAbs {
+                t,
+                kind: k,
+                cap: true,
+                unit,
+            });
+            // (the largest unit: a larger cap only merges fewer states)
+            e.unit = e.unit.max(unit);
             if e.kind == TKind::Reset {
                 e.kind = k;
             } else if e.kind != k {
@@ -457,7 +467,7 @@ impl Model {
         timers.sort_by_key(|t| t.t.i.0);
         for ta in &mut timers {
             let t = ta.t;
-            let own = |op: &Op| matches!(op, Op::Ton(x) | Op::Tof(x) | Op::Rto(x) | Op::Tp(x) | Op::ResT(x) if *x == t);
+            let own = |op: &Op| matches!(op, Op::Ton(x, _) | Op::Tof(x, _) | Op::Rto(x, _) | Op::Tp(x) | Op::ResT(x) if *x == t);
             let others_write = prog.ops.iter().any(|op| {
                 !own(op)
                     && writes(op)
@@ -669,7 +679,9 @@ impl Model {
             if !relevant {
                 age = 0;
             } else if ta.cap {
-                let cap = (m.i[i].max(0) as i64 + (-(m.i[i + 1] as i64)).max(0)).min(u32::MAX as i64) as u32;
+                // ACC counts whole units of the time base: the age at which it reaches PRE
+                let units = m.i[i].max(0) as i64 + (-(m.i[i + 1] as i64)).max(0);
+                let cap = (units * ta.unit as i64).min(u32::MAX as i64) as u32;
                 age = age.min(cap);
             }
             m.i[i + 2] = age as i32;

@@ -108,6 +108,27 @@ fn a_response_time_is_decided_to_the_scan() {
 }
 
 #[test]
+fn a_timer_counting_tenths_of_a_second_is_decided_to_the_scan() {
+    // The same lamp with its delay as 5 units of 100 ms: ACC counts tenths,
+    // the time short of a unit carried from scan to scan (issue 34 point 3).
+    let prog = compile(LAMP_TAGS, &LAMP.replace("TON(Delay,500,0)", "TON(Delay,5,0,ds)"));
+    let toml = |ms: u64| {
+        format!(
+            "[[property]]\nname = \"lamp follows\"\nresponse = {{ trigger = \"Motor\", then = \"Lamp\", within_ms = {ms} }}\n\
+             [[property]]\nname = \"acc in tenths\"\nalways = \"Delay.ACC <= 5\"\n\
+             [[assume]]\nexpr = \"NOT Stop\"\n"
+        )
+    };
+    let (_, v, _) = decide(&prog, &toml(500));
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    assert_eq!(outcome(&v[1]), "proved", "{:?}", v[1].outcome);
+    let (model, v, p) = decide(&prog, &toml(490));
+    assert_eq!(outcome(&v[0]), "refuted", "{:?}", v[0].outcome);
+    let run = v[0].run.as_ref().expect("counterexample");
+    assert_eq!(explore::replay(&model, &p.properties[0], &p.assumes, run), Ok(()));
+}
+
+#[test]
 fn reachable_gives_a_witness_or_is_refuted() {
     let prog = compile(LAMP_TAGS, LAMP);
     let toml = "\
