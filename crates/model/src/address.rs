@@ -7,6 +7,9 @@
 use crate::types::DataType;
 use std::fmt;
 
+/// The SLC 500's file addresses (`N7:2`, `T4:0.ACC`), parsed beside the others.
+pub mod slc;
+
 /// Digital channels per direction (`%IX0.0`..`%IX1023.7`, Modbus coils 0..8191).
 pub const MAX_DIGITAL: u32 = 8192;
 /// Analog channels per direction (`%IW0`..`%IW1023`).
@@ -58,9 +61,9 @@ impl Address {
             return parse_iec(rest, text).map(Some);
         }
         // SLC 500 files; a timer or counter element is no address (it names a structure).
-        match crate::slc::parse(&s, text)? {
-            Some(crate::slc::Slc::Address(a, _)) => return Ok(Some(a)),
-            Some(crate::slc::Slc::Struct(..)) => return Ok(None),
+        match slc::parse(&s, text)? {
+            Some(slc::Slc::Address(a, _)) => return Ok(Some(a)),
+            Some(slc::Slc::Struct(..)) => return Ok(None),
             None => {}
         }
         if let Some((area, rest)) = s.split_once(':') {

@@ -7,7 +7,7 @@ pub mod board;
 pub mod csv;
 pub mod fsutil;
 pub mod plant;
-pub mod slc;
+pub use address::slc;
 pub mod tags;
 pub mod types;
 pub mod value;

@@ -324,8 +324,8 @@ impl TagTable {
                     Ok(Some(a)) => Some(a),
                     Ok(None)
                         if matches!(
-                            crate::slc::parse(&addr_text.to_ascii_uppercase(), addr_text),
-                            Ok(Some(crate::slc::Slc::Struct(..)))
+                            crate::address::slc::parse(&addr_text.to_ascii_uppercase(), addr_text),
+                            Ok(Some(crate::address::slc::Slc::Struct(..)))
                         ) =>
                     {
                         diags.push(
