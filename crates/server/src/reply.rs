@@ -922,5 +922,6 @@ pub fn typescript() -> String {
         Verified,
         BoardIdentity,
     );
+    out.push_str(&crate::verify::typescript(&cfg));
     out
 }

@@ -15,3 +15,4 @@ pub mod expr;
 pub mod project;
 pub mod props;
 pub mod table;
+pub mod trace;
