@@ -4,10 +4,10 @@
 //! scan by scan (tag values and power flow) for the page's time slider.
 
 use alba_server::project::{diagnostics_json, unit_elements};
-use alba_server::verify::{
-    ProgramCoverage, PropertyResult, Replay, ReplayScan, StimulusRow, TestCaseResult, TestsReply, Verifier,
-    VerifyError, VerifyReply,
+use alba_server::reply::{
+    ProgramCoverage, PropertyResult, Replay, ReplayScan, StimulusRow, TestCaseResult, TestsReply, VerifyReply,
 };
+use alba_server::verify::{Verifier, VerifyError};
 use alba_verify::explore::Budget;
 use alba_verify::project::{self, Options};
 use alba_verify::table::{self, TestResult};

@@ -65,10 +65,11 @@ pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Re
     // The stimulus's tags first, then the program's other plain tags.
     let mut shown: Vec<(String, Place)> = Vec::new();
     let mut add = |name: &str| {
-        if shown.len() < MAX_TAGS && !shown.iter().any(|(n, _)| n.eq_ignore_ascii_case(name)) {
-            if let Ok(Target::Value { place, .. }) = layout.resolve(name) {
-                shown.push((name.to_string(), place));
-            }
+        if shown.len() < MAX_TAGS
+            && !shown.iter().any(|(n, _)| n.eq_ignore_ascii_case(name))
+            && let Ok(Target::Value { place, .. }) = layout.resolve(name)
+        {
+            shown.push((name.to_string(), place));
         }
     };
     for (_, tag, _) in rows(text) {

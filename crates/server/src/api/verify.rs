@@ -6,8 +6,9 @@
 use super::nets::lowest_priority;
 use crate::error::{ApiError, ApiResult};
 use crate::project::EditError;
+use crate::reply::{TestsReply, VerifyReply};
 use crate::state::AppState;
-use crate::verify::{PROPERTY_SECONDS, TestsReply, Verifier, VerifyError, VerifyReply};
+use crate::verify::{PROPERTY_SECONDS, Verifier, VerifyError};
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::State;
