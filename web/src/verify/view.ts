@@ -64,13 +64,13 @@ export class VerifyTab {
     this.replayBox.append(
       h('h2', { 'data-testid': 'replay-title' }),
       h('div', { class: 'toolbar' },
-        step('⏮', 'replay-first', tr('First scan'), () => 0),
+        step('|◀', 'replay-first', tr('First scan'), () => 0),
         step('⇤', 'replay-prev-change', tr('Previous change'), () => stepChange(changes(), this.scan, -1)),
         step('◀', 'replay-prev', tr('Previous scan'), () => this.scan - 1),
         this.slider,
         step('▶', 'replay-next', tr('Next scan'), () => this.scan + 1),
         step('⇥', 'replay-next-change', tr('Next change'), () => stepChange(changes(), this.scan, 1)),
-        step('⏭', 'replay-violation', tr('The violating scan'), () => (this.replay ? startScan(this.replay) : 0)),
+        step('▶|', 'replay-violation', tr('The violating scan'), () => (this.replay ? startScan(this.replay) : 0)),
         this.scanLabel),
       this.applied,
       h('table', { class: 'replay-values' }, h('thead', null, h('tr', null, h('th', null, tr('Tag')), h('th', null, tr('Value')))), this.values));
