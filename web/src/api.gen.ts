@@ -702,9 +702,14 @@ export type Replay = {
  */
 rows: Array<StimulusRow>, 
 /**
- * The scan (0-based) where the property fails (a witness: holds).
+ * The scan (0-based, in `scans`) where the property fails (a witness: holds).
  */
-violating_scan: number, tags: Array<string>, scans: Array<ReplayScan>, };
+violating_scan: number, 
+/**
+ * The number (0-based) of `scans[0]` in the whole run: a long one keeps only its
+ * last 2 000 scans.
+ */
+first_scan: number, tags: Array<string>, scans: Array<ReplayScan>, };
 
 export type PropertyResult = { name: string, 
 /**

@@ -10,6 +10,7 @@ const replay: Replay = {
     { time_ms: 10, tag: 'Start', value: '0' },
   ],
   violating_scan: 3,
+  first_scan: 0,
   tags: ['Start', 'Motor', 'Lamp'],
   scans: [
     { time_ms: 0, values: ['1', '1', '0'], on: [0, 1, 2] },

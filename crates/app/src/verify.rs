@@ -54,7 +54,8 @@ fn replay(program: &Arc<alba_ir::Program>, scan_ms: u64, file: &str, depth: u32)
             .into_iter()
             .map(|(time_ms, tag, value)| StimulusRow { time_ms, tag, value })
             .collect(),
-        violating_scan: depth.saturating_sub(1),
+        violating_scan: (t.scans.len() as u32).saturating_sub(1),
+        first_scan: t.first,
         tags: t.tags,
         scans: t
             .scans

@@ -858,8 +858,11 @@ pub struct ReplayScan {
 pub struct Replay {
     /// The stimulus file's rows.
     pub rows: Vec<StimulusRow>,
-    /// The scan (0-based) where the property fails (a witness: holds).
+    /// The scan (0-based, in `scans`) where the property fails (a witness: holds).
     pub violating_scan: u32,
+    /// The number (0-based) of `scans[0]` in the whole run: a long one keeps only its
+    /// last 2 000 scans.
+    pub first_scan: u32,
     pub tags: Vec<String>,
     pub scans: Vec<ReplayScan>,
 }

@@ -10,8 +10,10 @@ use std::sync::Arc;
 
 /// Tags shown at most (the stimulus's own tags always are).
 pub const MAX_TAGS: usize = 200;
-/// Scans replayed at most.
-pub const MAX_SCANS: u32 = 100_000;
+/// Scans replayed at most (the explorer's deepest search is a million).
+pub const MAX_SCANS: u32 = 2_000_000;
+/// Scans kept at most: the last ones, where the violation is.
+pub const KEEP_SCANS: u32 = 2_000;
 
 /// One scan of a replay.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,10 +26,12 @@ pub struct TraceScan {
     pub on: Vec<u32>,
 }
 
-/// A replay: the tags shown and every scan.
+/// A replay: the tags shown and the scans kept (the last [`KEEP_SCANS`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trace {
     pub tags: Vec<String>,
+    /// The number (0-based) of the first scan kept.
+    pub first: u32,
     pub scans: Vec<TraceScan>,
 }
 
@@ -44,7 +48,8 @@ pub fn rows(text: &str) -> Vec<(u64, String, String)> {
         .collect()
 }
 
-/// Replays `text` (a stimulus CSV) for `scans` scans of `scan_ms`.
+/// Replays `text` (a stimulus CSV) for `scans` scans of `scan_ms`, keeping
+/// the last [`KEEP_SCANS`] of them.
 pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Result<Trace, String> {
     if scans > MAX_SCANS {
         return Err(format!("a replay runs at most {MAX_SCANS} scans, not {scans}"));
@@ -82,7 +87,8 @@ pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Re
     engine.set_monitor(true);
     let scan_ms = scan_ms.max(1);
     let mut next = 0;
-    let mut out = Vec::with_capacity(scans as usize);
+    let first = scans.saturating_sub(KEEP_SCANS);
+    let mut out = Vec::with_capacity((scans - first) as usize);
     for k in 0..u64::from(scans) {
         let t = k * scan_ms;
         engine.step_plants(t);
@@ -98,6 +104,9 @@ pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Re
         engine
             .scan(t)
             .map_err(|m| format!("the replay stops at {t} ms with a major fault: {}", m.message))?;
+        if k < u64::from(first) {
+            continue;
+        }
         let on = match engine.power_flow() {
             Some(pf) => (0..program.elements.len() as u32).filter(|e| pf.get(*e)).collect(),
             None => Vec::new(),
@@ -110,6 +119,7 @@ pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Re
     }
     Ok(Trace {
         tags: shown.into_iter().map(|(n, _)| n).collect(),
+        first,
         scans: out,
     })
 }
@@ -158,5 +168,24 @@ mod tests {
         let e = trace(&p, 10, "time_ms,tag,value\n0,Nope,1\n", 2).unwrap_err();
         assert!(e.contains("line 2"), "{e}");
         assert!(trace(&p, 10, "time_ms,tag,value\n", MAX_SCANS + 1).is_err());
+    }
+
+    #[test]
+    fn a_long_replay_keeps_its_last_scans() {
+        let p = compile("XIC(A)OTE(B);\n", "A,BOOL,DI:1/0,,,\nB,BOOL,DO:2/0,,,\n");
+        let n = KEEP_SCANS + 500;
+        let t = trace(
+            &p,
+            10,
+            &format!("time_ms,tag,value\n{},A,1\n", u64::from(n - 1) * 10),
+            n,
+        )
+        .unwrap();
+        assert_eq!(t.first, 500);
+        assert_eq!(t.scans.len(), KEEP_SCANS as usize);
+        assert_eq!(t.scans[0].time_ms, 5000);
+        let last = t.scans.last().unwrap();
+        assert_eq!((last.time_ms, last.values[1].as_str()), (u64::from(n - 1) * 10, "1"));
+        assert_eq!(t.scans[KEEP_SCANS as usize - 2].values[1], "0");
     }
 }

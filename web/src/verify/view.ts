@@ -193,7 +193,7 @@ export class VerifyTab {
     const bad = this.scan === r.violating_scan;
     this.replayBox.classList.toggle('violation', bad);
     this.scanLabel.textContent =
-      tr('scan {k} of {n}, {t} ms', { k: this.scan + 1, n: r.scans.length, t }) + (bad ? ` — ${tr('the property fails here')}` : '');
+      tr('scan {k} of {n}, {t} ms', { k: r.first_scan + this.scan + 1, n: r.first_scan + r.scans.length, t }) + (bad ? ` — ${tr('the property fails here')}` : '');
     this.scanLabel.dataset.violation = String(bad);
     clear(this.values);
     for (const v of valuesAt(r, this.scan)) {

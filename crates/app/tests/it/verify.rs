@@ -104,6 +104,7 @@ async fn the_studio_decides_properties_replays_counterexamples_and_runs_tables_w
     let bad = cx["violating_scan"].as_u64().expect("violating_scan") as usize;
     assert_eq!(scans.len(), p["depth"].as_u64().expect("depth") as usize);
     assert_eq!(bad, scans.len() - 1);
+    assert_eq!(cx["first_scan"], 0, "a short run keeps every scan");
     // The violation is at the violating scan and not before: the lamp lights 5 s after Start.
     assert_eq!(scans[bad]["values"][lamp], "1", "{}", scans[bad]);
     assert!(scans[..bad].iter().all(|s| s["values"][lamp] == "0"));
