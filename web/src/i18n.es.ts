@@ -618,4 +618,5 @@ export const es: Record<string, string> = {
   'refuted': 'refutada',
   'scan {k} of {n}, {t} ms': 'ciclo {k} de {n}, {t} ms',
   'the property fails here': 'aquí falla la propiedad',
+  'reached here': 'alcanzada aquí',
 };

@@ -35,6 +35,8 @@ export class VerifyTab {
   private tested: TestsReply | null = null;
   private replay: Replay | null = null;
   private replayOf = '';
+  /** The open replay is a witness (the expression becomes true at its last scan), not a counterexample. */
+  private witness = false;
   private scan = 0;
   private ladders: Drawn[] | null = null;
   private readonly runBtn = h('button', { class: 'primary', 'data-testid': 'verify-run' }, tr('Run properties'));
@@ -175,6 +177,7 @@ export class VerifyTab {
     if (!r) return;
     this.replay = r;
     this.replayOf = p.name;
+    this.witness = !p.counterexample;
     this.replayBox.hidden = false;
     const title = this.replayBox.querySelector('h2');
     if (title) title.textContent = p.counterexample ? tr('Counterexample of “{name}”', { name: p.name }) : tr('Witness of “{name}”', { name: p.name });
@@ -191,9 +194,9 @@ export class VerifyTab {
     this.slider.value = String(this.scan);
     const t = r.scans[this.scan]?.time_ms ?? 0;
     const bad = this.scan === r.violating_scan;
-    this.replayBox.classList.toggle('violation', bad);
+    this.replayBox.classList.toggle('violation', bad && !this.witness);
     this.scanLabel.textContent =
-      tr('scan {k} of {n}, {t} ms', { k: r.first_scan + this.scan + 1, n: r.first_scan + r.scans.length, t }) + (bad ? ` — ${tr('the property fails here')}` : '');
+      tr('scan {k} of {n}, {t} ms', { k: r.first_scan + this.scan + 1, n: r.first_scan + r.scans.length, t }) + (bad ? ` — ${this.witness ? tr('reached here') : tr('the property fails here')}` : '');
     this.scanLabel.dataset.violation = String(bad);
     clear(this.values);
     for (const v of valuesAt(r, this.scan)) {
