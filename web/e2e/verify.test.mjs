@@ -7,6 +7,7 @@
 //   coil energised on the ladder and Lamp = 1;
 // - the step buttons and the slider move through the scans: one scan before,
 //   the lamp is off and its coil unpowered; the first scan is scan 1;
+// - a reachable property's witness opens the same way, its last scan "reached";
 // - Run tests runs the example's stop-wins table (run-and-stop removed): it
 //   passes, and the coverage overlay marks the lamp's coil as never powered
 //   (the motor never runs in that table); unticked, the marks go.
@@ -25,6 +26,10 @@ never = "Stop AND Motor"
 [[property]]
 name = "the lamp never lights"
 never = "Lamp"
+
+[[property]]
+name = "the lamp lights"
+reachable = "Lamp"
 `;
 
 let alba, b;
@@ -92,6 +97,13 @@ test('a refuted property opens its counterexample on the ladder, stepped scan by
   assert.equal(await tid('replay-value-Motor').locator('td').nth(1).textContent(), '1', 'the motor runs while the delay times');
   await tid('replay-violation').click();
   assert.equal(await tid('replay-scan').getAttribute('data-violation'), 'true');
+
+  // A reachable property's witness opens the same way, its last scan reached, not failing.
+  assert.equal(await tid('property-2').getAttribute('data-result'), 'proved');
+  await tid('open-2').click();
+  assert.match(await tid('replay-scan').textContent(), /reached here$/);
+  assert.doesNotMatch(await tid('replay').getAttribute('class'), /violation/);
+  assert.equal(await tid('replay-value-Lamp').locator('td').nth(1).textContent(), '1');
 
   // The tables and the coverage overlay.
   await tid('tests-run').click();
