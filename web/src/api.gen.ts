@@ -683,3 +683,92 @@ program: string | null,
  * In words.
  */
 message: string, };
+
+export type StimulusRow = { time_ms: number, tag: string, value: string, };
+
+export type ReplayScan = { time_ms: number, 
+/**
+ * Parallel to [`Replay::tags`].
+ */
+values: Array<string>, 
+/**
+ * Program elements (the power-flow ids of `/api/ws`) energised at the end of the scan.
+ */
+on: Array<number>, };
+
+export type Replay = { 
+/**
+ * The stimulus file's rows.
+ */
+rows: Array<StimulusRow>, 
+/**
+ * The scan (0-based, in `scans`) where the property fails (a witness: holds).
+ */
+violating_scan: number, 
+/**
+ * The number (0-based) of `scans[0]` in the whole run: a long one keeps only its
+ * last 2 000 scans.
+ */
+first_scan: number, tags: Array<string>, scans: Array<ReplayScan>, };
+
+export type PropertyResult = { name: string, 
+/**
+ * `proved`, `refuted` or `unknown`.
+ */
+result: string, 
+/**
+ * Scans of the counterexample or witness, else the depth searched.
+ */
+depth: number, states: number, millis: number, 
+/**
+ * Why `unknown`.
+ */
+reason: string | null, 
+/**
+ * A refuted property's counterexample.
+ */
+counterexample: Replay | null, 
+/**
+ * A `reachable` property's witness.
+ */
+witness: Replay | null, };
+
+export type VerifyReply = { scan_ms: number, properties: Array<PropertyResult>, };
+
+export type TestCaseResult = { name: string, 
+/**
+ * `tests/<name>.test.csv`.
+ */
+file: string, 
+/**
+ * `passed`, `failed` or `error`.
+ */
+result: string, 
+/**
+ * Cells checked (passed tables).
+ */
+checks: number, 
+/**
+ * The first wrong cell (failed) or the error, in words.
+ */
+message: string | null, 
+/**
+ * The failing cell's line in the table.
+ */
+line: number | null, scans: number, millis: number, };
+
+export type ProgramCoverage = { program: string, 
+/**
+ * Its elements (power-flow ids), and those that ever carried power.
+ */
+elements: Array<number>, powered: Array<number>, 
+/**
+ * Elements that always had power (never switched off).
+ */
+always: Array<number>, };
+
+export type TestsReply = { tests: Array<TestCaseResult>, passed: number, failed: number, rungs: number, rungs_powered: number, branches: number, branches_powered: number, instructions: number, switched: number, 
+/**
+ * Rungs never powered and instructions never switched, as `alba test` prints them.
+ */
+rungs_never: Array<string>, never_switched: Array<string>, coverage: Array<ProgramCoverage>, };

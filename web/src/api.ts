@@ -1,6 +1,6 @@
 // The HTTP API of docs/api.md. Every failure becomes an ApiError carrying the
 // status and the server's `{"error", "diagnostics"?}` body.
-import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, Verified } from './api.gen';
+import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, TestsReply, Verified, VerifyReply } from './api.gen';
 import type { Domain } from './domain';
 import type { Alarm, AlarmStats, Diagnostic, Force, History, HistoryNodes, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
@@ -186,6 +186,10 @@ export const api = {
     ),
   /** GET /api/hardware: the board, its pin map, the machine's serial ports, recent jobs (docs/api.md "Hardware"). */
   hardware: () => json<HardwareView>('GET', '/api/hardware'),
+  /** POST /api/verify: the saved project's properties decided, counterexamples replayed (docs/verify.md "In the studio"). */
+  verify: (property?: string) => json<VerifyReply>('POST', '/api/verify', property ? { property } : {}),
+  /** POST /api/tests: the test tables run, with coverage. */
+  runTests: () => json<TestsReply>('POST', '/api/tests', {}),
   /** PUT /api/hardware/board: `[board]` saved into alba.toml (422 with the diagnostics when it does not check). */
   saveBoard: (body: Record<string, unknown>) => json<HardwareView>('PUT', '/api/hardware/board', body),
   hardwareBuild: (board: string, kind: string) => json<BuildSizes>('POST', '/api/hardware/build', { board, kind }),

@@ -16,6 +16,7 @@ import { LiveClient } from './live/client';
 import { boot, loginText, setNextLoginMessage, showLogin, untilReachable } from './login';
 import { ScreensView } from './hmi/view';
 import { HardwareTab } from './hardware/view';
+import { VerifyTab } from './verify/view';
 import { TagsView } from './tags/view';
 import { TrendsView } from './trends/view';
 import type { ProgramRef } from './types';
@@ -257,6 +258,7 @@ async function start(me: Me): Promise<void> {
   views.set('screens', { label: tr('Screens'), testid: 'tab-screens', make: () => new ScreensView(ctx) });
   views.set('alarms', { label: tr('Alarms'), testid: 'tab-alarms', make: () => new AlarmsView(ctx) });
   views.set('hardware', { label: tr('Hardware'), testid: 'tab-hardware', make: () => new HardwareTab(ctx) });
+  views.set('verify', { label: tr('Verify & Test'), testid: 'tab-verify', make: () => new VerifyTab(ctx) });
   // made at once: its pens record in the background from the start
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });

@@ -27,6 +27,7 @@ mod opcua;
 pub mod serve;
 pub mod tls;
 mod users;
+pub mod verify;
 
 use alba_project::config::Config;
 use alba_server::AppState;
@@ -249,6 +250,7 @@ pub async fn run(
         let _ = state.connections.set(Arc::new(connections::All(links)));
     }
     let _ = state.hardware.set(Arc::new(hardware::Service::new(dir)));
+    let _ = state.verifier.set(Arc::new(verify::Service::new(dir)));
     edits::start(&service);
     audit::start(&service, guard.clone());
     alarms::start(&service, alarm_defs, guard).map_err(RunError::Other)?;

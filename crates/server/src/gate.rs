@@ -81,6 +81,8 @@ pub async fn timeout(State(st): State<Arc<AppState>>, req: Request, next: Next) 
     // bounded by the toolchain, not by the request timeout.
     let limit = if req.uri().path() == "/api/hardware/build" {
         st.request_timeout.max(crate::BUILD_TIMEOUT)
+    } else if matches!(req.uri().path(), "/api/verify" | "/api/tests") {
+        st.request_timeout.max(crate::verify::VERIFY_TIMEOUT)
     } else {
         st.request_timeout
     };

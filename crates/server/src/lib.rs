@@ -33,6 +33,7 @@ pub mod project;
 pub mod reply;
 mod state;
 pub mod tags;
+pub mod verify;
 mod ws;
 
 pub use alba_control::now_ms;
@@ -91,6 +92,9 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
+    // Proofs and test tables: seconds of CPU, like a net analysis.
+    ("POST", "/api/verify", Needs(Role::Engineer)),
+    ("POST", "/api/tests", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -152,6 +156,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
+        .route("/api/verify", post(api::verify::verify))
+        .route("/api/tests", post(api::verify::tests))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)

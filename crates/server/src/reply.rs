@@ -833,6 +833,112 @@ pub struct TrendPen {
     pub max: Option<f64>,
 }
 
+// The Verify & Test page (`POST /api/verify`, `POST /api/tests`; crate::verify).
+
+/// One row of a counterexample or witness stimulus (`time_ms,tag,value`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct StimulusRow {
+    pub time_ms: u64,
+    pub tag: String,
+    pub value: String,
+}
+
+/// One scan of a replay.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct ReplayScan {
+    pub time_ms: u64,
+    /// Parallel to [`Replay::tags`].
+    pub values: Vec<String>,
+    /// Program elements (the power-flow ids of `/api/ws`) energised at the end of the scan.
+    pub on: Vec<u32>,
+}
+
+/// A counterexample (or witness) replayed through the engine as `alba sim` replays it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct Replay {
+    /// The stimulus file's rows.
+    pub rows: Vec<StimulusRow>,
+    /// The scan (0-based, in `scans`) where the property fails (a witness: holds).
+    pub violating_scan: u32,
+    /// The number (0-based) of `scans[0]` in the whole run: a long one keeps only its
+    /// last 2 000 scans.
+    pub first_scan: u32,
+    pub tags: Vec<String>,
+    pub scans: Vec<ReplayScan>,
+}
+
+/// `POST /api/verify`: one property's answer.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct PropertyResult {
+    pub name: String,
+    /// `proved`, `refuted` or `unknown`.
+    pub result: String,
+    /// Scans of the counterexample or witness, else the depth searched.
+    pub depth: u32,
+    pub states: u64,
+    pub millis: u64,
+    /// Why `unknown`.
+    pub reason: Option<String>,
+    /// A refuted property's counterexample.
+    pub counterexample: Option<Replay>,
+    /// A `reachable` property's witness.
+    pub witness: Option<Replay>,
+}
+
+/// `POST /api/verify`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct VerifyReply {
+    pub scan_ms: u32,
+    pub properties: Vec<PropertyResult>,
+}
+
+/// `POST /api/tests`: one table's result.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct TestCaseResult {
+    pub name: String,
+    /// `tests/<name>.test.csv`.
+    pub file: String,
+    /// `passed`, `failed` or `error`.
+    pub result: String,
+    /// Cells checked (passed tables).
+    pub checks: u64,
+    /// The first wrong cell (failed) or the error, in words.
+    pub message: Option<String>,
+    /// The failing cell's line in the table.
+    pub line: Option<u64>,
+    pub scans: u64,
+    pub millis: u64,
+}
+
+/// Coverage of one program by all the tables together.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct ProgramCoverage {
+    pub program: String,
+    /// Its elements (power-flow ids), and those that ever carried power.
+    pub elements: Vec<u32>,
+    pub powered: Vec<u32>,
+    /// Elements that always had power (never switched off).
+    pub always: Vec<u32>,
+}
+
+/// `POST /api/tests`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct TestsReply {
+    pub tests: Vec<TestCaseResult>,
+    pub passed: u64,
+    pub failed: u64,
+    pub rungs: u64,
+    pub rungs_powered: u64,
+    pub branches: u64,
+    pub branches_powered: u64,
+    pub instructions: u64,
+    pub switched: u64,
+    /// Rungs never powered and instructions never switched, as `alba test` prints them.
+    pub rungs_never: Vec<String>,
+    pub never_switched: Vec<String>,
+    pub coverage: Vec<ProgramCoverage>,
+}
+
 /// The TypeScript of every reply type, as `web/src/api.gen.ts` holds it.
 pub fn typescript() -> String {
     let cfg = ts_rs::Config::new().with_large_int("number");
@@ -921,6 +1027,14 @@ pub fn typescript() -> String {
         JobStarted,
         Verified,
         BoardIdentity,
+        StimulusRow,
+        ReplayScan,
+        Replay,
+        PropertyResult,
+        VerifyReply,
+        TestCaseResult,
+        ProgramCoverage,
+        TestsReply,
     );
     out
 }

@@ -52,6 +52,9 @@ pub struct AppState {
     /// The board, its ports, firmware builds and downloads (`/api/hardware`),
     /// set by alba-app before serving; unset: `/api/hardware` answers 404.
     pub hardware: std::sync::OnceLock<Arc<dyn crate::hardware::Hardware>>,
+    /// The project's proofs and test tables (`/api/verify`, `/api/tests`),
+    /// set by alba-app before serving; unset: those routes answer 404.
+    pub verifier: std::sync::OnceLock<Arc<dyn crate::verify::Verifier>>,
     /// The studio is served over HTTPS (set by alba-app before serving;
     /// session cookies are then `Secure`).
     pub https: std::sync::atomic::AtomicBool,
@@ -95,6 +98,7 @@ impl AppState {
             auth,
             connections: std::sync::OnceLock::new(),
             hardware: std::sync::OnceLock::new(),
+            verifier: std::sync::OnceLock::new(),
             https: std::sync::atomic::AtomicBool::new(false),
             max_ws_clients: http.max_ws_clients as usize,
             request_timeout: std::time::Duration::from_secs(u64::from(http.request_timeout_s)),

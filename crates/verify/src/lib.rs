@@ -7,6 +7,8 @@
 //!   (one semantics), with time and counters abstracted only where exact
 //!   (ADR 0015).
 //! * [`project`] does it for a project folder (what `alba verify` runs).
+//! * [`trace`] replays a counterexample scan by scan (values, power flow) for
+//!   the studio's time slider.
 //! * [`table`] runs `tests/*.test.csv` tables on the engine, with rung and
 //!   instruction coverage from the engine's power flow and JUnit XML.
 
@@ -15,3 +17,4 @@ pub mod expr;
 pub mod project;
 pub mod props;
 pub mod table;
+pub mod trace;

@@ -1,6 +1,6 @@
 //! `alba verify` on a project folder: compile, read properties.toml, decide
 //! each property, write counterexamples and witnesses. Shared by the command
-//! line and (later) the studio, which only present the [`Report`]s.
+//! line and the studio (crates/app/src/verify.rs), which only present the [`Report`]s.
 
 use crate::explore::{self, Budget, Model, Outcome};
 use crate::props::{self, Kind};

@@ -4,6 +4,7 @@ mod doors;
 mod hardware;
 mod opcua_client;
 mod store;
+mod verify;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;

@@ -18,6 +18,7 @@ pub mod status;
 pub mod stream;
 pub mod tags;
 pub mod trends;
+pub mod verify;
 
 use crate::error::ApiError;
 use axum::extract::rejection::JsonRejection;

@@ -94,7 +94,7 @@ struct Job {
 /// The analysis thread's scheduling: SCHED_BATCH at nice 19, the least share of
 /// the CPU that still makes progress on a busy machine (SCHED_IDLE could starve it
 /// for ever, and a starved analysis cannot even see that it was cancelled).
-fn lowest_priority() {
+pub(crate) fn lowest_priority() {
     use thread_priority::{
         NormalThreadSchedulePolicy, ThreadPriority, ThreadSchedulePolicy, set_thread_priority_and_policy,
         thread_native_id,

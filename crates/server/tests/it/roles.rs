@@ -427,6 +427,9 @@ async fn every_route_answers_each_role_as_the_table_says() {
             e,
             404,
         ),
+        // No verification service either (alba-app sets it): the handler's 404.
+        row(Method::POST, "/api/verify", "/api/verify", j(json!({})), e, 404),
+        row(Method::POST, "/api/tests", "/api/tests", j(json!({})), e, 404),
         row(
             Method::POST,
             "/api/hardware/verify",
