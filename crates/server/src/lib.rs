@@ -41,8 +41,8 @@ pub use error::ApiError;
 pub use state::{AppState, Edited};
 
 use api::{
-    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, opcua, programs, screens, session, status,
-    trends,
+    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, opcua, programs, recipes, screens, session,
+    status, trends,
 };
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
@@ -91,6 +91,9 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
+    // Recipes: saved by those who edit the project, applied by operators.
+    ("PUT", "/api/recipes/{name}", Needs(Role::Engineer)),
+    ("POST", "/api/recipes/{name}/apply", Needs(Role::Operator)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -105,6 +108,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/screens/{name}", get(screens::get).put(screens::put))
         .route("/api/screens/{name}/check", post(screens::check_screen))
         .route("/api/symbols/{name}", get(screens::get_symbol).put(screens::put_symbol))
+        .route("/api/recipes/{name}", get(recipes::get).put(recipes::put))
         .layer(DefaultBodyLimit::max(FILE_BODY));
     Router::new()
         .route("/api/login", post(session::login))
@@ -152,6 +156,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
+        .route("/api/recipes", get(recipes::list))
+        .route("/api/recipes/{name}/apply", post(recipes::apply))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)

@@ -12,6 +12,7 @@ pub mod nets;
 pub mod opcua;
 pub mod pid;
 pub mod programs;
+pub mod recipes;
 pub mod screens;
 pub mod session;
 pub mod status;

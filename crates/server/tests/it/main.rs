@@ -10,6 +10,7 @@ mod guard;
 mod history;
 mod limits;
 pub mod nets;
+mod recipes;
 mod roles;
 mod scale;
 mod screens;

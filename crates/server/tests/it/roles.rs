@@ -204,6 +204,9 @@ async fn every_route_answers_each_role_as_the_table_says() {
             .expect("tags.csv");
         (res.status(), res.text().await.expect("csv"))
     };
+    // A recipe for those who may read or apply it before an engineer saves one.
+    std::fs::create_dir_all(s.dir.join("recipes")).expect("recipes/");
+    std::fs::write(s.dir.join("recipes/r1.csv"), "tag,value\nLlenar,true\n").expect("r1.csv");
     let v = Some(Role::Viewer);
     let o = Some(Role::Operator);
     let e = Some(Role::Engineer);
@@ -296,6 +299,24 @@ async fn every_route_answers_each_role_as_the_table_says() {
             200,
         ),
         row(Method::GET, "/api/symbols", "/api/symbols", None, v, 200),
+        row(
+            Method::PUT,
+            "/api/recipes/{name}",
+            "/api/recipes/r1",
+            Some(Body::Text("tag,value\nLlenar,true\n".into())),
+            e,
+            200,
+        ),
+        row(Method::GET, "/api/recipes", "/api/recipes", None, v, 200),
+        row(Method::GET, "/api/recipes/{name}", "/api/recipes/r1", None, v, 200),
+        row(
+            Method::POST,
+            "/api/recipes/{name}/apply",
+            "/api/recipes/r1/apply",
+            None,
+            o,
+            200,
+        ),
         // (the tank has no PID loop: a well-formed request for a number is 422)
         row(
             Method::POST,
