@@ -165,7 +165,10 @@ pub(crate) fn secure(h: &mut HeaderMap, host: Option<&HeaderValue>) {
         "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; \
          connect-src {connect}; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'"
     );
-    if let Ok(v) = HeaderValue::from_str(&csp) {
+    // A handler's own policy stands (`GET /api/assets/{name}`: a stricter one).
+    if let Ok(v) = HeaderValue::from_str(&csp)
+        && !h.contains_key(header::CONTENT_SECURITY_POLICY)
+    {
         h.insert(header::CONTENT_SECURITY_POLICY, v);
     }
     h.insert(header::X_CONTENT_TYPE_OPTIONS, HeaderValue::from_static("nosniff"));

@@ -41,8 +41,8 @@ pub use error::ApiError;
 pub use state::{AppState, Edited};
 
 use api::{
-    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, opcua, programs, recipes, screens, session,
-    status, trends,
+    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, images, nets, opcua, programs, recipes, screens,
+    session, status, trends,
 };
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
@@ -91,6 +91,8 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
+    // Images of the screens (hmi/assets/).
+    ("PUT", "/api/assets/{name}", Needs(Role::Engineer)),
     // Recipes: saved by those who edit the project, applied by operators.
     ("PUT", "/api/recipes/{name}", Needs(Role::Engineer)),
     ("POST", "/api/recipes/{name}/apply", Needs(Role::Operator)),
@@ -110,6 +112,9 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/symbols/{name}", get(screens::get_symbol).put(screens::put_symbol))
         .route("/api/recipes/{name}", get(recipes::get).put(recipes::put))
         .layer(DefaultBodyLimit::max(FILE_BODY));
+    let images = Router::new()
+        .route("/api/assets/{name}", get(images::get).put(images::put))
+        .layer(DefaultBodyLimit::max(images::ASSET_BODY));
     Router::new()
         .route("/api/login", post(session::login))
         .route("/api/logout", post(session::logout))
@@ -157,10 +162,12 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
         .route("/api/recipes", get(recipes::list))
+        .route("/api/assets", get(images::list))
         .route("/api/recipes/{name}/apply", post(recipes::apply))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
+        .merge(images)
         .fallback(assets::serve)
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::session))
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::timeout))

@@ -8,6 +8,7 @@ pub mod domain;
 pub mod forces;
 pub mod hardware;
 pub mod history;
+pub mod images;
 pub mod nets;
 pub mod opcua;
 pub mod pid;

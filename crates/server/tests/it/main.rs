@@ -2,6 +2,7 @@
 //! copy of an example project.
 
 mod api;
+mod assets;
 mod audit;
 mod contract;
 mod domain;

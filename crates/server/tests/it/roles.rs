@@ -103,6 +103,7 @@ async fn call(s: &Server, who: &Caller, method: Method, path: &str, body: Option
     req = match body {
         Some(Body::Json(j)) => req.json(j),
         Some(Body::Text(t)) => req.header("content-type", "text/csv").body(t.clone()),
+        Some(Body::Svg(t)) => req.header("content-type", "image/svg+xml").body(t.clone()),
         // State-changing requests carry JSON, even an empty object.
         None if method_changes => req.json(&json!({})),
         None => req,
@@ -143,6 +144,7 @@ async fn ws_handshake(s: &Server, who: &Caller) -> u16 {
 enum Body {
     Json(Json),
     Text(String),
+    Svg(String),
 }
 
 /// A row's status when allowed is the handler's, whatever it is (the
@@ -308,6 +310,16 @@ async fn every_route_answers_each_role_as_the_table_says() {
             200,
         ),
         row(Method::GET, "/api/recipes", "/api/recipes", None, v, 200),
+        row(
+            Method::PUT,
+            "/api/assets/{name}",
+            "/api/assets/a.svg",
+            Some(Body::Svg("<svg xmlns=\"http://www.w3.org/2000/svg\"/>".into())),
+            e,
+            200,
+        ),
+        row(Method::GET, "/api/assets", "/api/assets", None, v, 200),
+        row(Method::GET, "/api/assets/{name}", "/api/assets/none.png", None, v, 404),
         row(Method::GET, "/api/recipes/{name}", "/api/recipes/r1", None, v, 200),
         row(
             Method::POST,
