@@ -32,7 +32,7 @@ pub mod runtime {
 
 /// The audit trail's types: the rows the doors read back and export.
 pub mod audit {
-    pub use alba_audit::{Action, Audit, Begun, Entry, Error, Filter, Outcome, Result, Row, diff};
+    pub use alba_audit::{Action, Audit, Begun, Entry, Error, Filter, Outcome, Result, Row, diff, format_utc};
 }
 
 /// The historian's read side, for the doors that serve history (the HTTP

@@ -41,8 +41,8 @@ pub use error::ApiError;
 pub use state::{AppState, Edited};
 
 use api::{
-    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, images, nets, opcua, programs, recipes, screens,
-    session, status, trends,
+    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, images, nets, opcua, programs, recipes, reports,
+    screens, session, status, trends,
 };
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
@@ -163,6 +163,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
         .route("/api/recipes", get(recipes::list))
         .route("/api/assets", get(images::list))
+        .route("/api/reports/shift.xlsx", get(reports::xlsx))
+        .route("/api/reports/shift.pdf", get(reports::pdf))
         .route("/api/recipes/{name}/apply", post(recipes::apply))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))

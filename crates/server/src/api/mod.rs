@@ -14,6 +14,7 @@ pub mod opcua;
 pub mod pid;
 pub mod programs;
 pub mod recipes;
+pub mod reports;
 pub mod screens;
 pub mod session;
 pub mod status;

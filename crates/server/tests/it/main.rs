@@ -12,6 +12,7 @@ mod history;
 mod limits;
 pub mod nets;
 mod recipes;
+mod reports;
 mod roles;
 mod scale;
 mod screens;

@@ -311,6 +311,22 @@ async fn every_route_answers_each_role_as_the_table_says() {
         ),
         row(Method::GET, "/api/recipes", "/api/recipes", None, v, 200),
         row(
+            Method::GET,
+            "/api/reports/shift.xlsx",
+            "/api/reports/shift.xlsx?from=0&to=600000",
+            None,
+            v,
+            200,
+        ),
+        row(
+            Method::GET,
+            "/api/reports/shift.pdf",
+            "/api/reports/shift.pdf?from=0&to=600000",
+            None,
+            v,
+            200,
+        ),
+        row(
             Method::PUT,
             "/api/assets/{name}",
             "/api/assets/a.svg",
