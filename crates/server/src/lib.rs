@@ -96,6 +96,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     // Recipes: saved by those who edit the project, applied by operators.
     ("PUT", "/api/recipes/{name}", Needs(Role::Engineer)),
     ("POST", "/api/recipes/{name}/apply", Needs(Role::Operator)),
+    ("POST", "/api/recipes/{name}/capture", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -166,6 +167,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/reports/shift.xlsx", get(reports::xlsx))
         .route("/api/reports/shift.pdf", get(reports::pdf))
         .route("/api/recipes/{name}/apply", post(recipes::apply))
+        .route("/api/recipes/{name}/capture", post(recipes::capture))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)

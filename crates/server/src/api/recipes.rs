@@ -5,7 +5,9 @@
 //! entries as a JSON object in file order (`Accept: text/csv`: the file);
 //! `PUT /api/recipes/{name}` (engineer) saves one from CSV (`text/csv`) or
 //! a JSON object `{tag: value}` atomically under its audit row
-//! (`save_recipe`); `POST /api/recipes/{name}/apply` (operator) writes every
+//! (`save_recipe`); `POST /api/recipes/{name}/capture` (engineer) saves the
+//! current values of the listed tags (or of the recipe's own) as the recipe;
+//! `POST /api/recipes/{name}/apply` (operator) writes every
 //! entry at one scan boundary through the control layer
 //! (`Control::write_rows`): every entry is checked first, and the first
 //! refused one is named in a 422 with nothing written.
@@ -266,14 +268,21 @@ pub async fn put(
     } else {
         parse_json(&text)?
     };
-    let path = file_of(&st.project.lock().await.project.dir, &name)?;
-    let csv = to_csv(&entries);
+    save(&st, &actor, &name, &entries, None).await?;
+    Ok(Json(json!({"name": name, "entries": entries.len()})))
+}
+
+/// Saves `entries` as recipe `name` atomically under its audit row (`save_recipe`).
+async fn save(st: &AppState, actor: &Actor, name: &str, entries: &Entries, detail: Option<&str>) -> ApiResult<()> {
+    let path = file_of(&st.project.lock().await.project.dir, name)?;
+    let csv = to_csv(entries);
     let entry = alba_control::audit::Entry {
         target: Some(format!("recipes/{name}.csv")),
-        new: Some(json_text(&as_object(&entries))),
+        new: Some(json_text(&as_object(entries))),
+        detail: detail.map(str::to_string),
         ..actor.entry(Action::SaveRecipe)
     };
-    audited(&st, entry, async {
+    audited(st, entry, async {
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir)
                 .map_err(|e| ApiError::Internal(format!("cannot create {}: {e}", dir.display())))?;
@@ -281,8 +290,53 @@ pub async fn put(
         alba_ir::model::fsutil::write_atomic(&path, |w| w.write_all(csv.as_bytes()))
             .map_err(|e| ApiError::Internal(format!("cannot save {}: {e}", path.display())))
     })
-    .await?;
-    Ok(Json(json!({"name": name, "entries": entries.len()})))
+    .await
+}
+
+/// Captures the current values (engineer): of the tags of the body's
+/// `{"tags": [...]}`, else of the recipe's own tags, saved as recipe
+/// `name` (`save_recipe`, detail `captured`) → `{"name", "entries", "values"}`.
+/// A tag that cannot be read is `422` naming its row, nothing saved.
+pub async fn capture(
+    State(st): State<Arc<AppState>>,
+    actor: Actor,
+    Path(name): Path<String>,
+    bytes: Result<Bytes, axum::extract::rejection::BytesRejection>,
+) -> ApiResult<Json<JsonValue>> {
+    let text = super::text_body(bytes, "the body")?;
+    let j: JsonValue = if text.trim().is_empty() {
+        JsonValue::Null
+    } else {
+        serde_json::from_str(&text).map_err(|e| ApiError::Malformed(format!("malformed JSON body: {e}")))?
+    };
+    let tags: Vec<String> = match j.get("tags") {
+        Some(JsonValue::Array(list)) => list
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let t = t
+                    .as_str()
+                    .ok_or_else(|| ApiError::Malformed(format!("`tags` row {}: a tag name is a string", i + 1)))?;
+                check_tag(i + 1, t)?;
+                Ok(t.to_string())
+            })
+            .collect::<ApiResult<_>>()?,
+        Some(_) => return Err(ApiError::Malformed("`tags` is a list of tag names".into())),
+        None => load(&st, &name).await?.into_iter().map(|(t, _)| t).collect(),
+    };
+    let mut entries: Entries = Vec::with_capacity(tags.len());
+    for (i, tag) in tags.into_iter().enumerate() {
+        let v = st
+            .control
+            .read(&tag)
+            .map_err(|r| ApiError::Invalid(format!("recipe `{name}` not captured: row {} (`{tag}`): {r}", i + 1)))?;
+        entries.push((tag, v));
+    }
+    let entries = finish(entries)?;
+    save(&st, &actor, &name, &entries, Some("captured")).await?;
+    Ok(Json(
+        json!({"name": name, "entries": entries.len(), "values": as_object(&entries)}),
+    ))
 }
 
 /// Writes every entry at one scan boundary (operator): `{"name",

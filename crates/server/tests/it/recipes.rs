@@ -127,3 +127,43 @@ async fn malformed_recipes_and_names_are_400_and_missing_ones_404() {
     assert_eq!(c, StatusCode::NOT_FOUND);
     s.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_recipe_is_captured_from_the_current_values() {
+    let s = tank("recipes-capture").await;
+    for (tag, v) in [("Setpoint", json!(321)), ("Mode", json!(true))] {
+        let (c, j) = s
+            .call(Method::PUT, &format!("/api/tags/{tag}"), Some(json!({"value": v})))
+            .await;
+        assert_eq!(c, StatusCode::OK, "{j}");
+    }
+    let (c, j) = s
+        .call(
+            Method::POST,
+            "/api/recipes/now/capture",
+            Some(json!({"tags": ["Setpoint", "Mode", "Ratio"]})),
+        )
+        .await;
+    assert_eq!(c, StatusCode::OK, "{j}");
+    assert_eq!(j["values"], json!({"Setpoint": 321, "Mode": true, "Ratio": 0.0}));
+    let file = std::fs::read_to_string(s.dir.join("recipes/now.csv")).expect("saved");
+    assert_eq!(file, "tag,value\nSetpoint,321\nMode,true\nRatio,0.0\n");
+    // Again from the recipe's own tags, after a change.
+    s.call(Method::PUT, "/api/tags/Setpoint", Some(json!({"value": 5})))
+        .await;
+    let (c, j) = s.call(Method::POST, "/api/recipes/now/capture", None).await;
+    assert_eq!(c, StatusCode::OK, "{j}");
+    assert_eq!(j["values"]["Setpoint"], json!(5));
+    // A tag that is not there: 422 naming it, nothing saved.
+    let (c, j) = s
+        .call(
+            Method::POST,
+            "/api/recipes/other/capture",
+            Some(json!({"tags": ["Mode", "Nope"]})),
+        )
+        .await;
+    assert_eq!(c, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    assert!(j["error"].as_str().expect("error").contains("row 2 (`Nope`)"), "{j}");
+    assert!(!s.dir.join("recipes/other.csv").exists());
+    s.stop().await;
+}

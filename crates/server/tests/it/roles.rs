@@ -339,6 +339,14 @@ async fn every_route_answers_each_role_as_the_table_says() {
         row(Method::GET, "/api/recipes/{name}", "/api/recipes/r1", None, v, 200),
         row(
             Method::POST,
+            "/api/recipes/{name}/capture",
+            "/api/recipes/r2/capture",
+            j(json!({"tags": ["Llenar"]})),
+            e,
+            200,
+        ),
+        row(
+            Method::POST,
             "/api/recipes/{name}/apply",
             "/api/recipes/r1/apply",
             None,
