@@ -18,8 +18,10 @@ use std::sync::Arc;
 
 /// The longest range one report covers (31 days).
 pub const MAX_RANGE_MS: i64 = 31 * 86_400_000;
-/// The most alarm events or samples of one tag one report reads.
-const MAX_ROWS: u64 = 2_000_000;
+/// The most alarm events one report reads (more: `422`, a shorter range).
+pub const MAX_EVENTS: u64 = 500_000;
+/// The most samples of one tag one report reads (more: `422`, a shorter range).
+pub const MAX_SAMPLES: usize = 2_000_000;
 
 /// A historised tag's statistics over the range (its samples).
 #[derive(Debug, Clone, PartialEq)]
@@ -67,19 +69,30 @@ pub async fn gather(st: &AppState, from: i64, to: i64) -> ApiResult<Report> {
     let (events, trends) = tokio::task::spawn_blocking(move || -> ApiResult<_> {
         let events = match log {
             Some(log) => log
-                .events(from, to, MAX_ROWS)
+                .events(from, to, MAX_EVENTS + 1)
                 .map_err(|e| ApiError::Internal(format!("the alarm log cannot be read: {e}")))?,
             None => Vec::new(),
         };
+        if events.len() as u64 > MAX_EVENTS {
+            return Err(ApiError::Invalid(format!(
+                "more than {MAX_EVENTS} alarm events in the range: ask for a shorter one"
+            )));
+        }
         let mut trends = Vec::new();
         if let Some(h) = history {
             for t in h.tags(None)? {
                 if t.last_ms < from || t.first_ms > to {
                     continue;
                 }
-                let points = h.raw(None, &t.name, from, to, MAX_ROWS as usize)?;
+                let points = h.raw(None, &t.name, from, to, MAX_SAMPLES + 1)?;
                 if points.is_empty() {
                     continue;
+                }
+                if points.len() > MAX_SAMPLES {
+                    return Err(ApiError::Invalid(format!(
+                        "more than {MAX_SAMPLES} samples of `{}` in the range: ask for a shorter one",
+                        t.name
+                    )));
                 }
                 let (mut min, mut max, mut sum) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
                 for p in &points {
