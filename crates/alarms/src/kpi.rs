@@ -167,7 +167,11 @@ pub fn kpis(events: &[Event], from_ms: i64, to_ms: i64) -> Kpis {
         .collect();
     // Priorities.
     let total = ann.len() as u64;
-    let band = |lo: u16, hi: u16| ann.iter().filter(|e| e.severity >= lo && e.severity < hi).count() as u64;
+    let band = |lo: u32, hi: u32| {
+        ann.iter()
+            .filter(|e| u32::from(e.severity) >= lo && u32::from(e.severity) < hi)
+            .count() as u64
+    };
     let pct = |c: u64| {
         if total == 0 {
             0.0
@@ -178,11 +182,11 @@ pub fn kpis(events: &[Event], from_ms: i64, to_ms: i64) -> Kpis {
     let priorities = [
         ("low", 0, 500, 80.0),
         ("medium", 500, 750, 15.0),
-        ("high", 750, u16::MAX, 5.0),
+        ("high", 750, u32::MAX, 5.0),
     ]
     .into_iter()
     .map(|(name, lo, hi, target)| {
-        let count = band(lo, hi) + if hi == u16::MAX { band(u16::MAX, u16::MAX) } else { 0 };
+        let count = band(lo, hi);
         Band {
             name,
             count,
@@ -240,7 +244,7 @@ mod tests {
         e.push(ev(701_000, "B", ActiveUnacked, ActiveAcked, 600));
         e.push(ev(702_000, "B", ActiveAcked, Normal, 600));
         e.push(ev(1_000_000, "B", Normal, ActiveUnacked, 600));
-        e.push(ev(1_300_000, "C", Normal, ActiveUnacked, 1000));
+        e.push(ev(1_300_000, "C", Normal, ActiveUnacked, u16::MAX));
         // Outside the range.
         e.push(ev(5_000_000, "D", Normal, ActiveUnacked, 100));
         let k = kpis(&e, 0, 1_800_000);
