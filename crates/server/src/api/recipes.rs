@@ -206,7 +206,8 @@ async fn load(st: &AppState, name: &str) -> ApiResult<Entries> {
         std::io::ErrorKind::NotFound => ApiError::NotFound(format!("no recipe `{name}`")),
         _ => ApiError::Internal(format!("cannot read {}: {e}", path.display())),
     })?;
-    parse_csv(&text).map_err(|e| ApiError::Internal(format!("{} does not read: {e}", path.display())))
+    // A file edited by hand that does not read: the recipe is refused, with its line.
+    parse_csv(&text).map_err(|e| ApiError::Invalid(format!("recipes/{name}.csv does not read: {e}")))
 }
 
 /// The recipes of the project, by name.

@@ -121,6 +121,18 @@ async fn malformed_recipes_and_names_are_400_and_missing_ones_404() {
         .call(Method::PUT, "/api/recipes/..%2Fx", Some(json!({"Mode": true})))
         .await;
     assert_eq!(c, StatusCode::BAD_REQUEST);
+    // Edited by hand into something that does not read: 422 with the line, nothing written.
+    std::fs::create_dir_all(s.dir.join("recipes")).expect("recipes/");
+    std::fs::write(s.dir.join("recipes/hand.csv"), "tag,value\nSetpoint,9\nMode\n").expect("hand.csv");
+    for (m, path) in [
+        (Method::GET, "/api/recipes/hand"),
+        (Method::POST, "/api/recipes/hand/apply"),
+    ] {
+        let (c, j) = s.call(m, path, None).await;
+        assert_eq!(c, StatusCode::UNPROCESSABLE_ENTITY, "{path}: {j}");
+        assert!(j["error"].as_str().expect("error").contains("line 3"), "{j}");
+    }
+    assert_eq!(s.value("Setpoint").await, json!(100));
     let (c, _) = s.call(Method::GET, "/api/recipes/none", None).await;
     assert_eq!(c, StatusCode::NOT_FOUND);
     let (c, _) = s.call(Method::POST, "/api/recipes/none/apply", None).await;
