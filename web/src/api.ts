@@ -156,6 +156,12 @@ export const api = {
   tagsCsv: async () => (await request('GET', '/api/tags.csv')).text(),
   saveTagsCsv: (text: string) => request('PUT', '/api/tags.csv', text, 'text/csv').then((r) => r.json()),
   trends: () => json<TrendSet>('GET', '/api/trends'),
+  recipes: () => json<string[]>('GET', '/api/recipes'),
+  /** A recipe's entries `{tag: value}`, in the file's order. */
+  recipe: (name: string) => json<Record<string, Json>>('GET', `/api/recipes/${enc(name)}`),
+  saveRecipe: (name: string, csv: string) => request('PUT', `/api/recipes/${enc(name)}`, csv, 'text/csv').then((r) => r.json()),
+  captureRecipe: (name: string, tags: string[]) => json<{ values: Record<string, Json> }>('POST', `/api/recipes/${enc(name)}/capture`, { tags }),
+  applyRecipe: (name: string) => json<{ name: string; written: number }>('POST', `/api/recipes/${enc(name)}/apply`),
   screens: () => json<string[]>('GET', '/api/screens'),
   screen: (name: string) => json<unknown>('GET', `/api/screens/${enc(name)}`),
   // pretty, so that a refusal's line and column point into a readable file

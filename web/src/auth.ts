@@ -31,9 +31,11 @@ export function roleName(role: Role): string {
  * - `ack`: acknowledge an alarm (POST /api/alarms/{id}/ack),
  * - `browse`: browse a remote OPC UA server (GET /api/opcua/{server}/browse),
  * - `hardware`: change the board, build firmware, download to a board (/api/hardware…),
+ * - `recipe`: save or capture a recipe (PUT /api/recipes/{name}),
+ * - `apply`: apply a recipe (POST /api/recipes/{name}/apply),
  * - `users`: manage users.
  */
-export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'browse' | 'hardware' | 'users';
+export type Action = 'write' | 'force' | 'edit' | 'tags' | 'runstop' | 'audit' | 'ack' | 'browse' | 'hardware' | 'recipe' | 'apply' | 'users';
 
 /** The route each action is (the server's role table decides its role). */
 const ROUTE: Record<Action, [method: string, route: string]> = {
@@ -46,6 +48,8 @@ const ROUTE: Record<Action, [method: string, route: string]> = {
   ack: ['POST', '/api/alarms/{id}/ack'],
   browse: ['GET', '/api/opcua/{server}/browse'],
   hardware: ['POST', '/api/hardware/download'],
+  recipe: ['PUT', '/api/recipes/{name}'],
+  apply: ['POST', '/api/recipes/{name}/apply'],
   // No route of its own yet: user management is `alba user` on the controller.
   users: ['POST', '/api/users'],
 };

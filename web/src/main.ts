@@ -23,6 +23,7 @@ import type { ProgramRef } from './types';
 import { freshness } from './live/freshness';
 import { AlarmBanner } from './ui/alarms';
 import { AlarmsView } from './ui/alarmsView';
+import { RecipesView } from './ui/recipesView';
 import { ForcesBanner, StaleBanner } from './ui/banners';
 import { confirmAction } from './ui/confirm';
 import { showCommands } from './ui/commands';
@@ -257,6 +258,7 @@ async function start(me: Me): Promise<void> {
   views.set('tags', { label: tr('Tags'), testid: 'tab-tags', make: () => new TagsView(ctx) });
   views.set('screens', { label: tr('Screens'), testid: 'tab-screens', make: () => new ScreensView(ctx) });
   views.set('alarms', { label: tr('Alarms'), testid: 'tab-alarms', make: () => new AlarmsView(ctx) });
+  views.set('recipes', { label: tr('Recipes'), testid: 'tab-recipes', make: () => new RecipesView(ctx) });
   views.set('hardware', { label: tr('Hardware'), testid: 'tab-hardware', make: () => new HardwareTab(ctx) });
   views.set('verify', { label: tr('Verify & Test'), testid: 'tab-verify', make: () => new VerifyTab(ctx) });
   // made at once: its pens record in the background from the start

@@ -1,6 +1,6 @@
 // The alarm log page (issue 17, item 7): the server's CSV parsed and filtered.
 import { describe, expect, it } from 'vitest';
-import { logRows, parseCsv } from '../src/ui/alarmLog';
+import { logRows, parseCsv, reportUrl } from '../src/ui/alarmLog';
 
 const CSV =
   'id,time_ms,time_utc,alarm,tag,from,to,value,severity,user,comment,message\r\n' +
@@ -24,5 +24,12 @@ describe('the alarm log', () => {
     expect(logRows(CSV, 'stop').map((r) => r.id)).toEqual(['3']);
     expect(logRows(CSV, 'active_acked').map((r) => [r.id, r.user, r.comment])).toEqual([['2', 'ana', 'said "ok"']]);
     expect(logRows('', 'x')).toEqual([]);
+  });
+
+  it('links the shift report of the range, or nothing for a range that is not one', () => {
+    expect(reportUrl('xlsx', 1000.4, 2000.2)).toBe('/api/reports/shift.xlsx?from=1000&to=2001');
+    expect(reportUrl('pdf', 5, 5)).toBe('/api/reports/shift.pdf?from=5&to=5');
+    expect(reportUrl('xlsx', NaN, 5)).toBeNull();
+    expect(reportUrl('xlsx', 10, 5)).toBeNull();
   });
 });

@@ -29,6 +29,8 @@ describe('roles and what they may do (the route table of docs/api.md)', () => {
     ack: ['operator', 'engineer', 'admin'],
     browse: ['engineer', 'admin'],
     hardware: ['engineer', 'admin'],
+    recipe: ['engineer', 'admin'],
+    apply: ['operator', 'engineer', 'admin'],
     users: ['admin'],
   };
   for (const [action, allowed] of Object.entries(table) as [Action, Role[]][]) {

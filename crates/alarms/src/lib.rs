@@ -5,6 +5,7 @@
 
 pub mod def;
 pub mod hub;
+pub mod kpi;
 pub mod log;
 pub mod state;
 

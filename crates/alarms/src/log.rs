@@ -266,6 +266,36 @@ fn load_states_on(conn: &Connection) -> Result<Vec<Persisted>, LogError> {
 }
 
 /// [`Log::export_csv`] on `conn`.
+fn events_on(conn: &Connection, from_ms: i64, to_ms: i64, limit: u64) -> Result<Vec<Event>, LogError> {
+    let mut stmt = conn.prepare_cached(
+        "SELECT t, alarm, tag, from_state, to_state, value, severity, user_name, comment, message
+             FROM events WHERE t >= ?1 AND t <= ?2 ORDER BY id LIMIT ?3",
+    )?;
+    let mut rows = stmt.query(params![from_ms, to_ms, i64::try_from(limit).unwrap_or(i64::MAX)])?;
+    let mut out = Vec::new();
+    while let Some(r) = rows.next()? {
+        let state = |i: usize| -> rusqlite::Result<crate::state::State> {
+            let s: String = r.get(i)?;
+            s.parse().map_err(|e: String| {
+                rusqlite::Error::FromSqlConversionFailure(i, rusqlite::types::Type::Text, e.into())
+            })
+        };
+        out.push(Event {
+            t_ms: r.get(0)?,
+            id: r.get(1)?,
+            tag: r.get(2)?,
+            from: state(3)?,
+            to: state(4)?,
+            value: r.get::<_, Option<f64>>(5)?.unwrap_or(f64::NAN),
+            severity: u16::try_from(r.get::<_, i64>(6)?).unwrap_or(u16::MAX),
+            user: r.get(7)?,
+            comment: r.get(8)?,
+            message: r.get(9)?,
+        });
+    }
+    Ok(out)
+}
+
 fn export_on<W: Write>(
     conn: &Connection,
     from_ms: Option<i64>,
@@ -402,6 +432,14 @@ impl Log {
         // Damage found while reading: the export is cut, the file moved aside and said so.
         self.checked(&mut conn, r)
     }
+    /// The events with `from_ms <= t <= to_ms`, oldest first, at most `limit`
+    /// (the shift report's KPIs, [`crate::kpi`]).
+    pub fn events(&self, from_ms: i64, to_ms: i64, limit: u64) -> Result<Vec<Event>, LogError> {
+        let mut conn = self.conn.lock().unwrap_or_else(PoisonError::into_inner);
+        let r = events_on(&conn, from_ms, to_ms, limit);
+        self.checked(&mut conn, r)
+    }
+
     /// Deletes events older than the retention (call at start and daily).
     pub fn apply_retention(&self, now_ms: i64) -> Result<u64, LogError> {
         let Some(days) = self.retention_days else {

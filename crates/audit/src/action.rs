@@ -77,6 +77,10 @@ actions! {
     SaveBoard = "save_board",
     /// The project's byte code downloaded to a board (target: the serial port).
     Download = "download",
+    /// A recipe saved (`recipes/<name>.csv`; new: its entries as a JSON object).
+    SaveRecipe = "save_recipe",
+    /// An image saved into the project (`hmi/assets/<name>`; detail: its type and size).
+    SaveAsset = "save_asset",
 }
 
 impl fmt::Display for Action {
@@ -142,7 +146,9 @@ mod tests {
                 "step",
                 "reset_marking",
                 "save_board",
-                "download"
+                "download",
+                "save_recipe",
+                "save_asset"
             ]
         );
     }

@@ -9,7 +9,7 @@ use alba_auth::Role;
 use serde_json::Value as Json;
 use std::sync::Arc;
 
-pub use alba_alarms::{ActionError, Alarm, Hub, HubError, Log, LogError, Request, Stats};
+pub use alba_alarms::{ActionError, Alarm, Hub, HubError, Log, LogError, Request, Stats, kpi};
 
 /// The role an action on an alarm needs (docs/security.md): an operator
 /// acknowledges and shelves, an engineer takes an alarm out of service.

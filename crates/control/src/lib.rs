@@ -21,7 +21,7 @@ mod refused;
 mod tests;
 
 pub use actor::{Actor, Via};
-pub use refused::Refused;
+pub use refused::{Refused, RowRefused};
 
 /// The runtime's types the doors name: its handle, snapshots, states,
 /// errors, and values as JSON.
@@ -32,7 +32,7 @@ pub mod runtime {
 
 /// The audit trail's types: the rows the doors read back and export.
 pub mod audit {
-    pub use alba_audit::{Action, Audit, Begun, Entry, Error, Filter, Outcome, Result, Row, diff};
+    pub use alba_audit::{Action, Audit, Begun, Entry, Error, Filter, Outcome, Result, Row, diff, format_utc};
 }
 
 /// The historian's read side, for the doors that serve history (the HTTP
@@ -234,25 +234,43 @@ impl Control {
     /// Writes several tags at the same scan boundary (all or none), under
     /// one audit row per tag written before any is applied.
     pub async fn write_many(&self, actor: &Actor, writes: &[(String, Json)]) -> Result<(), Refused> {
+        self.write_rows(actor, writes, None).await.map_err(|e| e.refused)
+    }
+
+    /// [`write_many`](Self::write_many) saying which write was refused
+    /// ([`RowRefused::row`]), each audit row with `detail` (a recipe
+    /// applied: `recipe <name>`). Every write is checked — role, name,
+    /// writability, type, range — before any row is written or any value
+    /// applied: a refusal writes nothing.
+    pub async fn write_rows(
+        &self,
+        actor: &Actor,
+        writes: &[(String, Json)],
+        detail: Option<&str>,
+    ) -> Result<(), RowRefused> {
         let s = self.runtime.snapshot();
         let mut checked = Vec::with_capacity(writes.len());
         let mut entries = Vec::with_capacity(writes.len());
-        for (name, value) in writes {
-            let (place, v) = self.check(&s, actor, name, value)?;
+        for (row, (name, value)) in writes.iter().enumerate() {
+            let (place, v) = self.check(&s, actor, name, value).map_err(|refused| RowRefused {
+                row: Some(row),
+                refused,
+            })?;
             checked.push((place, v));
             entries.push(Entry {
                 target: Some(name.clone()),
                 old: Some(json_text(&to_json(s.read(place)))),
                 new: Some(json_text(&to_json(v))),
+                detail: detail.map(str::to_string),
                 ..actor.entry(Action::Write)
             });
         }
-        let ids = self.begin_all(entries).await?;
+        let ids = self.begin_all(entries).await.map_err(RowRefused::from)?;
         let result = self.runtime.write_many(checked).await.map_err(Refused::from);
         for id in ids {
             self.finish(Some(id), &result).await;
         }
-        result
+        result.map_err(RowRefused::from)
     }
 
     /// Performs `action` under its audit row: the row first (the action is

@@ -54,3 +54,19 @@ pub enum Refused {
     #[error("{0}")]
     Internal(String),
 }
+
+/// A refusal of one of several writes done together
+/// ([`crate::Control::write_rows`]): which one (0-based; `None` when the
+/// refusal concerns them all: the audit trail, the runtime) and why.
+#[derive(Debug, thiserror::Error)]
+#[error("{refused}")]
+pub struct RowRefused {
+    pub row: Option<usize>,
+    pub refused: Refused,
+}
+
+impl From<Refused> for RowRefused {
+    fn from(refused: Refused) -> RowRefused {
+        RowRefused { row: None, refused }
+    }
+}

@@ -205,6 +205,40 @@ async fn write_many_is_all_or_nothing() {
     assert_eq!(p.control.read("Delay.PRE").expect("read"), json!(80));
 }
 
+/// A refusal of one write of several names it, and nothing is written or
+/// recorded; accepted, each write has its row with the detail given.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn write_rows_names_the_refused_row_and_records_each_write() {
+    let p = plc(true);
+    let writes = vec![
+        ("Speed".to_string(), json!(7)),
+        ("Delay.PRE".to_string(), json!(-5)),
+        ("Start".to_string(), json!(true)),
+    ];
+    let e = p
+        .control
+        .write_rows(&operator(Via::Http), &writes, Some("recipe r"))
+        .await
+        .expect_err("a negative preset is refused");
+    assert_eq!(e.row, Some(1), "{e:?}");
+    assert!(matches!(e.refused, Refused::OutOfRange(_)), "{e:?}");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(0));
+    assert!(rows(&p.control).is_empty(), "nothing recorded");
+    let writes = vec![("Speed".to_string(), json!(7)), ("Delay.PRE".to_string(), json!(90))];
+    p.control
+        .write_rows(&operator(Via::Http), &writes, Some("recipe r"))
+        .await
+        .expect("written");
+    assert_eq!(p.control.read("Speed").expect("read"), json!(7));
+    let r = rows(&p.control);
+    assert_eq!(r.len(), 2);
+    assert!(
+        r.iter()
+            .all(|r| r.action == "write" && r.detail.as_deref() == Some("recipe r")),
+        "{r:?}"
+    );
+}
+
 /// Writes by place of one peer to one tag within a second share a row;
 /// the rest are counted and recorded with the last value (docs/audit.md).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -14,7 +14,9 @@
 //! - State-changing requests carry `Content-Type: application/json` (even
 //!   when bodyless, as `POST /api/stop`): a page of another origin can only
 //!   send that after a CORS preflight, which this server never approves.
-//!   `PUT /api/tags.csv` may send `text/csv` (not CORS-safelisted either).
+//!   `PUT /api/tags.csv` and `PUT /api/recipes/{name}` may send `text/csv`,
+//!   `PUT /api/assets/{name}` an image type or `application/octet-stream`
+//!   (none CORS-safelisted either).
 //! - Every answer carries CSP, `X-Content-Type-Options`, `X-Frame-Options`
 //!   and `Referrer-Policy`.
 
@@ -103,8 +105,16 @@ impl Guard {
         if changes {
             let ctype = text(header::CONTENT_TYPE).unwrap_or("");
             let media = ctype.split(';').next().unwrap_or("").trim().to_ascii_lowercase();
-            let csv = *method == Method::PUT && path == "/api/tags.csv" && media == "text/csv";
-            if media != "application/json" && !csv {
+            let put = *method == Method::PUT;
+            let csv = put && media == "text/csv" && (path == "/api/tags.csv" || path.starts_with("/api/recipes/"));
+            // None of these is CORS-safelisted: another origin needs a preflight.
+            let image = put
+                && path.starts_with("/api/assets/")
+                && matches!(
+                    media.as_str(),
+                    "image/png" | "image/jpeg" | "image/gif" | "image/svg+xml" | "application/octet-stream"
+                );
+            if media != "application/json" && !csv && !image {
                 let what = if ctype.is_empty() {
                     "it has none".to_string()
                 } else {
@@ -155,7 +165,10 @@ pub(crate) fn secure(h: &mut HeaderMap, host: Option<&HeaderValue>) {
         "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; \
          connect-src {connect}; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'"
     );
-    if let Ok(v) = HeaderValue::from_str(&csp) {
+    // A handler's own policy stands (`GET /api/assets/{name}`: a stricter one).
+    if let Ok(v) = HeaderValue::from_str(&csp)
+        && !h.contains_key(header::CONTENT_SECURITY_POLICY)
+    {
         h.insert(header::CONTENT_SECURITY_POLICY, v);
     }
     h.insert(header::X_CONTENT_TYPE_OPTIONS, HeaderValue::from_static("nosniff"));

@@ -42,8 +42,8 @@ pub use error::ApiError;
 pub use state::{AppState, Edited};
 
 use api::{
-    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, nets, opcua, programs, screens, session, status,
-    trends,
+    FILE_BODY, SMALL_BODY, alarms, audit, domain, forces, history, images, nets, opcua, programs, recipes, reports,
+    screens, session, status, trends,
 };
 use auth::Access::{Public, Role as Needs};
 use axum::Router;
@@ -95,6 +95,12 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     // Proofs and test tables: seconds of CPU, like a net analysis.
     ("POST", "/api/verify", Needs(Role::Engineer)),
     ("POST", "/api/tests", Needs(Role::Engineer)),
+    // Images of the screens (hmi/assets/).
+    ("PUT", "/api/assets/{name}", Needs(Role::Engineer)),
+    // Recipes: saved by those who edit the project, applied by operators.
+    ("PUT", "/api/recipes/{name}", Needs(Role::Engineer)),
+    ("POST", "/api/recipes/{name}/apply", Needs(Role::Operator)),
+    ("POST", "/api/recipes/{name}/capture", Needs(Role::Engineer)),
     // Unknown endpoints: 404 for anyone logged in.
     ("*", "/api/{*rest}", Needs(Role::Viewer)),
 ];
@@ -109,7 +115,11 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/screens/{name}", get(screens::get).put(screens::put))
         .route("/api/screens/{name}/check", post(screens::check_screen))
         .route("/api/symbols/{name}", get(screens::get_symbol).put(screens::put_symbol))
+        .route("/api/recipes/{name}", get(recipes::get).put(recipes::put))
         .layer(DefaultBodyLimit::max(FILE_BODY));
+    let images = Router::new()
+        .route("/api/assets/{name}", get(images::get).put(images::put))
+        .layer(DefaultBodyLimit::max(images::ASSET_BODY));
     Router::new()
         .route("/api/login", post(session::login))
         .route("/api/logout", post(session::logout))
@@ -158,9 +168,16 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
         .route("/api/verify", post(api::verify::verify))
         .route("/api/tests", post(api::verify::tests))
+        .route("/api/recipes", get(recipes::list))
+        .route("/api/assets", get(images::list))
+        .route("/api/reports/shift.xlsx", get(reports::xlsx))
+        .route("/api/reports/shift.pdf", get(reports::pdf))
+        .route("/api/recipes/{name}/apply", post(recipes::apply))
+        .route("/api/recipes/{name}/capture", post(recipes::capture))
         .route("/api/{*rest}", any(api::fallback))
         .layer(DefaultBodyLimit::max(SMALL_BODY))
         .merge(files)
+        .merge(images)
         .fallback(assets::serve)
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::session))
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::timeout))

@@ -49,6 +49,15 @@ export function logRows(csv: string, filter: string): Record<string, string>[] {
     .filter((r) => !f || [r.alarm, r.tag, r.from, r.to, r.user, r.comment, r.message].join(' ').toLowerCase().includes(f));
 }
 
+/**
+ * The shift report of the range (GET /api/reports/shift.xlsx or .pdf): from the
+ * start, to the end or now; null without a start or with an end before it.
+ */
+export function reportUrl(ext: 'xlsx' | 'pdf', from: number, to: number): string | null {
+  if (!Number.isFinite(from) || !Number.isFinite(to) || to < from) return null;
+  return `/api/reports/shift.${ext}?from=${Math.floor(from)}&to=${Math.ceil(to)}`;
+}
+
 const local = (ms: number) => {
   const d = new Date(ms - new Date(ms).getTimezoneOffset() * 60_000);
   return d.toISOString().slice(0, 16);
@@ -80,9 +89,23 @@ export class AlarmLog {
     load.onclick = () => void this.load();
     const exp = h('button', { 'data-testid': 'alarm-log-export', title: tr('The whole range as CSV') }, tr('Export CSV'));
     exp.onclick = () => void this.export();
+    const report = (ext: 'xlsx' | 'pdf', label: string) => {
+      const a = h('a', { class: 'button', 'data-testid': `alarm-log-report-${ext}`, download: `shift-report.${ext}`, title: tr('Alarm KPIs (EEMUA 191) and trend statistics of the range') }, label);
+      // The range as it is when clicked (the end "now" moves).
+      a.addEventListener('click', (ev) => {
+        const ms = (i: HTMLInputElement) => (i.value ? new Date(i.value).getTime() : NaN);
+        const url = reportUrl(ext, ms(this.from), this.now.checked ? Date.now() : ms(this.to));
+        if (url) a.href = url;
+        else {
+          ev.preventDefault();
+          this.ctx.notify(tr('Choose a start before the end of the range'), 'error');
+        }
+      });
+      return a;
+    };
     this.filter.addEventListener('input', () => this.render());
     this.el = h('section', { class: 'alarm-log', 'data-testid': 'alarm-log' },
-      h('div', { class: 'toolbar' }, h('label', null, tr('From'), ' ', this.from), h('label', null, tr('To'), ' ', this.to), h('label', { title: tr('The range ends now and the page shows new events as they happen') }, this.now, tr('now')), load, this.filter, exp, this.count),
+      h('div', { class: 'toolbar' }, h('label', null, tr('From'), ' ', this.from), h('label', null, tr('To'), ' ', this.to), h('label', { title: tr('The range ends now and the page shows new events as they happen') }, this.now, tr('now')), load, this.filter, exp, report('xlsx', tr('Shift report (XLSX)')), report('pdf', tr('Shift report (PDF)')), this.count),
       h('table', { class: 'tags', 'data-testid': 'alarm-log-table' },
         h('thead', null, h('tr', null, [tr('Time'), tr('Alarm'), tr('Tag'), tr('From'), tr('To'), tr('Value'), tr('User'), tr('Comment')].map((c) => h('th', null, c)))),
         this.body));

@@ -2,6 +2,7 @@
 //! copy of an example project.
 
 mod api;
+mod assets;
 mod audit;
 mod contract;
 mod domain;
@@ -10,6 +11,8 @@ mod guard;
 mod history;
 mod limits;
 pub mod nets;
+mod recipes;
+mod reports;
 mod roles;
 mod scale;
 mod screens;

@@ -103,6 +103,7 @@ async fn call(s: &Server, who: &Caller, method: Method, path: &str, body: Option
     req = match body {
         Some(Body::Json(j)) => req.json(j),
         Some(Body::Text(t)) => req.header("content-type", "text/csv").body(t.clone()),
+        Some(Body::Svg(t)) => req.header("content-type", "image/svg+xml").body(t.clone()),
         // State-changing requests carry JSON, even an empty object.
         None if method_changes => req.json(&json!({})),
         None => req,
@@ -143,6 +144,7 @@ async fn ws_handshake(s: &Server, who: &Caller) -> u16 {
 enum Body {
     Json(Json),
     Text(String),
+    Svg(String),
 }
 
 /// A row's status when allowed is the handler's, whatever it is (the
@@ -204,6 +206,9 @@ async fn every_route_answers_each_role_as_the_table_says() {
             .expect("tags.csv");
         (res.status(), res.text().await.expect("csv"))
     };
+    // A recipe for those who may read or apply it before an engineer saves one.
+    std::fs::create_dir_all(s.dir.join("recipes")).expect("recipes/");
+    std::fs::write(s.dir.join("recipes/r1.csv"), "tag,value\nLlenar,true\n").expect("r1.csv");
     let v = Some(Role::Viewer);
     let o = Some(Role::Operator);
     let e = Some(Role::Engineer);
@@ -296,6 +301,58 @@ async fn every_route_answers_each_role_as_the_table_says() {
             200,
         ),
         row(Method::GET, "/api/symbols", "/api/symbols", None, v, 200),
+        row(
+            Method::PUT,
+            "/api/recipes/{name}",
+            "/api/recipes/r1",
+            Some(Body::Text("tag,value\nLlenar,true\n".into())),
+            e,
+            200,
+        ),
+        row(Method::GET, "/api/recipes", "/api/recipes", None, v, 200),
+        row(
+            Method::GET,
+            "/api/reports/shift.xlsx",
+            "/api/reports/shift.xlsx?from=0&to=600000",
+            None,
+            v,
+            200,
+        ),
+        row(
+            Method::GET,
+            "/api/reports/shift.pdf",
+            "/api/reports/shift.pdf?from=0&to=600000",
+            None,
+            v,
+            200,
+        ),
+        row(
+            Method::PUT,
+            "/api/assets/{name}",
+            "/api/assets/a.svg",
+            Some(Body::Svg("<svg xmlns=\"http://www.w3.org/2000/svg\"/>".into())),
+            e,
+            200,
+        ),
+        row(Method::GET, "/api/assets", "/api/assets", None, v, 200),
+        row(Method::GET, "/api/assets/{name}", "/api/assets/none.png", None, v, 404),
+        row(Method::GET, "/api/recipes/{name}", "/api/recipes/r1", None, v, 200),
+        row(
+            Method::POST,
+            "/api/recipes/{name}/capture",
+            "/api/recipes/r2/capture",
+            j(json!({"tags": ["Llenar"]})),
+            e,
+            200,
+        ),
+        row(
+            Method::POST,
+            "/api/recipes/{name}/apply",
+            "/api/recipes/r1/apply",
+            None,
+            o,
+            200,
+        ),
         // (the tank has no PID loop: a well-formed request for a number is 422)
         row(
             Method::POST,
