@@ -75,15 +75,15 @@ export class VerifyTab {
         step('▶|', 'replay-violation', tr('The violating scan'), () => (this.replay ? startScan(this.replay) : 0)),
         this.scanLabel),
       this.applied,
-      h('table', { class: 'replay-values' }, h('thead', null, h('tr', null, h('th', null, tr('Tag')), h('th', null, tr('Value')))), this.values));
+      h('table', { class: 'tags replay-values' }, h('thead', null, h('tr', null, h('th', null, tr('Tag')), h('th', null, tr('Value')))), this.values));
     this.el = h('section', { class: 'verify-view', 'data-testid': 'verify-view' },
       h('div', { class: 'toolbar' }, this.runBtn, this.testBtn, h('label', null, this.coverBox, ` ${tr('Coverage on the ladder')}`), this.busy),
       h('h2', null, tr('Properties')),
-      h('table', { class: 'verify-table' },
+      h('table', { class: 'tags verify-table' },
         h('thead', null, h('tr', null, h('th', null, tr('Property')), h('th', null, tr('Result')), h('th', null, tr('Depth (scans)')), h('th', null, tr('States')), h('th', null, tr('Time (ms)')), h('th', null, ''))),
         this.props),
       h('h2', null, tr('Tests')),
-      h('table', { class: 'verify-table' },
+      h('table', { class: 'tags verify-table' },
         h('thead', null, h('tr', null, h('th', null, tr('Table')), h('th', null, tr('Result')), h('th', null, tr('Checks')), h('th', null, tr('Scans')), h('th', null, ''))),
         this.tests),
       this.coverLine,
