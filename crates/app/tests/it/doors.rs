@@ -6,7 +6,7 @@
 //! async-opcua's client, Modbus TCP frames on a socket (as
 //! crates/modbus/tests do).
 
-use super::{free_port, options, serve};
+use super::{PASSWORD, free_port, options, serve};
 use opcua::client::{ClientBuilder, IdentityToken, Session};
 use opcua::crypto::SecurityPolicy;
 use opcua::types::{AttributeId, DataValue, MessageSecurityMode, NodeId, StatusCode, Variant, WriteValue};
@@ -15,8 +15,6 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
-
-const PASSWORD: &str = "a long test password 7";
 
 const TAGS: &str = "name,type,address,initial,retain,description\n\
 Start,BOOL,%IX0.0,,,\nMotor,BOOL,%QX0.0,,,\nSpeed,INT,,,,\nDelay,TIMER,,,,\n";
@@ -99,20 +97,7 @@ impl Plc {
     }
 
     async fn login(&self, user: &str) -> String {
-        let j: Json = self
-            .client
-            .post(format!("http://{}/api/login", self.http))
-            .json(&json!({"user": user, "password": PASSWORD}))
-            .send()
-            .await
-            .expect("login")
-            .json()
-            .await
-            .expect("login JSON");
-        j["token"]
-            .as_str()
-            .unwrap_or_else(|| panic!("login {user}: {j}"))
-            .to_string()
+        crate::login(&self.client, self.http, user).await
     }
 
     fn req(&self, m: reqwest::Method, path: &str, token: Option<&String>) -> reqwest::RequestBuilder {

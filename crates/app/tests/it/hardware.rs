@@ -5,7 +5,7 @@
 //! real time, its UART on a pty, as crates/cli/tests/it/download.rs runs it);
 //! each route refused to a viewer.
 
-use super::{options, serve};
+use super::{PASSWORD, options, serve};
 use alba_arduino::{interp, simavr};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value as Json, json};
@@ -13,8 +13,6 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
-
-const PASSWORD: &str = "a long test password 7";
 
 const TOML: &str = "# The start/stop circuit on a Nano.\nname = \"hw\"\nscan_ms = 10\nprograms = [\"main.lad\"]\n\n\
 # Wired as the course's board.\n[board]\nmodel = \"nano\"\npinmap = \"aurora\"\n";
@@ -67,20 +65,7 @@ impl Studio {
     }
 
     async fn login(&self, user: &str) -> String {
-        let j: Json = self
-            .client
-            .post(format!("http://{}/api/login", self.http))
-            .json(&json!({"user": user, "password": PASSWORD}))
-            .send()
-            .await
-            .expect("login")
-            .json()
-            .await
-            .expect("login JSON");
-        j["token"]
-            .as_str()
-            .unwrap_or_else(|| panic!("login {user}: {j}"))
-            .to_string()
+        crate::login(&self.client, self.http, user).await
     }
 
     /// `method path` with `body` as `token`: the status and the JSON reply.

@@ -32,6 +32,26 @@ fn free_port() -> u16 {
         .port()
 }
 
+/// The password of the test users (every role).
+const PASSWORD: &str = "a long test password 7";
+
+/// Signs `user` in over `http`: its session token.
+async fn login(client: &reqwest::Client, http: std::net::SocketAddr, user: &str) -> String {
+    let j: serde_json::Value = client
+        .post(format!("http://{http}/api/login"))
+        .json(&serde_json::json!({"user": user, "password": PASSWORD}))
+        .send()
+        .await
+        .expect("login")
+        .json()
+        .await
+        .expect("login JSON");
+    j["token"]
+        .as_str()
+        .unwrap_or_else(|| panic!("login {user}: {j}"))
+        .to_string()
+}
+
 fn options(io: &str) -> alba_app::Options {
     alba_app::Options {
         addr: "127.0.0.1:0".parse().expect("addr"),

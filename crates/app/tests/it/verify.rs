@@ -4,13 +4,11 @@
 //! the tables run with coverage; a viewer refused; a broken properties.toml
 //! answered 422 with its line.
 
-use super::{options, serve};
+use super::{PASSWORD, login, options, serve};
 use reqwest::StatusCode;
 use serde_json::{Value as Json, json};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-
-const PASSWORD: &str = "a long test password 7";
 
 const PROPERTIES: &str = "[[property]]\nname = \"stop wins\"\nnever = \"Stop AND Motor\"\n\n\
 [[property]]\nname = \"the lamp never lights\"\nnever = \"Lamp\"\n";
@@ -36,22 +34,6 @@ fn project(test: &str) -> PathBuf {
     }
     users.save(&dir).expect("users.toml");
     dir
-}
-
-async fn login(c: &reqwest::Client, http: std::net::SocketAddr, user: &str) -> String {
-    let j: Json = c
-        .post(format!("http://{http}/api/login"))
-        .json(&json!({"user": user, "password": PASSWORD}))
-        .send()
-        .await
-        .expect("login")
-        .json()
-        .await
-        .expect("login JSON");
-    j["token"]
-        .as_str()
-        .unwrap_or_else(|| panic!("login {user}: {j}"))
-        .to_string()
 }
 
 async fn post(c: &reqwest::Client, http: std::net::SocketAddr, path: &str, token: &str) -> (StatusCode, Json) {
