@@ -178,12 +178,13 @@ export class VerifyTab {
     this.replay = r;
     this.replayOf = p.name;
     this.witness = !p.counterexample;
-    this.replayBox.hidden = false;
     const title = this.replayBox.querySelector('h2');
     if (title) title.textContent = p.counterexample ? tr('Counterexample of “{name}”', { name: p.name }) : tr('Witness of “{name}”', { name: p.name });
     this.slider.max = String(Math.max(0, r.scans.length - 1));
     await this.drawLadders();
     this.go(startScan(r));
+    // shown once it shows this replay's scan (not the previous one's, nor none)
+    this.replayBox.hidden = false;
   }
 
   /** Shows scan `k` of the open replay. */
