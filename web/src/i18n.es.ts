@@ -165,7 +165,7 @@ export const es: Record<string, string> = {
   'Save the current values of these tags as the recipe': 'Guardar los valores actuales de estas variables como la receta',
   'Capture': 'Capturar',
   'Write every value at one scan, or none': 'Escribir todos los valores en un mismo ciclo, o ninguno',
-  'One `tag,value` per line.': 'Una línea `variable,valor` por entrada.',
+  'One tag,value pair per line.': 'Un par variable,valor por línea.',
   '(new recipe)': '(receta nueva)',
   'A recipe name is letters, digits, _ and - (at most 64)': 'El nombre de una receta lleva letras, dígitos, _ y - (64 como máximo)',
   'Saved': 'Guardada',

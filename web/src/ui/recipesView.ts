@@ -52,7 +52,7 @@ export class RecipesView {
     this.list.onchange = () => void this.open(this.list.value);
     this.el = h('section', { class: 'recipes-view', 'data-testid': 'recipes-view' },
       h('div', { class: 'toolbar' }, this.list, this.name, save, capture, apply, this.note),
-      h('p', { class: 'hint' }, tr('One `tag,value` per line.')),
+      h('p', { class: 'hint' }, tr('One tag,value pair per line.')),
       this.text);
   }
 
