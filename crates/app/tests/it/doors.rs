@@ -6,7 +6,7 @@
 //! async-opcua's client, Modbus TCP frames on a socket (as
 //! crates/modbus/tests do).
 
-use super::{PASSWORD, free_port, options, serve};
+use super::{PASSWORD, add_role_users, free_port, options, serve};
 use opcua::client::{ClientBuilder, IdentityToken, Session};
 use opcua::crypto::SecurityPolicy;
 use opcua::types::{AttributeId, DataValue, MessageSecurityMode, NodeId, StatusCode, Variant, WriteValue};
@@ -43,11 +43,7 @@ fn project(test: &str, name: &str, viewer: bool) -> PathBuf {
     std::fs::write(dir.join("main.lad"), LAD).expect("main.lad");
     if viewer {
         std::fs::write(dir.join("mqtt.pw"), PASSWORD).expect("mqtt.pw");
-        let mut users = alba_auth::Users::default();
-        for r in alba_auth::Role::ALL {
-            users.add(r.as_str(), r, PASSWORD).expect("add user");
-        }
-        users.save(&dir).expect("users.toml");
+        add_role_users(&dir);
     }
     dir
 }

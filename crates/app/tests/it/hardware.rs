@@ -5,7 +5,7 @@
 //! real time, its UART on a pty, as crates/cli/tests/it/download.rs runs it);
 //! each route refused to a viewer.
 
-use super::{PASSWORD, options, serve};
+use super::{add_role_users, options, serve};
 use alba_arduino::{interp, simavr};
 use reqwest::{Method, StatusCode};
 use serde_json::{Value as Json, json};
@@ -27,11 +27,7 @@ fn project(test: &str) -> PathBuf {
         std::fs::copy(src.join(f), dir.join(f)).expect("copy");
     }
     std::fs::write(dir.join("alba.toml"), TOML).expect("alba.toml");
-    let mut users = alba_auth::Users::default();
-    for r in alba_auth::Role::ALL {
-        users.add(r.as_str(), r, PASSWORD).expect("add user");
-    }
-    users.save(&dir).expect("users.toml");
+    add_role_users(&dir);
     dir
 }
 
@@ -93,6 +89,17 @@ impl Studio {
             .await;
         assert_eq!(s, StatusCode::OK, "{j}");
         j["rows"].as_array().unwrap_or_else(|| panic!("{j}")).clone()
+    }
+
+    /// `POST /api/hardware/{action}` `{"port"}` as the engineer.
+    async fn on_port(&self, action: &str, port: &str) -> (StatusCode, Json) {
+        self.call(
+            Method::POST,
+            &format!("/api/hardware/{action}"),
+            &self.engineer,
+            Some(json!({ "port": port })),
+        )
+        .await
     }
 
     /// Polls a job until it ends; every progress seen on the way.
@@ -379,14 +386,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     let mut board = Board::start(&s.dir);
 
     // Who is there, before anything is sent: the interpreter, no program yet.
-    let (st, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/identify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (st, j) = s.on_port("identify", &board.link).await;
     assert_eq!(st, StatusCode::OK, "{j}");
     assert_eq!(
         (j["known"].as_bool(), j["board"].as_str()),
@@ -395,14 +395,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     );
     assert_eq!(j["state"], "no_program", "{j}");
 
-    let (st, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/download",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (st, j) = s.on_port("download", &board.link).await;
     assert_eq!(st, StatusCode::OK, "{j}");
     let job = j["job"].as_str().expect("job").to_string();
     let (end, seen) = s.finish(&job).await;
@@ -415,14 +408,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
         "{msg}"
     );
     // The board says so itself: running, with the program the project encodes.
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/identify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("identify", &board.link).await;
     assert_eq!(j["state"], "running", "{j}");
     let c = alba_compiler::compile_dir(&s.dir);
     let t = alba_app::hardware::target(&c, None, None, true).expect("target");
@@ -430,14 +416,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     let bc = alba_arduino::bytecode::encode(&prog, "hw", &t).expect("byte code");
     assert_eq!(j["program"], format!("{:08x}", bc.program_id), "{j}");
     // Verify: the board's program read back is the project's.
-    let (st, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/verify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (st, j) = s.on_port("verify", &board.link).await;
     assert_eq!(st, StatusCode::OK, "{j}");
     assert_eq!(
         (j["same"].as_bool(), j["bytes"].as_u64()),
@@ -475,14 +454,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
         "{msg}"
     );
     // The board was not touched: it runs the program downloaded before.
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/identify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("identify", &board.link).await;
     assert_eq!(j["state"], "running", "{j}");
 
     // A record the board's memory does not keep (an EEPROM cell stuck): flag 20 in
@@ -494,14 +466,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     )
     .expect("main.lad");
     assert_eq!(board.cmd("stuck 5"), "ok");
-    let (st, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/download",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (st, j) = s.on_port("download", &board.link).await;
     assert_eq!(st, StatusCode::OK, "{j}");
     let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
     assert_eq!(end["state"], "failed", "{end}");
@@ -511,24 +476,10 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
         "{end}"
     );
     assert_eq!(board.cmd("stuck off"), "ok");
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/identify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("identify", &board.link).await;
     assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
     // …which is not the project's any more: Verify says so, and where.
-    let (st, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/verify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (st, j) = s.on_port("verify", &board.link).await;
     assert_eq!(st, StatusCode::OK, "{j}");
     assert_eq!(j["same"], false, "{j}");
     let msg = j["message"].as_str().expect("message");
@@ -577,14 +528,7 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
     let board = Board::start(&s.dir);
     let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
     assert_eq!(v["board"], Json::Null, "{v}");
-    let (st, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/download",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (st, j) = s.on_port("download", &board.link).await;
     assert_eq!(st, StatusCode::OK, "{j}");
     let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
     assert_eq!(
@@ -592,23 +536,9 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
         (&json!("done"), &json!(100)),
         "{end}"
     );
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/verify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("verify", &board.link).await;
     assert_eq!(j["same"], true, "{j}");
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/identify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("identify", &board.link).await;
     let running = j["program"].clone();
 
     // Cancelled after the second record (the shared download, as a job's cancel
@@ -631,24 +561,10 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
         }
         other => panic!("expected a cancelled download: {other:?}"),
     }
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/identify",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("identify", &board.link).await;
     assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
     // A job cancelled through the API ends, whether the board had it all or not.
-    let (_, j) = s
-        .call(
-            Method::POST,
-            "/api/hardware/download",
-            &s.engineer,
-            Some(json!({"port": board.link})),
-        )
-        .await;
+    let (_, j) = s.on_port("download", &board.link).await;
     let job = j["job"].as_str().expect("job").to_string();
     let (st, j) = s
         .call(

@@ -35,6 +35,15 @@ fn free_port() -> u16 {
 /// The password of the test users (every role).
 const PASSWORD: &str = "a long test password 7";
 
+/// A user of each role in `dir`'s users.toml, named after the role, with [`PASSWORD`].
+fn add_role_users(dir: &Path) {
+    let mut users = alba_auth::Users::default();
+    for r in alba_auth::Role::ALL {
+        users.add(r.as_str(), r, PASSWORD).expect("add user");
+    }
+    users.save(dir).expect("users.toml");
+}
+
 /// Signs `user` in over `http`: its session token.
 async fn login(client: &reqwest::Client, http: std::net::SocketAddr, user: &str) -> String {
     let j: serde_json::Value = client

@@ -4,7 +4,7 @@
 //! the tables run with coverage; a viewer refused; a broken properties.toml
 //! answered 422 with its line.
 
-use super::{PASSWORD, login, options, serve};
+use super::{add_role_users, login, options, serve};
 use reqwest::StatusCode;
 use serde_json::{Value as Json, json};
 use std::path::{Path, PathBuf};
@@ -28,11 +28,7 @@ fn project(test: &str) -> PathBuf {
         std::fs::copy(src.join(f), dir.join(f)).expect("copy");
     }
     std::fs::write(dir.join("properties.toml"), PROPERTIES).expect("properties.toml");
-    let mut users = alba_auth::Users::default();
-    for r in alba_auth::Role::ALL {
-        users.add(r.as_str(), r, PASSWORD).expect("add user");
-    }
-    users.save(&dir).expect("users.toml");
+    add_role_users(&dir);
     dir
 }
 
