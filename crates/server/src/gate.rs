@@ -74,20 +74,17 @@ pub async fn session(State(st): State<Arc<AppState>>, mut req: Request, next: Ne
     next.run(req).await
 }
 
-/// Answers 503 when a request takes longer than `[http] request_timeout_s`
-/// (until its answer starts: a long download streams on).
+/// Answers 503 when a request takes longer than `[http] request_timeout_s`, or
+/// than its own bound on a route of [`crate::LONG_ROUTES`] (until its answer
+/// starts: a long download streams on).
 pub async fn timeout(State(st): State<Arc<AppState>>, req: Request, next: Next) -> Response {
-    // A firmware build runs avr-gcc (the Arduino core too, the first time):
-    // bounded by the toolchain, not by the request timeout.
-    let limit = if req.uri().path() == "/api/hardware/build" {
-        st.request_timeout.max(crate::BUILD_TIMEOUT)
-    } else if matches!(req.uri().path(), "/api/verify" | "/api/tests") {
-        st.request_timeout.max(crate::verify::VERIFY_TIMEOUT)
-    } else {
-        st.request_timeout
-    };
+    let path = req.uri().path();
+    let limit = crate::LONG_ROUTES
+        .iter()
+        .find(|(route, _)| *route == path)
+        .map_or(st.request_timeout, |(_, long)| st.request_timeout.max(*long));
     match tokio::time::timeout(limit, next.run(req)).await {
         Ok(r) => r,
-        Err(_) => ApiError::TimedOut(st.request_timeout).into_response(),
+        Err(_) => ApiError::TimedOut(limit).into_response(),
     }
 }

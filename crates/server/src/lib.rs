@@ -185,5 +185,12 @@ pub fn router(state: Arc<AppState>) -> Router {
         .with_state(state)
 }
 
-/// How long `POST /api/hardware/build` may take.
-pub const BUILD_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(600);
+/// Routes whose work may outlast `[http] request_timeout_s`, and how long
+/// each may take (the request timeout when that is longer): a firmware build
+/// runs avr-gcc (the Arduino core too, the first time), proofs and test
+/// tables run their searches and scans ([`gate::timeout`]).
+pub const LONG_ROUTES: &[(&str, std::time::Duration)] = &[
+    ("/api/hardware/build", std::time::Duration::from_secs(600)),
+    ("/api/verify", std::time::Duration::from_secs(600)),
+    ("/api/tests", std::time::Duration::from_secs(600)),
+];

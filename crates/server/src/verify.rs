@@ -13,9 +13,6 @@ use crate::reply::{Diagnostic, TestsReply, VerifyReply};
 
 /// Wall-clock seconds one property may take.
 pub const PROPERTY_SECONDS: u64 = 60;
-/// How long `POST /api/verify` and `POST /api/tests` may take (the
-/// request timeout when it is longer).
-pub const VERIFY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(600);
 
 /// Why a request failed.
 #[derive(Debug, Clone)]
