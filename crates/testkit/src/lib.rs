@@ -111,5 +111,6 @@ pub fn every_case_passes(dir: &Path, child_test: &str) {
     );
 }
 
+pub mod mcc;
 pub mod mqtt;
 pub mod pg;

@@ -120,27 +120,12 @@ fn analyze_reports_each_parts_status_and_takes_a_memory_budget() {
 /// its README) named in `names`, each written to a folder of `dir` as the contest lays
 /// them out (`model.pnml`, the formula files, `oracle.out`).
 fn corpus_instances(dir: &std::path::Path, names: &[&str]) {
-    let xz = std::fs::read(repo().join("crates/net/tests/mcc/corpus.tar.xz")).expect("corpus");
-    let mut tar = Vec::new();
-    lzma_rs::xz_decompress(&mut &xz[..], &mut tar).expect("xz");
-    // ustar: 512-byte headers (name at 0, octal size at 124, type at 156), data padded.
-    let mut at = 0;
-    while at + 512 <= tar.len() && tar[at] != 0 {
-        let header = &tar[at..at + 512];
-        let name = String::from_utf8_lossy(&header[..100])
-            .trim_end_matches('\0')
-            .to_string();
-        let size_text = String::from_utf8_lossy(&header[124..136]);
-        let size = usize::from_str_radix(size_text.trim_matches(|c: char| c == '\0' || c == ' '), 8).expect("size");
-        let data = &tar[at + 512..at + 512 + size];
-        at += 512 + size.div_ceil(512) * 512;
-        let parts: Vec<&str> = name.trim_start_matches("./").split('/').collect();
-        if let [instance, file] = parts[..]
-            && (header[156] == b'0' || header[156] == 0)
-            && names.contains(&instance)
-        {
-            std::fs::create_dir_all(dir.join(instance)).expect("dir");
-            std::fs::write(dir.join(instance).join(file), data).expect("write");
+    for (instance, files) in alba_testkit::mcc::instances() {
+        if names.contains(&instance.as_str()) {
+            std::fs::create_dir_all(dir.join(&instance)).expect("dir");
+            for (file, data) in files {
+                std::fs::write(dir.join(&instance).join(file), data).expect("write");
+            }
         }
     }
 }
