@@ -479,19 +479,25 @@ fn thread_policy(name: &str) -> Option<(u32, i32)> {
     None
 }
 
-/// Issue 31, point 2: one analysis at a time (429 for the next), on a
-/// least-priority thread, stopped when the client goes away — the engine scans on.
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn one_analysis_at_a_time_stopped_when_the_client_leaves() {
-    let dir = crate::copy_example("petri-resource", "net-analysis-busy");
-    std::fs::write(dir.join("big.pnml"), cycles_pnml(15)).expect("big net");
+/// The petri-resource example with `big.pnml`, `n` independent cycles of
+/// three places (3^n states), added to its programs; the server on it.
+async fn with_big_net(test: &str, n: usize) -> Server {
+    let dir = crate::copy_example("petri-resource", test);
+    std::fs::write(dir.join("big.pnml"), cycles_pnml(n)).expect("big net");
     let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
     std::fs::write(
         dir.join("alba.toml"),
         toml.replace("\"cell.pnml\"]", "\"cell.pnml\", \"big.pnml\"]"),
     )
     .expect("toml");
-    let s = Server::start_in(dir).await;
+    Server::start_in(dir).await
+}
+
+/// Issue 31, point 2: one analysis at a time (429 for the next), on a
+/// least-priority thread, stopped when the client goes away — the engine scans on.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_analysis_at_a_time_stopped_when_the_client_leaves() {
+    let s = with_big_net("net-analysis-busy", 15).await;
     // 3^15 = 14 million states: far more than a test lets it run.
     let res = s
         .http
@@ -548,15 +554,7 @@ async fn one_analysis_at_a_time_stopped_when_the_client_leaves() {
 /// space is reported partial.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_analysis_stops_at_its_time_limit() {
-    let dir = crate::copy_example("petri-resource", "net-analysis-time");
-    std::fs::write(dir.join("big.pnml"), cycles_pnml(15)).expect("big net");
-    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
-    std::fs::write(
-        dir.join("alba.toml"),
-        toml.replace("\"cell.pnml\"]", "\"cell.pnml\", \"big.pnml\"]"),
-    )
-    .expect("toml");
-    let s = Server::start_in(dir).await;
+    let s = with_big_net("net-analysis-time", 15).await;
     let (code, lines) = analysis(&s, "big", json!({"max_states": 10_000_000, "time_limit_s": 1})).await;
     assert_eq!(code, StatusCode::OK);
     let last = lines.last().expect("a line");
@@ -576,15 +574,7 @@ async fn an_analysis_stops_at_its_time_limit() {
 /// place of the net, an unknown examination or missing formulas are `422`.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_analysis_answers_a_contest_examination() {
-    let dir = crate::copy_example("petri-resource", "net-analysis-examination");
-    std::fs::write(dir.join("big.pnml"), cycles_pnml(2)).expect("net");
-    let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml");
-    std::fs::write(
-        dir.join("alba.toml"),
-        toml.replace("\"cell.pnml\"]", "\"cell.pnml\", \"big.pnml\"]"),
-    )
-    .expect("toml");
-    let s = Server::start_in(dir).await;
+    let s = with_big_net("net-analysis-examination", 2).await;
     let le = |k: u32, places: &[&str]| {
         let ps: String = places.iter().map(|p| format!("<place>{p}</place>")).collect();
         format!("<integer-le><integer-constant>{k}</integer-constant><tokens-count>{ps}</tokens-count></integer-le>")
