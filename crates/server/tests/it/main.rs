@@ -122,7 +122,10 @@ impl Server {
         let s = Server {
             addr,
             dir,
-            http: Client::new(),
+            // A connection per request: `alba run` closes an idle keep-alive when a
+            // newer client of its address needs the place (issue 31), and a pooled
+            // client could pick that connection as it closes (IncompleteMessage).
+            http: Client::builder().pool_max_idle_per_host(0).build().expect("client"),
             stop: Some(stop),
             task: Some(task),
         };
