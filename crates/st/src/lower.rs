@@ -21,7 +21,8 @@ use alba_ir::values::{Class, V};
 use alba_ir::{Access, Builder, NO_ELEM, Target};
 use alba_model::tags::{Tag, TagTable, edit_distance};
 use alba_model::{DataType, Value};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
 
 type R<T> = Result<T, Diagnostic>;
 
@@ -116,6 +117,29 @@ impl P {
     }
 }
 
+/// A STRUCT type: its name (`STRUCT` for one written in a declaration) and
+/// its members with their types and default initial values.
+#[derive(Debug)]
+pub struct StructTy {
+    pub name: String,
+    pub members: Vec<(String, Ty, Option<Init>)>,
+}
+
+impl PartialEq for StructTy {
+    fn eq(&self, o: &Self) -> bool {
+        self.name.eq_ignore_ascii_case(&o.name)
+            && self.members.len() == o.members.len()
+            && self.members.iter().zip(&o.members).all(|(a, b)| a.0 == b.0 && a.1 == b.1)
+    }
+}
+
+/// An enumerated type: its name and its values.
+#[derive(Debug, PartialEq)]
+pub struct EnumTy {
+    pub name: String,
+    pub values: Vec<(String, i64)>,
+}
+
 /// A type the lowering knows.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Ty {
@@ -127,8 +151,22 @@ pub enum Ty {
     Real,
     Lreal,
     Time,
+    Usint,
+    Uint,
+    Udint,
+    Ulint,
+    Byte,
+    Word,
+    Dword,
+    Lword,
     Array(Box<Ty>, Vec<(i64, i64)>),
     Fb(Fb),
+    /// A user FUNCTION_BLOCK, by its name as declared.
+    User(String),
+    Struct(Rc<StructTy>),
+    Enum(Rc<EnumTy>),
+    /// A subrange of an integer type.
+    Sub(Box<Ty>, i64, i64),
 }
 
 impl std::fmt::Display for Ty {
@@ -142,26 +180,40 @@ impl std::fmt::Display for Ty {
             Ty::Real => f.write_str("REAL"),
             Ty::Lreal => f.write_str("LREAL"),
             Ty::Time => f.write_str("TIME"),
+            Ty::Usint => f.write_str("USINT"),
+            Ty::Uint => f.write_str("UINT"),
+            Ty::Udint => f.write_str("UDINT"),
+            Ty::Ulint => f.write_str("ULINT"),
+            Ty::Byte => f.write_str("BYTE"),
+            Ty::Word => f.write_str("WORD"),
+            Ty::Dword => f.write_str("DWORD"),
+            Ty::Lword => f.write_str("LWORD"),
             Ty::Array(of, dims) => {
                 let d: Vec<_> = dims.iter().map(|(a, b)| format!("{a}..{b}")).collect();
                 write!(f, "ARRAY[{}] OF {of}", d.join(","))
             }
             Ty::Fb(k) => f.write_str(k.name()),
+            Ty::User(n) => f.write_str(n),
+            Ty::Struct(s) => f.write_str(&s.name),
+            Ty::Enum(e) => f.write_str(&e.name),
+            Ty::Sub(b, lo, hi) => write!(f, "{b}({lo}..{hi})"),
         }
     }
 }
 
 impl Ty {
+    /// The type of the tag (or slot) that stores a value of this type.
     fn data_type(&self) -> Option<DataType> {
         Some(match self {
             Ty::Bool => DataType::Bool,
             Ty::Sint => DataType::Sint,
-            Ty::Int => DataType::Int,
-            Ty::Dint => DataType::Dint,
-            Ty::Lint => DataType::Lint,
+            Ty::Int | Ty::Usint | Ty::Byte => DataType::Int,
+            Ty::Dint | Ty::Uint | Ty::Word | Ty::Enum(_) => DataType::Dint,
+            Ty::Lint | Ty::Udint | Ty::Ulint | Ty::Dword | Ty::Lword => DataType::Lint,
             Ty::Real => DataType::Real,
             Ty::Lreal => DataType::Lreal,
             Ty::Time => DataType::Time,
+            Ty::Sub(b, ..) => return b.data_type(),
             _ => return None,
         })
     }
@@ -178,8 +230,31 @@ impl Ty {
             _ => return None,
         })
     }
+    /// The type a value read from this type has (a subrange reads as its base).
+    fn value(&self) -> Ty {
+        match self {
+            Ty::Sub(b, ..) => (**b).clone(),
+            t => t.clone(),
+        }
+    }
     fn is_int(&self) -> bool {
-        matches!(self, Ty::Sint | Ty::Int | Ty::Dint | Ty::Lint)
+        matches!(self, Ty::Sint | Ty::Int | Ty::Dint | Ty::Lint) || self.is_unsigned()
+    }
+    fn is_unsigned(&self) -> bool {
+        matches!(self, Ty::Usint | Ty::Uint | Ty::Udint | Ty::Ulint)
+    }
+    fn is_bits(&self) -> bool {
+        matches!(self, Ty::Byte | Ty::Word | Ty::Dword | Ty::Lword)
+    }
+    /// Bits of an unsigned integer or a bit string.
+    fn bits(&self) -> Option<u32> {
+        Some(match self {
+            Ty::Usint | Ty::Byte => 8,
+            Ty::Uint | Ty::Word => 16,
+            Ty::Udint | Ty::Dword => 32,
+            Ty::Ulint | Ty::Lword => 64,
+            _ => return None,
+        })
     }
     fn is_real(&self) -> bool {
         matches!(self, Ty::Real | Ty::Lreal)
@@ -188,10 +263,10 @@ impl Ty {
         self.is_int() || self.is_real() || *self == Ty::Time
     }
     fn class(&self) -> Class {
-        match self {
-            Ty::Lint => Class::L,
-            Ty::Real => Class::F,
-            Ty::Lreal => Class::D,
+        match self.data_type() {
+            Some(DataType::Lint) => Class::L,
+            Some(DataType::Real) => Class::F,
+            Some(DataType::Lreal) => Class::D,
             _ => Class::I,
         }
     }
@@ -203,6 +278,10 @@ impl Ty {
             Ty::Lint => 4,
             Ty::Real => 5,
             Ty::Lreal => 6,
+            Ty::Usint | Ty::Byte => 11,
+            Ty::Uint | Ty::Word => 12,
+            Ty::Udint | Ty::Dword => 13,
+            Ty::Ulint | Ty::Lword => 14,
             _ => 0,
         }
     }
@@ -221,7 +300,14 @@ fn widens(from: &Ty, to: &Ty) -> bool {
         return true;
     }
     match (from, to) {
-        (a, b) if a.is_int() && b.is_int() => a.rank() < b.rank(),
+        (Ty::Sub(b, ..), to) => widens(b, to),
+        (from, Ty::Sub(b, ..)) => widens(from, b),
+        (a, b) if a.is_unsigned() && b.is_unsigned() => a.rank() < b.rank(),
+        (a, b) if a.is_bits() && b.is_bits() => a.rank() < b.rank(),
+        (Ty::Usint, Ty::Int | Ty::Dint | Ty::Lint | Ty::Real | Ty::Lreal) => true,
+        (Ty::Uint, Ty::Dint | Ty::Lint | Ty::Real | Ty::Lreal) => true,
+        (Ty::Udint, Ty::Lint | Ty::Lreal) => true,
+        (a, b) if a.is_int() && b.is_int() && !a.is_unsigned() && !b.is_unsigned() => a.rank() < b.rank(),
         (Ty::Sint | Ty::Int, Ty::Real | Ty::Lreal) => true,
         (Ty::Dint, Ty::Lreal) => true,
         (Ty::Real, Ty::Lreal) => true,
@@ -239,26 +325,19 @@ fn elementary(name: &str) -> Option<Ty> {
         "REAL" => Ty::Real,
         "LREAL" => Ty::Lreal,
         "TIME" => Ty::Time,
+        "USINT" => Ty::Usint,
+        "UINT" => Ty::Uint,
+        "UDINT" => Ty::Udint,
+        "ULINT" => Ty::Ulint,
+        "BYTE" => Ty::Byte,
+        "WORD" => Ty::Word,
+        "DWORD" => Ty::Dword,
+        "LWORD" => Ty::Lword,
         _ => return None,
     })
 }
 
-const UNSUPPORTED_TYPES: [&str; 14] = [
-    "USINT",
-    "UINT",
-    "UDINT",
-    "ULINT",
-    "BYTE",
-    "WORD",
-    "DWORD",
-    "LWORD",
-    "LTIME",
-    "DATE",
-    "TIME_OF_DAY",
-    "TOD",
-    "DATE_AND_TIME",
-    "DT",
-];
+const UNSUPPORTED_TYPES: [&str; 6] = ["LTIME", "DATE", "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT"];
 
 fn not_supported(span: Span, what: String) -> Diagnostic {
     Diagnostic::new(Code::StNotSupported, what, span, "not supported yet")
@@ -290,18 +369,76 @@ fn const_int(e: &Expr) -> Option<i64> {
     }
 }
 
-/// User `TYPE` aliases of a file, by lower-case name.
-type Types<'a> = HashMap<String, &'a TypeRef>;
+/// The user types and POUs of a file, by lower-case name.
+struct Types<'a> {
+    aliases: HashMap<String, &'a ast::TypeDecl>,
+    /// FUNCTIONs and FUNCTION_BLOCKs.
+    pous: HashMap<String, &'a Pou>,
+    /// Every enumerated type declared in a `TYPE` block.
+    enums: Vec<Rc<EnumTy>>,
+}
 
 fn types_of(file: &ast::File) -> Types<'_> {
-    file.types
-        .iter()
-        .map(|t| (t.name.name.to_ascii_lowercase(), &t.ty))
-        .collect()
+    let mut t = Types {
+        aliases: file
+            .types
+            .iter()
+            .map(|t| (t.name.name.to_ascii_lowercase(), t))
+            .collect(),
+        pous: file
+            .pous
+            .iter()
+            .filter(|p| p.kind != PouKind::Program)
+            .map(|p| (p.name.name.to_ascii_lowercase(), p))
+            .collect(),
+        enums: Vec::new(),
+    };
+    let mut enums = Vec::new();
+    for d in &file.types {
+        if let TypeRef::Enum { .. } = d.ty
+            && let Ok(Ty::Enum(e)) = resolve_named(&d.ty, &d.name.name, &t, 0)
+        {
+            enums.push(e);
+        }
+    }
+    t.enums = enums;
+    t
 }
 
 /// The type a declaration names, or why it cannot be used.
 fn resolve_type(t: &TypeRef, types: &Types, depth: u32) -> R<Ty> {
+    resolve_named(t, "STRUCT", types, depth)
+}
+
+/// An enumerated type's values, numbered from 0 or from the value given.
+fn enum_values(values: &[(Ident, Option<Expr>)]) -> R<Vec<(String, i64)>> {
+    let mut out: Vec<(String, i64)> = Vec::new();
+    let mut next = 0i64;
+    for (n, e) in values {
+        let v = match e {
+            None => next,
+            Some(e) => const_int(e).ok_or_else(|| decl_error(e.span, "an enumeration value is an integer literal".into()))?,
+        };
+        if out.iter().any(|(m, _)| m.eq_ignore_ascii_case(&n.name)) {
+            return Err(decl_error(n.span, format!("`{}` is listed twice", n.name)));
+        }
+        if i32::try_from(v).is_err() {
+            return Err(decl_error(n.span, format!("{v} does not fit a DINT")));
+        }
+        out.push((n.name.clone(), v));
+        next = v + 1;
+    }
+    Ok(out)
+}
+
+/// [`resolve_type`], `name` naming a STRUCT or enumeration declared in `TYPE`.
+fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) -> R<Ty> {
+    if depth > 16 {
+        return Err(decl_error(
+            t.span(),
+            format!("the type `{name}` is defined in terms of itself"),
+        ));
+    }
     match t {
         TypeRef::Named(n) => {
             if let Some(ty) = elementary(&n.name) {
@@ -310,14 +447,18 @@ fn resolve_type(t: &TypeRef, types: &Types, depth: u32) -> R<Ty> {
             if let Some(fb) = Fb::from_name(&n.name) {
                 return Ok(Ty::Fb(fb));
             }
-            if let Some(alias) = types.get(&n.name.to_ascii_lowercase()) {
-                if depth > 16 {
-                    return Err(decl_error(
-                        n.span,
-                        format!("the type `{}` is defined in terms of itself", n.name),
-                    ));
+            let key = n.name.to_ascii_lowercase();
+            if let Some(alias) = types.aliases.get(&key) {
+                return resolve_named(&alias.ty, &alias.name.name, types, depth + 1);
+            }
+            if let Some(p) = types.pous.get(&key) {
+                if p.kind == PouKind::FunctionBlock {
+                    return Ok(Ty::User(p.name.name.clone()));
                 }
-                return resolve_type(alias, types, depth + 1);
+                return Err(decl_error(
+                    n.span,
+                    format!("`{}` is a FUNCTION, not a type", n.name),
+                ));
             }
             if UNSUPPORTED_TYPES.iter().any(|u| n.is(u)) {
                 return Err(not_supported(
@@ -329,10 +470,16 @@ fn resolve_type(t: &TypeRef, types: &Types, depth: u32) -> R<Ty> {
                 ));
             }
             let known = [
-                "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD",
-                "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
+                "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "USINT", "UINT", "UDINT", "ULINT",
+                "BYTE", "WORD", "DWORD", "LWORD", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG",
+                "SR", "RS",
             ];
-            let user = types.keys().map(String::as_str);
+            let user: Vec<&str> = types
+                .aliases
+                .values()
+                .map(|t| t.name.name.as_str())
+                .chain(types.pous.values().map(|p| p.name.name.as_str()))
+                .collect();
             let mut d = Diagnostic::new(Code::StName, format!("unknown type `{}`", n.name), n.span, "type");
             if let Some(s) = closest(&n.name, known.into_iter().chain(user)) {
                 d = d.with_help(format!("did you mean `{s}`?"));
@@ -343,24 +490,50 @@ fn resolve_type(t: &TypeRef, types: &Types, depth: u32) -> R<Ty> {
             *span,
             "STRING and WSTRING are not supported by the engine yet".into(),
         )),
-        TypeRef::Struct { span, .. } => Err(not_supported(
-            *span,
-            "STRUCT types are not supported by the engine yet".into(),
-        )),
-        TypeRef::Enum { span, .. } => Err(not_supported(
-            *span,
-            "enumerated types are not supported by the engine yet".into(),
-        )),
-        TypeRef::Subrange { base, span, .. } => {
-            let _ = base;
-            Err(not_supported(
-                *span,
-                "subrange types are not supported by the engine yet".into(),
-            ))
+        TypeRef::Struct { members, span } => {
+            let mut out: Vec<(String, Ty, Option<Init>)> = Vec::new();
+            for d in members {
+                let ty = resolve_type(&d.ty, types, depth + 1)?;
+                if matches!(ty, Ty::Fb(_) | Ty::User(_)) {
+                    return Err(not_supported(
+                        d.ty.span(),
+                        "function block instances inside a STRUCT are not supported yet".into(),
+                    ));
+                }
+                for n in &d.names {
+                    if out.iter().any(|(m, ..)| m.eq_ignore_ascii_case(&n.name)) {
+                        return Err(decl_error(n.span, format!("the member `{}` is declared twice", n.name)));
+                    }
+                    out.push((n.name.clone(), ty.clone(), d.init.clone()));
+                }
+            }
+            if out.is_empty() {
+                return Err(decl_error(*span, "a STRUCT has at least one member".into()));
+            }
+            Ok(Ty::Struct(Rc::new(StructTy {
+                name: name.to_string(),
+                members: out,
+            })))
+        }
+        TypeRef::Enum { values, .. } => Ok(Ty::Enum(Rc::new(EnumTy {
+            name: if name == "STRUCT" { "ENUM".into() } else { name.to_string() },
+            values: enum_values(values)?,
+        }))),
+        TypeRef::Subrange { base, lo, hi, span } => {
+            let b = elementary(&base.name)
+                .filter(Ty::is_int)
+                .ok_or_else(|| type_error(base.span, format!("a subrange is of an integer type, not {}", base.name)))?;
+            let (Some(l), Some(h)) = (const_int(lo), const_int(hi)) else {
+                return Err(decl_error(*span, "subrange bounds are integer literals".into()));
+            };
+            if l > h || !fits(l, &b) || !fits(h, &b) {
+                return Err(decl_error(*span, format!("the range {l}..{h} is empty or does not fit a {b}")));
+            }
+            Ok(Ty::Sub(Box::new(b), l, h))
         }
         TypeRef::Array { dims, of, span } => {
             let of = resolve_type(of, types, depth + 1)?;
-            if matches!(of, Ty::Array(..) | Ty::Fb(_)) {
+            if matches!(of, Ty::Array(..) | Ty::Fb(_) | Ty::User(_) | Ty::Struct(_)) {
                 return Err(not_supported(*span, format!("arrays of {of} are not supported yet")));
             }
             let mut out = Vec::new();
@@ -419,20 +592,57 @@ fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
             format!("the initial value `{}` is not a {ty} literal", ast::expr(e)),
         )
     };
+    let int = |v: i64| -> R<Value> {
+        if !fits(v, ty) {
+            return Err(bad());
+        }
+        Ok(match ty.data_type() {
+            Some(DataType::Sint) => Value::Sint(v as i8),
+            Some(DataType::Int) => Value::Int(v as i16),
+            Some(DataType::Dint) => Value::Dint(v as i32),
+            _ => Value::Lint(v),
+        })
+    };
     let v = match (&e.kind, ty) {
         (ExprKind::Lit(Lit::Bool(b)), Ty::Bool) => Value::Bool(*b),
         (ExprKind::Lit(Lit::Time(ms)), Ty::Time) => Value::Time(i32::try_from(*ms).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Sint) => Value::Sint(i8::try_from(*v).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Int) => Value::Int(i16::try_from(*v).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Dint) => Value::Dint(i32::try_from(*v).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Lint) => Value::Lint(*v),
         (ExprKind::Lit(Lit::Int(v, _)), Ty::Real) => Value::Real(*v as f32),
         (ExprKind::Lit(Lit::Int(v, _)), Ty::Lreal) => Value::Lreal(*v as f64),
+        (ExprKind::Lit(Lit::Int(v, _)), t) if t.is_int() || t.is_bits() || matches!(t, Ty::Sub(..)) => int(*v)?,
+        (ExprKind::Unary(AUn::Neg, _), t) if t.is_int() || matches!(t, Ty::Sub(..)) => int(const_int(e).ok_or_else(bad)?)?,
         (ExprKind::Lit(Lit::Real(v, _)), Ty::Real) => Value::Real(*v as f32),
         (ExprKind::Lit(Lit::Real(v, _)), Ty::Lreal) => Value::Lreal(*v),
+        (ExprKind::Name(n), Ty::Enum(en)) => Value::Dint(enum_value(en, &n.name).ok_or_else(bad)? as i32),
+        (ExprKind::Lit(Lit::Other(t, n)), Ty::Enum(en)) if t.eq_ignore_ascii_case(&en.name) => {
+            Value::Dint(enum_value(en, n).ok_or_else(bad)? as i32)
+        }
         _ => return Err(bad()),
     };
     Ok(v)
+}
+
+fn enum_value(en: &EnumTy, name: &str) -> Option<i64> {
+    en.values
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name))
+        .map(|(_, v)| *v)
+}
+
+/// The initial value of a variable of `ty` given none (a subrange's low
+/// bound, an enumeration's first value).
+fn default_value(ty: &Ty) -> Option<Value> {
+    match ty {
+        Ty::Sub(_, lo, _) if *lo != 0 => literal_value(
+            &Expr {
+                kind: ExprKind::Lit(Lit::Int(*lo, None)),
+                span: Span::new(alba_diag::FileId(0), 0..0),
+            },
+            ty,
+        )
+        .ok(),
+        Ty::Enum(e) => e.values.first().map(|(_, v)| Value::Dint(*v as i32)),
+        _ => None,
+    }
 }
 
 fn plain_tag(name: String, ty: DataType, initial: Option<Value>, retain: bool, description: String, span: Span) -> Tag {
@@ -518,152 +728,196 @@ fn variables(
     out
 }
 
-/// Adds the tags of a variable to `tags`.
-fn declare_var(v: &Var, retain: bool, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
-    if let Some(t) = tags.get(&v.tag) {
-        diags.push(
-            decl_error(v.span, format!("the variable's tag `{}` already exists", v.tag))
-                .with_note(t.span, "declared here"),
-        );
-        return;
-    }
-    let desc = "Structured Text variable".to_string();
-    match &v.ty {
-        Ty::Fb(fb) => match fb {
-            Fb::Ton | Fb::Tof | Fb::Tp => {
-                tags.push(plain_tag(v.tag.clone(), DataType::Timer, None, retain, desc, v.span))
-            }
-            Fb::Ctu | Fb::Ctd | Fb::Ctud => {
-                tags.push(plain_tag(v.tag.clone(), DataType::Counter, None, retain, desc, v.span))
-            }
-            Fb::RTrig | Fb::FTrig => {
-                for m in ["Q", "M"] {
-                    tags.push(plain_tag(
-                        format!("{}.{m}", v.tag),
-                        DataType::Bool,
-                        None,
-                        retain,
-                        desc.clone(),
-                        v.span,
+/// Where tags are declared, and the types they may name.
+struct Decl<'t, 'a> {
+    types: &'t Types<'a>,
+    tags: &'t mut TagTable,
+    diags: &'t mut Vec<Diagnostic>,
+}
+
+impl Decl<'_, '_> {
+    /// Adds the tags of a variable of type `ty` named `tag`.
+    fn var(&mut self, tag: &str, ty: &Ty, init: Option<&Init>, retain: bool, span: Span, depth: u32) {
+        if let Some(t) = self.tags.get(tag) {
+            self.diags.push(
+                decl_error(span, format!("the variable's tag `{tag}` already exists")).with_note(t.span, "declared here"),
+            );
+            return;
+        }
+        let desc = "Structured Text variable".to_string();
+        let plain = |name: String, dt, init| plain_tag(name, dt, init, retain, desc.clone(), span);
+        match ty {
+            Ty::Fb(fb) => match fb {
+                Fb::Ton | Fb::Tof | Fb::Tp => self.tags.push(plain(tag.to_string(), DataType::Timer, None)),
+                Fb::Ctu | Fb::Ctd | Fb::Ctud => self.tags.push(plain(tag.to_string(), DataType::Counter, None)),
+                Fb::RTrig | Fb::FTrig => {
+                    for m in ["Q", "M"] {
+                        self.tags.push(plain(format!("{tag}.{m}"), DataType::Bool, None));
+                    }
+                }
+                Fb::Sr | Fb::Rs => self.tags.push(plain(format!("{tag}.Q1"), DataType::Bool, None)),
+            },
+            Ty::User(name) => {
+                if depth > 8 {
+                    self.diags.push(decl_error(
+                        span,
+                        format!("the FUNCTION_BLOCK `{name}` contains itself (through its instances)"),
                     ));
+                    return;
+                }
+                let Some(pou) = self.types.pous.get(&name.to_ascii_lowercase()) else { return };
+                for (_, v) in variables(&pou.vars, Some(tag), self.types, &mut Vec::new()) {
+                    if matches!(v.kind, VarKind::InOut | VarKind::External | VarKind::Global) {
+                        continue;
+                    }
+                    self.var(&v.tag, &v.ty, v.init.as_ref(), retain || v.retain, v.span, depth + 1);
                 }
             }
-            Fb::Sr | Fb::Rs => tags.push(plain_tag(
-                format!("{}.Q1", v.tag),
-                DataType::Bool,
-                None,
-                retain,
-                desc,
-                v.span,
-            )),
-        },
-        Ty::Array(of, dims) => {
-            let Some(dt) = of.data_type() else { return };
-            let suffixes = element_suffixes(dims);
-            let mut inits: Vec<Option<Value>> = vec![None; suffixes.len()];
-            match &v.init {
-                None => {}
-                Some(Init::Array(items, span)) => {
-                    let mut k = 0usize;
-                    for (count, item) in items {
-                        let n = match count {
-                            None => 1,
-                            Some(c) => match const_int(c) {
-                                Some(n) if n >= 0 => n as usize,
-                                _ => {
-                                    diags.push(decl_error(c.span, "a repeat count is a literal integer ≥ 0".into()));
-                                    return;
-                                }
-                            },
-                        };
-                        let Init::Expr(e) = item else {
-                            diags.push(decl_error(
-                                *span,
-                                "an array element's initial value is a literal".into(),
-                            ));
-                            return;
-                        };
-                        let val = match literal_value(e, of) {
-                            Ok(x) => x,
-                            Err(d) => {
-                                diags.push(d);
-                                return;
-                            }
-                        };
-                        for _ in 0..n {
-                            if k >= inits.len() {
-                                diags.push(decl_error(
+            Ty::Struct(s) => {
+                let given = match init {
+                    Some(Init::Struct(items, _)) => items.as_slice(),
+                    Some(Init::Array(_, span)) => {
+                        self.diags.push(type_error(*span, format!("a {} takes `(member := value, …)`", s.name)));
+                        &[]
+                    }
+                    Some(Init::Expr(e)) => {
+                        self.diags.push(type_error(e.span, format!("a {} takes `(member := value, …)`", s.name)));
+                        &[]
+                    }
+                    None => &[],
+                };
+                for (n, _) in given {
+                    if !s.members.iter().any(|(m, ..)| n.is(m)) {
+                        let mut d = Diagnostic::new(
+                            Code::StName,
+                            format!("{} has no member `{}`", s.name, n.name),
+                            n.span,
+                            "member",
+                        );
+                        if let Some(c) = closest(&n.name, s.members.iter().map(|(m, ..)| m.as_str())) {
+                            d = d.with_help(format!("did you mean `{c}`?"));
+                        }
+                        self.diags.push(d);
+                    }
+                }
+                for (m, mty, minit) in &s.members {
+                    let i = given.iter().find(|(n, _)| n.is(m)).map(|(_, i)| i).or(minit.as_ref());
+                    self.var(&format!("{tag}.{m}"), mty, i, retain, span, depth + 1);
+                }
+            }
+            Ty::Array(of, dims) => {
+                let Some(dt) = of.data_type() else { return };
+                let suffixes = element_suffixes(dims);
+                let mut inits: Vec<Option<Value>> = vec![default_value(of); suffixes.len()];
+                match init {
+                    None => {}
+                    Some(Init::Array(items, span)) => {
+                        let mut k = 0usize;
+                        for (count, item) in items {
+                            let n = match count {
+                                None => 1,
+                                Some(c) => match const_int(c) {
+                                    Some(n) if n >= 0 => n as usize,
+                                    _ => {
+                                        self.diags
+                                            .push(decl_error(c.span, "a repeat count is a literal integer ≥ 0".into()));
+                                        return;
+                                    }
+                                },
+                            };
+                            let Init::Expr(e) = item else {
+                                self.diags.push(decl_error(
                                     *span,
-                                    format!("more initial values than the {} elements", inits.len()),
+                                    "an array element's initial value is a literal".into(),
                                 ));
                                 return;
+                            };
+                            let val = match literal_value(e, of) {
+                                Ok(x) => x,
+                                Err(d) => {
+                                    self.diags.push(d);
+                                    return;
+                                }
+                            };
+                            for _ in 0..n {
+                                if k >= inits.len() {
+                                    self.diags.push(decl_error(
+                                        *span,
+                                        format!("more initial values than the {} elements", inits.len()),
+                                    ));
+                                    return;
+                                }
+                                inits[k] = Some(val);
+                                k += 1;
                             }
-                            inits[k] = Some(val);
-                            k += 1;
                         }
                     }
-                }
-                Some(Init::Expr(e)) => {
-                    diags.push(type_error(
-                        e.span,
+                    Some(Init::Expr(e)) => {
+                        self.diags.push(type_error(
+                            e.span,
+                            "an array's initial value is a list `[1, 2, 3]`".into(),
+                        ));
+                    }
+                    Some(Init::Struct(_, span)) => self.diags.push(type_error(
+                        *span,
                         "an array's initial value is a list `[1, 2, 3]`".into(),
-                    ));
+                    )),
                 }
-                Some(Init::Struct(_, span)) => diags.push(type_error(
-                    *span,
-                    "an array's initial value is a list `[1, 2, 3]`".into(),
-                )),
+                for (s, init) in suffixes.into_iter().zip(inits) {
+                    self.tags.push(plain(format!("{tag}{s}"), dt, init));
+                }
             }
-            for (s, init) in suffixes.into_iter().zip(inits) {
-                tags.push(plain_tag(
-                    format!("{}{s}", v.tag),
-                    dt,
-                    init,
-                    retain,
-                    desc.clone(),
-                    v.span,
-                ));
-            }
-        }
-        ty => {
-            let Some(dt) = ty.data_type() else { return };
-            let init = match &v.init {
-                None => None,
-                Some(Init::Expr(e)) => match literal_value(e, ty) {
-                    Ok(x) => Some(x),
-                    Err(d) => {
-                        diags.push(d);
+            ty => {
+                let Some(dt) = ty.data_type() else { return };
+                let init = match init {
+                    None => default_value(ty),
+                    Some(Init::Expr(e)) => match literal_value(e, ty) {
+                        Ok(x) => Some(x),
+                        Err(d) => {
+                            self.diags.push(d);
+                            None
+                        }
+                    },
+                    Some(Init::Array(_, span) | Init::Struct(_, span)) => {
+                        self.diags.push(type_error(*span, format!("a {ty} takes one value")));
                         None
                     }
-                },
-                Some(Init::Array(_, span) | Init::Struct(_, span)) => {
-                    diags.push(type_error(*span, format!("a {ty} takes one value")));
-                    None
-                }
-            };
-            tags.push(plain_tag(v.tag.clone(), dt, init, retain, desc, v.span));
+                };
+                self.tags.push(plain(tag.to_string(), dt, init));
+            }
         }
     }
 }
 
-/// Adds the tags of every PROGRAM's variables and of the `VAR_GLOBAL`s of
-/// `file` to `tags` (before the layout is made).
+/// Adds the tags of every PROGRAM's variables (with the instances of user
+/// FUNCTION_BLOCKs, member by member) and of the `VAR_GLOBAL`s of `file` to
+/// `tags` (before the layout is made).
 pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
     let types = types_of(file);
-    for g in &file.globals {
-        for (_, v) in variables(std::slice::from_ref(g), None, &types, diags) {
-            declare_var(&v, v.retain, tags, diags);
+    for t in &file.types {
+        if let Err(e) = resolve_named(&t.ty, &t.name.name, &types, 0) {
+            diags.push(e);
         }
+    }
+    let mut vars = Vec::new();
+    for g in &file.globals {
+        vars.extend(variables(std::slice::from_ref(g), None, &types, diags));
     }
     for p in &file.pous {
         if p.kind != PouKind::Program {
+            // Declaration errors of FUNCTIONs and FUNCTION_BLOCKs, once.
+            variables(&p.vars, Some(&p.name.name), &types, diags);
             continue;
         }
         for (_, v) in variables(&p.vars, Some(&p.name.name), &types, diags) {
             if v.kind != VarKind::External {
-                declare_var(&v, v.retain, tags, diags);
+                vars.push((String::new(), v));
             }
         }
+    }
+    let mut d = Decl { types: &types, tags, diags };
+    for (_, v) in vars {
+        d.var(&v.tag, &v.ty, v.init.as_ref(), v.retain, v.span, 0);
     }
 }
 
@@ -699,63 +953,157 @@ enum Loc {
         c: Ctr,
         down: bool,
     },
+    /// An instance of a user FUNCTION_BLOCK: its tags start with `prefix.`.
+    User {
+        fb: String,
+        prefix: String,
+    },
+    Struct {
+        ty: Rc<StructTy>,
+        members: Vec<(String, Loc)>,
+    },
+    /// A value of an enumerated type, by name.
+    EnumConst(Rc<EnumTy>, i64),
 }
 
 struct LoopLabels {
     exits: Vec<u32>,
 }
 
+/// Most nested calls of user FUNCTIONs and FUNCTION_BLOCKs (each is inlined).
+const MAX_CALL_DEPTH: usize = 16;
+
 struct Lower<'a> {
     b: &'a mut Builder,
+    types: &'a Types<'a>,
+    /// `VAR_GLOBAL`s of the file.
+    globals: HashMap<String, Var>,
     vars: HashMap<String, Var>,
+    /// Names bound to storage that is not a tag of their own: VAR_IN_OUT
+    /// parameters and the variables of a FUNCTION being inlined.
+    aliases: HashMap<String, Loc>,
     diags: Vec<Diagnostic>,
     elem: u32,
     rungs: u32,
     loops: Vec<LoopLabels>,
     returns: Vec<u32>,
-    functions: Vec<String>,
     pou: String,
+    /// The user POUs being inlined (lower-case), innermost last.
+    stack: Vec<String>,
+    /// User POUs inlined at least once (lower-case).
+    called: HashSet<String>,
     /// Element places of the arrays met so far, by tag.
     arrays: HashMap<String, Vec<Place>>,
 }
 
-/// Lowers the PROGRAMs of `file`, in order, as unit `name`.
+/// The scope of one POU body, saved while another is inlined.
+struct Scope {
+    vars: HashMap<String, Var>,
+    aliases: HashMap<String, Loc>,
+    loops: Vec<LoopLabels>,
+    returns: Vec<u32>,
+    pou: String,
+}
+
+/// Lowers the PROGRAMs of `file`, in order, as unit `name`. User FUNCTIONs
+/// and FUNCTION_BLOCKs are inlined where they are called; the bodies of
+/// those never called are checked on their own.
 pub fn compile(file: &ast::File, name: &str, b: &mut Builder) -> Vec<Diagnostic> {
     let types = types_of(file);
     let mut diags = Vec::new();
-    let globals: Vec<(String, Var)> = variables(&file.globals, None, &types, &mut Vec::new());
-    b.begin_unit(name);
-    let functions: Vec<String> = file
-        .pous
-        .iter()
-        .filter(|p| p.kind != PouKind::Program)
-        .map(|p| p.name.name.clone())
+    let globals: HashMap<String, Var> = variables(&file.globals, None, &types, &mut Vec::new())
+        .into_iter()
         .collect();
+    b.begin_unit(name);
     let mut rungs = 0;
+    let mut called = HashSet::new();
     for p in &file.pous {
         if p.kind != PouKind::Program {
             continue;
         }
-        let mut vars: HashMap<String, Var> = globals.iter().cloned().collect();
+        let mut vars = globals.clone();
         vars.extend(variables(&p.vars, Some(&p.name.name), &types, &mut Vec::new()));
-        let mut l = Lower {
+        let mut l = Lower::new(b, &types, globals.clone(), vars, rungs, &p.name.name);
+        l.program(p);
+        rungs = l.rungs;
+        diags.extend(l.diags);
+        called.extend(l.called);
+    }
+    b.end_unit();
+    for p in &file.pous {
+        if p.kind != PouKind::Program && !called.contains(&p.name.name.to_ascii_lowercase()) {
+            diags.extend(check_alone(p, &types, &globals, b.layout()));
+        }
+    }
+    // A body inlined at several places reports its errors once.
+    let mut seen = HashSet::new();
+    diags.retain(|d| {
+        seen.insert(format!(
+            "{:?}{}{:?}",
+            d.code,
+            d.message,
+            d.primary.as_ref().map(|l| l.span)
+        ))
+    });
+    diags
+}
+
+/// The errors of the body of a FUNCTION or FUNCTION_BLOCK that is never
+/// called, lowered on its own (an FB as an instance of its own).
+fn check_alone(p: &Pou, types: &Types, globals: &HashMap<String, Var>, layout: &alba_ir::Layout) -> Vec<Diagnostic> {
+    let mut tags = layout.tags.clone();
+    let mut diags = Vec::new();
+    let inst = format!("{}#check", p.name.name);
+    if p.kind == PouKind::FunctionBlock {
+        let mut d = Decl {
+            types,
+            tags: &mut tags,
+            diags: &mut diags,
+        };
+        d.var(&inst, &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
+    }
+    let mut b = Builder::new(alba_ir::Layout::new(&tags, &Default::default()));
+    b.begin_unit("check");
+    let mut l = Lower::new(&mut b, types, globals.clone(), globals.clone(), 0, &p.name.name);
+    l.rung(p.name.span);
+    let r = if p.kind == PouKind::FunctionBlock {
+        l.inline_fb(p, &inst, &[], p.name.span, true)
+    } else {
+        l.inline_function(p, &[], p.name.span, true).map(|_| ())
+    };
+    if let Err(d) = r {
+        l.diags.push(d);
+    }
+    diags.extend(l.diags);
+    diags
+}
+
+impl<'a> Lower<'a> {
+    fn new(
+        b: &'a mut Builder,
+        types: &'a Types<'a>,
+        globals: HashMap<String, Var>,
+        vars: HashMap<String, Var>,
+        rungs: u32,
+        pou: &str,
+    ) -> Lower<'a> {
+        Lower {
             b,
+            types,
+            globals,
             vars,
+            aliases: HashMap::new(),
             diags: Vec::new(),
             elem: NO_ELEM,
             rungs,
             loops: Vec::new(),
             returns: Vec::new(),
-            functions: functions.clone(),
-            pou: p.name.name.clone(),
+            pou: pou.to_string(),
+            stack: Vec::new(),
+            called: HashSet::new(),
             arrays: HashMap::new(),
-        };
-        l.program(p);
-        rungs = l.rungs;
-        diags.extend(l.diags);
+        }
     }
-    b.end_unit();
-    diags
 }
 
 impl Lower<'_> {
@@ -777,11 +1125,16 @@ impl Lower<'_> {
         }
     }
 
-    fn program(&mut self, p: &Pou) {
-        for v in self.vars.values() {
-            if v.kind != VarKind::External {
-                continue;
-            }
+    /// Checks the VAR_EXTERNALs of the scope against the globals.
+    fn check_externals(&mut self) {
+        let mut ext: Vec<Var> = self
+            .vars
+            .values()
+            .filter(|v| v.kind == VarKind::External)
+            .cloned()
+            .collect();
+        ext.sort_by_key(|v| v.span.start);
+        for v in ext {
             match self.b.layout().resolve(&v.tag) {
                 Err(_) => self.diags.push(Diagnostic::new(
                     Code::StName,
@@ -803,8 +1156,10 @@ impl Lower<'_> {
                 Ok(_) => {}
             }
         }
-        self.rung(p.name.span);
-        // VAR_TEMP starts from its initial value on every scan.
+    }
+
+    /// VAR_TEMP starts from its initial value on every execution.
+    fn init_temps(&mut self) {
         let mut temps: Vec<_> = self
             .vars
             .values()
@@ -813,21 +1168,696 @@ impl Lower<'_> {
             .collect();
         temps.sort_by_key(|v| v.span.start);
         for v in temps {
-            if let (Some(dt), Ok(Target::Value { place, .. })) = (v.ty.data_type(), self.b.layout().resolve(&v.tag)) {
-                let value = match &v.init {
-                    Some(Init::Expr(e)) => literal_value(e, &v.ty).ok(),
-                    _ => None,
-                }
-                .or_else(|| Value::zero(dt));
-                let Some(value) = value else { continue };
-                let _ = self.store_const(place, value);
+            let id = Ident {
+                name: v.tag.rsplit('.').next().unwrap_or(&v.tag).to_string(),
+                span: v.span,
+            };
+            if let Ok(loc) = self.lookup(&id) {
+                self.init_loc(&loc, v.init.as_ref());
             }
         }
+    }
+
+    fn program(&mut self, p: &Pou) {
+        self.check_externals();
+        self.rung(p.name.span);
+        self.init_temps();
         self.block(&p.body);
         let end = self.rung(Span::new(p.span.file, p.span.end as usize..p.span.end as usize));
         let returns = std::mem::take(&mut self.returns);
         self.patch(&returns, end);
     }
+
+    /// Stores initial values into storage (a value given, else the type's default).
+    fn init_loc(&mut self, loc: &Loc, init: Option<&Init>) {
+        match loc {
+            Loc::Value { place, ty, .. } => {
+                let value = match init {
+                    Some(Init::Expr(e)) => literal_value(e, ty).ok(),
+                    _ => None,
+                }
+                .or_else(|| default_value(ty))
+                .or_else(|| ty.data_type().and_then(Value::zero));
+                if let Some(value) = value {
+                    let _ = self.store_const(*place, value);
+                }
+            }
+            Loc::Array { elems, of, .. } => {
+                let mut vals: Vec<Option<Value>> = vec![None; elems.len()];
+                if let Some(Init::Array(items, _)) = init {
+                    let mut k = 0;
+                    for (count, item) in items {
+                        let n = count.as_ref().and_then(const_int).unwrap_or(1).max(0) as usize;
+                        let v = match item {
+                            Init::Expr(e) => literal_value(e, of).ok(),
+                            _ => None,
+                        };
+                        for _ in 0..n {
+                            if k < vals.len() {
+                                vals[k] = v;
+                            }
+                            k += 1;
+                        }
+                    }
+                }
+                let elems = elems.clone();
+                for (p, v) in elems.into_iter().zip(vals) {
+                    let v = v
+                        .or_else(|| default_value(of))
+                        .or_else(|| of.data_type().and_then(Value::zero));
+                    if let Some(v) = v {
+                        let _ = self.store_const(p, v);
+                    }
+                }
+            }
+            Loc::Struct { ty, members } => {
+                let given = match init {
+                    Some(Init::Struct(items, _)) => items.as_slice(),
+                    _ => &[],
+                };
+                for ((m, l), (_, _, minit)) in members.iter().zip(&ty.members) {
+                    let i = given.iter().find(|(n, _)| n.is(m)).map(|(_, i)| i).or(minit.as_ref());
+                    self.init_loc(l, i);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Storage in slots of this lowering (no tag) for a variable of a FUNCTION.
+    fn temp_storage(&mut self, ty: &Ty, span: Span) -> R<Loc> {
+        let slot = |l: &mut Self, t: &Ty| -> Place {
+            match t.data_type() {
+                Some(DataType::Bool) => Place::Bool(l.b.temp_b()),
+                Some(DataType::Real) => Place::Real(l.b.temp_f()),
+                Some(DataType::Lreal) => Place::Lreal(l.b.temp_d()),
+                Some(DataType::Lint) => Place::Lint(l.b.temp_l()),
+                Some(dt) => Place::Int(l.b.temp_i(), dt),
+                None => Place::Bool(l.b.temp_b()),
+            }
+        };
+        Ok(match ty {
+            Ty::Array(of, dims) => {
+                let elems = (0..ty.elements()).map(|_| slot(self, of)).collect();
+                Loc::Array {
+                    elems,
+                    ty: ty.clone(),
+                    of: (**of).clone(),
+                    dims: dims.clone(),
+                }
+            }
+            Ty::Struct(s) => {
+                let mut members = Vec::new();
+                for (m, mty, _) in &s.members {
+                    members.push((m.clone(), self.temp_storage(mty, span)?));
+                }
+                Loc::Struct { ty: s.clone(), members }
+            }
+            Ty::Fb(_) | Ty::User(_) => {
+                return Err(not_supported(
+                    span,
+                    format!("a FUNCTION has no function block instances ({ty}); use a FUNCTION_BLOCK"),
+                ));
+            }
+            t => Loc::Value {
+                place: slot(self, t),
+                access: Access::ReadWrite,
+                ty: t.clone(),
+                constant: false,
+            },
+        })
+    }
+
+    fn enter(&mut self, pou: &Pou, vars: HashMap<String, Var>, aliases: HashMap<String, Loc>) -> Scope {
+        self.stack.push(pou.name.name.to_ascii_lowercase());
+        self.called.insert(pou.name.name.to_ascii_lowercase());
+        Scope {
+            vars: std::mem::replace(&mut self.vars, vars),
+            aliases: std::mem::replace(&mut self.aliases, aliases),
+            loops: std::mem::take(&mut self.loops),
+            returns: std::mem::take(&mut self.returns),
+            pou: std::mem::replace(&mut self.pou, pou.name.name.clone()),
+        }
+    }
+
+    fn leave(&mut self, s: Scope) {
+        self.stack.pop();
+        self.vars = s.vars;
+        self.aliases = s.aliases;
+        self.loops = s.loops;
+        self.returns = s.returns;
+        self.pou = s.pou;
+    }
+
+    /// Refuses a call that would inline `pou` inside itself.
+    fn check_recursion(&self, pou: &Pou, at: Span) -> R<()> {
+        let key = pou.name.name.to_ascii_lowercase();
+        if self.stack.contains(&key) {
+            let mut chain = self.stack.clone();
+            chain.push(key);
+            return Err(Diagnostic::new(
+                Code::StNotSupported,
+                format!(
+                    "`{}` calls itself ({}): calls are inlined, so recursion is not supported",
+                    pou.name.name,
+                    chain.join(" → ")
+                ),
+                at,
+                "recursive call",
+            ));
+        }
+        if self.stack.len() >= MAX_CALL_DEPTH {
+            return Err(not_supported(
+                at,
+                format!("calls nested deeper than {MAX_CALL_DEPTH} are not supported"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The parameters of a user POU in declaration order: inputs, in-outs
+    /// and outputs (positional arguments bind inputs and in-outs in order).
+    fn params_of(vars: &[(String, Var)]) -> Vec<(String, Var)> {
+        vars.iter()
+            .filter(|(_, v)| matches!(v.kind, VarKind::Input | VarKind::InOut | VarKind::Output))
+            .cloned()
+            .collect()
+    }
+
+    /// Binds the arguments of a call to a user POU: the input values and
+    /// in-out storage (evaluated in the caller's scope), and the `=>` outputs.
+    #[allow(clippy::type_complexity)]
+    fn bind_user<'e>(
+        &mut self,
+        pou: &Pou,
+        params: &[(String, Var)],
+        args: &'e [Arg],
+        span: Span,
+        check: bool,
+    ) -> R<(Vec<(String, Given)>, HashMap<String, Loc>, Vec<(String, &'e Arg)>)> {
+        let fname = &pou.name.name;
+        let positional: Vec<&(String, Var)> = params.iter().filter(|(_, v)| v.kind != VarKind::Output).collect();
+        let mut given: Vec<(String, &Expr, Span)> = Vec::new();
+        let mut outs = Vec::new();
+        for (k, a) in args.iter().enumerate() {
+            let key = match &a.name {
+                None => match positional.get(k) {
+                    Some((key, _)) => key.clone(),
+                    None => {
+                        return Err(type_error(
+                            a.value.span,
+                            format!("{fname} takes {} positional argument(s)", positional.len()),
+                        ));
+                    }
+                },
+                Some(n) => {
+                    let key = n.name.to_ascii_lowercase();
+                    let want = if a.output { "output" } else { "input" };
+                    let ok = params.iter().any(|(k, v)| {
+                        *k == key && ((v.kind == VarKind::Output) == a.output)
+                    });
+                    if !ok {
+                        let names: Vec<&str> = params
+                            .iter()
+                            .filter(|(_, v)| (v.kind == VarKind::Output) == a.output)
+                            .map(|(_, v)| v.tag.rsplit('.').next().unwrap_or(&v.tag))
+                            .collect();
+                        let mut d = Diagnostic::new(
+                            Code::StName,
+                            format!("{fname} has no {want} `{}`", n.name),
+                            n.span,
+                            want,
+                        );
+                        d = d.with_help(match closest(&n.name, names.iter().copied()) {
+                            Some(s) => format!("did you mean `{s}`?"),
+                            None if names.is_empty() => format!("{fname} has no {want}s"),
+                            None => format!("its {want}s: {}", names.join(", ")),
+                        });
+                        return Err(d);
+                    }
+                    key
+                }
+            };
+            if a.output {
+                outs.push((key, a));
+                continue;
+            }
+            if given.iter().any(|(k, ..)| *k == key) {
+                return Err(type_error(a.value.span, format!("`{key}` is given twice")));
+            }
+            given.push((key, &a.value, a.value.span));
+        }
+        let mut inputs = Vec::new();
+        let mut inouts = HashMap::new();
+        for (key, v) in params {
+            let Some((_, e, espan)) = given.iter().find(|(k, ..)| k == key) else {
+                if v.kind == VarKind::InOut {
+                    if check {
+                        inouts.insert(key.clone(), self.temp_storage(&v.ty, v.span)?);
+                        continue;
+                    }
+                    return Err(type_error(
+                        span,
+                        format!("the VAR_IN_OUT `{key}` of {fname} must be given a variable"),
+                    ));
+                }
+                continue;
+            };
+            let pname = v.tag.rsplit('.').next().unwrap_or(key);
+            if v.kind == VarKind::InOut {
+                let loc = match &e.kind {
+                    ExprKind::Index(base, ix) => {
+                        let (of, elems, dims) = self.array(base)?;
+                        match self.flat_index(&dims, ix, *espan)? {
+                            Ok(k) => Loc::Value {
+                                place: elems[k],
+                                access: Access::ReadWrite,
+                                ty: of,
+                                constant: false,
+                            },
+                            Err(_) => {
+                                return Err(not_supported(
+                                    *espan,
+                                    "an array element with a computed index as a VAR_IN_OUT argument".into(),
+                                ));
+                            }
+                        }
+                    }
+                    _ => self.locate(e)?,
+                };
+                let lty = loc_type(&loc);
+                if lty.as_ref() != Some(&v.ty) {
+                    return Err(type_error(
+                        *espan,
+                        format!(
+                            "{fname}.{pname} is a VAR_IN_OUT {}; `{}` is {}",
+                            v.ty,
+                            ast::expr(e),
+                            lty.map_or("not a variable".to_string(), |t| an(&t))
+                        ),
+                    ));
+                }
+                if let Loc::Value { access, constant, .. } = &loc
+                    && (*access != Access::ReadWrite || *constant)
+                {
+                    return Err(Diagnostic::new(
+                        Code::NotWritable,
+                        format!("`{}` cannot be written, so it is no VAR_IN_OUT argument", ast::expr(e)),
+                        *espan,
+                        "not writable",
+                    ));
+                }
+                inouts.insert(key.clone(), loc);
+                continue;
+            }
+            if let Ty::Struct(_) = v.ty {
+                let src = self.locate(e)?;
+                if loc_type(&src).as_ref() != Some(&v.ty) {
+                    return Err(type_error(*espan, format!("{fname}.{pname} is {}", an(&v.ty))));
+                }
+                inputs.push((key.clone(), Given::Copy(src)));
+                continue;
+            }
+            let want = v.ty.value();
+            let (val, vty) = self.eval(e, Some(&want))?;
+            if !widens(&vty, &v.ty) {
+                return Err(type_error(*espan, format!("{fname}.{pname} is {}, not {}", an(&v.ty), an(&vty))));
+            }
+            let val = match val {
+                Val::N(x) => Val::N(self.b.convert(x, v.ty.class(), self.elem)),
+                b => b,
+            };
+            inputs.push((key.clone(), Given::Val(val)));
+        }
+        Ok((inputs, inouts, outs))
+    }
+}
+
+/// An input argument: a value, or a structure to copy.
+enum Given {
+    Val(Val),
+    Copy(Loc),
+}
+
+/// The type of what a location holds.
+fn loc_type(l: &Loc) -> Option<Ty> {
+    match l {
+        Loc::Value { ty, .. } | Loc::Array { ty, .. } => Some(ty.clone()),
+        Loc::Fb { kind, .. } => Some(Ty::Fb(*kind)),
+        Loc::User { fb, .. } => Some(Ty::User(fb.clone())),
+        Loc::Struct { ty, .. } => Some(Ty::Struct(ty.clone())),
+        Loc::EnumConst(e, _) => Some(Ty::Enum(e.clone())),
+        Loc::CounterQ { .. } => Some(Ty::Bool),
+    }
+}
+
+impl Lower<'_> {
+    /// Inlines a call of the user FUNCTION_BLOCK `pou` on the instance whose
+    /// tags start with `prefix` (`check`: lowered only to check its body).
+    fn inline_fb(&mut self, pou: &Pou, prefix: &str, args: &[Arg], span: Span, check: bool) -> R<()> {
+        self.check_recursion(pou, span)?;
+        let vars = variables(&pou.vars, Some(prefix), self.types, &mut Vec::new());
+        let params = Self::params_of(&vars);
+        let (inputs, inouts, outs) = self.bind_user(pou, &params, args, span, check)?;
+        let mut scope = self.globals.clone();
+        scope.extend(vars.iter().filter(|(_, v)| v.kind != VarKind::InOut).cloned());
+        let saved = self.enter(pou, scope, inouts);
+        let r = self.run_body(pou, inputs, span, true);
+        self.leave(saved);
+        r?;
+        for (key, a) in outs {
+            let Some((_, v)) = vars.iter().find(|(k, _)| *k == key) else { continue };
+            let id = Ident {
+                name: key.clone(),
+                span: a.value.span,
+            };
+            let src = self.tag_loc(&v.tag, &v.ty, false, &id)?;
+            self.assign_output(a, &src)?;
+        }
+        Ok(())
+    }
+
+    /// Inlines a call of the user FUNCTION `pou`: its variables live in
+    /// slots of this call; gives its result.
+    fn inline_function(&mut self, pou: &Pou, args: &[Arg], span: Span, check: bool) -> R<(Val, Ty)> {
+        self.check_recursion(pou, span)?;
+        let vars = variables(&pou.vars, Some(&pou.name.name), self.types, &mut Vec::new());
+        let params = Self::params_of(&vars);
+        let ret = match &pou.ret {
+            Some(t) => {
+                let t = resolve_type(t, self.types, 0)?;
+                if !matches!(t.data_type(), Some(_)) {
+                    return Err(not_supported(
+                        pou.ret.as_ref().map_or(pou.name.span, TypeRef::span),
+                        format!("a FUNCTION returning {} is not supported yet", an(&t)),
+                    ));
+                }
+                Some(t)
+            }
+            None => None,
+        };
+        let (inputs, mut aliases, outs) = self.bind_user(pou, &params, args, span, check)?;
+        let mut scope = self.globals.clone();
+        for (key, v) in &vars {
+            match v.kind {
+                VarKind::InOut => {}
+                VarKind::External | VarKind::Global => {
+                    scope.insert(key.clone(), v.clone());
+                }
+                _ => {
+                    let mut loc = self.temp_storage(&v.ty, v.span)?;
+                    self.init_loc(&loc, v.init.as_ref());
+                    if let Loc::Value { constant, .. } = &mut loc {
+                        *constant = v.constant;
+                    }
+                    aliases.insert(key.clone(), loc);
+                }
+            }
+        }
+        let fkey = pou.name.name.to_ascii_lowercase();
+        if let Some(rt) = &ret {
+            let loc = self.temp_storage(rt, pou.name.span)?;
+            self.init_loc(&loc, None);
+            aliases.insert(fkey.clone(), loc);
+        }
+        let locals = aliases.clone();
+        let saved = self.enter(pou, scope, aliases);
+        let r = self.run_body(pou, inputs, span, false);
+        self.leave(saved);
+        r?;
+        for (key, a) in outs {
+            if let Some(src) = locals.get(&key) {
+                self.assign_output(a, src)?;
+            }
+        }
+        match (ret, locals.get(&fkey)) {
+            (Some(_), Some(l)) => {
+                let e = Expr {
+                    kind: ExprKind::Name(pou.name.clone()),
+                    span,
+                };
+                self.read_loc(l, &e)
+            }
+            _ => Ok((self.constant(&Lit::Bool(false), &Ty::Bool), Ty::Bool)),
+        }
+    }
+
+    /// The inputs stored, then the body of a user POU, in the scope entered.
+    fn run_body(&mut self, pou: &Pou, inputs: Vec<(String, Given)>, span: Span, temps: bool) -> R<()> {
+        for (key, g) in inputs {
+            let loc = self.lookup(&Ident { name: key, span })?;
+            match (g, &loc) {
+                (Given::Val(v), Loc::Value { place, ty, .. }) => {
+                    let (place, ty) = (*place, ty.clone());
+                    self.store_checked(place, v, &ty);
+                }
+                (Given::Copy(src), _) => self.copy_loc(&loc, &src),
+                _ => {}
+            }
+        }
+        self.check_externals();
+        if temps {
+            self.init_temps();
+        }
+        self.block(&pou.body);
+        let end = self.rung(span);
+        let returns = std::mem::take(&mut self.returns);
+        self.patch(&returns, end);
+        Ok(())
+    }
+
+    /// `lhs => output` of a call: the output's value assigned to `lhs`.
+    fn assign_output(&mut self, a: &Arg, src: &Loc) -> R<()> {
+        if matches!(a.value.kind, ExprKind::Lit(Lit::Bool(false))) && a.value.span.start == a.value.span.end {
+            return Ok(());
+        }
+        if let Loc::Struct { .. } = src {
+            let dst = self.locate(&a.value)?;
+            if loc_type(&dst) != loc_type(src) {
+                return Err(type_error(a.value.span, "the output and the variable differ in type".into()));
+            }
+            self.copy_loc(&dst, src);
+            return Ok(());
+        }
+        let negated = a.negated;
+        let e = a.value.clone();
+        self.assign_with(&a.value, a.value.span, &mut |l: &mut Self, _| {
+            let (v, t) = l.read_loc(src, &e)?;
+            if negated {
+                let Val::B(b) = v else {
+                    return Err(type_error(e.span, format!("NOT of an output that is {}", an(&t))));
+                };
+                let n = l.b.temp_b();
+                l.emit(Op::Ldn(b));
+                l.emit(Op::Ote(n));
+                l.emit(Op::True);
+                return Ok((Val::B(n), t));
+            }
+            Ok((v, t))
+        })
+    }
+
+    /// Copies every value of `src` into `dst` (two locations of one type).
+    fn copy_loc(&mut self, dst: &Loc, src: &Loc) {
+        match (dst, src) {
+            (Loc::Struct { members: d, .. }, Loc::Struct { members: s, .. }) => {
+                for ((_, a), (_, b)) in d.iter().zip(s) {
+                    self.copy_loc(a, b);
+                }
+            }
+            (Loc::Array { elems: d, of, .. }, Loc::Array { elems: s, .. }) => {
+                for (a, b) in d.iter().zip(s) {
+                    let v = if *of == Ty::Bool {
+                        Val::B(self.b.bool_in(*b, self.elem))
+                    } else {
+                        Val::N(self.b.load(*b, self.elem))
+                    };
+                    self.store(*a, v, of);
+                }
+            }
+            (Loc::Value { place, ty, .. }, src) => {
+                let e = Expr {
+                    kind: ExprKind::Lit(Lit::Bool(false)),
+                    span: Span::new(alba_diag::FileId(0), 0..0),
+                };
+                if let Ok((v, _)) = self.read_loc(src, &e) {
+                    let (place, ty) = (*place, ty.clone());
+                    self.store_checked(place, v, &ty);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Storage of a variable whose tag (or first tag) is `tag`.
+    fn tag_loc(&mut self, tag: &str, ty: &Ty, constant: bool, n: &Ident) -> R<Loc> {
+        match ty {
+            Ty::Fb(kind) => Ok(Loc::Fb {
+                kind: *kind,
+                name: tag.to_string(),
+            }),
+            Ty::User(fb) => Ok(Loc::User {
+                fb: fb.clone(),
+                prefix: tag.to_string(),
+            }),
+            Ty::Struct(s) => {
+                let mut members = Vec::new();
+                for (m, mty, _) in &s.members {
+                    members.push((m.clone(), self.tag_loc(&format!("{tag}.{m}"), mty, constant, n)?));
+                }
+                Ok(Loc::Struct { ty: s.clone(), members })
+            }
+            Ty::Array(of, dims) => {
+                let elems = match self.arrays.get(tag) {
+                    Some(e) => e.clone(),
+                    None => {
+                        let mut elems = Vec::new();
+                        for s in element_suffixes(dims) {
+                            match self.b.layout().resolve(&format!("{tag}{s}")) {
+                                Ok(Target::Value { place, .. }) => elems.push(place),
+                                _ => return Err(self.unknown(n, "variable")),
+                            }
+                        }
+                        self.arrays.insert(tag.to_string(), elems.clone());
+                        elems
+                    }
+                };
+                Ok(Loc::Array {
+                    elems,
+                    ty: ty.clone(),
+                    of: (**of).clone(),
+                    dims: dims.clone(),
+                })
+            }
+            _ => match self.b.layout().resolve(tag) {
+                Ok(Target::Value { place, access }) => Ok(Loc::Value {
+                    place,
+                    access,
+                    ty: ty.clone(),
+                    constant,
+                }),
+                Ok(_) => Err(type_error(
+                    n.span,
+                    format!("`{tag}` is a TIMER, COUNTER or PID tag, not {}", an(ty)),
+                )),
+                Err(_) => Err(self.unknown(n, "variable")),
+            },
+        }
+    }
+
+    /// An input or output of an instance of a user FUNCTION_BLOCK.
+    fn user_member(&mut self, fb: &str, prefix: &str, m: &Ident) -> R<Loc> {
+        let Some(pou) = self.types.pous.get(&fb.to_ascii_lowercase()).copied() else {
+            return Err(self.unknown(m, "member"));
+        };
+        let vars = variables(&pou.vars, Some(prefix), self.types, &mut Vec::new());
+        let key = m.name.to_ascii_lowercase();
+        match vars.iter().find(|(k, _)| *k == key) {
+            Some((_, v)) if matches!(v.kind, VarKind::Input | VarKind::Output) => {
+                let loc = self.tag_loc(&v.tag, &v.ty, false, m)?;
+                Ok(if v.kind == VarKind::Output { read_only(loc) } else { loc })
+            }
+            Some((_, v)) => Err(type_error(
+                m.span,
+                format!(
+                    "`{}` is a {} of {fb}: only its inputs and outputs are seen from outside",
+                    m.name,
+                    v.kind.keyword()
+                ),
+            )),
+            None => {
+                let names: Vec<&str> = vars
+                    .iter()
+                    .filter(|(_, v)| matches!(v.kind, VarKind::Input | VarKind::Output))
+                    .map(|(_, v)| v.tag.rsplit('.').next().unwrap_or(&v.tag))
+                    .collect();
+                let mut d = Diagnostic::new(
+                    Code::StName,
+                    format!("{fb} has no input or output `{}`", m.name),
+                    m.span,
+                    "member",
+                );
+                d = d.with_help(match closest(&m.name, names.iter().copied()) {
+                    Some(s) => format!("did you mean `{s}`?"),
+                    None => format!("{fb} has {}", names.join(", ")),
+                });
+                Err(d)
+            }
+        }
+    }
+
+    /// Stores `v` into `place` of type `ty`; a value outside a subrange is a
+    /// range fault and is not stored.
+    fn store_checked(&mut self, place: Place, v: Val, ty: &Ty) {
+        let (Ty::Sub(base, lo, hi), Val::N(x)) = (ty, v) else {
+            self.store(place, v, ty);
+            return;
+        };
+        let class = base.class();
+        let x = self.b.convert(x, class, self.elem);
+        let (clo, chi) = (
+            self.b.constant(alba_model::Literal::Int(*lo), class),
+            self.b.constant(alba_model::Literal::Int(*hi), class),
+        );
+        let bad = self.b.temp_b();
+        self.cmp(Cmp::Lt, x, clo);
+        self.emit(Op::Ote(bad));
+        self.emit(Op::True);
+        self.cmp(Cmp::Gt, x, chi);
+        self.emit(Op::Or(bad));
+        self.emit(Op::Ote(bad));
+        self.emit(Op::True);
+        self.range_fault(bad);
+        self.emit(Op::Ldn(bad));
+        self.store(place, Val::N(x), base);
+        self.emit(Op::True);
+    }
+
+    /// A range fault when `bad` is set (rc true after).
+    fn range_fault(&mut self, bad: B) {
+        let junk = self.b.temp_i();
+        let not_bcd = self.b.const_i(0xA);
+        self.emit(Op::Ld(bad));
+        self.emit(Op::UnI(IUn::Frd, not_bcd, junk));
+        self.emit(Op::True);
+    }
+
+    /// An integer constant of a CASE label: a literal or an enumeration value.
+    fn case_const(&self, e: &Expr) -> Option<i64> {
+        if let Some(v) = const_int(e) {
+            return Some(v);
+        }
+        match &e.kind {
+            ExprKind::Name(n) => self.types.enums.iter().find_map(|en| enum_value(en, &n.name)),
+            ExprKind::Lit(Lit::Other(t, v)) => self
+                .types
+                .enums
+                .iter()
+                .filter(|en| en.name.eq_ignore_ascii_case(t))
+                .find_map(|en| enum_value(en, v)),
+            _ => None,
+        }
+    }
+}
+
+/// A location whose values cannot be written from here (an FB's outputs).
+fn read_only(l: Loc) -> Loc {
+    match l {
+        Loc::Value { place, ty, constant, .. } => Loc::Value {
+            place,
+            access: Access::ReadOnly,
+            ty,
+            constant,
+        },
+        Loc::Struct { ty, members } => Loc::Struct {
+            ty,
+            members: members.into_iter().map(|(m, l)| (m, read_only(l))).collect(),
+        },
+        l => l,
+    }
+}
+
+impl Lower<'_> {
 
     fn store_const(&mut self, place: Place, value: Value) -> R<()> {
         let ty = Ty::from_data_type(value.data_type()).unwrap_or(Ty::Dint);
@@ -858,8 +1888,20 @@ impl Lower<'_> {
                 let ExprKind::Name(n) = &callee.kind else {
                     return Err(not_supported(callee.span, "this call is not supported".into()));
                 };
-                match self.lookup(n)? {
-                    Loc::Fb { kind, name } => self.fb_call(kind, &name, n, args),
+                let loc = match self.lookup(n) {
+                    Ok(l) => Some(l),
+                    Err(_) if self.types.pous.contains_key(&n.name.to_ascii_lowercase()) => None,
+                    Err(d) => return Err(d),
+                };
+                match loc {
+                    Some(Loc::Fb { kind, name }) => self.fb_call(kind, &name, n, args),
+                    Some(Loc::User { fb, prefix }) => {
+                        let pou = self.types.pous.get(&fb.to_ascii_lowercase()).copied();
+                        match pou {
+                            Some(p) => self.inline_fb(p, &prefix, args, s.span, false),
+                            None => Err(self.unknown(n, "function block")),
+                        }
+                    }
                     _ => {
                         // A function called for nothing: evaluate it (it may fault).
                         self.call(n, args, None, callee.span).map(|_| ())
@@ -897,7 +1939,7 @@ impl Lower<'_> {
             StmtKind::Case { sel, arms, els } => {
                 self.rung(s.span);
                 let (v, ty) = self.eval(sel, None)?;
-                let (Val::N(v), true) = (v, ty.is_int()) else {
+                let (Val::N(v), true) = (v, ty.is_int() || ty.is_bits() || matches!(ty, Ty::Enum(_))) else {
                     return Err(type_error(sel.span, format!("CASE selects on an integer, not a {ty}")));
                 };
                 let V::I(selector) = self.b.convert(v, Class::I, self.elem) else {
@@ -908,8 +1950,8 @@ impl Lower<'_> {
                     let hit = self.b.temp_b();
                     for (k, label) in labels.iter().enumerate() {
                         let (lo, hi, span) = match label {
-                            CaseLabel::One(e) => (const_int(e), const_int(e), e.span),
-                            CaseLabel::Range(a, b) => (const_int(a), const_int(b), a.span.to(b.span)),
+                            CaseLabel::One(e) => (self.case_const(e), self.case_const(e), e.span),
+                            CaseLabel::Range(a, b) => (self.case_const(a), self.case_const(b), a.span.to(b.span)),
                         };
                         let (Some(lo), Some(hi)) = (lo, hi) else {
                             return Err(type_error(
@@ -1108,6 +2150,7 @@ impl Lower<'_> {
             .values()
             .map(|v| v.tag.rsplit('.').next().unwrap_or(&v.tag).to_string())
             .collect();
+        v.extend(self.aliases.keys().cloned());
         v.extend(
             self.b
                 .layout()
@@ -1140,37 +2183,13 @@ impl Lower<'_> {
 
     fn lookup(&mut self, n: &Ident) -> R<Loc> {
         let key = n.name.to_ascii_lowercase();
-        let (tag, ty, constant) = match self.vars.get(&key) {
-            Some(v) => (v.tag.clone(), Some(v.ty.clone()), v.constant),
-            None => (n.name.clone(), None, false),
-        };
-        match ty {
-            Some(Ty::Fb(kind)) => return Ok(Loc::Fb { kind, name: tag }),
-            Some(Ty::Array(of, dims)) => {
-                let elems = match self.arrays.get(&tag) {
-                    Some(e) => e.clone(),
-                    None => {
-                        let mut elems = Vec::new();
-                        for s in element_suffixes(&dims) {
-                            match self.b.layout().resolve(&format!("{tag}{s}")) {
-                                Ok(Target::Value { place, .. }) => elems.push(place),
-                                _ => return Err(self.unknown(n, "variable")),
-                            }
-                        }
-                        self.arrays.insert(tag.clone(), elems.clone());
-                        elems
-                    }
-                };
-                return Ok(Loc::Array {
-                    elems,
-                    ty: Ty::Array(of.clone(), dims.clone()),
-                    of: *of,
-                    dims,
-                });
-            }
-            _ => {}
+        if let Some(l) = self.aliases.get(&key) {
+            return Ok(l.clone());
         }
-        match self.b.layout().resolve(&tag) {
+        if let Some(v) = self.vars.get(&key).cloned() {
+            return self.tag_loc(&v.tag, &v.ty, v.constant, n);
+        }
+        match self.b.layout().resolve(&n.name) {
             Ok(Target::Value { place, access }) => {
                 let Some(ty) = Ty::from_data_type(place.data_type()) else {
                     return Err(not_supported(
@@ -1182,7 +2201,7 @@ impl Lower<'_> {
                     place,
                     access,
                     ty,
-                    constant,
+                    constant: false,
                 })
             }
             Ok(_) => Err(not_supported(
@@ -1193,7 +2212,14 @@ impl Lower<'_> {
                 ),
             )),
             Err(e) if n.name.starts_with('%') => Err(Diagnostic::new(Code::StName, e.to_string(), n.span, "address")),
-            Err(_) => Err(self.unknown(n, "name")),
+            Err(_) => {
+                for en in &self.types.enums {
+                    if let Some(v) = enum_value(en, &n.name) {
+                        return Ok(Loc::EnumConst(en.clone(), v));
+                    }
+                }
+                Err(self.unknown(n, "name"))
+            }
         }
     }
 
@@ -1202,46 +2228,81 @@ impl Lower<'_> {
         match &e.kind {
             ExprKind::Name(n) => self.lookup(n),
             ExprKind::Member(base, m) => {
-                if let ExprKind::Name(n) = &base.kind {
-                    match self.lookup(n) {
-                        Ok(Loc::Fb { kind, name }) => return self.fb_member(kind, &name, m),
-                        Ok(Loc::Value { ty, .. }) => {
-                            return Err(not_supported(
-                                m.span,
-                                format!("`{}` is a {ty}: bit access `.{}` is not supported yet", n.name, m.name),
-                            ));
-                        }
-                        Ok(Loc::Array { .. }) => {
-                            return Err(type_error(
-                                m.span,
-                                format!("`{}` is an array; it has no members", n.name),
-                            ));
-                        }
-                        Ok(Loc::CounterQ { .. }) => {
-                            return Err(type_error(m.span, format!("`{}` has no members", n.name)));
-                        }
-                        Err(_) => {}
+                let found = match &base.kind {
+                    ExprKind::Name(n) => self.lookup(n).ok(),
+                    _ => Some(self.locate(base)?),
+                };
+                match found {
+                    Some(Loc::Fb { kind, name }) => return self.fb_member(kind, &name, m),
+                    Some(Loc::User { fb, prefix }) => return self.user_member(&fb, &prefix, m),
+                    Some(Loc::Struct { ty, members }) => {
+                        return match members.into_iter().find(|(k, _)| m.is(k)) {
+                            Some((_, l)) => Ok(l),
+                            None => {
+                                let names: Vec<&str> = ty.members.iter().map(|(k, ..)| k.as_str()).collect();
+                                let mut d = Diagnostic::new(
+                                    Code::StName,
+                                    format!("{} has no member `{}`", ty.name, m.name),
+                                    m.span,
+                                    "member",
+                                );
+                                d = d.with_help(match closest(&m.name, names.iter().copied()) {
+                                    Some(c) => format!("did you mean `{c}`?"),
+                                    None => format!("{} has {}", ty.name, names.join(", ")),
+                                });
+                                Err(d)
+                            }
+                        };
                     }
-                    // A tag member of tags.csv (`Timer1.DN`, `Loop.PV`).
-                    let full = format!("{}.{}", n.name, m.name);
-                    return match self.b.layout().resolve(&full) {
-                        Ok(Target::Value { place, access }) => {
-                            let ty = Ty::from_data_type(place.data_type()).unwrap_or(Ty::Dint);
-                            Ok(Loc::Value {
-                                place,
-                                access,
-                                ty,
-                                constant: false,
-                            })
-                        }
-                        Ok(_) => Err(not_supported(m.span, format!("`{full}` cannot be used in ST yet"))),
-                        Err(err) => Err(Diagnostic::new(Code::StName, err.to_string(), e.span, "unknown")),
-                    };
+                    Some(Loc::Value { ty, .. }) => {
+                        return Err(not_supported(
+                            m.span,
+                            format!(
+                                "`{}` is {}: bit access `.{}` is not supported yet",
+                                ast::expr(base),
+                                an(&ty),
+                                m.name
+                            ),
+                        ));
+                    }
+                    Some(Loc::Array { .. }) => {
+                        return Err(type_error(
+                            m.span,
+                            format!("`{}` is an array; it has no members", ast::expr(base)),
+                        ));
+                    }
+                    Some(Loc::CounterQ { .. } | Loc::EnumConst(..)) => {
+                        return Err(type_error(m.span, format!("`{}` has no members", ast::expr(base))));
+                    }
+                    None => {}
                 }
-                Err(not_supported(
-                    e.span,
-                    "members of this expression are not supported".into(),
-                ))
+                let ExprKind::Name(n) = &base.kind else {
+                    return Err(not_supported(
+                        e.span,
+                        "members of this expression are not supported".into(),
+                    ));
+                };
+                // A tag member of tags.csv (`Timer1.DN`, `Loop.PV`).
+                let full = format!("{}.{}", n.name, m.name);
+                match self.b.layout().resolve(&full) {
+                    Ok(Target::Value { place, access }) => {
+                        let ty = Ty::from_data_type(place.data_type()).unwrap_or(Ty::Dint);
+                        Ok(Loc::Value {
+                            place,
+                            access,
+                            ty,
+                            constant: false,
+                        })
+                    }
+                    Ok(_) => Err(not_supported(m.span, format!("`{full}` cannot be used in ST yet"))),
+                    Err(err) => {
+                        // The base is unknown: say so, with "did you mean".
+                        if self.lookup(n).is_err() && self.b.layout().resolve(&n.name).is_err() {
+                            return Err(self.unknown(n, "name"));
+                        }
+                        Err(Diagnostic::new(Code::StName, err.to_string(), e.span, "unknown"))
+                    }
+                }
             }
             _ => Err(type_error(e.span, format!("`{}` is not a variable", ast::expr(e)))),
         }
@@ -1320,9 +2381,21 @@ impl Lower<'_> {
                 if *ty == Ty::Bool {
                     Ok((Val::B(self.b.bool_in(*place, self.elem)), Ty::Bool))
                 } else {
-                    Ok((Val::N(self.b.load(*place, self.elem)), ty.clone()))
+                    Ok((Val::N(self.b.load(*place, self.elem)), ty.value()))
                 }
             }
+            Loc::EnumConst(en, v) => {
+                let c = self.b.const_i(*v as i32);
+                Ok((Val::N(V::I(c)), Ty::Enum(en.clone())))
+            }
+            Loc::User { fb, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a {fb} instance; call it or read an output", ast::expr(e)),
+            )),
+            Loc::Struct { ty, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a whole {}; read a member", ast::expr(e), ty.name),
+            )),
             Loc::Array { ty, .. } => Err(type_error(
                 e.span,
                 format!("`{}` is a whole {ty}; index it", ast::expr(e)),
@@ -1420,6 +2493,26 @@ impl Lower<'_> {
     /// `hint`: the type wanted, for untyped literals.
     fn eval(&mut self, e: &Expr, hint: Option<&Ty>) -> R<(Val, Ty)> {
         match &e.kind {
+            ExprKind::Lit(Lit::Other(t, v)) if self.types.enums.iter().any(|en| en.name.eq_ignore_ascii_case(t)) => {
+                let found = self
+                    .types
+                    .enums
+                    .iter()
+                    .filter(|en| en.name.eq_ignore_ascii_case(t))
+                    .find_map(|en| enum_value(en, v).map(|x| (en.clone(), x)));
+                match found {
+                    Some((en, x)) => {
+                        let c = self.b.const_i(x as i32);
+                        Ok((Val::N(V::I(c)), Ty::Enum(en)))
+                    }
+                    None => Err(Diagnostic::new(
+                        Code::StName,
+                        format!("the enumeration {t} has no value `{v}`"),
+                        e.span,
+                        "value",
+                    )),
+                }
+            }
             ExprKind::Lit(l) => {
                 let ty = self.lit_type(l, hint, e.span)?;
                 Ok((self.constant(l, &ty), ty))
@@ -1575,6 +2668,9 @@ impl Lower<'_> {
                 ),
             ));
         };
+        if matches!(ty, Ty::Enum(_)) && !compare {
+            return Err(type_error(span, format!("`{}` does not take enumeration values ({ty})", op.text())));
+        }
         let class = ty.class();
         let x = self.b.convert(x, class, self.elem);
         let y = self.b.convert(y, class, self.elem);
@@ -1768,12 +2864,50 @@ impl Lower<'_> {
     }
 
     fn assign(&mut self, lhs: &Expr, rhs: &Expr) -> R<()> {
-        if let ExprKind::Index(base, ix) = &lhs.kind {
-            let (of, elems, dims) = self.array(base)?;
-            let (v, ty) = self.eval(rhs, Some(&of))?;
-            if !widens(&ty, &of) {
+        // A whole structure: copied member by member.
+        if let (ExprKind::Name(_) | ExprKind::Member(..), Ok(dst @ Loc::Struct { .. })) = (&lhs.kind, self.locate(lhs)) {
+            let src = self.locate(rhs)?;
+            let (dt, st) = (loc_type(&dst), loc_type(&src));
+            if dt != st {
                 return Err(type_error(
                     rhs.span,
+                    format!(
+                        "cannot assign {} to `{}`, {}",
+                        st.map_or("this".into(), |t| an(&t)),
+                        ast::expr(lhs),
+                        dt.map_or("a structure".into(), |t| an(&t))
+                    ),
+                ));
+            }
+            if let Loc::Struct { members, .. } = &dst
+                && members.iter().any(|(_, l)| matches!(l, Loc::Value { access, constant, .. } if *access != Access::ReadWrite || *constant))
+            {
+                return Err(Diagnostic::new(
+                    Code::NotWritable,
+                    format!("`{}` cannot be written", ast::expr(lhs)),
+                    lhs.span,
+                    "not writable",
+                ));
+            }
+            self.copy_loc(&dst, &src);
+            return Ok(());
+        }
+        self.assign_with(lhs, rhs.span, &mut |l: &mut Self, hint| l.eval(rhs, hint))
+    }
+
+    /// Assigns to `lhs` the value `value` computes (given the type wanted).
+    fn assign_with(
+        &mut self,
+        lhs: &Expr,
+        rspan: Span,
+        value: &mut dyn FnMut(&mut Self, Option<&Ty>) -> R<(Val, Ty)>,
+    ) -> R<()> {
+        if let ExprKind::Index(base, ix) = &lhs.kind {
+            let (of, elems, dims) = self.array(base)?;
+            let (v, ty) = value(self, Some(&of.value()))?;
+            if !widens(&ty, &of) {
+                return Err(type_error(
+                    rspan,
                     format!("cannot assign {} to {} element; convert it", an(&ty), an(&of)),
                 ));
             }
@@ -1783,10 +2917,30 @@ impl Lower<'_> {
             };
             return match self.flat_index(&dims, ix, lhs.span)? {
                 Ok(k) => {
-                    self.store(elems[k], v, &of);
+                    self.store_checked(elems[k], v, &of);
                     Ok(())
                 }
                 Err(flat) => {
+                    if let (Ty::Sub(_, lo, hi), Val::N(x)) = (&of, v) {
+                        // Out of the subrange: a fault, and no element written.
+                        let (clo, chi) = (
+                            self.b.constant(alba_model::Literal::Int(*lo), of.class()),
+                            self.b.constant(alba_model::Literal::Int(*hi), of.class()),
+                        );
+                        let bad = self.b.temp_b();
+                        self.cmp(Cmp::Lt, x, clo);
+                        self.emit(Op::Ote(bad));
+                        self.emit(Op::True);
+                        self.cmp(Cmp::Gt, x, chi);
+                        self.emit(Op::Or(bad));
+                        self.emit(Op::Ote(bad));
+                        self.emit(Op::True);
+                        self.range_fault(bad);
+                        let minus = self.b.const_i(-1);
+                        self.emit(Op::Ld(bad));
+                        self.emit(Op::UnI(IUn::Mov, minus, flat));
+                        self.emit(Op::True);
+                    }
                     for (k, p) in elems.iter().enumerate() {
                         let kc = self.b.const_i(k as i32);
                         match (v, *p) {
@@ -1846,10 +3000,10 @@ impl Lower<'_> {
                 "not writable",
             ));
         }
-        let (v, vty) = self.eval(rhs, Some(&ty))?;
+        let (v, vty) = value(self, Some(&ty.value()))?;
         if !widens(&vty, &ty) {
             return Err(type_error(
-                rhs.span,
+                rspan,
                 format!(
                     "cannot assign {} to `{}`, {}; convert it (for example {vty}_TO_{ty})",
                     an(&vty),
@@ -1858,7 +3012,7 @@ impl Lower<'_> {
                 ),
             ));
         }
-        self.store(place, v, &ty);
+        self.store_checked(place, v, &ty);
         Ok(())
     }
 
@@ -2213,12 +3367,15 @@ impl Lower<'_> {
             "MIN" | "MAX" | "LIMIT" | "SEL" | "MUX" => return self.selection(&up, &positional, hint, span),
             _ => {}
         }
-        if self.functions.iter().any(|f| n.is(f)) {
-            return Err(not_supported(
+        if let Some(p) = self.types.pous.get(&n.name.to_ascii_lowercase()).copied() {
+            if p.kind == PouKind::Function {
+                return self.inline_function(p, args, span, false);
+            }
+            return Err(type_error(
                 n.span,
                 format!(
-                    "calling the user FUNCTION or FUNCTION_BLOCK `{}` is not supported yet",
-                    n.name
+                    "`{}` is a FUNCTION_BLOCK type: declare an instance (`x : {};`) and call the instance",
+                    n.name, p.name.name
                 ),
             ));
         }
@@ -2261,7 +3418,8 @@ impl Lower<'_> {
             "TIME_TO_DINT",
             "DINT_TO_TIME",
         ];
-        let names = self.known_names();
+        let mut names = self.known_names();
+        names.extend(self.types.pous.values().map(|p| p.name.name.clone()));
         let mut d = Diagnostic::new(
             Code::StName,
             format!("unknown function `{}`", n.name),
