@@ -330,7 +330,7 @@ fn inputs_constants_and_unsupported_features_are_refused_at_their_place() {
         "name,type,address\nStart,BOOL,DI:1/0\n",
         "PROGRAM Main
          VAR CONSTANT k : INT := 3; END_VAR
-         VAR s : STRING; w : WORD; x : INT; a : ARRAY[1..2] OF INT; END_VAR
+         VAR s : STRING; w : LTIME; x : INT; a : ARRAY[1..2] OF INT; END_VAR
          Start := TRUE;
          k := 4;
          x := SHL(x, 1);
@@ -339,7 +339,7 @@ fn inputs_constants_and_unsupported_features_are_refused_at_their_place() {
     );
     for want in [
         "error[E223]: STRING and WSTRING are not supported by the engine yet",
-        "the type WORD is not supported by the engine yet",
+        "the type LTIME is not supported by the engine yet",
         "error[E304]: `Start` cannot be written: it is an input",
         "`k` is CONSTANT",
         "SHL is not supported yet",
@@ -410,4 +410,184 @@ fn ten_thousand_lines_compile_and_the_time_is_printed() {
     let mut e = engine(&p, Mode::Fused);
     e.scan(0).expect("scan");
     assert!(p.ops.len() > lines);
+}
+
+const USER_POUS: &str = "
+FUNCTION_BLOCK Counter
+VAR_INPUT up : BOOL; step : INT := 1; END_VAR
+VAR_OUTPUT n : INT; END_VAR
+VAR edge : R_TRIG; calls : DINT; END_VAR
+edge(CLK := up);
+IF edge.Q THEN n := n + step; END_IF;
+calls := calls + 1;
+END_FUNCTION_BLOCK
+
+FUNCTION_BLOCK Pair
+VAR_INPUT x : BOOL; END_VAR
+VAR_OUTPUT total : INT; END_VAR
+VAR a, b : Counter; END_VAR
+a(up := x);
+b(up := NOT x, step := 10);
+total := a.n + b.n;
+END_FUNCTION_BLOCK
+
+FUNCTION Scale : DINT
+VAR_INPUT v : DINT; k : DINT; END_VAR
+VAR_OUTPUT twice : DINT; END_VAR
+VAR tmp : DINT; END_VAR
+tmp := v * k;
+twice := tmp * 2;
+IF v < 0 THEN Scale := 0; RETURN; END_IF;
+Scale := tmp;
+END_FUNCTION
+
+FUNCTION Swap : BOOL
+VAR_IN_OUT a, b : INT; END_VAR
+VAR t : INT; END_VAR
+t := a; a := b; b := t;
+Swap := TRUE;
+END_FUNCTION
+
+FUNCTION Fact : DINT
+VAR_INPUT n : INT; END_VAR
+VAR i : INT; END_VAR
+Fact := 1;
+FOR i := 2 TO n DO Fact := Fact * i; END_FOR;
+END_FUNCTION
+
+PROGRAM Main
+VAR c1, c2 : Counter; p : Pair; dbl : DINT; END_VAR
+c1(up := In);
+c2(In, 5);
+p(x := In, total => Total);
+N1 := c1.n; N2 := c2.n;
+S := Scale(INT_TO_DINT(N2), 3, twice => dbl);
+Tw := dbl;
+Neg := Scale(v := -4, k := 2);
+A := 1; B := 2;
+Swap(A, B);
+F := Fact(5) + Fact(DINT_TO_INT(Fact(3)) - 3);
+END_PROGRAM
+";
+
+#[test]
+fn user_function_blocks_keep_state_per_instance_and_functions_are_inlined() {
+    let p = program(
+        "name,type\nIn,BOOL\nN1,INT\nN2,INT\nTotal,INT\nS,DINT\nTw,DINT\nNeg,DINT\nA,INT\nB,INT\nF,DINT\n",
+        USER_POUS,
+    );
+    let rows = run_all(
+        &p,
+        10,
+        3,
+        &[(0, &[("In", b(true))]), (10, &[("In", b(false))]), (20, &[("In", b(true))])],
+        &[
+            "N1",
+            "N2",
+            "Total",
+            "S",
+            "Tw",
+            "Neg",
+            "A",
+            "B",
+            "F",
+            "Main.c1.calls",
+            "Main.p.b.n",
+            "Main.c1.edge.Q",
+        ],
+    );
+    let i = Value::Int;
+    let d = Value::Dint;
+    // c1 counts rising edges (scans 0 and 2), c2 by 5; p.b counts the
+    // rising edges of NOT x (scan 1) by 10.
+    assert_eq!(
+        rows[0],
+        [i(1), i(5), i(1), d(15), d(30), d(0), i(2), i(1), d(126), d(1), i(0), b(true)]
+    );
+    assert_eq!(
+        rows[1],
+        [i(1), i(5), i(11), d(15), d(30), d(0), i(2), i(1), d(126), d(2), i(10), b(false)]
+    );
+    assert_eq!(
+        rows[2],
+        [i(2), i(10), i(12), d(30), d(60), d(0), i(2), i(1), d(126), d(3), i(10), b(true)]
+    );
+}
+
+#[test]
+fn user_function_blocks_nest_standard_timers_with_their_own_state() {
+    let p = program(
+        "name,type\nGo,BOOL\nQ1,BOOL\nQ2,BOOL\nEt,TIME\n",
+        "FUNCTION_BLOCK Delay
+         VAR_INPUT in : BOOL; pt : TIME; END_VAR
+         VAR_OUTPUT q : BOOL; et : TIME; END_VAR
+         VAR t : TON; END_VAR
+         t(IN := in, PT := pt, Q => q, ET => et);
+         END_FUNCTION_BLOCK
+         PROGRAM Main
+         VAR d1, d2 : Delay; END_VAR
+         d1(in := Go, pt := T#20ms, q => Q1, et => Et);
+         d2(in := Go, pt := T#40ms);
+         Q2 := d2.q;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 7, &[(0, &[("Go", b(true))])], &["Q1", "Q2", "Et", "Main.d2.t.ACC"]);
+    let q1: Vec<bool> = rows.iter().map(|r| r[0] == b(true)).collect();
+    let q2: Vec<bool> = rows.iter().map(|r| r[1] == b(true)).collect();
+    assert_eq!(q1, [false, false, true, true, true, true, true]);
+    assert_eq!(q2, [false, false, false, false, true, true, true]);
+    assert_eq!(rows[2][2], Value::Time(20));
+    assert_eq!(rows[3][3], Value::Dint(30));
+}
+
+#[test]
+fn user_pou_bodies_are_checked_and_recursion_is_refused_at_its_place() {
+    let e = errors(
+        "name,type\nLevel,REAL\nCount,DINT\n",
+        "FUNCTION Again : DINT
+         VAR_INPUT n : DINT; END_VAR
+         Again := Again(n - 1);
+         END_FUNCTION
+         FUNCTION Unused : INT
+         VAR_INPUT x : INT; END_VAR
+         Unused := Levle;
+         END_FUNCTION
+         FUNCTION_BLOCK Box
+         VAR_INPUT x : INT; END_VAR
+         VAR_OUTPUT y : BOOL; END_VAR
+         VAR inner : INT; END_VAR
+         y := x;
+         END_FUNCTION_BLOCK
+         FUNCTION Sw : BOOL
+         VAR_IN_OUT a : INT; END_VAR
+         a := 1;
+         END_FUNCTION
+         PROGRAM Main
+         VAR b : Box; k : INT; END_VAR
+         Count := Again(3);
+         b(xx := 1);
+         b(x := 1);
+         k := b.inner;
+         Box(x := 2);
+         Sw();
+         Count := Sacle(2);
+         END_PROGRAM",
+    );
+    for want in [
+        "error[E223]: `Again` calls itself (again → again): calls are inlined, so recursion is not supported",
+        "main.st:3:",
+        "unknown name `Levle`",
+        "did you mean `Level`?",
+        "cannot assign an INT to `y`, a BOOL",
+        "Box has no input `xx`",
+        "did you mean `x`?",
+        "`inner` is a VAR of Box: only its inputs and outputs are seen from outside",
+        "`Box` is a FUNCTION_BLOCK type: declare an instance",
+        "the VAR_IN_OUT `a` of Sw must be given a variable",
+        "unknown function `Sacle`",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+    // A body inlined twice reports its error once.
+    assert_eq!(e.matches("cannot assign an INT to `y`").count(), 1, "{e}");
 }
