@@ -589,7 +589,7 @@ fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
     let bad = || {
         type_error(
             e.span,
-            format!("the initial value `{}` is not a {ty} literal", ast::expr(e)),
+            format!("the initial value `{}` is not {} literal", ast::expr(e), an(ty)),
         )
     };
     let int = |v: i64| -> R<Value> {
@@ -3601,7 +3601,13 @@ impl Lower<'_> {
 /// `a BOOL`, `an INT`.
 fn an(ty: &Ty) -> String {
     let s = ty.to_string();
-    let vowel = matches!(s.as_bytes().first(), Some(b'A' | b'E' | b'I' | b'L' | b'S'));
+    let first = s.as_bytes().first().map(u8::to_ascii_uppercase);
+    let vowel = if ty.data_type().is_some() && !matches!(ty, Ty::Enum(_)) {
+        // Type names read letter by letter: an SINT, an LREAL, a UDINT.
+        matches!(first, Some(b'A' | b'E' | b'I' | b'L' | b'S'))
+    } else {
+        matches!(first, Some(b'A' | b'E' | b'I' | b'O' | b'U'))
+    };
     format!("{} {s}", if vowel { "an" } else { "a" })
 }
 

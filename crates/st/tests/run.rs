@@ -591,3 +591,96 @@ fn user_pou_bodies_are_checked_and_recursion_is_refused_at_its_place() {
     // A body inlined twice reports its error once.
     assert_eq!(e.matches("cannot assign an INT to `y`").count(), 1, "{e}");
 }
+
+const TYPES: &str = "
+TYPE
+  Point : STRUCT x : INT; y : INT := 7; END_STRUCT;
+  Color : (Red, Green := 5, Blue);
+  Pct : INT(0..100);
+  Seg : STRUCT a, b : Point; c : Color; END_STRUCT;
+END_TYPE
+";
+
+#[test]
+fn structures_enumerations_and_subranges_run_in_every_mode() {
+    let src = format!(
+        "{TYPES}
+         FUNCTION_BLOCK Mover
+         VAR_IN_OUT p : Point; END_VAR
+         VAR_INPUT d : INT; END_VAR
+         p.x := p.x + d;
+         END_FUNCTION_BLOCK
+         FUNCTION Len2 : DINT
+         VAR_INPUT p : Point; END_VAR
+         Len2 := INT_TO_DINT(p.x) * p.x + INT_TO_DINT(p.y) * p.y;
+         END_FUNCTION
+         PROGRAM Main
+         VAR p, q : Point := (x := 1); s : Seg; c : Color; pct : Pct; m : Mover; cnt : INT; END_VAR
+         m(p := p, d := 2);
+         q := p;
+         s.a := q; s.b.y := 3;
+         c := Color#Blue;
+         cnt := 0;
+         IF c = Blue THEN cnt := 1; END_IF;
+         CASE c OF Red: cnt := cnt + 10; Green, Blue: cnt := cnt + 100; END_CASE;
+         pct := Want;
+         X := q.x; Y := s.a.y; L := Len2(q);
+         Pv := pct;
+         N := cnt;
+         END_PROGRAM"
+    );
+    let p = program("name,type\nWant,INT\nX,INT\nY,INT\nL,DINT\nPv,INT\nN,INT\n", &src);
+    let rows = run_all(
+        &p,
+        10,
+        3,
+        &[(0, &[("Want", Value::Int(50))]), (10, &[("Want", Value::Int(150))]), (20, &[("Want", Value::Int(-1))])],
+        &["X", "Y", "L", "Pv", "N", "Main.c", "Main.s.b.y", "Main.s.b.x", "Main.p.y", "Main.s.c"],
+    );
+    let i = Value::Int;
+    let d = Value::Dint;
+    assert_eq!(rows[0], [i(3), i(7), d(58), i(50), i(101), d(6), i(3), i(0), i(7), d(0)]);
+    // Out of the subrange: a fault, and the variable keeps its value.
+    assert_eq!(rows[1][..5], [i(5), i(7), d(74), i(50), i(101)]);
+    assert_eq!(rows[2][..5], [i(7), i(7), d(98), i(50), i(101)]);
+    for mode in MODES {
+        let mut e = engine(&p, mode);
+        set(&mut e, "Want", Value::Int(50));
+        e.scan(0).expect("scan");
+        assert_eq!(e.faults().count, 0, "{mode:?}");
+        set(&mut e, "Want", Value::Int(101));
+        e.scan(10).expect("scan");
+        assert!(e.faults().count >= 1, "{mode:?}: no fault out of the subrange");
+        assert_eq!(get(&e, "Main.pct"), Value::Int(50), "{mode:?}");
+    }
+}
+
+#[test]
+fn structure_enumeration_and_subrange_errors_are_located() {
+    let e = errors(
+        "name,type\nN,DINT\n",
+        &format!(
+            "{TYPES}
+             PROGRAM Main
+             VAR p : Point; s : Seg; c : Color; k : Pct := 200; END_VAR
+             c := c + 1;
+             c := 1;
+             p.z := 1;
+             p := s;
+             c := Color#Pink;
+             N := p;
+             END_PROGRAM"
+        ),
+    );
+    for want in [
+        "`+` of Color and DINT: the types differ",
+        "cannot assign a DINT to `c`, a Color",
+        "Point has no member `z`",
+        "cannot assign a Seg to `p`, a Point",
+        "the enumeration Color has no value `Pink`",
+        "the initial value `200` is not an INT(0..100) literal",
+        "`p` is a whole Point; read a member",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}
