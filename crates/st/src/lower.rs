@@ -129,7 +129,11 @@ impl PartialEq for StructTy {
     fn eq(&self, o: &Self) -> bool {
         self.name.eq_ignore_ascii_case(&o.name)
             && self.members.len() == o.members.len()
-            && self.members.iter().zip(&o.members).all(|(a, b)| a.0 == b.0 && a.1 == b.1)
+            && self
+                .members
+                .iter()
+                .zip(&o.members)
+                .all(|(a, b)| a.0 == b.0 && a.1 == b.1)
     }
 }
 
@@ -417,7 +421,9 @@ fn enum_values(values: &[(Ident, Option<Expr>)]) -> R<Vec<(String, i64)>> {
     for (n, e) in values {
         let v = match e {
             None => next,
-            Some(e) => const_int(e).ok_or_else(|| decl_error(e.span, "an enumeration value is an integer literal".into()))?,
+            Some(e) => {
+                const_int(e).ok_or_else(|| decl_error(e.span, "an enumeration value is an integer literal".into()))?
+            }
         };
         if out.iter().any(|(m, _)| m.eq_ignore_ascii_case(&n.name)) {
             return Err(decl_error(n.span, format!("`{}` is listed twice", n.name)));
@@ -455,10 +461,7 @@ fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) -> R<Ty> {
                 if p.kind == PouKind::FunctionBlock {
                     return Ok(Ty::User(p.name.name.clone()));
                 }
-                return Err(decl_error(
-                    n.span,
-                    format!("`{}` is a FUNCTION, not a type", n.name),
-                ));
+                return Err(decl_error(n.span, format!("`{}` is a FUNCTION, not a type", n.name)));
             }
             if UNSUPPORTED_TYPES.iter().any(|u| n.is(u)) {
                 return Err(not_supported(
@@ -471,8 +474,8 @@ fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) -> R<Ty> {
             }
             let known = [
                 "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "USINT", "UINT", "UDINT", "ULINT",
-                "BYTE", "WORD", "DWORD", "LWORD", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG",
-                "SR", "RS",
+                "BYTE", "WORD", "DWORD", "LWORD", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR",
+                "RS",
             ];
             let user: Vec<&str> = types
                 .aliases
@@ -516,18 +519,28 @@ fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) -> R<Ty> {
             })))
         }
         TypeRef::Enum { values, .. } => Ok(Ty::Enum(Rc::new(EnumTy {
-            name: if name == "STRUCT" { "ENUM".into() } else { name.to_string() },
+            name: if name == "STRUCT" {
+                "ENUM".into()
+            } else {
+                name.to_string()
+            },
             values: enum_values(values)?,
         }))),
         TypeRef::Subrange { base, lo, hi, span } => {
-            let b = elementary(&base.name)
-                .filter(Ty::is_int)
-                .ok_or_else(|| type_error(base.span, format!("a subrange is of an integer type, not {}", base.name)))?;
+            let b = elementary(&base.name).filter(Ty::is_int).ok_or_else(|| {
+                type_error(
+                    base.span,
+                    format!("a subrange is of an integer type, not {}", base.name),
+                )
+            })?;
             let (Some(l), Some(h)) = (const_int(lo), const_int(hi)) else {
                 return Err(decl_error(*span, "subrange bounds are integer literals".into()));
             };
             if l > h || !fits(l, &b) || !fits(h, &b) {
-                return Err(decl_error(*span, format!("the range {l}..{h} is empty or does not fit a {b}")));
+                return Err(decl_error(
+                    *span,
+                    format!("the range {l}..{h} is empty or does not fit a {b}"),
+                ));
             }
             Ok(Ty::Sub(Box::new(b), l, h))
         }
@@ -609,7 +622,9 @@ fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
         (ExprKind::Lit(Lit::Int(v, _)), Ty::Real) => Value::Real(*v as f32),
         (ExprKind::Lit(Lit::Int(v, _)), Ty::Lreal) => Value::Lreal(*v as f64),
         (ExprKind::Lit(Lit::Int(v, _)), t) if t.is_int() || t.is_bits() || matches!(t, Ty::Sub(..)) => int(*v)?,
-        (ExprKind::Unary(AUn::Neg, _), t) if t.is_int() || matches!(t, Ty::Sub(..)) => int(const_int(e).ok_or_else(bad)?)?,
+        (ExprKind::Unary(AUn::Neg, _), t) if t.is_int() || matches!(t, Ty::Sub(..)) => {
+            int(const_int(e).ok_or_else(bad)?)?
+        }
         (ExprKind::Lit(Lit::Real(v, _)), Ty::Real) => Value::Real(*v as f32),
         (ExprKind::Lit(Lit::Real(v, _)), Ty::Lreal) => Value::Lreal(*v),
         (ExprKind::Name(n), Ty::Enum(en)) => Value::Dint(enum_value(en, &n.name).ok_or_else(bad)? as i32),
@@ -740,7 +755,8 @@ impl Decl<'_, '_> {
     fn var(&mut self, tag: &str, ty: &Ty, init: Option<&Init>, retain: bool, span: Span, depth: u32) {
         if let Some(t) = self.tags.get(tag) {
             self.diags.push(
-                decl_error(span, format!("the variable's tag `{tag}` already exists")).with_note(t.span, "declared here"),
+                decl_error(span, format!("the variable's tag `{tag}` already exists"))
+                    .with_note(t.span, "declared here"),
             );
             return;
         }
@@ -765,7 +781,9 @@ impl Decl<'_, '_> {
                     ));
                     return;
                 }
-                let Some(pou) = self.types.pous.get(&name.to_ascii_lowercase()) else { return };
+                let Some(pou) = self.types.pous.get(&name.to_ascii_lowercase()) else {
+                    return;
+                };
                 for (_, v) in variables(&pou.vars, Some(tag), self.types, &mut Vec::new()) {
                     if matches!(v.kind, VarKind::InOut | VarKind::External | VarKind::Global) {
                         continue;
@@ -777,11 +795,13 @@ impl Decl<'_, '_> {
                 let given = match init {
                     Some(Init::Struct(items, _)) => items.as_slice(),
                     Some(Init::Array(_, span)) => {
-                        self.diags.push(type_error(*span, format!("a {} takes `(member := value, …)`", s.name)));
+                        self.diags
+                            .push(type_error(*span, format!("a {} takes `(member := value, …)`", s.name)));
                         &[]
                     }
                     Some(Init::Expr(e)) => {
-                        self.diags.push(type_error(e.span, format!("a {} takes `(member := value, …)`", s.name)));
+                        self.diags
+                            .push(type_error(e.span, format!("a {} takes `(member := value, …)`", s.name)));
                         &[]
                     }
                     None => &[],
@@ -915,11 +935,18 @@ pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic
             }
         }
     }
-    let mut d = Decl { types: &types, tags, diags };
+    let mut d = Decl {
+        types: &types,
+        tags,
+        diags,
+    };
     for (_, v) in vars {
         d.var(&v.tag, &v.ty, v.init.as_ref(), v.retain, v.span, 0);
     }
 }
+
+/// What computes the value of an assignment, given the type wanted.
+type ValueOf<'f, L> = dyn FnMut(&mut L, Option<&Ty>) -> R<(Val, Ty)> + 'f;
 
 /// A value read into a slot.
 #[derive(Debug, Clone, Copy)]
@@ -1373,9 +1400,9 @@ impl Lower<'_> {
                 Some(n) => {
                     let key = n.name.to_ascii_lowercase();
                     let want = if a.output { "output" } else { "input" };
-                    let ok = params.iter().any(|(k, v)| {
-                        *k == key && ((v.kind == VarKind::Output) == a.output)
-                    });
+                    let ok = params
+                        .iter()
+                        .any(|(k, v)| *k == key && ((v.kind == VarKind::Output) == a.output));
                     if !ok {
                         let names: Vec<&str> = params
                             .iter()
@@ -1481,7 +1508,10 @@ impl Lower<'_> {
             let want = v.ty.value();
             let (val, vty) = self.eval(e, Some(&want))?;
             if !widens(&vty, &v.ty) {
-                return Err(type_error(*espan, format!("{fname}.{pname} is {}, not {}", an(&v.ty), an(&vty))));
+                return Err(type_error(
+                    *espan,
+                    format!("{fname}.{pname} is {}, not {}", an(&v.ty), an(&vty)),
+                ));
             }
             let val = match val {
                 Val::N(x) => Val::N(self.b.convert(x, v.ty.class(), self.elem)),
@@ -1526,7 +1556,9 @@ impl Lower<'_> {
         self.leave(saved);
         r?;
         for (key, a) in outs {
-            let Some((_, v)) = vars.iter().find(|(k, _)| *k == key) else { continue };
+            let Some((_, v)) = vars.iter().find(|(k, _)| *k == key) else {
+                continue;
+            };
             let id = Ident {
                 name: key.clone(),
                 span: a.value.span,
@@ -1546,7 +1578,7 @@ impl Lower<'_> {
         let ret = match &pou.ret {
             Some(t) => {
                 let t = resolve_type(t, self.types, 0)?;
-                if !matches!(t.data_type(), Some(_)) {
+                if t.data_type().is_none() {
                     return Err(not_supported(
                         pou.ret.as_ref().map_or(pou.name.span, TypeRef::span),
                         format!("a FUNCTION returning {} is not supported yet", an(&t)),
@@ -1634,7 +1666,10 @@ impl Lower<'_> {
         if let Loc::Struct { .. } = src {
             let dst = self.locate(&a.value)?;
             if loc_type(&dst) != loc_type(src) {
-                return Err(type_error(a.value.span, "the output and the variable differ in type".into()));
+                return Err(type_error(
+                    a.value.span,
+                    "the output and the variable differ in type".into(),
+                ));
             }
             self.copy_loc(&dst, src);
             return Ok(());
@@ -1843,7 +1878,9 @@ impl Lower<'_> {
 /// A location whose values cannot be written from here (an FB's outputs).
 fn read_only(l: Loc) -> Loc {
     match l {
-        Loc::Value { place, ty, constant, .. } => Loc::Value {
+        Loc::Value {
+            place, ty, constant, ..
+        } => Loc::Value {
             place,
             access: Access::ReadOnly,
             ty,
@@ -1858,7 +1895,6 @@ fn read_only(l: Loc) -> Loc {
 }
 
 impl Lower<'_> {
-
     fn store_const(&mut self, place: Place, value: Value) -> R<()> {
         let ty = Ty::from_data_type(value.data_type()).unwrap_or(Ty::Dint);
         let val = self.constant(&value_lit(value), &ty);
@@ -2465,7 +2501,7 @@ impl Lower<'_> {
                 ty
             }
             Lit::Int(v, None) => match hint {
-                Some(h) if (h.is_int() && fits(*v, h)) || h.is_real() => h.clone(),
+                Some(h) if ((h.is_int() || h.is_bits()) && fits(*v, h)) || h.is_real() => h.clone(),
                 _ if fits(*v, &Ty::Dint) => Ty::Dint,
                 _ => Ty::Lint,
             },
@@ -2527,7 +2563,7 @@ impl Lower<'_> {
                 Ok((v, of))
             }
             ExprKind::Unary(AUn::Not, a) => {
-                let (v, ty) = self.eval(a, Some(&Ty::Bool))?;
+                let (v, ty) = self.eval(a, Some(hint.filter(|h| h.is_bits()).unwrap_or(&Ty::Bool)))?;
                 match v {
                     Val::B(b) => {
                         let t = self.b.temp_b();
@@ -2536,16 +2572,22 @@ impl Lower<'_> {
                         self.emit(Op::True);
                         Ok((Val::B(t), Ty::Bool))
                     }
+                    Val::N(x) if ty.is_bits() => {
+                        let t = self.b.temp(vclass(x));
+                        self.b.un(IUn::Not, x, t, self.elem);
+                        let w = ty.bits().unwrap_or(64);
+                        Ok((Val::N(self.wrap_bits(t, w)), ty))
+                    }
                     Val::N(_) => Err(type_error(
                         a.span,
-                        format!("NOT takes a BOOL, not a {ty} (bit strings are not supported yet)"),
+                        format!("NOT takes a BOOL or a bit string (BYTE … LWORD), not {}", an(&ty)),
                     )),
                 }
             }
             ExprKind::Unary(AUn::Neg, a) => {
                 let (v, ty) = self.eval(a, hint)?;
                 match v {
-                    Val::N(x) if ty.is_num() => {
+                    Val::N(x) if ty.is_num() && !ty.is_unsigned() => {
                         let t = self.b.temp(ty.class());
                         self.b.un(IUn::Neg, x, t, self.elem);
                         self.narrow(t, &ty);
@@ -2605,6 +2647,9 @@ impl Lower<'_> {
             hint
         };
         let ((va, ta), (vb, tb)) = self.operands(a, b, h)?;
+        if let (true, Val::N(x), Val::N(y)) = (logic, va, vb) {
+            return self.bitwise(op, (x, &ta), (y, &tb), span);
+        }
         if logic || (compare && ta == Ty::Bool && tb == Ty::Bool && matches!(op, BinOp::Eq | BinOp::Ne)) {
             let (Val::B(x), Val::B(y)) = (va, vb) else {
                 return Err(type_error(
@@ -2669,7 +2714,10 @@ impl Lower<'_> {
             ));
         };
         if matches!(ty, Ty::Enum(_)) && !compare {
-            return Err(type_error(span, format!("`{}` does not take enumeration values ({ty})", op.text())));
+            return Err(type_error(
+                span,
+                format!("`{}` does not take enumeration values ({ty})", op.text()),
+            ));
         }
         let class = ty.class();
         let x = self.b.convert(x, class, self.elem);
@@ -2712,6 +2760,24 @@ impl Lower<'_> {
                 span,
                 format!("TIME {} TIME is not defined; scale a TIME by an integer", op.text()),
             ));
+        }
+        if let Some(w) = ty.bits() {
+            if ty.is_bits() {
+                return Err(type_error(
+                    span,
+                    format!(
+                        "`{}` does not take bit strings ({ty}); convert to an unsigned integer first",
+                        op.text()
+                    ),
+                ));
+            }
+            // Unsigned: computed in 64 bits, then wrapped to the width.
+            let xl = self.b.convert(x, Class::L, self.elem);
+            let yl = self.b.convert(y, Class::L, self.elem);
+            let t = self.b.temp(Class::L);
+            self.b.bin(iop, xl, yl, t, self.elem);
+            let t = self.wrap_bits(t, w);
+            return Ok((Val::N(self.b.convert(t, class, self.elem)), ty));
         }
         let t = self.b.temp(class);
         self.b.bin(iop, x, y, t, self.elem);
@@ -2865,7 +2931,8 @@ impl Lower<'_> {
 
     fn assign(&mut self, lhs: &Expr, rhs: &Expr) -> R<()> {
         // A whole structure: copied member by member.
-        if let (ExprKind::Name(_) | ExprKind::Member(..), Ok(dst @ Loc::Struct { .. })) = (&lhs.kind, self.locate(lhs)) {
+        if let (ExprKind::Name(_) | ExprKind::Member(..), Ok(dst @ Loc::Struct { .. })) = (&lhs.kind, self.locate(lhs))
+        {
             let src = self.locate(rhs)?;
             let (dt, st) = (loc_type(&dst), loc_type(&src));
             if dt != st {
@@ -2896,12 +2963,7 @@ impl Lower<'_> {
     }
 
     /// Assigns to `lhs` the value `value` computes (given the type wanted).
-    fn assign_with(
-        &mut self,
-        lhs: &Expr,
-        rspan: Span,
-        value: &mut dyn FnMut(&mut Self, Option<&Ty>) -> R<(Val, Ty)>,
-    ) -> R<()> {
+    fn assign_with(&mut self, lhs: &Expr, rspan: Span, value: &mut ValueOf<'_, Self>) -> R<()> {
         if let ExprKind::Index(base, ix) = &lhs.kind {
             let (of, elems, dims) = self.array(base)?;
             let (v, ty) = value(self, Some(&of.value()))?;
@@ -3379,15 +3441,48 @@ impl Lower<'_> {
                 ),
             ));
         }
+        if ["SHL", "SHR", "ROL", "ROR"].contains(&up.as_str()) {
+            arity(2)?;
+            let h = hint.filter(|h| h.is_bits()).cloned();
+            let (v, ty) = self.eval(positional[0], h.as_ref())?;
+            let (Val::N(x), Some(w), true) = (v, ty.bits(), ty.is_bits()) else {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} shifts a bit string (BYTE … LWORD), not {}", an(&ty)),
+                ));
+            };
+            let (nv, nty) = self.eval(positional[1], Some(&Ty::Int))?;
+            let Val::N(n) = nv else {
+                return Err(type_error(
+                    positional[1].span,
+                    format!("{up}'s N is an integer, not BOOL"),
+                ));
+            };
+            if !nty.is_int() {
+                return Err(type_error(
+                    positional[1].span,
+                    format!("{up}'s N is an integer, not {nty}"),
+                ));
+            }
+            let r = match const_int(positional[1]) {
+                Some(k) if k >= 0 => self.shift_const(&up, x, k.min(1024) as u32, w),
+                _ => {
+                    let V::I(n) = self.b.convert(n, Class::I, self.elem) else {
+                        return Err(type_error(positional[1].span, "N".into()));
+                    };
+                    self.shift_var(&up, x, n, w)
+                }
+            };
+            return Ok((Val::N(r), ty));
+        }
         if [
-            "SHL", "SHR", "ROL", "ROR", "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND",
-            "MOVE",
+            "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND", "MOVE",
         ]
         .contains(&up.as_str())
         {
             return Err(not_supported(
                 n.span,
-                format!("{up} is not supported yet (bit strings and strings have no form in the engine)"),
+                format!("{up} is not supported yet (strings have no form in the engine)"),
             ));
         }
         let known = [
@@ -3432,6 +3527,179 @@ impl Lower<'_> {
         Err(d)
     }
 
+    /// `x` (of class I or L) with only its low `w` bits, in a new slot.
+    fn wrap_bits(&mut self, x: V, w: u32) -> V {
+        let c = vclass(x);
+        let t = self.b.temp(c);
+        if w >= 64 {
+            self.b.un(IUn::Mov, x, t, self.elem);
+        } else {
+            let m = self.b.constant(alba_model::Literal::Int((1i64 << w) - 1), c);
+            self.b.bin(IBin::And, x, m, t, self.elem);
+        }
+        t
+    }
+
+    fn int_const(&mut self, v: i64, c: Class) -> V {
+        self.b.constant(alba_model::Literal::Int(v), c)
+    }
+
+    /// `AND`, `OR`, `XOR` of two bit strings.
+    fn bitwise(&mut self, op: BinOp, (x, ta): (V, &Ty), (y, tb): (V, &Ty), span: Span) -> R<(Val, Ty)> {
+        let ty = if widens(ta, tb) { tb.clone() } else { ta.clone() };
+        if !(ta.is_bits() && tb.is_bits() && widens(ta, &ty) && widens(tb, &ty)) {
+            return Err(type_error(
+                span,
+                format!(
+                    "{} takes BOOL operands or bit strings (BYTE … LWORD) of one type, not {ta} and {tb}",
+                    op.text()
+                ),
+            ));
+        }
+        let c = ty.class();
+        let x = self.b.convert(x, c, self.elem);
+        let y = self.b.convert(y, c, self.elem);
+        let t = self.b.temp(c);
+        let iop = match op {
+            BinOp::And => IBin::And,
+            BinOp::Or => IBin::Or,
+            _ => IBin::Xor,
+        };
+        self.b.bin(iop, x, y, t, self.elem);
+        Ok((Val::N(t), ty))
+    }
+
+    /// `SHL`/`SHR`/`ROL`/`ROR` of a `w`-bit string by a constant.
+    fn shift_const(&mut self, f: &str, x: V, s: u32, w: u32) -> V {
+        match f {
+            "SHL" => self.shl(x, s, w),
+            "SHR" => self.shr(x, s, w),
+            "ROL" => self.rol(x, s % w, w),
+            _ => self.rol(x, (w - s % w) % w, w),
+        }
+    }
+
+    /// `x` shifted left by `s` within `w` bits (values of fewer than 64 bits
+    /// are never negative; LWORD's top bit is the sign of its slot).
+    fn shl(&mut self, x: V, s: u32, w: u32) -> V {
+        let c = vclass(x);
+        let t = self.b.temp(c);
+        if s >= w {
+            let z = self.int_const(0, c);
+            self.b.un(IUn::Mov, z, t, self.elem);
+            return t;
+        }
+        if s == 0 {
+            self.b.un(IUn::Mov, x, t, self.elem);
+            return t;
+        }
+        let keep = w - s;
+        let p = self.int_const(1i64 << s, c);
+        if w < 64 {
+            let m = self.int_const((1i64 << keep) - 1, c);
+            self.b.bin(IBin::And, x, m, t, self.elem);
+            self.b.bin(IBin::Mul, t, p, t, self.elem);
+            return t;
+        }
+        // 64 bits: the bits below the one reaching bit 63 move by a product;
+        // that one becomes the sign.
+        let m = self.int_const((1i64 << (keep - 1)) - 1, c);
+        self.b.bin(IBin::And, x, m, t, self.elem);
+        self.b.bin(IBin::Mul, t, p, t, self.elem);
+        let top = self.int_const(1i64 << (keep - 1), c);
+        let (zero, min) = (self.int_const(0, c), self.int_const(i64::MIN, c));
+        let tb = self.b.temp(c);
+        self.b.bin(IBin::And, x, top, tb, self.elem);
+        self.cmp(Cmp::Ne, tb, zero);
+        self.b.bin(IBin::Or, t, min, t, self.elem);
+        self.emit(Op::True);
+        t
+    }
+
+    /// `x` shifted right by `s` within `w` bits, zeros coming in.
+    fn shr(&mut self, x: V, s: u32, w: u32) -> V {
+        let c = vclass(x);
+        let t = self.b.temp(c);
+        if s >= w {
+            let z = self.int_const(0, c);
+            self.b.un(IUn::Mov, z, t, self.elem);
+            return t;
+        }
+        if s == 0 {
+            self.b.un(IUn::Mov, x, t, self.elem);
+            return t;
+        }
+        let p = self.int_const(1i64 << s, c);
+        if w < 64 {
+            self.b.bin(IBin::Div, x, p, t, self.elem);
+            return t;
+        }
+        // 64 bits: without the sign, divided; the sign bit comes back at 63 - s.
+        let max = self.int_const(i64::MAX, c);
+        self.b.bin(IBin::And, x, max, t, self.elem);
+        self.b.bin(IBin::Div, t, p, t, self.elem);
+        let (zero, bit) = (self.int_const(0, c), self.int_const(1i64 << (63 - s), c));
+        self.cmp(Cmp::Lt, x, zero);
+        self.b.bin(IBin::Or, t, bit, t, self.elem);
+        self.emit(Op::True);
+        t
+    }
+
+    /// `x` rotated left by `s` (0 ≤ s < w) within `w` bits.
+    fn rol(&mut self, x: V, s: u32, w: u32) -> V {
+        if s == 0 {
+            return self.shl(x, 0, w);
+        }
+        let a = self.shl(x, s, w);
+        let b = self.shr(x, w - s, w);
+        let t = self.b.temp(vclass(x));
+        self.b.bin(IBin::Or, a, b, t, self.elem);
+        t
+    }
+
+    /// A shift or rotation by a computed amount `n`: by each power of two
+    /// of its bits in turn. SHL/SHR by `n ≥ w` give 0, by `n < 0` the value
+    /// unchanged; rotations take `n` modulo `w`.
+    fn shift_var(&mut self, f: &str, x: V, n: I, w: u32) -> V {
+        let c = vclass(x);
+        let r = self.b.temp(c);
+        self.b.un(IUn::Mov, x, r, self.elem);
+        let rotate = f == "ROL" || f == "ROR";
+        let zero = self.b.const_i(0);
+        let amount = if rotate {
+            let wc = self.b.const_i(w as i32);
+            let m = self.b.temp_i();
+            self.emit(Op::BinI(IBin::Mod, n, wc, m));
+            self.emit(Op::BinI(IBin::Add, m, wc, m));
+            self.emit(Op::BinI(IBin::Mod, m, wc, m));
+            m
+        } else {
+            n
+        };
+        let mut k = 1u32;
+        while k < w {
+            let shifted = self.shift_const(f, r, k, w);
+            let bit = self.b.const_i(k as i32);
+            let tb = self.b.temp_i();
+            self.emit(Op::BinI(IBin::And, amount, bit, tb));
+            self.emit(Op::CmpI(Cmp::Ne, tb, zero));
+            self.b.un(IUn::Mov, shifted, r, self.elem);
+            self.emit(Op::True);
+            k *= 2;
+        }
+        if !rotate {
+            let wc = self.b.const_i(w as i32);
+            let z = self.int_const(0, c);
+            self.emit(Op::CmpI(Cmp::Ge, n, wc));
+            self.b.un(IUn::Mov, z, r, self.elem);
+            self.emit(Op::True);
+            self.emit(Op::CmpI(Cmp::Lt, n, zero));
+            self.b.un(IUn::Mov, x, r, self.elem);
+            self.emit(Op::True);
+        }
+        r
+    }
+
     fn convert(&mut self, v: Val, from: &Ty, to: &Ty) -> Val {
         match (v, to) {
             (Val::B(b), Ty::Bool) => Val::B(b),
@@ -3452,6 +3720,13 @@ impl Lower<'_> {
                 self.emit(Op::Ote(t));
                 self.emit(Op::True);
                 Val::B(t)
+            }
+            (Val::N(x), to) if to.bits().is_some_and(|w| w < 64) => {
+                // Into an unsigned integer or a bit string: the low bits
+                // (negative values wrap as two's complement).
+                let l = self.b.convert(x, Class::L, self.elem);
+                let l = self.wrap_bits(l, to.bits().unwrap_or(64));
+                Val::N(self.b.convert(l, to.class(), self.elem))
             }
             (Val::N(x), to) => {
                 let y = self.b.convert(x, to.class(), self.elem);
@@ -3617,7 +3892,21 @@ fn fits(v: i64, ty: &Ty) -> bool {
         Ty::Int => i16::try_from(v).is_ok(),
         Ty::Dint | Ty::Time => i32::try_from(v).is_ok(),
         Ty::Lint | Ty::Real | Ty::Lreal => true,
+        Ty::Usint | Ty::Byte => (0..=0xFF).contains(&v),
+        Ty::Uint | Ty::Word => (0..=0xFFFF).contains(&v),
+        Ty::Udint | Ty::Dword => (0..=0xFFFF_FFFF).contains(&v),
+        Ty::Ulint | Ty::Lword => v >= 0,
+        Ty::Sub(b, lo, hi) => (*lo..=*hi).contains(&v) && fits(v, b),
         _ => false,
+    }
+}
+
+fn vclass(v: V) -> Class {
+    match v {
+        V::I(_) => Class::I,
+        V::F(_) => Class::F,
+        V::L(_) => Class::L,
+        V::D(_) => Class::D,
     }
 }
 

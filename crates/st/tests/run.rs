@@ -333,7 +333,7 @@ fn inputs_constants_and_unsupported_features_are_refused_at_their_place() {
          VAR s : STRING; w : LTIME; x : INT; a : ARRAY[1..2] OF INT; END_VAR
          Start := TRUE;
          k := 4;
-         x := SHL(x, 1);
+         x := LEN(x);
          a[3] := 1;
          END_PROGRAM",
     );
@@ -342,7 +342,7 @@ fn inputs_constants_and_unsupported_features_are_refused_at_their_place() {
         "the type LTIME is not supported by the engine yet",
         "error[E304]: `Start` cannot be written: it is an input",
         "`k` is CONSTANT",
-        "SHL is not supported yet",
+        "LEN is not supported yet",
         "the index 3 is outside the bounds 1..2",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
@@ -480,7 +480,11 @@ fn user_function_blocks_keep_state_per_instance_and_functions_are_inlined() {
         &p,
         10,
         3,
-        &[(0, &[("In", b(true))]), (10, &[("In", b(false))]), (20, &[("In", b(true))])],
+        &[
+            (0, &[("In", b(true))]),
+            (10, &[("In", b(false))]),
+            (20, &[("In", b(true))]),
+        ],
         &[
             "N1",
             "N2",
@@ -502,15 +506,54 @@ fn user_function_blocks_keep_state_per_instance_and_functions_are_inlined() {
     // rising edges of NOT x (scan 1) by 10.
     assert_eq!(
         rows[0],
-        [i(1), i(5), i(1), d(15), d(30), d(0), i(2), i(1), d(126), d(1), i(0), b(true)]
+        [
+            i(1),
+            i(5),
+            i(1),
+            d(15),
+            d(30),
+            d(0),
+            i(2),
+            i(1),
+            d(126),
+            d(1),
+            i(0),
+            b(true)
+        ]
     );
     assert_eq!(
         rows[1],
-        [i(1), i(5), i(11), d(15), d(30), d(0), i(2), i(1), d(126), d(2), i(10), b(false)]
+        [
+            i(1),
+            i(5),
+            i(11),
+            d(15),
+            d(30),
+            d(0),
+            i(2),
+            i(1),
+            d(126),
+            d(2),
+            i(10),
+            b(false)
+        ]
     );
     assert_eq!(
         rows[2],
-        [i(2), i(10), i(12), d(30), d(60), d(0), i(2), i(1), d(126), d(3), i(10), b(true)]
+        [
+            i(2),
+            i(10),
+            i(12),
+            d(30),
+            d(60),
+            d(0),
+            i(2),
+            i(1),
+            d(126),
+            d(3),
+            i(10),
+            b(true)
+        ]
     );
 }
 
@@ -531,7 +574,13 @@ fn user_function_blocks_nest_standard_timers_with_their_own_state() {
          Q2 := d2.q;
          END_PROGRAM",
     );
-    let rows = run_all(&p, 10, 7, &[(0, &[("Go", b(true))])], &["Q1", "Q2", "Et", "Main.d2.t.ACC"]);
+    let rows = run_all(
+        &p,
+        10,
+        7,
+        &[(0, &[("Go", b(true))])],
+        &["Q1", "Q2", "Et", "Main.d2.t.ACC"],
+    );
     let q1: Vec<bool> = rows.iter().map(|r| r[0] == b(true)).collect();
     let q2: Vec<bool> = rows.iter().map(|r| r[1] == b(true)).collect();
     assert_eq!(q1, [false, false, true, true, true, true, true]);
@@ -634,12 +683,30 @@ fn structures_enumerations_and_subranges_run_in_every_mode() {
         &p,
         10,
         3,
-        &[(0, &[("Want", Value::Int(50))]), (10, &[("Want", Value::Int(150))]), (20, &[("Want", Value::Int(-1))])],
-        &["X", "Y", "L", "Pv", "N", "Main.c", "Main.s.b.y", "Main.s.b.x", "Main.p.y", "Main.s.c"],
+        &[
+            (0, &[("Want", Value::Int(50))]),
+            (10, &[("Want", Value::Int(150))]),
+            (20, &[("Want", Value::Int(-1))]),
+        ],
+        &[
+            "X",
+            "Y",
+            "L",
+            "Pv",
+            "N",
+            "Main.c",
+            "Main.s.b.y",
+            "Main.s.b.x",
+            "Main.p.y",
+            "Main.s.c",
+        ],
     );
     let i = Value::Int;
     let d = Value::Dint;
-    assert_eq!(rows[0], [i(3), i(7), d(58), i(50), i(101), d(6), i(3), i(0), i(7), d(0)]);
+    assert_eq!(
+        rows[0],
+        [i(3), i(7), d(58), i(50), i(101), d(6), i(3), i(0), i(7), d(0)]
+    );
     // Out of the subrange: a fault, and the variable keeps its value.
     assert_eq!(rows[1][..5], [i(5), i(7), d(74), i(50), i(101)]);
     assert_eq!(rows[2][..5], [i(7), i(7), d(98), i(50), i(101)]);
@@ -680,6 +747,93 @@ fn structure_enumeration_and_subrange_errors_are_located() {
         "the enumeration Color has no value `Pink`",
         "the initial value `200` is not an INT(0..100) literal",
         "`p` is a whole Point; read a member",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}
+
+#[test]
+fn bit_strings_and_unsigned_integers_shift_rotate_and_wrap() {
+    let p = program(
+        "name,type\nN,INT\n",
+        "PROGRAM Main
+         VAR b : BYTE := 16#A5; u : USINT := 250;
+             b1, b2, b3, b4, b5 : BYTE; w1 : WORD; d1 : DWORD; l1, l2, l3 : LWORD;
+             u1 : USINT; ui : UINT; ud : UDINT; i1 : INT; i2 : DINT; ok : BOOL;
+         END_VAR
+         b1 := SHL(b, 1);
+         b2 := ROL(b, 1);
+         b3 := ROR(b, N);
+         b4 := NOT b AND 16#0F;
+         b5 := b XOR BYTE#16#FF;
+         w1 := SHL(WORD#16#00FF, N) OR 1;
+         d1 := SHR(DWORD#16#8000_0000, N) OR DWORD#16#F;
+         l1 := ROL(SHL(LWORD#1, 63) OR 1, 1);
+         l2 := SHR(SHL(LWORD#1, 63), 60);
+         l3 := ROR(LWORD#1, N);
+         u1 := u + 10;
+         ui := INT_TO_UINT(-1) - 1;
+         ud := UDINT#4000000000 + UDINT#1000000000;
+         i1 := BYTE_TO_INT(b) + USINT_TO_INT(u1);
+         i2 := UINT_TO_DINT(ui) + u;
+         ok := (b AND 16#80) <> 0 AND w1 > 2000;
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        2,
+        &[(0, &[("N", Value::Int(3))])],
+        &[
+            "Main.b1", "Main.b2", "Main.b3", "Main.b4", "Main.b5", "Main.w1", "Main.d1", "Main.l1", "Main.l2",
+            "Main.l3", "Main.u1", "Main.ui", "Main.ud", "Main.i1", "Main.i2", "Main.ok",
+        ],
+    );
+    let (i, d, l) = (Value::Int, Value::Dint, Value::Lint);
+    assert_eq!(
+        rows[1],
+        [
+            i(0x4A),
+            i(0x4B),
+            i(0xB4),
+            i(0x0A),
+            i(0x5A),
+            d(0x07F9),
+            l(0x1000_000F),
+            l(3),
+            l(8),
+            l(1 << 61),
+            i(4),
+            d(65534),
+            l(705_032_704),
+            i(0xA5 + 4),
+            d(65534 + 250),
+            b(true),
+        ]
+    );
+}
+
+#[test]
+fn bit_string_errors_name_the_types() {
+    let e = errors(
+        "name,type\nN,INT\n",
+        "PROGRAM Main
+         VAR b : BYTE; w : WORD; x : INT; u : USINT; END_VAR
+         b := b + 1;
+         x := SHL(x, 1);
+         b := w;
+         x := b;
+         x := x AND 3;
+         u := -u;
+         END_PROGRAM",
+    );
+    for want in [
+        "`+` does not take bit strings (BYTE)",
+        "SHL shifts a bit string (BYTE … LWORD), not an INT",
+        "cannot assign a WORD to `b`, a BYTE",
+        "cannot assign a BYTE to `x`, an INT",
+        "AND takes BOOL operands or bit strings (BYTE … LWORD) of one type, not INT and INT",
+        "`-` takes a number, not a USINT",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
