@@ -748,6 +748,8 @@ struct Decl<'t, 'a> {
     types: &'t Types<'a>,
     tags: &'t mut TagTable,
     diags: &'t mut Vec<Diagnostic>,
+    /// Tags declared for instances of user FUNCTION_BLOCKs.
+    instance_tags: usize,
 }
 
 impl Decl<'_, '_> {
@@ -784,11 +786,20 @@ impl Decl<'_, '_> {
                 let Some(pou) = self.types.pous.get(&name.to_ascii_lowercase()) else {
                     return;
                 };
+                if self.instance_tags > MAX_INSTANCE_TAGS {
+                    self.diags.push(decl_error(
+                        span,
+                        format!("the instances of function blocks pass {MAX_INSTANCE_TAGS} tags"),
+                    ));
+                    return;
+                }
                 for (_, v) in variables(&pou.vars, Some(tag), self.types, &mut Vec::new()) {
                     if matches!(v.kind, VarKind::InOut | VarKind::External | VarKind::Global) {
                         continue;
                     }
+                    let before = self.tags.len();
                     self.var(&v.tag, &v.ty, v.init.as_ref(), retain || v.retain, v.span, depth + 1);
+                    self.instance_tags += self.tags.len() - before;
                 }
             }
             Ty::Struct(s) => {
@@ -939,6 +950,7 @@ pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic
         types: &types,
         tags,
         diags,
+        instance_tags: 0,
     };
     for (_, v) in vars {
         d.var(&v.tag, &v.ty, v.init.as_ref(), v.retain, v.span, 0);
@@ -999,6 +1011,10 @@ struct LoopLabels {
 
 /// Most nested calls of user FUNCTIONs and FUNCTION_BLOCKs (each is inlined).
 const MAX_CALL_DEPTH: usize = 16;
+/// Most operations of a program before one more call is inlined.
+const MAX_OPS: u32 = 4_000_000;
+/// Most tags the instances of user FUNCTION_BLOCKs of a file may declare.
+const MAX_INSTANCE_TAGS: usize = 200_000;
 
 struct Lower<'a> {
     b: &'a mut Builder,
@@ -1086,6 +1102,7 @@ fn check_alone(p: &Pou, types: &Types, globals: &HashMap<String, Var>, layout: &
             types,
             tags: &mut tags,
             diags: &mut diags,
+            instance_tags: 0,
         };
         d.var(&inst, &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
     }
@@ -1351,6 +1368,12 @@ impl Lower<'_> {
                 ),
                 at,
                 "recursive call",
+            ));
+        }
+        if self.b.here() > MAX_OPS {
+            return Err(not_supported(
+                at,
+                format!("the program passes {MAX_OPS} operations with its calls inlined"),
             ));
         }
         if self.stack.len() >= MAX_CALL_DEPTH {
@@ -2222,8 +2245,8 @@ impl Lower<'_> {
         if let Some(l) = self.aliases.get(&key) {
             return Ok(l.clone());
         }
-        if let Some(v) = self.vars.get(&key).cloned() {
-            return self.tag_loc(&v.tag, &v.ty, v.constant, n);
+        if let Some((tag, ty, constant)) = self.vars.get(&key).map(|v| (v.tag.clone(), v.ty.clone(), v.constant)) {
+            return self.tag_loc(&tag, &ty, constant, n);
         }
         match self.b.layout().resolve(&n.name) {
             Ok(Target::Value { place, access }) => {
@@ -2931,8 +2954,16 @@ impl Lower<'_> {
 
     fn assign(&mut self, lhs: &Expr, rhs: &Expr) -> R<()> {
         // A whole structure: copied member by member.
-        if let (ExprKind::Name(_) | ExprKind::Member(..), Ok(dst @ Loc::Struct { .. })) = (&lhs.kind, self.locate(lhs))
-        {
+        let maybe_struct = match &lhs.kind {
+            ExprKind::Name(n) => {
+                let k = n.name.to_ascii_lowercase();
+                self.aliases.get(&k).is_some_and(|l| matches!(l, Loc::Struct { .. }))
+                    || self.vars.get(&k).is_some_and(|v| matches!(v.ty, Ty::Struct(_)))
+            }
+            ExprKind::Member(..) => true,
+            _ => false,
+        };
+        if maybe_struct && let Ok(dst @ Loc::Struct { .. }) = self.locate(lhs) {
             let src = self.locate(rhs)?;
             let (dt, st) = (loc_type(&dst), loc_type(&src));
             if dt != st {
