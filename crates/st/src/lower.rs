@@ -1520,7 +1520,7 @@ impl Lower<'_> {
                 inouts.insert(key.clone(), loc);
                 continue;
             }
-            if let Ty::Struct(_) = v.ty {
+            if let Ty::Struct(_) | Ty::Array(..) = v.ty {
                 let src = self.locate(e)?;
                 if loc_type(&src).as_ref() != Some(&v.ty) {
                     return Err(type_error(*espan, format!("{fname}.{pname} is {}", an(&v.ty))));
@@ -1686,7 +1686,7 @@ impl Lower<'_> {
         if matches!(a.value.kind, ExprKind::Lit(Lit::Bool(false))) && a.value.span.start == a.value.span.end {
             return Ok(());
         }
-        if let Loc::Struct { .. } = src {
+        if let Loc::Struct { .. } | Loc::Array { .. } = src {
             let dst = self.locate(&a.value)?;
             if loc_type(&dst) != loc_type(src) {
                 return Err(type_error(
@@ -1886,7 +1886,17 @@ impl Lower<'_> {
             return Some(v);
         }
         match &e.kind {
-            ExprKind::Name(n) => self.types.enums.iter().find_map(|en| enum_value(en, &n.name)),
+            ExprKind::Name(n) => {
+                let declared = self.vars.values().filter_map(|v| match &v.ty {
+                    Ty::Enum(e) => Some(e),
+                    _ => None,
+                });
+                self.types
+                    .enums
+                    .iter()
+                    .chain(declared)
+                    .find_map(|en| enum_value(en, &n.name))
+            }
             ExprKind::Lit(Lit::Other(t, v)) => self
                 .types
                 .enums
@@ -2272,7 +2282,11 @@ impl Lower<'_> {
             )),
             Err(e) if n.name.starts_with('%') => Err(Diagnostic::new(Code::StName, e.to_string(), n.span, "address")),
             Err(_) => {
-                for en in &self.types.enums {
+                let declared = self.vars.values().filter_map(|v| match &v.ty {
+                    Ty::Enum(e) => Some(e),
+                    _ => None,
+                });
+                for en in self.types.enums.iter().chain(declared) {
                     if let Some(v) = enum_value(en, &n.name) {
                         return Ok(Loc::EnumConst(en.clone(), v));
                     }

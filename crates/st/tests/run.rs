@@ -838,3 +838,41 @@ fn bit_string_errors_name_the_types() {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
 }
+
+#[test]
+fn arrays_pass_by_value_instances_pass_in_out_and_local_enumerations_run() {
+    let p = program(
+        "name,type\nS,DINT\nH0,DINT\nH1,DINT\nM,INT\n",
+        "FUNCTION Sum3 : DINT
+         VAR_INPUT a : ARRAY[1..3] OF DINT; END_VAR
+         VAR i : INT; END_VAR
+         FOR i := 1 TO 3 DO Sum3 := Sum3 + a[i]; END_FOR;
+         a[1] := 100;
+         END_FUNCTION
+         FUNCTION_BLOCK Acc
+         VAR_INPUT x : DINT; END_VAR
+         VAR_OUTPUT hist : ARRAY[0..1] OF DINT; END_VAR
+         hist[1] := hist[0]; hist[0] := x;
+         END_FUNCTION_BLOCK
+         FUNCTION_BLOCK Bump
+         VAR_IN_OUT c : Acc; END_VAR
+         c(x := c.hist[0] + 1);
+         END_FUNCTION_BLOCK
+         PROGRAM Main
+         VAR v : ARRAY[1..3] OF DINT := [1, 2, 3]; h : ARRAY[0..1] OF DINT; acc : Acc; b : Bump;
+             mode : (Idle, Run, Halt) := Run; END_VAR
+         S := Sum3(v) + v[1];
+         b(c := acc);
+         acc(hist => h);
+         H0 := h[0]; H1 := h[1];
+         M := 0;
+         IF mode = Run THEN M := 1; END_IF;
+         CASE mode OF Idle: M := 10; Run: M := M + 20; END_CASE;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 2, &[], &["S", "H0", "H1", "M"]);
+    let d = Value::Dint;
+    // Sum3 works on a copy: v[1] stays 1.
+    assert_eq!(rows[0], [d(7), d(1), d(1), Value::Int(21)]);
+    assert_eq!(rows[1], [d(7), d(2), d(2), Value::Int(21)]);
+}
