@@ -1003,6 +1003,14 @@ enum Loc {
     },
     /// A value of an enumerated type, by name.
     EnumConst(Rc<EnumTy>, i64),
+    /// Bit `bit` of an integer or bit string (`x.3`).
+    Bit {
+        place: Place,
+        access: Access,
+        ty: Ty,
+        bit: u32,
+        constant: bool,
+    },
 }
 
 struct LoopLabels {
@@ -1560,7 +1568,7 @@ fn loc_type(l: &Loc) -> Option<Ty> {
         Loc::User { fb, .. } => Some(Ty::User(fb.clone())),
         Loc::Struct { ty, .. } => Some(Ty::Struct(ty.clone())),
         Loc::EnumConst(e, _) => Some(Ty::Enum(e.clone())),
-        Loc::CounterQ { .. } => Some(Ty::Bool),
+        Loc::CounterQ { .. } | Loc::Bit { .. } => Some(Ty::Bool),
     }
 }
 
@@ -2327,15 +2335,49 @@ impl Lower<'_> {
                             }
                         };
                     }
-                    Some(Loc::Value { ty, .. }) => {
-                        return Err(not_supported(
+                    Some(Loc::Value {
+                        place,
+                        access,
+                        ty,
+                        constant,
+                    }) => {
+                        let width = match &ty {
+                            Ty::Sint => Some(8),
+                            Ty::Int => Some(16),
+                            Ty::Dint => Some(32),
+                            Ty::Lint => Some(64),
+                            t => t.bits(),
+                        };
+                        let Some(width) = width else {
+                            return Err(type_error(
+                                m.span,
+                                format!("`{}` is {}; it has no members", ast::expr(base), an(&ty)),
+                            ));
+                        };
+                        return match m.name.parse::<u32>() {
+                            Ok(bit) if bit < width => Ok(Loc::Bit {
+                                place,
+                                access,
+                                ty,
+                                bit,
+                                constant,
+                            }),
+                            _ => Err(type_error(
+                                m.span,
+                                format!(
+                                    "`{}` is {}: its bits are `.0` to `.{}`, not `.{}`",
+                                    ast::expr(base),
+                                    an(&ty),
+                                    width - 1,
+                                    m.name
+                                ),
+                            )),
+                        };
+                    }
+                    Some(Loc::Bit { .. }) => {
+                        return Err(type_error(
                             m.span,
-                            format!(
-                                "`{}` is {}: bit access `.{}` is not supported yet",
-                                ast::expr(base),
-                                an(&ty),
-                                m.name
-                            ),
+                            format!("`{}` is a BOOL; it has no members", ast::expr(base)),
                         ));
                     }
                     Some(Loc::Array { .. }) => {
@@ -2460,6 +2502,18 @@ impl Lower<'_> {
             Loc::EnumConst(en, v) => {
                 let c = self.b.const_i(*v as i32);
                 Ok((Val::N(V::I(c)), Ty::Enum(en.clone())))
+            }
+            Loc::Bit { place, ty, bit, .. } => {
+                let x = self.b.load(*place, self.elem);
+                let c = vclass(x);
+                let mask = self.bit_mask(ty, *bit, c);
+                let (t, zero) = (self.b.temp(c), self.int_const(0, c));
+                self.b.bin(IBin::And, x, mask, t, self.elem);
+                let r = self.b.temp_b();
+                self.cmp(Cmp::Ne, t, zero);
+                self.emit(Op::Ote(r));
+                self.emit(Op::True);
+                Ok((Val::B(r), Ty::Bool))
             }
             Loc::User { fb, .. } => Err(type_error(
                 e.span,
@@ -3076,6 +3130,42 @@ impl Lower<'_> {
             };
         }
         let loc = self.locate(lhs)?;
+        if let Loc::Bit {
+            place,
+            access,
+            ty,
+            bit,
+            constant,
+        } = &loc
+        {
+            if *constant || *access != Access::ReadWrite {
+                return Err(Diagnostic::new(
+                    Code::NotWritable,
+                    format!("`{}` cannot be written", ast::expr(lhs)),
+                    lhs.span,
+                    "not writable",
+                ));
+            }
+            let (v, vty) = value(self, Some(&Ty::Bool))?;
+            let Val::B(v) = v else {
+                return Err(type_error(rspan, format!("a bit is a BOOL, not {}", an(&vty))));
+            };
+            let x = self.b.load(*place, self.elem);
+            let c = vclass(x);
+            let mask = self.bit_mask(ty, *bit, c);
+            let t = self.b.temp(c);
+            self.b.un(IUn::Mov, x, t, self.elem);
+            let notmask = self.b.temp(c);
+            self.b.un(IUn::Not, mask, notmask, self.elem);
+            self.emit(Op::Ld(v));
+            self.b.bin(IBin::Or, t, mask, t, self.elem);
+            self.emit(Op::Ldn(v));
+            self.b.bin(IBin::And, t, notmask, t, self.elem);
+            self.emit(Op::True);
+            let (place, ty) = (*place, ty.clone());
+            self.store(place, Val::N(t), &ty);
+            return Ok(());
+        }
         let (place, access, ty, constant) = match loc {
             Loc::Value {
                 place,
@@ -3587,6 +3677,23 @@ impl Lower<'_> {
 
     fn int_const(&mut self, v: i64, c: Class) -> V {
         self.b.constant(alba_model::Literal::Int(v), c)
+    }
+
+    /// The mask of bit `bit` of a value of `ty` in class `c` (a signed
+    /// type's sign bit sign-extended, so setting it stays in range).
+    fn bit_mask(&mut self, ty: &Ty, bit: u32, c: Class) -> V {
+        let w = match ty {
+            Ty::Sint => 8,
+            Ty::Int => 16,
+            Ty::Dint => 32,
+            _ => 64,
+        };
+        let m = if bit + 1 == w && w < 64 {
+            -(1i64 << bit)
+        } else {
+            1i64 << bit
+        };
+        self.int_const(m, c)
     }
 
     /// `AND`, `OR`, `XOR` of two bit strings.

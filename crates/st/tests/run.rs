@@ -876,3 +876,54 @@ fn arrays_pass_by_value_instances_pass_in_out_and_local_enumerations_run() {
     assert_eq!(rows[0], [d(7), d(1), d(1), Value::Int(21)]);
     assert_eq!(rows[1], [d(7), d(2), d(2), Value::Int(21)]);
 }
+
+#[test]
+fn bits_of_integers_and_bit_strings_read_and_write() {
+    let p = program(
+        "name,type\nFlags,DINT\nIn,BOOL\nS,SINT\nB3,BOOL\nTop,BOOL\n",
+        "PROGRAM Main
+         VAR w : WORD := 16#0100; l : LWORD; i : INT := -1; END_VAR
+         Flags.3 := In;
+         Flags.31 := In;
+         S.7 := TRUE;
+         S.0 := NOT S.0;
+         w.0 := w.8;
+         w.8 := FALSE;
+         l.63 := TRUE;
+         Top := l.63 AND NOT l.62;
+         i.15 := FALSE;
+         B3 := Flags.3;
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        2,
+        &[(0, &[("In", b(true))]), (10, &[("In", b(false))])],
+        &["Flags", "S", "B3", "Top", "Main.w", "Main.l", "Main.i"],
+    );
+    assert_eq!(
+        rows[0],
+        [
+            Value::Dint(i32::MIN | 8),
+            Value::Sint(-127),
+            b(true),
+            b(true),
+            Value::Dint(1),
+            Value::Lint(i64::MIN),
+            Value::Int(i16::MAX),
+        ]
+    );
+    assert_eq!(rows[1][..3], [Value::Dint(0), Value::Sint(-128), b(false)]);
+    let e = errors(
+        "name,type\nN,INT\n",
+        "PROGRAM Main VAR b : BYTE; r : REAL; END_VAR b.8 := TRUE; N.1 := 1; r.0 := TRUE; END_PROGRAM",
+    );
+    for want in [
+        "`b` is a BYTE: its bits are `.0` to `.7`, not `.8`",
+        "a bit is a BOOL, not a DINT",
+        "`r` is a REAL; it has no members",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}
