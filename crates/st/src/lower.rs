@@ -3648,6 +3648,15 @@ impl Lower<'_> {
             "TIME_TO_DINT",
             "DINT_TO_TIME",
         ];
+        if let Ok(Loc::Fb { .. } | Loc::User { .. }) = self.lookup(n) {
+            return Err(type_error(
+                n.span,
+                format!(
+                    "`{}` is a function block instance: call it as a statement (`{}(…);`) and read its outputs",
+                    n.name, n.name
+                ),
+            ));
+        }
         let mut names = self.known_names();
         names.extend(self.types.pous.values().map(|p| p.name.name.clone()));
         let mut d = Diagnostic::new(

@@ -927,3 +927,36 @@ fn bits_of_integers_and_bit_strings_read_and_write() {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
 }
+
+#[test]
+fn a_fault_inside_an_inlined_body_points_at_the_callee_line() {
+    let p = program(
+        "name,type\nD,DINT\nQ,DINT\n",
+        "FUNCTION Ratio : DINT
+         VAR_INPUT a, b : DINT; END_VAR
+         Ratio := a / b;
+         END_FUNCTION
+         PROGRAM Main
+         Q := Ratio(100, D);
+         END_PROGRAM",
+    );
+    for mode in MODES {
+        let mut e = engine(&p, mode);
+        set(&mut e, "D", Value::Dint(4));
+        e.scan(0).expect("scan");
+        assert_eq!(get(&e, "Q"), Value::Dint(25), "{mode:?}");
+        set(&mut e, "D", Value::Dint(0));
+        e.scan(10).expect("scan");
+        let f = e.faults().last.expect("a fault");
+        let at = e.describe_fault(&f);
+        assert!(at.contains("(3:10 `Ratio := a / b;`)"), "{mode:?}: {at}");
+    }
+    let e = errors(
+        "name,type\nX,BOOL\n",
+        "PROGRAM Main VAR t : TON; END_VAR X := t(IN := TRUE); END_PROGRAM",
+    );
+    assert!(
+        e.contains("`t` is a function block instance: call it as a statement"),
+        "{e}"
+    );
+}
