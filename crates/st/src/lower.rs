@@ -546,7 +546,7 @@ fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) -> R<Ty> {
         }
         TypeRef::Array { dims, of, span } => {
             let of = resolve_type(of, types, depth + 1)?;
-            if matches!(of, Ty::Array(..) | Ty::Fb(_) | Ty::User(_) | Ty::Struct(_)) {
+            if matches!(of, Ty::Array(..) | Ty::Fb(_) | Ty::User(_)) {
                 return Err(not_supported(*span, format!("arrays of {of} are not supported yet")));
             }
             let mut out = Vec::new();
@@ -836,6 +836,31 @@ impl Decl<'_, '_> {
                     self.var(&format!("{tag}.{m}"), mty, i, retain, span, depth + 1);
                 }
             }
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_)) => {
+                let suffixes = element_suffixes(dims);
+                let mut inits: Vec<Option<&Init>> = vec![None; suffixes.len()];
+                if let Some(Init::Array(items, _)) = init {
+                    let mut k = 0usize;
+                    for (count, item) in items {
+                        let n = count.as_ref().and_then(const_int).unwrap_or(1).max(0) as usize;
+                        for _ in 0..n {
+                            if let Some(slot) = inits.get_mut(k) {
+                                *slot = Some(item);
+                            }
+                            k += 1;
+                        }
+                    }
+                    if k > inits.len() {
+                        self.diags.push(decl_error(
+                            span,
+                            format!("more initial values than the {} elements", inits.len()),
+                        ));
+                    }
+                }
+                for (s, i) in suffixes.iter().zip(inits) {
+                    self.var(&format!("{tag}{s}"), of, i, retain, span, depth + 1);
+                }
+            }
             Ty::Array(of, dims) => {
                 let Some(dt) = of.data_type() else { return };
                 let suffixes = element_suffixes(dims);
@@ -1003,6 +1028,12 @@ enum Loc {
     },
     /// A value of an enumerated type, by name.
     EnumConst(Rc<EnumTy>, i64),
+    /// An array of structures: each element's location, in order.
+    StructArray {
+        ty: Ty,
+        elems: Vec<Loc>,
+        dims: Vec<(i64, i64)>,
+    },
     /// Bit `bit` of an integer or bit string (`x.3`).
     Bit {
         place: Place,
@@ -1282,6 +1313,24 @@ impl Lower<'_> {
                     }
                 }
             }
+            Loc::StructArray { elems, .. } => {
+                let mut inits: Vec<Option<&Init>> = vec![None; elems.len()];
+                if let Some(Init::Array(items, _)) = init {
+                    let mut k = 0usize;
+                    for (count, item) in items {
+                        let n = count.as_ref().and_then(const_int).unwrap_or(1).max(0) as usize;
+                        for _ in 0..n {
+                            if let Some(slot) = inits.get_mut(k) {
+                                *slot = Some(item);
+                            }
+                            k += 1;
+                        }
+                    }
+                }
+                for (l, i) in elems.clone().iter().zip(inits) {
+                    self.init_loc(l, i);
+                }
+            }
             Loc::Struct { ty, members } => {
                 let given = match init {
                     Some(Init::Struct(items, _)) => items.as_slice(),
@@ -1309,6 +1358,17 @@ impl Lower<'_> {
             }
         };
         Ok(match ty {
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_)) => {
+                let mut elems = Vec::new();
+                for _ in 0..ty.elements() {
+                    elems.push(self.temp_storage(of, span)?);
+                }
+                Loc::StructArray {
+                    ty: ty.clone(),
+                    elems,
+                    dims: dims.clone(),
+                }
+            }
             Ty::Array(of, dims) => {
                 let elems = (0..ty.elements()).map(|_| slot(self, of)).collect();
                 Loc::Array {
@@ -1563,7 +1623,7 @@ enum Given {
 /// The type of what a location holds.
 fn loc_type(l: &Loc) -> Option<Ty> {
     match l {
-        Loc::Value { ty, .. } | Loc::Array { ty, .. } => Some(ty.clone()),
+        Loc::Value { ty, .. } | Loc::Array { ty, .. } | Loc::StructArray { ty, .. } => Some(ty.clone()),
         Loc::Fb { kind, .. } => Some(Ty::Fb(*kind)),
         Loc::User { fb, .. } => Some(Ty::User(fb.clone())),
         Loc::Struct { ty, .. } => Some(Ty::Struct(ty.clone())),
@@ -1694,7 +1754,7 @@ impl Lower<'_> {
         if matches!(a.value.kind, ExprKind::Lit(Lit::Bool(false))) && a.value.span.start == a.value.span.end {
             return Ok(());
         }
-        if let Loc::Struct { .. } | Loc::Array { .. } = src {
+        if let Loc::Struct { .. } | Loc::Array { .. } | Loc::StructArray { .. } = src {
             let dst = self.locate(&a.value)?;
             if loc_type(&dst) != loc_type(src) {
                 return Err(type_error(
@@ -1726,6 +1786,11 @@ impl Lower<'_> {
     /// Copies every value of `src` into `dst` (two locations of one type).
     fn copy_loc(&mut self, dst: &Loc, src: &Loc) {
         match (dst, src) {
+            (Loc::StructArray { elems: d, .. }, Loc::StructArray { elems: s, .. }) => {
+                for (a, b) in d.iter().zip(s) {
+                    self.copy_loc(a, b);
+                }
+            }
             (Loc::Struct { members: d, .. }, Loc::Struct { members: s, .. }) => {
                 for ((_, a), (_, b)) in d.iter().zip(s) {
                     self.copy_loc(a, b);
@@ -1772,6 +1837,17 @@ impl Lower<'_> {
                     members.push((m.clone(), self.tag_loc(&format!("{tag}.{m}"), mty, constant, n)?));
                 }
                 Ok(Loc::Struct { ty: s.clone(), members })
+            }
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_)) => {
+                let mut elems = Vec::new();
+                for s in element_suffixes(dims) {
+                    elems.push(self.tag_loc(&format!("{tag}{s}"), of, constant, n)?);
+                }
+                Ok(Loc::StructArray {
+                    ty: ty.clone(),
+                    elems,
+                    dims: dims.clone(),
+                })
             }
             Ty::Array(of, dims) => {
                 let elems = match self.arrays.get(tag) {
@@ -2380,7 +2456,7 @@ impl Lower<'_> {
                             format!("`{}` is a BOOL; it has no members", ast::expr(base)),
                         ));
                     }
-                    Some(Loc::Array { .. }) => {
+                    Some(Loc::Array { .. } | Loc::StructArray { .. }) => {
                         return Err(type_error(
                             m.span,
                             format!("`{}` is an array; it has no members", ast::expr(base)),
@@ -2417,6 +2493,35 @@ impl Lower<'_> {
                         }
                         Err(Diagnostic::new(Code::StName, err.to_string(), e.span, "unknown"))
                     }
+                }
+            }
+            ExprKind::Index(base, ix) => {
+                if ix.iter().any(|i| const_int(i).is_none()) {
+                    return Err(not_supported(
+                        e.span,
+                        "an element with a computed index cannot be used here yet (only its value, or a member of it)"
+                            .into(),
+                    ));
+                }
+                match self.locate(base)? {
+                    Loc::Array { elems, of, dims, .. } => {
+                        let Ok(k) = self.flat_index(&dims, ix, e.span)? else {
+                            return Err(type_error(e.span, "index".into()));
+                        };
+                        Ok(Loc::Value {
+                            place: elems[k],
+                            access: Access::ReadWrite,
+                            ty: of,
+                            constant: false,
+                        })
+                    }
+                    Loc::StructArray { elems, dims, .. } => {
+                        let Ok(k) = self.flat_index(&dims, ix, e.span)? else {
+                            return Err(type_error(e.span, "index".into()));
+                        };
+                        Ok(elems[k].clone())
+                    }
+                    _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
                 }
             }
             _ => Err(type_error(e.span, format!("`{}` is not a variable", ast::expr(e)))),
@@ -2522,6 +2627,10 @@ impl Lower<'_> {
             Loc::Struct { ty, .. } => Err(type_error(
                 e.span,
                 format!("`{}` is a whole {}; read a member", ast::expr(e), ty.name),
+            )),
+            Loc::StructArray { ty, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a whole {ty}; index it", ast::expr(e)),
             )),
             Loc::Array { ty, .. } => Err(type_error(
                 e.span,
@@ -2644,14 +2753,13 @@ impl Lower<'_> {
                 let ty = self.lit_type(l, hint, e.span)?;
                 Ok((self.constant(l, &ty), ty))
             }
-            ExprKind::Name(_) | ExprKind::Member(..) => {
+            ExprKind::Name(_) | ExprKind::Member(..) | ExprKind::Index(..) => {
+                if let Some((of, elems, dims, ix)) = self.elements_of(e)? {
+                    let v = self.index_read(&elems, &dims, ix, &of, e.span)?;
+                    return Ok((v, of.value()));
+                }
                 let loc = self.locate(e)?;
                 self.read_loc(&loc, e)
-            }
-            ExprKind::Index(base, ix) => {
-                let (of, elems, dims) = self.array(base)?;
-                let v = self.index_read(&elems, &dims, ix, &of, e.span)?;
-                Ok((v, of))
             }
             ExprKind::Unary(AUn::Not, a) => {
                 let (v, ty) = self.eval(a, Some(hint.filter(|h| h.is_bits()).unwrap_or(&Ty::Bool)))?;
@@ -2876,6 +2984,72 @@ impl Lower<'_> {
         Ok((Val::N(t), ty))
     }
 
+    /// The element places an indexed expression chooses from: `a[i]`, or a
+    /// member of an element of an array of structures (`pts[i].x`,
+    /// `pts[i].p.y`) as the list of that member's places, one per element.
+    fn elements_of<'e>(&mut self, e: &'e Expr) -> R<Option<(Ty, Vec<Place>, Vec<(i64, i64)>, &'e [Expr])>> {
+        match &e.kind {
+            ExprKind::Index(base, ix) => match self.locate(base)? {
+                Loc::Array { elems, of, dims, .. } => Ok(Some((of, elems, dims, ix))),
+                Loc::StructArray { .. } => Ok(None),
+                _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
+            },
+            ExprKind::Member(inner, m) => {
+                let mut path = vec![m];
+                let mut cur: &Expr = inner;
+                while let ExprKind::Member(b, mm) = &cur.kind {
+                    path.push(mm);
+                    cur = b;
+                }
+                let ExprKind::Index(base, ix) = &cur.kind else {
+                    return Ok(None);
+                };
+                if ix.iter().all(|i| const_int(i).is_some()) {
+                    return Ok(None);
+                }
+                let Loc::StructArray { elems, dims, .. } = self.locate(base)? else {
+                    return Ok(None);
+                };
+                path.reverse();
+                let mut places = Vec::new();
+                let mut ty = Ty::Bool;
+                for el in elems {
+                    let mut l = el;
+                    for m in &path {
+                        let Loc::Struct { ty: st, members } = l else {
+                            return Err(type_error(m.span, format!("`.{}`: not a structure", m.name)));
+                        };
+                        l = match members.into_iter().find(|(k, _)| m.is(k)) {
+                            Some((_, l)) => l,
+                            None => {
+                                return Err(Diagnostic::new(
+                                    Code::StName,
+                                    format!("{} has no member `{}`", st.name, m.name),
+                                    m.span,
+                                    "member",
+                                ));
+                            }
+                        };
+                    }
+                    match l {
+                        Loc::Value { place, ty: t, .. } => {
+                            places.push(place);
+                            ty = t;
+                        }
+                        _ => {
+                            return Err(not_supported(
+                                e.span,
+                                "with a computed index, a member of an element is read or written as one value".into(),
+                            ));
+                        }
+                    }
+                }
+                Ok(Some((ty, places, dims, ix)))
+            }
+            _ => Ok(None),
+        }
+    }
+
     fn array(&mut self, base: &Expr) -> R<ArrayParts> {
         match self.locate(base)? {
             Loc::Array { elems, of, dims, .. } => Ok((of, elems, dims)),
@@ -3029,9 +3203,22 @@ impl Lower<'_> {
                     || self.vars.get(&k).is_some_and(|v| matches!(v.ty, Ty::Struct(_)))
             }
             ExprKind::Member(..) => true,
+            ExprKind::Index(base, _) => match &base.kind {
+                ExprKind::Name(n) => {
+                    let k = n.name.to_ascii_lowercase();
+                    self.aliases
+                        .get(&k)
+                        .is_some_and(|l| matches!(l, Loc::StructArray { .. }))
+                        || self
+                            .vars
+                            .get(&k)
+                            .is_some_and(|v| matches!(&v.ty, Ty::Array(of, _) if matches!(**of, Ty::Struct(_))))
+                }
+                _ => false,
+            },
             _ => false,
         };
-        if maybe_struct && let Ok(dst @ Loc::Struct { .. }) = self.locate(lhs) {
+        if maybe_struct && let Ok(dst @ (Loc::Struct { .. } | Loc::StructArray { .. })) = self.locate(lhs) {
             let src = self.locate(rhs)?;
             let (dt, st) = (loc_type(&dst), loc_type(&src));
             if dt != st {
@@ -3063,8 +3250,7 @@ impl Lower<'_> {
 
     /// Assigns to `lhs` the value `value` computes (given the type wanted).
     fn assign_with(&mut self, lhs: &Expr, rspan: Span, value: &mut ValueOf<'_, Self>) -> R<()> {
-        if let ExprKind::Index(base, ix) = &lhs.kind {
-            let (of, elems, dims) = self.array(base)?;
+        if let Some((of, elems, dims, ix)) = self.elements_of(lhs)? {
             let (v, ty) = value(self, Some(&of.value()))?;
             if !widens(&ty, &of) {
                 return Err(type_error(

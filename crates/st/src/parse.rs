@@ -391,6 +391,17 @@ impl Parser {
         if self.eat_p("[") {
             let mut items = Vec::new();
             loop {
+                // `(a := 1, b := 2)`: an element that is a structure.
+                if self.is_p("(")
+                    && matches!(self.peek_at(1), Tok::Ident(_))
+                    && matches!(self.peek_at(2), Tok::Punct(":="))
+                {
+                    items.push((None, self.init()?));
+                    if !self.eat_p(",") {
+                        break;
+                    }
+                    continue;
+                }
                 // `n(value)`: a repeated element.
                 let e = if matches!(self.peek(), Tok::Number(_)) && matches!(self.peek_at(1), Tok::Punct("(")) {
                     self.primary()?

@@ -960,3 +960,54 @@ fn a_fault_inside_an_inlined_body_points_at_the_callee_line() {
         "{e}"
     );
 }
+
+#[test]
+fn arrays_of_structures_with_constant_and_computed_indexes() {
+    let p = program(
+        "name,type\nIx,INT\nSum,DINT\nHot,BOOL\n",
+        "TYPE Zone : STRUCT temp : INT; on : BOOL; lim : INT := 50; END_STRUCT; END_TYPE
+         FUNCTION Hottest : INT
+         VAR_INPUT z : ARRAY[1..3] OF Zone; END_VAR
+         VAR i : INT; END_VAR
+         FOR i := 1 TO 3 DO Hottest := MAX(Hottest, z[i].temp); END_FOR;
+         END_FUNCTION
+         PROGRAM Main
+         VAR zs : ARRAY[1..3] OF Zone := [(temp := 10), (temp := 20, lim := 15)]; k : INT; first : Zone; h : INT; END_VAR
+         zs[Ix].temp := zs[Ix].temp + 5;
+         zs[3].on := TRUE;
+         first := zs[1];
+         Sum := 0;
+         FOR k := 1 TO 3 DO
+           Sum := Sum + zs[k].temp;
+           IF zs[k].temp > zs[k].lim THEN Hot := TRUE; END_IF;
+         END_FOR;
+         h := Hottest(zs);
+         zs[2] := first;
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        2,
+        &[(0, &[("Ix", Value::Int(2))])],
+        &[
+            "Sum",
+            "Hot",
+            "Main.zs[2].temp",
+            "Main.zs[3].on",
+            "Main.first.temp",
+            "Main.h",
+            "Main.zs[2].lim",
+        ],
+    );
+    let i = Value::Int;
+    // Scan 0: zs[2].temp 20 → 25 (above its limit 15), then zs[2] := zs[1].
+    assert_eq!(rows[0], [Value::Dint(35), b(true), i(10), b(true), i(10), i(25), i(50)]);
+    assert_eq!(rows[1], [Value::Dint(25), b(true), i(10), b(true), i(10), i(15), i(50)]);
+    for mode in MODES {
+        let mut e = engine(&p, mode);
+        set(&mut e, "Ix", Value::Int(4));
+        e.scan(0).expect("scan");
+        assert!(e.faults().count >= 1, "{mode:?}: no fault for zs[4]");
+    }
+}
