@@ -1011,3 +1011,38 @@ fn arrays_of_structures_with_constant_and_computed_indexes() {
         assert!(e.faults().count >= 1, "{mode:?}: no fault for zs[4]");
     }
 }
+
+#[test]
+fn function_block_temps_externals_and_inputs_set_from_outside() {
+    let p = program(
+        "name,type\nOut,INT\nG,DINT\n",
+        "VAR_GLOBAL Limit : INT := 3; END_VAR
+         FUNCTION_BLOCK Step
+         VAR_INPUT go : BOOL; END_VAR
+         VAR_OUTPUT n : INT; END_VAR
+         VAR_TEMP t : INT := 10; END_VAR
+         VAR_EXTERNAL Limit : INT; G : DINT; END_VAR
+         t := t + 1;
+         IF go AND n < Limit THEN n := n + t - 10; END_IF;
+         G := G + 1;
+         END_FUNCTION_BLOCK
+         PROGRAM Main
+         VAR s : Step; END_VAR
+         s.go := TRUE;
+         s();
+         Out := s.n;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 5, &[], &["Out", "G", "Main.s.t", "Main.s.go"]);
+    let outs: Vec<Value> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(outs, [1, 2, 3, 3, 3].map(Value::Int));
+    assert_eq!(rows[4][1], Value::Dint(5));
+    assert_eq!(rows[4][2], Value::Int(11));
+    assert_eq!(rows[4][3], b(true));
+    let e = errors(
+        "name,type\n",
+        "FUNCTION_BLOCK Step VAR_OUTPUT n : INT; END_VAR n := 1; END_FUNCTION_BLOCK
+         PROGRAM Main VAR s : Step; END_VAR s.n := 2; END_PROGRAM",
+    );
+    assert!(e.contains("error[E304]: `s.n` cannot be written"), "{e}");
+}
