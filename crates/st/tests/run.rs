@@ -1046,3 +1046,76 @@ fn function_block_temps_externals_and_inputs_set_from_outside() {
     );
     assert!(e.contains("error[E304]: `s.n` cannot be written"), "{e}");
 }
+
+/// Classic bit-twiddling functions (written here, in the style of the
+/// OSCAT library) give their well-known results in every mode.
+#[test]
+fn bit_functions_written_in_st_give_known_results() {
+    let p = program(
+        "name,type\nX,DINT\n",
+        "FUNCTION BitCount : INT
+         VAR_INPUT in : DWORD; END_VAR
+         WHILE in <> 0 DO
+           IF in.0 THEN BitCount := BitCount + 1; END_IF;
+           in := SHR(in, 1);
+         END_WHILE;
+         END_FUNCTION
+         FUNCTION Reverse : BYTE
+         VAR_INPUT in : BYTE; END_VAR
+         VAR i : INT; END_VAR
+         FOR i := 0 TO 7 DO
+           Reverse := SHL(Reverse, 1) OR (in AND 1);
+           in := SHR(in, 1);
+         END_FOR;
+         END_FUNCTION
+         FUNCTION GrayToBin : WORD
+         VAR_INPUT g : WORD; END_VAR
+         GrayToBin := g;
+         WHILE g <> 0 DO
+           g := SHR(g, 1);
+           GrayToBin := GrayToBin XOR g;
+         END_WHILE;
+         END_FUNCTION
+         FUNCTION Crc8 : BYTE
+         VAR_IN_OUT data : ARRAY[0..3] OF BYTE; END_VAR
+         VAR i, k : INT; END_VAR
+         FOR i := 0 TO 3 DO
+           Crc8 := Crc8 XOR data[i];
+           FOR k := 1 TO 8 DO
+             IF Crc8.7 THEN Crc8 := SHL(Crc8, 1) XOR 16#07; ELSE Crc8 := SHL(Crc8, 1); END_IF;
+           END_FOR;
+         END_FOR;
+         END_FUNCTION
+         PROGRAM Main
+         VAR bc : INT; rv : BYTE; gb : WORD; crc : BYTE; d : ARRAY[0..3] OF BYTE := [16#31, 16#32, 16#33, 16#34];
+             r1, r2 : DWORD; END_VAR
+         bc := BitCount(DINT_TO_DWORD(X));
+         rv := Reverse(16#01) OR Reverse(16#30);
+         gb := GrayToBin(2#1101);
+         crc := Crc8(d);
+         r1 := ROL(DWORD#16#8000_0001, 4);
+         r2 := ROR(DWORD#16#8000_0001, 4);
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        1,
+        &[(0, &[("X", Value::Dint(-1))])],
+        &["Main.bc", "Main.rv", "Main.gb", "Main.crc", "Main.r1", "Main.r2"],
+    );
+    assert_eq!(
+        rows[0],
+        [
+            Value::Int(32),
+            // 0x01 reversed is 0x80, 0x30 reversed is 0x0C.
+            Value::Int(0x8C),
+            // Gray 1101 is binary 1001.
+            Value::Dint(0b1001),
+            // CRC-8 (polynomial 0x07, initial 0) of "1234".
+            Value::Int(0xC2),
+            Value::Lint(0x18),
+            Value::Lint(0x1800_0000),
+        ]
+    );
+}
