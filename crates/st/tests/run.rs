@@ -1119,3 +1119,33 @@ fn bit_functions_written_in_st_give_known_results() {
         ]
     );
 }
+
+/// The parse golden of user POUs also checks, lowers and runs alike in every mode.
+#[test]
+fn the_user_pous_golden_runs() {
+    let src = include_str!("parse/user_pous.st");
+    let p = program("name,type\nStart,BOOL\nSmall,INT\nCount,DINT\n", src);
+    let rows = run_all(
+        &p,
+        10,
+        4,
+        &[
+            (0, &[("Start", b(true))]),
+            (10, &[("Start", b(false))]),
+            (20, &[("Start", b(true))]),
+        ],
+        &["Small", "Count", "Main.pt.x", "Main.zs[1].x", "Main.w", "Main.pc"],
+    );
+    // k stays 0: zs[0] is out of range (a fault, nothing written).
+    assert_eq!(
+        rows[3],
+        [
+            Value::Int(2),
+            Value::Dint(6),
+            Value::Int(3),
+            Value::Int(0),
+            Value::Dint(0x80F1),
+            Value::Int(100)
+        ]
+    );
+}
