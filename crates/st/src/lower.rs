@@ -96,6 +96,9 @@ impl Fb {
 type Params = &'static [(&'static str, P)];
 /// An array's element type, element places and bounds.
 type ArrayParts = (Ty, Vec<Place>, Vec<(i64, i64)>);
+/// An indexed element: its type, the places it is chosen from, the bounds
+/// and the index expressions.
+type Indexed<'e> = (Ty, Vec<Place>, Vec<(i64, i64)>, &'e [Expr]);
 /// A call's inputs by parameter, and its `=>` outputs.
 type Bound<'e> = (Vec<Option<&'e Expr>>, Vec<(usize, &'e Arg)>);
 
@@ -2987,7 +2990,7 @@ impl Lower<'_> {
     /// The element places an indexed expression chooses from: `a[i]`, or a
     /// member of an element of an array of structures (`pts[i].x`,
     /// `pts[i].p.y`) as the list of that member's places, one per element.
-    fn elements_of<'e>(&mut self, e: &'e Expr) -> R<Option<(Ty, Vec<Place>, Vec<(i64, i64)>, &'e [Expr])>> {
+    fn elements_of<'e>(&mut self, e: &'e Expr) -> R<Option<Indexed<'e>>> {
         match &e.kind {
             ExprKind::Index(base, ix) => match self.locate(base)? {
                 Loc::Array { elems, of, dims, .. } => Ok(Some((of, elems, dims, ix))),
