@@ -549,7 +549,7 @@ fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) -> R<Ty> {
         }
         TypeRef::Array { dims, of, span } => {
             let of = resolve_type(of, types, depth + 1)?;
-            if matches!(of, Ty::Array(..) | Ty::Fb(_) | Ty::User(_)) {
+            if matches!(of, Ty::Array(..)) {
                 return Err(not_supported(*span, format!("arrays of {of} are not supported yet")));
             }
             let mut out = Vec::new();
@@ -839,7 +839,7 @@ impl Decl<'_, '_> {
                     self.var(&format!("{tag}.{m}"), mty, i, retain, span, depth + 1);
                 }
             }
-            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_)) => {
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_)) => {
                 let suffixes = element_suffixes(dims);
                 let mut inits: Vec<Option<&Init>> = vec![None; suffixes.len()];
                 if let Some(Init::Array(items, _)) = init {
@@ -1841,7 +1841,7 @@ impl Lower<'_> {
                 }
                 Ok(Loc::Struct { ty: s.clone(), members })
             }
-            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_)) => {
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_)) => {
                 let mut elems = Vec::new();
                 for s in element_suffixes(dims) {
                     elems.push(self.tag_loc(&format!("{tag}{s}"), of, constant, n)?);
@@ -2041,6 +2041,9 @@ impl Lower<'_> {
             }
             StmtKind::Call(callee, args) => {
                 self.rung(s.span);
+                if let ExprKind::Index(base, ix) = &callee.kind {
+                    return self.call_element(base, ix, args, callee, s.span);
+                }
                 let ExprKind::Name(n) = &callee.kind else {
                     return Err(not_supported(callee.span, "this call is not supported".into()));
                 };
@@ -3019,20 +3022,7 @@ impl Lower<'_> {
                 for el in elems {
                     let mut l = el;
                     for m in &path {
-                        let Loc::Struct { ty: st, members } = l else {
-                            return Err(type_error(m.span, format!("`.{}`: not a structure", m.name)));
-                        };
-                        l = match members.into_iter().find(|(k, _)| m.is(k)) {
-                            Some((_, l)) => l,
-                            None => {
-                                return Err(Diagnostic::new(
-                                    Code::StName,
-                                    format!("{} has no member `{}`", st.name, m.name),
-                                    m.span,
-                                    "member",
-                                ));
-                            }
-                        };
+                        l = self.member_of(l, m)?;
                     }
                     match l {
                         Loc::Value { place, ty: t, .. } => {
@@ -3050,6 +3040,76 @@ impl Lower<'_> {
                 Ok(Some((ty, places, dims, ix)))
             }
             _ => Ok(None),
+        }
+    }
+
+    /// A member of a structure or of a function block instance.
+    fn member_of(&mut self, l: Loc, m: &Ident) -> R<Loc> {
+        match l {
+            Loc::Struct { ty, members } => match members.into_iter().find(|(k, _)| m.is(k)) {
+                Some((_, l)) => Ok(l),
+                None => {
+                    let names: Vec<&str> = ty.members.iter().map(|(k, ..)| k.as_str()).collect();
+                    let mut d = Diagnostic::new(
+                        Code::StName,
+                        format!("{} has no member `{}`", ty.name, m.name),
+                        m.span,
+                        "member",
+                    );
+                    d = d.with_help(match closest(&m.name, names.iter().copied()) {
+                        Some(c) => format!("did you mean `{c}`?"),
+                        None => format!("{} has {}", ty.name, names.join(", ")),
+                    });
+                    Err(d)
+                }
+            },
+            Loc::Fb { kind, name } => self.fb_member(kind, &name, m),
+            Loc::User { fb, prefix } => self.user_member(&fb, &prefix, m),
+            _ => Err(type_error(m.span, format!("`.{}`: this has no members", m.name))),
+        }
+    }
+
+    /// A call of an element of an array of function block instances
+    /// (`t[2](…)`, or `t[i](…)`: one branch per element).
+    fn call_element(&mut self, base: &Expr, ix: &[Expr], args: &[Arg], callee: &Expr, span: Span) -> R<()> {
+        let Loc::StructArray { elems, dims, .. } = self.locate(base)? else {
+            return Err(type_error(
+                base.span,
+                format!("`{}` is not an array of function block instances", ast::expr(base)),
+            ));
+        };
+        let inst = Ident {
+            name: ast::expr(callee),
+            span: callee.span,
+        };
+        match self.flat_index(&dims, ix, callee.span)? {
+            Ok(k) => self.call_loc(elems[k].clone(), &inst, args, span),
+            Err(flat) => {
+                for (k, el) in elems.into_iter().enumerate() {
+                    let kc = self.b.const_i(k as i32);
+                    self.emit(Op::CmpI(Cmp::Ne, flat, kc));
+                    let skip = self.emit(Op::Jmp(0));
+                    self.emit(Op::True);
+                    self.call_loc(el, &inst, args, span)?;
+                    let next = self.rung(span);
+                    self.patch(&[skip], next);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn call_loc(&mut self, l: Loc, inst: &Ident, args: &[Arg], span: Span) -> R<()> {
+        match l {
+            Loc::Fb { kind, name } => self.fb_call(kind, &name, inst, args),
+            Loc::User { fb, prefix } => match self.types.pous.get(&fb.to_ascii_lowercase()).copied() {
+                Some(p) => self.inline_fb(p, &prefix, args, span, false),
+                None => Err(self.unknown(inst, "function block")),
+            },
+            _ => Err(type_error(
+                inst.span,
+                format!("`{}` is not a function block instance", inst.name),
+            )),
         }
     }
 
@@ -3603,29 +3663,8 @@ impl Lower<'_> {
                 name: oname.to_string(),
                 span: a.name.as_ref().map_or(a.value.span, |n| n.span),
             };
-            let mexpr = Expr {
-                kind: ExprKind::Member(
-                    Box::new(Expr {
-                        kind: ExprKind::Name(inst.clone()),
-                        span: inst.span,
-                    }),
-                    member,
-                ),
-                span: a.value.span,
-            };
-            if matches!(a.value.kind, ExprKind::Lit(Lit::Bool(false))) && a.value.span.start == a.value.span.end {
-                continue;
-            }
-            let negated = if a.negated {
-                ExprKind::Unary(AUn::Not, Box::new(mexpr))
-            } else {
-                mexpr.kind
-            };
-            let rhs = Expr {
-                kind: negated,
-                span: a.value.span,
-            };
-            self.assign(&a.value, &rhs)?;
+            let src = self.fb_member(kind, name, &member)?;
+            self.assign_output(a, &src)?;
         }
         Ok(())
     }

@@ -697,6 +697,10 @@ impl Parser {
                     },
                     args,
                 )
+            } else if matches!(target.kind, ExprKind::Index(..)) && self.eat_p("(") {
+                let args = self.args()?;
+                self.expect_p(";")?;
+                StmtKind::Call(target, args)
             } else if self.is_p("(") {
                 // `inst.sub(...)` is not ST; `a.b(...)` would land here.
                 return Err(self.error("`:=`"));
@@ -863,6 +867,11 @@ impl Parser {
                 };
             } else if self.is_p("(") {
                 let ExprKind::Name(name) = &e.kind else {
+                    if let ExprKind::Index(..) = e.kind {
+                        // `t[i](…)`: an element of an array of FB instances,
+                        // called as a statement.
+                        return Ok(e);
+                    }
                     return Err(self.error("an operator, `;` or `)`"));
                 };
                 let name = name.clone();

@@ -1149,3 +1149,42 @@ fn the_user_pous_golden_runs() {
         ]
     );
 }
+
+#[test]
+fn arrays_of_function_block_instances_called_by_constant_and_computed_index() {
+    let p = program(
+        "name,type\nRun,BOOL\nDone,INT\nEdges,INT\nFirst,BOOL\n",
+        "FUNCTION_BLOCK Edge
+         VAR_INPUT x : BOOL; END_VAR
+         VAR_OUTPUT n : INT; END_VAR
+         VAR r : R_TRIG; END_VAR
+         r(CLK := x);
+         IF r.Q THEN n := n + 1; END_IF;
+         END_FUNCTION_BLOCK
+         PROGRAM Main
+         VAR t : ARRAY[1..3] OF TON; e : ARRAY[0..1] OF Edge; i : INT; END_VAR
+         Done := 0;
+         FOR i := 1 TO 3 DO
+           t[i](IN := Run, PT := INT_TO_TIME(i * 10));
+           IF t[i].Q THEN Done := Done + 1; END_IF;
+         END_FOR;
+         e[0](x := Run);
+         e[1](x := NOT Run);
+         Edges := e[0].n * 10 + e[1].n;
+         t[1](Q => First);
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        6,
+        &[(0, &[("Run", b(true))]), (40, &[("Run", b(false))])],
+        &["Done", "Edges", "First", "Main.t[3].ACC", "Main.e[1].n"],
+    );
+    let done: Vec<Value> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(done, [0, 1, 2, 3, 0, 0].map(Value::Int));
+    assert_eq!(rows[3][1], Value::Int(10));
+    assert_eq!(rows[4][1], Value::Int(11));
+    assert_eq!(rows[1][2], b(true));
+    assert_eq!(rows[3][3], Value::Dint(30));
+}
