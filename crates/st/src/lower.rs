@@ -796,12 +796,46 @@ impl Decl<'_, '_> {
                     ));
                     return;
                 }
-                for (_, v) in variables(&pou.vars, Some(tag), self.types, &mut Vec::new()) {
+                // `c : Counter := (step := 2)` sets the initial values of inputs.
+                let given = match init {
+                    Some(Init::Struct(items, _)) => items.as_slice(),
+                    Some(Init::Array(_, span)) => {
+                        self.diags
+                            .push(type_error(*span, format!("a {name} takes `(input := value, …)`")));
+                        &[]
+                    }
+                    Some(Init::Expr(e)) => {
+                        self.diags
+                            .push(type_error(e.span, format!("a {name} takes `(input := value, …)`")));
+                        &[]
+                    }
+                    None => &[],
+                };
+                let vars = variables(&pou.vars, Some(tag), self.types, &mut Vec::new());
+                for (n, _) in given {
+                    let ok = vars
+                        .iter()
+                        .any(|(k, v)| n.is(k) && matches!(v.kind, VarKind::Input | VarKind::Output | VarKind::Var));
+                    if !ok {
+                        self.diags.push(Diagnostic::new(
+                            Code::StName,
+                            format!("{name} has no variable `{}` to initialise", n.name),
+                            n.span,
+                            "initial value",
+                        ));
+                    }
+                }
+                for (key, v) in vars {
                     if matches!(v.kind, VarKind::InOut | VarKind::External | VarKind::Global) {
                         continue;
                     }
                     let before = self.tags.len();
-                    self.var(&v.tag, &v.ty, v.init.as_ref(), retain || v.retain, v.span, depth + 1);
+                    let i = given
+                        .iter()
+                        .find(|(n, _)| n.is(&key))
+                        .map(|(_, i)| i)
+                        .or(v.init.as_ref());
+                    self.var(&v.tag, &v.ty, i, retain || v.retain, v.span, depth + 1);
                     self.instance_tags += self.tags.len() - before;
                 }
             }

@@ -456,7 +456,7 @@ FOR i := 2 TO n DO Fact := Fact * i; END_FOR;
 END_FUNCTION
 
 PROGRAM Main
-VAR c1, c2 : Counter; p : Pair; dbl : DINT; END_VAR
+VAR c1 : Counter; c2 : Counter := (step := 7); p : Pair; dbl : DINT; END_VAR
 c1(up := In);
 c2(In, 5);
 p(x := In, total => Total);
@@ -1187,4 +1187,29 @@ fn arrays_of_function_block_instances_called_by_constant_and_computed_index() {
     assert_eq!(rows[4][1], Value::Int(11));
     assert_eq!(rows[1][2], b(true));
     assert_eq!(rows[3][3], Value::Dint(30));
+}
+
+#[test]
+fn an_instance_declaration_sets_initial_values_of_its_inputs() {
+    let p = program(
+        "name,type\nN,INT\n",
+        "FUNCTION_BLOCK Add
+         VAR_INPUT step : INT := 1; END_VAR
+         VAR_OUTPUT n : INT; END_VAR
+         n := n + step;
+         END_FUNCTION_BLOCK
+         PROGRAM Main
+         VAR a : Add := (step := 7); b : Add; END_VAR
+         a(); b();
+         N := a.n * 100 + b.n;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 2, &[], &["N", "Main.a.step"]);
+    assert_eq!(rows[1], [Value::Int(1402), Value::Int(7)]);
+    let e = errors(
+        "name,type\n",
+        "FUNCTION_BLOCK Add VAR_INPUT step : INT; END_VAR END_FUNCTION_BLOCK
+         PROGRAM Main VAR a : Add := (stp := 7); END_VAR a(); END_PROGRAM",
+    );
+    assert!(e.contains("Add has no variable `stp` to initialise"), "{e}");
 }
