@@ -3726,6 +3726,52 @@ impl Lower<'_> {
                 ))
             }
         };
+        if up == "MOVE" {
+            arity(1)?;
+            return self.eval(positional[0], hint);
+        }
+        // BCD: `WORD_BCD_TO_INT`, `INT_TO_BCD_WORD` (the engine's FRD and TOD:
+        // a nibble above 9, or a value out of the BCD range, is a range fault).
+        let bcd = match up.split_once("_TO_") {
+            Some((from, to)) if from.ends_with("_BCD") => Some((from.trim_end_matches("_BCD"), to, IUn::Frd)),
+            Some((from, to)) if to.starts_with("BCD_") => Some((from, to.trim_start_matches("BCD_"), IUn::Tod)),
+            _ => None,
+        };
+        if let Some((from, to, op)) = bcd {
+            arity(1)?;
+            let (Some(from_ty), Some(to_ty)) = (elementary(from), elementary(to)) else {
+                return Err(not_supported(n.span, format!("{up}: unknown types")));
+            };
+            let ok = if op == IUn::Frd {
+                from_ty.is_bits() && to_ty.is_int()
+            } else {
+                from_ty.is_int() && to_ty.is_bits()
+            };
+            if !ok {
+                return Err(type_error(
+                    n.span,
+                    format!("{up}: BCD conversions are between a bit string and an integer"),
+                ));
+            }
+            let (v, ty) = self.eval(positional[0], Some(&from_ty))?;
+            let Val::N(x) = v else {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} takes a {from_ty}, not BOOL"),
+                ));
+            };
+            if ty != from_ty {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} takes a {from_ty}, not a {ty}"),
+                ));
+            }
+            let x = self.b.convert(x, Class::L, self.elem);
+            let t = self.b.temp(Class::L);
+            self.b.un(op, x, t, self.elem);
+            let r = self.convert(Val::N(t), &Ty::Lint, &to_ty);
+            return Ok((r, to_ty));
+        }
         // X_TO_Y conversions (and TRUNC).
         if let Some((from, to)) = up.split_once("_TO_") {
             arity(1)?;
@@ -3873,7 +3919,7 @@ impl Lower<'_> {
             return Ok((Val::N(r), ty));
         }
         if [
-            "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND", "MOVE",
+            "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND",
         ]
         .contains(&up.as_str())
         {

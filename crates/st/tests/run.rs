@@ -1213,3 +1213,27 @@ fn an_instance_declaration_sets_initial_values_of_its_inputs() {
     );
     assert!(e.contains("Add has no variable `stp` to initialise"), "{e}");
 }
+
+#[test]
+fn bcd_conversions_and_move() {
+    let p = program(
+        "name,type\nIn,INT\nBin,INT\n",
+        "PROGRAM Main
+         VAR w : WORD; d : DWORD; END_VAR
+         w := INT_TO_BCD_WORD(In);
+         Bin := WORD_BCD_TO_INT(MOVE(w));
+         d := DINT_TO_BCD_DWORD(12345678);
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 1, &[(0, &[("In", Value::Int(567))])], &["Main.w", "Bin", "Main.d"]);
+    assert_eq!(rows[0], [Value::Dint(0x0567), Value::Int(567), Value::Lint(0x1234_5678)]);
+    let q = program(
+        "name,type\nBin,INT\n",
+        "PROGRAM Main Bin := WORD_BCD_TO_INT(WORD#16#12A4); END_PROGRAM",
+    );
+    for mode in MODES {
+        let mut e = engine(&q, mode);
+        e.scan(0).expect("scan");
+        assert!(e.faults().count >= 1, "{mode:?}: a nibble above 9 is a fault");
+    }
+}
