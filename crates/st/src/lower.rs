@@ -753,6 +753,8 @@ struct Decl<'t, 'a> {
     diags: &'t mut Vec<Diagnostic>,
     /// Tags declared for instances of user FUNCTION_BLOCKs.
     instance_tags: usize,
+    /// The FUNCTION_BLOCKs whose instance is being declared (lower-case).
+    open: Vec<String>,
 }
 
 impl Decl<'_, '_> {
@@ -779,10 +781,11 @@ impl Decl<'_, '_> {
                 Fb::Sr | Fb::Rs => self.tags.push(plain(format!("{tag}.Q1"), DataType::Bool, None)),
             },
             Ty::User(name) => {
-                if depth > 8 {
+                let key = name.to_ascii_lowercase();
+                if self.open.contains(&key) || depth > 32 {
                     self.diags.push(decl_error(
                         span,
-                        format!("the FUNCTION_BLOCK `{name}` contains itself (through its instances)"),
+                        format!("the FUNCTION_BLOCK `{name}` contains an instance of itself"),
                     ));
                     return;
                 }
@@ -825,6 +828,7 @@ impl Decl<'_, '_> {
                         ));
                     }
                 }
+                self.open.push(key);
                 for (key, v) in vars {
                     if matches!(v.kind, VarKind::InOut | VarKind::External | VarKind::Global) {
                         continue;
@@ -838,6 +842,7 @@ impl Decl<'_, '_> {
                     self.var(&v.tag, &v.ty, i, retain || v.retain, v.span, depth + 1);
                     self.instance_tags += self.tags.len() - before;
                 }
+                self.open.pop();
             }
             Ty::Struct(s) => {
                 let given = match init {
@@ -1013,6 +1018,7 @@ pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic
         tags,
         diags,
         instance_tags: 0,
+        open: Vec::new(),
     };
     for (_, v) in vars {
         d.var(&v.tag, &v.ty, v.init.as_ref(), v.retain, v.span, 0);
@@ -1179,6 +1185,7 @@ fn check_alone(p: &Pou, types: &Types, globals: &HashMap<String, Var>, layout: &
             tags: &mut tags,
             diags: &mut diags,
             instance_tags: 0,
+            open: Vec::new(),
         };
         d.var(&inst, &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
     }

@@ -1225,8 +1225,17 @@ fn bcd_conversions_and_move() {
          d := DINT_TO_BCD_DWORD(12345678);
          END_PROGRAM",
     );
-    let rows = run_all(&p, 10, 1, &[(0, &[("In", Value::Int(567))])], &["Main.w", "Bin", "Main.d"]);
-    assert_eq!(rows[0], [Value::Dint(0x0567), Value::Int(567), Value::Lint(0x1234_5678)]);
+    let rows = run_all(
+        &p,
+        10,
+        1,
+        &[(0, &[("In", Value::Int(567))])],
+        &["Main.w", "Bin", "Main.d"],
+    );
+    assert_eq!(
+        rows[0],
+        [Value::Dint(0x0567), Value::Int(567), Value::Lint(0x1234_5678)]
+    );
     let q = program(
         "name,type\nBin,INT\n",
         "PROGRAM Main Bin := WORD_BCD_TO_INT(WORD#16#12A4); END_PROGRAM",
@@ -1236,4 +1245,14 @@ fn bcd_conversions_and_move() {
         e.scan(0).expect("scan");
         assert!(e.faults().count >= 1, "{mode:?}: a nibble above 9 is a fault");
     }
+}
+
+#[test]
+fn a_function_block_containing_itself_is_refused() {
+    let e = errors(
+        "name,type\n",
+        "FUNCTION_BLOCK Node VAR next : Node; v : INT; END_VAR v := v + 1; END_FUNCTION_BLOCK
+         PROGRAM Main VAR n : Node; END_VAR n(); END_PROGRAM",
+    );
+    assert!(e.contains("the FUNCTION_BLOCK `Node` contains an instance of itself"), "{e}");
 }
