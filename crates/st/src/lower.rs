@@ -1119,6 +1119,8 @@ struct Lower<'a> {
     called: HashSet<String>,
     /// Element places of the arrays met so far, by tag.
     arrays: HashMap<String, Vec<Place>>,
+    /// Structures and arrays of structures or instances met so far, by tag.
+    composites: HashMap<(String, bool), Loc>,
 }
 
 /// The scope of one POU body, saved while another is inlined.
@@ -1229,6 +1231,7 @@ impl<'a> Lower<'a> {
             stack: Vec::new(),
             called: HashSet::new(),
             arrays: HashMap::new(),
+            composites: HashMap::new(),
         }
     }
 }
@@ -1866,6 +1869,20 @@ impl Lower<'_> {
 
     /// Storage of a variable whose tag (or first tag) is `tag`.
     fn tag_loc(&mut self, tag: &str, ty: &Ty, constant: bool, n: &Ident) -> R<Loc> {
+        let composite = matches!(ty, Ty::Struct(_))
+            || matches!(ty, Ty::Array(of, _) if !matches!(**of, Ty::Bool) && of.data_type().is_none());
+        if composite {
+            if let Some(l) = self.composites.get(&(tag.to_string(), constant)) {
+                return Ok(l.clone());
+            }
+            let l = self.tag_loc_uncached(tag, ty, constant, n)?;
+            self.composites.insert((tag.to_string(), constant), l.clone());
+            return Ok(l);
+        }
+        self.tag_loc_uncached(tag, ty, constant, n)
+    }
+
+    fn tag_loc_uncached(&mut self, tag: &str, ty: &Ty, constant: bool, n: &Ident) -> R<Loc> {
         match ty {
             Ty::Fb(kind) => Ok(Loc::Fb {
                 kind: *kind,

@@ -1254,5 +1254,8 @@ fn a_function_block_containing_itself_is_refused() {
         "FUNCTION_BLOCK Node VAR next : Node; v : INT; END_VAR v := v + 1; END_FUNCTION_BLOCK
          PROGRAM Main VAR n : Node; END_VAR n(); END_PROGRAM",
     );
-    assert!(e.contains("the FUNCTION_BLOCK `Node` contains an instance of itself"), "{e}");
+    assert!(
+        e.contains("the FUNCTION_BLOCK `Node` contains an instance of itself"),
+        "{e}"
+    );
 }
