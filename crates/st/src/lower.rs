@@ -1074,7 +1074,7 @@ enum Loc {
     /// An array of structures: each element's location, in order.
     StructArray {
         ty: Ty,
-        elems: Vec<Loc>,
+        elems: Rc<Vec<Loc>>,
         dims: Vec<(i64, i64)>,
     },
     /// Bit `bit` of an integer or bit string (`x.3`).
@@ -1412,7 +1412,7 @@ impl Lower<'_> {
                 }
                 Loc::StructArray {
                     ty: ty.clone(),
-                    elems,
+                    elems: Rc::new(elems),
                     dims: dims.clone(),
                 }
             }
@@ -1834,7 +1834,7 @@ impl Lower<'_> {
     fn copy_loc(&mut self, dst: &Loc, src: &Loc) {
         match (dst, src) {
             (Loc::StructArray { elems: d, .. }, Loc::StructArray { elems: s, .. }) => {
-                for (a, b) in d.iter().zip(s) {
+                for (a, b) in d.iter().zip(s.iter()) {
                     self.copy_loc(a, b);
                 }
             }
@@ -1906,7 +1906,7 @@ impl Lower<'_> {
                 }
                 Ok(Loc::StructArray {
                     ty: ty.clone(),
-                    elems,
+                    elems: Rc::new(elems),
                     dims: dims.clone(),
                 })
             }
@@ -3077,8 +3077,8 @@ impl Lower<'_> {
                 path.reverse();
                 let mut places = Vec::new();
                 let mut ty = Ty::Bool;
-                for el in elems {
-                    let mut l = el;
+                for el in elems.iter() {
+                    let mut l = el.clone();
                     for m in &path {
                         l = self.member_of(l, m)?;
                     }
@@ -3143,7 +3143,7 @@ impl Lower<'_> {
         match self.flat_index(&dims, ix, callee.span)? {
             Ok(k) => self.call_loc(elems[k].clone(), &inst, args, span),
             Err(flat) => {
-                for (k, el) in elems.into_iter().enumerate() {
+                for (k, el) in elems.iter().cloned().enumerate() {
                     let kc = self.b.const_i(k as i32);
                     self.emit(Op::CmpI(Cmp::Ne, flat, kc));
                     let skip = self.emit(Op::Jmp(0));

@@ -1259,3 +1259,43 @@ fn a_function_block_containing_itself_is_refused() {
         "{e}"
     );
 }
+
+/// 1 000 instances of a user FB, each called once a scan: the inlined
+/// program's size and the time to compile it are printed.
+#[test]
+fn a_thousand_inlined_calls_compile_and_the_time_is_printed() {
+    let mut src = String::from(
+        "FUNCTION_BLOCK Debounce
+         VAR_INPUT in : BOOL; pt : TIME; END_VAR
+         VAR_OUTPUT q : BOOL; END_VAR
+         VAR t : TON; r : R_TRIG; n : DINT; END_VAR
+         t(IN := in, PT := pt);
+         r(CLK := t.Q);
+         IF r.Q THEN n := n + 1; END_IF;
+         q := t.Q;
+         END_FUNCTION_BLOCK
+         FUNCTION Clamp : DINT
+         VAR_INPUT x, lo, hi : DINT; END_VAR
+         Clamp := LIMIT(lo, x, hi);
+         END_FUNCTION
+         PROGRAM Big
+         VAR d : ARRAY[1..1000] OF Debounce; k : DINT; END_VAR\n",
+    );
+    for i in 1..=1000 {
+        src.push_str(&format!(
+            "d[{i}](in := In, pt := T#{}ms); k := Clamp(k + BOOL_TO_DINT(d[{i}].q), 0, 500);\n",
+            10 + i % 7
+        ));
+    }
+    src.push_str("Out := k;\nEND_PROGRAM\n");
+    let start = std::time::Instant::now();
+    let p = program("name,type\nIn,BOOL\nOut,DINT\n", &src);
+    let took = start.elapsed();
+    println!(
+        "1 000 FB calls and 1 000 FUNCTION calls inlined: {} ops, {} tags, compiled in {took:?}",
+        p.ops.len(),
+        p.layout.tags.len()
+    );
+    let rows = run_all(&p, 10, 3, &[(0, &[("In", b(true))])], &["Out"]);
+    assert_eq!(rows[2][0], Value::Dint(500));
+}
