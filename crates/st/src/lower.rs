@@ -1181,7 +1181,7 @@ fn check_alone(p: &Pou, types: &Types, globals: &HashMap<String, Var>, layout: &
     let mut tags = layout.tags.clone();
     let mut diags = Vec::new();
     let inst = format!("{}#check", p.name.name);
-    if p.kind == PouKind::FunctionBlock {
+    {
         let mut d = Decl {
             types,
             tags: &mut tags,
@@ -1189,7 +1189,18 @@ fn check_alone(p: &Pou, types: &Types, globals: &HashMap<String, Var>, layout: &
             instance_tags: 0,
             open: Vec::new(),
         };
-        d.var(&inst, &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
+        let prefix = if p.kind == PouKind::FunctionBlock {
+            d.var(&inst, &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
+            &inst
+        } else {
+            &p.name.name
+        };
+        // Instances given as VAR_IN_OUT: scratch ones.
+        for (_, v) in variables(&p.vars, Some(prefix), types, &mut Vec::new()) {
+            if v.kind == VarKind::InOut && matches!(v.ty, Ty::Fb(_) | Ty::User(_)) {
+                d.var(&format!("{}#io", v.tag), &v.ty, None, false, v.span, 0);
+            }
+        }
     }
     let mut b = Builder::new(alba_ir::Layout::new(&tags, &Default::default()));
     b.begin_unit("check");
@@ -1578,7 +1589,22 @@ impl Lower<'_> {
             let Some((_, e, espan)) = given.iter().find(|(k, ..)| k == key) else {
                 if v.kind == VarKind::InOut {
                     if check {
-                        inouts.insert(key.clone(), self.temp_storage(&v.ty, v.span)?);
+                        // Checking a body alone: FB instances have scratch tags
+                        // (see `check_alone`), other types scratch slots.
+                        let io = format!("{}#io", v.tag);
+                        let loc = match &v.ty {
+                            Ty::Fb(_) | Ty::User(_) => self.tag_loc(
+                                &io,
+                                &v.ty,
+                                false,
+                                &Ident {
+                                    name: key.clone(),
+                                    span: v.span,
+                                },
+                            )?,
+                            ty => self.temp_storage(ty, v.span)?,
+                        };
+                        inouts.insert(key.clone(), loc);
                         continue;
                     }
                     return Err(type_error(

@@ -1299,3 +1299,24 @@ fn a_thousand_inlined_calls_compile_and_the_time_is_printed() {
     let rows = run_all(&p, 10, 3, &[(0, &[("In", b(true))])], &["Out"]);
     assert_eq!(rows[2][0], Value::Dint(500));
 }
+
+#[test]
+fn an_uncalled_block_with_an_instance_in_out_is_checked_without_false_errors() {
+    let e = errors(
+        "name,type\nQ,BOOL\n",
+        "FUNCTION_BLOCK Drive
+         VAR_IN_OUT t : TON; END_VAR
+         VAR_OUTPUT q : BOOL; END_VAR
+         t(IN := TRUE, PT := T#1s);
+         q := t.Q;
+         END_FUNCTION_BLOCK
+         FUNCTION Twice : INT
+         VAR_IN_OUT t : TON; END_VAR
+         t(IN := FALSE);
+         Twice := t.Qq;
+         END_FUNCTION
+         PROGRAM Main Q := TRUE; END_PROGRAM",
+    );
+    assert!(e.contains("TON has no member `Qq`"), "{e}");
+    assert_eq!(e.matches("error[").count(), 1, "{e}");
+}
