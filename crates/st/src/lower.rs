@@ -2052,11 +2052,16 @@ impl Lower<'_> {
     }
 
     /// An integer constant of a CASE label: a literal or an enumeration value.
-    fn case_const(&self, e: &Expr) -> Option<i64> {
+    fn case_const(&self, e: &Expr, sel: &Ty) -> Option<i64> {
         if let Some(v) = const_int(e) {
             return Some(v);
         }
         match &e.kind {
+            // The selector's own enumeration first.
+            ExprKind::Name(n) if matches!(sel, Ty::Enum(en) if enum_value(en, &n.name).is_some()) => match sel {
+                Ty::Enum(en) => enum_value(en, &n.name),
+                _ => None,
+            },
             ExprKind::Name(n) => {
                 let declared = self.vars.values().filter_map(|v| match &v.ty {
                     Ty::Enum(e) => Some(e),
@@ -2193,8 +2198,10 @@ impl Lower<'_> {
                     let hit = self.b.temp_b();
                     for (k, label) in labels.iter().enumerate() {
                         let (lo, hi, span) = match label {
-                            CaseLabel::One(e) => (self.case_const(e), self.case_const(e), e.span),
-                            CaseLabel::Range(a, b) => (self.case_const(a), self.case_const(b), a.span.to(b.span)),
+                            CaseLabel::One(e) => (self.case_const(e, &ty), self.case_const(e, &ty), e.span),
+                            CaseLabel::Range(a, b) => {
+                                (self.case_const(a, &ty), self.case_const(b, &ty), a.span.to(b.span))
+                            }
                         };
                         let (Some(lo), Some(hi)) = (lo, hi) else {
                             return Err(type_error(
@@ -2842,6 +2849,20 @@ impl Lower<'_> {
             ExprKind::Lit(l) => {
                 let ty = self.lit_type(l, hint, e.span)?;
                 Ok((self.constant(l, &ty), ty))
+            }
+            // A value of the enumeration wanted, named bare (`c := Red`).
+            ExprKind::Name(n)
+                if matches!(hint, Some(Ty::Enum(en)) if enum_value(en, &n.name).is_some())
+                    && !self.aliases.contains_key(&n.name.to_ascii_lowercase())
+                    && !self.vars.contains_key(&n.name.to_ascii_lowercase())
+                    && self.b.layout().resolve(&n.name).is_err() =>
+            {
+                let Some(Ty::Enum(en)) = hint else {
+                    return Err(type_error(e.span, "enumeration".into()));
+                };
+                let v = enum_value(en, &n.name).unwrap_or(0);
+                let c = self.b.const_i(v as i32);
+                Ok((Val::N(V::I(c)), Ty::Enum(en.clone())))
             }
             ExprKind::Name(_) | ExprKind::Member(..) | ExprKind::Index(..) => {
                 if let Some((of, elems, dims, ix)) = self.elements_of(e)? {

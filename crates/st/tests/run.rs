@@ -1320,3 +1320,21 @@ fn an_uncalled_block_with_an_instance_in_out_is_checked_without_false_errors() {
     assert!(e.contains("TON has no member `Qq`"), "{e}");
     assert_eq!(e.matches("error[").count(), 1, "{e}");
 }
+
+#[test]
+fn a_bare_enumeration_value_takes_the_type_wanted() {
+    let p = program(
+        "name,type\nN,INT\n",
+        "TYPE Light : (Off, On); Mode : (Auto, Manual, Off); END_TYPE
+         PROGRAM Main
+         VAR m : Mode; l : Light := On; END_VAR
+         m := Off;
+         N := 0;
+         IF m = Off THEN N := 1; END_IF;
+         CASE m OF Off: N := N + 10; Auto: N := N + 100; END_CASE;
+         IF l = On AND m = Mode#Off THEN N := N + 1000; END_IF;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 1, &[], &["N", "Main.m", "Main.l"]);
+    assert_eq!(rows[0], [Value::Int(1011), Value::Dint(2), Value::Dint(1)]);
+}
