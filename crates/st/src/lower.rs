@@ -385,30 +385,33 @@ struct Types<'a> {
     enums: Vec<Rc<EnumTy>>,
 }
 
-fn types_of(file: &ast::File) -> Types<'_> {
+/// The types and POUs `file` sees: its own, then those of `library` (the
+/// other `.st` files of the project) that it does not declare itself.
+fn types_of<'a>(file: &'a ast::File, library: &[&'a ast::File]) -> Types<'a> {
     let mut t = Types {
-        aliases: file
-            .types
-            .iter()
-            .map(|t| (t.name.name.to_ascii_lowercase(), t))
-            .collect(),
-        pous: file
-            .pous
-            .iter()
-            .filter(|p| p.kind != PouKind::Program)
-            .map(|p| (p.name.name.to_ascii_lowercase(), p))
-            .collect(),
+        aliases: HashMap::new(),
+        pous: HashMap::new(),
         enums: Vec::new(),
     };
+    for f in std::iter::once(file).chain(library.iter().copied()) {
+        for d in &f.types {
+            t.aliases.entry(d.name.name.to_ascii_lowercase()).or_insert(d);
+        }
+        for p in f.pous.iter().filter(|p| p.kind != PouKind::Program) {
+            t.pous.entry(p.name.name.to_ascii_lowercase()).or_insert(p);
+        }
+    }
     let mut enums = Vec::new();
-    for d in &file.types {
+    for d in t.aliases.values() {
         if let TypeRef::Enum { .. } = d.ty
             && let Ok(Ty::Enum(e)) = resolve_named(&d.ty, &d.name.name, &t, 0)
         {
-            enums.push(e);
+            enums.push(((d.span.file.0, d.span.start), e));
         }
     }
-    t.enums = enums;
+    // In declaration order (the first file's first), whatever the map's order.
+    enums.sort_by_key(|(at, _)| *at);
+    t.enums = enums.into_iter().map(|(_, e)| e).collect();
     t
 }
 
@@ -991,7 +994,29 @@ impl Decl<'_, '_> {
 /// FUNCTION_BLOCKs, member by member) and of the `VAR_GLOBAL`s of `file` to
 /// `tags` (before the layout is made).
 pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
-    let types = types_of(file);
+    declare_with(file, &[], tags, diags);
+}
+
+/// [`declare`], with the FUNCTIONs, FUNCTION_BLOCKs and TYPEs of the other
+/// `.st` files of the project (`library`) known as well.
+pub fn declare_with(file: &ast::File, library: &[&ast::File], tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
+    let types = types_of(file, library);
+    for p in file.pous.iter().filter(|p| p.kind != PouKind::Program) {
+        let key = p.name.name.to_ascii_lowercase();
+        if let Some(other) = library
+            .iter()
+            .flat_map(|f| f.pous.iter())
+            .find(|o| o.kind != PouKind::Program && o.name.name.to_ascii_lowercase() == key)
+        {
+            diags.push(
+                decl_error(
+                    p.name.span,
+                    format!("`{}` is declared in another file too", p.name.name),
+                )
+                .with_note(other.name.span, "also declared here"),
+            );
+        }
+    }
     for t in &file.types {
         if let Err(e) = resolve_named(&t.ty, &t.name.name, &types, 0) {
             diags.push(e);
@@ -1136,7 +1161,13 @@ struct Scope {
 /// and FUNCTION_BLOCKs are inlined where they are called; the bodies of
 /// those never called are checked on their own.
 pub fn compile(file: &ast::File, name: &str, b: &mut Builder) -> Vec<Diagnostic> {
-    let types = types_of(file);
+    compile_with(file, &[], name, b)
+}
+
+/// [`compile`], with the FUNCTIONs, FUNCTION_BLOCKs and TYPEs of the other
+/// `.st` files of the project (`library`) callable and usable as well.
+pub fn compile_with(file: &ast::File, library: &[&ast::File], name: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    let types = types_of(file, library);
     let mut diags = Vec::new();
     let globals: HashMap<String, Var> = variables(&file.globals, None, &types, &mut Vec::new())
         .into_iter()

@@ -1338,3 +1338,38 @@ fn a_bare_enumeration_value_takes_the_type_wanted() {
     let rows = run_all(&p, 10, 1, &[], &["N", "Main.m", "Main.l"]);
     assert_eq!(rows[0], [Value::Int(1011), Value::Dint(2), Value::Dint(1)]);
 }
+
+/// A FUNCTION_BLOCK and a TYPE of one `.st` file used by the PROGRAM of
+/// another (`declare_with` / `compile_with`, the other files as the library).
+#[test]
+fn pous_and_types_of_another_file_are_known_through_the_library() {
+    let mut files = Files::new();
+    let tf = files.add("tags.csv", "name,type\nIn,BOOL\nN,INT\n");
+    let lf = files.add(
+        "lib.st",
+        "TYPE Pair : STRUCT a, b : INT; END_STRUCT; END_TYPE
+         FUNCTION_BLOCK Count VAR_INPUT x : BOOL; END_VAR VAR_OUTPUT p : Pair; END_VAR
+         VAR r : R_TRIG; END_VAR
+         r(CLK := x); IF r.Q THEN p.a := p.a + 1; ELSE p.b := p.b + 1; END_IF;
+         END_FUNCTION_BLOCK",
+    );
+    let mf = files.add(
+        "main.st",
+        "PROGRAM Main VAR c : Count; q : Pair; END_VAR
+         c(x := In, p => q); N := q.a * 10 + q.b; END_PROGRAM",
+    );
+    let (mut tags, mut diags) = TagTable::parse(files.text(tf), tf);
+    let (lib, d1) = alba_st::parse(files.text(lf), lf);
+    let (main, d2) = alba_st::parse(files.text(mf), mf);
+    diags.extend(d1);
+    diags.extend(d2);
+    alba_st::declare_with(&lib, &[&main], &mut tags, &mut diags);
+    alba_st::declare_with(&main, &[&lib], &mut tags, &mut diags);
+    let mut bl = Builder::new(Layout::new(&tags, &Default::default()));
+    diags.extend(alba_st::compile_with(&lib, &[&main], "lib.st", &mut bl));
+    diags.extend(alba_st::compile_with(&main, &[&lib], "main.st", &mut bl));
+    assert!(diags.is_empty(), "{}", render_all(&diags, &files));
+    let p = bl.finish(files);
+    let rows = run_all(&p, 10, 3, &[(0, &[("In", b(true))])], &["N", "Main.c.p.a"]);
+    assert_eq!(rows[2], [Value::Int(12), Value::Int(1)]);
+}
