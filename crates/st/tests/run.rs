@@ -1409,3 +1409,26 @@ fn an_online_edit_keeps_the_state_of_user_fb_instances() {
         assert_eq!(get(&e, "Main.c.t.ACC"), Value::Dint(10), "{mode:?}");
     }
 }
+
+#[test]
+fn generic_to_conversions_take_the_argument_type() {
+    let p = program(
+        "name,type\nR,REAL\nI,INT\nD,DINT\nB,BOOL\n",
+        "TYPE Color : (Red, Green := 5, Blue); END_TYPE
+         PROGRAM Main VAR c : Color := Blue; w : WORD; END_VAR
+         I := TO_INT(R);
+         D := TO_DINT(c) + TO_DINT(TRUE);
+         w := TO_WORD(-1);
+         B := TO_BOOL(w);
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        1,
+        &[(0, &[("R", Value::Real(2.5))])],
+        &["I", "D", "Main.w", "B"],
+    );
+    // 2.5 rounds half to even.
+    assert_eq!(rows[0], [Value::Int(2), Value::Dint(7), Value::Dint(0xFFFF), b(true)]);
+}

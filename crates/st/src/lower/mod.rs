@@ -2291,6 +2291,19 @@ impl Lower<'_> {
             let r = self.convert(Val::N(t), &Ty::Lint, &to_ty);
             return Ok((r, to_ty));
         }
+        // TO_Y: the 3rd edition's conversion from the argument's own type
+        // (an enumeration converts as its number).
+        if let Some(to) = up.strip_prefix("TO_")
+            && let Some(to_ty) = elementary(to)
+        {
+            arity(1)?;
+            let (v, ty) = self.eval(positional[0], Some(&to_ty))?;
+            let from = match ty {
+                Ty::Enum(_) => Ty::Dint,
+                t => t,
+            };
+            return Ok((self.convert(v, &from, &to_ty), to_ty));
+        }
         // X_TO_Y conversions (and TRUNC).
         if let Some((from, to)) = up.split_once("_TO_") {
             arity(1)?;
