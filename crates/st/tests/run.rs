@@ -1432,3 +1432,33 @@ fn generic_to_conversions_take_the_argument_type() {
     // 2.5 rounds half to even.
     assert_eq!(rows[0], [Value::Int(2), Value::Dint(7), Value::Dint(0xFFFF), b(true)]);
 }
+
+#[test]
+fn functions_return_structures_and_arrays_and_arrays_assign_whole() {
+    let p = program(
+        "name,type\nX,INT\nS,DINT\n",
+        "TYPE Point : STRUCT x, y : INT; END_STRUCT; END_TYPE
+         FUNCTION Make : Point
+         VAR_INPUT x, y : INT; END_VAR
+         Make.x := x; Make.y := y;
+         END_FUNCTION
+         FUNCTION Len2 : DINT
+         VAR_INPUT p : Point; END_VAR
+         Len2 := INT_TO_DINT(p.x * p.x + p.y * p.y);
+         END_FUNCTION
+         FUNCTION Ramp : ARRAY[1..3] OF INT
+         VAR_INPUT k : INT; END_VAR
+         VAR i : INT; END_VAR
+         FOR i := 1 TO 3 DO Ramp[i] := i * k; END_FOR;
+         END_FUNCTION
+         PROGRAM Main VAR p : Point; a, b : ARRAY[1..3] OF INT; END_VAR
+         p := Make(3, 4);
+         S := Len2(Make(1, 2)) * 100 + Len2(p);
+         a := Ramp(10);
+         b := a;
+         X := b[3];
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 1, &[], &["S", "X", "Main.p.y", "Main.b[1]"]);
+    assert_eq!(rows[0], [Value::Dint(525), Value::Int(30), Value::Int(4), Value::Int(10)]);
+}

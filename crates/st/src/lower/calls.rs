@@ -358,7 +358,7 @@ impl Lower<'_> {
                 continue;
             }
             if let Ty::Struct(_) | Ty::Array(..) = v.ty {
-                let src = self.locate(e)?;
+                let src = self.composite_of(e)?;
                 if loc_type(&src).as_ref() != Some(&v.ty) {
                     return Err(type_error(*espan, format!("{fname}.{pname} is {}", an(&v.ty))));
                 }
@@ -412,13 +412,31 @@ impl Lower<'_> {
     /// Inlines a call of the user FUNCTION `pou`: its variables live in
     /// slots of this call; gives its result.
     pub(super) fn inline_function(&mut self, pou: &Pou, args: &[Arg], span: Span, check: bool) -> R<(Val, Ty)> {
+        match self.inline_function_loc(pou, args, span, check)? {
+            Some(l) => {
+                let e = Expr {
+                    kind: ExprKind::Name(pou.name.clone()),
+                    span,
+                };
+                self.read_loc(&l, &e)
+            }
+            None => Ok((self.constant(&Lit::Bool(false), &Ty::Bool), Ty::Bool)),
+        }
+    }
+
+    /// [`Lower::inline_function`], giving where its result is (a STRUCT or
+    /// ARRAY result is copied from there by the caller); `None` for a
+    /// FUNCTION without a result type.
+    pub(super) fn inline_function_loc(&mut self, pou: &Pou, args: &[Arg], span: Span, check: bool) -> R<Option<Loc>> {
         self.check_recursion(pou, span)?;
         let vars = variables(&pou.vars, Some(&pou.name.name), self.types, &mut Vec::new());
         let params = Self::params_of(&vars);
         let ret = match &pou.ret {
             Some(t) => {
                 let t = resolve_type(t, self.types, 0)?;
-                if t.data_type().is_none() {
+                if matches!(&t, Ty::Fb(_) | Ty::User(_))
+                    || matches!(&t, Ty::Array(of, _) if matches!(**of, Ty::Fb(_) | Ty::User(_)))
+                {
                     return Err(not_supported(
                         pou.ret.as_ref().map_or(pou.name.span, TypeRef::span),
                         format!("a FUNCTION returning {} is not supported yet", an(&t)),
@@ -462,16 +480,22 @@ impl Lower<'_> {
                 self.assign_output(a, src)?;
             }
         }
-        match (ret, locals.get(&fkey)) {
-            (Some(_), Some(l)) => {
-                let e = Expr {
-                    kind: ExprKind::Name(pou.name.clone()),
-                    span,
-                };
-                self.read_loc(l, &e)
-            }
-            _ => Ok((self.constant(&Lit::Bool(false), &Ty::Bool), Ty::Bool)),
+        Ok(ret.and_then(|_| locals.get(&fkey).cloned()))
+    }
+
+    /// The storage an expression names, or the result of a user FUNCTION it
+    /// calls (for structures and arrays, copied as a whole).
+    pub(super) fn composite_of(&mut self, e: &Expr) -> R<Loc> {
+        if let ExprKind::Call(n, args) = &e.kind
+            && let Some(p) = self.types.pous.get(&n.name.to_ascii_lowercase()).copied()
+            && p.kind == PouKind::Function
+        {
+            return match self.inline_function_loc(p, args, e.span, false)? {
+                Some(l) => Ok(l),
+                None => Err(type_error(e.span, format!("`{}` has no result", n.name))),
+            };
         }
+        self.locate(e)
     }
 
     /// The inputs stored, then the body of a user POU, in the scope entered.

@@ -1815,8 +1815,13 @@ impl Lower<'_> {
         let maybe_struct = match &lhs.kind {
             ExprKind::Name(n) => {
                 let k = n.name.to_ascii_lowercase();
-                self.aliases.get(&k).is_some_and(|l| matches!(l, Loc::Struct { .. }))
-                    || self.vars.get(&k).is_some_and(|v| matches!(v.ty, Ty::Struct(_)))
+                self.aliases
+                    .get(&k)
+                    .is_some_and(|l| matches!(l, Loc::Struct { .. } | Loc::Array { .. } | Loc::StructArray { .. }))
+                    || self
+                        .vars
+                        .get(&k)
+                        .is_some_and(|v| matches!(v.ty, Ty::Struct(_) | Ty::Array(..)))
             }
             ExprKind::Member(..) => true,
             ExprKind::Index(base, _) => match &base.kind {
@@ -1834,8 +1839,10 @@ impl Lower<'_> {
             },
             _ => false,
         };
-        if maybe_struct && let Ok(dst @ (Loc::Struct { .. } | Loc::StructArray { .. })) = self.locate(lhs) {
-            let src = self.locate(rhs)?;
+        if maybe_struct
+            && let Ok(dst @ (Loc::Struct { .. } | Loc::StructArray { .. } | Loc::Array { .. })) = self.locate(lhs)
+        {
+            let src = self.composite_of(rhs)?;
             let (dt, st) = (loc_type(&dst), loc_type(&src));
             if dt != st {
                 return Err(type_error(
