@@ -1460,5 +1460,8 @@ fn functions_return_structures_and_arrays_and_arrays_assign_whole() {
          END_PROGRAM",
     );
     let rows = run_all(&p, 10, 1, &[], &["S", "X", "Main.p.y", "Main.b[1]"]);
-    assert_eq!(rows[0], [Value::Dint(525), Value::Int(30), Value::Int(4), Value::Int(10)]);
+    assert_eq!(
+        rows[0],
+        [Value::Dint(525), Value::Int(30), Value::Int(4), Value::Int(10)]
+    );
 }

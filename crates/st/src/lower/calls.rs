@@ -13,17 +13,21 @@ pub(super) struct Scope {
     pub(super) pou: String,
 }
 
-/// The errors of the body of a FUNCTION or FUNCTION_BLOCK that is never
-/// called, lowered on its own (an FB as an instance of its own).
+/// The errors of the bodies of FUNCTIONs and FUNCTION_BLOCKs that are
+/// never called, each lowered on its own (an FB as an instance of its own,
+/// with scratch tags) into one scratch program.
 pub(super) fn check_alone(
-    p: &Pou,
+    pous: &[&Pou],
     types: &Types,
     globals: &HashMap<String, Var>,
     layout: &alba_ir::Layout,
 ) -> Vec<Diagnostic> {
+    if pous.is_empty() {
+        return Vec::new();
+    }
     let mut tags = layout.tags.clone();
     let mut diags = Vec::new();
-    let inst = format!("{}#check", p.name.name);
+    let inst = |p: &Pou| format!("{}#check", p.name.name);
     {
         let mut d = Decl {
             types,
@@ -32,32 +36,38 @@ pub(super) fn check_alone(
             instance_tags: 0,
             open: Vec::new(),
         };
-        let prefix = if p.kind == PouKind::FunctionBlock {
-            d.var(&inst, &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
-            &inst
-        } else {
-            &p.name.name
-        };
-        // Instances given as VAR_IN_OUT: scratch ones.
-        for (_, v) in variables(&p.vars, Some(prefix), types, &mut Vec::new()) {
-            if v.kind == VarKind::InOut && matches!(v.ty, Ty::Fb(_) | Ty::User(_)) {
-                d.var(&format!("{}#io", v.tag), &v.ty, None, false, v.span, 0);
+        for p in pous {
+            let prefix = if p.kind == PouKind::FunctionBlock {
+                d.var(&inst(p), &Ty::User(p.name.name.clone()), None, false, p.name.span, 0);
+                inst(p)
+            } else {
+                p.name.name.clone()
+            };
+            // Instances given as VAR_IN_OUT: scratch ones.
+            for (_, v) in variables(&p.vars, Some(&prefix), types, &mut Vec::new()) {
+                if v.kind == VarKind::InOut && matches!(v.ty, Ty::Fb(_) | Ty::User(_)) {
+                    d.var(&format!("{}#io", v.tag), &v.ty, None, false, v.span, 0);
+                }
             }
         }
     }
     let mut b = Builder::new(alba_ir::Layout::new(&tags, &Default::default()));
     b.begin_unit("check");
-    let mut l = Lower::new(&mut b, types, globals.clone(), globals.clone(), 0, &p.name.name);
-    l.rung(p.name.span);
-    let r = if p.kind == PouKind::FunctionBlock {
-        l.inline_fb(p, &inst, &[], p.name.span, true)
-    } else {
-        l.inline_function(p, &[], p.name.span, true).map(|_| ())
-    };
-    if let Err(d) = r {
-        l.diags.push(d);
+    let mut rungs = 0;
+    for p in pous {
+        let mut l = Lower::new(&mut b, types, globals.clone(), globals.clone(), rungs, &p.name.name);
+        l.rung(p.name.span);
+        let r = if p.kind == PouKind::FunctionBlock {
+            l.inline_fb(p, &inst(p), &[], p.name.span, true)
+        } else {
+            l.inline_function(p, &[], p.name.span, true).map(|_| ())
+        };
+        if let Err(d) = r {
+            l.diags.push(d);
+        }
+        rungs = l.rungs;
+        diags.extend(l.diags);
     }
-    diags.extend(l.diags);
     diags
 }
 

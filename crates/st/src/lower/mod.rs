@@ -203,11 +203,12 @@ pub fn compile_with(file: &ast::File, library: &[&ast::File], name: &str, b: &mu
         called.extend(l.called);
     }
     b.end_unit();
-    for p in &file.pous {
-        if p.kind != PouKind::Program && !called.contains(&p.name.name.to_ascii_lowercase()) {
-            diags.extend(check_alone(p, &types, &globals, b.layout()));
-        }
-    }
+    let uncalled: Vec<&Pou> = file
+        .pous
+        .iter()
+        .filter(|p| p.kind != PouKind::Program && !called.contains(&p.name.name.to_ascii_lowercase()))
+        .collect();
+    diags.extend(check_alone(&uncalled, &types, &globals, b.layout()));
     // A body inlined at several places reports its errors once.
     let mut seen = HashSet::new();
     diags.retain(|d| {
