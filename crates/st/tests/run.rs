@@ -1465,3 +1465,42 @@ fn functions_return_structures_and_arrays_and_arrays_assign_whole() {
         [Value::Dint(525), Value::Int(30), Value::Int(4), Value::Int(10)]
     );
 }
+
+#[test]
+fn global_instances_and_structures_are_external_in_programs() {
+    let p = program(
+        "name,type\nIn,BOOL\nN,INT\n",
+        "TYPE Pt : STRUCT x, y : INT; END_STRUCT; END_TYPE
+         FUNCTION_BLOCK Count VAR_INPUT x : BOOL; END_VAR VAR_OUTPUT n : INT; END_VAR VAR r : R_TRIG; END_VAR
+         r(CLK := x); IF r.Q THEN n := n + 1; END_IF;
+         END_FUNCTION_BLOCK
+         VAR_GLOBAL g : Count; gp : Pt; edge : R_TRIG; END_VAR
+         PROGRAM A VAR_EXTERNAL g : Count; gp : Pt; END_VAR g(x := In); gp.x := g.n; END_PROGRAM
+         PROGRAM B VAR_EXTERNAL gp : Pt; edge : R_TRIG; END_VAR edge(CLK := In); N := gp.x * 10 + BOOL_TO_INT(edge.Q); END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        3,
+        &[
+            (0, &[("In", b(true))]),
+            (10, &[("In", b(false))]),
+            (20, &[("In", b(true))]),
+        ],
+        &["N", "g.n"],
+    );
+    assert_eq!(rows[2], [Value::Int(21), Value::Int(2)]);
+    let e = errors(
+        "name,type\n",
+        "TYPE Pt : STRUCT x, y : INT; END_STRUCT; END_TYPE
+         PROGRAM A VAR_EXTERNAL nope : Pt; t : TON; END_VAR END_PROGRAM",
+    );
+    assert!(
+        e.contains("`nope` is VAR_EXTERNAL but no tag or VAR_GLOBAL has that name"),
+        "{e}"
+    );
+    assert!(
+        e.contains("`t` is VAR_EXTERNAL but no tag or VAR_GLOBAL has that name"),
+        "{e}"
+    );
+}

@@ -280,6 +280,21 @@ impl Lower<'_> {
             .collect();
         ext.sort_by_key(|v| v.span.start);
         for v in ext {
+            let missing = || {
+                Diagnostic::new(
+                    Code::StName,
+                    format!("`{}` is VAR_EXTERNAL but no tag or VAR_GLOBAL has that name", v.tag),
+                    v.span,
+                    "external",
+                )
+            };
+            // Structures, arrays and FB instances are several tags.
+            if matches!(v.ty, Ty::Struct(_) | Ty::Array(..) | Ty::User(_) | Ty::Fb(_)) {
+                if !self.declared(&v.tag, &v.ty, 0) {
+                    self.diags.push(missing());
+                }
+                continue;
+            }
             match self.b.layout().resolve(&v.tag) {
                 Err(_) => self.diags.push(Diagnostic::new(
                     Code::StName,
@@ -299,6 +314,33 @@ impl Lower<'_> {
                     ))
                 }
                 Ok(_) => {}
+            }
+        }
+    }
+
+    /// Whether the tags of a variable of type `ty` named `tag` exist.
+    fn declared(&mut self, tag: &str, ty: &Ty, depth: u32) -> bool {
+        let layout = self.b.layout();
+        match ty {
+            Ty::Fb(Fb::RTrig | Fb::FTrig) => layout.resolve(&format!("{tag}.Q")).is_ok(),
+            Ty::Fb(Fb::Sr | Fb::Rs) => layout.resolve(&format!("{tag}.Q1")).is_ok(),
+            Ty::Fb(_) => layout.resolve(tag).is_ok(),
+            Ty::User(fb) => {
+                let Some(p) = self.types.pous.get(&fb.to_ascii_lowercase()).copied() else {
+                    return false;
+                };
+                depth < 32
+                    && variables(&p.vars, Some(tag), self.types, &mut Vec::new())
+                        .iter()
+                        .filter(|(_, w)| !matches!(w.kind, VarKind::InOut | VarKind::External | VarKind::Global))
+                        .all(|(_, w)| self.declared(&w.tag, &w.ty, depth + 1))
+            }
+            _ => {
+                let id = Ident {
+                    name: tag.to_string(),
+                    span: Span::new(alba_diag::FileId(0), 0..0),
+                };
+                self.tag_loc(tag, ty, false, &id).is_ok()
             }
         }
     }
