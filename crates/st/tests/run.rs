@@ -1504,3 +1504,42 @@ fn global_instances_and_structures_are_external_in_programs() {
         "{e}"
     );
 }
+
+#[test]
+fn en_runs_a_call_only_when_true_and_eno_says_whether_it_ran() {
+    let p = program(
+        "name,type\nGo,BOOL\nOk,BOOL\nN,INT\nQ,BOOL\n",
+        "FUNCTION_BLOCK Inc VAR_OUTPUT n : INT; END_VAR n := n + 1; END_FUNCTION_BLOCK
+         PROGRAM Main VAR i : Inc; t : TON; END_VAR
+         i(EN := Go, ENO => Ok);
+         N := i.n;
+         t(EN := Go, IN := TRUE, PT := T#20ms, Q => Q);
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        5,
+        &[
+            (0, &[("Go", b(true))]),
+            (20, &[("Go", b(false))]),
+            (30, &[("Go", b(true))]),
+        ],
+        &["N", "Ok", "Q", "Main.t.ACC"],
+    );
+    let n: Vec<Value> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(n, [1, 2, 2, 3, 4].map(Value::Int));
+    let ok: Vec<bool> = rows.iter().map(|r| r[1] == b(true)).collect();
+    assert_eq!(ok, [true, true, false, true, true]);
+    // The timer is not called at 20 ms: its ET stays at 10 ms, then goes on.
+    assert_eq!(rows[2][3], Value::Dint(10));
+    let e = errors(
+        "name,type\nX,DINT\n",
+        "FUNCTION F : DINT VAR_INPUT a : DINT; END_VAR F := a; END_FUNCTION
+         PROGRAM Main X := F(EN := TRUE, a := 1); END_PROGRAM",
+    );
+    assert!(
+        e.contains("EN and ENO are taken by a call written as a statement"),
+        "{e}"
+    );
+}

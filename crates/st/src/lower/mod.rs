@@ -665,31 +665,44 @@ impl Lower<'_> {
             }
             StmtKind::Call(callee, args) => {
                 self.rung(s.span);
-                if let ExprKind::Index(base, ix) = &callee.kind {
-                    return self.call_element(base, ix, args, callee, s.span);
+                let is = |a: &Arg, n: &str| a.name.as_ref().is_some_and(|x| x.is(n));
+                let en = args.iter().find(|a| !a.output && is(a, "EN"));
+                let eno = args.iter().find(|a| a.output && is(a, "ENO"));
+                if en.is_none() && eno.is_none() {
+                    return self.call_stmt(callee, args, s.span);
                 }
-                let ExprKind::Name(n) = &callee.kind else {
-                    return Err(not_supported(callee.span, "this call is not supported".into()));
-                };
-                let loc = match self.lookup(n) {
-                    Ok(l) => Some(l),
-                    Err(_) if self.types.pous.contains_key(&n.name.to_ascii_lowercase()) => None,
-                    Err(d) => return Err(d),
-                };
-                match loc {
-                    Some(Loc::Fb { kind, name }) => self.fb_call(kind, &name, n, args),
-                    Some(Loc::User { fb, prefix }) => {
-                        let pou = self.types.pous.get(&fb.to_ascii_lowercase()).copied();
-                        match pou {
-                            Some(p) => self.inline_fb(p, &prefix, args, s.span, false),
-                            None => Err(self.unknown(n, "function block")),
-                        }
+                // EN := c runs the call only when c is TRUE; ENO => x says
+                // whether it ran.
+                let rest: Vec<Arg> = args.iter().filter(|a| !is(a, "EN") && !is(a, "ENO")).cloned().collect();
+                let skip = match en {
+                    Some(a) => {
+                        let c = self.cond(&a.value)?;
+                        self.emit(Op::Ldn(c));
+                        let j = self.emit(Op::Jmp(0));
+                        self.emit(Op::True);
+                        Some(j)
                     }
-                    _ => {
-                        // A function called for nothing: evaluate it (it may fault).
-                        self.call(n, args, None, callee.span).map(|_| ())
+                    None => None,
+                };
+                self.call_stmt(callee, &rest, s.span)?;
+                let set_eno = |l: &mut Self, v: bool| -> R<()> {
+                    if let Some(a) = eno {
+                        l.assign_with(&a.value, a.value.span, &mut |l: &mut Self, _| {
+                            Ok((l.constant(&Lit::Bool(v), &Ty::Bool), Ty::Bool))
+                        })?;
                     }
+                    Ok(())
+                };
+                set_eno(self, true)?;
+                if let Some(skip) = skip {
+                    let done = self.emit(Op::Jmp(0));
+                    let off = self.rung(s.span);
+                    self.patch(&[skip], off);
+                    set_eno(self, false)?;
+                    let end = self.rung(s.span);
+                    self.patch(&[done], end);
                 }
+                Ok(())
             }
             StmtKind::If { arms, els } => {
                 let mut ends = Vec::new();
@@ -905,6 +918,30 @@ impl Lower<'_> {
                 self.returns.push(j);
                 Ok(())
             }
+        }
+    }
+
+    /// A call as a statement: of an FB instance (an element of an array of
+    /// them), or of a function for nothing (it may fault).
+    fn call_stmt(&mut self, callee: &Expr, args: &[Arg], span: Span) -> R<()> {
+        if let ExprKind::Index(base, ix) = &callee.kind {
+            return self.call_element(base, ix, args, callee, span);
+        }
+        let ExprKind::Name(n) = &callee.kind else {
+            return Err(not_supported(callee.span, "this call is not supported".into()));
+        };
+        let loc = match self.lookup(n) {
+            Ok(l) => Some(l),
+            Err(_) if self.types.pous.contains_key(&n.name.to_ascii_lowercase()) => None,
+            Err(d) => return Err(d),
+        };
+        match loc {
+            Some(Loc::Fb { kind, name }) => self.fb_call(kind, &name, n, args),
+            Some(Loc::User { fb, prefix }) => match self.types.pous.get(&fb.to_ascii_lowercase()).copied() {
+                Some(p) => self.inline_fb(p, &prefix, args, span, false),
+                None => Err(self.unknown(n, "function block")),
+            },
+            _ => self.call(n, args, None, callee.span).map(|_| ()),
         }
     }
 
@@ -2284,6 +2321,17 @@ impl Lower<'_> {
     /// A standard function (or a conversion) called in an expression.
     fn call(&mut self, n: &Ident, args: &[Arg], hint: Option<&Ty>, span: Span) -> R<(Val, Ty)> {
         let up = n.name.to_ascii_uppercase();
+        if let Some(a) = args
+            .iter()
+            .find(|a| a.name.as_ref().is_some_and(|x| x.is("EN") || x.is("ENO")))
+        {
+            let at = a.name.as_ref().map_or(a.value.span, |x| x.span);
+            return Err(not_supported(
+                at,
+                "EN and ENO are taken by a call written as a statement (`F(EN := c, ENO => ok);`), not in an expression"
+                    .into(),
+            ));
+        }
         let positional: Vec<&Expr> = args.iter().filter(|a| !a.output).map(|a| &a.value).collect();
         let arity = |k: usize| -> R<()> {
             if positional.len() == k {
