@@ -1543,3 +1543,35 @@ fn en_runs_a_call_only_when_true_and_eno_says_whether_it_ran() {
         "{e}"
     );
 }
+
+#[test]
+fn whole_elements_of_arrays_of_structures_with_computed_indexes() {
+    let p = program(
+        "name,type\nI,INT\nJ,INT\nS,DINT\n",
+        "TYPE Pt : STRUCT x, y : INT; END_STRUCT; END_TYPE
+         FUNCTION Sum : DINT VAR_INPUT p : Pt; END_VAR Sum := INT_TO_DINT(p.x + p.y); END_FUNCTION
+         PROGRAM Main VAR zs : ARRAY[1..3] OF Pt := [(x := 1, y := 2), (x := 10, y := 20), (x := 100, y := 200)]; p : Pt; END_VAR
+         p := zs[I];
+         zs[J] := p;
+         S := Sum(zs[J]) * 1000 + Sum(zs[1]);
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        1,
+        &[(0, &[("I", Value::Int(2)), ("J", Value::Int(1))])],
+        &["S", "Main.p.x", "Main.zs[1].y", "Main.zs[3].x"],
+    );
+    assert_eq!(
+        rows[0],
+        [Value::Dint(30_030), Value::Int(10), Value::Int(20), Value::Int(100)]
+    );
+    for mode in MODES {
+        let mut e = engine(&p, mode);
+        set(&mut e, "I", Value::Int(4));
+        set(&mut e, "J", Value::Int(1));
+        e.scan(0).expect("scan");
+        assert!(e.faults().count >= 1, "{mode:?}: zs[4] is a fault");
+    }
+}

@@ -505,7 +505,67 @@ impl Lower<'_> {
                 None => Err(type_error(e.span, format!("`{}` has no result", n.name))),
             };
         }
+        // An element of an array of structures with a computed index: copied
+        // into slots of its own, one guarded copy per element.
+        if let Some((elems, dims, of, ix)) = self.struct_elements(e)? {
+            let tmp = self.temp_storage(&of, e.span)?;
+            self.each_element(&elems, &dims, ix, e.span, &mut |l: &mut Self, el: &Loc| {
+                l.copy_loc(&tmp, el);
+                Ok(())
+            })?;
+            return Ok(tmp);
+        }
         self.locate(e)
+    }
+
+    /// `a[i]` on an array of structures with a computed index: the elements,
+    /// the bounds, the element type and the indexes.
+    #[allow(clippy::type_complexity)]
+    pub(super) fn struct_elements<'e>(
+        &mut self,
+        e: &'e Expr,
+    ) -> R<Option<(Rc<Vec<Loc>>, Vec<(i64, i64)>, Ty, &'e [Expr])>> {
+        let ExprKind::Index(base, ix) = &e.kind else {
+            return Ok(None);
+        };
+        if ix.iter().all(|i| const_int(i).is_some()) {
+            return Ok(None);
+        }
+        match self.locate(base) {
+            Ok(Loc::StructArray {
+                elems,
+                dims,
+                ty: Ty::Array(of, _),
+            }) if matches!(*of, Ty::Struct(_)) => Ok(Some((elems, dims, *of, ix))),
+            _ => Ok(None),
+        }
+    }
+
+    /// Runs `f` on the element a computed index chooses: one guarded copy of
+    /// what `f` lowers per element (an index out of range is the range fault
+    /// and chooses none).
+    pub(super) fn each_element(
+        &mut self,
+        elems: &[Loc],
+        dims: &[(i64, i64)],
+        ix: &[Expr],
+        span: Span,
+        f: &mut dyn FnMut(&mut Self, &Loc) -> R<()>,
+    ) -> R<()> {
+        let flat = match self.flat_index(dims, ix, span)? {
+            Ok(k) => return f(self, &elems[k]),
+            Err(flat) => flat,
+        };
+        for (k, el) in elems.iter().enumerate() {
+            let kc = self.b.const_i(k as i32);
+            self.emit(Op::CmpI(Cmp::Ne, flat, kc));
+            let skip = self.emit(Op::Jmp(0));
+            self.emit(Op::True);
+            f(self, el)?;
+            let next = self.rung(span);
+            self.patch(&[skip], next);
+        }
+        Ok(())
     }
 
     /// The inputs stored, then the body of a user POU, in the scope entered.

@@ -1919,6 +1919,20 @@ impl Lower<'_> {
             },
             _ => false,
         };
+        if maybe_struct && let Some((elems, dims, of, ix)) = self.struct_elements(lhs)? {
+            // `zs[i] := p`: one guarded copy per element.
+            let src = self.composite_of(rhs)?;
+            if loc_type(&src).as_ref() != Some(&of) {
+                return Err(type_error(
+                    rhs.span,
+                    format!("cannot assign this to `{}`, {}", ast::expr(lhs), an(&of)),
+                ));
+            }
+            return self.each_element(&elems, &dims, ix, lhs.span, &mut |l: &mut Self, el: &Loc| {
+                l.copy_loc(el, &src);
+                Ok(())
+            });
+        }
         if maybe_struct
             && let Ok(dst @ (Loc::Struct { .. } | Loc::StructArray { .. } | Loc::Array { .. })) = self.locate(lhs)
         {
