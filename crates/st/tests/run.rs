@@ -1575,3 +1575,31 @@ fn whole_elements_of_arrays_of_structures_with_computed_indexes() {
         assert!(e.faults().count >= 1, "{mode:?}: zs[4] is a fault");
     }
 }
+
+#[test]
+fn in_out_elements_with_computed_indexes_pass_by_value_and_result() {
+    let p = program(
+        "name,type\nI,INT\nJ,INT\nS,DINT\n",
+        "TYPE Pt : STRUCT x, y : INT; END_STRUCT; END_TYPE
+         FUNCTION Swap : BOOL VAR_IN_OUT a, b : INT; END_VAR VAR t : INT; END_VAR
+         t := a; a := b; b := t; Swap := TRUE;
+         END_FUNCTION
+         FUNCTION_BLOCK Flip VAR_IN_OUT p : Pt; END_VAR VAR t : INT; END_VAR
+         t := p.x; p.x := p.y; p.y := t;
+         END_FUNCTION_BLOCK
+         PROGRAM Main VAR a : ARRAY[1..3] OF INT := [1, 2, 3]; zs : ARRAY[0..1] OF Pt := [(x := 5, y := 6)]; f : Flip; END_VAR
+         Swap(a[I], a[J]);
+         f(p := zs[I - 1]);
+         S := a[1] * 100 + a[2] * 10 + a[3];
+         END_PROGRAM",
+    );
+    let rows = run_all(
+        &p,
+        10,
+        2,
+        &[(0, &[("I", Value::Int(1)), ("J", Value::Int(3))])],
+        &["S", "Main.zs[0].x", "Main.zs[0].y"],
+    );
+    assert_eq!(rows[0], [Value::Dint(321), Value::Int(6), Value::Int(5)]);
+    assert_eq!(rows[1], [Value::Dint(123), Value::Int(5), Value::Int(6)]);
+}

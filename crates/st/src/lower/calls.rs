@@ -71,6 +71,15 @@ pub(super) fn check_alone(
     diags
 }
 
+/// The arguments of a call bound: input values, in-out storage, `=>`
+/// outputs, and in-outs to copy back (elements with a computed index).
+pub(super) type Binding<'e> = (
+    Vec<(String, Given)>,
+    HashMap<String, Loc>,
+    Vec<(String, &'e Arg)>,
+    Vec<(&'e Expr, Loc)>,
+);
+
 /// An input argument: a value, or a structure to copy.
 pub(super) enum Given {
     Val(Val),
@@ -228,7 +237,6 @@ impl Lower<'_> {
 
     /// Binds the arguments of a call to a user POU: the input values and
     /// in-out storage (evaluated in the caller's scope), and the `=>` outputs.
-    #[allow(clippy::type_complexity)]
     pub(super) fn bind_user<'e>(
         &mut self,
         pou: &Pou,
@@ -236,7 +244,7 @@ impl Lower<'_> {
         args: &'e [Arg],
         span: Span,
         check: bool,
-    ) -> R<(Vec<(String, Given)>, HashMap<String, Loc>, Vec<(String, &'e Arg)>)> {
+    ) -> R<Binding<'e>> {
         let fname = &pou.name.name;
         let positional: Vec<&(String, Var)> = params.iter().filter(|(_, v)| v.kind != VarKind::Output).collect();
         let mut given: Vec<(String, &Expr, Span)> = Vec::new();
@@ -291,6 +299,7 @@ impl Lower<'_> {
         }
         let mut inputs = Vec::new();
         let mut inouts = HashMap::new();
+        let mut back = Vec::new();
         for (key, v) in params {
             let Some((_, e, espan)) = given.iter().find(|(k, ..)| k == key) else {
                 if v.kind == VarKind::InOut {
@@ -323,22 +332,22 @@ impl Lower<'_> {
             let pname = v.tag.rsplit('.').next().unwrap_or(key);
             if v.kind == VarKind::InOut {
                 let loc = match &e.kind {
-                    ExprKind::Index(base, ix) => {
-                        let (of, elems, dims) = self.array(base)?;
-                        match self.flat_index(&dims, ix, *espan)? {
-                            Ok(k) => Loc::Value {
-                                place: elems[k],
-                                access: Access::ReadWrite,
-                                ty: of,
-                                constant: false,
-                            },
-                            Err(_) => {
-                                return Err(not_supported(
-                                    *espan,
-                                    "an array element with a computed index as a VAR_IN_OUT argument".into(),
-                                ));
+                    // An element with a computed index: passed by value and
+                    // result (copied in here, back after the body).
+                    ExprKind::Index(_, ix) if ix.iter().any(|i| const_int(i).is_none()) => {
+                        let tmp = if self.struct_elements(e)?.is_some() {
+                            self.composite_of(e)?
+                        } else {
+                            let (val, vty) = self.eval(e, Some(&v.ty.value()))?;
+                            let tmp = self.temp_storage(&vty, *espan)?;
+                            if let Loc::Value { place, ty, .. } = &tmp {
+                                let (place, ty) = (*place, ty.clone());
+                                self.store(place, val, &ty);
                             }
-                        }
+                            tmp
+                        };
+                        back.push((*e, tmp.clone()));
+                        tmp
                     }
                     _ => self.locate(e)?,
                 };
@@ -389,7 +398,7 @@ impl Lower<'_> {
             };
             inputs.push((key.clone(), Given::Val(val)));
         }
-        Ok((inputs, inouts, outs))
+        Ok((inputs, inouts, outs, back))
     }
 
     /// Inlines a call of the user FUNCTION_BLOCK `pou` on the instance whose
@@ -398,13 +407,14 @@ impl Lower<'_> {
         self.check_recursion(pou, span)?;
         let vars = variables(&pou.vars, Some(prefix), self.types, &mut Vec::new());
         let params = Self::params_of(&vars);
-        let (inputs, inouts, outs) = self.bind_user(pou, &params, args, span, check)?;
+        let (inputs, inouts, outs, back) = self.bind_user(pou, &params, args, span, check)?;
         let mut scope = self.globals.clone();
         scope.extend(vars.iter().filter(|(_, v)| v.kind != VarKind::InOut).cloned());
         let saved = self.enter(pou, scope, inouts);
         let r = self.run_body(pou, inputs, span, true);
         self.leave(saved);
         r?;
+        self.write_back(back)?;
         for (key, a) in outs {
             let Some((_, v)) = vars.iter().find(|(k, _)| *k == key) else {
                 continue;
@@ -456,7 +466,7 @@ impl Lower<'_> {
             }
             None => None,
         };
-        let (inputs, mut aliases, outs) = self.bind_user(pou, &params, args, span, check)?;
+        let (inputs, mut aliases, outs, back) = self.bind_user(pou, &params, args, span, check)?;
         let mut scope = self.globals.clone();
         for (key, v) in &vars {
             match v.kind {
@@ -485,12 +495,29 @@ impl Lower<'_> {
         let r = self.run_body(pou, inputs, span, false);
         self.leave(saved);
         r?;
+        self.write_back(back)?;
         for (key, a) in outs {
             if let Some(src) = locals.get(&key) {
                 self.assign_output(a, src)?;
             }
         }
         Ok(ret.and_then(|_| locals.get(&fkey).cloned()))
+    }
+
+    /// Copies VAR_IN_OUT arguments passed by value and result back to the
+    /// elements they came from (the index evaluated again).
+    fn write_back(&mut self, back: Vec<(&Expr, Loc)>) -> R<()> {
+        for (e, tmp) in back {
+            if let Some((elems, dims, _, ix)) = self.struct_elements(e)? {
+                self.each_element(&elems, &dims, ix, e.span, &mut |l: &mut Self, el: &Loc| {
+                    l.copy_loc(el, &tmp);
+                    Ok(())
+                })?;
+            } else {
+                self.assign_with(e, e.span, &mut |l: &mut Self, _| l.read_loc(&tmp, e))?;
+            }
+        }
+        Ok(())
     }
 
     /// The storage an expression names, or the result of a user FUNCTION it

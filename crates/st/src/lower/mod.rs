@@ -45,8 +45,6 @@ type R<T> = Result<T, Diagnostic>;
 /// Most elements an ARRAY may have (each is a tag).
 pub const MAX_ELEMENTS: i64 = 10_000;
 
-/// An array's element type, element places and bounds.
-type ArrayParts = (Ty, Vec<Place>, Vec<(i64, i64)>);
 /// An indexed element: its type, the places it is chosen from, the bounds
 /// and the index expressions.
 type Indexed<'e> = (Ty, Vec<Place>, Vec<(i64, i64)>, &'e [Expr]);
@@ -1743,13 +1741,6 @@ impl Lower<'_> {
             Loc::Fb { kind, name } => self.fb_member(kind, &name, m),
             Loc::User { fb, prefix } => self.user_member(&fb, &prefix, m),
             _ => Err(type_error(m.span, format!("`.{}`: this has no members", m.name))),
-        }
-    }
-
-    fn array(&mut self, base: &Expr) -> R<ArrayParts> {
-        match self.locate(base)? {
-            Loc::Array { elems, of, dims, .. } => Ok((of, elems, dims)),
-            _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
         }
     }
 
