@@ -391,6 +391,17 @@ impl Parser {
         if self.eat_p("[") {
             let mut items = Vec::new();
             loop {
+                // `(a := 1, b := 2)`: an element that is a structure.
+                if self.is_p("(")
+                    && matches!(self.peek_at(1), Tok::Ident(_))
+                    && matches!(self.peek_at(2), Tok::Punct(":="))
+                {
+                    items.push((None, self.init()?));
+                    if !self.eat_p(",") {
+                        break;
+                    }
+                    continue;
+                }
                 // `n(value)`: a repeated element.
                 let e = if matches!(self.peek(), Tok::Number(_)) && matches!(self.peek_at(1), Tok::Punct("(")) {
                     self.primary()?
@@ -686,6 +697,10 @@ impl Parser {
                     },
                     args,
                 )
+            } else if matches!(target.kind, ExprKind::Index(..)) && self.eat_p("(") {
+                let args = self.args()?;
+                self.expect_p(";")?;
+                StmtKind::Call(target, args)
             } else if self.is_p("(") {
                 // `inst.sub(...)` is not ST; `a.b(...)` would land here.
                 return Err(self.error("`:=`"));
@@ -852,6 +867,11 @@ impl Parser {
                 };
             } else if self.is_p("(") {
                 let ExprKind::Name(name) = &e.kind else {
+                    if let ExprKind::Index(..) = e.kind {
+                        // `t[i](…)`: an element of an array of FB instances,
+                        // called as a statement.
+                        return Ok(e);
+                    }
                     return Err(self.error("an operator, `;` or `)`"));
                 };
                 let name = name.clone();

@@ -9,6 +9,10 @@
 //! condition `rc` is true, so the IR's data operations (which act only while
 //! `rc` holds) always act; boolean logic uses `rc` and restores it with
 //! `True`. Control flow is `Jmp` to the `Rung` that starts each block.
+//!
+//! `types` holds the types and what a file declares, `decl` the tags of
+//! variables, `calls` the inlining of user FUNCTIONs and FUNCTION_BLOCKs,
+//! `bits` bit strings on the engine's signed slots.
 
 use crate::ast::{
     self, Arg, BinOp, CaseLabel, Expr, ExprKind, Ident, Init, Lit, Pou, PouKind, Stmt, StmtKind, TypeRef, UnOp as AUn,
@@ -21,244 +25,31 @@ use alba_ir::values::{Class, V};
 use alba_ir::{Access, Builder, NO_ELEM, Target};
 use alba_model::tags::{Tag, TagTable, edit_distance};
 use alba_model::{DataType, Value};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
+
+mod bits;
+mod calls;
+mod decl;
+mod types;
+
+use bits::*;
+use calls::*;
+use decl::*;
+pub use decl::{declare, declare_with};
+use types::*;
+pub use types::{EnumTy, Fb, StructTy, Ty};
 
 type R<T> = Result<T, Diagnostic>;
 
 /// Most elements an ARRAY may have (each is a tag).
 pub const MAX_ELEMENTS: i64 = 10_000;
 
-/// The standard function blocks Alba maps onto its engine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Fb {
-    Ton,
-    Tof,
-    Tp,
-    Ctu,
-    Ctd,
-    Ctud,
-    RTrig,
-    FTrig,
-    Sr,
-    Rs,
-}
-
-impl Fb {
-    fn from_name(n: &str) -> Option<Fb> {
-        Some(match n.to_ascii_uppercase().as_str() {
-            "TON" => Fb::Ton,
-            "TOF" => Fb::Tof,
-            "TP" => Fb::Tp,
-            "CTU" => Fb::Ctu,
-            "CTD" => Fb::Ctd,
-            "CTUD" => Fb::Ctud,
-            "R_TRIG" => Fb::RTrig,
-            "F_TRIG" => Fb::FTrig,
-            "SR" => Fb::Sr,
-            "RS" => Fb::Rs,
-            _ => return None,
-        })
-    }
-    fn name(self) -> &'static str {
-        match self {
-            Fb::Ton => "TON",
-            Fb::Tof => "TOF",
-            Fb::Tp => "TP",
-            Fb::Ctu => "CTU",
-            Fb::Ctd => "CTD",
-            Fb::Ctud => "CTUD",
-            Fb::RTrig => "R_TRIG",
-            Fb::FTrig => "F_TRIG",
-            Fb::Sr => "SR",
-            Fb::Rs => "RS",
-        }
-    }
-    /// Inputs and outputs with their types.
-    fn params(self) -> (Params, Params) {
-        use P::*;
-        match self {
-            Fb::Ton | Fb::Tof | Fb::Tp => (&[("IN", Bool), ("PT", Time)], &[("Q", Bool), ("ET", Time)]),
-            Fb::Ctu => (&[("CU", Bool), ("R", Bool), ("PV", Int)], &[("Q", Bool), ("CV", Int)]),
-            Fb::Ctd => (&[("CD", Bool), ("LD", Bool), ("PV", Int)], &[("Q", Bool), ("CV", Int)]),
-            Fb::Ctud => (
-                &[("CU", Bool), ("CD", Bool), ("R", Bool), ("LD", Bool), ("PV", Int)],
-                &[("QU", Bool), ("QD", Bool), ("CV", Int)],
-            ),
-            Fb::RTrig | Fb::FTrig => (&[("CLK", Bool)], &[("Q", Bool)]),
-            Fb::Sr => (&[("S1", Bool), ("R", Bool)], &[("Q1", Bool)]),
-            Fb::Rs => (&[("S", Bool), ("R1", Bool)], &[("Q1", Bool)]),
-        }
-    }
-}
-
-/// Parameters of a standard FB: names and types.
-type Params = &'static [(&'static str, P)];
-/// An array's element type, element places and bounds.
-type ArrayParts = (Ty, Vec<Place>, Vec<(i64, i64)>);
+/// An indexed element: its type, the places it is chosen from, the bounds
+/// and the index expressions.
+type Indexed<'e> = (Ty, Vec<Place>, Vec<(i64, i64)>, &'e [Expr]);
 /// A call's inputs by parameter, and its `=>` outputs.
 type Bound<'e> = (Vec<Option<&'e Expr>>, Vec<(usize, &'e Arg)>);
-
-/// The type of a standard FB's parameter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum P {
-    Bool,
-    Int,
-    Time,
-}
-
-impl P {
-    fn ty(self) -> Ty {
-        match self {
-            P::Bool => Ty::Bool,
-            P::Int => Ty::Int,
-            P::Time => Ty::Time,
-        }
-    }
-}
-
-/// A type the lowering knows.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Ty {
-    Bool,
-    Sint,
-    Int,
-    Dint,
-    Lint,
-    Real,
-    Lreal,
-    Time,
-    Array(Box<Ty>, Vec<(i64, i64)>),
-    Fb(Fb),
-}
-
-impl std::fmt::Display for Ty {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Ty::Bool => f.write_str("BOOL"),
-            Ty::Sint => f.write_str("SINT"),
-            Ty::Int => f.write_str("INT"),
-            Ty::Dint => f.write_str("DINT"),
-            Ty::Lint => f.write_str("LINT"),
-            Ty::Real => f.write_str("REAL"),
-            Ty::Lreal => f.write_str("LREAL"),
-            Ty::Time => f.write_str("TIME"),
-            Ty::Array(of, dims) => {
-                let d: Vec<_> = dims.iter().map(|(a, b)| format!("{a}..{b}")).collect();
-                write!(f, "ARRAY[{}] OF {of}", d.join(","))
-            }
-            Ty::Fb(k) => f.write_str(k.name()),
-        }
-    }
-}
-
-impl Ty {
-    fn data_type(&self) -> Option<DataType> {
-        Some(match self {
-            Ty::Bool => DataType::Bool,
-            Ty::Sint => DataType::Sint,
-            Ty::Int => DataType::Int,
-            Ty::Dint => DataType::Dint,
-            Ty::Lint => DataType::Lint,
-            Ty::Real => DataType::Real,
-            Ty::Lreal => DataType::Lreal,
-            Ty::Time => DataType::Time,
-            _ => return None,
-        })
-    }
-    fn from_data_type(t: DataType) -> Option<Ty> {
-        Some(match t {
-            DataType::Bool => Ty::Bool,
-            DataType::Sint => Ty::Sint,
-            DataType::Int => Ty::Int,
-            DataType::Dint => Ty::Dint,
-            DataType::Lint => Ty::Lint,
-            DataType::Real => Ty::Real,
-            DataType::Lreal => Ty::Lreal,
-            DataType::Time => Ty::Time,
-            _ => return None,
-        })
-    }
-    fn is_int(&self) -> bool {
-        matches!(self, Ty::Sint | Ty::Int | Ty::Dint | Ty::Lint)
-    }
-    fn is_real(&self) -> bool {
-        matches!(self, Ty::Real | Ty::Lreal)
-    }
-    fn is_num(&self) -> bool {
-        self.is_int() || self.is_real() || *self == Ty::Time
-    }
-    fn class(&self) -> Class {
-        match self {
-            Ty::Lint => Class::L,
-            Ty::Real => Class::F,
-            Ty::Lreal => Class::D,
-            _ => Class::I,
-        }
-    }
-    fn rank(&self) -> u8 {
-        match self {
-            Ty::Sint => 1,
-            Ty::Int => 2,
-            Ty::Dint => 3,
-            Ty::Lint => 4,
-            Ty::Real => 5,
-            Ty::Lreal => 6,
-            _ => 0,
-        }
-    }
-    fn elements(&self) -> i64 {
-        match self {
-            Ty::Array(_, dims) => dims.iter().map(|(a, b)| b - a + 1).product(),
-            _ => 1,
-        }
-    }
-}
-
-/// Whether a value of `from` may be used where `to` is wanted without a
-/// conversion function (IEC 61131-3 implicit widening).
-fn widens(from: &Ty, to: &Ty) -> bool {
-    if from == to {
-        return true;
-    }
-    match (from, to) {
-        (a, b) if a.is_int() && b.is_int() => a.rank() < b.rank(),
-        (Ty::Sint | Ty::Int, Ty::Real | Ty::Lreal) => true,
-        (Ty::Dint, Ty::Lreal) => true,
-        (Ty::Real, Ty::Lreal) => true,
-        _ => false,
-    }
-}
-
-fn elementary(name: &str) -> Option<Ty> {
-    Some(match name.to_ascii_uppercase().as_str() {
-        "BOOL" => Ty::Bool,
-        "SINT" => Ty::Sint,
-        "INT" => Ty::Int,
-        "DINT" => Ty::Dint,
-        "LINT" => Ty::Lint,
-        "REAL" => Ty::Real,
-        "LREAL" => Ty::Lreal,
-        "TIME" => Ty::Time,
-        _ => return None,
-    })
-}
-
-const UNSUPPORTED_TYPES: [&str; 14] = [
-    "USINT",
-    "UINT",
-    "UDINT",
-    "ULINT",
-    "BYTE",
-    "WORD",
-    "DWORD",
-    "LWORD",
-    "LTIME",
-    "DATE",
-    "TIME_OF_DAY",
-    "TOD",
-    "DATE_AND_TIME",
-    "DT",
-];
 
 fn not_supported(span: Span, what: String) -> Diagnostic {
     Diagnostic::new(Code::StNotSupported, what, span, "not supported yet")
@@ -281,391 +72,8 @@ fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<
         .map(|(_, c)| c)
 }
 
-/// A constant integer from an expression (literals, negation).
-fn const_int(e: &Expr) -> Option<i64> {
-    match &e.kind {
-        ExprKind::Lit(Lit::Int(v, _)) => Some(*v),
-        ExprKind::Unary(AUn::Neg, a) => const_int(a).map(|v| -v),
-        _ => None,
-    }
-}
-
-/// User `TYPE` aliases of a file, by lower-case name.
-type Types<'a> = HashMap<String, &'a TypeRef>;
-
-fn types_of(file: &ast::File) -> Types<'_> {
-    file.types
-        .iter()
-        .map(|t| (t.name.name.to_ascii_lowercase(), &t.ty))
-        .collect()
-}
-
-/// The type a declaration names, or why it cannot be used.
-fn resolve_type(t: &TypeRef, types: &Types, depth: u32) -> R<Ty> {
-    match t {
-        TypeRef::Named(n) => {
-            if let Some(ty) = elementary(&n.name) {
-                return Ok(ty);
-            }
-            if let Some(fb) = Fb::from_name(&n.name) {
-                return Ok(Ty::Fb(fb));
-            }
-            if let Some(alias) = types.get(&n.name.to_ascii_lowercase()) {
-                if depth > 16 {
-                    return Err(decl_error(
-                        n.span,
-                        format!("the type `{}` is defined in terms of itself", n.name),
-                    ));
-                }
-                return resolve_type(alias, types, depth + 1);
-            }
-            if UNSUPPORTED_TYPES.iter().any(|u| n.is(u)) {
-                return Err(not_supported(
-                    n.span,
-                    format!(
-                        "the type {} is not supported by the engine yet",
-                        n.name.to_ascii_uppercase()
-                    ),
-                ));
-            }
-            let known = [
-                "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD",
-                "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
-            ];
-            let user = types.keys().map(String::as_str);
-            let mut d = Diagnostic::new(Code::StName, format!("unknown type `{}`", n.name), n.span, "type");
-            if let Some(s) = closest(&n.name, known.into_iter().chain(user)) {
-                d = d.with_help(format!("did you mean `{s}`?"));
-            }
-            Err(d)
-        }
-        TypeRef::String { span, .. } => Err(not_supported(
-            *span,
-            "STRING and WSTRING are not supported by the engine yet".into(),
-        )),
-        TypeRef::Struct { span, .. } => Err(not_supported(
-            *span,
-            "STRUCT types are not supported by the engine yet".into(),
-        )),
-        TypeRef::Enum { span, .. } => Err(not_supported(
-            *span,
-            "enumerated types are not supported by the engine yet".into(),
-        )),
-        TypeRef::Subrange { base, span, .. } => {
-            let _ = base;
-            Err(not_supported(
-                *span,
-                "subrange types are not supported by the engine yet".into(),
-            ))
-        }
-        TypeRef::Array { dims, of, span } => {
-            let of = resolve_type(of, types, depth + 1)?;
-            if matches!(of, Ty::Array(..) | Ty::Fb(_)) {
-                return Err(not_supported(*span, format!("arrays of {of} are not supported yet")));
-            }
-            let mut out = Vec::new();
-            for (lo, hi) in dims {
-                let (Some(l), Some(h)) = (const_int(lo), const_int(hi)) else {
-                    return Err(decl_error(
-                        lo.span.to(hi.span),
-                        "array bounds are integer literals".into(),
-                    ));
-                };
-                if l > h {
-                    return Err(decl_error(
-                        lo.span.to(hi.span),
-                        format!("the low bound {l} is above the high bound {h}"),
-                    ));
-                }
-                out.push((l, h));
-            }
-            let ty = Ty::Array(Box::new(of), out);
-            let n = ty.elements();
-            if !(1..=MAX_ELEMENTS).contains(&n) {
-                return Err(decl_error(
-                    *span,
-                    format!("an array has at most {MAX_ELEMENTS} elements (this one {n})"),
-                ));
-            }
-            Ok(ty)
-        }
-    }
-}
-
-/// The elements of an array in order, as index suffixes (`[1]`, `[1,2]`).
-fn element_suffixes(dims: &[(i64, i64)]) -> Vec<String> {
-    let mut out = vec![String::new()];
-    for (k, (lo, hi)) in dims.iter().enumerate() {
-        let mut next = Vec::new();
-        for prefix in &out {
-            for i in *lo..=*hi {
-                next.push(if k == 0 {
-                    format!("{i}")
-                } else {
-                    format!("{prefix},{i}")
-                });
-            }
-        }
-        out = next;
-    }
-    out.into_iter().map(|s| format!("[{s}]")).collect()
-}
-
-/// The value of a literal initial value as `ty`.
-fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
-    let bad = || {
-        type_error(
-            e.span,
-            format!("the initial value `{}` is not a {ty} literal", ast::expr(e)),
-        )
-    };
-    let v = match (&e.kind, ty) {
-        (ExprKind::Lit(Lit::Bool(b)), Ty::Bool) => Value::Bool(*b),
-        (ExprKind::Lit(Lit::Time(ms)), Ty::Time) => Value::Time(i32::try_from(*ms).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Sint) => Value::Sint(i8::try_from(*v).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Int) => Value::Int(i16::try_from(*v).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Dint) => Value::Dint(i32::try_from(*v).map_err(|_| bad())?),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Lint) => Value::Lint(*v),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Real) => Value::Real(*v as f32),
-        (ExprKind::Lit(Lit::Int(v, _)), Ty::Lreal) => Value::Lreal(*v as f64),
-        (ExprKind::Lit(Lit::Real(v, _)), Ty::Real) => Value::Real(*v as f32),
-        (ExprKind::Lit(Lit::Real(v, _)), Ty::Lreal) => Value::Lreal(*v),
-        _ => return Err(bad()),
-    };
-    Ok(v)
-}
-
-fn plain_tag(name: String, ty: DataType, initial: Option<Value>, retain: bool, description: String, span: Span) -> Tag {
-    Tag {
-        name,
-        ty,
-        address: None,
-        address_text: None,
-        initial,
-        members: Vec::new(),
-        retain,
-        description,
-        span,
-    }
-}
-
-/// One declared variable of a POU.
-#[derive(Debug, Clone)]
-struct Var {
-    ty: Ty,
-    /// Its tag's name (its elements' names add `[i]`).
-    tag: String,
-    kind: VarKind,
-    retain: bool,
-    constant: bool,
-    init: Option<Init>,
-    span: Span,
-}
-
-/// The variables of `pou` (or of the file's `VAR_GLOBAL`s, prefix `None`),
-/// by lower-case name, with the errors of their declarations.
-fn variables(
-    blocks: &[ast::VarBlock],
-    prefix: Option<&str>,
-    types: &Types,
-    diags: &mut Vec<Diagnostic>,
-) -> Vec<(String, Var)> {
-    let mut out: Vec<(String, Var)> = Vec::new();
-    for b in blocks {
-        for d in &b.vars {
-            let ty = match resolve_type(&d.ty, types, 0) {
-                Ok(t) => t,
-                Err(e) => {
-                    diags.push(e);
-                    continue;
-                }
-            };
-            if let Some((_, span)) = &d.at {
-                diags.push(not_supported(
-                    *span,
-                    "`AT` addresses are not supported yet: give the tag its address in tags.csv".into(),
-                ));
-            }
-            for n in &d.names {
-                let key = n.name.to_ascii_lowercase();
-                if let Some((_, prev)) = out.iter().find(|(k, _)| *k == key) {
-                    diags.push(
-                        decl_error(n.span, format!("`{}` is declared twice", n.name))
-                            .with_note(prev.span, "first declared here"),
-                    );
-                    continue;
-                }
-                let global = matches!(b.kind, VarKind::Global | VarKind::External) || prefix.is_none();
-                let tag = match prefix {
-                    Some(p) if !global => format!("{p}.{}", n.name),
-                    _ => n.name.clone(),
-                };
-                out.push((
-                    key,
-                    Var {
-                        ty: ty.clone(),
-                        tag,
-                        kind: b.kind,
-                        retain: b.retain,
-                        constant: b.constant,
-                        init: d.init.clone(),
-                        span: n.span,
-                    },
-                ));
-            }
-        }
-    }
-    out
-}
-
-/// Adds the tags of a variable to `tags`.
-fn declare_var(v: &Var, retain: bool, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
-    if let Some(t) = tags.get(&v.tag) {
-        diags.push(
-            decl_error(v.span, format!("the variable's tag `{}` already exists", v.tag))
-                .with_note(t.span, "declared here"),
-        );
-        return;
-    }
-    let desc = "Structured Text variable".to_string();
-    match &v.ty {
-        Ty::Fb(fb) => match fb {
-            Fb::Ton | Fb::Tof | Fb::Tp => {
-                tags.push(plain_tag(v.tag.clone(), DataType::Timer, None, retain, desc, v.span))
-            }
-            Fb::Ctu | Fb::Ctd | Fb::Ctud => {
-                tags.push(plain_tag(v.tag.clone(), DataType::Counter, None, retain, desc, v.span))
-            }
-            Fb::RTrig | Fb::FTrig => {
-                for m in ["Q", "M"] {
-                    tags.push(plain_tag(
-                        format!("{}.{m}", v.tag),
-                        DataType::Bool,
-                        None,
-                        retain,
-                        desc.clone(),
-                        v.span,
-                    ));
-                }
-            }
-            Fb::Sr | Fb::Rs => tags.push(plain_tag(
-                format!("{}.Q1", v.tag),
-                DataType::Bool,
-                None,
-                retain,
-                desc,
-                v.span,
-            )),
-        },
-        Ty::Array(of, dims) => {
-            let Some(dt) = of.data_type() else { return };
-            let suffixes = element_suffixes(dims);
-            let mut inits: Vec<Option<Value>> = vec![None; suffixes.len()];
-            match &v.init {
-                None => {}
-                Some(Init::Array(items, span)) => {
-                    let mut k = 0usize;
-                    for (count, item) in items {
-                        let n = match count {
-                            None => 1,
-                            Some(c) => match const_int(c) {
-                                Some(n) if n >= 0 => n as usize,
-                                _ => {
-                                    diags.push(decl_error(c.span, "a repeat count is a literal integer ≥ 0".into()));
-                                    return;
-                                }
-                            },
-                        };
-                        let Init::Expr(e) = item else {
-                            diags.push(decl_error(
-                                *span,
-                                "an array element's initial value is a literal".into(),
-                            ));
-                            return;
-                        };
-                        let val = match literal_value(e, of) {
-                            Ok(x) => x,
-                            Err(d) => {
-                                diags.push(d);
-                                return;
-                            }
-                        };
-                        for _ in 0..n {
-                            if k >= inits.len() {
-                                diags.push(decl_error(
-                                    *span,
-                                    format!("more initial values than the {} elements", inits.len()),
-                                ));
-                                return;
-                            }
-                            inits[k] = Some(val);
-                            k += 1;
-                        }
-                    }
-                }
-                Some(Init::Expr(e)) => {
-                    diags.push(type_error(
-                        e.span,
-                        "an array's initial value is a list `[1, 2, 3]`".into(),
-                    ));
-                }
-                Some(Init::Struct(_, span)) => diags.push(type_error(
-                    *span,
-                    "an array's initial value is a list `[1, 2, 3]`".into(),
-                )),
-            }
-            for (s, init) in suffixes.into_iter().zip(inits) {
-                tags.push(plain_tag(
-                    format!("{}{s}", v.tag),
-                    dt,
-                    init,
-                    retain,
-                    desc.clone(),
-                    v.span,
-                ));
-            }
-        }
-        ty => {
-            let Some(dt) = ty.data_type() else { return };
-            let init = match &v.init {
-                None => None,
-                Some(Init::Expr(e)) => match literal_value(e, ty) {
-                    Ok(x) => Some(x),
-                    Err(d) => {
-                        diags.push(d);
-                        None
-                    }
-                },
-                Some(Init::Array(_, span) | Init::Struct(_, span)) => {
-                    diags.push(type_error(*span, format!("a {ty} takes one value")));
-                    None
-                }
-            };
-            tags.push(plain_tag(v.tag.clone(), dt, init, retain, desc, v.span));
-        }
-    }
-}
-
-/// Adds the tags of every PROGRAM's variables and of the `VAR_GLOBAL`s of
-/// `file` to `tags` (before the layout is made).
-pub fn declare(file: &ast::File, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
-    let types = types_of(file);
-    for g in &file.globals {
-        for (_, v) in variables(std::slice::from_ref(g), None, &types, diags) {
-            declare_var(&v, v.retain, tags, diags);
-        }
-    }
-    for p in &file.pous {
-        if p.kind != PouKind::Program {
-            continue;
-        }
-        for (_, v) in variables(&p.vars, Some(&p.name.name), &types, diags) {
-            if v.kind != VarKind::External {
-                declare_var(&v, v.retain, tags, diags);
-            }
-        }
-    }
-}
+/// What computes the value of an assignment, given the type wanted.
+type ValueOf<'f, L> = dyn FnMut(&mut L, Option<&Ty>) -> R<(Val, Ty)> + 'f;
 
 /// A value read into a slot.
 #[derive(Debug, Clone, Copy)]
@@ -699,63 +107,146 @@ enum Loc {
         c: Ctr,
         down: bool,
     },
+    /// An instance of a user FUNCTION_BLOCK: its tags start with `prefix.`.
+    User {
+        fb: String,
+        prefix: String,
+    },
+    Struct {
+        ty: Rc<StructTy>,
+        members: Vec<(String, Loc)>,
+    },
+    /// A value of an enumerated type, by name.
+    EnumConst(Rc<EnumTy>, i64),
+    /// An array of structures: each element's location, in order.
+    StructArray {
+        ty: Ty,
+        elems: Rc<Vec<Loc>>,
+        dims: Vec<(i64, i64)>,
+    },
+    /// Bit `bit` of an integer or bit string (`x.3`).
+    Bit {
+        place: Place,
+        access: Access,
+        ty: Ty,
+        bit: u32,
+        constant: bool,
+    },
 }
 
 struct LoopLabels {
     exits: Vec<u32>,
 }
 
+/// Most nested calls of user FUNCTIONs and FUNCTION_BLOCKs (each is inlined).
+const MAX_CALL_DEPTH: usize = 16;
+/// Most operations of a program before one more call is inlined.
+const MAX_OPS: u32 = 4_000_000;
+/// Most tags the instances of user FUNCTION_BLOCKs of a file may declare.
+const MAX_INSTANCE_TAGS: usize = 200_000;
+
 struct Lower<'a> {
     b: &'a mut Builder,
+    types: &'a Types<'a>,
+    /// `VAR_GLOBAL`s of the file.
+    globals: HashMap<String, Var>,
     vars: HashMap<String, Var>,
+    /// Names bound to storage that is not a tag of their own: VAR_IN_OUT
+    /// parameters and the variables of a FUNCTION being inlined.
+    aliases: HashMap<String, Loc>,
     diags: Vec<Diagnostic>,
     elem: u32,
     rungs: u32,
     loops: Vec<LoopLabels>,
     returns: Vec<u32>,
-    functions: Vec<String>,
     pou: String,
+    /// The user POUs being inlined (lower-case), innermost last.
+    stack: Vec<String>,
+    /// User POUs inlined at least once (lower-case).
+    called: HashSet<String>,
     /// Element places of the arrays met so far, by tag.
     arrays: HashMap<String, Vec<Place>>,
+    /// Structures and arrays of structures or instances met so far, by tag.
+    composites: HashMap<(String, bool), Loc>,
 }
 
-/// Lowers the PROGRAMs of `file`, in order, as unit `name`.
+/// Lowers the PROGRAMs of `file`, in order, as unit `name`. User FUNCTIONs
+/// and FUNCTION_BLOCKs are inlined where they are called; the bodies of
+/// those never called are checked on their own.
 pub fn compile(file: &ast::File, name: &str, b: &mut Builder) -> Vec<Diagnostic> {
-    let types = types_of(file);
+    compile_with(file, &[], name, b)
+}
+
+/// [`compile`], with the FUNCTIONs, FUNCTION_BLOCKs and TYPEs of the other
+/// `.st` files of the project (`library`) callable and usable as well.
+pub fn compile_with(file: &ast::File, library: &[&ast::File], name: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    let types = types_of(file, library);
     let mut diags = Vec::new();
-    let globals: Vec<(String, Var)> = variables(&file.globals, None, &types, &mut Vec::new());
-    b.begin_unit(name);
-    let functions: Vec<String> = file
-        .pous
-        .iter()
-        .filter(|p| p.kind != PouKind::Program)
-        .map(|p| p.name.name.clone())
+    let globals: HashMap<String, Var> = variables(&file.globals, None, &types, &mut Vec::new())
+        .into_iter()
         .collect();
+    b.begin_unit(name);
     let mut rungs = 0;
+    let mut called = HashSet::new();
     for p in &file.pous {
         if p.kind != PouKind::Program {
             continue;
         }
-        let mut vars: HashMap<String, Var> = globals.iter().cloned().collect();
+        let mut vars = globals.clone();
         vars.extend(variables(&p.vars, Some(&p.name.name), &types, &mut Vec::new()));
-        let mut l = Lower {
+        let mut l = Lower::new(b, &types, globals.clone(), vars, rungs, &p.name.name);
+        l.program(p);
+        rungs = l.rungs;
+        diags.extend(l.diags);
+        called.extend(l.called);
+    }
+    b.end_unit();
+    let uncalled: Vec<&Pou> = file
+        .pous
+        .iter()
+        .filter(|p| p.kind != PouKind::Program && !called.contains(&p.name.name.to_ascii_lowercase()))
+        .collect();
+    diags.extend(check_alone(&uncalled, &types, &globals, b.layout()));
+    // A body inlined at several places reports its errors once.
+    let mut seen = HashSet::new();
+    diags.retain(|d| {
+        seen.insert(format!(
+            "{:?}{}{:?}",
+            d.code,
+            d.message,
+            d.primary.as_ref().map(|l| l.span)
+        ))
+    });
+    diags
+}
+
+impl<'a> Lower<'a> {
+    fn new(
+        b: &'a mut Builder,
+        types: &'a Types<'a>,
+        globals: HashMap<String, Var>,
+        vars: HashMap<String, Var>,
+        rungs: u32,
+        pou: &str,
+    ) -> Lower<'a> {
+        Lower {
             b,
+            types,
+            globals,
             vars,
+            aliases: HashMap::new(),
             diags: Vec::new(),
             elem: NO_ELEM,
             rungs,
             loops: Vec::new(),
             returns: Vec::new(),
-            functions: functions.clone(),
-            pou: p.name.name.clone(),
+            pou: pou.to_string(),
+            stack: Vec::new(),
+            called: HashSet::new(),
             arrays: HashMap::new(),
-        };
-        l.program(p);
-        rungs = l.rungs;
-        diags.extend(l.diags);
+            composites: HashMap::new(),
+        }
     }
-    b.end_unit();
-    diags
 }
 
 impl Lower<'_> {
@@ -777,9 +268,29 @@ impl Lower<'_> {
         }
     }
 
-    fn program(&mut self, p: &Pou) {
-        for v in self.vars.values() {
-            if v.kind != VarKind::External {
+    /// Checks the VAR_EXTERNALs of the scope against the globals.
+    fn check_externals(&mut self) {
+        let mut ext: Vec<Var> = self
+            .vars
+            .values()
+            .filter(|v| v.kind == VarKind::External)
+            .cloned()
+            .collect();
+        ext.sort_by_key(|v| v.span.start);
+        for v in ext {
+            let missing = || {
+                Diagnostic::new(
+                    Code::StName,
+                    format!("`{}` is VAR_EXTERNAL but no tag or VAR_GLOBAL has that name", v.tag),
+                    v.span,
+                    "external",
+                )
+            };
+            // Structures, arrays and FB instances are several tags.
+            if matches!(v.ty, Ty::Struct(_) | Ty::Array(..) | Ty::User(_) | Ty::Fb(_)) {
+                if !self.declared(&v.tag, &v.ty, 0) {
+                    self.diags.push(missing());
+                }
                 continue;
             }
             match self.b.layout().resolve(&v.tag) {
@@ -803,8 +314,37 @@ impl Lower<'_> {
                 Ok(_) => {}
             }
         }
-        self.rung(p.name.span);
-        // VAR_TEMP starts from its initial value on every scan.
+    }
+
+    /// Whether the tags of a variable of type `ty` named `tag` exist.
+    fn declared(&mut self, tag: &str, ty: &Ty, depth: u32) -> bool {
+        let layout = self.b.layout();
+        match ty {
+            Ty::Fb(Fb::RTrig | Fb::FTrig) => layout.resolve(&format!("{tag}.Q")).is_ok(),
+            Ty::Fb(Fb::Sr | Fb::Rs) => layout.resolve(&format!("{tag}.Q1")).is_ok(),
+            Ty::Fb(_) => layout.resolve(tag).is_ok(),
+            Ty::User(fb) => {
+                let Some(p) = self.types.pous.get(&fb.to_ascii_lowercase()).copied() else {
+                    return false;
+                };
+                depth < 32
+                    && variables(&p.vars, Some(tag), self.types, &mut Vec::new())
+                        .iter()
+                        .filter(|(_, w)| !matches!(w.kind, VarKind::InOut | VarKind::External | VarKind::Global))
+                        .all(|(_, w)| self.declared(&w.tag, &w.ty, depth + 1))
+            }
+            _ => {
+                let id = Ident {
+                    name: tag.to_string(),
+                    span: Span::new(alba_diag::FileId(0), 0..0),
+                };
+                self.tag_loc(tag, ty, false, &id).is_ok()
+            }
+        }
+    }
+
+    /// VAR_TEMP starts from its initial value on every execution.
+    fn init_temps(&mut self) {
         let mut temps: Vec<_> = self
             .vars
             .values()
@@ -813,22 +353,290 @@ impl Lower<'_> {
             .collect();
         temps.sort_by_key(|v| v.span.start);
         for v in temps {
-            if let (Some(dt), Ok(Target::Value { place, .. })) = (v.ty.data_type(), self.b.layout().resolve(&v.tag)) {
-                let value = match &v.init {
-                    Some(Init::Expr(e)) => literal_value(e, &v.ty).ok(),
-                    _ => None,
-                }
-                .or_else(|| Value::zero(dt));
-                let Some(value) = value else { continue };
-                let _ = self.store_const(place, value);
+            let id = Ident {
+                name: v.tag.rsplit('.').next().unwrap_or(&v.tag).to_string(),
+                span: v.span,
+            };
+            if let Ok(loc) = self.lookup(&id) {
+                self.init_loc(&loc, v.init.as_ref());
             }
         }
+    }
+
+    fn program(&mut self, p: &Pou) {
+        self.check_externals();
+        self.rung(p.name.span);
+        self.init_temps();
         self.block(&p.body);
         let end = self.rung(Span::new(p.span.file, p.span.end as usize..p.span.end as usize));
         let returns = std::mem::take(&mut self.returns);
         self.patch(&returns, end);
     }
 
+    /// Stores initial values into storage (a value given, else the type's default).
+    fn init_loc(&mut self, loc: &Loc, init: Option<&Init>) {
+        match loc {
+            Loc::Value { place, ty, .. } => {
+                let value = match init {
+                    Some(Init::Expr(e)) => literal_value(e, ty).ok(),
+                    _ => None,
+                }
+                .or_else(|| default_value(ty))
+                .or_else(|| ty.data_type().and_then(Value::zero));
+                if let Some(value) = value {
+                    let _ = self.store_const(*place, value);
+                }
+            }
+            Loc::Array { elems, of, .. } => {
+                let mut vals: Vec<Option<Value>> = vec![None; elems.len()];
+                if let Some(Init::Array(items, _)) = init {
+                    let mut k = 0;
+                    for (count, item) in items {
+                        let n = count.as_ref().and_then(const_int).unwrap_or(1).max(0) as usize;
+                        let v = match item {
+                            Init::Expr(e) => literal_value(e, of).ok(),
+                            _ => None,
+                        };
+                        for _ in 0..n {
+                            if k < vals.len() {
+                                vals[k] = v;
+                            }
+                            k += 1;
+                        }
+                    }
+                }
+                let elems = elems.clone();
+                for (p, v) in elems.into_iter().zip(vals) {
+                    let v = v
+                        .or_else(|| default_value(of))
+                        .or_else(|| of.data_type().and_then(Value::zero));
+                    if let Some(v) = v {
+                        let _ = self.store_const(p, v);
+                    }
+                }
+            }
+            Loc::StructArray { elems, .. } => {
+                let mut inits: Vec<Option<&Init>> = vec![None; elems.len()];
+                if let Some(Init::Array(items, _)) = init {
+                    let mut k = 0usize;
+                    for (count, item) in items {
+                        let n = count.as_ref().and_then(const_int).unwrap_or(1).max(0) as usize;
+                        for _ in 0..n {
+                            if let Some(slot) = inits.get_mut(k) {
+                                *slot = Some(item);
+                            }
+                            k += 1;
+                        }
+                    }
+                }
+                for (l, i) in elems.clone().iter().zip(inits) {
+                    self.init_loc(l, i);
+                }
+            }
+            Loc::Struct { ty, members } => {
+                let given = match init {
+                    Some(Init::Struct(items, _)) => items.as_slice(),
+                    _ => &[],
+                };
+                for ((m, l), (_, _, minit)) in members.iter().zip(&ty.members) {
+                    let i = given.iter().find(|(n, _)| n.is(m)).map(|(_, i)| i).or(minit.as_ref());
+                    self.init_loc(l, i);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+impl Lower<'_> {
+    /// Copies every value of `src` into `dst` (two locations of one type).
+    fn copy_loc(&mut self, dst: &Loc, src: &Loc) {
+        match (dst, src) {
+            (Loc::StructArray { elems: d, .. }, Loc::StructArray { elems: s, .. }) => {
+                for (a, b) in d.iter().zip(s.iter()) {
+                    self.copy_loc(a, b);
+                }
+            }
+            (Loc::Struct { members: d, .. }, Loc::Struct { members: s, .. }) => {
+                for ((_, a), (_, b)) in d.iter().zip(s) {
+                    self.copy_loc(a, b);
+                }
+            }
+            (Loc::Array { elems: d, of, .. }, Loc::Array { elems: s, .. }) => {
+                for (a, b) in d.iter().zip(s) {
+                    let v = if *of == Ty::Bool {
+                        Val::B(self.b.bool_in(*b, self.elem))
+                    } else {
+                        Val::N(self.b.load(*b, self.elem))
+                    };
+                    self.store(*a, v, of);
+                }
+            }
+            (Loc::Value { place, ty, .. }, src) => {
+                let e = Expr {
+                    kind: ExprKind::Lit(Lit::Bool(false)),
+                    span: Span::new(alba_diag::FileId(0), 0..0),
+                };
+                if let Ok((v, _)) = self.read_loc(src, &e) {
+                    let (place, ty) = (*place, ty.clone());
+                    self.store_checked(place, v, &ty);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Storage of a variable whose tag (or first tag) is `tag`.
+    fn tag_loc(&mut self, tag: &str, ty: &Ty, constant: bool, n: &Ident) -> R<Loc> {
+        let composite = matches!(ty, Ty::Struct(_))
+            || matches!(ty, Ty::Array(of, _) if !matches!(**of, Ty::Bool) && of.data_type().is_none());
+        if composite {
+            if let Some(l) = self.composites.get(&(tag.to_string(), constant)) {
+                return Ok(l.clone());
+            }
+            let l = self.tag_loc_uncached(tag, ty, constant, n)?;
+            self.composites.insert((tag.to_string(), constant), l.clone());
+            return Ok(l);
+        }
+        self.tag_loc_uncached(tag, ty, constant, n)
+    }
+
+    fn tag_loc_uncached(&mut self, tag: &str, ty: &Ty, constant: bool, n: &Ident) -> R<Loc> {
+        match ty {
+            Ty::Fb(kind) => Ok(Loc::Fb {
+                kind: *kind,
+                name: tag.to_string(),
+            }),
+            Ty::User(fb) => Ok(Loc::User {
+                fb: fb.clone(),
+                prefix: tag.to_string(),
+            }),
+            Ty::Struct(s) => {
+                let mut members = Vec::new();
+                for (m, mty, _) in &s.members {
+                    members.push((m.clone(), self.tag_loc(&format!("{tag}.{m}"), mty, constant, n)?));
+                }
+                Ok(Loc::Struct { ty: s.clone(), members })
+            }
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_)) => {
+                let mut elems = Vec::new();
+                for s in element_suffixes(dims) {
+                    elems.push(self.tag_loc(&format!("{tag}{s}"), of, constant, n)?);
+                }
+                Ok(Loc::StructArray {
+                    ty: ty.clone(),
+                    elems: Rc::new(elems),
+                    dims: dims.clone(),
+                })
+            }
+            Ty::Array(of, dims) => {
+                let elems = match self.arrays.get(tag) {
+                    Some(e) => e.clone(),
+                    None => {
+                        let mut elems = Vec::new();
+                        for s in element_suffixes(dims) {
+                            match self.b.layout().resolve(&format!("{tag}{s}")) {
+                                Ok(Target::Value { place, .. }) => elems.push(place),
+                                _ => return Err(self.unknown(n, "variable")),
+                            }
+                        }
+                        self.arrays.insert(tag.to_string(), elems.clone());
+                        elems
+                    }
+                };
+                Ok(Loc::Array {
+                    elems,
+                    ty: ty.clone(),
+                    of: (**of).clone(),
+                    dims: dims.clone(),
+                })
+            }
+            _ => match self.b.layout().resolve(tag) {
+                Ok(Target::Value { place, access }) => Ok(Loc::Value {
+                    place,
+                    access,
+                    ty: ty.clone(),
+                    constant,
+                }),
+                Ok(_) => Err(type_error(
+                    n.span,
+                    format!("`{tag}` is a TIMER, COUNTER or PID tag, not {}", an(ty)),
+                )),
+                Err(_) => Err(self.unknown(n, "variable")),
+            },
+        }
+    }
+
+    /// Stores `v` into `place` of type `ty`; a value outside a subrange is a
+    /// range fault and is not stored.
+    fn store_checked(&mut self, place: Place, v: Val, ty: &Ty) {
+        let (Ty::Sub(base, lo, hi), Val::N(x)) = (ty, v) else {
+            self.store(place, v, ty);
+            return;
+        };
+        let class = base.class();
+        let x = self.b.convert(x, class, self.elem);
+        let (clo, chi) = (
+            self.b.constant(alba_model::Literal::Int(*lo), class),
+            self.b.constant(alba_model::Literal::Int(*hi), class),
+        );
+        let bad = self.b.temp_b();
+        self.cmp(Cmp::Lt, x, clo);
+        self.emit(Op::Ote(bad));
+        self.emit(Op::True);
+        self.cmp(Cmp::Gt, x, chi);
+        self.emit(Op::Or(bad));
+        self.emit(Op::Ote(bad));
+        self.emit(Op::True);
+        self.range_fault(bad);
+        self.emit(Op::Ldn(bad));
+        self.store(place, Val::N(x), base);
+        self.emit(Op::True);
+    }
+
+    /// A range fault when `bad` is set (rc true after).
+    fn range_fault(&mut self, bad: B) {
+        let junk = self.b.temp_i();
+        let not_bcd = self.b.const_i(0xA);
+        self.emit(Op::Ld(bad));
+        self.emit(Op::UnI(IUn::Frd, not_bcd, junk));
+        self.emit(Op::True);
+    }
+
+    /// An integer constant of a CASE label: a literal or an enumeration value.
+    fn case_const(&self, e: &Expr, sel: &Ty) -> Option<i64> {
+        if let Some(v) = const_int(e) {
+            return Some(v);
+        }
+        match &e.kind {
+            // The selector's own enumeration first.
+            ExprKind::Name(n) if matches!(sel, Ty::Enum(en) if enum_value(en, &n.name).is_some()) => match sel {
+                Ty::Enum(en) => enum_value(en, &n.name),
+                _ => None,
+            },
+            ExprKind::Name(n) => {
+                let declared = self.vars.values().filter_map(|v| match &v.ty {
+                    Ty::Enum(e) => Some(e),
+                    _ => None,
+                });
+                self.types
+                    .enums
+                    .iter()
+                    .chain(declared)
+                    .find_map(|en| enum_value(en, &n.name))
+            }
+            ExprKind::Lit(Lit::Other(t, v)) => self
+                .types
+                .enums
+                .iter()
+                .filter(|en| en.name.eq_ignore_ascii_case(t))
+                .find_map(|en| enum_value(en, v)),
+            _ => None,
+        }
+    }
+}
+
+impl Lower<'_> {
     fn store_const(&mut self, place: Place, value: Value) -> R<()> {
         let ty = Ty::from_data_type(value.data_type()).unwrap_or(Ty::Dint);
         let val = self.constant(&value_lit(value), &ty);
@@ -855,16 +663,44 @@ impl Lower<'_> {
             }
             StmtKind::Call(callee, args) => {
                 self.rung(s.span);
-                let ExprKind::Name(n) = &callee.kind else {
-                    return Err(not_supported(callee.span, "this call is not supported".into()));
-                };
-                match self.lookup(n)? {
-                    Loc::Fb { kind, name } => self.fb_call(kind, &name, n, args),
-                    _ => {
-                        // A function called for nothing: evaluate it (it may fault).
-                        self.call(n, args, None, callee.span).map(|_| ())
-                    }
+                let is = |a: &Arg, n: &str| a.name.as_ref().is_some_and(|x| x.is(n));
+                let en = args.iter().find(|a| !a.output && is(a, "EN"));
+                let eno = args.iter().find(|a| a.output && is(a, "ENO"));
+                if en.is_none() && eno.is_none() {
+                    return self.call_stmt(callee, args, s.span);
                 }
+                // EN := c runs the call only when c is TRUE; ENO => x says
+                // whether it ran.
+                let rest: Vec<Arg> = args.iter().filter(|a| !is(a, "EN") && !is(a, "ENO")).cloned().collect();
+                let skip = match en {
+                    Some(a) => {
+                        let c = self.cond(&a.value)?;
+                        self.emit(Op::Ldn(c));
+                        let j = self.emit(Op::Jmp(0));
+                        self.emit(Op::True);
+                        Some(j)
+                    }
+                    None => None,
+                };
+                self.call_stmt(callee, &rest, s.span)?;
+                let set_eno = |l: &mut Self, v: bool| -> R<()> {
+                    if let Some(a) = eno {
+                        l.assign_with(&a.value, a.value.span, &mut |l: &mut Self, _| {
+                            Ok((l.constant(&Lit::Bool(v), &Ty::Bool), Ty::Bool))
+                        })?;
+                    }
+                    Ok(())
+                };
+                set_eno(self, true)?;
+                if let Some(skip) = skip {
+                    let done = self.emit(Op::Jmp(0));
+                    let off = self.rung(s.span);
+                    self.patch(&[skip], off);
+                    set_eno(self, false)?;
+                    let end = self.rung(s.span);
+                    self.patch(&[done], end);
+                }
+                Ok(())
             }
             StmtKind::If { arms, els } => {
                 let mut ends = Vec::new();
@@ -897,7 +733,7 @@ impl Lower<'_> {
             StmtKind::Case { sel, arms, els } => {
                 self.rung(s.span);
                 let (v, ty) = self.eval(sel, None)?;
-                let (Val::N(v), true) = (v, ty.is_int()) else {
+                let (Val::N(v), true) = (v, ty.is_int() || ty.is_bits() || matches!(ty, Ty::Enum(_))) else {
                     return Err(type_error(sel.span, format!("CASE selects on an integer, not a {ty}")));
                 };
                 let V::I(selector) = self.b.convert(v, Class::I, self.elem) else {
@@ -908,8 +744,10 @@ impl Lower<'_> {
                     let hit = self.b.temp_b();
                     for (k, label) in labels.iter().enumerate() {
                         let (lo, hi, span) = match label {
-                            CaseLabel::One(e) => (const_int(e), const_int(e), e.span),
-                            CaseLabel::Range(a, b) => (const_int(a), const_int(b), a.span.to(b.span)),
+                            CaseLabel::One(e) => (self.case_const(e, &ty), self.case_const(e, &ty), e.span),
+                            CaseLabel::Range(a, b) => {
+                                (self.case_const(a, &ty), self.case_const(b, &ty), a.span.to(b.span))
+                            }
                         };
                         let (Some(lo), Some(hi)) = (lo, hi) else {
                             return Err(type_error(
@@ -1081,6 +919,30 @@ impl Lower<'_> {
         }
     }
 
+    /// A call as a statement: of an FB instance (an element of an array of
+    /// them), or of a function for nothing (it may fault).
+    fn call_stmt(&mut self, callee: &Expr, args: &[Arg], span: Span) -> R<()> {
+        if let ExprKind::Index(base, ix) = &callee.kind {
+            return self.call_element(base, ix, args, callee, span);
+        }
+        let ExprKind::Name(n) = &callee.kind else {
+            return Err(not_supported(callee.span, "this call is not supported".into()));
+        };
+        let loc = match self.lookup(n) {
+            Ok(l) => Some(l),
+            Err(_) if self.types.pous.contains_key(&n.name.to_ascii_lowercase()) => None,
+            Err(d) => return Err(d),
+        };
+        match loc {
+            Some(Loc::Fb { kind, name }) => self.fb_call(kind, &name, n, args),
+            Some(Loc::User { fb, prefix }) => match self.types.pous.get(&fb.to_ascii_lowercase()).copied() {
+                Some(p) => self.inline_fb(p, &prefix, args, span, false),
+                None => Err(self.unknown(n, "function block")),
+            },
+            _ => self.call(n, args, None, callee.span).map(|_| ()),
+        }
+    }
+
     /// `rc = a <cmp> b` (rc true before).
     fn cmp(&mut self, c: Cmp, a: V, b: V) {
         let op = match (a, b) {
@@ -1108,6 +970,7 @@ impl Lower<'_> {
             .values()
             .map(|v| v.tag.rsplit('.').next().unwrap_or(&v.tag).to_string())
             .collect();
+        v.extend(self.aliases.keys().cloned());
         v.extend(
             self.b
                 .layout()
@@ -1140,37 +1003,13 @@ impl Lower<'_> {
 
     fn lookup(&mut self, n: &Ident) -> R<Loc> {
         let key = n.name.to_ascii_lowercase();
-        let (tag, ty, constant) = match self.vars.get(&key) {
-            Some(v) => (v.tag.clone(), Some(v.ty.clone()), v.constant),
-            None => (n.name.clone(), None, false),
-        };
-        match ty {
-            Some(Ty::Fb(kind)) => return Ok(Loc::Fb { kind, name: tag }),
-            Some(Ty::Array(of, dims)) => {
-                let elems = match self.arrays.get(&tag) {
-                    Some(e) => e.clone(),
-                    None => {
-                        let mut elems = Vec::new();
-                        for s in element_suffixes(&dims) {
-                            match self.b.layout().resolve(&format!("{tag}{s}")) {
-                                Ok(Target::Value { place, .. }) => elems.push(place),
-                                _ => return Err(self.unknown(n, "variable")),
-                            }
-                        }
-                        self.arrays.insert(tag.clone(), elems.clone());
-                        elems
-                    }
-                };
-                return Ok(Loc::Array {
-                    elems,
-                    ty: Ty::Array(of.clone(), dims.clone()),
-                    of: *of,
-                    dims,
-                });
-            }
-            _ => {}
+        if let Some(l) = self.aliases.get(&key) {
+            return Ok(l.clone());
         }
-        match self.b.layout().resolve(&tag) {
+        if let Some((tag, ty, constant)) = self.vars.get(&key).map(|v| (v.tag.clone(), v.ty.clone(), v.constant)) {
+            return self.tag_loc(&tag, &ty, constant, n);
+        }
+        match self.b.layout().resolve(&n.name) {
             Ok(Target::Value { place, access }) => {
                 let Some(ty) = Ty::from_data_type(place.data_type()) else {
                     return Err(not_supported(
@@ -1182,7 +1021,7 @@ impl Lower<'_> {
                     place,
                     access,
                     ty,
-                    constant,
+                    constant: false,
                 })
             }
             Ok(_) => Err(not_supported(
@@ -1193,7 +1032,18 @@ impl Lower<'_> {
                 ),
             )),
             Err(e) if n.name.starts_with('%') => Err(Diagnostic::new(Code::StName, e.to_string(), n.span, "address")),
-            Err(_) => Err(self.unknown(n, "name")),
+            Err(_) => {
+                let declared = self.vars.values().filter_map(|v| match &v.ty {
+                    Ty::Enum(e) => Some(e),
+                    _ => None,
+                });
+                for en in self.types.enums.iter().chain(declared) {
+                    if let Some(v) = enum_value(en, &n.name) {
+                        return Ok(Loc::EnumConst(en.clone(), v));
+                    }
+                }
+                Err(self.unknown(n, "name"))
+            }
         }
     }
 
@@ -1202,46 +1052,144 @@ impl Lower<'_> {
         match &e.kind {
             ExprKind::Name(n) => self.lookup(n),
             ExprKind::Member(base, m) => {
-                if let ExprKind::Name(n) = &base.kind {
-                    match self.lookup(n) {
-                        Ok(Loc::Fb { kind, name }) => return self.fb_member(kind, &name, m),
-                        Ok(Loc::Value { ty, .. }) => {
-                            return Err(not_supported(
-                                m.span,
-                                format!("`{}` is a {ty}: bit access `.{}` is not supported yet", n.name, m.name),
-                            ));
-                        }
-                        Ok(Loc::Array { .. }) => {
+                let found = match &base.kind {
+                    ExprKind::Name(n) => self.lookup(n).ok(),
+                    _ => Some(self.locate(base)?),
+                };
+                match found {
+                    Some(Loc::Fb { kind, name }) => return self.fb_member(kind, &name, m),
+                    Some(Loc::User { fb, prefix }) => return self.user_member(&fb, &prefix, m),
+                    Some(Loc::Struct { ty, members }) => {
+                        return match members.into_iter().find(|(k, _)| m.is(k)) {
+                            Some((_, l)) => Ok(l),
+                            None => {
+                                let names: Vec<&str> = ty.members.iter().map(|(k, ..)| k.as_str()).collect();
+                                let mut d = Diagnostic::new(
+                                    Code::StName,
+                                    format!("{} has no member `{}`", ty.name, m.name),
+                                    m.span,
+                                    "member",
+                                );
+                                d = d.with_help(match closest(&m.name, names.iter().copied()) {
+                                    Some(c) => format!("did you mean `{c}`?"),
+                                    None => format!("{} has {}", ty.name, names.join(", ")),
+                                });
+                                Err(d)
+                            }
+                        };
+                    }
+                    Some(Loc::Value {
+                        place,
+                        access,
+                        ty,
+                        constant,
+                    }) => {
+                        let width = match &ty {
+                            Ty::Sint => Some(8),
+                            Ty::Int => Some(16),
+                            Ty::Dint => Some(32),
+                            Ty::Lint => Some(64),
+                            t => t.bits(),
+                        };
+                        let Some(width) = width else {
                             return Err(type_error(
                                 m.span,
-                                format!("`{}` is an array; it has no members", n.name),
+                                format!("`{}` is {}; it has no members", ast::expr(base), an(&ty)),
                             ));
-                        }
-                        Ok(Loc::CounterQ { .. }) => {
-                            return Err(type_error(m.span, format!("`{}` has no members", n.name)));
-                        }
-                        Err(_) => {}
-                    }
-                    // A tag member of tags.csv (`Timer1.DN`, `Loop.PV`).
-                    let full = format!("{}.{}", n.name, m.name);
-                    return match self.b.layout().resolve(&full) {
-                        Ok(Target::Value { place, access }) => {
-                            let ty = Ty::from_data_type(place.data_type()).unwrap_or(Ty::Dint);
-                            Ok(Loc::Value {
+                        };
+                        return match m.name.parse::<u32>() {
+                            Ok(bit) if bit < width => Ok(Loc::Bit {
                                 place,
                                 access,
                                 ty,
-                                constant: false,
-                            })
-                        }
-                        Ok(_) => Err(not_supported(m.span, format!("`{full}` cannot be used in ST yet"))),
-                        Err(err) => Err(Diagnostic::new(Code::StName, err.to_string(), e.span, "unknown")),
-                    };
+                                bit,
+                                constant,
+                            }),
+                            _ => Err(type_error(
+                                m.span,
+                                format!(
+                                    "`{}` is {}: its bits are `.0` to `.{}`, not `.{}`",
+                                    ast::expr(base),
+                                    an(&ty),
+                                    width - 1,
+                                    m.name
+                                ),
+                            )),
+                        };
+                    }
+                    Some(Loc::Bit { .. }) => {
+                        return Err(type_error(
+                            m.span,
+                            format!("`{}` is a BOOL; it has no members", ast::expr(base)),
+                        ));
+                    }
+                    Some(Loc::Array { .. } | Loc::StructArray { .. }) => {
+                        return Err(type_error(
+                            m.span,
+                            format!("`{}` is an array; it has no members", ast::expr(base)),
+                        ));
+                    }
+                    Some(Loc::CounterQ { .. } | Loc::EnumConst(..)) => {
+                        return Err(type_error(m.span, format!("`{}` has no members", ast::expr(base))));
+                    }
+                    None => {}
                 }
-                Err(not_supported(
-                    e.span,
-                    "members of this expression are not supported".into(),
-                ))
+                let ExprKind::Name(n) = &base.kind else {
+                    return Err(not_supported(
+                        e.span,
+                        "members of this expression are not supported".into(),
+                    ));
+                };
+                // A tag member of tags.csv (`Timer1.DN`, `Loop.PV`).
+                let full = format!("{}.{}", n.name, m.name);
+                match self.b.layout().resolve(&full) {
+                    Ok(Target::Value { place, access }) => {
+                        let ty = Ty::from_data_type(place.data_type()).unwrap_or(Ty::Dint);
+                        Ok(Loc::Value {
+                            place,
+                            access,
+                            ty,
+                            constant: false,
+                        })
+                    }
+                    Ok(_) => Err(not_supported(m.span, format!("`{full}` cannot be used in ST yet"))),
+                    Err(err) => {
+                        // The base is unknown: say so, with "did you mean".
+                        if self.lookup(n).is_err() && self.b.layout().resolve(&n.name).is_err() {
+                            return Err(self.unknown(n, "name"));
+                        }
+                        Err(Diagnostic::new(Code::StName, err.to_string(), e.span, "unknown"))
+                    }
+                }
+            }
+            ExprKind::Index(base, ix) => {
+                if ix.iter().any(|i| const_int(i).is_none()) {
+                    return Err(not_supported(
+                        e.span,
+                        "an element with a computed index cannot be used here yet (only its value, or a member of it)"
+                            .into(),
+                    ));
+                }
+                match self.locate(base)? {
+                    Loc::Array { elems, of, dims, .. } => {
+                        let Ok(k) = self.flat_index(&dims, ix, e.span)? else {
+                            return Err(type_error(e.span, "index".into()));
+                        };
+                        Ok(Loc::Value {
+                            place: elems[k],
+                            access: Access::ReadWrite,
+                            ty: of,
+                            constant: false,
+                        })
+                    }
+                    Loc::StructArray { elems, dims, .. } => {
+                        let Ok(k) = self.flat_index(&dims, ix, e.span)? else {
+                            return Err(type_error(e.span, "index".into()));
+                        };
+                        Ok(elems[k].clone())
+                    }
+                    _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
+                }
             }
             _ => Err(type_error(e.span, format!("`{}` is not a variable", ast::expr(e)))),
         }
@@ -1320,9 +1268,37 @@ impl Lower<'_> {
                 if *ty == Ty::Bool {
                     Ok((Val::B(self.b.bool_in(*place, self.elem)), Ty::Bool))
                 } else {
-                    Ok((Val::N(self.b.load(*place, self.elem)), ty.clone()))
+                    Ok((Val::N(self.b.load(*place, self.elem)), ty.value()))
                 }
             }
+            Loc::EnumConst(en, v) => {
+                let c = self.b.const_i(*v as i32);
+                Ok((Val::N(V::I(c)), Ty::Enum(en.clone())))
+            }
+            Loc::Bit { place, ty, bit, .. } => {
+                let x = self.b.load(*place, self.elem);
+                let c = vclass(x);
+                let mask = self.bit_mask(ty, *bit, c);
+                let (t, zero) = (self.b.temp(c), self.int_const(0, c));
+                self.b.bin(IBin::And, x, mask, t, self.elem);
+                let r = self.b.temp_b();
+                self.cmp(Cmp::Ne, t, zero);
+                self.emit(Op::Ote(r));
+                self.emit(Op::True);
+                Ok((Val::B(r), Ty::Bool))
+            }
+            Loc::User { fb, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a {fb} instance; call it or read an output", ast::expr(e)),
+            )),
+            Loc::Struct { ty, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a whole {}; read a member", ast::expr(e), ty.name),
+            )),
+            Loc::StructArray { ty, .. } => Err(type_error(
+                e.span,
+                format!("`{}` is a whole {ty}; index it", ast::expr(e)),
+            )),
             Loc::Array { ty, .. } => Err(type_error(
                 e.span,
                 format!("`{}` is a whole {ty}; index it", ast::expr(e)),
@@ -1392,7 +1368,7 @@ impl Lower<'_> {
                 ty
             }
             Lit::Int(v, None) => match hint {
-                Some(h) if (h.is_int() && fits(*v, h)) || h.is_real() => h.clone(),
+                Some(h) if ((h.is_int() || h.is_bits()) && fits(*v, h)) || h.is_real() => h.clone(),
                 _ if fits(*v, &Ty::Dint) => Ty::Dint,
                 _ => Ty::Lint,
             },
@@ -1420,21 +1396,54 @@ impl Lower<'_> {
     /// `hint`: the type wanted, for untyped literals.
     fn eval(&mut self, e: &Expr, hint: Option<&Ty>) -> R<(Val, Ty)> {
         match &e.kind {
+            ExprKind::Lit(Lit::Other(t, v)) if self.types.enums.iter().any(|en| en.name.eq_ignore_ascii_case(t)) => {
+                let found = self
+                    .types
+                    .enums
+                    .iter()
+                    .filter(|en| en.name.eq_ignore_ascii_case(t))
+                    .find_map(|en| enum_value(en, v).map(|x| (en.clone(), x)));
+                match found {
+                    Some((en, x)) => {
+                        let c = self.b.const_i(x as i32);
+                        Ok((Val::N(V::I(c)), Ty::Enum(en)))
+                    }
+                    None => Err(Diagnostic::new(
+                        Code::StName,
+                        format!("the enumeration {t} has no value `{v}`"),
+                        e.span,
+                        "value",
+                    )),
+                }
+            }
             ExprKind::Lit(l) => {
                 let ty = self.lit_type(l, hint, e.span)?;
                 Ok((self.constant(l, &ty), ty))
             }
-            ExprKind::Name(_) | ExprKind::Member(..) => {
+            // A value of the enumeration wanted, named bare (`c := Red`).
+            ExprKind::Name(n)
+                if matches!(hint, Some(Ty::Enum(en)) if enum_value(en, &n.name).is_some())
+                    && !self.aliases.contains_key(&n.name.to_ascii_lowercase())
+                    && !self.vars.contains_key(&n.name.to_ascii_lowercase())
+                    && self.b.layout().resolve(&n.name).is_err() =>
+            {
+                let Some(Ty::Enum(en)) = hint else {
+                    return Err(type_error(e.span, "enumeration".into()));
+                };
+                let v = enum_value(en, &n.name).unwrap_or(0);
+                let c = self.b.const_i(v as i32);
+                Ok((Val::N(V::I(c)), Ty::Enum(en.clone())))
+            }
+            ExprKind::Name(_) | ExprKind::Member(..) | ExprKind::Index(..) => {
+                if let Some((of, elems, dims, ix)) = self.elements_of(e)? {
+                    let v = self.index_read(&elems, &dims, ix, &of, e.span)?;
+                    return Ok((v, of.value()));
+                }
                 let loc = self.locate(e)?;
                 self.read_loc(&loc, e)
             }
-            ExprKind::Index(base, ix) => {
-                let (of, elems, dims) = self.array(base)?;
-                let v = self.index_read(&elems, &dims, ix, &of, e.span)?;
-                Ok((v, of))
-            }
             ExprKind::Unary(AUn::Not, a) => {
-                let (v, ty) = self.eval(a, Some(&Ty::Bool))?;
+                let (v, ty) = self.eval(a, Some(hint.filter(|h| h.is_bits()).unwrap_or(&Ty::Bool)))?;
                 match v {
                     Val::B(b) => {
                         let t = self.b.temp_b();
@@ -1443,16 +1452,22 @@ impl Lower<'_> {
                         self.emit(Op::True);
                         Ok((Val::B(t), Ty::Bool))
                     }
+                    Val::N(x) if ty.is_bits() => {
+                        let t = self.b.temp(vclass(x));
+                        self.b.un(IUn::Not, x, t, self.elem);
+                        let w = ty.bits().unwrap_or(64);
+                        Ok((Val::N(self.wrap_bits(t, w)), ty))
+                    }
                     Val::N(_) => Err(type_error(
                         a.span,
-                        format!("NOT takes a BOOL, not a {ty} (bit strings are not supported yet)"),
+                        format!("NOT takes a BOOL or a bit string (BYTE … LWORD), not {}", an(&ty)),
                     )),
                 }
             }
             ExprKind::Unary(AUn::Neg, a) => {
                 let (v, ty) = self.eval(a, hint)?;
                 match v {
-                    Val::N(x) if ty.is_num() => {
+                    Val::N(x) if ty.is_num() && !ty.is_unsigned() => {
                         let t = self.b.temp(ty.class());
                         self.b.un(IUn::Neg, x, t, self.elem);
                         self.narrow(t, &ty);
@@ -1512,6 +1527,9 @@ impl Lower<'_> {
             hint
         };
         let ((va, ta), (vb, tb)) = self.operands(a, b, h)?;
+        if let (true, Val::N(x), Val::N(y)) = (logic, va, vb) {
+            return self.bitwise(op, (x, &ta), (y, &tb), span);
+        }
         if logic || (compare && ta == Ty::Bool && tb == Ty::Bool && matches!(op, BinOp::Eq | BinOp::Ne)) {
             let (Val::B(x), Val::B(y)) = (va, vb) else {
                 return Err(type_error(
@@ -1575,6 +1593,12 @@ impl Lower<'_> {
                 ),
             ));
         };
+        if matches!(ty, Ty::Enum(_)) && !compare {
+            return Err(type_error(
+                span,
+                format!("`{}` does not take enumeration values ({ty})", op.text()),
+            ));
+        }
         let class = ty.class();
         let x = self.b.convert(x, class, self.elem);
         let y = self.b.convert(y, class, self.elem);
@@ -1617,16 +1641,106 @@ impl Lower<'_> {
                 format!("TIME {} TIME is not defined; scale a TIME by an integer", op.text()),
             ));
         }
+        if let Some(w) = ty.bits() {
+            if ty.is_bits() {
+                return Err(type_error(
+                    span,
+                    format!(
+                        "`{}` does not take bit strings ({ty}); convert to an unsigned integer first",
+                        op.text()
+                    ),
+                ));
+            }
+            // Unsigned: computed in 64 bits, then wrapped to the width.
+            let xl = self.b.convert(x, Class::L, self.elem);
+            let yl = self.b.convert(y, Class::L, self.elem);
+            let t = self.b.temp(Class::L);
+            self.b.bin(iop, xl, yl, t, self.elem);
+            let t = self.wrap_bits(t, w);
+            return Ok((Val::N(self.b.convert(t, class, self.elem)), ty));
+        }
         let t = self.b.temp(class);
         self.b.bin(iop, x, y, t, self.elem);
         self.narrow(t, &ty);
         Ok((Val::N(t), ty))
     }
 
-    fn array(&mut self, base: &Expr) -> R<ArrayParts> {
-        match self.locate(base)? {
-            Loc::Array { elems, of, dims, .. } => Ok((of, elems, dims)),
-            _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
+    /// The element places an indexed expression chooses from: `a[i]`, or a
+    /// member of an element of an array of structures (`pts[i].x`,
+    /// `pts[i].p.y`) as the list of that member's places, one per element.
+    fn elements_of<'e>(&mut self, e: &'e Expr) -> R<Option<Indexed<'e>>> {
+        match &e.kind {
+            ExprKind::Index(base, ix) => match self.locate(base)? {
+                Loc::Array { elems, of, dims, .. } => Ok(Some((of, elems, dims, ix))),
+                Loc::StructArray { .. } => Ok(None),
+                _ => Err(type_error(base.span, format!("`{}` is not an array", ast::expr(base)))),
+            },
+            ExprKind::Member(inner, m) => {
+                let mut path = vec![m];
+                let mut cur: &Expr = inner;
+                while let ExprKind::Member(b, mm) = &cur.kind {
+                    path.push(mm);
+                    cur = b;
+                }
+                let ExprKind::Index(base, ix) = &cur.kind else {
+                    return Ok(None);
+                };
+                if ix.iter().all(|i| const_int(i).is_some()) {
+                    return Ok(None);
+                }
+                let Loc::StructArray { elems, dims, .. } = self.locate(base)? else {
+                    return Ok(None);
+                };
+                path.reverse();
+                let mut places = Vec::new();
+                let mut ty = Ty::Bool;
+                for el in elems.iter() {
+                    let mut l = el.clone();
+                    for m in &path {
+                        l = self.member_of(l, m)?;
+                    }
+                    match l {
+                        Loc::Value { place, ty: t, .. } => {
+                            places.push(place);
+                            ty = t;
+                        }
+                        _ => {
+                            return Err(not_supported(
+                                e.span,
+                                "with a computed index, a member of an element is read or written as one value".into(),
+                            ));
+                        }
+                    }
+                }
+                Ok(Some((ty, places, dims, ix)))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// A member of a structure or of a function block instance.
+    fn member_of(&mut self, l: Loc, m: &Ident) -> R<Loc> {
+        match l {
+            Loc::Struct { ty, members } => match members.into_iter().find(|(k, _)| m.is(k)) {
+                Some((_, l)) => Ok(l),
+                None => {
+                    let names: Vec<&str> = ty.members.iter().map(|(k, ..)| k.as_str()).collect();
+                    let mut d = Diagnostic::new(
+                        Code::StName,
+                        format!("{} has no member `{}`", ty.name, m.name),
+                        m.span,
+                        "member",
+                    );
+                    d = d.with_help(match closest(&m.name, names.iter().copied()) {
+                        Some(c) => format!("did you mean `{c}`?"),
+                        None => format!("{} has {}", ty.name, names.join(", ")),
+                    });
+                    Err(d)
+                }
+            },
+            Loc::Fb { kind, name } => self.fb_member(kind, &name, m),
+            Loc::User { fb, prefix } => self.user_member(&fb, &prefix, m),
+            _ => Err(type_error(m.span, format!("`.{}`: this has no members", m.name))),
         }
     }
 
@@ -1768,12 +1882,87 @@ impl Lower<'_> {
     }
 
     fn assign(&mut self, lhs: &Expr, rhs: &Expr) -> R<()> {
-        if let ExprKind::Index(base, ix) = &lhs.kind {
-            let (of, elems, dims) = self.array(base)?;
-            let (v, ty) = self.eval(rhs, Some(&of))?;
-            if !widens(&ty, &of) {
+        // A whole structure: copied member by member.
+        let maybe_struct = match &lhs.kind {
+            ExprKind::Name(n) => {
+                let k = n.name.to_ascii_lowercase();
+                self.aliases
+                    .get(&k)
+                    .is_some_and(|l| matches!(l, Loc::Struct { .. } | Loc::Array { .. } | Loc::StructArray { .. }))
+                    || self
+                        .vars
+                        .get(&k)
+                        .is_some_and(|v| matches!(v.ty, Ty::Struct(_) | Ty::Array(..)))
+            }
+            ExprKind::Member(..) => true,
+            ExprKind::Index(base, _) => match &base.kind {
+                ExprKind::Name(n) => {
+                    let k = n.name.to_ascii_lowercase();
+                    self.aliases
+                        .get(&k)
+                        .is_some_and(|l| matches!(l, Loc::StructArray { .. }))
+                        || self
+                            .vars
+                            .get(&k)
+                            .is_some_and(|v| matches!(&v.ty, Ty::Array(of, _) if matches!(**of, Ty::Struct(_))))
+                }
+                _ => false,
+            },
+            _ => false,
+        };
+        if maybe_struct && let Some((elems, dims, of, ix)) = self.struct_elements(lhs)? {
+            // `zs[i] := p`: one guarded copy per element.
+            let src = self.composite_of(rhs)?;
+            if loc_type(&src).as_ref() != Some(&of) {
                 return Err(type_error(
                     rhs.span,
+                    format!("cannot assign this to `{}`, {}", ast::expr(lhs), an(&of)),
+                ));
+            }
+            return self.each_element(&elems, &dims, ix, lhs.span, &mut |l: &mut Self, el: &Loc| {
+                l.copy_loc(el, &src);
+                Ok(())
+            });
+        }
+        if maybe_struct
+            && let Ok(dst @ (Loc::Struct { .. } | Loc::StructArray { .. } | Loc::Array { .. })) = self.locate(lhs)
+        {
+            let src = self.composite_of(rhs)?;
+            let (dt, st) = (loc_type(&dst), loc_type(&src));
+            if dt != st {
+                return Err(type_error(
+                    rhs.span,
+                    format!(
+                        "cannot assign {} to `{}`, {}",
+                        st.map_or("this".into(), |t| an(&t)),
+                        ast::expr(lhs),
+                        dt.map_or("a structure".into(), |t| an(&t))
+                    ),
+                ));
+            }
+            if let Loc::Struct { members, .. } = &dst
+                && members.iter().any(|(_, l)| matches!(l, Loc::Value { access, constant, .. } if *access != Access::ReadWrite || *constant))
+            {
+                return Err(Diagnostic::new(
+                    Code::NotWritable,
+                    format!("`{}` cannot be written", ast::expr(lhs)),
+                    lhs.span,
+                    "not writable",
+                ));
+            }
+            self.copy_loc(&dst, &src);
+            return Ok(());
+        }
+        self.assign_with(lhs, rhs.span, &mut |l: &mut Self, hint| l.eval(rhs, hint))
+    }
+
+    /// Assigns to `lhs` the value `value` computes (given the type wanted).
+    fn assign_with(&mut self, lhs: &Expr, rspan: Span, value: &mut ValueOf<'_, Self>) -> R<()> {
+        if let Some((of, elems, dims, ix)) = self.elements_of(lhs)? {
+            let (v, ty) = value(self, Some(&of.value()))?;
+            if !widens(&ty, &of) {
+                return Err(type_error(
+                    rspan,
                     format!("cannot assign {} to {} element; convert it", an(&ty), an(&of)),
                 ));
             }
@@ -1783,10 +1972,30 @@ impl Lower<'_> {
             };
             return match self.flat_index(&dims, ix, lhs.span)? {
                 Ok(k) => {
-                    self.store(elems[k], v, &of);
+                    self.store_checked(elems[k], v, &of);
                     Ok(())
                 }
                 Err(flat) => {
+                    if let (Ty::Sub(_, lo, hi), Val::N(x)) = (&of, v) {
+                        // Out of the subrange: a fault, and no element written.
+                        let (clo, chi) = (
+                            self.b.constant(alba_model::Literal::Int(*lo), of.class()),
+                            self.b.constant(alba_model::Literal::Int(*hi), of.class()),
+                        );
+                        let bad = self.b.temp_b();
+                        self.cmp(Cmp::Lt, x, clo);
+                        self.emit(Op::Ote(bad));
+                        self.emit(Op::True);
+                        self.cmp(Cmp::Gt, x, chi);
+                        self.emit(Op::Or(bad));
+                        self.emit(Op::Ote(bad));
+                        self.emit(Op::True);
+                        self.range_fault(bad);
+                        let minus = self.b.const_i(-1);
+                        self.emit(Op::Ld(bad));
+                        self.emit(Op::UnI(IUn::Mov, minus, flat));
+                        self.emit(Op::True);
+                    }
                     for (k, p) in elems.iter().enumerate() {
                         let kc = self.b.const_i(k as i32);
                         match (v, *p) {
@@ -1815,6 +2024,42 @@ impl Lower<'_> {
             };
         }
         let loc = self.locate(lhs)?;
+        if let Loc::Bit {
+            place,
+            access,
+            ty,
+            bit,
+            constant,
+        } = &loc
+        {
+            if *constant || *access != Access::ReadWrite {
+                return Err(Diagnostic::new(
+                    Code::NotWritable,
+                    format!("`{}` cannot be written", ast::expr(lhs)),
+                    lhs.span,
+                    "not writable",
+                ));
+            }
+            let (v, vty) = value(self, Some(&Ty::Bool))?;
+            let Val::B(v) = v else {
+                return Err(type_error(rspan, format!("a bit is a BOOL, not {}", an(&vty))));
+            };
+            let x = self.b.load(*place, self.elem);
+            let c = vclass(x);
+            let mask = self.bit_mask(ty, *bit, c);
+            let t = self.b.temp(c);
+            self.b.un(IUn::Mov, x, t, self.elem);
+            let notmask = self.b.temp(c);
+            self.b.un(IUn::Not, mask, notmask, self.elem);
+            self.emit(Op::Ld(v));
+            self.b.bin(IBin::Or, t, mask, t, self.elem);
+            self.emit(Op::Ldn(v));
+            self.b.bin(IBin::And, t, notmask, t, self.elem);
+            self.emit(Op::True);
+            let (place, ty) = (*place, ty.clone());
+            self.store(place, Val::N(t), &ty);
+            return Ok(());
+        }
         let (place, access, ty, constant) = match loc {
             Loc::Value {
                 place,
@@ -1846,10 +2091,10 @@ impl Lower<'_> {
                 "not writable",
             ));
         }
-        let (v, vty) = self.eval(rhs, Some(&ty))?;
+        let (v, vty) = value(self, Some(&ty.value()))?;
         if !widens(&vty, &ty) {
             return Err(type_error(
-                rhs.span,
+                rspan,
                 format!(
                     "cannot assign {} to `{}`, {}; convert it (for example {vty}_TO_{ty})",
                     an(&vty),
@@ -1858,7 +2103,7 @@ impl Lower<'_> {
                 ),
             ));
         }
-        self.store(place, v, &ty);
+        self.store_checked(place, v, &ty);
         Ok(())
     }
 
@@ -2063,29 +2308,8 @@ impl Lower<'_> {
                 name: oname.to_string(),
                 span: a.name.as_ref().map_or(a.value.span, |n| n.span),
             };
-            let mexpr = Expr {
-                kind: ExprKind::Member(
-                    Box::new(Expr {
-                        kind: ExprKind::Name(inst.clone()),
-                        span: inst.span,
-                    }),
-                    member,
-                ),
-                span: a.value.span,
-            };
-            if matches!(a.value.kind, ExprKind::Lit(Lit::Bool(false))) && a.value.span.start == a.value.span.end {
-                continue;
-            }
-            let negated = if a.negated {
-                ExprKind::Unary(AUn::Not, Box::new(mexpr))
-            } else {
-                mexpr.kind
-            };
-            let rhs = Expr {
-                kind: negated,
-                span: a.value.span,
-            };
-            self.assign(&a.value, &rhs)?;
+            let src = self.fb_member(kind, name, &member)?;
+            self.assign_output(a, &src)?;
         }
         Ok(())
     }
@@ -2102,6 +2326,17 @@ impl Lower<'_> {
     /// A standard function (or a conversion) called in an expression.
     fn call(&mut self, n: &Ident, args: &[Arg], hint: Option<&Ty>, span: Span) -> R<(Val, Ty)> {
         let up = n.name.to_ascii_uppercase();
+        if let Some(a) = args
+            .iter()
+            .find(|a| a.name.as_ref().is_some_and(|x| x.is("EN") || x.is("ENO")))
+        {
+            let at = a.name.as_ref().map_or(a.value.span, |x| x.span);
+            return Err(not_supported(
+                at,
+                "EN and ENO are taken by a call written as a statement (`F(EN := c, ENO => ok);`), not in an expression"
+                    .into(),
+            ));
+        }
         let positional: Vec<&Expr> = args.iter().filter(|a| !a.output).map(|a| &a.value).collect();
         let arity = |k: usize| -> R<()> {
             if positional.len() == k {
@@ -2113,6 +2348,65 @@ impl Lower<'_> {
                 ))
             }
         };
+        if up == "MOVE" {
+            arity(1)?;
+            return self.eval(positional[0], hint);
+        }
+        // BCD: `WORD_BCD_TO_INT`, `INT_TO_BCD_WORD` (the engine's FRD and TOD:
+        // a nibble above 9, or a value out of the BCD range, is a range fault).
+        let bcd = match up.split_once("_TO_") {
+            Some((from, to)) if from.ends_with("_BCD") => Some((from.trim_end_matches("_BCD"), to, IUn::Frd)),
+            Some((from, to)) if to.starts_with("BCD_") => Some((from, to.trim_start_matches("BCD_"), IUn::Tod)),
+            _ => None,
+        };
+        if let Some((from, to, op)) = bcd {
+            arity(1)?;
+            let (Some(from_ty), Some(to_ty)) = (elementary(from), elementary(to)) else {
+                return Err(not_supported(n.span, format!("{up}: unknown types")));
+            };
+            let ok = if op == IUn::Frd {
+                from_ty.is_bits() && to_ty.is_int()
+            } else {
+                from_ty.is_int() && to_ty.is_bits()
+            };
+            if !ok {
+                return Err(type_error(
+                    n.span,
+                    format!("{up}: BCD conversions are between a bit string and an integer"),
+                ));
+            }
+            let (v, ty) = self.eval(positional[0], Some(&from_ty))?;
+            let Val::N(x) = v else {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} takes a {from_ty}, not BOOL"),
+                ));
+            };
+            if ty != from_ty {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} takes a {from_ty}, not a {ty}"),
+                ));
+            }
+            let x = self.b.convert(x, Class::L, self.elem);
+            let t = self.b.temp(Class::L);
+            self.b.un(op, x, t, self.elem);
+            let r = self.convert(Val::N(t), &Ty::Lint, &to_ty);
+            return Ok((r, to_ty));
+        }
+        // TO_Y: the 3rd edition's conversion from the argument's own type
+        // (an enumeration converts as its number).
+        if let Some(to) = up.strip_prefix("TO_")
+            && let Some(to_ty) = elementary(to)
+        {
+            arity(1)?;
+            let (v, ty) = self.eval(positional[0], Some(&to_ty))?;
+            let from = match ty {
+                Ty::Enum(_) => Ty::Dint,
+                t => t,
+            };
+            return Ok((self.convert(v, &from, &to_ty), to_ty));
+        }
         // X_TO_Y conversions (and TRUNC).
         if let Some((from, to)) = up.split_once("_TO_") {
             arity(1)?;
@@ -2213,24 +2507,60 @@ impl Lower<'_> {
             "MIN" | "MAX" | "LIMIT" | "SEL" | "MUX" => return self.selection(&up, &positional, hint, span),
             _ => {}
         }
-        if self.functions.iter().any(|f| n.is(f)) {
-            return Err(not_supported(
+        if let Some(p) = self.types.pous.get(&n.name.to_ascii_lowercase()).copied() {
+            if p.kind == PouKind::Function {
+                return self.inline_function(p, args, span, false);
+            }
+            return Err(type_error(
                 n.span,
                 format!(
-                    "calling the user FUNCTION or FUNCTION_BLOCK `{}` is not supported yet",
-                    n.name
+                    "`{}` is a FUNCTION_BLOCK type: declare an instance (`x : {};`) and call the instance",
+                    n.name, p.name.name
                 ),
             ));
         }
+        if ["SHL", "SHR", "ROL", "ROR"].contains(&up.as_str()) {
+            arity(2)?;
+            let h = hint.filter(|h| h.is_bits()).cloned();
+            let (v, ty) = self.eval(positional[0], h.as_ref())?;
+            let (Val::N(x), Some(w), true) = (v, ty.bits(), ty.is_bits()) else {
+                return Err(type_error(
+                    positional[0].span,
+                    format!("{up} shifts a bit string (BYTE … LWORD), not {}", an(&ty)),
+                ));
+            };
+            let (nv, nty) = self.eval(positional[1], Some(&Ty::Int))?;
+            let Val::N(n) = nv else {
+                return Err(type_error(
+                    positional[1].span,
+                    format!("{up}'s N is an integer, not BOOL"),
+                ));
+            };
+            if !nty.is_int() {
+                return Err(type_error(
+                    positional[1].span,
+                    format!("{up}'s N is an integer, not {nty}"),
+                ));
+            }
+            let r = match const_int(positional[1]) {
+                Some(k) if k >= 0 => self.shift_const(&up, x, k.min(1024) as u32, w),
+                _ => {
+                    let V::I(n) = self.b.convert(n, Class::I, self.elem) else {
+                        return Err(type_error(positional[1].span, "N".into()));
+                    };
+                    self.shift_var(&up, x, n, w)
+                }
+            };
+            return Ok((Val::N(r), ty));
+        }
         if [
-            "SHL", "SHR", "ROL", "ROR", "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND",
-            "MOVE",
+            "LEN", "LEFT", "RIGHT", "MID", "CONCAT", "INSERT", "DELETE", "REPLACE", "FIND",
         ]
         .contains(&up.as_str())
         {
             return Err(not_supported(
                 n.span,
-                format!("{up} is not supported yet (bit strings and strings have no form in the engine)"),
+                format!("{up} is not supported yet (strings have no form in the engine)"),
             ));
         }
         let known = [
@@ -2261,7 +2591,17 @@ impl Lower<'_> {
             "TIME_TO_DINT",
             "DINT_TO_TIME",
         ];
-        let names = self.known_names();
+        if let Ok(Loc::Fb { .. } | Loc::User { .. }) = self.lookup(n) {
+            return Err(type_error(
+                n.span,
+                format!(
+                    "`{}` is a function block instance: call it as a statement (`{}(…);`) and read its outputs",
+                    n.name, n.name
+                ),
+            ));
+        }
+        let mut names = self.known_names();
+        names.extend(self.types.pous.values().map(|p| p.name.name.clone()));
         let mut d = Diagnostic::new(
             Code::StName,
             format!("unknown function `{}`", n.name),
@@ -2294,6 +2634,13 @@ impl Lower<'_> {
                 self.emit(Op::Ote(t));
                 self.emit(Op::True);
                 Val::B(t)
+            }
+            (Val::N(x), to) if to.bits().is_some_and(|w| w < 64) => {
+                // Into an unsigned integer or a bit string: the low bits
+                // (negative values wrap as two's complement).
+                let l = self.b.convert(x, Class::L, self.elem);
+                let l = self.wrap_bits(l, to.bits().unwrap_or(64));
+                Val::N(self.b.convert(l, to.class(), self.elem))
             }
             (Val::N(x), to) => {
                 let y = self.b.convert(x, to.class(), self.elem);
@@ -2437,35 +2784,5 @@ impl Lower<'_> {
         }
         self.narrow(t, &ty);
         Ok((Val::N(t), ty))
-    }
-}
-
-/// `a BOOL`, `an INT`.
-fn an(ty: &Ty) -> String {
-    let s = ty.to_string();
-    let vowel = matches!(s.as_bytes().first(), Some(b'A' | b'E' | b'I' | b'L' | b'S'));
-    format!("{} {s}", if vowel { "an" } else { "a" })
-}
-
-fn fits(v: i64, ty: &Ty) -> bool {
-    match ty {
-        Ty::Sint => i8::try_from(v).is_ok(),
-        Ty::Int => i16::try_from(v).is_ok(),
-        Ty::Dint | Ty::Time => i32::try_from(v).is_ok(),
-        Ty::Lint | Ty::Real | Ty::Lreal => true,
-        _ => false,
-    }
-}
-
-fn value_lit(v: Value) -> Lit {
-    match v {
-        Value::Bool(b) => Lit::Bool(b),
-        Value::Sint(x) => Lit::Int(x.into(), None),
-        Value::Int(x) => Lit::Int(x.into(), None),
-        Value::Dint(x) => Lit::Int(x.into(), None),
-        Value::Lint(x) => Lit::Int(x, None),
-        Value::Real(x) => Lit::Real(x.into(), None),
-        Value::Lreal(x) => Lit::Real(x, None),
-        Value::Time(x) => Lit::Int(x.into(), None),
     }
 }
