@@ -86,7 +86,18 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   await tid('hmi-props').getByText('tank1 (tank)').waitFor();
   await tid('hmi-prop-anim-add').selectOption('fill');
   await setField('hmi-prop-anim-tag-0', 'Nivel_L');
-  await setField('hmi-prop-anim-params-0', '{"min":0,"max":60,"direction":"up"}');
+  // the animation's own form: numbers, a choice (the JSON stays as the expert view)
+  await setField('hmi-prop-anim-0-min', '0');
+  await setField('hmi-prop-anim-0-max', '60');
+  await tid('hmi-prop-anim-0-direction').selectOption('up');
+  // a move shows where it ends while the element is selected; removed, its preview goes
+  await tid('hmi-prop-anim-add').selectOption('move');
+  await setField('hmi-prop-anim-1-dx', '200');
+  await tid('hmi-preview-tank1').locator('[data-part="move-ghost"]').waitFor();
+  assert.equal(await tid('hmi-preview-tank1').locator('[data-part="move-ghost"]').getAttribute('x'), '200');
+  await b.shot('designer-animation-form-move-preview');
+  await tid('hmi-prop-anim-remove-1').click();
+  await tid('hmi-preview-tank1').waitFor({ state: 'detached' });
   // A pump that rotates while B1 runs; its tag first mistyped.
   await tid('hmi-add-pump').dragTo(tid('hmi-canvas'), { targetPosition: { x: 300, y: 120 } });
   await tid('hmi-props').getByText('pump1 (pump)').waitFor();
@@ -146,6 +157,8 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   // A second animation on the pump: green while B1 runs.
   await tid('hmi-prop-anim-add').selectOption('color');
   await setField('hmi-prop-anim-tag-1', 'Bomba1');
+  await tid('hmi-prop-anim-1-on-swatch').fill('#43a047');
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-prop-anim-1-on"]')?.value === '#43a047');
   await tid('hmi-save').click();
   await tid('toast-info').filter({ hasText: 'plant2 saved' }).waitFor();
   // the success took the failed save's place
@@ -166,7 +179,7 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   const saved = await alba.json('/api/screens/plant2');
   const byId = Object.fromEntries(saved.elements.map((e) => [e.id, e]));
   assert.deepEqual(byId.tank1.animations, [{ kind: 'fill', tag: 'Nivel_L', min: 0, max: 60, direction: 'up' }]);
-  assert.deepEqual(byId.pump1.animations, [{ kind: 'rotate', tag: 'Bomba1', speed: 1 }, { kind: 'color', tag: 'Bomba1', on: '#2e7d32', off: '#9ea3a8' }]);
+  assert.deepEqual(byId.pump1.animations, [{ kind: 'rotate', tag: 'Bomba1', speed: 1 }, { kind: 'color', tag: 'Bomba1', on: '#43a047', off: '#9ea3a8' }]);
   assert.deepEqual(byId.button2.action, { kind: 'navigate', tag: null, value: null, min: null, max: null, screen: 'tank' });
   assert.equal(byId.button1.action.kind, 'set');
   assert.equal(byId.button1.action.tag, 'Llenar');
@@ -180,9 +193,19 @@ test('the designer: build a screen by drag and drop, arrange, undo/redo, a locat
   const level = () => page.evaluate(() => Number(document.querySelector('[data-testid="hmi-el-tank1"] [data-part="level"]').getAttribute('height')));
   await tid('hmi-el-button1').click();
   await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-pump1"] [data-part="rotor"]')?.classList.contains('hmi-spin'));
+  // the rotor really turns (an SVG animation at its speed: its angle on screen changes)
+  const angle = () => page.evaluate(() => {
+    const m = document.querySelector('[data-testid="hmi-el-pump1"] [data-part="rotor"]').getCTM();
+    return Math.atan2(m.b, m.a);
+  });
+  const a0 = await angle();
+  await page.waitForFunction((a0) => {
+    const m = document.querySelector('[data-testid="hmi-el-pump1"] [data-part="rotor"]').getCTM();
+    return Math.abs(Math.atan2(m.b, m.a) - a0) > 0.05;
+  }, a0);
   const first = await level();
   await page.waitForFunction((h) => Number(document.querySelector('[data-testid="hmi-el-tank1"] [data-part="level"]').getAttribute('height')) > h, first);
-  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-pump1"] [data-part="fill"]')?.getAttribute('fill') === '#2e7d32');
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-el-pump1"] [data-part="fill"]')?.getAttribute('fill') === '#43a047');
   await b.shot('screen-plant2');
   // The navigation button opens the tank screen.
   await tid('hmi-el-button2').click();

@@ -164,9 +164,22 @@ export type ScreenDomain = {
  */
 elements: Array<[string, string]>, 
 /**
- * `[kind, its parameters besides tag]`.
+ * The animations and their parameters besides `tag`.
  */
-animations: Array<[string, Array<string>]>, actions: Array<string>, };
+animations: Array<AnimationInfo>, actions: Array<string>, };
+
+export type AnimationInfo = { kind: string, params: Array<ParamInfo>, };
+
+export type ParamInfo = { name: string, 
+/**
+ * `number` (from `min` to `max`, in `unit`), `bool`, `color`, `choice`
+ * (one of `choices`) or `intervals` (up to 4 `{from, color}`).
+ */
+kind: 'number' | 'bool' | 'color' | 'choice' | 'intervals', min: number | null, max: number | null, unit: string, choices: Array<string>, help: string, 
+/**
+ * Still read, no longer offered by the form.
+ */
+legacy: boolean, };
 
 export type TagUse = { 
 /**

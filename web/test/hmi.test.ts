@@ -2,7 +2,7 @@
 // animation changes what it should from a value.
 import { describe, expect, it } from 'vitest';
 import { domain } from '../src/domain';
-import { type Element, animate, colorOf, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
+import { type Element, active, animate, blinkTimes, colorOf, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
 import type { Json } from '../src/types';
 import { ScreenTrend, trendPoints, trendScale, windowMs } from '../src/hmi/trend';
 import { clockTime } from '../src/i18n';
@@ -52,13 +52,59 @@ describe('screen elements', () => {
     animate(g, e, { kind: 'visibility', tag: 'B' }, true);
     expect(g.style.display).toBe('');
     animate(g, e, { kind: 'blink', tag: 'B' }, true);
-    expect(g.classList.contains('hmi-blink')).toBe(true);
+    expect(g.classList.contains('hmi-blinking')).toBe(true);
     animate(g, e, { kind: 'move', tag: 'X', min: 0, max: 10, dx: 100, dy: 0 }, 5);
     expect(g.getAttribute('transform')).toBe('translate(60,20) rotate(0 50 100)');
     const out = el('output');
     const og = drawElement(out);
     showValue(og, 36.129);
     expect(og.querySelector('[data-part="text"]')!.textContent).toBe('36.129');
+  });
+
+  it('blinks with its own shown and hidden times, on a digital or an analog condition', () => {
+    const e = el('pump');
+    const g = drawElement(e);
+    const blinker = () => g.querySelector(':scope > animate[data-part="blink"]');
+    animate(g, e, { kind: 'blink', tag: 'B', on_ms: 300, off_ms: 700 }, true);
+    expect([blinker()!.getAttribute('dur'), blinker()!.getAttribute('keyTimes'), blinker()!.getAttribute('values')]).toEqual(['1000ms', '0;0.3', '1;0.15']);
+    animate(g, e, { kind: 'blink', tag: 'B', on_ms: 300, off_ms: 700 }, false);
+    expect([blinker(), g.classList.contains('hmi-blinking')]).toEqual([null, false]);
+    // the older period_ms: shown and hidden for half each
+    animate(g, e, { kind: 'blink', tag: 'B', period_ms: 400 }, true);
+    expect(blinker()!.getAttribute('dur')).toBe('400ms');
+    expect(blinkTimes({ kind: 'blink', tag: 'B' })).toEqual([500, 500]);
+    // analog: inside min–max; when false: outside
+    const range = { kind: 'blink', tag: 'L', min: 50, max: 60 };
+    expect([active(range, 49.9), active(range, 50), active(range, 60), active(range, 61)]).toEqual([false, true, true, false]);
+    expect([active({ ...range, when: false }, 55), active({ ...range, when: false }, 70)]).toEqual([false, true]);
+    expect([active({ kind: 'visibility', tag: 'L', min: 5 }, 1e9), active({ kind: 'visibility', tag: 'B', when: false }, true)]).toEqual([true, false]);
+    animate(g, e, { kind: 'visibility', tag: 'L', min: 5, max: 10 }, 11);
+    expect(g.style.display).toBe('none');
+  });
+
+  it('rotates about an anchor point, from one angle to another, and spins at its speed', () => {
+    const e = el('pump');
+    const g = drawElement(e);
+    // an anchor turns the whole element about it, after its placement
+    animate(g, e, { kind: 'rotate', tag: 'X', min: 0, max: 100, from: -90, degrees: 90, cx: 0, cy: 10 }, 75);
+    expect(g.getAttribute('transform')).toBe('translate(10,20) rotate(0 50 100) rotate(45 0 10)');
+    animate(g, e, { kind: 'move', tag: 'M', min: 0, max: 1, dx: 5, dy: 0, when: false }, false);
+    expect(g.getAttribute('transform')).toBe('translate(15,20) rotate(0 50 100) rotate(45 0 10)');
+    // without one a pump's rotor turns about its hub
+    animate(g, e, { kind: 'rotate', tag: 'X', min: 0, max: 100, degrees: 180 }, 50);
+    expect(g.querySelector('[data-part="rotor"]')!.getAttribute('transform')).toBe('rotate(90)');
+    // a spin: the rotor, 2 turns a second anticlockwise, while the tag is off (when: false)
+    const spin = () => g.querySelector('[data-part="rotor"] > animateTransform[data-part="spin"]');
+    animate(g, e, { kind: 'rotate', tag: 'B', speed: -2, when: false }, false);
+    expect([spin()!.getAttribute('dur'), spin()!.getAttribute('to'), spin()!.getAttribute('additive')]).toEqual(['0.5s', '-360 0 0', 'sum']);
+    animate(g, e, { kind: 'rotate', tag: 'B', speed: -2, when: false }, true);
+    expect(spin()).toBeNull();
+    // a whole element spins about its anchor
+    const t = el('rectangle');
+    const tg = drawElement(t);
+    animate(tg, t, { kind: 'rotate', tag: 'B', speed: 0.5, cx: 5, cy: 6 }, true);
+    const whole = tg.querySelector(':scope > animateTransform[data-part="spin"]')!;
+    expect([whole.getAttribute('from'), whole.getAttribute('to'), whole.getAttribute('dur')]).toEqual(['0 5 6', '360 5 6', '2s']);
   });
 
   it('subscribes to the tags the screen shows and writes, nothing else', () => {

@@ -55,14 +55,145 @@ pub const ELEMENT_TYPES: &[(&str, &str)] = &[
     ),
 ];
 
-/// The animations (SPEC §8) and the parameters each takes besides `tag`.
-pub const ANIMATIONS: &[(&str, &[&str])] = &[
-    ("visibility", &["when"]),
-    ("blink", &["when", "period_ms"]),
-    ("move", &["min", "max", "dx", "dy"]),
-    ("rotate", &["min", "max", "degrees", "speed"]),
-    ("color", &["on", "off", "intervals"]),
-    ("fill", &["min", "max", "direction", "color"]),
+/// What an animation parameter holds: what the screen check accepts and the
+/// designer's form shows (a number field with its unit and range, a check
+/// box, a colour picker, a choice, or the colour intervals).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ParamKind {
+    Number { min: f64, max: f64, unit: &'static str },
+    Bool,
+    Color,
+    Choice(&'static [&'static str]),
+    Intervals,
+}
+
+/// A parameter of an animation besides `tag`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Param {
+    pub name: &'static str,
+    pub kind: ParamKind,
+    /// What it does, for the designer's form.
+    pub help: &'static str,
+    /// Still read, no longer offered by the form (`blink`'s `period_ms`).
+    pub legacy: bool,
+}
+
+const fn p(name: &'static str, kind: ParamKind, help: &'static str) -> Param {
+    Param {
+        name,
+        kind,
+        help,
+        legacy: false,
+    }
+}
+
+const ANY: f64 = 1e12;
+const fn number(unit: &'static str) -> ParamKind {
+    ParamKind::Number {
+        min: -ANY,
+        max: ANY,
+        unit,
+    }
+}
+const MS: ParamKind = ParamKind::Number {
+    min: 10.0,
+    max: 600_000.0,
+    unit: "ms",
+};
+const WHEN: Param = p(
+    "when",
+    ParamKind::Bool,
+    "active while the tag is on (off: while it is off, or outside min–max)",
+);
+const LO: Param = p("min", number(""), "the tag's value at the start of the range");
+const HI: Param = p("max", number(""), "the tag's value at the end of the range");
+const RANGE_LO: Param = p(
+    "min",
+    number(""),
+    "a number tag: active from this value (digital when neither min nor max is set)",
+);
+const RANGE_HI: Param = p("max", number(""), "a number tag: active up to this value");
+
+/// The animations (SPEC §8, AuroraLD's six of `000_…` §3.22) and the
+/// parameters each takes besides `tag`.
+pub const ANIMATIONS: &[(&str, &[Param])] = &[
+    ("visibility", &[WHEN, RANGE_LO, RANGE_HI]),
+    (
+        "blink",
+        &[
+            WHEN,
+            RANGE_LO,
+            RANGE_HI,
+            p("on_ms", MS, "time shown in each blink (default 500)"),
+            p("off_ms", MS, "time hidden in each blink (default 500)"),
+            Param {
+                name: "period_ms",
+                kind: MS,
+                help: "the whole blink, shown and hidden for half each (on_ms and off_ms win)",
+                legacy: true,
+            },
+        ],
+    ),
+    (
+        "move",
+        &[
+            LO,
+            HI,
+            p("dx", number("px"), "the move right at max (negative: left)"),
+            p("dy", number("px"), "the move down at max (negative: up)"),
+            WHEN,
+        ],
+    ),
+    (
+        "rotate",
+        &[
+            LO,
+            HI,
+            p("from", number("°"), "the angle at min (default 0)"),
+            p(
+                "degrees",
+                number("°"),
+                "the angle at max, clockwise (default 360; a meter's needle 270)",
+            ),
+            p(
+                "speed",
+                number("turns/s"),
+                "spin at this speed while active instead (negative: anticlockwise)",
+            ),
+            p(
+                "cx",
+                number("px"),
+                "the anchor point's x in the element's box (default its centre, or the rotor's hub)",
+            ),
+            p("cy", number("px"), "the anchor point's y in the element's box"),
+            WHEN,
+        ],
+    ),
+    (
+        "color",
+        &[
+            p("on", ParamKind::Color, "the colour while the tag is on"),
+            p("off", ParamKind::Color, "the colour while the tag is off"),
+            p(
+                "intervals",
+                ParamKind::Intervals,
+                "a number tag: up to 4 colours, each from its value up",
+            ),
+        ],
+    ),
+    (
+        "fill",
+        &[
+            LO,
+            HI,
+            p(
+                "direction",
+                ParamKind::Choice(&["up", "down", "left", "right"]),
+                "the way the level rises",
+            ),
+            p("color", ParamKind::Color, "the colour of the level"),
+        ],
+    ),
 ];
 
 /// Write actions of widgets.
@@ -410,17 +541,23 @@ fn check_animation(a: &Animation, here: &str, resolve: &Resolve<'_>, diag: &Diag
         )),
         Ok(_) => {}
     }
-    for key in a.params.keys() {
-        if !params.contains(&key.as_str()) {
+    for (key, value) in &a.params {
+        let at = format!("{here}/{key}");
+        let Some(param) = params.iter().find(|p| p.name == key) else {
+            let names: Vec<&str> = params.iter().filter(|p| !p.legacy).map(|p| p.name).collect();
             d.push(diag(
-                &format!("{here}/{key}"),
+                &at,
                 format!(
                     "`{key}` is not a parameter of `{}` (it takes: {})",
                     a.kind,
-                    params.join(", ")
+                    names.join(", ")
                 ),
                 "unknown parameter",
             ));
+            continue;
+        };
+        if let Some(problem) = param_problem(param, value) {
+            d.push(diag(&at, problem, key));
         }
     }
     let num = |k: &str| a.params.get(k).and_then(Json::as_f64);
@@ -433,36 +570,49 @@ fn check_animation(a: &Animation, here: &str, resolve: &Resolve<'_>, diag: &Diag
             "range",
         ));
     }
-    if let Some(dir) = a.params.get("direction")
-        && !matches!(dir.as_str(), Some("up" | "down" | "left" | "right"))
-    {
-        d.push(diag(
-            &format!("{here}/direction"),
-            format!("direction {dir} is not up, down, left or right"),
-            "direction",
-        ));
+}
+
+/// What is wrong with `value` for `param`, if anything.
+fn param_problem(param: &Param, value: &Json) -> Option<String> {
+    let key = param.name;
+    match param.kind {
+        ParamKind::Number { min, max, unit } => match value.as_f64() {
+            None => Some(format!("`{key}` is not a number")),
+            Some(x) if x < min || x > max => Some(format!("`{key}` {x} is not from {min} to {max} {unit}")),
+            Some(_) => None,
+        },
+        ParamKind::Bool => (!value.is_boolean()).then(|| format!("`{key}` is true or false")),
+        ParamKind::Color => (!value.as_str().is_some_and(is_color))
+            .then(|| format!("`{key}` {value} is not a colour (#rrggbb, #rgb, a name or rgb(…))")),
+        ParamKind::Choice(choices) => (!value.as_str().is_some_and(|v| choices.contains(&v))).then(|| {
+            let (last, rest) = choices.split_last().unwrap_or((&"", &[]));
+            format!("{key} {value} is not {} or {last}", rest.join(", "))
+        }),
+        ParamKind::Intervals => match value.as_array() {
+            Some(list) if list.len() <= 4 => list.iter().enumerate().find_map(|(n, i)| {
+                let ok = i.get("from").and_then(Json::as_f64).is_some()
+                    && i.get("color").and_then(Json::as_str).is_some_and(is_color);
+                (!ok).then(|| format!("interval {n}: an interval needs `from` (a number) and `color`"))
+            }),
+            _ => Some("`intervals` is a list of at most 4".into()),
+        },
     }
-    if let Some(iv) = a.params.get("intervals") {
-        match iv.as_array() {
-            Some(list) if list.len() <= 4 => {
-                for (n, i) in list.iter().enumerate() {
-                    if i.get("from").and_then(Json::as_f64).is_none() || i.get("color").and_then(Json::as_str).is_none()
-                    {
-                        d.push(diag(
-                            &format!("{here}/intervals/{n}"),
-                            "an interval needs `from` (a number) and `color`".into(),
-                            "interval",
-                        ));
-                    }
-                }
-            }
-            _ => d.push(diag(
-                &format!("{here}/intervals"),
-                "`intervals` is a list of at most 4".into(),
-                "intervals",
-            )),
-        }
+}
+
+/// A colour the browser draws and nothing else: `#rgb`, `#rgba`, `#rrggbb`,
+/// `#rrggbbaa`, a name, or `rgb(…)`/`rgba(…)`/`hsl(…)`/`hsla(…)` of numbers.
+pub fn is_color(c: &str) -> bool {
+    if let Some(hex) = c.strip_prefix('#') {
+        return matches!(hex.len(), 3 | 4 | 6 | 8) && hex.chars().all(|ch| ch.is_ascii_hexdigit());
     }
+    if !c.is_empty() && c.len() <= 32 && c.chars().all(|ch| ch.is_ascii_alphabetic()) {
+        return true;
+    }
+    ["rgb(", "rgba(", "hsl(", "hsla("].iter().any(|f| {
+        c.strip_prefix(f)
+            .and_then(|r| r.strip_suffix(')'))
+            .is_some_and(|args| !args.is_empty() && args.chars().all(|ch| ch.is_ascii_digit() || " ,.%/-".contains(ch)))
+    })
 }
 
 /// `props.tag`, the value an element shows: a value, or for a faceplate the PID loop.

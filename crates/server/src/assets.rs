@@ -71,7 +71,11 @@ fn respond(path: &str, bytes: &'static [u8], headers: &HeaderMap, cache: &'stati
         extra.push((header::CONTENT_ENCODING, HeaderValue::from_static(coding)));
     }
     let mut res = body.into_response();
-    res.headers_mut().extend(extra);
+    // insert, not extend: the body's own `application/octet-stream` must be
+    // replaced (extend appends, and a browser given both refuses a module)
+    for (name, value) in extra {
+        res.headers_mut().insert(name, value);
+    }
     res
 }
 

@@ -727,9 +727,33 @@ pub struct DomainReply {
 pub struct ScreenDomain {
     /// `[type, what it is]`, AuroraLD's 30.
     pub elements: Vec<(String, String)>,
-    /// `[kind, its parameters besides tag]`.
-    pub animations: Vec<(String, Vec<String>)>,
+    /// The animations and their parameters besides `tag`.
+    pub animations: Vec<AnimationInfo>,
     pub actions: Vec<String>,
+}
+
+/// An animation of screens and the parameters its form asks for.
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct AnimationInfo {
+    pub kind: String,
+    pub params: Vec<ParamInfo>,
+}
+
+/// A parameter of an animation (`alba_project::hmi::Param`).
+#[derive(Debug, Clone, Serialize, TS)]
+pub struct ParamInfo {
+    pub name: String,
+    /// `number` (from `min` to `max`, in `unit`), `bool`, `color`, `choice`
+    /// (one of `choices`) or `intervals` (up to 4 `{from, color}`).
+    #[ts(type = "'number' | 'bool' | 'color' | 'choice' | 'intervals'")]
+    pub kind: &'static str,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub unit: String,
+    pub choices: Vec<String>,
+    pub help: String,
+    /// Still read, no longer offered by the form.
+    pub legacy: bool,
 }
 
 /// A route of `ROUTE_ROLES` and the role it needs (`null`: anybody).
@@ -969,6 +993,8 @@ pub fn typescript() -> String {
         TrendSet,
         TrendPen,
         ScreenDomain,
+        AnimationInfo,
+        ParamInfo,
         TagUse,
         Access,
         TagInfo,

@@ -28,10 +28,11 @@ import {
   snap, symbolOf, ungroup, withGroups,
 } from './edit';
 import { type Element, type Screen, drawElement, place } from './render';
+import { animationForm, animationPreview } from './animform';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
-const animationKinds = () => domain().screens.animations.map(([k]) => k);
+const animationKinds = () => domain().screens.animations.map((a) => a.kind);
 const actions = () => ['', ...domain().screens.actions];
 const DRAG_TYPE = 'application/x-alba-element';
 const SYMBOL_TYPE = 'application/x-alba-symbol';
@@ -383,6 +384,9 @@ export class Designer {
       if (this.sel.has(e.id)) {
         g.classList.add('selected');
         g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
+        // where its move ends and the path its rotation follows (one element selected)
+        const preview = this.sel.size === 1 ? animationPreview(e, !g.querySelector('[data-part="rotor"], [data-part="needle"]')) : null;
+        if (preview) g.append(preview);
       }
       g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
       svg.append(g);
@@ -523,7 +527,9 @@ export class Designer {
       return h('fieldset', { class: 'hmi-anim', 'data-testid': `hmi-anim-${k}` },
         h('legend', null, h('span', null, tr('Animation')), kind, remove),
         tagField(tr('Tag'), `anim-tag-${k}`, a.tag, (v) => this.change(() => (a.tag = v))),
-        json(tr('Parameters (JSON)'), `anim-params-${k}`, params, (p) => this.change(() => (anims[k] = { kind: a.kind, tag: a.tag, ...p } as typeof a))));
+        animationForm(a, `hmi-prop-anim-${k}`, (name, v) => this.change(() => (v === undefined ? delete a[name] : (a[name] = v)))),
+        h('details', { class: 'hmi-expert' }, h('summary', null, tr('JSON (expert)')),
+          json(tr('Parameters (JSON)'), `anim-params-${k}`, params, (p) => this.change(() => (anims[k] = { kind: a.kind, tag: a.tag, ...p } as typeof a)))));
     });
     const addAnim = h('select', { 'data-testid': 'hmi-prop-anim-add' }, h('option', { value: '' }, `+ ${tr('Animation')}…`), animationKinds().map((x) => h('option', { value: x }, x)));
     addAnim.onchange = () => addAnim.value && this.change(() => (e.animations = [...anims, { kind: addAnim.value, tag: '', ...animationDefaults(addAnim.value) } as (typeof anims)[0]]));

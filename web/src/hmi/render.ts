@@ -67,21 +67,57 @@ export function colorOf(a: Animation, v: Json): string | null {
   return num(v) ? (typeof a.on === 'string' ? a.on : ON) : typeof a.off === 'string' ? a.off : GREY;
 }
 
+/** The blink's shown and hidden times in ms (`on_ms`, `off_ms`; the older `period_ms` half each; 500 each). */
+export function blinkTimes(a: Animation): [number, number] {
+  const period = num(a.period_ms);
+  const half = period !== null && period > 0 ? period / 2 : 500;
+  const ms = (x: Json | undefined) => (num(x) !== null && (num(x) as number) > 0 ? (num(x) as number) : half);
+  return [ms(a.on_ms), ms(a.off_ms)];
+}
+
+/**
+ * Whether a visibility or blink animation acts for the value `v` (AuroraLD's
+ * digital or analog condition): a number inside `min`–`max` when either is
+ * set, else the tag on; `when: false` turns it round.
+ */
+export function active(a: Animation, v: Json): boolean {
+  const lo = num(a.min);
+  const hi = num(a.max);
+  const on = (lo !== null || hi !== null) && typeof v === 'number' ? v >= (lo ?? -Infinity) && v <= (hi ?? Infinity) : !!num(v);
+  return on === (a.when !== false);
+}
+
+/** The child `tag` of `g` marked `data-part=part`, made with `attrs` (or removed when `attrs` is null). */
+function smil(g: Element_, tag: 'animate' | 'animateTransform', part: string, attrs: Record<string, string> | null): void {
+  let x = [...g.children].find((c) => c.tagName === tag && c.getAttribute('data-part') === part);
+  if (!attrs) return x?.remove();
+  if (!x) g.append((x = s(tag, { 'data-part': part, repeatCount: 'indefinite' })));
+  for (const [k, v] of Object.entries(attrs)) if (x.getAttribute(k) !== v) x.setAttribute(k, v);
+}
+type Element_ = globalThis.Element;
+
 /**
  * Applies one animation of the element group `g` (box `e`) for value `v`.
- * Pure DOM writes on attributes; `blink` and `rotate` with `speed` are
- * driven by CSS classes, so a running pump turns without a frame loop.
+ * Pure DOM writes on attributes; a blink and a spin are SVG animations
+ * (`<animate>`, `<animateTransform>`) with the element's own times, so they
+ * run without a frame loop and add to the element's placement.
  */
 export function animate(g: SVGGElement, e: Element, a: Animation, v: Json): void {
   const part = (name: string) => g.querySelector(`[data-part="${name}"]`);
   const on = !!num(v);
   switch (a.kind) {
     case 'visibility':
-      g.style.display = on === (a.when !== false) ? '' : 'none';
+      g.style.display = active(a, v) ? '' : 'none';
       break;
-    case 'blink':
-      g.classList.toggle('hmi-blink', on === (a.when !== false));
+    case 'blink': {
+      const blinking = active(a, v);
+      g.classList.toggle('hmi-blinking', blinking);
+      const [shown, hidden] = blinkTimes(a);
+      smil(g, 'animate', 'blink', blinking
+        ? { attributeName: 'opacity', values: '1;0.15', keyTimes: `0;${+(shown / (shown + hidden)).toFixed(4)}`, calcMode: 'discrete', dur: `${shown + hidden}ms` }
+        : null);
       break;
+    }
     case 'color': {
       const c = colorOf(a, v);
       if (c) g.querySelectorAll('[data-part="fill"], [data-part="fill2"]').forEach((p) => p.setAttribute('fill', c));
@@ -111,31 +147,50 @@ export function animate(g: SVGGElement, e: Element, a: Animation, v: Json): void
     case 'move': {
       const x = num(v);
       if (x === null) break;
-      const f = frac(x, a);
+      const f = a.when === false ? 1 - frac(x, a) : frac(x, a);
       g.dataset.move = `${(num(a.dx) ?? 0) * f},${(num(a.dy) ?? 0) * f}`;
       place(g, e);
       break;
     }
     case 'rotate': {
-      // a machine's rotor, a gauge's needle (270° from min to max), or the whole element
-      const needle = part('needle');
-      const rotor = part('rotor') ?? needle ?? g;
+      // with an anchor point the whole element turns about it (AuroraLD's
+      // anchor); else a machine's rotor or a gauge's needle about its hub, or
+      // the whole element about its centre
+      const anchored = num(a.cx) !== null || num(a.cy) !== null;
+      const needle = anchored ? null : part('needle');
+      const rotor = anchored ? null : part('rotor') ?? needle;
+      const [ax, ay] = rotor ? [0, 0] : [num(a.cx) ?? e.w / 2, num(a.cy) ?? e.h / 2];
       if (a.speed !== undefined) {
-        // turning while the value is on
-        rotor.classList.toggle('hmi-spin', on);
+        // turning while active, `speed` turns a second
+        const turns = num(a.speed) ?? 1;
+        const spinning = on === (a.when !== false) && turns !== 0;
+        const target = rotor ?? g;
+        target.classList.toggle('hmi-spin', spinning);
+        smil(target, 'animateTransform', 'spin', spinning
+          ? { attributeName: 'transform', type: 'rotate', additive: 'sum', from: `0 ${ax} ${ay}`, to: `${turns < 0 ? -360 : 360} ${ax} ${ay}`, dur: `${+(1 / Math.abs(turns)).toFixed(4)}s` }
+          : null);
       } else {
         const x = num(v);
-        if (x !== null) rotor.setAttribute('transform', `rotate(${frac(x, a) * (num(a.degrees) ?? (needle ? 270 : 360))})`);
+        if (x === null) break;
+        const f = a.when === false ? 1 - frac(x, a) : frac(x, a);
+        const from = num(a.from) ?? 0;
+        const angle = +(from + f * ((num(a.degrees) ?? (needle ? 270 : 360)) - from)).toFixed(3);
+        if (rotor) rotor.setAttribute('transform', `rotate(${angle})`);
+        else {
+          g.dataset.rotate = `${angle} ${ax} ${ay}`;
+          place(g, e);
+        }
       }
       break;
     }
   }
 }
 
-/** Puts the group at the element's place (and its `move` offset). */
+/** Puts the group at the element's place (with its `move` offset and its `rotate` about an anchor). */
 export function place(g: SVGGElement, e: Element): void {
   const [dx, dy] = (g.dataset.move ?? '0,0').split(',').map(Number);
-  g.setAttribute('transform', `translate(${e.x + dx},${e.y + dy}) rotate(${e.rotation ?? 0} ${e.w / 2} ${e.h / 2})`);
+  const turned = g.dataset.rotate ? ` rotate(${g.dataset.rotate})` : '';
+  g.setAttribute('transform', `translate(${e.x + dx},${e.y + dy}) rotate(${e.rotation ?? 0} ${e.w / 2} ${e.h / 2})${turned}`);
 }
 
 /**

@@ -33,6 +33,10 @@ const GOOD: &str = r##"{
      "animations": [{"kind": "fill", "tag": "Level", "min": 0, "max": 60, "direction": "up"}]},
     {"id": "pump", "type": "pump", "x": 300, "y": 240, "w": 60, "h": 60,
      "animations": [{"kind": "rotate", "tag": "Pump", "speed": 1},
+                    {"kind": "rotate", "tag": "Level", "min": 0, "max": 60, "from": -45, "degrees": 45, "cx": 0, "cy": 30, "when": true},
+                    {"kind": "blink", "tag": "Level", "min": 50, "max": 60, "on_ms": 300, "off_ms": 700, "when": false},
+                    {"kind": "blink", "tag": "Pump", "period_ms": 500},
+                    {"kind": "visibility", "tag": "Level", "min": 5},
                     {"kind": "color", "tag": "Level", "intervals": [{"from": 0, "color": "#2e7d32"}, {"from": 55, "color": "#c62828"}]}]},
     {"id": "start", "type": "button", "x": 300, "y": 320, "w": 80, "h": 32,
      "props": {"label": "Fill"}, "action": {"kind": "momentary", "tag": "Light"}},
@@ -63,7 +67,7 @@ const E: &str = r#""id": "e", "type": "tank", "x": 1, "y": 2, "w": 10, "h": 10"#
 
 #[test]
 fn malformed_screens_are_reported_at_their_place() {
-    let cases: Vec<(String, &str)> = vec![
+    let mut cases: Vec<(String, &str)> = vec![
         (
             "{".into(),
             "hmi/main.json:1:1: error[E141]: not a screen file: EOF while parsing an object",
@@ -253,6 +257,29 @@ fn malformed_screens_are_reported_at_their_place() {
             "action `set`: unknown tag `Nope`",
         ),
     ];
+    // Each parameter is checked by its kind (the table the designer's forms are made from).
+    let anim = |a: &str| with(&format!("{{{E}, \"animations\": [{{\"tag\": \"Level\", {a}}}]}}"));
+    cases.extend([
+        (
+            anim(r#""kind": "blink", "on_ms": 5"#),
+            "`on_ms` 5 is not from 10 to 600000 ms",
+        ),
+        (anim(r#""kind": "blink", "off_ms": "fast""#), "`off_ms` is not a number"),
+        (
+            anim(r#""kind": "visibility", "when": "yes""#),
+            "`when` is true or false",
+        ),
+        (
+            anim(r#""kind": "color", "on": "red;}""#),
+            "`on` \"red;}\" is not a colour",
+        ),
+        (anim(r#""kind": "color", "off": "url(#x)""#), "is not a colour"),
+        (anim(r#""kind": "rotate", "cx": "middle""#), "`cx` is not a number"),
+        (
+            anim(r#""kind": "visibility", "min": 10, "max": 2"#),
+            "max 2 must be above min 10",
+        ),
+    ]);
     assert!(cases.len() >= 20);
     for (text, want) in cases {
         let (_, d) = check(&text);

@@ -5,7 +5,7 @@
 //! /api/instructions` is its instruction table.
 
 use crate::auth::Access;
-use crate::reply::{DomainReply, RouteRole};
+use crate::reply::{AnimationInfo, DomainReply, ParamInfo, RouteRole};
 use alba_compiler::ladder::domain::{InstructionInfo, domain, instructions as table};
 use axum::Json;
 
@@ -30,7 +30,10 @@ pub async fn get() -> Json<DomainReply> {
             .collect(),
         animations: hmi::ANIMATIONS
             .iter()
-            .map(|(k, ps)| (k.to_string(), ps.iter().map(|p| p.to_string()).collect()))
+            .map(|(kind, params)| AnimationInfo {
+                kind: kind.to_string(),
+                params: params.iter().map(param).collect(),
+            })
             .collect(),
         actions: hmi::ACTIONS.iter().map(|a| a.to_string()).collect(),
     };
@@ -44,4 +47,26 @@ pub async fn get() -> Json<DomainReply> {
 /// `GET /api/instructions`: the palette (every instruction, PID included).
 pub async fn instructions() -> Json<Vec<InstructionInfo>> {
     Json(table())
+}
+
+/// An animation parameter as the designer's form needs it.
+fn param(p: &alba_compiler::project::hmi::Param) -> ParamInfo {
+    use alba_compiler::project::hmi::ParamKind;
+    let (kind, min, max, unit, choices) = match p.kind {
+        ParamKind::Number { min, max, unit } => ("number", Some(min), Some(max), unit, &[][..]),
+        ParamKind::Bool => ("bool", None, None, "", &[][..]),
+        ParamKind::Color => ("color", None, None, "", &[][..]),
+        ParamKind::Choice(c) => ("choice", None, None, "", c),
+        ParamKind::Intervals => ("intervals", None, None, "", &[][..]),
+    };
+    ParamInfo {
+        name: p.name.to_string(),
+        kind,
+        min,
+        max,
+        unit: unit.to_string(),
+        choices: choices.iter().map(|c| c.to_string()).collect(),
+        help: p.help.to_string(),
+        legacy: p.legacy,
+    }
 }

@@ -648,6 +648,19 @@ async fn the_studio_is_embedded_and_served() {
                 coding,
                 "{path} for {accept:?}"
             );
+            // one content type, the file's (a browser refuses a module
+            // script sent as `application/octet-stream, text/javascript`)
+            let types: Vec<_> = h
+                .get_all("content-type")
+                .iter()
+                .filter_map(|v| v.to_str().ok())
+                .collect();
+            let want = if path == "/" {
+                "text/html; charset=utf-8"
+            } else {
+                "text/javascript; charset=utf-8"
+            };
+            assert_eq!(types, [want], "{path} for {accept:?}");
             assert_eq!(
                 h.get("vary").and_then(|v| v.to_str().ok()),
                 Some("Accept-Encoding"),
