@@ -164,18 +164,23 @@ export type ScreenDomain = {
  */
 elements: Array<[string, string]>, 
 /**
+ * Each element type's own properties (besides `label`, `tag`, `alarm`).
+ */
+properties: Array<ParamTable>, 
+/**
  * The animations and their parameters besides `tag`.
  */
-animations: Array<AnimationInfo>, actions: Array<string>, };
+animations: Array<ParamTable>, actions: Array<string>, };
 
-export type AnimationInfo = { kind: string, params: Array<ParamInfo>, };
+export type ParamTable = { kind: string, params: Array<ParamInfo>, };
 
 export type ParamInfo = { name: string, 
 /**
  * `number` (from `min` to `max`, in `unit`), `bool`, `color`, `choice`
- * (one of `choices`) or `intervals` (up to 4 `{from, color}`).
+ * (one of `choices`), `intervals` (up to 4 `{from, color}`), `text` (at
+ * most `max` characters), `tag` or `points` (at most `max` `[x, y]`).
  */
-kind: 'number' | 'bool' | 'color' | 'choice' | 'intervals', min: number | null, max: number | null, unit: string, choices: Array<string>, help: string, 
+kind: 'number' | 'bool' | 'color' | 'choice' | 'intervals' | 'text' | 'tag' | 'points', min: number | null, max: number | null, unit: string, choices: Array<string>, help: string, 
 /**
  * Still read, no longer offered by the form.
  */

@@ -13,7 +13,7 @@ import type { ArgInfo, DomainReply, GroupInfo, InstructionInfo, MemberInfo, Rout
 export type Domain = DomainReply;
 export type { ArgInfo, GroupInfo, InstructionInfo, MemberInfo, RouteRole, TypeInfo };
 
-let current: Domain = { types: [], groups: [], args: [], instructions: [], routes: [], screens: { elements: [], animations: [], actions: [] } };
+let current: Domain = { types: [], groups: [], args: [], instructions: [], routes: [], screens: { elements: [], properties: [], animations: [], actions: [] } };
 let byMnemonic = new Map<string, InstructionInfo>();
 let byType = new Map<string, TypeInfo>();
 let byArg = new Map<string, ArgInfo>();

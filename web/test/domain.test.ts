@@ -40,7 +40,7 @@ describe('the domain from the server', () => {
     const keys = (o: object) => Object.keys(o).sort();
     const d = domain();
     expect(keys(d)).toEqual(['args', 'groups', 'instructions', 'routes', 'screens', 'types']);
-    expect(keys(d.screens)).toEqual(['actions', 'animations', 'elements']);
+    expect(keys(d.screens)).toEqual(['actions', 'animations', 'elements', 'properties']);
     for (const t of d.types) {
       expect(keys(t)).toEqual(['kind', 'members', 'name']);
       expect(['bool', 'integer', 'real', 'structure']).toContain(t.kind);

@@ -36,6 +36,35 @@ describe('element symbols', () => {
     await expect(drawElement(el('tank', { style: 'silo' })).outerHTML).toMatchFileSnapshot(golden('tank-silo'));
   });
 
+  // Every choice of every element property the domain lists, and the other variants (issue 35, point 1).
+  const variants: [string, Record<string, Json>][] = [
+    ['polygon', { points: [[0, 0], [100, 20], [80, 100], [10, 70]], color: '#ff8800', stroke: '#333333', stroke_width: 3 }],
+    ['line', { points: [[0, 0], [50, 80], [100, 20]], stroke: '#1565c0', stroke_width: 4 }],
+    ['arc', { start: 0, end: 270 }],
+    ['arc', { start: -45, end: 45, close: 'chord', color: '#ffe082' }],
+    ['arc', { start: 90, end: 180, close: 'centre' }],
+    ['rectangle', { color: '#b3e5fc', stroke: '#0277bd', stroke_width: 2 }],
+    ['text', { text: 'Hello', size: 20, color: '#c62828' }],
+    ['led', { color: '#ffd54f' }],
+    ['pump', { color: '#81c784' }],
+    ['image', { src: 'assets/logo.png', scale: 50 }],
+    ['wind_turbine', { tower: false }],
+    ['fan', { casing: false }],
+  ];
+  for (const table of domain().screens.properties) {
+    for (const param of table.params.filter((p) => p.kind === 'choice')) {
+      for (const choice of param.choices) variants.push([table.kind, { [param.name]: choice }]);
+    }
+  }
+  for (const [type, props] of variants) {
+    const name = `${type}-${Object.entries(props).map(([k, v]) => `${k}-${Array.isArray(v) ? v.length : v}`).join('-')}`.replace(/[^\w-]/g, '');
+    it(`draws the variant ${name}`, async () => {
+      const g = drawElement(el(type, props));
+      expect(g.querySelector('[data-part]'), name).not.toBeNull();
+      await expect(g.outerHTML).toMatchFileSnapshot(golden(`variant-${name}`));
+    });
+  }
+
   it('marks the parts animations reach, on every type', () => {
     for (const type of TYPES()) {
       const g = drawElement(el(type));

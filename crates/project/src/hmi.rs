@@ -60,11 +60,25 @@ pub const ELEMENT_TYPES: &[(&str, &str)] = &[
 /// box, a colour picker, a choice, or the colour intervals).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ParamKind {
-    Number { min: f64, max: f64, unit: &'static str },
+    Number {
+        min: f64,
+        max: f64,
+        unit: &'static str,
+    },
     Bool,
     Color,
     Choice(&'static [&'static str]),
     Intervals,
+    /// Free text of at most `max_len` characters.
+    Text {
+        max_len: usize,
+    },
+    /// A tag's name (a value, not a structure).
+    Tag,
+    /// Up to `max` points `[x, y]` in the element's box.
+    Points {
+        max: usize,
+    },
 }
 
 /// A parameter of an animation besides `tag`.
@@ -194,6 +208,230 @@ pub const ANIMATIONS: &[(&str, &[Param])] = &[
             p("color", ParamKind::Color, "the colour of the level"),
         ],
     ),
+];
+
+const COLOR: Param = p("color", ParamKind::Color, "the colour of its body");
+const STROKE: Param = p("stroke", ParamKind::Color, "the colour of its outline");
+const STROKE_W: Param = p(
+    "stroke_width",
+    ParamKind::Number {
+        min: 0.0,
+        max: 40.0,
+        unit: "px",
+    },
+    "the width of its outline",
+);
+const DECIMALS: Param = p(
+    "decimals",
+    ParamKind::Number {
+        min: 0.0,
+        max: 10.0,
+        unit: "",
+    },
+    "the figures after the point",
+);
+const UNIT: Param = p(
+    "unit",
+    ParamKind::Text { max_len: 16 },
+    "the unit shown after the value",
+);
+const SCALE_LO: Param = p("min", number(""), "the bottom of its scale");
+const SCALE_HI: Param = p("max", number(""), "the top of its scale");
+const POINTS: Param = p(
+    "points",
+    ParamKind::Points { max: 200 },
+    "its vertices [x, y] in its box (up to 200)",
+);
+
+/// The safety signs of `000_…` §3.6 (ISO 7010 shapes): a warning triangle,
+/// a prohibition circle, or a mandatory/fire/exit square.
+pub const SIGNS: &[&str] = &[
+    "danger",
+    "electrical",
+    "radiation",
+    "toxic",
+    "flammable",
+    "corrosive",
+    "stop",
+    "no_entry",
+    "helmet",
+    "fire_extinguisher",
+    "exit",
+];
+
+/// Each element type's own properties besides `label` and the shown `tag`
+/// (and `alarm`, an alarm indicator's alarm id): what the designer's form
+/// asks for and `alba check` checks by kind. A property the table does not
+/// know is kept (for other tools) and shown only in the expert JSON.
+pub const ELEMENT_PROPS: &[(&str, &[Param])] = &[
+    (
+        "text",
+        &[
+            p(
+                "text",
+                ParamKind::Text { max_len: 1000 },
+                "the text shown (when no tag is shown)",
+            ),
+            p(
+                "size",
+                ParamKind::Number {
+                    min: 4.0,
+                    max: 400.0,
+                    unit: "px",
+                },
+                "the font size",
+            ),
+            COLOR,
+        ],
+    ),
+    ("input", &[DECIMALS, UNIT]),
+    ("output", &[DECIMALS, UNIT]),
+    ("rectangle", &[COLOR, STROKE, STROKE_W]),
+    ("circle", &[COLOR, STROKE, STROKE_W]),
+    ("polygon", &[POINTS, COLOR, STROKE, STROKE_W]),
+    ("line", &[POINTS, STROKE, STROKE_W]),
+    (
+        "arc",
+        &[
+            p(
+                "start",
+                number("°"),
+                "where it starts, clockwise from 12 o'clock (default -90)",
+            ),
+            p("end", number("°"), "where it ends (default 90)"),
+            p(
+                "close",
+                ParamKind::Choice(&["open", "chord", "centre"]),
+                "open, closed by its chord, or a pie closed through its centre",
+            ),
+            COLOR,
+            STROKE,
+            STROKE_W,
+        ],
+    ),
+    ("button", &[COLOR]),
+    (
+        "switch",
+        &[
+            p(
+                "style",
+                ParamKind::Choice(&["toggle", "rocker", "rotary"]),
+                "a toggle lever, a rocker or a rotary selector",
+            ),
+            COLOR,
+        ],
+    ),
+    ("slider", &[]),
+    ("led", &[COLOR]),
+    (
+        "wind_turbine",
+        &[p("tower", ParamKind::Bool, "drawn on its tower (default yes)")],
+    ),
+    (
+        "fan",
+        &[p("casing", ParamKind::Bool, "drawn in its casing (default yes)")],
+    ),
+    ("cooling_tower", &[]),
+    (
+        "plc",
+        &[p(
+            "run_tag",
+            ParamKind::Tag,
+            "its RUN and I/O lamps blink while this BOOL is on",
+        )],
+    ),
+    ("clock", &[]),
+    (
+        "image",
+        &[
+            p(
+                "src",
+                ParamKind::Text { max_len: 300 },
+                "the image: assets/<name> of the project",
+            ),
+            p(
+                "scale",
+                ParamKind::Number {
+                    min: 1.0,
+                    max: 1000.0,
+                    unit: "%",
+                },
+                "its size in percent of the box (default: fitted)",
+            ),
+        ],
+    ),
+    (
+        "bottle",
+        &[p("cap_tag", ParamKind::Tag, "its cap is on while this BOOL is on")],
+    ),
+    ("motor", &[COLOR]),
+    ("pump", &[COLOR]),
+    (
+        "tank",
+        &[p(
+            "style",
+            ParamKind::Choice(&["tank", "silo", "horizontal"]),
+            "an upright tank, a silo with its cone, or a lying tank",
+        )],
+    ),
+    (
+        "pipe",
+        &[p(
+            "shape",
+            ParamKind::Choice(&["straight", "elbow", "tee", "cross"]),
+            "straight, an elbow, a tee or a cross (turned by the element's rotation)",
+        )],
+    ),
+    (
+        "valve",
+        &[p(
+            "style",
+            ParamKind::Choice(&["gate", "ball", "butterfly"]),
+            "a gate, a ball or a butterfly valve",
+        )],
+    ),
+    (
+        "building",
+        &[p(
+            "windows_tag",
+            ParamKind::Tag,
+            "its windows are lit while this BOOL is on",
+        )],
+    ),
+    ("transmission_tower", &[]),
+    ("safety_sign", &[p("sign", ParamKind::Choice(SIGNS), "the sign shown")]),
+    (
+        "meter",
+        &[
+            p(
+                "style",
+                ParamKind::Choice(&["bar", "circular"]),
+                "a bar or a circular gauge",
+            ),
+            SCALE_LO,
+            SCALE_HI,
+            UNIT,
+            DECIMALS,
+        ],
+    ),
+    ("alarm", &[]),
+    (
+        "trend",
+        &[
+            SCALE_LO,
+            SCALE_HI,
+            p(
+                "window_s",
+                ParamKind::Number {
+                    min: 1.0,
+                    max: MAX_TREND_WINDOW_S,
+                    unit: "s",
+                },
+                "the seconds it shows up to now (default 120)",
+            ),
+        ],
+    ),
+    ("faceplate", &[]),
 ];
 
 /// Write actions of widgets.
@@ -500,7 +738,7 @@ pub fn parse(
         let from = d.len();
         check_shown(e, &here, resolve, &diag, &mut d);
         check_alarm_ref(e, &here, alarm, &diag, &mut d);
-        check_window(e, &here, &diag, &mut d);
+        check_props(e, &here, resolve, &diag, &mut d);
         for (n, a) in e.animations.iter().enumerate() {
             check_animation(a, &format!("{here}/animations/{n}"), resolve, &diag, &mut d);
         }
@@ -556,7 +794,7 @@ fn check_animation(a: &Animation, here: &str, resolve: &Resolve<'_>, diag: &Diag
             ));
             continue;
         };
-        if let Some(problem) = param_problem(param, value) {
+        if let Some(problem) = param_problem(param, value, resolve) {
             d.push(diag(&at, problem, key));
         }
     }
@@ -573,9 +811,31 @@ fn check_animation(a: &Animation, here: &str, resolve: &Resolve<'_>, diag: &Diag
 }
 
 /// What is wrong with `value` for `param`, if anything.
-fn param_problem(param: &Param, value: &Json) -> Option<String> {
+fn param_problem(param: &Param, value: &Json, resolve: &Resolve<'_>) -> Option<String> {
     let key = param.name;
     match param.kind {
+        ParamKind::Tag => match value.as_str().map(|t| (t, resolve(t))) {
+            None => Some(format!("`{key}` is a tag's name (a string)")),
+            Some((_, Err(err))) => Some(format!("`{key}`: {err}")),
+            Some((t, Ok((TagKind::Structure, _)))) => {
+                Some(format!("`{key}`: `{t}` is a structure: name one of its members"))
+            }
+            Some(_) => None,
+        },
+        ParamKind::Text { max_len } => match value.as_str() {
+            Some(t) if t.chars().count() <= max_len => None,
+            Some(_) => Some(format!("`{key}` is longer than {max_len} characters")),
+            None => Some(format!("`{key}` is a text")),
+        },
+        ParamKind::Points { max } => match value.as_array() {
+            Some(list) if list.len() <= max => list.iter().enumerate().find_map(|(n, pt)| {
+                let ok = pt
+                    .as_array()
+                    .is_some_and(|xy| xy.len() == 2 && xy.iter().all(|c| c.as_f64().is_some()));
+                (!ok).then(|| format!("point {n} of `{key}` is not [x, y]"))
+            }),
+            _ => Some(format!("`{key}` is a list of at most {max} points [x, y]")),
+        },
         ParamKind::Number { min, max, unit } => match value.as_f64() {
             None => Some(format!("`{key}` is not a number")),
             Some(x) if x < min || x > max => Some(format!("`{key}` {x} is not from {min} to {max} {unit}")),
@@ -667,18 +927,41 @@ fn check_alarm_ref(e: &Element, here: &str, alarm: &dyn Fn(&str) -> bool, diag: 
 /// The longest time window of a trend: a day, in seconds.
 pub const MAX_TREND_WINDOW_S: f64 = 86_400.0;
 
-/// `props.window_s` of a trend: the seconds it shows, above 0 and at most a day.
-fn check_window(e: &Element, here: &str, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
-    let Some(v) = e.props.get("window_s") else { return };
-    let at = format!("{here}/props/window_s");
-    match v.as_f64() {
-        _ if e.kind != "trend" => d.push(diag(&at, "only a `trend` has a time window".into(), "not a trend")),
-        Some(s) if s > 0.0 && s <= MAX_TREND_WINDOW_S => {}
-        _ => d.push(diag(
-            &at,
-            format!("`window_s` is the seconds the trend shows, above 0 and at most {MAX_TREND_WINDOW_S}; got {v}"),
-            "window",
-        )),
+/// An element's own properties, each by its kind (`ELEMENT_PROPS`). A
+/// property of another element type is refused here (a trend's `window_s` on
+/// a tank); one no element type has is kept for other tools.
+fn check_props(e: &Element, here: &str, resolve: &Resolve<'_>, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
+    let own = ELEMENT_PROPS
+        .iter()
+        .find(|(t, _)| *t == e.kind)
+        .map_or(&[][..], |(_, ps)| *ps);
+    for (key, value) in &e.props {
+        let at = format!("{here}/props/{key}");
+        match own.iter().find(|p| p.name == key) {
+            Some(param) => {
+                let problem = param_problem(param, value, resolve);
+                if let Some(problem) = problem {
+                    d.push(diag(&at, problem, key));
+                }
+            }
+            None if ELEMENT_PROPS.iter().any(|(_, ps)| ps.iter().any(|p| p.name == key)) => {
+                let names: Vec<&str> = own.iter().map(|p| p.name).collect();
+                d.push(diag(
+                    &at,
+                    format!(
+                        "`{key}` is not a property of `{}` (it takes: {})",
+                        e.kind,
+                        if names.is_empty() {
+                            "label".to_string()
+                        } else {
+                            names.join(", ")
+                        }
+                    ),
+                    "not its property",
+                ));
+            }
+            None => {}
+        }
     }
 }
 

@@ -727,14 +727,17 @@ pub struct DomainReply {
 pub struct ScreenDomain {
     /// `[type, what it is]`, AuroraLD's 30.
     pub elements: Vec<(String, String)>,
+    /// Each element type's own properties (besides `label`, `tag`, `alarm`).
+    pub properties: Vec<ParamTable>,
     /// The animations and their parameters besides `tag`.
-    pub animations: Vec<AnimationInfo>,
+    pub animations: Vec<ParamTable>,
     pub actions: Vec<String>,
 }
 
-/// An animation of screens and the parameters its form asks for.
+/// An element type's properties or an animation's parameters, as the
+/// designer's form asks for them (`kind`: the element type or animation).
 #[derive(Debug, Clone, Serialize, TS)]
-pub struct AnimationInfo {
+pub struct ParamTable {
     pub kind: String,
     pub params: Vec<ParamInfo>,
 }
@@ -744,8 +747,9 @@ pub struct AnimationInfo {
 pub struct ParamInfo {
     pub name: String,
     /// `number` (from `min` to `max`, in `unit`), `bool`, `color`, `choice`
-    /// (one of `choices`) or `intervals` (up to 4 `{from, color}`).
-    #[ts(type = "'number' | 'bool' | 'color' | 'choice' | 'intervals'")]
+    /// (one of `choices`), `intervals` (up to 4 `{from, color}`), `text` (at
+    /// most `max` characters), `tag` or `points` (at most `max` `[x, y]`).
+    #[ts(type = "'number' | 'bool' | 'color' | 'choice' | 'intervals' | 'text' | 'tag' | 'points'")]
     pub kind: &'static str,
     pub min: Option<f64>,
     pub max: Option<f64>,
@@ -993,7 +997,7 @@ pub fn typescript() -> String {
         TrendSet,
         TrendPen,
         ScreenDomain,
-        AnimationInfo,
+        ParamTable,
         ParamInfo,
         TagUse,
         Access,

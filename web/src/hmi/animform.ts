@@ -18,6 +18,11 @@ export function paramsOf(kind: string): ParamInfo[] {
   return domain().screens.animations.find((a) => a.kind === kind)?.params ?? [];
 }
 
+/** The own properties of an element `type`, as the domain lists them. */
+export function propsOf(type: string): ParamInfo[] {
+  return domain().screens.properties.find((a) => a.kind === type)?.params ?? [];
+}
+
 const finite = (x: number | null) => (x !== null && Math.abs(x) < 1e12 ? x : undefined);
 
 /**
@@ -25,14 +30,31 @@ const finite = (x: number | null) => (x !== null && Math.abs(x) < 1e12 ? x : und
  * to remove one. Legacy parameters are shown only when the file has them.
  */
 export function animationForm(a: Animation, testid: string, set: (name: string, v: Json | undefined) => void): HTMLElement {
-  const rows = paramsOf(a.kind)
-    .filter((p) => !p.legacy || a[p.name] !== undefined)
+  return paramForm(paramsOf(a.kind), a, testid, set);
+}
+
+/** The form of `params` for the values `values` (an animation, or an element's props). */
+export function paramForm(params: ParamInfo[], values: Record<string, Json | undefined>, testid: string, set: (name: string, v: Json | undefined) => void): HTMLElement {
+  const rows = params
+    .filter((p) => !p.legacy || values[p.name] !== undefined)
     .map((p) => {
       const id = `${testid}-${p.name}`;
       const label = p.unit ? `${p.name} (${p.unit})` : p.name;
-      return h('label', { title: p.help, class: `hmi-param hmi-param-${p.kind}` }, h('span', null, label), field(p, a[p.name], id, (v) => set(p.name, v)));
+      return h('label', { title: p.help, class: `hmi-param hmi-param-${p.kind}` }, h('span', null, label), field(p, values[p.name], id, (v) => set(p.name, v)));
     });
   return h('div', { class: 'hmi-params', 'data-testid': testid }, rows);
+}
+
+/** Points as the form writes them: `x,y` pairs separated by spaces (SVG's own notation). */
+export function parsePoints(text: string): [number, number][] | null {
+  const pairs = text.trim().split(/\s+/).filter(Boolean);
+  const out: [number, number][] = [];
+  for (const p of pairs) {
+    const xy = p.split(',').map(Number);
+    if (xy.length !== 2 || !xy.every(Number.isFinite)) return null;
+    out.push([xy[0], xy[1]]);
+  }
+  return out;
 }
 
 function field(p: ParamInfo, v: Json | undefined, id: string, set: (v: Json | undefined) => void): HTMLElement {
@@ -63,6 +85,23 @@ function field(p: ParamInfo, v: Json | undefined, id: string, set: (v: Json | un
       return colorField(typeof v === 'string' ? v : undefined, id, set);
     case 'intervals':
       return intervalsField(Array.isArray(v) ? (v as { from: number; color: string }[]) : [], id, set);
+    case 'text':
+    case 'tag': {
+      const attrs = p.kind === 'tag' ? { list: 'hmi-tags', placeholder: tr('Search tags…'), autocomplete: 'off' } : { maxlength: finite(p.max) };
+      const input = h('input', { value: typeof v === 'string' ? v : '', 'data-testid': id, ...attrs });
+      input.addEventListener('change', () => set(input.value === '' ? undefined : input.value));
+      return input;
+    }
+    case 'points': {
+      const shown = Array.isArray(v) ? (v as number[][]).map((xy) => xy.join(',')).join(' ') : '';
+      const area = h('textarea', { rows: 2, 'data-testid': id, placeholder: '0,0 40,10 20,40' }, shown);
+      area.addEventListener('change', () => {
+        const pts = parsePoints(area.value);
+        area.classList.toggle('invalid', pts === null);
+        if (pts) set(pts.length ? pts : undefined);
+      });
+      return area;
+    }
   }
 }
 

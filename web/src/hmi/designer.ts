@@ -28,7 +28,7 @@ import {
   snap, symbolOf, ungroup, withGroups,
 } from './edit';
 import { type Element, type Screen, drawElement, place } from './render';
-import { animationForm, animationPreview } from './animform';
+import { animationForm, animationPreview, paramForm, propsOf } from './animform';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
@@ -550,8 +550,14 @@ export class Designer {
           const { tag: _old, ...rest } = e.props ?? {};
           e.props = v ? { ...rest, tag: v } : rest;
         })),
-      json(tr('Other properties (JSON)'), 'props', others, (p) =>
-        this.change(() => (e.props = { ...p, ...(e.props?.label !== undefined ? { label: e.props.label } : {}), ...(typeof shown === 'string' ? { tag: shown } : {}) }))),
+      paramForm(propsOf(e.type), e.props ?? {}, 'hmi-prop-el', (name, v) =>
+        this.change(() => {
+          const { [name]: _old, ...rest } = e.props ?? {};
+          e.props = v === undefined ? rest : { ...rest, [name]: v };
+        })),
+      h('details', { class: 'hmi-expert' }, h('summary', null, tr('JSON (expert)')),
+        json(tr('Other properties (JSON)'), 'props', others, (p) =>
+          this.change(() => (e.props = { ...p, ...(e.props?.label !== undefined ? { label: e.props.label } : {}), ...(typeof shown === 'string' ? { tag: shown } : {}) })))),
       animRows,
       h('label', null, addAnim),
       h('label', null, h('span', null, tr('Action')), actSel),

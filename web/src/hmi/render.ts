@@ -38,12 +38,25 @@ export interface Screen {
   elements: Element[];
 }
 
+/**
+ * The properties that name a BOOL tag of their own, and the data attribute
+ * (`on`/`off`) each sets on the element for the style sheet: a bottle's cap,
+ * a building's lit windows, a PLC's lamps blinking while it runs.
+ */
+export const PROP_TAGS: Record<string, string> = { cap_tag: 'cap', windows_tag: 'windows', run_tag: 'run' };
+
+/** Shows the value `v` of the tag named by the property `prop` (one of `PROP_TAGS`) on `g`. */
+export function showPropTag(g: SVGGElement, prop: string, v: Json): void {
+  g.dataset[PROP_TAGS[prop]] = num(v) ? 'on' : 'off';
+}
+
 /** The tags a screen shows or writes: what its view subscribes to, and nothing else. */
 export function tagsOf(screen: Screen): string[] {
   const names = new Set<string>();
   for (const e of screen.elements) {
     for (const a of e.animations ?? []) names.add(a.tag);
     if (typeof e.props?.tag === 'string') names.add(e.props.tag);
+    for (const prop of Object.keys(PROP_TAGS)) if (typeof e.props?.[prop] === 'string') names.add(e.props[prop] as string);
     if (e.action?.tag) names.add(e.action.tag);
   }
   return [...names];
@@ -200,7 +213,8 @@ export function place(g: SVGGElement, e: Element): void {
  */
 export function showValue(g: SVGGElement, v: Json, props: Record<string, Json> = {}): void {
   const t = g.querySelector('[data-part="text"]');
-  const shown = typeof v === 'number' && typeof props.decimals === 'number' ? v.toFixed(Math.max(0, Math.min(10, props.decimals))) : fmt(v);
+  const figures = typeof v === 'number' && typeof props.decimals === 'number' ? v.toFixed(Math.max(0, Math.min(10, props.decimals))) : fmt(v);
+  const shown = typeof props.unit === 'string' && props.unit ? `${figures} ${props.unit}` : figures;
   if (t && t.textContent !== shown) t.textContent = shown;
 }
 

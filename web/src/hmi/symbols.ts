@@ -113,34 +113,46 @@ export function symbol(e: Element): SVGElement[] {
   const m = Math.min(w, h);
   switch (e.type) {
     // ——— basic shapes and controls (unchanged parts) ———
-    case 'text':
-      return [text(label || String(p.text ?? ''), h / 2, Number(p.size ?? 14))];
+    case 'text': {
+      const t = text(label || String(p.text ?? ''), h / 2, Number(p.size ?? 14));
+      if (typeof p.color === 'string') t.setAttribute('fill', p.color);
+      return [t];
+    }
     case 'output':
     case 'input':
       return [s('rect', face({ width: w, height: h, rx: 3, fill: '#fff' })), text('…')];
     case 'rectangle':
-      return [s('rect', face({ width: w, height: h, 'data-part': 'fill' }))];
+      return [s('rect', painted(p, face({ width: w, height: h, 'data-part': 'fill' })))];
     case 'circle':
-      return [s('ellipse', face({ cx: n(w / 2), cy: n(h / 2), rx: n(w / 2), ry: n(h / 2), 'data-part': 'fill' }))];
-    case 'line':
-      return [line(0, h / 2, w, h / 2, { ...stroke(3), 'stroke-linecap': 'round', 'data-part': 'fill' })];
+      return [s('ellipse', painted(p, face({ cx: n(w / 2), cy: n(h / 2), rx: n(w / 2), ry: n(h / 2), 'data-part': 'fill' })))];
+    case 'line': {
+      const ps = points(p);
+      const attrs = painted(p, { fill: 'none', ...stroke(3), 'stroke-linecap': 'round', 'stroke-linejoin': 'round', 'data-part': 'fill' }, 'stroke');
+      return [ps ? s('polyline', { points: pts(...ps), ...attrs }) : line(0, h / 2, w, h / 2, attrs)];
+    }
     case 'polygon':
-      return [s('polygon', face({ points: pts([w / 2, 0], [w, h], [0, h]), 'data-part': 'fill' }))];
+      return [s('polygon', painted(p, face({ points: pts(...(points(p) ?? [[w / 2, 0], [w, h], [0, h]])), 'stroke-linejoin': 'round', 'data-part': 'fill' })))];
     case 'arc':
-      return [s('path', { d: d('M', 0, h, 'A', w / 2, h, 0, 0, 1, w, h), fill: 'none', ...stroke(3), 'data-part': 'fill' })];
+      return [arc(w, h, p)];
     case 'button':
+      return [s('rect', painted(p, face({ width: w, height: h, rx: 6, fill: '#f1f3f4', 'data-part': 'fill' }))), text(label || e.type)];
     case 'switch':
-      return [s('rect', face({ width: w, height: h, rx: 6, fill: '#f1f3f4', 'data-part': 'fill' })), text(label || e.type)];
+      return switchOf(w, h, p, text(label || e.type));
     case 'slider':
       return [
         s('rect', face({ y: n(h / 2 - 3), width: w, height: 6, rx: 3 })),
         circle(0, h / 2, Math.min(10, h / 2), { fill: DARK, 'data-part': 'knob' }),
       ];
     case 'image':
-      return typeof p.src === 'string' ? [s('image', { href: p.src, width: w, height: h, 'data-part': 'image' })] : imagePlaceholder(w, h);
+      if (typeof p.src !== 'string') return imagePlaceholder(w, h);
+      else {
+        // scaled by percent about the box's centre (the seed's file dialog); else fitted
+        const k = typeof p.scale === 'number' ? p.scale / 100 : 1;
+        return [s('image', { href: p.src, x: n((w - w * k) / 2), y: n((h - h * k) / 2), width: n(w * k), height: n(h * k), 'data-part': 'image' })];
+      }
     // ——— indicators ———
     case 'led':
-      return led(w, h);
+      return led(w, h, p);
     case 'alarm':
       return fitted(w, h, 0.8, 1.25, alarm);
     case 'clock':
@@ -156,25 +168,25 @@ export function symbol(e: Element): SVGElement[] {
     case 'faceplate':
       return faceplate(w, h, label || (typeof p.tag === 'string' ? p.tag : ''));
     case 'safety_sign':
-      return [...safetySign(w, h), name()];
+      return [...safetySign(w, h, typeof p.sign === 'string' ? p.sign : 'danger'), name()];
     // ——— rotating equipment ———
     case 'wind_turbine':
-      return [...windTurbine(w, h), name()];
+      return [...windTurbine(w, h, p.tower !== false), name()];
     case 'fan':
-      return [...fan(w, h, m), name()];
+      return [...fan(w, h, m, p.casing !== false), name()];
     case 'motor':
-      return [...fitted(w, h, 1, 2, motor), name()];
+      return [...bodyColour(fitted(w, h, 1, 2, motor), p), name()];
     case 'pump':
-      return [...fitted(w, h, 0.8, 1.4, pump), name()];
+      return [...bodyColour(fitted(w, h, 0.8, 1.4, pump), p), name()];
     // ——— process equipment ———
     case 'tank':
       return [...tank(e), name()];
     case 'bottle':
       return [...bottle(e), name()];
     case 'pipe':
-      return pipe(w, h);
+      return pipe(w, h, typeof p.shape === 'string' ? p.shape : 'straight');
     case 'valve':
-      return valve(w, h);
+      return valve(w, h, typeof p.style === 'string' ? p.style : 'gate');
     case 'cooling_tower':
       return [...coolingTower(w, h, m), name()];
     // ——— plant and site ———
@@ -190,6 +202,68 @@ export function symbol(e: Element): SVGElement[] {
   }
 }
 
+/** The element's own `color`, `stroke` and `stroke_width` over `attrs` (a line's colour is its `stroke`). */
+function painted(p: Record<string, unknown>, attrs: Attrs, colourOf: 'fill' | 'stroke' = 'fill'): Attrs {
+  const out = { ...attrs };
+  if (typeof p.color === 'string') out[colourOf] = p.color;
+  if (typeof p.stroke === 'string') out.stroke = p.stroke;
+  if (typeof p.stroke_width === 'number') out['stroke-width'] = p.stroke_width;
+  return out;
+}
+
+/** An equipment symbol's body (its `fill` parts) in the element's own `color`. */
+function bodyColour(els: SVGElement[], p: Record<string, unknown>): SVGElement[] {
+  if (typeof p.color === 'string') for (const e of els) [e, ...e.querySelectorAll('[data-part="fill"]')].forEach((x) => x.getAttribute('data-part') === 'fill' && x.setAttribute('fill', p.color as string));
+  return els;
+}
+
+/** `props.points`, the vertices of a polygon or a polyline (at least two), or null. */
+function points(p: Record<string, unknown>): [number, number][] | null {
+  const v = p.points;
+  if (!Array.isArray(v) || v.length < 2) return null;
+  const ok = v.every((xy) => Array.isArray(xy) && xy.length === 2 && xy.every((c) => typeof c === 'number'));
+  return ok ? (v as [number, number][]) : null;
+}
+
+/** An arc in its box from `start` to `end` (degrees clockwise from 12 o'clock), open, closed by its chord or through its centre. */
+function arc(w: number, h: number, p: Record<string, unknown>): SVGElement {
+  const [start, end] = [typeof p.start === 'number' ? p.start : -90, typeof p.end === 'number' ? p.end : 90];
+  const [rx, ry, cx, cy] = [w / 2 - 1, h / 2 - 1, w / 2, h / 2];
+  const at = (deg: number): [number, number] => [cx + rx * Math.sin((deg * Math.PI) / 180), cy - ry * Math.cos((deg * Math.PI) / 180)];
+  const sweep = Math.max(-359.9, Math.min(359.9, end - start));
+  const [x0, y0] = at(start);
+  const [x1, y1] = at(start + sweep);
+  const close = p.close === 'chord' ? ' Z' : p.close === 'centre' ? ` L ${n(cx)} ${n(cy)} Z` : '';
+  const path = `${d('M', x0, y0, 'A', rx, ry, 0, Math.abs(sweep) > 180 ? 1 : 0, sweep > 0 ? 1 : 0, x1, y1)}${close}`;
+  return s('path', painted(p, { d: path, fill: close ? LIGHT : 'none', ...stroke(3), 'stroke-linejoin': 'round', 'data-part': 'fill' }, close ? 'fill' : 'stroke'));
+}
+
+/** A switch: a toggle lever (the default), a rocker, or a rotary selector; its label under a rocker or rotary. */
+function switchOf(w: number, h: number, p: Record<string, unknown>, label: SVGElement): SVGElement[] {
+  const body = (attrs: Attrs) => painted(p, face(attrs));
+  if (p.style === 'rocker') {
+    const [bw, bh] = [Math.min(w, h * 0.7), h * 0.8];
+    const [x, y] = [(w - bw) / 2, 1];
+    label.setAttribute('y', String(n(h + 10)));
+    return [
+      rect(x, y, bw, bh, { rx: 3, fill: DARK }),
+      s('path', body({ d: d('M', x + 3, y + 3, 'L', x + bw - 3, y + 3, 'L', x + bw - 3, y + bh * 0.55, 'L', x + 3, y + bh - 3, 'Z'), 'stroke-linejoin': 'round', 'data-part': 'fill' })),
+      label,
+    ];
+  }
+  if (p.style === 'rotary') {
+    const R = Math.min(w, h) / 2 - 2;
+    const [cx, cy] = [w / 2, h / 2];
+    label.setAttribute('y', String(n(h + 10)));
+    return [
+      circle(cx, cy, R, body({ 'data-part': 'fill' })),
+      at(cx, cy, s('g', { 'data-part': 'knob' }, rect(-R * 0.18, -R * 0.95, R * 0.36, R * 1.9, { rx: R * 0.15, fill: DARK }), line(0, -R * 0.85, 0, -R * 0.45, stroke(2, '#fff')))),
+      label,
+    ];
+  }
+  return [s('rect', body({ width: w, height: h, rx: 6, fill: '#f1f3f4', 'data-part': 'fill' })), label];
+}
+
 // ——— indicators ———
 
 /** An image without a source: a frame with a mountain and a sun. */
@@ -202,11 +276,11 @@ function imagePlaceholder(w: number, h: number): SVGElement[] {
 }
 
 /** An indicator lamp: a grey bezel ring around the lamp (the `fill`), with a flat highlight. */
-function led(w: number, h: number): SVGElement[] {
+function led(w: number, h: number, p: Record<string, unknown>): SVGElement[] {
   const [cx, cy, R] = [w / 2, h / 2, Math.min(w, h) / 2 - 1];
   return [
     circle(cx, cy, R, { fill: LIGHT, ...stroke(1, GREY) }),
-    circle(cx, cy, R * 0.78, { fill: GREY, ...stroke(1.5), 'data-part': 'fill' }),
+    circle(cx, cy, R * 0.78, { fill: typeof p.color === 'string' ? p.color : GREY, ...stroke(1.5), 'data-part': 'fill' }),
     s('ellipse', { cx: n(cx - R * 0.25), cy: n(cy - R * 0.3), rx: n(R * 0.22), ry: n(R * 0.13), fill: '#fff', opacity: 0.45, transform: `rotate(-35 ${n(cx - R * 0.25)} ${n(cy - R * 0.3)})` }),
   ];
 }
@@ -341,23 +415,72 @@ function faceplate(w: number, h: number, name: string): SVGElement[] {
 }
 
 /** An ISO 7010 general warning sign: a yellow triangle (the `fill`) with a black border and "!". */
-function safetySign(w: number, h: number): SVGElement[] {
-  const sw = Math.max(2, Math.min(w, h) * 0.07);
-  const side = Math.min(w, h / 0.866) - sw - 2;
-  const th = side * 0.866;
-  const [cx, top] = [w / 2, (h - th) / 2];
-  const a = side * 0.05;
-  return [
-    s('polygon', { points: pts([cx, top], [cx + side / 2, top + th], [cx - side / 2, top + th]), fill: SIGN, ...stroke(sw, INK), 'stroke-linejoin': 'round', 'data-part': 'fill' }),
-    s('polygon', { points: pts([cx - a, top + th * 0.36], [cx + a, top + th * 0.36], [cx + a * 0.55, top + th * 0.7], [cx - a * 0.55, top + th * 0.7]), fill: INK }),
-    circle(cx, top + th * 0.8, a * 0.85, { fill: INK }),
-  ];
+/** The shape of each sign (ISO 7010): warning triangle, prohibition circle, mandatory (blue) or safe/fire square. */
+const SIGN_SHAPE: Record<string, 'warning' | 'prohibition' | 'mandatory' | 'fire' | 'safe'> = {
+  danger: 'warning', electrical: 'warning', radiation: 'warning', toxic: 'warning', flammable: 'warning', corrosive: 'warning',
+  stop: 'prohibition', no_entry: 'prohibition', helmet: 'mandatory', fire_extinguisher: 'fire', exit: 'safe',
+};
+
+/** A safety sign of `SIGNS` (`000_…` §3.6): its shape and colour by category, and its pictogram. */
+function safetySign(w: number, h: number, sign: string): SVGElement[] {
+  const shape = SIGN_SHAPE[sign] ?? 'warning';
+  const m = Math.min(w, h);
+  const sw = Math.max(2, m * 0.07);
+  const [cx, cy] = [w / 2, h / 2];
+  if (shape === 'warning') {
+    const side = Math.min(w, h / 0.866) - sw - 2;
+    const th = side * 0.866;
+    const top = (h - th) / 2;
+    const [px, py, ps] = [cx, top + th * 0.62, side * 0.3];
+    return [
+      s('polygon', { points: pts([cx, top], [cx + side / 2, top + th], [cx - side / 2, top + th]), fill: SIGN, ...stroke(sw, INK), 'stroke-linejoin': 'round', 'data-part': 'fill' }),
+      ...pictogram(sign, px, py, ps),
+    ];
+  }
+  const R = m / 2 - sw / 2 - 1;
+  if (shape === 'prohibition') {
+    return [
+      circle(cx, cy, R, { fill: '#fff', ...stroke(sw, '#c62828'), 'data-part': 'fill' }),
+      ...pictogram(sign, cx, cy, R * 0.9),
+      line(cx - R * 0.7, cy - R * 0.7, cx + R * 0.7, cy + R * 0.7, stroke(sw, '#c62828')),
+    ];
+  }
+  const colour = shape === 'mandatory' ? '#1565c0' : shape === 'fire' ? '#c62828' : '#2e7d32';
+  const body = shape === 'mandatory' ? circle(cx, cy, R, { fill: colour, 'data-part': 'fill' }) : rect(cx - R, cy - R, R * 2, R * 2, { rx: 2, fill: colour, 'data-part': 'fill' });
+  return [body, ...pictogram(sign, cx, cy, R * 0.9)];
 }
 
-// ——— rotating equipment ———
-
-/** A wind turbine, front view: a tapered tower, the nacelle (`fill`) behind the hub, three blades in the `rotor`. */
-function windTurbine(w: number, h: number): SVGElement[] {
+/** The pictogram of a sign centred at (x, y), about `r` across. */
+function pictogram(sign: string, x: number, y: number, r: number): SVGElement[] {
+  const ink = { fill: INK };
+  const white = { fill: '#fff' };
+  switch (sign) {
+    case 'electrical':
+      return [s('polygon', { points: pts([x + r * 0.1, y - r * 0.6], [x - r * 0.3, y + r * 0.05], [x, y + r * 0.05], [x - r * 0.1, y + r * 0.6], [x + r * 0.3, y - r * 0.05], [x, y - r * 0.05]), ...ink })];
+    case 'radiation':
+      return [circle(x, y, r * 0.1, ink), ...[0, 120, 240].map((a) => s('path', { d: d('M', x, y, 'L', ...polar(x, y, r * 0.5, a - 30), 'A', r * 0.5, r * 0.5, 0, 0, 1, ...polar(x, y, r * 0.5, a + 30), 'Z'), ...ink }))];
+    case 'toxic':
+      return [circle(x, y - r * 0.15, r * 0.3, ink), line(x - r * 0.4, y + r * 0.1, x + r * 0.4, y + r * 0.5, stroke(r * 0.1, INK)), line(x + r * 0.4, y + r * 0.1, x - r * 0.4, y + r * 0.5, stroke(r * 0.1, INK))];
+    case 'flammable':
+      return [s('path', { d: d('M', x, y - r * 0.55, 'C', x + r * 0.5, y - r * 0.1, x + r * 0.3, y + r * 0.45, x, y + r * 0.45, 'C', x - r * 0.35, y + r * 0.45, x - r * 0.45, y, x, y - r * 0.55, 'Z'), ...ink })];
+    case 'corrosive':
+      return [rect(x - r * 0.5, y + r * 0.2, r * 0.4, r * 0.25, ink), rect(x + r * 0.1, y + r * 0.2, r * 0.4, r * 0.25, ink), circle(x - r * 0.3, y - r * 0.1, r * 0.08, ink), circle(x + r * 0.3, y - r * 0.1, r * 0.08, ink)];
+    case 'stop':
+      return [circle(x, y, r * 0.35, ink)];
+    case 'no_entry':
+      return [circle(x, y - r * 0.45, r * 0.14, ink), rect(x - r * 0.12, y - r * 0.28, r * 0.24, r * 0.7, ink)];
+    case 'helmet':
+      return [s('path', { d: d('M', x - r * 0.6, y + r * 0.2, 'A', r * 0.6, r * 0.6, 0, 0, 1, x + r * 0.6, y + r * 0.2, 'Z'), ...white }), rect(x - r * 0.7, y + r * 0.2, r * 1.4, r * 0.12, white)];
+    case 'fire_extinguisher':
+      return [rect(x - r * 0.2, y - r * 0.3, r * 0.4, r * 0.9, { rx: r * 0.1, ...white }), line(x, y - r * 0.3, x + r * 0.3, y - r * 0.55, stroke(r * 0.08, '#fff'))];
+    case 'exit':
+      return [circle(x + r * 0.1, y - r * 0.5, r * 0.12, white), s('polyline', { points: pts([x - r * 0.4, y + r * 0.5], [x - r * 0.05, y + r * 0.05], [x + r * 0.35, y + r * 0.5]), fill: 'none', ...stroke(r * 0.14, '#fff') }), line(x - r * 0.05, y - r * 0.3, x - r * 0.05, y + r * 0.05, stroke(r * 0.14, '#fff'))];
+    default:
+      // danger: the exclamation mark
+      return [s('polygon', { points: pts([x - r * 0.08, y - r * 0.55], [x + r * 0.08, y - r * 0.55], [x + r * 0.05, y + r * 0.2], [x - r * 0.05, y + r * 0.2]), ...ink }), circle(x, y + r * 0.4, r * 0.08, ink)];
+  }
+}
+function windTurbine(w: number, h: number, tower: boolean): SVGElement[] {
   const R = Math.max(4, Math.min(w / 2, h * 0.4) - 2);
   const [hx, hy] = [w / 2, R + 2];
   const [t0, t1] = [Math.max(1.5, w * 0.025), Math.max(3, w * 0.05)];
@@ -365,22 +488,20 @@ function windTurbine(w: number, h: number): SVGElement[] {
   const blade = (deg: number) =>
     s('path', { d: d('M', 0, -b, 'L', R * 0.22, -b * 2, 'Q', R * 0.7, -b * 1.1, R, 0, 'Q', R * 0.6, b * 0.6, 0, b, 'Z'), transform: `rotate(${deg})`, ...face({ 'stroke-width': 1, 'stroke-linejoin': 'round' }) });
   return [
-    s('polygon', face({ points: pts([hx - t0, hy], [hx + t0, hy], [hx + t1, h], [hx - t1, h]), 'stroke-linejoin': 'round' })),
-    line(hx - t1 * 3, h, hx + t1 * 3, h, stroke(2)),
+    ...(tower ? [s('polygon', face({ points: pts([hx - t0, hy], [hx + t0, hy], [hx + t1, h], [hx - t1, h]), 'stroke-linejoin': 'round', 'data-part': 'tower' })), line(hx - t1 * 3, h, hx + t1 * 3, h, stroke(2))] : []),
     rect(hx - R * 0.16, hy - R * 0.1, R * 0.32, R * 0.2, face({ rx: 2, 'data-part': 'fill' })),
     at(hx, hy, rotor(blade(-90), blade(30), blade(150), circle(0, 0, R * 0.09, { fill: DARK }))),
   ];
 }
 
 /** A fan: a round housing (`fill`) around the duct, four swept blades and the hub in the `rotor`. */
-function fan(w: number, h: number, m: number): SVGElement[] {
+function fan(w: number, h: number, m: number, casing: boolean): SVGElement[] {
   const [cx, cy, R] = [w / 2, h / 2, m / 2 - 2];
   const r = R * 0.84;
   const blade = (deg: number) =>
     s('path', { d: d('M', 0, 0, 'C', r * 0.1, -r * 0.5, r * 0.75, -r * 0.6, r * 0.9, -r * 0.15, 'C', r * 0.65, -r * 0.02, r * 0.35, r * 0.08, 0, 0, 'Z'), transform: `rotate(${deg})`, fill: GREY, ...stroke(1), 'stroke-linejoin': 'round' });
   return [
-    circle(cx, cy, R, face({ 'data-part': 'fill' })),
-    circle(cx, cy, r, { fill: '#fff', ...stroke(1) }),
+    ...(casing ? [circle(cx, cy, R, face({ 'data-part': 'fill' })), circle(cx, cy, r, { fill: '#fff', ...stroke(1) })] : []),
     at(cx, cy, rotor(blade(0), blade(90), blade(180), blade(270), circle(0, 0, R * 0.14, { fill: DARK }))),
   ];
 }
@@ -450,6 +571,20 @@ function tank(e: Element): SVGElement[] {
       ...quarterTicks(w - 1, rh, yc, Math.min(w * 0.12, 8)),
     ];
   }
+  if (e.props?.style === 'horizontal') {
+    // a lying tank on two saddles: elliptical heads left and right
+    const hd = Math.max(2, Math.min(w * 0.08, h * 0.2));
+    const [y0, y1] = [1, h * 0.82];
+    const ry = (y1 - y0) / 2;
+    const shape = d('M', hd, y0, 'L', w - hd, y0, 'A', hd - 1, ry, 0, 0, 1, w - hd, y1, 'L', hd, y1, 'A', hd - 1, ry, 0, 0, 1, hd, y0, 'Z');
+    return [
+      s('polygon', { points: pts([w * 0.2, y1 - 2], [w * 0.28, h], [w * 0.12, h]), fill: GREY, ...stroke(1) }),
+      s('polygon', { points: pts([w * 0.8, y1 - 2], [w * 0.88, h], [w * 0.72, h]), fill: GREY, ...stroke(1) }),
+      ...vessel({ ...e, h: y1 }, shape, 'htank'),
+      line(hd, y0, hd, y1, stroke(1, GREY)),
+      line(w - hd, y0, w - hd, y1, stroke(1, GREY)),
+    ];
+  }
   const hd = Math.max(2, Math.min(h * 0.08, w * 0.15));
   const rx = w / 2 - 1;
   const shape = d('M', 1, hd, 'A', rx, hd - 1, 0, 0, 1, w - 1, hd, 'L', w - 1, h - hd, 'A', rx, hd - 1, 0, 0, 1, 1, h - hd, 'Z');
@@ -476,37 +611,72 @@ function bottle(e: Element): SVGElement[] {
   );
   return [
     ...vessel(e, shape, 'bottle'),
-    rect(cx - nw - 1.5, h * 0.02, nw * 2 + 3, h * 0.08, { rx: 1.5, fill: GREY, ...stroke(1) }),
+    rect(cx - nw - 1.5, h * 0.02, nw * 2 + 3, h * 0.08, { rx: 1.5, fill: GREY, ...stroke(1), 'data-part': 'cap' }),
   ];
 }
 
 /** A horizontal pipe (`fill`) with a flange at each end. */
-function pipe(w: number, h: number): SVGElement[] {
+/**
+ * A pipe: straight across its box, or an elbow (left to bottom), a tee (left,
+ * right and bottom) or a cross, turned by the element's rotation to 0, 90,
+ * 180 or 270°.
+ */
+function pipe(w: number, h: number, shape: string): SVGElement[] {
   const fh = Math.min(18, h);
   const fw = Math.min(4, w / 8);
+  if (shape === 'straight' || !['elbow', 'tee', 'cross'].includes(shape)) {
+    return [
+      s('rect', { y: n(h / 2 - 6), width: w, height: 12, fill: GREY, 'data-part': 'fill' }),
+      line(0, h / 2 - 6, w, h / 2 - 6, stroke(1)),
+      line(0, h / 2 + 6, w, h / 2 + 6, stroke(1)),
+      rect(0, h / 2 - fh / 2, fw, fh, { fill: DARK }),
+      rect(w - fw, h / 2 - fh / 2, fw, fh, { fill: DARK }),
+    ];
+  }
+  const [cx, cy, t] = [w / 2, h / 2, 6];
+  const arms: [number, number, number, number][] = [[0, cy - t, cx + t, 2 * t]]; // left
+  if (shape !== 'elbow') arms.push([cx - t, cy - t, w - cx + t, 2 * t]); // right
+  arms.push([cx - t, cy - t, 2 * t, h - cy + t]); // bottom
+  if (shape === 'cross') arms.push([cx - t, 0, 2 * t, cy + t]); // top
+  const flanges: SVGElement[] = [rect(0, cy - fh / 2, fw, fh, { fill: DARK }), rect(cx - fh / 2, h - fw, fh, fw, { fill: DARK })];
+  if (shape !== 'elbow') flanges.push(rect(w - fw, cy - fh / 2, fw, fh, { fill: DARK }));
+  if (shape === 'cross') flanges.push(rect(cx - fh / 2, 0, fh, fw, { fill: DARK }));
   return [
-    s('rect', { y: n(h / 2 - 6), width: w, height: 12, fill: GREY, 'data-part': 'fill' }),
-    line(0, h / 2 - 6, w, h / 2 - 6, stroke(1)),
-    line(0, h / 2 + 6, w, h / 2 + 6, stroke(1)),
-    rect(0, h / 2 - fh / 2, fw, fh, { fill: DARK }),
-    rect(w - fw, h / 2 - fh / 2, fw, fh, { fill: DARK }),
+    s('g', { 'data-part': 'fill', fill: GREY }, arms.map(([x, y, aw, ah]) => rect(x, y, aw, ah, { ...stroke(1), fill: 'inherit' }))),
+    // the joint drawn over the arms' inner edges
+    rect(cx - t + 0.75, cy - t + 0.75, 2 * t - 1.5, 2 * t - 1.5, { fill: GREY, 'data-part': 'fill2' }),
+    ...flanges,
   ];
 }
-
-/** A control valve: a bow-tie body (halves `fill` and `fill2`), the stem and a diaphragm actuator on top. */
-function valve(w: number, h: number): SVGElement[] {
+/** A valve: gate (a bonnet and handwheel), ball (a ball between the seats) or butterfly (a disc across a round body). */
+function valve(w: number, h: number, style: string): SVGElement[] {
   const [yt, yb] = [h * 0.4, h - 1];
   const cy = (yt + yb) / 2;
   const ya = h * 0.22;
-  return [
-    line(w / 2, cy, w / 2, ya, stroke(2)),
-    s('path', { d: d('M', w * 0.2, ya, 'A', w * 0.3, h * 0.2, 0, 0, 1, w * 0.8, ya, 'Z'), ...face(), 'stroke-linejoin': 'round' }),
+  if (style === 'butterfly') {
+    const R = Math.min(w / 2, (yb - yt) / 2 + h * 0.1) - 1;
+    return [
+      line(w / 2, cy - R, w / 2, ya, stroke(2)),
+      rect(w * 0.3, ya - h * 0.05, w * 0.4, h * 0.1, face({ rx: 2 })),
+      line(1, cy, w / 2 - R, cy, stroke(3)),
+      line(w / 2 + R, cy, w - 1, cy, stroke(3)),
+      circle(w / 2, cy, R, face({ 'data-part': 'fill' })),
+      line(w / 2 - R * 0.55, cy + R * 0.55, w / 2 + R * 0.55, cy - R * 0.55, { ...stroke(3), 'stroke-linecap': 'round', 'data-part': 'fill2' }),
+    ];
+  }
+  const body = [
     s('polygon', face({ points: pts([1, yt], [w / 2, cy], [1, yb]), 'stroke-linejoin': 'round', 'data-part': 'fill' })),
     s('polygon', face({ points: pts([w - 1, yt], [w / 2, cy], [w - 1, yb]), 'stroke-linejoin': 'round', 'data-part': 'fill2' })),
   ];
+  if (style === 'ball') {
+    return [line(w / 2, cy, w / 2, ya, stroke(2)), rect(w * 0.35, ya - 2, w * 0.3, 4, { fill: DARK }), ...body, circle(w / 2, cy, Math.min(w, yb - yt) * 0.22, { fill: '#fff', ...stroke(1.5) })];
+  }
+  return [
+    line(w / 2, cy, w / 2, ya, stroke(2)),
+    s('path', { d: d('M', w * 0.2, ya, 'A', w * 0.3, h * 0.2, 0, 0, 1, w * 0.8, ya, 'Z'), ...face(), 'stroke-linejoin': 'round' }),
+    ...body,
+  ];
 }
-
-/** A natural-draught cooling tower: hyperbolic shell (`fill`), rim, V-columns at the base, a light plume. */
 function coolingTower(w: number, h: number, m: number): SVGElement[] {
   const [yt, yb] = [h * 0.24, h * 0.9];
   const shell = d(
@@ -546,11 +716,11 @@ function plc(w: number, h: number): SVGElement[] {
       out.push(lamp(cx, y0 + h * 0.08), rect(cx - mw * 0.2, y0 + h * 0.2, mw * 0.4, h * 0.12, { fill: DARK }));
     } else if (i === 1) {
       // CPU: RUN and ERR lamps, a port
-      out.push(lamp(cx - mw * 0.2, y0 + h * 0.08, { 'data-part': 'fill' }), lamp(cx + mw * 0.2, y0 + h * 0.08));
+      out.push(lamp(cx - mw * 0.2, y0 + h * 0.08, { 'data-part': 'fill', class: 'hmi-run-lamp' }), lamp(cx + mw * 0.2, y0 + h * 0.08));
       out.push(rect(cx - mw * 0.25, y0 + h * 0.24, mw * 0.5, h * 0.1, { fill: '#fff', ...stroke(1) }));
     } else {
       // I/O: four channel lamps and a terminal block
-      for (let k = 0; k < 4; k++) out.push(lamp(cx, y0 + h * (0.07 + k * 0.065), {}));
+      for (let k = 0; k < 4; k++) out.push(lamp(cx, y0 + h * (0.07 + k * 0.065), { class: `hmi-io-lamp hmi-io-lamp-${(i + k) % 3}` }));
       out.push(rect(x + mw * 0.15, y0 + (y1 - y0) * 0.55, mw * 0.7, (y1 - y0) * 0.38, { fill: DARK }));
     }
     x += mw + gap;
@@ -560,7 +730,7 @@ function plc(w: number, h: number): SVGElement[] {
 
 /** A building: walls (`fill`), a gable roof, windows and a door. */
 function building(w: number, h: number): SVGElement[] {
-  const win = (x: number, y: number) => rect(w * x, h * y, w * 0.14, h * 0.13, { fill: '#fff', ...stroke(1) });
+  const win = (x: number, y: number) => rect(w * x, h * y, w * 0.14, h * 0.13, { fill: '#fff', ...stroke(1), 'data-part': 'window' });
   return [
     rect(w * 0.1, h * 0.38, w * 0.8, h * 0.62 - 1, face({ 'data-part': 'fill' })),
     s('polygon', { points: pts([w * 0.03, h * 0.4], [w * 0.5, h * 0.06], [w * 0.97, h * 0.4]), fill: GREY, ...stroke(1.5), 'stroke-linejoin': 'round' }),

@@ -13,7 +13,7 @@ import { openFaceplate } from '../ui/faceplate';
 import { Designer } from './designer';
 import { ScreenTrend } from './trend';
 import { historySamples, plotValue } from '../trends/history';
-import { type Element, type Screen, animate, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from './render';
+import { type Element, PROP_TAGS, type Screen, animate, drawElement, showAlarm, showLoop, showPropTag, showValue, tagsOf, tick } from './render';
 
 export class ScreensView {
   readonly el: HTMLElement;
@@ -131,6 +131,10 @@ export class ScreensView {
       const g = drawElement(e);
       svg.append(g);
       for (const a of e.animations ?? []) this.unwatch.push(this.ctx.live.store.watch(a.tag, (v) => animate(g, e, a, v)));
+      for (const prop of Object.keys(PROP_TAGS)) {
+        const tag = e.props?.[prop];
+        if (typeof tag === 'string') this.unwatch.push(this.ctx.live.store.watch(tag, (v) => showPropTag(g, prop, v)));
+      }
       const shown = e.props?.tag;
       if (e.type === 'faceplate' && typeof shown === 'string') {
         // the loop's members; a click opens the full faceplate

@@ -38,6 +38,9 @@ const GOOD: &str = r##"{
                     {"kind": "blink", "tag": "Pump", "period_ms": 500},
                     {"kind": "visibility", "tag": "Level", "min": 5},
                     {"kind": "color", "tag": "Level", "intervals": [{"from": 0, "color": "#2e7d32"}, {"from": 55, "color": "#c62828"}]}]},
+    {"id": "v1", "type": "valve", "x": 10, "y": 10, "w": 40, "h": 40, "props": {"style": "butterfly", "vendor_note": "kept"}},
+    {"id": "poly", "type": "polygon", "x": 10, "y": 10, "w": 40, "h": 40, "props": {"points": [[0, 0], [40, 10], [20, 40]], "color": "orange"}},
+    {"id": "b", "type": "bottle", "x": 10, "y": 10, "w": 40, "h": 40, "props": {"cap_tag": "Pump"}},
     {"id": "start", "type": "button", "x": 300, "y": 320, "w": 80, "h": 32,
      "props": {"label": "Fill"}, "action": {"kind": "momentary", "tag": "Light"}},
     {"id": "sp", "type": "slider", "x": 20, "y": 20, "w": 200, "h": 24, "action": {"kind": "slider", "tag": "Speed", "min": 0, "max": 100}},
@@ -50,7 +53,7 @@ fn a_good_screen_parses_without_problems() {
     let (s, d) = check(GOOD);
     assert_eq!(d, Vec::<String>::new());
     let s = s.expect("a screen");
-    assert_eq!((s.elements.len(), s.elements[0].kind.as_str()), (5, "tank"));
+    assert_eq!((s.elements.len(), s.elements[0].kind.as_str()), (8, "tank"));
     assert_eq!(s.elements[1].animations[0].params["speed"], 1);
     // It round-trips through the API's JSON.
     let again: Screen = serde_json::from_str(&serde_json::to_string(&s).expect("json")).expect("parse");
@@ -128,19 +131,19 @@ fn malformed_screens_are_reported_at_their_place() {
         ),
         (
             with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": 0}}"#),
-            "hmi/main.json:6:86: error[E141]: `t`: `window_s` is the seconds the trend shows, above 0 and at most 86400; got 0",
+            "hmi/main.json:6:86: error[E141]: `t`: `window_s` 0 is not from 1 to 86400 s",
         ),
         (
             with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": "2 min"}}"#),
-            "`t`: `window_s` is the seconds the trend shows, above 0 and at most 86400; got \"2 min\"",
+            "`t`: `window_s` is not a number",
         ),
         (
             with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": 86401}}"#),
-            "got 86401",
+            "`window_s` 86401 is not from 1 to 86400 s",
         ),
         (
             with(&format!("{{{E}, \"props\": {{\"window_s\": 60}}}}")),
-            "`e`: only a `trend` has a time window",
+            "`e`: `window_s` is not a property of `tank` (it takes: style)",
         ),
         (
             with(r#"{"id": "a", "type": "alarm", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"alarm": "level_hx"}}"#),
@@ -278,6 +281,45 @@ fn malformed_screens_are_reported_at_their_place() {
         (
             anim(r#""kind": "visibility", "min": 10, "max": 2"#),
             "max 2 must be above min 10",
+        ),
+    ]);
+    // An element's own properties, by kind (the designer's forms are made from the same table).
+    let el = |t: &str, props: &str| {
+        with(&format!(
+            r#"{{"id": "e", "type": "{t}", "x": 1, "y": 2, "w": 10, "h": 10, "props": {props}}}"#
+        ))
+    };
+    cases.extend([
+        (
+            el("valve", r#"{"style": "globe"}"#),
+            "style \"globe\" is not gate, ball or butterfly",
+        ),
+        (
+            el("polygon", r#"{"points": [[0, 0], [5]]}"#),
+            "point 1 of `points` is not [x, y]",
+        ),
+        (
+            el("line", r#"{"points": 3}"#),
+            "`points` is a list of at most 200 points [x, y]",
+        ),
+        (el("bottle", r#"{"cap_tag": "Nope"}"#), "`cap_tag`: unknown tag `Nope`"),
+        (
+            el("building", r#"{"windows_tag": "T1"}"#),
+            "`windows_tag`: `T1` is a structure",
+        ),
+        (
+            el("rectangle", r##"{"color": "#12"}"##),
+            "`color` \"#12\" is not a colour",
+        ),
+        (el("fan", r#"{"casing": 1}"#), "`casing` is true or false"),
+        (el("image", r#"{"scale": 0}"#), "`scale` 0 is not from 1 to 1000 %"),
+        (
+            el("safety_sign", r#"{"sign": "skull"}"#),
+            "sign \"skull\" is not danger, electrical",
+        ),
+        (
+            el("pump", r#"{"decimals": 2}"#),
+            "`decimals` is not a property of `pump` (it takes: color)",
         ),
     ]);
     assert!(cases.len() >= 20);

@@ -5,7 +5,7 @@
 //! /api/instructions` is its instruction table.
 
 use crate::auth::Access;
-use crate::reply::{AnimationInfo, DomainReply, ParamInfo, RouteRole};
+use crate::reply::{DomainReply, ParamInfo, ParamTable, RouteRole};
 use alba_compiler::ladder::domain::{InstructionInfo, domain, instructions as table};
 use axum::Json;
 
@@ -28,13 +28,8 @@ pub async fn get() -> Json<DomainReply> {
             .iter()
             .map(|(t, d)| (t.to_string(), d.to_string()))
             .collect(),
-        animations: hmi::ANIMATIONS
-            .iter()
-            .map(|(kind, params)| AnimationInfo {
-                kind: kind.to_string(),
-                params: params.iter().map(param).collect(),
-            })
-            .collect(),
+        properties: hmi::ELEMENT_PROPS.iter().map(param_table).collect(),
+        animations: hmi::ANIMATIONS.iter().map(param_table).collect(),
         actions: hmi::ACTIONS.iter().map(|a| a.to_string()).collect(),
     };
     Json(DomainReply {
@@ -49,7 +44,15 @@ pub async fn instructions() -> Json<Vec<InstructionInfo>> {
     Json(table())
 }
 
-/// An animation parameter as the designer's form needs it.
+/// An element type's or an animation's parameters.
+fn param_table((kind, params): &(&str, &[alba_compiler::project::hmi::Param])) -> ParamTable {
+    ParamTable {
+        kind: kind.to_string(),
+        params: params.iter().map(param).collect(),
+    }
+}
+
+/// A parameter as the designer's form needs it.
 fn param(p: &alba_compiler::project::hmi::Param) -> ParamInfo {
     use alba_compiler::project::hmi::ParamKind;
     let (kind, min, max, unit, choices) = match p.kind {
@@ -58,6 +61,9 @@ fn param(p: &alba_compiler::project::hmi::Param) -> ParamInfo {
         ParamKind::Color => ("color", None, None, "", &[][..]),
         ParamKind::Choice(c) => ("choice", None, None, "", c),
         ParamKind::Intervals => ("intervals", None, None, "", &[][..]),
+        ParamKind::Text { max_len } => ("text", None, Some(max_len as f64), "", &[][..]),
+        ParamKind::Tag => ("tag", None, None, "", &[][..]),
+        ParamKind::Points { max } => ("points", None, Some(max as f64), "", &[][..]),
     };
     ParamInfo {
         name: p.name.to_string(),
