@@ -39,7 +39,7 @@ const GLYPH: Record<string, string> = {
 };
 /** Properties a kind has (docs/nets.md "Elements"), shown as fields. */
 const KIND_PROPS: Record<string, string[]> = {
-  counter: ['load', 'direction'], input: ['source'], output: ['target', 'source'], variable: ['mode', 'source', 'target', 'value', 'initial'], timer: ['delay'],
+  state: ['value'], counter: ['load', 'direction'], input: ['source'], output: ['target', 'source'], variable: ['mode', 'source', 'target', 'value', 'initial'], timer: ['delay'],
 };
 /** A widget's box at `c`: 120 wide (a label as wide as its caption, in 11 px type), 50 high for a plot, else 28. */
 function widgetBox(w: Widget, c: Pt): { x: number; y: number; w: number; h: number } {
