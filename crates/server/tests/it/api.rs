@@ -653,6 +653,19 @@ async fn the_studio_is_embedded_and_served() {
                 Some("Accept-Encoding"),
                 "{path}"
             );
+            // one type, the file's (a second `application/octet-stream` made
+            // browsers refuse the script: every e2e test failed)
+            let types: Vec<&str> = h
+                .get_all("content-type")
+                .iter()
+                .filter_map(|v| v.to_str().ok())
+                .collect();
+            let want = if path == "/" {
+                "text/html; charset=utf-8"
+            } else {
+                "text/javascript; charset=utf-8"
+            };
+            assert_eq!(types, [want], "{path} for {accept:?}");
             let body = res.bytes().await.expect("body");
             if let Some(m) = magic {
                 assert!(body.starts_with(m), "{path}: a gzip stream");
