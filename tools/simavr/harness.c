@@ -4,7 +4,7 @@
  *
  *   alba-simavr FIRMWARE.elf [-m atmega328p|atmega2560] [-f HZ] --until MS --every MS
  *               [--lag US] [--from-first-scan] [--eeprom FILE] --pins D13,D12,D6:pwm,A0 [--mem ADDR:LEN,...]
- *               [--forbid ADDR:LEN,...] [--free-ram ADDR] [--stimulus FILE] [-o TRACE.csv]
+ *               [--forbid ADDR:LEN,...] [--free-ram ADDR] [--stimulus FILE] [--serial FILE] [-o TRACE.csv]
  *
  * Stimulus: `time_ms,pin,value` lines (a `time_ms...` header and blank lines are
  * skipped; times never go back). Digital pin: 0/1 driven on the pin. Analog pin
@@ -41,10 +41,14 @@
  * sends every store of the program (ST, STD, STS, CALL's return address) through
  * avr_core_watch_write, which this program replaces (the executable's definition
  * takes the library's calls to it).
+ * With --serial FILE, every line the firmware sends on its serial port (UART0)
+ * goes to FILE as `MS TEXT`: the time (ms from the reset) its end of line was
+ * sent, then the line (for the interpreter's lamp test).
  * Total cycles go to stderr. Exit 1 on bad arguments or a stopped CPU.
  */
 #include "pins.h"
 #include <avr_eeprom.h>
+#include <avr_uart.h>
 
 typedef struct { unsigned long t; pin_t pin; int value; } stim_t;
 
@@ -85,6 +89,25 @@ static void gpior0_write(avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
 
 static void apply(const stim_t *s) { set_input(s->pin, s->value); }
 
+/* --serial: the firmware's lines, each with the time of its end. */
+static FILE *serial_out;
+static unsigned long serial_freq;
+static char serial_line[256];
+static size_t serial_len;
+
+static void serial_byte(avr_irq_t *irq, uint32_t value, void *param) {
+    (void)irq; (void)param;
+    char c = (char)value;
+    if (c == '\r') return;
+    if (c == '\n') {
+        fprintf(serial_out, "%llu %.*s\n", (unsigned long long)(avr->cycle * 1000 / serial_freq), (int)serial_len, serial_line);
+        fflush(serial_out);
+        serial_len = 0;
+    } else if (serial_len < sizeof serial_line) {
+        serial_line[serial_len++] = c;
+    }
+}
+
 static unsigned long forbid_at[MAX_PINS], forbid_len[MAX_PINS];
 static int nforbid;
 static unsigned long forbidden, free_ram;
@@ -117,7 +140,7 @@ void avr_core_watch_write(avr_t *a, uint16_t addr, uint8_t v) {
 
 int main(int argc, char **argv) {
     const char *elf = NULL, *stim_file = NULL, *pins_arg = "", *mem_arg = "", *forbid_arg = "", *out_file = NULL,
-               *mcu = "atmega328p";
+               *mcu = "atmega328p", *serial_file = NULL;
     unsigned long until = 0, every = 0, lag = 0, freq = 16000000UL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -131,6 +154,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(a, "--free-ram") && more) free_ram = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "--stimulus") && more) stim_file = argv[++i];
         else if (!strcmp(a, "-o") && more) out_file = argv[++i];
+        else if (!strcmp(a, "--serial") && more) serial_file = argv[++i];
         else if (!strcmp(a, "-f") && more) freq = strtoul(argv[++i], NULL, 10);
         else if (!strcmp(a, "-m") && more) mcu = argv[++i];
         else if (!strcmp(a, "--from-first-scan")) from_first_scan = 1;
@@ -231,6 +255,16 @@ int main(int argc, char **argv) {
     avr->sleep = no_sleep;
     adc_setup();
     avr_register_io_write(avr, 0x3E, gpior0_write, NULL);
+    if (serial_file) {
+        serial_out = fopen(serial_file, "w");
+        if (!serial_out) die("cannot write ", serial_file);
+        serial_freq = freq;
+        uint32_t flags = 0;
+        avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+        flags &= ~(uint32_t)(AVR_UART_FLAG_STDIO | AVR_UART_FLAG_POOL_SLEEP);
+        avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+        avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), serial_byte, NULL);
+    }
 
     fprintf(trace, "time_ms");
     for (int i = 0; i < npins; i++)
@@ -276,6 +310,10 @@ int main(int argc, char **argv) {
         fprintf(trace, "\n");
     }
     fclose(trace);
+    if (serial_out) {
+        if (serial_len) fprintf(serial_out, "%llu %.*s\n", (unsigned long long)(avr->cycle * 1000 / freq), (int)serial_len, serial_line);
+        fclose(serial_out);
+    }
     if (scans)
         fprintf(stderr, "alba-simavr: scans %lu cycles min %llu mean %llu max %llu\n", scans,
                 (unsigned long long)scan_min, (unsigned long long)(scan_sum / scans), (unsigned long long)scan_max);

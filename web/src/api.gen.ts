@@ -402,7 +402,31 @@ bits: Array<string>,
  * operand's own value, else that member of the first operand (a
  * timer's literal preset row shows `PRE`).
  */
-shows: Array<string | null>, };
+shows: Array<string | null>, 
+/**
+ * Operands that may follow the ones of `args`, in order, each with
+ * its default when left out (a TON's time base: `TON(T,5,0,s)`).
+ */
+optional: Array<OptionalInfo>, };
+
+export type OptionalInfo = { 
+/**
+ * Its kind (`time_base`).
+ */
+name: string, label: string, 
+/**
+ * What fits there, in words.
+ */
+doc: string, 
+/**
+ * The values to offer (the checker also takes other spellings, such
+ * as a time base in seconds, `0.01`).
+ */
+choices: Array<string>, 
+/**
+ * What applies when the operand is left out.
+ */
+default: string, };
 
 export type HistoryTag = { name: string, first_ms: number, last_ms: number, };
 

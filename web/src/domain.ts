@@ -7,11 +7,11 @@
 // keeping its own copy. Unit tests set it from test/fixtures/domain.json, a
 // copy of the reply that the server's tests keep equal to it.
 
-import type { ArgInfo, DomainReply, GroupInfo, InstructionInfo, MemberInfo, RouteRole, TypeInfo } from './api.gen';
+import type { ArgInfo, DomainReply, GroupInfo, InstructionInfo, MemberInfo, OptionalInfo, RouteRole, TypeInfo } from './api.gen';
 
 /** GET /api/domain: the language, and the role each route needs. */
 export type Domain = DomainReply;
-export type { ArgInfo, GroupInfo, InstructionInfo, MemberInfo, RouteRole, TypeInfo };
+export type { ArgInfo, GroupInfo, InstructionInfo, MemberInfo, OptionalInfo, RouteRole, TypeInfo };
 
 let current: Domain = { types: [], groups: [], args: [], instructions: [], routes: [], screens: { elements: [], properties: [], animations: [], actions: [] } };
 let byMnemonic = new Map<string, InstructionInfo>();

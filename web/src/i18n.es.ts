@@ -82,6 +82,7 @@ export const es: Record<string, string> = {
   'Rung {n}': 'Escalón {n}',
   Comment: 'Comentario',
   'Apply comment': 'Aplicar el comentario',
+  '{value} (default)': '{value} (predeterminado)',
   'Branch ({n} legs)': 'Rama ({n} paralelos)',
   '“Branch” adds a leg.': '«Rama» añade un paralelo.',
   Instruction: 'Instrucción',

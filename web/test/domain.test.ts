@@ -49,7 +49,8 @@ describe('the domain from the server', () => {
     for (const g of d.groups) expect(keys(g)).toEqual(['name', 'title']);
     for (const a of d.args) expect(keys(a)).toEqual(['doc', 'members', 'name', 'tag', 'types', 'writable']);
     for (const i of d.instructions) {
-      expect(keys(i)).toEqual(['args', 'bits', 'doc', 'group', 'labels', 'mnemonic', 'output', 'shape', 'shows', 'title']);
+      expect(keys(i)).toEqual(['args', 'bits', 'doc', 'group', 'labels', 'mnemonic', 'optional', 'output', 'shape', 'shows', 'title']);
+      for (const o of i.optional) expect(keys(o)).toEqual(['choices', 'default', 'doc', 'label', 'name']);
       expect(['contact', 'coil', 'box']).toContain(i.shape);
     }
   });

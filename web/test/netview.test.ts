@@ -281,6 +281,51 @@ describe('the net tab', () => {
     expect(calls.filter((c) => c.startsWith('PUT'))).toHaveLength(2);
   });
 
+  it('shows a Display in its format and unit, a Plot in its fixed range with its title, a Label in its colours; a Button latches on a double-click', async () => {
+    const styled = TOUR.replace('kind="display" tag="Doubled" x="200" y="260"', 'kind="display" tag="Doubled" x="200" y="260" format="hex" unit="kg" font_size="16"')
+      .replace('kind="plot" tag="Level" x="340" y="260"', 'kind="plot" tag="Level" x="340" y="260" autoscale="false" min="0" max="100" title="Tank" unit="%"')
+      .replace('kind="label" x="60" y="330"', 'kind="label" x="60" y="330" color="#fff" background="navy" align="center" border="false"');
+    expect(styled).not.toBe(TOUR);
+    const calls = server({ 'tour.pnml': styled });
+    const { v, live } = view('tour.pnml');
+    await v.load();
+    v.show();
+    const widget = (id: string) => v.el.querySelector(`[data-testid="net-widget-${id}"]`)!;
+    const shown = (id: string) => widget(id).querySelector('.net-widget-value')!.textContent;
+    live.state = 'connected';
+    live.status = { state: 'running' } as never;
+    const values = (vals: Record<string, unknown>) => live.deliver({ ...emptyBatch(), values: new Map(Object.entries(vals)) as never });
+    values({ Doubled: 255, Level: 20, Start: false });
+    expect(shown('w_doubled')).toBe('16#FF kg');
+    expect(widget('w_doubled').querySelector('.net-widget-value')!.getAttribute('style')).toBe('font-size:16px');
+    for (const x of [80, 35]) values({ Level: x });
+    // 0…100: 20 at y 40, 80 at 28, 35 at 37 (not the points' own range)
+    const ys = widget('w_level').querySelector('.net-plot-line')!.getAttribute('points')!.split(' ').map((p) => Number(p.split(',')[1]));
+    expect(ys).toEqual([40, 28, 37]);
+    expect(shown('w_level')).toBe('35 %');
+    expect(widget('w_level').querySelector('.net-widget-caption')!.textContent).toBe('Tank');
+    expect(widget('w_level').querySelector('.net-plot-scale')!.textContent).toBe('0…100 %');
+    const note = widget('w_note');
+    expect(note.querySelector('rect')!.getAttribute('style')).toBe('fill:navy');
+    expect(note.querySelector('.net-widget-caption')!.getAttribute('style')).toBe('fill:#fff');
+    expect(note.querySelector('.net-widget-caption')!.getAttribute('text-anchor')).toBe('middle');
+    expect(note.classList.contains('no-border')).toBe(true);
+    // a double-click latches Start at true; the next press releases it
+    const click = () => {
+      widget('w_start').dispatchEvent(new PointerEvent('pointerdown', { button: 0, bubbles: true }));
+      window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+    };
+    click();
+    click();
+    widget('w_start').dispatchEvent(new MouseEvent('dblclick', { bubbles: true }));
+    await vi.waitFor(() => expect(calls.filter((c) => c.startsWith('Start='))).toEqual(['Start=true', 'Start=false', 'Start=true', 'Start=false', 'Start=true']));
+    expect(widget('w_start').classList.contains('latched')).toBe(true);
+    click();
+    await vi.waitFor(() => expect(calls.filter((c) => c.startsWith('Start='))).toHaveLength(6));
+    expect(calls.filter((c) => c.startsWith('Start=')).at(-1)).toBe('Start=false');
+    expect(widget('w_start').classList.contains('latched')).toBe(false);
+  });
+
   it('edits an arc’s weight and kind, and copies and pastes the whole net with fresh ids', async () => {
     server({ 'cell.pnml': CELL });
     const { v } = view('cell.pnml');

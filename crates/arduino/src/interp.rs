@@ -848,34 +848,85 @@ static void serial_poll() {{
     alba_link_end();
 }}
 
-// Lamp test (the 8051 PLC's): the first digital input held at power-up walks the
-// outputs, each on for half a second, echoing `lamp D12` on the serial port, for as
-// long as it is held; then the program starts.
-static bool lamp_test() {{
-    uint8_t hold = 0xFF;
-    for (uint8_t k = 0; k < n_wires && hold == 0xFF; k++) if (w_kind(k) == 0) hold = w_pin[k];
-    if (hold == 0xFF || digitalRead(hold) != HIGH) return false;
+// Lamp test (the 8051 PLC's, 002_… §4.1.6), with or without a program: DI channel 0 of
+// the pin map held high at power-up walks every output of the pin map in turn, about 2 s
+// each (`lamp D12` on the serial port); then says on the serial port that it works; then
+// lights all the outputs together for as long, and turns them off; then each digital
+// input lights the output of its channel (`input D3 1` on each change) until a reset with
+// the input released, as the source leaves its test.
+static uint8_t map_len(uint8_t kind) {{ return pgm_read_byte(&MAP_AT[kind + 1]) - pgm_read_byte(&MAP_AT[kind]); }}
+// The Arduino pin of channel `ch` of `kind` (0xFF: none), as the wires' pins are read.
+static uint8_t map_pin(uint8_t kind, uint8_t ch) {{
+    uint8_t pin = pgm_read_byte(&MAP[pgm_read_byte(&MAP_AT[kind]) + ch]);
+    return pin == 0xFF ? 0xFF : pin & 0x80 ? A0 + (pin & 0x7F) : pin;
+}}
+
+static void lamp_set(uint8_t kind, uint8_t pin, bool on) {{
+    if (kind == 1) digitalWrite(pin, on ? {on} : {off});
+    else analogWrite(pin, on ? 255 : 0);
+}}
+
+static void lamp_all(bool on) {{
+    for (uint8_t kind = 1; kind <= 3; kind += 2)
+        for (uint8_t ch = 0; ch < map_len(kind); ch++)
+            if (map_pin(kind, ch) != 0xFF) lamp_set(kind, map_pin(kind, ch), on);
+}}
+
+static void lamp_name(uint8_t pin) {{
+    Serial.print(pin >= A0 ? 'A' : 'D');
+    Serial.print(pin >= A0 ? pin - A0 : pin);
+}}
+
+static void lamp_test() {{
+    uint8_t hold = map_len(0) ? map_pin(0, 0) : 0xFF;
+    if (hold == 0xFF) return;
+    pinMode(hold, INPUT);
+    if (digitalRead(hold) != HIGH) return;
+    lamp_all(false);
+    for (uint8_t kind = 1; kind <= 3; kind += 2)
+        for (uint8_t ch = 0; ch < map_len(kind); ch++)
+            if (map_pin(kind, ch) != 0xFF) pinMode(map_pin(kind, ch), OUTPUT);
     Serial.println(F("lamp test"));
-    while (digitalRead(hold) == HIGH) {{
-        for (uint8_t k = 0; k < n_wires && digitalRead(hold) == HIGH; k++) {{
-            uint8_t kind = w_kind(k), pin = w_pin[k];
-            if (kind != 1 && kind != 3) continue;
-            Serial.print(pin >= A0 ? F("lamp A") : F("lamp D"));
-            Serial.println(pin >= A0 ? pin - A0 : pin);
-            if (kind == 1) digitalWrite(pin, {on}); else analogWrite(pin, 255);
-            delay(500);
-            if (kind == 1) digitalWrite(pin, {off}); else analogWrite(pin, 0);
+    for (uint8_t kind = 1; kind <= 3; kind += 2)
+        for (uint8_t ch = 0; ch < map_len(kind); ch++) {{
+            uint8_t pin = map_pin(kind, ch);
+            if (pin == 0xFF) continue;
+            Serial.print(F("lamp "));
+            lamp_name(pin);
+            Serial.println();
+            lamp_set(kind, pin, true);
+            delay(2000);
+            lamp_set(kind, pin, false);
+        }}
+    Serial.println(F("lamp test: the serial port works"));
+    Serial.println(F("lamp all"));
+    lamp_all(true);
+    delay(2000);
+    lamp_all(false);
+    Serial.println(F("lamp inputs"));
+    uint8_t seen[{max_ch} / 8] = {{0}};
+    for (uint8_t ch = 0; ch < map_len(0); ch++)
+        if (map_pin(0, ch) != 0xFF) pinMode(map_pin(0, ch), INPUT);
+    for (;;) {{
+        for (uint8_t ch = 0; ch < map_len(0); ch++) {{
+            uint8_t pin = map_pin(0, ch);
+            if (pin == 0xFF) continue;
+            bool v = digitalRead(pin) == HIGH;
+            if (ch < map_len(1) && map_pin(1, ch) != 0xFF) lamp_set(1, map_pin(1, ch), v);
+            if (v == ((seen[ch / 8] >> (ch % 8)) & 1)) continue;
+            seen[ch / 8] ^= (uint8_t)(1 << (ch % 8));
+            Serial.print(F("input "));
+            lamp_name(pin);
+            Serial.println(v ? F(" 1") : F(" 0"));
         }}
     }}
-    Serial.println(F("lamp test done"));
-    return true;
 }}
 
 void setup() {{
     Serial.begin(ALBA_LINK_BAUD);
+    // before the program: the test needs none, and once it runs only a reset ends it
+    lamp_test();
     start();
-    // after a lamp test, the program starts afresh
-    if (loaded && lamp_test()) start();
 }}
 
 void loop() {{
@@ -934,6 +985,7 @@ void loop() {{
         slave = sketch::LINK_SLAVE,
         baud = sketch::LINK_BAUD,
         magic = sketch::LINK_MAGIC,
+        max_ch = bytecode::MAX_CHANNELS,
     );
     vec![
         ("alba_interp.ino".into(), ino),

@@ -309,7 +309,9 @@ pub fn symbols(elf: &Path) -> Result<Vec<(String, u32, u32)>, Diagnostic> {
 /// `D13:drive`) and the memory regions `mem` (data-space address, bytes)
 /// every `every_ms` to `until_ms` from the reset; the stores the firmware
 /// must not make: into `forbid` once the first scan has started, and at any
-/// time between `free_ram` and the stack pointer.
+/// time between `free_ram` and the stack pointer. `inputs` drive pins
+/// (`(ms, "D2", 1)`, in time order; at 0, from the reset on), and with
+/// `serial` the lines the firmware sends on its serial port are kept.
 #[derive(Debug, Clone, Default)]
 pub struct Watch {
     pub pins: Vec<String>,
@@ -318,6 +320,8 @@ pub struct Watch {
     pub every_ms: u64,
     pub forbid: Vec<(u32, u32)>,
     pub free_ram: Option<u32>,
+    pub inputs: Vec<(u64, String, i32)>,
+    pub serial: bool,
 }
 
 /// What [`run_watched`] saw.
@@ -331,6 +335,9 @@ pub struct Watched {
     /// The forbidden stores (the first 20, as the harness reports them), and how many.
     pub forbidden: Vec<String>,
     pub forbidden_count: u64,
+    /// With [`Watch::serial`], each line the firmware sent: the time (ms from
+    /// the reset) its end of line went out, and the line.
+    pub serial: Vec<(u64, String)>,
 }
 
 /// Runs `elf` in the harness with no stimulus, its EEPROM from `eeprom`,
@@ -341,8 +348,24 @@ pub fn run_watched(elf: &Path, model: Model, eeprom: Option<&Path>, watch: &Watc
     let work = temp_sibling(&elf.with_file_name("watched"));
     std::fs::create_dir_all(&work).map_err(|e| tool_error(format!("cannot create {}: {e}", work.display())))?;
     let trace_file = work.join("trace.csv");
+    let serial_file = work.join("serial.txt");
+    let stimulus_file = work.join("stimulus.csv");
     let join = |r: &[(u32, u32)]| r.iter().map(|(a, n)| format!("{a}:{n}")).collect::<Vec<_>>().join(",");
-    let out = Command::new(&harness)
+    let mut cmd = Command::new(&harness);
+    if !watch.inputs.is_empty() {
+        let text: String = watch
+            .inputs
+            .iter()
+            .map(|(t, pin, v)| format!("{t},{pin},{v}\n"))
+            .collect();
+        std::fs::write(&stimulus_file, text)
+            .map_err(|e| tool_error(format!("cannot write {}: {e}", stimulus_file.display())))?;
+        cmd.arg("--stimulus").arg(&stimulus_file);
+    }
+    if watch.serial {
+        cmd.arg("--serial").arg(&serial_file);
+    }
+    let out = cmd
         .arg(elf)
         .args(["-m", model.mcu(), "--until", &watch.until_ms.to_string()])
         .args(["--every", &watch.every_ms.to_string()])
@@ -359,6 +382,7 @@ pub fn run_watched(elf: &Path, model: Model, eeprom: Option<&Path>, watch: &Watc
         .arg(&trace_file)
         .output();
     let trace = std::fs::read_to_string(&trace_file);
+    let serial = std::fs::read_to_string(&serial_file).unwrap_or_default();
     let _ = std::fs::remove_dir_all(&work);
     let out = out.map_err(|e| tool_error(format!("cannot run the simavr harness: {e}")))?;
     let log = String::from_utf8_lossy(&out.stderr).into_owned();
@@ -384,6 +408,13 @@ pub fn run_watched(elf: &Path, model: Model, eeprom: Option<&Path>, watch: &Watc
             .map(str::to_string)
             .collect(),
         forbidden_count: count("alba-simavr: forbidden writes "),
+        serial: serial
+            .lines()
+            .filter_map(|l| {
+                let (t, text) = l.split_once(' ')?;
+                Some((t.parse().ok()?, text.to_string()))
+            })
+            .collect(),
     })
 }
 

@@ -55,6 +55,9 @@ struct Case {
     name: String,
     prog: Program,
     scan_ms: u64,
+    /// The project's own `[board]` (model and pin map), when it has one: it
+    /// runs there whatever board a test asks for.
+    board: Option<(Model, PinMap)>,
 }
 
 /// Examples whose inputs are tags without an address (set from a screen or a
@@ -92,11 +95,28 @@ fn example(name: &str) -> Case {
     let c = alba_compiler::compile_dir(&dir);
     let prog = c.program.unwrap_or_else(|| panic!("{name} does not compile"));
     let scan_ms = c.project.config.as_ref().map_or(10, |c| u64::from(c.scan_ms));
+    let board = c
+        .project
+        .config
+        .as_ref()
+        .and_then(|c| c.board.as_ref())
+        .map(|b| (b.model, b.map.clone()));
     Case {
         name: name.into(),
         prog,
         scan_ms,
+        board,
     }
+}
+
+/// Where `case` runs: its own `[board]`, else `model` with the aurora map.
+fn target_for(case: &Case, model: Model) -> Target {
+    let mut t = aurora(model, case.scan_ms as u32);
+    if let Some((m, map)) = &case.board {
+        t.model = *m;
+        t.map = map.clone();
+    }
+    t
 }
 
 /// Every wired I/O channel as a traced column, named by its address.
@@ -218,7 +238,8 @@ fn check_as(
     seed: u64,
     bytecode: bool,
 ) -> simavr::Profile {
-    let target = aurora(model, case.scan_ms as u32);
+    let target = target_for(case, model);
+    let model = target.model;
     let prog = control_program(&case.prog);
     let sketch = generate(&prog, &case.name, &target).unwrap_or_else(|d| panic!("{}: {d:?}", case.name));
     let kind = if bytecode { "bytecode" } else { "sketch" };
@@ -332,7 +353,7 @@ fn own_stimulus(name: &str) -> Option<(String, u64, u64)> {
 }
 
 /// The examples the board runs (the PID ones are refused, E501): all the others.
-const BOARD_EXAMPLES: [&str; 11] = [
+const BOARD_EXAMPLES: [&str; 14] = [
     "start-stop",
     "traffic-light",
     "star-delta",
@@ -349,6 +370,11 @@ const BOARD_EXAMPLES: [&str; 11] = [
     "opcsm-tour",
     // Structured Text (an on-delay and a counter block) lowered to the same IR.
     "st-motor",
+    // The 8051 PLC thesis's applications (002_…, chapter 6), in its own elements; the tank
+    // on a Mega with twelve inputs (its [board]).
+    "plc8051-latch",
+    "plc8051-pulse-relay",
+    "plc8051-tank",
 ];
 
 /// Every example runs on the board (the differential tests below) or is
@@ -359,7 +385,7 @@ fn every_example_runs_on_the_board_or_is_refused_at_its_place() {
     for e in std::fs::read_dir(root().join("examples")).expect("examples").flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let case = example(&name);
-        let t = aurora(Model::Mega, case.scan_ms as u32);
+        let t = target_for(&case, Model::Mega);
         let prog = control_program(&case.prog);
         let sketch = generate(&prog, &name, &t);
         let bc = alba_arduino::bytecode::encode(&prog, &name, &t);
@@ -425,6 +451,7 @@ fn random_program(seed: u64) -> Case {
         name: format!("random-{seed}"),
         prog,
         scan_ms: 10,
+        board: None,
     }
 }
 
@@ -456,8 +483,12 @@ fn aurora(model: Model, scan_ms: u32) -> Target {
     }
 }
 
-/// The Uno when the case's byte code fits its program slot, else the Mega.
+/// The Uno when the case's byte code fits its program slot, else the Mega
+/// (or the case's own board).
 fn board_for(case: &Case) -> Model {
+    if let Some((m, _)) = &case.board {
+        return *m;
+    }
     let uno = aurora(Model::Uno, case.scan_ms as u32);
     let fits = alba_arduino::bytecode::encode(&control_program(&case.prog), &case.name, &uno).is_ok();
     if fits { Model::Uno } else { Model::Mega }
@@ -548,6 +579,7 @@ impl Interpreter {
             every_ms: 50,
             forbid: Vec::new(),
             free_ram: Some(self.sym("__bss_end").0),
+            ..simavr::Watch::default()
         };
         if let Some(d) = accepted {
             let c = d.program.layout.counts;
@@ -897,6 +929,7 @@ fn time_base_program(scan_ms: u64) -> Case {
         name: format!("time-base-{scan_ms}"),
         prog,
         scan_ms,
+        board: None,
     }
 }
 
@@ -910,5 +943,114 @@ fn timers_in_every_time_base_run_the_same_as_the_engine() {
         let case = time_base_program(scan_ms);
         check(&case, Model::Uno, None, 8000, scan_ms, seed);
         check_as(&case, Model::Uno, None, 8000, scan_ms, seed, true);
+    }
+}
+
+/// The golden cases of an example, as `alba sim`'s golden test reads them:
+/// (stimulus, `--until`, `--every`, `--tags`, golden trace).
+fn golden_cases(name: &str) -> Vec<(String, u64, u64, Vec<String>, String)> {
+    let dir = root().join("examples").join(name);
+    let mut out = Vec::new();
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("example")
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    files.sort();
+    for f in files {
+        let f = f.to_string_lossy();
+        let Some(case) = f.strip_suffix(".args").and_then(|s| s.strip_prefix("golden")) else {
+            continue;
+        };
+        let read = |p: String| std::fs::read_to_string(dir.join(&p)).unwrap_or_else(|e| panic!("{name}/{p}: {e}"));
+        let args = read(f.to_string());
+        let words: Vec<&str> = args.split_whitespace().collect();
+        let arg = |k: &str| {
+            words
+                .iter()
+                .position(|w| *w == k)
+                .and_then(|i| words.get(i + 1))
+                .copied()
+        };
+        let num = |k: &str| {
+            arg(k)
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("{name}{case}: {k}"))
+        };
+        let tags = arg("--tags").expect("--tags").split(',').map(str::to_string).collect();
+        out.push((
+            read(format!("stimulus{case}.csv")),
+            num("--until"),
+            num("--every"),
+            tags,
+            read(format!("golden{case}.csv")),
+        ));
+    }
+    out
+}
+
+/// The 8051 PLC thesis's applications (issue 34, point 6) on the byte-code
+/// interpreter in simavr: the program downloaded into the board's EEPROM,
+/// each golden case's stimulus on its pins, and the trace of the golden's
+/// tags (I/O on the pins, the rest in the interpreter's memory) equal to the
+/// golden file `alba sim` is held to — latch by pulses and the pulse relay
+/// on the Uno, the tank on its own Mega.
+#[test]
+fn the_8051_applications_give_their_golden_traces_on_the_interpreter() {
+    if !tools_present() {
+        return;
+    }
+    for name in ["plc8051-latch", "plc8051-pulse-relay", "plc8051-tank"] {
+        let case = example(name);
+        let target = target_for(&case, Model::Uno);
+        let prog = control_program(&case.prog);
+        let sketch = generate(&prog, name, &target).unwrap_or_else(|d| panic!("{name}: {d:?}"));
+        let bc = alba_arduino::bytecode::encode(&prog, name, &target).unwrap_or_else(|d| panic!("{name}: {d:?}"));
+        let (firmware, _) = alba_arduino::interp::firmware(&target).unwrap_or_else(|d| panic!("{}", d.message));
+        let dir = work_dir(&format!("{name}-golden"));
+        let ee = dir.join("eeprom.bin");
+        std::fs::write(&ee, &bc.bytes).expect("write");
+        let cases = golden_cases(name);
+        assert!(!cases.is_empty(), "{name}: no golden case");
+        for (stim_text, until, every, tags, golden) in cases {
+            let layout = &prog.layout;
+            let cols: Vec<Column> = tags
+                .iter()
+                .map(|t| match layout.resolve(t) {
+                    Ok(alba_ir::Target::Value { place, .. }) => Column { name: t.clone(), place },
+                    other => panic!("{name}: {t} is no value: {other:?}"),
+                })
+                .collect();
+            let stim = Stimulus::parse(&stim_text, FileId(0), layout).unwrap_or_else(|d| panic!("{name}: {d:?}"));
+            let rows = stim.writes().expect("the golden stimuli force nothing");
+            let timing = Timing {
+                scan_ms: case.scan_ms,
+                until_ms: until,
+                every_ms: every,
+                from_first_scan: true,
+            };
+            let run = simavr::simulate_eeprom(
+                &firmware.elf,
+                target.model,
+                &sketch.wiring,
+                false,
+                &prog.init,
+                &rows,
+                &cols,
+                timing,
+                Some(&ee),
+            )
+            .unwrap_or_else(|d| panic!("{name}: {d:?}"));
+            if run.trace != golden {
+                std::fs::write(dir.join("firmware.csv"), &run.trace).expect("write");
+                let first = golden.lines().zip(run.trace.lines()).find(|(a, b)| a != b);
+                panic!(
+                    "{name} on the {}: the interpreter's trace differs from the golden (in {}): {first:?}",
+                    target.model.title(),
+                    dir.display()
+                );
+            }
+            assert!(run.profile.scans > 0, "{name}: no scan");
+        }
     }
 }

@@ -124,6 +124,8 @@ fn known_props(kind: ElementKind) -> &'static [&'static str] {
         ElementKind::Input => &["source"],
         ElementKind::Output => &["source", "target"],
         ElementKind::Variable => &["mode", "source", "target", "value", "initial"],
+        // the number its `<tag>` holds while it has the token (1 for a BOOL tag)
+        ElementKind::State => &["value"],
         _ => &[],
     }
 }

@@ -66,15 +66,33 @@ pub fn enabled_span(transition: Span) -> Span {
     Span::new(transition.file, transition.start as usize..transition.start as usize)
 }
 
-/// Writes each `<tag>` place's BOOL: true while the place is marked.
-pub(crate) fn emit_drives(b: &mut Builder, net: &Net, drives: Vec<(usize, Place)>, marking: &[I], zero: I) {
-    for (p, place) in drives {
-        let elem = b.element(net.places[p].span);
+/// A `<tag>` place: the tag it drives and, for a numeric tag, the constant
+/// (its `value` prop) the tag holds while the place is marked.
+pub(crate) struct Drive {
+    place: usize,
+    dest: Place,
+    value: Option<Literal>,
+}
+
+/// Writes each `<tag>` place's tag: a BOOL true while the place is marked;
+/// a number its `value` while marked, else 0 (the source's State sets its
+/// variable to 1 while it has the token; issue 34 lets it set a constant).
+pub(crate) fn emit_drives(b: &mut Builder, net: &Net, drives: Vec<Drive>, marking: &[I], zero: I) {
+    for d in drives {
+        let span = net.places[d.place].span;
+        let elem = b.element(span);
         b.emit(Op::True, elem);
-        b.emit(Op::CmpI(Cmp::Gt, marking[p], zero), elem);
-        let (out, post) = b.bool_out(place, elem);
-        b.emit(Op::Ote(out), elem);
-        b.post(post, elem);
+        b.emit(Op::CmpI(Cmp::Gt, marking[d.place], zero), elem);
+        let Some(v) = d.value else {
+            let (out, post) = b.bool_out(d.dest, elem);
+            b.emit(Op::Ote(out), elem);
+            b.post(post, elem);
+            continue;
+        };
+        lower_assign(b, d.dest, &Expr::Lit(v, span), elem);
+        b.emit(Op::True, elem);
+        b.emit(Op::CmpI(Cmp::Le, marking[d.place], zero), elem);
+        lower_assign(b, d.dest, &Expr::Lit(Literal::Int(0), span), elem);
     }
 }
 
@@ -410,14 +428,67 @@ pub(crate) fn compile_with(
     diags
 }
 
-/// The `<tag>` places of `net`: (place index, the BOOL it drives), each
-/// checked (E622).
-pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnostic>) -> Vec<(usize, Place)> {
+/// The `<tag>` places of `net`: each the tag it drives (a BOOL, or a number
+/// with the place's `value`), checked (E622).
+pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnostic>) -> Vec<Drive> {
     let mut drives = Vec::new();
     for (k, p) in net.places.iter().enumerate() {
-        let Some(tag) = &p.tag else { continue };
         let bad = |msg: String| Diagnostic::new(Code::NetPlaceTag, msg, p.span, "place");
+        let value = match p.props.get("value").map(|v| v.trim()) {
+            None => None,
+            Some(v) => match Literal::parse(v) {
+                Ok(l @ (Literal::Int(_) | Literal::Real(_))) => Some(l),
+                _ => {
+                    diags.push(
+                        bad(format!("the value `{v}` of place `{}` is not a number", p.id)).with_help(
+                            "while marked, the place's numeric `<tag>` holds this constant: `5`, `-2`, `1.5`",
+                        ),
+                    );
+                    continue;
+                }
+            },
+        };
+        let Some(tag) = &p.tag else {
+            if value.is_some() {
+                diags.push(
+                    bad(format!("place `{}` has a `value` but no `<tag>` to write it to", p.id))
+                        .with_help("give it `<tag>NAME</tag>`, a numeric tag"),
+                );
+            }
+            continue;
+        };
         match b.layout().resolve(tag) {
+            Ok(Target::Value { place, access })
+                if value.is_some() && place.data_type() != DataType::Bool && place.data_type().is_numeric() =>
+            {
+                if access != Access::ReadWrite {
+                    diags.push(bad(format!(
+                        "place `{}` cannot write `{tag}`: {}",
+                        p.id,
+                        access.why_not_writable()
+                    )));
+                } else if net
+                    .places
+                    .iter()
+                    .any(|q| marking_tag(name, &q.id).eq_ignore_ascii_case(tag))
+                {
+                    diags.push(bad(format!("`{tag}` is a marking, not a tag to write")));
+                } else {
+                    drives.push(Drive {
+                        place: k,
+                        dest: place,
+                        value,
+                    });
+                }
+            }
+            Ok(Target::Value { place, .. }) if value.is_some() => diags.push(
+                bad(format!(
+                    "place `{}` writes its value to `{tag}`, which is {}, not a number",
+                    p.id,
+                    place.data_type().with_article()
+                ))
+                .with_help("a BOOL tag is true while the place is marked: leave the `value` out"),
+            ),
             Ok(Target::Value { place, access }) if place.data_type() == DataType::Bool => {
                 if access != Access::ReadWrite {
                     diags.push(bad(format!(
@@ -432,14 +503,21 @@ pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnos
                 {
                     diags.push(bad(format!("`{tag}` is a marking, not a BOOL")));
                 } else {
-                    drives.push((k, place));
+                    drives.push(Drive {
+                        place: k,
+                        dest: place,
+                        value: None,
+                    });
                 }
             }
-            Ok(Target::Value { place, .. }) => diags.push(bad(format!(
-                "place `{}` drives `{tag}`, which is {}, not a BOOL",
-                p.id,
-                place.data_type().with_article()
-            ))),
+            Ok(Target::Value { place, .. }) => diags.push(
+                bad(format!(
+                    "place `{}` drives `{tag}`, which is {}, not a BOOL",
+                    p.id,
+                    place.data_type().with_article()
+                ))
+                .with_help("or give the place a `value`: the number the tag holds while it is marked"),
+            ),
             Ok(_) => diags.push(bad(format!("`{tag}` is a structure, not a BOOL; name a member"))),
             Err(e) => {
                 let mut d = bad(format!("place `{}` drives {e}", p.id));

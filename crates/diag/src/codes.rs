@@ -172,7 +172,7 @@ codes! {
     NetGuard = 621, "a transition guard is not valid",
         "A `<guard>` is a BOOL expression of Alba's expression language for nets: tag names and members, literals, `NOT`, `AND` (`&`), `OR` (`|`), `XOR`, parentheses, comparisons (= == <> != < > <= >=), arithmetic (+ - * / : MOD % ** ^, with the state-net source's precedence) and its functions (cos, sqrt, rem, log...). Every name must be a tag, member, address or system tag; a number alone is not a guard: compare it.";
     NetPlaceTag = 622, "a place's `<tag>` cannot be driven",
-        "A place's `<tag>NAME</tag>` makes the net write the BOOL tag NAME (true while the place is marked), so NAME must be a BOOL tag or member the program may write: not an input, a status bit, a system tag or a marking.";
+        "A place's `<tag>NAME</tag>` makes the net write the tag NAME: a BOOL, true while the place is marked, or, when the place has a `value` (a number), a numeric tag that holds that constant while the place is marked and 0 after. NAME must be a tag or member of that kind the program may write: not an input, a status bit, a system tag or a marking.";
     NetTagClash = 623, "a place's marking tag clashes with a tag",
         "The marking of place P of net N (file N.pnml) is the DINT tag `N.P`; no tag of tags.csv, no place of another net, and no member of a TIMER, COUNTER or PID tag named N (`N.DN`) may have that name.";
     NetRange = 624, "a marking or weight does not fit a DINT",

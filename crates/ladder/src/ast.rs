@@ -101,6 +101,53 @@ pub enum Arg {
     Pid,
 }
 
+/// An operand an instruction may be written without: the default applies
+/// when it is left out (`TON(T,5,0)` counts milliseconds, `TON(T,5,0,s)`
+/// seconds). It follows the required ones.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Optional {
+    /// A timer's time base (docs/ladder.md §4.4): `ms`, `cs`, `ds`, `s` or `min`.
+    TimeBase,
+}
+
+impl Optional {
+    /// The kind's name in the domain (`time_base`), beside [`Arg`]'s.
+    pub fn name(self) -> &'static str {
+        match self {
+            Optional::TimeBase => "time_base",
+        }
+    }
+
+    /// The operand's name in boxes and the properties panel.
+    pub fn label(self) -> &'static str {
+        match self {
+            Optional::TimeBase => "Time base",
+        }
+    }
+
+    /// What fits there, in words.
+    pub fn doc(self) -> &'static str {
+        match self {
+            Optional::TimeBase => "a time base: ms, cs, ds, s or min (ms when left out)",
+        }
+    }
+
+    /// The values a studio offers (any case is accepted; a time base may
+    /// also be written in seconds, `0.01`, as AuroraLD does).
+    pub fn choices(self) -> Vec<&'static str> {
+        match self {
+            Optional::TimeBase => crate::TimeBase::ALL.iter().map(|b| b.name()).collect(),
+        }
+    }
+
+    /// The value that applies when the operand is left out.
+    pub fn default_value(self) -> &'static str {
+        match self {
+            Optional::TimeBase => crate::TimeBase::default().name(),
+        }
+    }
+}
+
 macro_rules! instructions {
     ($($m:ident: $group:ident, $output:literal, [$($arg:ident $label:literal),*], $title:literal, $doc:literal;)*) => {
         /// A ladder instruction.
@@ -204,6 +251,15 @@ instructions! {
 }
 
 impl Mnemonic {
+    /// The operands that may follow [`Mnemonic::args`], in order (a TON's
+    /// time base); the checker accepts each one left out.
+    pub fn optional(self) -> &'static [Optional] {
+        match self {
+            Mnemonic::TON | Mnemonic::TOF | Mnemonic::RTO => &[Optional::TimeBase],
+            _ => &[],
+        }
+    }
+
     pub fn parse(name: &str) -> Option<Mnemonic> {
         Mnemonic::ALL
             .iter()

@@ -4,7 +4,7 @@
 //! fits each kind of operand, and every notation of an address. The studio
 //! takes all of this from here instead of writing it a second time.
 
-use crate::ast::{Arg, Group, Mnemonic};
+use crate::ast::{Arg, Group, Mnemonic, Optional};
 use alba_ir::values::{Class, class_of_type};
 use alba_model::address::MarkerWidth;
 use alba_model::{Address, DataType};
@@ -94,6 +94,36 @@ pub struct InstructionInfo {
     /// operand's own value, else that member of the first operand (a
     /// timer's literal preset row shows `PRE`).
     pub shows: Vec<Option<&'static str>>,
+    /// Operands that may follow the ones of `args`, in order, each with
+    /// its default when left out (a TON's time base: `TON(T,5,0,s)`).
+    pub optional: Vec<OptionalInfo>,
+}
+
+/// An operand an instruction may be written without. It is never a tag:
+/// the studio offers its `choices` and shows no value beside it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "ts", derive(ts_rs::TS))]
+pub struct OptionalInfo {
+    /// Its kind (`time_base`).
+    pub name: &'static str,
+    pub label: &'static str,
+    /// What fits there, in words.
+    pub doc: &'static str,
+    /// The values to offer (the checker also takes other spellings, such
+    /// as a time base in seconds, `0.01`).
+    pub choices: Vec<&'static str>,
+    /// What applies when the operand is left out.
+    pub default: &'static str,
+}
+
+fn optional_info(o: Optional) -> OptionalInfo {
+    OptionalInfo {
+        name: o.name(),
+        label: o.label(),
+        doc: o.doc(),
+        choices: o.choices(),
+        default: o.default_value(),
+    }
 }
 
 pub fn group_name(g: Group) -> &'static str {
@@ -284,6 +314,7 @@ fn instruction_info(m: Mnemonic) -> InstructionInfo {
         doc: m.doc(),
         bits: bits.to_vec(),
         shows,
+        optional: m.optional().iter().map(|o| optional_info(*o)).collect(),
     }
 }
 
@@ -452,6 +483,24 @@ mod tests {
         assert_eq!(pid.shows, [None, Some(""), Some("")]);
         let ton = d.instructions.iter().find(|i| i.mnemonic == "TON").expect("TON");
         assert_eq!(ton.shows, [None, Some("PRE"), Some("ACC")]);
+        assert_eq!(ton.optional.len(), 1);
+        assert_eq!(ton.optional[0].name, "time_base");
+        assert_eq!(ton.optional[0].label, "Time base");
+        assert_eq!(ton.optional[0].choices, ["ms", "cs", "ds", "s", "min"]);
+        assert_eq!(ton.optional[0].default, "ms");
+        for i in &d.instructions {
+            let timed = matches!(i.mnemonic, "TON" | "TOF" | "RTO");
+            assert_eq!(!i.optional.is_empty(), timed, "{}", i.mnemonic);
+            for o in &i.optional {
+                assert!(
+                    !kinds.contains(&o.name),
+                    "{}: an optional kind is not a tag kind",
+                    o.name
+                );
+                // every choice is one the checker takes
+                assert!(o.choices.iter().all(|c| crate::TimeBase::parse(c).is_some()));
+            }
+        }
         let shapes: Vec<(&str, &str)> = d
             .instructions
             .iter()

@@ -13,7 +13,7 @@ pub mod print;
 
 /// The time base of `TON(T,pre,acc,base)` (docs/ladder.md §4.4).
 pub use alba_ir::TimeBase;
-pub use ast::{Arg, Branch, Element, Group, Instr, Mnemonic, Operand, Program, Rung};
+pub use ast::{Arg, Branch, Element, Group, Instr, Mnemonic, Operand, Optional, Program, Rung};
 pub use lower::{Dialect, Presets, addresses, compile, compile_in, layout_for, slc_structs};
 pub use parse::parse;
 pub use print::print;

@@ -581,8 +581,9 @@ impl Compiler<'_> {
     fn instr(&mut self, i: &Instr, elem: u32) {
         let m = i.mnemonic;
         let args = m.args();
-        let based = matches!(m, Mnemonic::TON | Mnemonic::TOF | Mnemonic::RTO);
-        if i.operands.len() != args.len() && !(based && i.operands.len() == args.len() + 1) {
+        let based = m.optional().contains(&crate::ast::Optional::TimeBase);
+        let most = args.len() + m.optional().len();
+        if !(args.len()..=most).contains(&i.operands.len()) {
             if based {
                 self.err(
                     Code::OperandCount,

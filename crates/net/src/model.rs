@@ -283,6 +283,12 @@ pub struct Widget {
     /// Its caption.
     pub text: Option<String>,
     pub position: Option<Point>,
+    /// The source's properties of the element (OPCSM, `003_…` §2.2.3.13–16: a
+    /// Display's `mode`, `format`, `unit`; a Plot's `autoscale`, `title`, `min`,
+    /// `max`; a Label's colours, border, font, alignment): every other
+    /// attribute of `<widget>`, kept and written back by name. The studio
+    /// reads them (`web/src/net/widgets.ts`); the engine does not.
+    pub style: BTreeMap<String, String>,
 }
 
 /// A net: one `<net>` of a PNML file, its pages flattened.

@@ -485,12 +485,19 @@ impl<'a> Loader<'a> {
                 }
             }
         };
+        let style = c
+            .attrs
+            .iter()
+            .filter(|(k, _)| !["id", "kind", "tag", "x", "y"].contains(&k.as_str()))
+            .cloned()
+            .collect();
         self.net.widgets.push(Widget {
             id,
             kind,
             tag: c.attr("tag").map(str::to_string),
             text: (!c.text.is_empty()).then(|| c.text.clone()),
             position,
+            style,
         });
     }
 
@@ -1175,6 +1182,9 @@ pub fn save(net: &Net) -> String {
         }
         if let Some(p) = x.position {
             s.push_str(&format!(" x=\"{}\" y=\"{}\"", num(p.x), num(p.y)));
+        }
+        for (k, v) in &x.style {
+            s.push_str(&format!(" {k}=\"{}\"", esc_attr(v)));
         }
         s.push_str(&format!(">{}</widget>", esc(x.text.as_deref().unwrap_or(""))));
         body.push(s);

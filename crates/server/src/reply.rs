@@ -5,7 +5,7 @@
 //! committed file and these types disagree (`UPDATE_BINDINGS=1 cargo test
 //! -p alba-server` rewrites it). `Json` in TypeScript is any JSON value.
 
-use alba_compiler::ladder::domain::{ArgInfo, Domain, GroupInfo, InstructionInfo, MemberInfo, TypeInfo};
+use alba_compiler::ladder::domain::{ArgInfo, Domain, GroupInfo, InstructionInfo, MemberInfo, OptionalInfo, TypeInfo};
 use serde::Serialize;
 use serde_json::Value as Json;
 use ts_rs::TS;
@@ -1027,6 +1027,7 @@ pub fn typescript() -> String {
         GroupInfo,
         ArgInfo,
         InstructionInfo,
+        OptionalInfo,
         HistoryTag,
         Bucket,
         History,

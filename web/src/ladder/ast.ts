@@ -1,7 +1,7 @@
 // The ladder element tree: the same shape as the API's `rungs` JSON
 // (docs/api.md), so server rungs and locally parsed rungs are used alike.
 // What an instruction looks like (shape, labels, title) comes from the domain.
-import { argInfo, instruction } from '../domain';
+import { type OptionalInfo, argInfo, instruction } from '../domain';
 
 export interface Pos {
   line: number;
@@ -44,10 +44,18 @@ export function shapeOf(mnemonic: string): 'contact' | 'coil' | 'box' {
   return instruction(mnemonic)?.shape ?? 'box';
 }
 
-/** Operand labels shown in boxes and the properties panel (`Operand n` where the domain has none). */
+/** Operand labels shown in boxes and the properties panel: the required operands',
+ * then the optional ones' (a TON's `Time base`), `Operand n` where the domain has none. */
 export function operandLabels(mnemonic: string, count: number): string[] {
-  const l = instruction(mnemonic)?.labels ?? [];
+  const info = instruction(mnemonic);
+  const l = [...(info?.labels ?? []), ...(info?.optional ?? []).map((o) => o.label)];
   return Array.from({ length: count }, (_, i) => l[i] ?? `Operand ${i + 1}`);
+}
+
+/** The optional operand at position `k` of an instruction (a TON's time base at 3), if that place is one. */
+export function optionalAt(mnemonic: string, k: number): OptionalInfo | undefined {
+  const info = instruction(mnemonic);
+  return info ? info.optional[k - info.args.length] : undefined;
 }
 
 /** The full name for a box title ('' for an unknown instruction). */
@@ -64,7 +72,8 @@ export function isLiteral(op: string): boolean {
 /** The tag names an instruction reads or writes, for live values (not labels or expressions). */
 export function operandTags(i: Instr): string[] {
   const info = instruction(i.mnemonic);
-  const ops = info ? i.operands.filter((_, k) => argInfo(info.args[k] ?? '')?.tag ?? true) : i.operands;
+  // an optional operand (a time base) is never a tag; past the table, an operand is taken as one
+  const ops = info ? i.operands.filter((_, k) => !optionalAt(i.mnemonic, k) && (argInfo(info.args[k] ?? '')?.tag ?? true)) : i.operands;
   return ops.filter((o) => !isLiteral(o) && /^[A-Za-z_%][\w.:/%]*$/.test(o.trim())).map((o) => o.trim());
 }
 

@@ -17,7 +17,7 @@ import { type Problem, ProgramEditor, problemTip } from '../editor/program';
 import type { RungJson, TagUse } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
-import { type Elem, type Instr, type Path, operandLabels, operandTags, shapeOf, walk } from './ast';
+import { type Elem, type Instr, type Path, operandLabels, operandTags, optionalAt, shapeOf, walk } from './ast';
 import { type Edited, addLeg, getAt, insert, move, newInstr, remove, setInstr, wrapInBranch } from './edit';
 import { type RungLayout, layoutRung, setAnnotations } from './layout';
 import { attachIds, locate } from './locate';
@@ -551,9 +551,29 @@ export class LadderView {
       return;
     }
     const info = instruction(el.mnemonic);
-    const labels = operandLabels(el.mnemonic, el.operands.length);
+    // the operands written, then the first optional one left out (a TON's time base), offered at its default
+    const shown = info && el.operands.length >= info.args.length && optionalAt(el.mnemonic, el.operands.length) ? el.operands.length + 1 : el.operands.length;
+    const labels = operandLabels(el.mnemonic, shown);
     const same = domain().instructions.filter((i) => info && i.args.join() === info.args.join());
-    const inputs = el.operands.map((op, k) => {
+    const apply = () => {
+      const values = fields.map((f) => f.value);
+      // an optional operand set back to its default is left out (`TON(T,5,0)`)
+      while (values.length > (info?.args.length ?? 0) && values[values.length - 1] === '' && optionalAt(el.mnemonic, values.length - 1)) values.pop();
+      this.setOperands(sel, values);
+    };
+    const fields: (HTMLInputElement | HTMLSelectElement)[] = Array.from({ length: shown }, (_, k) => {
+      const op = el.operands[k] ?? '';
+      const opt = optionalAt(el.mnemonic, k);
+      if (opt) {
+        // a choice, never a tag: the default (left out) first, then the domain's choices,
+        // and a spelling the checker also takes (`0.01`) kept as written
+        const choices = opt.choices.includes(op.trim()) || op.trim() === '' ? opt.choices : [...opt.choices, op.trim()];
+        const select = h('select', { 'data-testid': `operand-${k}`, disabled: !can('edit'), title: why('edit'), onchange: apply },
+          h('option', { value: '' }, tr('{value} (default)', { value: opt.default })),
+          choices.map((c) => h('option', { value: c }, c)));
+        select.value = op.trim();
+        return select;
+      }
       const input = h('input', {
         'data-testid': `operand-${k}`,
         value: op,
@@ -563,7 +583,7 @@ export class LadderView {
         readonly: !can('edit'),
         title: why('edit'),
       });
-      input.addEventListener('change', () => this.setOperands(sel, inputs.map((i) => i.value)));
+      input.addEventListener('change', apply);
       input.addEventListener('keydown', (e) => {
         if (e.key === 'Enter') input.dispatchEvent(new Event('change'));
       });
@@ -582,9 +602,9 @@ export class LadderView {
             }, same.map((i) => h('option', { value: i.mnemonic, selected: i.mnemonic === el.mnemonic.toUpperCase() }, i.mnemonic))))
         : null,
       // The label, then what fits in words (`a BOOL tag to write`), not the kind's internal name.
-      inputs.map((input, k) => {
-        const doc = info ? (argInfo(info.args[k] ?? '')?.doc ?? '') : '';
-        return h('label', { class: 'operand-field' }, h('span', { title: doc }, labels[k], doc ? h('small', null, ` — ${doc}`) : null), input);
+      fields.map((field, k) => {
+        const doc = info ? (optionalAt(el.mnemonic, k)?.doc ?? argInfo(info.args[k] ?? '')?.doc ?? '') : '';
+        return h('label', { class: 'operand-field' }, h('span', { title: doc }, labels[k], doc ? h('small', null, ` — ${doc}`) : null), field);
       }),
       this.usesPanel(operandTags(el).filter((t) => this.ctx.tags.resolve(t))),
     );

@@ -76,6 +76,10 @@ export interface Widget {
   text: string | null;
   x: number | null;
   y: number | null;
+  /** The source's properties of the element (Display's `mode`, `format`, `unit`; Plot's
+   * `autoscale`, `title`, `min`, `max`, `unit`; Label's colours, border, font, alignment;
+   * Button's `latch`), as attributes of `<widget>`, by name (net/widgets.ts reads them). */
+  style: Record<string, string>;
 }
 
 export interface Net {
@@ -282,9 +286,11 @@ export function loadPnml(text: string): Loaded {
     else if (c.name === 'widget') {
       const x = attr(c, 'x');
       const y = attr(c, 'y');
+      const style: Record<string, string> = {};
+      for (const [k, v] of c.attrs) if (!['id', 'kind', 'tag', 'x', 'y'].includes(k)) style[k] = v;
       net.widgets.push({
         id: attr(c, 'id') ?? '', kind: attr(c, 'kind') ?? '', tag: attr(c, 'tag'), text: c.text === '' ? null : c.text,
-        x: x === null ? null : Number(x), y: y === null ? null : Number(y),
+        x: x === null ? null : Number(x), y: y === null ? null : Number(y), style,
       });
     } else net.albaExtra.push(raw(c));
   }
@@ -383,6 +389,7 @@ export function savePnml(net: Net): string {
     let s = `<widget id="${escAttr(x.id)}" kind="${escAttr(x.kind)}"`;
     if (x.tag !== null) s += ` tag="${escAttr(x.tag)}"`;
     if (x.x !== null && x.y !== null) s += ` x="${num(x.x)}" y="${num(x.y)}"`;
+    for (const k of Object.keys(x.style ?? {}).sort()) s += ` ${k}="${escAttr(x.style[k])}"`;
     body.push(`${s}>${esc(x.text ?? '')}</widget>`);
   }
   w.alba(2, [...body, ...net.albaExtra]);

@@ -29,6 +29,7 @@ import {
 } from './edit';
 import { PLACE_R, type Pt, TEXT, TRANS_H, TRANS_W, type Box, fitGuard, overlaps, placeBox, positions, routes, textBox, transitionBox } from './geom';
 import { ARC_KINDS, type Arc, type Net, PLACE_KINDS, type Place, type Transition, type Widget, type Span, TRANSITION_KINDS, WIDGET_KINDS, loadPnml, savePnml } from './pnml';
+import { ButtonLatch, DISPLAY_FORMATS, DISPLAY_MODES, LABEL_ALIGNS, STYLE_KEYS, displayText, labelLook, plotRange } from './widgets';
 import { type Analysis, type Marking, enabled, initialMarking, markingTag, netName, replay } from './sim';
 import { lineCol, offsetOf } from './xml';
 
@@ -38,7 +39,7 @@ const GLYPH: Record<string, string> = {
 };
 /** Properties a kind has (docs/nets.md "Elements"), shown as fields. */
 const KIND_PROPS: Record<string, string[]> = {
-  counter: ['load', 'direction'], input: ['source'], output: ['target', 'source'], variable: ['mode', 'source', 'target', 'value', 'initial'], timer: ['delay'],
+  state: ['value'], counter: ['load', 'direction'], input: ['source'], output: ['target', 'source'], variable: ['mode', 'source', 'target', 'value', 'initial'], timer: ['delay'],
 };
 /** A widget's box at `c`: 120 wide (a label as wide as its caption, in 11 px type), 50 high for a plot, else 28. */
 function widgetBox(w: Widget, c: Pt): { x: number; y: number; w: number; h: number } {
@@ -89,6 +90,8 @@ export class NetView {
   private monitored = new Map<string, { enabled: number | null; fired: number | null }>();
   private lastMarking = new Map<string, number>();
   private plots = new Map<string, number[]>();
+  /** Each Button's latch (a double-click holds it at true: widgets.ts), by widget id. */
+  private latches = new Map<string, ButtonLatch>();
   private svg: SVGSVGElement | null = null;
   /** The drawn group of each node and widget, by id. */
   private groups = new Map<string, SVGGElement>();
@@ -392,7 +395,7 @@ export class NetView {
     let id = '';
     if (this.change((n) => {
       id = freshId(n, 'w');
-      n.widgets.push({ id, kind, tag: null, text: kind === 'label' ? tr('Label') : null, x: p.x, y: p.y });
+      n.widgets.push({ id, kind, tag: null, text: kind === 'label' ? tr('Label') : null, x: p.x, y: p.y, style: {} });
     })) this.select([id]);
   }
 
@@ -688,19 +691,31 @@ export class NetView {
       const g = this.groups.get(w.id);
       const v = w.tag ? this.value(w.tag) : undefined;
       const val = g?.querySelector('.net-widget-value');
-      if (val) val.textContent = w.kind === 'label' ? '' : source === 'live' ? fmt(v) : '';
+      // a Display shows its value in its mode and format (net/widgets.ts); a Plot its last value
+      const shown = w.kind === 'display' ? displayText(v, w.style) : w.kind === 'plot' ? displayText(v, { unit: w.style?.unit ?? '' }) : fmt(v);
+      if (val) val.textContent = w.kind === 'label' ? '' : source === 'live' ? shown : '';
       g?.classList.toggle('on', v === true);
+      g?.classList.toggle('latched', this.latches.get(w.id)?.latched === true);
       if (w.kind === 'plot' && g && typeof v === 'number' && source === 'live') {
         const pts = this.plots.get(w.id) ?? [];
         if (pts[pts.length - 1] !== v || pts.length < 2) pts.push(v);
         if (pts.length > 60) pts.shift();
         this.plots.set(w.id, pts);
-        const lo = Math.min(...pts);
-        const hi = Math.max(...pts);
+        // the Y axis: the points' own range (autoscale), else the widget's min and max
+        const { lo, hi } = plotRange(pts, w.style);
+        const y = (p: number) => 44 - (Math.min(hi, Math.max(lo, p)) - lo) / (hi - lo) * 20;
         const line = g.querySelector('.net-plot-line');
-        line?.setAttribute('points', pts.map((y, k) => `${4 + (k * 112) / 59},${44 - (hi === lo ? 10 : ((y - lo) / (hi - lo)) * 20)}`).join(' '));
+        line?.setAttribute('points', pts.map((p, k) => `${4 + (k * 112) / 59},${y(p).toFixed(2)}`).join(' '));
+        const scale = g.querySelector('.net-plot-scale');
+        if (scale) scale.textContent = `${fmt(lo)}…${fmt(hi)}${w.style?.unit ? ` ${w.style.unit}` : ''}`;
       }
     }
+  }
+
+  private latchOf(id: string): ButtonLatch {
+    let l = this.latches.get(id);
+    if (!l) this.latches.set(id, (l = new ButtonLatch()));
+    return l;
   }
 
   /** A timer's elapsed time, a counter's count, an element's variable (normal mode). */
@@ -871,25 +886,46 @@ export class NetView {
       const c = at.get(wd.id)!;
       const big = wd.kind === 'plot';
       const box = widgetBox(wd, c);
-      const g = s('g', { class: `net-widget kind-${wd.kind}${this.sel.has(wd.id) ? ' selected' : ''}`, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-widget-${wd.id}`, 'data-kind': wd.kind },
-        s('rect', { width: box.w, height: box.h, rx: wd.kind === 'button' ? 6 : 2, class: 'net-widget-box' }),
-        s('text', { class: 'net-widget-caption', x: 6, y: 12 }, wd.text ?? wd.tag ?? wd.kind),
-        s('text', { class: 'net-widget-value', x: 114, y: big ? 12 : 23, 'text-anchor': 'end' }),
-        big ? s('polyline', { class: 'net-plot-line', points: '' }) : null);
+      const look = wd.kind === 'label' ? labelLook(wd.style) : null;
+      const size = Number(wd.style?.font_size);
+      const valueStyle = wd.kind === 'display' && Number.isFinite(size) && size >= 6 && size <= 72 ? { 'font-size': `${size}px` } : {};
+      const anchor = look ? { left: ['start', 6], center: ['middle', box.w / 2], right: ['end', box.w - 6] }[look.align] : ['start', 6];
+      const g = s('g', { class: `net-widget kind-${wd.kind}${this.sel.has(wd.id) ? ' selected' : ''}${look && !look.border ? ' no-border' : ''}`, transform: `translate(${c.x},${c.y})`, 'data-testid': `net-widget-${wd.id}`, 'data-kind': wd.kind },
+        s('rect', { width: box.w, height: box.h, rx: wd.kind === 'button' ? 6 : 2, class: 'net-widget-box', style: look?.background ? `fill:${look.background}` : undefined }),
+        s('text', {
+          class: 'net-widget-caption', x: anchor[1], y: 12, 'text-anchor': anchor[0],
+          style: look ? [look.color ? `fill:${look.color}` : '', look.font ? `font-family:${look.font}` : '', look.fontSize ? `font-size:${look.fontSize}px` : ''].filter(Boolean).join(';') || undefined : undefined,
+        }, wd.kind === 'plot' && wd.style?.title ? wd.style.title : (wd.text ?? wd.tag ?? wd.kind)),
+        s('text', { class: 'net-widget-value', x: 114, y: big ? 12 : 23, 'text-anchor': 'end', style: valueStyle['font-size'] ? `font-size:${valueStyle['font-size']}` : undefined }),
+        big ? s('polyline', { class: 'net-plot-line', points: '' }) : null,
+        big ? s('text', { class: 'net-plot-scale', x: 4, y: 48 }) : null);
       g.addEventListener('pointerdown', (ev) => {
         if (ev.button !== 0 || this.zp.space) return;
         ev.stopPropagation();
-        // a button of the running net writes its tag (pressed: true, released: false)
+        // a button of the running net writes its tag (pressed: true, released: false; a
+        // double-click latches it at true, the next press releases it: widgets.ts)
         if (wd.kind === 'button' && this.live && wd.tag && !ev.shiftKey && !this.sel.has(wd.id) && can('write')) {
-          void api.writeTag(wd.tag, true).catch((e) => this.ctx.notify(e.message, 'error'));
+          const latch = this.latchOf(wd.id);
+          const write = (v: boolean | null) => {
+            if (v !== null) void api.writeTag(wd.tag!, v).catch((e) => this.ctx.notify(e.message, 'error'));
+            g.classList.toggle('latched', latch.latched);
+          };
+          write(latch.press());
           const up = () => {
             window.removeEventListener('pointerup', up);
-            void api.writeTag(wd.tag!, false).catch(() => undefined);
+            write(latch.release());
           };
           window.addEventListener('pointerup', up);
           return;
         }
         this.startDrag(ev, wd.id);
+      });
+      g.addEventListener('dblclick', (ev) => {
+        if (wd.kind !== 'button' || !this.live || !wd.tag || ev.shiftKey || this.sel.has(wd.id) || !can('write')) return;
+        ev.stopPropagation();
+        const latch = this.latchOf(wd.id);
+        void api.writeTag(wd.tag, latch.double() ?? true).catch((e) => this.ctx.notify(e.message, 'error'));
+        g.classList.add('latched');
       });
       this.groups.set(wd.id, g);
       svg.append(g);
@@ -1176,7 +1212,20 @@ export class NetView {
         h('h3', null, `${wd.id} `, h('small', null, `(${wd.kind})`)),
         select(tr('Kind'), 'widget-kind', wd.kind, WIDGET_KINDS, (v) => W((x) => (x.kind = v))),
         tagField(tr('Tag'), 'widget-tag', wd.tag ?? '', (v) => W((x) => (x.tag = v.trim() === '' ? null : v.trim()))),
-        field(tr('Caption'), 'widget-text', wd.text ?? '', (v) => W((x) => (x.text = v === '' ? null : v))));
+        field(tr('Caption'), 'widget-text', wd.text ?? '', (v) => W((x) => (x.text = v === '' ? null : v))),
+        // the source's properties of the element (net/widgets.ts), kept as attributes of <widget>
+        [...new Set([...(STYLE_KEYS[wd.kind] ?? []), ...Object.keys(wd.style ?? {})])].map((k) => {
+          const setStyle = (v: string) => W((x) => {
+            x.style = { ...(x.style ?? {}) };
+            if (v.trim() === '') delete x.style[k];
+            else x.style[k] = v.trim();
+          });
+          const choices: Record<string, readonly string[]> = {
+            mode: ['', ...DISPLAY_MODES], format: ['', ...DISPLAY_FORMATS], align: ['', ...LABEL_ALIGNS],
+            autoscale: ['', 'true', 'false'], show_background: ['', 'true', 'false'], border: ['', 'true', 'false'],
+          };
+          return choices[k] ? select(k, `widget-style-${k}`, wd.style?.[k] ?? '', choices[k], setStyle) : field(k, `widget-style-${k}`, wd.style?.[k] ?? '', setStyle);
+        }));
     }
   }
 

@@ -172,6 +172,9 @@ fn the_examples_properties_are_proved() {
         "festo-station",
         "sfc-batch",
         "st-motor",
+        "plc8051-latch",
+        "plc8051-pulse-relay",
+        "plc8051-tank",
     ] {
         let d = scratch(&format!("verify-example-{ex}"));
         let out_dir = d.join("cex");
@@ -253,7 +256,13 @@ fn test_runs_tables_with_exit_codes_junit_and_coverage() {
 
 #[test]
 fn the_examples_tables_pass() {
-    for ex in ["start-stop", "star-delta"] {
+    for ex in [
+        "start-stop",
+        "star-delta",
+        "plc8051-latch",
+        "plc8051-pulse-relay",
+        "plc8051-tank",
+    ] {
         let out = alba(&repo(), &["test", &format!("examples/{ex}")]);
         assert_eq!(
             out.status.code(),

@@ -2,6 +2,7 @@
 
 mod autotune;
 mod golden;
+mod net_elements;
 mod online_edit;
 mod pid;
 mod power_flow;

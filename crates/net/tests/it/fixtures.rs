@@ -76,6 +76,22 @@ fn alba_fixture_loads_with_everything() {
     assert_eq!(net.widgets.len(), 2);
     assert_eq!(net.widgets[0].kind, ElementKind::Button);
     assert_eq!(net.widgets[0].tag.as_deref(), Some("Start"));
+    // a widget's other attributes are its properties (OPCSM's), kept by name
+    let style: Vec<(&str, &str)> = net.widgets[1]
+        .style
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.as_str()))
+        .collect();
+    assert_eq!(
+        style,
+        [
+            ("align", "center"),
+            ("background", "navy"),
+            ("color", "#fff"),
+            ("font_size", "14")
+        ]
+    );
+    assert!(net.widgets[0].style.is_empty());
     // Priority first (enter1 = 1, enter2 = 2), then document order.
     let order: Vec<&str> = net
         .firing_order()

@@ -181,6 +181,7 @@ fn net() -> impl Strategy<Value = Net> {
                         tag,
                         text,
                         position,
+                        style: Default::default(),
                     });
                 }
                 net
