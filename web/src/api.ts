@@ -206,6 +206,10 @@ export const api = {
   hardwareIdentify: (port: string) => json<BoardIdentity>('POST', '/api/hardware/identify', { port }),
   /** POST /api/hardware/verify: the board's running program read back against the project's byte code. */
   hardwareVerify: (port: string) => json<Verified>('POST', '/api/hardware/verify', { port }),
+  /** POST /api/hardware/attach: the board as the running PLC's I/O (`controller`) or watched (`monitor`), without restarting it. */
+  hardwareAttach: (port: string, mode: string) => json<HardwareView>('POST', '/api/hardware/attach', { port, mode }),
+  /** POST /api/hardware/detach: the project's own I/O back (the board's outputs off). */
+  hardwareDetach: () => json<HardwareView>('POST', '/api/hardware/detach'),
   /** `tags`: `Tag` of this runtime, `Tag@node` of another node. */
   historyCsvUrl: (tags: string[], from: number, to: number, step: number) =>
     `/api/history.csv?tags=${tags.map(enc).join(',')}&from=${Math.floor(from)}&to=${Math.ceil(to)}&step=${Math.max(1, Math.round(step))}`,

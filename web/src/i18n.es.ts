@@ -598,6 +598,20 @@ export const es: Record<string, string> = {
   'Stop the download: the board keeps its program': 'Detener la descarga: la placa conserva su programa',
   "Read the board's program back and compare it with the project's": 'Leer el programa de la placa y compararlo con el del proyecto',
   'Reading the program back from {port}…': 'Leyendo el programa de {port}…',
+  'Live board': 'Placa en vivo',
+  'Attach': 'Conectar',
+  'Detach': 'Desconectar',
+  'Attached': 'Conectada',
+  'Attached to {port}': 'Conectada en {port}',
+  'Detached: the PLC uses its own I/O': 'Desconectada: el PLC usa sus propias E/S',
+  'Not attached: the PLC uses its own I/O ({io})': 'Sin placa conectada: el PLC usa sus propias E/S ({io})',
+  "as the PLC's I/O (controller firmware)": 'como E/S del PLC (firmware controlador)',
+  'watch the sketch it runs (monitor)': 'observar el sketch que ejecuta (monitor)',
+  "The board runs the controller firmware (alba firmware): its pins are the PLC's inputs and outputs":
+    'La placa ejecuta el firmware controlador (alba firmware): sus pines son las entradas y salidas del PLC',
+  "The board runs the project's sketch (alba export arduino): watch it live":
+    'La placa ejecuta el sketch del proyecto (alba export arduino): obsérvela en vivo',
+  "The project's own I/O back; the board's outputs go off": 'Vuelven las E/S propias del proyecto; las salidas de la placa se apagan',
   // the Verify & Test page (issue 37)
   'Verify & Test': 'Verificar y probar',
   'Checks': 'Comprobaciones',

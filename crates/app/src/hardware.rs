@@ -15,10 +15,12 @@ use alba_io::download::{BoardState, DownloadError, Link};
 use alba_model::address::Address;
 use alba_model::board::{Dir, Model, PRESETS, PinMap};
 use alba_model::fsutil;
-use alba_server::hardware::{BoardChange, Hardware, HardwareError};
+use alba_control::audit::{Action, Entry};
+use alba_control::{Actor, Control, json_text};
+use alba_server::hardware::{Acting, AttachMode, BoardChange, Hardware, HardwareError};
 use alba_server::project::diagnostics_json;
 use alba_server::reply::{
-    BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem, PinRow,
+    Attachment, BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem, PinRow,
     SerialPortInfo, Verified,
 };
 use std::path::{Path, PathBuf};
@@ -367,6 +369,26 @@ pub struct Service {
     /// One build at a time (avr-gcc takes the machine's cores).
     building: Mutex<()>,
     next: AtomicU64,
+    /// The I/O driver `alba run` was started with (`--io`).
+    io: String,
+    /// The board attached as the PLC's I/O, with the project's own I/O it displaced.
+    attached: Mutex<Option<Attached>>,
+    /// One attach or detach at a time.
+    attaching: tokio::sync::Mutex<()>,
+}
+
+/// A board attached (`POST /api/hardware/attach`).
+struct Attached {
+    view: Attachment,
+    /// The project's own I/O, put back at detach.
+    own: Box<dyn alba_runtime::Io>,
+}
+
+/// Drops a displaced I/O driver off the async workers (its link thread is joined).
+fn retire(io: Box<dyn alba_runtime::Io>) {
+    let _ = std::thread::Builder::new()
+        .name("alba-retire".into())
+        .spawn(move || drop(io));
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -419,6 +441,25 @@ impl Service {
             typed: Mutex::new(Vec::new()),
             building: Mutex::new(()),
             next: AtomicU64::new(1),
+            io: "sim".into(),
+            attached: Mutex::new(None),
+            attaching: tokio::sync::Mutex::new(()),
+        }
+    }
+
+    /// The same, for `alba run --io <spec>`.
+    pub fn with_io(mut self, spec: &str) -> Service {
+        self.io = spec.to_string();
+        self
+    }
+
+    /// Refused while the board on `port` is attached: one user of a port at a time.
+    fn not_attached(&self, port: &str) -> Result<(), HardwareError> {
+        match lock(&self.attached).as_ref() {
+            Some(a) if a.view.port == port => Err(HardwareError::Busy(format!(
+                "the board on {port} is attached as the PLC's I/O: detach it first"
+            ))),
+            _ => Ok(()),
         }
     }
 
@@ -432,6 +473,7 @@ impl Service {
     /// A port no job is using, remembered as typed.
     fn free_port(&self, port: &str) -> Result<String, HardwareError> {
         let port = port_path(port)?;
+        self.not_attached(&port)?;
         if let Some(j) = lock(&self.jobs).iter().find(|j| {
             let j = lock(j);
             j.view.port == port && j.view.state == JobState::Running
@@ -450,6 +492,7 @@ impl Service {
     }
 
     fn start_job(&self, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
+        self.not_attached(port)?;
         let mut jobs = lock(&self.jobs);
         if let Some(j) = jobs.iter().find(|j| {
             let j = lock(j);
@@ -505,6 +548,8 @@ impl Hardware for Service {
             pins,
             diagnostics: diagnostics_json(&c.diagnostics, &c.project.files),
             jobs: lock(&self.jobs).iter().map(|j| lock(j).view.clone()).collect(),
+            attached: lock(&self.attached).as_ref().map(|a| a.view.clone()),
+            io: self.io.clone(),
         })
     }
 
@@ -806,6 +851,100 @@ impl Hardware for Service {
             same,
             bytes: bc.bytes.len() as u32,
             message,
+        })
+    }
+
+    fn attach<'a>(&'a self, control: &'a Control, actor: &'a Actor, port: &'a str, mode: AttachMode) -> Acting<'a> {
+        Box::pin(async move {
+            let _one = self.attaching.lock().await;
+            let port = self.free_port(port)?;
+            if let Some(a) = lock(&self.attached).as_ref() {
+                return Err(HardwareError::Conflict(format!(
+                    "the board on {} is attached ({}): detach it first",
+                    a.view.port, a.view.mode
+                )));
+            }
+            if self.io.split([':', ',']).any(|w| w == port) {
+                return Err(HardwareError::Conflict(format!(
+                    "{port} is the project's own I/O already (alba run --io {})",
+                    self.io
+                )));
+            }
+            let spec = match mode {
+                AttachMode::Controller => format!("arduino:{port}"),
+                AttachMode::Monitor => format!("board:{port}"),
+            };
+            let words = match mode {
+                AttachMode::Controller => "the board's pins are the PLC's inputs and outputs (controller firmware)",
+                AttachMode::Monitor => "the board runs the project's sketch, watched through its monitoring link",
+            };
+            let entry = Entry {
+                target: Some(port.clone()),
+                old: Some(json_text(&serde_json::Value::String(self.io.clone()))),
+                new: Some(json_text(&serde_json::Value::String(spec.clone()))),
+                detail: Some(mode.name().to_string()),
+                ..actor.entry(Action::Attach)
+            };
+            // The running program (online edits included) and the project's [board].
+            let program = control.runtime().snapshot().program.clone();
+            let (dir, at, driver) = (self.dir.clone(), port.clone(), spec.clone());
+            let open = async move {
+                tokio::task::spawn_blocking(move || {
+                    if !Path::new(&at).exists() {
+                        return Err(HardwareError::Port(format!(
+                            "{at}: no such serial port (is the board plugged in?)"
+                        )));
+                    }
+                    let c = alba_compiler::compile_dir(&dir);
+                    alba_io::open(&driver, c.project.config.as_ref(), &program)
+                        .map_err(|e| HardwareError::Failed(format!("cannot attach {at}: {e}")))
+                })
+                .await
+                .map_err(|e| HardwareError::Failed(format!("hardware: {e}")))?
+            };
+            let own = control.attach(actor, entry, open).await?;
+            *lock(&self.attached) = Some(Attached {
+                view: Attachment {
+                    port: port.clone(),
+                    mode: mode.name().into(),
+                    io: spec,
+                    since_ms: alba_server::now_ms(),
+                    message: format!("attached to {port}: {words}"),
+                },
+                own,
+            });
+            Ok(())
+        })
+    }
+
+    fn detach<'a>(&'a self, control: &'a Control, actor: &'a Actor) -> Acting<'a> {
+        Box::pin(async move {
+            let _one = self.attaching.lock().await;
+            let taken = lock(&self.attached).take();
+            let Some(a) = taken else {
+                return Err(HardwareError::Conflict("no board is attached".into()));
+            };
+            let entry = Entry {
+                target: Some(a.view.port.clone()),
+                old: Some(json_text(&serde_json::Value::String(a.view.io.clone()))),
+                new: Some(json_text(&serde_json::Value::String(self.io.clone()))),
+                detail: Some(a.view.mode.clone()),
+                ..actor.entry(Action::Detach)
+            };
+            match control.detach(actor, entry, a.own).await {
+                Ok(board) => {
+                    retire(board);
+                    Ok(())
+                }
+                // Not allowed: still attached.
+                Err((r, Some(own))) => {
+                    *lock(&self.attached) = Some(Attached { view: a.view, own });
+                    Err(r.into())
+                }
+                // The runtime did not take it (it has ended, or is flooded):
+                // the project's own I/O went with the refusal.
+                Err((r, None)) => Err(r.into()),
+            }
         })
     }
 }

@@ -92,6 +92,8 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/attach", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/detach", Needs(Role::Engineer)),
     // Proofs and test tables: seconds of CPU, like a net analysis.
     ("POST", "/api/verify", Needs(Role::Engineer)),
     ("POST", "/api/tests", Needs(Role::Engineer)),
@@ -166,6 +168,8 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
+        .route("/api/hardware/attach", post(api::hardware::attach))
+        .route("/api/hardware/detach", post(api::hardware::detach))
         .route("/api/verify", post(api::verify::verify))
         .route("/api/tests", post(api::verify::tests))
         .route("/api/recipes", get(recipes::list))

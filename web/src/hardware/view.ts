@@ -3,7 +3,10 @@
 // each pin's capabilities and problems, saved into alba.toml), the
 // machine's serial ports (refreshed, or a path typed by hand; Identify asks
 // what answers), Build (flash and RAM against the board's limits) and
-// Download of the byte code as a job with its progress, kept after a reload.
+// Download of the byte code as a job with its progress, kept after a reload;
+// Attach uses the board as the running PLC's I/O (controller firmware) or
+// watches the sketch it runs (monitor), and Detach puts the project's own
+// I/O back, without restarting `alba run`.
 // A viewer sees it all; changes need the engineer role (the server decides).
 import { ApiError, api } from '../api';
 import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, PinRow } from '../api.gen';
@@ -44,6 +47,12 @@ export class HardwareTab {
   private readonly bar = h('progress', { max: '100', value: '0', 'data-testid': 'hw-progress' });
   private readonly jobLine = h('div', { class: 'hw-job', 'data-testid': 'hw-job' });
   private readonly cancelBtn = h('button', { 'data-testid': 'hw-cancel', title: tr('Stop the download: the board keeps its program') }, tr('Cancel'));
+  private readonly attachMode = h('select', { 'data-testid': 'hw-attach-mode' },
+    h('option', { value: 'controller', title: tr('The board runs the controller firmware (alba firmware): its pins are the PLC\'s inputs and outputs') }, tr('as the PLC\'s I/O (controller firmware)')),
+    h('option', { value: 'monitor', title: tr('The board runs the project\'s sketch (alba export arduino): watch it live') }, tr('watch the sketch it runs (monitor)')));
+  private readonly attachBtn = h('button', { class: 'primary', 'data-testid': 'hw-attach' }, tr('Attach'));
+  private readonly detachBtn = h('button', { 'data-testid': 'hw-detach', title: tr('The project\'s own I/O back; the board\'s outputs go off') }, tr('Detach'));
+  private readonly attachedLine = h('div', { class: 'hw-attached', 'data-testid': 'hw-attached' });
   private shownJob = '';
   private following = '';
 
@@ -57,12 +66,14 @@ export class HardwareTab {
     this.verifyBtn.onclick = () => void this.verify();
     this.cancelBtn.onclick = () => void api.hardwareCancel(this.shownJob).catch((e) => this.fail(e));
     this.cancelBtn.hidden = true;
+    this.attachBtn.onclick = () => void this.attach();
+    this.detachBtn.onclick = () => void this.detach();
     this.boardSel.onchange = () => this.render();
     this.presetSel.onchange = () => {
       // another preset: the table shows it once saved
       this.edits.clear();
     };
-    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn]) gate(b, 'hardware');
+    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn, this.attachBtn, this.detachBtn]) gate(b, 'hardware');
     this.jobLine.hidden = true;
     this.bar.hidden = true;
     this.el = h('section', { class: 'hardware-view', 'data-testid': 'hardware-view' },
@@ -88,7 +99,10 @@ export class HardwareTab {
         h('h2', null, tr('Program')),
         h('div', { class: 'toolbar' }, this.downloadBtn, this.verifyBtn, this.bar, this.cancelBtn),
         this.jobLine,
-        this.verifyLine));
+        this.verifyLine,
+        h('h2', null, tr('Live board')),
+        h('div', { class: 'toolbar' }, this.attachMode, this.attachBtn, this.detachBtn),
+        this.attachedLine));
   }
 
   show(): void {
@@ -145,6 +159,43 @@ export class HardwareTab {
     const general = [...(this.problems.get(null) ?? []), ...v.diagnostics.filter((d) => d.file === 'alba.toml')];
     for (const d of general) this.tableProblems.append(h('div', { class: 'problem' }, `${d.code}: ${d.message}`));
     this.drawBoard(board, v.pins);
+    this.showAttached(v);
+  }
+
+  private showAttached(v: HardwareView): void {
+    const a = v.attached;
+    clear(this.attachedLine);
+    this.attachedLine.dataset.attached = String(a !== null);
+    if (a) {
+      this.attachedLine.append(h('strong', null, tr('Attached')), ` — ${when(a.since_ms)}: ${a.message}`);
+      this.attachMode.value = a.mode;
+    } else {
+      this.attachedLine.append(tr('Not attached: the PLC uses its own I/O ({io})', { io: v.io }));
+    }
+    this.attachBtn.hidden = a !== null;
+    this.detachBtn.hidden = a === null;
+  }
+
+  private async attach(): Promise<void> {
+    const port = this.port();
+    if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    try {
+      this.view = await api.hardwareAttach(port, this.attachMode.value);
+      this.render();
+      this.ctx.notify(tr('Attached to {port}', { port }));
+    } catch (e) {
+      this.fail(e);
+    }
+  }
+
+  private async detach(): Promise<void> {
+    try {
+      this.view = await api.hardwareDetach();
+      this.render();
+      this.ctx.notify(tr('Detached: the PLC uses its own I/O'));
+    } catch (e) {
+      this.fail(e);
+    }
   }
 
   private row(r: PinRow, board: ReturnType<typeof boardOf>): HTMLElement {

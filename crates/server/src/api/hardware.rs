@@ -7,7 +7,7 @@
 use super::audit::{self, Actor};
 use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
-use crate::hardware::{BoardChange, Hardware, HardwareError};
+use crate::hardware::{AttachMode, BoardChange, Hardware, HardwareError};
 use crate::project::EditError;
 use crate::reply::{BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, JobState, Verified};
 use crate::state::AppState;
@@ -27,6 +27,11 @@ impl From<HardwareError> for ApiError {
             HardwareError::Busy(m) => ApiError::Busy(m),
             HardwareError::Port(m) => ApiError::Upstream(m),
             HardwareError::Failed(m) => ApiError::Internal(m),
+            HardwareError::Refused(r) => match std::sync::Arc::try_unwrap(r) {
+                Ok(r) => ApiError::from(r),
+                Err(r) => ApiError::Internal(r.to_string()),
+            },
+            HardwareError::Conflict(m) => ApiError::Conflict(m),
         }
     }
 }
@@ -206,4 +211,25 @@ pub async fn cancel(State(st): State<Arc<AppState>>, Path(id): Path<String>) -> 
     hw.cancel(&id)
         .map(Json)
         .ok_or_else(|| ApiError::NotFound(format!("no hardware job `{id}`")))
+}
+
+/// `POST /api/hardware/attach` `{"port", "mode": "controller"|"monitor"}`:
+/// the board as the running PLC's I/O, without restarting it (audited
+/// `attach`, by the control layer); the view after, with `attached`.
+pub async fn attach(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiResult<Json<HardwareView>> {
+    let j = body(b)?;
+    let port = string(&j, "port")?;
+    let mode = string(&j, "mode")?;
+    let mode = AttachMode::parse(&mode)
+        .ok_or_else(|| ApiError::Malformed(format!("`mode` is `controller` or `monitor`, not `{mode}`")))?;
+    let hw = service(&st)?;
+    hw.attach(&st.control, &actor.control(), &port, mode).await?;
+    Ok(Json(blocking(move || hw.view()).await?))
+}
+
+/// `POST /api/hardware/detach`: the project's own I/O back (audited `detach`).
+pub async fn detach(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<HardwareView>> {
+    let hw = service(&st)?;
+    hw.detach(&st.control, &actor.control()).await?;
+    Ok(Json(blocking(move || hw.view()).await?))
 }
