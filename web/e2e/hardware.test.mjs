@@ -12,9 +12,14 @@
 // - a record the board's memory does not keep (an EEPROM cell stuck): the job fails
 //   with flag 20 in words, and the board still runs the program it had;
 // - a pin conflict shown on its row with the code `alba check` gives, and refused
-//   at save (alba.toml unchanged).
+//   at save (alba.toml unchanged);
+// - attach: the controller (remote-I/O) firmware on a second emulated Nano used as
+//   the running PLC's I/O without restarting `alba run`: a pin pressed on the board
+//   energises its contact in the ladder, the coil's pin follows; detach: the
+//   board's outputs off, the simulated I/O back.
 // Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
-// hardware-failed.png, hardware-conflict.png) in E2E_OUT.
+// hardware-failed.png, hardware-conflict.png, hardware-attached.png,
+// hardware-attached-ladder.png) in E2E_OUT.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
@@ -22,7 +27,7 @@ import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { createInterface } from 'node:readline';
-import { openBrowser, repo, startAlba } from './harness.mjs';
+import { elementId, openBrowser, repo, startAlba } from './harness.mjs';
 
 const USERS = [
   { name: 'eva', role: 'engineer', password: 'boards-and-pins-4410' },
@@ -31,7 +36,7 @@ const USERS = [
 const [eva, victor] = USERS;
 const albaBin = process.env.ALBA_BIN ?? join(repo, 'target/debug/alba');
 
-let alba, b, board, work, link;
+let alba, b, board, work, link, ctl;
 
 /** The interpreter for the Nano (aurora pin map) and the emulated board, on `work/link`. */
 async function startBoard() {
@@ -74,6 +79,8 @@ after(async () => {
   await alba?.stop();
   board?.stdin.end('quit\n');
   board?.kill();
+  ctl?.proc.stdin.end('quit\n');
+  ctl?.proc.kill();
   if (work) rmSync(work, { recursive: true, force: true });
 });
 
@@ -211,5 +218,78 @@ test('a pin conflict is shown on its row with its code and refused at save', asy
   await tid('hw-problem-DI:1/0').filter({ hasText: 'D2' }).waitFor();
   assert.equal(readFileSync(join(alba.dir, 'alba.toml'), 'utf8'), before, 'nothing saved');
   await b.shot('hardware-conflict');
+  assert.deepEqual(b.errors, []);
+});
+
+/** The controller (remote-I/O) firmware for the Nano (aurora map, Modbus RTU) on a second emulated board, on `work/ctl-link`. */
+async function startController() {
+  const r = spawnSync(albaBin, ['firmware', '--board', 'nano', '--pinmap', 'aurora', '-o', join(work, 'ctl'), '--build'], { encoding: 'utf8' });
+  assert.equal(r.status, 0, `alba firmware: ${r.stderr}`);
+  const tty = join(work, 'ctl-link');
+  const proc = spawn(join(work, 'alba-board'), [join(work, 'ctl/build/sketch.elf'), '-m', 'atmega328p', '--tty', tty, '--pins', 'D12,D13'], {
+    stdio: ['pipe', 'pipe', 'ignore'],
+  });
+  const lines = createInterface({ input: proc.stdout });
+  const next = () => new Promise((ok) => lines.once('line', ok));
+  const ready = await Promise.race([next(), new Promise((_, fail) => setTimeout(() => fail(new Error('alba-board did not start in 30 s')), 30_000))]);
+  assert.match(ready, /^ready /);
+  return {
+    proc,
+    tty,
+    async cmd(c) {
+      const answer = next();
+      proc.stdin.write(`${c}\n`);
+      return answer;
+    },
+  };
+}
+
+test('attach: the board is the PLC\'s I/O without a restart, the ladder\'s contacts follow its pins; detach', async () => {
+  const { page, tid } = b;
+  ctl = await startController();
+  await page.reload();
+  await tid('tab-hardware').click();
+  await tid('hw-attached').filter({ hasText: 'the PLC uses its own I/O (sim)' }).waitFor();
+  assert.equal(await tid('hw-detach').isHidden(), true);
+  await tid('hw-port-typed').fill(ctl.tty);
+  await tid('hw-attach-mode').selectOption('controller');
+  await tid('hw-attach').click();
+  await tid('hw-attached').and(page.locator('[data-attached="true"]')).filter({ hasText: `attached to ${ctl.tty}` }).waitFor({ timeout: 20_000 });
+  assert.equal(await tid('hw-attach').isHidden(), true);
+  await b.shot('hardware-attached');
+  // The ladder, live from the board: Start (D2) pressed on it energises XIC(Start); Motor seals in on D12.
+  const program = await alba.json('/api/programs/main.lad');
+  const start = elementId(program, 'XIC', ['Start']);
+  const motor = elementId(program, 'OTE', ['Motor']);
+  const el = (n, on) => page.locator(`[data-testid="el-${n}"][data-on="${on}"]`);
+  await tid('tab-program-main.lad').click();
+  await el(start, false).waitFor();
+  assert.equal(await ctl.cmd('set D2 1'), 'ok');
+  await el(start, true).waitFor({ timeout: 20_000 });
+  await el(motor, true).waitFor({ timeout: 20_000 });
+  await b.shot('hardware-attached-ladder');
+  assert.equal(await ctl.cmd('set D2 0'), 'ok');
+  await el(start, false).waitFor({ timeout: 20_000 });
+  let pins = '';
+  for (let i = 0; i < 200 && pins !== 'pins 1 0'; i++) {
+    pins = await ctl.cmd('get');
+    await page.waitForTimeout(50);
+  }
+  assert.equal(pins, 'pins 1 0', 'Motor on the board\'s D12');
+  await tid('status-state').filter({ hasText: 'running' }).waitFor();
+  // Detach: the board's outputs off, its pins not read any more, the PLC running on.
+  await tid('tab-hardware').click();
+  await tid('hw-detach').click();
+  await tid('hw-attached').and(page.locator('[data-attached="false"]')).waitFor({ timeout: 20_000 });
+  for (let i = 0; i < 200 && pins !== 'pins 0 0'; i++) {
+    pins = await ctl.cmd('get');
+    await page.waitForTimeout(50);
+  }
+  assert.equal(pins, 'pins 0 0', 'the detached board\'s outputs are off');
+  assert.equal(await ctl.cmd('set D2 1'), 'ok');
+  await tid('tab-program-main.lad').click();
+  await page.waitForTimeout(500);
+  await el(start, false).waitFor();
+  await tid('status-state').filter({ hasText: 'running' }).waitFor();
   assert.deepEqual(b.errors, []);
 });

@@ -626,7 +626,36 @@ diagnostics: Array<Diagnostic>,
 /**
  * Recent jobs, newest first (kept while `alba run` runs).
  */
-jobs: Array<HardwareJob>, };
+jobs: Array<HardwareJob>, 
+/**
+ * The board used as the running PLC's I/O now (`POST /api/hardware/attach`);
+ * `null`: the project's own I/O (`io`).
+ */
+attached: Attachment | null, 
+/**
+ * The I/O driver `alba run` was started with (`--io`: `sim`, `arduino:…`),
+ * back after a detach.
+ */
+io: string, };
+
+export type Attachment = { port: string, 
+/**
+ * `controller` (the board's pins are the program's I/O) or `monitor`
+ * (the board runs the sketch; its memory is watched).
+ */
+mode: string, 
+/**
+ * The I/O driver now (`arduino:/dev/ttyUSB0`, `board:/dev/ttyUSB0`).
+ */
+io: string, 
+/**
+ * When it was attached (ms since the epoch).
+ */
+since_ms: number, 
+/**
+ * In words.
+ */
+message: string, };
 
 export type BuildSizes = { board: string, 
 /**

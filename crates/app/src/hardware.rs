@@ -857,13 +857,13 @@ impl Hardware for Service {
     fn attach<'a>(&'a self, control: &'a Control, actor: &'a Actor, port: &'a str, mode: AttachMode) -> Acting<'a> {
         Box::pin(async move {
             let _one = self.attaching.lock().await;
-            let port = self.free_port(port)?;
             if let Some(a) = lock(&self.attached).as_ref() {
                 return Err(HardwareError::Conflict(format!(
                     "the board on {} is attached ({}): detach it first",
                     a.view.port, a.view.mode
                 )));
             }
+            let port = self.free_port(port)?;
             if self.io.split([':', ',']).any(|w| w == port) {
                 return Err(HardwareError::Conflict(format!(
                     "{port} is the project's own I/O already (alba run --io {})",

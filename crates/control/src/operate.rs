@@ -186,11 +186,16 @@ impl Control {
         E: From<Refused> + std::fmt::Display,
     {
         actor.needs(ENGINEER, "attaching a board")?;
-        self.audited(entry, async {
+        let id = self.begin(entry).await.map_err(E::from)?;
+        let result = async {
             let io = open.await?;
             self.runtime.set_io(io).await.map_err(|e| E::from(Refused::from(e)))
-        })
-        .await
+        }
+        .await;
+        // The outcome alone crosses the await (a driver is not `Sync`).
+        let outcome = result.as_ref().map(|_| ()).map_err(|e| e.to_string());
+        self.finish(id, &outcome).await;
+        result
     }
 
     /// Puts `io` (the project's own I/O) back in place of an attached

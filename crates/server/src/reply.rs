@@ -1044,6 +1044,7 @@ pub fn typescript() -> String {
         JobState,
         HardwareJob,
         HardwareView,
+        Attachment,
         BuildSizes,
         JobStarted,
         Verified,

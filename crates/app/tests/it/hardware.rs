@@ -3,7 +3,9 @@
 //! avr-gcc with its sizes; the byte code downloaded as a job to the
 //! interpreter firmware on an emulated Nano (`alba-board`: simavr paced to
 //! real time, its UART on a pty, as crates/cli/tests/it/download.rs runs it);
-//! each route refused to a viewer.
+//! each route refused to a viewer; the controller (remote-I/O) firmware on
+//! an emulated Nano attached as the running PLC's I/O and detached, without
+//! restarting `alba run`.
 
 use super::{add_role_users, options, serve};
 use alba_arduino::{interp, simavr};
@@ -360,6 +362,42 @@ impl Board {
         }
     }
 
+    /// The controller (remote-I/O) firmware for the Nano (aurora map, Modbus
+    /// RTU: `alba firmware`) on an emulated Nano, its UART on `dir/ctl-link`.
+    fn controller(dir: &Path) -> Board {
+        let map = alba_model::board::PinMap::preset("aurora").expect("aurora");
+        let spec = alba_io::firmware::Spec::new(
+            alba_model::board::Model::Nano,
+            "aurora",
+            map,
+            alba_io::firmware::Link::Modbus,
+        );
+        let sketch = alba_io::firmware::write(&spec, &dir.join("ctl")).expect("firmware");
+        let built = alba_arduino::toolchain::build(&sketch, alba_model::board::Model::Nano, &dir.join("ctl/build"))
+            .expect("avr-gcc");
+        let bin = simavr::board().expect("alba-board");
+        let link = dir.join("ctl-link");
+        let mut child = Command::new(bin)
+            .arg(&built.elf)
+            .args(["-m", "atmega328p", "--tty"])
+            .arg(&link)
+            .args(["--pins", "D12,D13"])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("alba-board");
+        let mut ready = String::new();
+        let mut out = BufReader::new(child.stdout.take().expect("stdout"));
+        out.read_line(&mut ready).expect("ready");
+        assert!(ready.starts_with("ready "), "{ready}");
+        Board {
+            child,
+            out,
+            link: link.to_string_lossy().into_owned(),
+        }
+    }
+
     /// A command of the emulated board (`stuck 5`, `stuck off`) and its answer.
     fn cmd(&mut self, c: &str) -> String {
         let stdin = self.child.stdin.as_mut().expect("stdin");
@@ -593,6 +631,124 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
         )
         .await;
     assert_eq!(st, StatusCode::NOT_FOUND);
+    drop(board);
+    s.stop().await;
+}
+
+/// Waits (30 s at most) until the emulated board's output pins are `pins`.
+async fn board_says(board: &mut Board, pins: &str, what: &str) {
+    let t0 = std::time::Instant::now();
+    while board.cmd("get") != pins {
+        assert!(t0.elapsed() < Duration::from_secs(30), "timed out waiting for {what}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_audited() {
+    let s = Studio::start("attach").await;
+    let mut board = Board::controller(&s.dir);
+    let attach = |port: &str, mode: &str| json!({ "port": port, "mode": mode });
+
+    // A viewer changes nothing.
+    for (path, body) in [
+        ("/api/hardware/attach", attach(&board.link, "controller")),
+        ("/api/hardware/detach", json!({})),
+    ] {
+        let (st, j) = s.call(Method::POST, path, &s.viewer, Some(body)).await;
+        assert_eq!(st, StatusCode::FORBIDDEN, "{path}: {j}");
+    }
+    // Not a mode; not a port; nothing to detach.
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&board.link, "remote")))
+        .await;
+    assert_eq!(st, StatusCode::BAD_REQUEST, "{j}");
+    let gone = s.dir.join("no-such-port").to_string_lossy().into_owned();
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&gone, "controller")))
+        .await;
+    assert_eq!(st, StatusCode::BAD_GATEWAY, "{j}");
+    assert!(j["error"].as_str().expect("error").contains("no such serial port"), "{j}");
+    let (st, j) = s.call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({}))).await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
+
+    // Attached: the board's pins are the program's I/O, the PLC never stopped.
+    let scans = |j: &Json| j["scans"].as_u64().unwrap_or(0);
+    let (_, before) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    let (st, v) = s
+        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&board.link, "controller")))
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(v["attached"]["port"], board.link.as_str(), "{v}");
+    assert_eq!(
+        (v["attached"]["mode"].as_str(), v["io"].as_str()),
+        (Some("controller"), Some("sim")),
+        "{v}"
+    );
+    assert_eq!(v["attached"]["io"], format!("arduino:{}", board.link), "{v}");
+    let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
+    assert_eq!(v["attached"]["port"], board.link.as_str(), "{v}");
+    let tag = |name: &'static str| {
+        let s = &s;
+        async move { s.call(Method::GET, &format!("/api/tags/{name}"), &s.viewer, None).await.1["value"].clone() }
+    };
+    // Start pressed on the board (D2): the program sees it, Motor seals in on D12.
+    assert_eq!(board.cmd("set D2 1"), "ok");
+    let t0 = std::time::Instant::now();
+    while tag("Start").await != json!(true) {
+        assert!(t0.elapsed() < Duration::from_secs(30), "Start never came from the board's pin");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert_eq!(board.cmd("set D2 0"), "ok");
+    board_says(&mut board, "pins 1 0", "Motor on the board's D12").await;
+    let t0 = std::time::Instant::now();
+    while tag("Start").await != json!(false) {
+        assert!(t0.elapsed() < Duration::from_secs(30), "Start never released from the board's pin");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert_eq!(tag("Motor").await, json!(true));
+    let (_, after) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    assert_eq!(after["state"], "running", "{after}");
+    assert!(scans(&after) > scans(&before), "{before} {after}");
+
+    // One user of a port at a time.
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&board.link, "monitor")))
+        .await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
+    let (st, j) = s.on_port("download", &board.link).await;
+    assert_eq!(st, StatusCode::TOO_MANY_REQUESTS, "{j}");
+    assert!(j["error"].as_str().expect("error").contains("detach it first"), "{j}");
+
+    // Detached: the board's outputs off, the simulated I/O back, still running.
+    let (st, v) = s.call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({}))).await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(v["attached"], Json::Null, "{v}");
+    board_says(&mut board, "pins 0 0", "the board's outputs off").await;
+    assert_eq!(board.cmd("set D2 1"), "ok");
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    assert_eq!(tag("Start").await, json!(false), "the board's pin is not read any more");
+    let (_, status) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    assert_eq!(status["state"], "running", "{status}");
+
+    // Audited: the refused attach to a missing port, the attach, the detach.
+    let rows = s.audit("attach").await;
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    let ok = rows.iter().find(|r| r["outcome"] == "ok").expect("the attach");
+    assert_eq!(
+        (ok["user"].as_str(), ok["target"].as_str(), ok["detail"].as_str()),
+        (Some("engineer"), Some(board.link.as_str()), Some("controller")),
+        "{rows:?}"
+    );
+    assert_eq!(
+        (ok["old"].as_str(), ok["new"].clone()),
+        (Some("sim"), json!(format!("arduino:{}", board.link))),
+        "{rows:?}"
+    );
+    assert!(rows.iter().any(|r| r["target"] == gone.as_str() && r["outcome"] != "ok"), "{rows:?}");
+    let rows = s.audit("detach").await;
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    assert_eq!((rows[0]["outcome"].as_str(), rows[0]["user"].as_str()), (Some("ok"), Some("engineer")), "{rows:?}");
     drop(board);
     s.stop().await;
 }

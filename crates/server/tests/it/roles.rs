@@ -528,6 +528,15 @@ async fn every_route_answers_each_role_as_the_table_says() {
             404,
         ),
         row(
+            Method::POST,
+            "/api/hardware/attach",
+            "/api/hardware/attach",
+            j(json!({"port": "/dev/null", "mode": "controller"})),
+            e,
+            404,
+        ),
+        row(Method::POST, "/api/hardware/detach", "/api/hardware/detach", j(json!({})), e, 404),
+        row(
             Method::GET,
             "/api/hardware/jobs/{id}",
             "/api/hardware/jobs/1",
