@@ -636,7 +636,11 @@ attached: Attachment | null,
  * The I/O driver `alba run` was started with (`--io`: `sim`, `arduino:…`),
  * back after a detach.
  */
-io: string, };
+io: string, 
+/**
+ * Board saves of this run that Undo can take back (`POST /api/hardware/board/undo`).
+ */
+undo: number, };
 
 export type Attachment = { port: string, 
 /**

@@ -198,6 +198,8 @@ export const api = {
   runTests: () => json<TestsReply>('POST', '/api/tests', {}),
   /** PUT /api/hardware/board: `[board]` saved into alba.toml (422 with the diagnostics when it does not check). */
   saveBoard: (body: Record<string, unknown>) => json<HardwareView>('PUT', '/api/hardware/board', body),
+  /** POST /api/hardware/board/undo: `[board]` as it was before the last save (409: nothing to undo). */
+  hardwareUndoBoard: () => json<HardwareView>('POST', '/api/hardware/board/undo'),
   hardwareBuild: (board: string, kind: string) => json<BuildSizes>('POST', '/api/hardware/build', { board, kind }),
   hardwareDownload: (port: string) => json<JobStarted>('POST', '/api/hardware/download', { port }),
   hardwareJob: (id: string) => json<HardwareJob>('GET', `/api/hardware/jobs/${enc(id)}`),

@@ -10,18 +10,18 @@
 use alba_arduino::sketch::{self, Target};
 use alba_arduino::{bytecode, interp, toolchain};
 use alba_compiler::Compiled;
+use alba_control::audit::{Action, Entry};
+use alba_control::{Actor, Control, json_text};
 use alba_diag::{Code, Diagnostic, Files};
 use alba_io::download::{BoardState, DownloadError, Link};
 use alba_model::address::Address;
 use alba_model::board::{Dir, Model, PRESETS, PinMap};
 use alba_model::fsutil;
-use alba_control::audit::{Action, Entry};
-use alba_control::{Actor, Control, json_text};
 use alba_server::hardware::{Acting, AttachMode, BoardChange, Hardware, HardwareError};
 use alba_server::project::diagnostics_json;
 use alba_server::reply::{
-    Attachment, BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem, PinRow,
-    SerialPortInfo, Verified,
+    Attachment, BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem,
+    PinRow, SerialPortInfo, Verified,
 };
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -375,6 +375,8 @@ pub struct Service {
     attached: Mutex<Option<Attached>>,
     /// One attach or detach at a time.
     attaching: tokio::sync::Mutex<()>,
+    /// `[board]` before each save of this run, newest last (Undo).
+    undo: Mutex<Vec<Option<toml_edit::Item>>>,
 }
 
 /// A board attached (`POST /api/hardware/attach`).
@@ -415,6 +417,23 @@ fn port_path(port: &str) -> Result<String, HardwareError> {
     Ok(p.to_string())
 }
 
+/// Board saves that can be undone (the newest).
+const KEPT_UNDO: usize = 20;
+
+/// Writes `doc` into `path` atomically once it checks as `alba check` reads
+/// alba.toml: refused, nothing saved, on any problem.
+fn save_checked(path: &Path, doc: &toml_edit::DocumentMut) -> Result<(), HardwareError> {
+    let new = doc.to_string();
+    let mut files = Files::new();
+    let f = files.add(path.display().to_string(), new.clone());
+    let (_, diags) = alba_project::config::Config::parse(files.text(f), f);
+    if !diags.is_empty() {
+        return Err(does_not_build(&diags, &files));
+    }
+    fsutil::write_atomic(path, |w| w.write_all(new.as_bytes()))
+        .map_err(|e| HardwareError::Failed(format!("cannot save {}: {e}", path.display())))
+}
+
 /// The outcome of a download in words.
 pub fn failure_words(f: &DownloadFailure, files: &Files) -> String {
     match f {
@@ -444,6 +463,7 @@ impl Service {
             io: "sim".into(),
             attached: Mutex::new(None),
             attaching: tokio::sync::Mutex::new(()),
+            undo: Mutex::new(Vec::new()),
         }
     }
 
@@ -550,6 +570,7 @@ impl Hardware for Service {
             jobs: lock(&self.jobs).iter().map(|j| lock(j).view.clone()).collect(),
             attached: lock(&self.attached).as_ref().map(|a| a.view.clone()),
             io: self.io.clone(),
+            undo: lock(&self.undo).len() as u32,
         })
     }
 
@@ -568,6 +589,8 @@ impl Hardware for Service {
         let mut doc: toml_edit::DocumentMut = text
             .parse()
             .map_err(|e| HardwareError::Failed(format!("{} does not parse: {e}", path.display())))?;
+        // What Undo puts back: `[board]` as it was (`None`: there was none).
+        let before = doc.get("board").cloned();
         if !doc.contains_key("board") {
             doc["board"] = toml_edit::table();
         }
@@ -601,16 +624,38 @@ impl Hardware for Service {
                 b.remove("port");
             }
         }
-        let new = doc.to_string();
-        // Checked as `alba check` reads alba.toml: refused, nothing saved, on any problem.
-        let mut files = Files::new();
-        let f = files.add(path.display().to_string(), new.clone());
-        let (_, diags) = alba_project::config::Config::parse(files.text(f), f);
-        if !diags.is_empty() {
-            return Err(does_not_build(&diags, &files));
+        save_checked(&path, &doc)?;
+        let mut undo = lock(&self.undo);
+        undo.push(before);
+        let extra = undo.len().saturating_sub(KEPT_UNDO);
+        undo.drain(..extra);
+        drop(undo);
+        self.view()
+    }
+
+    fn undo_board(&self) -> Result<HardwareView, HardwareError> {
+        let mut undo = lock(&self.undo);
+        let Some(before) = undo.last().cloned() else {
+            return Err(HardwareError::Conflict(
+                "no board save to undo (since alba run started)".into(),
+            ));
+        };
+        let path = self.dir.join("alba.toml");
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| HardwareError::Failed(format!("cannot read {}: {e}", path.display())))?;
+        let mut doc: toml_edit::DocumentMut = text
+            .parse()
+            .map_err(|e| HardwareError::Failed(format!("{} does not parse: {e}", path.display())))?;
+        // Only `[board]` goes back: the rest of alba.toml stays as it is now.
+        match before {
+            Some(item) => doc["board"] = item,
+            None => {
+                doc.remove("board");
+            }
         }
-        fsutil::write_atomic(&path, |w| w.write_all(new.as_bytes()))
-            .map_err(|e| HardwareError::Failed(format!("cannot save {}: {e}", path.display())))?;
+        save_checked(&path, &doc)?;
+        undo.pop();
+        drop(undo);
         self.view()
     }
 

@@ -38,6 +38,11 @@ pub enum DownloadError {
     Verify(usize),
     #[error("cancelled after record {done} of {total} (the board dropped the records it had)")]
     Cancelled { done: usize, total: usize },
+    /// The link went in the middle of a download (a cable pulled, the board
+    /// reset or gone): the board drops a half download at its next `ESC` or
+    /// reset and keeps the program it had.
+    #[error("the link to the board was lost at record {record} of {total} (cable pulled or board reset?): {why}")]
+    Lost { record: usize, total: usize, why: String },
     #[error("serial port: {0}")]
     Io(#[from] std::io::Error),
     #[error("unexpected answer `{0}`")]
@@ -241,8 +246,16 @@ impl Link {
                 if attempt > 0 {
                     self.retries += 1;
                 }
-                self.send(format!("{rec}\r\n").as_bytes())?;
-                let a = self.answer(Duration::from_secs(3))?;
+                let lost = |e: DownloadError| match e {
+                    DownloadError::Io(_) | DownloadError::NoAnswer(_) => DownloadError::Lost {
+                        record: k + 1,
+                        total: records.len(),
+                        why: e.to_string(),
+                    },
+                    e => e,
+                };
+                self.send(format!("{rec}\r\n").as_bytes()).map_err(lost)?;
+                let a = self.answer(Duration::from_secs(3)).map_err(lost)?;
                 if a == "K" {
                     why.clear();
                     break;

@@ -119,6 +119,10 @@ pub trait Hardware: Send + Sync {
     /// refused (nothing saved) when it does not check. Returns the target
     /// that was saved (`[board]` after the change) for the audit row.
     fn save_board(&self, change: &BoardChange) -> Result<HardwareView, HardwareError>;
+    /// Puts `[board]` back as it was before the last save of this run (only
+    /// `[board]`: the rest of alba.toml as it is now), checked and saved
+    /// atomically; [`HardwareError::Conflict`] when there is nothing to undo.
+    fn undo_board(&self) -> Result<HardwareView, HardwareError>;
     /// Builds the project's sketch or the byte-code interpreter for `board`.
     fn build(&self, board: &str, kind: &str) -> Result<BuildSizes, HardwareError>;
     /// Starts downloading the project's byte code to the board on `port`.

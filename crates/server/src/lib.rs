@@ -87,6 +87,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("GET", "/api/opcua/{server}/browse", Needs(Role::Engineer)),
     // The board: alba.toml's [board], firmware builds, the serial ports.
     ("PUT", "/api/hardware/board", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/board/undo", Needs(Role::Engineer)),
     ("POST", "/api/hardware/build", Needs(Role::Engineer)),
     ("POST", "/api/hardware/download", Needs(Role::Engineer)),
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
@@ -162,6 +163,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/opcua/{server}/browse", get(opcua::browse))
         .route("/api/hardware", get(api::hardware::get))
         .route("/api/hardware/board", put(api::hardware::put_board))
+        .route("/api/hardware/board/undo", post(api::hardware::undo_board))
         .route("/api/hardware/build", post(api::hardware::build))
         .route("/api/hardware/download", post(api::hardware::download))
         .route("/api/hardware/identify", post(api::hardware::identify))

@@ -615,6 +615,8 @@ pub struct HardwareView {
     /// The I/O driver `alba run` was started with (`--io`: `sim`, `arduino:…`),
     /// back after a detach.
     pub io: String,
+    /// Board saves of this run that Undo can take back (`POST /api/hardware/board/undo`).
+    pub undo: u32,
 }
 
 /// A board attached as the running PLC's I/O.

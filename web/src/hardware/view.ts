@@ -29,6 +29,7 @@ export class HardwareTab {
   private readonly boardSel = h('select', { 'data-testid': 'hw-board' });
   private readonly presetSel = h('select', { 'data-testid': 'hw-pinmap' });
   private readonly saveBtn = h('button', { class: 'primary', 'data-testid': 'hw-save' }, tr('Save board'));
+  private readonly undoBtn = h('button', { 'data-testid': 'hw-undo', title: tr('Put [board] back as it was before the last save') }, tr('Undo'));
   private readonly drawing = h('div', { class: 'hw-drawing', 'data-testid': 'hw-drawing' });
   private readonly table = h('tbody', { 'data-testid': 'hw-pins' });
   private readonly tableProblems = h('div', { class: 'hw-problems', 'data-testid': 'hw-problems' });
@@ -60,6 +61,7 @@ export class HardwareTab {
     const refresh = h('button', { 'data-testid': 'hw-refresh', title: tr('List the serial ports again') }, tr('Refresh'));
     refresh.onclick = () => void this.load();
     this.saveBtn.onclick = () => void this.save();
+    this.undoBtn.onclick = () => void this.undo();
     this.buildBtn.onclick = () => void this.build();
     this.downloadBtn.onclick = () => void this.download();
     this.identifyBtn.onclick = () => void this.identify();
@@ -82,7 +84,8 @@ export class HardwareTab {
         h('div', { class: 'toolbar' },
           h('label', null, tr('Board'), ' ', this.boardSel),
           h('label', null, tr('Pin map'), ' ', this.presetSel),
-          this.saveBtn),
+          this.saveBtn,
+          this.undoBtn),
         this.drawing,
         this.tableProblems,
         h('table', { class: 'tags hw-table' },
@@ -160,6 +163,22 @@ export class HardwareTab {
     for (const d of general) this.tableProblems.append(h('div', { class: 'problem' }, `${d.code}: ${d.message}`));
     this.drawBoard(board, v.pins);
     this.showAttached(v);
+    this.undoBtn.disabled = v.undo === 0;
+    if (v.undo > 0) gate(this.undoBtn, 'hardware');
+  }
+
+  private async undo(): Promise<void> {
+    try {
+      this.view = await api.hardwareUndoBoard();
+      this.edits.clear();
+      this.problems.clear();
+      this.boardSel.value = this.view.board ?? '';
+      this.presetSel.value = this.view.pinmap;
+      this.ctx.notify(tr('Board save undone'));
+      this.render();
+    } catch (e) {
+      this.fail(e);
+    }
   }
 
   private showAttached(v: HardwareView): void {

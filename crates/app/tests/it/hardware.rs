@@ -240,13 +240,47 @@ async fn the_board_and_pin_map_are_shown_saved_atomically_audited_and_refused_to
         (Some("D8"), Some("Motor"))
     );
 
-    let rows = s.audit("save_board").await;
-    // The save, and the three refusals (the conflict, the unknown board and preset).
-    let ok: Vec<_> = rows.iter().filter(|r| r["outcome"] == "ok").collect();
-    assert_eq!((ok.len(), rows.len()), (1, 4), "{rows:?}");
-    assert_eq!(ok[0]["user"], "engineer", "{rows:?}");
+    // Undo: `[board]` as it was before the save (the Nano, aurora, no port), the rest kept.
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/board/undo", &s.viewer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::FORBIDDEN, "{j}");
+    assert_eq!(j.get("undo"), None);
+    let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
+    assert_eq!(v["undo"], 1, "{v}");
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/board/undo", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    assert_eq!(
+        (j["board"].as_str(), j["pinmap"].as_str(), &j["port"], &j["undo"]),
+        (Some("nano"), Some("aurora"), &Json::Null, &json!(0)),
+        "{j}"
+    );
+    assert_eq!(std::fs::read_to_string(s.dir.join("alba.toml")).expect("toml"), before);
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/board/undo", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
     assert!(
-        ok[0]["detail"].as_str().expect("detail").contains("model = uno"),
+        j["error"].as_str().expect("error").contains("no board save to undo"),
+        "{j}"
+    );
+
+    let rows = s.audit("save_board").await;
+    // The save and its undo; the three refusals (the conflict, the unknown board
+    // and preset) and the undo with nothing to undo.
+    let ok: Vec<_> = rows.iter().filter(|r| r["outcome"] == "ok").collect();
+    assert_eq!((ok.len(), rows.len()), (2, 6), "{rows:?}");
+    assert!(ok.iter().all(|r| r["user"] == "engineer"), "{rows:?}");
+    assert!(
+        ok.iter()
+            .any(|r| r["detail"].as_str().expect("detail").contains("model = uno")),
+        "{rows:?}"
+    );
+    assert!(
+        ok.iter()
+            .any(|r| r["detail"].as_str().expect("detail").starts_with("undo")),
         "{rows:?}"
     );
 
@@ -660,23 +694,43 @@ async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_aud
     }
     // Not a mode; not a port; nothing to detach.
     let (st, j) = s
-        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&board.link, "remote")))
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&board.link, "remote")),
+        )
         .await;
     assert_eq!(st, StatusCode::BAD_REQUEST, "{j}");
     let gone = s.dir.join("no-such-port").to_string_lossy().into_owned();
     let (st, j) = s
-        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&gone, "controller")))
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&gone, "controller")),
+        )
         .await;
     assert_eq!(st, StatusCode::BAD_GATEWAY, "{j}");
-    assert!(j["error"].as_str().expect("error").contains("no such serial port"), "{j}");
-    let (st, j) = s.call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({}))).await;
+    assert!(
+        j["error"].as_str().expect("error").contains("no such serial port"),
+        "{j}"
+    );
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({})))
+        .await;
     assert_eq!(st, StatusCode::CONFLICT, "{j}");
 
     // Attached: the board's pins are the program's I/O, the PLC never stopped.
     let scans = |j: &Json| j["scans"].as_u64().unwrap_or(0);
     let (_, before) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
     let (st, v) = s
-        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&board.link, "controller")))
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&board.link, "controller")),
+        )
         .await;
     assert_eq!(st, StatusCode::OK, "{v}");
     assert_eq!(v["attached"]["port"], board.link.as_str(), "{v}");
@@ -690,20 +744,31 @@ async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_aud
     assert_eq!(v["attached"]["port"], board.link.as_str(), "{v}");
     let tag = |name: &'static str| {
         let s = &s;
-        async move { s.call(Method::GET, &format!("/api/tags/{name}"), &s.viewer, None).await.1["value"].clone() }
+        async move {
+            s.call(Method::GET, &format!("/api/tags/{name}"), &s.viewer, None)
+                .await
+                .1["value"]
+                .clone()
+        }
     };
     // Start pressed on the board (D2): the program sees it, Motor seals in on D12.
     assert_eq!(board.cmd("set D2 1"), "ok");
     let t0 = std::time::Instant::now();
     while tag("Start").await != json!(true) {
-        assert!(t0.elapsed() < Duration::from_secs(30), "Start never came from the board's pin");
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "Start never came from the board's pin"
+        );
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     assert_eq!(board.cmd("set D2 0"), "ok");
     board_says(&mut board, "pins 1 0", "Motor on the board's D12").await;
     let t0 = std::time::Instant::now();
     while tag("Start").await != json!(false) {
-        assert!(t0.elapsed() < Duration::from_secs(30), "Start never released from the board's pin");
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "Start never released from the board's pin"
+        );
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     assert_eq!(tag("Motor").await, json!(true));
@@ -713,7 +778,12 @@ async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_aud
 
     // One user of a port at a time.
     let (st, j) = s
-        .call(Method::POST, "/api/hardware/attach", &s.engineer, Some(attach(&board.link, "monitor")))
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&board.link, "monitor")),
+        )
         .await;
     assert_eq!(st, StatusCode::CONFLICT, "{j}");
     let (st, j) = s.on_port("download", &board.link).await;
@@ -721,7 +791,9 @@ async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_aud
     assert!(j["error"].as_str().expect("error").contains("detach it first"), "{j}");
 
     // Detached: the board's outputs off, the simulated I/O back, still running.
-    let (st, v) = s.call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({}))).await;
+    let (st, v) = s
+        .call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({})))
+        .await;
     assert_eq!(st, StatusCode::OK, "{v}");
     assert_eq!(v["attached"], Json::Null, "{v}");
     board_says(&mut board, "pins 0 0", "the board's outputs off").await;
@@ -745,10 +817,78 @@ async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_aud
         (Some("sim"), json!(format!("arduino:{}", board.link))),
         "{rows:?}"
     );
-    assert!(rows.iter().any(|r| r["target"] == gone.as_str() && r["outcome"] != "ok"), "{rows:?}");
+    assert!(
+        rows.iter()
+            .any(|r| r["target"] == gone.as_str() && r["outcome"] != "ok"),
+        "{rows:?}"
+    );
     let rows = s.audit("detach").await;
     assert_eq!(rows.len(), 1, "{rows:?}");
-    assert_eq!((rows[0]["outcome"].as_str(), rows[0]["user"].as_str()), (Some("ok"), Some("engineer")), "{rows:?}");
+    assert_eq!(
+        (rows[0]["outcome"].as_str(), rows[0]["user"].as_str()),
+        (Some("ok"), Some("engineer")),
+        "{rows:?}"
+    );
+    drop(board);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_cable_pulled_mid_download_ends_the_job_in_words_and_the_board_keeps_its_program() {
+    let s = Studio::start("cable").await;
+    let mut board = Board::start(&s.dir);
+    let (_, j) = s.on_port("download", &board.link).await;
+    let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
+    assert_eq!(end["state"], "done", "{end}");
+    let (_, j) = s.on_port("identify", &board.link).await;
+    let running = j["program"].clone();
+    assert!(running.is_string(), "{j}");
+
+    // Another program; the cable pulled (the pty closed) while its records go.
+    std::fs::write(
+        s.dir.join("main.lad"),
+        "[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n",
+    )
+    .expect("main.lad");
+    let (st, j) = s.on_port("download", &board.link).await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    let job = j["job"].as_str().expect("job").to_string();
+    let mut at = None;
+    for _ in 0..3000 {
+        let (_, j) = s
+            .call(Method::GET, &format!("/api/hardware/jobs/{job}"), &s.viewer, None)
+            .await;
+        if j["state"] != "running" {
+            panic!("the download ended before the cable was pulled: {j}");
+        }
+        if j["progress"].as_u64().is_some_and(|p| p > 0) {
+            assert_eq!(board.cmd("unplug"), "ok");
+            at = j["progress"].as_u64();
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    let at = at.expect("the records never started");
+    let (end, _) = s.finish(&job).await;
+    assert_eq!(end["state"], "failed", "{end}");
+    assert!(
+        (end["progress"].as_u64().expect("progress")) < 100,
+        "pulled at {at} %: {end}"
+    );
+    let msg = end["message"].as_str().expect("message");
+    assert!(
+        msg.starts_with("the link to the board was lost at record ")
+            && msg.contains("(cable pulled or board reset?)")
+            && msg.ends_with(": the board still runs the previous program"),
+        "{msg}"
+    );
+    // Plugged in again: the board runs the program it had.
+    assert!(board.cmd("plug").starts_with("ok "));
+    let (st, j) = s.on_port("identify", &board.link).await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
+    let (_, j) = s.on_port("verify", &board.link).await;
+    assert_eq!(j["same"], false, "{j}");
     drop(board);
     s.stop().await;
 }

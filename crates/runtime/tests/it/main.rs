@@ -609,10 +609,18 @@ async fn the_io_driver_is_swapped_between_two_scans_and_back_without_stopping() 
     })
     .await;
     assert_eq!(s.state, RunState::Running, "never stopped: {:?}", s.fault);
-    assert!(count(&s) > before, "the program's memory was kept: {} then {}", before, count(&s));
+    assert!(
+        count(&s) > before,
+        "the program's memory was kept: {} then {}",
+        before,
+        count(&s)
+    );
     assert_eq!(value(&s, "S:IOERRORS"), Value::Dint(3), "the new driver's status");
     board.input.store(true, std::sync::atomic::Ordering::Relaxed);
-    until(&rt, "Out on from the board's pin", |s| value(s, "Out") == Value::Bool(true)).await;
+    until(&rt, "Out on from the board's pin", |s| {
+        value(s, "Out") == Value::Bool(true)
+    })
+    .await;
     until(&rt, "Out on the board's output", |_| {
         board.output.lock().unwrap().last() == Some(&true)
     })
@@ -620,11 +628,19 @@ async fn the_io_driver_is_swapped_between_two_scans_and_back_without_stopping() 
     // Detach: the board's output put off through it, the simulated I/O back.
     let was = h.set_io(old).await.unwrap();
     assert_eq!(was.name(), "pins");
-    assert_eq!(board.output.lock().unwrap().last(), Some(&false), "the detached board's outputs are off");
+    assert_eq!(
+        board.output.lock().unwrap().last(),
+        Some(&false),
+        "the detached board's outputs are off"
+    );
     let n = board.output.lock().unwrap().len();
     let scans = h.snapshot().scans;
     let s = until(&rt, "more scans", |s| s.scans > scans + 3).await;
-    assert_eq!(board.output.lock().unwrap().len(), n, "the detached board is not written any more");
+    assert_eq!(
+        board.output.lock().unwrap().len(),
+        n,
+        "the detached board is not written any more"
+    );
     assert_eq!(value(&s, "S:IOERRORS"), Value::Dint(0));
     // In keeps its last value (the board said on), the operator's again.
     assert_eq!(value(&s, "Out"), Value::Bool(true));
@@ -633,7 +649,9 @@ async fn the_io_driver_is_swapped_between_two_scans_and_back_without_stopping() 
     drop(was);
 
     // A board that runs the program itself: refused while a force is on …
-    h.force("Out".into(), place(&p, "Out"), Value::Bool(true)).await.unwrap();
+    h.force("Out".into(), place(&p, "Out"), Value::Bool(true))
+        .await
+        .unwrap();
     let mirror = Board {
         mem: Arc::new(std::sync::Mutex::new(p.init.clone())),
         writes: Arc::default(),
@@ -655,8 +673,14 @@ async fn the_io_driver_is_swapped_between_two_scans_and_back_without_stopping() 
     };
     let sim = h.set_io(Box::new(mirror)).await.unwrap();
     assert_eq!(h.snapshot().state, RunState::Running);
-    until(&rt, "the board's memory mirrored", |s| value(s, "Count") == Value::Dint(7)).await;
+    until(&rt, "the board's memory mirrored", |s| {
+        value(s, "Count") == Value::Dint(7)
+    })
+    .await;
     let _ = h.set_io(sim).await.unwrap();
-    until(&rt, "the program scanning again from the board's memory", |s| count(s) > 7).await;
+    until(&rt, "the program scanning again from the board's memory", |s| {
+        count(s) > 7
+    })
+    .await;
     rt.shutdown();
 }

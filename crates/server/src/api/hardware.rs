@@ -128,6 +128,20 @@ pub async fn put_board(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -
     Ok(Json(view))
 }
 
+/// `POST /api/hardware/board/undo`: `[board]` as it was before the last
+/// save (audited `save_board`, detail `undo`); `409` with nothing to undo.
+pub async fn undo_board(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<HardwareView>> {
+    let hw = service(&st)?;
+    let entry = Entry {
+        target: Some("alba.toml [board]".into()),
+        detail: Some("undo: [board] as it was before the last save".into()),
+        ..actor.entry(Action::SaveBoard)
+    };
+    let _project = st.project.lock().await;
+    let view = audit::audited(&st, entry, blocking(move || hw.undo_board())).await?;
+    Ok(Json(view))
+}
+
 /// `POST /api/hardware/build` `{"board", "kind": "sketch"|"interpreter"}`.
 pub async fn build(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Json<BuildSizes>> {
     let j = body(b)?;

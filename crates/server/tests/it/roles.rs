@@ -535,7 +535,22 @@ async fn every_route_answers_each_role_as_the_table_says() {
             e,
             404,
         ),
-        row(Method::POST, "/api/hardware/detach", "/api/hardware/detach", j(json!({})), e, 404),
+        row(
+            Method::POST,
+            "/api/hardware/detach",
+            "/api/hardware/detach",
+            j(json!({})),
+            e,
+            404,
+        ),
+        row(
+            Method::POST,
+            "/api/hardware/board/undo",
+            "/api/hardware/board/undo",
+            j(json!({})),
+            e,
+            404,
+        ),
         row(
             Method::GET,
             "/api/hardware/jobs/{id}",
