@@ -293,3 +293,15 @@ test('attach: the board is the PLC\'s I/O without a restart, the ladder\'s conta
   await tid('status-state').filter({ hasText: 'running' }).waitFor();
   assert.deepEqual(b.errors, []);
 });
+
+test('Undo puts alba.toml\'s [board] back as it was before the save', async () => {
+  const { page, tid } = b;
+  const original = readFileSync(join(repo, 'examples/start-stop/alba.toml'), 'utf8');
+  await page.reload();
+  await tid('tab-hardware').click();
+  await tid('hw-undo').and(page.locator(':enabled')).waitFor();
+  await tid('hw-undo').click();
+  await tid('hw-undo').and(page.locator(':disabled')).waitFor();
+  assert.equal(readFileSync(join(alba.dir, 'alba.toml'), 'utf8'), original, 'the example\'s alba.toml, without [board]');
+  assert.deepEqual(b.errors, []);
+});

@@ -71,7 +71,11 @@ fn respond(path: &str, bytes: &'static [u8], headers: &HeaderMap, cache: &'stati
         extra.push((header::CONTENT_ENCODING, HeaderValue::from_static(coding)));
     }
     let mut res = body.into_response();
-    res.headers_mut().extend(extra);
+    // Inserted, not appended: the body's own `application/octet-stream` goes
+    // (a second Content-Type made Chromium refuse the studio's script).
+    for (k, v) in extra {
+        res.headers_mut().insert(k, v);
+    }
     res
 }
 
