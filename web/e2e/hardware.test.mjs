@@ -17,6 +17,11 @@
 //   the running PLC's I/O without restarting `alba run`: a pin pressed on the board
 //   energises its contact in the ladder, the coil's pin follows; detach: the
 //   board's outputs off, the simulated I/O back.
+// - Upload: the sketch built and uploaded as a job with avrdude's progress; the
+//   avrdude is a stand-in on alba run's PATH (tools/fake-avrdude in the test's
+//   folder: no real board here), which records its command line and draws
+//   avrdude's progress bars; the command line is checked as `alba export
+//   arduino --upload` builds it.
 // Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
 // hardware-failed.png, hardware-conflict.png, hardware-attached.png,
 // hardware-attached-ladder.png) in E2E_OUT.
@@ -68,9 +73,24 @@ async function boardCmd(c) {
   return answer;
 }
 
+/** A stand-in for avrdude in `dir`: records its arguments, draws avrdude's bars; fails on a port named `*gone*`. */
+function fakeAvrdude(dir) {
+  const script = `#!/bin/sh
+echo "$@" > "${dir}/avrdude-args"
+case "$*" in *gone*) echo "avrdude: ser_open(): can't open device" >&2; exit 1;; esac
+printf 'avrdude: writing flash\n\nWriting | ' >&2
+for i in $(seq 1 50); do printf '#' >&2; sleep 0.02; done
+printf ' | 100%% 1.00s\n\nReading | ' >&2
+for i in $(seq 1 50); do printf '#' >&2; sleep 0.01; done
+printf ' | 100%% 0.50s\n\navrdude: flash verified\n' >&2
+`;
+  writeFileSync(join(dir, 'avrdude'), script, { mode: 0o755 });
+}
+
 before(async () => {
   await startBoard();
-  alba = await startAlba('start-stop', { users: USERS });
+  fakeAvrdude(work);
+  alba = await startAlba('start-stop', { users: USERS, env: { PATH: `${work}:${process.env.PATH}` } });
   b = await openBrowser();
 });
 
@@ -106,7 +126,7 @@ test('a viewer sees the Hardware tab with every change disabled; the API refuses
   await tid('tab-hardware').click();
   await tid('hardware-view').waitFor();
   await tid('hw-board').locator('option').first().waitFor({ state: 'attached' });
-  for (const id of ['hw-save', 'hw-build', 'hw-download', 'hw-identify', 'hw-verify']) {
+  for (const id of ['hw-save', 'hw-build', 'hw-upload', 'hw-download', 'hw-identify', 'hw-verify', 'hw-attach']) {
     assert.equal(await tid(id).isDisabled(), true, `${id} is disabled for a viewer`);
     assert.equal(await tid(id).getAttribute('title'), 'needs the engineer role');
   }
@@ -116,6 +136,9 @@ test('a viewer sees the Hardware tab with every change disabled; the API refuses
     ['PUT', '/api/hardware/board', { board: 'nano' }],
     ['POST', '/api/hardware/build', { board: 'nano', kind: 'sketch' }],
     ['POST', '/api/hardware/download', { port: link }],
+    ['POST', '/api/hardware/upload', { port: link, board: 'nano', kind: 'sketch' }],
+    ['POST', '/api/hardware/attach', { port: link, mode: 'controller' }],
+    ['POST', '/api/hardware/board/undo', {}],
   ]) {
     const r = await alba.api(path, json(method, body));
     assert.equal(r.status, 403, `${method} ${path}: ${JSON.stringify(r.body)}`);
@@ -159,6 +182,30 @@ test('a stand-alone sketch for the Nano is built with its sizes against the limi
   await tid('hw-ram').filter({ hasText: 'of 2048 bytes' }).waitFor();
   const used = Number((await tid('hw-flash').textContent()).match(/(\d+) of 32256/)[1]);
   assert.ok(used > 1000 && used < 32256, `flash used: ${used}`);
+});
+
+test('Upload builds the sketch and runs avrdude as `alba export arduino --upload` does, its progress a job', async () => {
+  const { page, tid } = b;
+  await tid('hw-kind').selectOption('sketch');
+  await tid('hw-upload').click();
+  const seen = new Set();
+  for (let i = 0; i < 2400; i++) {
+    seen.add(Number(await tid('hw-progress').getAttribute('value')));
+    const state = await tid('hw-job').getAttribute('data-state');
+    if (state === 'done' || state === 'failed') break;
+    await page.waitForTimeout(50);
+  }
+  assert.equal(await tid('hw-job').getAttribute('data-state'), 'done', await tid('hw-job').textContent());
+  await tid('hw-job-message').filter({ hasText: /uploaded the stand-alone sketch to .*nano: flash \d+ of 32256 bytes/ }).waitFor();
+  assert.ok([...seen].some((p) => p > 10 && p < 100), `the bar moved with avrdude's: ${[...seen]}`);
+  const args = readFileSync(join(work, 'avrdude-args'), 'utf8').trim();
+  assert.match(args, new RegExp(`^-p m328p -c arduino -P ${link} -b 57600 -D -U flash:w:.*sketch\\.hex:i$`));
+  // avrdude failing: the job fails with its words
+  await tid('hw-port-typed').fill(join(work, 'gone'));
+  await tid('hw-upload').click();
+  await tid('hw-job').and(page.locator('[data-state="failed"]')).waitFor({ timeout: 120_000 });
+  await tid('hw-job-message').filter({ hasText: "not uploaded: avrdude failed (exit status: 1): avrdude: ser_open(): can't open device" }).waitFor();
+  await tid('hw-port-typed').fill('');
 });
 
 test('the byte code goes to the board with the progress reaching 100 %, the result kept after a reload', async () => {

@@ -202,6 +202,8 @@ export const api = {
   hardwareUndoBoard: () => json<HardwareView>('POST', '/api/hardware/board/undo'),
   hardwareBuild: (board: string, kind: string) => json<BuildSizes>('POST', '/api/hardware/build', { board, kind }),
   hardwareDownload: (port: string) => json<JobStarted>('POST', '/api/hardware/download', { port }),
+  /** POST /api/hardware/upload: a job that builds the firmware and uploads it with avrdude. */
+  hardwareUpload: (port: string, board: string, kind: string) => json<JobStarted>('POST', '/api/hardware/upload', { port, board, kind }),
   hardwareJob: (id: string) => json<HardwareJob>('GET', `/api/hardware/jobs/${enc(id)}`),
   /** POST /api/hardware/jobs/{id}/cancel: the board drops the records it had and runs its program on. */
   hardwareCancel: (id: string) => json<HardwareJob>('POST', `/api/hardware/jobs/${enc(id)}/cancel`),

@@ -367,7 +367,7 @@ pub struct Service {
     /// Ports typed by hand this session.
     typed: Mutex<Vec<String>>,
     /// One build at a time (avr-gcc takes the machine's cores).
-    building: Mutex<()>,
+    building: Arc<Mutex<()>>,
     next: AtomicU64,
     /// The I/O driver `alba run` was started with (`--io`).
     io: String,
@@ -452,13 +452,170 @@ pub fn failure_words(f: &DownloadFailure, files: &Files) -> String {
     }
 }
 
+/// A firmware kind the studio builds and uploads.
+fn kind_of(kind: &str) -> Result<(), HardwareError> {
+    if matches!(kind, "sketch" | "interpreter" | "controller") {
+        Ok(())
+    } else {
+        Err(HardwareError::Malformed(format!(
+            "unknown kind `{kind}`: build a `sketch`, the `interpreter` or the `controller` firmware"
+        )))
+    }
+}
+
+fn kind_words(kind: &str) -> &'static str {
+    match kind {
+        "sketch" => "stand-alone sketch",
+        "interpreter" => "byte-code interpreter",
+        _ => "controller (remote-I/O) firmware",
+    }
+}
+
+/// Builds the firmware `kind` of the project in `dir` for `model` with
+/// avr-gcc: the project's stand-alone sketch (`alba export arduino`), the
+/// byte-code interpreter for its pin map (`alba export interpreter`), or the
+/// controller firmware for it (`alba firmware`, Modbus RTU).
+fn firmware(dir: &Path, model: Model, kind: &str) -> Result<toolchain::Built, HardwareError> {
+    let c = alba_compiler::compile_dir(dir);
+    let files = c.project.files.clone();
+    let toolchain_error = |d: Diagnostic| {
+        if d.code == Code::Toolchain {
+            HardwareError::Failed(d.message)
+        } else {
+            does_not_build(&[d], &files)
+        }
+    };
+    let studio = |name: &str| {
+        toolchain::cache_dir()
+            .join("studio")
+            .join(format!("{name}-{}-{}", model.name(), std::process::id()))
+            .join(name)
+    };
+    match kind {
+        "sketch" => {
+            let Some(program) = &c.program else {
+                return Err(does_not_build(&c.diagnostics, &files));
+            };
+            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
+            let prog = sketch::control_program(program);
+            let s = sketch::generate(&prog, &project_name(&c), &t).map_err(|d| does_not_build(&d, &files))?;
+            let folder = studio(&s.name);
+            for (name, text) in &s.files {
+                let p = folder.join(name);
+                std::fs::create_dir_all(&folder)
+                    .and_then(|()| fsutil::write_atomic(&p, |w| w.write_all(text.as_bytes())))
+                    .map_err(|e| HardwareError::Failed(format!("cannot write {}: {e}", p.display())))?;
+            }
+            toolchain::build(&folder.join(&s.files[0].0), model, &folder.join("build")).map_err(toolchain_error)
+        }
+        "interpreter" => {
+            if c.project.config.is_none() {
+                return Err(does_not_build(&c.diagnostics, &files));
+            }
+            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
+            Ok(interp::firmware(&t).map_err(toolchain_error)?.0)
+        }
+        _ => {
+            let t = target(&c, Some(model.name()), None, false).map_err(|d| does_not_build(&[d], &files))?;
+            let pinmap = c
+                .project
+                .config
+                .as_ref()
+                .and_then(|c| c.board.as_ref())
+                .map_or_else(|| "aurora".to_string(), |b| b.pinmap.clone());
+            let mut spec = alba_io::firmware::Spec::new(model, &pinmap, t.map.clone(), alba_io::firmware::Link::Modbus);
+            spec.active_low = t.active_low;
+            let name = format!(
+                "{}_io",
+                project_name(&c).replace(|ch: char| !ch.is_ascii_alphanumeric(), "_")
+            );
+            let folder = studio(&name);
+            let sketch = alba_io::firmware::write(&spec, &folder)
+                .map_err(|e| HardwareError::Failed(format!("cannot write the controller firmware: {e}")))?;
+            toolchain::build(&sketch, model, &folder.join("build")).map_err(toolchain_error)
+        }
+    }
+}
+
+/// Uploads `built` to the board on `port` with avrdude, as `alba export
+/// arduino --upload` does ([`toolchain::upload_command`]), reading its
+/// progress bars: writing takes the job from 10 to 90 %, verifying to 100 %.
+/// `cancel` kills avrdude (the board keeps what its bootloader had written:
+/// upload again).
+fn avrdude(
+    built: &toolchain::Built,
+    port: &str,
+    cancel: &std::sync::atomic::AtomicBool,
+    mut progress: impl FnMut(u8),
+) -> Result<(), HardwareError> {
+    use std::io::Read;
+    let mut cmd = toolchain::upload_command(built, port);
+    cmd.stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped());
+    let mut child = cmd.spawn().map_err(|e| {
+        HardwareError::Failed(if e.kind() == std::io::ErrorKind::NotFound {
+            "avrdude was not found: install it (Debian package avrdude)".to_string()
+        } else {
+            format!("cannot run avrdude: {e}")
+        })
+    })?;
+    let Some(mut err) = child.stderr.take() else {
+        let _ = child.kill();
+        return Err(HardwareError::Failed("avrdude's output cannot be read".into()));
+    };
+    let mut text = String::new();
+    let (mut phase, mut hashes) = (0u8, 0u32);
+    let mut buf = [0u8; 256];
+    loop {
+        if cancel.load(Ordering::Relaxed) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(HardwareError::Failed(
+                "cancelled: avrdude stopped; the board may hold part of the firmware: upload again".into(),
+            ));
+        }
+        let n = match err.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => n,
+        };
+        for &b in &buf[..n] {
+            text.push(char::from(b));
+            if text.ends_with("Writing") {
+                (phase, hashes) = (1, 0);
+            } else if text.ends_with("Reading") && phase == 1 {
+                (phase, hashes) = (2, 0);
+            } else if b == b'#' && phase > 0 {
+                hashes = (hashes + 1).min(50);
+                progress(match phase {
+                    1 => 10 + (hashes * 80 / 50) as u8,
+                    _ => 90 + (hashes * 10 / 50) as u8,
+                });
+            }
+        }
+    }
+    let status = child
+        .wait()
+        .map_err(|e| HardwareError::Failed(format!("avrdude: {e}")))?;
+    if status.success() {
+        return Ok(());
+    }
+    let last: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.contains('#'))
+        .collect();
+    let tail = last[last.len().saturating_sub(3)..].join(" / ");
+    Err(HardwareError::Port(format!("avrdude failed ({status}): {tail}")))
+}
+
 impl Service {
     pub fn new(dir: &Path) -> Service {
         Service {
             dir: dir.to_path_buf(),
             jobs: Mutex::new(Vec::new()),
             typed: Mutex::new(Vec::new()),
-            building: Mutex::new(()),
+            building: Arc::new(Mutex::new(())),
             next: AtomicU64::new(1),
             io: "sim".into(),
             attached: Mutex::new(None),
@@ -512,22 +669,27 @@ impl Service {
     }
 
     fn start_job(&self, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
+        self.start_job_of("download", port)
+    }
+
+    fn start_job_of(&self, kind: &str, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
         self.not_attached(port)?;
         let mut jobs = lock(&self.jobs);
         if let Some(j) = jobs.iter().find(|j| {
             let j = lock(j);
             j.view.port == port && j.view.state == JobState::Running
         }) {
+            let j = lock(j);
             return Err(HardwareError::Busy(format!(
-                "job {} is downloading to {port}: one job per port at a time",
-                lock(j).view.id
+                "job {} ({}) is using {port}: one job per port at a time",
+                j.view.id, j.view.kind
             )));
         }
         let id = self.next.fetch_add(1, Ordering::Relaxed).to_string();
         let job = Arc::new(Mutex::new(Job {
             view: HardwareJob {
                 id,
-                kind: "download".into(),
+                kind: kind.into(),
                 port: port.into(),
                 state: JobState::Running,
                 progress: 0,
@@ -661,45 +823,10 @@ impl Hardware for Service {
 
     fn build(&self, board: &str, kind: &str) -> Result<BuildSizes, HardwareError> {
         let model = model_of(board)?;
-        if !matches!(kind, "sketch" | "interpreter") {
-            return Err(HardwareError::Malformed(format!(
-                "unknown kind `{kind}`: build a `sketch` or the `interpreter`"
-            )));
-        }
-        let _one = lock(&self.building);
-        let c = self.compile();
-        let files = c.project.files.clone();
-        let toolchain_error = |d: Diagnostic| {
-            if d.code == Code::Toolchain {
-                HardwareError::Failed(d.message)
-            } else {
-                does_not_build(&[d], &files)
-            }
-        };
-        let built = if kind == "sketch" {
-            let Some(program) = &c.program else {
-                return Err(does_not_build(&c.diagnostics, &files));
-            };
-            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
-            let prog = sketch::control_program(program);
-            let s = sketch::generate(&prog, &project_name(&c), &t).map_err(|d| does_not_build(&d, &files))?;
-            let folder = toolchain::cache_dir()
-                .join("studio")
-                .join(format!("{}-{}-{}", s.name, model.name(), std::process::id()))
-                .join(&s.name);
-            for (name, text) in &s.files {
-                let p = folder.join(name);
-                std::fs::create_dir_all(&folder)
-                    .and_then(|()| fsutil::write_atomic(&p, |w| w.write_all(text.as_bytes())))
-                    .map_err(|e| HardwareError::Failed(format!("cannot write {}: {e}", p.display())))?;
-            }
-            toolchain::build(&folder.join(&s.files[0].0), model, &folder.join("build")).map_err(toolchain_error)?
-        } else {
-            if c.project.config.is_none() {
-                return Err(does_not_build(&c.diagnostics, &files));
-            }
-            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
-            interp::firmware(&t).map_err(toolchain_error)?.0
+        kind_of(kind)?;
+        let built = {
+            let _one = lock(&self.building);
+            firmware(&self.dir, model, kind)?
         };
         let (flash_max, ram_max) = model.limits();
         Ok(BuildSizes {
@@ -711,6 +838,65 @@ impl Hardware for Service {
             ram_max,
             report: built.report(),
         })
+    }
+
+    fn upload(&self, port: &str, board: &str, kind: &str) -> Result<String, HardwareError> {
+        let model = model_of(board)?;
+        kind_of(kind)?;
+        let port = port_path(port)?;
+        let job = self.start_job_of("upload", &port)?;
+        self.remember(&port);
+        let (id, cancel) = {
+            let j = lock(&job);
+            (j.view.id.clone(), j.cancel.clone())
+        };
+        let (dir, building, kind) = (self.dir.clone(), self.building.clone(), kind.to_string());
+        let spawned = std::thread::Builder::new()
+            .name(format!("alba-upload-{id}"))
+            .spawn(move || {
+                let set = |progress: Option<u8>, message: String| {
+                    let mut j = lock(&job);
+                    if let Some(p) = progress {
+                        j.view.progress = p;
+                    }
+                    j.view.message = message;
+                };
+                set(
+                    Some(0),
+                    format!(
+                        "building the {} for the {} with avr-gcc",
+                        kind_words(&kind),
+                        model.title()
+                    ),
+                );
+                let built = {
+                    let _one = lock(&building);
+                    firmware(&dir, model, &kind)
+                };
+                let result = built.and_then(|b| {
+                    set(Some(10), format!("uploading with avrdude ({})", b.report()));
+                    avrdude(&b, &port, &cancel, |p| {
+                        set(Some(p), format!("uploading with avrdude: {p} %"))
+                    })
+                    .map(|()| b)
+                });
+                let mut j = lock(&job);
+                match result {
+                    Ok(b) => {
+                        j.view.state = JobState::Done;
+                        j.view.progress = 100;
+                        j.view.message = format!("uploaded the {} to {port}: {}", kind_words(&kind), b.report());
+                    }
+                    Err(e) => {
+                        j.view.state = JobState::Failed;
+                        j.view.message = format!("not uploaded: {e}");
+                    }
+                }
+            });
+        if let Err(e) = spawned {
+            return Err(HardwareError::Failed(format!("cannot start the upload: {e}")));
+        }
+        Ok(id)
     }
 
     fn download(&self, port: &str) -> Result<String, HardwareError> {

@@ -86,6 +86,8 @@ actions! {
     Attach = "attach",
     /// The attached board let go, the project's own I/O back (target: the serial port).
     Detach = "detach",
+    /// A firmware built and uploaded with avrdude (target: the serial port; detail: the board and kind).
+    Upload = "upload",
 }
 
 impl fmt::Display for Action {
@@ -155,7 +157,8 @@ mod tests {
                 "save_recipe",
                 "save_asset",
                 "attach",
-                "detach"
+                "detach",
+                "upload"
             ]
         );
     }

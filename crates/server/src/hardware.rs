@@ -125,6 +125,10 @@ pub trait Hardware: Send + Sync {
     fn undo_board(&self) -> Result<HardwareView, HardwareError>;
     /// Builds the project's sketch or the byte-code interpreter for `board`.
     fn build(&self, board: &str, kind: &str) -> Result<BuildSizes, HardwareError>;
+    /// Starts a job that builds the firmware `kind` (`sketch`,
+    /// `interpreter`, `controller`) for `board` and uploads it to the board
+    /// on `port` with avrdude (as `alba export arduino --upload` does).
+    fn upload(&self, port: &str, board: &str, kind: &str) -> Result<String, HardwareError>;
     /// Starts downloading the project's byte code to the board on `port`.
     fn download(&self, port: &str) -> Result<String, HardwareError>;
     /// A job by id.

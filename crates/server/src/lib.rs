@@ -90,6 +90,7 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("POST", "/api/hardware/board/undo", Needs(Role::Engineer)),
     ("POST", "/api/hardware/build", Needs(Role::Engineer)),
     ("POST", "/api/hardware/download", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/upload", Needs(Role::Engineer)),
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
@@ -166,6 +167,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/hardware/board/undo", post(api::hardware::undo_board))
         .route("/api/hardware/build", post(api::hardware::build))
         .route("/api/hardware/download", post(api::hardware::download))
+        .route("/api/hardware/upload", post(api::hardware::upload))
         .route("/api/hardware/identify", post(api::hardware::identify))
         .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))

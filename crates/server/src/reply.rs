@@ -576,7 +576,7 @@ pub enum JobState {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
 pub struct HardwareJob {
     pub id: String,
-    /// `download`.
+    /// `download` or `upload`.
     pub kind: String,
     pub port: String,
     pub state: JobState,
@@ -638,7 +638,7 @@ pub struct Attachment {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
 pub struct BuildSizes {
     pub board: String,
-    /// `sketch` or `interpreter`.
+    /// `sketch`, `interpreter` or `controller`.
     pub kind: String,
     pub flash_bytes: u32,
     pub ram_bytes: u32,

@@ -38,8 +38,10 @@ export class HardwareTab {
   private readonly portInfo = h('div', { class: 'hw-port-info', 'data-testid': 'hw-port-info' });
   private readonly kindSel = h('select', { 'data-testid': 'hw-kind' },
     h('option', { value: 'sketch' }, tr('stand-alone sketch')),
-    h('option', { value: 'interpreter' }, tr('byte-code interpreter')));
+    h('option', { value: 'interpreter' }, tr('byte-code interpreter')),
+    h('option', { value: 'controller' }, tr('controller firmware (remote I/O)')));
   private readonly buildBtn = h('button', { 'data-testid': 'hw-build' }, tr('Build'));
+  private readonly uploadBtn = h('button', { 'data-testid': 'hw-upload', title: tr('Build the firmware and upload it to the board with avrdude') }, tr('Upload'));
   private readonly sizes = h('div', { class: 'hw-sizes', 'data-testid': 'hw-sizes' });
   private readonly downloadBtn = h('button', { class: 'primary', 'data-testid': 'hw-download' }, tr('Download'));
   private readonly identifyBtn = h('button', { 'data-testid': 'hw-identify' }, tr('Identify'));
@@ -63,6 +65,7 @@ export class HardwareTab {
     this.saveBtn.onclick = () => void this.save();
     this.undoBtn.onclick = () => void this.undo();
     this.buildBtn.onclick = () => void this.build();
+    this.uploadBtn.onclick = () => void this.upload();
     this.downloadBtn.onclick = () => void this.download();
     this.identifyBtn.onclick = () => void this.identify();
     this.verifyBtn.onclick = () => void this.verify();
@@ -75,7 +78,7 @@ export class HardwareTab {
       // another preset: the table shows it once saved
       this.edits.clear();
     };
-    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn, this.attachBtn, this.detachBtn]) gate(b, 'hardware');
+    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn, this.attachBtn, this.detachBtn, this.uploadBtn]) gate(b, 'hardware');
     this.jobLine.hidden = true;
     this.bar.hidden = true;
     this.el = h('section', { class: 'hardware-view', 'data-testid': 'hardware-view' },
@@ -97,7 +100,7 @@ export class HardwareTab {
         h('div', { class: 'toolbar' }, this.portTyped, refresh, this.identifyBtn),
         this.portInfo,
         h('h2', null, tr('Firmware')),
-        h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn),
+        h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn, this.uploadBtn),
         this.sizes,
         h('h2', null, tr('Program')),
         h('div', { class: 'toolbar' }, this.downloadBtn, this.verifyBtn, this.bar, this.cancelBtn),
@@ -346,15 +349,29 @@ export class HardwareTab {
     }
   }
 
+  private async upload(): Promise<void> {
+    const port = this.port();
+    if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    this.starting();
+    try {
+      const { job } = await api.hardwareUpload(port, this.boardSel.value, this.kindSel.value);
+      rememberJob(job);
+      await this.follow(job);
+    } catch (e) {
+      this.notStarted(e);
+    }
+  }
+
   private async download(): Promise<void> {
     const port = this.port();
     if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    this.starting();
     try {
       const { job } = await api.hardwareDownload(port);
       rememberJob(job);
       await this.follow(job);
     } catch (e) {
-      this.fail(e);
+      this.notStarted(e);
     }
   }
 
@@ -363,13 +380,29 @@ export class HardwareTab {
     this.following = id;
     try {
       const end = await follow(api.hardwareJob, id, (j) => this.showJob(j));
-      if (end.state === 'done') this.ctx.notify(tr('Downloaded to {port}', { port: end.port }));
-      else this.ctx.notify(tr('Download failed: {m}', { m: end.message }), 'error');
+      const upload = end.kind === 'upload';
+      if (end.state === 'done') this.ctx.notify(upload ? tr('Uploaded to {port}', { port: end.port }) : tr('Downloaded to {port}', { port: end.port }));
+      else this.ctx.notify(upload ? tr('Upload failed: {m}', { m: end.message }) : tr('Download failed: {m}', { m: end.message }), 'error');
     } catch (e) {
       this.fail(e);
     } finally {
       this.following = '';
     }
+  }
+
+  /** A new job asked for: the last one's result is not shown as this one's. */
+  private starting(): void {
+    this.jobLine.dataset.state = 'starting';
+    this.bar.value = 0;
+    clear(this.jobLine);
+    this.jobLine.append(tr('Starting…'));
+  }
+
+  private notStarted(e: unknown): void {
+    this.jobLine.dataset.state = 'refused';
+    clear(this.jobLine);
+    this.jobLine.append(h('span', { class: 'problem' }, e instanceof Error ? e.message : String(e)));
+    this.fail(e);
   }
 
   private showJob(j: HardwareJob): void {

@@ -2,7 +2,8 @@
 //! map, the serial ports, firmware builds, byte-code downloads as jobs.
 //! The work is alba-app's ([`crate::hardware::Hardware`]); here: the
 //! requests, the roles (changes need `engineer`) and the audit rows
-//! (`save_board`, `download`).
+//! (`save_board`, `download`, `upload`; `attach` and `detach` are the
+//! control layer's).
 
 use super::audit::{self, Actor};
 use super::{Body, body, field};
@@ -155,16 +156,39 @@ pub async fn build(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Json<B
 pub async fn download(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiResult<Json<JobStarted>> {
     let j = body(b)?;
     let port = string(&j, "port")?;
-    let hw = service(&st)?;
     let entry = Entry {
         target: Some(port.clone()),
         detail: Some("the project's byte code".into()),
         ..actor.entry(Action::Download)
     };
+    start_job(&st, entry, move |hw| hw.download(&port)).await
+}
+
+/// `POST /api/hardware/upload` `{"port", "board", "kind": "sketch"|"interpreter"|"controller"}`
+/// → `{"job"}`: the firmware built and uploaded with avrdude; audited
+/// `upload`, the row's outcome set when the job ends.
+pub async fn upload(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiResult<Json<JobStarted>> {
+    let j = body(b)?;
+    let (port, board, kind) = (string(&j, "port")?, string(&j, "board")?, string(&j, "kind")?);
+    let entry = Entry {
+        target: Some(port.clone()),
+        detail: Some(format!("{kind} for {board}")),
+        ..actor.entry(Action::Upload)
+    };
+    start_job(&st, entry, move |hw| hw.upload(&port, &board, &kind)).await
+}
+
+/// Starts a job under its audit row `entry`, whose outcome is the job's.
+async fn start_job(
+    st: &Arc<AppState>,
+    entry: Entry,
+    start: impl FnOnce(&dyn Hardware) -> Result<String, HardwareError> + Send + 'static,
+) -> ApiResult<Json<JobStarted>> {
+    let hw = service(st)?;
     let row = st.control.begin(entry).await?;
     let started = {
         let hw = hw.clone();
-        tokio::task::spawn_blocking(move || hw.download(&port))
+        tokio::task::spawn_blocking(move || start(hw.as_ref()))
             .await
             .map_err(|e| HardwareError::Failed(format!("hardware: {e}")))
             .and_then(|r| r)
