@@ -578,7 +578,7 @@ export type JobState = "running" | "done" | "failed";
 
 export type HardwareJob = { id: string, 
 /**
- * `download`.
+ * `download` or `upload`.
  */
 kind: string, port: string, state: JobState, 
 /**
@@ -663,7 +663,7 @@ message: string, };
 
 export type BuildSizes = { board: string, 
 /**
- * `sketch` or `interpreter`.
+ * `sketch`, `interpreter` or `controller`.
  */
 kind: string, flash_bytes: number, ram_bytes: number, flash_max: number, ram_max: number, 
 /**

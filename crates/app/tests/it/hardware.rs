@@ -409,12 +409,37 @@ impl Board {
         let sketch = alba_io::firmware::write(&spec, &dir.join("ctl")).expect("firmware");
         let built = alba_arduino::toolchain::build(&sketch, alba_model::board::Model::Nano, &dir.join("ctl/build"))
             .expect("avr-gcc");
+        Board::run(&built.elf, &dir.join("ctl-link"))
+    }
+
+    /// The project's stand-alone sketch with its monitoring link (`alba export
+    /// arduino`) on an emulated Nano, its UART on `dir/sketch-link`.
+    fn sketch(dir: &Path) -> Board {
+        let c = alba_compiler::compile_dir(dir);
+        let t = alba_app::hardware::target(&c, Some("nano"), None, true).expect("target");
+        let prog = alba_arduino::sketch::control_program(c.program.as_ref().expect("program"));
+        let s = alba_arduino::sketch::generate(&prog, "hw", &t).expect("sketch");
+        let folder = dir.join("sketch").join(&s.name);
+        std::fs::create_dir_all(&folder).expect("mkdir");
+        for (name, text) in &s.files {
+            std::fs::write(folder.join(name), text).expect("sketch file");
+        }
+        let built = alba_arduino::toolchain::build(
+            &folder.join(&s.files[0].0),
+            alba_model::board::Model::Nano,
+            &folder.join("build"),
+        )
+        .expect("avr-gcc");
+        Board::run(&built.elf, &dir.join("sketch-link"))
+    }
+
+    /// `elf` on an emulated Nano sampling D12 and D13, its UART on `link`.
+    fn run(elf: &Path, link: &Path) -> Board {
         let bin = simavr::board().expect("alba-board");
-        let link = dir.join("ctl-link");
         let mut child = Command::new(bin)
-            .arg(&built.elf)
+            .arg(elf)
             .args(["-m", "atmega328p", "--tty"])
-            .arg(&link)
+            .arg(link)
             .args(["--pins", "D12,D13"])
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
@@ -889,6 +914,66 @@ async fn a_cable_pulled_mid_download_ends_the_job_in_words_and_the_board_keeps_i
     assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
     let (_, j) = s.on_port("verify", &board.link).await;
     assert_eq!(j["same"], false, "{j}");
+    drop(board);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_board_running_the_sketch_is_watched_live_and_let_go_without_restarting() {
+    let s = Studio::start("monitor").await;
+    let mut board = Board::sketch(&s.dir);
+    let (st, v) = s
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(json!({"port": board.link, "mode": "monitor"})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(
+        (v["attached"]["mode"].as_str(), v["attached"]["io"].clone()),
+        (Some("monitor"), json!(format!("board:{}", board.link))),
+        "{v}"
+    );
+    let tag = |name: &'static str| {
+        let s = &s;
+        async move {
+            s.call(Method::GET, &format!("/api/tags/{name}"), &s.viewer, None)
+                .await
+                .1["value"]
+                .clone()
+        }
+    };
+    // The board runs the program: Start pressed on it seals Motor in, on the board
+    // and in the runtime's mirror of its memory.
+    assert_eq!(board.cmd("set D2 1"), "ok");
+    board_says(&mut board, "pins 1 0", "Motor on the board's D12").await;
+    assert_eq!(board.cmd("set D2 0"), "ok");
+    let t0 = std::time::Instant::now();
+    while tag("Motor").await != json!(true) || tag("Start").await != json!(false) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "the board's memory never mirrored"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    // Stop is the board's own business while it is watched.
+    let (st, j) = s.call(Method::POST, "/api/stop", &s.engineer, Some(json!({}))).await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
+    // Let go: the runtime scans the project's program again, from the board's memory.
+    let (st, v) = s
+        .call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(v["attached"], Json::Null, "{v}");
+    let (_, status) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    assert_eq!(status["state"], "running", "{status}");
+    assert_eq!(tag("Motor").await, json!(true), "sealed in, as the board had it");
+    // The board is left running its program (watching it changed nothing there).
+    assert_eq!(board.cmd("get"), "pins 1 0");
+    let (st, _) = s.call(Method::POST, "/api/stop", &s.engineer, Some(json!({}))).await;
+    assert_eq!(st, StatusCode::OK);
     drop(board);
     s.stop().await;
 }

@@ -545,6 +545,14 @@ async fn every_route_answers_each_role_as_the_table_says() {
         ),
         row(
             Method::POST,
+            "/api/hardware/upload",
+            "/api/hardware/upload",
+            j(json!({"port": "/dev/null", "board": "uno", "kind": "sketch"})),
+            e,
+            404,
+        ),
+        row(
+            Method::POST,
             "/api/hardware/board/undo",
             "/api/hardware/board/undo",
             j(json!({})),
