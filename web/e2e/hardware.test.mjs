@@ -15,7 +15,8 @@
 //   at save (alba.toml unchanged);
 // - attach: the controller (remote-I/O) firmware on a second emulated Nano used as
 //   the running PLC's I/O without restarting `alba run`: a pin pressed on the board
-//   energises its contact in the ladder, the coil's pin follows; detach: the
+//   energises its contact in the ladder, the coil's pin follows, the drawing
+//   lights the pins that are on; detach: the
 //   board's outputs off, the simulated I/O back.
 // - Upload: the sketch built and uploaded as a job with avrdude's progress; the
 //   avrdude is a stand-in on alba run's PATH (tools/fake-avrdude in the test's
@@ -24,7 +25,7 @@
 //   arduino --upload` builds it.
 // Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
 // hardware-failed.png, hardware-conflict.png, hardware-attached.png,
-// hardware-attached-ladder.png) in E2E_OUT.
+// hardware-attached-ladder.png, hardware-attached-live.png) in E2E_OUT.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
@@ -324,8 +325,12 @@ test('attach: the board is the PLC\'s I/O without a restart, the ladder\'s conta
   }
   assert.equal(pins, 'pins 1 0', 'Motor on the board\'s D12');
   await tid('status-state').filter({ hasText: 'running' }).waitFor();
-  // Detach: the board's outputs off, its pins not read any more, the PLC running on.
+  // The drawing lights the pins live: Motor's D12 on, Start's D2 released.
   await tid('tab-hardware').click();
+  await tid('hw-board-pin-D12').and(page.locator('[data-live="on"]')).waitFor({ timeout: 20_000 });
+  await tid('hw-board-pin-D2').and(page.locator('[data-live="off"]')).waitFor();
+  await b.shot('hardware-attached-live');
+  // Detach: the board's outputs off, its pins not read any more, the PLC running on.
   await tid('hw-detach').click();
   await tid('hw-attached').and(page.locator('[data-attached="false"]')).waitFor({ timeout: 20_000 });
   for (let i = 0; i < 200 && pins !== 'pins 0 0'; i++) {

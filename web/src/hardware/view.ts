@@ -57,6 +57,9 @@ export class HardwareTab {
   private readonly detachBtn = h('button', { 'data-testid': 'hw-detach', title: tr('The project\'s own I/O back; the board\'s outputs go off') }, tr('Detach'));
   private readonly attachedLine = h('div', { class: 'hw-attached', 'data-testid': 'hw-attached' });
   private shownJob = '';
+  /** The live values watched for the drawing (unwatch on hide or redraw). */
+  private unwatch: (() => void)[] = [];
+  private shown = false;
   private following = '';
 
   constructor(private readonly ctx: Ctx) {
@@ -112,10 +115,40 @@ export class HardwareTab {
   }
 
   show(): void {
+    this.shown = true;
     void this.load();
   }
 
-  hide(): void {}
+  hide(): void {
+    this.shown = false;
+    this.stopWatching();
+  }
+
+  private stopWatching(): void {
+    for (const u of this.unwatch) u();
+    this.unwatch = [];
+    this.ctx.live.subscribe('hardware', null);
+  }
+
+  /** Lights each wired pin of the drawing while its channel's tag is on (a value not 0). */
+  private watchPins(rows: PinRow[]): void {
+    this.stopWatching();
+    if (!this.shown) return;
+    const names: string[] = [];
+    for (const r of rows) {
+      if (!r.pin || r.tags.length === 0) continue;
+      const tag = r.tags[0];
+      names.push(tag);
+      const pin = this.drawing.querySelector(`[data-testid="hw-board-pin-${r.pin}"]`);
+      if (!pin) continue;
+      this.unwatch.push(
+        this.ctx.live.store.watch(tag, (v) => {
+          pin.setAttribute('data-live', v === true || (typeof v === 'number' && v !== 0) ? 'on' : 'off');
+        }),
+      );
+    }
+    if (names.length > 0) this.ctx.live.subscribe('hardware', names);
+  }
 
   private fail(e: unknown): void {
     this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
@@ -165,6 +198,7 @@ export class HardwareTab {
     const general = [...(this.problems.get(null) ?? []), ...v.diagnostics.filter((d) => d.file === 'alba.toml')];
     for (const d of general) this.tableProblems.append(h('div', { class: 'problem' }, `${d.code}: ${d.message}`));
     this.drawBoard(board, v.pins);
+    this.watchPins(v.pins);
     this.showAttached(v);
     this.undoBtn.disabled = v.undo === 0;
     if (v.undo > 0) gate(this.undoBtn, 'hardware');
