@@ -648,6 +648,14 @@ async fn the_studio_is_embedded_and_served() {
                 coding,
                 "{path} for {accept:?}"
             );
+            // One Content-Type, the file's (a browser refuses a script sent as
+            // `application/octet-stream`, even beside `text/javascript`).
+            let types: Vec<_> = h.get_all("content-type").iter().collect();
+            let want = if path == "/" { "text/html" } else { "text/javascript" };
+            assert!(
+                types.len() == 1 && types[0].to_str().is_ok_and(|t| t.starts_with(want)),
+                "{path}: {types:?}"
+            );
             assert_eq!(
                 h.get("vary").and_then(|v| v.to_str().ok()),
                 Some("Accept-Encoding"),
