@@ -11,6 +11,8 @@
 //   after a reload, and Verify reads it back equal;
 // - a record the board's memory does not keep (an EEPROM cell stuck): the job fails
 //   with flag 20 in words, and the board still runs the program it had;
+// - a cable pulled in the middle of a download (the board's pty closed): the job
+//   says so, and the board, plugged in again, runs the program it had;
 // - a pin conflict shown on its row with the code `alba check` gives, and refused
 //   at save (alba.toml unchanged);
 // - attach: the controller (remote-I/O) firmware on a second emulated Nano used as
@@ -25,7 +27,8 @@
 //   arduino --upload` builds it.
 // Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
 // hardware-failed.png, hardware-conflict.png, hardware-attached.png,
-// hardware-attached-ladder.png, hardware-attached-live.png) in E2E_OUT.
+// hardware-attached-ladder.png, hardware-attached-live.png, hardware-cable-pulled.png)
+// in E2E_OUT.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
@@ -255,6 +258,36 @@ test('a record the board does not keep: the flag in words, and the old program s
   writeFileSync(lad, old);
   await tid('hw-identify').click();
   await tid('hw-port-info').filter({ hasText: `program id ${program}` }).waitFor({ timeout: 20_000 });
+});
+
+test('a cable pulled mid-download: the job ends saying so, and the board keeps its program', async () => {
+  const { page, tid } = b;
+  const id = async () => (await alba.api('/api/hardware/identify', json('POST', { port: link }))).body;
+  await alba.login(eva.name, eva.password);
+  const program = (await id()).program;
+  assert.match(program, /^[0-9a-f]{8}$/);
+  const lad = join(alba.dir, 'main.lad');
+  const old = readFileSync(lad, 'utf8');
+  writeFileSync(lad, '[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n');
+  const before = (await alba.api('/api/hardware')).body.jobs[0]?.id;
+  await tid('hw-download').click();
+  // the cable pulled (the pty closed) once records go
+  let job = null;
+  for (let i = 0; i < 4000 && !job; i++) {
+    const j = (await alba.api('/api/hardware')).body.jobs[0];
+    if (!j || j.id === before) continue;
+    if (j.state !== 'running') assert.fail(`the download ended before the cable was pulled: ${j.message}`);
+    if (j.progress > 0) job = j;
+  }
+  assert.ok(job, 'the records never started');
+  assert.equal(await boardCmd('unplug'), 'ok');
+  await tid('hw-job').and(page.locator('[data-state="failed"]')).waitFor({ timeout: 30_000 });
+  await tid('hw-job-message').filter({ hasText: /^the link to the board was lost at record \d+ of \d+ \(cable pulled or board reset\?\): .*: the board still runs the previous program$/ }).waitFor();
+  await b.shot('hardware-cable-pulled');
+  assert.match(await boardCmd('plug'), /^ok /);
+  writeFileSync(lad, old);
+  await tid('hw-identify').click();
+  await tid('hw-port-info').filter({ hasText: `it runs a program, program id ${program}` }).waitFor({ timeout: 20_000 });
 });
 
 test('a pin conflict is shown on its row with its code and refused at save', async () => {
