@@ -11,10 +11,24 @@
 //   after a reload, and Verify reads it back equal;
 // - a record the board's memory does not keep (an EEPROM cell stuck): the job fails
 //   with flag 20 in words, and the board still runs the program it had;
+// - a cable pulled in the middle of a download (the board's pty closed): the job
+//   says so, and the board, plugged in again, runs the program it had;
 // - a pin conflict shown on its row with the code `alba check` gives, and refused
-//   at save (alba.toml unchanged).
+//   at save (alba.toml unchanged);
+// - attach: the controller (remote-I/O) firmware on a second emulated Nano used as
+//   the running PLC's I/O without restarting `alba run`: a pin pressed on the board
+//   energises its contact in the ladder, the coil's pin follows, the drawing
+//   lights the pins that are on; detach: the
+//   board's outputs off, the simulated I/O back.
+// - Upload: the sketch built and uploaded as a job with avrdude's progress; the
+//   avrdude is a stand-in on alba run's PATH (tools/fake-avrdude in the test's
+//   folder: no real board here), which records its command line and draws
+//   avrdude's progress bars; the command line is checked as `alba export
+//   arduino --upload` builds it.
 // Screenshots (hardware-viewer.png, hardware-board.png, hardware-download.png,
-// hardware-failed.png, hardware-conflict.png) in E2E_OUT.
+// hardware-failed.png, hardware-conflict.png, hardware-attached.png,
+// hardware-attached-ladder.png, hardware-attached-live.png, hardware-cable-pulled.png)
+// in E2E_OUT.
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
@@ -22,7 +36,7 @@ import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { createInterface } from 'node:readline';
-import { openBrowser, repo, startAlba } from './harness.mjs';
+import { elementId, openBrowser, repo, startAlba } from './harness.mjs';
 
 const USERS = [
   { name: 'eva', role: 'engineer', password: 'boards-and-pins-4410' },
@@ -31,7 +45,7 @@ const USERS = [
 const [eva, victor] = USERS;
 const albaBin = process.env.ALBA_BIN ?? join(repo, 'target/debug/alba');
 
-let alba, b, board, work, link;
+let alba, b, board, work, link, ctl;
 
 /** The interpreter for the Nano (aurora pin map) and the emulated board, on `work/link`. */
 async function startBoard() {
@@ -63,9 +77,24 @@ async function boardCmd(c) {
   return answer;
 }
 
+/** A stand-in for avrdude in `dir`: records its arguments, draws avrdude's bars; fails on a port named `*gone*`. */
+function fakeAvrdude(dir) {
+  const script = `#!/bin/sh
+echo "$@" > "${dir}/avrdude-args"
+case "$*" in *gone*) echo "avrdude: ser_open(): can't open device" >&2; exit 1;; esac
+printf 'avrdude: writing flash\n\nWriting | ' >&2
+for i in $(seq 1 50); do printf '#' >&2; sleep 0.02; done
+printf ' | 100%% 1.00s\n\nReading | ' >&2
+for i in $(seq 1 50); do printf '#' >&2; sleep 0.01; done
+printf ' | 100%% 0.50s\n\navrdude: flash verified\n' >&2
+`;
+  writeFileSync(join(dir, 'avrdude'), script, { mode: 0o755 });
+}
+
 before(async () => {
   await startBoard();
-  alba = await startAlba('start-stop', { users: USERS });
+  fakeAvrdude(work);
+  alba = await startAlba('start-stop', { users: USERS, env: { PATH: `${work}:${process.env.PATH}` } });
   b = await openBrowser();
 });
 
@@ -74,6 +103,8 @@ after(async () => {
   await alba?.stop();
   board?.stdin.end('quit\n');
   board?.kill();
+  ctl?.proc.stdin.end('quit\n');
+  ctl?.proc.kill();
   if (work) rmSync(work, { recursive: true, force: true });
 });
 
@@ -99,7 +130,7 @@ test('a viewer sees the Hardware tab with every change disabled; the API refuses
   await tid('tab-hardware').click();
   await tid('hardware-view').waitFor();
   await tid('hw-board').locator('option').first().waitFor({ state: 'attached' });
-  for (const id of ['hw-save', 'hw-build', 'hw-download', 'hw-identify', 'hw-verify']) {
+  for (const id of ['hw-save', 'hw-build', 'hw-upload', 'hw-download', 'hw-identify', 'hw-verify', 'hw-attach']) {
     assert.equal(await tid(id).isDisabled(), true, `${id} is disabled for a viewer`);
     assert.equal(await tid(id).getAttribute('title'), 'needs the engineer role');
   }
@@ -109,6 +140,9 @@ test('a viewer sees the Hardware tab with every change disabled; the API refuses
     ['PUT', '/api/hardware/board', { board: 'nano' }],
     ['POST', '/api/hardware/build', { board: 'nano', kind: 'sketch' }],
     ['POST', '/api/hardware/download', { port: link }],
+    ['POST', '/api/hardware/upload', { port: link, board: 'nano', kind: 'sketch' }],
+    ['POST', '/api/hardware/attach', { port: link, mode: 'controller' }],
+    ['POST', '/api/hardware/board/undo', {}],
   ]) {
     const r = await alba.api(path, json(method, body));
     assert.equal(r.status, 403, `${method} ${path}: ${JSON.stringify(r.body)}`);
@@ -152,6 +186,30 @@ test('a stand-alone sketch for the Nano is built with its sizes against the limi
   await tid('hw-ram').filter({ hasText: 'of 2048 bytes' }).waitFor();
   const used = Number((await tid('hw-flash').textContent()).match(/(\d+) of 32256/)[1]);
   assert.ok(used > 1000 && used < 32256, `flash used: ${used}`);
+});
+
+test('Upload builds the sketch and runs avrdude as `alba export arduino --upload` does, its progress a job', async () => {
+  const { page, tid } = b;
+  await tid('hw-kind').selectOption('sketch');
+  await tid('hw-upload').click();
+  const seen = new Set();
+  for (let i = 0; i < 2400; i++) {
+    seen.add(Number(await tid('hw-progress').getAttribute('value')));
+    const state = await tid('hw-job').getAttribute('data-state');
+    if (state === 'done' || state === 'failed') break;
+    await page.waitForTimeout(50);
+  }
+  assert.equal(await tid('hw-job').getAttribute('data-state'), 'done', await tid('hw-job').textContent());
+  await tid('hw-job-message').filter({ hasText: /uploaded the stand-alone sketch to .*nano: flash \d+ of 32256 bytes/ }).waitFor();
+  assert.ok([...seen].some((p) => p > 10 && p < 100), `the bar moved with avrdude's: ${[...seen]}`);
+  const args = readFileSync(join(work, 'avrdude-args'), 'utf8').trim();
+  assert.match(args, new RegExp(`^-p m328p -c arduino -P ${link} -b 57600 -D -U flash:w:.*sketch\\.hex:i$`));
+  // avrdude failing: the job fails with its words
+  await tid('hw-port-typed').fill(join(work, 'gone'));
+  await tid('hw-upload').click();
+  await tid('hw-job').and(page.locator('[data-state="failed"]')).waitFor({ timeout: 120_000 });
+  await tid('hw-job-message').filter({ hasText: "not uploaded: avrdude failed (exit status: 1): avrdude: ser_open(): can't open device" }).waitFor();
+  await tid('hw-port-typed').fill('');
 });
 
 test('the byte code goes to the board with the progress reaching 100 %, the result kept after a reload', async () => {
@@ -202,6 +260,36 @@ test('a record the board does not keep: the flag in words, and the old program s
   await tid('hw-port-info').filter({ hasText: `program id ${program}` }).waitFor({ timeout: 20_000 });
 });
 
+test('a cable pulled mid-download: the job ends saying so, and the board keeps its program', async () => {
+  const { page, tid } = b;
+  const id = async () => (await alba.api('/api/hardware/identify', json('POST', { port: link }))).body;
+  await alba.login(eva.name, eva.password);
+  const program = (await id()).program;
+  assert.match(program, /^[0-9a-f]{8}$/);
+  const lad = join(alba.dir, 'main.lad');
+  const old = readFileSync(lad, 'utf8');
+  writeFileSync(lad, '[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n');
+  const before = (await alba.api('/api/hardware')).body.jobs[0]?.id;
+  await tid('hw-download').click();
+  // the cable pulled (the pty closed) once records go
+  let job = null;
+  for (let i = 0; i < 4000 && !job; i++) {
+    const j = (await alba.api('/api/hardware')).body.jobs[0];
+    if (!j || j.id === before) continue;
+    if (j.state !== 'running') assert.fail(`the download ended before the cable was pulled: ${j.message}`);
+    if (j.progress > 0) job = j;
+  }
+  assert.ok(job, 'the records never started');
+  assert.equal(await boardCmd('unplug'), 'ok');
+  await tid('hw-job').and(page.locator('[data-state="failed"]')).waitFor({ timeout: 30_000 });
+  await tid('hw-job-message').filter({ hasText: /^the link to the board was lost at record \d+ of \d+ \(cable pulled or board reset\?\): .*: the board still runs the previous program$/ }).waitFor();
+  await b.shot('hardware-cable-pulled');
+  assert.match(await boardCmd('plug'), /^ok /);
+  writeFileSync(lad, old);
+  await tid('hw-identify').click();
+  await tid('hw-port-info').filter({ hasText: `it runs a program, program id ${program}` }).waitFor({ timeout: 20_000 });
+});
+
 test('a pin conflict is shown on its row with its code and refused at save', async () => {
   const { tid } = b;
   const before = readFileSync(join(alba.dir, 'alba.toml'), 'utf8');
@@ -211,5 +299,94 @@ test('a pin conflict is shown on its row with its code and refused at save', asy
   await tid('hw-problem-DI:1/0').filter({ hasText: 'D2' }).waitFor();
   assert.equal(readFileSync(join(alba.dir, 'alba.toml'), 'utf8'), before, 'nothing saved');
   await b.shot('hardware-conflict');
+  assert.deepEqual(b.errors, []);
+});
+
+/** The controller (remote-I/O) firmware for the Nano (aurora map, Modbus RTU) on a second emulated board, on `work/ctl-link`. */
+async function startController() {
+  const r = spawnSync(albaBin, ['firmware', '--board', 'nano', '--pinmap', 'aurora', '-o', join(work, 'ctl'), '--build'], { encoding: 'utf8' });
+  assert.equal(r.status, 0, `alba firmware: ${r.stderr}`);
+  const tty = join(work, 'ctl-link');
+  const proc = spawn(join(work, 'alba-board'), [join(work, 'ctl/build/sketch.elf'), '-m', 'atmega328p', '--tty', tty, '--pins', 'D12,D13'], {
+    stdio: ['pipe', 'pipe', 'ignore'],
+  });
+  const lines = createInterface({ input: proc.stdout });
+  const next = () => new Promise((ok) => lines.once('line', ok));
+  const ready = await Promise.race([next(), new Promise((_, fail) => setTimeout(() => fail(new Error('alba-board did not start in 30 s')), 30_000))]);
+  assert.match(ready, /^ready /);
+  return {
+    proc,
+    tty,
+    async cmd(c) {
+      const answer = next();
+      proc.stdin.write(`${c}\n`);
+      return answer;
+    },
+  };
+}
+
+test('attach: the board is the PLC\'s I/O without a restart, the ladder\'s contacts follow its pins; detach', async () => {
+  const { page, tid } = b;
+  ctl = await startController();
+  await page.reload();
+  await tid('tab-hardware').click();
+  await tid('hw-attached').filter({ hasText: 'the PLC uses its own I/O (sim)' }).waitFor();
+  assert.equal(await tid('hw-detach').isHidden(), true);
+  await tid('hw-port-typed').fill(ctl.tty);
+  await tid('hw-attach-mode').selectOption('controller');
+  await tid('hw-attach').click();
+  await tid('hw-attached').and(page.locator('[data-attached="true"]')).filter({ hasText: `attached to ${ctl.tty}` }).waitFor({ timeout: 20_000 });
+  assert.equal(await tid('hw-attach').isHidden(), true);
+  await b.shot('hardware-attached');
+  // The ladder, live from the board: Start (D2) pressed on it energises XIC(Start); Motor seals in on D12.
+  const program = await alba.json('/api/programs/main.lad');
+  const start = elementId(program, 'XIC', ['Start']);
+  const motor = elementId(program, 'OTE', ['Motor']);
+  const el = (n, on) => page.locator(`[data-testid="el-${n}"][data-on="${on}"]`);
+  await tid('tab-program-main.lad').click();
+  await el(start, false).waitFor();
+  assert.equal(await ctl.cmd('set D2 1'), 'ok');
+  await el(start, true).waitFor({ timeout: 20_000 });
+  await el(motor, true).waitFor({ timeout: 20_000 });
+  await b.shot('hardware-attached-ladder');
+  assert.equal(await ctl.cmd('set D2 0'), 'ok');
+  await el(start, false).waitFor({ timeout: 20_000 });
+  let pins = '';
+  for (let i = 0; i < 200 && pins !== 'pins 1 0'; i++) {
+    pins = await ctl.cmd('get');
+    await page.waitForTimeout(50);
+  }
+  assert.equal(pins, 'pins 1 0', 'Motor on the board\'s D12');
+  await tid('status-state').filter({ hasText: 'running' }).waitFor();
+  // The drawing lights the pins live: Motor's D12 on, Start's D2 released.
+  await tid('tab-hardware').click();
+  await tid('hw-board-pin-D12').and(page.locator('[data-live="on"]')).waitFor({ timeout: 20_000 });
+  await tid('hw-board-pin-D2').and(page.locator('[data-live="off"]')).waitFor();
+  await b.shot('hardware-attached-live');
+  // Detach: the board's outputs off, its pins not read any more, the PLC running on.
+  await tid('hw-detach').click();
+  await tid('hw-attached').and(page.locator('[data-attached="false"]')).waitFor({ timeout: 20_000 });
+  for (let i = 0; i < 200 && pins !== 'pins 0 0'; i++) {
+    pins = await ctl.cmd('get');
+    await page.waitForTimeout(50);
+  }
+  assert.equal(pins, 'pins 0 0', 'the detached board\'s outputs are off');
+  assert.equal(await ctl.cmd('set D2 1'), 'ok');
+  await tid('tab-program-main.lad').click();
+  await page.waitForTimeout(500);
+  await el(start, false).waitFor();
+  await tid('status-state').filter({ hasText: 'running' }).waitFor();
+  assert.deepEqual(b.errors, []);
+});
+
+test('Undo puts alba.toml\'s [board] back as it was before the save', async () => {
+  const { page, tid } = b;
+  const original = readFileSync(join(repo, 'examples/start-stop/alba.toml'), 'utf8');
+  await page.reload();
+  await tid('tab-hardware').click();
+  await tid('hw-undo').and(page.locator(':enabled')).waitFor();
+  await tid('hw-undo').click();
+  await tid('hw-undo').and(page.locator(':disabled')).waitFor();
+  assert.equal(readFileSync(join(alba.dir, 'alba.toml'), 'utf8'), original, 'the example\'s alba.toml, without [board]');
   assert.deepEqual(b.errors, []);
 });

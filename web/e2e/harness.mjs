@@ -33,12 +33,12 @@ export async function addUser(dir, { name, role, password }) {
  * Starts `alba run` on a copy of examples/<name>; resolves once it serves.
  * `users` ({name, role, password}) are added to the copy first.
  */
-export async function startAlba(example, { users = [], prepare = null, args = [] } = {}) {
+export async function startAlba(example, { users = [], prepare = null, args = [], env = {} } = {}) {
   const dir = mkdtempSync(join(tmpdir(), `alba-e2e-${example}-`));
   cpSync(join(repo, 'examples', example), dir, { recursive: true });
   for (const u of users) await addUser(dir, u);
   await prepare?.(dir);
-  let { proc, url } = await spawnAlba(dir, '127.0.0.1:0', args);
+  let { proc, url } = await spawnAlba(dir, '127.0.0.1:0', args, env);
   // With users, `login()` gives the helpers a bearer token.
   let token = null;
   const api = async (path, init = {}) => {
@@ -76,7 +76,7 @@ export async function startAlba(example, { users = [], prepare = null, args = []
     },
     /** Starts `alba run` again on the same project and address. */
     async restart() {
-      ({ proc } = await spawnAlba(dir, new URL(url).host, args));
+      ({ proc } = await spawnAlba(dir, new URL(url).host, args, env));
     },
     async stop() {
       proc.kill('SIGTERM');
@@ -86,9 +86,9 @@ export async function startAlba(example, { users = [], prepare = null, args = []
   };
 }
 
-/** `alba run <dir> --http <addr> [args]`; resolves once it serves, with its URL. */
-async function spawnAlba(dir, addr, args = []) {
-  const proc = spawn(albaBin(), ['run', dir, '--http', addr, ...args], { stdio: ['ignore', 'pipe', 'inherit'] });
+/** `alba run <dir> --http <addr> [args]` (`env` over this process's); resolves once it serves, with its URL. */
+async function spawnAlba(dir, addr, args = [], env = {}) {
+  const proc = spawn(albaBin(), ['run', dir, '--http', addr, ...args], { stdio: ['ignore', 'pipe', 'inherit'], env: { ...process.env, ...env } });
   const url = await new Promise((ok, fail) => {
     const timer = setTimeout(() => fail(new Error('alba run did not start in 30 s')), 30_000);
     proc.on('exit', (code) => fail(new Error(`alba run exited with ${code}`)));

@@ -620,7 +620,7 @@ export type JobState = "running" | "done" | "failed";
 
 export type HardwareJob = { id: string, 
 /**
- * `download`.
+ * `download` or `upload`.
  */
 kind: string, port: string, state: JobState, 
 /**
@@ -668,11 +668,44 @@ diagnostics: Array<Diagnostic>,
 /**
  * Recent jobs, newest first (kept while `alba run` runs).
  */
-jobs: Array<HardwareJob>, };
+jobs: Array<HardwareJob>, 
+/**
+ * The board used as the running PLC's I/O now (`POST /api/hardware/attach`);
+ * `null`: the project's own I/O (`io`).
+ */
+attached: Attachment | null, 
+/**
+ * The I/O driver `alba run` was started with (`--io`: `sim`, `arduino:…`),
+ * back after a detach.
+ */
+io: string, 
+/**
+ * Board saves of this run that Undo can take back (`POST /api/hardware/board/undo`).
+ */
+undo: number, };
+
+export type Attachment = { port: string, 
+/**
+ * `controller` (the board's pins are the program's I/O) or `monitor`
+ * (the board runs the sketch; its memory is watched).
+ */
+mode: string, 
+/**
+ * The I/O driver now (`arduino:/dev/ttyUSB0`, `board:/dev/ttyUSB0`).
+ */
+io: string, 
+/**
+ * When it was attached (ms since the epoch).
+ */
+since_ms: number, 
+/**
+ * In words.
+ */
+message: string, };
 
 export type BuildSizes = { board: string, 
 /**
- * `sketch` or `interpreter`.
+ * `sketch`, `interpreter` or `controller`.
  */
 kind: string, flash_bytes: number, ram_bytes: number, flash_max: number, ram_max: number, 
 /**

@@ -198,14 +198,22 @@ export const api = {
   runTests: () => json<TestsReply>('POST', '/api/tests', {}),
   /** PUT /api/hardware/board: `[board]` saved into alba.toml (422 with the diagnostics when it does not check). */
   saveBoard: (body: Record<string, unknown>) => json<HardwareView>('PUT', '/api/hardware/board', body),
+  /** POST /api/hardware/board/undo: `[board]` as it was before the last save (409: nothing to undo). */
+  hardwareUndoBoard: () => json<HardwareView>('POST', '/api/hardware/board/undo'),
   hardwareBuild: (board: string, kind: string) => json<BuildSizes>('POST', '/api/hardware/build', { board, kind }),
   hardwareDownload: (port: string) => json<JobStarted>('POST', '/api/hardware/download', { port }),
+  /** POST /api/hardware/upload: a job that builds the firmware and uploads it with avrdude. */
+  hardwareUpload: (port: string, board: string, kind: string) => json<JobStarted>('POST', '/api/hardware/upload', { port, board, kind }),
   hardwareJob: (id: string) => json<HardwareJob>('GET', `/api/hardware/jobs/${enc(id)}`),
   /** POST /api/hardware/jobs/{id}/cancel: the board drops the records it had and runs its program on. */
   hardwareCancel: (id: string) => json<HardwareJob>('POST', `/api/hardware/jobs/${enc(id)}/cancel`),
   hardwareIdentify: (port: string) => json<BoardIdentity>('POST', '/api/hardware/identify', { port }),
   /** POST /api/hardware/verify: the board's running program read back against the project's byte code. */
   hardwareVerify: (port: string) => json<Verified>('POST', '/api/hardware/verify', { port }),
+  /** POST /api/hardware/attach: the board as the running PLC's I/O (`controller`) or watched (`monitor`), without restarting it. */
+  hardwareAttach: (port: string, mode: string) => json<HardwareView>('POST', '/api/hardware/attach', { port, mode }),
+  /** POST /api/hardware/detach: the project's own I/O back (the board's outputs off). */
+  hardwareDetach: () => json<HardwareView>('POST', '/api/hardware/detach'),
   /** `tags`: `Tag` of this runtime, `Tag@node` of another node. */
   historyCsvUrl: (tags: string[], from: number, to: number, step: number) =>
     `/api/history.csv?tags=${tags.map(enc).join(',')}&from=${Math.floor(from)}&to=${Math.ceil(to)}&step=${Math.max(1, Math.round(step))}`,

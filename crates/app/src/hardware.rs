@@ -10,16 +10,18 @@
 use alba_arduino::sketch::{self, Target};
 use alba_arduino::{bytecode, interp, toolchain};
 use alba_compiler::Compiled;
+use alba_control::audit::{Action, Entry};
+use alba_control::{Actor, Control, json_text};
 use alba_diag::{Code, Diagnostic, Files};
 use alba_io::download::{BoardState, DownloadError, Link};
 use alba_model::address::Address;
 use alba_model::board::{Dir, Model, PRESETS, PinMap};
 use alba_model::fsutil;
-use alba_server::hardware::{BoardChange, Hardware, HardwareError};
+use alba_server::hardware::{Acting, AttachMode, BoardChange, Hardware, HardwareError};
 use alba_server::project::diagnostics_json;
 use alba_server::reply::{
-    BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem, PinRow,
-    SerialPortInfo, Verified,
+    Attachment, BoardIdentity, BoardModel, BoardPin, BuildSizes, HardwareJob, HardwareView, JobState, PinProblem,
+    PinRow, SerialPortInfo, Verified,
 };
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -365,8 +367,30 @@ pub struct Service {
     /// Ports typed by hand this session.
     typed: Mutex<Vec<String>>,
     /// One build at a time (avr-gcc takes the machine's cores).
-    building: Mutex<()>,
+    building: Arc<Mutex<()>>,
     next: AtomicU64,
+    /// The I/O driver `alba run` was started with (`--io`).
+    io: String,
+    /// The board attached as the PLC's I/O, with the project's own I/O it displaced.
+    attached: Mutex<Option<Attached>>,
+    /// One attach or detach at a time.
+    attaching: tokio::sync::Mutex<()>,
+    /// `[board]` before each save of this run, newest last (Undo).
+    undo: Mutex<Vec<Option<toml_edit::Item>>>,
+}
+
+/// A board attached (`POST /api/hardware/attach`).
+struct Attached {
+    view: Attachment,
+    /// The project's own I/O, put back at detach.
+    own: Box<dyn alba_runtime::Io>,
+}
+
+/// Drops a displaced I/O driver off the async workers (its link thread is joined).
+fn retire(io: Box<dyn alba_runtime::Io>) {
+    let _ = std::thread::Builder::new()
+        .name("alba-retire".into())
+        .spawn(move || drop(io));
 }
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -393,6 +417,23 @@ fn port_path(port: &str) -> Result<String, HardwareError> {
     Ok(p.to_string())
 }
 
+/// Board saves that can be undone (the newest).
+const KEPT_UNDO: usize = 20;
+
+/// Writes `doc` into `path` atomically once it checks as `alba check` reads
+/// alba.toml: refused, nothing saved, on any problem.
+fn save_checked(path: &Path, doc: &toml_edit::DocumentMut) -> Result<(), HardwareError> {
+    let new = doc.to_string();
+    let mut files = Files::new();
+    let f = files.add(path.display().to_string(), new.clone());
+    let (_, diags) = alba_project::config::Config::parse(files.text(f), f);
+    if !diags.is_empty() {
+        return Err(does_not_build(&diags, &files));
+    }
+    fsutil::write_atomic(path, |w| w.write_all(new.as_bytes()))
+        .map_err(|e| HardwareError::Failed(format!("cannot save {}: {e}", path.display())))
+}
+
 /// The outcome of a download in words.
 pub fn failure_words(f: &DownloadFailure, files: &Files) -> String {
     match f {
@@ -411,14 +452,191 @@ pub fn failure_words(f: &DownloadFailure, files: &Files) -> String {
     }
 }
 
+/// A firmware kind the studio builds and uploads.
+fn kind_of(kind: &str) -> Result<(), HardwareError> {
+    if matches!(kind, "sketch" | "interpreter" | "controller") {
+        Ok(())
+    } else {
+        Err(HardwareError::Malformed(format!(
+            "unknown kind `{kind}`: build a `sketch`, the `interpreter` or the `controller` firmware"
+        )))
+    }
+}
+
+fn kind_words(kind: &str) -> &'static str {
+    match kind {
+        "sketch" => "stand-alone sketch",
+        "interpreter" => "byte-code interpreter",
+        _ => "controller (remote-I/O) firmware",
+    }
+}
+
+/// Builds the firmware `kind` of the project in `dir` for `model` with
+/// avr-gcc: the project's stand-alone sketch (`alba export arduino`), the
+/// byte-code interpreter for its pin map (`alba export interpreter`), or the
+/// controller firmware for it (`alba firmware`, Modbus RTU).
+fn firmware(dir: &Path, model: Model, kind: &str) -> Result<toolchain::Built, HardwareError> {
+    let c = alba_compiler::compile_dir(dir);
+    let files = c.project.files.clone();
+    let toolchain_error = |d: Diagnostic| {
+        if d.code == Code::Toolchain {
+            HardwareError::Failed(d.message)
+        } else {
+            does_not_build(&[d], &files)
+        }
+    };
+    let studio = |name: &str| {
+        toolchain::cache_dir()
+            .join("studio")
+            .join(format!("{name}-{}-{}", model.name(), std::process::id()))
+            .join(name)
+    };
+    match kind {
+        "sketch" => {
+            let Some(program) = &c.program else {
+                return Err(does_not_build(&c.diagnostics, &files));
+            };
+            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
+            let prog = sketch::control_program(program);
+            let s = sketch::generate(&prog, &project_name(&c), &t).map_err(|d| does_not_build(&d, &files))?;
+            let folder = studio(&s.name);
+            for (name, text) in &s.files {
+                let p = folder.join(name);
+                std::fs::create_dir_all(&folder)
+                    .and_then(|()| fsutil::write_atomic(&p, |w| w.write_all(text.as_bytes())))
+                    .map_err(|e| HardwareError::Failed(format!("cannot write {}: {e}", p.display())))?;
+            }
+            toolchain::build(&folder.join(&s.files[0].0), model, &folder.join("build")).map_err(toolchain_error)
+        }
+        "interpreter" => {
+            if c.project.config.is_none() {
+                return Err(does_not_build(&c.diagnostics, &files));
+            }
+            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
+            Ok(interp::firmware(&t).map_err(toolchain_error)?.0)
+        }
+        _ => {
+            let t = target(&c, Some(model.name()), None, false).map_err(|d| does_not_build(&[d], &files))?;
+            let pinmap = c
+                .project
+                .config
+                .as_ref()
+                .and_then(|c| c.board.as_ref())
+                .map_or_else(|| "aurora".to_string(), |b| b.pinmap.clone());
+            let mut spec = alba_io::firmware::Spec::new(model, &pinmap, t.map.clone(), alba_io::firmware::Link::Modbus);
+            spec.active_low = t.active_low;
+            let name = format!(
+                "{}_io",
+                project_name(&c).replace(|ch: char| !ch.is_ascii_alphanumeric(), "_")
+            );
+            let folder = studio(&name);
+            let sketch = alba_io::firmware::write(&spec, &folder)
+                .map_err(|e| HardwareError::Failed(format!("cannot write the controller firmware: {e}")))?;
+            toolchain::build(&sketch, model, &folder.join("build")).map_err(toolchain_error)
+        }
+    }
+}
+
+/// Uploads `built` to the board on `port` with avrdude, as `alba export
+/// arduino --upload` does ([`toolchain::upload_command`]), reading its
+/// progress bars: writing takes the job from 10 to 90 %, verifying to 100 %.
+/// `cancel` kills avrdude (the board keeps what its bootloader had written:
+/// upload again).
+fn avrdude(
+    built: &toolchain::Built,
+    port: &str,
+    cancel: &std::sync::atomic::AtomicBool,
+    mut progress: impl FnMut(u8),
+) -> Result<(), HardwareError> {
+    use std::io::Read;
+    let mut cmd = toolchain::upload_command(built, port);
+    cmd.stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped());
+    let mut child = cmd.spawn().map_err(|e| {
+        HardwareError::Failed(if e.kind() == std::io::ErrorKind::NotFound {
+            "avrdude was not found: install it (Debian package avrdude)".to_string()
+        } else {
+            format!("cannot run avrdude: {e}")
+        })
+    })?;
+    let Some(mut err) = child.stderr.take() else {
+        let _ = child.kill();
+        return Err(HardwareError::Failed("avrdude's output cannot be read".into()));
+    };
+    let mut text = String::new();
+    let (mut phase, mut hashes) = (0u8, 0u32);
+    let mut buf = [0u8; 256];
+    loop {
+        if cancel.load(Ordering::Relaxed) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(HardwareError::Failed(
+                "cancelled: avrdude stopped; the board may hold part of the firmware: upload again".into(),
+            ));
+        }
+        let n = match err.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => n,
+        };
+        for &b in &buf[..n] {
+            text.push(char::from(b));
+            if text.ends_with("Writing") {
+                (phase, hashes) = (1, 0);
+            } else if text.ends_with("Reading") && phase == 1 {
+                (phase, hashes) = (2, 0);
+            } else if b == b'#' && phase > 0 {
+                hashes = (hashes + 1).min(50);
+                progress(match phase {
+                    1 => 10 + (hashes * 80 / 50) as u8,
+                    _ => 90 + (hashes * 10 / 50) as u8,
+                });
+            }
+        }
+    }
+    let status = child
+        .wait()
+        .map_err(|e| HardwareError::Failed(format!("avrdude: {e}")))?;
+    if status.success() {
+        return Ok(());
+    }
+    let last: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.contains('#'))
+        .collect();
+    let tail = last[last.len().saturating_sub(3)..].join(" / ");
+    Err(HardwareError::Port(format!("avrdude failed ({status}): {tail}")))
+}
+
 impl Service {
     pub fn new(dir: &Path) -> Service {
         Service {
             dir: dir.to_path_buf(),
             jobs: Mutex::new(Vec::new()),
             typed: Mutex::new(Vec::new()),
-            building: Mutex::new(()),
+            building: Arc::new(Mutex::new(())),
             next: AtomicU64::new(1),
+            io: "sim".into(),
+            attached: Mutex::new(None),
+            attaching: tokio::sync::Mutex::new(()),
+            undo: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The same, for `alba run --io <spec>`.
+    pub fn with_io(mut self, spec: &str) -> Service {
+        self.io = spec.to_string();
+        self
+    }
+
+    /// Refused while the board on `port` is attached: one user of a port at a time.
+    fn not_attached(&self, port: &str) -> Result<(), HardwareError> {
+        match lock(&self.attached).as_ref() {
+            Some(a) if a.view.port == port => Err(HardwareError::Busy(format!(
+                "the board on {port} is attached as the PLC's I/O: detach it first"
+            ))),
+            _ => Ok(()),
         }
     }
 
@@ -432,6 +650,7 @@ impl Service {
     /// A port no job is using, remembered as typed.
     fn free_port(&self, port: &str) -> Result<String, HardwareError> {
         let port = port_path(port)?;
+        self.not_attached(&port)?;
         if let Some(j) = lock(&self.jobs).iter().find(|j| {
             let j = lock(j);
             j.view.port == port && j.view.state == JobState::Running
@@ -450,21 +669,27 @@ impl Service {
     }
 
     fn start_job(&self, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
+        self.start_job_of("download", port)
+    }
+
+    fn start_job_of(&self, kind: &str, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
+        self.not_attached(port)?;
         let mut jobs = lock(&self.jobs);
         if let Some(j) = jobs.iter().find(|j| {
             let j = lock(j);
             j.view.port == port && j.view.state == JobState::Running
         }) {
+            let j = lock(j);
             return Err(HardwareError::Busy(format!(
-                "job {} is downloading to {port}: one job per port at a time",
-                lock(j).view.id
+                "job {} ({}) is using {port}: one job per port at a time",
+                j.view.id, j.view.kind
             )));
         }
         let id = self.next.fetch_add(1, Ordering::Relaxed).to_string();
         let job = Arc::new(Mutex::new(Job {
             view: HardwareJob {
                 id,
-                kind: "download".into(),
+                kind: kind.into(),
                 port: port.into(),
                 state: JobState::Running,
                 progress: 0,
@@ -505,6 +730,9 @@ impl Hardware for Service {
             pins,
             diagnostics: diagnostics_json(&c.diagnostics, &c.project.files),
             jobs: lock(&self.jobs).iter().map(|j| lock(j).view.clone()).collect(),
+            attached: lock(&self.attached).as_ref().map(|a| a.view.clone()),
+            io: self.io.clone(),
+            undo: lock(&self.undo).len() as u32,
         })
     }
 
@@ -523,6 +751,8 @@ impl Hardware for Service {
         let mut doc: toml_edit::DocumentMut = text
             .parse()
             .map_err(|e| HardwareError::Failed(format!("{} does not parse: {e}", path.display())))?;
+        // What Undo puts back: `[board]` as it was (`None`: there was none).
+        let before = doc.get("board").cloned();
         if !doc.contains_key("board") {
             doc["board"] = toml_edit::table();
         }
@@ -556,60 +786,47 @@ impl Hardware for Service {
                 b.remove("port");
             }
         }
-        let new = doc.to_string();
-        // Checked as `alba check` reads alba.toml: refused, nothing saved, on any problem.
-        let mut files = Files::new();
-        let f = files.add(path.display().to_string(), new.clone());
-        let (_, diags) = alba_project::config::Config::parse(files.text(f), f);
-        if !diags.is_empty() {
-            return Err(does_not_build(&diags, &files));
+        save_checked(&path, &doc)?;
+        let mut undo = lock(&self.undo);
+        undo.push(before);
+        let extra = undo.len().saturating_sub(KEPT_UNDO);
+        undo.drain(..extra);
+        drop(undo);
+        self.view()
+    }
+
+    fn undo_board(&self) -> Result<HardwareView, HardwareError> {
+        let mut undo = lock(&self.undo);
+        let Some(before) = undo.last().cloned() else {
+            return Err(HardwareError::Conflict(
+                "no board save to undo (since alba run started)".into(),
+            ));
+        };
+        let path = self.dir.join("alba.toml");
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| HardwareError::Failed(format!("cannot read {}: {e}", path.display())))?;
+        let mut doc: toml_edit::DocumentMut = text
+            .parse()
+            .map_err(|e| HardwareError::Failed(format!("{} does not parse: {e}", path.display())))?;
+        // Only `[board]` goes back: the rest of alba.toml stays as it is now.
+        match before {
+            Some(item) => doc["board"] = item,
+            None => {
+                doc.remove("board");
+            }
         }
-        fsutil::write_atomic(&path, |w| w.write_all(new.as_bytes()))
-            .map_err(|e| HardwareError::Failed(format!("cannot save {}: {e}", path.display())))?;
+        save_checked(&path, &doc)?;
+        undo.pop();
+        drop(undo);
         self.view()
     }
 
     fn build(&self, board: &str, kind: &str) -> Result<BuildSizes, HardwareError> {
         let model = model_of(board)?;
-        if !matches!(kind, "sketch" | "interpreter") {
-            return Err(HardwareError::Malformed(format!(
-                "unknown kind `{kind}`: build a `sketch` or the `interpreter`"
-            )));
-        }
-        let _one = lock(&self.building);
-        let c = self.compile();
-        let files = c.project.files.clone();
-        let toolchain_error = |d: Diagnostic| {
-            if d.code == Code::Toolchain {
-                HardwareError::Failed(d.message)
-            } else {
-                does_not_build(&[d], &files)
-            }
-        };
-        let built = if kind == "sketch" {
-            let Some(program) = &c.program else {
-                return Err(does_not_build(&c.diagnostics, &files));
-            };
-            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
-            let prog = sketch::control_program(program);
-            let s = sketch::generate(&prog, &project_name(&c), &t).map_err(|d| does_not_build(&d, &files))?;
-            let folder = toolchain::cache_dir()
-                .join("studio")
-                .join(format!("{}-{}-{}", s.name, model.name(), std::process::id()))
-                .join(&s.name);
-            for (name, text) in &s.files {
-                let p = folder.join(name);
-                std::fs::create_dir_all(&folder)
-                    .and_then(|()| fsutil::write_atomic(&p, |w| w.write_all(text.as_bytes())))
-                    .map_err(|e| HardwareError::Failed(format!("cannot write {}: {e}", p.display())))?;
-            }
-            toolchain::build(&folder.join(&s.files[0].0), model, &folder.join("build")).map_err(toolchain_error)?
-        } else {
-            if c.project.config.is_none() {
-                return Err(does_not_build(&c.diagnostics, &files));
-            }
-            let t = target(&c, Some(model.name()), None, true).map_err(|d| does_not_build(&[d], &files))?;
-            interp::firmware(&t).map_err(toolchain_error)?.0
+        kind_of(kind)?;
+        let built = {
+            let _one = lock(&self.building);
+            firmware(&self.dir, model, kind)?
         };
         let (flash_max, ram_max) = model.limits();
         Ok(BuildSizes {
@@ -621,6 +838,65 @@ impl Hardware for Service {
             ram_max,
             report: built.report(),
         })
+    }
+
+    fn upload(&self, port: &str, board: &str, kind: &str) -> Result<String, HardwareError> {
+        let model = model_of(board)?;
+        kind_of(kind)?;
+        let port = port_path(port)?;
+        let job = self.start_job_of("upload", &port)?;
+        self.remember(&port);
+        let (id, cancel) = {
+            let j = lock(&job);
+            (j.view.id.clone(), j.cancel.clone())
+        };
+        let (dir, building, kind) = (self.dir.clone(), self.building.clone(), kind.to_string());
+        let spawned = std::thread::Builder::new()
+            .name(format!("alba-upload-{id}"))
+            .spawn(move || {
+                let set = |progress: Option<u8>, message: String| {
+                    let mut j = lock(&job);
+                    if let Some(p) = progress {
+                        j.view.progress = p;
+                    }
+                    j.view.message = message;
+                };
+                set(
+                    Some(0),
+                    format!(
+                        "building the {} for the {} with avr-gcc",
+                        kind_words(&kind),
+                        model.title()
+                    ),
+                );
+                let built = {
+                    let _one = lock(&building);
+                    firmware(&dir, model, &kind)
+                };
+                let result = built.and_then(|b| {
+                    set(Some(10), format!("uploading with avrdude ({})", b.report()));
+                    avrdude(&b, &port, &cancel, |p| {
+                        set(Some(p), format!("uploading with avrdude: {p} %"))
+                    })
+                    .map(|()| b)
+                });
+                let mut j = lock(&job);
+                match result {
+                    Ok(b) => {
+                        j.view.state = JobState::Done;
+                        j.view.progress = 100;
+                        j.view.message = format!("uploaded the {} to {port}: {}", kind_words(&kind), b.report());
+                    }
+                    Err(e) => {
+                        j.view.state = JobState::Failed;
+                        j.view.message = format!("not uploaded: {e}");
+                    }
+                }
+            });
+        if let Err(e) = spawned {
+            return Err(HardwareError::Failed(format!("cannot start the upload: {e}")));
+        }
+        Ok(id)
     }
 
     fn download(&self, port: &str) -> Result<String, HardwareError> {
@@ -806,6 +1082,100 @@ impl Hardware for Service {
             same,
             bytes: bc.bytes.len() as u32,
             message,
+        })
+    }
+
+    fn attach<'a>(&'a self, control: &'a Control, actor: &'a Actor, port: &'a str, mode: AttachMode) -> Acting<'a> {
+        Box::pin(async move {
+            let _one = self.attaching.lock().await;
+            if let Some(a) = lock(&self.attached).as_ref() {
+                return Err(HardwareError::Conflict(format!(
+                    "the board on {} is attached ({}): detach it first",
+                    a.view.port, a.view.mode
+                )));
+            }
+            let port = self.free_port(port)?;
+            if self.io.split([':', ',']).any(|w| w == port) {
+                return Err(HardwareError::Conflict(format!(
+                    "{port} is the project's own I/O already (alba run --io {})",
+                    self.io
+                )));
+            }
+            let spec = match mode {
+                AttachMode::Controller => format!("arduino:{port}"),
+                AttachMode::Monitor => format!("board:{port}"),
+            };
+            let words = match mode {
+                AttachMode::Controller => "the board's pins are the PLC's inputs and outputs (controller firmware)",
+                AttachMode::Monitor => "the board runs the project's sketch, watched through its monitoring link",
+            };
+            let entry = Entry {
+                target: Some(port.clone()),
+                old: Some(json_text(&serde_json::Value::String(self.io.clone()))),
+                new: Some(json_text(&serde_json::Value::String(spec.clone()))),
+                detail: Some(mode.name().to_string()),
+                ..actor.entry(Action::Attach)
+            };
+            // The running program (online edits included) and the project's [board].
+            let program = control.runtime().snapshot().program.clone();
+            let (dir, at, driver) = (self.dir.clone(), port.clone(), spec.clone());
+            let open = async move {
+                tokio::task::spawn_blocking(move || {
+                    if !Path::new(&at).exists() {
+                        return Err(HardwareError::Port(format!(
+                            "{at}: no such serial port (is the board plugged in?)"
+                        )));
+                    }
+                    let c = alba_compiler::compile_dir(&dir);
+                    alba_io::open(&driver, c.project.config.as_ref(), &program)
+                        .map_err(|e| HardwareError::Failed(format!("cannot attach {at}: {e}")))
+                })
+                .await
+                .map_err(|e| HardwareError::Failed(format!("hardware: {e}")))?
+            };
+            let own = control.attach(actor, entry, open).await?;
+            *lock(&self.attached) = Some(Attached {
+                view: Attachment {
+                    port: port.clone(),
+                    mode: mode.name().into(),
+                    io: spec,
+                    since_ms: alba_server::now_ms(),
+                    message: format!("attached to {port}: {words}"),
+                },
+                own,
+            });
+            Ok(())
+        })
+    }
+
+    fn detach<'a>(&'a self, control: &'a Control, actor: &'a Actor) -> Acting<'a> {
+        Box::pin(async move {
+            let _one = self.attaching.lock().await;
+            let taken = lock(&self.attached).take();
+            let Some(a) = taken else {
+                return Err(HardwareError::Conflict("no board is attached".into()));
+            };
+            let entry = Entry {
+                target: Some(a.view.port.clone()),
+                old: Some(json_text(&serde_json::Value::String(a.view.io.clone()))),
+                new: Some(json_text(&serde_json::Value::String(self.io.clone()))),
+                detail: Some(a.view.mode.clone()),
+                ..actor.entry(Action::Detach)
+            };
+            match control.detach(actor, entry, a.own).await {
+                Ok(board) => {
+                    retire(board);
+                    Ok(())
+                }
+                // Not allowed: still attached.
+                Err((r, Some(own))) => {
+                    *lock(&self.attached) = Some(Attached { view: a.view, own });
+                    Err(r.into())
+                }
+                // The runtime did not take it (it has ended, or is flooded):
+                // the project's own I/O went with the refusal.
+                Err((r, None)) => Err(r.into()),
+            }
         })
     }
 }

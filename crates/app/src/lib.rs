@@ -249,7 +249,9 @@ pub async fn run(
     if !links.is_empty() {
         let _ = state.connections.set(Arc::new(connections::All(links)));
     }
-    let _ = state.hardware.set(Arc::new(hardware::Service::new(dir)));
+    let _ = state
+        .hardware
+        .set(Arc::new(hardware::Service::new(dir).with_io(&opts.io)));
     let _ = state.verifier.set(Arc::new(verify::Service::new(dir)));
     edits::start(&service);
     audit::start(&service, guard.clone());

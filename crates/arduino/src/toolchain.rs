@@ -286,9 +286,10 @@ pub fn measure(elf: PathBuf, hex: PathBuf, model: Model) -> Result<Built, Diagno
     })
 }
 
-/// Uploads a built firmware with avrdude (the Uno's and Nano's bootloader at
-/// 115200 baud; the Mega's stk500v2).
-pub fn upload(built: &Built, port: &str) -> Result<(), Diagnostic> {
+/// The avrdude command that uploads a built firmware (the Uno's bootloader
+/// at 115200 baud, the Nano's at 57600; the Mega's stk500v2): [`upload`],
+/// and the studio's Upload job, which reads its progress bar.
+pub fn upload_command(built: &Built, port: &str) -> Command {
     let (programmer, baud, part) = match built.model {
         Model::Uno => ("arduino", "115200", "m328p"),
         Model::Nano => ("arduino", "57600", "m328p"),
@@ -297,6 +298,12 @@ pub fn upload(built: &Built, port: &str) -> Result<(), Diagnostic> {
     let mut cmd = Command::new("avrdude");
     cmd.args(["-p", part, "-c", programmer, "-P", port, "-b", baud, "-D", "-U"])
         .arg(format!("flash:w:{}:i", built.hex.display()));
+    cmd
+}
+
+/// Uploads a built firmware with avrdude ([`upload_command`]).
+pub fn upload(built: &Built, port: &str) -> Result<(), Diagnostic> {
+    let mut cmd = upload_command(built, port);
     run(&mut cmd, &format!("uploading to {port}")).map(|_| ()).map_err(|d| {
         if d.message.contains("was not found") {
             tool_error("avrdude was not found: install it (Debian package avrdude)")

@@ -81,6 +81,13 @@ actions! {
     SaveRecipe = "save_recipe",
     /// An image saved into the project (`hmi/assets/<name>`; detail: its type and size).
     SaveAsset = "save_asset",
+    /// A board attached as the running PLC's I/O (target: the serial port;
+    /// old → new: the I/O driver before and after; detail: the mode).
+    Attach = "attach",
+    /// The attached board let go, the project's own I/O back (target: the serial port).
+    Detach = "detach",
+    /// A firmware built and uploaded with avrdude (target: the serial port; detail: the board and kind).
+    Upload = "upload",
 }
 
 impl fmt::Display for Action {
@@ -148,7 +155,10 @@ mod tests {
                 "save_board",
                 "download",
                 "save_recipe",
-                "save_asset"
+                "save_asset",
+                "attach",
+                "detach",
+                "upload"
             ]
         );
     }

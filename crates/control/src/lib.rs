@@ -27,7 +27,7 @@ pub use refused::{Refused, RowRefused};
 /// errors, and values as JSON.
 pub mod runtime {
     pub use alba_runtime::json;
-    pub use alba_runtime::{Error, Handle, IoError, RunState, Snapshot, io_kind};
+    pub use alba_runtime::{Error, Handle, Io, IoError, RunState, SimIo, Snapshot, io_kind};
 }
 
 /// The audit trail's types: the rows the doors read back and export.

@@ -170,6 +170,52 @@ impl Control {
         .await
     }
 
+    /// Attaches a board as the running PLC's I/O for `actor` (issue 33):
+    /// the role, the audit row `entry` first (`attach`: the caller names the
+    /// port, the drivers and the mode), then `open` (the caller opens the
+    /// board's driver), then the driver is swapped in between two scans
+    /// without stopping the PLC. The driver displaced, for the caller to
+    /// put back at [`detach`](Self::detach).
+    pub async fn attach<E>(
+        &self,
+        actor: &Actor,
+        entry: Entry,
+        open: impl Future<Output = Result<Box<dyn alba_runtime::Io>, E>>,
+    ) -> Result<Box<dyn alba_runtime::Io>, E>
+    where
+        E: From<Refused> + std::fmt::Display,
+    {
+        actor.needs(ENGINEER, "attaching a board")?;
+        let id = self.begin(entry).await.map_err(E::from)?;
+        let result = async {
+            let io = open.await?;
+            self.runtime.set_io(io).await.map_err(|e| E::from(Refused::from(e)))
+        }
+        .await;
+        // The outcome alone crosses the await (a driver is not `Sync`).
+        let outcome = result.as_ref().map(|_| ()).map_err(|e| e.to_string());
+        self.finish(id, &outcome).await;
+        result
+    }
+
+    /// Puts `io` (the project's own I/O) back in place of an attached
+    /// board's for `actor` (`detach`): a safety action like stop (the
+    /// board's outputs go off), never refused for want of its row. The
+    /// board's driver, for the caller to drop.
+    pub async fn detach(
+        &self,
+        actor: &Actor,
+        entry: Entry,
+        io: Box<dyn alba_runtime::Io>,
+    ) -> Result<Box<dyn alba_runtime::Io>, (Refused, Option<Box<dyn alba_runtime::Io>>)> {
+        if let Err(r) = actor.needs(ENGINEER, "detaching a board") {
+            return Err((r, Some(io)));
+        }
+        self.audited_safety(entry, async { self.runtime.set_io(io).await.map_err(Refused::from) })
+            .await
+            .map_err(|r| (r, None))
+    }
+
     /// Performs a safety action — stop, removing forces — under its audit
     /// row, which is never a reason to refuse it: when the log cannot be
     /// written the row goes to its fallback journal, or at worst to stderr

@@ -399,3 +399,96 @@ async fn an_alarm_action_needs_its_role_and_an_alarm() {
     }
     assert!(rows(&p.control).is_empty());
 }
+
+/// A driver whose inputs hold `Start` on (a board's pin pressed).
+struct Pressed;
+
+impl alba_runtime::Io for Pressed {
+    fn name(&self) -> &str {
+        "pressed"
+    }
+    fn read_inputs(&mut self, engine: &mut alba_engine::Engine) -> Result<(), alba_runtime::IoError> {
+        if let Ok(Target::Value { place, .. }) = engine.program().layout.resolve("Start") {
+            engine.write(place, Value::Bool(true));
+        }
+        Ok(())
+    }
+    fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), alba_runtime::IoError> {
+        Ok(())
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn attaching_a_board_needs_an_engineer_and_its_row_and_detaching_is_a_safety_action() {
+    let p = plc(true);
+    let engineer = Actor {
+        role: Role::Engineer,
+        ..operator(Via::Http)
+    };
+    let entry = |a: &Actor, action| Entry {
+        target: Some("/dev/ttyUSB0".into()),
+        ..a.entry(action)
+    };
+    let open = || async { Ok::<Box<dyn alba_runtime::Io>, Refused>(Box::new(Pressed)) };
+    // An operator: refused before anything is opened or recorded.
+    let r = p
+        .control
+        .attach(
+            &operator(Via::Http),
+            entry(&operator(Via::Http), Action::Attach),
+            open(),
+        )
+        .await;
+    assert!(matches!(r, Err(Refused::Role { .. })), "{:?}", r.err());
+    assert!(rows(&p.control).is_empty());
+    // An engineer: the row, then the swap; the program sees the board's input.
+    let sim = p
+        .control
+        .attach(&engineer, entry(&engineer, Action::Attach), open())
+        .await
+        .expect("attached");
+    assert_eq!(sim.name(), "sim");
+    for _ in 0..200 {
+        if p.control.read("Motor").expect("read") == json!(true) {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(5)).await;
+    }
+    assert_eq!(p.control.read("Motor").expect("read"), json!(true));
+    // A failed opening is recorded as such, and changes nothing.
+    let failed = p
+        .control
+        .attach(&engineer, entry(&engineer, Action::Attach), async {
+            Err::<Box<dyn alba_runtime::Io>, Refused>(Refused::Internal("no such port".into()))
+        })
+        .await;
+    assert!(failed.is_err());
+    // Detach: the project's own I/O back.
+    let (r, back) = match p
+        .control
+        .detach(&operator(Via::Http), entry(&operator(Via::Http), Action::Detach), sim)
+        .await
+    {
+        Err((r, Some(back))) => (r, back),
+        other => panic!("an operator detached: {:?}", other.err().map(|e| e.0)),
+    };
+    assert!(matches!(r, Refused::Role { .. }));
+    let board = p
+        .control
+        .detach(&engineer, entry(&engineer, Action::Detach), back)
+        .await
+        .map_err(|e| e.0)
+        .expect("detached");
+    assert_eq!(board.name(), "pressed");
+    let r = rows(&p.control);
+    let actions: Vec<(&str, bool)> = r
+        .iter()
+        .map(|r| (r.action.as_str(), r.outcome == Outcome::Ok))
+        .collect();
+    assert_eq!(actions.len(), 3, "{actions:?}");
+    assert!(
+        actions.contains(&("attach", true)) && actions.contains(&("attach", false)),
+        "{actions:?}"
+    );
+    assert!(actions.contains(&("detach", true)), "{actions:?}");
+}

@@ -38,6 +38,11 @@ pub enum DownloadError {
     Verify(usize),
     #[error("cancelled after record {done} of {total} (the board dropped the records it had)")]
     Cancelled { done: usize, total: usize },
+    /// The link went in the middle of a download (a cable pulled, the board
+    /// reset or gone): the board drops a half download at its next `ESC` or
+    /// reset and keeps the program it had.
+    #[error("the link to the board was lost at record {record} of {total} (cable pulled or board reset?): {why}")]
+    Lost { record: usize, total: usize, why: String },
     #[error("serial port: {0}")]
     Io(#[from] std::io::Error),
     #[error("unexpected answer `{0}`")]
@@ -227,11 +232,7 @@ impl Link {
         mut go: impl FnMut(usize, usize) -> bool,
     ) -> Result<u16, DownloadError> {
         // Drop any half download, and see that a board answers.
-        self.send(&[0x1B])?;
-        let a = self.answer(Duration::from_secs(3))?;
-        if a != "A" {
-            return Err(DownloadError::Answer(a));
-        }
+        self.escape()?;
         let text = ihex::write(bytes);
         let records: Vec<&str> = text.lines().filter(|l| !l.is_empty()).collect();
         let host = bytes.iter().fold(0u16, |s, b| s.wrapping_add(u16::from(*b)));
@@ -241,8 +242,16 @@ impl Link {
                 if attempt > 0 {
                     self.retries += 1;
                 }
-                self.send(format!("{rec}\r\n").as_bytes())?;
-                let a = self.answer(Duration::from_secs(3))?;
+                let lost = |e: DownloadError| match e {
+                    DownloadError::Io(_) | DownloadError::NoAnswer(_) => DownloadError::Lost {
+                        record: k + 1,
+                        total: records.len(),
+                        why: e.to_string(),
+                    },
+                    e => e,
+                };
+                self.send(format!("{rec}\r\n").as_bytes()).map_err(lost)?;
+                let a = self.answer(Duration::from_secs(3)).map_err(lost)?;
                 if a == "K" {
                     why.clear();
                     break;
@@ -300,13 +309,27 @@ impl Link {
         Ok(out)
     }
 
+    /// ESC: the board drops a half download and answers `A`. Answers a
+    /// broken-off exchange left in the line before it (a record's late `K`
+    /// after a cable was pulled and plugged again) are skipped.
+    fn escape(&mut self) -> Result<(), DownloadError> {
+        self.send(&[0x1B])?;
+        let until = Instant::now() + Duration::from_secs(3);
+        for _ in 0..8 {
+            let a = self.answer(until.saturating_duration_since(Instant::now()))?;
+            if a == "A" {
+                return Ok(());
+            }
+            if Instant::now() >= until {
+                return Err(DownloadError::Answer(a));
+            }
+        }
+        Err(DownloadError::Answer("no `A` to ESC among 8 answers".into()))
+    }
+
     /// Asks the board who it is (after an ESC, so a half download is dropped first).
     pub fn identify(&mut self) -> Result<Identity, DownloadError> {
-        self.send(&[0x1B])?;
-        let a = self.answer(Duration::from_secs(3))?;
-        if a != "A" {
-            return Err(DownloadError::Answer(a));
-        }
+        self.escape()?;
         self.send(b"I\n")?;
         let a = self
             .answer(Duration::from_secs(3))

@@ -326,6 +326,10 @@ enum Req {
     Replace(Box<alba_engine::Prepared>),
     /// +1 / −1 watcher of power flow.
     Monitor(bool),
+    /// Another I/O driver (`Handle::set_io`); the one it displaces (or,
+    /// refused, the one offered) goes back through the sender, to be
+    /// dropped off the engine's thread (a driver's drop joins its link thread).
+    SetIo(Box<dyn Io>, oneshot::Sender<Box<dyn Io>>),
     Shutdown,
 }
 
@@ -523,6 +527,33 @@ impl Handle {
         self.ask(Req::Replace(Box::new(prepared))).await
     }
 
+    /// Puts `io` in place of the runtime's I/O driver between two scans,
+    /// without stopping it (attaching a board from the studio, and back:
+    /// issue 33). The displaced driver first puts the outputs it drove in
+    /// their safe state (off; a board that runs its own program keeps its
+    /// own); the program's memory is kept, and the new driver gets the
+    /// program's outputs at the next scan. `S:IOOK` is true until the new
+    /// driver says otherwise. A driver that runs the program itself
+    /// ([`Io::runs_program`]) puts the runtime in run (the board runs), and
+    /// is refused while forces are on ([`Error::Rejected`]): the board would
+    /// not see them. Returns the displaced driver: the caller keeps it (to
+    /// put it back) or drops it, off any async worker (its drop may join a
+    /// link thread). A refused driver is dropped on a thread of its own.
+    pub async fn set_io(&self, io: Box<dyn Io>) -> Result<Box<dyn Io>, Error> {
+        let (tx, rx) = oneshot::channel();
+        let answer = self.ask(Req::SetIo(io, tx)).await;
+        let back = rx.await.map_err(|_| Error::Stopped);
+        match answer {
+            Ok(()) => back,
+            Err(e) => {
+                if let Ok(refused) = back {
+                    retire(refused);
+                }
+                Err(e)
+            }
+        }
+    }
+
     /// One more (or one fewer) watcher of power flow; monitoring runs while
     /// there is at least one.
     pub fn monitor(&self, on: bool) {
@@ -645,6 +676,13 @@ impl Drop for Runtime {
             let _ = t.join();
         }
     }
+}
+
+/// Drops `io` on a thread of its own (its link thread may take a moment to end).
+fn retire(io: Box<dyn Io>) {
+    let _ = std::thread::Builder::new()
+        .name("alba-retire".into())
+        .spawn(move || drop(io));
 }
 
 /// Is `p` an input (`Some(true)`), an output (`Some(false)`) or neither?

@@ -312,8 +312,36 @@ impl Worker {
                 self.engine.set_monitor(self.watchers > 0);
                 Ok(())
             }
+            Req::SetIo(io, back) => self.set_io(io, back),
             Req::Shutdown => Ok(()),
         }
+    }
+
+    /// [`Handle::set_io`] on the engine's side.
+    fn set_io(&mut self, io: Box<dyn Io>, back: oneshot::Sender<Box<dyn Io>>) -> Result<(), Error> {
+        if io.runs_program() && !self.forces.is_empty() {
+            let n = self.forces.len();
+            let _ = back.send(io);
+            return Err(Error::Rejected(format!(
+                "{n} force(s) are on: remove them before attaching to a board that runs the program itself (it would not see them)"
+            )));
+        }
+        // The old driver's outputs off, the program's memory kept.
+        if !self.io.runs_program() {
+            let kept = self.engine.memory().clone();
+            self.safe_outputs();
+            let _ = self.engine.load_memory(&kept);
+        }
+        let old = std::mem::replace(&mut self.io, io);
+        self.engine.set_io_status(true, 0);
+        self.power_fresh = false;
+        if self.io.runs_program() && self.state != RunState::Running {
+            // The board runs: the runtime mirrors it.
+            self.state = RunState::Running;
+            self.fault = None;
+        }
+        let _ = back.send(old);
+        Ok(())
     }
 
     /// Publishes the engine's state into a recycled snapshot (no allocation

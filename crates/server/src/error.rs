@@ -63,6 +63,10 @@ pub enum ApiError {
     /// A resource that serves one request at a time is taken (a net analysis).
     #[error("{0}")]
     Busy(String),
+    /// The request does not fit the state it finds (a board already
+    /// attached, none to detach).
+    #[error("{0}")]
+    Conflict(String),
     /// A fault of the server (a task that did not finish).
     #[error("{0}")]
     Internal(String),
@@ -104,6 +108,7 @@ pub fn status(e: &ApiError) -> StatusCode {
         ApiError::Unauthorized(_) => StatusCode::UNAUTHORIZED,
         ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
         ApiError::TooManyAttempts(_) | ApiError::Busy(_) => StatusCode::TOO_MANY_REQUESTS,
+        ApiError::Conflict(_) => StatusCode::CONFLICT,
         ApiError::Runtime(r) | ApiError::Edit(EditError::NotApplied(r)) => match r {
             R::Stopped | R::Io { .. } | R::Busy => StatusCode::SERVICE_UNAVAILABLE,
             R::Attached { .. } | R::Running | R::Faulted(_) => StatusCode::CONFLICT,

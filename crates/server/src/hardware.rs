@@ -9,6 +9,43 @@
 //! port): the handlers call them on blocking threads.
 
 use crate::reply::{BoardIdentity, BuildSizes, Diagnostic, HardwareJob, HardwareView, Verified};
+use alba_control::{Actor, Control, Refused};
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::Arc;
+
+/// An attach or detach under way (the service acts through the control
+/// layer, on the async runtime).
+pub type Acting<'a> = Pin<Box<dyn Future<Output = Result<(), HardwareError>> + Send + 'a>>;
+
+/// How a board is used as the running PLC's I/O (`POST /api/hardware/attach`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AttachMode {
+    /// The board runs the controller (remote-I/O) firmware (`alba firmware`):
+    /// its pins are the program's inputs and outputs, the program runs here.
+    Controller,
+    /// The board runs the project's stand-alone sketch (`alba export
+    /// arduino`) and is watched through its monitoring link: the ladder,
+    /// tags and screens show the board's memory.
+    Monitor,
+}
+
+impl AttachMode {
+    pub fn parse(s: &str) -> Option<AttachMode> {
+        match s {
+            "controller" => Some(AttachMode::Controller),
+            "monitor" => Some(AttachMode::Monitor),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            AttachMode::Controller => "controller",
+            AttachMode::Monitor => "monitor",
+        }
+    }
+}
 
 /// A change of `[board]` (`PUT /api/hardware/board`).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -43,6 +80,35 @@ pub enum HardwareError {
     Port(String),
     /// The toolchain or the machine failed (`500`): the message says why.
     Failed(String),
+    /// The control layer refused (a role too small, no audit row, the
+    /// runtime): mapped as the API maps every refusal.
+    Refused(Arc<Refused>),
+    /// The board is attached, or none is (`409`): detach first, attach first.
+    Conflict(String),
+}
+
+impl From<Refused> for HardwareError {
+    fn from(r: Refused) -> HardwareError {
+        HardwareError::Refused(Arc::new(r))
+    }
+}
+
+impl std::fmt::Display for HardwareError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            HardwareError::Malformed(m)
+            | HardwareError::NotFound(m)
+            | HardwareError::Busy(m)
+            | HardwareError::Port(m)
+            | HardwareError::Failed(m)
+            | HardwareError::Conflict(m) => f.write_str(m),
+            HardwareError::DoesNotBuild(d) => match d.first() {
+                Some(d) => write!(f, "{}: {}", d.code, d.message),
+                None => f.write_str("the project does not build"),
+            },
+            HardwareError::Refused(r) => write!(f, "{r}"),
+        }
+    }
 }
 
 /// The hardware service of `alba run`.
@@ -53,8 +119,16 @@ pub trait Hardware: Send + Sync {
     /// refused (nothing saved) when it does not check. Returns the target
     /// that was saved (`[board]` after the change) for the audit row.
     fn save_board(&self, change: &BoardChange) -> Result<HardwareView, HardwareError>;
+    /// Puts `[board]` back as it was before the last save of this run (only
+    /// `[board]`: the rest of alba.toml as it is now), checked and saved
+    /// atomically; [`HardwareError::Conflict`] when there is nothing to undo.
+    fn undo_board(&self) -> Result<HardwareView, HardwareError>;
     /// Builds the project's sketch or the byte-code interpreter for `board`.
     fn build(&self, board: &str, kind: &str) -> Result<BuildSizes, HardwareError>;
+    /// Starts a job that builds the firmware `kind` (`sketch`,
+    /// `interpreter`, `controller`) for `board` and uploads it to the board
+    /// on `port` with avrdude (as `alba export arduino --upload` does).
+    fn upload(&self, port: &str, board: &str, kind: &str) -> Result<String, HardwareError>;
     /// Starts downloading the project's byte code to the board on `port`.
     fn download(&self, port: &str) -> Result<String, HardwareError>;
     /// A job by id.
@@ -66,4 +140,12 @@ pub trait Hardware: Send + Sync {
     fn identify(&self, port: &str) -> Result<BoardIdentity, HardwareError>;
     /// Reads the board's running program back and compares it with the project's byte code.
     fn verify(&self, port: &str) -> Result<Verified, HardwareError>;
+    /// Uses the board on `port` as the running PLC's I/O (`mode`), without
+    /// restarting it: through `control` for `actor` (the role, the audit
+    /// row `attach`); [`Hardware::view`] says it is attached. Refused while
+    /// a board is attached (detach first) or a job uses the port.
+    fn attach<'a>(&'a self, control: &'a Control, actor: &'a Actor, port: &'a str, mode: AttachMode) -> Acting<'a>;
+    /// Lets the attached board go and puts the project's own I/O back
+    /// (audited `detach`: a safety action, as stop: the board's outputs go off).
+    fn detach<'a>(&'a self, control: &'a Control, actor: &'a Actor) -> Acting<'a>;
 }

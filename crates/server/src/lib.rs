@@ -87,11 +87,15 @@ pub const ROUTE_ROLES: &[(&str, &str, auth::Access)] = &[
     ("GET", "/api/opcua/{server}/browse", Needs(Role::Engineer)),
     // The board: alba.toml's [board], firmware builds, the serial ports.
     ("PUT", "/api/hardware/board", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/board/undo", Needs(Role::Engineer)),
     ("POST", "/api/hardware/build", Needs(Role::Engineer)),
     ("POST", "/api/hardware/download", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/upload", Needs(Role::Engineer)),
     ("POST", "/api/hardware/identify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/verify", Needs(Role::Engineer)),
     ("POST", "/api/hardware/jobs/{id}/cancel", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/attach", Needs(Role::Engineer)),
+    ("POST", "/api/hardware/detach", Needs(Role::Engineer)),
     // Proofs and test tables: seconds of CPU, like a net analysis.
     ("POST", "/api/verify", Needs(Role::Engineer)),
     ("POST", "/api/tests", Needs(Role::Engineer)),
@@ -160,12 +164,16 @@ pub fn router(state: Arc<AppState>) -> Router {
         .route("/api/opcua/{server}/browse", get(opcua::browse))
         .route("/api/hardware", get(api::hardware::get))
         .route("/api/hardware/board", put(api::hardware::put_board))
+        .route("/api/hardware/board/undo", post(api::hardware::undo_board))
         .route("/api/hardware/build", post(api::hardware::build))
         .route("/api/hardware/download", post(api::hardware::download))
+        .route("/api/hardware/upload", post(api::hardware::upload))
         .route("/api/hardware/identify", post(api::hardware::identify))
         .route("/api/hardware/verify", post(api::hardware::verify))
         .route("/api/hardware/jobs/{id}", get(api::hardware::job))
         .route("/api/hardware/jobs/{id}/cancel", post(api::hardware::cancel))
+        .route("/api/hardware/attach", post(api::hardware::attach))
+        .route("/api/hardware/detach", post(api::hardware::detach))
         .route("/api/verify", post(api::verify::verify))
         .route("/api/tests", post(api::verify::tests))
         .route("/api/recipes", get(recipes::list))

@@ -576,7 +576,7 @@ pub enum JobState {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
 pub struct HardwareJob {
     pub id: String,
-    /// `download`.
+    /// `download` or `upload`.
     pub kind: String,
     pub port: String,
     pub state: JobState,
@@ -609,13 +609,36 @@ pub struct HardwareView {
     pub diagnostics: Vec<Diagnostic>,
     /// Recent jobs, newest first (kept while `alba run` runs).
     pub jobs: Vec<HardwareJob>,
+    /// The board used as the running PLC's I/O now (`POST /api/hardware/attach`);
+    /// `null`: the project's own I/O (`io`).
+    pub attached: Option<Attachment>,
+    /// The I/O driver `alba run` was started with (`--io`: `sim`, `arduino:…`),
+    /// back after a detach.
+    pub io: String,
+    /// Board saves of this run that Undo can take back (`POST /api/hardware/board/undo`).
+    pub undo: u32,
+}
+
+/// A board attached as the running PLC's I/O.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
+pub struct Attachment {
+    pub port: String,
+    /// `controller` (the board's pins are the program's I/O) or `monitor`
+    /// (the board runs the sketch; its memory is watched).
+    pub mode: String,
+    /// The I/O driver now (`arduino:/dev/ttyUSB0`, `board:/dev/ttyUSB0`).
+    pub io: String,
+    /// When it was attached (ms since the epoch).
+    pub since_ms: i64,
+    /// In words.
+    pub message: String,
 }
 
 /// `POST /api/hardware/build`: what a firmware uses of its board.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, TS)]
 pub struct BuildSizes {
     pub board: String,
-    /// `sketch` or `interpreter`.
+    /// `sketch`, `interpreter` or `controller`.
     pub kind: String,
     pub flash_bytes: u32,
     pub ram_bytes: u32,
@@ -1054,6 +1077,7 @@ pub fn typescript() -> String {
         JobState,
         HardwareJob,
         HardwareView,
+        Attachment,
         BuildSizes,
         JobStarted,
         Verified,

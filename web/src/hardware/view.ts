@@ -3,7 +3,10 @@
 // each pin's capabilities and problems, saved into alba.toml), the
 // machine's serial ports (refreshed, or a path typed by hand; Identify asks
 // what answers), Build (flash and RAM against the board's limits) and
-// Download of the byte code as a job with its progress, kept after a reload.
+// Download of the byte code as a job with its progress, kept after a reload;
+// Attach uses the board as the running PLC's I/O (controller firmware) or
+// watches the sketch it runs (monitor), and Detach puts the project's own
+// I/O back, without restarting `alba run`.
 // A viewer sees it all; changes need the engineer role (the server decides).
 import { ApiError, api } from '../api';
 import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, PinRow } from '../api.gen';
@@ -26,6 +29,7 @@ export class HardwareTab {
   private readonly boardSel = h('select', { 'data-testid': 'hw-board' });
   private readonly presetSel = h('select', { 'data-testid': 'hw-pinmap' });
   private readonly saveBtn = h('button', { class: 'primary', 'data-testid': 'hw-save' }, tr('Save board'));
+  private readonly undoBtn = h('button', { 'data-testid': 'hw-undo', title: tr('Put [board] back as it was before the last save') }, tr('Undo'));
   private readonly drawing = h('div', { class: 'hw-drawing', 'data-testid': 'hw-drawing' });
   private readonly table = h('tbody', { 'data-testid': 'hw-pins' });
   private readonly tableProblems = h('div', { class: 'hw-problems', 'data-testid': 'hw-problems' });
@@ -34,8 +38,10 @@ export class HardwareTab {
   private readonly portInfo = h('div', { class: 'hw-port-info', 'data-testid': 'hw-port-info' });
   private readonly kindSel = h('select', { 'data-testid': 'hw-kind' },
     h('option', { value: 'sketch' }, tr('stand-alone sketch')),
-    h('option', { value: 'interpreter' }, tr('byte-code interpreter')));
+    h('option', { value: 'interpreter' }, tr('byte-code interpreter')),
+    h('option', { value: 'controller' }, tr('controller firmware (remote I/O)')));
   private readonly buildBtn = h('button', { 'data-testid': 'hw-build' }, tr('Build'));
+  private readonly uploadBtn = h('button', { 'data-testid': 'hw-upload', title: tr('Build the firmware and upload it to the board with avrdude') }, tr('Upload'));
   private readonly sizes = h('div', { class: 'hw-sizes', 'data-testid': 'hw-sizes' });
   private readonly downloadBtn = h('button', { class: 'primary', 'data-testid': 'hw-download' }, tr('Download'));
   private readonly identifyBtn = h('button', { 'data-testid': 'hw-identify' }, tr('Identify'));
@@ -44,25 +50,38 @@ export class HardwareTab {
   private readonly bar = h('progress', { max: '100', value: '0', 'data-testid': 'hw-progress' });
   private readonly jobLine = h('div', { class: 'hw-job', 'data-testid': 'hw-job' });
   private readonly cancelBtn = h('button', { 'data-testid': 'hw-cancel', title: tr('Stop the download: the board keeps its program') }, tr('Cancel'));
+  private readonly attachMode = h('select', { 'data-testid': 'hw-attach-mode' },
+    h('option', { value: 'controller', title: tr('The board runs the controller firmware (alba firmware): its pins are the PLC\'s inputs and outputs') }, tr('as the PLC\'s I/O (controller firmware)')),
+    h('option', { value: 'monitor', title: tr('The board runs the project\'s sketch (alba export arduino): watch it live') }, tr('watch the sketch it runs (monitor)')));
+  private readonly attachBtn = h('button', { class: 'primary', 'data-testid': 'hw-attach' }, tr('Attach'));
+  private readonly detachBtn = h('button', { 'data-testid': 'hw-detach', title: tr('The project\'s own I/O back; the board\'s outputs go off') }, tr('Detach'));
+  private readonly attachedLine = h('div', { class: 'hw-attached', 'data-testid': 'hw-attached' });
   private shownJob = '';
+  /** The live values watched for the drawing (unwatch on hide or redraw). */
+  private unwatch: (() => void)[] = [];
+  private shown = false;
   private following = '';
 
   constructor(private readonly ctx: Ctx) {
     const refresh = h('button', { 'data-testid': 'hw-refresh', title: tr('List the serial ports again') }, tr('Refresh'));
     refresh.onclick = () => void this.load();
     this.saveBtn.onclick = () => void this.save();
+    this.undoBtn.onclick = () => void this.undo();
     this.buildBtn.onclick = () => void this.build();
+    this.uploadBtn.onclick = () => void this.upload();
     this.downloadBtn.onclick = () => void this.download();
     this.identifyBtn.onclick = () => void this.identify();
     this.verifyBtn.onclick = () => void this.verify();
     this.cancelBtn.onclick = () => void api.hardwareCancel(this.shownJob).catch((e) => this.fail(e));
     this.cancelBtn.hidden = true;
+    this.attachBtn.onclick = () => void this.attach();
+    this.detachBtn.onclick = () => void this.detach();
     this.boardSel.onchange = () => this.render();
     this.presetSel.onchange = () => {
       // another preset: the table shows it once saved
       this.edits.clear();
     };
-    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn]) gate(b, 'hardware');
+    for (const b of [this.saveBtn, this.buildBtn, this.downloadBtn, this.identifyBtn, this.verifyBtn, this.cancelBtn, this.attachBtn, this.detachBtn, this.uploadBtn]) gate(b, 'hardware');
     this.jobLine.hidden = true;
     this.bar.hidden = true;
     this.el = h('section', { class: 'hardware-view', 'data-testid': 'hardware-view' },
@@ -71,7 +90,8 @@ export class HardwareTab {
         h('div', { class: 'toolbar' },
           h('label', null, tr('Board'), ' ', this.boardSel),
           h('label', null, tr('Pin map'), ' ', this.presetSel),
-          this.saveBtn),
+          this.saveBtn,
+          this.undoBtn),
         this.drawing,
         this.tableProblems,
         h('table', { class: 'tags hw-table' },
@@ -83,19 +103,52 @@ export class HardwareTab {
         h('div', { class: 'toolbar' }, this.portTyped, refresh, this.identifyBtn),
         this.portInfo,
         h('h2', null, tr('Firmware')),
-        h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn),
+        h('div', { class: 'toolbar' }, this.kindSel, this.buildBtn, this.uploadBtn),
         this.sizes,
         h('h2', null, tr('Program')),
         h('div', { class: 'toolbar' }, this.downloadBtn, this.verifyBtn, this.bar, this.cancelBtn),
         this.jobLine,
-        this.verifyLine));
+        this.verifyLine,
+        h('h2', null, tr('Live board')),
+        h('div', { class: 'toolbar' }, this.attachMode, this.attachBtn, this.detachBtn),
+        this.attachedLine));
   }
 
   show(): void {
+    this.shown = true;
     void this.load();
   }
 
-  hide(): void {}
+  hide(): void {
+    this.shown = false;
+    this.stopWatching();
+  }
+
+  private stopWatching(): void {
+    for (const u of this.unwatch) u();
+    this.unwatch = [];
+    this.ctx.live.subscribe('hardware', null);
+  }
+
+  /** Lights each wired pin of the drawing while its channel's tag is on (a value not 0). */
+  private watchPins(rows: PinRow[]): void {
+    this.stopWatching();
+    if (!this.shown) return;
+    const names: string[] = [];
+    for (const r of rows) {
+      if (!r.pin || r.tags.length === 0) continue;
+      const tag = r.tags[0];
+      names.push(tag);
+      const pin = this.drawing.querySelector(`[data-testid="hw-board-pin-${r.pin}"]`);
+      if (!pin) continue;
+      this.unwatch.push(
+        this.ctx.live.store.watch(tag, (v) => {
+          pin.setAttribute('data-live', v === true || (typeof v === 'number' && v !== 0) ? 'on' : 'off');
+        }),
+      );
+    }
+    if (names.length > 0) this.ctx.live.subscribe('hardware', names);
+  }
 
   private fail(e: unknown): void {
     this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
@@ -145,6 +198,60 @@ export class HardwareTab {
     const general = [...(this.problems.get(null) ?? []), ...v.diagnostics.filter((d) => d.file === 'alba.toml')];
     for (const d of general) this.tableProblems.append(h('div', { class: 'problem' }, `${d.code}: ${d.message}`));
     this.drawBoard(board, v.pins);
+    this.watchPins(v.pins);
+    this.showAttached(v);
+    this.undoBtn.disabled = v.undo === 0;
+    if (v.undo > 0) gate(this.undoBtn, 'hardware');
+  }
+
+  private async undo(): Promise<void> {
+    try {
+      this.view = await api.hardwareUndoBoard();
+      this.edits.clear();
+      this.problems.clear();
+      this.boardSel.value = this.view.board ?? '';
+      this.presetSel.value = this.view.pinmap;
+      this.ctx.notify(tr('Board save undone'));
+      this.render();
+    } catch (e) {
+      this.fail(e);
+    }
+  }
+
+  private showAttached(v: HardwareView): void {
+    const a = v.attached;
+    clear(this.attachedLine);
+    this.attachedLine.dataset.attached = String(a !== null);
+    if (a) {
+      this.attachedLine.append(h('strong', null, tr('Attached')), ` — ${when(a.since_ms)}: ${a.message}`);
+      this.attachMode.value = a.mode;
+    } else {
+      this.attachedLine.append(tr('Not attached: the PLC uses its own I/O ({io})', { io: v.io }));
+    }
+    this.attachBtn.hidden = a !== null;
+    this.detachBtn.hidden = a === null;
+  }
+
+  private async attach(): Promise<void> {
+    const port = this.port();
+    if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    try {
+      this.view = await api.hardwareAttach(port, this.attachMode.value);
+      this.render();
+      this.ctx.notify(tr('Attached to {port}', { port }));
+    } catch (e) {
+      this.fail(e);
+    }
+  }
+
+  private async detach(): Promise<void> {
+    try {
+      this.view = await api.hardwareDetach();
+      this.render();
+      this.ctx.notify(tr('Detached: the PLC uses its own I/O'));
+    } catch (e) {
+      this.fail(e);
+    }
   }
 
   private row(r: PinRow, board: ReturnType<typeof boardOf>): HTMLElement {
@@ -276,15 +383,29 @@ export class HardwareTab {
     }
   }
 
+  private async upload(): Promise<void> {
+    const port = this.port();
+    if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    this.starting();
+    try {
+      const { job } = await api.hardwareUpload(port, this.boardSel.value, this.kindSel.value);
+      rememberJob(job);
+      await this.follow(job);
+    } catch (e) {
+      this.notStarted(e);
+    }
+  }
+
   private async download(): Promise<void> {
     const port = this.port();
     if (!port) return this.ctx.notify(tr('Choose a serial port first'), 'error');
+    this.starting();
     try {
       const { job } = await api.hardwareDownload(port);
       rememberJob(job);
       await this.follow(job);
     } catch (e) {
-      this.fail(e);
+      this.notStarted(e);
     }
   }
 
@@ -293,13 +414,29 @@ export class HardwareTab {
     this.following = id;
     try {
       const end = await follow(api.hardwareJob, id, (j) => this.showJob(j));
-      if (end.state === 'done') this.ctx.notify(tr('Downloaded to {port}', { port: end.port }));
-      else this.ctx.notify(tr('Download failed: {m}', { m: end.message }), 'error');
+      const upload = end.kind === 'upload';
+      if (end.state === 'done') this.ctx.notify(upload ? tr('Uploaded to {port}', { port: end.port }) : tr('Downloaded to {port}', { port: end.port }));
+      else this.ctx.notify(upload ? tr('Upload failed: {m}', { m: end.message }) : tr('Download failed: {m}', { m: end.message }), 'error');
     } catch (e) {
       this.fail(e);
     } finally {
       this.following = '';
     }
+  }
+
+  /** A new job asked for: the last one's result is not shown as this one's. */
+  private starting(): void {
+    this.jobLine.dataset.state = 'starting';
+    this.bar.value = 0;
+    clear(this.jobLine);
+    this.jobLine.append(tr('Starting…'));
+  }
+
+  private notStarted(e: unknown): void {
+    this.jobLine.dataset.state = 'refused';
+    clear(this.jobLine);
+    this.jobLine.append(h('span', { class: 'problem' }, e instanceof Error ? e.message : String(e)));
+    this.fail(e);
   }
 
   private showJob(j: HardwareJob): void {

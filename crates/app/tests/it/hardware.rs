@@ -3,7 +3,9 @@
 //! avr-gcc with its sizes; the byte code downloaded as a job to the
 //! interpreter firmware on an emulated Nano (`alba-board`: simavr paced to
 //! real time, its UART on a pty, as crates/cli/tests/it/download.rs runs it);
-//! each route refused to a viewer.
+//! each route refused to a viewer; the controller (remote-I/O) firmware on
+//! an emulated Nano attached as the running PLC's I/O and detached, without
+//! restarting `alba run`.
 
 use super::{add_role_users, options, serve};
 use alba_arduino::{interp, simavr};
@@ -238,13 +240,47 @@ async fn the_board_and_pin_map_are_shown_saved_atomically_audited_and_refused_to
         (Some("D8"), Some("Motor"))
     );
 
-    let rows = s.audit("save_board").await;
-    // The save, and the three refusals (the conflict, the unknown board and preset).
-    let ok: Vec<_> = rows.iter().filter(|r| r["outcome"] == "ok").collect();
-    assert_eq!((ok.len(), rows.len()), (1, 4), "{rows:?}");
-    assert_eq!(ok[0]["user"], "engineer", "{rows:?}");
+    // Undo: `[board]` as it was before the save (the Nano, aurora, no port), the rest kept.
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/board/undo", &s.viewer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::FORBIDDEN, "{j}");
+    assert_eq!(j.get("undo"), None);
+    let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
+    assert_eq!(v["undo"], 1, "{v}");
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/board/undo", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    assert_eq!(
+        (j["board"].as_str(), j["pinmap"].as_str(), &j["port"], &j["undo"]),
+        (Some("nano"), Some("aurora"), &Json::Null, &json!(0)),
+        "{j}"
+    );
+    assert_eq!(std::fs::read_to_string(s.dir.join("alba.toml")).expect("toml"), before);
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/board/undo", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
     assert!(
-        ok[0]["detail"].as_str().expect("detail").contains("model = uno"),
+        j["error"].as_str().expect("error").contains("no board save to undo"),
+        "{j}"
+    );
+
+    let rows = s.audit("save_board").await;
+    // The save and its undo; the three refusals (the conflict, the unknown board
+    // and preset) and the undo with nothing to undo.
+    let ok: Vec<_> = rows.iter().filter(|r| r["outcome"] == "ok").collect();
+    assert_eq!((ok.len(), rows.len()), (2, 6), "{rows:?}");
+    assert!(ok.iter().all(|r| r["user"] == "engineer"), "{rows:?}");
+    assert!(
+        ok.iter()
+            .any(|r| r["detail"].as_str().expect("detail").contains("model = uno")),
+        "{rows:?}"
+    );
+    assert!(
+        ok.iter()
+            .any(|r| r["detail"].as_str().expect("detail").starts_with("undo")),
         "{rows:?}"
     );
 
@@ -344,6 +380,67 @@ impl Board {
             .arg(&link)
             .args(["--pins", "D12,D13", "--eeprom"])
             .arg(dir.join("eeprom.bin"))
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("alba-board");
+        let mut ready = String::new();
+        let mut out = BufReader::new(child.stdout.take().expect("stdout"));
+        out.read_line(&mut ready).expect("ready");
+        assert!(ready.starts_with("ready "), "{ready}");
+        Board {
+            child,
+            out,
+            link: link.to_string_lossy().into_owned(),
+        }
+    }
+
+    /// The controller (remote-I/O) firmware for the Nano (aurora map, Modbus
+    /// RTU: `alba firmware`) on an emulated Nano, its UART on `dir/ctl-link`.
+    fn controller(dir: &Path) -> Board {
+        let map = alba_model::board::PinMap::preset("aurora").expect("aurora");
+        let spec = alba_io::firmware::Spec::new(
+            alba_model::board::Model::Nano,
+            "aurora",
+            map,
+            alba_io::firmware::Link::Modbus,
+        );
+        let sketch = alba_io::firmware::write(&spec, &dir.join("ctl")).expect("firmware");
+        let built = alba_arduino::toolchain::build(&sketch, alba_model::board::Model::Nano, &dir.join("ctl/build"))
+            .expect("avr-gcc");
+        Board::run(&built.elf, &dir.join("ctl-link"))
+    }
+
+    /// The project's stand-alone sketch with its monitoring link (`alba export
+    /// arduino`) on an emulated Nano, its UART on `dir/sketch-link`.
+    fn sketch(dir: &Path) -> Board {
+        let c = alba_compiler::compile_dir(dir);
+        let t = alba_app::hardware::target(&c, Some("nano"), None, true).expect("target");
+        let prog = alba_arduino::sketch::control_program(c.program.as_ref().expect("program"));
+        let s = alba_arduino::sketch::generate(&prog, "hw", &t).expect("sketch");
+        let folder = dir.join("sketch").join(&s.name);
+        std::fs::create_dir_all(&folder).expect("mkdir");
+        for (name, text) in &s.files {
+            std::fs::write(folder.join(name), text).expect("sketch file");
+        }
+        let built = alba_arduino::toolchain::build(
+            &folder.join(&s.files[0].0),
+            alba_model::board::Model::Nano,
+            &folder.join("build"),
+        )
+        .expect("avr-gcc");
+        Board::run(&built.elf, &dir.join("sketch-link"))
+    }
+
+    /// `elf` on an emulated Nano sampling D12 and D13, its UART on `link`.
+    fn run(elf: &Path, link: &Path) -> Board {
+        let bin = simavr::board().expect("alba-board");
+        let mut child = Command::new(bin)
+            .arg(elf)
+            .args(["-m", "atmega328p", "--tty"])
+            .arg(link)
+            .args(["--pins", "D12,D13"])
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -593,6 +690,290 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
         )
         .await;
     assert_eq!(st, StatusCode::NOT_FOUND);
+    drop(board);
+    s.stop().await;
+}
+
+/// Waits (30 s at most) until the emulated board's output pins are `pins`.
+async fn board_says(board: &mut Board, pins: &str, what: &str) {
+    let t0 = std::time::Instant::now();
+    while board.cmd("get") != pins {
+        assert!(t0.elapsed() < Duration::from_secs(30), "timed out waiting for {what}");
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_board_is_attached_as_the_plc_s_io_and_detached_without_restarting_audited() {
+    let s = Studio::start("attach").await;
+    let mut board = Board::controller(&s.dir);
+    let attach = |port: &str, mode: &str| json!({ "port": port, "mode": mode });
+
+    // A viewer changes nothing.
+    for (path, body) in [
+        ("/api/hardware/attach", attach(&board.link, "controller")),
+        ("/api/hardware/detach", json!({})),
+    ] {
+        let (st, j) = s.call(Method::POST, path, &s.viewer, Some(body)).await;
+        assert_eq!(st, StatusCode::FORBIDDEN, "{path}: {j}");
+    }
+    // Not a mode; not a port; nothing to detach.
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&board.link, "remote")),
+        )
+        .await;
+    assert_eq!(st, StatusCode::BAD_REQUEST, "{j}");
+    let gone = s.dir.join("no-such-port").to_string_lossy().into_owned();
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&gone, "controller")),
+        )
+        .await;
+    assert_eq!(st, StatusCode::BAD_GATEWAY, "{j}");
+    assert!(
+        j["error"].as_str().expect("error").contains("no such serial port"),
+        "{j}"
+    );
+    let (st, j) = s
+        .call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
+
+    // Attached: the board's pins are the program's I/O, the PLC never stopped.
+    let scans = |j: &Json| j["scans"].as_u64().unwrap_or(0);
+    let (_, before) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    let (st, v) = s
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&board.link, "controller")),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(v["attached"]["port"], board.link.as_str(), "{v}");
+    assert_eq!(
+        (v["attached"]["mode"].as_str(), v["io"].as_str()),
+        (Some("controller"), Some("sim")),
+        "{v}"
+    );
+    assert_eq!(v["attached"]["io"], format!("arduino:{}", board.link), "{v}");
+    let (_, v) = s.call(Method::GET, "/api/hardware", &s.viewer, None).await;
+    assert_eq!(v["attached"]["port"], board.link.as_str(), "{v}");
+    let tag = |name: &'static str| {
+        let s = &s;
+        async move {
+            s.call(Method::GET, &format!("/api/tags/{name}"), &s.viewer, None)
+                .await
+                .1["value"]
+                .clone()
+        }
+    };
+    // Start pressed on the board (D2): the program sees it, Motor seals in on D12.
+    assert_eq!(board.cmd("set D2 1"), "ok");
+    let t0 = std::time::Instant::now();
+    while tag("Start").await != json!(true) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "Start never came from the board's pin"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert_eq!(board.cmd("set D2 0"), "ok");
+    board_says(&mut board, "pins 1 0", "Motor on the board's D12").await;
+    let t0 = std::time::Instant::now();
+    while tag("Start").await != json!(false) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "Start never released from the board's pin"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert_eq!(tag("Motor").await, json!(true));
+    let (_, after) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    assert_eq!(after["state"], "running", "{after}");
+    assert!(scans(&after) > scans(&before), "{before} {after}");
+
+    // One user of a port at a time.
+    let (st, j) = s
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(attach(&board.link, "monitor")),
+        )
+        .await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
+    let (st, j) = s.on_port("download", &board.link).await;
+    assert_eq!(st, StatusCode::TOO_MANY_REQUESTS, "{j}");
+    assert!(j["error"].as_str().expect("error").contains("detach it first"), "{j}");
+
+    // Detached: the board's outputs off, the simulated I/O back, still running.
+    let (st, v) = s
+        .call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(v["attached"], Json::Null, "{v}");
+    board_says(&mut board, "pins 0 0", "the board's outputs off").await;
+    assert_eq!(board.cmd("set D2 1"), "ok");
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    assert_eq!(tag("Start").await, json!(false), "the board's pin is not read any more");
+    let (_, status) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    assert_eq!(status["state"], "running", "{status}");
+
+    // Audited: the refused attach to a missing port, the attach, the detach.
+    let rows = s.audit("attach").await;
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    let ok = rows.iter().find(|r| r["outcome"] == "ok").expect("the attach");
+    assert_eq!(
+        (ok["user"].as_str(), ok["target"].as_str(), ok["detail"].as_str()),
+        (Some("engineer"), Some(board.link.as_str()), Some("controller")),
+        "{rows:?}"
+    );
+    assert_eq!(
+        (ok["old"].as_str(), ok["new"].clone()),
+        (Some("sim"), json!(format!("arduino:{}", board.link))),
+        "{rows:?}"
+    );
+    assert!(
+        rows.iter()
+            .any(|r| r["target"] == gone.as_str() && r["outcome"] != "ok"),
+        "{rows:?}"
+    );
+    let rows = s.audit("detach").await;
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    assert_eq!(
+        (rows[0]["outcome"].as_str(), rows[0]["user"].as_str()),
+        (Some("ok"), Some("engineer")),
+        "{rows:?}"
+    );
+    drop(board);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_cable_pulled_mid_download_ends_the_job_in_words_and_the_board_keeps_its_program() {
+    let s = Studio::start("cable").await;
+    let mut board = Board::start(&s.dir);
+    let (_, j) = s.on_port("download", &board.link).await;
+    let (end, _) = s.finish(j["job"].as_str().expect("job")).await;
+    assert_eq!(end["state"], "done", "{end}");
+    let (_, j) = s.on_port("identify", &board.link).await;
+    let running = j["program"].clone();
+    assert!(running.is_string(), "{j}");
+
+    // Another program; the cable pulled (the pty closed) while its records go.
+    std::fs::write(
+        s.dir.join("main.lad"),
+        "[XIC(Start),XIC(Motor)]XIO(Stop)OTE(Motor);\nXIC(Motor)OTE(Lamp);\n",
+    )
+    .expect("main.lad");
+    let (st, j) = s.on_port("download", &board.link).await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    let job = j["job"].as_str().expect("job").to_string();
+    let mut at = None;
+    for _ in 0..3000 {
+        let (_, j) = s
+            .call(Method::GET, &format!("/api/hardware/jobs/{job}"), &s.viewer, None)
+            .await;
+        if j["state"] != "running" {
+            panic!("the download ended before the cable was pulled: {j}");
+        }
+        if j["progress"].as_u64().is_some_and(|p| p > 0) {
+            assert_eq!(board.cmd("unplug"), "ok");
+            at = j["progress"].as_u64();
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    let at = at.expect("the records never started");
+    let (end, _) = s.finish(&job).await;
+    assert_eq!(end["state"], "failed", "{end}");
+    assert!(
+        (end["progress"].as_u64().expect("progress")) < 100,
+        "pulled at {at} %: {end}"
+    );
+    let msg = end["message"].as_str().expect("message");
+    assert!(
+        msg.starts_with("the link to the board was lost at record ")
+            && msg.contains("(cable pulled or board reset?)")
+            && msg.ends_with(": the board still runs the previous program"),
+        "{msg}"
+    );
+    // Plugged in again: the board runs the program it had.
+    assert!(board.cmd("plug").starts_with("ok "));
+    let (st, j) = s.on_port("identify", &board.link).await;
+    assert_eq!(st, StatusCode::OK, "{j}");
+    assert_eq!((&j["state"], &j["program"]), (&json!("running"), &running), "{j}");
+    let (_, j) = s.on_port("verify", &board.link).await;
+    assert_eq!(j["same"], false, "{j}");
+    drop(board);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_board_running_the_sketch_is_watched_live_and_let_go_without_restarting() {
+    let s = Studio::start("monitor").await;
+    let mut board = Board::sketch(&s.dir);
+    let (st, v) = s
+        .call(
+            Method::POST,
+            "/api/hardware/attach",
+            &s.engineer,
+            Some(json!({"port": board.link, "mode": "monitor"})),
+        )
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(
+        (v["attached"]["mode"].as_str(), v["attached"]["io"].clone()),
+        (Some("monitor"), json!(format!("board:{}", board.link))),
+        "{v}"
+    );
+    let tag = |name: &'static str| {
+        let s = &s;
+        async move {
+            s.call(Method::GET, &format!("/api/tags/{name}"), &s.viewer, None)
+                .await
+                .1["value"]
+                .clone()
+        }
+    };
+    // The board runs the program: Start pressed on it seals Motor in, on the board
+    // and in the runtime's mirror of its memory.
+    assert_eq!(board.cmd("set D2 1"), "ok");
+    board_says(&mut board, "pins 1 0", "Motor on the board's D12").await;
+    assert_eq!(board.cmd("set D2 0"), "ok");
+    let t0 = std::time::Instant::now();
+    while tag("Motor").await != json!(true) || tag("Start").await != json!(false) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "the board's memory never mirrored"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    // Stop is the board's own business while it is watched.
+    let (st, j) = s.call(Method::POST, "/api/stop", &s.engineer, Some(json!({}))).await;
+    assert_eq!(st, StatusCode::CONFLICT, "{j}");
+    // Let go: the runtime scans the project's program again, from the board's memory.
+    let (st, v) = s
+        .call(Method::POST, "/api/hardware/detach", &s.engineer, Some(json!({})))
+        .await;
+    assert_eq!(st, StatusCode::OK, "{v}");
+    assert_eq!(v["attached"], Json::Null, "{v}");
+    let (_, status) = s.call(Method::GET, "/api/status", &s.viewer, None).await;
+    assert_eq!(status["state"], "running", "{status}");
+    assert_eq!(tag("Motor").await, json!(true), "sealed in, as the board had it");
+    // The board is left running its program (watching it changed nothing there).
+    assert_eq!(board.cmd("get"), "pins 1 0");
+    let (st, _) = s.call(Method::POST, "/api/stop", &s.engineer, Some(json!({}))).await;
+    assert_eq!(st, StatusCode::OK);
     drop(board);
     s.stop().await;
 }

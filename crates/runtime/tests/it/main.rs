@@ -559,3 +559,128 @@ async fn single_steps_run_one_scan_each_and_are_refused_while_running() {
     assert_eq!(count(&after), count(&before) + 1);
     rt.shutdown();
 }
+
+/// A board's pins as a remote-I/O driver sees them (controller mode): its
+/// input pin `In` read into the program, the program's `Out` written to it.
+#[derive(Clone, Default)]
+struct Pins {
+    input: Arc<std::sync::atomic::AtomicBool>,
+    output: Arc<std::sync::Mutex<Vec<bool>>>,
+}
+
+impl alba_runtime::Io for Pins {
+    fn name(&self) -> &str {
+        "pins"
+    }
+    fn read_inputs(&mut self, engine: &mut alba_engine::Engine) -> Result<(), IoError> {
+        let v = self.input.load(std::sync::atomic::Ordering::Relaxed);
+        let p = place(engine.program(), "In");
+        engine.write(p, Value::Bool(v));
+        engine.set_io_status(true, 3);
+        Ok(())
+    }
+    fn write_outputs(&mut self, engine: &alba_engine::Engine) -> Result<(), IoError> {
+        let p = place(engine.program(), "Out");
+        let on = engine.memory().read(p) == Value::Bool(true);
+        self.output.lock().map_err(|e| IoError::Link(e.to_string()))?.push(on);
+        Ok(())
+    }
+}
+
+#[tokio::test(flavor = "current_thread")]
+async fn the_io_driver_is_swapped_between_two_scans_and_back_without_stopping() {
+    let rt = Runtime::start(compile(TAGS, LAD), opts(2), Box::new(SimIo)).unwrap();
+    let h = rt.handle();
+    let p = h.snapshot().program.clone();
+    // The simulated I/O: In is the operator's to write.
+    h.write(place(&p, "In"), Value::Bool(true)).await.unwrap();
+    until(&rt, "Out on", |s| value(s, "Out") == Value::Bool(true)).await;
+    let count = |s: &Snapshot| match value(s, "Count") {
+        Value::Dint(v) => v,
+        v => panic!("{v:?}"),
+    };
+    // Attach: the board's pin (off) drives In from the next scan.
+    let board = Pins::default();
+    let before = count(&h.snapshot());
+    let old = h.set_io(Box::new(board.clone())).await.unwrap();
+    assert_eq!(old.name(), "sim", "the displaced driver comes back");
+    let s = until(&rt, "Out off: In follows the board's pin", |s| {
+        value(s, "Out") == Value::Bool(false)
+    })
+    .await;
+    assert_eq!(s.state, RunState::Running, "never stopped: {:?}", s.fault);
+    assert!(
+        count(&s) > before,
+        "the program's memory was kept: {} then {}",
+        before,
+        count(&s)
+    );
+    assert_eq!(value(&s, "S:IOERRORS"), Value::Dint(3), "the new driver's status");
+    board.input.store(true, std::sync::atomic::Ordering::Relaxed);
+    until(&rt, "Out on from the board's pin", |s| {
+        value(s, "Out") == Value::Bool(true)
+    })
+    .await;
+    until(&rt, "Out on the board's output", |_| {
+        board.output.lock().unwrap().last() == Some(&true)
+    })
+    .await;
+    // Detach: the board's output put off through it, the simulated I/O back.
+    let was = h.set_io(old).await.unwrap();
+    assert_eq!(was.name(), "pins");
+    assert_eq!(
+        board.output.lock().unwrap().last(),
+        Some(&false),
+        "the detached board's outputs are off"
+    );
+    let n = board.output.lock().unwrap().len();
+    let scans = h.snapshot().scans;
+    let s = until(&rt, "more scans", |s| s.scans > scans + 3).await;
+    assert_eq!(
+        board.output.lock().unwrap().len(),
+        n,
+        "the detached board is not written any more"
+    );
+    assert_eq!(value(&s, "S:IOERRORS"), Value::Dint(0));
+    // In keeps its last value (the board said on), the operator's again.
+    assert_eq!(value(&s, "Out"), Value::Bool(true));
+    h.write(place(&p, "In"), Value::Bool(false)).await.unwrap();
+    until(&rt, "Out off", |s| value(s, "Out") == Value::Bool(false)).await;
+    drop(was);
+
+    // A board that runs the program itself: refused while a force is on …
+    h.force("Out".into(), place(&p, "Out"), Value::Bool(true))
+        .await
+        .unwrap();
+    let mirror = Board {
+        mem: Arc::new(std::sync::Mutex::new(p.init.clone())),
+        writes: Arc::default(),
+    };
+    let err = h.set_io(Box::new(mirror)).await.err().expect("refused");
+    assert!(
+        matches!(&err, alba_runtime::Error::Rejected(m) if m.contains("1 force(s) are on")),
+        "{err}"
+    );
+    assert_eq!(h.snapshot().forces.len(), 1);
+    // … and, once forces are off, takes a stopped runtime into run: the board runs.
+    h.unforce(None).await.unwrap();
+    h.stop().await.unwrap();
+    let mut board_mem = p.init.clone();
+    board_mem.write(place(&p, "Count"), Value::Dint(7));
+    let mirror = Board {
+        mem: Arc::new(std::sync::Mutex::new(board_mem)),
+        writes: Arc::default(),
+    };
+    let sim = h.set_io(Box::new(mirror)).await.unwrap();
+    assert_eq!(h.snapshot().state, RunState::Running);
+    until(&rt, "the board's memory mirrored", |s| {
+        value(s, "Count") == Value::Dint(7)
+    })
+    .await;
+    let _ = h.set_io(sim).await.unwrap();
+    until(&rt, "the program scanning again from the board's memory", |s| {
+        count(s) > 7
+    })
+    .await;
+    rt.shutdown();
+}

@@ -2,12 +2,13 @@
 //! map, the serial ports, firmware builds, byte-code downloads as jobs.
 //! The work is alba-app's ([`crate::hardware::Hardware`]); here: the
 //! requests, the roles (changes need `engineer`) and the audit rows
-//! (`save_board`, `download`).
+//! (`save_board`, `download`, `upload`; `attach` and `detach` are the
+//! control layer's).
 
 use super::audit::{self, Actor};
 use super::{Body, body, field};
 use crate::error::{ApiError, ApiResult};
-use crate::hardware::{BoardChange, Hardware, HardwareError};
+use crate::hardware::{AttachMode, BoardChange, Hardware, HardwareError};
 use crate::project::EditError;
 use crate::reply::{BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, JobState, Verified};
 use crate::state::AppState;
@@ -27,6 +28,11 @@ impl From<HardwareError> for ApiError {
             HardwareError::Busy(m) => ApiError::Busy(m),
             HardwareError::Port(m) => ApiError::Upstream(m),
             HardwareError::Failed(m) => ApiError::Internal(m),
+            HardwareError::Refused(r) => match std::sync::Arc::try_unwrap(r) {
+                Ok(r) => ApiError::from(r),
+                Err(r) => ApiError::Internal(r.to_string()),
+            },
+            HardwareError::Conflict(m) => ApiError::Conflict(m),
         }
     }
 }
@@ -123,6 +129,20 @@ pub async fn put_board(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -
     Ok(Json(view))
 }
 
+/// `POST /api/hardware/board/undo`: `[board]` as it was before the last
+/// save (audited `save_board`, detail `undo`); `409` with nothing to undo.
+pub async fn undo_board(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<HardwareView>> {
+    let hw = service(&st)?;
+    let entry = Entry {
+        target: Some("alba.toml [board]".into()),
+        detail: Some("undo: [board] as it was before the last save".into()),
+        ..actor.entry(Action::SaveBoard)
+    };
+    let _project = st.project.lock().await;
+    let view = audit::audited(&st, entry, blocking(move || hw.undo_board())).await?;
+    Ok(Json(view))
+}
+
 /// `POST /api/hardware/build` `{"board", "kind": "sketch"|"interpreter"}`.
 pub async fn build(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Json<BuildSizes>> {
     let j = body(b)?;
@@ -136,16 +156,39 @@ pub async fn build(State(st): State<Arc<AppState>>, b: Body) -> ApiResult<Json<B
 pub async fn download(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiResult<Json<JobStarted>> {
     let j = body(b)?;
     let port = string(&j, "port")?;
-    let hw = service(&st)?;
     let entry = Entry {
         target: Some(port.clone()),
         detail: Some("the project's byte code".into()),
         ..actor.entry(Action::Download)
     };
+    start_job(&st, entry, move |hw| hw.download(&port)).await
+}
+
+/// `POST /api/hardware/upload` `{"port", "board", "kind": "sketch"|"interpreter"|"controller"}`
+/// → `{"job"}`: the firmware built and uploaded with avrdude; audited
+/// `upload`, the row's outcome set when the job ends.
+pub async fn upload(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiResult<Json<JobStarted>> {
+    let j = body(b)?;
+    let (port, board, kind) = (string(&j, "port")?, string(&j, "board")?, string(&j, "kind")?);
+    let entry = Entry {
+        target: Some(port.clone()),
+        detail: Some(format!("{kind} for {board}")),
+        ..actor.entry(Action::Upload)
+    };
+    start_job(&st, entry, move |hw| hw.upload(&port, &board, &kind)).await
+}
+
+/// Starts a job under its audit row `entry`, whose outcome is the job's.
+async fn start_job(
+    st: &Arc<AppState>,
+    entry: Entry,
+    start: impl FnOnce(&dyn Hardware) -> Result<String, HardwareError> + Send + 'static,
+) -> ApiResult<Json<JobStarted>> {
+    let hw = service(st)?;
     let row = st.control.begin(entry).await?;
     let started = {
         let hw = hw.clone();
-        tokio::task::spawn_blocking(move || hw.download(&port))
+        tokio::task::spawn_blocking(move || start(hw.as_ref()))
             .await
             .map_err(|e| HardwareError::Failed(format!("hardware: {e}")))
             .and_then(|r| r)
@@ -206,4 +249,25 @@ pub async fn cancel(State(st): State<Arc<AppState>>, Path(id): Path<String>) -> 
     hw.cancel(&id)
         .map(Json)
         .ok_or_else(|| ApiError::NotFound(format!("no hardware job `{id}`")))
+}
+
+/// `POST /api/hardware/attach` `{"port", "mode": "controller"|"monitor"}`:
+/// the board as the running PLC's I/O, without restarting it (audited
+/// `attach`, by the control layer); the view after, with `attached`.
+pub async fn attach(State(st): State<Arc<AppState>>, actor: Actor, b: Body) -> ApiResult<Json<HardwareView>> {
+    let j = body(b)?;
+    let port = string(&j, "port")?;
+    let mode = string(&j, "mode")?;
+    let mode = AttachMode::parse(&mode)
+        .ok_or_else(|| ApiError::Malformed(format!("`mode` is `controller` or `monitor`, not `{mode}`")))?;
+    let hw = service(&st)?;
+    hw.attach(&st.control, &actor.control(), &port, mode).await?;
+    Ok(Json(blocking(move || hw.view()).await?))
+}
+
+/// `POST /api/hardware/detach`: the project's own I/O back (audited `detach`).
+pub async fn detach(State(st): State<Arc<AppState>>, actor: Actor) -> ApiResult<Json<HardwareView>> {
+    let hw = service(&st)?;
+    hw.detach(&st.control, &actor.control()).await?;
+    Ok(Json(blocking(move || hw.view()).await?))
 }
