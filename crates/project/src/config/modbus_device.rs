@@ -4,7 +4,7 @@ use super::modbus::ModbusArea;
 use super::setting::int_setting;
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
-use toml::Spanned;
+use serde_spanned::Spanned;
 
 /// `[[modbus_device]]`: one remote Modbus TCP slave whose data is mapped
 /// into the I/O image.

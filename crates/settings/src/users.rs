@@ -12,7 +12,7 @@
 //! This module reads and writes the file and checks its form (names, roles,
 //! hashes); verifying passwords is `alba-auth`'s.
 
-use crate::config::{Config, check_password_hash};
+use crate::{Settings as Config, check_password_hash};
 use alba_diag::{Code, Diagnostic, FileId, Files, Span};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -317,7 +317,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
     match std::fs::metadata(&path) {
         Ok(_) => {
             out.has_file = true;
-            match crate::read_text(&path) {
+            match alba_project::read_text(&path) {
                 Ok(text) => {
                     let f = out.files.add(path.display().to_string(), text);
                     let (users, d) = parse_users(out.files.text(f), f);
@@ -334,7 +334,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
             format!("cannot read {}: {e}", path.display()),
         )),
     }
-    if let Ok(text) = crate::read_text(&dir.join("alba.toml")) {
+    if let Ok(text) = alba_project::read_text(&dir.join("alba.toml")) {
         let f = out.files.add(dir.join("alba.toml").display().to_string(), text);
         let (config, d) = Config::parse(out.files.text(f), f);
         if let Some(config) = config {
@@ -366,7 +366,7 @@ pub fn users_toml(users: &[User]) -> String {
             "\n[users.{}]\nrole = \"{}\"\npassword = {}\n",
             toml_key(&u.name),
             u.role,
-            crate::config::toml_string(&u.hash)
+            crate::toml_string(&u.hash)
         ));
     }
     out
@@ -378,7 +378,7 @@ fn toml_key(name: &str) -> String {
     if bare {
         name.to_string()
     } else {
-        crate::config::toml_string(name)
+        crate::toml_string(name)
     }
 }
 

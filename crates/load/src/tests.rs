@@ -3,13 +3,29 @@
 use super::*;
 use alba_diag::Files;
 use alba_model::board::{Model, Pin, PinMap};
+use alba_project::config::*;
+use alba_settings::*;
 
-fn parse(text: &str) -> Result<Config, Vec<String>> {
+/// The project's tables (`c`) and the services' (the rest, through `Deref`).
+#[derive(Debug)]
+struct Parsed {
+    c: Config,
+    s: Settings,
+}
+
+impl std::ops::Deref for Parsed {
+    type Target = Settings;
+    fn deref(&self) -> &Settings {
+        &self.s
+    }
+}
+
+fn parse(text: &str) -> Result<Parsed, Vec<String>> {
     let mut files = Files::new();
     let f = files.add("alba.toml", text);
-    match Config::parse(text, f) {
-        (Some(c), d) if d.is_empty() => Ok(c),
-        (_, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
+    match parse_both(text, f) {
+        (Some(c), Some(s), d) if d.is_empty() => Ok(Parsed { c, s }),
+        (_, _, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
     }
 }
 
@@ -17,16 +33,16 @@ fn parse(text: &str) -> Result<Config, Vec<String>> {
 fn names_with_quotes_and_backslashes_round_trip() {
     for name in ["plain", "a\\b", "say \"hi\"", "tab\there", "ñandú"] {
         let text = format!("name = {}\nprograms = [\"a.lad\"]\n", toml_string(name));
-        assert_eq!(parse(&text).unwrap().name, name, "{text}");
+        assert_eq!(parse(&text).unwrap().c.name, name, "{text}");
     }
 }
 
 #[test]
 fn minimal_config_takes_defaults() {
     let c = parse("name = \"tank\"\nprograms = [\"main.lad\"]\n").unwrap();
-    assert_eq!(c.scan_ms, 10);
-    assert_eq!(c.programs[0].0, "main.lad");
-    assert!(c.board.is_none());
+    assert_eq!(c.c.scan_ms, 10);
+    assert_eq!(c.c.programs[0].0, "main.lad");
+    assert!(c.c.board.is_none());
 }
 
 #[test]
@@ -39,7 +55,7 @@ fn retain_and_history_settings() {
     )
     .unwrap();
     assert_eq!(c.retain_ms, 250);
-    assert_eq!(c.runtime.on_retain_error, super::OnRetainError::Refuse);
+    assert_eq!(c.runtime.on_retain_error, alba_settings::OnRetainError::Refuse);
     assert_eq!(
         c.history,
         History {
@@ -49,7 +65,7 @@ fn retain_and_history_settings() {
             deadband: 0.5,
             max_mb: 0,
             min_free_mb: 10,
-            on_damage: super::OnDamage::Refuse,
+            on_damage: alba_settings::OnDamage::Refuse,
             ..History::default()
         }
     );
@@ -59,7 +75,7 @@ fn retain_and_history_settings() {
          node = \"line-2\"\nbuffer_max_samples = 1000\n",
     )
     .unwrap();
-    assert_eq!(c.history.backend, super::HistoryBackend::Postgres);
+    assert_eq!(c.history.backend, alba_settings::HistoryBackend::Postgres);
     assert_eq!(c.history.url.as_deref(), Some("postgres://alba@db.plant:5432/history"));
     assert_eq!(c.history.password_file.as_deref(), Some("/run/secrets/pg"));
     assert_eq!(c.history.node.as_deref(), Some("line-2"));
@@ -131,7 +147,7 @@ fn modbus_devices_and_their_maps() {
         "{head}[[modbus_device]]\nname = \"rack\"\ntcp = \"10.0.0.5:502\"\nmap = [\n  {{ remote = \"di 0\", count = 8, at = \"%IX0.0\" }},\n  {{ remote = \"hr 100\", at = \"AO:4/2\" }},\n]\n"
     ))
     .unwrap();
-    let d = &c.modbus_devices[0];
+    let d = &c.c.modbus_devices[0];
     assert_eq!(
         (
             d.name.as_str(),
@@ -167,7 +183,7 @@ fn modbus_devices_and_their_maps() {
     ))
     .unwrap();
     assert_eq!(
-        c.modbus_devices[0].link,
+        c.c.modbus_devices[0].link,
         DeviceLink::Rtu {
             port: "/dev/ttyUSB0".into(),
             baud: 9600
@@ -208,7 +224,7 @@ fn modbus_devices_and_their_maps() {
 #[test]
 fn boards_and_pin_maps() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n").unwrap();
-    let b = c.board.unwrap();
+    let b = c.c.board.unwrap();
     assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", false));
     assert_eq!(b.map, PinMap::preset("s7").unwrap());
     // A custom list replaces one direction of the preset.
@@ -216,13 +232,13 @@ fn boards_and_pin_maps() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\nai = [\"A4\", \"A5\"]\nactive_low = true\n",
     )
     .unwrap();
-    let b = c.board.unwrap();
+    let b = c.c.board.unwrap();
     assert_eq!(b.map.ai, [Pin::A(4), Pin::A(5)]);
     assert_eq!(b.map.di, PinMap::preset("aurora").unwrap().di);
     assert!(b.active_low);
     // Outputs on at power-up: digital outputs of the map only.
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"A0\"]\n").unwrap();
-    assert_eq!(c.board.unwrap().power_up_on, [Pin::A(0)]);
+    assert_eq!(c.c.board.unwrap().power_up_on, [Pin::A(0)]);
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"D2\", \"X\"]\n")
         .unwrap_err();
     assert_eq!(
@@ -320,7 +336,7 @@ fn opcua_users_hold_argon2_hashes() {
     // Beyond loopback without users nobody could log in (checked with the
     // project, which knows users.toml: crate::project's tests).
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap();
-    let e = crate::users::opcua_listen_needs_users(&c, false).unwrap();
+    let e = users::opcua_listen_needs_users(&c, false).unwrap();
     let mut files = Files::new();
     files.add(
         "alba.toml",
@@ -330,7 +346,7 @@ fn opcua_users_hold_argon2_hashes() {
         e.short(&files),
         "alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs users"
     );
-    assert!(crate::users::opcua_listen_needs_users(&c, true).is_none());
+    assert!(users::opcua_listen_needs_users(&c, true).is_none());
     assert!(check_password_hash(&h).is_ok());
 }
 
@@ -349,10 +365,14 @@ fn modbus_settings_and_explicit_addresses() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"127.0.0.1:5020\"\nunit_id = 3\n[modbus.tags]\nSpeed = \"hr 8192\"\n\"Delay.PRE\" = \"HR:9000\"\nRunning = \"coil8192\"\n",
     )
     .unwrap();
-    let m = c.modbus.unwrap();
+    let m = c.modbus.clone().unwrap();
     assert_eq!(m.listen, Some("127.0.0.1:5020".parse().unwrap()));
     assert_eq!((m.unit_id, m.max_connections, m.idle_timeout_s), (Some(3), 32, 60));
-    let tags: Vec<_> = m.tags.iter().map(|t| (t.name.as_str(), t.area, t.start)).collect();
+    let tags: Vec<_> =
+        c.c.modbus_tags
+            .iter()
+            .map(|t| (t.name.as_str(), t.area, t.start))
+            .collect();
     assert_eq!(
         tags,
         [
@@ -368,11 +388,12 @@ fn modbus_settings_and_explicit_addresses() {
     assert_eq!(
         e,
         [
-            "alba.toml:4:10: error[E102]: listen = \"localhost\" is not an address and port",
-            "alba.toml:5:19: error[E102]: max_connections = 0 is out of range",
+            // The project's tables are checked first, then the services'.
             "alba.toml:7:5: error[E102]: `hr 100` is inside OpenPLC's map (hr 0 to 8191, which the I/O image and markers use)",
             "alba.toml:8:5: error[E102]: `xx 9000` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`",
             "alba.toml:9:5: error[E102]: `ir 70000`: Modbus addresses go from 0 to 65535",
+            "alba.toml:4:10: error[E102]: listen = \"localhost\" is not an address and port",
+            "alba.toml:5:19: error[E102]: max_connections = 0 is out of range",
         ]
     );
 }
@@ -407,8 +428,8 @@ fn plant_models_are_checked_with_their_places() {
         "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"AO:4/0\"\noutput = \"AI:3/0\"\ntau = 10.0\ninput_scale = [0, 10000, 0, 10]\ndead_time = 0.5\n"
     );
     let c = parse(&ok).unwrap();
-    assert_eq!(c.models.len(), 1);
-    assert_eq!(c.models[0].dead_time, 0.5);
+    assert_eq!(c.c.models.len(), 1);
+    assert_eq!(c.c.models[0].dead_time, 0.5);
     let bad = format!(
         "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"U\"\noutput = \"Y\"\ntau = -1.0\narea = 2.0\nsaturation = [5, 1]\n\n[[plant_model]]\nkind = \"third\"\ninput = \"U\"\noutput = \"Y\"\n\n[[plant_model]]\nkind = \"second_order\"\ninput = \"U\"\noutput = \"Y\"\nden = [1, 2]\n"
     );
@@ -553,12 +574,12 @@ fn mqtt_and_alarms_tables() {
         .mqtt
         .unwrap();
     assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
-    assert_eq!(m2.version, crate::config::MqttVersion::V311);
+    assert_eq!(m2.version, alba_settings::MqttVersion::V311);
     for (v, want) in [
-        ("5", crate::config::MqttVersion::V5),
-        ("\"5.0\"", crate::config::MqttVersion::V5),
-        ("\"3.1.1\"", crate::config::MqttVersion::V311),
-        ("4", crate::config::MqttVersion::V311),
+        ("5", alba_settings::MqttVersion::V5),
+        ("\"5.0\"", alba_settings::MqttVersion::V5),
+        ("\"3.1.1\"", alba_settings::MqttVersion::V311),
+        ("4", alba_settings::MqttVersion::V311),
     ] {
         let m = parse(&format!(
             "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nversion = {v}\n"
