@@ -446,7 +446,7 @@ impl Service {
     }
 
     fn compile(&self) -> Compiled {
-        alba_compiler::compile_dir(&self.dir)
+        alba_load::compile_dir(&self.dir)
     }
 
     fn start_job(&self, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
@@ -560,7 +560,7 @@ impl Hardware for Service {
         // Checked as `alba check` reads alba.toml: refused, nothing saved, on any problem.
         let mut files = Files::new();
         let f = files.add(path.display().to_string(), new.clone());
-        let (_, diags) = alba_project::config::Config::parse(files.text(f), f);
+        let (_, diags) = alba_load::parse(files.text(f), f);
         if !diags.is_empty() {
             return Err(does_not_build(&diags, &files));
         }
@@ -642,7 +642,7 @@ impl Hardware for Service {
                     }
                     j.view.message = message;
                 };
-                let c = alba_compiler::compile_dir(&dir);
+                let c = alba_load::compile_dir(&dir);
                 set(None, format!("asking the board on {port} what it is"));
                 let result = download(&c, None, None, &port, true, |done, total| {
                     let pct = (done * 100 / total.max(1)).min(100) as u8;
@@ -853,7 +853,7 @@ mod tests {
         );
         let mut files = Files::new();
         let f = files.add("alba.toml", saved.clone());
-        let (cfg, d) = alba_project::config::Config::parse(files.text(f), f);
+        let (cfg, d) = alba_load::parse(files.text(f), f);
         assert!(d.is_empty(), "{d:?}");
         let b = cfg.and_then(|c| c.board).expect("board");
         assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", true));

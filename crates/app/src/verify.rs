@@ -70,7 +70,7 @@ fn replay(program: &Arc<alba_ir::Program>, scan_ms: u64, file: &str, depth: u32)
 }
 
 fn compile(dir: &Path) -> Result<(Arc<alba_ir::Program>, u64), VerifyError> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let scan_ms = c.project.scan_ms() as u64;
     match c.program {
         Some(p) => Ok((Arc::new(p), scan_ms)),

@@ -12,13 +12,13 @@
 //!   password policy of [`check_password`].
 //! - [`Backoff`] counts failed logins per key for the login routes.
 //!
-//! The file's reading and form checks live in `alba_project::users` (so
+//! The file's reading and form checks live in `alba_settings::users` (so
 //! `alba check` reports them with the project); hashing and verifying here.
 
 mod backoff;
 mod policy;
 
-pub use alba_project::users::{MAX_NAME_LEN, Role, USERS_FILE, User, check_user_name};
+pub use alba_settings::users::{MAX_NAME_LEN, Role, USERS_FILE, User, check_user_name};
 pub use backoff::Backoff;
 pub use policy::{MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, check_password};
 
@@ -65,7 +65,7 @@ impl Users {
     /// invalid users.toml is an error (the rendered diagnostics, with
     /// places): a store that cannot be read is never taken as empty.
     pub fn load(dir: &Path) -> Result<Users, String> {
-        let l = alba_project::users::load_users(dir);
+        let l = alba_settings::users::load_users(dir);
         if !l.errors.is_empty() {
             return Err(alba_diag::render_all(&l.errors, &l.files));
         }
@@ -214,7 +214,7 @@ impl Users {
     /// Users of `[opcua.users]` are written too: saving migrates them (alba.toml
     /// is left as it is; its entries are then shadowed by users.toml's).
     pub fn save(&self, dir: &Path) -> Result<(), String> {
-        alba_project::users::save_users(dir, &self.users)
+        alba_settings::users::save_users(dir, &self.users)
     }
 }
 
@@ -236,7 +236,7 @@ mod tests {
         let m = PasswordHash::new(&mine).unwrap();
         assert_eq!(h.algorithm, m.algorithm);
         assert_eq!(h.params, m.params, "same cost as a real hash");
-        assert!(alba_project::config::check_password_hash(DUMMY_HASH).is_ok());
+        assert!(alba_settings::check_password_hash(DUMMY_HASH).is_ok());
         assert!(!verify_password(DUMMY_HASH, ""));
     }
 

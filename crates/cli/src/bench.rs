@@ -688,7 +688,7 @@ pub fn nets(quick: bool) -> ExitCode {
             eprintln!("error: cannot write {}", dir.display());
             return ExitCode::FAILURE;
         }
-        let c = alba_compiler::compile_dir(&dir);
+        let c = alba_load::compile_dir(&dir);
         let _ = std::fs::remove_dir_all(&dir);
         let Some(net_prog) = c.program else {
             eprintln!(

@@ -57,7 +57,7 @@ pub fn verify(dir: &Path, a: VerifyArgs) -> ExitCode {
 }
 
 pub fn test(dir: &Path, junit: Option<&Path>) -> ExitCode {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let Some(program) = c.program else {
         report(&c.diagnostics, &c.project.files, false);
         return code(2);

@@ -6,19 +6,13 @@ use alba_model::board::{Model, Pin, PinMap};
 use alba_project::config::*;
 use alba_settings::*;
 
-/// The project's tables (`c`) and the services' (the rest, through `Deref`).
+/// The project's tables (`c`) and the services' (`s`).
 #[derive(Debug)]
 struct Parsed {
     c: Config,
     s: Settings,
 }
 
-impl std::ops::Deref for Parsed {
-    type Target = Settings;
-    fn deref(&self) -> &Settings {
-        &self.s
-    }
-}
 
 fn parse(text: &str) -> Result<Parsed, Vec<String>> {
     let mut files = Files::new();
@@ -48,16 +42,16 @@ fn minimal_config_takes_defaults() {
 #[test]
 fn retain_and_history_settings() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-    assert_eq!((c.retain_ms, c.history.clone()), (1000, History::default()));
+    assert_eq!((c.s.retain_ms, c.s.history.clone()), (1000, History::default()));
     let c = parse(
         "name = \"x\"\nretain_ms = 250\nprograms = [\"a.lad\"]\n[runtime]\non_retain_error = \"refuse\"\n\
          [history]\nretention_days = 0\nsample_ms = 500\ndeadband = 0.5\nmax_mb = 0\nmin_free_mb = 10\non_damage = \"refuse\"\n",
     )
     .unwrap();
-    assert_eq!(c.retain_ms, 250);
-    assert_eq!(c.runtime.on_retain_error, alba_settings::OnRetainError::Refuse);
+    assert_eq!(c.s.retain_ms, 250);
+    assert_eq!(c.s.runtime.on_retain_error, alba_settings::OnRetainError::Refuse);
     assert_eq!(
-        c.history,
+        c.s.history,
         History {
             enabled: true,
             retention_days: 0,
@@ -75,11 +69,11 @@ fn retain_and_history_settings() {
          node = \"line-2\"\nbuffer_max_samples = 1000\n",
     )
     .unwrap();
-    assert_eq!(c.history.backend, alba_settings::HistoryBackend::Postgres);
-    assert_eq!(c.history.url.as_deref(), Some("postgres://alba@db.plant:5432/history"));
-    assert_eq!(c.history.password_file.as_deref(), Some("/run/secrets/pg"));
-    assert_eq!(c.history.node.as_deref(), Some("line-2"));
-    assert_eq!(c.history.buffer_max_samples, 1000);
+    assert_eq!(c.s.history.backend, alba_settings::HistoryBackend::Postgres);
+    assert_eq!(c.s.history.url.as_deref(), Some("postgres://alba@db.plant:5432/history"));
+    assert_eq!(c.s.history.password_file.as_deref(), Some("/run/secrets/pg"));
+    assert_eq!(c.s.history.node.as_deref(), Some("line-2"));
+    assert_eq!(c.s.history.buffer_max_samples, 1000);
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nbackend = \"postgres\"\n").unwrap_err();
     assert!(e[0].contains("backend = \"postgres\" needs a url"), "{e:?}");
     let e = parse(
@@ -96,9 +90,9 @@ fn retain_and_history_settings() {
         "{tls}ca_file = \"certs/ca.pem\"\nclient_cert = \"certs/me.pem\"\nclient_key = \"certs/me.key\"\n"
     ))
     .unwrap();
-    assert_eq!(c.history.ca_file.as_deref(), Some("certs/ca.pem"));
+    assert_eq!(c.s.history.ca_file.as_deref(), Some("certs/ca.pem"));
     assert_eq!(
-        (c.history.client_cert.as_deref(), c.history.client_key.as_deref()),
+        (c.s.history.client_cert.as_deref(), c.s.history.client_key.as_deref()),
         (Some("certs/me.pem"), Some("certs/me.key"))
     );
     let e = parse(&format!("{tls}ca_file = \"ca.pem\"\nclient_cert = \"me.pem\"\n")).unwrap_err();
@@ -128,9 +122,9 @@ fn retain_and_history_settings() {
 #[test]
 fn audit_retention() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-    assert_eq!(c.audit, Audit { retention_days: 365 });
+    assert_eq!(c.s.audit, Audit { retention_days: 365 });
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nretention_days = 0\n").unwrap();
-    assert_eq!(c.audit, Audit { retention_days: 0 });
+    assert_eq!(c.s.audit, Audit { retention_days: 0 });
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nretention_days = 40000\n").unwrap_err();
     assert_eq!(
         e,
@@ -285,7 +279,7 @@ fn opcua_users_hold_argon2_hashes() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n[opcua.users]\noperator = \"{h}\"\nadmin = \"{h}\"\n"
     ))
     .unwrap();
-    let o = c.opcua.unwrap();
+    let o = c.s.opcua.unwrap();
     assert_eq!(o.listen, Some("0.0.0.0:4840".parse().unwrap()));
     let names: Vec<_> = o.users.iter().map(|u| u.name.as_str()).collect();
     assert_eq!(names, ["operator", "admin"], "in file order");
@@ -296,7 +290,7 @@ fn opcua_users_hold_argon2_hashes() {
     ))
     .unwrap();
     let w: Vec<_> = c
-        .opcua
+        .s.opcua
         .unwrap()
         .users
         .iter()
@@ -310,7 +304,7 @@ fn opcua_users_hold_argon2_hashes() {
     assert_eq!(e, ["alba.toml:4:14: error[E102]: `ghost` is not in [opcua.users]"]);
     // Loopback needs no users.
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.2:4840\"\n").unwrap();
-    assert!(c.opcua.unwrap().users.is_empty());
+    assert!(c.s.opcua.unwrap().users.is_empty());
     // Errors, each located on the offending value.
     let e = parse(&format!(
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n[opcua.users]\nplain = \"hunter2\"\nmd5 = \"$1$abc$def\"\n\"two words\" = \"{h}\"\nbroken = \"$argon2id$v=19$m=8,t=1,p=1$\"\nweak = \"$argon2id$v=19$m=1,t=1,p=1$YWxiYS10ZXN0LXNhbHQ$AAAAAAAAAAAAAAAAAAAAAA\"\n"
@@ -336,7 +330,7 @@ fn opcua_users_hold_argon2_hashes() {
     // Beyond loopback without users nobody could log in (checked with the
     // project, which knows users.toml: crate::project's tests).
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap();
-    let e = users::opcua_listen_needs_users(&c, false).unwrap();
+    let e = users::opcua_listen_needs_users(&c.s, false).unwrap();
     let mut files = Files::new();
     files.add(
         "alba.toml",
@@ -346,16 +340,16 @@ fn opcua_users_hold_argon2_hashes() {
         e.short(&files),
         "alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs users"
     );
-    assert!(users::opcua_listen_needs_users(&c, true).is_none());
+    assert!(users::opcua_listen_needs_users(&c.s, true).is_none());
     assert!(check_password_hash(&h).is_ok());
 }
 
 #[test]
 fn modbus_settings_and_explicit_addresses() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-    assert!(c.modbus.is_none() && c.opcua.is_none());
+    assert!(c.s.modbus.is_none() && c.s.opcua.is_none());
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n").unwrap();
-    assert_eq!(c.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
+    assert_eq!(c.s.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"4840\"\n").unwrap_err();
     assert_eq!(
         e,
@@ -365,7 +359,7 @@ fn modbus_settings_and_explicit_addresses() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"127.0.0.1:5020\"\nunit_id = 3\n[modbus.tags]\nSpeed = \"hr 8192\"\n\"Delay.PRE\" = \"HR:9000\"\nRunning = \"coil8192\"\n",
     )
     .unwrap();
-    let m = c.modbus.clone().unwrap();
+    let m = c.s.modbus.unwrap();
     assert_eq!(m.listen, Some("127.0.0.1:5020".parse().unwrap()));
     assert_eq!((m.unit_id, m.max_connections, m.idle_timeout_s), (Some(3), 32, 60));
     let tags: Vec<_> =
@@ -452,14 +446,14 @@ fn modbus_allow_list_and_read_only() {
     // Off by default: no list (every loopback client), writes allowed.
     let m = parse(&format!("{head}listen = \"127.0.0.1:5020\"\n"))
         .unwrap()
-        .modbus
+        .s.modbus
         .unwrap();
     assert_eq!((m.allow, m.read_only), (None, false));
     let m = parse(&format!(
         "{head}listen = \"0.0.0.0:502\"\nread_only = true\nallow = [\"192.168.1.20\", \"10.0.0.0/24\", \"fd00::/8\", \"::1\", \"0.0.0.0/0\"]\n"
     ))
     .unwrap()
-    .modbus
+    .s.modbus
     .unwrap();
     assert!(m.read_only);
     let allow = m.allow.unwrap();
@@ -513,19 +507,19 @@ fn bad_modbus_client_rules_are_located() {
 #[test]
 fn http_table_lists_hosts_origins_and_tls_files() {
     let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
-    assert_eq!(parse(head).unwrap().http, Http::default());
+    assert_eq!(parse(head).unwrap().s.http, Http::default());
     let c = parse(&format!(
         "{head}[http]\nallowed_hosts = [\"PLC1.plant.example\"]\nallowed_origins = [\"https://scada.example:8443\", \"http://[::1]:8080\"]\ninsecure = true\ncert = \"tls/c.pem\"\nkey = \"tls/k.pem\"\n"
     ))
     .unwrap();
-    assert_eq!(c.http.allowed_hosts, ["plc1.plant.example"]);
+    assert_eq!(c.s.http.allowed_hosts, ["plc1.plant.example"]);
     assert_eq!(
-        c.http.allowed_origins,
+        c.s.http.allowed_origins,
         ["https://scada.example:8443", "http://[::1]:8080"]
     );
-    assert!(c.http.insecure);
+    assert!(c.s.http.insecure);
     assert_eq!(
-        (c.http.cert.as_deref(), c.http.key.as_deref()),
+        (c.s.http.cert.as_deref(), c.s.http.key.as_deref()),
         (Some("tls/c.pem"), Some("tls/k.pem"))
     );
     for (bad, what) in [
@@ -555,15 +549,15 @@ fn authorities_split_into_host_and_port() {
 #[test]
 fn mqtt_and_alarms_tables() {
     let c = parse("name = \"t\"\nprograms = [\"main.lad\"]\n").unwrap();
-    assert_eq!((c.mqtt, c.alarms.retention_days), (None, 365));
+    assert_eq!((c.s.mqtt, c.s.alarms.retention_days), (None, 365));
     let c = parse(
         "name = \"t\"\nprograms = [\"main.lad\"]\n[alarms]\nretention_days = 30\n[mqtt]\nbroker = \"broker.local:8883\"\n\
          topic_prefix = \"site/line1\"\nqos = 0\ntags = [\"Level\", \"Delay\"]\nwrites = false\n\
          username = \"plc\"\npassword_file = \"mqtt.secret\"\n",
     )
     .unwrap();
-    let m = c.mqtt.unwrap();
-    assert_eq!(c.alarms.retention_days, 30);
+    let m = c.s.mqtt.unwrap();
+    assert_eq!(c.s.alarms.retention_days, 30);
     assert_eq!(m.broker.as_deref(), Some("broker.local:8883"));
     assert_eq!(m.topic_prefix.as_deref(), Some("site/line1"));
     assert_eq!((m.qos, m.writes, m.keep_alive_s, m.queue), (0, false, 30, 10_000));
@@ -571,7 +565,7 @@ fn mqtt_and_alarms_tables() {
     assert_eq!((m.publish_interval_ms, m.deadband), (0, 0.0));
     let m2 = parse("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\npublish_interval_ms = 250\ndeadband = 0.5\n")
         .unwrap()
-        .mqtt
+        .s.mqtt
         .unwrap();
     assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
     assert_eq!(m2.version, alba_settings::MqttVersion::V311);
@@ -585,7 +579,7 @@ fn mqtt_and_alarms_tables() {
             "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nversion = {v}\n"
         ))
         .unwrap()
-        .mqtt
+        .s.mqtt
         .unwrap();
         assert_eq!(m.version, want, "{v}");
     }
@@ -593,7 +587,7 @@ fn mqtt_and_alarms_tables() {
         "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nuser = \"line1\"\npassword_file = \"/run/secrets/mqtt\"\n",
     )
     .unwrap()
-    .mqtt
+    .s.mqtt
     .unwrap();
     assert_eq!(
         (m3.user.as_deref(), m3.username, m3.password_file.as_deref()),
@@ -632,7 +626,7 @@ fn mqtt_and_alarms_tables() {
 #[test]
 fn mqtt_sparkplug_table() {
     let head = "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n[mqtt.sparkplug]\n";
-    let sp = parse(head).unwrap().mqtt.unwrap().sparkplug.unwrap();
+    let sp = parse(head).unwrap().s.mqtt.unwrap().sparkplug.unwrap();
     assert_eq!(
         (
             sp.group_id.as_str(),
@@ -648,7 +642,7 @@ fn mqtt_sparkplug_table() {
         "{head}primary_host_id = \"scada\"\nbuffer_max = 5000\n[mqtt.sparkplug.devices]\npumps = [\"P1\", \"P2\"]\nline = [\"Conveyor\"]\n"
     ))
         .unwrap()
-        .mqtt
+        .s.mqtt
         .unwrap()
         .sparkplug
         .unwrap();
@@ -678,7 +672,7 @@ fn opcua_servers_and_their_bindings() {
         "{head}[[opcua_server]]\nname = \"plc\"\nendpoint = \"opc.tcp://10.0.0.9:4840/\"\nsecurity_policy = \"Basic256Sha256\"\nuser = \"op\"\npassword_file = \"secret.txt\"\nbind = [\n  {{ tag = \"Level\", node = \"ns=2;s=Tank.Level\", dir = \"in\" }},\n  {{ tag = \"Pump\", node = \"ns=3;i=1001\", dir = \"out\" }},\n]\n"
     ))
     .unwrap();
-    let s = &c.opcua_servers[0];
+    let s = &c.s.opcua_servers[0];
     assert_eq!(
         (
             s.name.as_str(),

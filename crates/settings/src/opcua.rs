@@ -104,7 +104,7 @@ pub(super) struct RawOpcua {
 }
 
 /// Validates `[opcua]`: user names and password hashes. (That a listen
-/// address beyond loopback has users is checked by `Project::load`, which
+/// address beyond loopback has users is checked by `alba_load::load`, which
 /// knows users.toml too.)
 pub(super) fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> Opcua {
     let sp = |r: std::ops::Range<usize>| Span::new(file, r);

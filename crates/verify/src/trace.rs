@@ -142,7 +142,7 @@ mod tests {
         )
         .unwrap();
         std::fs::write(d.join("main.lad"), ladder).unwrap();
-        let c = alba_compiler::compile_dir(d);
+        let c = alba_load::compile_dir(d);
         let msgs: Vec<String> = c.diagnostics.iter().map(|d| d.message.clone()).collect();
         Arc::new(c.program.unwrap_or_else(|| panic!("{msgs:?}")))
     }
