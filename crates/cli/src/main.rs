@@ -881,7 +881,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
             let text = match alba_project::read_text(path) {
                 Ok(t) => t,
                 Err(msg) => {
-                    report(&[Diagnostic::unplaced(Code::Io, msg)], &files, false);
+                    report(&[Diagnostic::unplaced(Code::Io, msg.to_string())], &files, false);
                     return ExitCode::FAILURE;
                 }
             };

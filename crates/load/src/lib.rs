@@ -61,7 +61,7 @@ pub fn load(dir: &Path) -> (Project, Vec<Diagnostic>) {
             config.map(|c| (c, settings, f))
         }
         Err(msg) => {
-            diags.push(Diagnostic::unplaced(Code::Io, msg).with_help(
+            diags.push(Diagnostic::unplaced(Code::Io, msg.to_string()).with_help(
                 "a project folder holds alba.toml, tags.csv and its programs; `alba new <dir>` creates one",
             ));
             None
@@ -76,7 +76,7 @@ pub fn load(dir: &Path) -> (Project, Vec<Diagnostic>) {
             (tags, Some(f))
         }
         Err(msg) => {
-            diags.push(Diagnostic::unplaced(Code::Io, msg));
+            diags.push(Diagnostic::unplaced(Code::Io, msg.to_string()));
             (TagTable::new(), None)
         }
     };
@@ -112,7 +112,12 @@ pub fn load(dir: &Path) -> (Project, Vec<Diagnostic>) {
                         plant,
                     });
                 }
-                Err(msg) => diags.push(Diagnostic::new(Code::ProgramFile, msg, *span, "listed here")),
+                Err(msg) => diags.push(Diagnostic::new(
+                    Code::ProgramFile,
+                    msg.to_string(),
+                    *span,
+                    "listed here",
+                )),
             }
         }
     }
@@ -147,7 +152,7 @@ pub fn load(dir: &Path) -> (Project, Vec<Diagnostic>) {
                 diags.extend(d);
                 warnings.extend(users::permission_warning(&users_path));
             }
-            Err(msg) => diags.push(Diagnostic::unplaced(Code::Io, msg)),
+            Err(msg) => diags.push(Diagnostic::unplaced(Code::Io, msg.to_string())),
         }
     }
     if let Some((_, Some(s), _)) = &config {

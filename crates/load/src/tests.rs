@@ -13,7 +13,6 @@ struct Parsed {
     s: Settings,
 }
 
-
 fn parse(text: &str) -> Result<Parsed, Vec<String>> {
     let mut files = Files::new();
     let f = files.add("alba.toml", text);
@@ -70,7 +69,10 @@ fn retain_and_history_settings() {
     )
     .unwrap();
     assert_eq!(c.s.history.backend, alba_settings::HistoryBackend::Postgres);
-    assert_eq!(c.s.history.url.as_deref(), Some("postgres://alba@db.plant:5432/history"));
+    assert_eq!(
+        c.s.history.url.as_deref(),
+        Some("postgres://alba@db.plant:5432/history")
+    );
     assert_eq!(c.s.history.password_file.as_deref(), Some("/run/secrets/pg"));
     assert_eq!(c.s.history.node.as_deref(), Some("line-2"));
     assert_eq!(c.s.history.buffer_max_samples, 1000);
@@ -289,13 +291,13 @@ fn opcua_users_hold_argon2_hashes() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"viewer\"]\n[opcua.users]\noperator = \"{h}\"\nviewer = \"{h}\"\n"
     ))
     .unwrap();
-    let w: Vec<_> = c
-        .s.opcua
-        .unwrap()
-        .users
-        .iter()
-        .map(|u| (u.name.clone(), u.write))
-        .collect();
+    let w: Vec<_> =
+        c.s.opcua
+            .unwrap()
+            .users
+            .iter()
+            .map(|u| (u.name.clone(), u.write))
+            .collect();
     assert_eq!(w, [("operator".to_string(), true), ("viewer".to_string(), false)]);
     let e = parse(&format!(
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"ghost\"]\n[opcua.users]\noperator = \"{h}\"\n"
@@ -446,7 +448,8 @@ fn modbus_allow_list_and_read_only() {
     // Off by default: no list (every loopback client), writes allowed.
     let m = parse(&format!("{head}listen = \"127.0.0.1:5020\"\n"))
         .unwrap()
-        .s.modbus
+        .s
+        .modbus
         .unwrap();
     assert_eq!((m.allow, m.read_only), (None, false));
     let m = parse(&format!(
@@ -565,7 +568,8 @@ fn mqtt_and_alarms_tables() {
     assert_eq!((m.publish_interval_ms, m.deadband), (0, 0.0));
     let m2 = parse("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\npublish_interval_ms = 250\ndeadband = 0.5\n")
         .unwrap()
-        .s.mqtt
+        .s
+        .mqtt
         .unwrap();
     assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
     assert_eq!(m2.version, alba_settings::MqttVersion::V311);
@@ -579,7 +583,8 @@ fn mqtt_and_alarms_tables() {
             "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nversion = {v}\n"
         ))
         .unwrap()
-        .s.mqtt
+        .s
+        .mqtt
         .unwrap();
         assert_eq!(m.version, want, "{v}");
     }
@@ -587,7 +592,8 @@ fn mqtt_and_alarms_tables() {
         "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nuser = \"line1\"\npassword_file = \"/run/secrets/mqtt\"\n",
     )
     .unwrap()
-    .s.mqtt
+    .s
+    .mqtt
     .unwrap();
     assert_eq!(
         (m3.user.as_deref(), m3.username, m3.password_file.as_deref()),

@@ -13,4 +13,4 @@ pub mod hmi;
 mod project;
 
 pub use config::Config;
-pub use project::{Language, ProgramSource, Project, read_text};
+pub use project::{Language, ProgramSource, Project, ReadError, read_text};

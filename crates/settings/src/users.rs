@@ -325,7 +325,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
                     out.errors = d;
                     out.warnings.extend(permission_warning(&path));
                 }
-                Err(msg) => out.errors.push(Diagnostic::unplaced(Code::Io, msg)),
+                Err(msg) => out.errors.push(Diagnostic::unplaced(Code::Io, msg.to_string())),
             }
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}

@@ -72,7 +72,7 @@ pub fn verify(dir: &Path, opt: &Options, each: &mut dyn FnMut(&Report, u64)) -> 
     };
     let path = dir.join("properties.toml");
     let text = alba_compiler::project::read_text(&path)
-        .map_err(|msg| fail(Files::new(), vec![Diagnostic::unplaced(Code::Io, msg)]))?;
+        .map_err(|msg| fail(Files::new(), vec![Diagnostic::unplaced(Code::Io, msg.to_string())]))?;
     let mut files = Files::new();
     let f = files.add(path.display().to_string(), text);
     let props = match props::parse(files.text(f), f, &program.layout) {

@@ -16,7 +16,7 @@ pub mod setting;
 
 pub use board::Board;
 pub use ladder::LadderDialect;
-pub use modbus::{ModbusArea, ModbusTag};
+pub use modbus::{AddressError, ModbusArea, ModbusTag};
 pub use modbus_device::{
     DEFAULT_POLL_MS, DEFAULT_REFRESH_MS, DEFAULT_RTU_BAUD, DEFAULT_TIMEOUT_MS, DeviceLink, ModbusDevice, ModbusMapping,
 };

@@ -4,6 +4,20 @@ use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
 use serde_spanned::Spanned;
 
+/// Why a text is not a Modbus address ([`ModbusArea::parse_any`],
+/// [`ModbusArea::parse_address`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum AddressError {
+    #[error("`{0}` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`")]
+    NoArea(String),
+    #[error("`{text}`: expected a number from 0 to 65535 after `{}`", area.key())]
+    NoNumber { text: String, area: ModbusArea },
+    #[error("`{0}`: Modbus addresses go from 0 to 65535")]
+    TooBig(String),
+    #[error("`{text}` is inside OpenPLC's map ({} 0 to {}, which the I/O image and markers use)", area.key(), area.first_free() - 1)]
+    InsideOpenPlcMap { text: String, area: ModbusArea },
+}
+
 /// The four Modbus data areas.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ModbusArea {
@@ -45,7 +59,7 @@ impl ModbusArea {
 
     /// Parses `hr 8192`, `hr8192` or `hr:8192` (area names case-insensitive;
     /// `coil`/`co`, `di`, `ir`, `hr`), any number from 0 to 65535.
-    pub fn parse_any(text: &str) -> Result<(ModbusArea, u16), String> {
+    pub fn parse_any(text: &str) -> Result<(ModbusArea, u16), AddressError> {
         let t = text.trim();
         let split = t.find(|c: char| c.is_ascii_digit()).unwrap_or(t.len());
         let (area, num) = t.split_at(split);
@@ -55,38 +69,33 @@ impl ModbusArea {
             "di" => ModbusArea::DiscreteInput,
             "ir" => ModbusArea::InputRegister,
             "hr" => ModbusArea::HoldingRegister,
-            _ => {
-                return Err(format!(
-                    "`{t}` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`"
-                ));
-            }
+            _ => return Err(AddressError::NoArea(t.to_string())),
         };
         let n: u32 = match num.parse() {
             Ok(n) if num.bytes().all(|b| b.is_ascii_digit()) => n,
             _ => {
-                return Err(format!(
-                    "`{t}`: expected a number from 0 to 65535 after `{}`",
-                    area.key()
-                ));
+                return Err(AddressError::NoNumber {
+                    text: t.to_string(),
+                    area,
+                });
             }
         };
         if n > 65535 {
-            return Err(format!("`{t}`: Modbus addresses go from 0 to 65535"));
+            return Err(AddressError::TooBig(t.to_string()));
         }
         Ok((area, n as u16))
     }
 
     /// [`Self::parse_any`], refused inside OpenPLC's map (`[modbus.tags]`).
-    pub fn parse_address(text: &str) -> Result<(ModbusArea, u16), String> {
+    pub fn parse_address(text: &str) -> Result<(ModbusArea, u16), AddressError> {
         let t = text.trim();
         let (area, n) = Self::parse_any(t)?;
         let n = u32::from(n);
         if n < area.first_free() {
-            return Err(format!(
-                "`{t}` is inside OpenPLC's map ({} 0 to {}, which the I/O image and markers use)",
-                area.key(),
-                area.first_free() - 1
-            ));
+            return Err(AddressError::InsideOpenPlcMap {
+                text: t.to_string(),
+                area,
+            });
         }
         Ok((area, n as u16))
     }
@@ -126,7 +135,7 @@ pub(super) fn tags(m: RawModbusTags, file: FileId, diags: &mut Vec<Diagnostic>) 
                 span: sp(addr.span()),
             }),
             Err(msg) => diags.push(
-                Diagnostic::new(Code::ConfigField, msg, sp(addr.span()), "in [modbus.tags]").with_help(
+                Diagnostic::new(Code::ConfigField, msg.to_string(), sp(addr.span()), "in [modbus.tags]").with_help(
                     "explicit addresses lie after OpenPLC's map: coil/di from 8192, ir from 1024, hr from 8192",
                 ),
             ),

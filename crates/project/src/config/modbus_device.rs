@@ -179,7 +179,7 @@ pub(super) fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Ve
             let (area, start) = match ModbusArea::parse_any(m.remote.get_ref()) {
                 Ok(a) => a,
                 Err(msg) => {
-                    diags.push(bad(msg, m.remote.span(), "the remote address"));
+                    diags.push(bad(msg.to_string(), m.remote.span(), "the remote address"));
                     continue;
                 }
             };
