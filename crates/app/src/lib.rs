@@ -118,7 +118,7 @@ pub async fn run(
     let settings = alba_settings::Settings::of(&compiled.project);
     let settings = settings.as_ref();
     let alarm_defs = alarms::load(dir, &program).map_err(RunError::Other)?;
-    let users = Arc::new(alba_auth::Users::load(dir).map_err(RunError::Other)?);
+    let users = Arc::new(alba_auth::Users::load(dir).map_err(|e| RunError::Other(e.to_string()))?);
     let auth = users::auth(dir, users.clone(), settings, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
