@@ -34,7 +34,10 @@ pub enum UsersError {
     #[error("{0}")]
     Invalid(String),
     #[error("`{name}` is not a valid user name: {why}")]
-    BadName { name: String, why: String },
+    BadName {
+        name: String,
+        why: alba_settings::users::UserNameError,
+    },
     #[error("user `{0}` already exists (change the password with `alba user passwd`)")]
     Exists(String),
     #[error(transparent)]
@@ -46,8 +49,8 @@ pub enum UsersError {
     #[error("{} keeps changing: try again", .0.display())]
     KeepsChanging(std::path::PathBuf),
     /// users.toml could not be written.
-    #[error("{0}")]
-    Save(String),
+    #[error(transparent)]
+    Save(#[from] alba_settings::users::SaveError),
 }
 
 /// The argon2id hash (PHC string) of `password` with argon2's default

@@ -24,9 +24,9 @@ pub mod users;
 
 pub use history::{DEFAULT_BUFFER_MAX_SAMPLES, History, HistoryBackend, OnDamage};
 pub use http::{Http, parse_origin, split_authority};
-pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, Modbus};
+pub use modbus::{DEFAULT_MODBUS_CONNECTIONS, DEFAULT_MODBUS_IDLE_S, IpRange, IpRangeError, Modbus};
 pub use mqtt::{Mqtt, MqttVersion, Sparkplug, is_host_port};
-pub use opcua::{Opcua, OpcuaUser, check_password_hash};
+pub use opcua::{HashError, Opcua, OpcuaUser, check_password_hash};
 pub use opcua_server::{
     DEFAULT_CLIENT_PKI, DEFAULT_PUBLISHING_INTERVAL_MS, Direction, OpcuaBinding, OpcuaServer, SecurityMode,
     SecurityPolicy, is_node_id,

@@ -24,6 +24,17 @@ pub struct Modbus {
     pub read_only: bool,
 }
 
+/// Why a text is not an address or a CIDR range ([`IpRange::parse`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum IpRangeError {
+    #[error("`{0}` is not an IP address or a CIDR range (like \"192.168.1.20\" or \"10.0.0.0/24\")")]
+    NotAnAddress(String),
+    #[error("`{text}`: the prefix length of an IPv{} range goes from 0 to {max}", if *max == 32 { 4 } else { 6 })]
+    Prefix { text: String, max: u8 },
+    #[error("`{text}` has bits set after its /{} prefix: the range is `{range}`", range.prefix)]
+    HostBits { text: String, range: IpRange },
+}
+
 /// One entry of `[modbus] allow`: an address (`"192.168.1.20"`, `"::1"`)
 /// or a CIDR range (`"10.0.0.0/24"`, `"fd00::/8"`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,37 +48,35 @@ pub struct IpRange {
 impl IpRange {
     /// Parses `ADDR` or `ADDR/PREFIX`. A range whose address has host
     /// bits set (`10.0.0.5/24`) is refused: it is most likely a typo.
-    pub fn parse(text: &str) -> Result<IpRange, String> {
+    pub fn parse(text: &str) -> Result<IpRange, IpRangeError> {
         let t = text.trim();
         let (a, p) = match t.split_once('/') {
             Some((a, p)) => (a, Some(p)),
             None => (t, None),
         };
-        let addr: std::net::IpAddr = a.parse().map_err(|_| {
-            format!("`{t}` is not an IP address or a CIDR range (like \"192.168.1.20\" or \"10.0.0.0/24\")")
-        })?;
+        let addr: std::net::IpAddr = a.parse().map_err(|_| IpRangeError::NotAnAddress(t.to_string()))?;
         let max: u8 = if addr.is_ipv4() { 32 } else { 128 };
         let prefix = match p {
             None => max,
             Some(p) => match p.parse::<u8>() {
                 Ok(n) if n <= max && p.bytes().all(|b| b.is_ascii_digit()) => n,
                 _ => {
-                    return Err(format!(
-                        "`{t}`: the prefix length of an IPv{} range goes from 0 to {max}",
-                        if max == 32 { 4 } else { 6 }
-                    ));
+                    return Err(IpRangeError::Prefix {
+                        text: t.to_string(),
+                        max,
+                    });
                 }
             },
         };
         let r = IpRange { net: addr, prefix };
         if r.masked(addr) != addr {
-            return Err(format!(
-                "`{t}` has bits set after its /{prefix} prefix: the range is `{}`",
-                IpRange {
+            return Err(IpRangeError::HostBits {
+                text: t.to_string(),
+                range: IpRange {
                     net: r.masked(addr),
-                    prefix
-                }
-            ));
+                    prefix,
+                },
+            });
         }
         Ok(r)
     }
@@ -208,7 +217,7 @@ fn allow(list: Spanned<Vec<Spanned<String>>>, file: FileId, diags: &mut Vec<Diag
         match IpRange::parse(e.get_ref()) {
             Ok(r) => out.push(r),
             Err(msg) => diags.push(
-                Diagnostic::new(Code::ModbusClients, msg, sp(e.span()), "in [modbus] allow").with_help(
+                Diagnostic::new(Code::ModbusClients, msg.to_string(), sp(e.span()), "in [modbus] allow").with_help(
                     "an IPv4 or IPv6 address, or a range written ADDRESS/PREFIX like \"10.0.0.0/24\" or \"fd00::/8\"",
                 ),
             ),

@@ -102,23 +102,39 @@ impl fmt::Debug for User {
 
 /// Why a user name is refused, if it is: 1 to [`MAX_NAME_LEN`] characters,
 /// letters, digits and `_ . - @`.
-pub fn check_user_name(name: &str) -> Result<(), String> {
+pub fn check_user_name(name: &str) -> Result<(), UserNameError> {
     if name.is_empty() {
-        return Err("a user name is not empty".into());
+        return Err(UserNameError::Empty);
     }
     if name.chars().count() > MAX_NAME_LEN {
-        return Err(format!("a user name has at most {MAX_NAME_LEN} characters"));
+        return Err(UserNameError::TooLong);
     }
     if let Some(c) = name
         .chars()
         .find(|c| !(c.is_alphanumeric() || matches!(c, '_' | '.' | '-' | '@')))
     {
-        return Err(format!(
-            "`{}` may not be in a user name (letters, digits and _ . - @ only)",
-            c.escape_default()
-        ));
+        return Err(UserNameError::Character(c));
     }
     Ok(())
+}
+
+/// Why a user name is refused ([`check_user_name`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum UserNameError {
+    #[error("a user name is not empty")]
+    Empty,
+    #[error("a user name has at most {MAX_NAME_LEN} characters")]
+    TooLong,
+    #[error("`{}` may not be in a user name (letters, digits and _ . - @ only)", .0.escape_default())]
+    Character(char),
+}
+
+/// users.toml could not be written ([`save_users`]).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {}: {source}", path.display())]
+pub struct SaveError {
+    pub path: std::path::PathBuf,
+    pub source: std::io::Error,
 }
 
 #[derive(Deserialize)]
@@ -168,7 +184,7 @@ pub fn parse_users(text: &str, file: FileId) -> (Vec<User>, Vec<Diagnostic>) {
                 Code::UsersFile,
                 format!("`{n}` is not a valid user name"),
                 sp(name.span()),
-                why,
+                why.to_string(),
             ));
             continue;
         }
@@ -191,7 +207,7 @@ pub fn parse_users(text: &str, file: FileId) -> (Vec<User>, Vec<Diagnostic>) {
                 diags.push(
                     Diagnostic::new(
                         Code::UsersFile,
-                        msg.replace("[opcua.users]", "users.toml"),
+                        msg.to_string().replace("[opcua.users]", "users.toml"),
                         sp(entry.password.span()),
                         format!("the password hash of `{n}`"),
                     )
@@ -384,11 +400,11 @@ fn toml_key(name: &str) -> String {
 
 /// Saves `users` as the users.toml of `dir`: atomically, readable and
 /// writable by the owner only on Unix (0600).
-pub fn save_users(dir: &Path, users: &[User]) -> Result<(), String> {
+pub fn save_users(dir: &Path, users: &[User]) -> Result<(), SaveError> {
     let path = dir.join(USERS_FILE);
     let text = users_toml(users);
     alba_model::fsutil::write_atomic_private(&path, |w| w.write_all(text.as_bytes()))
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        .map_err(|source| SaveError { path, source })
 }
 
 #[cfg(test)]
