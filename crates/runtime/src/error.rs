@@ -57,8 +57,8 @@ pub enum StartError {
     #[error(transparent)]
     Program(#[from] alba_engine::EngineError),
     /// The retain file cannot be read or is not one (it is left alone).
-    #[error("{0}")]
-    Retain(String),
+    #[error(transparent)]
+    Retain(#[from] crate::retain::RetainError),
     /// A thread of the runtime could not be started.
     #[error("cannot start the {what} thread: {source}")]
     Thread {
