@@ -67,7 +67,7 @@ pub fn test(dir: &Path, junit: Option<&Path>) -> ExitCode {
     let (cases, cov) = match table::run_dir(dir, &program, scan_ms) {
         Ok(r) => r,
         Err(msg) => {
-            report(&[Diagnostic::unplaced(Code::Io, msg)], &Files::new(), false);
+            report(&[Diagnostic::unplaced(Code::Io, msg.to_string())], &Files::new(), false);
             return code(2);
         }
     };
