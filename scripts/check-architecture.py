@@ -4,8 +4,10 @@
 Every crate under crates/ has one row `| `dir` (`name`) | description | uses |`: the
 description is the manifest's, and "uses" lists exactly its normal workspace
 dependencies (without the alba- prefix; `—` for none; the CLI says `all`).
-Also: alba-server uses at most six workspace crates. Then runs
-check-module-cycles.py (no module cycle inside any crate).
+Also: alba-server uses at most six workspace crates; no `toml` crate under
+the compiler (`cargo tree -p alba-compiler -e normal`: the alba.toml reader
+is alba-load's, above it, ADR 0014). Then runs check-module-cycles.py (no
+module cycle inside any crate).
 Exit status 1 with one line per difference.
 """
 import glob
@@ -58,10 +60,38 @@ def main() -> int:
         server = [d for d in crates["alba-server"][1].get("dependencies", {}) if d.startswith("alba-")]
         if len(server) > MAX_SERVER_DEPS:
             errors.append(f"alba-server uses {len(server)} workspace crates ({', '.join(sorted(server))}), at most {MAX_SERVER_DEPS}")
+    errors.extend(no_toml_under_the_compiler())
     for e in errors:
         print(f"error: {e}", file=sys.stderr)
     cycles = subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__), "check-module-cycles.py")])
     return 1 if errors or cycles.returncode else 0
+
+
+def no_toml_under_the_compiler() -> list:
+    """The compiler's normal dependencies hold no TOML crate (toml, toml_parser,
+    toml_datetime, toml_edit, …): project files are read above it (ADR 0014)."""
+    tree = None
+    for offline in (["--offline"], []):
+        r = subprocess.run(
+            ["cargo", "tree", *offline, "-p", "alba-compiler", "-e", "normal", "--prefix", "none"],
+            capture_output=True,
+            text=True,
+        )
+        if r.returncode == 0:
+            tree = r.stdout
+            break
+    if tree is None:
+        return [f"cargo tree -p alba-compiler failed: {r.stderr.strip()}"]
+    names = sorted({line.split()[0] for line in tree.splitlines() if line.strip()})
+    if "alba-compiler" not in names:
+        return ["cargo tree -p alba-compiler listed no alba-compiler: cannot check its dependencies"]
+    toml = [n for n in names if "toml" in n]
+    if toml:
+        return [
+            f"alba-compiler has {', '.join(toml)} under it (cargo tree -p alba-compiler -e normal): "
+            "the alba.toml reader belongs above the compiler, in alba-load (ADR 0014)"
+        ]
+    return []
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 #![no_main]
 
 use alba_diag::Files;
-use alba_project::config::Config;
+// The reader of alba.toml is alba-load's (ADR 0014): both its project and services' tables.
 use libfuzzer_sys::fuzz_target;
 
 #[path = "../../crates/ladder/tests/it/check.rs"]
@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
     };
     let mut files = Files::new();
     let f = files.add("alba.toml", src);
-    let (_config, diags) = Config::parse(src, f);
+    let (_config, _settings, diags) = alba_load::parse_both(src, f);
     if let Err(e) = check::diag_spans(src, f, &diags) {
         panic!("{e}\ninput: {src:?}");
     }

@@ -61,7 +61,7 @@ impl Condition {
     }
 
     /// Parses `on`, `off`, `rising`, `falling`, `> X`, `>= X`, `< X`, `<= X`, `== X`, `!= X`.
-    pub fn parse(text: &str) -> Result<Condition, String> {
+    pub fn parse(text: &str) -> Result<Condition, DefError> {
         let t = text.trim();
         match t.to_ascii_lowercase().as_str() {
             "on" => return Ok(Condition::On),
@@ -80,13 +80,14 @@ impl Condition {
         ]
         .iter()
         .find_map(|(s, c)| t.strip_prefix(s).map(|r| (*c, r)))
-        .ok_or_else(|| {
-            format!("`{t}` is not a condition: write on, off, rising, falling, or > >= < <= == != and a number")
-        })?;
+        .ok_or_else(|| DefError::Condition(t.to_string()))?;
         let rest = rest.trim();
         match rest.parse::<f64>() {
             Ok(x) if x.is_finite() => Ok(Condition::Compare(op, x)),
-            _ => Err(format!("`{}` needs a number after it, found `{rest}`", op.as_str())),
+            _ => Err(DefError::Threshold {
+                op: op.as_str(),
+                found: rest.to_string(),
+            }),
         }
     }
 }
@@ -103,8 +104,19 @@ impl fmt::Display for Condition {
     }
 }
 
+/// Why a field of alarms.csv is refused ([`Condition::parse`], [`parse_severity`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DefError {
+    #[error("`{0}` is not a condition: write on, off, rising, falling, or > >= < <= == != and a number")]
+    Condition(String),
+    #[error("`{op}` needs a number after it, found `{found}`")]
+    Threshold { op: &'static str, found: String },
+    #[error("`{0}` is not a severity: write 1 to 1000, or low, medium, high or critical")]
+    Severity(String),
+}
+
 /// Parses a severity: 1–1000, or low (250), medium (500), high (750), critical (1000).
-pub fn parse_severity(text: &str) -> Result<u16, String> {
+pub fn parse_severity(text: &str) -> Result<u16, DefError> {
     let t = text.trim();
     match t.to_ascii_lowercase().as_str() {
         "low" => return Ok(250),
@@ -115,9 +127,7 @@ pub fn parse_severity(text: &str) -> Result<u16, String> {
     }
     match t.parse::<u16>() {
         Ok(n @ 1..=1000) => Ok(n),
-        _ => Err(format!(
-            "`{t}` is not a severity: write 1 to 1000, or low, medium, high or critical"
-        )),
+        _ => Err(DefError::Severity(t.to_string())),
     }
 }
 
@@ -241,10 +251,24 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> (Vec<AlarmDef>, Vec<D
         let tag = f[1].text.trim().to_string();
         let place = resolve(layout, &tag, sp(&f[1].span), &mut diags);
         let condition = Condition::parse(&f[2].text)
-            .map_err(|m| diags.push(Diagnostic::new(Code::AlarmFile, m, sp(&f[2].span), "condition")))
+            .map_err(|m| {
+                diags.push(Diagnostic::new(
+                    Code::AlarmFile,
+                    m.to_string(),
+                    sp(&f[2].span),
+                    "condition",
+                ))
+            })
             .ok();
         let severity = parse_severity(&f[3].text)
-            .map_err(|m| diags.push(Diagnostic::new(Code::AlarmFile, m, sp(&f[3].span), "severity")))
+            .map_err(|m| {
+                diags.push(Diagnostic::new(
+                    Code::AlarmFile,
+                    m.to_string(),
+                    sp(&f[3].span),
+                    "severity",
+                ))
+            })
             .ok();
         let delay_text = f[4].text.trim();
         let delay_ms = if delay_text.is_empty() {

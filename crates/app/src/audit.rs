@@ -26,7 +26,7 @@ pub fn now_ms() -> i64 {
 /// and `-shm` (`audit.db.damaged-<ms>`) for a fresh one, and the problem
 /// `audit-damaged` says so until the next start: `alba run` starts (issue
 /// 31), as with a damaged history database.
-pub fn open(dir: &Path, cfg: &alba_project::config::Audit, health: &Health) -> Result<Audit, String> {
+pub fn open(dir: &Path, cfg: &alba_settings::Audit, health: &Health) -> Result<Audit, String> {
     let config = alba_audit::Config {
         retention_days: (cfg.retention_days > 0).then_some(cfg.retention_days),
     };
@@ -104,7 +104,7 @@ mod tests {
     #[test]
     fn open_creates_the_log_and_applies_retention_at_start() {
         let dir = scratch("audit-retention");
-        let keep = alba_project::config::Audit { retention_days: 0 };
+        let keep = alba_settings::Audit { retention_days: 0 };
         let guard = |dir: &Path| {
             crate::clock::ClockGuard::start(dir, Arc::new(alba_runtime::health::Health::default()), now_ms(), &[])
         };
@@ -119,7 +119,7 @@ mod tests {
         retain(&a, &guard(&dir)).expect("retain");
         assert_eq!(a.query(&Filter::default(), None, 10).expect("query").rows.len(), 3);
         drop(a);
-        let a = open(&dir, &alba_project::config::Audit { retention_days: 1 }, &health).expect("reopen with retention");
+        let a = open(&dir, &alba_settings::Audit { retention_days: 1 }, &health).expect("reopen with retention");
         retain(&a, &guard(&dir)).expect("retain");
         let times: Vec<i64> = a
             .query(&Filter::default(), None, 10)

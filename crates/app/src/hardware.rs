@@ -425,8 +425,9 @@ const KEPT_UNDO: usize = 20;
 fn save_checked(path: &Path, doc: &toml_edit::DocumentMut) -> Result<(), HardwareError> {
     let new = doc.to_string();
     let mut files = Files::new();
+    // Checked as `alba check` reads alba.toml: refused, nothing saved, on any problem.
     let f = files.add(path.display().to_string(), new.clone());
-    let (_, diags) = alba_project::config::Config::parse(files.text(f), f);
+    let (_, diags) = alba_load::parse(files.text(f), f);
     if !diags.is_empty() {
         return Err(does_not_build(&diags, &files));
     }
@@ -476,7 +477,7 @@ fn kind_words(kind: &str) -> &'static str {
 /// byte-code interpreter for its pin map (`alba export interpreter`), or the
 /// controller firmware for it (`alba firmware`, Modbus RTU).
 fn firmware(dir: &Path, model: Model, kind: &str) -> Result<toolchain::Built, HardwareError> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let files = c.project.files.clone();
     let toolchain_error = |d: Diagnostic| {
         if d.code == Code::Toolchain {
@@ -665,7 +666,7 @@ impl Service {
     }
 
     fn compile(&self) -> Compiled {
-        alba_compiler::compile_dir(&self.dir)
+        alba_load::compile_dir(&self.dir)
     }
 
     fn start_job(&self, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
@@ -918,7 +919,7 @@ impl Hardware for Service {
                     }
                     j.view.message = message;
                 };
-                let c = alba_compiler::compile_dir(&dir);
+                let c = alba_load::compile_dir(&dir);
                 set(None, format!("asking the board on {port} what it is"));
                 let result = download(&c, None, None, &port, true, |done, total| {
                     let pct = (done * 100 / total.max(1)).min(100) as u8;
@@ -1126,7 +1127,7 @@ impl Hardware for Service {
                             "{at}: no such serial port (is the board plugged in?)"
                         )));
                     }
-                    let c = alba_compiler::compile_dir(&dir);
+                    let c = alba_load::compile_dir(&dir);
                     alba_io::open(&driver, c.project.config.as_ref(), &program)
                         .map_err(|e| HardwareError::Failed(format!("cannot attach {at}: {e}")))
                 })
@@ -1223,7 +1224,7 @@ mod tests {
         );
         let mut files = Files::new();
         let f = files.add("alba.toml", saved.clone());
-        let (cfg, d) = alba_project::config::Config::parse(files.text(f), f);
+        let (cfg, d) = alba_load::parse(files.text(f), f);
         assert!(d.is_empty(), "{d:?}");
         let b = cfg.and_then(|c| c.board).expect("board");
         assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", true));

@@ -17,10 +17,10 @@
 
 use alba_historian::{ChangeFilter, Filter, Historian, PgConfig, PgHistorian, Recorder, Sample};
 use alba_model::DataType;
-use alba_project::config::OnDamage;
 use alba_runtime::Snapshot;
 use alba_runtime::health::Health;
 use alba_server::tags;
+use alba_settings::OnDamage;
 use std::sync::Arc;
 use tokio::sync::watch;
 
@@ -34,7 +34,7 @@ const CHECK_EVERY_MS: i64 = 1_000;
 /// Opens the project's history database. One that is damaged or not a
 /// history database is moved aside for a fresh one (reported in `health`),
 /// unless `[history] on_damage = "refuse"`.
-pub fn open(dir: &std::path::Path, cfg: &alba_project::config::History, health: &Health) -> Result<Historian, String> {
+pub fn open(dir: &std::path::Path, cfg: &alba_settings::History, health: &Health) -> Result<Historian, String> {
     let path = dir.join(".alba").join("history.db");
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
@@ -116,7 +116,7 @@ impl Tracked {
 /// Records every snapshot `rx` publishes until the runtime stops.
 pub fn record(
     h: Historian,
-    cfg: alba_project::config::History,
+    cfg: alba_settings::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
     guard: Arc<crate::clock::ClockGuard>,
@@ -232,7 +232,7 @@ fn check_space(h: &Historian, dir: &std::path::Path, floor: u64, max_bytes: u64,
 /// The settings of `[history] backend = "postgres"` for the project in `dir` (named
 /// `name`): the node id defaults to the project's name, the password file is relative to
 /// the project folder, the buffer is `.alba/history-buffer.db`.
-pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::History) -> Result<PgConfig, String> {
+pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_settings::History) -> Result<PgConfig, String> {
     let url = cfg.url.clone().ok_or("[history] backend = \"postgres\" has no url")?;
     let node = cfg.node.clone().unwrap_or_else(|| name.to_owned());
     let alba = dir.join(".alba");
@@ -258,7 +258,7 @@ pub fn pg_config(dir: &std::path::Path, name: &str, cfg: &alba_project::config::
 /// until the buffer is back-filled.
 pub fn record_pg(
     h: Arc<PgHistorian>,
-    cfg: alba_project::config::History,
+    cfg: alba_settings::History,
     mut rx: watch::Receiver<Arc<Snapshot>>,
     health: Arc<Health>,
     rt: tokio::runtime::Handle,

@@ -29,9 +29,9 @@ pub mod tls;
 mod users;
 pub mod verify;
 
-use alba_project::config::Config;
 use alba_server::AppState;
 use alba_server::project::{self, Compiled};
+use alba_settings::Settings;
 use std::net::SocketAddr;
 use std::path::Path;
 use std::sync::Arc;
@@ -62,12 +62,14 @@ pub enum RunError {
     Other(String),
 }
 
-/// What a service of `alba run` is started with: the project folder, its
-/// configuration as loaded, and the server's state (the runtime's handle,
+/// What a service of `alba run` is started with: the project folder, the
+/// services' settings as loaded (`alba-settings`), and the server's state (the runtime's handle,
 /// the shutdown signal `closing()`, saved edits `subscribe_edits()`).
 pub(crate) struct Service<'a> {
     pub dir: &'a Path,
-    pub config: Option<&'a Config>,
+    pub config: Option<&'a Settings>,
+    /// `[modbus.tags]`: the project's explicit Modbus addresses.
+    pub modbus_tags: &'a [alba_project::config::ModbusTag],
     pub state: &'a Arc<AppState>,
     /// The project's users as loaded at start (users.toml and the
     /// deprecated `[opcua.users]`).
@@ -112,18 +114,21 @@ pub async fn run(
     let _lock = lock::acquire(dir).map_err(RunError::Other)?;
     let config = compiled.project.config.clone();
     let config = config.as_ref();
+    // The services' tables, from the alba.toml the project was loaded from.
+    let settings = alba_settings::Settings::of(&compiled.project);
+    let settings = settings.as_ref();
     let alarm_defs = alarms::load(dir, &program).map_err(RunError::Other)?;
-    let users = Arc::new(alba_auth::Users::load(dir).map_err(RunError::Other)?);
-    let auth = users::auth(dir, users.clone(), config, opts.addr).map_err(RunError::Other)?;
+    let users = Arc::new(alba_auth::Users::load(dir).map_err(|e| RunError::Other(e.to_string()))?);
+    let auth = users::auth(dir, users.clone(), settings, opts.addr).map_err(RunError::Other)?;
     let mut ro = alba_runtime::Options::new(compiled.project.scan_ms());
     ro.native = opts.native;
     ro.scan_log = opts.scan_log.clone();
     ro.retain_file = Some(dir.join(".alba").join("retain.json"));
-    if let Some(c) = config {
+    if let Some(c) = settings {
         ro.retain_interval_ms = u64::from(c.retain_ms);
         ro.on_retain_error = match c.runtime.on_retain_error {
-            alba_project::config::OnRetainError::Start => alba_runtime::retain::OnError::Start,
-            alba_project::config::OnRetainError::Refuse => alba_runtime::retain::OnError::Refuse,
+            alba_settings::OnRetainError::Start => alba_runtime::retain::OnError::Start,
+            alba_settings::OnRetainError::Refuse => alba_runtime::retain::OnError::Refuse,
         };
         ro.realtime = alba_runtime::realtime::Realtime {
             priority: c.runtime.priority,
@@ -135,7 +140,7 @@ pub async fn run(
     let io = alba_io::open(&opts.io, config, &program).map_err(|e| RunError::Other(e.to_string()))?;
     // `[[opcua_server]]`: remote OPC UA variables bound to tags, beside the `--io` driver.
     let mut monitor = None;
-    let io: Box<dyn alba_runtime::Io> = match config.map(|c| c.opcua_servers.as_slice()) {
+    let io: Box<dyn alba_runtime::Io> = match settings.map(|c| c.opcua_servers.as_slice()) {
         Some(servers) if !servers.is_empty() => {
             let client = alba_opcua::client::OpcuaClientIo::start(
                 io,
@@ -150,8 +155,8 @@ pub async fn run(
         }
         _ => io,
     };
-    let hist_cfg = config.map(|c| c.history.clone()).unwrap_or_default();
-    let use_pg = hist_cfg.enabled && hist_cfg.backend == alba_project::config::HistoryBackend::Postgres;
+    let hist_cfg = settings.map(|c| c.history.clone()).unwrap_or_default();
+    let use_pg = hist_cfg.enabled && hist_cfg.backend == alba_settings::HistoryBackend::Postgres;
     let pg = if use_pg {
         let name = config.map(|c| c.name.as_str()).unwrap_or_default();
         let pg = history::pg_config(dir, name, &hist_cfg).map_err(RunError::Other)?;
@@ -168,7 +173,7 @@ pub async fn run(
     } else {
         None
     };
-    let audit_cfg = config.map(|c| c.audit.clone()).unwrap_or_default();
+    let audit_cfg = settings.map(|c| c.audit.clone()).unwrap_or_default();
     let audit = audit::open(dir, &audit_cfg, &health).map_err(RunError::Other)?;
     // Retention only after a clock it can explain (crate::clock).
     let stores = [
@@ -213,12 +218,20 @@ pub async fn run(
         (None, Some(h)) => Some(Arc::new(h)),
         (None, None) => None,
     };
-    let state = AppState::new(runtime.handle(), compiled, &opts.io, store, Some(audit), auth);
+    let http_cfg = settings.map(|c| c.http.clone()).unwrap_or_default();
+    let state = AppState::new(
+        runtime.handle(),
+        compiled,
+        &opts.io,
+        store,
+        Some(audit),
+        auth,
+        &http_cfg,
+    );
     let listener = tokio::net::TcpListener::bind(opts.addr)
         .await
         .map_err(|e| RunError::Other(format!("cannot listen on {}: {e}", opts.addr)))?;
     let local = listener.local_addr().map_err(|e| RunError::Other(e.to_string()))?;
-    let http_cfg = config.map(|c| c.http.clone()).unwrap_or_default();
     let acceptor = if tls::https(opts.tls, local, http_cfg.insecure) {
         state.https.store(true, std::sync::atomic::Ordering::Relaxed);
         Some(tls::acceptor(dir, &http_cfg, local).map_err(RunError::Other)?)
@@ -228,7 +241,8 @@ pub async fn run(
 
     let service = Service {
         dir,
-        config,
+        config: settings,
+        modbus_tags: config.map_or(&[], |c| c.modbus_tags.as_slice()),
         state: &state,
         users: &users,
         quiet: opts.quiet,

@@ -15,7 +15,8 @@ pub(crate) async fn start(s: &Service<'_>, addr: Option<std::net::SocketAddr>) -
         .await
         .map_err(|e| format!("cannot listen for Modbus TCP on {addr}: {e}"))?;
     let bound = l.local_addr().map_err(|e| e.to_string())?;
-    let settings = cfg.map(alba_modbus::Settings::from).unwrap_or_default();
+    let mut settings = cfg.map(alba_modbus::Settings::from).unwrap_or_default();
+    settings.tags = s.modbus_tags.to_vec();
     let server = alba_modbus::Server::new(s.state.control.clone(), settings);
     // The server follows online edits itself: it rebuilds its map when the
     // runtime's program changes (seen in its snapshots).

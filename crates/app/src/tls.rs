@@ -6,7 +6,7 @@
 //! readable by its owner only), naming `localhost`, the loopback addresses,
 //! the listening address and `[http] allowed_hosts`.
 
-use alba_project::config::Http;
+use alba_settings::Http;
 use rustls::pki_types::pem::PemObject;
 use rustls::pki_types::{CertificateDer, PrivateKeyDer};
 use std::net::SocketAddr;
@@ -48,7 +48,7 @@ pub fn scheme(dir: &Path, tls: Tls, addr: SocketAddr) -> &'static str {
         .and_then(|text| {
             let mut files = alba_diag::Files::new();
             let file = files.add("alba.toml", &text);
-            alba_project::config::Config::parse(&text, file).0
+            alba_settings::Settings::parse(&text, file).0
         })
         .is_some_and(|c| c.http.insecure);
     if https(tls, addr, insecure) { "https" } else { "http" }

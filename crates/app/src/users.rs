@@ -2,8 +2,8 @@
 //! the project's store, and no open door — without users, the studio and
 //! its API are served on loopback only.
 
-use alba_project::config::Config;
 use alba_server::auth::{Auth, Limits};
+use alba_settings::Settings;
 use std::net::SocketAddr;
 use std::path::Path;
 use std::sync::Arc;
@@ -14,7 +14,7 @@ use std::sync::Arc;
 pub(crate) fn auth(
     dir: &Path,
     users: Arc<alba_auth::Users>,
-    config: Option<&Config>,
+    config: Option<&Settings>,
     addr: SocketAddr,
 ) -> Result<Auth, String> {
     if users.is_empty() && !addr.ip().is_loopback() {

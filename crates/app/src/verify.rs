@@ -48,7 +48,7 @@ impl Drop for Scratch {
 
 fn replay(program: &Arc<alba_ir::Program>, scan_ms: u64, file: &str, depth: u32) -> Result<Replay, VerifyError> {
     let text = std::fs::read_to_string(file).map_err(|e| VerifyError::Failed(format!("cannot read {file}: {e}")))?;
-    let t = trace::trace(program, scan_ms, &text, depth.max(1)).map_err(VerifyError::Failed)?;
+    let t = trace::trace(program, scan_ms, &text, depth.max(1)).map_err(|e| VerifyError::Failed(e.to_string()))?;
     Ok(Replay {
         rows: trace::rows(&text)
             .into_iter()
@@ -70,7 +70,7 @@ fn replay(program: &Arc<alba_ir::Program>, scan_ms: u64, file: &str, depth: u32)
 }
 
 fn compile(dir: &Path) -> Result<(Arc<alba_ir::Program>, u64), VerifyError> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let scan_ms = c.project.scan_ms() as u64;
     match c.program {
         Some(p) => Ok((Arc::new(p), scan_ms)),
@@ -126,7 +126,8 @@ impl Verifier for Service {
             return Err(VerifyError::NotFound("the project has no tests folder".into()));
         }
         let (program, scan_ms) = compile(&self.dir)?;
-        let (cases, cov) = table::run_dir(&self.dir, &program, scan_ms).map_err(VerifyError::NotFound)?;
+        let (cases, cov) =
+            table::run_dir(&self.dir, &program, scan_ms).map_err(|e| VerifyError::NotFound(e.to_string()))?;
         let tests: Vec<TestCaseResult> = cases
             .iter()
             .map(|c| {

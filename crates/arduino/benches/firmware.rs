@@ -38,7 +38,7 @@ fn uno(scan_ms: u32) -> Target {
 
 /// Builds a project folder for the Uno; `Err` with the message when it does not fit.
 fn build(dir: &Path, name: &str) -> Result<(alba_ir::Program, alba_arduino::Sketch, Built), String> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let prog = control_program(&c.program.ok_or_else(|| format!("{name} does not compile"))?);
     let scan = c.project.scan_ms();
     let s = generate(&prog, name, &uno(scan)).map_err(|d| format!("{d:?}"))?;
@@ -231,7 +231,7 @@ fn interpreter(sketches: &[(&str, alba_ir::Program, alba_arduino::Sketch, Vec<Co
             let size = |n: usize| {
                 let (tags, lad) = make(n);
                 let dir = project(&format!("bc-{kind}-{n}"), &tags, &lad);
-                let c = alba_compiler::compile_dir(&dir);
+                let c = alba_load::compile_dir(&dir);
                 let prog = control_program(&c.program.expect("compiles"));
                 let mut t = uno(10);
                 t.model = model;

@@ -1068,9 +1068,9 @@ pub fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
         ops[pc] = Op::Jmp(target as u32);
     }
     let program = rebuild(ops, init, counts, n[5], regions, system);
-    program.verify().map_err(|what| DecodeError::Bad {
+    program.verify().map_err(|e| DecodeError::Bad {
         at: HEADER_LEN + code_start,
-        what,
+        what: e.to_string(),
     })?;
     Ok(Decoded {
         program,

@@ -20,7 +20,7 @@ fn root() -> &'static Path {
 }
 
 fn compile(dir: &Path) -> Program {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     c.program
         .unwrap_or_else(|| panic!("{} does not compile: {:?}", dir.display(), c.diagnostics))
 }
@@ -100,7 +100,7 @@ fn a_thousand_random_programs_round_trip_and_run_the_same() {
         let (tags, lad) = common::random_ladder(seed);
         std::fs::write(dir.join("tags.csv"), tags).expect("write");
         std::fs::write(dir.join("main.lad"), &lad).expect("write");
-        let Some(p) = alba_compiler::compile_dir(&dir).program else {
+        let Some(p) = alba_load::compile_dir(&dir).program else {
             continue;
         };
         let what = format!("random program {seed}:\n{lad}");

@@ -92,7 +92,7 @@ fn example(name: &str) -> Case {
         std::fs::write(copy.join("tags.csv"), tags.join("\n") + "\n").expect("write");
         dir = copy;
     }
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let prog = c.program.unwrap_or_else(|| panic!("{name} does not compile"));
     let scan_ms = c.project.config.as_ref().map_or(10, |c| u64::from(c.scan_ms));
     let board = c
@@ -443,7 +443,7 @@ fn random_program(seed: u64) -> Case {
     .expect("write");
     std::fs::write(dir.join("tags.csv"), tags).expect("write");
     std::fs::write(dir.join("main.lad"), &rungs).expect("write");
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let prog = c
         .program
         .unwrap_or_else(|| panic!("random program {seed} does not compile: {:?}\n{rungs}", c.diagnostics));
@@ -921,7 +921,7 @@ fn time_base_program(scan_ms: u64) -> Case {
                  XIC(Clear)RES(T2);\n\
                  XIC(T0.DN)OTE(L0);\nXIC(T1.DN)OTE(L1);\nXIC(T2.DN)OTE(L2);\nXIC(T3.DN)OTE(L3);\nXIC(T4.TT)OTE(L4);\n";
     std::fs::write(dir.join("main.lad"), rungs).expect("write");
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let prog = c
         .program
         .unwrap_or_else(|| panic!("the time-base program does not compile: {:?}", c.diagnostics));

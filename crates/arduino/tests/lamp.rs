@@ -58,7 +58,7 @@ fn work_dir(name: &str) -> PathBuf {
 
 /// The EEPROM image of start-stop for `t`, as a download leaves it (slot 0).
 fn start_stop_eeprom(t: &Target, dir: &Path) -> PathBuf {
-    let c = alba_compiler::compile_dir(&root().join("examples/start-stop"));
+    let c = alba_load::compile_dir(&root().join("examples/start-stop"));
     let prog = control_program(&c.program.expect("start-stop compiles"));
     let bc = alba_arduino::bytecode::encode(&prog, "start-stop", t).unwrap_or_else(|d| panic!("{d:?}"));
     let ee = dir.join("eeprom.bin");

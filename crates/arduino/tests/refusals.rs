@@ -21,7 +21,7 @@ fn project(name: &str, tags: &str, main: &str) -> alba_ir::Program {
     )
     .expect("write");
     std::fs::write(dir.join("main.lad"), main).expect("write");
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     c.program.unwrap_or_else(|| panic!("{name}: {:?}", c.diagnostics))
 }
 
@@ -80,7 +80,7 @@ fn lreal_is_refused() {
 
 #[test]
 fn plant_models_are_left_out() {
-    let c = alba_compiler::compile_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tank-plant"));
+    let c = alba_load::compile_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/tank-plant"));
     let prog = c.program.expect("tank-plant compiles");
     let control = control_program(&prog);
     assert!(control.ops.len() < prog.ops.len());

@@ -30,7 +30,7 @@ fn examples_golden_sketches() {
         "tank-plant",
         "festo-station",
     ] {
-        let c = alba_compiler::compile_dir(&root().join("examples").join(ex));
+        let c = alba_load::compile_dir(&root().join("examples").join(ex));
         let prog = c.program.unwrap_or_else(|| panic!("{ex} does not compile"));
         let cfg = c.project.config.as_ref().expect("config");
         let s = generate(&prog, &cfg.name, &target(cfg.scan_ms)).unwrap_or_else(|d| panic!("{ex}: {d:?}"));
@@ -54,7 +54,7 @@ fn examples_golden_sketches() {
 
 #[test]
 fn power_up_state_and_active_low() {
-    let c = alba_compiler::compile_dir(&root().join("examples/start-stop"));
+    let c = alba_load::compile_dir(&root().join("examples/start-stop"));
     let prog = c.program.expect("compiles");
     let mut t = target(10);
     t.power_up_on = vec![alba_model::board::Pin::D(13)];

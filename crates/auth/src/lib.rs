@@ -12,28 +12,55 @@
 //!   password policy of [`check_password`].
 //! - [`Backoff`] counts failed logins per key for the login routes.
 //!
-//! The file's reading and form checks live in `alba_project::users` (so
+//! The file's reading and form checks live in `alba_settings::users` (so
 //! `alba check` reports them with the project); hashing and verifying here.
 
 mod backoff;
 mod policy;
 
-pub use alba_project::users::{MAX_NAME_LEN, Role, USERS_FILE, User, check_user_name};
+pub use alba_settings::users::{MAX_NAME_LEN, Role, USERS_FILE, User, check_user_name};
 pub use backoff::Backoff;
-pub use policy::{MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, check_password};
+pub use policy::{MAX_PASSWORD_BYTES, MIN_PASSWORD_CHARS, PasswordRefused, check_password};
 
 use alba_diag::{FileId, Span};
 use argon2::password_hash::{PasswordHash, PasswordHasher, PasswordVerifier, SaltString};
 use std::path::Path;
 
+/// Why the user store refused an operation.
+#[derive(Debug, thiserror::Error)]
+pub enum UsersError {
+    /// users.toml (or `[opcua.users]`) has errors: the rendered diagnostics,
+    /// with places. A store that cannot be read is never taken as empty.
+    #[error("{0}")]
+    Invalid(String),
+    #[error("`{name}` is not a valid user name: {why}")]
+    BadName {
+        name: String,
+        why: alba_settings::users::UserNameError,
+    },
+    #[error("user `{0}` already exists (change the password with `alba user passwd`)")]
+    Exists(String),
+    #[error(transparent)]
+    Password(#[from] PasswordRefused),
+    #[error("cannot hash the password: {0}")]
+    Hash(String),
+    #[error("there is no user `{0}`")]
+    NoSuchUser(String),
+    #[error("{} keeps changing: try again", .0.display())]
+    KeepsChanging(std::path::PathBuf),
+    /// users.toml could not be written.
+    #[error(transparent)]
+    Save(#[from] alba_settings::users::SaveError),
+}
+
 /// The argon2id hash (PHC string) of `password` with argon2's default
 /// parameters (19 MiB, 2 passes, 1 lane) and a random salt.
-pub fn hash_password(password: &str) -> Result<String, String> {
+pub fn hash_password(password: &str) -> Result<String, UsersError> {
     let salt = SaltString::generate(&mut argon2::password_hash::rand_core::OsRng);
     argon2::Argon2::default()
         .hash_password(password.as_bytes(), &salt)
         .map(|h| h.to_string())
-        .map_err(|e| format!("cannot hash the password: {e}"))
+        .map_err(|e| UsersError::Hash(e.to_string()))
 }
 
 /// Whether `hash` (a PHC string) is the hash of `password`. Blocking.
@@ -64,10 +91,10 @@ impl Users {
     /// store) merged with the deprecated `[opcua.users]` of alba.toml. An
     /// invalid users.toml is an error (the rendered diagnostics, with
     /// places): a store that cannot be read is never taken as empty.
-    pub fn load(dir: &Path) -> Result<Users, String> {
-        let l = alba_project::users::load_users(dir);
+    pub fn load(dir: &Path) -> Result<Users, UsersError> {
+        let l = alba_settings::users::load_users(dir);
         if !l.errors.is_empty() {
-            return Err(alba_diag::render_all(&l.errors, &l.files));
+            return Err(UsersError::Invalid(alba_diag::render_all(&l.errors, &l.files)));
         }
         let warnings = l.warnings.iter().map(|w| w.render_warning(&l.files)).collect();
         Ok(Users {
@@ -134,12 +161,13 @@ impl Users {
 
     /// Adds user `name` (an error if there is one, if the name is not valid
     /// or the password fails the policy).
-    pub fn add(&mut self, name: &str, role: Role, password: &str) -> Result<(), String> {
-        check_user_name(name).map_err(|why| format!("`{name}` is not a valid user name: {why}"))?;
+    pub fn add(&mut self, name: &str, role: Role, password: &str) -> Result<(), UsersError> {
+        check_user_name(name).map_err(|why| UsersError::BadName {
+            name: name.to_string(),
+            why,
+        })?;
         if self.get(name).is_some() {
-            return Err(format!(
-                "user `{name}` already exists (change the password with `alba user passwd`)"
-            ));
+            return Err(UsersError::Exists(name.to_string()));
         }
         check_password(name, password)?;
         let hash = hash_password(password)?;
@@ -153,15 +181,15 @@ impl Users {
         Ok(())
     }
 
-    fn get_mut(&mut self, name: &str) -> Result<&mut User, String> {
+    fn get_mut(&mut self, name: &str) -> Result<&mut User, UsersError> {
         self.users
             .iter_mut()
             .find(|u| u.name == name)
-            .ok_or_else(|| format!("there is no user `{name}`"))
+            .ok_or_else(|| UsersError::NoSuchUser(name.to_string()))
     }
 
     /// Sets the password of user `name` (policy checked).
-    pub fn set_password(&mut self, name: &str, password: &str) -> Result<(), String> {
+    pub fn set_password(&mut self, name: &str, password: &str) -> Result<(), UsersError> {
         self.get_mut(name)?;
         check_password(name, password)?;
         let hash = hash_password(password)?;
@@ -170,18 +198,18 @@ impl Users {
     }
 
     /// Sets the role of user `name`.
-    pub fn set_role(&mut self, name: &str, role: Role) -> Result<(), String> {
+    pub fn set_role(&mut self, name: &str, role: Role) -> Result<(), UsersError> {
         self.get_mut(name)?.role = role;
         Ok(())
     }
 
     /// Removes user `name`.
-    pub fn remove(&mut self, name: &str) -> Result<User, String> {
+    pub fn remove(&mut self, name: &str) -> Result<User, UsersError> {
         let i = self
             .users
             .iter()
             .position(|u| u.name == name)
-            .ok_or_else(|| format!("there is no user `{name}`"))?;
+            .ok_or_else(|| UsersError::NoSuchUser(name.to_string()))?;
         Ok(self.users.remove(i))
     }
 
@@ -193,8 +221,12 @@ impl Users {
     /// Loads the store of `dir`, applies `change` and saves it, unless
     /// users.toml changed meanwhile (another `alba user`, an admin's edit):
     /// then it starts again from the new file, a few times, so that two
-    /// concurrent edits do not lose one. `change`'s value is returned.
-    pub fn edit<T>(dir: &Path, mut change: impl FnMut(&mut Users) -> Result<T, String>) -> Result<T, String> {
+    /// concurrent edits do not lose one. `change`'s value is returned; its
+    /// error may be the caller's own (any type a [`UsersError`] converts to).
+    pub fn edit<T, E: From<UsersError>>(
+        dir: &Path,
+        mut change: impl FnMut(&mut Users) -> Result<T, E>,
+    ) -> Result<T, E> {
         let path = dir.join(USERS_FILE);
         let read = || std::fs::read(&path).ok();
         for _ in 0..5 {
@@ -207,14 +239,14 @@ impl Users {
             users.save(dir)?;
             return Ok(out);
         }
-        Err(format!("{} keeps changing: try again", path.display()))
+        Err(UsersError::KeepsChanging(path).into())
     }
 
     /// Writes the store as `dir`/users.toml (atomically, mode 0600 on Unix).
     /// Users of `[opcua.users]` are written too: saving migrates them (alba.toml
     /// is left as it is; its entries are then shadowed by users.toml's).
-    pub fn save(&self, dir: &Path) -> Result<(), String> {
-        alba_project::users::save_users(dir, &self.users)
+    pub fn save(&self, dir: &Path) -> Result<(), UsersError> {
+        alba_settings::users::save_users(dir, &self.users).map_err(UsersError::Save)
     }
 }
 
@@ -236,7 +268,7 @@ mod tests {
         let m = PasswordHash::new(&mine).unwrap();
         assert_eq!(h.algorithm, m.algorithm);
         assert_eq!(h.params, m.params, "same cost as a real hash");
-        assert!(alba_project::config::check_password_hash(DUMMY_HASH).is_ok());
+        assert!(alba_settings::check_password_hash(DUMMY_HASH).is_ok());
         assert!(!verify_password(DUMMY_HASH, ""));
     }
 
@@ -290,7 +322,7 @@ mod tests {
         assert!(u.is_empty());
         assert_eq!(u.verify("anyone", "anything"), None);
         std::fs::write(d.join(USERS_FILE), "[users.a]\nrole = \"king\"\npassword = \"x\"\n").unwrap();
-        let err = Users::load(&d).unwrap_err();
+        let err = Users::load(&d).unwrap_err().to_string();
         assert!(err.contains("E107") && err.contains("users.toml:2:8"), "{err}");
         std::fs::remove_dir_all(&d).unwrap();
     }
@@ -301,14 +333,14 @@ mod tests {
         let mut u = Users::load(&d).unwrap();
         u.add("alice", Role::Engineer, "correct horse battery").unwrap();
         u.add("bob", Role::Viewer, "staple of the plant").unwrap();
-        assert!(
-            u.add("alice", Role::Admin, "another long one")
-                .unwrap_err()
-                .contains("already exists")
-        );
+        assert!(matches!(
+            u.add("alice", Role::Admin, "another long one"),
+            Err(UsersError::Exists(n)) if n == "alice"
+        ));
         assert!(
             u.add("carol", Role::Admin, "password123")
                 .unwrap_err()
+                .to_string()
                 .contains("common")
         );
         assert!(u.add("bad name", Role::Admin, "whatever it is 1").is_err());
@@ -324,10 +356,16 @@ mod tests {
         assert_eq!(u.verify("alice", "staple of the plant"), None);
         assert_eq!(u.verify("nobody", "correct horse battery"), None);
         u.set_password("bob", "a new long password").unwrap();
-        assert!(u.set_password("bob", "Password123").unwrap_err().contains("common"));
+        assert!(
+            u.set_password("bob", "Password123")
+                .unwrap_err()
+                .to_string()
+                .contains("common")
+        );
         assert!(
             u.set_password("zed", "a new long password")
                 .unwrap_err()
+                .to_string()
                 .contains("no user")
         );
         u.set_role("bob", Role::Operator).unwrap();

@@ -23,35 +23,50 @@ fn common() -> &'static HashSet<String> {
     })
 }
 
+/// Why a password is refused ([`check_password`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PasswordRefused {
+    #[error("the password is too short: {chars} characters, at least {MIN_PASSWORD_CHARS} are needed")]
+    TooShort { chars: usize },
+    #[error("the password is too long: at most {MAX_PASSWORD_BYTES} bytes")]
+    TooLong,
+    #[error("the password has a control character")]
+    ControlCharacter,
+    #[error("the password is one of the most common passwords: choose another")]
+    Common,
+    #[error("the password is the user name")]
+    TheUserName,
+    #[error("the password repeats one character")]
+    OneCharacter,
+}
+
 /// Whether `password` may be the password of user `name`; the error says
 /// why not.
-pub fn check_password(name: &str, password: &str) -> Result<(), String> {
+pub fn check_password(name: &str, password: &str) -> Result<(), PasswordRefused> {
     let chars = password.chars().count();
     if chars < MIN_PASSWORD_CHARS {
-        return Err(format!(
-            "the password is too short: {chars} characters, at least {MIN_PASSWORD_CHARS} are needed"
-        ));
+        return Err(PasswordRefused::TooShort { chars });
     }
     if password.len() > MAX_PASSWORD_BYTES {
-        return Err(format!("the password is too long: at most {MAX_PASSWORD_BYTES} bytes"));
+        return Err(PasswordRefused::TooLong);
     }
     if password.chars().any(char::is_control) {
-        return Err("the password has a control character".into());
+        return Err(PasswordRefused::ControlCharacter);
     }
     let lower = password.to_lowercase();
     if common().contains(&lower) {
-        return Err("the password is one of the most common passwords: choose another".into());
+        return Err(PasswordRefused::Common);
     }
     // The name itself (any case); a longer password that contains it is
     // left to the length rule.
     if lower == name.to_lowercase() {
-        return Err("the password is the user name".into());
+        return Err(PasswordRefused::TheUserName);
     }
     let mut it = password.chars();
     if let Some(first) = it.next()
         && it.all(|c| c == first)
     {
-        return Err("the password repeats one character".into());
+        return Err(PasswordRefused::OneCharacter);
     }
     Ok(())
 }
@@ -63,8 +78,12 @@ mod tests {
     #[test]
     fn refuses_short_common_and_own_name() {
         assert!(check_password("alice", "correct horse battery").is_ok());
-        let why = |n: &str, p: &str| check_password(n, p).unwrap_err();
+        let why = |n: &str, p: &str| check_password(n, p).unwrap_err().to_string();
         assert!(why("alice", "short1").contains("too short"));
+        assert_eq!(
+            check_password("alice", "short1"),
+            Err(PasswordRefused::TooShort { chars: 6 })
+        );
         assert!(why("alice", "123456789").contains("too short"));
         assert!(why("alice", "Password123").contains("most common"));
         assert!(why("alice", "QWERTYUIOP").contains("most common"));

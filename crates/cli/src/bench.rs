@@ -172,7 +172,7 @@ fn build(n: usize) -> Result<Built, String> {
         return Err(format!("generated program does not compile: {}", d3[0]));
     }
     let program = b.finish(files);
-    program.verify()?;
+    program.verify().map_err(|e| e.to_string())?;
     let compile_ms = t1.elapsed().as_secs_f64() * 1e3;
     Ok(Built {
         program,
@@ -191,9 +191,9 @@ fn place(p: &Program, name: &str) -> Result<Place, String> {
 /// Runs the engine (interpreted, or native with `native`) and the plain Rust
 /// version for `scans` scans from the start and compares every rung.
 fn verify(p: &Arc<Program>, n: usize, scans: u64, native: bool) -> Result<(), String> {
-    let mut e = Engine::new(p.clone())?;
+    let mut e = Engine::new(p.clone()).map_err(|e| e.to_string())?;
     if native {
-        e.compile_native()?;
+        e.compile_native().map_err(|e| e.to_string())?;
     }
     let mut rs = native_rungs(n);
     for k in 0..scans {
@@ -437,7 +437,11 @@ pub fn profile(contender: Contender, n: usize, scans: u64) -> ExitCode {
 /// register allocation; jumps to the next block are dropped when the code is
 /// emitted) of the benchmark rung, as a strided run of 8 rungs.
 pub fn listing() -> ExitCode {
-    let listing = build(8).and_then(|b| Engine::new(Arc::new(b.program))?.native_listing());
+    let listing = build(8).and_then(|b| {
+        Engine::new(Arc::new(b.program))
+            .and_then(|e| e.native_listing())
+            .map_err(|e| e.to_string())
+    });
     match listing {
         Ok(l) => {
             print!("{l}");
@@ -688,7 +692,7 @@ pub fn nets(quick: bool) -> ExitCode {
             eprintln!("error: cannot write {}", dir.display());
             return ExitCode::FAILURE;
         }
-        let c = alba_compiler::compile_dir(&dir);
+        let c = alba_load::compile_dir(&dir);
         let _ = std::fs::remove_dir_all(&dir);
         let Some(net_prog) = c.program else {
             eprintln!(

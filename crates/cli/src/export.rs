@@ -38,7 +38,7 @@ pub fn target(c: &Compiled, args: &BoardArgs) -> Result<Target, Diagnostic> {
 
 /// Compiles and generates, reporting any problem.
 fn sketch_of(dir: &Path, args: &BoardArgs) -> Result<(Compiled, Target, alba_ir::Program, Sketch), ExitCode> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let Some(program) = &c.program else {
         report(&c.diagnostics, c.files(), false);
         return Err(ExitCode::FAILURE);
@@ -223,7 +223,7 @@ fn interpreter_target(project: Option<&Path>, args: &BoardArgs) -> Result<Target
         ExitCode::FAILURE
     };
     if let Some(dir) = project {
-        let c = alba_compiler::compile_dir(dir);
+        let c = alba_load::compile_dir(dir);
         if c.project.config.is_none() {
             report(&c.diagnostics, c.files(), false);
             return Err(ExitCode::FAILURE);
@@ -291,7 +291,7 @@ pub fn interpreter(
 /// interpreter (the studio's Download runs the same `alba_app::hardware::download`).
 pub fn download(dir: &Path, args: &BoardArgs, port: &str, verify: bool) -> ExitCode {
     use alba_app::hardware::DownloadFailure;
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let mut shown = false;
     let result = alba_app::hardware::download(
         &c,

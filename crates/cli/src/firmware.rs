@@ -38,7 +38,7 @@ pub fn run(a: Args) -> ExitCode {
     let (mut model, mut pinmap, mut map, mut active_low) = (None, "aurora".to_string(), None, a.active_low);
     let mut power_up_on = Vec::new();
     if let Some(dir) = a.project {
-        let (project, diags) = alba_project::Project::load(dir);
+        let (project, diags) = alba_load::load(dir);
         if !diags.is_empty() {
             eprint!("{}", render_all(&diags, &project.files));
             return ExitCode::FAILURE;

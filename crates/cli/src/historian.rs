@@ -4,7 +4,8 @@
 //! (docs/historian.md).
 
 use alba_diag::{Files, render_all};
-use alba_project::config::{Config, HistoryBackend};
+use alba_project::config::Config;
+use alba_settings::{HistoryBackend, Settings};
 use clap::Subcommand;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -125,7 +126,7 @@ fn serve(a: ServiceArgs) -> Result<String, String> {
     let Some(broker) = a.mqtt else {
         return Err("give --mqtt HOST:PORT to consume a broker's messages, or a subcommand (see --help)".into());
     };
-    if !alba_project::config::is_host_port(&broker) {
+    if !alba_settings::is_host_port(&broker) {
         return Err(format!("--mqtt {broker}: expected host:port, like 127.0.0.1:1883"));
     }
     let (host, port) = broker.rsplit_once(':').unwrap_or((&broker, "1883"));
@@ -195,27 +196,27 @@ fn serve(a: ServiceArgs) -> Result<String, String> {
 }
 
 /// alba.toml alone (the programs need not compile to migrate).
-fn config(dir: &Path) -> Result<Config, String> {
+fn config(dir: &Path) -> Result<(Config, Settings), String> {
     let path = dir.join("alba.toml");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut files = Files::new();
     let f = files.add(path.display().to_string(), text);
-    let (config, diags) = Config::parse(files.text(f), f);
-    match config {
-        Some(c) if diags.is_empty() => Ok(c),
+    let (config, settings, diags) = alba_load::parse_both(files.text(f), f);
+    match (config, settings) {
+        (Some(c), Some(s)) if diags.is_empty() => Ok((c, s)),
         _ => Err(format!("alba.toml has errors:\n{}", render_all(&diags, &files))),
     }
 }
 
 fn migrate(dir: &Path) -> Result<String, String> {
-    let config = config(dir)?;
-    if config.history.backend != HistoryBackend::Postgres {
+    let (config, settings) = config(dir)?;
+    if settings.history.backend != HistoryBackend::Postgres {
         return Err(format!(
             "{}: [history] backend is not \"postgres\" (the embedded SQLite historian needs no migration)",
             dir.join("alba.toml").display()
         ));
     }
-    let pg = alba_app::pg_config(dir, &config.name, &config.history)?;
+    let pg = alba_app::pg_config(dir, &config.name, &settings.history)?;
     let report = alba_historian::migrate(&pg).map_err(|e| e.to_string())?;
     Ok(match (report.hypertable, report.note) {
         (_, Some(note)) => format!("historian schema ready: {note}"),

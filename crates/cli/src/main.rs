@@ -766,7 +766,7 @@ fn report(diags: &[Diagnostic], files: &Files, short: bool) {
 }
 
 fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     for w in &c.project.warnings {
         if short {
             eprintln!("{}", w.short(c.files()).replacen(": error[", ": warning[", 1));
@@ -858,7 +858,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
         summary,
         alarms,
     } = a;
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let Some(program) = c.program else {
         report(&c.diagnostics, &c.project.files, false);
         return ExitCode::FAILURE;
@@ -881,7 +881,7 @@ fn simulate(dir: &Path, a: SimArgs) -> ExitCode {
             let text = match alba_project::read_text(path) {
                 Ok(t) => t,
                 Err(msg) => {
-                    report(&[Diagnostic::unplaced(Code::Io, msg)], &files, false);
+                    report(&[Diagnostic::unplaced(Code::Io, msg.to_string())], &files, false);
                     return ExitCode::FAILURE;
                 }
             };

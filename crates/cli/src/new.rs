@@ -69,10 +69,7 @@ pub fn run(dir: &Path, net: bool) -> ExitCode {
     }
     for (file, text) in t.files {
         let text = if *file == "alba.toml" {
-            text.replace(
-                t.name_line,
-                &format!("name = {}", alba_project::config::toml_string(&name)),
-            )
+            text.replace(t.name_line, &format!("name = {}", alba_settings::toml_string(&name)))
         } else {
             text.to_string()
         };

@@ -20,7 +20,7 @@ pub struct TuneArgs<'a> {
 }
 
 pub fn run(a: TuneArgs) -> ExitCode {
-    let c = alba_compiler::compile_dir(a.dir);
+    let c = alba_load::compile_dir(a.dir);
     let Some(program) = c.program else {
         super::report(&c.diagnostics, &c.project.files, false);
         return ExitCode::FAILURE;

@@ -5,7 +5,7 @@
 
 use crate::audit::{audited, json_string};
 use alba_audit::Action;
-use alba_auth::{Role, Users};
+use alba_auth::{Role, Users, UsersError};
 use clap::Subcommand;
 use std::io::{BufRead, IsTerminal};
 use std::path::{Path, PathBuf};
@@ -59,7 +59,7 @@ fn user(cmd: UserCmd) -> Result<(), String> {
             let pw = password(&name)?;
             let values = (None, Some(json_string(role.as_str())));
             audited(&project, Action::UserAdded, &name, values, "alba user add", || {
-                Users::edit(&project, |users| users.add(&name, role, &pw))
+                Users::edit(&project, |users| users.add(&name, role, &pw)).map_err(|e: UsersError| e.to_string())
             })?;
             println!("added user `{name}` ({role})");
             Ok(())
@@ -69,7 +69,7 @@ fn user(cmd: UserCmd) -> Result<(), String> {
             let pw = password(&name)?;
             let values = (None, Some(json_string("password changed")));
             audited(&project, Action::UserChanged, &name, values, "alba user passwd", || {
-                Users::edit(&project, |users| users.set_password(&name, &pw))
+                Users::edit(&project, |users| users.set_password(&name, &pw)).map_err(|e: UsersError| e.to_string())
             })?;
             println!("password of `{name}` changed");
             Ok(())
@@ -78,15 +78,16 @@ fn user(cmd: UserCmd) -> Result<(), String> {
             let before = load(&project)?.role(&name);
             let values = (before.map(|r| json_string(r.as_str())), None);
             audited(&project, Action::UserRemoved, &name, values, "alba user remove", || {
-                Users::edit(&project, |users| {
+                Users::edit(&project, |users| -> Result<(), Refusal> {
                     known(users, &name)?;
                     if users.get(&name).is_some_and(|u| u.from_opcua) {
-                        return Err(format!(
+                        return Err(Refusal(format!(
                             "`{name}` is defined in [opcua.users] of alba.toml (deprecated): delete it there"
-                        ));
+                        )));
                     }
-                    users.remove(&name).map(drop)
+                    Ok(users.remove(&name).map(drop)?)
                 })
+                .map_err(|Refusal(e)| e)
             })?;
             // A name also in [opcua.users] comes back from alba.toml.
             if load(&project)?.get(&name).is_some() {
@@ -122,10 +123,11 @@ fn user(cmd: UserCmd) -> Result<(), String> {
                 Some(json_string(role.as_str())),
             );
             audited(&project, Action::UserChanged, &name, values, "alba user role", || {
-                Users::edit(&project, |users| {
+                Users::edit(&project, |users| -> Result<(), Refusal> {
                     known(users, &name)?;
-                    users.set_role(&name, role)
+                    Ok(users.set_role(&name, role)?)
                 })
+                .map_err(|Refusal(e)| e)
             })?;
             println!("`{name}` is now {role}");
             Ok(())
@@ -136,14 +138,15 @@ fn user(cmd: UserCmd) -> Result<(), String> {
                 println!("nothing to migrate: alba.toml has no [opcua.users]");
                 return Ok(());
             }
-            let moved = Users::edit(&project, |users| {
+            let moved = Users::edit(&project, |users| -> Result<_, UsersError> {
                 Ok(users
                     .users()
                     .iter()
                     .filter(|u| u.from_opcua)
                     .map(|u| u.name.clone())
                     .collect::<Vec<_>>())
-            })?;
+            })
+            .map_err(|e| e.to_string())?;
             println!(
                 "copied {} into users.toml: {}\nnow delete [opcua.users] and read_only from the [opcua] table of alba.toml",
                 if moved.len() == 1 { "1 user" } else { "the users" },
@@ -180,7 +183,7 @@ fn password(name: &str) -> Result<String, String> {
     let pw = if std::io::stdin().is_terminal() {
         let first = rpassword::prompt_password(format!("New password for `{name}`: "))
             .map_err(|e| format!("cannot read the password: {e}"))?;
-        alba_auth::check_password(name, &first)?;
+        alba_auth::check_password(name, &first).map_err(|e| e.to_string())?;
         let again = rpassword::prompt_password("Again: ").map_err(|e| format!("cannot read the password: {e}"))?;
         if again != first {
             return Err("the two passwords differ".into());
@@ -200,4 +203,20 @@ fn password(name: &str) -> Result<String, String> {
     }
     alba_auth::check_password(name, &pw).map_err(|why| format!("weak password: {why}"))?;
     Ok(pw)
+}
+
+/// An error of `alba user` inside `Users::edit`: the store's or the
+/// command's own (an unknown user, a user of `[opcua.users]`).
+struct Refusal(String);
+
+impl From<UsersError> for Refusal {
+    fn from(e: UsersError) -> Refusal {
+        Refusal(e.to_string())
+    }
+}
+
+impl From<String> for Refusal {
+    fn from(e: String) -> Refusal {
+        Refusal(e)
+    }
 }

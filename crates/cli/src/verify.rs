@@ -57,7 +57,7 @@ pub fn verify(dir: &Path, a: VerifyArgs) -> ExitCode {
 }
 
 pub fn test(dir: &Path, junit: Option<&Path>) -> ExitCode {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let Some(program) = c.program else {
         report(&c.diagnostics, &c.project.files, false);
         return code(2);
@@ -67,7 +67,7 @@ pub fn test(dir: &Path, junit: Option<&Path>) -> ExitCode {
     let (cases, cov) = match table::run_dir(dir, &program, scan_ms) {
         Ok(r) => r,
         Err(msg) => {
-            report(&[Diagnostic::unplaced(Code::Io, msg)], &Files::new(), false);
+            report(&[Diagnostic::unplaced(Code::Io, msg.to_string())], &Files::new(), false);
             return code(2);
         }
     };

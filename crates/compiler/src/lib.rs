@@ -1,11 +1,11 @@
-//! Loads a project folder and compiles every program in it, in the order of
-//! `alba.toml`, into one IR program over one layout.
+//! Compiles every program of a loaded project, in the order of `alba.toml`,
+//! into one IR program over one layout (`alba_load::compile_dir` loads the
+//! folder first: the TOML reader is not under the compiler, ADR 0014).
 
 use alba_diag::{Code, Diagnostic, Files};
 use alba_ir::layout::Uses;
 use alba_ir::{Builder, Layout, Program};
 use alba_project::{Language, Project};
-use std::path::Path;
 
 pub mod normal;
 pub mod petri;
@@ -63,9 +63,10 @@ impl Compiled {
     }
 }
 
-/// Loads and compiles the project in `dir`, reporting every problem of every file.
-pub fn compile_dir(dir: &Path) -> Compiled {
-    let (project, mut diagnostics) = Project::load(dir);
+/// Compiles a loaded project (`alba_load::compile_dir` loads a folder and
+/// calls this), reporting every problem of every file: `diagnostics` are the
+/// loader's.
+pub fn compile_loaded(project: Project, mut diagnostics: Vec<Diagnostic>) -> Compiled {
     let in_tags = |d: &Diagnostic| d.primary.as_ref().map(|l| l.span.file) == project.tags_file;
     let tags_ok = project.tags_file.is_some() && !diagnostics.iter().any(in_tags);
     let (program, mut program_diags) = compile(&project);
@@ -189,10 +190,12 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         }
     }
     // `[modbus.tags]` names resolve against the layout the programs use.
-    if let Some(m) = project.config.as_ref().and_then(|c| c.modbus.as_ref()) {
+    if let Some(tags) = project.config.as_ref().map(|c| &c.modbus_tags)
+        && !tags.is_empty()
+    {
         let mut layout = b.layout().clone();
         layout.plant = false;
-        diags.extend(alba_modbus_proto::Map::build(&layout, &m.tags).1);
+        diags.extend(alba_modbus_proto::Map::build(&layout, tags).1);
     }
     if !diags.is_empty() {
         return (None, diags);

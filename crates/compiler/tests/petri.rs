@@ -1,9 +1,9 @@
 //! Petri-mode nets in a project: marking tags in the layout and the E62x
 //! diagnostics, located in the .pnml file.
 
-use alba_compiler::compile_dir;
 use alba_diag::Code;
 use alba_ir::{Place, Target};
+use alba_load::compile_dir;
 use std::path::PathBuf;
 
 /// A project folder with `tags.csv`, one net `line.pnml` and `extra` files.

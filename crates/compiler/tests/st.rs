@@ -2,10 +2,10 @@
 //! AWL, run in the order of `alba.toml` in one scan, sharing the tags of
 //! tags.csv by name; errors located in the `.st` file.
 
-use alba_compiler::compile_dir;
 use alba_diag::Code;
 use alba_engine::Engine;
 use alba_ir::{Place, Target};
+use alba_load::compile_dir;
 use alba_model::Value;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -140,9 +140,7 @@ pub fn in_range(s: &Snapshot, name: &str, v: Value) -> Result<(), Refused> {
 /// `value` (JSON) as a value of `place`'s type, or why not.
 pub fn typed(name: &str, place: Place, value: &Json) -> Result<Value, Refused> {
     from_json(value, place.data_type()).map_err(|e| {
-        // `from_json` says "is out of range for" when the value is a number
-        // of the right kind that the type cannot hold.
-        if e.contains("out of range") {
+        if e.is_out_of_range() {
             Refused::OutOfRange(format!("`{name}`: {e}"))
         } else {
             Refused::WrongType(format!("`{name}`: {e}"))

@@ -32,7 +32,7 @@ fn plc(with_audit: bool) -> Plc {
     .expect("project");
     std::fs::write(dir.path().join("tags.csv"), TAGS).expect("project");
     std::fs::write(dir.path().join("main.lad"), LAD).expect("project");
-    let c = alba_compiler::compile_dir(dir.path());
+    let c = alba_load::compile_dir(dir.path());
     let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
     let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");
     let audit =

@@ -93,25 +93,37 @@ impl fmt::Display for StepInfo {
     }
 }
 
+/// Why a trace CSV cannot be read ([`columns`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TraceError {
+    #[error("the trace is empty")]
+    Empty,
+    #[error("`{0}` is not traced (add it to --tags)")]
+    NotTraced(String),
+    /// The row's number in the file (the header is row 1).
+    #[error("trace row {0} is malformed")]
+    BadRow(usize),
+}
+
 /// Parses a trace CSV (as `alba sim` writes it) into its times and the
 /// columns named; errors name a missing column or a bad row.
-pub fn columns(trace: &str, names: &[&str]) -> Result<(Vec<u64>, Vec<Vec<f64>>), String> {
+pub fn columns(trace: &str, names: &[&str]) -> Result<(Vec<u64>, Vec<Vec<f64>>), TraceError> {
     let mut lines = trace.lines();
-    let header: Vec<&str> = lines.next().ok_or("the trace is empty")?.split(',').collect();
+    let header: Vec<&str> = lines.next().ok_or(TraceError::Empty)?.split(',').collect();
     let idx: Vec<usize> = names
         .iter()
         .map(|n| {
             header
                 .iter()
                 .position(|h| h.eq_ignore_ascii_case(n))
-                .ok_or_else(|| format!("`{n}` is not traced (add it to --tags)"))
+                .ok_or_else(|| TraceError::NotTraced(n.to_string()))
         })
         .collect::<Result<_, _>>()?;
     let mut t = Vec::new();
     let mut cols = vec![Vec::new(); names.len()];
     for (k, line) in lines.enumerate() {
         let f: Vec<&str> = line.split(',').collect();
-        let bad = || format!("trace row {} is malformed", k + 2);
+        let bad = || TraceError::BadRow(k + 2);
         t.push(f.first().and_then(|v| v.parse().ok()).ok_or_else(bad)?);
         for (c, &i) in cols.iter_mut().zip(&idx) {
             c.push(f.get(i).and_then(|v| v.parse().ok()).ok_or_else(bad)?);
@@ -146,7 +158,10 @@ mod tests {
         let (t, c) = columns("time_ms,A,B\n0,1,2\n10,3,4.5\n", &["b"]).unwrap();
         assert_eq!(t, [0, 10]);
         assert_eq!(c, [vec![2.0, 4.5]]);
-        assert!(columns("time_ms,A\n0,1\n", &["C"]).unwrap_err().contains("not traced"));
-        assert!(columns("time_ms,A\n0,x\n", &["A"]).unwrap_err().contains("row 2"));
+        assert_eq!(
+            columns("time_ms,A\n0,1\n", &["C"]).unwrap_err().to_string(),
+            "`C` is not traced (add it to --tags)"
+        );
+        assert_eq!(columns("time_ms,A\n0,x\n", &["A"]), Err(TraceError::BadRow(2)));
     }
 }

@@ -17,6 +17,30 @@ use crate::engine::Engine;
 use alba_ir::{Place, Target};
 use alba_model::Value;
 
+/// Why the relay experiment gave no result ([`tune`], [`relay`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TuneError {
+    #[error("the program does not verify: {0}")]
+    Program(crate::EngineError),
+    #[error("`{0}` is not a value")]
+    NotAValue(String),
+    #[error("{0}")]
+    Resolve(alba_ir::ResolveError),
+    #[error("the relay amplitude must be more than 0 and the hysteresis 0 or more")]
+    BadRelay,
+    #[error("the relay's centre must be 0 to 100 % of CV, not {0}")]
+    BadBias(f64),
+    /// The simulation stopped on a major fault (its message).
+    #[error("{0}")]
+    Fault(String),
+    #[error(
+        "no sustained oscillation within {seconds} s ({cycles} relay cycles): increase the amplitude, lower the hysteresis or check the bias"
+    )]
+    NoOscillation { seconds: u64, cycles: usize },
+    #[error("the oscillation is smaller than the hysteresis")]
+    TooSmall,
+}
+
 /// The experiment on a fresh engine of `program` (from its initial state,
 /// its plant models included), the loop's SP first set to `sp` when given:
 /// what `alba tune` and the studio's autotune run.
@@ -25,8 +49,8 @@ pub fn tune(
     pid: &str,
     sp: Option<f64>,
     opt: RelayOptions,
-) -> Result<RelayResult, String> {
-    let mut engine = Engine::new(program).map_err(|e| format!("the program does not verify: {e}"))?;
+) -> Result<RelayResult, TuneError> {
+    let mut engine = Engine::new(program).map_err(TuneError::Program)?;
     if let Some(sp) = sp
         && let Ok(Target::Value { place, .. }) = engine.program().layout.resolve(&format!("{pid}.SP"))
     {
@@ -100,11 +124,11 @@ pub fn rules(ku: f64, pu: f64) -> Vec<Gains> {
     ]
 }
 
-fn place(engine: &Engine, name: &str) -> Result<Place, String> {
+fn place(engine: &Engine, name: &str) -> Result<Place, TuneError> {
     match engine.program().layout.resolve(name) {
         Ok(Target::Value { place, .. }) => Ok(place),
-        Ok(_) => Err(format!("`{name}` is not a value")),
-        Err(e) => Err(e.to_string()),
+        Ok(_) => Err(TuneError::NotAValue(name.to_string())),
+        Err(e) => Err(TuneError::Resolve(e)),
     }
 }
 
@@ -129,7 +153,7 @@ fn settle(
     man: Place,
     span: f64,
     opt: &RelayOptions,
-) -> Result<(f64, u64), String> {
+) -> Result<(f64, u64), TuneError> {
     let limit = SETTLE_LIMIT_MS.min(opt.until_ms / 2);
     let window = (SETTLED_MS / opt.scan_ms).max(1) as usize;
     let mut recent: std::collections::VecDeque<(f64, f64)> = std::collections::VecDeque::with_capacity(window + 1);
@@ -137,7 +161,7 @@ fn settle(
     loop {
         engine.step_plants(t);
         engine.write(man, Value::Bool(false));
-        engine.scan(t).map_err(|m| m.message)?;
+        engine.scan(t).map_err(|m| TuneError::Fault(m.message))?;
         recent.push_back((
             engine.read(sp).as_f64() - engine.read(pv).as_f64(),
             engine.read(cv).as_f64(),
@@ -162,7 +186,7 @@ fn settle(
 
 /// Runs the relay experiment on the PID tag `pid` of a running simulation
 /// (plants attached), from virtual time 0.
-pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayResult, String> {
+pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayResult, TuneError> {
     let p = |m: &str| place(engine, &format!("{pid}.{m}"));
     let (sp, pv, cv, man, direct, maxs, mins) = (
         p("SP")?,
@@ -174,7 +198,7 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
         p("MINS")?,
     );
     if !(opt.amplitude > 0.0 && opt.hysteresis >= 0.0 && opt.scan_ms > 0) {
-        return Err("the relay amplitude must be more than 0 and the hysteresis 0 or more".into());
+        return Err(TuneError::BadRelay);
     }
     let span = engine.read(maxs).as_f64() - engine.read(mins).as_f64();
     let (bias, mut t) = match opt.bias {
@@ -182,7 +206,7 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
         None => settle(engine, sp, pv, cv, man, if span > 0.0 { span } else { 1.0 }, &opt)?,
     };
     if !(0.0..=100.0).contains(&bias) {
-        return Err(format!("the relay's centre must be 0 to 100 % of CV, not {bias}"));
+        return Err(TuneError::BadBias(bias));
     }
     let mut high = true;
     let mut times = Vec::new();
@@ -202,7 +226,7 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
         let u = bias + if high { opt.amplitude } else { -opt.amplitude };
         engine.write(man, Value::Bool(true));
         engine.write(cv, Value::Real(u as f32));
-        engine.scan(t).map_err(|m| m.message)?;
+        engine.scan(t).map_err(|m| TuneError::Fault(m.message))?;
         times.push(t);
         pvs.push(engine.read(pv).as_f64());
         us.push(u);
@@ -213,11 +237,10 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
         t += opt.scan_ms;
     }
     if rises.len() < opt.cycles + 2 {
-        return Err(format!(
-            "no sustained oscillation within {} s ({} relay cycles): increase the amplitude, lower the hysteresis or check the bias",
-            opt.until_ms / 1000,
-            rises.len().saturating_sub(1)
-        ));
+        return Err(TuneError::NoOscillation {
+            seconds: opt.until_ms / 1000,
+            cycles: rises.len().saturating_sub(1),
+        });
     }
     let last = &rises[rises.len() - 1 - opt.cycles..];
     let (i0, i1) = (last[0], last[last.len() - 1]);
@@ -239,7 +262,7 @@ pub fn relay(engine: &mut Engine, pid: &str, opt: RelayOptions) -> Result<RelayR
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(*v), h.max(*v)));
     let a_eff = (a1 * a1 - opt.hysteresis * opt.hysteresis).max(0.0).sqrt();
     if a_eff <= 0.0 {
-        return Err("the oscillation is smaller than the hysteresis".into());
+        return Err(TuneError::TooSmall);
     }
     let a_pct = if span > 0.0 { a_eff * 100.0 / span } else { a_eff };
     Ok(RelayResult {

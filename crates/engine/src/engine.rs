@@ -1,5 +1,6 @@
 //! The engine: owns program memory and runs scans (SPEC §2.3).
 
+use crate::error::EngineError;
 use crate::exec::{self, Code, PowerFlow, Stop};
 use crate::fault::{Fault, Faults};
 use alba_ir::{Memory, Place, Program};
@@ -83,7 +84,7 @@ pub struct Retired {
 
 impl Engine {
     /// Loads a program after verifying it (no op may reach outside memory).
-    pub fn new(prog: Arc<Program>) -> Result<Engine, String> {
+    pub fn new(prog: Arc<Program>) -> Result<Engine, EngineError> {
         prog.verify()?;
         Ok(Engine {
             plain: None,
@@ -128,14 +129,13 @@ impl Engine {
 
     /// Replaces the whole memory (attach mode: the board's memory, read over
     /// its monitoring link). Refused when the sizes are not the program's.
-    pub fn load_memory(&mut self, m: &Memory) -> Result<(), String> {
+    pub fn load_memory(&mut self, m: &Memory) -> Result<(), EngineError> {
         let sizes = |m: &Memory| [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()];
         if sizes(m) != sizes(&self.mem) {
-            return Err(format!(
-                "the memory has sizes {:?}, the program {:?}",
-                sizes(m),
-                sizes(&self.mem)
-            ));
+            return Err(EngineError::MemorySizes {
+                memory: sizes(m),
+                program: sizes(&self.mem),
+            });
         }
         self.mem.clone_from(m);
         Ok(())
@@ -295,7 +295,7 @@ impl Engine {
     ///
     /// All of this on the caller's thread; [`Engine::prepare`] does the
     /// costly part elsewhere and [`Engine::swap`] the rest.
-    pub fn replace(&mut self, prog: Arc<Program>) -> Result<(), String> {
+    pub fn replace(&mut self, prog: Arc<Program>) -> Result<(), EngineError> {
         let p = Engine::prepare(prog, &self.prog, self.native_on())?;
         drop(self.swap(p));
         Ok(())
@@ -315,7 +315,7 @@ impl Engine {
     /// (native code when `native`, else the fused form; the plain one for
     /// monitoring), working out the memory's migration and copying the new
     /// initial memory. [`Engine::swap`] then only copies values.
-    pub fn prepare(prog: Arc<Program>, old: &Arc<Program>, native: bool) -> Result<Prepared, String> {
+    pub fn prepare(prog: Arc<Program>, old: &Arc<Program>, native: bool) -> Result<Prepared, EngineError> {
         prog.verify()?;
         #[cfg(feature = "jit")]
         let native = if native {
@@ -432,7 +432,7 @@ impl Engine {
     /// Compiles the program to machine code for unmonitored scans (see
     /// `jit.rs`). Monitored scans keep using the interpreter. Fails, and
     /// leaves the interpreter in charge, where native code is unavailable.
-    pub fn compile_native(&mut self) -> Result<(), String> {
+    pub fn compile_native(&mut self) -> Result<(), EngineError> {
         #[cfg(feature = "jit")]
         {
             self.native = Some(crate::jit::Jit::compile(&self.prog)?);
@@ -440,12 +440,12 @@ impl Engine {
             Ok(())
         }
         #[cfg(not(feature = "jit"))]
-        Err("this build of Alba has no native compiler (feature `jit`)".into())
+        Err(EngineError::NoNativeCompiler)
     }
 
     /// The Cranelift IR and machine code native code would run for this
     /// program (for profiling: `alba bench --listing`).
-    pub fn native_listing(&self) -> Result<String, String> {
+    pub fn native_listing(&self) -> Result<String, EngineError> {
         #[cfg(feature = "jit")]
         {
             let mut out = String::new();
@@ -453,7 +453,7 @@ impl Engine {
             Ok(out)
         }
         #[cfg(not(feature = "jit"))]
-        Err("this build of Alba has no native compiler (feature `jit`)".into())
+        Err(EngineError::NoNativeCompiler)
     }
 
     /// How native code runs the program, once compiled: (rungs, rungs in

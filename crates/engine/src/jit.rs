@@ -33,6 +33,7 @@
 //! `Program::verify`, in memory whose sizes `run` checks first.
 #![allow(unsafe_code)]
 
+use crate::error::EngineError;
 use crate::exec::{self, Code, Stop, X};
 use crate::fault::{FaultCode, Faults};
 use crate::mem::{Mem, Sink};
@@ -216,8 +217,8 @@ impl std::fmt::Debug for Jit {
     }
 }
 
-fn err(e: impl std::fmt::Display) -> String {
-    format!("native compilation failed: {e}")
+fn err(e: impl std::fmt::Display) -> EngineError {
+    EngineError::Native(format!("native compilation failed: {e}"))
 }
 
 /// What an operand names: a slot of one memory class, or a number (an op
@@ -460,13 +461,13 @@ struct RungCode {
 
 impl Jit {
     /// Compiles a verified program. Fails on hosts Cranelift does not support.
-    pub fn compile(prog: &Program) -> Result<Jit, String> {
+    pub fn compile(prog: &Program) -> Result<Jit, EngineError> {
         Jit::compile_with(prog, None)
     }
 
     /// Compiles, and with `listing` appends the Cranelift IR and the machine
     /// code (after register allocation) of every function to it.
-    pub fn compile_with(prog: &Program, mut listing: Option<&mut String>) -> Result<Jit, String> {
+    pub fn compile_with(prog: &Program, mut listing: Option<&mut String>) -> Result<Jit, EngineError> {
         // Unfused code: one executable op per canonical op.
         let code = &Code::new(prog, false);
         let mut flags = settings::builder();

@@ -6,6 +6,7 @@ pub mod analysis;
 pub mod autotune;
 pub mod clock;
 pub mod engine;
+mod error;
 pub mod exec;
 pub mod fault;
 #[cfg(feature = "jit")]
@@ -17,5 +18,6 @@ pub mod sim;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};
 pub use engine::{Engine, MajorFault, Prepared, Retired};
+pub use error::EngineError;
 pub use exec::PowerFlow;
 pub use fault::{Fault, FaultCode, Faults};

@@ -83,7 +83,7 @@ fn scans_allocate_nothing_in_any_engine_mode() {
     assert!(dirs.len() > 50, "the golden projects ({})", dirs.len());
     let mut failures = Vec::new();
     for dir in &dirs {
-        let c = alba_compiler::compile_dir(dir);
+        let c = alba_load::compile_dir(dir);
         let Some(program) = c.program else {
             panic!("{} does not compile", dir.display());
         };

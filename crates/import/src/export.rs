@@ -651,7 +651,7 @@ impl Graph {
 
 /// Exports the ladder programs of the project in `dir` as PLCopen TC6 XML.
 pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     if let Some(d) = c.diagnostics.first() {
         return Err(Error::plain(format!(
             "the project does not check: {}",

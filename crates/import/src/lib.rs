@@ -309,7 +309,7 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
         ));
         let staged = stage(project, &tmp);
         let compiled = staged.map(|()| {
-            let c = alba_compiler::compile_dir(&tmp);
+            let c = alba_load::compile_dir(&tmp);
             // Screens are checked against the compiled program, as `alba check` does.
             let mut screen_diags: Vec<(String, String)> = Vec::new();
             if let Some(prog) = c.program.as_ref().filter(|_| !project.screens.is_empty()) {

@@ -12,7 +12,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 fn trace(dir: &Path, stimulus: &str, cols: &[String], until: u64) -> Vec<Vec<String>> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let scan_ms = c.project.config.as_ref().map(|c| u64::from(c.scan_ms)).expect("config");
     let prog = c.program.expect("compiles");
     let mut files = alba_diag::Files::new();

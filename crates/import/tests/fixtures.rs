@@ -21,7 +21,7 @@ fn import_and_check(input: &Path, opts: &Options) -> (alba_import::Report, tempf
     let tmp = tempfile::tempdir().expect("temp dir");
     let out = tmp.path().join("project");
     let report = alba_import::import(input, &out, opts).unwrap_or_else(|e| panic!("{}: {e}", input.display()));
-    let c = alba_compiler::compile_dir(&out);
+    let c = alba_load::compile_dir(&out);
     if c.program.is_none() || !c.diagnostics.is_empty() {
         let mut msg = String::new();
         for d in &c.diagnostics {
@@ -196,7 +196,7 @@ fn aurora_folders_import_and_check() {
         assert_eq!(report.format, Some(Format::Aurora));
         let out = tmp.path().join("project");
         // What `alba check` checks beyond the programs: alarms.csv and the screens.
-        let c = alba_compiler::compile_dir(&out);
+        let c = alba_load::compile_dir(&out);
         let program = c.program.as_ref().expect("compiled");
         let mut files = c.project.files.clone();
         let alarms = alba_alarms::def::load(&out, &mut files, &program.layout)

@@ -275,7 +275,7 @@ fn differential(fixture: &str, scans: u64) {
     let tmp = tempfile::tempdir().expect("tmp");
     let dir = tmp.path().join("p");
     alba_import::import(&path, &dir, &Options::default()).expect("import");
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let prog = c.program.expect("compiles");
     let scan_ms = c.project.config.as_ref().map(|c| u64::from(c.scan_ms)).expect("config");
     let tags = fs::read_to_string(dir.join("tags.csv")).expect("tags");

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 /// Runs `alba sim` on a project: the trace rows as (time, column → value).
 fn sim(dir: &Path, stimulus: &str, cols: &[&str], until: u64, every: u64) -> Vec<(u64, HashMap<String, String>)> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let mut msg = String::new();
     for d in &c.diagnostics {
         msg.push_str(&d.short(c.files()));

@@ -126,7 +126,9 @@ impl alba_runtime::Io for AttachIo {
             return Err(why);
         }
         if let Some(m) = lock(&self.shared.memory).take() {
-            engine.load_memory(&m).map_err(IoError::MemoryMismatch)?;
+            engine
+                .load_memory(&m)
+                .map_err(|e| IoError::MemoryMismatch(e.to_string()))?;
         }
         let errors = self.shared.errors.load(Ordering::Relaxed).min(i32::MAX as u64) as i32;
         engine.set_io_status(self.shared.ok.load(Ordering::Relaxed), errors);

@@ -48,7 +48,7 @@ mod tests {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../examples")
             .join(name);
-        let c = alba_compiler::compile_dir(&dir);
+        let c = alba_load::compile_dir(&dir);
         let program = c.program.unwrap_or_else(|| panic!("{name}: {:?}", c.diagnostics));
         (program, c.project.config)
     }

@@ -47,7 +47,7 @@ async fn master_against_albas_own_server() {
     for (f, t) in [("alba.toml", TOML), ("tags.csv", TAGS), ("main.lad", LAD)] {
         std::fs::write(dir.join(f), t).expect("cannot write the test project");
     }
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
     let runtime = Runtime::start(Arc::new(program), Options::new(2), Box::new(SimIo)).expect("runtime");
     let server = Server::new(alba_modbus::Control::new(runtime.handle(), None), Settings::default());

@@ -22,5 +22,5 @@ pub use builder::{Builder, TempMark};
 pub use layout::{Counts, Layout, Place, Region, TagSlot};
 pub use memory::{Memory, Migration};
 pub use op::{B, BinOp, Cmp, Ctr, Cvt, D, F, I, L, MarkerSlot, Op, Pidt, TimeBase, Tmr, UnOp, Width};
-pub use program::{Element, Loc, NO_ELEM, PlantSpec, Program, RungInfo, Unit};
+pub use program::{Element, InvalidProgram, Loc, NO_ELEM, PlantSpec, Program, RungInfo, Unit};
 pub use symbols::{Access, ResolveError, Target};

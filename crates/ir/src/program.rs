@@ -78,21 +78,41 @@ pub struct PlantSpec {
     pub output: crate::layout::Place,
 }
 
+/// Why a program does not verify ([`Program::verify`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum InvalidProgram {
+    #[error("{ops} ops but {locs} locations")]
+    Locations { ops: usize, locs: usize },
+    #[error("the first op is not the start of a rung")]
+    FirstOpNotRung,
+    #[error("op {pc} ({op:?}) is not defined")]
+    Undefined { pc: usize, op: Op },
+    #[error("op {pc} ({op:?}) uses {slot} outside memory")]
+    OutsideMemory { pc: usize, op: Op, slot: String },
+    #[error("op {pc} jumps to {to}, which is not a rung start")]
+    BadJump { pc: usize, to: u32 },
+    #[error("op {pc} has a location outside the tables")]
+    Location { pc: usize },
+}
+
 impl Program {
     /// Checks every invariant the interpreter relies on: slots in range,
     /// jumps to rung starts, one location per op. Programs built by the
     /// builder pass; this guards programs from other sources (byte code).
-    pub fn verify(&self) -> Result<(), String> {
+    pub fn verify(&self) -> Result<(), InvalidProgram> {
         if self.locs.len() != self.ops.len() {
-            return Err(format!("{} ops but {} locations", self.ops.len(), self.locs.len()));
+            return Err(InvalidProgram::Locations {
+                ops: self.ops.len(),
+                locs: self.locs.len(),
+            });
         }
         if self.ops.first().is_some_and(|op| *op != Op::Rung) {
-            return Err("the first op is not the start of a rung".into());
+            return Err(InvalidProgram::FirstOpNotRung);
         }
         let m = &self.init;
         for (pc, op) in self.ops.iter().enumerate() {
             if !op.is_defined() {
-                return Err(format!("op {pc} ({op:?}) is not defined"));
+                return Err(InvalidProgram::Undefined { pc, op: *op });
             }
             for s in op.slots() {
                 let ok = match s {
@@ -104,19 +124,23 @@ impl Program {
                     AnySlot::M(at, n) => (at as usize + n as usize) <= m.m.len(),
                 };
                 if !ok {
-                    return Err(format!("op {pc} ({op:?}) uses {s:?} outside memory"));
+                    return Err(InvalidProgram::OutsideMemory {
+                        pc,
+                        op: *op,
+                        slot: format!("{s:?}"),
+                    });
                 }
             }
             if let Op::Jmp(t) = op
                 && !matches!(self.ops.get(*t as usize), Some(Op::Rung))
             {
-                return Err(format!("op {pc} jumps to {t}, which is not a rung start"));
+                return Err(InvalidProgram::BadJump { pc, to: *t });
             }
             let loc = self.locs[pc];
             if loc.rung as usize >= self.rungs.len().max(1)
                 || (loc.elem != NO_ELEM && loc.elem as usize >= self.elements.len())
             {
-                return Err(format!("op {pc} has a location outside the tables"));
+                return Err(InvalidProgram::Location { pc });
             }
         }
         Ok(())
@@ -223,7 +247,7 @@ mod tests {
         for (want, break_it) in cases {
             let mut p = program();
             break_it(&mut p);
-            let e = p.verify().unwrap_err();
+            let e = p.verify().unwrap_err().to_string();
             assert!(e.contains(want), "expected `{want}` in `{e}`");
         }
     }

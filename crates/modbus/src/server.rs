@@ -12,8 +12,9 @@ use alba_modbus_proto::handler::{Plan, Then, plan, read};
 use alba_modbus_proto::map::{Map, Scratch, Write};
 use alba_modbus_proto::mbap::{self, Header, Split};
 use alba_modbus_proto::pdu::{self, Exception, Request};
-use alba_project::config::{IpRange, Modbus, ModbusArea, ModbusTag};
+use alba_project::config::{ModbusArea, ModbusTag};
 use alba_runtime::Handle;
+use alba_settings::{IpRange, Modbus};
 use std::io::{ErrorKind, Read, Write as _};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -30,6 +31,8 @@ pub struct Settings {
     pub idle_timeout: Option<Duration>,
     /// Answer only this unit id (and 0 and 255).
     pub unit_id: Option<u8>,
+    /// `[modbus.tags]`: the project's explicit addresses (`From<&Modbus>`
+    /// leaves them empty: they are not the server's settings).
     pub tags: Vec<ModbusTag>,
     /// The clients served (`None`: every client; see [`check_listen`]).
     /// Others are disconnected at once, before any request is read.
@@ -79,7 +82,7 @@ impl From<&Modbus> for Settings {
             max_connections: m.max_connections as usize,
             idle_timeout: (m.idle_timeout_s > 0).then(|| Duration::from_secs(u64::from(m.idle_timeout_s))),
             unit_id: m.unit_id,
-            tags: m.tags.clone(),
+            tags: Vec::new(),
             allow: m.allow.clone(),
             read_only: m.read_only,
         }

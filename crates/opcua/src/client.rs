@@ -28,8 +28,8 @@ use alba_ir::Layout;
 use alba_ir::layout::Place;
 use alba_ir::symbols::Target;
 use alba_model::{DataType, Value};
-use alba_project::config::{Direction, OpcuaServer, SecurityMode, SecurityPolicy};
 use alba_runtime::{Io, IoError};
+use alba_settings::{Direction, OpcuaServer, SecurityMode, SecurityPolicy};
 use futures::StreamExt;
 use opcua::client::{
     Client, ClientBuilder, DataChangeCallback, IdentityToken, MonitoredItem, Session, SessionPollResult,

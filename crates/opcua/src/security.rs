@@ -207,7 +207,7 @@ mod tests {
         let b = hash_password("correct horse").unwrap();
         assert_ne!(a, b, "salted");
         assert!(a.starts_with("$argon2id$"));
-        assert!(alba_project::config::check_password_hash(&a).is_ok());
+        assert!(alba_settings::check_password_hash(&a).is_ok());
         assert!(verify_password(&a, "correct horse"));
         assert!(!verify_password(&a, "correct horse "));
         assert!(!verify_password("not a hash", "x"));

@@ -1,17 +1,16 @@
-//! An Alba project: its settings file `alba.toml` ([`config`], one module
-//! per table) and the loading of a project folder ([`Project::load`]: the
-//! settings, `tags.csv` and the program files).
+//! An Alba project as the compiler sees it: `alba.toml`'s project tables
+//! ([`config`], one module per table, with their serde forms and checks),
+//! the loaded folder ([`Project`]: the tables, `tags.csv` and the program
+//! files) and the screens ([`hmi`]).
 //!
-//! The TOML reader lives here, apart from the data model (`alba-model`), so
-//! the IR, the engine and the front ends do not depend on it. Password hashes
-//! in `[opcua.users]` are checked for form with `password-hash` only; the
-//! `argon2` verifier belongs to `alba-auth`. The user store, `users.toml`,
-//! is read and written by [`users`].
+//! No TOML reader here (ADR 0014): `alba-load`, above the compiler, reads
+//! alba.toml into a [`config::RawConfig`] and loads folders; the services'
+//! tables and users.toml are `alba-settings`'. The raw forms keep where each
+//! value was written with `serde_spanned` (the type `toml` re-exports).
 
 pub mod config;
 pub mod hmi;
 mod project;
-pub mod users;
 
 pub use config::Config;
-pub use project::{Language, ProgramSource, Project, read_text};
+pub use project::{Language, ProgramSource, Project, ReadError, read_text};

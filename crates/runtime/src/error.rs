@@ -53,12 +53,12 @@ impl IoError {
 /// Why [`crate::Runtime::start`] failed.
 #[derive(Debug, thiserror::Error)]
 pub enum StartError {
-    /// The program does not verify.
-    #[error("{0}")]
-    Program(String),
+    /// The program does not verify (or its native code cannot be built).
+    #[error(transparent)]
+    Program(#[from] alba_engine::EngineError),
     /// The retain file cannot be read or is not one (it is left alone).
-    #[error("{0}")]
-    Retain(String),
+    #[error(transparent)]
+    Retain(#[from] crate::retain::RetainError),
     /// A thread of the runtime could not be started.
     #[error("cannot start the {what} thread: {source}")]
     Thread {

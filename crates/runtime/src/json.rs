@@ -24,9 +24,37 @@ pub fn to_json(v: Value) -> Json {
     }
 }
 
+/// Why a JSON value does not fit a place's type ([`from_json`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ValueError {
+    #[error("expected an integer for a {ty}, got {got}")]
+    NotAnInteger { ty: DataType, got: &'static str },
+    #[error("{value} is out of range for {ty} ({lo} to {hi})")]
+    IntOutOfRange { value: i64, ty: DataType, lo: i64, hi: i64 },
+    #[error("expected true, false, 0 or 1 for a BOOL, got {got}")]
+    NotABool { got: &'static str },
+    #[error("expected a number for a {ty}, got {got}")]
+    NotANumber { ty: DataType, got: &'static str },
+    #[error("{value:e} is out of range for REAL")]
+    RealOutOfRange { value: f64 },
+    #[error("a {ty} is a structure: write one of its members")]
+    Structure { ty: DataType },
+}
+
+impl ValueError {
+    /// A number of the right kind that the type cannot hold (else the
+    /// value is of the wrong kind).
+    pub fn is_out_of_range(&self) -> bool {
+        matches!(
+            self,
+            ValueError::IntOutOfRange { .. } | ValueError::RealOutOfRange { .. }
+        )
+    }
+}
+
 /// A JSON value for a place of type `ty`, or why it does not fit.
-pub fn from_json(j: &Json, ty: DataType) -> Result<Value, String> {
-    let int_range = |lo: i64, hi: i64| -> Result<i64, String> {
+pub fn from_json(j: &Json, ty: DataType) -> Result<Value, ValueError> {
+    let int_range = |lo: i64, hi: i64| -> Result<i64, ValueError> {
         let v = match j {
             Json::Number(n) => n.as_i64().or_else(|| {
                 n.as_f64()
@@ -36,18 +64,18 @@ pub fn from_json(j: &Json, ty: DataType) -> Result<Value, String> {
             Json::Bool(b) if ty == DataType::Bool => Some(i64::from(*b)),
             _ => None,
         }
-        .ok_or_else(|| format!("expected an integer for a {ty}, got {}", kind(j)))?;
+        .ok_or_else(|| ValueError::NotAnInteger { ty, got: kind(j) })?;
         if (lo..=hi).contains(&v) {
             Ok(v)
         } else {
-            Err(format!("{v} is out of range for {ty} ({lo} to {hi})"))
+            Err(ValueError::IntOutOfRange { value: v, ty, lo, hi })
         }
     };
     Ok(match ty {
         DataType::Bool => match j {
             Json::Bool(b) => Value::Bool(*b),
             Json::Number(_) => Value::Bool(int_range(0, 1)? == 1),
-            _ => return Err(format!("expected true, false, 0 or 1 for a BOOL, got {}", kind(j))),
+            _ => return Err(ValueError::NotABool { got: kind(j) }),
         },
         DataType::Sint => Value::Sint(int_range(i8::MIN.into(), i8::MAX.into())? as i8),
         DataType::Int => Value::Int(int_range(i16::MIN.into(), i16::MAX.into())? as i16),
@@ -55,19 +83,17 @@ pub fn from_json(j: &Json, ty: DataType) -> Result<Value, String> {
         DataType::Time => Value::Time(int_range(i32::MIN.into(), i32::MAX.into())? as i32),
         DataType::Lint => Value::Lint(int_range(i64::MIN, i64::MAX)?),
         DataType::Real | DataType::Lreal => {
-            let f = j
-                .as_f64()
-                .ok_or_else(|| format!("expected a number for a {ty}, got {}", kind(j)))?;
+            let f = j.as_f64().ok_or_else(|| ValueError::NotANumber { ty, got: kind(j) })?;
             if ty == DataType::Real {
                 if f.is_finite() && f.abs() > f64::from(f32::MAX) {
-                    return Err(format!("{f:e} is out of range for REAL"));
+                    return Err(ValueError::RealOutOfRange { value: f });
                 }
                 Value::Real(f as f32)
             } else {
                 Value::Lreal(f)
             }
         }
-        other => return Err(format!("a {other} is a structure: write one of its members")),
+        other => return Err(ValueError::Structure { ty: other }),
     })
 }
 
@@ -103,7 +129,7 @@ mod tests {
         assert_eq!(to_json(Value::Real(0.1)), json!(0.1));
         assert_eq!(to_json(Value::Real(37.503746)), json!(37.503746));
         assert_eq!(to_json(Value::Real(f32::NAN)), Json::Null);
-        let err = |j: Json, ty| from_json(&j, ty).unwrap_err();
+        let err = |j: Json, ty| from_json(&j, ty).unwrap_err().to_string();
         assert_eq!(
             err(json!(40000), DataType::Int),
             "40000 is out of range for INT (-32768 to 32767)"

@@ -523,7 +523,10 @@ impl Handle {
                 let _ = tx.send(alba_engine::Engine::prepare(program, &old, native));
             })
             .map_err(|e| Error::Rejected(format!("cannot start a thread to prepare the edit: {e}")))?;
-        let prepared = rx.await.map_err(|_| Error::Stopped)?.map_err(Error::Rejected)?;
+        let prepared = rx
+            .await
+            .map_err(|_| Error::Stopped)?
+            .map_err(|e| Error::Rejected(e.to_string()))?;
         self.ask(Req::Replace(Box::new(prepared))).await
     }
 

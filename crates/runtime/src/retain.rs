@@ -182,6 +182,28 @@ fn read_values(path: &Path) -> Result<Option<Map<String, Json>>, String> {
     }
 }
 
+/// Why the retained values cannot be restored ([`load`]).
+#[derive(Debug, thiserror::Error)]
+pub enum RetainError {
+    /// `on_retain_error = "refuse"` and the file cannot be used (why).
+    #[error("{0} (on_retain_error = \"refuse\": fix or remove the file to start)")]
+    Refused(String),
+    /// The bad file cannot be moved aside (the next save would destroy it).
+    #[error("{why}; and it cannot be moved aside to {}: {source}", to.display())]
+    CannotMoveAside {
+        why: String,
+        to: std::path::PathBuf,
+        source: std::io::Error,
+    },
+    /// The file with unrestorable values cannot be copied aside.
+    #[error("cannot keep a copy of {} at {}: {source}", from.display(), to.display())]
+    CannotCopy {
+        from: std::path::PathBuf,
+        to: std::path::PathBuf,
+        source: std::io::Error,
+    },
+}
+
 /// Reads `path` (or its previous generation) and writes every value it
 /// holds for a retained place of `p` into `write`. A missing file restores
 /// nothing.
@@ -199,8 +221,8 @@ pub fn load(
     p: &Program,
     on_error: OnError,
     mut write: impl FnMut(Place, alba_model::Value),
-) -> Result<Restored, String> {
-    let refuse = |why: String| format!("{why} (on_retain_error = \"refuse\": fix or remove the file to start)");
+) -> Result<Restored, RetainError> {
+    let refuse = RetainError::Refused;
     let mut r = Restored::default();
     let prev = previous(path);
     let values = match read_values(path) {
@@ -217,8 +239,9 @@ pub fn load(
                 return Err(refuse(why));
             }
             let to = aside(path, "damaged");
-            std::fs::rename(path, &to)
-                .map_err(|e| format!("{why}; and it cannot be moved aside to {}: {e}", to.display()))?;
+            if let Err(source) = std::fs::rename(path, &to) {
+                return Err(RetainError::CannotMoveAside { why, to, source });
+            }
             r.damaged = Some(why);
             r.kept = Some(to);
             match read_values(&prev) {
@@ -257,8 +280,13 @@ pub fn load(
         if r.kept.is_none() {
             let from = if r.from_previous { &prev } else { path };
             let to = aside(path, "unrestored");
-            std::fs::copy(from, &to)
-                .map_err(|e| format!("cannot keep a copy of {} at {}: {e}", from.display(), to.display()))?;
+            if let Err(source) = std::fs::copy(from, &to) {
+                return Err(RetainError::CannotCopy {
+                    from: from.to_path_buf(),
+                    to,
+                    source,
+                });
+            }
             r.kept = Some(to);
         }
     }

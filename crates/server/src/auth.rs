@@ -162,7 +162,7 @@ pub struct Limits {
 
 impl Limits {
     /// From alba.toml's `[session]`.
-    pub fn from_config(s: &alba_compiler::project::config::Session) -> Limits {
+    pub fn from_config(s: &alba_settings::Session) -> Limits {
         Limits {
             idle: Duration::from_secs(u64::from(s.idle_minutes) * 60),
             max: Duration::from_secs(u64::from(s.max_hours) * 3600),
@@ -172,7 +172,7 @@ impl Limits {
 
 impl Default for Limits {
     fn default() -> Limits {
-        Limits::from_config(&alba_compiler::project::config::Session::default())
+        Limits::from_config(&alba_settings::Session::default())
     }
 }
 

@@ -20,7 +20,7 @@
 //! - Every answer carries CSP, `X-Content-Type-Options`, `X-Frame-Options`
 //!   and `Referrer-Policy`.
 
-use alba_compiler::project::config::{Http, parse_origin, split_authority};
+use alba_settings::{Http, parse_origin, split_authority};
 use axum::http::{HeaderMap, HeaderValue, Method, StatusCode, header};
 
 /// What the guard lets in, from `[http]`.

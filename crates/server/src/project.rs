@@ -53,7 +53,7 @@ pub struct Compiled {
 
 /// Loads and compiles `dir`.
 pub fn load(dir: &Path) -> Compiled {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     Compiled {
         project: c.project,
         program: c.program,

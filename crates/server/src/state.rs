@@ -75,13 +75,13 @@ impl AppState {
         history: Option<Arc<dyn alba_control::history::Backend>>,
         audit: Option<alba_control::audit::Audit>,
         auth: crate::auth::Auth,
+        http: &alba_settings::Http,
     ) -> Arc<AppState> {
         // The audit trail (docs/audit.md): every state-changing request writes
         // its row there before it acts. `alba run` always opens one; `None`
         // (tests, embedders) records nothing.
         let project = &compiled.project;
-        let http = project.config.as_ref().map(|c| c.http.clone()).unwrap_or_default();
-        let guard = crate::guard::Guard::new(&http);
+        let guard = crate::guard::Guard::new(http);
         Arc::new(AppState {
             control: alba_control::Control::new(runtime.clone(), audit),
             runtime,

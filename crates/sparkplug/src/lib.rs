@@ -81,7 +81,7 @@ impl Value {
     }
 
     /// A received value read as `datatype`, or why it cannot be.
-    pub fn decode(datatype: u32, v: &metric::Value) -> Result<Value, String> {
+    pub fn decode(datatype: u32, v: &metric::Value) -> Result<Value, SparkplugError> {
         use metric::Value as V;
         Ok(match (datatype, v) {
             (11, V::BooleanValue(b)) => Value::Bool(*b),
@@ -92,7 +92,12 @@ impl Value {
             (8, V::LongValue(x)) => Value::UInt64(*x),
             (9, V::FloatValue(x)) => Value::Float(*x),
             (10, V::DoubleValue(x)) => Value::Double(*x),
-            (t, v) => return Err(format!("a value {v:?} of data type {t} is not supported")),
+            (t, v) => {
+                return Err(SparkplugError::Unsupported {
+                    datatype: t,
+                    value: format!("{v:?}"),
+                });
+            }
         })
     }
 }
@@ -333,8 +338,8 @@ impl EdgeNode {
     }
 
     /// The metrics of an NCMD/DCMD: (name, value) each, aliases resolved.
-    pub fn command(&self, payload: &[u8]) -> Result<Vec<(String, Value)>, String> {
-        let p = Payload::decode(payload).map_err(|e| format!("not a Sparkplug B payload: {e}"))?;
+    pub fn command(&self, payload: &[u8]) -> Result<Vec<(String, Value)>, SparkplugError> {
+        let p = Payload::decode(payload).map_err(|e| SparkplugError::NotAPayload(e.to_string()))?;
         p.metrics
             .iter()
             .map(|m| {
@@ -344,17 +349,20 @@ impl EdgeNode {
                         .names
                         .get(a as usize)
                         .cloned()
-                        .ok_or_else(|| format!("unknown alias {a}"))?,
-                    (None, None) => return Err("a metric without a name or an alias".to_string()),
+                        .ok_or(SparkplugError::UnknownAlias(a))?,
+                    (None, None) => return Err(SparkplugError::Unnamed),
                 };
-                let value = m.value.as_ref().ok_or_else(|| format!("`{name}` has no value"))?;
+                let value = m.value.as_ref().ok_or_else(|| SparkplugError::NoValue(name.clone()))?;
                 let datatype = m
                     .datatype
                     .or_else(|| self.datatype_of(&name))
-                    .ok_or_else(|| format!("`{name}` has no data type"))?;
+                    .ok_or_else(|| SparkplugError::NoDataType(name.clone()))?;
                 Ok((
                     name.clone(),
-                    Value::decode(datatype, value).map_err(|e| format!("`{name}`: {e}"))?,
+                    Value::decode(datatype, value).map_err(|e| SparkplugError::Metric {
+                        name: name.clone(),
+                        source: Box::new(e),
+                    })?,
                 ))
             })
             .collect()
@@ -368,9 +376,40 @@ impl EdgeNode {
     }
 }
 
+/// Why a Sparkplug message or record cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SparkplugError {
+    #[error("a value {value} of data type {datatype} is not supported")]
+    Unsupported { datatype: u32, value: String },
+    #[error("not a Sparkplug B payload: {0}")]
+    NotAPayload(String),
+    #[error("unknown alias {0}")]
+    UnknownAlias(u64),
+    #[error("a metric without a name or an alias")]
+    Unnamed,
+    #[error("`{0}` has no value")]
+    NoValue(String),
+    #[error("`{0}` has no data type")]
+    NoDataType(String),
+    #[error("`{name}`: {source}")]
+    Metric { name: String, source: Box<SparkplugError> },
+    #[error("a STATE payload is JSON ({0})")]
+    StateNotJson(String),
+    #[error("a STATE payload needs `online`: true or false")]
+    StateOnline,
+    #[error("a STATE payload needs `timestamp`: ms since 1970")]
+    StateTimestamp,
+    #[error("not a buffered record: {0}")]
+    NotARecord(String),
+    #[error("a buffered metric without a name")]
+    RecordUnnamed,
+    #[error("buffered `{0}` without a type or a value")]
+    RecordIncomplete(String),
+}
+
 /// Any Sparkplug B payload (a host's view: tests, benchmarks, tools).
-pub fn decode_payload(bytes: &[u8]) -> Result<Payload, String> {
-    Payload::decode(bytes).map_err(|e| format!("not a Sparkplug B payload: {e}"))
+pub fn decode_payload(bytes: &[u8]) -> Result<Payload, SparkplugError> {
+    Payload::decode(bytes).map_err(|e| SparkplugError::NotAPayload(e.to_string()))
 }
 
 /// The topic of a Sparkplug host application's `STATE` (3.0 §4.2.2).
@@ -387,17 +426,17 @@ pub struct HostState {
 
 impl HostState {
     /// The JSON payload of a `STATE` message, or why it is not one.
-    pub fn parse(payload: &[u8]) -> Result<HostState, String> {
+    pub fn parse(payload: &[u8]) -> Result<HostState, SparkplugError> {
         let j: serde_json::Value =
-            serde_json::from_slice(payload).map_err(|e| format!("a STATE payload is JSON ({e})"))?;
+            serde_json::from_slice(payload).map_err(|e| SparkplugError::StateNotJson(e.to_string()))?;
         let online = j
             .get("online")
             .and_then(serde_json::Value::as_bool)
-            .ok_or("a STATE payload needs `online`: true or false")?;
+            .ok_or(SparkplugError::StateOnline)?;
         let timestamp = j
             .get("timestamp")
             .and_then(serde_json::Value::as_u64)
-            .ok_or("a STATE payload needs `timestamp`: ms since 1970")?;
+            .ok_or(SparkplugError::StateTimestamp)?;
         Ok(HostState { online, timestamp })
     }
 }
@@ -457,19 +496,19 @@ pub fn encode_record(t_ms: u64, values: &[(String, Value)]) -> Vec<u8> {
 }
 
 /// A record written by [`encode_record`], or why the bytes are not one.
-pub fn decode_record(bytes: &[u8]) -> Result<(u64, Vec<(String, Value)>), String> {
-    let p = Payload::decode(bytes).map_err(|e| format!("not a buffered record: {e}"))?;
+pub fn decode_record(bytes: &[u8]) -> Result<(u64, Vec<(String, Value)>), SparkplugError> {
+    let p = Payload::decode(bytes).map_err(|e| SparkplugError::NotARecord(e.to_string()))?;
     let values = p
         .metrics
         .iter()
         .map(|m| {
-            let name = m.name.clone().ok_or("a buffered metric without a name")?;
+            let name = m.name.clone().ok_or(SparkplugError::RecordUnnamed)?;
             let (Some(t), Some(v)) = (m.datatype, &m.value) else {
-                return Err(format!("buffered `{name}` without a type or a value"));
+                return Err(SparkplugError::RecordIncomplete(name));
             };
             Ok((name, Value::decode(t, v)?))
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, SparkplugError>>()?;
     Ok((p.timestamp.unwrap_or(0), values))
 }
 

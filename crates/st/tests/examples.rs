@@ -7,7 +7,7 @@ use alba_diag::render_all;
 use alba_engine::Engine;
 use alba_engine::sim::{self, SimOptions, Stimulus};
 use alba_ir::{Builder, Layout, Program};
-use alba_project::{Language, Project};
+use alba_project::Language;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -17,7 +17,7 @@ fn example(name: &str) -> PathBuf {
 
 /// Compiles a one-program project (Ladder or ST) the way `alba` does.
 fn compile(dir: &Path) -> Program {
-    let (project, diags) = Project::load(dir);
+    let (project, diags) = alba_load::load(dir);
     assert!(diags.is_empty(), "{}", render_all(&diags, &project.files));
     let mut tags = project.tags.clone();
     let mut diags = Vec::new();

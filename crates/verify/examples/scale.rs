@@ -121,7 +121,7 @@ fn main() {
     .expect("write");
     std::fs::write(dir.join("tags.csv"), &tags).expect("write");
     std::fs::write(dir.join("main.lad"), &lad).expect("write");
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let _ = std::fs::remove_dir_all(&dir);
     let program = Arc::new(c.program.unwrap_or_else(|| panic!("compiles: {:?}", c.diagnostics)));
     let mut files = alba_diag::Files::new();

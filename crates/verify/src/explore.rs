@@ -1038,7 +1038,7 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: 
                 } else {
                     match replay(model, property, assumes, &run) {
                         Ok(()) => Outcome::Refuted,
-                        Err(why) => Outcome::Unknown(why),
+                        Err(why) => Outcome::Unknown(why.to_string()),
                     }
                 };
                 verdict.run = Some(run);
@@ -1128,13 +1128,13 @@ fn csv_field(s: &str) -> String {
 /// Replays the run's stimulus as `alba sim` does (plant models stepped,
 /// rows applied, one scan every scan period) and checks it ends in the
 /// violation.
-pub fn replay(model: &Model, property: &Property, assumes: &[Compiled], run: &Run) -> Result<(), String> {
+pub fn replay(model: &Model, property: &Property, assumes: &[Compiled], run: &Run) -> Result<(), crate::ReplayError> {
     let text = stimulus(model, run);
     let mut files = alba_diag::Files::new();
     let f = files.add("counterexample.csv".to_string(), text);
     let stim = Stimulus::parse(files.text(f), f, &model.program.layout)
-        .map_err(|d| format!("internal error: the counterexample does not parse: {}", d[0].message))?;
-    let mut engine = Engine::new(model.program.clone()).map_err(|e| format!("the program does not load: {e}"))?;
+        .map_err(|d| crate::ReplayError::Counterexample(d[0].message.clone()))?;
+    let mut engine = Engine::new(model.program.clone()).map_err(crate::ReplayError::Program)?;
     let mut next = 0;
     let mut pending = None;
     for k in 0..run.scans.len() as u64 {
@@ -1146,12 +1146,10 @@ pub fn replay(model: &Model, property: &Property, assumes: &[Compiled], run: &Ru
             }
             next += 1;
         }
-        engine
-            .scan(t)
-            .map_err(|m| format!("the replay stops with a major fault: {}", m.message))?;
+        engine.scan(t).map_err(|m| crate::ReplayError::Fault(m.message))?;
         let m = engine.memory();
         if assumes.iter().any(|a| !a.eval(m).truth()) {
-            return Err("the counterexample does not replay: an assumption fails on the way".into());
+            return Err(crate::ReplayError::Assumption);
         }
         match check(&property.kind, m, pending, model.scan_ms) {
             Check::Violated => return Ok(()),
@@ -1159,9 +1157,5 @@ pub fn replay(model: &Model, property: &Property, assumes: &[Compiled], run: &Ru
             Check::Fine(p) => pending = p,
         }
     }
-    Err(
-        "the counterexample found does not replay into the violation through the simulator \
-         (plant models overwrite its inputs?)"
-            .into(),
-    )
+    Err(crate::ReplayError::NoViolation)
 }

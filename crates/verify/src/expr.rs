@@ -248,8 +248,13 @@ fn call(f: Func, x: &[V]) -> V {
     }
 }
 
+/// A function a property may not call ([`supported`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?} is not available in properties")]
+pub struct Unsupported(pub Func);
+
 /// Functions a property may call (the rest are refused when read).
-pub fn supported(e: &Compiled) -> Result<(), String> {
+pub fn supported(e: &Compiled) -> Result<(), Unsupported> {
     match e {
         Compiled::Call(f, args) => {
             let ok = matches!(
@@ -275,7 +280,7 @@ pub fn supported(e: &Compiled) -> Result<(), String> {
                     | Func::Pow
             );
             if !ok {
-                return Err(format!("{f:?} is not available in properties"));
+                return Err(Unsupported(*f));
             }
             args.iter().try_for_each(supported)
         }

@@ -12,9 +12,12 @@
 //! * [`table`] runs `tests/*.test.csv` tables on the engine, with rung and
 //!   instruction coverage from the engine's power flow and JUnit XML.
 
+mod error;
 pub mod explore;
 pub mod expr;
 pub mod project;
 pub mod props;
 pub mod table;
 pub mod trace;
+
+pub use error::{ReplayError, TestsError};

@@ -65,14 +65,14 @@ fn slug(name: &str) -> String {
 /// Decides the properties of the project in `dir`. `each` sees every report
 /// as soon as it is made (with the project's scan period), for progress.
 pub fn verify(dir: &Path, opt: &Options, each: &mut dyn FnMut(&Report, u64)) -> Result<Vec<Report>, Failure> {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     let scan_ms = c.project.scan_ms() as u64;
     let Some(program) = c.program else {
         return Err(fail(c.project.files, c.diagnostics));
     };
     let path = dir.join("properties.toml");
     let text = alba_compiler::project::read_text(&path)
-        .map_err(|msg| fail(Files::new(), vec![Diagnostic::unplaced(Code::Io, msg)]))?;
+        .map_err(|msg| fail(Files::new(), vec![Diagnostic::unplaced(Code::Io, msg.to_string())]))?;
     let mut files = Files::new();
     let f = files.add(path.display().to_string(), text);
     let props = match props::parse(files.text(f), f, &program.layout) {

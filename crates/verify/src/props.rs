@@ -130,8 +130,8 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
                 }
             })
             .and_then(|c| {
-                expr::supported(&c).map(|()| c).map_err(|message| expr::ExprError {
-                    message,
+                expr::supported(&c).map(|()| c).map_err(|e| expr::ExprError {
+                    message: e.to_string(),
                     span: Span::new(file, s.span()),
                 })
             }) {

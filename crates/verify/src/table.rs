@@ -436,10 +436,13 @@ pub fn run_dir(
     dir: &std::path::Path,
     program: &Arc<Program>,
     scan_ms: u64,
-) -> Result<(Vec<TestCase>, Coverage), String> {
+) -> Result<(Vec<TestCase>, Coverage), crate::TestsError> {
     let tests = dir.join("tests");
     let mut paths: Vec<_> = std::fs::read_dir(&tests)
-        .map_err(|e| format!("cannot read {}: {e}", tests.display()))?
+        .map_err(|source| crate::TestsError::Unreadable {
+            path: tests.clone(),
+            source,
+        })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             p.file_name()
@@ -449,7 +452,7 @@ pub fn run_dir(
         .collect();
     paths.sort();
     if paths.is_empty() {
-        return Err(format!("{} holds no *.test.csv table", tests.display()));
+        return Err(crate::TestsError::NoTables(tests));
     }
     let mut cov = Coverage::new(program);
     let mut out = Vec::new();

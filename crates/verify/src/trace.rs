@@ -2,6 +2,7 @@
 //! `alba sim` replays it, keeping what the studio shows at each scan: the
 //! value of every tag and which program elements carried power.
 
+use crate::ReplayError;
 use alba_diag::Files;
 use alba_engine::Engine;
 use alba_engine::sim::{Action, Stimulus};
@@ -50,22 +51,22 @@ pub fn rows(text: &str) -> Vec<(u64, String, String)> {
 
 /// Replays `text` (a stimulus CSV) for `scans` scans of `scan_ms`, keeping
 /// the last [`KEEP_SCANS`] of them.
-pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Result<Trace, String> {
+pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Result<Trace, ReplayError> {
     if scans > MAX_SCANS {
-        return Err(format!("a replay runs at most {MAX_SCANS} scans, not {scans}"));
+        return Err(ReplayError::TooLong { scans, max: MAX_SCANS });
     }
     let layout = &program.layout;
     let mut files = Files::new();
     let f = files.add("stimulus.csv".to_string(), text.to_string());
     let stim = Stimulus::parse(files.text(f), f, layout).map_err(|d| {
         let d = &d[0];
-        match &d.primary {
+        ReplayError::Stimulus(match &d.primary {
             Some(l) => {
                 let (line, col) = files.line_col(l.span.file, l.span.start as usize);
                 format!("the stimulus, line {line}, column {col}: {}", d.message)
             }
             None => format!("the stimulus: {}", d.message),
-        }
+        })
     })?;
     // The stimulus's tags first, then the program's other plain tags.
     let mut shown: Vec<(String, Place)> = Vec::new();
@@ -83,7 +84,7 @@ pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Re
     for t in layout.tags.iter() {
         add(&t.name);
     }
-    let mut engine = Engine::new(program.clone()).map_err(|e| format!("the program does not load: {e}"))?;
+    let mut engine = Engine::new(program.clone()).map_err(ReplayError::Program)?;
     engine.set_monitor(true);
     let scan_ms = scan_ms.max(1);
     let mut next = 0;
@@ -96,14 +97,15 @@ pub fn trace(program: &Arc<Program>, scan_ms: u64, text: &str, scans: u32) -> Re
             match r.action {
                 Action::Set(v) => engine.write(r.place, v),
                 Action::Force(_) | Action::Unforce => {
-                    return Err("a replay in the studio sets values only; this stimulus forces".into());
+                    return Err(ReplayError::Forces);
                 }
             }
             next += 1;
         }
-        engine
-            .scan(t)
-            .map_err(|m| format!("the replay stops at {t} ms with a major fault: {}", m.message))?;
+        engine.scan(t).map_err(|m| ReplayError::FaultAt {
+            t_ms: t,
+            message: m.message,
+        })?;
         if k < u64::from(first) {
             continue;
         }
@@ -142,7 +144,7 @@ mod tests {
         )
         .unwrap();
         std::fs::write(d.join("main.lad"), ladder).unwrap();
-        let c = alba_compiler::compile_dir(d);
+        let c = alba_load::compile_dir(d);
         let msgs: Vec<String> = c.diagnostics.iter().map(|d| d.message.clone()).collect();
         Arc::new(c.program.unwrap_or_else(|| panic!("{msgs:?}")))
     }
@@ -166,8 +168,14 @@ mod tests {
     fn a_bad_stimulus_is_an_error_naming_the_line() {
         let p = compile("XIC(A)OTE(B);\n", "A,BOOL,DI:1/0,,,\nB,BOOL,DO:2/0,,,\n");
         let e = trace(&p, 10, "time_ms,tag,value\n0,Nope,1\n", 2).unwrap_err();
-        assert!(e.contains("line 2"), "{e}");
-        assert!(trace(&p, 10, "time_ms,tag,value\n", MAX_SCANS + 1).is_err());
+        assert!(matches!(&e, ReplayError::Stimulus(m) if m.contains("line 2")), "{e}");
+        assert_eq!(
+            trace(&p, 10, "time_ms,tag,value\n", MAX_SCANS + 1).unwrap_err(),
+            ReplayError::TooLong {
+                scans: MAX_SCANS + 1,
+                max: MAX_SCANS
+            }
+        );
     }
 
     #[test]

@@ -140,7 +140,7 @@ fn junit_has_one_testcase_per_table_and_parses() {
     .expect("write");
     std::fs::write(dir.path().join("tests/broken.test.csv"), "time_ms,Nope\n0,1\n").expect("write");
     std::fs::write(dir.path().join("tests/notes.csv"), "not a table").expect("write");
-    let c = alba_compiler::compile_dir(dir.path());
+    let c = alba_load::compile_dir(dir.path());
     let program = std::sync::Arc::new(c.program.expect("compiles"));
     let (cases, _) = table::run_dir(dir.path(), &program, SCAN_MS).expect("runs");
     let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();

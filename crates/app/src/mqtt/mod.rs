@@ -71,7 +71,7 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
     else {
         return Ok(None);
     };
-    if !alba_project::config::is_host_port(&broker) {
+    if !alba_settings::is_host_port(&broker) {
         return Err(format!("--mqtt {broker}: expected host:port, like 127.0.0.1:1883"));
     }
     let (host, port) = broker.rsplit_once(':').unwrap_or((&broker, "1883"));
@@ -99,8 +99,8 @@ fn settings(s: &Service<'_>, cli: Option<&str>) -> Result<Option<Settings>, Stri
         prefix: cfg.topic_prefix.clone().unwrap_or_else(|| format!("alba/{name}")),
         client_id: cfg.client_id.clone().unwrap_or_else(|| format!("alba-{name}")),
         version: match cfg.version {
-            alba_project::config::MqttVersion::V311 => Version::V311,
-            alba_project::config::MqttVersion::V5 => Version::V5,
+            alba_settings::MqttVersion::V311 => Version::V311,
+            alba_settings::MqttVersion::V5 => Version::V5,
         },
         qos: match cfg.qos {
             0 => QoS::AtMostOnce,
@@ -190,7 +190,7 @@ fn read_secret(file: &std::path::Path) -> Result<String, String> {
 /// The TLS client configuration of `[mqtt] ca_file` (and, for mutual TLS,
 /// `client_cert` + `client_key`): only that CA is trusted, as a plant's
 /// broker has its own; paths are relative to the project.
-fn tls(dir: &std::path::Path, cfg: &alba_project::config::Mqtt) -> Result<Option<Arc<rustls::ClientConfig>>, String> {
+fn tls(dir: &std::path::Path, cfg: &alba_settings::Mqtt) -> Result<Option<Arc<rustls::ClientConfig>>, String> {
     let Some(ca) = &cfg.ca_file else { return Ok(None) };
     let client = cfg.client_cert.as_ref().zip(cfg.client_key.as_ref());
     let client = client.map(|(c, k)| (dir.join(c), dir.join(k)));

@@ -221,7 +221,7 @@ async fn the_board_and_pin_map_are_shown_saved_atomically_audited_and_refused_to
         saved.contains("# Wired as the course's board.") && saved.contains("model = \"uno\""),
         "{saved}"
     );
-    let (c, d) = alba_project::Project::load(&s.dir);
+    let (c, d) = alba_load::load(&s.dir);
     assert!(d.is_empty(), "{d:?}");
     let b = c.config.and_then(|c| c.board).expect("[board]");
     assert_eq!(
@@ -313,7 +313,7 @@ async fn builds_answer_avr_gcc_s_sizes_and_a_project_that_does_not_build_its_dia
         )
         .await;
     assert_eq!(st, StatusCode::OK, "{j}");
-    let c = alba_compiler::compile_dir(&s.dir);
+    let c = alba_load::compile_dir(&s.dir);
     let t = alba_app::hardware::target(&c, Some("nano"), None, true).expect("target");
     let (built, _) = interp::firmware(&t).expect("interpreter");
     assert_eq!(j["flash_bytes"], built.flash, "{j}");
@@ -369,7 +369,7 @@ struct Board {
 impl Board {
     /// The interpreter for the project's board (the Nano when it has none).
     fn start(dir: &Path) -> Board {
-        let c = alba_compiler::compile_dir(dir);
+        let c = alba_load::compile_dir(dir);
         let t = alba_app::hardware::target(&c, Some("nano"), None, true).expect("target");
         let (built, _) = interp::firmware(&t).expect("interpreter firmware");
         let bin = simavr::board().expect("alba-board");
@@ -415,7 +415,7 @@ impl Board {
     /// The project's stand-alone sketch with its monitoring link (`alba export
     /// arduino`) on an emulated Nano, its UART on `dir/sketch-link`.
     fn sketch(dir: &Path) -> Board {
-        let c = alba_compiler::compile_dir(dir);
+        let c = alba_load::compile_dir(dir);
         let t = alba_app::hardware::target(&c, Some("nano"), None, true).expect("target");
         let prog = alba_arduino::sketch::control_program(c.program.as_ref().expect("program"));
         let s = alba_arduino::sketch::generate(&prog, "hw", &t).expect("sketch");
@@ -507,7 +507,7 @@ async fn the_byte_code_goes_to_the_emulated_nano_as_a_job_and_failures_say_why_i
     // The board says so itself: running, with the program the project encodes.
     let (_, j) = s.on_port("identify", &board.link).await;
     assert_eq!(j["state"], "running", "{j}");
-    let c = alba_compiler::compile_dir(&s.dir);
+    let c = alba_load::compile_dir(&s.dir);
     let t = alba_app::hardware::target(&c, None, None, true).expect("target");
     let prog = alba_arduino::sketch::control_program(c.program.as_ref().expect("program"));
     let bc = alba_arduino::bytecode::encode(&prog, "hw", &t).expect("byte code");
@@ -647,7 +647,7 @@ async fn without_a_board_in_alba_toml_the_download_takes_the_board_the_interpret
     .expect("main.lad");
     let (dir, port) = (s.dir.clone(), board.link.clone());
     let r = tokio::task::spawn_blocking(move || {
-        let c = alba_compiler::compile_dir(&dir);
+        let c = alba_load::compile_dir(&dir);
         alba_app::hardware::download(&c, None, None, &port, true, |done, _| done < 2).map(|d| d.bytes)
     })
     .await

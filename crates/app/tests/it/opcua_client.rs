@@ -96,7 +96,7 @@ async fn binds_tags_to_albas_own_opcua_server_and_recovers_from_its_restart() {
 
     // Browse (the tag picker's source): the Tags folder lists the server's tags.
     let text = std::fs::read_to_string(client_dir.join("alba.toml")).expect("toml");
-    let (mut config, diags) = alba_project::config::Config::parse(&text, alba_diag::FileId(0));
+    let (mut config, diags) = alba_settings::Settings::parse(&text, alba_diag::FileId(0));
     assert!(diags.is_empty(), "{diags:?}");
     let server = config.take().expect("config").opcua_servers.remove(0);
     let children = alba_opcua::client::browse_server(

@@ -118,7 +118,7 @@ fn export_bytecode_writes_intel_hex_or_bytes_that_decode_to_the_control_program(
     let bin = std::fs::read(d.join("tank.bin")).expect("bin");
     assert_eq!(alba_arduino::ihex::read(&hex, 1024).expect("reads"), bin);
     let decoded = alba_arduino::bytecode::decode(&bin).expect("decodes");
-    let program = alba_compiler::compile_dir(&root).program.expect("compiles");
+    let program = alba_load::compile_dir(&root).program.expect("compiles");
     assert_eq!(decoded.program.ops, alba_arduino::sketch::control_program(&program).ops);
     // A project the board cannot hold is refused as the sketch export refuses it, nothing written.
     let o = alba(&d, &["export", "bytecode", &project, "--board", "atari", "-o", "x.hex"]);

@@ -52,7 +52,7 @@ fn every_golden_trace_matches() {
     for dir in cases {
         let args = parse_args(&std::fs::read_to_string(dir.join("golden.args")).expect("golden.args"));
         let program = compile(&dir);
-        let scan_ms = alba_project::Project::load(&dir).0.scan_ms() as u64;
+        let scan_ms = alba_load::load(&dir).0.scan_ms() as u64;
         let stimulus = std::fs::read_to_string(dir.join("stimulus.csv")).unwrap_or_default();
         let times = (scan_ms, args.until, args.every.unwrap_or(scan_ms));
         let golden = dir.join("golden.csv");

@@ -171,7 +171,7 @@ fn a_state_value_needs_a_number_and_a_numeric_tag() {
         (r#"<prop name="value">5</prop>"#, "", "no `<tag>`"),
     ] {
         let dir = project_with("state-bad", "", state, tags);
-        let c = alba_compiler::compile_dir(&dir);
+        let c = alba_load::compile_dir(&dir);
         let _ = std::fs::remove_dir_all(&dir);
         assert!(c.program.is_none(), "{state}");
         assert!(

@@ -177,7 +177,7 @@ proptest! {
     fn native_code_matches_the_interpreter(lad in program(), toggles in prop::collection::vec((0usize..4, prop::bool::ANY), 60)) {
         let p = Arc::new(compile_text(TAGS, &lad).map_err(|e| TestCaseError::fail(format!("{lad}\n{e}")))?);
         let mut native = Engine::new(p.clone()).unwrap();
-        native.compile_native().map_err(TestCaseError::fail)?;
+        native.compile_native().map_err(|e| TestCaseError::fail(e.to_string()))?;
         let mut interp = Engine::new(p.clone()).unwrap();
         for (k, (i, v)) in toggles.into_iter().enumerate() {
             for e in [&mut native, &mut interp] {
@@ -290,7 +290,7 @@ proptest! {
         }
         let p = Arc::new(compile_text(&tags, &lad).map_err(|e| TestCaseError::fail(format!("{lad}\n{e}")))?);
         let mut native = Engine::new(p.clone()).unwrap();
-        native.compile_native().map_err(TestCaseError::fail)?;
+        native.compile_native().map_err(|e| TestCaseError::fail(e.to_string()))?;
         let (_, strided, _) = native.native_layout().unwrap();
         prop_assert!(strided >= 4, "{} rungs strided in\n{}", strided, lad);
         let mut interp = Engine::new(p.clone()).unwrap();

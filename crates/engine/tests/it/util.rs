@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 /// Compiles a project folder, panicking with rendered diagnostics on errors.
 pub fn compile(dir: &Path) -> Program {
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     match c.program {
         Some(p) => p,
         None => panic!(

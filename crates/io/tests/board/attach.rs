@@ -29,7 +29,7 @@ fn target() -> Target {
 }
 
 fn example(name: &str) -> Arc<alba_ir::Program> {
-    let c = alba_compiler::compile_dir(&emu::repo().join("examples").join(name));
+    let c = alba_load::compile_dir(&emu::repo().join("examples").join(name));
     Arc::new(c.program.unwrap_or_else(|| panic!("{name}: {:?}", c.diagnostics)))
 }
 

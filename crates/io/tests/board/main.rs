@@ -95,7 +95,7 @@ fn project(dir: &std::path::Path) -> Arc<alba_ir::Program> {
         "XIC(Start)OTE(Motor);\nXIO(Stop)OTE(Idle);\nXIC(Last)OTE(Lamp);\nDIV(Level,4,Valve);\nDIV(Flow,4,Pump);\n",
     )
     .expect("lad");
-    let c = alba_compiler::compile_dir(dir);
+    let c = alba_load::compile_dir(dir);
     assert!(c.diagnostics.is_empty(), "{:?}", c.diagnostics);
     Arc::new(c.program.expect("program"))
 }

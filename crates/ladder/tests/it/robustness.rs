@@ -8,7 +8,6 @@ use crate::strategies::{config, expr, mutate, mutation, noisy, program, soup};
 use alba_diag::{Diagnostic, FileId, Files};
 use alba_ladder::print;
 use alba_model::TagTable;
-use alba_project::config::Config;
 use proptest::prelude::*;
 
 /// Runs `src` through the ladder parser and checks it (see
@@ -58,7 +57,7 @@ pub fn tags(src: &str) -> Result<(), String> {
 
 /// `alba.toml`: no panic, spans inside the input, diagnostics render.
 pub fn toml(src: &str) -> Result<(), String> {
-    let (_, diags) = Config::parse(src, FileId(0));
+    let (_, diags) = alba_load::parse(src, FileId(0));
     if !diags.is_empty() {
         diag_spans(src, FileId(0), &diags)?;
         render(src, "alba.toml", &diags);

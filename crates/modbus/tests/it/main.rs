@@ -52,23 +52,23 @@ impl Drop for Fixture {
     }
 }
 
-/// The test project's program and its `[modbus]` table.
-pub(crate) fn compile(dir: &std::path::Path) -> (alba_ir::Program, alba_project::config::Modbus) {
-    let c = alba_compiler::compile_dir(dir);
-    let program = c.program.unwrap_or_else(|| panic!("{:?}", c.diagnostics));
-    let cfg = c
-        .project
-        .config
-        .as_ref()
-        .and_then(|c| c.modbus.clone())
+/// The test project's program and its `[modbus]` table (with its
+/// `[modbus.tags]`, which are the project's), as alba-app gives them.
+pub(crate) fn compile(dir: &std::path::Path) -> (alba_ir::Program, Settings) {
+    let c = alba_load::compile_dir(dir);
+    let program = c.program.clone().unwrap_or_else(|| panic!("{:?}", c.diagnostics));
+    let cfg = alba_settings::Settings::of(&c.project)
+        .and_then(|s| s.modbus)
         .expect("the test project has [modbus]");
-    (program, cfg)
+    let mut settings = Settings::from(&cfg);
+    settings.tags = c.project.config.map(|c| c.modbus_tags).unwrap_or_default();
+    (program, settings)
 }
 
 async fn start(test: &str, tweak: impl FnOnce(&mut Settings)) -> Fixture {
     let dir = project(test, TOML);
     let (program, cfg) = compile(&dir);
-    let mut settings = Settings::from(&cfg);
+    let mut settings = cfg;
     tweak(&mut settings);
     let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");
     let server = Server::new(alba_modbus::Control::new(runtime.handle(), None), settings);
@@ -463,7 +463,7 @@ fn bad_modbus_tags_are_reported_where_they_are_written() {
     let toml = "name = \"mb\"\nprograms = [\"main.lad\"]\n[modbus.tags]\nSped = \"hr 8192\"\n\
 Speed = \"coil 8192\"\n\"S:SCANMAX\" = \"hr 8300\"\nStart = \"coil 8200\"\nTemp = \"hr 9000\"\nBigL = \"hr 9001\"\nDelay = \"hr 9100\"\n";
     let dir = project("diags", toml);
-    let c = alba_compiler::compile_dir(&dir);
+    let c = alba_load::compile_dir(&dir);
     let msgs: Vec<String> = c.diagnostics.iter().map(|d| d.short(c.files())).collect();
     let file = dir.join("alba.toml").display().to_string();
     let want: Vec<String> = [

@@ -9,7 +9,7 @@
 use crate::{ask, closed, regs, start};
 use alba_modbus::check_listen;
 use alba_modbus_proto::mbap;
-use alba_project::config::IpRange;
+use alba_settings::IpRange;
 use std::net::SocketAddr;
 use std::sync::atomic::Ordering;
 use tokio::io::AsyncWriteExt;

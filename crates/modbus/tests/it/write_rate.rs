@@ -10,7 +10,7 @@
 //! coalesced: docs/audit.md, "Modbus").
 
 use super::{TAGS, TOML, compile, project};
-use alba_modbus::{Control, Server, Settings};
+use alba_modbus::{Control, Server};
 use alba_runtime::{Options, Runtime, SimIo};
 use std::io::{Read, Write};
 use std::sync::Arc;
@@ -47,7 +47,7 @@ async fn rate(audited: bool) -> f64 {
     let runtime = Runtime::start(Arc::new(program), Options::new(5), Box::new(SimIo)).expect("runtime");
     let audit = audited
         .then(|| alba_audit::Audit::open(dir.join("audit.db"), alba_audit::Config::default()).expect("audit log"));
-    let server = Server::new(Control::new(runtime.handle(), audit.clone()), Settings::from(&cfg));
+    let server = Server::new(Control::new(runtime.handle(), audit.clone()), cfg);
     let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind");
     let addr = listener.local_addr().expect("addr");
     let (closing, rx) = watch::channel(false);

@@ -3,7 +3,7 @@
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_model::board::{Dir, Model, PRESETS, Pin, PinMap};
 use serde::Deserialize;
-use toml::Spanned;
+use serde_spanned::Spanned;
 
 /// `[board]`: the Arduino board and its wiring (SPEC §7.1, docs/file-formats.md).
 #[derive(Debug, Clone, PartialEq, Eq)]

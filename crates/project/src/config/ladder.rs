@@ -3,7 +3,7 @@
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
-use toml::Spanned;
+use serde_spanned::Spanned;
 
 /// Whose semantics Ladder follows where Logix and AuroraLD (`000_…`) differ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -44,12 +44,11 @@ pub(super) fn ladder(raw: RawLadder, file: FileId, diags: &mut Vec<Diagnostic>) 
 #[cfg(test)]
 mod tests {
     use super::LadderDialect;
-    use crate::config::Config;
     use alba_diag::FileId;
 
     fn dialect(table: &str) -> (Option<LadderDialect>, Vec<String>) {
         let text = format!("name = \"t\"\nprograms = [\"main.lad\"]\n{table}");
-        let (c, d) = Config::parse(&text, FileId(0));
+        let (c, d) = crate::config::parse_for_test(&text, FileId(0));
         (c.map(|c| c.ladder_dialect), d.into_iter().map(|d| d.message).collect())
     }
 

@@ -4,7 +4,7 @@ use super::modbus::ModbusArea;
 use super::setting::int_setting;
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use serde::Deserialize;
-use toml::Spanned;
+use serde_spanned::Spanned;
 
 /// `[[modbus_device]]`: one remote Modbus TCP slave whose data is mapped
 /// into the I/O image.
@@ -179,7 +179,7 @@ pub(super) fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Ve
             let (area, start) = match ModbusArea::parse_any(m.remote.get_ref()) {
                 Ok(a) => a,
                 Err(msg) => {
-                    diags.push(bad(msg, m.remote.span(), "the remote address"));
+                    diags.push(bad(msg.to_string(), m.remote.span(), "the remote address"));
                     continue;
                 }
             };

@@ -4,7 +4,7 @@
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_model::plant::{Drain, Dynamics, KINDS, MAX_DEAD_TIME, PlantModel, Scale};
 use serde::Deserialize;
-use toml::Spanned;
+use serde_spanned::Spanned;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -1,10 +1,10 @@
 //! Settings shared by several tables: integers in a range, listen addresses.
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
-use toml::Spanned;
+use serde_spanned::Spanned;
 
 /// An integer setting within `range`, or `default` with a located E102.
-pub(super) fn int_setting(
+pub fn int_setting(
     key: &str,
     v: Option<Spanned<i64>>,
     range: std::ops::RangeInclusive<u32>,
@@ -29,7 +29,7 @@ pub(super) fn int_setting(
 }
 
 /// An `IP:PORT` setting, or a diagnostic.
-pub(super) fn listen(l: &Spanned<String>, file: FileId, diags: &mut Vec<Diagnostic>) -> Option<std::net::SocketAddr> {
+pub fn listen(l: &Spanned<String>, file: FileId, diags: &mut Vec<Diagnostic>) -> Option<std::net::SocketAddr> {
     match l.get_ref().parse::<std::net::SocketAddr>() {
         Ok(a) => Some(a),
         Err(_) => {

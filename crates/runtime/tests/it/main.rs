@@ -339,7 +339,9 @@ impl alba_runtime::Io for Board {
     }
     fn read_inputs(&mut self, engine: &mut alba_engine::Engine) -> Result<(), IoError> {
         let m = self.mem.lock().map_err(|e| IoError::Link(e.to_string()))?.clone();
-        engine.load_memory(&m).map_err(IoError::MemoryMismatch)
+        engine
+            .load_memory(&m)
+            .map_err(|e| IoError::MemoryMismatch(e.to_string()))
     }
     fn write_outputs(&mut self, _: &alba_engine::Engine) -> Result<(), IoError> {
         Err(IoError::DoesNotFit("attach mode never writes outputs".into()))

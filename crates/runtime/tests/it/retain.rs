@@ -22,7 +22,8 @@ fn load(file: &Path, on: OnError) -> Result<(retain::Restored, Vec<(String, Valu
     let r = retain::load(file, &p, on, |place, v| {
         let n = names.iter().find(|(_, pl)| *pl == place).map(|(n, _)| n.clone());
         got.push((n.unwrap_or_default(), v));
-    })?;
+    })
+    .map_err(|e| e.to_string())?;
     Ok((r, got))
 }
 

@@ -40,6 +40,7 @@ async fn serve(example: &str, test: &str, io: Box<dyn Io>) -> (Server, Runtime) 
         None,
         None,
         alba_server::auth::Auth::open(),
+        &alba_settings::Http::default(),
     );
     (Server::serve_state(state, dir).await, runtime)
 }
@@ -205,6 +206,7 @@ async fn status_502_remote_server_unreachable() {
         None,
         None,
         alba_server::auth::Auth::open(),
+        &alba_settings::Http::default(),
     );
     assert!(state.connections.set(Arc::new(Unreachable)).is_ok());
     let s = Server::serve_state(state, dir).await;

@@ -261,6 +261,8 @@ async fn a_request_longer_than_the_limit_is_answered_503() {
     let toml = std::fs::read_to_string(dir.join("alba.toml")).expect("toml") + "\n[http]\nrequest_timeout_s = 1\n";
     std::fs::write(dir.join("alba.toml"), toml).expect("toml");
     let compiled = alba_server::project::load(&dir);
+    // `[http]` comes from the services' settings, as alba-app passes it.
+    let http = alba_settings::Settings::of(&compiled.project).expect("settings").http;
     let program = compiled.program.clone().expect("compiles");
     let mut ro = Options::new(compiled.project.scan_ms());
     ro.native = false;
@@ -272,6 +274,7 @@ async fn a_request_longer_than_the_limit_is_answered_503() {
         None,
         None,
         alba_server::auth::Auth::open(),
+        &http,
     );
     let s = Server::serve_state(state.clone(), dir).await;
     // An edit holds the project for longer than the limit.
@@ -305,6 +308,7 @@ async fn a_check_compiles_without_holding_the_project() {
         None,
         None,
         alba_server::auth::Auth::open(),
+        &alba_settings::Http::default(),
     );
     let s = Server::serve_state(state.clone(), dir).await;
     // Many rungs: a check that takes a while to compile.

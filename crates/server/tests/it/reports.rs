@@ -80,6 +80,7 @@ async fn serve(test: &str) -> (Server, Runtime) {
         Some(Arc::new(history)),
         None,
         alba_server::auth::Auth::open(),
+        &alba_settings::Http::default(),
     );
     assert!(state.control.set_alarms(Arc::new(Hub::new(Vec::new(), Some(log)))));
     (Server::serve_state(state, dir).await, runtime)

@@ -35,7 +35,15 @@ fn state(dir: &Path, auth: Auth) -> (Arc<alba_server::AppState>, Runtime) {
     ro.native = false;
     let runtime = Runtime::start(Arc::new(program), ro, Box::new(SimIo)).expect("runtime");
     (
-        alba_server::AppState::new(runtime.handle(), compiled, "sim", None, None, auth),
+        alba_server::AppState::new(
+            runtime.handle(),
+            compiled,
+            "sim",
+            None,
+            None,
+            auth,
+            &alba_settings::Http::default(),
+        ),
         runtime,
     )
 }

@@ -145,7 +145,7 @@ async fn symbols_are_groups_saved_and_checked_like_screens_and_alba_check_reads_
     // A symbol damaged on disk is found by `alba check` with its place.
     std::fs::write(dir.join("hmi/symbols/pump_set.json"), &bad).expect("write");
     let mut files = alba_compiler::diag::Files::new();
-    let program = alba_compiler::compile_dir(&dir).program.expect("compiles");
+    let program = alba_load::compile_dir(&dir).program.expect("compiles");
     let (screens, diags) = alba_compiler::screens::check_dir(&dir, &mut files, &program.layout, &[]);
     assert_eq!(screens, 0);
     assert!(diags[0].message.contains("unknown tag `Bomba7`"), "{:?}", diags);

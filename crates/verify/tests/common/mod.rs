@@ -29,7 +29,7 @@ pub fn write(dir: &Path, tags: &str, lad: &str) {
 pub fn compile(tags: &str, lad: &str) -> Arc<Program> {
     let dir = tempfile::tempdir().expect("tempdir");
     write(dir.path(), tags, lad);
-    let c = alba_compiler::compile_dir(dir.path());
+    let c = alba_load::compile_dir(dir.path());
     let msgs: Vec<String> = c.diagnostics.iter().map(|d| d.message.clone()).collect();
     Arc::new(
         c.program

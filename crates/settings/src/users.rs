@@ -12,7 +12,7 @@
 //! This module reads and writes the file and checks its form (names, roles,
 //! hashes); verifying passwords is `alba-auth`'s.
 
-use crate::config::{Config, check_password_hash};
+use crate::{Settings as Config, check_password_hash};
 use alba_diag::{Code, Diagnostic, FileId, Files, Span};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -102,23 +102,39 @@ impl fmt::Debug for User {
 
 /// Why a user name is refused, if it is: 1 to [`MAX_NAME_LEN`] characters,
 /// letters, digits and `_ . - @`.
-pub fn check_user_name(name: &str) -> Result<(), String> {
+pub fn check_user_name(name: &str) -> Result<(), UserNameError> {
     if name.is_empty() {
-        return Err("a user name is not empty".into());
+        return Err(UserNameError::Empty);
     }
     if name.chars().count() > MAX_NAME_LEN {
-        return Err(format!("a user name has at most {MAX_NAME_LEN} characters"));
+        return Err(UserNameError::TooLong);
     }
     if let Some(c) = name
         .chars()
         .find(|c| !(c.is_alphanumeric() || matches!(c, '_' | '.' | '-' | '@')))
     {
-        return Err(format!(
-            "`{}` may not be in a user name (letters, digits and _ . - @ only)",
-            c.escape_default()
-        ));
+        return Err(UserNameError::Character(c));
     }
     Ok(())
+}
+
+/// Why a user name is refused ([`check_user_name`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum UserNameError {
+    #[error("a user name is not empty")]
+    Empty,
+    #[error("a user name has at most {MAX_NAME_LEN} characters")]
+    TooLong,
+    #[error("`{}` may not be in a user name (letters, digits and _ . - @ only)", .0.escape_default())]
+    Character(char),
+}
+
+/// users.toml could not be written ([`save_users`]).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {}: {source}", path.display())]
+pub struct SaveError {
+    pub path: std::path::PathBuf,
+    pub source: std::io::Error,
 }
 
 #[derive(Deserialize)]
@@ -168,7 +184,7 @@ pub fn parse_users(text: &str, file: FileId) -> (Vec<User>, Vec<Diagnostic>) {
                 Code::UsersFile,
                 format!("`{n}` is not a valid user name"),
                 sp(name.span()),
-                why,
+                why.to_string(),
             ));
             continue;
         }
@@ -191,7 +207,7 @@ pub fn parse_users(text: &str, file: FileId) -> (Vec<User>, Vec<Diagnostic>) {
                 diags.push(
                     Diagnostic::new(
                         Code::UsersFile,
-                        msg.replace("[opcua.users]", "users.toml"),
+                        msg.to_string().replace("[opcua.users]", "users.toml"),
                         sp(entry.password.span()),
                         format!("the password hash of `{n}`"),
                     )
@@ -317,7 +333,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
     match std::fs::metadata(&path) {
         Ok(_) => {
             out.has_file = true;
-            match crate::read_text(&path) {
+            match alba_project::read_text(&path) {
                 Ok(text) => {
                     let f = out.files.add(path.display().to_string(), text);
                     let (users, d) = parse_users(out.files.text(f), f);
@@ -325,7 +341,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
                     out.errors = d;
                     out.warnings.extend(permission_warning(&path));
                 }
-                Err(msg) => out.errors.push(Diagnostic::unplaced(Code::Io, msg)),
+                Err(msg) => out.errors.push(Diagnostic::unplaced(Code::Io, msg.to_string())),
             }
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
@@ -334,7 +350,7 @@ pub fn load_users(dir: &Path) -> LoadedUsers {
             format!("cannot read {}: {e}", path.display()),
         )),
     }
-    if let Ok(text) = crate::read_text(&dir.join("alba.toml")) {
+    if let Ok(text) = alba_project::read_text(&dir.join("alba.toml")) {
         let f = out.files.add(dir.join("alba.toml").display().to_string(), text);
         let (config, d) = Config::parse(out.files.text(f), f);
         if let Some(config) = config {
@@ -366,7 +382,7 @@ pub fn users_toml(users: &[User]) -> String {
             "\n[users.{}]\nrole = \"{}\"\npassword = {}\n",
             toml_key(&u.name),
             u.role,
-            crate::config::toml_string(&u.hash)
+            crate::toml_string(&u.hash)
         ));
     }
     out
@@ -378,17 +394,17 @@ fn toml_key(name: &str) -> String {
     if bare {
         name.to_string()
     } else {
-        crate::config::toml_string(name)
+        crate::toml_string(name)
     }
 }
 
 /// Saves `users` as the users.toml of `dir`: atomically, readable and
 /// writable by the owner only on Unix (0600).
-pub fn save_users(dir: &Path, users: &[User]) -> Result<(), String> {
+pub fn save_users(dir: &Path, users: &[User]) -> Result<(), SaveError> {
     let path = dir.join(USERS_FILE);
     let text = users_toml(users);
     alba_model::fsutil::write_atomic_private(&path, |w| w.write_all(text.as_bytes()))
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        .map_err(|source| SaveError { path, source })
 }
 
 #[cfg(test)]

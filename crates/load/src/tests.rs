@@ -3,13 +3,22 @@
 use super::*;
 use alba_diag::Files;
 use alba_model::board::{Model, Pin, PinMap};
+use alba_project::config::*;
+use alba_settings::*;
 
-fn parse(text: &str) -> Result<Config, Vec<String>> {
+/// The project's tables (`c`) and the services' (`s`).
+#[derive(Debug)]
+struct Parsed {
+    c: Config,
+    s: Settings,
+}
+
+fn parse(text: &str) -> Result<Parsed, Vec<String>> {
     let mut files = Files::new();
     let f = files.add("alba.toml", text);
-    match Config::parse(text, f) {
-        (Some(c), d) if d.is_empty() => Ok(c),
-        (_, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
+    match parse_both(text, f) {
+        (Some(c), Some(s), d) if d.is_empty() => Ok(Parsed { c, s }),
+        (_, _, d) => Err(d.iter().map(|d| d.short(&files)).collect()),
     }
 }
 
@@ -17,31 +26,31 @@ fn parse(text: &str) -> Result<Config, Vec<String>> {
 fn names_with_quotes_and_backslashes_round_trip() {
     for name in ["plain", "a\\b", "say \"hi\"", "tab\there", "ñandú"] {
         let text = format!("name = {}\nprograms = [\"a.lad\"]\n", toml_string(name));
-        assert_eq!(parse(&text).unwrap().name, name, "{text}");
+        assert_eq!(parse(&text).unwrap().c.name, name, "{text}");
     }
 }
 
 #[test]
 fn minimal_config_takes_defaults() {
     let c = parse("name = \"tank\"\nprograms = [\"main.lad\"]\n").unwrap();
-    assert_eq!(c.scan_ms, 10);
-    assert_eq!(c.programs[0].0, "main.lad");
-    assert!(c.board.is_none());
+    assert_eq!(c.c.scan_ms, 10);
+    assert_eq!(c.c.programs[0].0, "main.lad");
+    assert!(c.c.board.is_none());
 }
 
 #[test]
 fn retain_and_history_settings() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-    assert_eq!((c.retain_ms, c.history.clone()), (1000, History::default()));
+    assert_eq!((c.s.retain_ms, c.s.history.clone()), (1000, History::default()));
     let c = parse(
         "name = \"x\"\nretain_ms = 250\nprograms = [\"a.lad\"]\n[runtime]\non_retain_error = \"refuse\"\n\
          [history]\nretention_days = 0\nsample_ms = 500\ndeadband = 0.5\nmax_mb = 0\nmin_free_mb = 10\non_damage = \"refuse\"\n",
     )
     .unwrap();
-    assert_eq!(c.retain_ms, 250);
-    assert_eq!(c.runtime.on_retain_error, super::OnRetainError::Refuse);
+    assert_eq!(c.s.retain_ms, 250);
+    assert_eq!(c.s.runtime.on_retain_error, alba_settings::OnRetainError::Refuse);
     assert_eq!(
-        c.history,
+        c.s.history,
         History {
             enabled: true,
             retention_days: 0,
@@ -49,7 +58,7 @@ fn retain_and_history_settings() {
             deadband: 0.5,
             max_mb: 0,
             min_free_mb: 10,
-            on_damage: super::OnDamage::Refuse,
+            on_damage: alba_settings::OnDamage::Refuse,
             ..History::default()
         }
     );
@@ -59,11 +68,14 @@ fn retain_and_history_settings() {
          node = \"line-2\"\nbuffer_max_samples = 1000\n",
     )
     .unwrap();
-    assert_eq!(c.history.backend, super::HistoryBackend::Postgres);
-    assert_eq!(c.history.url.as_deref(), Some("postgres://alba@db.plant:5432/history"));
-    assert_eq!(c.history.password_file.as_deref(), Some("/run/secrets/pg"));
-    assert_eq!(c.history.node.as_deref(), Some("line-2"));
-    assert_eq!(c.history.buffer_max_samples, 1000);
+    assert_eq!(c.s.history.backend, alba_settings::HistoryBackend::Postgres);
+    assert_eq!(
+        c.s.history.url.as_deref(),
+        Some("postgres://alba@db.plant:5432/history")
+    );
+    assert_eq!(c.s.history.password_file.as_deref(), Some("/run/secrets/pg"));
+    assert_eq!(c.s.history.node.as_deref(), Some("line-2"));
+    assert_eq!(c.s.history.buffer_max_samples, 1000);
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[history]\nbackend = \"postgres\"\n").unwrap_err();
     assert!(e[0].contains("backend = \"postgres\" needs a url"), "{e:?}");
     let e = parse(
@@ -80,9 +92,9 @@ fn retain_and_history_settings() {
         "{tls}ca_file = \"certs/ca.pem\"\nclient_cert = \"certs/me.pem\"\nclient_key = \"certs/me.key\"\n"
     ))
     .unwrap();
-    assert_eq!(c.history.ca_file.as_deref(), Some("certs/ca.pem"));
+    assert_eq!(c.s.history.ca_file.as_deref(), Some("certs/ca.pem"));
     assert_eq!(
-        (c.history.client_cert.as_deref(), c.history.client_key.as_deref()),
+        (c.s.history.client_cert.as_deref(), c.s.history.client_key.as_deref()),
         (Some("certs/me.pem"), Some("certs/me.key"))
     );
     let e = parse(&format!("{tls}ca_file = \"ca.pem\"\nclient_cert = \"me.pem\"\n")).unwrap_err();
@@ -112,9 +124,9 @@ fn retain_and_history_settings() {
 #[test]
 fn audit_retention() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-    assert_eq!(c.audit, Audit { retention_days: 365 });
+    assert_eq!(c.s.audit, Audit { retention_days: 365 });
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nretention_days = 0\n").unwrap();
-    assert_eq!(c.audit, Audit { retention_days: 0 });
+    assert_eq!(c.s.audit, Audit { retention_days: 0 });
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[audit]\nretention_days = 40000\n").unwrap_err();
     assert_eq!(
         e,
@@ -131,7 +143,7 @@ fn modbus_devices_and_their_maps() {
         "{head}[[modbus_device]]\nname = \"rack\"\ntcp = \"10.0.0.5:502\"\nmap = [\n  {{ remote = \"di 0\", count = 8, at = \"%IX0.0\" }},\n  {{ remote = \"hr 100\", at = \"AO:4/2\" }},\n]\n"
     ))
     .unwrap();
-    let d = &c.modbus_devices[0];
+    let d = &c.c.modbus_devices[0];
     assert_eq!(
         (
             d.name.as_str(),
@@ -167,7 +179,7 @@ fn modbus_devices_and_their_maps() {
     ))
     .unwrap();
     assert_eq!(
-        c.modbus_devices[0].link,
+        c.c.modbus_devices[0].link,
         DeviceLink::Rtu {
             port: "/dev/ttyUSB0".into(),
             baud: 9600
@@ -208,7 +220,7 @@ fn modbus_devices_and_their_maps() {
 #[test]
 fn boards_and_pin_maps() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"Nano\"\npinmap = \"s7\"\n").unwrap();
-    let b = c.board.unwrap();
+    let b = c.c.board.unwrap();
     assert_eq!((b.model, b.pinmap.as_str(), b.active_low), (Model::Nano, "s7", false));
     assert_eq!(b.map, PinMap::preset("s7").unwrap());
     // A custom list replaces one direction of the preset.
@@ -216,13 +228,13 @@ fn boards_and_pin_maps() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\nai = [\"A4\", \"A5\"]\nactive_low = true\n",
     )
     .unwrap();
-    let b = c.board.unwrap();
+    let b = c.c.board.unwrap();
     assert_eq!(b.map.ai, [Pin::A(4), Pin::A(5)]);
     assert_eq!(b.map.di, PinMap::preset("aurora").unwrap().di);
     assert!(b.active_low);
     // Outputs on at power-up: digital outputs of the map only.
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"A0\"]\n").unwrap();
-    assert_eq!(c.board.unwrap().power_up_on, [Pin::A(0)]);
+    assert_eq!(c.c.board.unwrap().power_up_on, [Pin::A(0)]);
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[board]\nmodel = \"uno\"\npower_up_on = [\"D2\", \"X\"]\n")
         .unwrap_err();
     assert_eq!(
@@ -269,7 +281,7 @@ fn opcua_users_hold_argon2_hashes() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n[opcua.users]\noperator = \"{h}\"\nadmin = \"{h}\"\n"
     ))
     .unwrap();
-    let o = c.opcua.unwrap();
+    let o = c.s.opcua.unwrap();
     assert_eq!(o.listen, Some("0.0.0.0:4840".parse().unwrap()));
     let names: Vec<_> = o.users.iter().map(|u| u.name.as_str()).collect();
     assert_eq!(names, ["operator", "admin"], "in file order");
@@ -279,13 +291,13 @@ fn opcua_users_hold_argon2_hashes() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"viewer\"]\n[opcua.users]\noperator = \"{h}\"\nviewer = \"{h}\"\n"
     ))
     .unwrap();
-    let w: Vec<_> = c
-        .opcua
-        .unwrap()
-        .users
-        .iter()
-        .map(|u| (u.name.clone(), u.write))
-        .collect();
+    let w: Vec<_> =
+        c.s.opcua
+            .unwrap()
+            .users
+            .iter()
+            .map(|u| (u.name.clone(), u.write))
+            .collect();
     assert_eq!(w, [("operator".to_string(), true), ("viewer".to_string(), false)]);
     let e = parse(&format!(
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nread_only = [\"ghost\"]\n[opcua.users]\noperator = \"{h}\"\n"
@@ -294,7 +306,7 @@ fn opcua_users_hold_argon2_hashes() {
     assert_eq!(e, ["alba.toml:4:14: error[E102]: `ghost` is not in [opcua.users]"]);
     // Loopback needs no users.
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.2:4840\"\n").unwrap();
-    assert!(c.opcua.unwrap().users.is_empty());
+    assert!(c.s.opcua.unwrap().users.is_empty());
     // Errors, each located on the offending value.
     let e = parse(&format!(
         "name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n[opcua.users]\nplain = \"hunter2\"\nmd5 = \"$1$abc$def\"\n\"two words\" = \"{h}\"\nbroken = \"$argon2id$v=19$m=8,t=1,p=1$\"\nweak = \"$argon2id$v=19$m=1,t=1,p=1$YWxiYS10ZXN0LXNhbHQ$AAAAAAAAAAAAAAAAAAAAAA\"\n"
@@ -320,7 +332,7 @@ fn opcua_users_hold_argon2_hashes() {
     // Beyond loopback without users nobody could log in (checked with the
     // project, which knows users.toml: crate::project's tests).
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"0.0.0.0:4840\"\n").unwrap();
-    let e = crate::users::opcua_listen_needs_users(&c, false).unwrap();
+    let e = users::opcua_listen_needs_users(&c.s, false).unwrap();
     let mut files = Files::new();
     files.add(
         "alba.toml",
@@ -330,16 +342,16 @@ fn opcua_users_hold_argon2_hashes() {
         e.short(&files),
         "alba.toml:4:10: error[E102]: listen = \"0.0.0.0:4840\" is not a loopback address, so it needs users"
     );
-    assert!(crate::users::opcua_listen_needs_users(&c, true).is_none());
+    assert!(users::opcua_listen_needs_users(&c.s, true).is_none());
     assert!(check_password_hash(&h).is_ok());
 }
 
 #[test]
 fn modbus_settings_and_explicit_addresses() {
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n").unwrap();
-    assert!(c.modbus.is_none() && c.opcua.is_none());
+    assert!(c.s.modbus.is_none() && c.s.opcua.is_none());
     let c = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"127.0.0.1:4840\"\n").unwrap();
-    assert_eq!(c.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
+    assert_eq!(c.s.opcua.unwrap().listen, Some("127.0.0.1:4840".parse().unwrap()));
     let e = parse("name = \"x\"\nprograms = [\"a.lad\"]\n[opcua]\nlisten = \"4840\"\n").unwrap_err();
     assert_eq!(
         e,
@@ -349,10 +361,14 @@ fn modbus_settings_and_explicit_addresses() {
         "name = \"x\"\nprograms = [\"a.lad\"]\n[modbus]\nlisten = \"127.0.0.1:5020\"\nunit_id = 3\n[modbus.tags]\nSpeed = \"hr 8192\"\n\"Delay.PRE\" = \"HR:9000\"\nRunning = \"coil8192\"\n",
     )
     .unwrap();
-    let m = c.modbus.unwrap();
+    let m = c.s.modbus.unwrap();
     assert_eq!(m.listen, Some("127.0.0.1:5020".parse().unwrap()));
     assert_eq!((m.unit_id, m.max_connections, m.idle_timeout_s), (Some(3), 32, 60));
-    let tags: Vec<_> = m.tags.iter().map(|t| (t.name.as_str(), t.area, t.start)).collect();
+    let tags: Vec<_> =
+        c.c.modbus_tags
+            .iter()
+            .map(|t| (t.name.as_str(), t.area, t.start))
+            .collect();
     assert_eq!(
         tags,
         [
@@ -368,11 +384,12 @@ fn modbus_settings_and_explicit_addresses() {
     assert_eq!(
         e,
         [
-            "alba.toml:4:10: error[E102]: listen = \"localhost\" is not an address and port",
-            "alba.toml:5:19: error[E102]: max_connections = 0 is out of range",
+            // The project's tables are checked first, then the services'.
             "alba.toml:7:5: error[E102]: `hr 100` is inside OpenPLC's map (hr 0 to 8191, which the I/O image and markers use)",
             "alba.toml:8:5: error[E102]: `xx 9000` is not a Modbus address: expected an area (coil, di, ir, hr) and a number, like `hr 8192`",
             "alba.toml:9:5: error[E102]: `ir 70000`: Modbus addresses go from 0 to 65535",
+            "alba.toml:4:10: error[E102]: listen = \"localhost\" is not an address and port",
+            "alba.toml:5:19: error[E102]: max_connections = 0 is out of range",
         ]
     );
 }
@@ -407,8 +424,8 @@ fn plant_models_are_checked_with_their_places() {
         "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"AO:4/0\"\noutput = \"AI:3/0\"\ntau = 10.0\ninput_scale = [0, 10000, 0, 10]\ndead_time = 0.5\n"
     );
     let c = parse(&ok).unwrap();
-    assert_eq!(c.models.len(), 1);
-    assert_eq!(c.models[0].dead_time, 0.5);
+    assert_eq!(c.c.models.len(), 1);
+    assert_eq!(c.c.models[0].dead_time, 0.5);
     let bad = format!(
         "{head}[[plant_model]]\nkind = \"first_order\"\ninput = \"U\"\noutput = \"Y\"\ntau = -1.0\narea = 2.0\nsaturation = [5, 1]\n\n[[plant_model]]\nkind = \"third\"\ninput = \"U\"\noutput = \"Y\"\n\n[[plant_model]]\nkind = \"second_order\"\ninput = \"U\"\noutput = \"Y\"\nden = [1, 2]\n"
     );
@@ -431,6 +448,7 @@ fn modbus_allow_list_and_read_only() {
     // Off by default: no list (every loopback client), writes allowed.
     let m = parse(&format!("{head}listen = \"127.0.0.1:5020\"\n"))
         .unwrap()
+        .s
         .modbus
         .unwrap();
     assert_eq!((m.allow, m.read_only), (None, false));
@@ -438,7 +456,7 @@ fn modbus_allow_list_and_read_only() {
         "{head}listen = \"0.0.0.0:502\"\nread_only = true\nallow = [\"192.168.1.20\", \"10.0.0.0/24\", \"fd00::/8\", \"::1\", \"0.0.0.0/0\"]\n"
     ))
     .unwrap()
-    .modbus
+    .s.modbus
     .unwrap();
     assert!(m.read_only);
     let allow = m.allow.unwrap();
@@ -492,19 +510,19 @@ fn bad_modbus_client_rules_are_located() {
 #[test]
 fn http_table_lists_hosts_origins_and_tls_files() {
     let head = "name = \"x\"\nprograms = [\"a.lad\"]\n";
-    assert_eq!(parse(head).unwrap().http, Http::default());
+    assert_eq!(parse(head).unwrap().s.http, Http::default());
     let c = parse(&format!(
         "{head}[http]\nallowed_hosts = [\"PLC1.plant.example\"]\nallowed_origins = [\"https://scada.example:8443\", \"http://[::1]:8080\"]\ninsecure = true\ncert = \"tls/c.pem\"\nkey = \"tls/k.pem\"\n"
     ))
     .unwrap();
-    assert_eq!(c.http.allowed_hosts, ["plc1.plant.example"]);
+    assert_eq!(c.s.http.allowed_hosts, ["plc1.plant.example"]);
     assert_eq!(
-        c.http.allowed_origins,
+        c.s.http.allowed_origins,
         ["https://scada.example:8443", "http://[::1]:8080"]
     );
-    assert!(c.http.insecure);
+    assert!(c.s.http.insecure);
     assert_eq!(
-        (c.http.cert.as_deref(), c.http.key.as_deref()),
+        (c.s.http.cert.as_deref(), c.s.http.key.as_deref()),
         (Some("tls/c.pem"), Some("tls/k.pem"))
     );
     for (bad, what) in [
@@ -534,15 +552,15 @@ fn authorities_split_into_host_and_port() {
 #[test]
 fn mqtt_and_alarms_tables() {
     let c = parse("name = \"t\"\nprograms = [\"main.lad\"]\n").unwrap();
-    assert_eq!((c.mqtt, c.alarms.retention_days), (None, 365));
+    assert_eq!((c.s.mqtt, c.s.alarms.retention_days), (None, 365));
     let c = parse(
         "name = \"t\"\nprograms = [\"main.lad\"]\n[alarms]\nretention_days = 30\n[mqtt]\nbroker = \"broker.local:8883\"\n\
          topic_prefix = \"site/line1\"\nqos = 0\ntags = [\"Level\", \"Delay\"]\nwrites = false\n\
          username = \"plc\"\npassword_file = \"mqtt.secret\"\n",
     )
     .unwrap();
-    let m = c.mqtt.unwrap();
-    assert_eq!(c.alarms.retention_days, 30);
+    let m = c.s.mqtt.unwrap();
+    assert_eq!(c.s.alarms.retention_days, 30);
     assert_eq!(m.broker.as_deref(), Some("broker.local:8883"));
     assert_eq!(m.topic_prefix.as_deref(), Some("site/line1"));
     assert_eq!((m.qos, m.writes, m.keep_alive_s, m.queue), (0, false, 30, 10_000));
@@ -550,20 +568,22 @@ fn mqtt_and_alarms_tables() {
     assert_eq!((m.publish_interval_ms, m.deadband), (0, 0.0));
     let m2 = parse("name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\npublish_interval_ms = 250\ndeadband = 0.5\n")
         .unwrap()
+        .s
         .mqtt
         .unwrap();
     assert_eq!((m2.publish_interval_ms, m2.deadband), (250, 0.5));
-    assert_eq!(m2.version, crate::config::MqttVersion::V311);
+    assert_eq!(m2.version, alba_settings::MqttVersion::V311);
     for (v, want) in [
-        ("5", crate::config::MqttVersion::V5),
-        ("\"5.0\"", crate::config::MqttVersion::V5),
-        ("\"3.1.1\"", crate::config::MqttVersion::V311),
-        ("4", crate::config::MqttVersion::V311),
+        ("5", alba_settings::MqttVersion::V5),
+        ("\"5.0\"", alba_settings::MqttVersion::V5),
+        ("\"3.1.1\"", alba_settings::MqttVersion::V311),
+        ("4", alba_settings::MqttVersion::V311),
     ] {
         let m = parse(&format!(
             "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nversion = {v}\n"
         ))
         .unwrap()
+        .s
         .mqtt
         .unwrap();
         assert_eq!(m.version, want, "{v}");
@@ -572,6 +592,7 @@ fn mqtt_and_alarms_tables() {
         "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\nuser = \"line1\"\npassword_file = \"/run/secrets/mqtt\"\n",
     )
     .unwrap()
+    .s
     .mqtt
     .unwrap();
     assert_eq!(
@@ -611,7 +632,7 @@ fn mqtt_and_alarms_tables() {
 #[test]
 fn mqtt_sparkplug_table() {
     let head = "name = \"t\"\nprograms = [\"main.lad\"]\n[mqtt]\n[mqtt.sparkplug]\n";
-    let sp = parse(head).unwrap().mqtt.unwrap().sparkplug.unwrap();
+    let sp = parse(head).unwrap().s.mqtt.unwrap().sparkplug.unwrap();
     assert_eq!(
         (
             sp.group_id.as_str(),
@@ -627,7 +648,7 @@ fn mqtt_sparkplug_table() {
         "{head}primary_host_id = \"scada\"\nbuffer_max = 5000\n[mqtt.sparkplug.devices]\npumps = [\"P1\", \"P2\"]\nline = [\"Conveyor\"]\n"
     ))
         .unwrap()
-        .mqtt
+        .s.mqtt
         .unwrap()
         .sparkplug
         .unwrap();
@@ -657,7 +678,7 @@ fn opcua_servers_and_their_bindings() {
         "{head}[[opcua_server]]\nname = \"plc\"\nendpoint = \"opc.tcp://10.0.0.9:4840/\"\nsecurity_policy = \"Basic256Sha256\"\nuser = \"op\"\npassword_file = \"secret.txt\"\nbind = [\n  {{ tag = \"Level\", node = \"ns=2;s=Tank.Level\", dir = \"in\" }},\n  {{ tag = \"Pump\", node = \"ns=3;i=1001\", dir = \"out\" }},\n]\n"
     ))
     .unwrap();
-    let s = &c.opcua_servers[0];
+    let s = &c.s.opcua_servers[0];
     assert_eq!(
         (
             s.name.as_str(),

@@ -36,26 +36,41 @@ pub struct OpcuaUser {
 /// Only the form is checked here, with the light `password-hash` crate (the
 /// PHC string format); `argon2` itself, which verifies passwords, is a
 /// dependency of the OPC UA server alone.
-pub fn check_password_hash(text: &str) -> Result<(), String> {
+pub fn check_password_hash(text: &str) -> Result<(), HashError> {
     if !text.starts_with('$') {
-        return Err(
-            "this is not a password hash: [opcua.users] holds argon2 hashes, never plain-text passwords".to_string(),
-        );
+        return Err(HashError::PlainText);
     }
-    let hash = PasswordHash::new(text).map_err(|e| format!("`{text}` is not a valid password hash ({e})"))?;
+    let hash = PasswordHash::new(text).map_err(|e| HashError::Invalid {
+        text: text.to_string(),
+        why: e.to_string(),
+    })?;
     match hash.algorithm.as_str() {
         "argon2id" | "argon2i" | "argon2d" => {}
-        other => {
-            return Err(format!(
-                "`{other}` hashes are not accepted: use argon2 (`$argon2id$...`)"
-            ));
-        }
+        other => return Err(HashError::Algorithm(other.to_string())),
     }
     if hash.hash.is_none() || hash.salt.is_none() {
-        return Err(format!("`{text}` has no salt or no hash output"));
+        return Err(HashError::Incomplete(text.to_string()));
     }
-    argon2_params(&hash).map_err(|e| format!("`{text}` has bad argon2 parameters ({e})"))?;
+    argon2_params(&hash).map_err(|e| HashError::Parameters {
+        text: text.to_string(),
+        why: e.to_string(),
+    })?;
     Ok(())
+}
+
+/// Why a text is not an argon2 password hash ([`check_password_hash`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum HashError {
+    #[error("this is not a password hash: [opcua.users] holds argon2 hashes, never plain-text passwords")]
+    PlainText,
+    #[error("`{text}` is not a valid password hash ({why})")]
+    Invalid { text: String, why: String },
+    #[error("`{0}` hashes are not accepted: use argon2 (`$argon2id$...`)")]
+    Algorithm(String),
+    #[error("`{0}` has no salt or no hash output")]
+    Incomplete(String),
+    #[error("`{text}` has bad argon2 parameters ({why})")]
+    Parameters { text: String, why: String },
 }
 
 /// The parameter checks of `argon2::Params::try_from(&PasswordHash)`
@@ -104,7 +119,7 @@ pub(super) struct RawOpcua {
 }
 
 /// Validates `[opcua]`: user names and password hashes. (That a listen
-/// address beyond loopback has users is checked by `Project::load`, which
+/// address beyond loopback has users is checked by `alba_load::load`, which
 /// knows users.toml too.)
 pub(super) fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> Opcua {
     let sp = |r: std::ops::Range<usize>| Span::new(file, r);
@@ -133,7 +148,7 @@ pub(super) fn opcua(o: RawOpcua, file: FileId, diags: &mut Vec<Diagnostic>) -> O
             Err(msg) => diags.push(
                 Diagnostic::new(
                     Code::ConfigField,
-                    msg,
+                    msg.to_string(),
                     sp(hash.span()),
                     format!("the password hash of `{n}`"),
                 )

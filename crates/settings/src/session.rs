@@ -59,8 +59,8 @@ pub(super) fn session(s: RawSession, file: FileId, diags: &mut Vec<Diagnostic>) 
 
 #[cfg(test)]
 mod tests {
-    use super::super::Config;
     use super::*;
+    use crate::Settings as Config;
     use alba_diag::Files;
 
     fn parse(text: &str) -> Result<Config, Vec<String>> {
