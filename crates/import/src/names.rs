@@ -71,7 +71,7 @@ impl Names {
             base.truncate(60);
         }
         if let Err(e) = alba_model::tags::check_tag_name(&base) {
-            why = Some(e);
+            why = Some(e.to_string());
             base = format!("x_{base}");
             if base.len() > 60 {
                 base.truncate(60);

@@ -112,7 +112,7 @@ impl Layout {
             return Ok(sys);
         }
         match Address::parse(name) {
-            Err(msg) => return Err(ResolveError::BadAddress(msg)),
+            Err(msg) => return Err(ResolveError::BadAddress(msg.to_string())),
             Ok(Some(addr)) => {
                 // A tag on exactly this address gives its type and access.
                 if let Some(tag) = self.tags.iter().find(|t| t.address == Some(addr)) {

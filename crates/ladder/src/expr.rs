@@ -533,7 +533,7 @@ impl P {
         };
         self.pos += 1;
         match tok {
-            Tok::Num(s) => Literal::parse(&s).map(|l| Expr::Lit(l, sp)).map_err(|m| (m, sp)),
+            Tok::Num(s) => Literal::parse(&s).map(|l| Expr::Lit(l, sp)).map_err(|m| (m.into(), sp)),
             Tok::LParen => {
                 let e = self.or()?;
                 self.expect(Tok::RParen, "`)`")?;

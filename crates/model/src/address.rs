@@ -4,6 +4,7 @@
 //! (`%IX0.5`), S7-200 (`I0.5`) and the SLC 500's files (`I:0/5`, `N7:2`;
 //! see [`crate::slc`]). [`Address::parse`] normalises them all.
 
+use crate::Invalid;
 use crate::types::DataType;
 use std::fmt;
 
@@ -55,7 +56,11 @@ impl Address {
     /// Parses any notation of SPEC §2.2, case-insensitively. `Ok(None)` means
     /// the text does not look like an address at all (it may be a tag name);
     /// `Err` means it looks like one but is wrong, with the reason.
-    pub fn parse(text: &str) -> Result<Option<Address>, String> {
+    pub fn parse(text: &str) -> Result<Option<Address>, Invalid> {
+        Self::parse_text(text).map_err(Invalid::Address)
+    }
+
+    fn parse_text(text: &str) -> Result<Option<Address>, String> {
         let s = text.trim().to_ascii_uppercase();
         if let Some(rest) = s.strip_prefix('%') {
             return parse_iec(rest, text).map(Some);
@@ -377,7 +382,7 @@ mod tests {
             ("%IXa", "byte.bit"),
         ] {
             let e = Address::parse(s).unwrap_err();
-            assert!(e.contains(needle), "{s}: {e}");
+            assert!(e.to_string().contains(needle), "{s}: {e}");
         }
     }
 

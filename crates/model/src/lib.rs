@@ -5,6 +5,7 @@
 pub mod address;
 pub mod board;
 pub mod csv;
+pub mod error;
 pub mod fsutil;
 pub mod plant;
 pub use address::slc;
@@ -13,6 +14,7 @@ pub mod types;
 pub mod value;
 
 pub use address::Address;
+pub use error::Invalid;
 pub use tags::{Tag, TagTable};
 pub use types::DataType;
 pub use value::{Literal, Value};

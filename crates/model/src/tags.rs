@@ -1,5 +1,6 @@
 //! The tag table, `tags.csv` (SPEC §2.1, §10.1).
 
+use crate::Invalid;
 use crate::address::{Address, Area};
 use crate::csv;
 use crate::types::{DataType, PID_DEFAULTS, PidParams};
@@ -60,7 +61,11 @@ pub fn is_identifier(s: &str) -> bool {
 
 /// Parses `MEMBER=value;MEMBER=value` for the writable members of a
 /// structure type.
-pub fn parse_members(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, String> {
+pub fn parse_members(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, Invalid> {
+    members_text(text, ty).map_err(Invalid::Members)
+}
+
+fn members_text(text: &str, ty: DataType) -> Result<Vec<(String, Value)>, String> {
     let mut out: Vec<(String, Value)> = Vec::new();
     let mut timed = Vec::new();
     for item in text.split(';').map(str::trim).filter(|s| !s.is_empty()) {
@@ -123,7 +128,11 @@ fn with_unit(ty: DataType, member: &str, value: &str) -> Option<Result<f64, Stri
 }
 
 /// Why `name` cannot be a tag name, if it cannot.
-pub fn check_tag_name(name: &str) -> Result<(), String> {
+pub fn check_tag_name(name: &str) -> Result<(), Invalid> {
+    tag_name_text(name).map_err(Invalid::TagName)
+}
+
+fn tag_name_text(name: &str) -> Result<(), String> {
     if name.is_empty() {
         return Err("the tag name is empty".into());
     }
@@ -657,7 +666,7 @@ mod tests {
         assert!(near(get("MINUTES=0;TI=0.25min", "TI"), 15.0));
         for bad in ["TI=xmin", "KP=2min", "TD=min", "TI=3h", "KC=2s", "TD=s"] {
             let e = parse_members(bad, DataType::Pid).expect_err(bad);
-            assert!(e.contains("bad value for"), "{bad}: {e}");
+            assert!(e.to_string().contains("bad value for"), "{bad}: {e}");
         }
     }
 

@@ -1,6 +1,7 @@
 //! Literals (as written in tags.csv, ladder operands and stimulus files) and
 //! typed values.
 
+use crate::Invalid;
 use crate::types::DataType;
 use std::fmt;
 
@@ -18,7 +19,11 @@ impl Literal {
     /// Parses `true`, `false`, decimal or based integers (`16#FF`, `-2#101`,
     /// `1_000`), reals (`1.5`, `-2.0e3`, `3e2`) and durations (`T#1m30s`,
     /// `TIME#250ms`). Returns a message saying what was expected on failure.
-    pub fn parse(text: &str) -> Result<Literal, String> {
+    pub fn parse(text: &str) -> Result<Literal, Invalid> {
+        Self::parse_text(text).map_err(Invalid::Literal)
+    }
+
+    fn parse_text(text: &str) -> Result<Literal, String> {
         let s = text.trim();
         if s.eq_ignore_ascii_case("true") {
             return Ok(Literal::Bool(true));
@@ -169,7 +174,11 @@ impl Value {
 
     /// Converts a literal to a value of `ty`, refusing what does not fit
     /// (a real into an integer, 40000 into an INT, 2 into a BOOL).
-    pub fn from_literal(lit: Literal, ty: DataType) -> Result<Value, String> {
+    pub fn from_literal(lit: Literal, ty: DataType) -> Result<Value, Invalid> {
+        Self::from_literal_text(lit, ty).map_err(Invalid::Value)
+    }
+
+    fn from_literal_text(lit: Literal, ty: DataType) -> Result<Value, String> {
         let int = |v: i64| -> Result<Value, String> {
             let (lo, hi) = ty.int_range().ok_or_else(|| format!("{ty} does not take an integer"))?;
             if v < lo || v > hi {
@@ -208,7 +217,7 @@ impl Value {
     }
 
     /// Parses text as a value of `ty`.
-    pub fn parse(text: &str, ty: DataType) -> Result<Value, String> {
+    pub fn parse(text: &str, ty: DataType) -> Result<Value, Invalid> {
         Value::from_literal(Literal::parse(text)?, ty)
     }
 
@@ -314,6 +323,7 @@ mod tests {
         assert!(
             Value::parse("32768", DataType::Int)
                 .unwrap_err()
+                .to_string()
                 .contains("out of range")
         );
         assert!(Value::parse("2", DataType::Bool).is_err());

@@ -9,6 +9,7 @@
 //! name TIMER and COUNTER structures the layout makes for the programs that
 //! use them (see [`SlcStruct`]).
 
+use crate::Invalid;
 use crate::address::{Address, MarkerWidth};
 use crate::types::DataType;
 
@@ -79,7 +80,11 @@ fn file_of(s: &str) -> Option<(char, &str)> {
 
 /// Parses an SLC 500 address (upper-cased `s`, `original` for messages).
 /// `Ok(None)`: not SLC-shaped.
-pub fn parse(s: &str, original: &str) -> Result<Option<Slc>, String> {
+pub fn parse(s: &str, original: &str) -> Result<Option<Slc>, Invalid> {
+    parse_text(s, original).map_err(Invalid::Address)
+}
+
+fn parse_text(s: &str, original: &str) -> Result<Option<Slc>, String> {
     // `B3/17`: a bit of the file counted from its start.
     if !s.contains(':') {
         let Some((file, bit)) = s.split_once('/') else {
@@ -333,7 +338,7 @@ mod tests {
             ("T300:0", "0 to 255"),
         ] {
             let e = parse(&s.to_ascii_uppercase(), s).unwrap_err();
-            assert!(e.contains(needle), "{s}: {e}");
+            assert!(e.to_string().contains(needle), "{s}: {e}");
         }
     }
 

@@ -208,7 +208,7 @@ pub(super) fn devices(raw: Vec<Spanned<RawDevice>>, file: FileId, diags: &mut Ve
                     continue;
                 }
                 Err(msg) => {
-                    diags.push(bad(msg, m.at.span(), "the first local channel"));
+                    diags.push(bad(msg.to_string(), m.at.span(), "the first local channel"));
                     continue;
                 }
             };
