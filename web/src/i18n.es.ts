@@ -635,4 +635,10 @@ export const es: Record<string, string> = {
   'scan {k} of {n}, {t} ms': 'ciclo {k} de {n}, {t} ms',
   'the property fails here': 'aquí falla la propiedad',
   'reached here': 'alcanzada aquí',
+  // the Structured Text view (st/view.ts)
+  'Ctrl+Space completes a name': 'Ctrl+Espacio completa un nombre',
+  'Add a variable or tag': 'Añadir una variable o etiqueta',
+  Watch: 'Observar',
+  'no tag': 'sin etiqueta',
+  Remove: 'Quitar',
 };
