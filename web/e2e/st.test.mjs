@@ -97,5 +97,14 @@ test('an ST program is written with completion, checked as typed, saved online a
   await b.shot('st-view');
   // after 5 s the lamp lights: Q => Lamp shown TRUE on the call's line
   await page.waitForFunction(() => document.querySelector('[data-testid="st-val-8-Lamp"]')?.textContent === 'Lamp = TRUE', null, { timeout: 10_000 });
+  // An online edit keeps the FB instances' state: the counter stays at 1 (its CU edge is
+  // past), the timer stays done (the lamp stays on; reset, it would be off for 5 s).
+  await tid('editor-text').fill(fixed.replace('PV := 1000', 'PV := 999'));
+  await tid('btn-save').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="st-main.st"]')?.getAttribute('data-dirty') === 'false');
+  assert.match(readFileSync(file, 'utf8'), /PV := 999/);
+  await page.waitForTimeout(500);
+  assert.equal(await tid('st-val-10-count').textContent(), 'count = 1');
+  assert.equal(await tid('st-val-8-Lamp').textContent(), 'Lamp = TRUE');
   assert.deepEqual(b.errors, [], 'no error in the page');
 });

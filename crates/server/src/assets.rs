@@ -71,7 +71,11 @@ fn respond(path: &str, bytes: &'static [u8], headers: &HeaderMap, cache: &'stati
         extra.push((header::CONTENT_ENCODING, HeaderValue::from_static(coding)));
     }
     let mut res = body.into_response();
-    res.headers_mut().extend(extra);
+    // insert, not extend: extend appends, and the body's own
+    // `application/octet-stream` would stay beside the file's type
+    for (name, value) in extra {
+        res.headers_mut().insert(name, value);
+    }
     res
 }
 

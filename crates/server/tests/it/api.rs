@@ -623,6 +623,15 @@ async fn the_studio_is_embedded_and_served() {
         .expect("a script");
     let js = s.http.get(s.url(&format!("/{script}"))).send().await.expect("script");
     assert_eq!(js.status(), StatusCode::OK);
+    // One type, the file's: a second `application/octet-stream` beside it
+    // makes Chromium refuse the script under `nosniff` (a blank studio).
+    let types: Vec<&str> = js
+        .headers()
+        .get_all("content-type")
+        .iter()
+        .filter_map(|v| v.to_str().ok())
+        .collect();
+    assert_eq!(types, ["text/javascript; charset=utf-8"]);
     let raw = js.bytes().await.expect("js");
     assert!(raw.len() > 10_000, "the bundle, not a placeholder");
     // Compressed for a client that accepts it (SPEC §10.6): the build's own
