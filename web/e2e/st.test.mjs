@@ -46,6 +46,7 @@ test('an ST program is written with completion, checked as typed, saved online a
   await tid('line-error-10').waitFor();
   assert.match(await tid('st-error-10').textContent(), /E222: unknown name `Motr` \(did you mean `Motor`\?\)/);
   assert.match(await tid('edit-state').textContent(), /1 problem/);
+  assert.equal(await page.locator('.st-line[data-line="10"] .st-bad').textContent(), 'Motr', 'the unknown name underlined');
   await b.shot('st-error');
 
   // Fix it by typing, with the completion: `sta` offers `starts` (a variable) and `Start` (a tag), `starts.C` its members CU, CV.

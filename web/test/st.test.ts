@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { membersOf } from '../src/domain';
-import { complete, declarations, formatValue, highlight, lex, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
+import { complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
 
 const MOTOR = `(* Start/stop (* nested *) with seal-in *)
 PROGRAM Main
@@ -59,6 +59,24 @@ describe('ST highlighting', () => {
     expect(kinds('t := TIME#-1.5s')).toContain('number:TIME#-1.5s');
     expect(kinds('x := INT_TO_REAL(n)')).toContain('builtin:INT_TO_REAL');
     expect(lex('(* open').map((t) => t.kind)).toEqual(['comment']);
+  });
+});
+
+describe('ST problem places', () => {
+  const line = highlight('count := Motr + 1; (* c *)')[0];
+  const bad = (spans: ReturnType<typeof markRange>) => spans.filter((s) => s.cls.includes('st-bad')).map((s) => s.text).join('');
+  it('underlines the columns of a problem, splitting spans and keeping their colours', () => {
+    const m = markRange(line, 10, 14);
+    expect(bad(m)).toBe('Motr');
+    expect(m.map((s) => s.text).join('')).toBe('count := Motr + 1; (* c *)');
+    expect(bad(markRange(line, 17, 21))).toBe('1; (');
+    expect(markRange(line, 17, 21).find((s) => s.text === '(')?.cls).toBe('st-com st-bad');
+  });
+  it('marks to the end of the line without an end, and one column for an empty range', () => {
+    expect(bad(markRange(line, 20, null))).toBe('(* c *)');
+    expect(bad(markRange(line, 1, 1))).toBe('c');
+    expect(bad(markRange(line, 99, 100))).toBe(')');
+    expect(bad(markRange([], 1, 2))).toBe('');
   });
 });
 

@@ -188,6 +188,35 @@ export function highlight(text: string): Span[][] {
   return lines;
 }
 
+/**
+ * Marks columns `from`..`to` (1-based, `to` exclusive) of a line's spans with
+ * ` st-bad` (a problem's place), splitting spans at the edges; `to` null or
+ * past the end marks to the end of the line, a range before the first
+ * character one column.
+ */
+export function markRange(spans: Span[], from: number, to: number | null): Span[] {
+  const len = spans.reduce((n, s) => n + s.text.length, 0);
+  let a = Math.max(0, from - 1);
+  let b = to === null || to - 1 > len ? len : Math.max(a, to - 1);
+  if (b === a) b = a + 1;
+  if (a >= len) {
+    a = Math.max(0, len - 1);
+    b = len;
+  }
+  const out: Span[] = [];
+  let at = 0;
+  for (const s of spans) {
+    const end = at + s.text.length;
+    const cut = [at, Math.min(Math.max(a, at), end), Math.min(Math.max(b, at), end), end];
+    for (let k = 0; k < 3; k++) {
+      const part = s.text.slice(cut[k] - at, cut[k + 1] - at);
+      if (part) out.push({ cls: k === 1 ? `${s.cls} st-bad`.trim() : s.cls, text: part });
+    }
+    at = end;
+  }
+  return out;
+}
+
 // ---- declarations ----------------------------------------------------------
 
 export interface VarDecl {

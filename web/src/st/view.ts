@@ -15,7 +15,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { tr } from '../i18n';
-import { type Completion, type Decls, complete, declarations, formatValue, highlight, lex, namesByLine, pouAt, tagOf, wordAt } from './parse';
+import { type Completion, type Decls, complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
 
 /** A name shown with its value: where it is drawn and the tag it reads. */
 interface Shown {
@@ -160,11 +160,20 @@ export class StView {
     const toks = lex(text);
     this.decls = declarations(text, toks);
     const problems = new Map<number, string[]>();
-    for (const d of this.ed.mine()) if (d.line !== null) problems.set(d.line, [...(problems.get(d.line) ?? []), problemTip(d)]);
+    const places = new Map<number, [number, number | null][]>();
+    for (const d of this.ed.mine()) {
+      if (d.line === null) continue;
+      problems.set(d.line, [...(problems.get(d.line) ?? []), problemTip(d)]);
+      // the place itself, on its first line (to the end of the line when it goes on)
+      const to = d.end_line === null || d.end_line === d.line ? d.end_col : null;
+      places.set(d.line, [...(places.get(d.line) ?? []), [d.col ?? 1, d.col === null ? null : to]]);
+    }
     clear(this.overlay);
-    highlight(text).forEach((spans, k) => {
+    highlight(text).forEach((line, k) => {
       const n = k + 1;
       const err = problems.get(n);
+      let spans = line;
+      for (const [from, to] of places.get(n) ?? []) spans = markRange(spans, from, to);
       const row = h('div', { class: `st-line${err ? ' error' : ''}`, 'data-line': String(n) });
       for (const s of spans) row.append(s.cls ? h('span', { class: s.cls }, s.text) : s.text);
       row.append(h('span', { class: 'st-vals', 'data-testid': `st-vals-${n}` }));
