@@ -77,12 +77,17 @@ test('an ST program is written with completion, checked as typed, saved online a
   // the new variable's value is shown beside its line
   await page.waitForFunction(() => /^count = 0$/.test(document.querySelector('[data-testid="st-val-10-count"]')?.textContent ?? ''));
 
-  // Start forced on from the watch list: the motor runs, the timer's ET and the counter change beside their lines.
+  // Watch names: typed, or from a value's menu beside its line.
   await tid('st-watch-add').fill('Start');
   await tid('st-watch-add').press('Enter');
   await tid('st-watch-add').fill('delay.ET');
   await tid('st-watch-add').press('Enter');
-  await tid('st-watch-Start').click({ button: 'right' });
+  await tid('st-val-10-count').click({ button: 'right' });
+  await tid('menu-watch').click();
+  await tid('st-watch-count').waitFor();
+  // Force from the code: Start's value beside its line → Force ON. The motor runs, the
+  // timer's ET and the counter change beside their lines.
+  await tid('st-val-7-Start').click({ button: 'right' });
   await tid('menu-force-on').click();
   await page.waitForFunction(() => document.querySelector('[data-testid="st-watch-Start"] .st-val')?.textContent === 'TRUE');
   await page.waitForFunction(() => /^count = 1$/.test(document.querySelector('[data-testid="st-val-10-count"]')?.textContent ?? ''));

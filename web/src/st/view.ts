@@ -39,6 +39,8 @@ export class StView {
   private watchList: string[] = [];
   private renderTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly overlay = h('div', { class: 'st-overlay', 'aria-hidden': 'true', 'data-testid': 'st-overlay' });
+  /** Above the text area: the values and problem messages at the end of the lines (the text in it is invisible), clickable. */
+  private readonly valuesLayer = h('div', { class: 'st-overlay st-values-layer', 'data-testid': 'st-values' });
   private readonly stack: HTMLElement;
   private readonly popup = h('ul', { class: 'st-complete', 'data-testid': 'st-complete', hidden: true });
   private items: Completion[] = [];
@@ -78,7 +80,9 @@ export class StView {
     t.addEventListener('keydown', (e) => this.onKey(e));
     t.addEventListener('blur', () => setTimeout(() => this.closePopup(), 150));
     t.addEventListener('click', () => this.closePopup());
-    this.stack = h('div', { class: 'st-stack' }, this.overlay, t, this.popup);
+    this.stack = h('div', { class: 'st-stack' }, this.overlay, t, this.valuesLayer, this.popup);
+    this.valuesLayer.addEventListener('contextmenu', (e) => this.onValueMenu(e));
+    this.valuesLayer.addEventListener('click', (e) => this.onValueMenu(e));
     this.watchInput.addEventListener('keydown', (e) => {
       if (e.key !== 'Enter') return;
       this.addWatch(this.watchInput.value.trim());
@@ -169,6 +173,8 @@ export class StView {
       places.set(d.line, [...(places.get(d.line) ?? []), [d.col ?? 1, d.col === null ? null : to]]);
     }
     clear(this.overlay);
+    clear(this.valuesLayer);
+    const raw = text.split('\n');
     highlight(text).forEach((line, k) => {
       const n = k + 1;
       const err = problems.get(n);
@@ -176,9 +182,11 @@ export class StView {
       for (const [from, to] of places.get(n) ?? []) spans = markRange(spans, from, to);
       const row = h('div', { class: `st-line${err ? ' error' : ''}`, 'data-line': String(n) });
       for (const s of spans) row.append(s.cls ? h('span', { class: s.cls }, s.text) : s.text);
-      row.append(h('span', { class: 'st-vals', 'data-testid': `st-vals-${n}` }));
-      if (err) row.append(h('span', { class: 'st-err', 'data-testid': `st-error-${n}`, title: err.join('\n') }, err[0]));
       this.overlay.append(row);
+      const top = h('div', { class: 'st-line', 'data-line': String(n) }, h('span', { class: 'st-ghost' }, raw[k] ?? ''));
+      top.append(h('span', { class: 'st-vals', 'data-testid': `st-vals-${n}` }));
+      if (err) top.append(h('span', { class: 'st-err', 'data-testid': `st-error-${n}`, title: err.join('\n') }, err[0]));
+      this.valuesLayer.append(top);
     });
     // the values already known go back beside their (maybe moved) lines
     this.placeValues();
@@ -187,7 +195,7 @@ export class StView {
 
   private syncScroll(): void {
     const t = this.ed.textEl;
-    this.overlay.style.transform = `translate(${-t.scrollLeft}px, ${-t.scrollTop}px)`;
+    this.overlay.style.transform = this.valuesLayer.style.transform = `translate(${-t.scrollLeft}px, ${-t.scrollTop}px)`;
     this.closePopup();
   }
 
@@ -237,16 +245,16 @@ export class StView {
   /** Value elements beside each line and in the watch list (from the values known). */
   private placeValues(): void {
     this.shown = [];
-    this.overlay.querySelectorAll('.st-vals').forEach((box) => clear(box));
+    this.valuesLayer.querySelectorAll('.st-vals').forEach((box) => clear(box));
     const names = namesByLine(this.ed.text, undefined, this.decls);
     for (const [line, refs] of names) {
-      const box = this.overlay.querySelector(`[data-line="${line}"] .st-vals`);
+      const box = this.valuesLayer.querySelector(`[data-line="${line}"] .st-vals`);
       if (!box) continue;
       for (const r of refs) {
         const t = this.tagFor(r.text, line);
         if (!t) continue;
         const val = h('b', { class: 'st-val' });
-        box.append(h('span', { class: 'st-val-item', 'data-name': r.text, 'data-testid': `st-val-${line}-${r.text}`, title: t.tag }, `${r.text} = `, val));
+        box.append(h('span', { class: 'st-val-item', 'data-name': r.text, 'data-tag': t.tag, 'data-testid': `st-val-${line}-${r.text}`, title: t.tag }, `${r.text} = `, val));
         this.shown.push({ el: val, tag: t.tag, type: t.type });
       }
     }
@@ -304,6 +312,19 @@ export class StView {
       // private browsing: the list lasts as long as the page
     }
     this.renderValues();
+  }
+
+  /** A click on a value beside a line: the tag menu (write, force) and *Watch*. */
+  private onValueMenu(e: MouseEvent): void {
+    const item = (e.target as Element).closest('.st-val-item') as HTMLElement | null;
+    const tag = item?.dataset.tag;
+    const name = item?.dataset.name;
+    if (!tag || !name) return;
+    e.preventDefault();
+    showMenu(e.clientX, e.clientY, `${name} (${tag})`, [
+      ...tagMenuItems(this.ctx, tag),
+      { label: tr('Watch'), testid: 'menu-watch', disabled: this.watchList.includes(name), action: () => this.addWatch(name) },
+    ]);
   }
 
   private onWatchMenu(e: MouseEvent): void {
