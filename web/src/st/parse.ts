@@ -172,9 +172,9 @@ const CLASS: Record<TokKind, string> = {
 };
 
 /** The text cut into coloured spans, line by line (one array per line of the text). */
-export function highlight(text: string): Span[][] {
+export function highlight(text: string, toks: Tok[] = lex(text)): Span[][] {
   const lines: Span[][] = [[]];
-  for (const t of lex(text)) {
+  for (const t of toks) {
     const cls = t.kind === 'keyword' && /^(TRUE|FALSE)$/i.test(t.text) ? 'st-num' : CLASS[t.kind];
     t.text.split('\n').forEach((part, k) => {
       if (k > 0) lines.push([]);

@@ -15,7 +15,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { tr } from '../i18n';
-import { type Completion, type Decls, complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
+import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
 
 /** A name shown with its value: where it is drawn and the tag it reads. */
 interface Shown {
@@ -25,17 +25,23 @@ interface Shown {
 }
 
 const WATCH_KEY = 'alba.st.watch.';
+/** Characters from which typing repaints after a pause (about 300 lines). */
+const LONG_TEXT = 12_000;
 
 export class StView {
   readonly el: HTMLElement;
   private readonly ed: ProgramEditor;
   private decls: Decls = declarations('');
+  private toks: Tok[] = [];
+  private paintTimer: ReturnType<typeof setTimeout> | null = null;
   private active = false;
   private unlisten: (() => void)[] = [];
   /** One store watcher per tag shown (inline or in the watch list), by canonical name. */
   private watchers = new Map<string, () => void>();
   private values = new Map<string, Json>();
   private shown: Shown[] = [];
+  /** The value box of each line (index: line - 1) in the layer above the text. */
+  private valueBoxes: HTMLElement[] = [];
   private watchList: string[] = [];
   private renderTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly overlay = h('div', { class: 'st-overlay', 'aria-hidden': 'true', 'data-testid': 'st-overlay' });
@@ -62,7 +68,8 @@ export class StView {
     this.ed = new ProgramEditor(ctx, program, {
       loaded: () => undefined,
       textChanged: (fromTextArea) => {
-        this.paintText();
+        if (fromTextArea) this.paintSoon();
+        else this.paintText();
         // the names and their subscriptions follow the text after a pause while typing
         if (fromTextArea) this.scheduleValues();
         else this.renderValues();
@@ -158,10 +165,30 @@ export class StView {
 
   // ---- the text ------------------------------------------------------------
 
+  /**
+   * Typed text: painted at once in a short program; in a long one (a full
+   * paint takes tens of ms) after a pause, the text area showing its own
+   * plain text meanwhile.
+   */
+  private paintSoon(): void {
+    if (this.paintTimer) clearTimeout(this.paintTimer);
+    this.paintTimer = null;
+    if (this.ed.text.length < LONG_TEXT) {
+      this.paintText();
+      return;
+    }
+    this.el.classList.add('st-stale');
+    this.paintTimer = setTimeout(() => this.paintText(), 150);
+  }
+
   /** The highlighted copy of the text under the text area, problems marked on their lines. */
   private paintText(): void {
+    if (this.paintTimer) clearTimeout(this.paintTimer);
+    this.paintTimer = null;
+    this.el?.classList.remove('st-stale');
     const text = this.ed.text;
     const toks = lex(text);
+    this.toks = toks;
     this.decls = declarations(text, toks);
     const problems = new Map<number, string[]>();
     const places = new Map<number, [number, number | null][]>();
@@ -174,8 +201,9 @@ export class StView {
     }
     clear(this.overlay);
     clear(this.valuesLayer);
+    this.valueBoxes = [];
     const raw = text.split('\n');
-    highlight(text).forEach((line, k) => {
+    highlight(text, toks).forEach((line, k) => {
       const n = k + 1;
       const err = problems.get(n);
       let spans = line;
@@ -184,7 +212,9 @@ export class StView {
       for (const s of spans) row.append(s.cls ? h('span', { class: s.cls }, s.text) : s.text);
       this.overlay.append(row);
       const top = h('div', { class: 'st-line', 'data-line': String(n) }, h('span', { class: 'st-ghost' }, raw[k] ?? ''));
-      top.append(h('span', { class: 'st-vals', 'data-testid': `st-vals-${n}` }));
+      const box = h('span', { class: 'st-vals', 'data-testid': `st-vals-${n}` });
+      this.valueBoxes[k] = box;
+      top.append(box);
       if (err) top.append(h('span', { class: 'st-err', 'data-testid': `st-error-${n}`, title: err.join('\n') }, err[0]));
       this.valuesLayer.append(top);
     });
@@ -245,10 +275,10 @@ export class StView {
   /** Value elements beside each line and in the watch list (from the values known). */
   private placeValues(): void {
     this.shown = [];
-    this.valuesLayer.querySelectorAll('.st-vals').forEach((box) => clear(box));
-    const names = namesByLine(this.ed.text, undefined, this.decls);
+    this.valueBoxes.forEach((box) => clear(box));
+    const names = namesByLine(this.ed.text, this.toks, this.decls);
     for (const [line, refs] of names) {
-      const box = this.valuesLayer.querySelector(`[data-line="${line}"] .st-vals`);
+      const box = this.valueBoxes[line - 1];
       if (!box) continue;
       for (const r of refs) {
         const t = this.tagFor(r.text, line);
