@@ -641,4 +641,5 @@ export const es: Record<string, string> = {
   Watch: 'Observar',
   'no tag': 'sin etiqueta',
   Remove: 'Quitar',
+  'edited — not saved (values of the running program)': 'editado — sin guardar (valores del programa en marcha)',
 };

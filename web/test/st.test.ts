@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { membersOf } from '../src/domain';
-import { complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
+import { callee, complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
 
 const MOTOR = `(* Start/stop (* nested *) with seal-in *)
 PROGRAM Main
@@ -167,6 +167,15 @@ describe('ST completion', () => {
     expect(labels(MOTOR.replace('p.x :=', 'T1.D|'))).toEqual(['DN']);
     const fb = 'FUNCTION_BLOCK Count\nVAR_OUTPUT n : DINT; END_VAR\nVAR_TEMP t : INT; END_VAR\nEND_FUNCTION_BLOCK\nPROGRAM P\nVAR c : Count; END_VAR\nc.|\nEND_PROGRAM';
     expect(labels(fb)).toEqual(['n']);
+  });
+  it("offers an instance's parameters inside its call", () => {
+    const src = MOTOR.replace('PT := T#5s', 'P| := T#5s');
+    expect(labels(src)[0]).toBe('PT');
+    expect(at(src).items[0].kind).toBe('parameter');
+    expect(labels(MOTOR.replace('starts(CU := Motor', 'starts(|'))).toEqual(['CU', 'R', 'PV', 'Q', 'CV', 'delay', 'starts', 'a', 'p', 'i', 'Start', 'Stop', 'Motor', 'Lamp', 'T1']);
+    expect(callee('delay(IN := (a + b), P', 23)).toBe('delay');
+    expect(callee('x := LIMIT(0, ', 14)).toBe('LIMIT');
+    expect(callee('x := 1; y := ', 13)).toBeNull();
   });
   it('finds the word and its base before the caret', () => {
     expect(wordAt('x := a.b.cd', 11)).toEqual({ base: 'a.b', prefix: 'cd', from: 9 });

@@ -569,12 +569,17 @@ export function complete(text: string, caret: number, env: CompletionEnv, d: Dec
   }
   const all: Completion[] = [];
   const seen = new Set<string>();
+  // in the parentheses of an instance's call: its parameters first
+  const inCall = callee(text, from);
+  const callType = inCall ? typeOfPath(inCall, pou, d, env) : null;
+  const params = callType ? membersOfType(callType, d, env).map((c) => ({ ...c, kind: 'parameter' })) : [];
   const add = (c: Completion) => {
     const k = c.label.toUpperCase();
     if (seen.has(k) || k === p) return;
     seen.add(k);
     if (fits(c)) all.push(c);
   };
+  params.forEach(add);
   for (const v of pou?.vars ?? []) add({ label: v.name, kind: 'variable', detail: v.type === 'ARRAY' ? `ARRAY OF ${v.of}` : v.type });
   for (const v of d.globals) add({ label: v.name, kind: 'variable', detail: v.type });
   for (const t of env.tags) if (!t.name.includes('.')) add({ label: t.name, kind: 'tag', detail: t.type });
@@ -584,7 +589,30 @@ export function complete(text: string, caret: number, env: CompletionEnv, d: Dec
   for (const f of Object.keys(STANDARD_FBS)) add({ label: f, kind: 'type', detail: 'FUNCTION_BLOCK' });
   for (const t of TYPES) add({ label: t, kind: 'type', detail: '' });
   for (const k of KEYWORDS) add({ label: k, kind: 'keyword', detail: '' });
-  return { from, items: p === '' ? all.filter((c) => c.kind === 'variable' || c.kind === 'tag') : all };
+  return { from, items: p === '' ? all.filter((c) => c.kind === 'parameter' || c.kind === 'variable' || c.kind === 'tag') : all };
+}
+
+/**
+ * The name called by the parentheses that are open at `at` in its statement
+ * (`delay(IN := x, |` → `delay`), or null outside a call.
+ */
+export function callee(text: string, at: number): string | null {
+  let depth = 0;
+  for (let i = at - 1; i >= 0; i--) {
+    const c = text[i];
+    if (c === ';') return null;
+    if (c === ')') depth++;
+    else if (c === '(') {
+      if (text[i + 1] === '*') continue;
+      if (depth > 0) {
+        depth--;
+        continue;
+      }
+      const m = /([A-Za-z_][A-Za-z0-9_.[\]]*)\s*$/.exec(text.slice(Math.max(0, i - 200), i));
+      return m ? m[1] : null;
+    }
+  }
+  return null;
 }
 
 // ---- values ----------------------------------------------------------------

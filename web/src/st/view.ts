@@ -121,6 +121,7 @@ export class StView {
       ),
     );
     this.ed.section = this.el;
+    this.ed.editedNote = tr('edited — not saved (values of the running program)');
   }
 
   load(): Promise<void> {
