@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { membersOf } from '../src/domain';
-import { callee, complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
+import { callee, complete, declarations, formatValue, highlight, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
 
 const MOTOR = `(* Start/stop (* nested *) with seal-in *)
 PROGRAM Main
@@ -180,6 +180,21 @@ describe('ST completion', () => {
   it('finds the word and its base before the caret', () => {
     expect(wordAt('x := a.b.cd', 11)).toEqual({ base: 'a.b', prefix: 'cd', from: 9 });
     expect(wordAt('x := ab', 7)).toEqual({ base: null, prefix: 'ab', from: 5 });
+  });
+});
+
+describe('ST indentation', () => {
+  it('keeps the indentation, one step more after a line that opens a block', () => {
+    expect(indentAfter('    x := 1;')).toBe('    ');
+    expect(indentAfter('IF a THEN')).toBe('    ');
+    expect(indentAfter('  IF a THEN (* then *)')).toBe('      ');
+    expect(indentAfter('FOR i := 1 TO 3 DO')).toBe('    ');
+    expect(indentAfter('VAR')).toBe('    ');
+    expect(indentAfter('VAR x : INT; END_VAR')).toBe('');
+    expect(indentAfter('PROGRAM Main')).toBe('');
+    expect(indentAfter('VAR_INPUT RETAIN')).toBe('    ');
+    expect(indentAfter('\tCASE s OF')).toBe('\t    ');
+    expect(indentAfter('x := 1; // THEN')).toBe('');
   });
 });
 

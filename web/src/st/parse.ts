@@ -615,6 +615,25 @@ export function callee(text: string, at: number): string | null {
   return null;
 }
 
+/**
+ * The indentation of a new line after `line`: the same as it has, one step
+ * (4 spaces) more after a line that opens a block (`THEN`, `ELSE`, `DO`,
+ * `REPEAT`, `OF`, `VAR…`, `STRUCT`; not a POU's first line: bodies are
+ * written flush, as in the examples), comments ignored.
+ */
+export function indentAfter(line: string): string {
+  const own = /^[ \t]*/.exec(line)?.[0] ?? '';
+  const code = highlight(line)[0]
+    .filter((s) => s.cls !== 'st-com')
+    .map((s) => s.text)
+    .join('')
+    .trim();
+  const opens =
+    /\b(THEN|ELSE|DO|REPEAT|OF|STRUCT)$/i.test(code) ||
+    (/^VAR\w*\b/i.test(code) && !/\bEND_VAR;?$/i.test(code));
+  return opens ? own + '    ' : own;
+}
+
 // ---- values ----------------------------------------------------------------
 
 /** A value as ST writes it: TIME in ms as `T#…`, booleans TRUE/FALSE, REAL shortened. */

@@ -15,7 +15,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { tr } from '../i18n';
-import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
+import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
 
 /** A name shown with its value: where it is drawn and the tag it reads. */
 interface Shown {
@@ -380,7 +380,18 @@ export class StView {
       this.openPopup(true);
       return;
     }
-    if (this.popup.hidden) return;
+    if (this.popup.hidden) {
+      if (e.key === 'Enter' && !e.ctrlKey && !e.altKey && !e.shiftKey && !e.metaKey && !this.ed.textEl.readOnly) {
+        // a new line keeps the indentation, one step more after THEN, DO, VAR…
+        e.preventDefault();
+        const t = this.ed.textEl;
+        const at = t.selectionStart;
+        const line = t.value.slice(t.value.lastIndexOf('\n', at - 1) + 1, at);
+        t.setRangeText(`\n${indentAfter(line)}`, at, t.selectionEnd, 'end');
+        t.dispatchEvent(new Event('input'));
+      }
+      return;
+    }
     if (e.key === 'ArrowDown' || e.key === 'ArrowUp') {
       e.preventDefault();
       const n = this.items.length;
