@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { membersOf } from '../src/domain';
-import { callee, complete, declarations, formatValue, highlight, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
+import { callee, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
 
 const MOTOR = `(* Start/stop (* nested *) with seal-in *)
 PROGRAM Main
@@ -180,6 +180,20 @@ describe('ST completion', () => {
   it('finds the word and its base before the caret', () => {
     expect(wordAt('x := a.b.cd', 11)).toEqual({ base: 'a.b', prefix: 'cd', from: 9 });
     expect(wordAt('x := ab', 7)).toEqual({ base: null, prefix: 'ab', from: 5 });
+  });
+});
+
+describe('ST completion places', () => {
+  it('knows comments and strings, where nothing is completed', () => {
+    const src = "x := ab; (* cd *) s := 'ef'; // gh";
+    const toks = lex(src);
+    const at = (w: string) => inCommentOrString(toks, src.indexOf(w) + w.length);
+    expect(at('ab')).toBe(false);
+    expect(at('cd')).toBe(true);
+    expect(at('ef')).toBe(true);
+    expect(at('gh')).toBe(true);
+    expect(at('s :=')).toBe(false);
+    expect(inCommentOrString(toks, 0)).toBe(false);
   });
 });
 

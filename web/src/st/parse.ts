@@ -634,6 +634,20 @@ export function indentAfter(line: string): string {
   return opens ? own + '    ' : own;
 }
 
+/** Whether the character before `at` is inside a comment or a string (no completion there). */
+export function inCommentOrString(toks: Tok[], at: number): boolean {
+  let lo = 0;
+  let hi = toks.length - 1;
+  while (lo <= hi) {
+    const mid = (lo + hi) >> 1;
+    const t = toks[mid];
+    if (at - 1 < t.start) hi = mid - 1;
+    else if (at - 1 >= t.start + t.text.length) lo = mid + 1;
+    else return t.kind === 'comment' || t.kind === 'string';
+  }
+  return false;
+}
+
 // ---- values ----------------------------------------------------------------
 
 /** A value as ST writes it: TIME in ms as `T#…`, booleans TRUE/FALSE, REAL shortened. */

@@ -15,7 +15,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { tr } from '../i18n';
-import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
+import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
 
 /** A name shown with its value: where it is drawn and the tag it reads. */
 interface Shown {
@@ -413,6 +413,7 @@ export class StView {
     if (caret !== t.selectionEnd) return this.closePopup();
     const { base, prefix } = wordAt(t.value, caret);
     if (!forced && base === null && prefix.length < 1) return this.closePopup();
+    if (!forced && inCommentOrString(this.toks, caret)) return this.closePopup();
     const env = {
       tags: this.ctx.tags.list.map((x) => ({ name: x.name, type: x.type })),
       members: (type: string) => membersOf(type).map((m) => m.name),
