@@ -1,7 +1,8 @@
 // End-to-end test of the Structured Text view on examples/st-motor (main.st):
 // write an ST program in the studio, see an error on its line, fix it with the
 // completion of names, save online, and see the values beside the lines
-// change while the timer runs (issue 36, docs/st.md "In the studio").
+// change while the timer runs (issue 36, docs/st.md "In the studio"); then a
+// FUNCTION_BLOCK's body with the values of one instance, then another.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -112,5 +113,45 @@ test('an ST program is written with completion, checked as typed, saved online a
   await page.waitForTimeout(500);
   assert.equal(await tid('st-val-10-count').textContent(), 'count = 1');
   assert.equal(await tid('st-val-8-Lamp').textContent(), 'Lamp = TRUE');
+  assert.deepEqual(b.errors, [], 'no error in the page');
+});
+
+const WITH_FB = `FUNCTION_BLOCK Count
+VAR_INPUT up : BOOL; END_VAR
+VAR n : INT; END_VAR
+IF up THEN n := n + 1; END_IF;
+END_FUNCTION_BLOCK
+PROGRAM Main
+VAR
+    delay : TON;
+    starts : CTU;
+    count : INT;
+    c1 : Count;
+    c2 : Count;
+END_VAR
+Motor := (Start OR Motor) AND NOT Stop;
+delay(IN := Motor, PT := T#5s, Q => Lamp);
+starts(CU := Motor, PV := 999);
+count := starts.CV;
+c1(up := Motor);
+c2(up := FALSE);
+END_PROGRAM
+`;
+
+test("a FUNCTION_BLOCK's body shows the values of the instance chosen", async () => {
+  const { page, tid } = b;
+  await tid('editor-text').fill(WITH_FB);
+  await tid('btn-save').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="st-main.st"]')?.getAttribute('data-dirty') === 'false');
+  // the motor runs (Start is still forced): c1 counts every scan, c2 never
+  assert.match(await tid('st-instance-Count').textContent(), /Main\.c1/);
+  await page.waitForFunction(() => /^n = [1-9]\d*$/.test(document.querySelector('[data-testid="st-val-4-n"]')?.textContent ?? ''));
+  assert.equal(await tid('st-val-4-up').textContent(), 'up = TRUE');
+  await tid('st-instance-Count').click();
+  await tid('menu-instance-Main.c2').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="st-val-4-n"]')?.textContent === 'n = 0');
+  assert.equal(await tid('st-val-4-up').textContent(), 'up = FALSE');
+  assert.match(await tid('st-instance-Count').textContent(), /Main\.c2/);
+  await b.shot('st-fb-instance');
   assert.deepEqual(b.errors, [], 'no error in the page');
 });

@@ -641,5 +641,7 @@ export const es: Record<string, string> = {
   Watch: 'Observar',
   'no tag': 'sin etiqueta',
   Remove: 'Quitar',
+  instance: 'instancia',
+  'The instance whose values are shown': 'La instancia cuyos valores se muestran',
   'edited — not saved (values of the running program)': 'editado — sin guardar (valores del programa en marcha)',
 };

@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { membersOf } from '../src/domain';
-import { callee, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
+import { callee, instancesOf, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
 
 const MOTOR = `(* Start/stop (* nested *) with seal-in *)
 PROGRAM Main
@@ -140,12 +140,31 @@ describe('ST names and tags', () => {
     expect(of('delay.XX')).toBeNull();
     expect(of('Nothing')).toBeNull();
   });
-  it('gives no tag to the locals of FUNCTION_BLOCKs nor to VAR_IN_OUT', () => {
-    const src = 'FUNCTION_BLOCK F\nVAR n : INT; END_VAR\nn := n + 1;\nEND_FUNCTION_BLOCK\nPROGRAM P\nVAR_IN_OUT r : INT; END_VAR\nr := 1;\nEND_PROGRAM\n';
+  it('gives no tag to the locals of FUNCTION_BLOCKs without an instance nor to VAR_IN_OUT', () => {
+    const src = 'FUNCTION_BLOCK F\nVAR n : INT; END_VAR\nVAR_EXTERNAL Motor : BOOL; END_VAR\nn := n + 1;\nEND_FUNCTION_BLOCK\nPROGRAM P\nVAR_IN_OUT r : INT; END_VAR\nr := 1;\nEND_PROGRAM\n';
     const dd = declarations(src);
     const all = (n: string) => n;
     expect(tagOf('n', dd.pous[0], dd, all)).toBeNull();
+    expect(tagOf('n', dd.pous[0], dd, all, 'P.f1')).toEqual({ tag: 'P.f1.n', type: 'INT' });
+    expect(tagOf('Motor', dd.pous[0], dd, all)).toEqual({ tag: 'Motor', type: 'BOOL' });
     expect(tagOf('r', dd.pous[1], dd, all)).toBeNull();
+  });
+  it("lists a FUNCTION_BLOCK's instances, nested ones too", () => {
+    const src = `VAR_GLOBAL g : Count; END_VAR
+FUNCTION_BLOCK Count
+VAR n : INT; END_VAR
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK Pair
+VAR a, b : Count; t : TON; END_VAR
+END_FUNCTION_BLOCK
+PROGRAM Main
+VAR c1 : Count; p : Pair; END_VAR
+VAR_IN_OUT io : Count; END_VAR
+END_PROGRAM`;
+    const dd = declarations(src);
+    expect(instancesOf(dd, 'count')).toEqual(['g', 'Main.p.a', 'Main.p.b', 'Main.c1']);
+    expect(instancesOf(dd, 'Pair')).toEqual(['Main.p']);
+    expect(instancesOf(dd, 'Nothing')).toEqual([]);
   });
 });
 

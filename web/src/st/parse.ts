@@ -467,20 +467,26 @@ function fbMemberType(member: string, fbType: string): string {
  * a PROGRAM's variable `v` is `<program>.v`, a member of a standard FB
  * instance the member of its TIMER/COUNTER (`delay.Q` → `Main.delay.DN`,
  * a bare instance its ET/CV), a global (VAR_GLOBAL, VAR_EXTERNAL, a tag of
- * tags.csv) its own name. `tag` says whether a tag exists and gives its
- * canonical name; null for names with no tag (FUNCTION and FUNCTION_BLOCK
- * locals, VAR_IN_OUT, values of enumerations, unknown names).
+ * tags.csv) its own name; a FUNCTION_BLOCK's variable the one of
+ * `instance` (`Main.c1.n`). `tag` says whether a tag exists and gives its
+ * canonical name; null for names with no tag (FUNCTION locals, FUNCTION_BLOCK
+ * locals with no instance, VAR_IN_OUT, values of enumerations, unknown names).
  */
-export function tagOf(name: string, pou: Pou | null, d: Decls, tag: (name: string) => string | null): TagOfName | null {
+export function tagOf(name: string, pou: Pou | null, d: Decls, tag: (name: string) => string | null, instance: string | null = null): TagOfName | null {
   const parts = name.split('.');
   const head = parts[0].replace(/\[.*$/, '').toUpperCase();
   const found = (t: string | null, type: string | null) => (t ? { tag: t, type } : null);
   const v = pou?.vars.find((x) => x.name.toUpperCase() === head) ?? d.globals.find((x) => x.name.toUpperCase() === head);
   if (v) {
     const local = pou?.vars.includes(v) ?? false;
-    if (local && (v.section === 'VAR_IN_OUT' || pou!.kind !== 'PROGRAM')) return null;
     const global = !local || v.section === 'VAR_GLOBAL' || v.section === 'VAR_EXTERNAL';
-    const base = global ? parts[0] : `${pou!.name}.${parts[0]}`;
+    if (!global && v.section === 'VAR_IN_OUT') return null;
+    let base: string;
+    if (global) base = parts[0];
+    else if (pou!.kind === 'PROGRAM') base = `${pou!.name}.${parts[0]}`;
+    // a FUNCTION_BLOCK's variable: the one of the instance shown
+    else if (pou!.kind === 'FUNCTION_BLOCK' && instance) base = `${instance}.${parts[0]}`;
+    else return null;
     const fb = fbMembers(v.type);
     if (fb) {
       const member = parts[1] ?? '';
@@ -493,6 +499,26 @@ export function tagOf(name: string, pou: Pou | null, d: Decls, tag: (name: strin
   }
   if ([...d.enums.values()].some((vals) => vals.some((x) => x.toUpperCase() === head))) return null;
   return found(tag(name), null);
+}
+
+/**
+ * The instances of a FUNCTION_BLOCK, as tag prefixes: PROGRAM variables
+ * (`Main.c1`), globals (`g1`) and instances inside other FBs' instances
+ * (`Main.p.a`). Arrays of instances are left out.
+ */
+export function instancesOf(d: Decls, fb: string, depth = 0): string[] {
+  const want = fb.toUpperCase();
+  const out: string[] = [];
+  for (const v of d.globals) if (v.type.toUpperCase() === want) out.push(v.name);
+  for (const p of d.pous) {
+    const of = p.vars.filter((v) => v.type.toUpperCase() === want && v.section !== 'VAR_IN_OUT' && v.section !== 'VAR_TEMP');
+    if (p.kind === 'PROGRAM') {
+      for (const v of of) out.push(v.section === 'VAR_GLOBAL' ? v.name : `${p.name}.${v.name}`);
+    } else if (p.kind === 'FUNCTION_BLOCK' && of.length && depth < 8 && p.name.toUpperCase() !== want) {
+      for (const outer of instancesOf(d, p.name, depth + 1)) for (const v of of) out.push(`${outer}.${v.name}`);
+    }
+  }
+  return out;
 }
 
 // ---- completion ------------------------------------------------------------

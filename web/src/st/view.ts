@@ -15,7 +15,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { tr } from '../i18n';
-import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
+import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, instancesOf, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
 
 /** A name shown with its value: where it is drawn and the tag it reads. */
 interface Shown {
@@ -42,6 +42,8 @@ export class StView {
   private shown: Shown[] = [];
   /** The value box of each line (index: line - 1) in the layer above the text. */
   private valueBoxes: HTMLElement[] = [];
+  /** The instance whose values a FUNCTION_BLOCK's body shows, by the FB's upper-case name. */
+  private instance = new Map<string, string>();
   private watchList: string[] = [];
   private renderTimer: ReturnType<typeof setTimeout> | null = null;
   private readonly overlay = h('div', { class: 'st-overlay', 'aria-hidden': 'true', 'data-testid': 'st-overlay' });
@@ -240,7 +242,15 @@ export class StView {
   /** The tag of a name used on a line (its POU's variable, an FB member, a global). */
   private tagFor(name: string, line: number | null): { tag: string; type: string | null } | null {
     const pou = line === null ? (this.decls.pous.find((p) => p.kind === 'PROGRAM') ?? null) : pouAt(this.decls, line);
-    return tagOf(name, pou, this.decls, (n) => this.ctx.tags.resolve(n)?.name ?? null);
+    const instance = pou?.kind === 'FUNCTION_BLOCK' ? this.instanceOf(pou.name) : null;
+    return tagOf(name, pou, this.decls, (n) => this.ctx.tags.resolve(n)?.name ?? null, instance);
+  }
+
+  /** The instance shown in a FUNCTION_BLOCK's body: the one chosen, else the first. */
+  private instanceOf(fb: string): string | null {
+    const all = instancesOf(this.decls, fb);
+    const chosen = this.instance.get(fb.toUpperCase());
+    return chosen && all.includes(chosen) ? chosen : (all[0] ?? null);
   }
 
   /** Finds the names of every line, their tags, and follows those tags in the live store. */
@@ -277,6 +287,14 @@ export class StView {
   private placeValues(): void {
     this.shown = [];
     this.valueBoxes.forEach((box) => clear(box));
+    // a FUNCTION_BLOCK shows one instance's values: which one, on its first line
+    for (const p of this.decls.pous) {
+      const inst = p.kind === 'FUNCTION_BLOCK' ? this.instanceOf(p.name) : null;
+      if (inst === null) continue;
+      this.valueBoxes[p.from - 1]?.append(
+        h('span', { class: 'st-val-item st-instance', 'data-fb': p.name, 'data-testid': `st-instance-${p.name}`, title: tr('The instance whose values are shown') }, tr('instance'), ' ', h('b', null, inst), ' ▾'),
+      );
+    }
     const names = namesByLine(this.ed.text, this.toks, this.decls);
     for (const [line, refs] of names) {
       const box = this.valueBoxes[line - 1];
@@ -347,6 +365,27 @@ export class StView {
 
   /** A click on a value beside a line: the tag menu (write, force) and *Watch*. */
   private onValueMenu(e: MouseEvent): void {
+    const chip = (e.target as Element).closest('.st-instance') as HTMLElement | null;
+    const fb = chip?.dataset.fb;
+    if (fb) {
+      e.preventDefault();
+      const shown = this.instanceOf(fb);
+      showMenu(
+        e.clientX,
+        e.clientY,
+        fb,
+        instancesOf(this.decls, fb).map((inst) => ({
+          label: inst,
+          testid: `menu-instance-${inst}`,
+          disabled: inst === shown,
+          action: () => {
+            this.instance.set(fb.toUpperCase(), inst);
+            this.renderValues();
+          },
+        })),
+      );
+      return;
+    }
     const item = (e.target as Element).closest('.st-val-item') as HTMLElement | null;
     const tag = item?.dataset.tag;
     const name = item?.dataset.name;
