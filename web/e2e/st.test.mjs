@@ -153,5 +153,15 @@ test("a FUNCTION_BLOCK's body shows the values of the instance chosen", async ()
   assert.equal(await tid('st-val-4-up').textContent(), 'up = FALSE');
   assert.match(await tid('st-instance-Count').textContent(), /Main\.c2/);
   await b.shot('st-fb-instance');
+  // from the keyboard: Alt+Enter on a name opens its menu
+  const at = WITH_FB.indexOf('NOT Stop') + 5;
+  await tid('editor-text').evaluate((t, at) => {
+    t.focus();
+    t.setSelectionRange(at, at);
+  }, at);
+  await page.keyboard.press('Alt+Enter');
+  await tid('menu-watch').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="st-watch-Stop"] .st-val')?.textContent === 'FALSE');
+  assert.equal(await tid('editor-text').inputValue(), WITH_FB, 'the text unchanged');
   assert.deepEqual(b.errors, [], 'no error in the page');
 });

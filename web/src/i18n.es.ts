@@ -642,6 +642,8 @@ export const es: Record<string, string> = {
   'no tag': 'sin etiqueta',
   Remove: 'Quitar',
   instance: 'instancia',
+  '{name} has no tag': '{name} no tiene etiqueta',
+  'No name at the caret': 'No hay ningún nombre en el cursor',
   'The instance whose values are shown': 'La instancia cuyos valores se muestran',
   'edited — not saved (values of the running program)': 'editado — sin guardar (valores del programa en marcha)',
 };

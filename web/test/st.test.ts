@@ -1,6 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { membersOf } from '../src/domain';
-import { callee, instancesOf, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
+import { callee, instancesOf, nameAt, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, lex, markRange, namesByLine, pouAt, tagOf, timeLiteral, wordAt } from '../src/st/parse';
 
 const MOTOR = `(* Start/stop (* nested *) with seal-in *)
 PROGRAM Main
@@ -195,6 +195,14 @@ describe('ST completion', () => {
     expect(callee('delay(IN := (a + b), P', 23)).toBe('delay');
     expect(callee('x := LIMIT(0, ', 14)).toBe('LIMIT');
     expect(callee('x := 1; y := ', 13)).toBeNull();
+  });
+  it('finds the whole name around the caret', () => {
+    const src = 'IF delay.Q THEN a[2] := 1; END_IF;';
+    expect(nameAt(src, src.indexOf('delay') + 2)).toBe('delay.Q');
+    expect(nameAt(src, src.indexOf('.Q') + 2)).toBe('delay.Q');
+    expect(nameAt(src, src.indexOf('a[2]'))).toBe('a[2]');
+    expect(nameAt(src, src.indexOf(':='))).toBeNull();
+    expect(nameAt(src, src.indexOf('1;'))).toBeNull();
   });
   it('finds the word and its base before the caret', () => {
     expect(wordAt('x := a.b.cd', 11)).toEqual({ base: 'a.b', prefix: 'cd', from: 9 });

@@ -660,6 +660,17 @@ export function indentAfter(line: string): string {
   return opens ? own + '    ' : own;
 }
 
+/** The whole dotted name around `caret` (`delay.Q`, `a[2]`), or null off a name. */
+export function nameAt(text: string, caret: number): string | null {
+  const part = /[A-Za-z0-9_.[\]]/;
+  let a = caret;
+  let b = caret;
+  while (a > 0 && part.test(text[a - 1])) a--;
+  while (b < text.length && part.test(text[b])) b++;
+  const name = text.slice(a, b).replace(/^[.\]]+|[.[]+$/g, '');
+  return IDENT_START.test(name[0] ?? '') ? name : null;
+}
+
 /** Whether the character before `at` is inside a comment or a string (no completion there). */
 export function inCommentOrString(toks: Tok[], at: number): boolean {
   let lo = 0;

@@ -15,7 +15,7 @@ import type { Json } from '../types';
 import { closeMenu, showMenu } from '../ui/menu';
 import { tagMenuItems } from '../ui/tagActions';
 import { tr } from '../i18n';
-import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, instancesOf, lex, markRange, namesByLine, pouAt, tagOf, wordAt } from './parse';
+import { type Completion, type Decls, type Tok, complete, declarations, formatValue, highlight, inCommentOrString, indentAfter, instancesOf, lex, markRange, nameAt, namesByLine, pouAt, tagOf, wordAt } from './parse';
 
 /** A name shown with its value: where it is drawn and the tag it reads. */
 interface Shown {
@@ -397,6 +397,30 @@ export class StView {
     ]);
   }
 
+  /** The tag menu of the name at the caret, under it. */
+  private nameMenu(): void {
+    const t = this.ed.textEl;
+    const name = nameAt(t.value, t.selectionStart);
+    const line = t.value.slice(0, t.selectionStart).split('\n').length;
+    const ref = name ? this.tagFor(name, line) : null;
+    if (!name || !ref) {
+      this.ctx.notify(name ? tr('{name} has no tag', { name }) : tr('No name at the caret'), 'error');
+      return;
+    }
+    const r = t.getBoundingClientRect();
+    const col = t.selectionStart - t.value.lastIndexOf('\n', t.selectionStart - 1) - 1;
+    const lineH = parseFloat(getComputedStyle(t).lineHeight) || 19.5;
+    const x = r.left + 14 + col * (this.charW || 7.8) - t.scrollLeft;
+    const y = r.top + 10 + line * lineH - t.scrollTop;
+    showMenu(
+      x,
+      y,
+      `${name} (${ref.tag})`,
+      [...tagMenuItems(this.ctx, ref.tag), { label: tr('Watch'), testid: 'menu-watch', disabled: this.watchList.includes(name), action: () => this.addWatch(name) }],
+      t,
+    );
+  }
+
   private onWatchMenu(e: MouseEvent): void {
     const li = (e.target as Element).closest('li') as HTMLElement | null;
     const tag = li?.dataset.tag;
@@ -417,6 +441,13 @@ export class StView {
     if (e.key === ' ' && e.ctrlKey) {
       e.preventDefault();
       this.openPopup(true);
+      return;
+    }
+    if (e.key === 'Enter' && e.altKey) {
+      // Alt+Enter: the menu of the name at the caret (force, write, watch) from the keyboard
+      e.preventDefault();
+      this.closePopup();
+      this.nameMenu();
       return;
     }
     if (this.popup.hidden) {
