@@ -665,4 +665,15 @@ export const es: Record<string, string> = {
   'scan {k} of {n}, {t} ms': 'ciclo {k} de {n}, {t} ms',
   'the property fails here': 'aquí falla la propiedad',
   'reached here': 'alcanzada aquí',
+  // the Structured Text view (st/view.ts)
+  'Ctrl+Space completes a name': 'Ctrl+Espacio completa un nombre',
+  'Add a variable or tag': 'Añadir una variable o etiqueta',
+  Watch: 'Observar',
+  'no tag': 'sin etiqueta',
+  Remove: 'Quitar',
+  instance: 'instancia',
+  '{name} has no tag': '{name} no tiene etiqueta',
+  'No name at the caret': 'No hay ningún nombre en el cursor',
+  'The instance whose values are shown': 'La instancia cuyos valores se muestran',
+  'edited — not saved (values of the running program)': 'editado — sin guardar (valores del programa en marcha)',
 };

@@ -9,6 +9,7 @@ import { type Ctx, TagCache } from './ctx';
 import { clear, h } from './dom';
 import { setDomain } from './domain';
 import { IlView } from './il/view';
+import { StView } from './st/view';
 import { LadderView } from './ladder/view';
 import { NetView } from './net/view';
 import { SfcView } from './sfc/view';
@@ -38,8 +39,8 @@ interface View {
 }
 
 /** A program tab (ladder, IL, net or SFC): the top bar's Compile/Save act on it. */
-type Editor = LadderView | IlView | NetView | SfcView;
-const isEditor = (v: View | null | undefined): v is Editor => v instanceof LadderView || v instanceof IlView || v instanceof NetView || v instanceof SfcView;
+type Editor = LadderView | IlView | StView | NetView | SfcView;
+const isEditor = (v: View | null | undefined): v is Editor => v instanceof LadderView || v instanceof IlView || v instanceof StView || v instanceof NetView || v instanceof SfcView;
 
 /** The strings of the shell (one place; a Spanish catalogue comes later). */
 const text = {
@@ -247,6 +248,7 @@ async function start(me: Me): Promise<void> {
       make: () => {
         const v =
           p.language === 'il' ? new IlView(ctx, p.name)
+          : p.language === 'st' ? new StView(ctx, p.name)
           : p.language === 'net' ? new NetView(ctx, p.name)
           : p.language === 'sfc' ? new SfcView(ctx, p.name)
           : new LadderView(ctx, p.name);

@@ -234,6 +234,9 @@ export class ProgramEditor {
    */
   keepsPowerWhileEdited = false;
 
+  /** The edit-state words for an edited text, when the view says its own (ST: values stay, by name). */
+  editedNote: string | null = null;
+
   /** The running program's power flow can be shown: the program runs and the connection is live. */
   get live(): boolean {
     return this.ctx.live.status?.state === 'running' && this.ctx.live.state === 'connected';
@@ -250,7 +253,9 @@ export class ProgramEditor {
     this.stateEl.textContent = this.stateEl.title = [
       !this.dirty
         ? tr('online')
-        : this.keepsPowerWhileEdited
+        : this.editedNote !== null
+          ? this.editedNote
+          : this.keepsPowerWhileEdited
           ? tr('edited — not saved (power flow on the unchanged rungs)')
           : tr('edited — not saved (monitoring paused)'),
       this.checking ? tr('checking…') : '',
