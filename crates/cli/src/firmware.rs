@@ -112,6 +112,6 @@ pub fn run(a: Args) -> ExitCode {
             }
             ExitCode::SUCCESS
         }
-        Err(e) => refuse(e),
+        Err(e) => refuse(e.to_string()),
     }
 }

@@ -19,8 +19,17 @@ pub struct Reader {
     buf: Vec<u8>,
 }
 
+/// A board line that is not what the link expects (the message says why).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct BadLine(pub String);
+
 /// Parses a board line (without its line end).
-pub fn parse_line(line: &str, c: Counts) -> Result<(Vec<bool>, Vec<u16>), String> {
+pub fn parse_line(line: &str, c: Counts) -> Result<(Vec<bool>, Vec<u16>), BadLine> {
+    line_text(line, c).map_err(BadLine)
+}
+
+fn line_text(line: &str, c: Counts) -> Result<(Vec<bool>, Vec<u16>), String> {
     let fields: Vec<&str> = line.split(',').map(str::trim).collect();
     let want = c.di + c.ai + 1;
     if fields.len() != want {
@@ -84,7 +93,7 @@ pub(crate) fn cycle(
                 continue;
             }
             let text = String::from_utf8_lossy(&line);
-            let r = parse_line(text.trim_end_matches(['\r', '\n']), cfg.counts).map_err(IoError::Timeout)?;
+            let r = parse_line(text.trim_end_matches(['\r', '\n']), cfg.counts).map_err(|e| IoError::Timeout(e.0))?;
             let msg = format_outputs(&out.r#do, &out.ao);
             port.write_all(msg.as_bytes())
                 .and_then(|_| port.flush())
@@ -128,26 +137,31 @@ mod tests {
         assert!(
             parse_line("1,0,0,1,0,1,1023,0,512,7,5517", C)
                 .unwrap_err()
+                .0
                 .contains("board id 5517")
         );
         assert!(
             parse_line("1,0,0,1,0,1,1023,0,512,5518", C)
                 .unwrap_err()
+                .0
                 .contains("10 fields")
         );
         assert!(
             parse_line("1,0,2,1,0,1,1023,0,512,7,5518", C)
                 .unwrap_err()
+                .0
                 .contains("not 0 or 1")
         );
         assert!(
             parse_line("1,0,0,1,0,1,1024,0,512,7,5518", C)
                 .unwrap_err()
+                .0
                 .contains("not 0-1023")
         );
         assert!(
             parse_line("1,0,0,1,0,x,1023,0,512,7,5518", C)
                 .unwrap_err()
+                .0
                 .contains("`x`")
         );
         assert!(parse_line("", C).is_err());

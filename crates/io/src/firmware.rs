@@ -10,6 +10,20 @@ const MODBUS_TEMPLATE: &str = include_str!("firmware/modbus.cpp");
 const AURORA_TEMPLATE: &str = include_str!("firmware/aurora.cpp");
 
 /// The serial protocol between the PC and the board.
+/// Why a controller firmware cannot be made.
+#[derive(Debug, thiserror::Error)]
+pub enum FirmwareError {
+    /// The specification does not fit the board (the message says where).
+    #[error("{0}")]
+    Spec(String),
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Link {
     Modbus,
@@ -78,7 +92,11 @@ impl Spec {
     }
 
     /// Every pin of the map checked against the board.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), FirmwareError> {
+        self.check_text().map_err(FirmwareError::Spec)
+    }
+
+    fn check_text(&self) -> Result<(), String> {
         if !(1..=247).contains(&self.slave) {
             return Err(format!("slave id {} is not 1-247", self.slave));
         }
@@ -108,7 +126,7 @@ fn pin_expr(p: Pin) -> String {
 }
 
 /// The sketch's source text.
-pub fn generate(spec: &Spec) -> Result<String, String> {
+pub fn generate(spec: &Spec) -> Result<String, FirmwareError> {
     spec.check()?;
     let template = match spec.link {
         Link::Modbus => MODBUS_TEMPLATE,
@@ -177,9 +195,13 @@ pub fn generate(spec: &Spec) -> Result<String, String> {
 
 /// Writes the sketch into `dir` as `<dir name>.ino` (the Arduino IDE opens
 /// a sketch folder whose name is the sketch's), creating `dir`.
-pub fn write(spec: &Spec, dir: &Path) -> Result<PathBuf, String> {
+pub fn write(spec: &Spec, dir: &Path) -> Result<PathBuf, FirmwareError> {
     let text = generate(spec)?;
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let failed = |path: &Path, source| FirmwareError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(|e| failed(dir, e))?;
     let stem = dir
         .canonicalize()
         .ok()
@@ -188,8 +210,8 @@ pub fn write(spec: &Spec, dir: &Path) -> Result<PathBuf, String> {
         .unwrap_or_else(|| "alba_remote_io".to_string());
     let path = dir.join(format!("{stem}.ino"));
     let tmp = dir.join(format!(".{stem}.ino.tmp"));
-    std::fs::write(&tmp, text).map_err(|e| format!("cannot write {}: {e}", tmp.display()))?;
-    std::fs::rename(&tmp, &path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    std::fs::write(&tmp, text).map_err(|e| failed(&tmp, e))?;
+    std::fs::rename(&tmp, &path).map_err(|e| failed(&path, e))?;
     Ok(path)
 }
 
@@ -237,11 +259,11 @@ mod tests {
         let map = PinMap::preset("aurora").expect("preset");
         let e = generate(&Spec::new(Model::Uno, "aurora", map.clone(), Link::Modbus)).unwrap_err();
         assert_eq!(
-            e,
+            e.to_string(),
             "AI:3/2 is pin A6, but the Arduino Uno has no pin A6 (A0-A5); A6 and A7 are on the Nano"
         );
         let mut s = Spec::new(Model::Nano, "aurora", map, Link::Modbus);
         s.slave = 0;
-        assert_eq!(generate(&s).unwrap_err(), "slave id 0 is not 1-247");
+        assert_eq!(generate(&s).unwrap_err().to_string(), "slave id 0 is not 1-247");
     }
 }
