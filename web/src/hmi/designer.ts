@@ -24,11 +24,13 @@ import { add, clear, dragScroll, h, rubberBand, s } from '../dom';
 import { domain, membersOf } from '../domain';
 import { tr } from '../i18n';
 import {
-  type Align, GRID, align, animationDefaults, copies, distribute, elementOf, group, newElement, overlaps, restack,
+  type Align, GRID, align, animationDefaults, copies, distribute, elementOf, freshId, group, newElement, overlaps, restack,
   snap, symbolOf, ungroup, withGroups,
 } from './edit';
 import { type Element, type Screen, drawElement, place } from './render';
 import { animationForm, animationPreview, paramForm, propsOf } from './animform';
+import { type Pt, MAX_POINTS, edges, fromPoints, hasVertices, insertVertex, pointsOf, removeVertex, setPoints } from './vertices';
+import { commonParams, commonValues, setAll } from './multi';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
@@ -57,8 +59,14 @@ export class Designer {
   private readonly problems = h('ul', { class: 'problems', 'data-testid': 'hmi-problems' });
   private readonly mine = h('div', { class: 'hmi-symbols', 'data-testid': 'hmi-my-symbols' });
   private readonly zoomLabel = h('span', { class: 'hmi-zoom', 'data-testid': 'hmi-zoom' });
+  private readonly status = h('span', { class: 'hmi-status', 'data-testid': 'hmi-status' });
+  private readonly upload = h('input', { type: 'file', accept: 'image/png,image/jpeg,image/gif,.png,.jpg,.jpeg,.gif', hidden: true, 'data-testid': 'hmi-upload-file' });
   private svg: SVGSVGElement | null = null;
   private space = false;
+  /** The vertex of the selected polygon or line last grabbed (Delete removes it). */
+  private vertex: number | null = null;
+  /** A polygon or a line being drawn by its vertices (screen units). */
+  private drawing: { type: string; pts: Pt[] } | null = null;
 
   constructor(
     private readonly ctx: Ctx,
@@ -103,6 +111,11 @@ export class Designer {
         button('back', tr('To back'), tr('Send to back (Ctrl+[)'), () => this.restack('back')),
         button('save-symbol', tr('Save as symbol'), tr('Save the selection as a symbol of your own'), () => void this.saveSymbol()),
         h('span', { class: 'sep' }),
+        button('draw-polygon', tr('Draw polygon'), tr('Click each vertex, double-click or Enter to finish (Escape: cancel)'), () => this.startDrawing('polygon')),
+        button('draw-line', tr('Draw line'), tr('Click each point, double-click or Enter to finish (Escape: cancel)'), () => this.startDrawing('line')),
+        button('upload-image', tr('Upload image'), tr('Upload a PNG, JPEG or GIF into the project and show it (on the selected image, or a new one)'), () => this.upload.click()),
+        this.upload,
+        h('span', { class: 'sep' }),
         button('zoom-out', '−', tr('Zoom out (-)'), () => this.zoomBy(-1)),
         this.zoomLabel,
         button('zoom-in', '+', tr('Zoom in (+)'), () => this.zoomBy(1)),
@@ -110,7 +123,18 @@ export class Designer {
         h('span', { class: 'sep' }),
         button('save', tr('Save'), tr('Save (Ctrl+S)'), () => void this.save()),
         button('close', tr('Close'), tr('Back to the running screen'), () => this.done())),
-      h('div', { class: 'hmi-designer-body' }, palette, this.canvas, h('aside', null, this.props, h('h3', null, tr('Problems')), this.problems)));
+      h('div', { class: 'hmi-designer-body' }, palette, this.canvas, h('aside', null, this.props, h('h3', null, tr('Problems')), this.problems)),
+      h('div', { class: 'hmi-statusline' }, this.status));
+    this.upload.addEventListener('change', () => {
+      const f = this.upload.files?.[0];
+      this.upload.value = '';
+      if (f) void this.uploadImage(f);
+    });
+    this.canvas.addEventListener('pointermove', (e) => {
+      if (!this.svg) return;
+      const p = this.toScreen(e.clientX, e.clientY);
+      this.status.textContent = `x ${Math.round(p.x)}  y ${Math.round(p.y)}`;
+    });
     this.el.querySelector('[data-testid="hmi-save"]')?.classList.add('primary');
     this.canvas.addEventListener('dragover', (e) => {
       if (e.dataTransfer?.types.includes(DRAG_TYPE) || e.dataTransfer?.types.includes(SYMBOL_TYPE)) e.preventDefault();
@@ -274,6 +298,7 @@ export class Designer {
 
   select(ids: Iterable<string>, extend = false): void {
     const next = withGroups(this.screen, ids);
+    this.vertex = null;
     this.sel = extend ? new Set([...this.sel, ...next]) : next;
     this.render();
   }
@@ -347,7 +372,15 @@ export class Designer {
     const mod = e.ctrlKey || e.metaKey;
     const k = e.key.toLowerCase();
     const arrows: Record<string, [number, number]> = { arrowleft: [-1, 0], arrowright: [1, 0], arrowup: [0, -1], arrowdown: [0, 1] };
+    if (this.drawing && (e.key === 'Enter' || e.key === 'Escape')) {
+      if (e.key === 'Enter') this.finishDrawing();
+      else this.stopDrawing();
+      e.preventDefault();
+      return;
+    }
+    const one = this.selected();
     if (e.key === ' ') this.space = true;
+    else if ((e.key === 'Delete' || e.key === 'Backspace') && this.vertex !== null && one.length === 1 && hasVertices(one[0].type)) this.removeVertexAt(one[0], this.vertex);
     else if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) this.redo();
     else if (mod && k === 'z') this.undo();
     else if (mod && k === 's') void this.save();
@@ -363,7 +396,7 @@ export class Designer {
     else if (!mod && (e.key === '+' || e.key === '=')) this.zoomBy(1);
     else if (!mod && e.key === '-') this.zoomBy(-1);
     else if (!mod && e.key === '0') this.fit();
-    else if (e.key === 'Escape') this.select([]);
+    else if (e.key === 'Escape') this.vertex !== null ? ((this.vertex = null), this.render()) : this.select([]);
     else if ((e.key === 'Delete' || e.key === 'Backspace') && this.sel.size) {
       this.change((s) => (s.elements = s.elements.filter((x) => !this.sel.has(x.id))));
       this.sel.clear();
@@ -379,25 +412,206 @@ export class Designer {
     const svg = s('svg', { class: 'hmi-design', viewBox: `0 0 ${this.screen.width} ${this.screen.height}`, 'data-testid': 'hmi-design-svg' });
     const bg = s('rect', { width: this.screen.width, height: this.screen.height, fill: this.screen.background ?? '#f4f5f6', 'data-testid': 'hmi-background' });
     svg.append(bg);
-    for (const e of this.screen.elements) {
-      const g = drawElement(e);
-      if (this.sel.has(e.id)) {
-        g.classList.add('selected');
-        g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
-        // where its move ends and the path its rotation follows (one element selected)
-        const preview = this.sel.size === 1 ? animationPreview(e, !g.querySelector('[data-part="rotor"], [data-part="needle"]')) : null;
-        if (preview) g.append(preview);
-      }
-      g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
-      svg.append(g);
-    }
+    for (const e of this.screen.elements) svg.append(this.drawOne(e));
     bg.addEventListener('pointerdown', (ev) => this.startBand(ev));
     this.svg = svg;
+    if (this.drawing) this.drawingLayer(svg);
     clear(this.canvas);
     this.canvas.append(svg);
     this.setZoom(this.zoom);
     this.renderProps();
     this.paintErrors();
+  }
+
+  /** One element as the designer shows it: its selection box, its animations' preview, its vertices' handles. */
+  private drawOne(e: Element): SVGGElement {
+    const g = drawElement(e);
+    if (this.sel.has(e.id)) {
+      g.classList.add('selected');
+      g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
+      // where its move ends and the path its rotation follows (one element selected)
+      const preview = this.sel.size === 1 ? animationPreview(e, !g.querySelector('[data-part="rotor"], [data-part="needle"]')) : null;
+      if (preview) g.append(preview);
+      if (this.sel.size === 1 && hasVertices(e.type) && !this.drawing) this.vertexHandles(g, e);
+    }
+    g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
+    return g;
+  }
+
+  /** Draws `e` again in place (while a vertex is dragged). */
+  private redraw(e: Element): void {
+    const old = this.svg?.querySelector(`[data-testid="hmi-el-${CSS.escape(e.id)}"]`);
+    old?.replaceWith(this.drawOne(e));
+  }
+
+  /** A point of the page in `g`'s own frame (the element's box, turned with it). */
+  private local(g: SVGGraphicsElement, cx: number, cy: number, m = g.getScreenCTM()?.inverse()): Pt {
+    const pt = this.svg!.createSVGPoint();
+    pt.x = cx;
+    pt.y = cy;
+    const p = m ? pt.matrixTransform(m) : pt;
+    return [p.x, p.y];
+  }
+
+  /** A handle per vertex (drag; right-click or Delete removes) and the edges (double-click inserts a vertex). */
+  private vertexHandles(g: SVGGElement, e: Element): void {
+    const pts = pointsOf(e);
+    const z = Math.max(this.zoom, 0.1);
+    edges(pts, e.type === 'polygon').forEach(([a, b], k) => {
+      const seg = s('line', { class: 'hmi-edge', x1: a[0], y1: a[1], x2: b[0], y2: b[1], 'stroke-width': 10 / z, 'data-testid': `hmi-edge-${k}` });
+      seg.addEventListener('dblclick', (ev) => {
+        ev.stopPropagation();
+        const [x, y] = this.snapLocal(e, this.local(g, ev.clientX, ev.clientY), ev.altKey);
+        const next = insertVertex(pts, k, [x, y]);
+        if (!next) return this.ctx.notify(tr('At most {n} vertices.', { n: MAX_POINTS }), 'error');
+        this.change(() => setPoints(e, next));
+        this.vertex = k + 1;
+        this.render();
+      });
+      g.append(seg);
+    });
+    pts.forEach(([x, y], k) => {
+      const c = s('circle', { class: `hmi-vertex${this.vertex === k ? ' active' : ''}`, cx: x, cy: y, r: 5 / z, 'stroke-width': 1.5 / z, 'data-testid': `hmi-vertex-${k}` });
+      c.addEventListener('pointerdown', (ev) => this.dragVertex(ev, g, e, k));
+      c.addEventListener('contextmenu', (ev) => {
+        ev.preventDefault();
+        ev.stopPropagation();
+        this.removeVertexAt(e, k);
+      });
+      g.append(c);
+    });
+  }
+
+  /** A point of `e`'s box on the screen's grid (Alt: free); a turned element's points snap in its box. */
+  private snapLocal(e: Element, [x, y]: Pt, free: boolean): Pt {
+    const grid = free ? 1 : GRID;
+    if (e.rotation) return [snap(x, grid), snap(y, grid)];
+    return [snap(e.x + x, grid) - e.x, snap(e.y + y, grid) - e.y];
+  }
+
+  private removeVertexAt(e: Element, k: number): void {
+    const next = removeVertex(pointsOf(e), k, e.type);
+    if (!next) return this.ctx.notify(e.type === 'polygon' ? tr('A polygon keeps at least 3 vertices.') : tr('A line keeps at least 2 points.'), 'error');
+    this.vertex = null;
+    this.change(() => setPoints(e, next));
+  }
+
+  /** Dragging a vertex: the element's points (and box) follow, one undoable change. */
+  private dragVertex(ev: PointerEvent, g: SVGGElement, e: Element, k: number): void {
+    if (ev.button !== 0) return;
+    ev.stopPropagation();
+    ev.preventDefault();
+    this.vertex = k;
+    this.canvas.focus();
+    const before = JSON.stringify(this.screen);
+    const m = g.getScreenCTM()?.inverse();
+    const pts = pointsOf(e);
+    const box = { x: e.x, y: e.y, w: e.w, h: e.h };
+    let moved = false;
+    const move = (mv: PointerEvent) => {
+      Object.assign(e, box);
+      const next = pts.slice();
+      next[k] = this.snapLocal(e, this.local(g, mv.clientX, mv.clientY, m), mv.altKey);
+      if (next[k][0] === pts[k][0] && next[k][1] === pts[k][1] && !moved) return;
+      setPoints(e, next);
+      moved = true;
+      this.redraw(e);
+    };
+    const up = () => {
+      window.removeEventListener('pointermove', move);
+      window.removeEventListener('pointerup', up);
+      if (moved) {
+        this.undoStack.push(before);
+        this.redoStack = [];
+        this.scheduleCheck();
+      }
+      this.render();
+    };
+    window.addEventListener('pointermove', move);
+    window.addEventListener('pointerup', up);
+  }
+
+  /** The draw tool: each click a vertex (on the grid; Alt: free), double-click or Enter finishes. */
+  private startDrawing(type: string): void {
+    this.drawing = { type, pts: [] };
+    this.sel.clear();
+    this.vertex = null;
+    this.render();
+    this.status.textContent = type === 'polygon' ? tr('Click each vertex, double-click or Enter to finish (Escape: cancel)') : tr('Click each point, double-click or Enter to finish (Escape: cancel)');
+  }
+
+  private stopDrawing(): void {
+    this.drawing = null;
+    this.render();
+  }
+
+  private finishDrawing(): void {
+    const d = this.drawing;
+    if (!d) return;
+    const e = fromPoints(freshId(this.screen, d.type), d.type, d.pts);
+    if (!e) return this.ctx.notify(d.type === 'polygon' ? tr('A polygon keeps at least 3 vertices.') : tr('A line keeps at least 2 points.'), 'error');
+    this.drawing = null;
+    this.change((s) => s.elements.push(e));
+    this.select([e.id]);
+  }
+
+  /** What the draw tool shows: the points so far and a segment to the pointer, over everything (clicks land on it). */
+  private drawingLayer(svg: SVGSVGElement): void {
+    const d = this.drawing!;
+    const closed = d.type === 'polygon';
+    const shape = s(closed ? 'polygon' : 'polyline', { class: 'hmi-draw-preview', 'data-testid': 'hmi-draw-preview', points: d.pts.map((p) => p.join(',')).join(' ') });
+    const over = s('rect', { class: 'hmi-draw-overlay', 'data-testid': 'hmi-draw-overlay', width: this.screen.width, height: this.screen.height, fill: 'transparent' });
+    const at = (ev: MouseEvent): Pt => {
+      const p = this.toScreen(ev.clientX, ev.clientY);
+      const grid = ev.altKey ? 1 : GRID;
+      return [snap(p.x, grid), snap(p.y, grid)];
+    };
+    const show = (extra: Pt | null) => shape.setAttribute('points', [...d.pts, ...(extra ? [extra] : [])].map((p) => p.join(',')).join(' '));
+    over.addEventListener('pointerdown', (ev) => {
+      if (ev.button !== 0 || this.space) return;
+      ev.stopPropagation();
+      if (d.pts.length >= MAX_POINTS) return this.ctx.notify(tr('At most {n} vertices.', { n: MAX_POINTS }), 'error');
+      d.pts.push(at(ev));
+      show(null);
+      this.canvas.focus();
+    });
+    over.addEventListener('pointermove', (ev) => show(at(ev)));
+    over.addEventListener('dblclick', (ev) => {
+      ev.stopPropagation();
+      this.finishDrawing();
+    });
+    svg.append(shape, over);
+  }
+
+  /** Puts an image file into the project (PUT /api/assets/{name}) and shows it: on the one selected image, or on a new one. */
+  private async uploadImage(f: File): Promise<void> {
+    const name = f.name.replace(/[^A-Za-z0-9_.-]/g, '_').replace(/^\.+/, '').slice(-64);
+    try {
+      await api.putAsset(name, f);
+    } catch (e) {
+      return this.ctx.notify(tr('{name} not uploaded: {m}', { name, m: e instanceof Error ? e.message : String(e) }), 'error', 'hmi-upload');
+    }
+    const src = `assets/${name}`;
+    const [one] = this.selected();
+    if (this.sel.size === 1 && one.type === 'image') {
+      this.change(() => (one.props = { ...one.props, src }));
+    } else {
+      // its own size (at most the screen), centred
+      let [w, h] = [160, 120];
+      try {
+        const bmp = await createImageBitmap(f);
+        const k = Math.min(1, this.screen.width / bmp.width, this.screen.height / bmp.height);
+        [w, h] = [Math.max(1, Math.round(bmp.width * k)), Math.max(1, Math.round(bmp.height * k))];
+        bmp.close();
+      } catch {
+        /* not decodable here: the default box */
+      }
+      const e = newElement(this.screen, 'image', this.screen.width / 2, this.screen.height / 2);
+      Object.assign(e, { w, h, x: snap((this.screen.width - w) / 2), y: snap((this.screen.height - h) / 2), props: { src } });
+      this.change((s) => s.elements.push(e));
+      this.select([e.id]);
+    }
+    this.ctx.notify(tr('{name} uploaded', { name }), 'info', 'hmi-upload');
   }
 
   /** A rubber band from an empty place: selects every element it touches (Shift: adds). */
@@ -478,8 +692,17 @@ export class Designer {
     }
     if (els.length > 1) {
       const groups = new Set(els.map((e) => e.group ?? ''));
+      // the properties they all have, with the values they agree on: a change goes to all, one undo step
+      const params = commonParams(els.map((e) => propsOf(e.type)));
+      const types = [...new Set(els.map((e) => e.type))];
       this.props.append(
         h('h3', null, tr('{n} elements selected', { n: els.length })),
+        h('p', { class: 'hint', 'data-testid': 'hmi-multi-types' }, types.join(', ')),
+        params.length
+          ? h('div', { class: 'hmi-multi' },
+            h('p', { class: 'hint' }, tr('What they have in common: a value set here goes to all of them (an empty field: they differ).')),
+            paramForm(params, commonValues(els, params), 'hmi-multi', (name, v) => this.change(() => setAll(els, name, v))))
+          : h('p', { class: 'hint', 'data-testid': 'hmi-multi-none' }, tr('They have no property in common.')),
         h('p', { class: 'hint' }, groups.size === 1 && !groups.has('') ? tr('A group: Ungroup to edit its elements one by one.') : tr('Align, distribute, group or move them together.')));
       return;
     }
