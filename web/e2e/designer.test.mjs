@@ -143,6 +143,45 @@ test('several selected elements edited together where they agree', async () => {
   assert.deepEqual(b.errors, []);
 });
 
+test('rulers, a guide dragged out of one, and an element snapping to it', async () => {
+  const { page, tid } = b;
+  await page.keyboard.press('Escape');
+  await tid('hmi-rulers').click();
+  await tid('hmi-ruler-top').waitFor();
+  await page.waitForTimeout(200);
+  // a horizontal guide out of the top ruler, Alt held: off the grid, at y 503
+  const r = await tid('hmi-ruler-top').boundingBox();
+  const g = await at(page, 700, 503);
+  await page.mouse.move(g.x, r.y + r.height / 2);
+  await page.mouse.down();
+  await page.keyboard.down('Alt');
+  await page.mouse.move(g.x, g.y, { steps: 6 });
+  await page.mouse.up();
+  await page.keyboard.up('Alt');
+  assert.equal(await tid('hmi-guide-h-0').getAttribute('data-at'), '503');
+  // rectangle1 (y 420, 60 high) dragged down 20: the grid puts its bottom at 500, the guide pulls it to 503
+  const c = await at(page, 130, 450);
+  const d = await at(page, 131, 471);
+  await page.mouse.move(c.x, c.y);
+  await page.mouse.down();
+  await page.mouse.move(d.x, d.y, { steps: 5 });
+  await page.mouse.up();
+  await tid('hmi-props').getByText('rectangle1 (rectangle)').waitFor();
+  assert.equal(await tid('hmi-prop-y').inputValue(), '443');
+  await b.shot('designer-rulers-guide');
+  // dropped back on the ruler, the guide goes
+  const gl = await at(page, 700, 503);
+  const back = await at(page, 700, -10);
+  await page.mouse.move(gl.x, gl.y);
+  await page.mouse.down();
+  await page.mouse.move(back.x, back.y, { steps: 4 });
+  await page.mouse.up();
+  assert.equal(await tid('hmi-guide-h-0').count(), 0);
+  await tid('hmi-rulers').click();
+  await tid('hmi-ruler-top').waitFor({ state: 'detached' });
+  assert.deepEqual(b.errors, []);
+});
+
 test('upload an image and see it after a reload; an oversize one is refused with the 413 message', async () => {
   const { page, tid } = b;
   await tid('hmi-upload-file').setInputFiles({ name: 'logo plant.png', mimeType: 'image/png', buffer: PNG });

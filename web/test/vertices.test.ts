@@ -81,3 +81,31 @@ describe('several elements edited together', () => {
     expect(els.every((e) => !('fill' in (e.props ?? {})))).toBe(true);
   });
 });
+
+describe('rulers and guides', () => {
+  it('ticks every 10, longer every 50, labelled every 100', async () => {
+    const { ticks } = await import('../src/hmi/guides');
+    const t = ticks(120);
+    expect(t.map((x) => x.at)).toEqual([0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120]);
+    expect(t.filter((x) => x.size === 'big').map((x) => x.at)).toEqual([0, 100]);
+    expect(t.filter((x) => x.size === 'mid').map((x) => x.at)).toEqual([50]);
+  });
+
+  it('snaps the nearest edge or centre onto a guide within the tolerance', async () => {
+    const { snapToGuides, snapAxis } = await import('../src/hmi/guides');
+    expect(snapAxis(100, 160, [163], 6)).toBe(3);
+    expect(snapAxis(100, 160, [127], 6)).toBe(-3);
+    expect(snapAxis(100, 160, [97, 131], 6)).toBe(1); // the nearest: the centre 130 to 131
+    expect(snapAxis(100, 160, [170], 6)).toBe(0);
+    expect(snapToGuides({ x: 100, y: 440, w: 60, h: 60 }, { v: [], h: [503] }, 6)).toEqual([0, 3]);
+  });
+
+  it('keeps guides per screen in the browser', async () => {
+    const { loadGuides, saveGuides } = await import('../src/hmi/guides');
+    saveGuides('s1', { v: [100], h: [40, 503] });
+    expect(loadGuides('s1')).toEqual({ v: [100], h: [40, 503] });
+    expect(loadGuides('other')).toEqual({ v: [], h: [] });
+    localStorage.setItem('alba.hmi.guides.bad', '{"v": ["x", 3]');
+    expect(loadGuides('bad')).toEqual({ v: [], h: [] });
+  });
+});

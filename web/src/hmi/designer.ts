@@ -31,6 +31,7 @@ import { type Element, type Screen, drawElement, place } from './render';
 import { animationForm, animationPreview, paramForm, propsOf } from './animform';
 import { type Pt, MAX_POINTS, edges, fromPoints, hasVertices, insertVertex, pointsOf, removeVertex, setPoints } from './vertices';
 import { commonParams, commonValues, setAll } from './multi';
+import { type Guides, loadGuides, saveGuides, snapToGuides, ticks } from './guides';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
@@ -38,6 +39,8 @@ const animationKinds = () => domain().screens.animations.map((a) => a.kind);
 const actions = () => ['', ...domain().screens.actions];
 const DRAG_TYPE = 'application/x-alba-element';
 const SYMBOL_TYPE = 'application/x-alba-symbol';
+/** The rulers' breadth, in screen units (drawn left of and above the screen). */
+const RULER = 24;
 const ZOOMS = [0.25, 0.33, 0.5, 0.67, 0.75, 0.9, 1, 1.25, 1.5, 2, 3, 4];
 
 export class Designer {
@@ -67,6 +70,9 @@ export class Designer {
   private vertex: number | null = null;
   /** A polygon or a line being drawn by its vertices (screen units). */
   private drawing: { type: string; pts: Pt[] } | null = null;
+  /** Rulers shown (with the guides, which elements snap to); remembered in the browser. */
+  private rulers = localStorage.getItem('alba.hmi.rulers') === '1';
+  private guides: Guides;
 
   constructor(
     private readonly ctx: Ctx,
@@ -75,6 +81,7 @@ export class Designer {
     private readonly done: () => void,
   ) {
     this.screen = structuredClone(screen);
+    this.guides = loadGuides(name);
     const palette = h('div', { class: 'hmi-palette', 'data-testid': 'hmi-palette' },
       types().map(([t, what]) =>
         h('button', {
@@ -116,6 +123,12 @@ export class Designer {
         button('upload-image', tr('Upload image'), tr('Upload a PNG, JPEG or GIF into the project and show it (on the selected image, or a new one)'), () => this.upload.click()),
         this.upload,
         h('span', { class: 'sep' }),
+        button('rulers', tr('Rulers'), tr('Rulers and guides: drag a guide out of a ruler, back onto it to remove it'), () => {
+          this.rulers = !this.rulers;
+          localStorage.setItem('alba.hmi.rulers', this.rulers ? '1' : '0');
+          this.render();
+          this.fit();
+        }),
         button('zoom-out', '−', tr('Zoom out (-)'), () => this.zoomBy(-1)),
         this.zoomLabel,
         button('zoom-in', '+', tr('Zoom in (+)'), () => this.zoomBy(1)),
@@ -333,14 +346,16 @@ export class Designer {
   private fit(): void {
     const w = this.canvas.clientWidth - 20;
     const h = this.canvas.clientHeight - 20;
-    if (w > 0 && h > 0) this.setZoom(Math.max(0.1, Math.min(4, w / this.screen.width, h / this.screen.height)));
+    const r = this.rulers ? RULER : 0;
+    if (w > 0 && h > 0) this.setZoom(Math.max(0.1, Math.min(4, w / (this.screen.width + r), h / (this.screen.height + r))));
   }
 
   private setZoom(z: number): void {
     this.zoom = Math.round(z * 100) / 100;
     if (this.svg) {
-      this.svg.setAttribute('width', String(this.screen.width * this.zoom));
-      this.svg.setAttribute('height', String(this.screen.height * this.zoom));
+      const r = this.rulers ? RULER : 0;
+      this.svg.setAttribute('width', String((this.screen.width + r) * this.zoom));
+      this.svg.setAttribute('height', String((this.screen.height + r) * this.zoom));
     }
     this.zoomLabel.textContent = `${Math.round(this.zoom * 100)} %`;
   }
@@ -409,12 +424,14 @@ export class Designer {
   }
 
   private render(): void {
-    const svg = s('svg', { class: 'hmi-design', viewBox: `0 0 ${this.screen.width} ${this.screen.height}`, 'data-testid': 'hmi-design-svg' });
+    const r = this.rulers ? RULER : 0;
+    const svg = s('svg', { class: 'hmi-design', viewBox: `${-r} ${-r} ${this.screen.width + r} ${this.screen.height + r}`, 'data-testid': 'hmi-design-svg' });
     const bg = s('rect', { width: this.screen.width, height: this.screen.height, fill: this.screen.background ?? '#f4f5f6', 'data-testid': 'hmi-background' });
     svg.append(bg);
     for (const e of this.screen.elements) svg.append(this.drawOne(e));
     bg.addEventListener('pointerdown', (ev) => this.startBand(ev));
     this.svg = svg;
+    if (this.rulers) this.rulerLayer(svg);
     if (this.drawing) this.drawingLayer(svg);
     clear(this.canvas);
     this.canvas.append(svg);
@@ -525,6 +542,65 @@ export class Designer {
         this.redoStack = [];
         this.scheduleCheck();
       }
+      this.render();
+    };
+    window.addEventListener('pointermove', move);
+    window.addEventListener('pointerup', up);
+  }
+
+  /** The rulers above and left of the screen (a guide is dragged out of one) and the guides across it. */
+  private rulerLayer(svg: SVGSVGElement): void {
+    const { width: W, height: H } = this.screen;
+    const z = Math.max(this.zoom, 0.1);
+    const len = { small: RULER * 0.2, mid: RULER * 0.4, big: RULER * 0.65 };
+    const top = s('g', { class: 'hmi-ruler', 'data-testid': 'hmi-ruler-top' }, s('rect', { x: -RULER, y: -RULER, width: W + RULER, height: RULER }));
+    for (const t of ticks(W)) {
+      top.append(s('line', { x1: t.at, x2: t.at, y1: -len[t.size], y2: 0 }));
+      if (t.size === 'big') top.append(s('text', { x: t.at + 2, y: -RULER + 9 }, String(t.at)));
+    }
+    const left = s('g', { class: 'hmi-ruler', 'data-testid': 'hmi-ruler-left' }, s('rect', { x: -RULER, y: 0, width: RULER, height: H }));
+    for (const t of ticks(H)) {
+      left.append(s('line', { y1: t.at, y2: t.at, x1: -len[t.size], x2: 0 }));
+      if (t.size === 'big') left.append(s('text', { x: -RULER + 1, y: t.at + 9 }, String(t.at)));
+    }
+    top.addEventListener('pointerdown', (ev) => this.dragGuide(ev, 'h', null));
+    left.addEventListener('pointerdown', (ev) => this.dragGuide(ev, 'v', null));
+    svg.append(top, left);
+    (['v', 'h'] as const).forEach((axis) => this.guides[axis].forEach((at, k) => svg.append(this.guideLine(axis, at, k, z))));
+  }
+
+  private guideLine(axis: 'v' | 'h', at: number, k: number, z: number): SVGGElement {
+    const { width: W, height: H } = this.screen;
+    const ends = axis === 'v' ? { x1: at, x2: at, y1: -RULER, y2: H } : { y1: at, y2: at, x1: -RULER, x2: W };
+    const g = s('g', { class: 'hmi-guide', 'data-testid': `hmi-guide-${axis}-${k}`, 'data-at': at },
+      s('line', { ...ends, class: 'hmi-guide-hit', 'stroke-width': 8 / z }), s('line', { ...ends, class: 'hmi-guide-line' }));
+    g.addEventListener('pointerdown', (ev) => this.dragGuide(ev, axis, k));
+    return g;
+  }
+
+  /** Drags guide `k` (or a new one out of a ruler) on the grid (Alt: free); dropped onto a ruler, it goes. */
+  private dragGuide(ev: PointerEvent, axis: 'v' | 'h', k: number | null): void {
+    if (ev.button !== 0 || this.space || !this.svg) return;
+    ev.stopPropagation();
+    ev.preventDefault();
+    const list = this.guides[axis];
+    const at = (m: PointerEvent) => {
+      const p = this.toScreen(m.clientX, m.clientY);
+      return snap(axis === 'v' ? p.x : p.y, m.altKey ? 1 : GRID);
+    };
+    const n = k ?? list.push(at(ev)) - 1;
+    let line = this.svg.querySelector<SVGGElement>(`[data-testid="hmi-guide-${axis}-${n}"]`);
+    if (!line) this.svg.append((line = this.guideLine(axis, list[n], n, Math.max(this.zoom, 0.1))));
+    const move = (m: PointerEvent) => {
+      list[n] = at(m);
+      line!.replaceWith((line = this.guideLine(axis, list[n], n, Math.max(this.zoom, 0.1))));
+      this.status.textContent = `${axis === 'v' ? 'x' : 'y'} ${list[n]}`;
+    };
+    const up = () => {
+      window.removeEventListener('pointermove', move);
+      window.removeEventListener('pointerup', up);
+      if (list[n] <= 0 || list[n] >= (axis === 'v' ? this.screen.width : this.screen.height)) list.splice(n, 1);
+      saveGuides(this.name, this.guides);
       this.render();
     };
     window.addEventListener('pointermove', move);
@@ -650,8 +726,18 @@ export class Designer {
       const grid = m.altKey ? 1 : GRID;
       const [ex, ey] = from[moving.indexOf(e)];
       // the grabbed element snaps; the others keep their offsets to it
-      const dx = snap(ex + p.x - start.x, grid) - ex;
-      const dy = snap(ey + p.y - start.y, grid) - ey;
+      let dx = snap(ex + p.x - start.x, grid) - ex;
+      let dy = snap(ey + p.y - start.y, grid) - ey;
+      // then onto a guide near an edge or the centre of what moves
+      if (this.rulers && !m.altKey && (this.guides.v.length || this.guides.h.length)) {
+        const x0 = Math.min(...from.map((f) => f[0])) + dx;
+        const y0 = Math.min(...from.map((f) => f[1])) + dy;
+        const x1 = Math.max(...moving.map((x, k) => from[k][0] + x.w)) + dx;
+        const y1 = Math.max(...moving.map((x, k) => from[k][1] + x.h)) + dy;
+        const [sx, sy] = snapToGuides({ x: x0, y: y0, w: x1 - x0, h: y1 - y0 }, this.guides, 6 / Math.max(this.zoom, 0.1));
+        dx += sx;
+        dy += sy;
+      }
       moving.forEach((x, k) => {
         x.x = from[k][0] + dx;
         x.y = from[k][1] + dy;
