@@ -98,6 +98,8 @@ describe('rulers and guides', () => {
     expect(snapAxis(100, 160, [97, 131], 6)).toBe(1); // the nearest: the centre 130 to 131
     expect(snapAxis(100, 160, [170], 6)).toBe(0);
     expect(snapToGuides({ x: 100, y: 440, w: 60, h: 60 }, { v: [], h: [503] }, 6)).toEqual([0, 3]);
+    const { snapPoint } = await import('../src/hmi/guides');
+    expect(snapPoint(200, 500, { v: [204], h: [520] }, 6)).toEqual([204, 500]);
   });
 
   it('keeps guides per screen in the browser', async () => {

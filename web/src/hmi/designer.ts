@@ -31,7 +31,7 @@ import { type Element, type Screen, drawElement, place } from './render';
 import { animationForm, animationPreview, paramForm, propsOf } from './animform';
 import { type Pt, MAX_POINTS, edges, fromPoints, hasVertices, insertVertex, pointsOf, removeVertex, setPoints } from './vertices';
 import { commonParams, commonValues, setAll } from './multi';
-import { type Guides, loadGuides, saveGuides, snapToGuides, ticks } from './guides';
+import { type Guides, loadGuides, saveGuides, snapPoint, snapToGuides, ticks } from './guides';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
@@ -499,11 +499,17 @@ export class Designer {
     });
   }
 
-  /** A point of `e`'s box on the screen's grid (Alt: free); a turned element's points snap in its box. */
+  /** A point of `e`'s box on the screen's grid and guides (Alt: free); a turned element's points snap in its box. */
   private snapLocal(e: Element, [x, y]: Pt, free: boolean): Pt {
     const grid = free ? 1 : GRID;
     if (e.rotation) return [snap(x, grid), snap(y, grid)];
-    return [snap(e.x + x, grid) - e.x, snap(e.y + y, grid) - e.y];
+    const [sx, sy] = this.onGuides(snap(e.x + x, grid), snap(e.y + y, grid), free);
+    return [sx - e.x, sy - e.y];
+  }
+
+  /** A screen point onto a guide near it (rulers shown, Alt not held). */
+  private onGuides(x: number, y: number, free: boolean): Pt {
+    return this.rulers && !free ? snapPoint(x, y, this.guides, 6 / Math.max(this.zoom, 0.1)) : [x, y];
   }
 
   private removeVertexAt(e: Element, k: number): void {
@@ -640,7 +646,7 @@ export class Designer {
     const at = (ev: MouseEvent): Pt => {
       const p = this.toScreen(ev.clientX, ev.clientY);
       const grid = ev.altKey ? 1 : GRID;
-      return [snap(p.x, grid), snap(p.y, grid)];
+      return this.onGuides(snap(p.x, grid), snap(p.y, grid), ev.altKey);
     };
     const show = (extra: Pt | null) => shape.setAttribute('points', [...d.pts, ...(extra ? [extra] : [])].map((p) => p.join(',')).join(' '));
     over.addEventListener('pointerdown', (ev) => {

@@ -54,3 +54,8 @@ export function saveGuides(name: string, g: Guides): void {
     /* a browser that keeps nothing: the guides last as long as the page */
   }
 }
+
+/** A point (a vertex dragged or drawn) onto the guides near it. */
+export function snapPoint(x: number, y: number, guides: Guides, tol: number): [number, number] {
+  return [x + snapAxis(x, x, guides.v, tol), y + snapAxis(y, y, guides.h, tol)];
+}
