@@ -360,6 +360,8 @@ export const es: Record<string, string> = {
   '{name} uploaded': '{name} subido',
   'What they have in common: a value set here goes to all of them (an empty field: they differ).': 'Lo que tienen en común: un valor puesto aquí se aplica a todos (un campo vacío: difieren).',
   'They have no property in common.': 'No tienen ninguna propiedad en común.',
+  Rulers: 'Reglas',
+  'Rulers and guides: drag a guide out of a ruler, back onto it to remove it': 'Reglas y guías: arrastre una guía desde una regla; devuélvala a la regla para quitarla',
   'Select at least {n} elements.': 'Seleccione al menos {n} elementos.',
   '{n} elements selected': '{n} elementos seleccionados',
   'A group: Ungroup to edit its elements one by one.': 'Un grupo: desagrúpelo para editar sus elementos uno a uno.',
