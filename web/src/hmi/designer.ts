@@ -31,6 +31,7 @@ import { type Element, type Screen, drawElement, place } from './render';
 import { animationForm, animationPreview, paramForm, propsOf } from './animform';
 import { type Pt, MAX_POINTS, edges, fromPoints, hasVertices, insertVertex, pointsOf, removeVertex, setPoints } from './vertices';
 import { commonParams, commonValues, setAll } from './multi';
+import { type Instance, instancesOf, instantiate, isPrefix, prefixOf, rebuild } from './templates';
 import { type Guides, loadGuides, saveGuides, snapPoint, snapToGuides, ticks } from './guides';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
@@ -191,12 +192,18 @@ export class Designer {
     clear(this.mine);
     if (symbols.length === 0) this.mine.append(h('p', { class: 'hint' }, tr('Select elements, then Save as symbol.')));
     for (const n of symbols)
-      this.mine.append(h('button', {
-        class: 'small', 'data-testid': `hmi-symbol-${n}`, draggable: 'true',
-        ondragstart: (e: DragEvent) => e.dataTransfer?.setData(SYMBOL_TYPE, n),
-        onclick: () => void this.insertSymbol(n, this.screen.width / 2, this.screen.height / 2),
-      }, n));
+      this.mine.append(h('div', { class: 'hmi-symbol-row' },
+        h('button', {
+          class: 'small', 'data-testid': `hmi-symbol-${n}`, draggable: 'true',
+          ondragstart: (e: DragEvent) => e.dataTransfer?.setData(SYMBOL_TYPE, n),
+          onclick: () => void this.insertSymbol(n, this.screen.width / 2, this.screen.height / 2),
+        }, n),
+        h('button', {
+          class: 'small', 'data-testid': `hmi-instance-${n}`, title: tr('Insert as an instance of this template: its tags under a prefix of your own, updated when the template changes'),
+          onclick: () => void this.insertInstance(n),
+        }, '⧉')));
     this.renderProps();
+    await this.refreshInstances();
   }
 
   private change(f: (s: Screen) => void): void {
@@ -303,6 +310,58 @@ export class Designer {
       if (els.length > 1) group(s, new Set(els.map((e) => e.id)));
     });
     this.select(els.map((e) => e.id));
+  }
+
+  /** A template's file (a user symbol), or null with the reason told. */
+  private async template(name: string): Promise<Screen | null> {
+    try {
+      return (await api.symbol(name)) as Screen;
+    } catch (e) {
+      this.ctx.notify(tr('Template {name}: {m}', { name, m: e instanceof Error ? e.message : String(e) }), 'error');
+      return null;
+    }
+  }
+
+  /** An instance of the template `name` in the middle of the screen, its prefix asked for. */
+  private async insertInstance(name: string): Promise<void> {
+    const tpl = await this.template(name);
+    if (!tpl) return;
+    const from = prefixOf(tpl.elements);
+    if (!from) return this.ctx.notify(tr('{name} is not a template: its tags do not share a first name (Pump1 of Pump1.Running).', { name }), 'error');
+    const prefix = prompt(tr('Prefix of this instance (the template uses {p}):', { p: from }), from)?.trim();
+    if (!prefix) return;
+    if (!isPrefix(prefix)) return this.ctx.notify(tr('{p} is not a tag name', { p: prefix }), 'error');
+    const names = new Set(this.screen.elements.map((e) => e.group));
+    let n = 1;
+    while (names.has(`g${n}`)) n++;
+    const els = instantiate(this.screen, tpl, name, prefix, snap((this.screen.width - tpl.width) / 2), snap((this.screen.height - tpl.height) / 2), `g${n}`);
+    this.change((s) => s.elements.push(...els));
+    this.select(els.map((e) => e.id));
+  }
+
+  /** Every instance rebuilt from its template as it is now, one undoable change (told when any changed). */
+  private async refreshInstances(): Promise<void> {
+    const insts = instancesOf(this.screen);
+    if (!insts.length) return;
+    const tpls = new Map<string, Screen>();
+    for (const name of new Set(insts.map((i) => i.template))) {
+      const tpl = await api.symbol(name).catch(() => null);
+      if (tpl) tpls.set(name, tpl as Screen);
+    }
+    const next = structuredClone(this.screen);
+    const changed = instancesOf(next).filter((i) => tpls.has(i.template) && rebuild(next, i, tpls.get(i.template)!)).length;
+    if (!changed) return;
+    this.change((s) => (s.elements = next.elements));
+    this.ctx.notify(tr('{n} instances updated from their templates', { n: changed }));
+  }
+
+  /** The prefix of one instance changed: rebuilt from its template. */
+  private async setPrefix(inst: Instance, prefix: string): Promise<void> {
+    if (!isPrefix(prefix)) return this.ctx.notify(tr('{p} is not a tag name', { p: prefix }), 'error');
+    const tpl = await this.template(inst.template);
+    if (!tpl) return;
+    const next = structuredClone(this.screen);
+    if (rebuild(next, inst, tpl, prefix)) this.change((s) => (s.elements = next.elements));
   }
 
   private selected(): Element[] {
@@ -787,6 +846,14 @@ export class Designer {
       // the properties they all have, with the values they agree on: a change goes to all, one undo step
       const params = commonParams(els.map((e) => propsOf(e.type)));
       const types = [...new Set(els.map((e) => e.type))];
+      // one template instance: its template and its prefix
+      const inst = instancesOf(this.screen).find((i) => groups.size === 1 && groups.has(i.group));
+      if (inst) {
+        const prefix = h('input', { value: inst.prefix, 'data-testid': 'hmi-instance-prefix' });
+        prefix.addEventListener('change', () => void this.setPrefix(inst, prefix.value.trim()));
+        this.props.append(h('h3', { 'data-testid': 'hmi-instance-of' }, tr('Instance of {name}', { name: inst.template })),
+          h('label', null, h('span', null, tr('Prefix')), prefix));
+      }
       this.props.append(
         h('h3', null, tr('{n} elements selected', { n: els.length })),
         h('p', { class: 'hint', 'data-testid': 'hmi-multi-types' }, types.join(', ')),
@@ -895,6 +962,7 @@ export class Designer {
     try {
       await api.saveSymbol(name, symbolOf(els));
       this.ctx.notify(tr('{name} saved', { name }));
+      // the instances of it follow
       await this.loadLists();
     } catch (e) {
       this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
