@@ -217,3 +217,63 @@ test('upload an image and see it after a reload; an oversize one is refused with
   await b.shot('designer-image-after-reload');
   assert.deepEqual(b.errors, []);
 });
+
+test('make a template and two instances; the instances follow the template and their own prefix', async () => {
+  const { page, tid } = b;
+  await newScreen(page, tid, 'faceplates');
+  const answer = async (value, act) => {
+    page.removeAllListeners('dialog');
+    const done = new Promise((res) => page.once('dialog', (d) => d.accept(value).then(res)));
+    await act();
+    await done;
+    page.on('dialog', (d) => d.accept());
+  };
+  const setField = async (testid, value) => {
+    await tid(testid).fill(value);
+    await tid(testid).press('Enter');
+  };
+  // the template: a pump turning with Bomba1 and a lamp showing it
+  await tid('hmi-add-pump').click();
+  await setField('hmi-prop-x', '100');
+  await setField('hmi-prop-y', '100');
+  await tid('hmi-prop-anim-add').selectOption('rotate');
+  await setField('hmi-prop-anim-tag-0', 'Bomba1');
+  await tid('hmi-add-led').click();
+  await setField('hmi-prop-x', '180');
+  await setField('hmi-prop-y', '110');
+  await setField('hmi-prop-shows', 'Bomba1');
+  await tid('hmi-el-pump1').click();
+  await tid('hmi-el-led1').click({ modifiers: ['Shift'] });
+  await answer('pumpface', () => tid('hmi-save-symbol').click());
+  await tid('hmi-instance-pumpface').waitFor();
+  // two instances: Bomba1 (moved left) and Bomba2
+  await answer('Bomba1', () => tid('hmi-instance-pumpface').click());
+  await tid('hmi-el-led2').waitFor();
+  for (let i = 0; i < 20; i++) await page.keyboard.press('ArrowLeft');
+  await answer('Bomba2', () => tid('hmi-instance-pumpface').click());
+  await tid('hmi-el-led3').waitFor();
+  await tid('hmi-instance-of').getByText('Instance of pumpface').waitFor();
+  assert.equal(await tid('hmi-instance-prefix').inputValue(), 'Bomba2');
+  // the template changes (a colour for both parts): both instances follow
+  await tid('hmi-el-pump1').click();
+  await tid('hmi-el-led1').click({ modifiers: ['Shift'] });
+  await setField('hmi-multi-color', '#c62828');
+  await answer('pumpface', () => tid('hmi-save-symbol').click());
+  await tid('toasts').getByText('2 instances updated from their templates').waitFor();
+  // the second's prefix changed: its tags follow
+  await tid('hmi-el-pump3').click();
+  await setField('hmi-instance-prefix', 'Llenar');
+  await page.waitForFunction(() => document.querySelector('[data-testid="hmi-instance-prefix"]')?.value === 'Llenar');
+  await b.shot('designer-template-instances');
+  await tid('hmi-save').click();
+  await tid('toasts').getByText('faceplates saved').waitFor();
+  const saved = await alba.json('/api/screens/faceplates');
+  const of = (prefix) => saved.elements.filter((e) => e.props?.prefix === prefix);
+  const tags = (els) => els.flatMap((e) => [e.props.tag, ...(e.animations ?? []).map((a) => a.tag)].filter(Boolean));
+  assert.deepEqual(tags(of('Bomba1')), ['Bomba1', 'Bomba1']);
+  assert.deepEqual(tags(of('Llenar')), ['Llenar', 'Llenar']);
+  assert.deepEqual([...of('Bomba1'), ...of('Llenar')].map((e) => e.props.color), ['#c62828', '#c62828', '#c62828', '#c62828']);
+  assert.ok(of('Bomba1').every((e) => e.props.template === 'pumpface' && e.group) && of('Bomba1')[0].group !== of('Llenar')[0].group);
+  assert.equal(of('Bomba1')[0].x, of('Llenar')[0].x - 200, 'the first instance was moved 200 left, and stays there through the rebuilds');
+  assert.deepEqual(b.errors, []);
+});

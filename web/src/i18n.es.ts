@@ -369,6 +369,7 @@ export const es: Record<string, string> = {
   '{n} instances updated from their templates': '{n} instancias actualizadas desde sus plantillas',
   'Instance of {name}': 'Instancia de {name}',
   Prefix: 'Prefijo',
+  instance: 'instancia',
   'Rulers and guides: drag a guide out of a ruler, back onto it to remove it': 'Reglas y guías: arrastre una guía desde una regla; devuélvala a la regla para quitarla',
   'Select at least {n} elements.': 'Seleccione al menos {n} elementos.',
   '{n} elements selected': '{n} elementos seleccionados',

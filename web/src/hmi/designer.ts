@@ -201,7 +201,7 @@ export class Designer {
         h('button', {
           class: 'small', 'data-testid': `hmi-instance-${n}`, title: tr('Insert as an instance of this template: its tags under a prefix of your own, updated when the template changes'),
           onclick: () => void this.insertInstance(n),
-        }, '⧉')));
+        }, `+ ${tr('instance')}`)));
     this.renderProps();
     await this.refreshInstances();
   }
@@ -337,6 +337,7 @@ export class Designer {
     const els = instantiate(this.screen, tpl, name, prefix, snap((this.screen.width - tpl.width) / 2), snap((this.screen.height - tpl.height) / 2), `g${n}`);
     this.change((s) => s.elements.push(...els));
     this.select(els.map((e) => e.id));
+    this.canvas.focus();
   }
 
   /** Every instance rebuilt from its template as it is now, one undoable change (told when any changed). */
