@@ -1,5 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import type { Element, Screen } from '../src/hmi/render';
+import { symbolOf, ungroup } from '../src/hmi/edit';
 import { instancesOf, instantiate, isPrefix, prefixOf, rebuild, retag, tagsOf } from '../src/hmi/templates';
 
 const el = (id: string, type: string, more: Partial<Element> = {}): Element => ({ id, type, x: 0, y: 0, w: 40, h: 40, props: {}, animations: [], ...more });
@@ -76,5 +77,18 @@ describe('templates and their instances', () => {
     screen.elements.push(...instantiate(screen, faceplate(), 'pumpface', 'Pump1', 0, 0, 'g1'));
     screen.elements[1].props = { ...screen.elements[1].props, prefix: 'Other' };
     expect(instancesOf(screen)).toEqual([]);
+  });
+});
+
+describe('an instance made plain', () => {
+  it('ungrouped, or saved as a symbol, it loses its marks', () => {
+    const screen: Screen = { schema: 1, title: '', width: 800, height: 600, elements: [] };
+    screen.elements.push(...instantiate(screen, faceplate(), 'pumpface', 'Pump2', 10, 10, 'g1'));
+    const sym = symbolOf(screen.elements);
+    expect(sym.elements.some((e) => 'template' in (e.props ?? {}) || 'part' in (e.props ?? {}))).toBe(false);
+    expect(prefixOf(sym.elements)).toBe('Pump2');
+    ungroup(screen, new Set(screen.elements.map((e) => e.id)));
+    expect(instancesOf(screen)).toEqual([]);
+    expect(screen.elements.every((e) => !e.group && !('prefix' in (e.props ?? {})))).toBe(true);
   });
 });
