@@ -16,6 +16,15 @@
 // as they are fixed. Save (Ctrl+S) is a PUT of the screen, with the same
 // problems when refused. The screen's JSON is the model: every change is a
 // new version.
+//
+// Issue 35: a selected polygon or line shows a handle per vertex (drag; Alt
+// free; double-click an edge to insert; right-click or Delete to remove), and
+// Draw polygon / Draw line take a vertex per click (double-click or Enter
+// ends) — vertices.ts. Upload image PUTs a file to /api/assets and shows it.
+// Several selected elements share a form of what they have in common
+// (multi.ts). Rulers with guides to snap to (guides.ts) and the cursor's x/y
+// in the status line. A symbol whose tags share a first name is a template:
+// its instances are rebuilt when it changes (templates.ts).
 import { ApiError, api } from '../api';
 import { can } from '../auth';
 import type { Diagnostic } from '../types';
