@@ -42,7 +42,7 @@ async function request(method: string, path: string, body?: unknown, contentType
   const init: RequestInit = { method, headers, credentials: 'same-origin', signal };
   if (body === undefined && !SAFE.has(method)) body = {};
   if (body !== undefined) {
-    init.body = body instanceof RawJson ? body.text : typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
+    init.body = body instanceof RawJson ? body.text : body instanceof Blob ? body : typeof body === 'string' && contentType !== 'application/json' ? body : JSON.stringify(body);
     headers['Content-Type'] = contentType;
   }
   let res: Response;
@@ -177,6 +177,8 @@ export const api = {
   autotune: (loop: string, req: Record<string, number>) => json<Autotune>('POST', `/api/pid/${enc(loop)}/autotune`, req),
   symbols: () => json<string[]>('GET', '/api/symbols'),
   symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),
+  /** Uploads an image into the project's hmi/assets/ (PNG, JPEG, GIF; an SVG only if nothing in it can run or load). */
+  putAsset: (name: string, image: Blob) => request('PUT', `/api/assets/${enc(name)}`, image, image.type || 'application/octet-stream').then(() => undefined),
   saveSymbol: (name: string, symbol: unknown) => json<unknown>('PUT', `/api/symbols/${enc(name)}`, new RawJson(JSON.stringify(symbol, null, 2))),
   saveTrends: (s: TrendSet) => json<TrendSet>('PUT', '/api/trends', s),
   uses: (name: string) => json<TagUse[]>('GET', `/api/tags/${enc(name)}/uses`),

@@ -749,7 +749,68 @@ pub fn parse(
             x.message = format!("`{}`: {}", e.id, x.message);
         }
     }
+    check_instances(&screen, &diag, &mut d);
     (Some(screen), d)
+}
+
+/// A template's instance (docs/file-formats.md, "Templates"): its elements carry
+/// `template` (a symbol's name), `prefix` (a tag name or a path of them) and
+/// `part`, are in one group, and every element of that group agrees on the
+/// template and the prefix. Whether the symbol exists is the designer's (a
+/// screen never depends on a symbol file); the instance's tags are checked as
+/// any others.
+fn check_instances(screen: &Screen, diag: &Diag<'_>, d: &mut Vec<Diagnostic>) {
+    let name_ok = |s: &str| {
+        !s.is_empty() && s.len() <= 64 && s.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-'))
+    };
+    let path_ok = |s: &str| {
+        s.split('.').all(|p| {
+            p.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        })
+    };
+    let mut first: HashMap<&str, (usize, Option<&Json>, Option<&Json>)> = HashMap::new();
+    for (k, e) in screen.elements.iter().enumerate() {
+        let here = format!("/elements/{k}/props");
+        let (template, prefix) = (e.props.get("template"), e.props.get("prefix"));
+        if let Some(g) = &e.group {
+            let (n, t0, p0) = *first.entry(g.as_str()).or_insert((k, template, prefix));
+            if n != k && (t0 != template || p0 != prefix) {
+                d.push(diag(
+                    &here,
+                    format!(
+                        "`{}`: its `template`/`prefix` differ from `{}`'s in group `{g}` (an instance's elements agree)",
+                        e.id, screen.elements[n].id
+                    ),
+                    "instance",
+                ));
+            }
+        }
+        let Some(template) = template else { continue };
+        let mut bad =
+            |key: &str, msg: String| d.push(diag(&format!("{here}/{key}"), format!("`{}`: {msg}", e.id), key));
+        if !template.as_str().is_some_and(name_ok) {
+            bad(
+                "template",
+                "`template` is a symbol's name (letters, digits, `_` and `-`)".into(),
+            );
+        }
+        if !prefix.and_then(Json::as_str).is_some_and(path_ok) {
+            bad(
+                "prefix",
+                "an instance's `prefix` is a tag name (`Pump2`, `Area1.Pump2`)".into(),
+            );
+        }
+        if !e.props.get("part").is_some_and(Json::is_string) {
+            bad(
+                "part",
+                "an instance's `part` is the id of the template's element it copies".into(),
+            );
+        }
+        if e.group.is_none() {
+            bad("template", "an instance's elements are in a group of their own".into());
+        }
+    }
 }
 
 type Diag<'a> = dyn Fn(&str, String, &str) -> Diagnostic + 'a;

@@ -16,6 +16,15 @@
 // as they are fixed. Save (Ctrl+S) is a PUT of the screen, with the same
 // problems when refused. The screen's JSON is the model: every change is a
 // new version.
+//
+// Issue 35: a selected polygon or line shows a handle per vertex (drag; Alt
+// free; double-click an edge to insert; right-click or Delete to remove), and
+// Draw polygon / Draw line take a vertex per click (double-click or Enter
+// ends) — vertices.ts. Upload image PUTs a file to /api/assets and shows it.
+// Several selected elements share a form of what they have in common
+// (multi.ts). Rulers with guides to snap to (guides.ts) and the cursor's x/y
+// in the status line. A symbol whose tags share a first name is a template:
+// its instances are rebuilt when it changes (templates.ts).
 import { ApiError, api } from '../api';
 import { can } from '../auth';
 import type { Diagnostic } from '../types';
@@ -24,11 +33,15 @@ import { add, clear, dragScroll, h, rubberBand, s } from '../dom';
 import { domain, membersOf } from '../domain';
 import { tr } from '../i18n';
 import {
-  type Align, GRID, align, animationDefaults, copies, distribute, elementOf, group, newElement, overlaps, restack,
+  type Align, GRID, align, animationDefaults, copies, distribute, elementOf, freshId, group, newElement, overlaps, restack,
   snap, symbolOf, ungroup, withGroups,
 } from './edit';
 import { type Element, type Screen, drawElement, place } from './render';
 import { animationForm, animationPreview, paramForm, propsOf } from './animform';
+import { type Pt, MAX_POINTS, edges, fromPoints, hasVertices, insertVertex, pointsOf, removeVertex, setPoints } from './vertices';
+import { commonParams, commonValues, setAll } from './multi';
+import { type Instance, instancesOf, instantiate, isPrefix, prefixOf, rebuild } from './templates';
+import { type Guides, loadGuides, saveGuides, snapPoint, snapToGuides, ticks } from './guides';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
 const types = () => domain().screens.elements;
@@ -36,6 +49,8 @@ const animationKinds = () => domain().screens.animations.map((a) => a.kind);
 const actions = () => ['', ...domain().screens.actions];
 const DRAG_TYPE = 'application/x-alba-element';
 const SYMBOL_TYPE = 'application/x-alba-symbol';
+/** The rulers' breadth, in screen units (drawn left of and above the screen). */
+const RULER = 24;
 const ZOOMS = [0.25, 0.33, 0.5, 0.67, 0.75, 0.9, 1, 1.25, 1.5, 2, 3, 4];
 
 export class Designer {
@@ -57,8 +72,17 @@ export class Designer {
   private readonly problems = h('ul', { class: 'problems', 'data-testid': 'hmi-problems' });
   private readonly mine = h('div', { class: 'hmi-symbols', 'data-testid': 'hmi-my-symbols' });
   private readonly zoomLabel = h('span', { class: 'hmi-zoom', 'data-testid': 'hmi-zoom' });
+  private readonly status = h('span', { class: 'hmi-status', 'data-testid': 'hmi-status' });
+  private readonly upload = h('input', { type: 'file', accept: 'image/png,image/jpeg,image/gif,.png,.jpg,.jpeg,.gif', hidden: true, 'data-testid': 'hmi-upload-file' });
   private svg: SVGSVGElement | null = null;
   private space = false;
+  /** The vertex of the selected polygon or line last grabbed (Delete removes it). */
+  private vertex: number | null = null;
+  /** A polygon or a line being drawn by its vertices (screen units). */
+  private drawing: { type: string; pts: Pt[] } | null = null;
+  /** Rulers shown (with the guides, which elements snap to); remembered in the browser. */
+  private rulers = localStorage.getItem('alba.hmi.rulers') === '1';
+  private guides: Guides;
 
   constructor(
     private readonly ctx: Ctx,
@@ -67,6 +91,7 @@ export class Designer {
     private readonly done: () => void,
   ) {
     this.screen = structuredClone(screen);
+    this.guides = loadGuides(name);
     const palette = h('div', { class: 'hmi-palette', 'data-testid': 'hmi-palette' },
       types().map(([t, what]) =>
         h('button', {
@@ -103,6 +128,17 @@ export class Designer {
         button('back', tr('To back'), tr('Send to back (Ctrl+[)'), () => this.restack('back')),
         button('save-symbol', tr('Save as symbol'), tr('Save the selection as a symbol of your own'), () => void this.saveSymbol()),
         h('span', { class: 'sep' }),
+        button('draw-polygon', tr('Draw polygon'), tr('Click each vertex, double-click or Enter to finish (Escape: cancel)'), () => this.startDrawing('polygon')),
+        button('draw-line', tr('Draw line'), tr('Click each point, double-click or Enter to finish (Escape: cancel)'), () => this.startDrawing('line')),
+        button('upload-image', tr('Upload image'), tr('Upload a PNG, JPEG or GIF into the project and show it (on the selected image, or a new one)'), () => this.upload.click()),
+        this.upload,
+        h('span', { class: 'sep' }),
+        button('rulers', tr('Rulers'), tr('Rulers and guides: drag a guide out of a ruler, back onto it to remove it'), () => {
+          this.rulers = !this.rulers;
+          localStorage.setItem('alba.hmi.rulers', this.rulers ? '1' : '0');
+          this.render();
+          this.fit();
+        }),
         button('zoom-out', '−', tr('Zoom out (-)'), () => this.zoomBy(-1)),
         this.zoomLabel,
         button('zoom-in', '+', tr('Zoom in (+)'), () => this.zoomBy(1)),
@@ -110,7 +146,18 @@ export class Designer {
         h('span', { class: 'sep' }),
         button('save', tr('Save'), tr('Save (Ctrl+S)'), () => void this.save()),
         button('close', tr('Close'), tr('Back to the running screen'), () => this.done())),
-      h('div', { class: 'hmi-designer-body' }, palette, this.canvas, h('aside', null, this.props, h('h3', null, tr('Problems')), this.problems)));
+      h('div', { class: 'hmi-designer-body' }, palette, this.canvas, h('aside', null, this.props, h('h3', null, tr('Problems')), this.problems)),
+      h('div', { class: 'hmi-statusline' }, this.status));
+    this.upload.addEventListener('change', () => {
+      const f = this.upload.files?.[0];
+      this.upload.value = '';
+      if (f) void this.uploadImage(f);
+    });
+    this.canvas.addEventListener('pointermove', (e) => {
+      if (!this.svg) return;
+      const p = this.toScreen(e.clientX, e.clientY);
+      this.status.textContent = `x ${Math.round(p.x)}  y ${Math.round(p.y)}`;
+    });
     this.el.querySelector('[data-testid="hmi-save"]')?.classList.add('primary');
     this.canvas.addEventListener('dragover', (e) => {
       if (e.dataTransfer?.types.includes(DRAG_TYPE) || e.dataTransfer?.types.includes(SYMBOL_TYPE)) e.preventDefault();
@@ -154,12 +201,18 @@ export class Designer {
     clear(this.mine);
     if (symbols.length === 0) this.mine.append(h('p', { class: 'hint' }, tr('Select elements, then Save as symbol.')));
     for (const n of symbols)
-      this.mine.append(h('button', {
-        class: 'small', 'data-testid': `hmi-symbol-${n}`, draggable: 'true',
-        ondragstart: (e: DragEvent) => e.dataTransfer?.setData(SYMBOL_TYPE, n),
-        onclick: () => void this.insertSymbol(n, this.screen.width / 2, this.screen.height / 2),
-      }, n));
+      this.mine.append(h('div', { class: 'hmi-symbol-row' },
+        h('button', {
+          class: 'small', 'data-testid': `hmi-symbol-${n}`, draggable: 'true',
+          ondragstart: (e: DragEvent) => e.dataTransfer?.setData(SYMBOL_TYPE, n),
+          onclick: () => void this.insertSymbol(n, this.screen.width / 2, this.screen.height / 2),
+        }, n),
+        h('button', {
+          class: 'small', 'data-testid': `hmi-instance-${n}`, title: tr('Insert as an instance of this template: its tags under a prefix of your own, updated when the template changes'),
+          onclick: () => void this.insertInstance(n),
+        }, `+ ${tr('instance')}`)));
     this.renderProps();
+    await this.refreshInstances();
   }
 
   private change(f: (s: Screen) => void): void {
@@ -268,12 +321,66 @@ export class Designer {
     this.select(els.map((e) => e.id));
   }
 
+  /** A template's file (a user symbol), or null with the reason told. */
+  private async template(name: string): Promise<Screen | null> {
+    try {
+      return (await api.symbol(name)) as Screen;
+    } catch (e) {
+      this.ctx.notify(tr('Template {name}: {m}', { name, m: e instanceof Error ? e.message : String(e) }), 'error');
+      return null;
+    }
+  }
+
+  /** An instance of the template `name` in the middle of the screen, its prefix asked for. */
+  private async insertInstance(name: string): Promise<void> {
+    const tpl = await this.template(name);
+    if (!tpl) return;
+    const from = prefixOf(tpl.elements);
+    if (!from) return this.ctx.notify(tr('{name} is not a template: its tags do not share a first name (Pump1 of Pump1.Running).', { name }), 'error');
+    const prefix = prompt(tr('Prefix of this instance (the template uses {p}):', { p: from }), from)?.trim();
+    if (!prefix) return;
+    if (!isPrefix(prefix)) return this.ctx.notify(tr('{p} is not a tag name', { p: prefix }), 'error');
+    const names = new Set(this.screen.elements.map((e) => e.group));
+    let n = 1;
+    while (names.has(`g${n}`)) n++;
+    const els = instantiate(this.screen, tpl, name, prefix, snap((this.screen.width - tpl.width) / 2), snap((this.screen.height - tpl.height) / 2), `g${n}`);
+    this.change((s) => s.elements.push(...els));
+    this.select(els.map((e) => e.id));
+    this.canvas.focus();
+  }
+
+  /** Every instance rebuilt from its template as it is now, one undoable change (told when any changed). */
+  private async refreshInstances(): Promise<void> {
+    const insts = instancesOf(this.screen);
+    if (!insts.length) return;
+    const tpls = new Map<string, Screen>();
+    for (const name of new Set(insts.map((i) => i.template))) {
+      const tpl = await api.symbol(name).catch(() => null);
+      if (tpl) tpls.set(name, tpl as Screen);
+    }
+    const next = structuredClone(this.screen);
+    const changed = instancesOf(next).filter((i) => tpls.has(i.template) && rebuild(next, i, tpls.get(i.template)!)).length;
+    if (!changed) return;
+    this.change((s) => (s.elements = next.elements));
+    this.ctx.notify(tr('{n} instances updated from their templates', { n: changed }));
+  }
+
+  /** The prefix of one instance changed: rebuilt from its template. */
+  private async setPrefix(inst: Instance, prefix: string): Promise<void> {
+    if (!isPrefix(prefix)) return this.ctx.notify(tr('{p} is not a tag name', { p: prefix }), 'error');
+    const tpl = await this.template(inst.template);
+    if (!tpl) return;
+    const next = structuredClone(this.screen);
+    if (rebuild(next, inst, tpl, prefix)) this.change((s) => (s.elements = next.elements));
+  }
+
   private selected(): Element[] {
     return this.screen.elements.filter((e) => this.sel.has(e.id));
   }
 
   select(ids: Iterable<string>, extend = false): void {
     const next = withGroups(this.screen, ids);
+    this.vertex = null;
     this.sel = extend ? new Set([...this.sel, ...next]) : next;
     this.render();
   }
@@ -308,14 +415,16 @@ export class Designer {
   private fit(): void {
     const w = this.canvas.clientWidth - 20;
     const h = this.canvas.clientHeight - 20;
-    if (w > 0 && h > 0) this.setZoom(Math.max(0.1, Math.min(4, w / this.screen.width, h / this.screen.height)));
+    const r = this.rulers ? RULER : 0;
+    if (w > 0 && h > 0) this.setZoom(Math.max(0.1, Math.min(4, w / (this.screen.width + r), h / (this.screen.height + r))));
   }
 
   private setZoom(z: number): void {
     this.zoom = Math.round(z * 100) / 100;
     if (this.svg) {
-      this.svg.setAttribute('width', String(this.screen.width * this.zoom));
-      this.svg.setAttribute('height', String(this.screen.height * this.zoom));
+      const r = this.rulers ? RULER : 0;
+      this.svg.setAttribute('width', String((this.screen.width + r) * this.zoom));
+      this.svg.setAttribute('height', String((this.screen.height + r) * this.zoom));
     }
     this.zoomLabel.textContent = `${Math.round(this.zoom * 100)} %`;
   }
@@ -347,7 +456,15 @@ export class Designer {
     const mod = e.ctrlKey || e.metaKey;
     const k = e.key.toLowerCase();
     const arrows: Record<string, [number, number]> = { arrowleft: [-1, 0], arrowright: [1, 0], arrowup: [0, -1], arrowdown: [0, 1] };
+    if (this.drawing && (e.key === 'Enter' || e.key === 'Escape')) {
+      if (e.key === 'Enter') this.finishDrawing();
+      else this.stopDrawing();
+      e.preventDefault();
+      return;
+    }
+    const one = this.selected();
     if (e.key === ' ') this.space = true;
+    else if ((e.key === 'Delete' || e.key === 'Backspace') && this.vertex !== null && one.length === 1 && hasVertices(one[0].type)) this.removeVertexAt(one[0], this.vertex);
     else if (mod && (k === 'y' || (k === 'z' && e.shiftKey))) this.redo();
     else if (mod && k === 'z') this.undo();
     else if (mod && k === 's') void this.save();
@@ -363,7 +480,7 @@ export class Designer {
     else if (!mod && (e.key === '+' || e.key === '=')) this.zoomBy(1);
     else if (!mod && e.key === '-') this.zoomBy(-1);
     else if (!mod && e.key === '0') this.fit();
-    else if (e.key === 'Escape') this.select([]);
+    else if (e.key === 'Escape') this.vertex !== null ? ((this.vertex = null), this.render()) : this.select([]);
     else if ((e.key === 'Delete' || e.key === 'Backspace') && this.sel.size) {
       this.change((s) => (s.elements = s.elements.filter((x) => !this.sel.has(x.id))));
       this.sel.clear();
@@ -376,28 +493,276 @@ export class Designer {
   }
 
   private render(): void {
-    const svg = s('svg', { class: 'hmi-design', viewBox: `0 0 ${this.screen.width} ${this.screen.height}`, 'data-testid': 'hmi-design-svg' });
+    const r = this.rulers ? RULER : 0;
+    const svg = s('svg', { class: 'hmi-design', viewBox: `${-r} ${-r} ${this.screen.width + r} ${this.screen.height + r}`, 'data-testid': 'hmi-design-svg' });
     const bg = s('rect', { width: this.screen.width, height: this.screen.height, fill: this.screen.background ?? '#f4f5f6', 'data-testid': 'hmi-background' });
     svg.append(bg);
-    for (const e of this.screen.elements) {
-      const g = drawElement(e);
-      if (this.sel.has(e.id)) {
-        g.classList.add('selected');
-        g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
-        // where its move ends and the path its rotation follows (one element selected)
-        const preview = this.sel.size === 1 ? animationPreview(e, !g.querySelector('[data-part="rotor"], [data-part="needle"]')) : null;
-        if (preview) g.append(preview);
-      }
-      g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
-      svg.append(g);
-    }
+    for (const e of this.screen.elements) svg.append(this.drawOne(e));
     bg.addEventListener('pointerdown', (ev) => this.startBand(ev));
     this.svg = svg;
+    if (this.rulers) this.rulerLayer(svg);
+    if (this.drawing) this.drawingLayer(svg);
     clear(this.canvas);
     this.canvas.append(svg);
     this.setZoom(this.zoom);
     this.renderProps();
     this.paintErrors();
+  }
+
+  /** One element as the designer shows it: its selection box, its animations' preview, its vertices' handles. */
+  private drawOne(e: Element): SVGGElement {
+    const g = drawElement(e);
+    if (this.sel.has(e.id)) {
+      g.classList.add('selected');
+      g.append(s('rect', { class: 'hmi-selected', x: -3, y: -3, width: e.w + 6, height: e.h + 6, fill: 'none' }));
+      // where its move ends and the path its rotation follows (one element selected)
+      const preview = this.sel.size === 1 ? animationPreview(e, !g.querySelector('[data-part="rotor"], [data-part="needle"]')) : null;
+      if (preview) g.append(preview);
+      if (this.sel.size === 1 && hasVertices(e.type) && !this.drawing) this.vertexHandles(g, e);
+    }
+    g.addEventListener('pointerdown', (ev) => this.startDrag(ev, e));
+    return g;
+  }
+
+  /** Draws `e` again in place (while a vertex is dragged). */
+  private redraw(e: Element): void {
+    const old = this.svg?.querySelector(`[data-testid="hmi-el-${CSS.escape(e.id)}"]`);
+    old?.replaceWith(this.drawOne(e));
+  }
+
+  /** A point of the page in `g`'s own frame (the element's box, turned with it). */
+  private local(g: SVGGraphicsElement, cx: number, cy: number, m = g.getScreenCTM()?.inverse()): Pt {
+    const pt = this.svg!.createSVGPoint();
+    pt.x = cx;
+    pt.y = cy;
+    const p = m ? pt.matrixTransform(m) : pt;
+    return [p.x, p.y];
+  }
+
+  /** A handle per vertex (drag; right-click or Delete removes) and the edges (double-click inserts a vertex). */
+  private vertexHandles(g: SVGGElement, e: Element): void {
+    const pts = pointsOf(e);
+    const z = Math.max(this.zoom, 0.1);
+    edges(pts, e.type === 'polygon').forEach(([a, b], k) => {
+      const seg = s('line', { class: 'hmi-edge', x1: a[0], y1: a[1], x2: b[0], y2: b[1], 'stroke-width': 10 / z, 'data-testid': `hmi-edge-${k}` });
+      seg.addEventListener('dblclick', (ev) => {
+        ev.stopPropagation();
+        const [x, y] = this.snapLocal(e, this.local(g, ev.clientX, ev.clientY), ev.altKey);
+        const next = insertVertex(pts, k, [x, y]);
+        if (!next) return this.ctx.notify(tr('At most {n} vertices.', { n: MAX_POINTS }), 'error');
+        this.change(() => setPoints(e, next));
+        this.vertex = k + 1;
+        this.render();
+      });
+      g.append(seg);
+    });
+    pts.forEach(([x, y], k) => {
+      const c = s('circle', { class: `hmi-vertex${this.vertex === k ? ' active' : ''}`, cx: x, cy: y, r: 5 / z, 'stroke-width': 1.5 / z, 'data-testid': `hmi-vertex-${k}` });
+      c.addEventListener('pointerdown', (ev) => this.dragVertex(ev, g, e, k));
+      c.addEventListener('contextmenu', (ev) => {
+        ev.preventDefault();
+        ev.stopPropagation();
+        this.removeVertexAt(e, k);
+      });
+      g.append(c);
+    });
+  }
+
+  /** A point of `e`'s box on the screen's grid and guides (Alt: free); a turned element's points snap in its box. */
+  private snapLocal(e: Element, [x, y]: Pt, free: boolean): Pt {
+    const grid = free ? 1 : GRID;
+    if (e.rotation) return [snap(x, grid), snap(y, grid)];
+    const [sx, sy] = this.onGuides(snap(e.x + x, grid), snap(e.y + y, grid), free);
+    return [sx - e.x, sy - e.y];
+  }
+
+  /** A screen point onto a guide near it (rulers shown, Alt not held). */
+  private onGuides(x: number, y: number, free: boolean): Pt {
+    return this.rulers && !free ? snapPoint(x, y, this.guides, 6 / Math.max(this.zoom, 0.1)) : [x, y];
+  }
+
+  private removeVertexAt(e: Element, k: number): void {
+    const next = removeVertex(pointsOf(e), k, e.type);
+    if (!next) return this.ctx.notify(e.type === 'polygon' ? tr('A polygon keeps at least 3 vertices.') : tr('A line keeps at least 2 points.'), 'error');
+    this.vertex = null;
+    this.change(() => setPoints(e, next));
+  }
+
+  /** Dragging a vertex: the element's points (and box) follow, one undoable change. */
+  private dragVertex(ev: PointerEvent, g: SVGGElement, e: Element, k: number): void {
+    if (ev.button !== 0) return;
+    ev.stopPropagation();
+    ev.preventDefault();
+    this.vertex = k;
+    this.canvas.focus();
+    const before = JSON.stringify(this.screen);
+    const m = g.getScreenCTM()?.inverse();
+    const pts = pointsOf(e);
+    const box = { x: e.x, y: e.y, w: e.w, h: e.h };
+    let moved = false;
+    const move = (mv: PointerEvent) => {
+      Object.assign(e, box);
+      const next = pts.slice();
+      next[k] = this.snapLocal(e, this.local(g, mv.clientX, mv.clientY, m), mv.altKey);
+      if (next[k][0] === pts[k][0] && next[k][1] === pts[k][1] && !moved) return;
+      setPoints(e, next);
+      moved = true;
+      this.redraw(e);
+    };
+    const up = () => {
+      window.removeEventListener('pointermove', move);
+      window.removeEventListener('pointerup', up);
+      if (moved) {
+        this.undoStack.push(before);
+        this.redoStack = [];
+        this.scheduleCheck();
+      }
+      this.render();
+    };
+    window.addEventListener('pointermove', move);
+    window.addEventListener('pointerup', up);
+  }
+
+  /** The rulers above and left of the screen (a guide is dragged out of one) and the guides across it. */
+  private rulerLayer(svg: SVGSVGElement): void {
+    const { width: W, height: H } = this.screen;
+    const z = Math.max(this.zoom, 0.1);
+    const len = { small: RULER * 0.2, mid: RULER * 0.4, big: RULER * 0.65 };
+    const top = s('g', { class: 'hmi-ruler', 'data-testid': 'hmi-ruler-top' }, s('rect', { x: -RULER, y: -RULER, width: W + RULER, height: RULER }));
+    for (const t of ticks(W)) {
+      top.append(s('line', { x1: t.at, x2: t.at, y1: -len[t.size], y2: 0 }));
+      if (t.size === 'big') top.append(s('text', { x: t.at + 2, y: -RULER + 9 }, String(t.at)));
+    }
+    const left = s('g', { class: 'hmi-ruler', 'data-testid': 'hmi-ruler-left' }, s('rect', { x: -RULER, y: 0, width: RULER, height: H }));
+    for (const t of ticks(H)) {
+      left.append(s('line', { y1: t.at, y2: t.at, x1: -len[t.size], x2: 0 }));
+      if (t.size === 'big') left.append(s('text', { x: -RULER + 1, y: t.at + 9 }, String(t.at)));
+    }
+    top.addEventListener('pointerdown', (ev) => this.dragGuide(ev, 'h', null));
+    left.addEventListener('pointerdown', (ev) => this.dragGuide(ev, 'v', null));
+    svg.append(top, left);
+    (['v', 'h'] as const).forEach((axis) => this.guides[axis].forEach((at, k) => svg.append(this.guideLine(axis, at, k, z))));
+  }
+
+  private guideLine(axis: 'v' | 'h', at: number, k: number, z: number): SVGGElement {
+    const { width: W, height: H } = this.screen;
+    const ends = axis === 'v' ? { x1: at, x2: at, y1: -RULER, y2: H } : { y1: at, y2: at, x1: -RULER, x2: W };
+    const g = s('g', { class: 'hmi-guide', 'data-testid': `hmi-guide-${axis}-${k}`, 'data-at': at },
+      s('line', { ...ends, class: 'hmi-guide-hit', 'stroke-width': 8 / z }), s('line', { ...ends, class: 'hmi-guide-line' }));
+    g.addEventListener('pointerdown', (ev) => this.dragGuide(ev, axis, k));
+    return g;
+  }
+
+  /** Drags guide `k` (or a new one out of a ruler) on the grid (Alt: free); dropped onto a ruler, it goes. */
+  private dragGuide(ev: PointerEvent, axis: 'v' | 'h', k: number | null): void {
+    if (ev.button !== 0 || this.space || !this.svg) return;
+    ev.stopPropagation();
+    ev.preventDefault();
+    const list = this.guides[axis];
+    const at = (m: PointerEvent) => {
+      const p = this.toScreen(m.clientX, m.clientY);
+      return snap(axis === 'v' ? p.x : p.y, m.altKey ? 1 : GRID);
+    };
+    const n = k ?? list.push(at(ev)) - 1;
+    let line = this.svg.querySelector<SVGGElement>(`[data-testid="hmi-guide-${axis}-${n}"]`);
+    if (!line) this.svg.append((line = this.guideLine(axis, list[n], n, Math.max(this.zoom, 0.1))));
+    const move = (m: PointerEvent) => {
+      list[n] = at(m);
+      line!.replaceWith((line = this.guideLine(axis, list[n], n, Math.max(this.zoom, 0.1))));
+      this.status.textContent = `${axis === 'v' ? 'x' : 'y'} ${list[n]}`;
+    };
+    const up = () => {
+      window.removeEventListener('pointermove', move);
+      window.removeEventListener('pointerup', up);
+      if (list[n] <= 0 || list[n] >= (axis === 'v' ? this.screen.width : this.screen.height)) list.splice(n, 1);
+      saveGuides(this.name, this.guides);
+      this.render();
+    };
+    window.addEventListener('pointermove', move);
+    window.addEventListener('pointerup', up);
+  }
+
+  /** The draw tool: each click a vertex (on the grid; Alt: free), double-click or Enter finishes. */
+  private startDrawing(type: string): void {
+    this.drawing = { type, pts: [] };
+    this.sel.clear();
+    this.vertex = null;
+    this.render();
+    this.status.textContent = type === 'polygon' ? tr('Click each vertex, double-click or Enter to finish (Escape: cancel)') : tr('Click each point, double-click or Enter to finish (Escape: cancel)');
+  }
+
+  private stopDrawing(): void {
+    this.drawing = null;
+    this.render();
+  }
+
+  private finishDrawing(): void {
+    const d = this.drawing;
+    if (!d) return;
+    const e = fromPoints(freshId(this.screen, d.type), d.type, d.pts);
+    if (!e) return this.ctx.notify(d.type === 'polygon' ? tr('A polygon keeps at least 3 vertices.') : tr('A line keeps at least 2 points.'), 'error');
+    this.drawing = null;
+    this.change((s) => s.elements.push(e));
+    this.select([e.id]);
+  }
+
+  /** What the draw tool shows: the points so far and a segment to the pointer, over everything (clicks land on it). */
+  private drawingLayer(svg: SVGSVGElement): void {
+    const d = this.drawing!;
+    const closed = d.type === 'polygon';
+    const shape = s(closed ? 'polygon' : 'polyline', { class: 'hmi-draw-preview', 'data-testid': 'hmi-draw-preview', points: d.pts.map((p) => p.join(',')).join(' ') });
+    const over = s('rect', { class: 'hmi-draw-overlay', 'data-testid': 'hmi-draw-overlay', width: this.screen.width, height: this.screen.height, fill: 'transparent' });
+    const at = (ev: MouseEvent): Pt => {
+      const p = this.toScreen(ev.clientX, ev.clientY);
+      const grid = ev.altKey ? 1 : GRID;
+      return this.onGuides(snap(p.x, grid), snap(p.y, grid), ev.altKey);
+    };
+    const show = (extra: Pt | null) => shape.setAttribute('points', [...d.pts, ...(extra ? [extra] : [])].map((p) => p.join(',')).join(' '));
+    over.addEventListener('pointerdown', (ev) => {
+      if (ev.button !== 0 || this.space) return;
+      ev.stopPropagation();
+      if (d.pts.length >= MAX_POINTS) return this.ctx.notify(tr('At most {n} vertices.', { n: MAX_POINTS }), 'error');
+      d.pts.push(at(ev));
+      show(null);
+      this.canvas.focus();
+    });
+    over.addEventListener('pointermove', (ev) => show(at(ev)));
+    over.addEventListener('dblclick', (ev) => {
+      ev.stopPropagation();
+      this.finishDrawing();
+    });
+    svg.append(shape, over);
+  }
+
+  /** Puts an image file into the project (PUT /api/assets/{name}) and shows it: on the one selected image, or on a new one. */
+  private async uploadImage(f: File): Promise<void> {
+    const name = f.name.replace(/[^A-Za-z0-9_.-]/g, '_').replace(/^\.+/, '').slice(-64);
+    try {
+      await api.putAsset(name, f);
+    } catch (e) {
+      return this.ctx.notify(tr('{name} not uploaded: {m}', { name, m: e instanceof Error ? e.message : String(e) }), 'error', 'hmi-upload');
+    }
+    const src = `assets/${name}`;
+    const [one] = this.selected();
+    if (this.sel.size === 1 && one.type === 'image') {
+      this.change(() => (one.props = { ...one.props, src }));
+    } else {
+      // its own size (at most the screen), centred
+      let [w, h] = [160, 120];
+      try {
+        const bmp = await createImageBitmap(f);
+        const k = Math.min(1, this.screen.width / bmp.width, this.screen.height / bmp.height);
+        [w, h] = [Math.max(1, Math.round(bmp.width * k)), Math.max(1, Math.round(bmp.height * k))];
+        bmp.close();
+      } catch {
+        /* not decodable here: the default box */
+      }
+      const e = newElement(this.screen, 'image', this.screen.width / 2, this.screen.height / 2);
+      Object.assign(e, { w, h, x: snap((this.screen.width - w) / 2), y: snap((this.screen.height - h) / 2), props: { src } });
+      this.change((s) => s.elements.push(e));
+      this.select([e.id]);
+    }
+    this.ctx.notify(tr('{name} uploaded', { name }), 'info', 'hmi-upload');
   }
 
   /** A rubber band from an empty place: selects every element it touches (Shift: adds). */
@@ -436,8 +801,18 @@ export class Designer {
       const grid = m.altKey ? 1 : GRID;
       const [ex, ey] = from[moving.indexOf(e)];
       // the grabbed element snaps; the others keep their offsets to it
-      const dx = snap(ex + p.x - start.x, grid) - ex;
-      const dy = snap(ey + p.y - start.y, grid) - ey;
+      let dx = snap(ex + p.x - start.x, grid) - ex;
+      let dy = snap(ey + p.y - start.y, grid) - ey;
+      // then onto a guide near an edge or the centre of what moves
+      if (this.rulers && !m.altKey && (this.guides.v.length || this.guides.h.length)) {
+        const x0 = Math.min(...from.map((f) => f[0])) + dx;
+        const y0 = Math.min(...from.map((f) => f[1])) + dy;
+        const x1 = Math.max(...moving.map((x, k) => from[k][0] + x.w)) + dx;
+        const y1 = Math.max(...moving.map((x, k) => from[k][1] + x.h)) + dy;
+        const [sx, sy] = snapToGuides({ x: x0, y: y0, w: x1 - x0, h: y1 - y0 }, this.guides, 6 / Math.max(this.zoom, 0.1));
+        dx += sx;
+        dy += sy;
+      }
       moving.forEach((x, k) => {
         x.x = from[k][0] + dx;
         x.y = from[k][1] + dy;
@@ -478,8 +853,25 @@ export class Designer {
     }
     if (els.length > 1) {
       const groups = new Set(els.map((e) => e.group ?? ''));
+      // the properties they all have, with the values they agree on: a change goes to all, one undo step
+      const params = commonParams(els.map((e) => propsOf(e.type)));
+      const types = [...new Set(els.map((e) => e.type))];
+      // one template instance: its template and its prefix
+      const inst = instancesOf(this.screen).find((i) => groups.size === 1 && groups.has(i.group));
+      if (inst) {
+        const prefix = h('input', { value: inst.prefix, 'data-testid': 'hmi-instance-prefix' });
+        prefix.addEventListener('change', () => void this.setPrefix(inst, prefix.value.trim()));
+        this.props.append(h('h3', { 'data-testid': 'hmi-instance-of' }, tr('Instance of {name}', { name: inst.template })),
+          h('label', null, h('span', null, tr('Prefix')), prefix));
+      }
       this.props.append(
         h('h3', null, tr('{n} elements selected', { n: els.length })),
+        h('p', { class: 'hint', 'data-testid': 'hmi-multi-types' }, types.join(', ')),
+        params.length
+          ? h('div', { class: 'hmi-multi' },
+            h('p', { class: 'hint' }, tr('What they have in common: a value set here goes to all of them (an empty field: they differ).')),
+            paramForm(params, commonValues(els, params), 'hmi-multi', (name, v) => this.change(() => setAll(els, name, v))))
+          : h('p', { class: 'hint', 'data-testid': 'hmi-multi-none' }, tr('They have no property in common.')),
         h('p', { class: 'hint' }, groups.size === 1 && !groups.has('') ? tr('A group: Ungroup to edit its elements one by one.') : tr('Align, distribute, group or move them together.')));
       return;
     }
@@ -580,6 +972,7 @@ export class Designer {
     try {
       await api.saveSymbol(name, symbolOf(els));
       this.ctx.notify(tr('{name} saved', { name }));
+      // the instances of it follow
       await this.loadLists();
     } catch (e) {
       this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');

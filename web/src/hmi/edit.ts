@@ -71,8 +71,21 @@ export function group(screen: Screen, ids: Set<string>): string {
   return `g${n}`;
 }
 
+/** Ungrouped, a template's instance becomes plain copies (its `template`, `prefix` and `part` go too). */
 export function ungroup(screen: Screen, ids: Set<string>): void {
-  for (const e of screen.elements) if (ids.has(e.id)) delete e.group;
+  for (const e of screen.elements)
+    if (ids.has(e.id)) {
+      delete e.group;
+      unmark(e);
+    }
+}
+
+/** Without the marks of a template's instance. */
+function unmark(e: Element): void {
+  if (e.props && typeof e.props.template === 'string') {
+    const { template: _t, prefix: _p, part: _r, ...rest } = e.props;
+    e.props = rest;
+  }
 }
 
 export type Align = 'left' | 'center' | 'right' | 'top' | 'middle' | 'bottom';
@@ -138,6 +151,7 @@ export function symbolOf(els: Element[]): Screen {
     c.x -= x0;
     c.y -= y0;
     delete c.group;
+    unmark(c);
     return c;
   });
   return { schema: 1, title: '', width: Math.max(1, w), height: Math.max(1, h), elements };

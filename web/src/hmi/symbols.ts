@@ -148,7 +148,9 @@ export function symbol(e: Element): SVGElement[] {
       else {
         // scaled by percent about the box's centre (the seed's file dialog); else fitted
         const k = typeof p.scale === 'number' ? p.scale / 100 : 1;
-        return [s('image', { href: p.src, x: n((w - w * k) / 2), y: n((h - h * k) / 2), width: n(w * k), height: n(h * k), 'data-part': 'image' })];
+        // a project's image (`assets/<name>`) is served by the API, whatever page shows it
+        const href = p.src.startsWith('assets/') ? `/api/${p.src}` : p.src;
+        return [s('image', { href, x: n((w - w * k) / 2), y: n((h - h * k) / 2), width: n(w * k), height: n(h * k), 'data-part': 'image' })];
       }
     // ——— indicators ———
     case 'led':

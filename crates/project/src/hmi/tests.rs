@@ -333,3 +333,44 @@ fn malformed_screens_are_reported_at_their_place() {
         );
     }
 }
+
+#[test]
+fn template_instances_agree_within_their_group() {
+    let inst = |id: &str, group: &str, prefix: &str| {
+        format!(
+            r#"{{"id": "{id}", "type": "led", "x": 1, "y": 1, "w": 10, "h": 10, "group": "{group}", "props": {{"tag": "Pump", "template": "pumpface", "prefix": "{prefix}", "part": "led1"}}}}"#
+        )
+    };
+    // two instances, each a group of its own
+    let good = with(
+        &[
+            inst("a", "g1", "Pump"),
+            inst("b", "g1", "Pump"),
+            inst("c", "g2", "T1.ACC"),
+        ]
+        .join(",\n"),
+    );
+    assert_eq!(check(&good).1, Vec::<String>::new());
+    // one group, two prefixes
+    let mixed = with(&[inst("a", "g1", "Pump"), inst("b", "g1", "Light")].join(",\n"));
+    let d = check(&mixed).1;
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(
+        d[0].contains("`b`: its `template`/`prefix` differ from `a`'s in group `g1`"),
+        "{d:?}"
+    );
+    // a prefix that is no tag name, a template name with a slash, no part, no group
+    let bad = with(
+        r#"{"id": "x", "type": "led", "x": 1, "y": 1, "w": 10, "h": 10, "props": {"template": "../p", "prefix": "2 pumps"}}"#,
+    );
+    let d = check(&bad).1;
+    assert_eq!(d.len(), 4, "{d:?}");
+    for what in [
+        "is a symbol's name",
+        "`prefix` is a tag name",
+        "`part` is the id",
+        "in a group of their own",
+    ] {
+        assert!(d.iter().any(|m| m.contains(what)), "{what}: {d:?}");
+    }
+}
