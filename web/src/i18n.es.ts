@@ -696,7 +696,6 @@ export const es: Record<string, string> = {
   Watch: 'Observar',
   'no tag': 'sin etiqueta',
   Remove: 'Quitar',
-  instance: 'instancia',
   '{name} has no tag': '{name} no tiene etiqueta',
   'No name at the caret': 'No hay ningún nombre en el cursor',
   'The instance whose values are shown': 'La instancia cuyos valores se muestran',
