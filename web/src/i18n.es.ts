@@ -665,4 +665,14 @@ export const es: Record<string, string> = {
   'scan {k} of {n}, {t} ms': 'ciclo {k} de {n}, {t} ms',
   'the property fails here': 'aquí falla la propiedad',
   'reached here': 'alcanzada aquí',
+  // the operator station (ui/station.ts): dark theme and kiosk
+  Dark: 'Oscuro',
+  Light: 'Claro',
+  'Switch between the light and the dark (control room) theme': 'Cambiar entre el tema claro y el oscuro (sala de control)',
+  Kiosk: 'Quiosco',
+  'Only the screens and the alarms, full screen; an engineer leaves it': 'Solo las pantallas y las alarmas, a pantalla completa; lo deja un ingeniero',
+  'Leave kiosk': 'Salir del quiosco',
+  'An engineer signs in to leave the kiosk': 'Un ingeniero inicia sesión para salir del quiosco',
+  'An engineer signs in to leave the kiosk.': 'Un ingeniero inicia sesión para salir del quiosco.',
+  '{who} may not leave the kiosk: it needs the engineer role': '{who} no puede salir del quiosco: requiere el rol de ingeniero',
 };

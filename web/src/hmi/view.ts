@@ -123,7 +123,8 @@ export class ScreensView {
       preserveAspectRatio: 'xMidYMid meet',
       'data-testid': `hmi-screen-${name}`,
     });
-    svg.append(s('rect', { width: screen.width, height: screen.height, fill: screen.background ?? '#f4f5f6' }));
+    // no background of its own: the theme's ISA-101 grey (--hmi-screen, dimmer in the dark theme)
+    svg.append(s('rect', { class: 'hmi-bg', width: screen.width, height: screen.height, style: `fill: ${screen.background ?? 'var(--hmi-screen, #f4f5f6)'}` }));
     const clocks: SVGGElement[] = [];
     const trends: [ScreenTrend, string][] = [];
     const indicators: [SVGGElement, string][] = [];
