@@ -131,7 +131,7 @@ export class Station {
   readonly el: HTMLElement;
   private readonly themeBtn = h('button', { class: 'small link station-theme', 'data-testid': 'btn-theme', title: stationText.themeTitle });
   private readonly kioskBtn = h('button', { class: 'small link station-kiosk', 'data-testid': 'btn-kiosk', title: stationText.kioskTitle }, stationText.kiosk);
-  private readonly leaveBtn = h('button', { class: 'kiosk-leave', 'data-testid': 'btn-kiosk-leave', title: stationText.leaveTitle }, `🔒 ${stationText.leave}`);
+  private readonly leaveBtn = h('button', { class: 'kiosk-leave', 'data-testid': 'btn-kiosk-leave', title: stationText.leaveTitle }, stationText.leave);
 
   constructor(private readonly opts: StationOptions) {
     this.showTheme();
