@@ -675,4 +675,6 @@ export const es: Record<string, string> = {
   'An engineer signs in to leave the kiosk': 'Un ingeniero inicia sesión para salir del quiosco',
   'An engineer signs in to leave the kiosk.': 'Un ingeniero inicia sesión para salir del quiosco.',
   '{who} may not leave the kiosk: it needs the engineer role': '{who} no puede salir del quiosco: requiere el rol de ingeniero',
+  // a trend's pens (hmi/animform.ts)
+  'a tag and its colour, one pen a line': 'una etiqueta y su color, una pluma por línea',
 };

@@ -105,7 +105,7 @@ function field(p: ParamInfo, v: Json | undefined, id: string, set: (v: Json | un
     case 'pens': {
       // a trend's pens: one "tag colour" per line, at most `max` (the colour may be left out)
       const shown = Array.isArray(v) ? (v as { tag?: string; color?: string }[]).map((p) => [p.tag ?? '', p.color ?? ''].join(' ').trim()).join('\n') : '';
-      const area = h('textarea', { rows: 3, 'data-testid': id, placeholder: 'Level #1f5fa8\nPump orange' }, shown);
+      const area = h('textarea', { rows: 3, 'data-testid': id, placeholder: tr('a tag and its colour, one pen a line') }, shown);
       area.addEventListener('change', () => {
         const pens = parsePens(area.value, finite(p.max) ?? 3);
         area.classList.toggle('invalid', pens === null);
