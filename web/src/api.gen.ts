@@ -178,9 +178,10 @@ export type ParamInfo = { name: string,
 /**
  * `number` (from `min` to `max`, in `unit`), `bool`, `color`, `choice`
  * (one of `choices`), `intervals` (up to 4 `{from, color}`), `text` (at
- * most `max` characters), `tag` or `points` (at most `max` `[x, y]`).
+ * most `max` characters), `tag`, `points` (at most `max` `[x, y]`) or
+ * `pens` (at most `max` `{tag, color}`, a trend's).
  */
-kind: 'number' | 'bool' | 'color' | 'choice' | 'intervals' | 'text' | 'tag' | 'points', min: number | null, max: number | null, unit: string, choices: Array<string>, help: string, 
+kind: 'number' | 'bool' | 'color' | 'choice' | 'intervals' | 'text' | 'tag' | 'points' | 'pens', min: number | null, max: number | null, unit: string, choices: Array<string>, help: string, 
 /**
  * Still read, no longer offered by the form.
  */

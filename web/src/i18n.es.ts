@@ -700,4 +700,16 @@ export const es: Record<string, string> = {
   'No name at the caret': 'No hay ningún nombre en el cursor',
   'The instance whose values are shown': 'La instancia cuyos valores se muestran',
   'edited — not saved (values of the running program)': 'editado — sin guardar (valores del programa en marcha)',
+  // the operator station (ui/station.ts): dark theme and kiosk
+  Dark: 'Oscuro',
+  Light: 'Claro',
+  'Switch between the light and the dark (control room) theme': 'Cambiar entre el tema claro y el oscuro (sala de control)',
+  Kiosk: 'Quiosco',
+  'Only the screens and the alarms, full screen; an engineer leaves it': 'Solo las pantallas y las alarmas, a pantalla completa; lo deja un ingeniero',
+  'Leave kiosk': 'Salir del quiosco',
+  'An engineer signs in to leave the kiosk': 'Un ingeniero inicia sesión para salir del quiosco',
+  'An engineer signs in to leave the kiosk.': 'Un ingeniero inicia sesión para salir del quiosco.',
+  '{who} may not leave the kiosk: it needs the engineer role': '{who} no puede salir del quiosco: requiere el rol de ingeniero',
+  // a trend's pens (hmi/animform.ts)
+  'a tag and its colour, one pen a line': 'una etiqueta y su color, una pluma por línea',
 };

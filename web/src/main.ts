@@ -30,6 +30,7 @@ import { confirmAction } from './ui/confirm';
 import { showCommands } from './ui/commands';
 import { installLongPress } from './ui/longpress';
 import { StatusBar } from './ui/statusbar';
+import { Station, applyStoredTheme, inKiosk, kioskRoute } from './ui/station';
 import { LANGUAGES, language, setLanguage, tr } from './i18n';
 
 interface View {
@@ -114,6 +115,10 @@ async function start(me: Me): Promise<void> {
     statusBar.el,
     toasts,
   );
+  // The operator station (ui/station.ts): the dark theme and the kiosk, in the status bar.
+  let go = () => {};
+  const station = new Station({ notify, onKiosk: () => go() });
+  statusBar.el.append(station.el);
 
   // What the role may not do is disabled, saying why (auth.ts decides).
   gate(runBtn, 'runstop');
@@ -267,8 +272,13 @@ async function start(me: Me): Promise<void> {
   const trends = new TrendsView(ctx);
   views.set('trends', { label: tr('Trends'), testid: 'tab-trends', make: () => trends, view: trends });
 
-  const go = () => {
-    const key = decodeURIComponent(location.hash.replace(/^#\/?/, '')) || [...views.keys()][0];
+  go = () => {
+    let key = decodeURIComponent(location.hash.replace(/^#\/?/, '')) || [...views.keys()][0];
+    if (inKiosk() && kioskRoute(key) !== key) {
+      // a kiosk shows the screens and the alarms only
+      key = kioskRoute(key);
+      history.replaceState(null, '', `#/${key}`);
+    }
     const entry = views.get(key) ?? views.get([...views.keys()][0])!;
     current?.hide();
     entry.view ??= entry.make();
@@ -297,6 +307,7 @@ async function start(me: Me): Promise<void> {
   // Ctrl+S save, Ctrl+B compile (Ctrl+C stays copy), Ctrl+R run, Ctrl+Shift+R stop
   // (both ask first), Alt+1 the first program, Alt+2 Tags, Alt+3 Trends.
   window.addEventListener('keydown', (e) => {
+    if (inKiosk()) return; // no engineering shortcut in a kiosk
     const ctrl = e.ctrlKey || e.metaKey;
     const key = e.key.toLowerCase();
     const act = (f: () => void) => {
@@ -320,4 +331,5 @@ async function start(me: Me): Promise<void> {
   });
 }
 
+applyStoredTheme();
 void boot(start);

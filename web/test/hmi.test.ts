@@ -4,8 +4,9 @@ import { describe, expect, it } from 'vitest';
 import { domain } from '../src/domain';
 import { type Element, active, animate, blinkTimes, colorOf, drawElement, showAlarm, showLoop, showValue, tagsOf, tick } from '../src/hmi/render';
 import type { Json } from '../src/types';
-import { ScreenTrend, trendPoints, trendScale, windowMs } from '../src/hmi/trend';
+import { PEN_COLORS, ScreenTrend, trendPens, trendPoints, trendScale, windowMs } from '../src/hmi/trend';
 import { clockTime } from '../src/i18n';
+import { parsePens } from '../src/hmi/animform';
 
 // the server's list (test/fixtures/domain.json, checked against GET /api/domain)
 const TYPES = () => domain().screens.elements.map(([t]) => t);
@@ -162,6 +163,47 @@ describe('gauges, trends and clocks', () => {
     // later: still a line to now
     t.draw(now + 60_000);
     expect(g.querySelector('[data-part="line"]')!.getAttribute('points')!.split(' ').length).toBe(2);
+  });
+
+  it('draws up to three pens on one scale, each in its colour, with a legend (issue 35, point 1)', async () => {
+    const props: Record<string, Json> = {
+      label: 'Level, pump, speed',
+      window_s: 60,
+      pens: [{ tag: 'L', color: '#c62828' }, { tag: 'P' }, { tag: 'S', color: 'purple' }, { tag: 'X' }],
+    };
+    expect(trendPens(props)).toEqual([
+      { tag: 'L', color: '#c62828' },
+      { tag: 'P', color: PEN_COLORS[1] },
+      { tag: 'S', color: 'purple' },
+    ]);
+    expect(trendPens({ tag: 'L' }), 'the one pen of its tag').toEqual([{ tag: 'L', color: PEN_COLORS[0] }]);
+    expect(trendPens({ pens: [{ color: 'red' }, 'L'] }), 'a pen without a tag is none').toEqual([]);
+    const e = el('trend', { w: 220, h: 130, props });
+    expect(tagsOf({ schema: 1, width: 300, height: 200, elements: [e] }).sort()).toEqual(['L', 'P', 'S']);
+    const g = drawElement(e);
+    await expect(g.outerHTML).toMatchFileSnapshot('./__snapshots__/symbols/trend-pens.svg');
+    const stroke = (part: string) => g.querySelector(`[data-part="${part}"]`)!.getAttribute('stroke');
+    expect([stroke('line'), stroke('line-2'), stroke('line-3')]).toEqual(['#c62828', PEN_COLORS[1], 'purple']);
+    expect(g.querySelector('[data-part="line-4"]')).toBeNull();
+    expect([1, 2, 3].map((k) => g.querySelector(`[data-part="pen-${k}"]`)!.textContent)).toEqual(['L', 'P', 'S']);
+    const t = new ScreenTrend(g, e.props, 3);
+    const now = 1_000_000_000;
+    t.push(now - 30_000, 0, 0);
+    t.push(now - 30_000, 100, 1);
+    t.push(now - 30_000, 50, 2);
+    t.draw(now);
+    // one scale for all: 0…100 widened by 5 %
+    expect([g.querySelector('[data-part="y-min"]')!.textContent, g.querySelector('[data-part="y-max"]')!.textContent]).toEqual(['-5', '105']);
+    const ys = ['line', 'line-2', 'line-3'].map((part) => Number(g.querySelector(`[data-part="${part}"]`)!.getAttribute('points')!.split(' ')[0].split(',')[1]));
+    const [, y0, , y1] = g.querySelector('[data-part="line"]')!.getAttribute('data-box')!.split(',').map(Number);
+    const y = (v: number) => Number((y1 - ((v + 5) / 110) * (y1 - y0)).toFixed(1));
+    expect(ys).toEqual([y(0), y(100), y(50)]);
+  });
+
+  it('reads the pens form: "tag colour" lines, at most three', () => {
+    expect(parsePens('Level #c62828\n\n  Pump  \nSpeed purple\n', 3)).toEqual([{ tag: 'Level', color: '#c62828' }, { tag: 'Pump' }, { tag: 'Speed', color: 'purple' }]);
+    expect(parsePens('A\nB\nC\nD', 3)).toBeNull();
+    expect(parsePens('', 3)).toEqual([]);
   });
 
   it('takes a window of 1 s to a day, else 2 minutes', () => {

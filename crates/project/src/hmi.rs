@@ -79,7 +79,15 @@ pub enum ParamKind {
     Points {
         max: usize,
     },
+    /// Up to `max` pens `{tag, color}` (a trend's): each a value tag and,
+    /// optionally, a colour.
+    Pens {
+        max: usize,
+    },
 }
+
+/// The most pens a trend element draws.
+pub const MAX_TREND_PENS: usize = 3;
 
 /// A parameter of an animation besides `tag`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -428,6 +436,11 @@ pub const ELEMENT_PROPS: &[(&str, &[Param])] = &[
                     unit: "s",
                 },
                 "the seconds it shows up to now (default 120)",
+            ),
+            p(
+                "pens",
+                ParamKind::Pens { max: MAX_TREND_PENS },
+                "up to 3 pens, each a tag and its colour (the element's `tag` when none)",
             ),
         ],
     ),
@@ -896,6 +909,30 @@ fn param_problem(param: &Param, value: &Json, resolve: &Resolve<'_>) -> Option<S
                 (!ok).then(|| format!("point {n} of `{key}` is not [x, y]"))
             }),
             _ => Some(format!("`{key}` is a list of at most {max} points [x, y]")),
+        },
+        ParamKind::Pens { max } => match value.as_array() {
+            Some(list) if list.len() <= max => list.iter().enumerate().find_map(|(n, pen)| {
+                let Some(tag) = pen.get("tag").and_then(Json::as_str) else {
+                    return Some(format!("pen {} of `{key}` needs its `tag` (a string)", n + 1));
+                };
+                if let Some(c) = pen.get("color")
+                    && !c.as_str().is_some_and(is_color)
+                {
+                    return Some(format!("pen {} of `{key}`: {c} is not a colour", n + 1));
+                }
+                if let Some(other) = pen
+                    .as_object()
+                    .and_then(|o| o.keys().find(|k| *k != "tag" && *k != "color"))
+                {
+                    return Some(format!("pen {} of `{key}`: `{other}` is not tag or color", n + 1));
+                }
+                match resolve(tag) {
+                    Err(err) => Some(format!("pen {} of `{key}`: {err}", n + 1)),
+                    Ok((TagKind::Number | TagKind::Bool, _)) => None,
+                    Ok(_) => Some(format!("pen {} of `{key}`: `{tag}` is not a number or a BOOL", n + 1)),
+                }
+            }),
+            _ => Some(format!("`{key}` is a list of at most {max} pens {{tag, color}}")),
         },
         ParamKind::Number { min, max, unit } => match value.as_f64() {
             None => Some(format!("`{key}` is not a number")),

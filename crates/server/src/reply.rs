@@ -771,8 +771,9 @@ pub struct ParamInfo {
     pub name: String,
     /// `number` (from `min` to `max`, in `unit`), `bool`, `color`, `choice`
     /// (one of `choices`), `intervals` (up to 4 `{from, color}`), `text` (at
-    /// most `max` characters), `tag` or `points` (at most `max` `[x, y]`).
-    #[ts(type = "'number' | 'bool' | 'color' | 'choice' | 'intervals' | 'text' | 'tag' | 'points'")]
+    /// most `max` characters), `tag`, `points` (at most `max` `[x, y]`) or
+    /// `pens` (at most `max` `{tag, color}`, a trend's).
+    #[ts(type = "'number' | 'bool' | 'color' | 'choice' | 'intervals' | 'text' | 'tag' | 'points' | 'pens'")]
     pub kind: &'static str,
     pub min: Option<f64>,
     pub max: Option<f64>,

@@ -102,7 +102,28 @@ function field(p: ParamInfo, v: Json | undefined, id: string, set: (v: Json | un
       });
       return area;
     }
+    case 'pens': {
+      // a trend's pens: one "tag colour" per line, at most `max` (the colour may be left out)
+      const shown = Array.isArray(v) ? (v as { tag?: string; color?: string }[]).map((p) => [p.tag ?? '', p.color ?? ''].join(' ').trim()).join('\n') : '';
+      const area = h('textarea', { rows: 3, 'data-testid': id, placeholder: tr('a tag and its colour, one pen a line') }, shown);
+      area.addEventListener('change', () => {
+        const pens = parsePens(area.value, finite(p.max) ?? 3);
+        area.classList.toggle('invalid', pens === null);
+        if (pens) set(pens.length ? pens : undefined);
+      });
+      return area;
+    }
   }
+}
+
+/** A trend's pens from "tag colour" lines; null when there are more than `max`. */
+export function parsePens(text: string, max: number): { tag: string; color?: string }[] | null {
+  const pens = text
+    .split(/\n/)
+    .map((line) => line.trim().split(/\s+/))
+    .filter(([tag]) => tag)
+    .map(([tag, color]) => (color ? { tag, color } : { tag }));
+  return pens.length <= max ? pens : null;
 }
 
 /** A colour: a swatch that opens the browser's picker and the text (a name or #rgb), either sets it; empty removes it. */

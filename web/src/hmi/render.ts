@@ -7,6 +7,7 @@
 import { fmt, s } from '../dom';
 import { GREY, ON, symbol } from './symbols';
 import type { Json } from '../types';
+import { trendPens } from './trend';
 
 export interface Animation {
   kind: string;
@@ -56,6 +57,8 @@ export function tagsOf(screen: Screen): string[] {
   for (const e of screen.elements) {
     for (const a of e.animations ?? []) names.add(a.tag);
     if (typeof e.props?.tag === 'string') names.add(e.props.tag);
+    // a trend's pens (the three it draws)
+    if (e.type === 'trend') for (const pen of trendPens(e.props)) names.add(pen.tag);
     for (const prop of Object.keys(PROP_TAGS)) if (typeof e.props?.[prop] === 'string') names.add(e.props[prop] as string);
     if (e.action?.tag) names.add(e.action.tag);
   }

@@ -7,6 +7,8 @@
 // spin or a `rotate(…)` on the part turns them about it.
 import { s } from '../dom';
 import type { Element } from './render';
+import type { Json } from '../types';
+import { PEN_COLORS, penPart, trendPens } from './trend';
 
 export const GREY = '#9ea3a8';
 export const DARK = '#5f6368';
@@ -384,8 +386,26 @@ function trend(w: number, h: number, p: Record<string, unknown>): SVGElement[] {
     label('y-min', x0 - 3, y1, 'end', p.min),
     label('x-from', x0, y1 + font / 2 + 3, 'start', null),
     label('x-to', x1, y1 + font / 2 + 3, 'end', null),
-    s('polyline', { points: '', fill: 'none', ...stroke(1.5, '#1f5fa8'), 'stroke-linejoin': 'round', 'data-part': 'line', 'data-box': [x0, y0, x1, y1].map(n).join(',') }),
+    ...penLines(p, [x0, y0, x1, y1], font),
   ];
+}
+
+/**
+ * A trend's pens (trend.ts `trendPens`: `props.pens`, up to three, else the
+ * one pen of its `tag`): an empty line each (`line`, `line-2`, `line-3`) in
+ * its colour; with more than one, a legend of their tags top right.
+ */
+function penLines(p: Record<string, unknown>, box: [number, number, number, number], font: number): SVGElement[] {
+  const [x0, y0, x1, y1] = box;
+  const pens = trendPens(p as Record<string, Json>);
+  const shown = pens.length ? pens : [{ tag: '', color: PEN_COLORS[0] }];
+  const lines = shown.map((pen, k) =>
+    s('polyline', { points: '', fill: 'none', ...stroke(1.5, pen.color), 'stroke-linejoin': 'round', 'data-part': penPart(k), 'data-box': [x0, y0, x1, y1].map(n).join(',') }));
+  const legend =
+    pens.length > 1
+      ? pens.map((pen, k) => s('text', { x: n(x1 - 3), y: n(y0 + font * (k + 0.9)), 'text-anchor': 'end', 'font-size': font, fill: pen.color, 'data-part': `pen-${k + 1}` }, pen.tag))
+      : [];
+  return [...lines, ...legend];
 }
 
 /**

@@ -9,6 +9,33 @@ import type { Json } from '../types';
 import type { Sample } from '../trends/history';
 
 export const DEFAULT_WINDOW_S = 120;
+/** The most pens a trend element draws (alba-project's MAX_TREND_PENS). */
+export const MAX_PENS = 3;
+/** The pens' colours when `props.pens` gives none: blue, orange, green (first is the single pen's). */
+export const PEN_COLORS = ['#1f5fa8', '#e8710a', '#2e7d32'];
+
+export interface Pen {
+  tag: string;
+  color: string;
+}
+
+/**
+ * A trend element's pens: `props.pens` (up to three `{tag, color}`, a missing
+ * colour by its place), else the element's `tag` as the one pen; none when it
+ * has neither.
+ */
+export function trendPens(props: Record<string, Json> | undefined): Pen[] {
+  const list = Array.isArray(props?.pens) ? (props.pens as Json[]) : [];
+  const pens = list
+    .filter((p): p is Record<string, Json> => !!p && typeof p === 'object' && !Array.isArray(p) && typeof p.tag === 'string' && p.tag !== '')
+    .slice(0, MAX_PENS)
+    .map((p, k) => ({ tag: p.tag as string, color: typeof p.color === 'string' && p.color ? p.color : PEN_COLORS[k] }));
+  if (pens.length) return pens;
+  return typeof props?.tag === 'string' && props.tag ? [{ tag: props.tag, color: PEN_COLORS[0] }] : [];
+}
+
+/** The SVG part a pen draws into: `line` for the first (as a single-pen trend), `line-2`, `line-3`. */
+export const penPart = (k: number) => (k === 0 ? 'line' : `line-${k + 1}`);
 /** The longest window: a day. */
 export const MAX_WINDOW_S = 86_400;
 
@@ -75,45 +102,52 @@ export function trendPoints(samples: Sample[], from: number, to: number, box: [n
   return pts.join(' ');
 }
 
-/** One trend element of a running screen: its samples and its drawing. */
+/** One trend element of a running screen: each pen's samples, and the drawing (one scale for all pens). */
 export class ScreenTrend {
-  private samples: Sample[] = [];
-  /** When the first live value came (history is the truth before it). */
-  private liveSince = Infinity;
+  private samples: Sample[][];
+  /** When each pen's first live value came (history is the truth before it). */
+  private liveSince: number[];
   readonly windowMs: number;
 
   constructor(
     private readonly g: SVGGElement,
     private readonly props: Record<string, Json> | undefined,
+    readonly pens = 1,
   ) {
     this.windowMs = windowMs(props);
+    this.samples = Array.from({ length: pens }, () => []);
+    this.liveSince = Array.from({ length: pens }, () => Infinity);
   }
 
-  /** A live value at `t`. */
-  push(t: number, v: number | null): void {
-    if (this.liveSince === Infinity) this.liveSince = t;
-    const last = this.samples[this.samples.length - 1];
-    if (last && t <= last[0]) this.samples[this.samples.length - 1] = [last[0], v];
-    else this.samples.push([t, v]);
+  /** A live value of pen `k` at `t`. */
+  push(t: number, v: number | null, k = 0): void {
+    if (this.liveSince[k] === Infinity) this.liveSince[k] = t;
+    const samples = this.samples[k];
+    const last = samples[samples.length - 1];
+    if (last && t <= last[0]) samples[samples.length - 1] = [last[0], v];
+    else samples.push([t, v]);
   }
 
-  /** The window's history (sorted): kept before the first live value. */
-  seed(history: Sample[]): void {
-    this.samples = [...history.filter(([t]) => t < this.liveSince), ...this.samples.filter(([t]) => t >= this.liveSince)];
+  /** Pen `k`'s history over the window (sorted): kept before its first live value. */
+  seed(history: Sample[], k = 0): void {
+    const since = this.liveSince[k];
+    this.samples[k] = [...history.filter(([t]) => t < since), ...this.samples[k].filter(([t]) => t >= since)];
   }
 
   /** Draws the window ending at `now`; forgets what is older than the window (keeping the value held at its start). */
   draw(now: number): void {
     const from = now - this.windowMs;
-    let k = 0;
-    while (k + 1 < this.samples.length && this.samples[k + 1][0] <= from) k++;
-    if (k > 0) this.samples = this.samples.slice(k);
-    const pen = this.g.querySelector('[data-part="line"]');
-    if (!pen) return;
-    const box = (pen.getAttribute('data-box') ?? '0,0,100,100').split(',').map(Number) as [number, number, number, number];
-    const shown = this.samples.filter(([t], i) => t > from || i === 0).map(([, v]) => v).filter((v): v is number => v !== null);
+    this.samples = this.samples.map((samples) => {
+      let k = 0;
+      while (k + 1 < samples.length && samples[k + 1][0] <= from) k++;
+      return k > 0 ? samples.slice(k) : samples;
+    });
+    const first = this.g.querySelector('[data-part="line"]');
+    if (!first) return;
+    const box = (first.getAttribute('data-box') ?? '0,0,100,100').split(',').map(Number) as [number, number, number, number];
+    const shown = this.samples.flatMap((samples) => samples.filter(([t], i) => t > from || i === 0).map(([, v]) => v).filter((v): v is number => v !== null));
     const scale = trendScale(shown, this.props);
-    pen.setAttribute('points', trendPoints(this.samples, from, now, box, scale));
+    this.samples.forEach((samples, k) => this.g.querySelector(`[data-part="${penPart(k)}"]`)?.setAttribute('points', trendPoints(samples, from, now, box, scale)));
     const label = (part: string, text: string) => {
       const el = this.g.querySelector(`[data-part="${part}"]`);
       if (el && el.textContent !== text) el.textContent = text;

@@ -11,7 +11,7 @@ import { tr } from '../i18n';
 import type { Json } from '../types';
 import { openFaceplate } from '../ui/faceplate';
 import { Designer } from './designer';
-import { ScreenTrend } from './trend';
+import { ScreenTrend, trendPens } from './trend';
 import { historySamples, plotValue } from '../trends/history';
 import { type Element, PROP_TAGS, type Screen, animate, drawElement, showAlarm, showLoop, showPropTag, showValue, tagsOf, tick } from './render';
 
@@ -123,9 +123,10 @@ export class ScreensView {
       preserveAspectRatio: 'xMidYMid meet',
       'data-testid': `hmi-screen-${name}`,
     });
-    svg.append(s('rect', { width: screen.width, height: screen.height, fill: screen.background ?? '#f4f5f6' }));
+    // no background of its own: the theme's ISA-101 grey (--hmi-screen, dimmer in the dark theme)
+    svg.append(s('rect', { class: 'hmi-bg', width: screen.width, height: screen.height, style: `fill: ${screen.background ?? 'var(--hmi-screen, #f4f5f6)'}` }));
     const clocks: SVGGElement[] = [];
-    const trends: [ScreenTrend, string][] = [];
+    const trends: [ScreenTrend, string[]][] = [];
     const indicators: [SVGGElement, string][] = [];
     for (const e of screen.elements) {
       const g = drawElement(e);
@@ -142,7 +143,11 @@ export class ScreensView {
         for (const m of ['SP', 'PV', 'CV', 'MAN']) this.unwatch.push(this.ctx.live.store.watch(`${shown}.${m}`, update));
         g.classList.add('hmi-widget');
         g.addEventListener('click', () => openFaceplate(this.ctx, shown));
-      } else if (e.type === 'trend' && typeof shown === 'string') trends.push([new ScreenTrend(g, e.props), shown]);
+      } else if (e.type === 'trend') {
+        // its pens (props.pens, up to three), else its tag
+        const pens = trendPens(e.props).map((p) => p.tag);
+        if (pens.length) trends.push([new ScreenTrend(g, e.props, pens.length), pens]);
+      }
       else if (typeof shown === 'string') this.unwatch.push(this.ctx.live.store.watch(shown, (v) => showValue(g, v, e.props)));
       if (e.type === 'clock') clocks.push(g);
       if (e.type === 'alarm' && typeof e.props?.alarm === 'string') indicators.push([g, e.props.alarm]);
@@ -182,10 +187,10 @@ export class ScreensView {
    * the tag), then live values; redrawn every half second, so that the line
    * moves on while a value holds.
    */
-  private startTrends(trends: [ScreenTrend, string][]): void {
+  private startTrends(trends: [ScreenTrend, string[]][]): void {
     const now = Date.now();
-    for (const [trend, tag] of trends) {
-      this.unwatch.push(this.ctx.live.store.watch(tag, (v) => trend.push(Date.now(), plotValue(v))));
+    for (const [trend, tag, k] of trends.flatMap(([t, tags]) => tags.map((tag, k) => [t, tag, k] as const))) {
+      this.unwatch.push(this.ctx.live.store.watch(tag, (v) => trend.push(Date.now(), plotValue(v), k)));
       const from = now - trend.windowMs;
       const points = 600;
       // the value held at the window's start: the last one recorded in the hour before it
@@ -193,7 +198,7 @@ export class ScreensView {
       Promise.all([api.history(tag, from, now, points), before]).then(
         ([hist, prior]) => {
           const held = prior?.buckets[prior.buckets.length - 1]?.[4];
-          trend.seed(historySamples(hist.buckets, hist.from, hist.to, points, held));
+          trend.seed(historySamples(hist.buckets, hist.from, hist.to, points, held), k);
           trend.draw(Date.now());
         },
         () => undefined, // no history (off, or nothing recorded): live values only

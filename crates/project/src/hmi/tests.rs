@@ -44,7 +44,9 @@ const GOOD: &str = r##"{
     {"id": "start", "type": "button", "x": 300, "y": 320, "w": 80, "h": 32,
      "props": {"label": "Fill"}, "action": {"kind": "momentary", "tag": "Light"}},
     {"id": "sp", "type": "slider", "x": 20, "y": 20, "w": 200, "h": 24, "action": {"kind": "slider", "tag": "Speed", "min": 0, "max": 100}},
-    {"id": "next", "type": "button", "x": 20, "y": 60, "w": 80, "h": 24, "action": {"kind": "navigate", "screen": "pumps"}}
+    {"id": "next", "type": "button", "x": 20, "y": 60, "w": 80, "h": 24, "action": {"kind": "navigate", "screen": "pumps"}},
+    {"id": "tr", "type": "trend", "x": 20, "y": 90, "w": 300, "h": 150,
+     "props": {"label": "Level and pump", "window_s": 60, "pens": [{"tag": "Level", "color": "#1f5fa8"}, {"tag": "Pump", "color": "orange"}, {"tag": "T1.ACC"}]}}
   ]
 }"##;
 
@@ -53,7 +55,7 @@ fn a_good_screen_parses_without_problems() {
     let (s, d) = check(GOOD);
     assert_eq!(d, Vec::<String>::new());
     let s = s.expect("a screen");
-    assert_eq!((s.elements.len(), s.elements[0].kind.as_str()), (8, "tank"));
+    assert_eq!((s.elements.len(), s.elements[0].kind.as_str()), (9, "tank"));
     assert_eq!(s.elements[1].animations[0].params["speed"], 1);
     // It round-trips through the API's JSON.
     let again: Screen = serde_json::from_str(&serde_json::to_string(&s).expect("json")).expect("parse");
@@ -140,6 +142,46 @@ fn malformed_screens_are_reported_at_their_place() {
         (
             with(r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"window_s": 86401}}"#),
             "`window_s` 86401 is not from 1 to 86400 s",
+        ),
+        (
+            with(
+                r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"pens": [{"tag": "Level"}, {"tag": "Pump"}, {"tag": "Speed"}, {"tag": "T1.ACC"}]}}"#,
+            ),
+            "`t`: `pens` is a list of at most 3 pens {tag, color}",
+        ),
+        (
+            with(
+                r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"pens": [{"tag": "Level"}, {"tag": "Nope"}]}}"#,
+            ),
+            "`t`: pen 2 of `pens`: unknown tag `Nope`",
+        ),
+        (
+            with(
+                r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"pens": [{"tag": "T1"}]}}"#,
+            ),
+            "`t`: pen 1 of `pens`: `T1` is not a number or a BOOL",
+        ),
+        (
+            with(
+                r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"pens": [{"tag": "Level", "color": "url(x)"}]}}"#,
+            ),
+            "`t`: pen 1 of `pens`: \"url(x)\" is not a colour",
+        ),
+        (
+            with(
+                r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"pens": [{"color": "red"}]}}"#,
+            ),
+            "`t`: pen 1 of `pens` needs its `tag` (a string)",
+        ),
+        (
+            with(
+                r#"{"id": "t", "type": "trend", "x": 1, "y": 2, "w": 10, "h": 10, "props": {"pens": [{"tag": "Level", "width": 2}]}}"#,
+            ),
+            "`t`: pen 1 of `pens`: `width` is not tag or color",
+        ),
+        (
+            with(&format!("{{{E}, \"props\": {{\"pens\": [{{\"tag\": \"Level\"}}]}}}}")),
+            "`e`: `pens` is not a property of `tank`",
         ),
         (
             with(&format!("{{{E}, \"props\": {{\"window_s\": 60}}}}")),

@@ -64,6 +64,7 @@ fn param(p: &alba_compiler::project::hmi::Param) -> ParamInfo {
         ParamKind::Text { max_len } => ("text", None, Some(max_len as f64), "", &[][..]),
         ParamKind::Tag => ("tag", None, None, "", &[][..]),
         ParamKind::Points { max } => ("points", None, Some(max as f64), "", &[][..]),
+        ParamKind::Pens { max } => ("pens", None, Some(max as f64), "", &[][..]),
     };
     ParamInfo {
         name: p.name.to_string(),
