@@ -434,7 +434,9 @@ pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnos
     let mut drives = Vec::new();
     for (k, p) in net.places.iter().enumerate() {
         let bad = |msg: String| Diagnostic::new(Code::NetPlaceTag, msg, p.span, "place");
-        let value = match p.props.get("value").map(|v| v.trim()) {
+        // a State's constant (`003_…`); other kinds (a Variable's DefineTarget) read `value` themselves
+        let own = if p.kind == ElementKind::State { p.props.get("value") } else { None };
+        let value = match own.map(|v| v.trim()) {
             None => None,
             Some(v) => match Literal::parse(v) {
                 Ok(l @ (Literal::Int(_) | Literal::Real(_))) => Some(l),
