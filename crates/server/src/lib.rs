@@ -190,6 +190,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::session))
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::timeout))
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::guard))
+        .layer(axum::middleware::from_fn(gate::language))
         .with_state(state)
 }
 
