@@ -47,14 +47,14 @@ struct PLC_Timer {
           res((n == 0 || n == 64 || n == 32 || n == 96)               ? 1
               : ((n >= 1 && n <= 4) || (n >= 65 && n <= 68) || (n >= 33 && n <= 36) || (n >= 97 && n <= 100)) ? 10
                                                                                                                      : 100) {}
-    bool bit() const { return b[0]; }
+    bool q() const { return b[0]; }
     int16_t value() const { return (int16_t)i[0]; }  // the current value, in units of res
 };
 struct PLC_Counter {
     int32_t i[2];  // CV, PV
     bool b[5];     // the counter bit, CU and CD as last seen, CU, CD
     PLC_Counter() : i{0, 0}, b{false, false, false, false, false} {}
-    bool bit() const { return b[0]; }
+    bool q() const { return b[0]; }
     int16_t value() const { return (int16_t)i[0]; }
 };
 #define PLC_TIMER(n) PLC_Timer T##n(n)
@@ -63,7 +63,8 @@ struct PLC_Counter {
 // ---- the scan --------------------------------------------------------------
 // SM0.0 always on, SM0.1 on in the first scan only, SM0.5 a 1 s clock (0.5 s on,
 // 0.5 s off), as the S7-200's special memory; plc_now the scan's time in ms.
-static bool SM0_0 = true, SM0_1 = true, SM0_5 = false;
+static bool SM0_0 __attribute__((unused)) = true;
+static bool SM0_1 = true, SM0_5 = false;
 static uint32_t plc_now;
 static bool plc_started;
 
@@ -98,28 +99,28 @@ static inline void scanPLC() {
 // LD pushes a value, A and O combine it with the top, N negates it first.
 static inline void LD(bool v) { plc_push(v); }
 static inline void LD(plc_pin p) { plc_push(plc_read(p)); }
-static inline void LD(const PLC_Timer &t) { plc_push(t.bit()); }
-static inline void LD(const PLC_Counter &c) { plc_push(c.bit()); }
+static inline void LD(const PLC_Timer &t) { plc_push(t.q()); }
+static inline void LD(const PLC_Counter &c) { plc_push(c.q()); }
 static inline void LDN(bool v) { plc_push(!v); }
 static inline void LDN(plc_pin p) { plc_push(!plc_read(p)); }
-static inline void LDN(const PLC_Timer &t) { plc_push(!t.bit()); }
-static inline void LDN(const PLC_Counter &c) { plc_push(!c.bit()); }
+static inline void LDN(const PLC_Timer &t) { plc_push(!t.q()); }
+static inline void LDN(const PLC_Counter &c) { plc_push(!c.q()); }
 static inline void A(bool v) { plc_set_top(plc_top() && v); }
 static inline void A(plc_pin p) { A(plc_read(p)); }
-static inline void A(const PLC_Timer &t) { A(t.bit()); }
-static inline void A(const PLC_Counter &c) { A(c.bit()); }
+static inline void A(const PLC_Timer &t) { A(t.q()); }
+static inline void A(const PLC_Counter &c) { A(c.q()); }
 static inline void AN(bool v) { A(!v); }
 static inline void AN(plc_pin p) { A(!plc_read(p)); }
-static inline void AN(const PLC_Timer &t) { A(!t.bit()); }
-static inline void AN(const PLC_Counter &c) { A(!c.bit()); }
+static inline void AN(const PLC_Timer &t) { A(!t.q()); }
+static inline void AN(const PLC_Counter &c) { A(!c.q()); }
 static inline void O(bool v) { plc_set_top(plc_top() || v); }
 static inline void O(plc_pin p) { O(plc_read(p)); }
-static inline void O(const PLC_Timer &t) { O(t.bit()); }
-static inline void O(const PLC_Counter &c) { O(c.bit()); }
+static inline void O(const PLC_Timer &t) { O(t.q()); }
+static inline void O(const PLC_Counter &c) { O(c.q()); }
 static inline void ON(bool v) { O(!v); }
 static inline void ON(plc_pin p) { O(!plc_read(p)); }
-static inline void ON(const PLC_Timer &t) { O(!t.bit()); }
-static inline void ON(const PLC_Counter &c) { O(!c.bit()); }
+static inline void ON(const PLC_Timer &t) { O(!t.q()); }
+static inline void ON(const PLC_Counter &c) { O(!c.q()); }
 static inline void NOT() { plc_set_top(!plc_top()); }
 
 // The stack: ALD/OLD combine the two top levels, LPS pushes a copy of the top,
