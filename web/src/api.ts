@@ -141,6 +141,7 @@ export const api = {
   ackAlarm: (id: string, comment: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/ack`, { comment }),
   shelveAlarm: (id: string, minutes: number, reason: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/shelve`, { minutes, reason }),
   unshelveAlarm: (id: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/unshelve`),
+  alarmOutOfService: (id: string, on: boolean, reason: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/out_of_service`, { on, reason }),
   force: (name: string, value: Json) => json<Force>('PUT', `/api/forces/${enc(name)}`, { value }),
   unforce: (name: string) => json<void>('DELETE', `/api/forces/${enc(name)}`),
   unforceAll: () => json<void>('DELETE', '/api/forces'),

@@ -665,4 +665,12 @@ export const es: Record<string, string> = {
   'scan {k} of {n}, {t} ms': 'ciclo {k} de {n}, {t} ms',
   'the property fails here': 'aquí falla la propiedad',
   'reached here': 'alcanzada aquí',
+  'Not allowed': 'No permitido',
+  'F8: alarms on (faceplate)': 'F8: alarmas activadas (panel)',
+  'F9: alarms off (faceplate)': 'F9: alarmas desactivadas (panel)',
+  'F1 control · F3 auto/manual · F5 tank · F6 tank and trend · F8/F9 alarms on/off': 'F1 control · F3 auto/manual · F5 tanque · F6 tanque y tendencia · F8/F9 alarmas sí/no',
+  'Y maximum (Ctrl+F6)': 'Máximo del eje Y (Ctrl+F6)',
+  'Y minimum (Ctrl+F7)': 'Mínimo del eje Y (Ctrl+F7)',
+  'Time shown, in seconds (Ctrl+F8)': 'Tiempo mostrado, en segundos (Ctrl+F8)',
+  'Not a scale: the minimum must be below the maximum': 'No es una escala: el mínimo debe ser menor que el máximo',
 };
