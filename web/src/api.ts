@@ -2,6 +2,7 @@
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, TestsReply, Verified, VerifyReply } from './api.gen';
 import type { Domain } from './domain';
+import { language } from './i18n';
 import type { Alarm, AlarmStats, Diagnostic, Force, History, HistoryNodes, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
@@ -38,7 +39,8 @@ async function request(method: string, path: string, body?: unknown, contentType
   // has a JSON body (an empty object when there is nothing to say), since the
   // server refuses any other (a cross-site form or text/plain post) — except
   // tags.csv, whose text/csv also needs a preflight the server never grants.
-  const headers: Record<string, string> = {};
+  // The studio's language, not the browser's: the server words diagnostics in it (docs/i18n.md).
+  const headers: Record<string, string> = { 'Accept-Language': language() };
   const init: RequestInit = { method, headers, credentials: 'same-origin', signal };
   if (body === undefined && !SAFE.has(method)) body = {};
   if (body !== undefined) {

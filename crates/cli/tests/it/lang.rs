@@ -9,8 +9,8 @@ fn broken_project(name: &str) -> std::path::PathBuf {
     let out = alba(&dir, &["new", "mi-planta"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let lad = dir.join("mi-planta/main.lad");
-    let text = std::fs::read_to_string(&lad).unwrap();
-    std::fs::write(&lad, text.replacen("XIC(Start)", "XIC(Strat)", 1)).unwrap();
+    let text = std::fs::read_to_string(&lad).expect("main.lad");
+    std::fs::write(&lad, text.replacen("XIC(Start)", "XIC(Strat)", 1)).expect("write main.lad");
     dir
 }
 
@@ -155,8 +155,8 @@ fn the_spanish_guide_commands_run() {
             let lad = dir.join("mi-planta/main.lad");
             let tour_break = should_fail && rest.starts_with("check mi-planta");
             if tour_break {
-                let text = std::fs::read_to_string(&lad).unwrap();
-                std::fs::write(&lad, text.replacen("XIC(Start)", "XIC(Strat)", 1)).unwrap();
+                let text = std::fs::read_to_string(&lad).expect("main.lad");
+                std::fs::write(&lad, text.replacen("XIC(Start)", "XIC(Strat)", 1)).expect("write main.lad");
             }
             let args: Vec<&str> = rest.split_whitespace().collect();
             let out = alba_env(&dir, &args, &[("LANG", "es_ES.UTF-8")]);
@@ -172,7 +172,7 @@ fn the_spanish_guide_commands_run() {
             if tour_break {
                 let err = String::from_utf8_lossy(&out.stderr);
                 assert!(err.contains("variable desconocida `Strat`"), "{err}");
-                let text = std::fs::read_to_string(&lad).unwrap();
+                let text = std::fs::read_to_string(&lad).expect("main.lad");
                 std::fs::write(&lad, text.replacen("XIC(Strat)", "XIC(Start)", 1)).unwrap();
             }
         }
@@ -181,14 +181,14 @@ fn the_spanish_guide_commands_run() {
 }
 
 fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap().flatten() {
+    std::fs::create_dir_all(to).expect("create the copy");
+    for e in std::fs::read_dir(from).expect("read the examples").flatten() {
         let p = e.path();
         let q = to.join(e.file_name());
         if p.is_dir() {
             copy_dir(&p, &q);
         } else {
-            std::fs::copy(&p, &q).unwrap();
+            std::fs::copy(&p, &q).expect("copy a file");
         }
     }
 }
