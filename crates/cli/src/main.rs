@@ -1120,8 +1120,11 @@ fn es_title(c: Code) -> &'static str {
 fn explain(code: &str) -> ExitCode {
     match code.parse::<Code>() {
         Ok(c) if alba_diag::language() == alba_diag::Lang::Es => {
-            // The explanations are English yet; the title says it in Spanish.
-            println!("{c}: {}\n({})\n\n{}", es_title(c), c.title(), c.explanation());
+            // The Spanish explanation where the catalogue has one, else the English one.
+            match alba_diag::es::explanation(c) {
+                Some(e) => println!("{c}: {}\n\n{e}", es_title(c)),
+                None => println!("{c}: {}\n\n(en inglés) {}", es_title(c), c.explanation()),
+            }
             ExitCode::SUCCESS
         }
         Ok(c) => {

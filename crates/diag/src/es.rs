@@ -331,6 +331,105 @@ pub const PHRASES: &[(&str, &str)] = &[
     ("this address holds {}", "esta dirección contiene {0}"),
 ];
 
+/// Spanish explanations (`alba explain --lang es`) of the codes a student meets
+/// first; the others are explained in English under their Spanish title.
+pub const EXPLANATIONS: &[(Code, &str)] = &[
+    (
+        Code::Io,
+        "Alba no pudo abrir, leer o escribir un archivo del proyecto. El mensaje nombra el archivo y el motivo que da el sistema operativo.",
+    ),
+    (
+        Code::TomlSyntax,
+        "alba.toml debe ser un documento TOML (https://toml.io). Revise comillas, corchetes y pares `clave = valor` cerca del lugar indicado.",
+    ),
+    (
+        Code::CsvSyntax,
+        "Los archivos CSV separan los campos con comas, ponen entre comillas dobles los campos que contienen comas o comillas (una comilla dentro se escribe dos veces) y tienen un registro por línea; cada registro tiene tantos campos como la cabecera.",
+    ),
+    (
+        Code::CsvHeader,
+        "tags.csv empieza con la cabecera `name,type,address,initial,retain,description` (las columnas distintas de name y type pueden omitirse). Un archivo de estímulos empieza con `time_ms,tag,value`.",
+    ),
+    (
+        Code::BadTagName,
+        "Los nombres de variable usan letras, dígitos y `_`, no empiezan por un dígito y no deben leerse como una dirección (como `MW2` o `I0.0`) ni ser una palabra reservada.",
+    ),
+    (
+        Code::UnknownType,
+        "Los tipos son BOOL, SINT, INT, DINT, LINT, REAL, LREAL, TIME, TIMER, COUNTER y PID (sin distinguir mayúsculas).",
+    ),
+    (
+        Code::DuplicateTag,
+        "Los nombres de variable no distinguen mayúsculas, como exige IEC 61131-3: `Motor` y `MOTOR` son la misma variable. Renombre o quite una de ellas.",
+    ),
+    (
+        Code::AddressUsedTwice,
+        "Cada canal de E/S o byte de marcas pertenece a una sola variable. Dos notaciones del mismo canal (DI:1/9 y %IX1.1) son la misma dirección; también lo son palabras de marcas que se solapan (MW0 y MD0).",
+    ),
+    (
+        Code::BoardPin,
+        "Con un `[board]` en alba.toml, cada canal de E/S que usa una variable debe estar cableado por el mapa de pines a un pin que la placa tiene y que puede servirlo: un pin digital para DI/DO (no D0/D1, el enlace serie), uno analógico para AI, uno PWM para AO. Use otro canal, otro mapa de pines u otra placa, o liste los pines en `[board]` (`di`, `do`, `ai`, `ao`).",
+    ),
+    (
+        Code::Syntax,
+        "Un peldaño es una secuencia de instrucciones `NOMBRE(operando,...)` y ramas `[tramo,tramo,...]`, terminada en `;`. Una línea de comentario `//` justo encima de un peldaño es su comentario.",
+    ),
+    (
+        Code::Unbalanced,
+        "Cada `[` de una rama necesita su `]` y cada `(` su `)` antes del `;` que termina el peldaño.",
+    ),
+    (
+        Code::EmptyLeg,
+        "Cada tramo de una rama `[a,b]` contiene al menos una instrucción.",
+    ),
+    (
+        Code::UnterminatedRung,
+        "Todo peldaño, también el último, termina en `;`.",
+    ),
+    (
+        Code::UnknownTag,
+        "Los operandos nombran variables de tags.csv (sin distinguir mayúsculas), sus miembros (`Delay.DN`), direcciones, variables del sistema (`S:FS`) o literales.",
+    ),
+    (
+        Code::OperandCount,
+        "Cada instrucción lleva un número fijo de operandos; el mensaje dice cuántos.",
+    ),
+    (
+        Code::OperandType,
+        "La instrucción necesita aquí otro tipo de operando: un BOOL para contactos y bobinas, un número para comparaciones y cálculo, una variable TIMER o COUNTER para temporizadores y contadores.",
+    ),
+    (
+        Code::NotWritable,
+        "Las entradas (DI, AI y las variables en ellas), los literales, las variables del sistema y los bits de estado de temporizadores y contadores (EN TT DN CU CD OV UN) son de solo lectura para los programas; RES pone a cero un temporizador o contador.",
+    ),
+    (
+        Code::UnknownMember,
+        "TIMER tiene PRE ACC EN TT DN; COUNTER tiene PRE ACC CU CD DN OV UN.",
+    ),
+    (
+        Code::MissingLabel,
+        "Un JMP nombra una etiqueta puesta con LBL(etiqueta) al principio de un peldaño del mismo programa.",
+    ),
+    (
+        Code::NoOutput,
+        "Todo peldaño necesita una instrucción de salida (OTE, OTL, un temporizador, un contador, una instrucción de cálculo o de movimiento, JMP, NOP...), y un peldaño o el último tramo de una rama debe terminar con una.",
+    ),
+    (
+        Code::BadLiteral,
+        "Los literales enteros son decimales o con base (16#FF), los reales llevan punto (1.5, 2.0e3), los tiempos son T#5s o T#1m30s; el valor debe caber donde va. La base de tiempo de un temporizador es ms, cs, ds, s o min (o 0.001, 0.01, 0.1, 1.0, 60 segundos).",
+    ),
+    (
+        Code::StimulusSyntax,
+        "Los archivos de estímulos tienen la cabecera `time_ms,tag,value`; time_ms es un entero no negativo; los valores son 0/1, true/false, enteros o reales.",
+    ),
+    (Code::BadArgument, "Vea `alba help <orden>` para los valores aceptados."),
+];
+
+/// The Spanish explanation of `code`, if the catalogue has it.
+pub fn explanation(code: Code) -> Option<&'static str> {
+    EXPLANATIONS.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
+}
+
 /// The Spanish title of `code`, if the catalogue has it.
 pub fn title(code: Code) -> Option<&'static str> {
     TITLES.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
@@ -366,6 +465,32 @@ mod tests {
         assert_eq!(TITLES.len(), Code::ALL.len(), "a code is listed twice");
         for (c, es) in TITLES {
             assert_ne!(*es, c.title(), "{c}: the Spanish title is the English one");
+        }
+    }
+
+    #[test]
+    fn the_codes_a_student_meets_first_are_explained_in_spanish() {
+        for c in [
+            Code::UnknownTag,
+            Code::Syntax,
+            Code::Unbalanced,
+            Code::UnterminatedRung,
+            Code::OperandCount,
+            Code::OperandType,
+            Code::NoOutput,
+            Code::CsvHeader,
+            Code::UnknownType,
+            Code::DuplicateTag,
+        ] {
+            assert!(
+                explanation(c).is_some_and(|e| !e.trim().is_empty()),
+                "{c} lacks its Spanish explanation"
+            );
+        }
+        let mut seen = std::collections::HashSet::new();
+        for (c, e) in EXPLANATIONS {
+            assert!(seen.insert(*c), "{c} explained twice");
+            assert_ne!(*e, c.explanation(), "{c}: the Spanish explanation is the English one");
         }
     }
 

@@ -170,9 +170,9 @@ pub fn language(l: Language) -> reply::Language {
 }
 
 /// A diagnostic as the API shows it (docs/api.md).
-/// Worded in the request's language (`Accept-Language`, [`crate::gate`]).
+/// Worded in the request's language (`Accept-Language`, [`crate::lang`]).
 pub fn diagnostic_json(d: &Diagnostic, files: &Files) -> reply::Diagnostic {
-    let lang = crate::gate::request_lang();
+    let lang = crate::lang::request_lang();
     let localized;
     let d = if lang == alba_compiler::diag::Lang::En {
         d

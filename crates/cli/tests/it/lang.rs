@@ -69,7 +69,13 @@ fn explain_and_a_good_check_speak_spanish() {
     let dir = scratch("lang-explain");
     let out = alba(&dir, &["explain", "E301", "--lang", "es"]);
     assert!(out.status.success());
-    assert!(String::from_utf8_lossy(&out.stdout).starts_with("E301: variable desconocida"));
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(text.starts_with("E301: variable desconocida"), "{text}");
+    assert!(text.contains("Los operandos nombran variables de tags.csv"), "{text}");
+    // a code without its Spanish explanation: the English one, said to be English
+    let out = alba(&dir, &["explain", "E631", "--lang", "es"]);
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(text.contains("(en inglés) An Expression element"), "{text}");
     let out = alba(&dir, &["new", "ok"]);
     assert!(out.status.success());
     let out = alba_env(&dir, &["check", "ok"], &[("LANG", "es_ES.UTF-8")]);
