@@ -241,6 +241,34 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (Code::EmptyLeg, "empty branch leg", "tramo de rama vacío"),
     (
+        Code::Unbalanced,
+        "the `(` of `{}` is not closed",
+        "el `(` de `{0}` no se cierra",
+    ),
+    (
+        Code::Unbalanced,
+        "`]` inside the operands of `{}`",
+        "`]` dentro de los operandos de `{0}`",
+    ),
+    (Code::Syntax, "empty operand in `{}`", "operando vacío en `{0}`"),
+    (
+        Code::Syntax,
+        "branches are nested more than {} deep",
+        "las ramas se anidan a más de {0} niveles",
+    ),
+    (Code::CsvHeader, "tags.csv is empty", "tags.csv está vacío"),
+    (
+        Code::CsvHeader,
+        "the header of tags.csv needs the columns `name` and `type`",
+        "la cabecera de tags.csv necesita las columnas `name` y `type`",
+    ),
+    (Code::BadAddress, "`{}` is not an address", "`{0}` no es una dirección"),
+    (
+        Code::BadAddress,
+        "`{}` is an SLC 500 timer or counter, a structure rather than an address",
+        "`{0}` es un temporizador o contador del SLC 500, una estructura y no una dirección",
+    ),
+    (
         Code::DuplicateTag,
         "tag `{}` is declared twice",
         "la variable `{0}` está declarada dos veces",
@@ -324,6 +352,17 @@ pub const PHRASES: &[(&str, &str)] = &[
         "se esperaba una instrucción en este tramo",
     ),
     ("one branch too many", "una rama de más"),
+    ("not an instruction", "no es una instrucción"),
+    ("expected a header here", "se esperaba una cabecera aquí"),
+    ("repeated column", "columna repetida"),
+    ("not a tags.csv column", "no es una columna de tags.csv"),
+    ("header", "cabecera"),
+    ("extra field", "campo de más"),
+    ("tag name", "nombre de variable"),
+    ("second declaration", "segunda declaración"),
+    ("expected a data type", "se esperaba un tipo de dato"),
+    ("expected an address", "se esperaba una dirección"),
+    ("bad address", "dirección incorrecta"),
     ("expected {}", "se esperaba {0}"),
     ("`{}` first declared here", "`{0}` declarada aquí por primera vez"),
     ("start the file with `{}`", "empiece el archivo con `{0}`"),
@@ -430,6 +469,52 @@ pub fn explanation(code: Code) -> Option<&'static str> {
     EXPLANATIONS.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
 }
 
+/// The noun phrases sites put into messages (what an operand is, what was
+/// expected), in Spanish; a value not listed is kept, except `a X`/`an X` with X
+/// a type name (`a BOOL` → `un BOOL`).
+pub const VALUES: &[(&str, &str)] = &[
+    ("a BOOL tag to write", "una variable BOOL que escribir"),
+    ("a TIMER tag", "una variable TIMER"),
+    ("a COUNTER tag", "una variable COUNTER"),
+    ("a TIMER or COUNTER tag", "una variable TIMER o COUNTER"),
+    (
+        "an integer preset (literal, `?` or integer tag)",
+        "una preselección entera (literal, `?` o variable entera)",
+    ),
+    ("an integer literal or `?`", "un literal entero o `?`"),
+    ("a number (tag or literal)", "un número (variable o literal)"),
+    ("a numeric tag to write", "una variable numérica que escribir"),
+    ("a PID tag", "una variable PID"),
+    ("something else", "otra cosa"),
+    ("a boolean literal", "un literal booleano"),
+    ("a REAL literal", "un literal REAL"),
+    ("an integer literal", "un literal entero"),
+    ("a number", "un número"),
+    ("an integer", "un entero"),
+];
+
+/// A value of a message in Spanish ([`VALUES`]).
+pub fn value(v: &str) -> String {
+    if let Some((_, es)) = VALUES.iter().find(|(en, _)| *en == v) {
+        return es.to_string();
+    }
+    let type_name = |t: &str| {
+        !t.is_empty()
+            && t.chars()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+    };
+    match v.strip_prefix("a ").or_else(|| v.strip_prefix("an ")) {
+        Some(t) if type_name(t) => format!("un {t}"),
+        _ => v.to_string(),
+    }
+}
+
+fn fill_values(template: &str, values: &[&str]) -> String {
+    let values: Vec<String> = values.iter().map(|v| value(v)).collect();
+    let refs: Vec<&str> = values.iter().map(String::as_str).collect();
+    crate::lang::fill(template, &refs)
+}
+
 /// The Spanish title of `code`, if the catalogue has it.
 pub fn title(code: Code) -> Option<&'static str> {
     TITLES.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
@@ -440,14 +525,14 @@ pub fn message(code: Code, message: &str) -> Option<String> {
     MESSAGES
         .iter()
         .filter(|(c, _, _)| *c == code)
-        .find_map(|(_, en, es)| crate::lang::match_template(en, message).map(|v| crate::lang::fill(es, &v)))
+        .find_map(|(_, en, es)| crate::lang::match_template(en, message).map(|v| fill_values(es, &v)))
 }
 
 /// A label or hint in Spanish, if the phrase book has it.
 pub fn phrase(text: &str) -> Option<String> {
     PHRASES
         .iter()
-        .find_map(|(en, es)| crate::lang::match_template(en, text).map(|v| crate::lang::fill(es, &v)))
+        .find_map(|(en, es)| crate::lang::match_template(en, text).map(|v| fill_values(es, &v)))
 }
 
 #[cfg(test)]
