@@ -2,6 +2,7 @@
 // status and the server's `{"error", "diagnostics"?}` body.
 import type { BoardIdentity, BuildSizes, HardwareJob, HardwareView, JobStarted, TestsReply, Verified, VerifyReply } from './api.gen';
 import type { Domain } from './domain';
+import { language } from './i18n';
 import type { Alarm, AlarmStats, Diagnostic, Force, History, HistoryNodes, Json, NetReset, OpcuaBrowse, Program, ProgramRef, RungJson, Status, TagInfo, TagUse, TrendSet } from './types';
 
 export class ApiError extends Error {
@@ -38,7 +39,8 @@ async function request(method: string, path: string, body?: unknown, contentType
   // has a JSON body (an empty object when there is nothing to say), since the
   // server refuses any other (a cross-site form or text/plain post) — except
   // tags.csv, whose text/csv also needs a preflight the server never grants.
-  const headers: Record<string, string> = {};
+  // The studio's language, not the browser's: the server words diagnostics in it (docs/i18n.md).
+  const headers: Record<string, string> = { 'Accept-Language': language() };
   const init: RequestInit = { method, headers, credentials: 'same-origin', signal };
   if (body === undefined && !SAFE.has(method)) body = {};
   if (body !== undefined) {
@@ -141,6 +143,7 @@ export const api = {
   ackAlarm: (id: string, comment: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/ack`, { comment }),
   shelveAlarm: (id: string, minutes: number, reason: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/shelve`, { minutes, reason }),
   unshelveAlarm: (id: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/unshelve`),
+  alarmOutOfService: (id: string, on: boolean, reason: string) => json<Alarm>('POST', `/api/alarms/${enc(id)}/out_of_service`, { on, reason }),
   force: (name: string, value: Json) => json<Force>('PUT', `/api/forces/${enc(name)}`, { value }),
   unforce: (name: string) => json<void>('DELETE', `/api/forces/${enc(name)}`),
   unforceAll: () => json<void>('DELETE', '/api/forces'),

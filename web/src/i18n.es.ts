@@ -712,4 +712,12 @@ export const es: Record<string, string> = {
   '{who} may not leave the kiosk: it needs the engineer role': '{who} no puede salir del quiosco: requiere el rol de ingeniero',
   // a trend's pens (hmi/animform.ts)
   'a tag and its colour, one pen a line': 'una etiqueta y su color, una pluma por línea',
+  'Not allowed': 'No permitido',
+  'F8: alarms on (faceplate)': 'F8: alarmas activadas (panel)',
+  'F9: alarms off (faceplate)': 'F9: alarmas desactivadas (panel)',
+  'F1 control · F3 auto/manual · F5 tank · F6 tank and trend · F8/F9 alarms on/off': 'F1 control · F3 auto/manual · F5 tanque · F6 tanque y tendencia · F8/F9 alarmas sí/no',
+  'Y maximum (Ctrl+F6)': 'Máximo del eje Y (Ctrl+F6)',
+  'Y minimum (Ctrl+F7)': 'Mínimo del eje Y (Ctrl+F7)',
+  'Time shown, in seconds (Ctrl+F8)': 'Tiempo mostrado, en segundos (Ctrl+F8)',
+  'Not a scale: the minimum must be below the maximum': 'No es una escala: el mínimo debe ser menor que el máximo',
 };

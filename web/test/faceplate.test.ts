@@ -94,3 +94,34 @@ describe('the PID faceplate at a glance (issue 30, item 23)', () => {
     expect(r.box.querySelectorAll('[data-testid="faceplate-trend-cv"] polyline').length).toBe(1);
   });
 });
+
+describe('the faceplate function keys (004 PID monitor)', () => {
+  const key = (k: string) => document.dispatchEvent(new KeyboardEvent('keydown', { key: k, bubbles: true }));
+  const parts = (box: HTMLElement) => [...box.querySelector('[data-testid="faceplate-show"]')!.children].map((c) => c.getAttribute('data-testid'));
+
+  it('F5 shows the tank, F6 the tank and the trend, F1 the control view', () => {
+    const r = rig({ MAN: false, PV: 50, MINS: 0, MAXS: 100 });
+    expect(parts(r.box)).toEqual(['faceplate-trend']);
+    key('F5');
+    expect(parts(r.box)).toEqual(['faceplate-tank']);
+    key('F6');
+    expect(parts(r.box)).toEqual(['faceplate-tank', 'faceplate-trend']);
+    key('F1');
+    expect(parts(r.box)).toEqual(['faceplate-trend']);
+  });
+
+  it('F3 switches auto/manual and the arrows move the manual output', async () => {
+    const r = rig({ MAN: false, CV: 40, MINO: 0, MAXO: 100 });
+    key('F3');
+    await vi.waitFor(() => expect(r.puts).toContainEqual(['/api/tags/Loop.MAN', true]));
+    r.live.store.apply(new Map([['Loop.MAN', true]]));
+    key('ArrowUp');
+    await vi.waitFor(() => expect(r.puts).toContainEqual(['/api/tags/Loop.CV', 41]));
+    // closed, the keys are the page's again
+    (r.box.querySelector('[data-testid="faceplate-close"]') as HTMLButtonElement).click();
+    const before = r.puts.length;
+    key('F3');
+    await new Promise((res) => setTimeout(res, 20));
+    expect(r.puts.length).toBe(before);
+  });
+});

@@ -205,6 +205,12 @@ fn core(model: Model, cache: &Path) -> Result<PathBuf, Diagnostic> {
 /// (`sketch.elf`, `sketch.hex`), with every warning an error, and checks
 /// flash and RAM against the board (E502 when it does not fit).
 pub fn build(sketch: &Path, model: Model, out: &Path) -> Result<Built, Diagnostic> {
+    build_with(sketch, model, out, &[])
+}
+
+/// [`build`] with more folders searched for `#include <…>`: an Arduino
+/// library's `src/` (the `PLC.h` library, `library/PLC/`).
+pub fn build_with(sketch: &Path, model: Model, out: &Path, includes: &[&Path]) -> Result<Built, Diagnostic> {
     let cache = cache_dir();
     std::fs::create_dir_all(&cache).map_err(|e| tool_error(format!("cannot create {}: {e}", cache.display())))?;
     std::fs::create_dir_all(out).map_err(|e| tool_error(format!("cannot create {}: {e}", out.display())))?;
@@ -215,6 +221,7 @@ pub fn build(sketch: &Path, model: Model, out: &Path) -> Result<Built, Diagnosti
             .args(common_flags(model))
             .args(CXX_FLAGS)
             .args(["-Werror", "-x", "c++", "-include", "Arduino.h", "-c"])
+            .args(includes.iter().map(|d| format!("-I{}", d.display())))
             .arg(sketch)
             .arg("-o")
             .arg(&obj),

@@ -32,8 +32,29 @@ use std::sync::Arc;
 #[derive(Parser)]
 #[command(name = "alba", version, about = "Alba: an open PLC and SCADA studio", long_about = None)]
 struct Cli {
+    /// The language of messages: en or es (default: LC_ALL, LC_MESSAGES or
+    /// LANG, else English).
+    #[arg(long, global = true, value_name = "LANG")]
+    lang: Option<String>,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The language asked for by `--lang X` or `--lang=X` among `args`, if any.
+fn lang_arg(args: &[String]) -> Option<&str> {
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        if a == "--" {
+            break;
+        }
+        if a == "--lang" {
+            return it.next().map(String::as_str);
+        }
+        if let Some(v) = a.strip_prefix("--lang=") {
+            return Some(v);
+        }
+    }
+    None
 }
 
 #[derive(Subcommand)]
@@ -448,6 +469,22 @@ enum Export {
 }
 
 fn main() -> ExitCode {
+    // The language first, so that even a refused command line is reported in it.
+    let args: Vec<String> = std::env::args().collect();
+    let lang = match lang_arg(&args) {
+        Some(l) => match alba_diag::Lang::parse(l) {
+            Some(l) => l,
+            None => {
+                eprintln!(
+                    "error[{}]: unknown language `{l}` for --lang: choose en or es",
+                    Code::BadArgument
+                );
+                return ExitCode::FAILURE;
+            }
+        },
+        None => alba_diag::Lang::from_env(),
+    };
+    alba_diag::set_language(lang);
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
@@ -464,7 +501,11 @@ fn main() -> ExitCode {
             // Bad command-line input is an input error like any other.
             let text = e.render().to_string();
             let text = text.strip_prefix("error: ").unwrap_or(&text);
-            eprint!("error[{}]: {text}", Code::BadArgument);
+            if lang == alba_diag::Lang::Es {
+                eprint!("error[{}]: {}: {text}", Code::BadArgument, es_title(Code::BadArgument));
+            } else {
+                eprint!("error[{}]: {text}", Code::BadArgument);
+            }
             return ExitCode::FAILURE;
         }
     };
@@ -753,11 +794,8 @@ fn main() -> ExitCode {
 fn report(diags: &[Diagnostic], files: &Files, short: bool) {
     let text = if short {
         let mut s: String = diags.iter().map(|d| d.short(files) + "\n").collect();
-        s.push_str(&format!(
-            "{} error{}\n",
-            diags.len(),
-            if diags.len() == 1 { "" } else { "s" }
-        ));
+        s.push_str(&alba_diag::error_count(diags.len()));
+        s.push('\n');
         s
     } else {
         render_all(diags, files)
@@ -797,24 +835,31 @@ fn check(dir: &Path, short: bool, ir: bool) -> ExitCode {
     }
     let rungs = program.rungs.len();
     let tags = program.layout.tags.len();
-    let n = |k: usize, what: &str| format!("{k} {what}{}", if k == 1 { "" } else { "s" });
+    // (English, Spanish singular, Spanish plural)
+    let es = alba_diag::language() == alba_diag::Lang::Es;
+    let n = |k: usize, what: (&str, &str, &str)| match (es, k) {
+        (false, 1) => format!("1 {}", what.0),
+        (false, k) => format!("{k} {}s", what.0),
+        (true, 1) => format!("1 {}", what.1),
+        (true, k) => format!("{k} {}", what.2),
+    };
     let alarms = if alarms > 0 {
-        format!(", {}", n(alarms, "alarm"))
+        format!(", {}", n(alarms, ("alarm", "alarma", "alarmas")))
     } else {
         String::new()
     };
     let screens = if screens > 0 {
-        format!(", {}", n(screens, "screen"))
+        format!(", {}", n(screens, ("screen", "pantalla", "pantallas")))
     } else {
         String::new()
     };
     eprintln!(
         "{}: ok ({}, {}, {}, {}{alarms}{screens})",
         dir.display(),
-        n(program.units.len(), "program"),
-        n(rungs, "rung"),
-        n(tags, "tag"),
-        n(program.ops.len(), "op")
+        n(program.units.len(), ("program", "programa", "programas")),
+        n(rungs, ("rung", "peldaño", "peldaños")),
+        n(tags, ("tag", "variable", "variables")),
+        n(program.ops.len(), ("op", "operación", "operaciones"))
     );
     ExitCode::SUCCESS
 }
@@ -1066,16 +1111,35 @@ fn print_summary(trace: &str, list: &str, to_stdout: bool) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// The Spanish title of `c` (the English one should the catalogue lack it,
+/// which alba-diag's tests forbid).
+fn es_title(c: Code) -> &'static str {
+    alba_diag::es::title(c).unwrap_or(c.title())
+}
+
 fn explain(code: &str) -> ExitCode {
     match code.parse::<Code>() {
+        Ok(c) if alba_diag::language() == alba_diag::Lang::Es => {
+            // The Spanish explanation where the catalogue has one, else the English one.
+            match alba_diag::es::explanation(c) {
+                Some(e) => println!("{c}: {}\n\n{e}", es_title(c)),
+                None => println!("{c}: {}\n\n(en inglés) {}", es_title(c), c.explanation()),
+            }
+            ExitCode::SUCCESS
+        }
         Ok(c) => {
             println!("{c}: {}\n\n{}", c.title(), c.explanation());
             ExitCode::SUCCESS
         }
         Err(()) => {
-            eprintln!("error: unknown code `{code}`; codes are:");
+            let es = alba_diag::language() == alba_diag::Lang::Es;
+            if es {
+                eprintln!("error: código desconocido `{code}`; los códigos son:");
+            } else {
+                eprintln!("error: unknown code `{code}`; codes are:");
+            }
             for c in Code::ALL {
-                eprintln!("  {c}  {}", c.title());
+                eprintln!("  {c}  {}", if es { es_title(*c) } else { c.title() });
             }
             ExitCode::FAILURE
         }

@@ -10,11 +10,14 @@
 //! depends on nothing of Alba.
 
 pub mod codes;
+pub mod es;
+pub mod lang;
 
 pub use codes::Code;
 use codespan_reporting::diagnostic as cs;
 use codespan_reporting::files::SimpleFiles;
 use codespan_reporting::term;
+pub use lang::{Lang, language, set_language};
 use std::fmt;
 use std::ops::Range;
 
@@ -192,8 +195,48 @@ impl Diagnostic {
         self
     }
 
-    /// `file:line:col: error[CODE]: message` (no source excerpt).
+    /// This diagnostic in `lang`: in Spanish, the message by the code's
+    /// template in [`es::MESSAGES`], else `título: English message`; labels
+    /// and help by [`es::PHRASES`], else as they are. English is as built.
+    pub fn localized(&self, lang: Lang) -> Diagnostic {
+        match lang {
+            Lang::En => self.clone(),
+            Lang::Es => {
+                let phrase = |t: &str| es::phrase(t).unwrap_or_else(|| t.to_string());
+                let message = es::message(self.code, &self.message).unwrap_or_else(|| match es::title(self.code) {
+                    Some(t) => format!("{t}: {}", self.message),
+                    None => self.message.clone(),
+                });
+                let label = |l: &Label| Label {
+                    span: l.span,
+                    message: phrase(&l.message),
+                };
+                Diagnostic {
+                    code: self.code,
+                    message,
+                    primary: self.primary.as_ref().map(label),
+                    secondary: self.secondary.iter().map(label).collect(),
+                    help: self.help.as_deref().map(phrase),
+                }
+            }
+        }
+    }
+
+    /// `file:line:col: error[CODE]: message` (no source excerpt), in the
+    /// process's [`language`].
     pub fn short(&self, files: &Files) -> String {
+        self.short_in(files, language())
+    }
+
+    /// [`Diagnostic::short`] in `lang`.
+    pub fn short_in(&self, files: &Files, lang: Lang) -> String {
+        match lang {
+            Lang::En => self.short_as_built(files),
+            _ => self.localized(lang).short_as_built(files),
+        }
+    }
+
+    fn short_as_built(&self, files: &Files) -> String {
         match &self.primary {
             Some(l) => {
                 let (line, col) = files.line_col(l.span.file, l.span.start as usize);
@@ -212,16 +255,28 @@ impl Diagnostic {
 
     /// The full form with a source excerpt, for terminals and logs.
     pub fn render(&self, files: &Files) -> String {
-        self.render_as(files, cs::Severity::Error)
+        self.render_in(files, language())
+    }
+
+    /// [`Diagnostic::render`] in `lang`.
+    pub fn render_in(&self, files: &Files, lang: Lang) -> String {
+        self.render_as(files, cs::Severity::Error, lang)
     }
 
     /// [`Diagnostic::render`] headed `warning[CODE]`: for the few problems
     /// that do not stop a project (a deprecated setting).
     pub fn render_warning(&self, files: &Files) -> String {
-        self.render_as(files, cs::Severity::Warning)
+        self.render_as(files, cs::Severity::Warning, language())
     }
 
-    fn render_as(&self, files: &Files, severity: cs::Severity) -> String {
+    fn render_as(&self, files: &Files, severity: cs::Severity, lang: Lang) -> String {
+        match lang {
+            Lang::En => self.render_as_built(files, severity, "help"),
+            Lang::Es => self.localized(lang).render_as_built(files, severity, "ayuda"),
+        }
+    }
+
+    fn render_as_built(&self, files: &Files, severity: cs::Severity, help_word: &str) -> String {
         let mut db = SimpleFiles::new();
         for (name, text) in &files.files {
             db.add(name.as_str(), text.as_str());
@@ -238,19 +293,23 @@ impl Diagnostic {
             .with_message(&self.message)
             .with_labels(labels);
         if let Some(h) = &self.help {
-            d = d.with_notes(vec![format!("help: {h}")]);
+            d = d.with_notes(vec![format!("{help_word}: {h}")]);
         }
         let config = term::Config::default();
         match term::emit_into_string(&config, &db, &d) {
             Ok(s) => s,
             // A span outside its file is a bug of ours; still say what we know.
-            Err(_) => format!("{}\n", self.short(files)),
+            Err(_) => format!("{}\n", self.short_as_built(files)),
         }
     }
 }
 
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if language() != Lang::En {
+            let d = self.localized(language());
+            return write!(f, "error[{}]: {}", d.code, d.message);
+        }
         write!(f, "error[{}]: {}", self.code, self.message)
     }
 }
@@ -262,10 +321,20 @@ pub fn render_all(diags: &[Diagnostic], files: &Files) -> String {
         out.push_str(&d.render(files));
     }
     if !diags.is_empty() {
-        let n = diags.len();
-        out.push_str(&format!("{n} error{}\n", if n == 1 { "" } else { "s" }));
+        out.push_str(&error_count(diags.len()));
+        out.push('\n');
     }
     out
+}
+
+/// `1 error`, `2 errors` (`2 errores` in Spanish), in the process's
+/// [`language`].
+pub fn error_count(n: usize) -> String {
+    match (language(), n) {
+        (_, 1) => "1 error".to_string(),
+        (Lang::Es, n) => format!("{n} errores"),
+        (Lang::En, n) => format!("{n} errors"),
+    }
 }
 
 #[cfg(test)]
@@ -316,5 +385,32 @@ mod tests {
         let full = d.render(&files);
         assert!(full.contains("main.lad:2:5"), "{full}");
         assert!(full.contains("^^^^^ here"), "{full}");
+    }
+
+    #[test]
+    fn spanish_rendering_translates_message_label_and_help() {
+        let mut files = Files::new();
+        let f = files.add("main.lad", "XIC(a)\nOTE(Strat);\n");
+        let d = Diagnostic::new(Code::UnknownTag, "unknown tag `Strat`", Span::new(f, 11..16), "here")
+            .with_help("did you mean `Start`?");
+        assert_eq!(
+            d.short_in(&files, Lang::Es),
+            "main.lad:2:5: error[E301]: variable desconocida `Strat`"
+        );
+        let full = d.render_in(&files, Lang::Es);
+        assert!(full.contains("^^^^^ aquí"), "{full}");
+        assert!(full.contains("= ayuda: ¿quiso decir `Start`?"), "{full}");
+        // English stays as built.
+        assert_eq!(d.localized(Lang::En), d);
+        assert!(d.render_in(&files, Lang::En).contains("help: did you mean `Start`?"));
+    }
+
+    #[test]
+    fn a_message_without_template_keeps_its_english_behind_the_spanish_title() {
+        let d = Diagnostic::unplaced(Code::Toolchain, "avr-gcc exited with status 1");
+        assert_eq!(
+            d.localized(Lang::Es).message,
+            "no se pudo compilar o cargar el firmware: avr-gcc exited with status 1"
+        );
     }
 }

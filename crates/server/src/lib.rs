@@ -29,6 +29,7 @@ pub mod error;
 mod gate;
 pub mod guard;
 pub mod hardware;
+mod lang;
 pub mod project;
 pub mod reply;
 mod state;
@@ -190,6 +191,7 @@ pub fn router(state: Arc<AppState>) -> Router {
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::session))
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::timeout))
         .layer(axum::middleware::from_fn_with_state(state.clone(), gate::guard))
+        .layer(axum::middleware::from_fn(lang::language))
         .with_state(state)
 }
 

@@ -170,7 +170,16 @@ pub fn language(l: Language) -> reply::Language {
 }
 
 /// A diagnostic as the API shows it (docs/api.md).
+/// Worded in the request's language (`Accept-Language`, [`crate::lang`]).
 pub fn diagnostic_json(d: &Diagnostic, files: &Files) -> reply::Diagnostic {
+    let lang = crate::lang::request_lang();
+    let localized;
+    let d = if lang == alba_compiler::diag::Lang::En {
+        d
+    } else {
+        localized = d.localized(lang);
+        &localized
+    };
     let place = d.primary.as_ref().map(|l| {
         let s = l.span;
         let (line, col) = files.line_col(s.file, s.start as usize);

@@ -9,7 +9,8 @@
 // and data-last-t (time of the last live sample), data-axes (the pens of each
 // y axis) and data-lanes (the on/off pens) for end-to-end tests. With a
 // shared historian, pens may plot tags other nodes recorded (pens.ts): from
-// their history, read again every 2 s while live.
+// their history, read again every 2 s while live. Ctrl+F6/F7/F8 set the Y
+// maximum, the Y minimum and the time shown, as the 004 PID monitor's keys (ui/fkeys.ts).
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
 import { ApiError, api } from '../api';
@@ -21,6 +22,7 @@ import type { History, TrendPen } from '../types';
 import { type PenSpec, aboveLanes, axesInUse, clampToNow, fixedRange, fromLane, laneRange, lanesOf, lanesTop, scaleOf, timeLabels, timeSpace, toLane } from './axes';
 import { PenLog, alignLogs, exportStep, historyFailure, historySamples, joinHistories, mergeBackfill, plotValue } from './history';
 import { trendCsv } from './csv';
+import { trendKey, windowMs, withYLimit } from '../ui/fkeys';
 import { type PenRef, REMOTE_REFRESH_MS, liveTags, newPen, parsePen, penId, penKey, remotePens } from './pens';
 import { dateTime, tr, when } from '../i18n';
 
@@ -101,6 +103,13 @@ export class TrendsView {
       /* ignore */
     }
     this.penInput.addEventListener('keydown', (e) => e.key === 'Enter' && this.addPen(this.penInput.value));
+    // the 004 monitor's keys while the trends are shown: Ctrl+F6 Y max, Ctrl+F7 Y min, Ctrl+F8 the time shown
+    document.addEventListener('keydown', (e) => {
+      const a = trendKey(e);
+      if (!a || !this.el.isConnected || this.el.offsetParent === null) return;
+      e.preventDefault();
+      this.onFunctionKey(a);
+    });
     const windowSel = h(
       'select',
       { 'data-testid': 'trend-window', onchange: (e: Event) => this.setWindow(Number((e.target as HTMLSelectElement).value)) },
@@ -385,6 +394,29 @@ export class TrendsView {
     else s = `${dateTime(this.mode.from)} – ${when(this.mode.to, this.mode.from)}`;
     if (this.historyAvailable === false) s += ` · ${tr('history not available on this server (live buffer only)')}`;
     this.statusEl.textContent = s;
+  }
+
+  /** Ctrl+F6/F7: one bound of the first axis's scale (its other bound kept); Ctrl+F8: the live window. */
+  private onFunctionKey(a: 'y-max' | 'y-min' | 'window'): void {
+    if (a === 'window') {
+      const ms = windowMs(window.prompt(tr('Time shown, in seconds (Ctrl+F8)'), String(this.windowMs / 1000)) ?? '');
+      if (ms !== null) this.setWindow(ms);
+      return;
+    }
+    const specs = this.specs();
+    const mine = this.pens.filter((_, k) => scaleOf(specs[k]) === 'y1');
+    if (!mine.length) return;
+    const sc = this.plot?.scales.y1;
+    const shown: [number, number] = [sc?.min ?? 0, sc?.max ?? 100];
+    const which = a === 'y-max' ? 'max' : 'min';
+    const text = window.prompt(a === 'y-max' ? tr('Y maximum (Ctrl+F6)') : tr('Y minimum (Ctrl+F7)'), String(which === 'max' ? shown[1] : shown[0]));
+    if (text === null) return;
+    const changed = withYLimit(mine, which, Number(text.trim().replace(',', '.')), shown);
+    if (!changed) return this.ctx.notify(tr('Not a scale: the minimum must be below the maximum'), 'error');
+    this.pens = this.pens.map((p) => changed.find((c) => penId(c) === penId(p)) ?? p);
+    this.renderPens();
+    this.rebuild();
+    this.scheduleSave();
   }
 
   private setWindow(ms: number): void {

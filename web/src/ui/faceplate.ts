@@ -7,13 +7,17 @@
 // of the program and its plant models (POST /api/pid/{name}/autotune), whose
 // rules' gains an engineer applies with one click. Opened from a PID tag's
 // row or a faceplate element of a screen. Every change is a tag write
-// through the API, like everywhere.
+// through the API, like everywhere. The function keys of the source's PID
+// monitor (fkeys.ts): F1 the control view, F3 auto/manual, ↑ ↓ the manual
+// output, F5 the tank alone, F6 tank and trend, F8/F9 the loop's alarms in
+// and out of service.
 import { api } from '../api';
 import { can, why } from '../auth';
 import type { Ctx } from '../ctx';
 import { fmt, h, s } from '../dom';
 import { tr } from '../i18n';
 import type { Json } from '../types';
+import { type FaceplateAction, faceplateKey, faceplateParts, tankFill } from './fkeys';
 
 const POINTS = 120;
 const BITS = ['MAN', 'UL', 'LL', 'SPOR', 'PVOR', 'INDB'];
@@ -43,6 +47,18 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
     panel(2, PV_H, 'faceplate-trend-pv', lines.SP, lines.PV),
     panel(2 + PV_H + GAP, CV_H, 'faceplate-trend-cv', lines.CV),
     Object.values(scale));
+  // F5/F6: the PV as a tank's level on its scale (MINS–MAXS), beside or instead of the trend
+  const [TW, TH] = [60, PV_H + GAP + CV_H];
+  const water = s('rect', { x: 6, width: TW - 12, y: TH, height: 0, fill: '#5dade2', 'data-testid': 'faceplate-tank-level' });
+  const tank = s('svg', { width: TW, height: TH + 4, viewBox: `0 0 ${TW} ${TH + 4}`, class: 'faceplate-tank', 'data-testid': 'faceplate-tank' },
+    water, s('rect', { x: 6, y: 2, width: TW - 12, height: TH - 2, fill: 'none', stroke: '#5f6368', 'stroke-width': 2 }));
+  const show = h('div', { class: 'fp-show', 'data-testid': 'faceplate-show' });
+  const setView = (view: 'control' | 'tank' | 'combined') => {
+    const parts = faceplateParts(view);
+    show.dataset.view = view;
+    show.replaceChildren(...(parts.tank ? [tank] : []), ...(parts.trend ? [trend] : []));
+  };
+  setView('control');
   const value = (m: string) => h('span', { class: 'fp-value', 'data-testid': `faceplate-${m}` }, '…');
   const values = { SP: value('SP'), PV: value('PV'), CV: value('CV') };
   const spIn = h('input', { type: 'number', step: 'any', 'data-testid': 'faceplate-sp-input', disabled: !can('write'), title: why('write') ?? tr('A new setpoint (Enter)') });
@@ -79,8 +95,17 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
   showGains();
   const bits = h('div', { class: 'fp-bits' }, BITS.map((b) => h('span', { class: 'fp-bit', 'data-testid': `faceplate-bit-${b}` }, b)));
   const alarms = h('div', { class: 'fp-alarms', 'data-testid': 'faceplate-alarms' });
+  const myAlarms = async () => (await api.alarms().catch(() => [])).filter((a) => a.tag === tag || a.tag.startsWith(`${tag}.`));
+  // F8/F9: every alarm of the loop back in service, or out of service (engineers)
+  const alarmsInService = async (on: boolean) => {
+    if (!can('edit')) return ctx.notify(why('edit') ?? tr('Not allowed'), 'error');
+    for (const a of await myAlarms()) {
+      await api.alarmOutOfService(a.id, !on, on ? tr('F8: alarms on (faceplate)') : tr('F9: alarms off (faceplate)')).catch((e) => ctx.notify(e instanceof Error ? e.message : String(e), 'error'));
+    }
+    void showAlarms();
+  };
   const showAlarms = async () => {
-    const mine = (await api.alarms().catch(() => [])).filter((a) => a.tag === tag || a.tag.startsWith(`${tag}.`));
+    const mine = await myAlarms();
     alarms.replaceChildren(...mine.map((a) => h('span', { class: `fp-alarm ${a.state}`, 'data-testid': `faceplate-alarm-${a.id}`, title: a.message }, `${a.id}: ${a.state.replace('_', ' ')}`)));
   };
   void showAlarms();
@@ -91,7 +116,8 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
     h('div', { class: 'modal-box faceplate' },
       h('h2', null, tag),
       h('p', { class: 'hint fp-what', 'data-testid': 'faceplate-what' }, ctx.tags?.list.find((t) => t.name.toUpperCase() === tag.toUpperCase())?.description || tr('PID loop')),
-      trend,
+      show,
+      h('p', { class: 'hint fp-keys' }, tr('F1 control · F3 auto/manual · F5 tank · F6 tank and trend · F8/F9 alarms on/off')),
       h('div', { class: 'fp-values' },
         h('span', { class: 'fp-sp' }, 'SP ', values.SP), h('span', { class: 'fp-pv' }, 'PV ', values.PV), h('span', { class: 'fp-cv' }, 'CV ', values.CV)),
       h('div', { class: 'fp-row' }, h('label', null, tr('Setpoint'), ' ', spIn), manual, down, up),
@@ -115,6 +141,9 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
     for (const k of ['SP', 'PV'] as const) lines[k].setAttribute('points', polyline(hist[k], PW, PV_H, lo, hi));
     const [clo, chi] = [Math.min(num('MINO'), ...hist.CV), Math.max(num('MAXO') || 100, ...hist.CV)];
     lines.CV.setAttribute('points', polyline(hist.CV, PW, CV_H, clo, chi));
+    const f = tankFill(num('PV'), lo, hi);
+    water.setAttribute('y', String(TH - f * (TH - 2)));
+    water.setAttribute('height', String(f * (TH - 2)));
     const label = (t: SVGElement, text: string) => t.textContent !== text && (t.textContent = text);
     label(scale.pvHi, fmt(hi));
     label(scale.pvLo, fmt(lo));
@@ -132,6 +161,27 @@ export function openFaceplate(ctx: Ctx, tag: string): HTMLElement {
   unwatch.push(store.watch(`${tag}.MAN`, showMode));
   showMode();
   for (const b of BITS) unwatch.push(store.watch(`${tag}.${b}`, (v) => box.querySelector(`[data-testid="faceplate-bit-${b}"]`)?.classList.toggle('on', v === true)));
+  const act: Record<FaceplateAction, () => void> = {
+    control: () => setView('control'),
+    tank: () => setView('tank'),
+    combined: () => setView('combined'),
+    mode: () => !manual.disabled && manual.click(),
+    up: () => !up.disabled && up.click(),
+    down: () => !down.disabled && down.click(),
+    'alarms-on': () => void alarmsInService(true),
+    'alarms-off': () => void alarmsInService(false),
+  };
+  const onKey = (e: KeyboardEvent) => {
+    // a faceplate removed without Close (the page replaced) lets go of the keys
+    if (!box.isConnected) return document.removeEventListener('keydown', onKey);
+    const a = faceplateKey(e);
+    // arrows in a number box keep their own meaning
+    if (!a || ((a === 'up' || a === 'down') && e.target instanceof HTMLInputElement)) return;
+    e.preventDefault();
+    act[a]();
+  };
+  document.addEventListener('keydown', onKey);
+  unwatch.push(() => document.removeEventListener('keydown', onKey));
   // what the faceplate shows, subscribed while it is open
   ctx.live.subscribe('faceplate', [tag]);
   close.onclick = () => {

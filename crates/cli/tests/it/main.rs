@@ -12,6 +12,7 @@ mod export;
 mod firmware;
 mod historian;
 mod import;
+mod lang;
 mod listen;
 mod malformed;
 mod modbus_listen;
@@ -27,8 +28,26 @@ pub fn alba(cwd: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_alba"))
         .args(args)
         .current_dir(cwd)
+        // English whatever the machine's locale: the tests compare messages.
+        .env_remove("LC_ALL")
+        .env_remove("LC_MESSAGES")
+        .env_remove("LANG")
         .output()
         .expect("alba runs")
+}
+
+/// Runs `alba` with `args` in `cwd` and the environment variables `env`.
+pub fn alba_env(cwd: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_alba"));
+    c.args(args)
+        .current_dir(cwd)
+        .env_remove("LC_ALL")
+        .env_remove("LC_MESSAGES")
+        .env_remove("LANG");
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("alba runs")
 }
 
 pub fn repo() -> PathBuf {

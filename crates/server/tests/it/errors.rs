@@ -143,6 +143,39 @@ async fn status_422_invalid_value_or_program() {
     s.stop().await;
 }
 
+/// A refused program save answers in the request's language (issue 34
+/// point 11): Spanish for `Accept-Language: es`, English otherwise.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_refused_save_speaks_the_requests_language() {
+    let s = Server::start("tank", "e422-es").await;
+    let send = |lang: Option<&'static str>| {
+        let mut req = s
+            .http
+            .request(Method::PUT, s.url("/api/programs/main.lad"))
+            .json(&json!({"text": "XIC(Strat)OTE(Llenar);\n"}));
+        if let Some(l) = lang {
+            req = req.header("accept-language", l);
+        }
+        async move {
+            let res = req.send().await.expect("request");
+            let vary = res.headers().get("vary").map(|v| v.to_str().unwrap_or("").to_string());
+            let (code, j) = Server::answer(res).await;
+            (code, j, vary.unwrap_or_default())
+        }
+    };
+    let (code, j, vary) = send(Some("es-ES,es;q=0.9,en;q=0.8")).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    let d = &j["diagnostics"][0];
+    assert_eq!(d["code"], "E301", "{j}");
+    assert_eq!(d["message"], "variable desconocida `Strat`", "{j}");
+    assert!(vary.to_ascii_lowercase().contains("accept-language"), "{vary}");
+    let (_, j, _) = send(None).await;
+    assert_eq!(j["diagnostics"][0]["message"], "unknown tag `Strat`", "{j}");
+    let (_, j, _) = send(Some("de, en;q=0.5")).await;
+    assert_eq!(j["diagnostics"][0]["message"], "unknown tag `Strat`", "{j}");
+    s.stop().await;
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn status_503_runtime_not_running() {
     let (s, runtime) = serve("tank", "e503", Box::new(alba_runtime::SimIo)).await;
