@@ -435,7 +435,11 @@ pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnos
     for (k, p) in net.places.iter().enumerate() {
         let bad = |msg: String| Diagnostic::new(Code::NetPlaceTag, msg, p.span, "place");
         // a State's constant (`003_…`); other kinds (a Variable's DefineTarget) read `value` themselves
-        let own = if p.kind == ElementKind::State { p.props.get("value") } else { None };
+        let own = if p.kind == ElementKind::State {
+            p.props.get("value")
+        } else {
+            None
+        };
         let value = match own.map(|v| v.trim()) {
             None => None,
             Some(v) => match Literal::parse(v) {
