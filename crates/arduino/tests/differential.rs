@@ -353,7 +353,7 @@ fn own_stimulus(name: &str) -> Option<(String, u64, u64)> {
 }
 
 /// The examples the board runs (the PID ones are refused, E501): all the others.
-const BOARD_EXAMPLES: [&str; 14] = [
+const BOARD_EXAMPLES: [&str; 15] = [
     "start-stop",
     "traffic-light",
     "star-delta",
@@ -375,6 +375,10 @@ const BOARD_EXAMPLES: [&str; 14] = [
     "plc8051-latch",
     "plc8051-pulse-relay",
     "plc8051-tank",
+    // The 004 source's plants without a compensator: the control program (the errors)
+    // runs on the board; the plants are the host's models, so its own stimulus (the
+    // set point step for the plants) is not replayed on the pins.
+    "uncompensated",
 ];
 
 /// Every example runs on the board (the differential tests below) or is
@@ -414,8 +418,8 @@ fn examples_run_the_same_on_the_uno() {
     }
     for name in BOARD_EXAMPLES {
         let case = example(name);
-        if let Some((stim, until, every)) =
-            own_stimulus(name).filter(|_| !name.contains("plant") && name != "festo-station")
+        if let Some((stim, until, every)) = own_stimulus(name)
+            .filter(|_| !name.contains("plant") && !["festo-station", "uncompensated"].contains(&name))
         {
             check(&case, Model::Uno, Some(&stim), until, every, 0);
         }
