@@ -33,14 +33,25 @@ export class TagCache {
     this.set(tags, forces);
   }
 
-  /** Uses these tags and forces (as GET /api/tags and /api/forces answer). */
+  /** The last list's tags and forces without their values: a refresh that changes nothing else redraws nothing. */
+  private shape = '';
+
+  /**
+   * Uses these tags and forces (as GET /api/tags and /api/forces answer). The
+   * listeners hear of it only when more than the values changed: the live
+   * values come over the WebSocket, and a view redrawn for nothing loses the
+   * row under the user's finger (a long press) or the cell being watched.
+   */
   set(tags: TagInfo[], forces: Force[] = []): void {
+    const shape = JSON.stringify([tags.map(({ value: _v, ...rest }) => rest), forces]);
+    const changed = shape !== this.shape;
+    this.shape = shape;
     this.list = tags;
     this.byName = new Map(tags.map((t) => [t.name.toUpperCase(), t]));
     // every notation of each tag's address (DI:1/5, %IX0.5, I0.5 …), as the server lists them
     this.byAddr = new Map(tags.flatMap((t) => [t.address ?? '', ...(t.notations ?? [])].filter(Boolean).map((a) => [addressKey(a), t])));
     this.forced = new Map(forces.map((f) => [f.name.toUpperCase(), f.value]));
-    this.listeners.forEach((f) => f());
+    if (changed) this.listeners.forEach((f) => f());
   }
 
   async refreshForces(): Promise<void> {

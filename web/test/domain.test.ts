@@ -172,3 +172,19 @@ describe('a PID box', () => {
     v.svg.remove();
   });
 });
+
+describe('the tag cache', () => {
+  it('tells its listeners when more than the values changed, not otherwise', () => {
+    const tags = new TagCache();
+    let heard = 0;
+    tags.onChange(() => heard++);
+    const tag = (value: number, description = '') => ({ name: 'Level', type: 'REAL', address: null, notations: [], description, retain: false, access: 'readwrite' as const, value, forced: null });
+    tags.set([tag(1)]);
+    // a refresh that only brings new values redraws nothing (a long press keeps its row)
+    tags.set([tag(2)]);
+    expect([heard, tags.get('level')?.value]).toEqual([1, 2]);
+    tags.set([tag(2, 'the tank')]);
+    tags.set([tag(2, 'the tank')], [{ name: 'Level', value: 5 }]);
+    expect(heard).toBe(3);
+  });
+});
