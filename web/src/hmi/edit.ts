@@ -161,7 +161,7 @@ export function symbolOf(els: Element[]): Screen {
 export function animationDefaults(kind: string): Record<string, unknown> {
   switch (kind) {
     case 'blink':
-      return { period_ms: 500 };
+      return { on_ms: 500, off_ms: 500 };
     case 'move':
       return { min: 0, max: 100, dx: 100, dy: 0 };
     case 'rotate':
