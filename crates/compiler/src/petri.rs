@@ -464,12 +464,21 @@ pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnos
             continue;
         };
         match b.layout().resolve(tag) {
+            // a number with the place's `value`, or a BOOL without one: written while marked
             Ok(Target::Value { place, access })
-                if value.is_some() && place.data_type() != DataType::Bool && place.data_type().is_numeric() =>
+                if match value {
+                    Some(_) => place.data_type() != DataType::Bool && place.data_type().is_numeric(),
+                    None => place.data_type() == DataType::Bool,
+                } =>
             {
+                let (verb, what) = if value.is_some() {
+                    ("write", "a tag to write")
+                } else {
+                    ("drive", "a BOOL")
+                };
                 if access != Access::ReadWrite {
                     diags.push(bad(format!(
-                        "place `{}` cannot write `{tag}`: {}",
+                        "place `{}` cannot {verb} `{tag}`: {}",
                         p.id,
                         access.why_not_writable()
                     )));
@@ -478,7 +487,7 @@ pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnos
                     .iter()
                     .any(|q| marking_tag(name, &q.id).eq_ignore_ascii_case(tag))
                 {
-                    diags.push(bad(format!("`{tag}` is a marking, not a tag to write")));
+                    diags.push(bad(format!("`{tag}` is a marking, not {what}")));
                 } else {
                     drives.push(Drive {
                         place: k,
@@ -495,27 +504,6 @@ pub(crate) fn drives(net: &Net, name: &str, b: &Builder, diags: &mut Vec<Diagnos
                 ))
                 .with_help("a BOOL tag is true while the place is marked: leave the `value` out"),
             ),
-            Ok(Target::Value { place, access }) if place.data_type() == DataType::Bool => {
-                if access != Access::ReadWrite {
-                    diags.push(bad(format!(
-                        "place `{}` cannot drive `{tag}`: {}",
-                        p.id,
-                        access.why_not_writable()
-                    )));
-                } else if net
-                    .places
-                    .iter()
-                    .any(|q| marking_tag(name, &q.id).eq_ignore_ascii_case(tag))
-                {
-                    diags.push(bad(format!("`{tag}` is a marking, not a BOOL")));
-                } else {
-                    drives.push(Drive {
-                        place: k,
-                        dest: place,
-                        value: None,
-                    });
-                }
-            }
             Ok(Target::Value { place, .. }) => diags.push(
                 bad(format!(
                     "place `{}` drives `{tag}`, which is {}, not a BOOL",
