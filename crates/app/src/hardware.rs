@@ -24,7 +24,7 @@ use alba_server::reply::{
     PinRow, SerialPortInfo, Verified,
 };
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -357,7 +357,7 @@ pub fn pin_table(c: &Compiled, model: Model, map: &PinMap) -> Vec<PinRow> {
 struct Job {
     view: HardwareJob,
     /// Asked to stop: the download drops at the next record.
-    cancel: Arc<std::sync::atomic::AtomicBool>,
+    cancel: Arc<AtomicBool>,
 }
 
 /// The hardware service of `alba run` for the project in `dir`.
@@ -546,7 +546,7 @@ fn firmware(dir: &Path, model: Model, kind: &str) -> Result<toolchain::Built, Ha
 fn avrdude(
     built: &toolchain::Built,
     port: &str,
-    cancel: &std::sync::atomic::AtomicBool,
+    cancel: &AtomicBool,
     mut progress: impl FnMut(u8),
 ) -> Result<(), HardwareError> {
     use std::io::Read;
@@ -669,10 +669,6 @@ impl Service {
         alba_load::compile_dir(&self.dir)
     }
 
-    fn start_job(&self, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
-        self.start_job_of("download", port)
-    }
-
     fn start_job_of(&self, kind: &str, port: &str) -> Result<Arc<Mutex<Job>>, HardwareError> {
         self.not_attached(port)?;
         let mut jobs = lock(&self.jobs);
@@ -697,11 +693,55 @@ impl Service {
                 message: "compiling the project".into(),
                 started_ms: alba_server::now_ms(),
             },
-            cancel: Arc::new(std::sync::atomic::AtomicBool::new(false)),
+            cancel: Arc::new(AtomicBool::new(false)),
         }));
         jobs.insert(0, job.clone());
         jobs.truncate(KEPT_JOBS);
         Ok(job)
+    }
+
+    /// Runs `work` as a job of `kind` on `port` in its own thread and returns
+    /// the job's id: `work` reports progress through `set(progress, message)`,
+    /// watches `cancel`, and ends with the final message (done) or the failure
+    /// in words (failed).
+    fn spawn_job<F>(&self, kind: &str, port: &str, work: F) -> Result<String, HardwareError>
+    where
+        F: FnOnce(&dyn Fn(Option<u8>, String), &AtomicBool) -> Result<String, String> + Send + 'static,
+    {
+        let job = self.start_job_of(kind, port)?;
+        self.remember(port);
+        let (id, cancel) = {
+            let j = lock(&job);
+            (j.view.id.clone(), j.cancel.clone())
+        };
+        let spawned = std::thread::Builder::new()
+            .name(format!("alba-{kind}-{id}"))
+            .spawn(move || {
+                let set = |progress: Option<u8>, message: String| {
+                    let mut j = lock(&job);
+                    if let Some(p) = progress {
+                        j.view.progress = p;
+                    }
+                    j.view.message = message;
+                };
+                let result = work(&set, &cancel);
+                let mut j = lock(&job);
+                match result {
+                    Ok(message) => {
+                        j.view.state = JobState::Done;
+                        j.view.progress = 100;
+                        j.view.message = message;
+                    }
+                    Err(message) => {
+                        j.view.state = JobState::Failed;
+                        j.view.message = message;
+                    }
+                }
+            });
+        match spawned {
+            Ok(_) => Ok(id),
+            Err(e) => Err(HardwareError::Failed(format!("cannot start the {kind}: {e}"))),
+        }
     }
 }
 
@@ -845,113 +885,58 @@ impl Hardware for Service {
         let model = model_of(board)?;
         kind_of(kind)?;
         let port = port_path(port)?;
-        let job = self.start_job_of("upload", &port)?;
-        self.remember(&port);
-        let (id, cancel) = {
-            let j = lock(&job);
-            (j.view.id.clone(), j.cancel.clone())
-        };
         let (dir, building, kind) = (self.dir.clone(), self.building.clone(), kind.to_string());
-        let spawned = std::thread::Builder::new()
-            .name(format!("alba-upload-{id}"))
-            .spawn(move || {
-                let set = |progress: Option<u8>, message: String| {
-                    let mut j = lock(&job);
-                    if let Some(p) = progress {
-                        j.view.progress = p;
-                    }
-                    j.view.message = message;
-                };
-                set(
-                    Some(0),
-                    format!(
-                        "building the {} for the {} with avr-gcc",
-                        kind_words(&kind),
-                        model.title()
-                    ),
-                );
-                let built = {
-                    let _one = lock(&building);
-                    firmware(&dir, model, &kind)
-                };
-                let result = built.and_then(|b| {
+        self.spawn_job("upload", &port.clone(), move |set, cancel| {
+            set(
+                Some(0),
+                format!(
+                    "building the {} for the {} with avr-gcc",
+                    kind_words(&kind),
+                    model.title()
+                ),
+            );
+            let built = {
+                let _one = lock(&building);
+                firmware(&dir, model, &kind)
+            };
+            built
+                .and_then(|b| {
                     set(Some(10), format!("uploading with avrdude ({})", b.report()));
-                    avrdude(&b, &port, &cancel, |p| {
+                    avrdude(&b, &port, cancel, |p| {
                         set(Some(p), format!("uploading with avrdude: {p} %"))
                     })
                     .map(|()| b)
-                });
-                let mut j = lock(&job);
-                match result {
-                    Ok(b) => {
-                        j.view.state = JobState::Done;
-                        j.view.progress = 100;
-                        j.view.message = format!("uploaded the {} to {port}: {}", kind_words(&kind), b.report());
-                    }
-                    Err(e) => {
-                        j.view.state = JobState::Failed;
-                        j.view.message = format!("not uploaded: {e}");
-                    }
-                }
-            });
-        if let Err(e) = spawned {
-            return Err(HardwareError::Failed(format!("cannot start the upload: {e}")));
-        }
-        Ok(id)
+                })
+                .map(|b| format!("uploaded the {} to {port}: {}", kind_words(&kind), b.report()))
+                .map_err(|e| format!("not uploaded: {e}"))
+        })
     }
 
     fn download(&self, port: &str) -> Result<String, HardwareError> {
         let port = port_path(port)?;
-        let job = self.start_job(&port)?;
-        self.remember(&port);
-        let (id, cancel) = {
-            let j = lock(&job);
-            (j.view.id.clone(), j.cancel.clone())
-        };
         let dir = self.dir.clone();
-        let spawned = std::thread::Builder::new()
-            .name(format!("alba-download-{id}"))
-            .spawn(move || {
-                let set = |progress: Option<u8>, message: String| {
-                    let mut j = lock(&job);
-                    if let Some(p) = progress {
-                        j.view.progress = p;
-                    }
-                    j.view.message = message;
-                };
-                let c = alba_load::compile_dir(&dir);
-                set(None, format!("asking the board on {port} what it is"));
-                let result = download(&c, None, None, &port, true, |done, total| {
-                    let pct = (done * 100 / total.max(1)).min(100) as u8;
-                    set(Some(pct), format!("downloading: record {done} of {total}"));
-                    !cancel.load(Ordering::Relaxed)
-                });
-                let mut j = lock(&job);
-                match result {
-                    Ok(d) => {
-                        j.view.state = JobState::Done;
-                        j.view.progress = 100;
-                        j.view.message = format!(
-                            "downloaded {} bytes to {port} in {} ms, checksum {:04X}{}, verified: the board runs the new program",
-                            d.bytes,
-                            d.ms,
-                            d.checksum,
-                            match d.retries {
-                                0 => String::new(),
-                                n => format!(" ({n} record(s) sent again after line errors)"),
-                            }
-                        );
-                    }
-                    Err(f) => {
-                        j.view.state = JobState::Failed;
-                        j.view.message = failure_words(&f, c.files());
-                    }
-                }
+        self.spawn_job("download", &port.clone(), move |set, cancel| {
+            let c = alba_load::compile_dir(&dir);
+            set(None, format!("asking the board on {port} what it is"));
+            let result = download(&c, None, None, &port, true, |done, total| {
+                let pct = (done * 100 / total.max(1)).min(100) as u8;
+                set(Some(pct), format!("downloading: record {done} of {total}"));
+                !cancel.load(Ordering::Relaxed)
             });
-        if let Err(e) = spawned {
-            return Err(HardwareError::Failed(format!("cannot start the download: {e}")));
-        }
-        Ok(id)
+            match result {
+                Ok(d) => Ok(format!(
+                    "downloaded {} bytes to {port} in {} ms, checksum {:04X}{}, verified: the board runs the new program",
+                    d.bytes,
+                    d.ms,
+                    d.checksum,
+                    match d.retries {
+                        0 => String::new(),
+                        n => format!(" ({n} record(s) sent again after line errors)"),
+                    }
+                )),
+                Err(f) => Err(failure_words(&f, c.files())),
+            }
+        })
     }
 
     fn cancel(&self, id: &str) -> Option<HardwareJob> {
@@ -1188,15 +1173,15 @@ mod tests {
     #[test]
     fn one_job_per_port_at_a_time() {
         let s = Service::new(Path::new("/nonexistent"));
-        let a = s.start_job("/dev/ttyUSB0").expect("first");
-        let Err(HardwareError::Busy(m)) = s.start_job("/dev/ttyUSB0") else {
+        let a = s.start_job_of("download", "/dev/ttyUSB0").expect("first");
+        let Err(HardwareError::Busy(m)) = s.start_job_of("download", "/dev/ttyUSB0") else {
             panic!("a second job on the same port");
         };
         assert!(m.contains("one job per port"), "{m}");
         // Another port is free; the first, once its job ends, too.
-        s.start_job("/dev/ttyUSB1").expect("another port");
+        s.start_job_of("download", "/dev/ttyUSB1").expect("another port");
         lock(&a).view.state = JobState::Failed;
-        s.start_job("/dev/ttyUSB0").expect("after the job ended");
+        s.start_job_of("download", "/dev/ttyUSB0").expect("after the job ended");
         assert_eq!(lock(&s.jobs).len(), 3);
     }
 
