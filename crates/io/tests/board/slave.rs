@@ -100,16 +100,26 @@ fn a_third_party_master_reads_and_writes_every_table() {
     wait("the watchdog", 5, || board.get().iter().all(|v| *v == 0));
 }
 
-/// Sends `frame`, returns what came back within `wait`.
-fn ask(port: &mut Box<dyn serialport::SerialPort>, frame: &[u8], wait: Duration) -> Vec<u8> {
+/// Sends `frame` and returns what came back: read until `want` bytes have come
+/// (at most 3 s), then 60 ms more for anything unexpected. A frame that must
+/// not be answered (`want` 0) is given 400 ms: on a loaded machine simavr runs
+/// slower than real time, and the next frame must not reach the board before
+/// this one has been read whole, or the board takes both for one frame.
+fn ask(port: &mut Box<dyn serialport::SerialPort>, frame: &[u8], want: usize) -> Vec<u8> {
     let _ = port.clear(serialport::ClearBuffer::All);
     port.write_all(frame).expect("write");
     let mut got = Vec::new();
-    let end = Instant::now() + wait;
+    let wait = if want == 0 { 400 } else { 3000 };
+    let mut end = Instant::now() + Duration::from_millis(wait);
+    let mut complete = false;
     let mut buf = [0u8; 300];
     while Instant::now() < end {
         if let Ok(n) = port.read(&mut buf) {
             got.extend_from_slice(&buf[..n]);
+        }
+        if want > 0 && !complete && got.len() >= want {
+            complete = true;
+            end = Instant::now() + Duration::from_millis(60);
         }
     }
     got
@@ -126,33 +136,32 @@ fn frames_a_master_should_not_send() {
         .timeout(Duration::from_millis(5))
         .open()
         .expect("the board's pty");
-    let t = Duration::from_millis(60);
     let exc = |fc: u8, code: u8| with_crc(vec![1, fc | 0x80, code]);
     // A bad CRC: ignored, no answer.
     let mut bad = rtu::encode(1, &Request::WriteSingleCoil { addr: 0, value: true });
     bad[6] ^= 1;
-    assert_eq!(ask(&mut port, &bad, t), Vec::<u8>::new());
+    assert_eq!(ask(&mut port, &bad, 0), Vec::<u8>::new());
     assert_eq!(board.get()[0], 0);
     // FC 5 with a value that is neither FF00 nor 0000: exception 3.
-    assert_eq!(ask(&mut port, &with_crc(vec![1, 5, 0, 0, 0x12, 0x34]), t), exc(5, 3));
+    assert_eq!(ask(&mut port, &with_crc(vec![1, 5, 0, 0, 0x12, 0x34]), 5), exc(5, 3));
     // Quantity 0: exception 3; too many: 3; a length that does not match the byte count: 3.
-    assert_eq!(ask(&mut port, &with_crc(vec![1, 2, 0, 0, 0, 0]), t), exc(2, 3));
-    assert_eq!(ask(&mut port, &with_crc(vec![1, 4, 0, 0, 0, 126]), t), exc(4, 3));
+    assert_eq!(ask(&mut port, &with_crc(vec![1, 2, 0, 0, 0, 0]), 5), exc(2, 3));
+    assert_eq!(ask(&mut port, &with_crc(vec![1, 4, 0, 0, 0, 126]), 5), exc(4, 3));
     assert_eq!(
-        ask(&mut port, &with_crc(vec![1, 15, 0, 0, 0, 6, 2, 0x3F]), t),
+        ask(&mut port, &with_crc(vec![1, 15, 0, 0, 0, 6, 2, 0x3F]), 5),
         exc(15, 3)
     );
     assert_eq!(
-        ask(&mut port, &with_crc(vec![1, 16, 0, 0, 0, 2, 4, 0, 1]), t),
+        ask(&mut port, &with_crc(vec![1, 16, 0, 0, 0, 2, 4, 0, 1]), 5),
         exc(16, 3)
     );
     // A read of 3 bytes too short to be a request: exception 3 rather than a guess.
-    assert_eq!(ask(&mut port, &with_crc(vec![1, 3, 0, 0, 0]), t), exc(3, 3));
+    assert_eq!(ask(&mut port, &with_crc(vec![1, 3, 0, 0, 0]), 5), exc(3, 3));
     // An unknown function: exception 1.
-    assert_eq!(ask(&mut port, &with_crc(vec![1, 43, 14, 1, 0]), t), exc(43, 1));
+    assert_eq!(ask(&mut port, &with_crc(vec![1, 43, 14, 1, 0]), 5), exc(43, 1));
     // A broadcast write is carried out without an answer.
     let all_on = rtu::encode(0, &Request::write_coils(0, &[true; 6]));
-    assert_eq!(ask(&mut port, &all_on, t), Vec::<u8>::new());
+    assert_eq!(ask(&mut port, &all_on, 0), Vec::<u8>::new());
     assert_eq!(&board.get()[..6], [1; 6]);
     // Two requests without the 3.5-character silence between them: each is
     // answered as soon as it is complete and its CRC checks.
@@ -160,18 +169,21 @@ fn frames_a_master_should_not_send() {
     let mut two = rtu::encode(1, &read);
     two.extend(rtu::encode(1, &read));
     let answer = rtu::encode_response(1, &read, &[true; 6], &[]);
-    assert_eq!(ask(&mut port, &two, t), [answer.clone(), answer].concat());
+    assert_eq!(
+        ask(&mut port, &two, 2 * answer.len()),
+        [answer.clone(), answer.clone()].concat()
+    );
     // A request with garbage before it is one frame with a bad CRC: no answer.
     let mut noisy = vec![0x55, 0x01];
     noisy.extend(rtu::encode(1, &read));
-    assert_eq!(ask(&mut port, &noisy, t), Vec::<u8>::new());
+    assert_eq!(ask(&mut port, &noisy, 0), Vec::<u8>::new());
     // A frame longer than 256 bytes: dropped whole.
     let mut long = vec![1u8, 16, 0, 0, 0, 4, 8];
     long.resize(300, 0);
     let c = crc16(&long);
     long.extend_from_slice(&c.to_le_bytes());
-    assert_eq!(ask(&mut port, &long, t), Vec::<u8>::new());
+    assert_eq!(ask(&mut port, &long, 0), Vec::<u8>::new());
     // And the board still answers a good request.
-    let got = ask(&mut port, &rtu::encode(1, &read), t);
+    let got = ask(&mut port, &rtu::encode(1, &read), answer.len());
     assert_eq!(rtu::decode_response(1, &read, &got), Ok(Response::Bits(vec![true; 6])));
 }
