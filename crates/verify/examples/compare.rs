@@ -36,7 +36,9 @@ fn main() {
             continue;
         };
         let model = Model::new(program.clone(), scan_ms, &props);
-        let name = dir.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let name = dir
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         for p in &props.properties {
             let setup = Setup {
                 program: &program,

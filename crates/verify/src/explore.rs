@@ -24,8 +24,8 @@
 //! engine as `alba sim` replays it before `refuted` is answered.
 
 use crate::expr::{Cond, Evaluator, Probes};
-use crate::slots::writes;
 use crate::props::{Kind, Properties, Property};
+use crate::slots::writes;
 use alba_engine::Engine;
 use alba_engine::sim::Stimulus;
 use alba_ir::op::{AnySlot, S7Ctr, S7Tmr};
@@ -913,15 +913,14 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Cond], budget: Budg
         ));
         return finish(verdict);
     }
-    let (mut engine, mut probes) = match Engine::new(model.program.clone())
-        .and_then(|e| Evaluator::new(&model.probes).map(|p| (e, p)))
-    {
-        Ok(e) => e,
-        Err(e) => {
-            verdict.outcome = Outcome::Unknown(format!("the program does not load: {e}"));
-            return finish(verdict);
-        }
-    };
+    let (mut engine, mut probes) =
+        match Engine::new(model.program.clone()).and_then(|e| Evaluator::new(&model.probes).map(|p| (e, p))) {
+            Ok(e) => e,
+            Err(e) => {
+                verdict.outcome = Outcome::Unknown(format!("the program does not load: {e}"));
+                return finish(verdict);
+            }
+        };
     let scan_ms = model.scan_ms;
     let period = model.period;
     // Far from 0 so that ages never reach before it.
@@ -979,7 +978,9 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Cond], budget: Budg
             if let Err(m) = engine.scan(now_abs) {
                 return Err(format!("a scan stops with a major fault: {}", m.message));
             }
-            let probed = probes.run(engine.memory()).map_err(|e| format!("internal error: {e}"))?;
+            let probed = probes
+                .run(engine.memory())
+                .map_err(|e| format!("internal error: {e}"))?;
             if assumes.iter().any(|a| !a.holds(probed)) {
                 continue;
             }

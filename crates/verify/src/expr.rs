@@ -54,7 +54,11 @@ impl<'a> Lowering<'a> {
     pub fn new(layout: &'a Layout) -> Lowering<'a> {
         let mut b = Builder::new(layout.clone());
         b.begin_unit("properties.toml");
-        Lowering { b, base: layout, rung: 0 }
+        Lowering {
+            b,
+            base: layout,
+            rung: 0,
+        }
     }
 
     /// Parses `text` (at byte `base` of `file`) and lowers it; `whole` is

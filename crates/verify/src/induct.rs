@@ -323,13 +323,7 @@ fn bad(cnf: &mut Cnf, kind: &Kind, p: &[Sig]) -> Option<Sig> {
 }
 
 /// Tries to prove `property` by k-induction for k = 1..=`max_k` (within `seconds`).
-pub fn prove(
-    setup: &Setup,
-    property: &Property,
-    assumes: &[Cond],
-    max_k: u32,
-    seconds: u64,
-) -> Result<Proof, NoProof> {
+pub fn prove(setup: &Setup, property: &Property, assumes: &[Cond], max_k: u32, seconds: u64) -> Result<Proof, NoProof> {
     if matches!(property.kind, Kind::Response { .. } | Kind::Reachable(_)) {
         return Err(NoProof::NotAnInvariant);
     }

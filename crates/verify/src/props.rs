@@ -18,11 +18,7 @@ pub enum Kind {
     Always(Cond),
     /// Whenever `trigger` is true at the end of a scan at time t, `then` is
     /// true at the end of a scan at a time in [t, t + within_ms].
-    Response {
-        trigger: Cond,
-        then: Cond,
-        within_ms: u64,
-    },
+    Response { trigger: Cond, then: Cond, within_ms: u64 },
     /// At most one of the expressions is true at the end of any scan.
     Mutex(Vec<Cond>),
     /// Some run reaches a scan whose end makes the expression true.
