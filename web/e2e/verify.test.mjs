@@ -16,7 +16,7 @@
 //   the token where the scan has it, moving as the slider steps back, the
 //   transition that fired in a scan marked.
 // Screenshots (verify-counterexample.png, verify-coverage.png,
-// verify-net-counterexample.png) in E2E_OUT.
+// verify-net-counterexample.png, verify-net-firing.png) in E2E_OUT.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { rmSync, writeFileSync } from 'node:fs';
@@ -158,6 +158,7 @@ test('a net’s counterexample is drawn on the net: tokens and firings scan by s
   assert.equal(atViolation.idle, '0', JSON.stringify(atViolation));
   assert.equal(atViolation.fill, '0', JSON.stringify(atViolation));
   assert.ok(atViolation.mix === '1' || atViolation.mixed === '1', JSON.stringify(atViolation));
+  await chart.scrollIntoViewIfNeeded();
   await nb.shot('verify-net-counterexample');
   // Back to the first scan: the token waits at `idle` or has just been taken by Start.
   await tid('replay-first').click();
@@ -171,6 +172,8 @@ test('a net’s counterexample is drawn on the net: tokens and firings scan by s
     fired = await chart.locator('g.fired').count();
   }
   assert.ok(fired > 0, 'a firing is shown on the net');
+  await chart.scrollIntoViewIfNeeded();
+  await nb.shot('verify-net-firing');
   assert.deepEqual(nb.errors, []);
   void page;
 });

@@ -82,7 +82,6 @@ export class VerifyTab {
         step('▶|', 'replay-violation', tr('The violating scan'), () => (this.replay ? startScan(this.replay) : 0)),
         this.scanLabel),
       this.applied,
-      this.chartBox,
       h('table', { class: 'tags replay-values' }, h('thead', null, h('tr', null, h('th', null, tr('Tag')), h('th', null, tr('Value')))), this.values));
     this.el = h('section', { class: 'verify-view', 'data-testid': 'verify-view' },
       h('div', { class: 'toolbar' }, this.runBtn, this.testBtn, h('label', null, this.coverBox, ` ${tr('Coverage on the ladder')}`), this.busy),
@@ -96,6 +95,7 @@ export class VerifyTab {
         this.tests),
       this.coverLine,
       this.replayBox,
+      this.chartBox,
       this.ladderBox);
     this.renderLists();
   }
