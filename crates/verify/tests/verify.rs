@@ -298,6 +298,38 @@ fn a_counter_is_bounded_only_when_exact() {
     assert_eq!(v[0].depth, 7, "the shortest run: four rising edges");
 }
 
+/// k-induction proves what holds in its abstraction at the smallest k, and
+/// leaves to the explicit search what depends on a timer's value.
+#[test]
+fn k_induction_takes_the_smallest_k_and_leaves_timers_to_the_search() {
+    // D1 and D2 are last scan's A and NOT A: never both, but only once A and
+    // Na have been written by a scan (an arbitrary state may hold both):
+    // not 1-inductive, 2-inductive.
+    let tags = "In,BOOL,DI:1/0,,,\nA,BOOL,,,,\nNa,BOOL,,,,\nD1,BOOL,DO:2/0,,,\nD2,BOOL,DO:2/1,,,\n";
+    let lad = "XIC(A)OTE(D1);\nXIC(Na)OTE(D2);\nXIC(In)OTE(A);\nXIO(In)OTE(Na);\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"D1 AND D2\"\n");
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    assert_eq!(v[0].method, Method::Induction(2));
+    // With k limited to 1 the explicit search proves it.
+    let one = Budget {
+        induction_k: 1,
+        ..Budget::default()
+    };
+    let (_, v, _) = decide_with(&prog, "[[property]]\nname = \"p\"\nnever = \"D1 AND D2\"\n", one);
+    assert_eq!((outcome(&v[0]), v[0].method), ("proved", Method::Explicit));
+    assert!(v[0].sat_calls >= 2, "the base and the step were asked");
+    // The lamp follows a timer's DN, havocked in the abstraction: the search decides.
+    let prog = compile(LAMP_TAGS, LAMP);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp AND NOT Motor\"\n");
+    assert_eq!((outcome(&v[0]), v[0].method), ("proved", Method::Explicit));
+    assert!(v[0].states > 0);
+    // A false invariant is never proved by it: refuted by the search, with its counterexample.
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp\"\n");
+    assert_eq!((outcome(&v[0]), v[0].method), ("refuted", Method::Explicit));
+    assert!(v[0].run.is_some());
+}
+
 /// A property's expression is evaluated by the engine (lowered onto the IR,
 /// expr.rs): DINT arithmetic wraps at 32 bits and a division by zero
 /// saturates as in a rung, its typing is the compiler's, and a fault of
