@@ -11,7 +11,12 @@
 // - Run tests runs the example's stop-wins table (run-and-stop removed): it
 //   passes, and the coverage overlay marks the lamp's coil as never powered
 //   (the motor never runs in that table); unticked, the marks go.
-// Screenshots (verify-counterexample.png, verify-coverage.png) in E2E_OUT.
+// - on a copy of examples/state-net-batch (a state net and a ladder), a
+//   refuted property's counterexample draws the net with the net's own view:
+//   the token where the scan has it, moving as the slider steps back, the
+//   transition that fired in a scan marked.
+// Screenshots (verify-counterexample.png, verify-coverage.png,
+// verify-net-counterexample.png, verify-net-firing.png) in E2E_OUT.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { rmSync, writeFileSync } from 'node:fs';
@@ -41,7 +46,17 @@ useStudio('start-stop', (c) => ({ alba, b } = c), {
   },
 });
 
-async function login() {
+const NET_PROPERTIES = `[[property]]
+name = "the mixer never runs"
+never = "Mixer"
+`;
+let netAlba, nb;
+useStudio('state-net-batch', (c) => ({ alba: netAlba, b: nb } = c), {
+  users: [eva],
+  prepare: (dir) => writeFileSync(join(dir, 'properties.toml'), NET_PROPERTIES),
+});
+
+async function login(alba, b) {
   const { page, tid } = b;
   await page.goto(alba.url);
   await tid('login-form').waitFor();
@@ -55,7 +70,7 @@ const on = (id) => b.page.locator(`[data-testid="verify-ladder"] [data-testid="e
 
 test('a refuted property opens its counterexample on the ladder, stepped scan by scan; tests show coverage', async () => {
   const { page, tid } = b;
-  await login();
+  await login(alba, b);
   await alba.login(eva.name, eva.password);
   const program = await alba.json('/api/programs/main.lad');
   const lampCoil = elementId(program, 'OTE', ['Lamp']);
@@ -117,4 +132,48 @@ test('a refuted property opens its counterexample on the ladder, stepped scan by
   await tid('coverage-toggle').uncheck();
   assert.doesNotMatch(await coil.getAttribute('class'), /never-powered/);
   assert.deepEqual(b.errors, []);
+});
+
+test('a net’s counterexample is drawn on the net: tokens and firings scan by scan', async () => {
+  const { tid, page } = nb;
+  await login(netAlba, nb);
+  await tid('tab-verify').click();
+  await tid('verify-run').click();
+  await tid('property-0').waitFor({ timeout: 120_000 });
+  assert.equal(await tid('property-0').getAttribute('data-result'), 'refuted');
+  await tid('open-0').click();
+  await tid('replay').waitFor();
+  const chart = tid('verify-chart-batch.pnml');
+  await chart.waitFor();
+  const node = (id) => chart.locator(`[data-testid="net-node-${id}"]`);
+  const tokens = async () => {
+    const out = {};
+    for (const id of ['idle', 'start', 'fill', 'filled', 'mix', 'mixed']) out[id] = await node(id).getAttribute('data-tokens');
+    return out;
+  };
+  // The violating scan: the mixer runs, the token has left the place `idle` and `fill`.
+  assert.equal(await tid('replay-scan').getAttribute('data-violation'), 'true');
+  assert.equal(await tid('replay-value-Mixer').locator('td').nth(1).textContent(), '1');
+  const atViolation = await tokens();
+  assert.equal(atViolation.idle, '0', JSON.stringify(atViolation));
+  assert.equal(atViolation.fill, '0', JSON.stringify(atViolation));
+  assert.ok(atViolation.mix === '1' || atViolation.mixed === '1', JSON.stringify(atViolation));
+  await chart.scrollIntoViewIfNeeded();
+  await nb.shot('verify-net-counterexample');
+  // Back to the first scan: the token waits at `idle` or has just been taken by Start.
+  await tid('replay-first').click();
+  const first = await tokens();
+  assert.ok(first.idle === '1' || first.start === '1', JSON.stringify(first));
+  assert.equal(first.mix, '0');
+  // Some scan of the run fires a transition: stepping through the changes finds it marked.
+  let fired = 0;
+  for (let k = 0; k < 12 && fired === 0; k++) {
+    await tid('replay-next-change').click();
+    fired = await chart.locator('g.fired').count();
+  }
+  assert.ok(fired > 0, 'a firing is shown on the net');
+  await chart.scrollIntoViewIfNeeded();
+  await nb.shot('verify-net-firing');
+  assert.deepEqual(nb.errors, []);
+  void page;
 });

@@ -246,6 +246,28 @@ describe('the net tab', () => {
     expect(calls.filter((c) => c.startsWith('PUT'))).toEqual([]);
   });
 
+  it('shows a replayed scan (the Verify & Test page’s counterexample): its marking, enabled and fired transitions, not the live ones', async () => {
+    server({ 'batch.pnml': BATCH }, null, BATCH_ELEMENTS);
+    const { v } = view('batch.pnml');
+    await v.load();
+    // not connected: the initial marking, until a scan is shown
+    expect(node(v, 'idle')!.dataset.tokens).toBe('1');
+    const scan = (vals: Record<string, number>, on: number[]) => v.showScan((tag) => vals[tag], new Set(on));
+    // the scan where `start` fires: its "fired" element (30) energised, the token now in `fill`
+    scan({ 'batch.idle': 0, 'batch.start': 0, 'batch.fill': 1 }, [30, 41]);
+    expect(node(v, 'idle')!.dataset.tokens).toBe('0');
+    expect(node(v, 'fill')!.dataset.tokens).toBe('1');
+    expect(node(v, 'start')!.classList.contains('fired')).toBe(true);
+    expect(node(v, 'filled')!.dataset.enabled).toBe('true');
+    expect(node(v, 'mixed')!.classList.contains('fired')).toBe(false);
+    expect(v.el.querySelector('[data-testid="net-live-state"]')!.textContent).toBe('replay');
+    // the scan before: nothing fired
+    scan({ 'batch.idle': 0, 'batch.start': 1, 'batch.fill': 0 }, [40]);
+    expect(node(v, 'start')!.dataset.tokens).toBe('1');
+    expect(node(v, 'start')!.classList.contains('fired')).toBe(false);
+    expect(node(v, 'start')!.dataset.enabled).toBe('true');
+  });
+
   it('shows the operator elements live: a Display’s value, a Plot’s last values, a Label’s caption; a Button writes while pressed', async () => {
     const calls = server({ 'tour.pnml': TOUR });
     const { v, live } = view('tour.pnml');

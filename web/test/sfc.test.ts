@@ -133,6 +133,23 @@ describe('SFC edits of the text', () => {
 });
 
 describe('the SFC tab', () => {
+  it('lights the active steps of a replayed scan (the Verify & Test page’s counterexample)', async () => {
+    vi.stubGlobal('fetch', async () =>
+      new Response(JSON.stringify({ name: 'batch.sfc', language: 'sfc', plant: false, text: BATCH, diagnostics: [] }), { status: 200, headers: { 'Content-Type': 'application/json' } }));
+    const ctx = { live: new LiveClient('ws://127.0.0.1:1/none'), tags: new TagCache(), notify: () => undefined } as unknown as Ctx;
+    const v = new SfcView(ctx, 'batch.sfc');
+    document.body.append(v.el);
+    await v.load();
+    const step = (n: string) => v.el.querySelector<SVGGElement>(`[data-testid="sfc-step-${n}"]`)!;
+    expect(step('Idle').dataset.active).toBe('false');
+    const vals: Record<string, unknown> = { 'batch.FillA.X': true, 'batch.FillA.T': 250, 'batch.Idle.X': false };
+    v.showScan((tag) => vals[tag]);
+    expect(step('FillA').dataset.active).toBe('true');
+    expect(step('FillA').querySelector('.sfc-time')!.textContent).toBe('250 ms');
+    expect(step('Idle').dataset.active).toBe('false');
+    expect(v.el.querySelector('[data-testid="sfc-live-state"]')!.textContent).toBe('replay');
+  });
+
   it('draws the chart, lights the active step live, and puts a problem on its transition', async () => {
     vi.stubGlobal('fetch', async (_path: string, init: RequestInit) => {
       const json = (status: number, j: unknown) => new Response(JSON.stringify(j), { status, headers: { 'Content-Type': 'application/json' } });

@@ -1,7 +1,7 @@
 // The Verify & Test page's logic (issue 37): the replay under the slider and the coverage marks.
 import { describe, expect, it } from 'vitest';
 import type { ProgramCoverage, Replay } from '../src/api.gen';
-import { changeScans, clampScan, coverageMarks, percentOf, powerAt, rowsAt, startScan, stepChange, valuesAt } from '../src/verify/logic';
+import { changeScans, clampScan, coverageMarks, percentOf, powerAt, rowsAt, startScan, stepChange, valueOf, valuesAt } from '../src/verify/logic';
 
 // The lamp of examples/start-stop lit 30 ms after Start (3 scans of 10 ms), as the server replays it.
 const replay: Replay = {
@@ -44,6 +44,16 @@ describe('the counterexample replay', () => {
     expect(rowsAt(replay, 1)).toEqual([replay.rows[1]]);
     expect(rowsAt(replay, 2)).toEqual([]);
     expect([...powerAt(replay, 3)]).toEqual([1, 2, 3, 4]);
+  });
+
+  it('gives a scan’s values by tag name, as the net and SFC views read them', () => {
+    const v = valueOf(replay, 3);
+    expect(v('Lamp')).toBe(1);
+    expect(v('lamp')).toBe(1);
+    expect(valueOf(replay, 1)('Start')).toBe(0);
+    expect(v('batch.idle')).toBeUndefined();
+    const text = valueOf({ ...replay, tags: ['Name'], scans: [{ time_ms: 0, values: ['abc'], on: [] }] }, 0);
+    expect(text('Name')).toBe('abc');
   });
 
   it('steps from change to change', () => {

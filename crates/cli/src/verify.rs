@@ -26,10 +26,17 @@ pub fn verify(dir: &Path, a: VerifyArgs) -> ExitCode {
             return;
         }
         let until = u64::from(r.depth.saturating_sub(1)) * scan_ms;
-        println!(
-            "{:<8} {}  ({} states, depth {} scans, {} ms)",
-            r.result, r.name, r.states, r.depth, r.millis
-        );
+        if r.method == "k-induction" {
+            println!(
+                "{:<8} {}  (k-induction, k = {}, {} SAT calls, {} ms)",
+                r.result, r.name, r.depth, r.sat_calls, r.millis
+            );
+        } else {
+            println!(
+                "{:<8} {}  ({} states, depth {} scans, {} ms)",
+                r.result, r.name, r.states, r.depth, r.millis
+            );
+        }
         if let Some(why) = &r.reason {
             println!("         {why}");
         }

@@ -621,6 +621,41 @@ pub(crate) fn lower_guard(b: &mut Builder, e: &Expr, elem: u32) {
     b.release(inner);
 }
 
+/// Lowers `e`, a BOOL expression of Alba's expression language (a property
+/// of `alba verify`, docs/verify.md), into ops that write its value to
+/// `dest`: typed and lowered as a guard is, so that its comparisons,
+/// arithmetic, conversions and faults are the engine's (one semantics,
+/// SPEC §11). Problems are returned with `code` (a number is refused at
+/// `span`, the whole expression); nothing is emitted then.
+pub fn lower_condition(
+    b: &mut Builder,
+    e: &Expr,
+    span: Span,
+    dest: alba_ir::B,
+    elem: u32,
+    code: Code,
+) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let ty = Guard { b, diags: &mut diags }.ty(e);
+    for d in &mut diags {
+        d.code = code;
+    }
+    match ty {
+        Some(Ty::Bool) => {
+            lower_guard(b, e, elem);
+            b.emit(Op::Ote(dest), elem);
+        }
+        Some(Ty::Num(_)) => {
+            diags.push(
+                Diagnostic::new(code, "this expression is a number, not a BOOL", span, "not BOOL")
+                    .with_help("compare it: `C.ACC > 0`"),
+            );
+        }
+        None => {}
+    }
+    diags
+}
+
 /// `TRUE` and `FALSE` (reserved words, never tag names).
 fn bool_word(name: &str) -> Option<bool> {
     if name.eq_ignore_ascii_case("TRUE") {

@@ -494,6 +494,43 @@ impl Engine {
         )
     }
 
+    /// Runs the program's ops once over `base`, the memory of another
+    /// program whose layout this one extends (the slots after `base`'s are
+    /// this program's own: temporaries, constants, results): `base` is
+    /// copied in, the ops run, and the memory is returned. None of a scan's
+    /// bookkeeping happens (system bits, scan count, forces, fault flags),
+    /// so `base` is seen as it is. `alba verify` evaluates its properties so
+    /// (they are lowered onto the IR, docs/verify.md).
+    pub fn run_over(&mut self, base: &Memory, now_ms: u64) -> Result<&Memory, EngineError> {
+        let fits = base.b.len() <= self.mem.b.len()
+            && base.i.len() <= self.mem.i.len()
+            && base.f.len() <= self.mem.f.len()
+            && base.l.len() <= self.mem.l.len()
+            && base.d.len() <= self.mem.d.len()
+            && base.m.len() == self.mem.m.len();
+        if !fits {
+            let sizes = |m: &Memory| [m.b.len(), m.i.len(), m.f.len(), m.l.len(), m.d.len(), m.m.len()];
+            return Err(EngineError::MemorySizes {
+                memory: sizes(base),
+                program: sizes(&self.mem),
+            });
+        }
+        self.mem.b[..base.b.len()].copy_from_slice(&base.b);
+        self.mem.i[..base.i.len()].copy_from_slice(&base.i);
+        self.mem.f[..base.f.len()].copy_from_slice(&base.f);
+        self.mem.l[..base.l.len()].copy_from_slice(&base.l);
+        self.mem.d[..base.d.len()].copy_from_slice(&base.d);
+        self.mem.m.copy_from_slice(&base.m);
+        match self.run_unmonitored(now_ms as u32) {
+            Ok(()) => Ok(&self.mem),
+            Err(Stop::Runaway(_)) => Err(EngineError::Runaway),
+            Err(Stop::Memory) => Err(EngineError::MemorySizes {
+                memory: [0; 6],
+                program: [0; 6],
+            }),
+        }
+    }
+
     /// Runs one scan at time `now_ms` (milliseconds on the caller's clock).
     pub fn scan(&mut self, now_ms: u64) -> Result<(), MajorFault> {
         if let Some(m) = &self.major {

@@ -17,4 +17,10 @@ pub enum EngineError {
     /// sizes (bits, integers, floats, longs, doubles, bytes) than the program's.
     #[error("the memory has sizes {memory:?}, the program {program:?}")]
     MemorySizes { memory: [usize; 6], program: [usize; 6] },
+    /// [`crate::Engine::run_over`] stopped at a runaway loop of backward jumps.
+    #[error(
+        "the run was abandoned: more than {} backward jumps",
+        crate::exec::BACKWARD_JUMP_LIMIT
+    )]
+    Runaway,
 }

@@ -141,6 +141,11 @@ impl Builder {
         (self.elements.len() - 1) as u32
     }
 
+    /// The ops emitted so far.
+    pub fn ops(&self) -> &[Op] {
+        &self.ops
+    }
+
     /// Index the next op will have.
     pub fn here(&self) -> u32 {
         self.ops.len() as u32

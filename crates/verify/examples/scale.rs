@@ -141,8 +141,8 @@ fn main() {
             Outcome::Unknown(w) => format!("unknown ({w})"),
         };
         println!(
-            "{:<32} {r:<8} {:>8} states  depth {:>5}  {:>6} ms",
-            prop.name, v.states, v.depth, v.millis
+            "{:<32} {r:<8} {:>8} states  depth {:>5}  {:>6} ms  {:?}, {} SAT calls",
+            prop.name, v.states, v.depth, v.millis, v.method, v.sat_calls
         );
     }
 }

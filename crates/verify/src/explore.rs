@@ -23,8 +23,9 @@
 //! `[domain]`, a PID loop). Every counterexample is replayed through the
 //! engine as `alba sim` replays it before `refuted` is answered.
 
-use crate::expr::Compiled;
+use crate::expr::{Cond, Evaluator, Probes};
 use crate::props::{Kind, Properties, Property};
+use crate::slots::writes;
 use alba_engine::Engine;
 use alba_engine::sim::Stimulus;
 use alba_ir::op::{AnySlot, S7Ctr, S7Tmr};
@@ -34,6 +35,9 @@ use alba_model::{DataType, Value};
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::Arc;
 use std::time::Instant;
+
+/// The largest k that k-induction tries before the explicit search, by default.
+pub const INDUCTION_K: u32 = 3;
 
 /// Limits of one search.
 #[derive(Debug, Clone, Copy)]
@@ -46,6 +50,9 @@ pub struct Budget {
     pub max_seconds: u64,
     /// Bytes the stored states and the frontier may take (estimated).
     pub max_bytes: usize,
+    /// The largest k that k-induction tries on an invariant before the
+    /// explicit search (0: the explicit search alone).
+    pub induction_k: u32,
 }
 
 impl Default for Budget {
@@ -55,6 +62,7 @@ impl Default for Budget {
             max_depth: 1_000_000,
             max_seconds: 60,
             max_bytes: 1 << 30,
+            induction_k: INDUCTION_K,
         }
     }
 }
@@ -75,10 +83,22 @@ pub struct Run {
     pub scans: Vec<Vec<Value>>,
 }
 
+/// How a verdict was reached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// The explicit-state search on the engine.
+    Explicit,
+    /// k-induction with the SAT solver (induct.rs), with this k.
+    Induction(u32),
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Verdict {
     pub name: String,
     pub outcome: Outcome,
+    pub method: Method,
+    /// SAT queries made (k-induction, tried first on invariants).
+    pub sat_calls: u32,
     /// Refuted: the violating run. Reachable and proved: the witness.
     pub run: Option<Run>,
     /// Scans of the run, or the depth the search reached.
@@ -171,71 +191,8 @@ pub struct Model {
     /// Slots outside the property's cone of influence, put back to their
     /// initial value in every state (see [`Model::reduced`]).
     outside: Vec<AnySlot>,
-}
-
-/// Slots an op writes (conservatively: a timer, counter or PID writes all of its own).
-fn writes(op: &Op) -> Vec<AnySlot> {
-    use AnySlot as S;
-    match *op {
-        Op::Ote(b) | Op::Otl(b) | Op::Otu(b) | Op::Ons(b) | Op::Ed(b) => vec![S::B(b.0)],
-        Op::Osr(a, b) | Op::Osf(a, b) => vec![S::B(a.0), S::B(b.0)],
-        Op::BrOpen { save, acc } | Op::BrNext { save, acc } => vec![S::B(save.0), S::B(acc.0)],
-        Op::BrClose { acc } => vec![S::B(acc.0)],
-        Op::CopyB(_, d) => vec![S::B(d.0)],
-        Op::LdBit { dst, .. } => vec![S::B(dst.0)],
-        Op::StBit { byte, .. } => vec![S::M(byte, 1)],
-        Op::StM { byte, slot } => vec![match slot {
-            alba_ir::op::MarkerSlot::Byte(_) => S::M(byte, 1),
-            alba_ir::op::MarkerSlot::Word(_) => S::M(byte, 2),
-            _ => S::M(byte, 4),
-        }],
-        Op::LdM { slot, .. } => vec![match slot {
-            alba_ir::op::MarkerSlot::Real(f) => S::F(f.0),
-            alba_ir::op::MarkerSlot::Byte(i) | alba_ir::op::MarkerSlot::Word(i) | alba_ir::op::MarkerSlot::DWord(i) => {
-                S::I(i.0)
-            }
-        }],
-        Op::BinI(_, _, _, d) | Op::UnI(_, _, d) | Op::CopyI(_, d) | Op::Narrow(d, _) => vec![S::I(d.0)],
-        Op::BinF(_, _, _, d) | Op::UnF(_, _, d) => vec![S::F(d.0)],
-        Op::BinL(_, _, _, d) | Op::UnL(_, _, d) => vec![S::L(d.0)],
-        Op::BinD(_, _, _, d) | Op::UnD(_, _, d) => vec![S::D(d.0)],
-        Op::Cvt(c) => {
-            use alba_ir::op::Cvt::*;
-            vec![match c {
-                FI(_, d) | LI(_, d) | DI(_, d) => S::I(d.0),
-                IF(_, d) | LF(_, d) | DF(_, d) => S::F(d.0),
-                IL(_, d) | FL(_, d) | DL(_, d) => S::L(d.0),
-                ID(_, d) | LD(_, d) | FD(_, d) => S::D(d.0),
-            }]
-        }
-        Op::Ton(t, _) | Op::Tof(t, _) | Op::Rto(t, _) | Op::Tp(t) | Op::ResT(t) => {
-            let mut v: Vec<AnySlot> = (0..3).map(|k| S::I(t.i.0 + k)).collect();
-            v.extend((0..3).map(|k| S::B(t.b.0 + k)));
-            v
-        }
-        Op::Ctu(c) | Op::Ctd(c) | Op::ResC(c) => {
-            let mut v: Vec<AnySlot> = (0..2).map(|k| S::I(c.i.0 + k)).collect();
-            v.extend((0..5).map(|k| S::B(c.b.0 + k)));
-            v
-        }
-        Op::S7Ton(t) | Op::S7Tonr(t) | Op::S7Tof(t) | Op::S7ResT(t) => {
-            let mut v: Vec<AnySlot> = (0..4).map(|k| S::I(t.i.0 + k)).collect();
-            v.extend((0..2).map(|k| S::B(t.b.0 + k)));
-            v
-        }
-        Op::S7Ctu(c) | Op::S7Ctd(c) | Op::S7Ctud(c) | Op::S7ResC(c) => {
-            let mut v: Vec<AnySlot> = (0..2).map(|k| S::I(c.i.0 + k)).collect();
-            v.extend((0..5).map(|k| S::B(c.b.0 + k)));
-            v
-        }
-        Op::Pid(p) => {
-            let mut v: Vec<AnySlot> = (0..alba_ir::op::PID_F_SLOTS).map(|k| S::F(p.f.0 + k)).collect();
-            v.extend((0..alba_ir::op::PID_I_SLOTS).map(|k| S::I(p.i.0 + k)));
-            v.extend((0..alba_ir::op::PID_B_SLOTS).map(|k| S::B(p.b.0 + k)));
-            v
-        }
-        _ => vec![],
-    }
+    /// The properties' expressions, lowered (expr.rs).
+    probes: Probes,
 }
 
 /// Every slot an op reads or writes, each one (not only the ends of a timer's range).
@@ -300,14 +257,13 @@ impl Model {
     pub fn new(program: Arc<Program>, scan_ms: u64, props: &Properties) -> Model {
         let prog = &*program;
         let layout = &prog.layout;
-        let mut read_by_props = Vec::new();
+        let mut prop_slots = HashSet::new();
         for p in &props.properties {
-            kind_places(&p.kind, &mut read_by_props);
+            kind_reads(&p.kind, &mut prop_slots);
         }
         for a in &props.assumes {
-            a.places(&mut read_by_props);
+            prop_slots.extend(a.reads().iter().copied());
         }
-        let prop_slots: HashSet<AnySlot> = read_by_props.iter().filter_map(|p| place_slot(*p)).collect();
         let mut written = HashSet::new();
         let mut referenced = HashSet::new();
         for op in &prog.ops {
@@ -538,6 +494,7 @@ impl Model {
             blockers,
             plants,
             outside: Vec::new(),
+            probes: props.probes.clone(),
             program,
         }
     }
@@ -548,15 +505,15 @@ impl Model {
     /// rung writes depends on the slots it reads before overwriting them;
     /// what jumps read is always kept. A property that depends on the fault
     /// flags keeps everything.
-    pub fn reduced(&self, property: &Property, assumes: &[Compiled]) -> Model {
+    pub fn reduced(&self, property: &Property, assumes: &[Cond]) -> Model {
         let prog = &*self.program;
         let layout = &prog.layout;
-        let mut places = Vec::new();
-        kind_places(&property.kind, &mut places);
+        let mut read = HashSet::new();
+        kind_reads(&property.kind, &mut read);
         for a in assumes {
-            a.places(&mut places);
+            read.extend(a.reads().iter().copied());
         }
-        let mut relevant: HashSet<AnySlot> = places.iter().flat_map(|p| place_nodes(*p)).collect();
+        let mut relevant: HashSet<AnySlot> = read.into_iter().flat_map(nodes).collect();
         let sys = layout.system;
         let faults = [AnySlot::B(sys.minor_fault.0), AnySlot::I(sys.fault_code.0)];
         if faults.iter().any(|f| relevant.contains(f)) {
@@ -801,14 +758,15 @@ fn s7_counter(prog: &Program, c: S7Ctr, prop_slots: &HashSet<AnySlot>) -> Option
     })
 }
 
-fn kind_places(k: &Kind, out: &mut Vec<Place>) {
-    match k {
-        Kind::Never(e) | Kind::Always(e) | Kind::Reachable(e) => e.places(out),
-        Kind::Mutex(es) => es.iter().for_each(|e| e.places(out)),
-        Kind::Response { trigger, then, .. } => {
-            trigger.places(out);
-            then.places(out);
-        }
+/// The project's slots a property's expressions read.
+fn kind_reads(k: &Kind, out: &mut HashSet<AnySlot>) {
+    let conds: Vec<&Cond> = match k {
+        Kind::Never(e) | Kind::Always(e) | Kind::Reachable(e) => vec![e],
+        Kind::Mutex(es) => es.iter().collect(),
+        Kind::Response { trigger, then, .. } => vec![trigger, then],
+    };
+    for c in conds {
+        out.extend(c.reads().iter().copied());
     }
 }
 
@@ -821,8 +779,10 @@ enum Check {
     Witness,
 }
 
-fn check(k: &Kind, m: &Memory, pending: Pending, scan_ms: u64) -> Check {
-    let t = |e: &Compiled| e.eval(m).truth();
+/// Checks the property on `probed`, the memory at the end of a scan with
+/// the expressions evaluated ([`Evaluator::run`]).
+fn check(k: &Kind, probed: &Memory, pending: Pending, scan_ms: u64) -> Check {
+    let t = |e: &Cond| e.holds(probed);
     match k {
         Kind::Never(e) if t(e) => Check::Violated,
         Kind::Always(e) if !t(e) => Check::Violated,
@@ -891,13 +851,47 @@ fn key(m: &Memory, phase: u64, odd: bool, pending: Pending, out: &mut Vec<u8>) {
 }
 
 /// Decides `property` (under `assumes`) on the model.
-pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: Budget) -> Verdict {
+pub fn decide(model: &Model, property: &Property, assumes: &[Cond], budget: Budget) -> Verdict {
     let started = Instant::now();
+    // An invariant is first tried by k-induction (induct.rs): a proof there is
+    // a proof; anything else leaves it to the explicit search.
+    let setup = crate::induct::Setup {
+        program: &model.program,
+        probes: model.probes.program(),
+        init: &model.program.init,
+        inputs: model
+            .inputs
+            .iter()
+            .filter_map(|i| match i.place {
+                Place::Bool(b) => Some(b),
+                _ => None,
+            })
+            .collect(),
+    };
+    let mut sat_calls = 0;
+    match crate::induct::prove(&setup, property, assumes, budget.induction_k, budget.max_seconds) {
+        Ok(proof) => {
+            return Verdict {
+                name: property.name.clone(),
+                outcome: Outcome::Proved,
+                method: Method::Induction(proof.k),
+                sat_calls: proof.sat_calls,
+                run: None,
+                depth: proof.k,
+                states: 0,
+                millis: started.elapsed().as_millis(),
+            };
+        }
+        Err(crate::induct::NoProof::NotInductive { sat_calls: n, .. }) => sat_calls = n,
+        Err(_) => {}
+    }
     let reduced = model.reduced(property, assumes);
     let model = &reduced;
     let mut verdict = Verdict {
         name: property.name.clone(),
         outcome: Outcome::Unknown(String::new()),
+        method: Method::Explicit,
+        sat_calls,
         run: None,
         depth: 0,
         states: 0,
@@ -919,13 +913,14 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: 
         ));
         return finish(verdict);
     }
-    let mut engine = match Engine::new(model.program.clone()) {
-        Ok(e) => e,
-        Err(e) => {
-            verdict.outcome = Outcome::Unknown(format!("the program does not load: {e}"));
-            return finish(verdict);
-        }
-    };
+    let (mut engine, mut probes) =
+        match Engine::new(model.program.clone()).and_then(|e| Evaluator::new(&model.probes).map(|p| (e, p))) {
+            Ok(e) => e,
+            Err(e) => {
+                verdict.outcome = Outcome::Unknown(format!("the program does not load: {e}"));
+                return finish(verdict);
+            }
+        };
     let scan_ms = model.scan_ms;
     let period = model.period;
     // Far from 0 so that ages never reach before it.
@@ -983,12 +978,15 @@ pub fn decide(model: &Model, property: &Property, assumes: &[Compiled], budget: 
             if let Err(m) = engine.scan(now_abs) {
                 return Err(format!("a scan stops with a major fault: {}", m.message));
             }
-            let mut m = engine.memory().clone();
-            if assumes.iter().any(|a| !a.eval(&m).truth()) {
+            let probed = probes
+                .run(engine.memory())
+                .map_err(|e| format!("internal error: {e}"))?;
+            if assumes.iter().any(|a| !a.holds(probed)) {
                 continue;
             }
             let id = nodes.len() as u32;
-            let outcome = check(&property.kind, &m, pending, scan_ms);
+            let outcome = check(&property.kind, probed, pending, scan_ms);
+            let mut m = engine.memory().clone();
             let pend = match outcome {
                 Check::Violated => {
                     nodes.push(Node { parent, combo: k });
@@ -1128,13 +1126,14 @@ fn csv_field(s: &str) -> String {
 /// Replays the run's stimulus as `alba sim` does (plant models stepped,
 /// rows applied, one scan every scan period) and checks it ends in the
 /// violation.
-pub fn replay(model: &Model, property: &Property, assumes: &[Compiled], run: &Run) -> Result<(), crate::ReplayError> {
+pub fn replay(model: &Model, property: &Property, assumes: &[Cond], run: &Run) -> Result<(), crate::ReplayError> {
     let text = stimulus(model, run);
     let mut files = alba_diag::Files::new();
     let f = files.add("counterexample.csv".to_string(), text);
     let stim = Stimulus::parse(files.text(f), f, &model.program.layout)
         .map_err(|d| crate::ReplayError::Counterexample(d[0].message.clone()))?;
     let mut engine = Engine::new(model.program.clone()).map_err(crate::ReplayError::Program)?;
+    let mut probes = Evaluator::new(&model.probes).map_err(crate::ReplayError::Program)?;
     let mut next = 0;
     let mut pending = None;
     for k in 0..run.scans.len() as u64 {
@@ -1147,8 +1146,8 @@ pub fn replay(model: &Model, property: &Property, assumes: &[Compiled], run: &Ru
             next += 1;
         }
         engine.scan(t).map_err(|m| crate::ReplayError::Fault(m.message))?;
-        let m = engine.memory();
-        if assumes.iter().any(|a| !a.eval(m).truth()) {
+        let m = probes.run(engine.memory()).map_err(crate::ReplayError::Program)?;
+        if assumes.iter().any(|a| !a.holds(m)) {
             return Err(crate::ReplayError::Assumption);
         }
         match check(&property.kind, m, pending, model.scan_ms) {

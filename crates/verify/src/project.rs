@@ -2,7 +2,7 @@
 //! each property, write counterexamples and witnesses. Shared by the command
 //! line and the studio (crates/app/src/verify.rs), which only present the [`Report`]s.
 
-use crate::explore::{self, Budget, Model, Outcome};
+use crate::explore::{self, Budget, Method, Model, Outcome};
 use crate::props::{self, Kind};
 use alba_diag::{Code, Diagnostic, Files};
 use std::collections::HashSet;
@@ -35,6 +35,10 @@ pub struct Report {
     pub millis: u64,
     /// Why `unknown`.
     pub reason: Option<String>,
+    /// `explicit` (the search on the engine) or `k-induction` (SAT, induct.rs).
+    pub method: &'static str,
+    /// SAT queries made (k-induction is tried first on invariants).
+    pub sat_calls: u32,
 }
 
 /// Why nothing could be decided: diagnostics over these files.
@@ -140,6 +144,11 @@ pub fn verify(dir: &Path, opt: &Options, each: &mut dyn FnMut(&Report, u64)) -> 
             states: v.states,
             millis: v.millis as u64,
             reason,
+            method: match v.method {
+                Method::Explicit => "explicit",
+                Method::Induction(_) => "k-induction",
+            },
+            sat_calls: v.sat_calls,
         };
         each(&r, scan_ms);
         reports.push(r);

@@ -2,7 +2,7 @@
 //! with a `name` and one kind, `[[assume]] expr = EXPR`, and `[domain]`, the
 //! values explored for each numeric input.
 
-use crate::expr::{self, Compiled};
+use crate::expr::{Cond, Lowering, Probes};
 use alba_diag::{Code, Diagnostic, FileId, Span};
 use alba_ir::{Layout, Place, Target};
 use serde::Deserialize;
@@ -13,20 +13,16 @@ use toml::Spanned;
 #[derive(Debug, Clone, PartialEq)]
 pub enum Kind {
     /// The expression is false at the end of every scan.
-    Never(Compiled),
+    Never(Cond),
     /// The expression is true at the end of every scan.
-    Always(Compiled),
+    Always(Cond),
     /// Whenever `trigger` is true at the end of a scan at time t, `then` is
     /// true at the end of a scan at a time in [t, t + within_ms].
-    Response {
-        trigger: Compiled,
-        then: Compiled,
-        within_ms: u64,
-    },
+    Response { trigger: Cond, then: Cond, within_ms: u64 },
     /// At most one of the expressions is true at the end of any scan.
-    Mutex(Vec<Compiled>),
+    Mutex(Vec<Cond>),
     /// Some run reaches a scan whose end makes the expression true.
-    Reachable(Compiled),
+    Reachable(Cond),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -46,13 +42,15 @@ pub struct Domain {
 }
 
 /// A parsed properties.toml.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Properties {
     pub properties: Vec<Property>,
     /// Runs are restricted to those where every assumption holds at the end
     /// of every scan.
-    pub assumes: Vec<Compiled>,
+    pub assumes: Vec<Cond>,
     pub domains: Vec<Domain>,
+    /// Every expression above, lowered onto the IR (expr.rs).
+    pub probes: Probes,
 }
 
 #[derive(Deserialize)]
@@ -114,40 +112,28 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
         }
     };
     let mut diags = Vec::new();
-    let one = |s: &Spanned<String>, diags: &mut Vec<Diagnostic>| -> Option<Compiled> {
+    let mut low = Lowering::new(layout);
+    let mut one = |s: &Spanned<String>, diags: &mut Vec<Diagnostic>| -> Option<Cond> {
         // The string's text starts after its opening quote, when it is
         // written as it reads (no escapes, not multi-line); else errors
         // point at the whole string.
         let base = s.span().start + 1;
         let verbatim = text.get(base..base + s.get_ref().len()) == Some(s.get_ref().as_str());
         let whole = Span::new(file, s.span());
-        match expr::compile(s.get_ref(), file, base, layout)
-            .map_err(|e| {
-                if verbatim {
-                    e
-                } else {
-                    expr::ExprError { span: whole, ..e }
-                }
-            })
-            .and_then(|c| {
-                expr::supported(&c).map(|()| c).map_err(|e| expr::ExprError {
-                    message: e.to_string(),
-                    span: Span::new(file, s.span()),
-                })
-            }) {
+        match low.add(s.get_ref(), file, base, whole) {
             Ok(c) => Some(c),
-            Err(e) => {
-                diags.push(Diagnostic::new(
-                    Code::Expression,
-                    e.message,
-                    e.span,
-                    "in this expression",
-                ));
+            Err(ds) => {
+                diags.extend(ds.into_iter().map(|mut d| {
+                    if !verbatim && let Some(l) = d.primary.as_mut() {
+                        l.span = whole;
+                    }
+                    d
+                }));
                 None
             }
         }
     };
-    let mut out = Properties::default();
+    let mut out = (Vec::new(), Vec::new(), Vec::new());
     let mut names = std::collections::HashSet::new();
     for p in &raw.property {
         let span = Span::new(file, p.span());
@@ -208,7 +194,7 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
                 ));
                 None
             } else {
-                let c: Vec<Option<Compiled>> = list.iter().map(|e| one(e, &mut diags)).collect();
+                let c: Vec<Option<Cond>> = list.iter().map(|e| one(e, &mut diags)).collect();
                 c.into_iter().collect::<Option<Vec<_>>>().map(Kind::Mutex)
             }
         } else if let Some(resp) = &r.response {
@@ -226,7 +212,7 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
             None
         };
         if let Some(kind) = kind {
-            out.properties.push(Property {
+            out.0.push(Property {
                 name: r.name.clone(),
                 kind,
                 span,
@@ -235,7 +221,7 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
     }
     for a in &raw.assume {
         if let Some(c) = one(&a.expr, &mut diags) {
-            out.assumes.push(c);
+            out.1.push(c);
         }
     }
     for (name, values) in &raw.domain {
@@ -297,11 +283,19 @@ pub fn parse(text: &str, file: FileId, layout: &Layout) -> Result<Properties, Ve
             ));
             continue;
         }
-        out.domains.push(Domain {
+        out.2.push(Domain {
             name: name.clone(),
             place,
             values: vals,
         });
     }
-    if diags.is_empty() { Ok(out) } else { Err(diags) }
+    if !diags.is_empty() {
+        return Err(diags);
+    }
+    Ok(Properties {
+        properties: out.0,
+        assumes: out.1,
+        domains: out.2,
+        probes: low.finish(),
+    })
 }

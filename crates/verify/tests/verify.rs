@@ -4,7 +4,8 @@
 mod common;
 
 use alba_engine::Engine;
-use alba_verify::explore::{self, Budget, Outcome};
+use alba_verify::explore::{self, Budget, Method, Outcome};
+use alba_verify::expr::Evaluator;
 use alba_verify::props::Kind;
 use common::*;
 use proptest::prelude::*;
@@ -16,6 +17,17 @@ fn the_interlock_holds_and_fails_without_its_contact() {
     let (_, v, _) = decide(&good, toml);
     assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
     assert!(v[0].run.is_none());
+    // Proved by 1-induction (each rung's interlock contact reads the other
+    // coil as the scan leaves it), and by the explicit search alone.
+    assert_eq!(v[0].method, Method::Induction(1));
+    assert!(v[0].sat_calls >= 2);
+    let explicit = Budget {
+        induction_k: 0,
+        ..Budget::default()
+    };
+    let (_, v, _) = decide_with(&good, toml, explicit);
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    assert_eq!(v[0].method, Method::Explicit);
     assert!(v[0].states > 0);
 
     let bad = compile(MOTOR_TAGS, MOTOR_NO_INTERLOCK);
@@ -286,6 +298,82 @@ fn a_counter_is_bounded_only_when_exact() {
     assert_eq!(v[0].depth, 7, "the shortest run: four rising edges");
 }
 
+/// k-induction proves what holds in its abstraction at the smallest k, and
+/// leaves to the explicit search what depends on a timer's value.
+#[test]
+fn k_induction_takes_the_smallest_k_and_leaves_timers_to_the_search() {
+    // D1 and D2 are last scan's A and NOT A: never both, but only once A and
+    // Na have been written by a scan (an arbitrary state may hold both):
+    // not 1-inductive, 2-inductive.
+    let tags = "In,BOOL,DI:1/0,,,\nA,BOOL,,,,\nNa,BOOL,,,,\nD1,BOOL,DO:2/0,,,\nD2,BOOL,DO:2/1,,,\n";
+    let lad = "XIC(A)OTE(D1);\nXIC(Na)OTE(D2);\nXIC(In)OTE(A);\nXIO(In)OTE(Na);\n";
+    let prog = compile(tags, lad);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"D1 AND D2\"\n");
+    assert_eq!(outcome(&v[0]), "proved", "{:?}", v[0].outcome);
+    assert_eq!(v[0].method, Method::Induction(2));
+    // With k limited to 1 the explicit search proves it.
+    let one = Budget {
+        induction_k: 1,
+        ..Budget::default()
+    };
+    let (_, v, _) = decide_with(&prog, "[[property]]\nname = \"p\"\nnever = \"D1 AND D2\"\n", one);
+    assert_eq!((outcome(&v[0]), v[0].method), ("proved", Method::Explicit));
+    assert!(v[0].sat_calls >= 2, "the base and the step were asked");
+    // The lamp follows a timer's DN, havocked in the abstraction: the search decides.
+    let prog = compile(LAMP_TAGS, LAMP);
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp AND NOT Motor\"\n");
+    assert_eq!((outcome(&v[0]), v[0].method), ("proved", Method::Explicit));
+    assert!(v[0].states > 0);
+    // A false invariant is never proved by it: refuted by the search, with its counterexample.
+    let (_, v, _) = decide(&prog, "[[property]]\nname = \"p\"\nnever = \"Lamp\"\n");
+    assert_eq!((outcome(&v[0]), v[0].method), ("refuted", Method::Explicit));
+    assert!(v[0].run.is_some());
+}
+
+/// A property's expression is evaluated by the engine (lowered onto the IR,
+/// expr.rs): DINT arithmetic wraps at 32 bits and a division by zero
+/// saturates as in a rung, its typing is the compiler's, and a fault of
+/// the expression does not reach the program's memory.
+#[test]
+fn expressions_have_the_engines_semantics() {
+    let tags = "Start,BOOL,DI:1/0,,,\nLamp,BOOL,DO:2/0,,,\nBig,DINT,,2147483647,,\nFive,DINT,,5,,\nZero,DINT,,0,,\n";
+    // The lamp lights on a minor fault: a fault of a property's division
+    // would light it if it reached the program.
+    let prog = compile(tags, "XIC(S:MINOR)OTE(Lamp);\nXIC(Start)NOP();\n");
+    let toml = "\
+[[property]]
+name = \"DINT wraps\"
+always = \"Big + 1 < 0\"
+
+[[property]]
+name = \"division by zero saturates\"
+always = \"Five / Zero = 2147483647 AND (0 - Five) / Zero < -2147483647\"
+
+[[property]]
+name = \"no fault reaches the program\"
+never = \"Lamp OR S:MINOR\"
+
+[[property]]
+name = \"REAL division\"
+always = \"Five / 2.0 = 2.5 AND Five / 2 = 2\"
+";
+    let (_, v, _) = decide(&prog, toml);
+    for r in &v {
+        assert_eq!(outcome(r), "proved", "{}: {:?}", r.name, r.outcome);
+    }
+    let mut files = alba_diag::Files::new();
+    for (text, needle) in [
+        ("never = \"Lamp AND 3\"", "BOOL"),
+        ("never = \"Big\"", "a number, not a BOOL"),
+        ("never = \"Lamp + 1 > 0\"", "numbers on both sides"),
+    ] {
+        let f = files.add("properties.toml", format!("[[property]]\nname = \"p\"\n{text}\n"));
+        let d = alba_verify::props::parse(files.text(f), f, &prog.layout).expect_err(text);
+        assert!(d.iter().any(|d| d.message.contains(needle)), "{text}: {d:?}");
+        assert!(d.iter().all(|d| d.code == alba_diag::Code::Expression), "{text}: {d:?}");
+    }
+}
+
 #[test]
 fn bad_properties_are_refused_with_their_place() {
     let prog = compile(LAMP_TAGS, LAMP);
@@ -376,7 +464,7 @@ fn rung() -> impl Strategy<Value = String> {
 /// makes `bad` true, by simulating all of them.
 fn first_by_simulation(
     program: &std::sync::Arc<alba_ir::Program>,
-    bad: &dyn Fn(&alba_ir::Memory) -> bool,
+    bad: &mut dyn FnMut(&alba_ir::Memory) -> bool,
 ) -> Option<usize> {
     let inputs: Vec<alba_ir::Place> = ["In0", "In1"]
         .iter()
@@ -430,14 +518,18 @@ proptest! {
         let toml = format!("[[property]]\nname = \"p\"\n{}\n", PROPERTIES[which]);
         let (_, v, p) = decide(&program, &toml);
         let prop = &p.properties[0];
-        let bad = |m: &alba_ir::Memory| match &prop.kind {
-            Kind::Never(e) => e.eval(m).truth(),
-            Kind::Always(e) => !e.eval(m).truth(),
-            Kind::Mutex(es) => es.iter().filter(|e| e.eval(m).truth()).count() > 1,
-            Kind::Reachable(e) => e.eval(m).truth(),
-            Kind::Response { .. } => unreachable!(),
+        let mut probes = Evaluator::new(&p.probes).expect("probes");
+        let mut bad = |m: &alba_ir::Memory| {
+            let m = probes.run(m).expect("probes run");
+            match &prop.kind {
+                Kind::Never(e) => e.holds(m),
+                Kind::Always(e) => !e.holds(m),
+                Kind::Mutex(es) => es.iter().filter(|e| e.holds(m)).count() > 1,
+                Kind::Reachable(e) => e.holds(m),
+                Kind::Response { .. } => unreachable!(),
+            }
         };
-        let sim = first_by_simulation(&program, &bad);
+        let sim = first_by_simulation(&program, &mut bad);
         let reachable = matches!(prop.kind, Kind::Reachable(_));
         let found = match (&v[0].outcome, reachable) {
             (Outcome::Refuted, false) | (Outcome::Proved, true) => Some(v[0].depth as usize),

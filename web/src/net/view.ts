@@ -84,6 +84,8 @@ export class NetView {
   private analysisAbort: AbortController | null = null;
   private analysisTimedOut = false;
   private replayState: Replay | null = null;
+  /** A scan of a counterexample replayed by the Verify & Test page: its values and energised elements ({@link showScan}). */
+  private scanShown: { value: (tag: string) => Json | undefined; on: ReadonlySet<number> } | null = null;
   private lit = new Set<string>();
   private history: { scan: number; t: number; fired: string[]; changes: string[] }[] = [];
   /** Each transition's monitored elements in the running program (GET /api/programs, `transitions`). */
@@ -565,20 +567,31 @@ export class NetView {
   }
 
   private value(name: string): Json | undefined {
-    return this.ctx.live.store.get(name);
+    return this.scanShown ? this.scanShown.value(name) : this.ctx.live.store.get(name);
+  }
+
+  /**
+   * Shows one scan of a replayed run (the Verify & Test page's counterexample,
+   * docs/verify.md): the marking from its values of the marking tags, the
+   * transitions enabled and fired from its energised elements (the compiled
+   * "enabled" and "fired" elements, as live), timers and counters from their tags.
+   */
+  showScan(value: (tag: string) => Json | undefined, on: ReadonlySet<number>): void {
+    this.scanShown = { value, on };
+    this.paintLive();
   }
 
   /** The marking shown: a replay step, the running net's, or the initial one while designing. */
   private marking(): { m: Marking; source: 'replay' | 'live' | 'initial' } {
     const net = this.net!;
     if (this.replayState) return { m: this.replayState.markings[this.replayState.step], source: 'replay' };
-    if (this.live) {
+    if (this.live || this.scanShown) {
       const m: Marking = new Map();
       for (const n of [...net.places, ...(net.mode === 'normal' ? net.transitions : [])]) {
         const v = this.value(markingTag(this.program, n.id));
         m.set(n.id, typeof v === 'number' ? v : 0);
       }
-      return { m, source: 'live' };
+      return { m, source: this.scanShown ? 'replay' : 'live' };
     }
     return { m: initialMarking(net), source: 'initial' };
   }
@@ -647,7 +660,7 @@ export class NetView {
     this.liveEl.dataset.state = source;
     // live: the runtime's own verdict (arcs and guard, after the last scan) and the transitions that fired in it;
     // a replay or the design: enabled by the arcs of the marking shown (normal mode: holding the token)
-    const powered = source === 'live' ? this.powered(this.ed.on) : null;
+    const powered = this.scanShown ? this.powered(this.scanShown.on) : source === 'live' ? this.powered(this.ed.on) : null;
     const on = powered
       ? powered.enabled
       : net.mode === 'normal'
@@ -666,7 +679,7 @@ export class NetView {
       } else if (n !== 0) tokens.append(s('text', { class: 'net-token-count', 'text-anchor': 'middle', y: 5 }, String(n)));
       g.classList.toggle('marked', n > 0);
       const info = g.querySelector('.net-info');
-      if (info) info.textContent = source === 'live' ? this.infoOf(p.id, p.kind) : '';
+      if (info) info.textContent = source === 'live' || this.scanShown ? this.infoOf(p.id, p.kind) : '';
     }
     for (const t of net.transitions) {
       const g = this.groups.get(t.id);
@@ -685,7 +698,7 @@ export class NetView {
         if (n > 0) tokens.append(s('circle', { class: 'net-token', cx: 0, cy: 0, r: 4 }));
       }
       const info = g.querySelector('.net-info');
-      if (info) info.textContent = source === 'live' ? this.infoOf(t.id, t.kind) : '';
+      if (info) info.textContent = source === 'live' || this.scanShown ? this.infoOf(t.id, t.kind) : '';
     }
     for (const w of net.widgets) {
       const g = this.groups.get(w.id);

@@ -46,6 +46,8 @@ export class SfcView {
   private pending: { kind: 'link' | 'join'; from: string } | null = null;
   private readonly hintEl = h('span', { class: 'hint sfc-hint', 'data-testid': 'sfc-hint' });
   private readonly zp = new ZoomPan(this.canvas, 'sfc', tr('Fit the chart in the window (0)'));
+  /** A scan of a counterexample replayed by the Verify & Test page: its values ({@link showScan}). */
+  private scanShown: ((tag: string) => unknown) | null = null;
 
   constructor(
     private readonly ctx: Ctx,
@@ -422,16 +424,28 @@ export class SfcView {
     this.paintLive();
   }
 
-  /** Active steps, their time and their action blocks: from the running program's saved text only. */
+  /**
+   * Shows one scan of a replayed run (the Verify & Test page's counterexample,
+   * docs/verify.md): the active steps and their time from its values of the
+   * steps' `.X` and `.T` tags.
+   */
+  showScan(value: (tag: string) => unknown): void {
+    this.scanShown = value;
+    this.paintLive();
+  }
+
+  /** Active steps, their time and their action blocks: from the running program's saved text only (or a replayed scan). */
   private paintLive(): void {
+    const replay = this.scanShown;
     const live = this.ed.monitoring;
-    this.liveEl.textContent = live ? tr('live') : this.dirty ? tr('edited — not live') : tr('not running');
-    this.liveEl.dataset.state = live ? 'live' : 'initial';
+    this.liveEl.textContent = replay ? tr('replay') : live ? tr('live') : this.dirty ? tr('edited — not live') : tr('not running');
+    this.liveEl.dataset.state = replay ? 'replay' : live ? 'live' : 'initial';
+    const get = replay ?? (live ? (tag: string) => this.ctx.live.store.get(tag) : () => undefined);
     for (const st of this.chart.steps) {
       const g = this.groups.get(`step:${st.name}`);
       if (!g) continue;
-      const x = live ? this.ctx.live.store.get(this.tag(st.name, 'X')) : undefined;
-      const t = live ? this.ctx.live.store.get(this.tag(st.name, 'T')) : undefined;
+      const x = get(this.tag(st.name, 'X'));
+      const t = get(this.tag(st.name, 'T'));
       const on = x === true;
       g.dataset.active = String(on);
       g.classList.toggle('active', on);

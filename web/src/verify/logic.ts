@@ -31,6 +31,23 @@ export function valuesAt(r: Replay, k: number): ShownValue[] {
   }));
 }
 
+/**
+ * The values of scan `k` as the net and SFC views read live values: a tag's
+ * value by its name (case-insensitive), a number when it is one (a BOOL is
+ * 0 or 1), else its text; undefined for a tag the replay does not list.
+ */
+export function valueOf(r: Replay, k: number): (tag: string) => number | string | undefined {
+  const values = r.scans[clampScan(r, k)]?.values ?? [];
+  const at = new Map(r.tags.map((t, j) => [t.toUpperCase(), j]));
+  return (tag) => {
+    const j = at.get(tag.toUpperCase());
+    const v = j === undefined ? undefined : values[j];
+    if (v === undefined) return undefined;
+    const n = Number(v);
+    return v.trim() !== '' && Number.isFinite(n) ? n : v;
+  };
+}
+
 /** The stimulus rows applied at scan `k` (those with a time after the scan before's, up to this scan's). */
 export function rowsAt(r: Replay, k: number): Replay['rows'] {
   const i = clampScan(r, k);

@@ -2,8 +2,10 @@
 // project's properties and test tables with their last result, run on the
 // saved project (POST /api/verify, POST /api/tests). A refuted property's
 // counterexample (a reachable property's witness too) opens as a replay: a
-// time slider over its scans, the tags' values at that scan, and the ladder
-// programs drawn with the power flow of that scan, the violating scan
+// time slider over its scans, the tags' values at that scan, the ladder
+// programs drawn with the power flow of that scan, and the nets and SFC
+// charts drawn by their own views (net/view.ts, sfc/view.ts) with that
+// scan's marking, fired transitions and active steps; the violating scan
 // marked. The tables' coverage is overlaid on the same ladder: elements
 // never powered by any table are marked. Running takes seconds of CPU: the
 // server gives it to engineers, one run at a time.
@@ -17,7 +19,9 @@ import { layoutRung } from '../ladder/layout';
 import { attachIds } from '../ladder/locate';
 import { parseProgram } from '../ladder/parse';
 import { type RungView, renderRung } from '../ladder/render';
-import { changeScans, clampScan, coverageMarks, percentOf, powerAt, rowsAt, startScan, stepChange, valuesAt } from './logic';
+import { NetView } from '../net/view';
+import { SfcView } from '../sfc/view';
+import { changeScans, clampScan, coverageMarks, percentOf, powerAt, rowsAt, startScan, stepChange, valueOf, valuesAt } from './logic';
 
 const resultName = (r: string): string =>
   ({ proved: tr('proved'), refuted: tr('refuted'), unknown: tr('unknown'), passed: tr('passed'), failed: tr('failed'), error: tr('error') })[r] ?? r;
@@ -39,6 +43,8 @@ export class VerifyTab {
   private witness = false;
   private scan = 0;
   private ladders: Drawn[] | null = null;
+  /** The project's nets and SFC charts, drawn by their own views for the replay. */
+  private charts: (NetView | SfcView)[] | null = null;
   private readonly runBtn = h('button', { class: 'primary', 'data-testid': 'verify-run' }, tr('Run properties'));
   private readonly testBtn = h('button', { 'data-testid': 'tests-run' }, tr('Run tests'));
   private readonly coverBox = h('input', { type: 'checkbox', 'data-testid': 'coverage-toggle' }) as HTMLInputElement;
@@ -52,6 +58,7 @@ export class VerifyTab {
   private readonly values = h('tbody', { 'data-testid': 'replay-values' });
   private readonly applied = h('div', { class: 'replay-rows', 'data-testid': 'replay-rows' });
   private readonly ladderBox = h('div', { class: 'verify-ladder', 'data-testid': 'verify-ladder' });
+  private readonly chartBox = h('div', { class: 'verify-charts', 'data-testid': 'verify-charts' });
 
   constructor(private readonly ctx: Ctx) {
     gate(this.runBtn, 'edit');
@@ -88,6 +95,7 @@ export class VerifyTab {
         this.tests),
       this.coverLine,
       this.replayBox,
+      this.chartBox,
       this.ladderBox);
     this.renderLists();
   }
@@ -182,6 +190,7 @@ export class VerifyTab {
     if (title) title.textContent = p.counterexample ? tr('Counterexample of “{name}”', { name: p.name }) : tr('Witness of “{name}”', { name: p.name });
     this.slider.max = String(Math.max(0, r.scans.length - 1));
     await this.drawLadders();
+    await this.drawCharts();
     this.go(startScan(r));
     // shown once it shows this replay's scan (not the previous one's, nor none)
     this.replayBox.hidden = false;
@@ -236,8 +245,34 @@ export class VerifyTab {
     }
   }
 
-  /** The power flow of the replay's scan and the coverage marks, on the drawn ladder. */
+  /** Draws the project's nets and SFC charts once, with their own views (the saved text). */
+  private async drawCharts(): Promise<void> {
+    if (this.charts) return;
+    try {
+      const refs = (await api.programs()).filter((p) => (p.language === 'net' || p.language === 'sfc') && !p.plant);
+      const out: (NetView | SfcView)[] = [];
+      for (const ref of refs) {
+        const view = ref.language === 'net' ? new NetView(this.ctx, ref.name) : new SfcView(this.ctx, ref.name);
+        this.chartBox.append(h('h3', null, ref.name), h('div', { class: 'verify-chart', 'data-testid': `verify-chart-${ref.name}` }, view.el));
+        await view.load();
+        out.push(view);
+      }
+      this.charts = out;
+    } catch (e) {
+      this.fail(e);
+    }
+  }
+
+  /** The power flow of the replay's scan and the coverage marks, on the drawn ladder; the scan's marking on the charts. */
   private paint(): void {
+    if (this.replay) {
+      const value = valueOf(this.replay, this.scan);
+      const on = powerAt(this.replay, this.scan);
+      for (const c of this.charts ?? []) {
+        if (c instanceof NetView) c.showScan(value, on);
+        else c.showScan((tag) => (tag.endsWith('.X') ? value(tag) === 1 : value(tag)));
+      }
+    }
     for (const d of this.ladders ?? []) {
       const on = this.replay ? powerAt(this.replay, this.scan) : new Set<number>();
       for (const v of d.rungs) v.setPower(on, this.replay !== null);

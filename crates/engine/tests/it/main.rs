@@ -7,6 +7,7 @@ mod online_edit;
 mod pid;
 mod power_flow;
 mod properties;
+mod run_over;
 mod seed_functions;
 mod thesis;
 mod util;
