@@ -5,7 +5,10 @@
 //! (an engine TON, `<sfc>.<step>.timer`), and each action's BOOL tag as the
 //! OR of its associations' terms — N: X; S/R: a latch set and reset (R
 //! wins); L: X and T < t; D: X and T ≥ t; P and P1: the scan X rises; P0:
-//! the scan X falls.
+//! the scan X falls. An action written in ST (`ACTION name: … END_ACTION`)
+//! drives a BOOL `<sfc>.<name>` the same way, and its body runs, lowered
+//! by alba-st into the chart's unit after the actions, in the scans where
+//! that BOOL is true.
 
 use crate::petri;
 use alba_diag::{Code, Diagnostic, FileId, Span};
@@ -30,9 +33,29 @@ fn timer_tag(sfc: &str, step: &str) -> String {
     format!("{sfc}.{step}.timer")
 }
 
-/// The chart's tags: each step's marking (as a net's), `.X`, `.T` and timer.
+/// The BOOL an ST action's associations drive: `<sfc>.<action>`.
+pub fn action_tag(sfc: &str, action: &str) -> String {
+    format!("{sfc}.{action}")
+}
+
+/// The chart's tags: each step's marking (as a net's), `.X`, `.T` and
+/// timer, and each ST action's BOOL.
 pub fn tags(sfc: &Sfc, name: &str, file: FileId, tags: &mut TagTable, diags: &mut Vec<Diagnostic>) {
     petri::marking_tags(&sfc.to_net(name, file), name, tags, diags);
+    for a in &sfc.actions {
+        let tag = action_tag(name, &a.name);
+        if tags.get(&tag).is_some() {
+            diags.push(Diagnostic::new(
+                Code::NetTagClash,
+                format!("the action flag `{tag}` is already a tag"),
+                a.header,
+                "action",
+            ));
+            continue;
+        }
+        let what = format!("action {} of {name} is active (its ST body runs)", a.name);
+        tags.push(petri::net_tag(tag, DataType::Bool, Some(Value::Bool(false)), what, a.header));
+    }
     for s in &sfc.steps {
         // The timers of the stored-and-timed associations (SD, SL).
         for a in s
@@ -89,8 +112,66 @@ struct Action {
     assoc: Vec<(usize, Qualifier, Option<i64>, Option<Tmr>)>,
 }
 
-/// Compiles the chart as one unit.
-pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder) -> Vec<Diagnostic> {
+/// The ST actions of a chart as one ST file: a PROGRAM per action whose
+/// body is `IF <sfc>.<action> THEN <body> END_IF`, every span in the
+/// `.sfc` file (each is parsed from a text of the file's length where only
+/// the header, now `PROGRAM <action>`, and the body are kept).
+fn st_actions(sfc: &Sfc, name: &str, file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> alba_st::File {
+    use alba_st::ast::{Expr, ExprKind, Ident, Stmt, StmtKind};
+    let mut out = alba_st::File {
+        pous: Vec::new(),
+        types: Vec::new(),
+        globals: Vec::new(),
+    };
+    for a in &sfc.actions {
+        let (h, body) = (a.header.start as usize, a.body.start as usize..a.body.end as usize);
+        let header = format!("PROGRAM {}", a.name);
+        let mut synth = " ".repeat(h);
+        synth.push_str(&format!("{header:<width$}", width = body.start - h));
+        synth.push_str(text.get(body.clone()).unwrap_or(""));
+        synth.push_str("\nEND_PROGRAM\n");
+        let (parsed, d) = alba_st::parse(&synth, file);
+        // What the parser reports after the body is at END_ACTION.
+        diags.extend(d.into_iter().map(|mut d| {
+            if let Some(l) = d.primary.as_mut()
+                && l.span.start as usize > body.end
+            {
+                l.span = Span::new(file, body.end..body.end + 10);
+            }
+            d
+        }));
+        for mut p in parsed.pous {
+            let gate = Expr {
+                kind: ExprKind::Name(Ident {
+                    name: action_tag(name, &a.name),
+                    span: a.header,
+                }),
+                span: a.header,
+            };
+            let stmts = std::mem::take(&mut p.body);
+            p.body = vec![Stmt {
+                kind: StmtKind::If {
+                    arms: vec![(gate, stmts)],
+                    els: None,
+                },
+                span: a.header,
+            }];
+            out.pous.push(p);
+        }
+    }
+    out
+}
+
+/// Compiles the chart as one unit; its ST actions may call the FUNCTIONs
+/// and FUNCTION_BLOCKs of the project's `.st` files (`library`).
+pub fn compile(
+    sfc: &Sfc,
+    file: FileId,
+    text: &str,
+    unit: &str,
+    library: &[&alba_st::File],
+    b: &mut Builder,
+) -> Vec<Diagnostic> {
     let name = petri::net_name(unit);
     let mut diags = Vec::new();
     let slot = |b: &Builder, tag: &str| b.layout().resolve(tag).ok();
@@ -119,7 +200,11 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
     let mut actions: Vec<Action> = Vec::new();
     for (k, s) in sfc.steps.iter().enumerate() {
         for a in &s.actions {
-            let place = match b.layout().resolve(&a.action) {
+            let tag = match sfc.st_action(&a.action) {
+                Some(st) => action_tag(&name, &st.name),
+                None => a.action.clone(),
+            };
+            let place = match b.layout().resolve(&tag) {
                 Ok(Target::Value {
                     place,
                     access: Access::ReadWrite,
@@ -175,12 +260,15 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
             }
         }
     }
+    let st = st_actions(sfc, &name, file, text, &mut diags);
     if !diags.is_empty() {
         return diags;
     }
     let net = sfc.to_net(&name, file);
     let max = i32::MAX;
-    petri::compile_with(&net, file, text, unit, b, move |b, marking| {
+    let mut st_diags = Vec::new();
+    let st_out = &mut st_diags;
+    diags = petri::compile_with(&net, file, text, unit, b, move |b, marking| {
         let zero = b.const_i(0);
         let forever = b.const_i(max);
         let span = sfc.steps.first().map_or(Span::new(file, 0..0), |s| s.span);
@@ -319,5 +407,11 @@ pub fn compile(sfc: &Sfc, file: FileId, text: &str, unit: &str, b: &mut Builder)
             b.emit(Op::Xic(x), alba_ir::NO_ELEM);
             b.emit(Op::Ote(prev[k]), alba_ir::NO_ELEM);
         }
-    })
+        // The ST actions' bodies, each while its flag is true.
+        if !st.pous.is_empty() {
+            st_out.extend(alba_st::compile_in(&st, library, rung, b));
+        }
+    });
+    diags.extend(st_diags);
+    diags
 }

@@ -98,3 +98,102 @@ fn the_st_example_compiles() {
     let prog = c.program.expect("compiles");
     assert!(matches!(prog.layout.resolve("Main.delay"), Ok(Target::Timer(_))));
 }
+
+/// `tests/projects/st-library`: the PROGRAM of `main.st` calls a FUNCTION
+/// and a FUNCTION_BLOCK of `lib.st` and uses its TYPEs (the other `.st`
+/// files of a project are its library). Its trace (`golden.csv`, as `alba
+/// sim` writes it with `golden.args`; `ALBA_BLESS=1` rewrites it) is the
+/// same in the fused, monitored and native engine.
+#[test]
+fn a_program_calls_the_pous_of_another_st_file() {
+    use alba_engine::sim::{self, SimOptions, Stimulus};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/projects/st-library");
+    let c = compile_dir(&dir);
+    let prog = c
+        .program
+        .unwrap_or_else(|| panic!("{}", alba_diag::render_all(&c.diagnostics, &c.project.files)));
+    let args = std::fs::read_to_string(dir.join("golden.args")).expect("golden.args");
+    let arg = |k: &str| {
+        let mut it = args.split_whitespace().skip_while(|a| *a != k);
+        it.nth(1).unwrap_or_else(|| panic!("golden.args: {k}")).to_string()
+    };
+    let mut files = alba_diag::Files::new();
+    let f = files.add(
+        "stimulus.csv",
+        std::fs::read_to_string(dir.join("stimulus.csv")).expect("stimulus"),
+    );
+    let stim = Stimulus::parse(files.text(f), f, &prog.layout).expect("stimulus");
+    let cols = sim::columns(&arg("--tags"), &prog.layout).expect("columns");
+    let golden = dir.join("golden.csv");
+    let want = std::fs::read_to_string(&golden).unwrap_or_default();
+    for mode in ["fused", "monitored", "native"] {
+        let mut e = Engine::new(Arc::new(prog.clone())).expect("verifies");
+        match mode {
+            "monitored" => e.set_monitor(true),
+            "native" => e.compile_native().expect("native code"),
+            _ => {}
+        }
+        let mut out = Vec::new();
+        let opt = SimOptions {
+            scan_ms: 10,
+            until_ms: arg("--until").parse().expect("--until"),
+            every_ms: arg("--every").parse().expect("--every"),
+        };
+        sim::run(&mut e, &stim, &cols, opt, &mut out).expect("runs");
+        let got = String::from_utf8(out).expect("utf-8");
+        if std::env::var_os("ALBA_BLESS").is_some() {
+            std::fs::write(&golden, &got).expect("write golden");
+            return;
+        }
+        assert_eq!(want, got, "{mode}: {} differs (ALBA_BLESS=1 to accept)", golden.display());
+    }
+}
+
+#[test]
+fn a_pou_declared_in_two_st_files_is_an_error_in_the_later_one() {
+    let dir = project(
+        "dup",
+        "N,INT,\n",
+        &[
+            ("a.st", "FUNCTION Twice : INT\nVAR_INPUT x : INT; END_VAR\nTwice := x * 2;\nEND_FUNCTION\n"),
+            (
+                "b.st",
+                "FUNCTION Twice : INT\nVAR_INPUT x : INT; END_VAR\nTwice := x + x;\nEND_FUNCTION\n\
+                 PROGRAM Main\nN := Twice(3);\nEND_PROGRAM\n",
+            ),
+        ],
+    );
+    let c = compile_dir(&dir);
+    assert!(c.program.is_none());
+    let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
+    assert_eq!(c.diagnostics.len(), 1, "{text}");
+    assert!(text.contains("`Twice` is declared in another file too"), "{text}");
+    assert!(text.contains("b.st:1:10"), "{text}");
+    assert!(text.contains("a.st:1:10"), "the note names the other file: {text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_unknown_pou_of_the_library_is_located_with_did_you_mean() {
+    let dir = project(
+        "unknown-pou",
+        "In,BOOL,\nN,INT,\n",
+        &[
+            (
+                "lib.st",
+                "FUNCTION_BLOCK Counter\nVAR_INPUT up : BOOL; END_VAR\nVAR_OUTPUT n : INT; END_VAR\n\
+                 IF up THEN n := n + 1; END_IF;\nEND_FUNCTION_BLOCK\n",
+            ),
+            (
+                "main.st",
+                "PROGRAM Main\nVAR c : Countr; END_VAR\nc(up := In);\nN := c.n;\nEND_PROGRAM\n",
+            ),
+        ],
+    );
+    let c = compile_dir(&dir);
+    assert!(c.program.is_none());
+    let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
+    assert!(text.contains("main.st:2:9"), "{text}");
+    assert!(text.contains("did you mean `Counter`?"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -87,10 +87,30 @@ pub struct SfcTransition {
     pub span: Span,
 }
 
+/// An action whose body is Structured Text: `ACTION name: … END_ACTION`.
+/// Its associations drive a BOOL `<sfc>.<name>`, and the body runs in the
+/// scans where that is true (crates/compiler/src/sfc.rs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StAction {
+    pub name: String,
+    /// From `ACTION` to the `:` after the name.
+    pub header: Span,
+    /// The ST statements, between the `:` and `END_ACTION`.
+    pub body: Span,
+}
+
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Sfc {
     pub steps: Vec<Step>,
     pub transitions: Vec<SfcTransition>,
+    pub actions: Vec<StAction>,
+}
+
+impl Sfc {
+    /// The ST action called `name`, if there is one.
+    pub fn st_action(&self, name: &str) -> Option<&StAction> {
+        self.actions.iter().find(|a| a.name.eq_ignore_ascii_case(name))
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -153,6 +173,43 @@ impl Lexer<'_> {
         }
         self.pos += c.len_utf8();
         Ok(Some((Tok::Sym(c), start)))
+    }
+
+    /// An ST action's body: the text up to the word `END_ACTION` outside
+    /// comments and strings; the position is left after it.
+    fn action_body(&mut self) -> Result<Span, Diagnostic> {
+        let start = self.pos;
+        let b = self.text.as_bytes();
+        let mut i = start;
+        while i < b.len() {
+            let rest = &self.text[i..];
+            if rest.starts_with("(*") {
+                i += rest.find("*)").map_or(rest.len(), |k| k + 2);
+            } else if rest.starts_with("/*") {
+                i += rest.find("*/").map_or(rest.len(), |k| k + 2);
+            } else if rest.starts_with("//") {
+                i += rest.find('\n').unwrap_or(rest.len());
+            } else if b[i] == b'\'' || b[i] == b'"' {
+                let q = b[i];
+                i += 1;
+                while i < b.len() && b[i] != q {
+                    i += if b[i] == b'$' { 2 } else { 1 };
+                }
+                i += 1;
+            } else if rest.len() >= 10
+                && rest.is_char_boundary(10)
+                && rest[..10].eq_ignore_ascii_case("END_ACTION")
+                && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'))
+                && !rest[10..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
+            {
+                self.pos = i + 10;
+                return Ok(Span::new(self.file, start..i));
+            } else {
+                i += rest.chars().next().map_or(1, char::len_utf8);
+            }
+        }
+        self.pos = self.text.len();
+        Err(err("the action is not ended by END_ACTION", self.span(start), "action"))
     }
 
     /// The condition after `:=`: the text up to the next `;`.
@@ -239,7 +296,7 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
     while let Some((tok, at)) = lx.next()? {
         let Tok::Word(w) = tok else {
             return Err(err(
-                "expected INITIAL_STEP, STEP or TRANSITION",
+                "expected INITIAL_STEP, STEP, ACTION or TRANSITION",
                 Span::new(lx.file, at..lx.pos),
                 "here",
             ));
@@ -300,6 +357,23 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                     initial: kw == "INITIAL_STEP",
                     actions,
                     span: Span::new(lx.file, at..nat + 1),
+                });
+            }
+            "ACTION" => {
+                let (name, nat) = expect_word(lx, "the action's name")?;
+                if !is_name(&name) {
+                    return Err(err(
+                        format!("`{name}` is not an action name"),
+                        Span::new(lx.file, nat..nat + name.len()),
+                        "name",
+                    ));
+                }
+                let colon = expect_sym(lx, ':')?;
+                let body = lx.action_body()?;
+                sfc.actions.push(StAction {
+                    name,
+                    header: Span::new(lx.file, at..colon + 1),
+                    body,
                 });
             }
             "TRANSITION" => {
@@ -388,7 +462,7 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
             }
             _ => {
                 return Err(err(
-                    format!("expected INITIAL_STEP, STEP or TRANSITION, found `{w}`"),
+                    format!("expected INITIAL_STEP, STEP, ACTION or TRANSITION, found `{w}`"),
                     Span::new(lx.file, at..lx.pos),
                     "here",
                 ));
@@ -478,6 +552,11 @@ fn check(sfc: &Sfc, file: FileId, diags: &mut Vec<Diagnostic>) {
             ));
         }
         ids.push(id);
+    }
+    for (k, a) in sfc.actions.iter().enumerate() {
+        if sfc.actions[..k].iter().any(|o| o.name.eq_ignore_ascii_case(&a.name)) {
+            diags.push(st(format!("the action `{}` is declared twice", a.name), a.header, "again"));
+        }
     }
     let known = |n: &str| sfc.steps.iter().any(|s| s.name.eq_ignore_ascii_case(n));
     for t in &sfc.transitions {

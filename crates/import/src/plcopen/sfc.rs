@@ -12,8 +12,8 @@
 //! found by walking its input back to steps, its `TO` list by walking
 //! forward from it to steps and jumps. Action blocks hang on a step's
 //! action point; each action is a qualifier, a duration and a BOOL variable
-//! (an action of the POU with an ST body is a BOOL tag whose body runs in
-//! `<pou>_actions.st`, the `st` module).
+//! (an action of the POU with an ST body is an `ACTION` block of the chart,
+//! the `st` module).
 
 use super::{Ctx, Var, VarKind, collect_text, connections};
 use crate::{Error, Kind, Location, ProgramOut, Report};
