@@ -54,7 +54,13 @@ pub fn tags(sfc: &Sfc, name: &str, file: FileId, tags: &mut TagTable, diags: &mu
             continue;
         }
         let what = format!("action {} of {name} is active (its ST body runs)", a.name);
-        tags.push(petri::net_tag(tag, DataType::Bool, Some(Value::Bool(false)), what, a.header));
+        tags.push(petri::net_tag(
+            tag,
+            DataType::Bool,
+            Some(Value::Bool(false)),
+            what,
+            a.header,
+        ));
     }
     for s in &sfc.steps {
         // The timers of the stored-and-timed associations (SD, SL).

@@ -145,7 +145,12 @@ fn a_program_calls_the_pous_of_another_st_file() {
             std::fs::write(&golden, &got).expect("write golden");
             return;
         }
-        assert_eq!(want, got, "{mode}: {} differs (ALBA_BLESS=1 to accept)", golden.display());
+        assert_eq!(
+            want,
+            got,
+            "{mode}: {} differs (ALBA_BLESS=1 to accept)",
+            golden.display()
+        );
     }
 }
 
@@ -155,7 +160,10 @@ fn a_pou_declared_in_two_st_files_is_an_error_in_the_later_one() {
         "dup",
         "N,INT,\n",
         &[
-            ("a.st", "FUNCTION Twice : INT\nVAR_INPUT x : INT; END_VAR\nTwice := x * 2;\nEND_FUNCTION\n"),
+            (
+                "a.st",
+                "FUNCTION Twice : INT\nVAR_INPUT x : INT; END_VAR\nTwice := x * 2;\nEND_FUNCTION\n",
+            ),
             (
                 "b.st",
                 "FUNCTION Twice : INT\nVAR_INPUT x : INT; END_VAR\nTwice := x + x;\nEND_FUNCTION\n\
@@ -195,5 +203,48 @@ fn an_unknown_pou_of_the_library_is_located_with_did_you_mean() {
     let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
     assert!(text.contains("main.st:2:9"), "{text}");
     assert!(text.contains("did you mean `Counter`?"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_errors_of_an_sfc_action_in_st_are_located_in_the_chart() {
+    let chart = "INITIAL_STEP Idle: Count(N); END_STEP\n\
+                 STEP Run: END_STEP\n\
+                 ACTION Count:\n    Levle := Level + 1;\n    Level := Twice(Level, 2);\nEND_ACTION\n\
+                 TRANSITION FROM Idle TO Run := Level > 3; END_TRANSITION\n\
+                 TRANSITION FROM Run TO Idle := TRUE; END_TRANSITION\n";
+    let dir = project(
+        "sfc-st-errors",
+        "Level,INT,\n",
+        &[
+            ("chart.sfc", chart),
+            (
+                "lib.st",
+                "FUNCTION Twice : INT\nVAR_INPUT x : INT; END_VAR\nTwice := x * 2;\nEND_FUNCTION\n",
+            ),
+        ],
+    );
+    let c = compile_dir(&dir);
+    assert!(c.program.is_none());
+    let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
+    // The unknown name with "did you mean", and a call of the library's
+    // FUNCTION with one argument too many, each at its line of the chart.
+    assert!(text.contains("chart.sfc:4:5"), "{text}");
+    assert!(text.contains("did you mean `Level`?"), "{text}");
+    assert!(text.contains("chart.sfc:5:"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+    // Without END_ACTION: a syntax error of the chart.
+    let dir = project(
+        "sfc-st-unended",
+        "Level,INT,\n",
+        &[(
+            "chart.sfc",
+            "INITIAL_STEP Idle: Count(N); END_STEP\nACTION Count:\n    Level := 1;\n",
+        )],
+    );
+    let c = compile_dir(&dir);
+    let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
+    assert!(text.contains("the action is not ended by END_ACTION"), "{text}");
+    assert!(c.diagnostics.iter().any(|d| d.code == Code::SfcSyntax), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }

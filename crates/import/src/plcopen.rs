@@ -1317,7 +1317,12 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
     let types_el = root.child("types");
     let mut known: std::collections::HashSet<String> = types_el
         .and_then(|t| t.child("dataTypes"))
-        .map(|d| d.all("dataType").filter_map(|d| d.attr("name")).map(str::to_ascii_lowercase).collect())
+        .map(|d| {
+            d.all("dataType")
+                .filter_map(|d| d.attr("name"))
+                .map(str::to_ascii_lowercase)
+                .collect()
+        })
         .unwrap_or_default();
     known.extend(
         pous.iter()

@@ -341,7 +341,10 @@ fn st_functions_function_blocks_and_types_are_exported_and_come_back() {
         "{xml}"
     );
     // Only programs are task instances.
-    assert!(xml.contains("typeName=\"Main\"") && !xml.contains("typeName=\"Acc\""), "{xml}");
+    assert!(
+        xml.contains("typeName=\"Main\"") && !xml.contains("typeName=\"Acc\""),
+        "{xml}"
+    );
     // What PLCopen cannot say is refused at its place.
     assert!(
         text.contains("main.st:8:5: refused: an array or structure initialiser is not exported")
@@ -362,7 +365,9 @@ fn st_functions_function_blocks_and_types_are_exported_and_come_back() {
     // x = p.a + b (7), y = Green (5), p.a + 2 a scan.
     assert!(
         ta.len() > 3
-            && ta.iter().all(|r| r[1].parse::<i64>().ok() == r[3].parse::<i64>().ok().map(|a| a + 7) && r[2] == "5")
+            && ta
+                .iter()
+                .all(|r| r[1].parse::<i64>().ok() == r[3].parse::<i64>().ok().map(|a| a + 7) && r[2] == "5")
             && ta.last().is_some_and(|r| r[3] != "0"),
         "{ta:?}"
     );
@@ -396,6 +401,9 @@ fn plcopen_functions_and_function_blocks_import_export_import_keep_the_program()
         .map(|s| s.to_string())
         .collect();
     let ta = trace(&first, stim, &cols, 200);
-    assert!(ta.iter().any(|r| r[1] == "1") && ta.last().is_some_and(|r| r[4] == "1"), "{ta:?}");
+    assert!(
+        ta.iter().any(|r| r[1] == "1") && ta.last().is_some_and(|r| r[4] == "1"),
+        "{ta:?}"
+    );
     assert_eq!(ta, trace(&second, stim, &cols, 200));
 }

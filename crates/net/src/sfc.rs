@@ -555,7 +555,11 @@ fn check(sfc: &Sfc, file: FileId, diags: &mut Vec<Diagnostic>) {
     }
     for (k, a) in sfc.actions.iter().enumerate() {
         if sfc.actions[..k].iter().any(|o| o.name.eq_ignore_ascii_case(&a.name)) {
-            diags.push(st(format!("the action `{}` is declared twice", a.name), a.header, "again"));
+            diags.push(st(
+                format!("the action `{}` is declared twice", a.name),
+                a.header,
+                "again",
+            ));
         }
     }
     let known = |n: &str| sfc.steps.iter().any(|s| s.name.eq_ignore_ascii_case(n));
@@ -661,6 +665,33 @@ mod tests {
             "{}",
             e[0].message
         );
+    }
+
+    #[test]
+    fn an_st_action_is_its_body_up_to_end_action_outside_comments_and_strings() {
+        let text = "INITIAL_STEP A: Fill(N); END_STEP\n\
+                    ACTION Fill:\n  (* END_ACTION *) x := 'END_ACTION'; // END_ACTION\n  y := 1;\nEND_ACTION\n\
+                    TRANSITION FROM A TO A := FALSE; END_TRANSITION\n";
+        let sfc = parse(file(), text).expect("parses");
+        let a = sfc.st_action("fill").expect("the action");
+        assert_eq!(&text[a.header.range()], "ACTION Fill:");
+        let body = &text[a.body.range()];
+        assert!(
+            body.starts_with("\n  (* END_ACTION *)") && body.ends_with("y := 1;\n"),
+            "{body:?}"
+        );
+        assert_eq!(sfc.transitions.len(), 1);
+        // Twice the same name: E651; no END_ACTION: E650.
+        let twice = text.replace("TRANSITION FROM", "ACTION FILL: END_ACTION\nTRANSITION FROM");
+        let e = parse(file(), &twice).expect_err("twice");
+        assert!(
+            e[0].message.contains("the action `FILL` is declared twice"),
+            "{}",
+            e[0].message
+        );
+        let e = parse(file(), "INITIAL_STEP A: END_STEP ACTION Fill: x := 1;").expect_err("unended");
+        assert_eq!(e[0].code, Code::SfcSyntax);
+        assert!(e[0].message.contains("not ended by END_ACTION"), "{}", e[0].message);
     }
 
     #[test]

@@ -127,13 +127,22 @@ fn initial(v: &Elem) -> String {
 /// `types.st`: one `TYPE … END_TYPE` with every `<dataType>` of the file;
 /// `None` when there are none or one is refused (each refusal is in the
 /// report; the POUs that use it then do not check and are left out).
-pub(super) fn data_types(conv: &mut Conv<'_>, types: &Elem, known: &HashSet<String>, file: String) -> Option<ProgramOut> {
+pub(super) fn data_types(
+    conv: &mut Conv<'_>,
+    types: &Elem,
+    known: &HashSet<String>,
+    file: String,
+) -> Option<ProgramOut> {
     let ctx = Ctx {
         file: conv.ctx.file,
         text: conv.ctx.text,
     };
     let mut lines: Vec<(String, Location)> = Vec::new();
-    for d in types.child("dataTypes").map(|d| d.all("dataType").collect::<Vec<_>>()).unwrap_or_default() {
+    for d in types
+        .child("dataTypes")
+        .map(|d| d.all("dataType").collect::<Vec<_>>())
+        .unwrap_or_default()
+    {
         let loc = ctx.loc(d);
         let Some(name) = d.attr("name") else { continue };
         let Some(base) = d.child("baseType").and_then(|b| b.children.first()) else {
@@ -146,7 +155,11 @@ pub(super) fn data_types(conv: &mut Conv<'_>, types: &Elem, known: &HashSet<Stri
             lines.push((format!("    {name} : STRUCT"), loc.clone()));
             for m in base.all("variable") {
                 let mname = m.attr("name").unwrap_or("");
-                match m.child("type").and_then(|t| t.children.first()).map(|t| st_type(t, known)) {
+                match m
+                    .child("type")
+                    .and_then(|t| t.children.first())
+                    .map(|t| st_type(t, known))
+                {
                     Some(Ok(t)) => lines.push((format!("        {mname} : {t}{};", initial(m)), ctx.loc(m))),
                     Some(Err(why)) => {
                         conv.report.push(
