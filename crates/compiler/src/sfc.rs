@@ -131,9 +131,11 @@ fn st_actions(sfc: &Sfc, name: &str, file: FileId, text: &str, diags: &mut Vec<D
     };
     for a in &sfc.actions {
         let (h, body) = (a.header.start as usize, a.body.start as usize..a.body.end as usize);
+        // `ACTION <name>:` is at least as long as `PROGRAM <name>`.
         let header = format!("PROGRAM {}", a.name);
         let mut synth = " ".repeat(h);
-        synth.push_str(&format!("{header:<width$}", width = body.start - h));
+        synth.push_str(&header);
+        synth.push_str(&" ".repeat((body.start - h).saturating_sub(header.len())));
         synth.push_str(text.get(body.clone()).unwrap_or(""));
         synth.push_str("\nEND_PROGRAM\n");
         let (parsed, d) = alba_st::parse(&synth, file);

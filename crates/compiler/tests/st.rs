@@ -248,3 +248,23 @@ fn the_errors_of_an_sfc_action_in_st_are_located_in_the_chart() {
     assert!(c.diagnostics.iter().any(|d| d.code == Code::SfcSyntax), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Two PROGRAMs of one name in two files would share their variables' tags:
+/// refused at the later one, with a note at the first.
+#[test]
+fn programs_of_one_name_in_two_files_clash_on_their_variables() {
+    let dir = project(
+        "dup-prog",
+        "N,INT,\n",
+        &[
+            ("a.st", "PROGRAM Main\nVAR x : INT; END_VAR\nx := 1;\nEND_PROGRAM\n"),
+            ("b.st", "PROGRAM Main\nVAR x : INT; END_VAR\nx := 2;\nEND_PROGRAM\n"),
+        ],
+    );
+    let c = compile_dir(&dir);
+    assert!(c.program.is_none());
+    let text = alba_diag::render_all(&c.diagnostics, &c.project.files);
+    assert!(text.contains("the variable's tag `Main.x` already exists"), "{text}");
+    assert!(text.contains("b.st:2:5") && text.contains("a.st:2:5"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
