@@ -207,12 +207,12 @@ fn an_unknown_pou_of_the_library_is_located_with_did_you_mean() {
 }
 
 #[test]
-fn the_errors_of_an_sfc_action_in_st_are_located_in_the_chart() {
+fn the_errors_of_sfc_actions_and_conditions_in_st_are_located_in_the_chart() {
     let chart = "INITIAL_STEP Idle: Count(N); END_STEP\n\
                  STEP Run: END_STEP\n\
                  ACTION Count:\n    Levle := Level + 1;\n    Level := Twice(Level, 2);\nEND_ACTION\n\
                  TRANSITION FROM Idle TO Run := Level > 3; END_TRANSITION\n\
-                 TRANSITION FROM Run TO Idle := TRUE; END_TRANSITION\n";
+                 TRANSITION FROM Run TO Idle : Twice(Lvel) > 4 END_TRANSITION\n";
     let dir = project(
         "sfc-st-errors",
         "Level,INT,\n",
@@ -232,6 +232,8 @@ fn the_errors_of_an_sfc_action_in_st_are_located_in_the_chart() {
     assert!(text.contains("chart.sfc:4:5"), "{text}");
     assert!(text.contains("did you mean `Level`?"), "{text}");
     assert!(text.contains("chart.sfc:5:"), "{text}");
+    // A condition in ST: the unknown name at its place in the transition.
+    assert!(text.contains("chart.sfc:8:37"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);
     // Without END_ACTION: a syntax error of the chart.
     let dir = project(

@@ -84,6 +84,10 @@ pub struct SfcTransition {
     pub to: Vec<(String, Span)>,
     /// The condition's text, and its span in the file.
     pub condition: Guard,
+    /// `: <ST expression> END_TRANSITION`: the condition is ST, computed
+    /// into a BOOL `<sfc>.<transition>.C` before the chart's turn, and
+    /// `condition` is that expression (crates/compiler/src/sfc.rs).
+    pub st: bool,
     pub span: Span,
 }
 
@@ -179,8 +183,39 @@ impl Lexer<'_> {
     /// comments and strings; the position is left after it.
     fn action_body(&mut self) -> Result<Span, Diagnostic> {
         let start = self.pos;
+        match self.until_word(start, "END_ACTION") {
+            Some(end) => {
+                self.pos = end + "END_ACTION".len();
+                Ok(Span::new(self.file, start..end))
+            }
+            None => {
+                self.pos = self.text.len();
+                Err(err("the action is not ended by END_ACTION", self.span(start), "action"))
+            }
+        }
+    }
+
+    /// A condition in ST after `:`: the text up to the word
+    /// `END_TRANSITION` (outside comments and strings), left before it.
+    fn st_condition(&mut self) -> Result<(String, usize), Diagnostic> {
+        let start = self.pos;
+        let end = self.until_word(start, "END_TRANSITION").ok_or_else(|| {
+            err(
+                "the condition is not ended by END_TRANSITION",
+                self.span(start),
+                "condition",
+            )
+        })?;
+        self.pos = end;
+        Ok((self.text[start..end].to_string(), start))
+    }
+
+    /// Where the word `word` (upper case) is next, from `from`, outside
+    /// comments and strings.
+    fn until_word(&self, from: usize, word: &str) -> Option<usize> {
         let b = self.text.as_bytes();
-        let mut i = start;
+        let n = word.len();
+        let mut i = from;
         while i < b.len() {
             let rest = &self.text[i..];
             if rest.starts_with("(*") {
@@ -196,20 +231,18 @@ impl Lexer<'_> {
                     i += if b[i] == b'$' { 2 } else { 1 };
                 }
                 i += 1;
-            } else if rest.len() >= 10
-                && rest.is_char_boundary(10)
-                && rest[..10].eq_ignore_ascii_case("END_ACTION")
+            } else if rest.len() >= n
+                && rest.is_char_boundary(n)
+                && rest[..n].eq_ignore_ascii_case(word)
                 && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'))
-                && !rest[10..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
+                && !rest[n..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
             {
-                self.pos = i + 10;
-                return Ok(Span::new(self.file, start..i));
+                return Some(i);
             } else {
                 i += rest.chars().next().map_or(1, char::len_utf8);
             }
         }
-        self.pos = self.text.len();
-        Err(err("the action is not ended by END_ACTION", self.span(start), "action"))
+        None
     }
 
     /// The condition after `:=`: the text up to the next `;`.
@@ -417,18 +450,19 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                     return Err(err("expected TO", Span::new(lx.file, tat..tat + t.len()), "here"));
                 }
                 let to = step_list(lx)?;
-                match lx.next()? {
-                    Some((Tok::Assign, _)) => {}
+                let st = match lx.next()? {
+                    Some((Tok::Assign, _)) => false,
+                    Some((Tok::Sym(':'), _)) => true,
                     Some((_, a)) => {
                         return Err(err(
-                            "expected `:=` and the condition",
+                            "expected `:=` and the condition (or `:` and a condition in ST)",
                             Span::new(lx.file, a..lx.pos),
                             "here",
                         ));
                     }
                     None => return Err(err("expected `:=` and the condition", lx.span(lx.pos), "end")),
-                }
-                let (c, cat) = lx.condition()?;
+                };
+                let (c, cat) = if st { lx.st_condition()? } else { lx.condition()? };
                 let lead = c.len() - c.trim_start().len();
                 let text_c = c.trim().to_string();
                 if text_c.is_empty() {
@@ -439,7 +473,9 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                     ));
                 }
                 let cond_span = Span::new(lx.file, cat + lead..cat + lead + text_c.len());
-                expect_sym(lx, ';')?;
+                if !st {
+                    expect_sym(lx, ';')?;
+                }
                 let (e, eat) = expect_word(lx, "END_TRANSITION")?;
                 if !e.eq_ignore_ascii_case("END_TRANSITION") {
                     return Err(err(
@@ -457,6 +493,7 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                         text: text_c,
                         span: cond_span,
                     },
+                    st,
                     span: Span::new(lx.file, at..at + "TRANSITION".len()),
                 });
             }
@@ -597,10 +634,19 @@ impl Sfc {
                 for (n, sp) in &t.to {
                     arcs.push(arc(format!("{tid}.out.{n}"), tid.clone(), canonical(n), *sp));
                 }
+                // An ST condition is computed into `<sfc>.<transition>.C`.
+                let guard = if t.st {
+                    Guard {
+                        text: format!("{id}.{tid}.C"),
+                        span: t.condition.span,
+                    }
+                } else {
+                    t.condition.clone()
+                };
                 Transition {
                     id: tid,
                     name: None,
-                    guard: Some(t.condition.clone()),
+                    guard: Some(guard),
                     priority: t.priority,
                     kind: crate::ElementKind::Transition,
                     props: Default::default(),
@@ -692,6 +738,23 @@ mod tests {
         let e = parse(file(), "INITIAL_STEP A: END_STEP ACTION Fill: x := 1;").expect_err("unended");
         assert_eq!(e[0].code, Code::SfcSyntax);
         assert!(e[0].message.contains("not ended by END_ACTION"), "{}", e[0].message);
+    }
+
+    #[test]
+    fn a_condition_in_st_is_its_text_up_to_end_transition_and_a_flag_in_the_net() {
+        let text = "INITIAL_STEP A: END_STEP\nSTEP B: END_STEP\n\
+                    TRANSITION FROM A TO B : MIN(x, 3) > 2 (* ; END_TRANSITION *) END_TRANSITION\n\
+                    TRANSITION go FROM B TO A := y; END_TRANSITION\n";
+        let sfc = parse(file(), text).expect("parses");
+        let t = &sfc.transitions[0];
+        assert!(t.st && !sfc.transitions[1].st);
+        assert_eq!(&text[t.condition.span.range()], "MIN(x, 3) > 2 (* ; END_TRANSITION *)");
+        let net = sfc.to_net("seq", file());
+        let g = |k: usize| net.transitions[k].guard.as_ref().map(|g| g.text.clone());
+        assert_eq!(g(0).as_deref(), Some("seq.t1.C"));
+        assert_eq!(g(1).as_deref(), Some("y"));
+        let e = parse(file(), "INITIAL_STEP A: END_STEP TRANSITION FROM A TO A : x").expect_err("unended");
+        assert!(e[0].message.contains("not ended by END_TRANSITION"), "{}", e[0].message);
     }
 
     #[test]
