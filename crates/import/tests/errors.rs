@@ -753,7 +753,9 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
         // to no step, a connector that loops on itself, an action with a body,
         // a timed qualifier without its time, a condition drawn in LD.
         (
-            good.replace("NOT a", "ABS(n) > 2"),
+            // A function of a step's time: neither the nets' language nor
+            // ST (which has no `S0.T`) can say it.
+            good.replace("NOT a", "ABS(S0.T) > 2"),
             "`ABS(…)`: functions are not available in Alba's conditions",
         ),
         (
@@ -807,6 +809,20 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
         let text = report.render();
         assert!(text.contains(want), "{want}\n{text}");
     }
+    // A function of variables only is kept in ST: `: … END_TRANSITION`.
+    let (project, _) = alba_import::convert(
+        Path::new("seq.xml"),
+        &sfc_project(&good.replace("NOT a", "ABS(n) > 2")),
+        &Options::default(),
+    )
+    .expect("converts");
+    assert!(
+        project.programs[0]
+            .text
+            .contains("FROM S1 TO S0 : ABS(n) > 2 END_TRANSITION"),
+        "{}",
+        project.programs[0].text
+    );
     // Two initial steps: the chart is refused, and with it the only program.
     let two = good.replace("initialStep=\"false\"", "initialStep=\"true\"");
     assert_eq!(
