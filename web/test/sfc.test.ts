@@ -40,6 +40,13 @@ describe('SFC text', () => {
     expect(c.transitions.find((t) => t.name === 'back')!.priority).toBe(2);
   });
 
+  it('reads a condition written in ST (`: … END_TRANSITION`) and leaves ACTION blocks out of the steps', () => {
+    const c = parseSfc('INITIAL_STEP A: Fill(N); END_STEP\nSTEP B: END_STEP\nACTION Fill:\n  x := x + 1;\nEND_ACTION\n'
+      + 'TRANSITION FROM A TO B : LIMIT(0, x, 10) >= 5 END_TRANSITION\nTRANSITION FROM B TO A := TRUE; END_TRANSITION\n');
+    expect(c.steps.map((s) => s.name)).toEqual(['A', 'B']);
+    expect(c.transitions.map((t) => [t.from, t.to, t.condition])).toEqual([[['A'], ['B'], 'LIMIT(0, x, 10) >= 5'], [['B'], ['A'], 'TRUE']]);
+  });
+
   it('lays the chart out down the page: a divergence side by side, a way back as a jump', () => {
     const c = parseSfc(SEQ);
     const { at, jumps } = layoutSfc(c);

@@ -96,6 +96,11 @@ enum Ast {
     St(alba_st::File),
 }
 
+/// The `.st` files of `all` but `file`: its library.
+fn others<'a>(all: &[&'a alba_st::File], file: &alba_st::File) -> Vec<&'a alba_st::File> {
+    all.iter().copied().filter(|f| !std::ptr::eq(*f, file)).collect()
+}
+
 /// Compiles the programs of a loaded project: the control programs in the
 /// order of `alba.toml`, then the plant models.
 pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
@@ -150,6 +155,12 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         };
         asts.push((src, ast));
     }
+    // The FUNCTIONs, FUNCTION_BLOCKs and TYPEs of every `.st` file are known
+    // in the others: each file's library is the other `.st` files.
+    let st_files: Vec<&alba_st::File> = asts
+        .iter()
+        .filter_map(|(_, a)| if let Ast::St(f) = a { Some(f) } else { None })
+        .collect();
     // Each place's marking is a DINT tag `<net>.<place>`, after the tags of
     // tags.csv so that theirs do not move.
     let mut tags = project.tags.clone();
@@ -157,7 +168,7 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         match ast {
             Ast::Net(Some(net)) => net_tags(net, &petri::net_name(&src.name), &mut tags, &mut diags),
             Ast::Sfc(Some(sfc)) => sfc::tags(sfc, &petri::net_name(&src.name), src.file, &mut tags, &mut diags),
-            Ast::St(file) => alba_st::declare(file, &mut tags, &mut diags),
+            Ast::St(file) => alba_st::declare_with(file, &others(&st_files, file), &mut tags, &mut diags),
             _ => {}
         }
     }
@@ -178,8 +189,8 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
             Ast::Il(ast) => alba_il::compile(ast, &src.name, &mut b, &mut shared),
             Ast::Net(Some(net)) => compile_net(net, src.file, text, &src.name, &mut b),
             Ast::Net(None) | Ast::Sfc(None) => Vec::new(),
-            Ast::Sfc(Some(sfc)) => sfc::compile(sfc, src.file, text, &src.name, &mut b),
-            Ast::St(file) => alba_st::compile(file, &src.name, &mut b),
+            Ast::Sfc(Some(sfc)) => sfc::compile(sfc, src.file, text, &src.name, &st_files, &mut b),
+            Ast::St(file) => alba_st::compile_with(file, &others(&st_files, file), &src.name, &mut b),
         });
     }
     if let Some(cfg) = &project.config {
@@ -197,6 +208,10 @@ pub fn compile(project: &Project) -> (Option<Program>, Vec<Diagnostic>) {
         layout.plant = false;
         diags.extend(alba_modbus_proto::Map::build(&layout, tags).1);
     }
+    // A FUNCTION_BLOCK of one `.st` file called from another is checked in
+    // both: its errors are reported once.
+    let mut seen = std::collections::HashSet::new();
+    diags.retain(|d| seen.insert((d.code, d.message.clone(), d.primary.as_ref().map(|l| l.span))));
     if !diags.is_empty() {
         return (None, diags);
     }

@@ -210,19 +210,20 @@ fn add(list: &mut Vec<(usize, i32)>, p: usize, w: i32) -> bool {
 /// Compiles a Petri-mode net as one unit. Its marking tags are in the
 /// layout already ([`marking_tags`]).
 pub fn compile(net: &Net, file: FileId, text: &str, unit: &str, b: &mut Builder) -> Vec<Diagnostic> {
-    compile_with(net, file, text, unit, b, |_, _| {})
+    compile_with(net, file, text, unit, b, (|_| {}, |_, _| {}))
 }
 
-/// [`compile`], with `after` adding rungs to the net's unit once the new
-/// marking is written (an SFC's step flags and actions), given the marking
-/// slot of each place.
+/// [`compile`], with `before` adding rungs to the net's unit ahead of its
+/// turn (an SFC's conditions in ST) and `after` once the new marking is
+/// written (an SFC's step flags and actions), given the marking slot of
+/// each place.
 pub(crate) fn compile_with(
     net: &Net,
     file: FileId,
     text: &str,
     unit: &str,
     b: &mut Builder,
-    after: impl FnOnce(&mut Builder, &[I]),
+    (before, after): (impl FnOnce(&mut Builder), impl FnOnce(&mut Builder, &[I])),
 ) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     let name = net_name(unit);
@@ -325,6 +326,7 @@ pub(crate) fn compile_with(
 
     b.begin_unit(unit);
     let mark = b.mark();
+    before(b);
     let zero = b.const_i(0);
     // 1. The available and produced tokens.
     let first = net.transitions.first().map_or(at_start, |t| t.span);

@@ -673,11 +673,20 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     let mut named: HashMap<String, usize> = HashMap::new();
     // ST programs' POUs, by their place in `programs`.
     let mut st_out: Vec<(usize, String, String)> = Vec::new();
+    // Their FUNCTIONs and FUNCTION_BLOCKs (no task instance) and TYPEs.
+    let mut st_lib = String::new();
+    let mut data_types = String::new();
     for (k, p) in project.programs.iter().enumerate() {
         if !p.plant && p.name.to_ascii_lowercase().ends_with(".st") {
-            for (name, xml) in st_pous(files, p, &mut report) {
-                st_out.push((k, name, xml));
+            let st = st_pous(files, p, &mut report);
+            for (name, xml, program) in st.pous {
+                if program {
+                    st_out.push((k, name, xml));
+                } else {
+                    st_lib.push_str(&xml);
+                }
             }
+            data_types.push_str(&st.types);
             continue;
         }
         if p.plant || !p.name.to_ascii_lowercase().ends_with(".lad") {
@@ -971,6 +980,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     }
     out_pous.extend(st_out);
     out_pous.sort_by_key(|(k, _, _)| *k);
+    pous.push_str(&st_lib);
     for (_, pou, xml) in &out_pous {
         pous.push_str(xml);
         let _ = writeln!(
@@ -978,6 +988,11 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
             "            <pouInstance name=\"{pou}_instance\" typeName=\"{pou}\"/>"
         );
     }
+    let data_types = if data_types.is_empty() {
+        "<dataTypes/>".to_string()
+    } else {
+        format!("<dataTypes>\n{data_types}    </dataTypes>")
+    };
     let name = project
         .config
         .as_ref()
@@ -985,7 +1000,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
         .unwrap_or_else(|| "alba".into());
     let scan = project.scan_ms();
     let xml = format!(
-        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\n  <fileHeader companyName=\"Alba\" productName=\"Alba\" productVersion=\"{}\" creationDateTime=\"1970-01-01T00:00:00\"/>\n  <contentHeader name=\"{}\">\n    <coordinateInfo><fbd><scaling x=\"0\" y=\"0\"/></fbd><ld><scaling x=\"0\" y=\"0\"/></ld><sfc><scaling x=\"0\" y=\"0\"/></sfc></coordinateInfo>\n  </contentHeader>\n  <types>\n    <dataTypes/>\n    <pous>\n{pous}    </pous>\n  </types>\n  <instances>\n    <configurations>\n      <configuration name=\"config\">\n        <resource name=\"resource\">\n          <task name=\"main\" interval=\"T#{scan}ms\" priority=\"0\">\n{instances}          </task>\n          <globalVars>\n{vars}          </globalVars>\n        </resource>\n      </configuration>\n    </configurations>\n  </instances>\n</project>\n",
+        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\n  <fileHeader companyName=\"Alba\" productName=\"Alba\" productVersion=\"{}\" creationDateTime=\"1970-01-01T00:00:00\"/>\n  <contentHeader name=\"{}\">\n    <coordinateInfo><fbd><scaling x=\"0\" y=\"0\"/></fbd><ld><scaling x=\"0\" y=\"0\"/></ld><sfc><scaling x=\"0\" y=\"0\"/></sfc></coordinateInfo>\n  </contentHeader>\n  <types>\n    {data_types}\n    <pous>\n{pous}    </pous>\n  </types>\n  <instances>\n    <configurations>\n      <configuration name=\"config\">\n        <resource name=\"resource\">\n          <task name=\"main\" interval=\"T#{scan}ms\" priority=\"0\">\n{instances}          </task>\n          <globalVars>\n{vars}          </globalVars>\n        </resource>\n      </configuration>\n    </configurations>\n  </instances>\n</project>\n",
         env!("CARGO_PKG_VERSION"),
         esc(&name)
     );
@@ -1034,26 +1049,118 @@ fn st_type_xml(t: &alba_compiler::st::ast::TypeRef) -> Result<String, String> {
     })
 }
 
-/// The `program` POUs of the ST file `p` (its PROGRAMs; what else it holds
-/// is refused with its place), as (POU name, XML).
-fn st_pous(
-    files: &alba_diag::Files,
-    p: &alba_compiler::project::ProgramSource,
-    report: &mut Report,
-) -> Vec<(String, String)> {
-    use alba_compiler::st::ast::{Init, PouKind, VarKind, expr};
+/// What an ST file exports.
+struct StPous {
+    /// (POU name, XML, whether it is a PROGRAM) in file order.
+    pous: Vec<(String, String, bool)>,
+    /// The `<dataType>`s of its TYPEs.
+    types: String,
+}
+
+/// The POUs of the ST file `p` — PROGRAMs, FUNCTIONs and FUNCTION_BLOCKs,
+/// with ST bodies — and its TYPEs as `<dataType>`s; what else it holds is
+/// refused with its place.
+fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, report: &mut Report) -> StPous {
+    use alba_compiler::st::ast::{Init, PouKind, TypeRef, VarKind, expr};
     let text = files.text(p.file);
     let loc = |at: u32| {
         let (l, c) = files.line_col(p.file, at as usize);
         Location::new(&p.name, l as u32, c as u32)
     };
     let (file, _) = alba_compiler::st::parse(text, p.file);
+    let mut types = String::new();
     for t in &file.types {
-        report.push(
-            Kind::Refused,
-            loc(t.name.span.start),
-            format!("TYPE `{}` is not exported (only PROGRAMs are)", t.name.name),
-        );
+        let base = match &t.ty {
+            TypeRef::Struct { members, .. } => {
+                let mut s = String::from("<struct>");
+                let mut bad = None;
+                for m in members {
+                    let ty = match st_type_xml(&m.ty) {
+                        Ok(ty) => ty,
+                        Err(why) => {
+                            bad = Some(why);
+                            break;
+                        }
+                    };
+                    let init = match &m.init {
+                        None => String::new(),
+                        Some(Init::Expr(e)) => format!(
+                            "<initialValue><simpleValue value=\"{}\"/></initialValue>",
+                            esc(&expr(e))
+                        ),
+                        Some(_) => {
+                            bad = Some("an array or structure initialiser".into());
+                            break;
+                        }
+                    };
+                    for n in &m.names {
+                        let _ = write!(
+                            s,
+                            "<variable name=\"{}\"><type>{ty}</type>{init}</variable>",
+                            esc(&n.name)
+                        );
+                    }
+                }
+                s.push_str("</struct>");
+                bad.map_or(Ok(s), Err)
+            }
+            TypeRef::Enum { values, .. } => {
+                let mut s = String::from("<enum><values>");
+                for (n, v) in values {
+                    match v {
+                        Some(v) => {
+                            let _ = write!(s, "<value name=\"{}\" value=\"{}\"/>", esc(&n.name), esc(&expr(v)));
+                        }
+                        None => {
+                            let _ = write!(s, "<value name=\"{}\"/>", esc(&n.name));
+                        }
+                    }
+                }
+                s.push_str("</values></enum>");
+                Ok(s)
+            }
+            TypeRef::Subrange { base, lo, hi, .. } => {
+                let up = base.name.to_ascii_uppercase();
+                let kind = if up.starts_with('U') {
+                    "subrangeUnsigned"
+                } else {
+                    "subrangeSigned"
+                };
+                Ok(format!(
+                    "<{kind}><range lower=\"{}\" upper=\"{}\"/><baseType><{up}/></baseType></{kind}>",
+                    esc(&expr(lo)),
+                    esc(&expr(hi))
+                ))
+            }
+            ty => st_type_xml(ty),
+        };
+        let init = match &t.init {
+            None => Ok(String::new()),
+            Some(Init::Expr(e)) => Ok(format!(
+                "<initialValue><simpleValue value=\"{}\"/></initialValue>",
+                esc(&expr(e))
+            )),
+            Some(_) => Err("an array or structure initialiser".to_string()),
+        };
+        match (base, init) {
+            (Ok(b), Ok(i)) => {
+                let _ = writeln!(
+                    types,
+                    "      <dataType name=\"{}\"><baseType>{b}</baseType>{i}</dataType>",
+                    esc(&t.name.name)
+                );
+                report.push(
+                    Kind::Converted,
+                    loc(t.name.span.start),
+                    format!("TYPE `{}` exported as a data type", t.name.name),
+                );
+            }
+            (Err(why), _) | (_, Err(why)) => report.push(
+                Kind::Refused,
+                loc(t.name.span.start),
+                format!("TYPE `{}`: {why} is not exported", t.name.name),
+            ),
+        }
     }
     for b in &file.globals {
         report.push(
@@ -1064,20 +1171,24 @@ fn st_pous(
     }
     let mut out = Vec::new();
     for pou in &file.pous {
-        if pou.kind != PouKind::Program {
-            report.push(
-                Kind::Refused,
-                loc(pou.name.span.start),
-                format!(
-                    "{} `{}` is not exported (only PROGRAMs are)",
-                    pou.kind.keyword(),
-                    pou.name.name
-                ),
-            );
-            continue;
-        }
+        let (pou_type, end_kw) = match pou.kind {
+            PouKind::Program => ("program", "END_PROGRAM"),
+            PouKind::Function => ("function", "END_FUNCTION"),
+            PouKind::FunctionBlock => ("functionBlock", "END_FUNCTION_BLOCK"),
+        };
         let mut iface = String::new();
         let mut refused = false;
+        if let Some(r) = &pou.ret {
+            match st_type_xml(r) {
+                Ok(t) => {
+                    let _ = writeln!(iface, "          <returnType>{t}</returnType>");
+                }
+                Err(why) => {
+                    report.push(Kind::Refused, loc(r.span().start), format!("{why} is not exported"));
+                    refused = true;
+                }
+            }
+        }
         for b in &pou.vars {
             let list = match b.kind {
                 VarKind::Var => "localVars",
@@ -1129,21 +1240,30 @@ fn st_pous(
             }
             let _ = writeln!(iface, "          </{list}>");
         }
+        let keyword = pou.kind.keyword();
         if refused {
             report.push(
                 Kind::Refused,
                 loc(pou.name.span.start),
-                format!("PROGRAM `{}` not exported", pou.name.name),
+                format!("{keyword} `{}` not exported", pou.name.name),
             );
             continue;
         }
-        // The body as written: from the end of the declarations to END_PROGRAM.
-        let start = pou.vars.last().map(|b| b.span.end).unwrap_or(pou.name.span.end) as usize;
+        // The body as written: from the end of the declarations (or of the
+        // result type) to the END_ keyword.
+        let start = pou
+            .vars
+            .last()
+            .map(|b| b.span.end)
+            .into_iter()
+            .chain(pou.ret.as_ref().map(|r| r.span().end))
+            .max()
+            .unwrap_or(pou.name.span.end) as usize;
         let end = pou.span.end as usize;
         let body = text.get(start..end).unwrap_or("").trim();
-        let cut = body.len().saturating_sub(11);
+        let cut = body.len().saturating_sub(end_kw.len());
         let body = match (body.get(cut..), body.get(..cut)) {
-            (Some(end), Some(rest)) if end.eq_ignore_ascii_case("END_PROGRAM") => rest.trim_end(),
+            (Some(end), Some(rest)) if end.eq_ignore_ascii_case(end_kw) => rest.trim_end(),
             _ => body,
         };
         let body = body.trim_start_matches(['\n', '\r']);
@@ -1151,15 +1271,16 @@ fn st_pous(
         report.push(
             Kind::Converted,
             loc(pou.name.span.start),
-            format!("PROGRAM `{}` exported as an ST body", pou.name.name),
+            format!("{keyword} `{}` exported as an ST body", pou.name.name),
         );
         out.push((
             pou.name.name.clone(),
             format!(
-                "      <pou name=\"{}\" pouType=\"program\">\n        <interface>\n{iface}        </interface>\n        <body>\n          <ST>\n            <xhtml:p><![CDATA[{cdata}]]></xhtml:p>\n          </ST>\n        </body>\n      </pou>\n",
+                "      <pou name=\"{}\" pouType=\"{pou_type}\">\n        <interface>\n{iface}        </interface>\n        <body>\n          <ST>\n            <xhtml:p><![CDATA[{cdata}]]></xhtml:p>\n          </ST>\n        </body>\n      </pou>\n",
                 esc(&pou.name.name)
             ),
+            pou.kind == PouKind::Program,
         ));
     }
-    out
+    StPous { pous: out, types }
 }

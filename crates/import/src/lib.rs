@@ -368,9 +368,22 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
         let mut st_out: Vec<usize> = Vec::new();
         // The first error of each, for the message when nothing is left.
         let mut st_first: Vec<(Location, String)> = Vec::new();
+        // So is a chart whose ST action does not check.
+        let in_action = |text: &str, line: usize| {
+            let mut inside = false;
+            for l in text.lines().take(line + 1) {
+                let l = l.trim();
+                if l.starts_with("ACTION ") && l.ends_with(':') {
+                    inside = true;
+                } else if l == "END_ACTION" {
+                    inside = false;
+                }
+            }
+            inside
+        };
         for (pi, line, msg) in &rungs {
             let p = &project.programs[*pi];
-            if p.file.ends_with(".st") {
+            if p.file.ends_with(".st") || (p.file.ends_with(".sfc") && in_action(&p.text, *line)) {
                 let loc = p.origin(*line).cloned().unwrap_or_else(|| whole.clone());
                 report.push(Kind::Refused, loc.clone(), format!("`{}`: {msg}", p.file));
                 if !st_out.contains(pi) {
@@ -409,7 +422,17 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
             );
             changed = true;
         }
-        if project.programs.is_empty()
+        // What is left must run: not only ST files of FUNCTIONs, FUNCTION_BLOCKs
+        // and TYPEs (a PLCopen import's library).
+        let runs = |p: &ProgramOut| {
+            !p.file.ends_with(".st")
+                || alba_compiler::st::parse(&p.text, alba_diag::FileId(0))
+                    .0
+                    .pous
+                    .iter()
+                    .any(|u| u.kind == alba_compiler::st::ast::PouKind::Program)
+        };
+        if !project.programs.iter().any(runs)
             && let Some((loc, why)) = st_first.into_iter().next()
         {
             return Err(Error::at(loc, format!("nothing left to import: {why}")));

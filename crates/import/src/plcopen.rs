@@ -22,11 +22,12 @@
 //! | `ADD` `SUB` `MUL` `DIV` `MOD` `MOVE` | the instruction, gated by EN, into a helper tag |
 //!
 //! SFC bodies become `.sfc` programs (the [`sfc`] module), ST bodies `.st`
-//! programs (the [`st`] module).
+//! programs (the [`st`] module), as do functions and function blocks with
+//! ST bodies and the data types (`types.st`), before the programs.
 //!
-//! Everything else (user function blocks, functions, FBD/IL bodies,
-//! jumps, other blocks) is refused with its place; a coil fed by a refused
-//! element is refused too.
+//! Everything else (functions and function blocks in other languages,
+//! FBD/IL bodies, jumps, other blocks) is refused with its place; a coil
+//! fed by a refused element is refused too.
 
 mod sfc;
 mod st;
@@ -1159,6 +1160,46 @@ impl Body<'_, '_> {
     }
 }
 
+/// The `externalVars` of a POU: declared by the configuration; unknown ones
+/// become tags.
+fn external_vars(conv: &mut Conv<'_>, list: &Elem, scope: &mut HashMap<String, Var>) {
+    let mut l2 = list.clone();
+    l2.children.retain(|c| {
+        c.name == "variable"
+            && c.attr("name")
+                .is_some_and(|n| !scope.contains_key(&n.to_ascii_lowercase()))
+    });
+    if l2.children.is_empty() {
+        return;
+    }
+    let mut ext = HashMap::new();
+    let mut tmp = Conv {
+        ctx: Ctx {
+            file: conv.ctx.file,
+            text: conv.ctx.text,
+        },
+        report: Report::default(),
+        names: std::mem::take(&mut conv.names),
+        structs: Structs::default(),
+        tags: Vec::new(),
+        globals: HashMap::new(),
+    };
+    tmp.declare(&l2, &mut ext, "global");
+    conv.names = tmp.names;
+    conv.tags.extend(tmp.tags);
+    conv.report.entries.extend(tmp.report.entries);
+    scope.extend(ext);
+}
+
+/// The tags a function or function block names through its `externalVars`.
+fn external_tags(conv: &mut Conv<'_>, pou: &Elem, scope: &mut HashMap<String, Var>) {
+    if let Some(iface) = pou.child("interface") {
+        for list in iface.all("externalVars") {
+            external_vars(conv, list, scope);
+        }
+    }
+}
+
 /// Converts a PLCopen project.
 pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(Project, Report), Error> {
     let ctx = Ctx { file, text };
@@ -1190,6 +1231,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
     // Global variables and the scan period of the configurations.
     let mut scan_ms: Option<u32> = None;
     let mut instances: Vec<String> = Vec::new();
+    let mut tasks: Vec<(i64, String)> = Vec::new();
     let mut globals = HashMap::new();
     if let Some(cfgs) = root.child("instances").and_then(|i| i.child("configurations")) {
         for cfg in cfgs.all("configuration") {
@@ -1225,12 +1267,20 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                             ),
                         }
                     }
+                    // A task of higher priority (a lower number) runs its
+                    // programs first in Alba's one scan.
+                    let prio = task
+                        .attr("priority")
+                        .and_then(|p| p.trim().parse::<i64>().ok())
+                        .unwrap_or(i64::MAX);
                     for pi in task.all("pouInstance") {
                         if let Some(t) = pi.attr("typeName") {
-                            instances.push(t.to_ascii_lowercase());
+                            tasks.push((prio, t.to_ascii_lowercase()));
                         }
                     }
                 }
+                tasks.sort_by_key(|(p, _)| *p);
+                instances.extend(tasks.drain(..).map(|(_, t)| t));
                 for pi in res.all("pouInstance") {
                     if let Some(t) = pi.attr("typeName") {
                         instances.push(t.to_ascii_lowercase());
@@ -1263,6 +1313,25 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             ordered.push(p);
         }
     }
+    // User types and function blocks, by which ST variables are declared.
+    let types_el = root.child("types");
+    let mut known: std::collections::HashSet<String> = types_el
+        .and_then(|t| t.child("dataTypes"))
+        .map(|d| {
+            d.all("dataType")
+                .filter_map(|d| d.attr("name"))
+                .map(str::to_ascii_lowercase)
+                .collect()
+        })
+        .unwrap_or_default();
+    known.extend(
+        pous.iter()
+            .filter(|p| p.attr("pouType") != Some("program"))
+            .filter_map(|p| p.attr("name"))
+            .map(str::to_ascii_lowercase),
+    );
+    // `types.st` and the functions and function blocks, before the programs.
+    let mut library: Vec<ProgramOut> = Vec::new();
     let mut refused_programs: Vec<String> = Vec::new();
     let ms_time = root
         .child("fileHeader")
@@ -1272,20 +1341,33 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         let loc = conv.ctx.loc(pou);
         let pname = pou.attr("name").unwrap_or("").to_string();
         let kind = pou.attr("pouType").unwrap_or("");
-        if kind != "program" {
-            conv.report.push(
-                Kind::Refused,
-                loc,
-                format!("{kind} `{pname}`: Alba has no user functions or function blocks; only programs are imported"),
-            );
-            continue;
-        }
         let body = pou.child("body");
         let lang = body.and_then(|b| {
             b.children
                 .iter()
                 .find(|c| c.name != "documentation" && c.name != "addData")
         });
+        if kind != "program" {
+            let st = lang.filter(|l| l.name == "ST");
+            match st {
+                Some(st) if kind == "function" || kind == "functionBlock" => {
+                    let mut scope = globals.clone();
+                    external_tags(&mut conv, pou, &mut scope);
+                    if let Some(out) = st::convert(&mut conv, pou, st, (&pname, kind), &known, &mut scope) {
+                        library.push(out);
+                    }
+                }
+                _ => conv.report.push(
+                    Kind::Refused,
+                    loc,
+                    format!(
+                        "{kind} `{pname}` has a {} body: Alba imports functions and function blocks written in ST",
+                        lang.map(|l| l.name.as_str()).unwrap_or("no")
+                    ),
+                ),
+            }
+            continue;
+        }
         let Some(ld) = lang.filter(|l| l.name == "LD" || l.name == "SFC" || l.name == "ST") else {
             let what = lang.map(|l| l.name.clone()).unwrap_or_else(|| "no".into());
             conv.report.push(
@@ -1313,36 +1395,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     "localVars" | "inputVars" | "outputVars" | "inOutVars" | "externalVars" | "globalVars" | "tempVars"
                 ) {
                     if list.name == "externalVars" {
-                        // Declared by the configuration; unknown ones become tags.
-                        let mut ext = HashMap::new();
-                        let mut tmp = Conv {
-                            ctx: Ctx { file, text },
-                            report: Report::default(),
-                            names: std::mem::take(&mut conv.names),
-                            structs: Structs::default(),
-                            tags: Vec::new(),
-                            globals: HashMap::new(),
-                        };
-                        let missing: Vec<&Elem> = list
-                            .all("variable")
-                            .filter(|v| {
-                                v.attr("name")
-                                    .is_some_and(|n| !scope.contains_key(&n.to_ascii_lowercase()))
-                            })
-                            .collect();
-                        if !missing.is_empty() {
-                            let mut l2 = list.clone();
-                            l2.children.retain(|c| {
-                                c.name == "variable"
-                                    && c.attr("name")
-                                        .is_some_and(|n| !scope.contains_key(&n.to_ascii_lowercase()))
-                            });
-                            tmp.declare(&l2, &mut ext, "global");
-                        }
-                        conv.names = tmp.names;
-                        conv.tags.extend(tmp.tags);
-                        conv.report.entries.extend(tmp.report.entries);
-                        scope.extend(ext);
+                        external_vars(&mut conv, list, &mut scope);
                     } else if !is_st {
                         conv.declare(list, &mut scope, &pname);
                     }
@@ -1350,22 +1403,29 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             }
         }
         if is_st {
-            match st::convert(&mut conv, pou, ld, &pname, &mut scope) {
+            match st::convert(&mut conv, pou, ld, (&pname, kind), &known, &mut scope) {
                 Some(prog) => programs.push(prog),
                 None => refused_programs.push(format!("`{pname}` (ST)")),
             }
             continue;
         }
         if is_sfc {
-            // Actions with an ST body: a BOOL tag each, driven by the chart,
-            // and `<pou>_actions.st` running each body while its tag is true.
+            // Actions with an ST body: `ACTION … END_ACTION` blocks of the
+            // chart, which runs each body while its associations hold.
             let actions = st::declare_actions(&mut conv, pou, &pname, &mut scope);
             match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut conv.report)? {
-                Some(prog) => {
-                    programs.push(prog);
-                    if let Some(a) = st::actions_program(&mut conv, pou, &pname, &scope, &actions) {
-                        programs.push(a);
+                Some(mut prog) => {
+                    if !st::action_blocks(&mut conv, pou, &pname, &scope, &actions, &mut prog) {
+                        // The associations name actions the chart no longer has.
+                        for a in &actions {
+                            scope.remove(&a.name().to_ascii_lowercase());
+                        }
+                        match sfc::convert(&conv.ctx, pou, ld, &pname, &scope, &mut Report::default())? {
+                            Some(p) => prog = p,
+                            None => continue,
+                        }
                     }
+                    programs.push(prog);
                 }
                 None => refused_programs.push(format!("`{pname}` (SFC)")),
             }
@@ -1569,6 +1629,20 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             }
         }
         programs.push(prog);
+    }
+    if !programs.is_empty() {
+        if let Some(t) = types_el {
+            let taken = |f: &str| library.iter().chain(&programs).any(|p| p.file.eq_ignore_ascii_case(f));
+            let file = ["types.st", "data_types.st", "alba_types.st"]
+                .into_iter()
+                .find(|f| !taken(f))
+                .unwrap_or("alba_import_types.st");
+            if let Some(types) = st::data_types(&mut conv, t, &known, file.to_string()) {
+                library.insert(0, types);
+            }
+        }
+        library.append(&mut programs);
+        programs = library;
     }
     if programs.is_empty() {
         let why = if refused_programs.is_empty() {

@@ -753,7 +753,9 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
         // to no step, a connector that loops on itself, an action with a body,
         // a timed qualifier without its time, a condition drawn in LD.
         (
-            good.replace("NOT a", "ABS(n) > 2"),
+            // A function of a step's time: neither the nets' language nor
+            // ST (which has no `S0.T`) can say it.
+            good.replace("NOT a", "ABS(S0.T) > 2"),
             "`ABS(…)`: functions are not available in Alba's conditions",
         ),
         (
@@ -807,6 +809,20 @@ fn hostile_plcopen_sfc_bodies_are_refused_with_their_place() {
         let text = report.render();
         assert!(text.contains(want), "{want}\n{text}");
     }
+    // A function of variables only is kept in ST: `: … END_TRANSITION`.
+    let (project, _) = alba_import::convert(
+        Path::new("seq.xml"),
+        &sfc_project(&good.replace("NOT a", "ABS(n) > 2")),
+        &Options::default(),
+    )
+    .expect("converts");
+    assert!(
+        project.programs[0]
+            .text
+            .contains("FROM S1 TO S0 : ABS(n) > 2 END_TRANSITION"),
+        "{}",
+        project.programs[0].text
+    );
     // Two initial steps: the chart is refused, and with it the only program.
     let two = good.replace("initialStep=\"false\"", "initialStep=\"true\"");
     assert_eq!(
@@ -844,11 +860,11 @@ n := * 2;
         "{text}"
     );
     assert!(text.contains("7:6: refused: ST of `bad`: E220"), "{text}");
-    assert!(text.contains("functionBlock `fb`"), "{text}");
-    // `bad` is not written; `good` is.
+    assert!(text.contains("converted: ST body of function block `fb`"), "{text}");
+    // `bad` is not written; `good` is, after the function block.
     let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
-    assert_eq!(files, ["good.st"]);
-    assert!(project.programs[0].text.contains("m := m + 1;"));
+    assert_eq!(files, ["fb.st", "good.st"]);
+    assert!(project.programs[1].text.contains("m := m + 1;"));
     // Only refused ST programs: nothing to import, and why.
     let only_bad = xml.replace(
         "pouType=\"program\">\n      <interface><localVars><variable name=\"m\"",
@@ -897,19 +913,14 @@ END_IF;]]></xhtml:p></ST></body>
 }
 
 #[test]
-fn ironplc_st_program_calling_a_user_fb_is_refused_with_its_place() {
-    // IronPLC's test project: an ST program whose only variable is an
-    // instance of a user function block (ST too). Both are refused, each at
-    // its place, and so is the import.
-    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen-refused/ironplc-simple.xml");
+fn ironplc_st_program_whose_fb_call_does_not_check_leaves_nothing_to_import() {
+    // IronPLC's test project (it imports: tests/scenarios.rs) with Main's
+    // variable made an INT: the program converts, but calling an INT does
+    // not check, so it is left out; the function block left alone runs
+    // nothing, so the import is refused, naming the place (line 45, the
+    // column after `<xhtml …>`).
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/ironplc-simple.xml");
     let text = fs::read_to_string(&f).expect("fixture");
-    assert_eq!(
-        err("simple.xml", None, &text),
-        "simple.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `Main` (ST)"
-    );
-    // Main's variable made an INT: the program converts, but calling an INT
-    // does not check, so it is left out and the error names its place (line
-    // 45, the column after `<xhtml …>`).
     let t = text.replace("<derived name=\"Counter\"/>", "<INT/>");
     let tmp = tempfile::tempdir().expect("tmp");
     let file = tmp.path().join("simple.xml");

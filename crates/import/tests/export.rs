@@ -303,37 +303,107 @@ fn plcopen_st_import_export_import_keeps_the_program() {
 }
 
 #[test]
-fn st_functions_and_types_are_refused_on_export_with_their_place() {
+fn st_functions_function_blocks_and_types_are_exported_and_come_back() {
     let tmp = tempfile::tempdir().expect("tmp");
     let d = tmp.path();
     fs::write(
         d.join("alba.toml"),
-        "name = \"t\"\nscan_ms = 10\nprograms = [\"main.st\"]\n",
+        "name = \"t\"\nscan_ms = 10\nprograms = [\"lib.st\", \"main.st\"]\n",
     )
     .expect("w");
     fs::write(
         d.join("tags.csv"),
-        "name,type,address,initial,retain,description\nx,INT,,,,\n",
+        "name,type,address,initial,retain,description\nx,INT,,,,\ny,INT,,,,\n",
+    )
+    .expect("w");
+    fs::write(
+        d.join("lib.st"),
+        "TYPE Pair : STRUCT a : INT; b : INT := 7; END_STRUCT; Color : (Red, Green := 5); END_TYPE\n\
+         FUNCTION Twice : INT\nVAR_INPUT a : INT; END_VAR\nTwice := a * 2;\nEND_FUNCTION\n\
+         FUNCTION_BLOCK Acc\nVAR_INPUT v : INT; END_VAR\nVAR_OUTPUT p : Pair; END_VAR\np.a := p.a + v;\nEND_FUNCTION_BLOCK\n",
     )
     .expect("w");
     fs::write(
         d.join("main.st"),
-        "FUNCTION Twice : INT\nVAR_INPUT a : INT; END_VAR\nTwice := a * 2;\nEND_FUNCTION\n\nPROGRAM Main\nx := x + 1; (* ]]> in a comment *)\nEND_PROGRAM\n",
+        "PROGRAM Main\nVAR acc : Acc; c : Color := Green; END_VAR\nacc(v := Twice(1));\nx := acc.p.a + acc.p.b; (* ]]> in a comment *)\n\
+         y := TO_INT(c);\nEND_PROGRAM\n\
+         PROGRAM Other\nVAR h : ARRAY[0..1] OF INT := [3, 4]; END_VAR\nh[0] := h[1];\nEND_PROGRAM\n",
     )
     .expect("w");
     let (xml, report) = alba_import::export_plcopen(d).expect("export");
     let text = report.render();
     assert!(
-        text.contains("main.st:1:10: refused: FUNCTION `Twice` is not exported"),
+        xml.contains("<pou name=\"Twice\" pouType=\"function\">")
+            && xml.contains("<returnType><INT/></returnType>")
+            && xml.contains("<pou name=\"Acc\" pouType=\"functionBlock\">")
+            && xml.contains("<dataType name=\"Pair\"><baseType><struct>")
+            && xml.contains("<value name=\"Green\" value=\"5\"/>"),
+        "{xml}"
+    );
+    // Only programs are task instances.
+    assert!(
+        xml.contains("typeName=\"Main\"") && !xml.contains("typeName=\"Acc\""),
+        "{xml}"
+    );
+    // What PLCopen cannot say is refused at its place.
+    assert!(
+        text.contains("main.st:8:5: refused: an array or structure initialiser is not exported")
+            && text.contains("main.st:7:9: refused: PROGRAM `Other` not exported"),
         "{text}"
     );
-    assert!(xml.contains("<pou name=\"Main\" pouType=\"program\">"), "{xml}");
-    assert!(!xml.contains("Twice"), "{xml}");
-    // `]]>` in the body survives the CDATA section.
+    // Imported back: the same values, and `]]>` survives the CDATA section.
     let back = d.join("back");
     let file = d.join("t.xml");
     fs::write(&file, &xml).expect("write");
-    alba_import::import(&file, &back, &Options::default()).expect("import");
+    let r = alba_import::import(&file, &back, &Options::default()).expect("import");
+    assert_eq!(r.count(alba_import::Kind::Refused), 0, "{}", r.render());
     let st = fs::read_to_string(back.join("Main.st")).expect("st");
-    assert!(st.contains("x := x + 1; (* ]]> in a comment *)"), "{st}");
+    assert!(st.contains("(* ]]> in a comment *)"), "{st}");
+    let cols: Vec<String> = ["x", "y", "Main.acc.p.a"].iter().map(|s| s.to_string()).collect();
+    let stim = "time_ms,tag,value\n";
+    let ta = trace(d, stim, &cols, 50);
+    // x = p.a + b (7), y = Green (5), p.a + 2 a scan.
+    assert!(
+        ta.len() > 3
+            && ta
+                .iter()
+                .all(|r| r[1].parse::<i64>().ok() == r[3].parse::<i64>().ok().map(|a| a + 7) && r[2] == "5")
+            && ta.last().is_some_and(|r| r[3] != "0"),
+        "{ta:?}"
+    );
+    assert_eq!(ta, trace(&back, stim, &cols, 50));
+}
+
+#[test]
+fn plcopen_functions_and_function_blocks_import_export_import_keep_the_program() {
+    // st-pous-types.xml (data types, a function, a function block, two
+    // programs in two tasks) imported, exported and imported again: the
+    // same .st files and the same trace.
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/st-pous-types.xml");
+    let tmp = tempfile::tempdir().expect("tmp");
+    let first = tmp.path().join("first");
+    alba_import::import(&src, &first, &Options::default()).expect("import");
+    let (xml, report) = alba_import::export_plcopen(&first).expect("export");
+    assert_eq!(report.count(alba_import::Kind::Refused), 0, "{}", report.render());
+    let file = tmp.path().join("again.xml");
+    fs::write(&file, &xml).expect("write");
+    let second = tmp.path().join("second");
+    let r = alba_import::import(&file, &second, &Options::default()).expect("import again");
+    assert_eq!(r.count(alba_import::Kind::Refused), 0, "{}", r.render());
+    for f in ["types.st", "Clamp.st", "Filler.st", "Main.st", "Logger.st"] {
+        let a = fs::read_to_string(first.join(f)).unwrap_or_else(|_| panic!("{f}"));
+        let b = fs::read_to_string(second.join(f)).unwrap_or_else(|_| panic!("{f}"));
+        assert_eq!(a, b, "{f}");
+    }
+    let stim = "time_ms,tag,value\n20,start,1\n40,start,0\n";
+    let cols: Vec<String> = ["full", "cycles", "Main.plant.level", "Logger.log[1]"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let ta = trace(&first, stim, &cols, 200);
+    assert!(
+        ta.iter().any(|r| r[1] == "1") && ta.last().is_some_and(|r| r[4] == "1"),
+        "{ta:?}"
+    );
+    assert_eq!(ta, trace(&second, stim, &cols, 200));
 }

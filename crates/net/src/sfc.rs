@@ -84,13 +84,37 @@ pub struct SfcTransition {
     pub to: Vec<(String, Span)>,
     /// The condition's text, and its span in the file.
     pub condition: Guard,
+    /// `: <ST expression> END_TRANSITION`: the condition is ST, computed
+    /// into a BOOL `<sfc>.<transition>.C` before the chart's turn, and
+    /// `condition` is that expression (crates/compiler/src/sfc.rs).
+    pub st: bool,
     pub span: Span,
+}
+
+/// An action whose body is Structured Text: `ACTION name: … END_ACTION`.
+/// Its associations drive a BOOL `<sfc>.<name>`, and the body runs in the
+/// scans where that is true (crates/compiler/src/sfc.rs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StAction {
+    pub name: String,
+    /// From `ACTION` to the `:` after the name.
+    pub header: Span,
+    /// The ST statements, between the `:` and `END_ACTION`.
+    pub body: Span,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Sfc {
     pub steps: Vec<Step>,
     pub transitions: Vec<SfcTransition>,
+    pub actions: Vec<StAction>,
+}
+
+impl Sfc {
+    /// The ST action called `name`, if there is one.
+    pub fn st_action(&self, name: &str) -> Option<&StAction> {
+        self.actions.iter().find(|a| a.name.eq_ignore_ascii_case(name))
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -153,6 +177,72 @@ impl Lexer<'_> {
         }
         self.pos += c.len_utf8();
         Ok(Some((Tok::Sym(c), start)))
+    }
+
+    /// An ST action's body: the text up to the word `END_ACTION` outside
+    /// comments and strings; the position is left after it.
+    fn action_body(&mut self) -> Result<Span, Diagnostic> {
+        let start = self.pos;
+        match self.until_word(start, "END_ACTION") {
+            Some(end) => {
+                self.pos = end + "END_ACTION".len();
+                Ok(Span::new(self.file, start..end))
+            }
+            None => {
+                self.pos = self.text.len();
+                Err(err("the action is not ended by END_ACTION", self.span(start), "action"))
+            }
+        }
+    }
+
+    /// A condition in ST after `:`: the text up to the word
+    /// `END_TRANSITION` (outside comments and strings), left before it.
+    fn st_condition(&mut self) -> Result<(String, usize), Diagnostic> {
+        let start = self.pos;
+        let end = self.until_word(start, "END_TRANSITION").ok_or_else(|| {
+            err(
+                "the condition is not ended by END_TRANSITION",
+                self.span(start),
+                "condition",
+            )
+        })?;
+        self.pos = end;
+        Ok((self.text[start..end].to_string(), start))
+    }
+
+    /// Where the word `word` (upper case) is next, from `from`, outside
+    /// comments and strings.
+    fn until_word(&self, from: usize, word: &str) -> Option<usize> {
+        let b = self.text.as_bytes();
+        let n = word.len();
+        let mut i = from;
+        while i < b.len() {
+            let rest = &self.text[i..];
+            if rest.starts_with("(*") {
+                i += rest.find("*)").map_or(rest.len(), |k| k + 2);
+            } else if rest.starts_with("/*") {
+                i += rest.find("*/").map_or(rest.len(), |k| k + 2);
+            } else if rest.starts_with("//") {
+                i += rest.find('\n').unwrap_or(rest.len());
+            } else if b[i] == b'\'' || b[i] == b'"' {
+                let q = b[i];
+                i += 1;
+                while i < b.len() && b[i] != q {
+                    i += if b[i] == b'$' { 2 } else { 1 };
+                }
+                i += 1;
+            } else if rest.len() >= n
+                && rest.is_char_boundary(n)
+                && rest[..n].eq_ignore_ascii_case(word)
+                && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'))
+                && !rest[n..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
+            {
+                return Some(i);
+            } else {
+                i += rest.chars().next().map_or(1, char::len_utf8);
+            }
+        }
+        None
     }
 
     /// The condition after `:=`: the text up to the next `;`.
@@ -239,7 +329,7 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
     while let Some((tok, at)) = lx.next()? {
         let Tok::Word(w) = tok else {
             return Err(err(
-                "expected INITIAL_STEP, STEP or TRANSITION",
+                "expected INITIAL_STEP, STEP, ACTION or TRANSITION",
                 Span::new(lx.file, at..lx.pos),
                 "here",
             ));
@@ -302,6 +392,23 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                     span: Span::new(lx.file, at..nat + 1),
                 });
             }
+            "ACTION" => {
+                let (name, nat) = expect_word(lx, "the action's name")?;
+                if !is_name(&name) {
+                    return Err(err(
+                        format!("`{name}` is not an action name"),
+                        Span::new(lx.file, nat..nat + name.len()),
+                        "name",
+                    ));
+                }
+                let colon = expect_sym(lx, ':')?;
+                let body = lx.action_body()?;
+                sfc.actions.push(StAction {
+                    name,
+                    header: Span::new(lx.file, at..colon + 1),
+                    body,
+                });
+            }
             "TRANSITION" => {
                 let mut name = None;
                 let mut priority = None;
@@ -343,18 +450,19 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                     return Err(err("expected TO", Span::new(lx.file, tat..tat + t.len()), "here"));
                 }
                 let to = step_list(lx)?;
-                match lx.next()? {
-                    Some((Tok::Assign, _)) => {}
+                let st = match lx.next()? {
+                    Some((Tok::Assign, _)) => false,
+                    Some((Tok::Sym(':'), _)) => true,
                     Some((_, a)) => {
                         return Err(err(
-                            "expected `:=` and the condition",
+                            "expected `:=` and the condition (or `:` and a condition in ST)",
                             Span::new(lx.file, a..lx.pos),
                             "here",
                         ));
                     }
                     None => return Err(err("expected `:=` and the condition", lx.span(lx.pos), "end")),
-                }
-                let (c, cat) = lx.condition()?;
+                };
+                let (c, cat) = if st { lx.st_condition()? } else { lx.condition()? };
                 let lead = c.len() - c.trim_start().len();
                 let text_c = c.trim().to_string();
                 if text_c.is_empty() {
@@ -365,7 +473,9 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                     ));
                 }
                 let cond_span = Span::new(lx.file, cat + lead..cat + lead + text_c.len());
-                expect_sym(lx, ';')?;
+                if !st {
+                    expect_sym(lx, ';')?;
+                }
                 let (e, eat) = expect_word(lx, "END_TRANSITION")?;
                 if !e.eq_ignore_ascii_case("END_TRANSITION") {
                     return Err(err(
@@ -383,12 +493,13 @@ fn parse_items(lx: &mut Lexer, sfc: &mut Sfc) -> Result<(), Diagnostic> {
                         text: text_c,
                         span: cond_span,
                     },
+                    st,
                     span: Span::new(lx.file, at..at + "TRANSITION".len()),
                 });
             }
             _ => {
                 return Err(err(
-                    format!("expected INITIAL_STEP, STEP or TRANSITION, found `{w}`"),
+                    format!("expected INITIAL_STEP, STEP, ACTION or TRANSITION, found `{w}`"),
                     Span::new(lx.file, at..lx.pos),
                     "here",
                 ));
@@ -479,6 +590,15 @@ fn check(sfc: &Sfc, file: FileId, diags: &mut Vec<Diagnostic>) {
         }
         ids.push(id);
     }
+    for (k, a) in sfc.actions.iter().enumerate() {
+        if sfc.actions[..k].iter().any(|o| o.name.eq_ignore_ascii_case(&a.name)) {
+            diags.push(st(
+                format!("the action `{}` is declared twice", a.name),
+                a.header,
+                "again",
+            ));
+        }
+    }
     let known = |n: &str| sfc.steps.iter().any(|s| s.name.eq_ignore_ascii_case(n));
     for t in &sfc.transitions {
         for (n, sp) in t.from.iter().chain(&t.to) {
@@ -514,10 +634,19 @@ impl Sfc {
                 for (n, sp) in &t.to {
                     arcs.push(arc(format!("{tid}.out.{n}"), tid.clone(), canonical(n), *sp));
                 }
+                // An ST condition is computed into `<sfc>.<transition>.C`.
+                let guard = if t.st {
+                    Guard {
+                        text: format!("{id}.{tid}.C"),
+                        span: t.condition.span,
+                    }
+                } else {
+                    t.condition.clone()
+                };
                 Transition {
                     id: tid,
                     name: None,
-                    guard: Some(t.condition.clone()),
+                    guard: Some(guard),
                     priority: t.priority,
                     kind: crate::ElementKind::Transition,
                     props: Default::default(),
@@ -582,6 +711,50 @@ mod tests {
             "{}",
             e[0].message
         );
+    }
+
+    #[test]
+    fn an_st_action_is_its_body_up_to_end_action_outside_comments_and_strings() {
+        let text = "INITIAL_STEP A: Fill(N); END_STEP\n\
+                    ACTION Fill:\n  (* END_ACTION *) x := 'END_ACTION'; // END_ACTION\n  y := 1;\nEND_ACTION\n\
+                    TRANSITION FROM A TO A := FALSE; END_TRANSITION\n";
+        let sfc = parse(file(), text).expect("parses");
+        let a = sfc.st_action("fill").expect("the action");
+        assert_eq!(&text[a.header.range()], "ACTION Fill:");
+        let body = &text[a.body.range()];
+        assert!(
+            body.starts_with("\n  (* END_ACTION *)") && body.ends_with("y := 1;\n"),
+            "{body:?}"
+        );
+        assert_eq!(sfc.transitions.len(), 1);
+        // Twice the same name: E651; no END_ACTION: E650.
+        let twice = text.replace("TRANSITION FROM", "ACTION FILL: END_ACTION\nTRANSITION FROM");
+        let e = parse(file(), &twice).expect_err("twice");
+        assert!(
+            e[0].message.contains("the action `FILL` is declared twice"),
+            "{}",
+            e[0].message
+        );
+        let e = parse(file(), "INITIAL_STEP A: END_STEP ACTION Fill: x := 1;").expect_err("unended");
+        assert_eq!(e[0].code, Code::SfcSyntax);
+        assert!(e[0].message.contains("not ended by END_ACTION"), "{}", e[0].message);
+    }
+
+    #[test]
+    fn a_condition_in_st_is_its_text_up_to_end_transition_and_a_flag_in_the_net() {
+        let text = "INITIAL_STEP A: END_STEP\nSTEP B: END_STEP\n\
+                    TRANSITION FROM A TO B : MIN(x, 3) > 2 (* ; END_TRANSITION *) END_TRANSITION\n\
+                    TRANSITION go FROM B TO A := y; END_TRANSITION\n";
+        let sfc = parse(file(), text).expect("parses");
+        let t = &sfc.transitions[0];
+        assert!(t.st && !sfc.transitions[1].st);
+        assert_eq!(&text[t.condition.span.range()], "MIN(x, 3) > 2 (* ; END_TRANSITION *)");
+        let net = sfc.to_net("seq", file());
+        let g = |k: usize| net.transitions[k].guard.as_ref().map(|g| g.text.clone());
+        assert_eq!(g(0).as_deref(), Some("seq.t1.C"));
+        assert_eq!(g(1).as_deref(), Some("y"));
+        let e = parse(file(), "INITIAL_STEP A: END_STEP TRANSITION FROM A TO A : x").expect_err("unended");
+        assert!(e[0].message.contains("not ended by END_TRANSITION"), "{}", e[0].message);
     }
 
     #[test]

@@ -71,7 +71,7 @@ export function parseSfc(text: string): Chart {
     steps.push({ name: m[2], initial: m[1].toUpperCase() === 'INITIAL_STEP', actions, line: lineAt(src, m.index!), endLine: lineAt(src, end), endStep: end - 'END_STEP'.length, span: [m.index!, end] });
   }
   const list = (s: string) => s.replace(/[()]/g, '').split(',').map((x) => x.trim()).filter(Boolean);
-  const trRe = /\bTRANSITION\b\s*(?:([A-Za-z_]\w*)\s*)?(?:\(\s*PRIORITY\s*:=\s*(-?\d+)\s*\)\s*)?FROM\s+(\([^)]*\)|[A-Za-z_]\w*)\s*TO\s+(\([^)]*\)|[A-Za-z_]\w*)\s*:=([\s\S]*?);?\s*\bEND_TRANSITION\b/dgi;
+  const trRe = /\bTRANSITION\b\s*(?:([A-Za-z_]\w*)\s*)?(?:\(\s*PRIORITY\s*:=\s*(-?\d+)\s*\)\s*)?FROM\s+(\([^)]*\)|[A-Za-z_]\w*)\s*TO\s+(\([^)]*\)|[A-Za-z_]\w*)\s*:=?([\s\S]*?);?\s*\bEND_TRANSITION\b/dgi;
   let k = 0;
   for (const m of src.matchAll(trRe)) {
     k++;

@@ -12,8 +12,8 @@
 //! found by walking its input back to steps, its `TO` list by walking
 //! forward from it to steps and jumps. Action blocks hang on a step's
 //! action point; each action is a qualifier, a duration and a BOOL variable
-//! (an action of the POU with an ST body is a BOOL tag whose body runs in
-//! `<pou>_actions.st`, the `st` module).
+//! (an action of the POU with an ST body is an `ACTION` block of the chart,
+//! the `st` module).
 
 use super::{Ctx, Var, VarKind, collect_text, connections};
 use crate::{Error, Kind, Location, ProgramOut, Report};
@@ -138,6 +138,24 @@ impl Chart<'_> {
     /// no functions).
     fn condition(&self, st: &str) -> Result<String, String> {
         super::st_expression(st, &|w| self.name(w), &[])
+    }
+
+    /// An inline ST condition the nets' language cannot say (a function, say)
+    /// kept in ST, for `: <condition> END_TRANSITION`: when it is one ST
+    /// expression on one line that names no step (`Step.X`) and no variable
+    /// the chart renamed. `None` otherwise.
+    fn st_condition(&self, st: &str) -> Option<String> {
+        let one_line = st.split_whitespace().collect::<Vec<_>>().join(" ");
+        if st.contains("//") || st.contains('.') || one_line.to_ascii_uppercase().contains("END_TRANSITION") {
+            return None;
+        }
+        if self.scope.iter().any(|(k, v)| !v.alba.eq_ignore_ascii_case(k)) {
+            return None;
+        }
+        let text = format!("PROGRAM c c := {one_line}; END_PROGRAM");
+        let (file, diags) = alba_compiler::st::parse(&text, alba_diag::FileId(0));
+        let one = file.pous.first().is_some_and(|p| p.body.len() == 1);
+        (diags.is_empty() && one).then_some(one_line)
     }
 }
 
@@ -398,9 +416,16 @@ fn transition(chart: &Chart<'_>, pou: &Elem, t: &Elem, id: &str) -> Result<Strin
         return Err("it leads to no step".into());
     }
     let cond = t.child("condition").ok_or("it has no condition")?;
+    let mut in_st = false;
     let text = if let Some(inline) = cond.child("inline") {
         let st = st_text(inline).ok_or("its inline condition is not ST")?;
-        chart.condition(&st)?
+        match chart.condition(&st) {
+            Ok(c) => c,
+            Err(why) => {
+                in_st = true;
+                chart.st_condition(&st).ok_or(why)?
+            }
+        }
     } else if let Some(r) = cond.child("reference") {
         let name = r.attr("name").unwrap_or("").trim();
         let body = pou
@@ -459,9 +484,9 @@ fn transition(chart: &Chart<'_>, pou: &Elem, t: &Elem, id: &str) -> Result<Strin
         Some(p) => format!("TRANSITION tr{id} (PRIORITY := {p})"),
         None => "TRANSITION".into(),
     };
-    Ok(format!(
-        "{head} FROM {} TO {} := {text}; END_TRANSITION",
-        list(&from),
-        list(&to)
-    ))
+    Ok(if in_st {
+        format!("{head} FROM {} TO {} : {text} END_TRANSITION", list(&from), list(&to))
+    } else {
+        format!("{head} FROM {} TO {} := {text}; END_TRANSITION", list(&from), list(&to))
+    })
 }

@@ -1,30 +1,40 @@
-//! ST bodies of PLCopen `program` POUs: each becomes `<program>.st`, a
+//! ST bodies of PLCopen POUs. A `program` becomes `<program>.st`, a
 //! `PROGRAM` whose `VAR` blocks are the POU's interface and whose body is
 //! the `<ST>` text unchanged. Located variables (`%IX0.0`) are tags with
 //! their address (alba-st refuses `AT`), the configuration's globals are
-//! tags, and `externalVars` name them. Variables of a type alba-st does not
-//! run, and syntax errors of the body, are refused at their place in the
-//! XML; the program is then not written.
+//! tags, and `externalVars` name them. A `function` or `functionBlock`
+//! becomes `<name>.st`, a `FUNCTION`/`FUNCTION_BLOCK` with its interface as
+//! `VAR_INPUT`/`VAR_OUTPUT`/`VAR_IN_OUT`/`VAR`/`VAR_TEMP` (the other `.st`
+//! files of a project are its library, so the programs call it), and the
+//! `<dataTypes>` become `types.st` (STRUCTs, enumerations, ARRAYs,
+//! subranges, aliases). Variables of a type alba-st does not run, and
+//! syntax errors of the body, are refused at their place in the XML; the
+//! POU is then not written.
 
 use super::{Conv, Ctx, Var, VarKind, collect_text};
-use crate::{Kind, Location, ProgramOut, TagOut};
+use crate::{Kind, Location, ProgramOut};
 use alba_xml::Elem;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
-/// Types whose variables run on the engine (docs/st.md).
+/// Elementary types and standard FBs whose variables run on the engine
+/// (docs/st.md).
 const RUNS: &[&str] = &[
-    "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG",
-    "F_TRIG", "SR", "RS",
+    "BOOL", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT", "BYTE", "WORD", "DWORD", "LWORD", "REAL",
+    "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
 ];
 
-/// The ST text of a PLCopen `<type>`'s content, or why not.
-fn st_type(t: &Elem) -> Result<String, String> {
+/// The ST text of a PLCopen `<type>`'s content, or why not. `known` holds
+/// the user types and function blocks of the file (lower case).
+fn st_type(t: &Elem, known: &HashSet<String>) -> Result<String, String> {
     let up = t.name.to_ascii_uppercase();
     let ty = match up.as_str() {
-        "DERIVED" => t
-            .attr("name")
-            .ok_or("a derived type without a name")?
-            .to_ascii_uppercase(),
+        "DERIVED" => {
+            let name = t.attr("name").ok_or("a derived type without a name")?;
+            if known.contains(&name.to_ascii_lowercase()) {
+                return Ok(name.to_string());
+            }
+            name.to_ascii_uppercase()
+        }
         "ARRAY" => {
             let dims: Vec<String> = t
                 .all("dimension")
@@ -34,7 +44,40 @@ fn st_type(t: &Elem) -> Result<String, String> {
                 .child("baseType")
                 .and_then(|b| b.children.first())
                 .ok_or("an array without a base type")?;
-            return Ok(format!("ARRAY[{}] OF {}", dims.join(", "), st_type(base)?));
+            return Ok(format!("ARRAY[{}] OF {}", dims.join(", "), st_type(base, known)?));
+        }
+        "SUBRANGESIGNED" | "SUBRANGEUNSIGNED" => {
+            let r = t.child("range").ok_or("a subrange without a range")?;
+            let base = t
+                .child("baseType")
+                .and_then(|b| b.children.first())
+                .ok_or("a subrange without a base type")?;
+            return Ok(format!(
+                "{}({}..{})",
+                st_type(base, known)?,
+                r.attr("lower").unwrap_or("0"),
+                r.attr("upper").unwrap_or("0")
+            ));
+        }
+        "ENUM" => {
+            let values: Vec<String> = t
+                .child("values")
+                .map(|v| {
+                    v.all("value")
+                        .filter_map(|v| {
+                            let n = v.attr("name")?;
+                            Some(match v.attr("value") {
+                                Some(x) => format!("{n} := {x}"),
+                                None => n.to_string(),
+                            })
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            if values.is_empty() {
+                return Err("an enumeration without values".into());
+            }
+            return Ok(format!("({})", values.join(", ")));
         }
         _ => up,
     };
@@ -45,15 +88,142 @@ fn st_type(t: &Elem) -> Result<String, String> {
     }
 }
 
-/// Converts the ST body `st` of program `pou` (named `pname`); `None` when
+/// A variable's initial value in ST (` := …`), from its `<initialValue>`:
+/// a simple value, an array value (`[1, 2, 3]`) or a structure value
+/// (`(a := 1, b := 2)`).
+fn initial(v: &Elem) -> String {
+    fn value(e: &Elem) -> Option<String> {
+        if let Some(s) = e.child("simpleValue") {
+            return s.attr("value").map(|s| s.trim().to_string());
+        }
+        if let Some(a) = e.child("arrayValue") {
+            let items: Option<Vec<String>> = a
+                .all("value")
+                .map(|v| {
+                    let x = value(v)?;
+                    Some(match v.attr("repetitionValue") {
+                        Some(n) => format!("{n}({x})"),
+                        None => x,
+                    })
+                })
+                .collect();
+            return Some(format!("[{}]", items?.join(", ")));
+        }
+        if let Some(st) = e.child("structValue") {
+            let items: Option<Vec<String>> = st
+                .all("value")
+                .map(|v| Some(format!("{} := {}", v.attr("member")?, value(v)?)))
+                .collect();
+            return Some(format!("({})", items?.join(", ")));
+        }
+        None
+    }
+    v.child("initialValue")
+        .and_then(value)
+        .map(|s| format!(" := {s}"))
+        .unwrap_or_default()
+}
+
+/// `types.st`: one `TYPE … END_TYPE` with every `<dataType>` of the file;
+/// `None` when there are none or one is refused (each refusal is in the
+/// report; the POUs that use it then do not check and are left out).
+pub(super) fn data_types(
+    conv: &mut Conv<'_>,
+    types: &Elem,
+    known: &HashSet<String>,
+    file: String,
+) -> Option<ProgramOut> {
+    let ctx = Ctx {
+        file: conv.ctx.file,
+        text: conv.ctx.text,
+    };
+    let mut lines: Vec<(String, Location)> = Vec::new();
+    for d in types
+        .child("dataTypes")
+        .map(|d| d.all("dataType").collect::<Vec<_>>())
+        .unwrap_or_default()
+    {
+        let loc = ctx.loc(d);
+        let Some(name) = d.attr("name") else { continue };
+        let Some(base) = d.child("baseType").and_then(|b| b.children.first()) else {
+            conv.report
+                .push(Kind::Refused, loc, format!("data type `{name}` has no base type"));
+            continue;
+        };
+        let init = initial(d);
+        if base.name == "struct" {
+            lines.push((format!("    {name} : STRUCT"), loc.clone()));
+            for m in base.all("variable") {
+                let mname = m.attr("name").unwrap_or("");
+                match m
+                    .child("type")
+                    .and_then(|t| t.children.first())
+                    .map(|t| st_type(t, known))
+                {
+                    Some(Ok(t)) => lines.push((format!("        {mname} : {t}{};", initial(m)), ctx.loc(m))),
+                    Some(Err(why)) => {
+                        conv.report.push(
+                            Kind::Refused,
+                            ctx.loc(m),
+                            format!("member `{mname}` of data type `{name}`: {why}"),
+                        );
+                        return None;
+                    }
+                    None => {
+                        conv.report.push(
+                            Kind::Refused,
+                            ctx.loc(m),
+                            format!("member `{mname}` of data type `{name}` has no type"),
+                        );
+                        return None;
+                    }
+                }
+            }
+            lines.push(("    END_STRUCT;".into(), loc.clone()));
+        } else {
+            match st_type(base, known) {
+                Ok(t) => lines.push((format!("    {name} : {t}{init};"), loc.clone())),
+                Err(why) => {
+                    conv.report
+                        .push(Kind::Refused, loc, format!("data type `{name}`: {why}"));
+                    return None;
+                }
+            }
+        }
+        conv.report
+            .push(Kind::Converted, ctx.loc(d), format!("data type `{name}`"));
+    }
+    if lines.is_empty() {
+        return None;
+    }
+    let mut prog = ProgramOut::new(file);
+    let first = lines[0].1.clone();
+    prog.line("TYPE", Some(&first));
+    for (l, o) in &lines {
+        prog.line(l, Some(o));
+    }
+    prog.line("END_TYPE", Some(&first));
+    Some(prog)
+}
+
+/// Converts the ST body `st` of `pou` (named `pname`, of PLCopen type
+/// `kind`: `program`, `function` or `functionBlock`); `known` holds the
+/// user types and function blocks of the file (lower case). `None` when
 /// something in it is refused (each refusal is in the report).
 pub(super) fn convert(
     conv: &mut Conv<'_>,
     pou: &Elem,
     st: &Elem,
-    pname: &str,
+    (pname, kind): (&str, &str),
+    known: &HashSet<String>,
     scope: &mut HashMap<String, Var>,
 ) -> Option<ProgramOut> {
+    let (keyword, end) = match kind {
+        "function" => ("FUNCTION", "END_FUNCTION"),
+        "functionBlock" => ("FUNCTION_BLOCK", "END_FUNCTION_BLOCK"),
+        _ => ("PROGRAM", "END_PROGRAM"),
+    };
+    let program = keyword == "PROGRAM";
     let ctx = Ctx {
         file: conv.ctx.file,
         text: conv.ctx.text,
@@ -62,10 +232,13 @@ pub(super) fn convert(
     let mut decls = String::new();
     if let Some(iface) = pou.child("interface") {
         for list in &iface.children {
-            let kw = match list.name.as_str() {
-                "localVars" | "inputVars" | "outputVars" | "inOutVars" => "VAR",
-                "tempVars" => "VAR_TEMP",
-                "globalVars" => "VAR_GLOBAL",
+            let kw = match (list.name.as_str(), program) {
+                ("localVars", _) | ("inputVars" | "outputVars" | "inOutVars", true) => "VAR",
+                ("inputVars", false) => "VAR_INPUT",
+                ("outputVars", false) => "VAR_OUTPUT",
+                ("inOutVars", false) => "VAR_IN_OUT",
+                ("tempVars", _) => "VAR_TEMP",
+                ("globalVars", _) => "VAR_GLOBAL",
                 _ => continue,
             };
             let mut block = String::new();
@@ -73,7 +246,19 @@ pub(super) fn convert(
             located
                 .children
                 .retain(|v| v.name == "variable" && v.attr("address").is_some());
-            if !located.children.is_empty() {
+            if !program {
+                for v in &located.children {
+                    conv.report.push(
+                        Kind::Refused,
+                        ctx.loc(v),
+                        format!(
+                            "variable `{}` of {keyword} `{pname}` has an address: only a program's variables may",
+                            v.attr("name").unwrap_or("")
+                        ),
+                    );
+                    ok = false;
+                }
+            } else if !located.children.is_empty() {
                 conv.declare(&located, scope, pname);
                 for v in &located.children {
                     let name = v.attr("name").unwrap_or("");
@@ -95,7 +280,7 @@ pub(super) fn convert(
             for v in list.all("variable").filter(|v| v.attr("address").is_none()) {
                 let name = v.attr("name").unwrap_or("");
                 let ty = v.child("type").and_then(|t| t.children.first());
-                let ty = match ty.map(st_type) {
+                let ty = match ty.map(|t| st_type(t, known)) {
                     Some(Ok(t)) => t,
                     Some(Err(why)) => {
                         conv.report.push(
@@ -116,15 +301,10 @@ pub(super) fn convert(
                         continue;
                     }
                 };
-                let init = v
-                    .child("initialValue")
-                    .and_then(|i| i.child("simpleValue"))
-                    .and_then(|s| s.attr("value"))
-                    .map(|s| format!(" := {}", s.trim()))
-                    .unwrap_or_default();
+                let init = initial(v);
                 block.push_str(&format!("    {name} : {ty}{init};\n"));
             }
-            if !block.is_empty() && matches!(list.name.as_str(), "inputVars" | "outputVars" | "inOutVars") {
+            if program && !block.is_empty() && matches!(list.name.as_str(), "inputVars" | "outputVars" | "inOutVars") {
                 conv.report.push(
                     Kind::Approximated,
                     ctx.loc(list),
@@ -149,10 +329,32 @@ pub(super) fn convert(
             }
         }
     }
+    let ret = match (kind, pou.child("interface").and_then(|i| i.child("returnType"))) {
+        ("function", Some(r)) => match r.children.first().map(|t| st_type(t, known)) {
+            Some(Ok(t)) => format!(" : {t}"),
+            Some(Err(why)) => {
+                conv.report
+                    .push(Kind::Refused, ctx.loc(r), format!("the result of `{pname}`: {why}"));
+                ok = false;
+                String::new()
+            }
+            None => String::new(),
+        },
+        ("function", None) => {
+            conv.report.push(
+                Kind::Refused,
+                ctx.loc(pou),
+                format!("function `{pname}` has no returnType"),
+            );
+            ok = false;
+            String::new()
+        }
+        _ => String::new(),
+    };
     let (body, body_at) = st_body(&ctx, st);
     let body = body.as_str();
-    let head = format!("PROGRAM {pname}\n{decls}");
-    let text = format!("{head}{body}\nEND_PROGRAM\n");
+    let head = format!("{keyword} {pname}{ret}\n{decls}");
+    let text = format!("{head}{body}\n{end}\n");
     // Syntax errors, located in the XML (the body is the CDATA verbatim).
     let (_, diags) = alba_compiler::st::parse(&text, alba_diag::FileId(0));
     for d in &diags {
@@ -172,8 +374,12 @@ pub(super) fn convert(
     if !ok {
         return None;
     }
+    let what = match keyword {
+        "PROGRAM" => String::new(),
+        k => format!("{} ", k.to_ascii_lowercase().replace('_', " ")),
+    };
     conv.report
-        .push(Kind::Converted, ctx.loc(st), format!("ST body of `{pname}`"));
+        .push(Kind::Converted, ctx.loc(st), format!("ST body of {what}`{pname}`"));
     let mut prog = ProgramOut::new(format!("{}.st", crate::names::file_stem(pname)));
     // Each line's place: the POU for the header, the XML line of the CDATA
     // for the body.
@@ -208,16 +414,22 @@ fn st_body(ctx: &Ctx<'_>, st: &Elem) -> (String, Option<usize>) {
     (body, at)
 }
 
-/// An SFC action with an ST body: its tag, name and `<ST>` element.
+/// An SFC action with an ST body: its name and `<ST>` element.
 pub(super) struct StAction<'a> {
-    tag: String,
     name: String,
     st: &'a Elem,
 }
 
-/// Declares a BOOL tag `<pou>_<action>` for each action of `pou` whose body
-/// is ST, and puts it in `scope` under the action's name, so the chart's
-/// action blocks drive it like a BOOL variable.
+impl StAction<'_> {
+    pub(super) fn name(&self) -> &str {
+        &self.name
+    }
+}
+
+/// Puts each action of `pou` whose body is ST in `scope` under its own
+/// name, so the chart's action blocks name it (`Fill(N);`); its body
+/// becomes an `ACTION Fill: … END_ACTION` of the chart ([`action_blocks`]),
+/// whose flag `<chart>.Fill` the compiler declares.
 pub(super) fn declare_actions<'a>(
     conv: &mut Conv<'_>,
     pou: &'a Elem,
@@ -242,26 +454,15 @@ pub(super) fn declare_actions<'a>(
             );
             continue;
         }
-        let (tag, _) = conv
-            .names
-            .alba_as(&format!("{pname}\u{0}action\u{0}{name}"), &format!("{pname}_{name}"));
-        conv.tags.push(TagOut {
-            name: tag.clone(),
-            ty: "BOOL".into(),
-            address: String::new(),
-            initial: String::new(),
-            description: format!("alba import: action `{name}` of `{pname}` runs while true"),
-        });
         scope.insert(
             key,
             Var {
-                alba: tag.clone(),
+                alba: name.to_string(),
                 kind: VarKind::Tag("BOOL".into()),
                 fb: String::new(),
             },
         );
         out.push(StAction {
-            tag,
             name: name.to_string(),
             st,
         });
@@ -269,17 +470,18 @@ pub(super) fn declare_actions<'a>(
     out
 }
 
-/// `<pou>_actions.st`: `IF <tag> THEN <body> END_IF;` for each ST action,
-/// run after the chart. `None` when there are none or one is refused.
-pub(super) fn actions_program(
+/// Appends to the chart `prog` an `ACTION <name>: <body> END_ACTION` for
+/// each ST action. `false` (and nothing appended) when one is refused.
+pub(super) fn action_blocks(
     conv: &mut Conv<'_>,
     pou: &Elem,
     pname: &str,
     scope: &HashMap<String, Var>,
     actions: &[StAction<'_>],
-) -> Option<ProgramOut> {
+    prog: &mut ProgramOut,
+) -> bool {
     if actions.is_empty() {
-        return None;
+        return true;
     }
     let ctx = Ctx {
         file: conv.ctx.file,
@@ -306,23 +508,29 @@ pub(super) fn actions_program(
             }
         }
     }
-    let prog_name = format!("{}_actions", crate::names::file_stem(pname));
-    let mut lines: Vec<(String, Location)> = vec![(format!("PROGRAM {prog_name}"), ctx.loc(pou))];
+    let mut lines: Vec<(String, Location)> = Vec::new();
     for a in actions {
         let (body, at) = st_body(&ctx, a.st);
         let here = ctx.loc(a.st);
-        lines.push((format!("(* action {} *)", a.name), here.clone()));
-        lines.push((format!("IF {} THEN", a.tag), here.clone()));
+        lines.push((format!("ACTION {}:", a.name), here.clone()));
         let mut off = 0;
         for l in body.split('\n') {
             let loc = at.map(|o| ctx.loc_at(o + off)).unwrap_or_else(|| here.clone());
             off += l.len() + 1;
             lines.push((l.trim_end_matches('\r').to_string(), loc));
         }
-        lines.push(("END_IF;".into(), here));
+        lines.push(("END_ACTION".into(), here));
     }
-    lines.push(("END_PROGRAM".into(), ctx.loc(pou)));
-    let text: String = lines.iter().map(|(l, _)| format!("{l}\n")).collect();
+    // Syntax errors, at their line in the XML: the bodies parsed as
+    // PROGRAMs (an ACTION's header and end are as long as a PROGRAM's).
+    let text: String = lines
+        .iter()
+        .map(|(l, _)| match l.strip_prefix("ACTION ") {
+            Some(n) => format!("PROGRAM {}\n", n.trim_end_matches(':')),
+            None if l == "END_ACTION" => "END_PROGRAM\n".into(),
+            None => format!("{l}\n"),
+        })
+        .collect();
     let (_, diags) = alba_compiler::st::parse(&text, alba_diag::FileId(0));
     for d in &diags {
         let loc = d
@@ -346,18 +554,17 @@ pub(super) fn actions_program(
             ctx.loc(pou),
             format!("the ST actions of `{pname}` are not converted"),
         );
-        return None;
+        return false;
     }
     for a in actions {
         conv.report.push(
             Kind::Converted,
             ctx.loc(a.st),
-            format!("ST action `{}` of `{pname}`: runs while `{}` is true", a.name, a.tag),
+            format!("ST action `{}` of `{pname}`: an ACTION of the chart", a.name),
         );
     }
-    let mut prog = ProgramOut::new(format!("{prog_name}.st"));
     for (l, o) in &lines {
         prog.line(l, Some(o));
     }
-    Some(prog)
+    true
 }

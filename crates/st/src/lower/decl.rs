@@ -352,6 +352,8 @@ pub fn declare_with(file: &ast::File, library: &[&ast::File], tags: &mut TagTabl
             .iter()
             .flat_map(|f| f.pous.iter())
             .find(|o| o.kind != PouKind::Program && o.name.name.to_ascii_lowercase() == key)
+            // Reported once, in the later of the two files.
+            && other.name.span.file < p.name.span.file
         {
             diags.push(
                 decl_error(

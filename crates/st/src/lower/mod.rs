@@ -180,13 +180,21 @@ pub fn compile(file: &ast::File, name: &str, b: &mut Builder) -> Vec<Diagnostic>
 /// [`compile`], with the FUNCTIONs, FUNCTION_BLOCKs and TYPEs of the other
 /// `.st` files of the project (`library`) callable and usable as well.
 pub fn compile_with(file: &ast::File, library: &[&ast::File], name: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    b.begin_unit(name);
+    let diags = compile_in(file, library, 0, b);
+    b.end_unit();
+    diags
+}
+
+/// [`compile_with`] into the unit being built, its rungs numbered from
+/// `first_rung` (an SFC's ST actions, after its chart).
+pub fn compile_in(file: &ast::File, library: &[&ast::File], first_rung: u32, b: &mut Builder) -> Vec<Diagnostic> {
     let types = types_of(file, library);
     let mut diags = Vec::new();
     let globals: HashMap<String, Var> = variables(&file.globals, None, &types, &mut Vec::new())
         .into_iter()
         .collect();
-    b.begin_unit(name);
-    let mut rungs = 0;
+    let mut rungs = first_rung;
     let mut called = HashSet::new();
     for p in &file.pous {
         if p.kind != PouKind::Program {
@@ -200,7 +208,6 @@ pub fn compile_with(file: &ast::File, library: &[&ast::File], name: &str, b: &mu
         diags.extend(l.diags);
         called.extend(l.called);
     }
-    b.end_unit();
     let uncalled: Vec<&Pou> = file
         .pous
         .iter()
