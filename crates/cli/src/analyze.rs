@@ -130,7 +130,8 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
     };
     let mut files = Files::default();
     let file = files.add(path.display().to_string(), text.clone());
-    let (net, diags) = alba_net::load(file, &text);
+    let started = std::time::Instant::now();
+    let (net, diags, unfolding) = alba_net::load_for_analysis(file, &text);
     let (warnings, errors): (Vec<_>, Vec<_>) = diags.into_iter().partition(alba_net::is_warning);
     for w in &warnings {
         eprint!("{}", w.render_warning(&files));
@@ -143,6 +144,17 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
         }
     };
     let pt = PtNet::from_net(&net);
+    if let Some(u) = unfolding {
+        eprintln!(
+            "note: a coloured net (symmetric net), unfolded: {} coloured places and {} transitions ({} bindings) became {} places and {} transitions in {:.3} s",
+            u.coloured_places,
+            u.coloured_transitions,
+            u.bindings,
+            pt.places.len(),
+            pt.transitions.len(),
+            started.elapsed().as_secs_f64()
+        );
+    }
     if let Some(c) = contest {
         return examine(path, &pt, as_json, &limits, &c);
     }

@@ -7,12 +7,14 @@
 //! (reachability, coverability, invariants; docs/nets.md, section "analysis").
 
 pub mod analysis;
+pub mod colored;
 pub mod model;
 pub mod pnml;
 pub mod ptnet;
 pub mod script;
 pub mod sfc;
 
+pub use colored::load_for_analysis;
 pub use model::*;
 pub use pnml::{MAX_FILE_BYTES, MAX_MARKING, MAX_WEIGHT, is_warning, load, save};
 pub use ptnet::PtNet;

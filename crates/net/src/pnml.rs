@@ -1001,6 +1001,21 @@ pub fn load(file: FileId, text: &str) -> (Option<Net>, Vec<Diagnostic>) {
             l.help("a PNML file is <pnml><net id=\"..\" type=\"..\">...</net></pnml>");
             return (None, l.diags);
         }
+        [net]
+            if net
+                .attr("type")
+                .is_some_and(|t| t.to_ascii_lowercase().contains("symmetricnet")) =>
+        {
+            let span = l.attr_span(net, "type");
+            l.error(
+                Code::PnmlStructure,
+                "a coloured net (symmetric net): the editor and the scan read place/transition nets",
+                span,
+                "coloured net",
+            );
+            l.help("`alba analyze` unfolds it to a place/transition net (docs/nets.md, \"Coloured nets\")");
+            return (None, l.diags);
+        }
         [net] => {
             for e in [&root, *net] {
                 for (k, v) in &e.attrs {

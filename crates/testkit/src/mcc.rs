@@ -11,9 +11,19 @@ pub fn corpus_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../net/tests/mcc/corpus.tar.xz")
 }
 
+/// The coloured (symmetric net) instances beside it: `col.tar.xz`.
+pub fn coloured_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../net/tests/mcc/col.tar.xz")
+}
+
 /// Every instance's files by name (`Kanban-PT-00005` → `model.pnml` → bytes).
 pub fn instances() -> BTreeMap<String, BTreeMap<String, Vec<u8>>> {
-    let xz = std::fs::read(corpus_path()).expect("crates/net/tests/mcc/corpus.tar.xz");
+    instances_in(&corpus_path())
+}
+
+/// Every instance of an archive laid out like the corpus (`col.tar.xz` too).
+pub fn instances_in(archive: &Path) -> BTreeMap<String, BTreeMap<String, Vec<u8>>> {
+    let xz = std::fs::read(archive).unwrap_or_else(|e| panic!("{}: {e}", archive.display()));
     let mut tar = Vec::new();
     lzma_rs::xz_decompress(&mut &xz[..], &mut tar).expect("xz");
     let mut by_name: BTreeMap<String, BTreeMap<String, Vec<u8>>> = BTreeMap::new();

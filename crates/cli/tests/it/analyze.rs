@@ -448,3 +448,42 @@ fn analyze_examination_keeps_the_memory_budget() {
         assert!(expected.contains(&l), "{l:?}");
     }
 }
+
+/// Issue 38, point 6: a coloured model of the contest (`crates/net/tests/mcc/col.tar.xz`)
+/// is unfolded and analysed; its answers are the contest's, and the note says what the
+/// unfolding made. A symmetric net over the unfolding budget is refused with E606.
+#[test]
+fn analyze_unfolds_a_coloured_model() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (instance, files) in alba_testkit::mcc::instances_in(&alba_testkit::mcc::coloured_path()) {
+        if ["Philosophers-COL-000005", "BART-COL-002"].contains(&instance.as_str()) {
+            std::fs::create_dir_all(dir.path().join(&instance)).expect("dir");
+            for (file, data) in files {
+                std::fs::write(dir.path().join(&instance).join(file), data).expect("write");
+            }
+        }
+    }
+    let philo = dir.path().join("Philosophers-COL-000005");
+    let out = alba(&repo(), &["analyze", philo.to_str().expect("utf-8"), "--json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("a coloured net (symmetric net), unfolded: 5 coloured places and 5 transitions (25 bindings) became 25 places and 25 transitions"),
+        "{err}"
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    // The contest's answers for Philosophers-COL-000005 (and its P/T twin).
+    assert_eq!(v["states"], 243);
+    assert_eq!(v["edges"], 945);
+    assert_eq!(v["max_tokens_per_marking"], 10);
+    assert_eq!(v["place_bounds"]["Think_1"], 1);
+    let bart = dir.path().join("BART-COL-002/model.pnml");
+    let out = alba(&repo(), &["analyze", bart.to_str().expect("utf-8")]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("E606"), "{err}");
+    assert!(
+        err.contains("bindings of its variables; Alba tries at most 20000000"),
+        "{err}"
+    );
+}

@@ -1,18 +1,18 @@
 //! The checks every PNML input must pass, shared by the fuzz target
 //! `pnml_load` (through `#[path]`) and the regression test: `load` never
 //! panics; every diagnostic is located inside the input on character
-//! boundaries and renders; a loaded net saves and loads back to itself
+//! boundaries and renders (the unfolding of a coloured net's too); a loaded net saves and loads back to itself
 //! (load → save → load is the identity, spans aside) without errors, and
 //! saving it again gives the same text.
 
 use alba_diag::{Diagnostic, FileId, Files};
 use alba_net::{is_warning, load, save};
 
-pub fn pnml_input(src: &str) -> Result<Vec<Diagnostic>, String> {
-    let (net, diags) = load(FileId(0), src);
+/// Every diagnostic is located inside `src` on character boundaries and renders.
+fn located(src: &str, diags: &[Diagnostic]) -> Result<(), String> {
     let mut files = Files::new();
     files.add("net.pnml", src);
-    for d in &diags {
+    for d in diags {
         let Some(p) = &d.primary else {
             return Err(format!("unlocated diagnostic: {}", d.message));
         };
@@ -25,6 +25,20 @@ pub fn pnml_input(src: &str) -> Result<Vec<Diagnostic>, String> {
         }
         let _ = d.short(&files);
         let _ = d.render(&files);
+    }
+    Ok(())
+}
+
+pub fn pnml_input(src: &str) -> Result<Vec<Diagnostic>, String> {
+    let (net, diags) = load(FileId(0), src);
+    located(src, &diags)?;
+    // A coloured net: the unfolding never panics, and its error is located too.
+    if alba_net::colored::is_symmetric(src) {
+        let (unfolded, d, _) = alba_net::load_for_analysis(FileId(0), src);
+        located(src, &d)?;
+        if unfolded.is_none() == d.is_empty() {
+            return Err("an unfolding and an error, or neither".into());
+        }
     }
     let errors = diags.iter().any(|d| !is_warning(d));
     match (&net, errors) {

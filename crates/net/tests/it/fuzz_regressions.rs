@@ -27,7 +27,7 @@ fn every_fuzz_regression_input_passes() {
 #[test]
 fn fixtures_and_malformed_inputs_pass_the_fuzz_checks() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
-    for dir in ["fixtures", "malformed"] {
+    for dir in ["fixtures", "malformed", "malformed_coloured"] {
         for p in alba_testkit::cases(&root.join(dir)) {
             if p.extension().is_some_and(|e| e == "pnml") {
                 let src = std::fs::read_to_string(&p).unwrap();

@@ -139,3 +139,56 @@ fn a_long_chain_of_references_named_by_many_arcs_is_resolved_once() {
     // Quadratic resolution would take minutes here.
     assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
 }
+
+/// Every file of `tests/malformed_coloured/` (symmetric nets, issue 38 point 6) is
+/// refused by [`load_for_analysis`] with a located error and a hint, as its `.expect`
+/// says, without a panic.
+#[test]
+fn every_malformed_coloured_input_gets_its_located_error() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/malformed_coloured");
+    let mut n = 0;
+    let mut problems = Vec::new();
+    for path in alba_testkit::cases(&dir) {
+        if path.extension().is_none_or(|e| e != "pnml") {
+            continue;
+        }
+        n += 1;
+        let text = std::fs::read_to_string(&path).unwrap();
+        let expect = std::fs::read_to_string(path.with_extension("expect")).unwrap();
+        let parts: Vec<&str> = expect.trim().split('|').collect();
+        let code: Code = parts[0].parse().unwrap();
+        let mut files = Files::new();
+        files.add("case.pnml", text.as_str());
+        let (net, diags, _) = std::panic::catch_unwind(|| load_for_analysis(FileId(0), &text))
+            .unwrap_or_else(|_| panic!("load_for_analysis panics on:\n{text}"));
+        let name = path.file_name().unwrap().to_string_lossy();
+        assert!(net.is_none(), "{name}: a net despite an error");
+        let Some(err) = diags.iter().find(|d| !is_warning(d)) else {
+            problems.push(format!("{name}: no error"));
+            continue;
+        };
+        let p = err.primary.as_ref().expect("located");
+        assert!(p.span.range().end <= text.len());
+        let short = err.short(&files);
+        let _ = err.render(&files);
+        if err.help.is_none() {
+            problems.push(format!("{name}: {short} has no hint"));
+        }
+        if err.code != code {
+            problems.push(format!("{name}: {short}, expected {code}"));
+        }
+        if let Some(m) = parts.get(1)
+            && !err.message.contains(m)
+        {
+            problems.push(format!("{name}: `{}` does not contain `{m}`", err.message));
+        }
+        if let Some(at) = parts.get(2)
+            && !short.starts_with(&format!("case.pnml:{at}:"))
+        {
+            problems.push(format!("{name}: {short}, expected at {at}"));
+        }
+        println!("{name}: {short}");
+    }
+    assert!(n >= 15, "only {n} malformed coloured inputs");
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
