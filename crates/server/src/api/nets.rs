@@ -174,7 +174,7 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
     // Loading (and the formulas) are checked first, so a net that does not load or a
     // formula file that does not read is a 422.
     let (pt, props) = tokio::task::spawn_blocking(move || -> Result<(PtNet, Option<Vec<Property>>), String> {
-        let (net, diags) = net::load(file, &text);
+        let (net, diags, _) = net::load_for_analysis(file, &text);
         let errors: Vec<_> = diags.iter().filter(|d| !net::is_warning(d)).collect();
         let pt = match net {
             Some(n) if errors.is_empty() => PtNet::from_net(&n),
