@@ -192,6 +192,42 @@ impl Decl<'_, '_> {
                 }
                 self.open.pop();
             }
+            Ty::Str(wide, n) => {
+                let text = match init {
+                    None => String::new(),
+                    Some(Init::Expr(Expr {
+                        kind: ExprKind::Lit(Lit::Str(t, w)),
+                        ..
+                    })) if w == wide => t.clone(),
+                    Some(Init::Expr(e)) => {
+                        self.diags
+                            .push(type_error(e.span, format!("a {ty} takes a string literal")));
+                        String::new()
+                    }
+                    Some(Init::Array(_, span) | Init::Struct(_, span)) => {
+                        self.diags
+                            .push(type_error(*span, format!("a {ty} takes one string literal")));
+                        String::new()
+                    }
+                };
+                let codes: Vec<i32> = if *wide {
+                    text.encode_utf16().map(i32::from).collect()
+                } else {
+                    text.bytes().map(i32::from).collect()
+                };
+                // A longer initial value is cut to the length, as `:=` does.
+                let len = codes.len().min(*n as usize);
+                self.tags.push(plain(
+                    format!("{tag}.LEN"),
+                    DataType::Dint,
+                    Some(Value::Dint(len as i32)),
+                ));
+                for k in 0..*n as usize {
+                    let c = codes.get(k).filter(|_| k < len).copied().unwrap_or(0);
+                    self.tags
+                        .push(plain(format!("{tag}[{}]", k + 1), DataType::Dint, Some(Value::Dint(c))));
+                }
+            }
             Ty::Struct(s) => {
                 let given = match init {
                     Some(Init::Struct(items, _)) => items.as_slice(),
@@ -226,7 +262,7 @@ impl Decl<'_, '_> {
                     self.var(&format!("{tag}.{m}"), mty, i, retain, span, depth + 1);
                 }
             }
-            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_)) => {
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_) | Ty::Str(..)) => {
                 let suffixes = element_suffixes(dims);
                 let mut inits: Vec<Option<&Init>> = vec![None; suffixes.len()];
                 if let Some(Init::Array(items, _)) = init {
