@@ -207,9 +207,13 @@ pub fn lex(text: &str, file: FileId) -> (Vec<Token>, Vec<Diagnostic>) {
                                 &mut diags,
                                 i,
                                 i + 1 + digits,
-                                format!(
-                                    "`${h}`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others"
-                                ),
+                                if c == b'"' {
+                                    format!("`${h}` is not a character (a UTF-16 surrogate)")
+                                } else {
+                                    format!(
+                                        "`${h}`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others"
+                                    )
+                                },
                             ),
                         }
                         i += 1 + digits;

@@ -23,11 +23,13 @@ fn literals_assignment_escapes_and_truncation() {
            d : STRING[3];
            e : STRING;
            w : WSTRING[10] := \"Größe\";
+           x : WSTRING[4];
          END_VAR
          a := 'it$'s $$5$N$54ab';
          c := 'abcdefgh';              (* cut to 5 *)
          d := c;                       (* cut to 3 *)
          e := '';
+         x := \"$00E9t$P\";
          END_PROGRAM",
         &[
             W::S("Main.a"),
@@ -36,9 +38,10 @@ fn literals_assignment_escapes_and_truncation() {
             W::S("Main.d"),
             W::S("Main.e"),
             W::S("Main.w"),
+            W::S("Main.x"),
         ],
     );
-    assert_eq!(v, ["it's $5\nTab", "init", "abcde", "abc", "", "Größe"]);
+    assert_eq!(v, ["it's $5\nTab", "init", "abcde", "abc", "", "Größe", "ét\u{c}"]);
     assert_eq!(faults, 0);
 }
 
@@ -48,8 +51,8 @@ fn the_string_functions_compute_what_the_standard_says() {
         "name,type\nN,INT\nF1,INT\nF2,INT\nF3,INT\nF4,INT\n",
         "PROGRAM Main
          VAR
-           s : STRING := 'ABCDE';
-           l, r, m, c3, ins, del, rep, e1, e2, cut : STRING;
+           s : STRING[8] := 'ABCDE';
+           l, r, m, c3, ins, del, rep, e1, e2, cut : STRING[16];
            short : STRING[6];
          END_VAR
          N := LEN(s);
@@ -221,7 +224,7 @@ fn comparisons_order_by_the_first_different_character() {
 #[test]
 fn conversions_between_strings_and_integers() {
     let (v, faults) = once(
-        "name,type\nA,DINT\nB,INT\nC,LINT\nD,DINT\nE,DINT\nBig,LINT\n",
+        "name,type\nA,DINT\nB,INT\nC,LINT\nD,DINT\nEn,DINT\nBig,LINT\n",
         "PROGRAM Main
          VAR s1, s2, s3, s4, s5, s6 : STRING; w : WSTRING[8]; n : STRING[4]; END_VAR
          Big := -9223372036854775807;
@@ -236,8 +239,8 @@ fn conversions_between_strings_and_integers() {
          B := STRING_TO_INT('+17');
          C := STRING_TO_LINT(s3);
          D := STRING_TO_DINT('abc');
-         E := STRING_TO_DINT(CONCAT('1', '2', '3'));
-         s6 := DINT_TO_STRING(E + 1);
+         En := STRING_TO_DINT(CONCAT('1', '2', '3'));
+         s6 := DINT_TO_STRING(En + 1);
          END_PROGRAM",
         &[
             W::S("Main.s1"),
@@ -251,7 +254,7 @@ fn conversions_between_strings_and_integers() {
             W::V("B"),
             W::V("C"),
             W::V("D"),
-            W::V("E"),
+            W::V("En"),
             W::S("Main.s6"),
         ],
     );
@@ -321,6 +324,8 @@ fn strings_are_checked() {
          s := s + s;
          N := LEFT(s);
          N := FIND(s, 3);
+         s := 'caf$E9';
+         w := \"$00E9t$D800\";
          END_PROGRAM",
     );
     for want in [
@@ -331,7 +336,49 @@ fn strings_are_checked() {
         "`+` does not take strings",
         "LEFT takes 2 argument(s), not 1",
         "FIND takes a STRING",
+        "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
+        "`$D800` is not a character (a UTF-16 surrogate)",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
+}
+
+#[test]
+fn the_cost_of_each_string_function_is_printed() {
+    // Ops of one call on STRING[80] operands (straight-line code, the same on
+    // every scan); printed for docs/st.md, bounded so a change that makes
+    // them grow is seen.
+    let base = modes::program(
+        "name,type\nN,INT\n",
+        "PROGRAM Main VAR a, b, r : STRING; END_VAR N := 1; END_PROGRAM",
+    )
+    .ops
+    .len();
+    let mut costs = Vec::new();
+    for (call, bound) in [
+        ("r := a;", 100),
+        ("N := LEN(a);", 10),
+        ("r := LEFT(a, N);", 500),
+        ("r := RIGHT(a, N);", 950),
+        ("r := MID(a, N, N);", 1_250),
+        ("r := CONCAT(a, b);", 2_300),
+        ("r := CONCAT('x = ', b);", 320),
+        ("r := INSERT(a, b, N);", 5_600),
+        ("r := DELETE(a, N, N);", 2_400),
+        ("r := REPLACE(a, b, N, N);", 5_600),
+        ("N := FIND(a, 'abc');", 700),
+        ("N := FIND(a, b);", 20_000),
+        ("N := BOOL_TO_INT(a < b);", 400),
+        ("r := INT_TO_STRING(N);", 560),
+        ("N := STRING_TO_INT(a);", 2_800),
+    ] {
+        let p = modes::program(
+            "name,type\nN,INT\n",
+            &format!("PROGRAM Main VAR a, b, r : STRING; END_VAR N := 1; {call} END_PROGRAM"),
+        );
+        let ops = p.ops.len() - base;
+        costs.push(format!("{call} {ops}"));
+        assert!(ops <= bound, "`{call}`: {ops} ops");
+    }
+    println!("ops per call on STRING[80]: {}", costs.join(", "));
 }

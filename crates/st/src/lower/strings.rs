@@ -160,7 +160,13 @@ impl Lower<'_> {
 
     /// `a` followed by `b`, at most `MAX_STRING` characters.
     fn concat(&mut self, a: &Str, b: &Str) -> Str {
-        let cap = (a.cap() + b.cap()).min(MAX_STRING as usize);
+        self.concat_within(a, b, a.cap() + b.cap())
+    }
+
+    /// [`Lower::concat`] when the result is known to fit `most` characters
+    /// (the pieces of one string).
+    fn concat_within(&mut self, a: &Str, b: &Str, most: usize) -> Str {
+        let cap = most.max(a.cap()).min(MAX_STRING as usize);
         let mut r = self.str_copy(a, cap);
         let zero = self.b.const_i(0);
         match a.known {
@@ -196,7 +202,7 @@ impl Lower<'_> {
     }
 
     /// The characters of `s` from place `from` (0-based, 0 ≤ from ≤ LEN(s)) on.
-    fn from_of(&mut self, s: &Str, from: I) -> Str {
+    fn tail_of(&mut self, s: &Str, from: I) -> Str {
         let r = self.str_copy(s, s.cap());
         self.shift(&r, from, true);
         self.emit(Op::BinI(IBin::Sub, s.len, from, r.len));
@@ -302,15 +308,15 @@ impl Lower<'_> {
                 } else {
                     let from = self.b.temp_i();
                     self.emit(Op::BinI(IBin::Sub, s.len, l, from));
-                    self.from_of(&s, from)
+                    self.tail_of(&s, from)
                 }
             }
             "MID" => {
                 let (l, p) = (self.int_arg(up, args[1])?, self.int_arg(up, args[2])?);
                 self.fault_below(l, 0);
                 self.fault_below(p, 1);
-                let from = self.from_position(p, &s);
-                let rest = self.from_of(&s, from);
+                let from = self.place_of(p, &s);
+                let rest = self.tail_of(&s, from);
                 let l = self.clamp(l, zero, rest.len);
                 let mut r = rest;
                 self.cut(&mut r, l);
@@ -322,9 +328,9 @@ impl Lower<'_> {
                 self.fault_below(p, 0);
                 let p = self.clamp(p, zero, s.len);
                 let head = self.left_of(&s, p);
-                let tail = self.from_of(&s, p);
+                let tail = self.tail_of(&s, p);
                 let h = self.concat(&head, &b);
-                self.concat(&h, &tail)
+                self.concat_within(&h, &tail, s.cap() + b.cap())
             }
             "DELETE" | "REPLACE" => {
                 let (b, at) = if up == "REPLACE" {
@@ -335,7 +341,7 @@ impl Lower<'_> {
                 let (l, p) = (self.int_arg(up, args[at])?, self.int_arg(up, args[at + 1])?);
                 self.fault_below(l, 0);
                 self.fault_below(p, 1);
-                let from = self.from_position(p, &s);
+                let from = self.place_of(p, &s);
                 let head = self.left_of(&s, from);
                 // The characters after the `l` taken out.
                 let room = self.b.temp_i();
@@ -343,12 +349,13 @@ impl Lower<'_> {
                 let l = self.clamp(l, zero, room);
                 let after = self.b.temp_i();
                 self.emit(Op::BinI(IBin::Add, from, l, after));
-                let tail = self.from_of(&s, after);
+                let tail = self.tail_of(&s, after);
+                let most = s.cap() + b.as_ref().map_or(0, Str::cap);
                 let h = match b {
                     Some(b) => self.concat(&head, &b),
                     None => head,
                 };
-                self.concat(&h, &tail)
+                self.concat_within(&h, &tail, most)
             }
             "FIND" => {
                 let (b, _) = self.str_arg(up, args[1], Some(wide))?;
@@ -361,7 +368,7 @@ impl Lower<'_> {
     }
 
     /// The 0-based place of 1-based position `p`, clamped into `0..=LEN(s)`.
-    fn from_position(&mut self, p: I, s: &Str) -> I {
+    fn place_of(&mut self, p: I, s: &Str) -> I {
         let one = self.b.const_i(1);
         let t = self.b.temp_i();
         self.emit(Op::BinI(IBin::Sub, p, one, t));
