@@ -47,6 +47,8 @@ pub(super) fn variables(
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<(String, Var)> {
     let mut out: Vec<(String, Var)> = Vec::new();
+    // Where each name was first declared (a map: a PROGRAM may have thousands).
+    let mut seen: HashMap<String, Span> = HashMap::new();
     for b in blocks {
         for d in &b.vars {
             let ty = match resolve_type(&d.ty, types, 0) {
@@ -64,13 +66,14 @@ pub(super) fn variables(
             }
             for n in &d.names {
                 let key = n.name.to_ascii_lowercase();
-                if let Some((_, prev)) = out.iter().find(|(k, _)| *k == key) {
+                if let Some(prev) = seen.get(&key) {
                     diags.push(
                         decl_error(n.span, format!("`{}` is declared twice", n.name))
-                            .with_note(prev.span, "first declared here"),
+                            .with_note(*prev, "first declared here"),
                     );
                     continue;
                 }
+                seen.insert(key.clone(), n.span);
                 let global = matches!(b.kind, VarKind::Global | VarKind::External) || prefix.is_none();
                 let tag = match prefix {
                     Some(p) if !global => format!("{p}.{}", n.name),
