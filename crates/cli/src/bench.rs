@@ -23,7 +23,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 /// Scan period of the benchmark, in virtual milliseconds.
-const SCAN_MS: u64 = 1;
+pub(crate) const SCAN_MS: u64 = 1;
 
 pub fn generate(n: usize) -> (String, String) {
     let mut tags = String::from("name,type,address,initial,retain,description\n");
@@ -42,12 +42,12 @@ pub fn generate(n: usize) -> (String, String) {
     (tags, lad)
 }
 
-fn preset(i: usize) -> i32 {
+pub(crate) fn preset(i: usize) -> i32 {
     5 + (i % 7) as i32
 }
 
 /// The same logic in plain Rust.
-mod native {
+pub(crate) mod native {
     #[derive(Clone, Default)]
     pub struct Rung {
         pub a: bool,
@@ -128,7 +128,7 @@ mod native {
     }
 }
 
-fn native_rungs(n: usize) -> Vec<native::Rung> {
+pub(crate) fn native_rungs(n: usize) -> Vec<native::Rung> {
     (0..n)
         .map(|i| native::Rung {
             a: i % 11 == 0,
@@ -181,7 +181,7 @@ fn build(n: usize) -> Result<Built, String> {
     })
 }
 
-fn place(p: &Program, name: &str) -> Result<Place, String> {
+pub(crate) fn place(p: &Program, name: &str) -> Result<Place, String> {
     match p.layout.resolve(name) {
         Ok(Target::Value { place, .. }) => Ok(place),
         _ => Err(format!("cannot resolve {name}")),
@@ -218,7 +218,7 @@ fn verify(p: &Arc<Program>, n: usize, scans: u64, native: bool) -> Result<(), St
     Ok(())
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }
@@ -233,7 +233,11 @@ fn time_rounds<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnMut
 /// `scans` scans. The contenders take turns within each round, so they are
 /// measured under the same conditions (this machine is a shared VM whose
 /// speed drifts); a warm-up of up to 1000 scans comes first.
-fn round_samples<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnMut(u64); N]) -> [Vec<f64>; N] {
+pub(crate) fn round_samples<const N: usize>(
+    runs: usize,
+    scans: u64,
+    fs: &mut [&mut dyn FnMut(u64); N],
+) -> [Vec<f64>; N] {
     let mut k = [0u64; N];
     for (f, k) in fs.iter_mut().zip(k.iter_mut()) {
         for _ in 0..scans.min(1000) {
@@ -256,7 +260,7 @@ fn round_samples<const N: usize>(runs: usize, scans: u64, fs: &mut [&mut dyn FnM
 }
 
 /// The median over rounds of `a / b` measured in the same round.
-fn median_ratio(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn median_ratio(a: &[f64], b: &[f64]) -> f64 {
     median(a.iter().zip(b).map(|(a, b)| a / b).collect())
 }
 

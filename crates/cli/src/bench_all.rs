@@ -2,7 +2,7 @@
 //! `bench` for the engine, nets, historian and online edits; `bench_modbus`,
 //! `bench_realtime`, `bench_mqtt`). Numbers printed, never asserted.
 
-use crate::{bench, bench_modbus, bench_mqtt, bench_realtime};
+use crate::{bench, bench_modbus, bench_mqtt, bench_realtime, bench_st};
 use std::process::ExitCode;
 
 /// `alba bench --all`: every benchmark in turn, each with its defaults
@@ -16,6 +16,7 @@ pub fn all(quick: bool, secs: f64, priority: u8, cpu: Option<usize>) -> ExitCode
         }
     };
     part("engine", &|| bench::run(&[100, 1_000, 10_000], quick));
+    part("structured text", &|| bench_st::run(&[100, 1_000, 10_000], quick));
     part("nets", &|| bench::nets(quick));
     part("historian", &|| bench::historian(quick));
     part("modbus", &|| bench_modbus::run(&[1, 4, 16], secs, None, None));

@@ -7,6 +7,7 @@ mod bench_all;
 mod bench_modbus;
 mod bench_mqtt;
 mod bench_realtime;
+mod bench_st;
 mod copy;
 mod demo;
 mod export;
@@ -216,6 +217,10 @@ enum Command {
         /// prepared off the engine thread), on --sizes rungs (default 10000,50000).
         #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian", "mqtt", "all"])]
         swap: bool,
+        /// Run only the Structured Text contender of the scan benchmark (the benchmark rung in ST, and
+        /// programs of 1 000 and 10 000 lines; see docs/performance.md).
+        #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime", "historian", "mqtt", "all", "swap"])]
+        st: bool,
         /// Print the Cranelift IR and machine code native code runs for the benchmark rung instead.
         #[arg(long, conflicts_with_all = ["modbus", "nets", "realtime"])]
         listing: bool,
@@ -653,7 +658,17 @@ fn main() -> ExitCode {
             sizes.and_then(|s| s.first().copied()).unwrap_or(1_000),
             scans,
         ),
-        Command::Bench { sizes, quick, .. } => bench::run(sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]), quick),
+        Command::Bench { sizes, quick, st, .. } => {
+            let sizes = sizes.as_deref().unwrap_or(&[100, 1_000, 10_000]);
+            if st {
+                bench_st::run(sizes, quick)
+            } else {
+                match bench::run(sizes, quick) {
+                    ExitCode::SUCCESS => bench_st::run(sizes, quick),
+                    failed => failed,
+                }
+            }
+        }
         Command::Explain { code } => explain(&code),
         Command::Analyze {
             net,

@@ -189,6 +189,36 @@ pub fn lex(text: &str, file: FileId) -> (Vec<Token>, Vec<Diagnostic>) {
                         i += 2;
                         continue;
                     }
+                    if e.eq_ignore_ascii_case(&b'P') {
+                        s.push('\u{c}');
+                        i += 2;
+                        continue;
+                    }
+                    // `$hh` in a STRING (ASCII), `$hhhh` in a WSTRING.
+                    let digits = if c == b'"' { 4 } else { 2 };
+                    let hex = text
+                        .get(i + 1..i + 1 + digits)
+                        .filter(|h| h.bytes().all(|x| x.is_ascii_hexdigit()));
+                    if let Some(h) = hex {
+                        let code = u32::from_str_radix(h, 16).unwrap_or(0);
+                        match char::from_u32(code).filter(|_| c == b'"' || code < 0x80) {
+                            Some(ch) => s.push(ch),
+                            None => err(
+                                &mut diags,
+                                i,
+                                i + 1 + digits,
+                                if c == b'"' {
+                                    format!("`${h}` is not a character (a UTF-16 surrogate)")
+                                } else {
+                                    format!(
+                                        "`${h}`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others"
+                                    )
+                                },
+                            ),
+                        }
+                        i += 1 + digits;
+                        continue;
+                    }
                 }
                 let len = utf8_len(ch);
                 s.push_str(text.get(i..i + len).unwrap_or(""));

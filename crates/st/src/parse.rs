@@ -1011,6 +1011,16 @@ const INT_TYPES: [&str; 16] = [
 
 /// An IEC duration (`1d2h3m4s5ms`, `1.5s`, `2h_30m`) in milliseconds.
 fn duration(v: &str) -> Option<i64> {
+    duration_in(v, 1.0)
+}
+
+/// An IEC duration in nanoseconds (LTIME).
+pub(crate) fn duration_ns(v: &str) -> Option<i64> {
+    duration_in(v, 1e6)
+}
+
+/// A duration in units of `1 / per_ms` milliseconds.
+fn duration_in(v: &str, per_ms: f64) -> Option<i64> {
     let v = v.replace('_', "").to_ascii_lowercase();
     let mut rest = v.as_str();
     let mut total = 0f64;
@@ -1041,7 +1051,7 @@ fn duration(v: &str) -> Option<i64> {
             return None;
         };
         rest = &rest[len..];
-        total += num * unit;
+        total += num * unit * per_ms;
     }
     (total.is_finite() && total.abs() < 9.2e18).then(|| total.round() as i64)
 }
@@ -1050,7 +1060,14 @@ fn duration(v: &str) -> Option<i64> {
 fn typed(t: &str, v: &str) -> Result<Lit, String> {
     let upper = t.to_ascii_uppercase();
     match upper.as_str() {
-        "T" | "TIME" | "LT" | "LTIME" => match duration(v.trim_start_matches('-')) {
+        // An LTIME keeps its text: the lowering reads it in nanoseconds.
+        "LT" | "LTIME" => match duration_ns(v.trim_start_matches('-')) {
+            Some(_) => Ok(Lit::Other(t.to_string(), v.to_string())),
+            None => Err(format!(
+                "`{t}#{v}` is not a duration; write it like LTIME#1h2m3s, LTIME#1.5s or LTIME#250us"
+            )),
+        },
+        "T" | "TIME" => match duration(v.trim_start_matches('-')) {
             Some(ms) => Ok(Lit::Time(if v.starts_with('-') { -ms } else { ms })),
             None => Err(format!(
                 "`{t}#{v}` is not a duration; write it like T#1h2m3s, T#1.5s or T#250ms"

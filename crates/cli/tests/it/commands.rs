@@ -285,6 +285,25 @@ fn check_reports_a_bad_screen_at_its_place() {
     );
 }
 
+/// `alba bench --st` runs the benchmark rung written in ST against the
+/// hand-written Rust (it checks their results before timing), with the
+/// programs of 1 000 and 10 000 lines.
+#[test]
+fn bench_runs_the_structured_text_contender() {
+    let dir = scratch("bench-st");
+    let out = alba(&dir, &["bench", "--st", "--quick", "--sizes", "3"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    for want in [
+        "Structured Text",
+        "     3     23 |",
+        "   166   1001 |",
+        "  1666  10001 |",
+    ] {
+        assert!(text.contains(want), "missing `{want}` in:\n{text}");
+    }
+}
+
 /// `alba bench --listing` shows the benchmark rung's machine code (one
 /// strided function for its 8 rungs); `--profile` runs one contender.
 #[test]

@@ -93,6 +93,7 @@ pub(super) fn loc_type(l: &Loc) -> Option<Ty> {
         Loc::Fb { kind, .. } => Some(Ty::Fb(*kind)),
         Loc::User { fb, .. } => Some(Ty::User(fb.clone())),
         Loc::Struct { ty, .. } => Some(Ty::Struct(ty.clone())),
+        Loc::Str { ty, .. } => Some(ty.clone()),
         Loc::EnumConst(e, _) => Some(Ty::Enum(e.clone())),
         Loc::CounterQ { .. } | Loc::Bit { .. } => Some(Ty::Bool),
     }
@@ -112,6 +113,12 @@ pub(super) fn read_only(l: Loc) -> Loc {
         Loc::Struct { ty, members } => Loc::Struct {
             ty,
             members: members.into_iter().map(|(m, l)| (m, read_only(l))).collect(),
+        },
+        Loc::Str { len, chars, ty, .. } => Loc::Str {
+            len,
+            chars,
+            ty,
+            writable: false,
         },
         l => l,
     }
@@ -158,6 +165,12 @@ impl Lower<'_> {
                 }
                 Loc::Struct { ty: s.clone(), members }
             }
+            Ty::Str(_, n) => Loc::Str {
+                len: self.b.temp_i(),
+                chars: Rc::new((0..*n).map(|_| self.b.temp_i()).collect()),
+                ty: ty.clone(),
+                writable: true,
+            },
             Ty::Fb(_) | Ty::User(_) => {
                 return Err(not_supported(
                     span,
@@ -603,6 +616,12 @@ impl Lower<'_> {
                 (Given::Val(v), Loc::Value { place, ty, .. }) => {
                     let (place, ty) = (*place, ty.clone());
                     self.store_checked(place, v, &ty);
+                }
+                (Given::Val(v), Loc::Str { len, chars, .. }) => {
+                    if let Some(src) = self.str_of(v) {
+                        let (len, chars) = (*len, chars.clone());
+                        self.str_store(len, &chars, &src);
+                    }
                 }
                 (Given::Copy(src), _) => self.copy_loc(&loc, &src),
                 _ => {}

@@ -47,6 +47,8 @@ pub(super) fn variables(
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<(String, Var)> {
     let mut out: Vec<(String, Var)> = Vec::new();
+    // Where each name was first declared (a map: a PROGRAM may have thousands).
+    let mut seen: HashMap<String, Span> = HashMap::new();
     for b in blocks {
         for d in &b.vars {
             let ty = match resolve_type(&d.ty, types, 0) {
@@ -64,13 +66,14 @@ pub(super) fn variables(
             }
             for n in &d.names {
                 let key = n.name.to_ascii_lowercase();
-                if let Some((_, prev)) = out.iter().find(|(k, _)| *k == key) {
+                if let Some(prev) = seen.get(&key) {
                     diags.push(
                         decl_error(n.span, format!("`{}` is declared twice", n.name))
-                            .with_note(prev.span, "first declared here"),
+                            .with_note(*prev, "first declared here"),
                     );
                     continue;
                 }
+                seen.insert(key.clone(), n.span);
                 let global = matches!(b.kind, VarKind::Global | VarKind::External) || prefix.is_none();
                 let tag = match prefix {
                     Some(p) if !global => format!("{p}.{}", n.name),
@@ -192,6 +195,42 @@ impl Decl<'_, '_> {
                 }
                 self.open.pop();
             }
+            Ty::Str(wide, n) => {
+                let text = match init {
+                    None => String::new(),
+                    Some(Init::Expr(Expr {
+                        kind: ExprKind::Lit(Lit::Str(t, w)),
+                        ..
+                    })) if w == wide => t.clone(),
+                    Some(Init::Expr(e)) => {
+                        self.diags
+                            .push(type_error(e.span, format!("a {ty} takes a string literal")));
+                        String::new()
+                    }
+                    Some(Init::Array(_, span) | Init::Struct(_, span)) => {
+                        self.diags
+                            .push(type_error(*span, format!("a {ty} takes one string literal")));
+                        String::new()
+                    }
+                };
+                let codes: Vec<i32> = if *wide {
+                    text.encode_utf16().map(i32::from).collect()
+                } else {
+                    text.bytes().map(i32::from).collect()
+                };
+                // A longer initial value is cut to the length, as `:=` does.
+                let len = codes.len().min(*n as usize);
+                self.tags.push(plain(
+                    format!("{tag}.LEN"),
+                    DataType::Dint,
+                    Some(Value::Dint(len as i32)),
+                ));
+                for k in 0..*n as usize {
+                    let c = codes.get(k).filter(|_| k < len).copied().unwrap_or(0);
+                    self.tags
+                        .push(plain(format!("{tag}[{}]", k + 1), DataType::Dint, Some(Value::Dint(c))));
+                }
+            }
             Ty::Struct(s) => {
                 let given = match init {
                     Some(Init::Struct(items, _)) => items.as_slice(),
@@ -226,7 +265,7 @@ impl Decl<'_, '_> {
                     self.var(&format!("{tag}.{m}"), mty, i, retain, span, depth + 1);
                 }
             }
-            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_)) => {
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_) | Ty::Str(..)) => {
                 let suffixes = element_suffixes(dims);
                 let mut inits: Vec<Option<&Init>> = vec![None; suffixes.len()];
                 if let Some(Init::Array(items, _)) = init {

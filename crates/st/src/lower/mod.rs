@@ -30,13 +30,17 @@ use std::rc::Rc;
 
 mod bits;
 mod calls;
+mod dates;
 mod decl;
+mod strings;
 mod types;
 
 use bits::*;
 use calls::*;
+use dates::*;
 use decl::*;
 pub use decl::{declare, declare_with};
+use strings::*;
 use types::*;
 pub use types::{EnumTy, Fb, StructTy, Ty};
 
@@ -80,6 +84,8 @@ type ValueOf<'f, L> = dyn FnMut(&mut L, Option<&Ty>) -> R<(Val, Ty)> + 'f;
 enum Val {
     B(B),
     N(V),
+    /// A string: its slots, kept in `Lower::strs`.
+    S(u32),
 }
 
 /// Where a name or member lives.
@@ -123,6 +129,13 @@ enum Loc {
         ty: Ty,
         elems: Rc<Vec<Loc>>,
         dims: Vec<(i64, i64)>,
+    },
+    /// A STRING or WSTRING: its length slot and character slots.
+    Str {
+        len: I,
+        chars: Rc<Vec<I>>,
+        ty: Ty,
+        writable: bool,
     },
     /// Bit `bit` of an integer or bit string (`x.3`).
     Bit {
@@ -168,6 +181,8 @@ struct Lower<'a> {
     arrays: HashMap<String, Vec<Place>>,
     /// Structures and arrays of structures or instances met so far, by tag.
     composites: HashMap<(String, bool), Loc>,
+    /// String values of the expressions lowered so far (`Val::S`).
+    strs: Vec<Str>,
 }
 
 /// Lowers the PROGRAMs of `file`, in order, as unit `name`. User FUNCTIONs
@@ -252,6 +267,7 @@ impl<'a> Lower<'a> {
             called: HashSet::new(),
             arrays: HashMap::new(),
             composites: HashMap::new(),
+            strs: Vec::new(),
         }
     }
 }
@@ -440,6 +456,21 @@ impl Lower<'_> {
                     self.init_loc(l, i);
                 }
             }
+            Loc::Str { len, chars, ty, .. } => {
+                let text = match (init, ty) {
+                    (Some(Init::Expr(e)), Ty::Str(wide, _)) => match &e.kind {
+                        ExprKind::Lit(Lit::Str(t, w)) if w == wide => t.clone(),
+                        _ => String::new(),
+                    },
+                    _ => String::new(),
+                };
+                let wide = matches!(ty, Ty::Str(true, _));
+                let (v, _) = self.str_literal(&text, wide);
+                if let Some(src) = self.str_of(v) {
+                    let (len, chars) = (*len, chars.clone());
+                    self.str_store(len, &chars, &src);
+                }
+            }
             Loc::Struct { ty, members } => {
                 let given = match init {
                     Some(Init::Struct(items, _)) => items.as_slice(),
@@ -459,6 +490,10 @@ impl Lower<'_> {
     /// Copies every value of `src` into `dst` (two locations of one type).
     fn copy_loc(&mut self, dst: &Loc, src: &Loc) {
         match (dst, src) {
+            (Loc::Str { len, chars, .. }, Loc::Str { len: sl, chars: sc, .. }) => {
+                let s = self.str_loc(*sl, sc);
+                self.str_store(*len, chars, &s);
+            }
             (Loc::StructArray { elems: d, .. }, Loc::StructArray { elems: s, .. }) => {
                 for (a, b) in d.iter().zip(s.iter()) {
                     self.copy_loc(a, b);
@@ -510,6 +545,26 @@ impl Lower<'_> {
 
     fn tag_loc_uncached(&mut self, tag: &str, ty: &Ty, constant: bool, n: &Ident) -> R<Loc> {
         match ty {
+            Ty::Str(_, cap) => {
+                let slot = |name: &str, l: &mut Self| match l.b.layout().resolve(name) {
+                    Ok(Target::Value {
+                        place: Place::Int(i, _),
+                        access,
+                    }) => Ok((i, access == Access::ReadWrite)),
+                    _ => Err(l.unknown(n, "variable")),
+                };
+                let (len, writable) = slot(&format!("{tag}.LEN"), self)?;
+                let mut chars = Vec::with_capacity(*cap as usize);
+                for k in 1..=*cap {
+                    chars.push(slot(&format!("{tag}[{k}]"), self)?.0);
+                }
+                Ok(Loc::Str {
+                    len,
+                    chars: Rc::new(chars),
+                    ty: ty.clone(),
+                    writable: writable && !constant,
+                })
+            }
             Ty::Fb(kind) => Ok(Loc::Fb {
                 kind: *kind,
                 name: tag.to_string(),
@@ -525,7 +580,7 @@ impl Lower<'_> {
                 }
                 Ok(Loc::Struct { ty: s.clone(), members })
             }
-            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_)) => {
+            Ty::Array(of, dims) if matches!(**of, Ty::Struct(_) | Ty::Fb(_) | Ty::User(_) | Ty::Str(..)) => {
                 let mut elems = Vec::new();
                 for s in element_suffixes(dims) {
                     elems.push(self.tag_loc(&format!("{tag}{s}"), of, constant, n)?);
@@ -1124,6 +1179,16 @@ impl Lower<'_> {
                             )),
                         };
                     }
+                    Some(Loc::Str { ty, .. }) => {
+                        return Err(type_error(
+                            m.span,
+                            format!(
+                                "`{}` is {}; it has no members (LEN gives its length)",
+                                ast::expr(base),
+                                an(&ty)
+                            ),
+                        ));
+                    }
                     Some(Loc::Bit { .. }) => {
                         return Err(type_error(
                             m.span,
@@ -1282,6 +1347,10 @@ impl Lower<'_> {
                 let c = self.b.const_i(*v as i32);
                 Ok((Val::N(V::I(c)), Ty::Enum(en.clone())))
             }
+            Loc::Str { len, chars, ty, .. } => {
+                let s = self.str_loc(*len, chars);
+                Ok((self.keep(s), ty.clone()))
+            }
             Loc::Bit { place, ty, bit, .. } => {
                 let x = self.b.load(*place, self.elem);
                 let c = vclass(x);
@@ -1349,6 +1418,10 @@ impl Lower<'_> {
             }
             (Lit::Int(v, _) | Lit::Time(v), ty) => Val::N(self.b.constant(alba_model::Literal::Int(*v), ty.class())),
             (Lit::Real(v, _), ty) => Val::N(self.b.constant(alba_model::Literal::Real(*v), ty.class())),
+            (Lit::Other(t, v), _) if matches!(date_literal(t, v), Some(Ok(_))) => {
+                let x = date_literal(t, v).and_then(Result::ok).map_or(0, |(_, x)| x);
+                Val::N(V::L(self.b.const_l(x)))
+            }
             _ => Val::N(self.b.constant(alba_model::Literal::Int(0), Class::I)),
         }
     }
@@ -1390,6 +1463,11 @@ impl Lower<'_> {
                     "strings are not supported by the engine yet".into(),
                 ));
             }
+            Lit::Other(t, v) if date_literal(t, v).is_some() => match date_literal(t, v) {
+                Some(Ok((ty, _))) => ty,
+                Some(Err(m)) => return Err(type_error(span, m)),
+                None => Ty::Lint,
+            },
             Lit::Other(t, v) => {
                 return Err(not_supported(
                     span,
@@ -1423,6 +1501,7 @@ impl Lower<'_> {
                     )),
                 }
             }
+            ExprKind::Lit(Lit::Str(text, wide)) => Ok(self.str_literal(text, *wide)),
             ExprKind::Lit(l) => {
                 let ty = self.lit_type(l, hint, e.span)?;
                 Ok((self.constant(l, &ty), ty))
@@ -1465,7 +1544,7 @@ impl Lower<'_> {
                         let w = ty.bits().unwrap_or(64);
                         Ok((Val::N(self.wrap_bits(t, w)), ty))
                     }
-                    Val::N(_) => Err(type_error(
+                    Val::N(_) | Val::S(_) => Err(type_error(
                         a.span,
                         format!("NOT takes a BOOL or a bit string (BYTE … LWORD), not {}", an(&ty)),
                     )),
@@ -1474,7 +1553,7 @@ impl Lower<'_> {
             ExprKind::Unary(AUn::Neg, a) => {
                 let (v, ty) = self.eval(a, hint)?;
                 match v {
-                    Val::N(x) if ty.is_num() && !ty.is_unsigned() => {
+                    Val::N(x) if (ty.is_num() && !ty.is_unsigned()) || ty == Ty::Ltime => {
                         let t = self.b.temp(ty.class());
                         self.b.un(IUn::Neg, x, t, self.elem);
                         self.narrow(t, &ty);
@@ -1534,6 +1613,14 @@ impl Lower<'_> {
             hint
         };
         let ((va, ta), (vb, tb)) = self.operands(a, b, h)?;
+        if let (Val::S(_), _) | (_, Val::S(_)) = (va, vb) {
+            return self.str_binary(op, (va, &ta), (vb, &tb), span);
+        }
+        if (is_date(&ta) || is_date(&tb))
+            && let (Val::N(x), Val::N(y)) = (va, vb)
+        {
+            return self.date_binary(op, (x, &ta), (y, &tb), span);
+        }
         if let (true, Val::N(x), Val::N(y)) = (logic, va, vb) {
             return self.bitwise(op, (x, &ta), (y, &tb), span);
         }
@@ -1867,6 +1954,7 @@ impl Lower<'_> {
         match v {
             Val::N(x) => Ok(self.b.convert(x, ty.class(), self.elem)),
             Val::B(_) => Err(type_error(e.span, format!("a BOOL where a {ty} is wanted"))),
+            Val::S(_) => Err(type_error(e.span, format!("a string where a {ty} is wanted"))),
         }
     }
 
@@ -1885,6 +1973,8 @@ impl Lower<'_> {
                 self.b.un(IUn::Mov, x, d, self.elem);
                 self.b.post(post, self.elem);
             }
+            // Strings are stored by `str_store` (the type check refuses them here).
+            Val::S(_) => {}
         }
     }
 
@@ -2031,6 +2121,34 @@ impl Lower<'_> {
             };
         }
         let loc = self.locate(lhs)?;
+        if let Loc::Str {
+            len,
+            chars,
+            ty,
+            writable,
+        } = &loc
+        {
+            if !*writable {
+                return Err(Diagnostic::new(
+                    Code::NotWritable,
+                    format!("`{}` cannot be written", ast::expr(lhs)),
+                    lhs.span,
+                    "not writable",
+                ));
+            }
+            let (v, vty) = value(self, Some(ty))?;
+            let src = match (self.str_of(v), &vty, ty) {
+                (Some(src), Ty::Str(a, _), Ty::Str(b, _)) if a == b => src,
+                _ => {
+                    return Err(type_error(
+                        rspan,
+                        format!("cannot assign {} to `{}`, {}", an(&vty), ast::expr(lhs), an(ty)),
+                    ));
+                }
+            };
+            self.str_store(*len, chars, &src);
+            return Ok(());
+        }
         if let Loc::Bit {
             place,
             access,
@@ -2359,6 +2477,23 @@ impl Lower<'_> {
             arity(1)?;
             return self.eval(positional[0], hint);
         }
+        if let Some(r) = self.string_call(&up, &positional, span) {
+            return r;
+        }
+        if up == "CONCAT_DATE_TOD" {
+            return self.concat_date_tod(&positional, span);
+        }
+        if let Some((from, to)) = up.split_once("_TO_") {
+            arity(1)?;
+            if let Some(r) = self.string_conversion(from, to, positional[0], span) {
+                return r;
+            }
+            if let (Some(f), Some(t)) = (elementary(from), elementary(to))
+                && let Some(r) = self.date_conversion(&f, &t, positional[0], &up)
+            {
+                return r;
+            }
+        }
         // BCD: `WORD_BCD_TO_INT`, `INT_TO_BCD_WORD` (the engine's FRD and TOD:
         // a nibble above 9, or a value out of the BCD range, is a range fault).
         let bcd = match up.split_once("_TO_") {
@@ -2412,6 +2547,15 @@ impl Lower<'_> {
                 Ty::Enum(_) => Ty::Dint,
                 t => t,
             };
+            if is_date(&from) || is_date(&to_ty) || matches!(from, Ty::Str(..)) {
+                return Err(not_supported(
+                    n.span,
+                    format!(
+                        "{up} of {}: write the conversion with both types ({from}_TO_{to})",
+                        an(&from)
+                    ),
+                ));
+            }
             return Ok((self.convert(v, &from, &to_ty), to_ty));
         }
         // X_TO_Y conversions (and TRUNC).
@@ -2623,6 +2767,7 @@ impl Lower<'_> {
 
     fn convert(&mut self, v: Val, from: &Ty, to: &Ty) -> Val {
         match (v, to) {
+            (Val::S(_), _) => v,
             (Val::B(b), Ty::Bool) => Val::B(b),
             (Val::B(b), to) => {
                 let t = self.b.temp(to.class());

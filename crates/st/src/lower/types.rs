@@ -142,6 +142,16 @@ pub enum Ty {
     Enum(Rc<EnumTy>),
     /// A subrange of an integer type.
     Sub(Box<Ty>, i64, i64),
+    /// `STRING[n]` (`WSTRING[n]` when wide): at most n characters.
+    Str(bool, u32),
+    /// Nanoseconds, in a LINT.
+    Ltime,
+    /// Milliseconds since 1970-01-01 (a whole day), in a LINT.
+    Date,
+    /// Milliseconds since midnight, in a LINT.
+    Tod,
+    /// Milliseconds since 1970-01-01 00:00, in a LINT.
+    Dt,
 }
 
 impl std::fmt::Display for Ty {
@@ -172,6 +182,11 @@ impl std::fmt::Display for Ty {
             Ty::Struct(s) => f.write_str(&s.name),
             Ty::Enum(e) => f.write_str(&e.name),
             Ty::Sub(b, lo, hi) => write!(f, "{b}({lo}..{hi})"),
+            Ty::Str(wide, n) => write!(f, "{}[{n}]", if *wide { "WSTRING" } else { "STRING" }),
+            Ty::Ltime => f.write_str("LTIME"),
+            Ty::Date => f.write_str("DATE"),
+            Ty::Tod => f.write_str("TIME_OF_DAY"),
+            Ty::Dt => f.write_str("DATE_AND_TIME"),
         }
     }
 }
@@ -185,6 +200,7 @@ impl Ty {
             Ty::Int | Ty::Usint | Ty::Byte => DataType::Int,
             Ty::Dint | Ty::Uint | Ty::Word | Ty::Enum(_) => DataType::Dint,
             Ty::Lint | Ty::Udint | Ty::Ulint | Ty::Dword | Ty::Lword => DataType::Lint,
+            Ty::Ltime | Ty::Date | Ty::Tod | Ty::Dt => DataType::Lint,
             Ty::Real => DataType::Real,
             Ty::Lreal => DataType::Lreal,
             Ty::Time => DataType::Time,
@@ -275,6 +291,8 @@ pub(super) fn widens(from: &Ty, to: &Ty) -> bool {
         return true;
     }
     match (from, to) {
+        // A string of any length into one of the same kind (cut to its length).
+        (Ty::Str(a, _), Ty::Str(b, _)) => a == b,
         (Ty::Sub(b, ..), to) => widens(b, to),
         (from, Ty::Sub(b, ..)) => widens(from, b),
         (a, b) if a.is_unsigned() && b.is_unsigned() => a.rank() < b.rank(),
@@ -308,11 +326,13 @@ pub(super) fn elementary(name: &str) -> Option<Ty> {
         "WORD" => Ty::Word,
         "DWORD" => Ty::Dword,
         "LWORD" => Ty::Lword,
+        "LTIME" => Ty::Ltime,
+        "DATE" => Ty::Date,
+        "TIME_OF_DAY" | "TOD" => Ty::Tod,
+        "DATE_AND_TIME" | "DT" => Ty::Dt,
         _ => return None,
     })
 }
-
-pub(super) const UNSUPPORTED_TYPES: [&str; 6] = ["LTIME", "DATE", "TIME_OF_DAY", "TOD", "DATE_AND_TIME", "DT"];
 
 /// A constant integer from an expression (literals, negation).
 pub(super) fn const_int(e: &Expr) -> Option<i64> {
@@ -416,19 +436,10 @@ pub(super) fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) 
                 }
                 return Err(decl_error(n.span, format!("`{}` is a FUNCTION, not a type", n.name)));
             }
-            if UNSUPPORTED_TYPES.iter().any(|u| n.is(u)) {
-                return Err(not_supported(
-                    n.span,
-                    format!(
-                        "the type {} is not supported by the engine yet",
-                        n.name.to_ascii_uppercase()
-                    ),
-                ));
-            }
             let known = [
                 "BOOL", "SINT", "INT", "DINT", "LINT", "REAL", "LREAL", "TIME", "USINT", "UINT", "UDINT", "ULINT",
-                "BYTE", "WORD", "DWORD", "LWORD", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR",
-                "RS",
+                "BYTE", "WORD", "DWORD", "LWORD", "LTIME", "DATE", "TOD", "DT", "STRING", "WSTRING", "TON", "TOF",
+                "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
             ];
             let user: Vec<&str> = types
                 .aliases
@@ -442,10 +453,15 @@ pub(super) fn resolve_named(t: &TypeRef, name: &str, types: &Types, depth: u32) 
             }
             Err(d)
         }
-        TypeRef::String { span, .. } => Err(not_supported(
-            *span,
-            "STRING and WSTRING are not supported by the engine yet".into(),
-        )),
+        TypeRef::String { wide, len, span } => {
+            let n = match len {
+                None => DEFAULT_STRING,
+                Some(e) => const_int(e).filter(|n| (1..=MAX_STRING).contains(n)).ok_or_else(|| {
+                    decl_error(*span, format!("a string's length is a literal from 1 to {MAX_STRING}"))
+                })?,
+            };
+            Ok(Ty::Str(*wide, n as u32))
+        }
         TypeRef::Struct { members, span } => {
             let mut out: Vec<(String, Ty, Option<Init>)> = Vec::new();
             for d in members {
@@ -572,6 +588,10 @@ pub(super) fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
     let v = match (&e.kind, ty) {
         (ExprKind::Lit(Lit::Bool(b)), Ty::Bool) => Value::Bool(*b),
         (ExprKind::Lit(Lit::Time(ms)), Ty::Time) => Value::Time(i32::try_from(*ms).map_err(|_| bad())?),
+        (ExprKind::Lit(Lit::Other(t, v)), ty) if is_date(ty) => match date_literal(t, v) {
+            Some(Ok((lt, x))) if lt == *ty => Value::Lint(x),
+            _ => return Err(bad()),
+        },
         (ExprKind::Lit(Lit::Int(v, _)), Ty::Real) => Value::Real(*v as f32),
         (ExprKind::Lit(Lit::Int(v, _)), Ty::Lreal) => Value::Lreal(*v as f64),
         (ExprKind::Lit(Lit::Int(v, _)), t) if t.is_int() || t.is_bits() || matches!(t, Ty::Sub(..)) => int(*v)?,

@@ -1,0 +1,384 @@
+//! STRING and WSTRING (docs/st.md "Strings", ADR 0017): goldens of every
+//! string function, comparison and conversion, run in every engine mode
+//! (fused interpreter, monitored interpreter, native code), which must agree
+//! on every scan; the edge cases (empty strings, truncation to the declared
+//! length, positions out of range).
+
+#[path = "common/modes.rs"]
+mod modes;
+
+use alba_engine::Engine;
+use alba_model::Value;
+use modes::{W, errors, once, program, run, write};
+
+#[test]
+fn literals_assignment_escapes_and_truncation() {
+    let (v, faults) = once(
+        "name,type\n",
+        "PROGRAM Main
+         VAR
+           a : STRING;                 (* 80 characters *)
+           b : STRING[5] := 'init';
+           c : STRING[5];
+           d : STRING[3];
+           e : STRING;
+           w : WSTRING[10] := \"Größe\";
+           x : WSTRING[4];
+         END_VAR
+         a := 'it$'s $$5$N$54ab';
+         c := 'abcdefgh';              (* cut to 5 *)
+         d := c;                       (* cut to 3 *)
+         e := '';
+         x := \"$00E9t$P\";
+         END_PROGRAM",
+        &[
+            W::S("Main.a"),
+            W::S("Main.b"),
+            W::S("Main.c"),
+            W::S("Main.d"),
+            W::S("Main.e"),
+            W::S("Main.w"),
+            W::S("Main.x"),
+        ],
+    );
+    assert_eq!(v, ["it's $5\nTab", "init", "abcde", "abc", "", "Größe", "ét\u{c}"]);
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn the_string_functions_compute_what_the_standard_says() {
+    let (v, faults) = once(
+        "name,type\nN,INT\nF1,INT\nF2,INT\nF3,INT\nF4,INT\n",
+        "PROGRAM Main
+         VAR
+           s : STRING[8] := 'ABCDE';
+           l, r, m, c3, ins, del, rep, e1, e2, cut : STRING[16];
+           short : STRING[6];
+         END_VAR
+         N := LEN(s);
+         l := LEFT(s, 2);
+         r := RIGHT(s, 3);
+         m := MID(s, 2, 2);
+         c3 := CONCAT(l, '-', r);
+         ins := INSERT(s, 'XY', 2);
+         del := DELETE(s, 2, 3);
+         rep := REPLACE(s, 'X', 2, 3);
+         F1 := FIND(s, 'CD');
+         F2 := FIND(s, 'CX');
+         F3 := FIND(s, '');
+         F4 := FIND(CONCAT(s, s), RIGHT(s, 2));
+         e1 := LEFT('', 3);
+         e2 := MID(s, 0, 2);
+         short := CONCAT(s, s);
+         cut := CONCAT(LEFT(s, 0), RIGHT(s, 0));
+         END_PROGRAM",
+        &[
+            W::V("N"),
+            W::S("Main.l"),
+            W::S("Main.r"),
+            W::S("Main.m"),
+            W::S("Main.c3"),
+            W::S("Main.ins"),
+            W::S("Main.del"),
+            W::S("Main.rep"),
+            W::V("F1"),
+            W::V("F2"),
+            W::V("F3"),
+            W::V("F4"),
+            W::S("Main.e1"),
+            W::S("Main.e2"),
+            W::S("Main.short"),
+            W::S("Main.cut"),
+        ],
+    );
+    assert_eq!(
+        v,
+        [
+            "5", "AB", "CDE", "BC", "AB-CDE", "ABXYCDE", "ABE", "ABXE", "3", "0", "0", "4", "", "", "ABCDEA", ""
+        ]
+    );
+    // MID with a length of 0 is no fault; none of these is out of range.
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn computed_lengths_and_positions_every_value_in_every_mode() {
+    // Every length and position from -1 to 7 on 'hello' (and on an empty
+    // string), computed at run time: the results against a model of the
+    // standard's functions, and a fault for each negative length or
+    // position below 1.
+    let p = program(
+        "name,type\nL,INT\nP,INT\nN,INT\n",
+        "PROGRAM Main
+         VAR s : STRING[8] := 'hello'; z : STRING[4]; a, b, c, d, e, f, g : STRING[12]; END_VAR
+         a := LEFT(s, L);
+         b := RIGHT(s, L);
+         c := MID(s, L, P);
+         d := DELETE(s, L, P);
+         e := INSERT(s, '#', L);
+         f := REPLACE(s, '[]', L, P);
+         g := MID(z, L, P);
+         N := FIND(s, MID(s, L, P));
+         END_PROGRAM",
+    );
+    let cases: Vec<(i64, i64)> = (-1..=7).flat_map(|l| (-1..=7).map(move |p| (l, p))).collect();
+    let set = |e: &mut Engine, k: u64| {
+        let (l, p) = cases[k as usize];
+        write(e, "L", Value::Int(l as i16));
+        write(e, "P", Value::Int(p as i16));
+    };
+    let watch = [
+        W::S("Main.a"),
+        W::S("Main.b"),
+        W::S("Main.c"),
+        W::S("Main.d"),
+        W::S("Main.e"),
+        W::S("Main.f"),
+        W::S("Main.g"),
+        W::V("N"),
+    ];
+    let (rows, faults) = run(&p, cases.len() as u64, &set, &watch);
+    let s = "hello";
+    let n = s.len() as i64;
+    // The model: lengths below 0 count as 0, positions below 1 as 1, and
+    // both are cut to the string.
+    let sub = |from: i64, len: i64| -> String {
+        let from = from.clamp(0, n);
+        let len = len.clamp(0, n - from);
+        s[from as usize..(from + len) as usize].to_string()
+    };
+    let mut want_faults = 0;
+    for ((l, p), row) in cases.iter().zip(&rows) {
+        let (l, p) = (*l, *p);
+        let lc = l.max(0);
+        let p0 = (p - 1).clamp(0, n);
+        let mid = sub(p0, lc);
+        let del = format!("{}{}", sub(0, p0), sub(p0 + lc.min(n - p0), n));
+        let ins_at = l.clamp(0, n);
+        let ins = format!("{}#{}", sub(0, ins_at), sub(ins_at, n));
+        let rep = format!("{}[]{}", sub(0, p0), sub(p0 + lc.min(n - p0), n));
+        let find = if mid.is_empty() {
+            0
+        } else {
+            s.find(&mid).map_or(0, |i| i + 1)
+        };
+        let want = [
+            sub(0, lc),
+            sub(n - lc.min(n), n),
+            mid,
+            del,
+            ins,
+            rep,
+            String::new(),
+            find.to_string(),
+        ];
+        assert_eq!(row.as_slice(), want.as_slice(), "L = {l}, P = {p}");
+        // Faults: LEFT, RIGHT, MID×3, DELETE, INSERT (its P is L here),
+        // REPLACE each report a negative length; MID×3, DELETE, REPLACE a position below 1.
+        if l < 0 {
+            want_faults += 8;
+        }
+        if p < 1 {
+            want_faults += 5;
+        }
+    }
+    assert_eq!(faults, want_faults);
+}
+
+#[test]
+fn comparisons_order_by_the_first_different_character() {
+    let p = program(
+        "name,type\nEq,BOOL\nNe,BOOL\nLt,BOOL\nGt,BOOL\nLe,BOOL\nGe,BOOL\n",
+        "PROGRAM Main
+         VAR a, b : STRING[6]; k : INT; END_VAR
+         CASE k OF
+           0: a := 'abc'; b := 'abc';
+           1: a := 'abc'; b := 'abd';
+           2: a := 'ab'; b := 'abc';
+           3: a := 'b'; b := 'abc';
+           4: a := ''; b := '';
+           5: a := 'abcdef'; b := 'abcdeg';
+         END_CASE;
+         Eq := a = b; Ne := a <> b; Lt := a < b; Gt := a > b; Le := a <= b; Ge := a >= b;
+         k := k + 1;
+         END_PROGRAM",
+    );
+    let names = ["Eq", "Ne", "Lt", "Gt", "Le", "Ge"];
+    let watch: Vec<W> = names.iter().map(|n| W::V(n)).collect();
+    let (rows, faults) = run(&p, 6, &|_, _| {}, &watch);
+    let pairs = [
+        ("abc", "abc"),
+        ("abc", "abd"),
+        ("ab", "abc"),
+        ("b", "abc"),
+        ("", ""),
+        ("abcdef", "abcdeg"),
+    ];
+    for ((a, b), row) in pairs.iter().zip(&rows) {
+        let want = [a == b, a != b, a < b, a > b, a <= b, a >= b].map(|x| Value::Bool(x).to_string());
+        assert_eq!(row.as_slice(), want.as_slice(), "{a:?} vs {b:?}");
+    }
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn conversions_between_strings_and_integers() {
+    let (v, faults) = once(
+        "name,type\nA,DINT\nB,INT\nC,LINT\nD,DINT\nEn,DINT\nBig,LINT\n",
+        "PROGRAM Main
+         VAR s1, s2, s3, s4, s5, s6 : STRING; w : WSTRING[8]; n : STRING[4]; END_VAR
+         Big := -9223372036854775807;
+         s1 := DINT_TO_STRING(-123);
+         s2 := INT_TO_STRING(0);
+         s3 := LINT_TO_STRING(Big);
+         s4 := BYTE_TO_STRING(BYTE#255);
+         s5 := WSTRING_TO_STRING(\"aé\");
+         w := STRING_TO_WSTRING('xyz');
+         n := DINT_TO_STRING(1234567);            (* cut to 4 *)
+         A := STRING_TO_DINT('  -42x7');
+         B := STRING_TO_INT('+17');
+         C := STRING_TO_LINT(s3);
+         D := STRING_TO_DINT('abc');
+         En := STRING_TO_DINT(CONCAT('1', '2', '3'));
+         s6 := DINT_TO_STRING(En + 1);
+         END_PROGRAM",
+        &[
+            W::S("Main.s1"),
+            W::S("Main.s2"),
+            W::S("Main.s3"),
+            W::S("Main.s4"),
+            W::S("Main.s5"),
+            W::S("Main.w"),
+            W::S("Main.n"),
+            W::V("A"),
+            W::V("B"),
+            W::V("C"),
+            W::V("D"),
+            W::V("En"),
+            W::S("Main.s6"),
+        ],
+    );
+    assert_eq!(
+        v,
+        [
+            "-123",
+            "0",
+            "-9223372036854775807",
+            "255",
+            "a?",
+            "xyz",
+            "1234",
+            "-42",
+            "17",
+            "-9223372036854775807",
+            "0",
+            "123",
+            "124"
+        ]
+    );
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn strings_pass_through_functions_function_blocks_and_structures() {
+    let (v, faults) = once(
+        "name,type\n",
+        "TYPE Rec : STRUCT name : STRING[8]; n : INT; END_STRUCT; END_TYPE
+         FUNCTION Greet : STRING[16]
+         VAR_INPUT who : STRING[8]; END_VAR
+         Greet := CONCAT('hi ', who);
+         END_FUNCTION
+         FUNCTION_BLOCK Keep
+         VAR_INPUT x : STRING[4]; END_VAR
+         VAR_OUTPUT last : STRING[4]; END_VAR
+         IF LEN(x) > 0 THEN last := x; END_IF;
+         END_FUNCTION_BLOCK
+         PROGRAM Main
+         VAR g : STRING; k : Keep; out : STRING; r : Rec; names : ARRAY[1..2] OF STRING[3]; END_VAR
+         g := Greet('bob');
+         k(x := 'abcdef');
+         out := k.last;
+         r.name := 'rec';
+         names[2] := r.name;
+         END_PROGRAM",
+        &[
+            W::S("Main.g"),
+            W::S("Main.out"),
+            W::S("Main.r.name"),
+            W::S("Main.names[2]"),
+        ],
+    );
+    assert_eq!(v, ["hi bob", "abcd", "rec", "rec"]);
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn strings_are_checked() {
+    let e = errors(
+        "name,type\nN,INT\n",
+        "PROGRAM Main
+         VAR s : STRING[4]; w : WSTRING; t : STRING[0]; END_VAR
+         s := 5;
+         N := s;
+         s := w;
+         s := s + s;
+         N := LEFT(s);
+         N := FIND(s, 3);
+         s := 'caf$E9';
+         w := \"$00E9t$D800\";
+         END_PROGRAM",
+    );
+    for want in [
+        "a string's length is a literal from 1 to 1024",
+        "cannot assign a DINT to `s`, a STRING[4]",
+        "cannot assign a STRING[4] to `N`",
+        "cannot assign a WSTRING[80] to `s`",
+        "`+` does not take strings",
+        "LEFT takes 2 argument(s), not 1",
+        "FIND takes a STRING",
+        "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
+        "`$D800` is not a character (a UTF-16 surrogate)",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}
+
+#[test]
+fn the_cost_of_each_string_function_is_printed() {
+    // Ops of one call on STRING[80] operands (straight-line code, the same on
+    // every scan); printed for docs/st.md, bounded so a change that makes
+    // them grow is seen.
+    let base = modes::program(
+        "name,type\nN,INT\n",
+        "PROGRAM Main VAR a, b, r : STRING; END_VAR N := 1; END_PROGRAM",
+    )
+    .ops
+    .len();
+    let mut costs = Vec::new();
+    for (call, bound) in [
+        ("r := a;", 100),
+        ("N := LEN(a);", 10),
+        ("r := LEFT(a, N);", 500),
+        ("r := RIGHT(a, N);", 950),
+        ("r := MID(a, N, N);", 1_250),
+        ("r := CONCAT(a, b);", 2_300),
+        ("r := CONCAT('x = ', b);", 320),
+        ("r := INSERT(a, b, N);", 5_600),
+        ("r := DELETE(a, N, N);", 2_400),
+        ("r := REPLACE(a, b, N, N);", 5_600),
+        ("N := FIND(a, 'abc');", 700),
+        ("N := FIND(a, b);", 20_000),
+        ("N := BOOL_TO_INT(a < b);", 400),
+        ("r := INT_TO_STRING(N);", 560),
+        ("N := STRING_TO_INT(a);", 2_800),
+    ] {
+        let p = modes::program(
+            "name,type\nN,INT\n",
+            &format!("PROGRAM Main VAR a, b, r : STRING; END_VAR N := 1; {call} END_PROGRAM"),
+        );
+        let ops = p.ops.len() - base;
+        costs.push(format!("{call} {ops}"));
+        assert!(ops <= bound, "`{call}`: {ops} ops");
+    }
+    println!("ops per call on STRING[80]: {}", costs.join(", "));
+}
