@@ -1205,6 +1205,16 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
         "{} can be read or written by other users (mode {}): its password hashes are for its owner only",
         "{0} pueden leerlo o escribirlo otros usuarios (modo {1}): sus hashes de contraseña son solo para su dueño",
     ),
+    (
+        Code::PnmlSyntax,
+        "not well-formed XML: {}",
+        "XML mal formado: {0}",
+    ),
+    (
+        Code::PnmlLimit,
+        "the file is too large to read: {}",
+        "el archivo es demasiado grande para leerlo: {0}",
+    ),
 ];
 
 /// Labels and hints shared by many codes: (English pattern, Spanish).
@@ -1632,6 +1642,212 @@ pub fn message(code: Code, message: &str) -> Option<String> {
         .find_map(|(_, en, es)| crate::lang::match_template(en, message).map(|v| fill_values(es, &v)))
 }
 
+/// The API's error replies (`{"error": …}`) in Spanish, for a request whose
+/// `Accept-Language` asks for it: (English pattern, Spanish), as [`MESSAGES`].
+/// An error that echoes a diagnostic's message (`unknown tag `X``) takes that
+/// message's template instead ([`error`]).
+pub const ERRORS: &[(&str, &str)] = &[
+    // 401, 403, 429: sessions and roles
+    (
+        "log in first (POST /api/login)",
+        "inicie sesión primero (POST /api/login)",
+    ),
+    (
+        "unknown user or wrong password",
+        "usuario desconocido o contraseña incorrecta",
+    ),
+    (
+        "too many failed logins: try again in {} s",
+        "demasiados inicios de sesión fallidos: vuelva a intentarlo en {0} s",
+    ),
+    (
+        "this needs the role {}; you are {}",
+        "esto necesita el rol {0}; usted es {1}",
+    ),
+    (
+        "user {} is a {}: {} needs the {} role (users.toml)",
+        "el usuario {0} es {1}: {2} necesita el rol {3} (users.toml)",
+    ),
+    (
+        "this project has no users, so only clients on this computer (loopback) are served; add users with `alba user add`",
+        "este proyecto no tiene usuarios, así que solo se atiende a los clientes de este ordenador (loopback); añada usuarios con `alba user add`",
+    ),
+    // 404
+    ("no such endpoint", "no existe ese punto de acceso de la API"),
+    (
+        "no program `{}` in this project",
+        "no hay ningún programa `{0}` en este proyecto",
+    ),
+    ("the project has no tags.csv", "el proyecto no tiene tags.csv"),
+    ("no net `{}` in the project", "no hay ninguna red `{0}` en el proyecto"),
+    ("no hardware job `{}`", "no hay ningún trabajo de hardware `{0}`"),
+    (
+        "this server has no hardware service",
+        "este servidor no tiene servicio de hardware",
+    ),
+    (
+        "this server has no verification service",
+        "este servidor no tiene servicio de verificación",
+    ),
+    (
+        "this project keeps no alarm log (no alarms.csv)",
+        "este proyecto no lleva registro de alarmas (no hay alarms.csv)",
+    ),
+    (
+        "no alarm `{}` (the project has no alarms.csv)",
+        "no hay ninguna alarma `{0}` (el proyecto no tiene alarms.csv)",
+    ),
+    ("no alarm `{}`", "no hay ninguna alarma `{0}`"),
+    ("`{}` is not forced", "`{0}` no está forzada"),
+    ("no history for `{}`", "no hay histórico de `{0}`"),
+    (
+        "history is off for this project (`[history] enabled = false` in alba.toml)",
+        "el histórico está desactivado en este proyecto (`[history] enabled = false` en alba.toml)",
+    ),
+    (
+        "this server keeps no audit trail",
+        "este servidor no lleva registro de auditoría",
+    ),
+    // 409, 503: the runtime and the board
+    ("the runtime has stopped", "el motor se ha detenido"),
+    (
+        "the runtime is running: stop it before stepping one scan",
+        "el motor está en marcha: deténgalo antes de avanzar un ciclo",
+    ),
+    (
+        "the runtime is faulted ({}): run it again before stepping",
+        "el motor está en fallo ({0}): póngalo en marcha de nuevo antes de avanzar",
+    ),
+    (
+        "the runtime is busy: {} requests wait for the next scan; try again",
+        "el motor está ocupado: {0} peticiones esperan el próximo ciclo; vuelva a intentarlo",
+    ),
+    (
+        "the board on {} is attached ({}): detach it first",
+        "la placa de {0} está conectada ({1}): desconéctela primero",
+    ),
+    (
+        "{} is the project's own I/O already (alba run --io {})",
+        "{0} ya es la E/S del propio proyecto (alba run --io {1})",
+    ),
+    ("no board is attached", "no hay ninguna placa conectada"),
+    (
+        "the board runs the program ({}): forces, online edits and stop are done on a board by exporting and uploading again; writes work",
+        "la placa ejecuta el programa ({0}): los forzados, las ediciones en línea y la parada se hacen en una placa exportando y cargando de nuevo; las escrituras sí funcionan",
+    ),
+    (
+        "an analysis of this project is running: wait for it to end, or cancel it",
+        "hay un análisis de este proyecto en curso: espere a que termine, o cancélelo",
+    ),
+    (
+        "a verification, test run or analysis of this project is running: wait for it to end",
+        "hay una verificación, prueba o análisis de este proyecto en curso: espere a que termine",
+    ),
+    (
+        "the request took longer than {} s: try again, or raise [http] request_timeout_s",
+        "la petición tardó más de {0} s: vuelva a intentarlo, o aumente [http] request_timeout_s",
+    ),
+    // 422: program edits and values
+    ("1 error", "1 error"),
+    ("{} errors", "{0} errores"),
+    ("cannot save {}: {}", "no se puede guardar {0}: {1}"),
+    ("saved, but not applied: {}", "guardado, pero no aplicado: {0}"),
+    (
+        "`{}` is a timer's preset: it cannot be negative",
+        "`{0}` es la preselección de un temporizador: no puede ser negativa",
+    ),
+    ("`{}` is a structure, not I/O", "`{0}` es una estructura, no E/S"),
+    (
+        "`{}` is not an input or an output: only I/O can be forced (write internal tags instead)",
+        "`{0}` no es una entrada ni una salida: solo se puede forzar la E/S (escriba en su lugar las variables internas)",
+    ),
+    (
+        "`{}`: expected an integer for a {}, got {}",
+        "`{0}`: se esperaba un entero para un {1}; llegó {2}",
+    ),
+    (
+        "`{}`: {} is out of range for {} ({} to {})",
+        "`{0}`: {1} está fuera del rango de {2} ({3} a {4})",
+    ),
+    (
+        "`{}`: expected true, false, 0 or 1 for a BOOL, got {}",
+        "`{0}`: se esperaba true, false, 0 o 1 para un BOOL; llegó {1}",
+    ),
+    (
+        "`{}`: expected a number for a {}, got {}",
+        "`{0}`: se esperaba un número para un {1}; llegó {2}",
+    ),
+    (
+        "`{}`: {} is out of range for REAL",
+        "`{0}`: {1} está fuera del rango de REAL",
+    ),
+    (
+        "`{}`: a {} is a structure: write one of its members",
+        "`{0}`: un {1} es una estructura: escriba uno de sus miembros",
+    ),
+    (
+        "the running program has no marking tag `{}`: save the net and apply it online first",
+        "el programa en marcha no tiene la variable de marcado `{0}`: guarde la red y aplíquela en línea primero",
+    ),
+    // 400, 413, 415, 421: the request itself
+    (
+        "the request body is too large",
+        "el cuerpo de la petición es demasiado grande",
+    ),
+    ("the body needs a `{}` field", "el cuerpo necesita un campo `{0}`"),
+    (
+        "`{}` must be an integer, got `{}`",
+        "`{0}` debe ser un entero; llegó `{1}`",
+    ),
+    ("`{}` must be a string", "`{0}` debe ser una cadena"),
+    ("the query needs `{}`", "la consulta necesita `{0}`"),
+    ("{} is not UTF-8 text: {}", "{0} no es texto UTF-8: {1}"),
+    ("malformed JSON body: {}", "cuerpo JSON mal formado: {0}"),
+    (
+        "Failed to parse the request body as JSON: {}",
+        "no se pudo leer el cuerpo de la petición como JSON: {0}",
+    ),
+    (
+        "Failed to deserialize the JSON body into the target type: {}",
+        "el cuerpo JSON no tiene la forma que espera la petición: {0}",
+    ),
+    (
+        "Expected request with `Content-Type: application/json`",
+        "se esperaba una petición con `Content-Type: application/json`",
+    ),
+    (
+        "the request has no `Host` header",
+        "la petición no tiene cabecera `Host`",
+    ),
+    (
+        "a {} request must be sent as `Content-Type: application/json` ({})",
+        "una petición {0} debe enviarse como `Content-Type: application/json` ({1})",
+    ),
+    (
+        "`Host: {}` is not a name of this server: add it to `[http] allowed_hosts` in alba.toml to reach the studio by that name",
+        "`Host: {0}` no es un nombre de este servidor: añádalo a `[http] allowed_hosts` en alba.toml para llegar al estudio con ese nombre",
+    ),
+    (
+        "requests from `{}` are refused: only the studio's own origin and `[http] allowed_origins` may change anything or open the WebSocket",
+        "se rechazan las peticiones de `{0}`: solo el origen del propio estudio y `[http] allowed_origins` pueden cambiar algo o abrir el WebSocket",
+    ),
+    (
+        "the WebSocket handshake needs an `Origin` header",
+        "el saludo del WebSocket necesita una cabecera `Origin`",
+    ),
+];
+
+/// An API error reply in Spanish: by [`ERRORS`], else by the template of
+/// any diagnostic message it echoes ([`MESSAGES`]); `None` when neither has it
+/// (the server then answers in English).
+pub fn error(text: &str) -> Option<String> {
+    ERRORS
+        .iter()
+        .map(|(en, es)| (*en, *es))
+        .chain(MESSAGES.iter().map(|(_, en, es)| (*en, *es)))
+        .find_map(|(en, es)| crate::lang::match_template(en, text).map(|v| fill_values(es, &v)))
+}
+
 /// A label or hint in Spanish, if the phrase book has it.
 pub fn phrase(text: &str) -> Option<String> {
     PHRASES
@@ -1681,7 +1897,7 @@ mod tests {
             }
             assert!(!es.contains(&format!("{{{n}}}")), "{c} `{es}` has a value too many");
         }
-        for (en, es) in PHRASES {
+        for (en, es) in PHRASES.iter().chain(ERRORS) {
             let n = en.matches("{}").count();
             for i in 0..n {
                 assert!(es.contains(&format!("{{{i}}}")), "`{es}` lacks {{{i}}}");
@@ -1705,6 +1921,17 @@ mod tests {
         );
         // A template belongs to its code.
         assert_eq!(message(Code::Syntax, "unknown tag `Strat`"), None);
+        assert_eq!(
+            error("this needs the role engineer; you are viewer").as_deref(),
+            Some("esto necesita el rol engineer; usted es viewer")
+        );
+        // an error that echoes a diagnostic takes its template
+        assert_eq!(
+            error("unknown tag `Nope`").as_deref(),
+            Some("variable desconocida `Nope`")
+        );
+        assert_eq!(error("3 errors").as_deref(), Some("3 errores"));
+        assert_eq!(error("something new"), None);
         assert_eq!(
             phrase("did you mean `Start`?").as_deref(),
             Some("¿quiso decir `Start`?")
