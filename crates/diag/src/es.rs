@@ -1205,15 +1205,220 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
         "{} can be read or written by other users (mode {}): its password hashes are for its owner only",
         "{0} pueden leerlo o escribirlo otros usuarios (modo {1}): sus hashes de contraseña son solo para su dueño",
     ),
-    (
-        Code::PnmlSyntax,
-        "not well-formed XML: {}",
-        "XML mal formado: {0}",
-    ),
+    (Code::PnmlSyntax, "not well-formed XML: {}", "XML mal formado: {0}"),
     (
         Code::PnmlLimit,
         "the file is too large to read: {}",
         "el archivo es demasiado grande para leerlo: {0}",
+    ),
+    (
+        Code::BadArgument,
+        "--board {}: the boards are uno, nano and mega",
+        "--board {0}: las placas son uno, nano y mega",
+    ),
+    (
+        Code::BadArgument,
+        "--pinmap {}: the presets are {}",
+        "--pinmap {0}: los mapas predefinidos son {1}",
+    ),
+    (
+        Code::BadArgument,
+        "--pinmap: the presets are {}",
+        "--pinmap: los mapas predefinidos son {0}",
+    ),
+    (
+        Code::BadArgument,
+        "no board: give --board uno|nano|mega or a [board] section in alba.toml",
+        "no hay placa: dé --board uno|nano|mega o una sección [board] en alba.toml",
+    ),
+    (
+        Code::BadArgument,
+        "the aurora preset is missing",
+        "falta el mapa predefinido aurora",
+    ),
+    (
+        Code::BadArgument,
+        "give --board uno|nano|mega, or a project with a [board] section",
+        "dé --board uno|nano|mega, o un proyecto con una sección [board]",
+    ),
+    (
+        Code::BadArgument,
+        "unknown board `{}` (uno, nano or mega)",
+        "placa desconocida `{0}` (uno, nano o mega)",
+    ),
+    (
+        Code::BadArgument,
+        "unknown link `{}` (modbus or aurora)",
+        "enlace desconocido `{0}` (modbus o aurora)",
+    ),
+    (
+        Code::BadArgument,
+        "unknown pin map `{}` (aurora, s7 or openplc)",
+        "mapa de pines desconocido `{0}` (aurora, s7 u openplc)",
+    ),
+    (
+        Code::BadArgument,
+        "which board? give --board uno|nano|mega, or a project with [board]",
+        "¿qué placa? dé --board uno|nano|mega, o un proyecto con [board]",
+    ),
+    (
+        Code::BadArgument,
+        "{} has no [board] in alba.toml: add one or give --board (and --pinmap)",
+        "{0} no tiene [board] en alba.toml: añada una o dé --board (y --pinmap)",
+    ),
+    (
+        Code::NetElement,
+        "`{}` is a structure; name a member",
+        "`{0}` es una estructura; nombre un miembro",
+    ),
+    (
+        Code::NetElement,
+        "`{}` is not a variable mode",
+        "`{0}` no es un modo de Variable",
+    ),
+    (
+        Code::NetElement,
+        "a counter counts `up` or `down`, not `{}`",
+        "un contador cuenta `up` o `down`, no `{0}`",
+    ),
+    (
+        Code::NetElement,
+        "a normal-mode arc passes one token; this one weighs {}",
+        "un arco en modo normal pasa una marca; este pesa {0}",
+    ),
+    (
+        Code::NetElement,
+        "a {} element has no property `{}`",
+        "un elemento {0} no tiene la propiedad `{1}`",
+    ),
+    (
+        Code::NetElement,
+        "a {} element needs `{}`",
+        "un elemento {0} necesita `{1}`",
+    ),
+    (
+        Code::NetElement,
+        "an output element needs `source` (a tag or a number)",
+        "un elemento Output necesita `source` (una variable o un número)",
+    ),
+    (
+        Code::NetElement,
+        "condition `{}` needs a `<guard>`",
+        "la condición `{0}` necesita una `<guard>`",
+    ),
+    (
+        Code::NetElement,
+        "inhibitor and read arcs are Petri mode's: a normal-mode token just flows",
+        "los arcos inhibidores y de lectura son del modo Petri: en modo normal la marca solo fluye",
+    ),
+    (
+        Code::NetElement,
+        "the counter's load `{}` is not a DINT",
+        "la carga `{0}` del contador no es un DINT",
+    ),
+    (
+        Code::NetElement,
+        "timer `{}` needs a delay",
+        "el temporizador `{0}` necesita un retardo",
+    ),
+    (
+        Code::NetGuard,
+        "FRD and TOD are CPT's (BCD) functions, not a net's",
+        "FRD y TOD son funciones (BCD) de CPT, no de una red",
+    ),
+    (
+        Code::NetGuard,
+        "NOT needs a BOOL in a guard, found a number",
+        "NOT necesita un BOOL en una guarda; hay un número",
+    ),
+    (
+        Code::NetGuard,
+        "`-` needs a number, found a BOOL",
+        "`-` necesita un número; hay un BOOL",
+    ),
+    (
+        Code::NetGuard,
+        "`{}` is a structure; name a member (`{}.DN`)",
+        "`{0}` es una estructura; nombre un miembro (`{1}.DN`)",
+    ),
+    (
+        Code::NetGuard,
+        "a function needs numbers, found a BOOL",
+        "una función necesita números; hay un BOOL",
+    ),
+    (
+        Code::NetGuard,
+        "this operation needs numbers on both sides, found a BOOL",
+        "esta operación necesita números a ambos lados; hay un BOOL",
+    ),
+    (
+        Code::NetGuard,
+        "{} joins BOOLs in a guard; compare numbers first",
+        "{0} une BOOL en una guarda; compare antes los números",
+    ),
+    (Code::SfcSyntax, "`{}` is not a priority", "`{0}` no es una prioridad"),
+    (
+        Code::SfcSyntax,
+        "`{}` is not a qualifier: N S R L D P P1 P0 SD DS SL",
+        "`{0}` no es un calificador: N S R L D P P1 P0 SD DS SL",
+    ),
+    (
+        Code::SfcSyntax,
+        "`{}` is not a step name",
+        "`{0}` no es un nombre de etapa",
+    ),
+    (
+        Code::SfcSyntax,
+        "`{}` is not a time: write T#5s, T#250ms or milliseconds",
+        "`{0}` no es un tiempo: escriba T#5s, T#250ms o milisegundos",
+    ),
+    (
+        Code::SfcSyntax,
+        "a `(*` comment is not closed",
+        "un comentario `(*` no se cierra",
+    ),
+    (
+        Code::SfcSyntax,
+        "an SFC file is at most {} MiB",
+        "un archivo SFC ocupa como mucho {0} MiB",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected INITIAL_STEP, STEP or TRANSITION, found `{}`",
+        "se esperaba INITIAL_STEP, STEP o TRANSITION; hay `{0}`",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected `,` or `)` in a list of steps",
+        "se esperaba `,` o `)` en una lista de etapas",
+    ),
+    (Code::SfcSyntax, "expected `,` or `)`", "se esperaba `,` o `)`"),
+    (
+        Code::SfcSyntax,
+        "expected `:=` after PRIORITY",
+        "se esperaba `:=` después de PRIORITY",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected `:=` and the condition",
+        "se esperaba `:=` y la condición",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected `{}`, found the end of the file",
+        "se esperaba `{0}`; el archivo se acaba",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected {}, found the end of the file",
+        "se esperaba {0}; el archivo se acaba",
+    ),
+    (Code::SfcSyntax, "expected {}", "se esperaba {0}"),
+    (Code::SfcSyntax, "the condition is empty", "la condición está vacía"),
+    (
+        Code::SfcSyntax,
+        "the condition is not ended by `;`",
+        "la condición no termina en `;`",
     ),
 ];
 
@@ -1605,6 +1810,21 @@ pub const VALUES: &[(&str, &str)] = &[
     ("an integer literal", "un literal entero"),
     ("a number", "un número"),
     ("an integer", "un entero"),
+    // what the ST parser expected, and what it found
+    ("the end of the file", "el final del archivo"),
+    ("a string", "una cadena"),
+    ("a name", "un nombre"),
+    ("an expression", "una expresión"),
+    ("an operator, `;` or `)`", "un operador, `;` o `)`"),
+    (
+        "`:=` or `(` (an assignment or a call)",
+        "`:=` o `(` (una asignación o una llamada)",
+    ),
+    (
+        "a CASE label, `ELSE` or `END_CASE`",
+        "una etiqueta de CASE, `ELSE` o `END_CASE`",
+    ),
+    ("a statement", "una sentencia"),
 ];
 
 /// A value of a message in Spanish ([`VALUES`]).
@@ -1617,6 +1837,9 @@ pub fn value(v: &str) -> String {
             && t.chars()
                 .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
     };
+    if let Some(n) = v.strip_prefix("the number ") {
+        return format!("el número {n}");
+    }
     match v.strip_prefix("a ").or_else(|| v.strip_prefix("an ")) {
         Some(t) if type_name(t) => format!("un {t}"),
         _ => v.to_string(),

@@ -85,11 +85,80 @@ fn pattern(fmt: &str) -> String {
     out
 }
 
-/// Each `(code, message pattern, file)` written in `text` (its `#[cfg(test)]`
-/// part left out).
+/// The message literal at the start of `rest` (an argument list), if any:
+/// `"…"`, `&format!("…"`, `format!("…"`.
+fn message_at(rest: &str) -> Option<String> {
+    let mut rest = rest.trim_start();
+    rest = rest.strip_prefix('&').unwrap_or(rest);
+    if let Some(r) = rest.strip_prefix("format!(") {
+        rest = r.trim_start();
+    }
+    literal(rest.strip_prefix('"')?).map(|l| pattern(&l))
+}
+
+fn is_ident(c: char) -> bool {
+    c.is_alphanumeric() || c == '_'
+}
+
+/// The helpers of a file that build a diagnostic of one fixed code from a
+/// message given first (`fn bad(msg: String) -> Diagnostic {
+/// Diagnostic::unplaced(Code::BadArgument, msg) }`): (name, code).
+fn helpers(text: &str) -> Vec<(String, Code)> {
+    let mut out = Vec::new();
+    for (at, _) in text.match_indices("fn ") {
+        if text[..at].chars().next_back().is_some_and(is_ident) {
+            continue;
+        }
+        let rest = &text[at + 3..];
+        let name_len = rest.find(|c: char| !is_ident(c)).unwrap_or(rest.len());
+        let name = &rest[..name_len];
+        let Some(params) = rest[name_len..].strip_prefix('(') else {
+            continue;
+        };
+        let params = params.split(')').next().unwrap_or("");
+        let first = params.trim_start_matches("&mut self").trim_start_matches("&self");
+        let first = first.trim_start_matches(',').trim_start();
+        let takes_message = ["msg:", "message:"].iter().any(|p| first.starts_with(p));
+        if !takes_message || params.contains(": Code") {
+            continue;
+        }
+        // The body: up to the function's closing brace at its indentation.
+        let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+        let indent = &text[line_start..at];
+        let body = rest.split(&format!("\n{indent}}}")).next().unwrap_or("");
+        let mut codes: Vec<Code> = body
+            .match_indices("Code::")
+            .filter_map(|(i, _)| {
+                let r = &body[i + 6..];
+                code_named(&r[..r.find(|c: char| !is_ident(c)).unwrap_or(r.len())])
+            })
+            .collect();
+        codes.dedup();
+        if let [code] = codes[..] {
+            out.push((name.to_string(), code));
+        }
+    }
+    out
+}
+
+/// Each `(code, message pattern)` written in `text` (its `#[cfg(test)]`
+/// part left out): after the code itself, or as the first argument of a
+/// helper of the file that fixes the code ([`helpers`]).
 fn sites(text: &str) -> Vec<(Code, String)> {
     let text = text.split("#[cfg(test)]").next().unwrap_or("");
     let mut out = Vec::new();
+    for (name, code) in helpers(text) {
+        let call = format!("{name}(");
+        for (at, _) in text.match_indices(&call) {
+            let before = &text[..at];
+            if before.chars().next_back().is_some_and(is_ident) || before.ends_with("fn ") {
+                continue;
+            }
+            if let Some(p) = message_at(&text[at + call.len()..]) {
+                out.push((code, p));
+            }
+        }
+    }
     for (at, _) in text.match_indices("Code::") {
         if text[..at]
             .chars()
@@ -107,14 +176,8 @@ fn sites(text: &str) -> Vec<(Code, String)> {
         };
         let rest = rest[name_len..].trim_start();
         let Some(rest) = rest.strip_prefix(',') else { continue };
-        let mut rest = rest.trim_start();
-        rest = rest.strip_prefix('&').unwrap_or(rest);
-        if let Some(r) = rest.strip_prefix("format!(") {
-            rest = r.trim_start();
-        }
-        let Some(rest) = rest.strip_prefix('"') else { continue };
-        if let Some(lit) = literal(rest) {
-            out.push((code, pattern(&lit)));
+        if let Some(p) = message_at(rest) {
+            out.push((code, p));
         }
     }
     out
@@ -177,6 +240,20 @@ fn the_scan_reads_sites_as_written() {
             (Code::PnmlNumber, "a <position> needs decimal `x` and `y`".to_string()),
             (Code::BadLiteral, "{} does not fit {DINT}".to_string()),
         ]
+    );
+    let helper = r#"
+fn bad(msg: String, span: Span) -> Diagnostic {
+    Diagnostic::new(Code::NetElement, msg, span, "here")
+}
+fn other() {
+    d.push(bad(format!("a Timer needs a `{what}`"), span));
+    bad(msg, span);
+}
+"#;
+    assert_eq!(helpers(helper), vec![("bad".to_string(), Code::NetElement)]);
+    assert_eq!(
+        sites(helper),
+        vec![(Code::NetElement, "a Timer needs a `{}`".to_string())]
     );
     assert_eq!(literal("a \\\"b\\\" \\\n    c\" rest"), Some("a \"b\" c".to_string()));
 }

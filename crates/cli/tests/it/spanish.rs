@@ -18,7 +18,9 @@ fn headlines(text: &str) -> Vec<(Code, String)> {
         for head in ["error[E", "warning[E"] {
             let Some(at) = line.find(head) else { continue };
             let rest = &line[at + head.len() - 1..];
-            let Some((code, message)) = rest.split_once("]: ") else { continue };
+            let Some((code, message)) = rest.split_once("]: ") else {
+                continue;
+            };
             if let Ok(code) = code.parse::<Code>() {
                 out.push((code, message.to_string()));
             }
@@ -66,7 +68,10 @@ fn every_message_of_the_malformed_corpus_has_its_spanish() {
         let name = g.file_name().unwrap_or_default().to_string_lossy().to_string();
         seen += untranslated(&name, &std::fs::read_to_string(g).unwrap_or_default(), &mut missing);
     }
-    assert!(seen >= 150, "only {seen} diagnostics in the corpus: is stderr still read?");
+    assert!(
+        seen >= 150,
+        "only {seen} diagnostics in the corpus: is stderr still read?"
+    );
     missing.sort();
     missing.dedup();
     assert!(

@@ -194,17 +194,33 @@ async fn errors_speak_the_requests_language() {
     let s = Server::start("tank", "e-es").await;
     let es = "es-ES,es;q=0.9,en;q=0.8";
     let (code, e) = ask_in(&s, es, Method::GET, "/api/tags/Nope", None).await;
-    assert_eq!((code, e.as_str()), (StatusCode::NOT_FOUND, "variable desconocida `Nope`"));
+    assert_eq!(
+        (code, e.as_str()),
+        (StatusCode::NOT_FOUND, "variable desconocida `Nope`")
+    );
     let check = Some(br#"{"text": ""}"#.to_vec());
     let (code, e) = ask_in(&s, es, Method::POST, "/api/check/nope.lad", check).await;
     assert_eq!(
         (code, e.as_str()),
-        (StatusCode::NOT_FOUND, "no hay ningún programa `nope.lad` en este proyecto")
+        (
+            StatusCode::NOT_FOUND,
+            "no hay ningún programa `nope.lad` en este proyecto"
+        )
     );
     let (code, e) = ask_in(&s, es, Method::PUT, "/api/tags/Llenar", Some(b"{\"value\"".to_vec())).await;
     assert_eq!(code, StatusCode::BAD_REQUEST, "{e}");
-    assert!(e.starts_with("no se pudo leer el cuerpo de la petición como JSON: "), "{e}");
-    let (code, e) = ask_in(&s, es, Method::PUT, "/api/tags/Llenar", Some(br#"{"value": 2}"#.to_vec())).await;
+    assert!(
+        e.starts_with("no se pudo leer el cuerpo de la petición como JSON: "),
+        "{e}"
+    );
+    let (code, e) = ask_in(
+        &s,
+        es,
+        Method::PUT,
+        "/api/tags/Llenar",
+        Some(br#"{"value": 2}"#.to_vec()),
+    )
+    .await;
     assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{e}");
     assert_eq!(e, "`Llenar`: se esperaba true, false, 0 o 1 para un BOOL; llegó 2");
     // A program that does not compile: the count, and its diagnostics, in Spanish.

@@ -796,10 +796,7 @@ async fn refusals_speak_the_requests_language() {
     let (s, runtime) = serve("roles-es", Arc::new(ManualClock::new())).await;
     let viewer = token(&s, "viewer").await;
     let ask = |lang: Option<&'static str>, bearer: Option<String>| {
-        let mut req = s
-            .http
-            .put(s.url("/api/tags/Llenar"))
-            .json(&json!({"value": true}));
+        let mut req = s.http.put(s.url("/api/tags/Llenar")).json(&json!({"value": true}));
         if let Some(l) = lang {
             req = req.header("accept-language", l);
         }
