@@ -1420,6 +1420,324 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
         "the condition is not ended by `;`",
         "la condición no termina en `;`",
     ),
+    (
+        Code::AlarmFile,
+        "`{}` is an edge (an instant): it takes no on-delay",
+        "`{0}` es un flanco (un instante): no lleva retardo a la conexión",
+    ),
+    (Code::AlarmFile, "`{}` is not a BOOL", "`{0}` no es un BOOL"),
+    (
+        Code::AlarmFile,
+        "a deadband applies to comparisons, not to `{}`",
+        "una banda muerta se aplica a comparaciones, no a `{0}`",
+    ),
+    (
+        Code::AlarmFile,
+        "an alarm needs a message (what the operator reads)",
+        "una alarma necesita un mensaje (lo que lee el operador)",
+    ),
+    (
+        Code::AlarmFile,
+        "an alarm row has {} fields, this one has {}",
+        "una fila de alarma tiene {0} campos; esta tiene {1}",
+    ),
+    (Code::AlarmFile, "more than {} alarms", "más de {0} alarmas"),
+    (
+        Code::StDeclaration,
+        "EXIT is only allowed inside FOR, WHILE or REPEAT",
+        "EXIT solo se permite dentro de FOR, WHILE o REPEAT",
+    ),
+    (Code::StDeclaration, "`{}` is CONSTANT", "`{0}` es CONSTANT"),
+    (
+        Code::StDeclaration,
+        "the loop variable `{}` is a writable integer variable",
+        "la variable del bucle `{0}` es una variable entera que se puede escribir",
+    ),
+    (
+        Code::StType,
+        "CASE selects on an integer, not a {}",
+        "CASE selecciona por un entero, no por un {0}",
+    ),
+    (Code::StType, "MOD does not take TIME", "MOD no admite TIME"),
+    (Code::StType, "MOD takes integers, not {}", "MOD admite enteros, no {0}"),
+    (Code::StType, "MUX", "MUX"),
+    (
+        Code::StType,
+        "MUX's selector is an integer",
+        "el selector de MUX es un entero",
+    ),
+    (Code::StType, "N", "N"),
+    (
+        Code::StType,
+        "NOT takes a BOOL or a bit string (BYTE … LWORD), not {}",
+        "NOT admite un BOOL o una cadena de bits (BYTE … LWORD), no {0}",
+    ),
+    (Code::StType, "SEL's selector is BOOL", "el selector de SEL es BOOL"),
+    (
+        Code::StType,
+        "T#{}ms does not fit a TIME (32-bit milliseconds)",
+        "T#{0}ms no cabe en un TIME (milisegundos de 32 bits)",
+    ),
+    (
+        Code::StType,
+        "TIME {} TIME is not defined; scale a TIME by an integer",
+        "TIME {0} TIME no está definido; escale un TIME por un entero",
+    ),
+    (
+        Code::StType,
+        "TRUNC takes a REAL or LREAL, not {}",
+        "TRUNC admite un REAL o LREAL, no {0}",
+    ),
+    (Code::StType, "TRUNC takes a REAL", "TRUNC admite un REAL"),
+    (
+        Code::StType,
+        "`**` takes REAL or LREAL, not {}; convert with {}_TO_REAL",
+        "`**` admite REAL o LREAL, no {0}; convierta con {1}_TO_REAL",
+    ),
+    (
+        Code::StType,
+        "`-` takes a number, not a {}",
+        "`-` admite un número, no un {0}",
+    ),
+    (
+        Code::StType,
+        "`.{}`: this has no members",
+        "`.{0}`: esto no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` cannot be assigned as a whole",
+        "`{0}` no se puede asignar entero",
+    ),
+    (
+        Code::StType,
+        "`{}` does not take bit strings ({}); convert to an unsigned integer first",
+        "`{0}` no admite cadenas de bits ({1}); convierta antes a un entero sin signo",
+    ),
+    (
+        Code::StType,
+        "`{}` does not take enumeration values ({})",
+        "`{0}` no admite valores de enumeración ({1})",
+    ),
+    (Code::StType, "`{}` has no members", "`{0}` no tiene miembros"),
+    (
+        Code::StType,
+        "`{}` is a BOOL; it has no members",
+        "`{0}` es un BOOL; no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` is a FUNCTION_BLOCK type: declare an instance (`x : {};`) and call the instance",
+        "`{0}` es un tipo FUNCTION_BLOCK: declare una instancia (`x : {1};`) y llame a la instancia",
+    ),
+    (
+        Code::StType,
+        "`{}` is a TIMER, COUNTER or PID tag, not {}",
+        "`{0}` es una variable TIMER, COUNTER o PID, no {1}",
+    ),
+    (
+        Code::StType,
+        "`{}` is a function block instance: call it as a statement (`{}(…);`) and read its outputs",
+        "`{0}` es una instancia de bloque de función: llámela como sentencia (`{1}(…);`) y lea sus salidas",
+    ),
+    (
+        Code::StType,
+        "`{}` is a whole {}; index it",
+        "`{0}` es un {1} entero; indéxelo",
+    ),
+    (
+        Code::StType,
+        "`{}` is a whole {}; read a member",
+        "`{0}` es un {1} entero; lea un miembro",
+    ),
+    (
+        Code::StType,
+        "`{}` is a {} instance; call it or read a member",
+        "`{0}` es una instancia de {1}; llámela o lea un miembro",
+    ),
+    (
+        Code::StType,
+        "`{}` is a {} instance; call it or read an output",
+        "`{0}` es una instancia de {1}; llámela o lea una salida",
+    ),
+    (
+        Code::StType,
+        "`{}` is an array; it has no members",
+        "`{0}` es un array; no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` is declared {} here but the global is {}",
+        "`{0}` está declarada aquí como {1} pero la global es {2}",
+    ),
+    (Code::StType, "`{}` is given twice", "`{0}` se da dos veces"),
+    (Code::StType, "`{}` is not a variable", "`{0}` no es una variable"),
+    (Code::StType, "`{}` is not an array", "`{0}` no es un array"),
+    (
+        Code::StType,
+        "`{}` is {}: its bits are `.0` to `.{}`, not `.{}`",
+        "`{0}` es {1}: sus bits van de `.0` a `.{2}`, no `.{3}`",
+    ),
+    (
+        Code::StType,
+        "`{}` is {}; it has no members",
+        "`{0}` es {1}; no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` of {} and {}: the types differ; convert one (for example {}_TO_{})",
+        "`{0}` de {1} y {2}: los tipos difieren; convierta uno (por ejemplo {3}_TO_{4})",
+    ),
+    (
+        Code::StType,
+        "`{}` takes numbers, not {} and {}",
+        "`{0}` admite números, no {1} y {2}",
+    ),
+    (
+        Code::StType,
+        "a BOOL where a {} is wanted",
+        "un BOOL donde se quiere un {0}",
+    ),
+    (
+        Code::StType,
+        "a CASE label does not fit a DINT",
+        "una etiqueta de CASE no cabe en un DINT",
+    ),
+    (
+        Code::StType,
+        "a CASE label is an integer literal or a range of them",
+        "una etiqueta de CASE es un literal entero o un rango de ellos",
+    ),
+    (Code::StType, "a bit is a BOOL, not {}", "un bit es un BOOL, no {0}"),
+    (
+        Code::StType,
+        "a condition is BOOL, not {}",
+        "una condición es BOOL, no {0}",
+    ),
+    (
+        Code::StType,
+        "an index is SINT, INT or DINT, not {}",
+        "un índice es SINT, INT o DINT, no {0}",
+    ),
+    (
+        Code::StType,
+        "an index is an integer, not {}",
+        "un índice es un entero, no {0}",
+    ),
+    (
+        Code::StType,
+        "cannot assign this to `{}`, {}",
+        "no se puede asignar esto a `{0}`, {1}",
+    ),
+    (
+        Code::StType,
+        "cannot assign {} to `{}`, {}",
+        "no se puede asignar {0} a `{1}`, {2}",
+    ),
+    (
+        Code::StType,
+        "cannot assign {} to `{}`, {}; convert it (for example {}_TO_{})",
+        "no se puede asignar {0} a `{1}`, {2}; conviértalo (por ejemplo {3}_TO_{4})",
+    ),
+    (
+        Code::StType,
+        "cannot assign {} to {} element; convert it",
+        "no se puede asignar {0} a un elemento ({1}); conviértalo",
+    ),
+    (Code::StType, "enumeration", "enumeración"),
+    (Code::StType, "index", "índice"),
+    (Code::StType, "selector", "selector"),
+    (
+        Code::StType,
+        "the array has {} dimension(s), not {}",
+        "el array tiene {0} dimensión(es), no {1}",
+    ),
+    (
+        Code::StType,
+        "the index {} is outside the bounds {}..{}",
+        "el índice {0} está fuera de los límites {1}..{2}",
+    ),
+    (
+        Code::StType,
+        "the loop variable is a {}; the end value is a {}",
+        "la variable del bucle es un {0}; el valor final es un {1}",
+    ),
+    (
+        Code::StType,
+        "the loop variable is a {}; the start value is a {}",
+        "la variable del bucle es un {0}; el valor inicial es un {1}",
+    ),
+    (
+        Code::StType,
+        "the range {}..{} is empty",
+        "el rango {0}..{1} está vacío",
+    ),
+    (Code::StType, "{} does not fit a {}", "{0} no cabe en un {1}"),
+    (
+        Code::StType,
+        "{} of {} and {}: the types differ",
+        "{0} de {1} y {2}: los tipos difieren",
+    ),
+    (
+        Code::StType,
+        "{} shifts a bit string (BYTE … LWORD), not {}",
+        "{0} desplaza una cadena de bits (BYTE … LWORD), no {1}",
+    ),
+    (
+        Code::StType,
+        "{} takes BOOL operands, not {} and {} (bit strings are not supported yet)",
+        "{0} admite operandos BOOL, no {1} y {2} (las cadenas de bits aún no están disponibles)",
+    ),
+    (
+        Code::StType,
+        "{} takes REAL or LREAL operands, not {} and {}",
+        "{0} admite operandos REAL o LREAL, no {1} y {2}",
+    ),
+    (
+        Code::StType,
+        "{} takes a REAL or LREAL, not {}; convert it ({}_TO_REAL)",
+        "{0} admite un REAL o LREAL, no {1}; conviértalo ({2}_TO_REAL)",
+    ),
+    (
+        Code::StType,
+        "{} takes a number, not BOOL",
+        "{0} admite un número, no BOOL",
+    ),
+    (Code::StType, "{} takes a {}, not BOOL", "{0} admite un {1}, no BOOL"),
+    (Code::StType, "{} takes a {}, not a {}", "{0} admite un {1}, no un {2}"),
+    (
+        Code::StType,
+        "{} takes numbers, not BOOL",
+        "{0} admite números, no BOOL",
+    ),
+    (
+        Code::StType,
+        "{} takes {} argument(s), not {}",
+        "{0} lleva {1} argumento(s), no {2}",
+    ),
+    (Code::StType, "{} takes {} arguments", "{0} lleva {1} argumentos"),
+    (Code::StType, "{} takes {} input(s)", "{0} lleva {1} entrada(s)"),
+    (
+        Code::StType,
+        "{}'s N is an integer, not BOOL",
+        "la N de {0} es un entero, no BOOL",
+    ),
+    (
+        Code::StType,
+        "{}'s N is an integer, not {}",
+        "la N de {0} es un entero, no {1}",
+    ),
+    (
+        Code::StType,
+        "{}'s first argument is {}, not {}",
+        "el primer argumento de {0} es {1}, no {2}",
+    ),
+    (Code::StType, "{}.{} is a {}, not a {}", "{0}.{1} es un {2}, no un {3}"),
+    (
+        Code::StType,
+        "{}: BCD conversions are between a bit string and an integer",
+        "{0}: las conversiones BCD son entre una cadena de bits y un entero",
+    ),
 ];
 
 /// Labels and hints shared by many codes: (English pattern, Spanish).
@@ -1857,12 +2175,25 @@ pub fn title(code: Code) -> Option<&'static str> {
     TITLES.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
 }
 
-/// `message` of `code` in Spanish by its template, if one matches.
+/// `message` of `code` in Spanish by its template, if one matches: the most
+/// specific (most literal text) when several do, so that `{} does not fit {}`
+/// does not take what `{} does not fit {} `{}` ({} to {})` says better.
 pub fn message(code: Code, message: &str) -> Option<String> {
-    MESSAGES
-        .iter()
-        .filter(|(c, _, _)| *c == code)
-        .find_map(|(_, en, es)| crate::lang::match_template(en, message).map(|v| fill_values(es, &v)))
+    best(
+        MESSAGES
+            .iter()
+            .filter(|(c, _, _)| *c == code)
+            .map(|(_, en, es)| (*en, *es)),
+        message,
+    )
+}
+
+/// The Spanish of `text` by the most specific of `templates` that matches.
+fn best<'a>(templates: impl Iterator<Item = (&'a str, &'a str)>, text: &str) -> Option<String> {
+    templates
+        .filter_map(|(en, es)| crate::lang::match_template(en, text).map(|v| (en.len() - 2 * v.len(), es, v)))
+        .max_by_key(|(literal, _, _)| *literal)
+        .map(|(_, es, v)| fill_values(es, &v))
 }
 
 /// The API's error replies (`{"error": …}`) in Spanish, for a request whose
@@ -2064,11 +2395,7 @@ pub const ERRORS: &[(&str, &str)] = &[
 /// any diagnostic message it echoes ([`MESSAGES`]); `None` when neither has it
 /// (the server then answers in English).
 pub fn error(text: &str) -> Option<String> {
-    ERRORS
-        .iter()
-        .map(|(en, es)| (*en, *es))
-        .chain(MESSAGES.iter().map(|(_, en, es)| (*en, *es)))
-        .find_map(|(en, es)| crate::lang::match_template(en, text).map(|v| fill_values(es, &v)))
+    best(ERRORS.iter().copied(), text).or_else(|| best(MESSAGES.iter().map(|(_, en, es)| (*en, *es)), text))
 }
 
 /// A label or hint in Spanish, if the phrase book has it.
@@ -2141,6 +2468,15 @@ mod tests {
             )
             .as_deref(),
             Some("TON lleva 3 operandos, o 4 con base de tiempo; hay 2")
+        );
+        // The most specific template wins, wherever it is listed.
+        assert_eq!(
+            message(
+                Code::StType,
+                "cannot assign a REAL to `x`, an INT; convert it (for example REAL_TO_INT)"
+            )
+            .as_deref(),
+            Some("no se puede asignar un REAL a `x`, un INT; conviértalo (por ejemplo REAL_TO_INT)")
         );
         // A template belongs to its code.
         assert_eq!(message(Code::Syntax, "unknown tag `Strat`"), None);

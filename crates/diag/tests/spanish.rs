@@ -100,10 +100,43 @@ fn is_ident(c: char) -> bool {
     c.is_alphanumeric() || c == '_'
 }
 
+/// The top-level arguments of a call whose text starts after its `(`.
+fn arguments(rest: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let (mut depth, mut start, mut in_str, mut escaped) = (0i32, 0, false, false);
+    for (i, c) in rest.char_indices() {
+        if in_str {
+            match c {
+                _ if escaped => escaped = false,
+                '\\' => escaped = true,
+                '"' => in_str = false,
+                _ => {}
+            }
+            continue;
+        }
+        match c {
+            '"' => in_str = true,
+            '(' | '[' | '{' => depth += 1,
+            ')' | ']' | '}' if depth == 0 => {
+                out.push(&rest[start..i]);
+                return out;
+            }
+            ')' | ']' | '}' => depth -= 1,
+            ',' if depth == 0 => {
+                out.push(&rest[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
 /// The helpers of a file that build a diagnostic of one fixed code from a
-/// message given first (`fn bad(msg: String) -> Diagnostic {
-/// Diagnostic::unplaced(Code::BadArgument, msg) }`): (name, code).
-fn helpers(text: &str) -> Vec<(String, Code)> {
+/// message they are given (`fn bad(msg: String) -> Diagnostic {
+/// Diagnostic::unplaced(Code::BadArgument, msg) }`): (name, position of the
+/// message among the arguments, code).
+fn helpers(text: &str) -> Vec<(String, usize, Code)> {
     let mut out = Vec::new();
     for (at, _) in text.match_indices("fn ") {
         if text[..at].chars().next_back().is_some_and(is_ident) {
@@ -115,13 +148,20 @@ fn helpers(text: &str) -> Vec<(String, Code)> {
         let Some(params) = rest[name_len..].strip_prefix('(') else {
             continue;
         };
-        let params = params.split(')').next().unwrap_or("");
-        let first = params.trim_start_matches("&mut self").trim_start_matches("&self");
-        let first = first.trim_start_matches(',').trim_start();
-        let takes_message = ["msg:", "message:"].iter().any(|p| first.starts_with(p));
-        if !takes_message || params.contains(": Code") {
+        let params: Vec<&str> = arguments(params)
+            .into_iter()
+            .map(str::trim)
+            .filter(|p| !p.is_empty() && !p.ends_with("self"))
+            .collect();
+        if params.iter().any(|p| p.contains(": Code")) {
             continue;
         }
+        let Some(position) = params
+            .iter()
+            .position(|p| p.starts_with("msg:") || p.starts_with("message:"))
+        else {
+            continue;
+        };
         // The body: up to the function's closing brace at its indentation.
         let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
         let indent = &text[line_start..at];
@@ -135,7 +175,7 @@ fn helpers(text: &str) -> Vec<(String, Code)> {
             .collect();
         codes.dedup();
         if let [code] = codes[..] {
-            out.push((name.to_string(), code));
+            out.push((name.to_string(), position, code));
         }
     }
     out
@@ -147,14 +187,15 @@ fn helpers(text: &str) -> Vec<(String, Code)> {
 fn sites(text: &str) -> Vec<(Code, String)> {
     let text = text.split("#[cfg(test)]").next().unwrap_or("");
     let mut out = Vec::new();
-    for (name, code) in helpers(text) {
+    for (name, position, code) in helpers(text) {
         let call = format!("{name}(");
         for (at, _) in text.match_indices(&call) {
             let before = &text[..at];
             if before.chars().next_back().is_some_and(is_ident) || before.ends_with("fn ") {
                 continue;
             }
-            if let Some(p) = message_at(&text[at + call.len()..]) {
+            let args = arguments(&text[at + call.len()..]);
+            if let Some(p) = args.get(position).and_then(|a| message_at(a)) {
                 out.push((code, p));
             }
         }
@@ -250,7 +291,9 @@ fn other() {
     bad(msg, span);
 }
 "#;
-    assert_eq!(helpers(helper), vec![("bad".to_string(), Code::NetElement)]);
+    assert_eq!(helpers(helper), vec![("bad".to_string(), 0, Code::NetElement)]);
+    let later = "fn push(d: &mut Vec<Diagnostic>, msg: String) { d.push(Diagnostic::unplaced(Code::AlarmFile, msg)) }\nfn f() { push(&mut d, format!(\"`{id}`, (a, b)\")); }";
+    assert_eq!(sites(later), vec![(Code::AlarmFile, "`{}`, (a, b)".to_string())]);
     assert_eq!(
         sites(helper),
         vec![(Code::NetElement, "a Timer needs a `{}`".to_string())]
