@@ -1738,6 +1738,417 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
         "{}: BCD conversions are between a bit string and an integer",
         "{0}: las conversiones BCD son entre una cadena de bits y un entero",
     ),
+    (Code::PnmlNumber, "{} is empty", "{0} está vacío"),
+    (
+        Code::PnmlNumber,
+        "{} `{}` is far too large",
+        "{0} `{1}` es demasiado grande",
+    ),
+    (
+        Code::PnmlNumber,
+        "{} `{}` is not a whole number",
+        "{0} `{1}` no es un número entero",
+    ),
+    (Code::PnmlNumber, "{} `{}` is not a number", "{0} `{1}` no es un número"),
+    (
+        Code::TomlSyntax,
+        "alba.toml: string values must be quoted, expected literal string",
+        "alba.toml: los valores de texto van entre comillas",
+    ),
+    (
+        Code::TomlSyntax,
+        "alba.toml: invalid basic string, expected `\"`",
+        "alba.toml: cadena no válida; se esperaba `\"`",
+    ),
+    (
+        Code::TomlSyntax,
+        "alba.toml: {}",
+        "alba.toml no es TOML válido (en palabras del lector de TOML): {0}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: missing field `{}`",
+        "alba.toml: falta el campo `{0}`",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: unknown field `{}`, expected one of {}",
+        "alba.toml: campo desconocido `{0}`; se esperaba uno de {1}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: unknown field `{}`, expected {}",
+        "alba.toml: campo desconocido `{0}`; se esperaba {1}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: invalid type: {}, expected {}",
+        "alba.toml: tipo no válido: {0}; se esperaba {1}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: invalid value: {}, expected {}",
+        "alba.toml: valor no válido: {0}; se esperaba {1}",
+    ),
+    (
+        Code::ConfigField,
+        "{} has no PWM, so it cannot be an analog output",
+        "{0} no tiene PWM, así que no puede ser una salida analógica",
+    ),
+    (
+        Code::ConfigField,
+        "broker = \"{}\" is not a host and port",
+        "broker = \"{0}\" no es un host y un puerto",
+    ),
+    (
+        Code::ConfigField,
+        "topic_prefix = \"{}\" is not a topic prefix",
+        "topic_prefix = \"{0}\" no es un prefijo de tema",
+    ),
+    (
+        Code::ConfigField,
+        "username and password_file go together",
+        "username y password_file van juntos",
+    ),
+    (
+        Code::ProgramFile,
+        "`{}` leaves the project folder",
+        "`{0}` sale de la carpeta del proyecto",
+    ),
+    (
+        Code::ProgramFile,
+        "`{}` is listed twice",
+        "`{0}` está listado dos veces",
+    ),
+    (
+        Code::ProgramFile,
+        "`{}` has no known program extension",
+        "`{0}` no tiene una extensión de programa conocida",
+    ),
+    (Code::ProgramFile, "cannot read {}: {}", "no se puede leer {0}: {1}"),
+    (
+        Code::BoardPin,
+        "`{}` ({}) is pin {}, but the {} has no pin {} ({}); {}",
+        "`{0}` ({1}) es el pin {2}, pero la {3} no tiene pin {4} ({5}); {6}",
+    ),
+    (
+        Code::BoardPin,
+        "`{}` ({}) is not wired: the pin map has {} channels there ({} to {})",
+        "`{0}` ({1}) no está cableada: el mapa de pines tiene ahí {2} canales ({3} a {4})",
+    ),
+    (
+        Code::PlantModel,
+        "a plant model cannot write `{}`: it is an output of the program",
+        "un modelo de planta no puede escribir `{0}`: es una salida del programa",
+    ),
+    (
+        Code::PlantModel,
+        "{} = {} must be a number 0 or more",
+        "{0} = {1} debe ser un número mayor o igual que 0",
+    ),
+    (
+        Code::PlantModel,
+        "{} = {} must be a number more than 0",
+        "{0} = {1} debe ser un número mayor que 0",
+    ),
+    (
+        Code::PlantModel,
+        "drain = \"{}\" is not a drain law",
+        "drain = \"{0}\" no es una ley de vaciado",
+    ),
+    (
+        Code::CsvSyntax,
+        "this quote is never closed",
+        "estas comillas nunca se cierran",
+    ),
+    (
+        Code::PidParameter,
+        "PID parameter {} = {}: {}",
+        "parámetro PID {0} = {1}: {2}",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not a condition: write on, off, rising, falling, or > >= < <= == != and a number",
+        "`{0}` no es una condición: escriba on, off, rising, falling, o > >= < <= == != y un número",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not a severity: write 1 to 1000, or low, medium, high or critical",
+        "`{0}` no es una severidad: escriba de 1 a 1000, o low, medium, high o critical",
+    ),
+    (
+        Code::LogicStack,
+        "{} needs a value on the logic stack, which is empty here",
+        "{0} necesita un valor en la pila lógica, que aquí está vacía",
+    ),
+    (
+        Code::LogicStack,
+        "{} needs {} values on the logic stack, which holds {} here",
+        "{0} necesita {1} valores en la pila lógica, que aquí contiene {2}",
+    ),
+    (
+        Code::S7Timer,
+        "{} is a TONR timer; TON and TOF use T32–T63 and T96–T255",
+        "{0} es un temporizador TONR; TON y TOF usan T32–T63 y T96–T255",
+    ),
+    (
+        Code::S7Timer,
+        "{} is a TON/TOF timer; TONR uses T0–T31 and T64–T95",
+        "{0} es un temporizador TON/TOF; TONR usa T0–T31 y T64–T95",
+    ),
+    (
+        Code::StSyntax,
+        "`{}` is not a duration; write it like T#1h2m3s, T#1.5s or T#250ms",
+        "`{0}` no es una duración; escríbala como T#1h2m3s, T#1.5s o T#250ms",
+    ),
+    (
+        Code::StSyntax,
+        "this comment `(*` is never closed by `*)`",
+        "este comentario `(*` nunca se cierra con `*)`",
+    ),
+    (
+        Code::StSyntax,
+        "this string is not closed on its line",
+        "esta cadena no se cierra en su línea",
+    ),
+    (Code::StSyntax, "unexpected character `{}`", "carácter inesperado `{0}`"),
+    (
+        Code::Expression,
+        "expected a value, found `{}`",
+        "se esperaba un valor; hay `{0}`",
+    ),
+    (
+        Code::Expression,
+        "the expression ends too early: expected a value",
+        "la expresión termina demasiado pronto: se esperaba un valor",
+    ),
+    (
+        Code::BadArgument,
+        "invalid value '{}' for '{}': {}",
+        "valor no válido '{0}' para '{1}': {2}",
+    ),
+    (
+        Code::NetPlaceTag,
+        "place `{}` cannot drive `{}`: it is an input, written only by the I/O (or a plant model)",
+        "el lugar `{0}` no puede escribir `{1}`: es una entrada, que solo escribe la E/S (o un modelo de planta)",
+    ),
+    (
+        Code::NetPlaceTag,
+        "place `{}` drives `{}`, which is a {}, not a BOOL",
+        "el lugar `{0}` escribe `{1}`, que es un {2}, no un BOOL",
+    ),
+    (
+        Code::NetPlaceTag,
+        "place `{}` drives unknown tag `{}`",
+        "el lugar `{0}` escribe una variable desconocida `{1}`",
+    ),
+    (
+        Code::NetElement,
+        "the delay `{}` is negative",
+        "el retardo `{0}` es negativo",
+    ),
+    (
+        Code::SfcStructure,
+        "an SFC has one initial step; `{}` is another",
+        "un SFC tiene una sola etapa inicial; `{0}` es otra",
+    ),
+    (
+        Code::SfcStructure,
+        "an SFC needs one INITIAL_STEP",
+        "un SFC necesita un INITIAL_STEP",
+    ),
+    (Code::SfcStructure, "no step `{}`", "no hay ninguna etapa `{0}`"),
+    (
+        Code::SfcStructure,
+        "the qualifier {} needs a time: `{}`",
+        "el calificador {0} necesita un tiempo: `{1}`",
+    ),
+    (
+        Code::SfcStructure,
+        "the qualifier {} takes no time",
+        "el calificador {0} no lleva tiempo",
+    ),
+];
+
+/// Messages of the shared readers — addresses, literals, tag names, the
+/// resolution of a name — that sites of many codes pass on as they are
+/// (`unknown tag `X`` is E301 in a rung, E402 in a stimulus, E621 in a guard):
+/// (English pattern, Spanish), tried for any code after its own [`MESSAGES`].
+pub const SHARED: &[(&str, &str)] = &[
+    ("unknown tag `{}`", "variable desconocida `{0}`"),
+    (
+        "{} `{}` has no member `{}` (members: {})",
+        "{0} `{1}` no tiene el miembro `{2}` (miembros: {3})",
+    ),
+    (
+        "`{}` is a {}, not a structure with members",
+        "`{0}` es un {1}, no una estructura con miembros",
+    ),
+    (
+        "{} is outside this project's I/O image",
+        "{0} está fuera de la imagen de E/S de este proyecto",
+    ),
+    // addresses (alba-model's address.rs and address/slc.rs)
+    (
+        "`{}`: expected a number for the channel",
+        "`{0}`: se esperaba un número de canal",
+    ),
+    (
+        "`{}`: expected a number for the word",
+        "`{0}`: se esperaba un número de palabra",
+    ),
+    (
+        "`{}`: expected a number for the byte",
+        "`{0}`: se esperaba un número de byte",
+    ),
+    (
+        "`{}`: expected a number for the bit",
+        "`{0}`: se esperaba un número de bit",
+    ),
+    (
+        "`{}`: expected a number for the double word",
+        "`{0}`: se esperaba un número de doble palabra",
+    ),
+    (
+        "`{}`: expected a number for the {}",
+        "`{0}`: se esperaba un número para {1}",
+    ),
+    (
+        "`{}`: expected byte.bit, like 0.3",
+        "`{0}`: se esperaba byte.bit, como 0.3",
+    ),
+    (
+        "`{}`: bit numbers go from 0 to 7",
+        "`{0}`: los números de bit van de 0 a 7",
+    ),
+    (
+        "`{}`: digital channels go from 0 to {}",
+        "`{0}`: los canales digitales van de 0 a {1}",
+    ),
+    (
+        "`{}`: analog channels go from 0 to {}",
+        "`{0}`: los canales analógicos van de 0 a {1}",
+    ),
+    (
+        "`{}`: marker memory has {} bytes (0 to {})",
+        "`{0}`: la memoria de marcas tiene {1} bytes (0 a {2})",
+    ),
+    (
+        "`{}`: unknown area `{}`; AuroraLD addresses are DI:1/n, DO:2/n, AI:3/n or AO:4/n",
+        "`{0}`: área desconocida `{1}`; las direcciones de AuroraLD son DI:1/n, DO:2/n, AI:3/n o AO:4/n",
+    ),
+    (
+        "`{}`: {} addresses use slot {} ({}:{}/n)",
+        "`{0}`: las direcciones {1} usan la ranura {2} ({3}:{4}/n)",
+    ),
+    (
+        "`{}`: expected a size X, B, W or D after %{}",
+        "`{0}`: se esperaba un tamaño X, B, W o D después de %{1}",
+    ),
+    (
+        "`{}`: %{}{} is not an address Alba knows",
+        "`{0}`: %{1}{2} no es una dirección que Alba conozca",
+    ),
+    (
+        "`{}`: IEC addresses start with %I, %Q or %M",
+        "`{0}`: las direcciones IEC empiezan por %I, %Q o %M",
+    ),
+    (
+        "`{}`: S7 analog words are even (AIW0, AIW2, ...)",
+        "`{0}`: las palabras analógicas del S7 son pares (AIW0, AIW2, ...)",
+    ),
+    (
+        "`{}`: S7 analog words are even (AQW0, AQW2, ...)",
+        "`{0}`: las palabras analógicas del S7 son pares (AQW0, AQW2, ...)",
+    ),
+    (
+        "`{}`: a bit file has {} bits (B{}/0 to B{}/{})",
+        "`{0}`: un archivo de bits tiene {1} bits (B{2}/0 a B{3}/{4})",
+    ),
+    (
+        "`{}`: a {} element is {}{}:e or {}{}:e.MEMBER (like {}{}:0.{})",
+        "`{0}`: un elemento {1} es {2}{3}:e o {4}{5}:e.MIEMBRO (como {6}{7}:0.{8})",
+    ),
+    (
+        "`{}`: file numbers go from 0 to 255",
+        "`{0}`: los números de archivo van de 0 a 255",
+    ),
+    ("`{}`: elements go from 0 to {}", "`{0}`: los elementos van de 0 a {1}"),
+    (
+        "`{}`: elements go from 0 to {} ({}{}:0 to {}{}:{})",
+        "`{0}`: los elementos van de 0 a {1} ({2}{3}:0 a {4}{5}:{6})",
+    ),
+    (
+        "`{}`: Alba maps the bits of the SLC 500's I/O words ({}:e/b, b from 0 to 15), not whole words; use an analog address (AI:3/n, AO:4/n) for a value",
+        "`{0}`: Alba asigna los bits de las palabras de E/S del SLC 500 ({1}:e/b, b de 0 a 15), no palabras enteras; use una dirección analógica (AI:3/n, AO:4/n) para un valor",
+    ),
+    (
+        "`{}`: Alba maps one 16-bit word per slot ({}:e.0/b, or {}:e/b)",
+        "`{0}`: Alba asigna una palabra de 16 bits por ranura ({1}:e.0/b, o {2}:e/b)",
+    ),
+    (
+        "`{}`: bits of an SLC 500 word go from 0 to 15",
+        "`{0}`: los bits de una palabra del SLC 500 van de 0 a 15",
+    ),
+    (
+        "`{}`: slots go from 0 to {} (16 channels each)",
+        "`{0}`: las ranuras van de 0 a {1} (16 canales cada una)",
+    ),
+    (
+        "`{}`: Alba maps the SLC 500 data files {} and the timer and counter files (T4, C5); {}{} is not one of them",
+        "`{0}`: Alba asigna los archivos de datos del SLC 500 {1} y los de temporizadores y contadores (T4, C5); {2}{3} no es uno de ellos",
+    ),
+    (
+        "`{}`: a float (F) element has no bits",
+        "`{0}`: un elemento de coma flotante (F) no tiene bits",
+    ),
+    // literals (alba-model's value.rs)
+    ("`{}` is not a number", "`{0}` no es un número"),
+    (
+        "`{}`: the base of a based literal is 2, 8, 10 or 16",
+        "`{0}`: la base de un literal con base es 2, 8, 10 o 16",
+    ),
+    (
+        "`{}` is not a valid base-{} number",
+        "`{0}` no es un número válido en base {1}",
+    ),
+    ("`{}` does not fit in 64 bits", "`{0}` no cabe en 64 bits"),
+    ("`{}` is too large", "`{0}` es demasiado grande"),
+    (
+        "`{}`: write a digit after the decimal point",
+        "`{0}`: escriba una cifra después del punto decimal",
+    ),
+    (
+        "{} is out of range for {} ({} to {})",
+        "{0} está fuera del rango de {1} ({2} a {3})",
+    ),
+    ("{} is out of range for REAL", "{0} está fuera del rango de REAL"),
+    ("{} takes an integer, not a real", "{0} admite un entero, no un real"),
+    (
+        "{} takes a number, not a boolean",
+        "{0} admite un número, no un booleano",
+    ),
+    ("{} does not take a duration", "{0} no admite una duración"),
+    (
+        "{} is a structure and takes no single value",
+        "{0} es una estructura y no admite un único valor",
+    ),
+    (
+        "`{}` is not a duration; write it like T#1m30s or T#250ms",
+        "`{0}` no es una duración; escríbala como T#1m30s o T#250ms",
+    ),
+    (
+        "`{}` is beyond the DINT range; only a LINT or LREAL instruction takes it",
+        "`{0}` está fuera del rango DINT; solo una instrucción LINT o LREAL lo admite",
+    ),
+    // tag names (alba-model's tags.rs)
+    (
+        "`{}` is not a valid tag name: use letters, digits and `_`, not starting with a digit",
+        "`{0}` no es un nombre de variable válido: use letras, dígitos y `_`, sin empezar por un dígito",
+    ),
+    ("`{}` is longer than {} characters", "`{0}` tiene más de {1} caracteres"),
+    ("`{}` is a reserved word", "`{0}` es una palabra reservada"),
+    ("the tag name is empty", "el nombre de la variable está vacío"),
 ];
 
 /// Labels and hints shared by many codes: (English pattern, Spanish).
@@ -2143,6 +2554,10 @@ pub const VALUES: &[(&str, &str)] = &[
         "una etiqueta de CASE, `ELSE` o `END_CASE`",
     ),
     ("a statement", "una sentencia"),
+    // the numbers of a PNML file
+    ("an initial marking", "un marcado inicial"),
+    ("a priority", "una prioridad"),
+    ("an arc weight", "el peso de un arco"),
 ];
 
 /// A value of a message in Spanish ([`VALUES`]).
@@ -2175,7 +2590,8 @@ pub fn title(code: Code) -> Option<&'static str> {
     TITLES.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
 }
 
-/// `message` of `code` in Spanish by its template, if one matches: the most
+/// `message` of `code` in Spanish by its template (else by a [`SHARED`] one),
+/// if one matches: the most
 /// specific (most literal text) when several do, so that `{} does not fit {}`
 /// does not take what `{} does not fit {} `{}` ({} to {})` says better.
 pub fn message(code: Code, message: &str) -> Option<String> {
@@ -2186,6 +2602,7 @@ pub fn message(code: Code, message: &str) -> Option<String> {
             .map(|(_, en, es)| (*en, *es)),
         message,
     )
+    .or_else(|| best(SHARED.iter().copied(), message))
 }
 
 /// The Spanish of `text` by the most specific of `templates` that matches.
@@ -2395,7 +2812,9 @@ pub const ERRORS: &[(&str, &str)] = &[
 /// any diagnostic message it echoes ([`MESSAGES`]); `None` when neither has it
 /// (the server then answers in English).
 pub fn error(text: &str) -> Option<String> {
-    best(ERRORS.iter().copied(), text).or_else(|| best(MESSAGES.iter().map(|(_, en, es)| (*en, *es)), text))
+    best(ERRORS.iter().copied(), text)
+        .or_else(|| best(SHARED.iter().copied(), text))
+        .or_else(|| best(MESSAGES.iter().map(|(_, en, es)| (*en, *es)), text))
 }
 
 /// A label or hint in Spanish, if the phrase book has it.
@@ -2447,7 +2866,7 @@ mod tests {
             }
             assert!(!es.contains(&format!("{{{n}}}")), "{c} `{es}` has a value too many");
         }
-        for (en, es) in PHRASES.iter().chain(ERRORS) {
+        for (en, es) in PHRASES.iter().chain(ERRORS).chain(SHARED) {
             let n = en.matches("{}").count();
             for i in 0..n {
                 assert!(es.contains(&format!("{{{i}}}")), "`{es}` lacks {{{i}}}");
@@ -2478,8 +2897,12 @@ mod tests {
             .as_deref(),
             Some("no se puede asignar un REAL a `x`, un INT; conviértalo (por ejemplo REAL_TO_INT)")
         );
-        // A template belongs to its code.
-        assert_eq!(message(Code::Syntax, "unknown tag `Strat`"), None);
+        // A template belongs to its code; the shared readers' messages to any.
+        assert_eq!(message(Code::Syntax, "tags.csv is empty"), None);
+        assert_eq!(
+            message(Code::StimulusTarget, "unknown tag `Strat`").as_deref(),
+            Some("variable desconocida `Strat`")
+        );
         assert_eq!(
             error("this needs the role engineer; you are viewer").as_deref(),
             Some("esto necesita el rol engineer; usted es viewer")
