@@ -2775,6 +2775,14 @@ pub const ERRORS: &[(&str, &str)] = &[
     ("{} is not UTF-8 text: {}", "{0} no es texto UTF-8: {1}"),
     ("malformed JSON body: {}", "cuerpo JSON mal formado: {0}"),
     (
+        "malformed JSON body: Failed to parse the request body as JSON: {}",
+        "cuerpo JSON mal formado: no se pudo leer como JSON: {0}",
+    ),
+    (
+        "malformed JSON body: Failed to deserialize the JSON body into the target type: {}",
+        "cuerpo JSON mal formado: no tiene la forma que espera la petición: {0}",
+    ),
+    (
         "Failed to parse the request body as JSON: {}",
         "no se pudo leer el cuerpo de la petición como JSON: {0}",
     ),

@@ -210,7 +210,7 @@ async fn errors_speak_the_requests_language() {
     let (code, e) = ask_in(&s, es, Method::PUT, "/api/tags/Llenar", Some(b"{\"value\"".to_vec())).await;
     assert_eq!(code, StatusCode::BAD_REQUEST, "{e}");
     assert!(
-        e.starts_with("no se pudo leer el cuerpo de la petición como JSON: "),
+        e.starts_with("cuerpo JSON mal formado: no se pudo leer como JSON: EOF"),
         "{e}"
     );
     let (code, e) = ask_in(
@@ -222,7 +222,7 @@ async fn errors_speak_the_requests_language() {
     )
     .await;
     assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{e}");
-    assert_eq!(e, "`Llenar`: se esperaba true, false, 0 o 1 para un BOOL; llegó 2");
+    assert_eq!(e, "`Llenar`: 2 está fuera del rango de BOOL (0 a 1)");
     // A program that does not compile: the count, and its diagnostics, in Spanish.
     let bad = br#"{"text": "XIC(Strat)OTE(Llenr);\n"}"#.to_vec();
     let res = s
