@@ -254,6 +254,7 @@ fn every_message_written_at_its_code_has_its_spanish() {
         count > 200,
         "the scan found only {count} messages: is it still reading the sources?"
     );
+    println!("{count} messages written at their code");
     missing.sort();
     missing.dedup();
     assert!(
