@@ -39,3 +39,37 @@ test('the studio speaks Spanish when asked, and remembers it', async () => {
   assert.equal(await page.evaluate(() => document.documentElement.lang), 'en');
   assert.deepEqual(b.errors, []);
 });
+
+// A diagnostic in Spanish at its place (issue 34 point 11): the studio sends
+// its language as Accept-Language, the server words the check's diagnostics in
+// it; the file is left as it was.
+test('a ladder error is shown in Spanish at its place', async () => {
+  const { page, tid } = b;
+  await page.goto(alba.url);
+  await tid('status-conn').filter({ hasText: /^connected$/ }).waitFor();
+  await Promise.all([page.waitForEvent('load'), tid('lang').selectOption('es')]);
+  await tid('status-conn').filter({ hasText: /^conectado$/ }).waitFor();
+  await tid('tab-program-main.lad').click();
+  await tid('view-text').click();
+  const editor = tid('editor-text');
+  const saved = await editor.inputValue();
+  assert.ok(saved.includes('OTE(L_RUN)'), 'the example drives L_RUN');
+  await editor.fill(saved.replace('OTE(L_RUN)', 'OTE(L_RUM)'));
+  await tid('btn-compile').click();
+  const problem = tid('diagnostic-0');
+  await tid('diagnostics').filter({ hasText: 'variable desconocida `L_RUM`' }).waitFor();
+  const text = await problem.textContent();
+  assert.match(text, /E301/);
+  assert.match(text, /variable desconocida `L_RUM`/);
+  assert.match(text, /¿quiso decir `L_RUN`\?/, 'the hint in Spanish too');
+  assert.doesNotMatch(text, /unknown tag|did you mean/);
+  // Its place: the line and column of L_RUM in the text.
+  const line = saved.split('\n').findIndex((l) => l.includes('OTE(L_RUN)')) + 1;
+  assert.match(await problem.locator('.where').textContent(), new RegExp(`^${line}:\\d+$`));
+  await b.shot('i18n-diagnostic-es');
+  // Back to the saved text: no problem left, in Spanish.
+  await editor.fill(saved);
+  await tid('btn-compile').click();
+  await tid('diagnostics').filter({ hasText: 'Sin problemas' }).waitFor();
+  assert.deepEqual(b.errors, []);
+});

@@ -326,6 +326,1829 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
         "unknown plant model kind `{}`",
         "tipo de modelo de planta desconocido `{0}`",
     ),
+    (
+        Code::AddressUsedTwice,
+        "address {} is already used by `{}` ({})",
+        "la dirección {0} ya la usa `{1}` ({2})",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is a BOOL: compare numbers, or use on, off, rising or falling",
+        "`{0}` es un BOOL: compare números, o use on, off, rising o falling",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is a structure; name a member (`{}.DN`, `{}.ACC`)",
+        "`{0}` es una estructura; nombre un miembro (`{1}.DN`, `{2}.ACC`)",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not a deadband: write a number ≥ 0",
+        "`{0}` no es una banda muerta: escriba un número ≥ 0",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not an alarm id",
+        "`{0}` no es un id de alarma",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not an on-delay: write 0 to {} milliseconds",
+        "`{0}` no es un retardo a la conexión: escriba de 0 a {1} milisegundos",
+    ),
+    (Code::AlarmFile, "alarms.csv is empty", "alarms.csv está vacío"),
+    (Code::AlarmFile, "cannot read {}: {}", "no se puede leer {0}: {1}"),
+    (
+        Code::AlarmFile,
+        "the alarm id `{}` is used twice",
+        "el id de alarma `{0}` se usa dos veces",
+    ),
+    (
+        Code::AlarmFile,
+        "the header of alarms.csv must be `{}`",
+        "la cabecera de alarms.csv debe ser `{0}`",
+    ),
+    (Code::AlarmFile, "{} is larger than {} MiB", "{0} ocupa más de {1} MiB"),
+    (
+        Code::BadAddress,
+        "R {}, {} runs past the last number 255",
+        "R {0}, {1} pasa del último número, 255",
+    ),
+    (
+        Code::BadAddress,
+        "{} {}, {} runs past the end of {}",
+        "{0} {1}, {2} pasa del final de {3}",
+    ),
+    (
+        Code::BadArgument,
+        "--every {} is not a positive multiple of the scan period ({} ms)",
+        "--every {0} no es un múltiplo positivo del periodo de ciclo ({1} ms)",
+    ),
+    (Code::BadArgument, "--summary: {}", "--summary: {0}"),
+    (Code::BadLiteral, "`{}` does not fit {}", "`{0}` no cabe en {1}"),
+    (
+        Code::BadLiteral,
+        "`{}` does not fit {} `{}` ({} to {})",
+        "`{0}` no cabe en {1} `{2}` ({3} a {4})",
+    ),
+    (
+        Code::BadLiteral,
+        "`{}` is beyond the REAL range, and this expression is computed in REAL",
+        "`{0}` está fuera del rango REAL, y esta expresión se calcula en REAL",
+    ),
+    (
+        Code::BadLiteral,
+        "`{}` is not a preset of T{}, which counts {} ms from 0 to 32767 times",
+        "`{0}` no es una preselección de T{1}, que cuenta {2} ms de 0 a 32767 veces",
+    ),
+    (
+        Code::BadLiteral,
+        "`{}` is not a time base; write ms, cs, ds, s or min (or 0.001, 0.01, 0.1, 1.0, 60 seconds)",
+        "`{0}` no es una base de tiempo; escriba ms, cs, ds, s o min (o 0.001, 0.01, 0.1, 1.0, 60 segundos)",
+    ),
+    (
+        Code::BadLiteral,
+        "`{}` is not a whole number of {} (the timer's time base)",
+        "`{0}` no es un número entero de {1} (la base de tiempo del temporizador)",
+    ),
+    (
+        Code::BadLiteral,
+        "`{}` must be a constant from {} to {}",
+        "`{0}` debe ser una constante de {1} a {2}",
+    ),
+    (
+        Code::BadLiteral,
+        "a timer preset cannot be negative",
+        "la preselección de un temporizador no puede ser negativa",
+    ),
+    (
+        Code::BadLiteral,
+        "a timer preset or accumulator cannot be negative",
+        "la preselección o el acumulado de un temporizador no puede ser negativo",
+    ),
+    (Code::BadLiteral, "{} does not fit a DINT", "{0} no cabe en un DINT"),
+    (
+        Code::ConfigField,
+        "[domain] `{}` is a structure, not an input",
+        "[domain] `{0}` es una estructura, no una entrada",
+    ),
+    (
+        Code::ConfigField,
+        "[domain] `{}` is an output, driven by the program, not an input",
+        "[domain] `{0}` es una salida, que escribe el programa, no una entrada",
+    ),
+    (
+        Code::ConfigField,
+        "[domain] `{}` lists no value",
+        "[domain] `{0}` no da ningún valor",
+    ),
+    (
+        Code::ConfigField,
+        "[domain] `{}`: bad value {}: {}",
+        "[domain] `{0}`: valor incorrecto {1}: {2}",
+    ),
+    (
+        Code::ConfigField,
+        "`[http]` needs both `cert` and `key`, or neither",
+        "`[http]` necesita `cert` y `key` a la vez, o ninguno de los dos",
+    ),
+    (
+        Code::ConfigField,
+        "`baud` is a setting of serial (rtu) devices",
+        "`baud` es un ajuste de los dispositivos serie (rtu)",
+    ),
+    (Code::ConfigField, "`port` is empty", "`port` está vacío"),
+    (Code::ConfigField, "`programs` is empty", "`programs` está vacío"),
+    (
+        Code::ConfigField,
+        "`{}` is not a host name",
+        "`{0}` no es un nombre de host",
+    ),
+    (
+        Code::ConfigField,
+        "`{}` is not a pin name",
+        "`{0}` no es un nombre de pin",
+    ),
+    (
+        Code::ConfigField,
+        "`{}` is not a user name",
+        "`{0}` no es un nombre de usuario",
+    ),
+    (Code::ConfigField, "`{}` is not an origin", "`{0}` no es un origen"),
+    (
+        Code::ConfigField,
+        "`{}` is not in [opcua.users]",
+        "`{0}` no está en [opcua.users]",
+    ),
+    (
+        Code::ConfigField,
+        "a property needs a non-empty `name`",
+        "una propiedad necesita un `name` no vacío",
+    ),
+    (
+        Code::ConfigField,
+        "backend = \"postgres\" needs a url",
+        "backend = \"postgres\" necesita una url",
+    ),
+    (
+        Code::ConfigField,
+        "client_cert and client_key go together",
+        "client_cert y client_key van juntos",
+    ),
+    (
+        Code::ConfigField,
+        "client_cert without ca_file",
+        "client_cert sin ca_file",
+    ),
+    (
+        Code::ConfigField,
+        "deadband = {} is out of range",
+        "deadband = {0} está fuera de rango",
+    ),
+    (
+        Code::ConfigField,
+        "device `{}` needs exactly one of `tcp` and `rtu`",
+        "el dispositivo `{0}` necesita exactamente uno de `tcp` y `rtu`",
+    ),
+    (
+        Code::ConfigField,
+        "listen = \"{}\" is not a loopback address, so it needs users",
+        "listen = \"{0}\" no es una dirección de loopback, así que necesita usuarios",
+    ),
+    (
+        Code::ConfigField,
+        "listen = \"{}\" is not an address and port",
+        "listen = \"{0}\" no es una dirección y un puerto",
+    ),
+    (Code::ConfigField, "node is empty", "node está vacío"),
+    (
+        Code::ConfigField,
+        "pin {} is not a digital output of this board's pin map",
+        "el pin {0} no es una salida digital del mapa de pines de esta placa",
+    ),
+    (
+        Code::ConfigField,
+        "pin {} is wired to two channels",
+        "el pin {0} está cableado a dos canales",
+    ),
+    (
+        Code::ConfigField,
+        "pin {} is wired twice",
+        "el pin {0} está cableado dos veces",
+    ),
+    (
+        Code::ConfigField,
+        "property `{}` has {} kinds; it needs exactly one",
+        "la propiedad `{0}` tiene {1} clases; necesita exactamente una",
+    ),
+    (
+        Code::ConfigField,
+        "property `{}`: a mutex lists at least two expressions",
+        "propiedad `{0}`: un mutex lista al menos dos expresiones",
+    ),
+    (
+        Code::ConfigField,
+        "tcp = \"{}\" is not a host and port",
+        "tcp = \"{0}\" no es un host y un puerto",
+    ),
+    (
+        Code::ConfigField,
+        "the project name is empty",
+        "el nombre del proyecto está vacío",
+    ),
+    (
+        Code::ConfigField,
+        "two properties are named `{}`",
+        "dos propiedades se llaman `{0}`",
+    ),
+    (Code::ConfigField, "url holds a password", "url contiene una contraseña"),
+    (
+        Code::ConfigField,
+        "version = {} is not an MQTT version Alba speaks",
+        "version = {0} no es una versión de MQTT que Alba hable",
+    ),
+    (
+        Code::ConfigField,
+        "{} = {} is out of range",
+        "{0} = {1} está fuera de rango",
+    ),
+    (
+        Code::ConflictingPreset,
+        "`{}` conflicts with the value {} given earlier for the same structure",
+        "`{0}` choca con el valor {1} dado antes para la misma estructura",
+    ),
+    (
+        Code::ConflictingPreset,
+        "`{}` conflicts with the value {} given earlier to {}{}",
+        "`{0}` choca con el valor {1} dado antes a {2}{3}",
+    ),
+    (
+        Code::ConflictingPreset,
+        "{} conflicts with the time base {} given earlier for the same timer",
+        "{0} choca con la base de tiempo {1} dada antes para el mismo temporizador",
+    ),
+    (
+        Code::CsvHeader,
+        "a test table's first column is `time_ms`",
+        "la primera columna de una tabla de prueba es `time_ms`",
+    ),
+    (
+        Code::CsvHeader,
+        "the stimulus file is empty",
+        "el archivo de estímulos está vacío",
+    ),
+    (
+        Code::CsvHeader,
+        "the stimulus header must be `time_ms,tag,value`",
+        "la cabecera de estímulos debe ser `time_ms,tag,value`",
+    ),
+    (
+        Code::CsvHeader,
+        "the test table is empty",
+        "la tabla de prueba está vacía",
+    ),
+    (
+        Code::DoesNotFit,
+        "the firmware needs {} bytes of flash and {} bytes of RAM plus {} for the stack; the {} has {} and {}",
+        "el firmware necesita {0} bytes de flash y {1} bytes de RAM más {2} para la pila; la {3} tiene {4} y {5}",
+    ),
+    (
+        Code::DuplicateLabel,
+        "LBL {} is set twice",
+        "LBL {0} está puesta dos veces",
+    ),
+    (
+        Code::DuplicateLabel,
+        "label `{}` is set twice",
+        "la etiqueta `{0}` está puesta dos veces",
+    ),
+    (
+        Code::Expression,
+        "booleans are not values in CPT; use 1 or 0",
+        "los booleanos no son valores en CPT; use 1 o 0",
+    ),
+    (
+        Code::Expression,
+        "{} works on integers, but this expression is computed in {}",
+        "{0} trabaja con enteros, pero esta expresión se calcula en {1}",
+    ),
+    (
+        Code::IlNotSupported,
+        "byte compares (LDB…) are not supported yet",
+        "las comparaciones de bytes (LDB…) aún no están disponibles",
+    ),
+    (
+        Code::IlNotSupported,
+        "byte increments (INCB, DECB) are not supported yet",
+        "los incrementos de bytes (INCB, DECB) aún no están disponibles",
+    ),
+    (
+        Code::IlNotSupported,
+        "local variables are not supported yet",
+        "las variables locales aún no están disponibles",
+    ),
+    (
+        Code::IlNotSupported,
+        "subroutines and interrupt routines are not supported yet",
+        "las subrutinas y rutinas de interrupción aún no están disponibles",
+    ),
+    (
+        Code::IlSyntax,
+        "`{}` is not one operand: operands are separated by commas",
+        "`{0}` no es un solo operando: los operandos se separan con comas",
+    ),
+    (
+        Code::IlSyntax,
+        "a quoted symbol is not closed",
+        "un símbolo entre comillas no se cierra",
+    ),
+    (Code::IlSyntax, "empty operand in `{}`", "operando vacío en `{0}`"),
+    (
+        Code::IlSyntax,
+        "this `/*` comment is never closed",
+        "este comentario `/*` nunca se cierra",
+    ),
+    (Code::Io, "cannot read {}: {}", "no se puede leer {0}: {1}"),
+    (Code::Io, "cannot write {}: {}", "no se puede escribir {0}: {1}"),
+    (
+        Code::LabelNotFirst,
+        "LBL must be the first instruction of its rung",
+        "LBL debe ser la primera instrucción de su peldaño",
+    ),
+    (
+        Code::LogicStack,
+        "{} reaches {} values down the logic stack, but more than {} values were loaded since: the oldest fell off its bottom",
+        "{0} alcanza {1} valores hacia abajo en la pila lógica, pero desde entonces se cargaron más de {2} valores: el más antiguo cayó por el fondo",
+    ),
+    (
+        Code::LoopStructure,
+        "FOR loops nest at most {} deep",
+        "los bucles FOR se anidan como mucho a {0} niveles",
+    ),
+    (Code::LoopStructure, "NEXT without its FOR", "NEXT sin su FOR"),
+    (Code::LoopStructure, "this FOR has no NEXT", "este FOR no tiene NEXT"),
+    (
+        Code::MissingLabel,
+        "no LBL {} in this program",
+        "no hay LBL {0} en este programa",
+    ),
+    (
+        Code::MissingLabel,
+        "no rung has LBL({})",
+        "ningún peldaño tiene LBL({0})",
+    ),
+    (
+        Code::ModbusClients,
+        "allow = [] lets no client in",
+        "allow = [] no deja entrar a ningún cliente",
+    ),
+    (
+        Code::ModbusClients,
+        "listen = \"{}\" is not a loopback address, so it needs `allow`",
+        "listen = \"{0}\" no es una dirección de loopback, así que necesita `allow`",
+    ),
+    (
+        Code::ModbusTag,
+        "`{}` ({}) overlaps `{}` ({})",
+        "`{0}` ({1}) se solapa con `{2}` ({3})",
+    ),
+    (
+        Code::ModbusTag,
+        "`{}` is a {}: it goes on {}",
+        "`{0}` es un {1}: va en {2}",
+    ),
+    (
+        Code::ModbusTag,
+        "`{}` is {}: clients write {}, so put it on {}",
+        "`{0}` es {1}: los clientes escriben {2}, así que póngalo en {3}",
+    ),
+    (
+        Code::ModbusTag,
+        "`{}` needs {} registers: {} runs past 65535",
+        "`{0}` necesita {1} registros: {2} pasa de 65535",
+    ),
+    (
+        Code::NetArc,
+        "an inhibitor or read arc goes from a place to a transition",
+        "un arco inhibidor o de lectura va de un lugar a una transición",
+    ),
+    (
+        Code::NetGuard,
+        "the guard of transition `{}` is a number, not a BOOL",
+        "la guarda de la transición `{0}` es un número, no un BOOL",
+    ),
+    (
+        Code::NetMode,
+        "{} {} element runs in normal mode, not in a Petri-mode net",
+        "{0} elemento {1} se ejecuta en modo normal, no en una red en modo Petri",
+    ),
+    (
+        Code::NetRange,
+        "the arcs between these two nodes weigh more than a DINT holds",
+        "los arcos entre estos dos nodos pesan más de lo que cabe en un DINT",
+    ),
+    (
+        Code::NetRange,
+        "the initial marking {} does not fit a DINT",
+        "el marcado inicial {0} no cabe en un DINT",
+    ),
+    (
+        Code::NetRange,
+        "the weight {} does not fit a DINT marking",
+        "el peso {0} no cabe en un marcado DINT",
+    ),
+    (
+        Code::NetScript,
+        "expression `{}` has no `<script>`",
+        "la expresión `{0}` no tiene `<script>`",
+    ),
+    (
+        Code::NetScript,
+        "script of `{}`, line {} col {}: {}",
+        "guion de `{0}`, línea {1} col {2}: {3}",
+    ),
+    (
+        Code::NetTagClash,
+        "the marking of place `{}` is the tag `{}`, which already exists",
+        "el marcado del lugar `{0}` es la variable `{1}`, que ya existe",
+    ),
+    (
+        Code::NetTagClash,
+        "the marking of place `{}` would be `{}`, a member of the {} `{}`",
+        "el marcado del lugar `{0}` sería `{1}`, un miembro de {2} `{3}`",
+    ),
+    (
+        Code::NetTagClash,
+        "the step flag `{}` is already a tag",
+        "la marca de etapa `{0}` ya es una variable",
+    ),
+    (
+        Code::NetTagClash,
+        "{} is the tag `{}`, which already exists",
+        "{0} es la variable `{1}`, que ya existe",
+    ),
+    (
+        Code::NotOnBoard,
+        "`{}` is a LINT: the byte-code interpreter on the {} holds no 64-bit integers (the Mega's does, and so does the compiled sketch)",
+        "`{0}` es un LINT: el intérprete de código de bytes de la {1} no tiene enteros de 64 bits (el de la Mega sí, y también el sketch compilado)",
+    ),
+    (
+        Code::NotOnBoard,
+        "`{}` is an LREAL, which the {} cannot hold: avr-gcc's double has 32 bits",
+        "`{0}` es un LREAL, que la {1} no puede guardar: el double de avr-gcc tiene 32 bits",
+    ),
+    (
+        Code::NotOnBoard,
+        "not downloaded to {}: {}",
+        "no se descargó en {0}: {1}",
+    ),
+    (
+        Code::NotOnBoard,
+        "the byte code is {} bytes; the interpreter on the {} holds {} (half its EEPROM: a download never overwrites the running program): use the Mega, or the compiled sketch (alba export arduino)",
+        "el código de bytes ocupa {0} bytes; el intérprete de la {1} admite {2} (la mitad de su EEPROM: una descarga nunca sobrescribe el programa en marcha): use la Mega, o el sketch compilado (alba export arduino)",
+    ),
+    (
+        Code::NotOnBoard,
+        "the interpreter on the {} cannot run this program: {}",
+        "el intérprete de la {0} no puede ejecutar este programa: {1}",
+    ),
+    (
+        Code::NotWritable,
+        "S cannot set `{}`: timers and counters are set by their instructions",
+        "S no puede activar `{0}`: los temporizadores y contadores los activan sus instrucciones",
+    ),
+    (
+        Code::NotWritable,
+        "`{}` cannot be written",
+        "`{0}` no se puede escribir",
+    ),
+    (
+        Code::NotWritable,
+        "`{}` cannot be written, so it is no VAR_IN_OUT argument",
+        "`{0}` no se puede escribir, así que no es un argumento VAR_IN_OUT",
+    ),
+    (
+        Code::NotWritable,
+        "`{}` is a constant and cannot be written",
+        "`{0}` es una constante y no se puede escribir",
+    ),
+    (
+        Code::NotWritable,
+        "`{}` is a {} bit, set by its instruction",
+        "`{0}` es un bit {1}, que activa su instrucción",
+    ),
+    (
+        Code::OpcuaUsersDeprecated,
+        "[opcua.users] is deprecated: users now live in users.toml, for every interface",
+        "[opcua.users] está obsoleto: los usuarios viven ahora en users.toml, para todas las interfaces",
+    ),
+    (
+        Code::OperandCount,
+        "LBL takes one operand, the label number",
+        "LBL lleva un operando, el número de etiqueta",
+    ),
+    (
+        Code::OperandCount,
+        "{} takes {} operand{}, found {}",
+        "{0} lleva {1} operando{2}; hay {3}",
+    ),
+    (
+        Code::OperandType,
+        "CPT needs numbers, found {} `{}`",
+        "CPT necesita números; hay {0} `{1}`",
+    ),
+    (
+        Code::OperandType,
+        "`{}` has no address, so it has no next bits for N = {}",
+        "`{0}` no tiene dirección, así que no tiene bits siguientes para N = {1}",
+    ),
+    (
+        Code::OperandType,
+        "`{}` is a Logix TIMER or COUNTER tag; AWL uses S7 timers (T37) and counters (C5)",
+        "`{0}` es una variable TIMER o COUNTER de Logix; AWL usa temporizadores (T37) y contadores (C5) del S7",
+    ),
+    (
+        Code::OperandType,
+        "`{}` is not a {}: {}s are {}0 to {}255",
+        "`{0}` no es un {1}: los {2} van de {3}0 a {4}255",
+    ),
+    (
+        Code::OperandType,
+        "{} needs a bit, `{}` is {}",
+        "{0} necesita un bit; `{1}` es {2}",
+    ),
+    (
+        Code::OperandType,
+        "{} needs {}, `{}` is a word",
+        "{0} necesita {1}; `{2}` es una palabra",
+    ),
+    (
+        Code::OperandType,
+        "{} needs {}, `{}` is {}",
+        "{0} necesita {1}; `{2}` es {3}",
+    ),
+    (
+        Code::OperandType,
+        "{} works on integers, but `{}` is {}",
+        "{0} trabaja con enteros, pero `{1}` es {2}",
+    ),
+    (
+        Code::PnmlAlba,
+        "<{}> is not Alba data here",
+        "<{0}> no es un dato de Alba aquí",
+    ),
+    (
+        Code::PnmlAlba,
+        "`{}` is not a kind of {}",
+        "`{0}` no es una clase de {1}",
+    ),
+    (Code::PnmlAlba, "`{}` is not a mode", "`{0}` no es un modo"),
+    (
+        Code::PnmlAlba,
+        "`{}` is not an arc kind",
+        "`{0}` no es una clase de arco",
+    ),
+    (
+        Code::PnmlAlba,
+        "a <prop> needs a `name`",
+        "un <prop> necesita un `name`",
+    ),
+    (
+        Code::PnmlAlba,
+        "a <widget> needs a `kind`: button, display, plot or label",
+        "un <widget> necesita un `kind`: button, display, plot o label",
+    ),
+    (Code::PnmlAlba, "a second <{}>", "un segundo <{0}>"),
+    (
+        Code::PnmlAlba,
+        "a second Alba <toolspecific> block on one element",
+        "un segundo bloque <toolspecific> de Alba en un mismo elemento",
+    ),
+    (
+        Code::PnmlAlba,
+        "an arc type is normal, inhibitor or read",
+        "un tipo de arco es normal, inhibitor o read",
+    ),
+    (Code::PnmlAlba, "an empty <guard>", "un <guard> vacío"),
+    (Code::PnmlAlba, "an empty <tag>", "un <tag> vacío"),
+    (
+        Code::PnmlAlba,
+        "arc `{}`: {} arcs go from a place to a transition",
+        "arco `{0}`: los arcos {1} van de un lugar a una transición",
+    ),
+    (
+        Code::PnmlAlba,
+        "the property `{}` is given twice",
+        "la propiedad `{0}` se da dos veces",
+    ),
+    (
+        Code::PnmlArc,
+        "a second arc from `{}` to `{}`",
+        "un segundo arco de `{0}` a `{1}`",
+    ),
+    (
+        Code::PnmlArc,
+        "arc `{}` joins two {} (`{}` → `{}`)",
+        "el arco `{0}` une dos {1} (`{2}` → `{3}`)",
+    ),
+    (
+        Code::PnmlArc,
+        "arc `{}`: its {} `{}` is not a place or transition of the net",
+        "arco `{0}`: su {1} `{2}` no es un lugar ni una transición de la red",
+    ),
+    (
+        Code::PnmlArc,
+        "the reference `{}` refers to itself in a cycle",
+        "la referencia `{0}` se refiere a sí misma en un ciclo",
+    ),
+    (
+        Code::PnmlArc,
+        "the reference node `{}` refers to `{}`, which is not in the document",
+        "el nodo de referencia `{0}` se refiere a `{1}`, que no está en el documento",
+    ),
+    (
+        Code::PnmlDuplicateId,
+        "the id `{}` is used twice",
+        "el id `{0}` se usa dos veces",
+    ),
+    (
+        Code::PnmlIgnored,
+        "<{}> in <{}> is not part of a place/transition net: ignored",
+        "<{0}> en <{1}> no forma parte de una red lugar/transición: se ignora",
+    ),
+    (
+        Code::PnmlIgnored,
+        "Alba <toolspecific> version `{}` is not version 1: kept unread",
+        "la versión `{0}` de <toolspecific> de Alba no es la versión 1: se conserva sin leer",
+    ),
+    (
+        Code::PnmlIgnored,
+        "net type `{}` is not a place/transition net: read as one",
+        "el tipo de red `{0}` no es una red lugar/transición: se lee como una",
+    ),
+    (
+        Code::PnmlIgnored,
+        "the <{}> of a nested page is dropped: pages are flattened into the first",
+        "se descarta el <{0}> de una página anidada: las páginas se aplanan en la primera",
+    ),
+    (
+        Code::PnmlLimit,
+        "the file has {} bytes; Alba reads PNML files up to {} MiB",
+        "el archivo tiene {0} bytes; Alba lee archivos PNML de hasta {1} MiB",
+    ),
+    (
+        Code::PnmlNumber,
+        "a <position> needs decimal `x` and `y`",
+        "un <position> necesita `x` e `y` decimales",
+    ),
+    (
+        Code::PnmlNumber,
+        "a <widget> needs decimal `x` and `y`",
+        "un <widget> necesita `x` e `y` decimales",
+    ),
+    (Code::PnmlNumber, "{} {} is above {}", "{0} {1} es mayor que {2}"),
+    (Code::PnmlNumber, "{} {} is below {}", "{0} {1} es menor que {2}"),
+    (Code::PnmlStructure, "<net> has no `type`", "<net> no tiene `type`"),
+    (
+        Code::PnmlStructure,
+        "<{}> has an empty `id`",
+        "<{0}> tiene un `id` vacío",
+    ),
+    (Code::PnmlStructure, "<{}> has no <text>", "<{0}> no tiene <text>"),
+    (Code::PnmlStructure, "<{}> has no `id`", "<{0}> no tiene `id`"),
+    (Code::PnmlStructure, "<{}> has no `ref`", "<{0}> no tiene `ref`"),
+    (
+        Code::PnmlStructure,
+        "a second <net>: Alba reads one net per file",
+        "un segundo <net>: Alba lee una red por archivo",
+    ),
+    (
+        Code::PnmlStructure,
+        "a second <{}> on one element",
+        "un segundo <{0}> en un mismo elemento",
+    ),
+    (
+        Code::PnmlStructure,
+        "an <arc> needs `source` and `target`",
+        "un <arc> necesita `source` y `target`",
+    ),
+    (
+        Code::PnmlStructure,
+        "the document has no <net>",
+        "el documento no tiene <net>",
+    ),
+    (
+        Code::PnmlStructure,
+        "the root element is <{}>, not <pnml>",
+        "el elemento raíz es <{0}>, no <pnml>",
+    ),
+    (
+        Code::S7Timer,
+        "C{} is used as a {} and as a {}",
+        "C{0} se usa como {1} y como {2}",
+    ),
+    (
+        Code::S7Timer,
+        "T{} is used as a {} and as a {}",
+        "T{0} se usa como {1} y como {2}",
+    ),
+    (
+        Code::SfcAction,
+        "`{}` is a structure; name a BOOL member",
+        "`{0}` es una estructura; nombre un miembro BOOL",
+    ),
+    (Code::SfcAction, "action {}", "acción {0}"),
+    (
+        Code::SfcAction,
+        "the action `{}` cannot be driven: {}",
+        "la acción `{0}` no se puede escribir: {1}",
+    ),
+    (
+        Code::StName,
+        "`{}` is VAR_EXTERNAL but no tag or VAR_GLOBAL has that name",
+        "`{0}` es VAR_EXTERNAL pero ninguna variable ni VAR_GLOBAL tiene ese nombre",
+    ),
+    (
+        Code::StName,
+        "the enumeration {} has no value `{}`",
+        "la enumeración {0} no tiene el valor `{1}`",
+    ),
+    (Code::StName, "unknown function `{}`", "función desconocida `{0}`"),
+    (Code::StName, "unknown type `{}`", "tipo desconocido `{0}`"),
+    (Code::StName, "unknown {} `{}`", "{0} desconocido `{1}`"),
+    (Code::StName, "{} has no input `{}`", "{0} no tiene la entrada `{1}`"),
+    (
+        Code::StName,
+        "{} has no input or output `{}`",
+        "{0} no tiene la entrada o salida `{1}`",
+    ),
+    (Code::StName, "{} has no member `{}`", "{0} no tiene el miembro `{1}`"),
+    (Code::StName, "{} has no output `{}`", "{0} no tiene la salida `{1}`"),
+    (
+        Code::StName,
+        "{} has no variable `{}` to initialise",
+        "{0} no tiene la variable `{1}` que inicializar",
+    ),
+    (Code::StName, "{} has no {} `{}`", "{0} no tiene {1} `{2}`"),
+    (
+        Code::StNotSupported,
+        "`{}` calls itself ({}): calls are inlined, so recursion is not supported",
+        "`{0}` se llama a sí misma ({1}): las llamadas se expanden en línea, así que no se admite la recursión",
+    ),
+    (Code::StSyntax, "expected {}, found {}", "se esperaba {0}; hay {1}"),
+    (
+        Code::StimulusSyntax,
+        "`{}` is not a time in milliseconds",
+        "`{0}` no es un tiempo en milisegundos",
+    ),
+    (
+        Code::StimulusSyntax,
+        "a stimulus row has 3 fields, this one has {}",
+        "una fila de estímulos tiene 3 campos; esta tiene {0}",
+    ),
+    (
+        Code::StimulusSyntax,
+        "bad value `{}`: {}",
+        "valor incorrecto `{0}`: {1}",
+    ),
+    (
+        Code::StimulusSyntax,
+        "bad value for `{}`: {}",
+        "valor incorrecto para `{0}`: {1}",
+    ),
+    (
+        Code::StimulusSyntax,
+        "the rows of a test table go forward in time",
+        "las filas de una tabla de prueba avanzan en el tiempo",
+    ),
+    (
+        Code::StimulusSyntax,
+        "this row has {} fields, the header {}",
+        "esta fila tiene {0} campos, la cabecera {1}",
+    ),
+    (
+        Code::StimulusTarget,
+        "`{}` is a structure; name a member such as {}.DN",
+        "`{0}` es una estructura; nombre un miembro como {1}.DN",
+    ),
+    (
+        Code::StimulusTarget,
+        "`{}` is a structure; set a member like {}.PRE",
+        "`{0}` es una estructura; fije un miembro como {1}.PRE",
+    ),
+    (
+        Code::StimulusTarget,
+        "`{}` is an output, driven by the program",
+        "`{0}` es una salida, que escribe el programa",
+    ),
+    (
+        Code::StimulusTarget,
+        "`{}` is read-only and cannot be set by a stimulus",
+        "`{0}` es de solo lectura y un estímulo no puede fijarla",
+    ),
+    (
+        Code::StimulusTarget,
+        "`{}` is read-only and cannot be set by a test",
+        "`{0}` es de solo lectura y una prueba no puede fijarla",
+    ),
+    (
+        Code::StimulusTarget,
+        "the stimulus forces a value at {} ms: forces are not available on the board's firmware (--firmware); write the value instead",
+        "el estímulo fuerza un valor a los {0} ms: el firmware de la placa no admite forzados (--firmware); escriba el valor en su lugar",
+    ),
+    (
+        Code::StimulusTarget,
+        "the stimulus sets {} at {} ms on something that is not an input wired to a pin; firmware runs take only DI and AI inputs",
+        "el estímulo fija {0} a los {1} ms en algo que no es una entrada cableada a un pin; las ejecuciones en firmware solo aceptan entradas DI y AI",
+    ),
+    (
+        Code::StimulusTarget,
+        "{} reads {} at {} ms, but an analog input of the board reads 0 to 1023",
+        "{0} lee {1} a los {2} ms, pero una entrada analógica de la placa lee de 0 a 1023",
+    ),
+    (
+        Code::Syntax,
+        "`{}` is not a label name",
+        "`{0}` no es un nombre de etiqueta",
+    ),
+    (
+        Code::TraceName,
+        "--tags has an empty name (two commas, or a comma at an end)",
+        "--tags tiene un nombre vacío (dos comas, o una coma en un extremo)",
+    ),
+    (
+        Code::TraceName,
+        "--tags: `{}` is a structure; name a member such as {}.ACC or {}.DN",
+        "--tags: `{0}` es una estructura; nombre un miembro como {1}.ACC o {2}.DN",
+    ),
+    (Code::TraceName, "--tags: {}", "--tags: {0}"),
+    (
+        Code::TraceName,
+        "`{}` is an LREAL, which the board has not",
+        "`{0}` es un LREAL, que la placa no tiene",
+    ),
+    (
+        Code::Unbalanced,
+        "branches are nested more than {} deep",
+        "las ramas se anidan a más de {0} niveles",
+    ),
+    (Code::Unbalanced, "unexpected {}", "{0} inesperado"),
+    (Code::UnknownTag, "[domain]: {}", "[domain]: {0}"),
+    (
+        Code::UsersFile,
+        "`{}` is not a valid user name",
+        "`{0}` no es un nombre de usuario válido",
+    ),
+    (Code::UsersFile, "users.toml: {}", "users.toml: {0}"),
+    (
+        Code::UsersFile,
+        "{} can be read or written by other users (mode {}): its password hashes are for its owner only",
+        "{0} pueden leerlo o escribirlo otros usuarios (modo {1}): sus hashes de contraseña son solo para su dueño",
+    ),
+    (Code::PnmlSyntax, "not well-formed XML: {}", "XML mal formado: {0}"),
+    (
+        Code::PnmlLimit,
+        "the file is too large to read: {}",
+        "el archivo es demasiado grande para leerlo: {0}",
+    ),
+    (
+        Code::BadArgument,
+        "--board {}: the boards are uno, nano and mega",
+        "--board {0}: las placas son uno, nano y mega",
+    ),
+    (
+        Code::BadArgument,
+        "--pinmap {}: the presets are {}",
+        "--pinmap {0}: los mapas predefinidos son {1}",
+    ),
+    (
+        Code::BadArgument,
+        "--pinmap: the presets are {}",
+        "--pinmap: los mapas predefinidos son {0}",
+    ),
+    (
+        Code::BadArgument,
+        "no board: give --board uno|nano|mega or a [board] section in alba.toml",
+        "no hay placa: dé --board uno|nano|mega o una sección [board] en alba.toml",
+    ),
+    (
+        Code::BadArgument,
+        "the aurora preset is missing",
+        "falta el mapa predefinido aurora",
+    ),
+    (
+        Code::BadArgument,
+        "give --board uno|nano|mega, or a project with a [board] section",
+        "dé --board uno|nano|mega, o un proyecto con una sección [board]",
+    ),
+    (
+        Code::BadArgument,
+        "unknown board `{}` (uno, nano or mega)",
+        "placa desconocida `{0}` (uno, nano o mega)",
+    ),
+    (
+        Code::BadArgument,
+        "unknown link `{}` (modbus or aurora)",
+        "enlace desconocido `{0}` (modbus o aurora)",
+    ),
+    (
+        Code::BadArgument,
+        "unknown pin map `{}` (aurora, s7 or openplc)",
+        "mapa de pines desconocido `{0}` (aurora, s7 u openplc)",
+    ),
+    (
+        Code::BadArgument,
+        "which board? give --board uno|nano|mega, or a project with [board]",
+        "¿qué placa? dé --board uno|nano|mega, o un proyecto con [board]",
+    ),
+    (
+        Code::BadArgument,
+        "{} has no [board] in alba.toml: add one or give --board (and --pinmap)",
+        "{0} no tiene [board] en alba.toml: añada una o dé --board (y --pinmap)",
+    ),
+    (
+        Code::NetElement,
+        "`{}` is a structure; name a member",
+        "`{0}` es una estructura; nombre un miembro",
+    ),
+    (
+        Code::NetElement,
+        "`{}` is not a variable mode",
+        "`{0}` no es un modo de Variable",
+    ),
+    (
+        Code::NetElement,
+        "a counter counts `up` or `down`, not `{}`",
+        "un contador cuenta `up` o `down`, no `{0}`",
+    ),
+    (
+        Code::NetElement,
+        "a normal-mode arc passes one token; this one weighs {}",
+        "un arco en modo normal pasa una marca; este pesa {0}",
+    ),
+    (
+        Code::NetElement,
+        "a {} element has no property `{}`",
+        "un elemento {0} no tiene la propiedad `{1}`",
+    ),
+    (
+        Code::NetElement,
+        "a {} element needs `{}`",
+        "un elemento {0} necesita `{1}`",
+    ),
+    (
+        Code::NetElement,
+        "an output element needs `source` (a tag or a number)",
+        "un elemento Output necesita `source` (una variable o un número)",
+    ),
+    (
+        Code::NetElement,
+        "condition `{}` needs a `<guard>`",
+        "la condición `{0}` necesita una `<guard>`",
+    ),
+    (
+        Code::NetElement,
+        "inhibitor and read arcs are Petri mode's: a normal-mode token just flows",
+        "los arcos inhibidores y de lectura son del modo Petri: en modo normal la marca solo fluye",
+    ),
+    (
+        Code::NetElement,
+        "the counter's load `{}` is not a DINT",
+        "la carga `{0}` del contador no es un DINT",
+    ),
+    (
+        Code::NetElement,
+        "timer `{}` needs a delay",
+        "el temporizador `{0}` necesita un retardo",
+    ),
+    (
+        Code::NetGuard,
+        "FRD and TOD are CPT's (BCD) functions, not a net's",
+        "FRD y TOD son funciones (BCD) de CPT, no de una red",
+    ),
+    (
+        Code::NetGuard,
+        "NOT needs a BOOL in a guard, found a number",
+        "NOT necesita un BOOL en una guarda; hay un número",
+    ),
+    (
+        Code::NetGuard,
+        "`-` needs a number, found a BOOL",
+        "`-` necesita un número; hay un BOOL",
+    ),
+    (
+        Code::NetGuard,
+        "`{}` is a structure; name a member (`{}.DN`)",
+        "`{0}` es una estructura; nombre un miembro (`{1}.DN`)",
+    ),
+    (
+        Code::NetGuard,
+        "a function needs numbers, found a BOOL",
+        "una función necesita números; hay un BOOL",
+    ),
+    (
+        Code::NetGuard,
+        "this operation needs numbers on both sides, found a BOOL",
+        "esta operación necesita números a ambos lados; hay un BOOL",
+    ),
+    (
+        Code::NetGuard,
+        "{} joins BOOLs in a guard; compare numbers first",
+        "{0} une BOOL en una guarda; compare antes los números",
+    ),
+    (Code::SfcSyntax, "`{}` is not a priority", "`{0}` no es una prioridad"),
+    (
+        Code::SfcSyntax,
+        "`{}` is not a qualifier: N S R L D P P1 P0 SD DS SL",
+        "`{0}` no es un calificador: N S R L D P P1 P0 SD DS SL",
+    ),
+    (
+        Code::SfcSyntax,
+        "`{}` is not a step name",
+        "`{0}` no es un nombre de etapa",
+    ),
+    (
+        Code::SfcSyntax,
+        "`{}` is not a time: write T#5s, T#250ms or milliseconds",
+        "`{0}` no es un tiempo: escriba T#5s, T#250ms o milisegundos",
+    ),
+    (
+        Code::SfcSyntax,
+        "a `(*` comment is not closed",
+        "un comentario `(*` no se cierra",
+    ),
+    (
+        Code::SfcSyntax,
+        "an SFC file is at most {} MiB",
+        "un archivo SFC ocupa como mucho {0} MiB",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected INITIAL_STEP, STEP or TRANSITION, found `{}`",
+        "se esperaba INITIAL_STEP, STEP o TRANSITION; hay `{0}`",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected `,` or `)` in a list of steps",
+        "se esperaba `,` o `)` en una lista de etapas",
+    ),
+    (Code::SfcSyntax, "expected `,` or `)`", "se esperaba `,` o `)`"),
+    (
+        Code::SfcSyntax,
+        "expected `:=` after PRIORITY",
+        "se esperaba `:=` después de PRIORITY",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected `:=` and the condition",
+        "se esperaba `:=` y la condición",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected `{}`, found the end of the file",
+        "se esperaba `{0}`; el archivo se acaba",
+    ),
+    (
+        Code::SfcSyntax,
+        "expected {}, found the end of the file",
+        "se esperaba {0}; el archivo se acaba",
+    ),
+    (Code::SfcSyntax, "expected {}", "se esperaba {0}"),
+    (Code::SfcSyntax, "the condition is empty", "la condición está vacía"),
+    (
+        Code::SfcSyntax,
+        "the condition is not ended by `;`",
+        "la condición no termina en `;`",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is an edge (an instant): it takes no on-delay",
+        "`{0}` es un flanco (un instante): no lleva retardo a la conexión",
+    ),
+    (Code::AlarmFile, "`{}` is not a BOOL", "`{0}` no es un BOOL"),
+    (
+        Code::AlarmFile,
+        "a deadband applies to comparisons, not to `{}`",
+        "una banda muerta se aplica a comparaciones, no a `{0}`",
+    ),
+    (
+        Code::AlarmFile,
+        "an alarm needs a message (what the operator reads)",
+        "una alarma necesita un mensaje (lo que lee el operador)",
+    ),
+    (
+        Code::AlarmFile,
+        "an alarm row has {} fields, this one has {}",
+        "una fila de alarma tiene {0} campos; esta tiene {1}",
+    ),
+    (Code::AlarmFile, "more than {} alarms", "más de {0} alarmas"),
+    (
+        Code::StDeclaration,
+        "EXIT is only allowed inside FOR, WHILE or REPEAT",
+        "EXIT solo se permite dentro de FOR, WHILE o REPEAT",
+    ),
+    (Code::StDeclaration, "`{}` is CONSTANT", "`{0}` es CONSTANT"),
+    (
+        Code::StDeclaration,
+        "the loop variable `{}` is a writable integer variable",
+        "la variable del bucle `{0}` es una variable entera que se puede escribir",
+    ),
+    (
+        Code::StType,
+        "CASE selects on an integer, not a {}",
+        "CASE selecciona por un entero, no por un {0}",
+    ),
+    (Code::StType, "MOD does not take TIME", "MOD no admite TIME"),
+    (Code::StType, "MOD takes integers, not {}", "MOD admite enteros, no {0}"),
+    (Code::StType, "MUX", "MUX"),
+    (
+        Code::StType,
+        "MUX's selector is an integer",
+        "el selector de MUX es un entero",
+    ),
+    (Code::StType, "N", "N"),
+    (
+        Code::StType,
+        "NOT takes a BOOL or a bit string (BYTE … LWORD), not {}",
+        "NOT admite un BOOL o una cadena de bits (BYTE … LWORD), no {0}",
+    ),
+    (Code::StType, "SEL's selector is BOOL", "el selector de SEL es BOOL"),
+    (
+        Code::StType,
+        "T#{}ms does not fit a TIME (32-bit milliseconds)",
+        "T#{0}ms no cabe en un TIME (milisegundos de 32 bits)",
+    ),
+    (
+        Code::StType,
+        "TIME {} TIME is not defined; scale a TIME by an integer",
+        "TIME {0} TIME no está definido; escale un TIME por un entero",
+    ),
+    (
+        Code::StType,
+        "TRUNC takes a REAL or LREAL, not {}",
+        "TRUNC admite un REAL o LREAL, no {0}",
+    ),
+    (Code::StType, "TRUNC takes a REAL", "TRUNC admite un REAL"),
+    (
+        Code::StType,
+        "`**` takes REAL or LREAL, not {}; convert with {}_TO_REAL",
+        "`**` admite REAL o LREAL, no {0}; convierta con {1}_TO_REAL",
+    ),
+    (
+        Code::StType,
+        "`-` takes a number, not a {}",
+        "`-` admite un número, no un {0}",
+    ),
+    (
+        Code::StType,
+        "`.{}`: this has no members",
+        "`.{0}`: esto no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` cannot be assigned as a whole",
+        "`{0}` no se puede asignar entero",
+    ),
+    (
+        Code::StType,
+        "`{}` does not take bit strings ({}); convert to an unsigned integer first",
+        "`{0}` no admite cadenas de bits ({1}); convierta antes a un entero sin signo",
+    ),
+    (
+        Code::StType,
+        "`{}` does not take enumeration values ({})",
+        "`{0}` no admite valores de enumeración ({1})",
+    ),
+    (Code::StType, "`{}` has no members", "`{0}` no tiene miembros"),
+    (
+        Code::StType,
+        "`{}` is a BOOL; it has no members",
+        "`{0}` es un BOOL; no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` is a FUNCTION_BLOCK type: declare an instance (`x : {};`) and call the instance",
+        "`{0}` es un tipo FUNCTION_BLOCK: declare una instancia (`x : {1};`) y llame a la instancia",
+    ),
+    (
+        Code::StType,
+        "`{}` is a TIMER, COUNTER or PID tag, not {}",
+        "`{0}` es una variable TIMER, COUNTER o PID, no {1}",
+    ),
+    (
+        Code::StType,
+        "`{}` is a function block instance: call it as a statement (`{}(…);`) and read its outputs",
+        "`{0}` es una instancia de bloque de función: llámela como sentencia (`{1}(…);`) y lea sus salidas",
+    ),
+    (
+        Code::StType,
+        "`{}` is a whole {}; index it",
+        "`{0}` es un {1} entero; indéxelo",
+    ),
+    (
+        Code::StType,
+        "`{}` is a whole {}; read a member",
+        "`{0}` es un {1} entero; lea un miembro",
+    ),
+    (
+        Code::StType,
+        "`{}` is a {} instance; call it or read a member",
+        "`{0}` es una instancia de {1}; llámela o lea un miembro",
+    ),
+    (
+        Code::StType,
+        "`{}` is a {} instance; call it or read an output",
+        "`{0}` es una instancia de {1}; llámela o lea una salida",
+    ),
+    (
+        Code::StType,
+        "`{}` is an array; it has no members",
+        "`{0}` es un array; no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` is declared {} here but the global is {}",
+        "`{0}` está declarada aquí como {1} pero la global es {2}",
+    ),
+    (Code::StType, "`{}` is given twice", "`{0}` se da dos veces"),
+    (Code::StType, "`{}` is not a variable", "`{0}` no es una variable"),
+    (Code::StType, "`{}` is not an array", "`{0}` no es un array"),
+    (
+        Code::StType,
+        "`{}` is {}: its bits are `.0` to `.{}`, not `.{}`",
+        "`{0}` es {1}: sus bits van de `.0` a `.{2}`, no `.{3}`",
+    ),
+    (
+        Code::StType,
+        "`{}` is {}; it has no members",
+        "`{0}` es {1}; no tiene miembros",
+    ),
+    (
+        Code::StType,
+        "`{}` of {} and {}: the types differ; convert one (for example {}_TO_{})",
+        "`{0}` de {1} y {2}: los tipos difieren; convierta uno (por ejemplo {3}_TO_{4})",
+    ),
+    (
+        Code::StType,
+        "`{}` takes numbers, not {} and {}",
+        "`{0}` admite números, no {1} y {2}",
+    ),
+    (
+        Code::StType,
+        "a BOOL where a {} is wanted",
+        "un BOOL donde se quiere un {0}",
+    ),
+    (
+        Code::StType,
+        "a CASE label does not fit a DINT",
+        "una etiqueta de CASE no cabe en un DINT",
+    ),
+    (
+        Code::StType,
+        "a CASE label is an integer literal or a range of them",
+        "una etiqueta de CASE es un literal entero o un rango de ellos",
+    ),
+    (Code::StType, "a bit is a BOOL, not {}", "un bit es un BOOL, no {0}"),
+    (
+        Code::StType,
+        "a condition is BOOL, not {}",
+        "una condición es BOOL, no {0}",
+    ),
+    (
+        Code::StType,
+        "an index is SINT, INT or DINT, not {}",
+        "un índice es SINT, INT o DINT, no {0}",
+    ),
+    (
+        Code::StType,
+        "an index is an integer, not {}",
+        "un índice es un entero, no {0}",
+    ),
+    (
+        Code::StType,
+        "cannot assign this to `{}`, {}",
+        "no se puede asignar esto a `{0}`, {1}",
+    ),
+    (
+        Code::StType,
+        "cannot assign {} to `{}`, {}",
+        "no se puede asignar {0} a `{1}`, {2}",
+    ),
+    (
+        Code::StType,
+        "cannot assign {} to `{}`, {}; convert it (for example {}_TO_{})",
+        "no se puede asignar {0} a `{1}`, {2}; conviértalo (por ejemplo {3}_TO_{4})",
+    ),
+    (
+        Code::StType,
+        "cannot assign {} to {} element; convert it",
+        "no se puede asignar {0} a un elemento ({1}); conviértalo",
+    ),
+    (Code::StType, "enumeration", "enumeración"),
+    (Code::StType, "index", "índice"),
+    (Code::StType, "selector", "selector"),
+    (
+        Code::StType,
+        "the array has {} dimension(s), not {}",
+        "el array tiene {0} dimensión(es), no {1}",
+    ),
+    (
+        Code::StType,
+        "the index {} is outside the bounds {}..{}",
+        "el índice {0} está fuera de los límites {1}..{2}",
+    ),
+    (
+        Code::StType,
+        "the loop variable is a {}; the end value is a {}",
+        "la variable del bucle es un {0}; el valor final es un {1}",
+    ),
+    (
+        Code::StType,
+        "the loop variable is a {}; the start value is a {}",
+        "la variable del bucle es un {0}; el valor inicial es un {1}",
+    ),
+    (
+        Code::StType,
+        "the range {}..{} is empty",
+        "el rango {0}..{1} está vacío",
+    ),
+    (Code::StType, "{} does not fit a {}", "{0} no cabe en un {1}"),
+    (
+        Code::StType,
+        "{} of {} and {}: the types differ",
+        "{0} de {1} y {2}: los tipos difieren",
+    ),
+    (
+        Code::StType,
+        "{} shifts a bit string (BYTE … LWORD), not {}",
+        "{0} desplaza una cadena de bits (BYTE … LWORD), no {1}",
+    ),
+    (
+        Code::StType,
+        "{} takes BOOL operands, not {} and {} (bit strings are not supported yet)",
+        "{0} admite operandos BOOL, no {1} y {2} (las cadenas de bits aún no están disponibles)",
+    ),
+    (
+        Code::StType,
+        "{} takes REAL or LREAL operands, not {} and {}",
+        "{0} admite operandos REAL o LREAL, no {1} y {2}",
+    ),
+    (
+        Code::StType,
+        "{} takes a REAL or LREAL, not {}; convert it ({}_TO_REAL)",
+        "{0} admite un REAL o LREAL, no {1}; conviértalo ({2}_TO_REAL)",
+    ),
+    (
+        Code::StType,
+        "{} takes a number, not BOOL",
+        "{0} admite un número, no BOOL",
+    ),
+    (Code::StType, "{} takes a {}, not BOOL", "{0} admite un {1}, no BOOL"),
+    (Code::StType, "{} takes a {}, not a {}", "{0} admite un {1}, no un {2}"),
+    (
+        Code::StType,
+        "{} takes numbers, not BOOL",
+        "{0} admite números, no BOOL",
+    ),
+    (
+        Code::StType,
+        "{} takes {} argument(s), not {}",
+        "{0} lleva {1} argumento(s), no {2}",
+    ),
+    (Code::StType, "{} takes {} arguments", "{0} lleva {1} argumentos"),
+    (Code::StType, "{} takes {} input(s)", "{0} lleva {1} entrada(s)"),
+    (
+        Code::StType,
+        "{}'s N is an integer, not BOOL",
+        "la N de {0} es un entero, no BOOL",
+    ),
+    (
+        Code::StType,
+        "{}'s N is an integer, not {}",
+        "la N de {0} es un entero, no {1}",
+    ),
+    (
+        Code::StType,
+        "{}'s first argument is {}, not {}",
+        "el primer argumento de {0} es {1}, no {2}",
+    ),
+    (Code::StType, "{}.{} is a {}, not a {}", "{0}.{1} es un {2}, no un {3}"),
+    (
+        Code::StType,
+        "{}: BCD conversions are between a bit string and an integer",
+        "{0}: las conversiones BCD son entre una cadena de bits y un entero",
+    ),
+    (Code::PnmlNumber, "{} is empty", "{0} está vacío"),
+    (
+        Code::PnmlNumber,
+        "{} `{}` is far too large",
+        "{0} `{1}` es demasiado grande",
+    ),
+    (
+        Code::PnmlNumber,
+        "{} `{}` is not a whole number",
+        "{0} `{1}` no es un número entero",
+    ),
+    (Code::PnmlNumber, "{} `{}` is not a number", "{0} `{1}` no es un número"),
+    (
+        Code::TomlSyntax,
+        "alba.toml: string values must be quoted, expected literal string",
+        "alba.toml: los valores de texto van entre comillas",
+    ),
+    (
+        Code::TomlSyntax,
+        "alba.toml: invalid basic string, expected `\"`",
+        "alba.toml: cadena no válida; se esperaba `\"`",
+    ),
+    (
+        Code::TomlSyntax,
+        "alba.toml: {}",
+        "alba.toml no es TOML válido (en palabras del lector de TOML): {0}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: missing field `{}`",
+        "alba.toml: falta el campo `{0}`",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: unknown field `{}`, expected one of {}",
+        "alba.toml: campo desconocido `{0}`; se esperaba uno de {1}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: unknown field `{}`, expected {}",
+        "alba.toml: campo desconocido `{0}`; se esperaba {1}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: invalid type: {}, expected {}",
+        "alba.toml: tipo no válido: {0}; se esperaba {1}",
+    ),
+    (
+        Code::ConfigField,
+        "alba.toml: invalid value: {}, expected {}",
+        "alba.toml: valor no válido: {0}; se esperaba {1}",
+    ),
+    (
+        Code::ConfigField,
+        "{} has no PWM, so it cannot be an analog output",
+        "{0} no tiene PWM, así que no puede ser una salida analógica",
+    ),
+    (
+        Code::ConfigField,
+        "broker = \"{}\" is not a host and port",
+        "broker = \"{0}\" no es un host y un puerto",
+    ),
+    (
+        Code::ConfigField,
+        "topic_prefix = \"{}\" is not a topic prefix",
+        "topic_prefix = \"{0}\" no es un prefijo de tema",
+    ),
+    (
+        Code::ConfigField,
+        "username and password_file go together",
+        "username y password_file van juntos",
+    ),
+    (
+        Code::ProgramFile,
+        "`{}` leaves the project folder",
+        "`{0}` sale de la carpeta del proyecto",
+    ),
+    (
+        Code::ProgramFile,
+        "`{}` is listed twice",
+        "`{0}` está listado dos veces",
+    ),
+    (
+        Code::ProgramFile,
+        "`{}` has no known program extension",
+        "`{0}` no tiene una extensión de programa conocida",
+    ),
+    (Code::ProgramFile, "cannot read {}: {}", "no se puede leer {0}: {1}"),
+    (
+        Code::BoardPin,
+        "`{}` ({}) is pin {}, but the {} has no pin {} ({}); {}",
+        "`{0}` ({1}) es el pin {2}, pero la {3} no tiene pin {4} ({5}); {6}",
+    ),
+    (
+        Code::BoardPin,
+        "`{}` ({}) is not wired: the pin map has {} channels there ({} to {})",
+        "`{0}` ({1}) no está cableada: el mapa de pines tiene ahí {2} canales ({3} a {4})",
+    ),
+    (
+        Code::PlantModel,
+        "a plant model cannot write `{}`: it is an output of the program",
+        "un modelo de planta no puede escribir `{0}`: es una salida del programa",
+    ),
+    (
+        Code::PlantModel,
+        "{} = {} must be a number 0 or more",
+        "{0} = {1} debe ser un número mayor o igual que 0",
+    ),
+    (
+        Code::PlantModel,
+        "{} = {} must be a number more than 0",
+        "{0} = {1} debe ser un número mayor que 0",
+    ),
+    (
+        Code::PlantModel,
+        "drain = \"{}\" is not a drain law",
+        "drain = \"{0}\" no es una ley de vaciado",
+    ),
+    (
+        Code::CsvSyntax,
+        "this quote is never closed",
+        "estas comillas nunca se cierran",
+    ),
+    (
+        Code::PidParameter,
+        "PID parameter {} = {}: {}",
+        "parámetro PID {0} = {1}: {2}",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not a condition: write on, off, rising, falling, or > >= < <= == != and a number",
+        "`{0}` no es una condición: escriba on, off, rising, falling, o > >= < <= == != y un número",
+    ),
+    (
+        Code::AlarmFile,
+        "`{}` is not a severity: write 1 to 1000, or low, medium, high or critical",
+        "`{0}` no es una severidad: escriba de 1 a 1000, o low, medium, high o critical",
+    ),
+    (
+        Code::LogicStack,
+        "{} needs a value on the logic stack, which is empty here",
+        "{0} necesita un valor en la pila lógica, que aquí está vacía",
+    ),
+    (
+        Code::LogicStack,
+        "{} needs {} values on the logic stack, which holds {} here",
+        "{0} necesita {1} valores en la pila lógica, que aquí contiene {2}",
+    ),
+    (
+        Code::S7Timer,
+        "{} is a TONR timer; TON and TOF use T32–T63 and T96–T255",
+        "{0} es un temporizador TONR; TON y TOF usan T32–T63 y T96–T255",
+    ),
+    (
+        Code::S7Timer,
+        "{} is a TON/TOF timer; TONR uses T0–T31 and T64–T95",
+        "{0} es un temporizador TON/TOF; TONR usa T0–T31 y T64–T95",
+    ),
+    (
+        Code::StSyntax,
+        "`{}` is not a duration; write it like T#1h2m3s, T#1.5s or T#250ms",
+        "`{0}` no es una duración; escríbala como T#1h2m3s, T#1.5s o T#250ms",
+    ),
+    (
+        Code::StSyntax,
+        "this comment `(*` is never closed by `*)`",
+        "este comentario `(*` nunca se cierra con `*)`",
+    ),
+    (
+        Code::StSyntax,
+        "this string is not closed on its line",
+        "esta cadena no se cierra en su línea",
+    ),
+    (Code::StSyntax, "unexpected character `{}`", "carácter inesperado `{0}`"),
+    (
+        Code::Expression,
+        "expected a value, found `{}`",
+        "se esperaba un valor; hay `{0}`",
+    ),
+    (
+        Code::Expression,
+        "the expression ends too early: expected a value",
+        "la expresión termina demasiado pronto: se esperaba un valor",
+    ),
+    (
+        Code::BadArgument,
+        "invalid value '{}' for '{}': {}",
+        "valor no válido '{0}' para '{1}': {2}",
+    ),
+    (
+        Code::NetPlaceTag,
+        "place `{}` cannot drive `{}`: it is an input, written only by the I/O (or a plant model)",
+        "el lugar `{0}` no puede escribir `{1}`: es una entrada, que solo escribe la E/S (o un modelo de planta)",
+    ),
+    (
+        Code::NetPlaceTag,
+        "place `{}` drives `{}`, which is a {}, not a BOOL",
+        "el lugar `{0}` escribe `{1}`, que es un {2}, no un BOOL",
+    ),
+    (
+        Code::NetPlaceTag,
+        "place `{}` drives unknown tag `{}`",
+        "el lugar `{0}` escribe una variable desconocida `{1}`",
+    ),
+    (
+        Code::NetElement,
+        "the delay `{}` is negative",
+        "el retardo `{0}` es negativo",
+    ),
+    (
+        Code::SfcStructure,
+        "an SFC has one initial step; `{}` is another",
+        "un SFC tiene una sola etapa inicial; `{0}` es otra",
+    ),
+    (
+        Code::SfcStructure,
+        "an SFC needs one INITIAL_STEP",
+        "un SFC necesita un INITIAL_STEP",
+    ),
+    (Code::SfcStructure, "no step `{}`", "no hay ninguna etapa `{0}`"),
+    (
+        Code::SfcStructure,
+        "the qualifier {} needs a time: `{}`",
+        "el calificador {0} necesita un tiempo: `{1}`",
+    ),
+    (
+        Code::SfcStructure,
+        "the qualifier {} takes no time",
+        "el calificador {0} no lleva tiempo",
+    ),
+];
+
+/// Messages of the shared readers — addresses, literals, tag names, the
+/// resolution of a name — that sites of many codes pass on as they are
+/// (`unknown tag `X`` is E301 in a rung, E402 in a stimulus, E621 in a guard):
+/// (English pattern, Spanish), tried for any code after its own [`MESSAGES`].
+pub const SHARED: &[(&str, &str)] = &[
+    ("unknown tag `{}`", "variable desconocida `{0}`"),
+    (
+        "{} `{}` has no member `{}` (members: {})",
+        "{0} `{1}` no tiene el miembro `{2}` (miembros: {3})",
+    ),
+    (
+        "`{}` is a {}, not a structure with members",
+        "`{0}` es un {1}, no una estructura con miembros",
+    ),
+    (
+        "{} is outside this project's I/O image",
+        "{0} está fuera de la imagen de E/S de este proyecto",
+    ),
+    // addresses (alba-model's address.rs and address/slc.rs)
+    (
+        "`{}`: expected a number for the channel",
+        "`{0}`: se esperaba un número de canal",
+    ),
+    (
+        "`{}`: expected a number for the word",
+        "`{0}`: se esperaba un número de palabra",
+    ),
+    (
+        "`{}`: expected a number for the byte",
+        "`{0}`: se esperaba un número de byte",
+    ),
+    (
+        "`{}`: expected a number for the bit",
+        "`{0}`: se esperaba un número de bit",
+    ),
+    (
+        "`{}`: expected a number for the double word",
+        "`{0}`: se esperaba un número de doble palabra",
+    ),
+    (
+        "`{}`: expected a number for the {}",
+        "`{0}`: se esperaba un número para {1}",
+    ),
+    (
+        "`{}`: expected byte.bit, like 0.3",
+        "`{0}`: se esperaba byte.bit, como 0.3",
+    ),
+    (
+        "`{}`: bit numbers go from 0 to 7",
+        "`{0}`: los números de bit van de 0 a 7",
+    ),
+    (
+        "`{}`: digital channels go from 0 to {}",
+        "`{0}`: los canales digitales van de 0 a {1}",
+    ),
+    (
+        "`{}`: analog channels go from 0 to {}",
+        "`{0}`: los canales analógicos van de 0 a {1}",
+    ),
+    (
+        "`{}`: marker memory has {} bytes (0 to {})",
+        "`{0}`: la memoria de marcas tiene {1} bytes (0 a {2})",
+    ),
+    (
+        "`{}`: unknown area `{}`; AuroraLD addresses are DI:1/n, DO:2/n, AI:3/n or AO:4/n",
+        "`{0}`: área desconocida `{1}`; las direcciones de AuroraLD son DI:1/n, DO:2/n, AI:3/n o AO:4/n",
+    ),
+    (
+        "`{}`: {} addresses use slot {} ({}:{}/n)",
+        "`{0}`: las direcciones {1} usan la ranura {2} ({3}:{4}/n)",
+    ),
+    (
+        "`{}`: expected a size X, B, W or D after %{}",
+        "`{0}`: se esperaba un tamaño X, B, W o D después de %{1}",
+    ),
+    (
+        "`{}`: %{}{} is not an address Alba knows",
+        "`{0}`: %{1}{2} no es una dirección que Alba conozca",
+    ),
+    (
+        "`{}`: IEC addresses start with %I, %Q or %M",
+        "`{0}`: las direcciones IEC empiezan por %I, %Q o %M",
+    ),
+    (
+        "`{}`: S7 analog words are even (AIW0, AIW2, ...)",
+        "`{0}`: las palabras analógicas del S7 son pares (AIW0, AIW2, ...)",
+    ),
+    (
+        "`{}`: S7 analog words are even (AQW0, AQW2, ...)",
+        "`{0}`: las palabras analógicas del S7 son pares (AQW0, AQW2, ...)",
+    ),
+    (
+        "`{}`: a bit file has {} bits (B{}/0 to B{}/{})",
+        "`{0}`: un archivo de bits tiene {1} bits (B{2}/0 a B{3}/{4})",
+    ),
+    (
+        "`{}`: a {} element is {}{}:e or {}{}:e.MEMBER (like {}{}:0.{})",
+        "`{0}`: un elemento {1} es {2}{3}:e o {4}{5}:e.MIEMBRO (como {6}{7}:0.{8})",
+    ),
+    (
+        "`{}`: file numbers go from 0 to 255",
+        "`{0}`: los números de archivo van de 0 a 255",
+    ),
+    ("`{}`: elements go from 0 to {}", "`{0}`: los elementos van de 0 a {1}"),
+    (
+        "`{}`: elements go from 0 to {} ({}{}:0 to {}{}:{})",
+        "`{0}`: los elementos van de 0 a {1} ({2}{3}:0 a {4}{5}:{6})",
+    ),
+    (
+        "`{}`: Alba maps the bits of the SLC 500's I/O words ({}:e/b, b from 0 to 15), not whole words; use an analog address (AI:3/n, AO:4/n) for a value",
+        "`{0}`: Alba asigna los bits de las palabras de E/S del SLC 500 ({1}:e/b, b de 0 a 15), no palabras enteras; use una dirección analógica (AI:3/n, AO:4/n) para un valor",
+    ),
+    (
+        "`{}`: Alba maps one 16-bit word per slot ({}:e.0/b, or {}:e/b)",
+        "`{0}`: Alba asigna una palabra de 16 bits por ranura ({1}:e.0/b, o {2}:e/b)",
+    ),
+    (
+        "`{}`: bits of an SLC 500 word go from 0 to 15",
+        "`{0}`: los bits de una palabra del SLC 500 van de 0 a 15",
+    ),
+    (
+        "`{}`: slots go from 0 to {} (16 channels each)",
+        "`{0}`: las ranuras van de 0 a {1} (16 canales cada una)",
+    ),
+    (
+        "`{}`: Alba maps the SLC 500 data files {} and the timer and counter files (T4, C5); {}{} is not one of them",
+        "`{0}`: Alba asigna los archivos de datos del SLC 500 {1} y los de temporizadores y contadores (T4, C5); {2}{3} no es uno de ellos",
+    ),
+    (
+        "`{}`: a float (F) element has no bits",
+        "`{0}`: un elemento de coma flotante (F) no tiene bits",
+    ),
+    // literals (alba-model's value.rs)
+    ("`{}` is not a number", "`{0}` no es un número"),
+    (
+        "`{}`: the base of a based literal is 2, 8, 10 or 16",
+        "`{0}`: la base de un literal con base es 2, 8, 10 o 16",
+    ),
+    (
+        "`{}` is not a valid base-{} number",
+        "`{0}` no es un número válido en base {1}",
+    ),
+    ("`{}` does not fit in 64 bits", "`{0}` no cabe en 64 bits"),
+    ("`{}` is too large", "`{0}` es demasiado grande"),
+    (
+        "`{}`: write a digit after the decimal point",
+        "`{0}`: escriba una cifra después del punto decimal",
+    ),
+    (
+        "{} is out of range for {} ({} to {})",
+        "{0} está fuera del rango de {1} ({2} a {3})",
+    ),
+    ("{} is out of range for REAL", "{0} está fuera del rango de REAL"),
+    ("{} takes an integer, not a real", "{0} admite un entero, no un real"),
+    (
+        "{} takes a number, not a boolean",
+        "{0} admite un número, no un booleano",
+    ),
+    ("{} does not take a duration", "{0} no admite una duración"),
+    (
+        "{} is a structure and takes no single value",
+        "{0} es una estructura y no admite un único valor",
+    ),
+    (
+        "`{}` is not a duration; write it like T#1m30s or T#250ms",
+        "`{0}` no es una duración; escríbala como T#1m30s o T#250ms",
+    ),
+    (
+        "`{}` is beyond the DINT range; only a LINT or LREAL instruction takes it",
+        "`{0}` está fuera del rango DINT; solo una instrucción LINT o LREAL lo admite",
+    ),
+    // tag names (alba-model's tags.rs)
+    (
+        "`{}` is not a valid tag name: use letters, digits and `_`, not starting with a digit",
+        "`{0}` no es un nombre de variable válido: use letras, dígitos y `_`, sin empezar por un dígito",
+    ),
+    ("`{}` is longer than {} characters", "`{0}` tiene más de {1} caracteres"),
+    ("`{}` is a reserved word", "`{0}` es una palabra reservada"),
+    ("the tag name is empty", "el nombre de la variable está vacío"),
 ];
 
 /// Labels and hints shared by many codes: (English pattern, Spanish).
@@ -370,8 +2193,8 @@ pub const PHRASES: &[(&str, &str)] = &[
     ("this address holds {}", "esta dirección contiene {0}"),
 ];
 
-/// Spanish explanations (`alba explain --lang es`) of the codes a student meets
-/// first; the others are explained in English under their Spanish title.
+/// The Spanish explanation (`alba explain CODE --lang es`) of every code; a
+/// test fails when a code lacks one.
 pub const EXPLANATIONS: &[(Code, &str)] = &[
     (
         Code::Io,
@@ -462,6 +2285,231 @@ pub const EXPLANATIONS: &[(Code, &str)] = &[
         "Los archivos de estímulos tienen la cabecera `time_ms,tag,value`; time_ms es un entero no negativo; los valores son 0/1, true/false, enteros o reales.",
     ),
     (Code::BadArgument, "Vea `alba help <orden>` para los valores aceptados."),
+    (
+        Code::ConfigField,
+        "alba.toml necesita `name` (una cadena) y `programs` (una lista de archivos de programa); son opcionales `scan_ms` (1..=60000, por defecto 10), `retain_ms` (10..=3600000, por defecto 1000), `description`, una tabla `[history]` (`enabled`, `retention_days` 0..=36500, `sample_ms`, `deadband` ≥ 0), una tabla `[modbus]` (`listen` = \"IP:PUERTO\", `max_connections` 1..=4096, `idle_timeout_s` 0..=86400, `unit_id` 0..=255, `allow` y `read_only` (vea E108), y `[modbus.tags]` con direcciones como \"hr 8192\"), una tabla `[opcua]` (`listen` = \"IP:PUERTO\", que necesita usuarios (users.toml) fuera de loopback; el obsoleto `[opcua.users]` con `nombre = \"<hash argon2 de alba hash-password>\"`, nunca una contraseña en claro; `read_only` lista algunos de ellos) y una tabla `[board]` (`model` = uno, nano o mega; `pinmap` = aurora, s7 u openplc). Las claves desconocidas se rechazan para que las erratas no pasen en silencio.",
+    ),
+    (
+        Code::ProgramFile,
+        "Cada entrada de `programs` debe nombrar, una sola vez, un archivo existente de la carpeta del proyecto con una extensión conocida (`.lad` para Ladder).",
+    ),
+    (
+        Code::PlantModel,
+        "Cada tabla `[[plant_model]]` de alba.toml simula un proceso sobre la E/S: `kind` es first_order (gain, tau), second_order (gain, den = [a2, a1, a0]), tank (area, inflow, outflow, sensor, max_level) o motor (r, l, kt, ke, j, b, sensor); `input` y `output` nombran la señal del actuador que lee y la medida que escribe (una variable, un miembro o una dirección; la salida debe ser una entrada o una variable interna). Opcionales: input_scale y output_scale = [raw_lo, raw_hi, lo, hi], saturation = [lo, hi] (límites del actuador), dead_time (0 a 600 s), noise (desviación típica) con seed, initial (la medida al empezar). Los tiempos y coeficientes deben ser números positivos; se rechazan los parámetros de otra clase. Vea docs/pid.md.",
+    ),
+    (
+        Code::ModbusTag,
+        "Cada entrada de `[modbus.tags]` de alba.toml da a una variable (o `Variable.MIEMBRO`, o una variable del sistema como `S:SCANMAX`) una dirección Modbus explícita según el mapa de OpenPLC: `Nombre = \"hr 8192\"`. El nombre debe existir; un BOOL va en una bobina o entrada discreta (`coil`, `di`), los números en registros (`hr`, `ir`: 1 registro para SINT/INT, 2 para DINT/REAL/TIME, 4 para LINT/LREAL, palabra alta primero); los clientes escriben bobinas y registros de retención, así que las entradas y las variables de solo lectura van en `di` o `ir`; dos entradas no pueden compartir un bit o un registro. Vea docs/protocols.md.",
+    ),
+    (
+        Code::UsersFile,
+        "Cada usuario de `users.toml` (junto a alba.toml) es una tabla `[users.NOMBRE]` con `role` (viewer, operator, engineer o admin) y `password`, el hash argon2 de la contraseña como cadena PHC (`$argon2id$...`), nunca la contraseña misma. Los nombres tienen de 1 a 64 letras, dígitos y `_ . - @`. Las claves desconocidas se rechazan. `alba user add|passwd|remove|role` escribe el archivo; vea docs/file-formats.md y docs/security.md. Un users.toml que otros usuarios de la máquina pueden leer o escribir (modo Unix más allá de 0600) se informa como aviso, no como error: `chmod 600 users.toml` (toda orden `alba user` lo guarda con 0600).",
+    ),
+    (
+        Code::ModbusClients,
+        "Modbus TCP no tiene autenticación, así que el servidor de `alba run` decide por la dirección del cliente. `[modbus] allow` lista los clientes atendidos: direcciones IPv4 o IPv6 (\"192.168.1.20\", \"::1\") y rangos CIDR (\"10.0.0.0/24\", \"fd00::/8\", con los bits de host a cero); la lista no puede estar vacía. Una dirección `listen` fuera de loopback (como 0.0.0.0) necesita `allow`; en loopback se atiende a todo cliente local salvo que `allow` diga otra cosa. `read_only = true` rechaza toda escritura. Vea docs/security.md.",
+    ),
+    (
+        Code::OpcuaUsersDeprecated,
+        "Los usuarios de `[opcua.users]` en alba.toml siguen funcionando (los de read_only como viewers, los demás como operators), pero los usuarios viven ahora en `users.toml`, un único almacén para todas las interfaces. Es un aviso: el proyecto se carga y se ejecuta. Pase cada usuario con `alba user add <proyecto> <nombre> --role operator` (tecleando otra vez la contraseña), o con `alba user migrate <proyecto>`, que copia los hashes en users.toml; después borre `[opcua.users]` y `read_only` de alba.toml. Un nombre presente en los dos archivos toma su entrada de users.toml.",
+    ),
+    (
+        Code::BadAddress,
+        "Las direcciones nombran la imagen de E/S: DI:1/n DO:2/n AI:3/n AO:4/n (AuroraLD), %IXb.i %QXb.i %IWn %QWn %MXb.i %MBn %MWn %MDn (IEC 61131-3), Ib.i Qb.i AIWn AQWn Ainn Mb.i MBn MWn MDn (S7-200), I:e/b O:e/b B3:e/b N7:e F8:e N9:e N10:e (archivos del SLC 500, elementos 0 a 255, bits de palabra 0 a 15). Los números de bit van de 0 a 7; las direcciones de palabra analógica del S7 son pares.",
+    ),
+    (
+        Code::TypeAddressMismatch,
+        "Las E/S digitales y los bits de marcas contienen BOOL; las E/S analógicas INT o DINT; MB contiene SINT, MW INT, MD DINT, REAL o TIME. Las estructuras (TIMER, COUNTER, PID) no pueden tener dirección.",
+    ),
+    (
+        Code::BadInitialValue,
+        "BOOL admite 0, 1, true o false; los enteros admiten números decimales (o con base 16#, 8#, 2#) dentro del rango del tipo; REAL admite un número; TIME admite milisegundos o un literal T#1m30s. Las estructuras no llevan valor inicial en tags.csv: su PRE y su ACC vienen de la instrucción (TON(t,5000,0)).",
+    ),
+    (
+        Code::BadRetain,
+        "`retain` está vacío (no se retiene), o es 0/1, true/false o yes/no.",
+    ),
+    (
+        Code::ReservedType,
+        "Ahora mismo no hay ningún tipo reservado (PID, que lo estuvo, está disponible). El código se conserva para que los informes antiguos mantengan su sentido.",
+    ),
+    (
+        Code::PidParameter,
+        "El campo `initial` de una variable PID es una lista de pares `MIEMBRO=valor` separados por `;` (por ejemplo `KP=5;KI=0.8;UPD=640;MAXS=10`). Cada miembro debe existir y poder escribirse, cada valor debe ser un número, y junto con los valores por defecto deben formar un lazo válido: UPD > 0 ms, ganancias y tiempos (KP KI KD KC TI TD) no negativos, MINS <= MAXS, 0 <= DB <= MAXS-MINS, 0 <= MINO <= MAXO <= 100 (%), DFN >= 0, FORM de 0 a 4, 11 o 12 (3 y 4 como los ejecutan los programas 004; FORM 3 y 11 con UPD >= 10 ms), sin NaN ni infinitos. El SLC 500 informa de estas mismas condiciones en ejecución como errores PID 11H 12H 13H 14H 23H 41H 51H 52H; Alba las informa al comprobar el proyecto, y en ejecución (ERRC, un fallo menor) cuando un programa escribe un valor así.",
+    ),
+    (
+        Code::AlarmFile,
+        "alarms.csv tiene la cabecera `id,tag,condition,severity,delay_ms,deadband,message` (puede seguir una octava columna `suppressed_by`) y una alarma por fila: un id único (letras, dígitos, `_`, `-`, `.`), una variable, miembro o dirección del programa, una condición (on, off, rising, falling, o > >= < <= == != y un número; las comparaciones solo para números), una severidad (1 a 1000, o low, medium, high, critical), un retardo a la conexión en ms (0 a 86400000; ninguno para rising/falling), una banda muerta ≥ 0 (para comparaciones), un mensaje y, opcionalmente, una variable BOOL que suprime la alarma mientras es verdadera. Vea docs/alarms.md.",
+    ),
+    (
+        Code::ScreenFile,
+        "Una pantalla del estudio (hmi/<pantalla>.json) no es válida: no es JSON, tiene un esquema que esta versión no lee, un tipo de elemento o una animación desconocidos, un elemento sin id o sin tamaño, una variable que el programa no tiene, una estructura donde hace falta un valor, un widget que escribe una entrada o una variable de solo lectura, o un rango cuyo máximo no supera su mínimo. El mensaje dice cuál, en su lugar del archivo; docs/file-formats.md describe el formato.",
+    ),
+    (
+        Code::UnknownInstruction,
+        "El nombre de la instrucción no está en el juego de instrucciones Ladder de Alba. Grupos: bits (XIC XIO OTE OTL OTU ONS OSR OSF), temporizadores (TON TOF RTO TP), contadores (CTU CTD RES), comparación (LIM EQU NEQ LES GRT LEQ GEQ MEQ), cálculo (ADD SUB MUL DIV MOD SQR NEG ABS XPY LN LOG CPT SCP), movimiento y lógica (MOV CLR AND OR XOR NOT), trigonometría (SIN COS TAN ASN ACS ATN DEG RAD), flujo del programa (JMP LBL AFI NOP).",
+    ),
+    (
+        Code::IlSyntax,
+        "Una línea AWL contiene una instrucción: un mnemónico y sus operandos separados por comas (`LD I0.0`, `MOVW +5, MW2`). Se aceptan las líneas `NETWORK n` y `TITLE =`, los comentarios `//` y `/* */` y el marco ORGANIZATION_BLOCK de las exportaciones de STEP 7-Micro/WIN.",
+    ),
+    (
+        Code::UnknownMnemonic,
+        "El mnemónico no está en el juego de instrucciones S7-200 de Alba. Lógica de bits: LD LDN A AN O ON NOT = S R EU ED; pila: ALD OLD LPS LRD LPP LDS; comparaciones: LDW= AW= OW= (y <> < > <= >=), LDD…/AD…/OD… para dobles palabras, LDR…/AR…/OR… para reales; cálculo: +I -I *I /I, +D -D *D /D, +R -R *R /R, INCW DECW INCD DECD; movimiento: MOVB MOVW MOVD MOVR; temporizadores: TON TONR TOF (TOFF); contadores: CTU CTD CTUD; flujo: FOR NEXT JMP LBL NOP.",
+    ),
+    (
+        Code::LogicStack,
+        "La lógica del S7-200 trabaja sobre una pila: LD, LDN, las comparaciones y LDS apilan un valor; A, O, =, los cuadros y los temporizadores usan la cima; ALD, OLD y LPP combinan o desapilan dos niveles; los contadores toman sus entradas de dos o tres niveles. Un segmento (y el código tras una etiqueta) empieza con la pila vacía: empiécelo con una instrucción de carga. La pila tiene 9 niveles: una décima carga tira el valor más antiguo, al que ya no puede llegar ninguna instrucción.",
+    ),
+    (
+        Code::S7Timer,
+        "En el S7-200 el número de temporizador fija su clase y su resolución: TONR usa T0–T31 y T64–T95, TON y TOF usan T32–T63 y T96–T255, y un número sirve a una sola clase de temporizador. Los contadores son C0–C255, un contador por número.",
+    ),
+    (
+        Code::LoopStructure,
+        "Cada FOR tiene su NEXT más adelante en el mismo programa, y los bucles se anidan como mucho a 8 niveles.",
+    ),
+    (
+        Code::IlNotSupported,
+        "Las subrutinas y rutinas de interrupción, las variables locales y las formas de byte INCB, DECB y LDB= … aún no están disponibles; use marcas M, palabras y un único programa principal.",
+    ),
+    (
+        Code::StSyntax,
+        "Un archivo de Texto Estructurado (`.st`) contiene POU de IEC 61131-3: `PROGRAM nombre … END_PROGRAM`, `FUNCTION`, `FUNCTION_BLOCK`, y bloques `TYPE … END_TYPE` y `VAR_GLOBAL`. Las sentencias terminan en `;`: asignaciones `x := e;`, llamadas `t1(IN := x, PT := T#5s);`, IF/ELSIF/ELSE/END_IF, CASE … OF … END_CASE, bucles FOR/WHILE/REPEAT, EXIT y RETURN. Los comentarios son `(* *)`, `/* */` y `//`. El mensaje dice qué se esperaba en el lugar indicado; vea docs/st.md.",
+    ),
+    (
+        Code::StType,
+        "El Texto Estructurado tiene tipos estrictos: los dos lados de un operador, y el valor y el destino de una asignación, tienen un mismo tipo, salvo que un valor se amplía implícitamente a un tipo mayor de su familia (SINT → INT → DINT → LINT, USINT → UINT → UDINT → ULINT, BYTE → WORD → DWORD → LWORD, REAL → LREAL, un entero a un REAL bastante ancho). Las condiciones son BOOL. El mensaje nombra los dos tipos; convierta con una función `*_TO_*` (`INT_TO_REAL(x)`).",
+    ),
+    (
+        Code::StName,
+        "Un nombre en ST es una variable de la POU, una variable de tags.csv (toda variable es global para todas las POU), una función o bloque de función estándar, o un miembro de una estructura o de una instancia de bloque de función (`t1.Q`). El mensaje sugiere el nombre conocido más parecido.",
+    ),
+    (
+        Code::StNotSupported,
+        "Alba traduce el ST a su única IR; unas pocas partes del lenguaje aún no tienen forma allí (STRING, LTIME, DATE y TIME_OF_DAY, arrays de estructuras o de bloques de función, punteros, llamadas recursivas: las FUNCTION y FUNCTION_BLOCK del usuario se expanden en línea donde se llaman). Se rechazan en su lugar en vez de compilarse a algo que se comporte distinto; docs/st.md las lista.",
+    ),
+    (
+        Code::StDeclaration,
+        "Una variable se declara una vez por POU; un ARRAY tiene límites constantes, con el inferior no mayor que el superior y como mucho 10 000 elementos; un valor inicial cabe en el tipo de la variable; una `VAR CONSTANT` no se escribe; EXIT está dentro de un bucle; la variable de un FOR es una variable entera de la POU.",
+    ),
+    (Code::DuplicateLabel, "Cada nombre de LBL aparece una vez por programa."),
+    (
+        Code::LabelNotFirst,
+        "Una etiqueta marca el comienzo de un peldaño: escriba LBL(nombre) como primera instrucción del peldaño.",
+    ),
+    (
+        Code::ConflictingPreset,
+        "El PRE y el ACC literales de TON(t,pre,acc) son los valores iniciales de la estructura, así que todas las instrucciones sobre una misma variable deben dar los mismos (o `?`); del mismo modo, todo TON, TOF y RTO sobre un temporizador cuenta en una sola base de tiempo (TON(t,pre,acc,s); sin ella es ms), y TP solo sobre un temporizador en ms.",
+    ),
+    (
+        Code::Expression,
+        "CPT acepta + - * / MOD ** ^, paréntesis, comparaciones (= <> < > <= >=), AND OR XOR NOT, las funciones SQR SQRT ABS SIN COS TAN ASN ACS ATN ATAN2 LN LOG DEG RAD TRN FRD TOD ROUND, las de AuroraLD log10 logE log(a,b) Int signum cosh sinh tanh rnd(a,b) radians degrees, y PI y E.",
+    ),
+    (
+        Code::NotYetSupported,
+        "Ahora mismo no hay ninguna instrucción reservada (PID, que lo estuvo, está disponible; vea ladder.md y pid.md). El código se conserva para que los informes antiguos mantengan su sentido.",
+    ),
+    (
+        Code::StimulusTarget,
+        "Un estímulo fija entradas y variables internas por nombre, miembro o dirección; no se pueden fijar las salidas que escribe el programa, los bits de estado ni las variables del sistema.",
+    ),
+    (
+        Code::TraceName,
+        "--tags admite nombres de variables, miembros (Delay.ACC), direcciones (DO:2/0, %QX0.1) y variables del sistema (S:FS), separados por comas; un TIMER o COUNTER entero no es un valor: nombre un miembro.",
+    ),
+    (
+        Code::NotOnBoard,
+        "El firmware de un Arduino ejecuta el programa de control con REAL de 32 bits y sin coma flotante de 64 bits: se rechazan las variables LREAL y la aritmética LREAL, señalando la instrucción responsable. Use REAL, o ejecute el programa en el PC con la placa como E/S remota (modo controlador).",
+    ),
+    (
+        Code::DoesNotFit,
+        "El firmware construido necesita más flash o RAM de la que tiene la placa (el informe da ambas frente a los límites de la placa). Acorte el programa, use menos variables o elija una placa con más memoria (la Mega tiene 8 KiB de RAM y 248 KiB de flash).",
+    ),
+    (
+        Code::Toolchain,
+        "Para construir hacen falta gcc-avr, avr-libc y arduino-core-avr de Debian (./test.sh los instala); para cargar, avrdude y la placa en el puerto serie indicado. El mensaje da el error de la propia herramienta.",
+    ),
+    (
+        Code::PnmlSyntax,
+        "Un archivo .pnml es un documento XML (ISO/IEC 15909-2). El mensaje da el error XML en el lugar indicado: una etiqueta sin cerrar o que no corresponde, un atributo incorrecto, una entidad desconocida (solo se aceptan las cinco entidades predefinidas de XML y las referencias de carácter), texto fuera del elemento raíz. Los archivos de más de 16 MiB y los elementos anidados a más de 64 niveles se rechazan con E606.",
+    ),
+    (
+        Code::PnmlStructure,
+        "Alba lee un `<net id=\"..\" type=\"..\">` dentro de `<pnml>`, con páginas que contienen `<place id>`, `<transition id>` y `<arc id source target>`; todo nodo y arco necesita un `id` no vacío, y cada etiqueta (`name`, `initialMarking`, `inscription`) aparece como mucho una vez en un elemento. Vea docs/nets.md, sección pnml.",
+    ),
+    (
+        Code::PnmlDuplicateId,
+        "Los id de PNML son únicos en todo el documento: lugares, transiciones, arcos y páginas comparten un mismo espacio de nombres. Renombre uno de ellos (y los arcos que lo usan).",
+    ),
+    (
+        Code::PnmlArc,
+        "Un arco va de un lugar a una transición o de una transición a un lugar, y su `source` y su `target` nombran nodos de la red (un nodo de referencia representa al nodo al que se refiere). No se pueden unir dos lugares ni dos transiciones, y dos arcos no pueden unir el mismo par en el mismo sentido (dé en su lugar un peso al único arco).",
+    ),
+    (
+        Code::PnmlNumber,
+        "`<initialMarking><text>` es un número entero de 0 a 1000000, `<inscription><text>` (el peso de un arco) un entero de 1 a 1000000, el `<priority>` de Alba un entero (32 bits), las posiciones números decimales. Los valores negativos, fraccionarios y mayores se rechazan en vez de redondearse.",
+    ),
+    (
+        Code::PnmlLimit,
+        "Alba lee archivos PNML de hasta 16 MiB, con como mucho 1000000 elementos anidados a no más de 64 niveles, para que un archivo roto u hostil no agote la memoria ni la pila. Divida el modelo, o quite lo que no necesita (gráficos grandes, datos de otras herramientas).",
+    ),
+    (
+        Code::PnmlAlba,
+        "Alba guarda sus propios datos en `<toolspecific tool=\"alba\" version=\"1\">` sobre el elemento al que pertenecen: en la red `<mode>petri</mode>` o `<mode>normal</mode>` y `<widget id kind [tag] [x y]>rótulo</widget>` (kind button, display, plot o label); en un lugar `<tag>NOMBRE</tag>`, `<kind>` (state, counter, expression, variable, input, output, stop, end), `<prop name=\"..\">valor</prop>` y `<script>`; en una transición `<guard>EXPR</guard>`, `<priority>N</priority>`, `<kind>` (transition, condition, timer) y `<prop>`; en un arco `<kind>normal|inhibitor|read</kind>` (los arcos inhibidores y de lectura van de un lugar a una transición). Cada uno aparece como mucho una vez. Vea docs/nets.md.",
+    ),
+    (
+        Code::PnmlIgnored,
+        "Un elemento que Alba no conoce (la extensión de otra herramienta fuera de `<toolspecific>`, una etiqueta de otro tipo de red) se salta con este aviso, una vez por nombre de elemento; la red se carga. Los bloques `<toolspecific>` de otras herramientas no se ignoran: se conservan y se vuelven a escribir sin cambios.",
+    ),
+    (
+        Code::NetMode,
+        "El modo Petri tiene lugares y transiciones simples (con guardas y `<tag>`); las clases de las redes de estados (Timer, Condition, Counter, Expression, Variable, Input, Output, Stop, End) se ejecutan en modo normal (`<mode>normal</mode>`, docs/nets.md).",
+    ),
+    (
+        Code::NetGuard,
+        "Una `<guard>` es una expresión BOOL del lenguaje de expresiones de Alba para redes: nombres de variables y miembros, literales, `NOT`, `AND` (`&`), `OR` (`|`), `XOR`, paréntesis, comparaciones (= == <> != < > <= >=), aritmética (+ - * / : MOD % ** ^, con la precedencia de la fuente de las redes de estados) y sus funciones (cos, sqrt, rem, log...). Todo nombre debe ser una variable, un miembro, una dirección o una variable del sistema; un número solo no es una guarda: compárelo.",
+    ),
+    (
+        Code::NetPlaceTag,
+        "El `<tag>NOMBRE</tag>` de un lugar hace que la red escriba la variable NOMBRE: un BOOL, verdadero mientras el lugar está marcado, o, cuando el lugar tiene un `value` (un número), una variable numérica que guarda esa constante mientras el lugar está marcado y 0 después. NOMBRE debe ser una variable o un miembro de esa clase que el programa pueda escribir: no una entrada, un bit de estado, una variable del sistema ni un marcado.",
+    ),
+    (
+        Code::NetTagClash,
+        "El marcado del lugar P de la red N (archivo N.pnml) es la variable DINT `N.P`; ninguna variable de tags.csv, ningún lugar de otra red y ningún miembro de una variable TIMER, COUNTER o PID llamada N (`N.DN`) puede tener ese nombre.",
+    ),
+    (
+        Code::NetRange,
+        "Los marcados son variables DINT: un marcado inicial o un peso de arco (los arcos entre un lugar y una transición, sumados) debe ser como mucho 2147483647.",
+    ),
+    (
+        Code::NetArc,
+        "Los arcos inhibidores y de lectura (de prueba) van de un lugar a una transición; de una transición a un lugar solo los arcos normales producen marcas.",
+    ),
+    (
+        Code::NetElement,
+        "En una red en modo normal (docs/nets.md, \"Normal mode\") cada elemento contiene como mucho una marca y la pasa: los arcos son simples (sin arcos inhibidores ni de lectura) y pesan 1; una Condition necesita una `<guard>`; un Timer necesita `<prop name=\"delay\">` (milisegundos o T#5s); un Counter admite `load` (un DINT) y `direction` (up o down); un Input `source`; un Output `target` y `source`; una Variable `mode` (Assignment, Variable, WriteToMyVariable, WriteToTarget, DefineTarget, ResetTargetValue), `source`, `target`, `value` e `initial` según lo pida su modo; las demás clases no admiten propiedades.",
+    ),
+    (
+        Code::NetScript,
+        "Un elemento Expression (modo normal) ejecuta su `<script>` en cada ciclo en que tiene la marca: secciones `define{a, b}` (nombres de las variables que usa), `constant{k = 2.5}` (o `const{}`) y `function{...}` con sentencias separadas por `;` o saltos de línea, cada una `destino = expresión` o una expresión sola cuyo valor va a la variable propia del elemento `<red>.<id>.value` (REAL); `//` empieza un comentario. Las expresiones son el lenguaje de expresiones de Alba para redes (números y variables, + - * / : MOD % ** ^ con la precedencia de la fuente, paréntesis, y las funciones de la fuente cos, cosh, arcos, sin, sinh, arcsin, tan, tanh, arctan, sqrt, rem, root, pow, exp, abs, log, round, truncate, floor, ceiling, sign); los destinos son variables numéricas que un programa puede escribir.",
+    ),
+    (
+        Code::SfcSyntax,
+        "Un archivo .sfc es el SFC textual de IEC 61131-3: `INITIAL_STEP nombre: acciones END_STEP`, `STEP nombre: acciones END_STEP`, donde una acción es `Variable(Q)` o `Variable(Q, T#5s)` terminada en `;` (Q uno de N S R L D P P1 P0 SD DS SL), y `TRANSITION [nombre] [(PRIORITY := n)] FROM etapa TO etapa := condición; END_TRANSITION` (listas de etapas entre paréntesis para la divergencia y la convergencia simultáneas). Los comentarios son `(* ... *)` y `//`. Vea docs/nets.md, SFC.",
+    ),
+    (
+        Code::SfcStructure,
+        "Un SFC tiene exactamente un INITIAL_STEP, nombres de etapa únicos, transiciones entre etapas declaradas, un tiempo en los calificadores temporizados (L D SD DS SL) y ninguno en los demás.",
+    ),
+    (
+        Code::SfcAction,
+        "Una acción es una variable BOOL (o un miembro) que un programa puede escribir: no una entrada, un bit de estado ni una variable del sistema.",
+    ),
+    (
+        Code::ImportFailed,
+        "`alba import` lee archivos `.ld` de LDmicro, XML PLCopen TC6 v2.01 y exportaciones `.L5X` de Studio 5000 (el contenido decide el formato, si no la extensión; `--format ldmicro|plcopen|l5x` lo fuerza). El mensaje nombra el lugar de la entrada (`archivo:línea:col`) que está mal formado o que Alba no puede convertir en absoluto; las construcciones que puede omitir se listan como rechazadas en el informe, y se importa el resto. La carpeta de salida debe ser nueva o estar vacía salvo con `--force`. Cuando una importación falla no se escribe nada. Vea docs/interchange.md.",
+    ),
 ];
 
 /// The Spanish explanation of `code`, if the catalogue has it.
@@ -491,6 +2539,25 @@ pub const VALUES: &[(&str, &str)] = &[
     ("an integer literal", "un literal entero"),
     ("a number", "un número"),
     ("an integer", "un entero"),
+    // what the ST parser expected, and what it found
+    ("the end of the file", "el final del archivo"),
+    ("a string", "una cadena"),
+    ("a name", "un nombre"),
+    ("an expression", "una expresión"),
+    ("an operator, `;` or `)`", "un operador, `;` o `)`"),
+    (
+        "`:=` or `(` (an assignment or a call)",
+        "`:=` o `(` (una asignación o una llamada)",
+    ),
+    (
+        "a CASE label, `ELSE` or `END_CASE`",
+        "una etiqueta de CASE, `ELSE` o `END_CASE`",
+    ),
+    ("a statement", "una sentencia"),
+    // the numbers of a PNML file
+    ("an initial marking", "un marcado inicial"),
+    ("a priority", "una prioridad"),
+    ("an arc weight", "el peso de un arco"),
 ];
 
 /// A value of a message in Spanish ([`VALUES`]).
@@ -503,6 +2570,9 @@ pub fn value(v: &str) -> String {
             && t.chars()
                 .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
     };
+    if let Some(n) = v.strip_prefix("the number ") {
+        return format!("el número {n}");
+    }
     match v.strip_prefix("a ").or_else(|| v.strip_prefix("an ")) {
         Some(t) if type_name(t) => format!("un {t}"),
         _ => v.to_string(),
@@ -520,12 +2590,239 @@ pub fn title(code: Code) -> Option<&'static str> {
     TITLES.iter().find(|(c, _)| *c == code).map(|(_, t)| *t)
 }
 
-/// `message` of `code` in Spanish by its template, if one matches.
+/// `message` of `code` in Spanish by its template (else by a [`SHARED`] one),
+/// if one matches: the most
+/// specific (most literal text) when several do, so that `{} does not fit {}`
+/// does not take what `{} does not fit {} `{}` ({} to {})` says better.
 pub fn message(code: Code, message: &str) -> Option<String> {
-    MESSAGES
-        .iter()
-        .filter(|(c, _, _)| *c == code)
-        .find_map(|(_, en, es)| crate::lang::match_template(en, message).map(|v| fill_values(es, &v)))
+    best(
+        MESSAGES
+            .iter()
+            .filter(|(c, _, _)| *c == code)
+            .map(|(_, en, es)| (*en, *es)),
+        message,
+    )
+    .or_else(|| best(SHARED.iter().copied(), message))
+}
+
+/// The Spanish of `text` by the most specific of `templates` that matches.
+fn best<'a>(templates: impl Iterator<Item = (&'a str, &'a str)>, text: &str) -> Option<String> {
+    templates
+        .filter_map(|(en, es)| crate::lang::match_template(en, text).map(|v| (en.len() - 2 * v.len(), es, v)))
+        .max_by_key(|(literal, _, _)| *literal)
+        .map(|(_, es, v)| fill_values(es, &v))
+}
+
+/// The API's error replies (`{"error": …}`) in Spanish, for a request whose
+/// `Accept-Language` asks for it: (English pattern, Spanish), as [`MESSAGES`].
+/// An error that echoes a diagnostic's message (`unknown tag `X``) takes that
+/// message's template instead ([`error`]).
+pub const ERRORS: &[(&str, &str)] = &[
+    // 401, 403, 429: sessions and roles
+    (
+        "log in first (POST /api/login)",
+        "inicie sesión primero (POST /api/login)",
+    ),
+    (
+        "unknown user or wrong password",
+        "usuario desconocido o contraseña incorrecta",
+    ),
+    (
+        "too many failed logins: try again in {} s",
+        "demasiados inicios de sesión fallidos: vuelva a intentarlo en {0} s",
+    ),
+    (
+        "this needs the role {}; you are {}",
+        "esto necesita el rol {0}; usted es {1}",
+    ),
+    (
+        "user {} is a {}: {} needs the {} role (users.toml)",
+        "el usuario {0} es {1}: {2} necesita el rol {3} (users.toml)",
+    ),
+    (
+        "this project has no users, so only clients on this computer (loopback) are served; add users with `alba user add`",
+        "este proyecto no tiene usuarios, así que solo se atiende a los clientes de este ordenador (loopback); añada usuarios con `alba user add`",
+    ),
+    // 404
+    ("no such endpoint", "no existe ese punto de acceso de la API"),
+    (
+        "no program `{}` in this project",
+        "no hay ningún programa `{0}` en este proyecto",
+    ),
+    ("the project has no tags.csv", "el proyecto no tiene tags.csv"),
+    ("no net `{}` in the project", "no hay ninguna red `{0}` en el proyecto"),
+    ("no hardware job `{}`", "no hay ningún trabajo de hardware `{0}`"),
+    (
+        "this server has no hardware service",
+        "este servidor no tiene servicio de hardware",
+    ),
+    (
+        "this server has no verification service",
+        "este servidor no tiene servicio de verificación",
+    ),
+    (
+        "this project keeps no alarm log (no alarms.csv)",
+        "este proyecto no lleva registro de alarmas (no hay alarms.csv)",
+    ),
+    (
+        "no alarm `{}` (the project has no alarms.csv)",
+        "no hay ninguna alarma `{0}` (el proyecto no tiene alarms.csv)",
+    ),
+    ("no alarm `{}`", "no hay ninguna alarma `{0}`"),
+    ("`{}` is not forced", "`{0}` no está forzada"),
+    ("no history for `{}`", "no hay histórico de `{0}`"),
+    (
+        "history is off for this project (`[history] enabled = false` in alba.toml)",
+        "el histórico está desactivado en este proyecto (`[history] enabled = false` en alba.toml)",
+    ),
+    (
+        "this server keeps no audit trail",
+        "este servidor no lleva registro de auditoría",
+    ),
+    // 409, 503: the runtime and the board
+    ("the runtime has stopped", "el motor se ha detenido"),
+    (
+        "the runtime is running: stop it before stepping one scan",
+        "el motor está en marcha: deténgalo antes de avanzar un ciclo",
+    ),
+    (
+        "the runtime is faulted ({}): run it again before stepping",
+        "el motor está en fallo ({0}): póngalo en marcha de nuevo antes de avanzar",
+    ),
+    (
+        "the runtime is busy: {} requests wait for the next scan; try again",
+        "el motor está ocupado: {0} peticiones esperan el próximo ciclo; vuelva a intentarlo",
+    ),
+    (
+        "the board on {} is attached ({}): detach it first",
+        "la placa de {0} está conectada ({1}): desconéctela primero",
+    ),
+    (
+        "{} is the project's own I/O already (alba run --io {})",
+        "{0} ya es la E/S del propio proyecto (alba run --io {1})",
+    ),
+    ("no board is attached", "no hay ninguna placa conectada"),
+    (
+        "the board runs the program ({}): forces, online edits and stop are done on a board by exporting and uploading again; writes work",
+        "la placa ejecuta el programa ({0}): los forzados, las ediciones en línea y la parada se hacen en una placa exportando y cargando de nuevo; las escrituras sí funcionan",
+    ),
+    (
+        "an analysis of this project is running: wait for it to end, or cancel it",
+        "hay un análisis de este proyecto en curso: espere a que termine, o cancélelo",
+    ),
+    (
+        "a verification, test run or analysis of this project is running: wait for it to end",
+        "hay una verificación, prueba o análisis de este proyecto en curso: espere a que termine",
+    ),
+    (
+        "the request took longer than {} s: try again, or raise [http] request_timeout_s",
+        "la petición tardó más de {0} s: vuelva a intentarlo, o aumente [http] request_timeout_s",
+    ),
+    // 422: program edits and values
+    ("1 error", "1 error"),
+    ("{} errors", "{0} errores"),
+    ("cannot save {}: {}", "no se puede guardar {0}: {1}"),
+    ("saved, but not applied: {}", "guardado, pero no aplicado: {0}"),
+    (
+        "`{}` is a timer's preset: it cannot be negative",
+        "`{0}` es la preselección de un temporizador: no puede ser negativa",
+    ),
+    ("`{}` is a structure, not I/O", "`{0}` es una estructura, no E/S"),
+    (
+        "`{}` is not an input or an output: only I/O can be forced (write internal tags instead)",
+        "`{0}` no es una entrada ni una salida: solo se puede forzar la E/S (escriba en su lugar las variables internas)",
+    ),
+    (
+        "`{}`: expected an integer for a {}, got {}",
+        "`{0}`: se esperaba un entero para un {1}; llegó {2}",
+    ),
+    (
+        "`{}`: {} is out of range for {} ({} to {})",
+        "`{0}`: {1} está fuera del rango de {2} ({3} a {4})",
+    ),
+    (
+        "`{}`: expected true, false, 0 or 1 for a BOOL, got {}",
+        "`{0}`: se esperaba true, false, 0 o 1 para un BOOL; llegó {1}",
+    ),
+    (
+        "`{}`: expected a number for a {}, got {}",
+        "`{0}`: se esperaba un número para un {1}; llegó {2}",
+    ),
+    (
+        "`{}`: {} is out of range for REAL",
+        "`{0}`: {1} está fuera del rango de REAL",
+    ),
+    (
+        "`{}`: a {} is a structure: write one of its members",
+        "`{0}`: un {1} es una estructura: escriba uno de sus miembros",
+    ),
+    (
+        "the running program has no marking tag `{}`: save the net and apply it online first",
+        "el programa en marcha no tiene la variable de marcado `{0}`: guarde la red y aplíquela en línea primero",
+    ),
+    // 400, 413, 415, 421: the request itself
+    (
+        "the request body is too large",
+        "el cuerpo de la petición es demasiado grande",
+    ),
+    ("the body needs a `{}` field", "el cuerpo necesita un campo `{0}`"),
+    (
+        "`{}` must be an integer, got `{}`",
+        "`{0}` debe ser un entero; llegó `{1}`",
+    ),
+    ("`{}` must be a string", "`{0}` debe ser una cadena"),
+    ("the query needs `{}`", "la consulta necesita `{0}`"),
+    ("{} is not UTF-8 text: {}", "{0} no es texto UTF-8: {1}"),
+    ("malformed JSON body: {}", "cuerpo JSON mal formado: {0}"),
+    (
+        "malformed JSON body: Failed to parse the request body as JSON: {}",
+        "cuerpo JSON mal formado: no se pudo leer como JSON: {0}",
+    ),
+    (
+        "malformed JSON body: Failed to deserialize the JSON body into the target type: {}",
+        "cuerpo JSON mal formado: no tiene la forma que espera la petición: {0}",
+    ),
+    (
+        "Failed to parse the request body as JSON: {}",
+        "no se pudo leer el cuerpo de la petición como JSON: {0}",
+    ),
+    (
+        "Failed to deserialize the JSON body into the target type: {}",
+        "el cuerpo JSON no tiene la forma que espera la petición: {0}",
+    ),
+    (
+        "Expected request with `Content-Type: application/json`",
+        "se esperaba una petición con `Content-Type: application/json`",
+    ),
+    (
+        "the request has no `Host` header",
+        "la petición no tiene cabecera `Host`",
+    ),
+    (
+        "a {} request must be sent as `Content-Type: application/json` ({})",
+        "una petición {0} debe enviarse como `Content-Type: application/json` ({1})",
+    ),
+    (
+        "`Host: {}` is not a name of this server: add it to `[http] allowed_hosts` in alba.toml to reach the studio by that name",
+        "`Host: {0}` no es un nombre de este servidor: añádalo a `[http] allowed_hosts` en alba.toml para llegar al estudio con ese nombre",
+    ),
+    (
+        "requests from `{}` are refused: only the studio's own origin and `[http] allowed_origins` may change anything or open the WebSocket",
+        "se rechazan las peticiones de `{0}`: solo el origen del propio estudio y `[http] allowed_origins` pueden cambiar algo o abrir el WebSocket",
+    ),
+    (
+        "the WebSocket handshake needs an `Origin` header",
+        "el saludo del WebSocket necesita una cabecera `Origin`",
+    ),
+];
+
+/// An API error reply in Spanish: by [`ERRORS`], else by the template of
+/// any diagnostic message it echoes ([`MESSAGES`]); `None` when neither has it
+/// (the server then answers in English).
+pub fn error(text: &str) -> Option<String> {
+    best(ERRORS.iter().copied(), text)
+        .or_else(|| best(SHARED.iter().copied(), text))
+        .or_else(|| best(MESSAGES.iter().map(|(_, en, es)| (*en, *es)), text))
 }
 
 /// A label or hint in Spanish, if the phrase book has it.
@@ -554,24 +2851,13 @@ mod tests {
     }
 
     #[test]
-    fn the_codes_a_student_meets_first_are_explained_in_spanish() {
-        for c in [
-            Code::UnknownTag,
-            Code::Syntax,
-            Code::Unbalanced,
-            Code::UnterminatedRung,
-            Code::OperandCount,
-            Code::OperandType,
-            Code::NoOutput,
-            Code::CsvHeader,
-            Code::UnknownType,
-            Code::DuplicateTag,
-        ] {
-            assert!(
-                explanation(c).is_some_and(|e| !e.trim().is_empty()),
-                "{c} lacks its Spanish explanation"
-            );
-        }
+    fn every_code_is_explained_in_spanish() {
+        let missing: Vec<String> = Code::ALL
+            .iter()
+            .filter(|c| explanation(**c).is_none_or(|e| e.trim().is_empty()))
+            .map(|c| c.to_string())
+            .collect();
+        assert!(missing.is_empty(), "codes without a Spanish explanation: {missing:?}");
         let mut seen = std::collections::HashSet::new();
         for (c, e) in EXPLANATIONS {
             assert!(seen.insert(*c), "{c} explained twice");
@@ -588,7 +2874,7 @@ mod tests {
             }
             assert!(!es.contains(&format!("{{{n}}}")), "{c} `{es}` has a value too many");
         }
-        for (en, es) in PHRASES {
+        for (en, es) in PHRASES.iter().chain(ERRORS).chain(SHARED) {
             let n = en.matches("{}").count();
             for i in 0..n {
                 assert!(es.contains(&format!("{{{i}}}")), "`{es}` lacks {{{i}}}");
@@ -610,8 +2896,32 @@ mod tests {
             .as_deref(),
             Some("TON lleva 3 operandos, o 4 con base de tiempo; hay 2")
         );
-        // A template belongs to its code.
-        assert_eq!(message(Code::Syntax, "unknown tag `Strat`"), None);
+        // The most specific template wins, wherever it is listed.
+        assert_eq!(
+            message(
+                Code::StType,
+                "cannot assign a REAL to `x`, an INT; convert it (for example REAL_TO_INT)"
+            )
+            .as_deref(),
+            Some("no se puede asignar un REAL a `x`, un INT; conviértalo (por ejemplo REAL_TO_INT)")
+        );
+        // A template belongs to its code; the shared readers' messages to any.
+        assert_eq!(message(Code::Syntax, "tags.csv is empty"), None);
+        assert_eq!(
+            message(Code::StimulusTarget, "unknown tag `Strat`").as_deref(),
+            Some("variable desconocida `Strat`")
+        );
+        assert_eq!(
+            error("this needs the role engineer; you are viewer").as_deref(),
+            Some("esto necesita el rol engineer; usted es viewer")
+        );
+        // an error that echoes a diagnostic takes its template
+        assert_eq!(
+            error("unknown tag `Nope`").as_deref(),
+            Some("variable desconocida `Nope`")
+        );
+        assert_eq!(error("3 errors").as_deref(), Some("3 errores"));
+        assert_eq!(error("something new"), None);
         assert_eq!(
             phrase("did you mean `Start`?").as_deref(),
             Some("¿quiso decir `Start`?")

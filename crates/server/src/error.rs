@@ -7,7 +7,8 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 
 /// Why a request failed. The body is always `{"error": message}` (with
-/// `diagnostics` for an edit that does not compile).
+/// `diagnostics` for an edit that does not compile), both in the request's
+/// language (`Accept-Language`, [`crate::lang`]).
 #[derive(Debug, thiserror::Error)]
 pub enum ApiError {
     /// The request itself is malformed: bad JSON, a missing field, a bad query.
@@ -170,7 +171,7 @@ impl IntoResponse for ApiError {
             _ => None,
         };
         let body = ErrorReply {
-            error: self.to_string(),
+            error: crate::lang::worded(self.to_string()),
             diagnostics,
         };
         let mut headers = axum::http::HeaderMap::new();

@@ -25,7 +25,7 @@ pub async fn guard(State(st): State<Arc<AppState>>, req: Request, next: Next) ->
         Err(Refusal(status, error)) => (
             status,
             axum::Json(ErrorReply {
-                error,
+                error: crate::lang::worded(error),
                 diagnostics: None,
             }),
         )

@@ -1,7 +1,8 @@
 //! The language of a request (issue 34 point 11): the `language` middleware
 //! reads `Accept-Language` and serves the request inside a task-local, which
-//! [`crate::project::diagnostic_json`] reads to word diagnostics. A leaf
-//! module: it depends on nothing of the server.
+//! [`crate::project::diagnostic_json`] reads to word diagnostics and
+//! [`worded`] to word the error reply's `error`. A leaf module: it depends on
+//! nothing of the server.
 
 use axum::extract::Request;
 use axum::middleware::Next;
@@ -36,4 +37,14 @@ pub async fn language(req: Request, next: Next) -> Response {
         axum::http::HeaderValue::from_static("accept-language"),
     );
     res
+}
+
+/// An error reply's text in the language of the request: in Spanish by the
+/// diagnostics' catalogue (`alba_diag::es::error`: the API's errors, and the
+/// diagnostic messages an error echoes), else as the server wrote it.
+pub fn worded(text: String) -> String {
+    match request_lang() {
+        alba_compiler::diag::Lang::Es => alba_compiler::diag::es::error(&text).unwrap_or(text),
+        alba_compiler::diag::Lang::En => text,
+    }
 }

@@ -72,10 +72,11 @@ fn explain_and_a_good_check_speak_spanish() {
     let text = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(text.starts_with("E301: variable desconocida"), "{text}");
     assert!(text.contains("Los operandos nombran variables de tags.csv"), "{text}");
-    // a code without its Spanish explanation: the English one, said to be English
+    // every code is explained in Spanish, the nets' too
     let out = alba(&dir, &["explain", "E631", "--lang", "es"]);
     let text = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(text.contains("(en inglés) An Expression element"), "{text}");
+    assert!(text.contains("Un elemento Expression (modo normal)"), "{text}");
+    assert!(!text.contains("An Expression element"), "{text}");
     let out = alba(&dir, &["new", "ok"]);
     assert!(out.status.success());
     let out = alba_env(&dir, &["check", "ok"], &[("LANG", "es_ES.UTF-8")]);

@@ -17,6 +17,7 @@ mod listen;
 mod malformed;
 mod modbus_listen;
 mod retain;
+mod spanish;
 mod users;
 mod verify;
 

@@ -1,6 +1,7 @@
 //! Every file of `tests/malformed/` is refused with a located error: its
 //! `.expect` sidecar gives `CODE|message part|line:col` (the location is
-//! checked when given), and loading never panics. Oversized and deeply
+//! checked when given), every message it reports has its Spanish template
+//! (`alba_diag::es::MESSAGES`), and loading never panics. Oversized and deeply
 //! nested inputs are generated here rather than stored.
 
 use alba_diag::{Code, Diagnostic, FileId, Files};
@@ -44,6 +45,13 @@ fn every_malformed_input_gets_its_located_error() {
             .unwrap_or_else(|_| panic!("{}: bad code", path.display()));
         let (net, err, files) = first_error(&text);
         let name = path.file_name().unwrap().to_string_lossy();
+        // Every message has its Spanish (issue 34 point 11, docs/i18n.md).
+        let (_, diags) = load(FileId(0), &text);
+        for d in &diags {
+            if alba_diag::es::message(d.code, &d.message).is_none() {
+                problems.push(format!("{name}: no Spanish template for {} `{}`", d.code, d.message));
+            }
+        }
         assert!(net.is_none(), "{name}: a net despite an error");
         let short = err.short(&files);
         if err.help.is_none() {

@@ -176,6 +176,83 @@ async fn a_refused_save_speaks_the_requests_language() {
     s.stop().await;
 }
 
+/// A request with `Accept-Language` and its answer: status, `error`.
+async fn ask_in(s: &Server, lang: &str, method: Method, path: &str, body: Option<Vec<u8>>) -> (StatusCode, String) {
+    let mut req = s.http.request(method, s.url(path)).header("accept-language", lang);
+    if let Some(b) = body {
+        req = req.header("content-type", "application/json").body(b);
+    }
+    let (code, j) = Server::answer(req.send().await.expect("request")).await;
+    (code, j["error"].as_str().unwrap_or_default().to_string())
+}
+
+/// The top-level `error` of the common refusals in the request's language
+/// (issue 34 point 11): 400, 404, 409 and 422 in Spanish for
+/// `Accept-Language: es`, the same requests in English without it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn errors_speak_the_requests_language() {
+    let s = Server::start("tank", "e-es").await;
+    let es = "es-ES,es;q=0.9,en;q=0.8";
+    let (code, e) = ask_in(&s, es, Method::GET, "/api/tags/Nope", None).await;
+    assert_eq!(
+        (code, e.as_str()),
+        (StatusCode::NOT_FOUND, "variable desconocida `Nope`")
+    );
+    let check = Some(br#"{"text": ""}"#.to_vec());
+    let (code, e) = ask_in(&s, es, Method::POST, "/api/check/nope.lad", check).await;
+    assert_eq!(
+        (code, e.as_str()),
+        (
+            StatusCode::NOT_FOUND,
+            "no hay ningún programa `nope.lad` en este proyecto"
+        )
+    );
+    let (code, e) = ask_in(&s, es, Method::PUT, "/api/tags/Llenar", Some(b"{\"value\"".to_vec())).await;
+    assert_eq!(code, StatusCode::BAD_REQUEST, "{e}");
+    assert!(
+        e.starts_with("cuerpo JSON mal formado: no se pudo leer como JSON: EOF"),
+        "{e}"
+    );
+    let (code, e) = ask_in(
+        &s,
+        es,
+        Method::PUT,
+        "/api/tags/Llenar",
+        Some(br#"{"value": 2}"#.to_vec()),
+    )
+    .await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{e}");
+    assert_eq!(e, "`Llenar`: 2 está fuera del rango de BOOL (0 a 1)");
+    // A program that does not compile: the count, and its diagnostics, in Spanish.
+    let bad = br#"{"text": "XIC(Strat)OTE(Llenr);\n"}"#.to_vec();
+    let res = s
+        .http
+        .put(s.url("/api/programs/main.lad"))
+        .header("accept-language", es)
+        .header("content-type", "application/json")
+        .body(bad.clone())
+        .send()
+        .await
+        .expect("request");
+    let (code, j) = Server::answer(res).await;
+    assert_eq!(code, StatusCode::UNPROCESSABLE_ENTITY, "{j}");
+    assert_eq!(j["error"], "2 errores", "{j}");
+    assert_eq!(j["diagnostics"][0]["message"], "variable desconocida `Strat`", "{j}");
+    // English without the header, and for a language Alba does not speak.
+    let (_, e) = ask_in(&s, "de, en;q=0.5", Method::GET, "/api/tags/Nope", None).await;
+    assert_eq!(e, "unknown tag `Nope`");
+    let (_, e) = ask_in(&s, "en", Method::PUT, "/api/programs/main.lad", Some(bad)).await;
+    assert_eq!(e, "2 errors");
+    s.stop().await;
+    // 409: a board that runs the program refuses a stop, in Spanish.
+    let (s, runtime) = serve("tank", "e409-es", Box::new(Board)).await;
+    let (code, e) = ask_in(&s, "es", Method::POST, "/api/stop", Some(b"{}".to_vec())).await;
+    assert_eq!(code, StatusCode::CONFLICT, "{e}");
+    assert!(e.starts_with("la placa ejecuta el programa ("), "{e}");
+    s.stop().await;
+    runtime.shutdown();
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn status_503_runtime_not_running() {
     let (s, runtime) = serve("tank", "e503", Box::new(alba_runtime::SimIo)).await;

@@ -789,6 +789,50 @@ async fn failed_logins_back_off_with_429_and_retry_after() {
     drop(runtime);
 }
 
+/// A refusal's `error` is in the request's language (issue 34 point 11):
+/// 401 and 403 in Spanish for `Accept-Language: es`, English without it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn refusals_speak_the_requests_language() {
+    let (s, runtime) = serve("roles-es", Arc::new(ManualClock::new())).await;
+    let viewer = token(&s, "viewer").await;
+    let ask = |lang: Option<&'static str>, bearer: Option<String>| {
+        let mut req = s.http.put(s.url("/api/tags/Llenar")).json(&json!({"value": true}));
+        if let Some(l) = lang {
+            req = req.header("accept-language", l);
+        }
+        if let Some(t) = bearer {
+            req = req.header(AUTHORIZATION, format!("Bearer {t}"));
+        }
+        async move {
+            let res = req.send().await.expect("request");
+            let code = res.status();
+            let j: Json = res.json().await.expect("json");
+            (code, j["error"].as_str().unwrap_or_default().to_string())
+        }
+    };
+    let (code, e) = ask(Some("es-ES,es;q=0.9"), Some(viewer.clone())).await;
+    assert_eq!(code, StatusCode::FORBIDDEN, "{e}");
+    assert_eq!(e, "esto necesita el rol operator; usted es viewer");
+    let (code, e) = ask(None, Some(viewer)).await;
+    assert_eq!(code, StatusCode::FORBIDDEN, "{e}");
+    assert_eq!(e, "this needs the role operator; you are viewer");
+    let (code, e) = ask(Some("es"), None).await;
+    assert_eq!(code, StatusCode::UNAUTHORIZED, "{e}");
+    assert_eq!(e, "inicie sesión primero (POST /api/login)");
+    let res = s
+        .http
+        .post(s.url("/api/login"))
+        .header("accept-language", "es")
+        .json(&json!({"user": "nobody", "password": PASSWORD}))
+        .send()
+        .await
+        .expect("login");
+    let j: Json = res.json().await.expect("json");
+    assert_eq!(j["error"], "usuario desconocido o contraseña incorrecta");
+    s.stop().await;
+    drop(runtime);
+}
+
 /// Without users: loopback clients act as admin, with no user name; login
 /// is refused.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
