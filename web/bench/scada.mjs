@@ -116,7 +116,12 @@ async function studios() {
     for (let n = 1; n < STUDIOS; n++) pages.push(await ctx.newPage());
     const t0 = Date.now();
     // one after the other: 50 studios loading 1 000-element screens at once on 2 cores time out
-    for (const [n, p] of pages.entries()) await openScreen(p, alba.url, `s${n % screens}`);
+    for (const [n, p] of pages.entries()) {
+      // in front while it loads (Chromium holds a background tab's frames, and clicks wait for them)
+      await p.bringToFront();
+      await openScreen(p, alba.url, `s${n % screens}`);
+      if (n % 10 === 9) console.log(`${n + 1} studios open`);
+    }
     const loaded_s = (Date.now() - t0) / 1000;
     const page = pages[0];
     await page.bringToFront();
