@@ -177,6 +177,19 @@ test('rulers, a guide dragged out of one, and an element snapping to it', async 
   await page.mouse.move(back.x, back.y, { steps: 4 });
   await page.mouse.up();
   assert.equal(await tid('hmi-guide-h-0').count(), 0);
+  // zoomed in and scrolled, the rulers stay at the canvas's top and left edges
+  await tid('hmi-canvas').focus();
+  for (let k = 0; k < 3; k++) await page.keyboard.press('+');
+  await tid('hmi-canvas').evaluate((c) => ((c.scrollTop = 300), (c.scrollLeft = 200)));
+  await page.waitForTimeout(150);
+  const edge = await tid('hmi-canvas').evaluate((c) => { const r = c.getBoundingClientRect(); return { x: r.left + c.clientLeft, y: r.top + c.clientTop, scrolled: [c.scrollLeft, c.scrollTop] }; });
+  assert.deepEqual(edge.scrolled, [200, 300], 'the canvas scrolls when zoomed in');
+  const top = await tid('hmi-ruler-top').boundingBox();
+  const left = await tid('hmi-ruler-left').boundingBox();
+  assert.ok(Math.abs(top.y - edge.y) < 1.5, `the top ruler at the canvas's top: ${top.y} vs ${edge.y}`);
+  assert.ok(Math.abs(left.x - edge.x) < 1.5, `the left ruler at the canvas's left: ${left.x} vs ${edge.x}`);
+  await b.shot('designer-rulers-scrolled');
+  await page.keyboard.press('0');
   await tid('hmi-rulers').click();
   await tid('hmi-ruler-top').waitFor({ state: 'detached' });
   assert.deepEqual(b.errors, []);
@@ -194,6 +207,20 @@ test('upload an image and see it after a reload; an oversize one is refused with
   await tid('hmi-prop-el-scale').fill('200');
   await tid('hmi-prop-el-scale').press('Enter');
   assert.equal(await img.getAttribute('width'), '80');
+  // the form offers the project's images: it shows the one it has
+  assert.equal(await tid('hmi-asset-pick').inputValue(), 'assets/logo_plant.png');
+  await tid('hmi-asset-thumb').waitFor();
+  // a new image element takes an existing image from the picker (no upload)
+  await tid('hmi-add-image').click();
+  await tid('hmi-el-image2').waitFor();
+  await tid('hmi-props').getByText('image2 (image)').waitFor();
+  assert.deepEqual(await tid('hmi-asset-pick').locator('option').allTextContents(), ['(choose an image)', 'logo_plant.png']);
+  await tid('hmi-asset-pick').selectOption('assets/logo_plant.png');
+  assert.equal(await tid('hmi-el-image2').locator('[data-part="image"]').getAttribute('href'), '/api/assets/logo_plant.png');
+  await b.shot('designer-image-picker');
+  await tid('hmi-canvas').focus();
+  await page.keyboard.press('Delete');
+  await tid('hmi-el-image2').waitFor({ state: 'detached' });
   // too big: the server's 413, said in the toast; nothing added
   await tid('hmi-upload-file').setInputFiles({ name: 'big.png', mimeType: 'image/png', buffer: Buffer.concat([PNG, Buffer.alloc(3 * 1024 * 1024)]) });
   await tid('toasts').getByText(/big\.png not uploaded: .*too large/).waitFor();
@@ -275,5 +302,19 @@ test('make a template and two instances; the instances follow the template and t
   assert.deepEqual([...of('Bomba1'), ...of('Llenar')].map((e) => e.props.color), ['#c62828', '#c62828', '#c62828', '#c62828']);
   assert.ok(of('Bomba1').every((e) => e.props.template === 'pumpface' && e.group) && of('Bomba1')[0].group !== of('Llenar')[0].group);
   assert.equal(of('Bomba1')[0].x, of('Llenar')[0].x - 200, 'the first instance was moved 200 left, and stays there through the rebuilds');
+  // the template saved again from another screen (a blue pump alone): the saved faceplates follow
+  await newScreen(page, tid, 'pumps2');
+  await tid('hmi-add-pump').click();
+  await tid('hmi-prop-anim-add').selectOption('rotate');
+  await setField('hmi-prop-anim-tag-0', 'Bomba1');
+  await setField('hmi-prop-el-color', '#1565c0');
+  await tid('hmi-el-pump1').click();
+  await answer('pumpface', () => tid('hmi-save-symbol').click());
+  await tid('toasts').getByText('1 saved screens updated from pumpface').waitFor();
+  const after = await alba.json('/api/screens/faceplates');
+  const inst = (prefix) => after.elements.filter((e) => e.props?.prefix === prefix);
+  assert.deepEqual(inst('Bomba1').map((e) => [e.type, e.props.color, e.animations[0]?.tag]), [['pump', '#1565c0', 'Bomba1']]);
+  assert.deepEqual(inst('Llenar').map((e) => [e.type, e.props.color, e.animations[0]?.tag]), [['pump', '#1565c0', 'Llenar']]);
+  assert.equal(inst('Bomba1')[0].x, of('Bomba1')[0].x, 'in its place');
   assert.deepEqual(b.errors, []);
 });

@@ -117,6 +117,8 @@ test('an engineer writes recipes; an operator applies one with confirmation, the
     page.once('dialog', (d) => void d.accept());
     await tid('recipes-apply').click();
     await tid('toast-error').filter({ hasText: says }).waitFor();
+    // the previous apply's "Applied" does not stay beside Apply
+    assert.equal(await tid('recipes-note').textContent(), 'Not applied: nothing written', `${name}: the status line`);
     assert.deepEqual(await values(), { 'CT_STP.PRE': 5, 'Away.PRE': 3500, 'Back.PRE': 2500 }, `${name}: nothing written`);
     if (name === 'batch-bad') await b.shot('recipes-refused');
   }

@@ -180,6 +180,8 @@ export const api = {
   autotune: (loop: string, req: Record<string, number>) => json<Autotune>('POST', `/api/pid/${enc(loop)}/autotune`, req),
   symbols: () => json<string[]>('GET', '/api/symbols'),
   symbol: (name: string) => json<unknown>('GET', `/api/symbols/${enc(name)}`),
+  /** The project's images (hmi/assets/), by name. */
+  assets: () => json<string[]>('GET', '/api/assets'),
   /** Uploads an image into the project's hmi/assets/ (PNG, JPEG, GIF; an SVG only if nothing in it can run or load). */
   putAsset: (name: string, image: Blob) => request('PUT', `/api/assets/${enc(name)}`, image, image.type || 'application/octet-stream').then(() => undefined),
   saveSymbol: (name: string, symbol: unknown) => json<unknown>('PUT', `/api/symbols/${enc(name)}`, new RawJson(JSON.stringify(symbol, null, 2))),

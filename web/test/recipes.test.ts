@@ -2,7 +2,8 @@
 // confirmation lists and a capture reads), its CSV from the server's JSON,
 // and the names the server takes.
 import { describe, expect, it } from 'vitest';
-import { recipeCsv, recipeName, recipeTags } from '../src/ui/recipesView';
+import { ApiError } from '../src/api';
+import { recipeCsv, recipeName, recipeTags, refusedNote } from '../src/ui/recipesView';
 
 describe('recipes', () => {
   it('lists the tags of a CSV in order, without header, comments or blank lines', () => {
@@ -20,5 +21,11 @@ describe('recipes', () => {
   it('takes the names the server takes', () => {
     expect(recipeName('batch-A_2')).toBe(true);
     for (const bad of ['', 'a b', '../x', 'x.csv', 'x'.repeat(65)]) expect(recipeName(bad)).toBe(false);
+  });
+
+  it('says a refused apply wrote nothing, and nothing of an apply whose outcome is unknown', () => {
+    expect(refusedNote(new ApiError(422, 'row 2 (`Away.PRE`): …'))).toBe('Not applied: nothing written');
+    expect(refusedNote(new ApiError(503, 'busy'))).toBe('');
+    expect(refusedNote(new Error('network'))).toBe('');
   });
 });

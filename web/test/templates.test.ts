@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import type { Element, Screen } from '../src/hmi/render';
 import { symbolOf, ungroup } from '../src/hmi/edit';
-import { instancesOf, instantiate, isPrefix, prefixOf, rebuild, retag, tagsOf } from '../src/hmi/templates';
+import { instancesOf, instantiate, isPrefix, prefixOf, rebuild, rebuildAll, retag, tagsOf } from '../src/hmi/templates';
 
 const el = (id: string, type: string, more: Partial<Element> = {}): Element => ({ id, type, x: 0, y: 0, w: 40, h: 40, props: {}, animations: [], ...more });
 
@@ -70,6 +70,20 @@ describe('templates and their instances', () => {
     expect(rebuild(screen, insts[0], t2, 'Pump7')).toBe(true);
     expect(screen.elements[4].id).toBe('title');
     expect(tagsOf(screen.elements.filter((e) => e.group === 'g1'))).toEqual(['Pump7.Running', 'Pump7.Speed', 'Pump7.Start', 'Pump7.Fault']);
+  });
+
+  it('rebuilds every instance of one template on a screen, and only those', () => {
+    const screen: Screen = { schema: 1, title: '', width: 800, height: 600, elements: [] };
+    screen.elements.push(...instantiate(screen, faceplate(), 'pumpface', 'Pump1', 0, 0, 'g1'));
+    screen.elements.push(...instantiate(screen, faceplate(), 'other', 'Pump3', 0, 200, 'g3'));
+    screen.elements.push(...instantiate(screen, faceplate(), 'pumpface', 'Pump2', 300, 0, 'g2'));
+    expect(rebuildAll(screen, 'pumpface', faceplate()), 'unchanged').toBe(0);
+    const t2 = faceplate();
+    t2.elements[0].props = { color: '#2e7d32' };
+    expect(rebuildAll(screen, 'pumpface', t2)).toBe(2);
+    const colour = (g: string) => screen.elements.find((e) => e.group === g)?.props?.color;
+    expect([colour('g1'), colour('g2'), colour('g3')]).toEqual(['#2e7d32', '#2e7d32', undefined]);
+    expect(tagsOf(screen.elements.filter((e) => e.group === 'g2'))).toEqual(['Pump2.Running', 'Pump2.Speed', 'Pump2.Start']);
   });
 
   it('a group whose elements disagree is not an instance', () => {

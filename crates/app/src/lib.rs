@@ -2,7 +2,7 @@
 //!
 //! [`run`] loads and compiles the project, opens its I/O driver and its
 //! historian, starts the runtime, then the services in front of it — the
-//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the alarms, the MQTT client, the Modbus
+//! HTTP/WebSocket API (alba-server) with its audit trail, the historian's recorder, the alarms, the scheduled shift reports, the MQTT client, the Modbus
 //! TCP and OPC UA servers — and stops them all on one shutdown signal
 //! (`AppState::closing`), the runtime last (retentive data saved).
 //!
@@ -24,6 +24,7 @@ mod lock;
 mod modbus;
 mod mqtt;
 mod opcua;
+mod reports;
 pub mod serve;
 pub mod tls;
 mod users;
@@ -270,6 +271,7 @@ pub async fn run(
     edits::start(&service);
     audit::start(&service, guard.clone());
     alarms::start(&service, alarm_defs, guard).map_err(RunError::Other)?;
+    reports::start(&service);
 
     ready(local);
     let closing = state.closing.clone();

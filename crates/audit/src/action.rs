@@ -88,6 +88,9 @@ actions! {
     Detach = "detach",
     /// A firmware built and uploaded with avrdude (target: the serial port; detail: the board and kind).
     Upload = "upload",
+    /// A scheduled shift report written to `[reports] folder` (target: the
+    /// file; detail: the shift, UTC). Nobody's: `user` is empty.
+    Report = "report",
 }
 
 impl fmt::Display for Action {
@@ -158,7 +161,8 @@ mod tests {
                 "save_asset",
                 "attach",
                 "detach",
-                "upload"
+                "upload",
+                "report"
             ]
         );
     }

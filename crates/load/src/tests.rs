@@ -550,6 +550,17 @@ fn authorities_split_into_host_and_port() {
 }
 
 #[test]
+fn a_reports_table_is_the_settings_and_not_the_project() {
+    let c =
+        parse("name = \"t\"\nprograms = [\"main.lad\"]\n[reports]\nshift_hours = [6, 14, 22]\nformats = [\"xlsx\"]\n")
+            .expect("both readers take it");
+    let r = c.s.reports.expect("[reports]");
+    assert_eq!((r.shift_hours, r.folder.as_str()), (vec![6, 14, 22], "reports"));
+    let e = parse("name = \"t\"\nprograms = [\"main.lad\"]\n[reports]\nperiod_hours = 7\n").unwrap_err();
+    assert!(e.iter().any(|d| d.contains("does not divide a day")), "{e:?}");
+}
+
+#[test]
 fn mqtt_and_alarms_tables() {
     let c = parse("name = \"t\"\nprograms = [\"main.lad\"]\n").unwrap();
     assert_eq!((c.s.mqtt, c.s.alarms.retention_days), (None, 365));

@@ -38,6 +38,8 @@ pub mod verify;
 mod ws;
 
 pub use alba_control::now_ms;
+/// The shift report as a file (`alba run`'s scheduled reports, `[reports]`).
+pub use api::reports::render as render_shift_report;
 pub use auth::{Role, Who};
 pub use error::ApiError;
 pub use state::{AppState, Edited};

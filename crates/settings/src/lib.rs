@@ -1,7 +1,7 @@
 //! The settings of Alba's services, from the same `alba.toml` as the project
 //! (ADR 0014): `retain_ms` and `[runtime]`, `[history]`, `[audit]`,
 //! `[alarms]`, `[modbus]` (the server; `[modbus.tags]` is the project's),
-//! `[opcua]`, `[[opcua_server]]`, `[http]`, `[session]`, `[mqtt]`, one
+//! `[opcua]`, `[[opcua_server]]`, `[http]`, `[session]`, `[mqtt]`, `[reports]`, one
 //! module per table with its types, its raw (serde) form and its checks; and
 //! the user store, `users.toml` ([`users`]).
 //!
@@ -17,6 +17,7 @@ mod modbus;
 mod mqtt;
 mod opcua;
 mod opcua_server;
+mod reports;
 mod retention;
 mod runtime;
 mod session;
@@ -31,6 +32,7 @@ pub use opcua_server::{
     DEFAULT_CLIENT_PKI, DEFAULT_PUBLISHING_INTERVAL_MS, Direction, OpcuaBinding, OpcuaServer, SecurityMode,
     SecurityPolicy, is_node_id,
 };
+pub use reports::{DEFAULT_REPORTS_FOLDER, ReportFormat, Reports};
 pub use retention::{Alarms, Audit, Retention};
 pub use runtime::{OnRetainError, Runtime};
 pub use session::{DEFAULT_IDLE_MINUTES, DEFAULT_MAX_HOURS, Session};
@@ -67,6 +69,8 @@ pub struct Settings {
     pub session: Session,
     /// `[mqtt]`: the MQTT client of `alba run` (docs/scale-out.md).
     pub mqtt: Option<Mqtt>,
+    /// `[reports]`: the shift reports written to a folder (docs/alarms.md, "Scheduled reports").
+    pub reports: Option<Reports>,
 }
 
 impl Default for Settings {
@@ -83,6 +87,7 @@ impl Default for Settings {
             http: Http::default(),
             session: Session::default(),
             mqtt: None,
+            reports: None,
         }
     }
 }
@@ -103,6 +108,7 @@ struct RawSettings {
     http: Option<http::RawHttp>,
     session: Option<session::RawSession>,
     mqtt: Option<mqtt::RawMqtt>,
+    reports: Option<reports::RawReports>,
 }
 
 /// `s` as a TOML string (quoted and escaped), for writing alba.toml.
@@ -167,6 +173,7 @@ impl Settings {
             .session
             .map_or_else(Session::default, |s| session::session(s, file, &mut diags));
         let mqtt = raw.mqtt.map(|m| mqtt::mqtt(m, file, &mut diags));
+        let reports = raw.reports.and_then(|r| reports::reports(r, file, &mut diags));
         let runtime = raw
             .runtime
             .map(|r| runtime::runtime(r, file, &mut diags))
@@ -183,6 +190,7 @@ impl Settings {
             http,
             session,
             mqtt,
+            reports,
         };
         (Some(settings), diags)
     }

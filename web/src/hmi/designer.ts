@@ -40,7 +40,7 @@ import { type Element, type Screen, drawElement, place } from './render';
 import { animationForm, animationPreview, paramForm, propsOf } from './animform';
 import { type Pt, MAX_POINTS, edges, fromPoints, hasVertices, insertVertex, pointsOf, removeVertex, setPoints } from './vertices';
 import { commonParams, commonValues, setAll } from './multi';
-import { type Instance, instancesOf, instantiate, isPrefix, prefixOf, rebuild } from './templates';
+import { type Instance, instancesOf, instantiate, isPrefix, prefixOf, rebuild, rebuildAll } from './templates';
 import { type Guides, loadGuides, saveGuides, snapPoint, snapToGuides, ticks } from './guides';
 
 // What a screen may hold comes from the server (GET /api/domain `screens`), not re-typed here.
@@ -67,6 +67,8 @@ export class Designer {
   /** Counts checks and saves: an answer to an older one is dropped. */
   private checkSeq = 0;
   private screens: string[] = [];
+  /** The project's images (GET /api/assets), offered in an image's form. */
+  private assets: string[] = [];
   private readonly canvas = h('div', { class: 'hmi-canvas', 'data-testid': 'hmi-canvas', tabindex: '0' });
   private readonly props = h('div', { class: 'hmi-props', 'data-testid': 'hmi-props' });
   private readonly problems = h('ul', { class: 'problems', 'data-testid': 'hmi-problems' });
@@ -82,6 +84,8 @@ export class Designer {
   private drawing: { type: string; pts: Pt[] } | null = null;
   /** Rulers shown (with the guides, which elements snap to); remembered in the browser. */
   private rulers = localStorage.getItem('alba.hmi.rulers') === '1';
+  /** Where the rulers are pinned while the screen is scrolled (screen units; `pinRulers`). */
+  private rulerAt = { x: 0, y: 0 };
   private guides: Guides;
 
   constructor(
@@ -172,6 +176,7 @@ export class Designer {
       else return;
       e.preventDefault();
     });
+    this.canvas.addEventListener('scroll', () => this.pinRulers(), { passive: true });
     this.canvas.addEventListener('keydown', (e) => this.onKey(e));
     this.canvas.addEventListener('keyup', (e) => e.key === ' ' && (this.space = false));
     this.canvas.addEventListener('wheel', (e) => {
@@ -196,8 +201,9 @@ export class Designer {
   }
 
   private async loadLists(): Promise<void> {
-    const [screens, symbols] = await Promise.all([api.screens().catch(() => []), api.symbols().catch(() => [])]);
+    const [screens, symbols, assets] = await Promise.all([api.screens().catch(() => []), api.symbols().catch(() => []), api.assets().catch(() => [])]);
     this.screens = screens;
+    this.assets = assets;
     clear(this.mine);
     if (symbols.length === 0) this.mine.append(h('p', { class: 'hint' }, tr('Select elements, then Save as symbol.')));
     for (const n of symbols)
@@ -264,11 +270,19 @@ export class Designer {
   }
 
   /** The red outline of each element with a problem, and the selected element's problem in the panel. */
+  /** Each element's drawing by its id, found in one pass (a selector per element costs a walk of the whole screen each). */
+  private drawings(): Map<string, SVGGElement> {
+    const drawn = new Map<string, SVGGElement>();
+    this.svg?.querySelectorAll<SVGGElement>(':scope > g.hmi-el').forEach((g) => drawn.set(g.dataset.testid!.slice('hmi-el-'.length), g));
+    return drawn;
+  }
+
   private paintErrors(): void {
     if (!this.svg) return;
     this.svg.querySelectorAll('.hmi-error-box').forEach((r) => r.remove());
+    const drawn = this.drawings();
     for (const e of this.screen.elements) {
-      const g = this.svg.querySelector<SVGGElement>(`[data-testid="hmi-el-${CSS.escape(e.id)}"]`);
+      const g = drawn.get(e.id);
       const problem = this.errors.get(e.id);
       g?.classList.toggle('hmi-error', !!problem);
       if (g && problem) g.append(s('rect', { class: 'hmi-error-box', x: -5, y: -5, width: e.w + 10, height: e.h + 10, fill: 'none', 'data-testid': `hmi-error-${e.id}` }, s('title', null, problem)));
@@ -427,6 +441,22 @@ export class Designer {
       this.svg.setAttribute('height', String((this.screen.height + r) * this.zoom));
     }
     this.zoomLabel.textContent = `${Math.round(this.zoom * 100)} %`;
+    this.pinRulers();
+  }
+
+  /**
+   * Keeps the rulers at the canvas's top and left edges when the screen is
+   * scrolled under them: each is moved by what is scrolled out of view (in
+   * screen units), so they stay where the eye looks for them.
+   */
+  private pinRulers(): void {
+    if (!this.svg || !this.rulers) return;
+    const z = Math.max(this.zoom, 0.1);
+    const c = this.canvas.getBoundingClientRect();
+    const v = this.svg.getBoundingClientRect();
+    this.rulerAt = { x: Math.max(0, c.left + this.canvas.clientLeft - v.left) / z, y: Math.max(0, c.top + this.canvas.clientTop - v.top) / z };
+    this.svg.querySelector('[data-testid="hmi-ruler-top"]')?.setAttribute('transform', `translate(0 ${this.rulerAt.y})`);
+    this.svg.querySelector('[data-testid="hmi-ruler-left"]')?.setAttribute('transform', `translate(${this.rulerAt.x} 0)`);
   }
 
   /** Panning: the middle button, or the left one with Space held, drags the canvas's scroll. */
@@ -674,7 +704,8 @@ export class Designer {
     const up = () => {
       window.removeEventListener('pointermove', move);
       window.removeEventListener('pointerup', up);
-      if (list[n] <= 0 || list[n] >= (axis === 'v' ? this.screen.width : this.screen.height)) list.splice(n, 1);
+      // dropped onto its ruler (where it is pinned) or off the screen: it goes
+      if (list[n] <= (axis === 'v' ? this.rulerAt.x : this.rulerAt.y) || list[n] >= (axis === 'v' ? this.screen.width : this.screen.height)) list.splice(n, 1);
       saveGuides(this.name, this.guides);
       this.render();
     };
@@ -743,6 +774,7 @@ export class Designer {
       return this.ctx.notify(tr('{name} not uploaded: {m}', { name, m: e instanceof Error ? e.message : String(e) }), 'error', 'hmi-upload');
     }
     const src = `assets/${name}`;
+    if (!this.assets.includes(name)) this.assets = [...this.assets, name].sort();
     const [one] = this.selected();
     if (this.sel.size === 1 && one.type === 'image') {
       this.change(() => (one.props = { ...one.props, src }));
@@ -763,6 +795,17 @@ export class Designer {
       this.select([e.id]);
     }
     this.ctx.notify(tr('{name} uploaded', { name }), 'info', 'hmi-upload');
+  }
+
+  /** An image's choice among the project's images (its `src`, `assets/<name>`), with a thumbnail of the one shown. */
+  private assetPicker(e: Element): HTMLElement {
+    const src = typeof e.props?.src === 'string' ? e.props.src : '';
+    const pick = h('select', { 'data-testid': 'hmi-asset-pick' },
+      h('option', { value: '', selected: !src }, this.assets.length ? tr('(choose an image)') : tr('(no images: Upload image)')),
+      this.assets.map((n) => h('option', { value: `assets/${n}`, selected: src === `assets/${n}` }, n)));
+    pick.onchange = () => pick.value && this.change(() => (e.props = { ...e.props, src: pick.value }));
+    const thumb = src.startsWith('assets/') ? h('img', { class: 'hmi-asset-thumb', src: `/api/${src}`, alt: '', 'data-testid': 'hmi-asset-thumb' }) : null;
+    return h('label', { class: 'hmi-asset' }, h('span', null, tr('Project image')), pick, thumb);
   }
 
   /** A rubber band from an empty place: selects every element it touches (Shift: adds). */
@@ -796,6 +839,14 @@ export class Designer {
     const from = moving.map((x) => [x.x, x.y]);
     const before = JSON.stringify(this.screen);
     let moved = false;
+    // What moves is drawn on a layer of its own, moved by the compositor: the
+    // screen under it is not painted again at every move (issue 35's 60 fps
+    // with 1 000 elements while 100 are dragged, docs/performance.md).
+    // (made at the first move: a click, or the press of a double-click, hides nothing)
+    const drawn = this.drawings();
+    const gs = moving.map((x) => drawn.get(x.id));
+    let layer: SVGSVGElement | null = null;
+    let shown = [0, 0];
     const move = (m: PointerEvent) => {
       const p = this.toScreen(m.clientX, m.clientY);
       const grid = m.altKey ? 1 : GRID;
@@ -816,22 +867,60 @@ export class Designer {
       moving.forEach((x, k) => {
         x.x = from[k][0] + dx;
         x.y = from[k][1] + dy;
-        const g = this.svg?.querySelector<SVGGElement>(`[data-testid="hmi-el-${x.id}"]`);
-        if (g) place(g, x);
       });
+      if (dx !== shown[0] || dy !== shown[1]) {
+        shown = [dx, dy];
+        const z = Math.max(this.zoom, 0.1);
+        layer ??= this.dragLayer(gs);
+        layer.style.transform = `translate(${dx * z}px, ${dy * z}px)`;
+      }
       moved = moved || dx !== 0 || dy !== 0;
     };
     const up = () => {
       window.removeEventListener('pointermove', move);
       window.removeEventListener('pointerup', up);
+      // the drawings take their places (no redraw of the whole screen)
+      moving.forEach((x, k) => {
+        const g = gs[k];
+        if (g) {
+          place(g, x);
+          g.style.visibility = '';
+        }
+      });
+      layer?.remove();
       if (moved) {
         this.undoStack.push(before);
         this.redoStack = [];
-        this.render();
+        this.renderProps();
+        this.paintErrors();
       }
     };
     window.addEventListener('pointermove', move);
     window.addEventListener('pointerup', up);
+  }
+
+  /**
+   * A layer over the screen with copies of `gs` (hidden meanwhile), placed
+   * exactly over it: moved by a CSS transform while they are dragged.
+   */
+  private dragLayer(gs: (SVGGElement | undefined)[]): SVGSVGElement {
+    const svg = this.svg!;
+    const layer = s('svg', { class: 'hmi-drag-layer', viewBox: svg.getAttribute('viewBox'), width: svg.getAttribute('width'), height: svg.getAttribute('height'), 'aria-hidden': 'true' });
+    const c = this.canvas.getBoundingClientRect();
+    const v = svg.getBoundingClientRect();
+    Object.assign(layer.style, {
+      left: `${v.left - c.left - this.canvas.clientLeft + this.canvas.scrollLeft}px`,
+      top: `${v.top - c.top - this.canvas.clientTop + this.canvas.scrollTop}px`,
+    });
+    for (const g of gs) {
+      if (!g) continue;
+      const copy = g.cloneNode(true) as SVGGElement;
+      copy.removeAttribute('data-testid');
+      layer.append(copy);
+      g.style.visibility = 'hidden';
+    }
+    this.canvas.append(layer);
+    return layer;
   }
 
   /** Every tag and member a screen can name. */
@@ -947,6 +1036,7 @@ export class Designer {
           const { [name]: _old, ...rest } = e.props ?? {};
           e.props = v === undefined ? rest : { ...rest, [name]: v };
         })),
+      e.type === 'image' ? this.assetPicker(e) : null,
       h('details', { class: 'hmi-expert' }, h('summary', null, tr('JSON (expert)')),
         json(tr('Other properties (JSON)'), 'props', others, (p) =>
           this.change(() => (e.props = { ...p, ...(e.props?.label !== undefined ? { label: e.props.label } : {}), ...(typeof shown === 'string' ? { tag: shown } : {}) })))),
@@ -972,11 +1062,29 @@ export class Designer {
     try {
       await api.saveSymbol(name, symbolOf(els));
       this.ctx.notify(tr('{name} saved', { name }));
-      // the instances of it follow
+      // the instances of it follow: on this screen, then on the other saved ones
       await this.loadLists();
+      await this.updateSavedScreens(name);
     } catch (e) {
       this.ctx.notify(e instanceof Error ? e.message : String(e), 'error');
     }
+  }
+
+  /** The instances of template `name` on the other saved screens rebuilt and those screens saved (each told if refused). */
+  private async updateSavedScreens(name: string): Promise<void> {
+    const tpl = (await api.symbol(name)) as Screen;
+    let updated = 0;
+    for (const other of this.screens.filter((n) => n !== this.name)) {
+      try {
+        const screen = (await api.screen(other)) as Screen;
+        if (!rebuildAll(screen, name, tpl)) continue;
+        await api.saveScreen(other, screen);
+        updated++;
+      } catch (e) {
+        this.ctx.notify(tr('{name} not saved: {m}', { name: other, m: e instanceof Error ? e.message : String(e) }), 'error');
+      }
+    }
+    if (updated) this.ctx.notify(tr('{n} saved screens updated from {name}', { n: updated, name }), 'info', 'hmi-template-screens');
   }
 
   private async save(): Promise<void> {

@@ -5,7 +5,9 @@
 // `props.template` (the symbol), `props.prefix` (its prefix) and `props.part`
 // (the template element it copies), so the screen stays a plain screen the
 // server checks tag by tag, and the designer rebuilds an instance from its
-// template when the template changes (on opening, and after Save as symbol).
+// template when the template changes (on opening, and after Save as symbol),
+// and Save as symbol rebuilds and saves the instances on the other saved
+// screens too ([`rebuildAll`]).
 import type { Json } from '../types';
 import { freshId } from './edit';
 import type { Element, Screen } from './render';
@@ -100,4 +102,9 @@ export function rebuild(screen: Screen, inst: Instance, template: Screen, prefix
   const at = screen.elements.findIndex((e) => e.group === inst.group);
   screen.elements = [...rest.elements.slice(0, at), ...next, ...rest.elements.slice(at)];
   return true;
+}
+
+/** Every instance of the template `name` on `screen` rebuilt from `template`; how many changed. */
+export function rebuildAll(screen: Screen, name: string, template: Screen): number {
+  return instancesOf(screen).filter((i) => i.template === name && rebuild(screen, i, template)).length;
 }

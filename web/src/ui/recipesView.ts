@@ -4,7 +4,7 @@
 // confirmation that names what will be written. The server checks every
 // entry first and writes all of them at one scan boundary, or none (a 422
 // naming the first bad row, shown as it comes).
-import { api } from '../api';
+import { ApiError, api } from '../api';
 import { gate } from '../auth';
 import type { Ctx } from '../ctx';
 import { clear, h } from '../dom';
@@ -27,6 +27,15 @@ export function recipeTags(csv: string): string[] {
 export function recipeCsv(entries: Record<string, unknown>): string {
   const value = (v: unknown) => (typeof v === 'string' ? `"${v.replace(/"/g, '""')}"` : String(v));
   return `tag,value\n${Object.entries(entries).map(([t, v]) => `${t},${value(v)}\n`).join('')}`;
+}
+
+/**
+ * The status beside Apply after a refusal: a 422 (a bad row) wrote nothing;
+ * after any other failure it is unknown what was written, so nothing is said
+ * (the error is shown either way). Never the previous apply's "Applied".
+ */
+export function refusedNote(e: unknown): string {
+  return e instanceof ApiError && e.status === 422 ? tr('Not applied: nothing written') : '';
 }
 
 /** A recipe's name as the server takes it: letters, digits, `_` and `-`, at most 64. */
@@ -80,6 +89,7 @@ export class RecipesView {
 
   private async open(name: string): Promise<void> {
     this.name.value = name;
+    this.note.textContent = '';
     if (!name) {
       this.text.value = 'tag,value\n';
       return;
@@ -132,6 +142,7 @@ export class RecipesView {
       const r = await api.applyRecipe(name);
       this.note.textContent = tr('Applied: {n} values written', { n: r.written });
     } catch (e) {
+      this.note.textContent = refusedNote(e);
       this.fail(e);
     }
   }

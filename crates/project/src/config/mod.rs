@@ -86,6 +86,7 @@ pub struct RawConfig {
     http: Option<IgnoredAny>,
     session: Option<IgnoredAny>,
     mqtt: Option<IgnoredAny>,
+    reports: Option<IgnoredAny>,
 }
 
 impl Config {

@@ -10,6 +10,7 @@ use crate::error::{ApiError, ApiResult};
 use crate::state::AppState;
 use alba_control::alarms::kpi::{self, Kpis};
 use alba_control::audit::format_utc;
+use alba_settings::ReportFormat;
 use axum::extract::{Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
@@ -122,11 +123,23 @@ pub async fn gather(st: &AppState, from: i64, to: i64) -> ApiResult<Report> {
 
 type Params = Query<HashMap<String, String>>;
 
+/// The shift report of `[from, to]` (Unix ms) as a file of `format`: what
+/// the routes below send, and what `alba run` writes to `[reports] folder`
+/// when a shift ends (alba-app's `reports.rs`).
+pub async fn render(st: &AppState, from: i64, to: i64, format: ReportFormat) -> ApiResult<Vec<u8>> {
+    let report = gather(st, from, to).await?;
+    match format {
+        ReportFormat::Xlsx => {
+            workbook(&report).map_err(|e| ApiError::Internal(format!("the workbook cannot be written: {e}")))
+        }
+        ReportFormat::Pdf => Ok(document(&report)),
+    }
+}
+
 /// The report as an Excel workbook.
 pub async fn xlsx(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Response> {
     let (from, to) = range(&q)?;
-    let report = gather(&st, from, to).await?;
-    let bytes = workbook(&report).map_err(|e| ApiError::Internal(format!("the workbook cannot be written: {e}")))?;
+    let bytes = render(&st, from, to, ReportFormat::Xlsx).await?;
     Ok(download(
         bytes,
         "application/vnd.openxmlformats-officedocument.spreadsheetml.sheet",
@@ -137,8 +150,8 @@ pub async fn xlsx(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResul
 /// The report as a PDF.
 pub async fn pdf(State(st): State<Arc<AppState>>, Query(q): Params) -> ApiResult<Response> {
     let (from, to) = range(&q)?;
-    let report = gather(&st, from, to).await?;
-    Ok(download(document(&report), "application/pdf", "pdf"))
+    let bytes = render(&st, from, to, ReportFormat::Pdf).await?;
+    Ok(download(bytes, "application/pdf", "pdf"))
 }
 
 fn download(bytes: Vec<u8>, ctype: &'static str, ext: &str) -> Response {
