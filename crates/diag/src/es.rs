@@ -1968,6 +1968,241 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
         "the qualifier {} takes no time",
         "el calificador {0} no lleva tiempo",
     ),
+    // SFC actions and conditions in ST.
+    (
+        Code::NetTagClash,
+        "the action flag `{}` is already a tag",
+        "el indicador de acción `{0}` ya es una variable",
+    ),
+    (
+        Code::NetTagClash,
+        "the condition flag `{}` is already a tag",
+        "el indicador de condición `{0}` ya es una variable",
+    ),
+    (
+        Code::SfcSyntax,
+        "a condition in ST is one expression",
+        "una condición en ST es una sola expresión",
+    ),
+    (
+        Code::SfcSyntax,
+        "`{}` is not an action name",
+        "`{0}` no es un nombre de acción",
+    ),
+    (
+        Code::SfcSyntax,
+        "the action is not ended by END_ACTION",
+        "la acción no termina con END_ACTION",
+    ),
+    (
+        Code::SfcSyntax,
+        "the condition is not ended by END_TRANSITION",
+        "la condición no termina con END_TRANSITION",
+    ),
+    // ST strings.
+    (
+        Code::StType,
+        "`{}` is {}; it has no members (LEN gives its length)",
+        "`{0}` es {1}; no tiene miembros (LEN da su longitud)",
+    ),
+    (
+        Code::StType,
+        "a string where a {} is wanted",
+        "una cadena donde se espera un {0}",
+    ),
+    // Coloured nets (PNML symmetric nets) unfolded for the analysis.
+    (
+        Code::PnmlArc,
+        "arc from `{}` to `{}` does not join a place and a transition of the net",
+        "el arco de `{0}` a `{1}` no une un lugar y una transición de la red",
+    ),
+    (
+        Code::PnmlDuplicateId,
+        "the constant `{}` is declared twice",
+        "la constante `{0}` está declarada dos veces",
+    ),
+    (
+        Code::PnmlDuplicateId,
+        "the sort `{}` is declared twice",
+        "el tipo de color `{0}` está declarado dos veces",
+    ),
+    (
+        Code::PnmlDuplicateId,
+        "the variable `{}` is declared twice",
+        "la variable `{0}` está declarada dos veces",
+    ),
+    (
+        Code::PnmlLimit,
+        "a sort of {} colours: Alba unfolds sorts of 1 to {} colours",
+        "un tipo de {0} colores: Alba despliega tipos de 1 a {1} colores",
+    ),
+    (
+        Code::PnmlLimit,
+        "this term denotes {} colours; Alba unfolds at most {}",
+        "este término denota {0} colores; Alba despliega como mucho {1}",
+    ),
+    (
+        Code::PnmlLimit,
+        "unfolding `{}` needs {} bindings of its variables; Alba tries at most {} in a net",
+        "desplegar `{0}` necesita {1} asignaciones de sus variables; Alba prueba como mucho {2} en una red",
+    ),
+    (
+        Code::PnmlLimit,
+        "unfolding the coloured net makes more than {} places, transitions and arcs",
+        "desplegar la red coloreada da más de {0} lugares, transiciones y arcos",
+    ),
+    (
+        Code::PnmlNumber,
+        "`{}` of <{}> is `{}`, not a whole number",
+        "`{0}` de <{1}> es `{2}`, no un número entero",
+    ),
+    (
+        Code::PnmlNumber,
+        "binding `{}`: an arc of weight {}",
+        "asignación `{0}`: un arco de peso {1}",
+    ),
+    (
+        Code::PnmlNumber,
+        "the initial marking of `{}` has {} tokens of a colour",
+        "el marcado inicial de `{0}` tiene {1} marcas de un color",
+    ),
+    (
+        Code::PnmlNumber,
+        "the range {}..{} is empty or too large",
+        "el rango {0}..{1} está vacío o es demasiado grande",
+    ),
+    (
+        Code::PnmlNumber,
+        "{} is outside its range",
+        "{0} está fuera de su rango",
+    ),
+    (
+        Code::PnmlNumber,
+        "{} tokens: a count is from 0 to {}",
+        "{0} marcas: una cuenta va de 0 a {1}",
+    ),
+    (Code::PnmlStructure, "<{}> compares colours", "<{0}> compara colores"),
+    (
+        Code::PnmlStructure,
+        "<{}> has no <structure>",
+        "<{0}> no tiene <structure>",
+    ),
+    (Code::PnmlStructure, "<{}> has no `{}`", "<{0}> no tiene `{1}`"),
+    (
+        Code::PnmlStructure,
+        "<{}> holds one sort or term",
+        "<{0}> contiene un tipo o un término",
+    ),
+    (
+        Code::PnmlStructure,
+        "<{}> is not a {} Alba can unfold",
+        "<{0}> no es un {1} que Alba sepa desplegar",
+    ),
+    (
+        Code::PnmlStructure,
+        "<{}> of a term that is not one enumeration or range value",
+        "<{0}> de un término que no es un valor de una enumeración o de un rango",
+    ),
+    (
+        Code::PnmlStructure,
+        "<{}> takes two <subterm>s, not {}",
+        "<{0}> lleva dos <subterm>, no {1}",
+    ),
+    (
+        Code::PnmlStructure,
+        "`{}` is not a declared constant",
+        "`{0}` no es una constante declarada",
+    ),
+    (
+        Code::PnmlStructure,
+        "a comparison of more than one colour",
+        "una comparación de más de un color",
+    ),
+    (
+        Code::PnmlStructure,
+        "a condition is a boolean term",
+        "una condición es un término booleano",
+    ),
+    (
+        Code::PnmlStructure,
+        "a multiset or condition where a colour is expected",
+        "un multiconjunto o una condición donde se espera un color",
+    ),
+    (
+        Code::PnmlStructure,
+        "a tuple's parts are colours",
+        "las partes de una tupla son colores",
+    ),
+    (
+        Code::PnmlStructure,
+        "an arc of the coloured place `{}` has no <hlinscription>",
+        "un arco del lugar coloreado `{0}` no tiene <hlinscription>",
+    ),
+    (
+        Code::PnmlStructure,
+        "the first part of a numberof is a <numberconstant>",
+        "la primera parte de un numberof es un <numberconstant>",
+    ),
+    (
+        Code::PnmlStructure,
+        "the initial marking of `{}` has a colour not of its sort",
+        "el marcado inicial de `{0}` tiene un color que no es de su tipo",
+    ),
+    (
+        Code::PnmlStructure,
+        "the inscription's colour is not of the sort of `{}`",
+        "el color de la inscripción no es del tipo de `{0}`",
+    ),
+    (
+        Code::PnmlStructure,
+        "the sort `{}` is not declared",
+        "el tipo de color `{0}` no está declarado",
+    ),
+    (
+        Code::PnmlStructure,
+        "the sorts refer to each other in a cycle",
+        "los tipos de color se refieren unos a otros en un ciclo",
+    ),
+    (
+        Code::PnmlStructure,
+        "the variable `{}` is not declared",
+        "la variable `{0}` no está declarada",
+    ),
+    (Code::PnmlSyntax, "not well-formed XML", "XML mal formado"),
+    (
+        Code::PnmlStructure,
+        "a coloured net (symmetric net): the editor and the scan read place/transition nets",
+        "una red coloreada (red simétrica): el editor y el ciclo leen redes de lugares y transiciones",
+    ),
+    // Scheduled reports.
+    (
+        Code::ConfigField,
+        "`[reports]` needs `shift_hours` or `period_hours`",
+        "`[reports]` necesita `shift_hours` o `period_hours`",
+    ),
+    (
+        Code::ConfigField,
+        "`[reports]` sets both `shift_hours` and `period_hours`",
+        "`[reports]` fija a la vez `shift_hours` y `period_hours`",
+    ),
+    (Code::ConfigField, "`folder` is empty", "`folder` está vacío"),
+    (Code::ConfigField, "`formats` is empty", "`formats` está vacío"),
+    (Code::ConfigField, "`shift_hours` is empty", "`shift_hours` está vacío"),
+    (
+        Code::ConfigField,
+        "hour {} is listed twice in `shift_hours`",
+        "la hora {0} aparece dos veces en `shift_hours`",
+    ),
+    (
+        Code::ConfigField,
+        "period_hours = {} does not divide a day",
+        "period_hours = {0} no divide un día",
+    ),
+    (
+        Code::ConfigField,
+        "shift hour {} is out of range",
+        "la hora de turno {0} está fuera de rango",
+    ),
 ];
 
 /// Messages of the shared readers — addresses, literals, tag names, the
