@@ -264,6 +264,70 @@ pub(crate) fn median_ratio(a: &[f64], b: &[f64]) -> f64 {
     median(a.iter().zip(b).map(|(a, b)| a / b).collect())
 }
 
+/// One size of a contender raced against the hand-written Rust.
+pub(crate) struct Race {
+    pub engine: Engine,
+    /// After `compile_native` (the interpreter when native code is unavailable).
+    pub jit: Engine,
+    /// Machine-code generation (NaN when unavailable).
+    pub jit_ms: f64,
+    /// Median ns/rung of the interpreter, native code and plain Rust.
+    pub per_rung: [f64; 3],
+    /// Median ratios of the interpreter and native code to plain Rust.
+    pub ratios: [f64; 2],
+    /// The best round's line of the summary table.
+    pub best: String,
+}
+
+/// Times the interpreter and native code of `p` (`n` rungs of the benchmark)
+/// against [`native_rungs`], the three taking turns in each of `runs` rounds
+/// of about 20 ms of engine work.
+pub(crate) fn race(p: &Arc<Program>, n: usize, runs: usize, quick: bool) -> Result<Race, String> {
+    let scans = ((20_000_000 / (n as u64 * 20)).max(10)) / if quick { 4 } else { 1 };
+    let refused = |e: alba_engine::EngineError| format!("the engine refuses the program: {e}");
+    let mut engine = Engine::new(p.clone()).map_err(refused)?;
+    let mut jit = Engine::new(p.clone()).map_err(refused)?;
+    let t = Instant::now();
+    let jit_ms = match jit.compile_native() {
+        Ok(()) => t.elapsed().as_secs_f64() * 1e3,
+        Err(e) => {
+            eprintln!("native code unavailable: {e}");
+            f64::NAN
+        }
+    };
+    let mut rungs = native_rungs(n);
+    let [engine_t, jit_t, native_t] = round_samples(
+        runs,
+        scans.max(3),
+        &mut [
+            &mut |k| {
+                let _ = engine.scan(black_box(k * SCAN_MS));
+            },
+            &mut |k| {
+                let _ = jit.scan(black_box(k * SCAN_MS));
+            },
+            &mut |k| native::scan(black_box(&mut rungs), black_box((k * SCAN_MS) as u32)),
+        ],
+    );
+    let ratios = [median_ratio(&engine_t, &native_t), median_ratio(&jit_t, &native_t)];
+    let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) / n as f64;
+    let [engine_best, jit_best, native_best] = [&engine_t, &jit_t, &native_t].map(|v| best(v));
+    let best = format!(
+        "{n:>6} | {engine_best:>11.2} {:>5.2} | {jit_best:>11.2} {:>5.2} | {native_best:>9.2}",
+        engine_best / native_best,
+        jit_best / native_best
+    );
+    let per_rung = [engine_t, jit_t, native_t].map(|v| median(v) / n as f64);
+    Ok(Race {
+        engine,
+        jit,
+        jit_ms,
+        per_rung,
+        ratios,
+        best,
+    })
+}
+
 pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
     let runs = if quick { 3 } else { 21 };
     println!("alba bench: rung = [XIO(T.DN),XIC(A)]TON(T,P,0)CTU(C,1000000,0)GRT(C.ACC,L)ADD(V,1,V)OTE(Q)");
@@ -303,49 +367,24 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
             eprintln!("error: engine and native disagree at N = {n}: {e}");
             return ExitCode::FAILURE;
         }
-        // About 20 ms of engine work per run.
-        let scans = ((20_000_000 / (n as u64 * 20)).max(10)) / if quick { 4 } else { 1 };
-        let Ok(mut engine) = Engine::new(p.clone()) else {
-            return ExitCode::FAILURE;
-        };
-        let Ok(mut jit) = Engine::new(p.clone()) else {
-            return ExitCode::FAILURE;
-        };
-        let t = Instant::now();
-        let jit_ms = match jit.compile_native() {
-            Ok(()) => t.elapsed().as_secs_f64() * 1e3,
+        let Race {
+            engine,
+            jit,
+            jit_ms,
+            per_rung: [engine_ns, jit_ns, native_ns],
+            ratios: [engine_ratio, jit_ratio],
+            best,
+        } = match race(&p, n, runs, quick) {
+            Ok(r) => r,
             Err(e) => {
-                eprintln!("native code unavailable: {e}");
-                f64::NAN
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
             }
         };
-        let mut rungs = native_rungs(n);
-        let [engine_t, jit_t, native_t] = round_samples(
-            runs,
-            scans.max(3),
-            &mut [
-                &mut |k| {
-                    let _ = engine.scan(black_box(k * SCAN_MS));
-                },
-                &mut |k| {
-                    let _ = jit.scan(black_box(k * SCAN_MS));
-                },
-                &mut |k| native::scan(black_box(&mut rungs), black_box((k * SCAN_MS) as u32)),
-            ],
-        );
-        let (engine_ratio, jit_ratio) = (median_ratio(&engine_t, &native_t), median_ratio(&jit_t, &native_t));
-        let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) / n as f64;
-        let [engine_best, jit_best, native_best] = [&engine_t, &jit_t, &native_t].map(|v| best(v));
-        bests.push(format!(
-            "{n:>6} | {engine_best:>11.2} {:>5.2} | {jit_best:>11.2} {:>5.2} | {native_best:>9.2}",
-            engine_best / native_best,
-            jit_best / native_best
-        ));
-        let [engine_ns, jit_ns, native_ns] = [engine_t, jit_t, native_t].map(median);
+        bests.push(best);
         let data = p.init.size_bytes() as f64 / n as f64;
         let state = |e: &Engine| e.footprint() as f64 / n as f64 - data;
         let state = format!("{:.0} / {:.0}", state(&engine), state(&jit));
-        let per = |ns: f64| ns / n as f64;
         if let Some((rungs, strided, functions)) = jit.native_layout() {
             layouts.push(format!(
                 "  N = {n}: {functions} function(s), {strided} of {rungs} rungs in strided runs"
@@ -357,11 +396,11 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
             built.parse_ms,
             built.compile_ms,
             jit_ms,
-            per(engine_ns),
+            engine_ns,
             engine_ratio,
-            per(jit_ns),
+            jit_ns,
             jit_ratio,
-            per(native_ns),
+            native_ns,
             data,
             state
         );

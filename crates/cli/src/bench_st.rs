@@ -16,12 +16,11 @@
 //! ST (30 000 instead of the Ladder's 1 000 000): no rung reaches it, and
 //! `C.DN` is not compared.
 
-use crate::bench::{SCAN_MS, median, median_ratio, native, native_rungs, place, preset, round_samples};
+use crate::bench::{Race, SCAN_MS, native, native_rungs, place, preset, race};
 use alba_diag::Files;
 use alba_engine::Engine;
 use alba_ir::Program;
 use alba_model::{TagTable, Value};
-use std::hint::black_box;
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
@@ -151,42 +150,21 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
             eprintln!("error: ST and plain Rust disagree at N = {n}: {e}");
             return ExitCode::FAILURE;
         }
-        let scans = ((20_000_000 / (n as u64 * 20)).max(10)) / if quick { 4 } else { 1 };
-        let (Ok(mut engine), Ok(mut jit)) = (Engine::new(p.clone()), Engine::new(p.clone())) else {
-            return ExitCode::FAILURE;
-        };
-        let t = Instant::now();
-        let jit_ms = match jit.compile_native() {
-            Ok(()) => t.elapsed().as_secs_f64() * 1e3,
+        let Race {
+            jit,
+            jit_ms,
+            per_rung: [engine_ns, jit_ns, native_ns],
+            ratios: [engine_ratio, jit_ratio],
+            best,
+            ..
+        } = match race(&p, n, runs, quick) {
+            Ok(r) => r,
             Err(e) => {
-                eprintln!("native code unavailable: {e}");
-                f64::NAN
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
             }
         };
-        let mut rungs = native_rungs(n);
-        let [engine_t, jit_t, native_t] = round_samples(
-            runs,
-            scans.max(3),
-            &mut [
-                &mut |k| {
-                    let _ = engine.scan(black_box(k * SCAN_MS));
-                },
-                &mut |k| {
-                    let _ = jit.scan(black_box(k * SCAN_MS));
-                },
-                &mut |k| native::scan(black_box(&mut rungs), black_box((k * SCAN_MS) as u32)),
-            ],
-        );
-        let (engine_ratio, jit_ratio) = (median_ratio(&engine_t, &native_t), median_ratio(&jit_t, &native_t));
-        let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) / n as f64;
-        let [engine_best, jit_best, native_best] = [&engine_t, &jit_t, &native_t].map(|v| best(v));
-        bests.push(format!(
-            "{n:>6} | {engine_best:>11.2} {:>5.2} | {jit_best:>11.2} {:>5.2} | {native_best:>9.2}",
-            engine_best / native_best,
-            jit_best / native_best
-        ));
-        let per = |ns: f64| ns / n as f64;
-        let [engine_ns, jit_ns, native_ns] = [engine_t, jit_t, native_t].map(median);
+        bests.push(best);
         println!(
             "{:>6} {:>6} | {:>7.1} {:>7.1} {:>6.1} | {:>11.2} {:>5.2} | {:>11.2} {:>5.2} | {:>9.2}",
             n,
@@ -194,11 +172,11 @@ pub fn run(sizes: &[usize], quick: bool) -> ExitCode {
             built.parse_ms,
             built.compile_ms,
             jit_ms,
-            per(engine_ns),
+            engine_ns,
             engine_ratio,
-            per(jit_ns),
+            jit_ns,
             jit_ratio,
-            per(native_ns)
+            native_ns
         );
         if let Some((rungs, strided, functions)) = jit.native_layout() {
             println!("         native code: {functions} function(s), {strided} of {rungs} IR rungs in strided runs");
