@@ -9,13 +9,36 @@ mod corpus;
 
 use std::collections::BTreeMap;
 
-use alba_net::analysis::{Bound, Control, Invariants, Options, Space, Status, analyze};
+use alba_net::analysis::{Analysis, Bound, Control, Invariants, Options, Space, Status, analyze};
 
 fn limit() -> u64 {
     std::env::var("ALBA_MCC_MAX_STATES")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(100_000)
+}
+
+/// The analysis the oracles are checked against (the flows basis only: minimal
+/// invariants are not in them) and the largest bound of a place.
+fn analysed(net: &alba_net::PtNet) -> (Analysis, Option<u64>) {
+    let a = analyze(
+        net,
+        &Options {
+            invariants: Invariants::Flows,
+            ..Options::default()
+        },
+        &Control::none(),
+    );
+    let largest = a.place_bounds.as_ref().map(|b| {
+        b.iter()
+            .map(|x| match x {
+                Bound::Finite(n) => u64::from(*n),
+                Bound::Omega => u64::MAX,
+            })
+            .max()
+            .unwrap_or(0)
+    });
+    (a, largest)
 }
 
 #[test]
@@ -34,23 +57,7 @@ fn state_spaces_match_the_contest() {
         }
         let t = std::time::Instant::now();
         let net = corpus::net(i);
-        let a = analyze(
-            &net,
-            &Options {
-                invariants: Invariants::Flows,
-                ..Options::default()
-            },
-            &Control::none(),
-        );
-        let largest = a.place_bounds.as_ref().map(|b| {
-            b.iter()
-                .map(|x| match x {
-                    Bound::Finite(n) => u64::from(*n),
-                    Bound::Omega => u64::MAX,
-                })
-                .max()
-                .unwrap_or(0)
-        });
+        let (a, largest) = analysed(&net);
         let have = (a.space, a.states, a.edges, largest, a.max_tokens);
         let want = (
             Space::Reachability,
@@ -136,23 +143,7 @@ fn coloured_models_unfold_to_their_pt_twins_answers() {
             };
         let unfold_time = t.elapsed();
         let pt = alba_net::PtNet::from_net(&net);
-        let a = analyze(
-            &pt,
-            &Options {
-                invariants: Invariants::Flows,
-                ..Options::default()
-            },
-            &Control::none(),
-        );
-        let largest = a.place_bounds.as_ref().map(|b| {
-            b.iter()
-                .map(|x| match x {
-                    Bound::Finite(n) => u64::from(*n),
-                    Bound::Omega => u64::MAX,
-                })
-                .max()
-                .unwrap_or(0)
-        });
+        let (a, largest) = analysed(&pt);
         let have = (a.states, a.edges, largest, a.max_tokens);
         let oracle = |o: &corpus::Instance| {
             (
