@@ -94,6 +94,9 @@ export class NetView {
   private plots = new Map<string, number[]>();
   /** Each Button's latch (a double-click holds it at true: widgets.ts), by widget id. */
   private latches = new Map<string, ButtonLatch>();
+  /** The Buttons' writes, one after the other: a double-click's press, release and latch
+   * must reach the runtime in that order, or the release's false can land last. */
+  private buttonWrites: Promise<unknown> = Promise.resolve();
   private svg: SVGSVGElement | null = null;
   /** The drawn group of each node and widget, by id. */
   private groups = new Map<string, SVGGElement>();
@@ -725,6 +728,12 @@ export class NetView {
     }
   }
 
+  private writeButton(tag: string, v: boolean): void {
+    this.buttonWrites = this.buttonWrites
+      .then(() => api.writeTag(tag, v))
+      .catch((e) => this.ctx.notify(e.message, 'error'));
+  }
+
   private latchOf(id: string): ButtonLatch {
     let l = this.latches.get(id);
     if (!l) this.latches.set(id, (l = new ButtonLatch()));
@@ -920,7 +929,7 @@ export class NetView {
         if (wd.kind === 'button' && this.live && wd.tag && !ev.shiftKey && !this.sel.has(wd.id) && can('write')) {
           const latch = this.latchOf(wd.id);
           const write = (v: boolean | null) => {
-            if (v !== null) void api.writeTag(wd.tag!, v).catch((e) => this.ctx.notify(e.message, 'error'));
+            if (v !== null) this.writeButton(wd.tag!, v);
             g.classList.toggle('latched', latch.latched);
           };
           write(latch.press());
@@ -937,7 +946,7 @@ export class NetView {
         if (wd.kind !== 'button' || !this.live || !wd.tag || ev.shiftKey || this.sel.has(wd.id) || !can('write')) return;
         ev.stopPropagation();
         const latch = this.latchOf(wd.id);
-        void api.writeTag(wd.tag, latch.double() ?? true).catch((e) => this.ctx.notify(e.message, 'error'));
+        this.writeButton(wd.tag, latch.double() ?? true);
         g.classList.add('latched');
       });
       this.groups.set(wd.id, g);
