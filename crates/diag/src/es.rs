@@ -1734,6 +1734,16 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (Code::StType, "{}.{} is a {}, not a {}", "{0}.{1} es un {2}, no un {3}"),
     (
+        Code::StNotSupported,
+        "{}: DATE, TIME_OF_DAY and DATE_AND_TIME do not convert to a string yet",
+        "{0}: DATE, TIME_OF_DAY y DATE_AND_TIME aún no se convierten en cadena",
+    ),
+    (
+        Code::StNotSupported,
+        "{}: a string converts only to integers, bit strings, REAL and LREAL yet",
+        "{0}: por ahora una cadena solo se convierte en enteros, cadenas de bits, REAL y LREAL",
+    ),
+    (
         Code::StType,
         "{}: BCD conversions are between a bit string and an integer",
         "{0}: las conversiones BCD son entre una cadena de bits y un entero",

@@ -263,9 +263,20 @@ fn utf8_len(first: u8) -> usize {
     }
 }
 
+/// Whether the value so far is a decimal number ending in its exponent's
+/// `E` (`REAL#2.5E` of `REAL#2.5E-8`), so a sign may follow.
+fn signed_exponent(v: &[u8]) -> bool {
+    v.len() >= 2
+        && matches!(v[v.len() - 1], b'e' | b'E')
+        && v[v.len() - 2].is_ascii_digit()
+        && v.iter()
+            .all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'_' | b'e' | b'E'))
+}
+
 /// The value part of a typed literal: an optional sign, then letters,
 /// digits, `_`, `#` (`DINT#16#FF`), for dates and times of day (`date`)
-/// `:` and `-`, and `.` before a digit (`T#1.5s`). Returns where it starts.
+/// `:` and `-`, `.` before a digit (`T#1.5s`) and the sign of an exponent
+/// (`LREAL#1.5E-8`). Returns where it starts.
 fn typed_rest(b: &[u8], i: &mut usize, date: bool) -> usize {
     if matches!(b.get(*i), Some(b'+' | b'-')) {
         *i += 1;
@@ -276,7 +287,10 @@ fn typed_rest(b: &[u8], i: &mut usize, date: bool) -> usize {
             || matches!(c, b'_' | b'#')
             || (date && c == b':')
             || (date && c == b'-' && *i > start && b.get(*i + 1).is_some_and(u8::is_ascii_digit))
-            || (c == b'.' && b.get(*i + 1).is_some_and(u8::is_ascii_digit));
+            || (c == b'.' && b.get(*i + 1).is_some_and(u8::is_ascii_digit))
+            || (matches!(c, b'+' | b'-')
+                && signed_exponent(&b[start..*i])
+                && b.get(*i + 1).is_some_and(u8::is_ascii_digit));
         if !ok {
             break;
         }

@@ -32,6 +32,7 @@ mod bits;
 mod calls;
 mod dates;
 mod decl;
+mod strconv;
 mod strings;
 mod types;
 
