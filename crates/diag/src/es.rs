@@ -1735,6 +1735,16 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     (Code::StType, "{}.{} is a {}, not a {}", "{0}.{1} es un {2}, no un {3}"),
     (
         Code::StNotSupported,
+        "a pragma `{…}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code",
+        "un pragma `{…}` no se ejecuta: OpenPLC y Beremiz pegan su texto en el código C que generan, y Alba no ejecuta código C",
+    ),
+    (
+        Code::StSyntax,
+        "this pragma `{` is never closed by `}`",
+        "este pragma `{` nunca se cierra con `}`",
+    ),
+    (
+        Code::StNotSupported,
         "{}: DATE, TIME_OF_DAY and DATE_AND_TIME do not convert to a string yet",
         "{0}: DATE, TIME_OF_DAY y DATE_AND_TIME aún no se convierten en cadena",
     ),

@@ -951,3 +951,19 @@ fn plcopen_sfc_st_action_with_a_syntax_error_is_refused_at_its_line() {
     let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
     assert_eq!(files, ["tank.sfc"]);
 }
+
+#[test]
+fn openplc_pragmas_are_refused_each_at_its_place() {
+    // The OpenPLC Editor's example Random_Generator_Pragma: its ST function
+    // block calls C through three pragmas (`{SetFbVar(OUT,rand())}` …); each
+    // is one refusal at its line and column, not a cascade of syntax errors.
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/openplc-random-pragma.xml");
+    let text = fs::read_to_string(&f).expect("fixture");
+    let (_, report) = alba_import::convert(Path::new("random.xml"), &text, &Options::default()).expect("converts");
+    let r = report.render();
+    let pragma = "refused: ST of `rand_generator`: E223: a pragma `{…}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code";
+    for at in ["288:1", "295:3", "304:3"] {
+        assert!(r.contains(&format!("random.xml:{at}: {pragma}")), "{at} in\n{r}");
+    }
+    assert!(!r.contains("E220"), "{r}");
+}

@@ -733,12 +733,12 @@ fn trace_in(mode: &str, dir: &Path, stimulus: &str, cols: &str, until: u64, ever
     String::from_utf8(out).expect("utf8")
 }
 
-/// The PLCopen fixtures with functions and function blocks in ST run with
+/// The PLCopen fixtures with functions, function blocks and SFC actions in ST run with
 /// their golden traces (`tests/golden/plcopen-traces/<fixture>.csv`;
 /// `ALBA_BLESS=1` rewrites them) in every engine mode.
 #[test]
 fn plcopen_st_functions_and_function_blocks_run_with_their_golden_traces() {
-    let cases: [(&str, &str, &str, u64, u64); 3] = [
+    let cases: [(&str, &str, &str, u64, u64); 4] = [
         // IronPLC's test project: the FB instance keeps its state (Count,
         // set once by the stimulus) as Main calls it with Reset FALSE.
         (
@@ -766,6 +766,19 @@ fn plcopen_st_functions_and_function_blocks_run_with_their_golden_traces() {
             "time_ms,tag,value\n20,start,1\n40,start,0\n200,start,1\n300,start,0\n",
             "start,full,cycles,Main.plant.level,Main.plant.mode,Logger.log[1],Logger.log[2],Logger.last",
             400,
+            10,
+        ),
+        // OpenPLC's SFC test (OpenPLC_v3, matiec's tests): a named ST
+        // action and inline ST action bodies (actions `A<block>_<k>`), ST
+        // conditions. GO → STEP1 at once (IX1 FALSE); IX2 leads to STEP2,
+        // whose P action steps QX1/QX2 through A1, A2, A3 (which write
+        // IX1) to the simultaneous D1–D3, E1–E3 and back to GO; IX1 cleared
+        // again starts a second round, which waits in D (QX3 stays TRUE).
+        (
+            "openplc-sfc-test",
+            "time_ms,tag,value\n300,IX2,1\n450,IX1,0\n",
+            "QX1,QX2,QX3,IX1,IX2,MAIN_TEST.GO.X,MAIN_TEST.STEP1.X,MAIN_TEST.STEP2.X,MAIN_TEST.A1.X,MAIN_TEST.A2.X,MAIN_TEST.A3.X,MAIN_TEST.D1.X,MAIN_TEST.E3.X",
+            520,
             10,
         ),
     ];

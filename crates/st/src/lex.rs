@@ -1,5 +1,6 @@
 //! The lexer: ST text to tokens with byte spans. Comments `(* *)` (nested),
-//! `/* */` and `//`; identifiers and keywords are case-insensitive; typed
+//! `/* */` and `//`; pragmas `{…}` skipped with an E223 each (Alba runs none);
+//! identifiers and keywords are case-insensitive; typed
 //! and based literals (`T#1h2m`, `16#FF`, `DINT#5`) are single tokens.
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
@@ -91,6 +92,34 @@ pub fn lex(text: &str, file: FileId) -> (Vec<Token>, Vec<Diagnostic>) {
         if c == b'/' && b.get(i + 1) == Some(&b'/') {
             while i < b.len() && b[i] != b'\n' {
                 i += 1;
+            }
+            continue;
+        }
+        if c == b'{' {
+            // A pragma: what it means is the implementation's; OpenPLC's and
+            // Beremiz's (matiec) are C code pasted into the generated C.
+            match text[i + 1..].find('}') {
+                Some(k) => {
+                    i = i + 1 + k + 1;
+                    diags.push(
+                        Diagnostic::new(
+                            Code::StNotSupported,
+                            "a pragma `{…}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code".to_string(),
+                            Span::new(file, start..i),
+                            "pragma",
+                        )
+                        .with_help("write what it does in ST, or leave it out"),
+                    );
+                }
+                None => {
+                    err(
+                        &mut diags,
+                        start,
+                        start + 1,
+                        "this pragma `{` is never closed by `}`".into(),
+                    );
+                    i = b.len();
+                }
             }
             continue;
         }

@@ -437,6 +437,39 @@ pub(super) fn declare_actions<'a>(
     scope: &mut HashMap<String, Var>,
 ) -> Vec<StAction<'a>> {
     let mut out = Vec::new();
+    // Inline ST bodies of the chart's action blocks: actions named after
+    // their block and place in it ([`inline_action_name`]).
+    let blocks = pou
+        .child("body")
+        .and_then(|b| b.child("SFC"))
+        .into_iter()
+        .flat_map(|sfc| sfc.all("actionBlock"));
+    for block in blocks {
+        for (k, a) in block.all("action").enumerate() {
+            let Some(st) = a.child("inline").and_then(|i| i.child("ST")) else {
+                continue;
+            };
+            let name = inline_action_name(block, k);
+            let key = name.to_ascii_lowercase();
+            if scope.contains_key(&key) {
+                conv.report.push(
+                    Kind::Refused,
+                    conv.ctx.loc(a),
+                    format!("the inline action `{name}` of `{pname}` has the name of a variable; left out"),
+                );
+                continue;
+            }
+            scope.insert(
+                key,
+                Var {
+                    alba: name.clone(),
+                    kind: VarKind::Tag("BOOL".into()),
+                    fb: String::new(),
+                },
+            );
+            out.push(StAction { name, st });
+        }
+    }
     let Some(acts) = pou.child("actions") else {
         return out;
     };
@@ -468,6 +501,12 @@ pub(super) fn declare_actions<'a>(
         });
     }
     out
+}
+
+/// The name of the `k`-th (from 0) action of an action block when its body
+/// is inline: `A<localId>_<k + 1>` (`A57_1`).
+pub(super) fn inline_action_name(block: &Elem, k: usize) -> String {
+    format!("A{}_{}", block.attr("localId").unwrap_or("0").trim(), k + 1)
 }
 
 /// Appends to the chart `prog` an `ACTION <name>: <body> END_ACTION` for
