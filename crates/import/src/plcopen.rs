@@ -1161,8 +1161,14 @@ impl Body<'_, '_> {
 }
 
 /// The `externalVars` of a POU: declared by the configuration; unknown ones
-/// become tags.
-fn external_vars(conv: &mut Conv<'_>, list: &Elem, scope: &mut HashMap<String, Var>) {
+/// become tags, global from then on (so the next POU naming one shares the
+/// tag, not declares it again).
+fn external_vars(
+    conv: &mut Conv<'_>,
+    list: &Elem,
+    scope: &mut HashMap<String, Var>,
+    globals: &mut HashMap<String, Var>,
+) {
     let mut l2 = list.clone();
     l2.children.retain(|c| {
         c.name == "variable"
@@ -1188,14 +1194,20 @@ fn external_vars(conv: &mut Conv<'_>, list: &Elem, scope: &mut HashMap<String, V
     conv.names = tmp.names;
     conv.tags.extend(tmp.tags);
     conv.report.entries.extend(tmp.report.entries);
+    globals.extend(ext.clone());
     scope.extend(ext);
 }
 
 /// The tags a function or function block names through its `externalVars`.
-fn external_tags(conv: &mut Conv<'_>, pou: &Elem, scope: &mut HashMap<String, Var>) {
+fn external_tags(
+    conv: &mut Conv<'_>,
+    pou: &Elem,
+    scope: &mut HashMap<String, Var>,
+    globals: &mut HashMap<String, Var>,
+) {
     if let Some(iface) = pou.child("interface") {
         for list in iface.all("externalVars") {
-            external_vars(conv, list, scope);
+            external_vars(conv, list, scope, globals);
         }
     }
 }
@@ -1352,7 +1364,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             match st {
                 Some(st) if kind == "function" || kind == "functionBlock" => {
                     let mut scope = globals.clone();
-                    external_tags(&mut conv, pou, &mut scope);
+                    external_tags(&mut conv, pou, &mut scope, &mut globals);
                     if let Some(out) = st::convert(&mut conv, pou, st, (&pname, kind), &known, &mut scope) {
                         library.push(out);
                     }
@@ -1395,7 +1407,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     "localVars" | "inputVars" | "outputVars" | "inOutVars" | "externalVars" | "globalVars" | "tempVars"
                 ) {
                     if list.name == "externalVars" {
-                        external_vars(&mut conv, list, &mut scope);
+                        external_vars(&mut conv, list, &mut scope, &mut globals);
                     } else if !is_st {
                         conv.declare(list, &mut scope, &pname);
                     }
@@ -1403,9 +1415,18 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             }
         }
         if is_st {
+            let before = conv.report.entries.len();
             match st::convert(&mut conv, pou, ld, (&pname, kind), &known, &mut scope) {
                 Some(prog) => programs.push(prog),
-                None => refused_programs.push(format!("`{pname}` (ST)")),
+                None => {
+                    // Why, by its first refusal (a syntax error at its line).
+                    let first = conv.report.entries[before..]
+                        .iter()
+                        .find(|e| e.kind == Kind::Refused)
+                        .map(|e| format!(", refused at {}:{}: {}", e.location.line, e.location.col, e.message))
+                        .unwrap_or_default();
+                    refused_programs.push(format!("`{pname}` (ST{first})"));
+                }
             }
             continue;
         }

@@ -799,3 +799,56 @@ fn plcopen_st_functions_and_function_blocks_run_with_their_golden_traces() {
         }
     }
 }
+
+/// STRING, WSTRING and date variables of a PLCopen ST program (as OpenPLC's
+/// editor writes them: `<string length="8"/>`, an initial value in quotes)
+/// are imported and run in every engine mode.
+#[test]
+fn plcopen_st_strings_and_dates_import_and_run() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="Main" pouType="program">
+      <interface><localVars>
+        <variable name="greet"><type><string length="8"/></type><initialValue><simpleValue value="'hi'"/></initialValue></variable>
+        <variable name="msg"><type><string/></type></variable>
+        <variable name="w"><type><wstring length="4"/></type></variable>
+        <variable name="day"><type><DATE/></type><initialValue><simpleValue value="D#2024-01-31"/></initialValue></variable>
+        <variable name="n"><type><INT/></type></variable>
+      </localVars></interface>
+      <body><ST><xhtml:p><![CDATA[n := n + 1;
+msg := CONCAT(greet, ' ', INT_TO_STRING(n), ' ', REAL_TO_STRING(INT_TO_REAL(n) / 4.0));
+w := STRING_TO_WSTRING(LEFT(greet, 1));
+]]></xhtml:p></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("strings.xml");
+    std::fs::write(&file, xml).expect("write");
+    let dir = tmp.path().join("p");
+    alba_import::import(&file, &dir, &Options::default()).expect("import");
+    let st = std::fs::read_to_string(dir.join("Main.st")).expect("Main.st");
+    for want in [
+        "greet : STRING[8] := 'hi';",
+        "msg : STRING;",
+        "w : WSTRING[4];",
+        "day : DATE := D#2024-01-31;",
+    ] {
+        assert!(st.contains(want), "{want} not in\n{st}");
+    }
+    // `hi 2 0.5` on the second scan: its length and characters.
+    let cols =
+        "Main.n,Main.msg.LEN,Main.msg[1],Main.msg[4],Main.msg[6],Main.msg[7],Main.msg[8],Main.w.LEN,Main.w[1],Main.day";
+    let want = "time_ms,Main.n,Main.msg.LEN,Main.msg[1],Main.msg[4],Main.msg[6],Main.msg[7],Main.msg[8],Main.w.LEN,Main.w[1],Main.day\n\
+                0,1,9,104,49,48,46,50,1,104,1706659200000\n\
+                10,2,8,104,50,48,46,53,1,104,1706659200000\n";
+    for mode in ["fused", "monitored", "native"] {
+        assert_eq!(
+            trace_in(mode, &dir, "time_ms,tag,value\n", cols, 10, 10),
+            want,
+            "{mode}"
+        );
+    }
+}

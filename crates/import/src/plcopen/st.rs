@@ -20,7 +20,8 @@ use std::collections::{HashMap, HashSet};
 /// (docs/st.md).
 const RUNS: &[&str] = &[
     "BOOL", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT", "BYTE", "WORD", "DWORD", "LWORD", "REAL",
-    "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
+    "LREAL", "TIME", "LTIME", "DATE", "TOD", "DT", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR",
+    "RS",
 ];
 
 /// The ST text of a PLCopen `<type>`'s content, or why not. `known` holds
@@ -78,6 +79,13 @@ fn st_type(t: &Elem, known: &HashSet<String>) -> Result<String, String> {
                 return Err("an enumeration without values".into());
             }
             return Ok(format!("({})", values.join(", ")));
+        }
+        // `<string length="n"/>`, `<wstring/>` (STRING[80] without one).
+        "STRING" | "WSTRING" => {
+            return Ok(match t.attr("length").map(str::trim).filter(|l| !l.is_empty()) {
+                Some(n) => format!("{up}[{n}]"),
+                None => up,
+            });
         }
         _ => up,
     };
