@@ -1735,8 +1735,8 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     (Code::StType, "{}.{} is a {}, not a {}", "{0}.{1} es un {2}, no un {3}"),
     (
         Code::StNotSupported,
-        "a pragma `{…}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code",
-        "un pragma `{…}` no se ejecuta: OpenPLC y Beremiz pegan su texto en el código C que generan, y Alba no ejecuta código C",
+        "a pragma `{}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code",
+        "un pragma `{0}` no se ejecuta: OpenPLC y Beremiz pegan su texto en el código C que generan, y Alba no ejecuta código C",
     ),
     (
         Code::StSyntax,

@@ -1036,3 +1036,28 @@ fn an_external_variable_the_configuration_lacks_is_one_tag_for_every_program() {
     let files: Vec<&str> = p.programs.iter().map(|p| p.file.as_str()).collect();
     assert_eq!(files, ["writer.st", "reader.st"]);
 }
+
+#[test]
+fn sfc_steps_without_a_local_id_keep_their_names() {
+    // As IronPLC's grammar test file writes them (`<step name="Init"
+    // initialStep="true">`, no localId): the steps are named, not empty.
+    let text = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0200">
+  <types><pous>
+    <pou name="Chart" pouType="program">
+      <body><SFC>
+        <step name="Init" initialStep="true"><connectionPointOut/></step>
+        <step name="Step1" initialStep="false"><connectionPointIn/></step>
+      </SFC></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let (p, report) = alba_import::convert(Path::new("sfc.xml"), text, &Options::default()).expect("converts");
+    let sfc = &p.programs[0].text;
+    assert!(
+        sfc.contains("INITIAL_STEP Init: END_STEP") && sfc.contains("STEP Step1: END_STEP"),
+        "{sfc}\n{}",
+        report.render()
+    );
+}

@@ -264,7 +264,17 @@ pub(super) fn convert(
     let mut initials = 0;
     for s in &step_elems {
         let id = s.attr("localId").unwrap_or("");
-        let alba = chart.steps.get(id).cloned().unwrap_or_default();
+        // By its localId, else (a file that leaves it out) by its name.
+        let alba = chart
+            .steps
+            .get(id)
+            .or_else(|| {
+                chart
+                    .by_name
+                    .get(&s.attr("name").unwrap_or("").trim().to_ascii_lowercase())
+            })
+            .cloned()
+            .unwrap_or_default();
         let mut assoc: Vec<String> = Vec::new();
         for r in chart.readers.get(id).map(Vec::as_slice).unwrap_or_default() {
             match r.name.as_str() {

@@ -445,13 +445,19 @@ pub(super) fn declare_actions<'a>(
     scope: &mut HashMap<String, Var>,
 ) -> Vec<StAction<'a>> {
     let mut out = Vec::new();
-    // Inline ST bodies of the chart's action blocks: actions named after
-    // their block and place in it ([`inline_action_name`]).
+    // Inline ST bodies of the chart's action blocks that are on a step:
+    // actions named after their block and place in it
+    // ([`inline_action_name`]).
     let blocks = pou
         .child("body")
         .and_then(|b| b.child("SFC"))
         .into_iter()
-        .flat_map(|sfc| sfc.all("actionBlock"));
+        .flat_map(|sfc| sfc.all("actionBlock"))
+        .filter(|b| {
+            b.child("connectionPointIn")
+                .and_then(|c| c.child("connection"))
+                .is_some()
+        });
     for block in blocks {
         for (k, a) in block.all("action").enumerate() {
             let Some(st) = a.child("inline").and_then(|i| i.child("ST")) else {
