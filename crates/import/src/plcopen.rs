@@ -1240,7 +1240,29 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         .unwrap_or(stem)
         .to_string();
 
-    // Global variables and the scan period of the configurations.
+    // User types and function blocks, by which ST variables are declared.
+    let types_el = root.child("types");
+    let mut known: std::collections::HashSet<String> = types_el
+        .and_then(|t| t.child("dataTypes"))
+        .map(|d| {
+            d.all("dataType")
+                .filter_map(|d| d.attr("name"))
+                .map(str::to_ascii_lowercase)
+                .collect()
+        })
+        .unwrap_or_default();
+    known.extend(
+        types_el
+            .and_then(|t| t.child("pous"))
+            .into_iter()
+            .flat_map(|p| p.all("pou"))
+            .filter(|p| p.attr("pouType") != Some("program"))
+            .filter_map(|p| p.attr("name"))
+            .map(str::to_ascii_lowercase),
+    );
+    // Global variables and the scan period of the configurations; globals of
+    // the file's types are ST (`globals.st`, one file-level VAR_GLOBAL).
+    let mut global_st: Vec<(Location, String, String)> = Vec::new();
     let mut scan_ms: Option<u32> = None;
     let mut instances: Vec<String> = Vec::new();
     let mut tasks: Vec<(i64, String)> = Vec::new();
@@ -1248,11 +1270,13 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
     if let Some(cfgs) = root.child("instances").and_then(|i| i.child("configurations")) {
         for cfg in cfgs.all("configuration") {
             for gv in cfg.all("globalVars") {
-                conv.declare(gv, &mut globals, "global");
+                let gv = st::user_globals(&mut conv, gv, &known, &mut globals, &mut global_st);
+                conv.declare(&gv, &mut globals, "global");
             }
             for res in cfg.all("resource") {
                 for gv in res.all("globalVars") {
-                    conv.declare(gv, &mut globals, "global");
+                    let gv = st::user_globals(&mut conv, gv, &known, &mut globals, &mut global_st);
+                    conv.declare(&gv, &mut globals, "global");
                 }
                 for task in res.all("task") {
                     let loc = conv.ctx.loc(task);
@@ -1325,23 +1349,6 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             ordered.push(p);
         }
     }
-    // User types and function blocks, by which ST variables are declared.
-    let types_el = root.child("types");
-    let mut known: std::collections::HashSet<String> = types_el
-        .and_then(|t| t.child("dataTypes"))
-        .map(|d| {
-            d.all("dataType")
-                .filter_map(|d| d.attr("name"))
-                .map(str::to_ascii_lowercase)
-                .collect()
-        })
-        .unwrap_or_default();
-    known.extend(
-        pous.iter()
-            .filter(|p| p.attr("pouType") != Some("program"))
-            .filter_map(|p| p.attr("name"))
-            .map(str::to_ascii_lowercase),
-    );
     // `types.st` and the functions and function blocks, before the programs.
     let mut library: Vec<ProgramOut> = Vec::new();
     let mut refused_programs: Vec<String> = Vec::new();
@@ -1661,6 +1668,30 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             if let Some(types) = st::data_types(&mut conv, t, &known, file.to_string()) {
                 library.insert(0, types);
             }
+        }
+        if !global_st.is_empty() {
+            let taken = |f: &str| library.iter().chain(&programs).any(|p| p.file.eq_ignore_ascii_case(f));
+            let file = ["globals.st", "alba_globals.st"]
+                .into_iter()
+                .find(|f| !taken(f))
+                .unwrap_or("alba_import_globals.st");
+            let mut g = ProgramOut::new(file.to_string());
+            let mut blocks: Vec<&str> = Vec::new();
+            for (_, b, _) in &global_st {
+                if !blocks.contains(&b.as_str()) {
+                    blocks.push(b);
+                }
+            }
+            for block in blocks {
+                g.line(block, None);
+                for (loc, _, line) in global_st.iter().filter(|(_, b, _)| b == block) {
+                    g.line(line, Some(loc));
+                }
+                g.line("END_VAR", None);
+            }
+            // After the types it names, before the POUs.
+            let at = usize::from(library.first().is_some_and(|p| p.file.ends_with("types.st")));
+            library.insert(at, g);
         }
         library.append(&mut programs);
         programs = library;

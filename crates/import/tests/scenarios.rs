@@ -852,3 +852,55 @@ w := STRING_TO_WSTRING(LEFT(greet, 1));
         );
     }
 }
+
+/// A configuration's global of one of the file's types (an enumeration, as
+/// an OpenPLC oven controller has it) is a file-level VAR_GLOBAL of ST that
+/// the programs' externalVars name; it runs in every engine mode.
+#[test]
+fn plcopen_globals_of_the_files_types_are_st_globals() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types>
+    <dataTypes>
+      <dataType name="Mode_t"><baseType><enum><values><value name="stopped"/><value name="running"/><value name="done"/></values></enum></baseType></dataType>
+    </dataTypes>
+    <pous>
+      <pou name="main" pouType="program">
+        <interface>
+          <externalVars><variable name="mode"><type><derived name="Mode_t"/></type></variable></externalVars>
+          <externalVars constant="true"><variable name="last"><type><derived name="Mode_t"/></type></variable></externalVars>
+          <localVars><variable name="n"><type><INT/></type></variable></localVars>
+        </interface>
+        <body><ST><xhtml:p><![CDATA[n := n + 1;
+IF mode = stopped THEN mode := running; ELSIF n >= 3 THEN mode := last; END_IF;]]></xhtml:p></ST></body>
+      </pou>
+    </pous>
+  </types>
+  <instances><configurations><configuration name="Config0">
+    <resource name="Res0"><task name="t" priority="0" interval="T#10ms"><pouInstance name="i" typeName="main"/></task></resource>
+    <globalVars><variable name="mode"><type><derived name="Mode_t"/></type><initialValue><simpleValue value="stopped"/></initialValue></variable></globalVars>
+    <globalVars constant="true"><variable name="last"><type><derived name="Mode_t"/></type><initialValue><simpleValue value="done"/></initialValue></variable></globalVars>
+  </configuration></configurations></instances>
+</project>
+"#;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("oven.xml");
+    std::fs::write(&file, xml).expect("write");
+    let dir = tmp.path().join("p");
+    let report = alba_import::import(&file, &dir, &Options::default()).expect("import");
+    let text = report.render();
+    assert!(!text.contains("refused"), "{text}");
+    let g = std::fs::read_to_string(dir.join("globals.st")).expect("globals.st");
+    assert_eq!(
+        g,
+        "VAR_GLOBAL\n    mode : Mode_t := stopped;\nEND_VAR\nVAR_GLOBAL CONSTANT\n    last : Mode_t := done;\nEND_VAR\n"
+    );
+    let want = "time_ms,mode,main.n\n0,1,1\n10,1,2\n20,2,3\n";
+    for mode in ["fused", "monitored", "native"] {
+        assert_eq!(
+            trace_in(mode, &dir, "time_ms,tag,value\n", "mode,main.n", 20, 10),
+            want,
+            "{mode}"
+        );
+    }
+}

@@ -96,6 +96,59 @@ fn st_type(t: &Elem, known: &HashSet<String>) -> Result<String, String> {
     }
 }
 
+/// Takes the variables of a configuration's `globalVars` whose type is one
+/// of the file's (`known`: an enumeration, a STRUCT, a function block) out
+/// of `list`: each becomes a line of a file-level `VAR_GLOBAL` (with
+/// `CONSTANT`, `RETAIN` as the list has them) in `lines`
+/// (`mode : Mode_t := stopped;`), named in `globals` so the POUs'
+/// `externalVars` find it; the rest is returned for the tags.
+pub(super) fn user_globals(
+    conv: &mut Conv<'_>,
+    list: &Elem,
+    known: &HashSet<String>,
+    globals: &mut HashMap<String, Var>,
+    lines: &mut Vec<(Location, String, String)>,
+) -> Elem {
+    let mut rest = list.clone();
+    rest.children.retain(|v| {
+        let Some(t) = v.child("type").and_then(|t| t.children.first()) else {
+            return true;
+        };
+        let user = t.name == "derived" && t.attr("name").is_some_and(|n| known.contains(&n.to_ascii_lowercase()));
+        let (Some(name), true) = (v.attr("name"), user) else {
+            return true;
+        };
+        let loc = conv.ctx.loc(v);
+        match st_type(t, known) {
+            Ok(ty) => {
+                let mut block = "VAR_GLOBAL".to_string();
+                for (attr, word) in [("constant", " CONSTANT"), ("retain", " RETAIN")] {
+                    if list.attr(attr) == Some("true") {
+                        block.push_str(word);
+                    }
+                }
+                lines.push((loc.clone(), block, format!("    {name} : {ty}{};", initial(v))));
+                globals.insert(
+                    name.to_ascii_lowercase(),
+                    Var {
+                        alba: name.to_string(),
+                        kind: VarKind::Refused(format!("`{name}` is a global of the type `{ty}`, which only ST reads")),
+                        fb: String::new(),
+                    },
+                );
+                conv.report.push(
+                    Kind::Converted,
+                    loc,
+                    format!("global `{name}` of type `{ty}`: a VAR_GLOBAL of ST"),
+                );
+            }
+            Err(why) => conv.report.push(Kind::Refused, loc, format!("global `{name}`: {why}")),
+        }
+        false
+    });
+    rest
+}
+
 /// A variable's initial value in ST (` := …`), from its `<initialValue>`:
 /// a simple value, an array value (`[1, 2, 3]`) or a structure value
 /// (`(a := 1, b := 2)`).
@@ -247,13 +300,15 @@ pub(super) fn convert(
                 ("inOutVars", false) => "VAR_IN_OUT",
                 ("tempVars", _) => "VAR_TEMP",
                 ("globalVars", _) => "VAR_GLOBAL",
+                // Those of the file's types (the others are tags, named as they are).
+                ("externalVars", _) => "VAR_EXTERNAL",
                 _ => continue,
             };
             let mut block = String::new();
             let mut located = list.clone();
             located
                 .children
-                .retain(|v| v.name == "variable" && v.attr("address").is_some());
+                .retain(|v| v.name == "variable" && v.attr("address").is_some() && kw != "VAR_EXTERNAL");
             if !program {
                 for v in &located.children {
                     conv.report.push(
@@ -285,7 +340,16 @@ pub(super) fn convert(
                     }
                 }
             }
-            for v in list.all("variable").filter(|v| v.attr("address").is_none()) {
+            let of_file_type = |v: &Elem| {
+                v.child("type")
+                    .and_then(|t| t.child("derived"))
+                    .and_then(|d| d.attr("name"))
+                    .is_some_and(|n| known.contains(&n.to_ascii_lowercase()))
+            };
+            for v in list
+                .all("variable")
+                .filter(|v| v.attr("address").is_none() && (kw != "VAR_EXTERNAL" || of_file_type(v)))
+            {
                 let name = v.attr("name").unwrap_or("");
                 let ty = v.child("type").and_then(|t| t.children.first());
                 let ty = match ty.map(|t| st_type(t, known)) {
