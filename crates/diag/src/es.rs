@@ -1745,8 +1745,8 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (
         Code::StNotSupported,
-        "{}: DATE, TIME_OF_DAY and DATE_AND_TIME do not convert to a string yet",
-        "{0}: DATE, TIME_OF_DAY y DATE_AND_TIME aún no se convierten en cadena",
+        "{}: `{}` is not an elementary type",
+        "{0}: `{1}` no es un tipo elemental",
     ),
     (
         Code::StNotSupported,

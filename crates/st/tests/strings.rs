@@ -326,7 +326,7 @@ fn strings_are_checked() {
          N := FIND(s, 3);
          s := 'caf$E9';
          w := \"$00E9t$D800\";
-         s := DATE_TO_STRING(D#2024-01-31);
+         s := FOO_TO_STRING(1);
          N := STRING_TO_TIME('T#1s');
          END_PROGRAM",
     );
@@ -340,7 +340,7 @@ fn strings_are_checked() {
         "FIND takes a STRING",
         "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
         "`$D800` is not a character (a UTF-16 surrogate)",
-        "DATE_TO_STRING: DATE, TIME_OF_DAY and DATE_AND_TIME do not convert to a string yet",
+        "FOO_TO_STRING: `FOO` is not an elementary type",
         "STRING_TO_TIME: a string converts only to integers, bit strings, REAL and LREAL yet",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
@@ -354,7 +354,7 @@ fn the_cost_of_each_string_function_is_printed() {
     // them grow is seen.
     let base = modes::program(
         "name,type\nN,INT\n",
-        "PROGRAM Main VAR a, b, r : STRING; x : REAL; y : LREAL; t : TIME; END_VAR N := 1; END_PROGRAM",
+        "PROGRAM Main VAR a, b, r : STRING; x : REAL; y : LREAL; t : TIME; dt : DT; END_VAR N := 1; END_PROGRAM",
     )
     .ops
     .len();
@@ -379,11 +379,12 @@ fn the_cost_of_each_string_function_is_printed() {
         ("r := LREAL_TO_STRING(y);", 6_000),
         ("r := TIME_TO_STRING(t);", 4_000),
         ("x := STRING_TO_REAL(a);", 8_000),
+        ("r := DT_TO_STRING(dt);", 5_000),
     ] {
         let p = modes::program(
             "name,type\nN,INT\n",
             &format!(
-                "PROGRAM Main VAR a, b, r : STRING; x : REAL; y : LREAL; t : TIME; END_VAR N := 1; {call} END_PROGRAM"
+                "PROGRAM Main VAR a, b, r : STRING; x : REAL; y : LREAL; t : TIME; dt : DT; END_VAR N := 1; {call} END_PROGRAM"
             ),
         );
         let ops = p.ops.len() - base;
@@ -490,6 +491,45 @@ fn conversions_between_strings_and_reals_times_and_bools() {
             "0.07",
             "10.0",
             "1.0E15",
+        ]
+    );
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn dates_and_times_of_day_as_their_literals() {
+    let (v, faults) = once(
+        "name,type\n",
+        "PROGRAM Main
+         VAR a, b, c, d, e, f, g : STRING; t : TOD := TOD#08:05:03.04; END_VAR
+         a := DATE_TO_STRING(D#2024-01-31);
+         b := DATE_TO_STRING(D#2000-02-29);
+         c := TOD_TO_STRING(TOD#12:30:15.5);
+         d := TOD_TO_STRING(t);
+         e := DT_TO_STRING(DT#2024-01-31-12:30:00);
+         f := DT_TO_STRING(DT#1969-12-31-23:59:59.25);
+         g := TIME_OF_DAY_TO_STRING(TOD#00:00:00);
+         END_PROGRAM",
+        &[
+            W::S("Main.a"),
+            W::S("Main.b"),
+            W::S("Main.c"),
+            W::S("Main.d"),
+            W::S("Main.e"),
+            W::S("Main.f"),
+            W::S("Main.g"),
+        ],
+    );
+    assert_eq!(
+        v,
+        [
+            "D#2024-01-31",
+            "D#2000-02-29",
+            "TOD#12:30:15.5",
+            "TOD#08:05:03.04",
+            "DT#2024-01-31-12:30:00",
+            "DT#1969-12-31-23:59:59.25",
+            "TOD#00:00:00",
         ]
     );
     assert_eq!(faults, 0);

@@ -1,11 +1,11 @@
-//! The conversions between strings and REAL, LREAL, TIME, LTIME and BOOL
-//! (docs/st.md "Strings"), as straight-line code of existing IR ops on the
-//! string layout of ADR 0017: the text is built from pieces (digits of an
+//! The conversions between strings and REAL, LREAL, TIME, LTIME, DATE, TOD,
+//! DT and BOOL (docs/st.md "Strings"), as straight-line code of existing IR
+//! ops on the string layout of ADR 0017: the text is built from pieces (digits of an
 //! integer, literals, runs of zeros) with `cut`, `shift` and `concat`, and a
 //! number is read with one pass of compares over the characters.
 
 use super::*;
-use alba_ir::op::{D, F};
+use alba_ir::op::{D, F, L};
 
 /// A floating-point value in the slot class of its type: REAL in F slots
 /// (the board has them), LREAL in D slots.
@@ -309,14 +309,171 @@ impl Lower<'_> {
         self.str_choose(is_zero, &z, &text)
     }
 
+    /// The decimal text of `v` (0 ≤ v < 10^width) with leading zeros to
+    /// `width` digits.
+    fn padded(&mut self, v: L, width: usize) -> Str {
+        let t = self.int_text(V::L(v), width);
+        let (w, k) = (self.b.const_i(width as i32), self.b.temp_i());
+        self.emit(Op::BinI(IBin::Sub, w, t.len, k));
+        let z = self.zeros(k, width);
+        self.concat(&z, &t)
+    }
+
+    /// `floor(x / d)` and `x - floor(x / d) * d` for a constant `d > 0`.
+    fn floor_div(&mut self, x: L, d: i64) -> (L, L) {
+        let (dc, lz, one) = (self.b.const_l(d), self.b.const_l(0), self.b.const_l(1));
+        let (q, r) = (self.b.temp_l(), self.b.temp_l());
+        self.emit(Op::BinL(IBin::Div, x, dc, q));
+        self.emit(Op::BinL(IBin::Mod, x, dc, r));
+        self.emit(Op::CmpL(Cmp::Lt, r, lz));
+        self.emit(Op::BinL(IBin::Sub, q, one, q));
+        self.emit(Op::BinL(IBin::Add, r, dc, r));
+        self.emit(Op::True);
+        (q, r)
+    }
+
+    /// `YYYY-MM-DD` of a count of days since 1970-01-01 (proleptic
+    /// Gregorian calendar; H. Hinnant's `civil_from_days`, all divisions of
+    /// non-negative numbers once `era` is floored).
+    fn date_part(&mut self, days: L) -> Str {
+        let c = |l: &mut Self, v: i64| l.b.const_l(v);
+        let z = self.b.temp_l();
+        let shift = c(self, 719_468);
+        self.emit(Op::BinL(IBin::Add, days, shift, z));
+        let (era, doe) = self.floor_div(z, 146_097);
+        let t = self.b.temp_l();
+        let yoe = self.b.temp_l();
+        // yoe = (doe - doe/1460 + doe/36524 - doe/146096) / 365
+        self.emit(Op::UnL(IUn::Mov, doe, yoe));
+        for (k, add) in [(1460, false), (36_524, true), (146_096, false)] {
+            let kc = c(self, k);
+            self.emit(Op::BinL(IBin::Div, doe, kc, t));
+            self.emit(Op::BinL(if add { IBin::Add } else { IBin::Sub }, yoe, t, yoe));
+        }
+        let c365 = c(self, 365);
+        self.emit(Op::BinL(IBin::Div, yoe, c365, yoe));
+        let y = self.b.temp_l();
+        let c400 = c(self, 400);
+        self.emit(Op::BinL(IBin::Mul, era, c400, y));
+        self.emit(Op::BinL(IBin::Add, y, yoe, y));
+        // doy = doe - (365*yoe + yoe/4 - yoe/100)
+        let doy = self.b.temp_l();
+        self.emit(Op::BinL(IBin::Mul, yoe, c365, t));
+        self.emit(Op::BinL(IBin::Sub, doe, t, doy));
+        for (k, add) in [(4, false), (100, true)] {
+            let kc = c(self, k);
+            self.emit(Op::BinL(IBin::Div, yoe, kc, t));
+            self.emit(Op::BinL(if add { IBin::Add } else { IBin::Sub }, doy, t, doy));
+        }
+        // mp = (5*doy + 2)/153; d = doy - (153*mp + 2)/5 + 1; m = mp < 10 ? mp + 3 : mp - 9
+        let (c5, c2, c153, c1) = (c(self, 5), c(self, 2), c(self, 153), c(self, 1));
+        let (mp, d, m) = (self.b.temp_l(), self.b.temp_l(), self.b.temp_l());
+        self.emit(Op::BinL(IBin::Mul, doy, c5, mp));
+        self.emit(Op::BinL(IBin::Add, mp, c2, mp));
+        self.emit(Op::BinL(IBin::Div, mp, c153, mp));
+        self.emit(Op::BinL(IBin::Mul, mp, c153, t));
+        self.emit(Op::BinL(IBin::Add, t, c2, t));
+        self.emit(Op::BinL(IBin::Div, t, c5, t));
+        self.emit(Op::BinL(IBin::Sub, doy, t, d));
+        self.emit(Op::BinL(IBin::Add, d, c1, d));
+        let (c3, c9, c10) = (c(self, 3), c(self, 9), c(self, 10));
+        self.emit(Op::BinL(IBin::Add, mp, c3, m));
+        self.emit(Op::CmpL(Cmp::Ge, mp, c10));
+        self.emit(Op::BinL(IBin::Sub, mp, c9, m));
+        self.emit(Op::True);
+        self.emit(Op::CmpL(Cmp::Le, m, c2));
+        self.emit(Op::BinL(IBin::Add, y, c1, y));
+        self.emit(Op::True);
+        let year = self.int_text(V::L(y), 9);
+        let (mm, dd) = (self.padded(m, 2), self.padded(d, 2));
+        let dash = self.str_text("-");
+        let t1 = self.concat(&year, &dash);
+        let t1 = self.concat(&t1, &mm);
+        let t1 = self.concat(&t1, &dash);
+        self.concat(&t1, &dd)
+    }
+
+    /// `hh:mm:ss` and `.f` (the milliseconds without trailing zeros, none
+    /// when 0) of a count of milliseconds since midnight (0 or more).
+    fn time_of_day_part(&mut self, ms: L) -> Str {
+        let c = |l: &mut Self, v: i64| l.b.const_l(v);
+        let (h, mi, s, f) = (self.b.temp_l(), self.b.temp_l(), self.b.temp_l(), self.b.temp_l());
+        let (c3600k, c60k, c1k, c60) = (c(self, 3_600_000), c(self, 60_000), c(self, 1000), c(self, 60));
+        self.emit(Op::BinL(IBin::Div, ms, c3600k, h));
+        self.emit(Op::BinL(IBin::Div, ms, c60k, mi));
+        self.emit(Op::BinL(IBin::Mod, mi, c60, mi));
+        self.emit(Op::BinL(IBin::Div, ms, c1k, s));
+        self.emit(Op::BinL(IBin::Mod, s, c60, s));
+        self.emit(Op::BinL(IBin::Mod, ms, c1k, f));
+        let colon = self.str_text(":");
+        let (hh, mm, ss) = (self.padded(h, 2), self.padded(mi, 2), self.padded(s, 2));
+        let t = self.concat(&hh, &colon);
+        let t = self.concat(&t, &mm);
+        let t = self.concat(&t, &colon);
+        let t = self.concat(&t, &ss);
+        // The fraction: 3 digits less its trailing zeros, after a point.
+        let (n, r, lz) = (self.b.temp_i(), self.b.temp_l(), self.b.const_l(0));
+        let three = self.b.const_i(3);
+        self.emit(Op::UnI(IUn::Mov, three, n));
+        for (p, digits) in [(10, 2), (100, 1)] {
+            let (pc, dc) = (c(self, p), self.b.const_i(digits));
+            self.emit(Op::BinL(IBin::Mod, f, pc, r));
+            self.emit(Op::CmpL(Cmp::Eq, r, lz));
+            self.emit(Op::UnI(IUn::Mov, dc, n));
+            self.emit(Op::True);
+        }
+        let digits = self.padded(f, 3);
+        let digits = self.left_of(&digits, n);
+        let point = self.str_text(".");
+        let frac = self.concat(&point, &digits);
+        let (some, one) = (self.b.temp_b(), self.b.const_i(1));
+        self.emit(Op::CmpL(Cmp::Ne, f, lz));
+        self.emit(Op::Ote(some));
+        self.emit(Op::True);
+        let len = self.b.temp_i();
+        self.emit(Op::BinI(IBin::Add, n, one, len));
+        let frac = self.keep_if(&frac, some, len);
+        self.concat(&t, &frac)
+    }
+
+    /// `DATE_TO_STRING` (`D#2024-01-31`), `TOD_TO_STRING`
+    /// (`TOD#12:30:15.5`), `DT_TO_STRING` (`DT#2024-01-31-12:30:00`) of
+    /// their milliseconds.
+    fn date_text(&mut self, x: L, ty: &Ty) -> Str {
+        let (prefix, date, tod) = match ty {
+            Ty::Date => ("D#", true, false),
+            Ty::Tod => ("TOD#", false, true),
+            _ => ("DT#", true, true),
+        };
+        let mut text = self.str_text(prefix);
+        let (days, rem) = if date {
+            self.floor_div(x, 86_400_000)
+        } else {
+            (self.b.const_l(0), x)
+        };
+        if date {
+            let d = self.date_part(days);
+            text = self.concat(&text, &d);
+        }
+        if date && tod {
+            let dash = self.str_text("-");
+            text = self.concat(&text, &dash);
+        }
+        if tod {
+            let t = self.time_of_day_part(rem);
+            text = self.concat(&text, &t);
+        }
+        text
+    }
+
     /// `BOOL_TO_STRING`: `TRUE` or `FALSE`.
     fn bool_text(&mut self, b: B) -> Str {
         let (t, f) = (self.str_text("TRUE"), self.str_text("FALSE"));
         self.str_choose(b, &t, &f)
     }
 
-    /// A value of type `from` (REAL, LREAL, TIME, LTIME, BOOL, an integer or
-    /// a bit string) as its text; `None` for other types.
+    /// A value of type `from` (REAL, LREAL, TIME, LTIME, DATE, TOD, DT, BOOL,
+    /// an integer or a bit string) as its text; `None` for other types.
     pub(super) fn text_of(&mut self, v: Val, from: &Ty) -> Option<Str> {
         Some(match (v, from) {
             (Val::B(b), Ty::Bool) => self.bool_text(b),
@@ -324,6 +481,7 @@ impl Lower<'_> {
             (Val::N(V::D(d)), Ty::Lreal) => self.real_text(Fp::D(d)),
             (Val::N(x), Ty::Time) => self.time_text(x, false),
             (Val::N(x), Ty::Ltime) => self.time_text(x, true),
+            (Val::N(V::L(x)), t @ (Ty::Date | Ty::Tod | Ty::Dt)) => self.date_text(x, t),
             (Val::N(x), t) if t.is_int() || t.is_bits() => self.int_text(x, 19),
             _ => return None,
         })

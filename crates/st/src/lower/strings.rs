@@ -653,14 +653,12 @@ impl Lower<'_> {
             (None, Some(tw)) => {
                 let from_ty = elementary(from)
                     .filter(|t| {
-                        t.is_int() || t.is_bits() || t.is_real() || matches!(t, Ty::Bool | Ty::Time | Ty::Ltime)
+                        t.is_int()
+                            || t.is_bits()
+                            || t.is_real()
+                            || matches!(t, Ty::Bool | Ty::Time | Ty::Ltime | Ty::Date | Ty::Tod | Ty::Dt)
                     })
-                    .ok_or_else(|| {
-                        not_supported(
-                            span,
-                            format!("{f}: DATE, TIME_OF_DAY and DATE_AND_TIME do not convert to a string yet"),
-                        )
-                    })?;
+                    .ok_or_else(|| not_supported(span, format!("{f}: `{from}` is not an elementary type")))?;
                 let (v, ty) = self.eval(arg, Some(&from_ty))?;
                 if ty != from_ty {
                     return Err(type_error(
