@@ -1750,8 +1750,8 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (
         Code::StNotSupported,
-        "{}: a string converts only to integers, bit strings, REAL and LREAL yet",
-        "{0}: por ahora una cadena solo se convierte en enteros, cadenas de bits, REAL y LREAL",
+        "{}: a string converts only to numbers, bit strings and BOOL yet",
+        "{0}: por ahora una cadena solo se convierte en números, cadenas de bits y BOOL",
     ),
     (
         Code::StType,

@@ -341,7 +341,7 @@ fn strings_are_checked() {
         "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
         "`$D800` is not a character (a UTF-16 surrogate)",
         "FOO_TO_STRING: `FOO` is not an elementary type",
-        "STRING_TO_TIME: a string converts only to integers, bit strings, REAL and LREAL yet",
+        "STRING_TO_TIME: a string converts only to numbers, bit strings and BOOL yet",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
@@ -397,7 +397,7 @@ fn the_cost_of_each_string_function_is_printed() {
 #[test]
 fn conversions_between_strings_and_reals_times_and_bools() {
     let (v, faults) = once(
-        "name,type\nR1,REAL\nR2,REAL\nR3,REAL\nL1,LREAL\nL2,LREAL\nL3,LREAL\n",
+        "name,type\nR1,REAL\nR2,REAL\nR3,REAL\nL1,LREAL\nL2,LREAL\nL3,LREAL\nB1,BOOL\nB2,BOOL\nB3,BOOL\nB4,BOOL\n",
         "PROGRAM Main
          VAR a, b, c, d, e, f, g, h, i, j, k, l, m, n, o, p, q, r, s, t, u : STRING; w : WSTRING[12]; x : REAL := 0.1; END_VAR
          a := REAL_TO_STRING(12.5);
@@ -428,6 +428,10 @@ fn conversions_between_strings_and_reals_times_and_bools() {
          s := REAL_TO_STRING(STRING_TO_REAL('7e-2'));
          t := REAL_TO_STRING(9.9999999);
          u := LREAL_TO_STRING(LREAL#1.0E15);
+         B1 := STRING_TO_BOOL('true');
+         B2 := STRING_TO_BOOL(' 1');
+         B3 := STRING_TO_BOOL('FALSE');
+         B4 := STRING_TO_BOOL(BOOL_TO_STRING(TRUE));
          END_PROGRAM",
         &[
             W::S("Main.a"),
@@ -458,6 +462,10 @@ fn conversions_between_strings_and_reals_times_and_bools() {
             W::S("Main.s"),
             W::S("Main.t"),
             W::S("Main.u"),
+            W::V("B1"),
+            W::V("B2"),
+            W::V("B3"),
+            W::V("B4"),
         ],
     );
     assert_eq!(
@@ -491,6 +499,10 @@ fn conversions_between_strings_and_reals_times_and_bools() {
             "0.07",
             "10.0",
             "1.0E15",
+            "1",
+            "1",
+            "0",
+            "1",
         ]
     );
     assert_eq!(faults, 0);

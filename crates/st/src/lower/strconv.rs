@@ -487,6 +487,32 @@ impl Lower<'_> {
         })
     }
 
+    /// `STRING_TO_BOOL`: TRUE when the text is `TRUE` in any case or the
+    /// number at its start (as `STRING_TO_INT` reads it) is not 0.
+    pub(super) fn string_to_bool(&mut self, s: &Str) -> B {
+        let up = self.str_copy(s, s.cap());
+        let (a, z, d) = (self.b.const_i(97), self.b.const_i(122), self.b.const_i(32));
+        for &c in &up.chars {
+            self.emit(Op::CmpI(Cmp::Ge, c, a));
+            self.emit(Op::CmpI(Cmp::Le, c, z));
+            self.emit(Op::BinI(IBin::Sub, c, d, c));
+            self.emit(Op::True);
+        }
+        let t = self.str_text("TRUE");
+        let word = self.str_compare(Cmp::Eq, &up, &t);
+        let r = self.b.temp_b();
+        self.emit(Op::Ld(word));
+        self.emit(Op::Ote(r));
+        self.emit(Op::True);
+        if let V::L(n) = self.string_to_int(s) {
+            let lz = self.b.const_l(0);
+            self.emit(Op::CmpL(Cmp::Ne, n, lz));
+            self.emit(Op::Otl(r));
+            self.emit(Op::True);
+        }
+        r
+    }
+
     /// `STRING_TO_REAL`, `STRING_TO_LREAL`: the number at the start of the
     /// text (spaces first skipped, an optional sign, digits with an optional
     /// `.` and fraction, an optional exponent `E`/`e` with its sign); it ends

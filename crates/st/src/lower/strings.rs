@@ -674,14 +674,17 @@ impl Lower<'_> {
             }
             (Some(fw), None) => {
                 let to_ty = elementary(to)
-                    .filter(|t| t.is_int() || t.is_bits() || t.is_real())
+                    .filter(|t| t.is_int() || t.is_bits() || t.is_real() || *t == Ty::Bool)
                     .ok_or_else(|| {
                         not_supported(
                             span,
-                            format!("{f}: a string converts only to integers, bit strings, REAL and LREAL yet"),
+                            format!("{f}: a string converts only to numbers, bit strings and BOOL yet"),
                         )
                     })?;
                 let (s, _) = self.str_arg(&f, arg, Some(fw))?;
+                if to_ty == Ty::Bool {
+                    return Ok((Val::B(self.string_to_bool(&s)), Ty::Bool));
+                }
                 if to_ty.is_real() {
                     let v = self.string_to_real(&s, to_ty == Ty::Lreal);
                     return Ok((Val::N(v), to_ty));
