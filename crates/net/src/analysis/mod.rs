@@ -514,7 +514,9 @@ fn run_symbolic(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut A
             a.status.symbolic = Status::Skipped(match why {
                 symbolic::Stop::Cancelled => "cancelled",
                 symbolic::Stop::Overflow => "overflow",
-                symbolic::Stop::Nodes | symbolic::Stop::Memory | symbolic::Stop::Time => "budget",
+                symbolic::Stop::Nodes | symbolic::Stop::Memory | symbolic::Stop::Time | symbolic::Stop::Beaten => {
+                    "budget"
+                }
             });
             a.notes.push(format!(
                 "symbolic engine stopped ({}) after {} nodes, {:.3} s",
