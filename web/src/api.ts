@@ -90,13 +90,13 @@ export interface AnalysisProgress {
 }
 
 /**
- * POST /api/nets/{name}/analysis: reads the answer's JSON lines, calling
+ * POST /api/nets/{name}/analysis (`symbolic`: decision diagrams first): reads the answer's JSON lines, calling
  * `onProgress` for each progress line, and resolves with the last one's
  * result. Aborting `signal` closes the connection, which stops the analysis
  * on the server; the promise then rejects with the abort.
  */
-async function netAnalysis<T>(name: string, onProgress: (p: AnalysisProgress) => void, signal?: AbortSignal): Promise<{ result: T; timed_out: boolean }> {
-  const res = await request('POST', `/api/nets/${enc(name)}/analysis`, {}, 'application/json', signal);
+async function netAnalysis<T>(name: string, symbolic: boolean, onProgress: (p: AnalysisProgress) => void, signal?: AbortSignal): Promise<{ result: T; timed_out: boolean }> {
+  const res = await request('POST', `/api/nets/${enc(name)}/analysis`, symbolic ? { symbolic } : {}, 'application/json', signal);
   if (!res.body) throw new ApiError(0, 'the analysis answered nothing');
   const reader = res.body.pipeThrough(new TextDecoderStream()).getReader();
   let buf = '';

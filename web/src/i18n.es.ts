@@ -502,6 +502,8 @@ export const es: Record<string, string> = {
   'The analysis ran out of time: what is not complete is unknown.': 'El análisis agotó su tiempo: lo que no está completo es desconocido.',
   'Liveness and reversibility': 'Vivacidad y reversibilidad',
   'Place flows': 'Flujos de lugares',
+  'Decision diagrams': 'Diagramas de decisión',
+  'Count the states with decision diagrams first: exact for state spaces far too big to list (alba analyze --symbolic)': 'Contar los estados primero con diagramas de decisión: exacto para espacios de estados demasiado grandes para recorrerlos uno a uno (alba analyze --symbolic)',
   'Transition flows': 'Flujos de transiciones',
   budget: 'presupuesto',
   cancelled: 'cancelado',

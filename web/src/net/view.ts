@@ -97,6 +97,8 @@ export class NetView {
   /** The Buttons' writes, one after the other: a double-click's press, release and latch
    * must reach the runtime in that order, or the release's false can land last. */
   private buttonWrites: Promise<unknown> = Promise.resolve();
+  /** Analyse counts with decision diagrams first (the toolbar's check box). */
+  private symbolic = false;
   private svg: SVGSVGElement | null = null;
   /** The drawn group of each node and widget, by id. */
   private groups = new Map<string, SVGGElement>();
@@ -157,7 +159,10 @@ export class NetView {
           tool(`⇥ ${tr('Single step')}`, 'net-step', tr('Run one scan while the PLC is stopped (F6)'), () => void this.singleStep(), 'runstop'),
           tool(tr('Reset marking'), 'net-reset', tr('Write the initial marking to every place of the net, at one scan boundary'), () => void this.resetMarking(), 'runstop'),
           this.liveEl),
-        h('span', { class: 'seg' }, tool(tr('Analyse'), 'net-analyse', tr('Reachability, deadlocks, dead transitions and invariants of the saved net'), () => void this.analyse(), 'edit')),
+        h('span', { class: 'seg' },
+          tool(tr('Analyse'), 'net-analyse', tr('Reachability, deadlocks, dead transitions and invariants of the saved net'), () => void this.analyse(), 'edit'),
+          h('label', { class: 'net-snap', title: tr('Count the states with decision diagrams first: exact for state spaces far too big to list (alba analyze --symbolic)') },
+            h('input', { type: 'checkbox', 'data-testid': 'net-analyse-symbolic', onchange: (e: Event) => (this.symbolic = (e.target as HTMLInputElement).checked) }), ` ${tr('Decision diagrams')}`)),
         this.ed.stateEl),
       h('div', { class: 'ladder-body' },
         palette,
@@ -1263,7 +1268,7 @@ export class NetView {
     this.analysisTimedOut = false;
     this.renderAnalysis();
     try {
-      const r = await api.netAnalysis<Analysis>(this.program, (p) => {
+      const r = await api.netAnalysis<Analysis>(this.program, this.symbolic, (p) => {
         this.analysisProgress = p;
         this.renderAnalysis();
       }, abort.signal);
@@ -1338,7 +1343,7 @@ export class NetView {
     add(el,
       this.dirty ? h('p', { class: 'hint' }, tr('Of the saved version: save to analyse your changes.')) : null,
       h('table', { class: 'net-an-table' },
-        row(tr('State space'), 'space', `${a.state_space ?? ''} · ${tr('{n} states', { n: a.states ?? '?' })}`),
+        row(tr('State space'), 'space', `${a.state_space ?? ''} · ${tr('{n} states', { n: a.states ?? a.symbolic?.states ?? '?' })}`),
         row(tr('Bounded'), 'bounded', yes(a.bounded)),
         row(tr('Safe'), 'safe', yes(a.safe)),
         row(tr('Deadlocks'), 'deadlocks', a.deadlocks === null ? tr('unknown') : String(a.deadlocks)),
@@ -1348,7 +1353,9 @@ export class NetView {
       a.stopped ? h('p', { class: 'inline-error' }, a.stopped) : null,
       this.analysisTimedOut ? h('p', { class: 'inline-error', 'data-testid': 'net-analysis-timed-out' }, tr('The analysis ran out of time: what is not complete is unknown.')) : null,
       a.status ? h('table', { class: 'net-an-table net-an-status' },
-        ([['state_space', tr('State space')], ['components', tr('Liveness and reversibility')], ['p_flows', tr('Place flows')], ['t_flows', tr('Transition flows')], ['p_invariants', tr('Place invariants')], ['t_invariants', tr('Transition invariants')]] as const)
+        ([['state_space', tr('State space')], ['symbolic', tr('Decision diagrams')], ['components', tr('Liveness and reversibility')], ['p_flows', tr('Place flows')], ['t_flows', tr('Transition flows')], ['p_invariants', tr('Place invariants')], ['t_invariants', tr('Transition invariants')]] as const)
+          // the decision diagrams only when they ran (a fallback when the states did not fit)
+          .filter(([k]) => a.status?.[k] !== undefined && !(k === 'symbolic' && a.status[k] === 'skipped: not requested'))
           .map(([k, label]) => h('tr', null, h('th', null, label), h('td', { 'data-testid': `net-an-status-${k}`, class: a.status?.[k] === 'complete' ? '' : 'warn' }, statusText(a.status?.[k] ?? ''))))) : null);
     const trace = a.deadlock_trace;
     if (trace && trace.length >= 0 && a.deadlocks) {

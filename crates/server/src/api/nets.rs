@@ -27,7 +27,7 @@ use axum::response::{IntoResponse, Response};
 use net::PtNet;
 use net::analysis::formula::{self, Property};
 use net::analysis::stubborn::{self, CheckOptions};
-use net::analysis::{Control, Invariants, Options, Progress, analyze, to_json};
+use net::analysis::{Control, Invariants, Options, Progress, SymbolicMode, analyze, to_json};
 use serde_json::{Value, json};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -51,6 +51,9 @@ struct Request {
     max_states: Option<usize>,
     /// `"flows"` or `"minimal"` (default).
     invariants: Option<String>,
+    /// Count the states with decision diagrams first (`alba analyze --symbolic`); by
+    /// default they run only when the explicit state space does not fit in memory.
+    symbolic: bool,
     /// Seconds the analysis may run, at most (and by default) [`ANALYSIS_TIME`].
     time_limit_s: Option<u64>,
     /// A contest examination instead of the analysis: `UpperBounds`,
@@ -207,6 +210,11 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
         max_states,
         memory: ANALYSIS_MEMORY,
         invariants,
+        symbolic: if req.symbolic {
+            SymbolicMode::Always
+        } else {
+            SymbolicMode::Auto
+        },
         ..Options::default()
     };
     let flag = cancel.clone();
