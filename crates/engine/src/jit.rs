@@ -17,7 +17,7 @@
 //!   operand table; the function is specific to the shape only.
 //!
 //! Only the ops that dominate typical ladder are emitted inline: contacts,
-//! coils, one-shots, branches, jumps, TON in ms (`X::Ton`; a TON in another
+//! coils, one-shots, branches, jumps, bool copies, TON in ms (`X::Ton`; a TON in another
 //! time base is `X::TonB`, left to the interpreter), CTU/CTD, integer compares and
 //! ADD/SUB/MOV of DINTs, with their rare cases too (a wrapped sum, a negative
 //! preset, a counter wrapping to OV/UN); their faults are noted in the
@@ -153,8 +153,12 @@ extern "C" fn pid_call(ctx: *mut JitCtx, f: *mut f32, i: *mut i32, b: *mut bool,
 /// class bases from `ctx.bases`.
 type ShapeFn = unsafe extern "C" fn(*mut JitCtx, *const u64, usize) -> u32;
 
-/// Strided runs have at most this many operand classes.
-const MAX_CLASSES: usize = 8;
+/// Strided runs have at most this many operand classes. A Ladder rung
+/// needs 3–5; an ST statement group more (temporaries and shared constants
+/// that stay, tags and instances moving by different amounts, the own
+/// constant of a literal preset, jump targets and op numbers): 9 for
+/// `alba bench --st`'s rung. Bases beyond the registers spill to the stack.
+const MAX_CLASSES: usize = 12;
 /// Fewer consecutive rungs of one layout share the table's generic code.
 const MIN_STRIDED: usize = 4;
 /// At most this many distinct strided functions per program (the rest use
@@ -435,6 +439,10 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut 
                 i: i0,
                 b: b0,
             })
+        }
+        X::CopyB(a, d) => {
+            out.extend([bo(a), bo(d)]);
+            X::CopyB(b0, b0)
         }
         X::MovI(a, d) | X::CopyI(a, d) => {
             out.extend([io(a), io(d)]);
@@ -1307,6 +1315,11 @@ impl<'a, 'b> Gen<'a, 'b> {
                 let (a, d) = (self.slot(), self.slot());
                 let v = self.ld32(a, 0);
                 self.st32(d, 0, v);
+            }
+            X::CopyB(..) => {
+                let (a, d) = (self.slot(), self.slot());
+                let v = self.ld8(a, 0);
+                self.st8(d, 0, v);
             }
             X::Pid(_) => {
                 // One direct call; the rung condition is unchanged.

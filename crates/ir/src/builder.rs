@@ -157,6 +157,19 @@ impl Builder {
         self.ops.len() as u32 - 1
     }
 
+    /// Takes back the last op emitted, for a front end's peephole: the
+    /// caller makes sure nothing refers to its index (no jump target, no
+    /// `Jmp` to patch). Never takes back a rung's `Rung`.
+    pub fn pop(&mut self) -> Option<Op> {
+        match self.ops.last() {
+            None | Some(Op::Rung) => None,
+            Some(_) => {
+                self.locs.pop();
+                self.ops.pop()
+            }
+        }
+    }
+
     /// Sets the target of the `Jmp` at `at`.
     pub fn patch_jump(&mut self, at: u32, target: u32) {
         if let Some(op @ Op::Jmp(_)) = self.ops.get_mut(at as usize) {
@@ -242,6 +255,24 @@ impl Builder {
         self.init.i.push(v);
         self.const_i.insert(v, s);
         s
+    }
+    /// The constant of slot `s` in a read-only slot that no later use
+    /// shares, or `s` itself when it is no shared [`Builder::const_i`]. A
+    /// constant just made (the last integer slot) becomes that slot itself,
+    /// so each call takes exactly one new slot.
+    pub fn own_i(&mut self, s: I) -> I {
+        let v = self.init.i.get(s.0 as usize).copied();
+        match v {
+            Some(v) if self.const_i.get(&v) == Some(&s) => {
+                if s.0 + 1 == self.layout.counts.i {
+                    self.const_i.remove(&v);
+                    s
+                } else {
+                    self.state_i(v)
+                }
+            }
+            _ => s,
+        }
     }
     pub fn const_f(&mut self, v: f32) -> F {
         if let Some(&s) = self.const_f.get(&v.to_bits()) {
