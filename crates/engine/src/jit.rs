@@ -340,7 +340,10 @@ fn delta(a: &[Operand], b: &[Operand]) -> Vec<i64> {
 /// The shape of an op: the op with every slot number zeroed, or `None` for
 /// ops left to the interpreter. Its operands go to `out`. Branch ops need
 /// none: their state lives in registers.
-fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut Vec<Operand>) -> Option<X> {
+/// A jump to the rung right after its own (`rung + 1`) is `X::Jmp(1)`: it
+/// skips the rest of the rung inside the function, which goes on with the
+/// next rung of its run (an ST `IF` without `ELSE` in a rung of statements).
+fn shape(op: X, pc: usize, rung: u32, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut Vec<Operand>) -> Option<X> {
     use alba_ir::{B, Ctr, I, Tmr};
     let (b0, i0) = (B(0), I(0));
     let bo = |b: B| Operand {
@@ -396,8 +399,9 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut 
         X::BrClose { .. } => X::BrClose { acc: b0 },
         X::Jmp(t) => {
             // A target that is no rung start (never, after `Code::new`) ends the scan.
-            out.extend([num(rung_of.get(&t).copied().unwrap_or(n_rungs)), pc]);
-            X::Jmp(0)
+            let target = rung_of.get(&t).copied().unwrap_or(n_rungs);
+            out.extend([num(target), pc]);
+            X::Jmp(u32::from(target == rung + 1))
         }
         X::Ton(t) => {
             out.extend([io(t.i), bo(t.b), pc]);
@@ -505,7 +509,7 @@ impl Jit {
                 let end = starts.get(r + 1).copied().unwrap_or(code.ops.len() - 1);
                 let mut operands = Vec::new();
                 let key = (start..end)
-                    .map(|pc| shape(code.ops[pc], pc, &rung_of, n_rungs, &mut operands))
+                    .map(|pc| shape(code.ops[pc], pc, r as u32, &rung_of, n_rungs, &mut operands))
                     .collect();
                 RungCode { start, key, operands }
             })
@@ -797,6 +801,8 @@ struct Gen<'a, 'b> {
     /// Open branches: (rung state at the branch, OR of the legs so far).
     branches: Vec<(Variable, Variable)>,
     flags: MemFlagsData,
+    /// Where the current rung ends (a jump to the next rung goes there).
+    rung_end: Option<cranelift_codegen::ir::Block>,
 }
 
 /// A slot's address: a base and a constant offset in bytes.
@@ -864,6 +870,7 @@ impl<'a, 'b> Gen<'a, 'b> {
             rc,
             branches: Vec::new(),
             flags,
+            rung_end: None,
         }
     }
 
@@ -1102,6 +1109,8 @@ impl<'a, 'b> Gen<'a, 'b> {
     fn emit(mut self, shape: &[Option<X>], stride: usize) {
         let body = self.fb.create_block();
         let done = self.fb.create_block();
+        let rung_end = self.fb.create_block();
+        self.rung_end = Some(rung_end);
         self.fb.ins().jump(body, &[]);
         self.fb.switch_to_block(body);
         self.next = 0;
@@ -1115,6 +1124,8 @@ impl<'a, 'b> Gen<'a, 'b> {
                 }
             }
         }
+        self.fb.ins().jump(rung_end, &[]);
+        self.fb.switch_to_block(rung_end);
         // The next rung's operands.
         match &self.strides {
             None => {
@@ -1251,6 +1262,16 @@ impl<'a, 'b> Gen<'a, 'b> {
                     let rc = self.rc();
                     let r = self.or(rc, a);
                     self.set_rc(r);
+                }
+            }
+            X::Jmp(1) => {
+                // To the next rung: the rest of this one is skipped.
+                let _ = (self.number(), self.number());
+                let rc = self.rc();
+                let (end, go_on) = (self.rung_end, self.fb.create_block());
+                if let Some(end) = end {
+                    self.fb.ins().brif(rc, end, &[], go_on, &[]);
+                    self.fb.switch_to_block(go_on);
                 }
             }
             X::Jmp(_) => {

@@ -181,6 +181,33 @@ impl Builder {
         TempMark(self.pools.each_ref().map(|p| p.used))
     }
 
+    /// The bool temporaries taken after mark `m` (released or not): dead
+    /// once the code that took them is done, as every use of a temporary
+    /// writes it before reading it.
+    pub fn temps_b_since(&self, m: TempMark) -> &[u32] {
+        self.pools[0].slots.get(m.0[0]..).unwrap_or(&[])
+    }
+
+    /// Drops the ops from `start` on for which `keep` says no, for a front
+    /// end's clean-up of code it just emitted: the caller makes sure no
+    /// index from `start` on is referred to (no `Rung`, no `Jmp`, no jump
+    /// target among them).
+    pub fn retain_since(&mut self, start: u32, mut keep: impl FnMut(usize, &Op) -> bool) {
+        let start = start as usize;
+        let mut k = start;
+        let mut pc = start;
+        while pc < self.ops.len() {
+            if keep(pc, &self.ops[pc]) {
+                self.ops[k] = self.ops[pc];
+                self.locs[k] = self.locs[pc];
+                k += 1;
+            }
+            pc += 1;
+        }
+        self.ops.truncate(k);
+        self.locs.truncate(k);
+    }
+
     pub fn release(&mut self, m: TempMark) {
         for (p, used) in self.pools.iter_mut().zip(m.0) {
             p.used = used;

@@ -791,10 +791,56 @@ impl Lower<'_> {
     fn block(&mut self, list: &[Stmt]) {
         for s in list {
             let mark = self.b.mark();
+            let start = self.b.here();
             if let Err(d) = self.stmt(s) {
                 self.diags.push(d);
             }
+            if self.optimise {
+                self.drop_dead_stores(mark, start);
+            }
             self.b.release(mark);
+        }
+    }
+
+    /// Drops the `Ote t` of a straight-line statement (no `Rung`, no `Jmp`
+    /// from `start` on) whose temporary `t`, taken after `mark`, nothing
+    /// after it in the statement mentions: the peephole left many (`Ote t;
+    /// Or b` where `t` was reloaded), and the temporary dies with the
+    /// statement.
+    fn drop_dead_stores(&mut self, mark: alba_ir::TempMark, start: u32) {
+        let ops = &self.b.ops()[start as usize..];
+        if ops.iter().any(|o| matches!(o, Op::Rung | Op::Jmp(_))) {
+            return;
+        }
+        let temps: HashSet<u32> = self.b.temps_b_since(mark).iter().copied().collect();
+        if temps.is_empty() {
+            return;
+        }
+        // Backwards: a temporary is read later if an op after mentions it
+        // (an op with several bool slots: any temporary between the least
+        // and the greatest, as timers and counters give only their ends).
+        let mut later: HashSet<u32> = HashSet::new();
+        let mut dead = vec![false; ops.len()];
+        for (k, op) in ops.iter().enumerate().rev() {
+            if let Op::Ote(t) = op
+                && temps.contains(&t.0)
+                && !later.contains(&t.0)
+            {
+                dead[k] = true;
+                continue;
+            }
+            let bs = op.slots().into_iter().filter_map(|s| match s {
+                alba_ir::op::AnySlot::B(b) => Some(b),
+                _ => None,
+            });
+            let (lo, hi) = bs.fold((u32::MAX, 0), |(lo, hi), b| (lo.min(b), hi.max(b)));
+            if lo <= hi {
+                later.extend(temps.iter().filter(|&&t| (lo..=hi).contains(&t)));
+            }
+        }
+        if dead.contains(&true) {
+            let start = start as usize;
+            self.b.retain_since(start as u32, |pc, _| !dead[pc - start]);
         }
     }
 
