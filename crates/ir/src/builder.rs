@@ -188,21 +188,27 @@ impl Builder {
         self.pools[0].slots.get(m.0[0]..).unwrap_or(&[])
     }
 
-    /// Drops the ops from `start` on for which `keep` says no, for a front
-    /// end's clean-up of code it just emitted: the caller makes sure no
-    /// index from `start` on is referred to (no `Rung`, no `Jmp`, no jump
-    /// target among them).
-    pub fn retain_since(&mut self, start: u32, mut keep: impl FnMut(usize, &Op) -> bool) {
+    /// The integer temporaries taken after mark `m` (as [`Builder::temps_b_since`]).
+    pub fn temps_i_since(&self, m: TempMark) -> &[u32] {
+        self.pools[1].slots.get(m.0[1]..).unwrap_or(&[])
+    }
+
+    /// Rewrites the ops from `start` on, one entry each (`None`: dropped),
+    /// for a front end's clean-up of code it just emitted: the caller makes
+    /// sure no index from `start` on is referred to (no `Rung`, no `Jmp`,
+    /// no jump target among them). An op keeps its location.
+    pub fn rewrite_since(&mut self, start: u32, new: Vec<Option<Op>>) {
         let start = start as usize;
         let mut k = start;
-        let mut pc = start;
-        while pc < self.ops.len() {
-            if keep(pc, &self.ops[pc]) {
-                self.ops[k] = self.ops[pc];
+        for (pc, op) in (start..).zip(new) {
+            if pc >= self.ops.len() {
+                break;
+            }
+            if let Some(op) = op {
+                self.ops[k] = op;
                 self.locs[k] = self.locs[pc];
                 k += 1;
             }
-            pc += 1;
         }
         self.ops.truncate(k);
         self.locs.truncate(k);

@@ -802,45 +802,67 @@ impl Lower<'_> {
         }
     }
 
-    /// Drops the `Ote t` of a straight-line statement (no `Rung`, no `Jmp`
-    /// from `start` on) whose temporary `t`, taken after `mark`, nothing
-    /// after it in the statement mentions: the peephole left many (`Ote t;
-    /// Or b` where `t` was reloaded), and the temporary dies with the
-    /// statement.
+    /// Cleans up a straight-line statement (no `Rung`, no `Jmp` from `start`
+    /// on) once its temporaries (taken after `mark`) are dead: drops each
+    /// `Ote t` to a bool temporary that nothing after it in the statement
+    /// mentions (the peephole leaves many: `Ote t; Or b` where `t` was
+    /// reloaded), and writes `BinI(Add|Sub, a, b, t); UnI(Mov, t, d)` as
+    /// `BinI(.., d)` (a sum always writes its slot, wrapped or not).
     fn drop_dead_stores(&mut self, mark: alba_ir::TempMark, start: u32) {
+        use alba_ir::op::AnySlot;
         let ops = &self.b.ops()[start as usize..];
         if ops.iter().any(|o| matches!(o, Op::Rung | Op::Jmp(_))) {
             return;
         }
-        let temps: HashSet<u32> = self.b.temps_b_since(mark).iter().copied().collect();
-        if temps.is_empty() {
+        let temps_b: HashSet<u32> = self.b.temps_b_since(mark).iter().copied().collect();
+        let temps_i: HashSet<u32> = self.b.temps_i_since(mark).iter().copied().collect();
+        if temps_b.is_empty() && temps_i.is_empty() {
             return;
         }
         // Backwards: a temporary is read later if an op after mentions it
-        // (an op with several bool slots: any temporary between the least
-        // and the greatest, as timers and counters give only their ends).
-        let mut later: HashSet<u32> = HashSet::new();
-        let mut dead = vec![false; ops.len()];
-        for (k, op) in ops.iter().enumerate().rev() {
-            if let Op::Ote(t) = op
-                && temps.contains(&t.0)
-                && !later.contains(&t.0)
-            {
-                dead[k] = true;
-                continue;
+        // (an op with several slots of a class: any temporary between the
+        // least and the greatest, as timers and counters give only their ends).
+        let mut later_b: HashSet<u32> = HashSet::new();
+        let mut later_i: HashSet<u32> = HashSet::new();
+        let mut new: Vec<Option<Op>> = ops.iter().copied().map(Some).collect();
+        for k in (0..new.len()).rev() {
+            let Some(op) = new[k] else { continue };
+            match op {
+                Op::Ote(t) if temps_b.contains(&t.0) && !later_b.contains(&t.0) => {
+                    new[k] = None;
+                    continue;
+                }
+                Op::UnI(IUn::Mov, t, d) if temps_i.contains(&t.0) && !later_i.contains(&t.0) && k > 0 => {
+                    if let Some(Op::BinI(o @ (IBin::Add | IBin::Sub), a, b, t2)) = new[k - 1]
+                        && t2 == t
+                        && a != t
+                        && b != t
+                    {
+                        new[k - 1] = Some(Op::BinI(o, a, b, d));
+                        new[k] = None;
+                        continue;
+                    }
+                }
+                _ => {}
             }
-            let bs = op.slots().into_iter().filter_map(|s| match s {
-                alba_ir::op::AnySlot::B(b) => Some(b),
-                _ => None,
-            });
-            let (lo, hi) = bs.fold((u32::MAX, 0), |(lo, hi), b| (lo.min(b), hi.max(b)));
+            let slots = op.slots();
+            let range = |pick: &dyn Fn(&AnySlot) -> Option<u32>| {
+                slots
+                    .iter()
+                    .filter_map(pick)
+                    .fold((u32::MAX, 0), |(lo, hi), x| (lo.min(x), hi.max(x)))
+            };
+            let (lo, hi) = range(&|s| if let AnySlot::B(x) = s { Some(*x) } else { None });
             if lo <= hi {
-                later.extend(temps.iter().filter(|&&t| (lo..=hi).contains(&t)));
+                later_b.extend(temps_b.iter().filter(|&&t| (lo..=hi).contains(&t)));
+            }
+            let (lo, hi) = range(&|s| if let AnySlot::I(x) = s { Some(*x) } else { None });
+            if lo <= hi {
+                later_i.extend(temps_i.iter().filter(|&&t| (lo..=hi).contains(&t)));
             }
         }
-        if dead.contains(&true) {
-            let start = start as usize;
-            self.b.retain_since(start as u32, |pc, _| !dead[pc - start]);
+        if new.iter().any(Option::is_none) || new.iter().zip(ops).any(|(n, o)| n.as_ref() != Some(o)) {
+            self.b.rewrite_since(start, new);
         }
     }
 
