@@ -392,7 +392,10 @@ fn a_jump_to_the_next_rung_in_a_strided_run_skips_only_the_rest_of_its_rung() {
     for scan in 0..12u64 {
         for e in engines.iter_mut() {
             for k in 0..n {
-                e.write(place(format!("S_{k}")), Value::Bool((scan + k as u64) % 3 == 0));
+                e.write(
+                    place(format!("S_{k}")),
+                    Value::Bool((scan + k as u64).is_multiple_of(3)),
+                );
             }
             e.scan(scan * 10).unwrap();
         }
@@ -400,7 +403,7 @@ fn a_jump_to_the_next_rung_in_a_strided_run_skips_only_the_rest_of_its_rung() {
     }
     // V_k counts the scans in which S_k was false (the jump not taken).
     for k in 0..n {
-        let want = (0..12u64).filter(|s| (s + k as u64) % 3 != 0).count() as i32;
+        let want = (0..12u64).filter(|s| !(s + k as u64).is_multiple_of(3)).count() as i32;
         assert_eq!(engines[1].read(place(format!("V_{k}"))), Value::Dint(want), "V_{k}");
     }
 }
