@@ -82,6 +82,9 @@ test('a refuted property opens its counterexample on the ladder, stepped scan by
   assert.equal(await tid('property-0').getAttribute('data-result'), 'proved');
   assert.equal(await tid('property-1').getAttribute('data-result'), 'refuted');
   assert.match(await tid('property-1').textContent(), /the lamp never lights/);
+  // How each was decided: the interlock by k-induction, the refuted one by the search.
+  assert.equal(await tid('method-0').textContent(), 'k-induction');
+  assert.equal(await tid('method-1').textContent(), 'explicit');
   assert.equal(await tid('open-0').count(), 0, 'a proved property has no counterexample');
 
   // The counterexample opens on the violating scan.

@@ -801,6 +801,10 @@ depth: number, states: number, millis: number,
  */
 reason: string | null, 
 /**
+ * How it was decided: `explicit` (the search on the engine) or `k-induction` (SAT).
+ */
+method: string, 
+/**
  * A refuted property's counterexample.
  */
 counterexample: Replay | null, 

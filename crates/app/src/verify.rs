@@ -110,6 +110,7 @@ impl Verifier for Service {
                     states: r.states as u64,
                     millis: r.millis,
                     reason: r.reason.clone(),
+                    method: r.method.to_string(),
                     counterexample: replayed(&r.counterexample, r.depth)?,
                     witness: replayed(&r.witness, r.depth)?,
                 })

@@ -131,3 +131,52 @@ fn a_program_too_large_for_the_uno_is_refused() {
     alba_arduino::toolchain::build(&dir.join(&s.files[0].0), Model::Mega, &dir.join("build-mega"))
         .expect("fits a Mega");
 }
+
+/// A project whose one program is `main.st`.
+fn st_project(name: &str, tags: &str, main: &str) -> (alba_ir::Program, alba_diag::Files) {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("refusals").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    std::fs::write(
+        dir.join("alba.toml"),
+        format!("name = \"{name}\"\nscan_ms = 10\nprograms = [\"main.st\"]\n"),
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("tags.csv"),
+        format!("name,type,address,initial,retain,description\n{tags}"),
+    )
+    .expect("write");
+    std::fs::write(dir.join("main.st"), main).expect("write");
+    let c = alba_load::compile_dir(&dir);
+    let files = c.files().clone();
+    (
+        c.program.unwrap_or_else(|| panic!("{name}: {:?}", c.diagnostics)),
+        files,
+    )
+}
+
+#[test]
+fn string_conversions_of_real_and_time_fit_the_board_and_of_lreal_are_refused_at_their_line() {
+    // REAL_TO_STRING scales in REAL arithmetic and TIME_TO_STRING in LINT,
+    // both of which the sketch has; LREAL_TO_STRING needs 64-bit doubles.
+    let (p, _) = st_project(
+        "st-real-text",
+        "N,INT,,,,\n",
+        "PROGRAM Main\nVAR s : STRING[16]; END_VAR\ns := REAL_TO_STRING(INT_TO_REAL(N) / 4.0);\ns := TIME_TO_STRING(T#1s);\nEND_PROGRAM\n",
+    );
+    assert_eq!(messages(&p, &uno()), Vec::<String>::new());
+    let (p, files) = st_project(
+        "st-lreal-text",
+        "N,INT,,,,\n",
+        "PROGRAM Main\nVAR s : STRING[24]; END_VAR\nN := N + 1;\ns := LREAL_TO_STRING(INT_TO_LREAL(N));\nEND_PROGRAM\n",
+    );
+    let d = generate(&p, "p", &uno()).expect_err("LREAL refused");
+    let shown: Vec<String> = d.iter().map(|d| d.short(&files)).collect();
+    assert!(
+        shown
+            .iter()
+            .any(|s| s.contains("main.st:4:") && s.contains("LREAL (64-bit) arithmetic cannot run on the board")),
+        "{shown:?}"
+    );
+}

@@ -1,5 +1,5 @@
 //! `alba analyze NET.pnml [--json] [--max-states N] [--memory SIZE] [--invariants
-//! flows|minimal] [--invariant-budget N]`: the analysis of the net's underlying
+//! flows|minimal] [--invariant-budget N] [--symbolic]`: the analysis of the net's underlying
 //! place/transition net (docs/nets.md, section "analysis"; SPEC §10.5).
 //! With `--examination E [--formulas FILE.xml] [--trace]`: the Model Checking Contest's
 //! examination E instead, in the contest's output form (docs/nets.md, "Contest
@@ -9,7 +9,9 @@ use alba_diag::{Files, render_all};
 use alba_net::PtNet;
 use alba_net::analysis::formula::{self, Property};
 use alba_net::analysis::stubborn::{self, CheckOptions, Verdict};
-use alba_net::analysis::{Analysis, Bound, Control, Invariants, Options, Space, Status, analyze, to_json};
+use alba_net::analysis::{
+    Analysis, Bound, Control, Invariants, Options, Space, Status, SymbolicMode, analyze, to_json,
+};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -71,6 +73,8 @@ pub struct Limits {
     pub invariants: InvariantsArg,
     /// `--invariant-budget`.
     pub invariant_budget: Option<u64>,
+    /// `--symbolic`.
+    pub symbolic: bool,
 }
 
 /// A size: bytes, or a number with K, M or G (powers of 1 024, an optional `B` or `iB`).
@@ -163,6 +167,11 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
         invariants: match limits.invariants {
             InvariantsArg::Flows => Invariants::Flows,
             InvariantsArg::Minimal => Invariants::Minimal,
+        },
+        symbolic: if limits.symbolic {
+            SymbolicMode::Always
+        } else {
+            SymbolicMode::Auto
         },
         ..Options::default()
     };
@@ -316,6 +325,22 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
             a.stopped.as_deref().unwrap_or("")
         )),
     }
+    match (&a.status.symbolic, &a.symbolic.result) {
+        (Status::Skipped("not requested"), _) => {}
+        (Status::Complete, Some(s)) => line(format!(
+            "symbolic (decision diagrams): {} states, {} edges ({} nodes, {} in the result, {:.3} s)",
+            s.states,
+            s.firings,
+            a.symbolic.nodes,
+            s.final_nodes,
+            a.symbolic.time.as_secs_f64()
+        )),
+        (st, _) => line(format!(
+            "symbolic (decision diagrams): {st} ({} nodes, {:.3} s)",
+            a.symbolic.nodes,
+            a.symbolic.time.as_secs_f64()
+        )),
+    }
     line(format!("bounded: {}, safe: {}", yes(a.bounded), yes(a.safe)));
     if let Some(b) = &a.place_bounds {
         let list: Vec<String> = b
@@ -417,8 +442,8 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
         );
     }
     out.push(format!(
-        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}",
-        st.state_space, st.components, st.p_flows, st.t_flows, st.p_invariants, st.t_invariants
+        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}, symbolic {}",
+        st.state_space, st.components, st.p_flows, st.t_flows, st.p_invariants, st.t_invariants, st.symbolic
     ));
     for l in out {
         line(l);

@@ -255,6 +255,12 @@ enum Command {
         /// Work units the minimal invariants may take, each of P and T (about 10^8 a second).
         #[arg(long, value_name = "N")]
         invariant_budget: Option<u64>,
+        /// Also count the states with the symbolic engine (decision diagrams), exactly and
+        /// of any number; the explicit exploration is skipped when the count shows it
+        /// cannot fit. Without it the symbolic engine runs only when the explicit
+        /// exploration stops at its memory budget.
+        #[arg(long)]
+        symbolic: bool,
         /// Answer a Model Checking Contest examination instead (one `FORMULA` line per
         /// formula; docs/nets.md, "Contest examinations").
         #[arg(long, value_enum, value_name = "EXAMINATION")]
@@ -677,6 +683,7 @@ fn main() -> ExitCode {
             memory,
             invariants,
             invariant_budget,
+            symbolic,
             examination,
             formulas,
             trace,
@@ -688,6 +695,7 @@ fn main() -> ExitCode {
                 memory,
                 invariants,
                 invariant_budget,
+                symbolic,
             },
             examination.map(|examination| analyze::Contest {
                 examination,

@@ -1734,6 +1734,26 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (Code::StType, "{}.{} is a {}, not a {}", "{0}.{1} es un {2}, no un {3}"),
     (
+        Code::StNotSupported,
+        "a pragma `{}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code",
+        "un pragma `{0}` no se ejecuta: OpenPLC y Beremiz pegan su texto en el código C que generan, y Alba no ejecuta código C",
+    ),
+    (
+        Code::StSyntax,
+        "this pragma `{` is never closed by `}`",
+        "este pragma `{` nunca se cierra con `}`",
+    ),
+    (
+        Code::StNotSupported,
+        "{}: `{}` is not an elementary type",
+        "{0}: `{1}` no es un tipo elemental",
+    ),
+    (
+        Code::StNotSupported,
+        "{}: a string converts only to numbers, bit strings and BOOL yet",
+        "{0}: por ahora una cadena solo se convierte en números, cadenas de bits y BOOL",
+    ),
+    (
         Code::StType,
         "{}: BCD conversions are between a bit string and an integer",
         "{0}: las conversiones BCD son entre una cadena de bits y un entero",

@@ -297,6 +297,8 @@ fn run(
 /// until the project checks.
 fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), Error> {
     let whole = Location::new(file, 1, 1);
+    // The first error of the last check, for the message when it never passes.
+    let mut last = String::new();
     for round in 0..16 {
         let stamp = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
@@ -338,6 +340,18 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
             continue;
         }
         let files = c.files();
+        if let Some(d) = c.diagnostics.first() {
+            // Where in the project (not the staging folder) and what.
+            last = match &d.primary {
+                Some(l) => {
+                    let name = files.name(l.span.file).replace('\\', "/");
+                    let file = name.rsplit('/').next().unwrap_or(&name).to_string();
+                    let (line, col) = files.line_col(l.span.file, l.span.start as usize);
+                    format!("{file}:{line}:{col}: error[{}]: {}", d.code, d.message)
+                }
+                None => format!("error[{}]: {}", d.code, d.message),
+            };
+        }
         let mut rungs: Vec<(usize, usize, String)> = Vec::new();
         let mut tag_rows: Vec<(usize, String)> = Vec::new();
         for d in &c.diagnostics {
@@ -481,9 +495,9 @@ fn check(project: &mut Project, report: &mut Report, file: &str) -> Result<(), E
             break;
         }
     }
-    Err(Error::plain(
-        "the converted project does not check, even without the rungs Alba refuses",
-    ))
+    Err(Error::plain(format!(
+        "the converted project does not check, even without the rungs Alba refuses: {last}"
+    )))
 }
 
 /// Leaves out the screen elements `alba check` refuses (a message about an

@@ -1161,8 +1161,14 @@ impl Body<'_, '_> {
 }
 
 /// The `externalVars` of a POU: declared by the configuration; unknown ones
-/// become tags.
-fn external_vars(conv: &mut Conv<'_>, list: &Elem, scope: &mut HashMap<String, Var>) {
+/// become tags, global from then on (so the next POU naming one shares the
+/// tag, not declares it again).
+fn external_vars(
+    conv: &mut Conv<'_>,
+    list: &Elem,
+    scope: &mut HashMap<String, Var>,
+    globals: &mut HashMap<String, Var>,
+) {
     let mut l2 = list.clone();
     l2.children.retain(|c| {
         c.name == "variable"
@@ -1188,14 +1194,20 @@ fn external_vars(conv: &mut Conv<'_>, list: &Elem, scope: &mut HashMap<String, V
     conv.names = tmp.names;
     conv.tags.extend(tmp.tags);
     conv.report.entries.extend(tmp.report.entries);
+    globals.extend(ext.clone());
     scope.extend(ext);
 }
 
 /// The tags a function or function block names through its `externalVars`.
-fn external_tags(conv: &mut Conv<'_>, pou: &Elem, scope: &mut HashMap<String, Var>) {
+fn external_tags(
+    conv: &mut Conv<'_>,
+    pou: &Elem,
+    scope: &mut HashMap<String, Var>,
+    globals: &mut HashMap<String, Var>,
+) {
     if let Some(iface) = pou.child("interface") {
         for list in iface.all("externalVars") {
-            external_vars(conv, list, scope);
+            external_vars(conv, list, scope, globals);
         }
     }
 }
@@ -1228,7 +1240,29 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
         .unwrap_or(stem)
         .to_string();
 
-    // Global variables and the scan period of the configurations.
+    // User types and function blocks, by which ST variables are declared.
+    let types_el = root.child("types");
+    let mut known: std::collections::HashSet<String> = types_el
+        .and_then(|t| t.child("dataTypes"))
+        .map(|d| {
+            d.all("dataType")
+                .filter_map(|d| d.attr("name"))
+                .map(str::to_ascii_lowercase)
+                .collect()
+        })
+        .unwrap_or_default();
+    known.extend(
+        types_el
+            .and_then(|t| t.child("pous"))
+            .into_iter()
+            .flat_map(|p| p.all("pou"))
+            .filter(|p| p.attr("pouType") != Some("program"))
+            .filter_map(|p| p.attr("name"))
+            .map(str::to_ascii_lowercase),
+    );
+    // Global variables and the scan period of the configurations; globals of
+    // the file's types are ST (`globals.st`, one file-level VAR_GLOBAL).
+    let mut global_st: Vec<(Location, String, String)> = Vec::new();
     let mut scan_ms: Option<u32> = None;
     let mut instances: Vec<String> = Vec::new();
     let mut tasks: Vec<(i64, String)> = Vec::new();
@@ -1236,11 +1270,13 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
     if let Some(cfgs) = root.child("instances").and_then(|i| i.child("configurations")) {
         for cfg in cfgs.all("configuration") {
             for gv in cfg.all("globalVars") {
-                conv.declare(gv, &mut globals, "global");
+                let gv = st::user_globals(&mut conv, gv, &known, &mut globals, &mut global_st);
+                conv.declare(&gv, &mut globals, "global");
             }
             for res in cfg.all("resource") {
                 for gv in res.all("globalVars") {
-                    conv.declare(gv, &mut globals, "global");
+                    let gv = st::user_globals(&mut conv, gv, &known, &mut globals, &mut global_st);
+                    conv.declare(&gv, &mut globals, "global");
                 }
                 for task in res.all("task") {
                     let loc = conv.ctx.loc(task);
@@ -1313,23 +1349,6 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             ordered.push(p);
         }
     }
-    // User types and function blocks, by which ST variables are declared.
-    let types_el = root.child("types");
-    let mut known: std::collections::HashSet<String> = types_el
-        .and_then(|t| t.child("dataTypes"))
-        .map(|d| {
-            d.all("dataType")
-                .filter_map(|d| d.attr("name"))
-                .map(str::to_ascii_lowercase)
-                .collect()
-        })
-        .unwrap_or_default();
-    known.extend(
-        pous.iter()
-            .filter(|p| p.attr("pouType") != Some("program"))
-            .filter_map(|p| p.attr("name"))
-            .map(str::to_ascii_lowercase),
-    );
     // `types.st` and the functions and function blocks, before the programs.
     let mut library: Vec<ProgramOut> = Vec::new();
     let mut refused_programs: Vec<String> = Vec::new();
@@ -1352,7 +1371,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             match st {
                 Some(st) if kind == "function" || kind == "functionBlock" => {
                     let mut scope = globals.clone();
-                    external_tags(&mut conv, pou, &mut scope);
+                    external_tags(&mut conv, pou, &mut scope, &mut globals);
                     if let Some(out) = st::convert(&mut conv, pou, st, (&pname, kind), &known, &mut scope) {
                         library.push(out);
                     }
@@ -1395,7 +1414,7 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
                     "localVars" | "inputVars" | "outputVars" | "inOutVars" | "externalVars" | "globalVars" | "tempVars"
                 ) {
                     if list.name == "externalVars" {
-                        external_vars(&mut conv, list, &mut scope);
+                        external_vars(&mut conv, list, &mut scope, &mut globals);
                     } else if !is_st {
                         conv.declare(list, &mut scope, &pname);
                     }
@@ -1403,9 +1422,18 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             }
         }
         if is_st {
+            let before = conv.report.entries.len();
             match st::convert(&mut conv, pou, ld, (&pname, kind), &known, &mut scope) {
                 Some(prog) => programs.push(prog),
-                None => refused_programs.push(format!("`{pname}` (ST)")),
+                None => {
+                    // Why, by its first refusal (a syntax error at its line).
+                    let first = conv.report.entries[before..]
+                        .iter()
+                        .find(|e| e.kind == Kind::Refused)
+                        .map(|e| format!(", refused at {}:{}: {}", e.location.line, e.location.col, e.message))
+                        .unwrap_or_default();
+                    refused_programs.push(format!("`{pname}` (ST{first})"));
+                }
             }
             continue;
         }
@@ -1640,6 +1668,30 @@ pub fn convert(file: &str, stem: &str, text: &str, _opts: &Options) -> Result<(P
             if let Some(types) = st::data_types(&mut conv, t, &known, file.to_string()) {
                 library.insert(0, types);
             }
+        }
+        if !global_st.is_empty() {
+            let taken = |f: &str| library.iter().chain(&programs).any(|p| p.file.eq_ignore_ascii_case(f));
+            let file = ["globals.st", "alba_globals.st"]
+                .into_iter()
+                .find(|f| !taken(f))
+                .unwrap_or("alba_import_globals.st");
+            let mut g = ProgramOut::new(file.to_string());
+            let mut blocks: Vec<&str> = Vec::new();
+            for (_, b, _) in &global_st {
+                if !blocks.contains(&b.as_str()) {
+                    blocks.push(b);
+                }
+            }
+            for block in blocks {
+                g.line(block, None);
+                for (loc, _, line) in global_st.iter().filter(|(_, b, _)| b == block) {
+                    g.line(line, Some(loc));
+                }
+                g.line("END_VAR", None);
+            }
+            // After the types it names, before the POUs.
+            let at = usize::from(library.first().is_some_and(|p| p.file.ends_with("types.st")));
+            library.insert(at, g);
         }
         library.append(&mut programs);
         programs = library;

@@ -837,7 +837,7 @@ fn plcopen_st_refusals_are_located_in_the_xml() {
 <project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
   <types><pous>
     <pou name="bad" pouType="program">
-<interface><localVars><variable name="s"><type><string/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
+<interface><localVars><variable name="s"><type><derived name="PID"/></type></variable><variable name="n"><type><INT/></type></variable></localVars></interface>
       <body><ST><xhtml:p><![CDATA[n := n + 1;
 n := * 2;
 ]]></xhtml:p></ST></body>
@@ -854,9 +854,9 @@ n := * 2;
 "#;
     let (project, report) = alba_import::convert(Path::new("st.xml"), xml, &Options::default()).expect("converts");
     let text = report.render();
-    // The STRING variable at its <variable>, the syntax error at the `*`.
+    // The variable of OpenPLC's PID at its <variable>, the syntax error at the `*`.
     assert!(
-        text.contains("5:23: refused: variable `s` of `bad`: its type `STRING` does not run"),
+        text.contains("5:23: refused: variable `s` of `bad`: its type `PID` does not run"),
         "{text}"
     );
     assert!(text.contains("7:6: refused: ST of `bad`: E220"), "{text}");
@@ -872,7 +872,7 @@ n := * 2;
     );
     assert_eq!(
         err("st.xml", None, &only_bad),
-        "st.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `bad` (ST)"
+        "st.xml:2:1: nothing to import: Alba imports LD, SFC and ST bodies of programs, and its programs are `bad` (ST, refused at 5:23: variable `s` of `bad`: its type `PID` does not run in Alba's ST yet (docs/st.md))"
     );
 }
 
@@ -950,4 +950,114 @@ fn plcopen_sfc_st_action_with_a_syntax_error_is_refused_at_its_line() {
     assert!(r.contains("refused: the ST actions of `tank` are not converted"), "{r}");
     let files: Vec<&str> = project.programs.iter().map(|p| p.file.as_str()).collect();
     assert_eq!(files, ["tank.sfc"]);
+}
+
+#[test]
+fn openplc_pragmas_are_refused_each_at_its_place() {
+    // The OpenPLC Editor's example Random_Generator_Pragma: its ST function
+    // block calls C through three pragmas (`{SetFbVar(OUT,rand())}` …); each
+    // is one refusal at its line and column, not a cascade of syntax errors.
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plcopen/openplc-random-pragma.xml");
+    let text = fs::read_to_string(&f).expect("fixture");
+    let (_, report) = alba_import::convert(Path::new("random.xml"), &text, &Options::default()).expect("converts");
+    let r = report.render();
+    let pragma = "refused: ST of `rand_generator`: E223: a pragma `{…}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code";
+    for at in ["288:1", "295:3", "304:3"] {
+        assert!(r.contains(&format!("random.xml:{at}: {pragma}")), "{at} in\n{r}");
+    }
+    assert!(!r.contains("E220"), "{r}");
+}
+
+#[test]
+fn an_st_program_that_does_not_parse_is_named_with_its_first_error() {
+    // As a public OpenPLC project has it: a variable table pasted as the
+    // program's ST body. Nothing is left to import, and the error says
+    // where the body went wrong rather than only that it is ST.
+    let text = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types>
+    <pous>
+      <pou name="main" pouType="program">
+        <interface><localVars><variable name="Temperature"><type><INT/></type></variable></localVars></interface>
+        <body>
+          <ST>
+            <xhtml:p><![CDATA[Temperature VAR INT %MW0 22]]></xhtml:p>
+          </ST>
+        </body>
+      </pou>
+    </pous>
+  </types>
+</project>
+"#;
+    let e = alba_import::convert(Path::new("pasted.xml"), text, &Options::default())
+        .expect_err("nothing to import")
+        .to_string();
+    assert!(e.contains("its programs are `main` (ST, refused at 9:"), "{e}");
+    assert!(e.contains("E220"), "{e}");
+}
+
+#[test]
+fn an_external_variable_the_configuration_lacks_is_one_tag_for_every_program() {
+    // As a public OpenPLC project has it: two programs name `shared` in
+    // their externalVars, which the configuration does not declare. It is
+    // one tag (not one per program, refused as declared twice).
+    let program = |name: &str, body: &str| {
+        format!(
+            r#"<pou name="{name}" pouType="program">
+        <interface><externalVars><variable name="shared"><type><INT/></type></variable></externalVars></interface>
+        <body><ST><xhtml:p><![CDATA[{body}]]></xhtml:p></ST></body>
+      </pou>"#
+        )
+    };
+    let text = format!(
+        r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types>
+    <pous>
+      {}
+      {}
+    </pous>
+  </types>
+</project>
+"#,
+        program("writer", "shared := 5;"),
+        program("reader", "shared := shared + 1;")
+    );
+    let (p, report) = alba_import::convert(Path::new("ext.xml"), &text, &Options::default()).expect("converts");
+    let r = report.render();
+    assert!(!r.contains("declared twice") && !r.contains("refused"), "{r}");
+    let shared: Vec<&str> = p
+        .tags
+        .iter()
+        .map(|t| t.name.as_str())
+        .filter(|n| n.eq_ignore_ascii_case("shared"))
+        .collect();
+    assert_eq!(shared, ["shared"], "{r}");
+    let files: Vec<&str> = p.programs.iter().map(|p| p.file.as_str()).collect();
+    assert_eq!(files, ["writer.st", "reader.st"]);
+}
+
+#[test]
+fn sfc_steps_without_a_local_id_keep_their_names() {
+    // As IronPLC's grammar test file writes them (`<step name="Init"
+    // initialStep="true">`, no localId): the steps are named, not empty.
+    let text = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0200">
+  <types><pous>
+    <pou name="Chart" pouType="program">
+      <body><SFC>
+        <step name="Init" initialStep="true"><connectionPointOut/></step>
+        <step name="Step1" initialStep="false"><connectionPointIn/></step>
+      </SFC></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let (p, report) = alba_import::convert(Path::new("sfc.xml"), text, &Options::default()).expect("converts");
+    let sfc = &p.programs[0].text;
+    assert!(
+        sfc.contains("INITIAL_STEP Init: END_STEP") && sfc.contains("STEP Step1: END_STEP"),
+        "{sfc}\n{}",
+        report.render()
+    );
 }

@@ -733,12 +733,12 @@ fn trace_in(mode: &str, dir: &Path, stimulus: &str, cols: &str, until: u64, ever
     String::from_utf8(out).expect("utf8")
 }
 
-/// The PLCopen fixtures with functions and function blocks in ST run with
+/// The PLCopen fixtures with functions, function blocks and SFC actions in ST run with
 /// their golden traces (`tests/golden/plcopen-traces/<fixture>.csv`;
 /// `ALBA_BLESS=1` rewrites them) in every engine mode.
 #[test]
 fn plcopen_st_functions_and_function_blocks_run_with_their_golden_traces() {
-    let cases: [(&str, &str, &str, u64, u64); 3] = [
+    let cases: [(&str, &str, &str, u64, u64); 4] = [
         // IronPLC's test project: the FB instance keeps its state (Count,
         // set once by the stimulus) as Main calls it with Reset FALSE.
         (
@@ -768,6 +768,19 @@ fn plcopen_st_functions_and_function_blocks_run_with_their_golden_traces() {
             400,
             10,
         ),
+        // OpenPLC's SFC test (OpenPLC_v3, matiec's tests): a named ST
+        // action and inline ST action bodies (actions `A<block>_<k>`), ST
+        // conditions. GO → STEP1 at once (IX1 FALSE); IX2 leads to STEP2,
+        // whose P action steps QX1/QX2 through A1, A2, A3 (which write
+        // IX1) to the simultaneous D1–D3, E1–E3 and back to GO; IX1 cleared
+        // again starts a second round, which waits in D (QX3 stays TRUE).
+        (
+            "openplc-sfc-test",
+            "time_ms,tag,value\n300,IX2,1\n450,IX1,0\n",
+            "QX1,QX2,QX3,IX1,IX2,MAIN_TEST.GO.X,MAIN_TEST.STEP1.X,MAIN_TEST.STEP2.X,MAIN_TEST.A1.X,MAIN_TEST.A2.X,MAIN_TEST.A3.X,MAIN_TEST.D1.X,MAIN_TEST.E3.X",
+            520,
+            10,
+        ),
     ];
     let bless = std::env::var_os("ALBA_BLESS").is_some();
     let golden_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/plcopen-traces");
@@ -784,5 +797,110 @@ fn plcopen_st_functions_and_function_blocks_run_with_their_golden_traces() {
             }
             assert_eq!(want, got, "{fixture} ({mode}) differs from {}", golden.display());
         }
+    }
+}
+
+/// STRING, WSTRING and date variables of a PLCopen ST program (as OpenPLC's
+/// editor writes them: `<string length="8"/>`, an initial value in quotes)
+/// are imported and run in every engine mode.
+#[test]
+fn plcopen_st_strings_and_dates_import_and_run() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types><pous>
+    <pou name="Main" pouType="program">
+      <interface><localVars>
+        <variable name="greet"><type><string length="8"/></type><initialValue><simpleValue value="'hi'"/></initialValue></variable>
+        <variable name="msg"><type><string/></type></variable>
+        <variable name="w"><type><wstring length="4"/></type></variable>
+        <variable name="day"><type><DATE/></type><initialValue><simpleValue value="D#2024-01-31"/></initialValue></variable>
+        <variable name="n"><type><INT/></type></variable>
+      </localVars></interface>
+      <body><ST><xhtml:p><![CDATA[n := n + 1;
+msg := CONCAT(greet, ' ', INT_TO_STRING(n), ' ', REAL_TO_STRING(INT_TO_REAL(n) / 4.0));
+w := STRING_TO_WSTRING(LEFT(greet, 1));
+]]></xhtml:p></ST></body>
+    </pou>
+  </pous></types>
+</project>
+"#;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("strings.xml");
+    std::fs::write(&file, xml).expect("write");
+    let dir = tmp.path().join("p");
+    alba_import::import(&file, &dir, &Options::default()).expect("import");
+    let st = std::fs::read_to_string(dir.join("Main.st")).expect("Main.st");
+    for want in [
+        "greet : STRING[8] := 'hi';",
+        "msg : STRING;",
+        "w : WSTRING[4];",
+        "day : DATE := D#2024-01-31;",
+    ] {
+        assert!(st.contains(want), "{want} not in\n{st}");
+    }
+    // `hi 2 0.5` on the second scan: its length and characters.
+    let cols =
+        "Main.n,Main.msg.LEN,Main.msg[1],Main.msg[4],Main.msg[6],Main.msg[7],Main.msg[8],Main.w.LEN,Main.w[1],Main.day";
+    let want = "time_ms,Main.n,Main.msg.LEN,Main.msg[1],Main.msg[4],Main.msg[6],Main.msg[7],Main.msg[8],Main.w.LEN,Main.w[1],Main.day\n\
+                0,1,9,104,49,48,46,50,1,104,1706659200000\n\
+                10,2,8,104,50,48,46,53,1,104,1706659200000\n";
+    for mode in ["fused", "monitored", "native"] {
+        assert_eq!(
+            trace_in(mode, &dir, "time_ms,tag,value\n", cols, 10, 10),
+            want,
+            "{mode}"
+        );
+    }
+}
+
+/// A configuration's global of one of the file's types (an enumeration, as
+/// an OpenPLC oven controller has it) is a file-level VAR_GLOBAL of ST that
+/// the programs' externalVars name; it runs in every engine mode.
+#[test]
+fn plcopen_globals_of_the_files_types_are_st_globals() {
+    let xml = r#"<?xml version="1.0" encoding="utf-8"?>
+<project xmlns="http://www.plcopen.org/xml/tc6_0201" xmlns:xhtml="http://www.w3.org/1999/xhtml">
+  <types>
+    <dataTypes>
+      <dataType name="Mode_t"><baseType><enum><values><value name="stopped"/><value name="running"/><value name="done"/></values></enum></baseType></dataType>
+    </dataTypes>
+    <pous>
+      <pou name="main" pouType="program">
+        <interface>
+          <externalVars><variable name="mode"><type><derived name="Mode_t"/></type></variable></externalVars>
+          <externalVars constant="true"><variable name="last"><type><derived name="Mode_t"/></type></variable></externalVars>
+          <localVars><variable name="n"><type><INT/></type></variable></localVars>
+        </interface>
+        <body><ST><xhtml:p><![CDATA[n := n + 1;
+IF mode = stopped THEN mode := running; ELSIF n >= 3 THEN mode := last; END_IF;]]></xhtml:p></ST></body>
+      </pou>
+    </pous>
+  </types>
+  <instances><configurations><configuration name="Config0">
+    <resource name="Res0"><task name="t" priority="0" interval="T#10ms"><pouInstance name="i" typeName="main"/></task></resource>
+    <globalVars><variable name="mode"><type><derived name="Mode_t"/></type><initialValue><simpleValue value="stopped"/></initialValue></variable></globalVars>
+    <globalVars constant="true"><variable name="last"><type><derived name="Mode_t"/></type><initialValue><simpleValue value="done"/></initialValue></variable></globalVars>
+  </configuration></configurations></instances>
+</project>
+"#;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let file = tmp.path().join("oven.xml");
+    std::fs::write(&file, xml).expect("write");
+    let dir = tmp.path().join("p");
+    let report = alba_import::import(&file, &dir, &Options::default()).expect("import");
+    let text = report.render();
+    assert!(!text.contains("refused"), "{text}");
+    let g = std::fs::read_to_string(dir.join("globals.st")).expect("globals.st");
+    assert_eq!(
+        g,
+        "VAR_GLOBAL\n    mode : Mode_t := stopped;\nEND_VAR\nVAR_GLOBAL CONSTANT\n    last : Mode_t := done;\nEND_VAR\n"
+    );
+    let want = "time_ms,mode,main.n\n0,1,1\n10,1,2\n20,2,3\n";
+    for mode in ["fused", "monitored", "native"] {
+        assert_eq!(
+            trace_in(mode, &dir, "time_ms,tag,value\n", "mode,main.n", 20, 10),
+            want,
+            "{mode}"
+        );
     }
 }

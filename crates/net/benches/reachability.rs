@@ -3,12 +3,23 @@
 //! and for the Model Checking Contest's `Kanban-PT-00005` (2 546 432 states),
 //! `FMS-PT-00005` (2 895 018) and `RobotManipulation-PT-00010` (20 030 010) from the
 //! test corpus (tests/mcc), each checked against the contest's state count. `--quick`
-//! leaves out the 20 M-state model.
+//! leaves out the 20 M-state model. `--symbolic [NAME…]` times the symbolic engine
+//! (`alba_net::analysis::symbolic`) instead, on the same models and the corpus's
+//! instances of 10^9 states and more (or on the instances named), each checked against
+//! the contest's counts.
 
 #[path = "../tests/mcc/corpus.rs"]
 mod corpus;
 
 fn main() {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--") || a == "--symbolic")
+        .collect();
+    if args.first().map(String::as_str) == Some("--symbolic") {
+        symbolic(&args[1..]);
+        return;
+    }
     let quick = std::env::args().any(|a| a == "--quick");
     print!("{}", alba_net::analysis::bench::run(quick));
     let mut names = vec!["Kanban-PT-00005", "FMS-PT-00005"];
@@ -27,6 +38,52 @@ fn main() {
         print!("{report}");
         if Some(states) != want {
             println!("  MISMATCH: the contest says {want:?} states");
+        }
+    }
+}
+
+/// `--symbolic`: time, nodes and memory of the symbolic engine per instance.
+fn symbolic(names: &[String]) {
+    use alba_net::analysis::symbolic::{Limits, explore};
+    let defaults = [
+        "Kanban-PT-00005",
+        "FMS-PT-00005",
+        "RobotManipulation-PT-00010",
+        "Kanban-PT-00050",
+        "FMS-PT-00050",
+        "Philosophers-PT-000100",
+    ];
+    let names: Vec<&str> = if names.is_empty() {
+        defaults.to_vec()
+    } else {
+        names.iter().map(String::as_str).collect()
+    };
+    let all = corpus::load();
+    for name in names {
+        let Some(i) = all.iter().find(|i| i.name == name) else {
+            println!("{name}: not in the corpus");
+            continue;
+        };
+        let net = corpus::net(i);
+        let o = explore(&net, &Limits::default(), &std::sync::atomic::AtomicBool::new(false));
+        let want = i.state_space_text("STATES").unwrap_or_default();
+        match o.result {
+            Ok(s) => println!(
+                "{name}: {} states{} in {:.3} s, {} nodes made ({} in the result), {:.1} MiB",
+                s.states,
+                if s.states.to_string() == want { "" } else { " MISMATCH" },
+                o.time.as_secs_f64(),
+                o.nodes,
+                s.final_nodes,
+                o.bytes as f64 / (1 << 20) as f64
+            ),
+            Err(why) => println!(
+                "{name}: stopped ({}) after {:.3} s, {} nodes, {:.1} MiB",
+                why.reason(),
+                o.time.as_secs_f64(),
+                o.nodes,
+                o.bytes as f64 / (1 << 20) as f64
+            ),
         }
     }
 }

@@ -931,6 +931,8 @@ pub struct PropertyResult {
     pub millis: u64,
     /// Why `unknown`.
     pub reason: Option<String>,
+    /// How it was decided: `explicit` (the search on the engine) or `k-induction` (SAT).
+    pub method: String,
     /// A refuted property's counterexample.
     pub counterexample: Option<Replay>,
     /// A `reachable` property's witness.

@@ -1,5 +1,6 @@
 //! The lexer: ST text to tokens with byte spans. Comments `(* *)` (nested),
-//! `/* */` and `//`; identifiers and keywords are case-insensitive; typed
+//! `/* */` and `//`; pragmas `{…}` skipped with an E223 each (Alba runs none);
+//! identifiers and keywords are case-insensitive; typed
 //! and based literals (`T#1h2m`, `16#FF`, `DINT#5`) are single tokens.
 
 use alba_diag::{Code, Diagnostic, FileId, Span};
@@ -91,6 +92,34 @@ pub fn lex(text: &str, file: FileId) -> (Vec<Token>, Vec<Diagnostic>) {
         if c == b'/' && b.get(i + 1) == Some(&b'/') {
             while i < b.len() && b[i] != b'\n' {
                 i += 1;
+            }
+            continue;
+        }
+        if c == b'{' {
+            // A pragma: what it means is the implementation's; OpenPLC's and
+            // Beremiz's (matiec) are C code pasted into the generated C.
+            match text[i + 1..].find('}') {
+                Some(k) => {
+                    i = i + 1 + k + 1;
+                    diags.push(
+                        Diagnostic::new(
+                            Code::StNotSupported,
+                            "a pragma `{…}` is not run: OpenPLC and Beremiz paste its text into their generated C code, and Alba runs no C code".to_string(),
+                            Span::new(file, start..i),
+                            "pragma",
+                        )
+                        .with_help("write what it does in ST, or leave it out"),
+                    );
+                }
+                None => {
+                    err(
+                        &mut diags,
+                        start,
+                        start + 1,
+                        "this pragma `{` is never closed by `}`".into(),
+                    );
+                    i = b.len();
+                }
             }
             continue;
         }
@@ -263,9 +292,20 @@ fn utf8_len(first: u8) -> usize {
     }
 }
 
+/// Whether the value so far is a decimal number ending in its exponent's
+/// `E` (`REAL#2.5E` of `REAL#2.5E-8`), so a sign may follow.
+fn signed_exponent(v: &[u8]) -> bool {
+    v.len() >= 2
+        && matches!(v[v.len() - 1], b'e' | b'E')
+        && v[v.len() - 2].is_ascii_digit()
+        && v.iter()
+            .all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'_' | b'e' | b'E'))
+}
+
 /// The value part of a typed literal: an optional sign, then letters,
 /// digits, `_`, `#` (`DINT#16#FF`), for dates and times of day (`date`)
-/// `:` and `-`, and `.` before a digit (`T#1.5s`). Returns where it starts.
+/// `:` and `-`, `.` before a digit (`T#1.5s`) and the sign of an exponent
+/// (`LREAL#1.5E-8`). Returns where it starts.
 fn typed_rest(b: &[u8], i: &mut usize, date: bool) -> usize {
     if matches!(b.get(*i), Some(b'+' | b'-')) {
         *i += 1;
@@ -276,7 +316,10 @@ fn typed_rest(b: &[u8], i: &mut usize, date: bool) -> usize {
             || matches!(c, b'_' | b'#')
             || (date && c == b':')
             || (date && c == b'-' && *i > start && b.get(*i + 1).is_some_and(u8::is_ascii_digit))
-            || (c == b'.' && b.get(*i + 1).is_some_and(u8::is_ascii_digit));
+            || (c == b'.' && b.get(*i + 1).is_some_and(u8::is_ascii_digit))
+            || (matches!(c, b'+' | b'-')
+                && signed_exponent(&b[start..*i])
+                && b.get(*i + 1).is_some_and(u8::is_ascii_digit));
         if !ok {
             break;
         }

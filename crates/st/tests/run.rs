@@ -1601,3 +1601,35 @@ fn in_out_elements_with_computed_indexes_pass_by_value_and_result() {
     assert_eq!(rows[0], [Value::Dint(321), Value::Int(6), Value::Int(5)]);
     assert_eq!(rows[1], [Value::Dint(123), Value::Int(5), Value::Int(6)]);
 }
+
+#[test]
+fn operator_functions_and_bool_literals_0_and_1_as_openplc_writes_them() {
+    // Real OpenPLC programs write `DIV(a, b)`, `mod(a, b)` and `x : BOOL := 1`
+    // (IEC 61131-3's boolean literals include 0 and 1).
+    let p = program(
+        "name,type\nA,DINT\nB,DINT\nC,DINT\nD,DINT\nM,DINT\nF,BOOL\nG,BOOL\n",
+        "PROGRAM Main
+         VAR on : BOOL := 1; off : BOOL := 0; END_VAR
+         A := ADD(1, 2, 3, 4);
+         B := MUL(2, 3, 4);
+         C := SUB(10, 4);
+         D := DIV(17, 5);
+         M := mod(17, 5);
+         F := on;
+         G := off;
+         END_PROGRAM",
+    );
+    let rows = run_all(&p, 10, 1, &[], &["A", "B", "C", "D", "M", "F", "G"]);
+    let d = Value::Dint;
+    assert_eq!(rows[0], [d(10), d(24), d(6), d(3), d(2), b(true), b(false)]);
+    let e = errors(
+        "name,type\n",
+        "PROGRAM Main VAR x : BOOL := 2; y : DINT; END_VAR y := DIV(1); END_PROGRAM",
+    );
+    for want in [
+        "the initial value `2` is not a BOOL literal",
+        "DIV takes 2 argument(s), not 1",
+    ] {
+        assert!(e.contains(want), "missing `{want}` in:\n{e}");
+    }
+}

@@ -326,6 +326,8 @@ fn strings_are_checked() {
          N := FIND(s, 3);
          s := 'caf$E9';
          w := \"$00E9t$D800\";
+         s := FOO_TO_STRING(1);
+         N := STRING_TO_TIME('T#1s');
          END_PROGRAM",
     );
     for want in [
@@ -338,6 +340,8 @@ fn strings_are_checked() {
         "FIND takes a STRING",
         "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
         "`$D800` is not a character (a UTF-16 surrogate)",
+        "FOO_TO_STRING: `FOO` is not an elementary type",
+        "STRING_TO_TIME: a string converts only to numbers, bit strings and BOOL yet",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
@@ -350,7 +354,7 @@ fn the_cost_of_each_string_function_is_printed() {
     // them grow is seen.
     let base = modes::program(
         "name,type\nN,INT\n",
-        "PROGRAM Main VAR a, b, r : STRING; END_VAR N := 1; END_PROGRAM",
+        "PROGRAM Main VAR a, b, r : STRING; x : REAL; y : LREAL; t : TIME; dt : DT; END_VAR N := 1; END_PROGRAM",
     )
     .ops
     .len();
@@ -371,14 +375,174 @@ fn the_cost_of_each_string_function_is_printed() {
         ("N := BOOL_TO_INT(a < b);", 400),
         ("r := INT_TO_STRING(N);", 560),
         ("N := STRING_TO_INT(a);", 2_800),
+        ("r := REAL_TO_STRING(x);", 4_000),
+        ("r := LREAL_TO_STRING(y);", 6_000),
+        ("r := TIME_TO_STRING(t);", 4_000),
+        ("x := STRING_TO_REAL(a);", 8_000),
+        ("r := DT_TO_STRING(dt);", 5_000),
     ] {
         let p = modes::program(
             "name,type\nN,INT\n",
-            &format!("PROGRAM Main VAR a, b, r : STRING; END_VAR N := 1; {call} END_PROGRAM"),
+            &format!(
+                "PROGRAM Main VAR a, b, r : STRING; x : REAL; y : LREAL; t : TIME; dt : DT; END_VAR N := 1; {call} END_PROGRAM"
+            ),
         );
         let ops = p.ops.len() - base;
         costs.push(format!("{call} {ops}"));
         assert!(ops <= bound, "`{call}`: {ops} ops");
     }
     println!("ops per call on STRING[80]: {}", costs.join(", "));
+}
+
+#[test]
+fn conversions_between_strings_and_reals_times_and_bools() {
+    let (v, faults) = once(
+        "name,type\nR1,REAL\nR2,REAL\nR3,REAL\nL1,LREAL\nL2,LREAL\nL3,LREAL\nB1,BOOL\nB2,BOOL\nB3,BOOL\nB4,BOOL\n",
+        "PROGRAM Main
+         VAR a, b, c, d, e, f, g, h, i, j, k, l, m, n, o, p, q, r, s, t, u : STRING; w : WSTRING[12]; x : REAL := 0.1; END_VAR
+         a := REAL_TO_STRING(12.5);
+         b := REAL_TO_STRING(-100.0);
+         c := REAL_TO_STRING(x);
+         d := REAL_TO_STRING(1.0E10);
+         e := REAL_TO_STRING(0.0);
+         f := REAL_TO_STRING(1234567.0);
+         g := REAL_TO_STRING(-2.5E-7);
+         h := LREAL_TO_STRING(LREAL#0.1 + LREAL#0.2);
+         i := LREAL_TO_STRING(LREAL#1.5E300);
+         j := LREAL_TO_STRING(LREAL#-0.00001);
+         k := LREAL_TO_STRING(LREAL#123456789012345.0);
+         l := TIME_TO_STRING(T#1h2m3s4ms);
+         m := TIME_TO_STRING(T#0s);
+         n := TIME_TO_STRING(T#-1.5s);
+         o := TIME_TO_STRING(T#24d20h31m23s647ms);
+         p := LTIME_TO_STRING(LTIME#1d1ms2us3ns);
+         q := BOOL_TO_STRING(x > 0.0);
+         r := BOOL_TO_STRING(FALSE);
+         w := REAL_TO_WSTRING(9.99);
+         R1 := STRING_TO_REAL('  -1.5E3x');
+         R2 := STRING_TO_REAL('0.1');
+         R3 := STRING_TO_REAL('abc');
+         L1 := STRING_TO_LREAL('3.14159265358979');
+         L2 := STRING_TO_LREAL(LREAL_TO_STRING(LREAL#2.5E-8));
+         L3 := STRING_TO_LREAL('+42.');
+         s := REAL_TO_STRING(STRING_TO_REAL('7e-2'));
+         t := REAL_TO_STRING(9.9999999);
+         u := LREAL_TO_STRING(LREAL#1.0E15);
+         B1 := STRING_TO_BOOL('true');
+         B2 := STRING_TO_BOOL(' 1');
+         B3 := STRING_TO_BOOL('FALSE');
+         B4 := STRING_TO_BOOL(BOOL_TO_STRING(TRUE));
+         END_PROGRAM",
+        &[
+            W::S("Main.a"),
+            W::S("Main.b"),
+            W::S("Main.c"),
+            W::S("Main.d"),
+            W::S("Main.e"),
+            W::S("Main.f"),
+            W::S("Main.g"),
+            W::S("Main.h"),
+            W::S("Main.i"),
+            W::S("Main.j"),
+            W::S("Main.k"),
+            W::S("Main.l"),
+            W::S("Main.m"),
+            W::S("Main.n"),
+            W::S("Main.o"),
+            W::S("Main.p"),
+            W::S("Main.q"),
+            W::S("Main.r"),
+            W::S("Main.w"),
+            W::V("R1"),
+            W::V("R2"),
+            W::V("R3"),
+            W::V("L1"),
+            W::V("L2"),
+            W::V("L3"),
+            W::S("Main.s"),
+            W::S("Main.t"),
+            W::S("Main.u"),
+            W::V("B1"),
+            W::V("B2"),
+            W::V("B3"),
+            W::V("B4"),
+        ],
+    );
+    assert_eq!(
+        v,
+        [
+            "12.5",
+            "-100.0",
+            "0.1",
+            "1.0E10",
+            "0.0",
+            "1234567.0",
+            "-2.5E-7",
+            "0.3",
+            "1.5E300",
+            "-0.00001",
+            "123456789012345.0",
+            "T#1h2m3s4ms",
+            "T#0ms",
+            "T#-1s500ms",
+            "T#24d20h31m23s647ms",
+            "LTIME#1d1ms2us3ns",
+            "TRUE",
+            "FALSE",
+            "9.99",
+            "-1500",
+            "0.1",
+            "0",
+            "3.14159265358979",
+            "2.5e-8",
+            "42",
+            "0.07",
+            "10.0",
+            "1.0E15",
+            "1",
+            "1",
+            "0",
+            "1",
+        ]
+    );
+    assert_eq!(faults, 0);
+}
+
+#[test]
+fn dates_and_times_of_day_as_their_literals() {
+    let (v, faults) = once(
+        "name,type\n",
+        "PROGRAM Main
+         VAR a, b, c, d, e, f, g : STRING; t : TOD := TOD#08:05:03.04; END_VAR
+         a := DATE_TO_STRING(D#2024-01-31);
+         b := DATE_TO_STRING(D#2000-02-29);
+         c := TOD_TO_STRING(TOD#12:30:15.5);
+         d := TOD_TO_STRING(t);
+         e := DT_TO_STRING(DT#2024-01-31-12:30:00);
+         f := DT_TO_STRING(DT#1969-12-31-23:59:59.25);
+         g := TIME_OF_DAY_TO_STRING(TOD#00:00:00);
+         END_PROGRAM",
+        &[
+            W::S("Main.a"),
+            W::S("Main.b"),
+            W::S("Main.c"),
+            W::S("Main.d"),
+            W::S("Main.e"),
+            W::S("Main.f"),
+            W::S("Main.g"),
+        ],
+    );
+    assert_eq!(
+        v,
+        [
+            "D#2024-01-31",
+            "D#2000-02-29",
+            "TOD#12:30:15.5",
+            "TOD#08:05:03.04",
+            "DT#2024-01-31-12:30:00",
+            "DT#1969-12-31-23:59:59.25",
+            "TOD#00:00:00",
+        ]
+    );
+    assert_eq!(faults, 0);
 }

@@ -87,7 +87,7 @@ export class VerifyTab {
       h('div', { class: 'toolbar' }, this.runBtn, this.testBtn, h('label', null, this.coverBox, ` ${tr('Coverage on the ladder')}`), this.busy),
       h('h2', null, tr('Properties')),
       h('table', { class: 'tags verify-table' },
-        h('thead', null, h('tr', null, h('th', null, tr('Property')), h('th', null, tr('Result')), h('th', null, tr('Depth (scans)')), h('th', null, tr('States')), h('th', null, tr('Time (ms)')), h('th', null, ''))),
+        h('thead', null, h('tr', null, h('th', null, tr('Property')), h('th', null, tr('Result')), h('th', null, tr('Depth (scans)')), h('th', null, tr('States')), h('th', null, tr('Time (ms)')), h('th', null, tr('Method')), h('th', null, ''))),
         this.props),
       h('h2', null, tr('Tests')),
       h('table', { class: 'tags verify-table' },
@@ -176,6 +176,7 @@ export class VerifyTab {
       h('td', null, String(p.depth)),
       h('td', null, String(p.states)),
       h('td', null, String(p.millis)),
+      h('td', { 'data-testid': `method-${i}` }, p.method === 'k-induction' ? tr('k-induction') : tr('explicit')),
       h('td', null, open));
   }
 

@@ -68,8 +68,10 @@ async fn the_studio_decides_properties_replays_counterexamples_and_runs_tables_w
     assert_eq!(props[0]["name"], "stop wins");
     assert_eq!(props[0]["result"], "proved", "{}", props[0]);
     assert!(props[0]["counterexample"].is_null());
+    assert_eq!(props[0]["method"], "k-induction", "{}", props[0]);
     let p = &props[1];
     assert_eq!(p["result"], "refuted", "{p}");
+    assert_eq!(p["method"], "explicit", "{p}");
     let cx = &p["counterexample"];
     let tags: Vec<&str> = cx["tags"]
         .as_array()

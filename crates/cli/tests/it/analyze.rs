@@ -130,6 +130,91 @@ fn corpus_instances(dir: &std::path::Path, names: &[&str]) {
     }
 }
 
+/// `--symbolic`: the contest's `Philosophers-PT-000100` (5·10^47 states) counted by the
+/// decision diagrams, the explicit exploration skipped; `Kanban-PT-00005` with a
+/// memory budget too small for its 2.5 M markings falls back on them without the flag;
+/// an unbounded net is refused.
+#[test]
+fn analyze_symbolic_counts_what_the_explicit_exploration_cannot_hold() {
+    let dir = super::scratch("analyze-symbolic");
+    corpus_instances(&dir, &["Philosophers-PT-000100", "Kanban-PT-00005"]);
+    let big = dir.join("Philosophers-PT-000100");
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            big.to_str().expect("utf-8"),
+            "--json",
+            "--symbolic",
+            "--invariants",
+            "flows",
+        ],
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let states = "515377520732011331036461129765621272702107522001";
+    assert_eq!(v["symbolic"]["status"], "complete");
+    assert_eq!(v["symbolic"]["states"], states);
+    assert_eq!(
+        v["symbolic"]["edges"],
+        "40084918279156436858391421203992765654608362822300"
+    );
+    assert!(v["symbolic"]["nodes"].as_u64().unwrap_or(0) > 0);
+    assert_eq!(v["status"]["state_space"], "skipped: budget");
+    assert_eq!(v["status"]["symbolic"], "complete");
+    assert_eq!(v["states"], Value::Null, "more than a u64");
+    assert_eq!(v["bounded"], true);
+    assert_eq!(v["max_tokens_per_marking"], 200);
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            big.to_str().expect("utf-8"),
+            "--symbolic",
+            "--invariants",
+            "flows",
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains(&format!("symbolic (decision diagrams): {states} states")),
+        "{text}"
+    );
+    assert!(text.contains("come from the symbolic engine"), "{text}");
+    let kanban = dir.join("Kanban-PT-00005");
+    let out = alba(
+        &repo(),
+        &[
+            "analyze",
+            kanban.to_str().expect("utf-8"),
+            "--json",
+            "--memory",
+            "4M",
+            "--invariants",
+            "flows",
+        ],
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["status"]["state_space"], "partial");
+    assert_eq!(v["status"]["symbolic"], "complete");
+    assert_eq!(v["states"], 2_546_432);
+    assert_eq!(v["edges"], 24_460_016);
+    let unbounded = dir.join("grow.pnml");
+    std::fs::write(
+        &unbounded,
+        r#"<pnml><net id="g" type="http://www.pnml.org/version-2009/grammar/ptnet"><page id="pg">
+<place id="p"/><transition id="t"/><arc id="a" source="t" target="p"/></page></net></pnml>"#,
+    )
+    .expect("write");
+    let out = alba(
+        &repo(),
+        &["analyze", unbounded.to_str().expect("utf-8"), "--json", "--symbolic"],
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["status"]["symbolic"], "skipped: unbounded", "{v}");
+    assert_eq!(v["symbolic"]["states"], Value::Null);
+}
+
 /// `FORMULA <id> <value>` pairs of a contest output.
 fn formula_lines(text: &str) -> Vec<(String, String)> {
     text.lines()

@@ -264,13 +264,23 @@ pub(super) fn convert(
     let mut initials = 0;
     for s in &step_elems {
         let id = s.attr("localId").unwrap_or("");
-        let alba = chart.steps.get(id).cloned().unwrap_or_default();
+        // By its localId, else (a file that leaves it out) by its name.
+        let alba = chart
+            .steps
+            .get(id)
+            .or_else(|| {
+                chart
+                    .by_name
+                    .get(&s.attr("name").unwrap_or("").trim().to_ascii_lowercase())
+            })
+            .cloned()
+            .unwrap_or_default();
         let mut assoc: Vec<String> = Vec::new();
         for r in chart.readers.get(id).map(Vec::as_slice).unwrap_or_default() {
             match r.name.as_str() {
                 "actionBlock" => {
-                    for a in r.all("action") {
-                        match action(&chart, pou, a) {
+                    for (k, a) in r.all("action").enumerate() {
+                        match action(&chart, pou, (r, k), a) {
                             Ok(text) => assoc.push(text),
                             Err(why) => report.push(
                                 Kind::Refused,
@@ -345,8 +355,8 @@ pub(super) fn convert(
     Ok(Some(prog))
 }
 
-/// `Action(Q[, T#t]);` of an `<action>` of an action block.
-fn action(chart: &Chart<'_>, pou: &Elem, a: &Elem) -> Result<String, String> {
+/// `Action(Q[, T#t]);` of the `k`-th `<action>` of an action block.
+fn action(chart: &Chart<'_>, pou: &Elem, (block, k): (&Elem, usize), a: &Elem) -> Result<String, String> {
     let q = a.attr("qualifier").unwrap_or("N").trim().to_ascii_uppercase();
     let Some(&(q, timed)) = QUALIFIERS.iter().find(|(n, _)| *n == q) else {
         return Err(format!("`{q}` is not a qualifier of IEC 61131-3"));
@@ -366,8 +376,14 @@ fn action(chart: &Chart<'_>, pou: &Elem, a: &Elem) -> Result<String, String> {
         (false, Some(d)) => return Err(format!("the qualifier {q} takes no duration (`{d}`)")),
         (false, None) => String::new(),
     };
-    if a.child("inline").is_some() {
-        return Err("an inline action body (ST, …); Alba's SFC actions are BOOL variables".into());
+    if let Some(inline) = a.child("inline") {
+        // An inline ST body is an action of the chart (st::declare_actions).
+        let name = super::st::inline_action_name(block, k);
+        return match chart.scope.get(&name.to_ascii_lowercase()) {
+            Some(v) if inline.child("ST").is_some() => Ok(format!("{}({q}{time});", v.alba)),
+            _ if inline.child("ST").is_some() => Err(format!("its ST body `{name}` is not converted")),
+            _ => Err("an inline action body in LD, FBD or IL; only ST bodies are converted".into()),
+        };
     }
     let name = a
         .child("reference")

@@ -20,7 +20,8 @@ use std::collections::{HashMap, HashSet};
 /// (docs/st.md).
 const RUNS: &[&str] = &[
     "BOOL", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT", "BYTE", "WORD", "DWORD", "LWORD", "REAL",
-    "LREAL", "TIME", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR", "RS",
+    "LREAL", "TIME", "LTIME", "DATE", "TOD", "DT", "TON", "TOF", "TP", "CTU", "CTD", "CTUD", "R_TRIG", "F_TRIG", "SR",
+    "RS",
 ];
 
 /// The ST text of a PLCopen `<type>`'s content, or why not. `known` holds
@@ -79,6 +80,13 @@ fn st_type(t: &Elem, known: &HashSet<String>) -> Result<String, String> {
             }
             return Ok(format!("({})", values.join(", ")));
         }
+        // `<string length="n"/>`, `<wstring/>` (STRING[80] without one).
+        "STRING" | "WSTRING" => {
+            return Ok(match t.attr("length").map(str::trim).filter(|l| !l.is_empty()) {
+                Some(n) => format!("{up}[{n}]"),
+                None => up,
+            });
+        }
         _ => up,
     };
     if RUNS.contains(&ty.as_str()) {
@@ -86,6 +94,59 @@ fn st_type(t: &Elem, known: &HashSet<String>) -> Result<String, String> {
     } else {
         Err(format!("its type `{ty}` does not run in Alba's ST yet (docs/st.md)"))
     }
+}
+
+/// Takes the variables of a configuration's `globalVars` whose type is one
+/// of the file's (`known`: an enumeration, a STRUCT, a function block) out
+/// of `list`: each becomes a line of a file-level `VAR_GLOBAL` (with
+/// `CONSTANT`, `RETAIN` as the list has them) in `lines`
+/// (`mode : Mode_t := stopped;`), named in `globals` so the POUs'
+/// `externalVars` find it; the rest is returned for the tags.
+pub(super) fn user_globals(
+    conv: &mut Conv<'_>,
+    list: &Elem,
+    known: &HashSet<String>,
+    globals: &mut HashMap<String, Var>,
+    lines: &mut Vec<(Location, String, String)>,
+) -> Elem {
+    let mut rest = list.clone();
+    rest.children.retain(|v| {
+        let Some(t) = v.child("type").and_then(|t| t.children.first()) else {
+            return true;
+        };
+        let user = t.name == "derived" && t.attr("name").is_some_and(|n| known.contains(&n.to_ascii_lowercase()));
+        let (Some(name), true) = (v.attr("name"), user) else {
+            return true;
+        };
+        let loc = conv.ctx.loc(v);
+        match st_type(t, known) {
+            Ok(ty) => {
+                let mut block = "VAR_GLOBAL".to_string();
+                for (attr, word) in [("constant", " CONSTANT"), ("retain", " RETAIN")] {
+                    if list.attr(attr) == Some("true") {
+                        block.push_str(word);
+                    }
+                }
+                lines.push((loc.clone(), block, format!("    {name} : {ty}{};", initial(v))));
+                globals.insert(
+                    name.to_ascii_lowercase(),
+                    Var {
+                        alba: name.to_string(),
+                        kind: VarKind::Refused(format!("`{name}` is a global of the type `{ty}`, which only ST reads")),
+                        fb: String::new(),
+                    },
+                );
+                conv.report.push(
+                    Kind::Converted,
+                    loc,
+                    format!("global `{name}` of type `{ty}`: a VAR_GLOBAL of ST"),
+                );
+            }
+            Err(why) => conv.report.push(Kind::Refused, loc, format!("global `{name}`: {why}")),
+        }
+        false
+    });
+    rest
 }
 
 /// A variable's initial value in ST (` := …`), from its `<initialValue>`:
@@ -239,13 +300,15 @@ pub(super) fn convert(
                 ("inOutVars", false) => "VAR_IN_OUT",
                 ("tempVars", _) => "VAR_TEMP",
                 ("globalVars", _) => "VAR_GLOBAL",
+                // Those of the file's types (the others are tags, named as they are).
+                ("externalVars", _) => "VAR_EXTERNAL",
                 _ => continue,
             };
             let mut block = String::new();
             let mut located = list.clone();
             located
                 .children
-                .retain(|v| v.name == "variable" && v.attr("address").is_some());
+                .retain(|v| v.name == "variable" && v.attr("address").is_some() && kw != "VAR_EXTERNAL");
             if !program {
                 for v in &located.children {
                     conv.report.push(
@@ -277,7 +340,16 @@ pub(super) fn convert(
                     }
                 }
             }
-            for v in list.all("variable").filter(|v| v.attr("address").is_none()) {
+            let of_file_type = |v: &Elem| {
+                v.child("type")
+                    .and_then(|t| t.child("derived"))
+                    .and_then(|d| d.attr("name"))
+                    .is_some_and(|n| known.contains(&n.to_ascii_lowercase()))
+            };
+            for v in list
+                .all("variable")
+                .filter(|v| v.attr("address").is_none() && (kw != "VAR_EXTERNAL" || of_file_type(v)))
+            {
                 let name = v.attr("name").unwrap_or("");
                 let ty = v.child("type").and_then(|t| t.children.first());
                 let ty = match ty.map(|t| st_type(t, known)) {
@@ -437,6 +509,45 @@ pub(super) fn declare_actions<'a>(
     scope: &mut HashMap<String, Var>,
 ) -> Vec<StAction<'a>> {
     let mut out = Vec::new();
+    // Inline ST bodies of the chart's action blocks that are on a step:
+    // actions named after their block and place in it
+    // ([`inline_action_name`]).
+    let blocks = pou
+        .child("body")
+        .and_then(|b| b.child("SFC"))
+        .into_iter()
+        .flat_map(|sfc| sfc.all("actionBlock"))
+        .filter(|b| {
+            b.child("connectionPointIn")
+                .and_then(|c| c.child("connection"))
+                .is_some()
+        });
+    for block in blocks {
+        for (k, a) in block.all("action").enumerate() {
+            let Some(st) = a.child("inline").and_then(|i| i.child("ST")) else {
+                continue;
+            };
+            let name = inline_action_name(block, k);
+            let key = name.to_ascii_lowercase();
+            if scope.contains_key(&key) {
+                conv.report.push(
+                    Kind::Refused,
+                    conv.ctx.loc(a),
+                    format!("the inline action `{name}` of `{pname}` has the name of a variable; left out"),
+                );
+                continue;
+            }
+            scope.insert(
+                key,
+                Var {
+                    alba: name.clone(),
+                    kind: VarKind::Tag("BOOL".into()),
+                    fb: String::new(),
+                },
+            );
+            out.push(StAction { name, st });
+        }
+    }
     let Some(acts) = pou.child("actions") else {
         return out;
     };
@@ -468,6 +579,12 @@ pub(super) fn declare_actions<'a>(
         });
     }
     out
+}
+
+/// The name of the `k`-th (from 0) action of an action block when its body
+/// is inline: `A<localId>_<k + 1>` (`A57_1`).
+pub(super) fn inline_action_name(block: &Elem, k: usize) -> String {
+    format!("A{}_{}", block.attr("localId").unwrap_or("0").trim(), k + 1)
 }
 
 /// Appends to the chart `prog` an `ACTION <name>: <body> END_ACTION` for

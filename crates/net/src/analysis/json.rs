@@ -75,6 +75,19 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
             "t_flows": st.t_flows.to_string(),
             "p_invariants": st.p_invariants.to_string(),
             "t_invariants": st.t_invariants.to_string(),
+            "symbolic": st.symbolic.to_string(),
+        }),
+    );
+    let sym = &a.symbolic;
+    o.insert(
+        "symbolic".into(),
+        json!({
+            "status": st.symbolic.to_string(),
+            "states": sym.result.as_ref().map(|s| s.states.to_string()),
+            "edges": sym.result.as_ref().map(|s| s.firings.to_string()),
+            "nodes": sym.nodes,
+            "memory_bytes": sym.bytes,
+            "seconds": sym.time.as_secs_f64(),
         }),
     );
     o.insert(

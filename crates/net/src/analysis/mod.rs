@@ -16,6 +16,12 @@
 //!   the minimal semi-positive invariants (Farkas, exponential at worst) under a work
 //!   budget of their own.
 //!
+//! - Beyond explicit states: the symbolic engine ([`symbolic`], decision diagrams)
+//!   counts the reachable markings and firings exactly and finds the bounds, when asked
+//!   ([`SymbolicMode::Always`]) or when the explicit exploration stops at its memory
+//!   budget or its 2^27 states ([`SymbolicMode::Auto`]); its count then stands for the
+//!   state space's (a note says so).
+//!
 //! No part blocks another: the state space and its facts come first, then the flows,
 //! then the minimal invariants, and each part reports a [`Status`] (`complete`,
 //! `partial`, `skipped: …`). A [`Control`] carries a cancellation flag, polled by every
@@ -29,6 +35,7 @@ mod json;
 pub mod reachability;
 pub mod samples;
 pub mod stubborn;
+pub mod symbolic;
 
 pub use json::to_json;
 
@@ -46,6 +53,24 @@ pub enum Invariants {
     Minimal,
 }
 
+/// When the symbolic engine ([`symbolic`]) runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SymbolicMode {
+    /// When the explicit exploration stops at its memory budget or its 2^27 states (not
+    /// at `max_states`), on nets without inhibitor arcs.
+    Auto,
+    /// Always (`alba analyze --symbolic`): first, after a probe of the explicit
+    /// exploration ([`PROBE_STATES`]); the explicit one is then skipped when the count
+    /// shows it cannot fit.
+    Always,
+    /// Never.
+    Off,
+}
+
+/// States the explicit probe of [`SymbolicMode::Always`] explores before the symbolic
+/// engine runs (small nets are then done explicitly, unbounded ones refused).
+pub const PROBE_STATES: usize = 1 << 16;
+
 /// Limits of the analysis.
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
@@ -59,6 +84,10 @@ pub struct Options {
     pub invariant_work: u64,
     /// Largest number of intermediate rows in the Farkas algorithm.
     pub max_invariant_rows: usize,
+    /// When the symbolic engine runs (its memory budget is [`Options::memory`]).
+    pub symbolic: SymbolicMode,
+    /// The symbolic engine's time budget.
+    pub symbolic_time: Duration,
 }
 
 /// The default memory budget of the state space: 2 GiB.
@@ -72,6 +101,8 @@ impl Default for Options {
             invariants: Invariants::Minimal,
             invariant_work: invariants::DEFAULT_WORK,
             max_invariant_rows: invariants::MAX_ROWS,
+            symbolic: SymbolicMode::Auto,
+            symbolic_time: Duration::from_secs(600),
         }
     }
 }
@@ -178,6 +209,8 @@ pub struct Statuses {
     pub p_invariants: Status,
     /// The minimal semi-positive T-invariants.
     pub t_invariants: Status,
+    /// The symbolic engine.
+    pub symbolic: Status,
 }
 
 /// A place bound.
@@ -260,6 +293,21 @@ pub struct Analysis {
     pub scc_time: Duration,
     /// Time of the invariant computation (flows and minimal invariants).
     pub invariant_time: Duration,
+    /// What the symbolic engine found and cost (see [`Statuses::symbolic`]).
+    pub symbolic: SymbolicReport,
+}
+
+/// The symbolic engine's part of the analysis.
+#[derive(Clone, Debug, Default)]
+pub struct SymbolicReport {
+    /// Its results when it completed.
+    pub result: Option<symbolic::Symbolic>,
+    /// Decision-diagram nodes made.
+    pub nodes: usize,
+    /// Bytes its tables used.
+    pub bytes: usize,
+    /// Time it took.
+    pub time: Duration,
 }
 
 /// The status of an invariant part from its result.
@@ -305,7 +353,8 @@ pub fn analyze(net: &PtNet, options: &Options, control: &Control<'_>) -> Analysi
             p_flows: skipped.clone(),
             t_flows: skipped.clone(),
             p_invariants: skipped.clone(),
-            t_invariants: skipped,
+            t_invariants: skipped.clone(),
+            symbolic: skipped,
         },
         stopped: None,
         notes: vec![
@@ -316,6 +365,7 @@ pub fn analyze(net: &PtNet, options: &Options, control: &Control<'_>) -> Analysi
         explore_time: Duration::ZERO,
         scc_time: Duration::ZERO,
         invariant_time: Duration::ZERO,
+        symbolic: SymbolicReport::default(),
     };
     if net.has_inhibitors() {
         a.notes.push(
@@ -354,16 +404,146 @@ pub fn analyze(net: &PtNet, options: &Options, control: &Control<'_>) -> Analysi
     a
 }
 
-/// The state space and the facts that come from it.
+/// The state space and the facts that come from it: explicitly, symbolically, or both
+/// (see [`SymbolicMode`]).
 fn state_space(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut Analysis) {
-    let np = net.places.len();
-    let nt = net.transitions.len();
     let start = Instant::now();
     let limits = reachability::Limits {
         max_states: options.max_states,
         memory: options.memory,
     };
-    match reachability::explore(net, &limits, control) {
+    let capacity = options.max_states.min(reachability::MAX_STATES);
+    let at_budget = |e: &reachability::Explored| match e {
+        reachability::Explored::Limit { why, .. } => {
+            *why == reachability::Stop::Memory
+                || (*why == reachability::Stop::States && options.max_states > reachability::MAX_STATES)
+        }
+        _ => false,
+    };
+    let mut explored = None;
+    if options.symbolic == SymbolicMode::Always {
+        let probe = reachability::explore(
+            net,
+            &reachability::Limits {
+                max_states: capacity.min(PROBE_STATES),
+                ..limits
+            },
+            control,
+        );
+        let larger = matches!(probe, reachability::Explored::Limit { why, .. }
+            if why == reachability::Stop::Memory || (why == reachability::Stop::States && capacity > PROBE_STATES));
+        if larger {
+            run_symbolic(net, options, control, a);
+            if let Some(s) = &a.symbolic.result {
+                let n = &s.states;
+                // The explicit store needs at least the packed marking per state.
+                let bits: u64 = s
+                    .place_bounds
+                    .iter()
+                    .map(|v| u64::from(32 - v.leading_zeros()).max(1))
+                    .sum();
+                let bytes = bits.div_ceil(8).max(1);
+                let fits = n
+                    .to_u64()
+                    .is_some_and(|n| n <= capacity as u64 && n.saturating_mul(bytes) <= options.memory as u64);
+                if !fits {
+                    a.explore_time = start.elapsed();
+                    a.status.state_space = Status::Skipped("budget");
+                    a.stopped = Some(format!(
+                        "the explicit exploration was skipped: the symbolic engine counted {n} states, more than it can hold \
+                         ({capacity} states, --max-states, or {} MiB at {bytes} bytes a state at least, --memory)",
+                        options.memory >> 20
+                    ));
+                    adopt_symbolic(a);
+                    return;
+                }
+            }
+        } else {
+            explored = Some(probe);
+        }
+    }
+    let explored = explored.unwrap_or_else(|| reachability::explore(net, &limits, control));
+    let fallback = options.symbolic == SymbolicMode::Always
+        || (options.symbolic == SymbolicMode::Auto && at_budget(&explored) && !net.has_inhibitors());
+    explicit(net, explored, options, control, start, a);
+    if a.bounded == Some(false) {
+        a.status.symbolic = Status::Skipped("unbounded");
+    } else if fallback && a.status.symbolic == Status::Skipped("not requested") {
+        run_symbolic(net, options, control, a);
+    }
+    adopt_symbolic(a);
+}
+
+/// When the explicit state space is incomplete and the symbolic engine completed: its
+/// states, firings and bounds stand for the state space's, with a note.
+fn adopt_symbolic(a: &mut Analysis) {
+    let Some(s) = &a.symbolic.result else {
+        return;
+    };
+    if a.status.state_space == Status::Complete {
+        return;
+    }
+    a.bounded = Some(true);
+    a.safe = Some(s.place_bounds.iter().all(|&b| b <= 1));
+    a.place_bounds = Some(s.place_bounds.iter().map(|&b| Bound::Finite(b)).collect());
+    a.max_tokens = Some(s.max_tokens);
+    a.states = s.states.to_u64();
+    a.edges = s.firings.to_u64();
+    a.notes.push(format!(
+        "states ({}), edges ({}), place bounds and most tokens per marking come from the symbolic engine (decision diagrams); \
+         deadlocks, dead transitions, liveness and reversibility need the explicit state space",
+        s.states, s.firings
+    ));
+}
+
+/// Runs the symbolic engine.
+fn run_symbolic(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut Analysis) {
+    let limits = symbolic::Limits {
+        memory: options.memory,
+        time: options.symbolic_time,
+        ..symbolic::Limits::default()
+    };
+    let o = symbolic::explore(net, &limits, control.cancel);
+    a.symbolic.nodes = o.nodes;
+    a.symbolic.bytes = o.bytes;
+    a.symbolic.time = o.time;
+    a.memory_bytes = a.memory_bytes.max(o.bytes);
+    let s = match o.result {
+        Ok(s) => s,
+        Err(why) => {
+            a.status.symbolic = Status::Skipped(match why {
+                symbolic::Stop::Cancelled => "cancelled",
+                symbolic::Stop::Overflow => "overflow",
+                symbolic::Stop::Nodes | symbolic::Stop::Memory | symbolic::Stop::Time | symbolic::Stop::Beaten => {
+                    "budget"
+                }
+            });
+            a.notes.push(format!(
+                "symbolic engine stopped ({}) after {} nodes, {:.3} s",
+                why.reason(),
+                o.nodes,
+                o.time.as_secs_f64()
+            ));
+            return;
+        }
+    };
+    a.status.symbolic = Status::Complete;
+    a.symbolic.result = Some(s);
+}
+
+/// The explicit state space's facts (reachability graph, coverability graph, or why it
+/// stopped).
+fn explicit(
+    net: &PtNet,
+    explored: reachability::Explored,
+    options: &Options,
+    control: &Control<'_>,
+    start: Instant,
+    a: &mut Analysis,
+) {
+    let np = net.places.len();
+    let nt = net.transitions.len();
+    match explored {
         reachability::Explored::Graph(g) => {
             a.explore_time = start.elapsed();
             a.space = Space::Reachability;

@@ -21,11 +21,20 @@ impl Instance {
     /// `STATE_SPACE <what> <n>` of the oracle (`STATES`, `TRANSITIONS`,
     /// `MAX_TOKEN_IN_PLACE`, `MAX_TOKEN_PER_MARKING`); `None` when unknown or infinite.
     pub fn state_space(&self, what: &str) -> Option<u64> {
+        self.state_space_text(what)?.parse().ok()
+    }
+
+    /// The same as decimal text, of any size (`Philosophers-PT-000100` has 5·10^47 states).
+    pub fn state_space_text(&self, what: &str) -> Option<String> {
         let oracle = self.text("oracle.out")?;
         oracle.lines().find_map(|l| {
             let mut w = l.split_whitespace();
             (w.next() == Some("STATE_SPACE") && w.next() == Some(what))
-                .then(|| w.next()?.parse().ok())
+                .then(|| {
+                    w.next()
+                        .filter(|n| n.bytes().all(|b| b.is_ascii_digit()))
+                        .map(String::from)
+                })
                 .flatten()
         })
     }

@@ -32,6 +32,7 @@ mod bits;
 mod calls;
 mod dates;
 mod decl;
+mod strconv;
 mod strings;
 mod types;
 
@@ -2631,6 +2632,29 @@ impl Lower<'_> {
         if up == "MOVE" {
             arity(1)?;
             return self.eval(positional[0], hint);
+        }
+        // The operators' standard functions: ADD and MUL (n-ary), SUB, DIV,
+        // MOD (as OpenPLC programs write `DIV(a, b)`, `mod(a, b)`).
+        let op = match up.as_str() {
+            "ADD" => Some((BinOp::Add, true)),
+            "MUL" => Some((BinOp::Mul, true)),
+            "SUB" => Some((BinOp::Sub, false)),
+            "DIV" => Some((BinOp::Div, false)),
+            "MOD" => Some((BinOp::Mod, false)),
+            _ => None,
+        };
+        if let Some((op, nary)) = op {
+            if !nary || positional.len() < 2 {
+                arity(2)?;
+            }
+            let mut e = positional[0].clone();
+            for b in &positional[1..] {
+                e = Expr {
+                    kind: ExprKind::Binary(op, Box::new(e), Box::new((*b).clone())),
+                    span,
+                };
+            }
+            return self.eval(&e, hint);
         }
         if let Some(r) = self.string_call(&up, &positional, span) {
             return r;

@@ -25,7 +25,7 @@ pub(super) struct Str {
 }
 
 impl Str {
-    fn cap(&self) -> usize {
+    pub(super) fn cap(&self) -> usize {
         self.chars.len()
     }
 }
@@ -77,7 +77,7 @@ impl Lower<'_> {
     }
 
     /// A copy of `s` in temporaries with `cap` characters (`cap` ≥ its own).
-    fn str_copy(&mut self, s: &Str, cap: usize) -> Str {
+    pub(super) fn str_copy(&mut self, s: &Str, cap: usize) -> Str {
         let zero = self.b.const_i(0);
         let len = self.b.temp_i();
         self.emit(Op::UnI(IUn::Mov, s.len, len));
@@ -119,7 +119,7 @@ impl Lower<'_> {
     }
 
     /// Characters `k >= n` of the temporaries `s` set to 0, and its length `n`.
-    fn cut(&mut self, s: &mut Str, n: I) {
+    pub(super) fn cut(&mut self, s: &mut Str, n: I) {
         let zero = self.b.const_i(0);
         for k in 0..s.cap() {
             let kc = self.b.const_i(k as i32);
@@ -134,7 +134,7 @@ impl Lower<'_> {
     /// Moves the characters of the temporaries `s` by `by` places (0 ≤ by ≤
     /// cap) towards the start (`left`) or the end, zeros coming in: one
     /// stage per power of two.
-    fn shift(&mut self, s: &Str, by: I, left: bool) {
+    pub(super) fn shift(&mut self, s: &Str, by: I, left: bool) {
         let (zero, cap) = (self.b.const_i(0), s.cap());
         let mut step = 1usize;
         while step <= cap {
@@ -159,7 +159,7 @@ impl Lower<'_> {
     }
 
     /// `a` followed by `b`, at most `MAX_STRING` characters.
-    fn concat(&mut self, a: &Str, b: &Str) -> Str {
+    pub(super) fn concat(&mut self, a: &Str, b: &Str) -> Str {
         self.concat_within(a, b, a.cap() + b.cap())
     }
 
@@ -195,14 +195,14 @@ impl Lower<'_> {
     }
 
     /// The first `n` characters of `s` (0 ≤ n ≤ LEN(s)), in temporaries.
-    fn left_of(&mut self, s: &Str, n: I) -> Str {
+    pub(super) fn left_of(&mut self, s: &Str, n: I) -> Str {
         let mut r = self.str_copy(s, s.cap());
         self.cut(&mut r, n);
         r
     }
 
     /// The characters of `s` from place `from` (0-based, 0 ≤ from ≤ LEN(s)) on.
-    fn tail_of(&mut self, s: &Str, from: I) -> Str {
+    pub(super) fn tail_of(&mut self, s: &Str, from: I) -> Str {
         let r = self.str_copy(s, s.cap());
         self.shift(&r, from, true);
         self.emit(Op::BinI(IBin::Sub, s.len, from, r.len));
@@ -445,14 +445,13 @@ impl Lower<'_> {
         r
     }
 
-    /// `INT_TO_STRING` and the like: an integer (in an I or L slot) as its
-    /// decimal text, `-` first when negative.
-    pub(super) fn int_to_string(&mut self, v: V, wide: bool) -> (Val, Ty) {
-        // LINT has at most 19 digits.
-        const DIGITS: usize = 19;
+    /// `INT_TO_STRING` and the like: the decimal text of an integer (in an I
+    /// or L slot) known to have at most `digits` digits (19 for a LINT), `-`
+    /// first when negative, in temporaries.
+    pub(super) fn int_text(&mut self, v: V, digits: usize) -> Str {
         let x = self.b.convert(v, Class::L, self.elem);
         let V::L(x) = x else {
-            return self.str_literal("", wide);
+            return self.str_text("");
         };
         let lz = self.b.const_l(0);
         let neg = self.b.temp_b();
@@ -468,7 +467,7 @@ impl Lower<'_> {
         // The digits right-aligned, and how many there are.
         let s = Str {
             len: self.b.temp_i(),
-            chars: (0..DIGITS + 1).map(|_| self.b.temp_i()).collect(),
+            chars: (0..digits + 1).map(|_| self.b.temp_i()).collect(),
             known: None,
         };
         let one = self.b.const_i(1);
@@ -476,8 +475,8 @@ impl Lower<'_> {
         let (ten, q, dl) = (self.b.const_l(10), self.b.temp_l(), self.b.temp_l());
         let c48 = self.b.const_l(48);
         self.emit(Op::UnL(IUn::Mov, a, q));
-        for k in 0..DIGITS {
-            let slot = s.chars[DIGITS - 1 - k];
+        for k in 0..digits {
+            let slot = s.chars[digits - 1 - k];
             self.emit(Op::BinL(IBin::Mod, q, ten, dl));
             self.emit(Op::BinL(IBin::Add, dl, c48, dl));
             self.emit(Op::Cvt(alba_ir::op::Cvt::LI(dl, slot)));
@@ -492,9 +491,9 @@ impl Lower<'_> {
             }
         }
         let zero = self.b.const_i(0);
-        self.emit(Op::UnI(IUn::Mov, zero, s.chars[DIGITS]));
-        // Drop the leading zeros: shift by DIGITS - len.
-        let (dc, by) = (self.b.const_i(DIGITS as i32), self.b.temp_i());
+        self.emit(Op::UnI(IUn::Mov, zero, s.chars[digits]));
+        // Drop the leading zeros: shift by digits - len.
+        let (dc, by) = (self.b.const_i(digits as i32), self.b.temp_i());
         self.emit(Op::BinI(IBin::Sub, dc, s.len, by));
         self.shift(&s, by, true);
         // The sign: one place to the end, and `-` first.
@@ -508,8 +507,7 @@ impl Lower<'_> {
         self.emit(Op::UnI(IUn::Mov, minus, s.chars[0]));
         self.emit(Op::BinI(IBin::Add, s.len, one, s.len));
         self.emit(Op::True);
-        let cap = s.cap() as u32;
-        (self.keep(s), Ty::Str(wide, cap))
+        s
     }
 
     /// `STRING_TO_INT` and the like: the decimal number at the start of the
@@ -653,29 +651,44 @@ impl Lower<'_> {
                 Ok((self.keep(r), Ty::Str(tw, cap)))
             }
             (None, Some(tw)) => {
-                let from_ty = elementary(from).filter(|t| t.is_int() || t.is_bits()).ok_or_else(|| {
-                    not_supported(
-                        span,
-                        format!("{f}: only integers and bit strings convert to a string yet"),
-                    )
-                })?;
+                let from_ty = elementary(from)
+                    .filter(|t| {
+                        t.is_int()
+                            || t.is_bits()
+                            || t.is_real()
+                            || matches!(t, Ty::Bool | Ty::Time | Ty::Ltime | Ty::Date | Ty::Tod | Ty::Dt)
+                    })
+                    .ok_or_else(|| not_supported(span, format!("{f}: `{from}` is not an elementary type")))?;
                 let (v, ty) = self.eval(arg, Some(&from_ty))?;
-                match v {
-                    Val::N(x) if ty == from_ty => Ok(self.int_to_string(x, tw)),
-                    _ => Err(type_error(
+                if ty != from_ty {
+                    return Err(type_error(
                         arg.span,
                         format!("{f} takes {}, not {}", an(&from_ty), an(&ty)),
-                    )),
+                    ));
                 }
+                let s = self
+                    .text_of(v, &ty)
+                    .ok_or_else(|| type_error(arg.span, format!("{f} takes {}, not {}", an(&from_ty), an(&ty))))?;
+                let cap = s.cap() as u32;
+                Ok((self.keep(s), Ty::Str(tw, cap)))
             }
             (Some(fw), None) => {
-                let to_ty = elementary(to).filter(|t| t.is_int() || t.is_bits()).ok_or_else(|| {
-                    not_supported(
-                        span,
-                        format!("{f}: a string converts only to integers and bit strings yet"),
-                    )
-                })?;
+                let to_ty = elementary(to)
+                    .filter(|t| t.is_int() || t.is_bits() || t.is_real() || *t == Ty::Bool)
+                    .ok_or_else(|| {
+                        not_supported(
+                            span,
+                            format!("{f}: a string converts only to numbers, bit strings and BOOL yet"),
+                        )
+                    })?;
                 let (s, _) = self.str_arg(&f, arg, Some(fw))?;
+                if to_ty == Ty::Bool {
+                    return Ok((Val::B(self.string_to_bool(&s)), Ty::Bool));
+                }
+                if to_ty.is_real() {
+                    let v = self.string_to_real(&s, to_ty == Ty::Lreal);
+                    return Ok((Val::N(v), to_ty));
+                }
                 let v = self.string_to_int(&s);
                 Ok((self.convert(Val::N(v), &Ty::Lint, &to_ty), to_ty))
             }

@@ -587,6 +587,8 @@ pub(super) fn literal_value(e: &Expr, ty: &Ty) -> R<Value> {
     };
     let v = match (&e.kind, ty) {
         (ExprKind::Lit(Lit::Bool(b)), Ty::Bool) => Value::Bool(*b),
+        // IEC 61131-3's boolean literals include 0 and 1 (matiec's `BOOL := 1`).
+        (ExprKind::Lit(Lit::Int(v @ (0 | 1), None)), Ty::Bool) => Value::Bool(*v == 1),
         (ExprKind::Lit(Lit::Time(ms)), Ty::Time) => Value::Time(i32::try_from(*ms).map_err(|_| bad())?),
         (ExprKind::Lit(Lit::Other(t, v)), ty) if is_date(ty) => match date_literal(t, v) {
             Some(Ok((lt, x))) if lt == *ty => Value::Lint(x),

@@ -1,0 +1,964 @@
+//! A symbolic state-space engine: the reachable markings of a bounded place/transition
+//! net as a multi-valued decision diagram (MDD), built by saturation, counted exactly.
+//!
+//! - **Diagram**: quasi-reduced MDD, one level per place (every path visits every level),
+//!   sparse edges `(tokens, child)` sorted by token count, so a place's domain is
+//!   whatever counts occur and no bound is needed in advance. Two terminals: `0` (the
+//!   empty set, at every level) and `1` (the set of the empty suffix). A unique table makes
+//!   equal nodes one node; the union, the relational product and the saturation have
+//!   their operation caches. Nodes are never freed: the node budget bounds them.
+//! - **Variable order**: the FORCE heuristic (Aloul, Markov, Sakallah 2003): starting
+//!   from the places' order in the file, each transition pulls its places towards their
+//!   centre of gravity, a few rounds, keeping the order with the smallest total span of
+//!   the transitions (the file's order when it is already the best). Level 0 (the root)
+//!   is the first place of that order. A smaller span is not always faster, so that
+//!   order and the file's run at once on two threads ([`explore`]).
+//! - **Saturation** (Ciardo, Lüttgen, Siminiceanu 2001): each transition belongs to the
+//!   topmost level it reads or writes; a node is saturated when its sub-diagram is
+//!   closed under the transitions of its level and below. Nodes are saturated bottom-up,
+//!   and the image of a transition below its top level is saturated as it is built.
+//!   Inputs, read arcs and inhibitor arcs are tests on their place's level.
+//! - **Results**: the exact number of reachable markings and of firings (edges of the
+//!   reachability graph: for each transition, the markings that enable it), as
+//!   arbitrary-precision integers ([`Count`]; the contest has counts beyond 10^47), each
+//!   place's bound and the most tokens in one marking. Deadlocks are not computed here.
+//! - **Limits**: a node budget, a memory budget (the nodes, the unique table and the
+//!   caches), a time budget and the cancellation flag: the engine stops with a reason,
+//!   never runs out of memory. An unbounded net never saturates: the callers refuse
+//!   those the explicit exploration found unbounded, and the budget stops the others.
+
+use crate::PtNet;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// A non-negative integer of any size (little-endian 64-bit limbs, no leading zero limb).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Count(Vec<u64>);
+
+impl Count {
+    /// `n`.
+    pub fn from_u64(n: u64) -> Count {
+        Count(if n == 0 { Vec::new() } else { vec![n] })
+    }
+
+    /// `self += o`.
+    pub fn add(&mut self, o: &Count) {
+        if self.0.len() < o.0.len() {
+            self.0.resize(o.0.len(), 0);
+        }
+        let mut carry = false;
+        for i in 0..self.0.len() {
+            let b = o.0.get(i).copied().unwrap_or(0);
+            if b == 0 && !carry && i >= o.0.len() {
+                break;
+            }
+            let (s1, c1) = self.0[i].overflowing_add(b);
+            let (s2, c2) = s1.overflowing_add(u64::from(carry));
+            self.0[i] = s2;
+            carry = c1 || c2;
+        }
+        if carry {
+            self.0.push(1);
+        }
+    }
+
+    /// The value when it fits in a `u64`.
+    pub fn to_u64(&self) -> Option<u64> {
+        match self.0.as_slice() {
+            [] => Some(0),
+            [n] => Some(*n),
+            _ => None,
+        }
+    }
+}
+
+impl std::fmt::Display for Count {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        const BASE: u64 = 10_000_000_000_000_000_000; // 10^19
+        let mut limbs = self.0.clone();
+        let mut parts = Vec::new();
+        while !limbs.is_empty() {
+            let mut rem = 0u128;
+            for l in limbs.iter_mut().rev() {
+                let cur = (rem << 64) | u128::from(*l);
+                *l = (cur / u128::from(BASE)) as u64;
+                rem = cur % u128::from(BASE);
+            }
+            while limbs.last() == Some(&0) {
+                limbs.pop();
+            }
+            parts.push(rem as u64);
+        }
+        match parts.split_last() {
+            None => write!(f, "0"),
+            Some((top, rest)) => {
+                write!(f, "{top}")?;
+                for p in rest.iter().rev() {
+                    write!(f, "{p:019}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// The FxHash mixing step (fast, good enough for node ids and edge lists).
+#[derive(Default, Clone, Copy)]
+struct Fx(u64);
+
+impl Hasher for Fx {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u32(&mut self, n: u32) {
+        self.write_u64(u64::from(n));
+    }
+    fn write_u64(&mut self, n: u64) {
+        self.0 = (self.0.rotate_left(5) ^ n).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+type FxMap<K, V> = HashMap<K, V, BuildHasherDefault<Fx>>;
+
+/// Limits of [`explore`].
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Largest number of nodes created.
+    pub max_nodes: usize,
+    /// Bytes the nodes, the unique tables and the caches may use (both orders together).
+    pub memory: usize,
+    /// Time budget.
+    pub time: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_nodes: 1 << 28,
+            memory: super::DEFAULT_MEMORY,
+            time: Duration::from_secs(600),
+        }
+    }
+}
+
+/// Why the engine stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// [`Limits::max_nodes`].
+    Nodes,
+    /// [`Limits::memory`].
+    Memory,
+    /// [`Limits::time`].
+    Time,
+    /// The cancellation flag.
+    Cancelled,
+    /// A place would hold more than 2^32-1 tokens.
+    Overflow,
+    /// The other order's run completed first; never returned by [`explore`].
+    Beaten,
+}
+
+impl Stop {
+    /// The reason in words.
+    pub fn reason(self) -> &'static str {
+        match self {
+            Stop::Nodes => "node budget",
+            Stop::Memory => "memory budget",
+            Stop::Time => "time budget",
+            Stop::Cancelled => "cancelled",
+            Stop::Overflow => "a place count exceeds 2^32-1",
+            Stop::Beaten => "the other order completed first",
+        }
+    }
+}
+
+/// What the engine found.
+#[derive(Clone, Debug)]
+pub struct Symbolic {
+    /// Reachable markings.
+    pub states: Count,
+    /// Firings: the edges of the reachability graph (for each transition, the markings
+    /// that enable it).
+    pub firings: Count,
+    /// Bound per place.
+    pub place_bounds: Vec<u32>,
+    /// Most tokens in one reachable marking.
+    pub max_tokens: u64,
+    /// Nodes of the final diagram (terminals included).
+    pub final_nodes: usize,
+    /// The variable order: places from the root down.
+    pub order: Vec<usize>,
+}
+
+/// The outcome of [`explore`] and what it cost.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// The result, or why it stopped.
+    pub result: Result<Symbolic, Stop>,
+    /// Nodes created (terminals included).
+    pub nodes: usize,
+    /// Bytes used at the end (the largest).
+    pub bytes: usize,
+    /// Time taken.
+    pub time: Duration,
+}
+
+/// One transition's effect on one level: enabled when `need <= v < below`, then
+/// `v - pre + post`.
+#[derive(Clone, Copy, Debug)]
+struct Act {
+    need: u32,
+    below: u32,
+    pre: u32,
+    post: u32,
+}
+
+/// A transition on the levels: its actions by level, top and bottom level.
+struct Event {
+    acts: Vec<(usize, Act)>,
+    top: usize,
+    bottom: usize,
+}
+
+impl Event {
+    fn act(&self, level: usize) -> Option<&Act> {
+        self.acts
+            .binary_search_by_key(&level, |(l, _)| *l)
+            .ok()
+            .map(|i| &self.acts[i].1)
+    }
+}
+
+type R<T> = Result<T, Stop>;
+
+/// The diagram store and its caches.
+struct Dd<'a> {
+    /// Number of levels (places); the terminals are at level `levels`.
+    levels: usize,
+    level: Vec<u32>,
+    /// Node `i`'s edges: `edges[start[i]..start[i + 1]]`.
+    start: Vec<u32>,
+    edges: Vec<(u32, u32)>,
+    /// Hash of a node → the last node with that hash; `next` chains the others.
+    unique: FxMap<u64, u32>,
+    next: Vec<u32>,
+    union_cache: FxMap<(u32, u32), u32>,
+    relprod_cache: FxMap<(u32, u32), u32>,
+    sat_cache: FxMap<u32, u32>,
+    events: Vec<Event>,
+    /// Transitions by top level.
+    at: Vec<Vec<u32>>,
+    limits: Limits,
+    started: Instant,
+    cancel: &'a AtomicBool,
+    ops: u64,
+    /// Raised when the other order's run has completed (see [`explore`]).
+    beaten: &'a AtomicBool,
+    peak: usize,
+}
+
+const NONE: u32 = u32::MAX;
+
+/// Operations between two checks of the budgets.
+const CHECK: u64 = 4096;
+
+impl<'a> Dd<'a> {
+    fn new(
+        levels: usize,
+        events: Vec<Event>,
+        limits: Limits,
+        started: Instant,
+        cancel: &'a AtomicBool,
+        beaten: &'a AtomicBool,
+    ) -> Dd<'a> {
+        let mut at = vec![Vec::new(); levels];
+        for (t, e) in events.iter().enumerate() {
+            if !e.acts.is_empty() {
+                at[e.top].push(t as u32);
+            }
+        }
+        Dd {
+            levels,
+            level: vec![levels as u32, levels as u32],
+            start: vec![0, 0, 0],
+            edges: Vec::new(),
+            unique: FxMap::default(),
+            next: vec![NONE, NONE],
+            union_cache: FxMap::default(),
+            relprod_cache: FxMap::default(),
+            sat_cache: FxMap::default(),
+            events,
+            at,
+            limits,
+            started,
+            cancel,
+            ops: 0,
+            beaten,
+            peak: 0,
+        }
+    }
+
+    fn node_edges(&self, n: u32) -> &[(u32, u32)] {
+        &self.edges[self.start[n as usize] as usize..self.start[n as usize + 1] as usize]
+    }
+
+    fn level_of(&self, n: u32) -> usize {
+        self.level[n as usize] as usize
+    }
+
+    /// Bytes the nodes, the unique table and the caches will use by the next check
+    /// (capacities, with the tables' control bytes; a table or vector that may fill up
+    /// before then counted as doubled).
+    fn bytes_soon(&self) -> usize {
+        fn room(len: usize, cap: usize) -> usize {
+            if len + CHECK as usize >= cap {
+                2 * cap.max(CHECK as usize)
+            } else {
+                cap
+            }
+        }
+        room(self.level.len(), self.level.capacity()) * 12
+            + room(self.edges.len(), self.edges.capacity()) * 8
+            + room(self.unique.len(), self.unique.capacity()) * 13
+            + room(self.union_cache.len(), self.union_cache.capacity()) * 13
+            + room(self.relprod_cache.len(), self.relprod_cache.capacity()) * 13
+            + room(self.sat_cache.len(), self.sat_cache.capacity()) * 9
+    }
+
+    /// Bytes the nodes, the unique table and the caches use now.
+    fn bytes(&self) -> usize {
+        self.level.capacity() * 12
+            + self.edges.capacity() * 8
+            + self.unique.capacity() * 13
+            + self.union_cache.capacity() * 13
+            + self.relprod_cache.capacity() * 13
+            + self.sat_cache.capacity() * 9
+    }
+
+    /// Every few thousand operations: the budgets and the cancellation flag.
+    fn tick(&mut self) -> R<()> {
+        self.ops += 1;
+        if self.ops.is_multiple_of(CHECK) {
+            self.peak = self.peak.max(self.bytes());
+            if self.bytes_soon() > self.limits.memory {
+                return Err(Stop::Memory);
+            }
+            if self.cancel.load(Ordering::Relaxed) {
+                return Err(Stop::Cancelled);
+            }
+            if self.started.elapsed() > self.limits.time {
+                return Err(Stop::Time);
+            }
+            if self.beaten.load(Ordering::Relaxed) {
+                return Err(Stop::Beaten);
+            }
+        }
+        Ok(())
+    }
+
+    /// The node of `level` with these edges (sorted by value, no empty child).
+    fn mk(&mut self, level: usize, edges: &[(u32, u32)]) -> R<u32> {
+        if edges.is_empty() {
+            return Ok(0);
+        }
+        let mut h = Fx(level as u64);
+        for &(v, c) in edges {
+            h.write_u64((u64::from(v) << 32) | u64::from(c));
+        }
+        let h = h.finish();
+        let mut cand = self.unique.get(&h).copied().unwrap_or(NONE);
+        while cand != NONE {
+            if self.level_of(cand) == level && self.node_edges(cand) == edges {
+                return Ok(cand);
+            }
+            cand = self.next[cand as usize];
+        }
+        if self.level.len() >= self.limits.max_nodes {
+            return Err(Stop::Nodes);
+        }
+        self.tick()?;
+        let need = self.edges.len() + edges.len();
+        if need > self.edges.capacity() {
+            // Edge lists can be long: the vector's growth is checked before it happens.
+            let grown = need.max(2 * self.edges.capacity());
+            if self.bytes() + (grown - self.edges.capacity()) * 8 > self.limits.memory {
+                return Err(Stop::Memory);
+            }
+            self.edges.reserve_exact(grown - self.edges.len());
+        }
+        let id = self.level.len() as u32;
+        self.level.push(level as u32);
+        self.edges.extend_from_slice(edges);
+        self.start.push(self.edges.len() as u32);
+        self.next.push(self.unique.get(&h).copied().unwrap_or(NONE));
+        self.unique.insert(h, id);
+        if self.edges.len() >= u32::MAX as usize - 1 {
+            return Err(Stop::Nodes);
+        }
+        Ok(id)
+    }
+
+    fn union(&mut self, a: u32, b: u32) -> R<u32> {
+        if a == 0 || a == b {
+            return Ok(b);
+        }
+        if b == 0 {
+            return Ok(a);
+        }
+        let key = (a.min(b), a.max(b));
+        if let Some(&r) = self.union_cache.get(&key) {
+            return Ok(r);
+        }
+        self.tick()?;
+        let level = self.level_of(a);
+        let (ea, eb) = (self.node_edges(a).to_vec(), self.node_edges(b).to_vec());
+        let mut out = Vec::with_capacity(ea.len() + eb.len());
+        let (mut i, mut j) = (0, 0);
+        while i < ea.len() || j < eb.len() {
+            if j == eb.len() || (i < ea.len() && ea[i].0 < eb[j].0) {
+                out.push(ea[i]);
+                i += 1;
+            } else if i == ea.len() || eb[j].0 < ea[i].0 {
+                out.push(eb[j]);
+                j += 1;
+            } else {
+                out.push((ea[i].0, self.union(ea[i].1, eb[j].1)?));
+                i += 1;
+                j += 1;
+            }
+        }
+        let r = self.mk(level, &out)?;
+        self.union_cache.insert(key, r);
+        Ok(r)
+    }
+
+    /// The markings `n` (at the level of its top node) reaches by firing `t` once,
+    /// saturated below `t`'s top level.
+    fn relprod(&mut self, n: u32, t: u32) -> R<u32> {
+        let level = self.level_of(n);
+        if n == 0 || level > self.events[t as usize].bottom {
+            return Ok(n);
+        }
+        if let Some(&r) = self.relprod_cache.get(&(n, t)) {
+            return Ok(r);
+        }
+        self.tick()?;
+        let act = self.events[t as usize].act(level).copied();
+        let mut out = Vec::new();
+        for (v, c) in self.node_edges(n).to_vec() {
+            let v2 = match act {
+                None => v,
+                Some(a) if v >= a.need && v < a.below => {
+                    let w = u64::from(v - a.pre) + u64::from(a.post);
+                    u32::try_from(w).map_err(|_| Stop::Overflow)?
+                }
+                Some(_) => continue,
+            };
+            let r = self.relprod(c, t)?;
+            if r != 0 {
+                out.push((v2, r));
+            }
+        }
+        let mut r = self.mk(level, &out)?;
+        if level > self.events[t as usize].top {
+            r = self.fire(r, level)?;
+        }
+        self.relprod_cache.insert((n, t), r);
+        Ok(r)
+    }
+
+    /// Closes `s` (children saturated) under the transitions of its level.
+    fn fire(&mut self, mut s: u32, level: usize) -> R<u32> {
+        if self.at[level].is_empty() || s == 0 {
+            return Ok(s);
+        }
+        let events = self.at[level].clone();
+        loop {
+            let before = s;
+            for &t in &events {
+                let img = self.relprod(s, t)?;
+                s = self.union(s, img)?;
+            }
+            if s == before {
+                return Ok(s);
+            }
+        }
+    }
+
+    /// `n` closed under every transition of its level and below.
+    fn saturate(&mut self, n: u32) -> R<u32> {
+        if n < 2 {
+            return Ok(n);
+        }
+        if let Some(&r) = self.sat_cache.get(&n) {
+            return Ok(r);
+        }
+        let level = self.level_of(n);
+        let mut out = Vec::new();
+        for (v, c) in self.node_edges(n).to_vec() {
+            out.push((v, self.saturate(c)?));
+        }
+        let s = self.mk(level, &out)?;
+        let r = self.fire(s, level)?;
+        self.sat_cache.insert(n, r);
+        self.sat_cache.insert(r, r);
+        Ok(r)
+    }
+
+    /// The nodes below `root` (itself included), children before parents.
+    fn postorder(&self, root: u32) -> Vec<u32> {
+        let mut seen = vec![false; self.level.len()];
+        let mut out = Vec::new();
+        let mut stack = vec![(root, false)];
+        while let Some((n, done)) = stack.pop() {
+            if done {
+                out.push(n);
+                continue;
+            }
+            if seen[n as usize] {
+                continue;
+            }
+            seen[n as usize] = true;
+            stack.push((n, true));
+            for &(_, c) in self.node_edges(n) {
+                if !seen[c as usize] {
+                    stack.push((c, false));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The FORCE order (see the module's documentation): places from the root down.
+pub fn variable_order(net: &PtNet) -> Vec<usize> {
+    let np = net.places.len();
+    let touched: Vec<Vec<usize>> = (0..net.transitions.len())
+        .map(|t| {
+            let mut ps: Vec<usize> = net.pre[t]
+                .iter()
+                .chain(&net.post[t])
+                .chain(&net.reads[t])
+                .chain(&net.inhibitors[t])
+                .map(|&(p, _)| p)
+                .collect();
+            ps.sort_unstable();
+            ps.dedup();
+            ps
+        })
+        .filter(|ps| !ps.is_empty())
+        .collect();
+    let span = |order: &[usize]| -> u64 {
+        let mut rank = vec![0usize; np];
+        for (i, &p) in order.iter().enumerate() {
+            rank[p] = i;
+        }
+        touched
+            .iter()
+            .map(|ps| {
+                let (lo, hi) = ps
+                    .iter()
+                    .fold((usize::MAX, 0), |(lo, hi), &p| (lo.min(rank[p]), hi.max(rank[p])));
+                (hi - lo) as u64
+            })
+            .sum()
+    };
+    let mut order: Vec<usize> = (0..np).collect();
+    let mut best = (span(&order), order.clone());
+    let mut pos: Vec<f64> = (0..np).map(|p| p as f64).collect();
+    for _ in 0..(20 + np.ilog2().pow(2) as usize).min(200) {
+        let cog: Vec<f64> = touched
+            .iter()
+            .map(|ps| ps.iter().map(|&p| pos[p]).sum::<f64>() / ps.len() as f64)
+            .collect();
+        let mut sum = vec![(0.0f64, 0usize); np];
+        for (ps, &c) in touched.iter().zip(&cog) {
+            for &p in ps {
+                sum[p].0 += c;
+                sum[p].1 += 1;
+            }
+        }
+        let target: Vec<f64> = (0..np)
+            .map(|p| {
+                if sum[p].1 == 0 {
+                    pos[p]
+                } else {
+                    sum[p].0 / sum[p].1 as f64
+                }
+            })
+            .collect();
+        order.sort_by(|&a, &b| target[a].total_cmp(&target[b]).then(a.cmp(&b)));
+        for (i, &p) in order.iter().enumerate() {
+            pos[p] = i as f64;
+        }
+        let s = span(&order);
+        if s < best.0 {
+            best = (s, order.clone());
+        }
+    }
+    best.1
+}
+
+/// The action of a transition on level `l`, added when new.
+fn act_at(acts: &mut Vec<(usize, Act)>, l: usize) -> &mut Act {
+    let i = match acts.iter().position(|(q, _)| *q == l) {
+        Some(i) => i,
+        None => {
+            let free = Act {
+                need: 0,
+                below: u32::MAX,
+                pre: 0,
+                post: 0,
+            };
+            acts.push((l, free));
+            acts.len() - 1
+        }
+    };
+    &mut acts[i].1
+}
+
+/// The transitions on the levels of `order`.
+fn events(net: &PtNet, order: &[usize]) -> Vec<Event> {
+    let mut level = vec![0usize; order.len()];
+    for (l, &p) in order.iter().enumerate() {
+        level[p] = l;
+    }
+    (0..net.transitions.len())
+        .map(|t| {
+            let mut acts: Vec<(usize, Act)> = Vec::new();
+            for &(p, w) in &net.pre[t] {
+                let a = act_at(&mut acts, level[p]);
+                a.pre = a.pre.saturating_add(w);
+                a.need = a.need.max(a.pre);
+            }
+            for &(p, w) in &net.reads[t] {
+                let a = act_at(&mut acts, level[p]);
+                a.need = a.need.max(w);
+            }
+            for &(p, w) in &net.inhibitors[t] {
+                let a = act_at(&mut acts, level[p]);
+                a.below = a.below.min(w);
+            }
+            for &(p, w) in &net.post[t] {
+                let a = act_at(&mut acts, level[p]);
+                a.post = a.post.saturating_add(w);
+            }
+            acts.sort_by_key(|(l, _)| *l);
+            Event {
+                top: acts.first().map_or(0, |(l, _)| *l),
+                bottom: acts.last().map_or(0, |(l, _)| *l),
+                acts,
+            }
+        })
+        .collect()
+}
+
+/// The reachable markings of `net` by saturation, within `limits`, stopped when
+/// `cancel` is raised. No order suits every net (FORCE's is 10× faster than the file's
+/// on `GlobalResAllocation-PT-03`, 30× slower on `BART-PT-002`): when they differ, the
+/// two run at once on two threads, each with half the memory budget, and the first to
+/// complete stops the other. Each thread has a large stack (the recursion goes a few
+/// frames deep per place).
+pub fn explore(net: &PtNet, limits: &Limits, cancel: &AtomicBool) -> Outcome {
+    let started = Instant::now();
+    let force = variable_order(net);
+    let file: Vec<usize> = (0..net.places.len()).collect();
+    let orders = if force == file { vec![file] } else { vec![force, file] };
+    let share = Limits {
+        memory: limits.memory / orders.len(),
+        ..*limits
+    };
+    let done = AtomicBool::new(false);
+    let run = |order: &Vec<usize>| {
+        let mut dd = Dd::new(net.places.len(), events(net, order), share, started, cancel, &done);
+        let result = build(net, &mut dd, order.clone());
+        if result.is_ok() {
+            done.store(true, Ordering::Relaxed);
+        }
+        Outcome {
+            result,
+            nodes: dd.level.len(),
+            bytes: dd.peak.max(dd.bytes()),
+            time: started.elapsed(),
+        }
+    };
+    let outcomes: Vec<Outcome> = std::thread::scope(|s| {
+        let handles: Vec<_> = orders
+            .iter()
+            .map(|order| {
+                std::thread::Builder::new()
+                    .name("alba-symbolic".into())
+                    .stack_size(256 << 20)
+                    .spawn_scoped(s, move || run(order))
+                    .ok()
+            })
+            .collect();
+        handles.into_iter().flatten().filter_map(|h| h.join().ok()).collect()
+    });
+    // The completed one; else the first stop that is not "beaten".
+    let bytes = outcomes.iter().map(|o| o.bytes).sum();
+    let mut best = outcomes
+        .into_iter()
+        .min_by_key(|o| match &o.result {
+            Ok(_) => 0,
+            Err(Stop::Beaten) => 2,
+            Err(_) => 1,
+        })
+        .unwrap_or(Outcome {
+            result: Err(Stop::Memory),
+            nodes: 0,
+            bytes: 0,
+            time: started.elapsed(),
+        });
+    best.bytes = bytes;
+    best.time = started.elapsed();
+    best
+}
+
+/// Saturates the initial marking and reads the results off the diagram.
+fn build(net: &PtNet, dd: &mut Dd<'_>, order: Vec<usize>) -> R<Symbolic> {
+    let mut init = 1;
+    for l in (0..dd.levels).rev() {
+        init = dd.mk(l, &[(net.initial[order[l]], init)])?;
+    }
+    let root = dd.saturate(init)?;
+    let nodes = dd.postorder(root);
+    let mut count: FxMap<u32, Count> = FxMap::default();
+    let mut most: FxMap<u32, u64> = FxMap::default();
+    count.insert(1, Count::from_u64(1));
+    most.insert(1, 0);
+    let mut bounds = vec![0u32; dd.levels];
+    for &n in nodes.iter().filter(|&&n| n > 1) {
+        let mut c = Count::default();
+        let mut m = 0u64;
+        for &(v, child) in dd.node_edges(n) {
+            c.add(&count[&child]);
+            m = m.max(u64::from(v) + most[&child]);
+        }
+        let l = dd.level_of(n);
+        if let Some(&(v, _)) = dd.node_edges(n).last() {
+            bounds[order[l]] = bounds[order[l]].max(v);
+        }
+        count.insert(n, c);
+        most.insert(n, m);
+    }
+    // Firings: for each transition, the markings that enable it.
+    let mut firings = Count::default();
+    for t in 0..dd.events.len() {
+        if dd.events[t].acts.is_empty() {
+            firings.add(&count[&root]);
+            continue;
+        }
+        let mut enabled: FxMap<u32, Count> = FxMap::default();
+        for &n in &nodes {
+            dd.tick()?;
+            let l = dd.level_of(n);
+            if n < 2 || l > dd.events[t].bottom {
+                continue;
+            }
+            let act = dd.events[t].act(l).copied();
+            let mut c = Count::default();
+            for &(v, child) in dd.node_edges(n) {
+                if act.is_some_and(|a| v < a.need || v >= a.below) {
+                    continue;
+                }
+                let below = if dd.level_of(child) > dd.events[t].bottom {
+                    &count[&child]
+                } else {
+                    &enabled[&child]
+                };
+                c.add(below);
+            }
+            enabled.insert(n, c);
+        }
+        firings.add(&enabled[&root]);
+    }
+    Ok(Symbolic {
+        states: count[&root].clone(),
+        firings,
+        place_bounds: bounds,
+        max_tokens: most[&root],
+        final_nodes: nodes.len(),
+        order,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::reachability::{self, Explored};
+    use crate::analysis::{Control, samples};
+
+    fn never() -> AtomicBool {
+        AtomicBool::new(false)
+    }
+
+    /// The explicit engine's states, firings, bounds and most tokens.
+    fn explicit(net: &PtNet) -> (u64, u64, Vec<u32>, u64) {
+        let limits = reachability::Limits {
+            max_states: 1 << 24,
+            memory: 1 << 30,
+        };
+        match reachability::explore(net, &limits, &Control::none()) {
+            Explored::Graph(g) => (g.store.len() as u64, g.edges, g.max.clone(), g.max_tokens),
+            _ => panic!("explicit exploration incomplete"),
+        }
+    }
+
+    fn symbolic(net: &PtNet) -> (u64, u64, Vec<u32>, u64) {
+        let s = explore(net, &Limits::default(), &never()).result.expect("complete");
+        (
+            s.states.to_u64().expect("u64"),
+            s.firings.to_u64().expect("u64"),
+            s.place_bounds,
+            s.max_tokens,
+        )
+    }
+
+    #[test]
+    fn counts_add_with_carries_and_print_in_decimal() {
+        let mut c = Count::from_u64(u64::MAX);
+        c.add(&Count::from_u64(1));
+        assert_eq!(c.to_string(), "18446744073709551616");
+        assert_eq!(c.to_u64(), None);
+        let mut big = Count::default();
+        for _ in 0..1000 {
+            big.add(&c);
+        }
+        assert_eq!(big.to_string(), "18446744073709551616000");
+        let mut sq = Count::default();
+        for _ in 0..3 {
+            sq.add(&big);
+        }
+        assert_eq!(sq.to_string(), "55340232221128654848000");
+        assert_eq!(Count::default().to_string(), "0");
+        assert_eq!(
+            Count::from_u64(10_000_000_000_000_000_000).to_string(),
+            "10000000000000000000"
+        );
+    }
+
+    #[test]
+    fn small_nets_agree_with_the_explicit_engine() {
+        for net in [
+            samples::cycles(4, 3),
+            samples::philosophers(5),
+            samples::kanban(3),
+            samples::parallel_ring(4, 3),
+        ] {
+            assert_eq!(symbolic(&net), explicit(&net));
+        }
+    }
+
+    #[test]
+    fn read_and_inhibitor_arcs_and_weights_are_tests_on_their_level() {
+        // a:3 → b by twos; c is read to move b → d; e inhibits (below 2) the move d → e.
+        let mut net = PtNet::new();
+        let a = net.add_place("a", 5);
+        let b = net.add_place("b", 0);
+        let c = net.add_place("c", 1);
+        let d = net.add_place("d", 0);
+        let e = net.add_place("e", 0);
+        let t = net.add_transition("ab");
+        net.add_pre(t, a, 2);
+        net.add_post(t, b, 3);
+        let u = net.add_transition("bd");
+        net.add_pre(u, b, 1);
+        net.add_post(u, d, 1);
+        net.add_read(u, c, 1);
+        let v = net.add_transition("de");
+        net.add_pre(v, d, 1);
+        net.add_post(v, e, 1);
+        net.add_inhibitor(v, e, 2);
+        let w = net.add_transition("toggle");
+        net.add_pre(w, c, 1);
+        let back = net.add_transition("back");
+        net.add_post(back, c, 1);
+        net.add_inhibitor(back, c, 1);
+        assert_eq!(symbolic(&net), explicit(&net));
+    }
+
+    #[test]
+    fn large_counts_are_exact() {
+        // 64 independent two-state toggles: 2^64 markings, 64·2^64 firings.
+        let mut net = PtNet::new();
+        for i in 0..64 {
+            let p = net.add_place(&format!("off{i}"), 1);
+            let q = net.add_place(&format!("on{i}"), 0);
+            let t = net.add_transition(&format!("up{i}"));
+            net.add_pre(t, p, 1);
+            net.add_post(t, q, 1);
+            let t = net.add_transition(&format!("down{i}"));
+            net.add_pre(t, q, 1);
+            net.add_post(t, p, 1);
+        }
+        let s = explore(&net, &Limits::default(), &never()).result.expect("complete");
+        assert_eq!(s.states.to_string(), "18446744073709551616");
+        assert_eq!(s.firings.to_string(), "1180591620717411303424");
+        assert_eq!(s.max_tokens, 64);
+        assert!(s.final_nodes < 200, "{}", s.final_nodes);
+    }
+
+    #[test]
+    fn budgets_stop_cleanly_with_their_reason() {
+        let net = samples::kanban(6);
+        let tiny = Limits {
+            max_nodes: 50,
+            ..Limits::default()
+        };
+        let o = explore(&net, &tiny, &never());
+        assert_eq!(o.result.err(), Some(Stop::Nodes));
+        assert!(o.nodes <= 50);
+        let cancelled = AtomicBool::new(true);
+        let o = explore(&samples::cycles(60, 6), &Limits::default(), &cancelled);
+        assert_eq!(o.result.err(), Some(Stop::Cancelled));
+        // An unbounded net never saturates: the memory budget stops it.
+        let mut grow = PtNet::new();
+        let p = grow.add_place("p", 0);
+        let t = grow.add_transition("t");
+        grow.add_post(t, p, 1);
+        let small = Limits {
+            memory: 4 << 20,
+            ..Limits::default()
+        };
+        let o = explore(&grow, &small, &never());
+        assert!(matches!(o.result, Err(Stop::Memory)), "{:?}", o.result);
+        assert!(o.bytes <= 8 << 20, "{}", o.bytes);
+    }
+
+    #[test]
+    fn the_order_keeps_linked_places_together() {
+        // A ring of 30 places listed in a scrambled order: FORCE brings each
+        // transition's two places near each other.
+        let mut net = PtNet::new();
+        let n = 30;
+        let ids: Vec<usize> = (0..n).map(|i| (i * 7) % n).collect();
+        let mut place = vec![0; n];
+        for &i in &ids {
+            place[i] = net.add_place(&format!("p{i}"), u32::from(i == 0));
+        }
+        for i in 0..n {
+            let t = net.add_transition(&format!("t{i}"));
+            net.add_pre(t, place[i], 1);
+            net.add_post(t, place[(i + 1) % n], 1);
+        }
+        let span = |order: &[usize]| -> usize {
+            let mut rank = vec![0; n];
+            for (r, &p) in order.iter().enumerate() {
+                rank[p] = r;
+            }
+            (0..n).map(|i| rank[place[i]].abs_diff(rank[place[(i + 1) % n]])).sum()
+        };
+        let file: Vec<usize> = (0..n).collect();
+        let order = variable_order(&net);
+        assert!(span(&order) < span(&file) / 2, "{} vs {}", span(&order), span(&file));
+        assert_eq!(symbolic(&net).0, n as u64);
+    }
+}
