@@ -17,7 +17,7 @@
 //!   operand table; the function is specific to the shape only.
 //!
 //! Only the ops that dominate typical ladder are emitted inline: contacts,
-//! coils, one-shots, branches, jumps, TON in ms (`X::Ton`; a TON in another
+//! coils, one-shots, branches, jumps, bool copies, TON in ms (`X::Ton`; a TON in another
 //! time base is `X::TonB`, left to the interpreter), CTU/CTD, integer compares and
 //! ADD/SUB/MOV of DINTs, with their rare cases too (a wrapped sum, a negative
 //! preset, a counter wrapping to OV/UN); their faults are noted in the
@@ -153,8 +153,12 @@ extern "C" fn pid_call(ctx: *mut JitCtx, f: *mut f32, i: *mut i32, b: *mut bool,
 /// class bases from `ctx.bases`.
 type ShapeFn = unsafe extern "C" fn(*mut JitCtx, *const u64, usize) -> u32;
 
-/// Strided runs have at most this many operand classes.
-const MAX_CLASSES: usize = 8;
+/// Strided runs have at most this many operand classes. A Ladder rung
+/// needs 3–5; an ST statement group more (temporaries and shared constants
+/// that stay, tags and instances moving by different amounts, the own
+/// constant of a literal preset, jump targets and op numbers): 9 for
+/// `alba bench --st`'s rung. Bases beyond the registers spill to the stack.
+const MAX_CLASSES: usize = 12;
 /// Fewer consecutive rungs of one layout share the table's generic code.
 const MIN_STRIDED: usize = 4;
 /// At most this many distinct strided functions per program (the rest use
@@ -336,7 +340,10 @@ fn delta(a: &[Operand], b: &[Operand]) -> Vec<i64> {
 /// The shape of an op: the op with every slot number zeroed, or `None` for
 /// ops left to the interpreter. Its operands go to `out`. Branch ops need
 /// none: their state lives in registers.
-fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut Vec<Operand>) -> Option<X> {
+/// A jump to the rung right after its own (`rung + 1`) is `X::Jmp(1)`: it
+/// skips the rest of the rung inside the function, which goes on with the
+/// next rung of its run (an ST `IF` without `ELSE` in a rung of statements).
+fn shape(op: X, pc: usize, rung: u32, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut Vec<Operand>) -> Option<X> {
     use alba_ir::{B, Ctr, I, Tmr};
     let (b0, i0) = (B(0), I(0));
     let bo = |b: B| Operand {
@@ -392,8 +399,9 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut 
         X::BrClose { .. } => X::BrClose { acc: b0 },
         X::Jmp(t) => {
             // A target that is no rung start (never, after `Code::new`) ends the scan.
-            out.extend([num(rung_of.get(&t).copied().unwrap_or(n_rungs)), pc]);
-            X::Jmp(0)
+            let target = rung_of.get(&t).copied().unwrap_or(n_rungs);
+            out.extend([num(target), pc]);
+            X::Jmp(u32::from(target == rung + 1))
         }
         X::Ton(t) => {
             out.extend([io(t.i), bo(t.b), pc]);
@@ -435,6 +443,10 @@ fn shape(op: X, pc: usize, rung_of: &HashMap<u32, u32>, n_rungs: u32, out: &mut 
                 i: i0,
                 b: b0,
             })
+        }
+        X::CopyB(a, d) => {
+            out.extend([bo(a), bo(d)]);
+            X::CopyB(b0, b0)
         }
         X::MovI(a, d) | X::CopyI(a, d) => {
             out.extend([io(a), io(d)]);
@@ -497,7 +509,7 @@ impl Jit {
                 let end = starts.get(r + 1).copied().unwrap_or(code.ops.len() - 1);
                 let mut operands = Vec::new();
                 let key = (start..end)
-                    .map(|pc| shape(code.ops[pc], pc, &rung_of, n_rungs, &mut operands))
+                    .map(|pc| shape(code.ops[pc], pc, r as u32, &rung_of, n_rungs, &mut operands))
                     .collect();
                 RungCode { start, key, operands }
             })
@@ -789,6 +801,8 @@ struct Gen<'a, 'b> {
     /// Open branches: (rung state at the branch, OR of the legs so far).
     branches: Vec<(Variable, Variable)>,
     flags: MemFlagsData,
+    /// Where the current rung ends (a jump to the next rung goes there).
+    rung_end: Option<cranelift_codegen::ir::Block>,
 }
 
 /// A slot's address: a base and a constant offset in bytes.
@@ -856,6 +870,7 @@ impl<'a, 'b> Gen<'a, 'b> {
             rc,
             branches: Vec::new(),
             flags,
+            rung_end: None,
         }
     }
 
@@ -1094,6 +1109,8 @@ impl<'a, 'b> Gen<'a, 'b> {
     fn emit(mut self, shape: &[Option<X>], stride: usize) {
         let body = self.fb.create_block();
         let done = self.fb.create_block();
+        let rung_end = self.fb.create_block();
+        self.rung_end = Some(rung_end);
         self.fb.ins().jump(body, &[]);
         self.fb.switch_to_block(body);
         self.next = 0;
@@ -1107,6 +1124,8 @@ impl<'a, 'b> Gen<'a, 'b> {
                 }
             }
         }
+        self.fb.ins().jump(rung_end, &[]);
+        self.fb.switch_to_block(rung_end);
         // The next rung's operands.
         match &self.strides {
             None => {
@@ -1245,6 +1264,16 @@ impl<'a, 'b> Gen<'a, 'b> {
                     self.set_rc(r);
                 }
             }
+            X::Jmp(1) => {
+                // To the next rung: the rest of this one is skipped.
+                let _ = (self.number(), self.number());
+                let rc = self.rc();
+                let (end, go_on) = (self.rung_end, self.fb.create_block());
+                if let Some(end) = end {
+                    self.fb.ins().brif(rc, end, &[], go_on, &[]);
+                    self.fb.switch_to_block(go_on);
+                }
+            }
             X::Jmp(_) => {
                 let (target, pc) = (self.number(), self.number());
                 let rc = self.rc();
@@ -1307,6 +1336,11 @@ impl<'a, 'b> Gen<'a, 'b> {
                 let (a, d) = (self.slot(), self.slot());
                 let v = self.ld32(a, 0);
                 self.st32(d, 0, v);
+            }
+            X::CopyB(..) => {
+                let (a, d) = (self.slot(), self.slot());
+                let v = self.ld8(a, 0);
+                self.st8(d, 0, v);
             }
             X::Pid(_) => {
                 // One direct call; the rung condition is unchanged.

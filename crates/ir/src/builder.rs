@@ -157,6 +157,19 @@ impl Builder {
         self.ops.len() as u32 - 1
     }
 
+    /// Takes back the last op emitted, for a front end's peephole: the
+    /// caller makes sure nothing refers to its index (no jump target, no
+    /// `Jmp` to patch). Never takes back a rung's `Rung`.
+    pub fn pop(&mut self) -> Option<Op> {
+        match self.ops.last() {
+            None | Some(Op::Rung) => None,
+            Some(_) => {
+                self.locs.pop();
+                self.ops.pop()
+            }
+        }
+    }
+
     /// Sets the target of the `Jmp` at `at`.
     pub fn patch_jump(&mut self, at: u32, target: u32) {
         if let Some(op @ Op::Jmp(_)) = self.ops.get_mut(at as usize) {
@@ -166,6 +179,39 @@ impl Builder {
 
     pub fn mark(&self) -> TempMark {
         TempMark(self.pools.each_ref().map(|p| p.used))
+    }
+
+    /// The bool temporaries taken after mark `m` (released or not): dead
+    /// once the code that took them is done, as every use of a temporary
+    /// writes it before reading it.
+    pub fn temps_b_since(&self, m: TempMark) -> &[u32] {
+        self.pools[0].slots.get(m.0[0]..).unwrap_or(&[])
+    }
+
+    /// The integer temporaries taken after mark `m` (as [`Builder::temps_b_since`]).
+    pub fn temps_i_since(&self, m: TempMark) -> &[u32] {
+        self.pools[1].slots.get(m.0[1]..).unwrap_or(&[])
+    }
+
+    /// Rewrites the ops from `start` on, one entry each (`None`: dropped),
+    /// for a front end's clean-up of code it just emitted: the caller makes
+    /// sure no index from `start` on is referred to (no `Rung`, no `Jmp`,
+    /// no jump target among them). An op keeps its location.
+    pub fn rewrite_since(&mut self, start: u32, new: Vec<Option<Op>>) {
+        let start = start as usize;
+        let mut k = start;
+        for (pc, op) in (start..).zip(new) {
+            if pc >= self.ops.len() {
+                break;
+            }
+            if let Some(op) = op {
+                self.ops[k] = op;
+                self.locs[k] = self.locs[pc];
+                k += 1;
+            }
+        }
+        self.ops.truncate(k);
+        self.locs.truncate(k);
     }
 
     pub fn release(&mut self, m: TempMark) {
@@ -242,6 +288,24 @@ impl Builder {
         self.init.i.push(v);
         self.const_i.insert(v, s);
         s
+    }
+    /// The constant of slot `s` in a read-only slot that no later use
+    /// shares, or `s` itself when it is no shared [`Builder::const_i`]. A
+    /// constant just made (the last integer slot) becomes that slot itself,
+    /// so each call takes exactly one new slot.
+    pub fn own_i(&mut self, s: I) -> I {
+        let v = self.init.i.get(s.0 as usize).copied();
+        match v {
+            Some(v) if self.const_i.get(&v) == Some(&s) => {
+                if s.0 + 1 == self.layout.counts.i {
+                    self.const_i.remove(&v);
+                    s
+                } else {
+                    self.state_i(v)
+                }
+            }
+            _ => s,
+        }
     }
     pub fn const_f(&mut self, v: f32) -> F {
         if let Some(&s) = self.const_f.get(&v.to_bits()) {

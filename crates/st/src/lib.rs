@@ -9,5 +9,5 @@ pub mod lower;
 pub mod parse;
 
 pub use ast::File;
-pub use lower::{compile, compile_in, compile_with, declare, declare_with};
+pub use lower::{compile, compile_in, compile_unoptimised, compile_with, declare, declare_with};
 pub use parse::parse;

@@ -359,6 +359,55 @@ fn timers_at_the_edges_agree_in_every_mode() {
 }
 
 /// Jumps forward and backward, and a runaway loop, agree in every mode.
+/// A jump to the next rung (an ST `IF` without `ELSE` in a rung of
+/// statements) inside a strided run: native code skips the rest of that
+/// rung and goes on with the next one of the run, as the interpreter does.
+#[cfg(feature = "jit")]
+#[test]
+fn a_jump_to_the_next_rung_in_a_strided_run_skips_only_the_rest_of_its_rung() {
+    let n = 8;
+    let mut tags = String::from("name,type\n");
+    let mut lad = String::new();
+    for k in 0..n {
+        tags.push_str(&format!("S_{k},BOOL\nV_{k},DINT\n"));
+        let label = if k > 0 {
+            format!("LBL(L_{})", k - 1)
+        } else {
+            String::new()
+        };
+        lad.push_str(&format!(
+            "{label}[XIC(S_{k})JMP(L_{k}),XIO(S_{k})]ADD(V_{k},1,V_{k});\n"
+        ));
+    }
+    lad.push_str(&format!("LBL(L_{})NOP();\n", n - 1));
+    let p = Arc::new(compile_text(&tags, &lad).unwrap());
+    let mut engines: Vec<Engine> = (0..2).map(|_| Engine::new(p.clone()).unwrap()).collect();
+    engines[1].compile_native().unwrap();
+    let (_, strided, _) = engines[1].native_layout().unwrap();
+    assert!(strided >= n - 2, "{strided} rungs strided");
+    let place = |name: String| match p.layout.resolve(&name) {
+        Ok(Target::Value { place, .. }) => place,
+        other => panic!("{name}: {other:?}"),
+    };
+    for scan in 0..12u64 {
+        for e in engines.iter_mut() {
+            for k in 0..n {
+                e.write(
+                    place(format!("S_{k}")),
+                    Value::Bool((scan + k as u64).is_multiple_of(3)),
+                );
+            }
+            e.scan(scan * 10).unwrap();
+        }
+        assert_eq!(observable(&engines[1]), observable(&engines[0]), "scan {scan}");
+    }
+    // V_k counts the scans in which S_k was false (the jump not taken).
+    for k in 0..n {
+        let want = (0..12u64).filter(|s| !(s + k as u64).is_multiple_of(3)).count() as i32;
+        assert_eq!(engines[1].read(place(format!("V_{k}"))), Value::Dint(want), "V_{k}");
+    }
+}
+
 #[test]
 fn jumps_agree_in_every_mode() {
     let tags = "name,type,address,initial\nA,BOOL,DI:1/0,\nN,DINT,,\nK,DINT,,\nQ,BOOL,DO:2/0,\nLoop,BOOL,,\n";

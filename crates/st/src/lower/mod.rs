@@ -154,6 +154,9 @@ struct LoopLabels {
 
 /// Most nested calls of user FUNCTIONs and FUNCTION_BLOCKs (each is inlined).
 const MAX_CALL_DEPTH: usize = 16;
+/// A statement opens a rung of its own once the current one has this many
+/// ops: long straight-line code becomes rungs of about this size.
+const RUNG_OPS: u32 = 256;
 /// Most operations of a program before one more call is inlined.
 const MAX_OPS: u32 = 4_000_000;
 /// Most tags the instances of user FUNCTION_BLOCKs of a file may declare.
@@ -184,6 +187,11 @@ struct Lower<'a> {
     composites: HashMap<(String, bool), Loc>,
     /// String values of the expressions lowered so far (`Val::S`).
     strs: Vec<Str>,
+    /// Statements share rungs and the peephole runs (see [`Lower::open`]
+    /// and [`Lower::emit`]); off for [`compile_unoptimised`].
+    optimise: bool,
+    /// The op of the current rung's `Rung`.
+    rung_op: u32,
 }
 
 /// Lowers the PROGRAMs of `file`, in order, as unit `name`. User FUNCTIONs
@@ -205,6 +213,26 @@ pub fn compile_with(file: &ast::File, library: &[&ast::File], name: &str, b: &mu
 /// [`compile_with`] into the unit being built, its rungs numbered from
 /// `first_rung` (an SFC's ST actions, after its chart).
 pub fn compile_in(file: &ast::File, library: &[&ast::File], first_rung: u32, b: &mut Builder) -> Vec<Diagnostic> {
+    lower_in(file, library, first_rung, b, true)
+}
+
+/// [`compile_with`] as the lowering was before its optimisations: a rung for
+/// every statement, booleans through their temporaries. The same programs
+/// must compute the same (a differential test), so its only use is there.
+pub fn compile_unoptimised(file: &ast::File, library: &[&ast::File], name: &str, b: &mut Builder) -> Vec<Diagnostic> {
+    b.begin_unit(name);
+    let diags = lower_in(file, library, 0, b, false);
+    b.end_unit();
+    diags
+}
+
+fn lower_in(
+    file: &ast::File,
+    library: &[&ast::File],
+    first_rung: u32,
+    b: &mut Builder,
+    optimise: bool,
+) -> Vec<Diagnostic> {
     let types = types_of(file, library);
     let mut diags = Vec::new();
     let globals: HashMap<String, Var> = variables(&file.globals, None, &types, &mut Vec::new())
@@ -219,6 +247,7 @@ pub fn compile_in(file: &ast::File, library: &[&ast::File], first_rung: u32, b: 
         let mut vars = globals.clone();
         vars.extend(variables(&p.vars, Some(&p.name.name), &types, &mut Vec::new()));
         let mut l = Lower::new(b, &types, globals.clone(), vars, rungs, &p.name.name);
+        l.optimise = optimise;
         l.program(p);
         rungs = l.rungs;
         diags.extend(l.diags);
@@ -269,17 +298,70 @@ impl<'a> Lower<'a> {
             arrays: HashMap::new(),
             composites: HashMap::new(),
             strs: Vec::new(),
+            optimise: true,
+            rung_op: 0,
         }
     }
 }
 
 impl Lower<'_> {
     fn emit(&mut self, op: Op) -> u32 {
+        if self.optimise
+            && let Some(at) = self.peephole(op)
+        {
+            return at;
+        }
         self.b.emit(op, self.elem)
+    }
+
+    /// After `Ote s; True`, `rc` was `s`: an op reading `s` back into `rc`
+    /// right after can use `rc` instead (`Ld s` is then nothing, `Ldn s` a
+    /// `Not`, `CopyB s → d` an `Ote d`, and `Ld x; Xic s` / `Ld x; Or s` an
+    /// `Xic x` / `Or x`). The ops are contiguous in one rung (jumps land on
+    /// `Rung`s only), so nothing runs between them. `None`: emit `op` as it is.
+    fn peephole(&mut self, op: Op) -> Option<u32> {
+        let ops = self.b.ops();
+        let n = ops.len();
+        let after = |k: usize, s: B| n >= k + 2 && ops[n - k - 2] == Op::Ote(s) && ops[n - k - 1] == Op::True;
+        let last = ops.last().copied();
+        let now = match op {
+            Op::Ld(s) if after(0, s) => Vec::new(),
+            Op::Ldn(s) if after(0, s) => vec![Op::Not],
+            Op::CopyB(s, d) if after(0, s) => vec![Op::Ote(d), Op::True],
+            Op::Xic(s) | Op::Or(s) if after(1, s) => {
+                let Some(Op::Ld(x)) = last else { return None };
+                self.b.pop();
+                vec![if matches!(op, Op::Xic(_)) {
+                    Op::Xic(x)
+                } else {
+                    Op::Or(x)
+                }]
+            }
+            _ => return None,
+        };
+        self.b.pop();
+        let mut at = self.b.here().saturating_sub(1);
+        for o in now {
+            at = self.b.emit(o, self.elem);
+        }
+        Some(at)
+    }
+
+    /// Where a statement without jumps into it begins: a new element in the
+    /// current rung (each statement keeps its own element, so its span, for
+    /// faults and diagnostics), or a rung of its own when the lowering is
+    /// not optimised or the current rung is already long.
+    fn open(&mut self, span: Span) {
+        if self.optimise && self.b.here() - self.rung_op < RUNG_OPS {
+            self.elem = self.b.element(span);
+        } else {
+            self.rung(span);
+        }
     }
 
     fn rung(&mut self, span: Span) -> u32 {
         let at = self.b.here();
+        self.rung_op = at;
         self.b.begin_rung(self.rungs, span);
         self.rungs += 1;
         self.elem = self.b.element(span);
@@ -710,10 +792,78 @@ impl Lower<'_> {
     fn block(&mut self, list: &[Stmt]) {
         for s in list {
             let mark = self.b.mark();
+            let start = self.b.here();
             if let Err(d) = self.stmt(s) {
                 self.diags.push(d);
             }
+            if self.optimise {
+                self.drop_dead_stores(mark, start);
+            }
             self.b.release(mark);
+        }
+    }
+
+    /// Cleans up a straight-line statement (no `Rung`, no `Jmp` from `start`
+    /// on) once its temporaries (taken after `mark`) are dead: drops each
+    /// `Ote t` to a bool temporary that nothing after it in the statement
+    /// mentions (the peephole leaves many: `Ote t; Or b` where `t` was
+    /// reloaded), and writes `BinI(Add|Sub, a, b, t); UnI(Mov, t, d)` as
+    /// `BinI(.., d)` (a sum always writes its slot, wrapped or not).
+    fn drop_dead_stores(&mut self, mark: alba_ir::TempMark, start: u32) {
+        use alba_ir::op::AnySlot;
+        let ops = &self.b.ops()[start as usize..];
+        if ops.iter().any(|o| matches!(o, Op::Rung | Op::Jmp(_))) {
+            return;
+        }
+        let temps_b: HashSet<u32> = self.b.temps_b_since(mark).iter().copied().collect();
+        let temps_i: HashSet<u32> = self.b.temps_i_since(mark).iter().copied().collect();
+        if temps_b.is_empty() && temps_i.is_empty() {
+            return;
+        }
+        // Backwards: a temporary is read later if an op after mentions it
+        // (an op with several slots of a class: any temporary between the
+        // least and the greatest, as timers and counters give only their ends).
+        let mut later_b: HashSet<u32> = HashSet::new();
+        let mut later_i: HashSet<u32> = HashSet::new();
+        let mut new: Vec<Option<Op>> = ops.iter().copied().map(Some).collect();
+        for k in (0..new.len()).rev() {
+            let Some(op) = new[k] else { continue };
+            match op {
+                Op::Ote(t) if temps_b.contains(&t.0) && !later_b.contains(&t.0) => {
+                    new[k] = None;
+                    continue;
+                }
+                Op::UnI(IUn::Mov, t, d) if temps_i.contains(&t.0) && !later_i.contains(&t.0) && k > 0 => {
+                    if let Some(Op::BinI(o @ (IBin::Add | IBin::Sub), a, b, t2)) = new[k - 1]
+                        && t2 == t
+                        && a != t
+                        && b != t
+                    {
+                        new[k - 1] = Some(Op::BinI(o, a, b, d));
+                        new[k] = None;
+                        continue;
+                    }
+                }
+                _ => {}
+            }
+            let slots = op.slots();
+            let range = |pick: &dyn Fn(&AnySlot) -> Option<u32>| {
+                slots
+                    .iter()
+                    .filter_map(pick)
+                    .fold((u32::MAX, 0), |(lo, hi), x| (lo.min(x), hi.max(x)))
+            };
+            let (lo, hi) = range(&|s| if let AnySlot::B(x) = s { Some(*x) } else { None });
+            if lo <= hi {
+                later_b.extend(temps_b.iter().filter(|&&t| (lo..=hi).contains(&t)));
+            }
+            let (lo, hi) = range(&|s| if let AnySlot::I(x) = s { Some(*x) } else { None });
+            if lo <= hi {
+                later_i.extend(temps_i.iter().filter(|&&t| (lo..=hi).contains(&t)));
+            }
+        }
+        if new.iter().any(Option::is_none) || new.iter().zip(ops).any(|(n, o)| n.as_ref() != Some(o)) {
+            self.b.rewrite_since(start, new);
         }
     }
 
@@ -721,11 +871,11 @@ impl Lower<'_> {
         match &s.kind {
             StmtKind::Empty => Ok(()),
             StmtKind::Assign(lhs, rhs) => {
-                self.rung(s.span);
+                self.open(s.span);
                 self.assign(lhs, rhs)
             }
             StmtKind::Call(callee, args) => {
-                self.rung(s.span);
+                self.open(s.span);
                 let is = |a: &Arg, n: &str| a.name.as_ref().is_some_and(|x| x.is(n));
                 let en = args.iter().find(|a| !a.output && is(a, "EN"));
                 let eno = args.iter().find(|a| a.output && is(a, "ENO"));
@@ -773,7 +923,7 @@ impl Lower<'_> {
                         // ELSIF: evaluated in the rung the previous arm skips to.
                         self.elem = self.b.element(c.span);
                     } else {
-                        self.rung(s.span);
+                        self.open(s.span);
                     }
                     let c = self.cond(c)?;
                     self.emit(Op::Ldn(c));
@@ -794,7 +944,7 @@ impl Lower<'_> {
                 Ok(())
             }
             StmtKind::Case { sel, arms, els } => {
-                self.rung(s.span);
+                self.open(s.span);
                 let (v, ty) = self.eval(sel, None)?;
                 let (Val::N(v), true) = (v, ty.is_int() || ty.is_bits() || matches!(ty, Ty::Enum(_))) else {
                     return Err(type_error(sel.span, format!("CASE selects on an integer, not a {ty}")));
@@ -2334,6 +2484,11 @@ impl Lower<'_> {
                     return Err(self.unknown(inst, "timer"));
                 };
                 if let Some(pt) = int_of(&vals[1]) {
+                    // A literal preset from a slot of the instance's own, so
+                    // instances declared together read presets laid out as
+                    // regularly as their other slots (native code's strided
+                    // runs), whatever the values.
+                    let pt = if self.optimise { self.b.own_i(pt) } else { pt };
                     self.emit(Op::CopyI(pt, t.i));
                 }
                 // IN not given: the input of the last call (EN).
