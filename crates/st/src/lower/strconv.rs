@@ -266,15 +266,8 @@ impl Lower<'_> {
         let V::L(x) = x else {
             return self.str_text("");
         };
-        let (lz, neg) = (self.b.const_l(0), self.b.temp_b());
-        self.emit(Op::CmpL(Cmp::Lt, x, lz));
-        self.emit(Op::Ote(neg));
-        self.emit(Op::True);
-        let a = self.b.temp_l();
-        self.emit(Op::UnL(IUn::Mov, x, a));
-        self.emit(Op::Xic(neg));
-        self.emit(Op::UnL(IUn::Neg, x, a));
-        self.emit(Op::True);
+        let (neg, a) = self.abs_l(x);
+        let lz = self.b.const_l(0);
         let mut text = self.str_text(if long { "LTIME#" } else { "T#" });
         let minus = self.str_text("-");
         let one = self.b.const_i(1);

@@ -445,6 +445,22 @@ impl Lower<'_> {
         r
     }
 
+    /// Whether the LINT `x` is negative, and |x| (LINT's minimum: the engine's
+    /// overflow fault), in temporaries.
+    pub(super) fn abs_l(&mut self, x: alba_ir::op::L) -> (B, alba_ir::op::L) {
+        let lz = self.b.const_l(0);
+        let neg = self.b.temp_b();
+        self.emit(Op::CmpL(Cmp::Lt, x, lz));
+        self.emit(Op::Ote(neg));
+        self.emit(Op::True);
+        let a = self.b.temp_l();
+        self.emit(Op::UnL(IUn::Mov, x, a));
+        self.emit(Op::Xic(neg));
+        self.emit(Op::UnL(IUn::Neg, x, a));
+        self.emit(Op::True);
+        (neg, a)
+    }
+
     /// `INT_TO_STRING` and the like: the decimal text of an integer (in an I
     /// or L slot) known to have at most `digits` digits (19 for a LINT), `-`
     /// first when negative, in temporaries.
@@ -453,17 +469,7 @@ impl Lower<'_> {
         let V::L(x) = x else {
             return self.str_text("");
         };
-        let lz = self.b.const_l(0);
-        let neg = self.b.temp_b();
-        self.emit(Op::CmpL(Cmp::Lt, x, lz));
-        self.emit(Op::Ote(neg));
-        self.emit(Op::True);
-        // |x| (LINT's minimum: the engine's overflow fault).
-        let a = self.b.temp_l();
-        self.emit(Op::UnL(IUn::Mov, x, a));
-        self.emit(Op::Xic(neg));
-        self.emit(Op::UnL(IUn::Neg, x, a));
-        self.emit(Op::True);
+        let (neg, a) = self.abs_l(x);
         // The digits right-aligned, and how many there are.
         let s = Str {
             len: self.b.temp_i(),
