@@ -57,6 +57,8 @@ test('the example net drawn live: the token waits at its condition, then runs th
   const { page, tid } = b;
   await page.goto(`${alba.url}#/program/batch.pnml`);
   await tid('net-batch.pnml').waitFor();
+  // the view is there before its net is drawn: wait for the drawing, then count
+  await tid('net-node-start').waitFor();
   assert.equal(await page.locator('[data-testid="net-svg"] .net-node').count(), 10);
   await page.waitForFunction(() => document.querySelector('[data-testid="net-live-state"]')?.textContent === 'live');
   // the token waits at `start`, which is not enabled: its guard (Start) is false, as the runtime says
