@@ -523,6 +523,7 @@ export const es: Record<string, string> = {
   'Of the saved version: save to analyse your changes.': 'De la versión guardada: guarde para analizar sus cambios.',
   'State space': 'Espacio de estados',
   '{n} states': '{n} estados',
+  '{n} states, counted with decision diagrams': '{n} estados, contados con diagramas de decisión',
   Bounded: 'Acotada',
   Safe: 'Segura',
   Deadlocks: 'Bloqueos',

@@ -1343,7 +1343,10 @@ export class NetView {
     add(el,
       this.dirty ? h('p', { class: 'hint' }, tr('Of the saved version: save to analyse your changes.')) : null,
       h('table', { class: 'net-an-table' },
-        row(tr('State space'), 'space', `${a.state_space ?? ''} · ${tr('{n} states', { n: a.states ?? a.symbolic?.states ?? '?' })}`),
+        row(tr('State space'), 'space', a.state_space !== 'complete' && a.symbolic?.status === 'complete'
+          // not listed, but counted exactly by the decision diagrams
+          ? tr('{n} states, counted with decision diagrams', { n: a.symbolic.states ?? '?' })
+          : `${a.state_space ?? ''} · ${tr('{n} states', { n: a.states ?? '?' })}`),
         row(tr('Bounded'), 'bounded', yes(a.bounded)),
         row(tr('Safe'), 'safe', yes(a.safe)),
         row(tr('Deadlocks'), 'deadlocks', a.deadlocks === null ? tr('unknown') : String(a.deadlocks)),
