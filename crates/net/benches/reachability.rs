@@ -27,11 +27,8 @@ fn main() {
         names.push("RobotManipulation-PT-00010");
     }
     let all = corpus::load();
-    for name in names {
-        let Some(i) = all.iter().find(|i| i.name == name) else {
-            println!("{name}: not in the corpus");
-            continue;
-        };
+    for i in names.into_iter().filter_map(|name| instance(&all, name)) {
+        let name = i.name.as_str();
         let net = corpus::net(i);
         let (report, states) = alba_net::analysis::bench::measure(name, &net);
         let want = i.state_space("STATES");
@@ -59,11 +56,8 @@ fn symbolic(names: &[String]) {
         names.iter().map(String::as_str).collect()
     };
     let all = corpus::load();
-    for name in names {
-        let Some(i) = all.iter().find(|i| i.name == name) else {
-            println!("{name}: not in the corpus");
-            continue;
-        };
+    for i in names.into_iter().filter_map(|name| instance(&all, name)) {
+        let name = i.name.as_str();
         let net = corpus::net(i);
         let o = explore(&net, &Limits::default(), &std::sync::atomic::AtomicBool::new(false));
         let want = i.state_space_text("STATES").unwrap_or_default();
@@ -86,4 +80,13 @@ fn symbolic(names: &[String]) {
             ),
         }
     }
+}
+
+/// The corpus's instance `name`, or a line saying it is not there.
+fn instance<'a>(all: &'a [corpus::Instance], name: &str) -> Option<&'a corpus::Instance> {
+    let found = all.iter().find(|i| i.name == name);
+    if found.is_none() {
+        println!("{name}: not in the corpus");
+    }
+    found
 }

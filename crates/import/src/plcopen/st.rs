@@ -508,7 +508,6 @@ pub(super) fn declare_actions<'a>(
     pname: &str,
     scope: &mut HashMap<String, Var>,
 ) -> Vec<StAction<'a>> {
-    let mut out = Vec::new();
     // Inline ST bodies of the chart's action blocks that are on a step:
     // actions named after their block and place in it
     // ([`inline_action_name`]).
@@ -522,61 +521,43 @@ pub(super) fn declare_actions<'a>(
                 .and_then(|c| c.child("connection"))
                 .is_some()
         });
-    for block in blocks {
-        for (k, a) in block.all("action").enumerate() {
-            let Some(st) = a.child("inline").and_then(|i| i.child("ST")) else {
-                continue;
-            };
+    let inline = blocks.flat_map(|block| {
+        block.all("action").enumerate().filter_map(move |(k, a)| {
+            let st = a.child("inline")?.child("ST")?;
             let name = inline_action_name(block, k);
-            let key = name.to_ascii_lowercase();
-            if scope.contains_key(&key) {
-                conv.report.push(
-                    Kind::Refused,
-                    conv.ctx.loc(a),
-                    format!("the inline action `{name}` of `{pname}` has the name of a variable; left out"),
-                );
-                continue;
-            }
-            scope.insert(
-                key,
-                Var {
-                    alba: name.clone(),
-                    kind: VarKind::Tag("BOOL".into()),
-                    fb: String::new(),
-                },
-            );
-            out.push(StAction { name, st });
-        }
-    }
-    let Some(acts) = pou.child("actions") else {
-        return out;
-    };
-    for a in acts.all("action") {
-        let Some(name) = a.attr("name") else { continue };
-        let Some(st) = a.child("body").and_then(|b| b.child("ST")) else {
-            continue;
-        };
+            Some((a, format!("the inline action `{name}`"), name, st))
+        })
+    });
+    // Then the POU's named actions with an ST body.
+    let named = pou
+        .child("actions")
+        .into_iter()
+        .flat_map(|acts| acts.all("action"))
+        .filter_map(|a| {
+            let name = a.attr("name")?;
+            let st = a.child("body")?.child("ST")?;
+            Some((a, format!("action `{name}`"), name.to_string(), st))
+        });
+    let mut out = Vec::new();
+    for (a, what, name, st) in inline.chain(named) {
         let key = name.to_ascii_lowercase();
         if scope.contains_key(&key) {
             conv.report.push(
                 Kind::Refused,
                 conv.ctx.loc(a),
-                format!("action `{name}` of `{pname}` has the name of a variable; left out"),
+                format!("{what} of `{pname}` has the name of a variable; left out"),
             );
             continue;
         }
         scope.insert(
             key,
             Var {
-                alba: name.to_string(),
+                alba: name.clone(),
                 kind: VarKind::Tag("BOOL".into()),
                 fb: String::new(),
             },
         );
-        out.push(StAction {
-            name: name.to_string(),
-            st,
-        });
+        out.push(StAction { name, st });
     }
     out
 }
