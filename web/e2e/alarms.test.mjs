@@ -39,6 +39,11 @@ test('the alarm summary: filter, sort, acknowledge the page, shelve, the log', a
   const force = (tag, value) => alba.api(`/api/forces/${tag}`, { method: 'PUT', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ value }) });
   // A second emergency stop (a new rising edge) and the level alarm's tag driven low.
   await force('STOP', false);
+  // The alarm service samples the published scans and may skip some: it must have seen
+  // STOP low before the new rising edge, or forcing it high again raises nothing.
+  const estopValue = async () => (await alba.json('/api/alarms?all=true')).find((a) => a.id === 'estop')?.value;
+  for (let i = 0; i < 100 && (await estopValue()) !== 0; i++) await page.waitForTimeout(50);
+  assert.equal(await estopValue(), 0, 'the alarm service saw STOP low');
   await force('STOP', true);
   await tid('tab-alarms').click();
   await tid('alarms-row-estop').waitFor();

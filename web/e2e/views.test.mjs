@@ -175,8 +175,10 @@ test('the tag table: a refused write leaves every row its height', async () => {
 
 test('filter boxes show their whole placeholder, in English and in Spanish', async () => {
   const { page, tid } = b;
-  const cut = (testid) =>
-    page.evaluate((id) => {
+  // (a tab's view is made on the hash change that follows the click: wait for the box)
+  const cut = async (testid) => {
+    await tid(testid).waitFor();
+    return page.evaluate((id) => {
       const el = document.querySelector(`[data-testid="${id}"]`);
       const cs = getComputedStyle(el);
       const ctx = document.createElement('canvas').getContext('2d');
@@ -184,6 +186,7 @@ test('filter boxes show their whole placeholder, in English and in Spanish', asy
       const room = el.clientWidth - parseFloat(cs.paddingLeft) - parseFloat(cs.paddingRight) - 16; // the clear button
       return ctx.measureText(el.placeholder).width > room ? `${el.placeholder}: ${ctx.measureText(el.placeholder).width} > ${room}` : '';
     }, testid);
+  };
   for (const lang of ['en', 'es']) {
     if (lang === 'es') {
       await page.evaluate(() => localStorage.setItem('alba.lang', 'es'));
