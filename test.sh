@@ -15,6 +15,11 @@ cd "$(dirname "$0")"
 source scripts/common.sh
 need_rust
 step() { printf '\n== %s\n' "$*"; }
+# Every test's scratch projects, sockets and browser profiles go under one directory,
+# removed when the run ends, pass or fail (std::env::temp_dir and mktemp read TMPDIR).
+scratch="$(mktemp -d "${TMPDIR:-/tmp}/alba-test.XXXXXX")"
+trap 'rm -rf "$scratch"' EXIT
+export TMPDIR="$scratch"
 
 step "format; docs/ARCHITECTURE.md's crate table against the manifests"
 cargo fmt --all -- --check
