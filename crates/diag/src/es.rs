@@ -2446,6 +2446,49 @@ pub const PHRASES: &[(&str, &str)] = &[
     ("start the file with `{}`", "empiece el archivo con `{0}`"),
     ("the columns are {}", "las columnas son {0}"),
     ("this address holds {}", "esta dirección contiene {0}"),
+    // the nets analysis's notes and `stopped` (alba-net), worded by the server for the studio
+    (
+        "guards, priorities and tags are ignored: this is the analysis of the underlying place/transition net",
+        "no se tienen en cuenta las guardas, las prioridades ni las variables: es el análisis de la red de lugares y transiciones subyacente",
+    ),
+    (
+        "inhibitor arcs: unboundedness is concluded only from growth of places without inhibitor arcs; otherwise the boundedness is reported unknown",
+        "arcos inhibidores: que la red no está acotada solo se concluye del crecimiento de lugares sin arcos inhibidores; si no, la acotación se da como desconocida",
+    ),
+    (
+        "the explicit exploration was skipped: the symbolic engine counted {} states, more than it can hold ({} states, --max-states, or {} MiB at {} bytes a state at least, --memory)",
+        "se omitió la exploración explícita: el motor simbólico contó {0} estados, más de los que puede guardar ({1} estados, --max-states, o {2} MiB a {3} bytes por estado como mínimo, --memory)",
+    ),
+    (
+        "symbolic engine stopped ({}) after {} nodes, {} s",
+        "el motor simbólico se detuvo ({0}) tras {1} nodos, {2} s",
+    ),
+    (
+        "unbounded: Karp–Miller coverability graph; states counts its nodes; edges, deadlocks and reversibility are not computed",
+        "no acotada: grafo de cobertura de Karp–Miller; los estados cuentan sus nodos; no se calculan los arcos, los bloqueos ni la reversibilidad",
+    ),
+    ("cancelled", "cancelado"),
+    ("cancelled after {} states", "cancelado tras {0} estados"),
+    (
+        "the net is unbounded and its coverability graph has more than {} nodes (--max-states)",
+        "la red no está acotada y su grafo de cobertura tiene más de {0} nodos (--max-states)",
+    ),
+    (
+        "place {} would be unbounded but an inhibitor arc reads it: the coverability graph would not be sound, boundedness unknown",
+        "el lugar {0} no estaría acotado, pero lo lee un arco inhibidor: el grafo de cobertura no sería correcto; acotación desconocida",
+    ),
+    (
+        "stopped after {} states (--max-states): the state space is incomplete",
+        "detenido tras {0} estados (--max-states): el espacio de estados está incompleto",
+    ),
+    (
+        "stopped after {} states: the state space needs more than {} MiB (--memory)",
+        "detenido tras {0} estados: el espacio de estados necesita más de {1} MiB (--memory)",
+    ),
+    (
+        "a place count exceeds 2^32-1: boundedness unknown",
+        "un lugar supera 2^32-1 marcas: acotación desconocida",
+    ),
 ];
 
 /// The Spanish explanation (`alba explain CODE --lang es`) of every code; a
@@ -2813,6 +2856,13 @@ pub const VALUES: &[(&str, &str)] = &[
     ("an initial marking", "un marcado inicial"),
     ("a priority", "una prioridad"),
     ("an arc weight", "el peso de un arco"),
+    // why the nets analysis's symbolic engine stopped
+    ("node budget", "presupuesto de nodos"),
+    ("memory budget", "presupuesto de memoria"),
+    ("time budget", "presupuesto de tiempo"),
+    ("cancelled", "cancelado"),
+    ("a place count exceeds 2^32-1", "un lugar supera 2^32-1 marcas"),
+    ("the other order completed first", "el otro orden terminó antes"),
 ];
 
 /// A value of a message in Spanish ([`VALUES`]).

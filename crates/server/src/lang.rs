@@ -48,3 +48,12 @@ pub fn worded(text: String) -> String {
         alba_compiler::diag::Lang::En => text,
     }
 }
+
+/// A label or note in `lang`: in Spanish by the phrase book
+/// (`alba_diag::es::phrase`), else as written.
+pub fn phrased(lang: alba_compiler::diag::Lang, text: &str) -> String {
+    match lang {
+        alba_compiler::diag::Lang::Es => alba_compiler::diag::es::phrase(text).unwrap_or_else(|| text.to_string()),
+        alba_compiler::diag::Lang::En => text.to_string(),
+    }
+}

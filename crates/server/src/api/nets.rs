@@ -218,6 +218,7 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
         ..Options::default()
     };
     let flag = cancel.clone();
+    let lang = crate::lang::request_lang();
     std::thread::Builder::new()
         .name("net-analysis".into())
         .spawn(move || {
@@ -255,7 +256,11 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
                     };
                     stubborn::answers_json(&pt, e, &stubborn::answer(&pt, props, &check, &control))
                 }
-                _ => to_json(&pt, &analyze(&pt, &options, &control)),
+                _ => {
+                    let mut json = to_json(&pt, &analyze(&pt, &options, &control));
+                    word_notes(lang, &mut json);
+                    json
+                }
             };
             // The next analysis may start once this one's result is out.
             drop(permit);
@@ -311,6 +316,23 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
         Body::from_stream(lines),
     )
         .into_response())
+}
+
+/// The analysis's `notes` and `stopped`, which alba-net writes in English as the
+/// command line prints them, in the language of the request (the phrase book of
+/// `alba_diag::es`; a text it lacks stays English).
+fn word_notes(lang: alba_compiler::diag::Lang, json: &mut serde_json::Value) {
+    let word = |t: &mut serde_json::Value| {
+        if let Some(s) = t.as_str() {
+            *t = crate::lang::phrased(lang, s).into();
+        }
+    };
+    if let Some(notes) = json.get_mut("notes").and_then(serde_json::Value::as_array_mut) {
+        notes.iter_mut().for_each(word);
+    }
+    if let Some(stopped) = json.get_mut("stopped") {
+        word(stopped);
+    }
 }
 
 /// The net program `name` names (as listed, or the net's name): its listed

@@ -592,6 +592,57 @@ async fn an_analysis_counts_with_decision_diagrams_on_request() {
     s.stop().await;
 }
 
+/// The analysis's notes and `stopped` come in the studio's language: every one of
+/// them in Spanish for `Accept-Language: es` (a note missing from the phrase book
+/// would come back in English and fail this), in English otherwise.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_analysis_speaks_the_language_of_the_request() {
+    let s = with_big_net("net-analysis-spanish", 12).await;
+    for body in [json!({"max_states": 1000}), json!({"symbolic": true})] {
+        let mut texts = Vec::new();
+        for lang in ["en", "es"] {
+            let res = s
+                .http
+                .post(s.url("/api/nets/big/analysis"))
+                .header("accept-language", lang)
+                .json(&body)
+                .send()
+                .await
+                .expect("request");
+            let text = res.text().await.expect("body");
+            let last: Json = serde_json::from_str(text.lines().last().expect("a line")).expect("JSON");
+            let r = &last["result"];
+            let mut t: Vec<String> = r["notes"]
+                .as_array()
+                .expect("notes")
+                .iter()
+                .map(|n| n.to_string())
+                .collect();
+            t.push(r["stopped"].to_string());
+            texts.push(t);
+        }
+        let (en, es) = (&texts[0], &texts[1]);
+        assert_eq!(en.len(), es.len());
+        for (en, es) in en.iter().zip(es) {
+            if en != "null" {
+                assert_ne!(en, es, "not in Spanish: {es}");
+            }
+        }
+        if body["max_states"] == 1000 {
+            assert!(
+                es.iter()
+                    .any(|t| t.contains("detenido tras 1000 estados (--max-states)")),
+                "{es:?}"
+            );
+            assert!(
+                es.iter().any(|t| t.contains("no se tienen en cuenta las guardas")),
+                "{es:?}"
+            );
+        }
+    }
+    s.stop().await;
+}
+
 /// A contest examination through the same streaming analysis: the last line's
 /// `result` is `alba analyze --examination --json`'s object; a formula naming no
 /// place of the net, an unknown examination or missing formulas are `422`.
