@@ -25,6 +25,9 @@ test('the studio speaks Spanish when asked, and remembers it', async () => {
   assert.equal(await tid('btn-rung-copy').textContent(), 'Copiar');
   await tid('rung-0').click({ position: { x: 20, y: 10 } });
   await page.getByText('Escalón 1', { exact: true }).waitFor();
+  // The palette's texts come from GET /api/domain, worded by the server in Spanish.
+  assert.equal(await tid('palette-group-timer').textContent(), 'Temporizador');
+  assert.match(await tid('palette-XIC').getAttribute('title'), /^XIC\(Bit\) — Examinar si cerrado: examinar si cerrado: deja pasar el peldaño cuando el bit es 1/);
   await b.shot('studio-es');
   // Remembered: a new visit is in Spanish too.
   await page.reload();

@@ -23,7 +23,7 @@ pub async fn get() -> Json<DomainReply> {
         })
         .collect();
     use alba_compiler::project::hmi;
-    let screens = crate::reply::ScreenDomain {
+    let mut screens = crate::reply::ScreenDomain {
         elements: hmi::ELEMENT_TYPES
             .iter()
             .map(|(t, d)| (t.to_string(), d.to_string()))
@@ -32,16 +32,64 @@ pub async fn get() -> Json<DomainReply> {
         animations: hmi::ANIMATIONS.iter().map(param_table).collect(),
         actions: hmi::ACTIONS.iter().map(|a| a.to_string()).collect(),
     };
+    let mut language = domain();
+    if crate::lang::request_lang() == alba_compiler::diag::Lang::Es {
+        for g in &mut language.groups {
+            spanish(&mut g.title);
+        }
+        for a in &mut language.args {
+            spanish(&mut a.doc);
+        }
+        language.instructions.iter_mut().for_each(spanish_instruction);
+        for (_, what) in &mut screens.elements {
+            spanish_owned(what);
+        }
+        for p in screens.properties.iter_mut().chain(&mut screens.animations) {
+            for p in &mut p.params {
+                spanish_owned(&mut p.help);
+            }
+        }
+    }
     Json(DomainReply {
-        language: domain(),
+        language,
         routes,
         screens,
     })
 }
 
-/// `GET /api/instructions`: the palette (every instruction, PID included).
+/// `GET /api/instructions`: the palette (every instruction, PID included),
+/// worded in the request's language as `/api/domain`.
 pub async fn instructions() -> Json<Vec<InstructionInfo>> {
-    Json(table())
+    let mut t = table();
+    if crate::lang::request_lang() == alba_compiler::diag::Lang::Es {
+        t.iter_mut().for_each(spanish_instruction);
+    }
+    Json(t)
+}
+
+/// A text the studio shows, in Spanish by `alba_diag::es::DOMAIN` (as it is
+/// when the table lacks it, which `the_domain_speaks_spanish` does not let ship).
+fn spanish(text: &mut &'static str) {
+    if let Some(es) = alba_compiler::diag::es::domain_text(text) {
+        *text = es;
+    }
+}
+
+fn spanish_owned(text: &mut String) {
+    if let Some(es) = alba_compiler::diag::es::domain_text(text) {
+        *text = es.to_string();
+    }
+}
+
+/// An instruction's title, doc and operand labels in Spanish.
+fn spanish_instruction(i: &mut InstructionInfo) {
+    spanish(&mut i.title);
+    spanish(&mut i.doc);
+    i.labels.iter_mut().for_each(spanish);
+    for o in &mut i.optional {
+        spanish(&mut o.label);
+        spanish(&mut o.doc);
+    }
 }
 
 /// An element type's or an animation's parameters.

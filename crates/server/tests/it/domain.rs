@@ -102,3 +102,74 @@ async fn domain_has_structures_signatures_and_address_notations() {
         path.display()
     );
 }
+
+/// The texts a person reads (titles, docs, operand labels, the designer's help), each
+/// with where it was found, from a reply of `GET /api/domain`.
+fn texts(v: &Json, key: &str, out: &mut Vec<(String, String)>) {
+    match v {
+        Json::String(t) if ["title", "doc", "labels", "label", "help", "elements"].contains(&key) => {
+            out.push((key.to_string(), t.clone()))
+        }
+        Json::Array(a) if key == "elements" => {
+            // `[type, what it is]`: the type is a name, not a text
+            a.iter().for_each(|e| texts(&e[1], key, out))
+        }
+        Json::Array(a) => a.iter().for_each(|e| texts(e, key, out)),
+        Json::Object(o) => o.iter().for_each(|(k, e)| texts(e, k, out)),
+        _ => {}
+    }
+}
+
+/// A Spanish studio gets the domain's texts in Spanish (issue 34's leftover): every text
+/// of the English reply has its entry in `es::DOMAIN`, the Spanish reply carries it,
+/// and every entry of the table is a text of the reply (no stale entries).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_domain_speaks_spanish() {
+    use alba_compiler::diag::es;
+    let s = Server::start("tank", "domain-es").await;
+    let en = s.get("/api/domain").await;
+    let get_es = |path: &str| {
+        s.http
+            .get(s.url(path))
+            .header("accept-language", "es-ES,es;q=0.9")
+            .send()
+    };
+    let es_reply: Json = get_es("/api/domain")
+        .await
+        .expect("request")
+        .json()
+        .await
+        .expect("JSON");
+    let (mut en_texts, mut es_texts) = (Vec::new(), Vec::new());
+    texts(&en, "", &mut en_texts);
+    texts(&es_reply, "", &mut es_texts);
+    assert_eq!(en_texts.len(), es_texts.len());
+    assert!(en_texts.len() > 300, "{} texts", en_texts.len());
+    let missing: Vec<&String> = en_texts
+        .iter()
+        .filter(|(_, t)| es::domain_text(t).is_none())
+        .map(|(_, t)| t)
+        .collect();
+    assert!(missing.is_empty(), "texts without Spanish in es::DOMAIN: {missing:#?}");
+    for ((_, en), (_, es)) in en_texts.iter().zip(&es_texts) {
+        assert_eq!(Some(es.as_str()), es::domain_text(en), "{en}");
+    }
+    let stale: Vec<&str> = es::DOMAIN
+        .iter()
+        .map(|(en, _)| *en)
+        .filter(|en| !en_texts.iter().any(|(_, t)| t == en))
+        .collect();
+    assert!(stale.is_empty(), "entries of es::DOMAIN that no text uses: {stale:?}");
+    // The palette's table too, and the rest of the reply (names, types, routes) as it was.
+    let palette: Json = get_es("/api/instructions")
+        .await
+        .expect("request")
+        .json()
+        .await
+        .expect("JSON");
+    assert_eq!(palette, es_reply["instructions"]);
+    assert_eq!(es_reply["instructions"][0]["title"], "Examinar si cerrado");
+    assert_eq!(es_reply["types"], en["types"]);
+    assert_eq!(es_reply["routes"], en["routes"]);
+    s.stop().await;
+}
