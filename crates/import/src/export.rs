@@ -676,6 +676,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
     // Their FUNCTIONs and FUNCTION_BLOCKs (no task instance) and TYPEs.
     let mut st_lib = String::new();
     let mut data_types = String::new();
+    let mut st_globals = String::new();
     for (k, p) in project.programs.iter().enumerate() {
         if !p.plant && p.name.to_ascii_lowercase().ends_with(".st") {
             let st = st_pous(files, p, &mut report);
@@ -687,6 +688,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
                 }
             }
             data_types.push_str(&st.types);
+            st_globals.push_str(&st.globals);
             continue;
         }
         if p.plant || !p.name.to_ascii_lowercase().ends_with(".lad") {
@@ -1000,7 +1002,7 @@ pub fn export_plcopen(dir: &Path) -> Result<(String, Report), Error> {
         .unwrap_or_else(|| "alba".into());
     let scan = project.scan_ms();
     let xml = format!(
-        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\n  <fileHeader companyName=\"Alba\" productName=\"Alba\" productVersion=\"{}\" creationDateTime=\"1970-01-01T00:00:00\"/>\n  <contentHeader name=\"{}\">\n    <coordinateInfo><fbd><scaling x=\"0\" y=\"0\"/></fbd><ld><scaling x=\"0\" y=\"0\"/></ld><sfc><scaling x=\"0\" y=\"0\"/></sfc></coordinateInfo>\n  </contentHeader>\n  <types>\n    {data_types}\n    <pous>\n{pous}    </pous>\n  </types>\n  <instances>\n    <configurations>\n      <configuration name=\"config\">\n        <resource name=\"resource\">\n          <task name=\"main\" interval=\"T#{scan}ms\" priority=\"0\">\n{instances}          </task>\n          <globalVars>\n{vars}          </globalVars>\n        </resource>\n      </configuration>\n    </configurations>\n  </instances>\n</project>\n",
+        "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<project xmlns=\"http://www.plcopen.org/xml/tc6_0201\" xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">\n  <fileHeader companyName=\"Alba\" productName=\"Alba\" productVersion=\"{}\" creationDateTime=\"1970-01-01T00:00:00\"/>\n  <contentHeader name=\"{}\">\n    <coordinateInfo><fbd><scaling x=\"0\" y=\"0\"/></fbd><ld><scaling x=\"0\" y=\"0\"/></ld><sfc><scaling x=\"0\" y=\"0\"/></sfc></coordinateInfo>\n  </contentHeader>\n  <types>\n    {data_types}\n    <pous>\n{pous}    </pous>\n  </types>\n  <instances>\n    <configurations>\n      <configuration name=\"config\">\n        <resource name=\"resource\">\n          <task name=\"main\" interval=\"T#{scan}ms\" priority=\"0\">\n{instances}          </task>\n          <globalVars>\n{vars}          </globalVars>\n{st_globals}        </resource>\n      </configuration>\n    </configurations>\n  </instances>\n</project>\n",
         env!("CARGO_PKG_VERSION"),
         esc(&name)
     );
@@ -1055,6 +1057,8 @@ struct StPous {
     pous: Vec<(String, String, bool)>,
     /// The `<dataType>`s of its TYPEs.
     types: String,
+    /// Its file-level VAR_GLOBAL blocks, as the resource's `globalVars` lists.
+    globals: String,
 }
 
 /// The POUs of the ST file `p` — PROGRAMs, FUNCTIONs and FUNCTION_BLOCKs,
@@ -1162,12 +1166,25 @@ fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, 
             ),
         }
     }
+    // File-level VAR_GLOBAL blocks (an import's `globals.st`): the resource's
+    // global variables, a `globalVars` list each, which an import reads back there.
+    let mut globals = String::new();
     for b in &file.globals {
-        report.push(
-            Kind::Refused,
-            loc(b.span.start),
-            "a VAR_GLOBAL block outside a POU is not exported; declare the tags in tags.csv".to_string(),
-        );
+        let mut list = String::new();
+        if var_list(b, "globalVars", "          ", &mut list, &loc, report) {
+            globals.push_str(&list);
+            report.push(
+                Kind::Converted,
+                loc(b.span.start),
+                "VAR_GLOBAL exported as the resource's global variables".to_string(),
+            );
+        } else {
+            report.push(
+                Kind::Refused,
+                loc(b.span.start),
+                "this VAR_GLOBAL block is not exported".to_string(),
+            );
+        }
     }
     let mut out = Vec::new();
     for pou in &file.pous {
@@ -1199,46 +1216,7 @@ fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, 
                 VarKind::Global => "globalVars",
                 VarKind::External => "externalVars",
             };
-            let attrs = format!(
-                "{}{}",
-                if b.retain { " retain=\"true\"" } else { "" },
-                if b.constant { " constant=\"true\"" } else { "" }
-            );
-            let _ = writeln!(iface, "          <{list}{attrs}>");
-            for d in &b.vars {
-                let ty = match st_type_xml(&d.ty) {
-                    Ok(t) => t,
-                    Err(why) => {
-                        report.push(Kind::Refused, loc(d.span.start), format!("{why} is not exported"));
-                        refused = true;
-                        continue;
-                    }
-                };
-                let init = match &d.init {
-                    None => String::new(),
-                    Some(Init::Expr(e)) => format!(
-                        "<initialValue><simpleValue value=\"{}\"/></initialValue>",
-                        esc(&expr(e))
-                    ),
-                    Some(_) => {
-                        report.push(
-                            Kind::Refused,
-                            loc(d.span.start),
-                            "an array or structure initialiser is not exported".to_string(),
-                        );
-                        refused = true;
-                        continue;
-                    }
-                };
-                for n in &d.names {
-                    let _ = writeln!(
-                        iface,
-                        "            <variable name=\"{}\"><type>{ty}</type>{init}</variable>",
-                        esc(&n.name)
-                    );
-                }
-            }
-            let _ = writeln!(iface, "          </{list}>");
+            refused |= !var_list(b, list, "          ", &mut iface, &loc, report);
         }
         let keyword = pou.kind.keyword();
         if refused {
@@ -1282,5 +1260,61 @@ fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, 
             pou.kind == PouKind::Program,
         ));
     }
-    StPous { pous: out, types }
+    StPous { pous: out, types, globals }
+}
+
+/// Writes the variable block `b` as the PLCopen list `list` (`localVars`,
+/// `globalVars`…) into `out`; false, each reason reported at its place, when a
+/// variable's type or initial value has no PLCopen form.
+fn var_list(
+    b: &alba_compiler::st::ast::VarBlock,
+    list: &str,
+    indent: &str,
+    out: &mut String,
+    loc: &dyn Fn(u32) -> Location,
+    report: &mut Report,
+) -> bool {
+    use alba_compiler::st::ast::{Init, expr};
+    let attrs = format!(
+        "{}{}",
+        if b.retain { " retain=\"true\"" } else { "" },
+        if b.constant { " constant=\"true\"" } else { "" }
+    );
+    let mut ok = true;
+    let _ = writeln!(out, "{indent}<{list}{attrs}>");
+    for d in &b.vars {
+        let ty = match st_type_xml(&d.ty) {
+            Ok(t) => t,
+            Err(why) => {
+                report.push(Kind::Refused, loc(d.span.start), format!("{why} is not exported"));
+                ok = false;
+                continue;
+            }
+        };
+        let init = match &d.init {
+            None => String::new(),
+            Some(Init::Expr(e)) => format!(
+                "<initialValue><simpleValue value=\"{}\"/></initialValue>",
+                esc(&expr(e))
+            ),
+            Some(_) => {
+                report.push(
+                    Kind::Refused,
+                    loc(d.span.start),
+                    "an array or structure initialiser is not exported".to_string(),
+                );
+                ok = false;
+                continue;
+            }
+        };
+        for n in &d.names {
+            let _ = writeln!(
+                out,
+                "{indent}  <variable name=\"{}\"><type>{ty}</type>{init}</variable>",
+                esc(&n.name)
+            );
+        }
+    }
+    let _ = writeln!(out, "{indent}</{list}>");
+    ok
 }

@@ -903,4 +903,16 @@ IF mode = stopped THEN mode := running; ELSIF n >= 3 THEN mode := last; END_IF;]
             "{mode}"
         );
     }
+    // Exported, globals.st becomes the resource's globalVars lists (CONSTANT kept), and
+    // imported again it is the same file and the same run.
+    let (xml, report) = alba_import::export_plcopen(&dir).expect("export");
+    assert_eq!(report.count(alba_import::Kind::Refused), 0, "{}", report.render());
+    assert!(xml.contains("<globalVars constant=\"true\">"), "{xml}");
+    let again = tmp.path().join("again.xml");
+    std::fs::write(&again, &xml).expect("write");
+    let second = tmp.path().join("second");
+    let r = alba_import::import(&again, &second, &Options::default()).expect("import again");
+    assert_eq!(r.count(alba_import::Kind::Refused), 0, "{}", r.render());
+    assert_eq!(std::fs::read_to_string(second.join("globals.st")).expect("globals.st"), g);
+    assert_eq!(trace_in("fused", &second, "time_ms,tag,value\n", "mode,main.n", 20, 10), want);
 }
