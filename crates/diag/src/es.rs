@@ -3146,20 +3146,8 @@ pub const DOMAIN: &[(&str, &str)] = &[
     ("Flow", "Flujo"),
     ("Special", "Especial"),
     ("a BOOL to read", "un BOOL que leer"),
-    ("a BOOL tag to write", "una variable BOOL que escribir"),
-    ("a TIMER tag", "una variable TIMER"),
-    ("a COUNTER tag", "una variable COUNTER"),
-    ("a TIMER or COUNTER tag", "una variable TIMER o COUNTER"),
-    (
-        "an integer preset (literal, `?` or integer tag)",
-        "una preselección entera (literal, `?` o variable entera)",
-    ),
-    ("an integer literal or `?`", "un literal entero o `?`"),
-    ("a number (tag or literal)", "un número (variable o literal)"),
-    ("a numeric tag to write", "una variable numérica que escribir"),
     ("a label (LBL)", "una etiqueta (LBL)"),
     ("an expression (CPT)", "una expresión (CPT)"),
-    ("a PID tag", "una variable PID"),
     ("Examine If Closed", "Examinar si cerrado"),
     (
         "examine if closed: passes the rung when the bit is 1",
@@ -3559,9 +3547,14 @@ pub const DOMAIN: &[(&str, &str)] = &[
     ),
 ];
 
-/// `text` of the domain in Spanish ([`DOMAIN`]).
+/// `text` of the domain in Spanish ([`DOMAIN`], else [`VALUES`]: the operand
+/// kinds are the noun phrases messages use).
 pub fn domain_text(text: &str) -> Option<&'static str> {
-    DOMAIN.iter().find(|(en, _)| *en == text).map(|(_, es)| *es)
+    DOMAIN
+        .iter()
+        .chain(VALUES)
+        .find(|(en, _)| *en == text)
+        .map(|(_, es)| *es)
 }
 
 /// A label or hint in Spanish, if the phrase book has it.

@@ -1065,7 +1065,7 @@ struct StPous {
 /// with ST bodies — and its TYPEs as `<dataType>`s; what else it holds is
 /// refused with its place.
 fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, report: &mut Report) -> StPous {
-    use alba_compiler::st::ast::{Init, PouKind, TypeRef, VarKind, expr};
+    use alba_compiler::st::ast::{PouKind, TypeRef, VarKind, expr};
     let text = files.text(p.file);
     let loc = |at: u32| {
         let (l, c) = files.line_col(p.file, at as usize);
@@ -1086,14 +1086,10 @@ fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, 
                             break;
                         }
                     };
-                    let init = match &m.init {
-                        None => String::new(),
-                        Some(Init::Expr(e)) => format!(
-                            "<initialValue><simpleValue value=\"{}\"/></initialValue>",
-                            esc(&expr(e))
-                        ),
-                        Some(_) => {
-                            bad = Some("an array or structure initialiser".into());
+                    let init = match init_xml(m.init.as_ref()) {
+                        Ok(init) => init,
+                        Err(why) => {
+                            bad = Some(why);
                             break;
                         }
                     };
@@ -1138,14 +1134,7 @@ fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, 
             }
             ty => st_type_xml(ty),
         };
-        let init = match &t.init {
-            None => Ok(String::new()),
-            Some(Init::Expr(e)) => Ok(format!(
-                "<initialValue><simpleValue value=\"{}\"/></initialValue>",
-                esc(&expr(e))
-            )),
-            Some(_) => Err("an array or structure initialiser".to_string()),
-        };
+        let init = init_xml(t.init.as_ref());
         match (base, init) {
             (Ok(b), Ok(i)) => {
                 let _ = writeln!(
@@ -1260,7 +1249,25 @@ fn st_pous(files: &alba_diag::Files, p: &alba_compiler::project::ProgramSource, 
             pou.kind == PouKind::Program,
         ));
     }
-    StPous { pous: out, types, globals }
+    StPous {
+        pous: out,
+        types,
+        globals,
+    }
+}
+
+/// The `<initialValue>` of an initial value (nothing for none), or why it has
+/// no PLCopen form here.
+fn init_xml(init: Option<&alba_compiler::st::ast::Init>) -> Result<String, String> {
+    use alba_compiler::st::ast::{Init, expr};
+    match init {
+        None => Ok(String::new()),
+        Some(Init::Expr(e)) => Ok(format!(
+            "<initialValue><simpleValue value=\"{}\"/></initialValue>",
+            esc(&expr(e))
+        )),
+        Some(_) => Err("an array or structure initialiser".to_string()),
+    }
 }
 
 /// Writes the variable block `b` as the PLCopen list `list` (`localVars`,
@@ -1274,7 +1281,6 @@ fn var_list(
     loc: &dyn Fn(u32) -> Location,
     report: &mut Report,
 ) -> bool {
-    use alba_compiler::st::ast::{Init, expr};
     let attrs = format!(
         "{}{}",
         if b.retain { " retain=\"true\"" } else { "" },
@@ -1291,18 +1297,10 @@ fn var_list(
                 continue;
             }
         };
-        let init = match &d.init {
-            None => String::new(),
-            Some(Init::Expr(e)) => format!(
-                "<initialValue><simpleValue value=\"{}\"/></initialValue>",
-                esc(&expr(e))
-            ),
-            Some(_) => {
-                report.push(
-                    Kind::Refused,
-                    loc(d.span.start),
-                    "an array or structure initialiser is not exported".to_string(),
-                );
+        let init = match init_xml(d.init.as_ref()) {
+            Ok(init) => init,
+            Err(why) => {
+                report.push(Kind::Refused, loc(d.span.start), format!("{why} is not exported"));
                 ok = false;
                 continue;
             }

@@ -913,6 +913,12 @@ IF mode = stopped THEN mode := running; ELSIF n >= 3 THEN mode := last; END_IF;]
     let second = tmp.path().join("second");
     let r = alba_import::import(&again, &second, &Options::default()).expect("import again");
     assert_eq!(r.count(alba_import::Kind::Refused), 0, "{}", r.render());
-    assert_eq!(std::fs::read_to_string(second.join("globals.st")).expect("globals.st"), g);
-    assert_eq!(trace_in("fused", &second, "time_ms,tag,value\n", "mode,main.n", 20, 10), want);
+    assert_eq!(
+        std::fs::read_to_string(second.join("globals.st")).expect("globals.st"),
+        g
+    );
+    assert_eq!(
+        trace_in("fused", &second, "time_ms,tag,value\n", "mode,main.n", 20, 10),
+        want
+    );
 }

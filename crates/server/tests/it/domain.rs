@@ -121,8 +121,9 @@ fn texts(v: &Json, key: &str, out: &mut Vec<(String, String)>) {
 }
 
 /// A Spanish studio gets the domain's texts in Spanish (issue 34's leftover): every text
-/// of the English reply has its entry in `es::DOMAIN`, the Spanish reply carries it,
-/// and every entry of the table is a text of the reply (no stale entries).
+/// of the English reply has its entry in `es::DOMAIN` (or `es::VALUES`, for the operand
+/// kinds), the Spanish reply carries it, and every entry of `es::DOMAIN` is a text of the
+/// reply (no stale entries).
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_domain_speaks_spanish() {
     use alba_compiler::diag::es;
