@@ -1750,8 +1750,8 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (
         Code::StNotSupported,
-        "{}: a string converts only to numbers, bit strings and BOOL yet",
-        "{0}: por ahora una cadena solo se convierte en números, cadenas de bits y BOOL",
+        "{}: a string converts only to numbers, bit strings, BOOL, TIME and LTIME yet",
+        "{0}: por ahora una cadena solo se convierte en números, cadenas de bits, BOOL, TIME y LTIME",
     ),
     (
         Code::StType,

@@ -327,7 +327,7 @@ fn strings_are_checked() {
          s := 'caf$E9';
          w := \"$00E9t$D800\";
          s := FOO_TO_STRING(1);
-         N := STRING_TO_TIME('T#1s');
+         N := STRING_TO_DATE('D#2024-01-01');
          END_PROGRAM",
     );
     for want in [
@@ -341,7 +341,7 @@ fn strings_are_checked() {
         "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
         "`$D800` is not a character (a UTF-16 surrogate)",
         "FOO_TO_STRING: `FOO` is not an elementary type",
-        "STRING_TO_TIME: a string converts only to numbers, bit strings and BOOL yet",
+        "STRING_TO_DATE: a string converts only to numbers, bit strings, BOOL, TIME and LTIME yet",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
@@ -379,6 +379,7 @@ fn the_cost_of_each_string_function_is_printed() {
         ("r := LREAL_TO_STRING(y);", 6_000),
         ("r := TIME_TO_STRING(t);", 4_000),
         ("x := STRING_TO_REAL(a);", 8_000),
+        ("t := STRING_TO_TIME(a);", 17_000),
         ("r := DT_TO_STRING(dt);", 5_000),
     ] {
         let p = modes::program(
@@ -506,6 +507,87 @@ fn conversions_between_strings_and_reals_times_and_bools() {
         ]
     );
     assert_eq!(faults, 0);
+}
+
+#[test]
+fn durations_read_from_strings() {
+    let texts = [
+        "T#1h2m3s4ms",
+        "t#1H30M",
+        "  TIME#-1.5s",
+        "-1.5s",
+        "1d_2h",
+        "2m",
+        "2ms",
+        "T#24d20h31m23s647ms",
+        "5s!",
+        "T#1.2345s",
+        "abc",
+        "T5s",
+        "T# 5s",
+        "12",
+        "1us",
+        "1x5s",
+        "",
+    ];
+    let want = [
+        "T#1h2m3s4ms",
+        "T#1h30m",
+        "T#-1s500ms",
+        "T#-1s500ms",
+        "T#1d2h",
+        "T#2m",
+        "T#2ms",
+        "T#24d20h31m23s647ms",
+        "T#5s",
+        "T#1s234ms",
+        "T#0ms",
+        "T#0ms",
+        "T#0ms",
+        "T#0ms",
+        "T#0ms",
+        "T#0ms",
+        "T#0ms",
+    ];
+    let long = [
+        ("LTIME#1d1ms2us3ns", "LTIME#1d1ms2us3ns"),
+        ("lt#2us3NS", "LTIME#2us3ns"),
+        ("LTIME#1.5us", "LTIME#1us500ns"),
+        ("1m1s", "LTIME#1m1s"),
+        ("3u", "LTIME#0ns"),
+    ];
+    let mut body = String::new();
+    let mut read = Vec::new();
+    for (k, t) in texts.iter().enumerate() {
+        body.push_str(&format!("s{k} := TIME_TO_STRING(STRING_TO_TIME('{t}'));\n"));
+        read.push(format!("Main.s{k}"));
+    }
+    for (k, (t, _)) in long.iter().enumerate() {
+        body.push_str(&format!("l{k} := LTIME_TO_STRING(STRING_TO_LTIME('{t}'));\n"));
+        read.push(format!("Main.l{k}"));
+    }
+    // TIME_TO_STRING's text reads back as the same duration.
+    body.push_str("r := TIME_TO_STRING(STRING_TO_TIME(TIME_TO_STRING(T#-3d4h5m6s7ms)));\n");
+    read.push("Main.r".into());
+    let vars: Vec<String> = read.iter().map(|r| r.trim_start_matches("Main.").to_string()).collect();
+    let program = format!(
+        "PROGRAM Main VAR {} : STRING; END_VAR\n{body}END_PROGRAM",
+        vars.join(", ")
+    );
+    let watch: Vec<W> = read.iter().map(|r| W::S(r.as_str())).collect();
+    let (v, faults) = once("name,type\nN,INT\n", &program, &watch);
+    let mut expected: Vec<&str> = want.to_vec();
+    expected.extend(long.iter().map(|(_, w)| *w));
+    expected.push("T#-3d4h5m6s7ms");
+    assert_eq!(v, expected);
+    assert_eq!(faults, 0);
+    // Too long for a TIME (a DINT of milliseconds): the overflow fault, as STRING_TO_DINT.
+    let (_, faults) = once(
+        "name,type\nN,INT\n",
+        "PROGRAM Main VAR t : TIME; END_VAR t := STRING_TO_TIME('T#30d'); END_PROGRAM",
+        &[],
+    );
+    assert_eq!(faults, 1);
 }
 
 #[test]

@@ -506,6 +506,238 @@ impl Lower<'_> {
         r
     }
 
+    /// `STRING_TO_TIME`, `STRING_TO_LTIME`: a duration literal, as
+    /// `TIME_TO_STRING` writes it and more: spaces first skipped, an optional
+    /// prefix (letters and `#`: `T#`, `TIME#`, `LT#`, `LTIME#`, any case), an
+    /// optional sign, then groups of a number (`_` between digits and groups
+    /// allowed, an optional fraction of which the first three digits count)
+    /// and its unit `d` `h` `m` `s` `ms` `us` `ns` (any case), in any order:
+    /// `'T#1h30m'`, `'-1.5s'`, `'ltime#2us3ns'`, `'TIME#6d_3h'`. Reading ends at
+    /// the first other character; the groups read by then count (`'5s!'` is
+    /// 5 s, `'abc'` and a number without its unit 0). Computed in LINT
+    /// nanoseconds: an LTIME, or for a TIME the milliseconds (truncated; too
+    /// large a value is the engine's overflow fault, as for `STRING_TO_DINT`).
+    pub(super) fn string_to_time(&mut self, s: &Str, long: bool) -> Val {
+        let ci = |l: &mut Self, v: i32| l.b.const_i(v);
+        let cl = |l: &mut Self, v: i64| l.b.const_l(v);
+        let letter = |l: &mut Self, c: u8| l.b.const_i(i32::from(c));
+        let ph: Vec<I> = (0..5).map(|k| ci(self, k)).collect();
+        let (zl, onel, tenl) = (cl(self, 0), cl(self, 1), cl(self, 10));
+        let (c0, c9, one, three) = (ci(self, 48), ci(self, 57), ci(self, 1), ci(self, 3));
+        // (`c | 32` is the lower case of a letter, and leaves digits and signs as they are)
+        let (space, hash, minus, plus, under, point) = (
+            ci(self, 32),
+            ci(self, 35),
+            ci(self, 45),
+            ci(self, 43),
+            ci(self, 95),
+            ci(self, 46),
+        );
+        let (la, lz, ls) = (letter(self, b'a'), letter(self, b'z'), letter(self, b's'));
+        // Phase 0: spaces and the prefix; 1: a group may start; 2: its digits;
+        // 3: its fraction; 4: ended.
+        let (phase, fd, lc, d) = (self.b.temp_i(), self.b.temp_i(), self.b.temp_i(), self.b.temp_i());
+        let [num, frac, scale, total, part, dl, unit] = [(); 7].map(|_| self.b.temp_l());
+        let [neg, prefix, grouped, done, pm, pu, pn, go] = [(); 8].map(|_| self.b.temp_b());
+        for t in [num, frac, total] {
+            self.emit(Op::UnL(IUn::Mov, zl, t));
+        }
+        self.emit(Op::UnL(IUn::Mov, onel, scale));
+        self.emit(Op::UnI(IUn::Mov, ph[0], phase));
+        self.emit(Op::UnI(IUn::Mov, ph[0], fd));
+        self.emit(Op::Afi);
+        for b in [neg, prefix, grouped, pm, pu, pn] {
+            self.emit(Op::Ote(b));
+        }
+        self.emit(Op::True);
+        // When `go` is set: adds the group read (`num.frac` of `unit`
+        // nanoseconds) and starts the next group; `go` is cleared.
+        let apply = |l: &mut Self| {
+            l.emit(Op::Xic(go));
+            l.emit(Op::BinL(IBin::Mul, num, unit, part));
+            l.emit(Op::BinL(IBin::Add, total, part, total));
+            l.emit(Op::BinL(IBin::Mul, frac, unit, part));
+            l.emit(Op::BinL(IBin::Div, part, scale, part));
+            l.emit(Op::BinL(IBin::Add, total, part, total));
+            l.emit(Op::UnL(IUn::Mov, zl, num));
+            l.emit(Op::UnL(IUn::Mov, zl, frac));
+            l.emit(Op::UnL(IUn::Mov, onel, scale));
+            l.emit(Op::UnI(IUn::Mov, ph[0], fd));
+            l.emit(Op::UnI(IUn::Mov, ph[1], phase));
+            l.emit(Op::Otl(grouped));
+            l.emit(Op::Otu(go));
+            l.emit(Op::True);
+        };
+        // On the rung so far: the unit is `u` nanoseconds, `go`, and the
+        // character is read when `consume`.
+        let take = |l: &mut Self, u: i64, consume: bool| {
+            let u = cl(l, u);
+            l.emit(Op::UnL(IUn::Mov, u, unit));
+            l.emit(Op::Otl(go));
+            if consume {
+                l.emit(Op::Otl(done));
+            }
+            l.emit(Op::True);
+        };
+        self.emit(Op::Afi);
+        self.emit(Op::Ote(go));
+        self.emit(Op::True);
+        for &ch in &s.chars {
+            self.emit(Op::BinI(IBin::Or, ch, space, lc));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[4]));
+            self.emit(Op::Ote(done));
+            self.emit(Op::True);
+            // A pending `m` is `ms` or else minutes (and this character is
+            // read on); a pending `u` or `n` needs its `s`.
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xic(pm));
+            self.emit(Op::CmpI(Cmp::Eq, lc, ls));
+            take(self, 1_000_000, true);
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xic(pm));
+            take(self, 60_000_000_000, false);
+            for (flag, u) in [(pu, 1_000), (pn, 1)] {
+                self.emit(Op::Xio(done));
+                self.emit(Op::Xic(flag));
+                self.emit(Op::CmpI(Cmp::Eq, lc, ls));
+                take(self, u, true);
+                self.emit(Op::Xio(done));
+                self.emit(Op::Xic(flag));
+                self.emit(Op::UnI(IUn::Mov, ph[4], phase));
+                self.emit(Op::Otl(done));
+                self.emit(Op::True);
+            }
+            self.emit(Op::Afi);
+            for f in [pm, pu, pn] {
+                self.emit(Op::Ote(f));
+            }
+            self.emit(Op::True);
+            apply(self);
+            // Phase 0: spaces, then the prefix's letters and its `#`.
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xio(prefix));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::CmpI(Cmp::Eq, ch, space));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::CmpI(Cmp::Ge, lc, la));
+            self.emit(Op::CmpI(Cmp::Le, lc, lz));
+            self.emit(Op::Otl(prefix));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xic(prefix));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::CmpI(Cmp::Eq, ch, hash));
+            self.emit(Op::UnI(IUn::Mov, ph[1], phase));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xic(prefix));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::UnI(IUn::Mov, ph[4], phase));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            // A sign before the first group.
+            for (sign, flag) in [(minus, Some(neg)), (plus, None)] {
+                self.emit(Op::Xio(done));
+                self.emit(Op::Xio(grouped));
+                self.emit(Op::CmpI(Cmp::Le, phase, ph[1]));
+                self.emit(Op::CmpI(Cmp::Eq, ch, sign));
+                if let Some(f) = flag {
+                    self.emit(Op::Otl(f));
+                }
+                self.emit(Op::UnI(IUn::Mov, ph[1], phase));
+                self.emit(Op::Otl(done));
+                self.emit(Op::True);
+            }
+            // A digit: of the number (phases 0–2), of its fraction (3; the
+            // fourth and later are read but do not count).
+            self.emit(Op::BinI(IBin::Sub, ch, c0, d));
+            self.emit(Op::Cvt(alba_ir::op::Cvt::IL(d, dl)));
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Ge, ch, c0));
+            self.emit(Op::CmpI(Cmp::Le, ch, c9));
+            self.emit(Op::CmpI(Cmp::Le, phase, ph[2]));
+            self.emit(Op::BinL(IBin::Mul, num, tenl, num));
+            self.emit(Op::BinL(IBin::Add, num, dl, num));
+            self.emit(Op::UnI(IUn::Mov, ph[2], phase));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Ge, ch, c0));
+            self.emit(Op::CmpI(Cmp::Le, ch, c9));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[3]));
+            self.emit(Op::Otl(done));
+            self.emit(Op::CmpI(Cmp::Lt, fd, three));
+            self.emit(Op::BinL(IBin::Mul, frac, tenl, frac));
+            self.emit(Op::BinL(IBin::Add, frac, dl, frac));
+            self.emit(Op::BinL(IBin::Mul, scale, tenl, scale));
+            self.emit(Op::BinI(IBin::Add, fd, one, fd));
+            self.emit(Op::True);
+            // `_` between digits or groups, the point after digits.
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Ge, phase, ph[2]));
+            self.emit(Op::CmpI(Cmp::Eq, ch, under));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xic(grouped));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[1]));
+            self.emit(Op::CmpI(Cmp::Eq, ch, under));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[2]));
+            self.emit(Op::CmpI(Cmp::Eq, ch, point));
+            self.emit(Op::UnI(IUn::Mov, ph[3], phase));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            // A unit after a number: `d`, `h`, `s` at once; `m`, `u`, `n` wait
+            // for the next character.
+            for (c, u) in [
+                (b'd', 86_400_000_000_000),
+                (b'h', 3_600_000_000_000),
+                (b's', 1_000_000_000),
+            ] {
+                let c = letter(self, c);
+                self.emit(Op::Xio(done));
+                self.emit(Op::CmpI(Cmp::Ge, phase, ph[2]));
+                self.emit(Op::CmpI(Cmp::Eq, lc, c));
+                take(self, u, true);
+            }
+            apply(self);
+            for (c, flag) in [(b'm', pm), (b'u', pu), (b'n', pn)] {
+                let c = letter(self, c);
+                self.emit(Op::Xio(done));
+                self.emit(Op::CmpI(Cmp::Ge, phase, ph[2]));
+                self.emit(Op::CmpI(Cmp::Eq, lc, c));
+                self.emit(Op::Otl(flag));
+                self.emit(Op::Otl(done));
+                self.emit(Op::True);
+            }
+            // Anything else ends the reading.
+            self.emit(Op::Xio(done));
+            self.emit(Op::UnI(IUn::Mov, ph[4], phase));
+            self.emit(Op::True);
+        }
+        // A last `m` is minutes.
+        self.emit(Op::Xic(pm));
+        take(self, 60_000_000_000, false);
+        apply(self);
+        self.emit(Op::Xic(neg));
+        self.emit(Op::UnL(IUn::Neg, total, total));
+        self.emit(Op::True);
+        if long {
+            return Val::N(V::L(total));
+        }
+        let ms = cl(self, 1_000_000);
+        self.emit(Op::BinL(IBin::Div, total, ms, total));
+        self.convert(Val::N(V::L(total)), &Ty::Lint, &Ty::Dint)
+    }
+
     /// `STRING_TO_REAL`, `STRING_TO_LREAL`: the number at the start of the
     /// text (spaces first skipped, an optional sign, digits with an optional
     /// `.` and fraction, an optional exponent `E`/`e` with its sign); it ends

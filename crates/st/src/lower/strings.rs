@@ -680,16 +680,21 @@ impl Lower<'_> {
             }
             (Some(fw), None) => {
                 let to_ty = elementary(to)
-                    .filter(|t| t.is_int() || t.is_bits() || t.is_real() || *t == Ty::Bool)
+                    .filter(|t| {
+                        t.is_int() || t.is_bits() || t.is_real() || matches!(t, Ty::Bool | Ty::Time | Ty::Ltime)
+                    })
                     .ok_or_else(|| {
                         not_supported(
                             span,
-                            format!("{f}: a string converts only to numbers, bit strings and BOOL yet"),
+                            format!("{f}: a string converts only to numbers, bit strings, BOOL, TIME and LTIME yet"),
                         )
                     })?;
                 let (s, _) = self.str_arg(&f, arg, Some(fw))?;
                 if to_ty == Ty::Bool {
                     return Ok((Val::B(self.string_to_bool(&s)), Ty::Bool));
+                }
+                if matches!(to_ty, Ty::Time | Ty::Ltime) {
+                    return Ok((self.string_to_time(&s, to_ty == Ty::Ltime), to_ty));
                 }
                 if to_ty.is_real() {
                     let v = self.string_to_real(&s, to_ty == Ty::Lreal);
