@@ -17,7 +17,10 @@ need_rust
 step() { printf '\n== %s\n' "$*"; }
 # Every test's scratch projects, sockets and browser profiles go under one directory,
 # removed when the run ends, pass or fail (std::env::temp_dir and mktemp read TMPDIR).
+# Open like /tmp itself (1777): PostgreSQL and Mosquitto run as their own users and
+# must reach the files the tests make for them.
 scratch="$(mktemp -d "${TMPDIR:-/tmp}/alba-test.XXXXXX")"
+chmod 1777 "$scratch"
 trap 'rm -rf "$scratch"' EXIT
 export TMPDIR="$scratch"
 
