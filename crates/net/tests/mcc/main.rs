@@ -473,3 +473,88 @@ fn examinations_match_the_contest() {
         assert!(*instances >= 20, "{exam}: only {instances} instances");
     }
 }
+
+/// Point 6 of issue 38, the examinations: every formula of `UpperBounds`,
+/// `ReachabilityCardinality`, `ReachabilityFireability` and `ReachabilityDeadlock` of
+/// every coloured instance that unfolds, read against its unfolding (a coloured place is
+/// its unfolded places together, a coloured transition any of its unfolded ones),
+/// answered on the unfolded net and compared with the contest's verdict; every trace is
+/// replayed on the unfolded net.
+#[test]
+fn coloured_examinations_match_the_contest() {
+    use alba_net::analysis::formula::{self, Query};
+    use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer};
+    let mut failures = Vec::new();
+    let mut per_exam: BTreeMap<&str, (usize, usize)> = BTreeMap::new();
+    let mut traces = 0;
+    for i in alba_testkit::mcc::instances_in(&alba_testkit::mcc::coloured_path())
+        .into_iter()
+        .map(|(name, files)| corpus::Instance { name, files })
+        .filter(|i| !OVER_BUDGET.contains(&i.name.as_str()))
+    {
+        let text = i.text("model.pnml").expect("model.pnml");
+        let (net, unfolding) =
+            match alba_net::colored::unfold(alba_diag::FileId(0), &text, &alba_net::colored::Budget::default()) {
+                Ok(x) => x,
+                Err(d) => {
+                    failures.push(format!("{}: {d:?}", i.name));
+                    continue;
+                }
+            };
+        let pt = alba_net::PtNet::from_net(&net);
+        for exam in [
+            "UpperBounds",
+            "ReachabilityCardinality",
+            "ReachabilityFireability",
+            "ReachabilityDeadlock",
+        ] {
+            let want = oracle_answers(&i, exam);
+            if want.is_empty() {
+                failures.push(format!("{} {exam}: no oracle", i.name));
+                continue;
+            }
+            let props = if exam == "ReachabilityDeadlock" {
+                vec![formula::deadlock_property()]
+            } else {
+                let text = i.text(&format!("{exam}.xml")).expect("formula file");
+                match formula::parse_for(&text, &pt, Some(&unfolding)) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        failures.push(format!("{} {exam}: {e}", i.name));
+                        continue;
+                    }
+                }
+            };
+            let answers = answer(&pt, &props, &CheckOptions::default(), &Control::none());
+            let entry = per_exam.entry(exam).or_default();
+            for (p, a) in props.iter().zip(&answers) {
+                entry.0 += 1;
+                let have = a.to_string();
+                let have_value = have.split_whitespace().nth(2).unwrap_or("").to_string();
+                match want.iter().find(|(id, _)| *id == a.id) {
+                    Some((_, v)) if *v == have_value => entry.1 += 1,
+                    Some((_, v)) => failures.push(format!("{}: have {have}, want {v}", a.id)),
+                    None => failures.push(format!("{}: no oracle", a.id)),
+                }
+                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&a.trace, &p.query) {
+                    traces += 1;
+                    let m = replay(&pt, trace);
+                    if f.eval(&pt, &m) != (a.verdict == Verdict::True) {
+                        failures.push(format!("{}: the trace ends where the formula is not", a.id));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    eprintln!("coloured formulas (answered, agreeing) per examination: {per_exam:?}; {traces} traces replayed");
+    for (exam, (formulas, agreeing)) in &per_exam {
+        assert_eq!(formulas, agreeing, "{exam}");
+        assert!(*formulas >= 28, "{exam}: only {formulas} formulas");
+    }
+}
