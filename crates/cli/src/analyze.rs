@@ -452,8 +452,15 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
         );
     }
     out.push(format!(
-        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}, symbolic {}",
-        st.state_space, st.components, st.p_flows, st.t_flows, st.p_invariants, st.t_invariants, st.symbolic
+        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}, symbolic {}, symbolic facts {}",
+        st.state_space,
+        st.components,
+        st.p_flows,
+        st.t_flows,
+        st.p_invariants,
+        st.t_invariants,
+        st.symbolic,
+        st.symbolic_facts
     ));
     for l in out {
         line(l);

@@ -558,3 +558,127 @@ fn coloured_examinations_match_the_contest() {
         assert!(*formulas >= 28, "{exam}: only {formulas} formulas");
     }
 }
+
+/// Part of issue 38, point 5: the decision diagrams decide deadlocks, dead transitions,
+/// liveness and reversibility (`symbolic::Facts`), equal to the explicit engine's on every
+/// instance of at most `ALBA_MCC_MAX_STATES` states (those of [`SYMBOLIC_OVER_BUDGET`]
+/// left out), and each trace to a deadlock is as short as the explicit one and replays to
+/// a dead marking.
+#[test]
+fn symbolic_facts_match_the_explicit_ones() {
+    use alba_net::analysis::symbolic::{self, Limits};
+    let limit = limit();
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    let mut slowest = Vec::new();
+    for i in &corpus::load() {
+        let Some(states) = i.state_space("STATES") else {
+            continue;
+        };
+        if states > limit || SYMBOLIC_OVER_BUDGET.contains(&i.name.as_str()) {
+            continue;
+        }
+        let net = corpus::net(i);
+        let (a, _) = analysed(&net);
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let limits = Limits {
+            facts: true,
+            ..Limits::default()
+        };
+        let o = symbolic::explore(&net, &limits, &never);
+        let Some(f) = o.result.ok().and_then(|s| s.facts) else {
+            failures.push(format!("{}: no facts", i.name));
+            continue;
+        };
+        let have = (
+            f.dead_transitions.clone().ok(),
+            f.deadlocks.clone().ok().and_then(|c| c.to_u64()),
+            f.live.ok(),
+            f.reversible.ok(),
+        );
+        let want = (a.dead_transitions.clone(), a.deadlocks, a.live, a.reversible);
+        if have != want {
+            failures.push(format!("{}: have {have:?}, want {want:?}", i.name));
+        }
+        match &f.deadlock_trace {
+            Ok(Some((trace, end))) => {
+                let m = replay(&net, trace);
+                let dead = (0..net.transitions.len()).all(|t| !net.enabled(&m, t));
+                if &m != end || !dead || Some(trace.len()) != a.deadlock_trace.as_ref().map(Vec::len) {
+                    failures.push(format!(
+                        "{}: the trace {trace:?} does not end in a deadlock as short",
+                        i.name
+                    ));
+                }
+            }
+            Ok(None) if a.deadlocks == Some(0) => {}
+            other => failures.push(format!("{}: trace {other:?}", i.name)),
+        }
+        checked += 1;
+        slowest.push((o.time, i.name.clone()));
+    }
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    assert!(checked >= 60, "only {checked}");
+    slowest.sort();
+    eprintln!(
+        "{checked} instances: the symbolic facts equal the explicit ones; the slowest: {:?}",
+        &slowest[slowest.len().saturating_sub(5)..]
+    );
+}
+
+/// The symbolic facts on the instances of 10^16 states and more: the existence of a
+/// deadlock is the contest's `ReachabilityDeadlock` verdict, and the dead transitions,
+/// liveness and reversibility are decided within the default budgets (a trace to a
+/// deadlock may not be: `Philosophers-PT-000100`'s breadth-first layers exceed its
+/// budget; one that is found replays to a dead marking).
+#[test]
+fn symbolic_deadlocks_of_the_big_instances_match_the_contest() {
+    use alba_net::analysis::symbolic::{self, Limits};
+    let corpus = corpus::load();
+    for name in ["Kanban-PT-00050", "FMS-PT-00050", "Philosophers-PT-000100"] {
+        let i = corpus.iter().find(|i| i.name == name).expect(name);
+        let net = corpus::net(i);
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let limits = Limits {
+            facts: true,
+            ..Limits::default()
+        };
+        let o = symbolic::explore(&net, &limits, &never);
+        let s = o.result.expect("counted");
+        let f = s.facts.expect("facts");
+        let want = oracle_answers(i, "ReachabilityDeadlock");
+        let deadlock = f.deadlocks.as_ref().map(|c| c.to_u64() != Some(0));
+        assert_eq!(
+            want,
+            [(
+                "ReachabilityDeadlock".to_string(),
+                (if deadlock == Ok(true) { "TRUE" } else { "FALSE" }).to_string()
+            )],
+            "{name}: {deadlock:?}"
+        );
+        assert!(
+            f.dead_transitions.is_ok() && f.live.is_ok() && f.reversible.is_ok(),
+            "{name}: {f:?}"
+        );
+        if let Ok(Some((trace, _))) = &f.deadlock_trace {
+            let m = replay(&net, trace);
+            assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)), "{name}");
+        }
+        eprintln!(
+            "{name}: {} states, {:?} deadlocks, trace of {:?} firings, dead transitions {:?}, live {:?}, reversible {:?}; {:.1} s, {} nodes",
+            s.states,
+            f.deadlocks.as_ref().map(ToString::to_string),
+            f.deadlock_trace.as_ref().map(|t| t.as_ref().map(|t| t.0.len())),
+            f.dead_transitions.as_ref().map(Vec::len),
+            f.live,
+            f.reversible,
+            o.time.as_secs_f64(),
+            o.nodes
+        );
+    }
+}
