@@ -165,6 +165,21 @@ fn analyze_symbolic_counts_what_the_explicit_exploration_cannot_hold() {
     assert_eq!(v["states"], Value::Null, "more than a u64");
     assert_eq!(v["bounded"], true);
     assert_eq!(v["max_tokens_per_marking"], 200);
+    // Decided on the diagrams: the contest's two deadlocks (all left forks or all right
+    // ones), hence neither live nor reversible; no trace within its budget.
+    assert_eq!(v["deadlocks"], 2);
+    assert_eq!(v["dead_transitions"], serde_json::json!([]));
+    assert_eq!(v["live"], false);
+    assert_eq!(v["reversible"], false);
+    assert_eq!(v["status"]["symbolic_facts"], "partial");
+    assert_eq!(v["deadlock_trace"], Value::Null);
+    assert!(
+        v["notes"]
+            .to_string()
+            .contains("did not decide a trace to a deadlock (node budget)"),
+        "{}",
+        v["notes"]
+    );
     let out = alba(
         &repo(),
         &[
@@ -199,6 +214,15 @@ fn analyze_symbolic_counts_what_the_explicit_exploration_cannot_hold() {
     assert_eq!(v["status"]["symbolic"], "complete");
     assert_eq!(v["states"], 2_546_432);
     assert_eq!(v["edges"], 24_460_016);
+    assert_eq!(v["status"]["symbolic_facts"], "complete");
+    assert_eq!(
+        (&v["deadlocks"], &v["live"], &v["reversible"]),
+        (
+            &serde_json::json!(0),
+            &serde_json::json!(true),
+            &serde_json::json!(true)
+        )
+    );
     let unbounded = dir.join("grow.pnml");
     std::fs::write(
         &unbounded,

@@ -1054,7 +1054,8 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
     };
     let deadlocks = dd.count(dead);
     // Backwards: the transitions reversed, every marking kept within `reach`.
-    let forward = std::mem::replace(&mut dd.events, reversed(&dd.events));
+    let backward = reversed(&dd.events);
+    let forward = std::mem::replace(&mut dd.events, backward);
     let mut init = 1;
     let reversible = (|| {
         for l in (0..dd.levels).rev() {
@@ -1440,6 +1441,39 @@ mod tests {
         let o = explore(&grow, &small, &never());
         assert!(matches!(o.result, Err(Stop::Memory)), "{:?}", o.result);
         assert!(o.bytes <= 8 << 20, "{}", o.bytes);
+    }
+
+    #[test]
+    fn facts_over_budget_stay_unknown_with_their_reason() {
+        // One order (the file's is FORCE's): the same nodes on every run.
+        let net = samples::cycles(4, 3);
+        assert_eq!(variable_order(&net), (0..net.places.len()).collect::<Vec<_>>());
+        let counted = explore(&net, &Limits::default(), &never());
+        assert!(counted.result.as_ref().is_ok_and(|s| s.facts.is_none()));
+        let tight = Limits {
+            max_nodes: counted.nodes + 3,
+            facts: true,
+            ..Limits::default()
+        };
+        let s = explore(&net, &tight, &never())
+            .result
+            .expect("counted within the budget");
+        let f = s.facts.expect("asked");
+        assert_eq!(f.live, Err(Stop::Nodes));
+        assert_eq!(f.status(), super::super::Status::Skipped("budget"));
+        let s = explore(
+            &net,
+            &Limits {
+                facts: true,
+                ..Limits::default()
+            },
+            &never(),
+        )
+        .result
+        .expect("counted");
+        let f = s.facts.expect("asked");
+        assert_eq!(f.status(), super::super::Status::Complete);
+        assert_eq!((f.live, f.reversible, f.deadlock_trace), (Ok(true), Ok(true), Ok(None)));
     }
 
     #[test]
