@@ -229,12 +229,15 @@ pub struct Facts {
     pub deadlocks: Result<Count, Stop>,
     /// A shortest firing sequence to a dead marking and that marking (`None`: no
     /// deadlock).
-    pub deadlock_trace: Result<Option<(Vec<usize>, Vec<u32>)>, Stop>,
+    pub deadlock_trace: Result<Option<Trace>, Stop>,
     /// Whether the initial marking is reachable from every reachable marking.
     pub reversible: Result<bool, Stop>,
     /// Whether every transition is live (L4).
     pub live: Result<bool, Stop>,
 }
+
+/// A firing sequence (transition numbers) and the marking it reaches.
+pub type Trace = (Vec<usize>, Vec<u32>);
 
 impl Facts {
     /// Their part's status: `complete` when all are decided, `partial` when some are,
@@ -1104,7 +1107,7 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
 
 /// A shortest firing sequence from the initial marking to one of `dead` and the marking
 /// it reaches: breadth-first layers until one meets `dead`, then back through them.
-fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<(Vec<usize>, Vec<u32>)> {
+fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
     let mut init = 1;
     for l in (0..dd.levels).rev() {
         init = dd.mk(l, &[(net.initial[order[l]], init)])?;
