@@ -221,6 +221,7 @@ fn analyze_falls_back_on_the_symbolic_engine() {
     assert_eq!(a.edges, big.state_space("TRANSITIONS"));
     assert_eq!(a.max_tokens, big.state_space("MAX_TOKEN_PER_MARKING"));
     assert_eq!(a.bounded, Some(true));
+    assert_eq!((a.deadlocks, a.live, a.reversible), (Some(0), Some(true), Some(true)));
     assert!(
         a.stopped
             .as_deref()
@@ -245,10 +246,16 @@ fn analyze_falls_back_on_the_symbolic_engine() {
     );
     assert_eq!(a.status.symbolic, Status::Complete);
     assert_eq!((a.states, a.edges), (Some(2_546_432), Some(24_460_016)));
-    assert_eq!(a.deadlocks, None);
+    // Its deadlocks, liveness and reversibility from the diagrams too.
+    assert_eq!(a.status.symbolic_facts, Status::Complete, "{:?}", a.notes);
+    assert_eq!(
+        (a.deadlocks, a.live, a.reversible, a.dead_transitions.as_deref()),
+        (Some(0), Some(true), Some(true), Some(&[][..]))
+    );
     let a = analyze(&net, &options(SymbolicMode::Off, 4 << 20), &Control::none());
     assert_eq!(a.status.symbolic, Status::Skipped("not requested"));
-    assert_eq!(a.states, None);
+    assert_eq!(a.status.symbolic_facts, Status::Skipped("not requested"));
+    assert_eq!((a.states, a.deadlocks, a.live), (None, None, None));
     // Both: the explicit graph of a small net and the diagrams agree.
     let tiny = get("Philosophers-PT-000005");
     let a = analyze(
