@@ -272,6 +272,12 @@ test("a big net's analysis shows its progress and is cancelled; the next one run
   await tid('net-analyse').click();
   await tid('net-an-status-symbolic').filter({ hasText: 'complete' }).waitFor({ timeout: 60_000 });
   assert.equal(await tid('net-an-space').textContent(), '14348907 states, counted with decision diagrams');
+  // and its deadlocks, liveness and reversibility decided on the diagrams
+  assert.equal(await tid('net-an-status-symbolic_facts').textContent(), 'complete');
+  assert.equal(await tid('net-an-deadlocks').textContent(), '0');
+  assert.equal(await tid('net-an-live').textContent(), 'yes');
+  assert.equal(await tid('net-an-reversible').textContent(), 'yes');
+  assert.equal(await tid('net-an-dead').textContent(), 'none');
   await b.shot('net-analysis-symbolic');
   assert.deepEqual(b.errors, []);
 });

@@ -503,6 +503,7 @@ export const es: Record<string, string> = {
   'Liveness and reversibility': 'Vivacidad y reversibilidad',
   'Place flows': 'Flujos de lugares',
   'Decision diagrams': 'Diagramas de decisión',
+  'Deadlocks, liveness and reversibility from decision diagrams': 'Bloqueos, vivacidad y reversibilidad con diagramas de decisión',
   'Count the states with decision diagrams first: exact for state spaces far too big to list (alba analyze --symbolic)': 'Contar los estados primero con diagramas de decisión: exacto para espacios de estados demasiado grandes para recorrerlos uno a uno (alba analyze --symbolic)',
   'Transition flows': 'Flujos de transiciones',
   budget: 'presupuesto',

@@ -12,6 +12,7 @@ use alba_net::analysis::stubborn::{self, CheckOptions, Verdict};
 use alba_net::analysis::{
     Analysis, Bound, Control, Invariants, Options, Space, Status, SymbolicMode, analyze, to_json,
 };
+use alba_net::colored::Unfolding;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -148,7 +149,7 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
         }
     };
     let pt = PtNet::from_net(&net);
-    if let Some(u) = unfolding {
+    if let Some(u) = &unfolding {
         eprintln!(
             "note: a coloured net (symmetric net), unfolded: {} coloured places and {} transitions ({} bindings) became {} places and {} transitions in {:.3} s",
             u.coloured_places,
@@ -160,7 +161,7 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
         );
     }
     if let Some(c) = contest {
-        return examine(path, &pt, as_json, &limits, &c);
+        return examine(path, &pt, unfolding.as_ref(), as_json, &limits, &c);
     }
     let mut options = Options {
         memory: limits.memory.unwrap_or_else(default_memory),
@@ -194,8 +195,17 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
 }
 
 /// `--examination`: reads the formulas, answers them ([`stubborn::answer`]) within the
-/// state limit and the memory budget, prints one `FORMULA` line each (or JSON).
-fn examine(model: &Path, pt: &PtNet, as_json: bool, limits: &Limits, c: &Contest) -> ExitCode {
+/// state limit and the memory budget, prints one `FORMULA` line each (or JSON). A
+/// coloured model's formulas name its coloured places and transitions (`unfolding`);
+/// traces name the unfolded transitions.
+fn examine(
+    model: &Path,
+    pt: &PtNet,
+    unfolding: Option<&Unfolding>,
+    as_json: bool,
+    limits: &Limits,
+    c: &Contest,
+) -> ExitCode {
     let props: Vec<Property> = if c.examination == Examination::ReachabilityDeadlock {
         if let Some(f) = &c.formulas {
             eprintln!(
@@ -219,7 +229,7 @@ fn examine(model: &Path, pt: &PtNet, as_json: bool, limits: &Limits, c: &Contest
                 return ExitCode::FAILURE;
             }
         };
-        match formula::parse(&text, pt) {
+        match formula::parse_for(&text, pt, unfolding) {
             Ok(p) => p,
             Err(e) => {
                 eprintln!("error: {}:{e}", file.display());
@@ -442,8 +452,15 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
         );
     }
     out.push(format!(
-        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}, symbolic {}",
-        st.state_space, st.components, st.p_flows, st.t_flows, st.p_invariants, st.t_invariants, st.symbolic
+        "status: state space {}, liveness/reversibility {}, P-flows {}, T-flows {}, P-invariants {}, T-invariants {}, symbolic {}, symbolic facts {}",
+        st.state_space,
+        st.components,
+        st.p_flows,
+        st.t_flows,
+        st.p_invariants,
+        st.t_invariants,
+        st.symbolic,
+        st.symbolic_facts
     ));
     for l in out {
         line(l);

@@ -43,6 +43,12 @@ pub struct Unfolding {
     pub coloured_transitions: usize,
     /// Variable bindings tried (those failing the guard included).
     pub bindings: u64,
+    /// Per coloured place, in document order: its id and its unfolded places (their
+    /// indices in the unfolded net's places, one per colour of its sort).
+    pub places: Vec<(String, std::ops::Range<usize>)>,
+    /// Per coloured transition, in document order: its id and its unfolded transitions
+    /// (their indices in the unfolded net's transitions, one per binding kept).
+    pub transitions: Vec<(String, std::ops::Range<usize>)>,
 }
 
 /// Whether `text`'s `<net>` is a symmetric (coloured) net: its `type` names the
@@ -995,6 +1001,7 @@ pub fn unfold(file: FileId, text: &str, budget: &Budget) -> Result<(Net, Unfoldi
 
     // Places.
     let mut places: Vec<CPlace> = Vec::new();
+    let mut place_map = Vec::new();
     let mut place_ix: HashMap<String, usize> = HashMap::new();
     let mut ids: HashMap<String, Span> = HashMap::new();
     let mut check_id = |u: &Unfolder, e: &Elem| -> R<String> {
@@ -1046,6 +1053,7 @@ pub fn unfold(file: FileId, text: &str, budget: &Budget) -> Result<(Net, Unfoldi
             net.places.push(p);
         }
         place_ix.insert(id.clone(), places.len());
+        place_map.push((id.clone(), first..net.places.len()));
         places.push(CPlace {
             id,
             sizes,
@@ -1133,7 +1141,9 @@ pub fn unfold(file: FileId, text: &str, budget: &Budget) -> Result<(Net, Unfoldi
     }
 
     let mut bindings = 0u64;
+    let mut transition_map = Vec::new();
     for (ti, (e, id, guard)) in trans.iter().enumerate() {
+        let first_transition = net.transitions.len();
         let mut vs = Vec::new();
         if let Some(g) = guard {
             vars_of(g, &mut vs);
@@ -1247,6 +1257,7 @@ pub fn unfold(file: FileId, text: &str, budget: &Budget) -> Result<(Net, Unfoldi
                 }
             }
         }
+        transition_map.push((id.clone(), first_transition..net.transitions.len()));
     }
     Ok((
         net,
@@ -1254,6 +1265,8 @@ pub fn unfold(file: FileId, text: &str, budget: &Budget) -> Result<(Net, Unfoldi
             coloured_places: places.len(),
             coloured_transitions: trans.len(),
             bindings,
+            places: place_map,
+            transitions: transition_map,
         },
     ))
 }

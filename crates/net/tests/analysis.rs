@@ -871,6 +871,66 @@ proptest! {
     }
 }
 
+/// The decision diagrams' facts ([`symbolic::Facts`]) against the explicit graph's:
+/// dead transitions, number of deadlocks, liveness, reversibility, and a shortest trace
+/// to a deadlock (as long as the explicit one, replayed to a dead marking).
+fn symbolic_facts_agree(net: &PtNet, a: &Analysis) -> Result<(), TestCaseError> {
+    use alba_net::analysis::symbolic;
+    let limits = symbolic::Limits {
+        facts: true,
+        ..symbolic::Limits::default()
+    };
+    let s = symbolic::explore(net, &limits, &AtomicBool::new(false))
+        .result
+        .map_err(|e| TestCaseError::fail(e.reason()))?;
+    let f = s.facts.expect("facts asked");
+    prop_assert_eq!(f.dead_transitions.ok(), a.dead_transitions.clone());
+    prop_assert_eq!(f.deadlocks.ok().and_then(|c| c.to_u64()), a.deadlocks);
+    prop_assert_eq!(f.live.ok(), a.live);
+    prop_assert_eq!(f.reversible.ok(), a.reversible);
+    match f.deadlock_trace.expect("a trace or none") {
+        None => prop_assert_eq!(a.deadlocks, Some(0)),
+        Some((trace, end)) => {
+            let mut m = net.initial.clone();
+            for &t in &trace {
+                prop_assert!(net.enabled(&m, t));
+                m = net.fire(&m, t).expect("fires");
+            }
+            prop_assert_eq!(&m, &end);
+            prop_assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)));
+            prop_assert_eq!(Some(trace.len()), a.deadlock_trace.as_ref().map(Vec::len));
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// On random bounded nets with weights, read and inhibitor arcs.
+    #[test]
+    fn symbolic_facts_equal_the_explicit_ones(net in small_net()) {
+        let a = run_small(&net);
+        if a.space == Space::Reachability {
+            symbolic_facts_agree(&net, &a)?;
+        }
+    }
+}
+
+#[test]
+fn symbolic_facts_of_the_samples_equal_the_explicit_ones() {
+    for net in [
+        samples::cycles(4, 3),
+        samples::philosophers(5),
+        samples::kanban(3),
+        samples::parallel_ring(4, 3),
+    ] {
+        let a = analyze(&net, &Options::default(), &Control::none());
+        assert_eq!(a.space, Space::Reachability);
+        symbolic_facts_agree(&net, &a).expect("agree");
+    }
+}
+
 mod stubborn_sets {
     //! The stubborn-set reduction of the contest examinations against the full
     //! exploration: random nets (read and inhibitor arcs included), random state formulas,

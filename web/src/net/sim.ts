@@ -86,9 +86,9 @@ export interface Analysis {
   stopped?: string | null;
   notes?: string[];
   /** Each part's status: `complete`, `partial`, `skipped: budget` … */
-  status?: Record<'state_space' | 'components' | 'p_flows' | 't_flows' | 'p_invariants' | 't_invariants', string> & { symbolic?: string };
+  status?: Record<'state_space' | 'components' | 'p_flows' | 't_flows' | 'p_invariants' | 't_invariants', string> & { symbolic?: string; symbolic_facts?: string };
   /** The decision-diagram engine's counts (decimal: they may exceed 64 bits) and cost. */
-  symbolic?: { status: string; states: string | null; edges: string | null; nodes: number; memory_bytes: number; seconds: number };
+  symbolic?: { status: string; states: string | null; edges: string | null; deadlocks?: string | null; nodes: number; memory_bytes: number; seconds: number };
   p_flows?: Record<string, number>[] | null;
   t_flows?: Record<string, number>[] | null;
 }

@@ -1356,9 +1356,9 @@ export class NetView {
       a.stopped ? h('p', { class: 'inline-error' }, a.stopped) : null,
       this.analysisTimedOut ? h('p', { class: 'inline-error', 'data-testid': 'net-analysis-timed-out' }, tr('The analysis ran out of time: what is not complete is unknown.')) : null,
       a.status ? h('table', { class: 'net-an-table net-an-status' },
-        ([['state_space', tr('State space')], ['symbolic', tr('Decision diagrams')], ['components', tr('Liveness and reversibility')], ['p_flows', tr('Place flows')], ['t_flows', tr('Transition flows')], ['p_invariants', tr('Place invariants')], ['t_invariants', tr('Transition invariants')]] as const)
+        ([['state_space', tr('State space')], ['symbolic', tr('Decision diagrams')], ['symbolic_facts', tr('Deadlocks, liveness and reversibility from decision diagrams')], ['components', tr('Liveness and reversibility')], ['p_flows', tr('Place flows')], ['t_flows', tr('Transition flows')], ['p_invariants', tr('Place invariants')], ['t_invariants', tr('Transition invariants')]] as const)
           // the decision diagrams only when they ran (a fallback when the states did not fit)
-          .filter(([k]) => a.status?.[k] !== undefined && !(k === 'symbolic' && a.status[k] === 'skipped: not requested'))
+          .filter(([k]) => a.status?.[k] !== undefined && !((k === 'symbolic' || k === 'symbolic_facts') && a.status[k] === 'skipped: not requested'))
           .map(([k, label]) => h('tr', null, h('th', null, label), h('td', { 'data-testid': `net-an-status-${k}`, class: a.status?.[k] === 'complete' ? '' : 'warn' }, statusText(a.status?.[k] ?? ''))))) : null);
     const trace = a.deadlock_trace;
     if (trace && trace.length >= 0 && a.deadlocks) {

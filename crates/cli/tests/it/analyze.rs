@@ -165,6 +165,21 @@ fn analyze_symbolic_counts_what_the_explicit_exploration_cannot_hold() {
     assert_eq!(v["states"], Value::Null, "more than a u64");
     assert_eq!(v["bounded"], true);
     assert_eq!(v["max_tokens_per_marking"], 200);
+    // Decided on the diagrams: the contest's two deadlocks (all left forks or all right
+    // ones), hence neither live nor reversible; no trace within its budget.
+    assert_eq!(v["deadlocks"], 2);
+    assert_eq!(v["dead_transitions"], serde_json::json!([]));
+    assert_eq!(v["live"], false);
+    assert_eq!(v["reversible"], false);
+    assert_eq!(v["status"]["symbolic_facts"], "partial");
+    assert_eq!(v["deadlock_trace"], Value::Null);
+    assert!(
+        v["notes"]
+            .to_string()
+            .contains("did not decide a trace to a deadlock (node budget)"),
+        "{}",
+        v["notes"]
+    );
     let out = alba(
         &repo(),
         &[
@@ -199,6 +214,15 @@ fn analyze_symbolic_counts_what_the_explicit_exploration_cannot_hold() {
     assert_eq!(v["status"]["symbolic"], "complete");
     assert_eq!(v["states"], 2_546_432);
     assert_eq!(v["edges"], 24_460_016);
+    assert_eq!(v["status"]["symbolic_facts"], "complete");
+    assert_eq!(
+        (&v["deadlocks"], &v["live"], &v["reversible"]),
+        (
+            &serde_json::json!(0),
+            &serde_json::json!(true),
+            &serde_json::json!(true)
+        )
+    );
     let unbounded = dir.join("grow.pnml");
     std::fs::write(
         &unbounded,
@@ -536,7 +560,8 @@ fn analyze_examination_keeps_the_memory_budget() {
 
 /// Issue 38, point 6: a coloured model of the contest (`crates/net/tests/mcc/col.tar.xz`)
 /// is unfolded and analysed; its answers are the contest's, and the note says what the
-/// unfolding made. A symmetric net over the unfolding budget is refused with E606.
+/// unfolding made; its examinations' answers are the contest's. A symmetric net over the
+/// unfolding budget is refused with E606.
 #[test]
 fn analyze_unfolds_a_coloured_model() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -562,6 +587,50 @@ fn analyze_unfolds_a_coloured_model() {
     assert_eq!(v["edges"], 945);
     assert_eq!(v["max_tokens_per_marking"], 10);
     assert_eq!(v["place_bounds"]["Think_1"], 1);
+    // The contest's examinations: the formulas name coloured places and transitions;
+    // every answer is the contest's, and a trace names the unfolded transitions.
+    let oracle = std::fs::read_to_string(philo.join("oracle.out")).expect("oracle");
+    let expected: std::collections::BTreeMap<String, String> = formula_lines(&oracle).into_iter().collect();
+    let text = std::fs::read_to_string(philo.join("model.pnml")).expect("model");
+    let (net, _, _) = alba_net::load_for_analysis(alba_diag::FileId(0), &text);
+    let pt = alba_net::PtNet::from_net(&net.expect("unfolds"));
+    let mut checked = 0;
+    for exam in [
+        "UpperBounds",
+        "ReachabilityCardinality",
+        "ReachabilityFireability",
+        "ReachabilityDeadlock",
+    ] {
+        let out = alba(
+            &repo(),
+            &[
+                "analyze",
+                philo.to_str().expect("utf-8"),
+                "--examination",
+                exam,
+                "--trace",
+            ],
+        );
+        assert!(out.status.success(), "{exam}: {}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout);
+        let lines = formula_lines(&text);
+        assert!(!lines.is_empty(), "{text}");
+        for (id, value) in &lines {
+            assert_eq!(expected.get(id), Some(value), "{id}");
+            checked += 1;
+        }
+        if exam == "ReachabilityDeadlock" {
+            let trace = text
+                .lines()
+                .find_map(|l| l.trim().strip_prefix("trace ReachabilityDeadlock: "))
+                .unwrap_or_else(|| panic!("a trace: {text}"));
+            let ids: Vec<&str> = trace.split_whitespace().collect();
+            assert!(ids.iter().all(|t| t.contains('_')), "unfolded names: {trace}");
+            let m = replay(&pt, &ids).expect("replays on the unfolded net");
+            assert!((0..pt.transitions.len()).all(|t| !pt.enabled(&m, t)), "{trace}");
+        }
+    }
+    assert_eq!(checked, 3 * 16 + 1);
     let bart = dir.path().join("BART-COL-002/model.pnml");
     let out = alba(&repo(), &["analyze", bart.to_str().expect("utf-8")]);
     let err = String::from_utf8_lossy(&out.stderr);

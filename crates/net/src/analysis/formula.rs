@@ -15,9 +15,16 @@
 //! `<integer-sum>`), `<is-fireable><transition>…</is-fireable>` and `<deadlock/>`.
 //! Places and transitions are named by their PNML ids. `ReachabilityDeadlock` has no
 //! file: it is the fixed question EF deadlock, [`deadlock_property`].
+//!
+//! A coloured model's formulas name its coloured places and transitions
+//! ([`parse_for`] with the [`Unfolding`]): a coloured place stands for all its unfolded
+//! places (its tokens are theirs together, its bound the bound of their sum) and a
+//! coloured transition for all its unfolded ones (fireable when one of them is).
 
 use crate::PtNet;
+use crate::colored::Unfolding;
 use alba_xml::Elem;
+use std::collections::HashMap;
 
 /// An integer expression of a state formula.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -107,8 +114,9 @@ const LIMITS: alba_xml::Limits = alba_xml::Limits {
 
 struct Reader<'a> {
     text: &'a str,
-    places: std::collections::HashMap<&'a str, usize>,
-    transitions: std::collections::HashMap<&'a str, usize>,
+    /// Each name and the places (transitions) it stands for.
+    places: HashMap<&'a str, Vec<usize>>,
+    transitions: HashMap<&'a str, Vec<usize>>,
 }
 
 impl Reader<'_> {
@@ -129,29 +137,31 @@ impl Reader<'_> {
         }
     }
 
-    fn place(&self, e: &Elem) -> Result<usize, FormulaError> {
+    fn place(&self, e: &Elem) -> Result<&[usize], FormulaError> {
         let id = e.text.trim();
         self.places
             .get(id)
-            .copied()
+            .map(Vec::as_slice)
             .ok_or_else(|| self.error(e, format!("no place `{id}` in the net")))
     }
 
-    fn transition(&self, e: &Elem) -> Result<usize, FormulaError> {
+    fn transition(&self, e: &Elem) -> Result<&[usize], FormulaError> {
         let id = e.text.trim();
         self.transitions
             .get(id)
-            .copied()
+            .map(Vec::as_slice)
             .ok_or_else(|| self.error(e, format!("no transition `{id}` in the net")))
     }
 
     fn places_of(&self, e: &Elem) -> Result<Vec<usize>, FormulaError> {
-        self.elements(e)
-            .map(|c| match c.name.as_str() {
-                "place" => self.place(c),
-                other => Err(self.error(c, format!("<{other}> inside <{}>: expected <place>", e.name))),
-            })
-            .collect()
+        let mut out = Vec::new();
+        for c in self.elements(e) {
+            match c.name.as_str() {
+                "place" => out.extend(self.place(c)?),
+                other => return Err(self.error(c, format!("<{other}> inside <{}>: expected <place>", e.name))),
+            }
+        }
+        Ok(out)
     }
 
     fn int(&self, e: &Elem) -> Result<IntExpr, FormulaError> {
@@ -186,14 +196,18 @@ impl Reader<'_> {
                     _ => Err(self.error(e, "<integer-le> needs two integer expressions".into())),
                 }
             }
-            "is-fireable" => Ok(Pred::Fireable(
-                self.elements(e)
-                    .map(|c| match c.name.as_str() {
-                        "transition" => self.transition(c),
-                        other => Err(self.error(c, format!("<{other}> inside <is-fireable>: expected <transition>"))),
-                    })
-                    .collect::<Result<_, _>>()?,
-            )),
+            "is-fireable" => {
+                let mut ts = Vec::new();
+                for c in self.elements(e) {
+                    match c.name.as_str() {
+                        "transition" => ts.extend(self.transition(c)?),
+                        other => {
+                            return Err(self.error(c, format!("<{other}> inside <is-fireable>: expected <transition>")));
+                        }
+                    }
+                }
+                Ok(Pred::Fireable(ts))
+            }
             other => Err(self.error(e, format!("<{other}> is not a state formula this reader knows"))),
         }
     }
@@ -223,8 +237,28 @@ impl Reader<'_> {
     }
 }
 
+/// Each name and what it stands for: the coloured nodes' ids (their unfolded nodes),
+/// then the net's own ids.
+fn names<'a>(ids: &'a [String], coloured: &'a [(String, std::ops::Range<usize>)]) -> HashMap<&'a str, Vec<usize>> {
+    let mut m: HashMap<&str, Vec<usize>> = HashMap::new();
+    for (id, range) in coloured {
+        m.insert(id.as_str(), range.clone().collect());
+    }
+    for (i, id) in ids.iter().enumerate() {
+        m.entry(id.as_str()).or_insert_with(|| vec![i]);
+    }
+    m
+}
+
 /// Reads a contest formula file (`property-set`) against the net whose ids it names.
 pub fn parse(text: &str, net: &PtNet) -> Result<Vec<Property>, FormulaError> {
+    parse_for(text, net, None)
+}
+
+/// [`parse`] for a net that may come from a coloured model: with its [`Unfolding`], a
+/// name is first a coloured place or transition (standing for all its unfolded ones),
+/// then an unfolded one.
+pub fn parse_for(text: &str, net: &PtNet, unfolding: Option<&Unfolding>) -> Result<Vec<Property>, FormulaError> {
     let root = alba_xml::parse(text, &LIMITS).map_err(|e| {
         let (line, column) = alba_xml::line_col(text, e.offset);
         FormulaError {
@@ -235,13 +269,8 @@ pub fn parse(text: &str, net: &PtNet) -> Result<Vec<Property>, FormulaError> {
     })?;
     let r = Reader {
         text,
-        places: net.places.iter().enumerate().map(|(i, p)| (p.as_str(), i)).collect(),
-        transitions: net
-            .transitions
-            .iter()
-            .enumerate()
-            .map(|(i, t)| (t.as_str(), i))
-            .collect(),
+        places: names(&net.places, unfolding.map_or(&[], |u| &u.places)),
+        transitions: names(&net.transitions, unfolding.map_or(&[], |u| &u.transitions)),
     };
     if root.name != "property-set" {
         return Err(r.error(&root, format!("<{}>: expected <property-set>", root.name)));

@@ -76,6 +76,7 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
             "p_invariants": st.p_invariants.to_string(),
             "t_invariants": st.t_invariants.to_string(),
             "symbolic": st.symbolic.to_string(),
+            "symbolic_facts": st.symbolic_facts.to_string(),
         }),
     );
     let sym = &a.symbolic;
@@ -85,6 +86,7 @@ pub fn to_json(pt: &PtNet, a: &Analysis) -> Value {
             "status": st.symbolic.to_string(),
             "states": sym.result.as_ref().map(|s| s.states.to_string()),
             "edges": sym.result.as_ref().map(|s| s.firings.to_string()),
+            "deadlocks": sym.result.as_ref().and_then(|s| s.facts.as_ref()?.deadlocks.as_ref().ok()).map(ToString::to_string),
             "nodes": sym.nodes,
             "memory_bytes": sym.bytes,
             "seconds": sym.time.as_secs_f64(),

@@ -20,7 +20,8 @@
 //!   counts the reachable markings and firings exactly and finds the bounds, when asked
 //!   ([`SymbolicMode::Always`]) or when the explicit exploration stops at its memory
 //!   budget or its 2^27 states ([`SymbolicMode::Auto`]); its count then stands for the
-//!   state space's (a note says so).
+//!   state space's (a note says so), and its [`symbolic::Facts`] (deadlocks, dead
+//!   transitions, liveness, reversibility) for the explicit graph's.
 //!
 //! No part blocks another: the state space and its facts come first, then the flows,
 //! then the minimal invariants, and each part reports a [`Status`] (`complete`,
@@ -211,6 +212,9 @@ pub struct Statuses {
     pub t_invariants: Status,
     /// The symbolic engine.
     pub symbolic: Status,
+    /// Deadlocks, dead transitions, liveness and reversibility from the symbolic engine
+    /// ([`symbolic::Facts`]).
+    pub symbolic_facts: Status,
 }
 
 /// A place bound.
@@ -354,6 +358,7 @@ pub fn analyze(net: &PtNet, options: &Options, control: &Control<'_>) -> Analysi
             t_flows: skipped.clone(),
             p_invariants: skipped.clone(),
             t_invariants: skipped.clone(),
+            symbolic_facts: skipped.clone(),
             symbolic: skipped,
         },
         stopped: None,
@@ -490,10 +495,13 @@ fn adopt_symbolic(a: &mut Analysis) {
     a.states = s.states.to_u64();
     a.edges = s.firings.to_u64();
     a.notes.push(format!(
-        "states ({}), edges ({}), place bounds and most tokens per marking come from the symbolic engine (decision diagrams); \
-         deadlocks, dead transitions, liveness and reversibility need the explicit state space",
+        "states ({}), edges ({}), place bounds, most tokens per marking, deadlocks, dead transitions, liveness and \
+         reversibility come from the symbolic engine (decision diagrams)",
         s.states, s.firings
     ));
+    if let Some(f) = s.facts.clone() {
+        f.adopt(a);
+    }
 }
 
 /// Runs the symbolic engine.
@@ -501,6 +509,7 @@ fn run_symbolic(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut A
     let limits = symbolic::Limits {
         memory: options.memory,
         time: options.symbolic_time,
+        facts: true,
         ..symbolic::Limits::default()
     };
     let o = symbolic::explore(net, &limits, control.cancel);
@@ -518,6 +527,7 @@ fn run_symbolic(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut A
                     "budget"
                 }
             });
+            a.status.symbolic_facts = a.status.symbolic.clone();
             a.notes.push(format!(
                 "symbolic engine stopped ({}) after {} nodes, {:.3} s",
                 why.reason(),
@@ -528,6 +538,10 @@ fn run_symbolic(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut A
         }
     };
     a.status.symbolic = Status::Complete;
+    a.status.symbolic_facts = s
+        .facts
+        .as_ref()
+        .map_or(Status::Skipped("not requested"), symbolic::Facts::status);
     a.symbolic.result = Some(s);
 }
 

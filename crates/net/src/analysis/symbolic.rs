@@ -21,7 +21,9 @@
 //! - **Results**: the exact number of reachable markings and of firings (edges of the
 //!   reachability graph: for each transition, the markings that enable it), as
 //!   arbitrary-precision integers ([`Count`]; the contest has counts beyond 10^47), each
-//!   place's bound and the most tokens in one marking. Deadlocks are not computed here.
+//!   place's bound and the most tokens in one marking; when asked ([`Limits::facts`]),
+//!   deadlocks (with a shortest trace), dead transitions, liveness and reversibility
+//!   ([`Facts`]).
 //! - **Limits**: a node budget, a memory budget (the nodes, the unique table and the
 //!   caches), a time budget and the cancellation flag: the engine stops with a reason,
 //!   never runs out of memory. An unbounded net never saturates: the callers refuse
@@ -136,6 +138,8 @@ pub struct Limits {
     pub memory: usize,
     /// Time budget.
     pub time: Duration,
+    /// Whether to decide the [`Facts`] too (within the same budgets).
+    pub facts: bool,
 }
 
 impl Default for Limits {
@@ -144,6 +148,7 @@ impl Default for Limits {
             max_nodes: 1 << 28,
             memory: super::DEFAULT_MEMORY,
             time: Duration::from_secs(600),
+            facts: false,
         }
     }
 }
@@ -195,6 +200,116 @@ pub struct Symbolic {
     pub final_nodes: usize,
     /// The variable order: places from the root down.
     pub order: Vec<usize>,
+    /// Deadlocks, dead transitions, liveness and reversibility, when asked
+    /// ([`Limits::facts`]).
+    pub facts: Option<Facts>,
+}
+
+/// What the diagrams decide besides the counts, each fact its value or why it is
+/// unknown (the budget, or cancelled):
+///
+/// - dead transitions: those whose enabling set meets no reachable marking;
+/// - deadlocks: the reachable markings minus the union of the enabling sets;
+/// - a shortest trace to a deadlock: breadth-first layers from the initial marking until
+///   one meets the deadlocks, then back from a dead marking through the layers (its
+///   predecessor in the layer before, marking by marking), decided last, within a
+///   quarter of the time left and as many nodes again as the rest made;
+/// - reversibility: the markings from which the initial one is reachable, found by
+///   saturation backwards (the transitions reversed) constrained to the reachable
+///   markings, are all of them;
+/// - liveness (L4): for every transition, the markings from which one enabling it is
+///   reachable (the same backward saturation from its enabling set) are all the
+///   reachable markings; a dead transition or a deadlock settles it at once, and so
+///   does reversibility (then every transition that is not dead is live).
+#[derive(Clone, Debug)]
+pub struct Facts {
+    /// Transitions enabled in no reachable marking.
+    pub dead_transitions: Result<Vec<usize>, Stop>,
+    /// Reachable markings enabling no transition.
+    pub deadlocks: Result<Count, Stop>,
+    /// A shortest firing sequence to a dead marking and that marking (`None`: no
+    /// deadlock).
+    pub deadlock_trace: Result<Option<Trace>, Stop>,
+    /// Whether the initial marking is reachable from every reachable marking.
+    pub reversible: Result<bool, Stop>,
+    /// Whether every transition is live (L4).
+    pub live: Result<bool, Stop>,
+}
+
+/// A firing sequence (transition numbers) and the marking it reaches.
+pub type Trace = (Vec<usize>, Vec<u32>);
+
+impl Facts {
+    /// Their part's status: `complete` when all are decided, `partial` when some are,
+    /// else skipped with the reason.
+    pub fn status(&self) -> super::Status {
+        let errors = [
+            self.dead_transitions.as_ref().err(),
+            self.deadlocks.as_ref().err(),
+            self.deadlock_trace.as_ref().err(),
+            self.reversible.as_ref().err(),
+            self.live.as_ref().err(),
+        ];
+        match errors.iter().flatten().next() {
+            None => super::Status::Complete,
+            Some(_) if errors.iter().any(Option::is_none) => super::Status::Partial,
+            Some(why) => super::Status::Skipped(match why {
+                Stop::Cancelled => "cancelled",
+                Stop::Overflow => "overflow",
+                _ => "budget",
+            }),
+        }
+    }
+
+    /// Fills the analysis' facts from these (those that are decided); a note for those
+    /// that are not.
+    pub(super) fn adopt(self, a: &mut super::Analysis) {
+        let mut unknown = Vec::new();
+        let mut why = |what: &str, e: &Stop| unknown.push(format!("{what} ({})", e.reason()));
+        match self.dead_transitions {
+            Ok(d) => a.dead_transitions = Some(d),
+            Err(e) => why("dead transitions", &e),
+        }
+        match self.deadlocks {
+            Ok(n) => {
+                a.deadlocks = n.to_u64();
+                if a.deadlocks.is_none() {
+                    a.notes.push(format!("{n} dead markings (more than 2^64)"));
+                }
+            }
+            Err(e) => why("deadlocks", &e),
+        }
+        match self.deadlock_trace {
+            Ok(Some((trace, m))) => {
+                a.deadlock_trace = Some(trace);
+                a.deadlock_marking = Some(m);
+            }
+            Ok(None) => {}
+            Err(e) => why("a trace to a deadlock", &e),
+        }
+        match self.live {
+            Ok(l) => a.live = Some(l),
+            Err(e) => why("liveness", &e),
+        }
+        match self.reversible {
+            Ok(r) => a.reversible = Some(r),
+            Err(e) => why("reversibility", &e),
+        }
+        if !unknown.is_empty() {
+            a.notes
+                .push(format!("the symbolic engine did not decide {}", unknown.join(", ")));
+        }
+    }
+
+    fn unknown(why: Stop) -> Facts {
+        Facts {
+            dead_transitions: Err(why),
+            deadlocks: Err(why),
+            deadlock_trace: Err(why),
+            reversible: Err(why),
+            live: Err(why),
+        }
+    }
 }
 
 /// The outcome of [`explore`] and what it cost.
@@ -252,6 +367,12 @@ struct Dd<'a> {
     union_cache: FxMap<(u32, u32), u32>,
     relprod_cache: FxMap<(u32, u32), u32>,
     sat_cache: FxMap<u32, u32>,
+    /// The set operations of the facts: (operation, operand, operand or transition).
+    op_cache: FxMap<(u8, u32, u32), u32>,
+    /// Constrained saturation (node, constraint) and its relational product
+    /// (node, constraint, transition).
+    csat_cache: FxMap<(u32, u32), u32>,
+    crel_cache: FxMap<(u32, u32, u32), u32>,
     events: Vec<Event>,
     /// Transitions by top level.
     at: Vec<Vec<u32>>,
@@ -294,6 +415,9 @@ impl<'a> Dd<'a> {
             union_cache: FxMap::default(),
             relprod_cache: FxMap::default(),
             sat_cache: FxMap::default(),
+            op_cache: FxMap::default(),
+            csat_cache: FxMap::default(),
+            crel_cache: FxMap::default(),
             events,
             at,
             limits,
@@ -330,6 +454,9 @@ impl<'a> Dd<'a> {
             + room(self.union_cache.len(), self.union_cache.capacity()) * 13
             + room(self.relprod_cache.len(), self.relprod_cache.capacity()) * 13
             + room(self.sat_cache.len(), self.sat_cache.capacity()) * 9
+            + room(self.op_cache.len(), self.op_cache.capacity()) * 17
+            + room(self.csat_cache.len(), self.csat_cache.capacity()) * 13
+            + room(self.crel_cache.len(), self.crel_cache.capacity()) * 17
     }
 
     /// Bytes the nodes, the unique table and the caches use now.
@@ -340,6 +467,9 @@ impl<'a> Dd<'a> {
             + self.union_cache.capacity() * 13
             + self.relprod_cache.capacity() * 13
             + self.sat_cache.capacity() * 9
+            + self.op_cache.capacity() * 17
+            + self.csat_cache.capacity() * 13
+            + self.crel_cache.capacity() * 17
     }
 
     /// Every few thousand operations: the budgets and the cancellation flag.
@@ -535,6 +665,212 @@ impl<'a> Dd<'a> {
         }
         out
     }
+
+    /// The child of `n` at value `v`, or `0`.
+    fn child(&self, n: u32, v: u32) -> u32 {
+        let e = self.node_edges(n);
+        e.binary_search_by_key(&v, |&(w, _)| w).map_or(0, |i| e[i].1)
+    }
+
+    /// `a ∩ b` (`minus`: false) or `a \ b` (true), of the same level.
+    fn combine(&mut self, a: u32, b: u32, minus: bool) -> R<u32> {
+        if minus {
+            if a == 0 || a == b {
+                return Ok(0);
+            }
+            if b == 0 {
+                return Ok(a);
+            }
+        } else {
+            if a == 0 || b == 0 {
+                return Ok(0);
+            }
+            if a == b {
+                return Ok(a);
+            }
+        }
+        let key = if minus { (1, a, b) } else { (0, a.min(b), a.max(b)) };
+        if let Some(&r) = self.op_cache.get(&key) {
+            return Ok(r);
+        }
+        self.tick()?;
+        let level = self.level_of(a);
+        let mut out = Vec::new();
+        for (v, ca) in self.node_edges(a).to_vec() {
+            let cb = self.child(b, v);
+            let r = if minus {
+                self.combine(ca, cb, true)?
+            } else if cb == 0 {
+                0
+            } else {
+                self.combine(ca, cb, false)?
+            };
+            if r != 0 {
+                out.push((v, r));
+            }
+        }
+        let r = self.mk(level, &out)?;
+        self.op_cache.insert(key, r);
+        Ok(r)
+    }
+
+    /// The markings of `n` that enable `t` (`image`: false) or the markings firing `t`
+    /// once leads to from them (true, not saturated).
+    fn step(&mut self, n: u32, t: u32, image: bool) -> R<u32> {
+        let level = self.level_of(n);
+        if n < 2 || level > self.events[t as usize].bottom {
+            return Ok(n);
+        }
+        let key = (2 + u8::from(image), n, t);
+        if let Some(&r) = self.op_cache.get(&key) {
+            return Ok(r);
+        }
+        self.tick()?;
+        let act = self.events[t as usize].act(level).copied();
+        let mut out = Vec::new();
+        for (v, c) in self.node_edges(n).to_vec() {
+            let v2 = match act {
+                None => v,
+                Some(a) if v >= a.need && v < a.below => {
+                    if image {
+                        let w = u64::from(v - a.pre) + u64::from(a.post);
+                        u32::try_from(w).map_err(|_| Stop::Overflow)?
+                    } else {
+                        v
+                    }
+                }
+                Some(_) => continue,
+            };
+            let r = self.step(c, t, image)?;
+            if r != 0 {
+                out.push((v2, r));
+            }
+        }
+        let r = self.mk(level, &out)?;
+        self.op_cache.insert(key, r);
+        Ok(r)
+    }
+
+    /// `n` (markings of `c`, same level) closed under the transitions of its level and
+    /// below, every marking added kept within `c` (constrained saturation, Zhao and
+    /// Ciardo 2009).
+    fn csat(&mut self, n: u32, c: u32) -> R<u32> {
+        if n < 2 {
+            return Ok(n);
+        }
+        if let Some(&r) = self.csat_cache.get(&(n, c)) {
+            return Ok(r);
+        }
+        let level = self.level_of(n);
+        let mut out = Vec::new();
+        for (v, child) in self.node_edges(n).to_vec() {
+            let cc = self.child(c, v);
+            let r = self.csat(child, cc)?;
+            if r != 0 {
+                out.push((v, r));
+            }
+        }
+        let s = self.mk(level, &out)?;
+        let r = self.cfire(s, c, level)?;
+        self.csat_cache.insert((n, c), r);
+        self.csat_cache.insert((r, c), r);
+        Ok(r)
+    }
+
+    /// [`Dd::fire`] within `c`.
+    fn cfire(&mut self, mut s: u32, c: u32, level: usize) -> R<u32> {
+        if self.at[level].is_empty() || s == 0 {
+            return Ok(s);
+        }
+        let events = self.at[level].clone();
+        loop {
+            let before = s;
+            for &t in &events {
+                let img = self.crelprod(s, c, t)?;
+                s = self.union(s, img)?;
+            }
+            if s == before {
+                return Ok(s);
+            }
+        }
+    }
+
+    /// [`Dd::relprod`] within `c`: the image's markings are those of `c`.
+    fn crelprod(&mut self, n: u32, c: u32, t: u32) -> R<u32> {
+        if n == 0 || c == 0 {
+            return Ok(0);
+        }
+        let level = self.level_of(n);
+        if level > self.events[t as usize].bottom {
+            return self.combine(n, c, false);
+        }
+        if let Some(&r) = self.crel_cache.get(&(n, c, t)) {
+            return Ok(r);
+        }
+        self.tick()?;
+        let act = self.events[t as usize].act(level).copied();
+        let mut out = Vec::new();
+        for (v, ch) in self.node_edges(n).to_vec() {
+            let v2 = match act {
+                None => v,
+                Some(a) if v >= a.need && v < a.below => {
+                    let w = u64::from(v - a.pre) + u64::from(a.post);
+                    u32::try_from(w).map_err(|_| Stop::Overflow)?
+                }
+                Some(_) => continue,
+            };
+            let cc = self.child(c, v2);
+            if cc == 0 {
+                continue;
+            }
+            let r = self.crelprod(ch, cc, t)?;
+            if r != 0 {
+                out.push((v2, r));
+            }
+        }
+        let mut r = self.mk(level, &out)?;
+        if level > self.events[t as usize].top {
+            r = self.cfire(r, c, level)?;
+        }
+        self.crel_cache.insert((n, c, t), r);
+        Ok(r)
+    }
+
+    /// The number of markings of `n`.
+    fn count(&self, n: u32) -> Count {
+        let mut count: FxMap<u32, Count> = FxMap::default();
+        count.insert(0, Count::default());
+        count.insert(1, Count::from_u64(1));
+        for m in self.postorder(n).into_iter().filter(|&m| m > 1) {
+            let mut c = Count::default();
+            for &(_, child) in self.node_edges(m) {
+                c.add(&count[&child]);
+            }
+            count.insert(m, c);
+        }
+        count.remove(&n).unwrap_or_default()
+    }
+
+    /// One marking of `n` (not empty), places in `order`'s numbering.
+    fn pick(&self, mut n: u32, order: &[usize]) -> Vec<u32> {
+        let mut m = vec![0; order.len()];
+        while n > 1 {
+            let Some(&(v, c)) = self.node_edges(n).first() else {
+                break;
+            };
+            m[order[self.level_of(n)]] = v;
+            n = c;
+        }
+        m
+    }
+
+    /// Whether marking `m` is in `n` (of the root level).
+    fn contains(&self, mut n: u32, m: &[u32], order: &[usize]) -> bool {
+        while n > 1 {
+            n = self.child(n, m[order[self.level_of(n)]]);
+        }
+        n == 1
+    }
 }
 
 /// The FORCE order (see the module's documentation): places from the root down.
@@ -660,6 +996,167 @@ fn events(net: &PtNet, order: &[usize]) -> Vec<Event> {
         .collect()
 }
 
+/// The transitions reversed: `t⁻¹` fires from `m'` to `m` when `t` fires from `m` to
+/// `m'` (inputs and outputs swapped, the tests on `m` moved onto `m'`).
+fn reversed(events: &[Event]) -> Vec<Event> {
+    events
+        .iter()
+        .map(|e| Event {
+            acts: e
+                .acts
+                .iter()
+                .map(|&(l, a)| {
+                    // m = m' - post + pre: m >= need when m' >= need - pre + post (need >= pre),
+                    // m < below when m' < below - pre + post.
+                    let shift = |x: u32| (u64::from(x) + u64::from(a.post)).saturating_sub(u64::from(a.pre));
+                    let clamp = |x: u64| u32::try_from(x).unwrap_or(u32::MAX);
+                    let below = if a.below == u32::MAX {
+                        u32::MAX
+                    } else {
+                        clamp(shift(a.below))
+                    };
+                    let act = Act {
+                        need: clamp(shift(a.need)),
+                        below,
+                        pre: a.post,
+                        post: a.pre,
+                    };
+                    (l, act)
+                })
+                .collect(),
+            top: e.top,
+            bottom: e.bottom,
+        })
+        .collect()
+}
+
+/// The [`Facts`] of the reachable markings `reach` (saturated, root level), within
+/// `dd`'s budgets; the trace last, with budgets of its own.
+fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
+    // The saturation's caches are done with.
+    dd.relprod_cache = FxMap::default();
+    dd.sat_cache = FxMap::default();
+    let nt = dd.events.len() as u32;
+    let en: Vec<u32> = match (0..nt).map(|t| dd.step(reach, t, false)).collect::<R<_>>() {
+        Ok(v) => v,
+        Err(why) => return Facts::unknown(why),
+    };
+    let dead_transitions: Vec<usize> = (0..nt as usize).filter(|&t| en[t] == 0).collect();
+    let dead = en
+        .iter()
+        .try_fold(0, |any, &e| dd.union(any, e))
+        .and_then(|any| dd.combine(reach, any, true));
+    let dead = match dead {
+        Ok(d) => d,
+        Err(why) => {
+            return Facts {
+                dead_transitions: Ok(dead_transitions),
+                ..Facts::unknown(why)
+            };
+        }
+    };
+    let deadlocks = dd.count(dead);
+    // Backwards: the transitions reversed, every marking kept within `reach`.
+    let backward = reversed(&dd.events);
+    let forward = std::mem::replace(&mut dd.events, backward);
+    let mut init = 1;
+    let reversible = (|| {
+        for l in (0..dd.levels).rev() {
+            init = dd.mk(l, &[(net.initial[order[l]], init)])?;
+        }
+        Ok(dd.csat(init, reach)? == reach)
+    })();
+    let live = if nt == 0 {
+        Ok(true)
+    } else if !dead_transitions.is_empty() || dead != 0 {
+        Ok(false)
+    } else {
+        match reversible {
+            Ok(true) => Ok(true),
+            Err(Stop::Cancelled) => Err(Stop::Cancelled),
+            _ => en
+                .iter()
+                .try_fold(true, |live, &e| Ok(live && dd.csat(e, reach)? == reach)),
+        }
+    };
+    dd.events = forward;
+    // The trace last, within a quarter of the time left and as many nodes again as
+    // made so far (at least 2^20): breadth-first layers can be much larger than the
+    // saturated diagrams.
+    let deadlock_trace = if dead == 0 {
+        Ok(None)
+    } else if live == Err(Stop::Cancelled) {
+        Err(Stop::Cancelled)
+    } else {
+        let (time, nodes) = (dd.limits.time, dd.limits.max_nodes);
+        let elapsed = dd.started.elapsed();
+        dd.limits.time = elapsed + time.saturating_sub(elapsed) / 4;
+        dd.limits.max_nodes = nodes.min(dd.level.len() + dd.level.len().max(1 << 20));
+        let t = trace(net, dd, dead, order).map(Some);
+        (dd.limits.time, dd.limits.max_nodes) = (time, nodes);
+        t
+    };
+    Facts {
+        dead_transitions: Ok(dead_transitions),
+        deadlocks: Ok(deadlocks),
+        deadlock_trace,
+        reversible,
+        live,
+    }
+}
+
+/// A shortest firing sequence from the initial marking to one of `dead` and the marking
+/// it reaches: breadth-first layers until one meets `dead`, then back through them.
+fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
+    let mut init = 1;
+    for l in (0..dd.levels).rev() {
+        init = dd.mk(l, &[(net.initial[order[l]], init)])?;
+    }
+    let nt = dd.events.len() as u32;
+    let mut layers = vec![init];
+    let mut seen = init;
+    let mut frontier = init;
+    let mut hit = dd.combine(frontier, dead, false)?;
+    while hit == 0 {
+        let mut next = 0;
+        for t in 0..nt {
+            let img = dd.step(frontier, t, true)?;
+            next = dd.union(next, img)?;
+        }
+        frontier = dd.combine(next, seen, true)?;
+        if frontier == 0 {
+            // Every dead marking is reachable: not reached here.
+            return Err(Stop::Nodes);
+        }
+        seen = dd.union(seen, frontier)?;
+        layers.push(frontier);
+        hit = dd.combine(frontier, dead, false)?;
+    }
+    let end = dd.pick(hit, order);
+    let mut m = end.clone();
+    let mut seq = Vec::new();
+    for layer in layers.iter().rev().skip(1) {
+        let step = (0..net.transitions.len()).find_map(|t| {
+            // The marking that firing t leads from to m.
+            let mut prev = m.clone();
+            for &(p, w) in &net.post[t] {
+                prev[p] = prev[p].checked_sub(w)?;
+            }
+            for &(p, w) in &net.pre[t] {
+                prev[p] = prev[p].checked_add(w)?;
+            }
+            (net.enabled(&prev, t) && dd.contains(*layer, &prev, order)).then_some((t, prev))
+        });
+        let Some((t, prev)) = step else {
+            return Err(Stop::Nodes);
+        };
+        seq.push(t);
+        m = prev;
+    }
+    seq.reverse();
+    Ok((seq, end))
+}
+
 /// The reachable markings of `net` by saturation, within `limits`, stopped when
 /// `cancel` is raised. No order suits every net (FORCE's is 10× faster than the file's
 /// on `GlobalResAllocation-PT-03`, 30× slower on `BART-PT-002`): when they differ, the
@@ -678,10 +1175,19 @@ pub fn explore(net: &PtNet, limits: &Limits, cancel: &AtomicBool) -> Outcome {
     let done = AtomicBool::new(false);
     let run = |order: &Vec<usize>| {
         let mut dd = Dd::new(net.places.len(), events(net, order), share, started, cancel, &done);
-        let result = build(net, &mut dd, order.clone());
-        if result.is_ok() {
-            done.store(true, Ordering::Relaxed);
-        }
+        let result = build(net, &mut dd, order.clone()).map(|(mut s, root)| {
+            let won = done
+                .compare_exchange(false, true, Ordering::AcqRel, Ordering::Relaxed)
+                .is_ok();
+            if won && limits.facts {
+                // The other order's run stops at its next check: the whole memory
+                // budget is this one's.
+                dd.beaten = &NOT_BEATEN;
+                dd.limits.memory = limits.memory;
+                s.facts = Some(facts(net, &mut dd, root, &s.order));
+            }
+            s
+        });
         Outcome {
             result,
             nodes: dd.level.len(),
@@ -707,9 +1213,10 @@ pub fn explore(net: &PtNet, limits: &Limits, cancel: &AtomicBool) -> Outcome {
     let mut best = outcomes
         .into_iter()
         .min_by_key(|o| match &o.result {
-            Ok(_) => 0,
-            Err(Stop::Beaten) => 2,
-            Err(_) => 1,
+            Ok(s) if s.facts.is_some() => 0,
+            Ok(_) => 1,
+            Err(Stop::Beaten) => 3,
+            Err(_) => 2,
         })
         .unwrap_or(Outcome {
             result: Err(Stop::Memory),
@@ -722,8 +1229,12 @@ pub fn explore(net: &PtNet, limits: &Limits, cancel: &AtomicBool) -> Outcome {
     best
 }
 
-/// Saturates the initial marking and reads the results off the diagram.
-fn build(net: &PtNet, dd: &mut Dd<'_>, order: Vec<usize>) -> R<Symbolic> {
+/// Never raised: the winning run's flag once it has completed.
+static NOT_BEATEN: AtomicBool = AtomicBool::new(false);
+
+/// Saturates the initial marking and reads the results off the diagram (and the root
+/// of the reachable markings).
+fn build(net: &PtNet, dd: &mut Dd<'_>, order: Vec<usize>) -> R<(Symbolic, u32)> {
     let mut init = 1;
     for l in (0..dd.levels).rev() {
         init = dd.mk(l, &[(net.initial[order[l]], init)])?;
@@ -780,14 +1291,16 @@ fn build(net: &PtNet, dd: &mut Dd<'_>, order: Vec<usize>) -> R<Symbolic> {
         }
         firings.add(&enabled[&root]);
     }
-    Ok(Symbolic {
+    let s = Symbolic {
         states: count[&root].clone(),
         firings,
         place_bounds: bounds,
         max_tokens: most[&root],
         final_nodes: nodes.len(),
         order,
-    })
+        facts: None,
+    };
+    Ok((s, root))
 }
 
 #[cfg(test)]
@@ -931,6 +1444,39 @@ mod tests {
         let o = explore(&grow, &small, &never());
         assert!(matches!(o.result, Err(Stop::Memory)), "{:?}", o.result);
         assert!(o.bytes <= 8 << 20, "{}", o.bytes);
+    }
+
+    #[test]
+    fn facts_over_budget_stay_unknown_with_their_reason() {
+        // One order (the file's is FORCE's): the same nodes on every run.
+        let net = samples::cycles(4, 3);
+        assert_eq!(variable_order(&net), (0..net.places.len()).collect::<Vec<_>>());
+        let counted = explore(&net, &Limits::default(), &never());
+        assert!(counted.result.as_ref().is_ok_and(|s| s.facts.is_none()));
+        let tight = Limits {
+            max_nodes: counted.nodes + 3,
+            facts: true,
+            ..Limits::default()
+        };
+        let s = explore(&net, &tight, &never())
+            .result
+            .expect("counted within the budget");
+        let f = s.facts.expect("asked");
+        assert_eq!(f.live, Err(Stop::Nodes));
+        assert_eq!(f.status(), super::super::Status::Skipped("budget"));
+        let s = explore(
+            &net,
+            &Limits {
+                facts: true,
+                ..Limits::default()
+            },
+            &never(),
+        )
+        .result
+        .expect("counted");
+        let f = s.facts.expect("asked");
+        assert_eq!(f.status(), super::super::Status::Complete);
+        assert_eq!((f.live, f.reversible, f.deadlock_trace), (Ok(true), Ok(true), Ok(None)));
     }
 
     #[test]

@@ -73,7 +73,9 @@ fn a_ring_unfolds_to_a_place_per_colour_and_a_transition_per_binding() {
         Unfolding {
             coloured_places: 1,
             coloured_transitions: 1,
-            bindings: 3
+            bindings: 3,
+            places: vec![("P".into(), 0..3)],
+            transitions: vec![("t".into(), 0..2)],
         }
     );
     let a = analyze(&PtNet::from_net(&net), &Options::default(), &Control::none());
@@ -194,4 +196,55 @@ fn the_editor_refuses_a_coloured_net_and_the_analysis_unfolds_it() {
     let pt = r#"<pnml><net id="n" type="http://www.pnml.org/version-2009/grammar/ptnet"><page id="g"><place id="p"/></page></net></pnml>"#;
     let (net, diags, u) = load_for_analysis(FileId(0), pt);
     assert!(net.is_some() && diags.is_empty() && u.is_none());
+}
+
+/// A coloured model's formulas name its coloured nodes: the tokens of `P` are those of
+/// `P_0`, `P_1` and `P_2` together, `t` is fireable when `t_0` or `t_1` is, the bound of
+/// `P` is that of the sum; an unfolded name still reads, an unknown one is located.
+#[test]
+fn formulas_name_coloured_places_and_transitions() {
+    use alba_net::analysis::formula::{IntExpr, Pred, Query, parse, parse_for};
+    use alba_net::analysis::stubborn::{CheckOptions, answer};
+    let (net, u) = unfold(FileId(0), &ring(), &Budget::default()).expect("unfolds");
+    let pt = PtNet::from_net(&net);
+    let text = r#"<?xml version="1.0"?>
+<property-set xmlns="http://mcc.lip6.fr/">
+  <property><id>R-00</id><formula><place-bound><place>P</place></place-bound></formula></property>
+  <property><id>R-01</id><formula><all-paths><globally><conjunction>
+    <integer-le><tokens-count><place>P</place></tokens-count><integer-constant>1</integer-constant></integer-le>
+    <integer-le><integer-constant>1</integer-constant><tokens-count><place>P</place></tokens-count></integer-le>
+  </conjunction></globally></all-paths></formula></property>
+  <property><id>R-02</id><formula><exists-path><finally><negation><is-fireable><transition>t</transition></is-fireable></negation></finally></exists-path></formula></property>
+  <property><id>R-03</id><formula><exists-path><finally><integer-le><integer-constant>1</integer-constant><tokens-count><place>P_2</place></tokens-count></integer-le></finally></exists-path></formula></property>
+</property-set>"#;
+    let props = parse_for(text, &pt, Some(&u)).expect("reads");
+    assert_eq!(props[0].query, Query::Bound(vec![0, 1, 2]));
+    let Query::Ef(Pred::Not(f)) = &props[2].query else {
+        panic!("{:?}", props[2].query)
+    };
+    assert_eq!(**f, Pred::Fireable(vec![0, 1]));
+    let Query::Ef(Pred::Le(_, IntExpr::Tokens(p2))) = &props[3].query else {
+        panic!("{:?}", props[3].query)
+    };
+    assert_eq!(p2, &vec![2]);
+    let answers: Vec<String> = answer(&pt, &props, &CheckOptions::default(), &Control::none())
+        .iter()
+        .map(|a| a.to_string().split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(
+        answers,
+        [
+            "FORMULA R-00 1",
+            "FORMULA R-01 TRUE",
+            "FORMULA R-02 TRUE",
+            "FORMULA R-03 TRUE"
+        ]
+    );
+    // Without the unfolding, `P` is unknown: the error says where.
+    let e = parse(text, &pt).expect_err("P is not a place of the unfolded net");
+    assert_eq!((e.line, e.column), (3, 48), "{e}");
+    assert!(e.message.contains("no place `P`"), "{e}");
+    let e = parse_for(&text.replace("<transition>t<", "<transition>u<"), &pt, Some(&u)).expect_err("unknown");
+    assert_eq!((e.line, e.column), (8, 80), "{e}");
+    assert!(e.message.contains("no transition `u`"), "{e}");
 }

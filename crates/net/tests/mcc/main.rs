@@ -221,6 +221,7 @@ fn analyze_falls_back_on_the_symbolic_engine() {
     assert_eq!(a.edges, big.state_space("TRANSITIONS"));
     assert_eq!(a.max_tokens, big.state_space("MAX_TOKEN_PER_MARKING"));
     assert_eq!(a.bounded, Some(true));
+    assert_eq!((a.deadlocks, a.live, a.reversible), (Some(0), Some(true), Some(true)));
     assert!(
         a.stopped
             .as_deref()
@@ -245,10 +246,16 @@ fn analyze_falls_back_on_the_symbolic_engine() {
     );
     assert_eq!(a.status.symbolic, Status::Complete);
     assert_eq!((a.states, a.edges), (Some(2_546_432), Some(24_460_016)));
-    assert_eq!(a.deadlocks, None);
+    // Its deadlocks, liveness and reversibility from the diagrams too.
+    assert_eq!(a.status.symbolic_facts, Status::Complete, "{:?}", a.notes);
+    assert_eq!(
+        (a.deadlocks, a.live, a.reversible, a.dead_transitions.as_deref()),
+        (Some(0), Some(true), Some(true), Some(&[][..]))
+    );
     let a = analyze(&net, &options(SymbolicMode::Off, 4 << 20), &Control::none());
     assert_eq!(a.status.symbolic, Status::Skipped("not requested"));
-    assert_eq!(a.states, None);
+    assert_eq!(a.status.symbolic_facts, Status::Skipped("not requested"));
+    assert_eq!((a.states, a.deadlocks, a.live), (None, None, None));
     // Both: the explicit graph of a small net and the diagrams agree.
     let tiny = get("Philosophers-PT-000005");
     let a = analyze(
@@ -471,5 +478,214 @@ fn examinations_match_the_contest() {
     );
     for (exam, (instances, _)) in &per_exam {
         assert!(*instances >= 20, "{exam}: only {instances} instances");
+    }
+}
+
+/// Point 6 of issue 38, the examinations: every formula of `UpperBounds`,
+/// `ReachabilityCardinality`, `ReachabilityFireability` and `ReachabilityDeadlock` of
+/// every coloured instance that unfolds, read against its unfolding (a coloured place is
+/// its unfolded places together, a coloured transition any of its unfolded ones),
+/// answered on the unfolded net and compared with the contest's verdict; every trace is
+/// replayed on the unfolded net.
+#[test]
+fn coloured_examinations_match_the_contest() {
+    use alba_net::analysis::formula::{self, Query};
+    use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer};
+    let mut failures = Vec::new();
+    let mut per_exam: BTreeMap<&str, (usize, usize)> = BTreeMap::new();
+    let mut traces = 0;
+    for i in alba_testkit::mcc::instances_in(&alba_testkit::mcc::coloured_path())
+        .into_iter()
+        .map(|(name, files)| corpus::Instance { name, files })
+        .filter(|i| !OVER_BUDGET.contains(&i.name.as_str()))
+    {
+        let text = i.text("model.pnml").expect("model.pnml");
+        let (net, unfolding) =
+            match alba_net::colored::unfold(alba_diag::FileId(0), &text, &alba_net::colored::Budget::default()) {
+                Ok(x) => x,
+                Err(d) => {
+                    failures.push(format!("{}: {d:?}", i.name));
+                    continue;
+                }
+            };
+        let pt = alba_net::PtNet::from_net(&net);
+        for exam in [
+            "UpperBounds",
+            "ReachabilityCardinality",
+            "ReachabilityFireability",
+            "ReachabilityDeadlock",
+        ] {
+            let want = oracle_answers(&i, exam);
+            if want.is_empty() {
+                failures.push(format!("{} {exam}: no oracle", i.name));
+                continue;
+            }
+            let props = if exam == "ReachabilityDeadlock" {
+                vec![formula::deadlock_property()]
+            } else {
+                let text = i.text(&format!("{exam}.xml")).expect("formula file");
+                match formula::parse_for(&text, &pt, Some(&unfolding)) {
+                    Ok(p) => p,
+                    Err(e) => {
+                        failures.push(format!("{} {exam}: {e}", i.name));
+                        continue;
+                    }
+                }
+            };
+            let answers = answer(&pt, &props, &CheckOptions::default(), &Control::none());
+            let entry = per_exam.entry(exam).or_default();
+            for (p, a) in props.iter().zip(&answers) {
+                entry.0 += 1;
+                let have = a.to_string();
+                let have_value = have.split_whitespace().nth(2).unwrap_or("").to_string();
+                match want.iter().find(|(id, _)| *id == a.id) {
+                    Some((_, v)) if *v == have_value => entry.1 += 1,
+                    Some((_, v)) => failures.push(format!("{}: have {have}, want {v}", a.id)),
+                    None => failures.push(format!("{}: no oracle", a.id)),
+                }
+                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&a.trace, &p.query) {
+                    traces += 1;
+                    let m = replay(&pt, trace);
+                    if f.eval(&pt, &m) != (a.verdict == Verdict::True) {
+                        failures.push(format!("{}: the trace ends where the formula is not", a.id));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    eprintln!("coloured formulas (answered, agreeing) per examination: {per_exam:?}; {traces} traces replayed");
+    for (exam, (formulas, agreeing)) in &per_exam {
+        assert_eq!(formulas, agreeing, "{exam}");
+        assert!(*formulas >= 28, "{exam}: only {formulas} formulas");
+    }
+}
+
+/// Part of issue 38, point 5: the decision diagrams decide deadlocks, dead transitions,
+/// liveness and reversibility (`symbolic::Facts`), equal to the explicit engine's on every
+/// instance of at most `ALBA_MCC_MAX_STATES` states (those of [`SYMBOLIC_OVER_BUDGET`]
+/// left out), and each trace to a deadlock is as short as the explicit one and replays to
+/// a dead marking.
+#[test]
+fn symbolic_facts_match_the_explicit_ones() {
+    use alba_net::analysis::symbolic::{self, Limits};
+    let limit = limit();
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    let mut slowest = Vec::new();
+    for i in &corpus::load() {
+        let Some(states) = i.state_space("STATES") else {
+            continue;
+        };
+        if states > limit || SYMBOLIC_OVER_BUDGET.contains(&i.name.as_str()) {
+            continue;
+        }
+        let net = corpus::net(i);
+        let (a, _) = analysed(&net);
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let limits = Limits {
+            facts: true,
+            ..Limits::default()
+        };
+        let o = symbolic::explore(&net, &limits, &never);
+        let Some(f) = o.result.ok().and_then(|s| s.facts) else {
+            failures.push(format!("{}: no facts", i.name));
+            continue;
+        };
+        let have = (
+            f.dead_transitions.clone().ok(),
+            f.deadlocks.clone().ok().and_then(|c| c.to_u64()),
+            f.live.ok(),
+            f.reversible.ok(),
+        );
+        let want = (a.dead_transitions.clone(), a.deadlocks, a.live, a.reversible);
+        if have != want {
+            failures.push(format!("{}: have {have:?}, want {want:?}", i.name));
+        }
+        match &f.deadlock_trace {
+            Ok(Some((trace, end))) => {
+                let m = replay(&net, trace);
+                let dead = (0..net.transitions.len()).all(|t| !net.enabled(&m, t));
+                if &m != end || !dead || Some(trace.len()) != a.deadlock_trace.as_ref().map(Vec::len) {
+                    failures.push(format!(
+                        "{}: the trace {trace:?} does not end in a deadlock as short",
+                        i.name
+                    ));
+                }
+            }
+            Ok(None) if a.deadlocks == Some(0) => {}
+            other => failures.push(format!("{}: trace {other:?}", i.name)),
+        }
+        checked += 1;
+        slowest.push((o.time, i.name.clone()));
+    }
+    assert!(
+        failures.is_empty(),
+        "{} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+    assert!(checked >= 60, "only {checked}");
+    slowest.sort();
+    eprintln!(
+        "{checked} instances: the symbolic facts equal the explicit ones; the slowest: {:?}",
+        &slowest[slowest.len().saturating_sub(5)..]
+    );
+}
+
+/// The symbolic facts on the instances of 10^16 states and more: the existence of a
+/// deadlock is the contest's `ReachabilityDeadlock` verdict, and the dead transitions,
+/// liveness and reversibility are decided within the default budgets (a trace to a
+/// deadlock may not be: `Philosophers-PT-000100`'s breadth-first layers exceed its
+/// budget; one that is found replays to a dead marking).
+#[test]
+fn symbolic_deadlocks_of_the_big_instances_match_the_contest() {
+    use alba_net::analysis::symbolic::{self, Limits};
+    let corpus = corpus::load();
+    for name in ["Kanban-PT-00050", "FMS-PT-00050", "Philosophers-PT-000100"] {
+        let i = corpus.iter().find(|i| i.name == name).expect(name);
+        let net = corpus::net(i);
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let limits = Limits {
+            facts: true,
+            ..Limits::default()
+        };
+        let o = symbolic::explore(&net, &limits, &never);
+        let s = o.result.expect("counted");
+        let f = s.facts.expect("facts");
+        let want = oracle_answers(i, "ReachabilityDeadlock");
+        let deadlock = f.deadlocks.as_ref().map(|c| c.to_u64() != Some(0));
+        assert_eq!(
+            want,
+            [(
+                "ReachabilityDeadlock".to_string(),
+                (if deadlock == Ok(true) { "TRUE" } else { "FALSE" }).to_string()
+            )],
+            "{name}: {deadlock:?}"
+        );
+        assert!(
+            f.dead_transitions.is_ok() && f.live.is_ok() && f.reversible.is_ok(),
+            "{name}: {f:?}"
+        );
+        if let Ok(Some((trace, _))) = &f.deadlock_trace {
+            let m = replay(&net, trace);
+            assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)), "{name}");
+        }
+        eprintln!(
+            "{name}: {} states, {:?} deadlocks, trace of {:?} firings, dead transitions {:?}, live {:?}, reversible {:?}; {:.1} s, {} nodes",
+            s.states,
+            f.deadlocks.as_ref().map(ToString::to_string),
+            f.deadlock_trace.as_ref().map(|t| t.as_ref().map(|t| t.0.len())),
+            f.dead_transitions.as_ref().map(Vec::len),
+            f.live,
+            f.reversible,
+            o.time.as_secs_f64(),
+            o.nodes
+        );
     }
 }

@@ -177,7 +177,7 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
     // Loading (and the formulas) are checked first, so a net that does not load or a
     // formula file that does not read is a 422.
     let (pt, props) = tokio::task::spawn_blocking(move || -> Result<(PtNet, Option<Vec<Property>>), String> {
-        let (net, diags, _) = net::load_for_analysis(file, &text);
+        let (net, diags, unfolding) = net::load_for_analysis(file, &text);
         let errors: Vec<_> = diags.iter().filter(|d| !net::is_warning(d)).collect();
         let pt = match net {
             Some(n) if errors.is_empty() => PtNet::from_net(&n),
@@ -193,7 +193,7 @@ pub async fn analysis(State(st): State<Arc<AppState>>, Path(name): Path<String>,
         let props = match (examination.as_deref(), formulas) {
             (None, _) => None,
             (Some(_), Some(f)) => Some(
-                formula::parse(&f, &pt)
+                formula::parse_for(&f, &pt, unfolding.as_ref())
                     .map_err(|e| format!("the formulas, line {}, column {}: {}", e.line, e.column, e.message))?,
             ),
             (Some(_), None) => Some(vec![formula::deadlock_property()]),

@@ -570,7 +570,8 @@ async fn an_analysis_stops_at_its_time_limit() {
 }
 
 /// `"symbolic": true` counts with decision diagrams first: 3^25 states, far more than
-/// the explicit exploration may hold, counted exactly; `"symbolic"` must be a boolean.
+/// the explicit exploration may hold, counted exactly, and decides their deadlocks,
+/// liveness and reversibility; `"symbolic"` must be a boolean.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_analysis_counts_with_decision_diagrams_on_request() {
     let s = with_big_net("net-analysis-symbolic", 25).await;
@@ -581,6 +582,13 @@ async fn an_analysis_counts_with_decision_diagrams_on_request() {
     assert_eq!(r["symbolic"]["states"], "847288609443", "{r}");
     assert_eq!(r["states"], 847_288_609_443u64, "{r}");
     assert_eq!(r["status"]["state_space"], "skipped: budget", "{r}");
+    // Its deadlocks, liveness and reversibility are decided on the diagrams too.
+    assert_eq!(r["status"]["symbolic_facts"], "complete", "{r}");
+    assert_eq!(
+        (&r["deadlocks"], &r["live"], &r["reversible"], &r["dead_transitions"]),
+        (&json!(0), &json!(true), &json!(true), &json!([])),
+        "{r}"
+    );
     // Without it, the explicit exploration stops at its cap and nothing is counted.
     let (_, lines) = analysis(&s, "big", json!({"max_states": 1000})).await;
     let r = &lines.last().expect("a line")["result"];
