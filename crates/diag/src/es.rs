@@ -2460,6 +2460,18 @@ pub const PHRASES: &[(&str, &str)] = &[
         "se omitió la exploración explícita: el motor simbólico contó {0} estados, más de los que puede guardar ({1} estados, --max-states, o {2} MiB a {3} bytes por estado como mínimo, --memory)",
     ),
     (
+        "states ({}), edges ({}), place bounds, most tokens per marking, deadlocks, dead transitions, liveness and reversibility come from the symbolic engine (decision diagrams)",
+        "los estados ({0}), los arcos ({1}), las cotas de los lugares, el máximo de marcas por marcado, los bloqueos, las transiciones muertas, la vivacidad y la reversibilidad vienen del motor simbólico (diagramas de decisión)",
+    ),
+    (
+        "{} dead markings (more than 2^64)",
+        "{0} marcados muertos (más de 2^64)",
+    ),
+    (
+        "the symbolic engine did not decide {} ({})",
+        "el motor simbólico no decidió {0} ({1})",
+    ),
+    (
         "symbolic engine stopped ({}) after {} nodes, {} s",
         "el motor simbólico se detuvo ({0}) tras {1} nodos, {2} s",
     ),
@@ -2863,6 +2875,12 @@ pub const VALUES: &[(&str, &str)] = &[
     ("cancelled", "cancelado"),
     ("a place count exceeds 2^32-1", "un lugar supera 2^32-1 marcas"),
     ("the other order completed first", "el otro orden terminó antes"),
+    // the facts the symbolic engine may leave undecided
+    ("dead transitions", "las transiciones muertas"),
+    ("deadlocks", "los bloqueos"),
+    ("a trace to a deadlock", "una traza hasta un bloqueo"),
+    ("liveness", "la vivacidad"),
+    ("reversibility", "la reversibilidad"),
 ];
 
 /// A value of a message in Spanish ([`VALUES`]).

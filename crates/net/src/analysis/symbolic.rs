@@ -261,11 +261,12 @@ impl Facts {
         }
     }
 
-    /// Fills the analysis' facts from these (those that are decided); a note for those
-    /// that are not.
+    /// Fills the analysis' facts from these (those that are decided); a note for each
+    /// that is not.
     pub(super) fn adopt(self, a: &mut super::Analysis) {
         let mut unknown = Vec::new();
-        let mut why = |what: &str, e: &Stop| unknown.push(format!("{what} ({})", e.reason()));
+        let mut why =
+            |what: &str, e: &Stop| unknown.push(format!("the symbolic engine did not decide {what} ({})", e.reason()));
         match self.dead_transitions {
             Ok(d) => a.dead_transitions = Some(d),
             Err(e) => why("dead transitions", &e),
@@ -295,10 +296,7 @@ impl Facts {
             Ok(r) => a.reversible = Some(r),
             Err(e) => why("reversibility", &e),
         }
-        if !unknown.is_empty() {
-            a.notes
-                .push(format!("the symbolic engine did not decide {}", unknown.join(", ")));
-        }
+        a.notes.extend(unknown);
     }
 
     fn unknown(why: Stop) -> Facts {
