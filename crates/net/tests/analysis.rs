@@ -990,7 +990,7 @@ mod structural_reductions {
             for (p, t, pre, post, kind) in arcs {
                 if pre > 0 { net.add_pre(t, p, pre); }
                 if post > 0 { net.add_post(t, p, post); }
-                match kind { 8 => net.add_read(t, p, 1), 9 => net.add_inhibitor(t, p, 2), _ => {} }
+                match kind { 7 => net.add_read(t, p, 1), 8 | 9 => net.add_inhibitor(t, p, 1 + kind - 8), _ => {} }
             }
             for (k, piece) in pieces.into_iter().enumerate() {
                 add_piece(&mut net, k, piece);

@@ -402,6 +402,7 @@ fn examinations_match_the_contest() {
     let mut reduced: BTreeMap<&str, usize> = BTreeMap::new();
     let mut reduce_time = std::time::Duration::ZERO;
     let mut deadlock_states = 0u64;
+    let mut size = (0usize, 0usize);
     let compare = std::env::var("ALBA_MCC_REDUCTIONS").is_ok_and(|v| v == "compare");
     for i in &corpus {
         let Some(states) = i.state_space("STATES") else {
@@ -411,6 +412,8 @@ fn examinations_match_the_contest() {
             continue;
         }
         let net = corpus::net(i);
+        size.0 += net.places.len();
+        size.1 += net.transitions.len();
         for exam in [
             "UpperBounds",
             "ReachabilityCardinality",
@@ -491,7 +494,8 @@ fn examinations_match_the_contest() {
         failures.join("\n")
     );
     eprintln!(
-        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock: {deadlock_states} reachable markings; {sliced} formulas answered on a slice or a reduced net; time per examination: {time:?}; reductions alone (whole nets): {reduce_time:?}"
+        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock: {deadlock_states} reachable markings; {sliced} formulas answered on a slice or a reduced net; time per examination: {time:?}; reductions alone (whole nets): {reduce_time:?}; {} places and {} transitions in the instances",
+        size.0, size.1
     );
     for (exam, (before, after)) in &explored {
         eprintln!(

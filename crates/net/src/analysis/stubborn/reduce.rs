@@ -776,6 +776,66 @@ mod tests {
     }
 
     #[test]
+    fn a_formula_nesting_deadlock_turns_the_agglomerations_off() {
+        // Not dead with a empty: only while the token waits in p (f enabled); fused, the
+        // net is dead as soon as a is empty.
+        let net = chain();
+        let props = [ef(Pred::And(vec![Pred::Not(Box::new(Pred::Deadlock)), le(vec![0], 0)]))];
+        assert!(reduce(&net, &props).is_none_or(|r| r.place[1] != usize::MAX));
+        same_answers(&net, &props);
+        let a = answer(&net, &props, &CheckOptions::default(), &Control::none());
+        assert_eq!(a[0].verdict, Verdict::True);
+    }
+
+    #[test]
+    fn post_agglomeration_is_off_for_deadlocks_and_inhibited_inputs() {
+        // h: a -> p, f: p + c -> b; g: e -> c, k: c -> d; z loops on a, y on b. The net
+        // is dead after g h k (a and c empty, the token stuck in p); with h waiting for
+        // f it never is (z or y can always fire).
+        let mut net = chain();
+        let (c, d, e) = (net.add_place("c", 0), net.add_place("d", 0), net.add_place("e", 1));
+        net.add_pre(1, c, 1);
+        let g = net.add_transition("g");
+        net.add_pre(g, e, 1);
+        net.add_post(g, c, 1);
+        let k = net.add_transition("k");
+        net.add_pre(k, c, 1);
+        net.add_post(k, d, 1);
+        for (name, p) in [("z", 0), ("y", 2)] {
+            let t = net.add_transition(name);
+            net.add_pre(t, p, 1);
+            net.add_post(t, p, 1);
+        }
+        let props = [deadlock_property()];
+        assert!(reduce(&net, &props).is_none_or(|r| r.applied.post_agglomerations == 0));
+        same_answers(&net, &props);
+        let a = answer(&net, &props, &CheckOptions::default(), &Control::none());
+        assert_eq!(a[0].verdict, Verdict::True);
+        // Without the deadlock question it applies.
+        let props = [ef(Pred::Not(Box::new(le(vec![d], 0))))];
+        assert!(reduce(&net, &props).is_some_and(|r| r.applied.post_agglomerations > 0));
+        same_answers(&net, &props);
+
+        // h: a -> p, f: p + c -> b (c from y: e -> c); g needs a and b empty (inhibitor
+        // arcs): only while h's token waits in p, so h must not wait for f.
+        let mut net = chain();
+        let (c, d, e) = (net.add_place("c", 0), net.add_place("d", 0), net.add_place("e", 1));
+        net.add_pre(1, c, 1);
+        let y = net.add_transition("y");
+        net.add_pre(y, e, 1);
+        net.add_post(y, c, 1);
+        let g = net.add_transition("g");
+        net.add_inhibitor(g, 0, 1);
+        net.add_inhibitor(g, 2, 1);
+        net.add_post(g, d, 1);
+        let props = [ef(Pred::Not(Box::new(le(vec![d], 0))))];
+        assert!(reduce(&net, &props).is_none_or(|r| r.place[1] != usize::MAX));
+        same_answers(&net, &props);
+        let a = answer(&net, &props, &CheckOptions::default(), &Control::none());
+        assert_eq!(a[0].verdict, Verdict::True);
+    }
+
+    #[test]
     fn rules_iterate_to_a_fixed_point_on_independent_processes() {
         // n processes idle -> busy -> done and a final transition needing every done:
         // every chain fuses; the deadlock question then explores a handful of markings.
