@@ -407,7 +407,7 @@ impl Work {
             fused.add_read(0, q, w);
         }
         for &(q, w) in &n.reads[f] {
-            fused.add_read(0, q, w + weight(&n.pre[h], q));
+            fused.add_read(0, q, w.saturating_add(weight(&n.pre[h], q)));
         }
         for &(q, w) in n.inhibitors[h].iter().chain(&n.inhibitors[f]) {
             fused.add_inhibitor(0, q, w);
