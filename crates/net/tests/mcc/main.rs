@@ -498,9 +498,14 @@ fn examinations_match_the_contest() {
         size.0, size.1
     );
     for (exam, (before, after)) in &explored {
+        let without = if compare || *exam == "ReachabilityDeadlock" {
+            before.states.to_string()
+        } else {
+            "(not compared)".to_string()
+        };
         eprintln!(
-            "{exam}: {} markings explored without the structural reductions, {} with; {} places and {} transitions removed ({:?}); {} of the instances' nets reduced",
-            before.states, after.states, after.places_removed, after.transitions_removed, after.applied, reduced[exam]
+            "{exam}: {without} markings explored without the structural reductions, {} with; {} places and {} transitions removed ({:?}); {} of the instances' nets reduced",
+            after.states, after.places_removed, after.transitions_removed, after.applied, reduced[exam]
         );
     }
     for (exam, (instances, _)) in &per_exam {
