@@ -16,10 +16,11 @@
 //!   need of a transition in `p` is at most its need in `q` plus that difference. The
 //!   reachable markings are the original ones without the place, and every transition
 //!   is enabled exactly where it was.
-//! - **Pre-agglomeration** (Berthelot): a place `p`, initially empty, filled by the
-//!   transitions `H` and emptied by `F`, each `f` of `F` needing nothing but `w` tokens
-//!   of `p` (so it can fire as soon as its `h` has): each `h` and its `f` become one
-//!   transition `h.f`. Moving every `f` to right after the `h` that fed it keeps a firing
+//! - **Pre-agglomeration** (Berthelot): a place `p`, initially empty, without read or
+//!   inhibitor arcs, filled by the transitions `H` (`w` tokens each) and emptied by `F`
+//!   (`w` each), `H` or `F` a single transition, each `f` of `F` needing nothing but its
+//!   `w` tokens of `p` (so it can fire as soon as its `h` has): each `h` and `f` become
+//!   one transition `h.f`. Moving every `f` to right after the `h` that fed it keeps a firing
 //!   sequence one (nothing inhibits the places `f` fills); tokens left in `p` at the end
 //!   are moved on by firing `f`. The places read by a formula must then not be `p` nor
 //!   ones `f` fills. A dead marking has `p` empty, so deadlocks are kept too.
@@ -27,7 +28,8 @@
 //!   `w` tokens to `p` and has no read or inhibitor arc (so it can wait until its `f`
 //!   fires); tokens left in `p` are given back by not firing their `h`. The places read
 //!   by a formula must not be `p` nor ones `h` takes from, and nothing may inhibit
-//!   those. Off with a deadlock question (a transition left waiting keeps the net alive).
+//!   those. Off with a deadlock question (the net may be dead once `h` has fired and
+//!   `f` cannot, while in the reduced net `h`'s tokens, still there, keep it alive).
 //!
 //! Agglomerations are off when a formula nests `deadlock` (other than EF deadlock
 //! itself); nothing a formula reads is removed or fused (its places, the transitions
