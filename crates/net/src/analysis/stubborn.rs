@@ -16,6 +16,11 @@
 //! stays reachable, and no "ignoring" proviso is needed because the set holds the
 //! changers. Bounds need every marking: with an `UpperBounds` property the whole graph
 //! is explored.
+//!
+//! Before exploring, [`answer`] slices the net and applies the structural reductions of
+//! [`reduce`] (with [`CheckOptions::reduce`]).
+
+pub mod reduce;
 
 use super::formula::{Index, Property, Query};
 use super::{Control, Part, Progress};
@@ -32,6 +37,8 @@ pub struct CheckOptions {
     /// union of their slices when it has at most three quarters of the places, else each
     /// alone on its slice when that has at most a quarter.
     pub slice: bool,
+    /// Structural reductions ([`reduce`]) before each exploration of [`answer`].
+    pub reduce: bool,
 }
 
 impl Default for CheckOptions {
@@ -40,6 +47,7 @@ impl Default for CheckOptions {
             max_states: 10_000_000,
             stubborn: true,
             slice: true,
+            reduce: true,
         }
     }
 }
@@ -220,10 +228,37 @@ impl Seen {
     }
 }
 
+/// What [`answer_explored`] explored and removed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Explored {
+    /// Markings stored, over all the explorations.
+    pub states: usize,
+    /// Places the structural reductions removed (over all the explorations).
+    pub places_removed: usize,
+    /// Transitions they removed.
+    pub transitions_removed: usize,
+    /// The rules they applied.
+    pub applied: reduce::Applied,
+}
+
 /// Answers the properties: with [`CheckOptions::slice`], on slices where they are small
 /// enough (technique `STRUCTURAL_REDUCTION`, the trace numbered in the whole net; see
-/// below), the others together by one exploration of the net ([`check`]).
+/// below), the others together by one exploration of the net ([`check`]); with
+/// [`CheckOptions::reduce`], each exploration on the net reduced by [`reduce::reduce`]
+/// (technique `STRUCTURAL_REDUCTION` when a rule applied, the trace expanded into the
+/// original transitions).
 pub fn answer(net: &PtNet, props: &[Property], options: &CheckOptions, control: &Control<'_>) -> Vec<Answer> {
+    answer_explored(net, props, options, control).0
+}
+
+/// [`answer`], and what it explored and removed.
+pub fn answer_explored(
+    net: &PtNet,
+    props: &[Property],
+    options: &CheckOptions,
+    control: &Control<'_>,
+) -> (Vec<Answer>, Explored) {
+    let mut explored = Explored::default();
     let mut answers: Vec<Option<Answer>> = vec![None; props.len()];
     // What each property reads (`None`: the whole net).
     let supports: Vec<Option<(Vec<usize>, Vec<usize>)>> = props
@@ -275,8 +310,13 @@ pub fn answer(net: &PtNet, props: &[Property], options: &CheckOptions, control: 
                     },
                 })
                 .collect();
-            for (&k, mut a) in group.iter().zip(check(&s.net, &mapped, options, control).answers) {
-                a.techniques.push("STRUCTURAL_REDUCTION");
+            for (&k, mut a) in group
+                .iter()
+                .zip(reduced(&s.net, &mapped, options, control, &mut explored))
+            {
+                if !a.techniques.contains(&"STRUCTURAL_REDUCTION") {
+                    a.techniques.push("STRUCTURAL_REDUCTION");
+                }
                 a.trace = a.trace.map(|t| t.into_iter().map(|u| s.back[u]).collect());
                 answers[k] = Some(a);
             }
@@ -285,11 +325,43 @@ pub fn answer(net: &PtNet, props: &[Property], options: &CheckOptions, control: 
     }
     if !rest.is_empty() {
         let group: Vec<Property> = rest.iter().map(|&k| props[k].clone()).collect();
-        for (k, a) in rest.into_iter().zip(check(net, &group, options, control).answers) {
+        for (k, a) in rest
+            .into_iter()
+            .zip(reduced(net, &group, options, control, &mut explored))
+        {
             answers[k] = Some(a);
         }
     }
-    answers.into_iter().flatten().collect()
+    (answers.into_iter().flatten().collect(), explored)
+}
+
+/// [`check`] on the net reduced for the properties ([`CheckOptions::reduce`]), the
+/// answers and traces translated back.
+fn reduced(
+    net: &PtNet,
+    props: &[Property],
+    options: &CheckOptions,
+    control: &Control<'_>,
+    explored: &mut Explored,
+) -> Vec<Answer> {
+    let Some(r) = options.reduce.then(|| reduce::reduce(net, props)).flatten() else {
+        let c = check(net, props, options, control);
+        explored.states += c.states;
+        return c.answers;
+    };
+    let c = check(&r.net, &r.properties(props), options, control);
+    explored.states += c.states;
+    explored.places_removed += r.places_removed();
+    explored.transitions_removed += r.transitions_removed();
+    explored.applied += r.applied;
+    c.answers
+        .into_iter()
+        .map(|mut a| {
+            a.techniques.push("STRUCTURAL_REDUCTION");
+            a.trace = a.trace.map(|t| r.trace(&t));
+            a
+        })
+        .collect()
 }
 
 /// Answers the properties by one exploration (see the module's text).
@@ -318,15 +390,18 @@ pub fn check(net: &PtNet, props: &[Property], options: &CheckOptions, control: &
     let mut s = 0usize;
     while s < seen.len() && (open > 0 || has_bounds) {
         if s & 0x3fff == 0 {
-            if control.cancelled() {
-                stop = Some("cancelled");
-                break;
-            }
+            // Progress first: a caller over its budget cancels from the callback, and the
+            // exploration stops now rather than 16 384 markings later (a reduced net may
+            // be done by then).
             (control.progress)(&Progress {
                 part: Part::StateSpace,
                 states: seen.len() as u64,
                 bytes: seen.bytes(),
             });
+            if control.cancelled() {
+                stop = Some("cancelled");
+                break;
+            }
         }
         m.copy_from_slice(seen.marking(s));
         // The properties at this marking.
@@ -547,6 +622,7 @@ mod tests {
                 max_states: 5,
                 stubborn: false,
                 slice: false,
+                reduce: false,
             },
             &Control::none(),
         );

@@ -390,17 +390,27 @@ fn replay(net: &alba_net::PtNet, trace: &[usize]) -> Vec<u32> {
 /// answered (reachability ones with stubborn sets) and compared with the contest's
 /// verdicts, on the instances of at most `ALBA_MCC_MAX_STATES` states; every witness and
 /// counterexample trace is replayed and must end in a marking that shows the verdict.
+/// Point 3: answered with the structural reductions (`stubborn::reduce`), and without
+/// them for the deadlock question (every examination with `ALBA_MCC_REDUCTIONS=compare`),
+/// both against the oracle; the markings explored and the places and transitions
+/// removed are counted.
 #[test]
 fn examinations_match_the_contest() {
     use alba_net::analysis::formula::{self, Query};
-    use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer, check};
+    use alba_net::analysis::stubborn::{CheckOptions, Explored, Verdict, answer_explored, reduce};
     let limit = limit();
     let corpus = corpus::load();
     let mut failures = Vec::new();
     let mut per_exam: BTreeMap<&str, (usize, usize)> = BTreeMap::new();
     let mut time: BTreeMap<&str, std::time::Duration> = BTreeMap::new();
-    let mut reduction = (0usize, 0usize);
+    // Per examination: explored without and with the reductions.
+    let mut explored: BTreeMap<&str, (Explored, Explored)> = BTreeMap::new();
     let mut sliced = 0usize;
+    let mut reduced: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut reduce_time = std::time::Duration::ZERO;
+    let mut deadlock_states = 0u64;
+    let mut size = (0usize, 0usize);
+    let compare = std::env::var("ALBA_MCC_REDUCTIONS").is_ok_and(|v| v == "compare");
     for i in &corpus {
         let Some(states) = i.state_space("STATES") else {
             continue;
@@ -409,6 +419,8 @@ fn examinations_match_the_contest() {
             continue;
         }
         let net = corpus::net(i);
+        size.0 += net.places.len();
+        size.1 += net.transitions.len();
         for exam in [
             "UpperBounds",
             "ReachabilityCardinality",
@@ -420,6 +432,7 @@ fn examinations_match_the_contest() {
                 continue;
             }
             let props = if exam == "ReachabilityDeadlock" {
+                deadlock_states += states;
                 vec![formula::deadlock_property()]
             } else {
                 let text = i.text(&format!("{exam}.xml")).expect("formula file");
@@ -431,36 +444,51 @@ fn examinations_match_the_contest() {
                     }
                 }
             };
-            let t = std::time::Instant::now();
-            let answers = if exam == "ReachabilityDeadlock" {
-                let c = check(&net, &props, &CheckOptions::default(), &Control::none());
-                reduction.0 += c.states;
-                reduction.1 += states as usize;
-                c.answers
-            } else {
-                answer(&net, &props, &CheckOptions::default(), &Control::none())
-            };
-            *time.entry(exam).or_default() += t.elapsed();
-            sliced += answers
-                .iter()
-                .filter(|a| a.techniques.contains(&"STRUCTURAL_REDUCTION"))
-                .count();
             let entry = per_exam.entry(exam).or_default();
             entry.0 += 1;
-            for (p, a) in props.iter().zip(&answers) {
-                let have = a.to_string();
-                let have_value = have.split_whitespace().nth(2).unwrap_or("").to_string();
-                match want.iter().find(|(id, _)| *id == a.id) {
-                    Some((_, v)) if *v == have_value => entry.1 += 1,
-                    Some((_, v)) => failures.push(format!("{}: have {have}, want {v}", a.id)),
-                    None => failures.push(format!("{}: no oracle", a.id)),
+            let t = std::time::Instant::now();
+            *reduced.entry(exam).or_default() += usize::from(reduce::reduce(&net, &props).is_some());
+            reduce_time += t.elapsed();
+            let without = compare || exam == "ReachabilityDeadlock";
+            for reduce in [false, true].into_iter().filter(|&r| r || without) {
+                let t = std::time::Instant::now();
+                let options = CheckOptions {
+                    reduce,
+                    ..CheckOptions::default()
+                };
+                let (answers, e) = answer_explored(&net, &props, &options, &Control::none());
+                let counts = explored.entry(exam).or_default();
+                if reduce {
+                    *time.entry(exam).or_default() += t.elapsed();
+                    counts.1.states += e.states;
+                    counts.1.places_removed += e.places_removed;
+                    counts.1.transitions_removed += e.transitions_removed;
+                    counts.1.applied += e.applied;
+                    sliced += answers
+                        .iter()
+                        .filter(|a| a.techniques.contains(&"STRUCTURAL_REDUCTION"))
+                        .count();
+                } else {
+                    counts.0.states += e.states;
                 }
-                if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&a.trace, &p.query) {
-                    let m = replay(&net, trace);
-                    let holds = f.eval(&net, &m);
-                    let wanted = a.verdict == Verdict::True;
-                    if holds != wanted {
-                        failures.push(format!("{}: the trace ends where the formula is {holds}", a.id));
+                for (p, a) in props.iter().zip(&answers) {
+                    let have = a.to_string();
+                    let have_value = have.split_whitespace().nth(2).unwrap_or("").to_string();
+                    match want.iter().find(|(id, _)| *id == a.id) {
+                        Some((_, v)) if *v == have_value => entry.1 += usize::from(reduce),
+                        Some((_, v)) => failures.push(format!("{} (reduce {reduce}): have {have}, want {v}", a.id)),
+                        None => failures.push(format!("{}: no oracle", a.id)),
+                    }
+                    if let (Some(trace), Query::Ef(f) | Query::Ag(f)) = (&a.trace, &p.query) {
+                        let m = replay(&net, trace);
+                        let holds = f.eval(&net, &m);
+                        let wanted = a.verdict == Verdict::True;
+                        if holds != wanted {
+                            failures.push(format!(
+                                "{} (reduce {reduce}): the trace ends where the formula is {holds}",
+                                a.id
+                            ));
+                        }
                     }
                 }
             }
@@ -473,12 +501,28 @@ fn examinations_match_the_contest() {
         failures.join("\n")
     );
     eprintln!(
-        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock with stubborn sets: {} markings of {}; {sliced} formulas checked on a slice; time per examination: {time:?}",
-        reduction.0, reduction.1
+        "instances (formulas agreeing) per examination: {per_exam:?}; deadlock: {deadlock_states} reachable markings; {sliced} formulas answered on a slice or a reduced net; time per examination: {time:?}; reductions alone (whole nets): {reduce_time:?}; {} places and {} transitions in the instances",
+        size.0, size.1
     );
+    for (exam, (before, after)) in &explored {
+        let without = if compare || *exam == "ReachabilityDeadlock" {
+            before.states.to_string()
+        } else {
+            "(not compared)".to_string()
+        };
+        eprintln!(
+            "{exam}: {without} markings explored without the structural reductions, {} with; {} places and {} transitions removed ({:?}); {} of the instances' nets reduced",
+            after.states, after.places_removed, after.transitions_removed, after.applied, reduced[exam]
+        );
+    }
     for (exam, (instances, _)) in &per_exam {
         assert!(*instances >= 20, "{exam}: only {instances} instances");
     }
+    // The reductions apply on the corpus and, for the deadlock question, explore fewer
+    // markings.
+    let (before, after) = &explored["ReachabilityDeadlock"];
+    assert!(after.states < before.states, "{before:?} {after:?}");
+    assert!(after.places_removed > 0 && after.transitions_removed > 0);
 }
 
 /// Point 6 of issue 38, the examinations: every formula of `UpperBounds`,
