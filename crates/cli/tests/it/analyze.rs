@@ -413,7 +413,7 @@ fn analyze_examination_prints_the_contest_lines_and_traces() {
     let out = alba(&repo(), &["analyze", net, "--examination", "ReachabilityDeadlock"]);
     assert_eq!(
         String::from_utf8_lossy(&out.stdout),
-        "FORMULA ReachabilityDeadlock TRUE TECHNIQUES EXPLICIT PARTIAL_ORDER\n"
+        "FORMULA ReachabilityDeadlock TRUE TECHNIQUES EXPLICIT PARTIAL_ORDER STRUCTURAL_REDUCTION\n"
     );
     let out = alba(
         &repo(),

@@ -708,7 +708,7 @@ async fn an_analysis_answers_a_contest_examination() {
     assert_eq!(code, StatusCode::OK);
     assert_eq!(
         lines.last().expect("a line")["result"]["formulas"][0]["line"],
-        "FORMULA ReachabilityDeadlock FALSE TECHNIQUES EXPLICIT PARTIAL_ORDER"
+        "FORMULA ReachabilityDeadlock FALSE TECHNIQUES EXPLICIT PARTIAL_ORDER STRUCTURAL_REDUCTION"
     );
     let unknown = format!(
         "<property-set>\n<property><id>x</id><formula><exists-path><finally>\n{}\n</finally></exists-path></formula></property></property-set>",
