@@ -76,7 +76,7 @@ pub const PROBE_STATES: usize = 1 << 16;
 pub struct Options {
     /// Largest number of states (or coverability nodes) explored.
     pub max_states: usize,
-    /// Bytes the state space may use (markings, index, BFS parents, the SCC pass).
+    /// Bytes the state space may use (markings, index, the SCC pass).
     pub memory: usize,
     /// Which invariants.
     pub invariants: Invariants,

@@ -339,11 +339,11 @@ const MIN_SLOTS: usize = 16;
 const MAX_LOAD: usize = 850;
 /// Load after the exploration, when the segments are compacted (per mille).
 const FINAL_LOAD: usize = 850;
-/// A segment grows by this factor (per mille of its slots): doubling, so that a state
-/// is placed again about once; the segments' sizes start spread over one doubling
-/// (see [`Store::new`]), so they do not all double at once and the table's load stays
-/// near its mean.
-const GROWTH: usize = 2000;
+/// A segment grows by this factor (per mille of its slots), so that a state is placed
+/// again about twice; the segments' sizes start spread over one growth step (see
+/// [`Store::new`]), so they do not all grow at once and the table's load stays near its
+/// mean (about 0.82 of the most).
+const GROWTH: usize = 1500;
 /// New states whose table slots are loaded together before they are inserted.
 const INSERT_GROUP: usize = 32;
 /// States whose successors' look-ups are started together (their memory accesses
@@ -394,9 +394,10 @@ pub struct Store {
 
 impl Store {
     fn new(layout: Layout) -> Store {
-        // Segment `i` starts with `MIN_SLOTS · 2^(i / SEGMENTS)` slots.
+        // Segment `i` starts with `MIN_SLOTS · GROWTH^(i / SEGMENTS)` slots.
+        let step = GROWTH as f64 / 1000.0;
         let segments: Vec<Vec<u32>> = (0..SEGMENTS)
-            .map(|i| vec![EMPTY; (MIN_SLOTS as f64 * (i as f64 / SEGMENTS as f64).exp2()) as usize])
+            .map(|i| vec![EMPTY; (MIN_SLOTS as f64 * step.powf(i as f64 / SEGMENTS as f64)) as usize])
             .collect();
         let bytes = segments.iter().map(|t| t.len() * 4).sum();
         Store {
@@ -629,13 +630,9 @@ impl Store {
 
     /// Widens the fields to `layout` (wider or as wide on every place) in place, chunk
     /// by chunk, keeping the states' numbers, and rebuilds the table's entries.
-    fn widen(&mut self, layout: Layout) {
-        let np = self.layout.bits.len();
-        let (old_n, n) = (self.layout.bytes, layout.bytes);
-        let mut m = vec![0u32; np];
-        let mut words = vec![0u64; self.layout.words];
-        let mut wide = vec![0u64; layout.words];
-        let old_mask = self.last_mask();
+    fn widen(&mut self, layout: Layout, threads: usize) {
+        let n = layout.bytes;
+        let mut counts = Vec::with_capacity(self.chunks.len());
         for (c, chunk) in self.chunks.iter_mut().enumerate() {
             let k = (self.len - c * CHUNK_STATES).min(CHUNK_STATES);
             let before = chunk.capacity();
@@ -645,27 +642,57 @@ impl Store {
                 CHUNK_STATES * n + PAD
             };
             chunk.reserve_exact(want.saturating_sub(chunk.len()));
-            chunk.resize(k * n + PAD, 0);
+            chunk.resize((k * n + PAD).max(chunk.len()), 0);
             self.bytes = self.bytes + chunk.capacity() - before;
             self.peak = self.peak.max(self.bytes);
-            // From the last state down: state j's new place starts at or after its old
-            // end of every state before it.
-            for j in (0..k).rev() {
-                let last = words.len() - 1;
-                for (i, w) in words.iter_mut().enumerate() {
-                    *w = read_word(chunk, j * old_n + 8 * i);
-                }
-                words[last] &= old_mask;
-                self.layout.unpack_words(&words, &mut m);
-                // Fits: the new layout is at least as wide on every place.
-                let _ = layout.pack(&m, &mut wide);
-                words_to_bytes(&wide, &mut chunk[j * n..(j + 1) * n]);
+            counts.push(k);
+        }
+        let old = &self.layout;
+        let relay = |chunks: &mut [Vec<u8>], counts: &[usize]| {
+            for (chunk, &k) in chunks.iter_mut().zip(counts) {
+                relay_chunk(chunk, k, old, &layout);
             }
-            chunk[k * n..].iter_mut().for_each(|b| *b = 0);
+        };
+        let half = self.chunks.len() / 2;
+        if threads > 1 && half > 0 {
+            let (a, b) = self.chunks.split_at_mut(half);
+            let (ca, cb) = counts.split_at(half);
+            std::thread::scope(|scope| {
+                scope.spawn(|| relay(b, cb));
+                relay(a, ca);
+            });
+        } else {
+            relay(&mut self.chunks, &counts);
         }
         // The states' hashes do not depend on the layout: the table stays as it is.
         self.layout = layout;
     }
+}
+
+/// Re-lays the `k` states of `chunk` from layout `old` to the wider `new` (the chunk
+/// already long enough), from the last state down: state `j`'s new place starts at or
+/// after the old end of every state before it.
+fn relay_chunk(chunk: &mut [u8], k: usize, old: &Layout, new: &Layout) {
+    let (old_n, n) = (old.bytes, new.bytes);
+    let mut m = vec![0u32; old.bits.len()];
+    let mut words = vec![0u64; old.words];
+    let mut wide = vec![0u64; new.words];
+    let old_mask = match old_n % 8 {
+        0 => u64::MAX,
+        r => (1u64 << (8 * r)) - 1,
+    };
+    let last = words.len() - 1;
+    for j in (0..k).rev() {
+        for (i, w) in words.iter_mut().enumerate() {
+            *w = read_word(chunk, j * old_n + 8 * i);
+        }
+        words[last] &= old_mask;
+        old.unpack_words(&words, &mut m);
+        // Fits: the new layout is at least as wide on every place.
+        let _ = new.pack(&m, &mut wide);
+        words_to_bytes(&wide, &mut chunk[j * n..(j + 1) * n]);
+    }
+    chunk[k * n..].iter_mut().for_each(|b| *b = 0);
 }
 
 /// A complete reachability graph (edges implicit).
@@ -1055,7 +1082,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
                 bits[p] += 1;
                 let layout = Layout::new(bits.clone());
                 packed = Packed::new(net, &layout);
-                store.widen(layout);
+                store.widen(layout, threads);
                 anc_words = vec![0u64; store.layout.words];
                 s = x;
             }
