@@ -1065,3 +1065,29 @@ fn philosophers_with_deadlock_far() -> PtNet {
     }
     net
 }
+
+#[test]
+fn a_field_widened_late_keeps_every_state_on_one_and_two_threads() {
+    // 8 three-place cycles (6 561 markings) beside a token walking a chain of 21 places;
+    // at its end `inc` counts to 3, so the counter's field widens when more than 90 000
+    // states (two arena chunks) are stored: the states are re-laid on both threads.
+    let mut net = samples::cycles(8, 3);
+    let chain: Vec<usize> = (0..21)
+        .map(|i| net.add_place(&format!("c{i}"), u32::from(i == 0)))
+        .collect();
+    for i in 0..20 {
+        let t = net.add_transition(&format!("walk{i}"));
+        net.add_pre(t, chain[i], 1);
+        net.add_post(t, chain[i + 1], 1);
+    }
+    let count = net.add_place("count", 0);
+    let inc = net.add_transition("inc");
+    net.add_read(inc, chain[20], 1);
+    net.add_post(inc, count, 1);
+    net.add_inhibitor(inc, count, 3);
+    let one = on_threads(&net, 1, usize::MAX);
+    let two = on_threads(&net, 2, usize::MAX);
+    assert_eq!(one.states, Some(6_561 * 24));
+    assert_eq!(one.place_bounds.as_ref().map(|b| b[count]), Some(Bound::Finite(3)));
+    assert_eq!(facts(&one), facts(&two));
+}

@@ -629,7 +629,8 @@ impl Store {
     }
 
     /// Widens the fields to `layout` (wider or as wide on every place) in place, chunk
-    /// by chunk, keeping the states' numbers, and rebuilds the table's entries.
+    /// by chunk (the chunks split between `threads` threads), keeping the states' numbers
+    /// and the table.
     fn widen(&mut self, layout: Layout, threads: usize) {
         let n = layout.bytes;
         let mut counts = Vec::with_capacity(self.chunks.len());
