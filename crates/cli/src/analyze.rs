@@ -1,6 +1,6 @@
 //! `alba analyze NET.pnml [--json] [--max-states N] [--memory SIZE] [--invariants
-//! flows|minimal] [--invariant-budget N] [--symbolic]`: the analysis of the net's underlying
-//! place/transition net (docs/nets.md, section "analysis"; SPEC §10.5).
+//! flows|minimal] [--invariant-budget N] [--symbolic] [--threads N]`: the analysis of the
+//! net's underlying place/transition net (docs/nets.md, section "analysis"; SPEC §10.5).
 //! With `--examination E [--formulas FILE.xml] [--trace]`: the Model Checking Contest's
 //! examination E instead, in the contest's output form (docs/nets.md, "Contest
 //! examinations").
@@ -76,6 +76,8 @@ pub struct Limits {
     pub invariant_budget: Option<u64>,
     /// `--symbolic`.
     pub symbolic: bool,
+    /// `--threads`.
+    pub threads: Option<usize>,
 }
 
 /// A size: bytes, or a number with K, M or G (powers of 1 024, an optional `B` or `iB`).
@@ -181,6 +183,9 @@ pub fn run(path: &Path, as_json: bool, limits: Limits, contest: Option<Contest>)
     }
     if let Some(n) = limits.invariant_budget {
         options.invariant_work = n;
+    }
+    if let Some(n) = limits.threads {
+        options.threads = n;
     }
     let a = analyze(&pt, &options, &Control::none());
     if let Some(msg) = &a.stopped {

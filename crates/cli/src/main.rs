@@ -261,6 +261,10 @@ enum Command {
         /// exploration stops at its memory budget.
         #[arg(long)]
         symbolic: bool,
+        /// Threads of the explicit exploration and of the liveness/reversibility pass
+        /// (default: the available parallelism, at most 2; the results do not depend on it).
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+        threads: Option<u16>,
         /// Answer a Model Checking Contest examination instead (one `FORMULA` line per
         /// formula; docs/nets.md, "Contest examinations").
         #[arg(long, value_enum, value_name = "EXAMINATION")]
@@ -684,6 +688,7 @@ fn main() -> ExitCode {
             invariants,
             invariant_budget,
             symbolic,
+            threads,
             examination,
             formulas,
             trace,
@@ -696,6 +701,7 @@ fn main() -> ExitCode {
                 invariants,
                 invariant_budget,
                 symbolic,
+                threads: threads.map(usize::from),
             },
             examination.map(|examination| analyze::Contest {
                 examination,

@@ -6,7 +6,9 @@
 //! leaves out the 20 M-state model. `--symbolic [NAME…]` times the symbolic engine
 //! (`alba_net::analysis::symbolic`) instead, on the same models and the corpus's
 //! instances of 10^9 states and more (or on the instances named), each checked against
-//! the contest's counts.
+//! the contest's counts. `NAME…` alone analyses just the corpus's instances named;
+//! `--threads=N` sets the analysis's threads (default: the available parallelism, at
+//! most 2).
 
 #[path = "../tests/mcc/corpus.rs"]
 mod corpus;
@@ -21,16 +23,23 @@ fn main() {
         return;
     }
     let quick = std::env::args().any(|a| a == "--quick");
-    print!("{}", alba_net::analysis::bench::run(quick));
+    let threads = std::env::args()
+        .find_map(|a| a.strip_prefix("--threads=").and_then(|n| n.parse().ok()))
+        .unwrap_or_else(alba_net::analysis::default_threads);
     let mut names = vec!["Kanban-PT-00005", "FMS-PT-00005"];
-    if !quick {
-        names.push("RobotManipulation-PT-00010");
+    if !args.is_empty() {
+        names = args.iter().map(String::as_str).collect();
+    } else {
+        print!("{}", alba_net::analysis::bench::run(quick));
+        if !quick {
+            names.push("RobotManipulation-PT-00010");
+        }
     }
     let all = corpus::load();
     for i in names.into_iter().filter_map(|name| instance(&all, name)) {
         let name = i.name.as_str();
         let net = corpus::net(i);
-        let (report, states) = alba_net::analysis::bench::measure(name, &net);
+        let (report, states) = alba_net::analysis::bench::measure(name, &net, threads);
         let want = i.state_space("STATES");
         print!("{report}");
         if Some(states) != want {

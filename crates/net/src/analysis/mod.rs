@@ -77,7 +77,7 @@ pub const PROBE_STATES: usize = 1 << 16;
 pub struct Options {
     /// Largest number of states (or coverability nodes) explored.
     pub max_states: usize,
-    /// Bytes the state space may use (markings, index, BFS parents, the SCC pass).
+    /// Bytes the state space may use (markings, index, the SCC pass).
     pub memory: usize,
     /// Which invariants.
     pub invariants: Invariants,
@@ -89,6 +89,14 @@ pub struct Options {
     pub symbolic: SymbolicMode,
     /// The symbolic engine's time budget.
     pub symbolic_time: Duration,
+    /// Threads of the explicit exploration and of the SCC pass's reversibility check
+    /// (the results do not depend on it).
+    pub threads: usize,
+}
+
+/// The default number of threads: the available parallelism, at most 2.
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get().min(2))
 }
 
 /// The default memory budget of the state space: 2 GiB.
@@ -104,6 +112,7 @@ impl Default for Options {
             max_invariant_rows: invariants::MAX_ROWS,
             symbolic: SymbolicMode::Auto,
             symbolic_time: Duration::from_secs(600),
+            threads: default_threads(),
         }
     }
 }
@@ -427,12 +436,13 @@ fn state_space(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut An
     };
     let mut explored = None;
     if options.symbolic == SymbolicMode::Always {
-        let probe = reachability::explore(
+        let probe = reachability::explore_threads(
             net,
             &reachability::Limits {
                 max_states: capacity.min(PROBE_STATES),
                 ..limits
             },
+            options.threads,
             control,
         );
         let larger = matches!(probe, reachability::Explored::Limit { why, .. }
@@ -467,7 +477,7 @@ fn state_space(net: &PtNet, options: &Options, control: &Control<'_>, a: &mut An
             explored = Some(probe);
         }
     }
-    let explored = explored.unwrap_or_else(|| reachability::explore(net, &limits, control));
+    let explored = explored.unwrap_or_else(|| reachability::explore_threads(net, &limits, options.threads, control));
     let fallback = options.symbolic == SymbolicMode::Always
         || (options.symbolic == SymbolicMode::Auto && at_budget(&explored) && !net.has_inhibitors());
     explicit(net, explored, options, control, start, a);
@@ -578,22 +588,23 @@ fn explicit(
             }
             a.dead_transitions = Some((0..nt).filter(|&t| !g.fired[t]).collect());
             a.memory_bytes = g.peak_bytes;
-            // Tarjan's per-state word and two bit sets on top of the graph.
-            let scc_bytes = g.store.len() * 4 + g.store.len() / 4;
-            if g.bytes_used() + scc_bytes > options.memory {
-                a.status.components = Status::Skipped("budget");
-                return;
-            }
-            a.memory_bytes = a.memory_bytes.max(g.bytes_used() + scc_bytes);
+            (control.progress)(&Progress {
+                part: Part::Components,
+                states: 0,
+                bytes: g.bytes_used(),
+            });
             let scc = Instant::now();
-            match reachability::components(net, &g, control) {
-                Some(c) => {
+            let left = options.memory.saturating_sub(g.bytes_used());
+            match reachability::components(net, &g, options.threads, left, control) {
+                Ok((c, bytes)) => {
                     a.live = Some(c.live);
                     a.reversible = Some(c.reversible);
                     a.components = Some(c.count as u64);
                     a.status.components = Status::Complete;
+                    a.memory_bytes = a.memory_bytes.max(g.bytes_used() + bytes);
                 }
-                None => a.status.components = Status::Skipped("cancelled"),
+                Err(reachability::SccStop::Budget) => a.status.components = Status::Skipped("budget"),
+                Err(reachability::SccStop::Cancelled) => a.status.components = Status::Skipped("cancelled"),
             }
             a.scc_time = scc.elapsed();
         }

@@ -1,31 +1,48 @@
 //! Explicit reachability graph of a bounded net, stored compactly.
 //!
 //! Markings are bit-packed (each place gets just enough bits for the largest value seen;
-//! a value that does not fit widens that place's field and re-packs the states found so
-//! far in place, keeping their numbers, so the exploration goes on where it was) into an
-//! arena of fixed-size chunks. An open-addressing table of `u32` entries (a state number
-//! in the low 27 bits, 5 bits of the hash above, so most mismatches are told without
-//! reading the arena; linear probing, load ≤ 0.8, grown by half) finds duplicates.
+//! a value that does not fit widens that place's field by one bit and re-lays the states
+//! found so far in place, chunk by chunk, keeping their numbers, so the exploration goes
+//! on where it was) into an arena of chunks of 2^16 states. The index is a table of
+//! `u32` entries (a state number in the low 27 bits, 5 bits of the hash above, so most
+//! mismatches are told without reading the arena) split into 256 segments by the hash's
+//! top bits, each an open-addressing table with linear probing, load ≤ 0.85, doubled on
+//! its own (the segments start at sizes spread over one doubling, so they do not all
+//! grow at once): growing holds one segment twice, never the whole table. A marking's
+//! hash is `finish(Σ m[p] · weight(p))`: it does not depend on the layout (widening a
+//! field leaves the table as it is) and a transition adds a constant to the sum, so a
+//! successor's hash costs an addition and a finaliser.
+//!
 //! States are numbered in breadth-first order and only the first state of each BFS level
 //! is kept: a shortest firing sequence to a state is rebuilt backwards, firing
-//! transitions in reverse and looking the predecessor up in the previous level. So a
-//! state costs its packed marking and about five bytes of table.
+//! transitions in reverse and looking the predecessor up in the previous level (the one
+//! of smallest number: the BFS parent). So a state costs its packed marking and about
+//! five to seven bytes of table, nothing else.
 //!
-//! The successors of a state are computed together and their table slots and arena
-//! entries touched before any is compared, so that the memory accesses of one state's
-//! successors overlap instead of waiting one after the other.
+//! Each level is expanded [`BATCH`] states at a time in two phases. First the batch's
+//! successors are computed and looked up, the store only read, on `threads` threads
+//! (each a contiguous part of the batch; [`GROUP`] states at a time, their successors'
+//! table slots and then the states those name loaded together before any is compared,
+//! so that the cache misses overlap). Then the successors not found are inserted on one
+//! thread, in the order of their states and transitions: the states' numbers, hence
+//! every result (shortest traces included), are the same whatever the number of threads.
 //!
-//! Edges are not stored: liveness and reversibility come from one iterative Tarjan pass
-//! (Pearce's one-word-per-state variant) that recomputes successors.
+//! Edges are not stored. Liveness and reversibility ([`components`]) first search
+//! backwards from the initial state (predecessors recomputed and looked up, one bit per
+//! state, level by level on `threads` threads): when every state reaches the initial
+//! one, the graph is strongly connected. Otherwise one iterative Tarjan pass (Pearce's
+//! one-word-per-state variant, [`tarjan`]) recomputes successors.
 //!
-//! While exploring, each successor that raises some place above its largest value so far
-//! is compared with its ancestors: a successor strictly covering an ancestor proves the
-//! net unbounded (Karp–Miller's criterion), and this check alone guarantees termination.
-//! With inhibitor arcs the criterion is used only when the places that grew carry no
-//! inhibitor arc (enabling stays monotone in the others).
+//! While exploring, each new state that raises some place above its largest value so
+//! far is compared with its ancestors (its BFS parents, found as for traces): a state
+//! strictly covering an ancestor proves the net unbounded (Karp–Miller's criterion), and
+//! this check alone guarantees termination. With inhibitor arcs the criterion is used
+//! only when the places that grew carry no inhibitor arc (enabling stays monotone in the
+//! others).
 
 use super::{Control, Part, Progress};
 use crate::PtNet;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Limits of [`explore`].
 #[derive(Clone, Copy, Debug)]
@@ -70,6 +87,8 @@ pub enum Explored {
 #[derive(Clone, Debug)]
 pub struct Layout {
     bits: Vec<u32>,
+    /// Each place's weight in the hash ([`hash_marking`]).
+    mix: Vec<u64>,
     word: Vec<u32>,
     shift: Vec<u32>,
     /// Bytes per packed marking.
@@ -102,6 +121,8 @@ struct Packed {
     delta: Vec<Vec<(u32, u64)>>,
     /// Per transition: the places it adds to, with what it adds (`post - pre`, > 0).
     grow: Vec<Vec<(Field, usize)>>,
+    /// Per transition: what firing adds to the hash's sum (`Σ (post - pre)[p] · weight(p)`).
+    hash_shift: Vec<u64>,
 }
 
 impl Packed {
@@ -145,7 +166,18 @@ impl Packed {
             d.retain(|&(_, x)| x != 0);
             delta.push(d);
         }
+        let hash_shift = (0..nt)
+            .map(|t| {
+                let sum = |arcs: &[(usize, u32)]| {
+                    arcs.iter().fold(0u64, |h, &(p, w)| {
+                        h.wrapping_add(u64::from(w).wrapping_mul(place_weight(p)))
+                    })
+                };
+                sum(&net.post[t]).wrapping_sub(sum(&net.pre[t]))
+            })
+            .collect();
         Packed {
+            hash_shift,
             tests,
             delta,
             grow: (0..nt)
@@ -201,6 +233,7 @@ impl Layout {
         }
         let bytes = (total as usize).div_ceil(8).max(1);
         Layout {
+            mix: (0..bits.len()).map(place_weight).collect(),
             bits,
             word,
             shift,
@@ -230,6 +263,17 @@ impl Layout {
         }
     }
 
+    /// `Σ m[p] · weight(p)` of a packed marking (the hash before [`finish`]).
+    #[inline]
+    fn linear(&self, words: &[u64]) -> u64 {
+        (0..self.bits.len()).fold(0u64, |h, p| {
+            let b = self.bits[p];
+            let mask = if b >= 64 { u64::MAX } else { (1u64 << b) - 1 };
+            let v = (words[self.word[p] as usize] >> self.shift[p]) & mask;
+            h.wrapping_add(v.wrapping_mul(self.mix[p]))
+        })
+    }
+
     /// The sum of the fields of a packed marking.
     fn tokens(&self, words: &[u64]) -> u64 {
         (0..self.bits.len())
@@ -239,22 +283,6 @@ impl Layout {
                 (words[self.word[p] as usize] >> self.shift[p]) & mask
             })
             .sum()
-    }
-
-    #[inline]
-    fn load(&self, bytes: &[u8], words: &mut [u64]) {
-        let full = bytes.len() / 8;
-        for (i, w) in words.iter_mut().enumerate().take(full) {
-            let mut b = [0u8; 8];
-            b.copy_from_slice(&bytes[i * 8..i * 8 + 8]);
-            *w = u64::from_le_bytes(b);
-        }
-        if full < words.len() {
-            let rest = &bytes[full * 8..];
-            let mut b = [0u8; 8];
-            b[..rest.len()].copy_from_slice(rest);
-            words[full] = u64::from_le_bytes(b);
-        }
     }
 }
 
@@ -266,18 +294,29 @@ fn words_to_bytes(words: &[u64], out: &mut [u8]) {
     }
 }
 
+/// The splitmix64 finaliser: every bit of `x` reaches every bit of the result.
 #[inline]
-fn hash_words(words: &[u64]) -> u64 {
-    let mut h: u64 = 0x243f_6a88_85a3_08d3;
-    for &w in words {
-        h = (h.rotate_left(5) ^ w).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-    // Final avalanche (splitmix64): every bit of the marking reaches the slot and the tag.
-    h ^= h >> 30;
-    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    h ^= h >> 27;
-    h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
-    h ^ (h >> 31)
+fn finish(mut x: u64) -> u64 {
+    x ^= x >> 30;
+    x = x.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x ^= x >> 27;
+    x = x.wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
+/// The random odd weight of place `p` in the markings' hash.
+fn place_weight(p: usize) -> u64 {
+    finish((p as u64).wrapping_add(0x243f_6a88_85a3_08d3)) | 1
+}
+
+/// The hash of a marking: `finish(Σ m[p] · weight(p))`. The sum does not depend on the
+/// layout (widening a field keeps every state's hash, so the table stays as it is), and
+/// a transition adds the same constant to it wherever it fires, so a successor's hash
+/// costs an addition.
+fn hash_marking(m: &[u32]) -> u64 {
+    finish(m.iter().enumerate().fold(0u64, |h, (p, &v)| {
+        h.wrapping_add(u64::from(v).wrapping_mul(place_weight(p)))
+    }))
 }
 
 const EMPTY: u32 = u32::MAX;
@@ -286,41 +325,88 @@ const INDEX_BITS: u32 = 27;
 const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 /// The most states a table entry can number (the all-ones index is the empty mark).
 pub const MAX_STATES: usize = INDEX_MASK as usize - 1;
-/// Bytes per arena chunk.
-const CHUNK_BYTES: usize = 1 << 22;
+/// States per arena chunk.
+const CHUNK_STATES: usize = 1 << 16;
+/// Zero bytes after the last state of a chunk, so that any state's words are read whole.
+const PAD: usize = 8;
+/// The table is split into `2^SEGMENT_BITS` segments (by the hash's top bits), each an
+/// open-addressing table grown on its own: growing never holds two whole tables.
+const SEGMENT_BITS: u32 = 8;
+const SEGMENTS: usize = 1 << SEGMENT_BITS;
+/// Slots of a new segment.
+const MIN_SLOTS: usize = 16;
+/// A segment grows past this load (per mille).
+const MAX_LOAD: usize = 850;
+/// Load after the exploration, when the segments are compacted (per mille).
+const FINAL_LOAD: usize = 850;
+/// A segment grows by this factor (per mille of its slots), so that a state is placed
+/// again about twice; the segments' sizes start spread over one growth step (see
+/// [`Store::new`]), so they do not all grow at once and the table's load stays near its
+/// mean (about 0.82 of the most).
+const GROWTH: usize = 1500;
+/// New states whose table slots are loaded together before they are inserted.
+const INSERT_GROUP: usize = 32;
+/// States whose successors' look-ups are started together (their memory accesses
+/// overlap).
+const GROUP: usize = 32;
 
 #[inline]
 fn tag(h: u64) -> u32 {
-    ((h >> 59) as u32) << INDEX_BITS
+    ((h as u32) & 31) << INDEX_BITS
+}
+
+#[inline]
+fn segment(h: u64) -> usize {
+    (h >> (64 - SEGMENT_BITS)) as usize
+}
+
+/// The first slot of hash `h` in a segment of `n` slots (Lemire's multiply-shift on the
+/// bits below the segment's).
+#[inline]
+fn home(h: u64, n: usize) -> usize {
+    ((u128::from(h << SEGMENT_BITS) * n as u128) >> 64) as usize
+}
+
+#[inline]
+fn read_word(chunk: &[u8], at: usize) -> u64 {
+    let mut b = [0u8; 8];
+    b.copy_from_slice(&chunk[at..at + 8]);
+    u64::from_le_bytes(b)
 }
 
 /// The packed states and their index.
 pub struct Store {
     /// Layout of the packed markings.
     pub layout: Layout,
+    /// `CHUNK_STATES` states each, `layout.bytes` apiece, then `PAD` zero bytes.
     chunks: Vec<Vec<u8>>,
-    per_chunk: usize,
-    table: Vec<u32>,
+    /// The segments of the table: `u32` entries, a state number in the low 27 bits and
+    /// 5 bits of the hash above.
+    segments: Vec<Vec<u32>>,
+    /// Entries per segment.
+    fill: Vec<u32>,
     len: usize,
+    /// Bytes allocated (chunks' capacity and segments).
+    bytes: usize,
     /// The most bytes used at once.
     peak: usize,
 }
 
-/// The first slot of hash `h` in a table of `n` slots (Lemire's multiply-shift).
-#[inline]
-fn home(h: u64, n: usize) -> usize {
-    ((u128::from(h) * n as u128) >> 64) as usize
-}
-
 impl Store {
     fn new(layout: Layout) -> Store {
-        let per_chunk = (CHUNK_BYTES / layout.bytes).max(1);
+        // Segment `i` starts with `MIN_SLOTS · GROWTH^(i / SEGMENTS)` slots.
+        let step = GROWTH as f64 / 1000.0;
+        let segments: Vec<Vec<u32>> = (0..SEGMENTS)
+            .map(|i| vec![EMPTY; (MIN_SLOTS as f64 * step.powf(i as f64 / SEGMENTS as f64)) as usize])
+            .collect();
+        let bytes = segments.iter().map(|t| t.len() * 4).sum();
         Store {
             layout,
             chunks: Vec::new(),
-            per_chunk,
-            table: vec![EMPTY; 1 << 10],
+            segments,
+            fill: vec![0; SEGMENTS],
             len: 0,
+            bytes,
             peak: 0,
         }
     }
@@ -335,129 +421,197 @@ impl Store {
         self.len == 0
     }
 
+    /// The mask of the last word of a packed marking.
     #[inline]
-    fn state(&self, i: usize) -> &[u8] {
+    fn last_mask(&self) -> u64 {
+        match self.layout.bytes % 8 {
+            0 => u64::MAX,
+            r => (1u64 << (8 * r)) - 1,
+        }
+    }
+
+    /// The words of state `i`.
+    #[inline]
+    pub fn load(&self, i: usize, words: &mut [u64]) {
         let n = self.layout.bytes;
-        let (c, k) = (i / self.per_chunk, i % self.per_chunk);
-        &self.chunks[c][k * n..(k + 1) * n]
+        let chunk = &self.chunks[i / CHUNK_STATES];
+        let at = (i % CHUNK_STATES) * n;
+        let last = words.len() - 1;
+        for (k, w) in words.iter_mut().enumerate() {
+            *w = read_word(chunk, at + 8 * k);
+        }
+        words[last] &= self.last_mask();
+    }
+
+    /// Whether state `i` is `words`.
+    #[inline]
+    fn equal(&self, i: usize, words: &[u64]) -> bool {
+        let n = self.layout.bytes;
+        let chunk = &self.chunks[i / CHUNK_STATES];
+        let at = (i % CHUNK_STATES) * n;
+        let last = words.len() - 1;
+        for (k, &w) in words[..last].iter().enumerate() {
+            if read_word(chunk, at + 8 * k) != w {
+                return false;
+            }
+        }
+        read_word(chunk, at + 8 * last) & self.last_mask() == words[last]
+    }
+
+    /// The first byte of state `i` (a load that brings it into the cache).
+    #[inline]
+    fn first_byte(&self, i: usize) -> u8 {
+        self.chunks[i / CHUNK_STATES][(i % CHUNK_STATES) * self.layout.bytes]
     }
 
     /// The marking of state `i` (unpacked into `m`).
     pub fn marking(&self, i: usize, words: &mut [u64], m: &mut [u32]) {
-        self.layout.load(self.state(i), words);
+        self.load(i, &mut words[..self.layout.words]);
         self.layout.unpack_words(words, m);
     }
 
-    /// Bytes of a table of `slots` slots.
-    fn table_bytes(slots: usize) -> usize {
-        slots * 4
-    }
-
-    /// Rebuilds the table with `slots` slots.
-    fn rehash(&mut self, slots: usize) {
-        self.table = Vec::new();
-        let mut table = vec![EMPTY; slots];
-        let mut words = vec![0u64; self.layout.words];
-        for i in 0..self.len {
-            self.layout.load(self.state(i), &mut words);
-            let h = hash_words(&words);
-            let mut slot = home(h, slots);
-            while table[slot] != EMPTY {
-                slot += 1;
-                if slot == slots {
-                    slot = 0;
-                }
-            }
-            table[slot] = tag(h) | i as u32;
+    /// Appends a state's words to the arena.
+    fn push(&mut self, words: &[u64]) {
+        let n = self.layout.bytes;
+        if self.len == self.chunks.len() * CHUNK_STATES {
+            // The first chunk grows by doubling (a small net does not take a whole one).
+            let cap = if self.chunks.is_empty() {
+                64 * n + PAD
+            } else {
+                CHUNK_STATES * n + PAD
+            };
+            let mut c = Vec::with_capacity(cap);
+            c.resize(PAD, 0);
+            self.bytes += c.capacity();
+            self.chunks.push(c);
         }
-        self.table = table;
+        let Some(chunk) = self.chunks.last_mut() else {
+            return;
+        };
+        let before = chunk.capacity();
+        let at = chunk.len() - PAD;
+        chunk.resize(at + n + PAD, 0);
+        words_to_bytes(words, &mut chunk[at..at + n]);
+        self.bytes = self.bytes + chunk.capacity() - before;
+        self.peak = self.peak.max(self.bytes);
+        self.len += 1;
     }
 
-    /// Room for one more state: `false` when the memory budget does not allow it.
+    /// Probes segment `seg` for `words` (hash `h`): `Ok(index)` when present, else
+    /// `Err(slot)`, the empty slot where it would go.
     #[inline]
-    fn reserve(&mut self, memory: usize) -> bool {
-        if (self.len + 1) * 5 > self.table.len() * 4 {
-            let slots = self.table.len() + self.table.len() / 2;
-            // The old table lives while the new one fills.
-            let during = self.bytes_used() + Store::table_bytes(slots);
-            if during > memory {
-                return false;
+    fn probe(&self, seg: usize, h: u64, words: &[u64]) -> Result<u32, usize> {
+        let table = &self.segments[seg];
+        let n = table.len();
+        let mut slot = home(h, n);
+        let t = tag(h);
+        loop {
+            let e = table[slot];
+            if e == EMPTY {
+                return Err(slot);
             }
-            self.peak = self.peak.max(during);
-            self.rehash(slots);
+            if e & !INDEX_MASK == t && self.equal((e & INDEX_MASK) as usize, words) {
+                return Ok(e & INDEX_MASK);
+            }
+            slot += 1;
+            if slot == n {
+                slot = 0;
+            }
         }
-        if self.len == self.chunks.len() * self.per_chunk {
-            if self.bytes_used() + self.per_chunk * self.layout.bytes > memory {
+    }
+
+    /// Index of `words` (hash `h`) if present.
+    #[inline]
+    fn find(&self, h: u64, words: &[u64]) -> Option<u32> {
+        self.probe(segment(h), h, words).ok()
+    }
+
+    /// The table entry at the home slot of `h` (a load that brings it into the cache).
+    #[inline]
+    fn home_entry(&self, h: u64) -> u32 {
+        let table = &self.segments[segment(h)];
+        table[home(h, table.len())]
+    }
+
+    /// Room for one more state of hash `h`: `false` when the memory budget does not
+    /// allow it.
+    #[inline]
+    fn reserve(&mut self, h: u64, memory: usize) -> bool {
+        let seg = segment(h);
+        let slots = self.segments[seg].len();
+        if (self.fill[seg] as usize + 1) * 1000 > slots * MAX_LOAD {
+            let grown = (slots * GROWTH / 1000).max(slots + MIN_SLOTS);
+            if self.bytes + grown * 4 > memory {
                 return false;
             }
-            // Grown by doubling up to its size: a small net does not take a whole chunk.
-            self.chunks.push(Vec::new());
+            self.resize_segment(seg, grown);
+        }
+        if self.len == self.chunks.len() * CHUNK_STATES && self.bytes + CHUNK_STATES * self.layout.bytes + PAD > memory
+        {
+            return false;
         }
         true
     }
 
-    /// Shrinks the table to load 0.8 (after the exploration).
-    fn shrink(&mut self) {
-        let slots = (self.len * 5 / 4 + 1).max(16);
-        if slots < self.table.len() {
-            self.peak = self.peak.max(self.bytes_used() + Store::table_bytes(slots));
-            self.rehash(slots);
-        }
-    }
-
-    /// Touches the slot of `h` and the state it names (a hint for the batch to come).
+    /// Index of `words` (hash `h`), inserting it when new (room reserved):
+    /// `(index, inserted)`.
     #[inline]
-    fn touch(&self, h: u64) -> u32 {
-        let e = self.table[home(h, self.table.len())];
-        if e == EMPTY {
-            return 0;
-        }
-        u32::from(self.state((e & INDEX_MASK) as usize)[0])
-    }
-
-    /// Index of `bytes` (hash `h`), inserting it when new (room reserved): `(index, inserted)`.
-    #[inline]
-    fn insert(&mut self, h: u64, bytes: &[u8]) -> (u32, bool) {
-        let n = self.table.len();
-        let mut slot = home(h, n);
-        let t = tag(h);
-        loop {
-            let e = self.table[slot];
-            if e == EMPTY {
+    fn insert(&mut self, h: u64, words: &[u64]) -> (u32, bool) {
+        let seg = segment(h);
+        match self.probe(seg, h, words) {
+            Ok(i) => (i, false),
+            Err(slot) => {
                 let idx = self.len as u32;
-                self.table[slot] = t | idx;
-                let c = self.len / self.per_chunk;
-                self.chunks[c].extend_from_slice(bytes);
-                self.len += 1;
-                return (idx, true);
+                self.push(words);
+                self.segments[seg][slot] = tag(h) | idx;
+                self.fill[seg] += 1;
+                (idx, true)
             }
-            if e & !INDEX_MASK == t && self.state((e & INDEX_MASK) as usize) == bytes {
-                return (e & INDEX_MASK, false);
-            }
+        }
+    }
+
+    /// Places entry `e` (state `e & INDEX_MASK`, hash `h`) in `table`.
+    #[inline]
+    fn place(table: &mut [u32], h: u64, e: u32) {
+        let n = table.len();
+        let mut slot = home(h, n);
+        while table[slot] != EMPTY {
             slot += 1;
             if slot == n {
                 slot = 0;
             }
         }
+        table[slot] = e;
     }
 
-    /// Index of `bytes` (hash `h`) if present.
-    #[inline]
-    fn find(&self, h: u64, bytes: &[u8]) -> Option<u32> {
-        let n = self.table.len();
-        let mut slot = home(h, n);
-        let t = tag(h);
-        loop {
-            let e = self.table[slot];
-            if e == EMPTY {
-                return None;
+    /// Rebuilds segment `seg` with `slots` slots (only it is held twice meanwhile).
+    fn resize_segment(&mut self, seg: usize, slots: usize) {
+        let old = std::mem::take(&mut self.segments[seg]);
+        let mut table = vec![EMPTY; slots];
+        self.peak = self.peak.max(self.bytes + slots * 4);
+        let mut words = vec![0u64; self.layout.words];
+        for group in old.chunks(16) {
+            // Bring the group's states into the cache together.
+            let mut touched = 0u8;
+            for &e in group.iter().filter(|&&e| e != EMPTY) {
+                touched = touched.wrapping_add(self.first_byte((e & INDEX_MASK) as usize));
             }
-            if e & !INDEX_MASK == t && self.state((e & INDEX_MASK) as usize) == bytes {
-                return Some(e & INDEX_MASK);
+            std::hint::black_box(touched);
+            for &e in group.iter().filter(|&&e| e != EMPTY) {
+                self.load((e & INDEX_MASK) as usize, &mut words);
+                Store::place(&mut table, finish(self.layout.linear(&words)), e);
             }
-            slot += 1;
-            if slot == n {
-                slot = 0;
+        }
+        self.bytes = self.bytes + slots * 4 - old.len() * 4;
+        self.segments[seg] = table;
+    }
+
+    /// Shrinks the segments to load [`FINAL_LOAD`] (after the exploration).
+    fn shrink(&mut self) {
+        for seg in 0..SEGMENTS {
+            let slots = (self.fill[seg] as usize * 1000 / FINAL_LOAD + 1).max(MIN_SLOTS);
+            if slots < self.segments[seg].len() {
+                self.resize_segment(seg, slots);
             }
         }
     }
@@ -466,73 +620,80 @@ impl Store {
     fn find_marking(&self, m: &[u32]) -> Option<u32> {
         let mut words = vec![0u64; self.layout.words];
         self.layout.pack(m, &mut words).ok()?;
-        let mut bytes = vec![0u8; self.layout.bytes];
-        words_to_bytes(&words, &mut bytes);
-        self.find(hash_words(&words), &bytes)
+        self.find(hash_marking(m), &words)
     }
 
-    /// Bytes used by the arena and the table (capacity).
+    /// Bytes used by the arena and the table.
     pub fn bytes_used(&self) -> usize {
-        self.chunks.iter().map(Vec::capacity).sum::<usize>() + Store::table_bytes(self.table.len())
+        self.bytes
     }
 
-    /// The same states in a wider layout, numbered as before.
-    fn repack(&self, layout: Layout) -> Store {
-        let mut s = Store::new(layout);
-        let np = self.layout.bits.len();
-        let mut m = vec![0u32; np];
-        let mut words = vec![0u64; self.layout.words];
-        let mut wide = vec![0u64; s.layout.words];
-        let mut bytes = vec![0u8; s.layout.bytes];
-        s.table = Vec::new();
-        for i in 0..self.len {
-            self.marking(i, &mut words, &mut m);
-            // Fits: the new layout is wider on every place.
-            let _ = s.layout.pack(&m, &mut wide);
-            words_to_bytes(&wide, &mut bytes);
-            if s.len == s.chunks.len() * s.per_chunk {
-                s.chunks.push(Vec::new());
+    /// Widens the fields to `layout` (wider or as wide on every place) in place, chunk
+    /// by chunk (the chunks split between `threads` threads), keeping the states' numbers
+    /// and the table.
+    fn widen(&mut self, layout: Layout, threads: usize) {
+        let n = layout.bytes;
+        let mut counts = Vec::with_capacity(self.chunks.len());
+        for (c, chunk) in self.chunks.iter_mut().enumerate() {
+            let k = (self.len - c * CHUNK_STATES).min(CHUNK_STATES);
+            let before = chunk.capacity();
+            let want = if c == 0 && self.len <= CHUNK_STATES {
+                k * n + PAD
+            } else {
+                CHUNK_STATES * n + PAD
+            };
+            chunk.reserve_exact(want.saturating_sub(chunk.len()));
+            chunk.resize((k * n + PAD).max(chunk.len()), 0);
+            self.bytes = self.bytes + chunk.capacity() - before;
+            self.peak = self.peak.max(self.bytes);
+            counts.push(k);
+        }
+        let old = &self.layout;
+        let relay = |chunks: &mut [Vec<u8>], counts: &[usize]| {
+            for (chunk, &k) in chunks.iter_mut().zip(counts) {
+                relay_chunk(chunk, k, old, &layout);
             }
-            let c = s.len / s.per_chunk;
-            s.chunks[c].extend_from_slice(&bytes);
-            s.len += 1;
+        };
+        let half = self.chunks.len() / 2;
+        if threads > 1 && half > 0 {
+            let (a, b) = self.chunks.split_at_mut(half);
+            let (ca, cb) = counts.split_at(half);
+            std::thread::scope(|scope| {
+                scope.spawn(|| relay(b, cb));
+                relay(a, ca);
+            });
+        } else {
+            relay(&mut self.chunks, &counts);
         }
-        s.rehash(self.table.len());
-        s
+        // The states' hashes do not depend on the layout: the table stays as it is.
+        self.layout = layout;
     }
 }
 
-/// Entries per chunk of [`Parents`].
-const PARENT_CHUNK: usize = 1 << 20;
-
-/// The BFS parent of each state, in chunks (no doubling of one large vector).
-#[derive(Default)]
-struct Parents {
-    chunks: Vec<Vec<u32>>,
-    len: usize,
-}
-
-impl Parents {
-    fn push(&mut self, p: u32) {
-        if self.len.is_multiple_of(PARENT_CHUNK) {
-            self.chunks
-                .push(Vec::with_capacity(PARENT_CHUNK.min(self.len.max(1024))));
+/// Re-lays the `k` states of `chunk` from layout `old` to the wider `new` (the chunk
+/// already long enough), from the last state down: state `j`'s new place starts at or
+/// after the old end of every state before it.
+fn relay_chunk(chunk: &mut [u8], k: usize, old: &Layout, new: &Layout) {
+    let (old_n, n) = (old.bytes, new.bytes);
+    let mut m = vec![0u32; old.bits.len()];
+    let mut words = vec![0u64; old.words];
+    let mut wide = vec![0u64; new.words];
+    let old_mask = match old_n % 8 {
+        0 => u64::MAX,
+        r => (1u64 << (8 * r)) - 1,
+    };
+    let last = words.len() - 1;
+    for j in (0..k).rev() {
+        for (i, w) in words.iter_mut().enumerate() {
+            *w = read_word(chunk, j * old_n + 8 * i);
         }
-        if let Some(c) = self.chunks.last_mut() {
-            c.push(p);
-        }
-        self.len += 1;
+        words[last] &= old_mask;
+        old.unpack_words(&words, &mut m);
+        // Fits: the new layout is at least as wide on every place.
+        let _ = new.pack(&m, &mut wide);
+        words_to_bytes(&wide, &mut chunk[j * n..(j + 1) * n]);
     }
-
-    #[inline]
-    fn get(&self, i: u32) -> u32 {
-        let i = i as usize;
-        self.chunks[i / PARENT_CHUNK][i % PARENT_CHUNK]
-    }
-
-    fn bytes(&self) -> usize {
-        self.chunks.iter().map(|c| c.capacity() * 4).sum()
-    }
+    chunk[k * n..].iter_mut().for_each(|b| *b = 0);
 }
 
 /// A complete reachability graph (edges implicit).
@@ -555,7 +716,7 @@ pub struct Graph {
     pub max: Vec<u32>,
     /// Largest number of tokens in one marking.
     pub max_tokens: u64,
-    /// The most bytes the exploration used at once (the old and new table while it grew).
+    /// The most bytes the exploration used at once.
     pub peak_bytes: usize,
     net: PtNet,
 }
@@ -565,9 +726,31 @@ fn level_of(levels: &[u32], s: u32) -> usize {
     levels.partition_point(|&l| l <= s) - 1
 }
 
-/// A shortest firing sequence from the initial state to `s` (BFS levels, rebuilt
-/// backwards): at each step the first transition, in net order, whose reverse firing
-/// leads to a state of the previous level.
+/// The BFS parent of state `s` (marking `m`) of level `k > 0` and the transition from
+/// it: the first state of the previous level with an edge to `s` (the one whose
+/// successors first found it), and the first transition, in net order, taking it there.
+fn bfs_parent(net: &PtNet, store: &Store, levels: &[u32], k: usize, m: &[u32]) -> Option<(usize, u32)> {
+    let (lo, hi) = (levels[k - 1], levels[k]);
+    (0..net.transitions.len())
+        .filter_map(|t| {
+            let mut prev = m.to_vec();
+            for &(p, w) in &net.post[t] {
+                prev[p] = prev[p].checked_sub(w)?;
+            }
+            for &(p, w) in &net.pre[t] {
+                prev[p] = prev[p].checked_add(w)?;
+            }
+            if !net.enabled(&prev, t) {
+                return None;
+            }
+            let i = store.find_marking(&prev)?;
+            (lo..hi).contains(&i).then_some((t, i))
+        })
+        .min_by_key(|&(t, i)| (i, t))
+}
+
+/// A shortest firing sequence from the initial state to `s` (BFS parents, rebuilt
+/// backwards).
 fn trace_back(net: &PtNet, store: &Store, levels: &[u32], mut s: u32) -> Vec<usize> {
     let np = net.places.len();
     let mut words = vec![0u64; store.layout.words];
@@ -576,27 +759,8 @@ fn trace_back(net: &PtNet, store: &Store, levels: &[u32], mut s: u32) -> Vec<usi
     let mut k = level_of(levels, s);
     while k > 0 {
         store.marking(s as usize, &mut words, &mut m);
-        let (lo, hi) = (levels[k - 1], levels[k]);
-        // The BFS parent: the first state of the previous level with an edge to `s`,
-        // and the first transition taking it there.
-        let step = (0..net.transitions.len())
-            .filter_map(|t| {
-                let mut prev = m.clone();
-                for &(p, w) in &net.post[t] {
-                    prev[p] = prev[p].checked_sub(w)?;
-                }
-                for &(p, w) in &net.pre[t] {
-                    prev[p] = prev[p].checked_add(w)?;
-                }
-                if !net.enabled(&prev, t) {
-                    return None;
-                }
-                let i = store.find_marking(&prev)?;
-                (lo..hi).contains(&i).then_some((t, i))
-            })
-            .min_by_key(|&(t, i)| (i, t));
-        let Some((t, i)) = step else {
-            // Unreachable: every state of level k has a predecessor in level k - 1.
+        // Unreachable `None`: every state of level k has a predecessor in level k - 1.
+        let Some((t, i)) = bfs_parent(net, store, levels, k, &m) else {
             break;
         };
         out.push(t);
@@ -623,9 +787,155 @@ fn bits_for(v: u32) -> u32 {
     (32 - v.leading_zeros()).max(1)
 }
 
-/// Explores the reachability graph breadth-first within `limits`.
-#[allow(clippy::needless_range_loop)]
+/// States of a level whose successors are computed (in parallel) before the new ones
+/// are inserted (in order).
+const BATCH: usize = 1 << 14;
+
+/// What [`scan`] found for a range of states: the successors not in the store yet (in
+/// the order of their states and transitions) and the range's counts.
+struct Scan {
+    /// `(state, transition)` of each successor not found.
+    new: Vec<(u32, u32)>,
+    /// Their packed words.
+    words: Vec<u64>,
+    /// Their hashes.
+    hashes: Vec<u64>,
+    edges: u64,
+    deadlocks: u64,
+    first_deadlock: Option<u32>,
+    fired: Vec<bool>,
+    max_tokens: u64,
+    /// The first state (and place) whose successor did not fit its field: the range is
+    /// done up to it.
+    overflow: Option<(usize, usize)>,
+}
+
+/// The successors of states `from..to`, looked up in `store` (read only). States are
+/// taken [`GROUP`] at a time: their successors' table slots, then the states those
+/// name, are loaded together before any is compared, so that the cache misses overlap.
+fn scan(store: &Store, packed: &Packed, nt: usize, count_tokens: bool, from: usize, to: usize) -> Scan {
+    let layout = &store.layout;
+    let w = layout.words;
+    let mut out = Scan {
+        new: Vec::new(),
+        words: Vec::new(),
+        hashes: Vec::new(),
+        edges: 0,
+        deadlocks: 0,
+        first_deadlock: None,
+        fired: vec![false; nt],
+        max_tokens: 0,
+        overflow: None,
+    };
+    let mut cur = vec![0u64; w];
+    let mut succ: Vec<u64> = Vec::new();
+    let mut hashes: Vec<u64> = Vec::new();
+    let mut from_to: Vec<(u32, u32)> = Vec::new();
+    let mut entries: Vec<u32> = Vec::new();
+    let mut s = from;
+    while s < to && out.overflow.is_none() {
+        let end = (s + GROUP).min(to);
+        succ.clear();
+        hashes.clear();
+        from_to.clear();
+        'states: for x in s..end {
+            store.load(x, &mut cur);
+            let lin = layout.linear(&cur);
+            if count_tokens {
+                out.max_tokens = out.max_tokens.max(layout.tokens(&cur));
+            }
+            let before = hashes.len();
+            for t in 0..nt {
+                if !packed.enabled(&cur, t) {
+                    continue;
+                }
+                out.fired[t] = true;
+                let k = succ.len();
+                succ.resize(k + w, 0);
+                if let Err(p) = packed.fire(&cur, &mut succ[k..], t) {
+                    succ.truncate(before * w);
+                    hashes.truncate(before);
+                    from_to.truncate(before);
+                    out.overflow = Some((x, p));
+                    break 'states;
+                }
+                hashes.push(finish(lin.wrapping_add(packed.hash_shift[t])));
+                from_to.push((x as u32, t as u32));
+            }
+            let n = (hashes.len() - before) as u64;
+            out.edges += n;
+            if n == 0 {
+                out.deadlocks += 1;
+                out.first_deadlock.get_or_insert(x as u32);
+            }
+        }
+        entries.clear();
+        entries.extend(hashes.iter().map(|&h| store.home_entry(h)));
+        let mut touched = 0u8;
+        for &e in entries.iter().filter(|&&e| e != EMPTY) {
+            touched = touched.wrapping_add(store.first_byte((e & INDEX_MASK) as usize));
+        }
+        std::hint::black_box(touched);
+        for (k, &h) in hashes.iter().enumerate() {
+            let next = &succ[k * w..(k + 1) * w];
+            if store.find(h, next).is_none() {
+                out.new.push(from_to[k]);
+                out.words.extend_from_slice(next);
+                out.hashes.push(h);
+            }
+        }
+        s = end;
+    }
+    out
+}
+
+/// Scans `from..to` on `threads` threads, each a contiguous part; the parts in order.
+fn scan_parallel(
+    store: &Store,
+    packed: &Packed,
+    nt: usize,
+    count_tokens: bool,
+    from: usize,
+    to: usize,
+    threads: usize,
+) -> Vec<Scan> {
+    let threads = threads.clamp(1, (to - from).div_ceil(GROUP).max(1));
+    if threads == 1 {
+        return vec![scan(store, packed, nt, count_tokens, from, to)];
+    }
+    let step = (to - from).div_ceil(threads);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads)
+            .map(|k| {
+                let (a, b) = (from + k * step, (from + (k + 1) * step).min(to));
+                scope.spawn(move || scan(store, packed, nt, count_tokens, a, b.max(a)))
+            })
+            .collect();
+        let mut parts = vec![scan(store, packed, nt, count_tokens, from, (from + step).min(to))];
+        for h in handles {
+            // A scan does not panic on a consistent store; if one did, its part is
+            // scanned again here.
+            let k = parts.len();
+            parts.push(h.join().unwrap_or_else(|_| {
+                let (a, b) = (from + k * step, (from + (k + 1) * step).min(to));
+                scan(store, packed, nt, count_tokens, a, b.max(a))
+            }));
+        }
+        parts
+    })
+}
+
+/// Explores the reachability graph breadth-first within `limits`, on one thread.
 pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored {
+    explore_threads(net, limits, 1, control)
+}
+
+/// Explores the reachability graph breadth-first within `limits`. Each level is taken
+/// [`BATCH`] states at a time: `threads` threads compute the batch's successors and
+/// look them up (the store is only read), then the new ones are inserted in the order
+/// of their states and transitions, so the states' numbers, and every result, do not
+/// depend on the number of threads.
+pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &Control<'_>) -> Explored {
     let np = net.places.len();
     let nt = net.transitions.len();
     let max_states = limits.max_states.min(MAX_STATES);
@@ -643,7 +953,7 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
         sum(&net.pre[t]) == sum(&net.post[t])
     });
     let mut bits: Vec<u32> = net.initial.iter().map(|&v| bits_for(v)).collect();
-    let mut layout = Layout::new(bits.clone());
+    let layout = Layout::new(bits.clone());
     let mut packed = Packed::new(net, &layout);
     let mut store = Store::new(layout.clone());
     let mut max = net.initial.clone();
@@ -652,174 +962,136 @@ pub fn explore(net: &PtNet, limits: &Limits, control: &Control<'_>) -> Explored 
     if layout.pack(&net.initial, &mut cur).is_err() {
         return Explored::Overflow;
     }
-    let mut bytes = vec![0u8; layout.bytes];
-    words_to_bytes(&cur, &mut bytes);
-    if !store.reserve(limits.memory) {
+    let h0 = hash_marking(&net.initial);
+    if !store.reserve(h0, limits.memory) {
         return Explored::Limit {
             why: Stop::Memory,
             states: 0,
             bytes: store.bytes_used(),
         };
     }
-    store.insert(hash_words(&cur), &bytes);
+    store.insert(h0, &cur);
     let mut levels: Vec<u32> = vec![0];
     let mut level_end = 1usize;
     let mut edges = 0u64;
     let mut deadlocks = 0u64;
     let mut first_deadlock = None;
     let mut fired = vec![false; nt];
-    // One state's successors: packed words, hashes, transitions.
-    let mut succ: Vec<u64> = Vec::new();
-    let mut hashes: Vec<u64> = Vec::new();
-    let mut via: Vec<usize> = Vec::new();
     let mut m = vec![0u32; np];
-    let mut s = 0usize;
-    let stop = |why, store: &Store, parents: &Parents| Explored::Limit {
-        why,
-        states: store.len(),
-        bytes: store.bytes_used() + parents.bytes(),
-    };
-    let mut parents = Parents::default();
-    parents.push(u32::MAX);
     let mut anc = vec![0u32; np];
     let mut anc_words = vec![0u64; layout.words];
-    'states: while s < store.len() {
-        if s == level_end && levels.last() != Some(&(s as u32)) {
+    let stop = |why, store: &Store, levels: &Vec<u32>| Explored::Limit {
+        why,
+        states: store.len(),
+        bytes: store.bytes_used() + levels.capacity() * 4,
+    };
+    let mut s = 0usize;
+    let mut reported = 0usize;
+    while s < store.len() {
+        if s == level_end {
             levels.push(s as u32);
             level_end = store.len();
         }
-        if s & 0x3fff == 0 {
+        if s >= reported {
+            reported = s + (1 << 14);
             if control.cancelled() {
-                return stop(Stop::Cancelled, &store, &parents);
+                return stop(Stop::Cancelled, &store, &levels);
             }
             (control.progress)(&Progress {
                 part: Part::StateSpace,
                 states: store.len() as u64,
-                bytes: store.bytes_used() + parents.bytes(),
+                bytes: store.bytes_used() + levels.capacity() * 4,
             });
         }
-        let w = layout.words;
-        anc_words.resize(w, 0);
-        cur.resize(w, 0);
-        layout.load(store.state(s), &mut cur);
-        if !constant_tokens {
-            max_tokens = max_tokens.max(layout.tokens(&cur));
-        }
-        succ.clear();
-        hashes.clear();
-        via.clear();
-        let mut dead = true;
-        for t in 0..nt {
-            if !packed.enabled(&cur, t) {
-                continue;
+        let end = (s + BATCH).min(level_end);
+        let parts = scan_parallel(&store, &packed, nt, !constant_tokens, s, end, threads);
+        let w = store.layout.words;
+        let mut overflow = None;
+        for part in &parts {
+            edges += part.edges;
+            deadlocks += part.deadlocks;
+            if first_deadlock.is_none() {
+                first_deadlock = part.first_deadlock;
             }
-            dead = false;
-            fired[t] = true;
-            let k = succ.len();
-            succ.resize(k + w, 0);
-            if let Err(p) = packed.fire(&cur, &mut succ[k..], t) {
-                // Widen the place that does not fit, re-pack, and do this state again.
+            fired.iter_mut().zip(&part.fired).for_each(|(f, &g)| *f |= g);
+            max_tokens = max_tokens.max(part.max_tokens);
+            for (k, &(x, t)) in part.new.iter().enumerate() {
+                if k % INSERT_GROUP == 0 {
+                    // The next candidates' slots, loaded together.
+                    let group = &part.hashes[k..(k + INSERT_GROUP).min(part.hashes.len())];
+                    let touched = group.iter().fold(0u32, |a, &h| a.wrapping_add(store.home_entry(h)));
+                    std::hint::black_box(touched);
+                }
+                let next = &part.words[k * w..(k + 1) * w];
+                // Karp–Miller at records: does the successor strictly cover an ancestor?
+                // A record on a place read by an inhibitor arc rules every ancestor out
+                // (the criterion needs equality there). Only the places the transition
+                // adds to can set one, and only a new state can.
+                let mut record = false;
+                let mut inhibited_record = false;
+                for &(f, p) in &packed.grow[t as usize] {
+                    let v = f.get(next) as u32;
+                    if v > max[p] {
+                        max[p] = v;
+                        record = true;
+                        inhibited_record |= inhibited[p];
+                    }
+                }
+                if record && !inhibited_record {
+                    store.layout.unpack_words(next, &mut m);
+                    // The ancestors: `x` and its BFS parents.
+                    let mut at = x;
+                    loop {
+                        store.marking(at as usize, &mut anc_words, &mut anc);
+                        let covers = m.iter().zip(&anc).all(|(x, y)| x >= y)
+                            && m != anc
+                            && m.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
+                        if covers {
+                            return Explored::Unbounded;
+                        }
+                        let k = level_of(&levels, at);
+                        if k == 0 {
+                            break;
+                        }
+                        match bfs_parent(net, &store, &levels, k, &anc) {
+                            Some((_, i)) => at = i,
+                            None => break,
+                        }
+                    }
+                }
+                let h = part.hashes[k];
+                if !store.reserve(h, limits.memory.saturating_sub(levels.capacity() * 4)) {
+                    return stop(Stop::Memory, &store, &levels);
+                }
+                let (_, inserted) = store.insert(h, next);
+                if inserted && store.len() > max_states {
+                    return stop(Stop::States, &store, &levels);
+                }
+            }
+            if let Some(o) = part.overflow {
+                overflow = Some(o);
+                break;
+            }
+        }
+        match overflow {
+            Some((x, p)) => {
+                // Widen the place that does not fit (in place), and go on from the state
+                // whose successor did not fit.
                 if bits[p] >= 32 {
                     return Explored::Overflow;
                 }
-                bits[p] = (bits[p] * 2).min(32);
-                layout = Layout::new(bits.clone());
+                bits[p] += 1;
+                let layout = Layout::new(bits.clone());
                 packed = Packed::new(net, &layout);
-                let old = store.bytes_used();
-                store = store.repack(layout.clone());
-                store.peak = store.peak.max(old + store.bytes_used());
-                bytes = vec![0u8; layout.bytes];
-                continue 'states;
+                store.widen(layout, threads);
+                anc_words = vec![0u64; store.layout.words];
+                s = x;
             }
-            hashes.push(hash_words(&succ[k..k + w]));
-            via.push(t);
+            None => s = end,
         }
-        // Overlap the memory accesses of the successors' look-ups.
-        let mut touched = 0u32;
-        for &h in &hashes {
-            touched = touched.wrapping_add(store.touch(h));
-        }
-        std::hint::black_box(touched);
-        for (n, &h) in hashes.iter().enumerate() {
-            let next = &succ[n * w..(n + 1) * w];
-            // Karp–Miller at records: does the successor strictly cover an ancestor?
-            // A record on a place read by an inhibitor arc rules every ancestor out (the
-            // criterion needs equality there). Only the places the transition adds to
-            // can set one.
-            let mut record = false;
-            let mut inhibited_record = false;
-            for &(f, p) in &packed.grow[via[n]] {
-                let v = f.get(next) as u32;
-                if v > max[p] {
-                    max[p] = v;
-                    record = true;
-                    inhibited_record |= inhibited[p];
-                }
-            }
-            if record {
-                layout.unpack_words(next, &mut m);
-            }
-            let record = record && !inhibited_record;
-            if record {
-                // Karp–Miller: does the successor strictly cover an ancestor (the BFS
-                // parents of `s`, `s` included)?
-                let mut at = s as u32;
-                loop {
-                    store.marking(at as usize, &mut anc_words, &mut anc);
-                    let covers = m.iter().zip(&anc).all(|(x, y)| x >= y)
-                        && m != anc
-                        && m.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
-                    if covers {
-                        return Explored::Unbounded;
-                    }
-                    at = parents.get(at);
-                    if at == u32::MAX {
-                        break;
-                    }
-                }
-            }
-            if !store.reserve(limits.memory.saturating_sub(parents.bytes() + PARENT_CHUNK * 4)) {
-                return stop(Stop::Memory, &store, &parents);
-            }
-            words_to_bytes(next, &mut bytes);
-            let (_, inserted) = store.insert(h, &bytes);
-            edges += 1;
-            if inserted {
-                parents.push(s as u32);
-                if store.len() > max_states {
-                    return stop(Stop::States, &store, &parents);
-                }
-            }
-        }
-        if dead {
-            deadlocks += 1;
-            first_deadlock.get_or_insert(s as u32);
-        }
-        s += 1;
     }
-    let deadlock_trace = first_deadlock.map(|d| {
-        let mut path = vec![d];
-        while let Some(&last) = path.last() {
-            match parents.get(last) {
-                u32::MAX => break,
-                p => path.push(p),
-            }
-        }
-        path.reverse();
-        let mut a = vec![0u32; np];
-        let mut b = vec![0u32; np];
-        path.windows(2)
-            .map(|w2| {
-                store.marking(w2[0] as usize, &mut anc_words, &mut a);
-                store.marking(w2[1] as usize, &mut anc_words, &mut b);
-                (0..nt)
-                    .find(|&t| net.enabled(&a, t) && net.fire(&a, t).as_deref() == Some(&b[..]))
-                    .unwrap_or(0)
-            })
-            .collect()
-    });
-    let peak_bytes = store.peak.max(store.bytes_used()) + parents.bytes();
-    drop(parents);
+    let deadlock_trace = first_deadlock.map(|d| trace_back(net, &store, &levels, d));
+    let peak_bytes = store.peak.max(store.bytes_used()) + levels.capacity() * 4;
     store.shrink();
     Explored::Graph(Box::new(Graph {
         store,
@@ -848,16 +1120,178 @@ pub struct Components {
     pub reversible: bool,
 }
 
+/// Why the SCC pass did not complete.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SccStop {
+    /// The cancellation flag.
+    Cancelled,
+    /// Tarjan's pass needs more than the memory left.
+    Budget,
+}
+
+/// Bytes of the SCC pass when the graph is not strongly connected (Tarjan's word and
+/// two bits per state).
+pub fn tarjan_bytes(states: usize) -> usize {
+    states * 4 + states.div_ceil(64) * 16
+}
+
+/// The strongly connected components, liveness and reversibility on `threads` threads,
+/// with `memory` bytes left: `(components, bytes used)`.
+///
+/// First a backward breadth-first search from the initial state over predecessors
+/// (transitions fired in reverse, looked up in the store; one bit per state): when it
+/// reaches every state, the graph is one strongly connected component, reversible, and
+/// live iff every transition fired. Otherwise Tarjan's pass ([`tarjan`]) counts the
+/// components.
+pub fn components(
+    net: &PtNet,
+    g: &Graph,
+    threads: usize,
+    memory: usize,
+    control: &Control<'_>,
+) -> Result<(Components, usize), SccStop> {
+    let n = g.store.len();
+    let (all, bytes) = reaches_initial(net, g, threads, control).ok_or(SccStop::Cancelled)?;
+    if all {
+        let live = g.fired.iter().all(|&f| f);
+        return Ok((
+            Components {
+                count: 1,
+                terminal: 1,
+                live,
+                reversible: true,
+            },
+            bytes,
+        ));
+    }
+    if tarjan_bytes(n) > memory {
+        return Err(SccStop::Budget);
+    }
+    let c = tarjan(net, g, control).ok_or(SccStop::Cancelled)?;
+    Ok((c, bytes.max(tarjan_bytes(n))))
+}
+
+/// The predecessors of states `frontier`, each state seen for the first time (its bit
+/// set in `seen`) once. States are taken [`GROUP`] at a time, their predecessors' look-ups
+/// overlapped as in [`scan`].
+fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], frontier: &[u32]) -> Vec<u32> {
+    let store = &g.store;
+    let w = store.layout.words;
+    let nt = back.tests.len();
+    let mut cur = vec![0u64; w];
+    let mut prev: Vec<u64> = Vec::new();
+    let mut hashes: Vec<u64> = Vec::new();
+    let mut entries: Vec<u32> = Vec::new();
+    let mut out = Vec::new();
+    for group in frontier.chunks(GROUP) {
+        prev.clear();
+        hashes.clear();
+        for &v in group {
+            store.load(v as usize, &mut cur);
+            let lin = store.layout.linear(&cur);
+            for t in 0..nt {
+                if !back.enabled(&cur, t) {
+                    continue;
+                }
+                let k = prev.len();
+                prev.resize(k + w, 0);
+                // A predecessor that does not fit the layout is not a state; one that
+                // does must enable `t` (read and inhibitor arcs included).
+                if back.fire(&cur, &mut prev[k..], t).is_err() || !fwd.enabled(&prev[k..], t) {
+                    prev.truncate(k);
+                    continue;
+                }
+                hashes.push(finish(lin.wrapping_add(back.hash_shift[t])));
+            }
+        }
+        entries.clear();
+        entries.extend(hashes.iter().map(|&h| store.home_entry(h)));
+        let mut touched = 0u8;
+        for &e in entries.iter().filter(|&&e| e != EMPTY) {
+            touched = touched.wrapping_add(store.first_byte((e & INDEX_MASK) as usize));
+        }
+        std::hint::black_box(touched);
+        for (k, &h) in hashes.iter().enumerate() {
+            let Some(i) = store.find(h, &prev[k * w..(k + 1) * w]) else {
+                continue;
+            };
+            let (word, bit) = (&seen[i as usize / 64], 1u64 << (i % 64));
+            if word.load(Ordering::Relaxed) & bit == 0 && word.fetch_or(bit, Ordering::Relaxed) & bit == 0 {
+                out.push(i);
+            }
+        }
+    }
+    out
+}
+
+/// Whether every state reaches the initial one (backward breadth-first search, level by
+/// level, each level's states split between `threads` threads), and the bytes it used;
+/// `None` when cancelled.
+fn reaches_initial(net: &PtNet, g: &Graph, threads: usize, control: &Control<'_>) -> Option<(bool, usize)> {
+    let n = g.store.len();
+    let layout = &g.store.layout;
+    let reversed = PtNet {
+        pre: net.post.clone(),
+        post: net.pre.clone(),
+        reads: vec![Vec::new(); net.transitions.len()],
+        inhibitors: vec![Vec::new(); net.transitions.len()],
+        ..net.clone()
+    };
+    let back = Packed::new(&reversed, layout);
+    let fwd = Packed::new(net, layout);
+    let seen: Vec<AtomicU64> = (0..n.div_ceil(64)).map(|_| AtomicU64::new(0)).collect();
+    seen[0].fetch_or(1, Ordering::Relaxed);
+    let mut frontier = vec![0u32];
+    let mut reached = 1usize;
+    let mut bytes = seen.len() * 8;
+    while !frontier.is_empty() {
+        if control.cancelled() {
+            return None;
+        }
+        (control.progress)(&Progress {
+            part: Part::Components,
+            states: reached as u64,
+            bytes: g.bytes_used() + bytes,
+        });
+        let parts = threads.clamp(1, frontier.len().div_ceil(1 << 12));
+        let next: Vec<u32> = if parts == 1 {
+            predecessors(g, &back, &fwd, &seen, &frontier)
+        } else {
+            let step = frontier.len().div_ceil(parts);
+            let (back, fwd, seen) = (&back, &fwd, &seen[..]);
+            std::thread::scope(|scope| {
+                let handles: Vec<_> = frontier[step..]
+                    .chunks(step)
+                    .map(|part| scope.spawn(move || predecessors(g, back, fwd, seen, part)))
+                    .collect();
+                let mut next = predecessors(g, back, fwd, seen, &frontier[..step]);
+                for h in handles {
+                    // Were a part to panic, the search would stop short: not every
+                    // state reached, Tarjan's pass decides.
+                    match h.join() {
+                        Ok(v) => next.extend(v),
+                        Err(_) => return Vec::new(),
+                    }
+                }
+                next
+            })
+        };
+        reached += next.len();
+        bytes = bytes.max(seen.len() * 8 + (frontier.capacity() + next.capacity()) * 4);
+        frontier = next;
+    }
+    Some((reached == n, bytes))
+}
+
 /// Tarjan's algorithm (Pearce's variant, iterative) on the implicit graph; `None` when
 /// cancelled. Each state's successors are looked up together when it is entered and
 /// kept on an edge stack while it is on the DFS path.
-pub fn components(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Components> {
+pub fn tarjan(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Components> {
     let n = g.store.len();
     let nt = net.transitions.len();
     let layout = &g.store.layout;
     let packed_net = Packed::new(net, layout);
     let w = layout.words;
-    let mut bytes = vec![0u8; layout.bytes];
     let mut cur = vec![0u64; w];
     let mut next = vec![0u64; w];
     let mut succ_hashes: Vec<u64> = Vec::new();
@@ -882,24 +1316,24 @@ pub fn components(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Compo
     let mut enabled_union = vec![false; nt];
     let mut visited = 0usize;
     let mut enter = |v: u32, edges: &mut Vec<u32>| {
-        layout.load(g.store.state(v as usize), &mut cur);
+        g.store.load(v as usize, &mut cur);
+        let lin = layout.linear(&cur);
         succ_hashes.clear();
         succ_words.clear();
         for t in 0..nt {
             if !packed_net.enabled(&cur, t) || packed_net.fire(&cur, &mut next, t).is_err() {
                 continue;
             }
-            succ_hashes.push(hash_words(&next));
+            succ_hashes.push(finish(lin.wrapping_add(packed_net.hash_shift[t])));
             succ_words.extend_from_slice(&next);
         }
         let mut touched = 0u32;
         for &h in &succ_hashes {
-            touched = touched.wrapping_add(g.store.touch(h));
+            touched = touched.wrapping_add(g.store.home_entry(h));
         }
         std::hint::black_box(touched);
         for (k, &h) in succ_hashes.iter().enumerate() {
-            words_to_bytes(&succ_words[k * w..(k + 1) * w], &mut bytes);
-            if let Some(i) = g.store.find(h, &bytes) {
+            if let Some(i) = g.store.find(h, &succ_words[k * w..(k + 1) * w]) {
                 edges.push(i);
             }
         }
@@ -972,7 +1406,7 @@ pub fn components(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Compo
                         enabled_union.iter_mut().for_each(|e| *e = false);
                         let mut words = vec![0u64; w];
                         for m in members() {
-                            layout.load(g.store.state(m), &mut words);
+                            g.store.load(m, &mut words);
                             for (t, e) in enabled_union.iter_mut().enumerate() {
                                 if !*e && packed_net.enabled(&words, t) {
                                     *e = true;

@@ -733,3 +733,47 @@ fn symbolic_deadlocks_of_the_big_instances_match_the_contest() {
         );
     }
 }
+
+/// Point 2 of issue 38: the parallel exploration finds exactly what the sequential one
+/// finds (states, firings, bounds, deadlocks and the shortest trace to one, dead
+/// transitions, liveness, reversibility, components) on the corpus's instances of at
+/// most `ALBA_MCC_MAX_STATES / 10` states.
+#[test]
+fn two_threads_find_what_one_finds() {
+    let limit = limit() / 10;
+    let mut differ = Vec::new();
+    let mut checked = 0;
+    for i in &corpus::load() {
+        if i.state_space("STATES").is_none_or(|n| n > limit) {
+            continue;
+        }
+        let net = corpus::net(i);
+        let run = |threads| {
+            let a = analyze(
+                &net,
+                &Options {
+                    invariants: Invariants::Flows,
+                    threads,
+                    ..Options::default()
+                },
+                &Control::none(),
+            );
+            format!(
+                "{:?}",
+                (
+                    (a.states, a.edges, &a.place_bounds, a.max_tokens, a.deadlocks),
+                    (&a.deadlock_trace, &a.deadlock_marking, &a.dead_transitions),
+                    (a.live, a.reversible, a.components, &a.status.components),
+                )
+            )
+        };
+        let (one, two) = (run(1), run(2));
+        if one != two {
+            differ.push(format!("{}:\n  1 thread:  {one}\n  2 threads: {two}", i.name));
+        }
+        checked += 1;
+    }
+    assert!(differ.is_empty(), "{}", differ.join("\n"));
+    assert!(checked >= 20, "only {checked} instances checked");
+    eprintln!("{checked} MCC instances: the same results on one and two threads");
+}
