@@ -959,19 +959,25 @@ mod stubborn_sets {
     }
 
     fn pred() -> impl Strategy<Value = Pred> {
-        let places = || prop::collection::vec(0..N, 1..3);
+        random_pred(N, 3, 12, 4)
+    }
+
+    /// Random predicates over `n` places and transitions: comparisons, `is-fireable`,
+    /// `deadlock`, nested up to `depth` with at most `size` nodes and `width - 1` operands.
+    pub(super) fn random_pred(n: usize, depth: u32, size: u32, width: usize) -> impl Strategy<Value = Pred> {
+        let places = move || prop::collection::vec(0..n, 1..3);
         let leaf = prop_oneof![
             (places(), 0u64..4).prop_map(|(p, c)| Pred::Le(IntExpr::Tokens(p), IntExpr::Const(c))),
             (0u64..4, places()).prop_map(|(c, p)| Pred::Le(IntExpr::Const(c), IntExpr::Tokens(p))),
             (places(), places()).prop_map(|(a, b)| Pred::Le(IntExpr::Tokens(a), IntExpr::Tokens(b))),
-            prop::collection::vec(0..N, 1..3).prop_map(Pred::Fireable),
+            prop::collection::vec(0..n, 1..3).prop_map(Pred::Fireable),
             Just(Pred::Deadlock),
         ];
-        leaf.prop_recursive(3, 12, 3, |inner| {
+        leaf.prop_recursive(depth, size, 3, move |inner| {
             prop_oneof![
                 inner.clone().prop_map(|p| Pred::Not(Box::new(p))),
-                prop::collection::vec(inner.clone(), 1..4).prop_map(Pred::And),
-                prop::collection::vec(inner, 1..4).prop_map(Pred::Or),
+                prop::collection::vec(inner.clone(), 1..width).prop_map(Pred::And),
+                prop::collection::vec(inner, 1..width).prop_map(Pred::Or),
             ]
         })
     }
@@ -1029,7 +1035,7 @@ mod structural_reductions {
     //! original places and transitions, bounds, the deadlock question: the same answers,
     //! every trace replayed in the original net to a marking showing the verdict.
     use super::*;
-    use alba_net::analysis::formula::{IntExpr, Pred, Property, Query, deadlock_property};
+    use alba_net::analysis::formula::{Pred, Property, Query, deadlock_property};
     use alba_net::analysis::stubborn::reduce::{Applied, reduce};
     use alba_net::analysis::stubborn::{CheckOptions, Verdict, answer, check};
     use proptest::strategy::ValueTree;
@@ -1118,21 +1124,7 @@ mod structural_reductions {
     }
 
     fn pred() -> impl Strategy<Value = Pred> {
-        let places = || prop::collection::vec(0..N, 1..3);
-        let leaf = prop_oneof![
-            (places(), 0u64..4).prop_map(|(p, c)| Pred::Le(IntExpr::Tokens(p), IntExpr::Const(c))),
-            (0u64..4, places()).prop_map(|(c, p)| Pred::Le(IntExpr::Const(c), IntExpr::Tokens(p))),
-            (places(), places()).prop_map(|(a, b)| Pred::Le(IntExpr::Tokens(a), IntExpr::Tokens(b))),
-            prop::collection::vec(0..N, 1..3).prop_map(Pred::Fireable),
-            Just(Pred::Deadlock),
-        ];
-        leaf.prop_recursive(2, 8, 3, |inner| {
-            prop_oneof![
-                inner.clone().prop_map(|p| Pred::Not(Box::new(p))),
-                prop::collection::vec(inner.clone(), 1..3).prop_map(Pred::And),
-                prop::collection::vec(inner, 1..3).prop_map(Pred::Or),
-            ]
-        })
+        super::stubborn_sets::random_pred(N, 2, 8, 3)
     }
 
     /// The property lists asked of a net: the formulas as EF and AG, the deadlock

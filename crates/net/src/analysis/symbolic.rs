@@ -333,6 +333,22 @@ struct Act {
     post: u32,
 }
 
+impl Act {
+    /// The value `v` of the level becomes by the firing (`act`: what it does
+    /// there, none for a level it does not touch); `None` when it is not enabled
+    /// on `v`.
+    fn fire(act: Option<&Act>, v: u32) -> R<Option<u32>> {
+        match act {
+            None => Ok(Some(v)),
+            Some(a) if v >= a.need && v < a.below => {
+                let w = u64::from(v - a.pre) + u64::from(a.post);
+                u32::try_from(w).map(Some).map_err(|_| Stop::Overflow)
+            }
+            Some(_) => Ok(None),
+        }
+    }
+}
+
 /// A transition on the levels: its actions by level, top and bottom level.
 struct Event {
     acts: Vec<(usize, Act)>,
@@ -581,13 +597,8 @@ impl<'a> Dd<'a> {
         let act = self.events[t as usize].act(level).copied();
         let mut out = Vec::new();
         for (v, c) in self.node_edges(n).to_vec() {
-            let v2 = match act {
-                None => v,
-                Some(a) if v >= a.need && v < a.below => {
-                    let w = u64::from(v - a.pre) + u64::from(a.post);
-                    u32::try_from(w).map_err(|_| Stop::Overflow)?
-                }
-                Some(_) => continue,
+            let Some(v2) = Act::fire(act.as_ref(), v)? else {
+                continue;
             };
             let r = self.relprod(c, t)?;
             if r != 0 {
@@ -809,13 +820,8 @@ impl<'a> Dd<'a> {
         let act = self.events[t as usize].act(level).copied();
         let mut out = Vec::new();
         for (v, ch) in self.node_edges(n).to_vec() {
-            let v2 = match act {
-                None => v,
-                Some(a) if v >= a.need && v < a.below => {
-                    let w = u64::from(v - a.pre) + u64::from(a.post);
-                    u32::try_from(w).map_err(|_| Stop::Overflow)?
-                }
-                Some(_) => continue,
+            let Some(v2) = Act::fire(act.as_ref(), v)? else {
+                continue;
             };
             let cc = self.child(c, v2);
             if cc == 0 {
