@@ -63,8 +63,19 @@ impl Server {
     }
 }
 
-/// A fresh copy of `examples/<name>` in a scratch directory.
+/// A fresh copy of `examples/<name>` in a scratch directory named by `test`, which
+/// no other test of this binary may use: tests run in parallel, and two sharing a
+/// directory would delete each other's project (and meet the project lock).
 pub fn copy_example(name: &str, test: &str) -> PathBuf {
+    static USED: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    {
+        let mut used = USED.lock().unwrap_or_else(|e| e.into_inner());
+        assert!(
+            !used.iter().any(|u| u == test),
+            "the scratch name `{test}` is used by two tests"
+        );
+        used.push(test.to_string());
+    }
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(name);
     let dir = std::env::temp_dir().join(format!("alba-server-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -102,7 +102,7 @@ async fn monitoring_streams_power_flow() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_that_does_not_read_is_dropped() {
     // 5 000 tags changing every scan: megabytes per second for a client of "*".
-    let dir = crate::copy_example("start-stop", "wsslow");
+    let dir = crate::copy_example("start-stop", "ws-unread");
     let mut tags = String::from("name,type,address,initial,retain,description\n");
     let mut lad = String::new();
     for i in 0..5000 {
