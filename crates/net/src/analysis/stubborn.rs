@@ -506,7 +506,7 @@ mod tests {
 
     /// `n` independent processes, each `idle -> busy -> done`, and a `stop` transition
     /// needing every `done`: (3^n states in full, a single path reduced to the deadlock).
-    fn processes(n: usize) -> PtNet {
+    pub(super) fn processes(n: usize) -> PtNet {
         let mut net = PtNet::new();
         let stop = net.add_transition("stop");
         for i in 0..n {

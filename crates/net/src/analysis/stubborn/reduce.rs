@@ -841,20 +841,7 @@ mod tests {
     fn rules_iterate_to_a_fixed_point_on_independent_processes() {
         // n processes idle -> busy -> done and a final transition needing every done:
         // every chain fuses; the deadlock question then explores a handful of markings.
-        let mut net = PtNet::new();
-        let stop = net.add_transition("stop");
-        for i in 0..6 {
-            let idle = net.add_place(&format!("idle{i}"), 1);
-            let busy = net.add_place(&format!("busy{i}"), 0);
-            let done = net.add_place(&format!("done{i}"), 0);
-            let a = net.add_transition(&format!("start{i}"));
-            net.add_pre(a, idle, 1);
-            net.add_post(a, busy, 1);
-            let b = net.add_transition(&format!("end{i}"));
-            net.add_pre(b, busy, 1);
-            net.add_post(b, done, 1);
-            net.add_pre(stop, done, 1);
-        }
+        let net = crate::analysis::stubborn::tests::processes(6);
         let r = reduce(&net, &[deadlock_property()]).expect("reduced");
         assert_eq!(r.applied.pre_agglomerations, 6);
         assert!(r.net.places.len() <= 12, "{:?}", r.net.places);
