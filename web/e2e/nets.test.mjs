@@ -278,6 +278,8 @@ test("a big net's analysis shows its progress and is cancelled; the next one run
   assert.equal(await tid('net-an-live').textContent(), 'yes');
   assert.equal(await tid('net-an-reversible').textContent(), 'yes');
   assert.equal(await tid('net-an-dead').textContent(), 'none');
+  // The toasts of the steps before (4–8 s each) would cover the lower rows of the shot.
+  await page.waitForFunction(() => !document.querySelector('[data-testid="toasts"] .toast'), null, { timeout: 15_000 });
   await b.shot('net-analysis-symbolic');
   assert.deepEqual(b.errors, []);
 });

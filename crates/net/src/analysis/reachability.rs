@@ -21,11 +21,15 @@
 //!
 //! Each level is expanded [`BATCH`] states at a time in two phases. First the batch's
 //! successors are computed and looked up, the store only read, on `threads` threads
-//! (each a contiguous part of the batch; [`GROUP`] states at a time, their successors'
-//! table slots and then the states those name loaded together before any is compared,
-//! so that the cache misses overlap). Then the successors not found are inserted on one
-//! thread, in the order of their states and transitions: the states' numbers, hence
-//! every result (shortest traces included), are the same whatever the number of threads.
+//! (each a contiguous part of the batch). The look-ups go one after the other, but each
+//! asks the processor for its table slot, and for the state that slot names, a few
+//! look-ups in advance ([`Store::find_all`]), so that their cache misses overlap. Then
+//! the successors not found are inserted on one thread, in the order of their states
+//! and transitions (a small table of the batch's candidates tells the first of each
+//! marking): the states' numbers, hence every result (shortest traces included), are
+//! the same whatever the number of threads. The buffers of both phases are kept from
+//! batch to batch. A marking's hash sum is read byte by byte from tables (it is linear
+//! in the marking's bits), not field by field.
 //!
 //! Edges are not stored. Liveness and reversibility ([`components`]) first search
 //! backwards from the initial state (predecessors recomputed and looked up, one bit per
@@ -89,6 +93,13 @@ pub struct Layout {
     bits: Vec<u32>,
     /// Each place's weight in the hash ([`hash_marking`]).
     mix: Vec<u64>,
+    /// Per byte of a packed marking, per value of the byte: what it adds to
+    /// [`Layout::linear`] (the sum is linear in the bits, with wrapping arithmetic); empty
+    /// when the markings are longer than [`TABLE_BYTES`].
+    by_byte: Vec<[u64; 256]>,
+    /// Per byte, per value: the places (bit `p` for place `p`) it has a token in; empty
+    /// with more than 64 places or markings longer than [`TABLE_BYTES`].
+    marked_by_byte: Vec<[u64; 256]>,
     word: Vec<u32>,
     shift: Vec<u32>,
     /// Bytes per packed marking.
@@ -123,6 +134,10 @@ struct Packed {
     grow: Vec<Vec<(Field, usize)>>,
     /// Per transition: what firing adds to the hash's sum (`Σ (post - pre)[p] · weight(p)`).
     hash_shift: Vec<u64>,
+    /// Per transition: the places it needs a token in (bit `p` for place `p`), and whether
+    /// that is all its tests say (weights 1, no inhibitor arc); all empty when the layout
+    /// has no tables of marked places ([`Layout::marked`]).
+    needs: Vec<(u64, bool)>,
 }
 
 impl Packed {
@@ -139,6 +154,7 @@ impl Packed {
         };
         let nt = net.transitions.len();
         let mut tests = Vec::with_capacity(nt);
+        let mut needs = Vec::with_capacity(nt);
         let mut delta = Vec::with_capacity(nt);
         for t in 0..nt {
             // Inputs and reads with the same place: the larger weight is the test.
@@ -148,6 +164,10 @@ impl Packed {
                     Some((_, v)) => *v = (*v).max(w),
                     None => need.push((p, w)),
                 }
+            }
+            if !layout.marked_by_byte.is_empty() {
+                let mask = need.iter().fold(0u64, |m, &(p, _)| m | 1 << p);
+                needs.push((mask, net.inhibitors[t].is_empty() && need.iter().all(|&(_, w)| w == 1)));
             }
             let mut v: Vec<(Field, bool)> = need.iter().map(|&(p, w)| (field(p, w), true)).collect();
             v.extend(net.inhibitors[t].iter().map(|&(p, w)| (field(p, w), false)));
@@ -177,6 +197,7 @@ impl Packed {
             })
             .collect();
         Packed {
+            needs,
             hash_shift,
             tests,
             delta,
@@ -199,6 +220,17 @@ impl Packed {
         self.tests[t]
             .iter()
             .all(|&(f, at_least)| (f.get(w) >= f.weight) == at_least)
+    }
+
+    /// Whether `t` is enabled in `w`, whose marked places are `marked` ([`Layout::marked`]):
+    /// most transitions are told by their needs alone.
+    #[inline]
+    fn enabled_in(&self, w: &[u64], marked: u64, t: usize) -> bool {
+        match self.needs.get(t) {
+            Some(&(need, _)) if marked & need != need => false,
+            Some(&(_, true)) => true,
+            _ => self.enabled(w, t),
+        }
     }
 
     /// Fires enabled `t` from `cur` into `next`; `Err(p)` when place `p` would overflow
@@ -232,8 +264,37 @@ impl Layout {
             total += b;
         }
         let bytes = (total as usize).div_ceil(8).max(1);
+        let mix: Vec<u64> = (0..bits.len()).map(place_weight).collect();
+        // Bit `b` of field `p` adds `mix[p] << b` (wrapping) to the sum, and is a token in
+        // place `p`.
+        let mut by_bit = vec![(0u64, 0u64); bytes * 8];
+        for p in 0..bits.len() {
+            for b in 0..bits[p].min(64) {
+                if let Some(x) = by_bit.get_mut((64 * word[p] + shift[p] + b) as usize) {
+                    *x = (mix[p].wrapping_shl(b), 1u64.wrapping_shl(p as u32));
+                }
+            }
+        }
+        // Per byte, per value: the bits' contributions, summed (`add`) or or-ed.
+        let tables = |add: bool| -> Vec<[u64; 256]> {
+            by_bit
+                .chunks(8)
+                .map(|bit| {
+                    let mut t = [0u64; 256];
+                    for (v, x) in t.iter_mut().enumerate() {
+                        *x = (0..8).filter(|b| v >> b & 1 == 1).fold(0u64, |s, b| {
+                            if add { s.wrapping_add(bit[b].0) } else { s | bit[b].1 }
+                        });
+                    }
+                    t
+                })
+                .collect()
+        };
+        let small = bytes <= TABLE_BYTES;
         Layout {
-            mix: (0..bits.len()).map(place_weight).collect(),
+            by_byte: if small { tables(true) } else { Vec::new() },
+            marked_by_byte: if small && bits.len() <= 64 { tables(false) } else { Vec::new() },
+            mix,
             bits,
             word,
             shift,
@@ -266,12 +327,30 @@ impl Layout {
     /// `Σ m[p] · weight(p)` of a packed marking (the hash before [`finish`]).
     #[inline]
     fn linear(&self, words: &[u64]) -> u64 {
+        if !self.by_byte.is_empty() {
+            let mut h = 0u64;
+            for (k, t) in self.by_byte.iter().enumerate() {
+                h = h.wrapping_add(t[(words[k / 8] >> (8 * (k % 8))) as usize & 0xff]);
+            }
+            return h;
+        }
         (0..self.bits.len()).fold(0u64, |h, p| {
             let b = self.bits[p];
             let mask = if b >= 64 { u64::MAX } else { (1u64 << b) - 1 };
             let v = (words[self.word[p] as usize] >> self.shift[p]) & mask;
             h.wrapping_add(v.wrapping_mul(self.mix[p]))
         })
+    }
+
+    /// The places marked in a packed marking (bit `p` for place `p`), when there are at
+    /// most 64 places and the tables are there ([`Packed::enabled_in`]).
+    #[inline]
+    fn marked(&self, words: &[u64]) -> u64 {
+        let mut m = 0u64;
+        for (k, t) in self.marked_by_byte.iter().enumerate() {
+            m |= t[(words[k / 8] >> (8 * (k % 8))) as usize & 0xff];
+        }
+        m
     }
 
     /// The sum of the fields of a packed marking.
@@ -320,6 +399,9 @@ fn hash_marking(m: &[u32]) -> u64 {
 }
 
 const EMPTY: u32 = u32::MAX;
+/// Markings up to this many bytes have their hash summed byte by byte from tables
+/// ([`Layout::linear`]); 2 KiB of tables a byte.
+const TABLE_BYTES: usize = 32;
 /// Bits of a table entry that number the state.
 const INDEX_BITS: u32 = 27;
 const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
@@ -344,10 +426,7 @@ const FINAL_LOAD: usize = 850;
 /// [`Store::new`]), so they do not all grow at once and the table's load stays near its
 /// mean (about 0.82 of the most).
 const GROWTH: usize = 1500;
-/// New states whose table slots are loaded together before they are inserted.
-const INSERT_GROUP: usize = 32;
-/// States whose successors' look-ups are started together (their memory accesses
-/// overlap).
+/// The fewest states a thread of [`scan_parallel`] takes.
 const GROUP: usize = 32;
 
 #[inline]
@@ -458,10 +537,10 @@ impl Store {
         read_word(chunk, at + 8 * last) & self.last_mask() == words[last]
     }
 
-    /// The first byte of state `i` (a load that brings it into the cache).
+    /// The first byte of state `i`.
     #[inline]
-    fn first_byte(&self, i: usize) -> u8 {
-        self.chunks[i / CHUNK_STATES][(i % CHUNK_STATES) * self.layout.bytes]
+    fn state_ptr(&self, i: usize) -> &u8 {
+        &self.chunks[i / CHUNK_STATES][(i % CHUNK_STATES) * self.layout.bytes]
     }
 
     /// The marking of state `i` (unpacked into `m`).
@@ -470,8 +549,8 @@ impl Store {
         self.layout.unpack_words(words, m);
     }
 
-    /// Appends a state's words to the arena.
-    fn push(&mut self, words: &[u64]) {
+    /// Appends a state's words to the arena: its number.
+    fn push(&mut self, words: &[u64]) -> u32 {
         let n = self.layout.bytes;
         if self.len == self.chunks.len() * CHUNK_STATES {
             // The first chunk grows by doubling (a small net does not take a whole one).
@@ -486,7 +565,7 @@ impl Store {
             self.chunks.push(c);
         }
         let Some(chunk) = self.chunks.last_mut() else {
-            return;
+            return self.len as u32;
         };
         let before = chunk.capacity();
         let at = chunk.len() - PAD;
@@ -495,6 +574,7 @@ impl Store {
         self.bytes = self.bytes + chunk.capacity() - before;
         self.peak = self.peak.max(self.bytes);
         self.len += 1;
+        (self.len - 1) as u32
     }
 
     /// Probes segment `seg` for `words` (hash `h`): `Ok(index)` when present, else
@@ -533,10 +613,41 @@ impl Store {
         table[home(h, table.len())]
     }
 
-    /// Room for one more state of hash `h`: `false` when the memory budget does not
-    /// allow it.
+    /// The home slot of hash `h`.
     #[inline]
-    fn reserve(&mut self, h: u64, memory: usize) -> bool {
+    fn home_slot(&self, h: u64) -> &u32 {
+        let table = &self.segments[segment(h)];
+        &table[home(h, table.len())]
+    }
+
+    /// Looks up the markings `words[k * w..(k + 1) * w]` (hashes `hashes[k]`) one after
+    /// the other, into `found`: each one's number or [`EMPTY`]. Each asks for its home
+    /// slot [`AHEAD`] look-ups in advance, and for the state that slot names half as far
+    /// ([`prefetch`]), so that the cache misses of several look-ups overlap.
+    fn find_all(&self, hashes: &[u64], words: &[u64], found: &mut Vec<u32>) {
+        let w = self.layout.words;
+        found.clear();
+        found.resize(hashes.len(), EMPTY);
+        for (k, &h) in hashes.iter().enumerate() {
+            if let Some(&ahead) = hashes.get(k + AHEAD) {
+                prefetch(self.home_slot(ahead));
+            }
+            if let Some(&ahead) = hashes.get(k + AHEAD / 2) {
+                let e = *self.home_slot(ahead);
+                if e != EMPTY {
+                    prefetch(self.state_ptr((e & INDEX_MASK) as usize));
+                }
+            }
+            if let Some(i) = self.find(h, &words[k * w..(k + 1) * w]) {
+                found[k] = i;
+            }
+        }
+    }
+
+    /// Room in the table for one more state of hash `h`: `false` when the memory budget
+    /// does not allow it.
+    #[inline]
+    fn room_in_table(&mut self, h: u64, memory: usize) -> bool {
         let seg = segment(h);
         let slots = self.segments[seg].len();
         if (self.fill[seg] as usize + 1) * 1000 > slots * MAX_LOAD {
@@ -546,28 +657,22 @@ impl Store {
             }
             self.resize_segment(seg, grown);
         }
-        if self.len == self.chunks.len() * CHUNK_STATES && self.bytes + CHUNK_STATES * self.layout.bytes + PAD > memory
-        {
-            return false;
-        }
         true
     }
 
-    /// Index of `words` (hash `h`), inserting it when new (room reserved):
-    /// `(index, inserted)`.
+    /// Room in the arena for one more state: `false` when the memory budget does not
+    /// allow it.
     #[inline]
-    fn insert(&mut self, h: u64, words: &[u64]) -> (u32, bool) {
+    fn room_in_arena(&self, memory: usize) -> bool {
+        self.len < self.chunks.len() * CHUNK_STATES || self.bytes + CHUNK_STATES * self.layout.bytes + PAD <= memory
+    }
+
+    /// Enters state `i` (hash `h`, not in the table yet, room reserved) in the table.
+    #[inline]
+    fn enter(&mut self, h: u64, i: u32) {
         let seg = segment(h);
-        match self.probe(seg, h, words) {
-            Ok(i) => (i, false),
-            Err(slot) => {
-                let idx = self.len as u32;
-                self.push(words);
-                self.segments[seg][slot] = tag(h) | idx;
-                self.fill[seg] += 1;
-                (idx, true)
-            }
-        }
+        Store::place(&mut self.segments[seg], h, tag(h) | i);
+        self.fill[seg] += 1;
     }
 
     /// Places entry `e` (state `e & INDEX_MASK`, hash `h`) in `table`.
@@ -590,17 +695,13 @@ impl Store {
         let mut table = vec![EMPTY; slots];
         self.peak = self.peak.max(self.bytes + slots * 4);
         let mut words = vec![0u64; self.layout.words];
-        for group in old.chunks(16) {
-            // Bring the group's states into the cache together.
-            let mut touched = 0u8;
-            for &e in group.iter().filter(|&&e| e != EMPTY) {
-                touched = touched.wrapping_add(self.first_byte((e & INDEX_MASK) as usize));
+        let entries: Vec<u32> = old.iter().copied().filter(|&e| e != EMPTY).collect();
+        for (k, &e) in entries.iter().enumerate() {
+            if let Some(&ahead) = entries.get(k + AHEAD) {
+                prefetch(self.state_ptr((ahead & INDEX_MASK) as usize));
             }
-            std::hint::black_box(touched);
-            for &e in group.iter().filter(|&&e| e != EMPTY) {
-                self.load((e & INDEX_MASK) as usize, &mut words);
-                Store::place(&mut table, finish(self.layout.linear(&words)), e);
-            }
+            self.load((e & INDEX_MASK) as usize, &mut words);
+            Store::place(&mut table, finish(self.layout.linear(&words)), e);
         }
         self.bytes = self.bytes + slots * 4 - old.len() * 4;
         self.segments[seg] = table;
@@ -791,9 +892,34 @@ fn bits_for(v: u32) -> u32 {
 /// are inserted (in order).
 const BATCH: usize = 1 << 14;
 
-/// What [`scan`] found for a range of states: the successors not in the store yet (in
-/// the order of their states and transitions) and the range's counts.
+/// How many look-ups ahead [`Store::find_all`] asks for memory.
+const AHEAD: usize = 32;
+
+/// Asks the processor to bring the cache line of `x` in, without waiting for it.
+#[inline(always)]
+#[allow(unsafe_code)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is only a hint: it changes no state the program can observe and
+    // never faults (here the address is even a valid reference); SSE, which it needs,
+    // is part of the x86_64 baseline.
+    unsafe {
+        core::arch::x86_64::_mm_prefetch::<{ core::arch::x86_64::_MM_HINT_T0 }>((x as *const T).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
+/// A thread's part of a batch ([`Scan::scan`]): its buffers, kept from batch to batch,
+/// and what it found: the successors not in the store yet (in the order of their states
+/// and transitions) and the part's counts.
+#[derive(Default)]
 struct Scan {
+    cur: Vec<u64>,
+    succ: Vec<u64>,
+    succ_hashes: Vec<u64>,
+    from_to: Vec<(u32, u32)>,
+    found: Vec<u32>,
     /// `(state, transition)` of each successor not found.
     new: Vec<(u32, u32)>,
     /// Their packed words.
@@ -805,124 +931,102 @@ struct Scan {
     first_deadlock: Option<u32>,
     fired: Vec<bool>,
     max_tokens: u64,
-    /// The first state (and place) whose successor did not fit its field: the range is
+    /// The first state (and place) whose successor did not fit its field: the part is
     /// done up to it.
     overflow: Option<(usize, usize)>,
 }
 
-/// The successors of states `from..to`, looked up in `store` (read only). States are
-/// taken [`GROUP`] at a time: their successors' table slots, then the states those
-/// name, are loaded together before any is compared, so that the cache misses overlap.
-fn scan(store: &Store, packed: &Packed, nt: usize, count_tokens: bool, from: usize, to: usize) -> Scan {
-    let layout = &store.layout;
-    let w = layout.words;
-    let mut out = Scan {
-        new: Vec::new(),
-        words: Vec::new(),
-        hashes: Vec::new(),
-        edges: 0,
-        deadlocks: 0,
-        first_deadlock: None,
-        fired: vec![false; nt],
-        max_tokens: 0,
-        overflow: None,
-    };
-    let mut cur = vec![0u64; w];
-    let mut succ: Vec<u64> = Vec::new();
-    let mut hashes: Vec<u64> = Vec::new();
-    let mut from_to: Vec<(u32, u32)> = Vec::new();
-    let mut entries: Vec<u32> = Vec::new();
-    let mut s = from;
-    while s < to && out.overflow.is_none() {
-        let end = (s + GROUP).min(to);
-        succ.clear();
-        hashes.clear();
-        from_to.clear();
-        'states: for x in s..end {
-            store.load(x, &mut cur);
-            let lin = layout.linear(&cur);
+impl Scan {
+    /// The successors of states `from..to`, looked up in `store` (read only) together
+    /// ([`Store::find_all`]).
+    fn scan(&mut self, store: &Store, packed: &Packed, count_tokens: bool, from: usize, to: usize) {
+        let layout = &store.layout;
+        let w = layout.words;
+        let nt = packed.tests.len();
+        self.new.clear();
+        self.words.clear();
+        self.hashes.clear();
+        (self.edges, self.deadlocks, self.first_deadlock) = (0, 0, None);
+        self.fired.clear();
+        self.fired.resize(nt, false);
+        (self.max_tokens, self.overflow) = (0, None);
+        self.cur.resize(w, 0);
+        self.succ.clear();
+        self.succ_hashes.clear();
+        self.from_to.clear();
+        let (cur, succ, hashes) = (&mut self.cur, &mut self.succ, &mut self.succ_hashes);
+        'states: for x in from..to {
+            store.load(x, cur);
+            let lin = layout.linear(cur);
+            let marked = layout.marked(cur);
             if count_tokens {
-                out.max_tokens = out.max_tokens.max(layout.tokens(&cur));
+                self.max_tokens = self.max_tokens.max(layout.tokens(cur));
             }
             let before = hashes.len();
             for t in 0..nt {
-                if !packed.enabled(&cur, t) {
+                if !packed.enabled_in(cur, marked, t) {
                     continue;
                 }
-                out.fired[t] = true;
+                self.fired[t] = true;
                 let k = succ.len();
                 succ.resize(k + w, 0);
-                if let Err(p) = packed.fire(&cur, &mut succ[k..], t) {
+                if let Err(p) = packed.fire(cur, &mut succ[k..], t) {
                     succ.truncate(before * w);
                     hashes.truncate(before);
-                    from_to.truncate(before);
-                    out.overflow = Some((x, p));
+                    self.from_to.truncate(before);
+                    self.overflow = Some((x, p));
                     break 'states;
                 }
                 hashes.push(finish(lin.wrapping_add(packed.hash_shift[t])));
-                from_to.push((x as u32, t as u32));
+                self.from_to.push((x as u32, t as u32));
             }
             let n = (hashes.len() - before) as u64;
-            out.edges += n;
+            self.edges += n;
             if n == 0 {
-                out.deadlocks += 1;
-                out.first_deadlock.get_or_insert(x as u32);
+                self.deadlocks += 1;
+                self.first_deadlock.get_or_insert(x as u32);
             }
         }
-        entries.clear();
-        entries.extend(hashes.iter().map(|&h| store.home_entry(h)));
-        let mut touched = 0u8;
-        for &e in entries.iter().filter(|&&e| e != EMPTY) {
-            touched = touched.wrapping_add(store.first_byte((e & INDEX_MASK) as usize));
+        store.find_all(hashes, succ, &mut self.found);
+        for (k, &h) in hashes.iter().enumerate().filter(|&(k, _)| self.found[k] == EMPTY) {
+            self.new.push(self.from_to[k]);
+            self.words.extend_from_slice(&succ[k * w..(k + 1) * w]);
+            self.hashes.push(h);
         }
-        std::hint::black_box(touched);
-        for (k, &h) in hashes.iter().enumerate() {
-            let next = &succ[k * w..(k + 1) * w];
-            if store.find(h, next).is_none() {
-                out.new.push(from_to[k]);
-                out.words.extend_from_slice(next);
-                out.hashes.push(h);
-            }
-        }
-        s = end;
     }
-    out
 }
 
-/// Scans `from..to` on `threads` threads, each a contiguous part; the parts in order.
-fn scan_parallel(
-    store: &Store,
-    packed: &Packed,
-    nt: usize,
-    count_tokens: bool,
-    from: usize,
-    to: usize,
-    threads: usize,
-) -> Vec<Scan> {
-    let threads = threads.clamp(1, (to - from).div_ceil(GROUP).max(1));
-    if threads == 1 {
-        return vec![scan(store, packed, nt, count_tokens, from, to)];
-    }
+/// Scans `from..to` on up to `parts.len()` threads, each a contiguous part (in order in
+/// `parts`; the ones left over find nothing).
+fn scan_parallel(store: &Store, packed: &Packed, count_tokens: bool, from: usize, to: usize, parts: &mut [Scan]) {
+    let threads = parts.len().clamp(1, (to - from).div_ceil(GROUP).max(1));
     let step = (to - from).div_ceil(threads);
+    let range = |k: usize| ((from + k * step).min(to), (from + (k + 1) * step).min(to));
+    let Some((first, rest)) = parts.split_first_mut() else {
+        return;
+    };
     std::thread::scope(|scope| {
-        let handles: Vec<_> = (1..threads)
-            .map(|k| {
-                let (a, b) = (from + k * step, (from + (k + 1) * step).min(to));
-                scope.spawn(move || scan(store, packed, nt, count_tokens, a, b.max(a)))
+        let handles: Vec<_> = rest
+            .iter_mut()
+            .enumerate()
+            .map(|(k, part)| {
+                let (a, b) = range(k + 1);
+                scope.spawn(move || part.scan(store, packed, count_tokens, a, b))
             })
             .collect();
-        let mut parts = vec![scan(store, packed, nt, count_tokens, from, (from + step).min(to))];
-        for h in handles {
-            // A scan does not panic on a consistent store; if one did, its part is
-            // scanned again here.
-            let k = parts.len();
-            parts.push(h.join().unwrap_or_else(|_| {
-                let (a, b) = (from + k * step, (from + (k + 1) * step).min(to));
-                scan(store, packed, nt, count_tokens, a, b.max(a))
-            }));
-        }
-        parts
+        let (a, b) = range(0);
+        first.scan(store, packed, count_tokens, a, b);
+        // A scan does not panic on a consistent store; if one did, its part is scanned
+        // again below.
+        handles.into_iter().map(|h| h.join().is_ok()).collect::<Vec<_>>()
     })
+    .into_iter()
+    .enumerate()
+    .filter(|&(_, ok)| !ok)
+    .for_each(|(k, _)| {
+        let (a, b) = range(k + 1);
+        rest[k].scan(store, packed, count_tokens, a, b);
+    });
 }
 
 /// Explores the reachability graph breadth-first within `limits`, on one thread.
@@ -963,14 +1067,15 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
         return Explored::Overflow;
     }
     let h0 = hash_marking(&net.initial);
-    if !store.reserve(h0, limits.memory) {
+    if !store.room_in_table(h0, limits.memory) || !store.room_in_arena(limits.memory) {
         return Explored::Limit {
             why: Stop::Memory,
             states: 0,
             bytes: store.bytes_used(),
         };
     }
-    store.insert(h0, &cur);
+    let i0 = store.push(&cur);
+    store.enter(h0, i0);
     let mut levels: Vec<u32> = vec![0];
     let mut level_end = 1usize;
     let mut edges = 0u64;
@@ -985,6 +1090,8 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
         states: store.len(),
         bytes: store.bytes_used() + levels.capacity() * 4,
     };
+    let mut parts: Vec<Scan> = (0..threads.max(1)).map(|_| Scan::default()).collect();
+    let (mut new, mut words, mut hashes, mut seen) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut s = 0usize;
     let mut reported = 0usize;
     while s < store.len() {
@@ -1004,9 +1111,14 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             });
         }
         let end = (s + BATCH).min(level_end);
-        let parts = scan_parallel(&store, &packed, nt, !constant_tokens, s, end, threads);
+        scan_parallel(&store, &packed, !constant_tokens, s, end, &mut parts);
         let w = store.layout.words;
+        // The candidates: the successors not found, part after part up to the first
+        // overflow, in the order of their states and transitions.
         let mut overflow = None;
+        new.clear();
+        words.clear();
+        hashes.clear();
         for part in &parts {
             edges += part.edges;
             deadlocks += part.deadlocks;
@@ -1015,62 +1127,85 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             }
             fired.iter_mut().zip(&part.fired).for_each(|(f, &g)| *f |= g);
             max_tokens = max_tokens.max(part.max_tokens);
-            for (k, &(x, t)) in part.new.iter().enumerate() {
-                if k % INSERT_GROUP == 0 {
-                    // The next candidates' slots, loaded together.
-                    let group = &part.hashes[k..(k + INSERT_GROUP).min(part.hashes.len())];
-                    let touched = group.iter().fold(0u32, |a, &h| a.wrapping_add(store.home_entry(h)));
-                    std::hint::black_box(touched);
-                }
-                let next = &part.words[k * w..(k + 1) * w];
-                // Karp–Miller at records: does the successor strictly cover an ancestor?
-                // A record on a place read by an inhibitor arc rules every ancestor out
-                // (the criterion needs equality there). Only the places the transition
-                // adds to can set one, and only a new state can.
-                let mut record = false;
-                let mut inhibited_record = false;
-                for &(f, p) in &packed.grow[t as usize] {
-                    let v = f.get(next) as u32;
-                    if v > max[p] {
-                        max[p] = v;
-                        record = true;
-                        inhibited_record |= inhibited[p];
-                    }
-                }
-                if record && !inhibited_record {
-                    store.layout.unpack_words(next, &mut m);
-                    // The ancestors: `x` and its BFS parents.
-                    let mut at = x;
-                    loop {
-                        store.marking(at as usize, &mut anc_words, &mut anc);
-                        let covers = m.iter().zip(&anc).all(|(x, y)| x >= y)
-                            && m != anc
-                            && m.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
-                        if covers {
-                            return Explored::Unbounded;
-                        }
-                        let k = level_of(&levels, at);
-                        if k == 0 {
-                            break;
-                        }
-                        match bfs_parent(net, &store, &levels, k, &anc) {
-                            Some((_, i)) => at = i,
-                            None => break,
-                        }
-                    }
-                }
-                let h = part.hashes[k];
-                if !store.reserve(h, limits.memory.saturating_sub(levels.capacity() * 4)) {
-                    return stop(Stop::Memory, &store, &levels);
-                }
-                let (_, inserted) = store.insert(h, next);
-                if inserted && store.len() > max_states {
-                    return stop(Stop::States, &store, &levels);
+            new.extend_from_slice(&part.new);
+            words.extend_from_slice(&part.words);
+            hashes.extend_from_slice(&part.hashes);
+            if part.overflow.is_some() {
+                overflow = part.overflow;
+                break;
+            }
+        }
+        // The first candidate of each marking is a new state; the others are found in
+        // `seen`, a small table of the batch's candidates.
+        let size = (2 * new.len()).next_power_of_two().max(16);
+        seen.clear();
+        seen.resize(size, EMPTY);
+        let budget = limits.memory.saturating_sub(levels.capacity() * 4);
+        for (k, &(x, t)) in new.iter().enumerate() {
+            if let Some(&ahead) = hashes.get(k + AHEAD) {
+                prefetch(store.home_slot(ahead));
+            }
+            let (h, next) = (hashes[k], &words[k * w..(k + 1) * w]);
+            // Karp–Miller at records: does the successor strictly cover an ancestor?
+            // A record on a place read by an inhibitor arc rules every ancestor out
+            // (the criterion needs equality there). Only the places the transition
+            // adds to can set one, and only a new state can.
+            let mut record = false;
+            let mut inhibited_record = false;
+            for &(f, p) in &packed.grow[t as usize] {
+                let v = f.get(next) as u32;
+                if v > max[p] {
+                    max[p] = v;
+                    record = true;
+                    inhibited_record |= inhibited[p];
                 }
             }
-            if let Some(o) = part.overflow {
-                overflow = Some(o);
-                break;
+            if record && !inhibited_record {
+                store.layout.unpack_words(next, &mut m);
+                // The ancestors: `x` and its BFS parents.
+                let mut at = x;
+                loop {
+                    store.marking(at as usize, &mut anc_words, &mut anc);
+                    let covers = m.iter().zip(&anc).all(|(x, y)| x >= y)
+                        && m != anc
+                        && m.iter().zip(&anc).zip(&inhibited).all(|((x, y), &inh)| x == y || !inh);
+                    if covers {
+                        return Explored::Unbounded;
+                    }
+                    let k = level_of(&levels, at);
+                    if k == 0 {
+                        break;
+                    }
+                    match bfs_parent(net, &store, &levels, k, &anc) {
+                        Some((_, i)) => at = i,
+                        None => break,
+                    }
+                }
+            }
+            let mut slot = h as usize & (size - 1);
+            let first = loop {
+                let j = seen[slot] as usize;
+                if j == EMPTY as usize {
+                    seen[slot] = k as u32;
+                    break true;
+                }
+                if hashes[j] == h && words[j * w..(j + 1) * w] == *next {
+                    break false;
+                }
+                slot = (slot + 1) & (size - 1);
+            };
+            if first {
+                if !store.room_in_arena(budget) {
+                    return stop(Stop::Memory, &store, &levels);
+                }
+                let i = store.push(next);
+                if store.len() > max_states {
+                    return stop(Stop::States, &store, &levels);
+                }
+                if !store.room_in_table(h, budget) {
+                    return stop(Stop::Memory, &store, &levels);
+                }
+                store.enter(h, i);
             }
         }
         match overflow {
@@ -1172,25 +1307,27 @@ pub fn components(
 }
 
 /// The predecessors of states `frontier`, each state seen for the first time (its bit
-/// set in `seen`) once. States are taken [`GROUP`] at a time, their predecessors' look-ups
-/// overlapped as in [`scan`].
+/// set in `seen`) once. States are taken [`CHUNK`] at a time, their predecessors looked
+/// up together ([`Store::find_all`]).
 fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], frontier: &[u32]) -> Vec<u32> {
+    const CHUNK: usize = 1 << 10;
     let store = &g.store;
     let w = store.layout.words;
     let nt = back.tests.len();
     let mut cur = vec![0u64; w];
     let mut prev: Vec<u64> = Vec::new();
     let mut hashes: Vec<u64> = Vec::new();
-    let mut entries: Vec<u32> = Vec::new();
+    let mut found: Vec<u32> = Vec::new();
     let mut out = Vec::new();
-    for group in frontier.chunks(GROUP) {
+    for chunk in frontier.chunks(CHUNK) {
         prev.clear();
         hashes.clear();
-        for &v in group {
+        for &v in chunk {
             store.load(v as usize, &mut cur);
             let lin = store.layout.linear(&cur);
+            let marked = store.layout.marked(&cur);
             for t in 0..nt {
-                if !back.enabled(&cur, t) {
+                if !back.enabled_in(&cur, marked, t) {
                     continue;
                 }
                 let k = prev.len();
@@ -1204,17 +1341,8 @@ fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], fron
                 hashes.push(finish(lin.wrapping_add(back.hash_shift[t])));
             }
         }
-        entries.clear();
-        entries.extend(hashes.iter().map(|&h| store.home_entry(h)));
-        let mut touched = 0u8;
-        for &e in entries.iter().filter(|&&e| e != EMPTY) {
-            touched = touched.wrapping_add(store.first_byte((e & INDEX_MASK) as usize));
-        }
-        std::hint::black_box(touched);
-        for (k, &h) in hashes.iter().enumerate() {
-            let Some(i) = store.find(h, &prev[k * w..(k + 1) * w]) else {
-                continue;
-            };
+        store.find_all(&hashes, &prev, &mut found);
+        for &i in found.iter().filter(|&&i| i != EMPTY) {
             let (word, bit) = (&seen[i as usize / 64], 1u64 << (i % 64));
             if word.load(Ordering::Relaxed) & bit == 0 && word.fetch_or(bit, Ordering::Relaxed) & bit == 0 {
                 out.push(i);
