@@ -282,9 +282,9 @@ impl Layout {
                 .map(|bit| {
                     let mut t = [0u64; 256];
                     for (v, x) in t.iter_mut().enumerate() {
-                        *x = (0..8).filter(|b| v >> b & 1 == 1).fold(0u64, |s, b| {
-                            if add { s.wrapping_add(bit[b].0) } else { s | bit[b].1 }
-                        });
+                        *x = (0..8)
+                            .filter(|b| v >> b & 1 == 1)
+                            .fold(0u64, |s, b| if add { s.wrapping_add(bit[b].0) } else { s | bit[b].1 });
                     }
                     t
                 })
@@ -293,7 +293,11 @@ impl Layout {
         let small = bytes <= TABLE_BYTES;
         Layout {
             by_byte: if small { tables(true) } else { Vec::new() },
-            marked_by_byte: if small && bits.len() <= 64 { tables(false) } else { Vec::new() },
+            marked_by_byte: if small && bits.len() <= 64 {
+                tables(false)
+            } else {
+                Vec::new()
+            },
             mix,
             bits,
             word,
