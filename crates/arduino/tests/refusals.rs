@@ -158,12 +158,12 @@ fn st_project(name: &str, tags: &str, main: &str) -> (alba_ir::Program, alba_dia
 
 #[test]
 fn string_conversions_of_real_and_time_fit_the_board_and_of_lreal_are_refused_at_their_line() {
-    // REAL_TO_STRING scales in REAL arithmetic, TIME_TO_STRING and
-    // STRING_TO_TIME compute in LINT, all of which the sketch has; LREAL_TO_STRING needs 64-bit doubles.
+    // REAL_TO_STRING scales in REAL arithmetic, TIME_TO_STRING,
+    // STRING_TO_TIME and STRING_TO_DT compute in LINT, all of which the sketch has; LREAL_TO_STRING needs 64-bit doubles.
     let (p, _) = st_project(
         "st-real-text",
         "N,INT,,,,\n",
-        "PROGRAM Main\nVAR s : STRING[16]; t : TIME; END_VAR\ns := REAL_TO_STRING(INT_TO_REAL(N) / 4.0);\ns := TIME_TO_STRING(T#1s);\nt := STRING_TO_TIME(s);\nEND_PROGRAM\n",
+        "PROGRAM Main\nVAR s : STRING[24]; t : TIME; d : DT; END_VAR\ns := REAL_TO_STRING(INT_TO_REAL(N) / 4.0);\ns := TIME_TO_STRING(T#1s);\nt := STRING_TO_TIME(s);\nd := STRING_TO_DT(s);\nEND_PROGRAM\n",
     );
     assert_eq!(messages(&p, &uno()), Vec::<String>::new());
     let (p, files) = st_project(

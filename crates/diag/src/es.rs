@@ -1750,8 +1750,8 @@ pub const MESSAGES: &[(Code, &str, &str)] = &[
     ),
     (
         Code::StNotSupported,
-        "{}: a string converts only to numbers, bit strings, BOOL, TIME and LTIME yet",
-        "{0}: por ahora una cadena solo se convierte en números, cadenas de bits, BOOL, TIME y LTIME",
+        "{}: a string converts only to numbers, bit strings, BOOL, durations and dates",
+        "{0}: una cadena solo se convierte en números, cadenas de bits, BOOL, duraciones y fechas",
     ),
     (
         Code::StType,

@@ -327,7 +327,6 @@ fn strings_are_checked() {
          s := 'caf$E9';
          w := \"$00E9t$D800\";
          s := FOO_TO_STRING(1);
-         N := STRING_TO_DATE('D#2024-01-01');
          END_PROGRAM",
     );
     for want in [
@@ -341,7 +340,6 @@ fn strings_are_checked() {
         "`$E9`: a STRING escape is an ASCII code ($00 to $7F); use a WSTRING for others",
         "`$D800` is not a character (a UTF-16 surrogate)",
         "FOO_TO_STRING: `FOO` is not an elementary type",
-        "STRING_TO_DATE: a string converts only to numbers, bit strings, BOOL, TIME and LTIME yet",
     ] {
         assert!(e.contains(want), "missing `{want}` in:\n{e}");
     }
@@ -381,6 +379,7 @@ fn the_cost_of_each_string_function_is_printed() {
         ("x := STRING_TO_REAL(a);", 8_000),
         ("t := STRING_TO_TIME(a);", 17_000),
         ("r := DT_TO_STRING(dt);", 5_000),
+        ("dt := STRING_TO_DT(a);", 16_000),
     ] {
         let p = modes::program(
             "name,type\nN,INT\n",
@@ -588,6 +587,60 @@ fn durations_read_from_strings() {
         &[],
     );
     assert_eq!(faults, 1);
+}
+
+#[test]
+fn dates_read_from_strings() {
+    // (function, text, what its *_TO_STRING writes)
+    let cases = [
+        ("DATE", "D#2024-01-31", "D#2024-01-31"),
+        ("DATE", "  date#2000-02-29", "D#2000-02-29"),
+        ("DATE", "1999-12-31", "D#1999-12-31"),
+        ("DATE", "D#2024-1-5x", "D#2024-01-05"),
+        ("DATE", "D#1970-01-01", "D#1970-01-01"),
+        ("DATE", "D#1969-12-31", "D#1969-12-31"),
+        ("DATE", "D#2_024-03-01", "D#2024-03-01"),
+        ("DATE", "D#2023-02-29", "D#1970-01-01"),
+        ("DATE", "D#1900-02-29", "D#1970-01-01"),
+        ("DATE", "D#2024-13-01", "D#1970-01-01"),
+        ("DATE", "D#2024-04-31", "D#1970-01-01"),
+        ("DATE", "D#2024-01", "D#1970-01-01"),
+        ("DATE", "D2024-01-01", "D#1970-01-01"),
+        ("DATE", "", "D#1970-01-01"),
+        ("TOD", "TOD#08:05:03.04", "TOD#08:05:03.04"),
+        ("TOD", "time_of_day#23:59:59.9999", "TOD#23:59:59.999"),
+        ("TOD", "12:30", "TOD#12:30:00"),
+        ("TOD", "TOD#7:5:3!", "TOD#07:05:03"),
+        ("TOD", "TOD#24:00:00", "TOD#00:00:00"),
+        ("TOD", "TOD#12:60", "TOD#00:00:00"),
+        ("TOD", "TOD#12", "TOD#00:00:00"),
+        ("DT", "DT#2024-01-31-12:30:15.5", "DT#2024-01-31-12:30:15.5"),
+        ("DT", "date_and_time#1970-01-01-00:00:01", "DT#1970-01-01-00:00:01"),
+        ("DT", "DT#2024-02-29-23:59", "DT#2024-02-29-23:59:00"),
+        ("DT", "DT#2024-02-29", "DT#1970-01-01-00:00:00"),
+        ("DT", "DT#2024-02-30-01:00", "DT#1970-01-01-00:00:00"),
+    ];
+    let mut body = String::new();
+    let mut read = Vec::new();
+    for (k, (f, t, _)) in cases.iter().enumerate() {
+        body.push_str(&format!("s{k} := {f}_TO_STRING(STRING_TO_{f}('{t}'));\n"));
+        read.push(format!("Main.s{k}"));
+    }
+    // What *_TO_STRING writes reads back as the same value.
+    body.push_str("r0 := DT_TO_STRING(STRING_TO_DT(DT_TO_STRING(DT#1987-06-05-04:03:02.1)));\n");
+    body.push_str("r1 := DATE_TO_STRING(STRING_TO_DATE(DATE_TO_STRING(D#1600-03-01)));\n");
+    read.extend(["Main.r0".to_string(), "Main.r1".to_string()]);
+    let vars: Vec<String> = read.iter().map(|r| r.trim_start_matches("Main.").to_string()).collect();
+    let program = format!(
+        "PROGRAM Main VAR {} : STRING; END_VAR\n{body}END_PROGRAM",
+        vars.join(", ")
+    );
+    let watch: Vec<W> = read.iter().map(|r| W::S(r.as_str())).collect();
+    let (v, faults) = once("name,type\nN,INT\n", &program, &watch);
+    let mut expected: Vec<&str> = cases.iter().map(|(_, _, w)| *w).collect();
+    expected.extend(["DT#1987-06-05-04:03:02.1", "D#1600-03-01"]);
+    assert_eq!(v, expected);
+    assert_eq!(faults, 0);
 }
 
 #[test]

@@ -738,6 +738,288 @@ impl Lower<'_> {
         self.convert(Val::N(V::L(total)), &Ty::Lint, &Ty::Dint)
     }
 
+    /// `STRING_TO_DATE`, `STRING_TO_TOD`, `STRING_TO_DT`: a date or time-of-day
+    /// literal, as `DATE_TO_STRING` and its kin write it and more: spaces first
+    /// skipped, an optional prefix (letters, `_` and `#`: `D#`, `DATE#`, `TOD#`,
+    /// `TIME_OF_DAY#`, `DT#`, `DATE_AND_TIME#`, any case), then the fields
+    /// `YYYY-MM-DD` (a DATE), `hh:mm[:ss[.fff]]` (a TOD) or both joined by `-`
+    /// (a DT), with `_` allowed between digits; of the seconds' fraction the
+    /// first three digits count. Reading ends at the first other character. A
+    /// text whose fields are missing or out of range (month 13, 30 February,
+    /// hour 24) is 0: `D#1970-01-01`, `TOD#00:00:00`, `DT#1970-01-01-00:00:00`,
+    /// as `STRING_TO_INT` reads `'abc'` as 0. Computed in LINT milliseconds
+    /// (ADR 0017).
+    pub(super) fn string_to_date(&mut self, s: &Str, ty: &Ty) -> L {
+        let ci = |l: &mut Self, v: i32| l.b.const_i(v);
+        let cl = |l: &mut Self, v: i64| l.b.const_l(v);
+        let (date, tod) = match ty {
+            Ty::Date => (true, false),
+            Ty::Tod => (false, true),
+            _ => (true, true),
+        };
+        // The separators after each field but the last, and the field the
+        // reading must have reached.
+        let mut seps: Vec<u8> = Vec::new();
+        if date {
+            seps.extend(b"--");
+        }
+        if date && tod {
+            seps.push(b'-');
+        }
+        if tod {
+            seps.extend(b"::");
+        }
+        let fields = seps.len() + 1;
+        let least = match (date, tod) {
+            (true, false) => 2,
+            (false, true) => 1,
+            _ => 4,
+        };
+        let ph: Vec<I> = (0..4).map(|k| ci(self, k)).collect();
+        let at: Vec<I> = (0..fields as i32).map(|k| ci(self, k)).collect();
+        let (zl, onel, tenl) = (cl(self, 0), cl(self, 1), cl(self, 10));
+        let (zero, one, three) = (ci(self, 0), ci(self, 1), ci(self, 3));
+        let (space, hash, under, point, c0, c9, la, lz) = (
+            ci(self, 32),
+            ci(self, 35),
+            ci(self, 95),
+            ci(self, 46),
+            ci(self, 48),
+            ci(self, 57),
+            ci(self, 97),
+            ci(self, 122),
+        );
+        // Phase 0: spaces and the prefix; 1: the fields; 2: the fraction; 3: ended.
+        let (phase, f, nd, fd, lc, d) = [(); 6].map(|_| self.b.temp_i()).into();
+        let acc: Vec<L> = (0..fields).map(|_| self.b.temp_l()).collect();
+        let [frac, scale, dl] = [(); 3].map(|_| self.b.temp_l());
+        let [prefix, done, bad] = [(); 3].map(|_| self.b.temp_b());
+        for &a in acc.iter().chain([&frac]) {
+            self.emit(Op::UnL(IUn::Mov, zl, a));
+        }
+        self.emit(Op::UnL(IUn::Mov, onel, scale));
+        for i in [phase, f, nd, fd] {
+            self.emit(Op::UnI(IUn::Mov, zero, i));
+        }
+        self.emit(Op::Afi);
+        self.emit(Op::Ote(prefix));
+        self.emit(Op::True);
+        for &ch in &s.chars {
+            self.emit(Op::BinI(IBin::Or, ch, space, lc));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[3]));
+            self.emit(Op::Ote(done));
+            self.emit(Op::True);
+            // Phase 0: spaces, then the prefix's letters and `_`, and its `#`;
+            // a prefix without its `#` ends the reading.
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xio(prefix));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::CmpI(Cmp::Eq, ch, space));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::CmpI(Cmp::Ge, lc, la));
+            self.emit(Op::CmpI(Cmp::Le, lc, lz));
+            self.emit(Op::Otl(prefix));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            for (c, next) in [(under, ph[0]), (hash, ph[1])] {
+                self.emit(Op::Xio(done));
+                self.emit(Op::Xic(prefix));
+                self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+                self.emit(Op::CmpI(Cmp::Eq, ch, c));
+                self.emit(Op::UnI(IUn::Mov, next, phase));
+                self.emit(Op::Otl(done));
+                self.emit(Op::True);
+            }
+            self.emit(Op::Xio(done));
+            self.emit(Op::Xic(prefix));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
+            self.emit(Op::UnI(IUn::Mov, ph[3], phase));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            // A digit: of the current field (phases 0 and 1), or of the
+            // fraction (2; the fourth and later are read but do not count).
+            self.emit(Op::BinI(IBin::Sub, ch, c0, d));
+            self.emit(Op::Cvt(alba_ir::op::Cvt::IL(d, dl)));
+            for (k, &a) in acc.iter().enumerate() {
+                self.emit(Op::Xio(done));
+                self.emit(Op::CmpI(Cmp::Ge, ch, c0));
+                self.emit(Op::CmpI(Cmp::Le, ch, c9));
+                self.emit(Op::CmpI(Cmp::Le, phase, ph[1]));
+                self.emit(Op::CmpI(Cmp::Eq, f, at[k]));
+                self.emit(Op::BinL(IBin::Mul, a, tenl, a));
+                self.emit(Op::BinL(IBin::Add, a, dl, a));
+                self.emit(Op::True);
+            }
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Ge, ch, c0));
+            self.emit(Op::CmpI(Cmp::Le, ch, c9));
+            self.emit(Op::CmpI(Cmp::Le, phase, ph[1]));
+            self.emit(Op::UnI(IUn::Mov, ph[1], phase));
+            self.emit(Op::BinI(IBin::Add, nd, one, nd));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Ge, ch, c0));
+            self.emit(Op::CmpI(Cmp::Le, ch, c9));
+            self.emit(Op::CmpI(Cmp::Eq, phase, ph[2]));
+            self.emit(Op::Otl(done));
+            self.emit(Op::CmpI(Cmp::Lt, fd, three));
+            self.emit(Op::BinL(IBin::Mul, frac, tenl, frac));
+            self.emit(Op::BinL(IBin::Add, frac, dl, frac));
+            self.emit(Op::BinL(IBin::Mul, scale, tenl, scale));
+            self.emit(Op::BinI(IBin::Add, fd, one, fd));
+            self.emit(Op::True);
+            // `_` after a digit; a field's separator after its digits; the
+            // point after the seconds' digits.
+            self.emit(Op::Xio(done));
+            self.emit(Op::CmpI(Cmp::Ge, phase, ph[1]));
+            self.emit(Op::CmpI(Cmp::Gt, nd, zero));
+            self.emit(Op::CmpI(Cmp::Eq, ch, under));
+            self.emit(Op::Otl(done));
+            self.emit(Op::True);
+            for (k, &sep) in seps.iter().enumerate() {
+                let c = ci(self, i32::from(sep));
+                self.emit(Op::Xio(done));
+                self.emit(Op::CmpI(Cmp::Eq, phase, ph[1]));
+                self.emit(Op::CmpI(Cmp::Gt, nd, zero));
+                self.emit(Op::CmpI(Cmp::Eq, f, at[k]));
+                self.emit(Op::CmpI(Cmp::Eq, ch, c));
+                self.emit(Op::UnI(IUn::Mov, at[k + 1], f));
+                self.emit(Op::UnI(IUn::Mov, zero, nd));
+                self.emit(Op::Otl(done));
+                self.emit(Op::True);
+            }
+            if tod {
+                self.emit(Op::Xio(done));
+                self.emit(Op::CmpI(Cmp::Eq, phase, ph[1]));
+                self.emit(Op::CmpI(Cmp::Gt, nd, zero));
+                self.emit(Op::CmpI(Cmp::Eq, f, at[fields - 1]));
+                self.emit(Op::CmpI(Cmp::Eq, ch, point));
+                self.emit(Op::UnI(IUn::Mov, ph[2], phase));
+                self.emit(Op::Otl(done));
+                self.emit(Op::True);
+            }
+            // Anything else ends the reading.
+            self.emit(Op::Xio(done));
+            self.emit(Op::UnI(IUn::Mov, ph[3], phase));
+            self.emit(Op::True);
+        }
+        // Fields missing: the last one read has no digit, or the reading
+        // stopped before the least field.
+        self.emit(Op::Afi);
+        self.emit(Op::Ote(bad));
+        self.emit(Op::True);
+        let least = ci(self, least);
+        self.emit(Op::CmpI(Cmp::Lt, f, least));
+        self.emit(Op::Otl(bad));
+        self.emit(Op::True);
+        self.emit(Op::CmpI(Cmp::Eq, nd, zero));
+        self.emit(Op::Otl(bad));
+        self.emit(Op::True);
+        let out_of = |l: &mut Self, v: L, lo: i64, hi: L| {
+            let lo = cl(l, lo);
+            l.emit(Op::CmpL(Cmp::Lt, v, lo));
+            l.emit(Op::Otl(bad));
+            l.emit(Op::True);
+            l.emit(Op::CmpL(Cmp::Gt, v, hi));
+            l.emit(Op::Otl(bad));
+            l.emit(Op::True);
+        };
+        let total = self.b.temp_l();
+        self.emit(Op::UnL(IUn::Mov, zl, total));
+        let t = self.b.temp_l();
+        if date {
+            let (y, m, dd) = (acc[0], acc[1], acc[2]);
+            let c12 = cl(self, 12);
+            out_of(self, m, 1, c12);
+            // The days of month `m` of year `y`.
+            let dim = self.b.temp_l();
+            let c31 = cl(self, 31);
+            self.emit(Op::UnL(IUn::Mov, c31, dim));
+            let c30 = cl(self, 30);
+            for month in [4, 6, 9, 11] {
+                let mc = cl(self, month);
+                self.emit(Op::CmpL(Cmp::Eq, m, mc));
+                self.emit(Op::UnL(IUn::Mov, c30, dim));
+                self.emit(Op::True);
+            }
+            let leap = self.b.temp_b();
+            self.emit(Op::Afi);
+            self.emit(Op::Ote(leap));
+            self.emit(Op::True);
+            let (c4, c100, c400) = (cl(self, 4), cl(self, 100), cl(self, 400));
+            let (r4, r100, r400) = (self.b.temp_l(), self.b.temp_l(), self.b.temp_l());
+            self.emit(Op::BinL(IBin::Mod, y, c4, r4));
+            self.emit(Op::BinL(IBin::Mod, y, c100, r100));
+            self.emit(Op::BinL(IBin::Mod, y, c400, r400));
+            self.emit(Op::CmpL(Cmp::Eq, r4, zl));
+            self.emit(Op::CmpL(Cmp::Ne, r100, zl));
+            self.emit(Op::Otl(leap));
+            self.emit(Op::True);
+            self.emit(Op::CmpL(Cmp::Eq, r400, zl));
+            self.emit(Op::Otl(leap));
+            self.emit(Op::True);
+            let (c2, c28) = (cl(self, 2), cl(self, 28));
+            self.emit(Op::CmpL(Cmp::Eq, m, c2));
+            self.emit(Op::UnL(IUn::Mov, c28, dim));
+            self.emit(Op::Xic(leap));
+            self.emit(Op::BinL(IBin::Add, dim, onel, dim));
+            self.emit(Op::True);
+            out_of(self, dd, 1, dim);
+            // H. Hinnant's `days_from_civil` (as `dates::days_from_civil`).
+            let yy = self.b.temp_l();
+            self.emit(Op::UnL(IUn::Mov, y, yy));
+            self.emit(Op::CmpL(Cmp::Le, m, c2));
+            self.emit(Op::BinL(IBin::Sub, yy, onel, yy));
+            self.emit(Op::True);
+            let (era, yoe) = self.floor_div(yy, 400);
+            let (c9l, c153, c5, c365) = (cl(self, 9), cl(self, 153), cl(self, 5), cl(self, 365));
+            let doy = self.b.temp_l();
+            self.emit(Op::BinL(IBin::Add, m, c9l, doy));
+            self.emit(Op::BinL(IBin::Mod, doy, c12, doy));
+            self.emit(Op::BinL(IBin::Mul, doy, c153, doy));
+            self.emit(Op::BinL(IBin::Add, doy, c2, doy));
+            self.emit(Op::BinL(IBin::Div, doy, c5, doy));
+            self.emit(Op::BinL(IBin::Add, doy, dd, doy));
+            self.emit(Op::BinL(IBin::Sub, doy, onel, doy));
+            let days = self.b.temp_l();
+            self.emit(Op::BinL(IBin::Mul, yoe, c365, days));
+            self.emit(Op::BinL(IBin::Div, yoe, c4, t));
+            self.emit(Op::BinL(IBin::Add, days, t, days));
+            self.emit(Op::BinL(IBin::Div, yoe, c100, t));
+            self.emit(Op::BinL(IBin::Sub, days, t, days));
+            self.emit(Op::BinL(IBin::Add, days, doy, days));
+            let (c146097, c719468, cday) = (cl(self, 146_097), cl(self, 719_468), cl(self, 86_400_000));
+            self.emit(Op::BinL(IBin::Mul, era, c146097, t));
+            self.emit(Op::BinL(IBin::Add, days, t, days));
+            self.emit(Op::BinL(IBin::Sub, days, c719468, days));
+            self.emit(Op::BinL(IBin::Mul, days, cday, total));
+        }
+        if tod {
+            let (h, mi, sec) = (acc[fields - 3], acc[fields - 2], acc[fields - 1]);
+            let (c23, c59) = (cl(self, 23), cl(self, 59));
+            out_of(self, h, 0, c23);
+            out_of(self, mi, 0, c59);
+            out_of(self, sec, 0, c59);
+            for (v, ms) in [(h, 3_600_000), (mi, 60_000), (sec, 1000)] {
+                let msc = cl(self, ms);
+                self.emit(Op::BinL(IBin::Mul, v, msc, t));
+                self.emit(Op::BinL(IBin::Add, total, t, total));
+            }
+            let c1000 = cl(self, 1000);
+            self.emit(Op::BinL(IBin::Mul, frac, c1000, t));
+            self.emit(Op::BinL(IBin::Div, t, scale, t));
+            self.emit(Op::BinL(IBin::Add, total, t, total));
+        }
+        self.emit(Op::Xic(bad));
+        self.emit(Op::UnL(IUn::Mov, zl, total));
+        self.emit(Op::True);
+        total
+    }
+
     /// `STRING_TO_REAL`, `STRING_TO_LREAL`: the number at the start of the
     /// text (spaces first skipped, an optional sign, digits with an optional
     /// `.` and fraction, an optional exponent `E`/`e` with its sign); it ends

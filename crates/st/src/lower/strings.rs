@@ -681,17 +681,23 @@ impl Lower<'_> {
             (Some(fw), None) => {
                 let to_ty = elementary(to)
                     .filter(|t| {
-                        t.is_int() || t.is_bits() || t.is_real() || matches!(t, Ty::Bool | Ty::Time | Ty::Ltime)
+                        t.is_int()
+                            || t.is_bits()
+                            || t.is_real()
+                            || matches!(t, Ty::Bool | Ty::Time | Ty::Ltime | Ty::Date | Ty::Tod | Ty::Dt)
                     })
                     .ok_or_else(|| {
                         not_supported(
                             span,
-                            format!("{f}: a string converts only to numbers, bit strings, BOOL, TIME and LTIME yet"),
+                            format!("{f}: a string converts only to numbers, bit strings, BOOL, durations and dates"),
                         )
                     })?;
                 let (s, _) = self.str_arg(&f, arg, Some(fw))?;
                 if to_ty == Ty::Bool {
                     return Ok((Val::B(self.string_to_bool(&s)), Ty::Bool));
+                }
+                if matches!(to_ty, Ty::Date | Ty::Tod | Ty::Dt) {
+                    return Ok((Val::N(V::L(self.string_to_date(&s, &to_ty))), to_ty));
                 }
                 if matches!(to_ty, Ty::Time | Ty::Ltime) {
                     return Ok((self.string_to_time(&s, to_ty == Ty::Ltime), to_ty));
