@@ -695,6 +695,13 @@ impl<'a> Dd<'a> {
         out
     }
 
+    /// The transitions, those of the lowest levels first (the saturation's order).
+    fn bottom_up(&self) -> Vec<u32> {
+        let mut ts: Vec<u32> = (0..self.events.len() as u32).collect();
+        ts.sort_by_key(|&t| std::cmp::Reverse(self.events[t as usize].top));
+        ts
+    }
+
     /// The child of `n` at value `v`, or `0`.
     fn child(&self, n: u32, v: u32) -> u32 {
         let e = self.node_edges(n);
@@ -1066,9 +1073,12 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
         Err(why) => return Facts::unknown(why),
     };
     let dead_transitions: Vec<usize> = (0..nt as usize).filter(|&t| en[t] == 0).collect();
-    let dead = en
-        .iter()
-        .try_fold(0, |any, &e| dd.union(any, e))
+    // Their union in the saturation's order, the transitions of the lowest levels first:
+    // the partial unions stay local (half the nodes on `Philosophers-PT-000100`).
+    let dead = dd
+        .bottom_up()
+        .into_iter()
+        .try_fold(0, |any, t| dd.union(any, en[t as usize]))
         .and_then(|any| dd.combine(reach, any, true));
     let dead = match dead {
         Ok(d) => d,
@@ -1234,10 +1244,7 @@ fn shortest(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace
 /// comes from.
 fn chained(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
     let mut set = initial(net, dd, order)?;
-    let mut sweep: Vec<u32> = (0..dd.events.len() as u32)
-        .filter(|&t| !dd.events[t as usize].acts.is_empty())
-        .collect();
-    sweep.sort_by_key(|&t| std::cmp::Reverse(dd.events[t as usize].top));
+    let sweep = dd.bottom_up();
     let mut steps: Vec<(u32, u32)> = Vec::new();
     let mut hit = dd.combine(set, dead, false)?;
     while hit == 0 {
