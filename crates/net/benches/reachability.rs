@@ -7,9 +7,9 @@
 //! (`alba_net::analysis::symbolic`) instead, on the same models and the corpus's
 //! instances of 10^9 states and more (or on the instances named), each checked against
 //! the contest's counts, then again with the facts (deadlocks and a trace to one, dead
-//! transitions, liveness, reversibility). `NAME…` alone analyses just the corpus's instances named;
-//! `--threads=N` sets the analysis's threads (default: the available parallelism, at
-//! most 2).
+//! transitions, liveness, reversibility). `NAME…` alone analyses just the corpus's
+//! instances named; `--threads=N` sets the analysis's threads (default: the available
+//! parallelism, at most 2).
 
 #[path = "../tests/mcc/corpus.rs"]
 mod corpus;

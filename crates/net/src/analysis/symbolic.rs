@@ -141,8 +141,8 @@ pub struct Limits {
     /// Whether to decide the [`Facts`] too (within the same budgets).
     pub facts: bool,
     /// Whether the trace to a deadlock is looked for by breadth-first layers first (a
-    /// shortest one when they fit in half its budget), or by chaining at once (one
-    /// trace, not always a shortest; see [`Facts::deadlock_trace`]).
+    /// shortest one when they fit in their budget), or by chaining at once (one trace,
+    /// not always a shortest; see [`Facts::deadlock_trace`]).
     pub shortest_trace: bool,
 }
 
@@ -219,10 +219,11 @@ pub struct Symbolic {
 ///   nodes again as the rest made: a shortest one by breadth-first layers from the
 ///   initial marking until one meets the deadlocks, then back from a dead marking
 ///   through the layers (its predecessor in the layer before, marking by marking),
-///   when they fit in half that budget; else one by chaining (each transition's image
-///   added to the markings reached in turn, sweep after sweep, until they meet the
-///   deadlocks; then back through the steps that added markings), whose sets stay close
-///   to the saturated diagrams where the layers do not (`Philosophers-PT-000100`);
+///   when they fit in that budget; else, with a budget of its own computed the same
+///   way, one by chaining (each transition's image added to the markings reached in
+///   turn, sweep after sweep, until they meet the deadlocks; then back through the
+///   steps that added markings), whose sets stay close to the saturated diagrams where
+///   the layers do not (`Philosophers-PT-000100`);
 /// - reversibility: the markings from which the initial one is reachable, found by
 ///   saturation backwards (the transitions reversed) constrained to the reachable
 ///   markings, are all of them;
@@ -1114,25 +1115,17 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
     // The backward saturations' caches are done with.
     dd.csat_cache = FxMap::default();
     dd.crel_cache = FxMap::default();
-    // The trace last, within a quarter of the time left and as many nodes again as
-    // made so far (at least 2^20): breadth-first layers can be much larger than the
-    // saturated diagrams (they have half of it, chaining the rest).
+    // The trace last, with budgets of its own ([`trace`]).
     let mut trace_shortest = false;
     let deadlock_trace = if dead == 0 {
         Ok(None)
     } else if live == Err(Stop::Cancelled) {
         Err(Stop::Cancelled)
     } else {
-        let (time, nodes) = (dd.limits.time, dd.limits.max_nodes);
-        let elapsed = dd.started.elapsed();
-        dd.limits.time = elapsed + time.saturating_sub(elapsed) / 4;
-        dd.limits.max_nodes = nodes.min(dd.level.len() + dd.level.len().max(1 << 20));
-        let t = trace(net, dd, dead, order).map(|(t, shortest)| {
+        trace(net, dd, dead, order).map(|(t, shortest)| {
             trace_shortest = shortest;
             Some(t)
-        });
-        (dd.limits.time, dd.limits.max_nodes) = (time, nodes);
-        t
+        })
     };
     Facts {
         dead_transitions: Ok(dead_transitions),
@@ -1145,30 +1138,32 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
 }
 
 /// A firing sequence from the initial marking to one of `dead` and the marking it
-/// reaches: a shortest one when the breadth-first layers fit in half the budget
-/// ([`shortest`]; [`Limits::shortest_trace`]), else one found by chaining
-/// ([`chained`]) with the rest; and whether it is a shortest one.
+/// reaches, and whether it is a shortest one: by breadth-first layers ([`shortest`])
+/// when they fit in their budget, else by chaining ([`chained`]) with a budget of its
+/// own (or at once: [`Limits::shortest_trace`]). Each budget is a quarter of the time
+/// left and as many nodes again as made so far (at least 2^20): breadth-first layers
+/// can be much larger than the saturated diagrams.
 fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<(Trace, bool)> {
-    if !dd.limits.shortest_trace {
-        return Ok((chained(net, dd, dead, order)?, false));
+    fn within<T>(dd: &mut Dd<'_>, run: impl FnOnce(&mut Dd<'_>) -> R<T>) -> R<T> {
+        let limits = dd.limits;
+        let elapsed = dd.started.elapsed();
+        dd.limits.time = elapsed + limits.time.saturating_sub(elapsed) / 4;
+        dd.limits.max_nodes = limits.max_nodes.min(dd.level.len() + dd.level.len().max(1 << 20));
+        let r = run(dd);
+        dd.limits = limits;
+        r
     }
-    let limits = dd.limits;
-    let now = dd.started.elapsed();
-    let (made, bytes) = (dd.level.len(), dd.bytes());
-    dd.limits.time = now + limits.time.saturating_sub(now) / 2;
-    dd.limits.max_nodes = made + limits.max_nodes.saturating_sub(made) / 2;
-    dd.limits.memory = bytes + limits.memory.saturating_sub(bytes) / 2;
-    let first = shortest(net, dd, dead, order);
-    dd.limits = limits;
-    match first {
-        Err(Stop::Nodes | Stop::Time | Stop::Memory) => {
-            // The layers' caches are done with.
-            dd.union_cache = FxMap::default();
-            dd.op_cache = FxMap::default();
-            Ok((chained(net, dd, dead, order)?, false))
+    if dd.limits.shortest_trace {
+        match within(dd, |dd| shortest(net, dd, dead, order)) {
+            Err(Stop::Nodes | Stop::Time | Stop::Memory) => {
+                // The layers' caches are done with.
+                dd.union_cache = FxMap::default();
+                dd.op_cache = FxMap::default();
+            }
+            done => return Ok((done?, true)),
         }
-        done => Ok((done?, true)),
     }
+    Ok((within(dd, |dd| chained(net, dd, dead, order))?, false))
 }
 
 /// The initial marking's diagram.
