@@ -375,7 +375,8 @@ fn report(id: &str, path: &Path, pt: &PtNet, a: &Analysis) -> String {
             if let Some(t) = &a.deadlock_trace {
                 let seq: Vec<&str> = t.iter().map(|&i| pt.transitions[i].as_str()).collect();
                 line(format!(
-                    "  shortest firing sequence to one: {}",
+                    "  {}firing sequence to one: {}",
+                    if a.deadlock_trace_shortest { "shortest " } else { "" },
                     if seq.is_empty() {
                         "(the initial marking)".to_string()
                     } else {

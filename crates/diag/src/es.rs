@@ -2472,6 +2472,10 @@ pub const PHRASES: &[(&str, &str)] = &[
         "el motor simbólico no decidió {0} ({1})",
     ),
     (
+        "the firing sequence to a deadlock is not always a shortest one: the symbolic engine's breadth-first layers did not fit its budget, it was found by chaining",
+        "la secuencia de disparos hasta un bloqueo no es siempre una de las más cortas: las capas en anchura del motor simbólico no cabían en su presupuesto, se encontró encadenando",
+    ),
+    (
         "symbolic engine stopped ({}) after {} nodes, {} s",
         "el motor simbólico se detuvo ({0}) tras {1} nodos, {2} s",
     ),

@@ -6,9 +6,10 @@
 //! leaves out the 20 M-state model. `--symbolic [NAME…]` times the symbolic engine
 //! (`alba_net::analysis::symbolic`) instead, on the same models and the corpus's
 //! instances of 10^9 states and more (or on the instances named), each checked against
-//! the contest's counts. `NAME…` alone analyses just the corpus's instances named;
-//! `--threads=N` sets the analysis's threads (default: the available parallelism, at
-//! most 2).
+//! the contest's counts, then again with the facts (deadlocks and a trace to one, dead
+//! transitions, liveness, reversibility). `NAME…` alone analyses just the corpus's
+//! instances named; `--threads=N` sets the analysis's threads (default: the available
+//! parallelism, at most 2).
 
 #[path = "../tests/mcc/corpus.rs"]
 mod corpus;
@@ -50,7 +51,7 @@ fn main() {
 
 /// `--symbolic`: time, nodes and memory of the symbolic engine per instance.
 fn symbolic(names: &[String]) {
-    use alba_net::analysis::symbolic::{Limits, explore};
+    use alba_net::analysis::symbolic::{Limits, Stop, explore};
     let defaults = [
         "Kanban-PT-00005",
         "FMS-PT-00005",
@@ -80,14 +81,43 @@ fn symbolic(names: &[String]) {
                 s.final_nodes,
                 o.bytes as f64 / (1 << 20) as f64
             ),
-            Err(why) => println!(
-                "{name}: stopped ({}) after {:.3} s, {} nodes, {:.1} MiB",
-                why.reason(),
-                o.time.as_secs_f64(),
-                o.nodes,
-                o.bytes as f64 / (1 << 20) as f64
-            ),
+            Err(why) => {
+                println!(
+                    "{name}: stopped ({}) after {:.3} s, {} nodes, {:.1} MiB",
+                    why.reason(),
+                    o.time.as_secs_f64(),
+                    o.nodes,
+                    o.bytes as f64 / (1 << 20) as f64
+                );
+                continue;
+            }
         }
+        // Again with the facts: deadlocks and a trace to one, dead transitions,
+        // liveness, reversibility.
+        let limits = Limits {
+            facts: true,
+            ..Limits::default()
+        };
+        let o = explore(&net, &limits, &std::sync::atomic::AtomicBool::new(false));
+        let Some(f) = o.result.ok().and_then(|s| s.facts) else {
+            println!("  with the facts: stopped after {:.3} s", o.time.as_secs_f64());
+            continue;
+        };
+        let shown = |r: Result<String, Stop>| r.unwrap_or_else(|why| format!("unknown ({})", why.reason()));
+        println!(
+            "  with the facts: {:.3} s, {} nodes made, {:.1} MiB; deadlocks {}, trace {}, dead transitions {}, live {}, reversible {}",
+            o.time.as_secs_f64(),
+            o.nodes,
+            o.bytes as f64 / (1 << 20) as f64,
+            shown(f.deadlocks.map(|c| c.to_string())),
+            shown(f.deadlock_trace.map(|t| match t {
+                Some((t, _)) => format!("of {} firings", t.len()),
+                None => "none".into(),
+            })),
+            shown(f.dead_transitions.map(|d| d.len().to_string())),
+            shown(f.live.map(|l| l.to_string())),
+            shown(f.reversible.map(|r| r.to_string())),
+        );
     }
 }
 

@@ -20,7 +20,8 @@
 //!   counts the reachable markings and firings exactly and finds the bounds, when asked
 //!   ([`SymbolicMode::Always`]) or when the explicit exploration stops at its memory
 //!   budget or its 2^27 states ([`SymbolicMode::Auto`]); its count then stands for the
-//!   state space's (a note says so), and its [`symbolic::Facts`] (deadlocks, dead
+//!   state space's (a note says so), and its [`symbolic::Facts`] (deadlocks and a
+//!   firing sequence to one, a shortest one when its breadth-first layers fit, dead
 //!   transitions, liveness, reversibility) for the explicit graph's.
 //!
 //! No part blocks another: the state space and its facts come first, then the flows,
@@ -272,8 +273,11 @@ pub struct Analysis {
     pub edges: Option<u64>,
     /// Number of dead markings (`None` when unbounded).
     pub deadlocks: Option<u64>,
-    /// A shortest firing sequence (transition indices) to a dead marking.
+    /// A firing sequence (transition indices) to a dead marking.
     pub deadlock_trace: Option<Vec<usize>>,
+    /// Whether that sequence is a shortest one: the explicit engine's always are, the
+    /// symbolic engine's when its breadth-first layers fit (else a note says so).
+    pub deadlock_trace_shortest: bool,
     /// The dead marking it reaches.
     pub deadlock_marking: Option<Vec<u32>>,
     /// Transitions never enabled in any reachable marking.
@@ -351,6 +355,7 @@ pub fn analyze(net: &PtNet, options: &Options, control: &Control<'_>) -> Analysi
         edges: None,
         deadlocks: None,
         deadlock_trace: None,
+        deadlock_trace_shortest: true,
         deadlock_marking: None,
         dead_transitions: None,
         live: None,

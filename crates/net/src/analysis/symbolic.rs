@@ -22,8 +22,8 @@
 //!   reachability graph: for each transition, the markings that enable it), as
 //!   arbitrary-precision integers ([`Count`]; the contest has counts beyond 10^47), each
 //!   place's bound and the most tokens in one marking; when asked ([`Limits::facts`]),
-//!   deadlocks (with a shortest trace), dead transitions, liveness and reversibility
-//!   ([`Facts`]).
+//!   deadlocks (with a trace to one, a shortest one when the breadth-first layers fit),
+//!   dead transitions, liveness and reversibility ([`Facts`]).
 //! - **Limits**: a node budget, a memory budget (the nodes, the unique table and the
 //!   caches), a time budget and the cancellation flag: the engine stops with a reason,
 //!   never runs out of memory. An unbounded net never saturates: the callers refuse
@@ -140,6 +140,10 @@ pub struct Limits {
     pub time: Duration,
     /// Whether to decide the [`Facts`] too (within the same budgets).
     pub facts: bool,
+    /// Whether the trace to a deadlock is looked for by breadth-first layers first (a
+    /// shortest one when they fit in their budget), or by chaining at once (one trace,
+    /// not always a shortest; see [`Facts::deadlock_trace`]).
+    pub shortest_trace: bool,
 }
 
 impl Default for Limits {
@@ -149,6 +153,7 @@ impl Default for Limits {
             memory: super::DEFAULT_MEMORY,
             time: Duration::from_secs(600),
             facts: false,
+            shortest_trace: true,
         }
     }
 }
@@ -210,10 +215,15 @@ pub struct Symbolic {
 ///
 /// - dead transitions: those whose enabling set meets no reachable marking;
 /// - deadlocks: the reachable markings minus the union of the enabling sets;
-/// - a shortest trace to a deadlock: breadth-first layers from the initial marking until
-///   one meets the deadlocks, then back from a dead marking through the layers (its
-///   predecessor in the layer before, marking by marking), decided last, within a
-///   quarter of the time left and as many nodes again as the rest made;
+/// - a trace to a deadlock, decided last, within a quarter of the time left and as many
+///   nodes again as the rest made: a shortest one by breadth-first layers from the
+///   initial marking until one meets the deadlocks, then back from a dead marking
+///   through the layers (its predecessor in the layer before, marking by marking),
+///   when they fit in that budget; else, with a budget of its own computed the same
+///   way, one by chaining (each transition's image added to the markings reached in
+///   turn, sweep after sweep, until they meet the deadlocks; then back through the
+///   steps that added markings), whose sets stay close to the saturated diagrams where
+///   the layers do not (`Philosophers-PT-000100`);
 /// - reversibility: the markings from which the initial one is reachable, found by
 ///   saturation backwards (the transitions reversed) constrained to the reachable
 ///   markings, are all of them;
@@ -227,9 +237,11 @@ pub struct Facts {
     pub dead_transitions: Result<Vec<usize>, Stop>,
     /// Reachable markings enabling no transition.
     pub deadlocks: Result<Count, Stop>,
-    /// A shortest firing sequence to a dead marking and that marking (`None`: no
-    /// deadlock).
+    /// A firing sequence to a dead marking and that marking (`None`: no deadlock).
     pub deadlock_trace: Result<Option<Trace>, Stop>,
+    /// Whether that sequence is a shortest one (found by the breadth-first layers, not
+    /// by chaining).
+    pub trace_shortest: bool,
     /// Whether the initial marking is reachable from every reachable marking.
     pub reversible: Result<bool, Stop>,
     /// Whether every transition is live (L4).
@@ -284,6 +296,14 @@ impl Facts {
             Ok(Some((trace, m))) => {
                 a.deadlock_trace = Some(trace);
                 a.deadlock_marking = Some(m);
+                a.deadlock_trace_shortest = self.trace_shortest;
+                if !self.trace_shortest {
+                    a.notes.push(
+                        "the firing sequence to a deadlock is not always a shortest one: the symbolic engine's \
+                         breadth-first layers did not fit its budget, it was found by chaining"
+                            .into(),
+                    );
+                }
             }
             Ok(None) => {}
             Err(e) => why("a trace to a deadlock", &e),
@@ -304,6 +324,7 @@ impl Facts {
             dead_transitions: Err(why),
             deadlocks: Err(why),
             deadlock_trace: Err(why),
+            trace_shortest: false,
             reversible: Err(why),
             live: Err(why),
         }
@@ -673,6 +694,13 @@ impl<'a> Dd<'a> {
             }
         }
         out
+    }
+
+    /// The transitions, those of the lowest levels first (the saturation's order).
+    fn bottom_up(&self) -> Vec<u32> {
+        let mut ts: Vec<u32> = (0..self.events.len() as u32).collect();
+        ts.sort_by_key(|&t| std::cmp::Reverse(self.events[t as usize].top));
+        ts
     }
 
     /// The child of `n` at value `v`, or `0`.
@@ -1046,9 +1074,12 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
         Err(why) => return Facts::unknown(why),
     };
     let dead_transitions: Vec<usize> = (0..nt as usize).filter(|&t| en[t] == 0).collect();
-    let dead = en
-        .iter()
-        .try_fold(0, |any, &e| dd.union(any, e))
+    // Their union in the saturation's order, the transitions of the lowest levels first:
+    // the partial unions stay local (half the nodes on `Philosophers-PT-000100`).
+    let dead = dd
+        .bottom_up()
+        .into_iter()
+        .try_fold(0, |any, t| dd.union(any, en[t as usize]))
         .and_then(|any| dd.combine(reach, any, true));
     let dead = match dead {
         Ok(d) => d,
@@ -1063,11 +1094,8 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
     // Backwards: the transitions reversed, every marking kept within `reach`.
     let backward = reversed(&dd.events);
     let forward = std::mem::replace(&mut dd.events, backward);
-    let mut init = 1;
     let reversible = (|| {
-        for l in (0..dd.levels).rev() {
-            init = dd.mk(l, &[(net.initial[order[l]], init)])?;
-        }
+        let init = initial(net, dd, order)?;
         Ok(dd.csat(init, reach)? == reach)
     })();
     let live = if nt == 0 {
@@ -1084,38 +1112,86 @@ fn facts(net: &PtNet, dd: &mut Dd<'_>, reach: u32, order: &[usize]) -> Facts {
         }
     };
     dd.events = forward;
-    // The trace last, within a quarter of the time left and as many nodes again as
-    // made so far (at least 2^20): breadth-first layers can be much larger than the
-    // saturated diagrams.
+    // The backward saturations' caches are done with.
+    dd.csat_cache = FxMap::default();
+    dd.crel_cache = FxMap::default();
+    // The trace last, with budgets of its own ([`trace`]).
+    let mut trace_shortest = false;
     let deadlock_trace = if dead == 0 {
         Ok(None)
     } else if live == Err(Stop::Cancelled) {
         Err(Stop::Cancelled)
     } else {
-        let (time, nodes) = (dd.limits.time, dd.limits.max_nodes);
-        let elapsed = dd.started.elapsed();
-        dd.limits.time = elapsed + time.saturating_sub(elapsed) / 4;
-        dd.limits.max_nodes = nodes.min(dd.level.len() + dd.level.len().max(1 << 20));
-        let t = trace(net, dd, dead, order).map(Some);
-        (dd.limits.time, dd.limits.max_nodes) = (time, nodes);
-        t
+        trace(net, dd, dead, order).map(|(t, shortest)| {
+            trace_shortest = shortest;
+            Some(t)
+        })
     };
     Facts {
         dead_transitions: Ok(dead_transitions),
         deadlocks: Ok(deadlocks),
         deadlock_trace,
+        trace_shortest,
         reversible,
         live,
     }
 }
 
-/// A shortest firing sequence from the initial marking to one of `dead` and the marking
-/// it reaches: breadth-first layers until one meets `dead`, then back through them.
-fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
+/// A firing sequence from the initial marking to one of `dead` and the marking it
+/// reaches, and whether it is a shortest one: by breadth-first layers ([`shortest`])
+/// when they fit in their budget, else by chaining ([`chained`]) with a budget of its
+/// own (or at once: [`Limits::shortest_trace`]). Each budget is a quarter of the time
+/// left and as many nodes again as made so far (at least 2^20): breadth-first layers
+/// can be much larger than the saturated diagrams.
+fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<(Trace, bool)> {
+    fn within<T>(dd: &mut Dd<'_>, run: impl FnOnce(&mut Dd<'_>) -> R<T>) -> R<T> {
+        let limits = dd.limits;
+        let elapsed = dd.started.elapsed();
+        dd.limits.time = elapsed + limits.time.saturating_sub(elapsed) / 4;
+        dd.limits.max_nodes = limits.max_nodes.min(dd.level.len() + dd.level.len().max(1 << 20));
+        let r = run(dd);
+        dd.limits = limits;
+        r
+    }
+    if dd.limits.shortest_trace {
+        match within(dd, |dd| shortest(net, dd, dead, order)) {
+            Err(Stop::Nodes | Stop::Time | Stop::Memory) => {
+                // The layers' caches are done with.
+                dd.union_cache = FxMap::default();
+                dd.op_cache = FxMap::default();
+            }
+            done => return Ok((done?, true)),
+        }
+    }
+    Ok((within(dd, |dd| chained(net, dd, dead, order))?, false))
+}
+
+/// The initial marking's diagram.
+fn initial(net: &PtNet, dd: &mut Dd<'_>, order: &[usize]) -> R<u32> {
     let mut init = 1;
     for l in (0..dd.levels).rev() {
         init = dd.mk(l, &[(net.initial[order[l]], init)])?;
     }
+    Ok(init)
+}
+
+/// The marking from which firing `t` leads to `m`, when `t` is enabled there and it is
+/// in `set`.
+fn before(net: &PtNet, dd: &Dd<'_>, m: &[u32], t: usize, set: u32, order: &[usize]) -> Option<Vec<u32>> {
+    let mut prev = m.to_vec();
+    for &(p, w) in &net.post[t] {
+        prev[p] = prev[p].checked_sub(w)?;
+    }
+    for &(p, w) in &net.pre[t] {
+        prev[p] = prev[p].checked_add(w)?;
+    }
+    (net.enabled(&prev, t) && dd.contains(set, &prev, order)).then_some(prev)
+}
+
+/// A shortest firing sequence from the initial marking to one of `dead` and the marking
+/// it reaches: breadth-first layers until one meets `dead`, then back through them.
+fn shortest(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
+    let init = initial(net, dd, order)?;
     let nt = dd.events.len() as u32;
     let mut layers = vec![init];
     let mut seen = init;
@@ -1139,22 +1215,61 @@ fn trace(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
     let end = dd.pick(hit, order);
     let mut m = end.clone();
     let mut seq = Vec::new();
-    for layer in layers.iter().rev().skip(1) {
-        let step = (0..net.transitions.len()).find_map(|t| {
-            // The marking that firing t leads from to m.
-            let mut prev = m.clone();
-            for &(p, w) in &net.post[t] {
-                prev[p] = prev[p].checked_sub(w)?;
-            }
-            for &(p, w) in &net.pre[t] {
-                prev[p] = prev[p].checked_add(w)?;
-            }
-            (net.enabled(&prev, t) && dd.contains(*layer, &prev, order)).then_some((t, prev))
-        });
+    for &layer in layers.iter().rev().skip(1) {
+        dd.tick()?;
+        let step = (0..net.transitions.len()).find_map(|t| Some((t, before(net, dd, &m, t, layer, order)?)));
         let Some((t, prev)) = step else {
             return Err(Stop::Nodes);
         };
         seq.push(t);
+        m = prev;
+    }
+    seq.reverse();
+    Ok((seq, end))
+}
+
+/// A firing sequence from the initial marking to one of `dead`, not always a shortest
+/// one, and the marking it reaches, by chaining: the set of markings reached grows by
+/// each transition's image in turn (the transitions of the lowest levels first, as in
+/// the saturation), sweep after sweep until it meets `dead`; a sweep goes as deep as a
+/// breadth-first layer at least, and the sets stay close to the saturated diagrams.
+/// Each step that grew the set is kept (its transition and the set before it); from
+/// a dead marking of the last set, back through the steps: a marking not in the set
+/// before a step was reached by that step's transition, from the one marking it
+/// comes from.
+fn chained(net: &PtNet, dd: &mut Dd<'_>, dead: u32, order: &[usize]) -> R<Trace> {
+    let mut set = initial(net, dd, order)?;
+    let sweep = dd.bottom_up();
+    let mut steps: Vec<(u32, u32)> = Vec::new();
+    let mut hit = dd.combine(set, dead, false)?;
+    while hit == 0 {
+        let swept = set;
+        for &t in &sweep {
+            let img = dd.step(set, t, true)?;
+            let grown = dd.union(set, img)?;
+            if grown != set {
+                steps.push((t, set));
+                set = grown;
+            }
+        }
+        if set == swept {
+            // Every dead marking is reachable: not reached here.
+            return Err(Stop::Nodes);
+        }
+        hit = dd.combine(set, dead, false)?;
+    }
+    let end = dd.pick(hit, order);
+    let mut m = end.clone();
+    let mut seq = Vec::new();
+    for &(t, prior) in steps.iter().rev() {
+        dd.tick()?;
+        if dd.contains(prior, &m, order) {
+            continue;
+        }
+        let Some(prev) = before(net, dd, &m, t as usize, prior, order) else {
+            return Err(Stop::Nodes);
+        };
+        seq.push(t as usize);
         m = prev;
     }
     seq.reverse();
@@ -1239,10 +1354,7 @@ static NOT_BEATEN: AtomicBool = AtomicBool::new(false);
 /// Saturates the initial marking and reads the results off the diagram (and the root
 /// of the reachable markings).
 fn build(net: &PtNet, dd: &mut Dd<'_>, order: Vec<usize>) -> R<(Symbolic, u32)> {
-    let mut init = 1;
-    for l in (0..dd.levels).rev() {
-        init = dd.mk(l, &[(net.initial[order[l]], init)])?;
-    }
+    let init = initial(net, dd, &order)?;
     let root = dd.saturate(init)?;
     let nodes = dd.postorder(root);
     let mut count: FxMap<u32, Count> = FxMap::default();
@@ -1481,6 +1593,46 @@ mod tests {
         let f = s.facts.expect("asked");
         assert_eq!(f.status(), super::super::Status::Complete);
         assert_eq!((f.live, f.reversible, f.deadlock_trace), (Ok(true), Ok(true), Ok(None)));
+    }
+
+    #[test]
+    fn a_trace_by_chaining_replays_to_the_deadlock_and_says_it_may_not_be_shortest() {
+        // Philosophers who all took their left fork: the one deadlock, n firings away.
+        let net = samples::philosophers(12);
+        let a = crate::analysis::analyze(&net, &crate::analysis::Options::default(), &Control::none());
+        let shortest = a.deadlock_trace.as_ref().map(Vec::len).expect("a deadlock");
+        for shortest_trace in [true, false] {
+            let limits = Limits {
+                facts: true,
+                shortest_trace,
+                ..Limits::default()
+            };
+            let s = explore(&net, &limits, &never()).result.expect("counted");
+            let f = s.facts.expect("asked");
+            let Ok(Some((trace, end))) = f.deadlock_trace.clone() else {
+                panic!("no trace: {:?}", f.deadlock_trace);
+            };
+            let mut m = net.initial.clone();
+            for &t in &trace {
+                m = net.fire(&m, t).expect("enabled");
+            }
+            assert_eq!(m, end);
+            assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)));
+            assert_eq!(f.trace_shortest, shortest_trace);
+            if shortest_trace {
+                assert_eq!(trace.len(), shortest);
+            } else {
+                assert!(trace.len() >= shortest);
+            }
+            // The analysis says when it may not be a shortest one.
+            let mut b = a.clone();
+            f.adopt(&mut b);
+            assert_eq!(b.deadlock_trace_shortest, shortest_trace);
+            let noted = b.notes.iter().find(|n| n.contains("not always a shortest one"));
+            assert_eq!(noted.is_some(), !shortest_trace, "{:?}", b.notes);
+            // The studio shows it in Spanish too.
+            assert!(noted.is_none_or(|n| alba_diag::es::phrase(n).is_some()), "{noted:?}");
+        }
     }
 
     #[test]

@@ -614,7 +614,7 @@ fn coloured_examinations_match_the_contest() {
 /// liveness and reversibility (`symbolic::Facts`), equal to the explicit engine's on every
 /// instance of at most `ALBA_MCC_MAX_STATES` states (those of [`SYMBOLIC_OVER_BUDGET`]
 /// left out), and each trace to a deadlock is as short as the explicit one and replays to
-/// a dead marking.
+/// a dead marking; so does the one found by chaining (`Limits::shortest_trace` off).
 #[test]
 fn symbolic_facts_match_the_explicit_ones() {
     use alba_net::analysis::symbolic::{self, Limits};
@@ -665,6 +665,22 @@ fn symbolic_facts_match_the_explicit_ones() {
             Ok(None) if a.deadlocks == Some(0) => {}
             other => failures.push(format!("{}: trace {other:?}", i.name)),
         }
+        if a.deadlocks != Some(0) {
+            let chaining = Limits {
+                shortest_trace: false,
+                ..limits
+            };
+            let o = symbolic::explore(&net, &chaining, &never);
+            match o.result.ok().and_then(|s| s.facts).map(|f| f.deadlock_trace) {
+                Some(Ok(Some((trace, end)))) => {
+                    let m = replay(&net, &trace);
+                    if m != end || (0..net.transitions.len()).any(|t| net.enabled(&m, t)) {
+                        failures.push(format!("{}: the chained trace {trace:?} ends in no deadlock", i.name));
+                    }
+                }
+                other => failures.push(format!("{}: chained trace {other:?}", i.name)),
+            }
+        }
         checked += 1;
         slowest.push((o.time, i.name.clone()));
     }
@@ -684,9 +700,10 @@ fn symbolic_facts_match_the_explicit_ones() {
 
 /// The symbolic facts on the instances of 10^16 states and more: the existence of a
 /// deadlock is the contest's `ReachabilityDeadlock` verdict, and the dead transitions,
-/// liveness and reversibility are decided within the default budgets (a trace to a
-/// deadlock may not be: `Philosophers-PT-000100`'s breadth-first layers exceed its
-/// budget; one that is found replays to a dead marking).
+/// liveness, reversibility and a trace to a deadlock when there is one are decided
+/// within the default budgets; the trace replays to a dead marking
+/// (`Philosophers-PT-000100`'s breadth-first layers exceed their budget: its trace is
+/// found by chaining).
 #[test]
 fn symbolic_deadlocks_of_the_big_instances_match_the_contest() {
     use alba_net::analysis::symbolic::{self, Limits};
@@ -716,15 +733,21 @@ fn symbolic_deadlocks_of_the_big_instances_match_the_contest() {
             f.dead_transitions.is_ok() && f.live.is_ok() && f.reversible.is_ok(),
             "{name}: {f:?}"
         );
-        if let Ok(Some((trace, _))) = &f.deadlock_trace {
-            let m = replay(&net, trace);
-            assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)), "{name}");
+        match &f.deadlock_trace {
+            Ok(Some((trace, end))) => {
+                let m = replay(&net, trace);
+                assert_eq!(&m, end, "{name}");
+                assert!((0..net.transitions.len()).all(|t| !net.enabled(&m, t)), "{name}");
+            }
+            Ok(None) => assert_eq!(deadlock, Ok(false), "{name}"),
+            Err(why) => panic!("{name}: no trace ({})", why.reason()),
         }
         eprintln!(
-            "{name}: {} states, {:?} deadlocks, trace of {:?} firings, dead transitions {:?}, live {:?}, reversible {:?}; {:.1} s, {} nodes",
+            "{name}: {} states, {:?} deadlocks, trace of {:?} firings (shortest: {}), dead transitions {:?}, live {:?}, reversible {:?}; {:.1} s, {} nodes",
             s.states,
             f.deadlocks.as_ref().map(ToString::to_string),
             f.deadlock_trace.as_ref().map(|t| t.as_ref().map(|t| t.0.len())),
+            f.trace_shortest,
             f.dead_transitions.as_ref().map(Vec::len),
             f.live,
             f.reversible,
