@@ -73,7 +73,7 @@ const LP_PLACES: usize = 48;
 /// …and this many rows (transitions and needs).
 const LP_ROWS: usize = 400;
 /// Tableau-cell updates all the linear programs of one reduction may spend.
-const LP_BUDGET: u64 = 20_000_000;
+const LP_BUDGET: u64 = 5_000_000;
 
 /// How a place was found implicit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -268,6 +268,8 @@ struct Work {
     applied: Applied,
     /// What the implicit places' linear programs may still spend.
     lp_budget: u64,
+    /// Per place: a linear program was tried (once per reduction).
+    lp_tried: Vec<bool>,
 }
 
 impl Work {
@@ -291,6 +293,7 @@ impl Work {
             col,
             applied: Applied::default(),
             lp_budget: LP_BUDGET,
+            lp_tried: vec![false; net.places.len()],
         }
     }
 
@@ -568,6 +571,9 @@ impl Work {
     /// implicit, from the linear program of the module's text; `None` when it has none,
     /// when it is too big or when the budget is spent.
     fn lp_weights(&mut self, p: usize, ts: &[usize]) -> Option<(Vec<(usize, i128)>, i128)> {
+        if std::mem::replace(&mut self.lp_tried[p], true) {
+            return None;
+        }
         let n = &self.net;
         let mut qs: Vec<usize> = ts
             .iter()
@@ -578,6 +584,17 @@ impl Work {
         qs.sort_unstable();
         qs.dedup();
         if qs.is_empty() || qs.len() > LP_PLACES {
+            return None;
+        }
+        // A row of ts with c < 0 and no negative coefficient has no solution (checked
+        // before the places' other transitions are gathered).
+        let hopeless = |c: i64, coef: &dyn Fn(usize) -> i64| c < 0 && qs.iter().all(|&q| coef(q) >= 0);
+        let m0 = |q: usize| i64::from(self.net.initial[q]);
+        if ts.iter().any(|&t| {
+            let need = i64::from(self.need(t, p));
+            hopeless(self.effect(t, p), &|q| self.effect(t, q))
+                || (need > 0 && hopeless(m0(p) - need, &|q| m0(q) - i64::from(self.need(t, q))))
+        }) {
             return None;
         }
         let mut rel: Vec<usize> = ts.to_vec();
@@ -593,7 +610,6 @@ impl Work {
             a.push(qs.iter().map(|&q| self.effect(t, q)).collect::<Vec<i64>>());
             c.push(self.effect(t, p));
         }
-        let m0 = |q: usize| i64::from(self.net.initial[q]);
         for &t in ts {
             let need = i64::from(self.need(t, p));
             if need > 0 {
@@ -642,8 +658,6 @@ impl Work {
     fn fused(&self, h: usize, f: usize, p: usize) -> (PtNet, String, Vec<usize>) {
         let n = &self.net;
         let mut fused = PtNet::new();
-        fused.places = n.places.clone();
-        fused.initial = n.initial.clone();
         fused.add_transition("");
         for &(q, w) in n.pre[h].iter().chain(n.pre[f].iter().filter(|a| a.0 != p)) {
             fused.add_pre(0, q, w);
@@ -970,8 +984,7 @@ mod tests {
         let mut w = Work::new(&net);
         w.lp_budget = 0;
         assert_eq!(w.implicit(p), Implicit::No);
-        w.lp_budget = LP_BUDGET;
-        assert_eq!(w.implicit(p), Implicit::ByLp);
+        assert_eq!(Work::new(&net).implicit(p), Implicit::ByLp);
     }
 
     #[test]
