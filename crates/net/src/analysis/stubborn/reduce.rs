@@ -14,48 +14,49 @@
 //!   enabled, `t1` is when it needs in each place at most what `t` needs (input or read
 //!   arc) and each of its inhibitor arcs has one of `t` at most as heavy on the same
 //!   place; `t2` is, after `t1`, when it needs at most `t`'s need plus `t1`'s effect,
-//!   and each of its inhibitor arcs `(q, w)` has one of `t`, `(q, w')`, with
-//!   `w' + effect(t1, q) ≤ w`. Every firing of `t` can then be replaced by `t1` or
-//!   `t1 t2`, which reach the same marking: the reachable markings are the same, and so
-//!   are the dead ones (where `t` is enabled, `t1` is too), so every property asked is
-//!   kept, deadlocks included; the other transitions keep their enabling.
+//!   and each of its inhibitor arcs `(q, w)` has one of `t`, `(q, w')`, with `w' +
+//!   effect(t1, q) ≤ w`. Every firing of `t` can then be replaced by `t1` or `t1 t2`,
+//!   which reach the same marking: the reachable markings are the same, and so are the
+//!   dead ones (where `t` is enabled, `t1` is too), so every property asked is kept,
+//!   deadlocks included; the other transitions keep their enabling.
 //! - **Implicit places**: a place that never alone disables a transition: whatever it
 //!   holds, when a transition's other arcs allow it to fire, the place does too. Proven
 //!   exactly (integers) by a lower bound on its marking: weights `Y_q ≥ 0` on other
-//!   places and `D > 0` such that every transition `t` changes `D·p` at least as much as
-//!   `Σ Y_q·q` (`D·C[p,t] ≥ Σ Y_q·C[q,t]`), so that `D·m(p) ≥ Σ Y_q·m(q) + b` in every
-//!   reachable marking, `b = D·m0(p) − Σ Y_q·m0(q)`; and each transition needing `p`
-//!   (input or read arc) needs at most `D·need(t,p) ≤ Σ Y_q·need(t,q) + b`. Where `t`'s
-//!   other arcs allow it to fire, `m(q) ≥ need(t,q)`, so (`Y ≥ 0`) `D·m(p) ≥
+//!   places and `D > 0` such that every transition `t` changes `D·p` at least as much
+//!   as `Σ Y_q·q` (`D·C[p,t] ≥ Σ Y_q·C[q,t]`), so that `D·m(p) ≥ Σ Y_q·m(q) + b` in
+//!   every reachable marking, `b = D·m0(p) − Σ Y_q·m0(q)`; and each transition needing
+//!   `p` (input or read arc) needs at most `D·need(t,p) ≤ Σ Y_q·need(t,q) + b`. Where
+//!   `t`'s other arcs allow it to fire, `m(q) ≥ need(t,q)`, so (`Y ≥ 0`) `D·m(p) ≥
 //!   D·need(t,p)`. The weights come from the initial marking alone (`Y = 0`: no
 //!   transition takes more than it gives there), from one place `q` (`Y_q = D = 1`: a
 //!   copy of `q` with as many tokens or more), or else from a linear program over the
 //!   places sharing a transition with `p` (the implicit-place program of Silva, Teruel
-//!   and Colom, 1998, as a feasibility test): rows `Σ y_q·C[q,t] ≤
-//!   C[p,t]` for every transition on `p` or those places, `Σ y_q·(m0(q) − need(t,q)) ≤
-//!   m0(p) − need(t,p)` for every `t` needing `p`, solved exactly by the small rational
-//!   simplex of [`super::lp`] (Bland's rule, at most 48 places and 400 rows, a budget of
-//!   tableau-cell updates per reduction, given up on any overflow). Whatever found them,
-//!   the weights are checked again here in integers before the place is removed. The
-//!   reachable markings are the original ones without the place, and every transition
-//!   is enabled exactly where it was.
+//!   and Colom, 1998, as a feasibility test): rows `Σ y_q·C[q,t] ≤ C[p,t]` for every
+//!   transition on `p` or those places, `Σ y_q·(m0(q) − need(t,q)) ≤ m0(p) − need(t,p)`
+//!   for every `t` needing `p`, solved exactly by the small rational simplex of
+//!   [`super::lp`] (Bland's rule, at most 48 places and 400 rows, tried once per place
+//!   and reduction, all of a reduction's programs within 5 M tableau-cell updates,
+//!   given up on any overflow). Whatever found them, the weights are checked again here
+//!   in integers before the place is removed. The reachable markings are the original
+//!   ones without the place, and every transition is enabled exactly where it was.
 //! - **Pre-agglomeration** (Berthelot): a place `p`, initially empty, without read or
 //!   inhibitor arcs, filled by the transitions `H` (`w` tokens each) and emptied by `F`
 //!   (`w` each), with `|H|·|F| ≤ |H| + |F|` (one of them a single transition, or two
-//!   and two: the net does not grow), each `f` of `F` needing nothing but its `w` tokens
-//!   of `p` (so it can fire as soon as an `h` has): each `h` and `f` become one
-//!   transition `h.f`. Matching each firing of an `f` with an earlier one of an `h` whose
-//!   tokens are still in `p` (tokens are alike: first in, first out), moving every `f` to
-//!   right after the `h` that fed it keeps a firing
-//!   sequence one (nothing inhibits the places `f` fills); tokens left in `p` at the end
-//!   are moved on by firing `f`. The places read by a formula must then not be `p` nor
-//!   ones `f` fills. A dead marking has `p` empty, so deadlocks are kept too.
+//!   and two: the net does not grow), each `f` of `F` needing nothing but its `w`
+//!   tokens of `p` (so it can fire as soon as an `h` has): each `h` and `f` become one
+//!   transition `h.f`. Matching each firing of an `f` with an earlier one of an `h`
+//!   whose tokens are still in `p` (tokens are alike: first in, first out), moving
+//!   every `f` to right after the `h` that fed it keeps a firing sequence one (nothing
+//!   inhibits the places `f` fills); tokens left in `p` at the end are moved on by
+//!   firing `f`. The places read by a formula must then not be `p` nor ones `f` fills.
+//!   A dead marking has `p` empty, so deadlocks are kept too.
 //! - **Post-agglomeration** (Berthelot): the same, but each `h` of `H` gives only its
 //!   `w` tokens to `p` and has no read or inhibitor arc (so it can wait until the `f`
-//!   matched with it fires); tokens left in `p` are given back by not firing their `h`. The places read
-//!   by a formula must not be `p` nor ones `h` takes from, and nothing may inhibit
-//!   those. Off with a deadlock question (the net may be dead once `h` has fired and
-//!   `f` cannot, while in the reduced net `h`'s tokens, still there, keep it alive).
+//!   matched with it fires); tokens left in `p` are given back by not firing their `h`.
+//!   The places read by a formula must not be `p` nor ones `h` takes from, and nothing
+//!   may inhibit those. Off with a deadlock question (the net may be dead once `h` has
+//!   fired and `f` cannot, while in the reduced net `h`'s tokens, still there, keep it
+//!   alive).
 //!
 //! Agglomerations are off when a formula nests `deadlock` (other than EF deadlock
 //! itself); nothing a formula reads is removed or fused (its places, the transitions
