@@ -34,10 +34,10 @@
 //!   and Colom, 1998, as a feasibility test): rows `Σ y_q·C[q,t] ≤ C[p,t]` for every
 //!   transition on `p` or those places, `Σ y_q·(m0(q) − need(t,q)) ≤ m0(p) − need(t,p)`
 //!   for every `t` needing `p`, solved exactly by the small rational simplex of
-//!   [`super::lp`] (Bland's rule, at most 48 places and 400 rows, tried once per place
-//!   and reduction, all of a reduction's programs within 5 M tableau-cell updates,
-//!   given up on any overflow). Whatever found them, the weights are checked again here
-//!   in integers before the place is removed. The reachable markings are the original
+//!   [`super::lp`] (Bland's rule, at most 48 places and 400 rows, tried again for a
+//!   place only once one of its transitions changed, all of a reduction's programs
+//!   within 5 M tableau-cell updates, given up on any overflow). Whatever found them,
+//!   the weights are checked again here in integers before the place is removed. The reachable markings are the original
 //!   ones without the place, and every transition is enabled exactly where it was.
 //! - **Pre-agglomeration** (Berthelot): a place `p`, initially empty, without read or
 //!   inhibitor arcs, filled by the transitions `H` (`w` tokens each) and emptied by `F`
@@ -269,7 +269,8 @@ struct Work {
     applied: Applied,
     /// What the implicit places' linear programs may still spend.
     lp_budget: u64,
-    /// Per place: a linear program was tried (once per reduction).
+    /// Per place: a linear program was tried and nothing on its transitions has
+    /// changed since (a transition removed or fused).
     lp_tried: Vec<bool>,
 }
 
@@ -345,6 +346,9 @@ impl Work {
         self.alive[t] = false;
         let n = &mut self.net;
         for arcs in [&mut n.pre[t], &mut n.post[t], &mut n.reads[t], &mut n.inhibitors[t]] {
+            for &(q, _) in arcs.iter() {
+                self.lp_tried[q] = false;
+            }
             arcs.clear();
         }
     }
@@ -557,8 +561,7 @@ impl Work {
             return Implicit::Cheaply;
         }
         let n = &self.net;
-        let mut candidates: Vec<usize> = n.pre[t0].iter().chain(&n.reads[t0]).map(|&(q, _)| q).collect();
-        candidates.sort_unstable();
+        let candidates: Vec<usize> = n.pre[t0].iter().chain(&n.reads[t0]).map(|&(q, _)| q).collect();
         if candidates.iter().any(|&q| q != p && self.implied_by(p, &[(q, 1)], 1)) {
             return Implicit::Cheaply;
         }
@@ -687,6 +690,7 @@ impl Work {
         for arcs in [&fused.pre[0], &fused.post[0], &fused.reads[0], &fused.inhibitors[0]] {
             for &(q, _) in arcs {
                 self.col[q].push(into);
+                self.lp_tried[q] = false;
             }
         }
         let n = &mut self.net;
