@@ -1122,8 +1122,8 @@ mod tests {
 
     #[test]
     fn a_transition_needing_more_for_the_same_effect_is_redundant() {
-        // t: a -> b reading e (k empties it); t1: a -> b. Deadlocks are kept: t1 is enabled wherever
-        // t is.
+        // t: a -> b reading e (k empties it); t1: a -> b. Deadlocks are kept: t1 is
+        // enabled wherever t is.
         let mut net = PtNet::new();
         let (a, b, e) = (net.add_place("a", 1), net.add_place("b", 0), net.add_place("e", 1));
         let t = net.add_transition("t");
