@@ -1060,7 +1060,7 @@ mod structural_reductions {
     prop_compose! {
         fn reducible()(init in prop::collection::vec(0u32..3, N),
                        arcs in prop::collection::vec((0..N, 0..N, 0u32..3, 0u32..3, 0u32..10), 4..14),
-                       pieces in prop::collection::vec((0u8..4, 0..N, 0..N, 0u32..3, any::<bool>()), 1..5)) -> PtNet {
+                       pieces in prop::collection::vec((0u8..6, 0..N, 0..N, 0u32..3, any::<bool>()), 1..5)) -> PtNet {
             let mut net = PtNet::new();
             for (i, &m) in init.iter().enumerate() { net.add_place(&format!("p{i}"), m); }
             for i in 0..N { net.add_transition(&format!("t{i}")); }
@@ -1077,8 +1077,11 @@ mod structural_reductions {
     }
 
     /// One piece: a chain from `a` to `b` (`f` free, or `h` giving only to the middle
-    /// place and `f` needing another place); a copy of place `a` with `c - 1` tokens
-    /// more; a copy of transition `a`.
+    /// place and `f` needing another place; with `c = 2` also one from `b` to `a`
+    /// through the same place, two and two); a copy of place `a` with `c - 1` tokens
+    /// more; a copy of transition `a`; a place holding `a + b` with `c - 1` tokens more;
+    /// a transition doing what `a` then `b` do (with `a`'s read and inhibitor arcs or
+    /// without).
     fn add_piece(net: &mut PtNet, k: usize, (kind, a, b, c, flag): Piece) {
         match kind {
             0 | 1 => {
@@ -1097,6 +1100,15 @@ mod structural_reductions {
                     let x = net.add_place(&format!("x{k}"), 0);
                     net.add_post(if kind == 1 { f } else { h }, x, 1);
                 }
+                if c == 2 {
+                    // Two and two: b -> p -> a as well.
+                    let h2 = net.add_transition(&format!("h{k}'"));
+                    net.add_pre(h2, b, 1);
+                    net.add_post(h2, p, 1);
+                    let f2 = net.add_transition(&format!("f{k}'"));
+                    net.add_pre(f2, p, 1);
+                    net.add_post(f2, a, 1);
+                }
             }
             2 => {
                 let q = net.add_place(&format!("copy{k}"), (net.initial[a] + c).saturating_sub(1));
@@ -1110,6 +1122,44 @@ mod structural_reductions {
                     }
                     if flag && weight(&net.reads[t], a) > 0 {
                         net.add_read(t, q, 1);
+                    }
+                }
+            }
+            4 => {
+                let m0 = (net.initial[a] + net.initial[b] + c).saturating_sub(1);
+                let q = net.add_place(&format!("sum{k}"), m0);
+                for t in 0..net.transitions.len() {
+                    let w = |arcs: &[Vec<(usize, u32)>]| weight(&arcs[t], a) + weight(&arcs[t], b);
+                    let (pre, post) = (w(&net.pre), w(&net.post));
+                    if pre > 0 {
+                        net.add_pre(t, q, pre);
+                    }
+                    if post > 0 {
+                        net.add_post(t, q, post);
+                    }
+                    if flag && w(&net.reads) > 0 {
+                        net.add_read(t, q, 1);
+                    }
+                }
+            }
+            5 => {
+                let t = net.add_transition(&format!("seq{k}"));
+                for q in 0..net.places.len() {
+                    let (pa, qa) = (weight(&net.pre[a], q), weight(&net.post[a], q));
+                    let (pb, qb) = (weight(&net.pre[b], q), weight(&net.post[b], q));
+                    if pa + pb.saturating_sub(qa) > 0 {
+                        net.add_pre(t, q, pa + pb.saturating_sub(qa));
+                    }
+                    if qb + qa.saturating_sub(pb) > 0 {
+                        net.add_post(t, q, qb + qa.saturating_sub(pb));
+                    }
+                }
+                if flag {
+                    for (q, w) in net.reads[a].clone() {
+                        net.add_read(t, q, w);
+                    }
+                    for (q, w) in net.inhibitors[a].clone() {
+                        net.add_inhibitor(t, q, w);
                     }
                 }
             }
@@ -1244,6 +1294,8 @@ mod structural_reductions {
             ("implicit places", total.implicit_places),
             ("dead transitions", total.dead_transitions),
             ("duplicate transitions", total.duplicate_transitions),
+            ("redundant transitions", total.redundant_transitions),
+            ("implicit places over several places", total.implicit_places_lp),
             ("pre-agglomerations", total.pre_agglomerations),
             ("post-agglomerations", total.post_agglomerations),
         ] {

@@ -20,6 +20,7 @@
 //! Before exploring, [`answer`] slices the net and applies the structural reductions of
 //! [`reduce`] (with [`CheckOptions::reduce`]).
 
+mod lp;
 pub mod reduce;
 
 use super::formula::{Index, Property, Query};

@@ -523,6 +523,9 @@ fn examinations_match_the_contest() {
     let (before, after) = &explored["ReachabilityDeadlock"];
     assert!(after.states < before.states, "{before:?} {after:?}");
     assert!(after.places_removed > 0 && after.transitions_removed > 0);
+    // Each rule applies on the corpus's nets (not only on the generated ones).
+    let a = after.applied;
+    assert!(a.implicit_places_lp > 0 && a.redundant_transitions > 0, "{a:?}");
 }
 
 /// Point 6 of issue 38, the examinations: every formula of `UpperBounds`,
