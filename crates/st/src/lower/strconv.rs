@@ -506,6 +506,78 @@ impl Lower<'_> {
         r
     }
 
+    /// The rungs of a literal's prefix for one character, read in phase
+    /// `at[0]`: spaces, then letters (and `_` when `under`), which set
+    /// `prefix`, and its `#`, which moves to phase `at[1]`; once a prefix
+    /// began, any other character moves to `at[2]` (the reading ends).
+    fn prefix_rungs(&mut self, r: Reading, at: [I; 3], prefix: B, under: bool) {
+        let c = |l: &mut Self, v: u8| l.b.const_i(i32::from(v));
+        let (space, hash, la, lz, us) = (
+            c(self, b' '),
+            c(self, b'#'),
+            c(self, b'a'),
+            c(self, b'z'),
+            c(self, b'_'),
+        );
+        self.emit(Op::Xio(r.done));
+        self.emit(Op::Xio(prefix));
+        self.emit(Op::CmpI(Cmp::Eq, r.phase, at[0]));
+        self.emit(Op::CmpI(Cmp::Eq, r.ch, space));
+        self.emit(Op::Otl(r.done));
+        self.emit(Op::True);
+        self.emit(Op::Xio(r.done));
+        self.emit(Op::CmpI(Cmp::Eq, r.phase, at[0]));
+        self.emit(Op::CmpI(Cmp::Ge, r.lc, la));
+        self.emit(Op::CmpI(Cmp::Le, r.lc, lz));
+        self.emit(Op::Otl(prefix));
+        self.emit(Op::Otl(r.done));
+        self.emit(Op::True);
+        let marks = if under {
+            vec![(us, at[0]), (hash, at[1])]
+        } else {
+            vec![(hash, at[1])]
+        };
+        for (mark, next) in marks {
+            self.emit(Op::Xio(r.done));
+            self.emit(Op::Xic(prefix));
+            self.emit(Op::CmpI(Cmp::Eq, r.phase, at[0]));
+            self.emit(Op::CmpI(Cmp::Eq, r.ch, mark));
+            self.emit(Op::UnI(IUn::Mov, next, r.phase));
+            self.emit(Op::Otl(r.done));
+            self.emit(Op::True);
+        }
+        self.emit(Op::Xio(r.done));
+        self.emit(Op::Xic(prefix));
+        self.emit(Op::CmpI(Cmp::Eq, r.phase, at[0]));
+        self.emit(Op::UnI(IUn::Mov, at[2], r.phase));
+        self.emit(Op::Otl(r.done));
+        self.emit(Op::True);
+    }
+
+    /// The rung of a digit of a fraction, read in phase `at` (`dl` its
+    /// value): of the fraction `frac` / `scale`, the first three digits count
+    /// (`fd` those so far), the others are read.
+    fn fraction_rung(&mut self, r: Reading, dl: L, at: I, [frac, scale]: [L; 2], fd: I) {
+        let (c0, c9, one, three) = (
+            self.b.const_i(48),
+            self.b.const_i(57),
+            self.b.const_i(1),
+            self.b.const_i(3),
+        );
+        let tenl = self.b.const_l(10);
+        self.emit(Op::Xio(r.done));
+        self.emit(Op::CmpI(Cmp::Ge, r.ch, c0));
+        self.emit(Op::CmpI(Cmp::Le, r.ch, c9));
+        self.emit(Op::CmpI(Cmp::Eq, r.phase, at));
+        self.emit(Op::Otl(r.done));
+        self.emit(Op::CmpI(Cmp::Lt, fd, three));
+        self.emit(Op::BinL(IBin::Mul, frac, tenl, frac));
+        self.emit(Op::BinL(IBin::Add, frac, dl, frac));
+        self.emit(Op::BinL(IBin::Mul, scale, tenl, scale));
+        self.emit(Op::BinI(IBin::Add, fd, one, fd));
+        self.emit(Op::True);
+    }
+
     /// `STRING_TO_TIME`, `STRING_TO_LTIME`: a duration literal, as
     /// `TIME_TO_STRING` writes it and more: spaces first skipped, an optional
     /// prefix (letters and `#`: `T#`, `TIME#`, `LT#`, `LTIME#`, any case), an
@@ -523,17 +595,10 @@ impl Lower<'_> {
         let letter = |l: &mut Self, c: u8| l.b.const_i(i32::from(c));
         let ph: Vec<I> = (0..5).map(|k| ci(self, k)).collect();
         let (zl, onel, tenl) = (cl(self, 0), cl(self, 1), cl(self, 10));
-        let (c0, c9, one, three) = (ci(self, 48), ci(self, 57), ci(self, 1), ci(self, 3));
+        let (c0, c9) = (ci(self, 48), ci(self, 57));
         // (`c | 32` is the lower case of a letter, and leaves digits and signs as they are)
-        let (space, hash, minus, plus, under, point) = (
-            ci(self, 32),
-            ci(self, 35),
-            ci(self, 45),
-            ci(self, 43),
-            ci(self, 95),
-            ci(self, 46),
-        );
-        let (la, lz, ls) = (letter(self, b'a'), letter(self, b'z'), letter(self, b's'));
+        let (space, minus, plus, under, point) = (ci(self, 32), ci(self, 45), ci(self, 43), ci(self, 95), ci(self, 46));
+        let ls = letter(self, b's');
         // Phase 0: spaces and the prefix; 1: a group may start; 2: its digits;
         // 3: its fraction; 4: ended.
         let (phase, fd, lc, d) = (self.b.temp_i(), self.b.temp_i(), self.b.temp_i(), self.b.temp_i());
@@ -614,32 +679,8 @@ impl Lower<'_> {
             self.emit(Op::True);
             apply(self);
             // Phase 0: spaces, then the prefix's letters and its `#`.
-            self.emit(Op::Xio(done));
-            self.emit(Op::Xio(prefix));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::CmpI(Cmp::Eq, ch, space));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
-            self.emit(Op::Xio(done));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::CmpI(Cmp::Ge, lc, la));
-            self.emit(Op::CmpI(Cmp::Le, lc, lz));
-            self.emit(Op::Otl(prefix));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
-            self.emit(Op::Xio(done));
-            self.emit(Op::Xic(prefix));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::CmpI(Cmp::Eq, ch, hash));
-            self.emit(Op::UnI(IUn::Mov, ph[1], phase));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
-            self.emit(Op::Xio(done));
-            self.emit(Op::Xic(prefix));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::UnI(IUn::Mov, ph[4], phase));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
+            let reading = Reading { ch, lc, phase, done };
+            self.prefix_rungs(reading, [ph[0], ph[1], ph[4]], prefix, false);
             // A sign before the first group.
             for (sign, flag) in [(minus, Some(neg)), (plus, None)] {
                 self.emit(Op::Xio(done));
@@ -666,17 +707,7 @@ impl Lower<'_> {
             self.emit(Op::UnI(IUn::Mov, ph[2], phase));
             self.emit(Op::Otl(done));
             self.emit(Op::True);
-            self.emit(Op::Xio(done));
-            self.emit(Op::CmpI(Cmp::Ge, ch, c0));
-            self.emit(Op::CmpI(Cmp::Le, ch, c9));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[3]));
-            self.emit(Op::Otl(done));
-            self.emit(Op::CmpI(Cmp::Lt, fd, three));
-            self.emit(Op::BinL(IBin::Mul, frac, tenl, frac));
-            self.emit(Op::BinL(IBin::Add, frac, dl, frac));
-            self.emit(Op::BinL(IBin::Mul, scale, tenl, scale));
-            self.emit(Op::BinI(IBin::Add, fd, one, fd));
-            self.emit(Op::True);
+            self.fraction_rung(reading, dl, ph[3], [frac, scale], fd);
             // `_` between digits or groups, the point after digits.
             self.emit(Op::Xio(done));
             self.emit(Op::CmpI(Cmp::Ge, phase, ph[2]));
@@ -778,17 +809,8 @@ impl Lower<'_> {
         let ph: Vec<I> = (0..4).map(|k| ci(self, k)).collect();
         let at: Vec<I> = (0..fields as i32).map(|k| ci(self, k)).collect();
         let (zl, onel, tenl) = (cl(self, 0), cl(self, 1), cl(self, 10));
-        let (zero, one, three) = (ci(self, 0), ci(self, 1), ci(self, 3));
-        let (space, hash, under, point, c0, c9, la, lz) = (
-            ci(self, 32),
-            ci(self, 35),
-            ci(self, 95),
-            ci(self, 46),
-            ci(self, 48),
-            ci(self, 57),
-            ci(self, 97),
-            ci(self, 122),
-        );
+        let (zero, one) = (ci(self, 0), ci(self, 1));
+        let (space, under, point, c0, c9) = (ci(self, 32), ci(self, 95), ci(self, 46), ci(self, 48), ci(self, 57));
         // Phase 0: spaces and the prefix; 1: the fields; 2: the fraction; 3: ended.
         let (phase, f, nd, fd, lc, d) = [(); 6].map(|_| self.b.temp_i()).into();
         let acc: Vec<L> = (0..fields).map(|_| self.b.temp_l()).collect();
@@ -811,34 +833,8 @@ impl Lower<'_> {
             self.emit(Op::True);
             // Phase 0: spaces, then the prefix's letters and `_`, and its `#`;
             // a prefix without its `#` ends the reading.
-            self.emit(Op::Xio(done));
-            self.emit(Op::Xio(prefix));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::CmpI(Cmp::Eq, ch, space));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
-            self.emit(Op::Xio(done));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::CmpI(Cmp::Ge, lc, la));
-            self.emit(Op::CmpI(Cmp::Le, lc, lz));
-            self.emit(Op::Otl(prefix));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
-            for (c, next) in [(under, ph[0]), (hash, ph[1])] {
-                self.emit(Op::Xio(done));
-                self.emit(Op::Xic(prefix));
-                self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-                self.emit(Op::CmpI(Cmp::Eq, ch, c));
-                self.emit(Op::UnI(IUn::Mov, next, phase));
-                self.emit(Op::Otl(done));
-                self.emit(Op::True);
-            }
-            self.emit(Op::Xio(done));
-            self.emit(Op::Xic(prefix));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[0]));
-            self.emit(Op::UnI(IUn::Mov, ph[3], phase));
-            self.emit(Op::Otl(done));
-            self.emit(Op::True);
+            let reading = Reading { ch, lc, phase, done };
+            self.prefix_rungs(reading, [ph[0], ph[1], ph[3]], prefix, true);
             // A digit: of the current field (phases 0 and 1), or of the
             // fraction (2; the fourth and later are read but do not count).
             self.emit(Op::BinI(IBin::Sub, ch, c0, d));
@@ -861,17 +857,7 @@ impl Lower<'_> {
             self.emit(Op::BinI(IBin::Add, nd, one, nd));
             self.emit(Op::Otl(done));
             self.emit(Op::True);
-            self.emit(Op::Xio(done));
-            self.emit(Op::CmpI(Cmp::Ge, ch, c0));
-            self.emit(Op::CmpI(Cmp::Le, ch, c9));
-            self.emit(Op::CmpI(Cmp::Eq, phase, ph[2]));
-            self.emit(Op::Otl(done));
-            self.emit(Op::CmpI(Cmp::Lt, fd, three));
-            self.emit(Op::BinL(IBin::Mul, frac, tenl, frac));
-            self.emit(Op::BinL(IBin::Add, frac, dl, frac));
-            self.emit(Op::BinL(IBin::Mul, scale, tenl, scale));
-            self.emit(Op::BinI(IBin::Add, fd, one, fd));
-            self.emit(Op::True);
+            self.fraction_rung(reading, dl, ph[2], [frac, scale], fd);
             // `_` after a digit; a field's separator after its digits; the
             // point after the seconds' digits.
             self.emit(Op::Xio(done));
@@ -1189,4 +1175,14 @@ impl Lower<'_> {
             Fp::D(d) => V::D(d),
         }
     }
+}
+
+/// The slots of a literal's reading, one character at a time: the character,
+/// its lower case (`c | 32`), the phase, and whether the character is read.
+#[derive(Clone, Copy)]
+struct Reading {
+    ch: I,
+    lc: I,
+    phase: I,
+    done: B,
 }
