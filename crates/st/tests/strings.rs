@@ -508,6 +508,24 @@ fn conversions_between_strings_and_reals_times_and_bools() {
     assert_eq!(faults, 0);
 }
 
+/// `s<k> := exprs[k];` into STRINGs `s<k>`, run in every mode: their values and the
+/// faults.
+fn strings_of(exprs: &[String]) -> (Vec<String>, u64) {
+    let body: String = exprs
+        .iter()
+        .enumerate()
+        .map(|(k, e)| format!("s{k} := {e};\n"))
+        .collect();
+    let vars: Vec<String> = (0..exprs.len()).map(|k| format!("s{k}")).collect();
+    let program = format!(
+        "PROGRAM Main VAR {} : STRING; END_VAR\n{body}END_PROGRAM",
+        vars.join(", ")
+    );
+    let read: Vec<String> = vars.iter().map(|v| format!("Main.{v}")).collect();
+    let watch: Vec<W> = read.iter().map(|r| W::S(r.as_str())).collect();
+    once("name,type\nN,INT\n", &program, &watch)
+}
+
 #[test]
 fn durations_read_from_strings() {
     let texts = [
@@ -555,26 +573,17 @@ fn durations_read_from_strings() {
         ("1m1s", "LTIME#1m1s"),
         ("3u", "LTIME#0ns"),
     ];
-    let mut body = String::new();
-    let mut read = Vec::new();
-    for (k, t) in texts.iter().enumerate() {
-        body.push_str(&format!("s{k} := TIME_TO_STRING(STRING_TO_TIME('{t}'));\n"));
-        read.push(format!("Main.s{k}"));
-    }
-    for (k, (t, _)) in long.iter().enumerate() {
-        body.push_str(&format!("l{k} := LTIME_TO_STRING(STRING_TO_LTIME('{t}'));\n"));
-        read.push(format!("Main.l{k}"));
-    }
-    // TIME_TO_STRING's text reads back as the same duration.
-    body.push_str("r := TIME_TO_STRING(STRING_TO_TIME(TIME_TO_STRING(T#-3d4h5m6s7ms)));\n");
-    read.push("Main.r".into());
-    let vars: Vec<String> = read.iter().map(|r| r.trim_start_matches("Main.").to_string()).collect();
-    let program = format!(
-        "PROGRAM Main VAR {} : STRING; END_VAR\n{body}END_PROGRAM",
-        vars.join(", ")
+    let mut texts_of: Vec<String> = texts
+        .iter()
+        .map(|t| format!("TIME_TO_STRING(STRING_TO_TIME('{t}'))"))
+        .collect();
+    texts_of.extend(
+        long.iter()
+            .map(|(t, _)| format!("LTIME_TO_STRING(STRING_TO_LTIME('{t}'))")),
     );
-    let watch: Vec<W> = read.iter().map(|r| W::S(r.as_str())).collect();
-    let (v, faults) = once("name,type\nN,INT\n", &program, &watch);
+    // TIME_TO_STRING's text reads back as the same duration.
+    texts_of.push("TIME_TO_STRING(STRING_TO_TIME(TIME_TO_STRING(T#-3d4h5m6s7ms)))".into());
+    let (v, faults) = strings_of(&texts_of);
     let mut expected: Vec<&str> = want.to_vec();
     expected.extend(long.iter().map(|(_, w)| *w));
     expected.push("T#-3d4h5m6s7ms");
@@ -620,23 +629,14 @@ fn dates_read_from_strings() {
         ("DT", "DT#2024-02-29", "DT#1970-01-01-00:00:00"),
         ("DT", "DT#2024-02-30-01:00", "DT#1970-01-01-00:00:00"),
     ];
-    let mut body = String::new();
-    let mut read = Vec::new();
-    for (k, (f, t, _)) in cases.iter().enumerate() {
-        body.push_str(&format!("s{k} := {f}_TO_STRING(STRING_TO_{f}('{t}'));\n"));
-        read.push(format!("Main.s{k}"));
-    }
+    let mut texts_of: Vec<String> = cases
+        .iter()
+        .map(|(f, t, _)| format!("{f}_TO_STRING(STRING_TO_{f}('{t}'))"))
+        .collect();
     // What *_TO_STRING writes reads back as the same value.
-    body.push_str("r0 := DT_TO_STRING(STRING_TO_DT(DT_TO_STRING(DT#1987-06-05-04:03:02.1)));\n");
-    body.push_str("r1 := DATE_TO_STRING(STRING_TO_DATE(DATE_TO_STRING(D#1600-03-01)));\n");
-    read.extend(["Main.r0".to_string(), "Main.r1".to_string()]);
-    let vars: Vec<String> = read.iter().map(|r| r.trim_start_matches("Main.").to_string()).collect();
-    let program = format!(
-        "PROGRAM Main VAR {} : STRING; END_VAR\n{body}END_PROGRAM",
-        vars.join(", ")
-    );
-    let watch: Vec<W> = read.iter().map(|r| W::S(r.as_str())).collect();
-    let (v, faults) = once("name,type\nN,INT\n", &program, &watch);
+    texts_of.push("DT_TO_STRING(STRING_TO_DT(DT_TO_STRING(DT#1987-06-05-04:03:02.1)))".into());
+    texts_of.push("DATE_TO_STRING(STRING_TO_DATE(DATE_TO_STRING(D#1600-03-01)))".into());
+    let (v, faults) = strings_of(&texts_of);
     let mut expected: Vec<&str> = cases.iter().map(|(_, _, w)| *w).collect();
     expected.extend(["DT#1987-06-05-04:03:02.1", "D#1600-03-01"]);
     assert_eq!(v, expected);

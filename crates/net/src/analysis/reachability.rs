@@ -610,13 +610,6 @@ impl Store {
         self.probe(segment(h), h, words).ok()
     }
 
-    /// The table entry at the home slot of `h` (a load that brings it into the cache).
-    #[inline]
-    fn home_entry(&self, h: u64) -> u32 {
-        let table = &self.segments[segment(h)];
-        table[home(h, table.len())]
-    }
-
     /// The home slot of hash `h`.
     #[inline]
     fn home_slot(&self, h: u64) -> &u32 {
@@ -1428,6 +1421,7 @@ pub fn tarjan(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Component
     let mut next = vec![0u64; w];
     let mut succ_hashes: Vec<u64> = Vec::new();
     let mut succ_words: Vec<u64> = Vec::new();
+    let mut found: Vec<u32> = Vec::new();
     // rindex: 0 = unvisited; while on the stack the DFS index; when done the component id.
     let mut rindex = vec![0u32; n];
     let mut done = vec![0u64; n.div_ceil(64)];
@@ -1459,16 +1453,8 @@ pub fn tarjan(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Component
             succ_hashes.push(finish(lin.wrapping_add(packed_net.hash_shift[t])));
             succ_words.extend_from_slice(&next);
         }
-        let mut touched = 0u32;
-        for &h in &succ_hashes {
-            touched = touched.wrapping_add(g.store.home_entry(h));
-        }
-        std::hint::black_box(touched);
-        for (k, &h) in succ_hashes.iter().enumerate() {
-            if let Some(i) = g.store.find(h, &succ_words[k * w..(k + 1) * w]) {
-                edges.push(i);
-            }
-        }
+        g.store.find_all(&succ_hashes, &succ_words, &mut found);
+        edges.extend(found.iter().filter(|&&i| i != EMPTY));
     };
     for start in 0..n {
         if rindex[start] != 0 || is(&done, start) {
