@@ -224,7 +224,7 @@ impl Packed {
 
     /// Whether `t` is enabled in `w`, whose marked places are `marked` ([`Layout::marked`]):
     /// most transitions are told by their needs alone.
-    #[inline]
+    #[inline(always)]
     fn enabled_in(&self, w: &[u64], marked: u64, t: usize) -> bool {
         match self.needs.get(t) {
             Some(&(need, _)) if marked & need != need => false,
@@ -235,7 +235,7 @@ impl Packed {
 
     /// Fires enabled `t` from `cur` into `next`; `Err(p)` when place `p` would overflow
     /// its field.
-    #[inline]
+    #[inline(always)]
     fn fire(&self, cur: &[u64], next: &mut [u64], t: usize) -> Result<(), usize> {
         for &(f, p) in &self.grow[t] {
             if f.get(cur) + f.weight > f.mask {
@@ -527,7 +527,7 @@ impl Store {
     }
 
     /// Whether state `i` is `words`.
-    #[inline]
+    #[inline(always)]
     fn equal(&self, i: usize, words: &[u64]) -> bool {
         let n = self.layout.bytes;
         let chunk = &self.chunks[i / CHUNK_STATES];
@@ -583,7 +583,7 @@ impl Store {
 
     /// Probes segment `seg` for `words` (hash `h`): `Ok(index)` when present, else
     /// `Err(slot)`, the empty slot where it would go.
-    #[inline]
+    #[inline(always)]
     fn probe(&self, seg: usize, h: u64, words: &[u64]) -> Result<u32, usize> {
         let table = &self.segments[seg];
         let n = table.len();
@@ -605,7 +605,7 @@ impl Store {
     }
 
     /// Index of `words` (hash `h`) if present.
-    #[inline]
+    #[inline(always)]
     fn find(&self, h: u64, words: &[u64]) -> Option<u32> {
         self.probe(segment(h), h, words).ok()
     }
@@ -622,7 +622,18 @@ impl Store {
     /// slot [`AHEAD`] look-ups in advance, and for the state that slot names half as far
     /// ([`prefetch`]), so that the cache misses of several look-ups overlap.
     fn find_all(&self, hashes: &[u64], words: &[u64], found: &mut Vec<u32>) {
-        let w = self.layout.words;
+        match self.layout.words {
+            1 => self.find_all_in::<1>(hashes, words, found),
+            2 => self.find_all_in::<2>(hashes, words, found),
+            _ => self.find_all_in::<0>(hashes, words, found),
+        }
+    }
+
+    /// [`Store::find_all`] for markings of `W` words (0: any number), so that the
+    /// compiler knows the markings' length in the most common cases.
+    #[inline]
+    fn find_all_in<const W: usize>(&self, hashes: &[u64], words: &[u64], found: &mut Vec<u32>) {
+        let w = if W > 0 { W } else { self.layout.words };
         found.clear();
         found.resize(hashes.len(), EMPTY);
         for (k, &h) in hashes.iter().enumerate() {
@@ -939,8 +950,17 @@ impl Scan {
     /// The successors of states `from..to`, looked up in `store` (read only) together
     /// ([`Store::find_all`]).
     fn scan(&mut self, store: &Store, packed: &Packed, count_tokens: bool, from: usize, to: usize) {
+        match store.layout.words {
+            1 => self.scan_in::<1>(store, packed, count_tokens, from, to),
+            2 => self.scan_in::<2>(store, packed, count_tokens, from, to),
+            _ => self.scan_in::<0>(store, packed, count_tokens, from, to),
+        }
+    }
+
+    /// [`Scan::scan`] for markings of `W` words (0: any number).
+    fn scan_in<const W: usize>(&mut self, store: &Store, packed: &Packed, count_tokens: bool, from: usize, to: usize) {
         let layout = &store.layout;
-        let w = layout.words;
+        let w = if W > 0 { W } else { layout.words };
         let nt = packed.tests.len();
         self.new.clear();
         self.words.clear();
@@ -954,6 +974,7 @@ impl Scan {
         self.succ_hashes.clear();
         self.from_to.clear();
         let (cur, succ, hashes) = (&mut self.cur, &mut self.succ, &mut self.succ_hashes);
+        let cur = &mut cur[..w];
         'states: for x in from..to {
             store.load(x, cur);
             let lin = layout.linear(cur);
@@ -969,7 +990,7 @@ impl Scan {
                 self.fired[t] = true;
                 let k = succ.len();
                 succ.resize(k + w, 0);
-                if let Err(p) = packed.fire(cur, &mut succ[k..], t) {
+                if let Err(p) = packed.fire(cur, &mut succ[k..k + w], t) {
                     succ.truncate(before * w);
                     hashes.truncate(before);
                     self.from_to.truncate(before);
@@ -988,8 +1009,8 @@ impl Scan {
         }
         // Most successors of a batch are successors of other states of the batch too
         // (60 % on Kanban): only the first of each marking is looked up.
-        let n = dedupe(hashes, succ, &mut self.from_to, w, &mut self.local);
-        store.find_all(&hashes[..n], &succ[..n * w], &mut self.found);
+        let n = dedupe::<W>(hashes, succ, &mut self.from_to, w, &mut self.local);
+        store.find_all_in::<W>(&hashes[..n], &succ[..n * w], &mut self.found);
         for (k, &h) in hashes[..n].iter().enumerate().filter(|&(k, _)| self.found[k] == EMPTY) {
             self.new.push(self.from_to[k]);
             self.words.extend_from_slice(&succ[k * w..(k + 1) * w]);
@@ -1002,7 +1023,14 @@ impl Scan {
 /// `hashes`, origins `from_to`), moved to the front in their order: their number. `local`
 /// is the table of the ones kept (their positions), an open-addressing table by the
 /// hashes' low bits.
-fn dedupe(hashes: &mut [u64], succ: &mut [u64], from_to: &mut [(u32, u32)], w: usize, local: &mut Vec<u32>) -> usize {
+fn dedupe<const W: usize>(
+    hashes: &mut [u64],
+    succ: &mut [u64],
+    from_to: &mut [(u32, u32)],
+    w: usize,
+    local: &mut Vec<u32>,
+) -> usize {
+    let w = if W > 0 { W } else { w };
     let size = (2 * hashes.len()).next_power_of_two().max(16);
     local.clear();
     local.resize(size, EMPTY);
