@@ -1179,6 +1179,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
         // The candidates: the successors not found, part after part up to the first
         // overflow, in the order of their states and transitions.
         let mut overflow = None;
+        let mut contributing = 0;
         new.clear();
         words.clear();
         hashes.clear();
@@ -1190,6 +1191,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             }
             fired.iter_mut().zip(&part.fired).for_each(|(f, &g)| *f |= g);
             max_tokens = max_tokens.max(part.max_tokens);
+            contributing += usize::from(!part.new.is_empty());
             new.extend_from_slice(&part.new);
             words.extend_from_slice(&part.words);
             hashes.extend_from_slice(&part.hashes);
@@ -1199,10 +1201,13 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             }
         }
         // The first candidate of each marking is a new state; the others are found in
-        // `seen`, a small table of the batch's candidates.
+        // `seen`, a small table of the batch's candidates. A part's candidates are all
+        // different ([`dedupe`]): with one part, each is the first.
         let size = (2 * new.len()).next_power_of_two().max(16);
         seen.clear();
-        seen.resize(size, EMPTY);
+        if contributing > 1 {
+            seen.resize(size, EMPTY);
+        }
         let budget = limits.memory.saturating_sub(levels.capacity() * 4);
         for (k, &(x, t)) in new.iter().enumerate() {
             if let Some(&ahead) = hashes.get(k + AHEAD) {
@@ -1246,7 +1251,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
                 }
             }
             let mut slot = h as usize & (size - 1);
-            let first = loop {
+            let first = contributing <= 1 || loop {
                 let j = seen[slot] as usize;
                 if j == EMPTY as usize {
                     seen[slot] = k as u32;
