@@ -124,20 +124,38 @@ impl Field {
     }
 }
 
-/// The transitions compiled onto a layout.
+/// The transitions compiled onto a layout: a record per transition, its arcs in three
+/// arrays shared by all (so that a state's successors are computed from a few cache
+/// lines).
 struct Packed {
-    /// Enabling tests: `(field, weight, at least)`; `at least` false for inhibitors.
-    tests: Vec<Vec<(Field, bool)>>,
-    /// Per transition, per word: what firing adds (wrapping: removal as two's complement).
-    delta: Vec<Vec<(u32, u64)>>,
-    /// Per transition: the places it adds to, with what it adds (`post - pre`, > 0).
-    grow: Vec<Vec<(Field, usize)>>,
-    /// Per transition: what firing adds to the hash's sum (`Σ (post - pre)[p] · weight(p)`).
-    hash_shift: Vec<u64>,
-    /// Per transition: the places it needs a token in (bit `p` for place `p`), and whether
-    /// that is all its tests say (weights 1, no inhibitor arc); all empty when the layout
-    /// has no tables of marked places ([`Layout::marked`]).
-    needs: Vec<(u64, bool)>,
+    trans: Vec<Trans>,
+    /// Enabling tests: `(field with the weight, at least)`; `at least` false for
+    /// inhibitors.
+    tests: Vec<(Field, bool)>,
+    /// Per word: what firing adds (wrapping: removal as two's complement).
+    delta: Vec<(u32, u64)>,
+    /// The places a transition adds to, with what it adds (`post - pre`, > 0).
+    grow: Vec<(Field, usize)>,
+}
+
+/// One transition of [`Packed`]: its parts of the shared arrays, and what its firing
+/// adds to the hash's sum.
+#[derive(Clone, Copy)]
+struct Trans {
+    tests: (u32, u32),
+    delta: (u32, u32),
+    grow: (u32, u32),
+    /// `Σ (post - pre)[p] · weight(p)`.
+    hash_shift: u64,
+    /// The places it needs a token in (bit `p` for place `p`); 0 when the layout has no
+    /// tables of marked places ([`Layout::marked`]).
+    need: u64,
+    /// Whether `need` is all its tests say (weights 1, no inhibitor arc, tables there).
+    by_need: bool,
+}
+
+fn range<T>(v: &[T], (a, b): (u32, u32)) -> &[T] {
+    &v[a as usize..b as usize]
 }
 
 impl Packed {
@@ -153,9 +171,13 @@ impl Packed {
             weight: u64::from(w),
         };
         let nt = net.transitions.len();
-        let mut tests = Vec::with_capacity(nt);
-        let mut needs = Vec::with_capacity(nt);
-        let mut delta = Vec::with_capacity(nt);
+        let mut packed = Packed {
+            trans: Vec::with_capacity(nt),
+            tests: Vec::new(),
+            delta: Vec::new(),
+            grow: Vec::new(),
+        };
+        let at = |v: usize| v as u32;
         for t in 0..nt {
             // Inputs and reads with the same place: the larger weight is the test.
             let mut need: Vec<(usize, u32)> = net.pre[t].clone();
@@ -165,17 +187,20 @@ impl Packed {
                     None => need.push((p, w)),
                 }
             }
-            if !layout.marked_by_byte.is_empty() {
-                let mask = need.iter().fold(0u64, |m, &(p, _)| m | 1 << p);
-                needs.push((mask, net.inhibitors[t].is_empty() && need.iter().all(|&(_, w)| w == 1)));
-            }
-            let mut v: Vec<(Field, bool)> = need.iter().map(|&(p, w)| (field(p, w), true)).collect();
-            v.extend(net.inhibitors[t].iter().map(|&(p, w)| (field(p, w), false)));
-            tests.push(v);
-            let mut d: Vec<(u32, u64)> = Vec::new();
-            let mut add = |word: u32, x: u64| match d.iter_mut().find(|(w, _)| *w == word) {
+            let tables = !layout.marked_by_byte.is_empty();
+            let mask = if tables {
+                need.iter().fold(0u64, |m, &(p, _)| m | 1 << p)
+            } else {
+                0
+            };
+            let by_need = tables && net.inhibitors[t].is_empty() && need.iter().all(|&(_, w)| w == 1);
+            let tests = at(packed.tests.len());
+            packed.tests.extend(need.iter().map(|&(p, w)| (field(p, w), true)));
+            packed.tests.extend(net.inhibitors[t].iter().map(|&(p, w)| (field(p, w), false)));
+            let delta = at(packed.delta.len());
+            let mut add = |word: u32, x: u64| match packed.delta[delta as usize..].iter_mut().find(|(w, _)| *w == word) {
                 Some((_, v)) => *v = v.wrapping_add(x),
-                None => d.push((word, x)),
+                None => packed.delta.push((word, x)),
             };
             for &(p, w) in &net.pre[t] {
                 add(layout.word[p], (u64::from(w) << layout.shift[p]).wrapping_neg());
@@ -183,41 +208,38 @@ impl Packed {
             for &(p, w) in &net.post[t] {
                 add(layout.word[p], u64::from(w) << layout.shift[p]);
             }
-            d.retain(|&(_, x)| x != 0);
-            delta.push(d);
+            let kept: Vec<(u32, u64)> = packed.delta.drain(delta as usize..).filter(|&(_, x)| x != 0).collect();
+            packed.delta.extend(kept);
+            let grow = at(packed.grow.len());
+            packed.grow.extend(net.post[t].iter().filter_map(|&(p, w)| {
+                let taken = net.pre[t].iter().find(|(q, _)| *q == p).map_or(0, |&(_, v)| v);
+                (w > taken).then(|| (field(p, w - taken), p))
+            }));
+            let sum = |arcs: &[(usize, u32)]| {
+                arcs.iter()
+                    .fold(0u64, |h, &(p, w)| h.wrapping_add(u64::from(w).wrapping_mul(place_weight(p))))
+            };
+            packed.trans.push(Trans {
+                tests: (tests, at(packed.tests.len())),
+                delta: (delta, at(packed.delta.len())),
+                grow: (grow, at(packed.grow.len())),
+                hash_shift: sum(&net.post[t]).wrapping_sub(sum(&net.pre[t])),
+                need: mask,
+                by_need,
+            });
         }
-        let hash_shift = (0..nt)
-            .map(|t| {
-                let sum = |arcs: &[(usize, u32)]| {
-                    arcs.iter().fold(0u64, |h, &(p, w)| {
-                        h.wrapping_add(u64::from(w).wrapping_mul(place_weight(p)))
-                    })
-                };
-                sum(&net.post[t]).wrapping_sub(sum(&net.pre[t]))
-            })
-            .collect();
-        Packed {
-            needs,
-            hash_shift,
-            tests,
-            delta,
-            grow: (0..nt)
-                .map(|t| {
-                    net.post[t]
-                        .iter()
-                        .filter_map(|&(p, w)| {
-                            let taken = net.pre[t].iter().find(|(q, _)| *q == p).map_or(0, |&(_, v)| v);
-                            (w > taken).then(|| (field(p, w - taken), p))
-                        })
-                        .collect()
-                })
-                .collect(),
-        }
+        packed
+    }
+
+    /// The places `t` adds to, with what it adds.
+    #[inline]
+    fn grow(&self, t: usize) -> &[(Field, usize)] {
+        range(&self.grow, self.trans[t].grow)
     }
 
     #[inline]
     fn enabled(&self, w: &[u64], t: usize) -> bool {
-        self.tests[t]
+        range(&self.tests, self.trans[t].tests)
             .iter()
             .all(|&(f, at_least)| (f.get(w) >= f.weight) == at_least)
     }
@@ -226,24 +248,25 @@ impl Packed {
     /// most transitions are told by their needs alone.
     #[inline(always)]
     fn enabled_in(&self, w: &[u64], marked: u64, t: usize) -> bool {
-        match self.needs.get(t) {
-            Some(&(need, _)) if marked & need != need => false,
-            Some(&(_, true)) => true,
-            _ => self.enabled(w, t),
+        let tr = &self.trans[t];
+        if marked & tr.need != tr.need {
+            return false;
         }
+        tr.by_need || self.enabled(w, t)
     }
 
     /// Fires enabled `t` from `cur` into `next`; `Err(p)` when place `p` would overflow
     /// its field.
     #[inline(always)]
     fn fire(&self, cur: &[u64], next: &mut [u64], t: usize) -> Result<(), usize> {
-        for &(f, p) in &self.grow[t] {
+        let tr = &self.trans[t];
+        for &(f, p) in range(&self.grow, tr.grow) {
             if f.get(cur) + f.weight > f.mask {
                 return Err(p);
             }
         }
         next.copy_from_slice(cur);
-        for &(w, x) in &self.delta[t] {
+        for &(w, x) in range(&self.delta, tr.delta) {
             next[w as usize] = next[w as usize].wrapping_add(x);
         }
         Ok(())
@@ -961,7 +984,7 @@ impl Scan {
     fn scan_in<const W: usize>(&mut self, store: &Store, packed: &Packed, count_tokens: bool, from: usize, to: usize) {
         let layout = &store.layout;
         let w = if W > 0 { W } else { layout.words };
-        let nt = packed.tests.len();
+        let nt = packed.trans.len();
         self.new.clear();
         self.words.clear();
         self.hashes.clear();
@@ -997,7 +1020,7 @@ impl Scan {
                     self.overflow = Some((x, p));
                     break 'states;
                 }
-                hashes.push(finish(lin.wrapping_add(packed.hash_shift[t])));
+                hashes.push(finish(lin.wrapping_add(packed.trans[t].hash_shift)));
                 self.from_to.push((x as u32, t as u32));
             }
             let n = (hashes.len() - before) as u64;
@@ -1220,7 +1243,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             // adds to can set one, and only a new state can.
             let mut record = false;
             let mut inhibited_record = false;
-            for &(f, p) in &packed.grow[t as usize] {
+            for &(f, p) in packed.grow(t as usize) {
                 let v = f.get(next) as u32;
                 if v > max[p] {
                     max[p] = v;
@@ -1381,7 +1404,7 @@ fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], fron
     const CHUNK: usize = 1 << 10;
     let store = &g.store;
     let w = store.layout.words;
-    let nt = back.tests.len();
+    let nt = back.trans.len();
     let mut cur = vec![0u64; w];
     let mut prev: Vec<u64> = Vec::new();
     let mut hashes: Vec<u64> = Vec::new();
@@ -1406,7 +1429,7 @@ fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], fron
                     prev.truncate(k);
                     continue;
                 }
-                hashes.push(finish(lin.wrapping_add(back.hash_shift[t])));
+                hashes.push(finish(lin.wrapping_add(back.trans[t].hash_shift)));
             }
         }
         store.find_all(&hashes, &prev, &mut found);
@@ -1521,7 +1544,7 @@ pub fn tarjan(net: &PtNet, g: &Graph, control: &Control<'_>) -> Option<Component
             if !packed_net.enabled(&cur, t) || packed_net.fire(&cur, &mut next, t).is_err() {
                 continue;
             }
-            succ_hashes.push(finish(lin.wrapping_add(packed_net.hash_shift[t])));
+            succ_hashes.push(finish(lin.wrapping_add(packed_net.trans[t].hash_shift)));
             succ_words.extend_from_slice(&next);
         }
         g.store.find_all(&succ_hashes, &succ_words, &mut found);
