@@ -105,6 +105,9 @@ pub struct Layout {
     /// Per byte, per value: the places (bit `p` for place `p`) it has a token in; empty
     /// with more than 64 places or markings longer than [`TABLE_BYTES`].
     marked_by_byte: Vec<[u64; 256]>,
+    /// Per byte, per value: the tokens it holds ([`Layout::tokens`]); empty when the
+    /// markings are longer than [`TABLE_BYTES`].
+    tokens_by_byte: Vec<[u64; 256]>,
     word: Vec<u32>,
     shift: Vec<u32>,
     /// Bytes per packed marking.
@@ -297,18 +300,23 @@ impl Layout {
         }
         let bytes = (total as usize).div_ceil(8).max(1);
         let mix: Vec<u64> = (0..bits.len()).map(place_weight).collect();
-        // Bit `b` of field `p` adds `mix[p] << b` (wrapping) to the sum, and is a token in
-        // place `p`.
-        let mut by_bit = vec![(0u64, 0u64); bytes * 8];
+        // Bit `b` of field `p` adds `mix[p] << b` (wrapping) to the sum, is a token in
+        // place `p`, and `1 << b` tokens.
+        let mut by_bit = vec![[0u64; 3]; bytes * 8];
         for p in 0..bits.len() {
             for b in 0..bits[p].min(64) {
                 if let Some(x) = by_bit.get_mut((64 * word[p] + shift[p] + b) as usize) {
-                    *x = (mix[p].wrapping_shl(b), 1u64.wrapping_shl(p as u32));
+                    *x = [
+                        mix[p].wrapping_shl(b),
+                        1u64.wrapping_shl(p as u32),
+                        1u64.wrapping_shl(b),
+                    ];
                 }
             }
         }
-        // Per byte, per value: the bits' contributions, summed (`add`) or or-ed.
-        let tables = |add: bool| -> Vec<[u64; 256]> {
+        // Per byte, per value: the bits' contributions of kind `i`, summed (`add`) or
+        // or-ed.
+        let tables = |i: usize, add: bool| -> Vec<[u64; 256]> {
             by_bit
                 .chunks(8)
                 .map(|bit| {
@@ -316,7 +324,7 @@ impl Layout {
                     for (v, x) in t.iter_mut().enumerate() {
                         *x = (0..8)
                             .filter(|b| v >> b & 1 == 1)
-                            .fold(0u64, |s, b| if add { s.wrapping_add(bit[b].0) } else { s | bit[b].1 });
+                            .fold(0u64, |s, b| if add { s.wrapping_add(bit[b][i]) } else { s | bit[b][i] });
                     }
                     t
                 })
@@ -324,12 +332,13 @@ impl Layout {
         };
         let small = bytes <= TABLE_BYTES;
         Layout {
-            by_byte: if small { tables(true) } else { Vec::new() },
+            by_byte: if small { tables(0, true) } else { Vec::new() },
             marked_by_byte: if small && bits.len() <= 64 {
-                tables(false)
+                tables(1, false)
             } else {
                 Vec::new()
             },
+            tokens_by_byte: if small { tables(2, true) } else { Vec::new() },
             mix,
             bits,
             word,
@@ -390,7 +399,16 @@ impl Layout {
     }
 
     /// The sum of the fields of a packed marking.
+    #[inline]
     fn tokens(&self, words: &[u64]) -> u64 {
+        if !self.tokens_by_byte.is_empty() {
+            return self
+                .tokens_by_byte
+                .iter()
+                .enumerate()
+                .map(|(k, t)| t[(words[k / 8] >> (8 * (k % 8))) as usize & 0xff])
+                .sum();
+        }
         (0..self.bits.len())
             .map(|p| {
                 let b = self.bits[p];
@@ -790,9 +808,10 @@ impl Store {
             counts.push(k);
         }
         let old = &self.layout;
+        let runs = runs(old, &layout);
         let relay = |chunks: &mut [Vec<u8>], counts: &[usize]| {
             for (chunk, &k) in chunks.iter_mut().zip(counts) {
-                relay_chunk(chunk, k, old, &layout);
+                relay_chunk(chunk, k, old, &layout, &runs);
             }
         };
         let half = self.chunks.len() / 2;
@@ -811,12 +830,55 @@ impl Store {
     }
 }
 
+/// A run of fields that keep their order and spacing from one layout to a wider one:
+/// the `mask` bits at `shift` of word `word` go to word `to` at `to_shift`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Run {
+    word: u32,
+    shift: u32,
+    mask: u64,
+    to: u32,
+    to_shift: u32,
+}
+
+/// The runs that re-lay a marking from `old` to `new` (wider or as wide on every
+/// place): consecutive places move together while they stay in one word of each and
+/// move by the same number of bits, so widening one place splits the fields in a few
+/// runs, not one per place.
+fn runs(old: &Layout, new: &Layout) -> Vec<Run> {
+    let mut out: Vec<Run> = Vec::new();
+    for p in 0..old.bits.len() {
+        let bits = old.bits[p].min(64);
+        let (word, shift, to, to_shift) = (old.word[p], old.shift[p], new.word[p], new.shift[p]);
+        let mask = if bits >= 64 {
+            u64::MAX
+        } else {
+            ((1u64 << bits) - 1) << shift
+        };
+        match out.last_mut() {
+            Some(r) if r.word == word && r.to == to && r.to_shift + shift == r.shift + to_shift => r.mask |= mask,
+            _ => out.push(Run {
+                word,
+                shift,
+                mask,
+                to,
+                to_shift,
+            }),
+        }
+    }
+    // The masks were gathered at the fields' places in the word: bring them to the run's
+    // start.
+    for r in &mut out {
+        r.mask >>= r.shift;
+    }
+    out
+}
+
 /// Re-lays the `k` states of `chunk` from layout `old` to the wider `new` (the chunk
-/// already long enough), from the last state down: state `j`'s new place starts at or
-/// after the old end of every state before it.
-fn relay_chunk(chunk: &mut [u8], k: usize, old: &Layout, new: &Layout) {
+/// already long enough) by `runs`, from the last state down: state `j`'s new place
+/// starts at or after the old end of every state before it.
+fn relay_chunk(chunk: &mut [u8], k: usize, old: &Layout, new: &Layout, runs: &[Run]) {
     let (old_n, n) = (old.bytes, new.bytes);
-    let mut m = vec![0u32; old.bits.len()];
     let mut words = vec![0u64; old.words];
     let mut wide = vec![0u64; new.words];
     let old_mask = match old_n % 8 {
@@ -829,9 +891,10 @@ fn relay_chunk(chunk: &mut [u8], k: usize, old: &Layout, new: &Layout) {
             *w = read_word(chunk, j * old_n + 8 * i);
         }
         words[last] &= old_mask;
-        old.unpack_words(&words, &mut m);
-        // Fits: the new layout is at least as wide on every place.
-        let _ = new.pack(&m, &mut wide);
+        wide.iter_mut().for_each(|w| *w = 0);
+        for r in runs {
+            wide[r.to as usize] |= ((words[r.word as usize] >> r.shift) & r.mask) << r.to_shift;
+        }
         words_to_bytes(&wide, &mut chunk[j * n..(j + 1) * n]);
     }
     chunk[k * n..].iter_mut().for_each(|b| *b = 0);
@@ -1700,5 +1763,58 @@ mod tests {
         run::<1>(1);
         run::<2>(2);
         run::<0>(3);
+    }
+
+    /// Re-laying by runs gives what unpacking and packing again give, whichever place
+    /// widens (fields moving to the next word included), and the token tables count
+    /// what the fields hold.
+    #[test]
+    fn relaying_by_runs_is_unpacking_and_packing() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed = finish(seed.wrapping_add(1));
+            seed
+        };
+        for bits in [
+            vec![3u32; 16],
+            vec![5, 7, 20, 31, 1, 1, 2, 9, 13],
+            vec![1; 70],
+            vec![32, 32, 3],
+        ] {
+            let old = Layout::new(bits.clone());
+            for p in 0..bits.len() {
+                let mut wider = bits.clone();
+                wider[p] += 1;
+                let new = Layout::new(wider);
+                let runs = runs(&old, &new);
+                assert!(
+                    runs.len() <= 4 + new.words,
+                    "{} runs for {} words",
+                    runs.len(),
+                    new.words
+                );
+                let k = 5;
+                let mut chunk = vec![0u8; k * new.bytes + PAD];
+                let mut markings = Vec::new();
+                for j in 0..k {
+                    let m: Vec<u32> = bits.iter().map(|&b| (next() & ((1u64 << b) - 1)) as u32).collect();
+                    let mut w = vec![0u64; old.words];
+                    old.pack(&m, &mut w).unwrap();
+                    words_to_bytes(&w, &mut chunk[j * old.bytes..(j + 1) * old.bytes]);
+                    markings.push(m);
+                }
+                relay_chunk(&mut chunk, k, &old, &new, &runs);
+                for (j, m) in markings.iter().enumerate() {
+                    let mut want = vec![0u64; new.words];
+                    new.pack(m, &mut want).unwrap();
+                    let mut bytes = vec![0u8; new.bytes];
+                    words_to_bytes(&want, &mut bytes);
+                    let got = &chunk[j * new.bytes..(j + 1) * new.bytes];
+                    assert_eq!(got, bytes, "bits {bits:?}, place {p} widened, state {j}");
+                    let tokens: u64 = m.iter().map(|&v| u64::from(v)).sum();
+                    assert_eq!(new.tokens(&want), tokens);
+                }
+            }
+        }
     }
 }
