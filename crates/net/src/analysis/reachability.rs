@@ -1115,9 +1115,9 @@ impl Scan {
 }
 
 /// Keeps the first of each marking among the successors `succ` (`w` words each, hashes
-/// `hashes`, origins `from_to`), moved to the front in their order: their number. `local`
-/// is the table of the ones kept (their positions), an open-addressing table by the
-/// hashes' low bits.
+/// `hashes`, origins `from_to` unless empty), moved to the front in their order: their
+/// number. `local` is the table of the ones kept (their positions), an open-addressing
+/// table by the hashes' low bits.
 fn dedupe<const W: usize>(
     hashes: &mut [u64],
     succ: &mut [u64],
@@ -1146,7 +1146,9 @@ fn dedupe<const W: usize>(
         };
         if first {
             hashes[kept] = h;
-            from_to[kept] = from_to[k];
+            if let Some(&o) = from_to.get(k) {
+                from_to[kept] = o;
+            }
             succ.copy_within(k * w..(k + 1) * w, kept * w);
             kept += 1;
         }
@@ -1474,38 +1476,57 @@ pub fn components(
 /// set in `seen`) once. States are taken [`CHUNK`] at a time, their predecessors looked
 /// up together ([`Store::find_all`]).
 fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], frontier: &[u32]) -> Vec<u32> {
-    const CHUNK: usize = 1 << 10;
+    match g.store.layout.words {
+        1 => predecessors_in::<1>(g, back, fwd, seen, frontier),
+        2 => predecessors_in::<2>(g, back, fwd, seen, frontier),
+        _ => predecessors_in::<0>(g, back, fwd, seen, frontier),
+    }
+}
+
+/// [`predecessors`] for markings of `W` words (0: any number).
+fn predecessors_in<const W: usize>(
+    g: &Graph,
+    back: &Packed,
+    fwd: &Packed,
+    seen: &[AtomicU64],
+    frontier: &[u32],
+) -> Vec<u32> {
+    const CHUNK: usize = 1 << 14;
     let store = &g.store;
-    let w = store.layout.words;
+    let w = if W > 0 { W } else { store.layout.words };
     let nt = back.trans.len();
     let mut cur = vec![0u64; w];
+    let cur = &mut cur[..w];
     let mut prev: Vec<u64> = Vec::new();
     let mut hashes: Vec<u64> = Vec::new();
     let mut found: Vec<u32> = Vec::new();
+    let mut local: Vec<u32> = Vec::new();
     let mut out = Vec::new();
     for chunk in frontier.chunks(CHUNK) {
         prev.clear();
         hashes.clear();
         for &v in chunk {
-            store.load(v as usize, &mut cur);
-            let lin = store.layout.linear(&cur);
-            let marked = store.layout.marked(&cur);
+            store.load(v as usize, cur);
+            let lin = store.layout.linear(cur);
+            let marked = store.layout.marked(cur);
             for t in 0..nt {
-                if !back.enabled_in(&cur, marked, t) {
+                if !back.enabled_in(cur, marked, t) {
                     continue;
                 }
                 let k = prev.len();
                 prev.resize(k + w, 0);
                 // A predecessor that does not fit the layout is not a state; one that
                 // does must enable `t` (read and inhibitor arcs included).
-                if back.fire(&cur, &mut prev[k..], t).is_err() || !fwd.enabled(&prev[k..], t) {
+                if back.fire(cur, &mut prev[k..k + w], t).is_err() || !fwd.enabled(&prev[k..k + w], t) {
                     prev.truncate(k);
                     continue;
                 }
                 hashes.push(finish(lin.wrapping_add(back.trans[t].hash_shift)));
             }
         }
-        store.find_all(&hashes, &prev, &mut found);
+        // As in the exploration, many predecessors of a chunk repeat one another.
+        let n = dedupe::<W>(&mut hashes, &mut prev, &mut [], w, &mut local);
+        store.find_all_in::<W>(&hashes[..n], &prev[..n * w], &mut found);
         for &i in found.iter().filter(|&&i| i != EMPTY) {
             let (word, bit) = (&seen[i as usize / 64], 1u64 << (i % 64));
             if word.load(Ordering::Relaxed) & bit == 0 && word.fetch_or(bit, Ordering::Relaxed) & bit == 0 {
