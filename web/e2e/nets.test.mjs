@@ -47,7 +47,8 @@ useStudio('state-net-batch', (s) => ({ alba, b } = s), {
   prepare: (dir) => {
     writeFileSync(join(dir, 'draw.pnml'), EMPTY);
     writeFileSync(join(dir, 'big.pnml'), cycles(15));
-    const toml = readFileSync(join(dir, 'alba.toml'), 'utf8').replace('programs = ["batch.pnml", "main.lad"]', 'programs = ["batch.pnml", "main.lad", "draw.pnml", "big.pnml"]');
+    writeFileSync(join(dir, 'huge.pnml'), cycles(150));
+    const toml = readFileSync(join(dir, 'alba.toml'), 'utf8').replace('programs = ["batch.pnml", "main.lad"]', 'programs = ["batch.pnml", "main.lad", "draw.pnml", "big.pnml", "huge.pnml"]');
     writeFileSync(join(dir, 'alba.toml'), toml);
     appendFileSync(join(dir, 'tags.csv'), 'Go,BOOL,,,,operator go-ahead (the condition of draw.pnml)\nLamp2,BOOL,,,,on while draw.pnml is in its last state\n');
   },
@@ -244,10 +245,11 @@ test('draw a net, a refused guard, save, run it live, analyse and replay its dea
 
 test("a big net's analysis shows its progress and is cancelled; the next one runs", async () => {
   const { page, tid } = b;
-  await page.goto(`${alba.url}#/program/big.pnml`);
-  await tid('net-big.pnml').waitFor();
+  await page.goto(`${alba.url}#/program/huge.pnml`);
+  await tid('net-huge.pnml').waitFor();
   await tid('net-analyse').click();
-  // 3^15 states: the progress line counts them while the state space grows.
+  // 3^150 states, 150 successors each: the million states the studio explores take
+  // seconds (3^15's took less than one), and the progress line counts them meanwhile.
   await tid('net-analysis-progress').filter({ hasText: /state space: [\d,.\s]+ states/ }).waitFor({ timeout: 30_000 });
   await b.shot('net-analysis-progress');
   await tid('net-analysis-cancel').click();

@@ -995,6 +995,15 @@ fn bits_for(v: u32) -> u32 {
 /// are inserted (in order).
 const BATCH: usize = 1 << 14;
 
+/// States a batch takes from a net of `nt` transitions and markings of `w` words: at most
+/// [`BATCH`], fewer when their successors could take more than 2^20 words (8 MiB; a
+/// successor takes its words, its hash and its origin), so that nets of many transitions
+/// and wide markings keep the buffers small. The batches do not change the states'
+/// numbers.
+fn batch_states(nt: usize, w: usize) -> usize {
+    ((1 << 20) / (nt.max(1) * (w + 2))).clamp(GROUP, BATCH)
+}
+
 /// How many look-ups ahead [`Store::find_all`] asks for memory.
 const AHEAD: usize = 32;
 
@@ -1259,8 +1268,10 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             levels.push(s as u32);
             level_end = store.len();
         }
-        if s >= reported {
-            reported = s + (1 << 14);
+        // Every 16 384 states expanded or found (a net of many transitions finds its
+        // million states from a few thousand).
+        if s + store.len() >= reported {
+            reported = s + store.len() + (1 << 14);
             if control.cancelled() {
                 return stop(Stop::Cancelled, &store, &levels);
             }
@@ -1270,7 +1281,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
                 bytes: store.bytes_used() + levels.capacity() * 4,
             });
         }
-        let end = (s + BATCH).min(level_end);
+        let end = (s + batch_states(nt, store.layout.words)).min(level_end);
         scan_parallel(&store, &packed, !constant_tokens, s, end, &mut parts);
         let w = store.layout.words;
         // The candidates: the successors not found, part after part up to the first
@@ -1473,7 +1484,7 @@ pub fn components(
 }
 
 /// The predecessors of states `frontier`, each state seen for the first time (its bit
-/// set in `seen`) once. States are taken [`CHUNK`] at a time, their predecessors looked
+/// set in `seen`) once. States are taken [`batch_states`] at a time, their predecessors looked
 /// up together ([`Store::find_all`]).
 fn predecessors(g: &Graph, back: &Packed, fwd: &Packed, seen: &[AtomicU64], frontier: &[u32]) -> Vec<u32> {
     match g.store.layout.words {
@@ -1491,7 +1502,6 @@ fn predecessors_in<const W: usize>(
     seen: &[AtomicU64],
     frontier: &[u32],
 ) -> Vec<u32> {
-    const CHUNK: usize = 1 << 14;
     let store = &g.store;
     let w = if W > 0 { W } else { store.layout.words };
     let nt = back.trans.len();
@@ -1502,7 +1512,7 @@ fn predecessors_in<const W: usize>(
     let mut found: Vec<u32> = Vec::new();
     let mut local: Vec<u32> = Vec::new();
     let mut out = Vec::new();
-    for chunk in frontier.chunks(CHUNK) {
+    for chunk in frontier.chunks(batch_states(nt, w)) {
         prev.clear();
         hashes.clear();
         for &v in chunk {
