@@ -207,11 +207,10 @@ impl Packed {
             packed
                 .tests
                 .extend(net.inhibitors[t].iter().map(|&(p, w)| (field(p, w), false)));
-            let delta = at(packed.delta.len());
-            let mut add = |word: u32, x: u64| match packed.delta[delta as usize..].iter_mut().find(|(w, _)| *w == word)
-            {
+            let mut d: Vec<(u32, u64)> = Vec::new();
+            let mut add = |word: u32, x: u64| match d.iter_mut().find(|(w, _)| *w == word) {
                 Some((_, v)) => *v = v.wrapping_add(x),
-                None => packed.delta.push((word, x)),
+                None => d.push((word, x)),
             };
             for &(p, w) in &net.pre[t] {
                 add(layout.word[p], (u64::from(w) << layout.shift[p]).wrapping_neg());
@@ -219,8 +218,8 @@ impl Packed {
             for &(p, w) in &net.post[t] {
                 add(layout.word[p], u64::from(w) << layout.shift[p]);
             }
-            let kept: Vec<(u32, u64)> = packed.delta.drain(delta as usize..).filter(|&(_, x)| x != 0).collect();
-            packed.delta.extend(kept);
+            let delta = at(packed.delta.len());
+            packed.delta.extend(d.into_iter().filter(|&(_, x)| x != 0));
             let grow = at(packed.grow.len());
             packed.grow.extend(net.post[t].iter().filter_map(|&(p, w)| {
                 let taken = net.pre[t].iter().find(|(q, _)| *q == p).map_or(0, |&(_, v)| v);
@@ -373,11 +372,7 @@ impl Layout {
     #[inline]
     fn linear(&self, words: &[u64]) -> u64 {
         if !self.by_byte.is_empty() {
-            let mut h = 0u64;
-            for (k, t) in self.by_byte.iter().enumerate() {
-                h = h.wrapping_add(t[(words[k / 8] >> (8 * (k % 8))) as usize & 0xff]);
-            }
-            return h;
+            return sum_by_byte(&self.by_byte, words);
         }
         (0..self.bits.len()).fold(0u64, |h, p| {
             let b = self.bits[p];
@@ -402,12 +397,7 @@ impl Layout {
     #[inline]
     fn tokens(&self, words: &[u64]) -> u64 {
         if !self.tokens_by_byte.is_empty() {
-            return self
-                .tokens_by_byte
-                .iter()
-                .enumerate()
-                .map(|(k, t)| t[(words[k / 8] >> (8 * (k % 8))) as usize & 0xff])
-                .sum();
+            return sum_by_byte(&self.tokens_by_byte, words);
         }
         (0..self.bits.len())
             .map(|p| {
@@ -417,6 +407,15 @@ impl Layout {
             })
             .sum()
     }
+}
+
+/// `Σ tables[k][byte k of words]` (wrapping): a sum linear in the marking's bits, one
+/// table look-up per byte.
+#[inline]
+fn sum_by_byte(tables: &[[u64; 256]], words: &[u64]) -> u64 {
+    tables.iter().enumerate().fold(0u64, |h, (k, t)| {
+        h.wrapping_add(t[(words[k / 8] >> (8 * (k % 8))) as usize & 0xff])
+    })
 }
 
 #[inline]
