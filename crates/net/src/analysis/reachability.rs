@@ -479,6 +479,8 @@ const FINAL_LOAD: usize = 850;
 /// [`Store::new`]), so they do not all grow at once and the table's load stays near its
 /// mean (about 0.82 of the most).
 const GROWTH: usize = 1500;
+/// The fewest entries [`Store::enter_all`] splits between threads.
+const PARALLEL_ENTRIES: usize = 1024;
 /// The fewest states a thread of [`scan_parallel`] takes.
 const GROUP: usize = 32;
 
@@ -504,6 +506,88 @@ fn read_word(chunk: &[u8], at: usize) -> u64 {
     let mut b = [0u8; 8];
     b.copy_from_slice(&chunk[at..at + 8]);
     u64::from_le_bytes(b)
+}
+
+/// The arena's packed states, read only: what a look-up compares with and what a growing
+/// segment of the table hashes again.
+#[derive(Clone, Copy)]
+struct States<'a> {
+    chunks: &'a [Vec<u8>],
+    layout: &'a Layout,
+}
+
+impl States<'_> {
+    /// The mask of the last word of a packed marking.
+    #[inline(always)]
+    fn last_mask(&self) -> u64 {
+        match self.layout.bytes % 8 {
+            0 => u64::MAX,
+            r => (1u64 << (8 * r)) - 1,
+        }
+    }
+
+    /// The words of state `i`.
+    #[inline(always)]
+    fn load(&self, i: usize, words: &mut [u64]) {
+        let n = self.layout.bytes;
+        let chunk = &self.chunks[i / CHUNK_STATES];
+        let at = (i % CHUNK_STATES) * n;
+        let last = words.len() - 1;
+        for (k, w) in words.iter_mut().enumerate() {
+            *w = read_word(chunk, at + 8 * k);
+        }
+        words[last] &= self.last_mask();
+    }
+
+    /// Whether state `i` is `words`.
+    #[inline(always)]
+    fn equal(&self, i: usize, words: &[u64]) -> bool {
+        let n = self.layout.bytes;
+        let chunk = &self.chunks[i / CHUNK_STATES];
+        let at = (i % CHUNK_STATES) * n;
+        let last = words.len() - 1;
+        for (k, &w) in words[..last].iter().enumerate() {
+            if read_word(chunk, at + 8 * k) != w {
+                return false;
+            }
+        }
+        read_word(chunk, at + 8 * last) & self.last_mask() == words[last]
+    }
+
+    /// The first byte of state `i`.
+    #[inline(always)]
+    fn ptr(&self, i: usize) -> &u8 {
+        &self.chunks[i / CHUNK_STATES][(i % CHUNK_STATES) * self.layout.bytes]
+    }
+}
+
+/// Places entry `e` (state `e & INDEX_MASK`, hash `h`) in `table`.
+#[inline]
+fn place(table: &mut [u32], h: u64, e: u32) {
+    let n = table.len();
+    let mut slot = home(h, n);
+    while table[slot] != EMPTY {
+        slot += 1;
+        if slot == n {
+            slot = 0;
+        }
+    }
+    table[slot] = e;
+}
+
+/// Rebuilds a segment of the table with `slots` slots: its entries placed again, their
+/// hashes computed from `states`.
+fn rebuild(table: &mut Vec<u32>, slots: usize, states: States<'_>) {
+    let entries: Vec<u32> = table.iter().copied().filter(|&e| e != EMPTY).collect();
+    *table = vec![EMPTY; slots];
+    let mut words = vec![0u64; states.layout.words];
+    for (k, &e) in entries.iter().enumerate() {
+        if let Some(&ahead) = entries.get(k + AHEAD) {
+            prefetch(states.ptr((ahead & INDEX_MASK) as usize));
+        }
+        states.load((e & INDEX_MASK) as usize, &mut words);
+        place(table, finish(states.layout.linear(&words)), e);
+    }
 }
 
 /// The packed states and their index.
@@ -553,47 +637,19 @@ impl Store {
         self.len == 0
     }
 
-    /// The mask of the last word of a packed marking.
-    #[inline]
-    fn last_mask(&self) -> u64 {
-        match self.layout.bytes % 8 {
-            0 => u64::MAX,
-            r => (1u64 << (8 * r)) - 1,
+    /// The arena's states.
+    #[inline(always)]
+    fn states(&self) -> States<'_> {
+        States {
+            chunks: &self.chunks,
+            layout: &self.layout,
         }
     }
 
     /// The words of state `i`.
     #[inline]
     pub fn load(&self, i: usize, words: &mut [u64]) {
-        let n = self.layout.bytes;
-        let chunk = &self.chunks[i / CHUNK_STATES];
-        let at = (i % CHUNK_STATES) * n;
-        let last = words.len() - 1;
-        for (k, w) in words.iter_mut().enumerate() {
-            *w = read_word(chunk, at + 8 * k);
-        }
-        words[last] &= self.last_mask();
-    }
-
-    /// Whether state `i` is `words`.
-    #[inline(always)]
-    fn equal(&self, i: usize, words: &[u64]) -> bool {
-        let n = self.layout.bytes;
-        let chunk = &self.chunks[i / CHUNK_STATES];
-        let at = (i % CHUNK_STATES) * n;
-        let last = words.len() - 1;
-        for (k, &w) in words[..last].iter().enumerate() {
-            if read_word(chunk, at + 8 * k) != w {
-                return false;
-            }
-        }
-        read_word(chunk, at + 8 * last) & self.last_mask() == words[last]
-    }
-
-    /// The first byte of state `i`.
-    #[inline]
-    fn state_ptr(&self, i: usize) -> &u8 {
-        &self.chunks[i / CHUNK_STATES][(i % CHUNK_STATES) * self.layout.bytes]
+        self.states().load(i, words);
     }
 
     /// The marking of state `i` (unpacked into `m`).
@@ -643,7 +699,7 @@ impl Store {
             if e == EMPTY {
                 return Err(slot);
             }
-            if e & !INDEX_MASK == t && self.equal((e & INDEX_MASK) as usize, words) {
+            if e & !INDEX_MASK == t && self.states().equal((e & INDEX_MASK) as usize, words) {
                 return Ok(e & INDEX_MASK);
             }
             slot += 1;
@@ -692,29 +748,13 @@ impl Store {
             if let Some(&ahead) = hashes.get(k + AHEAD / 2) {
                 let e = *self.home_slot(ahead);
                 if e != EMPTY {
-                    prefetch(self.state_ptr((e & INDEX_MASK) as usize));
+                    prefetch(self.states().ptr((e & INDEX_MASK) as usize));
                 }
             }
             if let Some(i) = self.find(h, &words[k * w..(k + 1) * w]) {
                 found[k] = i;
             }
         }
-    }
-
-    /// Room in the table for one more state of hash `h`: `false` when the memory budget
-    /// does not allow it.
-    #[inline]
-    fn room_in_table(&mut self, h: u64, memory: usize) -> bool {
-        let seg = segment(h);
-        let slots = self.segments[seg].len();
-        if (self.fill[seg] as usize + 1) * 1000 > slots * MAX_LOAD {
-            let grown = (slots * GROWTH / 1000).max(slots + MIN_SLOTS);
-            if self.bytes + grown * 4 > memory {
-                return false;
-            }
-            self.resize_segment(seg, grown);
-        }
-        true
     }
 
     /// Room in the arena for one more state: `false` when the memory budget does not
@@ -724,52 +764,83 @@ impl Store {
         self.len < self.chunks.len() * CHUNK_STATES || self.bytes + CHUNK_STATES * self.layout.bytes + PAD <= memory
     }
 
-    /// Enters state `i` (hash `h`, not in the table yet, room reserved) in the table.
-    #[inline]
-    fn enter(&mut self, h: u64, i: u32) {
-        let seg = segment(h);
-        Store::place(&mut self.segments[seg], h, tag(h) | i);
-        self.fill[seg] += 1;
-    }
-
-    /// Places entry `e` (state `e & INDEX_MASK`, hash `h`) in `table`.
-    #[inline]
-    fn place(table: &mut [u32], h: u64, e: u32) {
-        let n = table.len();
-        let mut slot = home(h, n);
-        while table[slot] != EMPTY {
-            slot += 1;
-            if slot == n {
-                slot = 0;
-            }
+    /// Enters the states numbered from `first` on (hashes `hashes`, in the arena already)
+    /// in the table. Each segment first grows to the size its new entries need, then
+    /// takes them in order; the segments are split between `threads` threads. `false`,
+    /// with nothing entered, when the grown table would take more than `memory` bytes.
+    fn enter_all(&mut self, hashes: &[u64], first: u32, memory: usize, threads: usize) -> bool {
+        let mut fill = self.fill.clone();
+        for &h in hashes {
+            fill[segment(h)] += 1;
         }
-        table[slot] = e;
-    }
-
-    /// Rebuilds segment `seg` with `slots` slots (only it is held twice meanwhile).
-    fn resize_segment(&mut self, seg: usize, slots: usize) {
-        let old = std::mem::take(&mut self.segments[seg]);
-        let mut table = vec![EMPTY; slots];
-        self.peak = self.peak.max(self.bytes + slots * 4);
-        let mut words = vec![0u64; self.layout.words];
-        let entries: Vec<u32> = old.iter().copied().filter(|&e| e != EMPTY).collect();
-        for (k, &e) in entries.iter().enumerate() {
-            if let Some(&ahead) = entries.get(k + AHEAD) {
-                prefetch(self.state_ptr((ahead & INDEX_MASK) as usize));
-            }
-            self.load((e & INDEX_MASK) as usize, &mut words);
-            Store::place(&mut table, finish(self.layout.linear(&words)), e);
+        let sizes: Vec<usize> = (0..SEGMENTS)
+            .map(|seg| {
+                let mut slots = self.segments[seg].len();
+                while fill[seg] as usize * 1000 > slots * MAX_LOAD {
+                    slots = (slots * GROWTH / 1000).max(slots + MIN_SLOTS);
+                }
+                slots
+            })
+            .collect();
+        let old = |seg: usize| self.segments[seg].len();
+        let grown: usize = (0..SEGMENTS).map(|seg| (sizes[seg] - old(seg)) * 4).sum();
+        // Each thread holds one segment twice while it rebuilds it.
+        let twice = (0..SEGMENTS).filter(|&seg| sizes[seg] > old(seg)).map(old).max().unwrap_or(0) * 4 * threads;
+        if self.bytes + grown + twice > memory {
+            return false;
         }
-        self.bytes = self.bytes + slots * 4 - old.len() * 4;
-        self.segments[seg] = table;
+        self.peak = self.peak.max(self.bytes + grown + twice);
+        self.bytes += grown;
+        self.fill = fill;
+        let states = States {
+            chunks: &self.chunks,
+            layout: &self.layout,
+        };
+        let enter = |segments: &mut [Vec<u32>], base: usize| {
+            for (table, &slots) in segments.iter_mut().zip(&sizes[base..]) {
+                if slots > table.len() {
+                    rebuild(table, slots, states);
+                }
+            }
+            let mine = base..base + segments.len();
+            for (k, &h) in hashes.iter().enumerate() {
+                if let Some(&ahead) = hashes.get(k + AHEAD) {
+                    let seg = segment(ahead);
+                    if mine.contains(&seg) {
+                        let table = &segments[seg - base];
+                        prefetch(&table[home(ahead, table.len())]);
+                    }
+                }
+                let seg = segment(h);
+                if mine.contains(&seg) {
+                    place(&mut segments[seg - base], h, tag(h) | (first + k as u32));
+                }
+            }
+        };
+        if threads > 1 && hashes.len() >= PARALLEL_ENTRIES {
+            let (a, b) = self.segments.split_at_mut(SEGMENTS / 2);
+            std::thread::scope(|scope| {
+                scope.spawn(|| enter(b, SEGMENTS / 2));
+                enter(a, 0);
+            });
+        } else {
+            enter(&mut self.segments, 0);
+        }
+        true
     }
 
     /// Shrinks the segments to load [`FINAL_LOAD`] (after the exploration).
     fn shrink(&mut self) {
         for seg in 0..SEGMENTS {
             let slots = (self.fill[seg] as usize * 1000 / FINAL_LOAD + 1).max(MIN_SLOTS);
-            if slots < self.segments[seg].len() {
-                self.resize_segment(seg, slots);
+            let old = self.segments[seg].len();
+            if slots < old {
+                let states = States {
+                    chunks: &self.chunks,
+                    layout: &self.layout,
+                };
+                rebuild(&mut self.segments[seg], slots, states);
+                self.bytes -= (old - slots) * 4;
             }
         }
     }
@@ -1235,7 +1306,7 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
         return Explored::Overflow;
     }
     let h0 = hash_marking(&net.initial);
-    if !store.room_in_table(h0, limits.memory) || !store.room_in_arena(limits.memory) {
+    if !store.room_in_arena(limits.memory) {
         return Explored::Limit {
             why: Stop::Memory,
             states: 0,
@@ -1243,7 +1314,13 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
         };
     }
     let i0 = store.push(&cur);
-    store.enter(h0, i0);
+    if !store.enter_all(&[h0], i0, limits.memory, 1) {
+        return Explored::Limit {
+            why: Stop::Memory,
+            states: 0,
+            bytes: store.bytes_used(),
+        };
+    }
     let mut levels: Vec<u32> = vec![0];
     let mut level_end = 1usize;
     let mut edges = 0u64;
@@ -1260,6 +1337,8 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
     };
     let mut parts: Vec<Scan> = (0..threads.max(1)).map(|_| Scan::default()).collect();
     let (mut new, mut words, mut hashes, mut seen) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    // The hashes of a batch's new states, entered in the table together.
+    let mut entered = Vec::new();
     let mut s = 0usize;
     let mut reported = 0usize;
     while s < store.len() {
@@ -1316,10 +1395,9 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
             seen.resize(size, EMPTY);
         }
         let budget = limits.memory.saturating_sub(levels.capacity() * 4);
+        let first_new = store.len() as u32;
+        entered.clear();
         for (k, &(x, t)) in new.iter().enumerate() {
-            if let Some(&ahead) = hashes.get(k + AHEAD) {
-                prefetch(store.home_slot(ahead));
-            }
             let (h, next) = (hashes[k], &words[k * w..(k + 1) * w]);
             // Karp–Miller at records: does the successor strictly cover an ancestor?
             // A record on a place read by an inhibitor arc rules every ancestor out
@@ -1374,15 +1452,15 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
                 if !store.room_in_arena(budget) {
                     return stop(Stop::Memory, &store, &levels);
                 }
-                let i = store.push(next);
+                store.push(next);
                 if store.len() > max_states {
                     return stop(Stop::States, &store, &levels);
                 }
-                if !store.room_in_table(h, budget) {
-                    return stop(Stop::Memory, &store, &levels);
-                }
-                store.enter(h, i);
+                entered.push(h);
             }
+        }
+        if !store.enter_all(&entered, first_new, budget, threads) {
+            return stop(Stop::Memory, &store, &levels);
         }
         match overflow {
             Some((x, p)) => {
