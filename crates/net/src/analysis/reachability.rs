@@ -1218,7 +1218,9 @@ fn dedupe<const W: usize>(
                 local[slot] = kept as u32;
                 break true;
             }
-            if hashes[j] == h && succ[j * w..(j + 1) * w] == succ[k * w..(k + 1) * w] {
+            // One or two words are compared at once; longer markings are compared
+            // after their hashes.
+            if (W > 0 || hashes[j] == h) && succ[j * w..(j + 1) * w] == succ[k * w..(k + 1) * w] {
                 break false;
             }
             slot = (slot + 1) & (size - 1);
