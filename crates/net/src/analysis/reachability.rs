@@ -785,7 +785,13 @@ impl Store {
         let old = |seg: usize| self.segments[seg].len();
         let grown: usize = (0..SEGMENTS).map(|seg| (sizes[seg] - old(seg)) * 4).sum();
         // Each thread holds one segment twice while it rebuilds it.
-        let twice = (0..SEGMENTS).filter(|&seg| sizes[seg] > old(seg)).map(old).max().unwrap_or(0) * 4 * threads;
+        let twice = (0..SEGMENTS)
+            .filter(|&seg| sizes[seg] > old(seg))
+            .map(old)
+            .max()
+            .unwrap_or(0)
+            * 4
+            * threads;
         if self.bytes + grown + twice > memory {
             return false;
         }
@@ -1925,6 +1931,42 @@ mod tests {
                     assert_eq!(new.tokens(&want), tokens);
                 }
             }
+        }
+    }
+
+    /// A batch entered on two threads is entered as on one: every state is found under
+    /// its number; a budget the grown table would pass enters nothing.
+    #[test]
+    fn entering_on_two_threads_is_entering_on_one() {
+        let layout = Layout::new(vec![8, 8, 8, 3, 1]);
+        let marking = |i: u32| vec![i & 255, (i >> 8) & 255, (i >> 16) & 255, i % 7, i % 2];
+        let mut words = vec![0u64; layout.words];
+        // `room`: the bytes the table may take beyond the store's once the states are in
+        // the arena (`None`: no budget).
+        let mut enter = |store: &mut Store, from: u32, to: u32, room: Option<usize>, threads: usize| {
+            let first = store.len() as u32;
+            let mut hashes = Vec::new();
+            for i in from..to {
+                let m = marking(i);
+                assert!(layout.pack(&m, &mut words).is_ok());
+                store.push(&words);
+                hashes.push(hash_marking(&m));
+            }
+            let memory = room.map_or(usize::MAX, |r| store.bytes_used() + r);
+            store.enter_all(&hashes, first, memory, threads)
+        };
+        for threads in [1, 2] {
+            let mut store = Store::new(layout.clone());
+            for from in (0..60_000).step_by(5_000) {
+                assert!(enter(&mut store, from, from + 5_000, None, threads));
+            }
+            for i in (0..60_000).step_by(7) {
+                assert_eq!(store.find_marking(&marking(i)), Some(i), "{threads} threads");
+            }
+            assert_eq!(store.find_marking(&marking(60_000)), None);
+            assert!(!enter(&mut store, 60_000, 65_000, Some(0), threads));
+            assert_eq!(store.find_marking(&marking(60_000)), None);
+            assert_eq!(store.find_marking(&marking(59_999)), Some(59_999));
         }
     }
 }
