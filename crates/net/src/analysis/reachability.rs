@@ -26,9 +26,11 @@
 //! each marking ([`dedupe`]) and only those are looked up. The look-ups go one after
 //! the other, but each asks the processor for its table slot, and for the state that
 //! slot names, a few look-ups in advance ([`Store::find_all`]), so that their cache
-//! misses overlap. Then the successors not found are inserted on one thread, in the
-//! order of their states and transitions (with several threads, a small table of the
-//! batch's candidates tells the first of each marking): the states' numbers, hence every
+//! misses overlap. Then the successors not found are numbered and appended to the arena
+//! on one thread, in the order of their states and transitions (with several threads, a
+//! small table of the batch's candidates tells the first of each marking), and entered in
+//! the table together, its segments split between the threads ([`Store::enter_all`]):
+//! the states' numbers, hence every
 //! result (shortest traces included), are the same whatever the number of threads. The
 //! buffers of both phases are kept from batch to batch, and markings of one or two words
 //! (up to 16 bytes, most nets) have their own compiled copy of the scan and the look-ups.
