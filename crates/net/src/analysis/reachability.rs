@@ -648,6 +648,15 @@ impl Store {
         }
     }
 
+    /// The table's segments, to change, and the arena's states, to read.
+    fn segments_and_states(&mut self) -> (&mut [Vec<u32>], States<'_>) {
+        let states = States {
+            chunks: &self.chunks,
+            layout: &self.layout,
+        };
+        (&mut self.segments, states)
+    }
+
     /// The words of state `i`.
     #[inline]
     pub fn load(&self, i: usize, words: &mut [u64]) {
@@ -800,10 +809,7 @@ impl Store {
         self.peak = self.peak.max(self.bytes + grown + twice);
         self.bytes += grown;
         self.fill = fill;
-        let states = States {
-            chunks: &self.chunks,
-            layout: &self.layout,
-        };
+        let (segments, states) = self.segments_and_states();
         let enter = |segments: &mut [Vec<u32>], base: usize| {
             for (table, &slots) in segments.iter_mut().zip(&sizes[base..]) {
                 if slots > table.len() {
@@ -826,13 +832,13 @@ impl Store {
             }
         };
         if threads > 1 && hashes.len() >= PARALLEL_ENTRIES {
-            let (a, b) = self.segments.split_at_mut(SEGMENTS / 2);
+            let (a, b) = segments.split_at_mut(SEGMENTS / 2);
             std::thread::scope(|scope| {
                 scope.spawn(|| enter(b, SEGMENTS / 2));
                 enter(a, 0);
             });
         } else {
-            enter(&mut self.segments, 0);
+            enter(segments, 0);
         }
         true
     }
@@ -843,11 +849,8 @@ impl Store {
             let slots = (self.fill[seg] as usize * 1000 / FINAL_LOAD + 1).max(MIN_SLOTS);
             let old = self.segments[seg].len();
             if slots < old {
-                let states = States {
-                    chunks: &self.chunks,
-                    layout: &self.layout,
-                };
-                rebuild(&mut self.segments[seg], slots, states);
+                let (segments, states) = self.segments_and_states();
+                rebuild(&mut segments[seg], slots, states);
                 self.bytes -= (old - slots) * 4;
             }
         }
@@ -1316,15 +1319,11 @@ pub fn explore_threads(net: &PtNet, limits: &Limits, threads: usize, control: &C
         return Explored::Overflow;
     }
     let h0 = hash_marking(&net.initial);
-    if !store.room_in_arena(limits.memory) {
-        return Explored::Limit {
-            why: Stop::Memory,
-            states: 0,
-            bytes: store.bytes_used(),
-        };
-    }
-    let i0 = store.push(&cur);
-    if !store.enter_all(&[h0], i0, limits.memory, 1) {
+    let fits = store.room_in_arena(limits.memory) && {
+        let i0 = store.push(&cur);
+        store.enter_all(&[h0], i0, limits.memory, 1)
+    };
+    if !fits {
         return Explored::Limit {
             why: Stop::Memory,
             states: 0,
