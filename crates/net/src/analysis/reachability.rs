@@ -528,12 +528,16 @@ impl States<'_> {
         }
     }
 
+    /// The chunk of state `i`, and where in it the state starts.
+    #[inline(always)]
+    fn locate(&self, i: usize) -> (&[u8], usize) {
+        (&self.chunks[i / CHUNK_STATES], (i % CHUNK_STATES) * self.layout.bytes)
+    }
+
     /// The words of state `i`.
     #[inline(always)]
     fn load(&self, i: usize, words: &mut [u64]) {
-        let n = self.layout.bytes;
-        let chunk = &self.chunks[i / CHUNK_STATES];
-        let at = (i % CHUNK_STATES) * n;
+        let (chunk, at) = self.locate(i);
         let last = words.len() - 1;
         for (k, w) in words.iter_mut().enumerate() {
             *w = read_word(chunk, at + 8 * k);
@@ -544,9 +548,7 @@ impl States<'_> {
     /// Whether state `i` is `words`.
     #[inline(always)]
     fn equal(&self, i: usize, words: &[u64]) -> bool {
-        let n = self.layout.bytes;
-        let chunk = &self.chunks[i / CHUNK_STATES];
-        let at = (i % CHUNK_STATES) * n;
+        let (chunk, at) = self.locate(i);
         let last = words.len() - 1;
         for (k, &w) in words[..last].iter().enumerate() {
             if read_word(chunk, at + 8 * k) != w {
@@ -559,7 +561,8 @@ impl States<'_> {
     /// The first byte of state `i`.
     #[inline(always)]
     fn ptr(&self, i: usize) -> &u8 {
-        &self.chunks[i / CHUNK_STATES][(i % CHUNK_STATES) * self.layout.bytes]
+        let (chunk, at) = self.locate(i);
+        &chunk[at]
     }
 }
 
@@ -784,16 +787,16 @@ impl Store {
         for &h in hashes {
             fill[segment(h)] += 1;
         }
+        let old = |seg: usize| self.segments[seg].len();
         let sizes: Vec<usize> = (0..SEGMENTS)
             .map(|seg| {
-                let mut slots = self.segments[seg].len();
+                let mut slots = old(seg);
                 while fill[seg] as usize * 1000 > slots * MAX_LOAD {
                     slots = (slots * GROWTH / 1000).max(slots + MIN_SLOTS);
                 }
                 slots
             })
             .collect();
-        let old = |seg: usize| self.segments[seg].len();
         let grown: usize = (0..SEGMENTS).map(|seg| (sizes[seg] - old(seg)) * 4).sum();
         // Each thread holds one segment twice while it rebuilds it.
         let twice = (0..SEGMENTS)
